@@ -1,0 +1,22 @@
+"""Built-in analysis stages and their translation catalogs."""
+
+from pathlib import Path
+
+from crankdyn.hookspecs import hookimpl
+from crankdyn.plugin_types import Catalog
+
+from .forces import FORCES_STAGE
+from .indicator import INDICATOR_STAGE
+from .kinematics import KINEMATICS_STAGE
+
+CATALOG_DIR = Path(__file__).resolve().parent.parent / "i18n"
+
+
+@hookimpl
+def crankdyn_stages():
+    return [KINEMATICS_STAGE, INDICATOR_STAGE, FORCES_STAGE]
+
+
+@hookimpl
+def crankdyn_catalogs():
+    return [Catalog(language=p.stem, path=p) for p in sorted(CATALOG_DIR.glob("*.toml"))]

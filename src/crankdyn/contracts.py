@@ -1,0 +1,71 @@
+"""Data passed between stages under the keys named in ``Stage.requires``/``provides``.
+
+A third-party mechanism plugin that provides ``"kinematics"`` returns a
+:class:`PistonMotion`; the force and torque stages then work for it unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+KINEMATICS = "kinematics"
+GAS_PRESSURE = "gas_pressure"
+FORCES = "forces"
+
+
+@dataclass(frozen=True)
+class PistonMotion:
+    """Piston motion over one cycle on a uniform crank-angle grid (endpoint excluded).
+
+    The piston displacement is measured from TDC towards the shaft. ``rod_angle_rad``
+    is None for mechanisms without a connecting rod (e.g. a Scotch yoke).
+    """
+
+    crank_angle_deg: np.ndarray
+    piston_displacement_m: np.ndarray
+    piston_velocity_m_s: np.ndarray
+    piston_acceleration_m_s2: np.ndarray
+    rod_angle_rad: np.ndarray | None
+    crank_radius_m: float
+    angular_velocity_rad_s: float
+    method: str  # "exact" or "approximate"
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def crank_angle_rad(self) -> np.ndarray:
+        return np.radians(self.crank_angle_deg)
+
+    @property
+    def torque_arm_m(self) -> np.ndarray:
+        """ds/dalpha (m/rad): the arm that turns an axial piston force into crank torque
+        (virtual work: M = F * ds/dalpha for a rigid, frictionless mechanism)."""
+        return self.piston_velocity_m_s / self.angular_velocity_rad_s
+
+
+@dataclass(frozen=True)
+class GasPressure:
+    """In-cylinder absolute pressure over the cycle, on the kinematics grid."""
+
+    crank_angle_deg: np.ndarray
+    pressure_Pa: np.ndarray
+    volume_m3: np.ndarray
+    source: str  # "theoretical" (rounded) or "trace"
+    indicated_work_J: float
+    swept_volume_m3: float
+
+
+@dataclass(frozen=True)
+class CrankForces:
+    """Specific forces (Pa, per unit piston area) in the sign convention of Poda (2007)."""
+
+    crank_angle_deg: np.ndarray
+    gas_Pa: np.ndarray
+    inertia_Pa: np.ndarray
+    total_Pa: np.ndarray
+    tangential_Pa: np.ndarray
+    radial_Pa: np.ndarray
+    centrifugal_Pa: float
+    piston_area_m2: float
+    torque_Nm: np.ndarray

@@ -1,0 +1,50 @@
+"""Errors that reach the user as one clear message, never as a traceback."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One thing wrong with the input: where, what was given, what is allowed."""
+
+    field: str
+    value: object
+    allowed: str
+
+    def __str__(self) -> str:
+        shown = "(missing)" if self.value is _MISSING else repr(self.value)
+        return f"{self.field} = {shown}: {self.allowed}"
+
+
+class _Missing:
+    def __repr__(self) -> str:
+        return "(missing)"
+
+
+_MISSING = _Missing()
+MISSING = _MISSING
+
+
+class CrankdynError(Exception):
+    """Base class of the errors the command line turns into a message and exit code 2."""
+
+
+class SceneError(CrankdynError):
+    """The scene (or a file it refers to) is invalid; carries every problem found."""
+
+    def __init__(self, problems: list[Problem] | Problem, source: str | None = None):
+        self.problems = [problems] if isinstance(problems, Problem) else list(problems)
+        self.source = source
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        head = f"invalid scene {self.source}" if self.source else "invalid scene"
+        lines = [f"{head}: {len(self.problems)} problem(s)"]
+        lines += [f"  - {p}" for p in self.problems]
+        return "\n".join(lines)
+
+
+class PluginError(CrankdynError):
+    """A plugin is inconsistent: duplicate names, unmet requirements, cycles."""

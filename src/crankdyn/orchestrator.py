@@ -1,0 +1,164 @@
+"""Choose, order and run the stages a scene needs; record what was left out and why."""
+
+from __future__ import annotations
+
+import heapq
+import time
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+from .errors import PluginError, Problem, SceneError
+from .plugin_types import Stage, StageOutput
+from .plugins import Registry
+from .scene import Scene
+
+
+@dataclass
+class Plan:
+    order: list[Stage]
+    skipped: dict[str, str]  # stage name -> reason
+
+
+@dataclass
+class RunResult:
+    scene: Scene
+    plan: Plan
+    outputs: dict[str, StageOutput]
+    timing_s: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def stages_run(self) -> list[str]:
+        return [s.name for s in self.plan.order]
+
+
+def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ()) -> None:
+    """Checks that need the plugins: mechanism name, its own checks, language, stage names."""
+    problems: list[Problem] = []
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
+    if mechanism is None:
+        problems.append(Problem("engine.mechanism", scene.engine.mechanism,
+                                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms))))
+    else:
+        problems += list(mechanism.check(scene))
+    languages = sorted(set(languages))
+    if languages and scene.report.language not in languages:
+        problems.append(Problem("report.language", scene.report.language, "allowed: " + ", ".join(languages)))
+    for name in scene.analysis.stages or ():
+        if name not in registry.stages:
+            problems.append(Problem("analysis.stages", name, "unknown stage; installed: "
+                                    + ", ".join(sorted(registry.stages))))
+    if problems:
+        raise SceneError(problems)
+
+
+def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = None) -> Plan:
+    """Order the stages to run for ``scene``.
+
+    ``requested`` (or ``scene.analysis.stages``) names the stages wanted; by default
+    every stage that applies and is marked default. Prerequisites are added from
+    ``requires``/``provides``; a stage whose requirement nobody applicable provides is
+    left out with the reason.
+    """
+    requested = list(requested) if requested is not None else scene.analysis.stages
+    if requested is not None:
+        unknown = [n for n in requested if n not in registry.stages]
+        if unknown:
+            raise SceneError([Problem("stages", n, "unknown stage; installed: " + ", ".join(sorted(registry.stages)))
+                              for n in unknown])
+    skipped: dict[str, str] = {}
+    applicable: dict[str, Stage] = {}
+    for name, stage in sorted(registry.stages.items()):
+        reason = stage.applies(scene)
+        if reason is None:
+            applicable[name] = stage
+        else:
+            skipped[name] = reason
+
+    providers: dict[str, Stage] = {}
+    for stage in applicable.values():
+        for key in stage.provides:
+            if key in providers:
+                raise PluginError(f"both {providers[key].name!r} and {stage.name!r} provide {key!r} for this scene")
+            providers[key] = stage
+
+    if requested is None:
+        wanted = [n for n, s in applicable.items() if s.default]
+        for n, s in applicable.items():
+            if not s.default:
+                skipped[n] = "optional stage, not requested"
+    else:
+        wanted = [n for n in requested if n in applicable]
+        for n in applicable:
+            if n not in requested:
+                skipped[n] = "not requested"
+
+    chosen: dict[str, Stage] = {}
+
+    def add(name: str, chain: tuple[str, ...]) -> str | None:
+        """Add ``name`` and its prerequisites; return a reason if it cannot run."""
+        if name in chosen:
+            return None
+        if name in chain:
+            raise PluginError("stages require each other in a cycle: " + " -> ".join(chain + (name,)))
+        stage = applicable[name]
+        for key in stage.requires:
+            provider = providers.get(key)
+            if provider is None:
+                why = [f"{s.name}: {skipped[s.name]}" for s in registry.stages.values()
+                       if key in s.provides and s.name in skipped]
+                return f"needs {key!r}, which no applicable stage provides" + (f" ({'; '.join(why)})" if why else "")
+            reason = add(provider.name, chain + (name,))
+            if reason is not None:
+                return f"needs {key!r} from {provider.name!r}, which cannot run: {reason}"
+        chosen[name] = stage
+        skipped.pop(name, None)
+        return None
+
+    for name in wanted:
+        reason = add(name, ())
+        if reason is not None:
+            skipped[name] = reason
+    return Plan(order=_topological(chosen), skipped=dict(sorted(skipped.items())))
+
+
+def _topological(stages: dict[str, Stage]) -> list[Stage]:
+    provider_of = {key: s.name for s in stages.values() for key in s.provides}
+    depends = {name: {provider_of[k] for k in s.requires} for name, s in stages.items()}
+    ready = [n for n, d in depends.items() if not d]
+    heapq.heapify(ready)  # ties broken by name, so the order is reproducible
+    order: list[Stage] = []
+    while ready:
+        name = heapq.heappop(ready)
+        order.append(stages[name])
+        for other, deps in depends.items():
+            if name in deps:
+                deps.discard(name)
+                if not deps and other not in [s.name for s in order] and other not in ready:
+                    heapq.heappush(ready, other)
+    if len(order) != len(stages):
+        raise PluginError("stages require each other in a cycle: " + ", ".join(sorted(set(stages) - {s.name for s in order})))
+    return order
+
+
+def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
+    data: dict[str, Any] = {}
+    outputs: dict[str, StageOutput] = {}
+    timing: dict[str, float] = {}
+    for stage in the_plan.order:
+        inputs = {key: data[key] for key in stage.requires}
+        start = time.perf_counter()
+        output = stage.run(scene, inputs)
+        timing[stage.name] = time.perf_counter() - start
+        if set(output.data) != set(stage.provides):
+            raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
+                              f"but returned {sorted(output.data)}")
+        data.update(output.data)
+        outputs[stage.name] = output
+    return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing)
+
+
+def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,
+              languages: Iterable[str] = ()) -> RunResult:
+    """Validate against the plugins, plan and run: the whole computation of one scene."""
+    check_scene(scene, registry, languages)
+    return run_plan(scene, plan(scene, registry, requested))

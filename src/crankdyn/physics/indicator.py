@@ -1,0 +1,1049 @@
+"""Indicator diagram of a piston engine: theoretical cycle, rounding, work.
+
+Pure numerical functions over numpy arrays.  Units are SI (Pa, m^3, J);
+crank angles are in degrees where the name says ``_deg``, measured from TDC
+in the direction of rotation.
+
+Angle conventions
+-----------------
+Four-stroke cycle, ``crank_angle_deg`` in [0, 720):
+0 = TDC at the start of intake, 180 = BDC (end of intake, start of
+compression), 360 = firing TDC, 540 = BDC (end of expansion), 720 = TDC at
+the end of exhaust.
+
+Two-stroke cycle, ``crank_angle_deg`` in [0, 360):
+0 = firing TDC, 180 = BDC (ports open), 360 = TDC.  The textbook starts the
+two-stroke table at BDC; here zero is TDC for both cycles.
+
+Method source: V.B. Poda, *Dynamic calculation and balancing of piston
+ICEs*, KhAI 2007, section 3.1 (equations 12-16) and Appendix V (valve
+timing).  Equations marked "derived" were derived for this module.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+from scipy.interpolate import CubicHermiteSpline, CubicSpline
+
+__all__ = [
+    "clearance_volume_m3",
+    "cylinder_volume_m3",
+    "CycleParameters",
+    "compression_end_pressure_Pa",
+    "expansion_end_pressure_Pa",
+    "pressure_ratio",
+    "theoretical_pressure_Pa",
+    "theoretical_mean_indicated_pressure_Pa",
+    "RoundingParameters",
+    "default_combustion_delay_deg",
+    "rounded_pressure_Pa",
+    "indicated_work_J",
+    "mean_indicated_pressure_Pa",
+    "crank_angle_from_volume_approx_deg",
+    "crank_angle_from_volume_exact_deg",
+]
+
+# Step of the internal (caller-independent) angle grid used to locate the
+# junction J between the combustion rounding and the expansion line, deg.
+_JUNCTION_SEARCH_STEP_DEG = 0.01
+# Bisection tolerance for the junction angle, deg.
+_JUNCTION_TOLERANCE_DEG = 1e-10
+# Largest cyclic gap of the caller's grid from which the cylinder volume may
+# be reconstructed by a periodic spline (the textbook table step is 10-15 deg).
+_MAX_VOLUME_GRID_STEP_DEG = 15.0
+# Relative tolerance for volumes at the ends of their physical range.
+_VOLUME_RTOL = 1e-9
+
+
+# ---------------------------------------------------------------------------
+# Volumes
+# ---------------------------------------------------------------------------
+def clearance_volume_m3(swept_volume_m3, compression_ratio):
+    """Clearance (combustion-chamber) volume from swept volume and compression ratio.
+
+    Parameters
+    ----------
+    swept_volume_m3 : float or array_like
+        Swept (displacement) volume of one cylinder V_h, m^3, > 0.  For a
+        two-stroke engine the textbook uses the volume swept from the top edge
+        of the exhaust ports to TDC, with the matching (effective) ratio.
+    compression_ratio : float or array_like
+        Compression ratio epsilon, > 1.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Clearance volume V_c = V_h / (epsilon - 1), m^3.
+
+    Raises
+    ------
+    ValueError
+        If ``swept_volume_m3`` <= 0 or ``compression_ratio`` <= 1.
+
+    Notes
+    -----
+    Poda (2007), eq. (14).
+    """
+    swept = np.asarray(swept_volume_m3, dtype=float)
+    ratio = np.asarray(compression_ratio, dtype=float)
+    _require(np.all(swept > 0), "swept_volume_m3", swept_volume_m3, "> 0")
+    _require(np.all(ratio > 1), "compression_ratio", compression_ratio, "> 1")
+    return swept / (ratio - 1.0)
+
+
+def cylinder_volume_m3(piston_displacement_m, piston_area_m2, clearance_volume_m3):
+    """Instantaneous cylinder volume from the piston displacement.
+
+    Parameters
+    ----------
+    piston_displacement_m : float or array_like
+        Piston displacement from TDC s, m, >= 0.
+    piston_area_m2 : float
+        Piston crown area F = pi D^2 / 4, m^2, > 0.
+    clearance_volume_m3 : float
+        Clearance volume V_c, m^3, > 0.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Cylinder volume V = V_c + F s, m^3.
+
+    Raises
+    ------
+    ValueError
+        If the area or the clearance volume is not positive, or a
+        displacement is negative.
+
+    Notes
+    -----
+    Geometry of the cylinder (V_a = V_c + V_h, Poda 2007 eq. (15), is the
+    special case s = S).
+    """
+    displacement = np.asarray(piston_displacement_m, dtype=float)
+    _require(piston_area_m2 > 0, "piston_area_m2", piston_area_m2, "> 0")
+    _require(clearance_volume_m3 > 0, "clearance_volume_m3", clearance_volume_m3, "> 0")
+    _require(np.all(displacement >= 0), "piston_displacement_m",
+             _worst(displacement, displacement < 0), ">= 0")
+    return clearance_volume_m3 + piston_area_m2 * displacement
+
+
+# ---------------------------------------------------------------------------
+# Cycle parameters
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class CycleParameters:
+    """Parameters of the theoretical cycle from the thermal calculation (SI).
+
+    Attributes
+    ----------
+    strokes : int
+        2 or 4.
+    ignition : str
+        ``"spark"`` (constant-volume heat addition) or ``"diesel"`` (mixed
+        cycle: constant volume, then constant pressure).
+    compression_ratio : float
+        epsilon = V_a / V_c, > 1.
+    intake_pressure_Pa : float
+        p_a, absolute pressure at the start of compression, Pa, > 0.  Also
+        the intake-line pressure of a four-stroke diagram.
+    compression_index : float
+        Polytropic index of compression n1, > 1.
+    max_pressure_Pa : float
+        Theoretical maximum cycle pressure p_z, Pa; must exceed the
+        compression-end pressure p_c = p_a epsilon^n1.
+    pre_expansion_ratio : float
+        rho = V_z / V_c.  Exactly 1.0 for spark ignition; 1 <= rho < epsilon
+        for a diesel.
+    expansion_index : float
+        Polytropic index of expansion n2, > 1.
+    exhaust_pressure_Pa : float or None
+        p_r, absolute pressure of the exhaust stroke, Pa, > 0.  Required for
+        a four-stroke cycle, ignored (may be None) for a two-stroke cycle.
+    """
+
+    strokes: int
+    ignition: str
+    compression_ratio: float
+    intake_pressure_Pa: float
+    compression_index: float
+    max_pressure_Pa: float
+    pre_expansion_ratio: float
+    expansion_index: float
+    exhaust_pressure_Pa: Optional[float] = None
+
+    def __post_init__(self):
+        _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
+        _require(self.ignition in ("spark", "diesel"), "ignition", self.ignition,
+                 "'spark' or 'diesel'")
+        _require(np.isfinite(self.compression_ratio) and self.compression_ratio > 1,
+                 "compression_ratio", self.compression_ratio, "> 1")
+        _require(np.isfinite(self.intake_pressure_Pa) and self.intake_pressure_Pa > 0,
+                 "intake_pressure_Pa", self.intake_pressure_Pa, "> 0 (absolute)")
+        _require(np.isfinite(self.compression_index) and self.compression_index > 1,
+                 "compression_index", self.compression_index, "> 1")
+        _require(np.isfinite(self.expansion_index) and self.expansion_index > 1,
+                 "expansion_index", self.expansion_index, "> 1")
+        if self.ignition == "spark":
+            _require(self.pre_expansion_ratio == 1.0, "pre_expansion_ratio",
+                     self.pre_expansion_ratio, "exactly 1.0 for spark ignition")
+        else:
+            _require(1.0 <= self.pre_expansion_ratio < self.compression_ratio,
+                     "pre_expansion_ratio", self.pre_expansion_ratio,
+                     f"[1, compression_ratio={self.compression_ratio}) for a diesel")
+        p_c = self.intake_pressure_Pa * self.compression_ratio ** self.compression_index
+        _require(np.isfinite(self.max_pressure_Pa) and self.max_pressure_Pa > p_c,
+                 "max_pressure_Pa", self.max_pressure_Pa,
+                 f"> compression-end pressure p_a*eps^n1 = {p_c:.6g} Pa")
+        if self.strokes == 4:
+            _require(self.exhaust_pressure_Pa is not None
+                     and np.isfinite(self.exhaust_pressure_Pa)
+                     and self.exhaust_pressure_Pa > 0,
+                     "exhaust_pressure_Pa", self.exhaust_pressure_Pa,
+                     "> 0 (absolute) for a four-stroke cycle")
+
+
+def compression_end_pressure_Pa(params):
+    """Pressure at the end of polytropic compression.
+
+    Parameters
+    ----------
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        p_c = p_a epsilon^n1, Pa.
+
+    Notes
+    -----
+    Poda (2007) eq. (12) evaluated at V = V_c.
+    """
+    return params.intake_pressure_Pa * params.compression_ratio ** params.compression_index
+
+
+def expansion_end_pressure_Pa(params):
+    """Pressure at the end of polytropic expansion (at V_a).
+
+    Parameters
+    ----------
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        p_b = p_z (rho / epsilon)^n2, Pa (rho = 1 for spark ignition).
+
+    Notes
+    -----
+    Derived from the expansion polytrope p V^n2 = const started at
+    V_z = rho V_c with p_z and ended at V_a = epsilon V_c; consistent with
+    Poda (2007) eq. (13).
+    """
+    return params.max_pressure_Pa * (
+        params.pre_expansion_ratio / params.compression_ratio) ** params.expansion_index
+
+
+def pressure_ratio(params):
+    """Pressure-rise ratio of the heat addition at constant volume.
+
+    Parameters
+    ----------
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        lambda_p = p_z / p_c, dimensionless (> 1).
+
+    Notes
+    -----
+    Definition from the thermal calculation.
+    """
+    return params.max_pressure_Pa / compression_end_pressure_Pa(params)
+
+
+# ---------------------------------------------------------------------------
+# Theoretical diagram
+# ---------------------------------------------------------------------------
+def _compression_line_Pa(volume_m3, clearance_m3, params):
+    """p_a (V_a / V)^n1 with V capped at V_a (eq. 12)."""
+    v_a = params.compression_ratio * clearance_m3
+    v = np.minimum(volume_m3, v_a)
+    return params.intake_pressure_Pa * (v_a / v) ** params.compression_index
+
+
+def _compression_slope_Pa_per_deg(volume_m3, dvolume_m3_per_deg, clearance_m3, params):
+    """d/dalpha of the compression line, Pa/deg."""
+    v_a = params.compression_ratio * clearance_m3
+    p = _compression_line_Pa(volume_m3, clearance_m3, params)
+    dp_dv = np.where(volume_m3 < v_a, -params.compression_index * p / volume_m3, 0.0)
+    return dp_dv * dvolume_m3_per_deg
+
+
+def _expansion_line_Pa(volume_m3, clearance_m3, params):
+    """min(p_z, p_z (rho V_c / V)^n2) with V capped at V_a (eq. 13)."""
+    v_a = params.compression_ratio * clearance_m3
+    v = np.minimum(volume_m3, v_a)
+    ratio = params.pre_expansion_ratio * clearance_m3 / v
+    return params.max_pressure_Pa * np.minimum(1.0, ratio) ** params.expansion_index
+
+
+def _expansion_slope_Pa_per_deg(volume_m3, dvolume_m3_per_deg, clearance_m3, params):
+    """d/dalpha of the expansion line (zero on the isobar), Pa/deg."""
+    v_a = params.compression_ratio * clearance_m3
+    v_z = params.pre_expansion_ratio * clearance_m3
+    p = _expansion_line_Pa(volume_m3, clearance_m3, params)
+    on_polytrope = (volume_m3 > v_z) & (volume_m3 < v_a)
+    dp_dv = np.where(on_polytrope, -params.expansion_index * p / volume_m3, 0.0)
+    return dp_dv * dvolume_m3_per_deg
+
+
+def _cycle_deg(params):
+    return 720.0 if params.strokes == 4 else 360.0
+
+
+def _firing_tdc_deg(params):
+    return 360.0 if params.strokes == 4 else 0.0
+
+
+def _check_volumes(volume, clearance_volume_m3, params):
+    _require(np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
+             "clearance_volume_m3", clearance_volume_m3, "> 0")
+    _require(np.all(np.isfinite(volume)), "volume_m3", "non-finite values",
+             "finite values")
+    low = clearance_volume_m3 * (1.0 - _VOLUME_RTOL)
+    _require(np.all(volume >= low), "volume_m3", _worst(volume, volume < low),
+             f">= clearance_volume_m3 = {clearance_volume_m3:.6g} m^3")
+
+
+def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params):
+    """Theoretical (sharp-cornered) indicator diagram on a crank-angle grid.
+
+    Parameters
+    ----------
+    crank_angle_deg : array_like
+        Crank angle alpha, deg, from TDC at the start of intake (four-stroke)
+        or from firing TDC (two-stroke).  Reduced modulo the cycle length
+        (720 or 360 deg).
+    volume_m3 : array_like
+        Cylinder volume at the same angles, m^3, same shape, >= V_c.
+    clearance_volume_m3 : float
+        Clearance volume V_c, m^3, > 0.  The full volume used by the
+        polytropes is V_a = epsilon V_c.
+    params : CycleParameters
+
+    Returns
+    -------
+    numpy.ndarray
+        Absolute cylinder pressure, Pa, same shape as ``crank_angle_deg``.
+
+    Notes
+    -----
+    Four-stroke:
+
+    * intake, alpha in [0, 180]: p_a;
+    * compression, (180, 360): p = p_a (V_a/V)^n1 (eq. 12);
+    * firing TDC, alpha = 360: isochoric jump to p_z;
+    * expansion, [360, 540]: p = min(p_z, p_z (rho V_c / V)^n2), i.e. the
+      diesel isobar p_z up to V = rho V_c followed by the polytrope
+      p_b (V_a/V)^n2 (eq. 13); for spark ignition rho = 1;
+    * exhaust, (540, 720): p_r (isochoric drop at BDC).
+
+    Two-stroke: expansion on [0, 180] (p_z at 0, with the diesel isobar),
+    compression on (180, 360) from p_a; the isochoric jump back to p_z
+    happens at 360 = 0.
+
+    Volumes above V_a (possible only when epsilon is a two-stroke effective
+    ratio, or the geometry is inconsistent) are treated as V_a, i.e. the
+    polytropes are held at p_a / p_b there.  With consistent geometry the
+    pressure at BDC equals p_a (after intake) and p_b (after expansion).
+    Poda (2007) eqs. (12)-(15).
+    """
+    alpha = np.asarray(crank_angle_deg, dtype=float)
+    volume = np.asarray(volume_m3, dtype=float)
+    _require(alpha.shape == volume.shape, "volume_m3", f"shape {volume.shape}",
+             f"the shape of crank_angle_deg {alpha.shape}")
+    _require(np.all(np.isfinite(alpha)), "crank_angle_deg", "non-finite values",
+             "finite values")
+    _check_volumes(volume, clearance_volume_m3, params)
+
+    cycle = _cycle_deg(params)
+    a = np.mod(alpha, cycle)
+    p_comp = _compression_line_Pa(volume, clearance_volume_m3, params)
+    p_exp = _expansion_line_Pa(volume, clearance_volume_m3, params)
+    if params.strokes == 4:
+        conditions = [a <= 180.0, a < 360.0, a <= 540.0]
+        choices = [np.full_like(a, params.intake_pressure_Pa), p_comp, p_exp]
+        return np.select(conditions, choices, default=params.exhaust_pressure_Pa)
+    return np.where(a <= 180.0, p_exp, p_comp)
+
+
+def theoretical_mean_indicated_pressure_Pa(params):
+    """Closed-form mean indicated pressure of the theoretical cycle (unrounded).
+
+    Parameters
+    ----------
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        p_i' = p_c/(eps-1) [lambda_p (rho-1) + lambda_p rho/(n2-1)
+        (1 - 1/delta^(n2-1)) - 1/(n1-1) (1 - 1/eps^(n1-1))], Pa,
+        with delta = eps/rho.
+
+    Notes
+    -----
+    Derived: the work of the closed part of the cycle per unit swept volume,
+
+    * isobar V_c -> rho V_c: p_z (rho - 1) V_c,
+    * expansion polytrope rho V_c -> V_a:
+      p_z rho V_c / (n2 - 1) [1 - delta^(1-n2)],
+    * compression polytrope V_a -> V_c (negative work):
+      p_c V_c / (n1 - 1) [1 - eps^(1-n1)],
+
+    divided by V_h = (eps - 1) V_c.  For spark ignition rho = 1 and the first
+    term vanishes.  The gas-exchange (pumping) loop is excluded: the
+    four-stroke diagram of :func:`theoretical_pressure_Pa` has, in addition,
+    the work (p_a - p_r) V_h of its intake and exhaust lines.
+    """
+    eps = params.compression_ratio
+    rho = params.pre_expansion_ratio
+    n1 = params.compression_index
+    n2 = params.expansion_index
+    lam = pressure_ratio(params)
+    delta = eps / rho
+    p_c = compression_end_pressure_Pa(params)
+    bracket = (lam * (rho - 1.0)
+               + lam * rho / (n2 - 1.0) * (1.0 - delta ** (1.0 - n2))
+               - 1.0 / (n1 - 1.0) * (1.0 - eps ** (1.0 - n1)))
+    return p_c / (eps - 1.0) * bracket
+
+
+# ---------------------------------------------------------------------------
+# Rounding
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class RoundingParameters:
+    """Angles and pressures that turn the theoretical diagram into an actual one.
+
+    Attributes
+    ----------
+    ignition_advance_deg : float
+        Spark advance (textbook 20-25 deg) or injection advance (10-40 deg)
+        before firing TDC (point 3), deg, in (0, 90).
+    combustion_delay_deg : float
+        Ignition delay 3 -> C' in crank degrees, in [0, ignition_advance_deg);
+        see :func:`default_combustion_delay_deg`.
+    pressure_rise_to_tdc_Pa : float
+        Pressure rise C' -> C'' above the compression-end pressure: the
+        actual pressure at firing TDC is p_c + this, Pa, >= 0 (textbook
+        0.4-0.6 MPa).
+    peak_pressure_fraction : float
+        p_z' / p_z, in (0, 1] (textbook 0.8-0.9).
+    peak_angle_after_tdc_deg : float
+        Angle of the actual maximum Z' after firing TDC, deg, in (0, 90)
+        (textbook 10-15).
+    exhaust_opens_before_bdc_deg : float, default 0
+        Exhaust valve / port opening before BDC (b'), deg, in [0, 180);
+        0 keeps the sharp drop at BDC.  Typical four-stroke 40-70.
+    exhaust_closes_after_tdc_deg : float, default 0
+        Four-stroke only: exhaust valve closing after the exhaust TDC, deg,
+        in [0, 180).  Typical 10-30.
+    intake_opens_before_tdc_deg : float, default 0
+        Four-stroke only: intake valve opening before the exhaust TDC, deg,
+        in [0, 180).  Typical 10-30.
+    intake_closes_after_bdc_deg : float, default 0
+        Four-stroke only: intake valve closing after BDC, deg, in [0, 180).
+        Typical 40-80.  Validated and kept for valve-timing output; it does
+        not change the diagram because the compression line already leaves
+        the intake line with zero slope at BDC.
+
+    Notes
+    -----
+    Poda (2007) section 3.1 and Appendix V (valve timing alpha_1...alpha_4).
+    """
+
+    ignition_advance_deg: float
+    combustion_delay_deg: float
+    pressure_rise_to_tdc_Pa: float
+    peak_pressure_fraction: float
+    peak_angle_after_tdc_deg: float
+    exhaust_opens_before_bdc_deg: float = 0.0
+    exhaust_closes_after_tdc_deg: float = 0.0
+    intake_opens_before_tdc_deg: float = 0.0
+    intake_closes_after_bdc_deg: float = 0.0
+
+    def __post_init__(self):
+        adv = self.ignition_advance_deg
+        _require(np.isfinite(adv) and 0 < adv < 90, "ignition_advance_deg", adv,
+                 "(0, 90) deg")
+        delay = self.combustion_delay_deg
+        _require(np.isfinite(delay) and 0 <= delay < adv, "combustion_delay_deg",
+                 delay, f"[0, ignition_advance_deg={adv}) deg so that C' lies "
+                 "before firing TDC")
+        _require(np.isfinite(self.pressure_rise_to_tdc_Pa)
+                 and self.pressure_rise_to_tdc_Pa >= 0,
+                 "pressure_rise_to_tdc_Pa", self.pressure_rise_to_tdc_Pa, ">= 0 Pa")
+        _require(0 < self.peak_pressure_fraction <= 1, "peak_pressure_fraction",
+                 self.peak_pressure_fraction, "(0, 1]")
+        _require(0 < self.peak_angle_after_tdc_deg < 90, "peak_angle_after_tdc_deg",
+                 self.peak_angle_after_tdc_deg, "(0, 90) deg")
+        for name in ("exhaust_opens_before_bdc_deg", "exhaust_closes_after_tdc_deg",
+                     "intake_opens_before_tdc_deg", "intake_closes_after_bdc_deg"):
+            value = getattr(self, name)
+            _require(np.isfinite(value) and 0 <= value < 180, name, value, "[0, 180) deg")
+
+
+def default_combustion_delay_deg(ignition, advance_deg, rpm, delay_time_s=1.5e-3):
+    """Textbook estimate of the ignition delay 3 -> C' in crank degrees.
+
+    Parameters
+    ----------
+    ignition : str
+        ``"spark"`` or ``"diesel"``.
+    advance_deg : float
+        Spark or injection advance, deg, > 0.
+    rpm : float
+        Crankshaft speed n, rev/min, > 0 (used for diesels only).
+    delay_time_s : float, default 1.5e-3
+        Diesel ignition delay time tau, s, > 0 (textbook 1.2e-3...2.0e-3).
+
+    Returns
+    -------
+    float
+        Delay, deg: 0.11 * advance_deg for spark ignition (textbook
+        0.10...0.12), 6 n tau for a diesel.
+
+    Notes
+    -----
+    Poda (2007) section 3.1; 6 n tau converts a time to crank degrees
+    (360 deg/rev * n/60 rev/s).
+    """
+    _require(ignition in ("spark", "diesel"), "ignition", ignition, "'spark' or 'diesel'")
+    _require(np.isfinite(advance_deg) and advance_deg > 0, "advance_deg", advance_deg, "> 0 deg")
+    _require(np.isfinite(rpm) and rpm > 0, "rpm", rpm, "> 0 rev/min")
+    _require(np.isfinite(delay_time_s) and delay_time_s > 0, "delay_time_s", delay_time_s,
+             "> 0 s")
+    if ignition == "spark":
+        return 0.11 * advance_deg
+    return 6.0 * rpm * delay_time_s
+
+
+def _hermite_is_monotone(slope_start, slope_end, secant):
+    """Fritsch-Carlson (1980) necessary and sufficient monotonicity test.
+
+    For the cubic Hermite segment with end derivatives ``slope_start``,
+    ``slope_end`` and secant slope ``secant`` (non-zero).
+    """
+    if secant == 0:
+        return slope_start == 0 and slope_end == 0
+    a = slope_start / secant
+    b = slope_end / secant
+    tol = 1e-12
+    if a < -tol or b < -tol:
+        return False
+    if a + b - 2.0 <= tol or 2.0 * a + b - 3.0 <= tol or a + 2.0 * b - 3.0 <= tol:
+        return True
+    phi = a - (2.0 * a + b - 3.0) ** 2 / (3.0 * (a + b - 2.0))
+    return phi >= -tol
+
+
+def _pchip_interior_slope(h1, m1, h2, m2):
+    """Weighted harmonic mean of two secants (Fritsch-Butland / PCHIP)."""
+    if m1 * m2 <= 0:
+        return 0.0
+    w1 = 2.0 * h2 + h1
+    w2 = h2 + 2.0 * h1
+    return (w1 + w2) / (w1 / m1 + w2 / m2)
+
+
+def _volume_interpolant(alpha, volume, cycle):
+    """Periodic cubic spline V(alpha) and dV/dalpha from the caller's samples."""
+    _require(alpha.ndim == 1 and alpha.size >= 4, "crank_angle_deg",
+             f"array of shape {alpha.shape}",
+             "a 1-D grid of >= 4 points when volume_function is not given")
+    _require(np.all(np.diff(alpha) > 0) and alpha[0] >= 0 and alpha[-1] < cycle,
+             "crank_angle_deg", f"[{alpha[0]}, ..., {alpha[-1]}]",
+             f"strictly increasing values in [0, {cycle:g}) when volume_function "
+             "is not given")
+    gaps = np.diff(np.append(alpha, alpha[0] + cycle))
+    _require(gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG, "crank_angle_deg",
+             f"largest step {gaps.max():g} deg",
+             f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)")
+    spline = CubicSpline(np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]),
+                         bc_type="periodic")
+    derivative = spline.derivative()
+    start = alpha[0]
+
+    def volume_and_slope(angle_deg):
+        x = start + np.mod(np.asarray(angle_deg, dtype=float) - start, cycle)
+        return spline(x), derivative(x)
+
+    return volume_and_slope
+
+
+def _function_volume(volume_function, cycle):
+    """V(alpha) and a central-difference dV/dalpha from a user function."""
+    step = 1e-4  # deg; truncation error ~1e-9 relative for engine kinematics
+
+    def volume_and_slope(angle_deg):
+        a = np.mod(np.asarray(angle_deg, dtype=float), cycle)
+        v = np.asarray(volume_function(a), dtype=float)
+        dv = (np.asarray(volume_function(a + step), dtype=float)
+              - np.asarray(volume_function(a - step), dtype=float)) / (2.0 * step)
+        return v, dv
+
+    return volume_and_slope
+
+
+def _find_junction_deg(psi_peak, psi_limit, peak_Pa, expansion_at):
+    """First angle after Z' joining the expansion line monotonically (see docstring)."""
+
+    def passes(psi):
+        p, slope = expansion_at(np.asarray([psi]))
+        p, slope = float(p[0]), float(slope[0])
+        if not p < peak_Pa:
+            return False
+        secant = (p - peak_Pa) / (psi - psi_peak)
+        return _hermite_is_monotone(0.0, slope, secant)
+
+    n = int(np.floor((psi_limit - psi_peak) / _JUNCTION_SEARCH_STEP_DEG))
+    if n < 1:
+        return None
+    grid = psi_peak + _JUNCTION_SEARCH_STEP_DEG * np.arange(1, n + 1)
+    p, slope = expansion_at(grid)
+    secant = (p - peak_Pa) / (grid - psi_peak)
+    # Vectorised form of the Fritsch-Carlson test for a zero start slope:
+    # 0 <= beta = slope / secant <= 3 (same tolerance as _hermite_is_monotone).
+    with np.errstate(divide="ignore", invalid="ignore"):
+        beta = slope / secant
+    ok = (p < peak_Pa) & (beta >= -1e-12) & (beta <= 3.0 + 1e-12)
+    candidates = np.nonzero(ok)[0]
+    if candidates.size == 0:
+        return None
+    first = candidates[0]
+    hi = float(grid[first])
+    lo = psi_peak if first == 0 else float(grid[first - 1])
+    if not passes(hi):
+        return None
+    while hi - lo > _JUNCTION_TOLERANCE_DEG:
+        mid = 0.5 * (lo + hi)
+        if passes(mid):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def _local_offset_deg(alpha, start_deg, cycle):
+    """Angle travelled from ``start_deg`` to ``alpha`` in the direction of rotation."""
+    return np.mod(alpha - start_deg, cycle)
+
+
+def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
+                        *, volume_function: Optional[Callable] = None):
+    """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
+
+    Parameters
+    ----------
+    crank_angle_deg : array_like
+        Crank angles alpha, deg (conventions as in
+        :func:`theoretical_pressure_Pa`).  Without ``volume_function`` this
+        must be a strictly increasing 1-D grid covering the cycle, in
+        [0, 720) or [0, 360), with steps <= 15 deg.
+    volume_m3 : array_like
+        Cylinder volume at those angles, m^3, same shape.
+    clearance_volume_m3 : float
+        Clearance volume V_c, m^3, > 0.
+    params : CycleParameters
+    rounding : RoundingParameters
+    volume_function : callable, optional
+        ``volume_function(angle_deg_array) -> volume_m3_array`` on the same
+        cycle.  The rounding needs V and dV/dalpha at angles that the
+        caller's grid may miss (C', b', the junction J).  If given, these are
+        taken from it and the result is exactly independent of the caller's
+        grid; otherwise they come from a periodic cubic spline through
+        (crank_angle_deg, volume_m3), which reproduces engine kinematics to
+        ~1e-9 relative on a 1-deg grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        Absolute cylinder pressure, Pa, same shape as ``crank_angle_deg``.
+
+    Raises
+    ------
+    ValueError
+        If the rounding points do not fit on the diagram (the message names
+        the offending parameter), or the inputs are invalid.
+
+    Notes
+    -----
+    Algorithm (angles psi relative to firing TDC; every rounding segment is a
+    cubic Hermite curve, evaluated analytically at the caller's angles, that
+    matches the theoretical line in value and slope at both of its ends, so
+    the diagram is C1 wherever rounding acts):
+
+    1. Combustion.  C' at psi = -(advance - delay) lies on the compression
+       line (its value and slope), C'' at psi = 0 has p_c + rise, Z' at
+       psi = peak_angle has p_z' = fraction * p_z and zero slope.  The slope
+       at C'' is the weighted harmonic mean of the neighbouring secants
+       (PCHIP).  Both segments must pass the Fritsch-Carlson monotonicity
+       test, so the curve rises monotonically and its maximum is exactly
+       p_z' at Z'.
+    2. Junction J: the first angle after Z' at which the expansion line lies
+       below p_z' and a monotone Hermite segment from Z' (zero slope) to J
+       (expansion line's value and slope) exists; for a zero start slope the
+       Fritsch-Carlson test reduces to slope_J <= 3 * secant.  It is found
+       on an internal 0.01-deg grid, refined by bisection to 1e-10 deg.
+    3. Exhaust (four-stroke), b' = 540 - exhaust_opens_before_bdc on the
+       expansion line (value, slope) -> BDC at (p_b + p_r)/2 (PCHIP slope)
+       -> p_r with zero slope at 540 + exhaust_opens_before_bdc/2; both
+       segments must be monotone.  Two-stroke with a positive opening
+       angle: the same three points with p_a in place of p_r, the last one
+       on the compression line (value and slope), so the curve may dip
+       slightly below that rising line just before joining it.
+    4. Gas exchange at the exhaust TDC (four-stroke): p_r -> p_a with zero
+       end slopes (smoothstep, monotone) between
+       720 - intake_opens_before_tdc and 0 + exhaust_closes_after_tdc,
+       wrapping through 720/0.  If both angles are 0 the step stays sharp.
+    5. Elsewhere the theoretical diagram is kept.  The rounding windows must
+       not overlap (C' after the previous window, J before b', the exhaust
+       rounding end before the intake opening), else ValueError.
+
+    Poda (2007) section 3.1 gives the points 3, C', C'', Z', b' and the
+    typical values; the curves joining them are a derived construction.
+    """
+    alpha = np.asarray(crank_angle_deg, dtype=float)
+    volume = np.asarray(volume_m3, dtype=float)
+    _require(isinstance(params, CycleParameters), "params", type(params).__name__,
+             "a CycleParameters instance")
+    _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
+             "a RoundingParameters instance")
+    pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    cycle = _cycle_deg(params)
+    tdc = _firing_tdc_deg(params)
+    four = params.strokes == 4
+    if not four:
+        for name in ("exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
+                     "intake_closes_after_bdc_deg"):
+            _require(getattr(rounding, name) == 0, name, getattr(rounding, name),
+                     "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)")
+
+    if volume_function is None:
+        volume_at = _volume_interpolant(alpha, volume, cycle)
+    else:
+        volume_at = _function_volume(volume_function, cycle)
+
+    def compression_at(psi):
+        v, dv = volume_at(tdc + psi)
+        return (_compression_line_Pa(v, clearance_volume_m3, params),
+                _compression_slope_Pa_per_deg(v, dv, clearance_volume_m3, params))
+
+    def expansion_at(psi):
+        v, dv = volume_at(tdc + psi)
+        return (_expansion_line_Pa(v, clearance_volume_m3, params),
+                _expansion_slope_Pa_per_deg(v, dv, clearance_volume_m3, params))
+
+    p_c = compression_end_pressure_Pa(params)
+    p_b = expansion_end_pressure_Pa(params)
+    p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
+    peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
+    eo = rounding.exhaust_opens_before_bdc_deg
+
+    # --- window limits in psi (relative to firing TDC) -----------------
+    psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
+    psi_peak = rounding.peak_angle_after_tdc_deg
+    psi_b1 = 180.0 - eo
+    drop_end_psi = 180.0 + 0.5 * eo  # end of the drop, psi
+    if not four:
+        # the drop end (after BDC) must precede C' (before the next firing TDC)
+        _require(drop_end_psi - 360.0 < psi_c1, "exhaust_opens_before_bdc_deg", eo,
+                 f"< {2.0 * (psi_c1 + 180.0):.6g} deg so that the drop at BDC ends "
+                 "before the combustion point C'")
+    _require(psi_peak < psi_b1, "exhaust_opens_before_bdc_deg", eo,
+             f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
+             f"(peak_angle_after_tdc_deg = {psi_peak:g})")
+
+    # --- combustion: C' -> C'' -> Z' -----------------------------------
+    p_c1, s_c1 = (float(x[0]) for x in compression_at(np.asarray([psi_c1])))
+    p_c2 = p_c + rounding.pressure_rise_to_tdc_Pa
+    _require(p_c2 < peak, "pressure_rise_to_tdc_Pa", rounding.pressure_rise_to_tdc_Pa,
+             f"< p_z' - p_c = {peak - p_c:.6g} Pa (peak_pressure_fraction * p_z "
+             "must exceed the pressure at TDC)")
+    h1, h2 = -psi_c1, psi_peak
+    m1 = (p_c2 - p_c1) / h1
+    m2 = (peak - p_c2) / h2
+    d_c2 = _pchip_interior_slope(h1, m1, h2, m2)
+    _require(_hermite_is_monotone(s_c1, d_c2, m1), "combustion_delay_deg",
+             rounding.combustion_delay_deg,
+             "a value for which the C'-C'' rounding is monotone (C' too close to TDC "
+             "for this pressure_rise_to_tdc_Pa)")
+    _require(_hermite_is_monotone(d_c2, 0.0, m2), "peak_angle_after_tdc_deg", psi_peak,
+             "a value for which the C''-Z' rounding is monotone")
+
+    psi_j = _find_junction_deg(psi_peak, psi_b1, peak, expansion_at)
+    _require(psi_j is not None,
+             "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
+             f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
+             "values for which the rounding from Z' joins the expansion line "
+             f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
+             "firing TDC)")
+    p_j, s_j = (float(x[0]) for x in expansion_at(np.asarray([psi_j])))
+    combustion = CubicHermiteSpline([psi_c1, 0.0, psi_peak, psi_j],
+                                    [p_c1, p_c2, peak, p_j],
+                                    [s_c1, d_c2, 0.0, s_j])
+    offset = _local_offset_deg(alpha, tdc + psi_c1, cycle)
+    in_window = offset <= psi_j - psi_c1
+    pressure = np.where(in_window, combustion(psi_c1 + offset), pressure)
+
+    # --- exhaust drop at BDC --------------------------------------------
+    if eo > 0:
+        _require(p_b > p_low, "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
+                 p_low, f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust "
+                 "rounding")
+        _require(psi_j < psi_b1, "exhaust_opens_before_bdc_deg", eo,
+                 f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion "
+                 "rounding junction J")
+        p_b1, s_b1 = (float(x[0]) for x in expansion_at(np.asarray([psi_b1])))
+        p_mid = 0.5 * (p_b + p_low)
+        if four:
+            p_end, s_end = p_low, 0.0
+        else:
+            p_end, s_end = (float(x[0]) for x in compression_at(np.asarray([drop_end_psi])))
+        h1, h2 = eo, 0.5 * eo
+        m1 = (p_mid - p_b1) / h1
+        m2 = (p_end - p_mid) / h2
+        d_mid = _pchip_interior_slope(h1, m1, h2, m2)
+        _require(_hermite_is_monotone(s_b1, d_mid, m1), "exhaust_opens_before_bdc_deg", eo,
+                 "a value for which the b'-BDC rounding is monotone")
+        if four:
+            _require(_hermite_is_monotone(d_mid, s_end, m2), "exhaust_opens_before_bdc_deg",
+                     eo, "a value for which the BDC-exhaust rounding is monotone")
+        drop = CubicHermiteSpline([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end],
+                                  [s_b1, d_mid, s_end])
+        offset = _local_offset_deg(alpha, tdc + psi_b1, cycle)
+        in_window = offset <= 1.5 * eo
+        pressure = np.where(in_window, drop(psi_b1 + offset), pressure)
+
+    # --- gas exchange at the exhaust TDC (four-stroke) -----------------
+    if four:
+        io = rounding.intake_opens_before_tdc_deg
+        ec = rounding.exhaust_closes_after_tdc_deg
+        _require(720.0 - io > tdc + drop_end_psi, "intake_opens_before_tdc_deg", io,
+                 f"< {720.0 - (tdc + drop_end_psi):.6g} deg so that the intake "
+                 "opening follows the end of the exhaust rounding "
+                 "(540 + exhaust_opens_before_bdc_deg/2)")
+        width = io + ec
+        if width > 0:
+            offset = _local_offset_deg(alpha, 720.0 - io, cycle)
+            in_window = offset <= width
+            t = np.clip(offset / width, 0.0, 1.0)
+            smooth = params.exhaust_pressure_Pa + (
+                params.intake_pressure_Pa - params.exhaust_pressure_Pa) * t * t * (3.0 - 2.0 * t)
+            pressure = np.where(in_window, smooth, pressure)
+    return pressure
+
+
+# ---------------------------------------------------------------------------
+# Work and mean pressure
+# ---------------------------------------------------------------------------
+def indicated_work_J(pressure_Pa, volume_m3):
+    """Indicated work of one cycle, the closed-loop integral of p dV.
+
+    Parameters
+    ----------
+    pressure_Pa : array_like
+        Cylinder pressure over one cycle, Pa, 1-D, on a periodic grid with the
+        end point excluded (e.g. 0, 1, ..., 719 deg).
+    volume_m3 : array_like
+        Cylinder volume at the same samples, m^3, same shape.
+
+    Returns
+    -------
+    float
+        W_i = closed integral of p dV, J.  Positive for an engine cycle
+        traversed in the direction of rotation; pumping loops count with
+        their sign.
+
+    Notes
+    -----
+    The first sample is appended to close the loop and the integral is taken
+    with the trapezoid rule in V: sum of (p_k + p_{k+1})/2 (V_{k+1} - V_k).
+    Derived (planimetering of the diagram in Poda 2007, section 3.1).
+    """
+    p = np.asarray(pressure_Pa, dtype=float)
+    v = np.asarray(volume_m3, dtype=float)
+    _require(p.ndim == 1 and p.size >= 3, "pressure_Pa", f"array of shape {p.shape}",
+             "a 1-D array of >= 3 samples")
+    _require(v.shape == p.shape, "volume_m3", f"shape {v.shape}",
+             f"the shape of pressure_Pa {p.shape}")
+    _require(np.all(np.isfinite(p)) and np.all(np.isfinite(v)), "pressure_Pa/volume_m3",
+             "non-finite values", "finite values")
+    p_closed = np.append(p, p[0])
+    v_closed = np.append(v, v[0])
+    return float(np.sum(0.5 * (p_closed[1:] + p_closed[:-1]) * np.diff(v_closed)))
+
+
+def mean_indicated_pressure_Pa(work_J, swept_volume_m3):
+    """Mean indicated pressure from the indicated work.
+
+    Parameters
+    ----------
+    work_J : float or array_like
+        Indicated work per cycle, J.
+    swept_volume_m3 : float
+        Swept volume V_h, m^3, > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        p_i = W_i / V_h, Pa.
+
+    Notes
+    -----
+    Poda (2007) section 3.1 (p_i' = L_i / V_h).
+    """
+    _require(np.isfinite(swept_volume_m3) and swept_volume_m3 > 0, "swept_volume_m3",
+             swept_volume_m3, "> 0")
+    if np.ndim(work_J):
+        return np.asarray(work_J, dtype=float) / swept_volume_m3
+    return float(work_J) / swept_volume_m3
+
+
+# ---------------------------------------------------------------------------
+# Crank angle from volume
+# ---------------------------------------------------------------------------
+def _displacement_ratio(volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio):
+    """Validated s/R and (2R - s)/R from the cylinder volume."""
+    volume = np.asarray(volume_m3, dtype=float)
+    _require(np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
+             "clearance_volume_m3", clearance_volume_m3, "> 0")
+    _require(np.isfinite(bore_m) and bore_m > 0, "bore_m", bore_m, "> 0")
+    _require(np.isfinite(crank_radius_m) and crank_radius_m > 0, "crank_radius_m",
+             crank_radius_m, "> 0")
+    _require(np.isfinite(rod_ratio) and 0 < rod_ratio < 1, "rod_ratio", rod_ratio,
+             "(0, 1) (lambda = R/L)")
+    area = 0.25 * np.pi * bore_m ** 2
+    s_over_r = (volume - clearance_volume_m3) / (area * crank_radius_m)
+    tol = 1e-9
+    bad = ~np.isfinite(s_over_r) | (s_over_r < -tol) | (s_over_r > 2.0 + tol)
+    v_max = clearance_volume_m3 + 2.0 * area * crank_radius_m
+    _require(not np.any(bad), "volume_m3", _worst(volume, bad),
+             f"[{clearance_volume_m3:.6g}, {v_max:.6g}] m^3 (V_c ... V_c + pi D^2/4 * 2R)")
+    s_over_r = np.clip(s_over_r, 0.0, 2.0)
+    # distance from BDC computed from the volume directly (no cancellation)
+    w_over_r = np.clip((v_max - volume) / (area * crank_radius_m), 0.0, 2.0)
+    return s_over_r, w_over_r
+
+
+def crank_angle_from_volume_approx_deg(volume_m3, clearance_volume_m3, bore_m,
+                                       crank_radius_m, rod_ratio):
+    """Crank angle from cylinder volume, inverting the two-term displacement.
+
+    Parameters
+    ----------
+    volume_m3 : float or array_like
+        Cylinder volume, m^3, in [V_c, V_c + pi D^2/4 * 2R].
+    clearance_volume_m3 : float
+        Clearance volume V_c, m^3, > 0.
+    bore_m : float
+        Cylinder bore D, m, > 0.
+    crank_radius_m : float
+        Crank radius R, m, > 0.
+    rod_ratio : float
+        lambda = R / L, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Crank angle alpha in [0, 180] deg.
+
+    Notes
+    -----
+    Poda (2007) eq. (16) inverts eq. (9),
+    s = R[(1 + lambda/4) - (cos a + lambda/4 cos 2a)],
+    i.e. (lambda/2) c^2 + c - (1 + lambda/2 - s/R) = 0 with c = cos a:
+    c = [sqrt(1 - 2 lambda (s/R - 1 - lambda/2)) - 1] / lambda.
+    Evaluated here in the equivalent, well-conditioned form (derived)
+    1 - c = 2 sigma / [(1+lambda) + sqrt((1+lambda)^2 - 2 lambda sigma)],
+    1 + c = 2 omega / [(1-lambda) + sqrt((1-lambda)^2 + 2 lambda omega)],
+    sigma = s/R, omega = 2 - sigma, a = 2 atan2(sqrt(1-c), sqrt(1+c)).
+    """
+    sigma, omega = _displacement_ratio(volume_m3, clearance_volume_m3, bore_m,
+                                       crank_radius_m, rod_ratio)
+    lam = rod_ratio
+    one_minus_c = 2.0 * sigma / ((1.0 + lam) + np.sqrt((1.0 + lam) ** 2 - 2.0 * lam * sigma))
+    one_plus_c = 2.0 * omega / ((1.0 - lam) + np.sqrt((1.0 - lam) ** 2 + 2.0 * lam * omega))
+    angle = np.degrees(2.0 * np.arctan2(np.sqrt(one_minus_c), np.sqrt(one_plus_c)))
+    return angle if np.ndim(volume_m3) else float(angle)
+
+
+def crank_angle_from_volume_exact_deg(volume_m3, clearance_volume_m3, bore_m,
+                                      crank_radius_m, rod_ratio):
+    """Crank angle from cylinder volume for the exact crank-slider kinematics.
+
+    Parameters
+    ----------
+    volume_m3 : float or array_like
+        Cylinder volume, m^3, in [V_c, V_c + pi D^2/4 * 2R].
+    clearance_volume_m3 : float
+        Clearance volume V_c, m^3, > 0.
+    bore_m : float
+        Cylinder bore D, m, > 0.
+    crank_radius_m : float
+        Crank radius R, m, > 0.
+    rod_ratio : float
+        lambda = R / L, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Crank angle alpha in [0, 180] deg.
+
+    Notes
+    -----
+    Derived.  Exact displacement s = R[(1 - cos a) + (1/lambda)(1 - cos b)],
+    sin b = lambda sin a.  With x = 1 + 1/lambda - s/R = cos a + (1/lambda) cos b
+    (the crank-centre to piston-pin distance over R), squaring
+    (1/lambda) cos b = x - cos a cancels the cos^2 a terms, so the
+    "quadratic" is linear: cos a = (x^2 + 1 - 1/lambda^2) / (2 x)
+    (the law of cosines in the crank triangle).  The root satisfies
+    x - cos a >= 0, i.e. it is the physical branch (cos b > 0).
+    For conditioning near the dead centres it is evaluated as
+    1 - cos a = sigma (2/lambda - sigma) / (2x), 1 + cos a = omega (2/lambda + omega) / (2x),
+    a = 2 atan2(sqrt(1 - cos a), sqrt(1 + cos a)), with sigma = s/R, omega = 2 - sigma.
+    """
+    sigma, omega = _displacement_ratio(volume_m3, clearance_volume_m3, bore_m,
+                                       crank_radius_m, rod_ratio)
+    inv = 1.0 / rod_ratio
+    one_minus_c = sigma * (2.0 * inv - sigma)
+    one_plus_c = omega * (2.0 * inv + omega)
+    # the common factor 1/(2x) cancels in atan2
+    angle = np.degrees(2.0 * np.arctan2(np.sqrt(one_minus_c), np.sqrt(one_plus_c)))
+    return angle if np.ndim(volume_m3) else float(angle)
+
+
+# ---------------------------------------------------------------------------
+# Helpers
+# ---------------------------------------------------------------------------
+def _require(condition, name, value, allowed):
+    """Raise ValueError naming the parameter, its value and the allowed range."""
+    if not condition:
+        raise ValueError(f"{name} = {value!r} is invalid; allowed: {allowed}")
+
+
+def _worst(values, mask):
+    """A short description of offending array entries for error messages."""
+    values = np.asarray(values)
+    mask = np.asarray(mask)
+    if values.ndim == 0:
+        return float(values)
+    bad = values[mask] if mask.shape == values.shape else values
+    if bad.size == 0:
+        return "array"
+    return f"{bad.size} offending value(s), e.g. {float(bad.flat[0]):.6g}"

@@ -1,0 +1,99 @@
+"""The typed objects that plugins return from the hooks in :mod:`crankdyn.hookspecs`.
+
+A stage is data plus four callables: ``applies`` (does the scene need me, and if
+not, why), ``run`` (physics: arrays in, arrays out), ``render`` (text and figures
+from what ``run`` produced; never physics). The orchestrator orders stages by
+``requires``/``provides`` only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable, Mapping
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+    from .report.context import RenderContext
+    from .scene import Scene
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A mechanism type a scene can name in ``engine.mechanism``.
+
+    ``check`` returns the problems (``crankdyn.errors.Problem``) a scene has for
+    this mechanism beyond the generic validation, e.g. a linkage that cannot assemble.
+    """
+
+    name: str
+    summary: str
+    check: Callable[["Scene"], list] = lambda scene: []
+
+
+@dataclass
+class StageOutput:
+    """What a stage's ``run`` returns.
+
+    data:       objects for later stages, one entry per key in ``Stage.provides``.
+    results:    JSON-ready key results (floats, strings, lists) for results.json.
+    tables:     named pandas DataFrames, written as tables/<stage>_<name>.csv; column
+                names carry their unit, e.g. ``crank_angle_deg``.
+    notes:      method notes as (catalog key, parameters) pairs, rendered by the report.
+    """
+
+    data: dict[str, Any] = field(default_factory=dict)
+    results: dict[str, Any] = field(default_factory=dict)
+    tables: dict[str, "pd.DataFrame"] = field(default_factory=dict)
+    notes: list[tuple[str, dict]] = field(default_factory=list)
+
+
+@dataclass
+class Section:
+    """A rendered report section: HTML body plus the conclusions it contributes."""
+
+    key: str
+    title: str
+    html: str
+    conclusions: list[str] = field(default_factory=list)
+    references: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Stage:
+    """An analysis stage.
+
+    name:       unique; used in ``--stages`` and results.json.
+    title_key:  catalog key of the section title.
+    requires:   data keys this stage needs from earlier stages.
+    provides:   data keys it makes (``StageOutput.data`` must hold exactly these).
+    applies:    ``applies(scene) -> None`` when the scene needs this stage, else the
+                reason (one English sentence; it goes to results.json and the report).
+    run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
+                to the object an earlier stage provided.
+    render:     ``render(output, ctx) -> str``: the section's HTML (usually via
+                ``ctx.render_template``); figures and tables are registered on ``ctx``.
+    template_dir: a folder with this plugin's section templates, if it has its own.
+    references: catalog keys of the sources the method comes from.
+    default:    whether the stage runs when the scene does not list stages.
+    """
+
+    name: str
+    title_key: str
+    requires: tuple[str, ...]
+    provides: tuple[str, ...]
+    applies: Callable[["Scene"], str | None]
+    run: Callable[["Scene", Mapping[str, Any]], StageOutput]
+    render: Callable[[StageOutput, "RenderContext"], str]
+    template_dir: Path | None = None
+    references: tuple[str, ...] = ()
+    default: bool = True
+
+
+@dataclass(frozen=True)
+class Catalog:
+    """Translations a plugin adds: ``language`` code and a TOML file of key = text."""
+
+    language: str
+    path: Path

@@ -1,0 +1,402 @@
+"""The scene: one TOML file describing a mechanism, its engine cycle and the report.
+
+Loading is the only place where units are parsed; everything after it is SI.
+pydantic does the structural validation (unknown keys, missing values, types)
+because its error locations name the exact field; the range and consistency
+checks are ours so that every message states the allowed range in the user's units.
+"""
+
+from __future__ import annotations
+
+import datetime
+import difflib
+import math
+import tomllib
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, model_validator
+
+from .errors import MISSING, Problem, SceneError
+from .units import parse_quantity
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+def _quantity(kind: str, *, gt: float | None = None, ge: float | None = None,
+              lt: float | None = None, le: float | None = None, unit: str = "", scale: float = 1.0):
+    """An SI float read from a unit string, with a range stated in ``unit`` (SI value = shown * scale)."""
+
+    def check(value: float) -> float:
+        def shown(x: float) -> str:
+            return f"{x / scale:g} {unit}".strip()
+
+        parts = []
+        ok = True
+        if gt is not None:
+            parts.append(f"> {shown(gt)}")
+            ok &= value > gt
+        if ge is not None:
+            parts.append(f">= {shown(ge)}")
+            ok &= value >= ge
+        if lt is not None:
+            parts.append(f"< {shown(lt)}")
+            ok &= value < lt
+        if le is not None:
+            parts.append(f"<= {shown(le)}")
+            ok &= value <= le
+        if not ok:
+            raise ValueError("must be " + " and ".join(parts))
+        return value
+
+    return Annotated[float, BeforeValidator(lambda v: parse_quantity(v, kind)), AfterValidator(check)]
+
+
+def _number(*, gt: float | None = None, ge: float | None = None, lt: float | None = None,
+            le: float | None = None):
+    """A plain finite number with a stated range."""
+
+    def check(value: Any) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError("must be a number")
+        value = float(value)
+        if not math.isfinite(value):
+            raise ValueError("must be a finite number")
+        parts, ok = [], True
+        for symbol, bound, test in ((">", gt, lambda a, b: a > b), (">=", ge, lambda a, b: a >= b),
+                                    ("<", lt, lambda a, b: a < b), ("<=", le, lambda a, b: a <= b)):
+            if bound is not None:
+                parts.append(f"{symbol} {bound:g}")
+                ok &= test(value, bound)
+        if not ok:
+            raise ValueError("must be " + " and ".join(parts))
+        return value
+
+    return Annotated[float, BeforeValidator(check)]
+
+
+class ReportMeta(_Strict):
+    """Title-page data and the report language."""
+
+    title: str = "Dynamic calculation of a piston engine"
+    subtitle: str = ""
+    student: str = ""
+    group: str = ""
+    supervisor: str = ""
+    university: str = ""
+    department: str = ""
+    city: str = ""
+    year: Annotated[int, AfterValidator(lambda y: _year(y))] = datetime.date.today().year
+    language: str = "en"
+
+
+def _year(year: int) -> int:
+    if not 1900 <= year <= 2200:
+        raise ValueError("must be a year between 1900 and 2200")
+    return year
+
+
+class Engine(_Strict):
+    """Engine and mechanism geometry (SI after loading)."""
+
+    name: str = ""
+    mechanism: str = "crank_slider"
+    strokes: Literal[2, 4] = 4
+    cylinders: Annotated[int, AfterValidator(lambda n: _cylinders(n))] = 1
+    rpm: _number(gt=0, le=30000)
+    bore: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
+    stroke: _quantity("length", gt=0, le=4.0, unit="mm", scale=1e-3)
+    rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
+    rod_ratio: _number(gt=0, lt=1) | None = None
+    crankcase_pressure: _quantity("pressure", ge=0, le=1e6, unit="MPa", scale=1e6) = "0.1 MPa"
+
+    @model_validator(mode="after")
+    def _rod(self) -> "Engine":
+        if (self.rod_length is None) == (self.rod_ratio is None):
+            raise ValueError("give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)")
+        if self.rod_length is not None and self.rod_length <= self.stroke / 2:
+            raise _FieldError("rod_length", f"the rod must be longer than the crank radius "
+                              f"(stroke/2 = {self.stroke / 2 * 1e3:g} mm), i.e. lambda = R/L < 1")
+        return self
+
+    @property
+    def crank_radius_m(self) -> float:
+        return self.stroke / 2
+
+    @property
+    def rod_ratio_value(self) -> float:
+        return self.rod_ratio if self.rod_ratio is not None else self.crank_radius_m / self.rod_length
+
+    @property
+    def rod_length_m(self) -> float:
+        return self.rod_length if self.rod_length is not None else self.crank_radius_m / self.rod_ratio
+
+    @property
+    def angular_velocity_rad_s(self) -> float:
+        return math.pi * self.rpm / 30.0
+
+    @property
+    def cycle_deg(self) -> float:
+        return 180.0 * self.strokes
+
+
+def _cylinders(n: int) -> int:
+    # The multi-cylinder stages are a separate plugin; until one is installed a scene
+    # describes one cylinder and the report says so.
+    if n != 1:
+        raise ValueError("must be 1: the installed stages compute one cylinder (crank) at a time")
+    return n
+
+
+class _FieldError(ValueError):
+    """A model-level check that blames one field of the model."""
+
+    def __init__(self, field: str, message: str):
+        super().__init__(message)
+        self.field = field
+
+
+class Masses(_Strict):
+    """Moving masses of one crank mechanism."""
+
+    piston_group: _quantity("mass", gt=0, le=5000, unit="kg")
+    rod: _quantity("mass", gt=0, le=5000, unit="kg")
+    rod_cm_from_big_end: _quantity("length", gt=0, unit="mm", scale=1e-3) | None = None
+    rod_cm_fraction: _number(gt=0, lt=1) | None = None
+    crank_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+    crank_web: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+
+    @model_validator(mode="after")
+    def _cm(self) -> "Masses":
+        if (self.rod_cm_from_big_end is None) == (self.rod_cm_fraction is None):
+            raise ValueError("give exactly one of rod_cm_from_big_end (e.g. '38 mm') or rod_cm_fraction "
+                             "(l_R/L, textbook 0.18-0.32 for car engines)")
+        return self
+
+
+class Rounding(_Strict):
+    """Rounding of the theoretical indicator diagram (textbook section 3.1, Appendix V)."""
+
+    ignition_advance_deg: _number(gt=0, lt=60) | None = None
+    combustion_delay_deg: _number(ge=0, lt=60) | None = None
+    combustion_delay_time: _quantity("time", gt=0, le=0.01, unit="ms", scale=1e-3) = "1.5 ms"
+    pressure_rise_to_tdc: _quantity("pressure", ge=0, le=5e6, unit="MPa", scale=1e6) = "0.5 MPa"
+    peak_pressure_fraction: _number(gt=0.5, le=1.0) = 0.85
+    peak_angle_after_tdc_deg: _number(gt=0, le=40) = 12.0
+    exhaust_opens_before_bdc_deg: _number(ge=0, le=90) = 50.0
+    exhaust_closes_after_tdc_deg: _number(ge=0, le=60) = 20.0
+    intake_opens_before_tdc_deg: _number(ge=0, le=60) = 15.0
+    intake_closes_after_bdc_deg: _number(ge=0, le=90) = 50.0
+
+
+class Cycle(_Strict):
+    """The working cycle: theoretical indicator-diagram data or a pressure trace."""
+
+    source: Literal["theoretical", "trace"] = "theoretical"
+    ignition: Literal["spark", "diesel"] | None = None
+    compression_ratio: _number(gt=1, le=40) | None = None
+    intake_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = None
+    compression_index: _number(ge=1.0, le=1.67) | None = None
+    max_pressure: _quantity("pressure", gt=0, le=5e7, unit="MPa", scale=1e6) | None = None
+    pre_expansion_ratio: _number(ge=1.0, le=5.0) = 1.0
+    expansion_index: _number(ge=1.0, le=1.67) | None = None
+    exhaust_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = None
+    mean_indicated_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = None
+    rounding: Rounding = Rounding()
+    trace_file: str | None = None
+    trace_format: Literal["csv", "diesel-rk"] | None = None
+    trace_firing_tdc_deg: _number(ge=-1440, le=1440) = 360.0
+
+    @model_validator(mode="after")
+    def _complete(self) -> "Cycle":
+        if self.source == "trace":
+            if not self.trace_file:
+                raise _FieldError("trace_file", "a trace cycle needs trace_file (CSV or Diesel-RK .ind)")
+            if self.compression_ratio is None:
+                raise _FieldError("compression_ratio", "missing: with a pressure trace the cylinder volume "
+                                  "V = V_c + F*s needs the clearance volume V_c = V_h/(eps - 1)")
+            return self
+        needed = ["ignition", "compression_ratio", "intake_pressure", "compression_index", "max_pressure",
+                  "expansion_index"]
+        for name in needed:
+            if getattr(self, name) is None:
+                raise _FieldError(name, "missing; the theoretical indicator diagram needs "
+                                  + ", ".join(needed) + " (and exhaust_pressure for four-stroke engines)")
+        if self.ignition == "spark" and self.pre_expansion_ratio != 1.0:
+            raise _FieldError("pre_expansion_ratio", "must be 1 for spark ignition (combustion at constant volume)")
+        if self.pre_expansion_ratio >= self.compression_ratio:
+            raise _FieldError("pre_expansion_ratio", f"must be < compression_ratio ({self.compression_ratio:g})")
+        if self.max_pressure <= self.intake_pressure * self.compression_ratio ** self.compression_index:
+            pc = self.intake_pressure * self.compression_ratio ** self.compression_index
+            raise _FieldError("max_pressure", f"must exceed the compression-end pressure "
+                              f"p_c = p_a*eps^n1 = {pc / 1e6:.3g} MPa")
+        return self
+
+
+class Analysis(_Strict):
+    """Numerical options and the choice of stages."""
+
+    angle_step_deg: _number(ge=0.01, le=30) = 1.0
+    table_step_deg: _number(ge=0.01, le=90) = 10.0
+    kinematics: Literal["exact", "approximate"] = "exact"
+    stages: list[str] | None = None
+
+
+class Scene(_Strict):
+    """A whole scene. ``base_dir`` is where relative file names in it are resolved."""
+
+    report: ReportMeta = ReportMeta()
+    engine: Engine
+    masses: Masses | None = None
+    cycle: Cycle | None = None
+    analysis: Analysis = Analysis()
+    base_dir: str = "."
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Scene":
+        step = self.analysis.angle_step_deg
+        cycle = self.engine.cycle_deg
+        n = cycle / step
+        if abs(n - round(n)) > 1e-9:
+            raise _FieldError("analysis.angle_step_deg",
+                              f"must divide the cycle ({cycle:g} deg for a {self.engine.strokes}-stroke engine) "
+                              f"a whole number of times, e.g. 0.5, 1, 2, 5, 10, 15")
+        ratio = self.analysis.table_step_deg / step
+        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+            raise _FieldError("analysis.table_step_deg", f"must be a whole multiple of angle_step_deg "
+                              f"({step:g} deg); it is {self.analysis.table_step_deg:g} deg")
+        if self.cycle is not None and self.masses is None:
+            raise _FieldError("masses", "missing: a scene with cycle data needs [masses] "
+                              "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)")
+        if self.masses is not None and self.masses.rod_cm_from_big_end is not None:
+            if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
+                raise _FieldError("masses.rod_cm_from_big_end",
+                                  f"must be < the rod length ({self.engine.rod_length_m * 1e3:g} mm)")
+        if (self.cycle is not None and self.cycle.source == "theoretical" and self.engine.strokes == 4
+                and self.cycle.exhaust_pressure is None):
+            raise _FieldError("cycle.exhaust_pressure", "missing: a four-stroke theoretical diagram needs "
+                              "the exhaust pressure p_r (e.g. '0.11 MPa')")
+        return self
+
+    # Derived values used by many stages.
+    @property
+    def crank_angles_deg(self):
+        import numpy as np
+
+        n = round(self.engine.cycle_deg / self.analysis.angle_step_deg)
+        return np.arange(n) * self.analysis.angle_step_deg
+
+    @property
+    def rod_cm_from_big_end_m(self) -> float:
+        m = self.masses
+        if m.rod_cm_from_big_end is not None:
+            return m.rod_cm_from_big_end
+        return m.rod_cm_fraction * self.engine.rod_length_m
+
+    def resolve(self, name: str) -> Path:
+        return (Path(self.base_dir) / name).resolve()
+
+
+# --------------------------------------------------------------------------- loading
+
+def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
+    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError(Problem("scene", source, "file not found"), source) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"), source) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
+    if overrides:
+        data = merge(data, overrides)
+    return scene_from_dict(data, base_dir=path.parent.resolve(), source=source)
+
+
+def merge(base: dict, overrides: dict) -> dict:
+    """Return ``base`` with ``overrides`` (nested dicts) laid over it."""
+    out = dict(base)
+    for key, value in overrides.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = merge(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None = None) -> Scene:
+    if "base_dir" in data:
+        raise SceneError(Problem("base_dir", data["base_dir"], "unknown key (set by the loader, not the scene)"),
+                         source)
+    try:
+        return Scene.model_validate({**data, "base_dir": str(base_dir)})
+    except ValidationError as exc:
+        raise SceneError(_problems(exc, data), source) from None
+
+
+def _problems(exc: ValidationError, data: dict) -> list[Problem]:
+    problems = []
+    for error in exc.errors():
+        loc = [str(p) for p in error["loc"] if not str(p).startswith(("function-", "literal[", "nullable["))]
+        # pydantic puts union members in the location ("float", "none"...); they mean nothing to a user.
+        loc = [p for p in loc if p not in {"float", "none", "int", "str", "constrained-float"}]
+        ctx_error = (error.get("ctx") or {}).get("error")
+        if isinstance(ctx_error, _FieldError):
+            loc = loc + ctx_error.field.split(".")
+        field = ".".join(loc) or "scene"
+        value = _lookup(data, loc)
+        kind = error["type"]
+        if kind == "extra_forbidden":
+            parent = loc[:-1]
+            model = _model_at(parent)
+            allowed = sorted(model.model_fields) if model else []
+            allowed = [a for a in allowed if a != "base_dir"]
+            close = difflib.get_close_matches(loc[-1], allowed, n=1)
+            hint = f"did you mean '{close[0]}'? " if close else ""
+            problems.append(Problem(field, value, f"unknown key; {hint}allowed keys: {', '.join(allowed)}"))
+        elif kind == "missing":
+            problems.append(Problem(field, MISSING, "required value is missing"))
+        elif kind == "literal_error":
+            problems.append(Problem(field, value, "allowed values: " + error["ctx"]["expected"]))
+        elif kind in ("value_error", "assertion_error"):
+            message = str(ctx_error) if ctx_error is not None else error["msg"]
+            problems.append(Problem(field, value, message))
+        else:
+            problems.append(Problem(field, value, error["msg"][0].lower() + error["msg"][1:]))
+    # One problem per field: union members can report the same mistake twice.
+    unique, seen = [], set()
+    for p in problems:
+        if p.field not in seen:
+            unique.append(p)
+            seen.add(p.field)
+    return unique
+
+
+def _lookup(data: Any, loc: list[str]) -> Any:
+    for key in loc:
+        if isinstance(data, dict) and key in data:
+            data = data[key]
+        elif isinstance(data, list) and key.isdigit() and int(key) < len(data):
+            data = data[int(key)]
+        else:
+            return MISSING
+    return data
+
+
+def _model_at(loc: list[str]):
+    model: Any = Scene
+    for key in loc:
+        field = model.model_fields.get(key) if model else None
+        if field is None:
+            return None
+        annotation = field.annotation
+        candidates = getattr(annotation, "__args__", (annotation,))
+        model = next((c for c in candidates if isinstance(c, type) and issubclass(c, BaseModel)), None)
+    return model
