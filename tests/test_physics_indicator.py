@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.integrate import quad
 
 from crankdyn.physics.indicator import (
     CycleParameters,
@@ -166,9 +167,9 @@ def test_closed_form_by_hand_derivation():
     v_c = 1.0
     v_h = (eps - 1.0) * v_c
     p_c = 0.09e6 * eps ** n1
-    from scipy.integrate import quad
     w_isobar = 9e6 * (rho - 1.0) * v_c
-    w_exp = quad(lambda v: 9e6 * (rho * v_c / v) ** n2, rho * v_c, eps * v_c, epsabs=0, epsrel=1e-13)[0]
+    w_exp = quad(lambda v: 9e6 * (rho * v_c / v) ** n2, rho * v_c, eps * v_c,
+                 epsabs=0, epsrel=1e-13)[0]
     w_comp = quad(lambda v: p_c * (v_c / v) ** n1, v_c, eps * v_c, epsabs=0, epsrel=1e-13)[0]
     expected = (w_isobar + w_exp - w_comp) / v_h
     assert theoretical_mean_indicated_pressure_Pa(p) == pytest.approx(expected, rel=1e-11)
@@ -408,7 +409,7 @@ def test_rounded_mean_pressure_is_plausibly_smaller(make, strokes):
     assert 0.0 < loss < 0.15
 
 
-def test_rounded_accepts_scalar_free_shapes_and_returns_same_shape():
+def test_rounded_returns_the_shape_of_the_grid():
     params = spark()
     alpha = np.arange(0.0, 720.0, 5.0)
     v_c = clearance_volume_m3(SWEPT_VOLUME_M3, params.compression_ratio)

@@ -7,6 +7,7 @@ A third-party mechanism plugin that provides ``"kinematics"`` returns a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -32,6 +33,9 @@ class PistonMotion:
     angular_velocity_rad_s: float
     method: str  # "exact" or "approximate"
     extra: dict = field(default_factory=dict)
+    # s(alpha_deg) in m for any angle: lets later stages evaluate the motion off the grid
+    # (the indicator rounding does), so their results do not depend on the angle step.
+    displacement_at: Callable[[np.ndarray], np.ndarray] | None = None
 
     @property
     def crank_angle_rad(self) -> np.ndarray:

@@ -267,6 +267,15 @@ class Scene(_Strict):
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
             raise _FieldError("analysis.table_step_deg", f"must be a whole multiple of angle_step_deg "
                               f"({step:g} deg); it is {self.analysis.table_step_deg:g} deg")
+        if self.cycle is not None and self.engine.strokes == 2:
+            four_stroke_only = {"exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
+                                "intake_closes_after_bdc_deg", "exhaust_pressure"}
+            given = (self.cycle.rounding.model_fields_set | self.cycle.model_fields_set) & four_stroke_only
+            if given:
+                name = sorted(given)[0]
+                where = "cycle." if name == "exhaust_pressure" else "cycle.rounding."
+                raise _FieldError(where + name, "applies to four-stroke engines only (valve timing near TDC and "
+                                  "the exhaust stroke); remove it for a two-stroke engine")
         if self.cycle is not None and self.masses is None:
             raise _FieldError("masses", "missing: a scene with cycle data needs [masses] "
                               "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)")

@@ -111,9 +111,9 @@ def render(output: StageOutput, ctx) -> str:
     angle = f["crank_angle_deg"].to_numpy()
     mpa = {k: f[k].to_numpy() / 1e6 for k in f.columns if k.endswith("_Pa")}
 
-    rows = sample_rows(angle, ctx.table_step_deg)
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
     table_b1 = ctx.table([
-        ("<i>α</i>, °", angle[rows], 0),
+        ("<i>α</i>, °", labels, 0),
         ("<i>s</i><sub>p</sub>, m", f["piston_displacement_m"].to_numpy()[rows], 4),
         ("<i>v</i><sub>p</sub>, m/s", f["piston_velocity_m_s"].to_numpy()[rows], 2),
         ("<i>j</i><sub>p</sub>, m/s²", f["piston_acceleration_m_s2"].to_numpy()[rows], 0),
@@ -128,7 +128,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
     ], caption=t("forces.table_b1_caption"), css_class="data wide")
     table_q = ctx.table([
-        ("<i>α</i>, °", angle[rows], 0),
+        ("<i>α</i>, °", labels, 0),
         ("<i>z</i> + <i>c</i>, MPa", mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
         ("<i>t</i>, MPa", mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, MPa", mpa["resultant_Pa"][rows], 3),

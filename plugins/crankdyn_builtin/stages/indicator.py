@@ -43,17 +43,22 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
     delay = r.combustion_delay_deg
     if delay is None:
         delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm, r.combustion_delay_time)
-    return ind.RoundingParameters(
-        ignition_advance_deg=advance,
-        combustion_delay_deg=delay,
-        pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
-        peak_pressure_fraction=r.peak_pressure_fraction,
-        peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
-        exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
-        exhaust_closes_after_tdc_deg=r.exhaust_closes_after_tdc_deg,
-        intake_opens_before_tdc_deg=r.intake_opens_before_tdc_deg,
-        intake_closes_after_bdc_deg=r.intake_closes_after_bdc_deg,
-    )
+    four_stroke = scene.engine.strokes == 4
+    try:
+        return ind.RoundingParameters(
+            ignition_advance_deg=advance,
+            combustion_delay_deg=delay,
+            pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
+            peak_pressure_fraction=r.peak_pressure_fraction,
+            peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
+            exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
+            # Valve overlap and intake closing exist only in the four-stroke cycle.
+            exhaust_closes_after_tdc_deg=r.exhaust_closes_after_tdc_deg if four_stroke else 0.0,
+            intake_opens_before_tdc_deg=r.intake_opens_before_tdc_deg if four_stroke else 0.0,
+            intake_closes_after_bdc_deg=r.intake_closes_after_bdc_deg if four_stroke else 0.0,
+        )
+    except ValueError as exc:
+        raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
 
 
 def run(scene, inputs) -> StageOutput:
@@ -77,7 +82,11 @@ def run(scene, inputs) -> StageOutput:
         volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
         theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
         try:
-            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding)
+            volume_at = None
+            if motion.displacement_at is not None:
+                def volume_at(a_deg):
+                    return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
+            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding, volume_function=volume_at)
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)
@@ -170,8 +179,8 @@ def render(output: StageOutput, ctx) -> str:
     ax.legend(loc="upper right", fontsize=8)
     figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha")
 
-    rows = sample_rows(angle, ctx.table_step_deg)
-    columns = [("<i>α</i>, °", angle[rows], 0), ("<i>V</i>, l", volume_l[rows], 4)]
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    columns = [("<i>α</i>, °", labels, 0), ("<i>V</i>, l", volume_l[rows], 4)]
     if has_theory:
         columns.append(("<i>p</i><sub>theor</sub>, MPa", theory[rows], 4))
     columns.append(("<i>p</i>, MPa", pressure[rows], 4))

@@ -35,6 +35,8 @@ def run(scene, inputs) -> StageOutput:
         "j": kin.piston_acceleration_approx_m_s2(alpha, radius, ratio, omega),
     }
     chosen = exact if scene.analysis.kinematics == "exact" else approx
+    displacement = (kin.piston_displacement_exact_m if scene.analysis.kinematics == "exact"
+                    else kin.piston_displacement_approx_m)
     beta = kin.rod_angle_rad(alpha, ratio)
     rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
     rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
@@ -97,6 +99,7 @@ def run(scene, inputs) -> StageOutput:
         angular_velocity_rad_s=omega,
         method=scene.analysis.kinematics,
         extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m},
+        displacement_at=lambda a_deg: displacement(np.radians(a_deg), radius, ratio),
     )
     notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),
              ("kinematics.note_two_term_error", {"ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
@@ -109,10 +112,11 @@ def render(output: StageOutput, ctx) -> str:
     frame = output.tables["kinematics"]
     r = output.results
     t = ctx.t
-    rows = sample_rows(frame["crank_angle_deg"].to_numpy(), ctx.table_step_deg)
+    # The motion repeats every revolution, so one revolution is tabulated.
+    rows, labels = sample_rows(frame["crank_angle_deg"].to_numpy(), ctx.table_step_deg, span_deg=360.0)
     f = frame.iloc[rows]
     table = ctx.table([
-        ("<i>α</i>, °", f["crank_angle_deg"].to_numpy(), 0),
+        ("<i>α</i>, °", labels, 0),
         ("<i>s</i><sub>p</sub>, mm", f["piston_displacement_m"].to_numpy() * 1e3, 2),
         ("<i>v</i><sub>p</sub>, m/s", f["piston_velocity_m_s"].to_numpy(), 2),
         ("<i>j</i><sub>p</sub>, m/s²", f["piston_acceleration_m_s2"].to_numpy(), 0),

@@ -663,7 +663,9 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     rounding : RoundingParameters
     volume_function : callable, optional
         ``volume_function(angle_deg_array) -> volume_m3_array`` on the same
-        cycle.  The rounding needs V and dV/dalpha at angles that the
+        cycle; it is called with angles reduced modulo the cycle and
+        +-1e-4 deg around them (central difference for dV/dalpha), so it
+        must accept angles slightly outside [0, cycle).  The rounding needs V and dV/dalpha at angles that the
         caller's grid may miss (C', b', the junction J).  If given, these are
         taken from it and the result is exactly independent of the caller's
         grid; otherwise they come from a periodic cubic spline through

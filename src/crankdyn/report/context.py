@@ -100,11 +100,22 @@ class RenderContext:
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
 
 
-def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float) -> np.ndarray:
-    """Indices of the rows shown in printed tables (every ``table_step_deg``, closing at the cycle end)."""
-    step = crank_angle_deg[1] - crank_angle_deg[0] if len(crank_angle_deg) > 1 else table_step_deg
+def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,
+                span_deg: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Rows shown in printed tables: grid indices and their angle labels.
+
+    Every ``table_step_deg`` from 0 up to and including ``span_deg`` (default: the
+    whole cycle). The grid is periodic without its end point, so the closing row
+    (e.g. 720°) reuses the first grid point, as the textbook's tables show it.
+    """
+    n = len(crank_angle_deg)
+    step = crank_angle_deg[1] - crank_angle_deg[0] if n > 1 else table_step_deg
+    cycle = step * n
+    span = cycle if span_deg is None else min(span_deg, cycle)
     every = max(int(round(table_step_deg / step)), 1)
-    return np.arange(0, len(crank_angle_deg), every)
+    last = int(round(span / step))
+    positions = np.arange(0, last + 1, every)
+    return positions % n, positions * step
 
 
 def template_search_path(extra: Sequence[Path]) -> list[str]:

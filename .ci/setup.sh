@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs what crankdyn needs on a fresh Debian-based machine: the system libraries
+# WeasyPrint renders with, serif fonts with Cyrillic (Liberation = Times metrics),
+# poppler-utils (the tests turn PDF pages into PNG), then the package with its test extras.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SYSTEM_PACKAGES="libpango-1.0-0 libpangoft2-1.0-0 fonts-liberation fonts-dejavu-core poppler-utils"
+if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
+  missing=""
+  for pkg in $SYSTEM_PACKAGES; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || missing="$missing $pkg"
+  done
+  if [ -n "$missing" ]; then
+    SUDO=""
+    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    export DEBIAN_FRONTEND=noninteractive
+    $SUDO apt-get update -qq
+    # shellcheck disable=SC2086
+    $SUDO apt-get install -y -qq $missing >/dev/null
+  fi
+fi
+
+python3 -m pip install --quiet --disable-pip-version-check ".[test]"

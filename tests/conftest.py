@@ -1,0 +1,83 @@
+"""Shared fixtures: bundled examples, a scene builder and a CLI runner."""
+
+from __future__ import annotations
+
+import copy
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from crankdyn.cli import examples_dir
+
+ARTIFACTS = Path(__file__).resolve().parent / "artifacts"
+
+
+@pytest.fixture(scope="session")
+def examples() -> Path:
+    return examples_dir()
+
+
+def example_data(name: str) -> dict:
+    return tomllib.loads((examples_dir() / f"{name}.toml").read_text(encoding="utf-8"))
+
+
+def write_scene(path: Path, data: dict) -> Path:
+    """Write ``data`` as TOML (a tiny writer: tables of scalars and one level of subtables)."""
+    lines: list[str] = []
+
+    def value(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    def table(name, body):
+        lines.append(f"[{name}]")
+        subs = []
+        for k, v in body.items():
+            if isinstance(v, dict):
+                subs.append((f"{name}.{k}", v))
+            else:
+                lines.append(f"{k} = {value(v)}")
+        lines.append("")
+        for sub_name, sub_body in subs:
+            table(sub_name, sub_body)
+
+    for k, v in data.items():
+        if not isinstance(v, dict):
+            lines.insert(0, f"{k} = {value(v)}")
+    for k, v in data.items():
+        if isinstance(v, dict):
+            table(k, v)
+    path.write_text("\n".join(lines), encoding="utf-8")
+    return path
+
+
+def modified(name: str, changes: dict) -> dict:
+    """Example ``name`` with ``changes`` laid over it; a value of None deletes the key."""
+    data = copy.deepcopy(example_data(name))
+
+    def apply(target, patch):
+        for k, v in patch.items():
+            if v is None:
+                target.pop(k, None)
+            elif isinstance(v, dict) and isinstance(target.get(k), dict):
+                apply(target[k], v)
+            else:
+                target[k] = v
+
+    apply(data, changes)
+    return data
+
+
+def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONWARNINGS": "ignore"}
+    return subprocess.run([sys.executable, "-m", "crankdyn", *args], capture_output=True, text=True, cwd=cwd,
+                          env=env, timeout=300)

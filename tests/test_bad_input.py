@@ -1,0 +1,116 @@
+"""Bad scenes: one clear message naming the field, exit code 2, no traceback, nothing written."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from crankdyn.cli import main
+from conftest import modified, run_cli, write_scene
+
+# (case id, changes to the petrol example, text the message must contain)
+CASES = [
+    ("rod shorter than crank", {"engine": {"rod_ratio": None, "rod_length": "30 mm"}}, "engine.rod_length"),
+    ("lambda >= 1", {"engine": {"rod_ratio": 1.0}}, "engine.rod_ratio"),
+    ("lambda > 1", {"engine": {"rod_ratio": 1.7}}, "< 1"),
+    ("negative bore", {"engine": {"bore": "-82 mm"}}, "engine.bore"),
+    ("zero stroke", {"engine": {"stroke": "0 mm"}}, "engine.stroke"),
+    ("zero rpm", {"engine": {"rpm": 0}}, "engine.rpm"),
+    ("typo key", {"engine": {"bore": None, "boer": "82 mm"}}, "did you mean 'bore'"),
+    ("typo table", {"analysys": {"angle_step_deg": 1}}, "analysys"),
+    ("missing rpm", {"engine": {"rpm": None}}, "engine.rpm"),
+    ("missing bore", {"engine": {"bore": None}}, "engine.bore"),
+    ("strokes 3", {"engine": {"strokes": 3}}, "engine.strokes"),
+    ("step not dividing cycle", {"analysis": {"angle_step_deg": 7}}, "analysis.angle_step_deg"),
+    ("table step not multiple", {"analysis": {"angle_step_deg": 2, "table_step_deg": 5}}, "analysis.table_step_deg"),
+    ("bare number bore", {"engine": {"bore": 82}}, "unit"),
+    ("wrong dimension", {"engine": {"bore": "82 kg"}}, "not a length"),
+    ("unparsable unit", {"engine": {"bore": "82 parsecz"}}, "engine.bore"),
+    ("negative mass", {"masses": {"piston_group": "-0.4 kg"}}, "masses.piston_group"),
+    ("both rod length and ratio", {"engine": {"rod_length": "140 mm"}}, "exactly one"),
+    ("rod cm both ways", {"masses": {"rod_cm_from_big_end": "40 mm"}}, "exactly one"),
+    ("rod cm beyond rod", {"masses": {"rod_cm_fraction": None, "rod_cm_from_big_end": "400 mm"}},
+     "masses.rod_cm_from_big_end"),
+    ("pz below compression", {"cycle": {"max_pressure": "1.0 MPa"}}, "cycle.max_pressure"),
+    ("spark with rho", {"cycle": {"pre_expansion_ratio": 1.4}}, "cycle.pre_expansion_ratio"),
+    ("missing exhaust pressure", {"cycle": {"exhaust_pressure": None}}, "cycle.exhaust_pressure"),
+    ("cycle without masses", {"masses": None}, "masses"),
+    ("unknown ignition", {"cycle": {"ignition": "hot-bulb"}}, "cycle.ignition"),
+    ("compression index out of range", {"cycle": {"compression_index": 2.5}}, "cycle.compression_index"),
+    ("unknown mechanism", {"engine": {"mechanism": "steam_walking_beam"}}, "engine.mechanism"),
+    ("unknown language", {"report": {"language": "tlh"}}, "report.language"),
+    ("unknown stage", {"analysis": {"stages": ["kinematics", "telepathy"]}}, "telepathy"),
+    ("delay after TDC", {"cycle": {"rounding": {"ignition_advance_deg": 10, "combustion_delay_deg": 12}}},
+     "combustion_delay_deg"),
+    ("two-stroke with valve timing", {"engine": {"strokes": 2}}, "four-stroke engines only"),
+    ("trace file missing", {"cycle": {"source": "trace", "trace_file": "nowhere.csv"}}, "cycle.trace_file"),
+]
+
+
+def _no_traceback(text: str) -> None:
+    assert "Traceback" not in text
+    assert 'File "' not in text
+
+
+@pytest.mark.parametrize("case, changes, expected", CASES, ids=[c[0] for c in CASES])
+def test_bad_scene_is_refused_cleanly(tmp_path: Path, capsys, case, changes, expected):
+    scene = write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", changes))
+    out_dir = tmp_path / "out"
+    code = main(["report", str(scene), "-o", str(out_dir), "--format", "html,json,csv"])
+    captured = capsys.readouterr()
+    assert code == 2, captured
+    assert expected in captured.err, captured.err
+    assert captured.err.startswith("crankdyn: invalid scene")
+    _no_traceback(captured.err + captured.out)
+    assert not out_dir.exists() or not any(out_dir.rglob("*")), "nothing may be written for a bad scene"
+
+
+def _trace_scene(tmp_path: Path, trace_text: str | None, name: str = "trace.csv") -> Path:
+    if trace_text is not None:
+        (tmp_path / name).write_text(trace_text, encoding="utf-8")
+    changes = {"cycle": {"source": "trace", "trace_file": name, "ignition": None, "rounding": None,
+                         "mean_indicated_pressure": None}}
+    return write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", changes))
+
+
+@pytest.mark.parametrize("label, text", [
+    ("empty", ""),
+    ("header only", "crank_angle_deg,pressure_bar\n"),
+    ("garbled", "crank_angle_deg,pressure_bar\n0,1.0\n1,abc\n2,1.2\n"),
+    ("no unit", "angle,pressure\n0,1\n360,2\n"),
+    ("partial cycle", "crank_angle_deg,pressure_bar\n" + "".join(f"{a},{1 + a / 100}\n" for a in range(0, 300))),
+])
+def test_bad_pressure_trace(tmp_path: Path, capsys, label, text):
+    scene = _trace_scene(tmp_path, text)
+    out_dir = tmp_path / "out"
+    code = main(["report", str(scene), "-o", str(out_dir)])
+    captured = capsys.readouterr()
+    assert code == 2, captured
+    assert "cycle.trace_file" in captured.err and "trace.csv" in captured.err, captured.err
+    _no_traceback(captured.err)
+    assert not out_dir.exists() or not any(out_dir.rglob("*"))
+
+
+def test_unreadable_scene_files(tmp_path: Path, capsys):
+    assert main(["check", str(tmp_path / "absent.toml")]) == 2
+    assert "file not found" in capsys.readouterr().err
+    broken = tmp_path / "broken.toml"
+    broken.write_text("[engine\nrpm = 5", encoding="utf-8")
+    assert main(["check", str(broken)]) == 2
+    assert "not valid TOML" in capsys.readouterr().err
+
+
+def test_bad_format_option(tmp_path: Path, capsys, examples):
+    assert main(["report", str(examples / "petrol-1cyl.toml"), "-o", str(tmp_path / "o"), "--format", "docx"]) == 2
+    assert "--format" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_subprocess_shows_no_traceback(tmp_path: Path):
+    scene = write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", {"engine": {"rod_ratio": 1.2}}))
+    done = run_cli("report", str(scene), "-o", str(tmp_path / "out"))
+    assert done.returncode == 2
+    assert "engine.rod_ratio = 1.2: must be > 0 and < 1" in done.stderr
+    _no_traceback(done.stderr + done.stdout)
+    assert not (tmp_path / "out").exists()
