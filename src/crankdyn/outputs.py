@@ -62,7 +62,8 @@ def csv_tables(result: RunResult) -> dict[str, bytes]:
         for table_name, frame in output.tables.items():
             buffer = io.StringIO()
             frame.to_csv(buffer, index=False, float_format="%.10g")
-            files[f"tables/{stage_name}_{table_name}.csv"] = buffer.getvalue().encode("utf-8")
+            name = stage_name if table_name == stage_name else f"{stage_name}_{table_name}"
+            files[f"tables/{name}.csv"] = buffer.getvalue().encode("utf-8")
     return files
 
 

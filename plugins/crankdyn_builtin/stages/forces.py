@@ -114,9 +114,9 @@ def render(output: StageOutput, ctx) -> str:
     rows, labels = sample_rows(angle, ctx.table_step_deg)
     table_b1 = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, m", f["piston_displacement_m"].to_numpy()[rows], 4),
-        ("<i>v</i><sub>p</sub>, m/s", f["piston_velocity_m_s"].to_numpy()[rows], 2),
-        ("<i>j</i><sub>p</sub>, m/s²", f["piston_acceleration_m_s2"].to_numpy()[rows], 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"].to_numpy()[rows], 4),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy()[rows], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy()[rows], 0),
         ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
         ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
         ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
@@ -129,10 +129,10 @@ def render(output: StageOutput, ctx) -> str:
     ], caption=t("forces.table_b1_caption"), css_class="data wide")
     table_q = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>z</i> + <i>c</i>, MPa", mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
-        ("<i>t</i>, MPa", mpa["tangential_Pa"][rows], 3),
-        ("<i>q</i>, MPa", mpa["resultant_Pa"][rows], 3),
-        ("<i>M</i><sub>k</sub>, N·m", f["torque_Nm"].to_numpy()[rows], 1),
+        ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
+        ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
+        ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
+        ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"].to_numpy()[rows], 1),
     ], caption=t("forces.table_q_caption"))
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)

@@ -180,10 +180,10 @@ def render(output: StageOutput, ctx) -> str:
     figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha")
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
-    columns = [("<i>α</i>, °", labels, 0), ("<i>V</i>, l", volume_l[rows], 4)]
+    columns = [("<i>α</i>, °", labels, 0), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
     if has_theory:
-        columns.append(("<i>p</i><sub>theor</sub>, MPa", theory[rows], 4))
-    columns.append(("<i>p</i>, MPa", pressure[rows], 4))
+        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), theory[rows], 4))
+    columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
     table = ctx.table(columns, caption=t("indicator.table_caption"))
 
     deviation = r.get("mean_indicated_pressure_deviation_percent")

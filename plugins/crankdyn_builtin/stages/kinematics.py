@@ -117,12 +117,12 @@ def render(output: StageOutput, ctx) -> str:
     f = frame.iloc[rows]
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, mm", f["piston_displacement_m"].to_numpy() * 1e3, 2),
-        ("<i>v</i><sub>p</sub>, m/s", f["piston_velocity_m_s"].to_numpy(), 2),
-        ("<i>j</i><sub>p</sub>, m/s²", f["piston_acceleration_m_s2"].to_numpy(), 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"].to_numpy() * 1e3, 2),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy(), 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy(), 0),
         ("<i>β</i>, °", f["rod_angle_deg"].to_numpy(), 2),
-        ("<i>ω</i><sub>r</sub>, rad/s", f["rod_angular_velocity_rad_s"].to_numpy(), 1),
-        ("<i>ε</i><sub>r</sub>, rad/s²", f["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"].to_numpy(), 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
     ], caption=t("kinematics.table_caption"))
 
     angle = frame["crank_angle_deg"].to_numpy()
