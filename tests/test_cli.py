@@ -1,0 +1,52 @@
+"""The command line: examples, plugins listing, check, formats."""
+
+from __future__ import annotations
+
+import tomllib
+
+from crankdyn.cli import main
+from conftest import run_cli
+
+EXPECTED_EXAMPLES = {"petrol-1cyl", "diesel-1cyl", "diesel-rk-trace", "two-stroke-1cyl", "kinematics-only"}
+
+
+def test_example_list(capsys):
+    assert main(["example", "--list"]) == 0
+    names = {line.split()[0] for line in capsys.readouterr().out.splitlines() if line.strip()}
+    assert EXPECTED_EXAMPLES <= names
+
+
+def test_example_written_with_its_data_file_and_runs(tmp_path, capsys):
+    target = tmp_path / "my.toml"
+    assert main(["example", "diesel-rk-trace", "-o", str(target)]) == 0
+    assert tomllib.loads(target.read_text(encoding="utf-8"))["engine"]["bore"] == "83 mm"
+    assert (tmp_path / "diesel6-1600rpm.ind").is_file()
+    assert main(["check", str(target)]) == 0
+    assert "stages: kinematics, indicator, forces" in capsys.readouterr().out
+    assert main(["report", str(target), "-o", str(tmp_path / "out"), "--format", "json,csv", "-q"]) == 0
+    assert sorted(p.name for p in (tmp_path / "out" / "tables").iterdir()) == ["forces.csv", "indicator.csv",
+                                                                                 "kinematics.csv"]
+
+
+def test_unknown_example(capsys):
+    assert main(["example", "no-such-engine", "-o", "x.toml"]) == 2
+    assert "available" in capsys.readouterr().err
+
+
+def test_stages_option_runs_prerequisites(tmp_path, capsys):
+    target = tmp_path / "p.toml"
+    assert main(["example", "petrol-1cyl", "-o", str(target)]) == 0
+    assert main(["report", str(target), "-o", str(tmp_path / "o"), "--format", "json", "--stages", "indicator"]) == 0
+    import json
+
+    doc = json.loads((tmp_path / "o" / "results.json").read_text())
+    assert doc["stages_run"] == ["kinematics", "indicator"]
+    assert doc["stages_skipped"]["forces"] == "not requested"
+
+
+def test_plugins_listing_via_subprocess():
+    done = run_cli("plugins")
+    assert done.returncode == 0, done.stderr
+    assert "crank_slider" in done.stdout and "builtin_stages" in done.stdout
+    assert "requires=kinematics,gas_pressure" in done.stdout
+    assert "languages: en, uk" in done.stdout

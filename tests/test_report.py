@@ -1,0 +1,138 @@
+"""The rendered report: structure, languages, escaping, the PDF and its safety."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from crankdyn.cli import examples_dir, main
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.report.i18n import core_catalog_dir, load_catalog_file
+from crankdyn.report.pdf import BlockedResource, _fetcher, is_allowed
+from crankdyn.scene import scene_from_dict
+from conftest import ARTIFACTS, modified
+
+REGISTRY = default_registry()
+
+
+def _render(name="petrol-1cyl", language="en", changes=None):
+    scene = scene_from_dict(modified(name, changes or {}), base_dir=examples_dir())
+    result = run_scene(scene, REGISTRY)
+    return result, render_html(result, REGISTRY, language)
+
+
+@pytest.mark.parametrize("language, table, figure, sep", [("en", "Table 2.1 —", "Figure 2.1 —", "."),
+                                                           ("uk", "Таблиця 2.1 –", "Рисунок 2.1 –", ",")])
+def test_html_structure_and_language(language, table, figure, sep):
+    result, rendered = _render(language=language)
+    html = rendered.html
+    assert not rendered.missing_translations, rendered.missing_translations
+    assert table in html and figure in html
+    for stage in result.stages_run:
+        assert f'data-stage="{stage}"' in html
+    for fixed in ("numerics", "conclusions", "references"):
+        assert f'data-stage="{fixed}"' in html
+    # Equations numbered per section, e.g. (2.1) ... and the contents links every section.
+    assert "(2.1)" in html and "(4.1)" in html
+    assert html.count('href="#sec-') >= 6
+    assert html.count("data:image/svg+xml;base64,") >= 6
+    assert f"0{sep}2800" in html  # lambda in the input table, with the language's decimal separator
+    assert "−" in html  # typographic minus in numbers
+
+
+def test_catalogs_complete_in_every_language():
+    core = {p.stem: load_catalog_file(p) for p in core_catalog_dir().glob("*.toml")}
+    plugin_dir = Path(next(iter(REGISTRY.catalogs)).path).parent
+    plugin = {p.stem: load_catalog_file(p) for p in plugin_dir.glob("*.toml")}
+    for catalogs in (core, plugin):
+        english = set(catalogs["en"])
+        for lang, texts in catalogs.items():
+            assert set(texts) == english, (lang, english ^ set(texts))
+
+
+def test_kinematics_only_report_leaves_sections_out():
+    result, rendered = _render("kinematics-only")
+    assert 'data-stage="kinematics"' in rendered.html
+    assert 'data-stage="indicator"' not in rendered.html and 'data-stage="forces"' not in rendered.html
+    assert "no [cycle] data" in rendered.html  # the reason is stated in the method notes
+
+
+def test_scene_text_is_escaped():
+    _, rendered = _render(changes={"report": {"title": "<script>alert('x')</script>", "student": "A & B"}})
+    assert "<script>alert" not in rendered.html
+    assert "&lt;script&gt;alert" in rendered.html
+    assert "A &amp; B" in rendered.html
+
+
+def test_url_fetcher_only_reaches_package_assets(tmp_path):
+    assert is_allowed("data:image/png;base64,AAAA")
+    assert not is_allowed("file:///etc/passwd")
+    assert not is_allowed("http://127.0.0.1:9/x.png")
+    assert not is_allowed("https://example.org/font.woff")
+    assert not is_allowed((tmp_path / "x.png").as_uri())
+    fetcher = _fetcher()
+    with pytest.raises(BlockedResource):
+        fetcher.fetch("file:///etc/hostname") if hasattr(fetcher, "fetch") else fetcher("file:///etc/hostname")
+
+
+def test_pdf_with_hostile_scene_text_does_not_fetch(tmp_path):
+    from crankdyn.report.pdf import html_to_pdf
+
+    html = ('<html><body><p>x</p><img src="file:///etc/passwd"><img src="http://127.0.0.1:9/a.png">'
+            '<link rel="stylesheet" href="file:///etc/ssl/openssl.cnf"></body></html>')
+    pdf = html_to_pdf(html)
+    assert pdf.startswith(b"%PDF") and b"root:" not in pdf
+
+
+needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+                                   reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+
+
+@needs_poppler
+@pytest.mark.parametrize("language, words", [("uk", ["Зміст", "Таблиця 4.1", "Рисунок 2.1", "Висновки", "Кінематика"]),
+                                             ("en", ["Contents", "Table 4.1", "Figure 2.1", "Conclusions"])])
+def test_pdf_report(tmp_path, language, words):
+    out = tmp_path / "out"
+    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--lang", language, "-q"]) == 0
+    for name in ("report.html", "report.pdf", "results.json", "tables/forces.csv", "tables/kinematics.csv"):
+        assert (out / name).is_file(), name
+    assert not list(out.rglob("*.tmp"))
+    text = subprocess.run(["pdftotext", "-layout", str(out / "report.pdf"), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    for word in words:
+        assert word in text, word
+    # Contents with page numbers: "2 Kinematics ....... 4"
+    contents = text.split("\f")[1]
+    numbered = re.findall(r"^\s*\d .*?\.{3,}\s*(\d+)\s*$", contents, flags=re.M)
+    assert len(numbered) >= 4 and all(int(n) > 1 for n in numbered), contents
+    pages = text.count("\f")
+    assert pages >= 10
+    ARTIFACTS.mkdir(exist_ok=True)
+    prefix = ARTIFACTS / f"petrol-{language}"
+    subprocess.run(["pdftoppm", "-r", "60", "-f", "1", "-l", "4", "-png", str(out / "report.pdf"), str(prefix)],
+                   check=True)
+    assert len(list(ARTIFACTS.glob(f"petrol-{language}*.png"))) >= 4
+
+
+def test_results_json_keys_are_documented(tmp_path):
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    for example in ("petrol-1cyl", "diesel-rk-trace", "kinematics-only"):
+        out = tmp_path / example
+        assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "json", "-q"]) == 0
+        document = json.loads((out / "results.json").read_text(encoding="utf-8"))
+        assert list(out.iterdir()) == [out / "results.json"]
+        for key, value in document.items():
+            assert f"`{key}`" in readme, key
+            if isinstance(value, dict) and key not in ("stages_skipped", "timing_s"):
+                for sub in value:
+                    generic = re.sub(r"^(total|side|rod|tangential|radial|resultant|torque)_(max|min)_",
+                                     r"<force>_\2_", sub)
+                    generic = re.sub(r"_(Pa|Nm)$", "_<unit>", generic) if generic.startswith("<force>") else generic
+                    assert f"`{sub}`" in readme or f"`{generic}`" in readme, f"{key}.{sub} not in README"
