@@ -50,7 +50,9 @@ def test_html_structure_and_language(language, table, figure, sep):
 def test_catalogs_complete_in_every_language():
     core = {p.stem: load_catalog_file(p) for p in core_catalog_dir().glob("*.toml")}
     plugin_dir = Path(next(iter(REGISTRY.catalogs)).path).parent
-    plugin = {p.stem: load_catalog_file(p) for p in plugin_dir.glob("*.toml")}
+    plugin: dict[str, dict] = {}
+    for p in plugin_dir.glob("*.toml"):
+        plugin.setdefault(p.stem.rsplit(".", 1)[-1], {}).update(load_catalog_file(p))
     for catalogs in (core, plugin):
         english = set(catalogs["en"])
         for lang, texts in catalogs.items():

@@ -14,6 +14,7 @@ import numpy as np
 KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"
 FORCES = "forces"
+ENGINE_TORQUE = "engine_torque"
 
 
 @dataclass(frozen=True)
@@ -73,3 +74,23 @@ class CrankForces:
     centrifugal_Pa: float
     piston_area_m2: float
     torque_Nm: np.ndarray
+
+
+@dataclass(frozen=True)
+class EngineTorque:
+    """Output torque of the whole engine over one cycle (for one cylinder: its crank torque).
+
+    ``torque_Nm`` is the torque delivered at the power take-off end on the scene's grid;
+    ``indicated_work_J`` the indicated work per cycle of all cylinders together.
+    """
+
+    crank_angle_deg: np.ndarray
+    torque_Nm: np.ndarray
+    cylinders: int
+    strokes: int
+    indicated_work_J: float
+    angular_velocity_rad_s: float
+
+    @property
+    def mean_torque_Nm(self) -> float:
+        return float(np.mean(self.torque_Nm))

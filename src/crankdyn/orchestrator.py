@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import heapq
 import time
 from dataclasses import dataclass, field
@@ -10,7 +11,7 @@ from typing import Any, Iterable
 from .errors import PluginError, Problem, SceneError
 from .plugin_types import Stage, StageOutput
 from .plugins import Registry
-from .scene import Scene
+from .scene import Scene, options
 
 
 @dataclass
@@ -39,7 +40,29 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
         problems.append(Problem("engine.mechanism", scene.engine.mechanism,
                                 "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms))))
     else:
-        problems += list(mechanism.check(scene))
+        if mechanism.params_model is not None:
+            try:
+                options(scene, "mechanism", mechanism.params_model)
+            except SceneError as exc:
+                problems += exc.problems
+        elif scene.mechanism:
+            problems.append(Problem("mechanism", scene.mechanism,
+                                    f"the {mechanism.name!r} mechanism takes no [mechanism] table"))
+        if not problems:
+            problems += list(mechanism.check(scene))
+    claimed = {s.options_table: s for s in registry.stages.values() if s.options_table}
+    for table in scene.plugin_tables():
+        stage = claimed.get(table)
+        if stage is None:
+            known = ["report", "engine", "masses", "cycle", "analysis", "mechanism", *sorted(claimed)]
+            close = difflib.get_close_matches(table, known, n=1)
+            hint = f"did you mean [{close[0]}]? " if close else ""
+            problems.append(Problem(table, "[" + table + "]", f"unknown table; {hint}known tables: " + ", ".join(known)))
+        elif stage.options_model is not None:
+            try:
+                options(scene, table, stage.options_model)
+            except SceneError as exc:
+                problems += exc.problems
     languages = sorted(set(languages))
     if languages and scene.report.language not in languages:
         problems.append(Problem("report.language", scene.report.language, "allowed: " + ", ".join(languages)))

@@ -30,6 +30,7 @@ class Mechanism:
     name: str
     summary: str
     check: Callable[["Scene"], list] = lambda scene: []
+    params_model: type | None = None  # pydantic model of the scene's [mechanism] table
 
 
 @dataclass
@@ -72,9 +73,12 @@ class Stage:
                 reason (one English sentence; it goes to results.json and the report).
     run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
                 to the object an earlier stage provided.
-    render:     ``render(output, ctx) -> str``: the section's HTML (usually via
-                ``ctx.render_template``); figures and tables are registered on ``ctx``.
+    render:     ``render(output, ctx) -> str | None``: the section's HTML (usually via
+                ``ctx.render_template``), or None when the stage has nothing to show for
+                this scene (it ran only for the data it provides).
     template_dir: a folder with this plugin's section templates, if it has its own.
+    options_table: name of a top-level scene table this stage reads (e.g. "flywheel").
+    options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
     references: catalog keys of the sources the method comes from.
     default:    whether the stage runs when the scene does not list stages.
     """
@@ -85,10 +89,12 @@ class Stage:
     provides: tuple[str, ...]
     applies: Callable[["Scene"], str | None]
     run: Callable[["Scene", Mapping[str, Any]], StageOutput]
-    render: Callable[[StageOutput, "RenderContext"], str]
+    render: Callable[[StageOutput, "RenderContext"], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
     default: bool = True
+    options_table: str | None = None
+    options_model: type | None = None
 
 
 @dataclass(frozen=True)

@@ -111,6 +111,13 @@ class Engine(_Strict):
     rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
     rod_ratio: _number(gt=0, lt=1) | None = None
     crankcase_pressure: _quantity("pressure", ge=0, le=1e6, unit="MPa", scale=1e6) = "0.1 MPa"
+    # Multi-cylinder engines (checked in detail by the layout plugin).
+    layout: Literal["inline", "V", "W", "Y", "X", "boxer", "radial"] = "inline"
+    bank_angle_deg: _number(gt=0, lt=360) | None = None
+    rod_type: Literal["central", "fork", "articulated"] = "central"
+    firing_order: list[int | str] | None = None
+    crank_angles_deg: list[_number(ge=-720, le=720)] | None = None
+    cylinder_spacing: _quantity("length", gt=0, le=10.0, unit="mm", scale=1e-3) | None = None
 
     @model_validator(mode="after")
     def _rod(self) -> "Engine":
@@ -143,10 +150,8 @@ class Engine(_Strict):
 
 
 def _cylinders(n: int) -> int:
-    # The multi-cylinder stages are a separate plugin; until one is installed a scene
-    # describes one cylinder and the report says so.
-    if n != 1:
-        raise ValueError("must be 1: the installed stages compute one cylinder (crank) at a time")
+    if not 1 <= n <= 24:
+        raise ValueError("must be a whole number from 1 to 24")
     return n
 
 
@@ -245,13 +250,22 @@ class Analysis(_Strict):
 
 
 class Scene(_Strict):
-    """A whole scene. ``base_dir`` is where relative file names in it are resolved."""
+    """A whole scene. ``base_dir`` is where relative file names in it are resolved.
+
+    Top-level tables other than the ones below belong to plugins: ``[mechanism]`` to the
+    chosen mechanism, ``[<table>]`` to the stage whose ``options_table`` names it. They are
+    kept as raw dicts here and validated by ``orchestrator.check_scene`` (unclaimed
+    tables are errors there), and read with :func:`options`.
+    """
+
+    model_config = ConfigDict(extra="allow", frozen=True, validate_default=True)
 
     report: ReportMeta = ReportMeta()
     engine: Engine
     masses: Masses | None = None
     cycle: Cycle | None = None
     analysis: Analysis = Analysis()
+    mechanism: dict[str, Any] = {}
     base_dir: str = "."
 
     @model_validator(mode="after")
@@ -308,6 +322,24 @@ class Scene(_Strict):
         return (Path(self.base_dir) / name).resolve()
 
 
+    def plugin_tables(self) -> dict[str, Any]:
+        """The top-level tables that belong to plugins (not part of the core model)."""
+        return dict(self.model_extra or {})
+
+
+def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None = None):
+    """Validate the plugin table ``[table]`` of ``scene`` with ``model``; errors name ``table.<field>``."""
+    raw = data if data is not None else (scene.mechanism if table == "mechanism" else scene.plugin_tables().get(table, {}))
+    if not isinstance(raw, dict):
+        raise SceneError(Problem(table, raw, "must be a table ([" + table + "])"))
+    try:
+        return model.model_validate(raw)
+    except ValidationError as exc:
+        problems = _problems(exc, raw, model)
+        raise SceneError([Problem(f"{table}.{p.field}" if p.field != "scene" else table, p.value, p.allowed)
+                          for p in problems]) from None
+
+
 # --------------------------------------------------------------------------- loading
 
 def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
@@ -350,7 +382,7 @@ def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None =
         raise SceneError(_problems(exc, data), source) from None
 
 
-def _problems(exc: ValidationError, data: dict) -> list[Problem]:
+def _problems(exc: ValidationError, data: dict, root: type[BaseModel] | None = None) -> list[Problem]:
     problems = []
     for error in exc.errors():
         loc = [str(p) for p in error["loc"] if not str(p).startswith(("function-", "literal[", "nullable["))]
@@ -364,7 +396,7 @@ def _problems(exc: ValidationError, data: dict) -> list[Problem]:
         kind = error["type"]
         if kind == "extra_forbidden":
             parent = loc[:-1]
-            model = _model_at(parent)
+            model = _model_at(parent, root or Scene)
             allowed = sorted(model.model_fields) if model else []
             allowed = [a for a in allowed if a != "base_dir"]
             close = difflib.get_close_matches(loc[-1], allowed, n=1)
@@ -399,8 +431,8 @@ def _lookup(data: Any, loc: list[str]) -> Any:
     return data
 
 
-def _model_at(loc: list[str]):
-    model: Any = Scene
+def _model_at(loc: list[str], root: type[BaseModel]):
+    model: Any = root
     for key in loc:
         field = model.model_fields.get(key) if model else None
         if field is None:

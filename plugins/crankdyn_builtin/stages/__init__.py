@@ -19,4 +19,6 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem, path=p) for p in sorted(CATALOG_DIR.glob("*.toml"))]
+    # One file per topic and language, "<topic>.<language>.toml", so that stages added
+    # independently never edit the same catalog file.
+    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted(CATALOG_DIR.glob("*.toml"))]

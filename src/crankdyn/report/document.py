@@ -58,11 +58,14 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
                                                            mechanism=registry.mechanisms.get(scene.engine.mechanism)))))
     references: list[str] = []
     notes: list[str] = []
-    for number, stage in enumerate(result.plan.order, start=2):
+    for stage in result.plan.order:
+        number = len(sections) + 1
         ctx.start_section(number, stage.name)
         ctx.conclusions = []
         output = result.outputs[stage.name]
         body = stage.render(output, ctx)
+        if body is None:  # the stage ran for its data but has nothing to show for this scene
+            continue
         sections.append(SectionView(number, stage.name, t(stage.title_key), Markup(body), list(ctx.conclusions)))
         for ref in stage.references:
             if ref not in references:
