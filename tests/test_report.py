@@ -35,8 +35,11 @@ def test_html_structure_and_language(language, table, figure, sep):
     html = rendered.html
     assert not rendered.missing_translations, rendered.missing_translations
     assert table in html and figure in html
-    for stage in result.stages_run:
+    for stage in ("kinematics", "indicator", "forces"):
         assert f'data-stage="{stage}"' in html
+    # One cylinder: no bay or crankshaft sections although those stages ran for their data.
+    assert {"bays", "torque"} <= set(result.stages_run)
+    assert 'data-stage="bays"' not in html and 'data-stage="torque"' not in html
     for fixed in ("numerics", "conclusions", "references"):
         assert f'data-stage="{fixed}"' in html
     # Equations numbered per section, e.g. (2.1) ... and the contents links every section.

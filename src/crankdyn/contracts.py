@@ -15,6 +15,8 @@ KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"
 FORCES = "forces"
 ENGINE_TORQUE = "engine_torque"
+BAY_LOADS = "bay_loads"
+CRANK_LOADS = "crank_loads"
 
 
 @dataclass(frozen=True)
@@ -94,3 +96,44 @@ class EngineTorque:
     @property
     def mean_torque_Nm(self) -> float:
         return float(np.mean(self.torque_Nm))
+
+
+@dataclass(frozen=True)
+class BayLoads:
+    """Specific forces of every bay (all cylinders on one crank pin) on its crank pin.
+
+    Arrays have shape (cranks, N) on the shaft-angle grid of the scene (textbook table B.2
+    summed per bay, already placed at each crank's phase): ``tangential_Pa`` t_Sigma,
+    ``radial_Pa`` z_Sigma (towards the shaft axis), both in the crank's own axes.
+    ``centrifugal_Pa`` is the constant c of each crank (all rotating masses, eq. 35) and
+    ``centrifugal_rod_Pa`` the part of the rods alone (the crank-pin load, textbook §5.1).
+    """
+
+    crank_angle_deg: np.ndarray
+    tangential_Pa: np.ndarray
+    radial_Pa: np.ndarray
+    centrifugal_Pa: float
+    centrifugal_rod_Pa: float
+    piston_area_m2: float
+    crank_radius_m: float
+    layout: object  # crankdyn.physics.layout.EngineLayout
+    indicated_work_J: float  # per cycle, all cylinders (each with its own kinematics)
+
+
+@dataclass(frozen=True)
+class CrankLoads:
+    """Loads on the crankshaft (textbook table B.3): per crank and per main journal, shape (cranks, N).
+
+    ``pin_torque_Pa`` t_w (running torque on crank pin i, as a specific tangential force),
+    ``journal_torque_Pa`` t_k (on the main journal after crank i; the last is the output).
+    """
+
+    crank_angle_deg: np.ndarray
+    tangential_Pa: np.ndarray
+    radial_Pa: np.ndarray
+    resultant_Pa: np.ndarray
+    pin_torque_Pa: np.ndarray
+    journal_torque_Pa: np.ndarray
+    centrifugal_Pa: float
+    piston_area_m2: float
+    crank_radius_m: float

@@ -77,6 +77,11 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
     return Annotated[float, BeforeValidator(check)]
 
 
+# Public names for plugins that declare their own scene tables.
+quantity = _quantity
+number = _number
+
+
 class ReportMeta(_Strict):
     """Title-page data and the report language."""
 
@@ -118,6 +123,7 @@ class Engine(_Strict):
     firing_order: list[int | str] | None = None
     crank_angles_deg: list[_number(ge=-720, le=720)] | None = None
     cylinder_spacing: _quantity("length", gt=0, le=10.0, unit="mm", scale=1e-3) | None = None
+    uneven_firing: bool = False
 
     @model_validator(mode="after")
     def _rod(self) -> "Engine":

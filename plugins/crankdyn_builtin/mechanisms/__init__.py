@@ -4,11 +4,19 @@ from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Mechanism
 
 
+def _check_crank_slider(scene):
+    # Multi-cylinder engines are banks of crank-slider mechanisms; their layout is checked here.
+    from crankdyn_builtin.stages.bays import check_layout
+
+    return check_layout(scene)
+
+
 @hookimpl
 def crankdyn_mechanisms():
     return [
         Mechanism(
             name="crank_slider",
             summary="central (axial) crank-slider mechanism: the cylinder axis passes through the crankshaft axis",
+            check=_check_crank_slider,
         ),
     ]

@@ -38,6 +38,7 @@ class RenderContext:
     table_step_deg: float = 10.0
     cycle_deg: float = 720.0
     conclusions: list[str] = field(default_factory=list)
+    scene: Any = None
 
     def start_section(self, number: int, stage_name: str) -> None:
         self.section_number = number

@@ -49,7 +49,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
-    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg)
+    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
 
     sections: list[SectionView] = []
     ctx.start_section(1, "input")

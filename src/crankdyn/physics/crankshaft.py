@@ -1,0 +1,59 @@
+"""Loads on the crankshaft of a multi-crank engine (Poda 2007 §4.3-4.4, tables B.3-B.4)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def running_torques(tangential_by_crank):
+    """Running (accumulated) torques, as specific tangential forces, eq. (44)-(45).
+
+    Parameters
+    ----------
+    tangential_by_crank : array, shape (cranks, N)
+        t_i of every crank, cranks ordered from the free end, Pa.
+
+    Returns
+    -------
+    pin : array (cranks, N)
+        t_w,i = t_k,(i-1) + 0.5 t_i, twisting crank pin i, Pa (t_k,0 = 0 at the free end).
+    journal : array (cranks, N)
+        t_k,i = t_k,(i-1) + t_i, twisting the main journal after crank i, Pa; the last row
+        is the engine's output torque divided by R*F_p (eq. 46).
+    """
+    t = np.asarray(tangential_by_crank, dtype=float)
+    journal = np.cumsum(t, axis=0)
+    pin = journal - 0.5 * t
+    return pin, journal
+
+
+def resultant_Pa(tangential_Pa, radial_Pa, centrifugal_Pa):
+    """q = sqrt((z + c)^2 + t^2), eq. (36), Pa."""
+    return np.hypot(np.asarray(radial_Pa) + centrifugal_Pa, tangential_Pa)
+
+
+def torque_non_uniformity(torque_Nm) -> float:
+    """(M_max - M_min) / M_mean of the output torque (dimensionless); inf if the mean is 0."""
+    torque = np.asarray(torque_Nm, dtype=float)
+    mean = float(np.mean(torque))
+    return float((torque.max() - torque.min()) / mean) if mean != 0 else float("inf")
+
+
+def torque_from_power_Nm(indicated_work_J: float, cylinders: int, strokes: int, rpm: float) -> float:
+    """Textbook eq. (47): M_i = 9555 N_i / n with N_i in kW and n in rpm (the 9555 is 30000/pi rounded)."""
+    power_kW = indicated_work_J * cylinders * rpm / 60.0 / (strokes / 2) / 1000.0
+    return 9555.0 * power_kW / rpm
+
+
+def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_Pa):
+    """Table B.4: for each crank, the grid index where z, t, q and the journal torque t_k peak.
+
+    Returns a list per crank of dicts {"Z": i, "T": i, "Q": i, "M": i} (indices on the grid).
+    The largest positive z (towards the shaft: gas load) and t, the largest q and the largest
+    |t_k| are the textbook's criteria.
+    """
+    out = []
+    for k in range(np.shape(radial_Pa)[0]):
+        out.append({"Z": int(np.argmax(radial_Pa[k])), "T": int(np.argmax(tangential_Pa[k])),
+                    "Q": int(np.argmax(resultant[k])), "M": int(np.argmax(np.abs(journal_torque_Pa[k])))})
+    return out

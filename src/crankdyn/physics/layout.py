@@ -1,0 +1,265 @@
+"""Engine layouts: banks, bays, crank arrangement and firing order (Poda 2007 §4.1-4.2, §6).
+
+Conventions
+-----------
+* Cylinders are numbered from the free end of the crankshaft; the shaft turns clockwise
+  seen from that end. All angles are measured in the direction of rotation.
+* Bank axis angles ``psi`` are measured from the axis of bank 0 (the master bank, "L").
+  A crank that points along bank 0's axis at shaft angle 0 reaches bank b's axis at
+  shaft angle ``psi_b``.
+* ``crank_lag_deg[k]`` is the shaft rotation by which crank k trails crank 1: crank k
+  points where crank 1 pointed ``crank_lag_deg[k]`` degrees earlier.
+* ``firing_delay_deg`` of a cylinder is the shaft angle, after cylinder 1 starts its
+  cycle (TDC at the start of intake for four-stroke, firing TDC for two-stroke), at
+  which that cylinder starts its own cycle. Then its cycle angle is
+  ``alpha_i = (theta - delay_i) mod cycle`` (textbook eq. 42-43 with
+  delay = Delta alpha_0i) and, geometrically, ``delay_i = psi_i + lag_k(i)  (mod 360)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+LAYOUT_BANKS = {"inline": 1, "V": 2, "boxer": 2, "W": 3, "Y": 3, "X": 4}
+BANK_LETTERS = {1: ("",), 2: ("L", "R"), 3: ("L", "C", "R"), 4: ("A", "B", "C", "D")}
+_TOL = 1e-6
+
+
+class LayoutError(ValueError):
+    """An inconsistent layout; ``field`` names the scene key to blame."""
+
+    def __init__(self, field: str, value, message: str):
+        super().__init__(message)
+        self.field = field
+        self.value = value
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """One cylinder of the engine."""
+
+    label: str
+    bank: int
+    bay: int  # crank index from the free end, 0-based
+    axis_deg: float  # psi, bank axis angle from bank 0, deg
+    firing_delay_deg: float  # delay after cylinder 1 starts its cycle, deg in [0, cycle)
+    master: bool  # carries the master (or a central/fork) rod; False for an articulated slave
+
+
+@dataclass(frozen=True)
+class EngineLayout:
+    """Geometry and timing of a whole engine."""
+
+    layout: str
+    strokes: int
+    bank_angle_deg: float | None
+    cylinders: tuple[Cylinder, ...]
+    crank_lag_deg: tuple[float, ...]
+    firing_order: tuple[str, ...]
+    even_firing: bool
+
+    @property
+    def cycle_deg(self) -> float:
+        return 180.0 * self.strokes
+
+    @property
+    def cranks(self) -> int:
+        return len(self.crank_lag_deg)
+
+    @property
+    def cylinders_per_bay(self) -> int:
+        return len(self.cylinders) // self.cranks
+
+    def bay(self, k: int) -> list[Cylinder]:
+        return [c for c in self.cylinders if c.bay == k]
+
+    def firing_intervals_deg(self) -> np.ndarray:
+        """Shaft angle between consecutive firings, in firing order (closing interval last)."""
+        by_label = {c.label: c for c in self.cylinders}
+        delays = np.array([by_label[label].firing_delay_deg for label in self.firing_order])
+        return np.diff(np.append(delays, self.cycle_deg))
+
+    @property
+    def torque_period_deg(self) -> float:
+        """Period of the output torque for even firing: 180*tau/i (textbook §4.3)."""
+        return self.cycle_deg / len(self.cylinders)
+
+
+def bank_axes_deg(layout: str, bank_angle_deg: float | None, cylinders: int) -> list[float]:
+    """Axis angle of every bank (or every cylinder of a radial star) from bank 0, deg."""
+    if layout == "inline":
+        return [0.0]
+    if layout == "radial":
+        return [360.0 * k / cylinders for k in range(cylinders)]
+    if layout == "boxer":
+        return [0.0, 180.0]
+    gamma = float(bank_angle_deg)
+    if layout == "V":
+        return [0.0, gamma]
+    if layout in ("W", "Y"):
+        return [0.0, gamma, 2.0 * gamma]
+    if layout == "X":
+        return [0.0, gamma, 180.0, 180.0 + gamma]
+    raise LayoutError("engine.layout", layout, "unknown layout")
+
+
+def cylinder_labels(layout: str, cylinders: int) -> list[tuple[str, int, int]]:
+    """(label, bank, bay) of every cylinder, cylinders numbered from the free end."""
+    if layout == "radial":
+        return [(str(k + 1), k, 0) for k in range(cylinders)]
+    banks = LAYOUT_BANKS[layout]
+    if cylinders % banks:
+        raise LayoutError("engine.cylinders", cylinders,
+                          f"a {layout} engine has {banks} banks, so the cylinder count must be a multiple of {banks}")
+    bays = cylinders // banks
+    if banks == 1:
+        return [(str(k + 1), 0, k) for k in range(bays)]
+    letters = BANK_LETTERS[banks]
+    return [(f"{k + 1}{letters[b]}", b, k) for k in range(bays) for b in range(banks)]
+
+
+def _normalise_label(label) -> str:
+    return str(label).strip().upper().replace(" ", "")
+
+
+def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
+                 firing_order: list | None, crank_angles_deg: list[float] | None,
+                 rod_type: str = "central", uneven_firing: bool = False) -> EngineLayout:
+    """Validate a layout description and derive every cylinder's bank, bay and firing delay.
+
+    Raises LayoutError naming the scene field at fault.
+    """
+    cycle = 180.0 * strokes
+    if layout in ("V", "W", "Y", "X"):
+        if bank_angle_deg is None:
+            raise LayoutError("engine.bank_angle_deg", None, f"required for a {layout} engine (angle between banks)")
+        if layout in ("W", "Y") and not 0 < 2 * bank_angle_deg < 360:
+            raise LayoutError("engine.bank_angle_deg", bank_angle_deg, "must be < 180 for three banks")
+        if layout == "X" and not 0 < bank_angle_deg < 180:
+            raise LayoutError("engine.bank_angle_deg", bank_angle_deg, "must be > 0 and < 180 for an X engine")
+    elif bank_angle_deg is not None and layout in ("inline", "radial", "boxer"):
+        raise LayoutError("engine.bank_angle_deg", bank_angle_deg,
+                          f"does not apply to a {layout} engine (remove it)")
+    if layout == "radial" and (cylinders < 3 or cylinders % 2 == 0 and strokes == 4):
+        raise LayoutError("engine.cylinders", cylinders, "a four-stroke radial (one row) needs an odd number "
+                          "of cylinders, at least 3, for even firing")
+    if rod_type == "articulated" and layout == "inline":
+        raise LayoutError("engine.rod_type", rod_type, "articulated rods need several cylinders on one crank "
+                          "(V, W, Y, X, boxer or radial)")
+    axes = bank_axes_deg(layout, bank_angle_deg, cylinders)
+    entries = cylinder_labels(layout, cylinders)
+    labels = [e[0] for e in entries]
+    bays = max(e[2] for e in entries) + 1
+
+    # Firing order: a permutation of the labels.
+    if firing_order is None:
+        if cylinders == 1:
+            firing_order = [labels[0]]
+        elif layout == "radial":
+            step = 2 if strokes == 4 else 1
+            firing_order = [labels[(step * k) % cylinders] for k in range(cylinders)]
+        else:
+            raise LayoutError("engine.firing_order", None, f"required for a {cylinders}-cylinder engine; "
+                              f"cylinder labels: {', '.join(labels)}")
+    order = [_normalise_label(x) for x in firing_order]
+    unknown = [x for x in order if x not in labels]
+    if unknown:
+        raise LayoutError("engine.firing_order", firing_order,
+                          f"labels {', '.join(unknown)} do not exist in this layout; labels: {', '.join(labels)}")
+    repeated = sorted({x for x in order if order.count(x) > 1})
+    missing = [x for x in labels if x not in order]
+    if repeated or missing or len(order) != cylinders:
+        raise LayoutError("engine.firing_order", firing_order,
+                          "must name every cylinder exactly once" + (f"; repeated: {', '.join(repeated)}" if repeated else "")
+                          + (f"; missing: {', '.join(missing)}" if missing else ""))
+    if order[0] != labels[0]:
+        raise LayoutError("engine.firing_order", firing_order, f"must start with cylinder {labels[0]} "
+                          "(the reference cylinder of the calculation)")
+
+    bank_of = {e[0]: e[1] for e in entries}
+    bay_of = {e[0]: e[2] for e in entries}
+    psi = {label: axes[bank_of[label]] for label in labels}
+
+    if crank_angles_deg is None:
+        interval = cycle / cylinders
+        delay = {label: k * interval for k, label in enumerate(order)}
+        lags = []
+        for bay in range(bays):
+            members = [lab for lab in labels if bay_of[lab] == bay]
+            candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
+            if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
+                first, other = members[0], next(m for m, c in zip(members, candidates)
+                                                 if _angle_distance(c, candidates[0]) > _TOL)
+                raise LayoutError("engine.firing_order", firing_order,
+                                  f"cylinders {first} and {other} share a crank, so they fire "
+                                  f"{(psi[other] - psi[first]) % 360:g} deg apart (mod 360) by the bank angle, but "
+                                  f"even firing every {interval:g} deg puts them "
+                                  f"{(delay[other] - delay[first]) % 360:g} deg apart; choose another firing order, "
+                                  "or give crank_angles_deg with uneven_firing = true")
+            lags.append(candidates[0])
+        even = True
+    else:
+        if len(crank_angles_deg) != bays:
+            raise LayoutError("engine.crank_angles_deg", crank_angles_deg,
+                              f"must have one angle per crank: {bays} values, crank 1 first")
+        lags = [float(a) % 360.0 for a in crank_angles_deg]
+        base = (psi[labels[0]] + lags[0]) % 360.0
+        geometric = {lab: (psi[lab] + lags[bay_of[lab]] - base) % 360.0 for lab in labels}
+        delay = {order[0]: 0.0}
+        for prev, nxt in zip(order[:-1], order[1:]):
+            step = (geometric[nxt] - geometric[prev]) % 360.0
+            step = step if step > _TOL else 360.0
+            delay[nxt] = delay[prev] + step
+        closing = cycle - delay[order[-1]]
+        if cylinders > 1 and (closing <= _TOL or _angle_distance(closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0) > _TOL):
+            raise LayoutError("engine.firing_order", firing_order,
+                              f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
+                              f"{cycle:g}-deg cycle")
+        intervals = np.diff([delay[lab] for lab in order] + [cycle])
+        even = bool(np.all(np.abs(intervals - cycle / cylinders) < _TOL))
+        lags = [(lag - lags[0]) % 360.0 for lag in lags]
+        if not even and not uneven_firing:
+            raise LayoutError("engine.crank_angles_deg", crank_angles_deg,
+                              "gives uneven firing intervals (" + ", ".join(f"{x:g}" for x in intervals)
+                              + " deg); set engine.uneven_firing = true if that is intended")
+
+    cylinders_list = tuple(
+        Cylinder(label=lab, bank=bank_of[lab], bay=bay_of[lab], axis_deg=psi[lab],
+                 firing_delay_deg=delay[lab] % cycle,
+                 master=(rod_type != "articulated") or bank_of[lab] == 0)
+        for lab in labels)
+    return EngineLayout(layout=layout, strokes=strokes, bank_angle_deg=bank_angle_deg, cylinders=cylinders_list,
+                        crank_lag_deg=tuple(lags), firing_order=tuple(order), even_firing=even)
+
+
+def _angle_distance(a: float, b: float) -> float:
+    d = (a - b) % 360.0
+    return min(d, 360.0 - d)
+
+
+def cycle_angle_deg(shaft_angle_deg: np.ndarray, firing_delay_deg: float, cycle_deg: float) -> np.ndarray:
+    """Cycle angle of a cylinder at the given shaft angles (textbook eq. 42-43), deg in [0, cycle)."""
+    return np.mod(np.asarray(shaft_angle_deg) - firing_delay_deg, cycle_deg)
+
+
+def grid_shift(firing_delay_deg: float, step_deg: float) -> int:
+    """Number of grid steps in a firing delay; the delay must be a whole number of steps."""
+    shift = firing_delay_deg / step_deg
+    if abs(shift - round(shift)) > 1e-9:
+        raise LayoutError("analysis.angle_step_deg", step_deg,
+                          f"must divide the firing delays and bank angles (a delay of {firing_delay_deg:g} deg occurs)")
+    return int(round(shift))
+
+
+def uneven_warning(layout: EngineLayout) -> str | None:
+    if layout.even_firing:
+        return None
+    return "uneven firing: intervals " + ", ".join(f"{x:g}" for x in layout.firing_intervals_deg()) + " deg"
+
+
+def radial_master_pin_angles_deg(cylinders: int) -> list[float]:
+    """Nominal articulated-rod pin angles on a radial master rod: the cylinder spacing."""
+    return [360.0 * k / cylinders for k in range(1, cylinders)]
