@@ -130,7 +130,7 @@ def test_builtins_register_through_entry_points():
 def test_real_pipeline_orders_and_skips(scene):
     registry = default_registry()
     result = run_scene(scene, registry)
-    assert result.stages_run == ["kinematics", "indicator", "forces", "bays", "torque"]
+    assert result.stages_run == ["kinematics", "indicator", "forces", "bays", "torque", "bearings"]
     kin_only = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(kin_only, registry)
     assert result.stages_run == ["kinematics"]

@@ -6,6 +6,7 @@ from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
 from .bays import BAYS_STAGE
+from .bearings import BEARINGS_STAGE
 from .forces import FORCES_STAGE
 from .indicator import INDICATOR_STAGE
 from .kinematics import KINEMATICS_STAGE
@@ -16,7 +17,7 @@ CATALOG_DIR = Path(__file__).resolve().parent.parent / "i18n"
 
 @hookimpl
 def crankdyn_stages():
-    return [KINEMATICS_STAGE, INDICATOR_STAGE, FORCES_STAGE, BAYS_STAGE, TORQUE_STAGE]
+    return [KINEMATICS_STAGE, INDICATOR_STAGE, FORCES_STAGE, BAYS_STAGE, TORQUE_STAGE, BEARINGS_STAGE]
 
 
 @hookimpl

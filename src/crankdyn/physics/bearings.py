@@ -1,0 +1,142 @@
+"""Loads on crank pins, main journals and their bearings; polar and wear diagrams (Poda 2007 §5).
+
+Frames (all two-dimensional, in the plane of a crank):
+
+* engine frame: unit ``a`` along the axis of bank 0 (away from the shaft), unit ``n``
+  perpendicular to it in the direction of rotation at TDC;
+* crank k frame at shaft angle theta: the crank points at phi_k = theta - lag_k from ``a``;
+  ``e_z = -(cos phi, sin phi)`` (from the crank pin towards the shaft axis) and
+  ``e_t = (-sin phi, cos phi)`` (direction of rotation) — the axes of the textbook's t, z;
+* rod frame: ``e_zr`` from the small end to the big end, ``e_tr`` turned from it as e_t is
+  from e_z; it coincides with the crank frame at TDC and turns by -(alpha + beta) relative
+  to the crank frame (textbook §5.1).
+
+All loads are specific (Pa per unit piston area) unless the name says N or MPa-on-bearing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def crank_axes(crank_position_rad):
+    """(e_t, e_z) of a crank at position phi (from ``a`` in the direction of rotation), each (2, N)."""
+    phi = np.asarray(crank_position_rad, dtype=float)
+    e_z = np.array([-np.cos(phi), -np.sin(phi)])
+    e_t = np.array([-np.sin(phi), np.cos(phi)])
+    return e_t, e_z
+
+
+def crank_pin_load(tangential_Pa, radial_Pa, centrifugal_rod_Pa):
+    """Load of the rod(s) on the crank pin in crank axes: (t, z + c_rod), textbook §5.1, fig. 17."""
+    return np.asarray(tangential_Pa, dtype=float), np.asarray(radial_Pa, dtype=float) + centrifugal_rod_Pa
+
+
+def rod_bearing_load(pin_t_Pa, pin_z_Pa, crank_angle_rad, rod_angle_rad):
+    """Load of the crank pin on the rod bearing, in rod axes (t_r, z_r).
+
+    The force is the reverse of the pin load, and the rod frame is turned by (alpha + beta)
+    against the crank frame (textbook §5.1, fig. 18-20):
+    ``(t_r, z_r) = -R(alpha + beta) (t, z)`` with R the rotation taking crank-frame components
+    into rod-frame components.
+    """
+    angle = np.asarray(crank_angle_rad) + np.asarray(rod_angle_rad)
+    c, s = np.cos(angle), np.sin(angle)
+    t, z = np.asarray(pin_t_Pa), np.asarray(pin_z_Pa)
+    # Crank-frame components rotated into the rod frame (rod frame lags by alpha + beta).
+    t_r = c * t - s * z
+    z_r = s * t + c * z
+    return -t_r, -z_r
+
+
+def to_frame(vector_a, vector_n, e_t, e_z):
+    """Components (t, z) of an engine-frame vector in the axes (e_t, e_z)."""
+    return vector_a * e_t[0] + vector_n * e_t[1], vector_a * e_z[0] + vector_n * e_z[1]
+
+
+def crank_force_engine_frame(tangential_Pa, radial_Pa, centrifugal_Pa, crank_position_rad):
+    """The force a crank receives at its pin (t e_t + (z + c) e_z) in engine-frame components (a, n)."""
+    e_t, e_z = crank_axes(crank_position_rad)
+    t = np.asarray(tangential_Pa)
+    zc = np.asarray(radial_Pa) + centrifugal_Pa
+    return t * e_t[0] + zc * e_z[0], t * e_t[1] + zc * e_z[1]
+
+
+def journal_loads(crank_forces_a, crank_forces_n, share_before, share_after):
+    """Loads J transmitted to every main journal by the cranks, each crank a beam on two supports.
+
+    Parameters
+    ----------
+    crank_forces_a, crank_forces_n : array (cranks, N)
+        Engine-frame components of the force on each crank, Pa.
+    share_before, share_after : array (cranks,)
+        l''/l and l'/l of each crank (eq. 48-49): the parts carried by the journal before
+        and after it; they add to 1.
+
+    Returns
+    -------
+    (J_a, J_n) : arrays (cranks + 1, N); journal 0 is at the free end, journal k lies after crank k.
+    """
+    fa, fn = np.asarray(crank_forces_a), np.asarray(crank_forces_n)
+    cranks, n = fa.shape
+    ja, jn = np.zeros((cranks + 1, n)), np.zeros((cranks + 1, n))
+    for k in range(cranks):
+        ja[k] += share_before[k] * fa[k]
+        jn[k] += share_before[k] * fn[k]
+        ja[k + 1] += share_after[k] * fa[k]
+        jn[k + 1] += share_after[k] * fn[k]
+    return ja, jn
+
+
+def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m):
+    """Largest and mean load (N) and bearing pressure (MPa) over the cycle (textbook §5.1 end)."""
+    magnitude = np.hypot(t_Pa, z_Pa) * piston_area_m2
+    area = diameter_m * width_m
+    return {"max_N": float(magnitude.max()), "mean_N": float(magnitude.mean()),
+            "max_MPa": float(magnitude.max() / area / 1e6), "mean_MPa": float(magnitude.mean() / area / 1e6)}
+
+
+def wear_diagram(contact_t, contact_z, weight, spread_deg: float = 60.0, resolution_deg: float = 1.0):
+    """Wear (load-intensity) diagram around a journal or bearing surface.
+
+    Each load presses the surface evenly over +-``spread_deg`` around its contact point
+    (the usual construction of the wear diagram; 60 deg by convention). The contact point
+    is the direction (``contact_t``, ``contact_z``) in the part's axes; ``weight`` its
+    magnitude. Surface angles psi are measured from +z towards +t.
+
+    Returns (psi_deg, wear) with wear in the units of ``weight`` (summed over the cycle).
+    """
+    psi = np.arange(0.0, 360.0, resolution_deg)
+    contact = np.degrees(np.arctan2(contact_t, contact_z)) % 360.0
+    distance = np.abs((psi[:, None] - contact[None, :] + 180.0) % 360.0 - 180.0)
+    wear = ((distance <= spread_deg) * np.asarray(weight)[None, :]).sum(axis=1)
+    return psi, wear
+
+
+def least_loaded_arc(psi_deg, wear, tolerance: float = 0.05):
+    """(start_deg, end_deg, centre_deg) of the widest arc where wear <= min + tolerance*(max - min).
+
+    The centre is the recommended oil-hole position (textbook §5: the oil hole goes into the
+    least-loaded part of the surface).
+    """
+    psi = np.asarray(psi_deg)
+    w = np.asarray(wear, dtype=float)
+    low = w <= w.min() + tolerance * (w.max() - w.min())
+    if low.all():
+        return 0.0, 360.0, 0.0
+    step = psi[1] - psi[0]
+    # Rotate so that the scan starts on a loaded point: arcs then never wrap around.
+    start = int(np.argmin(low))
+    rolled = np.roll(low, -start)
+    best, best_len, run_start = (0, 0), 0, None
+    for i, flag in enumerate(np.append(rolled, False)):
+        if flag and run_start is None:
+            run_start = i
+        elif not flag and run_start is not None:
+            if i - run_start > best_len:
+                best, best_len = (run_start, i - 1), i - run_start
+            run_start = None
+    a = psi[(best[0] + start) % len(psi)]
+    b = psi[(best[1] + start) % len(psi)]
+    centre = (a + ((b - a) % 360.0) / 2.0) % 360.0
+    return float(a), float(b + step) % 360.0, float(centre)

@@ -1,0 +1,120 @@
+"""Vector load diagrams of crank pins, main journals and bearings (issue 4)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.physics import bearings as brg
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+REGISTRY = default_registry()
+
+
+def run(name, changes=None):
+    return run_scene(scene_from_dict(modified(name, changes or {}), base_dir=examples_dir()), REGISTRY)
+
+
+def test_single_cylinder_pin_diagram_is_t_and_z_plus_c_rod():
+    result = run("petrol-1cyl")
+    s = result.scene
+    forces = result.outputs["forces"].tables["forces"]
+    table = result.outputs["bearings"].tables["bearings"]
+    # c of the rod's rotating part, computed here from the scene independently of the stages.
+    area = np.pi * s.engine.bore**2 / 4
+    c_rod = -s.masses.rod * (1 - s.masses.rod_cm_fraction) * s.engine.crank_radius_m * s.engine.angular_velocity_rad_s**2 / area
+    np.testing.assert_allclose(table["pin1_t_Pa"], forces["tangential_Pa"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(table["pin1_z_Pa"], forces["radial_Pa"] + c_rod, rtol=0, atol=1e-6)
+
+
+def test_single_cylinder_rod_bearing_is_the_rotated_reverse():
+    result = run("petrol-1cyl")
+    table = result.outputs["bearings"].tables["bearings"]
+    alpha = np.radians(table["crank_angle_deg"].to_numpy())
+    beta = np.arcsin(result.scene.engine.rod_ratio_value * np.sin(alpha))
+    t, z = table["pin1_t_Pa"].to_numpy(), table["pin1_z_Pa"].to_numpy()
+    angle = alpha + beta
+    # Rotate (t, z) by (alpha + beta) as a complex number in the z-t plane and reverse it.
+    rotated = -(z + 1j * t) * np.exp(-1j * angle)
+    np.testing.assert_allclose(table["rod_bearing1_z_Pa"], rotated.real, atol=1e-6)
+    np.testing.assert_allclose(table["rod_bearing1_t_Pa"], rotated.imag, atol=1e-6)
+    np.testing.assert_allclose(np.hypot(table["rod_bearing1_t_Pa"], table["rod_bearing1_z_Pa"]), np.hypot(t, z),
+                               rtol=1e-12)
+
+
+def test_inline4_journal_loads_mirror_symmetric_and_reactions_balance():
+    result = run("inline4-petrol")
+    r = result.outputs["bearings"].results
+    journals = r["main_journals"]
+    for a, b in ((0, 4), (1, 3)):
+        assert journals[a]["max_N"] == pytest.approx(journals[b]["max_N"], rel=1e-9)
+        assert journals[a]["mean_N"] == pytest.approx(journals[b]["mean_N"], rel=1e-9)
+    # Sum of the loads on all journals = sum of the forces on all cranks, at every angle.
+    loads = result.outputs["torque"].data["crank_loads"]
+    layout = result.outputs["bays"].data["bay_loads"].layout
+    theta = np.radians(loads.crank_angle_deg)
+    positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
+    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa, loads.radial_Pa, loads.centrifugal_Pa, positions)
+    ja, jn = brg.journal_loads(fa, fn, np.full(4, 0.5), np.full(4, 0.5))
+    np.testing.assert_allclose(ja.sum(axis=0), fa.sum(axis=0), atol=1e-6)
+    np.testing.assert_allclose(jn.sum(axis=0), fn.sum(axis=0), atol=1e-6)
+    # The stage's main-bearing loads are these journal loads in engine axes.
+    table = result.outputs["bearings"].tables["bearings"]
+    np.testing.assert_allclose(np.hypot(table["main_bearing2_t_Pa"], table["main_bearing2_z_Pa"]), np.hypot(ja[2], jn[2]),
+                               rtol=1e-12)
+
+
+def test_journal_loads_match_textbook_equations_50_to_53():
+    """Eq. (48)-(53): journal between cranks i and i+1 in the axes of crank i."""
+    rng = np.random.default_rng(3)
+    n = 37
+    t = rng.normal(size=(2, n))
+    z = rng.normal(size=(2, n))
+    c = -0.7
+    theta = rng.uniform(0, 2 * np.pi, n)
+    phi_k = np.radians(120.0)  # crank i+1 trails crank i by 120 deg
+    positions = np.array([theta, theta - phi_k])
+    fa, fn = brg.crank_force_engine_frame(t, z, c, positions)
+    l1, l2 = 0.4, 0.55  # l'_i+1/l_i+1 and l''_i/l_i shares
+    ja, jn = brg.journal_loads(fa, fn, np.array([1 - l2, l1]), np.array([l2, 1 - l1]))
+    e_t, e_z = brg.crank_axes(positions[0])
+    jt, jz = brg.to_frame(ja[1], jn[1], e_t, e_z)
+    z2, t2, c2 = l2 * z[0], l2 * t[0], l2 * c  # z''_i, t''_i, c''_i
+    z1, t1, c1 = l1 * z[1], l1 * t[1], l1 * c  # z'_(i+1), t'_(i+1), c'_(i+1)
+    # Textbook (50)-(53): its angle between the cranks is the one by which crank i+1 leads
+    # crank i, i.e. minus our lag; its c is the magnitude (ours is negative: c = -|c|).
+    phi = -phi_k
+    z_book = z2 + z1 * np.cos(phi) + t1 * np.sin(phi) - (-c2 - c1 * np.cos(phi))  # (50) + (51)
+    t_book = t2 + t1 * np.cos(phi) - z1 * np.sin(phi) + (-c1) * np.sin(phi)  # (52) + (53)
+    np.testing.assert_allclose(jz, z_book, atol=1e-12)
+    np.testing.assert_allclose(jt, t_book, atol=1e-12)
+
+
+def test_wear_diagram_and_oil_hole():
+    # A load that always presses at +z: the least-loaded arc is centred opposite, at 180 deg.
+    psi, wear = brg.wear_diagram(np.zeros(10), np.ones(10), np.ones(10))
+    start, end, centre = brg.least_loaded_arc(psi, wear)
+    assert centre == pytest.approx(180.0, abs=1.0)
+    assert wear.max() == pytest.approx(10.0) and wear.min() == 0.0
+
+
+def test_results_keys_per_pin_and_journal():
+    r = run("v8-petrol").outputs["bearings"].results
+    assert len(r["crank_pins"]) == 4 and len(r["main_journals"]) == 5
+    for entry in r["crank_pins"] + r["main_journals"]:
+        for key in ("max_N", "mean_N", "max_MPa", "mean_MPa", "oil_hole_deg"):
+            assert np.isfinite(entry[key])
+        assert entry["max_N"] >= entry["mean_N"] > 0
+
+
+@pytest.mark.parametrize("language", ["en", "uk"])
+def test_bearing_section_renders(language):
+    result = run("inline4-petrol")
+    html = render_html(result, REGISTRY, language).html
+    assert 'data-stage="bearings"' in html
+    assert html.count("data:image/svg+xml") >= 10
