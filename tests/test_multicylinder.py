@@ -240,3 +240,64 @@ def test_multibank_reports_render(name, language):
     assert 'data-stage="bays"' in rendered.html and 'data-stage="torque"' in rendered.html
     if name.startswith("radial"):
         assert ("B.2" in rendered.html) or ("Б.2" in rendered.html)
+
+
+# ----------------------------------------------------------------------------- every layout
+
+def _even_firing_order(layout, strokes, cylinders, bank_angle, lags):
+    """A firing order for the given crank lags, built from the geometry (delay = psi + lag mod 360)."""
+    from crankdyn.physics.layout import bank_axes_deg, cylinder_labels
+
+    axes = bank_axes_deg(layout, bank_angle, cylinders)
+    residues = sorted(((axes[bank] + lags[bay]) % 360.0, label) for label, bank, bay in cylinder_labels(layout, cylinders))
+    base = residues[[r[1] for r in residues].index(cylinder_labels(layout, cylinders)[0][0])][0]
+    delays, used = {}, set()
+    for residue, label in residues:
+        delay = (residue - base) % 360.0
+        while strokes == 4 and round(delay, 6) in used:
+            delay += 360.0
+        used.add(round(delay, 6))
+        delays[label] = delay
+    return [label for label, _ in sorted(delays.items(), key=lambda kv: kv[1])]
+
+
+@pytest.mark.parametrize("layout, strokes, cylinders, bank, lags, rod", [
+    ("X", 4, 8, 90, [0, 0], "central"),
+    ("Y", 2, 6, 120, [0, 60], "central"),
+    ("W", 2, 6, 60, [0, 180], "fork"),
+    ("boxer", 4, 4, None, [0, 180], "central"),
+    ("V", 4, 6, 120, [0, 240, 120], "articulated"),
+    ("inline", 2, 3, None, [0, 120, 240], "central"),
+])
+def test_every_layout_keeps_the_invariants(layout, strokes, cylinders, bank, lags, rod):
+    order = _even_firing_order(layout, strokes, cylinders, bank, lags)
+    changes = {"engine": {"layout": layout, "strokes": strokes, "cylinders": cylinders, "bank_angle_deg": bank,
+                          "firing_order": order, "crank_angles_deg": lags, "rod_type": rod}}
+    if strokes == 2:
+        changes["cycle"] = {"exhaust_pressure": None, "rounding": {"exhaust_closes_after_tdc_deg": None,
+                                                                   "intake_opens_before_tdc_deg": None,
+                                                                   "intake_closes_after_bdc_deg": None}}
+    if rod == "articulated":
+        changes["articulated"] = {"pin_radius": "40 mm"}
+    data = modified("inline4-petrol", changes)
+    if bank is None:
+        data["engine"].pop("bank_angle_deg", None)
+    result = run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
+    torque = result.outputs["torque"].results
+    assert result.outputs["bays"].results["even_firing"]
+    assert torque["mean_Nm"] == pytest.approx(torque["mean_from_work_Nm"], rel=3e-4)
+    assert torque["period_deg"] == pytest.approx(180.0 * strokes / cylinders)
+    for entry in result.outputs["bearings"].results["main_journals"]:
+        assert np.isfinite(entry["max_N"]) and entry["max_N"] > 0
+
+
+def test_v8_pdf_in_ukrainian(tmp_path):
+    import shutil
+    import subprocess
+
+    out = tmp_path / "v8"
+    assert main(["report", str(examples_dir() / "v8-petrol.toml"), "-o", str(out), "--lang", "uk", "--format", "pdf",
+                 "-q"]) == 0
+    if shutil.which("pdftotext"):
+        text = subprocess.run(["pdftotext", str(out / "report.pdf"), "-"], capture_output=True, text=True).stdout
+        assert "Навантаження на колінчастий вал" in text and "Б.3" in text and "Б.4" in text

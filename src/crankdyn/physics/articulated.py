@@ -136,6 +136,7 @@ def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ra
     deck = R + L + 2 * R / (compression_ratio - 1)
 
     def mismatch(length):
+        # ratio of the slave cylinder minus the target
         g = SlaveGeometry(R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, length)
         x_tdc, _, x_bdc, _ = slave_dead_centres(g)
         return (deck - x_bdc) / (deck - x_tdc) - compression_ratio
@@ -153,10 +154,17 @@ def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ra
         hi = hi + 0.5 * (start + gap - hi)
     else:
         raise ValueError("no slave rod length gives the master's compression ratio")
+    # The rod must reach the slave axis at every crank angle: l > max |C . n_s| (independent of l).
+    probe = SlaveGeometry(R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, 10 * (L + R))
+    motion = slave_motion(np.linspace(0, 2 * np.pi, 7201), probe)
+    cg, sg = np.cos(geometry.bank_angle_rad), np.sin(geometry.bank_angle_rad)
+    shortest = float(np.max(np.abs(-motion.pin_a_m * sg + motion.pin_n_m * cg))) * (1 + 1e-6)
+    lo = max(lo, shortest)
     while mismatch(lo) > 0:
-        lo -= 2 * R
-        if lo <= geometry.pin_radius_m:
-            raise ValueError("no slave rod length gives the master's compression ratio")
+        if lo <= shortest:
+            raise ValueError("no slave rod length gives the master's compression ratio with this pin "
+                             "(the rod would have to be shorter than its reach to the slave axis)")
+        lo = max(lo - 2 * R, shortest)
     return float(brentq(mismatch, lo, hi, xtol=1e-13))
 
 
