@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, GAS_PRESSURE, CrankLoads, EngineTorque
+from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
@@ -19,7 +19,7 @@ def applies(scene) -> str | None:
 
 
 def run(scene, inputs) -> StageOutput:
-    bays, gas = inputs[BAY_LOADS], inputs[GAS_PRESSURE]
+    bays = inputs[BAY_LOADS]
     e = scene.engine
     layout = bays.layout
     angle = bays.crank_angle_deg
@@ -140,7 +140,7 @@ def render(output: StageOutput, ctx) -> str | None:
 TORQUE_STAGE = Stage(
     name="torque",
     title_key="torque.title",
-    requires=(BAY_LOADS, GAS_PRESSURE),
+    requires=(BAY_LOADS,),
     provides=(ENGINE_TORQUE, CRANK_LOADS),
     applies=applies,
     run=run,

@@ -18,7 +18,6 @@ Conventions
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -258,8 +257,3 @@ def uneven_warning(layout: EngineLayout) -> str | None:
     if layout.even_firing:
         return None
     return "uneven firing: intervals " + ", ".join(f"{x:g}" for x in layout.firing_intervals_deg()) + " deg"
-
-
-def radial_master_pin_angles_deg(cylinders: int) -> list[float]:
-    """Nominal articulated-rod pin angles on a radial master rod: the cylinder spacing."""
-    return [360.0 * k / cylinders for k in range(1, cylinders)]
