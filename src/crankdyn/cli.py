@@ -29,7 +29,7 @@ def _parser() -> argparse.ArgumentParser:
     report.add_argument("scene", type=Path)
     report.add_argument("-o", "--output", type=Path, default=Path("report"), help="output folder (default: report)")
     report.add_argument("--format", default="html,pdf,json,csv",
-                        help="comma-separated subset of html,pdf,json,csv (default: all)")
+                        help="comma-separated subset of html,pdf,json,csv,xlsx (default: html,pdf,json,csv)")
     report.add_argument("--lang", help="report language code (overrides report.language)")
     report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     report.add_argument("-q", "--quiet", action="store_true")
@@ -43,12 +43,44 @@ def _parser() -> argparse.ArgumentParser:
     example.add_argument("-o", "--output", type=Path, help="file to write the example scene to")
 
     sub.add_parser("plugins", help="list installed plugins, mechanisms and stages")
+
+    explore = sub.add_parser("explore", help="rank the even-firing crank arrangements and firing orders "
+                             "of an engine by balance and firing rules")
+    explore.add_argument("--cylinders", type=int, required=True, help="number of cylinders (1-24)")
+    explore.add_argument("--layout", default="inline", choices=["inline", "V", "W", "Y", "X", "boxer", "radial"])
+    explore.add_argument("--strokes", type=int, default=4, choices=[2, 4])
+    explore.add_argument("--bank-angle", type=float, help="angle between adjacent banks, deg (V, W, Y, X)")
+    explore.add_argument("--top", type=int, default=10, help="rows to show (default 10)")
+    explore.add_argument("--all", action="store_true", help="rank and show every firing order")
+    explore.add_argument("--json", action="store_true", help="print the ranking as JSON")
+
+    serve = sub.add_parser("serve", help="live HTML preview on 127.0.0.1 that re-renders when the scene is saved")
+    serve.add_argument("scene", type=Path)
+    serve.add_argument("--port", type=int, default=8765,
+                       help="port on 127.0.0.1 (default 8765; 0 picks a free one)")
+    serve.add_argument("--lang", help="report language code (overrides report.language)")
+    serve.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
+    serve.add_argument("--open", action="store_true", help="open the preview in the default browser")
+    serve.add_argument("-q", "--quiet", action="store_true", help="no log lines on stderr, only the URL")
+
+    batch = sub.add_parser("batch", help="one report per row of a CSV of student variants, plus an answer key")
+    batch.add_argument("variants", type=Path, help="CSV: a header of dotted scene paths (engine.bore, ...) "
+                       "and an optional 'variant' column; one row per student")
+    batch.add_argument("--base", type=Path, required=True, help="the scene every row starts from")
+    batch.add_argument("-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)")
+    batch.add_argument("--format", default="html,pdf,json,csv",
+                       help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
+    batch.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    batch.add_argument("--lang", help="report language code (overrides report.language)")
+    batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
+    batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    handler = {"report": _report, "check": _check, "example": _example, "plugins": _plugins}[args.command]
+    handler = {"report": _report, "check": _check, "example": _example, "plugins": _plugins, "serve": _serve,
+               "batch": _batch, "explore": _explore}[args.command]
     try:
         return handler(args)
     except CrankdynError as exc:
@@ -84,8 +116,7 @@ def _load(scene_path: Path, lang: str | None = None):
 
 
 def _report(args) -> int:
-    from . import outputs
-    from .orchestrator import run_scene
+    from .pipeline import write_report
     from .plugins import default_registry
 
     formats = _formats(args.format)
@@ -93,31 +124,94 @@ def _report(args) -> int:
     start = time.perf_counter()
     scene, languages = _load(args.scene, args.lang)
     registry = default_registry()
-    result = run_scene(scene, registry, stages, languages)
-
-    files: dict[str, bytes] = {}
-    if "json" in formats:
-        files["results.json"] = outputs.json_bytes(outputs.results_document(result))
-    if "csv" in formats:
-        files.update(outputs.csv_tables(result))
-    if "html" in formats or "pdf" in formats:
-        from .report.document import render_html
-
-        rendered = render_html(result, registry)
-        if "html" in formats:
-            files["report.html"] = rendered.html.encode("utf-8")
-            files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
-        if "pdf" in formats:
-            from .report.pdf import html_to_pdf
-
-            files["report.pdf"] = html_to_pdf(rendered.html)
-    written = outputs.write_atomically(args.output, files)
+    run = write_report(scene, registry, args.output, formats, stages, languages)
+    result, written = run.result, run.written
     if not args.quiet:
         main_files = [p for p in written if p.parent == args.output]
         print(f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
               + ", ".join(p.name for p in main_files))
         for name, reason in result.plan.skipped.items():
             print(f"  stage {name} left out: {reason}")
+    return 0
+
+
+def _stage_list(text: str | None) -> list[str] | None:
+    return [s.strip() for s in text.split(",")] if text else None
+
+
+def _serve(args) -> int:
+    from .serve import serve
+
+    if not 0 <= args.port <= 65535:
+        raise SceneError(Problem("--port", args.port, "a port number from 1 to 65535, or 0 for any free port"))
+    return serve(args.scene, port=args.port, language=args.lang, stages=_stage_list(args.stages),
+                 open_browser=args.open, quiet=args.quiet)
+
+
+def _batch(args) -> int:
+    from .batch import run_batch
+
+    formats = _formats(args.format)
+    if args.jobs is not None and args.jobs < 1:
+        raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
+    report = run_batch(args.variants, args.base, args.output, formats, jobs=args.jobs, language=args.lang,
+                       stages=_stage_list(args.stages), progress=not args.quiet)
+    done = len(report.outcomes) - len(report.failures)
+    print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
+          f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
+    if report.failures:
+        lines = [f"crankdyn batch: {len(report.failures)} variant(s) failed "
+                 f"(listed in {args.output / 'failures.csv'}):"]
+        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures]
+        print("\n".join(lines), file=sys.stderr)
+        return EXIT_BAD_INPUT
+    return 0
+
+
+def _explore(args) -> int:
+    import dataclasses
+    import json
+
+    from .physics import firing_explorer
+    from .physics.layout import LayoutError
+
+    if not 1 <= args.cylinders <= 24:
+        raise SceneError(Problem("--cylinders", args.cylinders, "a whole number from 1 to 24"))
+    if args.top < 1:
+        raise SceneError(Problem("--top", args.top, "a whole number >= 1"))
+    needs_angle = args.layout in ("V", "W", "Y", "X")
+    if needs_angle != (args.bank_angle is not None):
+        raise SceneError(Problem("--bank-angle", args.bank_angle,
+                                 f"required for a {args.layout} engine" if needs_angle
+                                 else f"does not apply to a {args.layout} engine"))
+    start = time.perf_counter()
+    try:
+        result = firing_explorer.explore(args.cylinders, args.layout, args.strokes, args.bank_angle,
+                                         top=None if args.all else args.top)
+    except LayoutError as exc:
+        raise SceneError(Problem("--" + exc.field.split(".")[-1].replace("_", "-"), exc.value, str(exc))) from None
+    seconds = time.perf_counter() - start
+    if args.json:
+        print(json.dumps({**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False))
+        return 0
+    print(f"crankdyn explore: {args.cylinders}-cylinder {args.layout} {args.strokes}-stroke"
+          + (f", bank angle {args.bank_angle:g} deg" if args.bank_angle is not None else "")
+          + f": firing every {result.interval_deg:g} deg; {result.arrangements} crank arrangements, "
+          f"{result.firing_orders} firing orders ({result.scored_firing_orders} scored in detail, {seconds:.3f} s)")
+    if result.reason:
+        print(f"  no even-firing arrangement: {result.reason}")
+        return 0
+    print("  ranked by: first-order parts needing balance shafts, second order, what counterweights cure, then "
+          "consecutive firings of neighbours / on one pin / on one half of the shaft")
+    head = f"{'#':>4}  {'crank angles, deg':<34} {'firing order':<30} {'sum_C':>6} {'M_C':>6} {'sum_PI':>6} " \
+           f"{'M_PI':>6} {'sum_PII':>7} {'M_PII':>6} {'nb':>3} {'pin':>3} {'half':>4}"
+    print(head)
+    for row in result.rows:
+        c = row.coefficients
+        print(f"{row.rank:>4}  {','.join(f'{x:g}' for x in row.crank_angles_deg):<34} "
+              f"{'-'.join(row.firing_order):<30} {c['sum_C']:6.3f} {c['M_C']:6.3f} {c['sum_PI']:6.3f} "
+              f"{c['M_PI']:6.3f} {c['sum_PII']:7.3f} {c['M_PII']:6.3f} {row.neighbours:>3} {row.same_pin:>3} "
+              f"{row.same_half:>4}")
     return 0
 
 

@@ -17,6 +17,7 @@ FORCES = "forces"
 ENGINE_TORQUE = "engine_torque"
 BAY_LOADS = "bay_loads"
 CRANK_LOADS = "crank_loads"
+FLYWHEEL = "flywheel"
 
 
 @dataclass(frozen=True)
@@ -137,3 +138,23 @@ class CrankLoads:
     centrifugal_Pa: float
     piston_area_m2: float
     crank_radius_m: float
+
+
+@dataclass(frozen=True)
+class FlywheelDesign:
+    """The flywheel of the energy method (flywheel stage) for the speed-fluctuation stage.
+
+    ``flywheel_inertia_kg_m2`` is the flywheel the engine gets (the scene's chosen one, else
+    the one designed for ``required_irregularity``); ``engine_inertia_kg_m2`` the constant
+    own inertia of the crankshaft given in the scene (beyond the crank masses);
+    ``mechanism_inertia_mean_kg_m2`` the cycle mean of the reduced inertia of the crank
+    mechanisms; ``excess_work_J`` Delta L of the output torque.
+    """
+
+    flywheel_inertia_kg_m2: float
+    engine_inertia_kg_m2: float
+    mechanism_inertia_mean_kg_m2: float
+    excess_work_J: float
+    irregularity: float  # delta of the energy method with this flywheel
+    required_irregularity: float | None
+    required_flywheel_inertia_kg_m2: float | None

@@ -147,17 +147,19 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
 def _topological(stages: dict[str, Stage]) -> list[Stage]:
     provider_of = {key: s.name for s in stages.values() for key in s.provides}
     depends = {name: {provider_of[k] for k in s.requires} for name, s in stages.items()}
-    ready = [n for n, d in depends.items() if not d]
-    heapq.heapify(ready)  # ties broken by name, so the order is reproducible
+    # Ties are broken by name, so the order is reproducible; stages marked ``last`` (summaries
+    # such as the error study) wait until nothing else is ready.
+    ready = [(stages[n].last, n) for n, d in depends.items() if not d]
+    heapq.heapify(ready)
     order: list[Stage] = []
     while ready:
-        name = heapq.heappop(ready)
+        _, name = heapq.heappop(ready)
         order.append(stages[name])
         for other, deps in depends.items():
             if name in deps:
                 deps.discard(name)
-                if not deps and other not in [s.name for s in order] and other not in ready:
-                    heapq.heappush(ready, other)
+                if not deps and other not in [s.name for s in order] and (stages[other].last, other) not in ready:
+                    heapq.heappush(ready, (stages[other].last, other))
     if len(order) != len(stages):
         raise PluginError("stages require each other in a cycle: " + ", ".join(sorted(set(stages) - {s.name for s in order})))
     return order

@@ -81,6 +81,8 @@ class Stage:
     options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
     references: catalog keys of the sources the method comes from.
     default:    whether the stage runs when the scene does not list stages.
+    last:       order hint: run (and appear in the report) after every stage that is
+                ready at the same time, e.g. a summary of the others; ``requires`` still rules.
     """
 
     name: str
@@ -93,6 +95,7 @@ class Stage:
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
     default: bool = True
+    last: bool = False
     options_table: str | None = None
     options_model: type | None = None
 

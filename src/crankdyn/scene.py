@@ -178,6 +178,8 @@ class Masses(_Strict):
     rod_cm_fraction: _number(gt=0, lt=1) | None = None
     crank_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
     crank_web: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+    # Moment of inertia of the rod about its centre of mass (rod_dynamics stage).
+    rod_moment_of_inertia: _quantity("moment_of_inertia", gt=0, le=1000, unit="kg m^2") | None = None
 
     @model_validator(mode="after")
     def _cm(self) -> "Masses":

@@ -15,6 +15,10 @@ SI_UNIT = {
     "pressure": "Pa",
     "time": "s",
     "volume": "m**3",
+    "moment_of_inertia": "kg*m**2",
+    "torsional_stiffness": "N*m/rad",
+    "density": "kg/m**3",
+    "velocity": "m/s",
 }
 
 
@@ -58,7 +62,8 @@ def parse_quantity(text: object, kind: str) -> float:
 
 def _example(kind: str) -> str:
     return {"length": "82 mm", "mass": "0.45 kg", "pressure": "0.085 MPa", "time": "1.5 ms",
-            "volume": "0.5 L"}[kind]
+            "volume": "0.5 L", "moment_of_inertia": "0.12 kg*m^2", "torsional_stiffness": "1.2e5 N*m/rad",
+            "density": "7200 kg/m^3", "velocity": "50 m/s"}[kind]
 
 
 def format_si(value: float, kind: str, unit: str) -> str:

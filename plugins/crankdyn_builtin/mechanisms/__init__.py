@@ -2,6 +2,9 @@
 
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Mechanism
+from crankdyn_builtin.stages.offset_crank import OFFSET_CRANK_MECHANISM
+from crankdyn_builtin.stages.planetary import PLANETARY_MECHANISM
+from crankdyn_builtin.stages.vane import VANE_MECHANISM
 
 
 def _check_crank_slider(scene):
@@ -19,4 +22,7 @@ def crankdyn_mechanisms():
             summary="central (axial) crank-slider mechanism: the cylinder axis passes through the crankshaft axis",
             check=_check_crank_slider,
         ),
+        OFFSET_CRANK_MECHANISM,
+        PLANETARY_MECHANISM,
+        VANE_MECHANISM,
     ]

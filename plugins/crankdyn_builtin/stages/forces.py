@@ -36,7 +36,12 @@ def run(scene, inputs) -> StageOutput:
     first_Pa = phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area)
     second_Pa = phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio, omega, area)
     total_Pa = gas_Pa + inertia_Pa
-    rod = phys.rod_force_components(total_Pa, alpha, motion.rod_angle_rad)
+    # The rod resolves p1 at the crank's angle from the cylinder axis: alpha, unless the
+    # mechanism counts alpha from a TDC off the axis (offset crank). A mechanism without a
+    # rod (rod_angle_rad None, e.g. a Scotch yoke) passes the force along the axis (beta = 0).
+    crank_from_axis = alpha + motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    beta = motion.rod_angle_rad if motion.rod_angle_rad is not None else np.zeros_like(alpha)
+    rod = phys.rod_force_components(total_Pa, crank_from_axis, beta)
     centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
     centrifugal_rod_Pa = phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area)
     resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
@@ -44,7 +49,7 @@ def run(scene, inputs) -> StageOutput:
 
     # Torque of the inertia force alone: its cycle integral is the inertia work, zero for a
     # consistent kinematic model (a check of the kinematics the report prints).
-    inertia_torque = phys.crank_torque_Nm(phys.rod_force_components(inertia_Pa, alpha, motion.rod_angle_rad).tangential_Pa,
+    inertia_torque = phys.crank_torque_Nm(phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa,
                                           radius, area)
     revolutions_per_cycle = engine.strokes / 2
     mean_torque = float(np.mean(torque))

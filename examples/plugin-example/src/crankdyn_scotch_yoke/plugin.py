@@ -1,0 +1,153 @@
+"""The plugin module named by the ``crankdyn`` entry point: one mechanism, one stage, catalogs.
+
+Only crankdyn's public API is used: ``crankdyn.hookspecs.hookimpl``, the typed objects of
+``crankdyn.plugin_types``, the data contracts of ``crankdyn.contracts``, ``crankdyn.errors.Problem``
+and ``crankdyn.scene.options`` (with ``quantity``/``number`` for option models).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+
+from crankdyn.contracts import KINEMATICS, PistonMotion
+from crankdyn.errors import Problem
+from crankdyn.hookspecs import hookimpl
+from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
+from crankdyn.scene import number, options
+
+from . import physics
+
+HERE = Path(__file__).resolve().parent
+MECHANISM = "scotch_yoke"
+
+
+# ----------------------------------------------------------------------------- mechanism
+
+def check(scene) -> list[Problem]:
+    """What the generic validation cannot see: this mechanism has one cylinder and no rod."""
+    problems = []
+    if scene.engine.cylinders != 1:
+        problems.append(Problem("engine.cylinders", scene.engine.cylinders, "the Scotch yoke has one cylinder: 1"))
+    return problems
+
+
+SCOTCH_YOKE = Mechanism(
+    name=MECHANISM,
+    summary="Scotch yoke: the crank pin slides in a slotted yoke on the piston rod (harmonic motion, no connecting rod)",
+    check=check,
+)
+
+
+# ----------------------------------------------------------------------------- stage
+
+class YokeOptions(BaseModel):
+    """The optional [scotch_yoke] table of a scene (validated with crankdyn.scene.options)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    table_step_deg: number(gt=0, le=90) | None = None  # rows of the printed table (default: the scene's)
+
+
+def applies(scene) -> str | None:
+    if scene.engine.mechanism != MECHANISM:
+        return f"the scene's mechanism is {scene.engine.mechanism!r}, not the Scotch yoke"
+    return None
+
+
+def run(scene, inputs) -> StageOutput:
+    """Physics only: arrays in SI on the scene's crank-angle grid; no text."""
+    radius, omega = scene.engine.crank_radius_m, scene.engine.angular_velocity_rad_s
+    angle_deg = scene.crank_angles_deg
+    alpha = np.radians(angle_deg)
+    s = physics.piston_displacement_m(alpha, radius)
+    v = physics.piston_velocity_m_s(alpha, radius, omega)
+    j = physics.piston_acceleration_m_s2(alpha, radius, omega)
+    motion = PistonMotion(
+        crank_angle_deg=angle_deg, piston_displacement_m=s, piston_velocity_m_s=v, piston_acceleration_m_s2=j,
+        rod_angle_rad=None,  # no connecting rod: the force stage passes the piston force along the axis
+        crank_radius_m=radius, angular_velocity_rad_s=omega, method="exact",
+        displacement_at=lambda a_deg: physics.piston_displacement_m(np.radians(a_deg), radius),
+    )
+    results = {
+        "crank_radius_m": radius,
+        "angular_velocity_rad_s": omega,
+        "stroke_m": 2.0 * radius,
+        "v_max_m_s": radius * omega,
+        "j_max_m_s2": radius * omega**2,
+        "mean_piston_speed_m_s": 2.0 * radius * omega / np.pi,
+    }
+    table = pd.DataFrame({"crank_angle_deg": angle_deg, "piston_displacement_m": s, "piston_velocity_m_s": v,
+                          "piston_acceleration_m_s2": j})
+    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"scotch_yoke": table},
+                       notes=[("scotch_yoke.note", {})])
+
+
+def render(output: StageOutput, ctx) -> str:
+    """Text and figures from what run() produced; never physics."""
+    import matplotlib.pyplot as plt
+
+    t = ctx.t
+    frame = output.tables["scotch_yoke"]
+    r = output.results
+    opts = options(ctx.scene, "scotch_yoke", YokeOptions) if ctx.scene is not None else YokeOptions()
+    step = opts.table_step_deg or ctx.table_step_deg
+    angle = frame["crank_angle_deg"].to_numpy()
+    one_turn = angle < 360.0
+    multiples = angle / step
+    shown = one_turn & np.isclose(multiples, np.round(multiples))
+    table = ctx.table([
+        ("<i>α</i>, °", angle[shown], 0),
+        ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"].to_numpy()[shown] * 1e3, 2),
+        ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"].to_numpy()[shown], 2),
+        ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"].to_numpy()[shown], 0),
+    ], caption=t("scotch_yoke.table_caption"))
+
+    fig, axes = plt.subplots(3, 1, figsize=(16 / 2.54, 14 / 2.54), sharex=True)
+    for ax, key, scale, label in ((axes[0], "piston_displacement_m", 1e3, "scotch_yoke.axis_s"),
+                                  (axes[1], "piston_velocity_m_s", 1.0, "scotch_yoke.axis_v"),
+                                  (axes[2], "piston_acceleration_m_s2", 1.0, "scotch_yoke.axis_j")):
+        ax.plot(angle[one_turn], frame[key].to_numpy()[one_turn] * scale)
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_ylabel(t(label))
+    axes[2].set_xlabel(t("axis.crank_angle"))
+    axes[2].set_xlim(0, 360)
+    figure = ctx.figure(fig, t("scotch_yoke.figure_caption"), "scotch_yoke")
+
+    ctx.conclude(t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"])))
+    return ctx.render_template("sections/scotch_yoke.html.j2", r=r, table=table, figure=figure)
+
+
+SCOTCH_YOKE_STAGE = Stage(
+    name="scotch_yoke",
+    title_key="scotch_yoke.title",
+    requires=(),
+    provides=(KINEMATICS,),
+    applies=applies,
+    run=run,
+    render=render,
+    template_dir=HERE / "templates",
+    references=("scotch_yoke_uicker",),
+    options_table="scotch_yoke",
+    options_model=YokeOptions,
+)
+
+
+# ----------------------------------------------------------------------------- hooks
+
+@hookimpl
+def crankdyn_mechanisms():
+    return [SCOTCH_YOKE]
+
+
+@hookimpl
+def crankdyn_stages():
+    return [SCOTCH_YOKE_STAGE]
+
+
+@hookimpl
+def crankdyn_catalogs():
+    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]

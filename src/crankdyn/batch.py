@@ -1,0 +1,410 @@
+"""``crankdyn batch VARIANTS.csv --base SCENE -o DIR``: one report per student variant.
+
+Each CSV row overrides fields of the base scene (columns are dotted scene paths such
+as ``engine.bore``; an optional ``variant`` column names the row's folder). Rows run
+in parallel in worker processes through the same code path as ``crankdyn report``
+(:func:`crankdyn.pipeline.write_report`); a row that fails is recorded with its error
+and the others go on. At the end the batch writes an answer key of the main results
+(``answer_key.csv`` and ``.xlsx``) and, if rows failed, ``failures.csv``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import re
+import sys
+import time
+import tomllib
+from collections.abc import Callable, Iterable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+from .errors import CrankdynError, Problem, SceneError
+
+VARIANT_COLUMN = "variant"
+
+# The answer key: (column, stage, results.json key, factor). Units in the column names;
+# a stage that did not run leaves its columns empty for that variant.
+ANSWER_COLUMNS: tuple[tuple[str, str, str, float], ...] = (
+    ("v_max_m_s", "kinematics", "v_max_m_s", 1.0),
+    ("v_max_crank_angle_deg", "kinematics", "v_max_crank_angle_deg", 1.0),
+    ("v_mean_m_s", "kinematics", "mean_piston_speed_m_s", 1.0),
+    ("j_max_m_s2", "kinematics", "j_max_m_s2", 1.0),
+    ("j_min_m_s2", "kinematics", "j_min_m_s2", 1.0),
+    ("j_min_crank_angle_deg", "kinematics", "j_min_crank_angle_deg", 1.0),
+    ("p_c_MPa", "indicator", "compression_end_pressure_Pa", 1e-6),
+    ("p_max_MPa", "indicator", "max_pressure_Pa", 1e-6),
+    ("p_max_crank_angle_deg", "indicator", "max_pressure_crank_angle_deg", 1.0),
+    ("p_i_MPa", "indicator", "mean_indicated_pressure_Pa", 1e-6),
+    ("L_i_J", "indicator", "indicated_work_J", 1.0),
+    ("N_i_cylinder_kW", "indicator", "indicated_power_W", 1e-3),
+    ("p_j_tdc_MPa", "forces", "inertia_tdc_Pa", 1e-6),
+    ("c_MPa", "forces", "centrifugal_Pa", 1e-6),
+    ("t_max_MPa", "forces", "tangential_max_Pa", 1e-6),
+    ("z_min_MPa", "forces", "radial_min_Pa", 1e-6),
+    ("q_max_MPa", "forces", "resultant_max_Pa", 1e-6),
+    ("M_cylinder_mean_Nm", "forces", "mean_torque_Nm", 1.0),
+    ("M_cylinder_max_Nm", "forces", "torque_max_Nm", 1.0),
+    ("M_mean_Nm", "torque", "mean_Nm", 1.0),
+    ("M_max_Nm", "torque", "max_Nm", 1.0),
+    ("M_min_Nm", "torque", "min_Nm", 1.0),
+    ("torque_non_uniformity", "torque", "non_uniformity", 1.0),
+    ("N_i_engine_kW", "torque", "indicated_power_W", 1e-3),
+)
+
+
+@dataclass
+class Variant:
+    row: int  # 1-based data row (the header is row 0)
+    name: str  # folder name below DIR
+    overrides: dict[str, Any]  # nested dict laid over the base scene
+    cells: dict[str, str]  # the row's cells as written, for the answer key
+    error: str | None = None  # a problem with the row itself (e.g. a duplicate variant id)
+
+
+@dataclass
+class Outcome:
+    row: int
+    name: str
+    ok: bool
+    seconds: float = 0.0
+    error: str = ""
+    answers: dict[str, Any] = field(default_factory=dict)
+    stages_run: list[str] = field(default_factory=list)
+    files: int = 0
+
+
+@dataclass
+class BatchReport:
+    out_dir: Path
+    outcomes: list[Outcome]
+    seconds: float
+    written: list[Path]
+
+    @property
+    def failures(self) -> list[Outcome]:
+        return [o for o in self.outcomes if not o.ok]
+
+
+# --------------------------------------------------------------------------- reading the CSV
+
+def parse_cell(text: str) -> Any:
+    """A CSV cell as a TOML value: ``82`` -> 82, ``0.28`` -> 0.28, ``true``, ``[1, 3, 4, 2]``;
+    anything that is not a TOML value (``82 mm``, ``Ivanenko I.``) stays the string it is."""
+    text = text.strip()
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _nest(path: str, value: Any) -> dict:
+    out: Any = value
+    for part in reversed(path.split(".")):
+        out = {part: out}
+    return out
+
+
+_DECIMAL_COMMA = re.compile(r"^([-+]?\d+),(\d+(?:[eE][-+]?\d+)?)(\s*[^\d,\s][^,]*)?$")
+
+
+def _decimal_point(text: str) -> str:
+    match = _DECIMAL_COMMA.match(text)
+    return f"{match[1]}.{match[2]}{match[3] or ''}" if match else text
+
+
+_SAFE = re.compile(r"[^\w.-]+", re.UNICODE)
+
+
+def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
+    """The override columns and the rows of ``csv_path``; a malformed file raises SceneError."""
+    from .scene import merge
+
+    source = str(csv_path)
+    try:
+        text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
+    except FileNotFoundError:
+        raise SceneError(Problem("variants", source, "file not found"), source) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(Problem("variants", source, f"cannot read the file as UTF-8 CSV ({exc.__class__.__name__})"),
+                         source) from None
+    sample = text[:4096]
+    try:
+        dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
+    except csv.Error:
+        dialect = csv.excel
+    rows = list(csv.reader(io.StringIO(text), dialect))
+    # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
+    # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
+    decimal_comma = dialect.delimiter != ","
+    rows = [r for r in rows if any(c.strip() for c in r)]
+    if not rows:
+        raise SceneError(Problem("variants", source, "empty file; the first row names the scene fields, "
+                                 "e.g. variant,report.student,engine.bore"), source)
+    header = [h.strip() for h in rows[0]]
+    problems = []
+    seen: set[str] = set()
+    for i, name in enumerate(header, start=1):
+        if not name:
+            problems.append(Problem(f"column {i}", name, "empty column name; name a scene field such as engine.bore"))
+        elif name in seen:
+            problems.append(Problem(f"column {i}", name, "named twice"))
+        elif name != VARIANT_COLUMN and (any(not part for part in name.split("."))
+                                          or not re.fullmatch(r"[A-Za-z_][\w.]*", name)):
+            problems.append(Problem(f"column {i}", name, "not a dotted scene path such as engine.bore or "
+                                    "cycle.rounding.ignition_advance_deg"))
+        seen.add(name)
+    fields = [h for h in header if h != VARIANT_COLUMN]
+    for a in fields:
+        for b in fields:
+            if b.startswith(a + "."):
+                problems.append(Problem(f"column {b}", b, f"conflicts with column {a}: give one or the other"))
+    if not fields:
+        problems.append(Problem("variants", ",".join(header), "no column overrides a scene field"))
+    if problems:
+        raise SceneError(problems, source)
+
+    variants: list[Variant] = []
+    names: dict[str, int] = {}
+    width = max(2, len(str(len(rows) - 1)))
+    for row_number, cells in enumerate(rows[1:], start=1):
+        error = None
+        if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
+            error = f"row has {len(cells)} cells but the header names {len(header)} columns"
+        cells = (cells + [""] * len(header))[:len(header)]
+        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells)))
+        overrides: dict = {}
+        for name in fields:
+            if row[name] != "":  # an empty cell keeps the base scene's value
+                overrides = merge(overrides, _nest(name, parse_cell(row[name])))
+        wanted = row.get(VARIANT_COLUMN, "") or f"{row_number:0{width}d}"
+        name = _SAFE.sub("_", wanted).strip("._") or f"{row_number:0{width}d}"
+        if name in names:
+            error = error or f"variant id {wanted!r} is used by row {names[name]} too; ids must be unique"
+            name = f"{name}__row{row_number}"
+        names.setdefault(name, row_number)
+        variants.append(Variant(row_number, name, overrides, row, error))
+    return fields, variants
+
+
+# --------------------------------------------------------------------------- one row
+
+_worker_registry = None
+
+
+def _registry():
+    global _worker_registry
+    if _worker_registry is None:
+        from .plugins import default_registry
+
+        _worker_registry = default_registry()
+    return _worker_registry
+
+
+def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, formats: list[str],
+                language: str | None, stages: list[str] | None) -> Outcome:
+    """Compute and write one variant; never raises (an error is part of the outcome)."""
+    start = time.perf_counter()
+    if variant.error:
+        return Outcome(variant.row, variant.name, False, 0.0, variant.error)
+    try:
+        from . import outputs
+        from .pipeline import write_report
+        from .report.i18n import available_languages
+        from .scene import merge, scene_from_dict
+
+        data = merge(base, variant.overrides)
+        if language:
+            data = merge(data, {"report": {"language": language}})
+        scene = scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}")
+        run = write_report(scene, _registry(), Path(out_dir) / variant.name, formats, stages, available_languages())
+        document = outputs.results_document(run.result)
+        return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
+                       answers=answers(document), stages_run=list(run.result.stages_run), files=len(run.written))
+    except SceneError as exc:
+        message = "; ".join(str(p) for p in exc.problems)
+        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")
+    except CrankdynError as exc:
+        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, str(exc).replace("\n", " "))
+    except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
+        return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
+                       f"internal error: {exc.__class__.__name__}: {exc}")
+
+
+def answers(document: dict) -> dict[str, Any]:
+    """The answer-key values of one results.json document (missing stages give None)."""
+    out: dict[str, Any] = {}
+    for column, stage, key, factor in ANSWER_COLUMNS:
+        value = (document.get(stage) or {}).get(key)
+        out[column] = value * factor if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+    return out
+
+
+# --------------------------------------------------------------------------- the batch
+
+def available_cores() -> int:
+    """The cores this process may run on (a container's CPU set, not the host's count)."""
+    try:
+        return len(os.sched_getaffinity(0)) or 1
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+class Progress:
+    """A text progress bar on stderr; one line per finished row when stderr is not a terminal."""
+
+    def __init__(self, total: int, stream: TextIO | None = None, enabled: bool = True):
+        self.total, self.done, self.failed = total, 0, 0
+        self.stream = stream or sys.stderr
+        self.enabled = enabled
+        self.tty = enabled and hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.start = time.perf_counter()
+
+    def update(self, outcome: Outcome) -> None:
+        self.done += 1
+        self.failed += not outcome.ok
+        if not self.enabled:
+            return
+        elapsed = time.perf_counter() - self.start
+        eta = elapsed / self.done * (self.total - self.done)
+        width = 30
+        filled = int(round(width * self.done / self.total)) if self.total else width
+        bar = "#" * filled + "." * (width - filled)
+        status = f"[{bar}] {self.done}/{self.total}  failed {self.failed}  {elapsed:5.1f} s  eta {eta:4.0f} s"
+        if self.tty:
+            self.stream.write("\r" + status)
+            if self.done == self.total:
+                self.stream.write("\n")
+        else:
+            verdict = "ok" if outcome.ok else "FAILED"
+            self.stream.write(f"{status}  row {outcome.row} {outcome.name}: {verdict}\n")
+        self.stream.flush()
+
+
+def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
+              jobs: int | None = None, language: str | None = None, stages: list[str] | None = None,
+              progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None) -> BatchReport:
+    """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures."""
+    from .outputs import write_atomically
+
+    start = time.perf_counter()
+    formats = list(formats)
+    base_source = str(base_path)
+    try:
+        base = tomllib.loads(Path(base_path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SceneError(Problem("--base", base_source, "file not found"), base_source) from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise SceneError(Problem("--base", base_source, f"not a readable TOML scene: {exc}"), base_source) from None
+    base_dir = str(Path(base_path).parent.resolve())
+    fields, variants = read_variants(Path(csv_path))
+    jobs = max(1, min(jobs or available_cores(), max(len(variants), 1)))
+    bar = Progress(len(variants), enabled=progress)
+    outcomes: list[Outcome] = []
+
+    def finished(outcome: Outcome) -> None:
+        outcomes.append(outcome)
+        bar.update(outcome)
+        if on_outcome:
+            on_outcome(outcome)
+
+    args = (base, base_dir)
+    tail = (str(out_dir), formats, language, stages)
+    if jobs == 1:
+        for variant in variants:
+            finished(run_variant(*args, variant, *tail))
+    else:
+        _registry()  # load the plugins once here: forked workers inherit them
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            pending: dict[Future, Variant] = {pool.submit(run_variant, *args, v, *tail): v for v in variants}
+            try:
+                while pending:
+                    done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                    for future in done:
+                        variant = pending.pop(future)
+                        try:
+                            outcome = future.result()
+                        except Exception as exc:  # noqa: BLE001 - e.g. a worker killed by the OS
+                            outcome = Outcome(variant.row, variant.name, False, 0.0,
+                                              f"worker failed: {exc.__class__.__name__}: {exc}")
+                        finished(outcome)
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+    outcomes.sort(key=lambda o: o.row)
+    by_row = {v.row: v for v in variants}
+    files = {"answer_key.csv": _answer_key_csv(fields, outcomes, by_row)}
+    files["answer_key.xlsx"] = _answer_key_xlsx(fields, outcomes, by_row)
+    if any(not o.ok for o in outcomes):
+        files["failures.csv"] = _failures_csv(outcomes, by_row)
+    else:
+        (Path(out_dir) / "failures.csv").unlink(missing_ok=True)  # from an earlier run
+    written = write_atomically(Path(out_dir), files)
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written)
+
+
+def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
+    """Successful variants only: id, row, the variant's own inputs as given, then the results."""
+    answer_names = [c for c, *_ in ANSWER_COLUMNS]
+    ran = [o for o in outcomes if o.ok]
+    # Leave out result columns no variant has (e.g. a kinematics-only batch).
+    answer_names = [c for c in answer_names if any(o.answers.get(c) is not None for o in ran)]
+    header = [VARIANT_COLUMN, "row", *fields, *answer_names]
+    rows = []
+    for o in ran:
+        cells = by_row[o.row].cells
+        given = [_input_value(cells.get(f, "")) for f in fields]
+        rows.append([o.name, o.row, *given, *(o.answers.get(c) for c in answer_names)])
+    return header, rows
+
+
+def _input_value(text: str) -> Any:
+    """A variant's input as given; numbers as numbers (so the workbook holds numbers)."""
+    value = parse_cell(text) if text else ""
+    return value if isinstance(value, (int, float)) and not isinstance(value, bool) else text
+
+
+def _fmt(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return "" if not math.isfinite(value) else f"{value:.6g}"
+    return str(value)
+
+
+def _csv_bytes(header: list[str], rows: list[list]) -> bytes:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows([[_fmt(v) for v in row] for row in rows])
+    return buffer.getvalue().encode("utf-8")
+
+
+def _answer_key_csv(fields, outcomes, by_row) -> bytes:
+    return _csv_bytes(*_answer_rows(fields, outcomes, by_row))
+
+
+def _failure_rows(outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
+    return [VARIANT_COLUMN, "row", "error"], [[o.name, o.row, o.error] for o in outcomes if not o.ok]
+
+
+def _failures_csv(outcomes, by_row) -> bytes:
+    return _csv_bytes(*_failure_rows(outcomes, by_row))
+
+
+def _answer_key_xlsx(fields, outcomes, by_row) -> bytes:
+    import pandas as pd
+
+    from .outputs import xlsx_bytes
+
+    header, rows = _answer_rows(fields, outcomes, by_row)
+    sheets = [("answer key", pd.DataFrame(rows, columns=header))]
+    failed_header, failed_rows = _failure_rows(outcomes, by_row)
+    if failed_rows:
+        sheets.append(("failures", pd.DataFrame(failed_rows, columns=failed_header)))
+    return xlsx_bytes(sheets)

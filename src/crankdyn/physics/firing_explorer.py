@@ -1,0 +1,365 @@
+"""Crank arrangements and firing orders: enumerate the even-firing ones and rank them (Poda 2007 §4.1-4.2, §6).
+
+For a cylinder count, layout, stroke count and bank angle this module lists every crank
+arrangement (lag of each crank behind crank 1) and every firing order that fire evenly,
+every ``cycle/i`` degrees (textbook eq. 37-40), with cylinder 1 firing first and crank 1 as
+the reference. Each firing order is scored
+
+* by its balance (textbook §6): the coefficients ``sum_C``, ``M_C``, ``sum_PI``, ``M_PI``,
+  ``sum_PII``, ``M_PII`` of :mod:`crankdyn.physics.balancing` (forces over C, C_I, C_II;
+  moments further over the cylinder spacing a);
+* by the firing rules of §4.2: ``neighbours`` - consecutive firings of adjacent cylinders of one
+  bank (rule 2: they overload the main journal between them); ``same_pin`` - consecutive
+  firings of two cylinders on one crank pin (rule 3); ``same_half`` - consecutive firings on the
+  same side of the middle of the crankshaft (rule 2: "on different sides of the centre of mass").
+
+Ranking is lexicographic, best first, by what each arrangement would cost to balance:
+first the first-order unbalance that needs balance shafts (the counter-rotating parts of the
+first-order force and moment), then the second order (``sum_PII + M_PII``, shafts at 2w), then
+what crankshaft counterweights cure (``sum_C + M_C`` and the co-rotating first-order parts:
+textbook §6.2, Q = F + C), then ``neighbours``, ``same_pin``, ``same_half``, then the firing order
+itself (so the ranking is reproducible). For in-line engines the first key is just
+``sum_PI + M_PI``; a 90-degree cross-plane V8 (a pure rotating couple, cured by counterweights)
+ranks above the flat-plane V8 (a second-order force of 4 sqrt(2) C_II). Balance depends
+only on the crank arrangement, so arrangements are ranked first and the firing orders of an
+arrangement are scored only while they can still reach the requested top of the table:
+for an in-line 8 that is all 5040 orders; for an in-line 12 the 1 247 400 arrangements are
+scored for balance (vectorised) and only the best-balanced tiers are expanded into their
+32 firing orders each (see README, "Firing-order explorer").
+
+Counting (four-stroke, even cylinder count i per row, one crank per cylinder): the crank
+angles are the i/2 multiples of 720/i, each used by two cranks; cylinder 1's crank is fixed
+at 0, so there are (i-1)!/2^(i/2-1) arrangements and 2^(i/2-1) firing orders on each, i.e.
+(i-1)! firing orders in all.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+
+from . import balancing as bal
+from . import layout as lay
+
+RULE_KEYS = ("neighbours", "same_pin", "same_half")
+COEFFICIENT_KEYS = ("sum_C", "M_C", "sum_PI", "M_PI", "sum_PII", "M_PII")
+_TIER_TOL = 1e-7
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One ranked firing order."""
+
+    rank: int
+    crank_angles_deg: tuple[float, ...]
+    firing_order: tuple[str, ...]
+    coefficients: dict[str, float]
+    neighbours: int
+    same_pin: int
+    same_half: int
+
+
+@dataclass
+class Exploration:
+    """Result of :func:`explore`."""
+
+    cylinders: int
+    layout: str
+    strokes: int
+    bank_angle_deg: float | None
+    interval_deg: float
+    arrangements: int = 0  # even-firing crank arrangements
+    firing_orders: int = 0  # even-firing firing orders in all
+    scored_firing_orders: int = 0  # firing orders whose rule scores were computed
+    rows: list[Candidate] = field(default_factory=list)
+    reason: str | None = None  # why nothing fires evenly
+    located_rank: int | None = None  # rank of the firing order passed as ``locate``
+    located: Candidate | None = None
+
+
+def _setup(cylinders: int, layout: str, strokes: int, bank_angle_deg: float | None):
+    entries = lay.cylinder_labels(layout, cylinders)
+    axes = lay.bank_axes_deg(layout, bank_angle_deg, cylinders)
+    labels = [e[0] for e in entries]
+    banks = np.array([e[1] for e in entries])
+    bays = np.array([e[2] for e in entries])
+    psi = np.array([axes[b] for b in banks], dtype=float)
+    return labels, banks, bays, psi
+
+
+def _phase_unit(cylinders: int, strokes: int) -> tuple[int, Fraction]:
+    """(V, u): the even-firing phases mod 360 are the V multiples of u = 360/V degrees."""
+    interval = Fraction(180 * strokes, cylinders)
+    values = {(k * interval) % 360 for k in range(cylinders)}
+    count = len(values)
+    return count, Fraction(360, count)
+
+
+def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle_deg: float | None = None,
+                           limit: int = 3_000_000):
+    """All even-firing crank arrangements as integer phase indices.
+
+    Returns ``(lags, unit_deg, multiplicity, bank_offsets, reason)``: ``lags`` has shape
+    (arrangements, cranks), crank lag = ``lags * unit_deg`` (crank 1 first, always 0);
+    ``multiplicity`` is how many cylinders share each firing phase mod 360 (2 for a four-stroke
+    engine with an even cylinder count, else 1). ``reason`` says why there is none (or that
+    there are more than ``limit``).
+    """
+    labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
+    count, unit = _phase_unit(cylinders, strokes)
+    multiplicity = cylinders // count
+    bank_offset = np.zeros(len(psi), dtype=np.int64)
+    for i, angle in enumerate(psi.tolist()):
+        ratio = Fraction(angle).limit_denominator(10**6) / unit
+        if ratio.denominator != 1:
+            return (np.zeros((0, int(bays.max()) + 1), dtype=np.int16), float(unit), multiplicity, None,
+                    f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
+                    f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg")
+        bank_offset[i] = int(ratio) % count
+    n_bays = int(bays.max()) + 1
+    bay_offsets = bank_offset[bays == 0]  # every bay has the same banks
+    increments = np.zeros((count, count), dtype=np.int16)  # lag index -> counts added by one bay
+    for lag in range(count):
+        for o in bay_offsets:
+            increments[lag, (lag + o) % count] += 1
+    if np.any(increments[0] > multiplicity):
+        return (np.zeros((0, n_bays), dtype=np.int16), float(unit), multiplicity, bank_offset,
+                "cylinders on one crank pin would fire at the same phase")
+    lags = np.zeros((1, 1), dtype=np.int16)
+    counts = increments[0][None, :].copy()
+    too_many = (np.zeros((0, n_bays), dtype=np.int16), float(unit), multiplicity, bank_offset,
+                f"more than {limit:,} crank arrangements: beyond an exhaustive search (see the README)")
+    for _ in range(1, n_bays):
+        # Every prefix completes to at least one arrangement, so counting the next level's prefixes
+        # before building them bounds the memory by ``limit`` rows.
+        fits = [np.all(counts + increments[lag] <= multiplicity, axis=1) for lag in range(count)]
+        if sum(int(ok.sum()) for ok in fits) > limit:
+            return too_many
+        new_lags, new_counts = [], []
+        for lag, ok in enumerate(fits):
+            if np.any(ok):
+                new_lags.append(np.hstack([lags[ok], np.full((int(ok.sum()), 1), lag, dtype=np.int16)]))
+                new_counts.append(counts[ok] + increments[lag])
+        if not new_lags:
+            lags = np.zeros((0, lags.shape[1] + 1), dtype=np.int16)
+            break
+        lags, counts = np.vstack(new_lags), np.vstack(new_counts)
+    reason = None if len(lags) else "no crank arrangement fires evenly"
+    return lags, float(unit), multiplicity, bank_offset, reason
+
+
+def balance_coefficients(lags_deg: np.ndarray, psi_deg: np.ndarray, bays: np.ndarray, vertical_deg: float,
+                         chunk: int = 100_000) -> dict[str, np.ndarray]:
+    """Textbook balance coefficients of many crank arrangements at once (rows of ``lags_deg``)."""
+    out = {k: np.empty(len(lags_deg)) for k in COEFFICIENT_KEYS}
+    for start in range(0, len(lags_deg), chunk):
+        g = bal.geometry(psi_deg, bays, lags_deg[start:start + chunk], vertical_deg)
+        part = slice(start, start + chunk)
+        rot = bal.rotating_model(g)
+        out["sum_C"][part] = np.abs(rot.force_forward)
+        out["M_C"][part] = np.abs(rot.moment_forward)
+        for n, name in ((1, "I"), (2, "II")):
+            model = bal.reciprocating_model(g, n)
+            out[f"sum_P{name}"][part] = model.force_max
+            out[f"M_P{name}"][part] = model.moment_max
+            if n == 1:
+                for key, value in (("PI_forward", model.force_forward), ("PI_backward", model.force_backward),
+                                   ("M_PI_forward", model.moment_forward), ("M_PI_backward", model.moment_backward)):
+                    out.setdefault(key, np.empty(len(lags_deg)))[part] = np.abs(value)
+    return out
+
+
+def _balance_coefficients_indexed(lags: np.ndarray, phase: np.ndarray, unit_deg: float, count: int,
+                                  psi_deg: np.ndarray, bays: np.ndarray, vertical_deg: float,
+                                  chunk: int = 200_000) -> dict[str, np.ndarray]:
+    """:func:`balance_coefficients` for phases that are whole multiples of ``unit_deg``: the unit
+    vectors come from small tables instead of complex exponentials (same numbers, ~5x faster)."""
+    g = bal.geometry(psi_deg, bays, np.zeros(int(bays.max()) + 1), vertical_deg)
+    steps = np.radians(np.arange(count) * unit_deg)
+    crank_table = np.exp(1j * (-steps - np.radians(vertical_deg)))  # crank direction by lag index
+    out = {k: np.empty(len(lags)) for k in COEFFICIENT_KEYS + ("PI_forward", "PI_backward", "M_PI_forward",
+                                                                "M_PI_backward")}
+    for start in range(0, len(lags), chunk):
+        part = slice(start, start + chunk)
+        unit = crank_table[lags[part]]
+        out["sum_C"][part] = np.abs(unit.sum(axis=1))
+        out["M_C"][part] = np.abs(unit @ g.crank_position)
+        for n, name in ((1, "I"), (2, "II")):
+            forward_table = 0.5 * np.exp(1j * (g.cylinder_axis_rad[:, None] - n * steps[None, :]))
+            backward_table = 0.5 * np.exp(1j * (g.cylinder_axis_rad[:, None] + n * steps[None, :]))
+            cyl = np.arange(len(bays))[None, :]
+            f = forward_table[cyl, phase[part]]
+            b = backward_table[cyl, phase[part]]
+            ff, bb = f.sum(axis=1), b.sum(axis=1)
+            mf, mb = f @ g.cylinder_position, b @ g.cylinder_position
+            out[f"sum_P{name}"][part] = np.abs(ff) + np.abs(bb)
+            out[f"M_P{name}"][part] = np.abs(mf) + np.abs(mb)
+            if n == 1:
+                out["PI_forward"][part], out["PI_backward"][part] = np.abs(ff), np.abs(bb)
+                out["M_PI_forward"][part], out["M_PI_backward"][part] = np.abs(mf), np.abs(mb)
+    return out
+
+
+def balance_scores(c: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(shafts_I, second, counterweights): what needs first-order balance shafts (the
+    counter-rotating first-order force and moment, per unit C_I), the second-order unbalance
+    (sum_PII + M_PII), and what crankshaft counterweights cure (sum_C + M_C and the co-rotating
+    first-order parts). Lower is better in each."""
+    shafts = c["PI_backward"] + c["M_PI_backward"]
+    second = c["sum_PII"] + c["M_PII"]
+    counterweights = c["sum_C"] + c["M_C"] + c["PI_forward"] + c["M_PI_forward"]
+    return shafts, second, counterweights
+
+
+def _clean(value: float) -> float:
+    """Round-off (below 1e-12 of one cylinder's amplitude) shown as an exact zero."""
+    return 0.0 if abs(value) < 1e-12 else float(value)
+
+
+def _tiers(values: np.ndarray) -> np.ndarray:
+    """Integer tiers of ``values``: equal within _TIER_TOL share a tier, lower is better."""
+    if len(values) == 0:
+        return np.zeros(0, dtype=int)
+    order = np.argsort(values, kind="stable")
+    steps = np.concatenate([[0], np.diff(values[order]) > _TIER_TOL]).cumsum()
+    tiers = np.empty(len(values), dtype=int)
+    tiers[order] = steps
+    return tiers
+
+
+def _firing_sequences(phase: np.ndarray, multiplicity: int, count: int, cylinders: int, strokes: int) -> np.ndarray:
+    """All firing sequences (cylinder indices in firing order) of arrangements with the given
+    cylinder phase indices; shape (arrangements, orders_per_arrangement, cylinders)."""
+    a = len(phase)
+    if multiplicity == 1:
+        if strokes == 2:
+            slot = phase
+        else:  # four-stroke, odd count: the phase p*u is fired at p*u or p*u + 360, whichever is a multiple of 720/i
+            slot = (phase + cylinders * (phase % 2)) // 2
+        seq = np.empty((a, cylinders), dtype=np.int16)
+        np.put_along_axis(seq, slot.astype(np.int64), np.broadcast_to(np.arange(cylinders), (a, cylinders)), axis=1)
+        return seq[:, None, :]
+    order = np.argsort(phase, axis=1, kind="stable").reshape(a, count, 2)
+    bits = ((np.arange(2 ** (count - 1))[:, None] >> np.arange(count - 1)[None, :]) & 1).astype(bool)
+    bits = np.hstack([np.zeros((len(bits), 1), dtype=bool), bits])  # phase 0: cylinder 1 first
+    first = np.where(bits[None, :, :], order[:, None, :, 1], order[:, None, :, 0])
+    second = np.where(bits[None, :, :], order[:, None, :, 0], order[:, None, :, 1])
+    return np.concatenate([first, second], axis=2).astype(np.int16)
+
+
+def _rules(seq: np.ndarray, banks: np.ndarray, bays: np.ndarray) -> dict[str, np.ndarray]:
+    nxt = np.roll(seq, -1, axis=-1)
+    bank_a, bank_b = banks[seq], banks[nxt]
+    bay_a, bay_b = bays[seq], bays[nxt]
+    middle = 0.5 * (bays.max())
+    neighbours = ((bank_a == bank_b) & (np.abs(bay_a - bay_b) == 1)).sum(axis=-1)
+    same_pin = ((bay_a == bay_b) & (seq != nxt)).sum(axis=-1) if bays.max() < len(bays) - 1 else np.zeros(seq.shape[:-1], int)
+    side_a, side_b = np.sign(bay_a - middle), np.sign(bay_b - middle)
+    same_half = ((side_a == side_b) & (side_a != 0)).sum(axis=-1)
+    return {"neighbours": neighbours, "same_pin": same_pin, "same_half": same_half}
+
+
+def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle_deg: float | None = None,
+            top: int | None = 10, locate: tuple[tuple[float, ...], tuple[str, ...]] | None = None) -> Exploration:
+    """Enumerate and rank the even-firing crank arrangements and firing orders.
+
+    Parameters
+    ----------
+    cylinders, layout, strokes, bank_angle_deg
+        As in the scene's [engine] table (layout conventions of :mod:`crankdyn.physics.layout`).
+    top : int or None
+        Number of ranked rows to return; None ranks every firing order (each one scored).
+    locate : (crank lags in deg, firing order labels), optional
+        A firing order whose rank is wanted (e.g. the scene's own).
+
+    Returns
+    -------
+    Exploration
+    """
+    labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
+    result = Exploration(cylinders, layout, strokes, bank_angle_deg, 180.0 * strokes / cylinders)
+    lags, unit, multiplicity, bank_offset, reason = enumerate_arrangements(cylinders, layout, strokes, bank_angle_deg)
+    if reason:
+        result.reason = reason
+        return result
+    count = cylinders // multiplicity
+    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
+    result.arrangements = len(lags)
+    result.firing_orders = len(lags) * per_arrangement
+    vertical = bal.vertical_axis_deg(layout, bank_angle_deg)
+    # The phase of a cylinder (its TDC, mod 360) is its crank lag plus its bank angle: both whole
+    # multiples of the unit, so the vector models work from small tables of unit vectors.
+    phase = (lags[:, bays] + bank_offset[None, :]) % count
+    coefficients = _balance_coefficients_indexed(lags, phase, unit, count, psi, bays, vertical)
+    shafts, second, counterweights = balance_scores(coefficients)
+    t1, t2, t3 = _tiers(shafts), _tiers(second), _tiers(counterweights)
+    tier = (t1 * (int(t2.max()) + 1) + t2) * (int(t3.max()) + 1) + t3  # lexicographic
+
+    def evaluate(members: np.ndarray) -> dict[str, np.ndarray]:
+        """Every firing order of the given arrangements, with its rule scores, sorted best first."""
+        seqs = _firing_sequences(phase[members], multiplicity, count, cylinders, strokes)
+        rules = _rules(seqs, banks, bays)
+        result.scored_firing_orders += seqs.shape[0] * seqs.shape[1]
+        flat = {k: v.reshape(-1) for k, v in rules.items()}
+        flat["arrangement"] = np.repeat(members, seqs.shape[1])
+        flat["tier"] = tier[flat["arrangement"]]
+        flat["sequence"] = seqs.reshape(-1, cylinders)
+        keys = [flat["sequence"][:, c] for c in range(cylinders - 1, -1, -1)]
+        keys += [flat["same_half"], flat["same_pin"], flat["neighbours"], flat["tier"]]
+        order = np.lexsort(keys)
+        return {k: v[order] for k, v in flat.items()}
+
+    by_tier = np.argsort(tier, kind="stable")
+    groups = np.split(by_tier, np.flatnonzero(np.diff(tier[by_tier])) + 1)
+    evaluated: list[dict[str, np.ndarray]] = []
+    evaluated_tiers: dict[int, dict[str, np.ndarray]] = {}
+    total = 0
+    for members in groups:
+        if top is not None and total >= top:
+            break
+        rows = evaluate(members)
+        evaluated.append(rows)
+        evaluated_tiers[int(tier[members[0]])] = rows
+        total += len(rows["tier"])
+
+    def candidate(rank: int, rows: dict[str, np.ndarray], i: int) -> Candidate:
+        a = int(rows["arrangement"][i])
+        return Candidate(rank=rank, crank_angles_deg=tuple(float(x) * unit for x in lags[a]),
+                         firing_order=tuple(labels[int(c)] for c in rows["sequence"][i]),
+                         coefficients={k: _clean(coefficients[k][a]) for k in COEFFICIENT_KEYS},
+                         neighbours=int(rows["neighbours"][i]), same_pin=int(rows["same_pin"][i]),
+                         same_half=int(rows["same_half"][i]))
+
+    rank = 0
+    for rows in evaluated:
+        for i in range(len(rows["tier"])):
+            if top is not None and rank >= top:
+                break
+            rank += 1
+            result.rows.append(candidate(rank, rows, i))
+
+    if locate is not None:
+        want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
+        match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else []
+        index = {label: i for i, label in enumerate(labels)}
+        if len(match) and all(x in index for x in locate[1]):
+            a = int(match[0])
+            own_tier = int(tier[a])
+            rows = evaluated_tiers.get(own_tier)
+            if rows is None:
+                rows = evaluate(groups[[int(tier[g[0]]) for g in groups].index(own_tier)])
+            sequence = np.array([index[x] for x in locate[1]])
+            hit = np.nonzero((rows["arrangement"] == a) & np.all(rows["sequence"] == sequence[None, :], axis=1))[0]
+            if len(hit):
+                better = int(np.sum(tier < own_tier)) * per_arrangement
+                result.located_rank = better + int(hit[0]) + 1
+                result.located = candidate(result.located_rank, rows, int(hit[0]))
+    return result
+
+
+def count_firing_orders(cylinders: int) -> int:
+    """Even-firing firing orders of an in-line engine, two- or four-stroke: (i - 1)! (closed form)."""
+    return math.factorial(cylinders - 1)

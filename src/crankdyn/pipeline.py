@@ -1,0 +1,63 @@
+"""One scene to its output files: the code path shared by ``crankdyn report``, ``batch`` and ``serve``.
+
+Everything is rendered in memory first (:func:`render_files`); only when all of it
+succeeded are the files written, each atomically (:func:`write_report`). A bad scene
+therefore raises before anything reaches the disk.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from .orchestrator import RunResult, run_scene
+from .plugins import Registry
+from .scene import Scene
+
+
+@dataclass
+class ReportRun:
+    """A computed scene and the files written for it."""
+
+    result: RunResult
+    written: list[Path]
+
+
+def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) -> dict[str, bytes]:
+    """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written)."""
+    from . import outputs
+
+    formats = list(formats)
+    files: dict[str, bytes] = {}
+    if "json" in formats:
+        files["results.json"] = outputs.json_bytes(outputs.results_document(result))
+    if "csv" in formats:
+        files.update(outputs.csv_tables(result))
+    if "xlsx" in formats:
+        files.update(outputs.xlsx_tables(result))
+    if "html" in formats or "pdf" in formats:
+        from .report.document import render_html
+
+        rendered = render_html(result, registry)
+        if "html" in formats:
+            files["report.html"] = rendered.html.encode("utf-8")
+            files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
+        if "pdf" in formats:
+            from .report.pdf import html_to_pdf
+
+            files["report.pdf"] = html_to_pdf(rendered.html)
+    return files
+
+
+def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],
+                 stages: Iterable[str] | None = None, languages: Iterable[str] = ()) -> ReportRun:
+    """Compute ``scene`` and write its outputs below ``out_dir``, as ``crankdyn report`` does.
+
+    Raises :class:`crankdyn.errors.SceneError` (and writes nothing) for a bad scene.
+    """
+    from .outputs import write_atomically
+
+    result = run_scene(scene, registry, stages, languages)
+    files = render_files(result, registry, formats)
+    return ReportRun(result=result, written=write_atomically(Path(out_dir), files))

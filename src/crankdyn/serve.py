@@ -1,0 +1,405 @@
+"""``crankdyn serve SCENE``: a live HTML preview of the report on 127.0.0.1.
+
+Three threads and one rule. A *watcher* (``watchfiles``) sees the scene file, or a
+file it names (``cycle.trace_file`` and any other ``*_file`` key), being saved and
+marks the preview dirty; a *builder* re-renders the report in memory; the *HTTP
+server* (stdlib ``ThreadingHTTPServer``) serves whatever snapshot is current. The
+rule: the snapshot is replaced in one assignment, and only by a complete result —
+a full report, or for a scene that does not validate an error page listing its
+problems — so a half-built report is never served.
+
+The open browser tab reloads itself: every page carries a small inline script that
+polls ``/version`` and reloads when the version changes. ``/report.pdf`` renders the
+current report to PDF on request (cached per version).
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import os
+import secrets
+import signal
+import sys
+import threading
+import time
+import tomllib
+import traceback
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from urllib.parse import urlsplit
+
+from .errors import MISSING, CrankdynError, Problem, SceneError
+
+HOST = "127.0.0.1"
+DEFAULT_PORT = 8765
+POLL_MS = 600  # how often an open tab asks /version
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """What the server shows: one complete rendering (or error page) and its version."""
+
+    version: str
+    page: bytes  # the HTML served at /, with the reload script
+    state: str  # "report", "scene-error", "error" or "starting"
+    report_html: str | None = None  # the report without the script, for the PDF
+    problems: tuple[str, ...] = ()
+    render_s: float = 0.0
+    built_at: float = field(default_factory=time.time)
+
+
+# --------------------------------------------------------------------------- pages
+
+def reload_script(version: str, nonce: str) -> str:
+    """The inline script that reloads the tab when the server's version changes."""
+    return (f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
+            "function poll(){fetch('/version',{cache:'no-store'})"
+            ".then(function(r){return r.text();})"
+            ".then(function(t){if(t.trim()!==v){location.reload();}else{setTimeout(poll,"
+            f"{POLL_MS});}}}})"
+            ".catch(function(){setTimeout(poll,2000);});}"
+            f"setTimeout(poll,{POLL_MS});}})();</script>")
+
+
+def with_reload(page: str, version: str, nonce: str) -> str:
+    script = reload_script(version, nonce)
+    at = page.rfind("</body>")
+    return page + script if at < 0 else page[:at] + script + page[at:]
+
+
+_ERROR_CSS = ("body{font-family:'Liberation Serif','DejaVu Serif',serif;max-width:54em;margin:2em auto;"
+              "padding:0 1em;color:#111}h1{color:#8a1010;font-size:1.4em}table{border-collapse:collapse;width:100%}"
+              "th,td{border:1px solid #bbb;padding:.3em .5em;text-align:left;vertical-align:top}"
+              "td.field,td.value{font-family:'DejaVu Sans Mono',monospace;white-space:pre-wrap}"
+              "pre{background:#f4f4f4;padding:.6em;overflow:auto}.hint{color:#555}")
+
+
+def _shown(value) -> str:
+    return "(missing)" if value is MISSING else repr(value)
+
+
+def error_page(exc: BaseException, scene_path: Path) -> tuple[str, str, tuple[str, ...]]:
+    """(state, HTML, problem lines) for a build that failed; every value is escaped."""
+    e = html.escape
+    if isinstance(exc, SceneError):
+        state = "scene-error"
+        problems = tuple(str(p) for p in exc.problems)
+        rows = "".join(
+            f'<tr><td class="field">{e(p.field)}</td><td class="value">{e(_shown(p.value))}</td>'
+            f"<td>{e(p.allowed)}</td></tr>" for p in exc.problems)
+        head = f"The scene has {len(exc.problems)} problem{'s' if len(exc.problems) != 1 else ''}"
+        body = (f"<table><thead><tr><th>field</th><th>value</th><th>allowed</th></tr></thead>"
+                f"<tbody>{rows}</tbody></table>")
+    elif isinstance(exc, CrankdynError):
+        state, problems = "error", (str(exc),)
+        head = "crankdyn cannot build this report"
+        body = f"<pre>{e(str(exc))}</pre>"
+    else:
+        state, problems = "error", (f"internal error: {exc.__class__.__name__}: {exc}",)
+        head = "crankdyn failed while building the report (internal error)"
+        trace = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+        body = f"<p>{e(problems[0])}</p><pre>{e(trace)}</pre><p class=\"hint\">Please report this.</p>"
+    page = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: {e(head)}</title>'
+            f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="{state}"><h1>{e(head)}</h1>'
+            f'<p class="hint">{e(str(scene_path))}</p>{body}'
+            "<p class=\"hint\">The preview updates by itself when you save the file.</p></body></html>")
+    return state, page, problems
+
+
+def _starting_page() -> str:
+    return ('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: rendering…</title>'
+            f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="starting"><p>Rendering the report…</p>'
+            "</body></html>")
+
+
+# --------------------------------------------------------------------------- files
+
+def referenced_files(scene_path: Path) -> set[Path]:
+    """Files a scene names: every string under a key ending in ``_file`` (e.g. cycle.trace_file).
+
+    Read from the raw TOML so that a scene that does not validate still has its data
+    file watched; relative names are resolved against the scene's folder.
+    """
+    try:
+        data = tomllib.loads(scene_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return set()
+    found: set[Path] = set()
+
+    def walk(table):
+        for key, value in table.items():
+            if isinstance(value, dict):
+                walk(value)
+            elif isinstance(value, str) and key.endswith("_file") and value.strip():
+                found.add(scene_path.parent / value)
+
+    walk(data)
+    return found
+
+
+def _watch_names(paths: Iterable[Path]) -> set[Path]:
+    """The names change events arrive with: the file in its resolved folder, and its target if a link."""
+    names = set()
+    for p in paths:
+        p = Path(os.path.abspath(p))
+        names.add(p.parent.resolve() / p.name)
+        names.add(p.resolve())
+    return names
+
+
+# --------------------------------------------------------------------------- the preview
+
+class Preview:
+    """Builds snapshots of one scene; watches its files; renders the PDF on request."""
+
+    def __init__(self, scene_path: Path | str, language: str | None = None, stages: list[str] | None = None,
+                 registry=None, log: Callable[[str], None] | None = None, debounce_ms: int = 150):
+        self.scene_path = Path(os.path.abspath(scene_path))
+        self.language = language
+        self.stages = stages
+        self.nonce = secrets.token_urlsafe(12)
+        self._boot = secrets.token_hex(3)
+        self._count = 0
+        self._registry = registry
+        self._log = log or (lambda message: None)
+        self._debounce_ms = debounce_ms
+        self._dirty = threading.Event()
+        self._stop = threading.Event()
+        self._building = threading.Event()
+        self._pdf_lock = threading.Lock()
+        self._pdf_cache: tuple[str, bytes] | None = None
+        self._threads: list[threading.Thread] = []
+        version = f"{self._boot}-0"
+        self.snapshot = Snapshot(version, with_reload(_starting_page(), version, self.nonce).encode("utf-8"),
+                                 "starting")
+
+    # ------------------------------------------------------------- building
+    @property
+    def building(self) -> bool:
+        return self._building.is_set()
+
+    def build(self) -> Snapshot:
+        """Render the scene now (in this thread) and make the result the current snapshot."""
+        self._building.set()
+        start = time.perf_counter()
+        try:
+            state, page, problems, report_html = self._render()
+        finally:
+            self._building.clear()
+        self._count += 1
+        version = f"{self._boot}-{self._count}"
+        snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
+                            report_html, problems, time.perf_counter() - start)
+        self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
+        if state == "report":
+            self._log(f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s (version {self._count})")
+        else:
+            self._log(f"{self.scene_path.name}: {len(problems)} problem(s); showing them instead of the report\n"
+                      + "\n".join(f"  - {p}" for p in problems))
+        return snapshot
+
+    def _render(self) -> tuple[str, str, tuple[str, ...], str | None]:
+        from .orchestrator import run_scene
+        from .plugins import default_registry
+        from .report.document import render_html
+        from .report.i18n import available_languages
+        from .scene import load_scene
+
+        try:
+            if self._registry is None:
+                self._registry = default_registry()
+            overrides = {"report": {"language": self.language}} if self.language else None
+            scene = load_scene(self.scene_path, overrides)
+            result = run_scene(scene, self._registry, self.stages, available_languages())
+            rendered = render_html(result, self._registry)
+        except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
+            state, page, problems = error_page(exc, self.scene_path)
+            return state, page, problems, None
+        return "report", rendered.html, (), rendered.html
+
+    def pdf(self, snapshot: Snapshot) -> bytes:
+        """The PDF of ``snapshot``'s report, built on the first request for that version."""
+        from .report.pdf import html_to_pdf
+
+        with self._pdf_lock:
+            if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
+                self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html))
+            return self._pdf_cache[1]
+
+    # ------------------------------------------------------------- threads
+    def watched(self) -> set[Path]:
+        return {self.scene_path} | {Path(os.path.abspath(p)) for p in referenced_files(self.scene_path)}
+
+    def start(self) -> None:
+        """Start the builder and watcher threads; the first build begins at once."""
+        self._dirty.set()
+        for target, name in ((self._builder, "crankdyn-builder"), (self._watcher, "crankdyn-watcher")):
+            thread = threading.Thread(target=target, name=name, daemon=True)
+            thread.start()
+            self._threads.append(thread)
+
+    def stop(self, timeout: float = 10.0) -> None:
+        self._stop.set()
+        self._dirty.set()
+        for thread in self._threads:
+            thread.join(timeout)
+
+    def _builder(self) -> None:
+        while not self._stop.is_set():
+            if not self._dirty.wait(0.5) or self._stop.is_set():
+                continue
+            self._dirty.clear()  # saves during the build mark it dirty again: one more build follows
+            self.build()
+
+    def _watcher(self) -> None:
+        import watchfiles
+
+        while not self._stop.is_set():
+            files = self.watched()
+            names = _watch_names(files)
+            folders = sorted({p.parent for p in names if p.parent.is_dir()})
+            if not folders:
+                self._stop.wait(1.0)
+                continue
+
+            def relevant(change, path: str, names=names) -> bool:
+                return Path(path) in names
+
+            for changes in watchfiles.watch(*folders, watch_filter=relevant, debounce=self._debounce_ms, step=50,
+                                            stop_event=self._stop, rust_timeout=1000, yield_on_timeout=True,
+                                            recursive=False, raise_interrupt=False):
+                if changes:
+                    self._dirty.set()
+                if self.watched() != files:  # the scene now names another data file: watch anew
+                    break
+
+
+# --------------------------------------------------------------------------- HTTP
+
+class _Handler(BaseHTTPRequestHandler):
+    server_version = "crankdyn-serve"
+    protocol_version = "HTTP/1.1"
+
+    @property
+    def preview(self) -> Preview:
+        return self.server.preview  # type: ignore[attr-defined]
+
+    def do_GET(self) -> None:
+        if not self._host_ok():
+            self._send(HTTPStatus.FORBIDDEN, "text/plain; charset=utf-8", b"forbidden host\n")
+            return
+        path = urlsplit(self.path).path
+        snapshot = self.preview.snapshot
+        if path in ("/", "/index.html"):
+            self._send(HTTPStatus.OK, "text/html; charset=utf-8", snapshot.page, csp=True)
+        elif path == "/version":
+            self._send(HTTPStatus.OK, "text/plain; charset=utf-8", snapshot.version.encode("ascii"))
+        elif path == "/status":
+            status = {"version": snapshot.version, "state": snapshot.state, "problems": list(snapshot.problems),
+                      "render_s": round(snapshot.render_s, 3), "building": self.preview.building,
+                      "scene": str(self.preview.scene_path),
+                      "watched": sorted(str(p) for p in self.preview.watched())}
+            self._send(HTTPStatus.OK, "application/json", json.dumps(status, ensure_ascii=False).encode("utf-8"))
+        elif path == "/report.pdf":
+            if snapshot.state != "report":
+                self._send(HTTPStatus.CONFLICT, "text/html; charset=utf-8", snapshot.page, csp=True)
+                return
+            try:
+                pdf = self.preview.pdf(snapshot)
+            except Exception as exc:  # noqa: BLE001
+                _, page, _ = error_page(exc, self.preview.scene_path)
+                self._send(HTTPStatus.INTERNAL_SERVER_ERROR, "text/html; charset=utf-8", page.encode("utf-8"), csp=True)
+                return
+            self._send(HTTPStatus.OK, "application/pdf", pdf,
+                       extra={"Content-Disposition": f'inline; filename="{self.preview.scene_path.stem}.pdf"'})
+        elif path == "/favicon.ico":
+            self._send(HTTPStatus.NO_CONTENT, "text/plain", b"")
+        else:
+            self._send(HTTPStatus.NOT_FOUND, "text/plain; charset=utf-8", b"not found\n")
+
+    def _host_ok(self) -> bool:
+        """Refuse other Host names (a DNS-rebinding page must not read the report)."""
+        host = (self.headers.get("Host") or "").rsplit(":", 1)[0].strip("[]").lower()
+        return host in ("127.0.0.1", "localhost", "")
+
+    def _send(self, status: HTTPStatus, content_type: str, body: bytes, csp: bool = False,
+              extra: dict[str, str] | None = None) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", content_type)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        if csp:
+            # Figures are data: images, the style is inline; the only script is ours (nonce).
+            self.send_header("Content-Security-Policy",
+                             f"default-src 'none'; img-src data:; style-src 'unsafe-inline'; "
+                             f"script-src 'nonce-{self.preview.nonce}'; connect-src 'self'; base-uri 'none'; "
+                             "form-action 'none'")
+        for key, value in (extra or {}).items():
+            self.send_header(key, value)
+        self.end_headers()
+        self.wfile.write(body)
+
+    def log_message(self, format: str, *args) -> None:
+        pass  # the polling would flood the console
+
+
+class PreviewServer(ThreadingHTTPServer):
+    daemon_threads = True
+    allow_reuse_address = True
+
+    def __init__(self, preview: Preview, port: int = DEFAULT_PORT):
+        self.preview = preview
+        super().__init__((HOST, port), _Handler)
+
+    @property
+    def url(self) -> str:
+        return f"http://{HOST}:{self.server_address[1]}/"
+
+
+def serve(scene_path: Path, port: int = DEFAULT_PORT, language: str | None = None, stages: list[str] | None = None,
+          open_browser: bool = False, quiet: bool = False) -> int:
+    """Run the preview until Ctrl-C or SIGTERM; returns the exit code."""
+    if not Path(scene_path).is_file():
+        raise SceneError(Problem("scene", str(scene_path), "file not found"), str(scene_path))
+
+    def log(message: str) -> None:
+        if not quiet:
+            print(f"crankdyn: {message}", file=sys.stderr, flush=True)
+
+    preview = Preview(scene_path, language, stages, log=log)
+    try:
+        server = PreviewServer(preview, port)
+    except OSError as exc:
+        raise CrankdynError(f"cannot listen on {HOST}:{port} ({exc.strerror or exc}); "
+                            "choose another port with --port, or --port 0 for any free one") from None
+    stop = threading.Event()
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            previous[signum] = signal.signal(signum, lambda *_: stop.set())
+    server_thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.2},
+                                     name="crankdyn-http", daemon=True)
+    try:
+        preview.start()
+        server_thread.start()
+        print(f"crankdyn: live preview of {scene_path} at {server.url} (PDF: {server.url}report.pdf); "
+              "Ctrl-C stops", flush=True)
+        if open_browser:
+            import webbrowser
+
+            webbrowser.open(server.url)
+        while not stop.wait(0.25):
+            pass
+    finally:
+        server.shutdown()
+        server.server_close()
+        preview.stop()
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    log("preview stopped")
+    return 0

@@ -1,0 +1,137 @@
+"""Leave out what a scene does not need (issue 7, item 5): which sections appear, in HTML and results.json.
+
+A matrix of scenes — kinematics only, one cylinder, two-stroke, in-line (with and without a flywheel
+request), articulated rods, a pressure trace — each with the report sections and results.json keys
+that must be there and those that must not. Only the in-line example asks for a flywheel
+(its [flywheel] table); in every other scene the flywheel stages must stay out.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from markupsafe import escape
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.outputs import results_document
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+REGISTRY = default_registry()
+ENGINE = {"kinematics", "indicator", "forces", "numerics"}
+FLYWHEEL = {"flywheel", "speed_fluctuation"}  # only with a [flywheel] table
+
+MATRIX = {
+    # name: (example, changes, sections present, sections absent, json present, json absent,
+    #        numerics parts present, numerics parts absent)
+    "kinematics-only": ("kinematics-only", {},
+                        {"kinematics", "numerics_kinematics"},
+                        {"indicator", "forces", "bays", "torque", "numerics"},
+                        {"kinematics", "numerics_kinematics"}, {"indicator", "forces", "bays", "torque", "numerics"},
+                        {"kinematics-forms"}, {"steps", "solvers"}),
+    "single-cylinder": ("petrol-1cyl", {},
+                        ENGINE, {"bays", "torque", "numerics_kinematics"},  # bays/torque run for data only
+                        ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
+                        {"steps", "kinematics-forms", "theoretical"}, {"solvers"}),
+    "two-stroke": ("two-stroke-1cyl", {},
+                   ENGINE, {"bays", "torque", "numerics_kinematics"},
+                   ENGINE | {"torque"}, {"numerics_kinematics"},
+                   {"steps", "kinematics-forms", "theoretical"}, set()),
+    "in-line-with-flywheel": ("inline4-petrol", {},
+                              ENGINE | {"bays", "torque"} | FLYWHEEL, {"numerics_kinematics"},
+                              ENGINE | {"bays", "torque"} | FLYWHEEL, {"numerics_kinematics"},
+                              {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
+    "in-line-no-flywheel-request": ("inline4-petrol", {"flywheel": None},
+                                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"} | FLYWHEEL,
+                                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"} | FLYWHEEL,
+                                    {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
+    "articulated": ("radial9-aircraft", {},
+                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
+                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
+                    {"steps", "kinematics-forms", "theoretical", "refused-steps"}, set()),
+    "pressure-trace": ("diesel-rk-trace", {},
+                       ENGINE, {"bays", "torque", "numerics_kinematics"},
+                       ENGINE, {"numerics_kinematics"},
+                       {"steps", "kinematics-forms"}, {"theoretical", "refused-steps"}),
+}
+_CACHE: dict = {}
+
+
+def absent_sections(name):
+    absent = MATRIX[name][3]
+    return absent if MATRIX[name][2] & FLYWHEEL else absent | FLYWHEEL
+
+
+def absent_keys(name):
+    absent = MATRIX[name][5]
+    return absent if MATRIX[name][4] & FLYWHEEL else absent | FLYWHEEL
+
+
+def build(name):
+    if name not in _CACHE:
+        example, changes = MATRIX[name][:2]
+        result = run_scene(scene_from_dict(modified(example, changes), base_dir=examples_dir()), REGISTRY)
+        _CACHE[name] = (result, results_document(result), render_html(result, REGISTRY, "en").html)
+    return _CACHE[name]
+
+
+def numbered_sections(html: str) -> list[str]:
+    """The stage sections of the report, in order (the fixed closing sections are not numbered by stage)."""
+    return re.findall(r'<section class="chapter" id="sec-\d+" data-stage="([^"]+)"', html)
+
+
+def numerics_parts(html: str) -> set[str]:
+    parts = set(re.findall(r'data-part="([^"]+)"', html))
+    if "L (theor.), %" in html:
+        parts.add("theoretical")
+    if "Steps that this scene does not allow" in html:
+        parts.add("refused-steps")
+    return parts
+
+
+@pytest.mark.parametrize("name", list(MATRIX))
+def test_sections_in_html(name):
+    present, absent = MATRIX[name][2], absent_sections(name)
+    result, _, html = build(name)
+    sections = numbered_sections(html)
+    assert len(sections) == len(set(sections)), sections  # each section once
+    assert present <= set(sections), (present - set(sections), sections)
+    assert not absent & set(sections), sections
+    # every stage left out is listed with its reason in the method notes
+    for stage, reason in result.plan.skipped.items():
+        assert f"<b>{stage}</b>: {escape(reason)}" in html
+    # the error-against-run-time section follows every section whose numbers it judges
+    if "numerics" in sections:
+        assert all(sections.index(s) < sections.index("numerics") for s in ("kinematics", "indicator", "forces",
+                                                                           "bays", "torque") if s in sections)
+
+
+@pytest.mark.parametrize("name", list(MATRIX))
+def test_keys_in_results_json(name):
+    present, absent = MATRIX[name][4], absent_keys(name)
+    result, document, _ = build(name)
+    assert present <= set(document), present - set(document)
+    assert not absent & set(document)
+    assert set(document["stages_run"]) | set(document["stages_skipped"]) == set(REGISTRY.stages)
+    for stage in absent & set(REGISTRY.stages):
+        assert stage in document["stages_skipped"] and document["stages_skipped"][stage]
+
+
+@pytest.mark.parametrize("name", list(MATRIX))
+def test_parts_of_the_numerics_section(name):
+    parts_present, parts_absent = MATRIX[name][6], MATRIX[name][7]
+    result, document, html = build(name)
+    parts = numerics_parts(html)
+    assert parts_present <= parts, (parts_present - parts)
+    assert not parts_absent & parts, parts & parts_absent
+    numerics = document.get("numerics") or document.get("numerics_kinematics")
+    assert ("steps" in numerics) == ("steps" in parts_present)
+    assert ("solvers" in numerics) == ("solvers" in parts)
+    if "steps" in numerics:
+        has_theory = any("theoretical_work_error_relative" in s for s in numerics["steps"])
+        assert has_theory == ("theoretical" in parts_present)
+        assert bool(numerics["steps_refused"]) == ("refused-steps" in parts_present)

@@ -1,0 +1,254 @@
+"""The numerics stage: error against run time measured on the scene, with independent references."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.errors import SceneError
+from crankdyn.orchestrator import check_scene, run_scene
+from crankdyn.physics import indicator as ind
+from crankdyn.physics import series
+from crankdyn.plugins import default_registry
+from crankdyn.report.context import RenderContext
+from crankdyn.report.document import _environment
+from crankdyn.report.i18n import translator
+from crankdyn.scene import scene_from_dict
+from crankdyn_builtin.stages import numerics as num
+from conftest import modified
+
+REGISTRY = default_registry()
+ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",
+                   "inline6-diesel-trace", "v8-petrol", "radial9-aircraft", "offset-crank-engine"]
+FAST = {"numerics": {"steps_deg": [10], "repeats": 1}}
+# The examples as they are, but with no time budget: which steps run must not depend on the load
+# of the machine (the budget itself is tested below).
+UNLIMITED = {"numerics": {"time_budget_s": 3600}}
+_RUNS: dict = {}
+
+
+def run(name, changes=None):
+    key = (name, repr(changes))
+    if key not in _RUNS:
+        scene = scene_from_dict(modified(name, changes or {}), base_dir=examples_dir())
+        _RUNS[key] = run_scene(scene, REGISTRY)
+    return _RUNS[key]
+
+
+def render_section(result, stage="numerics", language="en"):
+    """Only the stage's own section (the whole report is tested in test_leave_out)."""
+    t = translator(language, REGISTRY.catalogs)
+    ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
+                        cycle_deg=result.scene.engine.cycle_deg, scene=result.scene)
+    ctx.start_section(7, stage)
+    html = next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+    return html, ctx, t
+
+
+@pytest.mark.parametrize("name", ENGINE_EXAMPLES)
+def test_every_engine_example_measures_its_error_against_run_time(name):
+    result = run(name, UNLIMITED)
+    assert "numerics" in result.stages_run and "numerics_kinematics" in result.plan.skipped
+    assert result.stages_run[-1] == "numerics"  # it judges the sections before it
+    r = result.outputs["numerics"].results
+    # independent of the method under test; a mechanism known only by its displacement gets
+    # the integrals and t from the pointwise model and q_max from a 0.05-deg run ("mixed")
+    assert r["reference_method"] == ("quadrature" if result.scene.engine.mechanism == "crank_slider" else "mixed")
+    scene_step = result.scene.analysis.angle_step_deg
+    steps = {s["angle_step_deg"]: s for s in r["steps"]}
+    assert scene_step in steps and 0.1 in steps and len(steps) >= 6
+    for s in r["steps"]:
+        assert s["time_s"] > 0 and s["points"] == round(result.scene.engine.cycle_deg / s["angle_step_deg"])
+        for q in num.QUANTITIES:
+            assert math.isfinite(s[f"{q}_error_relative"])
+    # The re-run at the scene's step reproduces the numbers the other sections print.
+    forces = result.outputs["forces"].results
+    mean = (result.outputs["torque"].results["mean_Nm"] if "torque" in result.outputs
+            else result.scene.engine.cylinders * forces["mean_torque_Nm"])
+    shown = {"mean_torque_Nm": mean, "indicated_work_J": result.outputs["indicator"].results["indicated_work_J"],
+             "tangential_max_Pa": forces["tangential_max_Pa"], "tangential_min_Pa": forces["tangential_min_Pa"],
+             "resultant_max_Pa": forces["resultant_max_Pa"]}
+    for key, value in shown.items():
+        assert r["at_scene_step"][key] == pytest.approx(value, rel=1e-12, abs=1e-9)
+        assert steps[scene_step][key] == r["at_scene_step"][key]
+    # Converges to the reference: at 0.1 deg the integrals agree to 1e-5, the extremes to 1e-4,
+    # and the finest step is better than the coarsest.
+    fine, coarse = steps[0.1], steps[max(steps)]
+    assert fine["mean_torque_error_relative"] < 1e-5 and fine["indicated_work_error_relative"] < 1e-5
+    assert max(fine[f"{q}_error_relative"] for q in ("tangential_max", "tangential_min", "resultant_max")) < 1e-4
+    for q in ("mean_torque", "indicated_work"):
+        assert fine[f"{q}_error_relative"] < coarse[f"{q}_error_relative"]
+    # the reference is far more accurate than anything it judges
+    assert max(r["reference_uncertainty_relative"].values()) < 1e-8
+    # the section states the error of the printed numbers, with its measured figures
+    html, ctx, t = render_section(result)
+    assert not t.missing
+    assert html.count("data:image/svg+xml;base64,") == (2 if result.scene.engine.mechanism == "crank_slider" else 1)
+    assert 'data-part="steps"' in html
+    assert f"Δα = {scene_step:g}°, the printed numbers carry these errors" in html
+    assert ctx.conclusions and "mean torque ±" in ctx.conclusions[0]
+
+
+def test_reference_quadrature_matches_the_closed_form_of_the_theoretical_diagram():
+    """The Gauss-Legendre reference against the closed-form work of the sharp diagram (p_i' + pumping)."""
+    scene = run("petrol-1cyl").scene
+    model = num.PointwiseModel(scene)
+    params = model._params
+    model.pressure = lambda a: ind.theoretical_pressure_Pa(a, model.volume(a), model.clearance, params)
+    work, _ = model.integrals()
+    closed = (ind.theoretical_mean_indicated_pressure_Pa(params) + params.intake_pressure_Pa
+              - params.exhaust_pressure_Pa) * model.swept
+    assert work == pytest.approx(closed, rel=1e-10)
+    # ...while the trapezoidal rule of the pipeline at 1 deg is off by ~1e-4: the reference is not it
+    steps = {s["angle_step_deg"]: s for s in run("petrol-1cyl", UNLIMITED).outputs["numerics"].results["steps"]}
+    assert 1e-5 < steps[1.0]["theoretical_work_error_relative"] < 1e-3
+
+
+def test_mean_torque_reference_is_virtual_work():
+    """Two independent integrals of the pointwise model: mean torque and indicated work / cycle angle."""
+    model = num.PointwiseModel(run("petrol-1cyl").scene)
+    work, mean = model.integrals()
+    assert mean == pytest.approx(work / (4 * math.pi), rel=1e-9)
+
+
+def test_pointwise_model_from_displacement_alone_matches_the_analytic_one():
+    """The generic model (numerical derivatives of displacement_at, t by virtual work) against the
+    crank-slider formulas: the reference for other mechanisms is as good as the analytic one."""
+    result = run("petrol-1cyl")
+    analytic = num.PointwiseModel(result.scene)
+    generic = num.PointwiseModel(result.scene.model_copy(update={"engine": result.scene.engine.model_copy(
+        update={"mechanism": "offset_crank_slider"})}), result.outputs["kinematics"].data["kinematics"])
+    assert generic.analytic is False
+    a = np.linspace(0.0, 720.0, 2001)
+    np.testing.assert_allclose(generic.arm(a), analytic.arm(a), rtol=0, atol=1e-10 * analytic.radius)
+    np.testing.assert_allclose(generic.acceleration(a), analytic.acceleration(a), rtol=0,
+                               atol=1e-7 * analytic.radius * analytic.omega**2)
+    t_generic, q_generic, _ = generic.forces(a)
+    t_analytic, _, _ = analytic.forces(a)
+    assert q_generic is None
+    np.testing.assert_allclose(t_generic, t_analytic, rtol=0, atol=1e-6 * np.max(np.abs(t_analytic)))
+    for g, h in zip(generic.integrals(), analytic.integrals()):
+        assert g == pytest.approx(h, rel=1e-9)
+
+
+def test_articulated_reference_sums_master_and_slave_work():
+    r = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results
+    reference = r["reference"]["mean_torque_Nm"]
+    pipeline = next(s for s in r["steps"] if s["angle_step_deg"] == 0.1)["mean_torque_Nm"]
+    assert pipeline == pytest.approx(reference, rel=1e-6)
+    # the slaves make a real difference: nine times the master's work is not the answer
+    work = r["reference"]["indicated_work_J"]
+    assert abs(reference - 9 * work / (4 * math.pi)) / reference > 1e-3
+
+
+def test_scene_copy_at_another_step_is_faithful():
+    scene = run("radial9-aircraft").scene
+    copy = num.scene_with_step(scene, 0.5)
+    assert copy.analysis.angle_step_deg == 0.5 and copy.analysis.table_step_deg == 0.5
+    assert copy.plugin_tables() == scene.plugin_tables() and copy.base_dir == scene.base_dir
+    assert copy.engine == scene.engine and copy.cycle == scene.cycle and copy.masses == scene.masses
+    with pytest.raises(SceneError, match="must divide the cycle"):
+        num.scene_with_step(scene, 7.0)
+    with pytest.raises(SceneError, match="firing delays"):  # 30 deg does not divide the 40-deg banks
+        num.run_at_step(scene, 30.0, repeats=1)
+    refused = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results["steps_refused"]
+    assert set(refused) == {"30", "15"} and all("firing delays" in why for why in refused.values())
+
+
+@pytest.mark.parametrize("ratio", [0.001, 0.28, 0.99])
+def test_kinematics_forms_against_independent_errors(ratio):
+    radius = 0.04
+    rows = {(r["form"], r["terms"]): r for r in num.kinematics_forms(radius, ratio, repeats=1)}
+    # the grid holds 90 deg, where every truncated form has its largest displacement error
+    for terms in (3, 4, 5):
+        expected = series.displacement_truncation_error_max_m(radius, ratio, terms)
+        for form in ("series", "harmonic"):
+            assert rows[(form, terms)]["displacement_error_max_m"] == pytest.approx(expected, rel=1e-9,
+                                                                                    abs=1e-15 * radius)
+    assert rows[("two_term", 2)]["displacement_error_max_m"] == pytest.approx(
+        series.displacement_truncation_error_max_m(radius, ratio, 2), rel=1e-9, abs=1e-15 * radius)
+    assert rows[("exact", None)]["displacement_error_max_m"] < 1e-14 * radius  # a few ulp of 2R
+    assert rows[("exact", None)]["acceleration_error_max_m_s2"] < 1e-12 * radius
+    errors = [rows[k]["displacement_error_max_m"] for k in (("two_term", 2), ("series", 3), ("series", 4),
+                                                            ("series", 5))]
+    assert all(b < a or a < 1e-15 * radius for a, b in zip(errors, errors[1:]))
+    assert all(r["time_per_evaluation_s"] > 0 for r in rows.values())
+
+
+def test_two_term_error_agrees_with_the_kinematics_stage():
+    result = run("petrol-1cyl")
+    rows = result.outputs["numerics"].results["kinematics_forms"]
+    two_term = next(r for r in rows if r["form"] == "two_term")
+    assert two_term["displacement_error_max_m"] == pytest.approx(
+        result.outputs["kinematics"].results["two_term_displacement_error_max_m"], rel=1e-9)
+
+
+def test_kinematics_only_scene_gets_the_kinematics_part():
+    result = run("kinematics-only")
+    assert result.stages_run == ["kinematics", "numerics_kinematics"]
+    assert "numerics" in result.plan.skipped and "no [cycle]" in result.plan.skipped["numerics"]
+    r = result.outputs["numerics_kinematics"].results
+    assert {row["form"] for row in r["kinematics_forms"]} == {"two_term", "series", "harmonic", "exact"}
+    html, _, t = render_section(result, "numerics_kinematics", "uk")
+    assert not t.missing and 'data-part="kinematics-forms"' in html and 'data-part="steps"' not in html
+
+
+def test_options_table_steps_repeats_and_budget():
+    r = run("petrol-1cyl", {"numerics": {"steps_deg": [10, 5], "repeats": 1}}).outputs["numerics"].results
+    assert [s["angle_step_deg"] for s in r["steps"]] == [10.0, 5.0, 1.0]
+    r = run("petrol-1cyl", {"numerics": {"time_budget_s": 1e-9}}).outputs["numerics"].results
+    assert [s["angle_step_deg"] for s in r["steps"]] == [1.0]
+    assert all("time budget" in why for why in r["steps_refused"].values()) and len(r["steps_refused"]) == 8
+    scene = scene_from_dict(modified("petrol-1cyl", {"numerics": {"repeats": 0, "step": 1}}), base_dir=examples_dir())
+    with pytest.raises(SceneError) as info:
+        check_scene(scene, REGISTRY)
+    assert {p.field for p in info.value.problems} == {"numerics.repeats", "numerics.step"}
+
+
+def test_solver_probes_add_rows():
+    calls = []
+
+    def study(scene):
+        calls.append(scene.engine.rpm)
+        return [num.ProbePoint("RK45", f"rtol = 1e-{k}", 10.0 ** -k, "rad/s", 1e-3 * k, "analytic") for k in (3, 6, 9)]
+
+    def refused(scene):
+        raise SceneError([])
+
+    num.register_error_probe(num.ErrorProbe("test-solver", "Test solver", lambda s: True, study))
+    num.register_error_probe(num.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused))
+    num.register_error_probe(num.ErrorProbe("test-not-here", "Other", lambda s: False, study))
+    try:
+        result = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), REGISTRY)
+        solvers = result.outputs["numerics"].results["solvers"]
+        assert set(solvers) == {"test-solver", "test-refused"} and calls == [5600]
+        assert [p["setting"] for p in solvers["test-solver"]["points"]] == ["rtol = 1e-3", "rtol = 1e-6", "rtol = 1e-9"]
+        html, _, t = render_section(result)
+        assert not t.missing and "Test solver: error against run time" in html
+        assert "Refusing solver: not studied" in html
+    finally:
+        for name in ("test-solver", "test-refused", "test-not-here"):
+            num._PROBES.pop(name, None)
+
+
+def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
+    """Stage.last (used by numerics) orders a summary after every stage ready at the same time."""
+    from crankdyn.orchestrator import plan
+    from crankdyn.plugin_types import Stage, StageOutput
+    from crankdyn.plugins import Registry
+
+    def stage(name, requires=(), provides=(), last=False):
+        return Stage(name=name, title_key="x", requires=requires, provides=provides, applies=lambda s: None,
+                     run=lambda s, i: StageOutput(), render=lambda o, c: None, last=last)
+
+    registry = Registry(stages={s.name: s for s in (
+        stage("aaa_summary", requires=("a",), last=True), stage("bbb", provides=("a",)),
+        stage("ccc", requires=("a",), provides=("c",)), stage("zzz", requires=("c",)))})
+    scene = run("kinematics-only").scene
+    assert [s.name for s in plan(scene, registry).order] == ["bbb", "ccc", "zzz", "aaa_summary"]
+    # without the hint the name decides, as before
+    registry.stages["aaa_summary"] = stage("aaa_summary", requires=("a",))
+    assert [s.name for s in plan(scene, registry).order] == ["bbb", "aaa_summary", "ccc", "zzz"]

@@ -1,0 +1,119 @@
+"""The example third-party plugin (examples/plugin-example, a Scotch yoke): installed into a
+fresh virtual environment with one pip install, it appears in `crankdyn plugins` and makes a
+report through the command line; in-process, its rod-less PistonMotion goes through the force stage."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import collect, plugin_manager
+from crankdyn.report.document import render_html
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
+
+
+def _can_build_wheels() -> bool:
+    import setuptools
+
+    major_minor = tuple(int(p) for p in setuptools.__version__.split(".")[:2])
+    return importlib.util.find_spec("wheel") is not None or major_minor >= (70, 1)
+
+
+def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path):
+    assert _can_build_wheels(), ("building the example plugin without build isolation needs the 'wheel' package "
+                                 "(or setuptools >= 70.1) next to crankdyn: pip install wheel")
+    source = tmp_path / "plugin-example"
+    # Build from a copy, so that setuptools' build/ and *.egg-info never land in the repository.
+    shutil.copytree(PLUGIN_DIR, source, ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    venv = tmp_path / "venv"
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "PIP_"))}
+    env["PYTHONWARNINGS"] = "ignore"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True, env=env,
+                   timeout=120)
+    python = venv / "bin" / "python"
+    pip = subprocess.run([str(python), "-m", "pip", "install", "--no-deps", "--no-build-isolation", "--no-index",
+                          "--quiet", str(source)], check=False, capture_output=True, text=True, env=env, timeout=300)
+    assert pip.returncode == 0, pip.stdout + pip.stderr
+
+    # The crankdyn command of this environment (the package itself is the system one, reused).
+    listing = subprocess.run([str(python), "-m", "crankdyn", "plugins"], check=False, capture_output=True, text=True, env=env,
+                             timeout=120)
+    assert listing.returncode == 0, listing.stderr
+    lines = listing.stdout.splitlines()
+    assert any(line.split()[:2] == ["scotch_yoke", "[scotch_yoke]"] for line in lines), listing.stdout
+    assert any("requires=- provides=kinematics" in line and line.split()[0] == "scotch_yoke" for line in lines)
+
+    out = tmp_path / "report"
+    done = subprocess.run([str(python), "-m", "crankdyn", "report", str(source / "scotch-yoke.toml"), "-o", str(out),
+                           "--format", "html,json,csv", "--lang", "uk", "-q"], check=False, capture_output=True, text=True,
+                          env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert doc["mechanism"] == "scotch_yoke" and doc["stages_run"] == ["scotch_yoke"]
+    assert doc["scotch_yoke"]["v_max_m_s"] == pytest.approx(0.04 * 1500 * np.pi / 30, rel=1e-12)
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert 'data-stage="scotch_yoke"' in html
+    assert "Кінематика кулісного механізму" in html  # the plugin's own Ukrainian catalog
+    assert (out / "tables" / "scotch_yoke.csv").is_file()
+    # Nothing was built inside the repository's copy of the plugin.
+    assert not (PLUGIN_DIR / "build").exists() and not list(PLUGIN_DIR.rglob("*.egg-info"))
+
+
+# ----------------------------------------------------------------------------- in-process
+
+@pytest.fixture(scope="module")
+def yoke_registry():
+    sys.path.insert(0, str(PLUGIN_DIR / "src"))
+    try:
+        from crankdyn_scotch_yoke import plugin
+    finally:
+        sys.path.pop(0)
+    manager = plugin_manager()
+    if not manager.is_registered(plugin):
+        manager.register(plugin)
+    return collect(manager)
+
+
+def _yoke_engine_scene():
+    data = modified("petrol-1cyl", {"engine": {"mechanism": "scotch_yoke"}})
+    return scene_from_dict(data)
+
+
+def test_rodless_mechanism_goes_through_the_force_stage(yoke_registry):
+    result = run_scene(_yoke_engine_scene(), yoke_registry)
+    assert result.stages_run[:3] == ["scotch_yoke", "indicator", "forces"]
+    motion = result.outputs["scotch_yoke"].data["kinematics"]
+    assert motion.rod_angle_rad is None
+    f = result.outputs["forces"].tables["forces"]
+    total = f["total_Pa"].to_numpy()
+    # no rod: no side force, the whole axial force on the pin; t R = p1 ds/dalpha (virtual work)
+    assert np.all(f["side_Pa"].to_numpy() == 0.0)
+    np.testing.assert_allclose(f["rod_Pa"], total, rtol=0, atol=0)
+    np.testing.assert_allclose(f["tangential_Pa"] * motion.crank_radius_m, total * motion.torque_arm_m,
+                               atol=1e-9 * np.max(np.abs(total)) * motion.crank_radius_m)
+    forces = result.outputs["forces"].results
+    assert abs(forces["inertia_work_relative"]) < 1e-12
+    assert abs(forces["mean_torque_deviation_percent"]) < 0.05
+
+
+def test_plugin_report_in_process_uses_only_its_catalogs(yoke_registry):
+    data = {"engine": {"mechanism": "scotch_yoke", "strokes": 2, "rpm": 1500, "bore": "60 mm", "stroke": "80 mm",
+                       "rod_ratio": 0.25}, "scotch_yoke": {"table_step_deg": 45}}
+    result = run_scene(scene_from_dict(data), yoke_registry)
+    for language in ("en", "uk", "ru"):
+        rendered = render_html(result, yoke_registry, language)
+        assert not rendered.missing_translations, (language, rendered.missing_translations)
+    with pytest.raises(Exception, match="scotch_yoke.table_step"):
+        run_scene(scene_from_dict({**data, "scotch_yoke": {"table_step": 45}}), yoke_registry)

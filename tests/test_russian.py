@@ -1,0 +1,136 @@
+"""Russian reports and the course-project conventions of the Cyrillic reports (uk, ru)."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import ARTIFACTS, modified
+
+from crankdyn.cli import examples_dir, main
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.report.i18n import available_languages, core_catalog_dir, load_catalog_file
+from crankdyn.scene import scene_from_dict
+
+REGISTRY = default_registry()
+UKRAINIAN_ONLY = set("іїєґІЇЄҐ")  # letters Russian does not have
+RUSSIAN_ONLY = set("ыэъёЫЭЪЁ")  # letters Ukrainian does not have
+
+
+@pytest.fixture(scope="module")
+def petrol():
+    scene = scene_from_dict(modified("petrol-1cyl", {"report": {"language": "ru"}}), base_dir=examples_dir())
+    return run_scene(scene, REGISTRY, languages=available_languages())
+
+
+@pytest.fixture(scope="module")
+def russian(petrol):
+    return render_html(petrol, REGISTRY)
+
+
+def test_russian_is_a_report_language():
+    assert "ru" in available_languages()
+
+
+def test_russian_html_captions_numbers_and_decimal_comma(russian):
+    html = russian.html
+    assert not russian.missing_translations, russian.missing_translations
+    assert '<html lang="ru">' in html
+    for text in ("Содержание", "Исходные данные", "Кинематика кривошипно-шатунного механизма",
+                 "Таблица 2.1 – ", "Рисунок 2.1 – ", "Выводы", "Список использованных источников"):
+        assert text in html, text
+    assert not re.search(r"(Table|Figure) \d+\.\d+", html)  # no English caption left
+    assert "0,2800" in html and "0.2800" not in html  # lambda, with the decimal comma
+
+
+def _chapters(html: str) -> dict[int, str]:
+    parts = re.split(r'<section class="chapter" id="sec-(\w+)"', html)
+    return {int(key): body for key, body in zip(parts[1::2], parts[2::2]) if key.isdigit()}
+
+
+def test_tables_figures_equations_numbered_within_their_section(russian):
+    # The numbering is language-independent (RenderContext); checked on the Russian report.
+    language, table_word, figure_word = "ru", "Таблица", "Рисунок"
+    html = russian.html
+    chapters = _chapters(html)
+    assert len(chapters) >= 4
+    counted = {"table": 0, "figure": 0, "equation": 0}
+    for number, body in chapters.items():
+        for kind, pattern in (("table", rf"{table_word} (\d+)\.(\d+) – "),
+                              ("figure", rf"{figure_word} (\d+)\.(\d+) – "),
+                              ("equation", r'class="eqno">\((\d+)\.(\d+)\)')):
+            found = [(int(a), int(b)) for a, b in re.findall(pattern, body)]
+            counted[kind] += len(found)
+            assert all(section == number for section, _ in found), (language, kind, number, found)
+            # 1, 2, 3 ... within the section, in order
+            assert [k for _, k in found] == list(range(1, len(found) + 1)), (language, kind, number, found)
+    assert counted["table"] >= 4 and counted["figure"] >= 4 and counted["equation"] >= 10, counted
+
+
+def _catalogs(language: str) -> dict[str, str]:
+    texts = dict(load_catalog_file(core_catalog_dir() / f"{language}.toml"))
+    plugin_dir = Path(next(iter(REGISTRY.catalogs)).path).parent
+    for path in sorted(plugin_dir.glob(f"*.{language}.toml")):
+        texts.update(load_catalog_file(path))
+    return texts
+
+
+def test_russian_catalog_is_russian_not_ukrainian():
+    texts = _catalogs("ru")
+    assert len(texts) > 100
+    # Sources are cited in the language they were published in; everything else must be Russian.
+    leaks = {k: v for k, v in texts.items() if not k.startswith("ref.") and UKRAINIAN_ONLY & set(v)}
+    assert not leaks, leaks
+    uk = _catalogs("uk")
+    english = _catalogs("en")
+    untranslated = [k for k, v in texts.items() if v == english.get(k) and re.search(r"[A-Za-z]{4,}", v)
+                    and not k.startswith("ref.") and "{" not in v]
+    assert not untranslated, untranslated
+    ukrainian_words = [k for k, v in texts.items() if v == uk.get(k) and (set(v) & UKRAINIAN_ONLY)]
+    assert not ukrainian_words or all(k.startswith("ref.") for k in ukrainian_words)
+    assert any(set(v) & RUSSIAN_ONLY for v in texts.values())
+
+
+def test_caption_style_of_the_cyrillic_reports():
+    # DSTU 3008:2015 and GOST 7.32-2017: "Таблиця 3.1 – Назва" above, "Рисунок 3.2 – Назва" below.
+    uk, ru = _catalogs("uk"), _catalogs("ru")
+    assert uk["report.table_caption"] == "Таблиця {number} – {caption}"
+    assert uk["report.figure_caption"] == "Рисунок {number} – {caption}"
+    assert ru["report.table_caption"] == "Таблица {number} – {caption}"
+    assert ru["report.figure_caption"] == "Рисунок {number} – {caption}"
+    assert uk["_meta.decimal_separator"] == ru["_meta.decimal_separator"] == ","
+
+
+needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdffonts") is None,
+                                   reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+
+
+@needs_poppler
+def test_russian_pdf_has_cyrillic_text_captions_and_a_times_metric_font(tmp_path):
+    out = tmp_path / "ru"
+    # Through the command line, as a student would make it (--lang overrides the scene's language).
+    # Four sections are enough for the captions and keep the PDF quick.
+    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--lang", "ru",
+                 "--format", "pdf", "--stages", "kinematics,indicator,forces", "-q"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["report.pdf"]
+    pdf = out / "report.pdf"
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    for words in ("КУРСОВОЙ ПРОЕКТ", "Содержание", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
+                  "Частота вращения коленчатого вала", "Выводы", "Список использованных источников"):
+        assert words in text, words
+    assert "(2.1)" in text
+    assert "�" not in text  # no replacement characters: every glyph came through
+    fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, check=True).stdout
+    body_fonts = [line.split()[0] for line in fonts.splitlines()[2:] if line.strip()]
+    assert any("Liberation-Serif" in f for f in body_fonts), fonts  # Times New Roman metrics, with Cyrillic
+    assert all(line.split()[-5] == "yes" for line in fonts.splitlines()[2:] if line.strip()), fonts  # embedded
+    if shutil.which("pdftoppm"):
+        ARTIFACTS.mkdir(exist_ok=True)
+        subprocess.run(["pdftoppm", "-r", "60", "-f", "1", "-l", "3", "-png", str(pdf), str(ARTIFACTS / "petrol-ru")],
+                       check=True)
+        assert len(list(ARTIFACTS.glob("petrol-ru*.png"))) >= 3

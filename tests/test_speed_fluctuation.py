@@ -1,0 +1,170 @@
+"""Crankshaft speed fluctuation with the variable reduced inertia (issue 7, item 3, single mass)."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.physics import layout as lay
+from crankdyn.physics import speed_fluctuation as sf
+from crankdyn.plugins import default_registry
+from crankdyn.scene import scene_from_dict
+from crankdyn_builtin.stages.flywheel import crank_train
+from conftest import modified
+
+REGISTRY = default_registry()
+
+
+@functools.lru_cache(maxsize=None)
+def inline4():
+    return run_scene(scene_from_dict(modified("inline4-petrol", {}), base_dir=examples_dir()), REGISTRY)
+
+
+@functools.lru_cache(maxsize=None)
+def problem():
+    """The single-mass problem of the bundled in-line four: series, gas torque, exact solution."""
+    result = inline4()
+    torque = result.outputs["torque"].data["engine_torque"]
+    bays = result.outputs["bays"].data["bay_loads"]
+    design = result.outputs["flywheel"].data["flywheel"]
+    train = crank_train(result.scene, bays)
+    inertia = train.series(design.flywheel_inertia_kg_m2 + design.engine_inertia_kg_m2)
+    alpha = np.radians(torque.crank_angle_deg)
+    gas = sf.gas_torque_Nm(torque.torque_Nm, inertia(alpha)[1], torque.angular_velocity_rad_s)
+    series = sf.PeriodicSeries.from_samples(gas, 4 * np.pi)
+    exact = sf.periodic_speed(series, inertia, torque.angular_velocity_rad_s)
+    return result, train, inertia, series, exact, torque
+
+
+# ----------------------------------------------------------------------------- reduced inertia
+
+def test_inertia_series_matches_direct_evaluation_and_its_derivative():
+    _, train, inertia, _, _, _ = problem()
+    alpha = np.linspace(0, 4 * np.pi, 997)
+    direct, direct_derivative = sf.reciprocating_inertia_kg_m2(alpha[:, None], train.phase_rad, train.reciprocating_kg,
+                                                               train.crank_radius_m, train.rod_ratio)
+    j, dj = inertia(alpha)
+    recip_mean = train.reciprocating_kg.sum() * sf.mean_arm_squared_m2(train.crank_radius_m, train.rod_ratio)
+    constant = inertia.mean_kg_m2 - recip_mean
+    np.testing.assert_allclose(j, constant + direct.sum(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(dj, direct_derivative.sum(axis=1), atol=1e-12 * np.max(np.abs(dj)))
+    # derivative against a central difference of J itself
+    h = 1e-5
+    numeric = (inertia(alpha + h)[0] - inertia(alpha - h)[0]) / (2 * h)
+    np.testing.assert_allclose(dj, numeric, atol=1e-8 * np.max(np.abs(dj)))
+    # an in-line four's reciprocating inertia repeats every half revolution
+    np.testing.assert_allclose(inertia(alpha + np.pi)[0], j, rtol=1e-12)
+
+
+def test_gas_torque_recovered_from_output_torque_equals_direct_gas_torque():
+    # M_g = M + J'/2 omega^2 must equal the torque of the gas forces alone: sum over cylinders of
+    # (p - p0) F_p s'(alpha - phase), computed from the forces stage's gas pressure.
+    result, train, inertia, series, _, torque = problem()
+    forces = result.outputs["forces"].data["forces"]
+    layout = result.outputs["bays"].data["bay_loads"].layout
+    alpha = np.radians(torque.crank_angle_deg)
+    arm, _ = sf.arm_derivatives(alpha, train.crank_radius_m, train.rod_ratio)
+    single = forces.gas_Pa * forces.piston_area_m2 * arm
+    step = result.scene.analysis.angle_step_deg
+    direct = sum(np.roll(single, lay.grid_shift(c.firing_delay_deg, step)) for c in layout.cylinders)
+    np.testing.assert_allclose(series(alpha), direct, atol=1e-9 * np.max(np.abs(direct)))
+
+
+# ----------------------------------------------------------------------------- exact solution
+
+def test_periodic_series_interpolates_and_integrates():
+    rng = np.random.default_rng(1)
+    samples = rng.normal(size=360)
+    series = sf.PeriodicSeries.from_samples(samples, 2 * np.pi)
+    alpha = np.arange(360) * (2 * np.pi / 360)
+    np.testing.assert_allclose(series(alpha), samples, atol=1e-12)
+    assert series.mean[0] == pytest.approx(samples.mean())
+    x = rng.uniform(0, 2 * np.pi, 50)
+    h = 1e-6
+    derivative = (series.integral(x + h) - series.integral(x - h)) / (2 * h)
+    np.testing.assert_allclose(derivative, series(x) - samples.mean(), atol=1e-6)
+    assert abs(series.integral(2 * np.pi)) < 1e-12  # closes after a period
+
+
+def test_exact_solution_satisfies_the_equation_of_motion():
+    # J omega d(omega)/d(alpha) + J'/2 omega^2 = M_g - M_c, checked by central differences
+    _, _, inertia, series, exact, torque = problem()
+    alpha = np.linspace(0.1, 12.0, 40)
+    h = 1e-5
+    omega = exact.omega_at(alpha)
+    domega = (exact.omega_at(alpha + h) - exact.omega_at(alpha - h)) / (2 * h)
+    j, dj = inertia(alpha)
+    lhs = j * omega * domega + 0.5 * dj * omega ** 2
+    rhs = series(alpha) - exact.load_torque_Nm
+    np.testing.assert_allclose(lhs, rhs, atol=1e-6 * np.max(np.abs(rhs)))
+    # periodic, and its time mean is the nominal speed
+    assert exact.omega_at(4 * np.pi + 0.3) == pytest.approx(exact.omega_at(0.3), rel=1e-13)
+    assert exact.omega_mean_rad_s == pytest.approx(torque.angular_velocity_rad_s, rel=1e-12)
+    cycle_time = np.trapezoid(1 / exact.omega_at(np.linspace(0, 4 * np.pi, 20001)), dx=4 * np.pi / 20000)
+    assert cycle_time == pytest.approx(exact.cycle_time_s, rel=1e-9)
+
+
+def test_energy_method_and_periodic_ode_agree_on_inline4():
+    # Acceptance: the flywheel from the energy method and from the periodic solution within 1 %.
+    r = inline4().outputs["speed_fluctuation"].results
+    assert abs(r["flywheel_inertia_deviation_percent"]) < 1.0
+    assert r["flywheel_inertia_ode_kg_m2"] == pytest.approx(r["flywheel_inertia_energy_kg_m2"], rel=0.01)
+    assert abs(r["irregularity_deviation_percent"]) < 1.0
+    # and the time-stepping solver reproduces the periodic solution
+    solver = r["solver"]
+    assert solver["error_relative"] < 1e-5 and solver["periodicity_error"] < 1e-5
+    assert solver["irregularity"] == pytest.approx(r["irregularity"], rel=1e-3)
+
+
+def test_every_solver_converges_to_the_exact_solution():
+    records = inline4().outputs["speed_fluctuation"].results["solvers"]
+    methods = {r["method"] for r in records}
+    assert methods == {"RK45", "Radau", "BDF", "LSODA"}
+    for method in methods:
+        runs = sorted((r for r in records if r["method"] == method), key=lambda r: -r["rtol"])
+        assert all(r["success"] and r["error_relative"] is not None for r in runs)
+        assert runs[-1]["error_relative"] < 1e-5  # rtol 1e-7
+        assert runs[-1]["error_relative"] < runs[0]["error_relative"]  # tighter tolerance, smaller error
+        assert runs[-1]["nfev"] > runs[0]["nfev"]
+        assert all(r["time_s"] > 0 for r in runs)
+
+
+def test_single_mass_problem_is_not_stiff():
+    solver = inline4().outputs["speed_fluctuation"].results["solver"]
+    assert solver["method"] == "RK45" and solver["automatic"] and not solver["stiff"]
+    assert solver["stiffness_ratio"] < 1 and "not stiff" in solver["reason"]
+
+
+def test_time_stepping_reproduces_the_exact_solution_directly():
+    _, _, inertia, series, exact, _ = problem()
+    rhs = sf.single_mass_rhs(series, exact.load_torque_Nm, inertia)
+    y0 = [0.0, float(exact.omega_at(0.0))]
+    for method in ("RK45", "Radau"):
+        run = sf.run_solver(rhs, (0, exact.cycle_time_s), y0, method, 1e-9, [1e-12, 1e-9])
+        assert run.success
+        assert sf.phase_error(run, exact) < 1e-6  # global error of a whole cycle at rtol 1e-9
+        assert run.y[0, -1] == pytest.approx(4 * np.pi, abs=1e-6)  # one cycle in the exact cycle time
+
+
+def test_stability_polynomial_of_rk45():
+    # an order-5 method: R(z) agrees with e^z to z^5 ...
+    z = np.array([1e-2, -2e-2, 3e-2j])
+    np.testing.assert_allclose(sf._rk45_stability(z), np.exp(z), rtol=0, atol=5e-13)
+    # ... and the classical Dormand-Prince boundary on the negative real axis is near -3.3
+    assert 3.2 < sf.stable_step_s([-1.0]) < 3.4
+    assert sf.stable_step_s([-1e4]) == pytest.approx(sf.stable_step_s([-1.0]) / 1e4)
+    # a lightly damped oscillation allows much less than a strongly damped decay
+    assert sf.stable_step_s([-0.02 + 1j]) < sf.stable_step_s([-1.0])
+
+
+def test_a_run_stopped_by_its_budget_reports_its_progress():
+    _, _, inertia, series, exact, _ = problem()
+    rhs = sf.single_mass_rhs(series, exact.load_torque_Nm, inertia)
+    run = sf.run_solver(rhs, (0, exact.cycle_time_s), [0.0, float(exact.omega_at(0.0))], "RK45", 1e-12,
+                        [1e-15, 1e-12], max_nfev=200)
+    assert not run.success and 0 < run.progress < 1 and run.nfev >= 200
+    assert run.steps_needed > run.steps
