@@ -22,4 +22,10 @@ if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
   fi
 fi
 
-python3 -m pip install --quiet --disable-pip-version-check ".[test]"
+# The exact, hash-checked versions from the lock (runtime and test extras, setuptools included),
+# then crankdyn itself against them: no dependency is resolved afresh, so every machine gets the
+# same stack. Refresh the lock as the README's "Testing" section says.
+PIP="python3 -m pip --disable-pip-version-check"
+$PIP install --quiet --require-hashes -r requirements/lock.txt
+$PIP install --quiet --no-deps --no-build-isolation .
+$PIP check

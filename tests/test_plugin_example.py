@@ -4,10 +4,10 @@ report through the command line; in-process, its rod-less PistonMotion goes thro
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import shutil
+import site
 import subprocess
 import sys
 from pathlib import Path
@@ -24,30 +24,34 @@ from conftest import modified
 PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
 
 
-def _can_build_wheels() -> bool:
-    import setuptools
-
-    major_minor = tuple(int(p) for p in setuptools.__version__.split(".")[:2])
-    return importlib.util.find_spec("wheel") is not None or major_minor >= (70, 1)
+def _clean_venv_seeing_this_one(venv: Path, env: dict) -> Path:
+    """A new virtual environment whose only other packages are this environment's (crankdyn, its
+    dependencies, pip and setuptools): not the machine's system site-packages, which a fresh
+    machine does not have. A ``.pth`` line runs ``site.addsitedir`` so that this environment's own
+    ``.pth`` files (an editable crankdyn) work there too."""
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, env=env, timeout=120)
+    python = venv / "bin" / "python"
+    inner = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                           check=True, capture_output=True, text=True, env=env, timeout=60).stdout.strip()
+    outer = [p for p in site.getsitepackages() if Path(p).is_dir()]
+    lines = [f"import site; site.addsitedir({p!r})" for p in outer]
+    (Path(inner) / "_outer_environment.pth").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return python
 
 
 def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path):
-    assert _can_build_wheels(), ("building the example plugin without build isolation needs the 'wheel' package "
-                                 "(or setuptools >= 70.1) next to crankdyn: pip install wheel")
     source = tmp_path / "plugin-example"
     # Build from a copy, so that setuptools' build/ and *.egg-info never land in the repository.
     shutil.copytree(PLUGIN_DIR, source, ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
     venv = tmp_path / "venv"
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "PIP_"))}
     env["PYTHONWARNINGS"] = "ignore"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True, env=env,
-                   timeout=120)
-    python = venv / "bin" / "python"
+    python = _clean_venv_seeing_this_one(venv, env)
     pip = subprocess.run([str(python), "-m", "pip", "install", "--no-deps", "--no-build-isolation", "--no-index",
                           "--quiet", str(source)], check=False, capture_output=True, text=True, env=env, timeout=300)
     assert pip.returncode == 0, pip.stdout + pip.stderr
 
-    # The crankdyn command of this environment (the package itself is the system one, reused).
+    # The crankdyn command of the new environment (the package itself is this environment's, reused).
     listing = subprocess.run([str(python), "-m", "crankdyn", "plugins"], check=False, capture_output=True, text=True, env=env,
                              timeout=120)
     assert listing.returncode == 0, listing.stderr

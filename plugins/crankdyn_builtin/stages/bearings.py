@@ -12,6 +12,7 @@ from crankdyn.physics import bearings as brg
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
+from crankdyn.physics.extrema import first_argmax
 
 # Typical proportions (fractions of the bore / of the journal diameter) for car and tractor
 # engines, used when the scene gives no journal dimensions.
@@ -103,8 +104,8 @@ def run(scene, inputs) -> StageOutput:
 
     pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)])
     journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)])
-    most_loaded_pin = int(np.argmax([p["max_N"] for p in pins])) + 1
-    most_loaded_journal = int(np.argmax([j["max_N"] for j in journals])) + 1
+    most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
+    most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
     drawn_pins = opts.pins or [most_loaded_pin]
     drawn_journals = opts.journals or [most_loaded_journal]
 

@@ -18,6 +18,7 @@ from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.physics.extrema import first_argmax, first_argmin
 
 #: Above this irregularity the energy method (a first-order expansion in delta) is refused.
 MAX_ENERGY_METHOD_IRREGULARITY = 0.5
@@ -199,7 +200,7 @@ def render(output: StageOutput, ctx) -> str:
     f = output.tables["flywheel"]
     angle = f["crank_angle_deg"].to_numpy()
     work = f["excess_work_J"].to_numpy()
-    i_max, i_min = int(np.argmax(work)), int(np.argmin(work))
+    i_max, i_min = first_argmax(work), first_argmin(work)
 
     fig, axes = new_figure(16, 13, nrows=2, sharex=True)
     axes[0].plot(angle, f["torque_Nm"], color="C0", label=t("flywheel.torque"))

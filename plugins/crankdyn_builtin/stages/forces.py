@@ -10,6 +10,7 @@ from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax, first_argmin
 
 
 def applies(scene) -> str | None:
@@ -57,7 +58,7 @@ def run(scene, inputs) -> StageOutput:
     cycle_rad = 2 * np.pi * revolutions_per_cycle
 
     def extreme(values, fn):
-        i = int(fn(values))
+        i = fn(values)
         return float(values[i]), float(motion.crank_angle_deg[i])
 
     results = {
@@ -81,8 +82,8 @@ def run(scene, inputs) -> StageOutput:
     for base, unit, values in (("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
                                ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
                                ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque)):
-        results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, np.argmax)
-        results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, np.argmin)
+        results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, first_argmax)
+        results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, first_argmin)
 
     frame = pd.DataFrame({
         "crank_angle_deg": motion.crank_angle_deg,

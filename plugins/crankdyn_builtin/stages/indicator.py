@@ -13,6 +13,7 @@ from crankdyn.physics.forces import piston_area_m2
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax
 
 
 def applies(scene) -> str | None:
@@ -109,7 +110,7 @@ def run(scene, inputs) -> StageOutput:
 
     work = ind.indicated_work_J(pressure, volume)
     p_i = ind.mean_indicated_pressure_Pa(work, swept)
-    peak = int(np.argmax(pressure))
+    peak = first_argmax(pressure)
     results.update({
         "indicated_work_J": work,
         "mean_indicated_pressure_Pa": p_i,

@@ -43,6 +43,7 @@ from crankdyn.physics import series
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import new_figure
 from crankdyn.scene import Analysis, Scene, number, options
+from crankdyn.physics.extrema import first_argmax
 
 DEFAULT_STEPS_DEG = (30.0, 15.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.25, 0.1)
 # A run longer than this is timed once; shorter runs get up to ``repeats`` tries (best kept).
@@ -343,7 +344,7 @@ class PointwiseModel:
         kinds = (("tangential_max", 0, 1.0), ("tangential_min", 0, -1.0), ("resultant_max", 1, 1.0))
         if q is None:
             kinds = kinds[:2]
-        centres = [float(a[int(np.argmax(sign * (t, q)[which]))]) for _, which, sign in kinds]
+        centres = [float(a[first_argmax(sign * (t, q)[which])]) for _, which, sign in kinds]
         best = [float(np.max(sign * (t, q)[which])) for _, which, sign in kinds]
         step = _SEARCH_STEP_DEG
         offsets = np.linspace(-1.0, 1.0, 201)
@@ -353,7 +354,7 @@ class PointwiseModel:
             lt, lq, _ = self.forces(np.mod(local, self.cycle_deg))
             for k, (_, which, sign) in enumerate(kinds):
                 part = sign * (lt, lq)[which][k * offsets.size:(k + 1) * offsets.size]
-                i = int(np.argmax(part))
+                i = first_argmax(part)
                 centres[k] = float(local[k * offsets.size + i])
                 best[k] = max(best[k], float(part[i]))
             step /= 100.0

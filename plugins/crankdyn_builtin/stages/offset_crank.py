@@ -20,6 +20,7 @@ from crankdyn.plugin_types import Mechanism, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
+from crankdyn.physics.extrema import first_argmax
 
 MECHANISM = "offset_crank_slider"
 
@@ -83,7 +84,7 @@ def applies(scene) -> str | None:
 
 def _extreme(fn, angle_deg, values, sign):
     """Refine a grid extreme of ``fn`` (a function of alpha in rad): (value, angle in deg)."""
-    i = int(np.argmax(sign * values))
+    i = first_argmax(sign * values)
     step = np.radians(angle_deg[1] - angle_deg[0]) if len(angle_deg) > 1 else 0.1
     centre = np.radians(angle_deg[i])
     res = optimize.minimize_scalar(lambda a: -sign * float(fn(a)), bounds=(centre - step, centre + step),

@@ -28,6 +28,7 @@ from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 
 from .offset_crank import single_mechanism_problems
+from crankdyn.physics.extrema import first_argmax
 
 MECHANISM = "planetary"
 MAX_ROD_ANGLE_DEG = 80.0  # beyond this the linkage is locked or about to lock
@@ -200,7 +201,7 @@ def run(scene, inputs) -> StageOutput:
         return float(-omega * omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m)
 
     def extreme(fn, values, sign):
-        i = int(np.argmax(sign * values))
+        i = first_argmax(sign * values)
         step = alpha[1] - alpha[0]
         res = optimize.minimize_scalar(lambda a: -sign * fn(a), bounds=(alpha[i] - step, alpha[i] + step),
                                        method="bounded", options={"xatol": 1e-12})

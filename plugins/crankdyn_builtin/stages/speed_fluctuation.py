@@ -16,6 +16,7 @@ from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.i18n import superscript
 from crankdyn.scene import number as _number, options, quantity as _quantity
 from crankdyn.units import parse_quantity
 
@@ -146,12 +147,22 @@ def _energy_curve(torque, design, omega_n):
 
 
 def _run_record(run, error, extra=None):
-    record = {"method": run.method, "rtol": run.rtol, "success": run.success, "steps": run.steps,
+    """One solver run as reported. A run is a success only with every figure present: a run that
+    finished but whose error cannot be measured (no steps, or non-finite values) is a failure with
+    its reason, never ``success`` beside a missing number."""
+    extra = dict(extra or {})
+    values = [error] + [extra[k] for k in ("error_twist_relative",) if k in extra]
+    complete = all(v is not None and math.isfinite(v) for v in values)
+    success = bool(run.success and complete)
+    message = str(run.message)
+    if run.success and not complete:
+        message = "finished, but its error could not be measured (no steps or non-finite values)"
+        extra = {k: (None if k == "error_twist_relative" else v) for k, v in extra.items()}
+    record = {"method": run.method, "rtol": run.rtol, "success": success, "message": message, "steps": run.steps,
               "steps_needed": run.steps_needed if math.isfinite(run.steps_needed) else None,
               "nfev": run.nfev, "njev": run.njev, "nlu": run.nlu, "time_s": run.time_s,
-              "progress": run.progress, "error_relative": error if error is not None and math.isfinite(error) else None}
-    if extra:
-        record.update(extra)
+              "progress": run.progress, "error_relative": error if success else None}
+    record.update(extra)
     return record
 
 
@@ -388,8 +399,9 @@ def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):
             run = sf.run_solver(model, span, z, method, rtol, atol(rtol), jac=model.jacobian, max_nfev=budget)
             if run.success and run.steps > 0:
                 exact = reference.sol(run.t)
-                error = float(np.max(np.abs(run.y[n:] - exact[n:]))) / omega_n
-                error_twist = float(np.max(np.abs(run.y[1:n] - exact[1:n]))) / twist_scale
+                with np.errstate(all="ignore"):
+                    error = float(np.max(np.abs(run.y[n:] - exact[n:]))) / omega_n
+                    error_twist = float(np.max(np.abs(run.y[1:n] - exact[1:n]))) / twist_scale
             else:
                 error = error_twist = None
             if method != "RK45":
@@ -491,13 +503,13 @@ def _error_text(ctx, value):
 
 
 def _sci(value, separator: str = ".") -> str:
-    """1.2·10^−5 style for errors and tolerances in the text (— when missing)."""
+    """1.2·10⁻⁵ style for errors and tolerances in the text (— when missing)."""
     if value is None or not math.isfinite(value):
         return "—"
     if value == 0:
         return "0"
     mantissa, exponent = f"{value:.1e}".split("e")
-    return f"{mantissa.replace('.', separator)}·10^{int(exponent)}".replace("-", "−")
+    return f"{mantissa.replace('.', separator)}·10{superscript(int(exponent))}".replace("-", "−")
 
 
 def _error_figure(ctx, records, caption, name, key="error_relative"):

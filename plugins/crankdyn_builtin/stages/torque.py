@@ -10,6 +10,7 @@ from crankdyn.physics import crankshaft as cs
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax, first_argmin
 
 
 def applies(scene) -> str | None:
@@ -32,7 +33,7 @@ def run(scene, inputs) -> StageOutput:
     mean = float(np.mean(torque))
     from_work = work_all / (2 * np.pi * revolutions)
     from_power = cs.torque_from_power_Nm(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm)
-    i_max, i_min = int(np.argmax(torque)), int(np.argmin(torque))
+    i_max, i_min = first_argmax(torque), first_argmin(torque)
     combos = cs.dangerous_combinations(bays.radial_Pa, bays.tangential_Pa, q, journal)
     results = {
         "mean_Nm": mean,

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
+from .extrema import first_argmin
 
 
 @dataclass(frozen=True)
@@ -102,7 +103,7 @@ def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, fl
     x = slave_motion(grid, geometry).piston_position_m
     out = []
     for sign in (-1.0, 1.0):  # maximum of x (TDC), then minimum (BDC)
-        i = int(np.argmin(sign * x))
+        i = first_argmin(sign * x)
         lo, hi = grid[i] - 2 * np.pi / 3600, grid[i] + 2 * np.pi / 3600
         res = minimize_scalar(lambda a: sign * float(slave_motion(np.array([a]), geometry).piston_position_m[0]),
                               bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})

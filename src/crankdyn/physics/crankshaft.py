@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from .extrema import first_argmax
 
 
 def running_torques(tangential_by_crank):
@@ -54,6 +55,6 @@ def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_P
     """
     out = []
     for k in range(np.shape(radial_Pa)[0]):
-        out.append({"Z": int(np.argmax(radial_Pa[k])), "T": int(np.argmax(tangential_Pa[k])),
-                    "Q": int(np.argmax(resultant[k])), "M": int(np.argmax(np.abs(journal_torque_Pa[k])))})
+        out.append({"Z": first_argmax(radial_Pa[k]), "T": first_argmax(tangential_Pa[k]),
+                    "Q": first_argmax(resultant[k]), "M": first_argmax(np.abs(journal_torque_Pa[k]))})
     return out

@@ -41,6 +41,7 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy import optimize
+from .extrema import first_argmax, first_argmin
 
 __all__ = [
     "ExcessWork",
@@ -97,7 +98,7 @@ def excess_work(crank_angle_rad, torque_Nm) -> ExcessWork:
     excess = torque - mean
     increments = 0.5 * (excess[:-1] + excess[1:]) * step
     cumulative = np.concatenate([[0.0], np.cumsum(increments)])
-    i_max, i_min = int(np.argmax(cumulative)), int(np.argmin(cumulative))
+    i_max, i_min = first_argmax(cumulative), first_argmin(cumulative)
     return ExcessWork(cumulative, float(cumulative[i_max] - cumulative[i_min]), i_max, i_min, mean)
 
 

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import optimize
+from .extrema import first_argmin
 
 __all__ = [
     "rod_angle_rad",
@@ -803,5 +804,5 @@ def min_piston_acceleration_exact(crank_radius_m, rod_ratio, angular_velocity_ra
         candidates.append(float(root))
     candidate_angles = np.asarray(candidates)
     shape_values = piston_acceleration_exact_m_s2(candidate_angles, 1.0, rod_ratio, 1.0)
-    best = int(np.argmin(shape_values))
+    best = first_argmin(shape_values)
     return scale * float(shape_values[best]), float(candidate_angles[best])

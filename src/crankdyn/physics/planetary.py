@@ -36,6 +36,7 @@ import numpy as np
 from scipy import optimize
 
 from .rod_dynamics import SliderMotion, slider_from_big_end
+from .extrema import first_argmax
 
 __all__ = [
     "PlanetaryGeometry",
@@ -212,7 +213,7 @@ def lateral_reach_m(geometry: PlanetaryGeometry, revolutions: int = 1) -> float:
     n = 4096 * max(int(revolutions), 1)
     phi = np.linspace(0.0, 2.0 * np.pi * max(int(revolutions), 1), n, endpoint=False)
     x = np.abs(big_end_path(phi, geometry)[0])
-    i = int(np.argmax(x))
+    i = first_argmax(x)
     step = phi[1] - phi[0]
     best = optimize.minimize_scalar(lambda p: -abs(float(big_end_path(p, geometry)[0])),
                                     bounds=(phi[i] - step, phi[i] + step), method="bounded",

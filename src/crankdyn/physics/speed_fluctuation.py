@@ -63,6 +63,7 @@ import numpy as np
 from scipy import integrate, optimize
 
 from . import kinematics as kin
+from .extrema import first_argmax, first_argmin
 
 __all__ = [
     "arm_derivatives",
@@ -472,8 +473,8 @@ def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_v
                                        method="bounded", options={"xatol": 1e-12})
         return float(res.x) % period_rad, float(omega_at(res.x))
 
-    a_max, w_max = refine(int(np.argmax(omega)), +1)
-    a_min, w_min = refine(int(np.argmin(omega)), -1)
+    a_max, w_max = refine(first_argmax(omega), +1)
+    a_min, w_min = refine(first_argmin(omega), -1)
     return PeriodicSpeed(e0, load, period_rad, cycle_time, angle, omega, j, w_max, w_min, a_max, a_min,
                          period_rad / cycle_time, (w_max - w_min) / (0.5 * (w_max + w_min)), omega_at)
 

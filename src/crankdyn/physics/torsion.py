@@ -49,6 +49,7 @@ import numpy as np
 from scipy import linalg
 
 from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, run_solver
+from .extrema import first_argmax
 
 __all__ = [
     "stiffness_matrix",
@@ -116,7 +117,7 @@ def natural_modes(inertias_kg_m2, span_stiffness_N_m_rad) -> Modes:
     omega[0] = 0.0  # the rigid mode (round-off gives +-1e-8)
     shapes = vectors / np.max(np.abs(vectors), axis=0)
     # Sign convention: the largest entry of each mode is +1.
-    signs = np.sign(shapes[np.argmax(np.abs(shapes), axis=0), np.arange(J.size)])
+    signs = np.sign([shapes[first_argmax(np.abs(shapes[:, k])), k] for k in range(J.size)])
     return Modes(omega, shapes * signs, vectors * signs)
 
 

@@ -10,6 +10,7 @@ import jinja2
 from markupsafe import Markup
 
 from .. import __version__
+from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, template_search_path
@@ -81,6 +82,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         _=t, num=ctx.num, scene=scene, meta=scene.report, sections=sections, notes=notes,
         timing=[(s.name, result.timing_s[s.name]) for s in result.plan.order], skipped=skipped,
         numerics_number=numerics_number, references=references, css=Markup(css),
+        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
     )
     return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))

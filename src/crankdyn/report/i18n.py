@@ -20,6 +20,13 @@ from ..plugin_types import Catalog
 
 FALLBACK = "en"
 
+_SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def superscript(exponent: int) -> str:
+    """``-16`` as ``⁻¹⁶``: a power of ten a reader sees typeset, never ``^-16``."""
+    return str(int(exponent)).translate(_SUPERSCRIPT)
+
 
 def core_catalog_dir() -> Path:
     return Path(str(resources.files("crankdyn.templates"))) / "i18n"
@@ -84,7 +91,7 @@ class Translator:
         else:
             text = f"{value:.{significant - 1}e}"
             mantissa, exponent = text.split("e")
-            text = f"{mantissa}·10^{int(exponent)}"
+            return f"{self._localise(mantissa)}·10{superscript(int(exponent))}"
         return self._localise(text)
 
     def fixed(self, value: float, decimals: int) -> str:
