@@ -48,6 +48,6 @@ def test_stages_option_runs_prerequisites(tmp_path, capsys):
 def test_plugins_listing_via_subprocess():
     done = run_cli("plugins")
     assert done.returncode == 0, done.stderr
-    assert "crank_slider" in done.stdout and "builtin_stages" in done.stdout
+    assert "crank_slider" in done.stdout and "builtin_kinematics" in done.stdout
     assert "requires=kinematics,gas_pressure" in done.stdout
     assert "languages: en, ru, uk" in done.stdout

@@ -17,7 +17,7 @@ from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.stages import numerics as num
+from crankdyn_builtin.numerics import stage as num
 from conftest import modified
 
 REGISTRY = default_registry()

@@ -123,7 +123,7 @@ def test_builtins_register_through_entry_points():
     assert {"kinematics", "indicator", "forces"} <= set(registry.stages)
     assert "crank_slider" in registry.mechanisms
     # Registered by name from the entry-point group, the way a third-party plugin is.
-    assert registry.owner["stage:kinematics"] == "builtin_stages"
+    assert registry.owner["stage:kinematics"] == "builtin_kinematics"
     assert registry.owner["mechanism:crank_slider"] == "builtin_mechanisms"
 
 

@@ -13,7 +13,7 @@ from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.stages.flywheel import crank_train
+from crankdyn_builtin.flywheel.stage import crank_train
 from conftest import modified
 
 REGISTRY = default_registry()

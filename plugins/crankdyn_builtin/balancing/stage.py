@@ -1,0 +1,596 @@
+"""Balancing: free forces and moments, counterweights, balance shafts, firing-order explorer (Poda 2007 §6).
+
+The physics is in :mod:`crankdyn.physics.balancing` (vector models, time-domain sums, sizing of
+the balancing means) and :mod:`crankdyn.physics.firing_explorer`; this module reads the scene,
+assembles the results and renders the section.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import math
+from typing import Annotated, Literal
+
+import numpy as np
+import pandas as pd
+from markupsafe import Markup
+from pydantic import AfterValidator, BaseModel, ConfigDict
+
+from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import balancing as bal
+from crankdyn.physics import firing_explorer as fe
+from crankdyn.physics import forces as phys
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.figures import new_figure
+from matplotlib.patches import Circle  # noqa: E402 (after the figures module chose the Agg backend)
+from crankdyn.scene import options, quantity as _quantity
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
+CHECK_SAMPLES = 720  # shaft angles per revolution in the time-domain check
+CHECK_TOLERANCE = 1e-9  # relative agreement required between the vector method and the time-domain sum
+NEGLIGIBLE = 1e-9  # a coefficient below this counts as balanced
+
+
+def _orders(values: list[int]) -> list[int]:
+    bad = [v for v in values if v not in ALLOWED_ORDERS]
+    if bad:
+        raise ValueError(f"orders {bad} are not allowed: the exact piston acceleration has the first order and the "
+                         f"even orders only; allowed: {', '.join(map(str, ALLOWED_ORDERS))}")
+    if len(set(values)) != len(values):
+        raise ValueError("each order once")
+    return sorted(values)
+
+
+def _include(values: list[int]) -> list[int]:
+    values = _orders(values)
+    if 1 not in values or 2 not in values:
+        raise ValueError("must include the first and second orders (1, 2)")
+    return values
+
+
+def _top(value: int) -> int:
+    if not 1 <= value <= 200:
+        raise ValueError("must be a whole number from 1 to 200")
+    return value
+
+
+class BalancingOptions(BaseModel):
+    """The [balancing] table."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    counterweight_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    balance_shaft_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    balance_shaft_spacing: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
+    include_orders: Annotated[list[int], AfterValidator(_include)] = [1, 2, 4, 6]
+    balance_orders: Annotated[list[int], AfterValidator(_orders)] = [1, 2]
+    counterweights: Literal["ends", "every_crank"] = "ends"
+    first_order_forward: Literal["crankshaft", "shaft"] = "crankshaft"
+    explore: bool = False
+    explore_top: Annotated[int, AfterValidator(_top)] = 10
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    if scene.engine.mechanism != "crank_slider":
+        return "the vector models of balancing are built for central crank-slider mechanisms"
+    return None
+
+
+ROUND_OFF = 1e-12  # relative size below which a computed value is round-off and shown as 0
+
+
+def _c(value, scale: float = 1.0) -> complex:
+    """A complex amplitude with round-off (below ROUND_OFF * scale) set to zero, part by part."""
+    value = complex(value)
+    limit = ROUND_OFF * scale
+    return complex(0.0 if abs(value.real) < limit else value.real, 0.0 if abs(value.imag) < limit else value.imag)
+
+
+def _r(value: float, scale: float = 1.0) -> float:
+    value = float(value)
+    return 0.0 if abs(value) < ROUND_OFF * scale else value
+
+
+def _deg(value: complex) -> float:
+    return math.degrees(math.atan2(value.imag, value.real)) % 360.0
+
+
+def _vector(value: complex, scale: float) -> dict:
+    """A planar vector as JSON: magnitude (times ``scale``), direction from the vertical, x, y."""
+    return {"magnitude": abs(value) * scale, "angle_deg": _deg(value) if abs(value) > 1e-12 else 0.0,
+            "x": value.imag * scale, "y": value.real * scale}
+
+
+def run(scene, inputs) -> StageOutput:
+    bays, torque = inputs[BAY_LOADS], inputs[ENGINE_TORQUE]
+    opts = options(scene, "balancing", BalancingOptions)
+    e, m = scene.engine, scene.masses
+    layout = bays.layout
+    g = bal.geometry_from_layout(layout)
+    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+    a = e.cylinder_spacing  # None: moments in units of a only
+    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    m_s = m.piston_group + rod_rec
+    centrifugal_N = abs(bays.centrifugal_Pa) * bays.piston_area_m2
+    m_R = centrifugal_N / (R * w**2)
+    masses = bal.Masses(m_s, m_R, R, lam, w)
+    n_max = bal.orders_needed(lam)
+    harmonics = bal.harmonics_for(lam, n_max)
+    series = bal.acceleration_series(lam)
+    C, C_I = masses.centrifugal_N, masses.first_order_N
+    notes = []
+    if opts.balance_shaft_spacing is not None and a is None and g.cranks > 1:
+        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
+                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
+    if a is None and g.cranks > 1:
+        notes.append(("balancing.note_no_spacing", {}))
+    if e.rod_type == "articulated":
+        notes.append(("balancing.note_articulated", {}))
+
+    # ----------------------------------------------------------------- vector models
+    models = {0: bal.rotating_model(g)}
+    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
+        models[n] = bal.reciprocating_model(g, n)
+
+    def amplitude(n: int) -> float:
+        return C if n == 0 else abs(harmonics[n]) * C_I
+
+    def signed(n: int) -> float:
+        return C if n == 0 else harmonics[n] * C_I
+
+    coefficients, absolute, orders = {}, {}, []
+    for n, model in models.items():
+        if n not in opts.include_orders and n != 0:
+            continue
+        name = "C" if n == 0 else "P" + bal.roman(n)
+        z = g.cylinders
+        model = bal.OrderModel(model.order, _c(model.force_forward, z), _c(model.force_backward, z),
+                               _c(model.moment_forward, z), _c(model.moment_backward, z))
+        force_coef, moment_coef = _r(model.force_max, z), _r(model.moment_max, z)
+        coefficients["sum_" + name] = force_coef
+        coefficients["M_" + name] = moment_coef
+        absolute["sum_" + name + "_N"] = force_coef * amplitude(n)
+        absolute["M_" + name + "_Nm"] = moment_coef * amplitude(n) * a if a is not None else None
+        s = signed(n)
+        hf = bal.hodograph(_c(model.force_forward) * s, _c(model.force_backward) * s, model.speed,
+                           tolerance=NEGLIGIBLE * amplitude(n) * g.cylinders)
+        hm = bal.hodograph(_c(model.moment_forward) * s, _c(model.moment_backward) * s, model.speed,
+                           tolerance=NEGLIGIBLE * amplitude(n) * g.cylinders)
+        unit_m = a if a is not None else 1.0
+        orders.append({
+            "order": n, "name": name, "speed": model.speed, "amplitude_N": amplitude(n),
+            "force_coefficient": force_coef, "moment_coefficient": moment_coef,
+            "force_max_N": force_coef * amplitude(n),
+            "moment_max_Nm": moment_coef * amplitude(n) * a if a is not None else None,
+            "force_forward": _vector(_c(model.force_forward) * s, 1.0),
+            "force_backward": _vector(_c(model.force_backward) * s, 1.0),
+            "moment_forward": _vector(_c(model.moment_forward) * s, unit_m),
+            "moment_backward": _vector(_c(model.moment_backward) * s, unit_m),
+            "force_hodograph": _hodograph_json(hf, 1.0),
+            "moment_hodograph": _hodograph_json(hm, unit_m),
+        })
+
+    # The textbook's bay models (V, W, Y, X, radial): F, P and K, Z of one bay.
+    bay_model = None
+    if layout.cylinders_per_bay > 1:
+        axes = g.cylinder_axis_rad[g.cylinder_bay == 0]
+        f1, p1 = bal.bay_vectors(axes, 1)
+        k2, z2 = bal.bay_vectors(axes, 2)
+        hod1 = bal.hodograph(f1, p1, 1)  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical
+        hod2 = bal.hodograph(k2, z2, 2)
+        nb = len(axes)
+        bay_model = {"F": _signed(_c(f1, nb)), "P": _signed(_c(p1, nb)), "K": _signed(_c(k2, nb)),
+                     "Z": _signed(_c(z2, nb)), "A_I": _r(hod1.x_amplitude, nb), "B_I": _r(hod1.y_amplitude, nb),
+                     "A_II": _r(hod2.x_amplitude, nb), "B_II": _r(hod2.y_amplitude, nb),
+                     "bank_axes_deg": [round(math.degrees(x), 9) for x in axes]}
+
+    # ----------------------------------------------------------------- time-domain check
+    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    spacing = a if a is not None else 1.0
+    all_orders = [1] + list(range(2, n_max + 1, 2))
+    f_td, m_td = bal.time_domain_sum(g, masses, theta, spacing)
+    f_vec, m_vec = bal.vector_method_sum(g, masses, theta, all_orders, spacing, harmonics)
+    scale_F = g.cranks * C + g.cylinders * C_I * float(np.sum(np.abs(harmonics[all_orders])))
+    scale_M = scale_F * spacing * max(float(np.max(np.abs(g.cylinder_position))), 0.5)
+    check = {"orders": all_orders, "samples": CHECK_SAMPLES,
+             "force_deviation_relative": float(np.max(np.abs(f_td - f_vec)) / scale_F),
+             "moment_deviation_relative": float(np.max(np.abs(m_td - m_vec)) / scale_M),
+             "force_scale_N": scale_F, "moment_scale_Nm": scale_M if a is not None else None}
+    check["agrees"] = bool(max(check["force_deviation_relative"], check["moment_deviation_relative"]) < CHECK_TOLERANCE)
+
+    # ----------------------------------------------------------------- balancing means
+    shaft_positions = None
+    if opts.balance_shaft_spacing is not None and g.cranks > 1:
+        half = 0.5 * opts.balance_shaft_spacing / a
+        shaft_positions = (-half, half)
+    means = bal.design_means(g, masses, harmonics, opts.balance_orders, opts.counterweights,
+                             opts.first_order_forward, shaft_positions)
+    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
+    r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
+    centre = 0.5 * (g.cranks - 1)
+
+    def position_m(z: float):
+        """Position from crank 1 along the shaft (m); 0 for a one-crank engine even without a."""
+        if g.cranks == 1:
+            return 0.0
+        return (z + centre) * a if a is not None else None
+
+    counterweights = []
+    for cw in means.counterweights:
+        k = int(round(cw.position + centre))
+        crank_dir = math.degrees(g.crank_direction_rad[k]) % 360.0
+        counterweights.append({"crank": k + 1, "mass_radius_kg_m": cw.mass_radius_kg_m,
+                               "mass_kg": cw.mass_radius_kg_m / r_cw, "mass_per_web_kg": 0.5 * cw.mass_radius_kg_m / r_cw,
+                               "angle_deg": cw.phase_deg, "angle_from_crank_deg": (cw.phase_deg - crank_dir) % 360.0,
+                               "position_m": position_m(cw.position)})
+    shafts = []
+    for speed, shaft_masses in sorted(means.shafts.items(), key=lambda kv: (abs(kv[0]), -kv[0])):
+        shafts.append({"speed_ratio": speed, "order": abs(speed),
+                       "spacing_m": (abs(shaft_masses[-1].position - shaft_masses[0].position) * a
+                                     if a is not None and len(shaft_masses) > 1 else None),
+                       "masses": [{"mass_radius_kg_m": sm.mass_radius_kg_m, "mass_kg": sm.mass_radius_kg_m / r_sh,
+                                   "phase_deg": sm.phase_deg,
+                                   "position_m": position_m(sm.position),
+                                   "end": "free" if sm.position < -1e-12 else ("power" if sm.position > 1e-12 else "middle")}
+                                  for sm in shaft_masses]})
+    f_means, m_means = means.forces(theta, w, spacing)
+    unbalanced_orders = [n for n in all_orders if n not in opts.balance_orders]
+    f_left, m_left = bal.vector_method_sum(g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False)
+    residual_F, residual_M = f_td + f_means, m_td + m_means
+    residual = {
+        "balanced_orders": sorted(opts.balance_orders),
+        "force_max_N": float(np.max(np.abs(residual_F))),
+        "moment_max_Nm": float(np.max(np.abs(residual_M))) if a is not None else None,
+        "force_deviation_relative": float(np.max(np.abs(residual_F - f_left)) / scale_F),
+        "moment_deviation_relative": float(np.max(np.abs(residual_M - m_left)) / scale_M),
+    }
+    residual["vanishes"] = bool(max(residual["force_deviation_relative"], residual["moment_deviation_relative"])
+                                < CHECK_TOLERANCE)
+
+    # ----------------------------------------------------------------- summary
+    summary = []
+    for entry in orders:
+        n = entry["order"]
+        for kind in ("force", "moment"):
+            coef = entry[f"{kind}_coefficient"]
+            balanced = coef < NEGLIGIBLE * g.cylinders
+            forward = entry[f"{kind}_forward"]["magnitude"] > NEGLIGIBLE * amplitude(n) * g.cylinders
+            backward = entry[f"{kind}_backward"]["magnitude"] > NEGLIGIBLE * amplitude(n) * g.cylinders
+            if balanced:
+                remedy = "self"
+            elif n == 0:
+                remedy = "counterweights"
+            elif n in opts.balance_orders:
+                parts = []
+                if forward:
+                    parts.append("counterweights" if n == 1 and opts.first_order_forward == "crankshaft" else "shaft_forward")
+                if backward:
+                    parts.append("shaft_backward")
+                remedy = "+".join(parts)
+            else:
+                remedy = "none"
+            summary.append({"quantity": ("sum_" if kind == "force" else "M_") + entry["name"], "order": n,
+                            "coefficient": coef, "balanced": bool(balanced), "remedy": remedy})
+
+    t_max, t_min = float(np.max(torque.torque_Nm)), float(np.min(torque.torque_Nm))
+    results = {
+        "reciprocating_mass_kg": m_s,
+        "rotating_mass_kg": m_R,
+        "centrifugal_N": C,
+        "first_order_N": C_I,
+        "second_order_N": masses.second_order_textbook_N,
+        "acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in all_orders},
+        "acceleration_series": {bal.roman(n): v for n, v in series.items()},
+        "cylinder_spacing_m": a,
+        "vertical_axis_deg": g.vertical_deg,
+        "coefficients": coefficients,
+        "absolute": absolute,
+        "orders": orders,
+        "bay_model": bay_model,
+        "time_domain_check": check,
+        "counterweight_radius_m": r_cw,
+        "balance_shaft_radius_m": r_sh,
+        "counterweights": counterweights,
+        "balance_shafts": shafts,
+        "residual": residual,
+        "summary": summary,
+        "reaction_torque_range_Nm": t_max - t_min,
+        "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
+        "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
+        "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
+        "cylinder_labels": list(g.labels),
+        "cylinder_bays": [int(b) for b in g.cylinder_bay],
+    }
+    if opts.explore:
+        results["explorer"] = _explore(e, layout, opts.explore_top)
+    table = {"shaft_angle_deg": np.degrees(theta), "force_x_N": f_td.imag, "force_y_N": f_td.real}
+    if a is not None:
+        table.update({"moment_x_Nm": m_td.imag, "moment_y_Nm": m_td.real})
+    table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
+    if a is not None:
+        table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
+    notes.append(("balancing.note_check", {"orders": n_max, "samples": CHECK_SAMPLES}))
+    return StageOutput(data={}, results=results, tables={"balancing": pd.DataFrame(table)}, notes=notes)
+
+
+def _signed(value: complex) -> float | dict:
+    """The textbook's signed value when the vector lies on the vertical, else magnitude and angle."""
+    if abs(value.imag) <= 1e-12 * max(abs(value), 1.0):
+        return float(value.real)
+    return {"magnitude": abs(value), "angle_deg": _deg(value)}
+
+
+def _hodograph_json(h: bal.Hodograph, scale: float) -> dict:
+    size = max(h.semi_major, 1e-300)
+    return {"semi_major": h.semi_major * scale, "semi_minor": _r(h.semi_minor, size) * scale,
+            "major_axis_deg": h.major_axis_deg, "x_amplitude": _r(h.x_amplitude, size) * scale,
+            "y_amplitude": _r(h.y_amplitude, size) * scale, "sense": h.sense, "theta_at_max_deg": h.theta_at_max_deg}
+
+
+def _explore(e, layout, top: int) -> dict:
+    result = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=top,
+                        locate=(tuple(layout.crank_lag_deg), tuple(layout.firing_order)))
+    return explorer_json(result)
+
+
+def explorer_json(result: fe.Exploration) -> dict:
+    """An explorer result as JSON (also used by ``crankdyn explore --json``)."""
+    def row(c: fe.Candidate) -> dict:
+        return {"rank": c.rank, "crank_angles_deg": list(c.crank_angles_deg), "firing_order": list(c.firing_order),
+                "coefficients": c.coefficients, "neighbours": c.neighbours, "same_pin": c.same_pin,
+                "same_half": c.same_half}
+
+    return {"cylinders": result.cylinders, "layout": result.layout, "strokes": result.strokes,
+            "bank_angle_deg": result.bank_angle_deg, "interval_deg": result.interval_deg,
+            "arrangements": result.arrangements, "firing_orders": result.firing_orders,
+            "scored_firing_orders": result.scored_firing_orders, "reason": result.reason,
+            "rows": [row(c) for c in result.rows],
+            "scene_rank": result.located_rank, "scene": row(result.located) if result.located else None}
+
+
+# --------------------------------------------------------------------------- rendering
+
+def _arrow(ax, x0, y0, x1, y1, **kw):
+    ax.annotate("", xy=(x1, y1), xytext=(x0, y0), arrowprops=dict(arrowstyle="-|>", lw=kw.pop("lw", 1.2), **kw))
+
+
+def _star_figure(ctx, r):
+    """Crank diagrams seen from the free end: cranks (first order) and doubled angles (second order)."""
+    t = ctx.t
+    fig, axes = new_figure(16, 8.2, ncols=2)
+    crank_dirs = np.radians(r["crank_directions_deg"])
+    labels = r["cylinder_labels"]
+    phases = np.radians(r["cylinder_phases_deg"])
+    axes_rad = np.radians(r["cylinder_axes_deg"])
+    for ax, order in zip(axes, (1, 2)):
+        ax.set_aspect("equal")
+        ax.axis("off")
+        ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
+        for axis in sorted(set(np.round(axes_rad, 9))):
+            ax.plot([0, 1.25 * math.sin(axis)], [0, 1.25 * math.cos(axis)], color="0.6", lw=0.8, ls="--")
+        if order == 1:  # cranks, numbered from the free end
+            vectors = [(d, str(k + 1)) for k, d in enumerate(crank_dirs)]
+            color, title = "C0", t("balancing.star_first")
+        else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
+            vectors = [(axes_rad[i] - 2 * phases[i], label) for i, label in enumerate(labels)]
+            color, title = "C1", t("balancing.star_second")
+        groups: dict[int, list[str]] = {}
+        for d, label in vectors:
+            groups.setdefault(int(round(math.degrees(d) * 100)) % 36000, []).append(label)
+        for key, members in groups.items():
+            d = math.radians(key / 100)
+            _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
+            ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7)
+        ax.set_title(title, fontsize=8)
+        ax.set_xlim(-1.4, 1.4)
+        ax.set_ylim(-1.4, 1.4)
+    return ctx.figure(fig, t("balancing.star_caption"), "crank_diagrams")
+
+
+def _models_figure(ctx, r):
+    """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
+    t = ctx.t
+    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + \
+        [o for o in r["orders"] if o["order"] >= 4 and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)][:1]
+    moments = r["cylinder_spacing_m"] is not None or any(o["moment_coefficient"] > NEGLIGIBLE for o in shown)
+    rows = 2 if moments else 1
+    fig, axes = new_figure(16, rows * (16.0 / len(shown) + 0.9), nrows=rows, ncols=len(shown), squeeze=False)
+    for col, o in enumerate(shown):
+        for row, kind in enumerate(("force", "moment")[: 2 if moments else 1]):
+            ax = axes[row][col]
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            for side in ("left", "bottom"):
+                ax.spines[side].set_visible(False)
+            # the dotted circle is one amplitude C_n (one C_n * a for moments): the scale of the panel
+            ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.55"))
+            norm = o["amplitude_N"] * ((r["cylinder_spacing_m"] or 1.0) if kind == "moment" else 1.0)
+            fwd, bwd = o[f"{kind}_forward"], o[f"{kind}_backward"]
+            f = complex(fwd["y"], fwd["x"]) / norm if norm else 0j
+            b = complex(bwd["y"], bwd["x"]) / norm if norm else 0j
+            th = np.linspace(0, 2 * np.pi / o["speed"], 241)
+            wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
+            ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
+            if abs(f) > 1e-9:
+                _arrow(ax, 0, 0, f.imag, f.real, color="C0")
+            if abs(b) > 1e-9:
+                _arrow(ax, f.imag, f.real, f.imag + b.imag, f.real + b.real, color="C3")
+            lim = max(abs(f) + abs(b), 1.0) * 1.25
+            ax.set_xlim(-lim, lim)
+            ax.set_ylim(-lim, lim)
+            ax.axhline(0, color="0.75", lw=0.5, zorder=1)
+            ax.axvline(0, color="0.75", lw=0.5, zorder=1)
+            if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
+                ax.text(0, -0.8 * lim, t("balancing.balanced_label"), ha="center", fontsize=7, color="C2")
+            sub = "C" if o["order"] == 0 else o["name"][1:]
+            amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
+            title = (f"$\\Sigma P_{{{sub}}}/{amp}$" if o["order"] else "$\\Sigma C/C$") if kind == "force" \
+                else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
+            ax.set_title(title, fontsize=8)
+    return ctx.figure(fig, t("balancing.models_caption"), "vector_models")
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    r = output.results
+    t = ctx.t
+    star = _star_figure(ctx, r)
+    a = r["cylinder_spacing_m"]
+    masses_table = ctx.table([
+        (t("balancing.quantity"), [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
+            "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>", "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+            "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>", "<i>A</i><sub>2</sub>", "<i>A</i><sub>4</sub>",
+            "<i>A</i><sub>6</sub>")], None),
+        (t("balancing.value"), [ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
+                                ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+                                ctx.num(r["centrifugal_N"]) + " " + t("balancing.unit_N"),
+                                ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
+                                ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),
+                                ctx.num(r["acceleration_harmonics"]["II"], 6),
+                                ctx.num(r["acceleration_harmonics"]["IV"], 4),
+                                ctx.num(r["acceleration_harmonics"]["VI"], 4)], None),
+        (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
+                                 ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
+    ], caption=t("balancing.masses_caption"))
+    models_figure = _models_figure(ctx, r)
+
+    def order_name(o):
+        return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
+
+    def zero(o, kind):
+        return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
+
+    orders = r["orders"]
+    coef_table = ctx.table([
+        (t("balancing.order"), [order_name(o) for o in orders], None),
+        ("Σ/C<sub><i>n</i></sub>", [o["force_coefficient"] for o in orders], 4),
+        ("Σ<i>P</i>, " + t("balancing.unit_N"), [o["force_max_N"] for o in orders], 1),
+        (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
+                                         f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
+                                         f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
+                                         for o in orders], None),
+        (t("balancing.major_axis"), ["—" if zero(o, "force") else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
+                                     for o in orders], None),
+        (t("balancing.sense"), ["—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
+                                for o in orders], None),
+        ("Σ<i>M</i>/(<i>C</i><sub><i>n</i></sub><i>a</i>)", [o["moment_coefficient"] for o in orders], 4),
+        ("Σ<i>M</i>, " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                                      for o in orders], None),
+        (t("balancing.moment_plane"), ["—" if zero(o, "moment") else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
+                                       for o in orders], None),
+    ], caption=t("balancing.coefficients_caption"), css_class="data wide")
+
+    bay_table = None
+    if r["bay_model"] is not None:
+        bm = r["bay_model"]
+
+        def show(v):
+            return ctx.num(v, 4) if not isinstance(v, dict) else f"{ctx.num(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
+
+        heads = ("<i>F</i>/<i>C</i><sub>I</sub>", "<i>P</i>/<i>C</i><sub>I</sub>", "<i>A</i><sub>I</sub>/<i>C</i><sub>I</sub>",
+                 "<i>B</i><sub>I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
+                 "<i>A</i><sub>II</sub>/<i>C</i><sub>II</sub>", "<i>B</i><sub>II</sub>/<i>C</i><sub>II</sub>")
+        keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
+        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)], caption=t("balancing.bay_caption"))
+
+    summary_table = ctx.table([
+        (t("balancing.quantity"), [_summary_symbol(s) for s in r["summary"]], None),
+        (t("balancing.coefficient"), [s["coefficient"] for s in r["summary"]], 4),
+        (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
+                                for s in r["summary"]], None),
+        (t("balancing.remedy"), [" + ".join(t("balancing.remedy_" + p) for p in s["remedy"].split("+"))
+                                 for s in r["summary"]], None),
+    ], caption=t("balancing.summary_caption"))
+
+    means_rows = []
+    for cw in r["counterweights"]:
+        means_rows.append((t("balancing.counterweight", crank=cw["crank"]), "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
+                           ctx.num(cw["mass_kg"], 4) + f" ({ctx.num(cw['mass_per_web_kg'], 4)} × 2)",
+                           ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
+                           ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—"))
+    for shaft in r["balance_shafts"]:
+        for sm in shaft["masses"]:
+            means_rows.append((t("balancing.shaft", order=shaft["order"],
+                                 sense=t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward")),
+                                 end=t("balancing.end_" + sm["end"])),
+                               f"{shaft['speed_ratio']:+d}", ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
+                               ctx.num(sm["mass_kg"], 4), ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
+                               ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—"))
+    means_table = None
+    if means_rows:
+        means_table = ctx.table([
+            (t("balancing.means"), [x[0] for x in means_rows], None),
+            (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
+            ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
+            ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
+            (t("balancing.angle"), [x[4] for x in means_rows], None),
+            ("<i>z</i>, " + t("unit.mm"), [x[5] for x in means_rows], None),
+        ], caption=t("balancing.means_caption", r_cw=ctx.num(r["counterweight_radius_m"] * 1e3),
+                     r_sh=ctx.num(r["balance_shaft_radius_m"] * 1e3)), css_class="data wide")
+
+    explorer_table = None
+    if "explorer" in r and r["explorer"]["rows"]:
+        x = r["explorer"]
+        rows = x["rows"]
+        explorer_table = ctx.table([
+            ("№", [str(c["rank"]) for c in rows], None),
+            (t("balancing.cranks"), [", ".join(f"{v:g}" for v in c["crank_angles_deg"]) for c in rows], None),
+            (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
+            ("ΣC", [c["coefficients"]["sum_C"] for c in rows], 3),
+            ("M<sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
+            ("ΣP<sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),
+            ("M<sub>I</sub>", [c["coefficients"]["M_PI"] for c in rows], 3),
+            ("ΣP<sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
+            ("M<sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
+            (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
+            (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
+            (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
+        ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide")
+
+    unbalanced = [s for s in r["summary"] if not s["balanced"]]
+    if unbalanced:
+        ctx.conclude(t("balancing.conclusion_unbalanced",
+                       items=", ".join(f"{_plain_symbol(s)} = {ctx.num(s['coefficient'], 4)}" for s in unbalanced)))
+    else:
+        ctx.conclude(t("balancing.conclusion_balanced"))
+    if r["counterweights"] or r["balance_shafts"]:
+        ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
+                       shafts=len(r["balance_shafts"])))
+    return ctx.render_template("sections/balancing.html.j2", r=r, star=star, masses_table=masses_table,
+                               models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
+                               summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
+                               spacing=a)
+
+
+def _summary_symbol(s) -> Markup:
+    kind, base = s["quantity"].split("_", 1)
+    if kind == "sum":
+        return Markup("Σ<i>C</i>" if base == "C" else "Σ<i>P</i><sub>" + base[1:] + "</sub>")
+    return Markup("Σ<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
+
+
+def _plain_symbol(s) -> str:
+    kind, base = s["quantity"].split("_", 1)
+    return ("Σ" if kind == "sum" else "ΣM_") + base
+
+
+BALANCING_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="balancing",
+    title_key="balancing.title",
+    requires=(BAY_LOADS, ENGINE_TORQUE),
+    provides=(),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+    options_table="balancing",
+    options_model=BalancingOptions,
+)

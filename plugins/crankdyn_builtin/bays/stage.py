@@ -1,0 +1,273 @@
+"""Forces of all cylinders of a bay on their common crank pin; articulated rods (Poda 2007 §3.3, table B.2)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import math
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+
+from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, BayLoads
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import articulated as art
+from crankdyn.physics import forces as phys
+from crankdyn.physics.indicator import indicated_work_J
+from crankdyn.physics import layout as lay
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.scene import number as _number, options, quantity as _quantity
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+class ArticulatedOptions(BaseModel):
+    """The [articulated] table: slave-rod geometry and masses."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    pin_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
+    pin_angle_deg: _number(gt=-360, lt=360) | None = None
+    pin_angles_deg: list[_number(gt=-360, lt=360)] | None = None
+    slave_rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
+    slave_rod: _quantity("mass", gt=0, le=5000, unit="kg") | None = None
+    slave_rod_cm_fraction: _number(gt=0, lt=1) = 0.475
+    slave_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+
+
+def engine_layout(scene) -> lay.EngineLayout:
+    e = scene.engine
+    try:
+        return lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
+                                e.crank_angles_deg, e.rod_type, e.uneven_firing)
+    except lay.LayoutError as exc:
+        raise SceneError(Problem(exc.field, exc.value, str(exc))) from None
+
+
+def check_layout(scene) -> list:
+    """Scene checks for the layout (used by the crank-slider mechanism's check)."""
+    try:
+        layout = engine_layout(scene)
+        step = scene.analysis.angle_step_deg
+        for c in layout.cylinders:
+            lay.grid_shift(c.firing_delay_deg, step)
+            lay.grid_shift(c.axis_deg, step)
+    except SceneError as exc:
+        return exc.problems
+    except lay.LayoutError as exc:
+        return [Problem(exc.field, exc.value, str(exc))]
+    if scene.engine.rod_type == "articulated":
+        if "articulated" not in scene.plugin_tables():
+            return [Problem("articulated", "(missing)", "articulated rods need an [articulated] table with "
+                            "pin_radius (distance from the big-end centre to the slave pins)")]
+    return []
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    if scene.engine.mechanism != "crank_slider":
+        return "multi-cylinder bays are built from central crank-slider mechanisms"
+    return None
+
+
+def _slave_geometries(scene, layout, opts) -> list[tuple[lay.Cylinder, art.SlaveGeometry, float]]:
+    """(slave cylinder, geometry, slave rod length source) for the slaves of bay 0."""
+    e = scene.engine
+    R, L = e.crank_radius_m, e.rod_length_m
+    bay = layout.bay(0)
+    master = bay[0]
+    slaves = [c for c in bay if not c.master]
+    if opts.pin_angles_deg is not None and len(opts.pin_angles_deg) != len(slaves):
+        raise SceneError(Problem("articulated.pin_angles_deg", opts.pin_angles_deg,
+                                 f"needs one angle per slave rod ({len(slaves)})"))
+    out = []
+    for j, slave in enumerate(slaves):
+        gamma = math.radians(slave.axis_deg - master.axis_deg)
+        if opts.pin_angles_deg is not None:
+            pin_angle = math.radians(opts.pin_angles_deg[j])
+        elif opts.pin_angle_deg is not None:
+            pin_angle = math.radians(opts.pin_angle_deg)
+        else:
+            pin_angle = gamma
+        if opts.pin_radius >= L:
+            raise SceneError(Problem("articulated.pin_radius", opts.pin_radius, "must be shorter than the master rod"))
+        geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, L - opts.pin_radius)
+        try:
+            if opts.slave_rod_length is not None:
+                length = opts.slave_rod_length
+            elif scene.cycle is not None and scene.cycle.compression_ratio is not None:
+                length = art.slave_rod_length_equal_compression_m(geometry, scene.cycle.compression_ratio)
+            else:
+                length = L - opts.pin_radius  # textbook eq. (4)
+            geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, length)
+            art.slave_motion(np.linspace(0, 2 * np.pi, 721), geometry)
+        except ValueError as exc:
+            raise SceneError(Problem("articulated.slave_rod_length", opts.slave_rod_length, str(exc))) from None
+        out.append((slave, geometry))
+    return out
+
+
+def run(scene, inputs) -> StageOutput:
+    motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
+    e, m = scene.engine, scene.masses
+    layout = engine_layout(scene)
+    step = scene.analysis.angle_step_deg
+    angle = motion.crank_angle_deg
+    n = len(angle)
+    area = forces.piston_area_m2
+    R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
+    results: dict = {"layout": e.layout, "cylinders": e.cylinders, "cranks": layout.cranks,
+                     "rod_type": e.rod_type, "firing_order": list(layout.firing_order),
+                     "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
+                     "firing_intervals_deg": layout.firing_intervals_deg().tolist()}
+    tables: dict = {}
+    notes = []
+    if not layout.even_firing:
+        notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
+
+    rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
+    crank_rotating = m.crank_pin + 2 * m.crank_web
+    gas_Pa = gas.pressure_Pa - e.crankcase_pressure
+
+    tangential = np.zeros((layout.cranks, n))
+    radial = np.zeros((layout.cranks, n))
+
+    if e.rod_type != "articulated":
+        # Central or fork-and-blade rods: every cylinder acts on the pin like a single one.
+        for c in layout.cylinders:
+            shift = lay.grid_shift(c.firing_delay_deg, step)
+            tangential[c.bay] += np.roll(forces.tangential_Pa, shift)
+            radial[c.bay] += np.roll(forces.radial_Pa, shift)
+        rods_rotating = rod_rot * layout.cylinders_per_bay
+        centrifugal = phys.centrifugal_pressure_Pa(rods_rotating + crank_rotating, R, w, area)
+        centrifugal_rod = phys.centrifugal_pressure_Pa(rods_rotating, R, w, area)
+        work_all = gas.indicated_work_J * e.cylinders
+    else:
+        opts = options(scene, "articulated", ArticulatedOptions)
+        slaves = _slave_geometries(scene, layout, opts)
+        slave_rod = opts.slave_rod if opts.slave_rod is not None else m.rod * slaves[0][1].slave_rod_length_m / L
+        s_rec, s_rot = slave_rod * opts.slave_rod_cm_fraction, slave_rod * (1 - opts.slave_rod_cm_fraction)
+        # Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at its pin.
+        recip_master, rot_master = rod_rec, rod_rot
+        for _, g in slaves:
+            dr, dq = art.reduced_master_rod_masses(0.0, 0.0, L, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad)
+            recip_master += dr
+            rot_master += dq
+        alpha_local = np.radians(angle % 360.0)
+        master_j = motion.piston_acceleration_m_s2
+        p1_master = gas_Pa + phys.inertia_pressure_Pa(m.piston_group + recip_master, master_j, area)
+        slave_rows = []
+        slave_info = []
+        # Same clearance height above every piston's TDC (equal compression ratios by design).
+        clearance = float(gas.volume_m3.min())
+        work_bay = gas.indicated_work_J
+        for slave, g in slaves:
+            sm = art.slave_motion(alpha_local, g, w)
+            x_tdc, a_tdc, x_bdc, a_bdc = art.slave_dead_centres(g)
+            accel = -sm.piston_acceleration_m_s2  # displacement from TDC grows as x falls
+            # The slave's cycle is timed from its own TDC, which the linkage moves a little
+            # away from the bank angle: the pressure is taken at the slave's true cycle angle.
+            delta = (slave.firing_delay_deg - layout.bay(0)[0].firing_delay_deg) % layout.cycle_deg
+            delta += math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)
+            slave_angle = (angle - delta) % layout.cycle_deg
+            p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
+            p1_slave = p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(m.piston_group + s_rec, accel, area)
+            slave_volume = clearance + area * (x_tdc - sm.piston_position_m)
+            work_bay += indicated_work_J(p_slave, slave_volume)
+            slave_rows.append((sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_slave, g.bank_angle_rad))
+            stroke = x_tdc - x_bdc
+            slave_info.append({"cylinder": slave.label, "bank_angle_deg": math.degrees(g.bank_angle_rad),
+                               "pin_angle_deg": math.degrees(g.pin_angle_rad),
+                               "slave_rod_length_m": g.slave_rod_length_m,
+                               "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(L, g.pin_radius_m, R / L, g.bank_angle_rad),
+                               "stroke_m": stroke, "stroke_ratio": stroke / e.stroke,
+                               "tdc_master_angle_deg": math.degrees(a_tdc)})
+            tables[f"slave_{slave.label}"] = pd.DataFrame({
+                "crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
+                "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
+                "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave})
+        t_bay, z_bay, n_bay = art.bay_crank_pin_forces(alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows)
+        master = layout.bay(0)[0]
+        for k in range(layout.cranks):
+            shift = lay.grid_shift((layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg, step)
+            tangential[k] = np.roll(t_bay, shift)
+            radial[k] = np.roll(z_bay, shift)
+        centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)
+        centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
+        work_all = work_bay * layout.cranks
+        results.update({"pin_radius_m": opts.pin_radius, "slaves": slave_info,
+                        "master_reciprocating_mass_kg": m.piston_group + recip_master,
+                        "master_rod_rotating_mass_kg": rot_master})
+        tables["bay"] = pd.DataFrame({"crank_angle_deg": angle, "master_side_Pa": n_bay,
+                                      "bay_tangential_Pa": t_bay, "bay_radial_Pa": z_bay,
+                                      "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay)})
+        notes.append(("bays.note_articulated", {}))
+
+    results["centrifugal_Pa"] = centrifugal
+    results["indicated_work_J"] = work_all
+    loads = BayLoads(crank_angle_deg=angle, tangential_Pa=tangential, radial_Pa=radial, centrifugal_Pa=centrifugal,
+                     centrifugal_rod_Pa=centrifugal_rod, piston_area_m2=area, crank_radius_m=R, layout=layout,
+                     indicated_work_J=work_all)
+    return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    r = output.results
+    if r["cylinders"] == 1:
+        return None
+    t = ctx.t
+    # Only engines with several cylinders per crank have a bay table (textbook B.2).
+    bay_table = slave_table = figure = None
+    if "bay" in output.tables:
+        f = output.tables["bay"]
+        angle = f["crank_angle_deg"].to_numpy()
+        rows, labels = sample_rows(angle, ctx.table_step_deg)
+        first = output.tables[[k for k in output.tables if k.startswith("slave_")][0]]
+        bay_table = ctx.table([
+            ("<i>α</i>, °", labels, 0),
+            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"].to_numpy()[rows] / 1e6, 3),
+            ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"].to_numpy()[rows] / 1e6, 3),
+            ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"].to_numpy()[rows], 2),
+            ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"].to_numpy()[rows] / 1e6, 3),
+            ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"].to_numpy()[rows] / 1e6, 3),
+            ("<i>q</i>", f["bay_resultant_Pa"].to_numpy()[rows] / 1e6, 3),
+        ], caption=t("bays.table_b2_caption"))
+        slave_table = ctx.table([
+            (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
+            ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
+            ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
+            ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
+            ("<i>l</i> (3), " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
+            ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
+        ], caption=t("bays.slave_caption"))
+        fig, ax = new_figure(16, 8)
+        ax.plot(angle, f["bay_tangential_Pa"] / 1e6, label="$t_\\Sigma$")
+        ax.plot(angle, f["bay_radial_Pa"] / 1e6, label="$z_\\Sigma$")
+        ax.plot(angle, f["master_side_Pa"] / 1e6, label="$n_\\Sigma$", lw=1)
+        ax.axhline(0, color="0.3", lw=0.6)
+        crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+        ax.set_ylabel(t("unit.MPa"))
+        ax.legend(loc="upper right", fontsize=8)
+        figure = ctx.figure(fig, t("bays.figure_caption"), "bay")
+    return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
+                               figure=figure)
+
+
+BAYS_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="bays",
+    title_key="bays.title",
+    requires=(KINEMATICS, GAS_PRESSURE, FORCES),
+    provides=(BAY_LOADS,),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+    options_table="articulated",
+    options_model=ArticulatedOptions,
+)

@@ -1,0 +1,268 @@
+"""Vector (polar) load diagrams of crank pins, main journals and their bearings (Poda 2007 §5)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+
+from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, KINEMATICS
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import bearings as brg
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.scene import number, options, quantity
+from crankdyn.physics.extrema import first_argmax
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+# Typical proportions (fractions of the bore / of the journal diameter) for car and tractor
+# engines, used when the scene gives no journal dimensions.
+DEFAULT_PIN_DIAMETER_PER_BORE = 0.63
+DEFAULT_PIN_WIDTH_PER_DIAMETER = 0.60
+DEFAULT_MAIN_DIAMETER_PER_BORE = 0.70
+DEFAULT_MAIN_WIDTH_PER_DIAMETER = 0.45
+
+
+class BearingOptions(BaseModel):
+    """The [bearings] table."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    crank_pin_diameter: quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    crank_pin_width: quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    main_journal_diameter: quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    main_journal_width: quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    span_ratio: number(gt=0, lt=1) = 0.5
+    pins: list[int] | None = None
+    journals: list[int] | None = None
+    wear_spread_deg: number(gt=0, le=90) = 60.0
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    return None
+
+
+def _dimensions(scene, opts):
+    bore = scene.engine.bore
+    d_pin = opts.crank_pin_diameter or DEFAULT_PIN_DIAMETER_PER_BORE * bore
+    w_pin = opts.crank_pin_width or DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin
+    d_main = opts.main_journal_diameter or DEFAULT_MAIN_DIAMETER_PER_BORE * bore
+    w_main = opts.main_journal_width or DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main
+    defaulted = [name for name in ("crank_pin_diameter", "crank_pin_width", "main_journal_diameter",
+                                   "main_journal_width") if getattr(opts, name) is None]
+    return d_pin, w_pin, d_main, w_main, defaulted
+
+
+def run(scene, inputs) -> StageOutput:
+    loads, bays, motion = inputs[CRANK_LOADS], inputs[BAY_LOADS], inputs[KINEMATICS]
+    opts = options(scene, "bearings", BearingOptions)
+    layout = bays.layout
+    cranks = layout.cranks
+    angle = loads.crank_angle_deg
+    theta = np.radians(angle)
+    area = loads.piston_area_m2
+    d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
+    for key, values, limit in (("bearings.pins", opts.pins, cranks), ("bearings.journals", opts.journals, cranks + 1)):
+        if values is not None and any(not 1 <= v <= limit for v in values):
+            raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
+
+    # Crank pins: load of the rods in crank axes; the rod bearing of bay master rod in rod axes.
+    pin_t, pin_z = brg.crank_pin_load(loads.tangential_Pa, loads.radial_Pa, bays.centrifugal_rod_Pa)
+    master = layout.bay(0)[0]
+    rod_t = np.zeros_like(pin_t)
+    rod_z = np.zeros_like(pin_z)
+    for k in range(cranks):
+        # Each bay's master rod sees its crank at its own cycle angle.
+        delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
+        local = np.radians((angle - delay) % 360.0)
+        beta = np.interp(np.degrees(local), motion.crank_angle_deg[: int(round(360 / (angle[1] - angle[0])))],
+                         motion.rod_angle_rad[: int(round(360 / (angle[1] - angle[0])))], period=360.0)
+        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local, beta)
+
+    # Main journals: each crank a beam on two supports; forces in the engine frame.
+    positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
+    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa, loads.radial_Pa, loads.centrifugal_Pa, positions)
+    share_after = np.full(cranks, opts.span_ratio)
+    ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
+    # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
+    # preceding crank (crank 1 for the free-end journal); bearing diagram: J in engine axes.
+    journal_t, journal_z = np.zeros_like(ja), np.zeros_like(ja)
+    for j in range(cranks + 1):
+        e_t, e_z = brg.crank_axes(positions[max(j - 1, 0)])
+        journal_t[j], journal_z[j] = brg.to_frame(-ja[j], -jn[j], e_t, e_z)
+    engine_t, engine_z = brg.crank_axes(np.zeros(1))
+    bearing_t, bearing_z = brg.to_frame(ja, jn, engine_t, engine_z)
+
+    def summary(t, z, d, w):
+        s = brg.polar_summary(t, z, area, d, w)
+        # Contact point on the rotating part: opposite to the force applied to it.
+        psi, wear = brg.wear_diagram(-t, -z, np.hypot(t, z) * area, opts.wear_spread_deg)
+        start, end, centre = brg.least_loaded_arc(psi, wear)
+        s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
+        return s, (psi, wear)
+
+    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)])
+    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)])
+    most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
+    most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
+    drawn_pins = opts.pins or [most_loaded_pin]
+    drawn_journals = opts.journals or [most_loaded_journal]
+
+    def journal_label(j):  # journal j (0-based) lies after crank j; 0 is at the free end
+        return f"{j}-{j + 1 if j < cranks else 0}"
+
+    results = {
+        "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
+                       "main_journal_width_m": w_main, "defaulted": defaulted},
+        "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
+        "main_journals": [{"journal": journal_label(j), **journals[j]} for j in range(cranks + 1)],
+        "rod_bearings": [{"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
+                         for k in range(cranks)],
+        "main_bearings": [{"journal": journal_label(j), **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main)}
+                          for j in range(cranks + 1)],
+        "drawn_pins": drawn_pins,
+        "drawn_journals": drawn_journals,
+        "chosen_by_default": opts.pins is None and opts.journals is None,
+        "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
+    }
+    table = {"crank_angle_deg": angle}
+    for k in range(cranks):
+        table.update({f"pin{k + 1}_t_Pa": pin_t[k], f"pin{k + 1}_z_Pa": pin_z[k],
+                      f"rod_bearing{k + 1}_t_Pa": rod_t[k], f"rod_bearing{k + 1}_z_Pa": rod_z[k]})
+    for j in range(cranks + 1):
+        table.update({f"journal{j}_t_Pa": journal_t[j], f"journal{j}_z_Pa": journal_z[j],
+                      f"main_bearing{j}_t_Pa": bearing_t[j], f"main_bearing{j}_z_Pa": bearing_z[j]})
+    wear = {"surface_angle_deg": wear_pins[0][0]}
+    for k in range(cranks):
+        wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
+    for j in range(cranks + 1):
+        wear[f"journal{j}_wear_N"] = wear_journals[j][1]
+    tables = {"bearings": pd.DataFrame(table), "wear": pd.DataFrame(wear)}
+    return StageOutput(data={}, results=results, tables=tables,
+                       notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
+
+
+def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption):
+    t, z = t_Pa / 1e6, z_Pa / 1e6
+    fig, ax = new_figure(12, 12)
+    ax.plot(t, z, color="C0", lw=1.2)
+    ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)
+    step = angle[1] - angle[0]
+    every = max(int(round(labels_every / step)), 1)
+    for i in range(0, len(angle), every):
+        ax.plot(t[i], z[i], "o", ms=2.5, color="C3")
+        ax.annotate(f"{angle[i]:g}", (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
+    ax.axhline(0, color="0.3", lw=0.6)
+    ax.axvline(0, color="0.3", lw=0.6)
+    span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
+    radius = diameter_scale * span
+    circle = np.linspace(0, 2 * np.pi, 200)
+    # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
+    ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
+    ax.plot([0], [pole_z], "k+", ms=8)
+    if oil_deg is not None:
+        psi = np.radians(oil_deg)
+        ax.plot([0, radius * np.sin(psi)], [pole_z, pole_z + radius * np.cos(psi)], color="C2", lw=2)
+        ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
+    ax.set_aspect("equal")
+    ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
+    ax.set_xlabel("t, " + ctx.t("unit.MPa"))
+    ax.set_ylabel("z, " + ctx.t("unit.MPa"))
+    ax.set_title(title, fontsize=9)
+    return ctx.figure(fig, caption, name)
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    t = ctx.t
+    r = output.results
+    f = output.tables["bearings"]
+    angle = f["crank_angle_deg"].to_numpy()
+    labels_every = 30.0 if ctx.cycle_deg > 360 else 15.0
+    figures = []
+    c_rod = r["centrifugal_rod_Pa"] / 1e6
+    for k in r["drawn_pins"]:
+        pin = r["crank_pins"][k - 1]
+        figures.append(_polar(ctx, f[f"pin{k}_t_Pa"].to_numpy(), f[f"pin{k}_z_Pa"].to_numpy() - r["centrifugal_rod_Pa"],
+                              angle, -c_rod, t("bearings.pin_title", k=k), pin["oil_hole_deg"], 0.12, labels_every,
+                              f"pin{k}", t("bearings.pin_caption", k=k)))
+        figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"].to_numpy(), f[f"rod_bearing{k}_z_Pa"].to_numpy(), angle,
+                              0.0, t("bearings.rod_title", k=k), None, 0.12, labels_every, f"rod_bearing{k}",
+                              t("bearings.rod_caption", k=k)))
+    for j in r["drawn_journals"]:
+        journal = r["main_journals"][j - 1]
+        figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"].to_numpy(), f[f"journal{j - 1}_z_Pa"].to_numpy(), angle,
+                              0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
+                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"])))
+        figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"].to_numpy(), f[f"main_bearing{j - 1}_z_Pa"].to_numpy(),
+                              angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
+                              labels_every, f"main_bearing{j - 1}",
+                              t("bearings.main_bearing_caption", label=journal["journal"])))
+    # Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point).
+    wear = output.tables["wear"]
+    k = r["drawn_pins"][0]
+    fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
+    ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
+    ax.set_theta_direction(1)
+    psi = np.radians(wear["surface_angle_deg"].to_numpy())
+    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"].iloc[0]) / 1e3,
+            color="C1", alpha=0.5)
+    oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
+    ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)
+    ax.set_yticklabels([])
+    figures.append(ctx.figure(fig, t("bearings.wear_caption", k=k), f"wear_pin{k}"))
+    # Unrolled diagrams of the load magnitude.
+    fig, ax = new_figure(16, 8)
+    for k in r["drawn_pins"]:
+        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6, label=t("bearings.pin_label", k=k))
+    for j in r["drawn_journals"]:
+        label = r["main_journals"][j - 1]["journal"]
+        ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
+                label=t("bearings.journal_label", label=label))
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel("|q|, " + t("unit.MPa"))
+    ax.legend(loc="upper right", fontsize=8)
+    figures.append(ctx.figure(fig, t("bearings.unrolled_caption"), "unrolled"))
+
+    table_pins = ctx.table([
+        (t("bearings.crank"), [str(p["crank"]) for p in r["crank_pins"]], None),
+        ("<i>Q</i><sub>max</sub>, kN", [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>Q</i><sub>mean</sub>, kN", [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
+        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
+        (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
+    ], caption=t("bearings.pins_table_caption"))
+    table_journals = ctx.table([
+        (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
+        ("<i>R</i><sub>max</sub>, kN", [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>R</i><sub>mean</sub>, kN", [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
+        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
+        (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
+    ], caption=t("bearings.journals_table_caption"))
+    pin = r["crank_pins"][r["drawn_pins"][0] - 1]
+    ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
+                   oil=ctx.num(pin["oil_hole_deg"], 3)))
+    d = r["dimensions"]
+    return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
+                               table_journals=table_journals, dims=d)
+
+
+BEARINGS_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="bearings",
+    title_key="bearings.title",
+    requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS),
+    provides=(),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+    options_table="bearings",
+    options_model=BearingOptions,
+)

@@ -1,0 +1,1 @@
+"""Built-in plugin: the central crank-slider mechanism (single and multi-cylinder)."""

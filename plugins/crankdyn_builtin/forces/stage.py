@@ -1,0 +1,193 @@
+"""Gas and inertia forces, forces in the crank mechanism and the torque of one crank (Poda 2007 §3.2-3.3)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
+from crankdyn.physics import forces as phys
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax, first_argmin
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    return None
+
+
+def run(scene, inputs) -> StageOutput:
+    motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
+    engine, masses = scene.engine, scene.masses
+    alpha = motion.crank_angle_rad
+    radius, omega = motion.crank_radius_m, motion.angular_velocity_rad_s
+    ratio = engine.rod_ratio_value
+    area = phys.piston_area_m2(engine.bore)
+
+    rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m,
+                                                             scene.rod_cm_from_big_end_m)
+    reciprocating = masses.piston_group + rod_reciprocating
+    rotating = rod_rotating + masses.crank_pin + 2.0 * masses.crank_web
+
+    gas_Pa = gas.pressure_Pa - engine.crankcase_pressure
+    inertia_Pa = phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2, area)
+    first_Pa = phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area)
+    second_Pa = phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio, omega, area)
+    total_Pa = gas_Pa + inertia_Pa
+    # The rod resolves p1 at the crank's angle from the cylinder axis: alpha, unless the
+    # mechanism counts alpha from a TDC off the axis (offset crank). A mechanism without a
+    # rod (rod_angle_rad None, e.g. a Scotch yoke) passes the force along the axis (beta = 0).
+    crank_from_axis = alpha + motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    beta = motion.rod_angle_rad if motion.rod_angle_rad is not None else np.zeros_like(alpha)
+    rod = phys.rod_force_components(total_Pa, crank_from_axis, beta)
+    centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
+    centrifugal_rod_Pa = phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area)
+    resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
+    torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
+
+    # Torque of the inertia force alone: its cycle integral is the inertia work, zero for a
+    # consistent kinematic model (a check of the kinematics the report prints).
+    inertia_torque = phys.crank_torque_Nm(phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa,
+                                          radius, area)
+    revolutions_per_cycle = engine.strokes / 2
+    mean_torque = float(np.mean(torque))
+    mean_from_work = gas.indicated_work_J / (2 * np.pi * revolutions_per_cycle)
+    cycle_rad = 2 * np.pi * revolutions_per_cycle
+
+    def extreme(values, fn):
+        i = fn(values)
+        return float(values[i]), float(motion.crank_angle_deg[i])
+
+    results = {
+        "piston_area_m2": area,
+        "reciprocating_mass_kg": reciprocating,
+        "rod_reciprocating_mass_kg": rod_reciprocating,
+        "rod_rotating_mass_kg": rod_rotating,
+        "rotating_mass_kg": rotating,
+        "centrifugal_Pa": centrifugal_Pa,
+        "centrifugal_rod_Pa": centrifugal_rod_Pa,
+        "centrifugal_N": centrifugal_Pa * area,
+        "inertia_tdc_Pa": float(phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)),
+        "mean_torque_Nm": mean_torque,
+        "mean_torque_from_work_Nm": mean_from_work,
+        "mean_torque_deviation_percent": 100.0 * (mean_torque - mean_from_work) / mean_from_work
+        if mean_from_work != 0 else None,
+        "inertia_work_J": float(np.mean(inertia_torque) * cycle_rad),
+        "inertia_work_relative": float(np.mean(inertia_torque) / np.max(np.abs(inertia_torque)))
+        if np.max(np.abs(inertia_torque)) > 0 else 0.0,
+    }
+    for base, unit, values in (("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
+                               ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
+                               ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque)):
+        results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, first_argmax)
+        results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, first_argmin)
+
+    frame = pd.DataFrame({
+        "crank_angle_deg": motion.crank_angle_deg,
+        "piston_displacement_m": motion.piston_displacement_m,
+        "piston_velocity_m_s": motion.piston_velocity_m_s,
+        "piston_acceleration_m_s2": motion.piston_acceleration_m_s2,
+        "gas_Pa": gas_Pa,
+        "inertia_Pa": inertia_Pa,
+        "inertia_first_order_Pa": first_Pa,
+        "inertia_second_order_Pa": second_Pa,
+        "total_Pa": total_Pa,
+        "side_Pa": rod.side_Pa,
+        "rod_Pa": rod.rod_Pa,
+        "radial_Pa": rod.radial_Pa,
+        "tangential_Pa": rod.tangential_Pa,
+        "resultant_Pa": resultant_Pa,
+        "torque_Nm": torque,
+    })
+    data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa,
+                       total_Pa=total_Pa, tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
+                       centrifugal_Pa=centrifugal_Pa, piston_area_m2=area, torque_Nm=torque)
+    notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
+             ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])})]
+    return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    f = output.tables["forces"]
+    r = output.results
+    angle = f["crank_angle_deg"].to_numpy()
+    mpa = {k: f[k].to_numpy() / 1e6 for k in f.columns if k.endswith("_Pa")}
+
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    table_b1 = ctx.table([
+        ("<i>α</i>, °", labels, 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"].to_numpy()[rows], 4),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy()[rows], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy()[rows], 0),
+        ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
+        ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
+        ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
+        ("<i>p</i><sub>jII</sub>", mpa["inertia_second_order_Pa"][rows], 3),
+        ("<i>p</i><sub>1</sub>", mpa["total_Pa"][rows], 3),
+        ("<i>n</i>", mpa["side_Pa"][rows], 3),
+        ("<i>k</i>", mpa["rod_Pa"][rows], 3),
+        ("<i>z</i>", mpa["radial_Pa"][rows], 3),
+        ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
+    ], caption=t("forces.table_b1_caption"), css_class="data wide")
+    table_q = ctx.table([
+        ("<i>α</i>, °", labels, 0),
+        ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
+        ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
+        ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
+        ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"].to_numpy()[rows], 1),
+    ], caption=t("forces.table_q_caption"))
+
+    fig, axes = new_figure(16, 19, nrows=3, sharex=True)
+    for key, label in (("gas_Pa", "p_g"), ("inertia_Pa", "p_j"), ("total_Pa", "p_1")):
+        axes[0].plot(angle, mpa[key], label=f"${label[0]}_{{{label[2:]}}}$")
+    for key, label in (("side_Pa", "n"), ("rod_Pa", "k")):
+        axes[1].plot(angle, mpa[key], label=f"${label}$")
+    for key, label in (("radial_Pa", "z"), ("tangential_Pa", "t")):
+        axes[2].plot(angle, mpa[key], label=f"${label}$")
+    for ax in axes:
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_ylabel(t("forces.axis_specific"))
+        ax.legend(loc="upper right", fontsize=8, ncol=3)
+    crank_angle_axis(axes[2], ctx.cycle_deg, t("axis.crank_angle"))
+    figure_forces = ctx.figure(fig, t("forces.figure_caption"), "forces")
+
+    fig, ax = new_figure(16, 8)
+    ax.plot(angle, f["torque_Nm"], color="C0", label=t("forces.torque"))
+    ax.axhline(r["mean_torque_Nm"], color="C3", ls="--", lw=1, label=t("forces.mean_torque"))
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("forces.axis_torque"))
+    ax.legend(loc="upper right", fontsize=8)
+    figure_torque = ctx.figure(fig, t("forces.torque_caption"), "torque")
+
+    ctx.conclude(t("forces.conclusion_torque", mean=ctx.num(r["mean_torque_Nm"]),
+                   from_work=ctx.num(r["mean_torque_from_work_Nm"]),
+                   deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
+                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.num(r["torque_max_crank_angle_deg"], 4)))
+    ctx.conclude(t("forces.conclusion_loads", q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
+                   q_angle=ctx.num(r["resultant_max_crank_angle_deg"], 4),
+                   n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6)))
+    return ctx.render_template("sections/forces.html.j2", r=r, table_b1=table_b1, table_q=table_q,
+                               figure_forces=figure_forces, figure_torque=figure_torque)
+
+
+FORCES_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="forces",
+    title_key="forces.title",
+    requires=(KINEMATICS, GAS_PRESSURE),
+    provides=(FORCES,),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+)

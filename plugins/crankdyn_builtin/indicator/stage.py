@@ -1,0 +1,216 @@
+"""Indicator diagram: theoretical p-V diagram, its rounding, or a measured pressure trace (Poda 2007 §3.1)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from crankdyn.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import indicator as ind
+from crankdyn.physics import pressure_trace as trace
+from crankdyn.physics.forces import piston_area_m2
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def applies(scene) -> str | None:
+    if scene.cycle is None:
+        return "the scene has no [cycle] data (indicator-diagram parameters or a pressure trace)"
+    return None
+
+
+def cycle_parameters(scene) -> ind.CycleParameters:
+    c = scene.cycle
+    return ind.CycleParameters(
+        strokes=scene.engine.strokes,
+        ignition=c.ignition,
+        compression_ratio=c.compression_ratio,
+        intake_pressure_Pa=c.intake_pressure,
+        compression_index=c.compression_index,
+        max_pressure_Pa=c.max_pressure,
+        pre_expansion_ratio=c.pre_expansion_ratio,
+        expansion_index=c.expansion_index,
+        exhaust_pressure_Pa=c.exhaust_pressure if c.exhaust_pressure is not None else c.intake_pressure,
+    )
+
+
+def rounding_parameters(scene) -> ind.RoundingParameters:
+    r, c = scene.cycle.rounding, scene.cycle
+    # Textbook mid-range defaults: spark advance 20-25 deg, diesel injection advance 10-40 deg.
+    advance = r.ignition_advance_deg if r.ignition_advance_deg is not None else (22.0 if c.ignition == "spark" else 18.0)
+    delay = r.combustion_delay_deg
+    if delay is None:
+        delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm, r.combustion_delay_time)
+    four_stroke = scene.engine.strokes == 4
+    try:
+        return ind.RoundingParameters(
+            ignition_advance_deg=advance,
+            combustion_delay_deg=delay,
+            pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
+            peak_pressure_fraction=r.peak_pressure_fraction,
+            peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
+            exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
+            # Valve overlap and intake closing exist only in the four-stroke cycle.
+            exhaust_closes_after_tdc_deg=r.exhaust_closes_after_tdc_deg if four_stroke else 0.0,
+            intake_opens_before_tdc_deg=r.intake_opens_before_tdc_deg if four_stroke else 0.0,
+            intake_closes_after_bdc_deg=r.intake_closes_after_bdc_deg if four_stroke else 0.0,
+        )
+    except ValueError as exc:
+        raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+
+
+def run(scene, inputs) -> StageOutput:
+    motion = inputs[KINEMATICS]
+    engine = scene.engine
+    area = piston_area_m2(engine.bore)
+    swept = area * engine.stroke
+    angle = motion.crank_angle_deg
+    results: dict = {"source": scene.cycle.source, "swept_volume_m3": swept}
+    table: dict = {"crank_angle_deg": angle}
+    notes: list = []
+
+    if scene.cycle.source == "trace":
+        pressure, volume = _trace_pressure(scene, motion, area, swept)
+        table.update({"cylinder_volume_m3": volume, "pressure_Pa": pressure})
+        notes.append(("indicator.note_trace", {"file": scene.cycle.trace_file}))
+    else:
+        params = cycle_parameters(scene)
+        rounding = rounding_parameters(scene)
+        clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
+        volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+        theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
+        try:
+            volume_at = None
+            if motion.displacement_at is not None:
+                def volume_at(a_deg):
+                    return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
+            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding, volume_function=volume_at)
+        except ValueError as exc:
+            raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+        work_theoretical = ind.indicated_work_J(theoretical, volume)
+        p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
+        table.update({"cylinder_volume_m3": volume, "pressure_theoretical_Pa": theoretical, "pressure_Pa": pressure})
+        results.update({
+            "clearance_volume_m3": clearance,
+            "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
+            "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
+            "theoretical_mean_indicated_pressure_Pa": p_i_closed,
+            "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(work_theoretical, swept),
+            "ignition_advance_deg": rounding.ignition_advance_deg,
+            "combustion_delay_deg": rounding.combustion_delay_deg,
+            "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
+        })
+        notes.append(("indicator.note_rounding", {"advance": rounding.ignition_advance_deg,
+                                                  "delay": rounding.combustion_delay_deg,
+                                                  "fraction": rounding.peak_pressure_fraction,
+                                                  "angle": rounding.peak_angle_after_tdc_deg}))
+
+    work = ind.indicated_work_J(pressure, volume)
+    p_i = ind.mean_indicated_pressure_Pa(work, swept)
+    peak = first_argmax(pressure)
+    results.update({
+        "indicated_work_J": work,
+        "mean_indicated_pressure_Pa": p_i,
+        "max_pressure_Pa": float(pressure[peak]),
+        "max_pressure_crank_angle_deg": float(angle[peak]),
+        "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
+    })
+    if scene.cycle.mean_indicated_pressure is not None:
+        target = scene.cycle.mean_indicated_pressure
+        results["thermal_mean_indicated_pressure_Pa"] = target
+        results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i - target) / target
+    elif scene.cycle.source == "theoretical":
+        results["diagram_fullness"] = p_i / results["theoretical_mean_indicated_pressure_Pa"]
+
+    gas = GasPressure(crank_angle_deg=angle, pressure_Pa=pressure, volume_m3=volume, source=scene.cycle.source,
+                      indicated_work_J=work, swept_volume_m3=swept)
+    return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": pd.DataFrame(table)},
+                       notes=notes)
+
+
+def _trace_pressure(scene, motion, area, swept):
+    c = scene.cycle
+    path = scene.resolve(c.trace_file)
+    fmt = c.trace_format or ("diesel-rk" if path.suffix.lower() == ".ind" else "csv")
+    try:
+        if fmt == "diesel-rk":
+            angle_file, pressure_file = trace.read_diesel_rk_ind(path)
+        else:
+            angle_file, pressure_file = trace.read_pressure_csv(path)
+        target_tdc = 360.0 if scene.engine.strokes == 4 else 0.0
+        pressure = trace.to_cycle_grid(angle_file, pressure_file, scene.engine.cycle_deg, motion.crank_angle_deg,
+                                       c.trace_firing_tdc_deg, target_tdc)
+    except (trace.PressureTraceError, OSError) as exc:
+        raise SceneError(Problem("cycle.trace_file", c.trace_file, str(exc))) from None
+    clearance = ind.clearance_volume_m3(swept, c.compression_ratio)
+    volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+    return pressure, volume
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    frame = output.tables["indicator"]
+    r = output.results
+    angle = frame["crank_angle_deg"].to_numpy()
+    volume_l = frame["cylinder_volume_m3"].to_numpy() * 1e3
+    pressure = frame["pressure_Pa"].to_numpy() / 1e6
+    has_theory = "pressure_theoretical_Pa" in frame
+
+    fig, ax = new_figure(16, 9.5)
+    if has_theory:
+        theory = frame["pressure_theoretical_Pa"].to_numpy() / 1e6
+        ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
+                label=t("indicator.theoretical"))
+    ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
+            label=t("indicator.actual") if has_theory else t("indicator.trace"))
+    ax.set_xlabel(t("indicator.axis_volume"))
+    ax.set_ylabel(t("indicator.axis_pressure"))
+    ax.legend(loc="upper right", fontsize=8)
+    figure_pv = ctx.figure(fig, t("indicator.pv_caption"), "pV")
+
+    fig, ax = new_figure(16, 8)
+    if has_theory:
+        ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
+    ax.plot(angle, pressure, color="C3", label=t("indicator.actual") if has_theory else t("indicator.trace"))
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("indicator.axis_pressure"))
+    ax.legend(loc="upper right", fontsize=8)
+    figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha")
+
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    columns = [("<i>α</i>, °", labels, 0), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
+    if has_theory:
+        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), theory[rows], 4))
+    columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
+    table = ctx.table(columns, caption=t("indicator.table_caption"))
+
+    deviation = r.get("mean_indicated_pressure_deviation_percent")
+    ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+                   angle=ctx.num(r["max_pressure_crank_angle_deg"], 4),
+                   p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6), work=ctx.num(r["indicated_work_J"])))
+    if deviation is not None:
+        key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
+        ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
+    return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa,
+                               table=table, deviation=deviation, has_theory=has_theory)
+
+
+INDICATOR_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="indicator",
+    title_key="indicator.title",
+    requires=(KINEMATICS,),
+    provides=(GAS_PRESSURE,),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+)

@@ -1,0 +1,187 @@
+"""Kinematics of the central crank-slider (Poda 2007 §2; Tristen et al. for the extremes)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from crankdyn.contracts import KINEMATICS, PistonMotion
+from crankdyn.physics import kinematics as kin
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def applies(scene) -> str | None:
+    if scene.engine.mechanism != "crank_slider":
+        return f"the scene's mechanism is {scene.engine.mechanism!r}, not the central crank-slider"
+    return None
+
+
+def run(scene, inputs) -> StageOutput:
+    engine = scene.engine
+    angle_deg = scene.crank_angles_deg
+    alpha = np.radians(angle_deg)
+    radius, ratio, omega = engine.crank_radius_m, engine.rod_ratio_value, engine.angular_velocity_rad_s
+
+    exact = {
+        "s": kin.piston_displacement_exact_m(alpha, radius, ratio),
+        "v": kin.piston_velocity_exact_m_s(alpha, radius, ratio, omega),
+        "j": kin.piston_acceleration_exact_m_s2(alpha, radius, ratio, omega),
+    }
+    approx = {
+        "s": kin.piston_displacement_approx_m(alpha, radius, ratio),
+        "v": kin.piston_velocity_approx_m_s(alpha, radius, ratio, omega),
+        "j": kin.piston_acceleration_approx_m_s2(alpha, radius, ratio, omega),
+    }
+    chosen = exact if scene.analysis.kinematics == "exact" else approx
+    displacement = (kin.piston_displacement_exact_m if scene.analysis.kinematics == "exact"
+                    else kin.piston_displacement_approx_m)
+    beta = kin.rod_angle_rad(alpha, ratio)
+    rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
+    rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
+
+    v_max, v_max_angle = kin.max_piston_velocity_exact(radius, ratio, omega)
+    j_min, j_min_angle = kin.min_piston_acceleration_exact(radius, ratio, omega)
+    j_min_tb, j_min_tb_angle = kin.min_piston_acceleration_approx(radius, ratio, omega)
+
+    table = {
+        "crank_angle_deg": angle_deg,
+        "piston_displacement_m": chosen["s"],
+        "piston_velocity_m_s": chosen["v"],
+        "piston_acceleration_m_s2": chosen["j"],
+        "piston_displacement_exact_m": exact["s"],
+        "piston_displacement_two_term_m": approx["s"],
+        "piston_acceleration_exact_m_s2": exact["j"],
+        "piston_acceleration_two_term_m_s2": approx["j"],
+        "rod_angle_deg": np.degrees(beta),
+        "rod_angular_velocity_rad_s": rod_omega,
+        "rod_angular_acceleration_rad_s2": rod_epsilon,
+    }
+    results = {
+        "crank_radius_m": radius,
+        "rod_length_m": engine.rod_length_m,
+        "rod_ratio": ratio,
+        "angular_velocity_rad_s": omega,
+        "method": scene.analysis.kinematics,
+        "mean_piston_speed_m_s": kin.mean_piston_speed_m_s(radius, omega),
+        "v_max_m_s": v_max,
+        "v_max_crank_angle_deg": float(np.degrees(v_max_angle)),
+        "v_max_approx_m_s": kin.max_piston_velocity_approx_m_s(radius, ratio, omega),
+        "j_max_m_s2": kin.max_piston_acceleration_m_s2(radius, ratio, omega),
+        "j_min_m_s2": j_min,
+        "j_min_crank_angle_deg": float(np.degrees(j_min_angle)),
+        "j_min_textbook_m_s2": j_min_tb,
+        "j_min_textbook_crank_angle_deg": float(np.degrees(j_min_tb_angle)),
+        "rod_angle_max_deg": float(np.degrees(np.arcsin(ratio))),
+        "rod_angular_velocity_max_rad_s": float(np.max(np.abs(rod_omega))),
+        "rod_angular_acceleration_max_rad_s2": float(np.max(np.abs(rod_epsilon))),
+        "two_term_displacement_error_max_m": float(np.max(np.abs(approx["s"] - exact["s"]))),
+        "two_term_acceleration_error_max_m_s2": float(np.max(np.abs(approx["j"] - exact["j"]))),
+    }
+    if scene.masses is not None:
+        distance = scene.rod_cm_from_big_end_m
+        x, z = kin.rod_point_position_m(alpha, radius, ratio, distance)
+        vx, vz = kin.rod_point_velocity_m_s(alpha, radius, ratio, distance, omega)
+        ax, az = kin.rod_point_acceleration_m_s2(alpha, radius, ratio, distance, omega)
+        table.update({"rod_cm_x_m": x, "rod_cm_z_m": z, "rod_cm_velocity_x_m_s": vx, "rod_cm_velocity_z_m_s": vz,
+                      "rod_cm_acceleration_x_m_s2": ax, "rod_cm_acceleration_z_m_s2": az})
+        results["rod_cm_from_big_end_m"] = distance
+        results["rod_cm_acceleration_max_m_s2"] = float(np.max(np.hypot(ax, az)))
+
+    motion = PistonMotion(
+        crank_angle_deg=angle_deg,
+        piston_displacement_m=chosen["s"],
+        piston_velocity_m_s=chosen["v"],
+        piston_acceleration_m_s2=chosen["j"],
+        rod_angle_rad=beta,
+        crank_radius_m=radius,
+        angular_velocity_rad_s=omega,
+        method=scene.analysis.kinematics,
+        extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m},
+        displacement_at=lambda a_deg: displacement(np.radians(a_deg), radius, ratio),
+    )
+    notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),
+             ("kinematics.note_two_term_error", {"ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
+                                                  "dj": results["two_term_acceleration_error_max_m_s2"]})]
+    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"kinematics": pd.DataFrame(table)},
+                       notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str:
+    frame = output.tables["kinematics"]
+    r = output.results
+    t = ctx.t
+    # The motion repeats every revolution, so one revolution is tabulated.
+    rows, labels = sample_rows(frame["crank_angle_deg"].to_numpy(), ctx.table_step_deg, span_deg=360.0)
+    f = frame.iloc[rows]
+    table = ctx.table([
+        ("<i>α</i>, °", labels, 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"].to_numpy() * 1e3, 2),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy(), 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy(), 0),
+        ("<i>β</i>, °", f["rod_angle_deg"].to_numpy(), 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"].to_numpy(), 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+    ], caption=t("kinematics.table_caption"))
+
+    angle = frame["crank_angle_deg"].to_numpy()
+    fig, axes = new_figure(16, 16, nrows=3, sharex=True)
+    axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0", label=t("kinematics.chosen"))
+    axes[0].set_ylabel(t("kinematics.axis_s"))
+    axes[1].plot(angle, frame["piston_velocity_m_s"], color="C1")
+    axes[1].set_ylabel(t("kinematics.axis_v"))
+    axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C2", label=t("kinematics.exact"))
+    axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1,
+                 label=t("kinematics.two_term"))
+    axes[2].set_ylabel(t("kinematics.axis_j"))
+    axes[2].legend(loc="upper right", fontsize=8)
+    # The motion repeats every revolution; one revolution is the textbook's fig. 3.
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    for ax in axes:
+        ax.axhline(0, color="0.3", lw=0.6)
+    figure_main = ctx.figure(fig, t("kinematics.figure_caption"), "piston")
+
+    fig, axes = new_figure(16, 10, nrows=2, sharex=True)
+    axes[0].plot(angle, frame["rod_angle_deg"], color="C4")
+    axes[0].set_ylabel(t("kinematics.axis_beta"))
+    axes[1].plot(angle, frame["rod_angular_velocity_rad_s"], color="C5", label="ω")
+    ax2 = axes[1].twinx()
+    ax2.plot(angle, frame["rod_angular_acceleration_rad_s2"], color="C6", ls="--", label="ε")
+    axes[1].set_ylabel(t("kinematics.axis_rod_omega"))
+    ax2.set_ylabel(t("kinematics.axis_rod_epsilon"))
+    crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
+    figure_rod = ctx.figure(fig, t("kinematics.rod_figure_caption"), "rod")
+
+    figure_cm = None
+    if "rod_cm_x_m" in frame:
+        fig, ax = new_figure(9, 9)
+        ax.plot(frame["rod_cm_x_m"] * 1e3, frame["rod_cm_z_m"] * 1e3, color="C0")
+        ax.set_aspect("equal")
+        ax.set_xlabel(t("kinematics.axis_cm_x"))
+        ax.set_ylabel(t("kinematics.axis_cm_z"))
+        figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm")
+
+    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.num(r["v_max_crank_angle_deg"], 3),
+                   v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
+                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.num(r["j_min_crank_angle_deg"], 4)))
+    return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
+                               figure_rod=figure_rod, figure_cm=figure_cm)
+
+
+KINEMATICS_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="kinematics",
+    title_key="kinematics.title",
+    requires=(),
+    provides=(KINEMATICS,),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007", "tristen"),
+)

@@ -1,0 +1,257 @@
+"""Offset (desaxial) crank-slider: mechanism and kinematics stage.
+
+The kinematics are exact for any pin offset e; the force, torque and indicator stages
+take them through ``PistonMotion`` unchanged (the force stage resolves the rod force at
+the crank's angle from the cylinder axis, ``extra["crank_angle_at_tdc_rad"]``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+from scipy import optimize
+
+from crankdyn.contracts import KINEMATICS, PistonMotion
+from crankdyn.errors import Problem
+from crankdyn.physics import kinematics as central
+from crankdyn.physics import offset_crank as oc
+from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.scene import options, quantity
+from crankdyn.physics.extrema import first_argmax
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+MECHANISM = "offset_crank_slider"
+
+
+class OffsetParams(BaseModel):
+    """The [mechanism] table of an offset crank-slider."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    offset: quantity("length", ge=-2.0, le=2.0, unit="mm", scale=1e-3)
+
+
+def single_mechanism_problems(scene, what: str) -> list[Problem]:
+    """Problems of a scene that gives multi-cylinder keys to a one-cylinder mechanism."""
+    e = scene.engine
+    problems = []
+    if e.cylinders != 1:
+        problems.append(Problem("engine.cylinders", e.cylinders, f"the {what} is computed for one cylinder: 1"))
+    if e.layout != "inline":
+        problems.append(Problem("engine.layout", e.layout, f"the {what} has one cylinder; leave layout out"))
+    if e.rod_type != "central":
+        problems.append(Problem("engine.rod_type", e.rod_type, f"the {what} has a single rod; leave rod_type out"))
+    for name in ("bank_angle_deg", "firing_order", "crank_angles_deg", "cylinder_spacing"):
+        if getattr(e, name) is not None:
+            problems.append(Problem(f"engine.{name}", getattr(e, name),
+                                    f"applies to multi-cylinder engines only; the {what} has one cylinder"))
+    if "articulated" in scene.plugin_tables():
+        problems.append(Problem("articulated", "[articulated]", f"articulated rods need a multi-cylinder "
+                                                                 f"crank_slider engine, not the {what}"))
+    return problems
+
+
+def check(scene) -> list[Problem]:
+    problems = single_mechanism_problems(scene, "offset crank-slider")
+    params = options(scene, "mechanism", OffsetParams)
+    R, L = scene.engine.crank_radius_m, scene.engine.rod_length_m
+    try:
+        oc.check_offset(R, L, params.offset)
+    except ValueError:
+        problems.append(Problem("mechanism.offset", scene.mechanism.get("offset"),
+                                f"|e| must be < L - R = {(L - R) * 1e3:g} mm: with a larger offset the rod cannot "
+                                "reach the crank pin at every angle (the crank cannot turn a full revolution), "
+                                "and at |e| = L - R the linkage locks at BDC"))
+    return problems
+
+
+OFFSET_CRANK_MECHANISM = Mechanism(
+    name=MECHANISM,
+    summary="offset (desaxial) crank-slider mechanism: the cylinder axis passes the crankshaft axis at a "
+            "distance e (the pin offset)",
+    check=check,
+    params_model=OffsetParams,
+)
+
+
+def applies(scene) -> str | None:
+    if scene.engine.mechanism != MECHANISM:
+        return f"the scene's mechanism is {scene.engine.mechanism!r}, not the offset crank-slider"
+    return None
+
+
+def _extreme(fn, angle_deg, values, sign):
+    """Refine a grid extreme of ``fn`` (a function of alpha in rad): (value, angle in deg)."""
+    i = first_argmax(sign * values)
+    step = np.radians(angle_deg[1] - angle_deg[0]) if len(angle_deg) > 1 else 0.1
+    centre = np.radians(angle_deg[i])
+    res = optimize.minimize_scalar(lambda a: -sign * float(fn(a)), bounds=(centre - step, centre + step),
+                                   method="bounded", options={"xatol": 1e-12})
+    best = float(res.x) if -res.fun >= sign * values[i] else centre
+    return float(fn(best)), float(np.degrees(best) % 360.0)
+
+
+def run(scene, inputs) -> StageOutput:
+    engine = scene.engine
+    params = options(scene, "mechanism", OffsetParams)
+    R, L, e = engine.crank_radius_m, engine.rod_length_m, params.offset
+    lam, k, omega = R / L, params.offset / L, engine.angular_velocity_rad_s
+    geometry = oc.dead_centres(R, L, e)
+    angle_deg = scene.crank_angles_deg
+    alpha = np.radians(angle_deg)
+    phi = alpha + geometry.tdc_angle_rad
+
+    def s_of(a):
+        return oc.piston_displacement_m(a, R, lam, k)
+
+    def v_of(a):
+        return oc.piston_velocity_m_s(a, R, lam, k, omega)
+
+    def j_of(a):
+        return oc.piston_acceleration_m_s2(a, R, lam, k, omega)
+
+    s, v, j = s_of(alpha), v_of(alpha), j_of(alpha)
+    beta = oc.rod_angle_rad(phi, lam, k)
+    rod_omega = oc.rod_angular_velocity_rad_s(alpha, R, lam, k, omega)
+    rod_epsilon = oc.rod_angular_acceleration_rad_s2(alpha, R, lam, k, omega)
+    s_central = central.piston_displacement_exact_m(alpha, R, lam)
+    v_central = central.piston_velocity_exact_m_s(alpha, R, lam, omega)
+    j_central = central.piston_acceleration_exact_m_s2(alpha, R, lam, omega)
+
+    v_max, v_max_angle = _extreme(v_of, angle_deg, v, +1.0)
+    v_min, v_min_angle = _extreme(v_of, angle_deg, v, -1.0)
+    j_max, j_max_angle = _extreme(j_of, angle_deg, j, +1.0)
+    j_min, j_min_angle = _extreme(j_of, angle_deg, j, -1.0)
+
+    results = {
+        "crank_radius_m": R,
+        "rod_length_m": L,
+        "rod_ratio": lam,
+        "offset_m": e,
+        "offset_ratio": k,
+        "angular_velocity_rad_s": omega,
+        "method": "exact",
+        "tdc_crank_angle_from_axis_deg": float(np.degrees(geometry.tdc_angle_rad)),
+        "bdc_crank_angle_from_axis_deg": float(np.degrees(geometry.bdc_angle_rad)),
+        "bdc_crank_angle_deg": float(np.degrees(geometry.bdc_after_tdc_rad)),
+        "stroke_m": geometry.stroke_m,
+        "stroke_excess_m": geometry.stroke_m - 2.0 * R,
+        "stroke_time_ratio": geometry.stroke_time_ratio,
+        "mean_piston_speed_m_s": geometry.stroke_m * omega / np.pi,
+        "v_max_m_s": v_max, "v_max_crank_angle_deg": v_max_angle,
+        "v_min_m_s": v_min, "v_min_crank_angle_deg": v_min_angle,
+        "j_max_m_s2": j_max, "j_max_crank_angle_deg": j_max_angle,
+        "j_min_m_s2": j_min, "j_min_crank_angle_deg": j_min_angle,
+        "rod_angle_max_deg": float(np.degrees(np.arcsin(lam - k))),
+        "rod_angle_min_deg": float(np.degrees(-np.arcsin(lam + k))),
+        "rod_angular_velocity_max_rad_s": float(np.max(np.abs(rod_omega))),
+        "rod_angular_acceleration_max_rad_s2": float(np.max(np.abs(rod_epsilon))),
+        "central_v_max_m_s": float(np.max(v_central)),
+        "central_j_max_m_s2": float(central.max_piston_acceleration_m_s2(R, lam, omega)),
+    }
+    table = pd.DataFrame({
+        "crank_angle_deg": angle_deg,
+        "crank_angle_from_axis_deg": np.degrees(phi),
+        "piston_displacement_m": s,
+        "piston_velocity_m_s": v,
+        "piston_acceleration_m_s2": j,
+        "rod_angle_deg": np.degrees(beta),
+        "rod_angular_velocity_rad_s": rod_omega,
+        "rod_angular_acceleration_rad_s2": rod_epsilon,
+        "torque_arm_m": v / omega,
+        "central_piston_displacement_m": s_central,
+        "central_piston_velocity_m_s": v_central,
+        "central_piston_acceleration_m_s2": j_central,
+    })
+    motion = PistonMotion(
+        crank_angle_deg=angle_deg,
+        piston_displacement_m=s,
+        piston_velocity_m_s=v,
+        piston_acceleration_m_s2=j,
+        rod_angle_rad=beta,
+        crank_radius_m=R,
+        angular_velocity_rad_s=omega,
+        method="exact",
+        extra={"rod_ratio": lam, "rod_length_m": L, "offset_m": e,
+               "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
+               "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
+        displacement_at=lambda a_deg: oc.piston_displacement_m(np.radians(a_deg), R, lam, k),
+    )
+    notes = [("offset_crank.note_replaced", {"tdc": results["tdc_crank_angle_from_axis_deg"]})]
+    if scene.analysis.kinematics == "approximate":
+        notes.append(("offset_crank.note_exact_only", {}))
+    if scene.cycle is not None:
+        notes.append(("offset_crank.note_indicator", {
+            "stroke_mm": geometry.stroke_m * 1e3, "throw_mm": 2e3 * R,
+            "bdc": results["bdc_crank_angle_deg"]}))
+    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table}, notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    f = output.tables["offset_crank"]
+    r = output.results
+    rows, labels = sample_rows(f["crank_angle_deg"].to_numpy(), ctx.table_step_deg, span_deg=360.0)
+    g = f.iloc[rows]
+    table = ctx.table([
+        ("<i>α</i>, °", labels, 0),
+        ("<i>φ</i>, °", g["crank_angle_from_axis_deg"].to_numpy() % 360.0, 2),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"].to_numpy() * 1e3, 3),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"].to_numpy(), 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"].to_numpy(), 0),
+        ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"].to_numpy(), 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+    ], caption=t("offset_crank.table_caption"))
+
+    angle = f["crank_angle_deg"].to_numpy()
+    one = angle < 360.0
+    fig, axes = new_figure(16, 16, nrows=3, sharex=True)
+    for ax, key, label in ((axes[0], "piston_displacement", "offset_crank.axis_s"),
+                           (axes[1], "piston_velocity", "offset_crank.axis_v"),
+                           (axes[2], "piston_acceleration", "offset_crank.axis_j")):
+        scale = 1e3 if key == "piston_displacement" else 1.0
+        unit = "_m" if key == "piston_displacement" else ("_m_s" if key == "piston_velocity" else "_m_s2")
+        ax.plot(angle[one], f[key + unit].to_numpy()[one] * scale, color="C0", label=t("offset_crank.offset_label"))
+        ax.plot(angle[one], f["central_" + key + unit].to_numpy()[one] * scale, color="0.45", ls="--", lw=1,
+                label=t("offset_crank.central_label"))
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_ylabel(t(label))
+    axes[0].axvline(r["bdc_crank_angle_deg"], color="C3", lw=0.8, ls=":")
+    axes[0].legend(loc="upper right", fontsize=8)
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    figure_main = ctx.figure(fig, t("offset_crank.figure_caption"), "offset_piston")
+
+    fig, ax = new_figure(16, 7)
+    ax.plot(angle[one], f["rod_angle_deg"].to_numpy()[one], color="C4")
+    ax.axhline(0, color="0.3", lw=0.6)
+    ax.set_ylabel(t("offset_crank.axis_beta"))
+    crank_angle_axis(ax, 360.0, t("axis.crank_angle"))
+    figure_rod = ctx.figure(fig, t("offset_crank.rod_figure_caption"), "offset_rod")
+
+    ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
+                   tdc=ctx.num(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.num(r["bdc_crank_angle_deg"], 5),
+                   stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
+                   ratio=ctx.num(r["stroke_time_ratio"], 5)))
+    return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,
+                               figure_rod=figure_rod)
+
+
+OFFSET_CRANK_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="offset_crank",
+    title_key="offset_crank.title",
+    requires=(),
+    provides=(KINEMATICS,),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+)

@@ -1,0 +1,249 @@
+"""Connecting-rod dynamics for every rod-based mechanism.
+
+Rod angle, angular velocity and acceleration, centre-of-mass acceleration and the rod's
+inertia loads, in the textbook's two-mass split (default) and in the dynamically exact
+models (three masses, or two masses plus a correction couple), with their difference.
+Needs the rod's moment of inertia, ``masses.rod_moment_of_inertia``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from typing import Literal
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+
+from crankdyn.contracts import KINEMATICS
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import rod_dynamics as rd
+from crankdyn.physics.forces import rod_mass_split_kg
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.scene import options
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+ROD_MECHANISMS = ("crank_slider", "offset_crank_slider", "planetary")
+
+
+class RodDynamicsOptions(BaseModel):
+    """The [rod_dynamics] table."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    model: Literal["two_mass", "three_mass", "correction_couple"] = "two_mass"
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    if scene.engine.mechanism not in ROD_MECHANISMS:
+        return (f"the {scene.engine.mechanism!r} mechanism has no connecting rod of the kind this stage treats "
+                f"(a rod from a big end to a piston pin on the cylinder axis: {', '.join(ROD_MECHANISMS)})")
+    if scene.engine.rod_type == "articulated":
+        return "articulated rods: the master rod also carries the slave rods, which this stage does not model"
+    if scene.engine.mechanism == "crank_slider" and scene.masses.rod_moment_of_inertia is None:
+        return ("the scene gives no masses.rod_moment_of_inertia; the kinematics section already shows the "
+                "central rod's motion, and without I_G its inertia couple cannot be computed")
+    return None
+
+
+def run(scene, inputs) -> StageOutput:
+    motion = inputs[KINEMATICS]
+    opts = options(scene, "rod_dynamics", RodDynamicsOptions)
+    masses = scene.masses
+    m, inertia = masses.rod, masses.rod_moment_of_inertia
+    L = motion.extra.get("rod_length_m", scene.engine.rod_length_m)
+    l_r = scene.rod_cm_from_big_end_m
+    omega = motion.angular_velocity_rad_s
+    angle = motion.crank_angle_deg
+    beta = motion.rod_angle_rad
+    if "rod_angular_velocity_rad_s" in motion.extra:
+        rate = np.asarray(motion.extra["rod_angular_velocity_rad_s"], dtype=float)
+        accel = np.asarray(motion.extra["rod_angular_acceleration_rad_s2"], dtype=float)
+        source = "analytic"
+    else:
+        # A mechanism that gives only the rod angle: differentiate it spectrally over the cycle.
+        period_rad = np.radians(angle[1] - angle[0]) * len(angle)
+        rate = omega * rd.periodic_derivative(beta, period_rad)
+        accel = omega * rd.periodic_derivative(rate, period_rad)
+        source = "spectral"
+
+    pin_v, pin_a = -motion.piston_velocity_m_s, -motion.piston_acceleration_m_s2
+    zero = np.zeros_like(pin_v)
+    v_g = rd.rod_point_velocity_m_s(pin_v, beta, rate, L - l_r)
+    a_g = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L - l_r)
+    v_b = rd.rod_point_velocity_m_s(pin_v, beta, rate, L)
+    a_b = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L)
+    v_a, a_a = (zero, pin_v), (zero, pin_a)
+
+    m_small, m_big = (float(x) for x in rod_mass_split_kg(m, L, l_r))
+    inertia_two = rd.two_mass_moment_of_inertia_kg_m2(m, L, l_r)
+    torque_two = rd.point_masses_inertia_torque_Nm([m_small, m_big], [v_a, v_b], [a_a, a_b], omega)
+    force_x, force_z = -m * a_g[0], -m * a_g[1]
+    if inertia is None and opts.model != "two_mass":
+        raise SceneError(Problem("rod_dynamics.model", opts.model,
+                                 "the exact models need the rod's moment of inertia, masses.rod_moment_of_inertia; "
+                                 "without it only two_mass is possible"))
+
+    two_max = float(np.max(np.abs(torque_two)))
+    results = {
+        "model": opts.model,
+        "derivatives": source,
+        "rod_mass_kg": m,
+        "rod_length_m": L,
+        "rod_cm_from_big_end_m": l_r,
+        "two_mass_moment_of_inertia_kg_m2": inertia_two,
+        "two_mass_small_end_kg": m_small,
+        "two_mass_big_end_kg": m_big,
+        "rod_angular_velocity_max_rad_s": float(np.max(np.abs(rate))),
+        "rod_angular_acceleration_max_rad_s2": float(np.max(np.abs(accel))),
+        "cm_acceleration_max_m_s2": float(np.max(np.hypot(*a_g))),
+        "inertia_force_max_N": float(np.max(np.hypot(force_x, force_z))),
+        "torque_max_abs_Nm": two_max,
+        "torque_two_mass_max_abs_Nm": two_max,
+    }
+    columns = {
+        "crank_angle_deg": angle,
+        "rod_angle_deg": np.degrees(beta),
+        "rod_angular_velocity_rad_s": rate,
+        "rod_angular_acceleration_rad_s2": accel,
+        "cm_acceleration_x_m_s2": a_g[0],
+        "cm_acceleration_z_m_s2": a_g[1],
+        "inertia_force_x_N": force_x,
+        "inertia_force_z_N": force_z,
+        "torque_two_mass_Nm": torque_two,
+        "torque_model_Nm": torque_two,
+    }
+    notes = []
+    if inertia is None:
+        notes.append(("rod_dynamics.note_no_inertia", {}))
+    else:
+        m3_small, m3_big, m3_centre = rd.three_mass_split_kg(m, L, l_r, inertia)
+        couple = -inertia * accel
+        correction = rd.correction_couple_Nm(accel, m, L, l_r, inertia)
+        torque_three = rd.point_masses_inertia_torque_Nm([m3_small, m3_big, m3_centre], [v_a, v_b, v_g],
+                                                         [a_a, a_b, a_g], omega)
+        torque_couple = torque_two + correction * rate / omega
+        torque_exact = rd.rod_inertia_torque_Nm(m, inertia, v_g, a_g, rate, accel, omega)
+        chosen = {"two_mass": torque_two, "three_mass": torque_three, "correction_couple": torque_couple}[opts.model]
+        difference = torque_exact - torque_two
+        results.update({
+            "rod_moment_of_inertia_kg_m2": inertia,
+            "moment_of_inertia_ratio": inertia / inertia_two,
+            "three_mass_small_end_kg": m3_small,
+            "three_mass_big_end_kg": m3_big,
+            "three_mass_centre_kg": m3_centre,
+            "inertia_couple_max_Nm": float(np.max(np.abs(couple))),
+            "correction_couple_max_Nm": float(np.max(np.abs(correction))),
+            "torque_max_abs_Nm": float(np.max(np.abs(chosen))),
+            "torque_exact_max_abs_Nm": float(np.max(np.abs(torque_exact))),
+            "torque_difference_max_abs_Nm": float(np.max(np.abs(difference))),
+            "torque_difference_relative": float(np.max(np.abs(difference)) / two_max) if two_max > 0 else 0.0,
+            "torque_exact_mean_Nm": float(np.mean(torque_exact)),
+        })
+        columns.update({"inertia_couple_Nm": couple, "correction_couple_Nm": correction,
+                        "torque_exact_Nm": torque_exact, "torque_difference_Nm": difference,
+                        "torque_model_Nm": chosen})
+        notes.append(("rod_dynamics.note_models", {"ratio": results["moment_of_inertia_ratio"],
+                                                   "difference": results["torque_difference_relative"] * 100.0}))
+        if m3_centre < 0:
+            notes.append(("rod_dynamics.note_negative_mass", {"mass": m3_centre}))
+    table = pd.DataFrame(columns)
+    if source == "spectral":
+        notes.append(("rod_dynamics.note_spectral", {}))
+    if motion.method == "approximate":
+        notes.append(("rod_dynamics.note_approximate", {}))
+    return StageOutput(data={}, results=results, tables={"rod_dynamics": table}, notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    f = output.tables["rod_dynamics"]
+    r = output.results
+    exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
+    angle = f["crank_angle_deg"].to_numpy()
+    period = 360.0 if ctx.scene is None or ctx.scene.engine.mechanism != "planetary" else ctx.cycle_deg
+    rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
+    g = f.iloc[rows]
+    columns = [
+        ("<i>α</i>, °", labels, 0),
+        ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"].to_numpy(), 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"].to_numpy(), 0),
+        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"].to_numpy(), 0),
+        ("<i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_two_mass_Nm"].to_numpy(), 2),
+    ]
+    if exact:
+        columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"].to_numpy(), 2)]
+        columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"].to_numpy(), 2),
+                    ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"].to_numpy(), 3)]
+    table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
+                      css_class="data wide")
+
+    inside = angle < period
+    fig, axes = new_figure(16, 14, nrows=3, sharex=True)
+    axes[0].plot(angle[inside], f["rod_angular_velocity_rad_s"].to_numpy()[inside], color="C0")
+    axes[0].set_ylabel(t("rod_dynamics.axis_omega"))
+    axes[1].plot(angle[inside], f["rod_angular_acceleration_rad_s2"].to_numpy()[inside], color="C1")
+    axes[1].set_ylabel(t("rod_dynamics.axis_epsilon"))
+    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"].to_numpy()[inside], color="C2", label="x")
+    axes[2].plot(angle[inside], f["cm_acceleration_z_m_s2"].to_numpy()[inside], color="C3", ls="--", label="z")
+    axes[2].set_ylabel(t("rod_dynamics.axis_cm"))
+    axes[2].legend(loc="upper right", fontsize=8)
+    for ax in axes:
+        ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(axes[2], period, t("axis.crank_angle"))
+    figure_motion = ctx.figure(fig, t("rod_dynamics.motion_caption"), "rod_motion")
+
+    fig, axes = new_figure(16, 11 if exact else 6, nrows=2 if exact else 1, sharex=True)
+    top = axes[0] if exact else axes
+    top.plot(angle[inside], f["torque_two_mass_Nm"].to_numpy()[inside], color="0.45" if exact else "C0",
+             ls="--" if exact else "-", label=t("rod_dynamics.two_mass"))
+    if exact:
+        top.plot(angle[inside], f["torque_exact_Nm"].to_numpy()[inside], color="C0", label=t("rod_dynamics.exact"))
+        axes[1].plot(angle[inside], f["torque_difference_Nm"].to_numpy()[inside], color="C3",
+                     label=t("rod_dynamics.difference"))
+        axes[1].plot(angle[inside], f["inertia_couple_Nm"].to_numpy()[inside], color="C4", ls=":",
+                     label=t("rod_dynamics.couple"))
+        axes[1].set_ylabel(t("rod_dynamics.axis_torque"))
+        axes[1].legend(loc="upper right", fontsize=8)
+    top.set_ylabel(t("rod_dynamics.axis_torque"))
+    top.legend(loc="upper right", fontsize=8)
+    for ax in (axes if exact else [axes]):
+        ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(axes[1] if exact else axes, period, t("axis.crank_angle"))
+    figure_torque = ctx.figure(fig, t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
+                               "rod_torque")
+
+    if exact:
+        ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),
+                       difference=ctx.num(r["torque_difference_max_abs_Nm"]),
+                       relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
+                       model=t("rod_dynamics.model_" + r["model"])))
+    else:
+        ctx.conclude(t("rod_dynamics.conclusion_two", cm=ctx.num(r["cm_acceleration_max_m_s2"]),
+                       torque=ctx.num(r["torque_two_mass_max_abs_Nm"])))
+    return ctx.render_template("sections/rod_dynamics.html.j2", r=r, exact=exact, table=table,
+                               figure_motion=figure_motion, figure_torque=figure_torque)
+
+
+ROD_DYNAMICS_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="rod_dynamics",
+    title_key="rod_dynamics.title",
+    requires=(KINEMATICS,),
+    provides=(),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+    options_table="rod_dynamics",
+    options_model=RodDynamicsOptions,
+)

@@ -1,0 +1,655 @@
+"""Crankshaft speed fluctuation as an initial-value problem; torsional multi-mass model (issue 7, item 3)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import math
+from typing import Annotated, Literal
+
+import numpy as np
+import pandas as pd
+from markupsafe import Markup
+from pydantic import BaseModel, BeforeValidator, ConfigDict, model_validator
+
+from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import speed_fluctuation as sf
+from crankdyn.physics import torsion as tor
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.i18n import superscript
+from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.units import parse_quantity
+
+from crankdyn_builtin.flywheel.stage import crank_train
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+METHODS = ("RK45", "Radau", "BDF", "LSODA")
+#: Tolerances of the single-mass comparison (the exact reference makes every error a true error).
+SINGLE_MASS_RTOLS = (1e-3, 1e-5, 1e-7)
+#: rtol of the single-mass run shown in the report.
+SINGLE_MASS_RTOL = 1e-8
+#: Smallest speed, as a fraction of the mean, for which the model is accepted.
+MIN_SPEED_FRACTION = 0.5
+#: Highest harmonic order listed in the torsional section.
+MAX_ORDER = 12.0
+
+
+def _stiffness(kind_max: float = 1e12):
+    return _quantity("torsional_stiffness", gt=0, le=kind_max, unit="N*m/rad")
+
+
+def _stiffness_list(value):
+    """One stiffness for every span, or a list with one per span."""
+    items = value if isinstance(value, list) else [value]
+    if not items:
+        raise ValueError("give a stiffness such as '3e5 N*m/rad', or a list with one per span")
+    out = []
+    for item in items:
+        stiffness = parse_quantity(item, "torsional_stiffness")
+        if not 0 < stiffness <= 1e12:
+            raise ValueError(f"{item!r}: must be > 0 and <= 1e12 N*m/rad")
+        out.append(stiffness)
+    return out if isinstance(value, list) else out[0]
+
+
+class TorsionOptions(BaseModel):
+    """The [torsion] table: the torsional multi-mass model of the crankshaft."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    span_stiffness: Annotated[float | list[float], BeforeValidator(_stiffness_list)]
+    flywheel_stiffness: _stiffness() | None = None
+    free_end_inertia: _quantity("moment_of_inertia", gt=0, le=1e6, unit="kg*m^2") | None = None
+    free_end_stiffness: _stiffness() | None = None
+    load_inertia: _quantity("moment_of_inertia", gt=0, le=1e6, unit="kg*m^2") | None = None
+    coupling_stiffness: _stiffness() | None = None
+    damping_ratio: _number(ge=0, lt=1) = 0.02
+    solver: Literal["auto", "RK45", "Radau", "BDF", "LSODA"] = "auto"
+    rtol: _number(ge=1e-10, le=1e-2) = 1e-4
+    steady_tolerance: _number(gt=0, le=0.1) = 1e-3
+    max_cycles: _number(ge=1, le=200) = 30
+    compare_solvers: bool = True
+    compare_rtols: list[_number(ge=1e-10, le=1e-2)] = [1e-3, 1e-4]
+    reference_rtol: _number(ge=1e-12, le=1e-4) = 1e-6
+    compare_fraction: _number(gt=0, le=1) = 0.25
+    explicit_budget: _number(ge=100, le=1e7) = 20000
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "TorsionOptions":
+        if (self.free_end_inertia is None) != (self.free_end_stiffness is None):
+            raise ValueError("give free_end_inertia and free_end_stiffness together (a disc ahead of crank 1: "
+                             "timing gear, pulley or damper, and the stiffness of the crank nose), or neither")
+        if (self.load_inertia is None) != (self.coupling_stiffness is None):
+            raise ValueError("give load_inertia and coupling_stiffness together (the load disc and the coupling "
+                             "between the flywheel and it), or neither (the load torque then acts on the flywheel)")
+        if self.reference_rtol >= min(self.compare_rtols, default=1.0):
+            raise ValueError("reference_rtol must be smaller than every compare_rtols value")
+        return self
+
+
+def applies(scene) -> str | None:
+    if "flywheel" not in scene.plugin_tables():
+        return "the scene has no [flywheel] table"
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    return None
+
+
+# --------------------------------------------------------------------------- single mass
+
+def _single_mass(scene, torque, bays, design, train):
+    omega_n = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+    period = math.pi * torque.strokes
+    constant = design.flywheel_inertia_kg_m2 + design.engine_inertia_kg_m2
+    inertia = train.series(constant)
+    _, derivative = inertia(alpha)
+    gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, omega_n)
+    gas_series = sf.PeriodicSeries.from_samples(gas, period)
+    try:
+        exact = sf.periodic_speed(gas_series, inertia, omega_n)
+    except ValueError:
+        exact = None
+    if exact is None or exact.omega_min_rad_s < MIN_SPEED_FRACTION * exact.omega_mean_rad_s:
+        raise SceneError(Problem("flywheel.inertia", f"{design.flywheel_inertia_kg_m2:.4g} kg*m^2",
+                                 "too small: with the variable inertia of the crank mechanisms the crankshaft would "
+                                 "slow to less than half its mean speed once per cycle (or stop); give a larger "
+                                 "flywheel or a smaller required_irregularity"))
+    return inertia, gas, gas_series, exact
+
+
+def _flywheel_for(delta_required, design, gas_series, train, omega_n):
+    """Flywheel inertia for which the exact periodic solution has the required irregularity."""
+    own = design.engine_inertia_kg_m2
+    total_mechanism = train.series(0.0).mean_kg_m2
+
+    def delta(flywheel):
+        return sf.periodic_speed(gas_series, train.series(flywheel + own), omega_n).irregularity
+
+    flywheel = design.required_flywheel_inertia_kg_m2
+    for _ in range(8):  # delta ~ 1/J: a fixed-point iteration on J_total converges in a few steps
+        total = flywheel + own + total_mechanism
+        new = max(total * delta(flywheel) / delta_required - own - total_mechanism, 0.0)
+        if abs(new - flywheel) <= 1e-12 * max(total, 1e-30):
+            flywheel = new
+            break
+        flywheel = new
+    return flywheel
+
+
+def _energy_curve(torque, design, omega_n):
+    """omega(alpha) of the energy method: omega_m + (W - W_mid) / (J omega_m), constant J."""
+    alpha = np.radians(torque.crank_angle_deg)
+    step = alpha[1] - alpha[0]
+    excess = torque.torque_Nm - np.mean(torque.torque_Nm)
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (excess[:-1] + excess[1:]) * step)])
+    total = design.flywheel_inertia_kg_m2 + design.engine_inertia_kg_m2 + design.mechanism_inertia_mean_kg_m2
+    return omega_n + (work - 0.5 * (work.max() + work.min())) / (total * omega_n)
+
+
+def _run_record(run, error, extra=None):
+    """One solver run as reported. A run is a success only with every figure present: a run that
+    finished but whose error cannot be measured (no steps, or non-finite values) is a failure with
+    its reason, never ``success`` beside a missing number."""
+    extra = dict(extra or {})
+    values = [error] + [extra[k] for k in ("error_twist_relative",) if k in extra]
+    complete = all(v is not None and math.isfinite(v) for v in values)
+    success = bool(run.success and complete)
+    message = str(run.message)
+    if run.success and not complete:
+        message = "finished, but its error could not be measured (no steps or non-finite values)"
+        extra = {k: (None if k == "error_twist_relative" else v) for k, v in extra.items()}
+    record = {"method": run.method, "rtol": run.rtol, "success": success, "message": message, "steps": run.steps,
+              "steps_needed": run.steps_needed if math.isfinite(run.steps_needed) else None,
+              "nfev": run.nfev, "njev": run.njev, "nlu": run.nlu, "time_s": run.time_s,
+              "progress": run.progress, "error_relative": error if success else None}
+    record.update(extra)
+    return record
+
+
+def _single_mass_solvers(gas_series, inertia, exact, omega_n):
+    rhs = sf.single_mass_rhs(gas_series, exact.load_torque_Nm, inertia)
+    y0 = np.array([0.0, float(exact.omega_at(0.0))])
+    span = (0.0, exact.cycle_time_s)
+    # One degree of freedom: the linearisation d(omega_dot)/d(omega) = -J' omega / J is the only
+    # eigenvalue (the angle does not feed back stiffly), so its largest value over the cycle decides.
+    j, dj = inertia(exact.angle_rad)
+    rate = float(np.max(np.abs(dj * exact.omega_rad_s / j)))
+    # Wavenumbers of the series per radian of shaft angle are the orders per revolution.
+    resolved = sf.significant_order(gas_series.wavenumbers, gas_series.coefficients[:, 0]) * omega_n
+    choice = sf.choose_solver([-rate], exact.cycle_time_s, resolved)
+
+    def atol(rtol):
+        return [rtol * 1e-3, rtol * 1e-3 * omega_n]
+
+    records = []
+    for method in METHODS:
+        for rtol in SINGLE_MASS_RTOLS:
+            run = sf.run_solver(rhs, span, y0, method, rtol, atol(rtol))
+            records.append(_run_record(run, sf.phase_error(run, exact)))
+    chosen = sf.run_solver(rhs, span, y0, choice.method, SINGLE_MASS_RTOL, atol(SINGLE_MASS_RTOL), dense_output=True)
+    times = np.linspace(0.0, exact.cycle_time_s, 4097)
+    dense = chosen.sol(times)
+    omega_solver = dense[1]
+    w_max, w_min = float(omega_solver.max()), float(omega_solver.min())
+    summary = _choice_record(choice, "single")
+    chosen_error = sf.phase_error(chosen, exact)
+    summary.update({"rtol": SINGLE_MASS_RTOL, "steps": chosen.steps, "nfev": chosen.nfev, "time_s": chosen.time_s,
+                    "error_relative": chosen_error if math.isfinite(chosen_error) else None,
+                    "irregularity": (w_max - w_min) / (0.5 * (w_max + w_min)),
+                    "periodicity_error": float(abs(chosen.y[1, -1] - y0[1]) / omega_n),
+                    "end_angle_error_rad": float(chosen.y[0, -1] - gas_series.period_rad)})
+    return summary, records, (dense[0], omega_solver)
+
+
+def _choice_record(choice: sf.SolverChoice, kind: str, forced: str | None = None) -> dict:
+    method = forced or choice.method
+    if forced:
+        reason = f"{forced} as the scene asks (solver = \"{forced}\")"
+    elif kind == "single":
+        reason = (f"{choice.method}: one degree of freedom whose only eigenvalue, |J' omega / J| <= "
+                  f"{choice.fastest_rad_s:.3g} 1/s, lets RK45 take {choice.stability_steps:.3g} steps per cycle "
+                  f"for stability while following the torque needs about {choice.resolution_steps:.3g}: not stiff, "
+                  f"the explicit solver is the cheapest")
+    elif choice.stiff:
+        reason = (f"Radau: stiff - the fastest shaft mode (|lambda| = {choice.fastest_rad_s:.3g} 1/s) limits RK45 to "
+                  f"steps below {choice.stable_step_s:.3g} s, {choice.stability_steps:.3g} steps per cycle, while the "
+                  f"solution only needs about {choice.resolution_steps:.3g} to follow the torque harmonics up to "
+                  f"{choice.resolved_frequency_rad_s:.3g} rad/s (ratio {choice.ratio:.3g} > "
+                  f"{sf.STIFFNESS_THRESHOLD:g}); Radau IIA is A- and L-stable, BDF of order 3-5 is not A-stable for "
+                  f"lightly damped modes")
+    else:
+        reason = (f"RK45: not stiff - RK45 needs {choice.stability_steps:.3g} steps per cycle for stability and about "
+                  f"{choice.resolution_steps:.3g} to follow the solution (ratio {choice.ratio:.3g} <= "
+                  f"{sf.STIFFNESS_THRESHOLD:g}), and an explicit step is cheaper than an implicit one")
+    return {"method": method, "automatic": forced is None, "stiff": choice.stiff, "reason": reason,
+            "fastest_eigenvalue_rad_s": choice.fastest_rad_s,
+            "stable_step_s": choice.stable_step_s if math.isfinite(choice.stable_step_s) else None,
+            "stability_steps_per_cycle": choice.stability_steps,
+            "resolved_frequency_rad_s": choice.resolved_frequency_rad_s,
+            "resolution_steps_per_cycle": choice.resolution_steps, "stiffness_ratio": choice.ratio}
+
+
+# --------------------------------------------------------------------------- torsion
+
+def _spans(opts: TorsionOptions, cranks: int, has_flywheel: bool = True) -> list[float]:
+    given = opts.span_stiffness
+    if isinstance(given, list):
+        if len(given) != cranks - 1 and not (cranks == 1 and len(given) == 0):
+            raise SceneError(Problem("torsion.span_stiffness", f"{len(given)} values",
+                                     f"needs one stiffness per span between adjacent cranks ({cranks - 1}), "
+                                     "or one value for all"))
+        spans = list(given)
+    else:
+        spans = [given] * (cranks - 1)
+    first = spans[-1] if spans else (given if not isinstance(given, list) else None)
+    fly = opts.flywheel_stiffness if opts.flywheel_stiffness is not None else first
+    if has_flywheel:
+        if fly is None:
+            raise SceneError(Problem("torsion.flywheel_stiffness", "(missing)",
+                                     "a one-crank engine needs the stiffness between its crank and the flywheel"))
+        spans.append(fly)
+    if opts.load_inertia is not None:
+        spans.append(opts.coupling_stiffness)
+    return spans
+
+
+def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOptions):
+    omega_n = torque.angular_velocity_rad_s
+    cranks = train.cranks
+    has_flywheel = design.flywheel_inertia_kg_m2 > 0  # none when the engine's own inertia suffices
+    alpha = np.radians(torque.crank_angle_deg)
+    period = math.pi * torque.strokes
+    shaft_share = design.engine_inertia_kg_m2 / cranks
+    crank_series = [train.series(shaft_share, crank=k) for k in range(cranks)]
+    total_torque = crank_loads.tangential_Pa * crank_loads.crank_radius_m * crank_loads.piston_area_m2  # (cranks, N)
+    gas = np.array([sf.gas_torque_Nm(total_torque[k], crank_series[k](alpha)[1], omega_n) for k in range(cranks)])
+    gas_series = sf.PeriodicSeries.from_samples(gas.T, period)
+    front = 1 if opts.free_end_inertia is not None else 0
+    spans = ([opts.free_end_stiffness] if front else []) + _spans(opts, cranks, has_flywheel)
+    names = (["free end"] if front else []) + [f"crank {k + 1}" for k in range(cranks)] \
+        + (["flywheel"] if has_flywheel else []) + (["load"] if opts.load_inertia else [])
+    mean_inertias = np.array(([opts.free_end_inertia] if front else []) + [s.mean_kg_m2 for s in crank_series]
+                             + ([design.flywheel_inertia_kg_m2] if has_flywheel else [])
+                             + ([opts.load_inertia] if opts.load_inertia else []))
+    crank_nodes = np.arange(front, front + cranks)
+    n = mean_inertias.size
+    if n < 2:
+        raise SceneError(Problem("torsion", "[torsion]", "a torsional model needs at least two discs: this engine has "
+                                 "one crank and needs no flywheel; give flywheel.inertia or a load disc"))
+    reference = front + cranks if has_flywheel else front + cranks - 1  # keeps the absolute angle
+    K = tor.stiffness_matrix(spans)
+    modes = tor.natural_modes(mean_inertias, spans)
+    C = tor.modal_damping_matrix(mean_inertias, spans, opts.damping_ratio)
+    eigen = tor.modal_eigenvalues(modes.omega_rad_s, opts.damping_ratio)
+    load = float(gas_series.mean.sum())
+    model = tor.ShaftModel(gas_series, crank_series, crank_nodes, mean_inertias, K, C, load, reference)
+
+    # Harmonic orders of one crank's torque (gas + inertia at the nominal speed).
+    revolutions = torque.strokes / 2
+    orders, coefficients = sf.harmonic_amplitudes(total_torque[0], revolutions, 1e9)
+    significant = sf.significant_order(orders, np.abs(coefficients))
+    period_s = period / omega_n
+    choice = sf.choose_solver(eigen, period_s, significant * omega_n)
+    forced = None if opts.solver == "auto" else opts.solver
+    method = forced or choice.method
+
+    # Start from the linear frequency-domain solution (constant mean inertias, torques at
+    # constant speed): close to the periodic state, so few cycles remain to converge.
+    node_torque = np.zeros((alpha.size, n))
+    node_torque[:, crank_nodes] = total_torque.T
+    node_torque[:, -1] -= total_torque.sum(axis=0).mean()
+    linear = tor.forced_response(mean_inertias, K, C, sf.PeriodicSeries.from_samples(node_torque, period), omega_n,
+                                 reference)
+    x0 = linear(0.0)
+    v0 = omega_n * (1.0 + linear.derivative()(0.0))
+    v0 += float(exact.omega_at(0.0)) - v0[reference]
+    z0 = model.state(x0 - x0[reference], v0)
+    twist_scale = max(float(np.max(np.abs(total_torque))) / min(spans), 1e-12)
+    speed_scale = max(exact.omega_max_rad_s - exact.omega_min_rad_s, 1e-9 * omega_n)
+
+    def atol(rtol):
+        return np.concatenate([[rtol * 1e-3], np.full(n - 1, rtol * 1e-3 * twist_scale), np.full(n, rtol * 1e-3 * omega_n)])
+
+    steady = tor.periodic_steady_state(model, z0, period, period_s, method, opts.rtol, atol(opts.rtol),
+                                       twist_scale, speed_scale, opts.steady_tolerance, int(opts.max_cycles))
+    final = steady.runs[-1]
+    if not final.success or final.sol is None:
+        raise SceneError(Problem("torsion.solver", method, f"the solver failed on the torsional model ({final.message}); "
+                                 "try solver = \"auto\" or \"Radau\""))
+    times = np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1]
+    z = final.sol(times)
+    theta = model.P @ z[:n]
+    speeds = z[n:]
+    flywheel_angle = np.degrees(theta[reference] - theta[reference][0])
+    twist = theta[1:] - theta[:-1]  # span j: disc j+1 minus disc j
+    span_torque = np.asarray(spans)[:, None] * twist
+
+    # The rigid-shaft (single-mass) flywheel speed at the same flywheel angles, for comparison.
+    rigid = exact.omega_at(np.radians(flywheel_angle))
+    fly_speed = speeds[reference]
+    f_max, f_min = float(fly_speed.max()), float(fly_speed.min())
+    mode_rows = []
+    for s in range(1, n):
+        mode_rows.append({"mode": s, "natural_frequency_rad_s": float(modes.omega_rad_s[s]),
+                          "natural_frequency_Hz": float(modes.omega_rad_s[s] / (2 * math.pi)),
+                          "shape": [float(a) for a in modes.shapes[:, s]]})
+    phases = train.phase_rad
+    harmonic_rows = []
+    for order, c in zip(orders, coefficients):
+        if order > MAX_ORDER + 1e-9:
+            break
+        harmonic_rows.append({
+            "order": float(order), "amplitude_Nm": float(abs(c)),
+            "vector_sum": [tor.relative_vector_sum(modes.shapes[crank_nodes[train.crank_of_cylinder], s], phases, order)
+                           for s in range(1, n)],
+            "critical_rpm": [float(tor.critical_speed_rpm(modes.omega_rad_s[s], order)) for s in range(1, n)]})
+
+    results = {
+        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(names, mean_inertias)],
+        "reference_node": int(reference),
+        "span_stiffness_N_m_rad": [float(k) for k in spans],
+        "damping_ratio": opts.damping_ratio,
+        "modes": mode_rows,
+        "harmonics": harmonic_rows,
+        "significant_order": significant,
+        "solver": {**_choice_record(choice, "torsion", forced), "rtol": opts.rtol},
+        "steady_state": {"cycles": steady.cycles, "converged": steady.converged,
+                         "change": steady.change if math.isfinite(steady.change) else None,
+                         "tolerance": opts.steady_tolerance, "load_torque_Nm": steady.load_torque_Nm,
+                         "damping_loss_W": (load - steady.load_torque_Nm) * omega_n,
+                         "steps_per_cycle": final.steps, "nfev_per_cycle": final.nfev,
+                         "time_s": sum(r.time_s for r in steady.runs)},
+        "twist_max_rad": [float(np.max(np.abs(t))) for t in twist],
+        "span_torque_max_Nm": [float(np.max(np.abs(t))) for t in span_torque],
+        "flywheel_irregularity": (f_max - f_min) / (0.5 * (f_max + f_min)),
+        "flywheel_speed_deviation_from_rigid_relative": float(np.max(np.abs(fly_speed - rigid)) / omega_n),
+        "compare_fraction": opts.compare_fraction,
+        "reference_rtol": opts.reference_rtol,
+        "solvers": [],
+    }
+
+    if opts.compare_solvers:
+        results["solvers"] = _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n)
+    tables = {"torsion": pd.DataFrame({"shaft_angle_deg": flywheel_angle,
+                                       **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
+                                       **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
+                                       **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in
+                                          enumerate(names)},
+                                       "rigid_speed_rad_s": rigid})}
+    return results, tables
+
+
+def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):
+    """Every solver over a window of the periodic state (a quarter cycle by default), against a
+    Radau run at a much tighter tolerance. RK45 gets at most ``explicit_budget`` evaluations,
+    and no more than 10 times what the costliest implicit solver used at the same rtol."""
+    span = (0.0, steady.cycle_time_s * opts.compare_fraction)
+    z = steady.state
+    reference = sf.run_solver(model, span, z, "Radau", opts.reference_rtol, atol(opts.reference_rtol),
+                              jac=model.jacobian, dense_output=True)
+    records = [_run_record(reference, 0.0, {"reference": True, "error_twist_relative": 0.0})]
+    if not reference.success:
+        return records
+    for rtol in opts.compare_rtols:
+        implicit = []
+        for method in ("Radau", "BDF", "LSODA", "RK45"):
+            budget = None
+            if method == "RK45":
+                budget = int(min(opts.explicit_budget, 10 * max(implicit + [100])))
+            run = sf.run_solver(model, span, z, method, rtol, atol(rtol), jac=model.jacobian, max_nfev=budget)
+            if run.success and run.steps > 0:
+                exact = reference.sol(run.t)
+                with np.errstate(all="ignore"):
+                    error = float(np.max(np.abs(run.y[n:] - exact[n:]))) / omega_n
+                    error_twist = float(np.max(np.abs(run.y[1:n] - exact[1:n]))) / twist_scale
+            else:
+                error = error_twist = None
+            if method != "RK45":
+                implicit.append(run.nfev)
+            records.append(_run_record(run, error, {"reference": False, "error_twist_relative": error_twist}))
+    return records
+
+
+# --------------------------------------------------------------------------- stage
+
+def run(scene, inputs) -> StageOutput:
+    torque, bays, crank_loads, design = inputs[ENGINE_TORQUE], inputs[BAY_LOADS], inputs[CRANK_LOADS], inputs[FLYWHEEL]
+    torsion_opts = options(scene, "torsion", TorsionOptions) if "torsion" in scene.plugin_tables() else None
+    omega_n = torque.angular_velocity_rad_s
+    train = crank_train(scene, bays)
+    inertia, gas, gas_series, exact = _single_mass(scene, torque, bays, design, train)
+    alpha = np.radians(torque.crank_angle_deg)
+    j_grid, dj_grid = inertia(alpha)
+    summary, records, (solver_alpha, solver_omega) = _single_mass_solvers(gas_series, inertia, exact, omega_n)
+
+    energy_delta = design.irregularity
+    results = {
+        "reference": "quadrature",
+        "inertia_mean_kg_m2": inertia.mean_kg_m2,
+        "inertia_min_kg_m2": float(np.min(exact.inertia_kg_m2)),
+        "inertia_max_kg_m2": float(np.max(exact.inertia_kg_m2)),
+        "load_torque_Nm": exact.load_torque_Nm,
+        "omega_mean_rad_s": exact.omega_mean_rad_s,
+        "omega_max_rad_s": exact.omega_max_rad_s,
+        "omega_min_rad_s": exact.omega_min_rad_s,
+        "omega_max_crank_angle_deg": math.degrees(exact.omega_max_angle_rad),
+        "omega_min_crank_angle_deg": math.degrees(exact.omega_min_angle_rad),
+        "cycle_time_s": exact.cycle_time_s,
+        "irregularity": exact.irregularity,
+        "irregularity_energy": energy_delta,
+        "irregularity_deviation_percent": 100.0 * (exact.irregularity - energy_delta) / energy_delta,
+        "flywheel_inertia_energy_kg_m2": design.required_flywheel_inertia_kg_m2,
+        "flywheel_inertia_ode_kg_m2": None,
+        "flywheel_inertia_deviation_percent": None,
+        "solver": summary,
+        "solvers": records,
+        "torsion": None,
+    }
+    if design.required_irregularity is not None and design.required_flywheel_inertia_kg_m2:
+        ode = _flywheel_for(design.required_irregularity, design, gas_series, train, omega_n)
+        results["flywheel_inertia_ode_kg_m2"] = ode
+        results["flywheel_inertia_deviation_percent"] = 100.0 * (ode - design.required_flywheel_inertia_kg_m2) \
+            / design.required_flywheel_inertia_kg_m2
+    tables = {"speed_fluctuation": pd.DataFrame({
+        "crank_angle_deg": torque.crank_angle_deg,
+        "inertia_kg_m2": j_grid,
+        "inertia_derivative_kg_m2": dj_grid,
+        "gas_torque_Nm": gas,
+        "omega_rad_s": exact.omega_at(alpha),
+        "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
+        "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
+    })}
+    notes = [("speed_fluctuation.note_reference", {})]
+    if torsion_opts is not None:
+        torsion, torsion_tables = _torsion(scene, torque, crank_loads, design, train, exact, torsion_opts)
+        results["torsion"] = torsion
+        tables.update(torsion_tables)
+        if not torsion["steady_state"]["converged"]:
+            notes.append(("speed_fluctuation.note_not_converged", {"cycles": torsion["steady_state"]["cycles"]}))
+    return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+# --------------------------------------------------------------------------- report
+
+def _solver_table(ctx, records, caption, twist=False):
+    t = ctx.t
+    rows = [r for r in records if not r.get("reference")]
+    columns = [
+        (t("speed_fluctuation.col_method"), [r["method"] for r in rows], None),
+        ("rtol", [_sci(r["rtol"], t.decimal_separator).replace("1,0·", "").replace("1.0·", "") for r in rows], None),
+        (t("speed_fluctuation.col_steps"), [_steps_text(ctx, r) for r in rows], None),
+        (t("speed_fluctuation.col_nfev"), [str(r["nfev"]) for r in rows], None),
+        (t("speed_fluctuation.col_njev"), [f"{r['njev']}/{r['nlu']}" for r in rows], None),
+        (t("speed_fluctuation.col_time"), [r["time_s"] * 1e3 for r in rows], 1),
+        (t("speed_fluctuation.col_error"), [_error_text(ctx, r["error_relative"]) for r in rows], None),
+    ]
+    if twist:
+        columns.append((t("speed_fluctuation.col_error_twist"),
+                        [_error_text(ctx, r.get("error_twist_relative")) for r in rows], None))
+    return ctx.table(columns, caption=caption)
+
+
+def _steps_text(ctx, r):
+    if r["success"]:
+        return str(r["steps"])
+    if r["steps_needed"] is None:
+        return "—"
+    return ctx.t("speed_fluctuation.steps_stopped", steps=r["steps"], percent=ctx.num(100 * r["progress"], 2),
+                 needed=ctx.num(r["steps_needed"], 2))
+
+
+def _error_text(ctx, value):
+    return _sci(value, ctx.t.decimal_separator)
+
+
+def _sci(value, separator: str = ".") -> str:
+    """1.2·10⁻⁵ style for errors and tolerances in the text (— when missing)."""
+    if value is None or not math.isfinite(value):
+        return "—"
+    if value == 0:
+        return "0"
+    mantissa, exponent = f"{value:.1e}".split("e")
+    return f"{mantissa.replace('.', separator)}·10{superscript(int(exponent))}".replace("-", "−")
+
+
+def _error_figure(ctx, records, caption, name, key="error_relative"):
+    t = ctx.t
+    fig, ax = new_figure(16, 9)
+    for i, method in enumerate(METHODS):
+        rows = [r for r in records if r["method"] == method and not r.get("reference") and r[key] is not None
+                and r[key] > 0]
+        if rows:
+            ax.loglog([r["time_s"] for r in rows], [r[key] for r in rows], "o-", color=f"C{i}", label=method)
+            for r in rows:
+                ax.annotate(f"{r['rtol']:.0e}", (r["time_s"], r[key]), fontsize=6, xytext=(3, 3),
+                            textcoords="offset points")
+    ax.set_xlabel(t("speed_fluctuation.axis_time"))
+    ax.set_ylabel(t("speed_fluctuation.axis_error"))
+    ax.legend(loc="best", fontsize=8)
+    return ctx.figure(fig, caption, name)
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    r = output.results
+    f = output.tables["speed_fluctuation"]
+    angle = f["crank_angle_deg"].to_numpy()
+
+    fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
+    axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
+    axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
+                 label=t("speed_fluctuation.solver_curve", method=r["solver"]["method"]))
+    axes[0].plot(angle, f["omega_energy_method_rad_s"], color="C2", ls=":", label=t("speed_fluctuation.energy_curve"))
+    axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
+    axes[0].legend(loc="upper right", fontsize=8)
+    axes[1].plot(angle, f["inertia_kg_m2"], color="C4")
+    axes[1].set_ylabel(t("speed_fluctuation.axis_inertia"))
+    crank_angle_axis(axes[1], ctx.cycle_deg, t("axis.crank_angle"))
+    figure_speed = ctx.figure(fig, t("speed_fluctuation.speed_caption"), "speed")
+    table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"))
+    figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single")
+
+    torsion = r["torsion"]
+    parts = {}
+    if torsion is not None:
+        tf = output.tables["torsion"]
+        nodes = torsion["nodes"]
+        node_names = [_node_name(t, node["name"]) for node in nodes]
+        modes = torsion["modes"]
+        # Created in the order the template shows them: tables and figures are numbered as made.
+        parts["table_nodes"] = ctx.table(
+            [(t("speed_fluctuation.col_node"), [f"{i + 1}: {name}" for i, name in enumerate(node_names)], None),
+             ("<i>J</i>, " + t("flywheel.unit_kg_m2"), [ctx.num(n["inertia_mean_kg_m2"]) for n in nodes], None),
+             ("<i>k</i>, " + t("speed_fluctuation.unit_N_m_rad"),
+              [ctx.num(k) for k in torsion["span_stiffness_N_m_rad"]] + ["—"], None),
+             (t("speed_fluctuation.col_twist"), [ctx.num(x * 1e3) for x in torsion["twist_max_rad"]] + ["—"], None),
+             (t("speed_fluctuation.col_span_torque"), [ctx.num(x) for x in torsion["span_torque_max_Nm"]] + ["—"],
+              None)],
+            caption=t("speed_fluctuation.nodes_caption"))
+        parts["table_modes"] = ctx.table(
+            [(t("speed_fluctuation.col_mode"), [str(m["mode"]) for m in modes], None),
+             ("<i>ω</i>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
+             ("<i>f</i>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
+            + [(Markup("<i>a</i><sub>") + str(i + 1) + Markup("</sub>"), [m["shape"][i] for m in modes], 3)
+               for i in range(len(nodes))],
+            caption=t("speed_fluctuation.modes_caption"))
+        fig, ax = new_figure(16, 7)
+        for m in modes[: min(3, len(modes))]:
+            ax.plot(range(1, len(nodes) + 1), m["shape"], "o-", label=t("speed_fluctuation.mode_label", mode=m["mode"],
+                                                                       f=ctx.num(m["natural_frequency_Hz"], 4)))
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_xticks(range(1, len(nodes) + 1))
+        ax.set_xlabel(t("speed_fluctuation.axis_node"))
+        ax.set_ylabel(t("speed_fluctuation.axis_amplitude"))
+        ax.legend(loc="best", fontsize=7)
+        parts["figure_modes"] = ctx.figure(fig, t("speed_fluctuation.modes_figure_caption"), "modes")
+        harmonics = torsion["harmonics"]
+        shown = modes[:2]
+        parts["table_harmonics"] = ctx.table(
+            [(Markup("<i>ν</i>"), [ctx.num(h["order"], 3) for h in harmonics], None),
+             (Markup("|<i>M</i><sub><i>ν</i></sub>|, ") + t("unit.Nm"), [h["amplitude_Nm"] for h in harmonics], 1)]
+            + [(t("speed_fluctuation.col_critical", mode=m["mode"]), [h["critical_rpm"][k] for h in harmonics], 0)
+               for k, m in enumerate(shown)]
+            + [(t("speed_fluctuation.col_vector_sum", mode=m["mode"]), [h["vector_sum"][k] for h in harmonics], 2)
+               for k, m in enumerate(shown)],
+            caption=t("speed_fluctuation.harmonics_caption"))
+        fig, axes = new_figure(16, 13, nrows=2, sharex=True)
+        shaft = tf["shaft_angle_deg"].to_numpy()
+        speed_columns = [c for c in tf.columns if c.startswith("speed_")]
+        reference = torsion["reference_node"]
+        axes[0].plot(shaft, tf[speed_columns[reference]], color="C0", label=node_names[reference])
+        axes[0].plot(shaft, tf["rigid_speed_rad_s"], color="C3", ls="--", lw=1, label=t("speed_fluctuation.rigid_speed"))
+        first_crank = next(i for i, node in enumerate(nodes) if node["name"].startswith("crank "))
+        axes[0].plot(shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank])
+        axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
+        axes[0].legend(loc="upper right", fontsize=7)
+        spans = [c for c in tf.columns if c.startswith("span_torque_")]
+        for j, column in enumerate(spans):
+            axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
+        axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
+        axes[1].legend(loc="upper right", fontsize=6, ncol=3)
+        crank_angle_axis(axes[1], ctx.cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
+        parts["figure_torsion"] = ctx.figure(fig, t("speed_fluctuation.torsion_caption"), "torsion")
+        if torsion["solvers"]:
+            parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
+                                                           t("speed_fluctuation.torsion_table_caption"), twist=True)
+            parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
+                                                            t("speed_fluctuation.torsion_figure_caption"),
+                                                            "solvers_torsion")
+        ctx.conclude(t("speed_fluctuation.conclusion_torsion", f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
+                       else "—", method=torsion["solver"]["method"],
+                       twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
+                       torque=ctx.num(max(torsion["span_torque_max_Nm"]))))
+    ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], 4),
+                   energy=ctx.num(r["irregularity_energy"], 4),
+                   deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
+    return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion,
+                               sci=lambda value: _sci(value, t.decimal_separator),
+                               figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
+                               **parts)
+
+
+def _node_name(t, name: str) -> str:
+    if name.startswith("crank "):
+        return t("speed_fluctuation.node_crank", k=name.split()[1])
+    return t("speed_fluctuation.node_" + name.replace(" ", "_"))
+
+
+SPEED_FLUCTUATION_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="speed_fluctuation",
+    title_key="speed_fluctuation.title",
+    requires=(ENGINE_TORQUE, BAY_LOADS, CRANK_LOADS, FLYWHEEL),
+    provides=(),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("denhartog1956", "hairer1996", "scipy2020"),
+    options_table="torsion",
+    options_model=TorsionOptions,
+)

@@ -1,0 +1,156 @@
+"""Crankshaft loads and the engine's output torque (Poda 2007 §4.3-4.4, tables B.3 and B.4)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
+from crankdyn.physics import crankshaft as cs
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.physics.extrema import first_argmax, first_argmin
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    return None
+
+
+def run(scene, inputs) -> StageOutput:
+    bays = inputs[BAY_LOADS]
+    e = scene.engine
+    layout = bays.layout
+    angle = bays.crank_angle_deg
+    R, area = bays.crank_radius_m, bays.piston_area_m2
+    pin, journal = cs.running_torques(bays.tangential_Pa)
+    q = cs.resultant_Pa(bays.tangential_Pa, bays.radial_Pa, bays.centrifugal_Pa)
+    torque = journal[-1] * R * area
+    work_all = bays.indicated_work_J
+    revolutions = e.strokes / 2
+    mean = float(np.mean(torque))
+    from_work = work_all / (2 * np.pi * revolutions)
+    from_power = cs.torque_from_power_Nm(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm)
+    i_max, i_min = first_argmax(torque), first_argmin(torque)
+    combos = cs.dangerous_combinations(bays.radial_Pa, bays.tangential_Pa, q, journal)
+    results = {
+        "mean_Nm": mean,
+        "mean_from_work_Nm": from_work,
+        "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
+        "mean_from_power_Nm": from_power,
+        "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power if from_power else None,
+        "max_Nm": float(torque[i_max]),
+        "max_crank_angle_deg": float(angle[i_max]),
+        "min_Nm": float(torque[i_min]),
+        "min_crank_angle_deg": float(angle[i_min]),
+        "period_deg": layout.torque_period_deg if layout.even_firing else layout.cycle_deg,
+        "non_uniformity": cs.torque_non_uniformity(torque),
+        "indicated_power_W": work_all * e.rpm / 60.0 / revolutions,
+        "journals": [{"journal": f"{k + 1}-{k + 2 if k + 1 < layout.cranks else 0}",
+                      "max_abs_Nm": float(np.max(np.abs(journal[k])) * R * area)} for k in range(layout.cranks)],
+        "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),
+                                                 "z_Pa": float(bays.radial_Pa[k, i]),
+                                                 "t_Pa": float(bays.tangential_Pa[k, i]),
+                                                 "q_Pa": float(q[k, i]),
+                                                 "journal_t_Pa": float(journal[k, i])}
+                                          for kind, i in combo.items()}}
+                      for k, combo in enumerate(combos)],
+    }
+    columns = {"crank_angle_deg": angle}
+    for k in range(layout.cranks):
+        columns[f"crank{k + 1}_radial_Pa"] = bays.radial_Pa[k]
+        columns[f"crank{k + 1}_tangential_Pa"] = bays.tangential_Pa[k]
+        columns[f"crank{k + 1}_resultant_Pa"] = q[k]
+        columns[f"crank{k + 1}_pin_torque_Pa"] = pin[k]
+        columns[f"journal{k + 1}_torque_Pa"] = journal[k]
+    columns["output_torque_Nm"] = torque
+    data = {
+        ENGINE_TORQUE: EngineTorque(crank_angle_deg=angle, torque_Nm=torque, cylinders=e.cylinders, strokes=e.strokes,
+                                    indicated_work_J=work_all, angular_velocity_rad_s=e.angular_velocity_rad_s),
+        CRANK_LOADS: CrankLoads(crank_angle_deg=angle, tangential_Pa=bays.tangential_Pa, radial_Pa=bays.radial_Pa,
+                                resultant_Pa=q, pin_torque_Pa=pin, journal_torque_Pa=journal,
+                                centrifugal_Pa=bays.centrifugal_Pa, piston_area_m2=area, crank_radius_m=R),
+    }
+    return StageOutput(data=data, results=results, tables={"torque": pd.DataFrame(columns)})
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    r = output.results
+    f = output.tables["torque"]
+    cranks = sum(1 for c in f.columns if c.startswith("journal"))
+    if ctx.scene.engine.cylinders == 1:
+        return None  # one cylinder: its crank torque is already in the forces section
+    t = ctx.t
+    angle = f["crank_angle_deg"].to_numpy()
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    columns = [("<i>α</i>, °", labels, 0)]
+    for k in range(1, cranks + 1):
+        columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"].to_numpy()[rows] / 1e6, 3),
+                    (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"].to_numpy()[rows] / 1e6, 3),
+                    (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"].to_numpy()[rows] / 1e6, 3),
+                    (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"].to_numpy()[rows] / 1e6, 3)]
+    columns.append(("<i>M</i><sub>d</sub>, " + t("unit.Nm"), f["output_torque_Nm"].to_numpy()[rows], 1))
+    # Wide engines: split the B.3 table into chunks of cranks so it fits the page.
+    tables = []
+    per_table = 4
+    for start in range(0, cranks, per_table):
+        chunk = [columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
+        if start + per_table >= cranks:
+            chunk.append(columns[-1])
+        tables.append(ctx.table(chunk, caption=t("torque.table_b3_caption", first=start + 1,
+                                                   last=min(start + per_table, cranks)), css_class="data wide"))
+
+    fig, ax = new_figure(16, 8.5)
+    ax.plot(angle, f["output_torque_Nm"], color="C0", label=t("torque.output"))
+    ax.axhline(r["mean_Nm"], color="C3", ls="--", lw=1, label=t("torque.mean"))
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("torque.axis_torque"))
+    ax.legend(loc="upper right", fontsize=8)
+    figure_output = ctx.figure(fig, t("torque.output_caption"), "output_torque")
+
+    fig, ax = new_figure(16, 9)
+    for k in range(1, cranks + 1):
+        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("unit.MPa"))
+    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    figure_journals = ctx.figure(fig, t("torque.journals_caption"), "journal_torques")
+
+    danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
+    danger = ctx.table([
+        (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
+        (t("torque.criterion"), [t("torque.criterion_" + kind) for _, kind, _ in danger_rows], None),
+        ("<i>α</i>, °", [v["shaft_angle_deg"] for _, _, v in danger_rows], 0),
+        ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+        ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+        ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+        ("<i>t</i><sub>k</sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+    ], caption=t("torque.table_b4_caption"))
+
+    ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),
+                   deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
+                   max_angle=ctx.num(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),
+                   period=ctx.num(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
+    return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
+                               figure_journals=figure_journals, danger=danger)
+
+
+TORQUE_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="torque",
+    title_key="torque.title",
+    requires=(BAY_LOADS,),
+    provides=(ENGINE_TORQUE, CRANK_LOADS),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("poda2007",),
+)

@@ -1,0 +1,285 @@
+"""Vane engine with a crank-rocker parallelogram mechanism: mechanism and kinematics stage.
+
+Source: Klementev (2023). The vane engine is not a piston engine: its working volumes
+follow the vane angle, so its scenes are kinematics-only and this stage provides no
+``PistonMotion`` (the indicator, force and torque stages do not apply).
+
+Scene mapping: ``engine.stroke`` = 2r (the slider's travel along the rocker's slot),
+``engine.rod_length`` = l (the core's tail) or ``engine.rod_ratio`` = lambda = r/l.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from pydantic import BaseModel, ConfigDict
+from scipy import optimize
+
+from crankdyn.errors import Problem
+from crankdyn.physics import vane as vn
+from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.report.context import sample_rows
+from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.scene import number, options, quantity
+
+from crankdyn_builtin.offset_crank.stage import single_mechanism_problems
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+MECHANISM = "vane_crank_rocker"
+WORKING_CYCLE_DEG = (90.0, 810.0)  # one side of the vane: alpha = 90...450...810 (source)
+
+
+class VaneParams(BaseModel):
+    """The [mechanism] table of the vane engine (all optional)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    core_offset: quantity("length", ge=0, le=2.0, unit="mm", scale=1e-3) = "0 mm"
+    compare_rod_ratios: list[number(gt=0, lt=1)] = []
+
+
+def check(scene) -> list[Problem]:
+    problems = single_mechanism_problems(scene, "vane engine")
+    if scene.cycle is not None:
+        problems.append(Problem("cycle", "[cycle]", "the vane engine is studied for its kinematics only: its "
+                                "working volumes follow the vane angle, not a piston, so the indicator-diagram and "
+                                "force stages do not apply; remove [cycle]"))
+    if scene.masses is not None:
+        problems.append(Problem("masses", "[masses]", "the vane engine is studied for its kinematics only (the "
+                                "source gives no dynamics); remove [masses]"))
+    options(scene, "mechanism", VaneParams)
+    return problems
+
+
+VANE_MECHANISM = Mechanism(
+    name=MECHANISM,
+    summary="vane engine with a crank-rocker parallelogram converting mechanism (kinematics only)",
+    check=check,
+    params_model=VaneParams,
+)
+
+
+def applies(scene) -> str | None:
+    if scene.engine.mechanism != MECHANISM:
+        return f"the scene's mechanism is {scene.engine.mechanism!r}, not the vane engine"
+    return None
+
+
+def _curves(alpha, r, lam, omega, suffix=""):
+    return {
+        "core_angle_deg" + suffix: np.degrees(vn.core_angle_rad(alpha, lam)),
+        "vane_angle_deg" + suffix: np.degrees(vn.vane_angle_rad(alpha, lam)),
+        "core_angular_velocity_rad_s" + suffix: vn.core_angular_velocity_rad_s(alpha, lam, omega),
+        "core_angular_acceleration_rad_s2" + suffix: vn.core_angular_acceleration_rad_s2(alpha, lam, omega),
+        "slider_y_below_core_m" + suffix: vn.slider_height_below_core_m(alpha, r, lam),
+        "slider_y_from_lowest_m" + suffix: vn.slider_vertical_travel_m(alpha, r, lam),
+        "slider_vy_m_s" + suffix: vn.slider_vertical_velocity_m_s(alpha, r, lam, omega),
+        "slider_jy_m_s2" + suffix: vn.slider_vertical_acceleration_m_s2(alpha, r, lam, omega),
+        "slider_relative_m" + suffix: vn.slider_relative_position_m(alpha, r, lam),
+        "slider_relative_velocity_m_s" + suffix: vn.slider_relative_velocity_m_s(alpha, r, lam, omega),
+        "slider_relative_acceleration_m_s2" + suffix: vn.slider_relative_acceleration_m_s2(alpha, r, lam, omega),
+    }
+
+
+def run(scene, inputs) -> StageOutput:
+    engine = scene.engine
+    params = options(scene, "mechanism", VaneParams)
+    r, l_tail, omega = engine.crank_radius_m, engine.rod_length_m, engine.angular_velocity_rad_s
+    lam = r / l_tail
+    angle_deg = scene.crank_angles_deg
+    angle_deg = angle_deg[angle_deg < 360.0]  # the motion repeats every revolution
+    alpha = np.radians(angle_deg)
+
+    xk, yk = vn.rocker_position_m(alpha, r)
+    vxk, vyk = vn.rocker_velocity_m_s(alpha, r, omega)
+    jxk, jyk = vn.rocker_acceleration_m_s2(alpha, r, omega)
+    table = {"crank_angle_deg": angle_deg,
+             "rocker_x_m": xk, "rocker_y_m": yk, "rocker_vx_m_s": vxk, "rocker_vy_m_s": vyk,
+             "rocker_jx_m_s2": jxk, "rocker_jy_m_s2": jyk,
+             "slider_x_m": xk, "slider_vx_m_s": vxk, "slider_jx_m_s2": jxk}
+    table.update(_curves(alpha, r, lam, omega))
+    table["slider_rotation_deg"] = -table["core_angle_deg"]  # relative to the tail: the mirror of beta
+    compare = {"crank_angle_deg": angle_deg}
+    for other in params.compare_rod_ratios:
+        compare.update(_curves(alpha, r, other, omega, suffix=f"_lambda_{other:g}"))
+
+    lam_grid = np.linspace(0.01, 0.99, 99)
+    by_lambda = pd.DataFrame({
+        "rod_ratio": lam_grid,
+        "core_angle_max_deg": np.degrees(np.arcsin(lam_grid)),
+        "slider_vertical_travel_max_over_tail": [vn.slider_vertical_travel_max_m(1.0, x) / (1.0 / x) for x in lam_grid],
+        "slider_vertical_travel_max_over_crank": [vn.slider_vertical_travel_max_m(1.0, x) for x in lam_grid],
+        "acceleration_zero_deg": [float(np.degrees(vn.slider_vertical_acceleration_zeros_rad(x)[0])) for x in lam_grid],
+    })
+
+    zeros = np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam))
+    # Independent check of the closed form: a root search on j_yp itself around each zero.
+    found = [optimize.brentq(lambda a: float(vn.slider_vertical_acceleration_m_s2(a, r, lam, omega)),
+                             np.radians(z) - 0.2, np.radians(z) + 0.2, xtol=1e-14) for z in zeros]
+    zeros_check = float(np.max(np.abs(np.degrees(found) - zeros)))
+    y_max = vn.slider_vertical_travel_max_m(r, lam)
+    jy = table["slider_jy_m_s2"]
+    jr = table["slider_relative_acceleration_m_s2"]
+    results = {
+        "crank_radius_m": r,
+        "tail_length_m": l_tail,
+        "rod_ratio": lam,
+        "core_offset_m": params.core_offset,
+        "angular_velocity_rad_s": omega,
+        "core_angle_max_deg": float(np.degrees(vn.core_angle_max_rad(lam))),
+        "vane_angle_max_deg": float(np.degrees(vn.vane_angle_max_rad(lam))),
+        "rod_ratio_from_vane_angle": vn.rod_ratio_from_vane_angle(vn.vane_angle_max_rad(lam)),
+        "slider_vertical_travel_max_m": y_max,
+        "slider_vertical_travel_max_over_tail": y_max / l_tail,
+        "slider_vertical_acceleration_zeros_deg": [float(z) for z in zeros],
+        "slider_vertical_acceleration_zeros_check_deg": zeros_check,
+        "core_angular_velocity_max_rad_s": float(np.max(np.abs(table["core_angular_velocity_rad_s"]))),
+        "core_angular_acceleration_max_rad_s2": float(np.max(np.abs(table["core_angular_acceleration_rad_s2"]))),
+        "slider_vertical_velocity_max_m_s": float(np.max(np.abs(table["slider_vy_m_s"]))),
+        "slider_vertical_acceleration_max_m_s2": float(np.max(jy)),
+        "slider_vertical_acceleration_min_m_s2": float(np.min(jy)),
+        "slider_relative_travel_m": float(np.max(table["slider_relative_m"]) - np.min(table["slider_relative_m"])),
+        "slider_relative_velocity_max_m_s": float(np.max(np.abs(table["slider_relative_velocity_m_s"]))),
+        "slider_relative_acceleration_max_m_s2": float(np.max(jr)),
+        "slider_relative_acceleration_min_m_s2": float(np.min(jr)),
+        "compare_rod_ratios": list(params.compare_rod_ratios),
+        "working_cycle_deg": list(WORKING_CYCLE_DEG),
+    }
+    notes = [("vane.note_corrected", {}), ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check})]
+    tables = {"vane": pd.DataFrame(table), "by_lambda": by_lambda}
+    if params.compare_rod_ratios:
+        tables["compare"] = pd.DataFrame(compare)
+    return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    f = output.tables["vane"]
+    compare = output.tables.get("compare")
+    by_lambda = output.tables["by_lambda"]
+    r = output.results
+    angle = f["crank_angle_deg"].to_numpy()
+    lam = r["rod_ratio"]
+    others = r["compare_rod_ratios"]
+    mm = 1e3
+
+    def plot(ax, key, scale=1.0, **style):
+        ax.plot(angle, f[key].to_numpy() * scale, color="C0", label=f"λ = {lam:g}", **style)
+        for i, other in enumerate(others):
+            ax.plot(angle, compare[f"{key}_lambda_{other:g}"].to_numpy() * scale, color=f"C{i + 1}", ls="--", lw=1,
+                    label=f"λ = {other:g}")
+        ax.axhline(0, color="0.3", lw=0.6)
+
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    g = f.iloc[rows]
+    table = ctx.table([
+        ("<i>α</i>, °", labels, 0),
+        ("<i>β</i>, °", g["core_angle_deg"].to_numpy(), 2),
+        ("<i>γ</i>, °", g["vane_angle_deg"].to_numpy(), 2),
+        ("<i>ω</i><sub>c</sub>, " + t("unit.rad_s"), g["core_angular_velocity_rad_s"].to_numpy(), 2),
+        ("<i>ε</i><sub>c</sub>, " + t("unit.rad_s2"), g["core_angular_acceleration_rad_s2"].to_numpy(), 0),
+        ("<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"), g["rocker_x_m"].to_numpy() * mm, 2),
+        ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"].to_numpy() * mm, 2),
+        ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"].to_numpy() * mm, 2),
+        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_m_s"].to_numpy(), 3),
+        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_m_s2"].to_numpy(), 0),
+        ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"].to_numpy() * mm, 2),
+    ], caption=t("vane.table_caption"), css_class="data wide")
+
+    fig, axes = new_figure(16, 11, nrows=2, sharex=True)
+    plot(axes[0], "core_angle_deg")
+    axes[0].set_ylabel(t("vane.axis_beta"))
+    axes[0].legend(loc="upper right", fontsize=8)
+    plot(axes[1], "vane_angle_deg")
+    axes[1].set_ylabel(t("vane.axis_gamma"))
+    crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
+    figure_angles = ctx.figure(fig, t("vane.angles_caption"), "vane_angles")
+
+    fig, axes = new_figure(16, 11, nrows=2, sharex=True)
+    plot(axes[0], "core_angular_velocity_rad_s")
+    axes[0].set_ylabel(t("vane.axis_omega_c"))
+    axes[0].legend(loc="upper right", fontsize=8)
+    plot(axes[1], "core_angular_acceleration_rad_s2")
+    axes[1].set_ylabel(t("vane.axis_epsilon_c"))
+    crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
+    figure_core = ctx.figure(fig, t("vane.core_caption"), "vane_core")
+
+    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
+    for ax, (kx, ky), label in ((axes[0], ("rocker_x_m", "rocker_y_m"), "vane.axis_rocker_s"),
+                                (axes[1], ("rocker_vx_m_s", "rocker_vy_m_s"), "vane.axis_rocker_v"),
+                                (axes[2], ("rocker_jx_m_s2", "rocker_jy_m_s2"), "vane.axis_rocker_j")):
+        scale = mm if kx.endswith("_m") else 1.0
+        ax.plot(angle, f[kx].to_numpy() * scale, color="C0", label="x")
+        ax.plot(angle, f[ky].to_numpy() * scale, color="C1", ls="--", label="y")
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_ylabel(t(label))
+    axes[0].legend(loc="upper right", fontsize=8)
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    figure_rocker = ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
+
+    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
+    plot(axes[0], "slider_y_from_lowest_m", mm)
+    axes[0].set_ylabel(t("vane.axis_slider_y"))
+    axes[0].legend(loc="upper right", fontsize=8)
+    plot(axes[1], "slider_vy_m_s")
+    axes[1].set_ylabel(t("vane.axis_slider_v"))
+    plot(axes[2], "slider_jy_m_s2")
+    axes[2].set_ylabel(t("vane.axis_slider_j"))
+    for zero in r["slider_vertical_acceleration_zeros_deg"]:
+        for ax in axes[1:]:
+            ax.axvline(zero, color="C3", lw=0.7, ls=":")
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    figure_slider = ctx.figure(fig, t("vane.slider_caption"), "vane_slider")
+
+    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
+    plot(axes[0], "slider_relative_m", mm)
+    axes[0].set_ylabel(t("vane.axis_relative_y"))
+    axes[0].legend(loc="upper left", fontsize=8)
+    plot(axes[1], "slider_relative_velocity_m_s")
+    axes[1].set_ylabel(t("vane.axis_relative_v"))
+    plot(axes[2], "slider_relative_acceleration_m_s2")
+    axes[2].set_ylabel(t("vane.axis_relative_j"))
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    figure_relative = ctx.figure(fig, t("vane.relative_caption"), "vane_relative")
+
+    fig, axes = new_figure(16, 6.5, ncols=3)
+    x = by_lambda["rod_ratio"].to_numpy()
+    axes[0].plot(x, by_lambda["core_angle_max_deg"], color="C0")
+    axes[0].set_ylabel(t("vane.axis_beta_max"))
+    axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_tail"], color="C0", label="l = 1")
+    axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_crank"], color="C1", ls="--", label="r = 1")
+    axes[1].set_ylabel(t("vane.axis_y_max"))
+    axes[1].legend(loc="upper left", fontsize=7)
+    axes[2].plot(x, by_lambda["acceleration_zero_deg"], color="C0")
+    axes[2].set_ylabel(t("vane.axis_alpha_zero"))
+    for ax in axes:
+        ax.axvline(lam, color="C3", lw=0.7, ls=":")
+        ax.set_xlabel("λ")
+        ax.tick_params(labelsize=7)
+    figure_lambda = ctx.figure(fig, t("vane.lambda_caption"), "vane_lambda")
+
+    zeros = r["slider_vertical_acceleration_zeros_deg"]
+    ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.num(r["core_angle_max_deg"], 5),
+                   gamma_max=ctx.num(r["vane_angle_max_deg"], 5), zero=ctx.num(zeros[0], 5),
+                   y_max=ctx.num(r["slider_vertical_travel_max_m"] * mm, 5),
+                   y_rel=ctx.num(r["slider_vertical_travel_max_over_tail"], 4)))
+    return ctx.render_template("sections/vane.html.j2", r=r, zeros=zeros, table=table, figure_angles=figure_angles,
+                               figure_core=figure_core, figure_rocker=figure_rocker, figure_slider=figure_slider,
+                               figure_relative=figure_relative, figure_lambda=figure_lambda)
+
+
+VANE_STAGE = Stage(
+    template_dir=TEMPLATES,
+    name="vane",
+    title_key="vane.title",
+    requires=(),
+    provides=(),
+    applies=applies,
+    run=run,
+    render=render,
+    references=("klementev2023",),
+)
