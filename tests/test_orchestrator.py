@@ -124,7 +124,7 @@ def test_builtins_register_through_entry_points():
     assert "crank_slider" in registry.mechanisms
     # Registered by name from the entry-point group, the way a third-party plugin is.
     assert registry.owner["stage:kinematics"] == "builtin_kinematics"
-    assert registry.owner["mechanism:crank_slider"] == "builtin_mechanisms"
+    assert registry.owner["mechanism:crank_slider"] == "builtin_crank_slider"
 
 
 def test_real_pipeline_orders_and_skips(scene):
