@@ -14,8 +14,14 @@ class Problem:
     allowed: str
 
     def __str__(self) -> str:
-        shown = "(missing)" if self.value is _MISSING else repr(self.value)
+        shown = "(missing)" if self.value is _MISSING else shorten(self.value)
         return f"{self.field} = {shown}: {self.allowed}"
+
+
+def shorten(value: object, limit: int = 60) -> str:
+    """``repr(value)`` (so control characters are escaped) cut to about ``limit`` characters."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 class _Missing:
@@ -44,6 +50,10 @@ class SceneError(CrankdynError):
         lines = [f"{head}: {len(self.problems)} problem(s)"]
         lines += [f"  - {p}" for p in self.problems]
         return "\n".join(lines)
+
+
+class UsageError(CrankdynError):
+    """A wrong command-line request (unknown example, format, existing file): its message as it is."""
 
 
 class PluginError(CrankdynError):

@@ -355,7 +355,7 @@ def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
     path = Path(path)
     source = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # Windows Notepad saves a BOM
     except FileNotFoundError:
         raise SceneError(Problem("scene", source, "file not found"), source) from None
     except (OSError, UnicodeDecodeError) as exc:
@@ -364,6 +364,8 @@ def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
+    except RecursionError:
+        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"), source) from None
     if overrides:
         data = merge(data, overrides)
     return scene_from_dict(data, base_dir=path.parent.resolve(), source=source)
@@ -384,10 +386,17 @@ def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None =
     if "base_dir" in data:
         raise SceneError(Problem("base_dir", data["base_dir"], "unknown key (set by the loader, not the scene)"),
                          source)
+    from .inputcheck import structure_problems, table_problems
+
+    problems = structure_problems(data)
+    if problems:
+        raise SceneError(problems, source)
+    hints = table_problems(data)
     try:
         return Scene.model_validate({**data, "base_dir": str(base_dir)})
     except ValidationError as exc:
-        raise SceneError(_problems(exc, data), source) from None
+        named = {h.field for h in hints}
+        raise SceneError(hints + [p for p in _problems(exc, data) if p.field not in named], source) from None
 
 
 def _problems(exc: ValidationError, data: dict, root: type[BaseModel] | None = None) -> list[Problem]:

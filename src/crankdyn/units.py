@@ -1,11 +1,13 @@
 """Unit strings at the input boundary ("82 mm", "0.085 MPa") turned into SI floats.
 
-pint does the parsing: it knows every prefix and spelling a user may type, and its
-dimensional check is what catches "82 kg" given for a bore.
+The text is split by our own grammar (:mod:`crankdyn.quantity`: one number, one unit
+expression, nothing evaluated); pint supplies the unit names and the dimensional check
+that catches "82 kg" given for a bore.
 """
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 # Display units and the SI unit each physical kind converts to.
@@ -42,22 +44,34 @@ def parse_quantity(text: object, kind: str) -> float:
         raise ValueError(f"a bare number has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}")
     import pint
 
+    from .quantity import QuantityError, parse
+
     registry = _registry()
+    example = _example(kind)
     try:
-        quantity = registry.Quantity(text.strip())
-    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, ValueError, TypeError,
-            AttributeError, SyntaxError, KeyError, AssertionError) as exc:
-        raise ValueError(f"cannot read {text!r} as a {kind} ({exc.__class__.__name__}); "
-                         f"write a number and a unit, e.g. {_example(kind)!r}") from None
-    if not isinstance(quantity, registry.Quantity) or quantity.dimensionless:
-        raise ValueError(f"{text!r} has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}")
+        number, units = parse(text, registry)
+    except QuantityError as exc:
+        raise ValueError(f"cannot read {_shown(text)} as a {kind}: {exc}; write one number and one unit, "
+                         f"e.g. {example!r}") from None
+    unit = registry.Unit("")
+    for name, exponent in units.items():
+        unit = unit * registry.Unit(name) ** exponent
+    if unit.dimensionless:
+        raise ValueError(f"{_shown(text)} has no unit; write the {kind} with its unit, e.g. {example!r}")
     try:
-        value = float(quantity.to(si).magnitude)
+        value = float(registry.Quantity(number, unit).to(si).magnitude)
     except pint.errors.DimensionalityError:
-        raise ValueError(f"{text!r} is not a {kind}; e.g. {_example(kind)!r}") from None
-    if value != value or value in (float("inf"), float("-inf")):
-        raise ValueError(f"{text!r} is not a finite {kind}")
+        raise ValueError(f"{_shown(text)} is not a {kind} (its unit is {unit:~}); e.g. {example!r}") from None
+    except (OverflowError, ZeroDivisionError, ValueError):
+        value = math.inf
+    if not math.isfinite(value):
+        raise ValueError(f"{_shown(text)} is not a finite {kind}; e.g. {example!r}")
     return value
+
+
+def _shown(text: str) -> str:
+    """``text`` quoted and escaped for a message, cut to 40 characters."""
+    return repr(text if len(text) <= 40 else text[:37] + "...")
 
 
 def _example(kind: str) -> str:
