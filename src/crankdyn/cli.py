@@ -12,7 +12,7 @@ from importlib import resources
 from pathlib import Path
 
 from . import __version__
-from .errors import CrankdynError, Problem, SceneError
+from .errors import CrankdynError, Problem, SceneError, UsageError
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
@@ -33,14 +33,17 @@ def _parser() -> argparse.ArgumentParser:
     report.add_argument("--lang", help="report language code (overrides report.language)")
     report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     report.add_argument("-q", "--quiet", action="store_true")
+    _data_dir_option(report)
 
-    check = sub.add_parser("check", help="validate a scene without computing it")
+    check = sub.add_parser("check", help="validate a scene as 'report' does (computed, nothing written)")
     check.add_argument("scene", type=Path)
+    _data_dir_option(check)
 
     example = sub.add_parser("example", help="list or write the bundled example scenes")
     example.add_argument("name", nargs="?")
     example.add_argument("--list", action="store_true", help="list the bundled examples")
     example.add_argument("-o", "--output", type=Path, help="file to write the example scene to")
+    example.add_argument("--force", action="store_true", help="overwrite an existing file")
 
     sub.add_parser("plugins", help="list installed plugins, mechanisms and stages")
 
@@ -74,7 +77,16 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("--lang", help="report language code (overrides report.language)")
     batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    batch.add_argument("--timeout", type=float, default=120.0,
+                       help="seconds one variant may take before it is stopped and listed as failed (default 120)")
+    _data_dir_option(batch)
     return parser
+
+
+def _data_dir_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--data-dir", action="append", type=Path, default=[], metavar="DIR",
+                        help="a folder data files (cycle.trace_file ...) may also be read from; by default only "
+                        "the scene's folder and below")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -102,16 +114,17 @@ def _formats(text: str) -> list[str]:
     chosen = [f.strip() for f in text.split(",") if f.strip()]
     bad = [f for f in chosen if f not in FORMATS]
     if bad or not chosen:
-        raise SceneError(Problem("--format", text, "a comma-separated subset of " + ",".join(FORMATS)))
+        raise UsageError(f"unknown --format {', '.join(bad) or repr(text)}; allowed: a comma-separated subset of "
+                         + ",".join(FORMATS))
     return chosen
 
 
-def _load(scene_path: Path, lang: str | None = None):
+def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
     from .report.i18n import available_languages
     from .scene import load_scene
 
     overrides = {"report": {"language": lang}} if lang else None
-    scene = load_scene(scene_path, overrides)
+    scene = load_scene(scene_path, overrides, tuple(str(d) for d in data_dirs))
     return scene, available_languages()
 
 
@@ -122,7 +135,7 @@ def _report(args) -> int:
     formats = _formats(args.format)
     stages = [s.strip() for s in args.stages.split(",")] if args.stages else None
     start = time.perf_counter()
-    scene, languages = _load(args.scene, args.lang)
+    scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
     run = write_report(scene, registry, args.output, formats, stages, languages)
     result, written = run.result, run.written
@@ -216,13 +229,14 @@ def _explore(args) -> int:
 
 
 def _check(args) -> int:
-    from .orchestrator import check_scene, plan
+    from .orchestrator import run_scene
     from .plugins import default_registry
 
-    scene, languages = _load(args.scene)
+    scene, languages = _load(args.scene, data_dirs=args.data_dir)
     registry = default_registry()
-    check_scene(scene, registry, languages)
-    the_plan = plan(scene, registry)
+    # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
+    # 'check' passes is one 'report' accepts; nothing is written.
+    the_plan = run_scene(scene, registry, None, languages).plan
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
     for name, reason in the_plan.skipped.items():
         print(f"  stage {name} left out: {reason}")
@@ -247,7 +261,7 @@ def _example(args) -> int:
             print(f"{name:28s} {title}")
         return 0
     if args.name not in names:
-        raise SceneError(Problem("example", args.name, "unknown example; available: " + ", ".join(names)))
+        raise UsageError(f"unknown example {args.name!r}; available: " + ", ".join(names))
     source = names[args.name]
     text = source.read_bytes()
     target = args.output or Path(f"{args.name}.toml")
@@ -258,6 +272,10 @@ def _example(args) -> int:
     data = tomllib.loads(text.decode("utf-8")).get("cycle", {}).get("trace_file")
     if data:
         files[data] = (source.parent / data).read_bytes()
+    folder = target.parent if str(target.parent) else Path(".")
+    existing = [folder / name for name in files if (folder / name).exists()]
+    if existing and not args.force:
+        raise UsageError(f"{existing[0]} exists; not overwritten (give --force to replace it, or another -o FILE)")
     write_atomically(target.parent if str(target.parent) else Path("."), files)
     print(f"crankdyn: wrote {target}" + (f" and {target.parent / data}" if data else ""))
     return 0

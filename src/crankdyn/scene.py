@@ -275,6 +275,8 @@ class Scene(_Strict):
     analysis: Analysis = Analysis()
     mechanism: dict[str, Any] = {}
     base_dir: str = "."
+    # Folders besides base_dir that data files may come from (``--data-dir``; never from the scene).
+    data_dirs: tuple[str, ...] = ()
 
     @model_validator(mode="after")
     def _consistent(self) -> "Scene":
@@ -305,6 +307,10 @@ class Scene(_Strict):
             if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
                 raise _FieldError("masses.rod_cm_from_big_end",
                                   f"must be < the rod length ({self.engine.rod_length_m * 1e3:g} mm)")
+        if self.cycle is not None and self.cycle.trace_file:
+            reason = self.data_file_problem(self.cycle.trace_file)
+            if reason:
+                raise _FieldError("cycle.trace_file", reason)
         if (self.cycle is not None and self.cycle.source == "theoretical" and self.engine.strokes == 4
                 and self.cycle.exhaust_pressure is None):
             raise _FieldError("cycle.exhaust_pressure", "missing: a four-stroke theoretical diagram needs "
@@ -327,7 +333,18 @@ class Scene(_Strict):
         return m.rod_cm_fraction * self.engine.rod_length_m
 
     def resolve(self, name: str) -> Path:
+        """The data file ``name`` (relative to the scene's folder); SceneError if it lies outside
+        the scene's folder and every ``--data-dir``."""
+        reason = self.data_file_problem(name, must_exist=False)
+        if reason:
+            raise SceneError(Problem("file", name, reason))
         return (Path(self.base_dir) / name).resolve()
+
+    def data_file_problem(self, name: str, must_exist: bool = True) -> str | None:
+        """Why ``name`` may not be read as a data file, or None."""
+        from .datafiles import data_file_problem
+
+        return data_file_problem(name, self.base_dir, self.data_dirs, must_exist)
 
 
     def plugin_tables(self) -> dict[str, Any]:
@@ -350,7 +367,7 @@ def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None 
 
 # --------------------------------------------------------------------------- loading
 
-def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
+def load_scene(path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()) -> Scene:
     """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
     path = Path(path)
     source = str(path)
@@ -368,7 +385,7 @@ def load_scene(path: str | Path, overrides: dict | None = None) -> Scene:
         raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"), source) from None
     if overrides:
         data = merge(data, overrides)
-    return scene_from_dict(data, base_dir=path.parent.resolve(), source=source)
+    return scene_from_dict(data, base_dir=path.parent.resolve(), source=source, data_dirs=data_dirs)
 
 
 def merge(base: dict, overrides: dict) -> dict:
@@ -382,10 +399,11 @@ def merge(base: dict, overrides: dict) -> dict:
     return out
 
 
-def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None = None) -> Scene:
-    if "base_dir" in data:
-        raise SceneError(Problem("base_dir", data["base_dir"], "unknown key (set by the loader, not the scene)"),
-                         source)
+def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None = None,
+                    data_dirs: tuple[str, ...] = ()) -> Scene:
+    for key in ("base_dir", "data_dirs"):
+        if key in data:
+            raise SceneError(Problem(key, data[key], "unknown key (set by the loader, not the scene)"), source)
     from .inputcheck import structure_problems, table_problems
 
     problems = structure_problems(data)
@@ -393,7 +411,8 @@ def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None =
         raise SceneError(problems, source)
     hints = table_problems(data)
     try:
-        return Scene.model_validate({**data, "base_dir": str(base_dir)})
+        return Scene.model_validate({**data, "base_dir": str(base_dir),
+                                     "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs)})
     except ValidationError as exc:
         named = {h.field for h in hints}
         raise SceneError(hints + [p for p in _problems(exc, data) if p.field not in named], source) from None
@@ -415,7 +434,7 @@ def _problems(exc: ValidationError, data: dict, root: type[BaseModel] | None = N
             parent = loc[:-1]
             model = _model_at(parent, root or Scene)
             allowed = sorted(model.model_fields) if model else []
-            allowed = [a for a in allowed if a != "base_dir"]
+            allowed = [a for a in allowed if a not in ("base_dir", "data_dirs")]
             close = difflib.get_close_matches(loc[-1], allowed, n=1)
             hint = f"did you mean '{close[0]}'? " if close else ""
             problems.append(Problem(field, value, f"unknown key; {hint}allowed keys: {', '.join(allowed)}"))

@@ -50,16 +50,22 @@ def _read_lines(path):
         raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from exc
 
 
+def _cell(text, limit=30):
+    """One cell of a data file for a message: escaped (repr) and cut to ``limit`` characters."""
+    text = str(text)
+    return repr(text if len(text) <= limit else text[:limit - 3] + "...")
+
+
 def _to_float(text, name, line_number, column):
     try:
         value = float(text)
     except ValueError:
         raise PressureTraceError(
-            f"{name}, line {line_number}: column {column} value {text.strip()!r} is not a "
+            f"{name}, line {line_number}: column {column} value {_cell(text.strip())} is not a "
             "number (only numeric data rows are allowed after the header)") from None
     if not math.isfinite(value):
         raise PressureTraceError(
-            f"{name}, line {line_number}: column {column} value {text.strip()!r} is not "
+            f"{name}, line {line_number}: column {column} value {_cell(text.strip())} is not "
             "finite (NaN and infinity are not allowed)")
     return value
 
@@ -143,13 +149,13 @@ def read_pressure_csv(path):
     angle_unit = _header_unit(header[0])
     if angle_unit is not None and angle_unit.strip().lower() not in _ANGLE_UNITS:
         raise PressureTraceError(
-            f"{name}, line {header_line}: angle column header {header[0].strip()!r} has "
-            f"unit {angle_unit!r}; allowed: deg (or no unit)")
+            f"{name}, line {header_line}: angle column header {_cell(header[0].strip())} has "
+            f"unit {_cell(angle_unit)}; allowed: deg (or no unit)")
     unit = _header_unit(header[1])
     if unit is None or unit.strip().lower() not in _PRESSURE_UNITS_TO_PA:
-        found = "no unit" if unit is None else f"unit {unit!r}"
+        found = "no unit" if unit is None else f"unit {_cell(unit)}"
         raise PressureTraceError(
-            f"{name}, line {header_line}: pressure column header {header[1].strip()!r} has "
+            f"{name}, line {header_line}: pressure column header {_cell(header[1].strip())} has "
             f"{found}; allowed units: {_ALLOWED_PRESSURE_UNITS}, written as "
             "'p [MPa]', 'p (MPa)' or 'pressure_MPa'")
     factor = _PRESSURE_UNITS_TO_PA[unit.strip().lower()]
