@@ -19,7 +19,6 @@ import sys
 import time
 import tomllib
 from collections.abc import Callable, Iterable
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
@@ -85,6 +84,7 @@ class BatchReport:
     outcomes: list[Outcome]
     seconds: float
     written: list[Path]
+    interrupted: bool = False  # Ctrl-C ended the run; unfinished variants are failure rows
 
     @property
     def failures(self) -> list[Outcome]:
@@ -142,7 +142,9 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
     # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
     decimal_comma = dialect.delimiter != ","
-    rows = [r for r in rows if any(c.strip() for c in r)]
+    # Blank rows are skipped but still counted, so row numbers match the spreadsheet's.
+    numbered = [(k, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    rows = [r for _, r in numbered]
     if not rows:
         raise SceneError(Problem("variants", source, "empty file; the first row names the scene fields, "
                                  "e.g. variant,report.student,engine.bore"), source)
@@ -171,8 +173,10 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
 
     variants: list[Variant] = []
     names: dict[str, int] = {}
-    width = max(2, len(str(len(rows) - 1)))
-    for row_number, cells in enumerate(rows[1:], start=1):
+    header_index = numbered[0][0]
+    width = max(2, len(str(numbered[-1][0] - header_index)))
+    for record, cells in numbered[1:]:
+        row_number = record - header_index
         error = None
         if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
             error = f"row has {len(cells)} cells but the header names {len(header)} columns"
@@ -207,7 +211,7 @@ def _registry():
 
 
 def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, formats: list[str],
-                language: str | None, stages: list[str] | None) -> Outcome:
+                language: str | None, stages: list[str] | None, data_dirs: tuple[str, ...] = ()) -> Outcome:
     """Compute and write one variant; never raises (an error is part of the outcome)."""
     start = time.perf_counter()
     if variant.error:
@@ -221,7 +225,7 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
         data = merge(base, variant.overrides)
         if language:
             data = merge(data, {"report": {"language": language}})
-        scene = scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}")
+        scene = scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs)
         run = write_report(scene, _registry(), Path(out_dir) / variant.name, formats, stages, available_languages())
         document = outputs.results_document(run.result)
         return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
@@ -288,18 +292,24 @@ class Progress:
 
 def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
               jobs: int | None = None, language: str | None = None, stages: list[str] | None = None,
-              progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None) -> BatchReport:
-    """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures."""
-    from .outputs import write_atomically
+              progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None,
+              timeout: float | None = None, data_dirs: tuple[str, ...] = ()) -> BatchReport:
+    """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
+
+    Each row runs in a worker process limited to ``timeout`` seconds (default 120); Ctrl-C stops
+    the workers, and the answer key and failure list are still written for what finished.
+    """
+    from .batch_runner import DEFAULT_TIMEOUT_S, run_all
+    from .manifest import write_outputs
 
     start = time.perf_counter()
     formats = list(formats)
     base_source = str(base_path)
     try:
-        base = tomllib.loads(Path(base_path).read_text(encoding="utf-8"))
+        base = tomllib.loads(Path(base_path).read_text(encoding="utf-8-sig"))
     except FileNotFoundError:
         raise SceneError(Problem("--base", base_source, "file not found"), base_source) from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError) as exc:
         raise SceneError(Problem("--base", base_source, f"not a readable TOML scene: {exc}"), base_source) from None
     base_dir = str(Path(base_path).parent.resolve())
     fields, variants = read_variants(Path(csv_path))
@@ -313,39 +323,31 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
         if on_outcome:
             on_outcome(outcome)
 
-    args = (base, base_dir)
-    tail = (str(out_dir), formats, language, stages)
-    if jobs == 1:
-        for variant in variants:
-            finished(run_variant(*args, variant, *tail))
-    else:
-        _registry()  # load the plugins once here: forked workers inherit them
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            pending: dict[Future, Variant] = {pool.submit(run_variant, *args, v, *tail): v for v in variants}
-            try:
-                while pending:
-                    done, _ = wait(pending, return_when=FIRST_COMPLETED)
-                    for future in done:
-                        variant = pending.pop(future)
-                        try:
-                            outcome = future.result()
-                        except Exception as exc:  # noqa: BLE001 - e.g. a worker killed by the OS
-                            outcome = Outcome(variant.row, variant.name, False, 0.0,
-                                              f"worker failed: {exc.__class__.__name__}: {exc}")
-                        finished(outcome)
-            except BaseException:
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
+    tail = (str(out_dir), formats, language, stages, tuple(str(Path(d).resolve()) for d in data_dirs))
+    timeout = DEFAULT_TIMEOUT_S if timeout is None else timeout
+    _registry()  # load the plugins and the report code once here: forked workers inherit them
+    from . import outputs, pipeline  # noqa: F401
+    from .report import i18n  # noqa: F401
+
+    if "html" in formats or "pdf" in formats:
+        from .report import document  # noqa: F401
+
+    def failed(variant: Variant, reason: str, seconds: float) -> Outcome:
+        return Outcome(variant.row, variant.name, False, seconds, reason)
+
+    unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
+                         finished, failed)
+    for variant in unfinished:
+        outcomes.append(failed(variant, "not finished: the batch was interrupted (Ctrl-C)", 0.0))
     outcomes.sort(key=lambda o: o.row)
     by_row = {v.row: v for v in variants}
     files = {"answer_key.csv": _answer_key_csv(fields, outcomes, by_row)}
     files["answer_key.xlsx"] = _answer_key_xlsx(fields, outcomes, by_row)
     if any(not o.ok for o in outcomes):
         files["failures.csv"] = _failures_csv(outcomes, by_row)
-    else:
-        (Path(out_dir) / "failures.csv").unlink(missing_ok=True)  # from an earlier run
-    written = write_atomically(Path(out_dir), files)
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written)
+    # The manifest removes an earlier run's failures.csv when every row succeeded this time.
+    written = write_outputs(Path(out_dir), files)
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, bool(unfinished))
 
 
 def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
@@ -374,7 +376,16 @@ def _fmt(value: Any) -> str:
         return ""
     if isinstance(value, float):
         return "" if not math.isfinite(value) else f"{value:.6g}"
-    return str(value)
+    return neutralised(value) if isinstance(value, str) else str(value)
+
+
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def neutralised(value: Any) -> Any:
+    """A text cell a spreadsheet would take for a formula (starting with = + - @, tab or CR) with a
+    leading apostrophe, so it shows as text (OWASP CSV injection); other values unchanged."""
+    return "'" + value if isinstance(value, str) and value.startswith(_FORMULA_START) else value
 
 
 def _csv_bytes(header: list[str], rows: list[list]) -> bytes:
@@ -403,8 +414,10 @@ def _answer_key_xlsx(fields, outcomes, by_row) -> bytes:
     from .outputs import xlsx_bytes
 
     header, rows = _answer_rows(fields, outcomes, by_row)
+    rows = [[neutralised(v) for v in row] for row in rows]
     sheets = [("answer key", pd.DataFrame(rows, columns=header))]
     failed_header, failed_rows = _failure_rows(outcomes, by_row)
+    failed_rows = [[neutralised(v) for v in row] for row in failed_rows]
     if failed_rows:
         sheets.append(("failures", pd.DataFrame(failed_rows, columns=failed_header)))
     return xlsx_bytes(sheets)

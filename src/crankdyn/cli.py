@@ -167,8 +167,11 @@ def _batch(args) -> int:
     formats = _formats(args.format)
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
+    if not args.timeout > 0:
+        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
     report = run_batch(args.variants, args.base, args.output, formats, jobs=args.jobs, language=args.lang,
-                       stages=_stage_list(args.stages), progress=not args.quiet)
+                       stages=_stage_list(args.stages), progress=not args.quiet, timeout=args.timeout,
+                       data_dirs=tuple(str(d) for d in args.data_dir))
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
           f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
@@ -177,6 +180,11 @@ def _batch(args) -> int:
                  f"(listed in {args.output / 'failures.csv'}):"]
         lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures]
         print("\n".join(lines), file=sys.stderr)
+    if report.interrupted:
+        print("crankdyn batch: interrupted (Ctrl-C); the answer key and failures.csv cover what finished",
+              file=sys.stderr)
+        return 130
+    if report.failures:
         return EXIT_BAD_INPUT
     return 0
 

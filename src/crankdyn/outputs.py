@@ -138,7 +138,10 @@ def _sheet_name(name: str, used: set[str]) -> str:
 
 
 def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
-    """Write ``files`` (relative name -> bytes) below ``out_dir``; each appears whole or not at all."""
+    """Write ``files`` (relative name -> bytes) below ``out_dir``; each appears whole or not at all,
+    with the mode the user's umask gives new files."""
+    from .manifest import file_mode
+
     written = []
     for name, payload in files.items():
         target = out_dir / name
@@ -147,6 +150,7 @@ def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
         try:
             with os.fdopen(fd, "wb") as fh:
                 fh.write(payload)
+            os.chmod(tmp, file_mode())  # mkstemp makes 0600; a report is shared like any file
             os.replace(tmp, target)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)

@@ -56,8 +56,10 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
 
     Raises :class:`crankdyn.errors.SceneError` (and writes nothing) for a bad scene.
     """
-    from .outputs import write_atomically
+    from .manifest import write_outputs
 
     result = run_scene(scene, registry, stages, languages)
     files = render_files(result, registry, formats)
-    return ReportRun(result=result, written=write_atomically(Path(out_dir), files))
+    # Files of an earlier run into out_dir that this one does not write again are removed
+    # (only those crankdyn listed in its manifest there).
+    return ReportRun(result=result, written=write_outputs(Path(out_dir), files))
