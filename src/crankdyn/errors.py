@@ -18,7 +18,7 @@ class Problem:
         return f"{self.field} = {shown}: {self.allowed}"
 
 
-def shorten(value: object, limit: int = 60) -> str:
+def shorten(value: object, limit: int = 100) -> str:
     """``repr(value)`` (so control characters are escaped) cut to about ``limit`` characters."""
     text = repr(value)
     return text if len(text) <= limit else text[:limit - 3] + "..."
