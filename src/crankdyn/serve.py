@@ -315,11 +315,19 @@ class _Handler(BaseHTTPRequestHandler):
                 self._send(HTTPStatus.INTERNAL_SERVER_ERROR, "text/html; charset=utf-8", page.encode("utf-8"), csp=True)
                 return
             self._send(HTTPStatus.OK, "application/pdf", pdf,
-                       extra={"Content-Disposition": f'inline; filename="{self.preview.scene_path.stem}.pdf"'})
+                       extra={"Content-Disposition": content_disposition(self.preview.scene_path.stem + ".pdf")})
         elif path == "/favicon.ico":
             self._send(HTTPStatus.NO_CONTENT, "text/plain", b"")
         else:
             self._send(HTTPStatus.NOT_FOUND, "text/plain; charset=utf-8", b"not found\n")
+
+    def do_HEAD(self) -> None:
+        """As GET, headers only (Content-Length of the body GET would send)."""
+        self._head_only = True
+        try:
+            self.do_GET()
+        finally:
+            self._head_only = False
 
     def _host_ok(self) -> bool:
         """Refuse other Host names (a DNS-rebinding page must not read the report)."""
@@ -342,15 +350,34 @@ class _Handler(BaseHTTPRequestHandler):
         for key, value in (extra or {}).items():
             self.send_header(key, value)
         self.end_headers()
-        self.wfile.write(body)
+        if not getattr(self, "_head_only", False):
+            self.wfile.write(body)
 
     def log_message(self, format: str, *args) -> None:
         pass  # the polling would flood the console
 
 
+def content_disposition(filename: str) -> str:
+    """``inline`` with an ASCII ``filename`` and, for any other name, the RFC 5987 ``filename*``
+    (a Cyrillic scene name cannot go into a latin-1 HTTP header as it is)."""
+    from urllib.parse import quote
+
+    ascii_name = "".join(c if 32 <= ord(c) < 127 and c not in '"\\' else "_" for c in filename)
+    header = f'inline; filename="{ascii_name}"'
+    if ascii_name != filename:
+        header += f"; filename*=UTF-8''{quote(filename, safe='')}"
+    return header
+
+
 class PreviewServer(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
+
+    def handle_error(self, request, client_address) -> None:
+        """A browser that closes the connection mid-answer is normal: no traceback for that."""
+        if isinstance(sys.exc_info()[1], (ConnectionError, TimeoutError)):
+            return
+        super().handle_error(request, client_address)
 
     def __init__(self, preview: Preview, port: int = DEFAULT_PORT):
         self.preview = preview
