@@ -139,6 +139,7 @@ def _report(args) -> int:
     registry = default_registry()
     run = write_report(scene, registry, args.output, formats, stages, languages)
     result, written = run.result, run.written
+    _print_warnings(result, registry)
     if not args.quiet:
         main_files = [p for p in written if p.parent == args.output]
         print(f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
@@ -244,11 +245,28 @@ def _check(args) -> int:
     registry = default_registry()
     # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
     # 'check' passes is one 'report' accepts; nothing is written.
-    the_plan = run_scene(scene, registry, None, languages).plan
+    result = run_scene(scene, registry, None, languages)
+    the_plan = result.plan
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
     for name, reason in the_plan.skipped.items():
         print(f"  stage {name} left out: {reason}")
+    _print_warnings(result, registry)
+    from .plausibility import defaults_applied
+
+    applied = defaults_applied(scene)
+    if applied:
+        print("defaults applied (not given in the scene):")
+        for field, value in applied:
+            print(f"  {field} = {value!r}")
     return 0
+
+
+def _print_warnings(result, registry) -> None:
+    """Plausibility warnings (a valid scene with values no real engine has) on stderr."""
+    from .plausibility import console_lines, warnings
+
+    for line in console_lines(warnings(result.scene, result), registry):
+        print(f"crankdyn: {line}", file=sys.stderr)
 
 
 def examples_dir() -> Path:

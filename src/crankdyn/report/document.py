@@ -74,6 +74,10 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         for key, params in output.notes:
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else v) for k, v in params.items()}))
 
+    from ..plausibility import format_params, warnings
+
+    for key, params in warnings(scene, result):  # values no real engine has: noted, not refused
+        notes.append(t(key, **format_params(params, t.decimal_separator)))
     numerics_number = len(sections) + 1
     skipped = [(name, reason) for name, reason in result.plan.skipped.items()]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")

@@ -1,0 +1,114 @@
+"""Plausibility of a valid scene: values no real engine has, reported as warnings, never errors.
+
+A student's slip (rpm 10x too high, bore and stroke swapped, rod length in cm) often
+still gives a valid scene; these checks name it. Each warning is a catalog key under
+``plausibility.`` with its parameters, so the console, ``check`` and the report's notes
+say the same thing in the reader's language. The limits are the ranges of real piston
+engines quoted by the course texts (mean piston speed up to 20-25 m/s for the fastest
+engines; lambda = R/L 0.15-0.45; S/D 0.5-1.6; peak pressures up to 20-25 MPa in boosted
+diesels; the rod's centre of mass between its big end and the rod's middle).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+MAX_MEAN_PISTON_SPEED_M_S = 25.0
+ROD_RATIO_RANGE = (0.15, 0.45)
+STROKE_BORE_RANGE = (0.5, 1.6)
+MAX_PEAK_PRESSURE_PA = 25e6
+ROD_CM_FRACTION_RANGE = (0.1, 0.5)
+# Mechanisms whose lambda = R/L is the crank-slider's ratio.
+_CRANK_SLIDERS = ("crank_slider", "offset_crank")
+
+
+def mean_piston_speed_m_s(stroke_m: float, rpm: float) -> float:
+    """Mean piston speed c_m = S*n/30, m/s (S in m, n in rpm)."""
+    return stroke_m * rpm / 30.0
+
+
+def rpm_for_piston_speed(stroke_m: float, speed_m_s: float) -> float:
+    """The rpm at which the mean piston speed reaches ``speed_m_s``: n = 30*c_m/S."""
+    return 30.0 * speed_m_s / stroke_m
+
+
+def warnings(scene, result=None) -> list[tuple[str, dict[str, Any]]]:
+    """``(catalog key, parameters)`` of every implausible value of ``scene`` (and of its computed
+    ``result``, when given: the peak pressure of a pressure trace is known only after reading it)."""
+    engine = scene.engine
+    found: list[tuple[str, dict[str, Any]]] = []
+    speed = mean_piston_speed_m_s(engine.stroke, engine.rpm)
+    if speed > MAX_MEAN_PISTON_SPEED_M_S:
+        found.append(("plausibility.piston_speed", {
+            "speed": speed, "limit": MAX_MEAN_PISTON_SPEED_M_S, "rpm": engine.rpm,
+            "rpm_limit": rpm_for_piston_speed(engine.stroke, MAX_MEAN_PISTON_SPEED_M_S)}))
+    if engine.mechanism in _CRANK_SLIDERS:
+        ratio = engine.rod_ratio_value
+        if not ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
+            found.append(("plausibility.rod_ratio", {"ratio": ratio, "low": ROD_RATIO_RANGE[0],
+                                                     "high": ROD_RATIO_RANGE[1]}))
+    stroke_bore = engine.stroke / engine.bore
+    if not STROKE_BORE_RANGE[0] <= stroke_bore <= STROKE_BORE_RANGE[1]:
+        found.append(("plausibility.stroke_bore", {"ratio": stroke_bore, "low": STROKE_BORE_RANGE[0],
+                                                   "high": STROKE_BORE_RANGE[1]}))
+    peak = _peak_pressure_Pa(scene, result)
+    if peak is not None and peak > MAX_PEAK_PRESSURE_PA:
+        found.append(("plausibility.peak_pressure", {"pressure": peak / 1e6, "limit": MAX_PEAK_PRESSURE_PA / 1e6}))
+    if scene.masses is not None and engine.mechanism in _CRANK_SLIDERS:
+        fraction = scene.rod_cm_from_big_end_m / engine.rod_length_m
+        if not ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:
+            found.append(("plausibility.rod_cm", {"fraction": fraction, "low": ROD_CM_FRACTION_RANGE[0],
+                                                  "high": ROD_CM_FRACTION_RANGE[1]}))
+    return found
+
+
+def _peak_pressure_Pa(scene, result) -> float | None:
+    if result is not None and "indicator" in result.outputs:
+        value = result.outputs["indicator"].results.get("max_pressure_Pa")
+        if isinstance(value, (int, float)):
+            return float(value)
+    if scene.cycle is not None and scene.cycle.max_pressure is not None:
+        return scene.cycle.max_pressure
+    return None
+
+
+def defaults_applied(scene) -> list[tuple[str, Any]]:
+    """``(dotted field, default as declared)`` of every core scene value the scene did not give.
+
+    Optional values without a default (None) and empty texts are not listed: nothing was assumed.
+    """
+    from pydantic import BaseModel
+
+    out: list[tuple[str, Any]] = []
+
+    def walk(model: BaseModel, prefix: str) -> None:
+        for name, info in type(model).model_fields.items():
+            if not prefix and name in ("base_dir", "data_dirs", "mechanism"):
+                continue
+            value = getattr(model, name)
+            if isinstance(value, BaseModel):
+                walk(value, f"{prefix}{name}.")
+            elif name not in model.model_fields_set and info.default not in (None, "") and not info.is_required():
+                out.append((prefix + name, info.default))
+
+    walk(scene, "")
+    return out
+
+
+def format_params(params: dict[str, Any], decimal_separator: str = ".") -> dict[str, Any]:
+    """Numbers to 3 significant digits without exponents (``4690``, ``0.15``, ``149``)."""
+    def shown(value: Any) -> Any:
+        if not isinstance(value, float):
+            return value
+        text = f"{value:.0f}" if abs(value) >= 1000 else f"{value:.3g}"
+        return text.replace(".", decimal_separator)
+
+    return {k: shown(v) for k, v in params.items()}
+
+
+def console_lines(found: list[tuple[str, dict[str, Any]]], registry) -> list[str]:
+    """The warnings as English sentences for the terminal."""
+    from .report.i18n import translator
+
+    t = translator("en", registry.catalogs)
+    return [t(key, **format_params(params)) for key, params in found]

@@ -1,0 +1,84 @@
+"""Plausibility warnings: values no real engine has are named (never refused); defaults are listed."""
+
+from __future__ import annotations
+
+import re
+import string
+import tomllib
+from pathlib import Path
+
+import pytest
+from conftest import example_data, modified, write_scene
+
+from crankdyn.cli import examples_dir, main
+from crankdyn.plausibility import defaults_applied, warnings
+from crankdyn.scene import load_scene, scene_from_dict
+
+CATALOGS = Path(__file__).parents[1] / "templates" / "i18n"
+
+
+def _keys(changes: dict) -> list[str]:
+    return [key for key, _ in warnings(scene_from_dict(modified("petrol-1cyl", changes), base_dir=examples_dir()))]
+
+
+@pytest.mark.parametrize("path", sorted(examples_dir().glob("*.toml")), ids=lambda p: p.stem)
+def test_no_bundled_example_is_implausible(path):
+    assert warnings(load_scene(path)) == []
+
+
+def test_mean_piston_speed_against_s_n_over_30():
+    scene = scene_from_dict(modified("petrol-1cyl", {"engine": {"rpm": 20000}}), base_dir=examples_dir())
+    (key, params), = warnings(scene)
+    assert key == "plausibility.piston_speed"
+    assert params["speed"] == pytest.approx(0.078 * 20000 / 30)  # c_m = S n / 30 = 52 m/s
+    assert params["rpm_limit"] == pytest.approx(25 * 30 / 0.078)  # n at c_m = 25 m/s
+    assert _keys({"engine": {"rpm": 9600}}) == []  # 24.96 m/s: just below the limit
+
+
+@pytest.mark.parametrize("changes, expected", [
+    ({"engine": {"rod_ratio": 0.9999999}}, ["plausibility.rod_ratio"]),
+    ({"engine": {"rod_ratio": 0.1}}, ["plausibility.rod_ratio"]),
+    ({"engine": {"rod_ratio": 0.45}}, []),
+    ({"engine": {"stroke": "140 mm", "rpm": 3000}}, ["plausibility.stroke_bore"]),  # S/D = 1.71
+    ({"engine": {"stroke": "40 mm"}}, ["plausibility.stroke_bore"]),  # S/D = 0.49
+    ({"engine": {"stroke": "130 mm"}}, []),  # 1.59
+    ({"cycle": {"max_pressure": "26 MPa"}}, ["plausibility.peak_pressure"]),
+    ({"masses": {"rod_cm_fraction": 0.7}}, ["plausibility.rod_cm"]),
+    ({"masses": {"rod_cm_fraction": 0.05}}, ["plausibility.rod_cm"]),
+])
+def test_each_warning_fires_on_its_own(changes, expected):
+    assert _keys(changes) == expected
+
+
+def test_catalogs_carry_every_warning_in_every_language_with_the_same_placeholders():
+    english = tomllib.loads((CATALOGS / "en.toml").read_text(encoding="utf-8"))["plausibility"]
+    for language in ("uk", "ru"):
+        texts = tomllib.loads((CATALOGS / f"{language}.toml").read_text(encoding="utf-8"))["plausibility"]
+        assert set(texts) == set(english)
+        for key, text in texts.items():
+            fields = {f for _, f, _, _ in string.Formatter().parse(text) if f}
+            assert fields == {f for _, f, _, _ in string.Formatter().parse(english[key]) if f}
+            assert not re.search(r"\b(the|and|above|outside)\b", text)  # no English sentence left
+
+
+def test_defaults_applied_lists_what_the_scene_left_out():
+    data = example_data("kinematics-only")
+    applied = dict(defaults_applied(scene_from_dict(data, base_dir=examples_dir())))
+    assert applied["engine.cylinders"] == 1 and applied["engine.mechanism"] == "crank_slider"
+    assert applied["analysis.kinematics"] == "exact"
+    assert "engine.strokes" not in applied and "engine.rpm" not in applied  # given in the scene
+    data["engine"].pop("strokes")
+    assert dict(defaults_applied(scene_from_dict(data, base_dir=examples_dir())))["engine.strokes"] == 4
+
+
+def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, capsys):
+    scene = write_scene(tmp_path / "s.toml", modified("kinematics-only", {"engine": {"rpm": 30000},
+                                                                          "report": {"language": "uk"}}))
+    assert main(["check", str(scene)]) == 0
+    checked = capsys.readouterr()
+    assert "mean piston speed is 100 m/s" in checked.err and "engine.rpm" in checked.err
+    assert "defaults applied" in checked.out and "engine.cylinders = 1" in checked.out
+    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
+    assert "mean piston speed is 100 m/s" in capsys.readouterr().err
+    html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    assert "середня швидкість поршня 100 м/с перевищує 25 м/с" in html
