@@ -76,7 +76,9 @@ class RenderContext:
     def figure(self, fig, caption: str, name: str) -> Markup:
         """Render a matplotlib figure to SVG, number it and return its markup."""
         from .figures import to_svg
+        from .typeset import typeset_figure
 
+        typeset_figure(fig, self.t)
         self._figure += 1
         number = f"{self.section_number}.{self._figure}"
         svg = to_svg(fig)

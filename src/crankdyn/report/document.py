@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -15,6 +16,24 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, template_search_path
 from .i18n import translator
+from .typeset import typeset_html
+
+
+_IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
+
+
+def field_names(t, value):
+    """Scene keys in a note's parameter (``crank_pin_diameter``) by their names in the catalog."""
+    if not isinstance(value, str):
+        return value
+    return _IDENTIFIER.sub(lambda m: t(f"field.{m.group(0)}") if f"field.{m.group(0)}" in t.fallback
+                           else m.group(0), value)
+
+
+def report_units(t) -> list[str]:
+    """The unit symbols of the report's language, kept on the line of their number."""
+    units = {text for key, text in {**t.fallback, **t.texts}.items() if key.startswith("unit.")}
+    return sorted(units | {"%", "°C", "K", "Н", "кН", "Вт", "кВт", "N", "kN", "W", "kW", "с", "s", "мс", "ms"})
 
 
 @dataclass
@@ -50,6 +69,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
+    env.filters["numg"] = t.number_g
     ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
 
     sections: list[SectionView] = []
@@ -72,7 +92,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             if ref not in references:
                 references.append(ref)
         for key, params in output.notes:
-            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else v) for k, v in params.items()}))
+            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                                    for k, v in params.items()}))
 
     numerics_number = len(sections) + 1
     skipped = [(name, reason) for name, reason in result.plan.skipped.items()]
@@ -85,4 +106,5 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
     )
+    html = typeset_html(html, language, report_units(t), t.decimal_separator)
     return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
