@@ -175,6 +175,20 @@ def typeset_figure(fig, t) -> None:
     for ax in fig.get_axes():
         for axis in (ax.xaxis, ax.yaxis):
             _locale_ticks(axis, t)
+        _legend_outside(ax)
+
+
+def _legend_outside(ax) -> None:
+    """Move an axes legend above the plotting area, so that it never covers a curve."""
+    legend = ax.get_legend()
+    if legend is None:
+        return
+    handles, labels = ax.get_legend_handles_labels()
+    if len(labels) != len(legend.get_texts()) or not labels:
+        return  # a legend built from its own handles: leave it as its author placed it
+    size = legend.get_texts()[0].get_fontsize()
+    ax.legend(handles, labels, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=min(len(labels), 4),
+              frameon=False, fontsize=size, borderaxespad=0.2)
 
 
 def _locale_ticks(axis, t) -> None:
