@@ -223,6 +223,8 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
         from .scene import merge, scene_from_dict
 
         data = merge(base, variant.overrides)
+        if "variant" not in variant.overrides.get("report", {}):  # the title page names its own variant
+            data = merge(data, {"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}})
         if language:
             data = merge(data, {"report": {"language": language}})
         scene = scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs)

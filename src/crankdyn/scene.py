@@ -15,7 +15,7 @@ import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
 
 from .errors import MISSING, Problem, SceneError
 from .units import parse_quantity
@@ -95,6 +95,13 @@ class ReportMeta(_Strict):
     city: str = ""
     year: Annotated[int, AfterValidator(lambda y: _year(y))] = datetime.date.today().year
     language: str = "en"
+    ministry: str = ""  # default: the language's "Ministry of Education and Science of Ukraine"
+    discipline: str = ""  # the course the project belongs to
+    variant: str = ""  # the student's variant number (batch sets it from the variants file)
+    #: ``course``: what a course brief asks, the numerics study in an appendix; ``full``: all in the body
+    detail: Literal["course", "full"] = "course"
+    #: crank angle of the worked substitutions (one calculation with the numbers put in)
+    worked_angle_deg: Annotated[float, Field(ge=0, le=720)] = 30.0
 
 
 def _year(year: int) -> int:

@@ -54,9 +54,17 @@ class RenderContext:
         return Markup(f'<div class="equation"{anchor}><span class="formula">{formula_html}</span>'
                       f'<span class="eqno">({number})</span></div>')
 
+    #: Body rows of a table that fit one page at the report's table type size (9.5 pt), after
+    #: the caption and the header: a longer table is split into parts of at most this many
+    #: rows, each after the first on a new page under "Table N continued" and the header.
+    ROWS_PER_PAGE = 32
+    ROWS_PER_LANDSCAPE_PAGE = 20
+
     def table(self, columns: Sequence[tuple[str, Sequence[float] | Sequence[str], int | None]],
               caption: str, header_html: bool = True, css_class: str = "data") -> Markup:
-        """A numbered table. ``columns`` are (header markup, values, decimals or None for text)."""
+        """A numbered table, referred to in a sentence before it. ``columns`` are (header
+        markup, values, decimals or None for text). A long table continues on the next pages
+        with the continuation label and the repeated header; a wide one goes on landscape pages."""
         self._table += 1
         number = f"{self.section_number}.{self._table}"
         head = "".join(f"<th>{Markup(h) if header_html else escape(h)}</th>" for h, _, _ in columns)
@@ -70,13 +78,34 @@ class RenderContext:
                 cells.append(f"<td>{text}</td>")
             rows.append("<tr>" + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
-        return Markup(f'<table class="{css_class}"><caption>{caption_text}</caption>'
-                      f"<thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>")
+        return table_markup(self.t, number, caption_text, head, rows, css_class)
+
+    def table_html(self, headers: Sequence[str], rows: Sequence[Sequence[str]], caption: str,
+                   css_class: str = "data", markup_columns: Sequence[int] = (),
+                   text_columns: Sequence[int] = (), see: bool = True) -> Markup:
+        """A numbered table from text cells; ``markup_columns`` hold template-authored markup
+        (symbols), every other cell is escaped; ``text_columns`` are set as text, not numbers."""
+        self._table += 1
+        number = f"{self.section_number}.{self._table}"
+        head = "".join(f"<th>{escape(h)}</th>" for h in headers)
+        body = []
+        for row in rows:
+            cells = []
+            for i, cell in enumerate(row):
+                content = Markup(cell) if i in markup_columns else escape(cell)
+                css = ' class="text"' if i in text_columns else ""
+                cells.append(f"<td{css}>{content}</td>")
+            body.append("<tr>" + "".join(cells) + "</tr>")
+        caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
+        return table_markup(self.t, number, caption_text, head, body, css_class, see=see)
 
     def figure(self, fig, caption: str, name: str) -> Markup:
-        """Render a matplotlib figure to SVG, number it and return its markup."""
+        """Render a matplotlib figure to SVG, number it and return its markup (with the
+        sentence that refers to it before it)."""
         from .figures import to_svg
+        from .typeset import typeset_figure
 
+        typeset_figure(fig, self.t)
         self._figure += 1
         number = f"{self.section_number}.{self._figure}"
         svg = to_svg(fig)
@@ -84,7 +113,9 @@ class RenderContext:
         self.figures.append(FigureFile(file_name, svg))
         data = base64.b64encode(svg).decode("ascii")
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
-        return Markup(f'<figure><img alt="{escape(caption)}" src="data:image/svg+xml;base64,{data}">'
+        see = escape(self.t("doc.see_figure", number=number))
+        return Markup(f'<p class="see">{see}</p>'
+                      f'<figure data-number="{number}"><img alt="{escape(caption)}" src="data:image/svg+xml;base64,{data}">'
                       f"<figcaption>{caption_text}</figcaption></figure>")
 
     # ----------------------------------------------------------------- text
@@ -99,6 +130,28 @@ class RenderContext:
     def render_template(self, name: str, **values: Any) -> str:
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
+
+
+def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
+                 css_class: str = "data", see: bool = True) -> Markup:
+    """A numbered table's markup: the sentence referring to it, the caption, and the rows split
+    into page-sized parts (see :attr:`RenderContext.ROWS_PER_PAGE`)."""
+    wide = "wide" in css_class.split()
+    limit = RenderContext.ROWS_PER_LANDSCAPE_PAGE if wide else RenderContext.ROWS_PER_PAGE
+    parts = max(1, -(-len(rows) // limit))
+    size = -(-len(rows) // parts) if rows else 0
+    chunks = [rows[i * size:(i + 1) * size] for i in range(parts)] if rows else [[]]
+    head = f"<thead><tr>{head_html}</tr></thead>"
+    html = [f'<div class="table-block{" long" if parts > 1 else ""}{" landscape" if wide else ""}">'
+            + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
+            + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
+            f"{head}<tbody>{''.join(chunks[0])}</tbody></table>"]
+    for chunk in chunks[1:]:
+        label = escape(t("doc.continued", number=number))
+        html.append(f'<p class="continued">{label}</p><table class="{css_class} continuation">'
+                    f"{head}<tbody>{''.join(chunk)}</tbody></table>")
+    html.append("</div>")
+    return Markup("".join(html))
 
 
 def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,

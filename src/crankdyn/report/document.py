@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import datetime
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import jinja2
-from markupsafe import Markup
+from markupsafe import Markup, escape
 
 from .. import __version__
 from ..physics.extrema import EXTREMUM_RTOL
@@ -15,6 +16,24 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, template_search_path
 from .i18n import translator
+from .typeset import typeset_html
+
+
+_IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
+
+
+def field_names(t, value):
+    """Scene keys in a note's parameter (``crank_pin_diameter``) by their names in the catalog."""
+    if not isinstance(value, str):
+        return value
+    return _IDENTIFIER.sub(lambda m: t(f"field.{m.group(0)}") if f"field.{m.group(0)}" in t.fallback
+                           else m.group(0), value)
+
+
+def report_units(t) -> list[str]:
+    """The unit symbols of the report's language, kept on the line of their number."""
+    units = {text for key, text in {**t.fallback, **t.texts}.items() if key.startswith("unit.")}
+    return sorted(units | {"%", "°C", "K", "Н", "кН", "Вт", "кВт", "N", "kN", "W", "kW", "с", "s", "мс", "ms"})
 
 
 @dataclass
@@ -45,48 +64,109 @@ def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
     )
 
 
+#: Stages whose sections are a study of the numerics rather than part of a course brief: with
+#: ``[report] detail = "course"`` (the default) they go to an appendix.
+NUMERICS_STAGES = ("numerics", "numerics_kinematics")
+
+_SKIP_REASONS = (  # the stages' own (English) reasons, as results.json keeps them -> catalog keys
+    (re.compile(r"no \[masses\]"), "skip.no_masses"),
+    (re.compile(r"no \[flywheel\]"), "skip.no_flywheel"),
+    (re.compile(r"no \[cycle\]"), "skip.no_cycle"),
+    (re.compile(r"rod_moment_of_inertia"), "skip.no_rod_inertia"),
+    (re.compile(r"mechanism is '[^']*', not|central crank-slider|mechanism has no|articulated rods"),
+     "skip.other_mechanism"),
+    (re.compile(r"covers|already"), "skip.covered"),
+)
+
+
+def skipped_reason(t, reason: str) -> str:
+    """A left-out stage's reason in the report's language."""
+    for pattern, key in _SKIP_REASONS:
+        if pattern.search(reason):
+            return t(key)
+    return t("skip.not_applicable")
+
+
+def cite(numbers) -> str:
+    """``[1, 2]``: sources cited by their numbers in the list of references."""
+    return "[" + ", ".join(str(n) for n in sorted(set(numbers))) + "]"
+
+
+def appendix_letter(t, index: int) -> str:
+    letters = t("doc.appendix_letters")
+    return letters[index] if index < len(letters) else str(index + 1)
+
+
 def render_html(result: RunResult, registry: Registry, language: str | None = None) -> RenderedReport:
     scene = result.scene
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
+    env.filters["numg"] = t.number_g
     ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
+    course = scene.report.detail == "course"
 
     sections: list[SectionView] = []
+    appendices: list[SectionView] = []
+    core_letter = appendix_letter(t, 0) if course else ""
     ctx.start_section(1, "input")
     sections.append(SectionView(1, "input", t("report.input_title"),
                                 Markup(ctx.render_template("sections/input.html.j2", scene=scene,
                                                            mechanism=registry.mechanisms.get(scene.engine.mechanism)))))
-    references: list[str] = []
+    references: list[str] = ["poda2007"]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
-        number = len(sections) + 1
+        to_appendix = course and stage.name in NUMERICS_STAGES
+        number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name)
         ctx.conclusions = []
         output = result.outputs[stage.name]
         body = stage.render(output, ctx)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
-        sections.append(SectionView(number, stage.name, t(stage.title_key), Markup(body), list(ctx.conclusions)))
         for ref in stage.references:
             if ref not in references:
                 references.append(ref)
+        if stage.references:
+            numbers = [references.index(r) + 1 for r in stage.references]
+            body = f"<p>{escape(t('doc.method_from', refs=cite(numbers)))}</p>" + body
+        view = SectionView(number, stage.name, t(stage.title_key), Markup(body), list(ctx.conclusions))
+        (appendices if to_appendix else sections).append(view)
         for key, params in output.notes:
-            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else v) for k, v in params.items()}))
+            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                                    for k, v in params.items()}))
 
     from ..plausibility import format_params, warnings
 
     for key, params in warnings(scene, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))
-    numerics_number = len(sections) + 1
-    skipped = [(name, reason) for name, reason in result.plan.skipped.items()]
+    numerics_number = core_letter or len(sections) + 1
+    skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
+               for name, reason in result.plan.skipped.items()]
+    timing = [(t(s.title_key) if s.title_key else s.name, result.timing_s[s.name]) for s in result.plan.order]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
                     for p in template_search_path([])[:1])
     html = env.get_template("report.html.j2").render(
         _=t, num=ctx.num, scene=scene, meta=scene.report, sections=sections, notes=notes,
-        timing=[(s.name, result.timing_s[s.name]) for s in result.plan.order], skipped=skipped,
+        timing=timing, skipped=skipped, appendices=appendices, course=course,
         numerics_number=numerics_number, references=references, css=Markup(css),
-        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
+        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
     )
+    html = _fill_counts(html, t, len(references))
+    html = typeset_html(html, language, report_units(t), t.decimal_separator)
     return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
+
+
+def _stage_title(t, registry: Registry, name: str) -> str:
+    stage = registry.stages.get(name)
+    return t(stage.title_key) if stage is not None and stage.title_key else name
+
+
+def _fill_counts(html: str, t, sources: int) -> str:
+    """The abstract's counts of figures, tables and sources, counted in the document itself."""
+    figures = len(set(re.findall(r'<figure data-number="([^"]+)"', html)))
+    tables = len(set(re.findall(r'<table class="[^"]*" data-number="([^"]+)"', html)))
+    counts = t("doc.abstract_counts", pages='<a class="pagecount" href="#document-end"></a>',
+               figures=figures, tables=tables, sources=sources)
+    return html.replace("@@ABSTRACT_COUNTS@@", counts)

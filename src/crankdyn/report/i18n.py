@@ -9,6 +9,7 @@ report language is a new catalog file, not a code change.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -19,6 +20,17 @@ from ..errors import PluginError
 from ..plugin_types import Catalog
 
 FALLBACK = "en"
+
+#: Between a number and its unit and between digit groups: a narrow no-break space (U+202F),
+#: so "7,26 мм" and "17 168" never break across lines.
+NARROW_NBSP = "\u202f"
+MINUS = "\u2212"
+
+#: ``{n@form|form|…}`` in a catalog text: the word form for the number ``n`` by the CLDR plural
+#: rules of the report's language, forms in CLDR order of the categories the language has
+#: (uk/ru: one, few, many, other; en: one, other).
+_PLURAL = re.compile(r"\{(\w+)@([^{}]*)\}")
+_CATEGORIES = ("zero", "one", "two", "few", "many", "other")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
 
@@ -70,11 +82,39 @@ class Translator:
                 return key
             if self.language != FALLBACK:
                 self.missing.add(key)
+        if params and "@" in text:
+            text = _PLURAL.sub(lambda m: self.plural_word(params.get(m.group(1)), m.group(2)), text)
         return text.format(**params) if params else text
+
+    def has(self, key: str) -> bool:
+        """True if ``key`` has a text in this language or in English."""
+        return key in self.texts or key in self.fallback
 
     @property
     def decimal_separator(self) -> str:
         return self.texts.get("_meta.decimal_separator", ".")
+
+    @property
+    def locale(self):
+        """The Babel locale of the report language (English if Babel does not know it)."""
+        from babel import Locale, UnknownLocaleError
+
+        try:
+            return Locale.parse(self.texts.get("_meta.locale", self.language))
+        except (UnknownLocaleError, ValueError):
+            return Locale.parse(FALLBACK)
+
+    def plural_word(self, value, forms: str) -> str:
+        """The form in ``forms`` ("one|few|many|other") the CLDR rules choose for ``value``."""
+        choices = forms.split("|")
+        number = _as_number(value)
+        if number is None:
+            return choices[-1]
+        locale = self.locale
+        category = locale.plural_form(abs(number))
+        present = [c for c in _CATEGORIES if c in locale.plural_form.tags or c == "other"]
+        index = present.index(category) if category in present else len(present) - 1
+        return choices[min(index, len(choices) - 1)]
 
     # ----------------------------------------------------------------- numbers
     def number(self, value: float, significant: int = 4) -> str:
@@ -87,26 +127,52 @@ class Translator:
         magnitude = math.floor(math.log10(abs(value)))
         if -4 <= magnitude < significant + 2:
             decimals = max(significant - 1 - magnitude, 0)
-            text = f"{value:.{decimals}f}"
-        else:
-            text = f"{value:.{significant - 1}e}"
-            mantissa, exponent = text.split("e")
-            return f"{self._localise(mantissa)}·10{superscript(int(exponent))}"
-        return self._localise(text)
+            return self.fixed(value, decimals)
+        mantissa, exponent = f"{value:.{significant - 1}e}".split("e")
+        return f"{self.fixed(float(mantissa), significant - 1)}·10{superscript(int(exponent))}"
+
+    def number_g(self, value: float, significant: int = 6) -> str:
+        """Like ``%g``: no trailing zeros ("180", "7,5"), in the report's locale."""
+        text = self.number(value, significant)
+        if "·" not in text and self.decimal_separator_babel in text:
+            text = text.rstrip("0").rstrip(self.decimal_separator_babel)
+        return text
+
+    @property
+    def decimal_separator_babel(self) -> str:
+        from babel.numbers import get_decimal_symbol
+
+        return get_decimal_symbol(self.locale)
 
     def fixed(self, value: float, decimals: int) -> str:
+        """``value`` with ``decimals`` decimals in the report's locale (Babel): decimal comma in
+        uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break space."""
         if value is None or (isinstance(value, float) and math.isnan(value)):
             return "—"
-        text = f"{float(value):.{decimals}f}"
-        if text.lstrip("-").strip("0.") == "":
-            text = text.lstrip("-")  # no "-0.000"
-        return self._localise(text)
+        from babel.numbers import format_decimal, get_group_symbol
 
-    def _localise(self, text: str) -> str:
-        text = text.replace("-", "−")
-        if self.decimal_separator != ".":
-            text = text.replace(".", self.decimal_separator)
+        rounded = float(f"{float(value):.{decimals}f}")  # the digits printf would show
+        if rounded == 0:
+            rounded = 0.0  # no "−0,000"
+        pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + ("." + "0" * decimals if decimals > 0 else "")
+        locale = self.locale
+        text = format_decimal(rounded, format=pattern, locale=locale)
+        text = text.replace(get_group_symbol(locale), NARROW_NBSP).replace("-", MINUS)
         return text
+
+
+def _as_number(value) -> float | None:
+    """A number from a value or its formatted text ("17 168,5", "−4")."""
+    if isinstance(value, (int, float)):
+        return float(value)
+    if isinstance(value, str):
+        text = value.replace(NARROW_NBSP, "").replace("\u00a0", "").replace(" ", "")
+        text = text.replace(MINUS, "-").replace(",", ".")
+        try:
+            return float(text)
+        except ValueError:
+            return None
+    return None
 
 
 def translator(language: str, plugin_catalogs: Iterable[Catalog] = ()) -> Translator:

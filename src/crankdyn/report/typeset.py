@@ -1,0 +1,228 @@
+"""Typesetting of what a reader sees: symbols, sub- and superscripts, numbers with units.
+
+Catalog texts and stage code write a subscript the short way, ``s_п`` or ``p_z′``, and a power
+``10^−16`` or ``cos^2``; tables and equations write ``<i>s</i><sub>p</sub>``. This module turns
+both into typeset mathematics for the medium: real ``<sub>``/``<sup>`` in HTML (hence the PDF),
+matplotlib mathtext in figures. One symbol table (:data:`SYMBOLS`) gives each quantity's
+subscript per language, its unit and its meaning, so ``s_p`` in a table header and ``s_п`` in
+the running text of a Ukrainian report come out as the same symbol.
+
+Nothing here computes physics or changes a number's value.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .i18n import MINUS, NARROW_NBSP
+
+
+@dataclass(frozen=True)
+class Symbol:
+    """A quantity's symbol: base letter, subscript per language, unit catalog key, meaning key."""
+
+    base: str
+    sub: dict[str, str]
+    unit: str
+    meaning: str
+
+
+#: The quantities whose subscript differs between the languages (the textbook's Cyrillic
+#: subscripts in uk/ru, Latin ones in English). Keyed by a stable name.
+SYMBOLS: dict[str, Symbol] = {
+    "piston_displacement": Symbol("s", {"en": "p", "uk": "п", "ru": "п"}, "unit.mm", "symbol.piston_displacement"),
+    "piston_velocity": Symbol("v", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s", "symbol.piston_velocity"),
+    "piston_acceleration": Symbol("j", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s2", "symbol.piston_acceleration"),
+    "rod_angular_velocity": Symbol("ω", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s", "symbol.rod_angular_velocity"),
+    "rod_angular_acceleration": Symbol("ε", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s2",
+                                       "symbol.rod_angular_acceleration"),
+    "rod_mass": Symbol("m", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.kg", "symbol.rod_mass"),
+    "piston_group_mass": Symbol("m", {"en": "pg", "uk": "п", "ru": "п"}, "unit.kg", "symbol.piston_group_mass"),
+    "gas_pressure": Symbol("p", {"en": "g", "uk": "г", "ru": "г"}, "unit.MPa", "symbol.gas_pressure"),
+    "driving_torque": Symbol("M", {"en": "d", "uk": "д", "ru": "д"}, "unit.Nm", "symbol.driving_torque"),
+    "mean_speed": Symbol("v", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.m_s", "symbol.mean_speed"),
+}
+
+
+def symbol_sub(key: str, language: str) -> str:
+    """The subscript of symbol ``key`` in ``language`` (English if the language has none)."""
+    sub = SYMBOLS[key].sub
+    return sub.get(language, sub["en"])
+
+
+def symbol_html(key: str, language: str) -> str:
+    """``<i>s</i><sub>п</sub>``: the symbol as HTML markup."""
+    s = SYMBOLS[key]
+    return f"<i>{s.base}</i><sub>{symbol_sub(key, language)}</sub>"
+
+
+def symbol_mathtext(key: str, language: str) -> str:
+    """``$s_{\\mathrm{п}}$``: the symbol as matplotlib mathtext."""
+    s = SYMBOLS[key]
+    return f"${s.base}_{{\\mathrm{{{symbol_sub(key, language)}}}}}$"
+
+
+def _subscript_map(language: str) -> dict[tuple[str, str], str]:
+    """(base, any language's subscript) -> the subscript in ``language``."""
+    out: dict[tuple[str, str], str] = {}
+    for s in SYMBOLS.values():
+        target = s.sub.get(language, s.sub["en"])
+        for sub in s.sub.values():
+            out.setdefault((s.base, sub), target)
+    return out
+
+
+# ----------------------------------------------------------------------------- HTML text
+_LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
+#: ``s_п``, ``p_z′``, ``C_II``, ``λ_p``, ``{..}`` braces for a longer subscript: one base letter
+#: (not the tail of a word or an identifier), its subscript of letters or digits.
+_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}])(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
+#: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
+_SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
+_SUB_HTML = re.compile(r"<i>([^<]{1,2})</i><sub>([^<]+)</sub>")
+#: A number written by Python's exponent notation (``1.2e-03``) that slipped through.
+_E_NUMBER = re.compile(r"(?<![\w.])([−\-]?\d+(?:[.,]\d+)?)[eE]([+\-−]?)(\d+)(?![\w])")
+
+
+def _braces(text: str) -> str:
+    return text[1:-1] if text.startswith("{") and text.endswith("}") else text
+
+
+def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",") -> str:
+    """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing."""
+    subs = _subscript_map(language)
+
+    def sub(m: re.Match) -> str:
+        base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
+        s = subs.get((base, s), s)
+        return f"<i>{base}</i>{prime}<sub>{s}</sub>{prime2}"
+
+    def e_number(m: re.Match) -> str:
+        sign = "⁻" if m.group(2) in ("-", "−") else ""
+        digits = str(int(m.group(3))).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+        mantissa = m.group(1).replace("-", MINUS).replace(".", decimal)
+        return f"{mantissa}·10{sign}{digits}"
+
+    text = _E_NUMBER.sub(e_number, text)
+    text = _SUB.sub(sub, text)
+    text = _SUP.sub(lambda m: f"<sup>{_braces(m.group(1)).replace('-', MINUS)}</sup>", text)
+    if units:
+        text = _unit_spacing(text, units)
+    return text
+
+
+def _unit_spacing(text: str, units: list[str]) -> str:
+    alternatives = "|".join(re.escape(u) for u in sorted(units, key=len, reverse=True))
+    pattern = re.compile(rf"(\d)[ \u00a0]({alternatives})(?![{_LETTER}])")
+    return pattern.sub(lambda m: f"{m.group(1)}{NARROW_NBSP}{m.group(2)}", text)
+
+
+_TAG = re.compile(r"(<[^>]+>)")
+
+
+def typeset_html(html: str, language: str, units: list[str], decimal: str = ",") -> str:
+    """Apply :func:`typeset_text_html` to every text node of a document (not to tags,
+    attribute values, ``<style>``, ``<script>`` or ``<title>``) and give the table headers'
+    and equations' ``<i>X</i><sub>Y</sub>`` the language's subscript."""
+    subs = _subscript_map(language)
+    parts = _TAG.split(html)
+    skip = 0
+    for i, part in enumerate(parts):
+        if i % 2 == 1:  # a tag
+            name = part[1:].split(None, 1)[0].rstrip(">").lower() if len(part) > 2 else ""
+            if name in ("style", "script", "title"):
+                skip += 1
+            elif name in ("/style", "/script", "/title"):
+                skip = max(skip - 1, 0)
+            continue
+        if skip or not part.strip():
+            continue
+        parts[i] = typeset_text_html(part, language, units, decimal)
+    out = "".join(parts)
+    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i><sub>{subs.get((m.group(1), m.group(2)), m.group(2))}</sub>",
+                         out)
+
+
+# ----------------------------------------------------------------------------- figures
+def mathtext(text: str, language: str) -> str:
+    """A figure label with ``s_п``/``ω^2`` as matplotlib mathtext (a ``$`` in the text is kept)."""
+    if "$" in text or ("_" not in text and "^" not in text):
+        return text
+    subs = _subscript_map(language)
+
+    def sub(m: re.Match) -> str:
+        base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
+        s = subs.get((base, s), s)
+        return f"${base}{prime}_{{\\mathrm{{{s}}}}}{prime2}$"
+
+    text = _SUB.sub(sub, text)
+    text = _SUP.sub(lambda m: f"$^{{{_braces(m.group(1)).replace('−', '-')}}}$", text)
+    return text.replace("$$", "")
+
+
+def typeset_figure(fig, t) -> None:
+    """Make every text of a matplotlib figure typeset for the report's language: mathtext
+    sub/superscripts in labels, titles, legends and annotations, and locale tick labels
+    (decimal comma in uk/ru, "−", ×10ⁿ offsets instead of ``1e-03``)."""
+    from matplotlib.text import Text
+
+    language = t.language
+    for text in fig.findobj(Text):
+        value = text.get_text()
+        if value and ("_" in value or "^" in value) and "$" not in value:
+            text.set_text(mathtext(value, language))
+    for ax in fig.get_axes():
+        for axis in (ax.xaxis, ax.yaxis):
+            _locale_ticks(axis, t)
+        _legend_outside(ax)
+
+
+def _legend_outside(ax) -> None:
+    """Move an axes legend above the plotting area, so that it never covers a curve."""
+    legend = ax.get_legend()
+    if legend is None:
+        return
+    handles, labels = ax.get_legend_handles_labels()
+    if len(labels) != len(legend.get_texts()) or not labels:
+        return  # a legend built from its own handles: leave it as its author placed it
+    size = legend.get_texts()[0].get_fontsize()
+    ax.legend(handles, labels, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=min(len(labels), 4),
+              frameon=False, fontsize=size, borderaxespad=0.2)
+
+
+def _locale_ticks(axis, t) -> None:
+    from matplotlib.ticker import ScalarFormatter
+
+    formatter = axis.get_major_formatter()
+    if type(formatter) is ScalarFormatter:
+        axis.set_major_formatter(LocaleScalarFormatter(t))
+
+
+def _locale_formatter_class():
+    from matplotlib.ticker import ScalarFormatter
+
+    class _Formatter(ScalarFormatter):
+        """ScalarFormatter whose tick labels are formatted by the translator (Babel)."""
+
+        def __init__(self, t):
+            super().__init__(useMathText=True)
+            self._t = t
+
+        def __call__(self, x, pos=None):
+            if len(self.locs) == 0:
+                return ""
+            decimals = _decimals_of(self.format)
+            value = (x - self.offset) / 10.0 ** self.orderOfMagnitude
+            return self._t.fixed(value, decimals)
+
+    return _Formatter
+
+
+def _decimals_of(fmt: str) -> int:
+    m = re.search(r"\.(\d+)f", fmt)
+    return int(m.group(1)) if m else 0
+
+
+def LocaleScalarFormatter(t):  # noqa: N802 - a class factory: matplotlib imports lazily
+    return _locale_formatter_class()(t)
