@@ -531,7 +531,8 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
 # ------------------------------------------------------------------ the stage
 def applies(scene) -> str | None:
     if scene.cycle is None or scene.masses is None:
-        return ("the scene has no [cycle] and [masses]: there is no cycle to integrate "
+        missing = " and ".join(t for t, v in (("[cycle]", scene.cycle), ("[masses]", scene.masses)) if v is None)
+        return (f"the scene has no {missing}: there is no cycle to integrate "
                 "(the kinematics part is in numerics_kinematics)")
     return None
 
