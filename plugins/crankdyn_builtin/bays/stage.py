@@ -53,9 +53,10 @@ def check_layout(scene) -> list:
     try:
         layout = engine_layout(scene)
         step = scene.analysis.angle_step_deg
+        grid = lay.layout_grid_deg(layout)
         for c in layout.cylinders:
-            lay.grid_shift(c.firing_delay_deg, step)
-            lay.grid_shift(c.axis_deg, step)
+            lay.grid_shift(c.firing_delay_deg, step, grid)
+            lay.grid_shift(c.axis_deg, step, grid)
     except SceneError as exc:
         return exc.problems
     except lay.LayoutError as exc:
