@@ -287,7 +287,10 @@ def run(scene, inputs) -> StageOutput:
         "rotating_mass_kg": m_R,
         "centrifugal_N": C,
         "first_order_N": C_I,
-        "second_order_N": masses.second_order_textbook_N,
+        "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
+        # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
+        "second_order_exact_N": float(harmonics[2]) * C_I,
+        "second_order_difference_relative": float(harmonics[2]) * C_I / masses.second_order_textbook_N - 1.0,
         "acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in all_orders},
         "acceleration_series": {bal.roman(n): v for n, v in series.items()},
         "cylinder_spacing_m": a,
