@@ -53,6 +53,13 @@ MATRIX = {
                     ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
                     ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
                     {"steps", "kinematics-forms", "theoretical", "refused-steps"}, set()),
+    # A balancing exercise: geometry, masses and layout, no working cycle (issue 18, item 1).
+    "balancing-only": ("v8-petrol", {"cycle": None},
+                       {"kinematics", "balancing", "numerics_kinematics"},
+                       {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
+                       {"kinematics", "balancing", "numerics_kinematics"},
+                       {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
+                       {"kinematics-forms"}, {"steps", "solvers"}),
     "pressure-trace": ("diesel-rk-trace", {},
                        ENGINE, {"bays", "torque", "numerics_kinematics"},
                        ENGINE, {"numerics_kinematics"},
@@ -135,3 +142,27 @@ def test_parts_of_the_numerics_section(name):
         has_theory = any("theoretical_work_error_relative" in s for s in numerics["steps"])
         assert has_theory == ("theoretical" in parts_present)
         assert bool(numerics["steps_refused"]) == ("refused-steps" in parts_present)
+
+
+def test_balancing_needs_no_cycle():
+    """Without [cycle] the balancing section is the full one (the same numbers as with the cycle, which
+    computes them through the bay loads), only the torque reaction is left out, and every stage left out
+    names what it lacks."""
+    result, document, html = build("balancing-only")
+    skipped = document["stages_skipped"]
+    assert "[cycle]" in skipped["indicator"]
+    for stage in ("forces", "bays", "torque", "bearings"):
+        assert "gas_pressure" in skipped[stage] and "[cycle]" in skipped[stage], (stage, skipped[stage])
+    assert "[cycle]" in skipped["numerics"] and "[masses]" not in skipped["numerics"]
+    with_cycle = run_scene(scene_from_dict(modified("v8-petrol", {}), base_dir=examples_dir()), REGISTRY)
+    full = with_cycle.outputs["balancing"].results
+    alone = result.outputs["balancing"].results
+    assert full["reaction_torque_range_Nm"] > 0 and alone["reaction_torque_range_Nm"] is None
+    assert set(alone) == set(full)
+    for key in ("rotating_mass_kg", "reciprocating_mass_kg", "centrifugal_N", "first_order_N"):
+        assert alone[key] == pytest.approx(full[key], rel=1e-13)
+    assert alone["summary"] == full["summary"] and alone["absolute"] == pytest.approx(full["absolute"], rel=1e-12)
+    assert [c["mass_kg"] for c in alone["counterweights"]] == pytest.approx(
+        [c["mass_kg"] for c in full["counterweights"]], rel=1e-12)
+    assert ("balancing.note_no_torque", {}) in result.outputs["balancing"].notes
+    assert "no output torque" in html

@@ -119,10 +119,12 @@ def test_two_mass_torque_of_the_crank_slider_is_the_textbook_one():
                                atol=1e-9 * np.max(np.abs(textbook)))
 
 
-def test_crank_slider_uses_spectral_derivatives_that_match_the_closed_forms():
+def test_crank_slider_passes_its_closed_form_rod_rates():
+    # issue 18: the kinematics stage hands its closed-form rates on; the note on spectral differentiation is gone
     result = _run("petrol-1cyl", {"masses": {"rod_moment_of_inertia": "0.0015 kg m^2"}})
     out = result.outputs["rod_dynamics"]
-    assert out.results["derivatives"] == "spectral"
+    assert out.results["derivatives"] == "analytic"
+    assert "rod_dynamics.note_spectral" not in [key for key, _ in out.notes]
     f = out.tables["rod_dynamics"]
     motion = result.outputs["kinematics"].data["kinematics"]
     lam, omega = motion.extra["rod_ratio"], motion.angular_velocity_rad_s

@@ -221,3 +221,49 @@ def test_lambda_to_one_limit_disagrees_with_the_source_conclusion():
                                atol=1e-6)
     jy_rocker = vn.rocker_acceleration_m_s2(alpha, 1.0, 1.0)[1]
     assert jy_rocker[0] == pytest.approx(1.0) and vn.slider_vertical_acceleration_m_s2(0.0, 1.0, lam, 1.0) < 0
+
+
+def _root(fn, lo_deg, hi_deg):
+    return optimize.brentq(fn, math.radians(lo_deg), math.radians(hi_deg), xtol=1e-15)
+
+
+def test_extremes_by_root_finding_against_an_independent_solve():
+    """Issue 18: extremes exact to 1e-9 rad, one coordinate (y_p = O3P, downwards) for value and derivatives.
+
+    The derivatives used here are written out by hand from the source's forms, independently of the code:
+    v_yp = -w r lam sin a cos a / chi  =>  dv/da = 0  <=>  chi^2 cos 2a + lam^2 sin^2 a cos^2 a = 0
+    (Klementev's check value a0 = 52.239 deg for lam = 0.8: v_yp is smallest there, largest at 180 - a0);
+    eps_c = lam (1 - lam^2) w^2 sin a / chi^3 is largest at 90 deg: lam w^2 / sqrt(1 - lam^2);
+    v_po = w r (sin a + lam sin a cos a / chi)  =>  cos a + lam (chi^2 cos 2a + lam^2 sin^2 a cos^2 a)/chi^3 = 0.
+    """
+    from crankdyn_builtin.vane.stage import extremes
+
+    r, lam, w = 0.04, 0.8, 100.0
+
+    def chi(a):
+        return math.sqrt(1 - lam**2 * math.sin(a) ** 2)
+
+    def bracket(a):
+        return chi(a) ** 2 * math.cos(2 * a) + lam**2 * math.sin(a) ** 2 * math.cos(a) ** 2
+
+    ext = extremes(r, lam, w)
+    a0 = _root(bracket, 40, 60)
+    assert math.degrees(a0) == pytest.approx(52.239, abs=5e-4)  # Klementev's check value
+    v = ext["slider_vy_below_core_m_s"]
+    assert abs(math.radians(v["min_crank_angle_deg"]) - a0) < 1e-9
+    assert abs(math.radians(v["max_crank_angle_deg"]) - (math.pi - a0)) < 1e-9
+    v_at = -w * r * lam * math.sin(a0) * math.cos(a0) / chi(a0)
+    assert v["min"] == pytest.approx(v_at, rel=1e-13) and v["max"] == pytest.approx(-v_at, rel=1e-13)
+    eps = ext["core_angular_acceleration_rad_s2"]
+    assert abs(math.radians(eps["max_crank_angle_deg"]) - math.pi / 2) < 1e-9
+    assert eps["max"] == pytest.approx(lam * w**2 / math.sqrt(1 - lam**2), rel=1e-13)
+    a1 = _root(lambda a: math.cos(a) + lam * bracket(a) / chi(a) ** 3, 50, 80)
+    rel = ext["slider_relative_velocity_m_s"]
+    assert abs(math.radians(rel["max_crank_angle_deg"]) - a1) < 1e-9
+    assert rel["max"] == pytest.approx(w * r * math.sin(a1) * (1 + lam * math.cos(a1) / chi(a1)), rel=1e-13)
+    # y_p (below the core axis) is largest with the tail vertical (alpha = 0), smallest at 90 deg
+    y = ext["slider_y_below_core_m"]
+    assert y["max_crank_angle_deg"] == 0.0 and y["max"] == pytest.approx(r / lam, rel=1e-15)
+    assert abs(y["min_crank_angle_deg"] - 90) < 1e-7 and y["min"] == pytest.approx(r / lam * math.sqrt(1 - lam**2))
+    j = ext["slider_jy_below_core_m_s2"]
+    assert j["min_crank_angle_deg"] == 0.0  # of the equal minima at 0 and 180 deg, the first

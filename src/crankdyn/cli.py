@@ -317,7 +317,8 @@ def _plugins(args) -> int:
     print("stages:")
     for name, stage in sorted(registry.stages.items()):
         print(f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
-              f"provides={','.join(stage.provides) or '-'}{'' if stage.default else ' (optional)'}")
+              f"provides={','.join(stage.provides) or '-'}"
+              f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}")
     from .report.i18n import available_languages
 
     print("languages: " + ", ".join(available_languages()))

@@ -146,7 +146,8 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
 
 def _topological(stages: dict[str, Stage]) -> list[Stage]:
     provider_of = {key: s.name for s in stages.values() for key in s.provides}
-    depends = {name: {provider_of[k] for k in s.requires} for name, s in stages.items()}
+    depends = {name: {provider_of[k] for k in s.requires}
+               | {provider_of[k] for k in s.uses if k in provider_of} for name, s in stages.items()}
     # Ties are broken by name, so the order is reproducible; stages marked ``last`` (summaries
     # such as the error study) wait until nothing else is ready.
     ready = [(stages[n].last, n) for n, d in depends.items() if not d]
@@ -171,6 +172,7 @@ def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
     timing: dict[str, float] = {}
     for stage in the_plan.order:
         inputs = {key: data[key] for key in stage.requires}
+        inputs.update({key: data[key] for key in stage.uses if key in data})
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         timing[stage.name] = time.perf_counter() - start

@@ -69,6 +69,9 @@ class Stage:
     title_key:  catalog key of the section title.
     requires:   data keys this stage needs from earlier stages.
     provides:   data keys it makes (``StageOutput.data`` must hold exactly these).
+    uses:       data keys it takes when a stage in the plan provides them (e.g. the engine
+                torque for one extra result); they never pull a stage into the plan, and
+                ``run`` finds them in ``inputs`` only when they were provided.
     applies:    ``applies(scene) -> None`` when the scene needs this stage, else the
                 reason (one English sentence; it goes to results.json and the report).
     run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
@@ -94,6 +97,7 @@ class Stage:
     render: Callable[[StageOutput, "RenderContext"], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
+    uses: tuple[str, ...] = ()
     default: bool = True
     last: bool = False
     options_table: str | None = None

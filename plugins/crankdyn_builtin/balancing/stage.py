@@ -17,7 +17,7 @@ import pandas as pd
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
-from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE
+from crankdyn.contracts import ENGINE_TORQUE, KINEMATICS
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
@@ -26,6 +26,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import new_figure
 from matplotlib.patches import Circle  # noqa: E402 (after the figures module chose the Agg backend)
 from crankdyn.scene import options, quantity as _quantity
+from crankdyn_builtin.bays.stage import engine_layout, rotating_mass_per_crank_kg
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -109,17 +110,16 @@ def _vector(value: complex, scale: float) -> dict:
 
 
 def run(scene, inputs) -> StageOutput:
-    bays, torque = inputs[BAY_LOADS], inputs[ENGINE_TORQUE]
+    torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
     e, m = scene.engine, scene.masses
-    layout = bays.layout
+    layout = engine_layout(scene)
     g = bal.geometry_from_layout(layout)
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     a = e.cylinder_spacing  # None: moments in units of a only
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
     m_s = m.piston_group + rod_rec
-    centrifugal_N = abs(bays.centrifugal_Pa) * bays.piston_area_m2
-    m_R = centrifugal_N / (R * w**2)
+    m_R = rotating_mass_per_crank_kg(scene, layout)
     masses = bal.Masses(m_s, m_R, R, lam, w)
     n_max = bal.orders_needed(lam)
     harmonics = bal.harmonics_for(lam, n_max)
@@ -133,6 +133,8 @@ def run(scene, inputs) -> StageOutput:
         notes.append(("balancing.note_no_spacing", {}))
     if e.rod_type == "articulated":
         notes.append(("balancing.note_articulated", {}))
+    if torque is None:
+        notes.append(("balancing.note_no_torque", {}))
 
     # ----------------------------------------------------------------- vector models
     models = {0: bal.rotating_model(g)}
@@ -279,13 +281,16 @@ def run(scene, inputs) -> StageOutput:
             summary.append({"quantity": ("sum_" if kind == "force" else "M_") + entry["name"], "order": n,
                             "coefficient": coef, "balanced": bool(balanced), "remedy": remedy})
 
-    t_max, t_min = float(np.max(torque.torque_Nm)), float(np.min(torque.torque_Nm))
+    torque_range = float(np.ptp(torque.torque_Nm)) if torque is not None else None
     results = {
         "reciprocating_mass_kg": m_s,
         "rotating_mass_kg": m_R,
         "centrifugal_N": C,
         "first_order_N": C_I,
-        "second_order_N": masses.second_order_textbook_N,
+        "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
+        # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
+        "second_order_exact_N": float(harmonics[2]) * C_I,
+        "second_order_difference_relative": float(harmonics[2]) * C_I / masses.second_order_textbook_N - 1.0,
         "acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in all_orders},
         "acceleration_series": {bal.roman(n): v for n, v in series.items()},
         "cylinder_spacing_m": a,
@@ -301,7 +306,7 @@ def run(scene, inputs) -> StageOutput:
         "balance_shafts": shafts,
         "residual": residual,
         "summary": summary,
-        "reaction_torque_range_Nm": t_max - t_min,
+        "reaction_torque_range_Nm": torque_range,
         "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
         "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
         "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
@@ -585,7 +590,8 @@ BALANCING_STAGE = Stage(
     template_dir=TEMPLATES,
     name="balancing",
     title_key="balancing.title",
-    requires=(BAY_LOADS, ENGINE_TORQUE),
+    requires=(KINEMATICS,),
+    uses=(ENGINE_TORQUE,),
     provides=(),
     applies=applies,
     run=run,

@@ -53,9 +53,10 @@ def check_layout(scene) -> list:
     try:
         layout = engine_layout(scene)
         step = scene.analysis.angle_step_deg
+        grid = lay.layout_grid_deg(layout)
         for c in layout.cylinders:
-            lay.grid_shift(c.firing_delay_deg, step)
-            lay.grid_shift(c.axis_deg, step)
+            lay.grid_shift(c.firing_delay_deg, step, grid)
+            lay.grid_shift(c.axis_deg, step, grid)
     except SceneError as exc:
         return exc.problems
     except lay.LayoutError as exc:
@@ -110,6 +111,29 @@ def _slave_geometries(scene, layout, opts) -> list[tuple[lay.Cylinder, art.Slave
             raise SceneError(Problem("articulated.slave_rod_length", opts.slave_rod_length, str(exc))) from None
         out.append((slave, geometry))
     return out
+
+
+def rotating_mass_per_crank_kg(scene, layout) -> float:
+    """Mass rotating with one crank pin, reduced to the crank radius (kg): the rods' rotating
+    shares (an articulated bay: the reduced master rod, textbook fig. 9) plus pin and webs.
+
+    The same mass that ``run`` turns into the centrifugal force c; it needs no pressures, so
+    balancing can use it in a scene without a working cycle.
+    """
+    e, m = scene.engine, scene.masses
+    _, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    crank_rotating = m.crank_pin + 2 * m.crank_web
+    if e.rod_type != "articulated":
+        return rod_rot * layout.cylinders_per_bay + crank_rotating
+    opts = options(scene, "articulated", ArticulatedOptions)
+    slaves = _slave_geometries(scene, layout, opts)
+    slave_rod = opts.slave_rod if opts.slave_rod is not None else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m
+    s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
+    rot_master = rod_rot
+    for _, g in slaves:
+        rot_master += art.reduced_master_rod_masses(0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin,
+                                                    g.pin_radius_m, g.pin_angle_rad)[1]
+    return rot_master + crank_rotating
 
 
 def run(scene, inputs) -> StageOutput:

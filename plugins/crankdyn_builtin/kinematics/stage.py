@@ -103,7 +103,9 @@ def run(scene, inputs) -> StageOutput:
         crank_radius_m=radius,
         angular_velocity_rad_s=omega,
         method=scene.analysis.kinematics,
-        extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m},
+        # the rod's rates in closed form (rod_dynamics would otherwise differentiate the angle spectrally)
+        extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m,
+               "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
         displacement_at=lambda a_deg: displacement(np.radians(a_deg), radius, ratio),
     )
     notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),

@@ -78,6 +78,7 @@ class NumericsOptions(BaseModel):
     repeats: Annotated[int, Field(ge=1, le=50)] = 2
     time_budget_s: Annotated[float, Field(gt=0, le=3600)] = 10.0
     max_error_percent: Annotated[float, Field(gt=0)] = 1.0
+    tolerance: Annotated[float, Field(gt=0, lt=0.1)] = 1e-3  # relative error allowed in the reported peaks
     kinematics_forms: bool = True
 
 
@@ -531,7 +532,8 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
 # ------------------------------------------------------------------ the stage
 def applies(scene) -> str | None:
     if scene.cycle is None or scene.masses is None:
-        return ("the scene has no [cycle] and [masses]: there is no cycle to integrate "
+        missing = " and ".join(t for t, v in (("[cycle]", scene.cycle), ("[masses]", scene.masses)) if v is None)
+        return (f"the scene has no {missing}: there is no cycle to integrate "
                 "(the kinematics part is in numerics_kinematics)")
     return None
 
@@ -572,7 +574,9 @@ def run(scene, inputs) -> StageOutput:
 
     # The scene's own step is always in the study (first): its values are the ones this report
     # prints. The other steps follow from coarse to fine while the time budget lasts.
-    others = sorted(set(float(s) for s in opts.steps_deg) - {scene_step}, reverse=True)
+    # Each study step is moved onto the engine's grid (the largest step grid/k not above it), so
+    # that it divides the cycle and every firing interval for any number of cylinders.
+    others = sorted(set(study_steps_deg(scene, opts.steps_deg)) - {scene_step}, reverse=True)
     runs: list[StepRun] = []
     refused: dict[str, str] = {}
     start = time.perf_counter()
@@ -620,6 +624,7 @@ def run(scene, inputs) -> StageOutput:
         at_scene[f"{q}_error_relative"] = _relative(printed[q], ref[q])
 
     _refuse_if_too_coarse(scene, opts, at_scene, step_rows)
+    notes += _peaks_against_tolerance(scene, opts, at_scene, step_rows)
 
     results.update({
         "reference_method": reference.method,
@@ -637,6 +642,41 @@ def run(scene, inputs) -> StageOutput:
     _kinematics_part(scene, opts, results, tables)
     _probes(scene, results)
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+def study_steps_deg(scene, steps_deg) -> list[float]:
+    """The study's steps on the engine's grid: each the largest grid/k not above the one asked for."""
+    from crankdyn.physics.layout import step_on_grid_deg
+
+    grid = scene.engine_grid_deg
+    return sorted({step_on_grid_deg(grid, float(s)) for s in steps_deg}, reverse=True)
+
+
+PEAKS = ("tangential_max", "tangential_min", "resultant_max")
+
+
+def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
+    """The largest relative error of the reported peaks at the scene's step against [numerics] tolerance.
+
+    Records it in ``at_scene`` and returns the method notes: how a defaulted step was chosen, and,
+    when the peaks are off by more than the tolerance, the coarsest measured step that keeps them.
+    """
+    def worst(row):
+        return max(row[f"{q}_error_relative"] for q in PEAKS)
+
+    error = worst(at_scene)
+    at_scene.update({"peaks_error_relative": error, "tolerance_relative": opts.tolerance,
+                     "peaks_within_tolerance": bool(error <= opts.tolerance),
+                     "step_defaulted": scene.angle_step_defaulted, "grid_deg": scene.engine_grid_deg})
+    notes = []
+    if scene.angle_step_defaulted:
+        notes.append(("numerics.note_default_step", {"step": scene.analysis.angle_step_deg, "grid": scene.engine_grid_deg,
+                                                     "tolerance": 100 * opts.tolerance, "error": 100 * error}))
+    if error > opts.tolerance:
+        good = [row["angle_step_deg"] for row in step_rows if worst(row) <= opts.tolerance]
+        notes.append(("numerics.note_peaks_beyond", {"error": 100 * error, "tolerance": 100 * opts.tolerance,
+                                                     "step": f"{max(good):.6g}" if good else "—"}))
+    return notes
 
 
 def _refuse_if_too_coarse(scene, opts, at_scene, step_rows) -> None:

@@ -158,7 +158,7 @@ def run(scene, inputs) -> StageOutput:
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))
     if motion.method == "approximate":
-        notes.append(("rod_dynamics.note_approximate", {}))
+        notes.append(("rod_dynamics.note_approximate", {"mean": float(np.mean(columns["torque_model_Nm"]))}))
     return StageOutput(data={}, results=results, tables={"rod_dynamics": table}, notes=notes)
 
 

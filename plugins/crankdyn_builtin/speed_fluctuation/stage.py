@@ -23,6 +23,7 @@ from crankdyn.scene import number as _number, options, quantity as _quantity
 from crankdyn.units import parse_quantity
 
 from crankdyn_builtin.flywheel.stage import crank_train
+from crankdyn.physics import irregularity as irr
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -441,6 +442,9 @@ def run(scene, inputs) -> StageOutput:
         "omega_min_crank_angle_deg": math.degrees(exact.omega_min_angle_rad),
         "cycle_time_s": exact.cycle_time_s,
         "irregularity": exact.irregularity,
+        "irregularity_definition": "(omega_max - omega_min) / ((omega_max + omega_min) / 2)",
+        "irregularity_time_mean": irr.irregularity_time_mean(exact.omega_max_rad_s, exact.omega_min_rad_s,
+                                                             exact.omega_mean_rad_s),
         "irregularity_energy": energy_delta,
         "irregularity_deviation_percent": 100.0 * (exact.irregularity - energy_delta) / energy_delta,
         "flywheel_inertia_energy_kg_m2": design.required_flywheel_inertia_kg_m2,
@@ -464,7 +468,11 @@ def run(scene, inputs) -> StageOutput:
         "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
         "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
     })}
-    notes = [("speed_fluctuation.note_reference", {})]
+    notes = [("speed_fluctuation.note_reference", {}),
+             ("speed_fluctuation.note_irregularity", {
+                 "midrange": results["irregularity"], "time_mean": results["irregularity_time_mean"],
+                 "omega_mid": 0.5 * (exact.omega_max_rad_s + exact.omega_min_rad_s),
+                 "omega_mean": exact.omega_mean_rad_s})]
     if torsion_opts is not None:
         torsion, torsion_tables = _torsion(scene, torque, crank_loads, design, train, exact, torsion_opts)
         results["torsion"] = torsion

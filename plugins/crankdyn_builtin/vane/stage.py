@@ -19,6 +19,7 @@ from scipy import optimize
 
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
+from crankdyn.physics.extrema import central_derivative, periodic_extreme
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -76,13 +77,55 @@ def _curves(alpha, r, lam, omega, suffix=""):
         "core_angular_velocity_rad_s" + suffix: vn.core_angular_velocity_rad_s(alpha, lam, omega),
         "core_angular_acceleration_rad_s2" + suffix: vn.core_angular_acceleration_rad_s2(alpha, lam, omega),
         "slider_y_below_core_m" + suffix: vn.slider_height_below_core_m(alpha, r, lam),
-        "slider_y_from_lowest_m" + suffix: vn.slider_vertical_travel_m(alpha, r, lam),
-        "slider_vy_m_s" + suffix: vn.slider_vertical_velocity_m_s(alpha, r, lam, omega),
-        "slider_jy_m_s2" + suffix: vn.slider_vertical_acceleration_m_s2(alpha, r, lam, omega),
+        # one coordinate for the value and its derivatives: y_p = O3P, below the core axis (the source's)
+        "slider_vy_below_core_m_s" + suffix: vn.slider_vertical_velocity_m_s(alpha, r, lam, omega),
+        "slider_jy_below_core_m_s2" + suffix: vn.slider_vertical_acceleration_m_s2(alpha, r, lam, omega),
+        # B'P = l - y_p, the rise above the lowest position (its derivatives are -v_yp, -j_yp)
+        "slider_rise_above_lowest_m" + suffix: vn.slider_vertical_travel_m(alpha, r, lam),
         "slider_relative_m" + suffix: vn.slider_relative_position_m(alpha, r, lam),
         "slider_relative_velocity_m_s" + suffix: vn.slider_relative_velocity_m_s(alpha, r, lam, omega),
         "slider_relative_acceleration_m_s2" + suffix: vn.slider_relative_acceleration_m_s2(alpha, r, lam, omega),
     }
+
+
+def _quantities(r, lam, omega) -> dict:
+    """CSV column -> (value of alpha in rad, its derivative d/dalpha or None for a numerical one)."""
+    return {
+        "vane_angle_deg": (lambda a: np.degrees(vn.vane_angle_rad(a, lam)),
+                           lambda a: np.degrees(vn.core_angular_velocity_rad_s(a, lam, omega)) / omega),
+        "core_angular_velocity_rad_s": (lambda a: vn.core_angular_velocity_rad_s(a, lam, omega),
+                                        lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega) / omega),
+        "core_angular_acceleration_rad_s2": (lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega), None),
+        "slider_y_below_core_m": (lambda a: vn.slider_height_below_core_m(a, r, lam),
+                                  lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega) / omega),
+        "slider_vy_below_core_m_s": (lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega),
+                                     lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega) / omega),
+        "slider_jy_below_core_m_s2": (lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega), None),
+        "slider_relative_m": (lambda a: vn.slider_relative_position_m(a, r, lam),
+                              lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega) / omega),
+        "slider_relative_velocity_m_s": (lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega),
+                                         lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega) / omega),
+        "slider_relative_acceleration_m_s2": (lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega), None),
+    }
+
+
+def extremes(r, lam, omega) -> dict:
+    """Largest and smallest value of each quantity over a revolution and the crank angles (deg) where
+    they occur, by Brent's root search on the derivative (closed form, else a five-point difference),
+    as the offset and planetary mechanisms find theirs; ties: the first angle."""
+    out = {}
+    for column, (fn, derivative) in _quantities(r, lam, omega).items():
+        derivative = derivative or central_derivative(fn)
+        entry = {}
+        for kind in ("max", "min"):
+            angle, value = periodic_extreme(fn, derivative, 2 * np.pi, kind)
+            entry[kind], entry[f"{kind}_crank_angle_deg"] = value, float(np.degrees(angle))
+        out[column] = entry
+    return out
+
+
+def _largest(entry: dict) -> float:
+    return max(abs(entry["max"]), abs(entry["min"]))
 
 
 def run(scene, inputs) -> StageOutput:
@@ -122,8 +165,7 @@ def run(scene, inputs) -> StageOutput:
                              np.radians(z) - 0.2, np.radians(z) + 0.2, xtol=1e-14) for z in zeros]
     zeros_check = float(np.max(np.abs(np.degrees(found) - zeros)))
     y_max = vn.slider_vertical_travel_max_m(r, lam)
-    jy = table["slider_jy_m_s2"]
-    jr = table["slider_relative_acceleration_m_s2"]
+    ext = extremes(r, lam, omega)
     results = {
         "crank_radius_m": r,
         "tail_length_m": l_tail,
@@ -137,15 +179,17 @@ def run(scene, inputs) -> StageOutput:
         "slider_vertical_travel_max_over_tail": y_max / l_tail,
         "slider_vertical_acceleration_zeros_deg": [float(z) for z in zeros],
         "slider_vertical_acceleration_zeros_check_deg": zeros_check,
-        "core_angular_velocity_max_rad_s": float(np.max(np.abs(table["core_angular_velocity_rad_s"]))),
-        "core_angular_acceleration_max_rad_s2": float(np.max(np.abs(table["core_angular_acceleration_rad_s2"]))),
-        "slider_vertical_velocity_max_m_s": float(np.max(np.abs(table["slider_vy_m_s"]))),
-        "slider_vertical_acceleration_max_m_s2": float(np.max(jy)),
-        "slider_vertical_acceleration_min_m_s2": float(np.min(jy)),
-        "slider_relative_travel_m": float(np.max(table["slider_relative_m"]) - np.min(table["slider_relative_m"])),
-        "slider_relative_velocity_max_m_s": float(np.max(np.abs(table["slider_relative_velocity_m_s"]))),
-        "slider_relative_acceleration_max_m_s2": float(np.max(jr)),
-        "slider_relative_acceleration_min_m_s2": float(np.min(jr)),
+        # extremes by root finding on the derivative (not grid maxima); y_p positive downwards
+        "extremes": ext,
+        "core_angular_velocity_max_rad_s": _largest(ext["core_angular_velocity_rad_s"]),
+        "core_angular_acceleration_max_rad_s2": _largest(ext["core_angular_acceleration_rad_s2"]),
+        "slider_vertical_velocity_max_m_s": _largest(ext["slider_vy_below_core_m_s"]),
+        "slider_vertical_acceleration_max_m_s2": ext["slider_jy_below_core_m_s2"]["max"],
+        "slider_vertical_acceleration_min_m_s2": ext["slider_jy_below_core_m_s2"]["min"],
+        "slider_relative_travel_m": ext["slider_relative_m"]["max"] - ext["slider_relative_m"]["min"],
+        "slider_relative_velocity_max_m_s": _largest(ext["slider_relative_velocity_m_s"]),
+        "slider_relative_acceleration_max_m_s2": ext["slider_relative_acceleration_m_s2"]["max"],
+        "slider_relative_acceleration_min_m_s2": ext["slider_relative_acceleration_m_s2"]["min"],
         "compare_rod_ratios": list(params.compare_rod_ratios),
         "working_cycle_deg": list(WORKING_CYCLE_DEG),
     }
@@ -185,8 +229,8 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"), g["rocker_x_m"].to_numpy() * mm, 2),
         ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"].to_numpy() * mm, 2),
         ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"].to_numpy() * mm, 2),
-        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_m_s"].to_numpy(), 3),
-        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_m_s2"].to_numpy(), 0),
+        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"].to_numpy(), 3),
+        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"].to_numpy(), 0),
         ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"].to_numpy() * mm, 2),
     ], caption=t("vane.table_caption"), css_class="data wide")
 
@@ -222,12 +266,12 @@ def render(output: StageOutput, ctx) -> str:
     figure_rocker = ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
 
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    plot(axes[0], "slider_y_from_lowest_m", mm)
+    plot(axes[0], "slider_y_below_core_m", mm)
     axes[0].set_ylabel(t("vane.axis_slider_y"))
     axes[0].legend(loc="upper right", fontsize=8)
-    plot(axes[1], "slider_vy_m_s")
+    plot(axes[1], "slider_vy_below_core_m_s")
     axes[1].set_ylabel(t("vane.axis_slider_v"))
-    plot(axes[2], "slider_jy_m_s2")
+    plot(axes[2], "slider_jy_below_core_m_s2")
     axes[2].set_ylabel(t("vane.axis_slider_j"))
     for zero in r["slider_vertical_acceleration_zeros_deg"]:
         for ax in axes[1:]:

@@ -244,13 +244,66 @@ def cycle_angle_deg(shaft_angle_deg: np.ndarray, firing_delay_deg: float, cycle_
     return np.mod(np.asarray(shaft_angle_deg) - firing_delay_deg, cycle_deg)
 
 
-def grid_shift(firing_delay_deg: float, step_deg: float) -> int:
-    """Number of grid steps in a firing delay; the delay must be a whole number of steps."""
+def grid_shift(firing_delay_deg: float, step_deg: float, grid_deg: float | None = None) -> int:
+    """Number of grid steps in a firing delay; the delay must be a whole number of steps.
+
+    ``grid_deg`` (the engine's base grid, :func:`grid_deg`) lets a refusal name the nearest
+    steps that work.
+    """
     shift = firing_delay_deg / step_deg
-    if abs(shift - round(shift)) > 1e-9:
+    if abs(shift - round(shift)) > 1e-6:
+        hint = ""
+        if grid_deg is not None:
+            hint = "; the nearest steps that work: " + ", ".join(f"{x:.12g}" for x in nearest_steps_deg(grid_deg, step_deg))
         raise LayoutError("analysis.angle_step_deg", step_deg,
-                          f"must divide the firing delays and bank angles (a delay of {firing_delay_deg:g} deg occurs)")
+                          f"must divide the firing delays and bank angles (a delay of {firing_delay_deg:g} deg occurs)"
+                          + hint)
     return int(round(shift))
+
+
+def _fraction(angle_deg: float):
+    """An angle as an exact fraction of degrees (layout angles are rational: 720/7, 40, 22.5 ...)."""
+    from fractions import Fraction
+
+    return Fraction(float(angle_deg)).limit_denominator(10_000)
+
+
+def grid_deg(cycle_deg: float, angles_deg) -> float:
+    """The engine's base grid: the largest angle (deg) that divides the cycle and every angle given.
+
+    Every step that divides the cycle, the firing delays and the bank angles is this grid over a
+    whole number k, and every grid/k works. The greatest common divisor of rational numbers
+    a/b and c/d is gcd(a d, c b)/(b d).
+    """
+    from math import gcd
+
+    g = _fraction(cycle_deg)
+    for angle in angles_deg:
+        f = _fraction(angle) % _fraction(cycle_deg)
+        if f == 0:
+            continue
+        num = gcd(g.numerator * f.denominator, f.numerator * g.denominator)
+        g = type(g)(num, g.denominator * f.denominator)
+    return float(g)
+
+
+def layout_grid_deg(layout: "EngineLayout") -> float:
+    """:func:`grid_deg` of a layout: cycle, firing delays and bank-axis angles."""
+    angles = [c.firing_delay_deg for c in layout.cylinders] + [c.axis_deg for c in layout.cylinders]
+    return grid_deg(layout.cycle_deg, angles)
+
+
+def step_on_grid_deg(grid: float, target_deg: float) -> float:
+    """The largest step grid/k (k = 1, 2, ...) not larger than ``target_deg``."""
+    k = max(1, int(np.ceil(grid / target_deg - 1e-9)))
+    return grid / k
+
+
+def nearest_steps_deg(grid: float, step_deg: float) -> list[float]:
+    """The steps grid/k just above and just below ``step_deg`` (one if it is above the grid)."""
+    below = step_on_grid_deg(grid, step_deg)
+    k = round(grid / below)
+    return [grid / (k - 1), below] if k > 1 else [below]
 
 
 def uneven_warning(layout: EngineLayout) -> str | None:

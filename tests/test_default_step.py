@@ -1,0 +1,95 @@
+"""The angle step from a tolerance (issue 18, item 2).
+
+A scene without ``analysis.angle_step_deg`` gets the largest step that divides the cycle and every
+firing delay and bank angle and is not above 1 deg (the bound for [numerics] tolerance = 0.1 %). The
+expected step is found here by brute force — the first m = ceil(cycle/1 deg), m + 1, ... for which
+cycle/m divides every delay and bank angle — independently of the rational-gcd grid of the code.
+The numerics study runs on each engine with its steps moved onto the grid, and measures the peaks
+within the tolerance. A refused step names steps that work.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.errors import SceneError
+from crankdyn.orchestrator import check_scene, run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.scene import scene_from_dict
+from crankdyn_builtin.bays.stage import engine_layout
+from conftest import modified
+from test_extreme import even_firing_order
+
+REGISTRY = default_registry()
+CHEAP = {"numerics": {"steps_deg": [10], "repeats": 1, "kinematics_forms": False},
+         "analysis": {"angle_step_deg": None, "table_step_deg": None, "stages": ["numerics"]}}
+
+
+def inline(n):
+    return modified("inline4-petrol", {"flywheel": None, **CHEAP,
+                                       "engine": {"cylinders": n, "firing_order": even_firing_order("inline", n, 4)}})
+
+
+def radial(n):
+    return modified("radial9-aircraft", {"engine": {"cylinders": n}, **CHEAP})
+
+
+ENGINES = {"inline-7": inline(7), "inline-11": inline(11), "inline-23": inline(23),
+           "radial-5": radial(5), "radial-7": radial(7), "radial-9": radial(9)}
+
+
+def divides(step, angle):
+    q = angle / step
+    return abs(q - round(q)) < 1e-7
+
+
+def brute_force_step(scene, limit_deg=1.0):
+    layout = engine_layout(scene)
+    angles = [c.firing_delay_deg for c in layout.cylinders] + [c.axis_deg for c in layout.cylinders]
+    m = math.ceil(layout.cycle_deg / limit_deg - 1e-9)
+    while True:
+        step = layout.cycle_deg / m
+        if all(divides(step, a) for a in angles):
+            return step
+        m += 1
+
+
+@pytest.mark.parametrize("name", list(ENGINES))
+def test_default_step_and_the_numerics_study(name):
+    scene = scene_from_dict(ENGINES[name], base_dir=examples_dir())
+    step = scene.analysis.angle_step_deg
+    assert scene.angle_step_defaulted
+    assert step == pytest.approx(brute_force_step(scene), rel=1e-12)
+    assert divides(step, scene.analysis.table_step_deg) and abs(scene.analysis.table_step_deg - 10) <= step
+    result = run_scene(scene, REGISTRY)
+    numerics = result.outputs["numerics"].results
+    assert not numerics["steps_refused"], numerics["steps_refused"]
+    studied = [row["angle_step_deg"] for row in numerics["steps"]]
+    assert len(studied) == 2 and studied[1] == step
+    layout = engine_layout(scene)
+    assert studied[0] <= 10 and all(divides(studied[0], c.firing_delay_deg) for c in layout.cylinders)
+    at = numerics["at_scene_step"]
+    assert at["peaks_within_tolerance"] and at["peaks_error_relative"] <= 1e-3 and at["step_defaulted"]
+    assert ("numerics.note_default_step" in [key for key, _ in result.outputs["numerics"].notes])
+
+
+@pytest.mark.parametrize("step", [1.0, 0.7])
+def test_refusal_names_steps_that_work(step):
+    data = modified("inline4-petrol", {"flywheel": None, "analysis": {"angle_step_deg": step},
+                                       "engine": {"cylinders": 7, "firing_order": even_firing_order("inline", 7, 4)}})
+    with pytest.raises(SceneError) as info:
+        run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
+    message = str(info.value)
+    suggested = [float(x) for x in re.search(r"nearest steps that work: ([0-9., ]+)", message).group(1).strip(" .,").split(", ")]
+    assert len(suggested) == 2 and suggested[1] < step < suggested[0]
+    for s in suggested:  # the scene accepts each suggestion as printed
+        accepted = modified("inline4-petrol", {"flywheel": None, "analysis": {"angle_step_deg": s, "table_step_deg": None},
+                                               "engine": {"cylinders": 7,
+                                                          "firing_order": even_firing_order("inline", 7, 4)}})
+        check_scene(scene_from_dict(accepted, base_dir=examples_dir()), REGISTRY)
+    for s in suggested:  # each works: 720 deg and every firing delay k*720/7 are whole multiples (to 12 digits)
+        assert all(abs(k * 720 / 7 / s - round(k * 720 / 7 / s)) < 1e-8 for k in range(8))
