@@ -20,7 +20,7 @@ import numpy as np
 from . import __version__
 from .orchestrator import RunResult
 
-FORMATS = ("html", "pdf", "json", "csv", "xlsx")
+FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 
 
 def results_document(result: RunResult) -> dict[str, Any]:

@@ -36,7 +36,7 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) 
         files.update(outputs.csv_tables(result))
     if "xlsx" in formats:
         files.update(outputs.xlsx_tables(result))
-    if "html" in formats or "pdf" in formats:
+    if "html" in formats or "pdf" in formats or "docx" in formats:
         from .report.document import render_html
 
         rendered = render_html(result, registry)
@@ -47,6 +47,10 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) 
             from .report.pdf import html_to_pdf
 
             files["report.pdf"] = html_to_pdf(rendered.html)
+        if "docx" in formats:
+            from .report.docx import report_docx
+
+            files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
     return files
 
 

@@ -17,6 +17,7 @@ from .i18n import Translator
 class FigureFile:
     name: str
     svg: bytes
+    figure: Any = None  # the matplotlib figure it was drawn from (the Word export draws it again as PNG)
 
 
 @dataclass
@@ -110,7 +111,7 @@ class RenderContext:
         number = f"{self.section_number}.{self._figure}"
         svg = to_svg(fig)
         file_name = f"fig_{number.replace('.', '_')}_{name}.svg"
-        self.figures.append(FigureFile(file_name, svg))
+        self.figures.append(FigureFile(file_name, svg, fig))
         data = base64.b64encode(svg).decode("ascii")
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t("doc.see_figure", number=number))

@@ -1,0 +1,377 @@
+"""The Python API for scripts and notebooks (re-exported at the package top level).
+
+>>> import crankdyn
+>>> scene = crankdyn.load("examples/petrol-1cyl.toml", {"engine.rpm": 3000})   # doctest: +SKIP
+>>> result = crankdyn.run(scene)                                               # doctest: +SKIP
+>>> result.values["kinematics.v_max_m_s"]                                      # doctest: +SKIP
+
+* :func:`load` reads a scene file (or a dict of the same tables) and lays overrides over it,
+  named with the dotted paths of the batch CSV columns (``engine.rpm``, ``cycle.max_pressure``);
+  every problem raises :class:`~crankdyn.errors.SceneError` at once, nothing is printed.
+* :func:`run` computes a scene and returns a :class:`Result`: ``tables`` (pandas DataFrames,
+  units in the column names), ``values`` (scalar results, units in the names), ``figures``
+  (matplotlib Figures, rendered on first access), :meth:`Result.write` (the files of
+  ``crankdyn report``), :meth:`Result.section` (one report section as HTML) and a compact
+  summary when a notebook displays the result.
+* :func:`sweep` runs a grid of overrides and returns the batch command's answer-key columns.
+
+See docs/api.md for a worked example.
+"""
+
+from __future__ import annotations
+
+import html
+import itertools
+import re
+import weakref
+from collections.abc import Iterable, Mapping
+from functools import cached_property, lru_cache
+from pathlib import Path
+from typing import Any
+
+from .errors import Problem, SceneError
+from .orchestrator import RunResult, check_scene, run_scene
+from .scene import Scene
+
+__all__ = ["load", "run", "sweep", "Result", "SceneError"]
+
+# The input each scene was loaded from (raw TOML-level data, base folder), so that a loaded
+# scene can be loaded again with other overrides (sweep). Keyed by id, dropped with the scene.
+_SOURCES: dict[int, tuple[weakref.ref, dict, str]] = {}
+
+
+@lru_cache(maxsize=1)
+def _registry():
+    from .plugins import default_registry
+
+    return default_registry()
+
+
+def _languages() -> list[str]:
+    from .report.i18n import available_languages
+
+    return available_languages()
+
+
+# --------------------------------------------------------------------------- loading
+
+def _source_data(source: Any) -> tuple[dict, str, str]:
+    """(raw data, base folder, name for messages) of a path, a dict or a scene from :func:`load`."""
+    import tomllib
+
+    if isinstance(source, Scene):
+        entry = _SOURCES.get(id(source))
+        if entry is None or entry[0]() is not source:
+            raise TypeError("pass a scene made by crankdyn.load (or a path or dict) to lay overrides over it")
+        return entry[1], entry[2], "scene"
+    if isinstance(source, Mapping):
+        return dict(source), str(Path.cwd()), "scene"
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        name = str(path)
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise SceneError(Problem("scene", name, "file not found"), name) from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise SceneError(Problem("scene", name, f"cannot read the file ({exc.__class__.__name__})"),
+                             name) from None
+        except tomllib.TOMLDecodeError as exc:
+            raise SceneError(Problem("scene", name, f"not valid TOML: {exc}"), name) from None
+        return data, str(path.parent.resolve()), name
+    raise TypeError(f"expected a scene file path, a dict or a scene from crankdyn.load, not {type(source).__name__}")
+
+
+def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
+    """Dotted names (``engine.rpm``, or ``engine__rpm`` as a keyword) as the nested dict batch lays over a scene.
+
+    The names follow the batch CSV header rules; a bad name is a problem like a bad value.
+    """
+    from .batch import _nest
+    from .scene import merge
+
+    problems: list[Problem] = []
+    names = {str(k).replace("__", "."): v for k, v in overrides.items()}
+    for name in names:
+        if any(not part for part in name.split(".")) or not re.fullmatch(r"[A-Za-z_][\w.]*", name):
+            problems.append(Problem(name, names[name], "not a dotted scene path such as engine.bore or "
+                                    "cycle.rounding.ignition_advance_deg"))
+        for other in names:
+            if other.startswith(name + "."):
+                problems.append(Problem(other, names[other], f"conflicts with override {name}: give one or the other"))
+    if problems:
+        raise SceneError(problems, "overrides")
+    nested: dict = {}
+    for name, value in names.items():
+        nested = merge(nested, _nest(name, value))
+    return nested
+
+
+def _without_none(data: dict) -> dict:
+    """``data`` without the keys an override set to None (None removes a key, e.g. ``engine.rod_length``)."""
+    return {k: _without_none(v) if isinstance(v, dict) else v for k, v in data.items() if v is not None}
+
+
+def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | None = None, /,
+         **more: Any) -> Scene:
+    """Load and validate a scene; lay ``overrides`` over it first.
+
+    ``source`` is a TOML scene file, a dict of the same tables, or a scene returned by
+    :func:`load`. ``overrides`` map dotted scene paths to values, exactly as the columns of a
+    batch CSV: ``{"engine.rpm": 3000, "engine.bore": "84 mm"}``; keywords work too, with
+    ``__`` for the dot (``engine__rpm=3000``). Values are Python values as TOML would give them
+    (``3000``, ``"84 mm"``, ``[1, 3, 4, 2]``); None removes the key (to give ``engine.rod_ratio``
+    in place of a scene's ``engine.rod_length``, override both).
+    Every problem (unknown key, value out of range, unknown mechanism or stage) raises one
+    :class:`SceneError` listing them all; nothing is printed.
+    """
+    from .scene import merge, scene_from_dict
+
+    data, base_dir, name = _source_data(source)
+    changes = {**(overrides or {}), **more}
+    if changes:
+        data = _without_none(merge(data, _nested_overrides(changes)))
+    scene = scene_from_dict(data, base_dir=base_dir, source=name)
+    try:
+        check_scene(scene, _registry(), _languages())
+    except SceneError as exc:
+        raise SceneError(exc.problems, name) from None
+    key = id(scene)
+    _SOURCES[key] = (weakref.ref(scene, lambda _ref, key=key: _SOURCES.pop(key, None)), data, base_dir)
+    return scene
+
+
+def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None) -> "Result":
+    """Compute ``scene`` (a scene, or anything :func:`load` takes) and return its :class:`Result`.
+
+    ``stages`` names the stages wanted (their prerequisites are added), as ``--stages`` does;
+    by default the scene's ``analysis.stages`` or every default stage that applies.
+    """
+    if not isinstance(scene, Scene):
+        scene = load(scene)
+    stages = list(stages) if stages is not None else None
+    return Result(run_scene(scene, _registry(), stages, _languages()))
+
+
+def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
+          stages: Iterable[str] | None = None) -> "pd.DataFrame":  # noqa: F821
+    """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
+
+    One row per combination, in the order of :func:`itertools.product` over the grid (the
+    first name varies slowest): the grid's own columns, then the answer-key columns of
+    ``crankdyn batch`` (units in the names; columns no run has are left out, as there).
+    """
+    import pandas as pd
+
+    from .batch import ANSWER_COLUMNS, answers
+    from .outputs import results_document
+
+    names = list(grid)
+    stages = list(stages) if stages is not None else None
+    rows = []
+    for combination in itertools.product(*(list(grid[n]) for n in names)):
+        variant = load(scene, dict(zip(names, combination)))
+        document = results_document(run_scene(variant, _registry(), stages, _languages()))
+        rows.append([*combination, *answers(document).values()])
+    columns = [*names, *(c for c, *_ in ANSWER_COLUMNS)]
+    frame = pd.DataFrame(rows, columns=columns)
+    empty = [c for c, *_ in ANSWER_COLUMNS if frame[c].isna().all()]
+    return frame.drop(columns=empty)
+
+
+# --------------------------------------------------------------------------- the result
+
+# Unit suffixes of result names (longest first), for display.
+_UNITS = (("_kg_m2", "kg·m²"), ("_m_s2", "m/s²"), ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_m_s", "m/s"),
+          ("_Nm", "N·m"), ("_MPa", "MPa"), ("_kPa", "kPa"), ("_Pa", "Pa"), ("_kW", "kW"), ("_W", "W"),
+          ("_kN", "kN"), ("_N", "N"), ("_J", "J"), ("_deg", "°"), ("_rad", "rad"), ("_kg", "kg"), ("_mm", "mm"),
+          ("_m2", "m²"), ("_m3", "m³"), ("_m", "m"), ("_ms", "ms"), ("_s", "s"), ("_Hz", "Hz"), ("_rpm", "rpm"),
+          ("_percent", "%"))
+
+
+def unit_of(name: str) -> str:
+    """The unit a result name states in its suffix (``v_max_m_s`` -> ``m/s``); "" if none."""
+    for suffix, unit in _UNITS:
+        if name.endswith(suffix):
+            return unit
+    return ""
+
+
+def _release(fig) -> None:
+    """Lay a report figure out as the report does and drop it from pyplot's list (the object stays usable)."""
+    import matplotlib.pyplot as plt
+
+    from .report.figures import STYLE
+
+    with plt.rc_context(STYLE):
+        fig.tight_layout()
+    plt.close(fig)
+
+
+class _LazyFigures(Mapping):
+    """``result.figures``: matplotlib Figures by name, rendered on first access."""
+
+    def __init__(self, result: "Result"):
+        self._result = result
+        self._figures: dict | None = None
+
+    def _load(self) -> dict:
+        if self._figures is None:
+            self._figures = self._result._render(figures_only=True)[1]
+        return self._figures
+
+    def __getitem__(self, name: str):
+        return self._load()[name]
+
+    def __iter__(self):
+        return iter(self._load())
+
+    def __len__(self) -> int:
+        return len(self._load())
+
+
+class SectionHTML(str):
+    """One rendered report section; shows as HTML in a notebook."""
+
+    def _repr_html_(self) -> str:
+        return str(self)
+
+
+class Result:
+    """What :func:`run` returns: the computed scene, its tables, values, figures and report."""
+
+    def __init__(self, run_result: RunResult):
+        self.run_result = run_result
+        self.scene = run_result.scene
+        self.figures: Mapping[str, Any] = _LazyFigures(self)
+
+    @property
+    def stages_run(self) -> list[str]:
+        return self.run_result.stages_run
+
+    @property
+    def skipped(self) -> dict[str, str]:
+        """Stages left out, with the reason (as in results.json and the report)."""
+        return dict(self.run_result.plan.skipped)
+
+    @cached_property
+    def document(self) -> dict[str, Any]:
+        """The results.json document of this run."""
+        from .outputs import results_document
+
+        return results_document(self.run_result)
+
+    @cached_property
+    def tables(self) -> dict[str, "pd.DataFrame"]:  # noqa: F821
+        """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
+        from .outputs import _named_tables
+
+        return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
+
+    @cached_property
+    def values(self) -> dict[str, float]:
+        """Scalar results as ``"<stage>.<name>"`` -> number; the unit is the name's suffix (see :func:`unit_of`)."""
+        out: dict[str, float] = {}
+        for stage in self.stages_run:
+            for key, value in (self.document.get(stage) or {}).items():
+                if isinstance(value, (int, float)) and not isinstance(value, bool):
+                    out[f"{stage}.{key}"] = value
+        return out
+
+    @cached_property
+    def answers(self) -> dict[str, Any]:
+        """The main results, as the batch answer key has them (units in the names)."""
+        from .batch import answers
+
+        return answers(self.document)
+
+    def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
+        """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
+        from .outputs import FORMATS, write_atomically
+        from .pipeline import render_files
+
+        formats = list(formats)
+        bad = [f for f in formats if f not in FORMATS]
+        if bad or not formats:
+            raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))
+        return write_atomically(Path(out_dir), render_files(self.run_result, _registry(), formats))
+
+    # ----------------------------------------------------------------- report sections
+    def _render(self, figures_only: bool = False, language: str | None = None,
+                only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
+        """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
+        from markupsafe import Markup
+
+        from .report.context import RenderContext
+        from .report.document import _environment
+        from .report.i18n import translator
+
+        registry = _registry()
+        language = language or self.scene.report.language
+        if language not in _languages():
+            raise SceneError(Problem("language", language, "allowed: " + ", ".join(_languages())))
+        figures: dict[str, Any] = {}
+
+        class Capture(RenderContext):
+            def figure(self, fig, caption: str, name: str) -> Markup:
+                key = name if name not in figures else f"{self.stage_name}.{name}"
+                figures[key] = fig
+                if figures_only or (only is not None and self.stage_name != only):
+                    self._figure += 1
+                    _release(fig)
+                    return Markup("")
+                return super().figure(fig, caption, name)
+
+        t = translator(language, registry.catalogs)
+        scene = self.scene
+        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,
+                      cycle_deg=scene.engine.cycle_deg, scene=scene)
+        sections: dict[str, SectionHTML] = {}
+        number = 1  # section 1 is the input data
+        for stage in self.run_result.plan.order:
+            ctx.start_section(number + 1, stage.name)
+            ctx.conclusions = []
+            if only is not None and stage.name != only:
+                # Still counted: a stage that shows nothing takes no number, as in the report.
+                if stage.render(self.run_result.outputs[stage.name], ctx) is not None:
+                    number += 1
+                continue
+            body = stage.render(self.run_result.outputs[stage.name], ctx)
+            if body is None:
+                continue
+            number += 1
+            title = html.escape(f"{number}. {t(stage.title_key)}")
+            sections[stage.name] = SectionHTML(f'<section class="crankdyn-section"><h2>{title}</h2>{body}</section>')
+        return sections, figures
+
+    def section(self, name: str, language: str | None = None) -> SectionHTML:
+        """Section ``name`` (a stage name) rendered with the report's own templates, in ``language``
+        (default: the scene's ``report.language``), numbered as in the report."""
+        if name not in self.stages_run:
+            raise KeyError(f"no section {name!r}; sections of this run: {', '.join(self.stages_run)}")
+        sections, _ = self._render(language=language, only=name)
+        if name not in sections:
+            raise KeyError(f"stage {name!r} ran for its data only and has no section for this scene")
+        return sections[name]
+
+    # ----------------------------------------------------------------- display
+    def _repr_html_(self) -> str:
+        from .report.i18n import translator
+
+        t = translator(self.scene.report.language, _registry().catalogs)
+        esc = html.escape
+        rows = "".join(f"<tr><td>{esc(name)}</td><td style='text-align:right'>{value:.6g}</td>"
+                       f"<td>{esc(unit_of(name))}</td></tr>"
+                       for name, value in self.answers.items() if value is not None)
+        parts = [f"<div class='crankdyn-result'><b>{esc(self.scene.report.title)}</b>",
+                 f"<p>{esc(self.scene.engine.mechanism)} · {esc(', '.join(self.stages_run))}</p>"]
+        if rows:
+            parts.append(f"<table>{rows}</table>")
+        if self.skipped:
+            items = "".join(f"<li><b>{esc(n)}</b>: {esc(r)}</li>" for n, r in self.skipped.items())
+            parts.append(f"<p>{esc(t('report.skipped_intro'))}</p><ul>{items}</ul>")
+        parts.append("</div>")
+        return "".join(parts)
+
+    def __repr__(self) -> str:
+        return f"<crankdyn Result {self.scene.report.title!r}: stages {', '.join(self.stages_run)}>"
