@@ -34,6 +34,11 @@ def crankdyn_mechanisms() -> Iterable[Mechanism]:
     problems the generic validation cannot see (e.g. a linkage that cannot assemble).
     The kinematics of the mechanism come from a stage that provides ``"kinematics"``
     and applies only to scenes naming this mechanism.
+
+    A mechanism that sets ``geometry=`` (``geometry(scene, crank_angle_rad)`` returning a
+    :class:`crankdyn.plugin_types.MechanismGeometry`: named joint positions as arrays, the
+    rigid links between them, guides, pitch circles) is drawn by the ``drawing`` stage: the
+    kinematic scheme, the mechanism at its characteristic positions and the HTML animation.
     """
 
 

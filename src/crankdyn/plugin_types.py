@@ -25,12 +25,75 @@ class Mechanism:
 
     ``check`` returns the problems (``crankdyn.errors.Problem``) a scene has for
     this mechanism beyond the generic validation, e.g. a linkage that cannot assemble.
+
+    ``geometry`` (optional) is ``geometry(scene, crank_angle_rad) -> MechanismGeometry``:
+    the named joint positions of the linkage at the given crank angles (an array), built
+    from the same physics functions as the mechanism's kinematics. With it the ``drawing``
+    stage draws the kinematic scheme, the characteristic positions and the animation.
     """
 
     name: str
     summary: str
     check: Callable[["Scene"], list] = lambda scene: []
     params_model: type | None = None  # pydantic model of the scene's [mechanism] table
+    geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
+
+
+@dataclass
+class Guide:
+    """A straight guide a joint slides in: a cylinder liner (``bore_m`` > 0) or a slot.
+
+    The guide's axis is the line through ``origin_m`` along the unit vector ``direction``;
+    the joint ``joint`` slides on it between ``travel_m`` = (nearest, farthest) distances
+    from ``origin_m`` along ``direction``. ``label`` names it in the drawing (cylinder 1, 2L ...).
+    ``moving`` names two joints the guide is fixed to when it moves (a slotted rocker or
+    yoke): then its axis runs from the first joint to the second.
+    """
+
+    joint: str
+    origin_m: tuple[float, float] = (0.0, 0.0)
+    direction: tuple[float, float] = (0.0, 1.0)
+    travel_m: tuple[float, float] = (0.0, 0.0)
+    bore_m: float = 0.0
+    label: str = ""
+    moving: tuple[str, str] | None = None
+
+
+@dataclass
+class MechanismGeometry:
+    """Where the members of a mechanism are at a set of crank angles (SI, one plane).
+
+    Frame: origin on the crankshaft (carrier, core) axis, ``x`` to the right, ``y`` up
+    along the first cylinder's axis (towards its head); the crank turns clockwise, so at
+    crank angle ``a`` from cylinder 1's TDC the crank points along (sin a, cos a).
+
+    joints:     name -> array (n, 2) of positions [m] at the n crank angles. Names in use:
+                ``crank_centre``, ``crank_pin`` (``crank_pin_<k>`` per crank), ``wrist_pin``
+                (``wrist_pin_<cylinder>``), ``slave_pin_<cylinder>``, ``planet_centre``,
+                ``pivot_<name>`` ...
+    links:      (name, joint a, joint b): rigid members drawn as bars; their length is constant.
+    fixed:      joints that are ground pivots (drawn with hatching).
+    guides:     cylinders and slots (:class:`Guide`).
+    circles:    (centre joint, radius m, kind): gear pitch circles ("fixed" or "moving").
+    traces:     name -> array (m, 2): fixed curves drawn thin (e.g. the big end's path).
+    dimensions: symbol -> value [m] for the scheme's dimension lines: ``R``, ``L``, ``e``, ``D``.
+    travel_m:   the output member's displacement from its dead centre nearest the head
+                (the piston displacement s), array (n,), used when no kinematics stage
+                provides the motion.
+    cranks:     (label, crank angle lag deg, cylinder labels) per crank: the crank star.
+    firing_order: cylinder labels in firing order (multi-cylinder engines).
+    """
+
+    joints: dict[str, Any]
+    links: list[tuple[str, str, str]] = field(default_factory=list)
+    fixed: tuple[str, ...] = ("crank_centre",)
+    guides: list[Guide] = field(default_factory=list)
+    circles: list[tuple[str, float, str]] = field(default_factory=list)
+    traces: dict[str, Any] = field(default_factory=dict)
+    dimensions: dict[str, float] = field(default_factory=dict)
+    travel_m: Any = None
+    cranks: list[tuple[str, float, tuple[str, ...]]] = field(default_factory=list)
+    firing_order: tuple[str, ...] = ()
 
 
 @dataclass

@@ -5,6 +5,8 @@ from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Mechanism
 from crankdyn_builtin.bays.stage import check_layout
 
+from .geometry import engine_geometry
+
 
 def _check_crank_slider(scene):
     # Multi-cylinder engines are banks of crank-slider mechanisms; their layout is checked here.
@@ -18,5 +20,6 @@ def crankdyn_mechanisms():
             name="crank_slider",
             summary="central (axial) crank-slider mechanism: the cylinder axis passes through the crankshaft axis",
             check=_check_crank_slider,
+            geometry=engine_geometry,
         ),
     ]

@@ -4,12 +4,14 @@ Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates
 (its section template) and ``i18n/`` (its catalogs) in this one folder.
 """
 
+from dataclasses import replace
 from pathlib import Path
 
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
 from .stage import OFFSET_CRANK_STAGE, OFFSET_CRANK_MECHANISM
+from .geometry import offset_geometry
 
 HERE = Path(__file__).resolve().parent
 
@@ -21,7 +23,8 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_mechanisms():
-    return [OFFSET_CRANK_MECHANISM]
+    # The drawing stage draws the mechanism from its geometry (see .geometry).
+    return [replace(OFFSET_CRANK_MECHANISM, geometry=offset_geometry)]
 
 
 @hookimpl

@@ -4,12 +4,14 @@ Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates
 (its section template) and ``i18n/`` (its catalogs) in this one folder.
 """
 
+from dataclasses import replace
 from pathlib import Path
 
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
 from .stage import VANE_STAGE, VANE_MECHANISM
+from .geometry import vane_geometry
 
 HERE = Path(__file__).resolve().parent
 
@@ -21,7 +23,8 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_mechanisms():
-    return [VANE_MECHANISM]
+    # The drawing stage draws the mechanism from its geometry (see .geometry).
+    return [replace(VANE_MECHANISM, geometry=vane_geometry)]
 
 
 @hookimpl

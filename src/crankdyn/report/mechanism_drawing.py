@@ -1,0 +1,303 @@
+"""Kinematic schemes of any mechanism from its :class:`~crankdyn.plugin_types.MechanismGeometry`.
+
+One module for every mechanism: ground pivots with hatching, revolute joints as small
+circles, bars for links, pistons in their liners (or sliders in their slots), gear pitch
+circles, traced curves, dimension lines (R, L, e, D) and a multi-cylinder engine's crank
+star. Drawing only: every position comes from the geometry; nothing is computed here but
+the placement of symbols. Lengths are drawn in millimetres.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from .figures import STYLE, new_figure
+
+MM = 1e3
+JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
+INK = "0.1"
+
+
+def _extent_mm(geometry) -> float:
+    points = np.concatenate([p.reshape(-1, 2) for p in geometry.joints.values()]) * MM
+    span = np.ptp(points, axis=0).max()
+    return float(max(span, geometry.dimensions.get("D", 0.0) * MM * 2, 1e-3))
+
+
+def _guide_frame(geometry, guide, i):
+    """Origin (mm), unit direction and unit normal of a guide at frame i."""
+    if guide.moving is not None:
+        a, b = (geometry.joints[j][i] * MM for j in guide.moving)
+        d = (b - a) / np.linalg.norm(b - a)
+        return a, d, np.array([d[1], -d[0]])
+    d = np.asarray(guide.direction, dtype=float)
+    return np.asarray(guide.origin_m, dtype=float) * MM, d, np.array([d[1], -d[0]])
+
+
+def _hatch(ax, start, end, normal, size, color, alpha):
+    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end."""
+    ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
+    length = np.linalg.norm(end - start)
+    d = (end - start) / length
+    count = max(int(length / size), 2)
+    for k in range(count + 1):
+        p = start + d * length * k / count
+        q = p + (normal - d) * size * 0.7
+        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=0.6, alpha=alpha)
+
+
+def draw_ground(ax, centre, size, color=INK, alpha=1.0):
+    """A fixed revolute joint: a small triangle on a hatched base below ``centre``."""
+    c = np.asarray(centre)
+    tri = np.array([c, c + [-size, -1.6 * size], c + [size, -1.6 * size], c])
+    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, alpha=alpha)
+    _hatch(ax, c + [-1.6 * size, -1.6 * size], c + [1.6 * size, -1.6 * size], np.array([0.0, -1.0]),
+           size * 0.8, color, alpha)
+
+
+def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
+    """A cylinder liner with the piston in it, or a slot with the slider block."""
+    o, d, n = _guide_frame(geometry, guide, i)
+    low, high = (v * MM for v in guide.travel_m)
+    pin = geometry.joints[guide.joint][i] * MM
+    if guide.bore_m > 0:
+        half = guide.bore_m * MM / 2
+        skirt = 0.35 * guide.bore_m * MM
+        crown = 0.45 * guide.bore_m * MM
+        bottom, top = low - skirt, high + crown
+        for side in (-1, 1):
+            a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
+            _hatch(ax, a, b, n * side, extent * 0.02, color, alpha)
+        pos = float(np.dot(pin - o, d))
+        corners = [pos - skirt, pos + crown]
+        rect = np.array([o + d * corners[0] - n * half * 0.97, o + d * corners[1] - n * half * 0.97,
+                         o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
+        ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
+        if guide.label:
+            label_at = o + d * (top + 0.12 * extent)
+            ax.text(*label_at, guide.label, ha="center", va="center", fontsize=8, color=color, alpha=alpha)
+    else:
+        width = extent * 0.035
+        for side in (-1, 1):
+            a, b = o + d * (low - width) + n * side * width, o + d * (high + width) + n * side * width
+            ax.plot(*np.c_[a, b], color=color, lw=1.0, alpha=alpha)
+        block = np.array([pin - d * width * 1.2 - n * width, pin + d * width * 1.2 - n * width,
+                          pin + d * width * 1.2 + n * width, pin - d * width * 1.2 + n * width])
+        ax.fill(block[:, 0], block[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
+
+
+def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: bool = True) -> None:
+    """The mechanism at frame ``i``; ``static=False`` leaves out ground, guides and traces."""
+    extent = _extent_mm(geometry)
+    r_joint = extent * JOINT_R
+    if static:
+        for path in geometry.traces.values():
+            ax.plot(path[:, 0] * MM, path[:, 1] * MM, color="0.55", lw=0.7, ls=(0, (4, 2)))
+        for centre, radius, kind in geometry.circles:
+            if kind == "fixed":
+                c = geometry.joints[centre][i] * MM
+                ax.add_patch(_circle(c, radius * MM, color, alpha, ls="-."))
+    for centre, radius, kind in geometry.circles:
+        if kind != "fixed":
+            ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
+    for guide in _one_per_axis(geometry.guides):
+        draw_guide(ax, geometry, guide, i, extent, color, alpha)
+    for _, a, b in geometry.links:
+        p, q = geometry.joints[a][i] * MM, geometry.joints[b][i] * MM
+        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=2.0, alpha=alpha, solid_capstyle="round", zorder=4)
+    if static:
+        for name in geometry.fixed:
+            draw_ground(ax, geometry.joints[name][i] * MM, r_joint * 1.6, color, alpha)
+    for name, p in geometry.joints.items():
+        if name == "vane_tip":
+            continue
+        ax.add_patch(_circle(p[i] * MM, r_joint, color, alpha, fill=True))
+    ax.set_aspect("equal")
+    ax.axis("off")
+
+
+def _one_per_axis(guides):
+    """Guides on one axis (a bank's cylinders in front view) drawn once, labelled together."""
+    from dataclasses import replace
+
+    merged: dict = {}
+    for g in guides:
+        key = (round(g.origin_m[0], 9), round(g.origin_m[1], 9), round(g.direction[0], 6), round(g.direction[1], 6),
+               g.moving)
+        if key in merged:
+            first = merged[key]
+            merged[key] = replace(first, label=f"{first.label}, {g.label}" if g.label else first.label)
+        else:
+            merged[key] = g
+    return list(merged.values())
+
+
+def _circle(centre, radius, color, alpha, ls="-", fill=False):
+    from matplotlib.patches import Circle
+
+    return Circle(centre, radius, facecolor="white" if fill else "none", edgecolor=color, lw=1.0 if not fill else 1.1,
+                  ls=ls, alpha=alpha, zorder=5 if fill else 2)
+
+
+def _dimension(ax, p, q, text, offset, extent):
+    """A dimension line from p to q (mm), shifted by ``offset`` along its normal, with its text."""
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+    n = np.array([-d[1], d[0]])
+    a, b = p + n * offset, q + n * offset
+    for end, base in ((a, p), (b, q)):
+        ax.plot(*np.c_[base + n * np.sign(offset) * extent * 0.01, end + n * np.sign(offset) * extent * 0.02],
+                color="0.35", lw=0.5)
+    ax.annotate("", xy=b, xytext=a, arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
+                                                   "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+    mid = (a + b) / 2 + n * np.sign(offset) * extent * 0.035
+    ax.text(*mid, text, ha="center", va="center", fontsize=8, color="0.15",
+            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+
+
+def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
+    """Dimension lines for R (crank), L (rod), e (offset) and D (bore) at frame ``i``."""
+    extent = _extent_mm(geometry)
+    labels = {k: v for k, v in labels.items() if k in geometry.dimensions}
+    j = geometry.joints
+    crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1", "carrier")), None)
+    rod = next((l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None)
+    if crank and "R" in labels:
+        _dimension(ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent)
+    if rod and "L" in labels:
+        _dimension(ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], extent * 0.09, extent)
+    guide = geometry.guides[0] if geometry.guides else None
+    if "e" in labels and guide is not None:
+        y = -extent * 0.28
+        _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), labels["e"], 0.0, extent)
+    if "D" in labels and guide is not None and guide.bore_m > 0:
+        o, d, n = _guide_frame(geometry, guide, i)
+        top = o + d * (guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM + extent * 0.05)
+        half = guide.bore_m * MM / 2
+        _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
+
+
+def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
+    """The crank star: each crank's direction at cylinder 1's TDC, its number and its cylinders."""
+    for label, lag, cylinders in geometry.cranks:
+        u = np.array([np.sin(np.radians(-lag)), np.cos(np.radians(-lag))])
+        ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2)
+        ax.add_patch(_circle(u, 0.06, INK, 1.0, fill=True))
+        ax.text(*(u * 1.3), f"{label}\n({', '.join(cylinders)})", ha="center", va="center", fontsize=7)
+    ax.add_patch(_circle((0, 0), 0.07, INK, 1.0, fill=True))
+    ax.set_xlim(-1.7, 1.7)
+    ax.set_ylim(-1.7, 1.7)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title(title, fontsize=8)
+    ax.text(0, -1.65, firing_label, ha="center", va="top", fontsize=7)
+
+
+def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
+    """The scheme at frame ``i`` with its dimension lines, and the crank star when there are cranks."""
+    with_star = len(geometry.cranks) > 1
+    fig, axes = new_figure(16, 10, ncols=2 if with_star else 1,
+                           gridspec_kw={"width_ratios": [2, 1]} if with_star else None)
+    ax = axes[0] if with_star else axes
+    draw_mechanism(ax, geometry, i)
+    draw_dimensions(ax, geometry, i, labels)
+    if with_star:
+        draw_crank_star(axes[1], geometry, star_title, firing_label)
+    return fig
+
+
+def positions_figure(geometry, frames: list[tuple[int, str]]):
+    """Small multiples: the mechanism at each (frame, caption), on one scale."""
+    limits = _limits(geometry)
+    aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
+    cols = 3 if aspect < 1.2 else 6
+    rows = (len(frames) + cols - 1) // cols
+    fig, axes = new_figure(16, min(16.0 / cols * aspect + 1.0, 11.0) * rows, nrows=rows, ncols=cols)
+    flat = np.atleast_1d(axes).ravel()
+    for ax, (i, caption) in zip(flat, frames):
+        draw_mechanism(ax, geometry, i)
+        ax.set_xlim(*limits[0])
+        ax.set_ylim(*limits[1])
+        ax.set_title(caption, fontsize=8)
+    for ax in flat[len(frames):]:
+        ax.axis("off")
+    return fig
+
+
+def _limits(geometry):
+    pts = np.concatenate([p.reshape(-1, 2) for p in geometry.joints.values()] +
+                         [np.asarray(g.origin_m)[None] + np.outer(g.travel_m, g.direction) for g in geometry.guides]) * MM
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.12 * np.ptp(pts, axis=0).max() + geometry.dimensions.get("D", 0.0) * MM * 0.6
+    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
+
+
+# --------------------------------------------------------------------------- animation
+
+def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
+    """(inline SVG, JSON frames) for the HTML animation: the static part drawn by matplotlib
+    once without the moving members, the links and joints as SVG elements the script moves.
+
+    The JSON holds, per joint, the positions (mm, y up) at every frame; links by joint names;
+    pistons as (joint, guide origin, direction, half bore, skirt, crown).
+    """
+    (x0, x1), (y0, y1) = _limits(geometry)
+    names = list(geometry.joints)
+    frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
+    extent = _extent_mm(geometry)
+    pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
+                "half": g.bore_m * MM / 2 * 0.97, "skirt": 0.35 * g.bore_m * MM, "crown": 0.45 * g.bore_m * MM}
+               for g in geometry.guides if g.bore_m > 0 and g.moving is None]
+    payload = {"joints": frames, "links": [[a, b] for _, a, b in geometry.links],
+               "pistons": pistons, "r": extent * JOINT_R, "fixed": list(geometry.fixed)}
+    static = _static_svg(geometry, (x0, x1), (y0, y1))
+    w, h = x1 - x0, y1 - y0
+    svg = (f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
+           f'xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet">'
+           f'<image href="data:image/svg+xml;base64,{static}" x="{x0:.2f}" y="{-y1:.2f}" '
+           f'width="{w:.2f}" height="{h:.2f}" preserveAspectRatio="none"/>'
+           f'<g class="moving" stroke="#1a1a1a" stroke-linecap="round"></g></svg>')
+    return svg, json.dumps(payload, separators=(",", ":"))
+
+
+def _static_svg(geometry, xlim, ylim) -> str:
+    """The fixed parts (liners, ground, fixed gear, traces) as a base64 SVG filling the limits."""
+    import base64
+    import io
+
+    import matplotlib.pyplot as plt
+
+    from .figures import plt as _plt  # noqa: F401  (Agg backend chosen there)
+
+    with plt.rc_context(STYLE):
+        w, h = xlim[1] - xlim[0], ylim[1] - ylim[0]
+        fig = plt.figure(figsize=(6.0, 6.0 * h / w))
+        ax = fig.add_axes([0, 0, 1, 1])
+        extent = _extent_mm(geometry)
+        for path in geometry.traces.values():
+            ax.plot(path[:, 0] * MM, path[:, 1] * MM, color="0.55", lw=0.7, ls=(0, (4, 2)))
+        for centre, radius, kind in geometry.circles:
+            if kind == "fixed":
+                ax.add_patch(_circle(geometry.joints[centre][0] * MM, radius * MM, INK, 1.0, ls="-."))
+        for guide in _one_per_axis(geometry.guides):
+            if guide.bore_m > 0 and guide.moving is None:
+                o, d, n = _guide_frame(geometry, guide, 0)
+                half = guide.bore_m * MM / 2
+                bottom = guide.travel_m[0] * MM - 0.35 * guide.bore_m * MM
+                top = guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM
+                for side in (-1, 1):
+                    _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
+                           extent * 0.02, INK, 1.0)
+                if guide.label:
+                    ax.text(*(o + d * (top + 0.12 * extent)), guide.label, ha="center", va="center", fontsize=8)
+        for name in geometry.fixed:
+            draw_ground(ax, geometry.joints[name][0] * MM, extent * JOINT_R * 1.6)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        ax.axis("off")
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="svg", metadata={"Date": None}, transparent=True)
+        plt.close(fig)
+    return base64.b64encode(buffer.getvalue()).decode("ascii")
