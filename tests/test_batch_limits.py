@@ -107,3 +107,12 @@ def test_answer_key_never_holds_a_live_formula(tmp_path):
     assert "'=HYPERLINK(\"http://evil\",\"click\")" in cells
     assert not any(isinstance(c, str) and c.startswith(("=", "@", "+", "-")) for c in cells)
     assert "'@SUM(A1)" in cells
+
+
+def test_a_hostile_cell_fails_its_row_only(tmp_path):
+    path = tmp_path / "v.csv"
+    path.write_text("variant,engine.bore,report.student\n"
+                    f"deep,{'[' * 3000}{']' * 3000},x\nexpr,9**9**9 mm,y\nok,81 mm,z\n", encoding="utf-8")
+    report = run_batch(path, BASE, tmp_path / "out", ["json"], jobs=1, progress=False, timeout=60)
+    assert [(o.name, o.ok) for o in report.outcomes] == [("deep", False), ("expr", False), ("ok", True)]
+    assert all("engine.bore" in o.error and "internal" not in o.error for o in report.failures)
