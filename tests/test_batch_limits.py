@@ -53,10 +53,10 @@ def _csv(path, rpms, blank_after: int | None = None):
 def test_a_hung_variant_is_stopped_and_listed_while_the_others_finish(tmp_path, slow_registry):
     variants = _csv(tmp_path / "v.csv", [3000, SLOW_RPM, 3500, 4000])
     out = tmp_path / "out"
-    report = run_batch(variants, BASE, out, ["json"], jobs=2, progress=False, timeout=2.0)
+    report = run_batch(variants, BASE, out, ["json"], jobs=2, progress=False, timeout=3.0)
     assert report.seconds < HANG_S  # the hanging worker was killed, not waited for
     assert [(o.name, o.ok) for o in report.outcomes] == [("v1", True), ("v2", False), ("v3", True), ("v4", True)]
-    assert "stopped after 2 s" in report.failures[0].error
+    assert "stopped after 3 s" in report.failures[0].error
     for name in ("v1", "v3", "v4"):
         assert (out / name / "results.json").is_file()
     key = list(csv.DictReader(io.StringIO((out / "answer_key.csv").read_text(encoding="utf-8"))))
@@ -107,3 +107,12 @@ def test_answer_key_never_holds_a_live_formula(tmp_path):
     assert "'=HYPERLINK(\"http://evil\",\"click\")" in cells
     assert not any(isinstance(c, str) and c.startswith(("=", "@", "+", "-")) for c in cells)
     assert "'@SUM(A1)" in cells
+
+
+def test_a_hostile_cell_fails_its_row_only(tmp_path):
+    path = tmp_path / "v.csv"
+    path.write_text("variant,engine.bore,report.student\n"
+                    f"deep,{'[' * 3000}{']' * 3000},x\nexpr,9**9**9 mm,y\nok,81 mm,z\n", encoding="utf-8")
+    report = run_batch(path, BASE, tmp_path / "out", ["json"], jobs=1, progress=False, timeout=60)
+    assert [(o.name, o.ok) for o in report.outcomes] == [("deep", False), ("expr", False), ("ok", True)]
+    assert all("engine.bore" in o.error and "internal" not in o.error for o in report.failures)

@@ -117,7 +117,7 @@ def test_russian_pdf_has_cyrillic_text_captions_and_a_times_metric_font(tmp_path
     # Four sections are enough for the captions and keep the PDF quick.
     assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--lang", "ru",
                  "--format", "pdf", "--stages", "kinematics,indicator,forces", "-q"]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["report.pdf"]
+    assert sorted(p.name for p in out.iterdir()) == [".crankdyn-manifest.json", "report.pdf"]
     pdf = out / "report.pdf"
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
     for words in ("КУРСОВОЙ ПРОЕКТ", "Содержание", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",

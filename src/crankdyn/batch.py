@@ -99,7 +99,7 @@ def parse_cell(text: str) -> Any:
     text = text.strip()
     try:
         return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
+    except (tomllib.TOMLDecodeError, RecursionError):  # "[[[[…" nested beyond the parser's depth
         return text
 
 

@@ -24,11 +24,17 @@ def write_outputs(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
 
     out_dir = Path(out_dir)
     previous = previous_files(out_dir)
+    # First a manifest of everything that may be there once writing starts, so a run killed
+    # half-way (a batch time limit, Ctrl-C) still leaves every file it wrote listed for the next.
+    write_atomically(out_dir, {MANIFEST: _manifest(previous | set(files), __version__, json_bytes)})
     written = write_atomically(out_dir, files)
     remove_stale(out_dir, previous - set(files))
-    document = {"crankdyn_version": __version__, "files": sorted(files)}
-    write_atomically(out_dir, {MANIFEST: json_bytes(document)})
+    write_atomically(out_dir, {MANIFEST: _manifest(set(files), __version__, json_bytes)})
     return written
+
+
+def _manifest(names: set[str], version: str, json_bytes) -> bytes:
+    return json_bytes({"crankdyn_version": version, "files": sorted(names)})
 
 
 def previous_files(out_dir: Path) -> set[str]:
