@@ -66,7 +66,8 @@ def test_kinematics_only_report_leaves_sections_out():
     result, rendered = _render("kinematics-only")
     assert 'data-stage="kinematics"' in rendered.html
     assert 'data-stage="indicator"' not in rendered.html and 'data-stage="forces"' not in rendered.html
-    assert "no [cycle] data" in rendered.html  # the reason is stated in the method notes
+    # the reason is stated (in the report's language) in the method notes
+    assert "the scene gives no working-cycle (indicator diagram) data" in rendered.html
 
 
 def test_scene_text_is_escaped():

@@ -194,35 +194,44 @@ def _legend_outside(ax) -> None:
 def _locale_ticks(axis, t) -> None:
     from matplotlib.ticker import ScalarFormatter
 
-    formatter = axis.get_major_formatter()
-    if type(formatter) is ScalarFormatter:
-        axis.set_major_formatter(LocaleScalarFormatter(t))
+    if type(axis.get_major_formatter()) is ScalarFormatter:  # leave log and custom formatters
+        axis.set_major_formatter(locale_formatter(t))
 
 
-def _locale_formatter_class():
-    from matplotlib.ticker import ScalarFormatter
+def tick_labels(values, t) -> tuple[list[str], int]:
+    """Tick labels in the report's locale, with as few decimals as tell the ticks apart, and
+    the power of ten factored out (returned) when the numbers are very large or small."""
+    import numpy as np
 
-    class _Formatter(ScalarFormatter):
-        """ScalarFormatter whose tick labels are formatted by the translator (Babel)."""
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    big = float(np.max(np.abs(finite))) if finite.size else 0.0
+    scale = int(np.floor(np.log10(big))) if big and (big >= 1e5 or big < 1e-2) else 0
+    scaled = values / 10.0 ** scale
+    steps = np.diff(np.unique(scaled[np.isfinite(scaled)]))
+    step = float(np.min(steps)) if steps.size else 1.0
+    decimals = 0
+    while decimals < 6 and np.any(np.abs(np.round(scaled, decimals) - scaled) > 1e-6 * step):
+        decimals += 1
+    return [t.fixed(v, decimals) if np.isfinite(v) else "" for v in scaled], scale
 
-        def __init__(self, t):
-            super().__init__(useMathText=True)
-            self._t = t
+
+def locale_formatter(t):
+    """A matplotlib tick formatter that writes numbers as the report's text does (Babel)."""
+    from matplotlib.ticker import Formatter
+
+    class LocaleFormatter(Formatter):
+        def __init__(self):
+            self.scale = 0
+
+        def format_ticks(self, values):
+            labels, self.scale = tick_labels(values, t)
+            return labels
 
         def __call__(self, x, pos=None):
-            if len(self.locs) == 0:
-                return ""
-            decimals = _decimals_of(self.format)
-            value = (x - self.offset) / 10.0 ** self.orderOfMagnitude
-            return self._t.fixed(value, decimals)
+            return tick_labels([x], t)[0][0]
 
-    return _Formatter
+        def get_offset(self):
+            return f"×10$^{{{self.scale}}}$" if self.scale else ""
 
-
-def _decimals_of(fmt: str) -> int:
-    m = re.search(r"\.(\d+)f", fmt)
-    return int(m.group(1)) if m else 0
-
-
-def LocaleScalarFormatter(t):  # noqa: N802 - a class factory: matplotlib imports lazily
-    return _locale_formatter_class()(t)
+    return LocaleFormatter()
