@@ -231,16 +231,16 @@ def render(output: StageOutput, ctx) -> str | None:
 
     table_pins = ctx.table([
         (t("bearings.crank"), [str(p["crank"]) for p in r["crank_pins"]], None),
-        ("<i>Q</i><sub>max</sub>, kN", [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
-        ("<i>Q</i><sub>mean</sub>, kN", [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
         (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
     ], caption=t("bearings.pins_table_caption"))
     table_journals = ctx.table([
         (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
-        ("<i>R</i><sub>max</sub>, kN", [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
-        ("<i>R</i><sub>mean</sub>, kN", [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),

@@ -12,6 +12,7 @@ Nothing here computes physics or changes a number's value.
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
@@ -45,6 +46,16 @@ SYMBOLS: dict[str, Symbol] = {
 }
 
 
+#: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
+SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
+    "mean": {"uk": "сер", "ru": "ср"},
+    "theor": {"uk": "теор", "ru": "теор"},
+    "exact": {"uk": "точн", "ru": "точн"},
+    "bearing": {"uk": "ш.п", "ru": "ш.п"},
+    "pin": {"uk": "ш.ш", "ru": "ш.ш"},
+}
+
+
 def symbol_sub(key: str, language: str) -> str:
     """The subscript of symbol ``key`` in ``language`` (English if the language has none)."""
     sub = SYMBOLS[key].sub
@@ -63,9 +74,16 @@ def symbol_mathtext(key: str, language: str) -> str:
     return f"${s.base}_{{\\mathrm{{{symbol_sub(key, language)}}}}}$"
 
 
+_BASES = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyzαβγδεζηθικλμνξπρστυφχψωΔΣΦ"
+
+
+@functools.lru_cache(maxsize=None)
 def _subscript_map(language: str) -> dict[tuple[str, str], str]:
     """(base, any language's subscript) -> the subscript in ``language``."""
     out: dict[tuple[str, str], str] = {}
+    for word, forms in SUBSCRIPT_WORDS.items():
+        for base in _BASES:
+            out[(base, word)] = forms.get(language, word)
     for s in SYMBOLS.values():
         target = s.sub.get(language, s.sub["en"])
         for sub in s.sub.values():
@@ -80,7 +98,7 @@ _LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
 _SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}])(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
 #: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
 _SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
-_SUB_HTML = re.compile(r"<i>([^<]{1,2})</i><sub>([^<]+)</sub>")
+_SUB_HTML = re.compile(r"<i>([^<]{1,2})</i>((?:</b>)?)<sub>([^<]+)</sub>")
 #: A number written by Python's exponent notation (``1.2e-03``) that slipped through.
 _E_NUMBER = re.compile(r"(?<![\w.])([−\-]?\d+(?:[.,]\d+)?)[eE]([+\-−]?)(\d+)(?![\w])")
 
@@ -140,8 +158,8 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
             continue
         parts[i] = typeset_text_html(part, language, units, decimal)
     out = "".join(parts)
-    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i><sub>{subs.get((m.group(1), m.group(2)), m.group(2))}</sub>",
-                         out)
+    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
+                                   f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>", out)
 
 
 # ----------------------------------------------------------------------------- figures
