@@ -51,6 +51,7 @@ class RenderedReport:
     figures: list[FigureFile]
     language: str
     missing_translations: set[str]
+    worked: list = field(default_factory=list)  # the worked substitutions shown (report.worked.WorkedBlock)
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
@@ -151,7 +152,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
-    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
+    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
+                          worked=list(ctx.worked))
 
 
 def _stage_title(t, registry: Registry, name: str) -> str:
