@@ -247,7 +247,7 @@ def render(output: StageOutput, ctx) -> str | None:
     ], caption=t("bearings.journals_table_caption"))
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
-                   oil=ctx.num(pin["oil_hole_deg"], 3)))
+                   oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                table_journals=table_journals, dims=d)

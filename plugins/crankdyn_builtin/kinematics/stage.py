@@ -170,9 +170,9 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_ylabel(t("kinematics.axis_cm_z"))
         figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm")
 
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.num(r["v_max_crank_angle_deg"], 3),
+    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
                    v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.num(r["j_min_crank_angle_deg"], 4)))
+                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.t.number_g(r["j_min_crank_angle_deg"], 4)))
     return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
                                figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
 
