@@ -157,7 +157,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     every = max(int(round(labels_every / step)), 1)
     for i in range(0, len(angle), every):
         ax.plot(t[i], z[i], "o", ms=2.5, color="C3")
-        ax.annotate(f"{angle[i]:g}", (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        ax.annotate(ctx.t.number_g(angle[i]), (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
     span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)

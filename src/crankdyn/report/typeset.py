@@ -186,6 +186,8 @@ def typeset_figure(fig, t) -> None:
     from matplotlib.text import Text
 
     language = t.language
+    for ax in fig.get_axes():
+        _legend_outside(ax)  # first: the new legend takes its labels from the artists, untypeset
     for text in fig.findobj(Text):
         value = text.get_text()
         if value and ("_" in value or "^" in value) and "$" not in value:
@@ -193,7 +195,6 @@ def typeset_figure(fig, t) -> None:
     for ax in fig.get_axes():
         for axis in (ax.xaxis, ax.yaxis):
             _locale_ticks(axis, t)
-        _legend_outside(ax)
 
 
 def _legend_outside(ax) -> None:
