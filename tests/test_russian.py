@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import re
-import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import ARTIFACTS, modified
+from conftest import modified
 
-from crankdyn.cli import examples_dir, main
+from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
@@ -106,31 +104,5 @@ def test_caption_style_of_the_cyrillic_reports():
     assert uk["_meta.decimal_separator"] == ru["_meta.decimal_separator"] == ","
 
 
-needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdffonts") is None,
-                                   reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
 
-
-@needs_poppler
-def test_russian_pdf_has_cyrillic_text_captions_and_a_times_metric_font(tmp_path):
-    out = tmp_path / "ru"
-    # Through the command line, as a student would make it (--lang overrides the scene's language).
-    # Four sections are enough for the captions and keep the PDF quick.
-    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--lang", "ru",
-                 "--format", "pdf", "--stages", "kinematics,indicator,forces", "-q"]) == 0
-    assert sorted(p.name for p in out.iterdir()) == [".crankdyn-manifest.json", "report.pdf"]
-    pdf = out / "report.pdf"
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
-    for words in ("КУРСОВОЙ ПРОЕКТ", "Содержание", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
-                  "Частота вращения коленчатого вала", "Выводы", "Список использованных источников"):
-        assert words in text, words
-    assert "(2.1)" in text
-    assert "�" not in text  # no replacement characters: every glyph came through
-    fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, check=True).stdout
-    body_fonts = [line.split()[0] for line in fonts.splitlines()[2:] if line.strip()]
-    assert any("Liberation-Serif" in f for f in body_fonts), fonts  # Times New Roman metrics, with Cyrillic
-    assert all(line.split()[-5] == "yes" for line in fonts.splitlines()[2:] if line.strip()), fonts  # embedded
-    if shutil.which("pdftoppm"):
-        ARTIFACTS.mkdir(exist_ok=True)
-        subprocess.run(["pdftoppm", "-r", "60", "-f", "1", "-l", "3", "-png", str(pdf), str(ARTIFACTS / "petrol-ru")],
-                       check=True)
-        assert len(list(ARTIFACTS.glob("petrol-ru*.png"))) >= 3
+# The Russian PDF (Cyrillic text, captions, a Times-metric font): tests/test_note.py::test_explanatory_note_pdf[ru].

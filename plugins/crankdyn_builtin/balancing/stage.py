@@ -546,7 +546,7 @@ def render(output: StageOutput, ctx) -> str | None:
         rows = x["rows"]
         explorer_table = ctx.table([
             ("№", [str(c["rank"]) for c in rows], None),
-            (t("balancing.cranks"), [", ".join(f"{v:g}" for v in c["crank_angles_deg"]) for c in rows], None),
+            (t("balancing.cranks"), ["; ".join(t.number_g(v) for v in c["crank_angles_deg"]) for c in rows], None),
             (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
             ("ΣC", [c["coefficients"]["sum_C"] for c in rows], 3),
             ("M<sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),

@@ -157,7 +157,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     every = max(int(round(labels_every / step)), 1)
     for i in range(0, len(angle), every):
         ax.plot(t[i], z[i], "o", ms=2.5, color="C3")
-        ax.annotate(f"{angle[i]:g}", (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        ax.annotate(ctx.t.number_g(angle[i]), (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
     span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
@@ -231,23 +231,23 @@ def render(output: StageOutput, ctx) -> str | None:
 
     table_pins = ctx.table([
         (t("bearings.crank"), [str(p["crank"]) for p in r["crank_pins"]], None),
-        ("<i>Q</i><sub>max</sub>, kN", [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
-        ("<i>Q</i><sub>mean</sub>, kN", [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
+        ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
         (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
     ], caption=t("bearings.pins_table_caption"))
     table_journals = ctx.table([
         (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
-        ("<i>R</i><sub>max</sub>, kN", [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
-        ("<i>R</i><sub>mean</sub>, kN", [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
+        ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
     ], caption=t("bearings.journals_table_caption"))
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
-                   oil=ctx.num(pin["oil_hole_deg"], 3)))
+                   oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                table_journals=table_journals, dims=d)

@@ -11,6 +11,8 @@ from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
+from crankdyn.report.typeset import symbol_html
+from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 
@@ -138,6 +140,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>z</i>", mpa["radial_Pa"][rows], 3),
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
     ], caption=t("forces.table_b1_caption"), css_class="data wide")
+    worked = _worked(ctx, f.iloc[rows], labels, r)
     table_q = ctx.table([
         ("<i>α</i>, °", labels, 0),
         ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
@@ -172,12 +175,36 @@ def render(output: StageOutput, ctx) -> str:
     ctx.conclude(t("forces.conclusion_torque", mean=ctx.num(r["mean_torque_Nm"]),
                    from_work=ctx.num(r["mean_torque_from_work_Nm"]),
                    deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
-                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.num(r["torque_max_crank_angle_deg"], 4)))
+                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.t.number_g(r["torque_max_crank_angle_deg"], 4)))
     ctx.conclude(t("forces.conclusion_loads", q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
-                   q_angle=ctx.num(r["resultant_max_crank_angle_deg"], 4),
+                   q_angle=ctx.t.number_g(r["resultant_max_crank_angle_deg"], 4),
                    n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6)))
     return ctx.render_template("sections/forces.html.j2", r=r, table_b1=table_b1, table_q=table_q,
-                               figure_forces=figure_forces, figure_torque=figure_torque)
+                               figure_forces=figure_forces, figure_torque=figure_torque, worked=worked)
+
+
+def _worked(ctx, rows, labels, r):
+    """Inertia and total specific force with the numbers of one row of table B.1."""
+    t, lang = ctx.t, ctx.t.language
+    i = worked_row(labels, ctx.worked_angle_deg)
+    alpha, row = float(labels[i]), rows.iloc[i]
+    m_txt, m_s = printed(t, r["reciprocating_mass_kg"])
+    f_txt, area = printed(t, r["piston_area_m2"])
+    j = round(float(row["piston_acceleration_m_s2"]))  # as table B.1 prints it
+    j_txt = t.fixed(j, 0)
+    p_j = float(row["inertia_Pa"]) / 1e6
+    g_txt, p_g = printed_fixed(t, float(row["gas_Pa"]) / 1e6, 3)
+    pj_txt, p_j_printed = printed_fixed(t, p_j, 3)
+    inputs = {"m_s": m_s, "F_p": area, "j": j, "p_g": p_g, "p_j": p_j_printed, "alpha_deg": alpha}
+    lhs_j, lhs_1 = "<i>p</i><sub>j</sub>", "<i>p</i><sub>1</sub>"
+    steps = [
+        WorkedStep("inertia_pressure", lhs_j, "−<i>m</i><sub>s</sub> " + symbol_html("piston_acceleration", lang)
+                   + "/<i>F</i><sub>p</sub>", f"−{m_txt}·({j_txt})/{f_txt}·10<sup>−6</sup>", p_j, 3,
+                   t("unit.MPa"), inputs),
+        WorkedStep("total_pressure", lhs_1, symbol_html("gas_pressure", lang) + " + " + lhs_j,
+                   f"{g_txt} + ({pj_txt})", float(row["total_Pa"]) / 1e6, 3, t("unit.MPa"), inputs),
+    ]
+    return worked_markup(ctx, WorkedBlock("forces", ctx.last_table_number, alpha, steps))
 
 
 FORCES_STAGE = Stage(

@@ -194,7 +194,7 @@ def render(output: StageOutput, ctx) -> str:
 
     deviation = r.get("mean_indicated_pressure_deviation_percent")
     ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                   angle=ctx.num(r["max_pressure_crank_angle_deg"], 4),
+                   angle=ctx.t.number_g(r["max_pressure_crank_angle_deg"], 4),
                    p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6), work=ctx.num(r["indicated_work_J"])))
     if deviation is not None:
         key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"

@@ -12,6 +12,8 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.typeset import symbol_html
+from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -131,6 +133,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"].to_numpy(), 1),
         ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
     ], caption=t("kinematics.table_caption"))
+    worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
     angle = frame["crank_angle_deg"].to_numpy()
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
@@ -169,11 +172,39 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_ylabel(t("kinematics.axis_cm_z"))
         figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm")
 
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.num(r["v_max_crank_angle_deg"], 3),
+    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
                    v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.num(r["j_min_crank_angle_deg"], 4)))
+                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.t.number_g(r["j_min_crank_angle_deg"], 4)))
     return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod, figure_cm=figure_cm)
+                               figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
+
+
+def _worked(ctx, rows, labels, r):
+    """Displacement, velocity and acceleration of the piston with the numbers of one table row."""
+    t, lang = ctx.t, ctx.t.language
+    i = worked_row(labels, ctx.worked_angle_deg)
+    alpha, row = float(labels[i]), rows.iloc[i]
+    a = t.number_g(alpha)
+    r_txt, r_m = printed(t, r["crank_radius_m"])
+    l_txt, lam = printed(t, r["rod_ratio"])
+    w_txt, omega = printed(t, r["angular_velocity_rad_s"], 5)
+    b_txt, beta = printed(t, float(row["rod_angle_deg"]))
+    inputs = {"R_m": r_m, "lambda": lam, "omega": omega, "alpha_deg": alpha, "beta_deg": beta}
+    steps = [
+        WorkedStep("piston_displacement", symbol_html("piston_displacement", lang),
+                   "<i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>]",
+                   f"{r_txt}·[(1 − cos {a}°) + (1 − cos {b_txt}°)/{l_txt}]·10³",
+                   float(row["piston_displacement_m"]) * 1e3, 2, t("unit.mm"), inputs),
+        WorkedStep("piston_velocity", symbol_html("piston_velocity", lang),
+                   "<i>Rω</i> sin(<i>α</i> + <i>β</i>)/cos <i>β</i>",
+                   f"{r_txt}·{w_txt}·sin({a}° + {b_txt}°)/cos {b_txt}°",
+                   float(row["piston_velocity_m_s"]), 2, t("unit.m_s"), inputs),
+        WorkedStep("piston_acceleration", symbol_html("piston_acceleration", lang),
+                   "<i>Rω</i><sup>2</sup>[cos(<i>α</i> + <i>β</i>)/cos <i>β</i> + <i>λ</i> cos<sup>2</sup><i>α</i>/cos<sup>3</sup><i>β</i>]",
+                   f"{r_txt}·{w_txt}<sup>2</sup>·[cos({a}° + {b_txt}°)/cos {b_txt}° + {l_txt}·cos<sup>2</sup> {a}°/cos<sup>3</sup> {b_txt}°]",
+                   float(row["piston_acceleration_m_s2"]), 0, t("unit.m_s2"), inputs),
+    ]
+    return worked_markup(ctx, WorkedBlock("kinematics", ctx.last_table_number, alpha, steps))
 
 
 KINEMATICS_STAGE = Stage(

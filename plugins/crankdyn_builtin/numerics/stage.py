@@ -817,7 +817,7 @@ def _render_steps(r, ctx):
         errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
     for s, x in zip(steps, times):
-        ax.annotate(f"{s['angle_step_deg']:g}°", (x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)),
+        ax.annotate(f"{ctx.t.number_g(s['angle_step_deg'])}°", (x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)),
                     textcoords="offset points", xytext=(3, 4), fontsize=7)
     ax.set_xlabel(t("numerics.axis_time_ms"))
     ax.set_ylabel(t("numerics.axis_error_percent"))

@@ -237,7 +237,7 @@ def render(output: StageOutput, ctx) -> str:
     figure_rod = ctx.figure(fig, t("offset_crank.rod_figure_caption"), "offset_rod")
 
     ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
-                   tdc=ctx.num(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.num(r["bdc_crank_angle_deg"], 5),
+                   tdc=ctx.t.number_g(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.t.number_g(r["bdc_crank_angle_deg"], 4),
                    stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
                    ratio=ctx.num(r["stroke_time_ratio"], 5)))
     return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,

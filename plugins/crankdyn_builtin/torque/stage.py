@@ -137,8 +137,8 @@ def render(output: StageOutput, ctx) -> str | None:
 
     ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),
                    deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
-                   max_angle=ctx.num(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),
-                   period=ctx.num(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
+                   max_angle=ctx.t.number_g(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),
+                   period=ctx.t.number_g(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
     return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
                                figure_journals=figure_journals, danger=danger)
 

@@ -307,8 +307,8 @@ def render(output: StageOutput, ctx) -> str:
     figure_lambda = ctx.figure(fig, t("vane.lambda_caption"), "vane_lambda")
 
     zeros = r["slider_vertical_acceleration_zeros_deg"]
-    ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.num(r["core_angle_max_deg"], 5),
-                   gamma_max=ctx.num(r["vane_angle_max_deg"], 5), zero=ctx.num(zeros[0], 5),
+    ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),
+                   gamma_max=ctx.t.number_g(r["vane_angle_max_deg"], 4), zero=ctx.num(zeros[0], 5),
                    y_max=ctx.num(r["slider_vertical_travel_max_m"] * mm, 5),
                    y_rel=ctx.num(r["slider_vertical_travel_max_over_tail"], 4)))
     return ctx.render_template("sections/vane.html.j2", r=r, zeros=zeros, table=table, figure_angles=figure_angles,

@@ -40,6 +40,16 @@ class RenderContext:
     cycle_deg: float = 720.0
     conclusions: list[str] = field(default_factory=list)
     scene: Any = None
+    worked: list = field(default_factory=list)  # WorkedBlock of every worked substitution shown
+
+    @property
+    def worked_angle_deg(self) -> float:
+        """The crank angle of the worked substitutions ([report] worked_angle_deg, default 30°)."""
+        return float(getattr(getattr(self.scene, "report", None), "worked_angle_deg", 30.0))
+
+    @property
+    def last_table_number(self) -> str:
+        return f"{self.section_number}.{self._table}"
 
     def start_section(self, number: int, stage_name: str) -> None:
         self.section_number = number

@@ -51,6 +51,7 @@ class RenderedReport:
     figures: list[FigureFile]
     language: str
     missing_translations: set[str]
+    worked: list = field(default_factory=list)  # the worked substitutions shown (report.worked.WorkedBlock)
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
@@ -102,7 +103,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
-    env.filters["numg"] = t.number_g
+    env.filters["numg"] = lambda value, significant=4: t.number_g(value, significant)
     ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
     course = scene.report.detail == "course"
 
@@ -155,7 +156,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
-    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
+    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
+                          worked=list(ctx.worked))
 
 
 def _stage_title(t, registry: Registry, name: str) -> str:

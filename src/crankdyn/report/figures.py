@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 STYLE = {
-    "svg.fonttype": "path",
+    "svg.fonttype": "none",  # text stays text: searchable in the PDF (fonts: the report's, below)
     "font.family": "DejaVu Sans",
     "font.size": 9,
     "axes.grid": True,

@@ -12,6 +12,7 @@ Nothing here computes physics or changes a number's value.
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
@@ -45,6 +46,16 @@ SYMBOLS: dict[str, Symbol] = {
 }
 
 
+#: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
+SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
+    "mean": {"uk": "сер", "ru": "ср"},
+    "theor": {"uk": "теор", "ru": "теор"},
+    "exact": {"uk": "точн", "ru": "точн"},
+    "bearing": {"uk": "ш.п", "ru": "ш.п"},
+    "pin": {"uk": "ш.ш", "ru": "ш.ш"},
+}
+
+
 def symbol_sub(key: str, language: str) -> str:
     """The subscript of symbol ``key`` in ``language`` (English if the language has none)."""
     sub = SYMBOLS[key].sub
@@ -63,9 +74,16 @@ def symbol_mathtext(key: str, language: str) -> str:
     return f"${s.base}_{{\\mathrm{{{symbol_sub(key, language)}}}}}$"
 
 
+_BASES = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyzαβγδεζηθικλμνξπρστυφχψωΔΣΦ"
+
+
+@functools.lru_cache(maxsize=None)
 def _subscript_map(language: str) -> dict[tuple[str, str], str]:
     """(base, any language's subscript) -> the subscript in ``language``."""
     out: dict[tuple[str, str], str] = {}
+    for word, forms in SUBSCRIPT_WORDS.items():
+        for base in _BASES:
+            out[(base, word)] = forms.get(language, word)
     for s in SYMBOLS.values():
         target = s.sub.get(language, s.sub["en"])
         for sub in s.sub.values():
@@ -80,7 +98,7 @@ _LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
 _SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}])(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
 #: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
 _SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
-_SUB_HTML = re.compile(r"<i>([^<]{1,2})</i><sub>([^<]+)</sub>")
+_SUB_HTML = re.compile(r"<i>([^<]{1,2})</i>((?:</b>)?)<sub>([^<]+)</sub>")
 #: A number written by Python's exponent notation (``1.2e-03``) that slipped through.
 _E_NUMBER = re.compile(r"(?<![\w.])([−\-]?\d+(?:[.,]\d+)?)[eE]([+\-−]?)(\d+)(?![\w])")
 
@@ -140,8 +158,8 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
             continue
         parts[i] = typeset_text_html(part, language, units, decimal)
     out = "".join(parts)
-    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i><sub>{subs.get((m.group(1), m.group(2)), m.group(2))}</sub>",
-                         out)
+    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
+                                   f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>", out)
 
 
 # ----------------------------------------------------------------------------- figures
@@ -168,6 +186,8 @@ def typeset_figure(fig, t) -> None:
     from matplotlib.text import Text
 
     language = t.language
+    for ax in fig.get_axes():
+        _legend_outside(ax)  # first: the new legend takes its labels from the artists, untypeset
     for text in fig.findobj(Text):
         value = text.get_text()
         if value and ("_" in value or "^" in value) and "$" not in value:
@@ -175,7 +195,6 @@ def typeset_figure(fig, t) -> None:
     for ax in fig.get_axes():
         for axis in (ax.xaxis, ax.yaxis):
             _locale_ticks(axis, t)
-        _legend_outside(ax)
 
 
 def _legend_outside(ax) -> None:
@@ -194,35 +213,44 @@ def _legend_outside(ax) -> None:
 def _locale_ticks(axis, t) -> None:
     from matplotlib.ticker import ScalarFormatter
 
-    formatter = axis.get_major_formatter()
-    if type(formatter) is ScalarFormatter:
-        axis.set_major_formatter(LocaleScalarFormatter(t))
+    if type(axis.get_major_formatter()) is ScalarFormatter:  # leave log and custom formatters
+        axis.set_major_formatter(locale_formatter(t))
 
 
-def _locale_formatter_class():
-    from matplotlib.ticker import ScalarFormatter
+def tick_labels(values, t) -> tuple[list[str], int]:
+    """Tick labels in the report's locale, with as few decimals as tell the ticks apart, and
+    the power of ten factored out (returned) when the numbers are very large or small."""
+    import numpy as np
 
-    class _Formatter(ScalarFormatter):
-        """ScalarFormatter whose tick labels are formatted by the translator (Babel)."""
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    big = float(np.max(np.abs(finite))) if finite.size else 0.0
+    scale = int(np.floor(np.log10(big))) if big and (big >= 1e5 or big < 1e-2) else 0
+    scaled = values / 10.0 ** scale
+    steps = np.diff(np.unique(scaled[np.isfinite(scaled)]))
+    step = float(np.min(steps)) if steps.size else 1.0
+    decimals = 0
+    while decimals < 6 and np.any(np.abs(np.round(scaled, decimals) - scaled) > 1e-6 * step):
+        decimals += 1
+    return [t.fixed(v, decimals) if np.isfinite(v) else "" for v in scaled], scale
 
-        def __init__(self, t):
-            super().__init__(useMathText=True)
-            self._t = t
+
+def locale_formatter(t):
+    """A matplotlib tick formatter that writes numbers as the report's text does (Babel)."""
+    from matplotlib.ticker import Formatter
+
+    class LocaleFormatter(Formatter):
+        def __init__(self):
+            self.scale = 0
+
+        def format_ticks(self, values):
+            labels, self.scale = tick_labels(values, t)
+            return labels
 
         def __call__(self, x, pos=None):
-            if len(self.locs) == 0:
-                return ""
-            decimals = _decimals_of(self.format)
-            value = (x - self.offset) / 10.0 ** self.orderOfMagnitude
-            return self._t.fixed(value, decimals)
+            return tick_labels([x], t)[0][0]
 
-    return _Formatter
+        def get_offset(self):
+            return f"×10$^{{{self.scale}}}$" if self.scale else ""
 
-
-def _decimals_of(fmt: str) -> int:
-    m = re.search(r"\.(\d+)f", fmt)
-    return int(m.group(1)) if m else 0
-
-
-def LocaleScalarFormatter(t):  # noqa: N802 - a class factory: matplotlib imports lazily
-    return _locale_formatter_class()(t)
+    return LocaleFormatter()

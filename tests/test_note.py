@@ -1,0 +1,215 @@
+"""The explanatory note a student hands in (issue: DSTU 3008 layout, typography and language).
+
+One PDF per language (uk, ru, en) is rendered once per test and every acceptance check runs on
+it: typography (no ``^``, ``_``, ``e-03``; decimal comma), the abstract's counts against the
+document, references to captions before the captions, citations, continued tables. The HTML
+checks (no English words in uk/ru, worked substitutions equal to their table rows) need no PDF.
+"""
+
+from __future__ import annotations
+
+import html as html_lib
+import math
+import re
+import shutil
+import subprocess
+
+import pytest
+
+from crankdyn.cli import examples_dir, main
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.report.i18n import translator
+from crankdyn.scene import load_scene, scene_from_dict
+from conftest import ARTIFACTS, modified
+
+REGISTRY = default_registry()
+
+needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+                                   reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+
+#: Per language: scene, extra CLI arguments, caption words, the words a reference to them uses,
+#: the continuation label, the abstract and conclusions headings (as printed, upper case).
+LANGUAGES = {
+    "uk": ("petrol-1cyl-uk", [], "Таблиця", "Рисунок", "табл.", "рис.", "Продовження таблиці", "РЕФЕРАТ",
+           "ВИСНОВКИ", "ПЕРЕЛІК ДЖЕРЕЛ ПОСИЛАННЯ"),
+    "ru": ("petrol-1cyl-ru", [], "Таблица", "Рисунок", "табл.", "рис.", "Продолжение таблицы", "РЕФЕРАТ",
+           "ВЫВОДЫ", "СПИСОК ИСПОЛЬЗОВАННЫХ ИСТОЧНИКОВ"),
+    # --lang overrides the scene's language, as a student would do it on the command line
+    "en": ("petrol-1cyl-ru", ["--lang", "en"], "Table", "Figure", "table", "figure", "Table", "ABSTRACT",
+           "CONCLUSIONS", "REFERENCES"),
+}
+
+#: Words each note must show (headings, captions, the input table), besides those above.
+WORDS = {
+    "uk": ("ПОЯСНЮВАЛЬНА ЗАПИСКА", "ЗМІСТ", "ВСТУП", "Вихідні дані", "Таблиця 4.1 –", "Рисунок 2.1 –", "Кінематика",
+           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П."),
+    "ru": ("ПОЯСНИТЕЛЬНАЯ ЗАПИСКА", "СОДЕРЖАНИЕ", "ВВЕДЕНИЕ", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
+           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П."),
+    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12"),
+}
+
+#: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
+ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn", "Radau", "RK", "BDF", "LSODA",
+                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV"}
+
+
+#: A table or figure number: chapter (or appendix letter) and position, "2.1", "А.1".
+NUMBER = r"[0-9A-ZА-Я]+\.\d+"
+
+
+def _pages(pdf) -> list[str]:
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    return text.split("\f")[:-1] if text.endswith("\f") else text.split("\f")
+
+
+def _decimal_points(text: str) -> list[str]:
+    """Numbers written with a decimal point, other than the numbering of sections, tables,
+    figures and equations ("табл. 2.1", "(2.3)", "Рисунок 4.1", "підрозд. 6.1–6.2") and the version."""
+    found = []
+    for m in re.finditer(r"(\S*\s?\S*\s?)(?<![\d.,])(\d+\.\d+)(?![\d.])", text):
+        before = m.group(1)
+        if re.search(r"(табл|рис|Таблиц|Рисун|таблиц|розд|подразд|підрозд|додат|прилож|Продовження|Продолжение|"
+                     r"crankdyn)[^\s]*\s*[А-ЯA-Z]?\.?\s*$|\($|[–-]$", before):
+            continue
+        found.append(before + m.group(2))
+    return found
+
+
+def _latin_words(document: str, scene_texts=()) -> list[str]:
+    """Latin-letter words outside the allowed set; the scene's own texts (title-page fields,
+    engine name: the student's data, in whatever language the student wrote them) left out."""
+    body = document.split("<body", 1)[1]
+    for value in sorted(scene_texts, key=len, reverse=True):
+        if len(value) > 3:  # not the language code
+            body = body.replace(str(html_lib.escape(value, quote=False)), " ")
+    body = re.sub(r'<ol class="references">.*?</ol>', " ", body, flags=re.S)  # the sources keep their language
+    body = re.sub(r"<img[^>]*>", " ", body)
+    body = re.sub(r"<(i|sub|sup|b)>[^<]{1,4}</\1>", " ", body)  # symbols and their indices
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", body))
+    text = re.sub(r"\[[a-z_.]+\]", " ", text)  # the scene's table names, e.g. [bearings]
+    return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text) if w not in ALLOWED_LATIN]
+
+
+@needs_poppler
+@pytest.mark.parametrize("language", list(LANGUAGES))
+def test_explanatory_note_pdf(tmp_path, language):
+    example, extra, table_word, figure_word, table_ref, figure_ref, continued, abstract, conclusions, sources = \
+        LANGUAGES[language]
+    out = tmp_path / language
+    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
+                 *extra]) == 0
+    assert not list(out.rglob("*.tmp"))
+    pages = _pages(out / "report.pdf")
+    text = "\f".join(pages)
+    html = (out / "report.html").read_text(encoding="utf-8")
+
+    # Typography: nothing a reader sees is written the programmer's way.
+    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
+    assert "�" not in text  # every glyph came through
+    for words in WORDS[language]:
+        assert words in text, words
+    if language != "en":
+        assert not _decimal_points(text), _decimal_points(text)[:10]
+        assert not _latin_words(html), sorted(set(_latin_words(html)))
+
+    # The abstract counts what the document holds.
+    body_end = text.index(f"\n{sources}") if f"\n{sources}" in text else len(text)
+    tables = set(re.findall(rf"{table_word}\s+({NUMBER})\s+[–—]", text))
+    figures = set(re.findall(rf"{figure_word}\s+({NUMBER})\s+[–—]", text))
+    references = re.findall(r'<ol class="references">(.*?)</ol>', html, flags=re.S)[0].count("<li>")
+    abstract_page = next(p for p in pages if abstract in p)
+    numbers = [int(n) for n in re.findall(r"(\d+)\s", abstract_page.split(":", 1)[1])[:4]]
+    assert numbers == [len(pages), len(figures), len(tables), references], (numbers, abstract_page[:300])
+
+    # Every table and figure is referred to in the text before its caption.
+    for word, ref, found in ((table_word, table_ref, tables), (figure_word, figure_ref, figures)):
+        for number in found:
+            caption = re.search(rf"{word}\s+{re.escape(number)}\s+[–—]", text).start()
+            mention = re.search(rf"{re.escape(ref)}\s+{re.escape(number)}(?!\d)", text)
+            assert mention and mention.start() < caption, (word, number)
+
+    # Sources: every [n] exists, every source is cited.
+    cited = {int(n) for group in re.findall(r"\[(\d+(?:,\s*\d+)*)\]", text[:body_end]) for n in group.split(",")}
+    assert cited == set(range(1, references + 1)), (cited, references)
+
+    # Long tables continue on the next page under the label and the repeated header.
+    continued_pages = [p for p in pages if re.search(rf"^\s*{continued} \d+\.\d+", p, flags=re.M)
+                       and not re.search(rf"{continued} \d+\.\d+ [–—]", p)]
+    assert continued_pages, "the forces table B.1 spans several pages"
+    for page in continued_pages:
+        first = next(line for line in page.splitlines() if line.strip())
+        assert first.strip().startswith(continued), first
+
+    # Contents with page numbers, and the fonts: Times metrics with Cyrillic, embedded.
+    contents = next(p for p in pages if re.search(r"\.{5,}\s*\d+\s*$", p, flags=re.M))
+    assert len(re.findall(r"^\s*\d+ .*?\.{3,}\s*(\d+)\s*$", contents, flags=re.M)) >= 4, contents
+    fonts = subprocess.run(["pdffonts", str(out / "report.pdf")], capture_output=True, text=True, check=True).stdout
+    assert any("Liberation-Serif" in line for line in fonts.splitlines()[2:]), fonts
+    assert all(line.split()[-5] == "yes" for line in fonts.splitlines()[2:] if line.strip()), fonts
+
+    # Five pages for a person to look at: title, abstract, a continued table, a figure, conclusions.
+    ARTIFACTS.mkdir(exist_ok=True)
+    chosen = {"1-title": 1, "2-abstract": pages.index(abstract_page) + 1,
+              "3-continued-table": pages.index(continued_pages[0]) + 1,
+              "4-figure": next(i for i, p in enumerate(pages, 1) if re.search(rf"{figure_word} \d+\.\d+ [–—]", p)),
+              "5-conclusions": max(i for i, p in enumerate(pages, 1) if re.search(rf"^\s*{conclusions}\s*$", p,
+                                                                                     flags=re.M))}
+    for name, page in chosen.items():
+        subprocess.run(["pdftoppm", "-r", "60", "-png", "-singlefile", "-f", str(page), "-l", str(page),
+                        str(out / "report.pdf"), str(ARTIFACTS / f"note-{language}-{name}")], check=True)
+        assert (ARTIFACTS / f"note-{language}-{name}.png").is_file()
+
+
+@pytest.mark.parametrize("example, language", [("inline4-petrol", "uk")])  # ru: the PDF test above
+def test_multicylinder_note_has_no_english_words(example, language):
+    scene = load_scene(examples_dir() / f"{example}.toml")
+    rendered = render_html(run_scene(scene, REGISTRY), REGISTRY, language)
+    assert not rendered.missing_translations, rendered.missing_translations
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+    words = _latin_words(rendered.html, scene_texts)
+    assert not words, sorted(set(words))
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<img[^>]*>|<style>.*?</style>", " ",
+                                                           rendered.html, flags=re.S)))
+    assert "^" not in text and not re.search(r"[A-Za-zА-Яа-я]_", text)
+    # numeral agreement by the CLDR plural rules: 4 циліндри / 4 цилиндра, not "4 циліндрів"
+    assert ("4 циліндри" if language == "uk" else "4 цилиндра") in text
+
+
+def _evaluate(step) -> float:
+    """The worked formula evaluated independently from the numbers substituted into it."""
+    x = step.inputs
+    a, b = math.radians(x.get("alpha_deg", 0.0)), math.radians(x.get("beta_deg", 0.0))
+    if step.quantity == "piston_displacement":
+        return x["R_m"] * ((1 - math.cos(a)) + (1 - math.cos(b)) / x["lambda"]) * 1e3
+    if step.quantity == "piston_velocity":
+        return x["R_m"] * x["omega"] * math.sin(a + b) / math.cos(b)
+    if step.quantity == "piston_acceleration":
+        return x["R_m"] * x["omega"] ** 2 * (math.cos(a + b) / math.cos(b)
+                                             + x["lambda"] * math.cos(a) ** 2 / math.cos(b) ** 3)
+    if step.quantity == "inertia_pressure":
+        return -x["m_s"] * x["j"] / x["F_p"] / 1e6
+    if step.quantity == "total_pressure":
+        return x["p_g"] + x["p_j"]
+    raise AssertionError(step.quantity)
+
+
+@pytest.mark.parametrize("angle", [60.0])  # not the default 30°: the scene chooses
+def test_worked_substitutions_equal_their_table_rows(angle):
+    scene = scene_from_dict(modified("petrol-1cyl", {"report": {"worked_angle_deg": angle}}), base_dir=examples_dir())
+    result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces"])
+    rendered = render_html(result, REGISTRY, "en")
+    t = translator("en", REGISTRY.catalogs)
+    assert {b.stage for b in rendered.worked} >= {"kinematics", "forces"}
+    for block in rendered.worked:
+        assert block.angle_deg == angle
+        table = re.search(rf'<table class="[^"]*" data-number="{re.escape(block.table_number)}">(.*?)</div>',
+                          rendered.html, flags=re.S).group(1)
+        row = re.search(rf"<tr><td>{t.fixed(angle, 0)}</td>(.*?)</tr>", table).group(1)
+        cells = re.findall(r"<td>([^<]*)</td>", row)
+        for step in block.steps:
+            assert t.fixed(step.value, step.decimals) in cells, (step.quantity, cells)
+            # the substituted numbers give the result to the precision they are printed with
+            assert _evaluate(step) == pytest.approx(step.value, rel=2e-3, abs=2 * 10 ** -step.decimals), step.quantity
