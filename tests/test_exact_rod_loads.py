@@ -4,7 +4,7 @@ bays, torque and bearings, use the rod as a rigid body.
 Independent reference, written here: the Newton-Euler equations of the piston and of the rod solved as a
 linear system at every angle (np.linalg.solve), in a frame of the test's own. Crank axis at the origin,
 cylinder axis +y, crank pin B = R (sin a, cos a), rod angle b = arcsin(lambda sin a), piston pin
-A = (0, R cos a + L cos b). The accelerations are second derivatives of these positions by an
+A = (0, R cos a + L cos b). The accelerations are second derivatives of these positions by a
 central difference in a (8th order, h = 0.02 rad), times omega^2 — not the code's closed forms. Unknowns: the piston's
 force on the rod at A (Ax, Ay), the crank pin's force on the rod at B (Bx, By), the wall force N:
   piston  x: 0 = -Ax + N;   y: m_p yA'' = -F_g - Ay
