@@ -174,6 +174,10 @@ def run(scene, inputs) -> StageOutput:
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist()}
     tables: dict = {}
     notes = []
+    if scene.firing_order_chosen:
+        results["firing_order_chosen"] = True
+        notes.append(("bays.note_firing_chosen", {"order": "–".join(layout.firing_order),
+                                                  "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg)}))
     if not layout.even_firing:
         notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
 
