@@ -286,7 +286,10 @@ def test_every_layout_keeps_the_invariants(layout, strokes, cylinders, bank, lag
     torque = result.outputs["torque"].results
     assert result.outputs["bays"].results["even_firing"]
     assert torque["mean_Nm"] == pytest.approx(torque["mean_from_work_Nm"], rel=3e-4)
-    assert torque["period_deg"] == pytest.approx(180.0 * strokes / cylinders)
+    # articulated master and slave cylinders differ: the torque repeats per crank only (issue 18)
+    cranks = result.outputs["bays"].results["cranks"]
+    expected = 180.0 * strokes / (cranks if rod == "articulated" else cylinders)
+    assert torque["period_deg"] == pytest.approx(expected)
     for entry in result.outputs["bearings"].results["main_journals"]:
         assert np.isfinite(entry["max_N"]) and entry["max_N"] > 0
 
@@ -301,3 +304,30 @@ def test_v8_pdf_in_ukrainian(tmp_path):
     if shutil.which("pdftotext"):
         text = subprocess.run(["pdftotext", str(out / "report.pdf"), "-"], capture_output=True, text=True).stdout
         assert "Навантаження на колінчастий вал" in text and "Б.3" in text and "Б.4" in text
+
+
+@pytest.mark.parametrize("cylinders, layout, bank", [(4, "inline", None), (6, "inline", None), (8, "V", 90)])
+def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
+    """Issue 18: no firing_order -> the explorer's top-ranked order and crank arrangement, said in the report.
+    Checked against invariants: even firing, and the free first-order forces and moments of an in-line 4,
+    in-line 6 vanish (both orders up to the second for the in-line 6); the cross-plane V8 keeps only a
+    co-rotating first-order couple, which counterweights cure (no balance shaft)."""
+    from crankdyn.physics import firing_explorer as fe
+
+    data = modified("v8-petrol" if layout == "V" else "inline4-petrol",
+                    {"flywheel": None, "analysis": {"stages": ["bays", "balancing"]},
+                     "engine": {"cylinders": cylinders, "firing_order": None, "crank_angles_deg": None}})
+    result = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry())
+    assert result.scene.firing_order_chosen
+    best = fe.explore(cylinders, layout, 4, bank, top=1).rows[0]
+    bays = result.outputs["bays"].results
+    assert bays["firing_order"] == list(best.firing_order) and bays["firing_order_chosen"]
+    assert bays["firing_intervals_deg"] == pytest.approx([720 / cylinders] * cylinders, abs=1e-9)
+    assert "bays.note_firing_chosen" in [key for key, _ in result.outputs["bays"].notes]
+    balancing = result.outputs["balancing"].results
+    coefficients = balancing["coefficients"]
+    first = next(o for o in balancing["orders"] if o["order"] == 1)
+    assert coefficients["sum_PI"] == 0 and first["force_backward"]["magnitude"] == 0
+    assert first["moment_backward"]["magnitude"] == 0 and (layout == "V" or coefficients["M_PI"] == 0)
+    if cylinders == 6:
+        assert coefficients["sum_PII"] == 0 and coefficients["M_PII"] == 0

@@ -178,13 +178,13 @@ def _sections(result, language):
 def test_torsion_sections_render(language):
     html, t, ctx = _sections(run("inline4-torsion"), language)
     assert not t.missing, t.missing
-    assert "Radau" in html and html.count("data:image/svg+xml;base64,") == 6
+    assert "Radau" in html and html.count("data:image/svg+xml;base64,") == 7  # with the Campbell diagram
     # tables and figures numbered in the order they appear
     for word in (t("report.table_caption", number="X", caption="").split("X")[0],
                  t("report.figure_caption", number="X", caption="").split("X")[0]):
         numbers = [int(n) for n in re.findall(re.escape(word) + r"10\.(\d+)", html)]
         assert numbers == list(range(1, len(numbers) + 1)), (word, numbers)
-    assert len(ctx.conclusions) == 3  # flywheel, torsion, speed fluctuation
+    assert len(ctx.conclusions) == 4  # flywheel, critical speeds, torsion, speed fluctuation
 
 
 def test_torsion_without_a_flywheel_uses_the_last_crank():
@@ -232,3 +232,27 @@ def test_results_keys_are_documented_in_the_readme():
     # the whole document is JSON: no NaN or infinity anywhere
     text = json.dumps({"flywheel": outputs["flywheel"].results, "speed_fluctuation": r}, allow_nan=False)
     assert "torsion" in text
+
+
+def test_critical_speeds_near_the_operating_speed_are_flagged():
+    """Issue 18: the in-line 4 at 5600 rpm lies between the order-7 (5427 rpm) and order-6.5 (5845 rpm)
+    critical speeds of mode 1. Independently: n_c = 60 f_1 / nu for every listed order with at least 1 %
+    of the largest amplitude, kept when within 10 % of 5600 rpm."""
+    t = run("inline4-torsion").outputs["speed_fluctuation"].results["torsion"]
+    f1 = t["modes"][0]["natural_frequency_Hz"]
+    largest = max(h["amplitude_Nm"] for h in t["harmonics"])
+    expected = {h["order"] for h in t["harmonics"]
+                if h["amplitude_Nm"] >= 0.01 * largest and abs(60 * f1 / h["order"] / 5600 - 1) <= 0.10}
+    near = t["critical_speeds_near_operating"]
+    assert {c["order"] for c in near if c["mode"] == 1} == expected and {6.5, 7.0} <= expected
+    by_order = {c["order"]: c for c in near if c["mode"] == 1}
+    assert by_order[7.0]["critical_rpm"] == pytest.approx(60 * f1 / 7, rel=1e-12)
+    assert by_order[7.0]["deviation_percent"] == pytest.approx(100 * (60 * f1 / 7 / 5600 - 1), rel=1e-12)
+    assert round(by_order[7.0]["critical_rpm"]) == 5427 and round(by_order[6.5]["critical_rpm"]) == 5845
+    # the table reaches the order the text names as the last significant one
+    assert max(h["order"] for h in t["harmonics"]) == pytest.approx(max(12.0, t["significant_order"]))
+    # RK45 stopped by its budget is named so, not as a failure
+    rk45 = [r for r in t["solvers"] if r["method"] == "RK45" and not r["success"]]
+    assert rk45 and all(r["outcome"] == "budget" and "budget" in r["message"] for r in rk45)
+    html, catalog, ctx = _sections(run("inline4-torsion"), "en")
+    assert any("5427" in c and "5845" in c for c in ctx.conclusions)

@@ -289,6 +289,7 @@ class Scene(_Strict):
 
     @model_validator(mode="after")
     def _consistent(self) -> "Scene":
+        self._default_firing_order()
         self._default_steps()
         step = self.analysis.angle_step_deg
         cycle = self.engine.cycle_deg
@@ -332,6 +333,41 @@ class Scene(_Strict):
             raise _FieldError("cycle.exhaust_pressure", "missing: a four-stroke theoretical diagram needs "
                               "the exhaust pressure p_r (e.g. '0.11 MPa')")
         return self
+
+    def _default_firing_order(self) -> None:
+        """A multi-cylinder engine without ``firing_order`` gets the firing-order explorer's top-ranked
+        order and crank arrangement (best balance, then the firing rules), when the search is small
+        (at most 50 000 arrangements of the cranks); otherwise the layout check asks for one."""
+        e = self.engine
+        if e.firing_order is not None or e.cylinders == 1 or e.layout == "radial":
+            return
+        from .physics import layout as lay
+
+        banks = lay.LAYOUT_BANKS.get(e.layout, 1)
+        cranks = e.cylinders // banks if e.cylinders % banks == 0 else e.cylinders
+        if math.factorial(max(cranks - 1, 0)) > 50_000:
+            return
+        from .physics import firing_explorer as fe
+
+        try:
+            found = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=1)
+        except (lay.LayoutError, ValueError):
+            return
+        if not found.rows:
+            return
+        best = found.rows[0]
+        update = {"firing_order": list(best.firing_order)}
+        if e.crank_angles_deg is None:
+            update["crank_angles_deg"] = list(best.crank_angles_deg)
+        new = e.model_copy(update=update)
+        object.__setattr__(new, "__pydantic_fields_set__", set(e.model_fields_set))
+        object.__setattr__(self, "engine", new)
+
+    @property
+    def firing_order_chosen(self) -> bool:
+        """True when the scene named no firing order and the explorer's top-ranked one was taken."""
+        return self.engine.cylinders > 1 and "firing_order" not in self.engine.model_fields_set \
+            and self.engine.layout != "radial" and self.engine.firing_order is not None
 
     def _default_steps(self) -> None:
         """Fill in the angle and table steps the scene leaves out (the scene stays frozen to the user).

@@ -136,6 +136,29 @@ def rotating_mass_per_crank_kg(scene, layout) -> float:
     return rot_master + crank_rotating
 
 
+def _wrapped_deg(angle: float) -> float:
+    """An angle difference in (-180, 180] deg."""
+    return -((-angle + 180.0) % 360.0 - 180.0)
+
+
+def _true_firing(layout, slaves, slave_info) -> dict:
+    """Firing at the true dead centres: each slave fires its TDC shift later than its nominal delay (the
+    slaves of every bay sit like those of bay 0); the intervals between firings in firing order."""
+    shift_of = {}
+    bay0 = layout.bay(0)
+    for (slave, _), info in zip(slaves, slave_info):
+        shift_of[bay0.index(slave)] = info["tdc_shift_deg"]
+    true_delay = {}
+    for k in range(layout.cranks):
+        for j, c in enumerate(layout.bay(k)):
+            true_delay[c.label] = c.firing_delay_deg + shift_of.get(j, 0.0)
+    delays = np.array([true_delay[label] for label in layout.firing_order])
+    intervals = np.diff(np.append(delays, delays[0] + layout.cycle_deg))
+    return {"firing_intervals_nominal_deg": layout.firing_intervals_deg().tolist(),
+            "firing_intervals_deg": [float(x) for x in intervals],
+            "firing_angles_true_deg": {label: float(v % layout.cycle_deg) for label, v in true_delay.items()}}
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
     e, m = scene.engine, scene.masses
@@ -151,6 +174,10 @@ def run(scene, inputs) -> StageOutput:
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist()}
     tables: dict = {}
     notes = []
+    if scene.firing_order_chosen:
+        results["firing_order_chosen"] = True
+        notes.append(("bays.note_firing_chosen", {"order": "–".join(layout.firing_order),
+                                                  "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg)}))
     if not layout.even_firing:
         notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
 
@@ -210,7 +237,10 @@ def run(scene, inputs) -> StageOutput:
                                "slave_rod_length_m": g.slave_rod_length_m,
                                "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(L, g.pin_radius_m, R / L, g.bank_angle_rad),
                                "stroke_m": stroke, "stroke_ratio": stroke / e.stroke,
-                               "tdc_master_angle_deg": math.degrees(a_tdc)})
+                               "tdc_master_angle_deg": math.degrees(a_tdc),
+                               # true dead centres: how far the linkage moves them from the bank angle
+                               "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
+                               "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0)})
             tables[f"slave_{slave.label}"] = pd.DataFrame({
                 "crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
                 "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
@@ -224,6 +254,9 @@ def run(scene, inputs) -> StageOutput:
         centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)
         centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
         work_all = work_bay * layout.cranks
+        results.update(_true_firing(layout, slaves, slave_info))
+        if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
+            notes.append(("bays.note_true_intervals", {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)}))
         results.update({"pin_radius_m": opts.pin_radius, "slaves": slave_info,
                         "master_reciprocating_mass_kg": m.piston_group + recip_master,
                         "master_rod_rotating_mass_kg": rot_master})

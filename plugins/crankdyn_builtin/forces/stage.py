@@ -53,6 +53,10 @@ def run(scene, inputs) -> StageOutput:
     centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
     centrifugal_rod_Pa = phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area)
     resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
+    exact = _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa)
+    if exact is not None:
+        rod = exact["rod"]
+        resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
     torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
 
     # Torque of the inertia force alone: its cycle integral is the inertia work, zero for a
@@ -109,12 +113,76 @@ def run(scene, inputs) -> StageOutput:
         "resultant_Pa": resultant_Pa,
         "torque_Nm": torque,
     })
+    notes = []
+    if exact is not None:
+        results["rod_model"] = "exact"
+        results["exact_rod"] = exact["results"]
+        frame = frame.assign(**exact["columns"])
+        notes.append(("forces.note_exact_rod", {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
     data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa,
                        total_Pa=total_Pa, tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
                        centrifugal_Pa=centrifugal_Pa, piston_area_m2=area, torque_Nm=torque)
     notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
-             ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])})]
+             ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])})] + notes
     return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
+
+
+_NOTE_KEYS = ("crank_pin_difference_max_N", "crank_pin_two_mass_max_N", "side_exact_max_N", "side_two_mass_max_N",
+              "wrist_pin_difference_max_N")
+
+
+def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> dict | None:
+    """With ``[rod_dynamics] apply_to_loads = true``: the rod as a rigid body (physics.rod_loads) in place
+    of the two-mass split, as specific forces for the later stages, and the difference to the two-mass loads.
+
+    The radial force handed on is Z_exact - c_rod, so that the stages adding the rods' centrifugal
+    force c_rod (crank-pin load, bays) get the exact load.
+    """
+    from crankdyn.errors import Problem, SceneError
+    from crankdyn.physics import kinematics as kin
+    from crankdyn.physics import rod_loads
+    from crankdyn.scene import options
+    from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
+
+    if not options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
+        return None
+    e, m = scene.engine, scene.masses
+    if m.rod_moment_of_inertia is None:
+        raise SceneError(Problem("rod_dynamics.apply_to_loads", True, "needs masses.rod_moment_of_inertia (I_G)"))
+    if e.mechanism != "crank_slider" or e.rod_type == "articulated":
+        raise SceneError(Problem("rod_dynamics.apply_to_loads", True, "is built for the central crank-slider "
+                                 "with central or fork rods"))
+    alpha, omega = motion.crank_angle_rad, motion.angular_velocity_rad_s
+    accel = kin.rod_angular_acceleration_rad_s2(alpha, e.rod_ratio_value, omega)
+    loads = rod_loads.exact_rod_loads_N(alpha, motion.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m,
+                                        m.rod, m.rod_moment_of_inertia, m.piston_group, omega, gas_Pa * area,
+                                        motion.rod_angle_rad, accel, motion.piston_acceleration_m_s2)
+    c_rod = centrifugal_rod_Pa * area
+    pin_two = np.hypot(rod.tangential_Pa * area, (rod.radial_Pa + centrifugal_rod_Pa) * area)
+    pin_exact = np.hypot(loads.crank_pin_tangential_N, loads.crank_pin_radial_N)
+    pin_diff = np.hypot(loads.crank_pin_tangential_N - rod.tangential_Pa * area,
+                        loads.crank_pin_radial_N - (rod.radial_Pa * area + c_rod))
+    side_two = rod.side_Pa * area
+    # two-mass wrist pin: the piston's axial force (same in both models) and the side force p1 tan b
+    wrist_diff = np.abs(loads.wrist_pin_lateral_N - side_two)
+    exact_rod = phys.RodForces(side_Pa=loads.side_N / area, rod_Pa=loads.rod_axial_N / area,
+                               tangential_Pa=loads.crank_pin_tangential_N / area,
+                               radial_Pa=loads.crank_pin_radial_N / area - centrifugal_rod_Pa)
+    results = {
+        "crank_pin_exact_max_N": float(np.max(pin_exact)), "crank_pin_two_mass_max_N": float(np.max(pin_two)),
+        "crank_pin_difference_max_N": float(np.max(pin_diff)),
+        "crank_pin_difference_max_crank_angle_deg": float(motion.crank_angle_deg[first_argmax(pin_diff)]),
+        "side_exact_max_N": float(np.max(np.abs(loads.side_N))), "side_two_mass_max_N": float(np.max(np.abs(side_two))),
+        "wrist_pin_difference_max_N": float(np.max(wrist_diff)),
+        "torque_difference_max_Nm": float(np.max(np.abs(loads.crank_pin_tangential_N - rod.tangential_Pa * area))
+                                          * motion.crank_radius_m),
+    }
+    columns = {"crank_pin_tangential_N": loads.crank_pin_tangential_N, "crank_pin_radial_N": loads.crank_pin_radial_N,
+               "crank_pin_tangential_two_mass_N": rod.tangential_Pa * area,
+               "crank_pin_radial_two_mass_N": rod.radial_Pa * area + c_rod,
+               "wrist_pin_axial_N": loads.wrist_pin_axial_N, "wrist_pin_lateral_N": loads.wrist_pin_lateral_N,
+               "side_N": loads.side_N, "side_two_mass_N": side_two}
+    return {"rod": exact_rod, "results": results, "columns": columns}
 
 
 def render(output: StageOutput, ctx) -> str:

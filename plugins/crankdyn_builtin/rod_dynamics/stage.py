@@ -37,6 +37,9 @@ class RodDynamicsOptions(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
     model: Literal["two_mass", "three_mass", "correction_couple"] = "two_mass"
+    # true: the forces (and so bays, torque, bearings) use the rigid rod with I_G instead of the
+    # two-mass split; the forces section gives the difference (needs masses.rod_moment_of_inertia)
+    apply_to_loads: bool = False
 
 
 def applies(scene) -> str | None:

@@ -35,8 +35,31 @@ SINGLE_MASS_RTOLS = (1e-3, 1e-5, 1e-7)
 SINGLE_MASS_RTOL = 1e-8
 #: Smallest speed, as a fraction of the mean, for which the model is accepted.
 MIN_SPEED_FRACTION = 0.5
-#: Highest harmonic order listed in the torsional section.
+#: Highest harmonic order listed in the torsional section (more when the significant order is higher).
 MAX_ORDER = 12.0
+#: Critical speeds within this fraction of the operating speed are flagged (resonance band).
+CRITICAL_BAND = 0.10
+#: Harmonics from this fraction of the largest amplitude count for the critical speeds and the Campbell diagram.
+MAIN_ORDER_FRACTION = 0.01
+
+
+def critical_near(harmonic_rows, mode_rows, rpm: float) -> list[dict]:
+    """Critical speeds n_c = 60 f_s / nu (mode s, order nu) of the significant harmonics (amplitude at
+    least MAIN_ORDER_FRACTION of the largest) within CRITICAL_BAND of the operating speed, nearest first."""
+    if not harmonic_rows:
+        return []
+    largest = max(h["amplitude_Nm"] for h in harmonic_rows)
+    near = []
+    for h in harmonic_rows:
+        if h["amplitude_Nm"] < MAIN_ORDER_FRACTION * largest:
+            continue
+        for k, mode in enumerate(mode_rows):
+            deviation = h["critical_rpm"][k] / rpm - 1.0
+            if abs(deviation) <= CRITICAL_BAND:
+                near.append({"mode": mode["mode"], "order": h["order"], "critical_rpm": h["critical_rpm"][k],
+                             "deviation_percent": 100.0 * deviation, "amplitude_Nm": h["amplitude_Nm"],
+                             "vector_sum": h["vector_sum"][k]})
+    return sorted(near, key=lambda c: abs(c["deviation_percent"]))
 
 
 def _stiffness(kind_max: float = 1e12):
@@ -164,7 +187,12 @@ def _run_record(run, error, extra=None):
     if run.success and not complete:
         message = "finished, but its error could not be measured (no steps or non-finite values)"
         extra = {k: (None if k == "error_twist_relative" else v) for k, v in extra.items()}
-    record = {"method": run.method, "rtol": run.rtol, "success": success, "message": message, "steps": run.steps,
+    # a run stopped by the evaluation budget is not a failure of the method: named as such
+    outcome = "finished" if success else ("budget" if message.startswith("stopped after") else "failed")
+    if outcome == "budget":
+        message = f"stopped by the evaluation budget, not a failure: {message}"
+    record = {"method": run.method, "rtol": run.rtol, "success": success, "outcome": outcome, "message": message,
+              "steps": run.steps,
               "steps_needed": run.steps_needed if math.isfinite(run.steps_needed) else None,
               "nfev": run.nfev, "njev": run.njev, "nlu": run.nlu, "time_s": run.time_s,
               "progress": run.progress, "error_relative": error if success else None}
@@ -341,8 +369,9 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
                           "shape": [float(a) for a in modes.shapes[:, s]]})
     phases = train.phase_rad
     harmonic_rows = []
+    # The table runs up to the order the text names as the last significant one (at least MAX_ORDER).
     for order, c in zip(orders, coefficients):
-        if order > MAX_ORDER + 1e-9:
+        if order > max(MAX_ORDER, significant) + 1e-9:
             break
         harmonic_rows.append({
             "order": float(order), "amplitude_Nm": float(abs(c)),
@@ -358,6 +387,9 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         "modes": mode_rows,
         "harmonics": harmonic_rows,
         "significant_order": significant,
+        "critical_speeds_near_operating": critical_near(harmonic_rows, mode_rows, scene.engine.rpm),
+        "critical_band_relative": CRITICAL_BAND,
+        "operating_rpm": scene.engine.rpm,
         "solver": {**_choice_record(choice, "torsion", forced), "rtol": opts.rtol},
         "steady_state": {"cycles": steady.cycles, "converged": steady.converged,
                          "change": steady.change if math.isfinite(steady.change) else None,
@@ -606,6 +638,7 @@ def render(output: StageOutput, ctx) -> str:
             + [(t("speed_fluctuation.col_vector_sum", mode=m["mode"]), [h["vector_sum"][k] for h in harmonics], 2)
                for k, m in enumerate(shown)],
             caption=t("speed_fluctuation.harmonics_caption"))
+        _campbell(ctx, torsion, parts)
         fig, axes = new_figure(16, 13, nrows=2, sharex=True)
         shaft = tf["shaft_angle_deg"].to_numpy()
         speed_columns = [c for c in tf.columns if c.startswith("speed_")]
@@ -640,6 +673,46 @@ def render(output: StageOutput, ctx) -> str:
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                **parts)
+
+
+def _campbell(ctx, torsion, parts) -> None:
+    """Campbell diagram (natural frequencies against engine speed, with the significant orders) and the
+    conclusion on the critical speeds near the operating speed."""
+    t = ctx.t
+    rpm = torsion["operating_rpm"]
+    harmonics = torsion["harmonics"]
+    largest = max((h["amplitude_Nm"] for h in harmonics), default=0.0)
+    main = [h for h in harmonics if h["amplitude_Nm"] >= MAIN_ORDER_FRACTION * largest]
+    speeds = np.linspace(0.0, 1.3 * rpm, 200)
+    fig, ax = new_figure(16, 10)
+    top = max(m["natural_frequency_Hz"] for m in torsion["modes"][:2]) * 1.25
+    for h in main:
+        ax.plot(speeds, h["order"] * speeds / 60.0, color="0.6", lw=0.6)
+        end = min(1.3 * rpm, top * 60.0 / h["order"])
+        ax.text(end, h["order"] * end / 60.0, f"{h['order']:g}", fontsize=6, color="0.35")
+    for m in torsion["modes"][:2]:
+        ax.axhline(m["natural_frequency_Hz"], color="C0", lw=1.0)
+    ax.axvspan((1 - CRITICAL_BAND) * rpm, (1 + CRITICAL_BAND) * rpm, color="C3", alpha=0.12, lw=0)
+    ax.axvline(rpm, color="C3", lw=0.8, ls="--")
+    for c in torsion["critical_speeds_near_operating"]:
+        f = next(m["natural_frequency_Hz"] for m in torsion["modes"] if m["mode"] == c["mode"])
+        ax.plot([c["critical_rpm"]], [f], "o", color="C3", ms=3)
+    ax.set_xlim(0, 1.3 * rpm)
+    ax.set_ylim(0, top)
+    ax.set_xlabel(t("speed_fluctuation.axis_campbell_rpm"))
+    ax.set_ylabel(t("speed_fluctuation.axis_campbell_hz"))
+    parts["figure_campbell"] = ctx.figure(fig, t("speed_fluctuation.campbell_caption",
+                                                 band=ctx.num(100 * CRITICAL_BAND, 2)), "campbell")
+    near = torsion["critical_speeds_near_operating"]
+    if near:
+        items = "; ".join(t("speed_fluctuation.critical_item", mode=c["mode"], order=ctx.num(c["order"], 3),
+                            rpm=ctx.num(c["critical_rpm"], 4), deviation=ctx.num(c["deviation_percent"], 2),
+                            vector=ctx.num(c["vector_sum"], 2)) for c in near)
+        ctx.conclude(t("speed_fluctuation.conclusion_critical", rpm=ctx.num(rpm, 4),
+                       band=ctx.num(100 * CRITICAL_BAND, 2), items=items, zeta=ctx.num(torsion["damping_ratio"], 3)))
+    else:
+        ctx.conclude(t("speed_fluctuation.conclusion_no_critical", rpm=ctx.num(rpm, 4),
+                       band=ctx.num(100 * CRITICAL_BAND, 2)))
 
 
 def _node_name(t, name: str) -> str:

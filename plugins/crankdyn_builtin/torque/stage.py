@@ -9,6 +9,7 @@ import pandas as pd
 
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
+from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -50,7 +51,10 @@ def run(scene, inputs) -> StageOutput:
         "max_crank_angle_deg": float(angle[i_max]),
         "min_Nm": float(torque[i_min]),
         "min_crank_angle_deg": float(angle[i_min]),
-        "period_deg": layout.torque_period_deg if layout.even_firing else layout.cycle_deg,
+        # measured on the torque itself: cycle/cylinders for even firing of identical cylinders, longer
+        # when the firing is uneven or the cylinders differ (articulated slave rods)
+        "period_deg": lay.sampled_period_deg(torque, scene.analysis.angle_step_deg, layout.cycle_deg),
+        "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),
         "indicated_power_W": work_all * e.rpm / 60.0 / revolutions,
         "journals": [{"journal": f"{k + 1}-{k + 2 if k + 1 < layout.cranks else 0}",

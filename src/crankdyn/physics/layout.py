@@ -310,3 +310,22 @@ def uneven_warning(layout: EngineLayout) -> str | None:
     if layout.even_firing:
         return None
     return "uneven firing: intervals " + ", ".join(f"{x:g}" for x in layout.firing_intervals_deg()) + " deg"
+
+
+def sampled_period_deg(values, step_deg: float, cycle_deg: float, rtol: float = 1e-9) -> float:
+    """The shortest period (deg) of a curve sampled at ``step_deg`` over ``cycle_deg``: the smallest
+    cycle/k (a whole number of steps) by which the samples repeat within ``rtol`` x their range.
+
+    For even firing of identical cylinders this is cycle/cylinders (textbook §4.3); uneven firing or
+    cylinders that differ (articulated slave rods) give a longer one, up to the whole cycle.
+    """
+    v = np.asarray(values, dtype=float)
+    n = len(v)
+    tol = rtol * max(float(np.ptp(v)), float(np.max(np.abs(v))) if n else 0.0, 1e-300)
+    for k in range(n, 1, -1):
+        if n % k:
+            continue
+        shift = n // k
+        if np.max(np.abs(np.roll(v, shift) - v)) <= tol:
+            return cycle_deg / k
+    return float(cycle_deg)

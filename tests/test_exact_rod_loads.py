@@ -1,0 +1,123 @@
+"""Exact rod loads (issue 18, item 5): with ``[rod_dynamics] apply_to_loads = true`` the forces, and so the
+bays, torque and bearings, use the rod as a rigid body.
+
+Independent reference, written here: the Newton-Euler equations of the piston and of the rod solved as a
+linear system at every angle (np.linalg.solve), in a frame of the test's own. Crank axis at the origin,
+cylinder axis +y, crank pin B = R (sin a, cos a), rod angle b = arcsin(lambda sin a), piston pin
+A = (0, R cos a + L cos b). The accelerations are second derivatives of these positions by a
+central difference in a (8th order, h = 0.02 rad), times omega^2 — not the code's closed forms. Unknowns: the piston's
+force on the rod at A (Ax, Ay), the crank pin's force on the rod at B (Bx, By), the wall force N:
+  piston  x: 0 = -Ax + N;   y: m_p yA'' = -F_g - Ay
+  rod     x: m aGx = Ax + Bx;   y: m aGy = Ay + By;   about G: I b'' = (A - G) x F_A + (B - G) x F_B.
+The load on the crank pin is -F_B: T along (cos a, -sin a), Z along -(sin a, cos a).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.errors import SceneError
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+REGISTRY = default_registry()
+I_G = "0.0035 kg m^2"
+
+
+def _run(example, inertia=I_G, apply=True, **more):
+    changes = {"masses": {"rod_moment_of_inertia": inertia}, "rod_dynamics": {"apply_to_loads": apply}, **more}
+    return run_scene(scene_from_dict(modified(example, changes), base_dir=examples_dir()), REGISTRY)
+
+
+def newton_euler(alpha, R, L, lr, m, inertia, mp, w, gas_N):
+    lam = R / L
+
+    def positions(a):
+        b = np.arcsin(lam * np.sin(a))
+        B = np.array([R * np.sin(a), R * np.cos(a)])
+        A = np.array([np.zeros_like(a), R * np.cos(a) + L * np.cos(b)])
+        return A, B, B + (lr / L) * (A - B), b
+
+    h = 2e-2  # 8th-order central difference: truncation ~h^8, round-off ~eps/h^2, both below 1e-11
+    c = {1: 8 / 5, 2: -1 / 5, 3: 8 / 315, 4: -1 / 560}
+
+    def second(fn):
+        return (sum(k * (fn(alpha + j * h) + fn(alpha - j * h)) for j, k in c.items())
+                - 2 * sum(c.values()) * fn(alpha)) / h**2 * w**2
+
+    A, B, G, b = positions(alpha)
+    aA = second(lambda a: positions(a)[0])
+    aG = second(lambda a: positions(a)[2])
+    bdd = second(lambda a: positions(a)[3])
+    out = {k: np.zeros_like(alpha) for k in ("T", "Z", "Ax", "Ay", "N")}
+    for i, a in enumerate(alpha):
+        ra, rb = A[:, i] - G[:, i], B[:, i] - G[:, i]
+        #            Ax       Ay       Bx       By      N
+        M = np.array([[-1.0, 0.0, 0.0, 0.0, 1.0],
+                      [0.0, -1.0, 0.0, 0.0, 0.0],
+                      [1.0, 0.0, 1.0, 0.0, 0.0],
+                      [0.0, 1.0, 0.0, 1.0, 0.0],
+                      [-ra[1], ra[0], -rb[1], rb[0], 0.0]])
+        rhs = np.array([0.0, mp * aA[1, i] + gas_N[i], m * aG[0, i], m * aG[1, i], inertia * bdd[i]])
+        ax, ay, bx, by, n = np.linalg.solve(M, rhs)
+        out["T"][i] = -(bx * np.cos(a) - by * np.sin(a))
+        out["Z"][i] = bx * np.sin(a) + by * np.cos(a)
+        out["Ax"][i], out["Ay"][i], out["N"][i] = ax, ay, n
+    return out
+
+
+@pytest.fixture(scope="module")
+def exact_run():
+    return _run("petrol-1cyl")
+
+
+def test_loads_match_a_newton_euler_solve(exact_run):
+    scene = exact_run.scene
+    e, m = scene.engine, scene.masses
+    f = exact_run.outputs["forces"].tables["forces"]
+    alpha = np.radians(f["crank_angle_deg"].to_numpy())
+    area = exact_run.outputs["forces"].results["piston_area_m2"]
+    ref = newton_euler(alpha, e.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m, m.rod,
+                       m.rod_moment_of_inertia, m.piston_group, e.angular_velocity_rad_s, f["gas_Pa"].to_numpy() * area)
+    scale = np.max(np.hypot(ref["T"], ref["Z"]))
+    for column, value in (("crank_pin_tangential_N", ref["T"]), ("crank_pin_radial_N", ref["Z"]),
+                          ("wrist_pin_lateral_N", ref["Ax"]), ("wrist_pin_axial_N", -ref["Ay"]), ("side_N", ref["N"])):
+        assert np.max(np.abs(f[column].to_numpy() - value)) < 1e-9 * scale, column
+    # the torque and the bay loads handed on are the exact ones
+    np.testing.assert_allclose(f["torque_Nm"], ref["T"] * e.crank_radius_m, rtol=0, atol=1e-9 * scale * e.crank_radius_m)
+    c_rod = exact_run.outputs["forces"].results["centrifugal_rod_Pa"]
+    np.testing.assert_allclose((f["radial_Pa"] + c_rod) * area, ref["Z"], rtol=0, atol=1e-9 * scale)
+    # and the difference to the two-mass loads is reported, not zero
+    r = exact_run.outputs["forces"].results["exact_rod"]
+    two = np.hypot(f["crank_pin_tangential_two_mass_N"], f["crank_pin_radial_two_mass_N"])
+    assert r["crank_pin_difference_max_N"] > 1e-3 * np.max(two)
+    assert "forces.note_exact_rod" in [k for k, _ in exact_run.outputs["forces"].notes]
+
+
+def test_two_mass_inertia_gives_the_textbook_loads():
+    """With I_G = m l_R (L - l_R) the rigid rod is dynamically the two-mass rod: the loads agree."""
+    base = _run("petrol-1cyl", apply=False, inertia="1 kg m^2")
+    scene = base.scene
+    m, L, lr = scene.masses.rod, scene.engine.rod_length_m, scene.rod_cm_from_big_end_m
+    exact = _run("petrol-1cyl", inertia=f"{m * lr * (L - lr):.17g} kg m^2")
+    a, b = base.outputs["forces"].tables["forces"], exact.outputs["forces"].tables["forces"]
+    for column in ("tangential_Pa", "radial_Pa", "side_Pa", "torque_Nm"):
+        scale = np.max(np.abs(a[column]))
+        np.testing.assert_allclose(b[column], a[column], rtol=0, atol=1e-9 * scale, err_msg=column)
+
+
+def test_exact_loads_reach_the_bearings():
+    plain, exact = _run("inline4-petrol", apply=False), _run("inline4-petrol")
+    assert "exact_rod" in exact.outputs["forces"].results and "exact_rod" not in plain.outputs["forces"].results
+    pins = [exact.outputs["bearings"].results, plain.outputs["bearings"].results]
+    assert pins[0] != pins[1]
+
+
+def test_apply_to_loads_needs_the_moment_of_inertia():
+    data = modified("petrol-1cyl", {"rod_dynamics": {"apply_to_loads": True}})
+    with pytest.raises(SceneError, match="rod_moment_of_inertia"):
+        run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
