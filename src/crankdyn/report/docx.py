@@ -58,7 +58,7 @@ class DocxError(CrankdynError):
 
 @dataclass
 class Node:
-    tag: str  # "" for a text node
+    tag: str  # "" for a text node, "raw" for markup passed through as it is (MathML)
     attrs: dict[str, str] = field(default_factory=dict)
     children: list["Node"] = field(default_factory=list)
     text: str = ""
@@ -70,14 +70,6 @@ class Node:
         yield self
         for child in self.children:
             yield from child.walk()
-
-    def html(self) -> str:
-        if not self.tag:
-            return htmlmod.escape(self.text, quote=False)
-        attrs = "".join(f' {k}="{htmlmod.escape(v)}"' for k, v in self.attrs.items())
-        if self.tag in VOID:
-            return f"<{self.tag}{attrs}/>"
-        return f"<{self.tag}{attrs}>{''.join(c.html() for c in self.children)}</{self.tag}>"
 
     def plain(self) -> str:
         return self.text if not self.tag else "".join(c.plain() for c in self.children)
