@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs what crankdyn needs on a fresh Debian-based machine: the system libraries
 # WeasyPrint renders with, serif fonts with Cyrillic (Liberation = Times metrics),
-# poppler-utils (the tests turn PDF pages into PNG), Debian's chromium (the live-preview test
+# poppler-utils (the tests turn PDF pages into PNG), pandoc (the Word export), Debian's chromium (the live-preview test
 # drives it headless), then the package with its test extras.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-SYSTEM_PACKAGES="libpango-1.0-0 libpangoft2-1.0-0 libharfbuzz-subset0 fonts-liberation fonts-dejavu-core poppler-utils chromium"
+SYSTEM_PACKAGES="libpango-1.0-0 libpangoft2-1.0-0 libharfbuzz-subset0 fonts-liberation fonts-dejavu-core poppler-utils chromium pandoc"
 if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
   missing=""
   for pkg in $SYSTEM_PACKAGES; do

@@ -102,7 +102,7 @@ def test_unreadable_scene_files(tmp_path: Path, capsys):
 
 
 def test_bad_format_option(tmp_path: Path, capsys, examples):
-    assert main(["report", str(examples / "petrol-1cyl.toml"), "-o", str(tmp_path / "o"), "--format", "docx"]) == 2
+    assert main(["report", str(examples / "petrol-1cyl.toml"), "-o", str(tmp_path / "o"), "--format", "doc"]) == 2
     assert "--format" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 

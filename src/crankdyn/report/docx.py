@@ -58,7 +58,7 @@ class DocxError(CrankdynError):
 
 @dataclass
 class Node:
-    tag: str  # "" for a text node
+    tag: str  # "" for a text node, "raw" for markup passed through as it is (MathML)
     attrs: dict[str, str] = field(default_factory=dict)
     children: list["Node"] = field(default_factory=list)
     text: str = ""
@@ -70,14 +70,6 @@ class Node:
         yield self
         for child in self.children:
             yield from child.walk()
-
-    def html(self) -> str:
-        if not self.tag:
-            return htmlmod.escape(self.text, quote=False)
-        attrs = "".join(f' {k}="{htmlmod.escape(v)}"' for k, v in self.attrs.items())
-        if self.tag in VOID:
-            return f"<{self.tag}{attrs}/>"
-        return f"<{self.tag}{attrs}>{''.join(c.html() for c in self.children)}</{self.tag}>"
 
     def plain(self) -> str:
         return self.text if not self.tag else "".join(c.plain() for c in self.children)
@@ -130,8 +122,9 @@ def _text_items(text: str, italic: bool, bold: bool) -> list[str]:
         if kind == "space":
             if "\u00a0" in value:
                 items.append('<mspace width="1em"/>')
-        elif kind == "num":
-            items.append(f"<mn>{htmlmod.escape(value)}</mn>")
+        elif kind == "num":  # a decimal comma as text: pandoc would split the number at it
+            tag = "mtext" if "," in value else "mn"
+            items.append(f"<{tag}>{htmlmod.escape(value)}</{tag}>")
         elif kind == "sup":  # a power of ten typeset with superscript digits (10⁻¹⁶)
             exponent = f"<mn>{htmlmod.escape(value.translate(_FROM_SUPERSCRIPT))}</mn>"
             base = items.pop() if items else "<mrow/>"
@@ -284,14 +277,14 @@ _STYLES = (
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
     ("TitlePage", "Title Page", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
-    ("Heading1", "Heading 1", "Normal", '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
+    ("Heading1", "heading 1", "Normal", '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
      'w:after="240"/><w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="0"/>',
      '<w:b/><w:bCs/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
-    ("Heading2", "Heading 2", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
+    ("Heading2", "heading 2", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
      '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="1"/>', '<w:b/><w:bCs/>'),
-    ("Heading3", "Heading 3", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
+    ("Heading3", "heading 3", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
      '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="2"/>', '<w:b/><w:bCs/><w:i/>'),
-    ("Caption", "Caption", "Normal", '<w:spacing w:before="60" w:after="120"/><w:ind w:firstLine="0"/>', ""),
+    ("Caption", "caption", "Normal", '<w:spacing w:before="60" w:after="120"/><w:ind w:firstLine="0"/>', ""),
     ("TableCaption", "Table Caption", "Caption", '<w:keepNext/><w:jc w:val="left"/>', ""),
     ("ImageCaption", "Image Caption", "Caption", '<w:jc w:val="center"/>', ""),
     ("CaptionedFigure", "Captioned Figure", "Normal", '<w:keepNext/><w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
