@@ -301,3 +301,29 @@ def _static_svg(geometry, xlim, ylim) -> str:
         fig.savefig(buffer, format="svg", metadata={"Date": None}, transparent=True)
         plt.close(fig)
     return base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
+    """A small inline SVG of the piston velocity and acceleration over the animation's frames
+    (each scaled to its own range), with a vertical cursor line the animation moves."""
+    width, height, pad = 400.0, 120.0, 6.0
+    n = len(v)
+
+    def polyline(values, color, dash=""):
+        y = np.asarray(values, dtype=float)
+        span = np.ptp(y) or 1.0
+        ys = pad + (height - 2 * pad) * (1 - (y - y.min()) / span)
+        xs = np.linspace(0.0, width, n, endpoint=False)
+        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys))
+        return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
+                f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
+
+    from markupsafe import escape
+
+    return (f'<svg class="mech-curves" viewBox="0 0 {width:.0f} {height + 16:.0f}" xmlns="http://www.w3.org/2000/svg">'
+            f'<rect x="0" y="0" width="{width:.0f}" height="{height:.0f}" fill="none" stroke="#999" stroke-width="0.5"/>'
+            + polyline(v, "#ff7f0e") + polyline(j, "#2ca02c", "5 3")
+            + f'<line class="cursor" x1="0" x2="0" y1="0" y2="{height:.0f}" stroke="#d62728" stroke-width="1.5"/>'
+            f'<text x="4" y="{height + 13:.0f}" font-size="11" fill="#ff7f0e">— {escape(label_v)}</text>'
+            f'<text x="{width / 2:.0f}" y="{height + 13:.0f}" font-size="11" fill="#2ca02c">- - {escape(label_j)}</text>'
+            "</svg>")
