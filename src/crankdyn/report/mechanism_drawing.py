@@ -18,6 +18,35 @@ from .figures import STYLE, new_figure
 MM = 1e3
 JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
 INK = "0.1"
+LABEL_GAP = 0.2  # cylinder label beyond the liner, fraction of the extent
+
+
+def view_rotation_rad(geometry) -> float:
+    """Clockwise turn of the view that sets a V (W, X ...) symmetric about the vertical: minus the
+    mean of the cylinder axes' angles, when they lie within a half turn (never for a radial)."""
+    axes = sorted({round(float(np.arctan2(*g.direction)), 9) for g in geometry.guides if g.moving is None})
+    if len(axes) < 2 or axes[-1] - axes[0] >= np.pi - 1e-9:
+        return 0.0
+    return -0.5 * (axes[0] + axes[-1])
+
+
+def upright(geometry):
+    """A copy of ``geometry`` turned by :func:`view_rotation_rad` (display only; lengths unchanged)."""
+    from dataclasses import replace
+
+    turn = view_rotation_rad(geometry)
+    if turn == 0.0:
+        return geometry
+    c, s_ = np.cos(turn), np.sin(turn)
+    rot = np.array([[c, s_], [-s_, c]])  # clockwise by ``turn`` in the y-up frame
+
+    def r(points):
+        return np.asarray(points, dtype=float) @ rot.T
+
+    guides = [replace(g, origin_m=tuple(r(g.origin_m)), direction=tuple(r(g.direction))) for g in geometry.guides]
+    return replace(geometry, joints={k: r(v) for k, v in geometry.joints.items()},
+                   traces={k: r(v) for k, v in geometry.traces.items()}, guides=guides,
+                   cranks=[(label, lag - np.degrees(turn), cyl) for label, lag, cyl in geometry.cranks])
 
 
 def _extent_mm(geometry) -> float:
@@ -76,7 +105,7 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                          o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
         ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
         if guide.label:
-            label_at = o + d * (top + 0.12 * extent)
+            label_at = o + d * (top + LABEL_GAP * extent * 0.6)
             ax.text(*label_at, guide.label, ha="center", va="center", fontsize=8, color=color, alpha=alpha)
     else:
         width = extent * 0.035
@@ -197,11 +226,15 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
 
 def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
     """The scheme at frame ``i`` with its dimension lines, and the crank star when there are cranks."""
+    geometry = upright(geometry)
     with_star = len(geometry.cranks) > 1
     fig, axes = new_figure(16, 10, ncols=2 if with_star else 1,
-                           gridspec_kw={"width_ratios": [2, 1]} if with_star else None)
+                           gridspec_kw={"width_ratios": [2.3, 1]} if with_star else None)
     ax = axes[0] if with_star else axes
     draw_mechanism(ax, geometry, i)
+    limits = _limits(geometry)
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
     draw_dimensions(ax, geometry, i, labels)
     if with_star:
         draw_crank_star(axes[1], geometry, star_title, firing_label)
@@ -210,6 +243,7 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
     """Small multiples: the mechanism at each (frame, caption), on one scale."""
+    geometry = upright(geometry)
     limits = _limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols = 3 if aspect < 1.2 else 6
@@ -227,10 +261,25 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
 
 
 def _limits(geometry):
-    pts = np.concatenate([p.reshape(-1, 2) for p in geometry.joints.values()] +
-                         [np.asarray(g.origin_m)[None] + np.outer(g.travel_m, g.direction) for g in geometry.guides]) * MM
+    """Axis limits (mm) holding every joint over the frames, every liner with its piston and label."""
+    parts = [p.reshape(-1, 2) for p in geometry.joints.values()]
+    parts += [t.reshape(-1, 2) for t in geometry.traces.values()]
+    for c, radius, _ in geometry.circles:
+        parts.append(geometry.joints[c].reshape(-1, 2) + [[-radius, -radius], [radius, radius]][0])
+        parts.append(geometry.joints[c].reshape(-1, 2) + [radius, radius])
+    span = np.ptp(np.concatenate(parts), axis=0).max() * MM
+    for g in geometry.guides:
+        if g.moving is not None:
+            continue
+        o, d = np.asarray(g.origin_m), np.asarray(g.direction)
+        n = np.array([d[1], -d[0]])
+        low, high = g.travel_m[0] - 0.35 * g.bore_m, g.travel_m[1] + 0.45 * g.bore_m + LABEL_GAP * span / MM
+        half = g.bore_m / 2 + 0.02 * span / MM
+        parts.append(np.array([o + d * low + n * half, o + d * low - n * half, o + d * high + n * half,
+                               o + d * high - n * half]))
+    pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.12 * np.ptp(pts, axis=0).max() + geometry.dimensions.get("D", 0.0) * MM * 0.6
+    pad = 0.06 * np.ptp(pts, axis=0).max()
     return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
 
 
@@ -243,6 +292,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     The JSON holds, per joint, the positions (mm, y up) at every frame; links by joint names;
     pistons as (joint, guide origin, direction, half bore, skirt, crown).
     """
+    geometry = upright(geometry)
     (x0, x1), (y0, y1) = _limits(geometry)
     names = list(geometry.joints)
     frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
@@ -291,7 +341,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
                     _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
                            extent * 0.02, INK, 1.0)
                 if guide.label:
-                    ax.text(*(o + d * (top + 0.12 * extent)), guide.label, ha="center", va="center", fontsize=8)
+                    ax.text(*(o + d * (top + LABEL_GAP * extent * 0.6)), guide.label, ha="center", va="center", fontsize=8)
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][0] * MM, extent * JOINT_R * 1.6)
         ax.set_xlim(*xlim)
