@@ -187,4 +187,5 @@ _COMMON = dict(template_dir=TEMPLATES, title_key="drawing.title", provides=(), r
                references=("poda2007",))
 
 DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), applies=applies, **_COMMON)
-LINKAGE_DRAWING_STAGE = Stage(name="drawing_linkage", requires=(), applies=applies_linkage, **_COMMON)
+# After the mechanism's own section (nothing orders it: it requires no data).
+LINKAGE_DRAWING_STAGE = Stage(name="drawing_linkage", requires=(), applies=applies_linkage, last=True, **_COMMON)

@@ -66,15 +66,16 @@ def _guide_frame(geometry, guide, i):
 
 
 def _hatch(ax, start, end, normal, size, color, alpha):
-    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end."""
+    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
+    from matplotlib.collections import LineCollection
+
     ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
     d = (end - start) / length
     count = max(int(length / size), 2)
-    for k in range(count + 1):
-        p = start + d * length * k / count
-        q = p + (normal - d) * size * 0.7
-        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=0.6, alpha=alpha)
+    p = start + np.outer(np.linspace(0.0, length, count + 1), d)
+    q = p + (normal - d) * size * 0.7
+    ax.add_collection(LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha))
 
 
 def draw_ground(ax, centre, size, color=INK, alpha=1.0):
@@ -133,16 +134,20 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
             ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
-    for _, a, b in geometry.links:
-        p, q = geometry.joints[a][i] * MM, geometry.joints[b][i] * MM
-        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=2.0, alpha=alpha, solid_capstyle="round", zorder=4)
+    from matplotlib.collections import LineCollection, PatchCollection
+    from matplotlib.patches import Circle
+
+    # A link named "*web*" is a rigid body's bracing (a master rod's big end to its slave pins): drawn thin.
+    bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in geometry.links]
+    widths = [0.7 if "web" in name else 2.0 for name, _, _ in geometry.links]
+    ax.add_collection(LineCollection(bars, colors=[color], linewidths=widths, alpha=alpha, capstyle="round", zorder=4))
     if static:
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][i] * MM, r_joint * 1.6, color, alpha)
-    for name, p in geometry.joints.items():
-        if name == "vane_tip":
-            continue
-        ax.add_patch(_circle(p[i] * MM, r_joint, color, alpha, fill=True))
+    circles = [Circle(p[i] * MM, r_joint) for name, p in geometry.joints.items() if name != "vane_tip"]
+    ax.add_collection(PatchCollection(circles, facecolor="white", edgecolor=color, linewidths=1.1, alpha=alpha,
+                                      zorder=5))
+    ax.autoscale_view()
     ax.set_aspect("equal")
     ax.axis("off")
 
@@ -300,7 +305,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
                 "half": g.bore_m * MM / 2 * 0.97, "skirt": 0.35 * g.bore_m * MM, "crown": 0.45 * g.bore_m * MM}
                for g in geometry.guides if g.bore_m > 0 and g.moving is None]
-    payload = {"joints": frames, "links": [[a, b] for _, a, b in geometry.links],
+    payload = {"joints": frames, "links": [[a, b, 0.3 if "web" in name else 1.0] for name, a, b in geometry.links],
                "pistons": pistons, "r": extent * JOINT_R, "fixed": list(geometry.fixed)}
     static = _static_svg(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
