@@ -22,7 +22,7 @@ def test_example_written_with_its_data_file_and_runs(tmp_path, capsys):
     assert tomllib.loads(target.read_text(encoding="utf-8"))["engine"]["bore"] == "83 mm"
     assert (tmp_path / "diesel6-1600rpm.ind").is_file()
     assert main(["check", str(target)]) == 0
-    assert "stages: kinematics, indicator, forces, bays, torque, balancing, bearings" in capsys.readouterr().out
+    assert "stages: kinematics, drawing, indicator, forces, bays, torque, balancing, bearings" in capsys.readouterr().out
     assert main(["report", str(target), "-o", str(tmp_path / "out"), "--format", "json,csv", "-q"]) == 0
     assert sorted(p.name for p in (tmp_path / "out" / "tables").iterdir()) == [
         "balancing.csv", "bearings.csv", "bearings_wear.csv", "forces.csv", "indicator.csv", "kinematics.csv",

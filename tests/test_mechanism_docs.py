@@ -46,4 +46,4 @@ def test_mechanism_examples_are_listed_and_written(tmp_path, capsys):
     target = tmp_path / "mine.toml"
     assert main(["example", "planetary-kinematics", "-o", str(target)]) == 0
     assert main(["check", str(target)]) == 0
-    assert "stages: planetary, rod_dynamics" in capsys.readouterr().out
+    assert "stages: planetary, drawing, rod_dynamics" in capsys.readouterr().out

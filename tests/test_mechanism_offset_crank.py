@@ -136,7 +136,7 @@ def offset_run():
 
 
 def test_offset_example_runs_the_force_stages(offset_run):
-    assert offset_run.stages_run[:3] == ["offset_crank", "indicator", "forces"]
+    assert offset_run.stages_run[:4] == ["offset_crank", "drawing", "indicator", "forces"]
     assert "rod_dynamics" in offset_run.stages_run
     assert "not the central crank-slider" in offset_run.plan.skipped["kinematics"]
     r = offset_run.outputs["offset_crank"].results
@@ -230,7 +230,7 @@ def test_offset_example_through_the_cli(tmp_path):
 
 def test_kinematics_only_offset_scene_leaves_the_cycle_stages_out_with_reasons():
     result = _run(changes={"cycle": None, "masses": None, "rod_dynamics": None})
-    assert result.stages_run == ["offset_crank"]
+    assert result.stages_run == ["offset_crank", "drawing"]
     assert "no [cycle]" in result.plan.skipped["indicator"]
     assert "[masses]" in result.plan.skipped["forces"] and "[masses]" in result.plan.skipped["rod_dynamics"]
     assert not any(key == "offset_crank.note_indicator" for key, _ in result.outputs["offset_crank"].notes)

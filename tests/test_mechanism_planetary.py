@@ -211,7 +211,7 @@ def test_planetary_example_results(tmp_path):
     import json
 
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
-    assert doc["stages_run"] == ["planetary", "rod_dynamics"]
+    assert doc["stages_run"] == ["planetary", "drawing", "rod_dynamics"]
     r = doc["planetary"]
     assert r["gear_ratio"] == 3.0 and r["planet_speed_ratio"] == 4.0 and r["carrier_radius_m"] == pytest.approx(0.04)
     assert abs(r["torque_arm_tdc_m"]) > 1e-3 and abs(r["effective_torque_arm_tdc_m"]) < 1e-15

@@ -155,7 +155,7 @@ def vane_run():
 
 
 def test_vane_example_is_kinematics_only_with_reasons(vane_run):
-    assert vane_run.stages_run == ["vane"]
+    assert vane_run.stages_run == ["vane", "drawing_linkage"]
     skipped = vane_run.plan.skipped
     assert "no [cycle]" in skipped["indicator"] and "[masses]" in skipped["forces"]
     r = vane_run.outputs["vane"].results
@@ -208,7 +208,7 @@ def test_vane_example_through_the_cli(tmp_path):
     assert main(["report", str(examples_dir() / "vane-engine-kinematics.toml"), "-o", str(out), "--format",
                  "json,csv", "-q"]) == 0
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
-    assert doc["stages_run"] == ["vane"]
+    assert doc["stages_run"] == ["vane", "drawing_linkage"]
     assert sorted(p.name for p in (out / "tables").iterdir()) == ["vane.csv", "vane_by_lambda.csv", "vane_compare.csv"]
 
 

@@ -130,9 +130,9 @@ def test_builtins_register_through_entry_points():
 def test_real_pipeline_orders_and_skips(scene):
     registry = default_registry()
     result = run_scene(scene, registry)
-    assert result.stages_run == ["kinematics", "indicator", "forces", "bays", "torque", "balancing", "bearings",
+    assert result.stages_run == ["kinematics", "drawing", "indicator", "forces", "bays", "torque", "balancing", "bearings",
                                  "numerics"]
     kin_only = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(kin_only, registry)
-    assert result.stages_run == ["kinematics", "numerics_kinematics"]
+    assert result.stages_run == ["kinematics", "drawing", "numerics_kinematics"]
     assert "no [cycle] data" in result.plan.skipped["indicator"]

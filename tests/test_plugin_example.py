@@ -65,11 +65,14 @@ def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path)
                           env=env, timeout=300)
     assert done.returncode == 0, done.stderr
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
-    assert doc["mechanism"] == "scotch_yoke" and doc["stages_run"] == ["scotch_yoke"]
+    assert doc["mechanism"] == "scotch_yoke" and doc["stages_run"] == ["scotch_yoke", "drawing"]
     assert doc["scotch_yoke"]["v_max_m_s"] == pytest.approx(0.04 * 1500 * np.pi / 30, rel=1e-12)
     html = (out / "report.html").read_text(encoding="utf-8")
     assert 'data-stage="scotch_yoke"' in html
     assert "Кінематика кулісного механізму" in html  # the plugin's own Ukrainian catalog
+    # The plugin's geometry hook gives it the scheme, the positions figure and the animation.
+    assert 'data-stage="drawing"' in html and 'class="mech-animation"' in html
+    assert doc["drawing"]["crank_angles_deg"]["v_max"] == pytest.approx(90.0, abs=1e-3)
     assert (out / "tables" / "scotch_yoke.csv").is_file()
     # Nothing was built inside the repository's copy of the plugin.
     assert not (PLUGIN_DIR / "build").exists() and not list(PLUGIN_DIR.rglob("*.egg-info"))

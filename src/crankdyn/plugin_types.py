@@ -105,12 +105,15 @@ class StageOutput:
     tables:     named pandas DataFrames, written as tables/<stage>_<name>.csv; column
                 names carry their unit, e.g. ``crank_angle_deg``.
     notes:      method notes as (catalog key, parameters) pairs, rendered by the report.
+    artifacts:  objects only this stage's ``render`` uses (e.g. a computed geometry); not
+                passed to other stages and not written to any output.
     """
 
     data: dict[str, Any] = field(default_factory=dict)
     results: dict[str, Any] = field(default_factory=dict)
     tables: dict[str, "pd.DataFrame"] = field(default_factory=dict)
     notes: list[tuple[str, dict]] = field(default_factory=list)
+    artifacts: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass

@@ -18,6 +18,35 @@ from .figures import STYLE, new_figure
 MM = 1e3
 JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
 INK = "0.1"
+LABEL_GAP = 0.2  # cylinder label beyond the liner, fraction of the extent
+
+
+def view_rotation_rad(geometry) -> float:
+    """Clockwise turn of the view that sets a V (W, X ...) symmetric about the vertical: minus the
+    mean of the cylinder axes' angles, when they lie within a half turn (never for a radial)."""
+    axes = sorted({round(float(np.arctan2(*g.direction)), 9) for g in geometry.guides if g.moving is None})
+    if len(axes) < 2 or axes[-1] - axes[0] >= np.pi - 1e-9:
+        return 0.0
+    return -0.5 * (axes[0] + axes[-1])
+
+
+def upright(geometry):
+    """A copy of ``geometry`` turned by :func:`view_rotation_rad` (display only; lengths unchanged)."""
+    from dataclasses import replace
+
+    turn = view_rotation_rad(geometry)
+    if turn == 0.0:
+        return geometry
+    c, s_ = np.cos(turn), np.sin(turn)
+    rot = np.array([[c, s_], [-s_, c]])  # clockwise by ``turn`` in the y-up frame
+
+    def r(points):
+        return np.asarray(points, dtype=float) @ rot.T
+
+    guides = [replace(g, origin_m=tuple(r(g.origin_m)), direction=tuple(r(g.direction))) for g in geometry.guides]
+    return replace(geometry, joints={k: r(v) for k, v in geometry.joints.items()},
+                   traces={k: r(v) for k, v in geometry.traces.items()}, guides=guides,
+                   cranks=[(label, lag - np.degrees(turn), cyl) for label, lag, cyl in geometry.cranks])
 
 
 def _extent_mm(geometry) -> float:
@@ -37,15 +66,16 @@ def _guide_frame(geometry, guide, i):
 
 
 def _hatch(ax, start, end, normal, size, color, alpha):
-    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end."""
+    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
+    from matplotlib.collections import LineCollection
+
     ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
     d = (end - start) / length
     count = max(int(length / size), 2)
-    for k in range(count + 1):
-        p = start + d * length * k / count
-        q = p + (normal - d) * size * 0.7
-        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=0.6, alpha=alpha)
+    p = start + np.outer(np.linspace(0.0, length, count + 1), d)
+    q = p + (normal - d) * size * 0.7
+    ax.add_collection(LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha))
 
 
 def draw_ground(ax, centre, size, color=INK, alpha=1.0):
@@ -76,7 +106,7 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                          o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
         ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
         if guide.label:
-            label_at = o + d * (top + 0.12 * extent)
+            label_at = o + d * (top + LABEL_GAP * extent * 0.6)
             ax.text(*label_at, guide.label, ha="center", va="center", fontsize=8, color=color, alpha=alpha)
     else:
         width = extent * 0.035
@@ -104,16 +134,20 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
             ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
-    for _, a, b in geometry.links:
-        p, q = geometry.joints[a][i] * MM, geometry.joints[b][i] * MM
-        ax.plot([p[0], q[0]], [p[1], q[1]], color=color, lw=2.0, alpha=alpha, solid_capstyle="round", zorder=4)
+    from matplotlib.collections import LineCollection, PatchCollection
+    from matplotlib.patches import Circle
+
+    # A link named "*web*" is a rigid body's bracing (a master rod's big end to its slave pins): drawn thin.
+    bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in geometry.links]
+    widths = [0.7 if "web" in name else 2.0 for name, _, _ in geometry.links]
+    ax.add_collection(LineCollection(bars, colors=[color], linewidths=widths, alpha=alpha, capstyle="round", zorder=4))
     if static:
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][i] * MM, r_joint * 1.6, color, alpha)
-    for name, p in geometry.joints.items():
-        if name == "vane_tip":
-            continue
-        ax.add_patch(_circle(p[i] * MM, r_joint, color, alpha, fill=True))
+    circles = [Circle(p[i] * MM, r_joint) for name, p in geometry.joints.items() if name != "vane_tip"]
+    ax.add_collection(PatchCollection(circles, facecolor="white", edgecolor=color, linewidths=1.1, alpha=alpha,
+                                      zorder=5))
+    ax.autoscale_view()
     ax.set_aspect("equal")
     ax.axis("off")
 
@@ -197,11 +231,15 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
 
 def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
     """The scheme at frame ``i`` with its dimension lines, and the crank star when there are cranks."""
+    geometry = upright(geometry)
     with_star = len(geometry.cranks) > 1
     fig, axes = new_figure(16, 10, ncols=2 if with_star else 1,
-                           gridspec_kw={"width_ratios": [2, 1]} if with_star else None)
+                           gridspec_kw={"width_ratios": [2.3, 1]} if with_star else None)
     ax = axes[0] if with_star else axes
     draw_mechanism(ax, geometry, i)
+    limits = _limits(geometry)
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
     draw_dimensions(ax, geometry, i, labels)
     if with_star:
         draw_crank_star(axes[1], geometry, star_title, firing_label)
@@ -210,6 +248,7 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
     """Small multiples: the mechanism at each (frame, caption), on one scale."""
+    geometry = upright(geometry)
     limits = _limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols = 3 if aspect < 1.2 else 6
@@ -227,10 +266,25 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
 
 
 def _limits(geometry):
-    pts = np.concatenate([p.reshape(-1, 2) for p in geometry.joints.values()] +
-                         [np.asarray(g.origin_m)[None] + np.outer(g.travel_m, g.direction) for g in geometry.guides]) * MM
+    """Axis limits (mm) holding every joint over the frames, every liner with its piston and label."""
+    parts = [p.reshape(-1, 2) for p in geometry.joints.values()]
+    parts += [t.reshape(-1, 2) for t in geometry.traces.values()]
+    for c, radius, _ in geometry.circles:
+        parts.append(geometry.joints[c].reshape(-1, 2) + [[-radius, -radius], [radius, radius]][0])
+        parts.append(geometry.joints[c].reshape(-1, 2) + [radius, radius])
+    span = np.ptp(np.concatenate(parts), axis=0).max() * MM
+    for g in geometry.guides:
+        if g.moving is not None:
+            continue
+        o, d = np.asarray(g.origin_m), np.asarray(g.direction)
+        n = np.array([d[1], -d[0]])
+        low, high = g.travel_m[0] - 0.35 * g.bore_m, g.travel_m[1] + 0.45 * g.bore_m + LABEL_GAP * span / MM
+        half = g.bore_m / 2 + 0.02 * span / MM
+        parts.append(np.array([o + d * low + n * half, o + d * low - n * half, o + d * high + n * half,
+                               o + d * high - n * half]))
+    pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.12 * np.ptp(pts, axis=0).max() + geometry.dimensions.get("D", 0.0) * MM * 0.6
+    pad = 0.06 * np.ptp(pts, axis=0).max()
     return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
 
 
@@ -243,6 +297,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     The JSON holds, per joint, the positions (mm, y up) at every frame; links by joint names;
     pistons as (joint, guide origin, direction, half bore, skirt, crown).
     """
+    geometry = upright(geometry)
     (x0, x1), (y0, y1) = _limits(geometry)
     names = list(geometry.joints)
     frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
@@ -250,7 +305,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
                 "half": g.bore_m * MM / 2 * 0.97, "skirt": 0.35 * g.bore_m * MM, "crown": 0.45 * g.bore_m * MM}
                for g in geometry.guides if g.bore_m > 0 and g.moving is None]
-    payload = {"joints": frames, "links": [[a, b] for _, a, b in geometry.links],
+    payload = {"joints": frames, "links": [[a, b, 0.3 if "web" in name else 1.0] for name, a, b in geometry.links],
                "pistons": pistons, "r": extent * JOINT_R, "fixed": list(geometry.fixed)}
     static = _static_svg(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
@@ -291,7 +346,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
                     _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
                            extent * 0.02, INK, 1.0)
                 if guide.label:
-                    ax.text(*(o + d * (top + 0.12 * extent)), guide.label, ha="center", va="center", fontsize=8)
+                    ax.text(*(o + d * (top + LABEL_GAP * extent * 0.6)), guide.label, ha="center", va="center", fontsize=8)
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][0] * MM, extent * JOINT_R * 1.6)
         ax.set_xlim(*xlim)
@@ -301,3 +356,29 @@ def _static_svg(geometry, xlim, ylim) -> str:
         fig.savefig(buffer, format="svg", metadata={"Date": None}, transparent=True)
         plt.close(fig)
     return base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
+    """A small inline SVG of the piston velocity and acceleration over the animation's frames
+    (each scaled to its own range), with a vertical cursor line the animation moves."""
+    width, height, pad = 400.0, 120.0, 6.0
+    n = len(v)
+
+    def polyline(values, color, dash=""):
+        y = np.asarray(values, dtype=float)
+        span = np.ptp(y) or 1.0
+        ys = pad + (height - 2 * pad) * (1 - (y - y.min()) / span)
+        xs = np.linspace(0.0, width, n, endpoint=False)
+        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys))
+        return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
+                f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
+
+    from markupsafe import escape
+
+    return (f'<svg class="mech-curves" viewBox="0 0 {width:.0f} {height + 16:.0f}" xmlns="http://www.w3.org/2000/svg">'
+            f'<rect x="0" y="0" width="{width:.0f}" height="{height:.0f}" fill="none" stroke="#999" stroke-width="0.5"/>'
+            + polyline(v, "#ff7f0e") + polyline(j, "#2ca02c", "5 3")
+            + f'<line class="cursor" x1="0" x2="0" y1="0" y2="{height:.0f}" stroke="#d62728" stroke-width="1.5"/>'
+            f'<text x="4" y="{height + 13:.0f}" font-size="11" fill="#ff7f0e">— {escape(label_v)}</text>'
+            f'<text x="{width / 2:.0f}" y="{height + 13:.0f}" font-size="11" fill="#2ca02c">- - {escape(label_j)}</text>'
+            "</svg>")

@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
+from crankdyn.plugin_types import Catalog, Guide, Mechanism, MechanismGeometry, Stage, StageOutput
 from crankdyn.scene import number, options
 
 from . import physics
@@ -35,10 +35,43 @@ def check(scene) -> list[Problem]:
     return problems
 
 
+def geometry(scene, crank_angle_rad) -> MechanismGeometry:
+    """Where the members are (drawn by crankdyn's ``drawing`` stage): the crank O-B, the yoke's
+    slot (a horizontal bar the crank pin B slides in) and the piston rod from the slot to the piston.
+
+    Frame of ``MechanismGeometry``: crank centre at the origin, y up the cylinder axis, the crank
+    at (sin a, cos a). The piston pin is ``H - s`` above the centre, s from ``physics`` (the same
+    function as the kinematics table); H = 3.5 R is this drawing's choice of piston-rod length.
+    """
+    radius = scene.engine.crank_radius_m
+    alpha = np.asarray(crank_angle_rad, dtype=float)
+    s = physics.piston_displacement_m(alpha, radius)
+    top = 3.5 * radius  # piston pin height at TDC
+    slot = np.stack([np.zeros_like(s), top - 2.5 * radius - s], axis=-1)  # slot centre, on the axis
+    joints = {
+        "crank_centre": np.zeros((len(alpha), 2)),
+        "crank_pin": np.stack([radius * np.sin(alpha), radius * np.cos(alpha)], axis=-1),
+        "yoke_left": slot - [1.3 * radius, 0.0],
+        "yoke_right": slot + [1.3 * radius, 0.0],
+        "yoke_centre": slot,
+        "wrist_pin": np.stack([np.zeros_like(s), top - s], axis=-1),
+    }
+    return MechanismGeometry(
+        joints=joints,
+        links=[("crank", "crank_centre", "crank_pin"), ("yoke", "yoke_left", "yoke_right"),
+               ("piston_rod", "yoke_centre", "wrist_pin")],
+        guides=[Guide("wrist_pin", travel_m=(top - 2 * radius, top), bore_m=scene.engine.bore, label="1"),
+                Guide("crank_pin", moving=("yoke_left", "yoke_right"), travel_m=(0.3 * radius, 2.3 * radius))],
+        dimensions={"R": radius, "D": scene.engine.bore},
+        travel_m=s,
+    )
+
+
 SCOTCH_YOKE = Mechanism(
     name=MECHANISM,
     summary="Scotch yoke: the crank pin slides in a slotted yoke on the piston rod (harmonic motion, no connecting rod)",
     check=check,
+    geometry=geometry,
 )
 
 

@@ -1,0 +1,1 @@
+"""Mechanism drawing stage: kinematic scheme, characteristic positions, HTML animation."""

@@ -1,0 +1,24 @@
+"""The ``drawing`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
+
+Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
+(its section template) and ``i18n/`` (its catalogs) in this one folder.
+"""
+
+from pathlib import Path
+
+from crankdyn.hookspecs import hookimpl
+from crankdyn.plugin_types import Catalog
+
+from .stage import DRAWING_STAGE, LINKAGE_DRAWING_STAGE
+
+HERE = Path(__file__).resolve().parent
+
+
+@hookimpl
+def crankdyn_stages():
+    return [DRAWING_STAGE, LINKAGE_DRAWING_STAGE]
+
+
+@hookimpl
+def crankdyn_catalogs():
+    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]

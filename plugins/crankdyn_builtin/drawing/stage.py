@@ -1,0 +1,191 @@
+"""The mechanism drawn: its kinematic scheme, its characteristic positions and (HTML) its motion.
+
+Any mechanism whose plugin gives ``Mechanism.geometry`` is drawn (see
+:class:`crankdyn.plugin_types.MechanismGeometry`). The characteristic positions (TDC, BDC, the
+extremes of the piston velocity and acceleration) are taken from the kinematics the
+``kinematics`` data key carries (``drawing``); a mechanism without a piston motion (the vane
+engine) is drawn from its geometry's output travel (``drawing_linkage``).
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import optimize
+
+from crankdyn.contracts import KINEMATICS
+from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.plugin_types import Stage, StageOutput
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+#: The characteristic positions, in the order they are drawn.
+POSITIONS = ("tdc", "bdc", "v_max", "v_min", "j_max", "j_min")
+#: Frames of the animation per revolution (at most; never finer than the scene's grid).
+FRAMES_PER_REVOLUTION = 180
+
+
+@functools.lru_cache(maxsize=1)
+def _registry():
+    from crankdyn.plugins import default_registry
+
+    return default_registry()
+
+
+def mechanism_geometry(scene):
+    """The ``geometry`` callable of the scene's mechanism, or None."""
+    mechanism = _registry().mechanisms.get(scene.engine.mechanism)
+    return None if mechanism is None else mechanism.geometry
+
+
+def _has_piston_motion(scene) -> bool:
+    return any(KINEMATICS in s.provides and s.applies(scene) is None for s in _registry().stages.values())
+
+
+def applies(scene) -> str | None:
+    if mechanism_geometry(scene) is None:
+        return f"the mechanism {scene.engine.mechanism!r} gives no geometry to draw"
+    if not _has_piston_motion(scene):
+        return "no stage provides the piston motion for this mechanism (drawn by drawing_linkage)"
+    return None
+
+
+def applies_linkage(scene) -> str | None:
+    if mechanism_geometry(scene) is None:
+        return f"the mechanism {scene.engine.mechanism!r} gives no geometry to draw"
+    if _has_piston_motion(scene):
+        return "the mechanism has a piston motion (drawn by the drawing stage)"
+    return None
+
+
+def _refined(travel_at, angle_deg, values, order: int, kind: str) -> float:
+    """The crank angle (deg) of the first extreme of d^order s/d alpha^order, refined off the grid.
+
+    ``travel_at(alpha_deg)`` is the travel at any angle; the derivatives are central differences.
+    """
+    i = first_argmax(values) if kind == "max" else first_argmin(values)
+    if travel_at is None or len(angle_deg) < 2:
+        return float(angle_deg[i])
+    sign = 1.0 if kind == "max" else -1.0
+    h = 2.0  # deg: with Richardson the truncation error is O(h^4); round-off grows as h shrinks
+
+    def derivative(a, h):
+        s = np.asarray(travel_at(np.array([a - h, a, a + h])), dtype=float)
+        return (s[2] - s[0]) / (2 * h) if order == 1 else (s[2] - 2 * s[1] + s[0]) / h**2
+
+    def f(a):
+        if order == 0:
+            return float(np.asarray(travel_at(np.array([a])), dtype=float)[0])
+        # Richardson extrapolation of the central difference: error O(h^4), far below 1e-6 deg.
+        return float((4 * derivative(a, h) - derivative(a, 2 * h)) / 3)
+
+    step = angle_deg[1] - angle_deg[0]
+    res = optimize.minimize_scalar(lambda a: -sign * f(a), bounds=(angle_deg[i] - step, angle_deg[i] + step),
+                                   method="bounded", options={"xatol": 1e-9})
+    return float(res.x) if -res.fun >= sign * f(angle_deg[i]) else float(angle_deg[i])
+
+
+def characteristic_angles(angle_deg, s, v, j, travel_at=None) -> dict[str, float]:
+    """Crank angles (deg, in [0, 360)) of TDC, BDC and the velocity and acceleration extremes."""
+    found = {"tdc": _refined(travel_at, angle_deg, s, 0, "min"), "bdc": _refined(travel_at, angle_deg, s, 0, "max"),
+             "v_max": _refined(travel_at, angle_deg, v, 1, "max"), "v_min": _refined(travel_at, angle_deg, v, 1, "min"),
+             "j_max": _refined(travel_at, angle_deg, j, 2, "max"), "j_min": _refined(travel_at, angle_deg, j, 2, "min")}
+    wrapped = {k: float(a % 360.0) for k, a in found.items()}
+    return {k: 0.0 if min(a, 360.0 - a) < 1e-6 else a for k, a in wrapped.items()}
+
+
+def _period_deg(angle_deg, s) -> float:
+    """360 when the travel repeats every revolution on the grid, else the whole grid's span."""
+    step = angle_deg[1] - angle_deg[0]
+    span = step * len(angle_deg)
+    shift = int(round(360.0 / step))
+    if span > 360.0 + 1e-9 and np.allclose(s[:len(s) - shift], s[shift:], rtol=0, atol=1e-9 * np.ptp(s)):
+        return 360.0
+    return float(min(span, 360.0)) if span <= 360.0 + 1e-9 else float(span)
+
+
+def _motion(scene, inputs):
+    """(angle deg, s, v, j, travel_at) from the kinematics, or from the geometry's travel."""
+    motion = inputs.get(KINEMATICS)
+    if motion is not None:
+        return (motion.crank_angle_deg, motion.piston_displacement_m, motion.piston_velocity_m_s,
+                motion.piston_acceleration_m_s2, motion.displacement_at)
+    geometry = mechanism_geometry(scene)
+    angle = scene.crank_angles_deg
+    angle = angle[angle < 360.0]
+
+    def travel_at(a_deg):
+        return geometry(scene, np.radians(np.atleast_1d(a_deg))).travel_m
+
+    s = travel_at(angle)
+    step = np.radians(angle[1] - angle[0])
+    v = (np.roll(s, -1) - np.roll(s, 1)) / (2 * step)
+    j = (np.roll(s, -1) - 2 * s + np.roll(s, 1)) / step**2
+    return angle, s, v, j, travel_at
+
+
+def run(scene, inputs) -> StageOutput:
+    """Geometry at the characteristic angles and at the animation's frames (physics only)."""
+    geometry_of = mechanism_geometry(scene)
+    angle, s, v, j, travel_at = _motion(scene, inputs)
+    angles = characteristic_angles(angle, s, v, j, travel_at)
+    period = _period_deg(angle, s)
+    step = angle[1] - angle[0]
+    every = max(1, int(round(period / FRAMES_PER_REVOLUTION / step))) if period <= 360.0 else \
+        max(1, int(round(period / (2 * FRAMES_PER_REVOLUTION) / step)))
+    frames_deg = np.arange(0.0, period - 1e-9, step * every)
+    at = np.radians([angles[k] for k in POSITIONS])
+    positions = geometry_of(scene, at)
+    animation = geometry_of(scene, np.radians(frames_deg))
+    grid = np.rint(np.interp(frames_deg, angle, np.arange(len(angle)))).astype(int)
+    curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
+    results = {"crank_angles_deg": {k: angles[k] for k in POSITIONS}, "animation_frames": int(len(frames_deg)),
+               "animation_step_deg": float(step * every), "motion_period_deg": period}
+    table = {"crank_angle_deg": frames_deg}
+    for name, xy in animation.joints.items():
+        table[f"{name}_x_m"], table[f"{name}_y_m"] = xy[:, 0], xy[:, 1]
+    tables = {"positions": pd.DataFrame({"position": list(POSITIONS), "crank_angle_deg": [angles[k] for k in POSITIONS]}),
+              "joints": pd.DataFrame(table)}
+    return StageOutput(results=results, tables=tables,
+                       artifacts={"positions": positions, "animation": animation, "curves": curves})
+
+
+def _labels(geometry, ctx) -> dict[str, str]:
+    mm = ctx.t("unit.mm")
+    return {k: f"{k} = {ctx.num(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The scheme at TDC, the positions figure and the animated block (drawing only)."""
+    from crankdyn.report import mechanism_drawing as md
+    from markupsafe import Markup
+
+    t = ctx.t
+    positions, animation = output.artifacts["positions"], output.artifacts["animation"]
+    angles = output.results["crank_angles_deg"]
+    order = " – ".join(positions.firing_order)
+    fig = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
+                           t("drawing.firing_order", order=order) if order else "")
+    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme")
+    frames = [(i, t("drawing.position_" + k, angle=ctx.num(angles[k], 4))) for i, k in enumerate(POSITIONS)]
+    figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions")
+    svg, payload = md.animation_svg(animation)
+    curves = output.artifacts["curves"]
+    plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
+    ctx.conclude(t("drawing.conclusion", v_max=ctx.num(angles["v_max"], 4), j_min=ctx.num(angles["j_min"], 4)))
+    return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme,
+                               figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
+                               payload=Markup(payload.replace("</", "<\\/")),
+                               step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
+
+
+_COMMON = dict(template_dir=TEMPLATES, title_key="drawing.title", provides=(), run=run, render=render,
+               references=("poda2007",))
+
+DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), applies=applies, **_COMMON)
+# After the mechanism's own section (nothing orders it: it requires no data).
+LINKAGE_DRAWING_STAGE = Stage(name="drawing_linkage", requires=(), applies=applies_linkage, last=True, **_COMMON)

@@ -1,0 +1,215 @@
+"""Mechanism drawings (issue 16): geometry against the kinematics, the report's scheme and
+positions figure, and the animation driven in headless Chromium."""
+
+from __future__ import annotations
+
+import base64
+import io
+import sys
+import time
+from functools import lru_cache
+
+import numpy as np
+import pytest
+from conftest import ARTIFACTS
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import plan, run_scene
+from crankdyn.plugins import collect, default_registry, plugin_manager
+from crankdyn.scene import load_scene
+
+EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
+PLUGIN_SRC = examples_dir() / "plugin-example" / "src"
+
+
+@lru_cache(maxsize=None)
+def _registry():
+    return default_registry()
+
+
+@lru_cache(maxsize=None)
+def _run(example: str):
+    """Kinematics and the drawing only (the cheapest run that draws)."""
+    scene = load_scene(examples_dir() / f"{example}.toml")
+    wanted = [s.name for s in plan(scene, _registry()).order if s.name in ("drawing", "drawing_linkage")]
+    kin = [s.name for s in plan(scene, _registry()).order if "kinematics" in s.provides]
+    return run_scene(scene, _registry(), kin + wanted + (["vane"] if scene.engine.mechanism == "vane_crank_rocker" else []))
+
+
+def _geometry(scene, angle_deg):
+    return _registry().mechanisms[scene.engine.mechanism].geometry(scene, np.radians(angle_deg))
+
+
+def _link_spread(geometry) -> float:
+    """Largest change of any link's length over the frames (m)."""
+    worst = 0.0
+    for _, a, b in geometry.links:
+        length = np.hypot(*(geometry.joints[a] - geometry.joints[b]).T)
+        worst = max(worst, float(np.ptp(length)))
+    return worst
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_every_example_is_drawn_with_rigid_links(example):
+    """Every bundled example has a geometry; over a cycle no link changes length (1e-9 m)."""
+    scene = load_scene(examples_dir() / f"{example}.toml")
+    the_plan = plan(scene, _registry())
+    assert {"drawing", "drawing_linkage"} & {s.name for s in the_plan.order}, the_plan.skipped
+    geometry = _geometry(scene, np.arange(0.0, 360.0, 1.0))
+    assert geometry.links and _link_spread(geometry) < 1e-9
+
+
+def test_scotch_yoke_plugin_geometry_is_rigid_and_matches_its_physics():
+    sys.path.insert(0, str(PLUGIN_SRC))
+    try:
+        from crankdyn_scotch_yoke import physics, plugin
+    finally:
+        sys.path.pop(0)
+    scene = load_scene(examples_dir() / "plugin-example" / "scotch-yoke.toml")
+    alpha = np.radians(np.arange(0.0, 360.0, 1.0))
+    geometry = plugin.geometry(scene, alpha)
+    assert _link_spread(geometry) < 1e-9
+    wrist = geometry.joints["wrist_pin"]
+    # The piston pin falls by s from TDC; s from the plugin's kinematics (R(1 - cos a), its table).
+    assert np.allclose(wrist[0, 1] - wrist[:, 1], physics.piston_displacement_m(alpha, 0.04), atol=1e-12)
+    # The crank pin stays in the yoke's slot: on the slot's line at every angle.
+    assert np.allclose(geometry.joints["crank_pin"][:, 1], geometry.joints["yoke_centre"][:, 1], atol=1e-12)
+    manager = plugin_manager()
+    manager.register(plugin)
+    assert collect(manager).mechanisms["scotch_yoke"].geometry is plugin.geometry
+
+
+@pytest.mark.parametrize("example", ["petrol-1cyl", "v8-petrol", "offset-crank-engine", "planetary-kinematics"])
+def test_piston_pin_follows_the_kinematics_table(example):
+    """Cylinder 1's piston pin in the drawing sits where the kinematics table puts it: its height
+    falls by s_p from TDC, it stays on the cylinder axis, and its rod keeps its length to the pin."""
+    result = _run(example)
+    kin = result.outputs[result.stages_run[0]]
+    frame = next(iter(kin.tables.values()))
+    angle = frame["crank_angle_deg"].to_numpy()
+    s = frame["piston_displacement_m"].to_numpy()
+    geometry = _geometry(result.scene, angle)
+    wrist = geometry.joints.get("wrist_pin", geometry.joints.get("wrist_pin_1L"))
+    tdc_height = geometry.guides[0].travel_m[1]
+    direction = np.asarray(geometry.guides[0].direction)
+    origin = np.asarray(geometry.guides[0].origin_m)
+    along = (wrist - origin) @ direction
+    assert np.allclose(tdc_height - along, s, rtol=0, atol=1e-12)
+    across = (wrist - origin) @ np.array([direction[1], -direction[0]])
+    assert np.allclose(across, 0.0, atol=1e-15)
+    assert np.ptp(np.hypot(*(wrist - geometry.joints.get("crank_pin", geometry.joints.get("crank_pin_1"))).T)) < 1e-12
+
+
+@pytest.mark.parametrize("example", ["petrol-1cyl", "offset-crank-engine", "planetary-kinematics"])
+def test_positions_are_the_kinematics_extremes(example):
+    """The positions figure's angles are the extremes the kinematics results report (to 1e-3 deg);
+    the central mechanism reports v_max and j_min and is symmetric, so v_min = 360 - v_max there."""
+    result = _run(example)
+    kin = result.outputs[result.stages_run[0]].results
+    drawn = result.outputs["drawing"].results["crank_angles_deg"]
+    assert drawn["tdc"] == 0.0
+    reported = {k: kin[f"{k}_crank_angle_deg"] for k in ("bdc", "v_max", "v_min", "j_max", "j_min")
+                if f"{k}_crank_angle_deg" in kin}
+    if example == "petrol-1cyl":
+        reported.update(bdc=180.0, v_min=360.0 - kin["v_max_crank_angle_deg"], j_max=0.0)
+    assert set(reported) == {"bdc", "v_max", "v_min", "j_max", "j_min"}
+    for key, angle in reported.items():
+        assert abs((drawn[key] - angle + 180.0) % 360.0 - 180.0) < 1e-3, (key, drawn[key], angle)
+
+
+def test_vane_engine_drawn_from_its_geometry():
+    """No stage provides a piston motion for the vane engine: drawing_linkage takes the slider's
+    travel along the slot from the geometry; it is the source's y_po, so its extremes are known."""
+    result = _run("vane-engine-kinematics")
+    assert "drawing_linkage" in result.stages_run and "drawing" not in result.stages_run
+    drawn = result.outputs["drawing_linkage"].results["crank_angles_deg"]
+    # y_po = r[(1 - cos a) + (1 - chi)/lambda] is the central crank-slider's displacement: BDC at 180 deg.
+    assert drawn["tdc"] == 0.0 and drawn["bdc"] == pytest.approx(180.0, abs=1e-3)
+    assert drawn["v_min"] == pytest.approx(360.0 - drawn["v_max"], abs=1e-3)
+
+
+# ----------------------------------------------------------------------------- HTML
+
+@lru_cache(maxsize=None)
+def _html(example: str) -> str:
+    from crankdyn.report.document import render_html
+
+    return render_html(_run(example), _registry()).html
+
+
+@pytest.mark.parametrize("example", ["petrol-1cyl", "radial9-aircraft", "planetary-kinematics", "vane-engine-kinematics"])
+def test_report_has_scheme_positions_and_animation(example):
+    html = _html(example)
+    assert html.count('class="mech-animation"') == 1
+    assert "fig_" in html or "<figure>" in html
+    assert "Kinematic scheme of the mechanism at the top dead centre" in html
+    assert "The mechanism at its characteristic positions" in html
+    assert "@media print { .mech-animation { display: none !important; } }" in html
+    assert 'type="range"' in html and "requestAnimationFrame" in html
+    assert "http://" not in html.split('class="mech-animation"')[1].split("</div>\n")[0].replace(
+        "http://www.w3.org/2000/svg", "")  # nothing fetched
+
+
+# ----------------------------------------------------------------------------- browser
+
+def _png_pixels(png: bytes) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("L"), dtype=float)
+
+
+def test_animation_moves_in_chromium(tmp_path):
+    """Headless Chromium: moving the slider redraws the mechanism (screenshots differ) and moves
+    the cursor; playing advances frames (the rate is reported, not asserted)."""
+    from test_serve import BASH, CHROMIUM, DevTools
+
+    if CHROMIUM is None or BASH is None:
+        pytest.skip("Debian's chromium package is not installed (.ci/setup.sh installs it)")
+    page = tmp_path / "v8.html"
+    page.write_text(_html("v8-petrol"), encoding="utf-8")
+    browser = DevTools(page.as_uri(), tmp_path / "profile")
+    ARTIFACTS.mkdir(exist_ok=True)
+    try:
+        browser.attach("file://")
+        root = "document.querySelector('.mech-animation')"
+        for _ in range(300):
+            if browser.evaluate(f"document.readyState === 'complete' && !!{root} && !!{root}.dataset.drawn",
+                                tolerant=True):
+                break
+            time.sleep(0.1)
+        else:
+            raise AssertionError("the animation did not draw its first frame")
+        browser.evaluate(f"{root}.scrollIntoView()")
+
+        def shot(name: str) -> bytes:
+            box = browser.evaluate(f"(() => {{ const r = {root}.querySelector('svg.mech-anim').getBoundingClientRect();"
+                                   " return [r.x + scrollX, r.y + scrollY, r.width, r.height]; })()")
+            data = browser.call("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True, "clip": {
+                "x": box[0], "y": box[1], "width": box[2], "height": box[3], "scale": 1}})["data"]
+            png = base64.b64decode(data)
+            (ARTIFACTS / name).write_bytes(png)
+            return png
+
+        before = shot("animation-v8-0deg.png")
+        cursor_before = browser.evaluate(f"{root}.querySelector('.cursor').getAttribute('x1')")
+        browser.evaluate(f"(() => {{ const s = {root}.querySelector('.mech-angle'); s.value = 30;"
+                         " s.dispatchEvent(new Event('input')); })()")
+        assert browser.evaluate(f"{root}.dataset.frame") == "30"
+        assert browser.evaluate(f"{root}.querySelector('.mech-readout').textContent") == "α = 60°"
+        after = shot("animation-v8-60deg.png")
+        changed = np.mean(np.abs(_png_pixels(before) - _png_pixels(after)) > 32)
+        assert changed > 0.002, changed
+        assert browser.evaluate(f"{root}.querySelector('.cursor').getAttribute('x1')") != cursor_before
+
+        start = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
+        browser.evaluate(f"{root}.querySelector('.mech-play').click()")
+        time.sleep(1.5)
+        end = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
+        browser.evaluate(f"{root}.querySelector('.mech-play').click()")
+        frames = end[0] - start[0]
+        fps = frames / ((end[1] - start[1]) / 1000.0)
+        (ARTIFACTS / "animation-v8-fps.txt").write_text(f"{fps:.1f} frames per second (V8, headless Chromium)\n")
+        print(f"V8 animation: {fps:.1f} frames per second in headless Chromium")
+        assert frames > 0, "pressing play did not animate"
+    finally:
+        browser.close()
