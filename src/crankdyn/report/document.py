@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import functools
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -13,7 +14,7 @@ from .. import __version__
 from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry
-from .context import FigureFile, RenderContext, template_search_path
+from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 
 
@@ -28,10 +29,17 @@ class SectionView:
 
 @dataclass
 class RenderedReport:
-    html: str
+    """A rendered report: the page referring to ``figures/NAME.svg``, and the figures once each."""
+
+    linked_html: str
     figures: list[FigureFile]
     language: str
     missing_translations: set[str]
+
+    @functools.cached_property
+    def html(self) -> str:
+        """The self-contained page: every figure inlined as a data: URI (preview, ``--self-contained``)."""
+        return inline_figures(self.linked_html, self.figures)
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
@@ -85,4 +93,4 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
     )
-    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
+    return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing))
