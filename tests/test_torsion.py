@@ -178,7 +178,7 @@ def _sections(result, language):
 def test_torsion_sections_render(language):
     html, t, ctx = _sections(run("inline4-torsion"), language)
     assert not t.missing, t.missing
-    assert "Radau" in html and html.count("data:image/svg+xml;base64,") == 6
+    assert "Radau" in html and html.count('src="figures/') == 6  # each figure referenced once
     # tables and figures numbered in the order they appear
     for word in (t("report.table_caption", number="X", caption="").split("X")[0],
                  t("report.figure_caption", number="X", caption="").split("X")[0]):
