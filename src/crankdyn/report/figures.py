@@ -7,6 +7,7 @@ renderer needs no font lookup for figures and Cyrillic labels always show.
 from __future__ import annotations
 
 import io
+import sys
 
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
@@ -52,4 +53,7 @@ def to_svg(fig) -> bytes:
     with matplotlib.rc_context(STYLE):
         fig.tight_layout()
         fig.savefig(buffer, format="svg", metadata={"Date": None})
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
+        pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
     return buffer.getvalue()
