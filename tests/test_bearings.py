@@ -103,6 +103,18 @@ def test_wear_diagram_and_oil_hole():
     assert wear.max() == pytest.approx(10.0) and wear.min() == 0.0
 
 
+def test_wear_diagram_in_blocks_counts_each_load_over_its_spread(monkeypatch):
+    # Loads pressing at 0.5, 90.5 and 200.5 deg (off the 1-deg surface grid, so no psi sits exactly
+    # at the 60 deg edge) with weights 1, 2, 4: the wear at psi is the sum of the
+    # weights whose contact is within 60 deg, whatever the block size of the computation.
+    monkeypatch.setattr(brg, "_BLOCK_ELEMENTS", 7)
+    angles = np.radians([0.5, 90.5, 200.5])
+    psi, wear = brg.wear_diagram(np.sin(angles), np.cos(angles), [1.0, 2.0, 4.0])
+    expected = [sum(w for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0))
+                    if abs((p - a + 180.0) % 360.0 - 180.0) <= 60.0) for p in psi]
+    np.testing.assert_allclose(wear, expected)
+
+
 def test_results_keys_per_pin_and_journal():
     r = run("v8-petrol").outputs["bearings"].results
     assert len(r["crank_pins"]) == 4 and len(r["main_journals"]) == 5

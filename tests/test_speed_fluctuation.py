@@ -90,6 +90,26 @@ def test_periodic_series_interpolates_and_integrates():
     assert abs(series.integral(2 * np.pi)) < 1e-12  # closes after a period
 
 
+
+def test_long_series_on_the_grid_and_in_blocks_match_the_closed_form(monkeypatch):
+    # f = 2 cos(3a) - sin(1000a) + 0.5 cos(2048a) sampled on 4096 points: the grid evaluation
+    # (inverse FFT, taken above _GRID_MIN_WORK) and the blockwise direct sum (small blocks
+    # forced) must both give f and its closed-form integral 2 sin(3a)/3 + (cos(1000a) - 1)/1000
+    # + 0.5 sin(2048a)/2048.
+    n = 4096
+    grid = np.arange(n) * (2 * np.pi / n)
+    f = lambda a: 2 * np.cos(3 * a) - np.sin(1000 * a) + 0.5 * np.cos(2048 * a)  # noqa: E731
+    w = lambda a: 2 * np.sin(3 * a) / 3 + (np.cos(1000 * a) - 1) / 1000 + 0.5 * np.sin(2048 * a) / 2048  # noqa: E731
+    series = sf.PeriodicSeries.from_samples(f(grid), 2 * np.pi)
+    assert grid.size * series.wavenumbers.size >= sf._GRID_MIN_WORK  # the FFT path is the one tested
+    np.testing.assert_allclose(series(grid), f(grid), atol=1e-12)
+    np.testing.assert_allclose(series.integral(grid), w(grid), atol=1e-12)
+    monkeypatch.setattr(sf, "_BLOCK_ELEMENTS", 3 * series.wavenumbers.size)  # three angles per block
+    x = np.random.default_rng(2).uniform(0, 2 * np.pi, 10)
+    np.testing.assert_allclose(series(x), f(x), atol=1e-9)
+    np.testing.assert_allclose(series.integral(x), w(x), atol=1e-11)
+    np.testing.assert_allclose([series.integral(v) for v in x], w(x), atol=1e-11)  # one angle at a time
+
 def test_exact_solution_satisfies_the_equation_of_motion():
     # J omega d(omega)/d(alpha) + J'/2 omega^2 = M_g - M_c, checked by central differences
     _, _, inertia, series, exact, torque = problem()

@@ -178,7 +178,7 @@ def _sections(result, language):
 def test_torsion_sections_render(language):
     html, t, ctx = _sections(run("inline4-torsion"), language)
     assert not t.missing, t.missing
-    assert "Radau" in html and html.count("data:image/svg+xml;base64,") == 7  # with the Campbell diagram
+    assert "Radau" in html and html.count('src="figures/') == 7  # each figure referenced once, with the Campbell diagram
     # tables and figures numbered in the order they appear
     for word in (t("report.table_caption", number="X", caption="").split("X")[0],
                  t("report.figure_caption", number="X", caption="").split("X")[0]):

@@ -32,6 +32,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="comma-separated subset of html,pdf,json,csv,xlsx (default: html,pdf,json,csv)")
     report.add_argument("--lang", help="report language code (overrides report.language)")
     report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
+    report.add_argument("--self-contained", action="store_true",
+                        help="inline the figures in report.html instead of referring to figures/*.svg")
     report.add_argument("-q", "--quiet", action="store_true")
     _data_dir_option(report)
 
@@ -137,7 +139,7 @@ def _report(args) -> int:
     start = time.perf_counter()
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
-    run = write_report(scene, registry, args.output, formats, stages, languages)
+    run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained)
     result, written = run.result, run.written
     _print_warnings(result, registry)
     if not args.quiet:

@@ -185,7 +185,11 @@ def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
 
 
 def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,
-              languages: Iterable[str] = ()) -> RunResult:
-    """Validate against the plugins, plan and run: the whole computation of one scene."""
+              languages: Iterable[str] = (), cache=None) -> RunResult:
+    """Validate against the plugins, plan and run: the whole computation of one scene.
+
+    With ``cache`` (a :class:`crankdyn.cache.StageCache`) only stages whose inputs changed since
+    the cache's last run are run again (the live preview)."""
     check_scene(scene, registry, languages)
-    return run_plan(scene, plan(scene, registry, requested))
+    the_plan = plan(scene, registry, requested)
+    return cache.run_plan(scene, the_plan) if cache is not None else run_plan(scene, the_plan)

@@ -24,8 +24,13 @@ class ReportRun:
     written: list[Path]
 
 
-def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) -> dict[str, bytes]:
-    """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written)."""
+def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
+                 self_contained: bool = False) -> dict[str, bytes]:
+    """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written).
+
+    report.html refers to the figures in ``figures/``, each stored once; with ``self_contained``
+    they are inlined in the page instead (and no figures/ folder is written).
+    """
     from . import outputs
 
     formats = list(formats)
@@ -40,13 +45,15 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) 
         from .report.document import render_html
 
         rendered = render_html(result, registry)
-        if "html" in formats:
+        if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
+        elif "html" in formats:
+            files["report.html"] = rendered.linked_html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
         if "pdf" in formats:
             from .report.pdf import html_to_pdf
 
-            files["report.pdf"] = html_to_pdf(rendered.html)
+            files["report.pdf"] = html_to_pdf(rendered.linked_html, rendered.figures)
         if "docx" in formats:
             from .report.docx import report_docx
 
@@ -55,7 +62,8 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) 
 
 
 def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],
-                 stages: Iterable[str] | None = None, languages: Iterable[str] = ()) -> ReportRun:
+                 stages: Iterable[str] | None = None, languages: Iterable[str] = (),
+                 self_contained: bool = False) -> ReportRun:
     """Compute ``scene`` and write its outputs below ``out_dir``, as ``crankdyn report`` does.
 
     Raises :class:`crankdyn.errors.SceneError` (and writes nothing) for a bad scene.
@@ -63,7 +71,7 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
     from .manifest import write_outputs
 
     result = run_scene(scene, registry, stages, languages)
-    files = render_files(result, registry, formats)
+    files = render_files(result, registry, formats, self_contained)
     # Files of an earlier run into out_dir that this one does not write again are removed
     # (only those crankdyn listed in its manifest there).
     return ReportRun(result=result, written=write_outputs(Path(out_dir), files))

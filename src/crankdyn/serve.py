@@ -172,6 +172,9 @@ class Preview:
         self._building = threading.Event()
         self._pdf_lock = threading.Lock()
         self._pdf_cache: tuple[str, bytes] | None = None
+        from .cache import StageCache
+
+        self.stage_cache = StageCache()  # a save re-runs only the stages whose inputs changed
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self.snapshot = Snapshot(version, with_reload(_starting_page(), version, self.nonce).encode("utf-8"),
@@ -214,7 +217,7 @@ class Preview:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            result = run_scene(scene, self._registry, self.stages, available_languages())
+            result = run_scene(scene, self._registry, self.stages, available_languages(), cache=self.stage_cache)
             rendered = render_html(result, self._registry)
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)

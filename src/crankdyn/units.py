@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from functools import lru_cache
 
+from .quick_units import quick_quantity
+
 # Display units and the SI unit each physical kind converts to.
 SI_UNIT = {
     "length": "m",
@@ -42,6 +44,9 @@ def parse_quantity(text: object, kind: str) -> float:
         raise ValueError(f"expected a {kind} with a unit, e.g. {_example(kind)!r}")
     if isinstance(text, (int, float)):
         raise ValueError(f"a bare number has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}")
+    quick = quick_quantity(text, kind)  # the common spellings without importing pint (same values)
+    if quick is not None:
+        return quick
     import pint
 
     from .quantity import QuantityError, parse

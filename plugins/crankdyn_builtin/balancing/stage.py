@@ -24,7 +24,6 @@ from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import new_figure
-from matplotlib.patches import Circle  # noqa: E402 (after the figures module chose the Agg backend)
 from crankdyn.scene import options, quantity as _quantity
 from crankdyn_builtin.bays.stage import engine_layout, rotating_mass_per_crank_kg
 
@@ -369,6 +368,7 @@ def _arrow(ax, x0, y0, x1, y1, **kw):
 def _star_figure(ctx, r):
     """Crank diagrams seen from the free end: cranks (first order) and doubled angles (second order)."""
     t = ctx.t
+    from matplotlib.patches import Circle  # lazy: heavy optional import
     fig, axes = new_figure(16, 8.2, ncols=2)
     crank_dirs = np.radians(r["crank_directions_deg"])
     labels = r["cylinder_labels"]
@@ -402,6 +402,7 @@ def _star_figure(ctx, r):
 def _models_figure(ctx, r):
     """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
     t = ctx.t
+    from matplotlib.patches import Circle  # lazy: heavy optional import
     shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + \
         [o for o in r["orders"] if o["order"] >= 4 and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)][:1]
     moments = r["cylinder_spacing_m"] is not None or any(o["moment_coefficient"] > NEGLIGIBLE for o in shown)

@@ -96,6 +96,10 @@ def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m):
             "max_MPa": float(magnitude.max() / area / 1e6), "mean_MPa": float(magnitude.mean() / area / 1e6)}
 
 
+#: Elements of one block of the (surface angle x crank angle) matrix of the wear diagram (32 MiB of floats).
+_BLOCK_ELEMENTS = 1 << 22
+
+
 def wear_diagram(contact_t, contact_z, weight, spread_deg: float = 60.0, resolution_deg: float = 1.0):
     """Wear (load-intensity) diagram around a journal or bearing surface.
 
@@ -108,8 +112,15 @@ def wear_diagram(contact_t, contact_z, weight, spread_deg: float = 60.0, resolut
     """
     psi = np.arange(0.0, 360.0, resolution_deg)
     contact = np.degrees(np.arctan2(contact_t, contact_z)) % 360.0
-    distance = np.abs((psi[:, None] - contact[None, :] + 180.0) % 360.0 - 180.0)
-    wear = ((distance <= spread_deg) * np.asarray(weight)[None, :]).sum(axis=1)
+    weight = np.asarray(weight)
+    wear = np.empty(psi.size)
+    # A block of surface angles at a time (each row summed exactly as a whole matrix would be):
+    # memory stays bounded however fine the crank-angle grid is.
+    rows = max(1, _BLOCK_ELEMENTS // max(contact.size, 1))
+    for start in range(0, psi.size, rows):
+        block = psi[start:start + rows]
+        distance = np.abs((block[:, None] - contact[None, :] + 180.0) % 360.0 - 180.0)
+        wear[start:start + rows] = ((distance <= spread_deg) * weight[None, :]).sum(axis=1)
     return psi, wear
 
 

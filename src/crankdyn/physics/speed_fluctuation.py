@@ -179,6 +179,24 @@ def gas_torque_Nm(total_torque_Nm, reciprocating_inertia_derivative_kg_m2, angul
     return np.asarray(total_torque_Nm) + 0.5 * np.asarray(reciprocating_inertia_derivative_kg_m2) * angular_velocity_rad_s ** 2
 
 
+#: Complex elements of one block of powers (16 MiB): bounds the memory of evaluating a series
+#: with many harmonics at many angles (angles x harmonics would grow with the square of the step count).
+_BLOCK_ELEMENTS = 1 << 20
+#: A set of angles is taken as the uniform grid when every angle is within this fraction of
+#: the period of ``k * period / M`` (rounding of degrees to radians is ~1e-16 of it).
+_GRID_TOLERANCE = 1e-13
+#: Below this many (angle, harmonic) products a grid is summed directly, as a short one always
+#: was (the FFT agrees to rounding, which an adaptive ODE solver started from it would amplify
+#: into a different step sequence); above it the direct sum would grow with the square of the
+#: number of angles.
+_GRID_MIN_WORK = 1 << 23
+#: From this many harmonics on, the single-disc right-hand side (and a series at one angle) sums elementwise
+#: instead of by a BLAS product: OpenBLAS splits a product this long over threads, which on a
+#: machine busy with other processes costs milliseconds per call (thousands of calls per solve).
+#: Shorter series (every bundled example at its own step) keep the BLAS product, single-threaded there.
+_BLAS_MAX_WIDTH = 2048
+
+
 class PeriodicSeries:
     r"""Trigonometric interpolant of samples on a uniform periodic grid, one column per quantity.
 
@@ -226,8 +244,51 @@ class PeriodicSeries:
             buffer.fill(cmath.exp(1j * self.wavenumbers[0] * float(alpha)))
             np.cumprod(buffer, out=buffer)
             return float(self.mean[0] + (buffer @ self._first_column).real)
-        value = self.mean + (self._phase(alpha) @ self.coefficients).real
+        value = self.mean + self._sum(alpha, self.coefficients).real
         return value[..., 0] if self.columns == 1 else value
+
+    def _grid_points(self, alpha) -> int | None:
+        """M when ``alpha`` is the uniform grid ``k * period / M`` (k = 0..M-1) to rounding, else None."""
+        if alpha.ndim != 1 or alpha.size * self.wavenumbers.size < _GRID_MIN_WORK:
+            return None
+        m = alpha.size
+        if abs(alpha[0]) > _GRID_TOLERANCE * self.period_rad:
+            return None
+        grid = np.arange(m) * (self.period_rad / m)
+        return m if float(np.max(np.abs(alpha - grid))) <= _GRID_TOLERANCE * self.period_rad else None
+
+    def _on_grid(self, coefficients, m: int):
+        r""":math:`\sum_k c_k e^{2\pi i k j/M}` for j = 0..M-1 by one inverse FFT (harmonics folded mod M)."""
+        folded = np.zeros((m, coefficients.shape[1]), dtype=complex)
+        np.add.at(folded, np.arange(1, coefficients.shape[0] + 1) % m, coefficients)
+        return np.fft.ifft(folded, axis=0) * m
+
+    def _sum(self, alpha, coefficients, shift: bool = False):
+        r""":math:`\sum_k c_k (e^{i w_k \alpha} - s)` for every alpha, s = 1 if ``shift`` else 0.
+
+        Shape ``alpha.shape + (columns,)``. Linear in memory: on the uniform grid of M points an
+        inverse FFT (O(M log M)); elsewhere the powers are built a block of angles at a time,
+        never as one (angles x harmonics) matrix.
+        """
+        alpha = np.asarray(alpha, dtype=float)
+        if alpha.ndim == 0:
+            phase = self._phase(alpha)
+            if shift:
+                phase -= 1.0
+            if phase.size >= _BLAS_MAX_WIDTH:  # one long vector product: elementwise (see _BLAS_MAX_WIDTH)
+                return (phase[:, None] * coefficients).sum(axis=0)
+            return phase @ coefficients
+        m = self._grid_points(alpha)
+        if m is not None:
+            value = self._on_grid(coefficients, m)
+            return value - coefficients.sum(axis=0) if shift else value
+        flat = alpha.reshape(-1)
+        out = np.empty((flat.size, coefficients.shape[1]), dtype=complex)
+        rows = max(1, _BLOCK_ELEMENTS // max(self.wavenumbers.size, 1))
+        for start in range(0, flat.size, rows):
+            phase = self._phase(flat[start:start + rows])
+            out[start:start + rows] = ((phase - 1.0) if shift else phase) @ coefficients
+        return out.reshape(alpha.shape + (coefficients.shape[1],))
 
     def diagonal(self, angles):
         """Column k at ``angles[k]`` (the torsional model's hot path)."""
@@ -252,8 +313,10 @@ class PeriodicSeries:
 
     def integral(self, alpha):
         r""":math:`\int_0^\alpha (f-\bar f)\,d\alpha` (periodic, exact)."""
-        scaled = self.coefficients / (1j * self.wavenumbers[:, None])
-        value = ((self._phase(alpha) - 1.0) @ scaled).real
+        scaled = self.__dict__.get("_scaled")
+        if scaled is None:
+            scaled = self._scaled = self.coefficients / (1j * self.wavenumbers[:, None])
+        value = self._sum(alpha, scaled, shift=True).real
         return value[..., 0] if self.columns == 1 else value
 
 
@@ -320,6 +383,10 @@ class DiscSeries:
             coef[index, c, 2] = 1j * series.orders * series.coefficients
         self.coef = coef
         self.single = np.ascontiguousarray(coef[:, 0, :])
+        self._single_rows = self._product = None
+        if width >= _BLAS_MAX_WIDTH:
+            self._single_rows = np.ascontiguousarray(self.single.T)
+            self._product = np.empty_like(self._single_rows)
         self.by_disc = np.ascontiguousarray(coef.transpose(1, 0, 2))  # (m, K, 3)
         self.mean = np.stack([torque.mean, [s.constant_kg_m2 for s in inertia], np.zeros(m)], axis=1)
         self.w1 = 2 * np.pi / torque.period_rad
@@ -333,7 +400,11 @@ class DiscSeries:
         row = self._row
         row.fill(cmath.exp(1j * self.w1 * alpha))
         np.cumprod(row, out=row)
-        value = (row @ self.single).real
+        if self._single_rows is None:
+            value = (row @ self.single).real
+        else:  # long series: elementwise, as multi-threaded BLAS would thrash on a busy machine
+            np.multiply(self._single_rows, row, out=self._product)
+            value = self._product.sum(axis=1).real
         return self.mean[0, 0] + value[0], self.mean[0, 1] + value[1], value[2]
 
     def __call__(self, angles) -> np.ndarray:

@@ -20,6 +20,18 @@ class FigureFile:
     figure: Any = None  # the matplotlib figure it was drawn from (the Word export draws it again as PNG)
 
 
+#: Folder of the figure files next to report.html, as the page refers to them.
+FIGURE_DIR = "figures"
+
+
+def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
+    """``html`` with every ``src="figures/NAME.svg"`` replaced by the figure as a data: URI."""
+    for figure in figures:
+        data = base64.b64encode(figure.svg).decode("ascii")
+        html = html.replace(f'src="{FIGURE_DIR}/{figure.name}"', f'src="data:image/svg+xml;base64,{data}"')
+    return html
+
+
 @dataclass
 class RenderContext:
     """Per-report rendering state shared by all sections.
@@ -122,11 +134,12 @@ class RenderContext:
         svg = to_svg(fig)
         file_name = f"fig_{number.replace('.', '_')}_{name}.svg"
         self.figures.append(FigureFile(file_name, svg, fig))
-        data = base64.b64encode(svg).decode("ascii")
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t("doc.see_figure", number=number))
+        # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
+        # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
         return Markup(f'<p class="see">{see}</p>'
-                      f'<figure data-number="{number}"><img alt="{escape(caption)}" src="data:image/svg+xml;base64,{data}">'
+                      f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
                       f"<figcaption>{caption_text}</figcaption></figure>")
 
     # ----------------------------------------------------------------- text

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime
+import functools
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,7 +15,7 @@ from .. import __version__
 from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry
-from .context import FigureFile, RenderContext, template_search_path
+from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 from .typeset import typeset_html
 
@@ -47,11 +48,18 @@ class SectionView:
 
 @dataclass
 class RenderedReport:
-    html: str
+    """A rendered report: the page referring to ``figures/NAME.svg``, and the figures once each."""
+
+    linked_html: str
     figures: list[FigureFile]
     language: str
     missing_translations: set[str]
     worked: list = field(default_factory=list)  # the worked substitutions shown (report.worked.WorkedBlock)
+
+    @functools.cached_property
+    def html(self) -> str:
+        """The self-contained page: every figure inlined as a data: URI (preview, ``--self-contained``)."""
+        return inline_figures(self.linked_html, self.figures)
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
@@ -156,7 +164,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
-    return RenderedReport(html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
+    return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
 
 

@@ -7,12 +7,11 @@ renderer needs no font lookup for figures and Cyrillic labels always show.
 from __future__ import annotations
 
 import io
+import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
+# matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
+# through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
+# pays nothing for plotting and no global figure state builds up between reports.
 
 STYLE = {
     "svg.fonttype": "none",  # text stays text: searchable in the PDF (fonts: the report's, below)
@@ -29,8 +28,15 @@ STYLE = {
 
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
-    with plt.rc_context(STYLE):
-        return plt.subplots(figsize=(width_cm / 2.54, height_cm / 2.54), **subplots)
+    """(figure, axes) as ``pyplot.subplots`` returns them, on an Agg canvas, without pyplot."""
+    import matplotlib  # lazy: heavy optional import
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
+    from matplotlib.figure import Figure  # lazy: heavy optional import
+
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=(width_cm / 2.54, height_cm / 2.54))
+        FigureCanvasAgg(fig)
+        return fig, fig.subplots(**subplots)
 
 
 def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
@@ -41,9 +47,13 @@ def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
 
 
 def to_svg(fig) -> bytes:
+    import matplotlib  # lazy: heavy optional import
+
     buffer = io.BytesIO()
-    with plt.rc_context(STYLE):
+    with matplotlib.rc_context(STYLE):
         fig.tight_layout()
         fig.savefig(buffer, format="svg", metadata={"Date": None})
-    plt.close(fig)
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
+        pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
     return buffer.getvalue()

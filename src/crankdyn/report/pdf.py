@@ -1,8 +1,9 @@
 """HTML to print-ready PDF through WeasyPrint, with no network and no arbitrary files.
 
 The URL fetcher is the security boundary: scene text ends up in the HTML, so the
-PDF step must not become a way to read files or reach hosts. Only ``data:`` URIs
-(the embedded figures) and files inside the package's own templates folder load.
+PDF step must not become a way to read files or reach hosts. Only ``data:`` URIs, the
+report's own rendered figures (``figures/NAME.svg``, served from memory by exact URL) and
+files inside the package's own templates folder load.
 """
 
 from __future__ import annotations
@@ -33,12 +34,25 @@ def is_allowed(url: str) -> bool:
     return False
 
 
-def _fetcher():
+def figure_urls(figures, base: str) -> dict[str, bytes]:
+    """URL -> SVG bytes of the report's own figures, as the page refers to them (``figures/NAME``)."""
+    from .context import FIGURE_DIR
+
+    return {f"{base}{FIGURE_DIR}/{f.name}": f.svg for f in figures}
+
+
+def _fetcher(in_memory: dict[str, bytes] | None = None):
+    """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their bytes
+    (served from memory, never from a file; any other URL follows :func:`is_allowed`)."""
     import weasyprint
 
+    in_memory = dict(in_memory or {})
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
         class SafeURLFetcher(weasyprint.URLFetcher):
             def fetch(self, url, headers=None):
+                if url in in_memory:
+                    return weasyprint.urls.URLFetcherResponse(url, in_memory[url],
+                                                              headers={"Content-Type": "image/svg+xml"})
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
                 return super().fetch(url, headers)
@@ -46,6 +60,8 @@ def _fetcher():
         return SafeURLFetcher(allowed_protocols=("data", "file"), allow_redirects=False)
 
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
+        if url in in_memory:
+            return {"string": in_memory[url], "mime_type": "image/svg+xml", "redirected_url": url}
         if not is_allowed(url):
             raise BlockedResource(f"crankdyn does not load {url!r} into a report")
         return weasyprint.default_url_fetcher(url, *args, **kwargs)
@@ -53,11 +69,12 @@ def _fetcher():
     return safe_url_fetcher
 
 
-def html_to_pdf(html: str) -> bytes:
+def html_to_pdf(html: str, figures=()) -> bytes:
+    """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to."""
     from weasyprint import HTML
 
     # A blocked resource is logged by WeasyPrint as a warning and left out; keep the
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    return HTML(string=html, base_url=base, url_fetcher=_fetcher()).write_pdf()
+    return HTML(string=html, base_url=base, url_fetcher=_fetcher(figure_urls(figures, base))).write_pdf()

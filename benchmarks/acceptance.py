@@ -1,0 +1,112 @@
+"""Issue 17's acceptance figures, each as a ratio to its goal measured in the same run.
+
+Run from the repository root (takes a few minutes; writes only below a temporary folder):
+
+    python3 benchmarks/acceptance.py               # every figure
+    python3 benchmarks/acceptance.py --repeat 3    # fewer whole-process repeats
+
+Whole processes are timed (``crankdyn`` started afresh each time, median of ``--repeat`` runs)
+with byte-code caching on (in a temporary ``PYTHONPYCACHEPREFIX``), as an installed package
+runs; a ratio <= 1 meets the goal. Not part of the test suite.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+
+def _env(cache: Path) -> dict:
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPYCACHEPREFIX"] = str(cache)
+    return env
+
+
+def wall(cmd: list[str], env: dict, repeat: int) -> float:
+    """Median wall time of ``cmd`` as a whole process (one warm-up run first)."""
+    subprocess.run(cmd, env=env, capture_output=True, check=True)
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        subprocess.run(cmd, env=env, capture_output=True, check=True)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def crankdyn(*args: str) -> list[str]:
+    return [sys.executable, "-m", "crankdyn", *args]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--skip-memory", action="store_true", help="leave out the 0.01 deg in-line 4 runs")
+    args = parser.parse_args()
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="crankdyn-accept-") as tmp:
+        tmp = Path(tmp)
+        env = _env(tmp / "pycache")
+        one = str(EXAMPLES / "petrol-1cyl.toml")
+
+        imports = wall([sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"], env, args.repeat)
+        json_s = wall(crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"), env, args.repeat)
+        rows.append(("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports))
+        html_s = wall(crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"), env, args.repeat)
+        rows.append(("report --format html (1 cyl) / 1.5 s", html_s, 1.5))
+
+        pdf_s = wall(crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"), env, args.repeat)
+        subprocess.run(crankdyn("report", one, "-o", str(tmp / "sc"), "--format", "html", "--self-contained", "-q"),
+                       env=env, check=True, capture_output=True)
+        weasy = wall([sys.executable, "-c", "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
+                      ".write_pdf(sys.argv[2])", str(tmp / "sc" / "report.html"), str(tmp / "w.pdf")],
+                     env, args.repeat)
+        rows.append(("report --format pdf / 1.3 x WeasyPrint alone on its HTML", pdf_s, 1.3 * weasy))
+
+        subprocess.run(crankdyn("report", str(EXAMPLES / "v8-petrol.toml"), "-o", str(tmp / "v8"), "--format", "html",
+                                "-q"), env=env, check=True, capture_output=True)
+        size = (tmp / "v8" / "report.html").stat().st_size + sum(p.stat().st_size
+                                                               for p in (tmp / "v8" / "figures").iterdir())
+        rows.append(("V8 report.html + figures/ (MB) / 1.0 MB", size / 1e6, 1.0))
+
+        if not args.skip_memory:
+            sys.path.insert(0, str(Path(__file__).resolve().parent))
+            import scaling
+
+            coarse = scaling.run_point("inline4-petrol", 0.02, None, False)
+            fine = scaling.run_point("inline4-petrol", 0.01, None, False)
+            rows.append(("in-line 4 at 0.01 deg: peak RSS (MB) / 600 MB", fine["maxrss_MB"], 600.0))
+            worst = max((fine["stages"][n]["s"] / max(coarse["stages"][n]["s"], 1e-9), n)
+                        for n in fine["stages"] if coarse["stages"][n]["s"] > 0.05)
+            rows.append((f"halving 0.02 -> 0.01 deg: worst stage time ratio ({worst[1]}) / 2", worst[0], 2.0))
+
+        monotone = 0
+        for _ in range(10):
+            subprocess.run(crankdyn("report", one, "-o", str(tmp / "n"), "--format", "json", "-q"), env=env,
+                           check=True, capture_output=True)
+            steps = json.loads((tmp / "n" / "results.json").read_text())["numerics"]["steps"]
+            steps.sort(key=lambda s: s["points"])
+            monotone += all(a["time_s"] <= b["time_s"] for a, b in zip(steps, steps[1:]))
+        rows.append(("error-against-run-time table monotone, runs of 10 / 10", monotone, 10))
+
+    print(f"issue 17 acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs)")
+    print(f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}")
+    for what, measured, goal in rows:
+        ratio = measured / goal
+        ok = ratio >= 1 if "monotone" in what else ratio <= 1
+        print(f"{what:62s} {measured:10.3f} {goal:10.3f} {ratio:7.2f}  {'ok' if ok else 'NOT MET'}")
+    print("not measured here: preview save -> page (not built), 30-variant batch and the dask cluster (not built)")
+
+
+if __name__ == "__main__":
+    main()
