@@ -54,6 +54,11 @@ class RenderContext:
     scene: Any = None
     worked: list = field(default_factory=list)  # WorkedBlock of every worked substitution shown
 
+    def __post_init__(self) -> None:
+        # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
+        # whoever built the environment (the report, the API's single sections, the tests).
+        self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
+
     @property
     def worked_angle_deg(self) -> float:
         """The crank angle of the worked substitutions ([report] worked_angle_deg, default 30°)."""

@@ -111,7 +111,6 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
-    env.filters["numg"] = lambda value, significant=4: t.number_g(value, significant)
     ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
     course = scene.report.detail == "course"
 
