@@ -157,6 +157,8 @@ class RenderContext:
         return self.t.number(value, significant)
 
     def render_template(self, name: str, **values: Any) -> str:
+        if "numg" not in self.env.filters:  # "372°", "7,5°": a number without padding zeros
+            self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
 

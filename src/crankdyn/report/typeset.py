@@ -13,6 +13,7 @@ Nothing here computes physics or changes a number's value.
 from __future__ import annotations
 
 import functools
+import math
 import re
 from dataclasses import dataclass
 
@@ -211,10 +212,23 @@ def _legend_outside(ax) -> None:
 
 
 def _locale_ticks(axis, t) -> None:
-    from matplotlib.ticker import ScalarFormatter
+    from matplotlib.ticker import FuncFormatter, LogFormatter, NullFormatter, ScalarFormatter
 
-    if type(axis.get_major_formatter()) is ScalarFormatter:  # leave log and custom formatters
+    major = axis.get_major_formatter()
+    if type(major) is ScalarFormatter:  # leave custom formatters
         axis.set_major_formatter(locale_formatter(t))
+    elif isinstance(major, LogFormatter):  # 10⁻³ typeset; no minor labels such as "2.5"
+        axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t)))
+        axis.set_minor_formatter(NullFormatter())
+
+
+def _log_label(x: float, t) -> str:
+    if x <= 0 or not math.isfinite(x):
+        return ""
+    exponent = math.log10(x)
+    if abs(exponent - round(exponent)) < 1e-9:
+        return f"$10^{{{int(round(exponent))}}}$"
+    return t.number_g(x, 3)
 
 
 def tick_labels(values, t) -> tuple[list[str], int]:
