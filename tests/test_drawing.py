@@ -131,23 +131,39 @@ def test_vane_engine_drawn_from_its_geometry():
 # ----------------------------------------------------------------------------- HTML
 
 @lru_cache(maxsize=None)
-def _html(example: str) -> str:
+def _html(example: str, language: str = "en") -> str:
+    """The report of ``example`` with the drawing's section only (the other sections are tested
+    elsewhere; rendering them here would only cost time)."""
+    from dataclasses import replace
+
     from crankdyn.report.document import render_html
 
-    return render_html(_run(example), _registry()).html
+    result = _run(example)
+    drawing_only = replace(result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")])
+    return render_html(replace(result, plan=drawing_only), _registry(), language).html
 
 
-@pytest.mark.parametrize("example", ["petrol-1cyl", "radial9-aircraft", "planetary-kinematics", "vane-engine-kinematics"])
+@pytest.mark.parametrize("example", EXAMPLES)
 def test_report_has_scheme_positions_and_animation(example):
     html = _html(example)
     assert html.count('class="mech-animation"') == 1
-    assert "fig_" in html or "<figure>" in html
-    assert "Kinematic scheme of the mechanism at the top dead centre" in html
+    assert "Kinematic scheme of the mechanism at the top dead centre (to scale)" in html
     assert "The mechanism at its characteristic positions" in html
+    assert html.count('<img alt="') >= 2  # the scheme and the positions figure (static: they print)
     assert "@media print { .mech-animation { display: none !important; } }" in html
     assert 'type="range"' in html and "requestAnimationFrame" in html
-    assert "http://" not in html.split('class="mech-animation"')[1].split("</div>\n")[0].replace(
-        "http://www.w3.org/2000/svg", "")  # nothing fetched
+    block = html.split('class="mech-animation"')[1]
+    assert "http://" not in block.replace("http://www.w3.org/2000/svg", "")  # nothing fetched
+    assert "src=" not in block.split("</script>\n</div>")[0].replace('src="data:', "")
+
+
+@pytest.mark.parametrize("language, title", [("uk", "Кінематична схема механізму у ВМТ"),
+                                             ("ru", "Кинематическая схема механизма в ВМТ")])
+def test_drawing_texts_are_translated(language, title):
+    html = _html("v8-petrol", language)
+    assert title in html
+    for english in ("Kinematic scheme", "characteristic positions", "Firing order", "Crank star", "Drag the slider"):
+        assert english not in html
 
 
 # ----------------------------------------------------------------------------- browser

@@ -13,7 +13,6 @@ import functools
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 from scipy import optimize
 
 from crankdyn.contracts import KINEMATICS
@@ -145,12 +144,8 @@ def run(scene, inputs) -> StageOutput:
     curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
     results = {"crank_angles_deg": {k: angles[k] for k in POSITIONS}, "animation_frames": int(len(frames_deg)),
                "animation_step_deg": float(step * every), "motion_period_deg": period}
-    table = {"crank_angle_deg": frames_deg}
-    for name, xy in animation.joints.items():
-        table[f"{name}_x_m"], table[f"{name}_y_m"] = xy[:, 0], xy[:, 1]
-    tables = {"positions": pd.DataFrame({"position": list(POSITIONS), "crank_angle_deg": [angles[k] for k in POSITIONS]}),
-              "joints": pd.DataFrame(table)}
-    return StageOutput(results=results, tables=tables,
+    # No tables: the joint positions are drawing data (kept for render only), the angles are in results.
+    return StageOutput(results=results,
                        artifacts={"positions": positions, "animation": animation, "curves": curves})
 
 
