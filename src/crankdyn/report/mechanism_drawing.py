@@ -322,13 +322,14 @@ def _static_svg(geometry, xlim, ylim) -> str:
     import base64
     import io
 
-    import matplotlib.pyplot as plt
+    import matplotlib  # lazy: heavy optional import
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
+    from matplotlib.figure import Figure  # lazy: heavy optional import
 
-    from .figures import plt as _plt  # noqa: F401  (Agg backend chosen there)
-
-    with plt.rc_context(STYLE):
+    with matplotlib.rc_context(STYLE):
         w, h = xlim[1] - xlim[0], ylim[1] - ylim[0]
-        fig = plt.figure(figsize=(6.0, 6.0 * h / w))
+        fig = Figure(figsize=(6.0, 6.0 * h / w))  # no pyplot state, as in figures.new_figure
+        FigureCanvasAgg(fig)
         ax = fig.add_axes([0, 0, 1, 1])
         extent = _extent_mm(geometry)
         for path in geometry.traces.values():
@@ -354,7 +355,6 @@ def _static_svg(geometry, xlim, ylim) -> str:
         ax.axis("off")
         buffer = io.BytesIO()
         fig.savefig(buffer, format="svg", metadata={"Date": None}, transparent=True)
-        plt.close(fig)
     return base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
