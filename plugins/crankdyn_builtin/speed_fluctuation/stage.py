@@ -595,6 +595,8 @@ def render(output: StageOutput, ctx) -> str:
     figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single")
 
     torsion = r["torsion"]
+    if torsion is None:  # no torsional model in the scene: the title does not promise one
+        ctx.title = t("speed_fluctuation.title_rigid")
     parts = {}
     if torsion is not None:
         tf = output.tables["torsion"]

@@ -53,6 +53,9 @@ class RenderContext:
     conclusions: list[str] = field(default_factory=list)
     scene: Any = None
     worked: list = field(default_factory=list)  # WorkedBlock of every worked substitution shown
+    #: a section's title for what this scene's section contains, when it differs from the
+    #: stage's title (honest headings: a part left out is not announced); reset per section
+    title: str | None = None
 
     def __post_init__(self) -> None:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
@@ -72,6 +75,7 @@ class RenderContext:
         self.section_number = number
         self.stage_name = stage_name
         self._equation = self._table = self._figure = 0
+        self.title = None
 
     # ----------------------------------------------------------------- numbering
     def equation(self, formula_html: str, label: str = "") -> Markup:

@@ -138,7 +138,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         if stage.references:
             numbers = [references.index(r) + 1 for r in stage.references]
             body = f"<p>{escape(t('doc.method_from', refs=cite(numbers)))}</p>" + body
-        view = SectionView(number, stage.name, t(stage.title_key), Markup(body), list(ctx.conclusions))
+        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
         for key, params in output.notes:
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
