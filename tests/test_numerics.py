@@ -191,7 +191,7 @@ def test_two_term_error_agrees_with_the_kinematics_stage():
 
 def test_kinematics_only_scene_gets_the_kinematics_part():
     result = run("kinematics-only")
-    assert result.stages_run == ["kinematics", "numerics_kinematics"]
+    assert result.stages_run == ["kinematics", "drawing", "numerics_kinematics"]
     assert "numerics" in result.plan.skipped and "no [cycle]" in result.plan.skipped["numerics"]
     r = result.outputs["numerics_kinematics"].results
     assert {row["form"] for row in r["kinematics_forms"]} == {"two_term", "series", "harmonic", "exact"}

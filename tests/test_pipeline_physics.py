@@ -127,7 +127,7 @@ def test_rounded_diagram_does_not_depend_on_angle_step():
 
 def test_kinematics_only_scene_skips_with_reasons(tmp_path):
     result = run("kinematics-only")
-    assert result.stages_run == ["kinematics", "numerics_kinematics"]
+    assert result.stages_run == ["kinematics", "drawing", "numerics_kinematics"]
     assert "no [cycle]" in result.plan.skipped["indicator"]
     assert "[masses]" in result.plan.skipped["forces"]
 

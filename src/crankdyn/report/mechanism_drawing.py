@@ -100,6 +100,8 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
         for side in (-1, 1):
             a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
             _hatch(ax, a, b, n * side, extent * 0.02, color, alpha)
+        axis = np.array([o + d * (bottom - 0.04 * extent), o + d * (top + 0.04 * extent)])
+        ax.plot(axis[:, 0], axis[:, 1], color="0.45", lw=0.5, ls="-.", alpha=alpha, zorder=1)
         pos = float(np.dot(pin - o, d))
         corners = [pos - skirt, pos + crown]
         rect = np.array([o + d * corners[0] - n * half * 0.97, o + d * corners[1] - n * half * 0.97,
@@ -201,11 +203,17 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     if crank and "R" in labels:
         _dimension(ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent)
     if rod and "L" in labels:
-        _dimension(ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], extent * 0.09, extent)
+        # Outside the liner, so the text stays clear of the hatching.
+        clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
+        _dimension(ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent)
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
-        y = -extent * 0.28
-        _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), labels["e"], 0.0, extent)
+        # Between the vertical through the crank axis and the cylinder axis, below the liner.
+        y = (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - extent * 0.03
+        ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
+        _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), "", 0.0, extent)
+        ax.text(guide.origin_m[0] * MM + extent * 0.03, y, labels["e"], ha="left", va="center", fontsize=8,
+                color="0.15", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         top = o + d * (guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM + extent * 0.05)
