@@ -62,6 +62,27 @@ class Section:
 
 
 @dataclass(frozen=True)
+class AnswerColumn:
+    """A column of the batch answer key (``answer_key.csv``/``.xlsx``) a stage declares.
+
+    column:     the column header; carries its unit, e.g. ``p_max_MPa``.
+    key:        where the value is in the stage's ``StageOutput.results``; dots walk into
+                nested tables (``"peak.value_Pa"``).
+    unit:       the column's unit as printed ("MPa", "m/s", "" for a plain number).
+    factor:     column value = results value x factor (results are SI: Pa -> MPa is 1e-6).
+    label_key:  optional catalog key of a human-readable label for the column.
+
+    A variant whose stage did not run (or gave no number) leaves the cell empty.
+    """
+
+    column: str
+    key: str
+    unit: str = ""
+    factor: float = 1.0
+    label_key: str | None = None
+
+
+@dataclass(frozen=True)
 class Stage:
     """An analysis stage.
 
@@ -83,6 +104,9 @@ class Stage:
     default:    whether the stage runs when the scene does not list stages.
     last:       order hint: run (and appear in the report) after every stage that is
                 ready at the same time, e.g. a summary of the others; ``requires`` still rules.
+    answer_columns: the :class:`AnswerColumn` s this stage adds to the batch answer key
+                (in the key they follow the stages' requires/provides order, then the
+                order given here).
     """
 
     name: str
@@ -98,6 +122,7 @@ class Stage:
     last: bool = False
     options_table: str | None = None
     options_model: type | None = None
+    answer_columns: tuple[AnswerColumn, ...] = ()
 
 
 @dataclass(frozen=True)
