@@ -11,8 +11,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import outputs
 from .orchestrator import RunResult, run_scene
 from .plugins import Registry
+from .report.document import render_html
+from .report.pdf import html_to_pdf
 from .scene import Scene
 
 
@@ -26,8 +29,6 @@ class ReportRun:
 
 def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) -> dict[str, bytes]:
     """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written)."""
-    from . import outputs
-
     formats = list(formats)
     files: dict[str, bytes] = {}
     if "json" in formats:
@@ -37,15 +38,11 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str]) 
     if "xlsx" in formats:
         files.update(outputs.xlsx_tables(result))
     if "html" in formats or "pdf" in formats:
-        from .report.document import render_html
-
         rendered = render_html(result, registry)
         if "html" in formats:
             files["report.html"] = rendered.html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
         if "pdf" in formats:
-            from .report.pdf import html_to_pdf
-
             files["report.pdf"] = html_to_pdf(rendered.html)
     return files
 
@@ -56,8 +53,16 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
 
     Raises :class:`crankdyn.errors.SceneError` (and writes nothing) for a bad scene.
     """
-    from .outputs import write_atomically
+    result, files = run_and_render(scene, registry, formats, stages, languages)
+    return ReportRun(result=result, written=outputs.write_atomically(Path(out_dir), files))
 
+
+def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
+                   languages: Iterable[str] = ()) -> tuple[RunResult, dict[str, bytes]]:
+    """Compute ``scene`` and render its files in memory: the one path of ``report``, ``batch`` and ``serve``.
+
+    ``crankdyn report`` and ``batch`` write the files (:func:`write_report`); ``serve`` shows
+    ``report.html`` in the browser. Raises :class:`crankdyn.errors.SceneError` for a bad scene.
+    """
     result = run_scene(scene, registry, stages, languages)
-    files = render_files(result, registry, formats)
-    return ReportRun(result=result, written=write_atomically(Path(out_dir), files))
+    return result, render_files(result, registry, formats)

@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .report.context import RenderContext
     from .scene import Scene
 
 
@@ -117,7 +116,9 @@ class Stage:
     provides: tuple[str, ...]
     applies: Callable[["Scene"], str | None]
     run: Callable[["Scene", Mapping[str, Any]], StageOutput]
-    render: Callable[[StageOutput, "RenderContext"], str | None]
+    # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
+    # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
+    render: Callable[[StageOutput, Any], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
     default: bool = True

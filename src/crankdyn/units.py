@@ -24,7 +24,7 @@ SI_UNIT = {
 
 @lru_cache(maxsize=1)
 def _registry():
-    import pint
+    import pint  # lazy: heavy optional import
 
     return pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
 
@@ -40,7 +40,7 @@ def parse_quantity(text: object, kind: str) -> float:
         raise ValueError(f"expected a {kind} with a unit, e.g. {_example(kind)!r}")
     if isinstance(text, (int, float)):
         raise ValueError(f"a bare number has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}")
-    import pint
+    import pint  # lazy: heavy optional import
 
     registry = _registry()
     try:

@@ -51,6 +51,9 @@ from crankdyn.report.figures import new_figure
 from crankdyn.scene import Analysis, Scene, number, options
 from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics import articulated as art
+from crankdyn_builtin.bays.stage import engine_layout
+from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -188,8 +191,6 @@ class PointwiseModel:
     _FD_STEP_ACCEL_DEG = 0.05
 
     def __init__(self, scene: Scene, motion=None):
-        from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
-
         e, m, c = scene.engine, scene.masses, scene.cycle
         self.scene = scene
         self.analytic = e.mechanism == "crank_slider"
@@ -315,10 +316,6 @@ class PointwiseModel:
 
 def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) -> float:
     """Indicated work per cycle of the slave cylinders of one bay, from their exact kinematics."""
-    from crankdyn.physics import articulated as art
-
-    from crankdyn_builtin.bays.stage import engine_layout
-
     layout = engine_layout(scene)
     e = scene.engine
     by_label = {c.label: c for c in layout.cylinders}

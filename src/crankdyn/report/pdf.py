@@ -34,7 +34,7 @@ def is_allowed(url: str) -> bool:
 
 
 def _fetcher():
-    import weasyprint
+    import weasyprint  # lazy: heavy optional import
 
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
         class SafeURLFetcher(weasyprint.URLFetcher):
@@ -54,7 +54,7 @@ def _fetcher():
 
 
 def html_to_pdf(html: str) -> bytes:
-    from weasyprint import HTML
+    from weasyprint import HTML  # lazy: heavy optional import
 
     # A blocked resource is logged by WeasyPrint as a warning and left out; keep the
     # console quiet (the tests check the blocking itself).
