@@ -30,7 +30,6 @@ LAZY_ENTRY_POINTS = {"src/crankdyn/cli.py", "src/crankdyn/batch.py", "src/crankd
 # them along their physics); the list must only get shorter.
 LONG_FUNCTIONS = {
     ("src/crankdyn/physics/firing_explorer.py", "explore"): 96,
-    ("src/crankdyn/physics/indicator.py", "rounded_pressure_Pa"): 205,
     ("src/crankdyn/physics/layout.py", "build_layout"): 108,
     ("src/crankdyn/physics/pressure_trace.py", "to_cycle_grid"): 82,
     ("plugins/crankdyn_builtin/balancing/stage.py", "run"): 210,
