@@ -40,7 +40,6 @@ LONG_FUNCTIONS = {
     ("plugins/crankdyn_builtin/forces/stage.py", "run"): 89,
     ("plugins/crankdyn_builtin/kinematics/stage.py", "run"): 88,
     ("plugins/crankdyn_builtin/offset_crank/stage.py", "run"): 94,
-    ("plugins/crankdyn_builtin/planetary/stage.py", "run"): 136,
     ("plugins/crankdyn_builtin/planetary/stage.py", "render"): 107,
     ("plugins/crankdyn_builtin/rod_dynamics/stage.py", "run"): 107,
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "_torsion"): 124,
