@@ -32,7 +32,6 @@ LONG_FUNCTIONS = {
     ("src/crankdyn/physics/firing_explorer.py", "explore"): 96,
     ("src/crankdyn/physics/layout.py", "build_layout"): 108,
     ("src/crankdyn/physics/pressure_trace.py", "to_cycle_grid"): 82,
-    ("plugins/crankdyn_builtin/balancing/stage.py", "render"): 129,
     ("plugins/crankdyn_builtin/bays/stage.py", "run"): 102,
     ("plugins/crankdyn_builtin/bearings/stage.py", "run"): 87,
     ("plugins/crankdyn_builtin/flywheel/stage.py", "run"): 86,

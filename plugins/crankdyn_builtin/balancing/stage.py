@@ -501,11 +501,9 @@ def _models_figure(ctx, r):
     return ctx.figure(fig, t("balancing.models_caption"), "vector_models")
 
 
-def render(output: StageOutput, ctx) -> str | None:
-    r = output.results
+def _masses_table(ctx, r):
+    """Masses, inertia-force amplitudes and acceleration harmonics."""
     t = ctx.t
-    star = _star_figure(ctx, r)
-    a = r["cylinder_spacing_m"]
     masses_table = ctx.table([
         (t("balancing.quantity"), [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
             "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>", "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
@@ -522,8 +520,12 @@ def render(output: StageOutput, ctx) -> str | None:
         (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
                                  ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
     ], caption=t("balancing.masses_caption"))
-    models_figure = _models_figure(ctx, r)
+    return masses_table
 
+
+def _coefficients_table(ctx, r):
+    """Force and moment coefficients of every order with their hodographs."""
+    t = ctx.t
     def order_name(o):
         return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
 
@@ -550,6 +552,12 @@ def render(output: StageOutput, ctx) -> str | None:
                                        for o in orders], None),
     ], caption=t("balancing.coefficients_caption"), css_class="data wide")
 
+    return coef_table
+
+
+def _bay_table(ctx, r):
+    """The bay model (F, P, A, B, K, Z) of a V/W/Y/X/radial bay; None for one cylinder a bay."""
+    t = ctx.t
     bay_table = None
     if r["bay_model"] is not None:
         bm = r["bay_model"]
@@ -563,6 +571,12 @@ def render(output: StageOutput, ctx) -> str | None:
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)], caption=t("balancing.bay_caption"))
 
+    return bay_table
+
+
+def _summary_table(ctx, r):
+    """What is balanced by itself and what each balancing means takes."""
+    t = ctx.t
     summary_table = ctx.table([
         (t("balancing.quantity"), [_summary_symbol(s) for s in r["summary"]], None),
         (t("balancing.coefficient"), [s["coefficient"] for s in r["summary"]], 4),
@@ -572,6 +586,12 @@ def render(output: StageOutput, ctx) -> str | None:
                                  for s in r["summary"]], None),
     ], caption=t("balancing.summary_caption"))
 
+    return summary_table
+
+
+def _means_table(ctx, r):
+    """Counterweights and balance-shaft masses; None when there are none."""
+    t = ctx.t
     means_rows = []
     for cw in r["counterweights"]:
         means_rows.append((t("balancing.counterweight", crank=cw["crank"]), "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
@@ -598,6 +618,12 @@ def render(output: StageOutput, ctx) -> str | None:
         ], caption=t("balancing.means_caption", r_cw=ctx.num(r["counterweight_radius_m"] * 1e3),
                      r_sh=ctx.num(r["balance_shaft_radius_m"] * 1e3)), css_class="data wide")
 
+    return means_table
+
+
+def _explorer_table(ctx, r):
+    """The firing-order explorer's best rows; None when not asked for."""
+    t = ctx.t
     explorer_table = None
     if "explorer" in r and r["explorer"]["rows"]:
         x = r["explorer"]
@@ -617,6 +643,12 @@ def render(output: StageOutput, ctx) -> str | None:
             (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
         ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide")
 
+    return explorer_table
+
+
+def _conclude(ctx, r) -> None:
+    """The section's conclusions: what stays unbalanced, which means are fitted."""
+    t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
     if unbalanced:
         ctx.conclude(t("balancing.conclusion_unbalanced",
@@ -626,10 +658,23 @@ def render(output: StageOutput, ctx) -> str | None:
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
                        shafts=len(r["balance_shafts"])))
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    r = output.results
+    star = _star_figure(ctx, r)
+    masses_table = _masses_table(ctx, r)
+    models_figure = _models_figure(ctx, r)
+    coef_table = _coefficients_table(ctx, r)
+    bay_table = _bay_table(ctx, r)
+    summary_table = _summary_table(ctx, r)
+    means_table = _means_table(ctx, r)
+    explorer_table = _explorer_table(ctx, r)
+    _conclude(ctx, r)
     return ctx.render_template("sections/balancing.html.j2", r=r, star=star, masses_table=masses_table,
                                models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
                                summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
-                               spacing=a)
+                               spacing=r["cylinder_spacing_m"])
 
 
 def _summary_symbol(s) -> Markup:
