@@ -31,7 +31,6 @@ LAZY_ENTRY_POINTS = {"src/crankdyn/cli.py", "src/crankdyn/batch.py", "src/crankd
 LONG_FUNCTIONS = {
     ("src/crankdyn/physics/firing_explorer.py", "explore"): 96,
     ("src/crankdyn/physics/layout.py", "build_layout"): 108,
-    ("src/crankdyn/physics/pressure_trace.py", "to_cycle_grid"): 82,
     ("plugins/crankdyn_builtin/bays/stage.py", "run"): 102,
     ("plugins/crankdyn_builtin/bearings/stage.py", "run"): 87,
     ("plugins/crankdyn_builtin/flywheel/stage.py", "run"): 86,
