@@ -13,7 +13,7 @@ Not part of the test suite: timing asserts belong here, not in tests.
 2. HTML (with figures) and PDF (WeasyPrint) time for the examples named by --report;
 3. error against run time: the angle-step study and the piston-kinematics forms of the numerics
    stage (measured on the scene, against references that do not use the method under test), and
-   any solver studies registered with crankdyn_builtin.numerics.stage.register_error_probe;
+   any solver studies plugins register with the crankdyn_error_probes hook;
 4. overhead of the pipeline against a bare numpy evaluation of the same kinematics and force
    formulas, written out below (goal: the pipeline's compute part within 2x of bare numpy).
 """

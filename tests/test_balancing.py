@@ -441,3 +441,29 @@ def test_results_json_ready_and_csv_table():
     frame = out.tables["balancing"]
     assert {"shaft_angle_deg", "force_x_N", "force_y_N", "moment_x_Nm", "moment_y_Nm", "residual_force_x_N"} <= set(frame)
     assert len(frame) == 720
+
+
+def test_order_vectors_of_a_flat_inline4():
+    """The vector-method piece of the stage on its own: a flat-crank inline 4 cancels its first order
+    and its rotating forces, and the four second-order forces add up (coefficient 4, Poda's table)."""
+    from crankdyn_builtin.balancing.stage import order_vectors
+
+    g = bal.geometry_from_layout(_layout("inline4"))
+    harmonics = bal.harmonics_for(MASSES.rod_ratio, bal.orders_needed(MASSES.rod_ratio))
+    models = {0: bal.rotating_model(g), 1: bal.reciprocating_model(g, 1), 2: bal.reciprocating_model(g, 2)}
+    C, C_I = MASSES.centrifugal_N, MASSES.first_order_N
+    coefficients, absolute, orders = order_vectors(g, models, (1, 2), C, C_I, harmonics, 0.1)
+    assert coefficients["sum_C"] < 1e-12 and coefficients["sum_PI"] < 1e-12
+    assert coefficients["sum_PII"] == pytest.approx(4.0, abs=1e-12)
+    assert absolute["sum_PII_N"] == pytest.approx(4.0 * abs(harmonics[2]) * C_I, rel=1e-12)
+    assert [o["order"] for o in orders] == [0, 1, 2]
+
+
+@pytest.mark.parametrize("args, expected", [
+    ((0, True, False, False), "self"), ((0, False, True, False), "counterweights"),
+    ((1, False, True, True), "counterweights+shaft_backward"), ((2, False, True, True), "shaft_forward+shaft_backward"),
+    ((4, False, True, True), "none")])
+def test_remedy_names_the_means(args, expected):
+    from crankdyn_builtin.balancing.stage import remedy
+
+    assert remedy(*args, balance_orders=(1, 2), first_order_forward="crankshaft") == expected

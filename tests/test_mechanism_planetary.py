@@ -16,6 +16,7 @@ from crankdyn.physics import planetary as pl
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
+from crankdyn_builtin.planetary.stage import tdc_snapshot_m
 from conftest import modified, write_scene
 
 REGISTRY = default_registry()
@@ -245,3 +246,19 @@ def test_planetary_with_cycle_data_is_refused_with_the_reason():
     scene = scene_from_dict(data, base_dir=examples_dir())
     with pytest.raises(SceneError, match="remove \\[cycle\\]"):
         run_scene(scene, REGISTRY)
+
+
+def test_tdc_snapshot_foot_of_the_arm_is_the_rod_line_arm_away_from_the_shaft():
+    """The stage's TDC drawing: the foot N of the perpendicular from the shaft on the rod's line
+    lies on that line and |ON| is the rod-line arm that force_transmission computes independently."""
+    g = _geometry("external", 0.03, 0.01, 0.01, 30.0)
+    dc = pl.dead_centres(g)
+    snap = tdc_snapshot_m(g, dc)
+    foot, pin, piston = (np.array(snap[k]) for k in ("arm_foot", "pin", "piston_pin"))
+    arm = abs(float(pl.force_transmission(dc.tdc_carrier_angle_rad, g).rod_line_arm_m))
+    assert np.hypot(*foot) == pytest.approx(arm, rel=1e-12)
+    along = piston - pin
+    off = foot - pin
+    assert abs(along[0] * off[1] - along[1] * off[0]) < 1e-15  # N on the rod's line
+    assert snap["pitch_point"] == pytest.approx([0.03 * math.sin(dc.tdc_carrier_angle_rad),
+                                                 0.03 * math.cos(dc.tdc_carrier_angle_rad)], rel=1e-15)

@@ -9,10 +9,11 @@ import pytest
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import check_scene, run_scene
+from crankdyn.hookspecs import hookimpl
+from crankdyn.orchestrator import Runner, check_scene, run_scene
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import series
-from crankdyn.plugins import default_registry
+from crankdyn.plugins import collect, default_registry, plugin_manager
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
@@ -153,7 +154,7 @@ def test_scene_copy_at_another_step_is_faithful():
     with pytest.raises(SceneError, match="must divide the cycle"):
         num.scene_with_step(scene, 7.0)
     with pytest.raises(SceneError, match="firing delays"):  # 30 deg does not divide the 40-deg banks
-        num.run_at_step(scene, 30.0, repeats=1)
+        num.run_at_step(scene, 30.0, repeats=1, runner=Runner(REGISTRY))
     # The study moves 30 and 15 deg onto the engine's 40-deg grid (issue 18): 20 and 40/3 deg, none refused.
     results = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results
     assert results["steps_refused"] == {}
@@ -212,29 +213,36 @@ def test_options_table_steps_repeats_and_budget():
 
 
 def test_solver_probes_add_rows():
+    """Probes come from the documented ``crankdyn_error_probes`` hook of any plugin."""
     calls = []
 
-    def study(scene):
+    def study(scene, runner):
+        assert isinstance(runner, Runner) and "forces" in runner.stages
         calls.append(scene.engine.rpm)
         return [num.ProbePoint("RK45", f"rtol = 1e-{k}", 10.0 ** -k, "rad/s", 1e-3 * k, "analytic") for k in (3, 6, 9)]
 
-    def refused(scene):
+    def refused(scene, runner):
         raise SceneError([])
 
-    num.register_error_probe(num.ErrorProbe("test-solver", "Test solver", lambda s: True, study))
-    num.register_error_probe(num.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused))
-    num.register_error_probe(num.ErrorProbe("test-not-here", "Other", lambda s: False, study))
-    try:
-        result = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), REGISTRY)
-        solvers = result.outputs["numerics"].results["solvers"]
-        assert set(solvers) == {"test-solver", "test-refused"} and calls == [5600]
-        assert [p["setting"] for p in solvers["test-solver"]["points"]] == ["rtol = 1e-3", "rtol = 1e-6", "rtol = 1e-9"]
-        html, _, t = render_section(result)
-        assert not t.missing and "Test solver: error against run time" in html
-        assert "Refusing solver: not studied" in html
-    finally:
-        for name in ("test-solver", "test-refused", "test-not-here"):
-            num._PROBES.pop(name, None)
+    class ProbePlugin:
+        @hookimpl
+        def crankdyn_error_probes(self):
+            return [num.ErrorProbe("test-solver", "Test solver", lambda s: True, study),
+                    num.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused),
+                    num.ErrorProbe("test-not-here", "Other", lambda s: False, study)]
+
+    registry = collect(plugin_manager(extra_plugins=[ProbePlugin()]))
+    assert set(registry.error_probes) == {"test-solver", "test-refused", "test-not-here"}
+    result = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), registry)
+    solvers = result.outputs["numerics"].results["solvers"]
+    assert set(solvers) == {"test-solver", "test-refused"} and calls == [5600]
+    assert [p["setting"] for p in solvers["test-solver"]["points"]] == ["rtol = 1e-3", "rtol = 1e-6", "rtol = 1e-9"]
+    html, _, t = render_section(result)
+    assert not t.missing and "Test solver: error against run time" in html
+    assert "Refusing solver: not studied" in html
+    # without the plugin, no solver rows
+    plain = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), REGISTRY)
+    assert "solvers" not in plain.outputs["numerics"].results
 
 
 def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():

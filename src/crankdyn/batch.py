@@ -23,38 +23,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+from . import answer_key
 from .errors import CrankdynError, Problem, SceneError
 
 VARIANT_COLUMN = "variant"
 
-# The answer key: (column, stage, results.json key, factor). Units in the column names;
-# a stage that did not run leaves its columns empty for that variant.
-ANSWER_COLUMNS: tuple[tuple[str, str, str, float], ...] = (
-    ("v_max_m_s", "kinematics", "v_max_m_s", 1.0),
-    ("v_max_crank_angle_deg", "kinematics", "v_max_crank_angle_deg", 1.0),
-    ("v_mean_m_s", "kinematics", "mean_piston_speed_m_s", 1.0),
-    ("j_max_m_s2", "kinematics", "j_max_m_s2", 1.0),
-    ("j_min_m_s2", "kinematics", "j_min_m_s2", 1.0),
-    ("j_min_crank_angle_deg", "kinematics", "j_min_crank_angle_deg", 1.0),
-    ("p_c_MPa", "indicator", "compression_end_pressure_Pa", 1e-6),
-    ("p_max_MPa", "indicator", "max_pressure_Pa", 1e-6),
-    ("p_max_crank_angle_deg", "indicator", "max_pressure_crank_angle_deg", 1.0),
-    ("p_i_MPa", "indicator", "mean_indicated_pressure_Pa", 1e-6),
-    ("L_i_J", "indicator", "indicated_work_J", 1.0),
-    ("N_i_cylinder_kW", "indicator", "indicated_power_W", 1e-3),
-    ("p_j_tdc_MPa", "forces", "inertia_tdc_Pa", 1e-6),
-    ("c_MPa", "forces", "centrifugal_Pa", 1e-6),
-    ("t_max_MPa", "forces", "tangential_max_Pa", 1e-6),
-    ("z_min_MPa", "forces", "radial_min_Pa", 1e-6),
-    ("q_max_MPa", "forces", "resultant_max_Pa", 1e-6),
-    ("M_cylinder_mean_Nm", "forces", "mean_torque_Nm", 1.0),
-    ("M_cylinder_max_Nm", "forces", "torque_max_Nm", 1.0),
-    ("M_mean_Nm", "torque", "mean_Nm", 1.0),
-    ("M_max_Nm", "torque", "max_Nm", 1.0),
-    ("M_min_Nm", "torque", "min_Nm", 1.0),
-    ("torque_non_uniformity", "torque", "non_uniformity", 1.0),
-    ("N_i_engine_kW", "torque", "indicated_power_W", 1e-3),
-)
+# The answer key's columns are declared by the stages (``Stage.answer_columns``) and
+# collected from the registry by :mod:`crankdyn.answer_key`; this module names no result key.
 
 
 @dataclass
@@ -244,11 +219,7 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
 
 def answers(document: dict) -> dict[str, Any]:
     """The answer-key values of one results.json document (missing stages give None)."""
-    out: dict[str, Any] = {}
-    for column, stage, key, factor in ANSWER_COLUMNS:
-        value = (document.get(stage) or {}).get(key)
-        out[column] = value * factor if isinstance(value, (int, float)) and not isinstance(value, bool) else None
-    return out
+    return answer_key.answers(document, answer_key.answer_columns(_registry()))
 
 
 # --------------------------------------------------------------------------- the batch
@@ -354,7 +325,7 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
 
 def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
     """Successful variants only: id, row, the variant's own inputs as given, then the results."""
-    answer_names = [c for c, *_ in ANSWER_COLUMNS]
+    answer_names = [c.name for c in answer_key.answer_columns(_registry())]
     ran = [o for o in outcomes if o.ok]
     # Leave out result columns no variant has (e.g. a kinematics-only batch).
     answer_names = [c for c in answer_names if any(o.answers.get(c) is not None for o in ran)]

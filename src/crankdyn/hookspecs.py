@@ -17,7 +17,7 @@ from typing import Iterable
 
 import pluggy
 
-from .plugin_types import Catalog, Mechanism, Stage
+from .plugin_types import Catalog, ErrorProbe, Mechanism, Stage
 
 PROJECT_NAME = "crankdyn"
 
@@ -60,4 +60,14 @@ def crankdyn_catalogs() -> Iterable[Catalog]:
     A catalog is a TOML file of ``key = "text"`` entries in a language; a plugin adds
     the texts its templates use, or a whole new report language. Keys already defined
     by another catalog of the same language are an error.
+    """
+
+
+@hookspec
+def crankdyn_error_probes() -> Iterable[ErrorProbe]:
+    """Return error-against-time studies of solvers (one :class:`ErrorProbe` each).
+
+    The numerics stage runs every probe that ``applies`` to the scene and shows its points
+    (error against run time) in its section and in results.json under ``numerics.solvers``.
+    Probe names must be unique across plugins.
     """

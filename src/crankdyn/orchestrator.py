@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from .errors import PluginError, Problem, SceneError
-from .plugin_types import Stage, StageOutput
+from .plugin_types import SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene, options
 
@@ -18,6 +18,7 @@ from .scene import Scene, options
 class Plan:
     order: list[Stage]
     skipped: dict[str, str]  # stage name -> reason
+    registry: Registry | None = field(default=None, repr=False, compare=False)  # for stages' services
 
 
 @dataclass
@@ -141,7 +142,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         reason = add(name, ())
         if reason is not None:
             skipped[name] = reason
-    return Plan(order=_topological(chosen), skipped=dict(sorted(skipped.items())))
+    return Plan(order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry)
 
 
 def _topological(stages: dict[str, Stage]) -> list[Stage]:
@@ -166,6 +167,42 @@ def _topological(stages: dict[str, Stage]) -> list[Stage]:
     return order
 
 
+@dataclass(frozen=True)
+class Runner:
+    """Re-plan and re-run the pipeline over one registry: the ``SERVICE_RUNNER`` a stage receives.
+
+    ``stages``: the registered stages by name; ``plan(scene, names)`` checks ``scene`` against
+    the plugins and orders ``names`` with their prerequisites; ``run(scene, plan)`` runs a plan.
+    """
+
+    registry: Registry
+
+    @property
+    def stages(self) -> dict[str, Stage]:
+        return self.registry.stages
+
+    def plan(self, scene: Scene, names: Iterable[str] | None = None) -> Plan:
+        check_scene(scene, self.registry)
+        return plan(scene, self.registry, names)
+
+    def run(self, scene: Scene, the_plan: Plan) -> RunResult:
+        return run_plan(scene, the_plan)
+
+
+def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:
+    """The orchestrator's objects ``stage`` names in ``Stage.services``."""
+    if not stage.services:
+        return {}
+    if registry is None:
+        raise PluginError(f"stage {stage.name!r} needs {list(stage.services)}, but the plan has no registry")
+    known = {SERVICE_RUNNER: lambda: Runner(registry),
+             SERVICE_ERROR_PROBES: lambda: list(registry.error_probes.values())}
+    unknown = [s for s in stage.services if s not in known]
+    if unknown:
+        raise PluginError(f"stage {stage.name!r} asks for unknown services {unknown}; known: {sorted(known)}")
+    return {name: known[name]() for name in stage.services}
+
+
 def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
@@ -173,6 +210,7 @@ def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
     for stage in the_plan.order:
         inputs = {key: data[key] for key in stage.requires}
         inputs.update({key: data[key] for key in stage.uses if key in data})
+        inputs.update(_services(stage, the_plan.registry))
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         timing[stage.name] = time.perf_counter() - start

@@ -90,10 +90,10 @@ def xlsx_bytes(sheets) -> bytes:
     decimal separator); NaN becomes an empty cell; the header row is bold and frozen.
     Sheet names are cut to Excel's 31 characters and made unique.
     """
-    from openpyxl import Workbook
-    from openpyxl.cell import WriteOnlyCell
-    from openpyxl.styles import Font
-    from openpyxl.utils import get_column_letter
+    from openpyxl import Workbook  # lazy: heavy optional import
+    from openpyxl.cell import WriteOnlyCell  # lazy: heavy optional import
+    from openpyxl.styles import Font  # lazy: heavy optional import
+    from openpyxl.utils import get_column_letter  # lazy: heavy optional import
 
     workbook = Workbook(write_only=True)  # streaming writer: several times faster for grid tables
     bold = Font(bold=True)

@@ -11,8 +11,10 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import outputs
 from .orchestrator import RunResult, run_scene
 from .plugins import Registry
+from .manifest import write_outputs
 from .scene import Scene
 
 
@@ -31,8 +33,6 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     report.html refers to the figures in ``figures/``, each stored once; with ``self_contained``
     they are inlined in the page instead (and no figures/ folder is written).
     """
-    from . import outputs
-
     formats = list(formats)
     files: dict[str, bytes] = {}
     if "json" in formats:
@@ -42,7 +42,7 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     if "xlsx" in formats:
         files.update(outputs.xlsx_tables(result))
     if "html" in formats or "pdf" in formats or "docx" in formats:
-        from .report.document import render_html
+        from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
         rendered = render_html(result, registry)
         if "html" in formats and self_contained:
@@ -51,11 +51,11 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
             files["report.html"] = rendered.linked_html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
         if "pdf" in formats:
-            from .report.pdf import html_to_pdf
+            from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
             files["report.pdf"] = html_to_pdf(rendered.linked_html, rendered.figures)
         if "docx" in formats:
-            from .report.docx import report_docx
+            from .report.docx import report_docx  # lazy: heavy optional import (pandoc, matplotlib)
 
             files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
     return files
@@ -66,12 +66,22 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
                  self_contained: bool = False) -> ReportRun:
     """Compute ``scene`` and write its outputs below ``out_dir``, as ``crankdyn report`` does.
 
-    Raises :class:`crankdyn.errors.SceneError` (and writes nothing) for a bad scene.
+    Files of an earlier run into ``out_dir`` that this one does not write again are removed (only
+    those crankdyn listed in its manifest there). Raises :class:`crankdyn.errors.SceneError` (and
+    writes nothing) for a bad scene.
     """
-    from .manifest import write_outputs
-
-    result = run_scene(scene, registry, stages, languages)
-    files = render_files(result, registry, formats, self_contained)
-    # Files of an earlier run into out_dir that this one does not write again are removed
-    # (only those crankdyn listed in its manifest there).
+    result, files = run_and_render(scene, registry, formats, stages, languages, self_contained=self_contained)
     return ReportRun(result=result, written=write_outputs(Path(out_dir), files))
+
+
+def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
+                   languages: Iterable[str] = (), *, self_contained: bool = False,
+                   cache=None) -> tuple[RunResult, dict[str, bytes]]:
+    """Compute ``scene`` and render its files in memory: the one path of ``report``, ``batch`` and ``serve``.
+
+    ``crankdyn report`` and ``batch`` write the files (:func:`write_report`); ``serve`` shows
+    ``report.html`` in the browser and passes its stage ``cache`` (re-running only the stages whose
+    inputs changed). Raises :class:`crankdyn.errors.SceneError` for a bad scene.
+    """
+    result = run_scene(scene, registry, stages, languages, cache=cache)
+    return result, render_files(result, registry, formats, self_contained)

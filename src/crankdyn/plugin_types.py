@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .report.context import RenderContext
     from .scene import Scene
 
 
@@ -128,6 +127,27 @@ class Section:
 
 
 @dataclass(frozen=True)
+class AnswerColumn:
+    """A column of the batch answer key (``answer_key.csv``/``.xlsx``) a stage declares.
+
+    column:     the column header; carries its unit, e.g. ``p_max_MPa``.
+    key:        where the value is in the stage's ``StageOutput.results``; dots walk into
+                nested tables (``"peak.value_Pa"``).
+    unit:       the column's unit as printed ("MPa", "m/s", "" for a plain number).
+    factor:     column value = results value x factor (results are SI: Pa -> MPa is 1e-6).
+    label_key:  optional catalog key of a human-readable label for the column.
+
+    A variant whose stage did not run (or gave no number) leaves the cell empty.
+    """
+
+    column: str
+    key: str
+    unit: str = ""
+    factor: float = 1.0
+    label_key: str | None = None
+
+
+@dataclass(frozen=True)
 class Stage:
     """An analysis stage.
 
@@ -152,6 +172,11 @@ class Stage:
     default:    whether the stage runs when the scene does not list stages.
     last:       order hint: run (and appear in the report) after every stage that is
                 ready at the same time, e.g. a summary of the others; ``requires`` still rules.
+    answer_columns: the :class:`AnswerColumn` s this stage adds to the batch answer key
+                (in the key they follow the stages' requires/provides order, then the
+                order given here).
+    services:   objects the orchestrator passes in ``inputs`` (``SERVICE_RUNNER``,
+                ``SERVICE_ERROR_PROBES``, see below); a stage never builds its own registry.
     """
 
     name: str
@@ -160,7 +185,9 @@ class Stage:
     provides: tuple[str, ...]
     applies: Callable[["Scene"], str | None]
     run: Callable[["Scene", Mapping[str, Any]], StageOutput]
-    render: Callable[[StageOutput, "RenderContext"], str | None]
+    # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
+    # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
+    render: Callable[[StageOutput, Any], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
     uses: tuple[str, ...] = ()
@@ -168,6 +195,54 @@ class Stage:
     last: bool = False
     options_table: str | None = None
     options_model: type | None = None
+    answer_columns: tuple[AnswerColumn, ...] = ()
+    services: tuple[str, ...] = ()
+
+
+# Objects the orchestrator hands to a stage that names them in ``Stage.services``; they arrive
+# in ``run``'s ``inputs`` under these keys (next to the data keys of ``requires``).
+#: a :class:`crankdyn.orchestrator.Runner` over the registry the scene runs with: re-plan and
+#: re-run (part of) the pipeline, e.g. at another angle step, without building a registry.
+SERVICE_RUNNER = "crankdyn:runner"
+#: the :class:`ErrorProbe` s every plugin registered with the ``crankdyn_error_probes`` hook.
+SERVICE_ERROR_PROBES = "crankdyn:error_probes"
+SERVICES = (SERVICE_RUNNER, SERVICE_ERROR_PROBES)
+
+
+@dataclass(frozen=True)
+class ProbePoint:
+    """One point of an error-against-time study of a solver.
+
+    method:   the solver ("RK45", "Newmark", ...); setting: what was varied ("rtol = 1e-6");
+    error:    the error against the probe's reference, in ``error_unit``; time_s: its run time;
+    reference: how the reference was obtained (independent of the method under test).
+    """
+
+    method: str
+    setting: str
+    error: float
+    error_unit: str
+    time_s: float
+    reference: str
+
+
+@dataclass(frozen=True)
+class ErrorProbe:
+    """An error-against-time study of a solver, shown by the numerics section and in results.json.
+
+    Returned from the ``crankdyn_error_probes`` hook. ``applies(scene)`` says whether the probe
+    concerns the scene; ``run(scene, runner)`` returns its points, or raises
+    :class:`crankdyn.errors.SceneError` when the scene cannot be studied (the reason is
+    reported). ``runner`` is the orchestrator's :class:`crankdyn.orchestrator.Runner`: a probe
+    that needs e.g. the engine torque re-runs the pipeline with it, then times its own solver
+    (e.g. at tolerances 1e-3 ... 1e-10) against a reference that does not use that solver.
+    ``title`` is plain text shown above its table.
+    """
+
+    name: str
+    title: str
+    applies: Callable[["Scene"], bool]
+    run: Callable[["Scene", Any], list[ProbePoint]]
 
 
 @dataclass(frozen=True)

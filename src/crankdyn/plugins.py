@@ -9,7 +9,7 @@ import pluggy
 
 from . import hookspecs
 from .errors import PluginError
-from .plugin_types import Catalog, Mechanism, Stage
+from .plugin_types import Catalog, ErrorProbe, Mechanism, Stage
 
 ENTRY_POINT_GROUP = hookspecs.PROJECT_NAME
 
@@ -21,6 +21,7 @@ class Registry:
     mechanisms: dict[str, Mechanism] = field(default_factory=dict)
     stages: dict[str, Stage] = field(default_factory=dict)
     catalogs: list[Catalog] = field(default_factory=list)
+    error_probes: dict[str, ErrorProbe] = field(default_factory=dict)
     owner: dict[str, str] = field(default_factory=dict)  # "stage:<name>" -> plugin name
 
 
@@ -39,11 +40,12 @@ def collect(manager: pluggy.PluginManager) -> Registry:
     """Flatten the hooks' results into a :class:`Registry`; duplicate names are an error."""
     registry = Registry()
     for kind, hook, target in (("mechanism", manager.hook.crankdyn_mechanisms, registry.mechanisms),
-                               ("stage", manager.hook.crankdyn_stages, registry.stages)):
+                               ("stage", manager.hook.crankdyn_stages, registry.stages),
+                               ("error probe", manager.hook.crankdyn_error_probes, registry.error_probes)):
         for impl in hook.get_hookimpls():
             plugin_name = manager.get_name(impl.plugin) or repr(impl.plugin)
             for item in impl.function() or ():
-                expected = Mechanism if kind == "mechanism" else Stage
+                expected = {"mechanism": Mechanism, "stage": Stage, "error probe": ErrorProbe}[kind]
                 if not isinstance(item, expected):
                     raise PluginError(f"plugin {plugin_name!r} returned {item!r} from its {kind} hook; "
                                       f"expected {expected.__name__}")

@@ -206,9 +206,8 @@ class Preview:
         return snapshot
 
     def _render(self) -> tuple[str, str, tuple[str, ...], str | None]:
-        from .orchestrator import run_scene
+        from .pipeline import run_and_render  # lazy: heavy optional import (report rendering stack)
         from .plugins import default_registry
-        from .report.document import render_html
         from .report.i18n import available_languages
         from .scene import load_scene
 
@@ -217,12 +216,13 @@ class Preview:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            result = run_scene(scene, self._registry, self.stages, available_languages(), cache=self.stage_cache)
-            rendered = render_html(result, self._registry)
+            _, files = run_and_render(scene, self._registry, ["html"], self.stages, available_languages(),
+                                      self_contained=True, cache=self.stage_cache)
+            report_html = files["report.html"].decode("utf-8")
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)
             return state, page, problems, None
-        return "report", rendered.html, (), rendered.html
+        return "report", report_html, (), report_html
 
     def pdf(self, snapshot: Snapshot) -> bytes:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""

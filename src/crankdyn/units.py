@@ -28,7 +28,7 @@ SI_UNIT = {
 
 @lru_cache(maxsize=1)
 def _registry():
-    import pint
+    import pint  # lazy: heavy optional import
 
     return pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
 
@@ -47,7 +47,7 @@ def parse_quantity(text: object, kind: str) -> float:
     quick = quick_quantity(text, kind)  # the common spellings without importing pint (same values)
     if quick is not None:
         return quick
-    import pint
+    import pint  # lazy: heavy optional import
 
     from .quantity import QuantityError, parse
 

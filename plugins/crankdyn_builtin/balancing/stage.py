@@ -108,48 +108,24 @@ def _vector(value: complex, scale: float) -> dict:
             "x": value.imag * scale, "y": value.real * scale}
 
 
-def run(scene, inputs) -> StageOutput:
-    torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
-    opts = options(scene, "balancing", BalancingOptions)
-    e, m = scene.engine, scene.masses
-    layout = engine_layout(scene)
-    g = bal.geometry_from_layout(layout)
-    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
-    a = e.cylinder_spacing  # None: moments in units of a only
-    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
-    m_s = m.piston_group + rod_rec
-    m_R = rotating_mass_per_crank_kg(scene, layout)
-    masses = bal.Masses(m_s, m_R, R, lam, w)
-    n_max = bal.orders_needed(lam)
-    harmonics = bal.harmonics_for(lam, n_max)
-    series = bal.acceleration_series(lam)
-    C, C_I = masses.centrifugal_N, masses.first_order_N
-    notes = []
-    if opts.balance_shaft_spacing is not None and a is None and g.cranks > 1:
-        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
-                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
-    if a is None and g.cranks > 1:
-        notes.append(("balancing.note_no_spacing", {}))
-    if e.rod_type == "articulated":
-        notes.append(("balancing.note_articulated", {}))
-    if torque is None:
-        notes.append(("balancing.note_no_torque", {}))
+def _amplitude(n: int, C: float, C_I: float, harmonics) -> float:
+    """The force amplitude of order n, N: C for the rotating masses (n = 0), |a_n| C_I otherwise."""
+    return C if n == 0 else abs(harmonics[n]) * C_I
 
-    # ----------------------------------------------------------------- vector models
-    models = {0: bal.rotating_model(g)}
-    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
-        models[n] = bal.reciprocating_model(g, n)
 
-    def amplitude(n: int) -> float:
-        return C if n == 0 else abs(harmonics[n]) * C_I
+def order_vectors(g, models: dict, include_orders, C: float, C_I: float, harmonics, a):
+    """The vector method, order by order: (coefficients, absolute values, per-order entries).
 
-    def signed(n: int) -> float:
-        return C if n == 0 else harmonics[n] * C_I
-
+    For each order n (0 = rotating masses) the forward and backward rotating parts of the
+    resultant force and moment, their largest values as coefficients of the order's amplitude
+    (moments in units of the cylinder spacing ``a``, m, or of ``a`` itself when it is None) and
+    in N / N·m, and the hodographs.
+    """
     coefficients, absolute, orders = {}, {}, []
     for n, model in models.items():
-        if n not in opts.include_orders and n != 0:
+        if n not in include_orders and n != 0:
             continue
+        amplitude = _amplitude(n, C, C_I, harmonics)
         name = "C" if n == 0 else "P" + bal.roman(n)
         z = g.cylinders
         model = bal.OrderModel(model.order, _c(model.force_forward, z), _c(model.force_backward, z),
@@ -157,19 +133,19 @@ def run(scene, inputs) -> StageOutput:
         force_coef, moment_coef = _r(model.force_max, z), _r(model.moment_max, z)
         coefficients["sum_" + name] = force_coef
         coefficients["M_" + name] = moment_coef
-        absolute["sum_" + name + "_N"] = force_coef * amplitude(n)
-        absolute["M_" + name + "_Nm"] = moment_coef * amplitude(n) * a if a is not None else None
-        s = signed(n)
+        absolute["sum_" + name + "_N"] = force_coef * amplitude
+        absolute["M_" + name + "_Nm"] = moment_coef * amplitude * a if a is not None else None
+        s = C if n == 0 else harmonics[n] * C_I
         hf = bal.hodograph(_c(model.force_forward) * s, _c(model.force_backward) * s, model.speed,
-                           tolerance=NEGLIGIBLE * amplitude(n) * g.cylinders)
+                           tolerance=NEGLIGIBLE * amplitude * g.cylinders)
         hm = bal.hodograph(_c(model.moment_forward) * s, _c(model.moment_backward) * s, model.speed,
-                           tolerance=NEGLIGIBLE * amplitude(n) * g.cylinders)
+                           tolerance=NEGLIGIBLE * amplitude * g.cylinders)
         unit_m = a if a is not None else 1.0
         orders.append({
-            "order": n, "name": name, "speed": model.speed, "amplitude_N": amplitude(n),
+            "order": n, "name": name, "speed": model.speed, "amplitude_N": amplitude,
             "force_coefficient": force_coef, "moment_coefficient": moment_coef,
-            "force_max_N": force_coef * amplitude(n),
-            "moment_max_Nm": moment_coef * amplitude(n) * a if a is not None else None,
+            "force_max_N": force_coef * amplitude,
+            "moment_max_Nm": moment_coef * amplitude * a if a is not None else None,
             "force_forward": _vector(_c(model.force_forward) * s, 1.0),
             "force_backward": _vector(_c(model.force_backward) * s, 1.0),
             "moment_forward": _vector(_c(model.moment_forward) * s, unit_m),
@@ -177,25 +153,32 @@ def run(scene, inputs) -> StageOutput:
             "force_hodograph": _hodograph_json(hf, 1.0),
             "moment_hodograph": _hodograph_json(hm, unit_m),
         })
+    return coefficients, absolute, orders
 
-    # The textbook's bay models (V, W, Y, X, radial): F, P and K, Z of one bay.
-    bay_model = None
-    if layout.cylinders_per_bay > 1:
-        axes = g.cylinder_axis_rad[g.cylinder_bay == 0]
-        f1, p1 = bal.bay_vectors(axes, 1)
-        k2, z2 = bal.bay_vectors(axes, 2)
-        hod1 = bal.hodograph(f1, p1, 1)  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical
-        hod2 = bal.hodograph(k2, z2, 2)
-        nb = len(axes)
-        bay_model = {"F": _signed(_c(f1, nb)), "P": _signed(_c(p1, nb)), "K": _signed(_c(k2, nb)),
-                     "Z": _signed(_c(z2, nb)), "A_I": _r(hod1.x_amplitude, nb), "B_I": _r(hod1.y_amplitude, nb),
-                     "A_II": _r(hod2.x_amplitude, nb), "B_II": _r(hod2.y_amplitude, nb),
-                     "bank_axes_deg": [round(math.degrees(x), 9) for x in axes]}
 
-    # ----------------------------------------------------------------- time-domain check
-    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
-    spacing = a if a is not None else 1.0
-    all_orders = [1] + list(range(2, n_max + 1, 2))
+def bay_model_of(layout, g) -> dict | None:
+    """The textbook's bay models (V, W, Y, X, radial): F, P and K, Z of one bay; None for one cylinder a bay."""
+    if layout.cylinders_per_bay <= 1:
+        return None
+    axes = g.cylinder_axis_rad[g.cylinder_bay == 0]
+    f1, p1 = bal.bay_vectors(axes, 1)
+    k2, z2 = bal.bay_vectors(axes, 2)
+    hod1 = bal.hodograph(f1, p1, 1)  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical
+    hod2 = bal.hodograph(k2, z2, 2)
+    nb = len(axes)
+    return {"F": _signed(_c(f1, nb)), "P": _signed(_c(p1, nb)), "K": _signed(_c(k2, nb)),
+            "Z": _signed(_c(z2, nb)), "A_I": _r(hod1.x_amplitude, nb), "B_I": _r(hod1.y_amplitude, nb),
+            "A_II": _r(hod2.x_amplitude, nb), "B_II": _r(hod2.y_amplitude, nb),
+            "bank_axes_deg": [round(math.degrees(x), 9) for x in axes]}
+
+
+def time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a):
+    """The vector method against the direct sum of every cylinder's inertia forces over one turn.
+
+    Returns (force N, moment N·m of the direct sum as complex y + i x, force scale, moment scale,
+    the check's record); the deviations are relative to the scales.
+    """
+    C, C_I = masses.centrifugal_N, masses.first_order_N
     f_td, m_td = bal.time_domain_sum(g, masses, theta, spacing)
     f_vec, m_vec = bal.vector_method_sum(g, masses, theta, all_orders, spacing, harmonics)
     scale_F = g.cranks * C + g.cylinders * C_I * float(np.sum(np.abs(harmonics[all_orders])))
@@ -205,16 +188,11 @@ def run(scene, inputs) -> StageOutput:
              "moment_deviation_relative": float(np.max(np.abs(m_td - m_vec)) / scale_M),
              "force_scale_N": scale_F, "moment_scale_Nm": scale_M if a is not None else None}
     check["agrees"] = bool(max(check["force_deviation_relative"], check["moment_deviation_relative"]) < CHECK_TOLERANCE)
+    return f_td, m_td, scale_F, scale_M, check
 
-    # ----------------------------------------------------------------- balancing means
-    shaft_positions = None
-    if opts.balance_shaft_spacing is not None and g.cranks > 1:
-        half = 0.5 * opts.balance_shaft_spacing / a
-        shaft_positions = (-half, half)
-    means = bal.design_means(g, masses, harmonics, opts.balance_orders, opts.counterweights,
-                             opts.first_order_forward, shaft_positions)
-    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
-    r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
+
+def means_records(g, means, r_cw: float, r_sh: float, a):
+    """Counterweights and balance shafts as results.json records (masses, kg; angles, deg; positions, m)."""
     centre = 0.5 * (g.cranks - 1)
 
     def position_m(z: float):
@@ -241,12 +219,22 @@ def run(scene, inputs) -> StageOutput:
                                    "position_m": position_m(sm.position),
                                    "end": "free" if sm.position < -1e-12 else ("power" if sm.position > 1e-12 else "middle")}
                                   for sm in shaft_masses]})
+    return counterweights, shafts
+
+
+def residual_after_means(g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, balance_orders,
+                         scale_F, scale_M, a):
+    """What is left with the balancing means fitted, against the orders left unbalanced.
+
+    Returns (residual force N, residual moment N·m as complex arrays, the record); it "vanishes"
+    when the residual equals the vector sum of the unbalanced orders within CHECK_TOLERANCE.
+    """
     f_means, m_means = means.forces(theta, w, spacing)
-    unbalanced_orders = [n for n in all_orders if n not in opts.balance_orders]
+    unbalanced_orders = [n for n in all_orders if n not in balance_orders]
     f_left, m_left = bal.vector_method_sum(g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False)
     residual_F, residual_M = f_td + f_means, m_td + m_means
     residual = {
-        "balanced_orders": sorted(opts.balance_orders),
+        "balanced_orders": sorted(balance_orders),
         "force_max_N": float(np.max(np.abs(residual_F))),
         "moment_max_Nm": float(np.max(np.abs(residual_M))) if a is not None else None,
         "force_deviation_relative": float(np.max(np.abs(residual_F - f_left)) / scale_F),
@@ -254,31 +242,111 @@ def run(scene, inputs) -> StageOutput:
     }
     residual["vanishes"] = bool(max(residual["force_deviation_relative"], residual["moment_deviation_relative"])
                                 < CHECK_TOLERANCE)
+    return residual_F, residual_M, residual
 
-    # ----------------------------------------------------------------- summary
+
+def remedy(order: int, balanced: bool, forward: bool, backward: bool, balance_orders, first_order_forward: str) -> str:
+    """How an order's force or moment is dealt with: self, counterweights, shaft_forward/backward or none."""
+    if balanced:
+        return "self"
+    if order == 0:
+        return "counterweights"
+    if order in balance_orders:
+        parts = []
+        if forward:
+            parts.append("counterweights" if order == 1 and first_order_forward == "crankshaft" else "shaft_forward")
+        if backward:
+            parts.append("shaft_backward")
+        return "+".join(parts)
+    return "none"
+
+
+def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
+    """One row per order and kind (force, moment): its coefficient, whether it is balanced, the remedy."""
     summary = []
     for entry in orders:
         n = entry["order"]
+        limit = NEGLIGIBLE * _amplitude(n, C, C_I, harmonics) * g.cylinders
         for kind in ("force", "moment"):
             coef = entry[f"{kind}_coefficient"]
             balanced = coef < NEGLIGIBLE * g.cylinders
-            forward = entry[f"{kind}_forward"]["magnitude"] > NEGLIGIBLE * amplitude(n) * g.cylinders
-            backward = entry[f"{kind}_backward"]["magnitude"] > NEGLIGIBLE * amplitude(n) * g.cylinders
-            if balanced:
-                remedy = "self"
-            elif n == 0:
-                remedy = "counterweights"
-            elif n in opts.balance_orders:
-                parts = []
-                if forward:
-                    parts.append("counterweights" if n == 1 and opts.first_order_forward == "crankshaft" else "shaft_forward")
-                if backward:
-                    parts.append("shaft_backward")
-                remedy = "+".join(parts)
-            else:
-                remedy = "none"
+            forward = entry[f"{kind}_forward"]["magnitude"] > limit
+            backward = entry[f"{kind}_backward"]["magnitude"] > limit
             summary.append({"quantity": ("sum_" if kind == "force" else "M_") + entry["name"], "order": n,
-                            "coefficient": coef, "balanced": bool(balanced), "remedy": remedy})
+                            "coefficient": coef, "balanced": bool(balanced),
+                            "remedy": remedy(n, balanced, forward, backward, opts.balance_orders,
+                                             opts.first_order_forward)})
+    return summary
+
+
+def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> pd.DataFrame:
+    """The stage's table: forces (and moments, with a spacing) over one turn, before and after balancing."""
+    table = {"shaft_angle_deg": np.degrees(theta), "force_x_N": f_td.imag, "force_y_N": f_td.real}
+    if a is not None:
+        table.update({"moment_x_Nm": m_td.imag, "moment_y_Nm": m_td.real})
+    table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
+    if a is not None:
+        table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
+    return pd.DataFrame(table)
+
+
+def inertia_masses(scene, layout) -> "bal.Masses":
+    """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
+    m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``)."""
+    e, m = scene.engine, scene.masses
+    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    m_s = m.piston_group + rod_rec
+    m_R = rotating_mass_per_crank_kg(scene, layout)
+    return bal.Masses(m_s, m_R, R, lam, w)
+
+
+def run(scene, inputs) -> StageOutput:
+    torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
+    opts = options(scene, "balancing", BalancingOptions)
+    e = scene.engine
+    layout = engine_layout(scene)
+    g = bal.geometry_from_layout(layout)
+    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+    a = e.cylinder_spacing  # None: moments in units of a only
+    masses = inertia_masses(scene, layout)
+    m_s, m_R = masses.reciprocating_kg, masses.rotating_kg
+    n_max = bal.orders_needed(lam)
+    harmonics = bal.harmonics_for(lam, n_max)
+    C, C_I = masses.centrifugal_N, masses.first_order_N
+    notes = []
+    if opts.balance_shaft_spacing is not None and a is None and g.cranks > 1:
+        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
+                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
+    if a is None and g.cranks > 1:
+        notes.append(("balancing.note_no_spacing", {}))
+    if e.rod_type == "articulated":
+        notes.append(("balancing.note_articulated", {}))
+    if torque is None:
+        notes.append(("balancing.note_no_torque", {}))
+
+    models = {0: bal.rotating_model(g)}
+    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
+        models[n] = bal.reciprocating_model(g, n)
+    coefficients, absolute, orders = order_vectors(g, models, opts.include_orders, C, C_I, harmonics, a)
+
+    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    spacing = a if a is not None else 1.0
+    all_orders = [1] + list(range(2, n_max + 1, 2))
+    f_td, m_td, scale_F, scale_M, check = time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a)
+
+    shaft_positions = None
+    if opts.balance_shaft_spacing is not None and g.cranks > 1:
+        half = 0.5 * opts.balance_shaft_spacing / a
+        shaft_positions = (-half, half)
+    means = bal.design_means(g, masses, harmonics, opts.balance_orders, opts.counterweights,
+                             opts.first_order_forward, shaft_positions)
+    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
+    r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
+    counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
+    residual_F, residual_M, residual = residual_after_means(
+        g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, opts.balance_orders,
+        scale_F, scale_M, a)
 
     torque_range = float(np.ptp(torque.torque_Nm)) if torque is not None else None
     results = {
@@ -291,20 +359,20 @@ def run(scene, inputs) -> StageOutput:
         "second_order_exact_N": float(harmonics[2]) * C_I,
         "second_order_difference_relative": float(harmonics[2]) * C_I / masses.second_order_textbook_N - 1.0,
         "acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in all_orders},
-        "acceleration_series": {bal.roman(n): v for n, v in series.items()},
+        "acceleration_series": {bal.roman(n): v for n, v in bal.acceleration_series(lam).items()},
         "cylinder_spacing_m": a,
         "vertical_axis_deg": g.vertical_deg,
         "coefficients": coefficients,
         "absolute": absolute,
         "orders": orders,
-        "bay_model": bay_model,
+        "bay_model": bay_model_of(layout, g),
         "time_domain_check": check,
         "counterweight_radius_m": r_cw,
         "balance_shaft_radius_m": r_sh,
         "counterweights": counterweights,
         "balance_shafts": shafts,
         "residual": residual,
-        "summary": summary,
+        "summary": remedy_summary(orders, g, C, C_I, harmonics, opts),
         "reaction_torque_range_Nm": torque_range,
         "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
         "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
@@ -314,14 +382,9 @@ def run(scene, inputs) -> StageOutput:
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
-    table = {"shaft_angle_deg": np.degrees(theta), "force_x_N": f_td.imag, "force_y_N": f_td.real}
-    if a is not None:
-        table.update({"moment_x_Nm": m_td.imag, "moment_y_Nm": m_td.real})
-    table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
-    if a is not None:
-        table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
     notes.append(("balancing.note_check", {"orders": n_max, "samples": CHECK_SAMPLES}))
-    return StageOutput(data={}, results=results, tables={"balancing": pd.DataFrame(table)}, notes=notes)
+    table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
+    return StageOutput(data={}, results=results, tables={"balancing": table}, notes=notes)
 
 
 def _signed(value: complex) -> float | dict:
@@ -444,11 +507,9 @@ def _models_figure(ctx, r):
     return ctx.figure(fig, t("balancing.models_caption"), "vector_models")
 
 
-def render(output: StageOutput, ctx) -> str | None:
-    r = output.results
+def _masses_table(ctx, r):
+    """Masses, inertia-force amplitudes and acceleration harmonics."""
     t = ctx.t
-    star = _star_figure(ctx, r)
-    a = r["cylinder_spacing_m"]
     masses_table = ctx.table([
         (t("balancing.quantity"), [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
             "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>", "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
@@ -465,8 +526,12 @@ def render(output: StageOutput, ctx) -> str | None:
         (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
                                  ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
     ], caption=t("balancing.masses_caption"))
-    models_figure = _models_figure(ctx, r)
+    return masses_table
 
+
+def _coefficients_table(ctx, r):
+    """Force and moment coefficients of every order with their hodographs."""
+    t = ctx.t
     def order_name(o):
         return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
 
@@ -493,6 +558,12 @@ def render(output: StageOutput, ctx) -> str | None:
                                        for o in orders], None),
     ], caption=t("balancing.coefficients_caption"), css_class="data wide")
 
+    return coef_table
+
+
+def _bay_table(ctx, r):
+    """The bay model (F, P, A, B, K, Z) of a V/W/Y/X/radial bay; None for one cylinder a bay."""
+    t = ctx.t
     bay_table = None
     if r["bay_model"] is not None:
         bm = r["bay_model"]
@@ -506,6 +577,12 @@ def render(output: StageOutput, ctx) -> str | None:
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)], caption=t("balancing.bay_caption"))
 
+    return bay_table
+
+
+def _summary_table(ctx, r):
+    """What is balanced by itself and what each balancing means takes."""
+    t = ctx.t
     summary_table = ctx.table([
         (t("balancing.quantity"), [_summary_symbol(s) for s in r["summary"]], None),
         (t("balancing.coefficient"), [s["coefficient"] for s in r["summary"]], 4),
@@ -515,6 +592,12 @@ def render(output: StageOutput, ctx) -> str | None:
                                  for s in r["summary"]], None),
     ], caption=t("balancing.summary_caption"))
 
+    return summary_table
+
+
+def _means_table(ctx, r):
+    """Counterweights and balance-shaft masses; None when there are none."""
+    t = ctx.t
     means_rows = []
     for cw in r["counterweights"]:
         means_rows.append((t("balancing.counterweight", crank=cw["crank"]), "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
@@ -541,6 +624,12 @@ def render(output: StageOutput, ctx) -> str | None:
         ], caption=t("balancing.means_caption", r_cw=ctx.num(r["counterweight_radius_m"] * 1e3),
                      r_sh=ctx.num(r["balance_shaft_radius_m"] * 1e3)), css_class="data wide")
 
+    return means_table
+
+
+def _explorer_table(ctx, r):
+    """The firing-order explorer's best rows; None when not asked for."""
+    t = ctx.t
     explorer_table = None
     if "explorer" in r and r["explorer"]["rows"]:
         x = r["explorer"]
@@ -560,6 +649,12 @@ def render(output: StageOutput, ctx) -> str | None:
             (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
         ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide")
 
+    return explorer_table
+
+
+def _conclude(ctx, r) -> None:
+    """The section's conclusions: what stays unbalanced, which means are fitted."""
+    t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
     if unbalanced:
         ctx.conclude(t("balancing.conclusion_unbalanced",
@@ -569,10 +664,23 @@ def render(output: StageOutput, ctx) -> str | None:
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
                        shafts=len(r["balance_shafts"])))
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    r = output.results
+    star = _star_figure(ctx, r)
+    masses_table = _masses_table(ctx, r)
+    models_figure = _models_figure(ctx, r)
+    coef_table = _coefficients_table(ctx, r)
+    bay_table = _bay_table(ctx, r)
+    summary_table = _summary_table(ctx, r)
+    means_table = _means_table(ctx, r)
+    explorer_table = _explorer_table(ctx, r)
+    _conclude(ctx, r)
     return ctx.render_template("sections/balancing.html.j2", r=r, star=star, masses_table=masses_table,
                                models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
                                summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
-                               spacing=a)
+                               spacing=r["cylinder_spacing_m"])
 
 
 def _summary_symbol(s) -> Markup:

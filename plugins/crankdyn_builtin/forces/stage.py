@@ -9,7 +9,7 @@ import pandas as pd
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
@@ -285,4 +285,13 @@ FORCES_STAGE = Stage(
     run=run,
     render=render,
     references=("poda2007",),
+    answer_columns=(
+        AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06),
+        AnswerColumn("c_MPa", "centrifugal_Pa", "MPa", factor=1e-06),
+        AnswerColumn("t_max_MPa", "tangential_max_Pa", "MPa", factor=1e-06),
+        AnswerColumn("z_min_MPa", "radial_min_Pa", "MPa", factor=1e-06),
+        AnswerColumn("q_max_MPa", "resultant_max_Pa", "MPa", factor=1e-06),
+        AnswerColumn("M_cylinder_mean_Nm", "mean_torque_Nm", "N·m"),
+        AnswerColumn("M_cylinder_max_Nm", "torque_max_Nm", "N·m"),
+    ),
 )

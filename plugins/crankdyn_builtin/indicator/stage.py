@@ -12,7 +12,7 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax
@@ -213,4 +213,12 @@ INDICATOR_STAGE = Stage(
     run=run,
     render=render,
     references=("poda2007",),
+    answer_columns=(
+        AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06),
+        AnswerColumn("p_max_MPa", "max_pressure_Pa", "MPa", factor=1e-06),
+        AnswerColumn("p_max_crank_angle_deg", "max_pressure_crank_angle_deg", "°"),
+        AnswerColumn("p_i_MPa", "mean_indicated_pressure_Pa", "MPa", factor=1e-06),
+        AnswerColumn("L_i_J", "indicated_work_J", "J"),
+        AnswerColumn("N_i_cylinder_kW", "indicated_power_W", "kW", factor=0.001),
+    ),
 )

@@ -9,7 +9,7 @@ import pandas as pd
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.physics import kinematics as kin
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.typeset import symbol_html
@@ -217,4 +217,12 @@ KINEMATICS_STAGE = Stage(
     run=run,
     render=render,
     references=("poda2007", "tristen"),
+    answer_columns=(
+        AnswerColumn("v_max_m_s", "v_max_m_s", "m/s"),
+        AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°"),
+        AnswerColumn("v_mean_m_s", "mean_piston_speed_m_s", "m/s"),
+        AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²"),
+        AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²"),
+        AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°"),
+    ),
 )

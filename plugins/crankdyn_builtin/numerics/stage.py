@@ -17,8 +17,11 @@ Three studies, all measured when the report is made:
   terms (power and harmonic forms, :mod:`crankdyn.physics.series`) and the exact form: largest
   error of s and j against an extended-precision evaluation of the exact form, and time per
   evaluation.
-* **solvers** — other stages add error-against-time rows with :func:`register_error_probe`
+* **solvers** — other plugins add error-against-time rows with the ``crankdyn_error_probes`` hook
   (e.g. a flywheel speed solver at a range of tolerances).
+
+The pipeline is re-run through the orchestrator's runner (``SERVICE_RUNNER`` in ``inputs``), over
+the registry the scene itself runs with; this stage never builds a registry of its own.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ from typing import Annotated, Any, Callable
 
 import numpy as np
 import pandas as pd
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
 from crankdyn.errors import CrankdynError, PluginError, Problem, SceneError
@@ -42,10 +45,15 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import (SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
+                                   Stage, StageOutput)
 from crankdyn.report.figures import new_figure
 from crankdyn.scene import Analysis, Scene, number, options
+from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics import articulated as art
+from crankdyn_builtin.bays.stage import engine_layout
+from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -82,57 +90,10 @@ class NumericsOptions(BaseModel):
     kinematics_forms: bool = True
 
 
-# ------------------------------------------------------------------ hook for solver studies
-@dataclass(frozen=True)
-class ProbePoint:
-    """One point of an error-against-time study of a solver.
-
-    method:   the solver ("RK45", "Newmark", ...); setting: what was varied ("rtol = 1e-6");
-    error:    the error against the probe's reference, in ``error_unit``; time_s: its run time;
-    reference: how the reference was obtained (independent of the method under test).
-    """
-
-    method: str
-    setting: str
-    error: float
-    error_unit: str
-    time_s: float
-    reference: str
-
-
-@dataclass(frozen=True)
-class ErrorProbe:
-    """An error-against-time study another stage adds to this section.
-
-    ``applies(scene)`` says whether the probe concerns the scene; ``run(scene)`` returns its
-    points, or raises :class:`crankdyn.errors.SceneError` when the scene cannot be studied
-    (the reason is reported). ``title`` is plain text shown above its table.
-
-    A probe that needs the engine torque gets it with ``run_at_step(scene, step).outputs``
-    (the pipeline up to the engine torque at any step), then times its own solver, e.g. at
-    tolerances 1e-3 ... 1e-10, against a reference that does not use that solver (a closed
-    form, or another method at a much tighter tolerance). Register it once, at import::
-
-        from crankdyn_builtin.numerics.stage import ErrorProbe, ProbePoint, register_error_probe
-        register_error_probe(ErrorProbe("flywheel", "Speed fluctuation solvers", applies, run))
-    """
-
-    name: str
-    title: str
-    applies: Callable[[Scene], bool]
-    run: Callable[[Scene], list[ProbePoint]]
-
-
-_PROBES: dict[str, ErrorProbe] = {}
-
-
-def register_error_probe(probe: ErrorProbe) -> None:
-    """Add (or replace, by name) a solver study shown in the numerics section and results.json."""
-    _PROBES[probe.name] = probe
-
-
-def registered_probes() -> list[ErrorProbe]:
-    return list(_PROBES.values())
+# ------------------------------------------------------------------ solver studies
+# Other plugins add error-against-time rows through the ``crankdyn_error_probes`` hook
+# (crankdyn.hookspecs); ProbePoint and ErrorProbe live in crankdyn.plugin_types and are
+# re-exported here for existing imports.
 
 
 # ------------------------------------------------------------------ scene copies and re-runs
@@ -142,9 +103,6 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
     The copy keeps every table, the plugin tables and ``base_dir``; the scene-level checks
     (the step divides the cycle) run again and raise SceneError when they fail.
     """
-    from crankdyn.scene import _problems  # one error format for every refusal
-    from pydantic import ValidationError
-
     analysis = Analysis.model_validate({"angle_step_deg": step_deg, "table_step_deg": step_deg,
                                         "kinematics": scene.analysis.kinematics, "stages": None})
     try:
@@ -153,15 +111,8 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
         raise SceneError(_problems(exc, {})) from None
 
 
-@functools.lru_cache(maxsize=1)
-def _registry():
-    from crankdyn.plugins import default_registry
-
-    return default_registry()
-
-
-def _needed_stages(scene, registry) -> list[str]:
-    return [s.name for s in registry.stages.values()
+def _needed_stages(scene, runner) -> list[str]:
+    return [s.name for s in runner.stages.values()
             if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and s.applies(scene) is None]
 
 
@@ -186,18 +137,17 @@ def _values(data, cylinders: int) -> dict[str, float]:
             "tangential_min": float(np.min(forces.tangential_Pa)), "resultant_max": float(np.max(q))}
 
 
-def run_at_step(scene: Scene, step_deg: float, repeats: int = 3) -> StepRun:
-    """Re-run the stages that give forces and engine torque at ``step_deg``; time the best run."""
-    from crankdyn.orchestrator import check_scene, plan, run_plan
+def run_at_step(scene: Scene, step_deg: float, repeats: int = 3, *, runner) -> StepRun:
+    """Re-run the stages that give forces and engine torque at ``step_deg``; time the best run.
 
-    registry = _registry()
+    ``runner``: the orchestrator's :class:`crankdyn.orchestrator.Runner` (``SERVICE_RUNNER``).
+    """
     copy = scene_with_step(scene, step_deg)
-    check_scene(copy, registry)
-    the_plan = plan(copy, registry, _needed_stages(copy, registry))
+    the_plan = runner.plan(copy, _needed_stages(copy, runner))
     best, result = math.inf, None
     for attempt in range(max(1, repeats)):
         start = time.perf_counter()
-        result = run_plan(copy, the_plan)
+        result = runner.run(copy, the_plan)
         elapsed = time.perf_counter() - start
         best = min(best, elapsed)
         if elapsed > _SINGLE_RUN_S:
@@ -242,8 +192,6 @@ class PointwiseModel:
     _FD_STEP_ACCEL_DEG = 0.05
 
     def __init__(self, scene: Scene, motion=None):
-        from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
-
         e, m, c = scene.engine, scene.masses, scene.cycle
         self.scene = scene
         self.analytic = e.mechanism == "crank_slider"
@@ -369,10 +317,6 @@ class PointwiseModel:
 
 def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) -> float:
     """Indicated work per cycle of the slave cylinders of one bay, from their exact kinematics."""
-    from crankdyn.physics import articulated as art
-
-    from crankdyn_builtin.bays.stage import engine_layout
-
     layout = engine_layout(scene)
     e = scene.engine
     by_label = {c.label: c for c in layout.cylinders}
@@ -407,7 +351,7 @@ def _motion(run: StepRun):
     return next((o.data[KINEMATICS] for o in run.outputs.values() if KINEMATICS in o.data), None)
 
 
-def reference_values(scene: Scene, sample: StepRun) -> Reference:
+def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
     """The reference of the step study (see the module docstring).
 
     ``quadrature``: everything from the pointwise model; ``mixed``: a mechanism known only by its
@@ -421,7 +365,7 @@ def reference_values(scene: Scene, sample: StepRun) -> Reference:
     motion = _motion(sample)
     if articulated and scene.analysis.kinematics != "exact" or (
             not analytic and (articulated or motion is None or motion.displacement_at is None)):
-        run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1)
+        run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner)
         return Reference("fine_step", run.values, {}, time.perf_counter() - start,
                          note=f"{_FALLBACK_REFERENCE_STEP_DEG:g}")
     model = PointwiseModel(scene, motion)
@@ -440,7 +384,7 @@ def reference_values(scene: Scene, sample: StepRun) -> Reference:
     values = {"mean_torque": engine_mean, "indicated_work": work, **model.extremes()}
     method = "quadrature"
     if "resultant_max" not in values:
-        values["resultant_max"] = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1).values["resultant_max"]
+        values["resultant_max"] = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner).values["resultant_max"]
         method = "mixed"
 
     def rel(a, b):
@@ -566,6 +510,7 @@ def _kinematics_part(scene, opts, results, tables) -> None:
 
 
 def run(scene, inputs) -> StageOutput:
+    runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
     tables: dict[str, pd.DataFrame] = {}
@@ -586,7 +531,7 @@ def run(scene, inputs) -> StageOutput:
                                     "([numerics] time_budget_s)")
             continue
         try:
-            runs.append(run_at_step(scene, step, opts.repeats))
+            runs.append(run_at_step(scene, step, opts.repeats, runner=runner))
         except (CrankdynError, ValueError) as exc:
             reason = "; ".join(p.allowed for p in getattr(exc, "problems", [])) or str(exc)
             refused[f"{step:g}"] = reason
@@ -597,13 +542,13 @@ def run(scene, inputs) -> StageOutput:
         # only in a custom registry): no step study, said so in results.json and the report.
         results["steps_unavailable"] = refused.get(f"{scene_step:g}", "the scene's pipeline cannot be re-run")
         _kinematics_part(scene, opts, results, tables)
-        _probes(scene, results)
+        _probes(scene, results, probes, runner)
         return StageOutput(data={}, results=results, tables=tables, notes=notes)
     printed = sample.values  # the re-run at the scene's own step: the numbers this report prints
     try:
-        reference = reference_values(scene, sample)
+        reference = reference_values(scene, sample, runner)
     except ValueError as exc:  # the pointwise model refused an angle: use a fine step, say why
-        run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1)
+        run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner)
         reference = Reference("fine_step", run.values, {}, 0.0, note=str(exc))
     ref = reference.values
 
@@ -640,7 +585,7 @@ def run(scene, inputs) -> StageOutput:
     tables["steps"] = pd.DataFrame(step_rows)
 
     _kinematics_part(scene, opts, results, tables)
-    _probes(scene, results)
+    _probes(scene, results, probes, runner)
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
 
@@ -707,13 +652,13 @@ def _refuse_if_too_coarse(scene, opts, at_scene, step_rows) -> None:
         f"(at most {opts.max_error_percent:g} % allowed, [numerics] max_error_percent); {hint}"))
 
 
-def _probes(scene, results) -> None:
+def _probes(scene, results, probes, runner) -> None:
     studies = {}
-    for probe in registered_probes():
+    for probe in probes:
         try:
             if not probe.applies(scene):
                 continue
-            points = probe.run(scene)
+            points = probe.run(scene, runner)
             studies[probe.name] = {"title": probe.title,
                                    "points": [p.__dict__ for p in points]}
         except CrankdynError as exc:
@@ -723,11 +668,12 @@ def _probes(scene, results) -> None:
 
 
 def run_kinematics(scene, inputs) -> StageOutput:
+    runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
     tables: dict[str, pd.DataFrame] = {}
     _kinematics_part(scene, opts, results, tables)
-    _probes(scene, results)
+    _probes(scene, results, probes, runner)
     return StageOutput(data={}, results=results, tables=tables)
 
 
@@ -893,6 +839,7 @@ NUMERICS_STAGE = Stage(
     references=("ismailov",),
     options_table="numerics",
     options_model=NumericsOptions,
+    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
 )
 
 NUMERICS_KINEMATICS_STAGE = Stage(
@@ -906,4 +853,5 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     render=render_kinematics,
     last=True,
     references=("ismailov",),
+    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
 )

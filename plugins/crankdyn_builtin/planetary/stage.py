@@ -175,6 +175,53 @@ def _family(geometry: pl.PlanetaryGeometry) -> pd.DataFrame:
     return pd.DataFrame(columns)
 
 
+def piston_extremes(alpha, v, j, omega, geometry, dc, revolutions) -> dict:
+    """Largest and smallest piston speed (m/s) and acceleration (m/s²) and their crank angles (deg).
+
+    The grid's best point is refined by a bounded scalar search within one step on each side
+    (the exact slider motion at any angle), kept only when it beats the grid value.
+    """
+    def speed(a):
+        return float(-omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d1_m)
+
+    def accel(a):
+        return float(-omega * omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m)
+
+    def extreme(fn, values, sign):
+        i = first_argmax(sign * values)
+        step = alpha[1] - alpha[0]
+        res = optimize.minimize_scalar(lambda a: -sign * fn(a), bounds=(alpha[i] - step, alpha[i] + step),
+                                       method="bounded", options={"xatol": 1e-12})
+        best = float(res.x) if -res.fun >= sign * values[i] else float(alpha[i])
+        return fn(best), float(np.degrees(best) % (360.0 * revolutions))
+
+    out = {}
+    for name, fn, values, sign in (("v_max", speed, v, +1.0), ("v_min", speed, v, -1.0),
+                                   ("j_max", accel, j, +1.0), ("j_min", accel, j, -1.0)):
+        out[name] = extreme(fn, values, sign)
+    return out
+
+
+def tdc_snapshot_m(geometry, dc) -> dict:
+    """Where the parts are at TDC, m (x across, z along the cylinder axis; shaft axis at the origin).
+
+    ``arm_foot`` is the foot of the perpendicular from the shaft axis on the rod's line at TDC
+    (the source's N of MN): its distance from the axis is the rod line's torque arm.
+    """
+    c, s = math.cos(dc.tdc_carrier_angle_rad), math.sin(dc.tdc_carrier_angle_rad)
+    snapshot = {
+        "planet_centre": [float(v_) for v_ in geometry.carrier_radius_m * np.array([s, c])],
+        "pin": [float(v_) for v_ in pl.big_end_path(dc.tdc_carrier_angle_rad, geometry)[:2]],
+        "piston_pin": [0.0, dc.tdc_height_m],
+        "pitch_point": [float(v_) for v_ in geometry.fixed_pitch_radius_m * np.array([s, c])],
+    }
+    pin_tdc = np.array(snapshot["pin"])
+    direction = np.array([0.0, dc.tdc_height_m]) - pin_tdc
+    direction /= np.hypot(*direction)
+    snapshot["arm_foot"] = [float(v_) for v_ in pin_tdc - np.dot(pin_tdc, direction) * direction]
+    return snapshot
+
+
 def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     params, geometry = geometry_of(scene)
@@ -199,20 +246,6 @@ def run(scene, inputs) -> StageOutput:
     lam_eq = R_eq / L
     conventional_arm = central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, 1.0)
 
-    def speed(a):
-        return float(-omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d1_m)
-
-    def accel(a):
-        return float(-omega * omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m)
-
-    def extreme(fn, values, sign):
-        i = first_argmax(sign * values)
-        step = alpha[1] - alpha[0]
-        res = optimize.minimize_scalar(lambda a: -sign * fn(a), bounds=(alpha[i] - step, alpha[i] + step),
-                                       method="bounded", options={"xatol": 1e-12})
-        best = float(res.x) if -res.fun >= sign * values[i] else float(alpha[i])
-        return fn(best), float(np.degrees(best) % (360.0 * revolutions))
-
     results = {
         "gear": params.gear,
         "fixed_pitch_diameter_m": 2.0 * geometry.fixed_pitch_radius_m,
@@ -221,10 +254,7 @@ def run(scene, inputs) -> StageOutput:
     if params.module is not None:
         results.update({"fixed_gear_teeth": params.fixed_gear_teeth, "planet_teeth": params.planet_teeth,
                         "module_m": params.module})
-    v_max, v_max_angle = extreme(speed, v, +1.0)
-    v_min, v_min_angle = extreme(speed, v, -1.0)
-    j_max, j_max_angle = extreme(accel, j, +1.0)
-    j_min, j_min_angle = extreme(accel, j, -1.0)
+    extremes = piston_extremes(alpha, v, j, omega, geometry, dc, revolutions)
     results.update({
         "gear_ratio": float(params.ratio()),
         "planet_speed_ratio": geometry.planet_speed_ratio,
@@ -240,35 +270,36 @@ def run(scene, inputs) -> StageOutput:
         "stroke_m": dc.stroke_m,
         "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
         "rod_angle_max_deg": float(np.degrees(np.max(np.abs(beta)))),
-        "v_max_m_s": v_max, "v_max_crank_angle_deg": v_max_angle,
-        "v_min_m_s": v_min, "v_min_crank_angle_deg": v_min_angle,
-        "j_max_m_s2": j_max, "j_max_crank_angle_deg": j_max_angle,
-        "j_min_m_s2": j_min, "j_min_crank_angle_deg": j_min_angle,
+        "v_max_m_s": extremes["v_max"][0], "v_max_crank_angle_deg": extremes["v_max"][1],
+        "v_min_m_s": extremes["v_min"][0], "v_min_crank_angle_deg": extremes["v_min"][1],
+        "j_max_m_s2": extremes["j_max"][0], "j_max_crank_angle_deg": extremes["j_max"][1],
+        "j_min_m_s2": extremes["j_min"][0], "j_min_crank_angle_deg": extremes["j_min"][1],
         "torque_arm_tdc_m": float(at_tdc.rod_line_arm_m),
         "effective_torque_arm_tdc_m": float(at_tdc.carrier_torque_arm_m),
         "tooth_force_tdc": float(at_tdc.tooth_tangential),
         "carrier_torque_arm_max_m": float(np.max(transmission.carrier_torque_arm_m)),
         "conventional_torque_arm_max_m": float(np.max(conventional_arm)),
-        "tdc_snapshot_m": {
-            "planet_centre": [float(v_) for v_ in geometry.carrier_radius_m * np.array(
-                [math.sin(dc.tdc_carrier_angle_rad), math.cos(dc.tdc_carrier_angle_rad)])],
-            "pin": [float(v_) for v_ in pl.big_end_path(dc.tdc_carrier_angle_rad, geometry)[:2]],
-            "piston_pin": [0.0, dc.tdc_height_m],
-            "pitch_point": [float(v_) for v_ in geometry.fixed_pitch_radius_m * np.array(
-                [math.sin(dc.tdc_carrier_angle_rad), math.cos(dc.tdc_carrier_angle_rad)])],
-        },
+        "tdc_snapshot_m": tdc_snapshot_m(geometry, dc),
     })
-    # Foot of the perpendicular from the shaft axis on the rod's line at TDC (the source's N of MN).
-    pin_tdc = np.array(results["tdc_snapshot_m"]["pin"])
-    direction = np.array([0.0, dc.tdc_height_m]) - pin_tdc
-    direction /= np.hypot(*direction)
-    results["tdc_snapshot_m"]["arm_foot"] = [float(v_) for v_ in pin_tdc - np.dot(pin_tdc, direction) * direction]
     if params.gear == "internal" and float(params.ratio()) == 2.0 and geometry.pin_radius_m == geometry.planet_pitch_radius_m:
         # Cardan's circles: the path is the diameter at psi0/2 from the cylinder axis.
         half = 0.5 * geometry.pin_phase_rad
         results["straight_line_deviation_m"] = float(np.max(np.abs(x * math.cos(half) - z * math.sin(half))))
 
-    table = pd.DataFrame({
+    table = _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission,
+                              conventional_arm, alpha, R_eq, lam_eq)
+    motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc)
+    notes = [("planetary.note_derived", {}),
+             ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
+             ("planetary.note_family", {})]
+    return StageOutput(data={KINEMATICS: motion}, results=results,
+                       tables={"planetary": table, "family": _family(geometry)}, notes=notes)
+
+
+def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission, conventional_arm,
+                      alpha, R_eq, lam_eq) -> pd.DataFrame:
+    """The stage's table: the linkage's motion and force ratios, and the equivalent crank-slider's."""
+    return pd.DataFrame({
         "crank_angle_deg": angle_deg,
         "carrier_angle_deg": np.degrees(phi),
         "big_end_x_m": x,
@@ -291,8 +322,12 @@ def run(scene, inputs) -> StageOutput:
         "conventional_piston_velocity_m_s": central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, omega),
         "conventional_piston_acceleration_m_s2": central.piston_acceleration_exact_m_s2(alpha, R_eq, lam_eq, omega),
     })
+
+
+def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> PistonMotion:
+    """The ``kinematics`` this stage provides (exact; displacement at any angle from the linkage)."""
     tdc_phi, z_tdc = dc.tdc_carrier_angle_rad, dc.tdc_height_m
-    motion = PistonMotion(
+    return PistonMotion(
         crank_angle_deg=angle_deg,
         piston_displacement_m=s,
         piston_velocity_m_s=v,
@@ -301,16 +336,11 @@ def run(scene, inputs) -> StageOutput:
         crank_radius_m=geometry.carrier_radius_m,
         angular_velocity_rad_s=omega,
         method="exact",
-        extra={"rod_length_m": L, "carrier_radius_m": geometry.carrier_radius_m,
+        extra={"rod_length_m": geometry.rod_length_m, "carrier_radius_m": geometry.carrier_radius_m,
                "rod_angular_velocity_rad_s": omega * slider.rod_angle_d1,
                "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2},
         displacement_at=lambda a_deg: z_tdc - pl.slider_motion(np.radians(a_deg) + tdc_phi, geometry).pin_z_m,
     )
-    notes = [("planetary.note_derived", {}),
-             ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
-             ("planetary.note_family", {})]
-    return StageOutput(data={KINEMATICS: motion}, results=results,
-                       tables={"planetary": table, "family": _family(geometry)}, notes=notes)
 
 
 def _circle(ax, centre, radius, **style):

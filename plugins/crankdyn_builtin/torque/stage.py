@@ -10,7 +10,7 @@ import pandas as pd
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
@@ -157,4 +157,11 @@ TORQUE_STAGE = Stage(
     run=run,
     render=render,
     references=("poda2007",),
+    answer_columns=(
+        AnswerColumn("M_mean_Nm", "mean_Nm", "N·m"),
+        AnswerColumn("M_max_Nm", "max_Nm", "N·m"),
+        AnswerColumn("M_min_Nm", "min_Nm", "N·m"),
+        AnswerColumn("torque_non_uniformity", "non_uniformity", ""),
+        AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001),
+    ),
 )

@@ -685,37 +685,16 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
 
     Notes
     -----
-    Algorithm (angles psi relative to firing TDC; every rounding segment is a
-    cubic Hermite curve, evaluated analytically at the caller's angles, that
-    matches the theoretical line in value and slope at both of its ends, so
-    the diagram is C1 wherever rounding acts):
-
-    1. Combustion.  C' at psi = -(advance - delay) lies on the compression
-       line (its value and slope), C'' at psi = 0 has p_c + rise, Z' at
-       psi = peak_angle has p_z' = fraction * p_z and zero slope.  The slope
-       at C'' is the weighted harmonic mean of the neighbouring secants
-       (PCHIP).  Both segments must pass the Fritsch-Carlson monotonicity
-       test, so the curve rises monotonically and its maximum is exactly
-       p_z' at Z'.
-    2. Junction J: the first angle after Z' at which the expansion line lies
-       below p_z' and a monotone Hermite segment from Z' (zero slope) to J
-       (expansion line's value and slope) exists; for a zero start slope the
-       Fritsch-Carlson test reduces to slope_J <= 3 * secant.  It is found
-       on an internal 0.01-deg grid, refined by bisection to 1e-10 deg.
-    3. Exhaust (four-stroke), b' = 540 - exhaust_opens_before_bdc on the
-       expansion line (value, slope) -> BDC at (p_b + p_r)/2 (PCHIP slope)
-       -> p_r with zero slope at 540 + exhaust_opens_before_bdc/2; both
-       segments must be monotone.  Two-stroke with a positive opening
-       angle: the same three points with p_a in place of p_r, the last one
-       on the compression line (value and slope), so the curve may dip
-       slightly below that rising line just before joining it.
-    4. Gas exchange at the exhaust TDC (four-stroke): p_r -> p_a with zero
-       end slopes (smoothstep, monotone) between
-       720 - intake_opens_before_tdc and 0 + exhaust_closes_after_tdc,
-       wrapping through 720/0.  If both angles are 0 the step stays sharp.
-    5. Elsewhere the theoretical diagram is kept.  The rounding windows must
-       not overlap (C' after the previous window, J before b', the exhaust
-       rounding end before the intake opening), else ValueError.
+    Angles psi are relative to firing TDC; every rounding segment is a cubic
+    Hermite curve, evaluated analytically at the caller's angles, that matches
+    the theoretical line in value and slope at both of its ends, so the
+    diagram is C1 wherever rounding acts.  The steps, each its own function:
+    combustion C' -> C'' -> Z' -> J (:func:`_combustion_rounding`), the
+    exhaust drop at BDC (:func:`_exhaust_drop`) and the gas exchange at the
+    exhaust TDC (:func:`_gas_exchange_step`).  Elsewhere the theoretical
+    diagram is kept.  The rounding windows must not overlap (C' after the
+    previous window, J before b', the exhaust rounding end before the intake
+    opening), else ValueError.
 
     Poda (2007) section 3.1 gives the points 3, C', C'', Z', b' and the
     typical values; the curves joining them are a derived construction.
@@ -735,44 +714,77 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
                      "intake_closes_after_bdc_deg"):
             _require(getattr(rounding, name) == 0, name, getattr(rounding, name),
                      "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)")
-
     if volume_function is None:
         volume_at = _volume_interpolant(alpha, volume, cycle)
     else:
         volume_at = _function_volume(volume_function, cycle)
+    lines = _Lines(volume_at, tdc, clearance_volume_m3, params)
+    pressure, psi_j = _combustion_rounding(alpha, pressure, lines, rounding, cycle)
+    pressure = _exhaust_drop(alpha, pressure, lines, rounding, cycle, psi_j)
+    if four:
+        pressure = _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle)
+    return pressure
 
-    def compression_at(psi):
-        v, dv = volume_at(tdc + psi)
-        return (_compression_line_Pa(v, clearance_volume_m3, params),
-                _compression_slope_Pa_per_deg(v, dv, clearance_volume_m3, params))
 
-    def expansion_at(psi):
-        v, dv = volume_at(tdc + psi)
-        return (_expansion_line_Pa(v, clearance_volume_m3, params),
-                _expansion_slope_Pa_per_deg(v, dv, clearance_volume_m3, params))
+@dataclass(frozen=True)
+class _Lines:
+    """The compression and expansion lines and their slopes at angles psi after firing TDC."""
 
+    volume_at: Callable
+    tdc_deg: float
+    clearance_volume_m3: float
+    params: CycleParameters
+
+    def compression_at(self, psi):
+        """(p, dp/dpsi) of the compression line, Pa and Pa/deg."""
+        v, dv = self.volume_at(self.tdc_deg + psi)
+        return (_compression_line_Pa(v, self.clearance_volume_m3, self.params),
+                _compression_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params))
+
+    def expansion_at(self, psi):
+        """(p, dp/dpsi) of the expansion line, Pa and Pa/deg."""
+        v, dv = self.volume_at(self.tdc_deg + psi)
+        return (_expansion_line_Pa(v, self.clearance_volume_m3, self.params),
+                _expansion_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params))
+
+
+def _drop_end_psi_deg(rounding) -> float:
+    """End of the exhaust drop, deg after firing TDC: 180 + exhaust_opens_before_bdc / 2."""
+    return 180.0 + 0.5 * rounding.exhaust_opens_before_bdc_deg
+
+
+def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
+    """Combustion rounding C' -> C'' -> Z' -> J laid over ``pressure`` (Pa); returns (pressure, psi_J).
+
+    C' at psi = -(advance - delay) lies on the compression line (its value and
+    slope), C'' at psi = 0 has p_c + rise, Z' at psi = peak_angle has
+    p_z' = fraction * p_z and zero slope.  The slope at C'' is the weighted
+    harmonic mean of the neighbouring secants (PCHIP).  Both segments must
+    pass the Fritsch-Carlson monotonicity test, so the curve rises
+    monotonically and its maximum is exactly p_z' at Z'.  The junction J is
+    the first angle after Z' at which the expansion line lies below p_z' and
+    a monotone Hermite segment from Z' (zero slope) to J (expansion line's
+    value and slope) exists; for a zero start slope the Fritsch-Carlson test
+    reduces to slope_J <= 3 * secant.  It is found on an internal 0.01-deg
+    grid, refined by bisection to 1e-10 deg.
+    """
+    params = lines.params
+    four = params.strokes == 4
     p_c = compression_end_pressure_Pa(params)
-    p_b = expansion_end_pressure_Pa(params)
-    p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
     peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
     eo = rounding.exhaust_opens_before_bdc_deg
-
-    # --- window limits in psi (relative to firing TDC) -----------------
     psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
     psi_peak = rounding.peak_angle_after_tdc_deg
     psi_b1 = 180.0 - eo
-    drop_end_psi = 180.0 + 0.5 * eo  # end of the drop, psi
     if not four:
         # the drop end (after BDC) must precede C' (before the next firing TDC)
-        _require(drop_end_psi - 360.0 < psi_c1, "exhaust_opens_before_bdc_deg", eo,
+        _require(_drop_end_psi_deg(rounding) - 360.0 < psi_c1, "exhaust_opens_before_bdc_deg", eo,
                  f"< {2.0 * (psi_c1 + 180.0):.6g} deg so that the drop at BDC ends "
                  "before the combustion point C'")
     _require(psi_peak < psi_b1, "exhaust_opens_before_bdc_deg", eo,
              f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
              f"(peak_angle_after_tdc_deg = {psi_peak:g})")
-
-    # --- combustion: C' -> C'' -> Z' -----------------------------------
-    p_c1, s_c1 = (float(x[0]) for x in compression_at(np.asarray([psi_c1])))
+    p_c1, s_c1 = (float(x[0]) for x in lines.compression_at(np.asarray([psi_c1])))
     p_c2 = p_c + rounding.pressure_rise_to_tdc_Pa
     _require(p_c2 < peak, "pressure_rise_to_tdc_Pa", rounding.pressure_rise_to_tdc_Pa,
              f"< p_z' - p_c = {peak - p_c:.6g} Pa (peak_pressure_fraction * p_z "
@@ -787,67 +799,93 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
              "for this pressure_rise_to_tdc_Pa)")
     _require(_hermite_is_monotone(d_c2, 0.0, m2), "peak_angle_after_tdc_deg", psi_peak,
              "a value for which the C''-Z' rounding is monotone")
-
-    psi_j = _find_junction_deg(psi_peak, psi_b1, peak, expansion_at)
+    psi_j = _find_junction_deg(psi_peak, psi_b1, peak, lines.expansion_at)
     _require(psi_j is not None,
              "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
              f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
              "values for which the rounding from Z' joins the expansion line "
              f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
              "firing TDC)")
-    p_j, s_j = (float(x[0]) for x in expansion_at(np.asarray([psi_j])))
+    p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
     combustion = CubicHermiteSpline([psi_c1, 0.0, psi_peak, psi_j],
                                     [p_c1, p_c2, peak, p_j],
                                     [s_c1, d_c2, 0.0, s_j])
-    offset = _local_offset_deg(alpha, tdc + psi_c1, cycle)
+    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
-    pressure = np.where(in_window, combustion(psi_c1 + offset), pressure)
+    return np.where(in_window, combustion(psi_c1 + offset), pressure), psi_j
 
-    # --- exhaust drop at BDC --------------------------------------------
-    if eo > 0:
-        _require(p_b > p_low, "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
-                 p_low, f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust "
-                 "rounding")
-        _require(psi_j < psi_b1, "exhaust_opens_before_bdc_deg", eo,
-                 f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion "
-                 "rounding junction J")
-        p_b1, s_b1 = (float(x[0]) for x in expansion_at(np.asarray([psi_b1])))
-        p_mid = 0.5 * (p_b + p_low)
-        if four:
-            p_end, s_end = p_low, 0.0
-        else:
-            p_end, s_end = (float(x[0]) for x in compression_at(np.asarray([drop_end_psi])))
-        h1, h2 = eo, 0.5 * eo
-        m1 = (p_mid - p_b1) / h1
-        m2 = (p_end - p_mid) / h2
-        d_mid = _pchip_interior_slope(h1, m1, h2, m2)
-        _require(_hermite_is_monotone(s_b1, d_mid, m1), "exhaust_opens_before_bdc_deg", eo,
-                 "a value for which the b'-BDC rounding is monotone")
-        if four:
-            _require(_hermite_is_monotone(d_mid, s_end, m2), "exhaust_opens_before_bdc_deg",
-                     eo, "a value for which the BDC-exhaust rounding is monotone")
-        drop = CubicHermiteSpline([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end],
-                                  [s_b1, d_mid, s_end])
-        offset = _local_offset_deg(alpha, tdc + psi_b1, cycle)
-        in_window = offset <= 1.5 * eo
-        pressure = np.where(in_window, drop(psi_b1 + offset), pressure)
 
-    # --- gas exchange at the exhaust TDC (four-stroke) -----------------
+def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
+    """Exhaust rounding at BDC laid over ``pressure`` (Pa); nothing when the exhaust opens at BDC.
+
+    Four-stroke: b' = 540 - exhaust_opens_before_bdc on the expansion line
+    (value, slope) -> BDC at (p_b + p_r)/2 (PCHIP slope) -> p_r with zero
+    slope at 540 + exhaust_opens_before_bdc/2; both segments must be
+    monotone.  Two-stroke with a positive opening angle: the same three points
+    with p_a in place of p_r, the last one on the compression line (value and
+    slope), so the curve may dip slightly below that rising line just before
+    joining it.
+    """
+    params = lines.params
+    four = params.strokes == 4
+    eo = rounding.exhaust_opens_before_bdc_deg
+    if not eo > 0:
+        return pressure
+    p_b = expansion_end_pressure_Pa(params)
+    p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
+    psi_b1 = 180.0 - eo
+    drop_end_psi = _drop_end_psi_deg(rounding)
+    _require(p_b > p_low, "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
+             p_low, f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust "
+             "rounding")
+    _require(psi_j < psi_b1, "exhaust_opens_before_bdc_deg", eo,
+             f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion "
+             "rounding junction J")
+    p_b1, s_b1 = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_b1])))
+    p_mid = 0.5 * (p_b + p_low)
     if four:
-        io = rounding.intake_opens_before_tdc_deg
-        ec = rounding.exhaust_closes_after_tdc_deg
-        _require(720.0 - io > tdc + drop_end_psi, "intake_opens_before_tdc_deg", io,
-                 f"< {720.0 - (tdc + drop_end_psi):.6g} deg so that the intake "
-                 "opening follows the end of the exhaust rounding "
-                 "(540 + exhaust_opens_before_bdc_deg/2)")
-        width = io + ec
-        if width > 0:
-            offset = _local_offset_deg(alpha, 720.0 - io, cycle)
-            in_window = offset <= width
-            t = np.clip(offset / width, 0.0, 1.0)
-            smooth = params.exhaust_pressure_Pa + (
-                params.intake_pressure_Pa - params.exhaust_pressure_Pa) * t * t * (3.0 - 2.0 * t)
-            pressure = np.where(in_window, smooth, pressure)
+        p_end, s_end = p_low, 0.0
+    else:
+        p_end, s_end = (float(x[0]) for x in lines.compression_at(np.asarray([drop_end_psi])))
+    h1, h2 = eo, 0.5 * eo
+    m1 = (p_mid - p_b1) / h1
+    m2 = (p_end - p_mid) / h2
+    d_mid = _pchip_interior_slope(h1, m1, h2, m2)
+    _require(_hermite_is_monotone(s_b1, d_mid, m1), "exhaust_opens_before_bdc_deg", eo,
+             "a value for which the b'-BDC rounding is monotone")
+    if four:
+        _require(_hermite_is_monotone(d_mid, s_end, m2), "exhaust_opens_before_bdc_deg",
+                 eo, "a value for which the BDC-exhaust rounding is monotone")
+    drop = CubicHermiteSpline([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end],
+                              [s_b1, d_mid, s_end])
+    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
+    in_window = offset <= 1.5 * eo
+    return np.where(in_window, drop(psi_b1 + offset), pressure)
+
+
+def _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle):
+    """Four-stroke gas exchange at the exhaust TDC laid over ``pressure`` (Pa).
+
+    p_r -> p_a with zero end slopes (smoothstep 3t^2 - 2t^3, monotone) between
+    720 - intake_opens_before_tdc and 0 + exhaust_closes_after_tdc, wrapping
+    through 720/0; halfway it is (p_r + p_a)/2.  If both angles are 0 the
+    step stays sharp.
+    """
+    io = rounding.intake_opens_before_tdc_deg
+    ec = rounding.exhaust_closes_after_tdc_deg
+    drop_end_psi = _drop_end_psi_deg(rounding)
+    _require(720.0 - io > tdc + drop_end_psi, "intake_opens_before_tdc_deg", io,
+             f"< {720.0 - (tdc + drop_end_psi):.6g} deg so that the intake "
+             "opening follows the end of the exhaust rounding "
+             "(540 + exhaust_opens_before_bdc_deg/2)")
+    width = io + ec
+    if width > 0:
+        offset = _local_offset_deg(alpha, 720.0 - io, cycle)
+        in_window = offset <= width
+        t = np.clip(offset / width, 0.0, 1.0)
+        smooth = params.exhaust_pressure_Pa + (
+            params.intake_pressure_Pa - params.exhaust_pressure_Pa) * t * t * (3.0 - 2.0 * t)
+        pressure = np.where(in_window, smooth, pressure)
     return pressure
 
 

@@ -276,6 +276,23 @@ def read_diesel_rk_ind(path):
 # ---------------------------------------------------------------------------
 # Regridding
 # ---------------------------------------------------------------------------
+def _check_trace_arrays(angle, pressure, grid, cycle_deg) -> None:
+    """Refuse malformed input of :func:`to_cycle_grid` (PressureTraceError naming what is wrong)."""
+    if angle.ndim != 1 or angle.shape != pressure.shape or angle.size < 2:
+        raise PressureTraceError(
+            f"crank_angle_deg shape {angle.shape} and pressure_Pa shape {pressure.shape}: "
+            "equal 1-D shapes with at least 2 samples are required")
+    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(pressure))
+            and np.all(np.isfinite(grid))):
+        raise PressureTraceError("trace or grid contains NaN or infinity; finite values "
+                                 "are required")
+    if not (math.isfinite(cycle_deg) and cycle_deg > 0):
+        raise PressureTraceError(f"cycle_deg = {cycle_deg!r}; a positive angle (720 or 360) "
+                                 "is required")
+    if not np.all(np.diff(angle) > 0):
+        raise PressureTraceError("crank_angle_deg must be strictly increasing")
+
+
 def to_cycle_grid(crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_deg_in_file,
                   firing_tdc_deg_target):
     """Shift, wrap and interpolate a one-cycle pressure trace onto a cycle grid.
@@ -319,19 +336,7 @@ def to_cycle_grid(crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_
     angle = np.asarray(crank_angle_deg, dtype=float)
     pressure = np.asarray(pressure_Pa, dtype=float)
     grid = np.asarray(grid_deg, dtype=float)
-    if angle.ndim != 1 or angle.shape != pressure.shape or angle.size < 2:
-        raise PressureTraceError(
-            f"crank_angle_deg shape {angle.shape} and pressure_Pa shape {pressure.shape}: "
-            "equal 1-D shapes with at least 2 samples are required")
-    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(pressure))
-            and np.all(np.isfinite(grid))):
-        raise PressureTraceError("trace or grid contains NaN or infinity; finite values "
-                                 "are required")
-    if not (math.isfinite(cycle_deg) and cycle_deg > 0):
-        raise PressureTraceError(f"cycle_deg = {cycle_deg!r}; a positive angle (720 or 360) "
-                                 "is required")
-    if not np.all(np.diff(angle) > 0):
-        raise PressureTraceError("crank_angle_deg must be strictly increasing")
+    _check_trace_arrays(angle, pressure, grid, cycle_deg)
     span = angle[-1] - angle[0]
     tol = 1e-9 * cycle_deg
     if span > cycle_deg + tol:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import base64
+from importlib import resources
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -134,7 +135,7 @@ class RenderContext:
     def figure(self, fig, caption: str, name: str) -> Markup:
         """Render a matplotlib figure to SVG, number it and return its markup (with the
         sentence that refers to it before it)."""
-        from .figures import to_svg
+        from .figures import to_svg  # lazy: heavy optional import (matplotlib)
         from .typeset import typeset_figure
 
         typeset_figure(fig, self.t)
@@ -208,7 +209,5 @@ def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,
 
 
 def template_search_path(extra: Sequence[Path]) -> list[str]:
-    from importlib import resources
-
     core = Path(str(resources.files("crankdyn.templates")))
     return [str(core)] + [str(p) for p in extra if p is not None]

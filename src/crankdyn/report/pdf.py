@@ -44,7 +44,7 @@ def figure_urls(figures, base: str) -> dict[str, bytes]:
 def _fetcher(in_memory: dict[str, bytes] | None = None):
     """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their bytes
     (served from memory, never from a file; any other URL follows :func:`is_allowed`)."""
-    import weasyprint
+    import weasyprint  # lazy: heavy optional import
 
     in_memory = dict(in_memory or {})
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
@@ -71,7 +71,7 @@ def _fetcher(in_memory: dict[str, bytes] | None = None):
 
 def html_to_pdf(html: str, figures=()) -> bytes:
     """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to."""
-    from weasyprint import HTML
+    from weasyprint import HTML  # lazy: heavy optional import
 
     # A blocked resource is logged by WeasyPrint as a warning and left out; keep the
     # console quiet (the tests check the blocking itself).

@@ -1,0 +1,122 @@
+"""The recipe of docs/architecture.md, "add a stage": a throw-away plugin written to a temporary
+folder — hook implementations, a section template, catalogs in en/uk/ru and an answer-key
+column — is registered, runs, and shows its section, its answer column and its translations,
+with nothing under src/ or templates/ touched."""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from crankdyn import answer_key, outputs
+from crankdyn.cli import examples_dir
+from crankdyn.pipeline import run_and_render
+from crankdyn.plugins import collect, plugin_manager
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PLUGIN = '''
+"""A throw-away stage: the piston stroke from the crank radius (no prerequisite, so the test
+renders no other section's figures)."""
+from pathlib import Path
+
+from crankdyn.hookspecs import hookimpl
+from crankdyn.plugin_types import AnswerColumn, Catalog, Stage, StageOutput
+
+HERE = Path(__file__).resolve().parent
+
+
+def run(scene, inputs):
+    return StageOutput(results={"stroke_m": float(2.0 * scene.engine.crank_radius_m)})
+
+
+def render(output, ctx):
+    ctx.conclude(ctx.t("throwaway.conclusion", stroke=ctx.num(output.results["stroke_m"] * 1e3)))
+    return ctx.render_template("sections/throwaway.html.j2", r=output.results)
+
+
+STAGE = Stage(name="throwaway", title_key="throwaway.title", requires=(), provides=(),
+              applies=lambda scene: None, run=run, render=render, default=False,
+              template_dir=HERE / "templates",
+              answer_columns=(AnswerColumn("throwaway_stroke_mm", "stroke_m", "mm", factor=1e3),))
+
+
+@hookimpl
+def crankdyn_stages():
+    return [STAGE]
+
+
+@hookimpl
+def crankdyn_catalogs():
+    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+'''
+
+TEMPLATE = "<p class=\"throwaway\">{{ _('throwaway.body', stroke=num(r.stroke_m * 1000)) }}</p>\n"
+
+CATALOGS = {
+    "en": ("Stroke of the crank mechanism", "The piston travels {stroke} mm between its dead centres.",
+           "The measured stroke is {stroke} mm."),
+    "uk": ("Хід кривошипно-шатунного механізму", "Поршень проходить {stroke} мм між мертвими точками.",
+           "Виміряний хід становить {stroke} мм."),
+    "ru": ("Ход кривошипно-шатунного механизма", "Поршень проходит {stroke} мм между мёртвыми точками.",
+           "Измеренный ход равен {stroke} мм."),
+}
+
+
+def _tree_digest(*folders: Path) -> str:
+    digest = hashlib.sha256()
+    for folder in folders:
+        for path in sorted(p for p in folder.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+            digest.update(str(path.relative_to(ROOT)).encode() + path.read_bytes())
+    return digest.hexdigest()
+
+
+def _write_plugin(folder: Path) -> None:
+    package = folder / "throwaway_crankdyn_plugin"
+    (package / "templates" / "sections").mkdir(parents=True)
+    (package / "i18n").mkdir()
+    (package / "__init__.py").write_text("", encoding="utf-8")
+    (package / "plugin.py").write_text(textwrap.dedent(PLUGIN), encoding="utf-8")
+    (package / "templates" / "sections" / "throwaway.html.j2").write_text(TEMPLATE, encoding="utf-8")
+    for language, (title, body, conclusion) in CATALOGS.items():
+        (package / "i18n" / f"throwaway.{language}.toml").write_text(
+            f'[throwaway]\ntitle = "{title}"\nbody = "{body}"\nconclusion = "{conclusion}"\n', encoding="utf-8")
+
+
+def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_translations(tmp_path, monkeypatch):
+    before = _tree_digest(ROOT / "src", ROOT / "templates")
+    _write_plugin(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    plugin = importlib.import_module("throwaway_crankdyn_plugin.plugin")
+    registry = collect(plugin_manager(extra_plugins=[plugin]))
+    assert registry.owner["stage:throwaway"] and "throwaway" in registry.stages
+
+    for language in ("en", "uk", "ru"):
+        scene = scene_from_dict(modified("kinematics-only", {"report": {"language": language}}),
+                                base_dir=examples_dir())
+        result, files = run_and_render(scene, registry, ["html"], stages=["throwaway"])
+        assert result.stages_run == ["throwaway"]
+        # The independent value: the scene's own stroke = 100 mm.
+        assert result.outputs["throwaway"].results["stroke_m"] == pytest.approx(0.100, rel=1e-9)
+        html = files["report.html"].decode("utf-8")
+        title, body, conclusion = CATALOGS[language]
+        assert title in html and '<p class="throwaway">' in html
+        stroke = "100.0" if language == "en" else "100,0"  # the report's number format per language
+        assert body.format(stroke=stroke) in html and conclusion.format(stroke=stroke) in html
+        for other in set(CATALOGS) - {language}:
+            assert CATALOGS[other][0] not in html
+
+        # The answer key of a batch (same code path as crankdyn batch): the column is there.
+        columns = answer_key.answer_columns(registry)
+        assert [c.name for c in columns if c.stage == "throwaway"] == ["throwaway_stroke_mm"]
+        answers = answer_key.answers(outputs.results_document(result), columns)
+        assert answers["throwaway_stroke_mm"] == pytest.approx(100.0, rel=1e-9)
+        assert answers["v_max_m_s"] is None  # the built-in stages did not run: empty cells
+
+    assert _tree_digest(ROOT / "src", ROOT / "templates") == before

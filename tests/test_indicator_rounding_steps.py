@@ -1,0 +1,51 @@
+"""The three steps of the rounded indicator diagram, each a function of its own (issue 14):
+their values at the construction's nodes against the values the construction prescribes."""
+
+import numpy as np
+import pytest
+
+from crankdyn.physics import indicator as ind
+from test_physics_indicator import CRANK_RADIUS_M, PISTON_AREA_M2, exact_displacement_m, rounding_for, spark
+
+
+def _setup():
+    params = spark(4)
+    rounding = rounding_for(params)
+    clearance = PISTON_AREA_M2 * 2 * CRANK_RADIUS_M / (params.compression_ratio - 1)
+
+    def volume(a_deg):
+        return clearance + PISTON_AREA_M2 * exact_displacement_m(np.asarray(a_deg))
+
+    lines = ind._Lines(ind._function_volume(volume, 720.0), ind._firing_tdc_deg(params), clearance, params)
+    return params, rounding, lines, volume, clearance
+
+
+def test_gas_exchange_step_is_halfway_at_the_exhaust_tdc():
+    """Smoothstep from p_r to p_a between 700 and 20 deg: (p_r + p_a)/2 at 0 deg, the ends unchanged."""
+    params, rounding, _, _, _ = _setup()
+    alpha = np.array([0.0, 699.0, 21.0])
+    before = np.full(3, -1.0)
+    p = ind._gas_exchange_step(alpha, before, params, rounding, ind._firing_tdc_deg(params), 720.0)
+    assert p[0] == pytest.approx(0.5 * (params.exhaust_pressure_Pa + params.intake_pressure_Pa), rel=1e-15)
+    assert p[1] == -1.0 and p[2] == -1.0  # outside the window the diagram is left as it was
+
+
+def test_exhaust_drop_passes_the_mean_of_expansion_end_and_exhaust_pressure_at_bdc():
+    params, rounding, lines, _, _ = _setup()
+    tdc = ind._firing_tdc_deg(params)
+    alpha = np.array([tdc + 180.0, tdc + 100.0])
+    p = ind._exhaust_drop(alpha, np.zeros(2), lines, rounding, 720.0, psi_j=30.0)
+    expected = 0.5 * (ind.expansion_end_pressure_Pa(params) + params.exhaust_pressure_Pa)
+    assert p[0] == pytest.approx(expected, rel=1e-12) and p[1] == 0.0
+
+
+def test_combustion_rounding_peaks_at_the_prescribed_fraction_of_p_z():
+    """Z' at peak_angle_after_tdc_deg has p = fraction x p_z, and it is the curve's maximum."""
+    params, rounding, lines, _, _ = _setup()
+    tdc = ind._firing_tdc_deg(params)
+    alpha = tdc + np.linspace(-10.0, 60.0, 7001)
+    p, psi_j = ind._combustion_rounding(alpha, np.zeros_like(alpha), lines, rounding, 720.0)
+    peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
+    at_peak = np.argmin(np.abs(alpha - (tdc + rounding.peak_angle_after_tdc_deg)))
+    assert p[at_peak] == pytest.approx(peak, rel=1e-12)
+    assert p.max() == pytest.approx(peak, rel=1e-12) and rounding.peak_angle_after_tdc_deg < psi_j < 180.0
