@@ -86,6 +86,8 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
             body = body.replace(str(html_lib.escape(value, quote=False)), " ")
     body = re.sub(r'<ol class="references">.*?</ol>', " ", body, flags=re.S)  # the sources keep their language
     body = re.sub(r"<img[^>]*>", " ", body)
+    # code and drawing markup a reader never sees as text: scripts, styles, inline SVG
+    body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", body, flags=re.S)
     body = re.sub(r"<(i|sub|sup|b)>[^<]{1,4}</\1>", " ", body)  # symbols and their indices
     text = html_lib.unescape(re.sub(r"<[^>]+>", " ", body))
     text = re.sub(r"\[[a-z_.]+\]", " ", text)  # the scene's table names, e.g. [bearings]
@@ -171,7 +173,7 @@ def test_multicylinder_note_has_no_english_words(example, language):
     scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
     words = _latin_words(rendered.html, scene_texts)
     assert not words, sorted(set(words))
-    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<img[^>]*>|<style>.*?</style>", " ",
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<img[^>]*>|<(script|style|svg)\b.*?</\1>", " ",
                                                            rendered.html, flags=re.S)))
     assert "^" not in text and not re.search(r"[A-Za-zА-Яа-я]_", text)
     # numeral agreement by the CLDR plural rules: 4 циліндри / 4 цилиндра, not "4 циліндрів"

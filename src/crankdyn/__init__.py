@@ -7,7 +7,7 @@ The public Python API (see docs/api.md): :func:`crankdyn.load`, :func:`crankdyn.
 Mechanisms and analysis stages are pluggy plugins; see :mod:`crankdyn.hookspecs`.
 """
 
-__version__ = "0.1.0"
+from .version import __version__
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError", "__version__"]
 

@@ -163,19 +163,20 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     """
     import pandas as pd
 
-    from .batch import ANSWER_COLUMNS, answers
+    from . import answer_key
     from .outputs import results_document
 
     names = list(grid)
     stages = list(stages) if stages is not None else None
+    key_columns = answer_key.answer_columns(_registry())  # the same columns as the batch answer key
     rows = []
     for combination in itertools.product(*(list(grid[n]) for n in names)):
         variant = load(scene, dict(zip(names, combination)))
         document = results_document(run_scene(variant, _registry(), stages, _languages()))
-        rows.append([*combination, *answers(document).values()])
-    columns = [*names, *(c for c, *_ in ANSWER_COLUMNS)]
-    frame = pd.DataFrame(rows, columns=columns)
-    empty = [c for c, *_ in ANSWER_COLUMNS if frame[c].isna().all()]
+        rows.append([*combination, *answer_key.answers(document, key_columns).values()])
+    answer_names = [c.name for c in key_columns]
+    frame = pd.DataFrame(rows, columns=[*names, *answer_names])
+    empty = [c for c in answer_names if frame[c].isna().all()]
     return frame.drop(columns=empty)
 
 
@@ -287,14 +288,15 @@ class Result:
 
     def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
         """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
-        from .outputs import FORMATS, write_atomically
+        from .manifest import write_outputs
+        from .outputs import FORMATS
         from .pipeline import render_files
 
         formats = list(formats)
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
             raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))
-        return write_atomically(Path(out_dir), render_files(self.run_result, _registry(), formats))
+        return write_outputs(Path(out_dir), render_files(self.run_result, _registry(), formats))
 
     # ----------------------------------------------------------------- report sections
     def _render(self, figures_only: bool = False, language: str | None = None,

@@ -11,7 +11,7 @@ import time
 from importlib import resources
 from pathlib import Path
 
-from . import __version__
+from .version import __version__
 from .errors import CrankdynError, Problem, SceneError, UsageError
 
 EXIT_BAD_INPUT = 2

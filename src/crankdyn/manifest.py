@@ -19,7 +19,7 @@ MANIFEST = ".crankdyn-manifest.json"
 def write_outputs(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
     """Write ``files`` (relative name -> bytes) below ``out_dir`` atomically, remove the stale files
     of the previous run's manifest and record the new manifest; return the paths written."""
-    from . import __version__
+    from .version import __version__
     from .outputs import json_bytes, write_atomically
 
     out_dir = Path(out_dir)

@@ -142,7 +142,9 @@ class RenderContext:
         self._figure += 1
         number = f"{self.section_number}.{self._figure}"
         svg = to_svg(fig)
-        file_name = f"fig_{number.replace('.', '_')}_{name}.svg"
+        # ASCII file names (an appendix figure "Б.1" -> fig_u411_1_...): safe in every file system and URL
+        ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
+        file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
         self.figures.append(FigureFile(file_name, svg, fig))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t("doc.see_figure", number=number))

@@ -11,7 +11,7 @@ from pathlib import Path
 import jinja2
 from markupsafe import Markup, escape
 
-from .. import __version__
+from ..version import __version__
 from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry

@@ -196,6 +196,8 @@ def _transform(node: Node, images: dict[str, str]) -> None:
         if child.tag in ("style", "script", "head"):
             continue
         classes = child.classes()
+        if "mech-animation" in classes:  # interactive, screen only (hidden in print as well)
+            continue
         if "equation" in classes:
             new_children.append(_equation(child))
             continue

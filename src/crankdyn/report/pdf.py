@@ -50,8 +50,8 @@ def _fetcher(in_memory: dict[str, bytes] | None = None):
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
         class SafeURLFetcher(weasyprint.URLFetcher):
             def fetch(self, url, headers=None):
-                if url in in_memory:
-                    return weasyprint.urls.URLFetcherResponse(url, in_memory[url],
+                if unquote(url) in in_memory:
+                    return weasyprint.urls.URLFetcherResponse(url, in_memory[unquote(url)],
                                                               headers={"Content-Type": "image/svg+xml"})
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
@@ -60,8 +60,8 @@ def _fetcher(in_memory: dict[str, bytes] | None = None):
         return SafeURLFetcher(allowed_protocols=("data", "file"), allow_redirects=False)
 
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
-        if url in in_memory:
-            return {"string": in_memory[url], "mime_type": "image/svg+xml", "redirected_url": url}
+        if unquote(url) in in_memory:
+            return {"string": in_memory[unquote(url)], "mime_type": "image/svg+xml", "redirected_url": url}
         if not is_allowed(url):
             raise BlockedResource(f"crankdyn does not load {url!r} into a report")
         return weasyprint.default_url_fetcher(url, *args, **kwargs)
