@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import functools
+import json
+
 import numpy as np
 import pytest
 
@@ -16,8 +19,14 @@ from conftest import modified
 REGISTRY = default_registry()
 
 
+@functools.lru_cache(maxsize=None)
+def _run(name: str, changes_json: str):
+    return run_scene(scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir()), REGISTRY)
+
+
 def run(name, changes=None):
-    return run_scene(scene_from_dict(modified(name, changes or {}), base_dir=examples_dir()), REGISTRY)
+    """One computation per scene and worker, shared by the tests (they only read the results)."""
+    return _run(name, json.dumps(changes or {}, sort_keys=True))
 
 
 def test_single_cylinder_pin_diagram_is_t_and_z_plus_c_rod():
