@@ -3,6 +3,8 @@ positions figure, and the animation driven in headless Chromium."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import base64
 import io
 import sys
@@ -19,7 +21,9 @@ from crankdyn.plugins import collect, default_registry, plugin_manager
 from crankdyn.scene import load_scene
 
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
-PLUGIN_SRC = examples_dir() / "plugin-example" / "src"
+# The example plugin lives in the repository (it is not package data of crankdyn).
+PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
+PLUGIN_SRC = PLUGIN_DIR / "src"
 
 
 @lru_cache(maxsize=None)
@@ -65,7 +69,7 @@ def test_scotch_yoke_plugin_geometry_is_rigid_and_matches_its_physics():
         from crankdyn_scotch_yoke import physics, plugin
     finally:
         sys.path.pop(0)
-    scene = load_scene(examples_dir() / "plugin-example" / "scotch-yoke.toml")
+    scene = load_scene(PLUGIN_DIR / "scotch-yoke.toml")
     alpha = np.radians(np.arange(0.0, 360.0, 1.0))
     geometry = plugin.geometry(scene, alpha)
     assert _link_spread(geometry) < 1e-9
