@@ -265,30 +265,29 @@ def render(output: StageOutput, ctx) -> str:
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
     figure_rocker = ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
 
-    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    plot(axes[0], "slider_y_below_core_m", mm)
-    axes[0].set_ylabel(t("vane.axis_slider_y"))
-    axes[0].legend(loc="upper right", fontsize=8)
-    plot(axes[1], "slider_vy_below_core_m_s")
-    axes[1].set_ylabel(t("vane.axis_slider_v"))
-    plot(axes[2], "slider_jy_below_core_m_s2")
-    axes[2].set_ylabel(t("vane.axis_slider_j"))
-    for zero in r["slider_vertical_acceleration_zeros_deg"]:
-        for ax in axes[1:]:
-            ax.axvline(zero, color="C3", lw=0.7, ls=":")
-    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    figure_slider = ctx.figure(fig, t("vane.slider_caption"), "vane_slider")
+    def three_panels(keys, axis_labels, legend_loc, caption_key, name, zeros=()):
+        """Value, velocity and acceleration of one coordinate over the crank angle, with the
+        comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
+        fig, axes = new_figure(16, 15, nrows=3, sharex=True)
+        for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
+            plot(ax, key, mm if i == 0 else 1.0)
+            ax.set_ylabel(t(label))
+            if i == 0:
+                ax.legend(loc=legend_loc, fontsize=8)
+        for zero in zeros:
+            for ax in axes[1:]:
+                ax.axvline(zero, color="C3", lw=0.7, ls=":")
+        crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+        return ctx.figure(fig, t(caption_key), name)
 
-    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    plot(axes[0], "slider_relative_m", mm)
-    axes[0].set_ylabel(t("vane.axis_relative_y"))
-    axes[0].legend(loc="upper left", fontsize=8)
-    plot(axes[1], "slider_relative_velocity_m_s")
-    axes[1].set_ylabel(t("vane.axis_relative_v"))
-    plot(axes[2], "slider_relative_acceleration_m_s2")
-    axes[2].set_ylabel(t("vane.axis_relative_j"))
-    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    figure_relative = ctx.figure(fig, t("vane.relative_caption"), "vane_relative")
+    figure_slider = three_panels(
+        ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
+        ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"), "upper right", "vane.slider_caption",
+        "vane_slider", r["slider_vertical_acceleration_zeros_deg"])
+    figure_relative = three_panels(
+        ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
+        ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
+        "vane.relative_caption", "vane_relative")
 
     fig, axes = new_figure(16, 6.5, ncols=3)
     x = by_lambda["rod_ratio"].to_numpy()
