@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what crankdyn needs on a fresh Debian-based machine: the system libraries
 # WeasyPrint renders with, serif fonts with Cyrillic (Liberation = Times metrics),
-# poppler-utils (the tests turn PDF pages into PNG), pandoc (the Word export), Debian's chromium (the live-preview test
+# poppler-utils (the tests turn PDF pages into PNG), pandoc (the Word export), LibreOffice Writer (the slow test opens the .docx), Debian's chromium (the live-preview test
 # drives it headless), then the package with its test extras.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,6 +19,15 @@ if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
     $SUDO apt-get update -qq
     # shellcheck disable=SC2086
     $SUDO apt-get install -y -qq $missing >/dev/null
+  fi
+  # LibreOffice Writer, without its recommended extras (Java, the GUI's help): the slow test converts
+  # report.docx to PDF with it.
+  if ! command -v soffice >/dev/null 2>&1; then
+    SUDO=""
+    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    export DEBIAN_FRONTEND=noninteractive
+    $SUDO apt-get update -qq
+    $SUDO apt-get install -y -qq --no-install-recommends libreoffice-writer >/dev/null
   fi
 fi
 
