@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
@@ -96,7 +95,7 @@ def run(scene, inputs) -> StageOutput:
         results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, first_argmax)
         results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, first_argmin)
 
-    frame = pd.DataFrame({
+    frame = {
         "crank_angle_deg": motion.crank_angle_deg,
         "piston_displacement_m": motion.piston_displacement_m,
         "piston_velocity_m_s": motion.piston_velocity_m_s,
@@ -112,7 +111,7 @@ def run(scene, inputs) -> StageOutput:
         "tangential_Pa": rod.tangential_Pa,
         "resultant_Pa": resultant_Pa,
         "torque_Nm": torque,
-    })
+    }
     notes = []
     if exact is not None:
         results["rod_model"] = "exact"

@@ -35,7 +35,6 @@ from dataclasses import dataclass, field
 from typing import Annotated, Any, Callable
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
@@ -504,7 +503,7 @@ def _kinematics_part(scene, opts, results, tables) -> None:
     results["kinematics_forms"] = rows
     results["kinematics_method"] = scene.analysis.kinematics
     # CSV: one text column names the form ("series-3"); no empty cells for the exact form's terms
-    tables["kinematics_forms"] = pd.DataFrame(
+    tables["kinematics_forms"] = (
         [{"form": row["form"] + (f"-{row['terms']}" if row["terms"] else ""),
           **{k: v for k, v in row.items() if k not in ("form", "terms")}} for row in rows])
 
@@ -513,7 +512,7 @@ def run(scene, inputs) -> StageOutput:
     runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
-    tables: dict[str, pd.DataFrame] = {}
+    tables: dict[str, Any] = {}
     notes: list = []
     scene_step = scene.analysis.angle_step_deg
 
@@ -582,7 +581,7 @@ def run(scene, inputs) -> StageOutput:
         "steps_refused": refused,
         "at_scene_step": at_scene,
     })
-    tables["steps"] = pd.DataFrame(step_rows)
+    tables["steps"] = step_rows
 
     _kinematics_part(scene, opts, results, tables)
     _probes(scene, results, probes, runner)
@@ -671,7 +670,7 @@ def run_kinematics(scene, inputs) -> StageOutput:
     runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
-    tables: dict[str, pd.DataFrame] = {}
+    tables: dict[str, Any] = {}
     _kinematics_part(scene, opts, results, tables)
     _probes(scene, results, probes, runner)
     return StageOutput(data={}, results=results, tables=tables)
