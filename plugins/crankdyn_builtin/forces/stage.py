@@ -14,6 +14,11 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.physics import kinematics as kin
+from crankdyn.physics import rod_loads
+from crankdyn.scene import options
+from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
+from crankdyn.errors import Problem, SceneError
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -137,12 +142,6 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
     The radial force handed on is Z_exact - c_rod, so that the stages adding the rods' centrifugal
     force c_rod (crank-pin load, bays) get the exact load.
     """
-    from crankdyn.errors import Problem, SceneError
-    from crankdyn.physics import kinematics as kin
-    from crankdyn.physics import rod_loads
-    from crankdyn.scene import options
-    from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
-
     if not options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
         return None
     e, m = scene.engine, scene.masses

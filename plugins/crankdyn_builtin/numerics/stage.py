@@ -53,6 +53,7 @@ from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics import articulated as art
 from crankdyn_builtin.bays.stage import engine_layout
 from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
+from crankdyn.physics.layout import step_on_grid_deg
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -576,6 +577,22 @@ def _kinematics_part(scene, opts, results, tables) -> None:
           **{k: v for k, v in row.items() if k not in ("form", "terms")}} for row in rows])
 
 
+def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference) -> list[dict]:
+    """One row per step: points, the timed formulas, the re-run's wall time, values and their errors."""
+    ref = reference.values
+    step_rows = []
+    for r, timing in zip(runs, timings):
+        row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
+               "rerun_time_s": r.time_s}
+        for q in QUANTITIES:
+            row[f"{q}_{QUANTITY_UNITS[q]}"] = r.values[q]
+            row[f"{q}_error_relative"] = _relative(r.values[q], ref[q])
+        if reference.theoretical_work_J is not None and r.theoretical_work_J is not None:
+            row["theoretical_work_error_relative"] = _relative(r.theoretical_work_J, reference.theoretical_work_J)
+        step_rows.append(row)
+    return step_rows
+
+
 def run(scene, inputs) -> StageOutput:
     runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
@@ -620,16 +637,7 @@ def run(scene, inputs) -> StageOutput:
     ref = reference.values
 
     timed, timings, overhead = time_steps(scene, runs, opts.repeats, runner)
-    step_rows = []
-    for r, timing in zip(runs, timings):
-        row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
-               "rerun_time_s": r.time_s}
-        for q in QUANTITIES:
-            row[f"{q}_{QUANTITY_UNITS[q]}"] = r.values[q]
-            row[f"{q}_error_relative"] = _relative(r.values[q], ref[q])
-        if reference.theoretical_work_J is not None and r.theoretical_work_J is not None:
-            row["theoretical_work_error_relative"] = _relative(r.theoretical_work_J, reference.theoretical_work_J)
-        step_rows.append(row)
+    step_rows = _step_rows(runs, timings, reference)
 
     at_scene = {"angle_step_deg": scene_step}
     for q in QUANTITIES:
@@ -664,7 +672,6 @@ def run(scene, inputs) -> StageOutput:
 
 def study_steps_deg(scene, steps_deg) -> list[float]:
     """The study's steps on the engine's grid: each the largest grid/k not above the one asked for."""
-    from crankdyn.physics.layout import step_on_grid_deg
 
     grid = scene.engine_grid_deg
     return sorted({step_on_grid_deg(grid, float(s)) for s in steps_deg}, reverse=True)
