@@ -121,7 +121,7 @@ def run(scene, inputs) -> StageOutput:
     if exact is not None:
         results["rod_model"] = "exact"
         results["exact_rod"] = exact["results"]
-        frame = frame.assign(**exact["columns"])
+        frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
         notes.append(("forces.note_exact_rod", {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
     data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa,
                        total_Pa=total_Pa, tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
