@@ -54,12 +54,10 @@ _SOURCES: dict[int, tuple[weakref.ref, dict, str]] = {}
 
 @lru_cache(maxsize=1)
 def _registry():
-
     return default_registry()
 
 
 def _languages() -> list[str]:
-
     return available_languages()
 
 
@@ -67,7 +65,6 @@ def _languages() -> list[str]:
 
 def _source_data(source: Any) -> tuple[dict, str, str]:
     """(raw data, base folder, name for messages) of a path, a dict or a scene from :func:`load`."""
-
     if isinstance(source, Scene):
         entry = _SOURCES.get(id(source))
         if entry is None or entry[0]() is not source:
@@ -96,7 +93,6 @@ def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
 
     The names follow the batch CSV header rules; a bad name is a problem like a bad value.
     """
-
     problems: list[Problem] = []
     names = {str(k).replace("__", "."): v for k, v in overrides.items()}
     for name in names:
@@ -132,7 +128,6 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     Every problem (unknown key, value out of range, unknown mechanism or stage) raises one
     :class:`SceneError` listing them all; nothing is printed.
     """
-
     data, base_dir, name = _source_data(source)
     changes = {**(overrides or {}), **more}
     if changes:
@@ -261,13 +256,11 @@ class Result:
     @cached_property
     def document(self) -> dict[str, Any]:
         """The results.json document of this run."""
-
         return results_document(self.run_result)
 
     @cached_property
     def tables(self) -> dict[str, "pd.DataFrame"]:  # noqa: F821
         """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
-
         return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
 
     @cached_property
@@ -283,12 +276,10 @@ class Result:
     @cached_property
     def answers(self) -> dict[str, Any]:
         """The main results, as the batch answer key has them (units in the names)."""
-
         return answers(self.document)
 
     def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
         """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
-
         formats = list(formats)
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
@@ -299,7 +290,6 @@ class Result:
     def _render(self, figures_only: bool = False, language: str | None = None,
                 only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
-
         from .report.document import _environment  # lazy: heavy optional import (jinja2: only when a section is rendered)
 
         registry = _registry()
@@ -352,7 +342,6 @@ class Result:
 
     # ----------------------------------------------------------------- display
     def _repr_html_(self) -> str:
-
         t = translator(self.scene.report.language, _registry().catalogs)
         esc = html.escape
         rows = "".join(f"<tr><td>{esc(name)}</td><td style='text-align:right'>{value:.6g}</td>"

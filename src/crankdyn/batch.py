@@ -106,7 +106,6 @@ _SAFE = re.compile(r"[^\w.-]+", re.UNICODE)
 
 def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     """The override columns and the rows of ``csv_path``; a malformed file raises SceneError."""
-
     source = str(csv_path)
     try:
         text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
@@ -274,7 +273,6 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     Each row runs in a worker process limited to ``timeout`` seconds (default 120); Ctrl-C stops
     the workers, and the answer key and failure list are still written for what finished.
     """
-
     start = time.perf_counter()
     formats = list(formats)
     base_source = str(base_path)

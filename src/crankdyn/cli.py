@@ -196,7 +196,6 @@ def _batch(args) -> int:
 
 
 def _explore(args) -> int:
-
     from .physics import firing_explorer  # lazy: heavy optional import (numpy, scipy: per command)
     from .physics.layout import LayoutError  # lazy: heavy optional import (numpy, scipy: per command)
 
@@ -281,7 +280,6 @@ def _example_names() -> dict[str, Path]:
 
 
 def _example(args) -> int:
-
     names = _example_names()
     if args.list or not args.name:
         for name, path in names.items():

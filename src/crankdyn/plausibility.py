@@ -79,7 +79,6 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
 
     Optional values without a default (None) and empty texts are not listed: nothing was assumed.
     """
-
     out: list[tuple[str, Any]] = []
 
     def walk(model: BaseModel, prefix: str) -> None:
@@ -109,6 +108,5 @@ def format_params(params: dict[str, Any], decimal_separator: str = ".") -> dict[
 
 def console_lines(found: list[tuple[str, dict[str, Any]]], registry) -> list[str]:
     """The warnings as English sentences for the terminal."""
-
     t = translator("en", registry.catalogs)
     return [t(key, **format_params(params)) for key, params in found]

@@ -412,7 +412,6 @@ class Scene(_Strict):
     def engine_grid_deg(self) -> float:
         """The largest angle dividing the cycle, every firing delay and bank angle (deg); the cycle
         when the layout is invalid (its check reports that)."""
-
         e = self.engine
         try:
             layout = lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
@@ -429,7 +428,6 @@ class Scene(_Strict):
     # Derived values used by many stages.
     @property
     def crank_angles_deg(self):
-
         n = round(self.engine.cycle_deg / self.analysis.angle_step_deg)
         return np.arange(n) * self.analysis.angle_step_deg
 
@@ -450,7 +448,6 @@ class Scene(_Strict):
 
     def data_file_problem(self, name: str, must_exist: bool = True) -> str | None:
         """Why ``name`` may not be read as a data file, or None."""
-
         return data_file_problem(name, self.base_dir, self.data_dirs, must_exist)
 
 

@@ -212,7 +212,6 @@ class Preview:
         return snapshot
 
     def _render(self) -> tuple[str, str, tuple[str, ...], str | None]:
-
         try:
             if self._registry is None:
                 self._registry = default_registry()
@@ -228,7 +227,6 @@ class Preview:
 
     def pdf(self, snapshot: Snapshot) -> bytes:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""
-
         with self._pdf_lock:
             if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
                 self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html))
@@ -364,7 +362,6 @@ class _Handler(BaseHTTPRequestHandler):
 def content_disposition(filename: str) -> str:
     """``inline`` with an ASCII ``filename`` and, for any other name, the RFC 5987 ``filename*``
     (a Cyrillic scene name cannot go into a latin-1 HTTP header as it is)."""
-
     ascii_name = "".join(c if 32 <= ord(c) < 127 and c not in '"\\' else "_" for c in filename)
     header = f'inline; filename="{ascii_name}"'
     if ascii_name != filename:

@@ -60,7 +60,6 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     its own crank angle ``alpha - lag - psi``. Articulated slave rods hang on the master rod
     of their crank at the pin C of :func:`crankdyn.physics.articulated.slave_motion`.
     """
-
     e = scene.engine
     if e.cylinders == 1:
         return single_geometry(scene, crank_angle_rad)
@@ -113,6 +112,5 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
 
 def _slaves(scene, layout) -> dict[float, art.SlaveGeometry]:
     """Slave-rod geometry by the slave's bank angle from its master (deg)."""
-
     opts = options(scene, "articulated", ArticulatedOptions)
     return {round(math.degrees(g.bank_angle_rad), 9): g for _, g, *_ in _slave_geometries(scene, layout, opts)}

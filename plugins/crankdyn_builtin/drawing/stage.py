@@ -33,7 +33,6 @@ FRAMES_PER_REVOLUTION = 180
 
 @functools.lru_cache(maxsize=1)
 def _registry():
-
     return default_registry()
 
 
@@ -158,7 +157,6 @@ def _labels(geometry, ctx) -> dict[str, str]:
 
 def render(output: StageOutput, ctx) -> str:
     """The scheme at TDC, the positions figure and the animated block (drawing only)."""
-
     t = ctx.t
     positions, animation = output.artifacts["positions"], output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]

@@ -672,7 +672,6 @@ def run(scene, inputs) -> StageOutput:
 
 def study_steps_deg(scene, steps_deg) -> list[float]:
     """The study's steps on the engine's grid: each the largest grid/k not above the one asked for."""
-
     grid = scene.engine_grid_deg
     return sorted({step_on_grid_deg(grid, float(s)) for s in steps_deg}, reverse=True)
 

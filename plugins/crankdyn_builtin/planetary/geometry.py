@@ -17,7 +17,6 @@ from .stage import geometry_of
 
 def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     """Carrier O-C, the planet's pin arm C-B (B on the epi-/hypocycloid), rod B-A, piston pin A."""
-
     params, geometry = geometry_of(scene)
     revolutions = pl.motion_period_revolutions(params.ratio())
     dc = pl.dead_centres(geometry, revolutions)

@@ -86,7 +86,6 @@ def periodic_extreme(fn, derivative, period: float, kind: str = "max", samples: 
     rather than to half a grid step. Of peaks equal within ``rtol`` x range the first in [0, period)
     is returned, the convention of :func:`first_extremum_index`.
     """
-
     sign = 1.0 if kind == "max" else -1.0
     x = np.arange(samples) * (period / samples)
     h = period / samples

@@ -265,7 +265,6 @@ def grid_shift(firing_delay_deg: float, step_deg: float, grid_deg: float | None 
 
 def _fraction(angle_deg: float):
     """An angle as an exact fraction of degrees (layout angles are rational: 720/7, 40, 22.5 ...)."""
-
     return Fraction(float(angle_deg)).limit_denominator(10_000)
 
 
@@ -276,7 +275,6 @@ def grid_deg(cycle_deg: float, angles_deg) -> float:
     whole number k, and every grid/k works. The greatest common divisor of rational numbers
     a/b and c/d is gcd(a d, c b)/(b d).
     """
-
     g = _fraction(cycle_deg)
     for angle in angles_deg:
         f = _fraction(angle) % _fraction(cycle_deg)
