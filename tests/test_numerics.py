@@ -238,8 +238,9 @@ def test_best_times_takes_the_repeats_in_turns():
             clock.now += 1e-3
         return fn
     num.best_times([timed("a"), timed("b")], 3, min_time_s=1e-3, clock=clock)
-    # autorange of each, then two rounds over both, each timed repeat after one untimed call
-    assert order == ["a", "b"] + ["a", "a", "b", "b"] * 2
+    # autorange of each, then two rounds over both (backwards, forwards), each timed repeat after one
+    # untimed call
+    assert order == ["a", "b"] + ["b", "b", "a", "a"] + ["a", "a", "b", "b"]
 
 
 def test_step_times_are_the_formulas_with_the_overhead_apart():

@@ -197,14 +197,17 @@ def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: 
 
     Each function's loop count is found as :meth:`timeit.Timer.autorange` does (that first
     measurement counts as its first repeat); then ``repeats - 1`` further repeats go round all
-    the functions in turn, so a burst of load on the machine slows every function alike rather
-    than one step of the study, each repeat after one untimed call (warm caches). The minimum is
-    kept: load only ever adds time.
+    the functions in turn (backwards and forwards), so a burst of load on the machine slows every
+    function alike rather than one step of the study, each repeat after one untimed call (warm
+    caches). The minimum is kept: load only ever adds time.
     """
     ranged = [_autorange(fn, min_time_s, clock) for fn in functions]
     best = [per_call for _, per_call in ranged]
-    for _ in range(max(1, repeats) - 1):
-        for k, (fn, (loops, _)) in enumerate(zip(functions, ranged)):
+    for round_ in range(max(1, repeats) - 1):
+        # every other round backwards: no function always follows the same one (cache state)
+        order = range(len(functions)) if round_ % 2 else range(len(functions) - 1, -1, -1)
+        for k in order:
+            fn, loops = functions[k], ranged[k][0]
             fn()  # untimed: the previous function left other data in the caches
             start = clock()
             for _ in range(loops):
