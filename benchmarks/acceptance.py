@@ -4,6 +4,7 @@ Run from the repository root (takes a few minutes; writes only below a temporary
 
     python3 benchmarks/acceptance.py               # every figure
     python3 benchmarks/acceptance.py --repeat 3    # fewer whole-process repeats
+    python3 benchmarks/acceptance.py --only startup,timing   # some figures only
 
 Whole processes are timed (``crankdyn`` started afresh each time, median of ``--repeat`` runs)
 with byte-code caching on (in a temporary ``PYTHONPYCACHEPREFIX``), as an installed package
@@ -48,38 +49,46 @@ def crankdyn(*args: str) -> list[str]:
     return [sys.executable, "-m", "crankdyn", *args]
 
 
+FIGURES = ("startup", "html", "pdf", "size", "memory", "timing")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--skip-memory", action="store_true", help="leave out the 0.01 deg in-line 4 runs")
+    parser.add_argument("--only", help="comma-separated subset of " + ",".join(FIGURES) + " (default: all)")
     args = parser.parse_args()
+    only = set(FIGURES) if not args.only else {f.strip() for f in args.only.split(",")}
+    if only - set(FIGURES):
+        parser.error(f"unknown --only {','.join(sorted(only - set(FIGURES)))}; allowed: {','.join(FIGURES)}")
     rows = []
     with tempfile.TemporaryDirectory(prefix="crankdyn-accept-") as tmp:
         tmp = Path(tmp)
         env = _env(tmp / "pycache")
         one = str(EXAMPLES / "petrol-1cyl.toml")
 
-        imports = wall([sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"], env, args.repeat)
-        json_s = wall(crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"), env, args.repeat)
-        rows.append(("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports))
-        html_s = wall(crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"), env, args.repeat)
-        rows.append(("report --format html (1 cyl) / 1.5 s", html_s, 1.5))
-
-        pdf_s = wall(crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"), env, args.repeat)
-        subprocess.run(crankdyn("report", one, "-o", str(tmp / "sc"), "--format", "html", "--self-contained", "-q"),
-                       env=env, check=True, capture_output=True)
-        weasy = wall([sys.executable, "-c", "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
-                      ".write_pdf(sys.argv[2])", str(tmp / "sc" / "report.html"), str(tmp / "w.pdf")],
-                     env, args.repeat)
-        rows.append(("report --format pdf / 1.3 x WeasyPrint alone on its HTML", pdf_s, 1.3 * weasy))
-
-        subprocess.run(crankdyn("report", str(EXAMPLES / "v8-petrol.toml"), "-o", str(tmp / "v8"), "--format", "html",
-                                "-q"), env=env, check=True, capture_output=True)
-        size = (tmp / "v8" / "report.html").stat().st_size + sum(p.stat().st_size
-                                                               for p in (tmp / "v8" / "figures").iterdir())
-        rows.append(("V8 report.html + figures/ (MB) / 1.0 MB", size / 1e6, 1.0))
-
-        if not args.skip_memory:
+        if "startup" in only:
+            imports = wall([sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"], env, args.repeat)
+            json_s = wall(crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"), env, args.repeat)
+            rows.append(("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports))
+        if "html" in only:
+            html_s = wall(crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"), env, args.repeat)
+            rows.append(("report --format html (1 cyl) / 1.5 s", html_s, 1.5))
+        if "pdf" in only:
+            pdf_s = wall(crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"), env, args.repeat)
+            subprocess.run(crankdyn("report", one, "-o", str(tmp / "sc"), "--format", "html", "--self-contained",
+                                    "-q"), env=env, check=True, capture_output=True)
+            weasy = wall([sys.executable, "-c", "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
+                          ".write_pdf(sys.argv[2])", str(tmp / "sc" / "report.html"), str(tmp / "w.pdf")],
+                         env, args.repeat)
+            rows.append(("report --format pdf / 1.3 x WeasyPrint alone on its HTML", pdf_s, 1.3 * weasy))
+        if "size" in only:
+            subprocess.run(crankdyn("report", str(EXAMPLES / "v8-petrol.toml"), "-o", str(tmp / "v8"), "--format",
+                                    "html", "-q"), env=env, check=True, capture_output=True)
+            size = (tmp / "v8" / "report.html").stat().st_size + sum(p.stat().st_size
+                                                                   for p in (tmp / "v8" / "figures").iterdir())
+            rows.append(("V8 report.html + figures/ (MB) / 1.0 MB", size / 1e6, 1.0))
+        if "memory" in only and not args.skip_memory:
             sys.path.insert(0, str(Path(__file__).resolve().parent))
             import scaling
 
@@ -90,14 +99,15 @@ def main() -> None:
                         for n in fine["stages"] if coarse["stages"][n]["s"] > 0.05)
             rows.append((f"halving 0.02 -> 0.01 deg: worst stage time ratio ({worst[1]}) / 2", worst[0], 2.0))
 
-        monotone = 0
-        for _ in range(10):
-            subprocess.run(crankdyn("report", one, "-o", str(tmp / "n"), "--format", "json", "-q"), env=env,
-                           check=True, capture_output=True)
-            steps = json.loads((tmp / "n" / "results.json").read_text())["numerics"]["steps"]
-            steps.sort(key=lambda s: s["points"])
-            monotone += all(a["time_s"] <= b["time_s"] for a, b in zip(steps, steps[1:]))
-        rows.append(("error-against-run-time table monotone, runs of 10 / 10", monotone, 10))
+        if "timing" in only:
+            monotone = 0
+            for _ in range(10):
+                subprocess.run(crankdyn("report", one, "-o", str(tmp / "n"), "--format", "json", "-q"), env=env,
+                               check=True, capture_output=True)
+                steps = json.loads((tmp / "n" / "results.json").read_text())["numerics"]["steps"]
+                steps.sort(key=lambda s: s["points"])
+                monotone += all(a["time_s"] <= b["time_s"] for a, b in zip(steps, steps[1:]))
+            rows.append(("error-against-run-time table monotone, runs of 10 / 10", monotone, 10))
 
     print(f"issue 17 acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs)")
     print(f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}")

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import ast
 import io
+import subprocess
+import sys
 from contextlib import redirect_stdout
 from pathlib import Path
 
@@ -20,38 +22,10 @@ SOURCES = sorted([*(ROOT / "src").rglob("*.py"), *(ROOT / "plugins").rglob("*.py
 LAZY_MARK = "lazy: heavy optional import"
 MAX_FUNCTION_LINES = 80
 
-# Modules whose function-local imports keep `crankdyn --help` and the CLI's start-up fast (the
-# command line loads the computation stack only for the command that needs it); they are being
-# reworked in parallel (bad-input handling) and get the lazy mark when that work lands.
-LAZY_ENTRY_POINTS = {"src/crankdyn/cli.py", "src/crankdyn/batch.py", "src/crankdyn/serve.py",
-                     "src/crankdyn/scene.py"}
-# Modules merged from work done in parallel with the layer rules (API, Word export, drawings,
-# typography, numerical scope, bad input): their function-local imports are still to be hoisted or
-# marked. This list may only shrink.
-LAZY_ENTRY_POINTS |= {
-    "plugins/crankdyn_builtin/crank_slider/geometry.py",
-    "plugins/crankdyn_builtin/drawing/stage.py",
-    "plugins/crankdyn_builtin/forces/stage.py",
-    "plugins/crankdyn_builtin/numerics/stage.py",
-    "plugins/crankdyn_builtin/offset_crank/geometry.py",
-    "plugins/crankdyn_builtin/planetary/geometry.py",
-    "src/crankdyn/__init__.py",
-    "src/crankdyn/api.py",
-    "src/crankdyn/manifest.py",
-    "src/crankdyn/outputs.py",
-    "src/crankdyn/physics/extrema.py",
-    "src/crankdyn/physics/layout.py",
-    "src/crankdyn/plausibility.py",
-    "src/crankdyn/report/context.py",
-    "src/crankdyn/report/document.py",
-    "src/crankdyn/report/docx.py",
-    "src/crankdyn/report/i18n.py",
-    "src/crankdyn/report/mechanism_drawing.py",
-    "src/crankdyn/report/pdf.py",
-    "src/crankdyn/report/typeset.py",
-    "src/crankdyn/report/worked.py",
-    "src/crankdyn/units.py",
-}
+# Modules exempt from the function-local-import rule: none. Every function-local import carries the
+# lazy mark with its reason (matplotlib, weasyprint, babel, jinja2, pandas, openpyxl, pandoc, pint,
+# watchfiles; the command line's per-command computation stack); this set may only stay empty.
+LAZY_ENTRY_POINTS: set[str] = set()
 
 # Functions still over the limit, with their length now: each may only shrink (issue 14 splits
 # them along their physics); the list must only get shorter.
@@ -137,3 +111,18 @@ def test_known_long_functions_still_exist(entry):
     path, name = entry
     lengths = [f.end_lineno - f.lineno + 1 for f in _functions(ROOT / path) if f.name == name]
     assert any(length > MAX_FUNCTION_LINES for length in lengths), f"{path}:{name} is short now: remove it"
+
+
+def test_a_json_only_report_imports_no_rendering_library(tmp_path):
+    """Start-up (issue 17): the JSON-only path imports what it uses, nothing of the rendering stack."""
+    heavy = ["pandas", "matplotlib", "jinja2", "babel", "pint", "weasyprint", "openpyxl", "pypandoc", "docx"]
+    code = ("import sys\nfrom crankdyn.cli import main\n"
+            f"code = main(['report', {str(ROOT / 'examples' / 'petrol-1cyl.toml')!r}, '-o', {str(tmp_path)!r}, "
+            "'--format', 'json', '-q'])\n"
+            f"print(sorted(m for m in {heavy!r} if m in sys.modules), code)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["[]", "0"] and (tmp_path / "results.json").is_file()
+    # the same check can fail: a table read builds a DataFrame and so imports pandas
+    code = code.replace("print(", "import crankdyn.plugin_types as t; t.Tables(a={'x': [1]})['a']\nprint(")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert "'pandas'" in out

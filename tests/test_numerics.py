@@ -200,6 +200,65 @@ def test_kinematics_only_scene_gets_the_kinematics_part():
     assert not t.missing and 'data-part="kinematics-forms"' in html and 'data-part="steps"' not in html
 
 
+class FakeClock:
+    """A clock that only the timed functions advance: each call costs what its script says."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+    def function(self, costs):
+        costs = iter(costs)
+
+        def fn():
+            self.now += next(costs)
+        return fn
+
+
+def test_best_times_autoranges_and_keeps_the_best_repeat_per_call():
+    clock = FakeClock()
+    # f costs 1 ms per call, but 5 ms in its first (autorange) call, as under load; g costs 0.3 ms.
+    f_costs = [5e-3] + [1e-3] * 10  # autorange: 1 call (>= 1 ms) per repeat; then 3 more repeats
+    g_costs = [3e-4] * 100
+    timings = num.best_times([clock.function(f_costs), clock.function(g_costs)], 4, min_time_s=1e-3, clock=clock)
+    assert [t.repeats for t in timings] == [4, 4]
+    assert timings[0].loops == 1 and timings[0].best_s == pytest.approx(1e-3)  # the slow repeat is not kept
+    # g: 1 call (0.3 ms) and 2 calls (0.6 ms) are too short, 5 calls (1.5 ms) are enough (timeit's 1, 2, 5, 10 ...)
+    assert timings[1].loops == 5 and timings[1].best_s == pytest.approx(3e-4)
+
+
+def test_best_times_takes_the_repeats_in_turns():
+    clock, order = FakeClock(), []
+
+    def timed(name):
+        def fn():
+            order.append(name)
+            clock.now += 1e-3
+        return fn
+    num.best_times([timed("a"), timed("b")], 3, min_time_s=1e-3, clock=clock)
+    # autorange of each, then two rounds over both (backwards, forwards), each timed repeat after one
+    # untimed call
+    assert order == ["a", "b"] + ["b", "b", "a", "a"] + ["a", "a", "b", "b"]
+
+
+def test_step_times_are_the_formulas_with_the_overhead_apart():
+    result = run("petrol-1cyl", UNLIMITED)
+    r = result.outputs["numerics"].results
+    assert r["steps_timed"] == "formulas" and r["steps_timing_repeats"] > 1
+    assert num.NumericsOptions().repeats > 1
+    assert r["per_call_overhead_s"] > 0
+    for row in r["steps"]:
+        # the whole re-run costs the formulas plus at least the fixed overhead
+        assert row["rerun_time_s"] >= row["time_s"] + r["per_call_overhead_s"] * (1 - 1e-9)
+        assert row["timing_loops"] >= 1
+    for language in ("en", "uk", "ru"):
+        html, ctx, t = render_section(result, "numerics", language)
+        assert not t.missing and "timeit" in html and f" {r['steps_timing_repeats']} " in html
+        assert ctx.num(r["per_call_overhead_s"] * 1e3, 2) in html
+
+
 def test_options_table_steps_repeats_and_budget():
     r = run("petrol-1cyl", {"numerics": {"steps_deg": [10, 5], "repeats": 1}}).outputs["numerics"].results
     assert [s["angle_step_deg"] for s in r["steps"]] == [10.0, 5.0, 1.0]

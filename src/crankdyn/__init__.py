@@ -17,7 +17,7 @@ _API = {"load", "run", "sweep", "Result", "SceneError"}
 def __getattr__(name: str):
     # Imported on first use, so that ``import crankdyn`` (and the command line) stays light.
     if name in _API:
-        from . import api
+        from . import api  # lazy: heavy optional import (numpy, scipy: import crankdyn stays light)
 
         return getattr(api, name)
     raise AttributeError(f"module 'crankdyn' has no attribute {name!r}")

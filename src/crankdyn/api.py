@@ -23,15 +23,27 @@ from __future__ import annotations
 import html
 import itertools
 import re
+import tomllib
 import weakref
 from collections.abc import Iterable, Mapping
 from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import Any
 
+from markupsafe import Markup
+
+from . import answer_key
+from .batch import _nest, answers
 from .errors import Problem, SceneError
+from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, run_scene
-from .scene import Scene
+from .outputs import FORMATS, _named_tables, results_document
+from .pipeline import render_files
+from .plugins import default_registry
+from .report.context import RenderContext
+from .report.figures import STYLE
+from .report.i18n import available_languages, translator
+from .scene import Scene, merge, scene_from_dict
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError"]
 
@@ -42,14 +54,10 @@ _SOURCES: dict[int, tuple[weakref.ref, dict, str]] = {}
 
 @lru_cache(maxsize=1)
 def _registry():
-    from .plugins import default_registry
-
     return default_registry()
 
 
 def _languages() -> list[str]:
-    from .report.i18n import available_languages
-
     return available_languages()
 
 
@@ -57,8 +65,6 @@ def _languages() -> list[str]:
 
 def _source_data(source: Any) -> tuple[dict, str, str]:
     """(raw data, base folder, name for messages) of a path, a dict or a scene from :func:`load`."""
-    import tomllib
-
     if isinstance(source, Scene):
         entry = _SOURCES.get(id(source))
         if entry is None or entry[0]() is not source:
@@ -87,9 +93,6 @@ def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
 
     The names follow the batch CSV header rules; a bad name is a problem like a bad value.
     """
-    from .batch import _nest
-    from .scene import merge
-
     problems: list[Problem] = []
     names = {str(k).replace("__", "."): v for k, v in overrides.items()}
     for name in names:
@@ -125,8 +128,6 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     Every problem (unknown key, value out of range, unknown mechanism or stage) raises one
     :class:`SceneError` listing them all; nothing is printed.
     """
-    from .scene import merge, scene_from_dict
-
     data, base_dir, name = _source_data(source)
     changes = {**(overrides or {}), **more}
     if changes:
@@ -161,10 +162,8 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     first name varies slowest): the grid's own columns, then the answer-key columns of
     ``crankdyn batch`` (units in the names; columns no run has are left out, as there).
     """
-    import pandas as pd
+    import pandas as pd  # lazy: heavy optional import (pandas: only for a sweep's table)
 
-    from . import answer_key
-    from .outputs import results_document
 
     names = list(grid)
     stages = list(stages) if stages is not None else None
@@ -200,9 +199,8 @@ def unit_of(name: str) -> str:
 
 def _release(fig) -> None:
     """Lay a report figure out as the report does and drop it from pyplot's list (the object stays usable)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # lazy: heavy optional import (matplotlib: only when figures are released)
 
-    from .report.figures import STYLE
 
     with plt.rc_context(STYLE):
         fig.tight_layout()
@@ -258,15 +256,11 @@ class Result:
     @cached_property
     def document(self) -> dict[str, Any]:
         """The results.json document of this run."""
-        from .outputs import results_document
-
         return results_document(self.run_result)
 
     @cached_property
     def tables(self) -> dict[str, "pd.DataFrame"]:  # noqa: F821
         """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
-        from .outputs import _named_tables
-
         return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
 
     @cached_property
@@ -282,16 +276,10 @@ class Result:
     @cached_property
     def answers(self) -> dict[str, Any]:
         """The main results, as the batch answer key has them (units in the names)."""
-        from .batch import answers
-
         return answers(self.document)
 
     def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
         """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
-        from .manifest import write_outputs
-        from .outputs import FORMATS
-        from .pipeline import render_files
-
         formats = list(formats)
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
@@ -302,11 +290,7 @@ class Result:
     def _render(self, figures_only: bool = False, language: str | None = None,
                 only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
-        from markupsafe import Markup
-
-        from .report.context import RenderContext
-        from .report.document import _environment
-        from .report.i18n import translator
+        from .report.document import _environment  # lazy: heavy optional import (jinja2: only when a section is rendered)
 
         registry = _registry()
         language = language or self.scene.report.language
@@ -358,8 +342,6 @@ class Result:
 
     # ----------------------------------------------------------------- display
     def _repr_html_(self) -> str:
-        from .report.i18n import translator
-
         t = translator(self.scene.report.language, _registry().catalogs)
         esc = html.escape
         rows = "".join(f"<tr><td>{esc(name)}</td><td style='text-align:right'>{value:.6g}</td>"

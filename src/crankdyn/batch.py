@@ -23,8 +23,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from . import answer_key
+from . import answer_key, outputs, pipeline
+from .batch_runner import DEFAULT_TIMEOUT_S, run_all
 from .errors import CrankdynError, Problem, SceneError
+from .manifest import write_outputs
+from .outputs import xlsx_bytes
+from .pipeline import write_report
+from .plugins import default_registry
+from .report import i18n  # noqa: F401 - loaded here, so forked batch workers inherit it
+from .report.i18n import available_languages
+from .scene import merge, scene_from_dict
 
 VARIANT_COLUMN = "variant"
 
@@ -98,8 +106,6 @@ _SAFE = re.compile(r"[^\w.-]+", re.UNICODE)
 
 def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     """The override columns and the rows of ``csv_path``; a malformed file raises SceneError."""
-    from .scene import merge
-
     source = str(csv_path)
     try:
         text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
@@ -179,7 +185,6 @@ _worker_registry = None
 def _registry():
     global _worker_registry
     if _worker_registry is None:
-        from .plugins import default_registry
 
         _worker_registry = default_registry()
     return _worker_registry
@@ -192,10 +197,6 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
     if variant.error:
         return Outcome(variant.row, variant.name, False, 0.0, variant.error)
     try:
-        from . import outputs
-        from .pipeline import write_report
-        from .report.i18n import available_languages
-        from .scene import merge, scene_from_dict
 
         data = merge(base, variant.overrides)
         if "variant" not in variant.overrides.get("report", {}):  # the title page names its own variant
@@ -272,9 +273,6 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     Each row runs in a worker process limited to ``timeout`` seconds (default 120); Ctrl-C stops
     the workers, and the answer key and failure list are still written for what finished.
     """
-    from .batch_runner import DEFAULT_TIMEOUT_S, run_all
-    from .manifest import write_outputs
-
     start = time.perf_counter()
     formats = list(formats)
     base_source = str(base_path)
@@ -299,11 +297,9 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     tail = (str(out_dir), formats, language, stages, tuple(str(Path(d).resolve()) for d in data_dirs))
     timeout = DEFAULT_TIMEOUT_S if timeout is None else timeout
     _registry()  # load the plugins and the report code once here: forked workers inherit them
-    from . import outputs, pipeline  # noqa: F401
-    from .report import i18n  # noqa: F401
 
     if "html" in formats or "pdf" in formats:
-        from .report import document  # noqa: F401
+        from .report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF, so forked workers inherit it)
 
     def failed(variant: Variant, reason: str, seconds: float) -> Outcome:
         return Outcome(variant.row, variant.name, False, seconds, reason)
@@ -382,9 +378,8 @@ def _failures_csv(outcomes, by_row) -> bytes:
 
 
 def _answer_key_xlsx(fields, outcomes, by_row) -> bytes:
-    import pandas as pd
+    import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
-    from .outputs import xlsx_bytes
 
     header, rows = _answer_rows(fields, outcomes, by_row)
     rows = [[neutralised(v) for v in row] for row in rows]

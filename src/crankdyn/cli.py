@@ -6,8 +6,11 @@ Bad input ends with one message on stderr and exit code 2; nothing is written.
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import json
 import sys
 import time
+import tomllib
 from importlib import resources
 from pathlib import Path
 
@@ -111,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _formats(text: str) -> list[str]:
-    from .outputs import FORMATS
+    from .outputs import FORMATS  # lazy: heavy optional import (numpy, scipy: per command)
 
     chosen = [f.strip() for f in text.split(",") if f.strip()]
     bad = [f for f in chosen if f not in FORMATS]
@@ -122,8 +125,8 @@ def _formats(text: str) -> list[str]:
 
 
 def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
-    from .report.i18n import available_languages
-    from .scene import load_scene
+    from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
+    from .scene import load_scene  # lazy: heavy optional import (numpy, scipy: per command)
 
     overrides = {"report": {"language": lang}} if lang else None
     scene = load_scene(scene_path, overrides, tuple(str(d) for d in data_dirs))
@@ -131,8 +134,8 @@ def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
 
 
 def _report(args) -> int:
-    from .pipeline import write_report
-    from .plugins import default_registry
+    from .pipeline import write_report  # lazy: heavy optional import (numpy, scipy: per command)
+    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
     formats = _formats(args.format)
     stages = [s.strip() for s in args.stages.split(",")] if args.stages else None
@@ -156,7 +159,7 @@ def _stage_list(text: str | None) -> list[str] | None:
 
 
 def _serve(args) -> int:
-    from .serve import serve
+    from .serve import serve  # lazy: heavy optional import (numpy, scipy: per command)
 
     if not 0 <= args.port <= 65535:
         raise SceneError(Problem("--port", args.port, "a port number from 1 to 65535, or 0 for any free port"))
@@ -165,7 +168,7 @@ def _serve(args) -> int:
 
 
 def _batch(args) -> int:
-    from .batch import run_batch
+    from .batch import run_batch  # lazy: heavy optional import (numpy, scipy: per command)
 
     formats = _formats(args.format)
     if args.jobs is not None and args.jobs < 1:
@@ -193,11 +196,8 @@ def _batch(args) -> int:
 
 
 def _explore(args) -> int:
-    import dataclasses
-    import json
-
-    from .physics import firing_explorer
-    from .physics.layout import LayoutError
+    from .physics import firing_explorer  # lazy: heavy optional import (numpy, scipy: per command)
+    from .physics.layout import LayoutError  # lazy: heavy optional import (numpy, scipy: per command)
 
     if not 1 <= args.cylinders <= 24:
         raise SceneError(Problem("--cylinders", args.cylinders, "a whole number from 1 to 24"))
@@ -240,8 +240,8 @@ def _explore(args) -> int:
 
 
 def _check(args) -> int:
-    from .orchestrator import run_scene
-    from .plugins import default_registry
+    from .orchestrator import run_scene  # lazy: heavy optional import (numpy, scipy: per command)
+    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
     scene, languages = _load(args.scene, data_dirs=args.data_dir)
     registry = default_registry()
@@ -253,7 +253,7 @@ def _check(args) -> int:
     for name, reason in the_plan.skipped.items():
         print(f"  stage {name} left out: {reason}")
     _print_warnings(result, registry)
-    from .plausibility import defaults_applied
+    from .plausibility import defaults_applied  # lazy: heavy optional import (numpy, scipy: per command)
 
     applied = defaults_applied(scene)
     if applied:
@@ -265,7 +265,7 @@ def _check(args) -> int:
 
 def _print_warnings(result, registry) -> None:
     """Plausibility warnings (a valid scene with values no real engine has) on stderr."""
-    from .plausibility import console_lines, warnings
+    from .plausibility import console_lines, warnings  # lazy: heavy optional import (numpy, scipy: per command)
 
     for line in console_lines(warnings(result.scene, result), registry):
         print(f"crankdyn: {line}", file=sys.stderr)
@@ -280,8 +280,6 @@ def _example_names() -> dict[str, Path]:
 
 
 def _example(args) -> int:
-    import tomllib
-
     names = _example_names()
     if args.list or not args.name:
         for name, path in names.items():
@@ -293,7 +291,7 @@ def _example(args) -> int:
     source = names[args.name]
     text = source.read_bytes()
     target = args.output or Path(f"{args.name}.toml")
-    from .outputs import write_atomically
+    from .outputs import write_atomically  # lazy: heavy optional import (numpy, scipy: per command)
 
     files = {target.name: text}
     # An example may refer to a data file next to it; bring it along so the copy runs.
@@ -310,7 +308,7 @@ def _example(args) -> int:
 
 
 def _plugins(args) -> int:
-    from .plugins import default_registry
+    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
     registry = default_registry()
     print("mechanisms:")
@@ -321,7 +319,7 @@ def _plugins(args) -> int:
         print(f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
               f"provides={','.join(stage.provides) or '-'}"
               f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}")
-    from .report.i18n import available_languages
+    from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
 
     print("languages: " + ", ".join(available_languages()))
     return 0

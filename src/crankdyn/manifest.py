@@ -13,28 +13,28 @@ import json
 import os
 from pathlib import Path
 
+from . import outputs
+from .version import __version__
+
 MANIFEST = ".crankdyn-manifest.json"
 
 
 def write_outputs(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
     """Write ``files`` (relative name -> bytes) below ``out_dir`` atomically, remove the stale files
     of the previous run's manifest and record the new manifest; return the paths written."""
-    from .version import __version__
-    from .outputs import json_bytes, write_atomically
-
     out_dir = Path(out_dir)
     previous = previous_files(out_dir)
     # First a manifest of everything that may be there once writing starts, so a run killed
     # half-way (a batch time limit, Ctrl-C) still leaves every file it wrote listed for the next.
-    write_atomically(out_dir, {MANIFEST: _manifest(previous | set(files), __version__, json_bytes)})
-    written = write_atomically(out_dir, files)
+    outputs.write_atomically(out_dir, {MANIFEST: _manifest(previous | set(files), __version__)})
+    written = outputs.write_atomically(out_dir, files)
     remove_stale(out_dir, previous - set(files))
-    write_atomically(out_dir, {MANIFEST: _manifest(set(files), __version__, json_bytes)})
+    outputs.write_atomically(out_dir, {MANIFEST: _manifest(set(files), __version__)})
     return written
 
 
-def _manifest(names: set[str], version: str, json_bytes) -> bytes:
-    return json_bytes({"crankdyn_version": version, "files": sorted(names)})
+def _manifest(names: set[str], version: str) -> bytes:
+    return outputs.json_bytes({"crankdyn_version": version, "files": sorted(names)})
 
 
 def previous_files(out_dir: Path) -> set[str]:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from . import manifest
 from .version import __version__
 from .orchestrator import RunResult
 
@@ -140,8 +141,6 @@ def _sheet_name(name: str, used: set[str]) -> str:
 def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
     """Write ``files`` (relative name -> bytes) below ``out_dir``; each appears whole or not at all,
     with the mode the user's umask gives new files."""
-    from .manifest import file_mode
-
     written = []
     for name, payload in files.items():
         target = out_dir / name
@@ -150,7 +149,7 @@ def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
         try:
             with os.fdopen(fd, "wb") as fh:
                 fh.write(payload)
-            os.chmod(tmp, file_mode())  # mkstemp makes 0600; a report is shared like any file
+            os.chmod(tmp, manifest.file_mode())  # mkstemp makes 0600; a report is shared like any file
             os.replace(tmp, target)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)

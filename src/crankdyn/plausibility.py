@@ -12,6 +12,8 @@ diesels; the rod's centre of mass between its big end and the rod's middle).
 from __future__ import annotations
 
 from typing import Any
+from pydantic import BaseModel
+from .report.i18n import translator
 
 MAX_MEAN_PISTON_SPEED_M_S = 25.0
 ROD_RATIO_RANGE = (0.15, 0.45)
@@ -77,8 +79,6 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
 
     Optional values without a default (None) and empty texts are not listed: nothing was assumed.
     """
-    from pydantic import BaseModel
-
     out: list[tuple[str, Any]] = []
 
     def walk(model: BaseModel, prefix: str) -> None:
@@ -108,7 +108,5 @@ def format_params(params: dict[str, Any], decimal_separator: str = ".") -> dict[
 
 def console_lines(found: list[tuple[str, dict[str, Any]]], registry) -> list[str]:
     """The warnings as English sentences for the terminal."""
-    from .report.i18n import translator
-
     t = translator("en", registry.catalogs)
     return [t(key, **format_params(params)) for key, params in found]

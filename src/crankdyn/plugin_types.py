@@ -95,14 +95,42 @@ class MechanismGeometry:
     firing_order: tuple[str, ...] = ()
 
 
+class Tables(dict):
+    """A stage's named tables: each read as a pandas DataFrame.
+
+    A stage may store a table as a DataFrame or as what ``pandas.DataFrame`` is built from (a dict
+    of columns or a list of row dicts); the latter becomes a DataFrame when it is first read
+    (``tables[name]``, ``get``, ``values``, ``items``), so a run that writes no table (JSON only)
+    never imports pandas.
+    """
+
+    def __getitem__(self, name: str) -> "pd.DataFrame":
+        table = super().__getitem__(name)
+        if isinstance(table, (dict, list)):
+            import pandas as pd  # lazy: heavy optional import (pandas: only when a table is read)
+
+            table = pd.DataFrame(table)
+            super().__setitem__(name, table)
+        return table
+
+    def get(self, name: str, default=None):
+        return self[name] if name in self else default
+
+    def values(self):
+        return [self[name] for name in self]
+
+    def items(self):
+        return [(name, self[name]) for name in self]
+
+
 @dataclass
 class StageOutput:
     """What a stage's ``run`` returns.
 
     data:       objects for later stages, one entry per key in ``Stage.provides``.
     results:    JSON-ready key results (floats, strings, lists) for results.json.
-    tables:     named pandas DataFrames, written as tables/<stage>_<name>.csv; column
-                names carry their unit, e.g. ``crank_angle_deg``.
+    tables:     named tables (:class:`Tables`, given as a plain dict), written as
+                tables/<stage>_<name>.csv; column names carry their unit, e.g. ``crank_angle_deg``.
     notes:      method notes as (catalog key, parameters) pairs, rendered by the report.
     artifacts:  objects only this stage's ``render`` uses (e.g. a computed geometry); not
                 passed to other stages and not written to any output.
@@ -113,6 +141,10 @@ class StageOutput:
     tables: dict[str, "pd.DataFrame"] = field(default_factory=dict)
     notes: list[tuple[str, dict]] = field(default_factory=list)
     artifacts: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.tables, Tables):
+            self.tables = Tables(self.tables)
 
 
 @dataclass

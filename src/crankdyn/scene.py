@@ -15,9 +15,15 @@ import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
+import numpy as np
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
 
+from .datafiles import data_file_problem
 from .errors import MISSING, Problem, SceneError
+from .inputcheck import structure_problems, table_problems
+from .physics import firing_explorer as fe
+from .physics import layout as lay
+from .physics.layout import nearest_steps_deg, step_on_grid_deg
 from .units import parse_quantity
 
 
@@ -295,7 +301,6 @@ class Scene(_Strict):
         cycle = self.engine.cycle_deg
         n = cycle / step
         if abs(n - round(n)) > 1e-6:
-            from .physics.layout import nearest_steps_deg
 
             near = ", ".join(f"{x:.12g}" for x in nearest_steps_deg(self.engine_grid_deg, step))
             raise _FieldError("analysis.angle_step_deg",
@@ -341,13 +346,11 @@ class Scene(_Strict):
         e = self.engine
         if e.firing_order is not None or e.cylinders == 1 or e.layout == "radial":
             return
-        from .physics import layout as lay
 
         banks = lay.LAYOUT_BANKS.get(e.layout, 1)
         cranks = e.cylinders // banks if e.cylinders % banks == 0 else e.cylinders
         if math.factorial(max(cranks - 1, 0)) > 50_000:
             return
-        from .physics import firing_explorer as fe
 
         try:
             found = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=1)
@@ -389,7 +392,6 @@ class Scene(_Strict):
                 step = self.engine.cycle_deg / round(n)
             if step == a.angle_step_deg and a.table_step_deg is not None:
                 return
-        from .physics.layout import step_on_grid_deg
 
         if step is None:
             step = step_on_grid_deg(self.engine_grid_deg, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3))))
@@ -410,8 +412,6 @@ class Scene(_Strict):
     def engine_grid_deg(self) -> float:
         """The largest angle dividing the cycle, every firing delay and bank angle (deg); the cycle
         when the layout is invalid (its check reports that)."""
-        from .physics import layout as lay
-
         e = self.engine
         try:
             layout = lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
@@ -428,8 +428,6 @@ class Scene(_Strict):
     # Derived values used by many stages.
     @property
     def crank_angles_deg(self):
-        import numpy as np
-
         n = round(self.engine.cycle_deg / self.analysis.angle_step_deg)
         return np.arange(n) * self.analysis.angle_step_deg
 
@@ -450,8 +448,6 @@ class Scene(_Strict):
 
     def data_file_problem(self, name: str, must_exist: bool = True) -> str | None:
         """Why ``name`` may not be read as a data file, or None."""
-        from .datafiles import data_file_problem
-
         return data_file_problem(name, self.base_dir, self.data_dirs, must_exist)
 
 
@@ -512,7 +508,6 @@ def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None =
     for key in ("base_dir", "data_dirs"):
         if key in data:
             raise SceneError(Problem(key, data[key], "unknown key (set by the loader, not the scene)"), source)
-    from .inputcheck import structure_problems, table_problems
 
     problems = structure_problems(data)
     if problems:

@@ -25,14 +25,21 @@ import threading
 import time
 import tomllib
 import traceback
+import webbrowser
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
-from urllib.parse import urlsplit
+from urllib.parse import quote, urlsplit
 
+from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
+from .pipeline import run_and_render
+from .plugins import default_registry
+from .report.i18n import available_languages
+from .report.pdf import html_to_pdf
+from .scene import load_scene
 
 HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -172,7 +179,6 @@ class Preview:
         self._building = threading.Event()
         self._pdf_lock = threading.Lock()
         self._pdf_cache: tuple[str, bytes] | None = None
-        from .cache import StageCache
 
         self.stage_cache = StageCache()  # a save re-runs only the stages whose inputs changed
         self._threads: list[threading.Thread] = []
@@ -206,11 +212,6 @@ class Preview:
         return snapshot
 
     def _render(self) -> tuple[str, str, tuple[str, ...], str | None]:
-        from .pipeline import run_and_render  # lazy: heavy optional import (report rendering stack)
-        from .plugins import default_registry
-        from .report.i18n import available_languages
-        from .scene import load_scene
-
         try:
             if self._registry is None:
                 self._registry = default_registry()
@@ -226,8 +227,6 @@ class Preview:
 
     def pdf(self, snapshot: Snapshot) -> bytes:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""
-        from .report.pdf import html_to_pdf
-
         with self._pdf_lock:
             if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
                 self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html))
@@ -259,7 +258,7 @@ class Preview:
             self.build()
 
     def _watcher(self) -> None:
-        import watchfiles
+        import watchfiles  # lazy: heavy optional import (watchfiles: only while the preview watches the scene)
 
         while not self._stop.is_set():
             files = self.watched()
@@ -363,8 +362,6 @@ class _Handler(BaseHTTPRequestHandler):
 def content_disposition(filename: str) -> str:
     """``inline`` with an ASCII ``filename`` and, for any other name, the RFC 5987 ``filename*``
     (a Cyrillic scene name cannot go into a latin-1 HTTP header as it is)."""
-    from urllib.parse import quote
-
     ascii_name = "".join(c if 32 <= ord(c) < 127 and c not in '"\\' else "_" for c in filename)
     header = f'inline; filename="{ascii_name}"'
     if ascii_name != filename:
@@ -420,7 +417,6 @@ def serve(scene_path: Path, port: int = DEFAULT_PORT, language: str | None = Non
         print(f"crankdyn: live preview of {scene_path} at {server.url} (PDF: {server.url}report.pdf); "
               "Ctrl-C stops", flush=True)
         if open_browser:
-            import webbrowser
 
             webbrowser.open(server.url)
         while not stop.wait(0.25):

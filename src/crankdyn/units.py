@@ -11,6 +11,7 @@ import math
 from functools import lru_cache
 
 from .quick_units import quick_quantity
+from .quantity import QuantityError, parse
 
 # Display units and the SI unit each physical kind converts to.
 SI_UNIT = {
@@ -49,7 +50,6 @@ def parse_quantity(text: object, kind: str) -> float:
         return quick
     import pint  # lazy: heavy optional import
 
-    from .quantity import QuantityError, parse
 
     registry = _registry()
     example = _example(kind)

@@ -13,7 +13,6 @@ import math
 from typing import Annotated, Literal
 
 import numpy as np
-import pandas as pd
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
@@ -279,7 +278,7 @@ def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
     return summary
 
 
-def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> pd.DataFrame:
+def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
     """The stage's table: forces (and moments, with a spacing) over one turn, before and after balancing."""
     table = {"shaft_angle_deg": np.degrees(theta), "force_x_N": f_td.imag, "force_y_N": f_td.real}
     if a is not None:
@@ -287,7 +286,7 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> pd.DataFrame:
     table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
     if a is not None:
         table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
-    return pd.DataFrame(table)
+    return table
 
 
 def inertia_masses(scene, layout) -> "bal.Masses":

@@ -7,7 +7,6 @@ from pathlib import Path
 import math
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, BayLoads
@@ -241,10 +240,10 @@ def run(scene, inputs) -> StageOutput:
                                # true dead centres: how far the linkage moves them from the bank angle
                                "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
                                "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0)})
-            tables[f"slave_{slave.label}"] = pd.DataFrame({
+            tables[f"slave_{slave.label}"] = {
                 "crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
                 "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
-                "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave})
+                "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave}
         t_bay, z_bay, n_bay = art.bay_crank_pin_forces(alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows)
         master = layout.bay(0)[0]
         for k in range(layout.cranks):
@@ -260,9 +259,9 @@ def run(scene, inputs) -> StageOutput:
         results.update({"pin_radius_m": opts.pin_radius, "slaves": slave_info,
                         "master_reciprocating_mass_kg": m.piston_group + recip_master,
                         "master_rod_rotating_mass_kg": rot_master})
-        tables["bay"] = pd.DataFrame({"crank_angle_deg": angle, "master_side_Pa": n_bay,
+        tables["bay"] = {"crank_angle_deg": angle, "master_side_Pa": n_bay,
                                       "bay_tangential_Pa": t_bay, "bay_radial_Pa": z_bay,
-                                      "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay)})
+                                      "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay)}
         notes.append(("bays.note_articulated", {}))
 
     results["centrifugal_Pa"] = centrifugal

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, KINEMATICS
@@ -143,7 +142,7 @@ def run(scene, inputs) -> StageOutput:
         wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
     for j in range(cranks + 1):
         wear[f"journal{j}_wear_N"] = wear_journals[j][1]
-    tables = {"bearings": pd.DataFrame(table), "wear": pd.DataFrame(wear)}
+    tables = {"bearings": table, "wear": wear}
     return StageOutput(data={}, results=results, tables=tables,
                        notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
 

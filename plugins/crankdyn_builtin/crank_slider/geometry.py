@@ -14,6 +14,9 @@ import numpy as np
 from crankdyn.physics import articulated as art
 from crankdyn.physics import kinematics as kin
 from crankdyn.plugin_types import Guide, MechanismGeometry
+from crankdyn_builtin.bays.stage import engine_layout
+from crankdyn.scene import options
+from crankdyn_builtin.bays.stage import ArticulatedOptions, _slave_geometries
 
 
 def unit(angle_rad: float) -> np.ndarray:
@@ -57,8 +60,6 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     its own crank angle ``alpha - lag - psi``. Articulated slave rods hang on the master rod
     of their crank at the pin C of :func:`crankdyn.physics.articulated.slave_motion`.
     """
-    from crankdyn_builtin.bays.stage import engine_layout
-
     e = scene.engine
     if e.cylinders == 1:
         return single_geometry(scene, crank_angle_rad)
@@ -111,8 +112,5 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
 
 def _slaves(scene, layout) -> dict[float, art.SlaveGeometry]:
     """Slave-rod geometry by the slave's bank angle from its master (deg)."""
-    from crankdyn.scene import options
-    from crankdyn_builtin.bays.stage import ArticulatedOptions, _slave_geometries
-
     opts = options(scene, "articulated", ArticulatedOptions)
     return {round(math.degrees(g.bank_angle_rad), 9): g for _, g, *_ in _slave_geometries(scene, layout, opts)}

@@ -18,6 +18,9 @@ from scipy import optimize
 from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugins import default_registry
+from crankdyn.report import mechanism_drawing as md
+from markupsafe import Markup
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -30,8 +33,6 @@ FRAMES_PER_REVOLUTION = 180
 
 @functools.lru_cache(maxsize=1)
 def _registry():
-    from crankdyn.plugins import default_registry
-
     return default_registry()
 
 
@@ -156,9 +157,6 @@ def _labels(geometry, ctx) -> dict[str, str]:
 
 def render(output: StageOutput, ctx) -> str:
     """The scheme at TDC, the positions figure and the animated block (drawing only)."""
-    from crankdyn.report import mechanism_drawing as md
-    from markupsafe import Markup
-
     t = ctx.t
     positions, animation = output.artifacts["positions"], output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]

@@ -8,7 +8,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import pandas as pd
 from markupsafe import Markup
 from pydantic import BaseModel, ConfigDict, model_validator
 
@@ -190,8 +189,8 @@ def run(scene, inputs) -> StageOutput:
             "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
         }
 
-    frame = pd.DataFrame({"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm,
-                          "excess_work_J": excess.cumulative_J})
+    frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm,
+                          "excess_work_J": excess.cumulative_J}
     design = FlywheelDesign(flywheel_inertia_kg_m2=flywheel, engine_inertia_kg_m2=opts.engine_inertia,
                             mechanism_inertia_mean_kg_m2=mechanism, excess_work_J=excess.excess_work_J,
                             irregularity=irregularity, required_irregularity=opts.required_irregularity,

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
@@ -15,6 +14,11 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.physics import kinematics as kin
+from crankdyn.physics import rod_loads
+from crankdyn.scene import options
+from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
+from crankdyn.errors import Problem, SceneError
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -96,7 +100,7 @@ def run(scene, inputs) -> StageOutput:
         results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, first_argmax)
         results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, first_argmin)
 
-    frame = pd.DataFrame({
+    frame = {
         "crank_angle_deg": motion.crank_angle_deg,
         "piston_displacement_m": motion.piston_displacement_m,
         "piston_velocity_m_s": motion.piston_velocity_m_s,
@@ -112,12 +116,12 @@ def run(scene, inputs) -> StageOutput:
         "tangential_Pa": rod.tangential_Pa,
         "resultant_Pa": resultant_Pa,
         "torque_Nm": torque,
-    })
+    }
     notes = []
     if exact is not None:
         results["rod_model"] = "exact"
         results["exact_rod"] = exact["results"]
-        frame = frame.assign(**exact["columns"])
+        frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
         notes.append(("forces.note_exact_rod", {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
     data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa,
                        total_Pa=total_Pa, tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
@@ -138,12 +142,6 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
     The radial force handed on is Z_exact - c_rod, so that the stages adding the rods' centrifugal
     force c_rod (crank-pin load, bays) get the exact load.
     """
-    from crankdyn.errors import Problem, SceneError
-    from crankdyn.physics import kinematics as kin
-    from crankdyn.physics import rod_loads
-    from crankdyn.scene import options
-    from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
-
     if not options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
         return None
     e, m = scene.engine, scene.masses

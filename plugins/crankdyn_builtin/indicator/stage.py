@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from crankdyn.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
 from crankdyn.errors import Problem, SceneError
@@ -132,7 +131,7 @@ def run(scene, inputs) -> StageOutput:
 
     gas = GasPressure(crank_angle_deg=angle, pressure_Pa=pressure, volume_m3=volume, source=scene.cycle.source,
                       indicated_work_J=work, swept_volume_m3=swept)
-    return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": pd.DataFrame(table)},
+    return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table},
                        notes=notes)
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.physics import kinematics as kin
@@ -113,7 +112,7 @@ def run(scene, inputs) -> StageOutput:
     notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),
              ("kinematics.note_two_term_error", {"ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
                                                   "dj": results["two_term_acceleration_error_max_m_s2"]})]
-    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"kinematics": pd.DataFrame(table)},
+    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"kinematics": table},
                        notes=notes)
 
 

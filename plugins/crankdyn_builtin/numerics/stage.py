@@ -35,7 +35,6 @@ from dataclasses import dataclass, field
 from typing import Annotated, Any, Callable
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
@@ -54,13 +53,17 @@ from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics import articulated as art
 from crankdyn_builtin.bays.stage import engine_layout
 from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
+from crankdyn.physics.layout import step_on_grid_deg
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 DEFAULT_STEPS_DEG = (30.0, 15.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.25, 0.1)
-# A run longer than this is timed once; shorter runs get up to ``repeats`` tries (best kept).
-_SINGLE_RUN_S = 0.05
+# timeit-style timing of a step's compute: calls per timed repeat grow (1, 2, 5, 10, 20, ...)
+# until one repeat takes at least this long, then the best of ``repeats`` such repeats is kept.
+# Short repeats, many of them, taken in turns over the steps: the minimum of many short windows
+# is what an unloaded machine gives, even when other jobs share the cores.
+_MIN_REPEAT_S = 2.5e-4
 _FALLBACK_REFERENCE_STEP_DEG = 0.05
 # Pointwise reference: Gauss-Legendre panels and the dense extremum search.
 _PANEL_DEG = 0.25
@@ -83,7 +86,7 @@ class NumericsOptions(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
     steps_deg: list[number(ge=0.01, le=30)] = list(DEFAULT_STEPS_DEG)
-    repeats: Annotated[int, Field(ge=1, le=50)] = 2
+    repeats: Annotated[int, Field(ge=1, le=100)] = 15
     time_budget_s: Annotated[float, Field(gt=0, le=3600)] = 10.0
     max_error_percent: Annotated[float, Field(gt=0)] = 1.0
     tolerance: Annotated[float, Field(gt=0, lt=0.1)] = 1e-3  # relative error allowed in the reported peaks
@@ -120,7 +123,7 @@ def _needed_stages(scene, runner) -> list[str]:
 class StepRun:
     step_deg: float
     points: int
-    time_s: float
+    time_s: float  # wall time of the one re-run that gave ``values`` (overhead included)
     values: dict[str, float]
     outputs: dict[str, Any] = field(default_factory=dict)
     theoretical_work_J: float | None = None
@@ -137,21 +140,18 @@ def _values(data, cylinders: int) -> dict[str, float]:
             "tangential_min": float(np.min(forces.tangential_Pa)), "resultant_max": float(np.max(q))}
 
 
-def run_at_step(scene: Scene, step_deg: float, repeats: int = 3, *, runner) -> StepRun:
-    """Re-run the stages that give forces and engine torque at ``step_deg``; time the best run.
+def run_at_step(scene: Scene, step_deg: float, repeats: int = 1, *, runner) -> StepRun:
+    """Re-run the stages that give forces and engine torque at ``step_deg`` once.
 
     ``runner``: the orchestrator's :class:`crankdyn.orchestrator.Runner` (``SERVICE_RUNNER``).
+    ``repeats`` is kept for callers of earlier versions: the run time of the study is measured
+    separately (:func:`time_steps`), with repeats, so one run gives the values.
     """
     copy = scene_with_step(scene, step_deg)
     the_plan = runner.plan(copy, _needed_stages(copy, runner))
-    best, result = math.inf, None
-    for attempt in range(max(1, repeats)):
-        start = time.perf_counter()
-        result = runner.run(copy, the_plan)
-        elapsed = time.perf_counter() - start
-        best = min(best, elapsed)
-        if elapsed > _SINGLE_RUN_S:
-            break
+    start = time.perf_counter()
+    result = runner.run(copy, the_plan)
+    elapsed = time.perf_counter() - start
     data = {}
     for output in result.outputs.values():
         data.update(output.data)
@@ -161,9 +161,98 @@ def run_at_step(scene: Scene, step_deg: float, repeats: int = 3, *, runner) -> S
     theoretical = None
     if indicator is not None and "theoretical_diagram_mean_pressure_Pa" in indicator.results:
         theoretical = indicator.results["theoretical_diagram_mean_pressure_Pa"] * indicator.results["swept_volume_m3"]
-    return StepRun(step_deg=step_deg, points=len(copy.crank_angles_deg), time_s=best,
+    return StepRun(step_deg=step_deg, points=len(copy.crank_angles_deg), time_s=elapsed,
                    values=_values(data, scene.engine.cylinders),
                    outputs=result.outputs, theoretical_work_J=theoretical)
+
+
+# ------------------------------------------------------------------ timing (timeit-style)
+@dataclass(frozen=True)
+class Timing:
+    """Best time per call of a function: ``loops`` calls per timed repeat, best of ``repeats``."""
+
+    best_s: float
+    loops: int
+    repeats: int
+
+
+def _autorange(fn: Callable[[], Any], min_time_s: float, clock: Callable[[], float]) -> tuple[int, float]:
+    """(loops, seconds per call): loops 1, 2, 5, 10, 20, 50, ... until one repeat takes ``min_time_s``
+    (as :meth:`timeit.Timer.autorange`)."""
+    base = 1
+    while True:
+        for loops in (base, 2 * base, 5 * base):
+            start = clock()
+            for _ in range(loops):
+                fn()
+            elapsed = clock() - start
+            if elapsed >= min_time_s or loops >= 1 << 20:
+                return loops, elapsed / loops
+        base *= 10
+
+
+def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: float = _MIN_REPEAT_S,
+               clock: Callable[[], float] = time.perf_counter) -> list[Timing]:
+    """timeit-style best time per call of each function, the repeats taken in turns.
+
+    Each function's loop count is found as :meth:`timeit.Timer.autorange` does (that first
+    measurement counts as its first repeat); then ``repeats - 1`` further repeats go round all
+    the functions in turn (backwards and forwards), so a burst of load on the machine slows every
+    function alike rather than one step of the study, each repeat after one untimed call (warm
+    caches). The minimum is kept: load only ever adds time.
+    """
+    ranged = [_autorange(fn, min_time_s, clock) for fn in functions]
+    best = [per_call for _, per_call in ranged]
+    for round_ in range(max(1, repeats) - 1):
+        # every other round backwards: no function always follows the same one (cache state)
+        order = range(len(functions)) if round_ % 2 else range(len(functions) - 1, -1, -1)
+        for k in order:
+            fn, loops = functions[k], ranged[k][0]
+            fn()  # untimed: the previous function left other data in the caches
+            start = clock()
+            for _ in range(loops):
+                fn()
+            best[k] = min(best[k], (clock() - start) / loops)
+    return [Timing(b, loops, max(1, repeats)) for b, (loops, _) in zip(best, ranged)]
+
+
+def _step_formulas(model: "PointwiseModel", run: StepRun) -> Callable[[], tuple]:
+    """The formulas of a step on its N angles: piston acceleration, rod angle, forces, torque, and the
+    judged values (mean torque, t_max, t_min, q_max), from the step's pressure curve."""
+    gas = next(o.data[GAS_PRESSURE] for o in run.outputs.values() if GAS_PRESSURE in o.data)
+    angles, pressure = np.asarray(gas.crank_angle_deg, dtype=float), np.asarray(gas.pressure_Pa, dtype=float)
+
+    def formulas():
+        tangential, resultant, torque = model.forces(angles, pressure)
+        return (np.mean(torque), np.max(tangential), np.min(tangential),
+                None if resultant is None else np.max(resultant))
+    return formulas
+
+
+def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
+               clock: Callable[[], float] = time.perf_counter) -> tuple[str, list[Timing], float | None]:
+    """(what was timed, a :class:`Timing` per run, the fixed per-call overhead in s or None).
+
+    ``formulas``: each step's formulas (:func:`_step_formulas`) on its own angles; the re-run
+    through the stages costs a fixed amount more per call (argument checks, the rounding's junction
+    points, results and tables) — the overhead, the smallest difference over the steps between the
+    whole re-run and its formulas. ``rerun``: without a pointwise model of the mechanism the whole
+    re-run is timed, overhead included (None).
+    """
+    motion = _motion(runs[0])
+    try:
+        model = PointwiseModel(scene, motion)
+    except ValueError:
+        model = None
+    if model is None:
+        plans = []
+        for r in runs:
+            copy = scene_with_step(scene, r.step_deg)
+            plans.append(functools.partial(runner.run, copy, runner.plan(copy, _needed_stages(copy, runner))))
+        return "rerun", best_times(plans, repeats, min_time_s=_MIN_REPEAT_S, clock=clock), None
+    timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=_MIN_REPEAT_S, clock=clock)
+    overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings)))
+    return "formulas", timings, overhead
 
 
 # ------------------------------------------------------------------ the pointwise reference
@@ -415,26 +504,6 @@ def _exact_extended(alpha_deg: np.ndarray, radius: float, ratio: float):
     return s, j
 
 
-def _time_per_call(fn, repeats: int = 5, min_time_s: float = 5e-4) -> float:
-    fn()
-    loops = 1
-    while True:
-        start = time.perf_counter()
-        for _ in range(loops):
-            fn()
-        elapsed = time.perf_counter() - start
-        if elapsed >= min_time_s or loops >= 1 << 16:
-            break
-        loops *= 4
-    best = elapsed / loops
-    for _ in range(repeats - 1):
-        start = time.perf_counter()
-        for _ in range(loops):
-            fn()
-        best = min(best, (time.perf_counter() - start) / loops)
-    return best
-
-
 def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POINTS,
                      repeats: int = 3) -> list[dict]:
     """Largest errors of s and j and time per evaluation of s, v, j for every form.
@@ -464,12 +533,13 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
                                           kin.piston_velocity_exact_m_s(a, radius, ratio, 1.0),
                                           kin.piston_acceleration_exact_m_s2(a, radius, ratio, 1.0))))
     rows = []
-    for name, terms, fn in forms:
+    timings = best_times([fn for _, _, fn in forms], repeats)
+    for (name, terms, fn), timing in zip(forms, timings):
         s, _, j = fn()
         rows.append({"form": name, "terms": terms,
                      "displacement_error_max_m": float(np.max(np.abs(s - s_ref))),
                      "acceleration_error_max_m_s2": float(np.max(np.abs(j - j_ref))),
-                     "time_per_evaluation_s": _time_per_call(fn, repeats), "points": points})
+                     "time_per_evaluation_s": timing.best_s, "points": points})
     return rows
 
 
@@ -500,20 +570,37 @@ def _kinematics_part(scene, opts, results, tables) -> None:
     if not opts.kinematics_forms or scene.engine.mechanism != "crank_slider":
         return
     e = scene.engine
-    rows = kinematics_forms(e.crank_radius_m, e.rod_ratio_value, repeats=max(opts.repeats, 3) + 2)
+    # the forms differ by factors, not by per cent as neighbouring steps do: fewer repeats suffice
+    rows = kinematics_forms(e.crank_radius_m, e.rod_ratio_value, repeats=max(3, opts.repeats // 3))
     results["kinematics_forms"] = rows
     results["kinematics_method"] = scene.analysis.kinematics
     # CSV: one text column names the form ("series-3"); no empty cells for the exact form's terms
-    tables["kinematics_forms"] = pd.DataFrame(
+    tables["kinematics_forms"] = (
         [{"form": row["form"] + (f"-{row['terms']}" if row["terms"] else ""),
           **{k: v for k, v in row.items() if k not in ("form", "terms")}} for row in rows])
+
+
+def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference) -> list[dict]:
+    """One row per step: points, the timed formulas, the re-run's wall time, values and their errors."""
+    ref = reference.values
+    step_rows = []
+    for r, timing in zip(runs, timings):
+        row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
+               "rerun_time_s": r.time_s}
+        for q in QUANTITIES:
+            row[f"{q}_{QUANTITY_UNITS[q]}"] = r.values[q]
+            row[f"{q}_error_relative"] = _relative(r.values[q], ref[q])
+        if reference.theoretical_work_J is not None and r.theoretical_work_J is not None:
+            row["theoretical_work_error_relative"] = _relative(r.theoretical_work_J, reference.theoretical_work_J)
+        step_rows.append(row)
+    return step_rows
 
 
 def run(scene, inputs) -> StageOutput:
     runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
-    tables: dict[str, pd.DataFrame] = {}
+    tables: dict[str, Any] = {}
     notes: list = []
     scene_step = scene.analysis.angle_step_deg
 
@@ -552,15 +639,8 @@ def run(scene, inputs) -> StageOutput:
         reference = Reference("fine_step", run.values, {}, 0.0, note=str(exc))
     ref = reference.values
 
-    step_rows = []
-    for r in runs:
-        row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": r.time_s}
-        for q in QUANTITIES:
-            row[f"{q}_{QUANTITY_UNITS[q]}"] = r.values[q]
-            row[f"{q}_error_relative"] = _relative(r.values[q], ref[q])
-        if reference.theoretical_work_J is not None and r.theoretical_work_J is not None:
-            row["theoretical_work_error_relative"] = _relative(r.theoretical_work_J, reference.theoretical_work_J)
-        step_rows.append(row)
+    timed, timings, overhead = time_steps(scene, runs, opts.repeats, runner)
+    step_rows = _step_rows(runs, timings, reference)
 
     at_scene = {"angle_step_deg": scene_step}
     for q in QUANTITIES:
@@ -579,10 +659,14 @@ def run(scene, inputs) -> StageOutput:
         "reference_uncertainty_relative": reference.uncertainty,
         "theoretical_work_closed_form_J": reference.theoretical_work_J,
         "steps": step_rows,
+        "steps_timed": timed,
+        "steps_timing_repeats": timings[0].repeats,
+        "steps_timing_min_repeat_s": _MIN_REPEAT_S,
+        "per_call_overhead_s": overhead,
         "steps_refused": refused,
         "at_scene_step": at_scene,
     })
-    tables["steps"] = pd.DataFrame(step_rows)
+    tables["steps"] = step_rows
 
     _kinematics_part(scene, opts, results, tables)
     _probes(scene, results, probes, runner)
@@ -591,8 +675,6 @@ def run(scene, inputs) -> StageOutput:
 
 def study_steps_deg(scene, steps_deg) -> list[float]:
     """The study's steps on the engine's grid: each the largest grid/k not above the one asked for."""
-    from crankdyn.physics.layout import step_on_grid_deg
-
     grid = scene.engine_grid_deg
     return sorted({step_on_grid_deg(grid, float(s)) for s in steps_deg}, reverse=True)
 
@@ -671,7 +753,7 @@ def run_kinematics(scene, inputs) -> StageOutput:
     runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
-    tables: dict[str, pd.DataFrame] = {}
+    tables: dict[str, Any] = {}
     _kinematics_part(scene, opts, results, tables)
     _probes(scene, results, probes, runner)
     return StageOutput(data={}, results=results, tables=tables)
@@ -786,7 +868,15 @@ def _render_steps(r, ctx):
             reference_text += " " + t("numerics.reference_mixed", step=_plain(ctx, _FALLBACK_REFERENCE_STEP_DEG))
     else:
         reference_text = t("numerics.reference_fine_step", step=_plain(ctx, r["reference_step_deg"]))
-    return table, figure, statement, reference_text
+    return table, figure, statement, reference_text + " " + _timing_text(r, ctx)
+
+
+def _timing_text(r, ctx) -> str:
+    """How the step times were measured and the fixed per-call overhead they leave out."""
+    common = {"repeats": r["steps_timing_repeats"], "min_ms": ctx.num(r["steps_timing_min_repeat_s"] * 1e3, 2)}
+    if r["steps_timed"] == "formulas":
+        return ctx.t("numerics.timing_formulas", overhead=ctx.num(r["per_call_overhead_s"] * 1e3, 2), **common)
+    return ctx.t("numerics.timing_rerun", **common)
 
 
 def render(output: StageOutput, ctx) -> str:

@@ -12,12 +12,11 @@ from crankdyn.physics import offset_crank as oc
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.scene import options
 from crankdyn_builtin.crank_slider.geometry import polar
+from .stage import OffsetParams
 
 
 def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     """Crank O-B at phi = alpha + phi_TDC, rod B-A, piston pin A = (e, z_A) on the offset axis."""
-    from .stage import OffsetParams
-
     e = scene.engine
     R, L, offset = e.crank_radius_m, e.rod_length_m, options(scene, "mechanism", OffsetParams).offset
     dc = oc.dead_centres(R, L, offset)

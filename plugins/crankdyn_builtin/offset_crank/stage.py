@@ -10,7 +10,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict
 from scipy import optimize
 
@@ -156,7 +155,7 @@ def run(scene, inputs) -> StageOutput:
         "central_v_max_m_s": float(np.max(v_central)),
         "central_j_max_m_s2": float(central.max_piston_acceleration_m_s2(R, lam, omega)),
     }
-    table = pd.DataFrame({
+    table = {
         "crank_angle_deg": angle_deg,
         "crank_angle_from_axis_deg": np.degrees(phi),
         "piston_displacement_m": s,
@@ -169,7 +168,7 @@ def run(scene, inputs) -> StageOutput:
         "central_piston_displacement_m": s_central,
         "central_piston_velocity_m_s": v_central,
         "central_piston_acceleration_m_s2": j_central,
-    })
+    }
     motion = PistonMotion(
         crank_angle_deg=angle_deg,
         piston_displacement_m=s,

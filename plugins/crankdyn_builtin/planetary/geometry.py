@@ -12,12 +12,11 @@ import numpy as np
 from crankdyn.physics import planetary as pl
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn_builtin.crank_slider.geometry import polar
+from .stage import geometry_of
 
 
 def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     """Carrier O-C, the planet's pin arm C-B (B on the epi-/hypocycloid), rod B-A, piston pin A."""
-    from .stage import geometry_of
-
     params, geometry = geometry_of(scene)
     revolutions = pl.motion_period_revolutions(params.ratio())
     dc = pl.dead_centres(geometry, revolutions)

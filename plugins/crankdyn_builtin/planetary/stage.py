@@ -16,7 +16,6 @@ from fractions import Fraction
 from typing import Annotated, Literal
 
 import numpy as np
-import pandas as pd
 from pydantic import AfterValidator, BaseModel, ConfigDict, model_validator
 from scipy import optimize
 
@@ -162,7 +161,7 @@ def applies(scene) -> str | None:
     return None
 
 
-def _family(geometry: pl.PlanetaryGeometry) -> pd.DataFrame:
+def _family(geometry: pl.PlanetaryGeometry) -> dict:
     """Big-end paths of the source's fig. 2: planets of 1/3, 1/2, 2/3 of the fixed gear, pin on the pitch circle."""
     phi = np.radians(np.arange(0.0, 720.0 + 0.25, 0.5))
     columns = {"carrier_angle_deg": np.degrees(phi)}
@@ -172,7 +171,7 @@ def _family(geometry: pl.PlanetaryGeometry) -> pd.DataFrame:
         x, z, *_ = pl.big_end_path(phi, case)
         columns[f"ratio_{ratio:g}_x_m"] = x
         columns[f"ratio_{ratio:g}_z_m"] = z
-    return pd.DataFrame(columns)
+    return columns
 
 
 def piston_extremes(alpha, v, j, omega, geometry, dc, revolutions) -> dict:
@@ -297,9 +296,9 @@ def run(scene, inputs) -> StageOutput:
 
 
 def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission, conventional_arm,
-                      alpha, R_eq, lam_eq) -> pd.DataFrame:
+                      alpha, R_eq, lam_eq) -> dict:
     """The stage's table: the linkage's motion and force ratios, and the equivalent crank-slider's."""
-    return pd.DataFrame({
+    return {
         "crank_angle_deg": angle_deg,
         "carrier_angle_deg": np.degrees(phi),
         "big_end_x_m": x,
@@ -321,7 +320,7 @@ def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transm
         "conventional_piston_displacement_m": central.piston_displacement_exact_m(alpha, R_eq, lam_eq),
         "conventional_piston_velocity_m_s": central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, omega),
         "conventional_piston_acceleration_m_s2": central.piston_acceleration_exact_m_s2(alpha, R_eq, lam_eq, omega),
-    })
+    }
 
 
 def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> PistonMotion:

@@ -13,7 +13,6 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import KINEMATICS
@@ -157,7 +156,7 @@ def run(scene, inputs) -> StageOutput:
                                                    "difference": results["torque_difference_relative"] * 100.0}))
         if m3_centre < 0:
             notes.append(("rod_dynamics.note_negative_mass", {"mass": m3_centre}))
-    table = pd.DataFrame(columns)
+    table = columns
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))
     if motion.method == "approximate":

@@ -8,7 +8,6 @@ import math
 from typing import Annotated, Literal
 
 import numpy as np
-import pandas as pd
 from markupsafe import Markup
 from pydantic import BaseModel, BeforeValidator, ConfigDict, model_validator
 
@@ -408,12 +407,12 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
 
     if opts.compare_solvers:
         results["solvers"] = _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n)
-    tables = {"torsion": pd.DataFrame({"shaft_angle_deg": flywheel_angle,
-                                       **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
-                                       **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
-                                       **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in
-                                          enumerate(names)},
-                                       "rigid_speed_rad_s": rigid})}
+    tables = {"torsion": {"shaft_angle_deg": flywheel_angle,
+                          **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
+                          **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
+                          **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in
+                             enumerate(names)},
+                          "rigid_speed_rad_s": rigid}}
     return results, tables
 
 
@@ -491,7 +490,7 @@ def run(scene, inputs) -> StageOutput:
         results["flywheel_inertia_ode_kg_m2"] = ode
         results["flywheel_inertia_deviation_percent"] = 100.0 * (ode - design.required_flywheel_inertia_kg_m2) \
             / design.required_flywheel_inertia_kg_m2
-    tables = {"speed_fluctuation": pd.DataFrame({
+    tables = {"speed_fluctuation": {
         "crank_angle_deg": torque.crank_angle_deg,
         "inertia_kg_m2": j_grid,
         "inertia_derivative_kg_m2": dj_grid,
@@ -499,7 +498,7 @@ def run(scene, inputs) -> StageOutput:
         "omega_rad_s": exact.omega_at(alpha),
         "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
         "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
-    })}
+    }}
     notes = [("speed_fluctuation.note_reference", {}),
              ("speed_fluctuation.note_irregularity", {
                  "midrange": results["irregularity"], "time_mean": results["irregularity_time_mean"],

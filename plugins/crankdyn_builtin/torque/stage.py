@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
@@ -82,7 +81,7 @@ def run(scene, inputs) -> StageOutput:
                                 resultant_Pa=q, pin_torque_Pa=pin, journal_torque_Pa=journal,
                                 centrifugal_Pa=bays.centrifugal_Pa, piston_area_m2=area, crank_radius_m=R),
     }
-    return StageOutput(data=data, results=results, tables={"torque": pd.DataFrame(columns)})
+    return StageOutput(data=data, results=results, tables={"torque": columns})
 
 
 def render(output: StageOutput, ctx) -> str | None:

@@ -13,7 +13,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 from pydantic import BaseModel, ConfigDict
 from scipy import optimize
 
@@ -151,13 +150,13 @@ def run(scene, inputs) -> StageOutput:
         compare.update(_curves(alpha, r, other, omega, suffix=f"_lambda_{other:g}"))
 
     lam_grid = np.linspace(0.01, 0.99, 99)
-    by_lambda = pd.DataFrame({
+    by_lambda = {
         "rod_ratio": lam_grid,
         "core_angle_max_deg": np.degrees(np.arcsin(lam_grid)),
         "slider_vertical_travel_max_over_tail": [vn.slider_vertical_travel_max_m(1.0, x) / (1.0 / x) for x in lam_grid],
         "slider_vertical_travel_max_over_crank": [vn.slider_vertical_travel_max_m(1.0, x) for x in lam_grid],
         "acceleration_zero_deg": [float(np.degrees(vn.slider_vertical_acceleration_zeros_rad(x)[0])) for x in lam_grid],
-    })
+    }
 
     zeros = np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam))
     # Independent check of the closed form: a root search on j_yp itself around each zero.
@@ -194,9 +193,9 @@ def run(scene, inputs) -> StageOutput:
         "working_cycle_deg": list(WORKING_CYCLE_DEG),
     }
     notes = [("vane.note_corrected", {}), ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check})]
-    tables = {"vane": pd.DataFrame(table), "by_lambda": by_lambda}
+    tables = {"vane": table, "by_lambda": by_lambda}
     if params.compare_rod_ratios:
-        tables["compare"] = pd.DataFrame(compare)
+        tables["compare"] = compare
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
 

@@ -11,6 +11,7 @@ relative tolerance of the extreme value**, the tolerance relative to the curve's
 from __future__ import annotations
 
 import numpy as np
+from scipy import optimize
 
 #: Relative tolerance (of the curve's peak-to-peak range) within which two peaks count as equal.
 EXTREMUM_RTOL = 1e-9
@@ -85,8 +86,6 @@ def periodic_extreme(fn, derivative, period: float, kind: str = "max", samples: 
     rather than to half a grid step. Of peaks equal within ``rtol`` x range the first in [0, period)
     is returned, the convention of :func:`first_extremum_index`.
     """
-    from scipy import optimize
-
     sign = 1.0 if kind == "max" else -1.0
     x = np.arange(samples) * (period / samples)
     h = period / samples

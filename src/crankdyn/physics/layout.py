@@ -21,6 +21,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from fractions import Fraction
+from math import gcd
 
 LAYOUT_BANKS = {"inline": 1, "V": 2, "boxer": 2, "W": 3, "Y": 3, "X": 4}
 BANK_LETTERS = {1: ("",), 2: ("L", "R"), 3: ("L", "C", "R"), 4: ("A", "B", "C", "D")}
@@ -263,8 +265,6 @@ def grid_shift(firing_delay_deg: float, step_deg: float, grid_deg: float | None 
 
 def _fraction(angle_deg: float):
     """An angle as an exact fraction of degrees (layout angles are rational: 720/7, 40, 22.5 ...)."""
-    from fractions import Fraction
-
     return Fraction(float(angle_deg)).limit_denominator(10_000)
 
 
@@ -275,8 +275,6 @@ def grid_deg(cycle_deg: float, angles_deg) -> float:
     whole number k, and every grid/k works. The greatest common divisor of rational numbers
     a/b and c/d is gcd(a d, c b)/(b d).
     """
-    from math import gcd
-
     g = _fraction(cycle_deg)
     for angle in angles_deg:
         f = _fraction(angle) % _fraction(cycle_deg)

@@ -12,6 +12,7 @@ import numpy as np
 from markupsafe import Markup, escape
 
 from .i18n import Translator
+from .typeset import typeset_figure
 
 
 @dataclass
@@ -136,7 +137,6 @@ class RenderContext:
         """Render a matplotlib figure to SVG, number it and return its markup (with the
         sentence that refers to it before it)."""
         from .figures import to_svg  # lazy: heavy optional import (matplotlib)
-        from .typeset import typeset_figure
 
         typeset_figure(fig, self.t)
         self._figure += 1

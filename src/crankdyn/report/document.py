@@ -18,6 +18,7 @@ from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 from .typeset import typeset_html
+from ..plausibility import format_params, warnings
 
 
 _IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
@@ -144,7 +145,6 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
 
-    from ..plausibility import format_params, warnings
 
     for key, params in warnings(scene, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))

@@ -38,6 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CrankdynError
+from .figures import STYLE
 
 PNG_DPI = 220
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr",
@@ -248,7 +249,7 @@ def pandoc_path() -> str:
     if found:
         return found
     try:
-        import pypandoc  # type: ignore[import-not-found]
+        import pypandoc  # type: ignore[import-not-found]  # lazy: heavy optional import (pandoc: only for a Word file)
 
         return pypandoc.get_pandoc_path()
     except Exception:  # noqa: BLE001 - not installed, or installed without its binary
@@ -439,9 +440,8 @@ def _finish(docx: bytes) -> bytes:
 # --------------------------------------------------------------------------- the whole conversion
 
 def _figure_png(figure: Any) -> bytes:
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # lazy: heavy optional import (matplotlib: only for a Word file's PNG figures)
 
-    from .figures import STYLE
 
     buffer = io.BytesIO()
     with plt.rc_context(STYLE):

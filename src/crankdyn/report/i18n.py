@@ -97,7 +97,7 @@ class Translator:
     @property
     def locale(self):
         """The Babel locale of the report language (English if Babel does not know it)."""
-        from babel import Locale, UnknownLocaleError
+        from babel import Locale, UnknownLocaleError  # lazy: heavy optional import (babel: only when a number is formatted for a report)
 
         try:
             return Locale.parse(self.texts.get("_meta.locale", self.language))
@@ -140,7 +140,7 @@ class Translator:
 
     @property
     def decimal_separator_babel(self) -> str:
-        from babel.numbers import get_decimal_symbol
+        from babel.numbers import get_decimal_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)
 
         return get_decimal_symbol(self.locale)
 
@@ -149,7 +149,7 @@ class Translator:
         uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break space."""
         if value is None or (isinstance(value, float) and math.isnan(value)):
             return "—"
-        from babel.numbers import format_decimal, get_group_symbol
+        from babel.numbers import format_decimal, get_group_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)
 
         rounded = float(f"{float(value):.{decimals}f}")  # the digits printf would show
         if rounded == 0:

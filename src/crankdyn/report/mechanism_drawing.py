@@ -9,9 +9,13 @@ the placement of symbols. Lengths are drawn in millimetres.
 
 from __future__ import annotations
 
+import base64
+import io
 import json
+from dataclasses import replace
 
 import numpy as np
+from markupsafe import escape
 
 from .figures import STYLE, new_figure
 
@@ -32,7 +36,6 @@ def view_rotation_rad(geometry) -> float:
 
 def upright(geometry):
     """A copy of ``geometry`` turned by :func:`view_rotation_rad` (display only; lengths unchanged)."""
-    from dataclasses import replace
 
     turn = view_rotation_rad(geometry)
     if turn == 0.0:
@@ -67,7 +70,7 @@ def _guide_frame(geometry, guide, i):
 
 def _hatch(ax, start, end, normal, size, color, alpha):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
-    from matplotlib.collections import LineCollection
+    from matplotlib.collections import LineCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
@@ -136,8 +139,8 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
             ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
-    from matplotlib.collections import LineCollection, PatchCollection
-    from matplotlib.patches import Circle
+    from matplotlib.collections import LineCollection, PatchCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     # A link named "*web*" is a rigid body's bracing (a master rod's big end to its slave pins): drawn thin.
     bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in geometry.links]
@@ -156,7 +159,6 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
 
 def _one_per_axis(guides):
     """Guides on one axis (a bank's cylinders in front view) drawn once, labelled together."""
-    from dataclasses import replace
 
     merged: dict = {}
     for g in guides:
@@ -171,7 +173,7 @@ def _one_per_axis(guides):
 
 
 def _circle(centre, radius, color, alpha, ls="-", fill=False):
-    from matplotlib.patches import Circle
+    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     return Circle(centre, radius, facecolor="white" if fill else "none", edgecolor=color, lw=1.0 if not fill else 1.1,
                   ls=ls, alpha=alpha, zorder=5 if fill else 2)
@@ -327,8 +329,6 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
 
 def _static_svg(geometry, xlim, ylim) -> str:
     """The fixed parts (liners, ground, fixed gear, traces) as a base64 SVG filling the limits."""
-    import base64
-    import io
 
     import matplotlib  # lazy: heavy optional import
     from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
@@ -381,7 +381,6 @@ def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
         return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
                 f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
 
-    from markupsafe import escape
 
     return (f'<svg class="mech-curves" viewBox="0 0 {width:.0f} {height + 16:.0f}" xmlns="http://www.w3.org/2000/svg">'
             f'<rect x="0" y="0" width="{width:.0f}" height="{height:.0f}" fill="none" stroke="#999" stroke-width="0.5"/>'

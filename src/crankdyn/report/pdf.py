@@ -12,6 +12,7 @@ import logging
 from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
+from .context import FIGURE_DIR
 
 
 class BlockedResource(ValueError):
@@ -36,7 +37,6 @@ def is_allowed(url: str) -> bool:
 
 def figure_urls(figures, base: str) -> dict[str, bytes]:
     """URL -> SVG bytes of the report's own figures, as the page refers to them (``figures/NAME``)."""
-    from .context import FIGURE_DIR
 
     return {f"{base}{FIGURE_DIR}/{f.name}": f.svg for f in figures}
 

@@ -18,6 +18,7 @@ import re
 from dataclasses import dataclass
 
 from .i18n import MINUS, NARROW_NBSP
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -184,7 +185,7 @@ def typeset_figure(fig, t) -> None:
     """Make every text of a matplotlib figure typeset for the report's language: mathtext
     sub/superscripts in labels, titles, legends and annotations, and locale tick labels
     (decimal comma in uk/ru, "−", ×10ⁿ offsets instead of ``1e-03``)."""
-    from matplotlib.text import Text
+    from matplotlib.text import Text  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     language = t.language
     for ax in fig.get_axes():
@@ -212,7 +213,7 @@ def _legend_outside(ax) -> None:
 
 
 def _locale_ticks(axis, t) -> None:
-    from matplotlib.ticker import FuncFormatter, LogFormatter, NullFormatter, ScalarFormatter
+    from matplotlib.ticker import FuncFormatter, LogFormatter, NullFormatter, ScalarFormatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     major = axis.get_major_formatter()
     if type(major) is ScalarFormatter:  # leave custom formatters
@@ -234,7 +235,6 @@ def _log_label(x: float, t) -> str:
 def tick_labels(values, t) -> tuple[list[str], int]:
     """Tick labels in the report's locale, with as few decimals as tell the ticks apart, and
     the power of ten factored out (returned) when the numbers are very large or small."""
-    import numpy as np
 
     values = np.asarray(values, dtype=float)
     finite = values[np.isfinite(values)]
@@ -251,7 +251,7 @@ def tick_labels(values, t) -> tuple[list[str], int]:
 
 def locale_formatter(t):
     """A matplotlib tick formatter that writes numbers as the report's text does (Babel)."""
-    from matplotlib.ticker import Formatter
+    from matplotlib.ticker import Formatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     class LocaleFormatter(Formatter):
         def __init__(self):

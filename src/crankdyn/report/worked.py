@@ -15,6 +15,7 @@ from typing import Sequence
 
 import numpy as np
 from markupsafe import Markup, escape
+from .i18n import MINUS, NARROW_NBSP
 
 
 @dataclass
@@ -58,7 +59,6 @@ def printed_fixed(t, value: float, decimals: int) -> tuple[str, float]:
 
 
 def _parse(text: str) -> float:
-    from .i18n import MINUS, NARROW_NBSP
 
     return float(text.replace(NARROW_NBSP, "").replace(MINUS, "-").replace(",", "."))
 
