@@ -81,8 +81,34 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
                        help="seconds one variant may take before it is stopped and listed as failed (default 120)")
+    _scheduler_options(batch)
     _data_dir_option(batch)
     return parser
+
+
+def _scheduler_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
+                        "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
+    parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
+                        help="seconds to wait for the --scheduler (default 10)")
+
+
+def _run_options(args, formats: list[str]):
+    """The batch/sweep options of the command line, checked."""
+    from .batch import RunOptions
+
+    if args.jobs is not None and args.jobs < 1:
+        raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
+    if args.jobs is not None and args.scheduler:
+        raise UsageError("--jobs applies to the local worker processes; on a Dask cluster the workers set how "
+                         "many variants run at once (dask worker --nthreads N): give one or the other")
+    if not args.timeout > 0:
+        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
+    if not args.connect_timeout > 0:
+        raise UsageError(f"--connect-timeout {args.connect_timeout:g}: give a positive number of seconds")
+    return RunOptions(formats, args.jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
+                      tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
@@ -167,14 +193,10 @@ def _serve(args) -> int:
 def _batch(args) -> int:
     from .batch import run_batch
 
-    formats = _formats(args.format)
-    if args.jobs is not None and args.jobs < 1:
-        raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
-    if not args.timeout > 0:
-        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
-    report = run_batch(args.variants, args.base, args.output, formats, jobs=args.jobs, language=args.lang,
-                       stages=_stage_list(args.stages), progress=not args.quiet, timeout=args.timeout,
-                       data_dirs=tuple(str(d) for d in args.data_dir))
+    o = _run_options(args, _formats(args.format))
+    report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
+                       stages=o.stages, progress=o.progress, timeout=o.timeout, data_dirs=o.data_dirs,
+                       scheduler=o.scheduler, connect_timeout=o.connect_timeout)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
           f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
