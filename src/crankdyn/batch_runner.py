@@ -11,6 +11,9 @@ finished.
 from __future__ import annotations
 
 import multiprocessing
+import os
+import pickle
+import select
 import signal
 import time
 from collections import deque
@@ -98,10 +101,6 @@ def run_limited(function: Callable, args: tuple, timeout_s: float) -> tuple[str,
     worker has loaded, so only the first task on a worker pays for the imports. Where there is no
     fork (Windows) the call runs in the worker itself, without a limit.
     """
-    import os
-    import pickle
-    import select
-
     start = time.monotonic()
     if not hasattr(os, "fork"):
         return "ok", function(*args), time.monotonic() - start
