@@ -15,6 +15,7 @@ import os
 import pickle
 import select
 import signal
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -92,20 +93,31 @@ def _stop(process) -> None:
 
 # --------------------------------------------------------------------------- one call with a time limit
 
-def run_limited(function: Callable, args: tuple, timeout_s: float) -> tuple[str, object, float]:
+# A Dask worker runs tasks in threads. A fork copies only the forking thread, so a module another
+# thread is importing at that moment would reach the child half-made (or with its import lock held):
+# loading the libraries and forking happen one thread at a time.
+_FORK_LOCK = threading.Lock()
+
+
+def run_limited(function: Callable, args: tuple, timeout_s: float,
+                prepare: Callable | None = None) -> tuple[str, object, float]:
     """``function(*args)`` in a forked child stopped after ``timeout_s``; used on Dask workers.
 
     Returns ``("ok", result, seconds)``, ``("timeout", None, seconds)`` or ``("died", exit code,
     seconds)``. ``os.fork`` is used directly, not ``multiprocessing``: a Dask worker is a daemonic
     process, which ``multiprocessing`` refuses children. The child starts with everything the
     worker has loaded, so only the first task on a worker pays for the imports. Where there is no
-    fork (Windows) the call runs in the worker itself, without a limit.
+    fork (Windows) the call runs in the worker itself, without a limit. ``prepare()`` (loading the
+    libraries) runs first, under the same lock as the fork.
     """
-    start = time.monotonic()
-    if not hasattr(os, "fork"):
-        return "ok", function(*args), time.monotonic() - start
-    read_end, write_end = os.pipe()
-    pid = os.fork()
+    with _FORK_LOCK:
+        if prepare is not None:
+            prepare()
+        start = time.monotonic()  # the limit is the variant's own time, not the wait for the lock
+        if not hasattr(os, "fork"):
+            return "ok", function(*args), time.monotonic() - start
+        read_end, write_end = os.pipe()
+        pid = os.fork()
     if pid == 0:  # the child: compute, send the pickled answer, leave without running the worker's exit hooks
         code = 0
         try:
@@ -145,9 +157,7 @@ def run_limited(function: Callable, args: tuple, timeout_s: float) -> tuple[str,
 
 def _dask_task(prepare: Callable | None, function: Callable, args: tuple, timeout_s: float):
     """What a Dask worker runs for one item: load the libraries once per worker, then the limited call."""
-    if prepare is not None:
-        prepare()
-    return run_limited(function, args, timeout_s)
+    return run_limited(function, args, timeout_s, prepare)
 
 
 def connect(address: str, timeout_s: float):
