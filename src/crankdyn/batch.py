@@ -246,14 +246,42 @@ def _compute(scene, formats: list[str], stages: list[str] | None):
     return run_and_render(scene, _registry(), formats, stages, available_languages())
 
 
-def warm(formats: Iterable[str] = ()) -> None:
-    """Load the plugins and the code the formats need, once per process: forked workers inherit them."""
-    _registry()
-    from . import outputs, pipeline  # noqa: F401
-    from .report import i18n  # noqa: F401
+_warmed: set[str] = set()
 
-    if {"html", "pdf", "docx"} & set(formats):
+
+def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
+    """Load, once per process, everything a variant would otherwise load for itself: forked workers inherit it.
+
+    Beyond the plugins and the report code: matplotlib with a first figure drawn to SVG (its font
+    list, text layout and mathtext parser), the translators of ``languages`` (Babel's locale data)
+    and, for PDFs, WeasyPrint with a first page laid out (fontconfig). Without this, every
+    variant's worker process paid for each of them again (issue 17, item 3).
+    """
+    formats, languages = set(formats), tuple(languages)
+    wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {f"language:{x}" for x in languages}
+    if _warmed and wanted <= _warmed:  # a Dask worker calls this before every task: once is enough
+        return
+    _warmed.update(wanted | {"plugins"})
+    registry = _registry()
+    from . import outputs, pipeline  # noqa: F401
+    from .report import i18n
+
+    for language in languages:
+        if language in i18n.available_languages():
+            i18n.translator(language, registry.catalogs).number(1.5)
+    if formats & {"html", "pdf", "docx"}:
         from .report import document  # noqa: F401
+        from .report.figures import new_figure, to_svg
+
+        fig, axes = new_figure(4.0, 3.0)
+        axes.plot([0.0, 1.0], [0.0, 1.0], label="λ")
+        axes.set_xlabel(r"$\varphi$, °")
+        axes.legend()
+        to_svg(fig)
+    if "pdf" in formats:
+        from .report.pdf import html_to_pdf
+
+        html_to_pdf("<p>crankdyn</p>")
 
 
 def answers(document: dict) -> dict[str, Any]:
@@ -381,7 +409,7 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
     data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
     timeout = DEFAULT_TIMEOUT_S if options.timeout is None else options.timeout
     if client is None:
-        warm(formats)  # forked workers inherit the loaded plugins and libraries
+        warm(formats, _languages(base, options))  # forked workers inherit the loaded plugins and libraries
         jobs = max(1, min(options.jobs or available_cores(), max(len(variants), 1)))
         tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
         unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
@@ -390,7 +418,7 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
         tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
         try:
             unfinished = run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client, timeout,
-                                      finished, failed, prepare=partial(warm, tuple(formats)),
+                                      finished, failed, prepare=partial(warm, tuple(formats), _languages(base, options)),
                                       collect=partial(_write_rendered, Path(out_dir)))
         finally:
             client.close()
@@ -398,6 +426,13 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
         outcomes.append(failed(variant, "not finished: the batch was interrupted (Ctrl-C)", 0.0))
     outcomes.sort(key=lambda o: o.row)
     return outcomes, bool(unfinished)
+
+
+def _languages(base: dict, options: RunOptions) -> tuple[str, ...]:
+    """The report language(s) the variants will most likely use: ``--lang``, else the base scene's."""
+    report = base.get("report") if isinstance(base.get("report"), dict) else {}
+    language = options.language or report.get("language") or "en"
+    return (language,) if isinstance(language, str) else ()
 
 
 def _client(options: RunOptions):
