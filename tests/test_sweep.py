@@ -167,3 +167,16 @@ def test_the_sweep_command_runs_the_bundled_file(tmp_path):
     assert (tmp_path / "study" / "sweep-M_cylinder_max_Nm.svg").is_file()
     assert not [p for p in (tmp_path / "study").iterdir() if p.is_dir()]  # no per-point files by default
 
+
+
+def test_a_combination_bad_only_together_is_a_failure_row_not_a_refusal(tmp_path):
+    request = _request(tmp_path, ["engine.stroke=100mm,300mm", "engine.rod_length=120mm,400mm"], plot="v_max_m_s",
+                       key=("csv",))
+    report, _ = run_sweep(request)  # 120 mm suits the 100 mm stroke, not the 300 mm one (R = 150 mm)
+    assert [(o.name, o.ok) for o in report.outcomes] == [("p01", True), ("p02", True), ("p03", False), ("p04", True)]
+    assert "engine.rod_length" in report.failures[0].error and "crank radius" in report.failures[0].error
+    failures = pd.read_csv(tmp_path / "out" / "failures.csv")
+    assert failures["row"].tolist() == [3]
+    key = pd.read_csv(tmp_path / "out" / "answer_key.csv")
+    assert list(zip(key["engine.stroke [mm]"], key["engine.rod_length [mm]"])) == [(100, 120), (100, 400), (300, 400)]
+    assert (tmp_path / "out" / "sweep-v_max_m_s.svg").is_file()  # drawn with a gap where p03 failed

@@ -304,21 +304,38 @@ def base_for(base: dict, sweep: Sweep) -> tuple[dict, list[str]]:
 
 
 def value_problems(base: dict, base_dir: str, sweep: Sweep, data_dirs: tuple[str, ...]) -> list[Problem]:
-    """Each value of each swept field tried once (the other fields at their first value): a bad value is
-    refused before anything runs. Combinations that are bad together fail as rows of failures.csv."""
+    """Each value of each swept field tried against the base scene: a value the scene refuses whatever
+    the other fields are is refused before anything runs.
+
+    A value is tried with the other swept fields at their first values and, if that fails on the
+    field itself, at their last values too (a rod length too short for the first stroke may suit
+    the last); it is refused when both fail. Problems of the base scene itself are reported too.
+    Combinations that are bad only together run, and fail as rows of failures.csv.
+    """
     problems: dict[str, Problem] = {}
     first = {a.name: a.values[0] for a in sweep.axes}
+    last = {a.name: a.values[-1] for a in sweep.axes}
     for axis in sweep.axes:
         for value in axis.values:
-            overrides: dict = {}
-            for name, v in {**sweep.fixed, **first, axis.name: value}.items():
-                overrides = merge(overrides, _nest(name, v))
-            try:
-                scene_from_dict(merge(base, overrides), base_dir=base_dir, source="sweep", data_dirs=data_dirs)
-            except SceneError as exc:
-                for problem in exc.problems:
-                    problems.setdefault(str(problem), problem)
+            found = _scene_problems(base, base_dir, {**sweep.fixed, **first, axis.name: value}, data_dirs)
+            own = [p for p in found if p.field == axis.name]
+            if own:
+                again = _scene_problems(base, base_dir, {**sweep.fixed, **last, axis.name: value}, data_dirs)
+                own = [p for p in own if str(p) in {str(q) for q in again}]
+            for problem in own + [p for p in found if p.field not in first]:
+                problems.setdefault(str(problem), problem)
     return list(problems.values())
+
+
+def _scene_problems(base: dict, base_dir: str, values: dict[str, Any], data_dirs: tuple[str, ...]) -> list[Problem]:
+    overrides: dict = {}
+    for name, value in values.items():
+        overrides = merge(overrides, _nest(name, value))
+    try:
+        scene_from_dict(merge(base, overrides), base_dir=base_dir, source="sweep", data_dirs=data_dirs)
+    except SceneError as exc:
+        return list(exc.problems)
+    return []
 
 
 # --------------------------------------------------------------------------- running it
