@@ -109,3 +109,18 @@ def test_dask_is_imported_only_for_a_scheduler(tmp_path):
     done = subprocess.run([sys.executable, "-c", code, str(_variants(tmp_path / "v.csv")), str(BASE),
                            str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
     assert done.stdout.split() == ["4", "[]"], done.stderr
+
+
+def test_a_sweep_on_the_cluster_gives_the_local_answer_key(tmp_path, cluster):
+    from crankdyn.batch import RunOptions
+    from crankdyn.sweep import SweepRequest, run_sweep, sweep_from_args
+
+    keys = []
+    for name, scheduler in (("local", None), ("dask", cluster.scheduler_address)):
+        sweep = sweep_from_args(["engine.rpm=2000:4000:3", "engine.rod_ratio=0.25,0.3"], None, "j_max_m_s2", None)
+        options = RunOptions([], jobs=None if scheduler else 2, progress=False, stages=["kinematics"],
+                             scheduler=scheduler)
+        report, _ = run_sweep(SweepRequest(BASE, sweep, tmp_path / name, options, ["csv"], ["svg"]))
+        assert len(report.outcomes) == 6 and not report.failures
+        keys.append((tmp_path / name / "answer_key.csv").read_bytes())
+    assert keys[0] == keys[1]
