@@ -20,17 +20,18 @@ import time
 import tomllib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any, TextIO
 
-from . import answer_key, outputs, pipeline
-from .batch_runner import DEFAULT_TIMEOUT_S, run_all
-from .errors import CrankdynError, Problem, SceneError
+from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
+from .batch_runner import DEFAULT_TIMEOUT_S, connect, run_all, run_all_dask
+from .errors import CrankdynError, Problem, SceneError, UsageError
 from .manifest import write_outputs
 from .outputs import xlsx_bytes
-from .pipeline import write_report
+from .pipeline import run_and_render
 from .plugins import default_registry
-from .report import i18n  # noqa: F401 - loaded here, so forked batch workers inherit it
+from .report import i18n
 from .report.i18n import available_languages
 from .scene import merge, scene_from_dict
 
@@ -59,6 +60,7 @@ class Outcome:
     answers: dict[str, Any] = field(default_factory=dict)
     stages_run: list[str] = field(default_factory=list)
     files: int = 0
+    rendered: dict[str, bytes] | None = None  # files rendered on a Dask worker, until written here
 
 
 @dataclass
@@ -106,6 +108,7 @@ _SAFE = re.compile(r"[^\w.-]+", re.UNICODE)
 
 def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     """The override columns and the rows of ``csv_path``; a malformed file raises SceneError."""
+
     source = str(csv_path)
     try:
         text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
@@ -191,23 +194,32 @@ def _registry():
 
 
 def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, formats: list[str],
-                language: str | None, stages: list[str] | None, data_dirs: tuple[str, ...] = ()) -> Outcome:
-    """Compute and write one variant; never raises (an error is part of the outcome)."""
+                language: str | None, stages: list[str] | None, data_dirs: tuple[str, ...] = (),
+                return_files: bool = False) -> Outcome:
+    """Compute and write one variant; never raises (an error is part of the outcome).
+
+    With ``return_files`` the files are rendered in memory and returned in ``Outcome.rendered``
+    instead of written (a Dask worker on another machine: the client writes them); with no
+    ``formats`` nothing is rendered, only the answers are kept (a sweep without per-point files).
+    """
     start = time.perf_counter()
     if variant.error:
         return Outcome(variant.row, variant.name, False, 0.0, variant.error)
     try:
+        scene = _variant_scene(base, base_dir, variant, language, data_dirs)
+        result, files = _compute(scene, formats, stages)
+        rendered = None
+        if return_files:
+            rendered, count = files, len(files)
+        elif formats:
 
-        data = merge(base, variant.overrides)
-        if "variant" not in variant.overrides.get("report", {}):  # the title page names its own variant
-            data = merge(data, {"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}})
-        if language:
-            data = merge(data, {"report": {"language": language}})
-        scene = scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs)
-        run = write_report(scene, _registry(), Path(out_dir) / variant.name, formats, stages, available_languages())
-        document = outputs.results_document(run.result)
-        return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
-                       answers=answers(document), stages_run=list(run.result.stages_run), files=len(run.written))
+            count = len(write_outputs(Path(out_dir) / variant.name, files))
+        else:
+            count = 0
+
+        document = outputs.results_document(result)
+        return Outcome(variant.row, variant.name, True, time.perf_counter() - start, answers=answers(document),
+                       stages_run=list(result.stages_run), files=count, rendered=rendered)
     except SceneError as exc:
         message = "; ".join(str(p) for p in exc.problems)
         return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")
@@ -216,6 +228,59 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
     except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
         return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
                        f"internal error: {exc.__class__.__name__}: {exc}")
+
+
+def _variant_scene(base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]):
+    """The base scene with the variant's overrides, its id on the title page and the batch's language."""
+
+    data = merge(base, variant.overrides)
+    if "variant" not in variant.overrides.get("report", {}):  # the title page names its own variant
+        data = merge(data, {"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}})
+    if language:
+        data = merge(data, {"report": {"language": language}})
+    return scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs)
+
+
+def _compute(scene, formats: list[str], stages: list[str] | None):
+    """(run result, rendered files) through the one path of ``crankdyn report``."""
+
+    return run_and_render(scene, _registry(), formats, stages, available_languages())
+
+
+_warmed: set[str] = set()
+
+
+def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
+    """Load, once per process, everything a variant would otherwise load for itself: forked workers inherit it.
+
+    Beyond the plugins and the report code: matplotlib with a first figure drawn to SVG (its font
+    list, text layout and mathtext parser), the translators of ``languages`` (Babel's locale data)
+    and, for PDFs, WeasyPrint with a first page laid out (fontconfig). Without this, every
+    variant's worker process paid for each of them again (issue 17, item 3).
+    """
+    formats, languages = set(formats), tuple(languages)
+    wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {f"language:{x}" for x in languages}
+    if _warmed and wanted <= _warmed:  # a Dask worker calls this before every task: once is enough
+        return
+    _warmed.update(wanted | {"plugins"})
+    registry = _registry()
+
+    for language in languages:
+        if language in i18n.available_languages():
+            i18n.translator(language, registry.catalogs).number(1.5)
+    if formats & {"html", "pdf", "docx"}:
+        from .report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF)
+        from .report.figures import new_figure, to_svg  # lazy: heavy optional import (matplotlib)
+
+        fig, axes = new_figure(4.0, 3.0)
+        axes.plot([0.0, 1.0], [0.0, 1.0], label="λ")
+        axes.set_xlabel(r"$\varphi$, °")
+        axes.legend()
+        to_svg(fig)
+    if "pdf" in formats:
+        from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+
+        html_to_pdf("<p>crankdyn</p>")
 
 
 def answers(document: dict) -> dict[str, Any]:
@@ -264,17 +329,47 @@ class Progress:
         self.stream.flush()
 
 
+@dataclass
+class RunOptions:
+    """How a batch or sweep runs its variants (the command line's options)."""
+
+    formats: list[str]
+    jobs: int | None = None  # local worker processes (default: the available cores)
+    language: str | None = None
+    stages: list[str] | None = None
+    progress: bool = True
+    on_outcome: Callable[[Outcome], None] | None = None
+    timeout: float | None = None  # seconds per variant (default 120)
+    data_dirs: tuple[str, ...] = ()
+    scheduler: str | None = None  # a Dask scheduler's address: the variants run on that cluster
+    connect_timeout: float = 10.0  # seconds to reach the scheduler
+
+
 def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
               jobs: int | None = None, language: str | None = None, stages: list[str] | None = None,
               progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None,
-              timeout: float | None = None, data_dirs: tuple[str, ...] = ()) -> BatchReport:
+              timeout: float | None = None, data_dirs: tuple[str, ...] = (), scheduler: str | None = None,
+              connect_timeout: float = 10.0) -> BatchReport:
     """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
 
-    Each row runs in a worker process limited to ``timeout`` seconds (default 120); Ctrl-C stops
-    the workers, and the answer key and failure list are still written for what finished.
+    Each row runs in a worker process limited to ``timeout`` seconds (default 120) — on this
+    machine, or on the Dask cluster whose scheduler is at ``scheduler``; Ctrl-C stops the workers,
+    and the answer key and failure list are still written for what finished.
     """
+
     start = time.perf_counter()
-    formats = list(formats)
+    options = RunOptions(list(formats), jobs, language, stages, progress, on_outcome, timeout, data_dirs,
+                         scheduler, connect_timeout)
+    base, base_dir = load_base(base_path)
+    fields, variants = read_variants(Path(csv_path))
+    outcomes, interrupted = execute(variants, base, base_dir, out_dir, options)
+    # The manifest removes an earlier run's failures.csv when every row succeeded this time.
+    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants))
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, interrupted)
+
+
+def load_base(base_path: Path) -> tuple[dict, str]:
+    """The base scene's TOML data and its folder (relative data files resolve there)."""
     base_source = str(base_path)
     try:
         base = tomllib.loads(Path(base_path).read_text(encoding="utf-8-sig"))
@@ -282,41 +377,100 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
         raise SceneError(Problem("--base", base_source, "file not found"), base_source) from None
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError) as exc:
         raise SceneError(Problem("--base", base_source, f"not a readable TOML scene: {exc}"), base_source) from None
-    base_dir = str(Path(base_path).parent.resolve())
-    fields, variants = read_variants(Path(csv_path))
-    jobs = max(1, min(jobs or available_cores(), max(len(variants), 1)))
-    bar = Progress(len(variants), enabled=progress)
+    return base, str(Path(base_path).parent.resolve())
+
+
+def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
+            options: RunOptions) -> tuple[list[Outcome], bool]:
+    """Run the variants (local worker processes, or the Dask cluster of ``options.scheduler``).
+
+    Returns the outcomes in row order and whether Ctrl-C interrupted the run (the unfinished
+    variants are then failure rows). Raises UsageError, before anything runs, when the
+    scheduler cannot be reached.
+    """
+
+    client = _client(options) if options.scheduler else None
+    bar = Progress(len(variants), enabled=options.progress)
     outcomes: list[Outcome] = []
 
     def finished(outcome: Outcome) -> None:
         outcomes.append(outcome)
         bar.update(outcome)
-        if on_outcome:
-            on_outcome(outcome)
-
-    tail = (str(out_dir), formats, language, stages, tuple(str(Path(d).resolve()) for d in data_dirs))
-    timeout = DEFAULT_TIMEOUT_S if timeout is None else timeout
-    _registry()  # load the plugins and the report code once here: forked workers inherit them
-
-    if "html" in formats or "pdf" in formats:
-        from .report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF, so forked workers inherit it)
+        if options.on_outcome:
+            options.on_outcome(outcome)
 
     def failed(variant: Variant, reason: str, seconds: float) -> Outcome:
         return Outcome(variant.row, variant.name, False, seconds, reason)
 
-    unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
-                         finished, failed)
+    formats = options.formats
+    data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
+    timeout = DEFAULT_TIMEOUT_S if options.timeout is None else options.timeout
+    if client is None:
+        warm(formats, _languages(base, options))  # forked workers inherit the loaded plugins and libraries
+        jobs = max(1, min(options.jobs or available_cores(), max(len(variants), 1)))
+        tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
+        unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
+                             finished, failed)
+    else:
+        tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
+        try:
+            unfinished = run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client, timeout,
+                                      finished, failed, prepare=partial(warm, tuple(formats), _languages(base, options)),
+                                      collect=partial(_write_rendered, Path(out_dir)))
+        finally:
+            client.close()
     for variant in unfinished:
         outcomes.append(failed(variant, "not finished: the batch was interrupted (Ctrl-C)", 0.0))
     outcomes.sort(key=lambda o: o.row)
+    return outcomes, bool(unfinished)
+
+
+def _languages(base: dict, options: RunOptions) -> tuple[str, ...]:
+    """The report language(s) the variants will most likely use: ``--lang``, else the base scene's."""
+    report = base.get("report") if isinstance(base.get("report"), dict) else {}
+    language = options.language or report.get("language") or "en"
+    return (language,) if isinstance(language, str) else ()
+
+
+def _client(options: RunOptions):
+    """The Dask client of ``options.scheduler``; a clear UsageError when dask is missing or the scheduler is not there."""
+
+    address = options.scheduler
+    try:
+        return connect(address, options.connect_timeout)
+    except ImportError:
+        raise UsageError(f"--scheduler {address}: running on a Dask cluster needs dask and distributed; "
+                         "install them with: pip install 'crankdyn[dask]'") from None
+    except ValueError as exc:
+        raise UsageError(f"--scheduler {address}: not a scheduler address ({exc}); give what 'dask scheduler' "
+                         "prints, e.g. tcp://192.168.1.10:8786") from None
+    except ConnectionError as exc:
+        raise UsageError(f"--scheduler {address}: cannot reach a Dask scheduler there within "
+                         f"{options.connect_timeout:g} s ({exc}); start one with 'dask scheduler' and give the "
+                         "address it prints (tcp://HOST:8786)") from None
+
+
+def _write_rendered(out_dir: Path, outcome: Outcome) -> Outcome:
+    """Write the files a Dask worker rendered for one variant below ``out_dir/<variant>/``."""
+    files, outcome.rendered = outcome.rendered, None
+    if outcome.ok and files:
+
+        try:
+            outcome.files = len(write_outputs(out_dir / outcome.name, files))
+        except OSError as exc:
+            outcome.ok, outcome.error = False, f"cannot write its files: {exc}"
+    return outcome
+
+
+def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant],
+              formats: Iterable[str] = ("csv", "xlsx")) -> dict[str, bytes]:
+    """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv."""
     by_row = {v.row: v for v in variants}
-    files = {"answer_key.csv": _answer_key_csv(fields, outcomes, by_row)}
-    files["answer_key.xlsx"] = _answer_key_xlsx(fields, outcomes, by_row)
+    makers = {"csv": _answer_key_csv, "xlsx": _answer_key_xlsx, "parquet": _answer_key_parquet}
+    files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
     if any(not o.ok for o in outcomes):
         files["failures.csv"] = _failures_csv(outcomes, by_row)
-    # The manifest removes an earlier run's failures.csv when every row succeeded this time.
-    written = write_outputs(Path(out_dir), files)
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, bool(unfinished))
+    return files
 
 
 def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
@@ -389,3 +543,19 @@ def _answer_key_xlsx(fields, outcomes, by_row) -> bytes:
     if failed_rows:
         sheets.append(("failures", pd.DataFrame(failed_rows, columns=failed_header)))
     return xlsx_bytes(sheets)
+
+
+def _answer_key_parquet(fields, outcomes, by_row) -> bytes:
+    """The answer key as a Parquet table (pyarrow, the parquet extra): numbers as numbers, text as text."""
+    import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
+
+    header, rows = _answer_rows(fields, outcomes, by_row)
+    frame = pd.DataFrame(rows, columns=header)
+    for name in frame.columns[frame.dtypes == object]:
+        # A column Parquet can type: empty cells missing, mixed numbers and text all as text.
+        values = frame[name].map(lambda v: None if v == "" else v)
+        kinds = {type(v) for v in values if v is not None}
+        frame[name] = values if len(kinds) <= 1 else values.map(lambda v: None if v is None else str(v))
+    buffer = io.BytesIO()
+    frame.to_parquet(buffer, engine="pyarrow", index=False)
+    return buffer.getvalue()

@@ -11,7 +11,11 @@ finished.
 from __future__ import annotations
 
 import multiprocessing
+import os
+import pickle
+import select
 import signal
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
@@ -85,3 +89,132 @@ def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, t
 def _stop(process) -> None:
     process.kill()
     process.join(5)
+
+
+# --------------------------------------------------------------------------- one call with a time limit
+
+# A Dask worker runs tasks in threads. A fork copies only the forking thread, so a module another
+# thread is importing at that moment would reach the child half-made (or with its import lock held):
+# loading the libraries and forking happen one thread at a time.
+_FORK_LOCK = threading.Lock()
+
+
+def run_limited(function: Callable, args: tuple, timeout_s: float,
+                prepare: Callable | None = None) -> tuple[str, object, float]:
+    """``function(*args)`` in a forked child stopped after ``timeout_s``; used on Dask workers.
+
+    Returns ``("ok", result, seconds)``, ``("timeout", None, seconds)`` or ``("died", exit code,
+    seconds)``. ``os.fork`` is used directly, not ``multiprocessing``: a Dask worker is a daemonic
+    process, which ``multiprocessing`` refuses children. The child starts with everything the
+    worker has loaded, so only the first task on a worker pays for the imports. Where there is no
+    fork (Windows) the call runs in the worker itself, without a limit. ``prepare()`` (loading the
+    libraries) runs first, under the same lock as the fork.
+    """
+    with _FORK_LOCK:
+        if prepare is not None:
+            prepare()
+        start = time.monotonic()  # the limit is the variant's own time, not the wait for the lock
+        if not hasattr(os, "fork"):
+            return "ok", function(*args), time.monotonic() - start
+        read_end, write_end = os.pipe()
+        pid = os.fork()
+    if pid == 0:  # the child: compute, send the pickled answer, leave without running the worker's exit hooks
+        code = 0
+        try:
+            os.close(read_end)
+            try:
+                signal.signal(signal.SIGINT, signal.SIG_IGN)
+            except ValueError:  # not the main thread of the interpreter: nothing to ignore then
+                pass
+            data = pickle.dumps(function(*args), protocol=pickle.HIGHEST_PROTOCOL)
+            with os.fdopen(write_end, "wb") as pipe:
+                pipe.write(data)
+        except BaseException:  # noqa: BLE001 - the parent reports the exit code
+            code = 70
+        finally:
+            os._exit(code)
+    os.close(write_end)
+    chunks, deadline = [], start + timeout_s
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([read_end], [], [], left)[0]:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                return "timeout", None, time.monotonic() - start
+            chunk = os.read(read_end, 1 << 20)
+            if not chunk:
+                break
+            chunks.append(chunk)
+    finally:
+        os.close(read_end)
+    _, status = os.waitpid(pid, 0)
+    seconds = time.monotonic() - start
+    if not chunks:
+        return "died", os.waitstatus_to_exitcode(status), seconds
+    return "ok", pickle.loads(b"".join(chunks)), seconds
+
+
+def _dask_task(prepare: Callable | None, function: Callable, args: tuple, timeout_s: float):
+    """What a Dask worker runs for one item: load the libraries once per worker, then the limited call."""
+    return run_limited(function, args, timeout_s, prepare)
+
+
+def connect(address: str, timeout_s: float):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``.
+
+    ValueError for an address that is not one (``localhost`` without a port), ConnectionError for
+    a scheduler that cannot be reached within ``timeout_s`` seconds.
+    """
+    from distributed import Client  # lazy: heavy optional import (the dask extra)
+    from distributed.comm import resolve_address  # lazy: heavy optional import (the dask extra)
+
+    try:
+        # A malformed address is refused before a Client exists: a half-made one complains at exit.
+        resolve_address(address)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(str(exc)) from None
+    try:
+        return Client(address, timeout=timeout_s, set_as_default=False)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else exc.__class__.__name__
+        raise ConnectionError(reason) from None
+
+
+def run_all_dask(items: Sequence, function: Callable, args_of: Callable, client, timeout_s: float,
+                 finished: Callable, failed: Callable[[object, str, float], object],
+                 prepare: Callable | None = None, collect: Callable | None = None) -> list:
+    """:func:`run_all` on a Dask cluster: every item a task, each limited to ``timeout_s`` on its worker.
+
+    ``collect(outcome)`` runs on this machine as each answer arrives (it writes the files the
+    worker rendered) and returns the outcome to report. Returns the items not finished when
+    Ctrl-C stopped the run.
+    """
+    from distributed import as_completed  # lazy: heavy optional import (the dask extra)
+
+    futures = {}
+    for number, item in enumerate(items):
+        future = client.submit(_dask_task, prepare, function, args_of(item), timeout_s, pure=False,
+                               key=f"crankdyn-{number}-{time.time_ns()}")
+        futures[future] = item
+    pending = set(futures)
+    try:
+        for future in as_completed(list(futures), loop=client.loop):
+            pending.discard(future)
+            item = futures[future]
+            try:
+                status, value, seconds = future.result()
+            except Exception as exc:  # noqa: BLE001 - a lost worker or task fails its item only
+                finished(failed(item, f"the Dask cluster returned no result ({exc.__class__.__name__}: {exc})", 0.0))
+                continue
+            if status == "timeout":
+                outcome = failed(item, f"stopped after {timeout_s:g} s (the time limit, --timeout)", seconds)
+            elif status == "died":
+                outcome = failed(item, f"the worker ended without a result (exit code {value})", seconds)
+            else:
+                outcome = collect(value) if collect else value
+            finished(outcome)
+    except KeyboardInterrupt:
+        client.cancel(list(pending))
+        return [futures[f] for f in futures if f in pending]
+    return []

@@ -84,8 +84,64 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
                        help="seconds one variant may take before it is stopped and listed as failed (default 120)")
+    _scheduler_options(batch)
     _data_dir_option(batch)
+    _sweep_parser(sub)
     return parser
+
+
+def _sweep_parser(sub) -> None:
+    sweep = sub.add_parser("sweep", help="a design study: every combination of ranges of scene fields, "
+                           "the answer key as a table and a plot of one result over the grid")
+    sweep.add_argument("scene", type=Path, help="the scene every point starts from")
+    sweep.add_argument("--set", action="append", default=[], metavar="NAME=VALUES",
+                       help="a swept field: START:STOP:COUNT (2000:6000:5), START:STOP:step=STEP, A,B,C "
+                       "(0.26,0.28,0.3), with a unit where the field has one (76mm:88mm:4); one value sets the "
+                       "field for every point; repeat for more fields (the first varies slowest)")
+    sweep.add_argument("--grid", type=Path, metavar="FILE", help="a sweep file (TOML: [sweep], [fixed], [plot]); "
+                       "--set adds to it or replaces its fields")
+    sweep.add_argument("-o", "--output", type=Path, default=Path("sweep"), help="output folder (default: sweep)")
+    sweep.add_argument("--key", default="csv,xlsx", help="answer-key formats: a subset of csv,xlsx,parquet "
+                       "(default csv,xlsx; parquet needs crankdyn[parquet])")
+    sweep.add_argument("--plot", metavar="COLUMN", help="plot this answer-key column (e.g. j_max_m_s2) over the grid")
+    sweep.add_argument("--plot-x", metavar="NAME", help="the swept field on the plot's x axis (default: the first)")
+    sweep.add_argument("--plot-format", default="svg", help="svg, png or svg,png (default svg)")
+    sweep.add_argument("--format", default="none", help="files of each point in DIR/<point>/, as for 'report' "
+                       "(default none: only the answer key and the plot)")
+    sweep.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    sweep.add_argument("--lang", help="report language code (overrides report.language)")
+    sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
+                       "fewer stages, faster points")
+    sweep.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    sweep.add_argument("--timeout", type=float, default=120.0,
+                       help="seconds one point may take before it is stopped and listed as failed (default 120)")
+    _scheduler_options(sweep)
+    _data_dir_option(sweep)
+
+
+def _scheduler_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
+                        "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
+    parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
+                        help="seconds to wait for the --scheduler (default 10)")
+
+
+def _run_options(args, formats: list[str]):
+    """The batch/sweep options of the command line, checked."""
+    from .batch import RunOptions
+
+    if args.jobs is not None and args.jobs < 1:
+        raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
+    if args.jobs is not None and args.scheduler:
+        raise UsageError("--jobs applies to the local worker processes; on a Dask cluster the workers set how "
+                         "many variants run at once (dask worker --nthreads N): give one or the other")
+    if not args.timeout > 0:
+        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
+    if not args.connect_timeout > 0:
+        raise UsageError(f"--connect-timeout {args.connect_timeout:g}: give a positive number of seconds")
+    return RunOptions(formats, args.jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
+                      tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
@@ -97,7 +153,8 @@ def _data_dir_option(parser: argparse.ArgumentParser) -> None:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     handler = {"report": _report, "check": _check, "example": _example, "plugins": _plugins, "serve": _serve,
-               "batch": _batch, "explore": _explore}[args.command]
+               "batch": _batch, "explore": _explore,
+               "sweep": _sweep}[args.command]
     try:
         return handler(args)
     except CrankdynError as exc:
@@ -170,14 +227,10 @@ def _serve(args) -> int:
 def _batch(args) -> int:
     from .batch import run_batch  # lazy: heavy optional import (numpy, scipy: per command)
 
-    formats = _formats(args.format)
-    if args.jobs is not None and args.jobs < 1:
-        raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
-    if not args.timeout > 0:
-        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
-    report = run_batch(args.variants, args.base, args.output, formats, jobs=args.jobs, language=args.lang,
-                       stages=_stage_list(args.stages), progress=not args.quiet, timeout=args.timeout,
-                       data_dirs=tuple(str(d) for d in args.data_dir))
+    o = _run_options(args, _formats(args.format))
+    report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
+                       stages=o.stages, progress=o.progress, timeout=o.timeout, data_dirs=o.data_dirs,
+                       scheduler=o.scheduler, connect_timeout=o.connect_timeout)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
           f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
@@ -193,6 +246,33 @@ def _batch(args) -> int:
     if report.failures:
         return EXIT_BAD_INPUT
     return 0
+
+
+def _sweep(args) -> int:
+    from .sweep import SweepRequest, run_sweep, sweep_from_args
+
+    formats = [] if args.format.strip().lower() == "none" else _formats(args.format)
+    request = SweepRequest(args.scene, sweep_from_args(args.set, args.grid, args.plot, args.plot_x), args.output,
+                           _run_options(args, formats), _csv_list(args.key), _csv_list(args.plot_format))
+    report, notes = run_sweep(request)
+    for note in notes:
+        print(f"crankdyn sweep: {note}", file=sys.stderr)
+    done = len(report.outcomes) - len(report.failures)
+    print(f"crankdyn sweep: {done} of {len(report.outcomes)} points computed in {report.seconds:.1f} s; "
+          f"written to {args.output}: " + ", ".join(p.name for p in report.written))
+    if report.failures:
+        lines = [f"crankdyn sweep: {len(report.failures)} point(s) failed (listed in {args.output / 'failures.csv'}):"]
+        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures[:20]]
+        lines += [f"  ... and {len(report.failures) - 20} more"] if len(report.failures) > 20 else []
+        print("\n".join(lines), file=sys.stderr)
+    if report.interrupted:
+        print("crankdyn sweep: interrupted (Ctrl-C); the answer key covers what finished", file=sys.stderr)
+        return 130
+    return EXIT_BAD_INPUT if report.failures or any(n.startswith("no point") for n in notes) else 0
+
+
+def _csv_list(text: str) -> list[str]:
+    return [part.strip().lower() for part in text.split(",") if part.strip()]
 
 
 def _explore(args) -> int:
