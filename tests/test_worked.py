@@ -1,0 +1,110 @@
+"""Worked substitutions (issue 15 item 6): every stage's worked result equals its table row.
+
+For each worked step the report shows, three checks, in uk, ru and en:
+* the result as printed is a cell of the row it names (the row at the worked angle of the table the
+  intro cites, or a row of the stage's table of results);
+* the formula re-evaluated here, independently, from the numbers as substituted (as printed) gives
+  the result to the precision of those numbers;
+* the same formula from the unrounded inputs gives the stage's own float to 1e-12.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.report.i18n import translator
+from crankdyn.scene import load_scene, scene_from_dict
+from conftest import modified
+
+REGISTRY = default_registry()
+
+
+def _polytrope(x):
+    return x["p0"] * (x["V_a"] / x["V"]) ** x["n"]
+
+
+#: quantity -> the formula a supervisor would type into a calculator, over the substituted numbers
+FORMULAS = {
+    "polytrope_pressure": _polytrope,
+    "journal_torque_sum": lambda x: math.fsum(v for k, v in x.items() if re.fullmatch(r"t\d+", k)),
+    "output_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
+    "centrifugal_amplitude": lambda x: x["m_R"] * x["R"] * x["omega"] ** 2,
+    "first_order_amplitude": lambda x: x["m_s"] * x["R"] * x["omega"] ** 2,
+    "second_order_amplitude": lambda x: x["lambda"] * x["C_I"],
+    "required_total_inertia": lambda x: x["dL"] / (x["delta_req"] * x["omega"] ** 2),
+    "required_flywheel_inertia": lambda x: x["J_0"] - x["J_m"] - x["J_e"],
+    "irregularity": lambda x: x["dL"] / (x["J"] * x["omega"] ** 2),
+}
+
+
+@functools.lru_cache(maxsize=None)
+def _result(example: str, angle: float | None = None):
+    data = modified(example, {"report": {"worked_angle_deg": angle}} if angle is not None else {})
+    return run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
+
+
+@functools.lru_cache(maxsize=None)
+def _rendered(example: str, language: str, angle: float | None = None):
+    return render_html(_result(example, angle), REGISTRY, language)
+
+
+def _table_rows(html: str, number: str) -> list[list[str]]:
+    """Every row of table ``number`` (all its continued parts), as lists of cell texts."""
+    block = re.search(rf'<table class="[^"]*" data-number="{re.escape(number)}">(.*?)</div>', html, flags=re.S)
+    assert block, number
+    return [re.findall(r"<td>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", block.group(1), flags=re.S)]
+
+
+def _shows(cell: str, text: str) -> bool:
+    """The cell is the number ``text``, alone or followed by its unit ("17 235 Н", not "17 2350")."""
+    return cell == text or (cell.startswith(text) and cell[len(text)] in "\u202f\u00a0 "
+                            and not cell[len(text) + 1:][:1].isdigit())
+
+
+def _tolerance(step) -> float:
+    """What rounding the substituted numbers (4–5 significant digits) can move the result by."""
+    terms = sum(1 for k in step.inputs if re.fullmatch(r"t\d+", k))
+    printed = 10.0 ** -step.decimals if step.significant is None else 0.0
+    return 2e-3 * abs(step.value) + (terms + 1) * 0.5 * printed
+
+
+def check_worked(rendered, language: str) -> set[str]:
+    """All three checks for every worked step of a rendered report; the stages checked."""
+    t = translator(language, REGISTRY.catalogs)
+    checked = set()
+    for block in rendered.worked:
+        rows = _table_rows(rendered.html, block.table_number)
+        if block.angle_deg is not None:
+            rows = [r for r in rows if r and r[0] == t.fixed(block.angle_deg, 0)]
+            assert len(rows) == 1, (block.stage, block.angle_deg)
+        for step in block.steps:
+            if step.quantity not in FORMULAS:
+                continue  # kinematics and forces: tests/test_note.py
+            checked.add(block.stage)
+            text = step.result_text(t)
+            shown = [row for row in rows if any(_shows(cell, text) for cell in row)]
+            assert shown, (block.stage, step.quantity, text, rows)
+            if block.angle_deg is None:  # a table of results: the row of this quantity's symbol
+                assert any(cell.startswith(step.lhs_html) for row in shown for cell in row), (step.quantity, shown)
+            # the result is written in the worked line itself
+            assert f"= {text}" in rendered.html.replace("</i>", "").replace("<i>", "")
+            formula = FORMULAS[step.quantity]
+            assert formula(step.inputs) == pytest.approx(step.value, abs=_tolerance(step)), step.quantity
+            assert step.exact, step.quantity
+            assert formula(step.exact) == pytest.approx(step.value, rel=1e-12, abs=1e-12), step.quantity
+    return checked
+
+
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+def test_inline4_worked_results_equal_their_tables(language):
+    rendered = _rendered("inline4-petrol", language)
+    assert not rendered.missing_translations
+    assert check_worked(rendered, language) == {"indicator", "torque", "balancing", "flywheel"}
