@@ -42,6 +42,11 @@ FORMULAS = {
     "required_total_inertia": lambda x: x["dL"] / (x["delta_req"] * x["omega"] ** 2),
     "required_flywheel_inertia": lambda x: x["J_0"] - x["J_m"] - x["J_e"],
     "irregularity": lambda x: x["dL"] / (x["J"] * x["omega"] ** 2),
+    "pin_pressure_max": lambda x: x["Q"] * 1e3 / (x["d_mm"] * x["B_mm"]),
+    "journal_pressure_max": lambda x: x["Q"] * 1e3 / (x["d_mm"] * x["B_mm"]),
+    "rod_cm_acceleration_x": lambda x: x["arm_mm"] * 1e-3 * (x["epsilon_r"] * math.cos(math.radians(x["beta_deg"]))
+                                                           - x["omega_r"] ** 2 * math.sin(math.radians(x["beta_deg"]))),
+    "rod_inertia_couple": lambda x: -x["I_G"] * x["epsilon_r"],
 }
 
 
@@ -92,7 +97,9 @@ def check_worked(rendered, language: str) -> set[str]:
             text = step.result_text(t)
             shown = [row for row in rows if any(_shows(cell, text) for cell in row)]
             assert shown, (block.stage, step.quantity, text, rows)
-            if block.angle_deg is None:  # a table of results: the row of this quantity's symbol
+            if step.row_key:  # a table of results, one row per crank or journal: that one's row
+                assert any(row[0] == step.row_key for row in shown), (step.quantity, step.row_key, shown)
+            elif block.angle_deg is None:  # a table of results: the row of this quantity's symbol
                 assert any(cell.startswith(step.lhs_html) for row in shown for cell in row), (step.quantity, shown)
             # the result is written in the worked line itself
             assert f"= {text}" in rendered.html.replace("</i>", "").replace("<i>", "")
@@ -107,4 +114,4 @@ def check_worked(rendered, language: str) -> set[str]:
 def test_inline4_worked_results_equal_their_tables(language):
     rendered = _rendered("inline4-petrol", language)
     assert not rendered.missing_translations
-    assert check_worked(rendered, language) == {"indicator", "torque", "balancing", "flywheel"}
+    assert check_worked(rendered, language) == {"indicator", "torque", "balancing", "bearings", "flywheel"}

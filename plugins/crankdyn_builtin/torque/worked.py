@@ -6,7 +6,7 @@ from __future__ import annotations
 from markupsafe import Markup
 
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
+from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, worked_row
 
 
 def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
@@ -27,10 +27,10 @@ def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
     steps = [
         WorkedStep("journal_torque_sum", total_html,
                    " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, cranks + 1)),
-                   " + ".join(text if value >= 0 else f"({text})" for text, value in terms), journal, 3,
+                   " + ".join(bracketed(text, value) for text, value in terms), journal, 3,
                    t("unit.MPa"), inputs, exact=exact),
         WorkedStep("output_torque", "<i>M</i><sub>d</sub>", total_html + " <i>R F</i><sub>p</sub>",
-                   f"{tk_txt if tk >= 0 else f'({tk_txt})'}·10<sup>6</sup>·{r_txt}·{f_txt}",
+                   f"{bracketed(tk_txt, tk)}·10<sup>6</sup>·{r_txt}·{f_txt}",
                    float(row["output_torque_Nm"]), 1, t("unit.Nm"),
                    {"t_k": tk, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
                    exact={"t_k": journal, "R": radius, "F_p": area, "alpha_deg": alpha}),

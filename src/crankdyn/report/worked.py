@@ -31,6 +31,7 @@ class WorkedStep:
     inputs: dict[str, float] = field(default_factory=dict)  # the substituted numbers, as printed
     significant: int | None = None  # a result table printing significant digits, not decimals
     exact: dict[str, float] = field(default_factory=dict)  # the same inputs unrounded (tests: to 1e-12)
+    row_key: str = ""  # in a table of results: the first cell of the row holding this result ("1", a journal)
 
     def result_text(self, t) -> str:
         """The result as its table prints it."""
@@ -73,6 +74,11 @@ def printed_fixed(t, value: float, decimals: int) -> tuple[str, float]:
     """A table value as printed with ``decimals`` decimals, and the value the reader sees."""
     text = t.fixed(value, decimals)
     return text, _parse(text)
+
+
+def bracketed(text: str, value: float) -> str:
+    """A negative factor in brackets: "·(−1,5)", never "·−1,5"."""
+    return text if value >= 0 else f"({text})"
 
 
 _FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
