@@ -106,7 +106,7 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
         parts.append(f'<p>{escape(block.note)}</p>')
     for step in block.steps:
         result = step.result_text(t)
-        unit = f" {escape(step.unit)}" if step.unit else ""
+        unit = "°" if step.unit == "°" else f" {escape(step.unit)}" if step.unit else ""
         parts.append(f'<p class="worked-line">{step.lhs_html} = {step.formula_html} = '
                      f'{step.substituted_html} = {escape(result)}{unit}</p>')
     parts.append("</div>")
