@@ -43,7 +43,8 @@ class WorkedStep:
 @dataclass
 class WorkedBlock:
     """The worked steps of one stage. ``angle_deg`` None: results that hold for the whole cycle
-    (amplitudes, a flywheel), taken from a table of results rather than a row at one angle."""
+    (amplitudes, a flywheel), taken from a table of results rather than a row at one angle;
+    ``table_number`` "" as well: results the section's text states (no table holds them)."""
 
     stage: str
     table_number: str
@@ -97,7 +98,9 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
     """The worked example's heading, its sentence and one displayed line per step."""
     t = ctx.t
     if block.angle_deg is None:
-        title, intro = t("doc.worked_title_results"), t("doc.worked_intro_results", table=block.table_number)
+        title = t("doc.worked_title_results")
+        intro = t("doc.worked_intro_results", table=block.table_number) if block.table_number else \
+            t("doc.worked_intro_text")
     else:
         angle = t.number_g(block.angle_deg)
         title, intro = t("doc.worked_title", angle=angle), t("doc.worked_intro", angle=angle, table=block.table_number)
