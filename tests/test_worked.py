@@ -191,6 +191,7 @@ def test_inline4_worked_results_equal_their_tables(language):
     ("offset-crank-engine", ("offset_crank", "indicator", "forces", "rod_dynamics")),
     ("planetary-kinematics", ("planetary", "rod_dynamics")),
     ("vane-engine-kinematics", ("vane",)),
+    ("inline6-diesel-trace", ("forces", "torque")),  # a measured trace: small tangential forces at 30°
 ])
 def test_other_mechanisms_worked_results_equal_their_tables(example, stages, language):
     html, worked = _sections(example, stages, language)

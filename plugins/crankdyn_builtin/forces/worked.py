@@ -5,8 +5,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, \
-    worked_row
+from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, worked_markup, worked_row
 
 #: mechanisms whose crank radius is the scene's R (the planetary linkage turns its carrier instead)
 CRANK_MECHANISMS = ("crank_slider", "offset_crank_slider")
@@ -22,7 +21,7 @@ def worked_crank_torque(ctx, rows, labels, r) -> Markup:
     alpha, row = float(labels[i]), rows.iloc[i]
     tangential = float(row["tangential_Pa"]) / 1e6
     radius, area = scene.engine.crank_radius_m, r["piston_area_m2"]
-    t_txt, t_mpa = printed_fixed(t, tangential, 3)  # as the table prints it
+    t_txt, t_mpa = printed(t, tangential)  # one digit more than the table where t is small: M_k to its 0,1 N·m
     r_txt, r_m = printed(t, radius)
     f_txt, f_m2 = printed(t, area)
     step = WorkedStep("crank_torque", "<i>M</i><sub>k</sub>", "<i>t R F</i><sub>p</sub>",

@@ -18,7 +18,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
     radius, area = engine.crank_radius_m, piston_area_m2(engine.bore)
     terms = [printed_fixed(t, float(row[f"crank{k}_tangential_Pa"]) / 1e6, 3) for k in range(1, cranks + 1)]
     journal = float(row[f"journal{cranks}_torque_Pa"]) / 1e6
-    tk_txt, tk = printed_fixed(t, journal, 3)
+    tk_txt, tk = printed(t, journal)  # four digits, not the table's three decimals: M_d to its 0,1 N·m
     r_txt, r_m = printed(t, radius)
     f_txt, f_m2 = printed(t, area)
     inputs = {f"t{k}": v for k, (_, v) in enumerate(terms, start=1)}
