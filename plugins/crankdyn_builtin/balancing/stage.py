@@ -25,6 +25,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import new_figure
 from crankdyn.scene import options, quantity as _quantity
 from crankdyn_builtin.bays.stage import engine_layout, rotating_mass_per_crank_kg
+from crankdyn_builtin.balancing.worked import worked_balancing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -525,7 +526,7 @@ def _masses_table(ctx, r):
         (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
                                  ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
     ], caption=t("balancing.masses_caption"))
-    return masses_table
+    return masses_table + worked_balancing(ctx, r)
 
 
 def _coefficients_table(ctx, r):

@@ -14,6 +14,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
+from crankdyn_builtin.bearings.worked import worked_bearing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -235,7 +236,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
         (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
-    ], caption=t("bearings.pins_table_caption"))
+    ], caption=t("bearings.pins_table_caption")) + worked_bearing(ctx, r, "pin")
     table_journals = ctx.table([
         (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
         ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
@@ -243,7 +244,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
-    ], caption=t("bearings.journals_table_caption"))
+    ], caption=t("bearings.journals_table_caption")) + worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))

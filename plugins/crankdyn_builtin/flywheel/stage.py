@@ -20,6 +20,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number as _number, options, quantity as _quantity
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn_builtin.flywheel.worked import worked_flywheel
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -256,7 +257,7 @@ def render(output: StageOutput, ctx) -> str:
                        (t("input.symbol"), [Markup(x[1]) for x in rows], None),
                        (t("input.value"), [ctx.num(x[2]) for x in rows], None),
                        (t("input.unit"), [x[3] for x in rows], None)],
-                      caption=t("flywheel.table_caption"))
+                      caption=t("flywheel.table_caption")) + worked_flywheel(ctx, r)
     ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
                    delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"])))
     return ctx.render_template("sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table)

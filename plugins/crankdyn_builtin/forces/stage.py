@@ -19,6 +19,7 @@ from crankdyn.physics import rod_loads
 from crankdyn.scene import options
 from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
+from crankdyn_builtin.forces.worked import worked_crank_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -213,7 +214,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
         ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"].to_numpy()[rows], 1),
-    ], caption=t("forces.table_q_caption"))
+    ], caption=t("forces.table_q_caption")) + worked_crank_torque(ctx, f.iloc[rows], labels, r)
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)
     for key, label in (("gas_Pa", "p_g"), ("inertia_Pa", "p_j"), ("total_Pa", "p_1")):

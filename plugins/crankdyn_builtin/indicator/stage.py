@@ -16,6 +16,8 @@ from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax
 
+from crankdyn_builtin.indicator.worked import worked_indicator
+
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
@@ -190,6 +192,7 @@ def render(output: StageOutput, ctx) -> str:
         columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), theory[rows], 4))
     columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
     table = ctx.table(columns, caption=t("indicator.table_caption"))
+    table += worked_indicator(ctx, frame, rows, labels, r)
 
     deviation = r.get("mean_indicated_pressure_deviation_percent")
     ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),

@@ -22,6 +22,7 @@ from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
 from crankdyn.physics.extrema import first_argmax
+from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -208,7 +209,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
         ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"].to_numpy(), 1),
         ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
-    ], caption=t("offset_crank.table_caption"))
+    ], caption=t("offset_crank.table_caption")) + worked_offset_crank(ctx, g, labels, r)
 
     angle = f["crank_angle_deg"].to_numpy()
     one = angle < 360.0

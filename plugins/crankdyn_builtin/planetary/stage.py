@@ -30,6 +30,7 @@ from crankdyn.scene import number, options, quantity
 
 from crankdyn_builtin.offset_crank.stage import single_mechanism_problems
 from crankdyn.physics.extrema import first_argmax
+from crankdyn_builtin.planetary.worked import worked_planetary
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -370,7 +371,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"].to_numpy() * mm, 3),
         ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"].to_numpy() * mm, 3),
         ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"].to_numpy(), 3),
-    ], caption=t("planetary.table_caption"))
+    ], caption=t("planetary.table_caption")) + worked_planetary(ctx, g, labels, r)
 
     # Trajectory and the mechanism at TDC (source, figs. 1 and 3b).
     snap = r["tdc_snapshot_m"]

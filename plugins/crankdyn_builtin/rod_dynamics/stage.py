@@ -23,6 +23,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options
+from crankdyn_builtin.rod_dynamics.worked import worked_rod_dynamics
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -187,7 +188,7 @@ def render(output: StageOutput, ctx) -> str:
         columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"].to_numpy(), 2),
                     ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"].to_numpy(), 3)]
     table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
-                      css_class="data wide")
+                      css_class="data wide") + worked_rod_dynamics(ctx, g, labels, r)
 
     inside = angle < period
     fig, axes = new_figure(16, 14, nrows=3, sharex=True)

@@ -23,6 +23,7 @@ from crankdyn.units import parse_quantity
 
 from crankdyn_builtin.flywheel.stage import crank_train
 from crankdyn.physics import irregularity as irr
+from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -673,7 +674,7 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
-                               **parts)
+                               worked=worked_speed_fluctuation(ctx, r), **parts)
 
 
 def _campbell(ctx, torsion, parts) -> None:

@@ -13,6 +13,7 @@ from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn_builtin.torque.worked import worked_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -109,6 +110,7 @@ def render(output: StageOutput, ctx) -> str | None:
             chunk.append(columns[-1])
         tables.append(ctx.table(chunk, caption=t("torque.table_b3_caption", first=start + 1,
                                                    last=min(start + per_table, cranks)), css_class="data wide"))
+    tables[-1] += worked_torque(ctx, f, rows, labels, cranks)
 
     fig, ax = new_figure(16, 8.5)
     ax.plot(angle, f["output_torque_Nm"], color="C0", label=t("torque.output"))

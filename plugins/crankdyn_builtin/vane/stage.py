@@ -25,6 +25,7 @@ from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 
 from crankdyn_builtin.offset_crank.stage import single_mechanism_problems
+from crankdyn_builtin.vane.worked import worked_vane
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -231,7 +232,7 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"].to_numpy(), 3),
         ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"].to_numpy(), 0),
         ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"].to_numpy() * mm, 2),
-    ], caption=t("vane.table_caption"), css_class="data wide")
+    ], caption=t("vane.table_caption"), css_class="data wide") + worked_vane(ctx, g, labels, r)
 
     fig, axes = new_figure(16, 11, nrows=2, sharex=True)
     plot(axes[0], "core_angle_deg")

@@ -30,14 +30,28 @@ class WorkedStep:
     decimals: int  # as the table prints it
     unit: str
     inputs: dict[str, float] = field(default_factory=dict)  # the substituted numbers, as printed
+    significant: int | None = None  # a result table printing significant digits, not decimals
+    exact: dict[str, float] = field(default_factory=dict)  # the same inputs unrounded (tests: to 1e-12)
+    row_key: str = ""  # in a table of results: the first cell of the row holding this result ("1", a journal)
+
+    def result_text(self, t) -> str:
+        """The result as its table prints it."""
+        if self.significant is not None:
+            return t.number(self.value, self.significant)
+        return t.fixed(self.value, self.decimals)
 
 
 @dataclass
 class WorkedBlock:
+    """The worked steps of one stage. ``angle_deg`` None: results that hold for the whole cycle
+    (amplitudes, a flywheel), taken from a table of results rather than a row at one angle;
+    ``table_number`` "" as well: results the section's text states (no table holds them)."""
+
     stage: str
     table_number: str
-    angle_deg: float
+    angle_deg: float | None
     steps: list[WorkedStep]
+    note: str = ""  # a translated sentence after the intro (e.g. which stroke the angle lies on)
 
 
 def worked_row(labels: Sequence[float], wanted_deg: float) -> int:
@@ -52,26 +66,49 @@ def printed(t, value: float, significant: int = 4) -> tuple[str, float]:
     return text, _parse(text)
 
 
+def printed_g(t, value: float, significant: int = 6) -> tuple[str, float]:
+    """A scene input as the reader wrote it ("0,09", "1,37"): no padding zeros."""
+    text = t.number_g(value, significant)
+    return text, _parse(text)
+
+
 def printed_fixed(t, value: float, decimals: int) -> tuple[str, float]:
     """A table value as printed with ``decimals`` decimals, and the value the reader sees."""
     text = t.fixed(value, decimals)
     return text, _parse(text)
 
 
-def _parse(text: str) -> float:
+def bracketed(text: str, value: float) -> str:
+    """A negative factor in brackets: "·(−1,5)", never "·−1,5"."""
+    return text if value >= 0 else f"({text})"
 
-    return float(text.replace(NARROW_NBSP, "").replace(MINUS, "-").replace(",", "."))
+
+_FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+
+
+def _parse(text: str) -> float:
+    """The value of a number as printed: "−1,2·10⁻³", "12 345,6"."""
+    text = text.replace(NARROW_NBSP, "").replace("\u00a0", "").replace(MINUS, "-").replace(",", ".")
+    mantissa, _, exponent = text.partition("·10")
+    return float(f"{mantissa}e{int(exponent.translate(_FROM_SUPERSCRIPT))}" if exponent else mantissa)
 
 
 def worked_markup(ctx, block: WorkedBlock) -> Markup:
     """The worked example's heading, its sentence and one displayed line per step."""
     t = ctx.t
-    angle = t.number_g(block.angle_deg)
-    parts = [f'<div class="worked"><h3>{escape(t("doc.worked_title", angle=angle))}</h3>',
-             f'<p>{escape(t("doc.worked_intro", angle=angle, table=block.table_number))}</p>']
+    if block.angle_deg is None:
+        title = t("doc.worked_title_results")
+        intro = t("doc.worked_intro_results", table=block.table_number) if block.table_number else \
+            t("doc.worked_intro_text")
+    else:
+        angle = t.number_g(block.angle_deg)
+        title, intro = t("doc.worked_title", angle=angle), t("doc.worked_intro", angle=angle, table=block.table_number)
+    parts = [f'<div class="worked"><h3>{escape(title)}</h3>', f'<p>{escape(intro)}</p>']
+    if block.note:
+        parts.append(f'<p>{escape(block.note)}</p>')
     for step in block.steps:
-        result = t.fixed(step.value, step.decimals)
-        unit = f" {escape(step.unit)}" if step.unit else ""
+        result = step.result_text(t)
+        unit = "°" if step.unit == "°" else f" {escape(step.unit)}" if step.unit else ""
         parts.append(f'<p class="worked-line">{step.lhs_html} = {step.formula_html} = '
                      f'{step.substituted_html} = {escape(result)}{unit}</p>')
     parts.append("</div>")

@@ -1,0 +1,38 @@
+"""The worked substitution of the bearings stage: the largest specific pressure of the most loaded
+crank pin and main journal, p_max = Q_max/(d B), each equal to its row of the results tables."""
+
+from __future__ import annotations
+
+from markupsafe import Markup
+
+from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup
+
+
+def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -> WorkedStep:
+    """p_max = load/(d B) with the load as the table prints it (kN) and the bearing's size in mm."""
+    t = ctx.t
+    q_txt, q = printed_fixed(t, record["max_N"] / 1e3, 2)
+    d_txt, d = printed(t, diameter_m * 1e3)
+    b_txt, b = printed(t, width_m * 1e3)
+    return WorkedStep(quantity, "<i>p</i><sub>max</sub>", f"{load_html}/(<i>d B</i>)",
+                      f"{q_txt}·10<sup>3</sup>/({d_txt}·{b_txt})", record["max_MPa"], 2, t("unit.MPa"),
+                      {"Q": q, "d_mm": d, "B_mm": b},
+                      exact={"Q": record["max_N"] / 1e3, "d_mm": diameter_m * 1e3, "B_mm": width_m * 1e3},
+                      row_key=key)
+
+
+def worked_bearing(ctx, r, kind: str) -> Markup:
+    """After the pins table (``kind`` "pin") or the journals table ("journal"): p_max of the most
+    loaded one, which the polar diagrams show."""
+    dims = r["dimensions"]
+    if kind == "pin":
+        record = max(r["crank_pins"], key=lambda p: p["max_N"])  # the first of equals, as the stage picks it
+        key, load_html = str(record["crank"]), "<i>Q</i><sub>max</sub>"
+        size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
+    else:
+        record = max(r["main_journals"], key=lambda j: j["max_N"])
+        key, load_html = record["journal"], "<i>R</i><sub>max</sub>"
+        size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
+    step = _pressure_step(ctx, f"{kind}_pressure_max", load_html, record, key, *size)
+    note = ctx.t(f"bearings.worked_{kind}", label=key)
+    return worked_markup(ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note))
