@@ -23,6 +23,7 @@ from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
 from conftest import ARTIFACTS, modified
+from page_layout import layout_problems
 
 REGISTRY = default_registry()
 
@@ -144,6 +145,13 @@ def test_explanatory_note_pdf(tmp_path, language):
     for page in continued_pages:
         first = next(line for line in page.splitlines() if line.strip())
         assert first.strip().startswith(continued), first
+
+    # Pages as a supervisor leafs through them: none short but a chapter's last, every
+    # continued table under its label and header, no caption apart from its table or figure.
+    t = translator(language, REGISTRY.catalogs)
+    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
+                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    assert not problems, problems
 
     # Contents with page numbers, and the fonts: Times metrics with Cyrillic, embedded.
     contents = next(p for p in pages if re.search(r"\.{5,}\s*\d+\s*$", p, flags=re.M))

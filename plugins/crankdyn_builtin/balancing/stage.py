@@ -609,7 +609,7 @@ def _means_table(ctx, r):
             means_rows.append((t("balancing.shaft", order=shaft["order"],
                                  sense=t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward")),
                                  end=t("balancing.end_" + sm["end"])),
-                               f"{shaft['speed_ratio']:+d}", ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
+                               f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"), ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
                                ctx.num(sm["mass_kg"], 4), ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
                                ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—"))
     means_table = None

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import base64
+import html as html_lib
+import re
 from importlib import resources
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -174,7 +176,7 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
                  css_class: str = "data", see: bool = True) -> Markup:
     """A numbered table's markup: the sentence referring to it, the caption, and the rows split
     into page-sized parts (see :attr:`RenderContext.ROWS_PER_PAGE`)."""
-    wide = "wide" in css_class.split()
+    wide = "wide" in css_class.split() and not fits_portrait(head_html, rows)
     limit = RenderContext.ROWS_PER_LANDSCAPE_PAGE if wide else RenderContext.ROWS_PER_PAGE
     parts = max(1, -(-len(rows) // limit))
     size = -(-len(rows) // parts) if rows else 0
@@ -190,6 +192,34 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
                     f"{head}<tbody>{''.join(chunk)}</tbody></table>")
     html.append("</div>")
     return Markup("".join(html))
+
+
+#: Portrait text width (A4 less the 30 mm and 15 mm margins) left for a table, with room to spare
+#: for the estimate's error, in mm; a character of the 9.5 pt table type is about 1.7 mm wide
+#: (Liberation Serif digits are 0.5 em), a cell's padding and rules about 2.7 mm.
+PORTRAIT_TABLE_MM, CHAR_MM, CELL_PADDING_MM = 150.0, 1.7, 2.7
+#: A text cell wraps at spaces; it is given at most this many characters of width.
+WRAP_CHARS = 20
+
+_CELL = re.compile(r"<t[hd][^>]*>(.*?)</t[hd]>", re.S)
+
+
+def _text(markup: str) -> str:
+    return html_lib.unescape(re.sub(r"<[^>]+>", "", markup))
+
+
+def fits_portrait(head_html: str, rows: Sequence[str]) -> bool:
+    """Whether a table asked to be wide still fits a portrait page at the table type size: the
+    widest cell of each column (a header wraps at its words, a text cell at its spaces) summed.
+    A landscape page is kept for tables that need one, because each starts a page of its own
+    and would leave the page before it short."""
+    headers = [_text(h) for h in _CELL.findall(head_html)]
+    widths = [max((len(w) for w in h.split()), default=1) for h in headers]
+    for row in rows:
+        for i, cell in enumerate(_CELL.findall(row)[:len(widths)]):
+            text = _text(cell).strip()
+            widths[i] = max(widths[i], len(text) if len(text) <= WRAP_CHARS else WRAP_CHARS)
+    return sum(widths) * CHAR_MM + len(widths) * CELL_PADDING_MM <= PORTRAIT_TABLE_MM
 
 
 def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,
