@@ -691,8 +691,12 @@ def _summary_symbol(s) -> Markup:
 
 
 def _plain_symbol(s) -> str:
+    """``ΣP_I``, ``ΣM_II``, ``ΣC``: the symbol as table 6.3 prints it (typeset with its subscript)."""
     kind, base = s["quantity"].split("_", 1)
-    return ("Σ" if kind == "sum" else "ΣM_") + base
+    order = base[1:] if base.startswith("P") else ""
+    if kind == "sum":
+        return f"ΣP_{order}" if order else "Σ" + base
+    return f"ΣM_{order or base}"
 
 
 BALANCING_STAGE = Stage(

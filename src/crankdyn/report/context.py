@@ -152,9 +152,10 @@ class RenderContext:
         see = escape(self.t("doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
-        return Markup(f'<p class="see">{see}</p>'
+        # one block, so that the sentence never ends a page without the figure it announces
+        return Markup(f'<div class="figure-block"><p class="see">{see}</p>'
                       f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
-                      f"<figcaption>{caption_text}</figcaption></figure>")
+                      f"<figcaption>{caption_text}</figcaption></figure></div>")
 
     # ----------------------------------------------------------------- text
     def conclude(self, sentence: str) -> str:
