@@ -13,6 +13,7 @@ import math
 import re
 import shutil
 import subprocess
+import types
 
 import pytest
 
@@ -45,10 +46,13 @@ LANGUAGES = {
 #: Words each note must show (headings, captions, the input table), besides those above.
 WORDS = {
     "uk": ("ПОЯСНЮВАЛЬНА ЗАПИСКА", "ЗМІСТ", "ВСТУП", "Вихідні дані", "Таблиця 4.1 –", "Рисунок 2.1 –", "Кінематика",
-           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П."),
+           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П.",
+           "ПЕРЕЛІК УМОВНИХ ПОЗНАЧЕНЬ І СКОРОЧЕНЬ"),
     "ru": ("ПОЯСНИТЕЛЬНАЯ ЗАПИСКА", "СОДЕРЖАНИЕ", "ВВЕДЕНИЕ", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
-           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П."),
-    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12"),
+           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П.",
+           "ПЕРЕЧЕНЬ УСЛОВНЫХ ОБОЗНАЧЕНИЙ И СОКРАЩЕНИЙ"),
+    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12",
+           "LIST OF SYMBOLS AND ABBREVIATIONS"),
 }
 
 #: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
@@ -223,3 +227,62 @@ def test_worked_substitutions_equal_their_table_rows(angle):
             assert t.fixed(step.value, step.decimals) in cells, (step.quantity, cells)
             # the substituted numbers give the result to the precision they are printed with
             assert _evaluate(step) == pytest.approx(step.value, rel=2e-3, abs=2 * 10 ** -step.decimals), step.quantity
+
+
+@pytest.mark.parametrize("language", ["uk", "ru"])
+def test_numerics_refusals_in_the_report_language(language):
+    """The numerics study's rare texts (steps left out for the time budget or as not allowed) come
+    from the catalogs: no English sentence in a uk/ru note, the step written with a decimal comma."""
+    scene = scene_from_dict(modified("petrol-1cyl-uk", {"numerics": {"time_budget_s": 1e-9},
+                                                        "report": {"detail": "full"}}), base_dir=examples_dir())
+    result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces", "numerics"])
+    rendered = render_html(result, REGISTRY, language)
+    assert 'data-part="refused-steps"' in rendered.html
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+    assert not _latin_words(rendered.html, scene_texts), sorted(set(_latin_words(rendered.html, scene_texts)))
+    t = translator(language, REGISTRY.catalogs)
+    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in html_lib.unescape(rendered.html)
+
+    from crankdyn_builtin.numerics.stage import refused_steps
+
+    # a step the scene's rules refuse: results.json keeps the rule, the note says so in its language
+    ctx = types.SimpleNamespace(t=t, scene=scene)
+    rows = refused_steps({"steps_refused": {"0.5": "angle_step_deg: must divide the firing interval"}}, ctx)
+    assert rows == [("0,5", t("numerics.refused_not_allowed"))]
+
+
+def _symbol_list(html: str) -> str:
+    return re.search(r'<section class="chapter symbols".*?</section>', html, flags=re.S).group(0)
+
+
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
+    """One symbol table (report.typeset.SYMBOLS) printed before the introduction: each symbol the
+    report shows, with its subscript in the report's language, its meaning and unit from the
+    catalogs; none the report does not show."""
+    from crankdyn.report.typeset import SYMBOLS, symbol_html, symbol_unit, symbols_used
+
+    t = translator(language, REGISTRY.catalogs)
+    scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
+    shown = {}
+    for name, stages in scenes.items():
+        result = run_scene(load_scene(examples_dir() / f"{name}.toml"), REGISTRY, stages)
+        html = render_html(result, REGISTRY, language).html
+        listed = _symbol_list(html)
+        rest = html.replace(listed, "")
+        rows = re.findall(r'<td class="symbol">(.*?)</td><td class="dash">–</td><td class="meaning">(.*?)</td>', listed)
+        keys = symbols_used(rest, language)
+        assert [markup for markup, _ in rows] == [symbol_html(k, language) for k in keys]
+        for (markup, meaning), key in zip(rows, keys):
+            unit = symbol_unit(key, t)
+            assert html_lib.unescape(meaning) == t(f"symbol.{key}") + (f", {unit}" if unit else "")
+        shown[name] = set(keys)
+    # the kinematics alone shows no gas pressure; the full calculation does, with its own subscript
+    assert "gas_pressure" not in shown["kinematics-only"] and "gas_pressure" in shown["petrol-1cyl"]
+    assert {"crank_angle", "piston_displacement", "rod_ratio"} <= shown["kinematics-only"]
+    assert shown["kinematics-only"] < set(SYMBOLS)
+    subscript = {"uk": "п", "ru": "п", "en": "p"}[language]
+    assert f"<i>s</i><sub>{subscript}</sub>" in _symbol_list(html)
+    # listed in the contents, before the introduction
+    contents = re.search(r'<nav class="contents">.*?</nav>', html, flags=re.S).group(0)
+    assert contents.index("#sec-symbols") < contents.index("#sec-introduction")

@@ -17,7 +17,7 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
-from .typeset import typeset_html
+from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html
 
 
 _IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
@@ -163,6 +163,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
+    html = _fill_symbol_list(html, t, language)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
 
@@ -179,3 +180,25 @@ def _fill_counts(html: str, t, sources: int) -> str:
     counts = t("doc.abstract_counts", pages='<a class="pagecount" href="#document-end"></a>',
                figures=figures, tables=tables, sources=sources)
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
+
+
+def symbol_list_html(keys, t, language: str, abbreviations: bool = True) -> str:
+    """The list of symbols: one row per symbol, "symbol – meaning, unit", then the abbreviations."""
+    rows = []
+    for key in keys:
+        unit = symbol_unit(key, t)
+        meaning = escape(t(f"symbol.{key}")) + (f", {escape(unit)}" if unit else "")
+        rows.append(f'<tr><td class="symbol">{symbol_html(key, language)}</td><td class="dash">–</td>'
+                    f'<td class="meaning">{meaning}</td></tr>')
+    html = f'<p>{escape(t("doc.symbols_intro"))}</p><table class="symbols">{"".join(rows)}</table>'
+    if abbreviations:
+        html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
+    return html
+
+
+def _fill_symbol_list(html: str, t, language: str) -> str:
+    """The list of symbols with those the (typeset) report shows, from the one symbol table."""
+    head, _, rest = html.partition("@@SYMBOL_LIST@@")
+    body = head.split("<body", 1)[-1] + rest
+    abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
+    return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body) + rest
