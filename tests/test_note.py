@@ -286,3 +286,35 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     # listed in the contents, before the introduction
     contents = re.search(r'<nav class="contents">.*?</nav>', html, flags=re.S).group(0)
     assert contents.index("#sec-symbols") < contents.index("#sec-introduction")
+
+
+EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
+
+
+@pytest.mark.slow
+@needs_poppler
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path):
+    """Acceptance of issue 15 for every bundled example in every language: pdftotext finds no
+    ``^``, no ``_``, no ``e-03`` number; in uk/ru no decimal point inside a number and no Latin
+    word outside the allowed set; and the pages pass the supervisor's layout check."""
+    out = tmp_path / "out"
+    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
+                 "--lang", language]) == 0
+    pages = _pages(out / "report.pdf")
+    text = "\f".join(pages)
+    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
+    html = (out / "report.html").read_text(encoding="utf-8")
+    if language != "en":
+        assert not _decimal_points(text), _decimal_points(text)[:10]
+        scene = load_scene(examples_dir() / f"{example}.toml")
+        scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+        words = _latin_words(html, scene_texts)
+        assert not words, sorted(set(words))
+    table_word, figure_word = LANGUAGES[language][2:4]
+    t = translator(language, REGISTRY.catalogs)
+    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
+                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    assert not problems, problems
