@@ -30,18 +30,32 @@ INK = 200
 def page_images(pdf: Path, folder: Path, resolution: int = 20) -> list[Path]:
     """Every page of ``pdf`` as a grey PNG at ``resolution`` dpi, in page order."""
     folder.mkdir(parents=True, exist_ok=True)
+    for old in folder.glob("page-*.png"):
+        old.unlink()
     subprocess.run(["pdftoppm", "-r", str(resolution), "-gray", "-png", str(pdf), str(folder / "page")], check=True)
     return sorted(folder.glob("page-*.png"), key=lambda p: int(p.stem.rsplit("-", 1)[1]))
+
+
+def _ink(png: Path):
+    ink = np.asarray(Image.open(png).convert("L")) < INK
+    height, width = ink.shape
+    page_w, page_h, top, right, bottom, left = LANDSCAPE if width > height else PORTRAIT
+    px = height / page_h
+    return ink, px, (int(top * px), height - int(bottom * px), int(left * px), width - int(right * px))
+
+
+def overflows_right(png: Path, tolerance_mm: float = 2.0) -> bool:
+    """Whether anything between the top and bottom margins reaches into the right margin (a
+    table too wide for its page)."""
+    ink, px, (top, bottom, left, right) = _ink(png)
+    return bool(ink[top:bottom, right + int(tolerance_mm * px):].any())
 
 
 def page_fill(png: Path) -> float:
     """How far down the text area the lowest ink reaches: 0 empty … 1 full. The running page
     number sits in the bottom margin and is not counted."""
-    ink = np.asarray(Image.open(png).convert("L")) < INK
-    height, width = ink.shape
-    page_w, page_h, top, right, bottom, left = LANDSCAPE if width > height else PORTRAIT
-    px = height / page_h
-    area = ink[int(top * px):height - int(bottom * px), int(left * px):width - int(right * px)]
+    ink, px, (top, bottom, left, right) = _ink(png)
+    area = ink[top:bottom, left:right]
     rows = np.flatnonzero(area.any(axis=1))
     return 0.0 if rows.size == 0 else (rows[-1] + 1) / area.shape[0]
 
@@ -100,8 +114,9 @@ def _starts_table_row(line: str, table_set) -> str | None:
 
 def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, table_word: str, figure_word: str,
                     continued: Callable[[str], str]) -> list[str]:
-    """What a supervisor would return: short pages, table continuations without the label and
-    the repeated header, captions left at a page's edge without their table or figure.
+    """What a supervisor would return: short pages, a table wider than its page, table
+    continuations without the label and the repeated header, captions left at a page's edge
+    without their table or figure.
 
     ``pages`` is the text of each page (``pdftotext -layout``, split at form feeds);
     ``continued(number)`` the continuation label of table ``number`` in the report's language."""
@@ -120,6 +135,8 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
         fill = page_fill(png)
         if i > 0 and not last_of_chapter and fill < MIN_FILL:
             problems.append(f"page {i + 1} is {fill:.0%} full: {(lines[i] or [''])[0][:60]!r}")
+        if overflows_right(png):
+            problems.append(f"page {i + 1}: something reaches into the right margin")
 
     labels = {" ".join(continued(n).split()): n for n in table_set}
     for i, page in enumerate(lines):

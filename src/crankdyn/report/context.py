@@ -90,8 +90,8 @@ class RenderContext:
                       f'<span class="eqno">({number})</span></div>')
 
     #: Body rows of a table that fit one page at the report's table type size (9.5 pt), after
-    #: the caption and the header: a longer table is split into parts of at most this many
-    #: rows, each after the first on a new page under "Table N continued" and the header.
+    #: the caption and the header: a shorter table is kept on one page; a longer one breaks
+    #: between rows and continues under "Table N continued" and the header (:func:`table_markup`).
     ROWS_PER_PAGE = 32
     ROWS_PER_LANDSCAPE_PAGE = 20
 
@@ -175,30 +175,31 @@ class RenderContext:
 
 def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
                  css_class: str = "data", see: bool = True) -> Markup:
-    """A numbered table's markup: the sentence referring to it, the caption, and the rows split
-    into page-sized parts (see :attr:`RenderContext.ROWS_PER_PAGE`)."""
+    """A numbered table's markup: the sentence referring to it, the caption, the header and the rows.
+
+    A table longer than a page (see :attr:`RenderContext.ROWS_PER_PAGE`) may break between rows
+    where the page ends, wherever it starts; the printed page repeats the header
+    (``thead``) and heads each page it continues on with "Table N continued": every row carries
+    that label, and the page's top margin shows the label of the row the page starts with
+    (``string-set`` in templates/report.css)."""
     wide = "wide" in css_class.split() and not fits_portrait(head_html, rows)
     limit = RenderContext.ROWS_PER_LANDSCAPE_PAGE if wide else RenderContext.ROWS_PER_PAGE
-    parts = max(1, -(-len(rows) // limit))
-    size = -(-len(rows) // parts) if rows else 0
-    chunks = [rows[i * size:(i + 1) * size] for i in range(parts)] if rows else [[]]
-    head = f"<thead><tr>{head_html}</tr></thead>"
-    html = [f'<div class="table-block{" long" if parts > 1 else ""}{" landscape" if wide else ""}">'
-            + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
-            + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
-            f"{head}<tbody>{''.join(chunks[0])}</tbody></table>"]
-    for chunk in chunks[1:]:
+    long = len(rows) > limit
+    if long:
         label = escape(t("doc.continued", number=number))
-        html.append(f'<p class="continued">{label}</p><table class="{css_class} continuation">'
-                    f"{head}<tbody>{''.join(chunk)}</tbody></table>")
-    html.append("</div>")
-    return Markup("".join(html))
+        rows = [f'<tr data-continued="{label}">' + r[len("<tr>"):] if r.startswith("<tr>") else r for r in rows]
+    head = f"<thead><tr>{head_html}</tr></thead>"
+    return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
+                  + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
+                  + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
+                  f"{head}<tbody>{''.join(rows)}</tbody></table></div>")
 
 
-#: Portrait text width (A4 less the 30 mm and 15 mm margins) left for a table, with room to spare
-#: for the estimate's error, in mm; a character of the 9.5 pt table type is about 1.7 mm wide
-#: (Liberation Serif digits are 0.5 em), a cell's padding and rules about 2.7 mm.
-PORTRAIT_TABLE_MM, CHAR_MM, CELL_PADDING_MM = 150.0, 1.7, 2.7
+#: Portrait text width (A4 less the 30 mm and 15 mm margins: 165 mm) left for a table, with room
+#: to spare for the estimate's error, in mm; a character of the 9.5 pt table type is about 1.55 mm
+#: wide (Liberation Serif: digits 0.5 em, lower-case letters 0.45 em on average), a cell's padding
+#: and rules about 2.7 mm. The page-layout test checks that nothing reaches into the margin.
+PORTRAIT_TABLE_MM, CHAR_MM, CELL_PADDING_MM = 158.0, 1.55, 2.7
 #: A text cell wraps at spaces; it is given at most this many characters of width.
 WRAP_CHARS = 20
 

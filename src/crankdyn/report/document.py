@@ -132,6 +132,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         body = stage.render(output, ctx)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
+        body = landscape_tables_later(body)
         for ref in stage.references:
             if ref not in references:
                 references.append(ref)
@@ -166,6 +167,44 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     html = _fill_symbol_list(html, t, language)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+_LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
+_TABLE_BLOCK = re.compile(r'<div class="table-block')
+_DIV_TAG = re.compile(r"<(/?)div\b")
+
+
+def _same_level(html: str) -> bool:
+    """Whether ``html`` opens and closes its own ``div``s (never closes one it did not open)."""
+    depth = 0
+    for m in _DIV_TAG.finditer(html):
+        depth += -1 if m.group(1) else 1
+        if depth < 0:
+            return False
+    return depth == 0
+
+
+def landscape_tables_later(body: str) -> str:
+    """Each landscape table moved past the text and figures that follow it in its section, up to
+    the next numbered table (the numbers stay in order) or the section's end; not when that next
+    table is a landscape one too.
+
+    A landscape page is a page of its own: the portrait page before it ends where the table
+    starts and would be left short. Moved after the portrait material that follows it, the
+    table (with the sentence that announces it) lets that material fill the page first."""
+    position = 0
+    while (m := _LANDSCAPE_BLOCK.search(body, position)) is not None:
+        rest = body[m.end():]
+        following = _TABLE_BLOCK.search(rest)
+        between = rest[:following.start() if following else len(rest)]
+        # before another landscape table it stays: the text between them shares their landscape pages
+        next_landscape = following is not None and _LANDSCAPE_BLOCK.match(rest, following.start()) is not None
+        if not between.strip() or not _same_level(between) or next_landscape:
+            position = m.end()
+            continue
+        body = body[:m.start()] + between + m.group(0) + rest[len(between):]
+        position = m.start() + len(between) + len(m.group(0))
+    return body
 
 
 def _stage_title(t, registry: Registry, name: str) -> str:
