@@ -271,7 +271,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
         html = render_html(result, REGISTRY, language).html
         listed = _symbol_list(html)
         rest = html.replace(listed, "")
-        rows = re.findall(r'<td class="symbol">(.*?)</td><td class="dash">–</td><td class="meaning">(.*?)</td>', listed)
+        rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
         keys = symbols_used(rest, language)
         assert [markup for markup, _ in rows] == [symbol_html(k, language) for k in keys]
         for (markup, meaning), key in zip(rows, keys):

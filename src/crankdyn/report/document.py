@@ -222,14 +222,15 @@ def _fill_counts(html: str, t, sources: int) -> str:
 
 
 def symbol_list_html(keys, t, language: str, abbreviations: bool = True) -> str:
-    """The list of symbols: one row per symbol, "symbol – meaning, unit", then the abbreviations."""
+    """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
+    (paragraphs, not a table: the Word export gives every table a repeated header row)."""
     rows = []
     for key in keys:
         unit = symbol_unit(key, t)
         meaning = escape(t(f"symbol.{key}")) + (f", {escape(unit)}" if unit else "")
-        rows.append(f'<tr><td class="symbol">{symbol_html(key, language)}</td><td class="dash">–</td>'
-                    f'<td class="meaning">{meaning}</td></tr>')
-    html = f'<p>{escape(t("doc.symbols_intro"))}</p><table class="symbols">{"".join(rows)}</table>'
+        rows.append(f'<p class="symbol-row"><span class="symbol">{symbol_html(key, language)}</span> – '
+                    f'<span class="meaning">{meaning}</span></p>')
+    html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html
