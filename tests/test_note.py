@@ -324,3 +324,21 @@ def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path)
     problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
                                figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
     assert not problems, problems
+
+
+def test_landscape_tables_go_after_the_portrait_material_that_follows_them():
+    from crankdyn.report.document import landscape_tables_later
+
+    wide = '<div class="table-block long landscape"><table data-number="7.1"></table></div>'
+    narrow = '<div class="table-block"><table data-number="7.2"></table></div>'
+    after = '<div class="table-block"><table data-number="7.3"></table></div>'
+    figure = '<div class="figure-block"><figure data-number="7.1"></figure></div><p>text</p>'
+    # the wide table and the one right after it move past the figure and the text, before table 7.3
+    assert landscape_tables_later("<p>a</p>" + wide + "\n" + narrow + figure + after) == \
+        "<p>a</p>" + figure + wide + "\n" + narrow + after
+    # another landscape table next: the text between shares their landscape pages, nothing moves
+    second = wide.replace("7.1", "7.2")
+    assert landscape_tables_later(wide + "<p>t</p>" + second) == wide + "<p>t</p>" + second
+    # never out of the block that holds it
+    nested = '<div class="x">' + wide + "</div><p>t</p>"
+    assert landscape_tables_later(nested) == nested

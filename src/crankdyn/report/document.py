@@ -171,6 +171,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
 
 _LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
 _TABLE_BLOCK = re.compile(r'<div class="table-block')
+_TABLE_BLOCK_WHOLE = re.compile(r'<div class="table-block[^"]*">.*?</div>', re.S)
 _DIV_TAG = re.compile(r"<(/?)div\b")
 
 
@@ -185,25 +186,32 @@ def _same_level(html: str) -> bool:
 
 
 def landscape_tables_later(body: str) -> str:
-    """Each landscape table moved past the text and figures that follow it in its section, up to
-    the next numbered table (the numbers stay in order) or the section's end; not when that next
-    table is a landscape one too.
+    """Each landscape table (with any tables right after it) moved past the text and figures that
+    follow it in its section, up to the next numbered table (the numbers stay in order) or the
+    section's end; not when that next table is a landscape one too.
 
     A landscape page is a page of its own: the portrait page before it ends where the table
     starts and would be left short. Moved after the portrait material that follows it, the
     table (with the sentence that announces it) lets that material fill the page first."""
     position = 0
     while (m := _LANDSCAPE_BLOCK.search(body, position)) is not None:
-        rest = body[m.end():]
+        group_end = m.end()
+        while True:  # the tables right after it go with it, so that the numbers stay in order
+            gap = len(body) - group_end - len(body[group_end:].lstrip())
+            more = _TABLE_BLOCK_WHOLE.match(body, group_end + gap)
+            if more is None:
+                break
+            group_end = more.end()
+        group, rest = body[m.start():group_end], body[group_end:]
         following = _TABLE_BLOCK.search(rest)
         between = rest[:following.start() if following else len(rest)]
         # before another landscape table it stays: the text between them shares their landscape pages
         next_landscape = following is not None and _LANDSCAPE_BLOCK.match(rest, following.start()) is not None
         if not between.strip() or not _same_level(between) or next_landscape:
-            position = m.end()
+            position = group_end
             continue
-        body = body[:m.start()] + between + m.group(0) + rest[len(between):]
-        position = m.start() + len(between) + len(m.group(0))
+        body = body[:m.start()] + between + group + rest[len(between):]
+        position = m.start() + len(between) + len(group)
     return body
 
 
