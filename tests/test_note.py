@@ -57,7 +57,8 @@ WORDS = {
 
 #: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
 ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn", "Radau", "RK", "BDF", "LSODA",
-                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "diag"}
+                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "diag",
+                 "MN"}  # MN: a segment between the points M and N of the source's drawing
 
 
 #: A table or figure number: chapter (or appendix letter) and position, "2.1", "А.1".
