@@ -6,6 +6,7 @@ import csv
 import io
 import json
 import math
+import re
 
 import pandas as pd
 import pytest
@@ -147,3 +148,22 @@ def test_batch_cli_refuses_a_missing_base_scene(tmp_path):
     done = run_cli("batch", str(path), "--base", str(tmp_path / "nope.toml"), "-o", str(tmp_path / "o"))
     assert done.returncode == 2 and "file not found" in done.stderr and "Traceback" not in done.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_each_variant_title_page_names_its_own_variant_and_student(tmp_path):
+    """Issue 15, item 9: the batch writes each student's own title page (HTML only, no PDF)."""
+    path = tmp_path / "v.csv"
+    path.write_text("variant,report.student,engine.rpm\n3,Шевченко Т. Г.,4000\n14,Коваленко І. А.,4500\n",
+                    encoding="utf-8")
+    out = tmp_path / "out"
+    report = run_batch(path, examples_dir() / "petrol-1cyl-uk.toml", out, ["html"], jobs=1, language="uk",
+                       stages=["kinematics"], progress=False)
+    assert not report.failures
+    students = {"3": "Шевченко Т. Г.", "14": "Коваленко І. А."}
+    for variant, student in students.items():
+        html = (out / variant / "report.html").read_text(encoding="utf-8")
+        title = re.search(r'<section class="title-page">.*?</section>', html, flags=re.S).group(0)
+        assert f'<div class="variant">Варіант {variant}</div>' in title
+        assert f'<td class="name">{student}</td>' in title
+        other = next(s for v, s in students.items() if v != variant)
+        assert other not in html and "Іваненко" not in title  # not the base scene's student

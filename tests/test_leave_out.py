@@ -98,8 +98,6 @@ def numerics_parts(html: str) -> set[str]:
     parts = set(re.findall(r'data-part="([^"]+)"', html))
     if "L (theor.), %" in html:
         parts.add("theoretical")
-    if "Steps that this scene does not allow" in html:
-        parts.add("refused-steps")
     return parts
 
 

@@ -13,6 +13,7 @@ import math
 import re
 import shutil
 import subprocess
+import types
 
 import pytest
 
@@ -22,7 +23,8 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
-from conftest import ARTIFACTS, modified
+from conftest import ARTIFACTS, modified, write_scene
+from page_layout import layout_problems
 from test_worked import check_worked
 
 REGISTRY = default_registry()
@@ -45,15 +47,19 @@ LANGUAGES = {
 #: Words each note must show (headings, captions, the input table), besides those above.
 WORDS = {
     "uk": ("ПОЯСНЮВАЛЬНА ЗАПИСКА", "ЗМІСТ", "ВСТУП", "Вихідні дані", "Таблиця 4.1 –", "Рисунок 2.1 –", "Кінематика",
-           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П."),
+           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П.",
+           "ПЕРЕЛІК УМОВНИХ ПОЗНАЧЕНЬ І СКОРОЧЕНЬ"),
     "ru": ("ПОЯСНИТЕЛЬНАЯ ЗАПИСКА", "СОДЕРЖАНИЕ", "ВВЕДЕНИЕ", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
-           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П."),
-    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12"),
+           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П.",
+           "ПЕРЕЧЕНЬ УСЛОВНЫХ ОБОЗНАЧЕНИЙ И СОКРАЩЕНИЙ"),
+    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12",
+           "LIST OF SYMBOLS AND ABBREVIATIONS"),
 }
 
 #: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
 ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn", "Radau", "RK", "BDF", "LSODA",
-                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV"}
+                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "diag",
+                 "MN"}  # MN: a segment between the points M and N of the source's drawing
 
 
 #: A table or figure number: chapter (or appendix letter) and position, "2.1", "А.1".
@@ -101,8 +107,9 @@ def test_explanatory_note_pdf(tmp_path, language):
     example, extra, table_word, figure_word, table_ref, figure_ref, continued, abstract, conclusions, sources = \
         LANGUAGES[language]
     out = tmp_path / language
-    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
-                 *extra]) == 0
+    # the example at a 15° table step: its long tables (gas pressure, forces, torque) continue on a second page
+    scene_file = write_scene(tmp_path / f"{example}.toml", modified(example, {"analysis": {"table_step_deg": 15}}))
+    assert main(["report", str(scene_file), "-o", str(out), "--format", "html,pdf", "-q", *extra]) == 0
     assert not list(out.rglob("*.tmp"))
     pages = _pages(out / "report.pdf")
     text = "\f".join(pages)
@@ -141,10 +148,17 @@ def test_explanatory_note_pdf(tmp_path, language):
     # Long tables continue on the next page under the label and the repeated header.
     continued_pages = [p for p in pages if re.search(rf"^\s*{continued} \d+\.\d+", p, flags=re.M)
                        and not re.search(rf"{continued} \d+\.\d+ [–—]", p)]
-    assert continued_pages, "the forces table B.1 spans several pages"
+    assert continued_pages, "the tables at a 15° step span two pages"
     for page in continued_pages:
         first = next(line for line in page.splitlines() if line.strip())
         assert first.strip().startswith(continued), first
+
+    # Pages as a supervisor leafs through them: none short but a chapter's last, every
+    # continued table under its label and header, no caption apart from its table or figure.
+    t = translator(language, REGISTRY.catalogs)
+    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
+                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    assert not problems, problems
 
     # Contents with page numbers, and the fonts: Times metrics with Cyrillic, embedded.
     contents = next(p for p in pages if re.search(r"\.{5,}\s*\d+\s*$", p, flags=re.M))
@@ -217,3 +231,117 @@ def test_worked_substitutions_equal_their_table_rows(angle):
             assert t.fixed(step.value, step.decimals) in cells, (step.quantity, cells)
             # the substituted numbers give the result to the precision they are printed with
             assert _evaluate(step) == pytest.approx(step.value, rel=2e-3, abs=2 * 10 ** -step.decimals), step.quantity
+
+
+@pytest.mark.parametrize("language", ["uk", "ru"])
+def test_numerics_refusals_in_the_report_language(language):
+    """The numerics study's rare texts (steps left out for the time budget or as not allowed) come
+    from the catalogs: no English sentence in a uk/ru note, the step written with a decimal comma."""
+    scene = scene_from_dict(modified("petrol-1cyl-uk", {"numerics": {"time_budget_s": 1e-9},
+                                                        "report": {"detail": "full"}}), base_dir=examples_dir())
+    result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces", "numerics"])
+    rendered = render_html(result, REGISTRY, language)
+    assert 'data-part="refused-steps"' in rendered.html
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+    assert not _latin_words(rendered.html, scene_texts), sorted(set(_latin_words(rendered.html, scene_texts)))
+    t = translator(language, REGISTRY.catalogs)
+    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in html_lib.unescape(rendered.html)
+
+    from crankdyn_builtin.numerics.stage import refused_steps
+
+    # a step the scene's rules refuse: results.json keeps the rule, the note says so in its language
+    ctx = types.SimpleNamespace(t=t, scene=scene)
+    rows = refused_steps({"steps_refused": {"0.5": "angle_step_deg: must divide the firing interval"}}, ctx)
+    assert rows == [("0,5", t("numerics.refused_not_allowed"))]
+
+
+def _symbol_list(html: str) -> str:
+    return re.search(r'<section class="chapter symbols".*?</section>', html, flags=re.S).group(0)
+
+
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
+    """One symbol table (report.typeset.SYMBOLS) printed before the introduction: each symbol the
+    report shows, with its subscript in the report's language, its meaning and unit from the
+    catalogs; none the report does not show."""
+    from crankdyn.report.typeset import SYMBOLS, symbol_html, symbol_unit, symbols_used
+
+    t = translator(language, REGISTRY.catalogs)
+    scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
+    shown = {}
+    for name, stages in scenes.items():
+        result = run_scene(load_scene(examples_dir() / f"{name}.toml"), REGISTRY, stages)
+        html = render_html(result, REGISTRY, language).html
+        listed = _symbol_list(html)
+        rest = html.replace(listed, "")
+        rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
+        keys = symbols_used(rest, language)
+        assert [markup for markup, _ in rows] == [symbol_html(k, language) for k in keys]
+        for (markup, meaning), key in zip(rows, keys):
+            unit = symbol_unit(key, t)
+            assert html_lib.unescape(meaning) == t(f"symbol.{key}") + (f", {unit}" if unit else "")
+        shown[name] = set(keys)
+    # the kinematics alone shows no gas pressure; the full calculation does, with its own subscript
+    assert "gas_pressure" not in shown["kinematics-only"] and "gas_pressure" in shown["petrol-1cyl"]
+    assert {"crank_angle", "piston_displacement", "rod_ratio"} <= shown["kinematics-only"]
+    assert shown["kinematics-only"] < set(SYMBOLS)
+    subscript = {"uk": "п", "ru": "п", "en": "p"}[language]
+    assert f"<i>s</i><sub>{subscript}</sub>" in _symbol_list(html)
+    # listed in the contents, before the introduction
+    contents = re.search(r'<nav class="contents">.*?</nav>', html, flags=re.S).group(0)
+    assert contents.index("#sec-symbols") < contents.index("#sec-introduction")
+
+
+EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
+
+
+@pytest.mark.slow
+@needs_poppler
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path):
+    """Acceptance of issue 15 for every bundled example in every language: pdftotext finds no
+    ``^``, no ``_``, no ``e-03`` number; in uk/ru no decimal point inside a number and no Latin
+    word outside the allowed set; and the pages pass the supervisor's layout check."""
+    out = tmp_path / "out"
+    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
+                 "--lang", language]) == 0
+    pages = _pages(out / "report.pdf")
+    text = "\f".join(pages)
+    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
+    html = (out / "report.html").read_text(encoding="utf-8")
+    if language != "en":
+        scene = load_scene(examples_dir() / f"{example}.toml")
+        scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+        # the student's own texts (an engine named "75 × 84.8 mm" in English) are theirs to write, the
+        # sources keep their own titles ("SciPy 1.0")
+        sources = re.findall(r'<ol class="references">(.*?)</ol>', html, flags=re.S)
+        own = scene_texts + [html_lib.unescape(re.sub(r"<[^>]+>", " ", sources[0]))] if sources else scene_texts
+        points = [p for p in _decimal_points(text) if not any(p.split()[-1] in v for v in own)]
+        assert not points, points[:10]
+        words = _latin_words(html, scene_texts)
+        assert not words, sorted(set(words))
+    table_word, figure_word = LANGUAGES[language][2:4]
+    t = translator(language, REGISTRY.catalogs)
+    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
+                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    assert not problems, problems
+
+
+def test_landscape_tables_go_after_the_portrait_material_that_follows_them():
+    from crankdyn.report.document import landscape_tables_later
+
+    wide = '<div class="table-block long landscape"><table data-number="7.1"></table></div>'
+    narrow = '<div class="table-block"><table data-number="7.2"></table></div>'
+    after = '<div class="table-block"><table data-number="7.3"></table></div>'
+    figure = '<div class="figure-block"><figure data-number="7.1"></figure></div><p>text</p>'
+    # the wide table and the one right after it move past the figure and the text, before table 7.3
+    assert landscape_tables_later("<p>a</p>" + wide + "\n" + narrow + figure + after) == \
+        "<p>a</p>" + figure + wide + "\n" + narrow + after
+    # another landscape table next: the text between shares their landscape pages, nothing moves
+    second = wide.replace("7.1", "7.2")
+    assert landscape_tables_later(wide + "<p>t</p>" + second) == wide + "<p>t</p>" + second
+    # never out of the block that holds it
+    nested = '<div class="x">' + wide + "</div><p>t</p>"
+    assert landscape_tables_later(nested) == nested

@@ -609,7 +609,7 @@ def _means_table(ctx, r):
             means_rows.append((t("balancing.shaft", order=shaft["order"],
                                  sense=t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward")),
                                  end=t("balancing.end_" + sm["end"])),
-                               f"{shaft['speed_ratio']:+d}", ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
+                               f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"), ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
                                ctx.num(sm["mass_kg"], 4), ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
                                ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—"))
     means_table = None
@@ -691,8 +691,12 @@ def _summary_symbol(s) -> Markup:
 
 
 def _plain_symbol(s) -> str:
+    """``ΣP_I``, ``ΣM_II``, ``ΣC``: the symbol as table 6.3 prints it (typeset with its subscript)."""
     kind, base = s["quantity"].split("_", 1)
-    return ("Σ" if kind == "sum" else "ΣM_") + base
+    order = base[1:] if base.startswith("P") else ""
+    if kind == "sum":
+        return f"ΣP_{order}" if order else "Σ" + base
+    return f"ΣM_{order or base}"
 
 
 BALANCING_STAGE = Stage(

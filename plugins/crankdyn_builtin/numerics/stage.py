@@ -614,7 +614,7 @@ def run(scene, inputs) -> StageOutput:
     start = time.perf_counter()
     for step in [scene_step] + others:
         if step != scene_step and time.perf_counter() - start > opts.time_budget_s:
-            refused[f"{step:g}"] = (f"left out: the study's time budget of {opts.time_budget_s:g} s was spent "
+            refused[f"{step:g}"] = (f"{_BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
                                     "([numerics] time_budget_s)")
             continue
         try:
@@ -888,10 +888,30 @@ def render(output: StageOutput, ctx) -> str:
     forms_table, forms_figure = _render_kinematics(r, ctx)
     return ctx.render_template("sections/numerics.html.j2", r=r, step_table=step_table, step_figure=step_figure,
                                statement=statement, reference_text=reference_text,
-                               refused=list(r.get("steps_refused", {}).items()),
-                               unavailable=r.get("steps_unavailable"),
+                               refused=refused_steps(r, ctx),
+                               unavailable=ctx.t("numerics.unavailable_pipeline") if r.get("steps_unavailable") else None,
                                forms_table=forms_table, forms_figure=forms_figure,
                                kinematics_statement=_kinematics_statement(r, ctx), probes=_render_probes(r, ctx))
+
+
+#: How results.json words a step left out for the study's time budget (see ``run``).
+_BUDGET_REASON = "left out: the study's time budget"
+
+
+def refused_steps(r, ctx) -> list[tuple[str, str]]:
+    """The steps left out of the study and why, in the report's language. results.json keeps
+    the reasons as the code words them (the rule a step broke, in English); the report says
+    which of the two cases it is."""
+    t = ctx.t
+    budget = options(ctx.scene, "numerics", NumericsOptions).time_budget_s if ctx.scene is not None else None
+    out = []
+    for step, reason in r.get("steps_refused", {}).items():
+        if reason.startswith(_BUDGET_REASON) and budget is not None:
+            why = t("numerics.refused_time_budget", budget=t.number_g(budget, 3))
+        else:
+            why = t("numerics.refused_not_allowed")
+        out.append((t.number_g(float(step), 4), why))
+    return out
 
 
 def _kinematics_statement(r, ctx) -> str | None:

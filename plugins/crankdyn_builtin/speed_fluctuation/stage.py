@@ -557,6 +557,14 @@ def _sci(value, separator: str = ".") -> str:
     return f"{mantissa.replace('.', separator)}·10{superscript(int(exponent))}".replace("-", "−")
 
 
+def _power_of_ten(value: float, t) -> str:
+    """A tolerance as a figure label: ``10⁻³`` (mathtext), never ``1e-03``."""
+    exponent = math.log10(value) if value > 0 else float("nan")
+    if math.isfinite(exponent) and abs(exponent - round(exponent)) < 1e-9:
+        return f"$10^{{{int(round(exponent))}}}$"
+    return t.number_g(value, 2)
+
+
 def _error_figure(ctx, records, caption, name, key="error_relative"):
     t = ctx.t
     fig, ax = new_figure(16, 9)
@@ -566,7 +574,7 @@ def _error_figure(ctx, records, caption, name, key="error_relative"):
         if rows:
             ax.loglog([r["time_s"] for r in rows], [r[key] for r in rows], "o-", color=f"C{i}", label=method)
             for r in rows:
-                ax.annotate(f"{r['rtol']:.0e}", (r["time_s"], r[key]), fontsize=6, xytext=(3, 3),
+                ax.annotate(_power_of_ten(r["rtol"], t), (r["time_s"], r[key]), fontsize=6, xytext=(3, 3),
                             textcoords="offset points")
     ax.set_xlabel(t("speed_fluctuation.axis_time"))
     ax.set_ylabel(t("speed_fluctuation.axis_error"))
@@ -691,7 +699,7 @@ def _campbell(ctx, torsion, parts) -> None:
     for h in main:
         ax.plot(speeds, h["order"] * speeds / 60.0, color="0.6", lw=0.6)
         end = min(1.3 * rpm, top * 60.0 / h["order"])
-        ax.text(end, h["order"] * end / 60.0, f"{h['order']:g}", fontsize=6, color="0.35")
+        ax.text(end, h["order"] * end / 60.0, ctx.t.number_g(h["order"]), fontsize=6, color="0.35")
     for m in torsion["modes"][:2]:
         ax.axhline(m["natural_frequency_Hz"], color="C0", lw=1.0)
     ax.axvspan((1 - CRITICAL_BAND) * rpm, (1 + CRITICAL_BAND) * rpm, color="C3", alpha=0.12, lw=0)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import base64
+import html as html_lib
+import re
 from importlib import resources
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -89,8 +91,8 @@ class RenderContext:
                       f'<span class="eqno">({number})</span></div>')
 
     #: Body rows of a table that fit one page at the report's table type size (9.5 pt), after
-    #: the caption and the header: a longer table is split into parts of at most this many
-    #: rows, each after the first on a new page under "Table N continued" and the header.
+    #: the caption and the header: a shorter table is kept on one page; a longer one breaks
+    #: between rows and continues under "Table N continued" and the header (:func:`table_markup`).
     ROWS_PER_PAGE = 32
     ROWS_PER_LANDSCAPE_PAGE = 20
 
@@ -150,9 +152,10 @@ class RenderContext:
         see = escape(self.t("doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
-        return Markup(f'<p class="see">{see}</p>'
+        # one block, so that the sentence never ends a page without the figure it announces
+        return Markup(f'<div class="figure-block"><p class="see">{see}</p>'
                       f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
-                      f"<figcaption>{caption_text}</figcaption></figure>")
+                      f"<figcaption>{caption_text}</figcaption></figure></div>")
 
     # ----------------------------------------------------------------- text
     def conclude(self, sentence: str) -> str:
@@ -172,24 +175,53 @@ class RenderContext:
 
 def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
                  css_class: str = "data", see: bool = True) -> Markup:
-    """A numbered table's markup: the sentence referring to it, the caption, and the rows split
-    into page-sized parts (see :attr:`RenderContext.ROWS_PER_PAGE`)."""
-    wide = "wide" in css_class.split()
+    """A numbered table's markup: the sentence referring to it, the caption, the header and the rows.
+
+    A table longer than a page (see :attr:`RenderContext.ROWS_PER_PAGE`) may break between rows
+    where the page ends, wherever it starts; the printed page repeats the header
+    (``thead``) and heads each page it continues on with "Table N continued": every row carries
+    that label, and the page's top margin shows the label of the row the page starts with
+    (``string-set`` in templates/report.css)."""
+    wide = "wide" in css_class.split() and not fits_portrait(head_html, rows)
     limit = RenderContext.ROWS_PER_LANDSCAPE_PAGE if wide else RenderContext.ROWS_PER_PAGE
-    parts = max(1, -(-len(rows) // limit))
-    size = -(-len(rows) // parts) if rows else 0
-    chunks = [rows[i * size:(i + 1) * size] for i in range(parts)] if rows else [[]]
-    head = f"<thead><tr>{head_html}</tr></thead>"
-    html = [f'<div class="table-block{" long" if parts > 1 else ""}{" landscape" if wide else ""}">'
-            + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
-            + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
-            f"{head}<tbody>{''.join(chunks[0])}</tbody></table>"]
-    for chunk in chunks[1:]:
+    long = len(rows) > limit
+    if long:
         label = escape(t("doc.continued", number=number))
-        html.append(f'<p class="continued">{label}</p><table class="{css_class} continuation">'
-                    f"{head}<tbody>{''.join(chunk)}</tbody></table>")
-    html.append("</div>")
-    return Markup("".join(html))
+        rows = [f'<tr data-continued="{label}">' + r[len("<tr>"):] if r.startswith("<tr>") else r for r in rows]
+    head = f"<thead><tr>{head_html}</tr></thead>"
+    return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
+                  + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
+                  + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
+                  f"{head}<tbody>{''.join(rows)}</tbody></table></div>")
+
+
+#: Portrait text width (A4 less the 30 mm and 15 mm margins: 165 mm) left for a table, with room
+#: to spare for the estimate's error, in mm; a character of the 9.5 pt table type is about 1.55 mm
+#: wide (Liberation Serif: digits 0.5 em, lower-case letters 0.45 em on average), a cell's padding
+#: and rules about 2.7 mm. The page-layout test checks that nothing reaches into the margin.
+PORTRAIT_TABLE_MM, CHAR_MM, CELL_PADDING_MM = 158.0, 1.55, 2.7
+#: A text cell wraps at spaces; it is given at most this many characters of width.
+WRAP_CHARS = 20
+
+_CELL = re.compile(r"<t[hd][^>]*>(.*?)</t[hd]>", re.S)
+
+
+def _text(markup: str) -> str:
+    return html_lib.unescape(re.sub(r"<[^>]+>", "", markup))
+
+
+def fits_portrait(head_html: str, rows: Sequence[str]) -> bool:
+    """Whether a table asked to be wide still fits a portrait page at the table type size: the
+    widest cell of each column (a header wraps at its words, a text cell at its spaces) summed.
+    A landscape page is kept for tables that need one, because each starts a page of its own
+    and would leave the page before it short."""
+    headers = [_text(h) for h in _CELL.findall(head_html)]
+    widths = [max((len(w) for w in h.split()), default=1) for h in headers]
+    for row in rows:
+        for i, cell in enumerate(_CELL.findall(row)[:len(widths)]):
+            text = _text(cell).strip()
+            widths[i] = max(widths[i], len(text) if len(text) <= WRAP_CHARS else WRAP_CHARS)
+    return sum(widths) * CHAR_MM + len(widths) * CELL_PADDING_MM <= PORTRAIT_TABLE_MM
 
 
 def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,

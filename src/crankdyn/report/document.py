@@ -17,7 +17,7 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
-from .typeset import typeset_html
+from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html
 from ..plausibility import format_params, warnings
 
 
@@ -133,6 +133,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         body = stage.render(output, ctx)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
+        body = landscape_tables_later(body)
         for ref in stage.references:
             if ref not in references:
                 references.append(ref)
@@ -163,8 +164,55 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
+    html = _fill_symbol_list(html, t, language)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+_LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
+_TABLE_BLOCK = re.compile(r'<div class="table-block')
+_TABLE_BLOCK_WHOLE = re.compile(r'<div class="table-block[^"]*">.*?</div>', re.S)
+_DIV_TAG = re.compile(r"<(/?)div\b")
+
+
+def _same_level(html: str) -> bool:
+    """Whether ``html`` opens and closes its own ``div``s (never closes one it did not open)."""
+    depth = 0
+    for m in _DIV_TAG.finditer(html):
+        depth += -1 if m.group(1) else 1
+        if depth < 0:
+            return False
+    return depth == 0
+
+
+def landscape_tables_later(body: str) -> str:
+    """Each landscape table (with any tables right after it) moved past the text and figures that
+    follow it in its section, up to the next numbered table (the numbers stay in order) or the
+    section's end; not when that next table is a landscape one too.
+
+    A landscape page is a page of its own: the portrait page before it ends where the table
+    starts and would be left short. Moved after the portrait material that follows it, the
+    table (with the sentence that announces it) lets that material fill the page first."""
+    position = 0
+    while (m := _LANDSCAPE_BLOCK.search(body, position)) is not None:
+        group_end = m.end()
+        while True:  # the tables right after it go with it, so that the numbers stay in order
+            gap = len(body) - group_end - len(body[group_end:].lstrip())
+            more = _TABLE_BLOCK_WHOLE.match(body, group_end + gap)
+            if more is None:
+                break
+            group_end = more.end()
+        group, rest = body[m.start():group_end], body[group_end:]
+        following = _TABLE_BLOCK.search(rest)
+        between = rest[:following.start() if following else len(rest)]
+        # before another landscape table it stays: the text between them shares their landscape pages
+        next_landscape = following is not None and _LANDSCAPE_BLOCK.match(rest, following.start()) is not None
+        if not between.strip() or not _same_level(between) or next_landscape:
+            position = group_end
+            continue
+        body = body[:m.start()] + between + group + rest[len(between):]
+        position = m.start() + len(between) + len(group)
+    return body
 
 
 def _stage_title(t, registry: Registry, name: str) -> str:
@@ -179,3 +227,26 @@ def _fill_counts(html: str, t, sources: int) -> str:
     counts = t("doc.abstract_counts", pages='<a class="pagecount" href="#document-end"></a>',
                figures=figures, tables=tables, sources=sources)
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
+
+
+def symbol_list_html(keys, t, language: str, abbreviations: bool = True) -> str:
+    """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
+    (paragraphs, not a table: the Word export gives every table a repeated header row)."""
+    rows = []
+    for key in keys:
+        unit = symbol_unit(key, t)
+        meaning = escape(t(f"symbol.{key}")) + (f", {escape(unit)}" if unit else "")
+        rows.append(f'<p class="symbol-row"><span class="symbol">{symbol_html(key, language)}</span> – '
+                    f'<span class="meaning">{meaning}</span></p>')
+    html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'
+    if abbreviations:
+        html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
+    return html
+
+
+def _fill_symbol_list(html: str, t, language: str) -> str:
+    """The list of symbols with those the (typeset) report shows, from the one symbol table."""
+    head, _, rest = html.partition("@@SYMBOL_LIST@@")
+    body = head.split("<body", 1)[-1] + rest
+    abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
+    return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body) + rest

@@ -23,7 +23,8 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Symbol:
-    """A quantity's symbol: base letter, subscript per language, unit catalog key, meaning key."""
+    """A quantity's symbol: base letter, subscript per language (none: ``{}``), unit (a catalog
+    key ``unit.…``, a literal such as ``°``, or ``""`` for a ratio) and the meaning's catalog key."""
 
     base: str
     sub: dict[str, str]
@@ -31,9 +32,20 @@ class Symbol:
     meaning: str
 
 
-#: The quantities whose subscript differs between the languages (the textbook's Cyrillic
-#: subscripts in uk/ru, Latin ones in English). Keyed by a stable name.
+#: The report's symbols, keyed by a stable name: those whose subscript differs between the
+#: languages (the textbook's Cyrillic subscripts in uk/ru, Latin ones in English) and the
+#: main quantities every calculation uses. The list of symbols in front of the introduction is
+#: printed from this table, with the symbols the report actually shows.
 SYMBOLS: dict[str, Symbol] = {
+    "crank_angle": Symbol("α", {}, "°", "symbol.crank_angle"),
+    "rod_angle": Symbol("β", {}, "°", "symbol.rod_angle"),
+    "cylinder_bore": Symbol("D", {}, "unit.mm", "symbol.cylinder_bore"),
+    "stroke": Symbol("S", {}, "unit.mm", "symbol.stroke"),
+    "crank_radius": Symbol("R", {}, "unit.mm", "symbol.crank_radius"),
+    "rod_length": Symbol("L", {}, "unit.mm", "symbol.rod_length"),
+    "rod_ratio": Symbol("λ", {}, "", "symbol.rod_ratio"),
+    "crank_speed": Symbol("n", {}, "unit.rpm", "symbol.crank_speed"),
+    "crank_angular_velocity": Symbol("ω", {}, "unit.rad_s", "symbol.crank_angular_velocity"),
     "piston_displacement": Symbol("s", {"en": "p", "uk": "п", "ru": "п"}, "unit.mm", "symbol.piston_displacement"),
     "piston_velocity": Symbol("v", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s", "symbol.piston_velocity"),
     "piston_acceleration": Symbol("j", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s2", "symbol.piston_acceleration"),
@@ -43,6 +55,8 @@ SYMBOLS: dict[str, Symbol] = {
     "rod_mass": Symbol("m", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.kg", "symbol.rod_mass"),
     "piston_group_mass": Symbol("m", {"en": "pg", "uk": "п", "ru": "п"}, "unit.kg", "symbol.piston_group_mass"),
     "gas_pressure": Symbol("p", {"en": "g", "uk": "г", "ru": "г"}, "unit.MPa", "symbol.gas_pressure"),
+    "inertia_pressure": Symbol("p", {"en": "j"}, "unit.MPa", "symbol.inertia_pressure"),
+    "total_pressure": Symbol("p", {"en": "1"}, "unit.MPa", "symbol.total_pressure"),
     "driving_torque": Symbol("M", {"en": "d", "uk": "д", "ru": "д"}, "unit.Nm", "symbol.driving_torque"),
     "mean_speed": Symbol("v", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.m_s", "symbol.mean_speed"),
 }
@@ -59,15 +73,34 @@ SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
 
 
 def symbol_sub(key: str, language: str) -> str:
-    """The subscript of symbol ``key`` in ``language`` (English if the language has none)."""
+    """The subscript of symbol ``key`` in ``language`` (English if the language has none; "" for none)."""
     sub = SYMBOLS[key].sub
-    return sub.get(language, sub["en"])
+    return sub.get(language, sub.get("en", ""))
 
 
 def symbol_html(key: str, language: str) -> str:
     """``<i>s</i><sub>п</sub>``: the symbol as HTML markup."""
     s = SYMBOLS[key]
-    return f"<i>{s.base}</i><sub>{symbol_sub(key, language)}</sub>"
+    sub = symbol_sub(key, language)
+    return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
+
+
+def symbols_used(html: str, language: str) -> list[str]:
+    """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in table order.
+    A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
+    crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's)."""
+    used = []
+    for key in SYMBOLS:
+        markup = re.escape(symbol_html(key, language))
+        if re.search(markup if symbol_sub(key, language) else markup + "(?!<sub>)", html):
+            used.append(key)
+    return used
+
+
+def symbol_unit(key: str, t) -> str:
+    """The symbol's unit in the report's language ("" for a ratio)."""
+    unit = SYMBOLS[key].unit
+    return t(unit) if unit.startswith("unit.") else unit
 
 
 def symbol_mathtext(key: str, language: str) -> str:
@@ -87,6 +120,8 @@ def _subscript_map(language: str) -> dict[tuple[str, str], str]:
         for base in _BASES:
             out[(base, word)] = forms.get(language, word)
     for s in SYMBOLS.values():
+        if not s.sub:
+            continue
         target = s.sub.get(language, s.sub["en"])
         for sub in s.sub.values():
             out.setdefault((s.base, sub), target)
@@ -95,9 +130,10 @@ def _subscript_map(language: str) -> dict[tuple[str, str], str]:
 
 # ----------------------------------------------------------------------------- HTML text
 _LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
-#: ``s_п``, ``p_z′``, ``C_II``, ``λ_p``, ``{..}`` braces for a longer subscript: one base letter
-#: (not the tail of a word or an identifier), its subscript of letters or digits.
-_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}])(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
+#: ``s_п``, ``p_z′``, ``C_II``, ``λ_p``, ``z̈_A``, ``{..}`` braces for a longer subscript: one base
+#: letter (not the tail of a word or an identifier; a combining dot or two above it allowed), its
+#: subscript of letters or digits.
+_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}][\u0300-\u036f]?)(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
 #: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
 _SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
 _SUB_HTML = re.compile(r"<i>([^<]{1,2})</i>((?:</b>)?)<sub>([^<]+)</sub>")

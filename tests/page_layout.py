@@ -1,0 +1,162 @@
+"""Page-layout checks on a rendered explanatory note (issue: DSTU 3008 layout).
+
+Reads a PDF the way a supervisor leafs through it: the pages as low-resolution images
+(``pdftoppm``) for how full each one is, and the pages' text (``pdftotext -layout``) for what
+starts and ends them. The report's own HTML says which headings start a chapter and what each
+table's header and rows hold, so the checks need no guesses about the content.
+"""
+
+from __future__ import annotations
+
+import html as html_lib
+import re
+import subprocess
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+from PIL import Image
+
+#: Page size and margins of templates/report.css (``@page`` and ``@page landscape``), in mm:
+#: width, height, top, right, bottom, left.
+PORTRAIT = (210.0, 297.0, 20.0, 15.0, 20.0, 30.0)
+LANDSCAPE = (297.0, 210.0, 20.0, 20.0, 15.0, 20.0)
+#: A page less full than this (lowest ink in the text area, as a share of its height) is short.
+MIN_FILL = 1 / 3
+#: Grey level (0 black … 255 white) below which a pixel counts as ink.
+INK = 200
+
+
+def page_images(pdf: Path, folder: Path, resolution: int = 20) -> list[Path]:
+    """Every page of ``pdf`` as a grey PNG at ``resolution`` dpi, in page order."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for old in folder.glob("page-*.png"):
+        old.unlink()
+    subprocess.run(["pdftoppm", "-r", str(resolution), "-gray", "-png", str(pdf), str(folder / "page")], check=True)
+    return sorted(folder.glob("page-*.png"), key=lambda p: int(p.stem.rsplit("-", 1)[1]))
+
+
+def _ink(png: Path):
+    ink = np.asarray(Image.open(png).convert("L")) < INK
+    height, width = ink.shape
+    page_w, page_h, top, right, bottom, left = LANDSCAPE if width > height else PORTRAIT
+    px = height / page_h
+    return ink, px, (int(top * px), height - int(bottom * px), int(left * px), width - int(right * px))
+
+
+def overflows_right(png: Path, tolerance_mm: float = 2.0) -> bool:
+    """Whether anything between the top and bottom margins reaches into the right margin (a
+    table too wide for its page)."""
+    ink, px, (top, bottom, left, right) = _ink(png)
+    return bool(ink[top:bottom, right + int(tolerance_mm * px):].any())
+
+
+def page_fill(png: Path) -> float:
+    """How far down the text area the lowest ink reaches: 0 empty … 1 full. The running page
+    number sits in the bottom margin and is not counted."""
+    ink, px, (top, bottom, left, right) = _ink(png)
+    area = ink[top:bottom, left:right]
+    rows = np.flatnonzero(area.any(axis=1))
+    return 0.0 if rows.size == 0 else (rows[-1] + 1) / area.shape[0]
+
+
+def _plain(markup: str) -> str:
+    text = html_lib.unescape(re.sub(r"<[^>]+>", "", re.sub(r"<br\s*/?>", " ", markup)))
+    return " ".join(text.split())
+
+
+def headings(html: str) -> list[str]:
+    """The first line of every chapter-level heading, upper case as printed."""
+    out = []
+    for h in re.findall(r"<h2[^>]*>(.*?)</h2>", html, flags=re.S):
+        out.append(_plain(re.split(r"<br\s*/?>", h)[0]).upper())
+    return out
+
+
+def tables(html: str) -> dict[str, tuple[list[str], list[list[str]]]]:
+    """Per table number: its header cells and its body rows (cells), continuation parts included."""
+    out: dict[str, tuple[list[str], list[list[str]]]] = {}
+    number = None
+    for attrs, body in re.findall(r"<table([^>]*)>(.*?)</table>", html, flags=re.S):
+        m = re.search(r'data-number="([^"]+)"', attrs)
+        if m:
+            number = m.group(1)
+        elif "continuation" not in attrs or number is None:
+            continue
+        head = [_plain(c) for c in re.findall(r"<th[^>]*>(.*?)</th>", body, flags=re.S)]
+        body_rows = re.findall(r"<tbody>(.*?)</tbody>", body, flags=re.S)
+        rows = [[_plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", r, flags=re.S)]
+                for r in re.findall(r"<tr>(.*?)</tr>", body_rows[0] if body_rows else "", flags=re.S)]
+        old = out.setdefault(number, (head, []))
+        old[1].extend(rows)
+    return out
+
+
+def _lines(page: str) -> list[str]:
+    """The page's non-empty lines, whitespace normalised, the running page number left out."""
+    lines = [" ".join(line.split()) for line in page.splitlines() if line.strip()]
+    if lines and lines[-1].isdigit():
+        lines = lines[:-1]
+    return lines
+
+
+def _starts_table_row(line: str, table_set) -> str | None:
+    """The number of the table whose header or body row ``line`` is, else None."""
+    tokens = line.split()
+    for number, (head, rows) in table_set.items():
+        if any(tokens == " ".join(row).split() for row in rows if len(row) >= 2):
+            return number
+        head_tokens = " ".join(head).split()
+        if head and len(tokens) >= 3 and tokens[0] == head_tokens[0] and set(tokens) <= set(head_tokens):
+            return number
+    return None
+
+
+def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, table_word: str, figure_word: str,
+                    continued: Callable[[str], str]) -> list[str]:
+    """What a supervisor would return: short pages, a table wider than its page, table
+    continuations without the label and the repeated header, captions left at a page's edge
+    without their table or figure.
+
+    ``pages`` is the text of each page (``pdftotext -layout``, split at form feeds);
+    ``continued(number)`` the continuation label of table ``number`` in the report's language."""
+    problems = []
+    starts = headings(html)
+    table_set = tables(html)
+    lines = [_lines(p) for p in pages]
+
+    def starts_chapter(i: int) -> bool:
+        return bool(lines[i]) and any(h.startswith(lines[i][0].upper()) or lines[i][0].upper().startswith(h)
+                                      for h in starts)
+
+    # 1. No page less than a third full but the title page and a chapter's last page.
+    for i, png in enumerate(page_images(pdf, folder)):
+        last_of_chapter = i + 1 == len(pages) or starts_chapter(i + 1)
+        fill = page_fill(png)
+        if i > 0 and not last_of_chapter and fill < MIN_FILL:
+            problems.append(f"page {i + 1} is {fill:.0%} full: {(lines[i] or [''])[0][:60]!r}")
+        if overflows_right(png):
+            problems.append(f"page {i + 1}: something reaches into the right margin")
+
+    labels = {" ".join(continued(n).split()): n for n in table_set}
+    for i, page in enumerate(lines):
+        if not page:
+            continue
+        # 2. A page that goes on with a table starts with "Table N.M continued" and its header.
+        if page[0] in labels:
+            head = table_set[labels[page[0]]][0]
+            if len(page) < 2 or not head or page[1].split()[0] != head[0].split()[0]:
+                problems.append(f"page {i + 1}: {page[0]!r} is not followed by the table's header")
+        elif (number := _starts_table_row(page[0], table_set)) is not None:
+            problems.append(f"page {i + 1} goes on with table {number} without {continued(number)!r}: {page[0][:60]!r}")
+        # 3. A table caption (above its table) never ends a page; a figure caption (below its
+        #    figure) never starts one.
+        for k, line in enumerate(page):
+            m = re.match(rf"{re.escape(table_word)} (\S+) [–—]", line)
+            if m and m.group(1) in table_set:
+                first = table_set[m.group(1)][0][0].split()[0] if table_set[m.group(1)][0] else ""
+                if not any(later.split()[0] == first for later in page[k + 1:]):
+                    problems.append(f"page {i + 1}: the caption {line[:50]!r} without its table")
+        if re.match(rf"{re.escape(figure_word)} \S+ [–—]", page[0]):
+            problems.append(f"page {i + 1} starts with the caption {page[0][:50]!r} away from its figure")
+    return problems
