@@ -129,7 +129,7 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import RunOptions
+    from .batch import RunOptions  # lazy: heavy optional import (numpy, scipy: per command)
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
@@ -249,7 +249,7 @@ def _batch(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .sweep import SweepRequest, run_sweep, sweep_from_args
+    from .sweep import SweepRequest, run_sweep, sweep_from_args  # lazy: heavy optional import (numpy, scipy: per command)
 
     formats = [] if args.format.strip().lower() == "none" else _formats(args.format)
     request = SweepRequest(args.scene, sweep_from_args(args.set, args.grid, args.plot, args.plot_x), args.output,
