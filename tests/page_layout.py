@@ -86,7 +86,7 @@ def tables(html: str) -> dict[str, tuple[list[str], list[list[str]]]]:
         head = [_plain(c) for c in re.findall(r"<th[^>]*>(.*?)</th>", body, flags=re.S)]
         body_rows = re.findall(r"<tbody>(.*?)</tbody>", body, flags=re.S)
         rows = [[_plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", r, flags=re.S)]
-                for r in re.findall(r"<tr>(.*?)</tr>", body_rows[0] if body_rows else "", flags=re.S)]
+                for r in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", body_rows[0] if body_rows else "", flags=re.S)]
         old = out.setdefault(number, (head, []))
         old[1].extend(rows)
     return out

@@ -119,7 +119,7 @@ def _table_rows(html: str, number: str) -> list[list[str]]:
     """Every row of table ``number`` (all its continued parts), as lists of cell texts."""
     block = re.search(rf'<table class="[^"]*" data-number="{re.escape(number)}">(.*?)</div>', html, flags=re.S)
     assert block, number
-    return [re.findall(r"<td>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", block.group(1), flags=re.S)]
+    return [re.findall(r"<td>(.*?)</td>", row) for row in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", block.group(1), flags=re.S)]
 
 
 def worked_html(html: str, block) -> str:
