@@ -176,3 +176,12 @@ def test_example_notebook_runs_and_shows_html_first():
     assert outputs, "no cell produced output"
     assert "text/html" in outputs[0][0].get("data", {})
     assert "crankdyn-result" in outputs[0][0]["data"]["text/html"]
+
+
+def test_the_sweep_command_module_does_not_shadow_the_api_function():
+    """`crankdyn.sweep` stays the API function after the `crankdyn sweep` command's module is loaded
+    (a submodule named ``sweep`` would replace the package attribute on import)."""
+    import crankdyn
+    import crankdyn.sweep_grid  # noqa: F401
+
+    assert callable(crankdyn.sweep) and crankdyn.sweep.__module__ == "crankdyn.api"

@@ -113,7 +113,7 @@ def test_dask_is_imported_only_for_a_scheduler(tmp_path):
 
 def test_a_sweep_on_the_cluster_gives_the_local_answer_key(tmp_path, cluster):
     from crankdyn.batch import RunOptions
-    from crankdyn.sweep import SweepRequest, run_sweep, sweep_from_args
+    from crankdyn.sweep_grid import SweepRequest, run_sweep, sweep_from_args
 
     keys = []
     for name, scheduler in (("local", None), ("dask", cluster.scheduler_address)):

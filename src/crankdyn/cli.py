@@ -249,7 +249,7 @@ def _batch(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .sweep import SweepRequest, run_sweep, sweep_from_args  # lazy: heavy optional import (numpy, scipy: per command)
+    from .sweep_grid import SweepRequest, run_sweep, sweep_from_args  # lazy: heavy optional import (numpy, scipy: per command)
 
     formats = [] if args.format.strip().lower() == "none" else _formats(args.format)
     request = SweepRequest(args.scene, sweep_from_args(args.set, args.grid, args.plot, args.plot_x), args.output,
