@@ -301,6 +301,22 @@ def inertia_masses(scene, layout) -> "bal.Masses":
     return bal.Masses(m_s, m_R, R, lam, w)
 
 
+def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
+    """The notes on what the scene leaves out (no cylinder spacing, articulated rods, no cycle);
+    a balance-shaft spacing without the cylinder spacing is refused."""
+    notes = []
+    if opts.balance_shaft_spacing is not None and spacing_m is None and g.cranks > 1:
+        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
+                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
+    if spacing_m is None and g.cranks > 1:
+        notes.append(("balancing.note_no_spacing", {}))
+    if rod_type == "articulated":
+        notes.append(("balancing.note_articulated", {}))
+    if torque is None:
+        notes.append(("balancing.note_no_torque", {}))
+    return notes
+
+
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
@@ -314,16 +330,7 @@ def run(scene, inputs) -> StageOutput:
     n_max = bal.orders_needed(lam)
     harmonics = bal.harmonics_for(lam, n_max)
     C, C_I = masses.centrifugal_N, masses.first_order_N
-    notes = []
-    if opts.balance_shaft_spacing is not None and a is None and g.cranks > 1:
-        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
-                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
-    if a is None and g.cranks > 1:
-        notes.append(("balancing.note_no_spacing", {}))
-    if e.rod_type == "articulated":
-        notes.append(("balancing.note_articulated", {}))
-    if torque is None:
-        notes.append(("balancing.note_no_torque", {}))
+    notes = _input_notes(opts, g, a, e.rod_type, torque)
 
     models = {0: bal.rotating_model(g)}
     for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):

@@ -59,6 +59,25 @@ def _dimensions(scene, opts):
     return d_pin, w_pin, d_main, w_main, defaulted
 
 
+def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict:
+    """The stage's tables: every pin, rod bearing, journal and main bearing load (t, z components
+    in Pa, per crank angle), and the wear diagrams (N per surface angle)."""
+    cranks = len(pin[0])
+    table = {"crank_angle_deg": angle}
+    for k in range(cranks):
+        table.update({f"pin{k + 1}_t_Pa": pin[0][k], f"pin{k + 1}_z_Pa": pin[1][k],
+                      f"rod_bearing{k + 1}_t_Pa": rod[0][k], f"rod_bearing{k + 1}_z_Pa": rod[1][k]})
+    for j in range(cranks + 1):
+        table.update({f"journal{j}_t_Pa": journal[0][j], f"journal{j}_z_Pa": journal[1][j],
+                      f"main_bearing{j}_t_Pa": bearing[0][j], f"main_bearing{j}_z_Pa": bearing[1][j]})
+    wear = {"surface_angle_deg": wear_pins[0][0]}
+    for k in range(cranks):
+        wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
+    for j in range(cranks + 1):
+        wear[f"journal{j}_wear_N"] = wear_journals[j][1]
+    return {"bearings": table, "wear": wear}
+
+
 def run(scene, inputs) -> StageOutput:
     loads, bays, motion = inputs[CRANK_LOADS], inputs[BAY_LOADS], inputs[KINEMATICS]
     opts = options(scene, "bearings", BearingOptions)
@@ -131,19 +150,8 @@ def run(scene, inputs) -> StageOutput:
         "chosen_by_default": opts.pins is None and opts.journals is None,
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
     }
-    table = {"crank_angle_deg": angle}
-    for k in range(cranks):
-        table.update({f"pin{k + 1}_t_Pa": pin_t[k], f"pin{k + 1}_z_Pa": pin_z[k],
-                      f"rod_bearing{k + 1}_t_Pa": rod_t[k], f"rod_bearing{k + 1}_z_Pa": rod_z[k]})
-    for j in range(cranks + 1):
-        table.update({f"journal{j}_t_Pa": journal_t[j], f"journal{j}_z_Pa": journal_z[j],
-                      f"main_bearing{j}_t_Pa": bearing_t[j], f"main_bearing{j}_z_Pa": bearing_z[j]})
-    wear = {"surface_angle_deg": wear_pins[0][0]}
-    for k in range(cranks):
-        wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
-    for j in range(cranks + 1):
-        wear[f"journal{j}_wear_N"] = wear_journals[j][1]
-    tables = {"bearings": table, "wear": wear}
+    tables = _tables(angle, (pin_t, pin_z), (rod_t, rod_z), (journal_t, journal_z), (bearing_t, bearing_z),
+                     wear_pins, wear_journals)
     return StageOutput(data={}, results=results, tables=tables,
                        notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
 

@@ -111,6 +111,35 @@ def applies(scene) -> str | None:
     return None
 
 
+def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
+    """The flywheel's rim (its ``rim_fraction`` of the flywheel's inertia) at the scene's mean
+    diameter: dimensions, mass, rim speed and hoop stress (SI units, keys name them)."""
+    rim_inertia = flywheel_inertia_kg_m2 * opts.rim_fraction
+    try:
+        rim = fw.rim_design(rim_inertia, opts.rim_mean_diameter, opts.rim_density, opts.rim_width)
+    except ValueError as exc:
+        raise SceneError(Problem("flywheel.rim_mean_diameter", f"{opts.rim_mean_diameter * 1e3:g} mm",
+                                 f"too small for the flywheel: {exc}; choose a larger mean diameter")) from None
+    speed = omega_rad_s * rim.outer_diameter_m / 2
+    return {
+        "inertia_kg_m2": rim.inertia_kg_m2,
+        "fraction": opts.rim_fraction,
+        "mean_diameter_m": rim.mean_diameter_m,
+        "outer_diameter_m": rim.outer_diameter_m,
+        "inner_diameter_m": rim.inner_diameter_m,
+        "width_m": rim.width_m,
+        "thickness_m": rim.thickness_m,
+        "square_section": opts.rim_width is None,
+        "mass_kg": rim.mass_kg,
+        "thin_rim_mass_kg": rim.thin_rim_mass_kg,
+        "density_kg_m3": opts.rim_density,
+        "speed_m_s": speed,
+        "hoop_stress_Pa": fw.rim_hoop_stress_Pa(opts.rim_density, speed),
+        "max_speed_m_s": opts.max_rim_speed,
+        "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -165,30 +194,7 @@ def run(scene, inputs) -> StageOutput:
         notes.append(("flywheel.note_articulated", {}))
 
     if opts.rim_mean_diameter is not None and flywheel > 0:
-        rim_inertia = flywheel * opts.rim_fraction
-        try:
-            rim = fw.rim_design(rim_inertia, opts.rim_mean_diameter, opts.rim_density, opts.rim_width)
-        except ValueError as exc:
-            raise SceneError(Problem("flywheel.rim_mean_diameter", f"{opts.rim_mean_diameter * 1e3:g} mm",
-                                     f"too small for the flywheel: {exc}; choose a larger mean diameter")) from None
-        speed = omega * rim.outer_diameter_m / 2
-        results["rim"] = {
-            "inertia_kg_m2": rim.inertia_kg_m2,
-            "fraction": opts.rim_fraction,
-            "mean_diameter_m": rim.mean_diameter_m,
-            "outer_diameter_m": rim.outer_diameter_m,
-            "inner_diameter_m": rim.inner_diameter_m,
-            "width_m": rim.width_m,
-            "thickness_m": rim.thickness_m,
-            "square_section": opts.rim_width is None,
-            "mass_kg": rim.mass_kg,
-            "thin_rim_mass_kg": rim.thin_rim_mass_kg,
-            "density_kg_m3": opts.rim_density,
-            "speed_m_s": speed,
-            "hoop_stress_Pa": fw.rim_hoop_stress_Pa(opts.rim_density, speed),
-            "max_speed_m_s": opts.max_rim_speed,
-            "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
-        }
+        results["rim"] = _rim(opts, flywheel, omega)
 
     frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm,
                           "excess_work_J": excess.cumulative_J}
