@@ -32,8 +32,6 @@ LAZY_ENTRY_POINTS: set[str] = set()
 LONG_FUNCTIONS = {
     ("plugins/crankdyn_builtin/bays/stage.py", "run"): 112,
     ("plugins/crankdyn_builtin/forces/stage.py", "run"): 99,
-    ("plugins/crankdyn_builtin/kinematics/stage.py", "run"): 90,
-    ("plugins/crankdyn_builtin/offset_crank/stage.py", "run"): 94,
     ("plugins/crankdyn_builtin/planetary/stage.py", "render"): 107,
     ("plugins/crankdyn_builtin/rod_dynamics/stage.py", "run"): 107,
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "_torsion"): 128,

@@ -24,12 +24,9 @@ def applies(scene) -> str | None:
     return None
 
 
-def run(scene, inputs) -> StageOutput:
-    engine = scene.engine
-    angle_deg = scene.crank_angles_deg
-    alpha = np.radians(angle_deg)
-    radius, ratio, omega = engine.crank_radius_m, engine.rod_ratio_value, engine.angular_velocity_rad_s
-
+def _piston_both_ways(alpha, radius, ratio, omega) -> tuple[dict, dict]:
+    """Piston displacement s (m), velocity v (m/s) and acceleration j (m/s²) at crank angles
+    ``alpha`` (rad): exact, and by the two-term series (textbook eqs. for s, v, j)."""
     exact = {
         "s": kin.piston_displacement_exact_m(alpha, radius, ratio),
         "v": kin.piston_velocity_exact_m_s(alpha, radius, ratio, omega),
@@ -40,6 +37,28 @@ def run(scene, inputs) -> StageOutput:
         "v": kin.piston_velocity_approx_m_s(alpha, radius, ratio, omega),
         "j": kin.piston_acceleration_approx_m_s2(alpha, radius, ratio, omega),
     }
+    return exact, approx
+
+
+def _rod_centre_of_mass(alpha, radius, ratio, omega, distance_m) -> tuple[dict, dict]:
+    """(table columns, results) of the rod's centre of mass, ``distance_m`` from the big end:
+    position (m), velocity (m/s) and acceleration (m/s²) in the cylinder's x, z axes."""
+    x, z = kin.rod_point_position_m(alpha, radius, ratio, distance_m)
+    vx, vz = kin.rod_point_velocity_m_s(alpha, radius, ratio, distance_m, omega)
+    ax, az = kin.rod_point_acceleration_m_s2(alpha, radius, ratio, distance_m, omega)
+    columns = {"rod_cm_x_m": x, "rod_cm_z_m": z, "rod_cm_velocity_x_m_s": vx, "rod_cm_velocity_z_m_s": vz,
+               "rod_cm_acceleration_x_m_s2": ax, "rod_cm_acceleration_z_m_s2": az}
+    return columns, {"rod_cm_from_big_end_m": distance_m,
+                     "rod_cm_acceleration_max_m_s2": float(np.max(np.hypot(ax, az)))}
+
+
+def run(scene, inputs) -> StageOutput:
+    engine = scene.engine
+    angle_deg = scene.crank_angles_deg
+    alpha = np.radians(angle_deg)
+    radius, ratio, omega = engine.crank_radius_m, engine.rod_ratio_value, engine.angular_velocity_rad_s
+
+    exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
     chosen = exact if scene.analysis.kinematics == "exact" else approx
     displacement = (kin.piston_displacement_exact_m if scene.analysis.kinematics == "exact"
                     else kin.piston_displacement_approx_m)
@@ -86,14 +105,9 @@ def run(scene, inputs) -> StageOutput:
         "two_term_acceleration_error_max_m_s2": float(np.max(np.abs(approx["j"] - exact["j"]))),
     }
     if scene.masses is not None:
-        distance = scene.rod_cm_from_big_end_m
-        x, z = kin.rod_point_position_m(alpha, radius, ratio, distance)
-        vx, vz = kin.rod_point_velocity_m_s(alpha, radius, ratio, distance, omega)
-        ax, az = kin.rod_point_acceleration_m_s2(alpha, radius, ratio, distance, omega)
-        table.update({"rod_cm_x_m": x, "rod_cm_z_m": z, "rod_cm_velocity_x_m_s": vx, "rod_cm_velocity_z_m_s": vz,
-                      "rod_cm_acceleration_x_m_s2": ax, "rod_cm_acceleration_z_m_s2": az})
-        results["rod_cm_from_big_end_m"] = distance
-        results["rod_cm_acceleration_max_m_s2"] = float(np.max(np.hypot(ax, az)))
+        columns, rod_cm = _rod_centre_of_mass(alpha, radius, ratio, omega, scene.rod_cm_from_big_end_m)
+        table.update(columns)
+        results.update(rod_cm)
 
     motion = PistonMotion(
         crank_angle_deg=angle_deg,

@@ -98,6 +98,30 @@ def _extreme(fn, angle_deg, values, sign):
     return float(fn(best)), float(np.degrees(best) % 360.0)
 
 
+def _velocity_and_acceleration_extremes(v_of, j_of, angle_deg, v, j) -> dict:
+    """The piston's largest and smallest velocity (m/s) and acceleration (m/s²) with their crank
+    angles (°), each refined from the grid sample by :func:`_extreme`."""
+    out = {}
+    for name, of, values in (("v", v_of, v), ("j", j_of, j)):
+        unit = "m_s" if name == "v" else "m_s2"
+        for which, sign in (("max", +1.0), ("min", -1.0)):
+            value, angle = _extreme(of, angle_deg, values, sign)
+            out[f"{name}_{which}_{unit}"], out[f"{name}_{which}_crank_angle_deg"] = value, angle
+    return out
+
+
+def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list:
+    """What the section says about the offset mechanism replacing the central one."""
+    notes = [("offset_crank.note_replaced", {"tdc": results["tdc_crank_angle_from_axis_deg"]})]
+    if scene.analysis.kinematics == "approximate":
+        notes.append(("offset_crank.note_exact_only", {}))
+    if scene.cycle is not None:
+        notes.append(("offset_crank.note_indicator", {
+            "stroke_mm": stroke_m * 1e3, "throw_mm": 2e3 * crank_radius_m,
+            "bdc": results["bdc_crank_angle_deg"]}))
+    return notes
+
+
 def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     params = options(scene, "mechanism", OffsetParams)
@@ -125,11 +149,6 @@ def run(scene, inputs) -> StageOutput:
     v_central = central.piston_velocity_exact_m_s(alpha, R, lam, omega)
     j_central = central.piston_acceleration_exact_m_s2(alpha, R, lam, omega)
 
-    v_max, v_max_angle = _extreme(v_of, angle_deg, v, +1.0)
-    v_min, v_min_angle = _extreme(v_of, angle_deg, v, -1.0)
-    j_max, j_max_angle = _extreme(j_of, angle_deg, j, +1.0)
-    j_min, j_min_angle = _extreme(j_of, angle_deg, j, -1.0)
-
     results = {
         "crank_radius_m": R,
         "rod_length_m": L,
@@ -145,10 +164,7 @@ def run(scene, inputs) -> StageOutput:
         "stroke_excess_m": geometry.stroke_m - 2.0 * R,
         "stroke_time_ratio": geometry.stroke_time_ratio,
         "mean_piston_speed_m_s": geometry.stroke_m * omega / np.pi,
-        "v_max_m_s": v_max, "v_max_crank_angle_deg": v_max_angle,
-        "v_min_m_s": v_min, "v_min_crank_angle_deg": v_min_angle,
-        "j_max_m_s2": j_max, "j_max_crank_angle_deg": j_max_angle,
-        "j_min_m_s2": j_min, "j_min_crank_angle_deg": j_min_angle,
+        **_velocity_and_acceleration_extremes(v_of, j_of, angle_deg, v, j),
         "rod_angle_max_deg": float(np.degrees(np.arcsin(lam - k))),
         "rod_angle_min_deg": float(np.degrees(-np.arcsin(lam + k))),
         "rod_angular_velocity_max_rad_s": float(np.max(np.abs(rod_omega))),
@@ -184,14 +200,8 @@ def run(scene, inputs) -> StageOutput:
                "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
         displacement_at=lambda a_deg: oc.piston_displacement_m(np.radians(a_deg), R, lam, k),
     )
-    notes = [("offset_crank.note_replaced", {"tdc": results["tdc_crank_angle_from_axis_deg"]})]
-    if scene.analysis.kinematics == "approximate":
-        notes.append(("offset_crank.note_exact_only", {}))
-    if scene.cycle is not None:
-        notes.append(("offset_crank.note_indicator", {
-            "stroke_mm": geometry.stroke_m * 1e3, "throw_mm": 2e3 * R,
-            "bdc": results["bdc_crank_angle_deg"]}))
-    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table}, notes=notes)
+    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table},
+                       notes=_notes(scene, results, geometry.stroke_m, R))
 
 
 def render(output: StageOutput, ctx) -> str:
