@@ -31,6 +31,36 @@ def applies(scene) -> str | None:
     return None
 
 
+def _extremes(crank_angle_deg, series) -> dict:
+    """``<name>_max_<unit>``/``_min_`` and their crank angles (°) for each (name, unit, values) of
+    ``series``: the first sample of each extreme (physics.extrema)."""
+    out = {}
+    for base, unit, values in series:
+        for which, pick in (("max", first_argmax), ("min", first_argmin)):
+            i = pick(values)
+            out[f"{base}_{which}_{unit}"] = float(values[i])
+            out[f"{base}_{which}_crank_angle_deg"] = float(crank_angle_deg[i])
+    return out
+
+
+def _forces_table(motion, pressures: dict, rod, resultant_Pa, torque_Nm) -> dict:
+    """The forces table: the piston's motion, the pressures on the piston (Pa, per unit piston
+    area), the rod's components, the resultant on the crank pin and the torque (N·m)."""
+    return {
+        "crank_angle_deg": motion.crank_angle_deg,
+        "piston_displacement_m": motion.piston_displacement_m,
+        "piston_velocity_m_s": motion.piston_velocity_m_s,
+        "piston_acceleration_m_s2": motion.piston_acceleration_m_s2,
+        **pressures,
+        "side_Pa": rod.side_Pa,
+        "rod_Pa": rod.rod_Pa,
+        "radial_Pa": rod.radial_Pa,
+        "tangential_Pa": rod.tangential_Pa,
+        "resultant_Pa": resultant_Pa,
+        "torque_Nm": torque_Nm,
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine, masses = scene.engine, scene.masses
@@ -73,10 +103,6 @@ def run(scene, inputs) -> StageOutput:
     mean_from_work = gas.indicated_work_J / (2 * np.pi * revolutions_per_cycle)
     cycle_rad = 2 * np.pi * revolutions_per_cycle
 
-    def extreme(values, fn):
-        i = fn(values)
-        return float(values[i]), float(motion.crank_angle_deg[i])
-
     results = {
         "piston_area_m2": area,
         "reciprocating_mass_kg": reciprocating,
@@ -95,29 +121,14 @@ def run(scene, inputs) -> StageOutput:
         "inertia_work_relative": float(np.mean(inertia_torque) / np.max(np.abs(inertia_torque)))
         if np.max(np.abs(inertia_torque)) > 0 else 0.0,
     }
-    for base, unit, values in (("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
-                               ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
-                               ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque)):
-        results[f"{base}_max_{unit}"], results[f"{base}_max_crank_angle_deg"] = extreme(values, first_argmax)
-        results[f"{base}_min_{unit}"], results[f"{base}_min_crank_angle_deg"] = extreme(values, first_argmin)
+    results.update(_extremes(motion.crank_angle_deg, (
+        ("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
+        ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
+        ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque))))
 
-    frame = {
-        "crank_angle_deg": motion.crank_angle_deg,
-        "piston_displacement_m": motion.piston_displacement_m,
-        "piston_velocity_m_s": motion.piston_velocity_m_s,
-        "piston_acceleration_m_s2": motion.piston_acceleration_m_s2,
-        "gas_Pa": gas_Pa,
-        "inertia_Pa": inertia_Pa,
-        "inertia_first_order_Pa": first_Pa,
-        "inertia_second_order_Pa": second_Pa,
-        "total_Pa": total_Pa,
-        "side_Pa": rod.side_Pa,
-        "rod_Pa": rod.rod_Pa,
-        "radial_Pa": rod.radial_Pa,
-        "tangential_Pa": rod.tangential_Pa,
-        "resultant_Pa": resultant_Pa,
-        "torque_Nm": torque,
-    }
+    frame = _forces_table(motion, {"gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "inertia_first_order_Pa": first_Pa,
+                                   "inertia_second_order_Pa": second_Pa, "total_Pa": total_Pa}, rod, resultant_Pa,
+                          torque)
     notes = []
     if exact is not None:
         results["rod_model"] = "exact"
