@@ -326,12 +326,7 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
         total += len(rows["tier"])
 
     def candidate(rank: int, rows: dict[str, np.ndarray], i: int) -> Candidate:
-        a = int(rows["arrangement"][i])
-        return Candidate(rank=rank, crank_angles_deg=tuple(float(x) * unit for x in lags[a]),
-                         firing_order=tuple(labels[int(c)] for c in rows["sequence"][i]),
-                         coefficients={k: _clean(coefficients[k][a]) for k in COEFFICIENT_KEYS},
-                         neighbours=int(rows["neighbours"][i]), same_pin=int(rows["same_pin"][i]),
-                         same_half=int(rows["same_half"][i]))
+        return _candidate(rank, rows, i, lags, unit, labels, coefficients)
 
     rank = 0
     for rows in evaluated:
@@ -341,23 +336,41 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
             rank += 1
             result.rows.append(candidate(rank, rows, i))
 
-    if locate is not None:
-        want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
-        match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else []
-        index = {label: i for i, label in enumerate(labels)}
-        if len(match) and all(x in index for x in locate[1]):
-            a = int(match[0])
-            own_tier = int(tier[a])
-            rows = evaluated_tiers.get(own_tier)
-            if rows is None:
-                rows = evaluate(groups[[int(tier[g[0]]) for g in groups].index(own_tier)])
-            sequence = np.array([index[x] for x in locate[1]])
-            hit = np.nonzero((rows["arrangement"] == a) & np.all(rows["sequence"] == sequence[None, :], axis=1))[0]
-            if len(hit):
-                better = int(np.sum(tier < own_tier)) * per_arrangement
-                result.located_rank = better + int(hit[0]) + 1
-                result.located = candidate(result.located_rank, rows, int(hit[0]))
+    found = _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, evaluate) if locate is not None else None
+    if found is not None:
+        rows, i, own_tier = found
+        result.located_rank = int(np.sum(tier < own_tier)) * per_arrangement + i + 1
+        result.located = candidate(result.located_rank, rows, i)
     return result
+
+
+def _candidate(rank: int, rows: dict[str, np.ndarray], i: int, lags, unit: float, labels, coefficients) -> Candidate:
+    """Row ``i`` of the evaluated ``rows`` as a ranked :class:`Candidate` (crank angles in deg)."""
+    a = int(rows["arrangement"][i])
+    return Candidate(rank=rank, crank_angles_deg=tuple(float(x) * unit for x in lags[a]),
+                     firing_order=tuple(labels[int(c)] for c in rows["sequence"][i]),
+                     coefficients={k: _clean(coefficients[k][a]) for k in COEFFICIENT_KEYS},
+                     neighbours=int(rows["neighbours"][i]), same_pin=int(rows["same_pin"][i]),
+                     same_half=int(rows["same_half"][i]))
+
+
+def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluated_tiers, evaluate):
+    """(evaluated rows of its tier, its index there, its tier) of the firing order ``locate`` =
+    (crank lags in deg, firing order labels), or None when it is not an even-firing arrangement
+    of this engine."""
+    want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
+    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else []
+    index = {label: i for i, label in enumerate(labels)}
+    if not len(match) or not all(x in index for x in locate[1]):
+        return None
+    a = int(match[0])
+    own_tier = int(tier[a])
+    rows = evaluated_tiers.get(own_tier)
+    if rows is None:
+        rows = evaluate(groups[[int(tier[g[0]]) for g in groups].index(own_tier)])
+    sequence = np.array([index[x] for x in locate[1]])
+    hit = np.nonzero((rows["arrangement"] == a) & np.all(rows["sequence"] == sequence[None, :], axis=1))[0]
+    return (rows, int(hit[0]), own_tier) if len(hit) else None
 
 
 def count_firing_orders(cylinders: int) -> int:
