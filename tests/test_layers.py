@@ -36,7 +36,6 @@ LONG_FUNCTIONS = {
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "_torsion"): 128,
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "render"): 101,
     ("plugins/crankdyn_builtin/vane/stage.py", "render"): 113,
-    ("src/crankdyn/physics/layout.py", "build_layout"): 108,
 }
 
 

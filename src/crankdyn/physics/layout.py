@@ -126,14 +126,10 @@ def _normalise_label(label) -> str:
     return str(label).strip().upper().replace(" ", "")
 
 
-def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
-                 firing_order: list | None, crank_angles_deg: list[float] | None,
-                 rod_type: str = "central", uneven_firing: bool = False) -> EngineLayout:
-    """Validate a layout description and derive every cylinder's bank, bay and firing delay.
-
-    Raises LayoutError naming the scene field at fault.
-    """
-    cycle = 180.0 * strokes
+def _check_layout_fields(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
+                         rod_type: str) -> None:
+    """Refuse (LayoutError naming the field) a bank angle that is missing, out of range or not
+    applicable, an uneven-firing radial, and articulated rods on an in-line engine."""
     if layout in ("V", "W", "Y", "X"):
         if bank_angle_deg is None:
             raise LayoutError("engine.bank_angle_deg", None, f"required for a {layout} engine (angle between banks)")
@@ -150,12 +146,12 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
     if rod_type == "articulated" and layout == "inline":
         raise LayoutError("engine.rod_type", rod_type, "articulated rods need several cylinders on one crank "
                           "(V, W, Y, X, boxer or radial)")
-    axes = bank_axes_deg(layout, bank_angle_deg, cylinders)
-    entries = cylinder_labels(layout, cylinders)
-    labels = [e[0] for e in entries]
-    bays = max(e[2] for e in entries) + 1
 
-    # Firing order: a permutation of the labels.
+
+def _firing_order(firing_order: list | None, labels: list[str], layout: str, strokes: int) -> list[str]:
+    """The firing order as normalised cylinder labels: a permutation of ``labels`` starting with
+    the reference cylinder (default for one cylinder and for a radial: every second cylinder)."""
+    cylinders = len(labels)
     if firing_order is None:
         if cylinders == 1:
             firing_order = [labels[0]]
@@ -179,7 +175,25 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
     if order[0] != labels[0]:
         raise LayoutError("engine.firing_order", firing_order, f"must start with cylinder {labels[0]} "
                           "(the reference cylinder of the calculation)")
+    return order
 
+
+def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
+                 firing_order: list | None, crank_angles_deg: list[float] | None,
+                 rod_type: str = "central", uneven_firing: bool = False) -> EngineLayout:
+    """Validate a layout description and derive every cylinder's bank, bay and firing delay.
+
+    Raises LayoutError naming the scene field at fault.
+    """
+    cycle = 180.0 * strokes
+    _check_layout_fields(layout, strokes, cylinders, bank_angle_deg, rod_type)
+    axes = bank_axes_deg(layout, bank_angle_deg, cylinders)
+    entries = cylinder_labels(layout, cylinders)
+    labels = [e[0] for e in entries]
+    bays = max(e[2] for e in entries) + 1
+
+    order = _firing_order(firing_order, labels, layout, strokes)
+    firing_order = order if firing_order is None else firing_order  # the messages below quote it
     bank_of = {e[0]: e[1] for e in entries}
     bay_of = {e[0]: e[2] for e in entries}
     psi = {label: axes[bank_of[label]] for label in labels}
