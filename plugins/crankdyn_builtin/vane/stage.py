@@ -212,10 +212,10 @@ def render(output: StageOutput, ctx) -> str:
     mm = 1e3
 
     def plot(ax, key, scale=1.0, **style):
-        ax.plot(angle, f[key].to_numpy() * scale, color="C0", label=f"λ = {lam:g}", **style)
+        ax.plot(angle, f[key].to_numpy() * scale, color="C0", label=f"λ = {ctx.t.number_g(lam, 4)}", **style)
         for i, other in enumerate(others):
             ax.plot(angle, compare[f"{key}_lambda_{other:g}"].to_numpy() * scale, color=f"C{i + 1}", ls="--", lw=1,
-                    label=f"λ = {other:g}")
+                    label=f"λ = {ctx.t.number_g(other, 4)}")
         ax.axhline(0, color="0.3", lw=0.6)
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
