@@ -158,6 +158,67 @@ def _true_firing(layout, slaves, slave_info) -> dict:
             "firing_angles_true_deg": {label: float(v % layout.cycle_deg) for label, v in true_delay.items()}}
 
 
+def _firing_notes(layout, firing_order_chosen: bool) -> list:
+    """Notes on a firing order the explorer chose and on uneven firing intervals."""
+    notes = []
+    if firing_order_chosen:
+        notes.append(("bays.note_firing_chosen", {"order": "–".join(layout.firing_order),
+                                                  "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg)}))
+    if not layout.even_firing:
+        notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
+    return notes
+
+
+def _slave_cylinder(scene, layout, slave, g, alpha_local, angle, gas, clearance_m3: float,
+                    reciprocating_kg: float, area: float) -> tuple[tuple, dict, dict, float]:
+    """One slave cylinder of an articulated bay: (its row for the bay's pin forces, its summary,
+    its table, its indicated work in J). Its pressure is taken at its own cycle angle, timed from
+    its true TDC (the linkage moves it from the bank angle)."""
+    e, w = scene.engine, scene.engine.angular_velocity_rad_s
+    R, L = e.crank_radius_m, e.rod_length_m
+    sm = art.slave_motion(alpha_local, g, w)
+    x_tdc, a_tdc, x_bdc, a_bdc = art.slave_dead_centres(g)
+    accel = -sm.piston_acceleration_m_s2  # displacement from TDC grows as x falls
+    delta = (slave.firing_delay_deg - layout.bay(0)[0].firing_delay_deg) % layout.cycle_deg
+    delta += math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)
+    slave_angle = (angle - delta) % layout.cycle_deg
+    p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
+    p1_slave = p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(reciprocating_kg, accel, area)
+    slave_volume = clearance_m3 + area * (x_tdc - sm.piston_position_m)
+    row = (sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_slave, g.bank_angle_rad)
+    stroke = x_tdc - x_bdc
+    info = {"cylinder": slave.label, "bank_angle_deg": math.degrees(g.bank_angle_rad),
+            "pin_angle_deg": math.degrees(g.pin_angle_rad),
+            "slave_rod_length_m": g.slave_rod_length_m,
+            "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(L, g.pin_radius_m, R / L, g.bank_angle_rad),
+            "stroke_m": stroke, "stroke_ratio": stroke / e.stroke,
+            "tdc_master_angle_deg": math.degrees(a_tdc),
+            # true dead centres: how far the linkage moves them from the bank angle
+            "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
+            "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0)}
+    table = {"crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
+             "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
+             "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave}
+    return row, info, table, indicated_work_J(p_slave, slave_volume)
+
+
+def _articulated_masses(opts, master_rod_kg: float, slaves, rod_length_m: float, rod_reciprocating_kg: float,
+                        rod_rotating_kg: float) -> tuple[float, float, float]:
+    """(slave rod's reciprocating part, reduced master rod's reciprocating and rotating masses), kg.
+    Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at its pin; a
+    slave rod not given weighs the master rod's mass scaled by its length."""
+    slave_rod = (opts.slave_rod if opts.slave_rod is not None
+                 else master_rod_kg * slaves[0][1].slave_rod_length_m / rod_length_m)
+    s_rec, s_rot = slave_rod * opts.slave_rod_cm_fraction, slave_rod * (1 - opts.slave_rod_cm_fraction)
+    recip_master, rot_master = rod_reciprocating_kg, rod_rotating_kg
+    for _, g in slaves:
+        dr, dq = art.reduced_master_rod_masses(0.0, 0.0, rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m,
+                                               g.pin_angle_rad)
+        recip_master += dr
+        rot_master += dq
+    return s_rec, recip_master, rot_master
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
     e, m = scene.engine, scene.masses
@@ -172,13 +233,9 @@ def run(scene, inputs) -> StageOutput:
                      "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist()}
     tables: dict = {}
-    notes = []
+    notes = _firing_notes(layout, scene.firing_order_chosen)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True
-        notes.append(("bays.note_firing_chosen", {"order": "–".join(layout.firing_order),
-                                                  "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg)}))
-    if not layout.even_firing:
-        notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
 
     rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
     crank_rotating = m.crank_pin + 2 * m.crank_web
@@ -200,50 +257,21 @@ def run(scene, inputs) -> StageOutput:
     else:
         opts = options(scene, "articulated", ArticulatedOptions)
         slaves = _slave_geometries(scene, layout, opts)
-        slave_rod = opts.slave_rod if opts.slave_rod is not None else m.rod * slaves[0][1].slave_rod_length_m / L
-        s_rec, s_rot = slave_rod * opts.slave_rod_cm_fraction, slave_rod * (1 - opts.slave_rod_cm_fraction)
-        # Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at its pin.
-        recip_master, rot_master = rod_rec, rod_rot
-        for _, g in slaves:
-            dr, dq = art.reduced_master_rod_masses(0.0, 0.0, L, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad)
-            recip_master += dr
-            rot_master += dq
+        s_rec, recip_master, rot_master = _articulated_masses(opts, m.rod, slaves, L, rod_rec, rod_rot)
         alpha_local = np.radians(angle % 360.0)
         master_j = motion.piston_acceleration_m_s2
         p1_master = gas_Pa + phys.inertia_pressure_Pa(m.piston_group + recip_master, master_j, area)
-        slave_rows = []
-        slave_info = []
+        slave_rows, slave_info = [], []
         # Same clearance height above every piston's TDC (equal compression ratios by design).
         clearance = float(gas.volume_m3.min())
         work_bay = gas.indicated_work_J
         for slave, g in slaves:
-            sm = art.slave_motion(alpha_local, g, w)
-            x_tdc, a_tdc, x_bdc, a_bdc = art.slave_dead_centres(g)
-            accel = -sm.piston_acceleration_m_s2  # displacement from TDC grows as x falls
-            # The slave's cycle is timed from its own TDC, which the linkage moves a little
-            # away from the bank angle: the pressure is taken at the slave's true cycle angle.
-            delta = (slave.firing_delay_deg - layout.bay(0)[0].firing_delay_deg) % layout.cycle_deg
-            delta += math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)
-            slave_angle = (angle - delta) % layout.cycle_deg
-            p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
-            p1_slave = p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(m.piston_group + s_rec, accel, area)
-            slave_volume = clearance + area * (x_tdc - sm.piston_position_m)
-            work_bay += indicated_work_J(p_slave, slave_volume)
-            slave_rows.append((sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_slave, g.bank_angle_rad))
-            stroke = x_tdc - x_bdc
-            slave_info.append({"cylinder": slave.label, "bank_angle_deg": math.degrees(g.bank_angle_rad),
-                               "pin_angle_deg": math.degrees(g.pin_angle_rad),
-                               "slave_rod_length_m": g.slave_rod_length_m,
-                               "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(L, g.pin_radius_m, R / L, g.bank_angle_rad),
-                               "stroke_m": stroke, "stroke_ratio": stroke / e.stroke,
-                               "tdc_master_angle_deg": math.degrees(a_tdc),
-                               # true dead centres: how far the linkage moves them from the bank angle
-                               "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
-                               "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0)})
-            tables[f"slave_{slave.label}"] = {
-                "crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
-                "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
-                "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave}
+            row, info, table, work = _slave_cylinder(scene, layout, slave, g, alpha_local, angle, gas, clearance,
+                                                     m.piston_group + s_rec, area)
+            work_bay += work
+            slave_rows.append(row)
+            slave_info.append(info)
+            tables[f"slave_{slave.label}"] = table
         t_bay, z_bay, n_bay = art.bay_crank_pin_forces(alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows)
         master = layout.bay(0)[0]
         for k in range(layout.cranks):
