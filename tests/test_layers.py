@@ -31,7 +31,6 @@ LAZY_ENTRY_POINTS: set[str] = set()
 # them along their physics); the list must only get shorter.
 LONG_FUNCTIONS = {
     ("plugins/crankdyn_builtin/planetary/stage.py", "render"): 107,
-    ("plugins/crankdyn_builtin/rod_dynamics/stage.py", "run"): 107,
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "_torsion"): 128,
     ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "render"): 101,
     ("plugins/crankdyn_builtin/vane/stage.py", "render"): 113,

@@ -56,6 +56,58 @@ def applies(scene) -> str | None:
     return None
 
 
+def _rod_rates(motion) -> tuple[np.ndarray, np.ndarray, str]:
+    """The rod's angular velocity (rad/s) and acceleration (rad/s²) and where they come from: the
+    mechanism's closed forms ("analytic") or the rod angle differentiated spectrally over the cycle."""
+    if "rod_angular_velocity_rad_s" in motion.extra:
+        rate = np.asarray(motion.extra["rod_angular_velocity_rad_s"], dtype=float)
+        accel = np.asarray(motion.extra["rod_angular_acceleration_rad_s2"], dtype=float)
+        return rate, accel, "analytic"
+    angle, omega = motion.crank_angle_deg, motion.angular_velocity_rad_s
+    period_rad = np.radians(angle[1] - angle[0]) * len(angle)
+    rate = omega * rd.periodic_derivative(motion.rod_angle_rad, period_rad)
+    return rate, omega * rd.periodic_derivative(rate, period_rad), "spectral"
+
+
+def _exact_models(model: str, m, L, l_r, inertia, rate, accel, omega, points: dict, torque_two, inertia_two):
+    """(results, table columns, notes) of the models that need the rod's moment of inertia: the
+    three-mass model, the correction couple and the exact rigid-body torque, against two masses.
+    ``points``: velocity and acceleration (x, z) of the small end "a", big end "b", centre "g"."""
+    (v_a, a_a), (v_b, a_b), (v_g, a_g) = points["a"], points["b"], points["g"]
+    two_max = float(np.max(np.abs(torque_two)))
+    m3_small, m3_big, m3_centre = rd.three_mass_split_kg(m, L, l_r, inertia)
+    couple = -inertia * accel
+    correction = rd.correction_couple_Nm(accel, m, L, l_r, inertia)
+    torque_three = rd.point_masses_inertia_torque_Nm([m3_small, m3_big, m3_centre], [v_a, v_b, v_g],
+                                                     [a_a, a_b, a_g], omega)
+    torque_couple = torque_two + correction * rate / omega
+    torque_exact = rd.rod_inertia_torque_Nm(m, inertia, v_g, a_g, rate, accel, omega)
+    chosen = {"two_mass": torque_two, "three_mass": torque_three, "correction_couple": torque_couple}[model]
+    difference = torque_exact - torque_two
+    results = {
+        "rod_moment_of_inertia_kg_m2": inertia,
+        "moment_of_inertia_ratio": inertia / inertia_two,
+        "three_mass_small_end_kg": m3_small,
+        "three_mass_big_end_kg": m3_big,
+        "three_mass_centre_kg": m3_centre,
+        "inertia_couple_max_Nm": float(np.max(np.abs(couple))),
+        "correction_couple_max_Nm": float(np.max(np.abs(correction))),
+        "torque_max_abs_Nm": float(np.max(np.abs(chosen))),
+        "torque_exact_max_abs_Nm": float(np.max(np.abs(torque_exact))),
+        "torque_difference_max_abs_Nm": float(np.max(np.abs(difference))),
+        "torque_difference_relative": float(np.max(np.abs(difference)) / two_max) if two_max > 0 else 0.0,
+        "torque_exact_mean_Nm": float(np.mean(torque_exact)),
+    }
+    columns = {"inertia_couple_Nm": couple, "correction_couple_Nm": correction,
+               "torque_exact_Nm": torque_exact, "torque_difference_Nm": difference,
+               "torque_model_Nm": chosen}
+    notes = [("rod_dynamics.note_models", {"ratio": results["moment_of_inertia_ratio"],
+                                           "difference": results["torque_difference_relative"] * 100.0})]
+    if m3_centre < 0:
+        notes.append(("rod_dynamics.note_negative_mass", {"mass": m3_centre}))
+    return results, columns, notes
+
+
 def run(scene, inputs) -> StageOutput:
     motion = inputs[KINEMATICS]
     opts = options(scene, "rod_dynamics", RodDynamicsOptions)
@@ -66,16 +118,7 @@ def run(scene, inputs) -> StageOutput:
     omega = motion.angular_velocity_rad_s
     angle = motion.crank_angle_deg
     beta = motion.rod_angle_rad
-    if "rod_angular_velocity_rad_s" in motion.extra:
-        rate = np.asarray(motion.extra["rod_angular_velocity_rad_s"], dtype=float)
-        accel = np.asarray(motion.extra["rod_angular_acceleration_rad_s2"], dtype=float)
-        source = "analytic"
-    else:
-        # A mechanism that gives only the rod angle: differentiate it spectrally over the cycle.
-        period_rad = np.radians(angle[1] - angle[0]) * len(angle)
-        rate = omega * rd.periodic_derivative(beta, period_rad)
-        accel = omega * rd.periodic_derivative(rate, period_rad)
-        source = "spectral"
+    rate, accel, source = _rod_rates(motion)
 
     pin_v, pin_a = -motion.piston_velocity_m_s, -motion.piston_acceleration_m_s2
     zero = np.zeros_like(pin_v)
@@ -127,36 +170,12 @@ def run(scene, inputs) -> StageOutput:
     if inertia is None:
         notes.append(("rod_dynamics.note_no_inertia", {}))
     else:
-        m3_small, m3_big, m3_centre = rd.three_mass_split_kg(m, L, l_r, inertia)
-        couple = -inertia * accel
-        correction = rd.correction_couple_Nm(accel, m, L, l_r, inertia)
-        torque_three = rd.point_masses_inertia_torque_Nm([m3_small, m3_big, m3_centre], [v_a, v_b, v_g],
-                                                         [a_a, a_b, a_g], omega)
-        torque_couple = torque_two + correction * rate / omega
-        torque_exact = rd.rod_inertia_torque_Nm(m, inertia, v_g, a_g, rate, accel, omega)
-        chosen = {"two_mass": torque_two, "three_mass": torque_three, "correction_couple": torque_couple}[opts.model]
-        difference = torque_exact - torque_two
-        results.update({
-            "rod_moment_of_inertia_kg_m2": inertia,
-            "moment_of_inertia_ratio": inertia / inertia_two,
-            "three_mass_small_end_kg": m3_small,
-            "three_mass_big_end_kg": m3_big,
-            "three_mass_centre_kg": m3_centre,
-            "inertia_couple_max_Nm": float(np.max(np.abs(couple))),
-            "correction_couple_max_Nm": float(np.max(np.abs(correction))),
-            "torque_max_abs_Nm": float(np.max(np.abs(chosen))),
-            "torque_exact_max_abs_Nm": float(np.max(np.abs(torque_exact))),
-            "torque_difference_max_abs_Nm": float(np.max(np.abs(difference))),
-            "torque_difference_relative": float(np.max(np.abs(difference)) / two_max) if two_max > 0 else 0.0,
-            "torque_exact_mean_Nm": float(np.mean(torque_exact)),
-        })
-        columns.update({"inertia_couple_Nm": couple, "correction_couple_Nm": correction,
-                        "torque_exact_Nm": torque_exact, "torque_difference_Nm": difference,
-                        "torque_model_Nm": chosen})
-        notes.append(("rod_dynamics.note_models", {"ratio": results["moment_of_inertia_ratio"],
-                                                   "difference": results["torque_difference_relative"] * 100.0}))
-        if m3_centre < 0:
-            notes.append(("rod_dynamics.note_negative_mass", {"mass": m3_centre}))
+        more, more_columns, more_notes = _exact_models(opts.model, m, L, l_r, inertia, rate, accel, omega,
+                                                       {"a": (v_a, a_a), "b": (v_b, a_b), "g": (v_g, a_g)},
+                                                       torque_two, inertia_two)
+        results.update(more)
+        columns.update(more_columns)
+        notes += more_notes
     table = columns
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))
