@@ -242,9 +242,10 @@ def _variant_scene(base: dict, base_dir: str, variant: Variant, language: str | 
 
 
 def _compute(scene, formats: list[str], stages: list[str] | None):
-    """(run result, rendered files) through the one path of ``crankdyn report``."""
+    """(run result, rendered files) through the one path of ``crankdyn report``; one process per
+    variant (the batch's ``--jobs`` share the CPUs between variants, not between figures)."""
 
-    return run_and_render(scene, _registry(), formats, stages, available_languages())
+    return run_and_render(scene, _registry(), formats, stages, available_languages(), figure_workers=1)
 
 
 _warmed: set[str] = set()

@@ -27,11 +27,13 @@ class ReportRun:
 
 
 def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
-                 self_contained: bool = False) -> dict[str, bytes]:
+                 self_contained: bool = False, figure_workers: int | None = None) -> dict[str, bytes]:
     """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written).
 
     report.html refers to the figures in ``figures/``, each stored once; with ``self_contained``
-    they are inlined in the page instead (and no figures/ folder is written).
+    they are inlined in the page instead (and no figures/ folder is written). The figures are
+    drawn by ``figure_workers`` processes (default: one per CPU; a batch, which runs its
+    variants in parallel, passes 1).
     """
     formats = list(formats)
     files: dict[str, bytes] = {}
@@ -42,9 +44,11 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     if "xlsx" in formats:
         files.update(outputs.xlsx_tables(result))
     if "html" in formats or "pdf" in formats or "docx" in formats:
+        from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
         from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
         rendered = render_html(result, registry)
+        draw_figures(rendered.figures, figure_workers)
         if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
         elif "html" in formats:
@@ -76,7 +80,7 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
 
 def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
                    languages: Iterable[str] = (), *, self_contained: bool = False,
-                   cache=None) -> tuple[RunResult, dict[str, bytes]]:
+                   cache=None, figure_workers: int | None = None) -> tuple[RunResult, dict[str, bytes]]:
     """Compute ``scene`` and render its files in memory: the one path of ``report``, ``batch`` and ``serve``.
 
     ``crankdyn report`` and ``batch`` write the files (:func:`write_report`); ``serve`` shows
@@ -84,4 +88,4 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     inputs changed). Raises :class:`crankdyn.errors.SceneError` for a bad scene.
     """
     result = run_scene(scene, registry, stages, languages, cache=cache)
-    return result, render_files(result, registry, formats, self_contained)
+    return result, render_files(result, registry, formats, self_contained, figure_workers)

@@ -17,11 +17,50 @@ from .i18n import Translator
 from .typeset import typeset_figure
 
 
-@dataclass
 class FigureFile:
-    name: str
-    svg: bytes
-    figure: Any = None  # the matplotlib figure it was drawn from (the Word export draws it again as PNG)
+    """One figure of the report: its file name, the matplotlib figure and its SVG.
+
+    The SVG is drawn when first asked for, or for all figures at once by :func:`draw_figures`
+    (in parallel): a section's markup needs only the file name, so no figure holds up the text.
+    """
+
+    def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None):
+        self.name = name
+        self.figure = figure  # the matplotlib figure (the Word export draws it again as PNG)
+        self._svg = svg
+        self._t = t  # the report's translator: the figure's text is typeset on drawing
+
+    @property
+    def drawn(self) -> bool:
+        return self._svg is not None
+
+    def draw(self) -> bytes:
+        """The SVG bytes, drawn now (labels typeset for the report's language, laid out)."""
+        from .figures import to_svg  # lazy: heavy optional import (matplotlib)
+
+        if self._t is not None:
+            typeset_figure(self.figure, self._t)
+        return to_svg(self.figure)
+
+    @property
+    def svg(self) -> bytes:
+        if self._svg is None:
+            self._svg = self.draw()
+        return self._svg
+
+    def __repr__(self) -> str:
+        return f"FigureFile({self.name!r}, drawn={self.drawn})"
+
+
+def draw_figures(figures: Sequence[FigureFile], workers: int | None = None, allow_threads: bool = False) -> None:
+    """Draw every figure not drawn yet, shared by ``workers`` processes (default: the CPUs;
+    see :func:`crankdyn.report.figures.draw_jobs` for when it stays serial)."""
+    from .figures import default_workers, draw_jobs  # lazy: heavy optional import (matplotlib)
+
+    pending = [f for f in figures if not f.drawn]
+    drawn = draw_jobs([f.draw for f in pending], default_workers() if workers is None else workers, allow_threads)
+    for figure, svg in zip(pending, drawn):
+        figure._svg = svg
 
 
 #: Folder of the figure files next to report.html, as the page refers to them.
@@ -138,16 +177,15 @@ class RenderContext:
     def figure(self, fig, caption: str, name: str) -> Markup:
         """Render a matplotlib figure to SVG, number it and return its markup (with the
         sentence that refers to it before it)."""
-        from .figures import to_svg  # lazy: heavy optional import (matplotlib)
-
-        typeset_figure(fig, self.t)
+        for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
+            if earlier.figure is fig and not earlier.drawn:
+                earlier.svg  # noqa: B018 - drawn for its side effect
         self._figure += 1
         number = f"{self.section_number}.{self._figure}"
-        svg = to_svg(fig)
         # ASCII file names (an appendix figure "Б.1" -> fig_u411_1_...): safe in every file system and URL
         ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
-        self.figures.append(FigureFile(file_name, svg, fig))
+        self.figures.append(FigureFile(file_name, figure=fig, t=self.t))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t("doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained

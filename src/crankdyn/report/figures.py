@@ -7,7 +7,11 @@ renderer needs no font lookup for figures and Cyrillic labels always show.
 from __future__ import annotations
 
 import io
+import os
+import pickle
 import sys
+import threading
+from collections.abc import Callable, Sequence
 
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
@@ -22,7 +26,9 @@ STYLE = {
     "axes.spines.top": False,
     "axes.spines.right": False,
     "lines.linewidth": 1.4,
-    "figure.dpi": 100,
+    # 72 = the SVG's own resolution: the layout pass (Agg) and the SVG pass then share
+    # matplotlib's mathtext cache (keyed by dpi) instead of typesetting every label twice
+    "figure.dpi": 72,
     "svg.hashsalt": "crankdyn",  # stable ids: the same scene gives the same bytes
 }
 
@@ -52,8 +58,81 @@ def to_svg(fig) -> bytes:
     buffer = io.BytesIO()
     with matplotlib.rc_context(STYLE):
         fig.tight_layout()
+        # the layout is done: with the placeholder engine tight_layout leaves behind, savefig
+        # would lay the figure out once more in a third (draw-disabled) pass
+        fig.set_layout_engine(None)
         fig.savefig(buffer, format="svg", metadata={"Date": None})
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
     return buffer.getvalue()
+
+
+#: Environment variable that sets how many processes draw a report's figures (1: no fork).
+WORKERS_ENV = "CRANKDYN_FIGURE_WORKERS"
+
+
+def default_workers() -> int:
+    """Processes for drawing figures: the CPUs this process may use (``CRANKDYN_FIGURE_WORKERS``
+    overrides; a batch runs its variants in parallel instead and passes 1)."""
+    value = os.environ.get(WORKERS_ENV, "")
+    if value.strip().isdigit() and int(value) >= 1:
+        return int(value)
+    try:
+        return max(1, min(len(os.sched_getaffinity(0)), 8))
+    except AttributeError:  # no sched_getaffinity (macOS, Windows)
+        return max(1, min(os.cpu_count() or 1, 8))
+
+
+def can_fork(allow_threads: bool = False) -> bool:
+    """Whether figures may be drawn in forked children: POSIX ``fork``, and (unless the caller
+    knows better) no other thread that a child's copy of a held lock could stall."""
+    return hasattr(os, "fork") and (allow_threads or threading.active_count() == 1)
+
+
+def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threads: bool = False) -> list[bytes]:
+    """``[job() for job in jobs]``, the work shared by ``workers`` processes.
+
+    matplotlib draws in Python, one core per process; a report's figures are independent, so
+    forked children (which inherit the figures already built, nothing is pickled on the way in)
+    each draw every ``workers``-th figure while this process draws its own share. A child that
+    fails or dies leaves its figures to be drawn here, so the result (and any exception) is the
+    serial one. Serial when ``workers`` is 1, there are fewer than 4 jobs or forking is unsafe.
+    """
+    jobs = list(jobs)
+    workers = min(workers, len(jobs) // 2)
+    if workers <= 1 or len(jobs) < 4 or not can_fork(allow_threads):
+        return [job() for job in jobs]
+    results: list[bytes | None] = [None] * len(jobs)
+    children = []
+    for k in range(1, workers):
+        mine = list(range(k, len(jobs), workers))
+        read_end, write_end = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: draw, send, leave without running the parent's exit handlers
+            os.close(read_end)
+            code = 1
+            try:
+                payload = pickle.dumps([jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
+                with os.fdopen(write_end, "wb") as pipe:
+                    pipe.write(payload)
+                code = 0
+            finally:
+                os._exit(code)
+        os.close(write_end)
+        children.append((pid, read_end, mine))
+    try:
+        for i in range(0, len(jobs), workers):
+            results[i] = jobs[i]()
+    finally:  # even when a figure of this process's share failed: no child is left behind
+        for pid, read_end, mine in children:
+            with os.fdopen(read_end, "rb") as pipe:
+                payload = pipe.read()
+            _, status = os.waitpid(pid, 0)
+            if status == 0:
+                try:
+                    for i, svg in zip(mine, pickle.loads(payload), strict=True):
+                        results[i] = svg
+                except Exception:  # noqa: BLE001 - a truncated answer: those figures are drawn below
+                    pass
+    return [job() if result is None else result for job, result in zip(jobs, results)]

@@ -1,0 +1,76 @@
+"""Figures drawn by forked processes (crankdyn.report.figures.draw_jobs): the same bytes as
+drawn one by one, in the same order, and never a lost figure or a child left behind."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.context import draw_figures
+from crankdyn.report.document import render_html
+from crankdyn.report.figures import draw_jobs
+from crankdyn.scene import load_scene
+
+pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork() on this platform")
+
+
+def _no_children_left() -> bool:
+    try:
+        os.waitpid(-1, os.WNOHANG)
+    except ChildProcessError:
+        return True
+    return False
+
+
+def test_jobs_are_shared_between_processes_and_come_back_in_order():
+    parent = os.getpid()
+    results = draw_jobs([lambda i=i: f"{i}:{os.getpid()}".encode() for i in range(9)], workers=3,
+                        allow_threads=True)
+    assert [r.split(b":")[0] for r in results] == [str(i).encode() for i in range(9)]
+    pids = {int(r.split(b":")[1]) for r in results}
+    assert parent in pids and len(pids) == 3  # this process drew its share, two children theirs
+    assert _no_children_left()
+
+
+def test_a_child_that_fails_leaves_its_figures_to_this_process():
+    parent = os.getpid()
+
+    def job(i=0):
+        if os.getpid() != parent:
+            raise RuntimeError("a child's figure failed")
+        return str(i).encode()
+
+    results = draw_jobs([lambda i=i: job(i) for i in range(8)], workers=2, allow_threads=True)
+    assert results == [str(i).encode() for i in range(8)]
+    assert _no_children_left()
+
+
+def test_a_failure_here_is_raised_and_no_child_is_left():
+    def job():
+        raise ValueError("broken figure")
+
+    with pytest.raises(ValueError, match="broken figure"):
+        draw_jobs([job] * 6, workers=2, allow_threads=True)
+    assert _no_children_left()
+
+
+def test_serial_when_told_or_when_too_few():
+    parent = os.getpid()
+    assert draw_jobs([lambda: str(os.getpid()).encode()] * 6, workers=1) == [str(parent).encode()] * 6
+    assert draw_jobs([lambda: str(os.getpid()).encode()] * 3, workers=4, allow_threads=True) == [str(parent).encode()] * 3
+
+
+def test_report_figures_drawn_in_parallel_are_the_serial_bytes(examples):
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    serial = render_html(result, registry).figures
+    parallel = render_html(result, registry).figures
+    assert len(serial) >= 4 and not any(f.drawn for f in parallel)  # drawn only when asked for
+    draw_figures(serial, workers=1)
+    draw_figures(parallel, workers=2, allow_threads=True)
+    assert [f.name for f in parallel] == [f.name for f in serial]
+    assert [f.svg for f in parallel] == [f.svg for f in serial]
+    assert all(b"<svg" in f.svg for f in serial)
