@@ -46,3 +46,30 @@ def test_a_cycle_change_reruns_the_indicator():
     changed = load_scene(examples_dir() / "petrol-1cyl.toml", {"cycle": {"max_pressure": "5.5 MPa"}})
     cache.run_plan(changed, plan(changed, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1
+
+
+def test_reads_are_recorded_per_field_of_a_table():
+    # The kinematics reads masses.rod_cm_fraction (the rod's centre of mass) but not masses.rod:
+    # a rod-mass change re-runs the forces, not the kinematics.
+    cache = StageCache()
+    scene = _scene()
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
+    reads = cache._entries["kinematics"].reads
+    assert "masses.rod_cm_fraction" in reads and "masses.rod" not in reads and "masses" not in reads
+    heavier = _scene(rod="0.4 kg")
+    cache.run_plan(heavier, plan(heavier, REGISTRY, STAGES))
+    assert cache.runs["kinematics"] == 1 and cache.runs["forces"] == 2
+    moved = _scene(rod_cm_fraction=0.3)
+    cache.run_plan(moved, plan(moved, REGISTRY, STAGES))
+    assert cache.runs["kinematics"] == 2
+
+
+def test_a_stage_with_services_runs_through_the_cache():
+    # The error study re-runs the pipeline through the runner service: the cached path hands it
+    # over exactly as the plain one does (the preview of a scene with that stage failed without).
+    scene = load_scene(examples_dir() / "kinematics-only.toml")
+    stages = ["numerics_kinematics"] if "numerics_kinematics" in REGISTRY.stages else None
+    the_plan = plan(scene, REGISTRY, stages)
+    assert any(stage.services for stage in the_plan.order)
+    result = StageCache().run_plan(scene, the_plan)
+    assert set(result.outputs) == {stage.name for stage in the_plan.order}

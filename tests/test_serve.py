@@ -162,6 +162,34 @@ def test_preview_rerenders_on_save_and_shows_errors_as_a_page(preview_server):
     assert status == 200 and headers["Content-Type"] == "application/pdf" and pdf.startswith(b"%PDF")
 
 
+def test_figures_are_served_by_url_and_a_kept_figure_keeps_its_url(preview_server):
+    scene, base, preview = preview_server
+    first = _wait(lambda: (s := _status(base))["state"] == "report" and not s["building"] and s, 60,
+                  "the first rendering")
+    page = _get(base)[2].decode()
+    urls = re.findall(r'src="(figures/[^"]+)"', page)
+    assert urls and not re.search(r'src="data:', page)  # figures are linked, each drawn once
+    status, headers, svg = _get(base + urls[0])
+    assert status == 200 and headers["Content-Type"] == "image/svg+xml" and svg.lstrip().startswith(b"<?xml")
+    assert "immutable" in headers["Cache-Control"]
+    assert _get(base + "figures/nothing/fig_1.svg")[0] == 404
+    # The long poll: answered at once for an old version, held back for the current one.
+    assert _get(base + "version?after=old")[2].decode() == first["version"]
+    start = time.monotonic()
+    assert preview.version_after(first["version"], timeout=0.3) == first["version"]
+    assert time.monotonic() - start >= 0.25
+
+    # A change of the cycle re-renders the indicator section, not the kinematics one: the
+    # kinematics figures keep their URLs (the browser shows them from its cache), the rest change.
+    _edit(scene, compression_ratio="17.6")
+    _wait(lambda: (s := _status(base))["version"] != first["version"] and not s["building"], 60, "a new build")
+    new_urls = re.findall(r'src="(figures/[^"]+)"', _get(base)[2].decode())
+    kinematics = [u for u in urls if "/fig_2_" in u]
+    assert kinematics and all(u in new_urls for u in kinematics)
+    assert all(u not in new_urls for u in urls if "/fig_2_" not in u)
+    assert all(_get(base + u)[0] == 200 for u in new_urls)
+
+
 def test_preview_refuses_foreign_host_names_and_unknown_paths(preview_server):
     _, base, _ = preview_server
     assert _get(base + "version", host="attacker.example:80")[0] == 403

@@ -26,8 +26,10 @@ from collections import Counter
 from dataclasses import dataclass
 from typing import Any
 
+from pydantic import BaseModel
+
 from .errors import PluginError
-from .orchestrator import Plan, RunResult
+from .orchestrator import Plan, RunResult, stage_inputs
 from .plugin_types import Stage, StageOutput
 from .scene import Scene
 
@@ -43,19 +45,28 @@ _classes: dict[type, type] = {}
 
 
 def _tracking_class(cls: type) -> type:
+    """``cls`` with reads recorded: a field of the scene is recorded as its name, except that
+    a table (a pydantic sub-model: ``masses``, ``engine``...) comes back as a tracked copy of
+    itself, whose own reads are recorded as ``masses.rod``: a stage reading only
+    ``masses.rod_cm_fraction`` does not depend on ``masses.rod``."""
     if cls not in _classes:
         fields = frozenset(cls.model_fields)
 
         def __getattribute__(self, name):  # noqa: N807 - the hook itself
-            reads = _reads.get(id(self))
-            if reads is not None:
-                if name in fields:
-                    reads.add(name)
-                elif name in _EXTRA_NAMES:
-                    reads.add(EXTRA)
-                elif name in _WHOLE:
-                    reads.add(EVERYTHING)
-            return super(tracked, self).__getattribute__(name)
+            value = super(tracked, self).__getattribute__(name)
+            record = _recorder.get(id(self))
+            if record is None:
+                return value
+            reads, prefix = record
+            if name in fields:
+                if not prefix and isinstance(value, BaseModel):  # one level deep: tables of the scene
+                    return _tracked_table(value, reads, name)
+                reads.add(prefix + name)
+            elif name in _EXTRA_NAMES:
+                reads.add(prefix + EXTRA if prefix else EXTRA)
+            elif name in _WHOLE:
+                reads.add(prefix.rstrip(".") if prefix else EVERYTHING)
+            return value
 
         tracked = type(f"Tracked{cls.__name__}", (cls,), {"__getattribute__": __getattribute__,
                                                            "__module__": __name__})
@@ -63,13 +74,53 @@ def _tracking_class(cls: type) -> type:
     return _classes[cls]
 
 
+#: id(tracked copy) -> (the read set it records into, the prefix of its reads: "" or "masses.")
+_recorder: dict[int, tuple[set[str], str]] = {}
+_tables: dict[tuple[int, str], Any] = {}  # (id(scene copy), field) -> its tracked table, made once
+
+
+def _construct(cls: type, model: BaseModel):
+    values = {name: model.__dict__[name] for name in type(model).model_fields}
+    return cls.model_construct(_fields_set=set(model.model_fields_set), **values, **(model.model_extra or {}))
+
+
+def _tracked_table(table: BaseModel, reads: set[str], name: str):
+    """A tracked copy of a scene table, recording its reads as ``name.field`` into ``reads``."""
+    key = (id(reads), name)
+    copy = _tables.get(key)
+    if copy is None:
+        copy = _construct(_tracking_class(type(table)), table)
+        _recorder[id(copy)] = (reads, name + ".")
+        _tables[key] = copy
+        _keep.append(copy)  # alive while recording, so that its id is not reused
+    return copy
+
+
+_keep: list = []
+
+
 def _tracked_copy(scene: Scene) -> Scene:
     """The same scene (no validation re-run) whose field reads are recorded in ``_reads``."""
-    cls = _tracking_class(type(scene))
-    values = {name: scene.__dict__[name] for name in type(scene).model_fields}
-    copy = cls.model_construct(_fields_set=set(scene.model_fields_set), **values, **(scene.model_extra or {}))
-    _reads[id(copy)] = set()
+    copy = _construct(_tracking_class(type(scene)), scene)
+    reads: set[str] = set()
+    _reads[id(copy)] = reads
+    _recorder[id(copy)] = (reads, "")
     return copy
+
+
+def tracked_copy(scene: Scene) -> Scene:
+    """A copy of ``scene`` that records which top-level fields are read; :func:`reads_of` tells."""
+    return _tracked_copy(scene)
+
+
+def reads_of(tracked: Scene) -> frozenset[str]:
+    """The fields read through ``tracked`` so far (and stop recording them)."""
+    reads = _reads.pop(id(tracked), set())
+    _recorder.pop(id(tracked), None)
+    for key in [k for k in _tables if k[0] == id(reads)]:
+        _recorder.pop(id(_tables.pop(key)), None)
+    _keep[:] = [c for c in _keep if id(c) in _recorder]
+    return frozenset(reads)
 
 
 def _digest(value: Any, depth: int = 0) -> str:
@@ -102,15 +153,25 @@ def _digest(value: Any, depth: int = 0) -> str:
     return hashlib.sha256("|".join(parts).encode()).hexdigest()
 
 
+def _field_value(scene: Scene, name: str) -> Any:
+    """The value a recorded read names: ``engine``, ``masses.rod``, ``__extra__``, ``mechanism.__extra__``."""
+    head, _, rest = name.partition(".")
+    value = scene.model_extra if head == EXTRA else scene.__dict__.get(head)
+    if not rest:
+        return value
+    if value is None:
+        return None  # the table is gone (or came): a change like any other
+    if rest == EXTRA:
+        return getattr(value, "model_extra", None)
+    return value.__dict__.get(rest)
+
+
 def field_digests(scene: Scene, names: frozenset[str]) -> tuple[tuple[str, str], ...]:
-    """Digests of the named top-level fields of ``scene`` (see :data:`EVERYTHING`, :data:`EXTRA`)."""
+    """Digests of the read fields of ``scene``, top-level (``engine``) or in a table (``masses.rod``);
+    see :data:`EVERYTHING`, :data:`EXTRA`."""
     if EVERYTHING in names:
         names = frozenset(type(scene).model_fields) | {EXTRA}
-    out = []
-    for name in sorted(names):
-        value = scene.model_extra if name == EXTRA else scene.__dict__[name]
-        out.append((name, _digest(value)))
-    return tuple(out)
+    return tuple((name, _digest(_field_value(scene, name))) for name in sorted(names))
 
 
 @dataclass
@@ -141,15 +202,15 @@ class StageCache:
         outputs: dict[str, StageOutput] = {}
         timing: dict[str, float] = {}
         for stage in the_plan.order:
-            upstream = tuple((key, digests[key]) for key in stage.requires)
+            upstream = tuple((key, digests[key]) for key in (*stage.requires, *stage.uses) if key in digests)
             entry = self._entries.get(stage.name)
             start = time.perf_counter()
             if not self._valid(entry, stage, scene, upstream):
                 tracked = _tracked_copy(scene)
                 try:
-                    output = stage.run(tracked, {key: data[key] for key in stage.requires})
+                    output = stage.run(tracked, stage_inputs(stage, data, the_plan.registry))
                 finally:
-                    reads = frozenset(_reads.pop(id(tracked)))
+                    reads = reads_of(tracked)
                 if set(output.data) != set(stage.provides):
                     raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
                                       f"but returned {sorted(output.data)}")

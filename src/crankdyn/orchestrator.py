@@ -203,14 +203,21 @@ def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:
     return {name: known[name]() for name in stage.services}
 
 
+def stage_inputs(stage: Stage, data: dict[str, Any], registry: Registry | None) -> dict[str, Any]:
+    """What ``stage.run`` receives: its required data, the ``uses`` data that was provided, and
+    the services it names (every runner of a plan, cached or not, builds it here)."""
+    inputs = {key: data[key] for key in stage.requires}
+    inputs.update({key: data[key] for key in stage.uses if key in data})
+    inputs.update(_services(stage, registry))
+    return inputs
+
+
 def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
     for stage in the_plan.order:
-        inputs = {key: data[key] for key in stage.requires}
-        inputs.update({key: data[key] for key in stage.uses if key in data})
-        inputs.update(_services(stage, the_plan.registry))
+        inputs = stage_inputs(stage, data, the_plan.registry)
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         timing[stage.name] = time.perf_counter() - start

@@ -89,3 +89,15 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     """
     result = run_scene(scene, registry, stages, languages, cache=cache)
     return result, render_files(result, registry, formats, self_contained, figure_workers)
+
+
+def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
+                    stage_cache, sections_cache):
+    """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
+    inputs changed) and render the report (re-rendering only the sections whose stage output or
+    scene reads changed); the figures are left undrawn, so that the page can be shown first.
+    Returns (run result, :class:`crankdyn.report.document.RenderedReport`)."""
+    from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
+
+    result = run_scene(scene, registry, stages, languages, cache=stage_cache)
+    return result, render_html(result, registry, sections_cache=sections_cache)

@@ -8,13 +8,21 @@ rule: the snapshot is replaced in one assignment, and only by a complete result 
 a full report, or for a scene that does not validate an error page listing its
 problems — so a half-built report is never served.
 
-The open browser tab reloads itself: every page carries a small inline script that
-polls ``/version`` and reloads when the version changes. ``/report.pdf`` renders the
+The open browser tab reloads itself: every page carries a small inline script that asks
+``/version?after=V`` — an answer the server holds back until the version is no longer V (a
+long poll: the tab learns of a new build at once) — and reloads when the version changes. ``/report.pdf`` renders the
 current report to PDF on request (cached per version).
+
+Fast saves: a build re-runs only the stages whose inputs changed (:class:`crankdyn.cache.StageCache`)
+and re-renders only their sections (:class:`crankdyn.report.section_cache.SectionCache`); the
+new page is published as soon as its text is ready, and its figures follow: each is served at
+``/figures/TOKEN/NAME`` once drawn (the request waits for it), and a figure kept from the last
+build keeps its URL, so the browser shows it from its cache at once.
 """
 
 from __future__ import annotations
 
+import base64
 import html
 import json
 import os
@@ -31,19 +39,22 @@ from dataclasses import dataclass, field
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
-from urllib.parse import quote, urlsplit
+from urllib.parse import parse_qs, quote, urlsplit
 
 from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
-from .pipeline import run_and_render
+from .pipeline import run_for_preview
 from .plugins import default_registry
+from .report.context import FIGURE_DIR, draw_figures
 from .report.i18n import available_languages
 from .report.pdf import html_to_pdf
+from .report.section_cache import SectionCache
 from .scene import load_scene
 
 HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
-POLL_MS = 600  # how often an open tab asks /version
+POLL_MS = 600  # how long an open tab waits before asking /version again after a failed request
+LONG_POLL_S = 20.0  # the longest /version?after=V holds its answer back
 
 
 @dataclass(frozen=True)
@@ -53,10 +64,16 @@ class Snapshot:
     version: str
     page: bytes  # the HTML served at /, with the reload script
     state: str  # "report", "scene-error", "error" or "starting"
-    report_html: str | None = None  # the report without the script, for the PDF
+    report_html: str | None = None  # the report without the script (figures linked), for the PDF
     problems: tuple[str, ...] = ()
     render_s: float = 0.0
     built_at: float = field(default_factory=time.time)
+    figures: tuple = ()  # the report's FigureFiles, as report_html refers to them
+    figures_s: float | None = None  # when every figure was drawn, seconds after the build started
+
+    @property
+    def figures_drawn(self) -> bool:
+        return all(f.drawn for f in self.figures)
 
 
 # --------------------------------------------------------------------------- pages
@@ -64,12 +81,11 @@ class Snapshot:
 def reload_script(version: str, nonce: str) -> str:
     """The inline script that reloads the tab when the server's version changes."""
     return (f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
-            "function poll(){fetch('/version',{cache:'no-store'})"
+            "function poll(){fetch('/version?after='+encodeURIComponent(v),{cache:'no-store'})"
             ".then(function(r){return r.text();})"
-            ".then(function(t){if(t.trim()!==v){location.reload();}else{setTimeout(poll,"
-            f"{POLL_MS});}}}})"
-            ".catch(function(){setTimeout(poll,2000);});}"
-            f"setTimeout(poll,{POLL_MS});}})();</script>")
+            ".then(function(t){if(t.trim()!==v){location.reload();}else{poll();}})"
+            f".catch(function(){{setTimeout(poll,{POLL_MS});}});}}"
+            "poll();})();</script>")
 
 
 def with_reload(page: str, version: str, nonce: str) -> str:
@@ -164,7 +180,7 @@ class Preview:
     """Builds snapshots of one scene; watches its files; renders the PDF on request."""
 
     def __init__(self, scene_path: Path | str, language: str | None = None, stages: list[str] | None = None,
-                 registry=None, log: Callable[[str], None] | None = None, debounce_ms: int = 150):
+                 registry=None, log: Callable[[str], None] | None = None, debounce_ms: int = 80):
         self.scene_path = Path(os.path.abspath(scene_path))
         self.language = language
         self.stages = stages
@@ -181,8 +197,14 @@ class Preview:
         self._pdf_cache: tuple[str, bytes] | None = None
 
         self.stage_cache = StageCache()  # a save re-runs only the stages whose inputs changed
+        self.sections_cache = SectionCache()  # ... and re-renders only their sections
+        self._drawn = threading.Condition()  # notified after each figure the builder draws
+        self._figure_urls: dict[str, object] = {}  # "TOKEN/NAME" -> FigureFile, this build's and the last
+        self._last_urls: dict[str, object] = {}
+        self._tokens = 0
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
+        self._published = threading.Condition()  # notified when a new snapshot is shown
         self.snapshot = Snapshot(version, with_reload(_starting_page(), version, self.nonce).encode("utf-8"),
                                  "starting")
 
@@ -192,44 +214,99 @@ class Preview:
         return self._building.is_set()
 
     def build(self) -> Snapshot:
-        """Render the scene now (in this thread) and make the result the current snapshot."""
+        """Render the scene now (in this thread) and make the result the current snapshot: the
+        page first, then its figures one by one (see the module docstring)."""
         self._building.set()
         start = time.perf_counter()
         try:
-            state, page, problems, report_html = self._render()
+            state, page, problems, report_html, figures = self._render()
+            self._count += 1
+            version = f"{self._boot}-{self._count}"
+            snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
+                                report_html, problems, time.perf_counter() - start, figures=tuple(figures))
+            self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
+            with self._published:
+                self._published.notify_all()
+            self._draw(snapshot, start)
         finally:
             self._building.clear()
-        self._count += 1
-        version = f"{self._boot}-{self._count}"
-        snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
-                            report_html, problems, time.perf_counter() - start)
-        self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
         if state == "report":
-            self._log(f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s (version {self._count})")
+            self._log(f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s, figures by "
+                      f"{snapshot.figures_s:.2f} s (version {self._count})")
         else:
             self._log(f"{self.scene_path.name}: {len(problems)} problem(s); showing them instead of the report\n"
                       + "\n".join(f"  - {p}" for p in problems))
         return snapshot
 
-    def _render(self) -> tuple[str, str, tuple[str, ...], str | None]:
+    def _render(self) -> tuple[str, str, tuple[str, ...], str | None, list]:
         try:
             if self._registry is None:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            _, files = run_and_render(scene, self._registry, ["html"], self.stages, available_languages(),
-                                      self_contained=True, cache=self.stage_cache)
-            report_html = files["report.html"].decode("utf-8")
+            _, rendered = run_for_preview(scene, self._registry, self.stages, available_languages(),
+                                          self.stage_cache, self.sections_cache)
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)
-            return state, page, problems, None
-        return "report", report_html, (), report_html
+            return state, page, problems, None, []
+        report_html = rendered.linked_html
+        urls: dict[str, object] = {}
+        for figure in rendered.figures:
+            if getattr(figure, "preview_token", None) is None:  # a new figure: a new URL
+                self._tokens += 1
+                figure.preview_token = f"{self._boot}{self._tokens}"
+            url = f"{figure.preview_token}/{figure.name}"
+            urls[url] = figure
+            report_html = report_html.replace(f'src="{FIGURE_DIR}/{figure.name}"', f'src="{FIGURE_DIR}/{url}"')
+        with self._drawn:  # a tab still showing the last build may ask for its figures too
+            self._figure_urls = {**self._last_urls, **urls}
+            self._last_urls = urls
+        return "report", report_html, (), report_html, list(rendered.figures)
+
+    def _draw(self, snapshot: Snapshot, start: float) -> None:
+        """Draw the snapshot's new figures, shared by forked processes, and wake the requests
+        that wait for them. The server's other threads only wait or send bytes and the children
+        only draw and exit, so forking beside them is safe here (``allow_threads``)."""
+        pending = [f for f in snapshot.figures if not f.drawn]
+        if pending:
+            draw_figures(pending, allow_threads=True)
+            with self._drawn:
+                self._drawn.notify_all()
+        object.__setattr__(snapshot, "figures_s", time.perf_counter() - start)
+
+    def version_after(self, version: str, timeout: float = LONG_POLL_S) -> str:
+        """The current version, as soon as it is not ``version`` (or after ``timeout`` seconds)."""
+        with self._published:
+            self._published.wait_for(lambda: self.snapshot.version != version or self._stop.is_set(), timeout)
+        return self.snapshot.version
+
+    def figure(self, url: str, timeout: float = 120.0) -> bytes | None:
+        """The SVG at ``figures/<url>``, waiting while the builder draws it; None if unknown."""
+        deadline = time.monotonic() + timeout
+        with self._drawn:
+            while True:
+                figure = self._figure_urls.get(url)
+                if figure is None:
+                    return None
+                if figure.drawn:
+                    return figure.svg
+                if not self._drawn.wait(max(0.0, min(0.5, deadline - time.monotonic()))) \
+                        and time.monotonic() >= deadline:
+                    return None
 
     def pdf(self, snapshot: Snapshot) -> bytes:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""
         with self._pdf_lock:
             if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
-                self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html))
+                names = [f"{f.preview_token}/{f.name}" for f in snapshot.figures]
+                svgs = [self.figure(name) for name in names]  # drawn by the builder, never here
+                if any(svg is None for svg in svgs):
+                    raise CrankdynError("the report's figures were not drawn in time")
+                html = snapshot.report_html
+                for name, svg in zip(names, svgs):
+                    data = base64.b64encode(svg).decode("ascii")
+                    html = html.replace(f'src="{FIGURE_DIR}/{name}"', f'src="data:image/svg+xml;base64,{data}"')
+                self._pdf_cache = (snapshot.version, html_to_pdf(html))
             return self._pdf_cache[1]
 
     # ------------------------------------------------------------- threads
@@ -247,6 +324,8 @@ class Preview:
     def stop(self, timeout: float = 10.0) -> None:
         self._stop.set()
         self._dirty.set()
+        with self._published:  # answer the tabs' long polls now
+            self._published.notify_all()
         for thread in self._threads:
             thread.join(timeout)
 
@@ -299,7 +378,9 @@ class _Handler(BaseHTTPRequestHandler):
         if path in ("/", "/index.html"):
             self._send(HTTPStatus.OK, "text/html; charset=utf-8", snapshot.page, csp=True)
         elif path == "/version":
-            self._send(HTTPStatus.OK, "text/plain; charset=utf-8", snapshot.version.encode("ascii"))
+            after = parse_qs(urlsplit(self.path).query).get("after")
+            version = self.preview.version_after(after[0]) if after else snapshot.version
+            self._send(HTTPStatus.OK, "text/plain; charset=utf-8", version.encode("ascii"))
         elif path == "/status":
             status = {"version": snapshot.version, "state": snapshot.state, "problems": list(snapshot.problems),
                       "render_s": round(snapshot.render_s, 3), "building": self.preview.building,
@@ -318,6 +399,12 @@ class _Handler(BaseHTTPRequestHandler):
                 return
             self._send(HTTPStatus.OK, "application/pdf", pdf,
                        extra={"Content-Disposition": content_disposition(self.preview.scene_path.stem + ".pdf")})
+        elif path.startswith(f"/{FIGURE_DIR}/"):
+            svg = self.preview.figure(path[len(FIGURE_DIR) + 2:])
+            if svg is None:
+                self._send(HTTPStatus.NOT_FOUND, "text/plain; charset=utf-8", b"not found\n")
+            else:  # a figure's URL names one drawing: the browser may keep it
+                self._send(HTTPStatus.OK, "image/svg+xml", svg, cache="public, max-age=31536000, immutable")
         elif path == "/favicon.ico":
             self._send(HTTPStatus.NO_CONTENT, "text/plain", b"")
         else:
@@ -337,16 +424,17 @@ class _Handler(BaseHTTPRequestHandler):
         return host in ("127.0.0.1", "localhost", "")
 
     def _send(self, status: HTTPStatus, content_type: str, body: bytes, csp: bool = False,
-              extra: dict[str, str] | None = None) -> None:
+              extra: dict[str, str] | None = None, cache: str = "no-store") -> None:
         self.send_response(status)
         self.send_header("Content-Type", content_type)
         self.send_header("Content-Length", str(len(body)))
-        self.send_header("Cache-Control", "no-store")
+        self.send_header("Cache-Control", cache)
         self.send_header("X-Content-Type-Options", "nosniff")
         if csp:
-            # Figures are data: images, the style is inline; the only script is ours (nonce).
+            # Figures come from this server (or are data: images), the style is inline; the only
+            # script is ours (nonce).
             self.send_header("Content-Security-Policy",
-                             f"default-src 'none'; img-src data:; style-src 'unsafe-inline'; "
+                             f"default-src 'none'; img-src 'self' data:; style-src 'unsafe-inline'; "
                              f"script-src 'nonce-{self.preview.nonce}'; connect-src 'self'; base-uri 'none'; "
                              "form-action 'none'")
         for key, value in (extra or {}).items():

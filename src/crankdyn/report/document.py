@@ -65,8 +65,16 @@ class RenderedReport:
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
     extra = [s.template_dir for s in result.plan.order if s.template_dir is not None]
+    return _cached_environment(tuple(str(p) for p in template_search_path(extra)))
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_environment(search_path: tuple[str, ...]) -> jinja2.Environment:
+    """One environment per template search path: its compiled templates are kept for the next
+    report of the process (a batch's variants, the preview's saves; jinja2 checks the files'
+    modification times, so an edited template is compiled again)."""
     return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(template_search_path(extra)),
+        loader=jinja2.FileSystemLoader(list(search_path)),
         autoescape=True,  # every value is escaped unless a helper marks it as markup
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
@@ -107,7 +115,10 @@ def appendix_letter(t, index: int) -> str:
     return letters[index] if index < len(letters) else str(index + 1)
 
 
-def render_html(result: RunResult, registry: Registry, language: str | None = None) -> RenderedReport:
+def render_html(result: RunResult, registry: Registry, language: str | None = None,
+                sections_cache=None) -> RenderedReport:
+    """The report of ``result``; with a :class:`crankdyn.report.section_cache.SectionCache`
+    (the live preview's), sections whose stage output and scene reads did not change are reused."""
     scene = result.scene
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
@@ -130,7 +141,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         ctx.start_section(number, stage.name)
         ctx.conclusions = []
         output = result.outputs[stage.name]
-        body = stage.render(output, ctx)
+        body = stage.render(output, ctx) if sections_cache is None else sections_cache.render(stage, output, ctx)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
         body = landscape_tables_later(body)

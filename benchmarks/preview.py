@@ -1,0 +1,101 @@
+"""Live preview, measured with the browser: save -> the open tab shows the new page, and -> all its figures.
+
+Run from the repository root (needs Debian's chromium, as the tests do; about a minute):
+
+    python3 benchmarks/preview.py              # 10 edits of masses.rod in the single-cylinder example
+    python3 benchmarks/preview.py --edits 20 --scene examples/inline4-petrol.toml
+
+``crankdyn serve`` runs on a copy of the scene; a headless Chromium (DevTools over a pipe, as in
+tests/test_serve.py) keeps the preview open. Each edit changes the rod's mass by 1 % and saves;
+the clock runs from just before the write until (a) the tab has reloaded itself and shows the
+page of the new build (its version is in the page's reload script) and (b) every figure of that
+page has loaded. Medians and the worst of the edits are printed. Not part of the test suite.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests"))
+
+from test_serve import CHROMIUM, DevTools, _start_serve, _wait  # noqa: E402 - the tests' own browser driver
+
+# the text is on screen once the document is parsed ("interactive"); its figures may still be loading
+PAGE_IS = ("document.readyState !== 'loading' && Array.from(document.scripts).some("
+           "s => s.text.indexOf({marker}) >= 0)")
+FIGURES_LOADED = ("document.readyState === 'complete' && Array.from(document.images).every("
+                  "i => i.complete && i.naturalWidth > 0)")
+
+
+def _status(base: str) -> dict:
+    with urllib.request.urlopen(base + "status", timeout=30) as answer:
+        return json.loads(answer.read())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scene", default=str(ROOT / "examples" / "petrol-1cyl.toml"))
+    parser.add_argument("--edits", type=int, default=10)
+    args = parser.parse_args()
+    if CHROMIUM is None:
+        raise SystemExit("Debian's chromium is not installed (.ci/setup.sh installs it)")
+    with tempfile.TemporaryDirectory(prefix="crankdyn-preview-") as tmp:
+        tmp = Path(tmp)
+        source = Path(args.scene)
+        scene = tmp / source.name
+        shutil.copy(source, scene)
+        for data in source.parent.glob("*.ind"):
+            shutil.copy(data, tmp)
+        server, base = _start_serve(scene)
+        browser = None
+        page_s, figures_s, server_s = [], [], []
+        try:
+            _wait(lambda: _status(base)["state"] == "report", 120, "the first rendering")
+            browser = DevTools(base, tmp / "profile")
+            browser.attach(base)
+            _wait(lambda: browser.evaluate(FIGURES_LOADED, tolerant=True), 60, "the first page and its figures")
+            text = scene.read_text(encoding="utf-8")
+            for _ in range(args.edits):
+                version = _status(base)["version"]
+                boot, count = version.rsplit("-", 1)
+                expected = json.dumps(f"{boot}-{int(count) + 1}")
+                new = re.sub(r'(?m)^(rod\s*=\s*")([0-9.]+)', lambda m: f"{m[1]}{float(m[2]) * 1.01:.5f}", text, count=1)
+                assert new != text, "the scene has no masses.rod to edit"
+                text = new
+                start = time.monotonic()
+                scene.write_text(text, encoding="utf-8")
+                _wait(lambda: browser.evaluate(PAGE_IS.format(marker=json.dumps(expected)), tolerant=True), 60,
+                      "the tab to show the new build", interval=0.01)
+                page_s.append(time.monotonic() - start)
+                _wait(lambda: browser.evaluate(FIGURES_LOADED, tolerant=True), 60, "the figures", interval=0.01)
+                figures_s.append(time.monotonic() - start)
+                _wait(lambda: not _status(base)["building"], 60, "the build to end", interval=0.05)
+                server_s.append(_status(base)["render_s"])
+                time.sleep(0.3)
+        finally:
+            if browser is not None:
+                browser.close()
+            server.terminate()
+            server.wait(10)
+    print(f"live preview of {source.name}, {args.edits} edits of masses.rod (s)")
+    print(f"{'':34s} {'median':>8s} {'worst':>8s}")
+    for what, values in (("save -> the tab shows the new page", page_s),
+                         ("save -> all its figures loaded", figures_s),
+                         ("server: build until the page is out", server_s)):
+        print(f"{what:34s} {statistics.median(values):8.2f} {max(values):8.2f}")
+    ratio = statistics.median(page_s) / 1.0
+    print(f"goal: save -> updated page <= 1 s (median): ratio {ratio:.2f} {'ok' if ratio <= 1 else 'NOT MET'}")
+
+
+if __name__ == "__main__":
+    main()
