@@ -6,6 +6,7 @@ renderer needs no font lookup for figures and Cyrillic labels always show.
 
 from __future__ import annotations
 
+import functools
 import io
 import os
 import pickle
@@ -33,12 +34,27 @@ STYLE = {
 }
 
 
+#: Typeset mathtext strings kept per process. matplotlib keeps 50, shared by the Agg and SVG
+#: parsers: a report's ~40 distinct labels, measured by both, overflow it, so every report of a
+#: batch (or every save of the preview) parsed them all again (pyparsing: ~5 ms a label).
+MATHTEXT_CACHE = 4096
+
+
+def _keep_more_mathtext() -> None:
+    from matplotlib.mathtext import MathTextParser  # lazy: heavy optional import
+
+    parse = MathTextParser._parse_cached
+    if getattr(parse, "cache_info", None) is not None and parse.cache_info().maxsize < MATHTEXT_CACHE:
+        MathTextParser._parse_cached = functools.lru_cache(MATHTEXT_CACHE)(parse.__wrapped__)
+
+
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
     """(figure, axes) as ``pyplot.subplots`` returns them, on an Agg canvas, without pyplot."""
     import matplotlib  # lazy: heavy optional import
     from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
     from matplotlib.figure import Figure  # lazy: heavy optional import
 
+    _keep_more_mathtext()
     with matplotlib.rc_context(STYLE):
         fig = Figure(figsize=(width_cm / 2.54, height_cm / 2.54))
         FigureCanvasAgg(fig)
@@ -55,6 +71,7 @@ def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
 def to_svg(fig) -> bytes:
     import matplotlib  # lazy: heavy optional import
 
+    _keep_more_mathtext()
     buffer = io.BytesIO()
     with matplotlib.rc_context(STYLE):
         fig.tight_layout()
