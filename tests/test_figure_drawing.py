@@ -74,3 +74,22 @@ def test_report_figures_drawn_in_parallel_are_the_serial_bytes(examples):
     assert [f.name for f in parallel] == [f.name for f in serial]
     assert [f.svg for f in parallel] == [f.svg for f in serial]
     assert all(b"<svg" in f.svg for f in serial)
+
+
+def test_a_figure_drawn_by_a_child_is_typeset_here_when_asked(examples):
+    # The Word export draws the matplotlib figures again (as PNG) in this process: their labels
+    # must be typeset here too, even when a forked process drew the SVG.
+    from matplotlib.text import Text
+
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    figures = render_html(result, registry).figures
+    draw_figures(figures, workers=2, allow_threads=True)
+
+    def raw_labels(fig):
+        return [t.get_text() for t in fig.findobj(Text) if "_" in t.get_text() and "$" not in t.get_text()]
+
+    child_drawn = figures[1::2]
+    assert any(raw_labels(f.figure) for f in child_drawn)  # the child typeset its copy, not ours
+    for figure in child_drawn:
+        assert raw_labels(figure.typeset()) == []

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
+import os
 import re
 from importlib import resources
 from dataclasses import dataclass, field
@@ -29,18 +30,25 @@ class FigureFile:
         self.figure = figure  # the matplotlib figure (the Word export draws it again as PNG)
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
+        self._typeset_in = None  # the process that typeset the figure (a forked drawer's is not this one)
 
     @property
     def drawn(self) -> bool:
         return self._svg is not None
 
+    def typeset(self):
+        """The matplotlib figure with its text typeset for the report's language, in this process
+        (once; a figure drawn by a forked process was typeset there, not here)."""
+        if self._t is not None and self._typeset_in != os.getpid():
+            typeset_figure(self.figure, self._t)
+            self._typeset_in = os.getpid()
+        return self.figure
+
     def draw(self) -> bytes:
         """The SVG bytes, drawn now (labels typeset for the report's language, laid out)."""
         from .figures import to_svg  # lazy: heavy optional import (matplotlib)
 
-        if self._t is not None:
-            typeset_figure(self.figure, self._t)
-        return to_svg(self.figure)
+        return to_svg(self.typeset())
 
     @property
     def svg(self) -> bytes:

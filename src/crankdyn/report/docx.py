@@ -445,6 +445,8 @@ def _figure_png(figure: Any) -> bytes:
 
     buffer = io.BytesIO()
     with plt.rc_context(STYLE):
+        figure.tight_layout()  # laid out here: the SVG may have been drawn by another process
+        figure.set_layout_engine(None)
         figure.savefig(buffer, format="png", dpi=PNG_DPI, metadata={"Software": None})
     return buffer.getvalue()
 
@@ -455,7 +457,7 @@ def report_docx(html: str, figures: list, language: str) -> bytes:
         folder = Path(tmp)
         images: dict[str, str] = {}
         for i, figure in enumerate(figures, start=1):
-            source = getattr(figure, "figure", None)
+            source = figure.typeset() if hasattr(figure, "typeset") else getattr(figure, "figure", None)
             if source is None:
                 continue
             name = f"figure_{i:03d}.png"
