@@ -159,12 +159,11 @@ def run(scene, inputs) -> StageOutput:
 def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption):
     t, z = t_Pa / 1e6, z_Pa / 1e6
     fig, ax = new_figure(12, 12)
-    ax.plot(t, z, color="C0", lw=1.2)
-    ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)
+    ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
     step = angle[1] - angle[0]
     every = max(int(round(labels_every / step)), 1)
+    ax.plot(t[::every], z[::every], "o", ms=2.5, color="C3", linestyle="none")  # one artist for all marks
     for i in range(0, len(angle), every):
-        ax.plot(t[i], z[i], "o", ms=2.5, color="C3")
         ax.annotate(ctx.t.number_g(angle[i]), (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
