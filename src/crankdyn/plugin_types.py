@@ -167,7 +167,10 @@ class AnswerColumn:
                 nested tables (``"peak.value_Pa"``).
     unit:       the column's unit as printed ("MPa", "m/s", "" for a plain number).
     factor:     column value = results value x factor (results are SI: Pa -> MPa is 1e-6).
-    label_key:  optional catalog key of a human-readable label for the column.
+    label_key:  optional catalog key of the column's human-readable label with its unit
+                ("Maximum cycle pressure, MPa"), from the plugin's own catalogs: ``answer_key.xlsx``
+                shows it in the batch's language above the column names (without one, the
+                column's name); ``answer_key.csv`` keeps the names only.
 
     A variant whose stage did not run (or gave no number) leaves the cell empty.
     """

@@ -231,11 +231,11 @@ KINEMATICS_STAGE = Stage(
     render=render,
     references=("poda2007", "tristen"),
     answer_columns=(
-        AnswerColumn("v_max_m_s", "v_max_m_s", "m/s"),
-        AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°"),
-        AnswerColumn("v_mean_m_s", "mean_piston_speed_m_s", "m/s"),
-        AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²"),
-        AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²"),
-        AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°"),
+        AnswerColumn("v_max_m_s", "v_max_m_s", "m/s", label_key="kinematics.answer.v_max_m_s"),
+        AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°", label_key="kinematics.answer.v_max_crank_angle_deg"),
+        AnswerColumn("v_mean_m_s", "mean_piston_speed_m_s", "m/s", label_key="kinematics.answer.v_mean_m_s"),
+        AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²", label_key="kinematics.answer.j_max_m_s2"),
+        AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²", label_key="kinematics.answer.j_min_m_s2"),
+        AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°", label_key="kinematics.answer.j_min_crank_angle_deg"),
     ),
 )

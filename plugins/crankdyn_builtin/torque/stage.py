@@ -159,10 +159,10 @@ TORQUE_STAGE = Stage(
     render=render,
     references=("poda2007",),
     answer_columns=(
-        AnswerColumn("M_mean_Nm", "mean_Nm", "N·m"),
-        AnswerColumn("M_max_Nm", "max_Nm", "N·m"),
-        AnswerColumn("M_min_Nm", "min_Nm", "N·m"),
-        AnswerColumn("torque_non_uniformity", "non_uniformity", ""),
-        AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001),
+        AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
+        AnswerColumn("M_max_Nm", "max_Nm", "N·m", label_key="torque.answer.M_max_Nm"),
+        AnswerColumn("M_min_Nm", "min_Nm", "N·m", label_key="torque.answer.M_min_Nm"),
+        AnswerColumn("torque_non_uniformity", "non_uniformity", "", label_key="torque.answer.torque_non_uniformity"),
+        AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001, label_key="torque.answer.N_i_engine_kW"),
     ),
 )
