@@ -26,8 +26,7 @@ from collections import Counter
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import PluginError
-from .orchestrator import Plan, RunResult
+from .orchestrator import Plan, RunResult, check_output
 from .plugin_types import Stage, StageOutput
 from .scene import Scene
 
@@ -150,9 +149,7 @@ class StageCache:
                     output = stage.run(tracked, {key: data[key] for key in stage.requires})
                 finally:
                     reads = frozenset(_reads.pop(id(tracked)))
-                if set(output.data) != set(stage.provides):
-                    raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
-                                      f"but returned {sorted(output.data)}")
+                check_output(stage, output)
                 entry = _Entry(stage, reads, field_digests(scene, reads), upstream, output,
                                {key: _digest(value) for key, value in output.data.items()})
                 self._entries[stage.name] = entry

@@ -294,6 +294,8 @@ FORCES_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("forces", "torque"),
+    tables=("forces",),
     references=("poda2007",),
     answer_columns=(
         AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06, label_key="forces.answer.p_j_tdc_MPa"),

@@ -214,6 +214,8 @@ INDICATOR_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("pV", "p_alpha"),
+    tables=("indicator",),
     references=("poda2007",),
     answer_columns=(
         AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),

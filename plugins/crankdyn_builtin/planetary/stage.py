@@ -498,5 +498,7 @@ PLANETARY_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
+    tables=("planetary", "family"),
     references=("ismailov",),
 )

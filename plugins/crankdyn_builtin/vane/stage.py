@@ -354,5 +354,7 @@ VANE_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
+    tables=("vane", "compare", "by_lambda"),
     references=("klementev2023",),
 )
