@@ -77,10 +77,14 @@ def test_batch_of_30_with_two_broken_rows(tmp_path):
     assert key["engine.rpm"].tolist() == [4000 + 100 * int(v[1:]) for v in folders]
     assert key["j_max_m_s2"].is_monotonic_increasing
     # The workbook holds the same answer key (numbers as numbers) and the failures.
-    book = pd.read_excel(out / "answer_key.xlsx", sheet_name=None)
-    assert list(book) == ["answer key", "failures"]
-    pd.testing.assert_series_equal(book["answer key"]["j_max_m_s2"], key["j_max_m_s2"], rtol=1e-5)
-    assert book["failures"]["variant"].tolist() == ["v07", "v19"]
+    # The answer-key sheet has the columns' labels above their names (row 2).
+    assert pd.ExcelFile(out / "answer_key.xlsx").sheet_names == ["answer key", "failures"]
+    book = pd.read_excel(out / "answer_key.xlsx", sheet_name="answer key", header=1)
+    labels = pd.read_excel(out / "answer_key.xlsx", sheet_name="answer key", nrows=0).columns
+    assert labels[list(book.columns).index("j_max_m_s2")] == "Maximum piston acceleration, m/s²"
+    pd.testing.assert_series_equal(book["j_max_m_s2"], key["j_max_m_s2"], rtol=1e-5)
+    failed = pd.read_excel(out / "answer_key.xlsx", sheet_name="failures")
+    assert failed["variant"].tolist() == ["v07", "v19"]
 
 
 def test_parse_cell_reads_toml_values():

@@ -14,7 +14,6 @@ import sys
 from contextlib import redirect_stdout
 from pathlib import Path
 
-import pytest
 from importlinter.cli import lint_imports
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,15 +25,6 @@ MAX_FUNCTION_LINES = 80
 # lazy mark with its reason (matplotlib, weasyprint, babel, jinja2, pandas, openpyxl, pandoc, pint,
 # watchfiles; the command line's per-command computation stack); this set may only stay empty.
 LAZY_ENTRY_POINTS: set[str] = set()
-
-# Functions still over the limit, with their length now: each may only shrink (issue 14 splits
-# them along their physics); the list must only get shorter.
-LONG_FUNCTIONS = {
-    ("plugins/crankdyn_builtin/planetary/stage.py", "render"): 107,
-    ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "_torsion"): 128,
-    ("plugins/crankdyn_builtin/speed_fluctuation/stage.py", "render"): 101,
-    ("plugins/crankdyn_builtin/vane/stage.py", "render"): 113,
-}
 
 
 def _functions(path: Path):
@@ -85,22 +75,14 @@ def test_function_local_imports_are_documented_lazy_imports():
 
 
 def test_no_function_over_80_lines():
+    """No exceptions: the last long functions were split along their physical and report steps (issue 14)."""
     too_long = []
     for path in SOURCES:
         for function in _functions(path):
             length = function.end_lineno - function.lineno + 1
-            allowed = LONG_FUNCTIONS.get((_rel(path), function.name), MAX_FUNCTION_LINES)
-            if length > allowed:
-                too_long.append(f"{_rel(path)}:{function.lineno} {function.name} ({length} lines, at most {allowed})")
+            if length > MAX_FUNCTION_LINES:
+                too_long.append(f"{_rel(path)}:{function.lineno} {function.name} ({length} lines)")
     assert not too_long, "functions too long: " + "; ".join(too_long)
-
-
-@pytest.mark.parametrize("entry", sorted(LONG_FUNCTIONS))
-def test_known_long_functions_still_exist(entry):
-    """An entry of LONG_FUNCTIONS that was split must leave the list (it only shrinks)."""
-    path, name = entry
-    lengths = [f.end_lineno - f.lineno + 1 for f in _functions(ROOT / path) if f.name == name]
-    assert any(length > MAX_FUNCTION_LINES for length in lengths), f"{path}:{name} is short now: remove it"
 
 
 def test_a_json_only_report_imports_no_rendering_library(tmp_path):

@@ -300,6 +300,7 @@ class Result:
 
         class Capture(RenderContext):
             def figure(self, fig, caption: str, name: str) -> Markup:
+                self.check_figure_declared(name)  # also for the sections not shown
                 key = name if name not in figures else f"{self.stage_name}.{name}"
                 figures[key] = fig
                 if figures_only or (only is not None and self.stage_name != only):
@@ -315,7 +316,7 @@ class Result:
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data
         for stage in self.run_result.plan.order:
-            ctx.start_section(number + 1, stage.name)
+            ctx.start_section(number + 1, stage.name, stage.figures)
             ctx.conclusions = []
             if only is not None and stage.name != only:
                 # Still counted: a stage that shows nothing takes no number, as in the report.

@@ -365,7 +365,7 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     fields, variants = read_variants(Path(csv_path))
     outcomes, interrupted = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
-    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants))
+    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)))
     return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, interrupted)
 
 
@@ -433,6 +433,13 @@ def _languages(base: dict, options: RunOptions) -> tuple[str, ...]:
     return (language,) if isinstance(language, str) else ()
 
 
+def batch_language(base: dict, options: RunOptions) -> str:
+    """The language of the batch's own files (the answer key's labels): the variants' language when it
+    has a catalog, else English."""
+    language = next(iter(_languages(base, options)), i18n.FALLBACK)
+    return language if language in available_languages() else i18n.FALLBACK
+
+
 def _client(options: RunOptions):
     """The Dask client of ``options.scheduler``; a clear UsageError when dask is missing or the scheduler is not there."""
 
@@ -464,14 +471,29 @@ def _write_rendered(out_dir: Path, outcome: Outcome) -> Outcome:
 
 
 def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant],
-              formats: Iterable[str] = ("csv", "xlsx")) -> dict[str, bytes]:
-    """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv."""
+              formats: Iterable[str] = ("csv", "xlsx"), language: str = i18n.FALLBACK) -> dict[str, bytes]:
+    """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv.
+
+    The workbook shows each result column's label (``AnswerColumn.label_key``) in ``language``
+    above the column names; the CSV and Parquet keys carry the column names only.
+    """
     by_row = {v.row: v for v in variants}
-    makers = {"csv": _answer_key_csv, "xlsx": _answer_key_xlsx, "parquet": _answer_key_parquet}
+    makers = {"csv": _answer_key_csv, "xlsx": partial(_answer_key_xlsx, language=language),
+              "parquet": _answer_key_parquet}
     files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
     if any(not o.ok for o in outcomes):
         files["failures.csv"] = _failures_csv(outcomes, by_row)
     return files
+
+
+def answer_labels(language: str = i18n.FALLBACK) -> dict[str, str]:
+    """Answer-key column name -> its label in ``language`` (English where the language has no text);
+    a column that declares no ``label_key``, or one no catalog knows, is labelled by its name."""
+    registry = _registry()
+    t = i18n.translator(language, registry.catalogs)
+    key_columns = answer_key.answer_columns(registry)
+    return {c.name: t(c.declared.label_key) if c.declared.label_key and t.has(c.declared.label_key) else c.name
+            for c in key_columns}
 
 
 def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
@@ -532,13 +554,15 @@ def _failures_csv(outcomes, by_row) -> bytes:
     return _csv_bytes(*_failure_rows(outcomes, by_row))
 
 
-def _answer_key_xlsx(fields, outcomes, by_row) -> bytes:
+def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK) -> bytes:
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
-
 
     header, rows = _answer_rows(fields, outcomes, by_row)
     rows = [[neutralised(v) for v in row] for row in rows]
-    sheets = [("answer key", pd.DataFrame(rows, columns=header))]
+    labels = answer_labels(language)
+    # The labels row above the column names: a result column's translated label, any other column
+    # (variant, row, the variant's inputs) its own name.
+    sheets = [("answer key", pd.DataFrame(rows, columns=header), [neutralised(labels.get(c, c)) for c in header])]
     failed_header, failed_rows = _failure_rows(outcomes, by_row)
     failed_rows = [[neutralised(v) for v in row] for row in failed_rows]
     if failed_rows:

@@ -28,8 +28,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from .errors import PluginError
-from .orchestrator import Plan, RunResult, stage_inputs
+from .orchestrator import Plan, RunResult, check_output, stage_inputs
 from .plugin_types import Stage, StageOutput
 from .scene import Scene
 
@@ -211,9 +210,7 @@ class StageCache:
                     output = stage.run(tracked, stage_inputs(stage, data, the_plan.registry))
                 finally:
                     reads = reads_of(tracked)
-                if set(output.data) != set(stage.provides):
-                    raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
-                                      f"but returned {sorted(output.data)}")
+                check_output(stage, output)
                 entry = _Entry(stage, reads, field_digests(scene, reads), upstream, output,
                                {key: _digest(value) for key, value in output.data.items()})
                 self._entries[stage.name] = entry

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from .errors import PluginError, Problem, SceneError
-from .plugin_types import SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput
+from .plugin_types import SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput, declared
 from .plugins import Registry
 from .scene import Scene, options
 
@@ -212,6 +212,18 @@ def stage_inputs(stage: Stage, data: dict[str, Any], registry: Registry | None) 
     return inputs
 
 
+def check_output(stage: Stage, output: StageOutput) -> None:
+    """What ``run`` returned matches the stage's declarations: ``data`` holds exactly the keys of
+    ``provides``, and every table in ``tables`` is one of ``Stage.tables``."""
+    if set(output.data) != set(stage.provides):
+        raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
+                          f"but returned {sorted(output.data)}")
+    undeclared = [name for name in output.tables.keys() if not declared(name, stage.tables)]
+    if undeclared:
+        raise PluginError(f"stage {stage.name!r} returned the tables {undeclared}, which it does not declare "
+                          f"in Stage.tables (declared: {list(stage.tables)})")
+
+
 def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
@@ -221,9 +233,7 @@ def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         timing[stage.name] = time.perf_counter() - start
-        if set(output.data) != set(stage.provides):
-            raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
-                              f"but returned {sorted(output.data)}")
+        check_output(stage, output)
         data.update(output.data)
         outputs[stage.name] = output
     return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing)

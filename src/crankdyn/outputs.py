@@ -89,7 +89,9 @@ def xlsx_bytes(sheets) -> bytes:
 
     Numbers stay numbers (Excel and LibreOffice show them with the reader's own
     decimal separator); NaN becomes an empty cell; the header row is bold and frozen.
-    Sheet names are cut to Excel's 31 characters and made unique.
+    A sheet given as ``(name, DataFrame, labels)`` gets a row of human-readable labels (one per
+    column) above the column names; both rows are frozen. Sheet names are cut to Excel's
+    31 characters and made unique.
     """
     from openpyxl import Workbook  # lazy: heavy optional import
     from openpyxl.cell import WriteOnlyCell  # lazy: heavy optional import
@@ -99,17 +101,21 @@ def xlsx_bytes(sheets) -> bytes:
     workbook = Workbook(write_only=True)  # streaming writer: several times faster for grid tables
     bold = Font(bold=True)
     used: set[str] = set()
-    for name, frame in sheets:
+    for name, frame, *labelled in sheets:
+        labels = [str(label) for label in labelled[0]] if labelled else None
         ws = workbook.create_sheet(_sheet_name(name, used))
-        ws.freeze_panes = "A2"
+        ws.freeze_panes = "A3" if labels else "A2"
         for i, column in enumerate(frame.columns, start=1):
-            ws.column_dimensions[get_column_letter(i)].width = max(10, min(40, len(str(column)) + 2))
-        header = []
-        for column in frame.columns:
-            cell = WriteOnlyCell(ws, value=str(column))
-            cell.font = bold
-            header.append(cell)
-        ws.append(header)
+            wanted = max(len(str(column)), len(labels[i - 1]) if labels else 0)
+            ws.column_dimensions[get_column_letter(i)].width = max(10, min(40, wanted + 2))
+        header_rows = ([labels] if labels else []) + [[str(column) for column in frame.columns]]
+        for texts in header_rows:
+            header = []
+            for text in texts:
+                cell = WriteOnlyCell(ws, value=text)
+                cell.font = bold
+                header.append(cell)
+            ws.append(header)
         for row in frame.itertuples(index=False, name=None):
             ws.append([_cell(v) for v in row])
     buffer = io.BytesIO()

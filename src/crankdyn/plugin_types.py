@@ -9,6 +9,7 @@ from what ``run`` produced; never physics). The orchestrator orders stages by
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
@@ -167,7 +168,10 @@ class AnswerColumn:
                 nested tables (``"peak.value_Pa"``).
     unit:       the column's unit as printed ("MPa", "m/s", "" for a plain number).
     factor:     column value = results value x factor (results are SI: Pa -> MPa is 1e-6).
-    label_key:  optional catalog key of a human-readable label for the column.
+    label_key:  optional catalog key of the column's human-readable label with its unit
+                ("Maximum cycle pressure, MPa"), from the plugin's own catalogs: ``answer_key.xlsx``
+                shows it in the batch's language above the column names (without one, the
+                column's name); ``answer_key.csv`` keeps the names only.
 
     A variant whose stage did not run (or gave no number) leaves the cell empty.
     """
@@ -209,6 +213,15 @@ class Stage:
                 order given here).
     services:   objects the orchestrator passes in ``inputs`` (``SERVICE_RUNNER``,
                 ``SERVICE_ERROR_PROBES``, see below); a stage never builds its own registry.
+    figures:    the names of the figures ``render`` may draw (the ``name`` of each
+                ``ctx.figure(fig, caption, name)``; the file is figures/fig_<number>_<name>.svg).
+                A ``*`` stands for any text, for a figure drawn once per cylinder or bearing
+                (``"wear_pin*"``). Drawing a figure not declared is a :class:`crankdyn.errors.PluginError`.
+    tables:     the names of the tables ``run`` may put in ``StageOutput.tables`` (written as
+                tables/<stage>_<name>.csv, or tables/<stage>.csv for the name of the stage, and as
+                sheets of tables.xlsx); ``*`` as in ``figures``. Returning a table not declared is a
+                :class:`crankdyn.errors.PluginError`. The numbered tables of the report's text
+                (``ctx.table``) belong to the section and are not declared.
     """
 
     name: str
@@ -229,6 +242,14 @@ class Stage:
     options_model: type | None = None
     answer_columns: tuple[AnswerColumn, ...] = ()
     services: tuple[str, ...] = ()
+    figures: tuple[str, ...] = ()
+    tables: tuple[str, ...] = ()
+
+
+def declared(name: str, declarations: tuple[str, ...]) -> bool:
+    """Whether ``name`` is one of ``declarations`` (``Stage.figures``/``Stage.tables``), where a
+    ``*`` in a declaration stands for any text."""
+    return any(fnmatchcase(name, pattern) for pattern in declarations)
 
 
 # Objects the orchestrator hands to a stage that names them in ``Stage.services``; they arrive

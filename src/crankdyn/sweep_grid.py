@@ -33,8 +33,8 @@ from typing import Any
 
 from .answer_key import answer_columns
 from .api import _nested_overrides
-from .batch import (VARIANT_COLUMN, BatchReport, RunOptions, Variant, _nest, _registry, execute, key_files, load_base,
-                    parse_cell)
+from .batch import (VARIANT_COLUMN, BatchReport, RunOptions, Variant, _nest, _registry, batch_language, execute,
+                    key_files, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
 from .manifest import write_outputs
 from .scene import merge, scene_from_dict
@@ -393,7 +393,7 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
         raise SceneError(problems, "sweep")
     fields, points = variants(request.sweep)
     outcomes, interrupted = execute(points, base, base_dir, request.out_dir, request.options)
-    files = key_files(fields, outcomes, points, request.key_formats)
+    files = key_files(fields, outcomes, points, request.key_formats, batch_language(base, request.options))
     if request.sweep.plot_y is not None:
         plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
         files.update(plotted)

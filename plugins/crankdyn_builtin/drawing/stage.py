@@ -177,7 +177,7 @@ def render(output: StageOutput, ctx) -> str:
 
 
 _COMMON = dict(template_dir=TEMPLATES, title_key="drawing.title", provides=(), run=run, render=render,
-               references=("poda2007",))
+               references=("poda2007",), figures=("scheme", "positions"), tables=())
 
 DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), applies=applies, **_COMMON)
 # After the mechanism's own section (nothing orders it: it requires no data).

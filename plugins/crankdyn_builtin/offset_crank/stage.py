@@ -263,5 +263,7 @@ OFFSET_CRANK_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("offset_piston", "offset_rod"),
+    tables=("offset_crank",),
     references=("poda2007",),
 )

@@ -348,16 +348,11 @@ def _circle(ax, centre, radius, **style):
     ax.plot(centre[0] + radius * np.sin(theta), centre[1] + radius * np.cos(theta), **style)
 
 
-def render(output: StageOutput, ctx) -> str:
+def _sampled_table(f, r, span, ctx) -> str:
+    """The sampled table of the linkage's motion and force ratios, with its worked substitutions."""
     t = ctx.t
-    f = output.tables["planetary"]
-    family = output.tables["family"]
-    r = output.results
-    span = 360.0 * r["period_revolutions"]
-    angle = f["crank_angle_deg"].to_numpy()
-    inside = angle < span
     mm = 1e3
-
+    angle = f["crank_angle_deg"].to_numpy()
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=span)
     g = f.iloc[rows]
     table = ctx.table([
@@ -371,9 +366,14 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"].to_numpy() * mm, 3),
         ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"].to_numpy() * mm, 3),
         ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"].to_numpy(), 3),
-    ], caption=t("planetary.table_caption")) + worked_planetary(ctx, g, labels, r)
+    ], caption=t("planetary.table_caption"))
+    return table + worked_planetary(ctx, g, labels, r)
 
-    # Trajectory and the mechanism at TDC (source, figs. 1 and 3b).
+
+def _path_figure(f, r, inside, ctx) -> str:
+    """The big end's trajectory and the mechanism at TDC with the torque arm MN (source, figs. 1 and 3b)."""
+    t = ctx.t
+    mm = 1e3
     snap = r["tdc_snapshot_m"]
     fig, ax = new_figure(16, 10)
     _circle(ax, (0.0, 0.0), r["fixed_pitch_diameter_m"] / 2 * mm, color="0.5", ls="--", lw=0.9,
@@ -401,8 +401,13 @@ def render(output: StageOutput, ctx) -> str:
     ax.set_xlabel(t("planetary.axis_x"))
     ax.set_ylabel(t("planetary.axis_z"))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)
-    figure_path = ctx.figure(fig, t("planetary.path_caption"), "planetary_path")
+    return ctx.figure(fig, t("planetary.path_caption"), "planetary_path")
 
+
+def _family_figure(family, r, ctx) -> str:
+    """The big-end paths of the source's fig. 2 family of gear ratios."""
+    t = ctx.t
+    mm = 1e3
     fig, axes = new_figure(16, 6.5, ncols=3)
     for ax, ratio in zip(axes, FAMILY_RATIOS):
         d_fixed = r["fixed_pitch_diameter_m"] * mm
@@ -411,8 +416,13 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_aspect("equal")
         ax.set_title(f"d₁ = {d_fixed / ratio:.4g}, d₂ = {d_fixed:.4g} " + t("unit.mm"), fontsize=8)
         ax.tick_params(labelsize=7)
-    figure_family = ctx.figure(fig, t("planetary.family_caption_" + r["gear"]), "planetary_family")
+    return ctx.figure(fig, t("planetary.family_caption_" + r["gear"]), "planetary_family")
 
+
+def _motion_figure(f, angle, inside, span, ctx) -> str:
+    """Piston displacement, velocity and acceleration against the equivalent crank-slider's (source, fig. 3a)."""
+    t = ctx.t
+    mm = 1e3
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
     for ax, key, unit, scale, label in ((axes[0], "piston_displacement", "_m", mm, "planetary.axis_s"),
                                         (axes[1], "piston_velocity", "_m_s", 1.0, "planetary.axis_v"),
@@ -424,8 +434,13 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_ylabel(t(label))
     axes[0].legend(loc="upper right", fontsize=8)
     crank_angle_axis(axes[2], span, t("axis.crank_angle"))
-    figure_motion = ctx.figure(fig, t("planetary.motion_caption"), "planetary_motion")
+    return ctx.figure(fig, t("planetary.motion_caption"), "planetary_motion")
 
+
+def _arms_figure(f, angle, inside, span, ctx) -> str:
+    """How a piston force reaches the carrier: the torque arms and the tooth and carrier force ratios."""
+    t = ctx.t
+    mm = 1e3
     fig, axes = new_figure(16, 12, nrows=2, sharex=True)
     axes[0].plot(angle[inside], f["carrier_torque_arm_m"].to_numpy()[inside] * mm, color="C0",
                  label=t("planetary.arm_effective"))
@@ -444,7 +459,24 @@ def render(output: StageOutput, ctx) -> str:
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[1], span, t("axis.crank_angle"))
-    figure_arms = ctx.figure(fig, t("planetary.arms_caption"), "planetary_arms")
+    return ctx.figure(fig, t("planetary.arms_caption"), "planetary_arms")
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The section: the sampled table, the four figures (path, family, motion, arms) and the conclusion."""
+    t = ctx.t
+    f = output.tables["planetary"]
+    r = output.results
+    span = 360.0 * r["period_revolutions"]
+    angle = f["crank_angle_deg"].to_numpy()
+    inside = angle < span
+    mm = 1e3
+
+    table = _sampled_table(f, r, span, ctx)
+    figure_path = _path_figure(f, r, inside, ctx)
+    figure_family = _family_figure(output.tables["family"], r, ctx)
+    figure_motion = _motion_figure(f, angle, inside, span, ctx)
+    figure_arms = _arms_figure(f, angle, inside, span, ctx)
 
     ctx.conclude(t("planetary.conclusion", gear=t("planetary.gear_" + r["gear"]), ratio=ctx.num(r["gear_ratio"], 4),
                    stroke=ctx.num(r["stroke_m"] * mm, 5), arm=ctx.num(r["torque_arm_tdc_m"] * mm, 4),
@@ -466,5 +498,7 @@ PLANETARY_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
+    tables=("planetary", "family"),
     references=("ismailov",),
 )

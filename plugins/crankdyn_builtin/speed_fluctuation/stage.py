@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import math
+from dataclasses import dataclass
 from typing import Annotated, Literal
 
 import numpy as np
@@ -287,7 +288,31 @@ def _spans(opts: TorsionOptions, cranks: int, has_flywheel: bool = True) -> list
     return spans
 
 
-def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOptions):
+@dataclass
+class _Shaft:
+    """The torsional multi-mass model of one scene: its discs, spans, matrices and equations of motion."""
+
+    names: list[str]
+    spans: list[float]
+    mean_inertias: np.ndarray
+    crank_nodes: np.ndarray
+    reference: int  # the disc whose absolute angle the model keeps (the flywheel, else the last crank)
+    K: np.ndarray
+    C: np.ndarray
+    modes: tor.Modes
+    eigen: np.ndarray
+    load: float
+    model: tor.ShaftModel
+    total_torque: np.ndarray  # (cranks, N): each crank's torque (gas + inertia) at the nominal speed
+
+    @property
+    def n(self) -> int:
+        return int(self.mean_inertias.size)
+
+
+def _shaft(torque, crank_loads, design, train, opts: TorsionOptions) -> _Shaft:
+    """The discs (free end, cranks, flywheel, load) and the spans between them; the shaft's stiffness and
+    modal damping matrices, natural modes and the equations of motion driven by each crank's torque."""
     omega_n = torque.angular_velocity_rad_s
     cranks = train.cranks
     has_flywheel = design.flywheel_inertia_kg_m2 > 0  # none when the engine's own inertia suffices
@@ -306,8 +331,7 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
                              + ([design.flywheel_inertia_kg_m2] if has_flywheel else [])
                              + ([opts.load_inertia] if opts.load_inertia else []))
     crank_nodes = np.arange(front, front + cranks)
-    n = mean_inertias.size
-    if n < 2:
+    if mean_inertias.size < 2:
         raise SceneError(Problem("torsion", "[torsion]", "a torsional model needs at least two discs: this engine has "
                                  "one crank and needs no flywheel; give flywheel.inertia or a load disc"))
     reference = front + cranks if has_flywheel else front + cranks - 1  # keeps the absolute angle
@@ -317,70 +341,97 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     eigen = tor.modal_eigenvalues(modes.omega_rad_s, opts.damping_ratio)
     load = float(gas_series.mean.sum())
     model = tor.ShaftModel(gas_series, crank_series, crank_nodes, mean_inertias, K, C, load, reference)
+    return _Shaft(names, spans, mean_inertias, crank_nodes, reference, K, C, modes, eigen, load, model, total_torque)
 
-    # Harmonic orders of one crank's torque (gas + inertia at the nominal speed).
-    revolutions = torque.strokes / 2
-    orders, coefficients = sf.harmonic_amplitudes(total_torque[0], revolutions, 1e9)
-    significant = sf.significant_order(orders, np.abs(coefficients))
-    period_s = period / omega_n
-    choice = sf.choose_solver(eigen, period_s, significant * omega_n)
-    forced = None if opts.solver == "auto" else opts.solver
-    method = forced or choice.method
 
-    # Start from the linear frequency-domain solution (constant mean inertias, torques at
-    # constant speed): close to the periodic state, so few cycles remain to converge.
+def _periodic_state(shaft: _Shaft, torque, exact, opts: TorsionOptions, method: str):
+    """The shaft's periodic steady state, integrated cycle after cycle until one repeats the one before.
+
+    It starts from the linear frequency-domain solution (constant mean inertias, torques at constant
+    speed): close to the periodic state, so few cycles remain to converge. Returns the steady state,
+    its last cycle's run, the absolute tolerances as a function of rtol and the twist scale.
+    """
+    omega_n = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+    period = math.pi * torque.strokes
+    n, reference, total_torque = shaft.n, shaft.reference, shaft.total_torque
     node_torque = np.zeros((alpha.size, n))
-    node_torque[:, crank_nodes] = total_torque.T
+    node_torque[:, shaft.crank_nodes] = total_torque.T
     node_torque[:, -1] -= total_torque.sum(axis=0).mean()
-    linear = tor.forced_response(mean_inertias, K, C, sf.PeriodicSeries.from_samples(node_torque, period), omega_n,
-                                 reference)
+    linear = tor.forced_response(shaft.mean_inertias, shaft.K, shaft.C,
+                                 sf.PeriodicSeries.from_samples(node_torque, period), omega_n, reference)
     x0 = linear(0.0)
     v0 = omega_n * (1.0 + linear.derivative()(0.0))
     v0 += float(exact.omega_at(0.0)) - v0[reference]
-    z0 = model.state(x0 - x0[reference], v0)
-    twist_scale = max(float(np.max(np.abs(total_torque))) / min(spans), 1e-12)
+    z0 = shaft.model.state(x0 - x0[reference], v0)
+    twist_scale = max(float(np.max(np.abs(total_torque))) / min(shaft.spans), 1e-12)
     speed_scale = max(exact.omega_max_rad_s - exact.omega_min_rad_s, 1e-9 * omega_n)
 
     def atol(rtol):
         return np.concatenate([[rtol * 1e-3], np.full(n - 1, rtol * 1e-3 * twist_scale), np.full(n, rtol * 1e-3 * omega_n)])
 
-    steady = tor.periodic_steady_state(model, z0, period, period_s, method, opts.rtol, atol(opts.rtol),
+    steady = tor.periodic_steady_state(shaft.model, z0, period, period / omega_n, method, opts.rtol, atol(opts.rtol),
                                        twist_scale, speed_scale, opts.steady_tolerance, int(opts.max_cycles))
     final = steady.runs[-1]
     if not final.success or final.sol is None:
         raise SceneError(Problem("torsion.solver", method, f"the solver failed on the torsional model ({final.message}); "
                                  "try solver = \"auto\" or \"Radau\""))
-    times = np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1]
-    z = final.sol(times)
-    theta = model.P @ z[:n]
+    return steady, final, atol, twist_scale
+
+
+def _mode_rows(modes: tor.Modes, n: int) -> list[dict]:
+    """The elastic modes (the rigid-body mode 0 left out): natural frequency and shape."""
+    return [{"mode": s, "natural_frequency_rad_s": float(modes.omega_rad_s[s]),
+             "natural_frequency_Hz": float(modes.omega_rad_s[s] / (2 * math.pi)),
+             "shape": [float(a) for a in modes.shapes[:, s]]} for s in range(1, n)]
+
+
+def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, train) -> list[dict]:
+    """One crank's torque harmonics up to the last significant order (at least MAX_ORDER), each with its
+    relative vector sum and critical speed for every elastic mode."""
+    n, modes = shaft.n, shaft.modes
+    rows = []
+    for order, c in zip(orders, coefficients):
+        if order > max(MAX_ORDER, significant) + 1e-9:
+            break
+        rows.append({
+            "order": float(order), "amplitude_Nm": float(abs(c)),
+            "vector_sum": [tor.relative_vector_sum(modes.shapes[shaft.crank_nodes[train.crank_of_cylinder], s],
+                                                   train.phase_rad, order) for s in range(1, n)],
+            "critical_rpm": [float(tor.critical_speed_rpm(modes.omega_rad_s[s], order)) for s in range(1, n)]})
+    return rows
+
+
+def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOptions):
+    """The torsional section's results and table: the shaft model, its modes and the harmonics of the
+    crank torque, the solver chosen by stiffness, the periodic state and its twists and span torques."""
+    omega_n = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+    shaft = _shaft(torque, crank_loads, design, train, opts)
+    n, reference, spans = shaft.n, shaft.reference, shaft.spans
+
+    # Harmonic orders of one crank's torque (gas + inertia at the nominal speed).
+    orders, coefficients = sf.harmonic_amplitudes(shaft.total_torque[0], torque.strokes / 2, 1e9)
+    significant = sf.significant_order(orders, np.abs(coefficients))
+    choice = sf.choose_solver(shaft.eigen, math.pi * torque.strokes / omega_n, significant * omega_n)
+    forced = None if opts.solver == "auto" else opts.solver
+    steady, final, atol, twist_scale = _periodic_state(shaft, torque, exact, opts, forced or choice.method)
+
+    z = final.sol(np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1])
+    theta = shaft.model.P @ z[:n]
     speeds = z[n:]
     flywheel_angle = np.degrees(theta[reference] - theta[reference][0])
     twist = theta[1:] - theta[:-1]  # span j: disc j+1 minus disc j
     span_torque = np.asarray(spans)[:, None] * twist
-
     # The rigid-shaft (single-mass) flywheel speed at the same flywheel angles, for comparison.
     rigid = exact.omega_at(np.radians(flywheel_angle))
     fly_speed = speeds[reference]
     f_max, f_min = float(fly_speed.max()), float(fly_speed.min())
-    mode_rows = []
-    for s in range(1, n):
-        mode_rows.append({"mode": s, "natural_frequency_rad_s": float(modes.omega_rad_s[s]),
-                          "natural_frequency_Hz": float(modes.omega_rad_s[s] / (2 * math.pi)),
-                          "shape": [float(a) for a in modes.shapes[:, s]]})
-    phases = train.phase_rad
-    harmonic_rows = []
-    # The table runs up to the order the text names as the last significant one (at least MAX_ORDER).
-    for order, c in zip(orders, coefficients):
-        if order > max(MAX_ORDER, significant) + 1e-9:
-            break
-        harmonic_rows.append({
-            "order": float(order), "amplitude_Nm": float(abs(c)),
-            "vector_sum": [tor.relative_vector_sum(modes.shapes[crank_nodes[train.crank_of_cylinder], s], phases, order)
-                           for s in range(1, n)],
-            "critical_rpm": [float(tor.critical_speed_rpm(modes.omega_rad_s[s], order)) for s in range(1, n)]})
+    mode_rows = _mode_rows(shaft.modes, n)
+    harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
 
     results = {
-        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(names, mean_inertias)],
+        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias)],
         "reference_node": int(reference),
         "span_stiffness_N_m_rad": [float(k) for k in spans],
         "damping_ratio": opts.damping_ratio,
@@ -394,7 +445,7 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         "steady_state": {"cycles": steady.cycles, "converged": steady.converged,
                          "change": steady.change if math.isfinite(steady.change) else None,
                          "tolerance": opts.steady_tolerance, "load_torque_Nm": steady.load_torque_Nm,
-                         "damping_loss_W": (load - steady.load_torque_Nm) * omega_n,
+                         "damping_loss_W": (shaft.load - steady.load_torque_Nm) * omega_n,
                          "steps_per_cycle": final.steps, "nfev_per_cycle": final.nfev,
                          "time_s": sum(r.time_s for r in steady.runs)},
         "twist_max_rad": [float(np.max(np.abs(t))) for t in twist],
@@ -405,14 +456,13 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         "reference_rtol": opts.reference_rtol,
         "solvers": [],
     }
-
     if opts.compare_solvers:
-        results["solvers"] = _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n)
+        results["solvers"] = _torsion_solvers(shaft.model, steady, atol, opts, n, twist_scale, omega_n)
     tables = {"torsion": {"shaft_angle_deg": flywheel_angle,
                           **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
                           **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
                           **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in
-                             enumerate(names)},
+                             enumerate(shaft.names)},
                           "rigid_speed_rad_s": rigid}}
     return results, tables
 
@@ -582,12 +632,10 @@ def _error_figure(ctx, records, caption, name, key="error_relative"):
     return ctx.figure(fig, caption, name)
 
 
-def render(output: StageOutput, ctx) -> str:
+def _speed_figure(f, r, ctx) -> str:
+    """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
     t = ctx.t
-    r = output.results
-    f = output.tables["speed_fluctuation"]
     angle = f["crank_angle_deg"].to_numpy()
-
     fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
     axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
@@ -598,84 +646,124 @@ def render(output: StageOutput, ctx) -> str:
     axes[1].plot(angle, f["inertia_kg_m2"], color="C4")
     axes[1].set_ylabel(t("speed_fluctuation.axis_inertia"))
     crank_angle_axis(axes[1], ctx.cycle_deg, t("axis.crank_angle"))
-    figure_speed = ctx.figure(fig, t("speed_fluctuation.speed_caption"), "speed")
+    return ctx.figure(fig, t("speed_fluctuation.speed_caption"), "speed")
+
+
+def _shaft_tables(ctx, torsion, node_names, parts) -> None:
+    """The discs and spans of the shaft model, and its natural modes (frequencies and shapes)."""
+    t = ctx.t
+    nodes, modes = torsion["nodes"], torsion["modes"]
+    parts["table_nodes"] = ctx.table(
+        [(t("speed_fluctuation.col_node"), [f"{i + 1}: {name}" for i, name in enumerate(node_names)], None),
+         ("<i>J</i>, " + t("flywheel.unit_kg_m2"), [ctx.num(n["inertia_mean_kg_m2"]) for n in nodes], None),
+         ("<i>k</i>, " + t("speed_fluctuation.unit_N_m_rad"),
+          [ctx.num(k) for k in torsion["span_stiffness_N_m_rad"]] + ["—"], None),
+         (t("speed_fluctuation.col_twist"), [ctx.num(x * 1e3) for x in torsion["twist_max_rad"]] + ["—"], None),
+         (t("speed_fluctuation.col_span_torque"), [ctx.num(x) for x in torsion["span_torque_max_Nm"]] + ["—"],
+          None)],
+        caption=t("speed_fluctuation.nodes_caption"))
+    parts["table_modes"] = ctx.table(
+        [(t("speed_fluctuation.col_mode"), [str(m["mode"]) for m in modes], None),
+         ("<i>ω</i>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
+         ("<i>f</i>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
+        + [(Markup("<i>a</i><sub>") + str(i + 1) + Markup("</sub>"), [m["shape"][i] for m in modes], 3)
+           for i in range(len(nodes))],
+        caption=t("speed_fluctuation.modes_caption"))
+
+
+def _modes_figure(ctx, torsion, parts) -> None:
+    """The shapes of the first (at most three) elastic modes along the shaft."""
+    t = ctx.t
+    nodes, modes = torsion["nodes"], torsion["modes"]
+    fig, ax = new_figure(16, 7)
+    for m in modes[: min(3, len(modes))]:
+        ax.plot(range(1, len(nodes) + 1), m["shape"], "o-", label=t("speed_fluctuation.mode_label", mode=m["mode"],
+                                                                   f=ctx.num(m["natural_frequency_Hz"], 4)))
+    ax.axhline(0, color="0.3", lw=0.6)
+    ax.set_xticks(range(1, len(nodes) + 1))
+    ax.set_xlabel(t("speed_fluctuation.axis_node"))
+    ax.set_ylabel(t("speed_fluctuation.axis_amplitude"))
+    ax.legend(loc="best", fontsize=7)
+    parts["figure_modes"] = ctx.figure(fig, t("speed_fluctuation.modes_figure_caption"), "modes")
+
+
+def _harmonics_table(ctx, torsion, parts) -> None:
+    """The crank torque's harmonic orders with the critical speeds and vector sums of the first two modes."""
+    t = ctx.t
+    harmonics = torsion["harmonics"]
+    shown = torsion["modes"][:2]
+    parts["table_harmonics"] = ctx.table(
+        [(Markup("<i>ν</i>"), [ctx.num(h["order"], 3) for h in harmonics], None),
+         (Markup("|<i>M</i><sub><i>ν</i></sub>|, ") + t("unit.Nm"), [h["amplitude_Nm"] for h in harmonics], 1)]
+        + [(t("speed_fluctuation.col_critical", mode=m["mode"]), [h["critical_rpm"][k] for h in harmonics], 0)
+           for k, m in enumerate(shown)]
+        + [(t("speed_fluctuation.col_vector_sum", mode=m["mode"]), [h["vector_sum"][k] for h in harmonics], 2)
+           for k, m in enumerate(shown)],
+        caption=t("speed_fluctuation.harmonics_caption"))
+
+
+def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
+    """The periodic state: the flywheel's and the first crank's speed against the rigid shaft's, and the
+    torque in every span, over the shaft angle."""
+    t = ctx.t
+    nodes = torsion["nodes"]
+    fig, axes = new_figure(16, 13, nrows=2, sharex=True)
+    shaft = tf["shaft_angle_deg"].to_numpy()
+    speed_columns = [c for c in tf.columns if c.startswith("speed_")]
+    reference = torsion["reference_node"]
+    axes[0].plot(shaft, tf[speed_columns[reference]], color="C0", label=node_names[reference])
+    axes[0].plot(shaft, tf["rigid_speed_rad_s"], color="C3", ls="--", lw=1, label=t("speed_fluctuation.rigid_speed"))
+    first_crank = next(i for i, node in enumerate(nodes) if node["name"].startswith("crank "))
+    axes[0].plot(shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank])
+    axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
+    axes[0].legend(loc="upper right", fontsize=7)
+    spans = [c for c in tf.columns if c.startswith("span_torque_")]
+    for j, column in enumerate(spans):
+        axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
+    axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
+    axes[1].legend(loc="upper right", fontsize=6, ncol=3)
+    crank_angle_axis(axes[1], ctx.cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
+    parts["figure_torsion"] = ctx.figure(fig, t("speed_fluctuation.torsion_caption"), "torsion")
+
+
+def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
+    """The torsional subsection's tables and figures, made in the order the template shows them
+    (tables and figures are numbered as made), and its conclusions."""
+    t = ctx.t
+    parts = {}
+    node_names = [_node_name(t, node["name"]) for node in torsion["nodes"]]
+    modes = torsion["modes"]
+    _shaft_tables(ctx, torsion, node_names, parts)
+    _modes_figure(ctx, torsion, parts)
+    _harmonics_table(ctx, torsion, parts)
+    _campbell(ctx, torsion, parts)
+    _torsion_figure(ctx, output.tables["torsion"], torsion, node_names, parts)
+    if torsion["solvers"]:
+        parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
+                                                       t("speed_fluctuation.torsion_table_caption"), twist=True)
+        parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
+                                                        t("speed_fluctuation.torsion_figure_caption"),
+                                                        "solvers_torsion")
+    ctx.conclude(t("speed_fluctuation.conclusion_torsion", f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
+                   else "—", method=torsion["solver"]["method"],
+                   twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
+                   torque=ctx.num(max(torsion["span_torque_max_Nm"]))))
+    return parts
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The section: the speed over the cycle and the single-mass solver study, then the torsional
+    model when the scene has one, and the conclusions."""
+    t = ctx.t
+    r = output.results
+    figure_speed = _speed_figure(output.tables["speed_fluctuation"], r, ctx)
     table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"))
     figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single")
 
     torsion = r["torsion"]
     if torsion is None:  # no torsional model in the scene: the title does not promise one
         ctx.title = t("speed_fluctuation.title_rigid")
-    parts = {}
-    if torsion is not None:
-        tf = output.tables["torsion"]
-        nodes = torsion["nodes"]
-        node_names = [_node_name(t, node["name"]) for node in nodes]
-        modes = torsion["modes"]
-        # Created in the order the template shows them: tables and figures are numbered as made.
-        parts["table_nodes"] = ctx.table(
-            [(t("speed_fluctuation.col_node"), [f"{i + 1}: {name}" for i, name in enumerate(node_names)], None),
-             ("<i>J</i>, " + t("flywheel.unit_kg_m2"), [ctx.num(n["inertia_mean_kg_m2"]) for n in nodes], None),
-             ("<i>k</i>, " + t("speed_fluctuation.unit_N_m_rad"),
-              [ctx.num(k) for k in torsion["span_stiffness_N_m_rad"]] + ["—"], None),
-             (t("speed_fluctuation.col_twist"), [ctx.num(x * 1e3) for x in torsion["twist_max_rad"]] + ["—"], None),
-             (t("speed_fluctuation.col_span_torque"), [ctx.num(x) for x in torsion["span_torque_max_Nm"]] + ["—"],
-              None)],
-            caption=t("speed_fluctuation.nodes_caption"))
-        parts["table_modes"] = ctx.table(
-            [(t("speed_fluctuation.col_mode"), [str(m["mode"]) for m in modes], None),
-             ("<i>ω</i>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
-             ("<i>f</i>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
-            + [(Markup("<i>a</i><sub>") + str(i + 1) + Markup("</sub>"), [m["shape"][i] for m in modes], 3)
-               for i in range(len(nodes))],
-            caption=t("speed_fluctuation.modes_caption"))
-        fig, ax = new_figure(16, 7)
-        for m in modes[: min(3, len(modes))]:
-            ax.plot(range(1, len(nodes) + 1), m["shape"], "o-", label=t("speed_fluctuation.mode_label", mode=m["mode"],
-                                                                       f=ctx.num(m["natural_frequency_Hz"], 4)))
-        ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_xticks(range(1, len(nodes) + 1))
-        ax.set_xlabel(t("speed_fluctuation.axis_node"))
-        ax.set_ylabel(t("speed_fluctuation.axis_amplitude"))
-        ax.legend(loc="best", fontsize=7)
-        parts["figure_modes"] = ctx.figure(fig, t("speed_fluctuation.modes_figure_caption"), "modes")
-        harmonics = torsion["harmonics"]
-        shown = modes[:2]
-        parts["table_harmonics"] = ctx.table(
-            [(Markup("<i>ν</i>"), [ctx.num(h["order"], 3) for h in harmonics], None),
-             (Markup("|<i>M</i><sub><i>ν</i></sub>|, ") + t("unit.Nm"), [h["amplitude_Nm"] for h in harmonics], 1)]
-            + [(t("speed_fluctuation.col_critical", mode=m["mode"]), [h["critical_rpm"][k] for h in harmonics], 0)
-               for k, m in enumerate(shown)]
-            + [(t("speed_fluctuation.col_vector_sum", mode=m["mode"]), [h["vector_sum"][k] for h in harmonics], 2)
-               for k, m in enumerate(shown)],
-            caption=t("speed_fluctuation.harmonics_caption"))
-        _campbell(ctx, torsion, parts)
-        fig, axes = new_figure(16, 13, nrows=2, sharex=True)
-        shaft = tf["shaft_angle_deg"].to_numpy()
-        speed_columns = [c for c in tf.columns if c.startswith("speed_")]
-        reference = torsion["reference_node"]
-        axes[0].plot(shaft, tf[speed_columns[reference]], color="C0", label=node_names[reference])
-        axes[0].plot(shaft, tf["rigid_speed_rad_s"], color="C3", ls="--", lw=1, label=t("speed_fluctuation.rigid_speed"))
-        first_crank = next(i for i, node in enumerate(nodes) if node["name"].startswith("crank "))
-        axes[0].plot(shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank])
-        axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
-        axes[0].legend(loc="upper right", fontsize=7)
-        spans = [c for c in tf.columns if c.startswith("span_torque_")]
-        for j, column in enumerate(spans):
-            axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
-        axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
-        axes[1].legend(loc="upper right", fontsize=6, ncol=3)
-        crank_angle_axis(axes[1], ctx.cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
-        parts["figure_torsion"] = ctx.figure(fig, t("speed_fluctuation.torsion_caption"), "torsion")
-        if torsion["solvers"]:
-            parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
-                                                           t("speed_fluctuation.torsion_table_caption"), twist=True)
-            parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
-                                                            t("speed_fluctuation.torsion_figure_caption"),
-                                                            "solvers_torsion")
-        ctx.conclude(t("speed_fluctuation.conclusion_torsion", f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
-                       else "—", method=torsion["solver"]["method"],
-                       twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
-                       torque=ctx.num(max(torsion["span_torque_max_Nm"]))))
+    parts = _torsion_parts(ctx, output, torsion) if torsion is not None else {}
     ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], 4),
                    energy=ctx.num(r["irregularity_energy"], 4),
                    deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
@@ -740,6 +828,8 @@ SPEED_FLUCTUATION_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("speed", "solvers_single", "modes", "campbell", "torsion", "solvers_torsion"),
+    tables=("speed_fluctuation", "torsion"),
     references=("denhartog1956", "hairer1996", "scipy2020"),
     options_table="torsion",
     options_model=TorsionOptions,

@@ -200,16 +200,12 @@ def run(scene, inputs) -> StageOutput:
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
 
-def render(output: StageOutput, ctx) -> str:
-    t = ctx.t
-    f = output.tables["vane"]
-    compare = output.tables.get("compare")
-    by_lambda = output.tables["by_lambda"]
-    r = output.results
+def _comparison_plotter(f, compare, r, ctx):
+    """``plot(ax, key, scale, **style)``: one column of the vane table over the crank angle, with the
+    same column at each comparison rod ratio dashed beside it."""
     angle = f["crank_angle_deg"].to_numpy()
     lam = r["rod_ratio"]
     others = r["compare_rod_ratios"]
-    mm = 1e3
 
     def plot(ax, key, scale=1.0, **style):
         ax.plot(angle, f[key].to_numpy() * scale, color="C0", label=f"λ = {ctx.t.number_g(lam, 4)}", **style)
@@ -218,7 +214,14 @@ def render(output: StageOutput, ctx) -> str:
                     label=f"λ = {ctx.t.number_g(other, 4)}")
         ax.axhline(0, color="0.3", lw=0.6)
 
-    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    return plot
+
+
+def _vane_table(f, r, ctx) -> str:
+    """The sampled table of the core, vane, rocker and slider motion, with its worked substitutions."""
+    t = ctx.t
+    mm = 1e3
+    rows, labels = sample_rows(f["crank_angle_deg"].to_numpy(), ctx.table_step_deg)
     g = f.iloc[rows]
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
@@ -232,26 +235,28 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"].to_numpy(), 3),
         ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"].to_numpy(), 0),
         ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"].to_numpy() * mm, 2),
-    ], caption=t("vane.table_caption"), css_class="data wide") + worked_vane(ctx, g, labels, r)
+    ], caption=t("vane.table_caption"), css_class="data wide")
+    return table + worked_vane(ctx, g, labels, r)
 
+
+def _two_panels(plot, ctx, keys, axis_labels, caption_key, name) -> str:
+    """An angle and its rate (or a rate and its derivative) over the crank angle, with the comparison rod ratios."""
+    t = ctx.t
     fig, axes = new_figure(16, 11, nrows=2, sharex=True)
-    plot(axes[0], "core_angle_deg")
-    axes[0].set_ylabel(t("vane.axis_beta"))
+    plot(axes[0], keys[0])
+    axes[0].set_ylabel(t(axis_labels[0]))
     axes[0].legend(loc="upper right", fontsize=8)
-    plot(axes[1], "vane_angle_deg")
-    axes[1].set_ylabel(t("vane.axis_gamma"))
+    plot(axes[1], keys[1])
+    axes[1].set_ylabel(t(axis_labels[1]))
     crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
-    figure_angles = ctx.figure(fig, t("vane.angles_caption"), "vane_angles")
+    return ctx.figure(fig, t(caption_key), name)
 
-    fig, axes = new_figure(16, 11, nrows=2, sharex=True)
-    plot(axes[0], "core_angular_velocity_rad_s")
-    axes[0].set_ylabel(t("vane.axis_omega_c"))
-    axes[0].legend(loc="upper right", fontsize=8)
-    plot(axes[1], "core_angular_acceleration_rad_s2")
-    axes[1].set_ylabel(t("vane.axis_epsilon_c"))
-    crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
-    figure_core = ctx.figure(fig, t("vane.core_caption"), "vane_core")
 
+def _rocker_figure(f, ctx) -> str:
+    """The rocker joint's x and y position, velocity and acceleration over the crank angle."""
+    t = ctx.t
+    mm = 1e3
+    angle = f["crank_angle_deg"].to_numpy()
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
     for ax, (kx, ky), label in ((axes[0], ("rocker_x_m", "rocker_y_m"), "vane.axis_rocker_s"),
                                 (axes[1], ("rocker_vx_m_s", "rocker_vy_m_s"), "vane.axis_rocker_v"),
@@ -263,32 +268,30 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_ylabel(t(label))
     axes[0].legend(loc="upper right", fontsize=8)
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    figure_rocker = ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
+    return ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
 
-    def three_panels(keys, axis_labels, legend_loc, caption_key, name, zeros=()):
-        """Value, velocity and acceleration of one coordinate over the crank angle, with the
-        comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
-        fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-        for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
-            plot(ax, key, mm if i == 0 else 1.0)
-            ax.set_ylabel(t(label))
-            if i == 0:
-                ax.legend(loc=legend_loc, fontsize=8)
-        for zero in zeros:
-            for ax in axes[1:]:
-                ax.axvline(zero, color="C3", lw=0.7, ls=":")
-        crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-        return ctx.figure(fig, t(caption_key), name)
 
-    figure_slider = three_panels(
-        ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
-        ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"), "upper right", "vane.slider_caption",
-        "vane_slider", r["slider_vertical_acceleration_zeros_deg"])
-    figure_relative = three_panels(
-        ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
-        ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
-        "vane.relative_caption", "vane_relative")
+def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, zeros=()) -> str:
+    """Value, velocity and acceleration of one coordinate over the crank angle, with the
+    comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
+    t = ctx.t
+    fig, axes = new_figure(16, 15, nrows=3, sharex=True)
+    for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
+        plot(ax, key, 1e3 if i == 0 else 1.0)
+        ax.set_ylabel(t(label))
+        if i == 0:
+            ax.legend(loc=legend_loc, fontsize=8)
+    for zero in zeros:
+        for ax in axes[1:]:
+            ax.axvline(zero, color="C3", lw=0.7, ls=":")
+    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    return ctx.figure(fig, t(caption_key), name)
 
+
+def _lambda_figure(by_lambda, lam, ctx) -> str:
+    """How the rod ratio λ sets the largest core angle, the slider's largest travel and the angle where
+    its acceleration vanishes; the scene's λ marked."""
+    t = ctx.t
     fig, axes = new_figure(16, 6.5, ncols=3)
     x = by_lambda["rod_ratio"].to_numpy()
     axes[0].plot(x, by_lambda["core_angle_max_deg"], color="C0")
@@ -303,7 +306,34 @@ def render(output: StageOutput, ctx) -> str:
         ax.axvline(lam, color="C3", lw=0.7, ls=":")
         ax.set_xlabel("λ")
         ax.tick_params(labelsize=7)
-    figure_lambda = ctx.figure(fig, t("vane.lambda_caption"), "vane_lambda")
+    return ctx.figure(fig, t("vane.lambda_caption"), "vane_lambda")
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The section: the sampled table, the angle, core, rocker, slider and relative-slider figures,
+    the rod-ratio study and the conclusion."""
+    t = ctx.t
+    f = output.tables["vane"]
+    r = output.results
+    lam = r["rod_ratio"]
+    mm = 1e3
+    plot = _comparison_plotter(f, output.tables.get("compare"), r, ctx)
+
+    table = _vane_table(f, r, ctx)
+    figure_angles = _two_panels(plot, ctx, ("core_angle_deg", "vane_angle_deg"), ("vane.axis_beta", "vane.axis_gamma"),
+                                "vane.angles_caption", "vane_angles")
+    figure_core = _two_panels(plot, ctx, ("core_angular_velocity_rad_s", "core_angular_acceleration_rad_s2"),
+                              ("vane.axis_omega_c", "vane.axis_epsilon_c"), "vane.core_caption", "vane_core")
+    figure_rocker = _rocker_figure(f, ctx)
+    figure_slider = _three_panels(
+        plot, ctx, ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
+        ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"), "upper right", "vane.slider_caption",
+        "vane_slider", r["slider_vertical_acceleration_zeros_deg"])
+    figure_relative = _three_panels(
+        plot, ctx, ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
+        ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
+        "vane.relative_caption", "vane_relative")
+    figure_lambda = _lambda_figure(output.tables["by_lambda"], lam, ctx)
 
     zeros = r["slider_vertical_acceleration_zeros_deg"]
     ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),
@@ -324,5 +354,7 @@ VANE_STAGE = Stage(
     applies=applies,
     run=run,
     render=render,
+    figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
+    tables=("vane", "compare", "by_lambda"),
     references=("klementev2023",),
 )

@@ -14,6 +14,8 @@ from typing import Any, Sequence
 import numpy as np
 from markupsafe import Markup, escape
 
+from ..errors import PluginError
+from ..plugin_types import declared
 from .i18n import Translator
 from .typeset import typeset_figure
 
@@ -107,6 +109,9 @@ class RenderContext:
     #: a section's title for what this scene's section contains, when it differs from the
     #: stage's title (honest headings: a part left out is not announced); reset per section
     title: str | None = None
+    #: the figure names the section's stage declares (``Stage.figures``); None: not checked
+    #: (the input section, a context built by hand)
+    declared_figures: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
@@ -122,11 +127,20 @@ class RenderContext:
     def last_table_number(self) -> str:
         return f"{self.section_number}.{self._table}"
 
-    def start_section(self, number: int, stage_name: str) -> None:
+    def start_section(self, number: int, stage_name: str, figures: tuple[str, ...] | None = None) -> None:
+        """Start numbering a section; ``figures``: the names its stage declares (``Stage.figures``)."""
         self.section_number = number
         self.stage_name = stage_name
         self._equation = self._table = self._figure = 0
         self.title = None
+        self.declared_figures = figures
+
+    def check_figure_declared(self, name: str) -> None:
+        """A stage draws only the figures it declares: a :class:`PluginError` naming the stage and
+        the figure otherwise (the report's figure files are what ``Stage.figures`` announces)."""
+        if self.declared_figures is not None and not declared(name, self.declared_figures):
+            raise PluginError(f"stage {self.stage_name!r} drew the figure {name!r}, which it does not declare in "
+                              f"Stage.figures (declared: {list(self.declared_figures)})")
 
     # ----------------------------------------------------------------- numbering
     def equation(self, formula_html: str, label: str = "") -> Markup:
@@ -183,8 +197,9 @@ class RenderContext:
         return table_markup(self.t, number, caption_text, head, body, css_class, see=see)
 
     def figure(self, fig, caption: str, name: str) -> Markup:
-        """Render a matplotlib figure to SVG, number it and return its markup (with the
-        sentence that refers to it before it)."""
+        """Number a matplotlib figure and return its markup (with the sentence that refers to it
+        before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use)."""
+        self.check_figure_declared(name)
         for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
             if earlier.figure is fig and not earlier.drawn:
                 earlier.svg  # noqa: B018 - drawn for its side effect

@@ -138,7 +138,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     for stage in result.plan.order:
         to_appendix = course and stage.name in NUMERICS_STAGES
         number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
-        ctx.start_section(number, stage.name)
+        ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
         output = result.outputs[stage.name]
         body = stage.render(output, ctx) if sections_cache is None else sections_cache.render(stage, output, ctx)
