@@ -251,8 +251,12 @@ def test_critical_speeds_near_the_operating_speed_are_flagged():
     assert round(by_order[7.0]["critical_rpm"]) == 5427 and round(by_order[6.5]["critical_rpm"]) == 5845
     # the table reaches the order the text names as the last significant one
     assert max(h["order"] for h in t["harmonics"]) == pytest.approx(max(12.0, t["significant_order"]))
-    # RK45 stopped by its budget is named so, not as a failure
-    rk45 = [r for r in t["solvers"] if r["method"] == "RK45" and not r["success"]]
-    assert rk45 and all(r["outcome"] == "budget" and "budget" in r["message"] for r in rk45)
+    # RK45 stopped by its budget is named so, not as a failure. Whether the default budget (10 x the
+    # implicit solvers' evaluations) stops it depends on the machine's floating point (3530 of 3740
+    # evaluations on one, over on another); a budget of 1000, below the ~3500 it needs, always does.
+    assert all(r["outcome"] == "budget" for r in t["solvers"] if r["method"] == "RK45" and not r["success"])
+    tight = run("inline4-torsion", {"torsion": {"explicit_budget": 1000, "compare_rtols": [1e-3]}})
+    rk45 = [r for r in tight.outputs["speed_fluctuation"].results["torsion"]["solvers"] if r["method"] == "RK45"]
+    assert rk45 and all(not r["success"] and r["outcome"] == "budget" and "budget" in r["message"] for r in rk45)
     html, catalog, ctx = _sections(run("inline4-torsion"), "en")
     assert any("5427" in c and "5845" in c for c in ctx.conclusions)
