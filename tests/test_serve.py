@@ -30,6 +30,7 @@ import pytest
 from conftest import ARTIFACTS, modified, write_scene
 
 from crankdyn.errors import Problem, SceneError
+from crankdyn.cli import examples_dir
 from crankdyn.serve import Preview, PreviewServer, error_page, referenced_files, with_reload
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -167,8 +168,11 @@ def test_figures_are_served_by_url_and_a_kept_figure_keeps_its_url(preview_serve
     first = _wait(lambda: (s := _status(base))["state"] == "report" and not s["building"] and s, 60,
                   "the first rendering")
     page = _get(base)[2].decode()
-    urls = re.findall(r'src="(figures/[^"]+)"', page)
-    assert urls and not re.search(r'src="data:', page)  # figures are linked, each drawn once
+    # figures are linked, each drawn once; one not drawn when the page went out waits behind a
+    # blank image and its URL, which the page's script swaps in once /figures-ready answers
+    urls = re.findall(r'(?:src|data-figure)="(figures/[^"]+)"', page)
+    assert urls and len(re.findall(r'<img ', page)) == len(urls)
+    assert _get(base + "figures-ready?version=" + first["version"], timeout=60)[2] == b"ready\n"
     status, headers, svg = _get(base + urls[0])
     assert status == 200 and headers["Content-Type"] == "image/svg+xml" and svg.lstrip().startswith(b"<?xml")
     assert "immutable" in headers["Cache-Control"]
@@ -183,7 +187,9 @@ def test_figures_are_served_by_url_and_a_kept_figure_keeps_its_url(preview_serve
     # kinematics figures keep their URLs (the browser shows them from its cache), the rest change.
     _edit(scene, compression_ratio="17.6")
     _wait(lambda: (s := _status(base))["version"] != first["version"] and not s["building"], 60, "a new build")
-    new_urls = re.findall(r'src="(figures/[^"]+)"', _get(base)[2].decode())
+    new_page = _get(base)[2].decode()
+    new_urls = re.findall(r'(?:src|data-figure)="(figures/[^"]+)"', new_page)
+    assert all(f'src="{u}"' in new_page for u in urls if "/fig_2_" in u)  # kept: drawn, shown at once
     kinematics = [u for u in urls if "/fig_2_" in u]
     assert kinematics and all(u in new_urls for u in kinematics)
     assert all(u not in new_urls for u in urls if "/fig_2_" not in u)
@@ -379,3 +385,20 @@ def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path)
             code = None
     assert code == 0, "crankdyn serve did not stop cleanly on SIGTERM"
     assert "preview stopped" in server.stderr.read()
+
+
+def test_a_study_that_must_run_again_follows_the_page(tmp_path):
+    """The error study (last, providing nothing) runs after the page is out: the first snapshot
+    says its section follows, the next one has it; the figures are drawn meanwhile."""
+    scene = tmp_path / "kinematics.toml"
+    scene.write_text((examples_dir() / "kinematics-only.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    preview = Preview(scene)
+    published = []
+    publish = preview._publish
+    preview._publish = lambda *args: published.append(publish(*args)) or published[-1]
+    final = preview.build()
+    assert [s.state for s in published] == ["report", "report"]
+    assert published[0].pending and published[1].pending == () and final is published[1]
+    assert b'class="pending"' in published[0].page and b'class="pending"' not in published[1].page
+    assert final.figures and all(f.drawn for f in final.figures)
+    assert set(published[0].figures) <= set(final.figures)  # the first page's figures, kept and drawn

@@ -194,8 +194,13 @@ class StageCache:
         return (entry is not None and entry.stage is stage and entry.upstream == upstream
                 and entry.fields == field_digests(scene, entry.reads))
 
-    def run_plan(self, scene: Scene, the_plan: Plan) -> RunResult:
-        """:func:`crankdyn.orchestrator.run_plan`, re-running only stages whose inputs changed."""
+    def run_plan(self, scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunResult:
+        """:func:`crankdyn.orchestrator.run_plan`, re-running only stages whose inputs changed.
+
+        With ``defer_studies``, a stage that would have to run again, comes ``last`` and provides
+        nothing (a study of the others, such as the error against run time: no stage can wait
+        for it) is not run: it is missing from the result's outputs (:attr:`RunResult.pending`),
+        and a second call without ``defer_studies`` runs it (and only it)."""
         data: dict[str, Any] = {}
         digests: dict[str, str] = {}
         outputs: dict[str, StageOutput] = {}
@@ -205,6 +210,8 @@ class StageCache:
             entry = self._entries.get(stage.name)
             start = time.perf_counter()
             if not self._valid(entry, stage, scene, upstream):
+                if defer_studies and stage.last and not stage.provides:
+                    continue
                 tracked = _tracked_copy(scene)
                 try:
                     output = stage.run(tracked, stage_inputs(stage, data, the_plan.registry))

@@ -32,6 +32,11 @@ class RunResult:
     def stages_run(self) -> list[str]:
         return [s.name for s in self.plan.order]
 
+    @property
+    def pending(self) -> list[str]:
+        """Stages of the plan not run yet (the live preview shows the others first)."""
+        return [s.name for s in self.plan.order if s.name not in self.outputs]
+
 
 def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ()) -> None:
     """Checks that need the plugins: mechanism name, its own checks, language, stage names."""

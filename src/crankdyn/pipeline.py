@@ -92,12 +92,16 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
 
 
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
-                    stage_cache, sections_cache):
+                    stage_cache, sections_cache, defer_studies: bool = False):
     """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
     inputs changed) and render the report (re-rendering only the sections whose stage output or
-    scene reads changed); the figures are left undrawn, so that the page can be shown first.
+    scene reads changed); the figures are left undrawn, so that the page can be shown first. With
+    ``defer_studies`` a study that has to run again (the error against run time) is left for the
+    next call and its section says so (``RunResult.pending``).
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`)."""
+    from .orchestrator import check_scene, plan  # the steps of run_scene, with the cache's deferral
     from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
-    result = run_scene(scene, registry, stages, languages, cache=stage_cache)
+    check_scene(scene, registry, languages)
+    result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies)
     return result, render_html(result, registry, sections_cache=sections_cache)

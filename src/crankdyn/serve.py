@@ -45,7 +45,7 @@ from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
 from .pipeline import run_for_preview
 from .plugins import default_registry
-from .report.context import FIGURE_DIR, draw_figures
+from .report.context import FIGURE_DIR, draw_figures, start_drawing
 from .report.i18n import available_languages
 from .report.pdf import html_to_pdf
 from .report.section_cache import SectionCache
@@ -69,6 +69,7 @@ class Snapshot:
     render_s: float = 0.0
     built_at: float = field(default_factory=time.time)
     figures: tuple = ()  # the report's FigureFiles, as report_html refers to them
+    pending: tuple[str, ...] = ()  # stages whose sections say they follow (the next snapshot has them)
     figures_s: float | None = None  # when every figure was drawn, seconds after the build started
 
     @property
@@ -81,6 +82,12 @@ class Snapshot:
 def reload_script(version: str, nonce: str) -> str:
     """The inline script that reloads the tab when the server's version changes."""
     return (f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
+            # figures still being drawn wait behind a blank image: one request asks when they are
+            # done (a browser holds only six connections to a host: six held image requests would
+            # stall the next reload)
+            "var w=document.querySelectorAll('img[data-figure]');"
+            "if(w.length){fetch('/figures-ready?version='+encodeURIComponent(v),{cache:'no-store'})"
+            ".then(function(){w.forEach(function(i){i.src=i.dataset.figure;});});}"
             "function poll(){fetch('/version?after='+encodeURIComponent(v),{cache:'no-store'})"
             ".then(function(r){return r.text();})"
             ".then(function(t){if(t.trim()!==v){location.reload();}else{poll();}})"
@@ -137,6 +144,14 @@ def _starting_page() -> str:
     return ('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: rendering…</title>'
             f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="starting"><p>Rendering the report…</p>'
             "</body></html>")
+
+
+def _placeholder(figure, url: str) -> str:
+    """``src`` and ``data-figure`` of a figure not drawn yet: a blank image of the figure's size."""
+    width_in, height_in = figure.figure.get_size_inches()
+    blank = (f"<svg xmlns='http://www.w3.org/2000/svg' width='{width_in * 72:.0f}pt' height='{height_in * 72:.0f}pt' "
+             f"viewBox='0 0 {width_in * 72:.0f} {height_in * 72:.0f}'/>")
+    return f'src="data:image/svg+xml,{quote(blank)}" data-figure="{FIGURE_DIR}/{url}"'
 
 
 # --------------------------------------------------------------------------- files
@@ -201,6 +216,7 @@ class Preview:
         self._drawn = threading.Condition()  # notified after each figure the builder draws
         self._figure_urls: dict[str, object] = {}  # "TOKEN/NAME" -> FigureFile, this build's and the last
         self._last_urls: dict[str, object] = {}
+        self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
@@ -215,41 +231,58 @@ class Preview:
 
     def build(self) -> Snapshot:
         """Render the scene now (in this thread) and make the result the current snapshot: the
-        page first, then its figures one by one (see the module docstring)."""
+        page first — without a study that has to run again (the error against run time), whose
+        section says it follows —, then the whole page, then its figures (see the module docstring)."""
         self._building.set()
         start = time.perf_counter()
         try:
-            state, page, problems, report_html, figures = self._render()
-            self._count += 1
-            version = f"{self._boot}-{self._count}"
-            snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
-                                report_html, problems, time.perf_counter() - start, figures=tuple(figures))
-            self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
-            with self._published:
-                self._published.notify_all()
+            snapshot = self._publish(*self._render(defer_studies=True), start)
+            if snapshot.pending:  # the study, and nothing else, runs now (its figures drawn meanwhile)
+                finish = start_drawing(snapshot.figures)
+                try:
+                    snapshot = self._publish(*self._render(defer_studies=False), start)
+                finally:
+                    if finish is not None:
+                        finish()
+                        with self._drawn:
+                            self._drawn.notify_all()
             self._draw(snapshot, start)
         finally:
             self._building.clear()
-        if state == "report":
+        if snapshot.state == "report":
             self._log(f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s, figures by "
                       f"{snapshot.figures_s:.2f} s (version {self._count})")
         else:
-            self._log(f"{self.scene_path.name}: {len(problems)} problem(s); showing them instead of the report\n"
-                      + "\n".join(f"  - {p}" for p in problems))
+            self._log(f"{self.scene_path.name}: {len(snapshot.problems)} problem(s); showing them instead of the "
+                      "report\n" + "\n".join(f"  - {p}" for p in snapshot.problems))
         return snapshot
 
-    def _render(self) -> tuple[str, str, tuple[str, ...], str | None, list]:
+    def _publish(self, state: str, page: str, problems: tuple[str, ...], report_html: str | None, figures: list,
+                 pending: tuple[str, ...], start: float) -> Snapshot:
+        self._count += 1
+        version = f"{self._boot}-{self._count}"
+        snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
+                            report_html, problems, time.perf_counter() - start, figures=tuple(figures),
+                            pending=pending)
+        with self._drawn:
+            self._recent = (self.snapshot, *self._recent)[:2]  # a tab may still show one of these
+        self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
+        with self._published:
+            self._published.notify_all()
+        return snapshot
+
+    def _render(self, defer_studies: bool = False) -> tuple[str, str, tuple[str, ...], str | None, list, tuple]:
         try:
             if self._registry is None:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            _, rendered = run_for_preview(scene, self._registry, self.stages, available_languages(),
-                                          self.stage_cache, self.sections_cache)
+            result, rendered = run_for_preview(scene, self._registry, self.stages, available_languages(),
+                                               self.stage_cache, self.sections_cache, defer_studies)
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)
-            return state, page, problems, None, []
-        report_html = rendered.linked_html
+            return state, page, problems, None, [], ()
+        report_html = page = rendered.linked_html
         urls: dict[str, object] = {}
         for figure in rendered.figures:
             if getattr(figure, "preview_token", None) is None:  # a new figure: a new URL
@@ -257,11 +290,14 @@ class Preview:
                 figure.preview_token = f"{self._boot}{self._tokens}"
             url = f"{figure.preview_token}/{figure.name}"
             urls[url] = figure
-            report_html = report_html.replace(f'src="{FIGURE_DIR}/{figure.name}"', f'src="{FIGURE_DIR}/{url}"')
+            old = f'src="{FIGURE_DIR}/{figure.name}"'
+            report_html = report_html.replace(old, f'src="{FIGURE_DIR}/{url}"')
+            # a figure still to draw: a blank image of its size until the page's script swaps it in
+            page = page.replace(old, f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
         with self._drawn:  # a tab still showing the last build may ask for its figures too
             self._figure_urls = {**self._last_urls, **urls}
             self._last_urls = urls
-        return "report", report_html, (), report_html, list(rendered.figures)
+        return "report", page, (), report_html, list(rendered.figures), tuple(result.pending)
 
     def _draw(self, snapshot: Snapshot, start: float) -> None:
         """Draw the snapshot's new figures, shared by forked processes, and wake the requests
@@ -273,6 +309,23 @@ class Preview:
             with self._drawn:
                 self._drawn.notify_all()
         object.__setattr__(snapshot, "figures_s", time.perf_counter() - start)
+
+    def figures_ready(self, version: str, timeout: float = 120.0) -> bool:
+        """Wait until the figures of snapshot ``version`` are drawn (False if another snapshot came)."""
+        deadline = time.monotonic() + timeout
+        with self._drawn:
+            while True:
+                snapshot = self.snapshot
+                if snapshot.version != version and not any(s.version == version for s in self._recent):
+                    return False
+                if all(f.drawn for f in self._figures_of(version)):
+                    return True
+                if time.monotonic() >= deadline:
+                    return False
+                self._drawn.wait(0.5)
+
+    def _figures_of(self, version: str) -> tuple:
+        return next((s.figures for s in (self.snapshot, *self._recent) if s.version == version), ())
 
     def version_after(self, version: str, timeout: float = LONG_POLL_S) -> str:
         """The current version, as soon as it is not ``version`` (or after ``timeout`` seconds)."""
@@ -384,6 +437,7 @@ class _Handler(BaseHTTPRequestHandler):
         elif path == "/status":
             status = {"version": snapshot.version, "state": snapshot.state, "problems": list(snapshot.problems),
                       "render_s": round(snapshot.render_s, 3), "building": self.preview.building,
+                      "pending": list(snapshot.pending),
                       "scene": str(self.preview.scene_path),
                       "watched": sorted(str(p) for p in self.preview.watched())}
             self._send(HTTPStatus.OK, "application/json", json.dumps(status, ensure_ascii=False).encode("utf-8"))
@@ -399,6 +453,10 @@ class _Handler(BaseHTTPRequestHandler):
                 return
             self._send(HTTPStatus.OK, "application/pdf", pdf,
                        extra={"Content-Disposition": content_disposition(self.preview.scene_path.stem + ".pdf")})
+        elif path == "/figures-ready":
+            version = (parse_qs(urlsplit(self.path).query).get("version") or [""])[0]
+            ready = self.preview.figures_ready(version)
+            self._send(HTTPStatus.OK, "text/plain; charset=utf-8", b"ready\n" if ready else b"gone\n")
         elif path.startswith(f"/{FIGURE_DIR}/"):
             svg = self.preview.figure(path[len(FIGURE_DIR) + 2:])
             if svg is None:

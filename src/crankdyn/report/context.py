@@ -62,6 +62,24 @@ class FigureFile:
         return f"FigureFile({self.name!r}, drawn={self.drawn})"
 
 
+def start_drawing(figures: Sequence[FigureFile], workers: int | None = None):
+    """Start drawing the figures not drawn yet in forked children (one per CPU), leaving this
+    process free; returns a callable that waits for them and stores the SVGs (drawing here what
+    a child did not deliver), or None when there is nothing to draw or forking is not possible."""
+    from .figures import ForkedDrawing, can_fork, default_workers  # lazy: heavy optional import (matplotlib)
+
+    pending = [f for f in figures if not f.drawn]
+    workers = default_workers() if workers is None else workers
+    if not pending or workers <= 1 or not can_fork(allow_threads=True):
+        return None
+    drawing = ForkedDrawing([f.draw for f in pending], [list(range(k, len(pending), workers)) for k in range(workers)])
+
+    def finish() -> None:
+        for figure, svg in zip(pending, drawing.finish()):
+            figure._svg = svg
+    return finish
+
+
 def draw_figures(figures: Sequence[FigureFile], workers: int | None = None, allow_threads: bool = False) -> None:
     """Draw every figure not drawn yet, shared by ``workers`` processes (default: the CPUs;
     see :func:`crankdyn.report.figures.draw_jobs` for when it stays serial)."""

@@ -140,8 +140,13 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
-        output = result.outputs[stage.name]
-        body = stage.render(output, ctx) if sections_cache is None else sections_cache.render(stage, output, ctx)
+        output = result.outputs.get(stage.name)
+        if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
+            body = f'<p class="pending">{escape(t("doc.section_pending"))}</p>'
+        elif sections_cache is None:
+            body = stage.render(output, ctx)
+        else:
+            body = sections_cache.render(stage, output, ctx)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
         body = landscape_tables_later(body)
@@ -153,7 +158,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             body = f"<p>{escape(t('doc.method_from', refs=cite(numbers)))}</p>" + body
         view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
-        for key, params in output.notes:
+        for key, params in (output.notes if output is not None else ()):
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
 
@@ -163,7 +168,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
                for name, reason in result.plan.skipped.items()]
-    timing = [(t(s.title_key) if s.title_key else s.name, result.timing_s[s.name]) for s in result.plan.order]
+    timing = [(t(s.title_key) if s.title_key else s.name, result.timing_s[s.name]) for s in result.plan.order
+              if s.name in result.timing_s]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
                     for p in template_search_path([])[:1])
     html = env.get_template("report.html.j2").render(

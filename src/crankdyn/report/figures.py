@@ -120,28 +120,44 @@ def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threa
     workers = min(workers, len(jobs) // 2)
     if workers <= 1 or len(jobs) < 4 or not can_fork(allow_threads):
         return [job() for job in jobs]
-    results: list[bytes | None] = [None] * len(jobs)
-    children = []
-    for k in range(1, workers):
-        mine = list(range(k, len(jobs), workers))
+    drawing = ForkedDrawing(jobs, [list(range(k, len(jobs), workers)) for k in range(1, workers)])
+    try:
+        for i in range(0, len(jobs), workers):
+            drawing.results[i] = jobs[i]()
+    finally:  # even when a figure of this process's share failed: no child is left behind
+        drawing.collect()
+    return drawing.finish()
+
+
+class ForkedDrawing:
+    """Jobs drawn by forked children, one child per share of job indices, while this process
+    goes on with other work; :meth:`finish` collects them and does here whatever a child did
+    not deliver. Call :meth:`finish` (or :meth:`collect`) exactly once: it reaps the children."""
+
+    def __init__(self, jobs: Sequence[Callable[[], bytes]], shares: Sequence[Sequence[int]]):
+        self.jobs = list(jobs)
+        self.results: list[bytes | None] = [None] * len(self.jobs)
+        self._children = [self._fork(list(share)) for share in shares if share]
+
+    def _fork(self, mine: list[int]):
         read_end, write_end = os.pipe()
         pid = os.fork()
         if pid == 0:  # the child: draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
             try:
-                payload = pickle.dumps([jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
+                payload = pickle.dumps([self.jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
                 with os.fdopen(write_end, "wb") as pipe:
                     pipe.write(payload)
                 code = 0
             finally:
                 os._exit(code)
         os.close(write_end)
-        children.append((pid, read_end, mine))
-    try:
-        for i in range(0, len(jobs), workers):
-            results[i] = jobs[i]()
-    finally:  # even when a figure of this process's share failed: no child is left behind
+        return pid, read_end, mine
+
+    def collect(self) -> None:
+        """Wait for every child and keep what it drew."""
+        children, self._children = self._children, []
         for pid, read_end, mine in children:
             with os.fdopen(read_end, "rb") as pipe:
                 payload = pipe.read()
@@ -149,7 +165,11 @@ def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threa
             if status == 0:
                 try:
                     for i, svg in zip(mine, pickle.loads(payload), strict=True):
-                        results[i] = svg
-                except Exception:  # noqa: BLE001 - a truncated answer: those figures are drawn below
+                        self.results[i] = svg
+                except Exception:  # noqa: BLE001 - a truncated answer: those figures are drawn here
                     pass
-    return [job() if result is None else result for job, result in zip(jobs, results)]
+
+    def finish(self) -> list[bytes]:
+        """Every job's result: the children's, and here what they did not deliver."""
+        self.collect()
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
