@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import outputs
-from .orchestrator import RunResult, run_scene
+from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
 from .manifest import write_outputs
 from .scene import Scene
@@ -99,7 +99,6 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     ``defer_studies`` a study that has to run again (the error against run time) is left for the
     next call and its section says so (``RunResult.pending``).
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`)."""
-    from .orchestrator import check_scene, plan  # the steps of run_scene, with the cache's deferral
     from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
     check_scene(scene, registry, languages)
