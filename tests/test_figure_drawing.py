@@ -93,3 +93,19 @@ def test_a_figure_drawn_by_a_child_is_typeset_here_when_asked(examples):
     assert any(raw_labels(f.figure) for f in child_drawn)  # the child typeset its copy, not ours
     for figure in child_drawn:
         assert raw_labels(figure.typeset()) == []
+
+
+def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
+    # 10⁻³ as the tables write it: a real superscript, and plain text in the SVG (no mathtext
+    # to typeset for every label; ×10⁵ offsets likewise)
+    from crankdyn.report.figures import new_figure, to_svg
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import typeset_figure
+
+    fig, (log_axes, big_axes) = new_figure(12, 6, ncols=2)
+    log_axes.loglog([1e-4, 1e-1], [1e-6, 1.0])
+    big_axes.plot([0.0, 1.0], [2.0e5, 3.5e5])
+    typeset_figure(fig, translator("uk", default_registry().catalogs))
+    svg = to_svg(fig).decode("utf-8")
+    assert "10⁻³" in svg and "10⁻⁶" in svg and "×10⁵" in svg
+    assert "$" not in svg and "e-0" not in svg and "^" not in svg

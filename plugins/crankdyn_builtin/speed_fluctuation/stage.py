@@ -608,10 +608,10 @@ def _sci(value, separator: str = ".") -> str:
 
 
 def _power_of_ten(value: float, t) -> str:
-    """A tolerance as a figure label: ``10⁻³`` (mathtext), never ``1e-03``."""
+    """A tolerance as a figure label: ``10⁻³`` (Unicode superscripts), never ``1e-03``."""
     exponent = math.log10(value) if value > 0 else float("nan")
     if math.isfinite(exponent) and abs(exponent - round(exponent)) < 1e-9:
-        return f"$10^{{{int(round(exponent))}}}$"
+        return f"10{superscript(int(round(exponent)))}"
     return t.number_g(value, 2)
 
 

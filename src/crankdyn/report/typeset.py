@@ -17,7 +17,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from .i18n import MINUS, NARROW_NBSP
+from .i18n import MINUS, NARROW_NBSP, superscript
 import numpy as np
 
 
@@ -264,7 +264,9 @@ def _log_label(x: float, t) -> str:
         return ""
     exponent = math.log10(x)
     if abs(exponent - round(exponent)) < 1e-9:
-        return f"$10^{{{int(round(exponent))}}}$"
+        # Unicode superscripts, as in the tables (1,2·10⁻⁵): real superscripts, and plain text,
+        # so no mathtext has to be typeset for each of a log axis's labels
+        return f"10{superscript(int(round(exponent)))}"
     return t.number_g(x, 3)
 
 
@@ -301,6 +303,6 @@ def locale_formatter(t):
             return tick_labels([x], t)[0][0]
 
         def get_offset(self):
-            return f"×10$^{{{self.scale}}}$" if self.scale else ""
+            return f"×10{superscript(self.scale)}" if self.scale else ""
 
     return LocaleFormatter()
