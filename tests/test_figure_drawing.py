@@ -109,3 +109,21 @@ def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
     svg = to_svg(fig).decode("utf-8")
     assert "10⁻³" in svg and "10⁻⁶" in svg and "×10⁵" in svg
     assert "$" not in svg and "e-0" not in svg and "^" not in svg
+
+
+def test_figures_drawn_while_the_next_sections_render_are_the_serial_bytes(examples):
+    from crankdyn.report.figures import IncrementalDrawing
+
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    serial = render_html(result, registry).figures
+    draw_figures(serial, workers=1)
+    drawing = IncrementalDrawing(workers=2)
+    handed = []
+    rendered = render_html(result, registry, figure_sink=lambda figures: (handed.append(list(figures)),
+                                                                          drawing.add(figures)))
+    drawing.finish()
+    assert [f for batch in handed for f in batch] == rendered.figures  # every figure, section by section
+    assert all(f.drawn for f in rendered.figures)
+    assert [(f.name, f.svg) for f in rendered.figures] == [(f.name, f.svg) for f in serial]
+    assert _no_children_left()

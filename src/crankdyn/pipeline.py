@@ -46,9 +46,20 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     if "html" in formats or "pdf" in formats or "docx" in formats:
         from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
         from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
+        from .report.figures import IncrementalDrawing, can_fork, default_workers  # lazy: heavy optional import
 
-        rendered = render_html(result, registry)
-        draw_figures(rendered.figures, figure_workers)
+        workers = default_workers() if figure_workers is None else figure_workers
+        if workers > 1 and can_fork():  # the figures are drawn while the next sections are rendered
+            drawing = IncrementalDrawing(workers)
+            try:
+                rendered = render_html(result, registry, figure_sink=drawing.add)
+            except BaseException:
+                drawing.abandon()
+                raise
+            drawing.finish()
+        else:
+            rendered = render_html(result, registry)
+        draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
         if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
         elif "html" in formats:

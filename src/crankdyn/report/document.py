@@ -116,9 +116,11 @@ def appendix_letter(t, index: int) -> str:
 
 
 def render_html(result: RunResult, registry: Registry, language: str | None = None,
-                sections_cache=None) -> RenderedReport:
+                sections_cache=None, figure_sink=None) -> RenderedReport:
     """The report of ``result``; with a :class:`crankdyn.report.section_cache.SectionCache`
-    (the live preview's), sections whose stage output and scene reads did not change are reused."""
+    (the live preview's), sections whose stage output and scene reads did not change are reused.
+    ``figure_sink(figures)``, if given, receives each section's figures as soon as the section is
+    rendered (e.g. :class:`crankdyn.report.figures.IncrementalDrawing`, drawing them meanwhile)."""
     scene = result.scene
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
@@ -140,6 +142,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
+        figures_before = len(ctx.figures)
         output = result.outputs.get(stage.name)
         if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
             body = f'<p class="pending">{escape(t("doc.section_pending"))}</p>'
@@ -147,6 +150,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             body = stage.render(output, ctx)
         else:
             body = sections_cache.render(stage, output, ctx)
+        if figure_sink is not None:
+            figure_sink(ctx.figures[figures_before:])
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
         body = landscape_tables_later(body)

@@ -10,6 +10,7 @@ import functools
 import io
 import os
 import pickle
+import select
 import sys
 import threading
 from collections.abc import Callable, Sequence
@@ -155,6 +156,10 @@ class ForkedDrawing:
         os.close(write_end)
         return pid, read_end, mine
 
+    def done(self) -> bool:
+        """Whether every child has finished drawing (its answer is waiting in its pipe)."""
+        return all(select.select([read_end], [], [], 0)[0] for _, read_end, _ in self._children)
+
     def collect(self) -> None:
         """Wait for every child and keep what it drew."""
         children, self._children = self._children, []
@@ -173,3 +178,47 @@ class ForkedDrawing:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
         return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+
+
+class IncrementalDrawing:
+    """Figures drawn by forked children while this process goes on rendering the report's next
+    sections: :meth:`add` hands over a section's figures (a child is forked for what is waiting
+    whenever fewer than ``workers - 1`` are busy), :meth:`finish` draws here what no child took,
+    while the children finish, and collects their SVGs. Works on :class:`FigureFile` s."""
+
+    def __init__(self, workers: int):
+        self.children = max(workers - 1, 1)
+        self._running: list[tuple[ForkedDrawing, list]] = []
+        self._waiting: list = []
+
+    def add(self, figures) -> None:
+        self._waiting += [f for f in figures if not f.drawn]
+        self._store(finished_only=True)
+        if self._waiting and len(self._running) < self.children:
+            batch, self._waiting = self._waiting, []
+            self._running.append((ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))]), batch))
+
+    def _store(self, finished_only: bool) -> None:
+        keep = []
+        for drawing, batch in self._running:
+            if finished_only and not drawing.done():
+                keep.append((drawing, batch))
+                continue
+            for figure, svg in zip(batch, drawing.finish()):
+                figure._svg = svg
+        self._running = keep
+
+    def finish(self) -> None:
+        try:
+            for figure in self._waiting:
+                figure.svg  # noqa: B018 - drawn here for its side effect, while the children draw theirs
+        finally:
+            self._waiting = []
+            self._store(finished_only=False)
+
+    def abandon(self) -> None:
+        """The report failed: reap the children, draw nothing more."""
+        self._waiting = []
+        for drawing, _ in self._running:
+            drawing.collect()
+        self._running = []
