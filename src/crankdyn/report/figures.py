@@ -191,12 +191,19 @@ class IncrementalDrawing:
         self._running: list[tuple[ForkedDrawing, list]] = []
         self._waiting: list = []
 
+    #: Figures a child takes at a time: small batches leave work for the end, where this process
+    #: and the children share it (a child that took everything would leave this one idle).
+    BATCH = 3
+
     def add(self, figures) -> None:
         self._waiting += [f for f in figures if not f.drawn]
         self._store(finished_only=True)
         if self._waiting and len(self._running) < self.children:
-            batch, self._waiting = self._waiting, []
-            self._running.append((ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))]), batch))
+            batch, self._waiting = self._waiting[:self.BATCH], self._waiting[self.BATCH:]
+            self._fork(batch)
+
+    def _fork(self, batch: list) -> None:
+        self._running.append((ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))]), batch))
 
     def _store(self, finished_only: bool) -> None:
         keep = []
@@ -209,8 +216,13 @@ class IncrementalDrawing:
         self._running = keep
 
     def finish(self) -> None:
+        self._store(finished_only=True)
+        waiting, self._waiting = self._waiting, []
+        if len(waiting) >= 2:  # the rest shared with a new child (a busy one has at most BATCH left)
+            self._fork(waiting[1::2])
+            waiting = waiting[0::2]
         try:
-            for figure in self._waiting:
+            for figure in waiting:
                 figure.svg  # noqa: B018 - drawn here for its side effect, while the children draw theirs
         finally:
             self._waiting = []
