@@ -90,12 +90,8 @@ def _tracked_table(table: BaseModel, reads: set[str], name: str):
     if copy is None:
         copy = _construct(_tracking_class(type(table)), table)
         _recorder[id(copy)] = (reads, name + ".")
-        _tables[key] = copy
-        _keep.append(copy)  # alive while recording, so that its id is not reused
+        _tables[key] = copy  # kept (alive, so its id is not reused) until reads_of
     return copy
-
-
-_keep: list = []
 
 
 def _tracked_copy(scene: Scene) -> Scene:
@@ -118,7 +114,6 @@ def reads_of(tracked: Scene) -> frozenset[str]:
     _recorder.pop(id(tracked), None)
     for key in [k for k in _tables if k[0] == id(reads)]:
         _recorder.pop(id(_tables.pop(key)), None)
-    _keep[:] = [c for c in _keep if id(c) in _recorder]
     return frozenset(reads)
 
 

@@ -22,7 +22,6 @@ build keeps its URL, so the browser shows it from its cache at once.
 
 from __future__ import annotations
 
-import base64
 import html
 import json
 import os
@@ -64,7 +63,7 @@ class Snapshot:
     version: str
     page: bytes  # the HTML served at /, with the reload script
     state: str  # "report", "scene-error", "error" or "starting"
-    report_html: str | None = None  # the report without the script (figures linked), for the PDF
+    report_html: str | None = None  # the report without the script, as figures/NAME.svg links it: the PDF
     problems: tuple[str, ...] = ()
     render_s: float = 0.0
     built_at: float = field(default_factory=time.time)
@@ -146,6 +145,11 @@ def _starting_page() -> str:
             "</body></html>")
 
 
+def _url(figure) -> str:
+    """A figure's URL below figures/: the token of its drawing, then its file name."""
+    return f"{figure.preview_token}/{figure.name}"
+
+
 def _placeholder(figure, url: str) -> str:
     """``src`` and ``data-figure`` of a figure not drawn yet: a blank image of the figure's size."""
     width_in, height_in = figure.figure.get_size_inches()
@@ -214,8 +218,6 @@ class Preview:
         self.stage_cache = StageCache()  # a save re-runs only the stages whose inputs changed
         self.sections_cache = SectionCache()  # ... and re-renders only their sections
         self._drawn = threading.Condition()  # notified after each figure the builder draws
-        self._figure_urls: dict[str, object] = {}  # "TOKEN/NAME" -> FigureFile, this build's and the last
-        self._last_urls: dict[str, object] = {}
         self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
         self._threads: list[threading.Thread] = []
@@ -282,22 +284,16 @@ class Preview:
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)
             return state, page, problems, None, [], ()
-        report_html = page = rendered.linked_html
-        urls: dict[str, object] = {}
+        page = rendered.linked_html
         for figure in rendered.figures:
             if getattr(figure, "preview_token", None) is None:  # a new figure: a new URL
                 self._tokens += 1
                 figure.preview_token = f"{self._boot}{self._tokens}"
-            url = f"{figure.preview_token}/{figure.name}"
-            urls[url] = figure
-            old = f'src="{FIGURE_DIR}/{figure.name}"'
-            report_html = report_html.replace(old, f'src="{FIGURE_DIR}/{url}"')
+            url = _url(figure)
             # a figure still to draw: a blank image of its size until the page's script swaps it in
-            page = page.replace(old, f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
-        with self._drawn:  # a tab still showing the last build may ask for its figures too
-            self._figure_urls = {**self._last_urls, **urls}
-            self._last_urls = urls
-        return "report", page, (), report_html, list(rendered.figures), tuple(result.pending)
+            page = page.replace(f'src="{FIGURE_DIR}/{figure.name}"',
+                                f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
+        return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
 
     def _draw(self, snapshot: Snapshot, start: float) -> None:
         """Draw the snapshot's new figures, shared by forked processes, and wake the requests
@@ -338,7 +334,9 @@ class Preview:
         deadline = time.monotonic() + timeout
         with self._drawn:
             while True:
-                figure = self._figure_urls.get(url)
+                # this build's figures or a recent one's: a tab may still show an earlier page
+                figure = next((f for snap in (self.snapshot, *self._recent) for f in snap.figures
+                               if _url(f) == url), None)
                 if figure is None:
                     return None
                 if figure.drawn:
@@ -351,15 +349,10 @@ class Preview:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""
         with self._pdf_lock:
             if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
-                names = [f"{f.preview_token}/{f.name}" for f in snapshot.figures]
-                svgs = [self.figure(name) for name in names]  # drawn by the builder, never here
-                if any(svg is None for svg in svgs):
+                # drawn by the builder, never here (matplotlib is not thread-safe)
+                if not self.figures_ready(snapshot.version):
                     raise CrankdynError("the report's figures were not drawn in time")
-                html = snapshot.report_html
-                for name, svg in zip(names, svgs):
-                    data = base64.b64encode(svg).decode("ascii")
-                    html = html.replace(f'src="{FIGURE_DIR}/{name}"', f'src="data:image/svg+xml;base64,{data}"')
-                self._pdf_cache = (snapshot.version, html_to_pdf(html))
+                self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html, snapshot.figures))
             return self._pdf_cache[1]
 
     # ------------------------------------------------------------- threads
