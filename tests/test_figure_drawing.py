@@ -127,3 +127,40 @@ def test_figures_drawn_while_the_next_sections_render_are_the_serial_bytes(examp
     assert all(f.drawn for f in rendered.figures)
     assert [(f.name, f.svg) for f in rendered.figures] == [(f.name, f.svg) for f in serial]
     assert _no_children_left()
+
+
+def test_figures_handed_out_are_waited_for_one_by_one_and_are_the_serial_bytes(examples):
+    """The PDF's path: every figure given to children at once (IncrementalDrawing.hand_out), then
+    read in document order while the children may still draw: each read waits for the child that
+    draws it (never drawn twice here) and gives the serial bytes."""
+    from crankdyn.report.figures import IncrementalDrawing
+
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    serial = render_html(result, registry).figures
+    draw_figures(serial, workers=1)
+    drawing = IncrementalDrawing(workers=2)
+    rendered = render_html(result, registry, figure_sink=drawing.add)
+    drawing.hand_out()
+    assert rendered.figures and all(f.drawn or f.awaiting is not None for f in rendered.figures)
+    drawn_here = []
+    for figure in rendered.figures:  # a figure drawn here would mean a second drawing
+        figure.draw = lambda figure=figure: drawn_here.append(figure.name) or b""
+    assert [(f.name, f.svg) for f in rendered.figures] == [(f.name, f.svg) for f in serial]
+    assert drawn_here == [] and all(f.awaiting is None for f in rendered.figures)
+    drawing.finish()
+    assert _no_children_left()
+
+
+def test_a_report_to_pdf_draws_each_figure_once_and_leaves_no_child(examples, tmp_path):
+    from crankdyn.pipeline import render_files
+
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    files = render_files(result, registry, ["pdf", "html"], figure_workers=2)
+    assert files["report.pdf"].startswith(b"%PDF")
+    serial = render_html(result, registry).figures
+    draw_figures(serial, workers=1)
+    assert {f.name: f.svg for f in serial} == {name.removeprefix("figures/"): data for name, data in files.items()
+                                               if name.startswith("figures/")}
+    assert _no_children_left()

@@ -515,3 +515,21 @@ def test_inversion_rejects_impossible_volume():
     with pytest.raises(ValueError, match="rod_ratio"):
         crank_angle_from_volume_approx_deg(3e-5, 3e-5, BORE_M, CRANK_RADIUS_M, 1.2)
     assert crank_angle_from_volume_exact_deg(3e-5, 3e-5, BORE_M, CRANK_RADIUS_M, 0.3) == 0.0
+
+
+def test_junction_is_the_first_angle_of_a_monotone_join_closed_form():
+    """p(psi) = p_z' - (psi - a)^2 after a peak at psi = 0: the secant from the peak is
+    -(psi - a)^2 / psi and the slope -2 (psi - a), so beta = slope / secant = 2 psi / (psi - a)
+    (psi > a) is at most 3 exactly from psi = 3 a on; before a the line rises (beta < 0)."""
+    import numpy as np
+
+    from crankdyn.physics.indicator import _find_junction_deg
+
+    a, peak = 1.2345, 5.0e6
+
+    def expansion_at(psi):
+        psi = np.asarray(psi, dtype=float)
+        return peak - (psi - a) ** 2, -2.0 * (psi - a)
+
+    assert abs(_find_junction_deg(0.0, 10.0, peak, expansion_at) - 3 * a) < 1e-9
+    assert _find_junction_deg(0.0, 3 * a - 0.05, peak, expansion_at) is None  # not within the limit

@@ -15,6 +15,7 @@ from . import outputs
 from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
 from .manifest import write_outputs
+from .heap import frozen_heap
 from .scene import Scene
 
 
@@ -35,7 +36,12 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     drawn by ``figure_workers`` processes (default: one per CPU; a batch, which runs its
     variants in parallel, passes 1).
     """
-    formats = list(formats)
+    with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
+        return _render_files(result, registry, list(formats), self_contained, figure_workers)
+
+
+def _render_files(result: RunResult, registry: Registry, formats: list[str], self_contained: bool,
+                  figure_workers: int | None) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "json" in formats:
         files["results.json"] = outputs.json_bytes(outputs.results_document(result))
@@ -49,31 +55,40 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
         from .report.figures import IncrementalDrawing, can_fork, default_workers  # lazy: heavy optional import
 
         workers = default_workers() if figure_workers is None else figure_workers
-        if workers > 1 and can_fork():  # the figures are drawn while the next sections are rendered
-            drawing = IncrementalDrawing(workers)
-            try:
-                rendered = render_html(result, registry, figure_sink=drawing.add)
-            except BaseException:
+        drawing = IncrementalDrawing(workers) if workers > 1 and can_fork() else None
+        try:
+            # the figures are drawn by forked children while the next sections are rendered
+            rendered = render_html(result, registry, figure_sink=drawing.add if drawing else None)
+            if drawing and "pdf" in formats:
+                # and, for the PDF, while WeasyPrint lays out the text: each figure is waited for
+                # when the layout reaches it
+                drawing.hand_out()
+                files["report.pdf"] = _pdf(rendered)
+            if drawing:
+                drawing.finish()
+        except BaseException:
+            if drawing:
                 drawing.abandon()
-                raise
-            drawing.finish()
-        else:
-            rendered = render_html(result, registry)
+            raise
         draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
         if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
         elif "html" in formats:
             files["report.html"] = rendered.linked_html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
-        if "pdf" in formats:
-            from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
-
-            files["report.pdf"] = html_to_pdf(rendered.linked_html, rendered.figures)
+        if "pdf" in formats and "report.pdf" not in files:
+            files["report.pdf"] = _pdf(rendered)
         if "docx" in formats:
             from .report.docx import report_docx  # lazy: heavy optional import (pandoc, matplotlib)
 
             files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
     return files
+
+
+def _pdf(rendered) -> bytes:
+    from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+
+    return html_to_pdf(rendered.linked_html, rendered.figures)
 
 
 def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],
@@ -98,8 +113,9 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     ``report.html`` in the browser and passes its stage ``cache`` (re-running only the stages whose
     inputs changed). Raises :class:`crankdyn.errors.SceneError` for a bad scene.
     """
-    result = run_scene(scene, registry, stages, languages, cache=cache)
-    return result, render_files(result, registry, formats, self_contained, figure_workers)
+    with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
+        result = run_scene(scene, registry, stages, languages, cache=cache)
+        return result, render_files(result, registry, formats, self_contained, figure_workers)
 
 
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
@@ -113,5 +129,6 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
     check_scene(scene, registry, languages)
-    result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies)
-    return result, render_html(result, registry, sections_cache=sections_cache)
+    with frozen_heap():  # the collector skips the imported modules and cached results (crankdyn.heap)
+        result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies)
+        return result, render_html(result, registry, sections_cache=sections_cache)

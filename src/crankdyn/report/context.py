@@ -9,7 +9,7 @@ import re
 from importlib import resources
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 from markupsafe import Markup, escape
@@ -33,6 +33,9 @@ class FigureFile:
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
         self._typeset_in = None  # the process that typeset the figure (a forked drawer's is not this one)
+        # Set while a forked child draws this figure: called (once) to wait for that child's SVG
+        # instead of drawing the figure a second time here.
+        self.awaiting: Callable[[FigureFile], None] | None = None
 
     @property
     def drawn(self) -> bool:
@@ -54,6 +57,9 @@ class FigureFile:
 
     @property
     def svg(self) -> bytes:
+        if self._svg is None and self.awaiting is not None:
+            awaiting, self.awaiting = self.awaiting, None
+            awaiting(self)
         if self._svg is None:
             self._svg = self.draw()
         return self._svg

@@ -15,6 +15,8 @@ import sys
 import threading
 from collections.abc import Callable, Sequence
 
+from ..heap import freeze_more
+
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
 # pays nothing for plotting and no global figure state builds up between reports.
@@ -70,20 +72,43 @@ def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
 
 
 def to_svg(fig) -> bytes:
+    """The figure as SVG bytes, laid out (tight layout) and drawn by one SVG renderer.
+
+    ``savefig`` would measure every label twice: once for the layout, with the Agg canvas's
+    renderer, and again, with the SVG renderer, to draw it; laid out with the renderer that then
+    draws, each text is measured once (matplotlib caches text metrics per renderer). What
+    follows is ``FigureCanvasSVG.print_svg`` with the ``TightLayoutEngine`` step before the draw.
+    """
     import matplotlib  # lazy: heavy optional import
+    from matplotlib._tight_layout import get_subplotspec_list, get_tight_layout_figure  # lazy: heavy optional import
+    from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
+    from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
 
     _keep_more_mathtext()
-    buffer = io.BytesIO()
+    buffer = io.StringIO()
+    dpi = fig.dpi
     with matplotlib.rc_context(STYLE):
-        fig.tight_layout()
-        # the layout is done: with the placeholder engine tight_layout leaves behind, savefig
-        # would lay the figure out once more in a third (draw-disabled) pass
-        fig.set_layout_engine(None)
-        fig.savefig(buffer, format="svg", metadata={"Date": None})
+        fig.set_layout_engine(None)  # laid out here, once
+        fig.dpi = 72  # the SVG's own unit, as print_svg sets it (and gives back after)
+        width, height = fig.get_size_inches()
+        renderer = MixedModeRenderer(fig, width, height, 72,
+                                     RendererSVG(width * 72, height * 72, buffer, image_dpi=72,
+                                                 metadata={"Date": None}))
+        if fig.axes:
+            with renderer._draw_disabled():
+                adjust = get_tight_layout_figure(fig, fig.axes, get_subplotspec_list(fig.axes), renderer,
+                                                 pad=1.08)
+            if adjust:
+                fig.subplots_adjust(**adjust)
+        try:
+            fig.draw(renderer)
+            renderer.finalize()
+        finally:
+            fig.dpi = dpi
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
-    return buffer.getvalue()
+    return buffer.getvalue().encode("utf-8")
 
 
 #: Environment variable that sets how many processes draw a report's figures (1: no fork).
@@ -141,6 +166,7 @@ class ForkedDrawing:
         self._children = [self._fork(list(share)) for share in shares if share]
 
     def _fork(self, mine: list[int]):
+        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
         read_end, write_end = os.pipe()
         pid = os.fork()
         if pid == 0:  # the child: draw, send, leave without running the parent's exit handlers
@@ -184,9 +210,15 @@ class IncrementalDrawing:
     """Figures drawn by forked children while this process goes on rendering the report's next
     sections: :meth:`add` hands over a section's figures (a child is forked for what is waiting
     whenever fewer than ``workers - 1`` are busy), :meth:`finish` draws here what no child took,
-    while the children finish, and collects their SVGs. Works on :class:`FigureFile` s."""
+    while the children finish, and collects their SVGs. Works on :class:`FigureFile` s.
+
+    Instead of :meth:`finish`, :meth:`hand_out` gives every figure still waiting to children and
+    returns at once: this process may go on (laying out the PDF) and a figure's ``svg`` then
+    waits for the child drawing it; :meth:`finish` afterwards reaps what is left.
+    """
 
     def __init__(self, workers: int):
+        self.workers = max(workers, 1)
         self.children = max(workers - 1, 1)
         self._running: list[tuple[ForkedDrawing, list]] = []
         self._waiting: list = []
@@ -203,7 +235,24 @@ class IncrementalDrawing:
             self._fork(batch)
 
     def _fork(self, batch: list) -> None:
-        self._running.append((ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))]), batch))
+        drawing = ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))])
+        self._running.append((drawing, batch))
+        for figure in batch:
+            figure.awaiting = self._await
+
+    def _await(self, figure) -> None:
+        """``figure.svg`` asked for while a child draws it: wait for that child (only)."""
+        for entry in self._running:
+            if any(f is figure for f in entry[1]):
+                self._running.remove(entry)
+                self._keep(*entry)
+                return
+
+    @staticmethod
+    def _keep(drawing: ForkedDrawing, batch: list) -> None:
+        for figure, svg in zip(batch, drawing.finish()):
+            figure._svg = svg
+            figure.awaiting = None
 
     def _store(self, finished_only: bool) -> None:
         keep = []
@@ -211,9 +260,21 @@ class IncrementalDrawing:
             if finished_only and not drawing.done():
                 keep.append((drawing, batch))
                 continue
-            for figure, svg in zip(batch, drawing.finish()):
-                figure._svg = svg
+            self._keep(drawing, batch)
         self._running = keep
+
+    def hand_out(self) -> None:
+        """Give every waiting figure to new children (one per CPU, in document order) and return."""
+        self._store(finished_only=True)
+        waiting, self._waiting = self._waiting, []
+        if not waiting:
+            return
+        shares = min(self.workers, len(waiting))
+        size = -(-len(waiting) // shares)
+        # consecutive figures per child: the PDF asks for them in document order, so the first
+        # ones are ready first
+        for k in range(0, len(waiting), size):
+            self._fork(waiting[k:k + size])
 
     def finish(self) -> None:
         self._store(finished_only=True)
@@ -231,6 +292,8 @@ class IncrementalDrawing:
     def abandon(self) -> None:
         """The report failed: reap the children, draw nothing more."""
         self._waiting = []
-        for drawing, _ in self._running:
+        for drawing, batch in self._running:
             drawing.collect()
+            for figure in batch:
+                figure.awaiting = None
         self._running = []

@@ -35,15 +35,22 @@ def is_allowed(url: str) -> bool:
     return False
 
 
-def figure_urls(figures, base: str) -> dict[str, bytes]:
-    """URL -> SVG bytes of the report's own figures, as the page refers to them (``figures/NAME``)."""
+def figure_urls(figures, base: str) -> dict:
+    """URL -> the report's own figure (its ``svg``), as the page refers to it (``figures/NAME``).
 
-    return {f"{base}{FIGURE_DIR}/{f.name}": f.svg for f in figures}
+    The SVG is read when WeasyPrint asks for it: figures still being drawn by forked children
+    are waited for one by one, while the text before them is already being laid out."""
+
+    return {f"{base}{FIGURE_DIR}/{f.name}": f for f in figures}
 
 
-def _fetcher(in_memory: dict[str, bytes] | None = None):
+def _svg_bytes(figure) -> bytes:
+    return figure if isinstance(figure, bytes) else figure.svg
+
+
+def _fetcher(in_memory: dict | None = None):
     """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their bytes
-    (served from memory, never from a file; any other URL follows :func:`is_allowed`)."""
+    or FigureFile (served from memory, never from a file; any other URL follows :func:`is_allowed`)."""
     import weasyprint  # lazy: heavy optional import
 
     in_memory = dict(in_memory or {})
@@ -51,7 +58,7 @@ def _fetcher(in_memory: dict[str, bytes] | None = None):
         class SafeURLFetcher(weasyprint.URLFetcher):
             def fetch(self, url, headers=None):
                 if unquote(url) in in_memory:
-                    return weasyprint.urls.URLFetcherResponse(url, in_memory[unquote(url)],
+                    return weasyprint.urls.URLFetcherResponse(url, _svg_bytes(in_memory[unquote(url)]),
                                                               headers={"Content-Type": "image/svg+xml"})
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
@@ -61,7 +68,7 @@ def _fetcher(in_memory: dict[str, bytes] | None = None):
 
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
         if unquote(url) in in_memory:
-            return {"string": in_memory[unquote(url)], "mime_type": "image/svg+xml", "redirected_url": url}
+            return {"string": _svg_bytes(in_memory[unquote(url)]), "mime_type": "image/svg+xml", "redirected_url": url}
         if not is_allowed(url):
             raise BlockedResource(f"crankdyn does not load {url!r} into a report")
         return weasyprint.default_url_fetcher(url, *args, **kwargs)
