@@ -164,3 +164,24 @@ def test_a_report_to_pdf_draws_each_figure_once_and_leaves_no_child(examples, tm
     assert {f.name: f.svg for f in serial} == {name.removeprefix("figures/"): data for name, data in files.items()
                                                if name.startswith("figures/")}
     assert _no_children_left()
+
+
+def test_a_label_is_typeset_once_per_process_not_once_per_figure():
+    """Every figure's SVG renderer has a mathtext parser of its own; the shared cache
+    (figures._keep_more_mathtext) typesets a label once for all of them, with the same result."""
+    from matplotlib.mathtext import MathTextParser
+
+    from crankdyn.report.figures import new_figure, to_svg
+
+    def figure():
+        fig, axes = new_figure(6, 4)
+        axes.plot([0.0, 1.0], [0.0, 1.0])
+        axes.set_xlabel(r"$q_{\mathrm{shared, once}}$, МПа")
+        return to_svg(fig)
+
+    first = figure()
+    before = MathTextParser._parse_cached.cache_info()
+    second = figure()
+    after = MathTextParser._parse_cached.cache_info()
+    assert after.misses == before.misses and after.hits > before.hits
+    assert first == second

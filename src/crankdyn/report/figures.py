@@ -37,18 +37,35 @@ STYLE = {
 }
 
 
-#: Typeset mathtext strings kept per process. matplotlib keeps 50, shared by the Agg and SVG
-#: parsers: a report's ~40 distinct labels, measured by both, overflow it, so every report of a
-#: batch (or every save of the preview) parsed them all again (pyparsing: ~5 ms a label).
+#: Typeset mathtext strings kept per process. matplotlib keeps 50 per parser, and each renderer
+#: has a parser of its own (every figure's SVG renderer makes a new one): a label was typeset
+#: again for every figure, and for every report of a batch or save of the preview
+#: (pyparsing: ~5 ms a label).
 MATHTEXT_CACHE = 4096
 
 
 def _keep_more_mathtext() -> None:
+    """One mathtext cache per process, shared by all parsers of an output type (a parser holds no
+    state but that type: its grammar is shared by the class), holding :data:`MATHTEXT_CACHE`."""
     from matplotlib.mathtext import MathTextParser  # lazy: heavy optional import
 
     parse = MathTextParser._parse_cached
-    if getattr(parse, "cache_info", None) is not None and parse.cache_info().maxsize < MATHTEXT_CACHE:
-        MathTextParser._parse_cached = functools.lru_cache(MATHTEXT_CACHE)(parse.__wrapped__)
+    if getattr(parse, "crankdyn_shared", False) or not hasattr(parse, "__wrapped__"):
+        return
+    typeset = parse.__wrapped__
+    parsers: dict = {}  # output type -> the first parser of that type (any would do)
+
+    @functools.lru_cache(MATHTEXT_CACHE)
+    def shared(output_type, s, dpi, prop, antialiased, load_glyph_flags):
+        return typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
+
+    def _parse_cached(self, s, dpi, prop, antialiased, load_glyph_flags):
+        parsers.setdefault(self._output_type, self)
+        return shared(self._output_type, s, dpi, prop, antialiased, load_glyph_flags)
+
+    _parse_cached.crankdyn_shared = True
+    _parse_cached.cache_info = shared.cache_info
+    MathTextParser._parse_cached = _parse_cached
 
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
