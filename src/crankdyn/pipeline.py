@@ -59,10 +59,11 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
         try:
             # the figures are drawn by forked children while the next sections are rendered
             rendered = render_html(result, registry, figure_sink=drawing.add if drawing else None)
-            if drawing and "pdf" in formats:
-                # and, for the PDF, while WeasyPrint lays out the text: each figure is waited for
-                # when the layout reaches it
-                drawing.hand_out()
+            if "pdf" in formats:
+                if drawing:
+                    # and, for the PDF, while WeasyPrint lays out the text: each figure is waited
+                    # for (or, without children, drawn) when the layout reaches it
+                    drawing.hand_out()
                 files["report.pdf"] = _pdf(rendered)
             if drawing:
                 drawing.finish()
@@ -76,8 +77,6 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
         elif "html" in formats:
             files["report.html"] = rendered.linked_html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
-        if "pdf" in formats and "report.pdf" not in files:
-            files["report.pdf"] = _pdf(rendered)
         if "docx" in formats:
             from .report.docx import report_docx  # lazy: heavy optional import (pandoc, matplotlib)
 

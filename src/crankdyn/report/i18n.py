@@ -166,9 +166,9 @@ class Translator:
 
 
 @functools.lru_cache(maxsize=16384)
-def _format_fixed(rounded: float, decimals: int, locale: str) -> str:
-    """Babel's text of an already rounded number (kept: tick labels and table cells repeat, and
-    Babel takes some 0.1 ms a number)."""
+def _format_fixed(rounded: float, decimals: int, locale) -> str:
+    """Babel's text of an already rounded number in ``locale`` (a babel Locale; kept: tick
+    labels and table cells repeat, and Babel takes some 0.1 ms a number)."""
     from babel.numbers import format_decimal, get_group_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)
 
     pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + ("." + "0" * decimals if decimals > 0 else "")

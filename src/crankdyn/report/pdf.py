@@ -44,13 +44,10 @@ def figure_urls(figures, base: str) -> dict:
     return {f"{base}{FIGURE_DIR}/{f.name}": f for f in figures}
 
 
-def _svg_bytes(figure) -> bytes:
-    return figure if isinstance(figure, bytes) else figure.svg
-
-
 def _fetcher(in_memory: dict | None = None):
-    """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their bytes
-    or FigureFile (served from memory, never from a file; any other URL follows :func:`is_allowed`)."""
+    """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their
+    FigureFile (its SVG served from memory, never from a file; any other URL follows
+    :func:`is_allowed`)."""
     import weasyprint  # lazy: heavy optional import
 
     in_memory = dict(in_memory or {})
@@ -58,7 +55,7 @@ def _fetcher(in_memory: dict | None = None):
         class SafeURLFetcher(weasyprint.URLFetcher):
             def fetch(self, url, headers=None):
                 if unquote(url) in in_memory:
-                    return weasyprint.urls.URLFetcherResponse(url, _svg_bytes(in_memory[unquote(url)]),
+                    return weasyprint.urls.URLFetcherResponse(url, in_memory[unquote(url)].svg,
                                                               headers={"Content-Type": "image/svg+xml"})
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
@@ -68,7 +65,7 @@ def _fetcher(in_memory: dict | None = None):
 
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
         if unquote(url) in in_memory:
-            return {"string": _svg_bytes(in_memory[unquote(url)]), "mime_type": "image/svg+xml", "redirected_url": url}
+            return {"string": in_memory[unquote(url)].svg, "mime_type": "image/svg+xml", "redirected_url": url}
         if not is_allowed(url):
             raise BlockedResource(f"crankdyn does not load {url!r} into a report")
         return weasyprint.default_url_fetcher(url, *args, **kwargs)
