@@ -13,6 +13,7 @@ from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 from .context import FIGURE_DIR
+from .weasy import load_weasyprint
 
 
 class BlockedResource(ValueError):
@@ -48,8 +49,7 @@ def _fetcher(in_memory: dict | None = None):
     """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their
     FigureFile (its SVG served from memory, never from a file; any other URL follows
     :func:`is_allowed`)."""
-    import weasyprint  # lazy: heavy optional import
-
+    weasyprint = load_weasyprint()
     in_memory = dict(in_memory or {})
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
         class SafeURLFetcher(weasyprint.URLFetcher):
@@ -75,7 +75,7 @@ def _fetcher(in_memory: dict | None = None):
 
 def html_to_pdf(html: str, figures=()) -> bytes:
     """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to."""
-    from weasyprint import HTML  # lazy: heavy optional import
+    HTML = load_weasyprint().HTML
 
     # A blocked resource is logged by WeasyPrint as a warning and left out; keep the
     # console quiet (the tests check the blocking itself).
