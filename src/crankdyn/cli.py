@@ -191,6 +191,17 @@ def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
 
 
 def _report(args) -> int:
+    from .report import printer
+
+    if "pdf" in (f.strip() for f in args.format.split(",")):
+        printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
+    try:
+        return _write_report(args)
+    finally:
+        printer.discard()  # one not used (a refused scene, no PDF after all): stopped
+
+
+def _write_report(args) -> int:
     from .pipeline import write_report  # lazy: heavy optional import (numpy, scipy: per command)
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 

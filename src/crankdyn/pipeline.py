@@ -85,9 +85,12 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
 
 
 def _pdf(rendered) -> bytes:
+    from .report import printer
     from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
-    return html_to_pdf(rendered.linked_html, rendered.figures)
+    # made by the printer process the command line started (WeasyPrint loaded meanwhile), if any
+    pdf = printer.print_pdf(rendered.linked_html, rendered.figures)
+    return pdf if pdf is not None else html_to_pdf(rendered.linked_html, rendered.figures)
 
 
 def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],

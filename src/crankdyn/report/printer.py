@@ -1,0 +1,152 @@
+"""A PDF printer process started before the report is computed: WeasyPrint loads meanwhile.
+
+``crankdyn report`` with a PDF spends its first second importing numpy, scipy and crankdyn and
+computing the stages, on one core. WeasyPrint's own import (0.4 s) needs none of that: a process
+forked at the very start (:func:`prestart`) imports it on the other core, then waits for the
+page. When the report's HTML is ready, :func:`print_pdf` hands it over and serves the figures the
+layout asks for (``figures/NAME.svg``, drawn by this process or its drawing children); the
+printer sends the PDF back and exits.
+
+Whatever goes wrong on the printer's side (it died, WeasyPrint raised, the pipe broke) the PDF is
+made in this process instead, as without a printer: the same bytes, or the same exception. A
+printer that was not used (the scene was refused, no PDF was asked for after all) is stopped by
+:func:`discard`. Used by the command line only: a batch worker or the preview has WeasyPrint
+loaded already.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import socket
+import sys
+import threading
+from collections.abc import Sequence
+
+#: The printer of this process: (its pid, its socket, the pid that started it) or None.
+_printer: tuple[int, socket.socket, int] | None = None
+
+
+def prestart() -> bool:
+    """Fork the printer if the process may (POSIX, no other thread, none started yet, WeasyPrint
+    not imported here already). Returns whether a printer runs."""
+    global _printer
+    if _printer is not None or not hasattr(os, "fork") or threading.active_count() != 1 \
+            or "weasyprint" in sys.modules:
+        return _printer is not None
+    ours, theirs = socket.socketpair()
+    pid = os.fork()
+    if pid == 0:  # the printer
+        ours.close()
+        code = 1
+        try:
+            code = _serve(theirs)
+        finally:
+            os._exit(code)
+    theirs.close()
+    _printer = (pid, ours, os.getpid())
+    return True
+
+
+class _RemoteFigure:
+    """A figure of the report as the printer sees it: its SVG asked for when the layout needs it."""
+
+    def __init__(self, name: str, channel):
+        self.name = name
+        self._channel = channel
+
+    @property
+    def svg(self) -> bytes:
+        reader, writer = self._channel
+        _send(writer, ("figure", self.name))
+        kind, svg = pickle.load(reader)
+        if kind != "svg":
+            raise RuntimeError(f"the report did not send figure {self.name!r}")
+        return svg
+
+
+def _send(writer, message) -> None:
+    pickle.dump(message, writer, protocol=pickle.HIGHEST_PROTOCOL)
+    writer.flush()
+
+
+def _serve(sock: socket.socket) -> int:
+    """The printer's life: load WeasyPrint, wait for the page, print it, send it back."""
+    reader, writer = sock.makefile("rb"), sock.makefile("wb")
+    try:
+        from .weasy import load_weasyprint
+
+        load_weasyprint()  # the point of this process
+        from .pdf import html_to_pdf  # lazy: heavy optional import (the report's context: numpy)
+
+        html_to_pdf("<p>crankdyn</p>")  # fontconfig and the first page's set-up, as a batch warms up
+        html, names = pickle.load(reader)
+    except BaseException:  # noqa: BLE001 - no page will come (EOF) or WeasyPrint cannot load: the report prints
+        return 0
+    try:
+        pdf = html_to_pdf(html, [_RemoteFigure(name, (reader, writer)) for name in names])
+    except BaseException as exc:  # noqa: BLE001 - said to the report, which prints the PDF itself
+        _send(writer, ("failed", f"{exc.__class__.__name__}: {exc}"))
+        return 0
+    _send(writer, ("pdf", pdf))
+    return 0
+
+
+def _take() -> tuple[int, socket.socket] | None:
+    """This process's printer, if it started one (a forked child's inherited one is not its own)."""
+    global _printer
+    printer, _printer = _printer, None
+    if printer is None:
+        return None
+    pid, sock, owner = printer
+    if owner != os.getpid():
+        _printer = printer  # the owner's, left for it
+        return None
+    return pid, sock
+
+
+def print_pdf(html: str, figures: Sequence) -> bytes | None:
+    """The PDF of ``html`` made by the prestarted printer (``figures``: the FigureFile objects its
+    ``figures/NAME.svg`` refer to, served from here), or None when there is no printer or it did
+    not deliver (the caller then makes the PDF itself)."""
+    printer = _take()
+    if printer is None:
+        return None
+    pid, sock = printer
+    by_name = {f.name: f for f in figures}
+    reader, writer = sock.makefile("rb"), sock.makefile("wb")
+    try:
+        _send(writer, (html, list(by_name)))
+        while True:
+            kind, value = pickle.load(reader)
+            if kind == "figure":
+                # the figure's own exceptions are the report's: raised here, as without a printer
+                _send(writer, ("svg", by_name[value].svg))
+            elif kind == "pdf":
+                return value
+            else:  # "failed": made here again, which raises the same error where it is one
+                return None
+    except (EOFError, OSError, pickle.UnpicklingError):
+        return None  # the printer died or the pipe broke
+    finally:
+        _stop(pid, sock)
+
+
+def discard() -> None:
+    """Stop a printer that was started and not used (nothing is left running)."""
+    printer = _take()
+    if printer is not None:
+        _stop(*printer)
+
+
+def _stop(pid: int, sock: socket.socket) -> None:
+    sock.close()
+    try:
+        os.kill(pid, signal.SIGKILL)  # done or not, it has nothing more to do
+    except ProcessLookupError:
+        pass
+    try:
+        os.waitpid(pid, 0)
+    except ChildProcessError:
+        pass
