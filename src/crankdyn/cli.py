@@ -16,6 +16,7 @@ from pathlib import Path
 
 from .version import __version__
 from .errors import CrankdynError, Problem, SceneError, UsageError
+from .report import printer
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
@@ -191,8 +192,6 @@ def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
 
 
 def _report(args) -> int:
-    from .report import printer
-
     if "pdf" in (f.strip() for f in args.format.split(",")):
         printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
     try:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import datetime
 import functools
+import hashlib
 import pickle
 import re
 from dataclasses import dataclass, field
@@ -111,8 +112,6 @@ def _bytecode_cache() -> jinja2.BytecodeCache | None:
     checked to belong to this user); a template is found there by its path, used only while its
     source's checksum matches, and the file names carry this crankdyn version and the compile
     options. None (no cache) where that folder cannot be made."""
-    import hashlib
-
     options = hashlib.sha256(repr(sorted(TEMPLATE_OPTIONS.items())).encode()).hexdigest()[:8]
     try:
         return _QuietBytecodeCache(pattern=f"crankdyn-{__version__}-{options}-%s.cache")

@@ -24,6 +24,8 @@ import sys
 import threading
 from collections.abc import Sequence
 
+from .weasy import load_weasyprint
+
 #: The printer of this process: (its pid, its socket, the pid that started it) or None.
 _printer: tuple[int, socket.socket, int] | None = None
 
@@ -75,8 +77,6 @@ def _serve(sock: socket.socket) -> int:
     """The printer's life: load WeasyPrint, wait for the page, print it, send it back."""
     reader, writer = sock.makefile("rb"), sock.makefile("wb")
     try:
-        from .weasy import load_weasyprint
-
         load_weasyprint()  # the point of this process
         from .pdf import html_to_pdf  # lazy: heavy optional import (the report's context: numpy)
 

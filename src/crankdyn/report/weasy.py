@@ -15,6 +15,7 @@ the search finds them), the import is simply done again the usual way.
 from __future__ import annotations
 
 import contextlib
+import ctypes.util
 import io
 import sys
 import threading
@@ -28,8 +29,6 @@ _lock = threading.Lock()
 
 @contextlib.contextmanager
 def _direct_library_names_only():
-    import ctypes.util
-
     search = ctypes.util.find_library
 
     def find_library(name: str):
