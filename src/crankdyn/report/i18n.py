@@ -74,6 +74,18 @@ def _parsed_catalog(path: str, mtime_ns: int, size: int) -> dict[str, str]:
         return _flatten(tomllib.load(fh))
 
 
+@functools.lru_cache(maxsize=64)
+def _babel_locale(name: str):
+    """The Babel locale called ``name`` (English if Babel does not know it), parsed once: every
+    number of a report asks for it."""
+    from babel import Locale, UnknownLocaleError  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+
+    try:
+        return Locale.parse(name)
+    except (UnknownLocaleError, ValueError):
+        return Locale.parse(FALLBACK)
+
+
 @dataclass
 class Translator:
     """Looks texts up in one language, falling back to English; records misses."""
@@ -107,12 +119,7 @@ class Translator:
     @property
     def locale(self):
         """The Babel locale of the report language (English if Babel does not know it)."""
-        from babel import Locale, UnknownLocaleError  # lazy: heavy optional import (babel: only when a number is formatted for a report)
-
-        try:
-            return Locale.parse(self.texts.get("_meta.locale", self.language))
-        except (UnknownLocaleError, ValueError):
-            return Locale.parse(FALLBACK)
+        return _babel_locale(self.texts.get("_meta.locale", self.language))
 
     def plural_word(self, value, forms: str) -> str:
         """The form in ``forms`` ("one|few|many|other") the CLDR rules choose for ``value``."""

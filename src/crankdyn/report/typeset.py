@@ -169,9 +169,15 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
 
 
 def _unit_spacing(text: str, units: list[str]) -> str:
+    return _unit_pattern(tuple(units)).sub(lambda m: f"{m.group(1)}{NARROW_NBSP}{m.group(2)}", text)
+
+
+@functools.lru_cache(maxsize=16)
+def _unit_pattern(units: tuple[str, ...]) -> re.Pattern:
+    """A number, a space and one of ``units`` (longest first): built once per unit list, not for
+    each of a report's text nodes."""
     alternatives = "|".join(re.escape(u) for u in sorted(units, key=len, reverse=True))
-    pattern = re.compile(rf"(\d)[ \u00a0]({alternatives})(?![{_LETTER}])")
-    return pattern.sub(lambda m: f"{m.group(1)}{NARROW_NBSP}{m.group(2)}", text)
+    return re.compile(rf"(\d)[ \u00a0]({alternatives})(?![{_LETTER}])")
 
 
 _TAG = re.compile(r"(<[^>]+>)")
