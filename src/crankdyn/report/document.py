@@ -130,16 +130,27 @@ _SKIP_REASONS = (  # the stages' own (English) reasons, as results.json keeps th
     (re.compile(r"rod_moment_of_inertia"), "skip.no_rod_inertia"),
     (re.compile(r"mechanism is '[^']*', not|central crank-slider|mechanism has no|articulated rods"),
      "skip.other_mechanism"),
-    (re.compile(r"covers|already"), "skip.covered"),
+    (re.compile(r"covers|already|drawn by the"), "skip.covered"),
 )
+
+
+def _skip_key(reason: str) -> str:
+    for pattern, key in _SKIP_REASONS:
+        if pattern.search(reason):
+            return key
+    return "skip.not_applicable"
 
 
 def skipped_reason(t, reason: str) -> str:
     """A left-out stage's reason in the report's language."""
-    for pattern, key in _SKIP_REASONS:
-        if pattern.search(reason):
-            return t(key)
-    return t("skip.not_applicable")
+    return t(_skip_key(reason))
+
+
+#: Reasons a report does not list (results.json keeps every one): a stage for another mechanism
+#: (the planetary or vane engine in a crank-slider's report) or one whose content another section
+#: already gives is not part of this assignment, and naming it reads as a contradiction (the
+#: "kinematic scheme" left out next to the section that draws it).
+UNLISTED_SKIPS = ("skip.other_mechanism", "skip.covered")
 
 
 def cite(numbers) -> str:
@@ -209,7 +220,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         notes.append(t(key, **format_params(params, t.decimal_separator)))
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
-               for name, reason in result.plan.skipped.items()]
+               for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
     timing = [(t(s.title_key) if s.title_key else s.name, result.timing_s[s.name]) for s in result.plan.order
               if s.name in result.timing_s]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
