@@ -72,11 +72,11 @@ def test_an_idle_worker_that_died_is_replaced():
     workers = []
     start = batch_runner._start
 
-    def start_and_kill_the_idle(context, function, idle, args):
+    def start_and_kill_the_idle(function, idle, args):
         for worker in idle:  # the idle worker dies before it is given the next item
             os.kill(worker.pid, 9)
             os.waitpid(worker.pid, 0)
-        worker = start(context, function, idle, args)
+        worker = start(function, idle, args)
         workers.append(worker.pid)
         return worker
 
@@ -95,9 +95,8 @@ def test_workers_leave_when_the_batch_process_dies():
     # the batch's process ends without stopping its worker (killed, out of memory, ...)
     code = """
     import os, sys
-    import multiprocessing
     from crankdyn.batch_runner import _Worker
-    worker = _Worker(multiprocessing.get_context("fork"), print)
+    worker = _Worker(print)
     print(worker.pid, flush=True)
     os._exit(0)
     """

@@ -11,7 +11,6 @@ finished.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import pickle
 import select
@@ -20,14 +19,9 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
-from multiprocessing.connection import wait
+from multiprocessing.connection import Pipe, wait
 
 DEFAULT_TIMEOUT_S = 120.0
-
-
-def _context():
-    methods = multiprocessing.get_all_start_methods()
-    return multiprocessing.get_context("fork" if "fork" in methods else None)
 
 
 #: Variants one worker process runs before a fresh fork of the batch's process replaces it. A
@@ -65,8 +59,8 @@ class _Worker:
     """A forked worker process (it inherits the function and everything the parent loaded) and
     the parent's end of its pipe."""
 
-    def __init__(self, context, function: Callable):
-        self.connection, theirs = context.Pipe(duplex=True)
+    def __init__(self, function: Callable):
+        self.connection, theirs = Pipe(duplex=True)
         pid = os.fork()
         if pid == 0:  # the worker: serve, then leave without the parent's exit handlers
             code = 1
@@ -115,7 +109,7 @@ class _Worker:
         self.connection.close()
 
 
-def _start(context, function: Callable, idle: list, args: tuple) -> _Worker:
+def _start(function: Callable, idle: list, args: tuple) -> _Worker:
     """An idle worker (else a new one) given ``args``; a worker that died while idle is replaced."""
     while idle:
         worker = idle.pop()
@@ -124,7 +118,7 @@ def _start(context, function: Callable, idle: list, args: tuple) -> _Worker:
             return worker
         except (OSError, ValueError):
             worker.kill()
-    worker = _Worker(context, function)
+    worker = _Worker(function)
     worker.connection.send(args)
     return worker
 
@@ -141,7 +135,6 @@ def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, t
     """
     if not hasattr(os, "fork"):  # Windows: one after the other in this process, without a limit
         return _run_here(items, function, args_of, finished)
-    context = _context()
     queue = deque(items)
     idle: list[_Worker] = []
     running: dict = {}  # connection -> (worker, item, start time)
@@ -149,7 +142,7 @@ def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, t
         while queue or running:
             while queue and len(running) < jobs:
                 item = queue.popleft()
-                worker = _start(context, function, idle, args_of(item))
+                worker = _start(function, idle, args_of(item))
                 running[worker.connection] = (worker, item, time.monotonic())
             now = time.monotonic()
             left = min(start + timeout_s - now for _, _, start in running.values())
