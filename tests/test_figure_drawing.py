@@ -185,3 +185,18 @@ def test_a_label_is_typeset_once_per_process_not_once_per_figure():
     after = MathTextParser._parse_cached.cache_info()
     assert after.misses == before.misses and after.hits > before.hits
     assert first == second
+
+
+def test_the_locale_formatter_gives_the_same_labels_when_asked_again_for_the_same_ticks():
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import locale_formatter, tick_labels
+
+    t = translator("uk")
+    formatter = locale_formatter(t)
+    big, small = [0.0, 2e5, 4e5], [0.0, 0.5, 1.0]
+    first = formatter.format_ticks(big)
+    assert first == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"
+    first.append("changed by the caller")  # the remembered labels are not the caller's list
+    assert formatter.format_ticks(small) == ["0,0", "0,5", "1,0"] and formatter.get_offset() == ""
+    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"
+    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"

@@ -28,7 +28,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from .orchestrator import Plan, RunResult, check_output, stage_inputs
+from .orchestrator import Plan, RunResult, check_output, is_study, stage_inputs
 from .plugin_types import Stage, StageOutput
 from .scene import Scene
 
@@ -205,7 +205,7 @@ class StageCache:
             entry = self._entries.get(stage.name)
             start = time.perf_counter()
             if not self._valid(entry, stage, scene, upstream):
-                if defer_studies and stage.last and not stage.provides:
+                if defer_studies and is_study(stage):
                     continue
                 tracked = _tracked_copy(scene)
                 try:

@@ -21,12 +21,55 @@ class Plan:
     registry: Registry | None = field(default=None, repr=False, compare=False)  # for stages' services
 
 
+def is_study(stage: Stage) -> bool:
+    """Whether ``stage`` is a study of the others: it comes ``last`` and provides nothing (the error
+    against run time), so no stage can wait for it and it may be computed aside or later."""
+    return stage.last and not stage.provides
+
+
 @dataclass
 class RunResult:
     scene: Scene
     plan: Plan
     outputs: dict[str, StageOutput]
     timing_s: dict[str, float] = field(default_factory=dict)
+    #: studies left for later (``run_plan(defer_studies=True)``): stage name -> its inputs
+    deferred: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
+    #: where the deferred studies are being computed meanwhile (``crankdyn.background``), if anywhere
+    background: Any = field(default=None, repr=False, compare=False)
+
+    def study_output(self, name: str) -> StageOutput | None:
+        """The output of stage ``name``: a deferred study's is taken from the background (or, if
+        that failed, computed here, so any error is the stage's own); None for a stage left out
+        of this result (the live preview's pending studies)."""
+        if name in self.outputs or name not in self.deferred:
+            return self.outputs.get(name)
+        stage = next(s for s in self.plan.order if s.name == name)
+        taken = self.background.take(name) if self.background is not None else None
+        if taken is None:
+            start = time.perf_counter()
+            output = stage.run(self.scene, self.deferred[name])
+            elapsed = time.perf_counter() - start
+            check_output(stage, output)
+        else:
+            output, elapsed = taken
+        del self.deferred[name]
+        self.outputs[name] = output
+        self.timing_s[name] = elapsed
+        return output
+
+    def complete(self) -> None:
+        """Every deferred study computed (or received), in plan order; the background closed."""
+        for stage in self.plan.order:
+            if stage.name in self.deferred:
+                self.study_output(stage.name)
+        self.close_background()
+
+    def close_background(self) -> None:
+        """Stop the background computation, if any (nothing is left running behind this result)."""
+        if self.background is not None:
+            self.background.close()
+            self.background = None
 
     @property
     def stages_run(self) -> list[str]:
@@ -229,27 +272,37 @@ def check_output(stage: Stage, output: StageOutput) -> None:
                           f"in Stage.tables (declared: {list(stage.tables)})")
 
 
-def run_plan(scene: Scene, the_plan: Plan) -> RunResult:
+def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunResult:
+    """Run the stages of ``the_plan`` in order. With ``defer_studies`` the studies
+    (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
+    :meth:`RunResult.study_output` computes (or receives) each when it is wanted."""
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
+    deferred: dict[str, dict[str, Any]] = {}
     for stage in the_plan.order:
         inputs = stage_inputs(stage, data, the_plan.registry)
+        if defer_studies and is_study(stage):
+            deferred[stage.name] = inputs
+            continue
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         timing[stage.name] = time.perf_counter() - start
         check_output(stage, output)
         data.update(output.data)
         outputs[stage.name] = output
-    return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing)
+    return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred)
 
 
 def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,
-              languages: Iterable[str] = (), cache=None) -> RunResult:
+              languages: Iterable[str] = (), cache=None, defer_studies: bool = False) -> RunResult:
     """Validate against the plugins, plan and run: the whole computation of one scene.
 
     With ``cache`` (a :class:`crankdyn.cache.StageCache`) only stages whose inputs changed since
-    the cache's last run are run again (the live preview)."""
+    the cache's last run are run again (the live preview). ``defer_studies``: see :func:`run_plan`
+    (not with a cache)."""
     check_scene(scene, registry, languages)
     the_plan = plan(scene, registry, requested)
-    return cache.run_plan(scene, the_plan) if cache is not None else run_plan(scene, the_plan)
+    if cache is not None:
+        return cache.run_plan(scene, the_plan)
+    return run_plan(scene, the_plan, defer_studies)

@@ -7,11 +7,13 @@ therefore raises before anything reaches the disk.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import outputs
+from .background import start_studies
 from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
 from .manifest import write_outputs
@@ -44,12 +46,6 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
 def _render_files(result: RunResult, registry: Registry, formats: list[str], self_contained: bool,
                   figure_workers: int | None) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
-    if "json" in formats:
-        files["results.json"] = outputs.json_bytes(outputs.results_document(result))
-    if "csv" in formats:
-        files.update(outputs.csv_tables(result))
-    if "xlsx" in formats:
-        files.update(outputs.xlsx_tables(result))
     if "html" in formats or "pdf" in formats or "docx" in formats:
         from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
         from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
@@ -82,6 +78,14 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
             from .report.docx import report_docx  # lazy: heavy optional import (pandoc, matplotlib)
 
             files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
+    # after the report, which takes each study's output when its section comes (crankdyn.background)
+    result.complete()
+    if "json" in formats:
+        files["results.json"] = outputs.json_bytes(outputs.results_document(result))
+    if "csv" in formats:
+        files.update(outputs.csv_tables(result))
+    if "xlsx" in formats:
+        files.update(outputs.xlsx_tables(result))
     return files
 
 
@@ -115,9 +119,20 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     ``report.html`` in the browser and passes its stage ``cache`` (re-running only the stages whose
     inputs changed). Raises :class:`crankdyn.errors.SceneError` for a bad scene.
     """
+    formats = list(formats)
+    # One report on its own (not a batch's variant, which shares the cores with the other
+    # variants, nor the preview's cached run): the studies are computed in a forked child while
+    # the report is rendered (crankdyn.background).
+    aside = (cache is None and figure_workers is None and (os.cpu_count() or 1) > 1
+             and any(f in formats for f in ("html", "pdf", "docx")))
     with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
-        result = run_scene(scene, registry, stages, languages, cache=cache)
-        return result, render_files(result, registry, formats, self_contained, figure_workers)
+        result = run_scene(scene, registry, stages, languages, cache=cache, defer_studies=aside)
+        try:
+            if aside:
+                start_studies(result)
+            return result, render_files(result, registry, formats, self_contained, figure_workers)
+        finally:
+            result.close_background()  # also when rendering failed: no child is left behind
 
 
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],

@@ -191,7 +191,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
         figures_before = len(ctx.figures)
-        output = result.outputs.get(stage.name)
+        output = result.study_output(stage.name)  # a deferred study's: received or computed now
         if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
             body = f'<p class="pending">{escape(t("doc.section_pending"))}</p>'
         elif sections_cache is None:

@@ -300,10 +300,16 @@ def locale_formatter(t):
     class LocaleFormatter(Formatter):
         def __init__(self):
             self.scale = 0
+            self._last = ((), [], 0)  # matplotlib asks again for the same ticks at each layout pass
 
         def format_ticks(self, values):
-            labels, self.scale = tick_labels(values, t)
-            return labels
+            key = tuple(float(v) for v in values)
+            if key != self._last[0]:
+                labels, self.scale = tick_labels(values, t)
+                self._last = (key, labels, self.scale)
+            else:
+                self.scale = self._last[2]
+            return list(self._last[1])
 
         def __call__(self, x, pos=None):
             return tick_labels([x], t)[0][0]
