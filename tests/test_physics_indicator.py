@@ -533,3 +533,29 @@ def test_junction_is_the_first_angle_of_a_monotone_join_closed_form():
 
     assert abs(_find_junction_deg(0.0, 10.0, peak, expansion_at) - 3 * a) < 1e-9
     assert _find_junction_deg(0.0, 3 * a - 0.05, peak, expansion_at) is None  # not within the limit
+
+
+@pytest.mark.parametrize("a", [1.2345, 10.0 / 3.0, 12.3456])
+def test_junction_scan_stops_at_the_first_passing_chunk_with_the_whole_grid_answer(a):
+    """J = 3 a (closed form above) found the same as on the whole 0.01 deg grid, for J in the first
+    10 deg chunk, at its edge and beyond it, with only the grid up to J's chunk evaluated."""
+    import numpy as np
+
+    from crankdyn.physics.indicator import _find_junction_deg
+
+    peak, evaluated = 5.0e6, []
+
+    def expansion_at(psi):
+        psi = np.asarray(psi, dtype=float)
+        evaluated.append(psi.size)
+        return peak - (psi - a) ** 2, -2.0 * (psi - a)
+
+    whole = 0.01 * np.arange(1, 12001)  # the whole grid to 120 deg: its first passing point
+    p, slope = expansion_at(whole)
+    beta = slope / ((p - peak) / whole)
+    first_on_grid = whole[np.nonzero((p < peak) & (beta >= -1e-12) & (beta <= 3.0 + 1e-12))[0][0]]
+    evaluated.clear()
+    found = _find_junction_deg(0.0, 120.0, peak, expansion_at)
+    assert abs(found - 3 * a) < 1e-9 and found <= first_on_grid
+    assert first_on_grid - found < 0.01
+    assert evaluated[0] == 1000 and sum(evaluated) < 1000 * (int(3 * a // 10) + 2) + 500

@@ -52,6 +52,7 @@ _JUNCTION_SEARCH_STEP_DEG = 0.01
 # Tolerance of the junction angle, deg.
 _JUNCTION_TOLERANCE_DEG = 1e-10
 _JUNCTION_REFINE_POINTS = 64  # points per refinement of the junction's bracket
+_JUNCTION_SCAN_CHUNK = 1000  # grid points tested at a time when looking for the junction (10 deg)
 # Largest cyclic gap of the caller's grid from which the cylinder volume may
 # be reconstructed by a periodic spline (the textbook table step is 10-15 deg).
 _MAX_VOLUME_GRID_STEP_DEG = 15.0
@@ -622,15 +623,20 @@ def _find_junction_deg(psi_peak, psi_limit, peak_Pa, expansion_at):
         return _hermite_is_monotone(0.0, slope, secant)
 
     n = int(np.floor((psi_limit - psi_peak) / _JUNCTION_SEARCH_STEP_DEG))
-    if n < 1:
+    # The grid psi_peak + k * step, k = 1..n, is tested a chunk at a time from Z' on: J lies a few
+    # tens of degrees after Z', so the rest of the grid up to the limit need not be evaluated (the
+    # points are the same numbers as on the whole grid, and so is the first that passes).
+    first = None
+    for begin in range(1, n + 1, _JUNCTION_SCAN_CHUNK):
+        k = np.arange(begin, min(begin + _JUNCTION_SCAN_CHUNK, n + 1))
+        hits = np.nonzero(passing(psi_peak + _JUNCTION_SEARCH_STEP_DEG * k))[0]
+        if hits.size:
+            first = int(k[hits[0]])
+            break
+    if first is None:
         return None
-    grid = psi_peak + _JUNCTION_SEARCH_STEP_DEG * np.arange(1, n + 1)
-    candidates = np.nonzero(passing(grid))[0]
-    if candidates.size == 0:
-        return None
-    first = candidates[0]
-    hi = float(grid[first])
-    lo = psi_peak if first == 0 else float(grid[first - 1])
+    hi = float(psi_peak + _JUNCTION_SEARCH_STEP_DEG * first)
+    lo = psi_peak if first == 1 else float(psi_peak + _JUNCTION_SEARCH_STEP_DEG * (first - 1))
     if not passes(hi):
         return None
     # Refined on ever finer grids (each 1/64 of the bracket), not by scalar bisection: five

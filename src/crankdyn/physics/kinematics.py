@@ -68,6 +68,10 @@ def _as_float_array(value):
 
 
 def _checked_rod_ratio(rod_ratio):
+    if type(rod_ratio) is float:  # the usual case, checked without numpy's reductions (same test)
+        if rod_ratio < 0.0 or rod_ratio >= 1.0:
+            raise ValueError("rod_ratio must satisfy 0 <= rod_ratio < 1")
+        return rod_ratio
     rod_ratio = _as_float_array(rod_ratio)
     # lambda >= 1 would let the crank pin swing past the piston-pin circle,
     # so beta = arcsin(lambda sin alpha) stops being defined for some alpha.
