@@ -93,11 +93,13 @@ def tables(html: str) -> dict[str, tuple[list[str], list[list[str]]]]:
 
 
 def _lines(page: str) -> list[str]:
-    """The page's non-empty lines, whitespace normalised, the running page number left out."""
-    lines = [" ".join(line.split()) for line in page.splitlines() if line.strip()]
-    if lines and lines[-1].isdigit():
-        lines = lines[:-1]
-    return lines
+    """The page's non-empty lines, whitespace normalised, the running page number (top right,
+    alone or at the far end of the first line, after the continuation label) left out."""
+    raw = [line for line in page.splitlines() if line.strip()]
+    if raw:
+        raw[0] = re.sub(r"(^|\s{3,})\d+\s*$", "", raw[0])
+    lines = [" ".join(line.split()) for line in raw]
+    return [line for k, line in enumerate(lines) if line or k > 0]
 
 
 def _starts_table_row(line: str, table_set) -> str | None:

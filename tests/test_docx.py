@@ -79,7 +79,10 @@ def test_docx_styles_page_and_fields(kinematics):
     # DSTU 3008 margins, as the PDF has them: left 30, right 15, top and bottom 20 mm (1 mm = 36000 EMU).
     assert [round(v / Mm(1)) for v in (section.left_margin, section.right_margin, section.top_margin,
                                        section.bottom_margin)] == [30, 15, 20, 20]
-    assert " PAGE " in section.footer.paragraphs[0]._p.xml and section.different_first_page_header_footer
+    # the page number top right (DSTU 3008:2015), in a header as the PDF has it; none on the title page
+    number = section.header.paragraphs[0]._p.xml
+    assert " PAGE " in number and 'w:val="right"' in number and section.different_first_page_header_footer
+    assert not section.footer.paragraphs or " PAGE " not in section.footer.paragraphs[0]._p.xml
     xml = zipfile.ZipFile(kinematics / "report.docx").read("word/document.xml").decode("utf-8")
     assert 'TOC \\o "1-3"' in xml
     # Every table repeats its header row on each page; captions are numbered as in the PDF.

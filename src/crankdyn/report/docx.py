@@ -4,7 +4,7 @@ Why pandoc: it is the well-kept converter that turns HTML tables into native Wor
 (header rows repeated on every page), ``<figure>`` into a picture with its caption, and MathML
 into native Word equations (OMML, ``m:oMath``), with the styles of a reference document. What
 it cannot express from HTML is done on its output afterwards, in a few small XML edits: the
-page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers in the footer, none on
+page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers top right, none on
 the title page), the contents as a Word TOC field that Word updates on opening, and the tab
 stops that put an equation's number at the right margin.
 
@@ -356,14 +356,15 @@ def reference_docx() -> bytes:
 
 # --------------------------------------------------------------------------- after pandoc
 
-_FOOTER = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
-           '<w:ftr xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
+_HEADER = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
+           '<w:hdr xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
            '<w:p><w:pPr><w:jc w:val="right"/><w:ind w:firstLine="0"/></w:pPr>'
            '<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> PAGE </w:instrText></w:r>'
            '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>1</w:t></w:r>'
-           '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:ftr>')
-_FOOTER_ID = "rIdCrankdynFooter"
-_SECTION = (f'<w:sectPr><w:footerReference w:type="default" r:id="{_FOOTER_ID}"/>'
+           '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>')
+# DSTU 3008:2015: the page number in the top right corner (a header, as the PDF has it)
+_HEADER_ID = "rIdCrankdynHeader"
+_SECTION = (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
             f'<w:pgSz w:w="{PAGE["w"]}" w:h="{PAGE["h"]}"/>'
             f'<w:pgMar w:top="{PAGE["top"]}" w:right="{PAGE["right"]}" w:bottom="{PAGE["bottom"]}" '
             f'w:left="{PAGE["left"]}" w:header="709" w:footer="567" w:gutter="0"/><w:titlePg/></w:sectPr>')
@@ -415,7 +416,7 @@ def _document(xml: str) -> str:
 
 
 def _finish(docx: bytes) -> bytes:
-    """pandoc's output with the page set-up, the footer with page numbers, the TOC field and equation tabs."""
+    """pandoc's output with the page set-up, the header with page numbers, the TOC field and equation tabs."""
     out = io.BytesIO()
     with zipfile.ZipFile(io.BytesIO(docx)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
         for item in source.infolist():
@@ -425,15 +426,15 @@ def _finish(docx: bytes) -> bytes:
                 data = _document(data.decode("utf-8")).encode("utf-8")
             elif name == "word/_rels/document.xml.rels":
                 data = data.replace(b"</Relationships>", (
-                    f'<Relationship Id="{_FOOTER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
-                    f'relationships/footer" Target="footer_crankdyn.xml"/></Relationships>').encode())
+                    f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
+                    f'relationships/header" Target="header_crankdyn.xml"/></Relationships>').encode())
             elif name == "[Content_Types].xml":
-                data = data.replace(b"</Types>", b'<Override PartName="/word/footer_crankdyn.xml" ContentType='
-                                    b'"application/vnd.openxmlformats-officedocument.wordprocessingml.footer+xml"/></Types>')
+                data = data.replace(b"</Types>", b'<Override PartName="/word/header_crankdyn.xml" ContentType='
+                                    b'"application/vnd.openxmlformats-officedocument.wordprocessingml.header+xml"/></Types>')
             elif name == "word/settings.xml" and b"updateFields" not in data:
                 data = re.sub(rb"(<w:settings[^>]*>)", rb'\1<w:updateFields w:val="true"/>', data, count=1)
             target.writestr(item, data)
-        target.writestr("word/footer_crankdyn.xml", _FOOTER)
+        target.writestr("word/header_crankdyn.xml", _HEADER)
     return out.getvalue()
 
 
