@@ -139,3 +139,25 @@ def test_exact_vs_two_term_difference_is_third_order():
         result = run("kinematics-only", {"engine": {"rod_length": None, "rod_ratio": lam}})
         errors.append(result.outputs["kinematics"].results["two_term_displacement_error_max_m"])
     assert 7.0 < errors[0] / errors[1] < 9.0
+
+
+@pytest.mark.parametrize("kinematics", ["exact", "approximate"])
+def test_inertia_beyond_the_textbook_two_terms_is_of_order_lambda_cubed(kinematics):
+    """p_j - (p_jI + p_jII): with the exact kinematics, the terms of order lambda^3 and up, whose
+    largest value is (m_s R omega^2 / F_p) lambda^3 / 2 at alpha = 90 deg to within lambda^5
+    (exact j / (R omega^2) = cos a + lambda cos 2a + (lambda^3/4)(cos 2a - cos 4a) + O(lambda^5));
+    with the textbook's approximate kinematics p_j is exactly the two terms. The report explains
+    the difference only when the table's three decimals show it."""
+    result = run("petrol-1cyl", {"analysis": {"kinematics": kinematics, "angle_step_deg": 0.5}})
+    forces, scene = result.outputs["forces"].results, result.scene
+    radius, ratio = scene.engine.stroke / 2, scene.engine.rod_ratio_value
+    omega = 2 * math.pi * scene.engine.rpm / 60
+    scale = forces["reciprocating_mass_kg"] * radius * omega**2 / forces["piston_area_m2"]
+    rest = forces["inertia_higher_orders_max_Pa"]
+    table = result.outputs["forces"].tables["forces"]
+    direct = np.max(np.abs(table["inertia_Pa"] - table["inertia_first_order_Pa"] - table["inertia_second_order_Pa"]))
+    assert rest == pytest.approx(direct, rel=1e-12, abs=1e-9)
+    if kinematics == "exact":
+        assert abs(rest / scale - ratio**3 / 2) <= ratio**5
+    else:
+        assert rest <= 1e-9 * scale

@@ -113,6 +113,9 @@ def run(scene, inputs) -> StageOutput:
         "centrifugal_rod_Pa": centrifugal_rod_Pa,
         "centrifugal_N": centrifugal_Pa * area,
         "inertia_tdc_Pa": float(phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)),
+        # p_j from the mechanism's own (exact) acceleration against the textbook's two terms
+        # p_jI + p_jII: the largest difference over the cycle, the terms of order lambda^3 and up
+        "inertia_higher_orders_max_Pa": float(np.max(np.abs(inertia_Pa - first_Pa - second_Pa))),
         "mean_torque_Nm": mean_torque,
         "mean_torque_from_work_Nm": mean_from_work,
         "mean_torque_deviation_percent": 100.0 * (mean_torque - mean_from_work) / mean_from_work
