@@ -466,7 +466,9 @@ def _star_figure(ctx, r):
         ax.set_title(title, fontsize=8)
         ax.set_xlim(-1.4, 1.4)
         ax.set_ylim(-1.4, 1.4)
-    return ctx.figure(fig, t("balancing.star_caption"), "crank_diagrams")
+    # one crank and one cylinder: a vector of each order, not a "star" of them
+    caption = t("balancing.star_caption_single") if len(labels) == 1 else t("balancing.star_caption")
+    return ctx.figure(fig, caption, "crank_diagrams")
 
 
 def _models_figure(ctx, r):

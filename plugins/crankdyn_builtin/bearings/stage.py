@@ -256,8 +256,10 @@ def render(output: StageOutput, ctx) -> str | None:
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
+    # one rod on each crank pin (in-line engines) or several sharing one (V, W, radial)
+    shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
-                               table_journals=table_journals, dims=d)
+                               table_journals=table_journals, dims=d, shared_pins=shared_pins)
 
 
 BEARINGS_STAGE = Stage(
