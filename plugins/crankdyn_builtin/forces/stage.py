@@ -61,12 +61,18 @@ def _forces_table(motion, pressures: dict, rod, resultant_Pa, torque_Nm) -> dict
     }
 
 
+def _higher_orders_max_Pa(inertia_Pa, first_order_Pa, second_order_Pa) -> float:
+    """Largest |p_j - (p_jI + p_jII)| over the cycle, Pa: p_j from the mechanism's own (exact)
+    acceleration against the textbook's two terms (Poda 2007, eq. 19), i.e. the terms of order
+    lambda^3 and up; zero for the approximate kinematics."""
+    return float(np.max(np.abs(inertia_Pa - first_order_Pa - second_order_Pa)))
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine, masses = scene.engine, scene.masses
     alpha = motion.crank_angle_rad
-    radius, omega = motion.crank_radius_m, motion.angular_velocity_rad_s
-    ratio = engine.rod_ratio_value
+    radius, omega, ratio = motion.crank_radius_m, motion.angular_velocity_rad_s, engine.rod_ratio_value
     area = phys.piston_area_m2(engine.bore)
 
     rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m,
@@ -113,9 +119,7 @@ def run(scene, inputs) -> StageOutput:
         "centrifugal_rod_Pa": centrifugal_rod_Pa,
         "centrifugal_N": centrifugal_Pa * area,
         "inertia_tdc_Pa": float(phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)),
-        # p_j from the mechanism's own (exact) acceleration against the textbook's two terms
-        # p_jI + p_jII: the largest difference over the cycle, the terms of order lambda^3 and up
-        "inertia_higher_orders_max_Pa": float(np.max(np.abs(inertia_Pa - first_Pa - second_Pa))),
+        "inertia_higher_orders_max_Pa": _higher_orders_max_Pa(inertia_Pa, first_Pa, second_Pa),
         "mean_torque_Nm": mean_torque,
         "mean_torque_from_work_Nm": mean_from_work,
         "mean_torque_deviation_percent": 100.0 * (mean_torque - mean_from_work) / mean_from_work
