@@ -139,3 +139,24 @@ def test_bearing_section_renders(language):
     html = render_html(result, REGISTRY, language).html
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
+
+
+def test_load_diagram_labels_of_coinciding_points_are_merged():
+    """alpha and alpha + 360 deg at (nearly) one point of a load diagram share one label."""
+    from crankdyn_builtin.bearings.stage import _coinciding
+
+    x = [0.0, 1.0, 0.001, 2.0, 1.02, 5.0]
+    y = [0.0, 1.0, 0.0, 2.0, 1.0, 5.0]
+    assert _coinciding(x, y, 0.05) == [(0, [0, 2]), (1, [1, 4]), (3, [3]), (5, [5])]
+    assert _coinciding(x, y, 0.0) == [(0, [0]), (1, [1]), (2, [2]), (3, [3]), (4, [4]), (5, [5])]
+
+
+def test_load_diagram_labels_move_to_a_free_corner():
+    """A label whose place up and right of its point is taken goes to the first free corner."""
+    from crankdyn_builtin.bearings.stage import _label_places
+
+    points, texts = [(0.0, 0.0), (1.0, 0.0), (100.0, 100.0)], ["210", "570", "30"]
+    places = _label_places(points, texts, per_pt=1.0)  # a 3-digit label is about 10 x 7 pt
+    assert places[0] == (2, 2, "left", "bottom")
+    assert places[1] != places[0] and places[1][2:] in (("right", "bottom"), ("left", "top"), ("right", "top"))
+    assert places[2] == (2, 2, "left", "bottom")  # far from the others

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -156,6 +157,44 @@ def run(scene, inputs) -> StageOutput:
                        notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
 
 
+def _coinciding(x, y, tolerance) -> list[tuple[int, list[int]]]:
+    """The points (x, y) in groups of those within ``tolerance`` of a group's first point, in
+    order: (index of the first, indices of the group)."""
+    groups: list[tuple[int, list[int]]] = []
+    for k in range(len(x)):
+        for first, members in groups:
+            if math.hypot(x[k] - x[first], y[k] - y[first]) <= tolerance:
+                members.append(k)
+                break
+        else:
+            groups.append((k, [k]))
+    return groups
+
+
+_PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left", "top"), (-2, -2, "right", "top"))
+
+
+def _label_places(points, texts, per_pt) -> list[tuple]:
+    """(dx, dy in points, ha, va) for a 6 pt label at each point (x right, y up, data units;
+    ``per_pt`` data units per point): up and right of the point, or the first other corner whose
+    box overlaps no label placed before it."""
+    placed: list[tuple[float, float, float, float]] = []
+    out = []
+    for (x, y), text in zip(points, texts):
+        width, height = len(text) * 3.4 * per_pt, 7.0 * per_pt
+        boxes = []
+        for dx, dy, ha, va in _PLACES:
+            x0 = x + dx * per_pt - (width if ha == "right" else 0.0)
+            y0 = y + dy * per_pt - (height if va == "top" else 0.0)
+            boxes.append((x0, y0, x0 + width, y0 + height))
+        free = [k for k, b in enumerate(boxes)
+                if not any(b[0] < c[2] and c[0] < b[2] and b[1] < c[3] and c[1] < b[3] for c in placed)]
+        k = free[0] if free else 0
+        placed.append(boxes[k])
+        out.append(_PLACES[k])
+    return out
+
+
 def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption):
     t, z = t_Pa / 1e6, z_Pa / 1e6
     fig, ax = new_figure(12, 12)
@@ -163,16 +202,25 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     step = angle[1] - angle[0]
     every = max(int(round(labels_every / step)), 1)
     ax.plot(t[::every], z[::every], "o", ms=2.5, color="C3", linestyle="none")  # one artist for all marks
-    for i in range(0, len(angle), every):
-        ax.annotate(ctx.t.number_g(angle[i]), (t[i], z[i]), fontsize=6, xytext=(2, 2), textcoords="offset points")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
     span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
+    # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
+    # one label "210, 570" instead of two printed over each other.
+    groups = _coinciding(t[::every], z[::every], 0.03 * span)
+    texts = [", ".join(ctx.t.number_g(angle[k * every]) for k in same) for _, same in groups]
+    anchors = [(t[i * every], z[i * every]) for i, _ in groups]
+    # about 270 pt of axes for the larger data range (equal aspect); z grows downwards on the page
+    per_pt = max(np.ptp(t), np.ptp(z), abs(pole_z), 1e-9) / 270.0
+    screen = [(x, -y) for x, y in anchors]
+    for (x, y), text, (dx, dy, ha, va) in zip(anchors, texts, _label_places(screen, texts, per_pt)):
+        ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
     radius = diameter_scale * span
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
     ax.plot([0], [pole_z], "k+", ms=8)
+    ax.annotate("O", (0, pole_z), xytext=(-9, -9), textcoords="offset points", fontsize=8, style="italic")
     if oil_deg is not None:
         psi = np.radians(oil_deg)
         ax.plot([0, radius * np.sin(psi)], [pole_z, pole_z + radius * np.cos(psi)], color="C2", lw=2)
@@ -193,11 +241,14 @@ def render(output: StageOutput, ctx) -> str | None:
     labels_every = 30.0 if ctx.cycle_deg > 360 else 15.0
     figures = []
     c_rod = r["centrifugal_rod_Pa"] / 1e6
+    # one rod on each crank pin (in-line engines) or several sharing one (V, W, radial)
+    shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
+    pin_caption = "bearings.pin_caption_shared" if shared_pins else "bearings.pin_caption"
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
         figures.append(_polar(ctx, f[f"pin{k}_t_Pa"].to_numpy(), f[f"pin{k}_z_Pa"].to_numpy() - r["centrifugal_rod_Pa"],
                               angle, -c_rod, t("bearings.pin_title", k=k), pin["oil_hole_deg"], 0.12, labels_every,
-                              f"pin{k}", t("bearings.pin_caption", k=k)))
+                              f"pin{k}", t(pin_caption, k=k)))
         figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"].to_numpy(), f[f"rod_bearing{k}_z_Pa"].to_numpy(), angle,
                               0.0, t("bearings.rod_title", k=k), None, 0.12, labels_every, f"rod_bearing{k}",
                               t("bearings.rod_caption", k=k)))
@@ -256,8 +307,6 @@ def render(output: StageOutput, ctx) -> str | None:
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
-    # one rod on each crank pin (in-line engines) or several sharing one (V, W, radial)
-    shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                table_journals=table_journals, dims=d, shared_pins=shared_pins)
 
