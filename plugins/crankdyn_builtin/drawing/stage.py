@@ -152,7 +152,7 @@ def run(scene, inputs) -> StageOutput:
 
 def _labels(geometry, ctx) -> dict[str, str]:
     mm = ctx.t("unit.mm")
-    return {k: f"{k} = {ctx.num(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
+    return {k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
 
 
 def render(output: StageOutput, ctx) -> str:

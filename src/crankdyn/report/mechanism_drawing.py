@@ -190,8 +190,13 @@ def _dimension(ax, p, q, text, offset, extent):
                 color="0.35", lw=0.5)
     ax.annotate("", xy=b, xytext=a, arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
                                                    "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
-    mid = (a + b) / 2 + n * np.sign(offset) * extent * 0.035
-    ax.text(*mid, text, ha="center", va="center", fontsize=8, color="0.15",
+    # The text starts just outside the dimension line and grows away from the drawing, so that it
+    # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
+    side = n * np.sign(offset)
+    ha = "left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center"
+    va = "bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center"
+    mid = (a + b) / 2 + side * extent * 0.015
+    ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15",
             bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
 
 
@@ -218,7 +223,9 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
                 color="0.15", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
-        top = o + d * (guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM + extent * 0.05)
+        # above the cylinder's label (its number), which would otherwise sit in the text
+        clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
+        top = o + d * (guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM + clear)
         half = guide.bore_m * MM / 2
         _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
 
