@@ -337,7 +337,7 @@ def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path)
               30, "the report in the tab")
         # Mark this page's JavaScript state: a reload wipes it, a DOM patch or a cached page would not.
         browser.evaluate("window.__crankdyn_mark = 1")
-        assert "5600.0" in browser.evaluate("document.body.innerText")
+        assert "\t5600\t" in browser.evaluate("document.body.innerText")  # n in the input table (the name says 5600 too)
 
         start = time.monotonic()
         _edit(scene, title='"Preview two"', rpm="6000")
@@ -346,7 +346,7 @@ def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path)
         latency = time.monotonic() - start
         assert browser.evaluate("window.__crankdyn_mark === undefined"), "the tab did not reload itself"
         text = browser.evaluate("document.body.innerText")
-        assert "6000.0" in text and "5600.0" not in text
+        assert "\t6000\t" in text and "\t5600\t" not in text
         ARTIFACTS.mkdir(exist_ok=True)
         browser.screenshot(ARTIFACTS / "serve-preview.png")
         assert (ARTIFACTS / "serve-preview.png").read_bytes().startswith(b"\x89PNG")
