@@ -19,9 +19,8 @@ import os
 import pickle
 import signal
 import threading
-import time
 
-from .orchestrator import RunResult, check_output
+from .orchestrator import RunResult, run_stage
 
 
 def can_fork() -> bool:
@@ -87,10 +86,7 @@ class ForkedStudies:
 def _compute(scene, jobs, out) -> None:
     for stage, inputs in jobs:
         try:
-            start = time.perf_counter()
-            output = stage.run(scene, inputs)
-            elapsed = time.perf_counter() - start
-            check_output(stage, output)
+            output, elapsed = run_stage(stage, scene, inputs)
             message = pickle.dumps((stage.name, output, elapsed), protocol=pickle.HIGHEST_PROTOCOL)
         except Exception:  # computed again in the report's process, which then raises it
             message = pickle.dumps((stage.name, None, 0.0), protocol=pickle.HIGHEST_PROTOCOL)

@@ -46,13 +46,7 @@ class RunResult:
             return self.outputs.get(name)
         stage = next(s for s in self.plan.order if s.name == name)
         taken = self.background.take(name) if self.background is not None else None
-        if taken is None:
-            start = time.perf_counter()
-            output = stage.run(self.scene, self.deferred[name])
-            elapsed = time.perf_counter() - start
-            check_output(stage, output)
-        else:
-            output, elapsed = taken
+        output, elapsed = taken if taken is not None else run_stage(stage, self.scene, self.deferred[name])
         del self.deferred[name]
         self.outputs[name] = output
         self.timing_s[name] = elapsed
@@ -272,6 +266,15 @@ def check_output(stage: Stage, output: StageOutput) -> None:
                           f"in Stage.tables (declared: {list(stage.tables)})")
 
 
+def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, float]:
+    """(output, seconds) of ``stage.run``, its output checked against the stage's declarations."""
+    start = time.perf_counter()
+    output = stage.run(scene, inputs)
+    elapsed = time.perf_counter() - start
+    check_output(stage, output)
+    return output, elapsed
+
+
 def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunResult:
     """Run the stages of ``the_plan`` in order. With ``defer_studies`` the studies
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
@@ -285,10 +288,7 @@ def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunRe
         if defer_studies and is_study(stage):
             deferred[stage.name] = inputs
             continue
-        start = time.perf_counter()
-        output = stage.run(scene, inputs)
-        timing[stage.name] = time.perf_counter() - start
-        check_output(stage, output)
+        output, timing[stage.name] = run_stage(stage, scene, inputs)
         data.update(output.data)
         outputs[stage.name] = output
     return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred)

@@ -14,9 +14,9 @@ import pickle
 import re
 import select
 import sys
-import threading
 from collections.abc import Callable, Sequence
 
+from .. import background
 from ..heap import freeze_more
 
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
@@ -187,7 +187,7 @@ def default_workers() -> int:
 def can_fork(allow_threads: bool = False) -> bool:
     """Whether figures may be drawn in forked children: POSIX ``fork``, and (unless the caller
     knows better) no other thread that a child's copy of a held lock could stall."""
-    return hasattr(os, "fork") and (allow_threads or threading.active_count() == 1)
+    return hasattr(os, "fork") if allow_threads else background.can_fork()
 
 
 def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threads: bool = False) -> list[bytes]:
