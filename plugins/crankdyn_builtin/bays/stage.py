@@ -308,18 +308,18 @@ def render(output: StageOutput, ctx) -> str | None:
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
     bay_table = slave_table = figure = None
     if "bay" in output.tables:
-        f = output.tables["bay"]
-        angle = f["crank_angle_deg"].to_numpy()
+        f = output.tables.arrays("bay")
+        angle = f["crank_angle_deg"]
         rows, labels = sample_rows(angle, ctx.table_step_deg)
-        first = output.tables[[k for k in output.tables if k.startswith("slave_")][0]]
+        first = output.tables.arrays([k for k in output.tables if k.startswith("slave_")][0])
         bay_table = ctx.table([
             ("<i>α</i>, °", labels, 0),
-            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"].to_numpy()[rows] / 1e6, 3),
-            ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"].to_numpy()[rows] / 1e6, 3),
-            ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"].to_numpy()[rows], 2),
-            ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"].to_numpy()[rows] / 1e6, 3),
-            ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"].to_numpy()[rows] / 1e6, 3),
-            ("<i>q</i>", f["bay_resultant_Pa"].to_numpy()[rows] / 1e6, 3),
+            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
+            ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
+            ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
+            ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
+            ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
+            ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
         ], caption=t("bays.table_b2_caption"))
         slave_table = ctx.table([
             (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),

@@ -236,8 +236,8 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
 def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     r = output.results
-    f = output.tables["bearings"]
-    angle = f["crank_angle_deg"].to_numpy()
+    f = output.tables.arrays("bearings")
+    angle = f["crank_angle_deg"]
     labels_every = 30.0 if ctx.cycle_deg > 360 else 15.0
     figures = []
     c_rod = r["centrifugal_rod_Pa"] / 1e6
@@ -246,29 +246,29 @@ def render(output: StageOutput, ctx) -> str | None:
     pin_caption = "bearings.pin_caption_shared" if shared_pins else "bearings.pin_caption"
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
-        figures.append(_polar(ctx, f[f"pin{k}_t_Pa"].to_numpy(), f[f"pin{k}_z_Pa"].to_numpy() - r["centrifugal_rod_Pa"],
+        figures.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
                               angle, -c_rod, t("bearings.pin_title", k=k), pin["oil_hole_deg"], 0.12, labels_every,
                               f"pin{k}", t(pin_caption, k=k)))
-        figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"].to_numpy(), f[f"rod_bearing{k}_z_Pa"].to_numpy(), angle,
+        figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
                               0.0, t("bearings.rod_title", k=k), None, 0.12, labels_every, f"rod_bearing{k}",
                               t("bearings.rod_caption", k=k)))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
-        figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"].to_numpy(), f[f"journal{j - 1}_z_Pa"].to_numpy(), angle,
+        figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
                               0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
                               labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"])))
-        figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"].to_numpy(), f[f"main_bearing{j - 1}_z_Pa"].to_numpy(),
+        figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
                               angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
                               t("bearings.main_bearing_caption", label=journal["journal"])))
     # Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point).
-    wear = output.tables["wear"]
+    wear = output.tables.arrays("wear")
     k = r["drawn_pins"][0]
     fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
     ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
     ax.set_theta_direction(1)
-    psi = np.radians(wear["surface_angle_deg"].to_numpy())
-    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"].iloc[0]) / 1e3,
+    psi = np.radians(wear["surface_angle_deg"])
+    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"][0]) / 1e3,
             color="C1", alpha=0.5)
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
     ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)

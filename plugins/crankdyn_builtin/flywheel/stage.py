@@ -208,9 +208,9 @@ def run(scene, inputs) -> StageOutput:
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     r = output.results
-    f = output.tables["flywheel"]
-    angle = f["crank_angle_deg"].to_numpy()
-    work = f["excess_work_J"].to_numpy()
+    f = output.tables.arrays("flywheel")
+    angle = f["crank_angle_deg"]
+    work = f["excess_work_J"]
     i_max, i_min = first_argmax(work), first_argmin(work)
 
     fig, axes = new_figure(16, 13, nrows=2, sharex=True)

@@ -204,17 +204,17 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
 
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
-    f = output.tables["forces"]
+    f = output.tables.arrays("forces")
     r = output.results
-    angle = f["crank_angle_deg"].to_numpy()
-    mpa = {k: f[k].to_numpy() / 1e6 for k in f.columns if k.endswith("_Pa")}
+    angle = f["crank_angle_deg"]
+    mpa = {k: f[k] / 1e6 for k in f.columns if k.endswith("_Pa")}
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
     table_b1 = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"].to_numpy()[rows], 4),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy()[rows], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy()[rows], 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"][rows], 4),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
         ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
         ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
         ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
@@ -225,14 +225,14 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>z</i>", mpa["radial_Pa"][rows], 3),
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
     ], caption=t("forces.table_b1_caption"), css_class="data wide")
-    worked = _worked(ctx, f.iloc[rows], labels, r)
+    worked = _worked(ctx, f.take(rows), labels, r)
     table_q = ctx.table([
         ("<i>α</i>, °", labels, 0),
         ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
         ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
-        ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"].to_numpy()[rows], 1),
-    ], caption=t("forces.table_q_caption")) + worked_crank_torque(ctx, f.iloc[rows], labels, r)
+        ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
+    ], caption=t("forces.table_q_caption")) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)
     for key, label in (("gas_Pa", "p_g"), ("inertia_Pa", "p_j"), ("total_Pa", "p_1")):
@@ -272,7 +272,7 @@ def _worked(ctx, rows, labels, r):
     """Inertia and total specific force with the numbers of one row of table B.1."""
     t, lang = ctx.t, ctx.t.language
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), rows.iloc[i]
+    alpha, row = float(labels[i]), rows.row(i)
     m_txt, m_s = printed(t, r["reciprocating_mass_kg"])
     f_txt, area = printed(t, r["piston_area_m2"])
     j = round(float(row["piston_acceleration_m_s2"]))  # as table B.1 prints it

@@ -18,7 +18,7 @@ def worked_crank_torque(ctx, rows, labels, r) -> Markup:
         return Markup("")
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), rows.iloc[i]
+    alpha, row = float(labels[i]), rows.row(i)
     tangential = float(row["tangential_Pa"]) / 1e6
     radius, area = scene.engine.crank_radius_m, r["piston_area_m2"]
     t_txt, t_mpa = printed(t, tangential)  # one digit more than the table where t is small: M_k to its 0,1 N·m

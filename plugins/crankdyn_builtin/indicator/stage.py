@@ -158,16 +158,16 @@ def _trace_pressure(scene, motion, area, swept):
 
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
-    frame = output.tables["indicator"]
+    frame = output.tables.arrays("indicator")
     r = output.results
-    angle = frame["crank_angle_deg"].to_numpy()
-    volume_l = frame["cylinder_volume_m3"].to_numpy() * 1e3
-    pressure = frame["pressure_Pa"].to_numpy() / 1e6
+    angle = frame["crank_angle_deg"]
+    volume_l = frame["cylinder_volume_m3"] * 1e3
+    pressure = frame["pressure_Pa"] / 1e6
     has_theory = "pressure_theoretical_Pa" in frame
 
     fig, ax = new_figure(16, 9.5)
     if has_theory:
-        theory = frame["pressure_theoretical_Pa"].to_numpy() / 1e6
+        theory = frame["pressure_theoretical_Pa"] / 1e6
         ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
                 label=t("indicator.theoretical"))
     ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",

@@ -23,7 +23,7 @@ def polytrope_of(crank_angle_deg: float, strokes: int) -> str | None:
 
 def _worked_row(frame, rows, labels, r, scene, wanted_deg):
     """The printed row nearest the worked angle (moved by whole strokes) on a polytrope, or None."""
-    volume = frame["cylinder_volume_m3"].to_numpy()[rows]
+    volume = frame["cylinder_volume_m3"][rows]
     v_z = scene.cycle.pre_expansion_ratio * r["clearance_volume_m3"]
     v_a = scene.cycle.compression_ratio * r["clearance_volume_m3"]
     for shift in (0.0, 360.0, 180.0, 540.0):
@@ -45,7 +45,7 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
     i, line = found
     t, c = ctx.t, scene.cycle
     alpha = float(labels[i])
-    volume_l = float(frame["cylinder_volume_m3"].to_numpy()[rows][i]) * 1e3
+    volume_l = float(frame["cylinder_volume_m3"][rows][i]) * 1e3
     v_a_l = c.compression_ratio * r["clearance_volume_m3"] * 1e3
     if line == "compression":
         start, start_html, index, index_html = c.intake_pressure / 1e6, "<i>p</i><sub>a</sub>", \
@@ -62,7 +62,7 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
     step = WorkedStep("polytrope_pressure", "<i>p</i><sub>theor</sub>",
                       f"{start_html}(<i>V</i><sub>a</sub>/<i>V</i>)<sup>{index_html}</sup>",
                       f"{p_txt}·({va_txt}/{v_txt})<sup>{n_txt}</sup>",
-                      float(frame["pressure_theoretical_Pa"].to_numpy()[rows][i]) / 1e6, 4, t("unit.MPa"),
+                      float(frame["pressure_theoretical_Pa"][rows][i]) / 1e6, 4, t("unit.MPa"),
                       inputs, exact=exact)
     note = t(f"indicator.worked_{line}", angle=t.number_g(alpha))
     return worked_markup(ctx, WorkedBlock("indicator", ctx.last_table_number, alpha, [step], note=note))

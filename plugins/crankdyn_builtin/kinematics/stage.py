@@ -131,24 +131,24 @@ def run(scene, inputs) -> StageOutput:
 
 
 def render(output: StageOutput, ctx) -> str:
-    frame = output.tables["kinematics"]
+    frame = output.tables.arrays("kinematics")
     r = output.results
     t = ctx.t
     # The motion repeats every revolution, so one revolution is tabulated.
-    rows, labels = sample_rows(frame["crank_angle_deg"].to_numpy(), ctx.table_step_deg, span_deg=360.0)
-    f = frame.iloc[rows]
+    rows, labels = sample_rows(frame["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
+    f = frame.take(rows)
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"].to_numpy() * 1e3, 2),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"].to_numpy(), 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"].to_numpy(), 0),
-        ("<i>β</i>, °", f["rod_angle_deg"].to_numpy(), 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"].to_numpy(), 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"], 0),
+        ("<i>β</i>, °", f["rod_angle_deg"], 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
     ], caption=t("kinematics.table_caption"))
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
-    angle = frame["crank_angle_deg"].to_numpy()
+    angle = frame["crank_angle_deg"]
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
     axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0", label=t("kinematics.chosen"))
     axes[0].set_ylabel(t("kinematics.axis_s"))
@@ -196,7 +196,7 @@ def _worked(ctx, rows, labels, r):
     """Displacement, velocity and acceleration of the piston with the numbers of one table row."""
     t, lang = ctx.t, ctx.t.language
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), rows.iloc[i]
+    alpha, row = float(labels[i]), rows.row(i)
     a = t.number_g(alpha)
     r_txt, r_m = printed(t, r["crank_radius_m"])
     l_txt, lam = printed(t, r["rod_ratio"])

@@ -206,22 +206,22 @@ def run(scene, inputs) -> StageOutput:
 
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
-    f = output.tables["offset_crank"]
+    f = output.tables.arrays("offset_crank")
     r = output.results
-    rows, labels = sample_rows(f["crank_angle_deg"].to_numpy(), ctx.table_step_deg, span_deg=360.0)
-    g = f.iloc[rows]
+    rows, labels = sample_rows(f["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
+    g = f.take(rows)
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>φ</i>, °", g["crank_angle_from_axis_deg"].to_numpy() % 360.0, 2),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"].to_numpy() * 1e3, 3),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"].to_numpy(), 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"].to_numpy(), 0),
-        ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"].to_numpy(), 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
+        ("<i>φ</i>, °", g["crank_angle_from_axis_deg"] % 360.0, 2),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * 1e3, 3),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
+        ("<i>β</i>, °", g["rod_angle_deg"], 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
     ], caption=t("offset_crank.table_caption")) + worked_offset_crank(ctx, g, labels, r)
 
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     one = angle < 360.0
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
     for ax, key, label in ((axes[0], "piston_displacement", "offset_crank.axis_s"),
@@ -229,8 +229,8 @@ def render(output: StageOutput, ctx) -> str:
                            (axes[2], "piston_acceleration", "offset_crank.axis_j")):
         scale = 1e3 if key == "piston_displacement" else 1.0
         unit = "_m" if key == "piston_displacement" else ("_m_s" if key == "piston_velocity" else "_m_s2")
-        ax.plot(angle[one], f[key + unit].to_numpy()[one] * scale, color="C0", label=t("offset_crank.offset_label"))
-        ax.plot(angle[one], f["central_" + key + unit].to_numpy()[one] * scale, color="0.45", ls="--", lw=1,
+        ax.plot(angle[one], f[key + unit][one] * scale, color="C0", label=t("offset_crank.offset_label"))
+        ax.plot(angle[one], f["central_" + key + unit][one] * scale, color="0.45", ls="--", lw=1,
                 label=t("offset_crank.central_label"))
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
@@ -240,7 +240,7 @@ def render(output: StageOutput, ctx) -> str:
     figure_main = ctx.figure(fig, t("offset_crank.figure_caption"), "offset_piston")
 
     fig, ax = new_figure(16, 7)
-    ax.plot(angle[one], f["rod_angle_deg"].to_numpy()[one], color="C4")
+    ax.plot(angle[one], f["rod_angle_deg"][one], color="C4")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.set_ylabel(t("offset_crank.axis_beta"))
     crank_angle_axis(ax, 360.0, t("axis.crank_angle"))

@@ -12,7 +12,7 @@ def worked_offset_crank(ctx, g, labels, r) -> Markup:
     """``g``: the table's rows, ``labels`` their crank angles α (from TDC); φ = α + φ_TDC."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), g.iloc[i]
+    alpha, row = float(labels[i]), g.row(i)
     phi, beta = float(row["crank_angle_from_axis_deg"]) % 360.0, float(row["rod_angle_deg"])
     radius_mm, length_mm, offset_mm = r["crank_radius_m"] * 1e3, r["rod_length_m"] * 1e3, r["offset_m"] * 1e3
     f_txt, f = printed(t, phi, 5)

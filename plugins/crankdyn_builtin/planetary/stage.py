@@ -352,20 +352,20 @@ def _sampled_table(f, r, span, ctx) -> str:
     """The sampled table of the linkage's motion and force ratios, with its worked substitutions."""
     t = ctx.t
     mm = 1e3
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=span)
-    g = f.iloc[rows]
+    g = f.take(rows)
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>x</i><sub>B</sub>, " + t("unit.mm"), g["big_end_x_m"].to_numpy() * mm, 3),
-        ("<i>z</i><sub>B</sub>, " + t("unit.mm"), g["big_end_z_m"].to_numpy() * mm, 3),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"].to_numpy() * mm, 3),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"].to_numpy(), 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"].to_numpy(), 0),
-        ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
-        ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"].to_numpy() * mm, 3),
-        ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"].to_numpy() * mm, 3),
-        ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"].to_numpy(), 3),
+        ("<i>x</i><sub>B</sub>, " + t("unit.mm"), g["big_end_x_m"] * mm, 3),
+        ("<i>z</i><sub>B</sub>, " + t("unit.mm"), g["big_end_z_m"] * mm, 3),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * mm, 3),
+        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
+        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
+        ("<i>β</i>, °", g["rod_angle_deg"], 2),
+        ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"] * mm, 3),
+        ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"] * mm, 3),
+        ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"], 3),
     ], caption=t("planetary.table_caption"))
     return table + worked_planetary(ctx, g, labels, r)
 
@@ -379,7 +379,7 @@ def _path_figure(f, r, inside, ctx) -> str:
     _circle(ax, (0.0, 0.0), r["fixed_pitch_diameter_m"] / 2 * mm, color="0.5", ls="--", lw=0.9,
             label=t("planetary.fixed_gear"))
     _circle(ax, (0.0, 0.0), r["carrier_radius_m"] * mm, color="0.7", ls=":", lw=0.9, label=t("planetary.carrier_path"))
-    ax.plot(f["big_end_x_m"].to_numpy()[inside] * mm, f["big_end_z_m"].to_numpy()[inside] * mm, color="C0",
+    ax.plot(f["big_end_x_m"][inside] * mm, f["big_end_z_m"][inside] * mm, color="C0",
             label=t("planetary.big_end_path"))
     centre = np.array(snap["planet_centre"]) * mm
     _circle(ax, centre, r["planet_pitch_diameter_m"] / 2 * mm, color="C2", lw=0.9, label=t("planetary.planet_at_tdc"))
@@ -427,8 +427,8 @@ def _motion_figure(f, angle, inside, span, ctx) -> str:
     for ax, key, unit, scale, label in ((axes[0], "piston_displacement", "_m", mm, "planetary.axis_s"),
                                         (axes[1], "piston_velocity", "_m_s", 1.0, "planetary.axis_v"),
                                         (axes[2], "piston_acceleration", "_m_s2", 1.0, "planetary.axis_j")):
-        ax.plot(angle[inside], f[key + unit].to_numpy()[inside] * scale, color="C0", label=t("planetary.planetary"))
-        ax.plot(angle[inside], f["conventional_" + key + unit].to_numpy()[inside] * scale, color="0.45", ls="--",
+        ax.plot(angle[inside], f[key + unit][inside] * scale, color="C0", label=t("planetary.planetary"))
+        ax.plot(angle[inside], f["conventional_" + key + unit][inside] * scale, color="0.45", ls="--",
                 lw=1, label=t("planetary.conventional"))
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
@@ -442,17 +442,17 @@ def _arms_figure(f, angle, inside, span, ctx) -> str:
     t = ctx.t
     mm = 1e3
     fig, axes = new_figure(16, 12, nrows=2, sharex=True)
-    axes[0].plot(angle[inside], f["carrier_torque_arm_m"].to_numpy()[inside] * mm, color="C0",
+    axes[0].plot(angle[inside], f["carrier_torque_arm_m"][inside] * mm, color="C0",
                  label=t("planetary.arm_effective"))
-    axes[0].plot(angle[inside], f["rod_line_arm_m"].to_numpy()[inside] * mm, color="C3", ls=":",
+    axes[0].plot(angle[inside], f["rod_line_arm_m"][inside] * mm, color="C3", ls=":",
                  label=t("planetary.arm_rod_line"))
-    axes[0].plot(angle[inside], f["conventional_torque_arm_m"].to_numpy()[inside] * mm, color="0.45", ls="--", lw=1,
+    axes[0].plot(angle[inside], f["conventional_torque_arm_m"][inside] * mm, color="0.45", ls="--", lw=1,
                  label=t("planetary.arm_conventional"))
     axes[0].set_ylabel(t("planetary.axis_arm"))
     axes[0].legend(loc="upper right", fontsize=7)
-    axes[1].plot(angle[inside], f["tooth_tangential_per_piston_force"].to_numpy()[inside], color="C2",
+    axes[1].plot(angle[inside], f["tooth_tangential_per_piston_force"][inside], color="C2",
                  label=t("planetary.tooth_force"))
-    axes[1].plot(angle[inside], f["carrier_radial_per_piston_force"].to_numpy()[inside], color="C4", ls="--",
+    axes[1].plot(angle[inside], f["carrier_radial_per_piston_force"][inside], color="C4", ls="--",
                  label=t("planetary.carrier_radial"))
     axes[1].set_ylabel(t("planetary.axis_force_ratio"))
     axes[1].legend(loc="upper right", fontsize=7)
@@ -465,16 +465,16 @@ def _arms_figure(f, angle, inside, span, ctx) -> str:
 def render(output: StageOutput, ctx) -> str:
     """The section: the sampled table, the four figures (path, family, motion, arms) and the conclusion."""
     t = ctx.t
-    f = output.tables["planetary"]
+    f = output.tables.arrays("planetary")
     r = output.results
     span = 360.0 * r["period_revolutions"]
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     inside = angle < span
     mm = 1e3
 
     table = _sampled_table(f, r, span, ctx)
     figure_path = _path_figure(f, r, inside, ctx)
-    figure_family = _family_figure(output.tables["family"], r, ctx)
+    figure_family = _family_figure(output.tables.arrays("family"), r, ctx)
     figure_motion = _motion_figure(f, angle, inside, span, ctx)
     figure_arms = _arms_figure(f, angle, inside, span, ctx)
 

@@ -13,7 +13,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
     """``g``: the table's rows, ``labels`` their crank angles α; φ = α + φ_TDC is the carrier's angle."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), g.iloc[i]
+    alpha, row = float(labels[i]), g.row(i)
     phi = float(row["carrier_angle_deg"])
     a_mm, e_mm, length_mm = r["carrier_radius_m"] * 1e3, r["pin_radius_m"] * 1e3, r["rod_length_m"] * 1e3
     f_txt, f = printed(t, phi, 6)

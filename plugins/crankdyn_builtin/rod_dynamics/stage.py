@@ -186,37 +186,37 @@ def run(scene, inputs) -> StageOutput:
 
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
-    f = output.tables["rod_dynamics"]
+    f = output.tables.arrays("rod_dynamics")
     r = output.results
     exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     period = 360.0 if ctx.scene is None or ctx.scene.engine.mechanism != "planetary" else ctx.cycle_deg
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
-    g = f.iloc[rows]
+    g = f.take(rows)
     columns = [
         ("<i>α</i>, °", labels, 0),
-        ("<i>β</i>, °", g["rod_angle_deg"].to_numpy(), 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"].to_numpy(), 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"].to_numpy(), 0),
-        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"].to_numpy(), 0),
-        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"].to_numpy(), 0),
-        ("<i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_two_mass_Nm"].to_numpy(), 2),
+        ("<i>β</i>, °", g["rod_angle_deg"], 2),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
+        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
+        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"], 0),
+        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"], 0),
+        ("<i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_two_mass_Nm"], 2),
     ]
     if exact:
-        columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"].to_numpy(), 2)]
-        columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"].to_numpy(), 2),
-                    ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"].to_numpy(), 3)]
+        columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"], 2)]
+        columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
+                    ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
     table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
                       css_class="data wide") + worked_rod_dynamics(ctx, g, labels, r)
 
     inside = angle < period
     fig, axes = new_figure(16, 14, nrows=3, sharex=True)
-    axes[0].plot(angle[inside], f["rod_angular_velocity_rad_s"].to_numpy()[inside], color="C0")
+    axes[0].plot(angle[inside], f["rod_angular_velocity_rad_s"][inside], color="C0")
     axes[0].set_ylabel(t("rod_dynamics.axis_omega"))
-    axes[1].plot(angle[inside], f["rod_angular_acceleration_rad_s2"].to_numpy()[inside], color="C1")
+    axes[1].plot(angle[inside], f["rod_angular_acceleration_rad_s2"][inside], color="C1")
     axes[1].set_ylabel(t("rod_dynamics.axis_epsilon"))
-    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"].to_numpy()[inside], color="C2", label="x")
-    axes[2].plot(angle[inside], f["cm_acceleration_z_m_s2"].to_numpy()[inside], color="C3", ls="--", label="z")
+    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"][inside], color="C2", label="x")
+    axes[2].plot(angle[inside], f["cm_acceleration_z_m_s2"][inside], color="C3", ls="--", label="z")
     axes[2].set_ylabel(t("rod_dynamics.axis_cm"))
     axes[2].legend(loc="upper right", fontsize=8)
     for ax in axes:
@@ -226,13 +226,13 @@ def render(output: StageOutput, ctx) -> str:
 
     fig, axes = new_figure(16, 11 if exact else 6, nrows=2 if exact else 1, sharex=True)
     top = axes[0] if exact else axes
-    top.plot(angle[inside], f["torque_two_mass_Nm"].to_numpy()[inside], color="0.45" if exact else "C0",
+    top.plot(angle[inside], f["torque_two_mass_Nm"][inside], color="0.45" if exact else "C0",
              ls="--" if exact else "-", label=t("rod_dynamics.two_mass"))
     if exact:
-        top.plot(angle[inside], f["torque_exact_Nm"].to_numpy()[inside], color="C0", label=t("rod_dynamics.exact"))
-        axes[1].plot(angle[inside], f["torque_difference_Nm"].to_numpy()[inside], color="C3",
+        top.plot(angle[inside], f["torque_exact_Nm"][inside], color="C0", label=t("rod_dynamics.exact"))
+        axes[1].plot(angle[inside], f["torque_difference_Nm"][inside], color="C3",
                      label=t("rod_dynamics.difference"))
-        axes[1].plot(angle[inside], f["inertia_couple_Nm"].to_numpy()[inside], color="C4", ls=":",
+        axes[1].plot(angle[inside], f["inertia_couple_Nm"][inside], color="C4", ls=":",
                      label=t("rod_dynamics.couple"))
         axes[1].set_ylabel(t("rod_dynamics.axis_torque"))
         axes[1].legend(loc="upper right", fontsize=8)

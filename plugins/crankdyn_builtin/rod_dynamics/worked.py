@@ -14,7 +14,7 @@ def worked_rod_dynamics(ctx, g, labels, r) -> Markup:
     """``g``: the table's rows (as printed), ``labels`` their crank angles."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), g.iloc[i]
+    alpha, row = float(labels[i]), g.row(i)
     beta, rate, accel = (float(row[k]) for k in ("rod_angle_deg", "rod_angular_velocity_rad_s",
                                                  "rod_angular_acceleration_rad_s2"))
     arm_mm = (r["rod_length_m"] - r["rod_cm_from_big_end_m"]) * 1e3

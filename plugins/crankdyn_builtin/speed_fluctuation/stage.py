@@ -635,7 +635,7 @@ def _error_figure(ctx, records, caption, name, key="error_relative"):
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
     t = ctx.t
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
     axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
@@ -708,7 +708,7 @@ def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     t = ctx.t
     nodes = torsion["nodes"]
     fig, axes = new_figure(16, 13, nrows=2, sharex=True)
-    shaft = tf["shaft_angle_deg"].to_numpy()
+    shaft = tf["shaft_angle_deg"]
     speed_columns = [c for c in tf.columns if c.startswith("speed_")]
     reference = torsion["reference_node"]
     axes[0].plot(shaft, tf[speed_columns[reference]], color="C0", label=node_names[reference])
@@ -737,7 +737,7 @@ def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
     _modes_figure(ctx, torsion, parts)
     _harmonics_table(ctx, torsion, parts)
     _campbell(ctx, torsion, parts)
-    _torsion_figure(ctx, output.tables["torsion"], torsion, node_names, parts)
+    _torsion_figure(ctx, output.tables.arrays("torsion"), torsion, node_names, parts)
     if torsion["solvers"]:
         parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
                                                        t("speed_fluctuation.torsion_table_caption"), twist=True)
@@ -756,7 +756,7 @@ def render(output: StageOutput, ctx) -> str:
     model when the scene has one, and the conclusions."""
     t = ctx.t
     r = output.results
-    figure_speed = _speed_figure(output.tables["speed_fluctuation"], r, ctx)
+    figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
     table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"))
     figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single")
 

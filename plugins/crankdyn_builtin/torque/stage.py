@@ -87,20 +87,20 @@ def run(scene, inputs) -> StageOutput:
 
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
-    f = output.tables["torque"]
+    f = output.tables.arrays("torque")
     cranks = sum(1 for c in f.columns if c.startswith("journal"))
     if ctx.scene.engine.cylinders == 1:
         return None  # one cylinder: its crank torque is already in the forces section
     t = ctx.t
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     rows, labels = sample_rows(angle, ctx.table_step_deg)
     columns = [("<i>α</i>, °", labels, 0)]
     for k in range(1, cranks + 1):
-        columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"].to_numpy()[rows] / 1e6, 3),
-                    (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"].to_numpy()[rows] / 1e6, 3),
-                    (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"].to_numpy()[rows] / 1e6, 3),
-                    (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"].to_numpy()[rows] / 1e6, 3)]
-    columns.append(("<i>M</i><sub>d</sub>, " + t("unit.Nm"), f["output_torque_Nm"].to_numpy()[rows], 1))
+        columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
+                    (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
+                    (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
+                    (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"][rows] / 1e6, 3)]
+    columns.append(("<i>M</i><sub>d</sub>, " + t("unit.Nm"), f["output_torque_Nm"][rows], 1))
     # Wide engines: split the B.3 table into chunks of cranks so it fits the page.
     tables = []
     per_table = 4

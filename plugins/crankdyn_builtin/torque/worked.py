@@ -13,7 +13,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
     """``t_kN = t_1 + … + t_N`` and ``M_d = t_kN R F_p`` with the numbers of one row of table B.3."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), f.iloc[rows[i]]
+    alpha, row = float(labels[i]), f.row(rows[i])
     engine = ctx.scene.engine
     radius, area = engine.crank_radius_m, piston_area_m2(engine.bore)
     terms = [printed_fixed(t, float(row[f"crank{k}_tangential_Pa"]) / 1e6, 3) for k in range(1, cranks + 1)]

@@ -203,14 +203,14 @@ def run(scene, inputs) -> StageOutput:
 def _comparison_plotter(f, compare, r, ctx):
     """``plot(ax, key, scale, **style)``: one column of the vane table over the crank angle, with the
     same column at each comparison rod ratio dashed beside it."""
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     lam = r["rod_ratio"]
     others = r["compare_rod_ratios"]
 
     def plot(ax, key, scale=1.0, **style):
-        ax.plot(angle, f[key].to_numpy() * scale, color="C0", label=f"λ = {ctx.t.number_g(lam, 4)}", **style)
+        ax.plot(angle, f[key] * scale, color="C0", label=f"λ = {ctx.t.number_g(lam, 4)}", **style)
         for i, other in enumerate(others):
-            ax.plot(angle, compare[f"{key}_lambda_{other:g}"].to_numpy() * scale, color=f"C{i + 1}", ls="--", lw=1,
+            ax.plot(angle, compare[f"{key}_lambda_{other:g}"] * scale, color=f"C{i + 1}", ls="--", lw=1,
                     label=f"λ = {ctx.t.number_g(other, 4)}")
         ax.axhline(0, color="0.3", lw=0.6)
 
@@ -221,20 +221,20 @@ def _vane_table(f, r, ctx) -> str:
     """The sampled table of the core, vane, rocker and slider motion, with its worked substitutions."""
     t = ctx.t
     mm = 1e3
-    rows, labels = sample_rows(f["crank_angle_deg"].to_numpy(), ctx.table_step_deg)
-    g = f.iloc[rows]
+    rows, labels = sample_rows(f["crank_angle_deg"], ctx.table_step_deg)
+    g = f.take(rows)
     table = ctx.table([
         ("<i>α</i>, °", labels, 0),
-        ("<i>β</i>, °", g["core_angle_deg"].to_numpy(), 2),
-        ("<i>γ</i>, °", g["vane_angle_deg"].to_numpy(), 2),
-        ("<i>ω</i><sub>c</sub>, " + t("unit.rad_s"), g["core_angular_velocity_rad_s"].to_numpy(), 2),
-        ("<i>ε</i><sub>c</sub>, " + t("unit.rad_s2"), g["core_angular_acceleration_rad_s2"].to_numpy(), 0),
-        ("<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"), g["rocker_x_m"].to_numpy() * mm, 2),
-        ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"].to_numpy() * mm, 2),
-        ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"].to_numpy() * mm, 2),
-        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"].to_numpy(), 3),
-        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"].to_numpy(), 0),
-        ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"].to_numpy() * mm, 2),
+        ("<i>β</i>, °", g["core_angle_deg"], 2),
+        ("<i>γ</i>, °", g["vane_angle_deg"], 2),
+        ("<i>ω</i><sub>c</sub>, " + t("unit.rad_s"), g["core_angular_velocity_rad_s"], 2),
+        ("<i>ε</i><sub>c</sub>, " + t("unit.rad_s2"), g["core_angular_acceleration_rad_s2"], 0),
+        ("<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"), g["rocker_x_m"] * mm, 2),
+        ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"] * mm, 2),
+        ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"] * mm, 2),
+        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"], 3),
+        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"], 0),
+        ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"] * mm, 2),
     ], caption=t("vane.table_caption"), css_class="data wide")
     return table + worked_vane(ctx, g, labels, r)
 
@@ -256,14 +256,14 @@ def _rocker_figure(f, ctx) -> str:
     """The rocker joint's x and y position, velocity and acceleration over the crank angle."""
     t = ctx.t
     mm = 1e3
-    angle = f["crank_angle_deg"].to_numpy()
+    angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
     for ax, (kx, ky), label in ((axes[0], ("rocker_x_m", "rocker_y_m"), "vane.axis_rocker_s"),
                                 (axes[1], ("rocker_vx_m_s", "rocker_vy_m_s"), "vane.axis_rocker_v"),
                                 (axes[2], ("rocker_jx_m_s2", "rocker_jy_m_s2"), "vane.axis_rocker_j")):
         scale = mm if kx.endswith("_m") else 1.0
-        ax.plot(angle, f[kx].to_numpy() * scale, color="C0", label="x")
-        ax.plot(angle, f[ky].to_numpy() * scale, color="C1", ls="--", label="y")
+        ax.plot(angle, f[kx] * scale, color="C0", label="x")
+        ax.plot(angle, f[ky] * scale, color="C1", ls="--", label="y")
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
     axes[0].legend(loc="upper right", fontsize=8)
@@ -293,7 +293,7 @@ def _lambda_figure(by_lambda, lam, ctx) -> str:
     its acceleration vanishes; the scene's λ marked."""
     t = ctx.t
     fig, axes = new_figure(16, 6.5, ncols=3)
-    x = by_lambda["rod_ratio"].to_numpy()
+    x = by_lambda["rod_ratio"]
     axes[0].plot(x, by_lambda["core_angle_max_deg"], color="C0")
     axes[0].set_ylabel(t("vane.axis_beta_max"))
     axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_tail"], color="C0", label="l = 1")
@@ -313,11 +313,11 @@ def render(output: StageOutput, ctx) -> str:
     """The section: the sampled table, the angle, core, rocker, slider and relative-slider figures,
     the rod-ratio study and the conclusion."""
     t = ctx.t
-    f = output.tables["vane"]
+    f = output.tables.arrays("vane")
     r = output.results
     lam = r["rod_ratio"]
     mm = 1e3
-    plot = _comparison_plotter(f, output.tables.get("compare"), r, ctx)
+    plot = _comparison_plotter(f, (output.tables.arrays("compare") if "compare" in output.tables else None), r, ctx)
 
     table = _vane_table(f, r, ctx)
     figure_angles = _two_panels(plot, ctx, ("core_angle_deg", "vane_angle_deg"), ("vane.axis_beta", "vane.axis_gamma"),
@@ -333,7 +333,7 @@ def render(output: StageOutput, ctx) -> str:
         plot, ctx, ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
         ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
         "vane.relative_caption", "vane_relative")
-    figure_lambda = _lambda_figure(output.tables["by_lambda"], lam, ctx)
+    figure_lambda = _lambda_figure(output.tables.arrays("by_lambda"), lam, ctx)
 
     zeros = r["slider_vertical_acceleration_zeros_deg"]
     ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),

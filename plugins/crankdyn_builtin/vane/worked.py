@@ -12,7 +12,7 @@ def worked_vane(ctx, g, labels, r) -> Markup:
     """``g``: the table's rows, ``labels`` their crank angles α."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), g.iloc[i]
+    alpha, row = float(labels[i]), g.row(i)
     a = t.number_g(alpha)
     lam_txt, lam = printed_g(t, r["rod_ratio"])
     w_txt, w = printed(t, r["angular_velocity_rad_s"], 5)

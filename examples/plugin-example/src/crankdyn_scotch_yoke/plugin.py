@@ -124,26 +124,26 @@ def render(output: StageOutput, ctx) -> str:
     import matplotlib.pyplot as plt
 
     t = ctx.t
-    frame = output.tables["scotch_yoke"]
+    frame = output.tables.arrays("scotch_yoke")
     r = output.results
     opts = options(ctx.scene, "scotch_yoke", YokeOptions) if ctx.scene is not None else YokeOptions()
     step = opts.table_step_deg or ctx.table_step_deg
-    angle = frame["crank_angle_deg"].to_numpy()
+    angle = frame["crank_angle_deg"]
     one_turn = angle < 360.0
     multiples = angle / step
     shown = one_turn & np.isclose(multiples, np.round(multiples))
     table = ctx.table([
         ("<i>α</i>, °", angle[shown], 0),
-        ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"].to_numpy()[shown] * 1e3, 2),
-        ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"].to_numpy()[shown], 2),
-        ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"].to_numpy()[shown], 0),
+        ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"][shown] * 1e3, 2),
+        ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"][shown], 2),
+        ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"][shown], 0),
     ], caption=t("scotch_yoke.table_caption"))
 
     fig, axes = plt.subplots(3, 1, figsize=(16 / 2.54, 14 / 2.54), sharex=True)
     for ax, key, scale, label in ((axes[0], "piston_displacement_m", 1e3, "scotch_yoke.axis_s"),
                                   (axes[1], "piston_velocity_m_s", 1.0, "scotch_yoke.axis_v"),
                                   (axes[2], "piston_acceleration_m_s2", 1.0, "scotch_yoke.axis_j")):
-        ax.plot(angle[one_turn], frame[key].to_numpy()[one_turn] * scale)
+        ax.plot(angle[one_turn], frame[key][one_turn] * scale)
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
     axes[2].set_xlabel(t("axis.crank_angle"))
