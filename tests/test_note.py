@@ -347,3 +347,11 @@ def test_landscape_tables_go_after_the_portrait_material_that_follows_them():
     # never out of the block that holds it
     nested = '<div class="x">' + wide + "</div><p>t</p>"
     assert landscape_tables_later(nested) == nested
+
+
+def test_double_primed_symbols_are_typeset_as_the_primed_ones():
+    """The bearings section's l′_i and l″_i (the crank's distances to its two main bearings)."""
+    from crankdyn.report.typeset import typeset_text_html
+
+    html = typeset_text_html("l′_i + l″_i = l_i", "uk", [])
+    assert html == "<i>l</i>′<sub>i</sub> + <i>l</i>″<sub>i</sub> = <i>l</i><sub>i</sub>"

@@ -22,7 +22,8 @@ from .figures import STYLE, new_figure
 MM = 1e3
 JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
 INK = "0.1"
-LABEL_GAP = 0.2  # cylinder label beyond the liner, fraction of the extent
+LABEL_GAP = 0.2  # room for the cylinder label beyond the liner, fraction of the extent
+LABEL_OFFSET = 0.05  # where the cylinder label starts beyond the liner, fraction of the extent
 
 
 def view_rotation_rad(geometry) -> float:
@@ -111,8 +112,7 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                          o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
         ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
         if guide.label:
-            label_at = o + d * (top + LABEL_GAP * extent * 0.6)
-            ax.text(*label_at, guide.label, ha="center", va="center", fontsize=8, color=color, alpha=alpha)
+            _guide_label(ax, o, d, n, top, half, guide.label, extent, color=color, alpha=alpha)
     else:
         width = extent * 0.035
         for side in (-1, 1):
@@ -121,6 +121,27 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
         block = np.array([pin - d * width * 1.2 - n * width, pin + d * width * 1.2 - n * width,
                           pin + d * width * 1.2 + n * width, pin - d * width * 1.2 + n * width])
         ax.fill(block[:, 0], block[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
+
+
+def _guide_label(ax, o, d, n, top, half, label: str, extent: float, **style) -> None:
+    """A cylinder's label beyond the liner's end, growing away from it (:func:`outward_alignment`).
+    A tilted bank's label ("1L, 2L, 3L, 4L") goes beside the liner's end, on its outer side, so
+    that it leaves the room beyond the end to the bore's dimension line."""
+    if "," in label and abs(float(d[0])) > 0.3:
+        outer = n if float(n[0]) * float(d[0]) > 0 else -n
+        at = o + d * top + outer * (half + LABEL_OFFSET * extent)
+        ax.text(*at, label, fontsize=8, **style, **outward_alignment(outer))
+    else:
+        ax.text(*(o + d * (top + LABEL_OFFSET * extent)), label, fontsize=8, **style, **outward_alignment(d))
+
+
+def outward_alignment(direction) -> dict[str, str]:
+    """Text alignment that makes a label grow along ``direction`` from its anchor: the label of a
+    tilted cylinder (a V or radial bank) then starts beyond the liner's end instead of being
+    centred on it, where a long label ("1L, 2L, 3L, 4L") would cross the liner."""
+    dx, dy = float(direction[0]), float(direction[1])
+    return {"ha": "left" if dx > 0.3 else "right" if dx < -0.3 else "center",
+            "va": "bottom" if dy > 0.3 else "top" if dy < -0.3 else "center"}
 
 
 def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: bool = True) -> None:
@@ -207,7 +228,11 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     j = geometry.joints
     crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1", "carrier")), None)
     rod = next((l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None)
-    if crank and "R" in labels:
+    if crank and "R" in labels and len(_one_per_axis(geometry.guides)) > 1:
+        _crank_radius_below(ax, geometry, i, crank, labels["R"], extent)
+    elif crank and "R" in labels and len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2:
+        _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
+    elif crank and "R" in labels:
         _dimension(ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent)
     if rod and "L" in labels:
         # Outside the liner, so the text stays clear of the hatching.
@@ -230,13 +255,57 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
 
 
+def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
+    """R of an engine with several cylinders: the rods of every bank meet at the crank pin, so the
+    text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
+    j = geometry.joints
+    p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+    _dimension(ax, p, q, "", -extent * 0.04, extent)
+    lowest = min(float(points[i][1]) * MM for points in j.values())
+    for guide in geometry.guides:  # and below the liners (a radial engine's surround the crank)
+        if guide.bore_m > 0 and guide.moving is None:
+            go, gd, gn = _guide_frame(geometry, guide, i)
+            ends = [guide.travel_m[0] * MM - 0.35 * guide.bore_m * MM, guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM]
+            lowest = min([lowest] + [float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
+                                     for e in ends for s in (-1, 1)])
+    d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+    mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
+    at = np.array([float(p[0]), lowest - extent * 0.08])
+    ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5)
+    ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15",
+            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+
+
+def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
+    """R of an in-line engine whose rods fan out (cranks in more than two directions): the text
+    goes beside the outermost joint, joined to the crank's dimension line by a leader."""
+    j = geometry.joints
+    p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+    offset = -extent * 0.06
+    _dimension(ax, p, q, "", offset, extent)
+    d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+    mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
+    right = mid[0] >= float(p[0])
+    edge = (max if right else min)(float(points[i][0]) * MM for points in j.values())
+    at = np.array([edge + (1 if right else -1) * extent * 0.05, mid[1]])
+    ax.plot([mid[0], at[0]], [mid[1], at[1]], color="0.35", lw=0.5)
+    ax.text(*at, text, ha="left" if right else "right", va="center", fontsize=8, color="0.15",
+            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+
+
 def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
     """The crank star: each crank's direction at cylinder 1's TDC, its number and its cylinders."""
+    # cranks in one direction (1 and 4 of an in-line four) share one line and one label
+    directions: dict[float, tuple[list[str], list[str]]] = {}
     for label, lag, cylinders in geometry.cranks:
+        cranks, cyls = directions.setdefault(round(float(lag) % 360.0, 6) % 360.0, ([], []))
+        cranks.append(label)
+        cyls.extend(cylinders)
+    for lag, (cranks, cylinders) in directions.items():
         u = np.array([np.sin(np.radians(-lag)), np.cos(np.radians(-lag))])
         ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2)
         ax.add_patch(_circle(u, 0.06, INK, 1.0, fill=True))
-        ax.text(*(u * 1.3), f"{label}\n({', '.join(cylinders)})", ha="center", va="center", fontsize=7)
+        ax.text(*(u * 1.15), f"{', '.join(cranks)}\n({', '.join(cylinders)})", fontsize=7, **outward_alignment(u))
     ax.add_patch(_circle((0, 0), 0.07, INK, 1.0, fill=True))
     ax.set_xlim(-1.7, 1.7)
     ax.set_ylim(-1.7, 1.7)
@@ -295,7 +364,8 @@ def _limits(geometry):
             continue
         o, d = np.asarray(g.origin_m), np.asarray(g.direction)
         n = np.array([d[1], -d[0]])
-        low, high = g.travel_m[0] - 0.35 * g.bore_m, g.travel_m[1] + 0.45 * g.bore_m + LABEL_GAP * span / MM
+        low = g.travel_m[0] - 0.35 * g.bore_m
+        high = g.travel_m[1] + 0.45 * g.bore_m + LABEL_GAP * span / MM
         half = g.bore_m / 2 + 0.02 * span / MM
         parts.append(np.array([o + d * low + n * half, o + d * low - n * half, o + d * high + n * half,
                                o + d * high - n * half]))
@@ -362,7 +432,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
                     _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
                            extent * 0.02, INK, 1.0)
                 if guide.label:
-                    ax.text(*(o + d * (top + LABEL_GAP * extent * 0.6)), guide.label, ha="center", va="center", fontsize=8)
+                    _guide_label(ax, o, d, n, top, half, guide.label, extent)
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][0] * MM, extent * JOINT_R * 1.6)
         ax.set_xlim(*xlim)

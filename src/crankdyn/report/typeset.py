@@ -142,10 +142,10 @@ def _subscript_map(language: str) -> dict[tuple[str, str], str]:
 
 # ----------------------------------------------------------------------------- HTML text
 _LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
-#: ``s_п``, ``p_z′``, ``C_II``, ``λ_p``, ``z̈_A``, ``{..}`` braces for a longer subscript: one base
+#: ``s_п``, ``p_z′``, ``l″_i``, ``C_II``, ``λ_p``, ``z̈_A``, ``{..}`` braces for a longer subscript: one base
 #: letter (not the tail of a word or an identifier; a combining dot or two above it allowed), its
 #: subscript of letters or digits.
-_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}][\u0300-\u036f]?)(′?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)(′?)")
+_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}][\u0300-\u036f]?)([′″]?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)([′″]?)")
 #: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
 _SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
 _SUB_HTML = re.compile(r"<i>([^<]{1,2})</i>((?:</b>)?)<sub>([^<]+)</sub>")
