@@ -108,5 +108,7 @@ def format_params(params: dict[str, Any], decimal_separator: str = ".") -> dict[
 
 def console_lines(found: list[tuple[str, dict[str, Any]]], registry) -> list[str]:
     """The warnings as English sentences for the terminal."""
+    if not found:  # the usual case: no catalog to read
+        return []
     t = translator("en", registry.catalogs)
     return [t(key, **format_params(params)) for key, params in found]
