@@ -24,7 +24,7 @@ def worked_crank_torque(ctx, rows, labels, r) -> Markup:
     t_txt, t_mpa = printed(t, tangential)  # one digit more than the table where t is small: M_k to its 0,1 N·m
     r_txt, r_m = printed(t, radius)
     f_txt, f_m2 = printed(t, area)
-    step = WorkedStep("crank_torque", "<i>M</i><sub>k</sub>", "<i>t R F</i><sub>p</sub>",
+    step = WorkedStep("crank_torque", "<i>M</i><sub>k</sub>", "<i>t R</i> <i>F</i><sub>p</sub>",
                       f"{bracketed(t_txt, t_mpa)}·10<sup>6</sup>·{r_txt}·{f_txt}", float(row["torque_Nm"]), 1,
                       t("unit.Nm"), {"t_k": t_mpa, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
                       exact={"t_k": tangential, "R": radius, "F_p": area, "alpha_deg": alpha})

@@ -29,7 +29,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
                    " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, cranks + 1)),
                    " + ".join(bracketed(text, value) for text, value in terms), journal, 3,
                    t("unit.MPa"), inputs, exact=exact),
-        WorkedStep("output_torque", "<i>M</i><sub>d</sub>", total_html + " <i>R F</i><sub>p</sub>",
+        WorkedStep("output_torque", "<i>M</i><sub>d</sub>", total_html + " <i>R</i> <i>F</i><sub>p</sub>",
                    f"{bracketed(tk_txt, tk)}·10<sup>6</sup>·{r_txt}·{f_txt}",
                    float(row["output_torque_Nm"]), 1, t("unit.Nm"),
                    {"t_k": tk, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
