@@ -22,7 +22,7 @@ from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.report.figures import new_figure
+from crankdyn.report.figures import hide_axes, new_figure
 from crankdyn.scene import options, quantity as _quantity
 from crankdyn_builtin.bays.stage import engine_layout, rotating_mass_per_crank_kg
 from crankdyn_builtin.balancing.worked import worked_balancing
@@ -446,7 +446,7 @@ def _star_figure(ctx, r):
     axes_rad = np.radians(r["cylinder_axes_deg"])
     for ax, order in zip(axes, (1, 2)):
         ax.set_aspect("equal")
-        ax.axis("off")
+        hide_axes(ax)
         ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
         for axis in sorted(set(np.round(axes_rad, 9))):
             ax.plot([0, 1.25 * math.sin(axis)], [0, 1.25 * math.cos(axis)], color="0.6", lw=0.8, ls="--")

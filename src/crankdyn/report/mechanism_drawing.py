@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 from markupsafe import escape
 
-from .figures import STYLE, new_figure
+from .figures import STYLE, hide_axes, new_figure
 
 MM = 1e3
 JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
@@ -175,7 +175,7 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
                                       zorder=5))
     ax.autoscale_view()
     ax.set_aspect("equal")
-    ax.axis("off")
+    hide_axes(ax)
 
 
 def _one_per_axis(guides):
@@ -310,7 +310,7 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
     ax.set_xlim(-1.7, 1.7)
     ax.set_ylim(-1.7, 1.7)
     ax.set_aspect("equal")
-    ax.axis("off")
+    hide_axes(ax)
     ax.set_title(title, fontsize=8)
     ax.text(0, -1.65, firing_label, ha="center", va="top", fontsize=7)
 
@@ -347,7 +347,7 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
         ax.set_ylim(*limits[1])
         ax.set_title(caption, fontsize=8)
     for ax in flat[len(frames):]:
-        ax.axis("off")
+        hide_axes(ax)
     return fig
 
 
@@ -437,7 +437,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
             draw_ground(ax, geometry.joints[name][0] * MM, extent * JOINT_R * 1.6)
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
-        ax.axis("off")
+        hide_axes(ax)
         buffer = io.BytesIO()
         fig.savefig(buffer, format="svg", metadata={"Date": None}, transparent=True)
     return base64.b64encode(buffer.getvalue()).decode("ascii")
