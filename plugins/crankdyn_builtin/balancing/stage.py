@@ -513,7 +513,8 @@ def _models_figure(ctx, r):
             title = (f"$\\Sigma P_{{{sub}}}/{amp}$" if o["order"] else "$\\Sigma C/C$") if kind == "force" \
                 else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
             ax.set_title(title, fontsize=8)
-    return ctx.figure(fig, t("balancing.models_caption"), "vector_models")
+    return ctx.figure(fig, t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
+                      "vector_models")
 
 
 def _masses_table(ctx, r):

@@ -10,7 +10,7 @@ from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
-from crankdyn.report.typeset import symbol_html
+from crankdyn.report.typeset import symbol_html, symbol_mathtext
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
@@ -235,8 +235,8 @@ def render(output: StageOutput, ctx) -> str:
     ], caption=t("forces.table_q_caption")) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)
-    for key, label in (("gas_Pa", "p_g"), ("inertia_Pa", "p_j"), ("total_Pa", "p_1")):
-        axes[0].plot(angle, mpa[key], label=f"${label[0]}_{{{label[2:]}}}$")
+    for key, symbol in (("gas_Pa", "gas_pressure"), ("inertia_Pa", "inertia_pressure"), ("total_Pa", "total_pressure")):
+        axes[0].plot(angle, mpa[key], label=symbol_mathtext(symbol, t.language))  # p_г in uk/ru, as in the text
     for key, label in (("side_Pa", "n"), ("rod_Pa", "k")):
         axes[1].plot(angle, mpa[key], label=f"${label}$")
     for key, label in (("radial_Pa", "z"), ("tangential_Pa", "t")):

@@ -267,14 +267,24 @@ def _legend_outside(ax) -> None:
 
 
 def _locale_ticks(axis, t) -> None:
-    from matplotlib.ticker import FuncFormatter, LogFormatter, NullFormatter, ScalarFormatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.ticker import FuncFormatter, LogFormatter, ScalarFormatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     major = axis.get_major_formatter()
     if type(major) is ScalarFormatter:  # leave custom formatters
         axis.set_major_formatter(locale_formatter(t))
-    elif isinstance(major, LogFormatter):  # 10⁻³ typeset; no minor labels such as "2.5"
+    elif isinstance(major, LogFormatter):  # 10⁻³ typeset; minor labels only where no power of ten shows
         axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t)))
-        axis.set_minor_formatter(NullFormatter())
+        axis.set_minor_formatter(FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t)))
+
+
+def _log_minor_label(x: float, view, t) -> str:
+    """A log axis's minor tick label (2, 3 and 5 times a power of ten) when the axis spans less
+    than a decade and so shows at most one power of ten: otherwise such an axis had no number."""
+    low, high = sorted(float(v) for v in view)
+    if low <= 0 or not math.isfinite(high) or high / low >= 10.0 or x <= 0:
+        return ""
+    mantissa = x / 10.0 ** math.floor(math.log10(x) + 1e-9)
+    return t.number_g(x, 3) if any(abs(mantissa - m) < 1e-6 for m in (2.0, 3.0, 5.0)) else ""
 
 
 def _log_label(x: float, t) -> str:

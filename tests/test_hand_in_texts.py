@@ -1,0 +1,72 @@
+"""What a supervisor read in the Ukrainian report of a single-cylinder engine (the fifth session's
+review): the balancing section speaks of one cylinder, not of sums over cylinders and moments;
+the figure of vector models is captioned for what it shows; the forces figure's legend writes
+p_г as the text does; a log axis shorter than a decade still carries numbers."""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+import pytest
+
+from crankdyn.cli import examples_dir, main
+
+
+@lru_cache(maxsize=None)
+def _html(example: str, tmp_root: str) -> str:
+    out = f"{tmp_root}/{example}"
+    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", out, "--format", "html", "-q",
+                 "--lang", "uk"]) == 0
+    with open(f"{out}/report.html", encoding="utf-8") as fh:
+        return fh.read()
+
+
+_ROOTS: list = []
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory):
+    root = tmp_path_factory.mktemp("hand_in")
+    _ROOTS[:] = [root]
+    return lambda example: _html(example, str(root))
+
+
+def test_the_balancing_section_of_one_cylinder_speaks_of_one_cylinder(reports):
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    for phrase in ("поздовжніх моментів немає", "Моментів в одноциліндровому двигуні немає",
+                   "реальна сила інерції", "Векторні моделі і годографи сил"):
+        assert phrase in one, phrase
+        assert phrase not in four, phrase
+    for phrase in ("однакових у всіх циліндрах", "сума реальних сил по циліндрах", "відстань між циліндрами",
+                   "моменти внизу"):
+        assert phrase not in one, phrase
+        assert phrase in four, phrase
+
+
+def test_the_resultants_motion_is_said_in_words(reports):
+    one = reports("petrol-1cyl-uk")
+    assert "Рух результуючої" in one and "пульсує вздовж прямої" in one
+    assert "уздовж прямої</td>" not in one.replace("пульсує вздовж прямої", "")
+    assert "Півосі годографа, велика / мала" in one
+
+
+def test_the_forces_legend_writes_the_gas_pressure_as_the_text_does(reports):
+    reports("petrol-1cyl-uk")  # written below the module's folder
+    from crankdyn.report.typeset import symbol_mathtext
+
+    assert symbol_mathtext("gas_pressure", "uk") == "$p_{\\mathrm{г}}$"
+    svg = next(_ROOTS[0].glob("petrol-1cyl-uk/figures/*_forces.svg")).read_text(encoding="utf-8")
+    legend = svg[svg.index("<!-- $p_{\\mathrm{"):][:800]
+    assert "<!-- $p_{\\mathrm{г}}$ -->" in svg and re.search(r">г</tspan>", legend)
+
+
+def test_a_log_axis_shorter_than_a_decade_labels_its_minor_ticks():
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import _log_minor_label
+
+    t = translator("uk")
+    assert _log_minor_label(2.0, (1.5, 8.0), t) == "2"
+    assert _log_minor_label(0.3, (0.15, 0.8), t) == "0,3"
+    assert _log_minor_label(4.0, (1.5, 8.0), t) == ""  # 2, 3 and 5 only: room for the numbers
+    assert _log_minor_label(2.0, (1.0, 1000.0), t) == ""  # the powers of ten are labelled there
