@@ -70,3 +70,15 @@ def test_a_log_axis_shorter_than_a_decade_labels_its_minor_ticks():
     assert _log_minor_label(0.3, (0.15, 0.8), t) == "0,3"
     assert _log_minor_label(4.0, (1.5, 8.0), t) == ""  # 2, 3 and 5 only: room for the numbers
     assert _log_minor_label(2.0, (1.0, 1000.0), t) == ""  # the powers of ten are labelled there
+
+
+def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    for sentence in ("Кінематичну схему механізму наведено на рис. 3.1.",
+                     "Характерні положення механізму показано на рис. 3.2.",
+                     "Схему коліна наведено на рис.", "Векторні моделі і годографи наведено на рис.",
+                     "Векторну діаграму наведено на рис. 7.1.", "Діаграму спрацьовування наведено на рис."):
+        assert sentence in one, sentence
+    assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
+    assert "Графіки показано на рис. 3.1." not in one
+    assert "Графіки показано на рис. 2.1." in one  # curves are still "графіки"

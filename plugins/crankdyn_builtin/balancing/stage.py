@@ -468,7 +468,8 @@ def _star_figure(ctx, r):
         ax.set_ylim(-1.4, 1.4)
     # one crank and one cylinder: a vector of each order, not a "star" of them
     caption = t("balancing.star_caption_single") if len(labels) == 1 else t("balancing.star_caption")
-    return ctx.figure(fig, caption, "crank_diagrams")
+    return ctx.figure(fig, caption, "crank_diagrams",
+                      see="balancing.see_star_single" if len(labels) == 1 else "balancing.see_star")
 
 
 def _models_figure(ctx, r):
@@ -514,7 +515,7 @@ def _models_figure(ctx, r):
                 else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
             ax.set_title(title, fontsize=8)
     return ctx.figure(fig, t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
-                      "vector_models")
+                      "vector_models", see="balancing.see_models")
 
 
 def _masses_table(ctx, r):

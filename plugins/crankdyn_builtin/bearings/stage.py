@@ -230,7 +230,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     ax.set_xlabel("t, " + ctx.t("unit.MPa"))
     ax.set_ylabel("z, " + ctx.t("unit.MPa"))
     ax.set_title(title, fontsize=9)
-    return ctx.figure(fig, caption, name)
+    return ctx.figure(fig, caption, name, see="bearings.see_polar")
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -273,7 +273,7 @@ def render(output: StageOutput, ctx) -> str | None:
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
     ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)
     ax.set_yticklabels([])
-    figures.append(ctx.figure(fig, t("bearings.wear_caption", k=k), f"wear_pin{k}"))
+    figures.append(ctx.figure(fig, t("bearings.wear_caption", k=k), f"wear_pin{k}", see="bearings.see_wear"))
     # Unrolled diagrams of the load magnitude.
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:

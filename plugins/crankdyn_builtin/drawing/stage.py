@@ -163,9 +163,10 @@ def render(output: StageOutput, ctx) -> str:
     order = " – ".join(positions.firing_order)
     fig = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
                            t("drawing.firing_order", order=order) if order else "")
-    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme")
+    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme", see="drawing.see_scheme")
     frames = [(i, t("drawing.position_" + k, angle=ctx.num(angles[k], 4))) for i, k in enumerate(POSITIONS)]
-    figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions")
+    figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions",
+                                  see="drawing.see_positions")
     svg, payload = md.animation_svg(animation)
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))

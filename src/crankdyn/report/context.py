@@ -220,9 +220,12 @@ class RenderContext:
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
         return table_markup(self.t, number, caption_text, head, body, css_class, see=see)
 
-    def figure(self, fig, caption: str, name: str) -> Markup:
+    def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
         """Number a matplotlib figure and return its markup (with the sentence that refers to it
-        before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use)."""
+        before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use).
+
+        ``see``: the catalog key of that sentence, with ``{number}`` (default ``doc.see_figure``,
+        which speaks of curves): a scheme or a vector diagram is announced as what it is."""
         self.check_figure_declared(name)
         for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
             if earlier.figure is fig and not earlier.drawn:
@@ -234,7 +237,7 @@ class RenderContext:
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
         self.figures.append(FigureFile(file_name, figure=fig, t=self.t))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
-        see = escape(self.t("doc.see_figure", number=number))
+        see = escape(self.t(see or "doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
         # one block, so that the sentence never ends a page without the figure it announces
