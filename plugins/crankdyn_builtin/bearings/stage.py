@@ -177,19 +177,22 @@ _PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left",
 def _label_places(points, texts, per_pt) -> list[tuple]:
     """(dx, dy in points, ha, va) for a 6 pt label at each point (x right, y up, data units;
     ``per_pt`` data units per point): up and right of the point, or the first other corner whose
-    box overlaps no label placed before it."""
+    box overlaps no label placed before it, or else the corner that overlaps them least. Boxes are kept 2 pt apart: two labels side by side
+    without a gap read as one number ("210, 570" beside "30": "210, 57030")."""
     placed: list[tuple[float, float, float, float]] = []
     out = []
+    gap = 1.0 * per_pt  # each box grows by half the gap on every side
     for (x, y), text in zip(points, texts):
         width, height = len(text) * 3.4 * per_pt, 7.0 * per_pt
         boxes = []
         for dx, dy, ha, va in _PLACES:
             x0 = x + dx * per_pt - (width if ha == "right" else 0.0)
             y0 = y + dy * per_pt - (height if va == "top" else 0.0)
-            boxes.append((x0, y0, x0 + width, y0 + height))
-        free = [k for k, b in enumerate(boxes)
-                if not any(b[0] < c[2] and c[0] < b[2] and b[1] < c[3] and c[1] < b[3] for c in placed)]
-        k = free[0] if free else 0
+            boxes.append((x0 - gap, y0 - gap, x0 + width + gap, y0 + height + gap))
+        # the first corner whose box meets no other; with none free, the one that overlaps least
+        overlap = [sum(max(0.0, min(b[2], c[2]) - max(b[0], c[0])) * max(0.0, min(b[3], c[3]) - max(b[1], c[1]))
+                       for c in placed) for b in boxes]
+        k = next((k for k, area in enumerate(overlap) if area == 0.0), int(np.argmin(overlap)))
         placed.append(boxes[k])
         out.append(_PLACES[k])
     return out
@@ -210,12 +213,15 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
     texts = [", ".join(ctx.t.number_g(angle[k * every]) for k in same) for _, same in groups]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
-    # about 270 pt of axes for the larger data range (equal aspect); z grows downwards on the page
-    per_pt = max(np.ptp(t), np.ptp(z), abs(pole_z), 1e-9) / 270.0
+    # about 270 pt of axes for the larger range the axes show (equal aspect): the curve, the pole's
+    # circle and matplotlib's 5 % margins; z grows downwards on the page
+    radius = diameter_scale * span
+    shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
+    shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
+    per_pt = 1.1 * max(shown_t, shown_z, 1e-9) / 270.0
     screen = [(x, -y) for x, y in anchors]
     for (x, y), text, (dx, dy, ha, va) in zip(anchors, texts, _label_places(screen, texts, per_pt)):
         ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
-    radius = diameter_scale * span
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
