@@ -88,7 +88,7 @@ FORMULAS = {
 }
 
 
-def _no_figure(fig, caption: str, name: str) -> Markup:
+def _no_figure(fig, caption: str, name: str, see: str | None = None) -> Markup:
     import matplotlib.pyplot as plt  # lazy: heavy optional import
 
     plt.close(fig)

@@ -299,7 +299,7 @@ class Result:
         figures: dict[str, Any] = {}
 
         class Capture(RenderContext):
-            def figure(self, fig, caption: str, name: str) -> Markup:
+            def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
                 self.check_figure_declared(name)  # also for the sections not shown
                 key = name if name not in figures else f"{self.stage_name}.{name}"
                 figures[key] = fig
@@ -307,7 +307,7 @@ class Result:
                     self._figure += 1
                     _release(fig)
                     return Markup("")
-                return super().figure(fig, caption, name)
+                return super().figure(fig, caption, name, see)
 
         t = translator(language, registry.catalogs)
         scene = self.scene

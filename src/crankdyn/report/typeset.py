@@ -71,6 +71,18 @@ SYMBOLS: dict[str, Symbol] = {
     "crank_torque": Symbol("M", {"en": "k", "uk": "к", "ru": "к"}, "unit.Nm", "symbol.crank_torque"),
     "driving_torque": Symbol("M", {"en": "d", "uk": "д", "ru": "д"}, "unit.Nm", "symbol.driving_torque"),
     "mean_speed": Symbol("v", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.m_s", "symbol.mean_speed"),
+    "compression_ratio": Symbol("ε", {}, "", "symbol.compression_ratio"),
+    "compression_polytrope": Symbol("n", {"en": "1"}, "", "symbol.compression_polytrope"),
+    "expansion_polytrope": Symbol("n", {"en": "2"}, "", "symbol.expansion_polytrope"),
+    "pre_expansion_ratio": Symbol("ρ", {}, "", "symbol.pre_expansion_ratio"),
+    "pressure_rise_ratio": Symbol("λ", {"en": "p"}, "", "symbol.pressure_rise_ratio"),
+    "intake_end_pressure": Symbol("p", {"en": "a"}, "unit.MPa", "symbol.intake_end_pressure"),
+    "compression_end_pressure": Symbol("p", {"en": "c"}, "unit.MPa", "symbol.compression_end_pressure"),
+    "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
+    "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
+    "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
+    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific"),
+    "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
 }
 
 
@@ -98,7 +110,7 @@ def symbol_html(key: str, language: str) -> str:
 
 
 def symbols_used(html: str, language: str) -> list[str]:
-    """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in table order.
+    """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
     crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's)."""
     used = []
@@ -106,7 +118,14 @@ def symbols_used(html: str, language: str) -> list[str]:
         markup = re.escape(symbol_html(key, language))
         if re.search(markup if symbol_sub(key, language) else markup + "(?!<sub>)", html):
             used.append(key)
-    return used
+    return sorted(used, key=lambda k: _alphabetical(k, language))
+
+
+def _alphabetical(key: str, language: str) -> tuple:
+    """The list of symbols' order: Latin letters, then Greek, each in its alphabet's order, a
+    capital before its small letter, a symbol without subscript before those with one."""
+    base = SYMBOLS[key].base
+    return (not base.isascii(), base.lower(), base.islower(), symbol_sub(key, language))
 
 
 def symbol_unit(key: str, t) -> str:
