@@ -82,3 +82,10 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
     assert "Графіки показано на рис. 3.1." not in one
     assert "Графіки показано на рис. 2.1." in one  # curves are still "графіки"
+
+
+def test_the_main_journal_diagram_says_whose_force_it_shows(reports):
+    """The journal diagram is the bearing's force on the journal (the reaction), computed without
+    counterweights: said in the text, so that its sign and size are not mistaken."""
+    one = reports("petrol-1cyl-uk")
+    assert "сила, з якою на неї діє підшипник" in one and "без противаг" in one

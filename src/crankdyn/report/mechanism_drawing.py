@@ -262,7 +262,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     _dimension(ax, p, q, "", -extent * 0.04, extent)
     lowest = min(float(points[i][1]) * MM for points in j.values())
-    for guide in geometry.guides:  # and below the liners (a radial engine's surround the crank)
+    for guide in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
         if guide.bore_m > 0 and guide.moving is None:
             go, gd, gn = _guide_frame(geometry, guide, i)
             ends = [guide.travel_m[0] * MM - 0.35 * guide.bore_m * MM, guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM]
