@@ -30,8 +30,16 @@ scene = scene_from_dict(example_data("petrol-1cyl"))
 def children():
     import glob
     mine = str(os.getpid())
-    return [p for p in glob.glob("/proc/[0-9]*/stat")
-            if open(p).read().split(") ")[-1].split()[1] == mine]
+    found = []
+    for p in glob.glob("/proc/[0-9]*/stat"):
+        try:  # any process of the machine may end between the listing and the read
+            with open(p) as fh:
+                parent = fh.read().split(") ")[-1].split()[1]
+        except (FileNotFoundError, ProcessLookupError, IndexError):
+            continue
+        if parent == mine:
+            found.append(p)
+    return found
 
 def stage(name, run, provides=(), requires=(), last=False):
     return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),

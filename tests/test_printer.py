@@ -25,8 +25,16 @@ HTML = '<h1>crankdyn</h1><p>Figure 1</p><img src="figures/fig_1.svg"><p>after it
 def children():
     import glob
     mine = str(os.getpid())
-    return [p for p in glob.glob("/proc/[0-9]*/stat")
-            if open(p).read().split(") ")[-1].split()[1] == mine]
+    found = []
+    for p in glob.glob("/proc/[0-9]*/stat"):
+        try:  # any process of the machine may end between the listing and the read
+            with open(p) as fh:
+                parent = fh.read().split(") ")[-1].split()[1]
+        except (FileNotFoundError, ProcessLookupError, IndexError):
+            continue
+        if parent == mine:
+            found.append(p)
+    return found
 """
 
 
