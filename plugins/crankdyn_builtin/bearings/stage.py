@@ -198,7 +198,10 @@ def _label_places(points, texts, per_pt) -> list[tuple]:
     return out
 
 
-def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption):
+def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption,
+           axes=("t", "z")):
+    """A polar load diagram; ``axes``: the names of its horizontal and vertical components (crank
+    axes t, z unless the diagram is drawn in the rod's or the engine's axes)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
     fig, ax = new_figure(12, 12)
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
@@ -233,8 +236,8 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
         ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
     ax.set_aspect("equal")
     ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
-    ax.set_xlabel("t, " + ctx.t("unit.MPa"))
-    ax.set_ylabel("z, " + ctx.t("unit.MPa"))
+    ax.set_xlabel(f"{axes[0]}, " + ctx.t("unit.MPa"))
+    ax.set_ylabel(f"{axes[1]}, " + ctx.t("unit.MPa"))
     ax.set_title(title, fontsize=9)
     return ctx.figure(fig, caption, name, see="bearings.see_polar")
 
@@ -257,7 +260,7 @@ def render(output: StageOutput, ctx) -> str | None:
                               f"pin{k}", t(pin_caption, k=k)))
         figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
                               0.0, t("bearings.rod_title", k=k), None, 0.12, labels_every, f"rod_bearing{k}",
-                              t("bearings.rod_caption", k=k)))
+                              t("bearings.rod_caption", k=k), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
         figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
@@ -266,7 +269,8 @@ def render(output: StageOutput, ctx) -> str | None:
         figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
                               angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
-                              t("bearings.main_bearing_caption", label=journal["journal"])))
+                              t("bearings.main_bearing_caption", label=journal["journal"]),
+                              axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
     # Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point).
     wear = output.tables.arrays("wear")
     k = r["drawn_pins"][0]

@@ -9,7 +9,7 @@ import numpy as np
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.report.context import sample_rows
+from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html, symbol_mathtext
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -210,8 +210,13 @@ def render(output: StageOutput, ctx) -> str:
     mpa = {k: f[k] / 1e6 for k in f.columns if k.endswith("_Pa")}
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
+    rows, labels, extremes = add_extreme_rows(angle, rows, labels, [
+        (f["gas_Pa"], "max", t("forces.extreme_gas_max")),
+        (f["tangential_Pa"], "max", t("forces.extreme_t_max")),
+        (f["tangential_Pa"], "min", t("forces.extreme_t_min")),
+        (f["resultant_Pa"], "max", t("forces.extreme_q_max"))])
     table_b1 = ctx.table([
-        ("<i>α</i>, °", labels, 0),
+        ("<i>α</i>, °", ctx.angle_labels(labels), None),
         ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"][rows], 4),
         ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
         ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
@@ -224,15 +229,15 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>k</i>", mpa["rod_Pa"][rows], 3),
         ("<i>z</i>", mpa["radial_Pa"][rows], 3),
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
-    ], caption=t("forces.table_b1_caption"), css_class="data wide")
+    ], caption=t("forces.table_b1_caption"), css_class="data wide", extremes=extremes)
     worked = _worked(ctx, f.take(rows), labels, r)
     table_q = ctx.table([
-        ("<i>α</i>, °", labels, 0),
+        ("<i>α</i>, °", ctx.angle_labels(labels), None),
         ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
         ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
         ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
-    ], caption=t("forces.table_q_caption")) + worked_crank_torque(ctx, f.take(rows), labels, r)
+    ], caption=t("forces.table_q_caption"), extremes=extremes) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)
     for key, symbol in (("gas_Pa", "gas_pressure"), ("inertia_Pa", "inertia_pressure"), ("total_Pa", "total_pressure")):

@@ -12,7 +12,7 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.report.context import sample_rows
+from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax
 
@@ -109,10 +109,10 @@ def run(scene, inputs) -> StageOutput:
             "combustion_delay_deg": rounding.combustion_delay_deg,
             "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
         })
-        notes.append(("indicator.note_rounding", {"advance": rounding.ignition_advance_deg,
-                                                  "delay": rounding.combustion_delay_deg,
-                                                  "fraction": rounding.peak_pressure_fraction,
-                                                  "angle": rounding.peak_angle_after_tdc_deg}))
+        note_key = "indicator.note_rounding_diesel" if scene.cycle.ignition == "diesel" else "indicator.note_rounding"
+        notes.append((note_key, {"advance": rounding.ignition_advance_deg, "delay": rounding.combustion_delay_deg,
+                                 "fraction": rounding.peak_pressure_fraction,
+                                 "angle": rounding.peak_angle_after_tdc_deg}))
 
     work = ind.indicated_work_J(pressure, volume)
     p_i = ind.mean_indicated_pressure_Pa(work, swept)
@@ -187,11 +187,13 @@ def render(output: StageOutput, ctx) -> str:
     figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha")
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
-    columns = [("<i>α</i>, °", labels, 0), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
+    rows, labels, extremes = add_extreme_rows(angle, rows, labels,
+                                              [(pressure, "max", t("indicator.extreme_p_max"))])
+    columns = [("<i>α</i>, °", ctx.angle_labels(labels), None), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
     if has_theory:
         columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), theory[rows], 4))
     columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
-    table = ctx.table(columns, caption=t("indicator.table_caption"))
+    table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes)
     table += worked_indicator(ctx, frame, rows, labels, r)
 
     deviation = r.get("mean_indicated_pressure_deviation_percent")
@@ -201,7 +203,8 @@ def render(output: StageOutput, ctx) -> str:
     if deviation is not None:
         key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
         ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
-    return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa,
+    diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
+    return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
                                table=table, deviation=deviation, has_theory=has_theory)
 
 

@@ -10,7 +10,7 @@ from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.report.context import sample_rows
+from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.torque.worked import worked_torque
@@ -94,7 +94,10 @@ def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     angle = f["crank_angle_deg"]
     rows, labels = sample_rows(angle, ctx.table_step_deg)
-    columns = [("<i>α</i>, °", labels, 0)]
+    rows, labels, extremes = add_extreme_rows(angle, rows, labels, [
+        (f["output_torque_Nm"], "max", t("torque.extreme_max")),
+        (f["output_torque_Nm"], "min", t("torque.extreme_min"))])
+    columns = [("<i>α</i>, °", ctx.angle_labels(labels), None)]
     for k in range(1, cranks + 1):
         columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
                     (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
@@ -109,7 +112,8 @@ def render(output: StageOutput, ctx) -> str | None:
         if start + per_table >= cranks:
             chunk.append(columns[-1])
         tables.append(ctx.table(chunk, caption=t("torque.table_b3_caption", first=start + 1,
-                                                   last=min(start + per_table, cranks)), css_class="data wide"))
+                                                   last=min(start + per_table, cranks)), css_class="data wide",
+                                  extremes=extremes))
     tables[-1] += worked_torque(ctx, f, rows, labels, cranks)
 
     fig, ax = new_figure(16, 8.5)

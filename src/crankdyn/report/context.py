@@ -182,24 +182,44 @@ class RenderContext:
     ROWS_PER_LANDSCAPE_PAGE = 20
 
     def table(self, columns: Sequence[tuple[str, Sequence[float] | Sequence[str], int | None]],
-              caption: str, header_html: bool = True, css_class: str = "data") -> Markup:
+              caption: str, header_html: bool = True, css_class: str = "data",
+              extremes: Sequence[TableExtreme] = ()) -> Markup:
         """A numbered table, referred to in a sentence before it. ``columns`` are (header
         markup, values, decimals or None for text). A long table continues on the next pages
-        with the continuation label and the repeated header; a wide one goes on landscape pages."""
+        with the continuation label and the repeated header; a wide one goes on landscape pages.
+        ``extremes``: rows added between the table step's rows (:func:`add_extreme_rows`), set in
+        bold and named in a note under the table."""
         self._table += 1
         number = f"{self.section_number}.{self._table}"
         head = "".join(f"<th>{Markup(h) if header_html else escape(h)}</th>" for h, _, _ in columns)
         n_rows = len(columns[0][1]) if columns else 0
+        marked = {e.position for e in extremes}
         rows = []
         for i in range(n_rows):
             cells = []
             for _, values, decimals in columns:
                 v = values[i]
                 text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
-                cells.append(f"<td>{text}</td>")
-            rows.append("<tr>" + "".join(cells) + "</tr>")
+                # bold in the cells, not by a class: the Word export keeps it
+                cells.append(f"<td><b>{text}</b></td>" if i in marked else f"<td>{text}</td>")
+            rows.append(('<tr class="extremum">' if i in marked else "<tr>") + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
-        return table_markup(self.t, number, caption_text, head, rows, css_class)
+        return table_markup(self.t, number, caption_text, head, rows, css_class,
+                            note=self.extremes_note(extremes))
+
+    def angle_labels(self, labels: Sequence[float]) -> list[str]:
+        """Crank angles as a table's first column: whole degrees without a decimal, an added
+        extremum's angle with the digits it has (372,5), in the report's locale."""
+        return [self.t.number_g(float(a), 6) for a in labels]
+
+    def extremes_note(self, extremes: Sequence[TableExtreme]) -> str:
+        """The note under a table that names its added extremum rows ("" without any)."""
+        if not extremes:
+            return ""
+        items = self.t("doc.table_extremes_separator").join(
+            self.t("doc.table_extreme_item", angle=self.t.number_g(e.crank_angle_deg, 6), what=e.what)
+            for e in extremes)
+        return self.t("doc.table_extremes_note", step=self.t.number_g(self.table_step_deg, 6), items=items)
 
     def table_html(self, headers: Sequence[str], rows: Sequence[Sequence[str]], caption: str,
                    css_class: str = "data", markup_columns: Sequence[int] = (),
@@ -262,7 +282,7 @@ class RenderContext:
 
 
 def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
-                 css_class: str = "data", see: bool = True) -> Markup:
+                 css_class: str = "data", see: bool = True, note: str = "") -> Markup:
     """A numbered table's markup: the sentence referring to it, the caption, the header and the rows.
 
     A table longer than a page (see :attr:`RenderContext.ROWS_PER_PAGE`) may break between rows
@@ -275,12 +295,56 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
     long = len(rows) > limit
     if long:
         label = escape(t("doc.continued", number=number))
-        rows = [f'<tr data-continued="{label}">' + r[len("<tr>"):] if r.startswith("<tr>") else r for r in rows]
+        rows = [f'<tr data-continued="{label}"' + r[len("<tr"):] if r.startswith("<tr") else r for r in rows]
     head = f"<thead><tr>{head_html}</tr></thead>"
     return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
                   + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
                   + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
-                  f"{head}<tbody>{''.join(rows)}</tbody></table></div>")
+                  f"{head}<tbody>{''.join(rows)}</tbody></table>"
+                  + (f'<p class="table-note">{escape(note)}</p>' if note else "") + "</div>")
+
+
+@dataclass(frozen=True)
+class TableExtreme:
+    """A row added to a printed table at the grid point of an extremum that the table step misses."""
+
+    position: int  # the row's place in the table
+    crank_angle_deg: float
+    what: str  # what is largest or least there, in the report's language
+
+
+def add_extreme_rows(crank_angle_deg: np.ndarray, rows: np.ndarray, labels: np.ndarray,
+                     extremes: Sequence[tuple[np.ndarray, str, str]],
+                     resolution: float = 0.01) -> tuple[np.ndarray, np.ndarray, list[TableExtreme]]:
+    """A printed table's rows (:func:`sample_rows`) with a row added at each extremum that the
+    table step misses: a 30° table would otherwise miss the peak combustion pressure and the
+    largest forces, which are what a strength calculation takes.
+
+    ``extremes``: (values on the angle grid, ``"max"`` or ``"min"``, what it is). A row is added
+    at the grid point of the largest (least) value unless a row of the table already shows a
+    value within ``resolution`` of the values' range of it; extremes at one point share a row.
+    Returns the grid indices, the angle labels (deg) and the added rows, in angle order.
+    """
+    present = set(int(r) for r in rows)
+    added: dict[int, list[str]] = {}
+    for values, kind, what in extremes:
+        values = np.asarray(values, dtype=float)
+        sign = 1.0 if kind == "max" else -1.0
+        index = int(np.argmax(sign * values))  # the first, as physics.extrema.first_argmax
+        shown = float(np.max(sign * values[np.asarray(rows, dtype=int)]))
+        span = float(np.ptp(values))
+        if index not in present and sign * values[index] - shown > resolution * span:
+            added.setdefault(index, []).append(what)
+    rows_list, labels_list = [int(r) for r in rows], [float(a) for a in labels]
+    for index in sorted(added, key=lambda k: float(crank_angle_deg[k])):
+        angle = float(crank_angle_deg[index])
+        at = int(np.searchsorted(np.asarray(labels_list), angle, side="right"))
+        rows_list.insert(at, index)
+        labels_list.insert(at, angle)
+    # an added index is not on the table step's grid, so it is in the table once
+    marks = [TableExtreme(position=i, crank_angle_deg=labels_list[i], what=", ".join(added[r]))
+             for i, r in enumerate(rows_list) if r in added]
+    return np.asarray(rows_list, dtype=int), np.asarray(labels_list), marks
 
 
 #: Portrait text width (A4 less the 30 mm and 15 mm margins: 165 mm) left for a table, with room

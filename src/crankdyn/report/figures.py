@@ -16,6 +16,8 @@ import select
 import sys
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
 from .. import background
 from ..heap import freeze_more
 
@@ -93,10 +95,29 @@ def hide_axes(ax) -> None:
 
 
 def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
+    """An x axis of crank angle over the cycle; curves over the whole cycle's grid are closed."""
     ax.set_xlim(0, cycle_deg)
     step = 90 if cycle_deg > 360 else 45
     ax.set_xticks(range(0, int(cycle_deg) + 1, step))
     ax.set_xlabel(label)
+    for axes in ax.get_shared_x_axes().get_siblings(ax):
+        for line in axes.get_lines():
+            close_cycle(line, cycle_deg)
+
+
+def close_cycle(line, cycle_deg: float) -> None:
+    """Draw a curve over a whole cycle's grid (0 .. cycle − step, the grid has no end point) on to
+    the cycle's end with its first value, where a periodic quantity returns: a torque curve that
+    stops at 719° short of the table's 720° row reads as a cycle that does not close."""
+    x, y = line.get_xdata(), line.get_ydata()
+    if not (isinstance(x, np.ndarray) and isinstance(y, np.ndarray)) or len(x) < 3 or len(y) != len(x):
+        return
+    step = x[1] - x[0]
+    if x[0] != 0.0 or step <= 0 or abs(x[-1] + step - cycle_deg) > 1e-9 * cycle_deg:
+        return
+    if not np.allclose(np.diff(x), step, rtol=1e-9, atol=1e-12 * cycle_deg):
+        return
+    line.set_data(np.append(x, cycle_deg), np.append(y, y[0]))
 
 
 def to_svg(fig) -> bytes:

@@ -94,16 +94,18 @@ def _parse(text: str) -> float:
 
 
 def worked_markup(ctx, block: WorkedBlock) -> Markup:
-    """The worked example's heading, its sentence and one displayed line per step."""
+    """The worked example's sentence and one displayed line per step.
+
+    No heading of its own: an unnumbered heading inside a section is not a structural element
+    of the note (ДСТУ 3008), and the sentence already says what follows and for which row."""
     t = ctx.t
     if block.angle_deg is None:
-        title = t("doc.worked_title_results")
         intro = t("doc.worked_intro_results", table=block.table_number) if block.table_number else \
             t("doc.worked_intro_text")
     else:
         angle = t.number_g(block.angle_deg)
-        title, intro = t("doc.worked_title", angle=angle), t("doc.worked_intro", angle=angle, table=block.table_number)
-    parts = [f'<div class="worked"><h3>{escape(title)}</h3>', f'<p>{escape(intro)}</p>']
+        intro = t("doc.worked_intro", angle=angle, table=block.table_number)
+    parts = ['<div class="worked">', f'<p>{escape(intro)}</p>']
     if block.note:
         parts.append(f'<p>{escape(block.note)}</p>')
     for step in block.steps:
