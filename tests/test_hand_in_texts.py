@@ -89,3 +89,26 @@ def test_the_main_journal_diagram_says_whose_force_it_shows(reports):
     counterweights: said in the text, so that its sign and size are not mistaken."""
     one = reports("petrol-1cyl-uk")
     assert "сила, з якою на неї діє підшипник" in one and "без противаг" in one
+
+
+def test_a_single_crank_is_not_described_as_one_of_many(reports):
+    """One crank: no neighbouring cranks adding on a journal, no choice of the most loaded crank
+    pin, one crank pin in the table's caption; journals are named as in the tables (0-1)."""
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    assert "розподіляється між двома корінними шийками" in one and "обох сусідніх колін" not in one
+    assert "Навантаження на шатунну шийку:" in one and "для більш навантаженої з двох корінних шийок (0-1)" in one
+    assert "обох сусідніх колін" in four and "Навантаження на шатунні шийки:" in four
+    assert re.search(r"найбільш навантаженої корінної шийки \(\d-\d\)", four)
+
+
+def test_table_cells_of_words_are_text_and_empty_cells_get_a_dash(reports):
+    """Table 6.3's 'what balances it' column is words: centred as text, not flush right as numbers;
+    an empty cell of table 6.1 (no series term for a mass) shows a dash."""
+    one = reports("petrol-1cyl-uk")
+    table = one[one.index('data-number="6.3"'):]
+    table = table[:table.index("</table>")]
+    assert '<td class="text">самозрівноважено</td>' in table
+    assert re.search(r'<td>1,0000</td>', table)  # the coefficients stay numbers
+    masses = one[one.index('data-number="6.1"'):]
+    masses = masses[:masses.index("</table>")]
+    assert "<td>—</td>" in masses and "<td></td>" not in masses

@@ -119,11 +119,11 @@ def _table_rows(html: str, number: str) -> list[list[str]]:
     """Every row of table ``number`` (all its continued parts), as lists of cell texts."""
     block = re.search(rf'<table class="[^"]*" data-number="{re.escape(number)}">(.*?)</div>', html, flags=re.S)
     assert block, number
-    return [re.findall(r"<td>(.*?)</td>", row) for row in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", block.group(1), flags=re.S)]
+    return [re.findall(r"<td(?:\s[^>]*)?>(.*?)</td>", row) for row in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", block.group(1), flags=re.S)]
 
 
 def worked_html(html: str, block) -> str:
-    """The markup of ``block`` in the report (its heading names its angle or none)."""
+    """The markup of ``block`` in the report."""
     blocks = re.findall(r'<div class="worked">.*?</div>', html, flags=re.S)
     mine = [b for b in blocks if all(f"= {s.substituted_html} =" in b for s in block.steps)]
     assert len(mine) == 1, block.stage

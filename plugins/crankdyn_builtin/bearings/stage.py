@@ -242,6 +242,21 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     return ctx.figure(fig, caption, name, see="bearings.see_polar")
 
 
+def _wear_figure(ctx, wear, r):
+    """Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point)."""
+    k = r["drawn_pins"][0]
+    fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
+    ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
+    ax.set_theta_direction(1)
+    psi = np.radians(wear["surface_angle_deg"])
+    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"][0]) / 1e3,
+            color="C1", alpha=0.5)
+    oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
+    ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)
+    ax.set_yticklabels([])
+    return ctx.figure(fig, ctx.t("bearings.wear_caption", k=k), f"wear_pin{k}", see="bearings.see_wear")
+
+
 def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     r = output.results
@@ -252,6 +267,7 @@ def render(output: StageOutput, ctx) -> str | None:
     c_rod = r["centrifugal_rod_Pa"] / 1e6
     # one rod on each crank pin (in-line engines) or several sharing one (V, W, radial)
     shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
+    single = len(r["crank_pins"]) == 1  # one crank: no neighbouring cranks, no choice of crank pin
     pin_caption = "bearings.pin_caption_shared" if shared_pins else "bearings.pin_caption"
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
@@ -271,19 +287,7 @@ def render(output: StageOutput, ctx) -> str | None:
                               labels_every, f"main_bearing{j - 1}",
                               t("bearings.main_bearing_caption", label=journal["journal"]),
                               axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
-    # Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point).
-    wear = output.tables.arrays("wear")
-    k = r["drawn_pins"][0]
-    fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
-    ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
-    ax.set_theta_direction(1)
-    psi = np.radians(wear["surface_angle_deg"])
-    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"][0]) / 1e3,
-            color="C1", alpha=0.5)
-    oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
-    ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)
-    ax.set_yticklabels([])
-    figures.append(ctx.figure(fig, t("bearings.wear_caption", k=k), f"wear_pin{k}", see="bearings.see_wear"))
+    figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     # Unrolled diagrams of the load magnitude.
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:
@@ -304,7 +308,8 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
         (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
-    ], caption=t("bearings.pins_table_caption")) + worked_bearing(ctx, r, "pin")
+    ], caption=t("bearings.pins_table_caption_single" if single else "bearings.pins_table_caption")) + \
+        worked_bearing(ctx, r, "pin")
     table_journals = ctx.table([
         (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
         ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
@@ -317,8 +322,10 @@ def render(output: StageOutput, ctx) -> str | None:
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
+    journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
-                               table_journals=table_journals, dims=d, shared_pins=shared_pins)
+                               table_journals=table_journals, dims=d, shared_pins=shared_pins, single=single,
+                               journal_names=journal_names)
 
 
 BEARINGS_STAGE = Stage(

@@ -194,14 +194,19 @@ class RenderContext:
         head = "".join(f"<th>{Markup(h) if header_html else escape(h)}</th>" for h, _, _ in columns)
         n_rows = len(columns[0][1]) if columns else 0
         marked = {e.position for e in extremes}
+        # a column of words is centred as a text column, not set flush right as numbers are
+        wordy = [decimals is None and not all(_NUMBER_TEXT.fullmatch(str(v)) or str(v) == "" for v in values)
+                 for _, values, decimals in columns]
         rows = []
         for i in range(n_rows):
             cells = []
-            for _, values, decimals in columns:
+            for (_, values, decimals), words in zip(columns, wordy):
                 v = values[i]
                 text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
+                text = text or "—"  # an empty cell gets a dash, as the standard asks
+                css = ' class="text"' if words else ""
                 # bold in the cells, not by a class: the Word export keeps it
-                cells.append(f"<td><b>{text}</b></td>" if i in marked else f"<td>{text}</td>")
+                cells.append(f"<td{css}><b>{text}</b></td>" if i in marked else f"<td{css}>{text}</td>")
             rows.append(('<tr class="extremum">' if i in marked else "<tr>") + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
         return table_markup(self.t, number, caption_text, head, rows, css_class,
@@ -356,6 +361,9 @@ PORTRAIT_TABLE_MM, CHAR_MM, CELL_PADDING_MM = 158.0, 1.55, 2.7
 WRAP_CHARS = 20
 
 _CELL = re.compile(r"<t[hd][^>]*>(.*?)</t[hd]>", re.S)
+#: A cell that is a number as printed ("−1 234,5", "372,5", "1,2·10⁻³", "0,6150 кг"), not words.
+_NUMBER_TEXT = re.compile(r"[−\-+]?[\d\s\u00a0\u202f,.]*\d(?:·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"
+                          r"(?:[\s\u00a0\u202f][^\d\s]{1,8})?(?:\s\([^()]*\))?")
 
 
 def _text(markup: str) -> str:
