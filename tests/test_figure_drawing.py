@@ -97,17 +97,17 @@ def test_a_figure_drawn_by_a_child_is_typeset_here_when_asked(examples):
 
 def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
     # 10⁻³ as the tables write it: a real superscript, and plain text in the SVG (no mathtext
-    # to typeset for every label; ×10⁵ offsets likewise)
+    # to typeset for every label; ×10⁶ offsets likewise)
     from crankdyn.report.figures import new_figure, to_svg
     from crankdyn.report.i18n import translator
     from crankdyn.report.typeset import typeset_figure
 
     fig, (log_axes, big_axes) = new_figure(12, 6, ncols=2)
     log_axes.loglog([1e-4, 1e-1], [1e-6, 1.0])
-    big_axes.plot([0.0, 1.0], [2.0e5, 3.5e5])
+    big_axes.plot([0.0, 1.0], [2.0e6, 3.5e6])
     typeset_figure(fig, translator("uk", default_registry().catalogs))
     svg = to_svg(fig).decode("utf-8")
-    assert "10⁻³" in svg and "10⁻⁶" in svg and "×10⁵" in svg
+    assert "10⁻³" in svg and "10⁻⁶" in svg and "×10⁶" in svg
     assert "$" not in svg and "e-0" not in svg and "^" not in svg
 
 
@@ -193,10 +193,21 @@ def test_the_locale_formatter_gives_the_same_labels_when_asked_again_for_the_sam
 
     t = translator("uk")
     formatter = locale_formatter(t)
-    big, small = [0.0, 2e5, 4e5], [0.0, 0.5, 1.0]
+    big, small = [0.0, 2e6, 4e6], [0.0, 0.5, 1.0]
     first = formatter.format_ticks(big)
-    assert first == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"
+    assert first == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
     first.append("changed by the caller")  # the remembered labels are not the caller's list
     assert formatter.format_ticks(small) == ["0,0", "0,5", "1,0"] and formatter.get_offset() == ""
-    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"
-    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁵"
+    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
+    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
+
+
+def test_six_digit_ticks_are_written_in_full_not_with_an_offset():
+    """A rod's angular acceleration of 60 000 rad/s² reads "60 000" on its axis, not "0,6" under a
+    "×10⁵" at the axis end that a reader has to find (the supervisor's reading of fig. 2.2)."""
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import tick_labels
+
+    labels, scale = tick_labels([-100000.0, -50000.0, 0.0, 50000.0, 100000.0], translator("uk"))
+    assert scale == 0 and labels[-1].replace("\u202f", " ").replace("\u00a0", " ") == "100 000"
+    assert tick_labels([0.0, 1e6, 2e6], translator("uk"))[1] == 6

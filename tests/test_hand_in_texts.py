@@ -112,3 +112,17 @@ def test_table_cells_of_words_are_text_and_empty_cells_get_a_dash(reports):
     masses = one[one.index('data-number="6.1"'):]
     masses = masses[:masses.index("</table>")]
     assert "<td>—</td>" in masses and "<td></td>" not in masses
+
+
+def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
+    """ДСТУ 3008: the abstract gives the results and the counts of appendices, and cites nothing;
+    the appendices' status reads "(довідковий)"; the introduction refers to every appendix."""
+    one = reports("petrol-1cyl-uk")
+    abstract = one[one.index('<section class="abstract"'):]
+    abstract = abstract[:abstract.index("</section>")]
+    assert "[1]" not in abstract and "2 дод." in abstract
+    assert "Основні результати: найбільший тиск газів" in abstract and "навантаження на шатунну шийку" in abstract
+    assert '<span class="appendix-kind">(довідковий)</span>' in one
+    intro = one[one.index('id="sec-introduction"'):]
+    intro = intro[:intro.index("</section>")]
+    assert "у додатку Б" in intro and "в додатку А" in intro

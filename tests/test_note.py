@@ -135,8 +135,11 @@ def test_explanatory_note_pdf(tmp_path, language):
     figures = set(re.findall(rf"{figure_word}\s+({NUMBER})\s+[–—]", text))
     references = re.findall(r'<ol class="references">(.*?)</ol>', html, flags=re.S)[0].count("<li>")
     abstract_page = next(p for p in pages if abstract in p)
-    numbers = [int(n) for n in re.findall(r"(\d+)\s", abstract_page.split(":", 1)[1])[:4]]
-    assert numbers == [len(pages), len(figures), len(tables), references], (numbers, abstract_page[:300])
+    # pages, figures, tables, appendices (the numerics appendix and the error study's), sources
+    numbers = [int(n) for n in re.findall(r"(\d+)\s", abstract_page.split(":", 1)[1])[:5]]
+    appendices = html.count('<section class="chapter appendix"')
+    assert appendices == 2
+    assert numbers == [len(pages), len(figures), len(tables), appendices, references], (numbers, abstract_page[:300])
 
     # Every table and figure is referred to in the text before its caption.
     for word, ref, found in ((table_word, table_ref, tables), (figure_word, figure_ref, figures)):

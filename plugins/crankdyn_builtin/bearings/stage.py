@@ -319,6 +319,7 @@ def render(output: StageOutput, ctx) -> str | None:
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
     ], caption=t("bearings.journals_table_caption")) + worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
+    ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
     ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]

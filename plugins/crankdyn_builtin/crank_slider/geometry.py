@@ -36,7 +36,8 @@ def along(axis_rad: float, distance_m) -> np.ndarray:
 
 
 def single_geometry(scene, crank_angle_rad) -> MechanismGeometry:
-    """One central crank-slider: crank O-B, rod B-A, piston pin A on the cylinder axis."""
+    """One central crank-slider: crank O-B, rod B-A, piston pin A on the cylinder axis (its one
+    cylinder is not numbered in the drawing)."""
     e = scene.engine
     R, L = e.crank_radius_m, e.rod_length_m
     alpha = np.asarray(crank_angle_rad, dtype=float)
@@ -46,7 +47,7 @@ def single_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     return MechanismGeometry(
         joints=joints,
         links=[("crank", "crank_centre", "crank_pin"), ("rod", "crank_pin", "wrist_pin")],
-        guides=[Guide("wrist_pin", travel_m=(L - R, L + R), bore_m=e.bore, label="1")],
+        guides=[Guide("wrist_pin", travel_m=(L - R, L + R), bore_m=e.bore)],
         dimensions={"R": R, "L": L, "D": e.bore},
         travel_m=s,
     )

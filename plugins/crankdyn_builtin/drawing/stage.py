@@ -164,7 +164,9 @@ def render(output: StageOutput, ctx) -> str:
     fig = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
                            t("drawing.firing_order", order=order) if order else "")
     figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme", see="drawing.see_scheme")
-    frames = [(i, t("drawing.position_" + k, angle=ctx.num(angles[k], 4))) for i, k in enumerate(POSITIONS)]
+    # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
+    frames = [(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)))
+              for i, k in enumerate(POSITIONS)]
     figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions",
                                   see="drawing.see_positions")
     svg, payload = md.animation_svg(animation)

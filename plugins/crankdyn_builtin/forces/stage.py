@@ -262,6 +262,8 @@ def render(output: StageOutput, ctx) -> str:
     ax.legend(loc="upper right", fontsize=8)
     figure_torque = ctx.figure(fig, t("forces.torque_caption"), "torque")
 
+    if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage
+        ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))
     ctx.conclude(t("forces.conclusion_torque", mean=ctx.num(r["mean_torque_Nm"]),
                    from_work=ctx.num(r["mean_torque_from_work_Nm"]),
                    deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),

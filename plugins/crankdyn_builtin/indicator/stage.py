@@ -196,6 +196,8 @@ def render(output: StageOutput, ctx) -> str:
     table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes)
     table += worked_indicator(ctx, frame, rows, labels, r)
 
+    ctx.find(t("indicator.finding", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+                angle=ctx.t.number_g(r["max_pressure_crank_angle_deg"], 4)))
     deviation = r.get("mean_indicated_pressure_deviation_percent")
     ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
                    angle=ctx.t.number_g(r["max_pressure_crank_angle_deg"], 4),

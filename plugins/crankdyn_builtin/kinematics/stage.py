@@ -10,7 +10,7 @@ from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.physics import kinematics as kin
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.figures import crank_angle_axis, new_figure, twin_axes
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
 
@@ -169,7 +169,7 @@ def render(output: StageOutput, ctx) -> str:
     axes[0].plot(angle, frame["rod_angle_deg"], color="C4")
     axes[0].set_ylabel(t("kinematics.axis_beta"))
     axes[1].plot(angle, frame["rod_angular_velocity_rad_s"], color="C5", label="ω")
-    ax2 = axes[1].twinx()
+    ax2 = twin_axes(axes[1])
     ax2.plot(angle, frame["rod_angular_acceleration_rad_s2"], color="C6", ls="--", label="ε")
     axes[1].set_ylabel(t("kinematics.axis_rod_omega"))
     ax2.set_ylabel(t("kinematics.axis_rod_epsilon"))

@@ -144,6 +144,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>t</i><sub>k</sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
     ], caption=t("torque.table_b4_caption"))
 
+    ctx.find(t("torque.finding", mean=ctx.num(r["mean_Nm"])))
     ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),
                    deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
                    max_angle=ctx.t.number_g(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),

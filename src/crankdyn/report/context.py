@@ -128,6 +128,8 @@ class RenderContext:
     table_step_deg: float = 10.0
     cycle_deg: float = 720.0
     conclusions: list[str] = field(default_factory=list)
+    #: the main results the abstract names (:meth:`find`), over the whole report
+    findings: list[str] = field(default_factory=list)
     scene: Any = None
     worked: list = field(default_factory=list)  # WorkedBlock of every worked substitution shown
     #: a section's title for what this scene's section contains, when it differs from the
@@ -276,8 +278,24 @@ class RenderContext:
         self.conclusions.append(sentence)
         return ""
 
+    def find(self, phrase: str) -> str:
+        """Add one of the main results to the abstract ("the largest gas pressure 5,1 MPa at
+        α = 372°": a phrase, joined with the others into one sentence); returns ""."""
+        self.findings.append(phrase)
+        return ""
+
     def num(self, value: float, significant: int = 4) -> str:
         return self.t.number(value, significant)
+
+    #: Relative differences below this are rounding: printed as "< 10⁻¹²", not as 3,9·10⁻¹⁶.
+    ROUNDING_LEVEL = 1e-12
+
+    def deviation(self, relative: float, significant: int = 2) -> str:
+        """A relative difference of a check: "< 10⁻¹²" at the level of rounding (a number such as
+        3,9·10⁻¹⁶ reads as a result where it only says that two calculations agree)."""
+        if abs(relative) < self.ROUNDING_LEVEL:
+            return "< " + self.t.number(self.ROUNDING_LEVEL, 1).replace("1·", "")
+        return self.t.number(relative, significant)
 
     def render_template(self, name: str, **values: Any) -> str:
         if "numg" not in self.env.filters:  # "372°", "7,5°": a number without padding zeros

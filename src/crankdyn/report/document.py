@@ -231,6 +231,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
+        findings=ctx.findings,
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
@@ -294,8 +295,10 @@ def _fill_counts(html: str, t, sources: int) -> str:
     """The abstract's counts of figures, tables and sources, counted in the document itself."""
     figures = len(set(re.findall(r'<figure data-number="([^"]+)"', html)))
     tables = len(set(re.findall(r'<table class="[^"]*" data-number="([^"]+)"', html)))
+    appendices = len(re.findall(r'<section class="chapter appendix"', html))
     counts = t("doc.abstract_counts", pages='<a class="pagecount" href="#document-end"></a>',
-               figures=figures, tables=tables, sources=sources)
+               figures=figures, tables=tables, sources=sources,
+               appendices=t("doc.abstract_appendices", count=appendices) if appendices else "")
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
 
 

@@ -4,7 +4,7 @@ The stage cache (:mod:`crankdyn.cache`) hands back the *same* ``StageOutput`` ob
 stage whose inputs did not change. A section rendered from that same object, at the same
 number, in the same language, from the same values of the scene fields its ``render`` read
 (recorded while it ran, through the read-tracking scene copy) is the same section: its HTML,
-conclusions, title, worked substitutions and figures — already drawn — are reused, and only
+conclusions, abstract findings, title, worked substitutions and figures — already drawn — are reused, and only
 the sections of re-run stages are built and drawn again. A save that changes ``masses.rod``
 thus leaves the kinematics and indicator sections, and their figures, as they were.
 """
@@ -27,6 +27,7 @@ class _Section:
     body: str | None
     title: str | None
     conclusions: list[str]
+    findings: list[str]
     worked: list
     figures: list[FigureFile]
 
@@ -49,9 +50,10 @@ class SectionCache:
             ctx.figures.extend(kept.figures)
             ctx.worked.extend(kept.worked)
             ctx.conclusions.extend(kept.conclusions)
+            ctx.findings.extend(kept.findings)
             ctx.title = kept.title
             return kept.body
-        figures_before, worked_before = len(ctx.figures), len(ctx.worked)
+        figures_before, worked_before, findings_before = len(ctx.figures), len(ctx.worked), len(ctx.findings)
         tracked = tracked_copy(scene) if scene is not None else None
         ctx.scene = tracked
         try:
@@ -62,7 +64,8 @@ class SectionCache:
         self.renders[stage.name] = self.renders.get(stage.name, 0) + 1
         if scene is not None:
             self._sections[stage.name] = _Section(stage, output, key, reads, field_digests(scene, reads), body,
-                                                  ctx.title, list(ctx.conclusions), ctx.worked[worked_before:],
+                                                  ctx.title, list(ctx.conclusions), ctx.findings[findings_before:],
+                                                  ctx.worked[worked_before:],
                                                   ctx.figures[figures_before:])
         return body
 

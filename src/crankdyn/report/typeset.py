@@ -324,7 +324,7 @@ def tick_labels(values, t) -> tuple[list[str], int]:
     values = np.asarray(values, dtype=float)
     finite = values[np.isfinite(values)]
     big = float(np.max(np.abs(finite))) if finite.size else 0.0
-    scale = int(np.floor(np.log10(big))) if big and (big >= 1e5 or big < 1e-2) else 0
+    scale = int(np.floor(np.log10(big))) if big and (big >= 1e6 or big < 1e-2) else 0
     scaled = values / 10.0 ** scale
     steps = np.diff(np.unique(scaled[np.isfinite(scaled)]))
     step = float(np.min(steps)) if steps.size else 1.0
