@@ -156,6 +156,43 @@ def _trace_pressure(scene, motion, area, swept):
     return pressure, volume
 
 
+#: The textbook's characteristic points of a four-stroke diagram: (label, crank angle of cylinder 1 in
+#: degrees or a rounding parameter's name, which curve, label offset in points). 0° is the TDC at
+#: the start of intake; "advance" is the ignition (injection), "visible" the start of visible
+#: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
+#: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
+_POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
+           ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (-5, 3)),
+           ("f", "visible", "actual", (4, -3)), ("c″", 360.0, "actual", (4, -2)),
+           ("z", "theory_peak", "theory", (4, 2)), ("z′", "peak", "actual", (4, 2)),
+           ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (4, -3)))
+
+
+def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
+    """(label, volume in l, pressure in MPa, label offset) of each characteristic point of a
+    four-stroke diagram computed from cycle data; none for other cycles."""
+    if ctx.scene is None or ctx.scene.engine.strokes != 4 or getattr(ctx.scene, "cycle", None) is None:
+        return []
+    rounding = rounding_parameters(ctx.scene)
+    angle = frame["crank_angle_deg"]
+    theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
+    where = {"advance": 360.0 - rounding.ignition_advance_deg,
+             "visible": 360.0 - rounding.ignition_advance_deg + rounding.combustion_delay_deg,
+             "peak": r["max_pressure_crank_angle_deg"], # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
+             "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
+             "exhaust": 540.0 - rounding.exhaust_opens_before_bdc_deg}
+    step = float(angle[1] - angle[0])
+    points = []
+    for label, at, curve, offset in _POINTS:
+        i = int(round(where.get(at, at) / step)) % len(angle) if isinstance(at, str) else int(round(at / step)) % len(angle)
+        # c: the end of the compression line, p_c; at TDC itself the theoretical spark-ignition cycle
+        # is already at p_z (heat added at constant volume)
+        p = (r["compression_end_pressure_Pa"] / 1e6 if curve == "compression_end"
+             else theory[i] if curve == "theory" else actual[i])
+        points.append((label, float(frame["cylinder_volume_m3"][i] * 1e3), float(p), offset))
+    return points
+
+
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     frame = output.tables.arrays("indicator")
@@ -172,10 +209,16 @@ def render(output: StageOutput, ctx) -> str:
                 label=t("indicator.theoretical"))
     ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
             label=t("indicator.actual") if has_theory else t("indicator.trace"))
+    points = _characteristic_points(ctx, frame, r) if has_theory else []
+    for label, volume, p, (dx, dy) in points:
+        ax.plot([volume], [p], "o", ms=3, color="k")
+        ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
+                    ha="left" if dx >= 0 else "right", va="bottom" if dy >= 0 else "top")
     ax.set_xlabel(t("indicator.axis_volume"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)
-    figure_pv = ctx.figure(fig, t("indicator.pv_caption"), "pV")
+    figure_pv = ctx.figure(fig, t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV")
+    pv_number = ctx.last_figure_number
 
     fig, ax = new_figure(16, 8)
     if has_theory:
@@ -207,6 +250,7 @@ def render(output: StageOutput, ctx) -> str:
         ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
     diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
     return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
+                               points=bool(points), pv_number=pv_number,
                                table=table, deviation=deviation, has_theory=has_theory)
 
 

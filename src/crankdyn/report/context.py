@@ -153,6 +153,10 @@ class RenderContext:
     def last_table_number(self) -> str:
         return f"{self.section_number}.{self._table}"
 
+    @property
+    def last_figure_number(self) -> str:
+        return f"{self.section_number}.{self._figure}"
+
     def start_section(self, number: int, stage_name: str, figures: tuple[str, ...] | None = None) -> None:
         """Start numbering a section; ``figures``: the names its stage declares (``Stage.figures``)."""
         self.section_number = number

@@ -1,0 +1,58 @@
+"""The characteristic points marked on the p–V diagram (r, a, c, c′, f, c″, z, z′, b′, b, b″), each
+checked against where it is by definition: the crank angle of its event on the grid, the
+volume there, and the pressure of the curve it belongs to."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.scene import load_scene
+from crankdyn_builtin.indicator.stage import _characteristic_points, rounding_parameters
+
+REGISTRY = default_registry()
+
+
+@pytest.fixture(scope="module", params=["petrol-1cyl-uk", "diesel-1cyl"])
+def marked(request):
+    scene = load_scene(examples_dir() / f"{request.param}.toml")
+    output = run_scene(scene, REGISTRY, ["indicator"]).outputs["indicator"]
+    frame, r = output.tables.arrays("indicator"), output.results
+    points = {label: (v, p) for label, v, p, _ in _characteristic_points(SimpleNamespace(scene=scene), frame, r)}
+    return scene, frame, r, points
+
+
+def _at(frame, angle_deg):
+    i = int(np.argmin(np.abs(frame["crank_angle_deg"] - angle_deg % 720.0)))
+    return frame["cylinder_volume_m3"][i] * 1e3, frame["pressure_Pa"][i] / 1e6, frame["pressure_theoretical_Pa"][i] / 1e6
+
+
+def test_every_point_is_where_its_event_is(marked):
+    scene, frame, r, points = marked
+    rounding = rounding_parameters(scene)
+    v_c = r["clearance_volume_m3"] * 1e3
+    v_a = v_c + r["swept_volume_m3"] * 1e3
+    assert set(points) == {"r", "a", "c", "c′", "f", "c″", "z", "z′", "b′", "b", "b″"}
+    assert points["r"][0] == pytest.approx(v_c) and points["c″"][0] == pytest.approx(v_c)
+    assert points["a"][0] == pytest.approx(v_a) and points["b"][0] == pytest.approx(v_a)
+    assert points["c"] == pytest.approx((v_c, r["compression_end_pressure_Pa"] / 1e6))
+    assert points["c″"][1] == pytest.approx(_at(frame, 360.0)[1])
+    assert points["c′"] == pytest.approx(_at(frame, 360.0 - rounding.ignition_advance_deg)[:2], rel=1e-9)
+    visible = 360.0 - rounding.ignition_advance_deg + rounding.combustion_delay_deg
+    assert points["f"] == pytest.approx(_at(frame, visible)[:2], rel=1e-9)
+    assert points["z′"][1] == pytest.approx(frame["pressure_Pa"].max() / 1e6)
+    assert points["z"][1] == pytest.approx(scene.cycle.max_pressure / 1e6)
+    assert points["b′"] == pytest.approx(_at(frame, 540.0 - rounding.exhaust_opens_before_bdc_deg)[:2], rel=1e-9)
+    assert points["b"][1] == pytest.approx(r["expansion_end_pressure_Pa"] / 1e6, rel=1e-6)
+    assert points["b″"][1] == pytest.approx(_at(frame, 540.0)[1])
+
+
+def test_a_diesel_z_ends_the_heat_addition_at_rho_times_v_c(marked):
+    scene, frame, r, points = marked
+    rho = scene.cycle.pre_expansion_ratio
+    assert points["z"][0] == pytest.approx(rho * r["clearance_volume_m3"] * 1e3, rel=2e-2)
