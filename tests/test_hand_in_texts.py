@@ -126,3 +126,15 @@ def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
     intro = one[one.index('id="sec-introduction"'):]
     intro = intro[:intro.index("</section>")]
     assert "у додатку Б" in intro and "в додатку А" in intro
+
+
+def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_text_uses(reports):
+    """The supervisor found m_cp, m_w, C, C_I, c, V_a, δ, d, B used but not listed; m_cp read as
+    the Cyrillic 'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ."""
+    one = reports("petrol-1cyl-uk")
+    symbols = one[one.index('class="symbol-list"'):]
+    symbols = symbols[:symbols.index("</div>")]
+    for markup in ("<i>m</i><sub>ш.ш</sub>", "<i>m</i><sub>щ</sub>", "<i>C</i><sub>I</sub>", "<i>c</i><sub>r</sub>",
+                   "<i>V</i><sub>a</sub>", "<i>δ</i>", "<i>d</i>", "<i>B</i>", "<i>l</i><sub>R</sub>"):
+        assert markup in symbols, markup
+    assert "<sub>cp</sub>" not in one and "<i>m</i><sub>w</sub>" not in one

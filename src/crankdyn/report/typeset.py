@@ -83,6 +83,21 @@ SYMBOLS: dict[str, Symbol] = {
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
     "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific"),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
+    "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
+    "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
+    "crank_web_mass": Symbol("m", {"en": "w", "uk": "щ", "ru": "щ"}, "unit.kg", "symbol.crank_web_mass"),
+    "crank_rotating_mass": Symbol("m", {"en": "R"}, "unit.kg", "symbol.crank_rotating_mass"),
+    "centrifugal_specific": Symbol("c", {}, "unit.MPa", "symbol.centrifugal_specific"),
+    "rod_centrifugal_specific": Symbol("c", {"en": "r"}, "unit.MPa", "symbol.rod_centrifugal_specific"),
+    "centrifugal_force": Symbol("C", {}, "unit.N", "symbol.centrifugal_force"),
+    "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
+    "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
+    "order_amplitude": Symbol("C", {"en": "n"}, "unit.N", "symbol.order_amplitude"),
+    "acceleration_harmonic": Symbol("A", {"en": "n"}, "", "symbol.acceleration_harmonic"),
+    "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
+    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio"),
+    "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
+    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width"),
 }
 
 
