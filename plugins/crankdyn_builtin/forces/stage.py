@@ -240,15 +240,16 @@ def render(output: StageOutput, ctx) -> str:
     ], caption=t("forces.table_q_caption"), extremes=extremes) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     fig, axes = new_figure(16, 19, nrows=3, sharex=True)
-    for key, symbol in (("gas_Pa", "gas_pressure"), ("inertia_Pa", "inertia_pressure"), ("total_Pa", "total_pressure")):
-        axes[0].plot(angle, mpa[key], label=symbol_mathtext(symbol, t.language))  # p_г in uk/ru, as in the text
-    for key, label in (("side_Pa", "n"), ("rod_Pa", "k")):
-        axes[1].plot(angle, mpa[key], label=f"${label}$")
-    for key, label in (("radial_Pa", "z"), ("tangential_Pa", "t")):
-        axes[2].plot(angle, mpa[key], label=f"${label}$")
-    for ax in axes:
+    panels = ([("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
+               ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
+               ("total_Pa", symbol_mathtext("total_pressure", t.language))],
+              [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
+    for ax, curves in zip(axes, panels):
+        # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
+        for (key, label), style in zip(curves, ("-", "--", "-.")):
+            ax.plot(angle, mpa[key], ls=style, label=label)
         ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_ylabel(t("forces.axis_specific"))
+        ax.set_ylabel(", ".join(label for _, label in curves) + ", " + t("forces.axis_specific"))
         ax.legend(loc="upper right", fontsize=8, ncol=3)
     crank_angle_axis(axes[2], ctx.cycle_deg, t("axis.crank_angle"))
     figure_forces = ctx.figure(fig, t("forces.figure_caption"), "forces")
