@@ -467,3 +467,18 @@ def test_remedy_names_the_means(args, expected):
     from crankdyn_builtin.balancing.stage import remedy
 
     assert remedy(*args, balance_orders=(1, 2), first_order_forward="crankshaft") == expected
+
+
+def test_a_single_cylinder_gets_a_counterweight_and_one_first_order_shaft_by_default():
+    """Single-cylinder engines are built with a counterweight (C and the co-rotating half of P_I)
+    and at most one counter-rotating shaft; the second order's two Lanchester shafts are asked for
+    explicitly. More cylinders keep [1, 2] (an in-line four's second order needs the pair)."""
+    one = balancing("petrol-1cyl")
+    assert len(one["counterweights"]) == 1
+    assert [s["speed_ratio"] for s in one["balance_shafts"]] == [-1]
+    assert one["residual"]["balanced_orders"] == [1] and one["residual"]["vanishes"]
+    asked = balancing("petrol-1cyl", {"balancing": {"balance_orders": [1, 2]}})
+    assert sorted(s["speed_ratio"] for s in asked["balance_shafts"]) == [-2, -1, 2]
+    four = balancing("inline4-petrol")
+    assert four["residual"]["balanced_orders"] == [1, 2]
+    assert sorted(s["speed_ratio"] for s in four["balance_shafts"]) == [-2, 2]

@@ -68,11 +68,22 @@ class BalancingOptions(BaseModel):
     balance_shaft_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
     balance_shaft_spacing: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
     include_orders: Annotated[list[int], AfterValidator(_include)] = [1, 2, 4, 6]
-    balance_orders: Annotated[list[int], AfterValidator(_orders)] = [1, 2]
+    # None: the first order for one cylinder (a counterweight and one shaft, as single-cylinder
+    # engines are built; the second order's two Lanchester shafts are rarely worth it there), the
+    # first and second for more (:func:`balance_orders_for`)
+    balance_orders: Annotated[list[int], AfterValidator(_orders)] | None = None
     counterweights: Literal["ends", "every_crank"] = "ends"
     first_order_forward: Literal["crankshaft", "shaft"] = "crankshaft"
     explore: bool = False
     explore_top: Annotated[int, AfterValidator(_top)] = 10
+
+
+def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
+    """The orders to balance: the scene's ``[balancing] balance_orders``, else [1] for a
+    single-cylinder engine and [1, 2] for more cylinders."""
+    if opts.balance_orders is not None:
+        return list(opts.balance_orders)
+    return [1] if scene.engine.cylinders == 1 else [1, 2]
 
 
 def applies(scene) -> str | None:
@@ -320,6 +331,7 @@ def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
+    opts = opts.model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
     e = scene.engine
     layout = engine_layout(scene)
     g = bal.geometry_from_layout(layout)
@@ -381,6 +393,7 @@ def run(scene, inputs) -> StageOutput:
         "residual": residual,
         "summary": remedy_summary(orders, g, C, C_I, harmonics, opts),
         "reaction_torque_range_Nm": torque_range,
+        "first_order_forward": opts.first_order_forward,
         "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
         "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
         "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
@@ -674,7 +687,7 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
-                       shafts=len(r["balance_shafts"])))
+                       shafts=len(r["balance_shafts"]), orders=", ".join(map(str, r["residual"]["balanced_orders"]))))
 
 
 def render(output: StageOutput, ctx) -> str | None:
