@@ -138,3 +138,12 @@ def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_tex
                    "<i>V</i><sub>a</sub>", "<i>δ</i>", "<i>d</i>", "<i>B</i>", "<i>l</i><sub>R</sub>"):
         assert markup in symbols, markup
     assert "<sub>cp</sub>" not in one and "<i>m</i><sub>w</sub>" not in one
+
+
+def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(reports):
+    """No bay's axis of symmetry, no crank lag or bank angle, no sum over cylinders, no moment
+    columns in the table of orders for one cylinder; an in-line four keeps them."""
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    for words in ("вісь симетрії відсіку", "кут відставання", "до суми по циліндрах", "Площина моменту"):
+        assert words not in one and words in four, words
+    assert "Відцентрова сила і сили інерції кожного порядку" in one

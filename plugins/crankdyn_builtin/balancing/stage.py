@@ -563,10 +563,13 @@ def _coefficients_table(ctx, r):
         return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
 
     orders = r["orders"]
-    coef_table = ctx.table([
+    single = len(r["cylinder_labels"]) == 1  # one cylinder: no moments, no sums
+    columns = [
         (t("balancing.order"), [order_name(o) for o in orders], None),
-        ("Σ/C<sub><i>n</i></sub>", [o["force_coefficient"] for o in orders], 4),
-        ("Σ<i>P</i>, " + t("balancing.unit_N"), [o["force_max_N"] for o in orders], 1),
+        ("<i>P</i>/<i>C</i><sub><i>n</i></sub>" if single else "Σ<i>P</i>/<i>C</i><sub><i>n</i></sub>",
+         [o["force_coefficient"] for o in orders], 4),
+        (("<i>P</i><sub>max</sub>, " if single else "Σ<i>P</i>, ") + t("balancing.unit_N"),
+         [o["force_max_N"] for o in orders], 1),
         (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
@@ -575,14 +578,17 @@ def _coefficients_table(ctx, r):
                                      for o in orders], None),
         (t("balancing.sense"), ["—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
                                 for o in orders], None),
-        ("Σ<i>M</i>/(<i>C</i><sub><i>n</i></sub><i>a</i>)", [o["moment_coefficient"] for o in orders], 4),
-        ("Σ<i>M</i>, " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
-                                      for o in orders], None),
-        (t("balancing.moment_plane"), ["—" if zero(o, "moment") else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
-                                       for o in orders], None),
-    ], caption=t("balancing.coefficients_caption"), css_class="data wide")
-
-    return coef_table
+    ]
+    if not single:
+        columns += [
+            ("Σ<i>M</i>/(<i>C</i><sub><i>n</i></sub><i>a</i>)", [o["moment_coefficient"] for o in orders], 4),
+            ("Σ<i>M</i>, " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                                          for o in orders], None),
+            (t("balancing.moment_plane"), ["—" if zero(o, "moment") else
+                                           ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1) for o in orders], None),
+        ]
+    return ctx.table(columns, caption=t("balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"),
+                     css_class="data wide")
 
 
 def _bay_table(ctx, r):
