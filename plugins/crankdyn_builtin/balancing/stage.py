@@ -693,7 +693,8 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
-                       shafts=len(r["balance_shafts"]), orders=", ".join(map(str, r["residual"]["balanced_orders"]))))
+                       shafts=len(r["balance_shafts"]), orders=", ".join(map(str, r["residual"]["balanced_orders"])),
+                       count=len(r["residual"]["balanced_orders"])))
 
 
 def render(output: StageOutput, ctx) -> str | None:

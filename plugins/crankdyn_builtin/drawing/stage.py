@@ -172,7 +172,7 @@ def render(output: StageOutput, ctx) -> str:
     svg, payload = md.animation_svg(animation)
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
-    ctx.conclude(t("drawing.conclusion", v_max=ctx.num(angles["v_max"], 4), j_min=ctx.num(angles["j_min"], 4)))
+    # no conclusion of its own: the kinematics section's states the same angles, computed
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme,
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),

@@ -209,12 +209,13 @@ def render(output: StageOutput, ctx) -> str:
     angle = f["crank_angle_deg"]
     mpa = {k: f[k] / 1e6 for k in f.columns if k.endswith("_Pa")}
 
-    rows, labels = sample_rows(angle, ctx.table_step_deg)
-    rows, labels, extremes = add_extreme_rows(angle, rows, labels, [
+    grid_rows, grid_labels = sample_rows(angle, ctx.table_step_deg)
+    # every extreme the conclusions name gets its row, even one a hair above a table row's value
+    t_extremes = [(f["tangential_Pa"], "max", t("forces.extreme_t_max")),
+                  (f["tangential_Pa"], "min", t("forces.extreme_t_min"))]
+    rows, labels, extremes = add_extreme_rows(angle, grid_rows, grid_labels, [
         (f["gas_Pa"], "max", t("forces.extreme_gas_max")),
-        (f["tangential_Pa"], "max", t("forces.extreme_t_max")),
-        (f["tangential_Pa"], "min", t("forces.extreme_t_min")),
-        (f["resultant_Pa"], "max", t("forces.extreme_q_max"))])
+        (np.abs(f["side_Pa"]), "max", t("forces.extreme_n_max")), *t_extremes], resolution=0.0)
     table_b1 = ctx.table([
         ("<i>α</i>, °", ctx.angle_labels(labels), None),
         ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"][rows], 4),
@@ -231,6 +232,8 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
     ], caption=t("forces.table_b1_caption"), css_class="data wide", extremes=extremes)
     worked = _worked(ctx, f.take(rows), labels, r)
+    rows, labels, extremes = add_extreme_rows(angle, grid_rows, grid_labels, [
+        (f["resultant_Pa"], "max", t("forces.extreme_q_max")), *t_extremes], resolution=0.0)
     table_q = ctx.table([
         ("<i>α</i>, °", ctx.angle_labels(labels), None),
         ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
@@ -271,7 +274,8 @@ def render(output: StageOutput, ctx) -> str:
                    t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.t.number_g(r["torque_max_crank_angle_deg"], 4)))
     ctx.conclude(t("forces.conclusion_loads", q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
                    q_angle=ctx.t.number_g(r["resultant_max_crank_angle_deg"], 4),
-                   n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6)))
+                   n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
+                   n_angle=ctx.t.number_g(float(angle[first_argmax(np.abs(f["side_Pa"]))]), 4)))
     return ctx.render_template("sections/forces.html.j2", r=r, table_b1=table_b1, table_q=table_q,
                                figure_forces=figure_forces, figure_torque=figure_torque, worked=worked)
 
@@ -292,7 +296,7 @@ def _worked(ctx, rows, labels, r):
     lhs_j, lhs_1 = "<i>p</i><sub>j</sub>", "<i>p</i><sub>1</sub>"
     steps = [
         WorkedStep("inertia_pressure", lhs_j, "−<i>m</i><sub>s</sub> " + symbol_html("piston_acceleration", lang)
-                   + "/<i>F</i><sub>p</sub>", f"−{m_txt}·({j_txt})/{f_txt}·10<sup>−6</sup>", p_j, 3,
+                   + "/<i>F</i><sub>p</sub>", f"(−{m_txt}·({j_txt})/{f_txt})·10<sup>−6</sup>", p_j, 3,
                    t("unit.MPa"), inputs),
         WorkedStep("total_pressure", lhs_1, symbol_html("gas_pressure", lang) + " + " + lhs_j,
                    f"{g_txt} + ({pj_txt})", float(row["total_Pa"]) / 1e6, 3, t("unit.MPa"), inputs),
