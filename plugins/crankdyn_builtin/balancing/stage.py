@@ -463,11 +463,12 @@ def _star_figure(ctx, r):
         ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
         for axis in sorted(set(np.round(axes_rad, 9))):
             ax.plot([0, 1.25 * math.sin(axis)], [0, 1.25 * math.cos(axis)], color="0.6", lw=0.8, ls="--")
+        single = len(labels) == 1  # one crank: its vectors are named, not numbered
         if order == 1:  # cranks, numbered from the free end
-            vectors = [(d, str(k + 1)) for k, d in enumerate(crank_dirs)]
+            vectors = [(d, r"$C$, $C_{\mathrm{I}}$" if single else str(k + 1)) for k, d in enumerate(crank_dirs)]
             color, title = "C0", t("balancing.star_first")
         else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
-            vectors = [(axes_rad[i] - 2 * phases[i], label) for i, label in enumerate(labels)]
+            vectors = [(axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label) for i, label in enumerate(labels)]
             color, title = "C1", t("balancing.star_second")
         groups: dict[int, list[str]] = {}
         for d, label in vectors:
@@ -476,9 +477,10 @@ def _star_figure(ctx, r):
             d = math.radians(key / 100)
             _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
             ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7)
-        ax.set_title(title, fontsize=8)
+        # the title inside the axes' limits: above them, an equal-aspect panel's title was cut at the top
+        ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)
-        ax.set_ylim(-1.4, 1.4)
+        ax.set_ylim(-1.4, 1.75)
     # one crank and one cylinder: a vector of each order, not a "star" of them
     caption = t("balancing.star_caption_single") if len(labels) == 1 else t("balancing.star_caption")
     return ctx.figure(fig, caption, "crank_diagrams",
@@ -613,13 +615,16 @@ def _bay_table(ctx, r):
 def _summary_table(ctx, r):
     """What is balanced by itself and what each balancing means takes."""
     t = ctx.t
+    rows = r["summary"]
+    if len(r["cylinder_labels"]) == 1:  # one cylinder's forces act in the plane of its crank: no moments
+        rows = [s for s in rows if not s["quantity"].startswith("M_")]
     summary_table = ctx.table([
-        (t("balancing.quantity"), [_summary_symbol(s) for s in r["summary"]], None),
-        (t("balancing.coefficient"), [s["coefficient"] for s in r["summary"]], 4),
+        (t("balancing.quantity"), [_summary_symbol(s) for s in rows], None),
+        (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
         (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
-                                for s in r["summary"]], None),
+                                for s in rows], None),
         (t("balancing.remedy"), [" + ".join(t("balancing.remedy_" + p) for p in s["remedy"].split("+"))
-                                 for s in r["summary"]], None),
+                                 for s in rows], None),
     ], caption=t("balancing.summary_caption"))
 
     return summary_table
@@ -628,33 +633,35 @@ def _summary_table(ctx, r):
 def _means_table(ctx, r):
     """Counterweights and balance-shaft masses; None when there are none."""
     t = ctx.t
+    single = len(r["cylinder_labels"]) == 1  # one crank: no crank numbers, ends or positions along the shaft
     means_rows = []
     for cw in r["counterweights"]:
-        means_rows.append((t("balancing.counterweight", crank=cw["crank"]), "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
+        label = t("balancing.counterweight_single") if single else t("balancing.counterweight", crank=cw["crank"])
+        means_rows.append((label, "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
                            ctx.num(cw["mass_kg"], 4) + f" ({ctx.num(cw['mass_per_web_kg'], 4)} × 2)",
                            ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
                            ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—"))
     for shaft in r["balance_shafts"]:
         for sm in shaft["masses"]:
-            means_rows.append((t("balancing.shaft", order=shaft["order"],
-                                 sense=t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward")),
-                                 end=t("balancing.end_" + sm["end"])),
+            sense = t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward"))
+            means_rows.append((t("balancing.shaft_single", order=shaft["order"], sense=sense) if single else
+                               t("balancing.shaft", order=shaft["order"], sense=sense, end=t("balancing.end_" + sm["end"])),
                                f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"), ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
                                ctx.num(sm["mass_kg"], 4), ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
                                ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—"))
-    means_table = None
-    if means_rows:
-        means_table = ctx.table([
-            (t("balancing.means"), [x[0] for x in means_rows], None),
-            (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-            ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
-            ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
-            (t("balancing.angle"), [x[4] for x in means_rows], None),
-            ("<i>z</i>, " + t("unit.mm"), [x[5] for x in means_rows], None),
-        ], caption=t("balancing.means_caption", r_cw=ctx.num(r["counterweight_radius_m"] * 1e3),
-                     r_sh=ctx.num(r["balance_shaft_radius_m"] * 1e3)), css_class="data wide")
-
-    return means_table
+    if not means_rows:
+        return None
+    columns = [
+        (t("balancing.means"), [x[0] for x in means_rows], None),
+        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
+        ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
+        ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
+        (t("balancing.angle"), [x[4] for x in means_rows], None),
+    ] + ([] if single else [("<i>z</i>, " + t("unit.mm"), [x[5] for x in means_rows], None)])
+    radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
+    caption = (t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
+               if single and r["counterweights"] and r["balance_shafts"] else t("balancing.means_caption", **radii))
+    return ctx.table(columns, caption=caption, css_class="data wide")
 
 
 def _explorer_table(ctx, r):
@@ -686,7 +693,12 @@ def _conclude(ctx, r) -> None:
     """The section's conclusions: what stays unbalanced, which means are fitted."""
     t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
-    if unbalanced:
+    if unbalanced and len(r["cylinder_labels"]) == 1:  # one cylinder: coefficients are all 1; say the forces
+        amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
+        ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
+            f"{_plain_symbol(s)[1:]} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
+            for s in unbalanced if s["quantity"].startswith("sum_"))))
+    elif unbalanced:
         ctx.conclude(t("balancing.conclusion_unbalanced",
                        items=", ".join(f"{_plain_symbol(s)} = {ctx.num(s['coefficient'], 4)}" for s in unbalanced)))
     else:

@@ -148,6 +148,7 @@ def run(scene, inputs) -> StageOutput:
                           for j in range(cranks + 1)],
         "drawn_pins": drawn_pins,
         "drawn_journals": drawn_journals,
+        "span_ratio": opts.span_ratio,  # l'/l of every crank
         "chosen_by_default": opts.pins is None and opts.journals is None,
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
     }
