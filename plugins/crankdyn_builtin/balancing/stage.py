@@ -571,7 +571,7 @@ def _coefficients_table(ctx, r):
         ("<i>P</i>/<i>C</i><sub><i>n</i></sub>" if single else "Σ<i>P</i>/<i>C</i><sub><i>n</i></sub>",
          [o["force_coefficient"] for o in orders], 4),
         (("<i>P</i><sub>max</sub>, " if single else "Σ<i>P</i>, ") + t("balancing.unit_N"),
-         [o["force_max_N"] for o in orders], 1),
+         [o["force_max_N"] for o in orders], 0),  # whole newtons, as the text's C = 17 235 N
         (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"

@@ -321,7 +321,9 @@ def render(output: StageOutput, ctx) -> str | None:
     ], caption=t("bearings.journals_table_caption")) + worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
-    ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.num(pin["max_N"] / 1e3), p_mean=ctx.num(pin["mean_MPa"]),
+    # the digits of table 7.1, which the conclusion repeats
+    ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
+                   p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
     journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])

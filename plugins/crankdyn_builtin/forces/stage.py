@@ -218,7 +218,7 @@ def render(output: StageOutput, ctx) -> str:
         (np.abs(f["side_Pa"]), "max", t("forces.extreme_n_max")), *t_extremes], resolution=0.0)
     table_b1 = ctx.table([
         ("<i>α</i>, °", ctx.angle_labels(labels), None),
-        ("<i>s</i><sub>p</sub>, " + t("unit.m"), f["piston_displacement_m"][rows], 4),
+        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"][rows] * 1e3, 2),  # mm, as table 2.1
         ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
         ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
         ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
