@@ -233,3 +233,14 @@ def test_animation_moves_in_chromium(tmp_path):
         assert frames > 0, "pressing play did not animate"
     finally:
         browser.close()
+
+
+def test_positions_at_one_angle_share_a_panel():
+    """A central crank-slider's largest acceleration is at TDC: one panel "ВМТ, j_max", not two
+    identical ones; a position 0.05° or more away keeps its own (360° is the same as 0°)."""
+    from crankdyn_builtin.drawing.stage import _merged_frames
+
+    frames = [(0, "ВМТ\nα = 0°", 0.0), (1, "НМТ\nα = 180°", 180.0), (2, "v_max\nα = 75,4°", 75.4),
+              (4, "j_max\nα = 0°", 359.99), (5, "j_min\nα = 158,2°", 158.2)]
+    assert _merged_frames(frames) == [(0, "ВМТ, j_max\nα = 0°"), (1, "НМТ\nα = 180°"), (2, "v_max\nα = 75,4°"),
+                                      (5, "j_min\nα = 158,2°")]

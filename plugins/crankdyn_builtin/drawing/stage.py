@@ -155,6 +155,21 @@ def _labels(geometry, ctx) -> dict[str, str]:
     return {k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
 
 
+def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]]:
+    """One panel per distinct position: of a central crank-slider, TDC is also where the piston's
+    acceleration is largest, and two identical panels ("ВМТ" and "j_max", both at 0°) would be
+    drawn. Captions are "what\nα = …"; positions within 0.05° share a panel, their names joined."""
+    merged: list[tuple[int, list[str], str, float]] = []
+    for i, caption, angle in frames:
+        name, _, at = caption.partition("\n")
+        same = next((m for m in merged if abs((m[3] - angle + 180.0) % 360.0 - 180.0) < 0.05), None)
+        if same is None:
+            merged.append((i, [name], at, angle))
+        else:
+            same[1].append(name)
+    return [(i, ", ".join(names) + "\n" + at) for i, names, at, _ in merged]
+
+
 def render(output: StageOutput, ctx) -> str:
     """The scheme at TDC, the positions figure and the animated block (drawing only)."""
     t = ctx.t
@@ -165,8 +180,8 @@ def render(output: StageOutput, ctx) -> str:
                            t("drawing.firing_order", order=order) if order else "")
     figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme", see="drawing.see_scheme")
     # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
-    frames = [(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)))
-              for i, k in enumerate(POSITIONS)]
+    frames = _merged_frames([(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)),
+                              angles[k]) for i, k in enumerate(POSITIONS)])
     figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions",
                                   see="drawing.see_positions")
     svg, payload = md.animation_svg(animation)
