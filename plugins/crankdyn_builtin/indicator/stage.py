@@ -168,6 +168,19 @@ _POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
            ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (4, -3)))
 
 
+def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
+    """The exhaust and intake strokes enlarged in a corner of the p–V diagram: at the scale of the
+    combustion peak the pumping loop (0,1 MPa against 5 MPa) is one line."""
+    low = 0.45 * float(np.max(actual_MPa)) / 5.0 + 0.1  # about 0.55 MPa for a 5 MPa peak
+    inset = ax.inset_axes([0.45, 0.32, 0.5, 0.42])
+    inset.plot(volume_l, theory_MPa, color="0.45", lw=0.8, ls="--")
+    inset.plot(volume_l, actual_MPa, color="C3", lw=1.0)
+    inset.set_ylim(0.0, low)
+    inset.set_xlim(float(np.min(volume_l)), float(np.max(volume_l)))
+    inset.tick_params(labelsize=7)
+    inset.set_title(t("indicator.inset_title"), fontsize=7)
+
+
 def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
     """(label, volume in l, pressure in MPa, label offset) of each characteristic point of a
     four-stroke diagram computed from cycle data; none for other cycles."""
@@ -209,6 +222,9 @@ def render(output: StageOutput, ctx) -> str:
                 label=t("indicator.theoretical"))
     ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
             label=t("indicator.actual") if has_theory else t("indicator.trace"))
+    if has_theory:
+        _pumping_inset(ax, np.append(volume_l, volume_l[0]), np.append(theory, theory[0]),
+                       np.append(pressure, pressure[0]), t)
     points = _characteristic_points(ctx, frame, r) if has_theory else []
     for label, volume, p, (dx, dy) in points:
         ax.plot([volume], [p], "o", ms=3, color="k")

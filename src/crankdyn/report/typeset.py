@@ -283,8 +283,9 @@ def typeset_figure(fig, t) -> None:
         if value and ("_" in value or "^" in value) and "$" not in value:
             text.set_text(mathtext(value, language))
     for ax in fig.get_axes():
-        for axis in (ax.xaxis, ax.yaxis):
-            _locale_ticks(axis, t)
+        for axes in (ax, *ax.child_axes):  # an inset's ticks too (the p–V diagram's pumping loop)
+            for axis in (axes.xaxis, axes.yaxis):
+                _locale_ticks(axis, t)
 
 
 def _legend_outside(ax) -> None:
