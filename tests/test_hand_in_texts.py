@@ -148,3 +148,13 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
     for words in ("вісь симетрії відсіку", "кут відставання", "до суми по циліндрах", "Площина моменту"):
         assert words not in one and words in four, words
     assert "Відцентрова сила і сили інерції кожного порядку" in one
+
+
+def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(reports):
+    """The task sheet gives the main data itself (a supervisor's form has them), and the table of
+    a spark-ignition engine leaves out ρ = 1, which is no datum of its task (a diesel's keeps it)."""
+    one = reports("petrol-1cyl-uk")
+    assignment = one[one.index('<section class="assignment"'):]
+    assignment = assignment[:assignment.index("</section>")]
+    assert "D = 82" in assignment and "S = 78" in assignment and "n = 5600" in assignment
+    assert "Ступінь попереднього розширення" not in one
