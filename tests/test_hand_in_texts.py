@@ -158,3 +158,9 @@ def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(report
     assignment = assignment[:assignment.index("</section>")]
     assert "D = 82" in assignment and "S = 78" in assignment and "n = 5600" in assignment
     assert "Ступінь попереднього розширення" not in one
+
+
+def test_the_wear_diagram_is_laid_inwards_from_the_journal_circle_with_its_scale(reports):
+    """As the textbook draws it, and the caption says the scale: the largest load in kN."""
+    one = reports("petrol-1cyl-uk")
+    assert re.search(r"навантаження відкладено всередину кола шийки, найбільше \([\d ,\u202f]+ кН\) – на 0,6 радіуса", one)

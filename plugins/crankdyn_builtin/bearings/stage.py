@@ -250,12 +250,21 @@ def _wear_figure(ctx, wear, r):
     ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
     ax.set_theta_direction(1)
     psi = np.radians(wear["surface_angle_deg"])
-    ax.fill(np.append(psi, psi[0]), np.append(wear[f"pin{k}_wear_N"], wear[f"pin{k}_wear_N"][0]) / 1e3,
-            color="C1", alpha=0.5)
+    load = wear[f"pin{k}_wear_N"]
+    # as the textbook draws it: the journal's circle, the wear laid inwards from it (the largest
+    # to 0.6 of the radius), the oil hole where the circle is least worn
+    depth = 0.6 * load / max(float(load.max()), 1e-300)
+    closed = np.append(psi, psi[0])
+    ax.fill_between(closed, 1.0 - np.append(depth, depth[0]), 1.0, color="C1", alpha=0.5, lw=0)
+    ax.plot(np.linspace(0, 2 * np.pi, 361), np.ones(361), color="0.2", lw=1.0)
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
-    ax.plot([oil, oil], [0, wear[f"pin{k}_wear_N"].max() / 1e3], color="C2", lw=2)
-    ax.set_yticklabels([])
-    return ctx.figure(fig, ctx.t("bearings.wear_caption", k=k), f"wear_pin{k}", see="bearings.see_wear")
+    ax.plot([oil, oil], [0.85, 1.12], color="C2", lw=2)
+    ax.set_ylim(0, 1.15)
+    ax.set_yticks([])
+    ax.grid(False, axis="y")
+    ax.spines["polar"].set_visible(False)  # the journal's circle is the only circle
+    caption = ctx.t("bearings.wear_caption", k=k, w_max=ctx.num(load.max() / 1e3))
+    return ctx.figure(fig, caption, f"wear_pin{k}", see="bearings.see_wear")
 
 
 def render(output: StageOutput, ctx) -> str | None:
