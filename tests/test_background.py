@@ -8,12 +8,14 @@ thread (a pytest-xdist worker has some)."""
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
 pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the studies' child is forked")
 
-SETUP = """
+# the fresh interpreter imports the tests folder's helpers from here
+SETUP = f"TESTS = {str(Path(__file__).resolve().parent)!r}\n" + """
 import os, sys
 from crankdyn.background import ForkedStudies, start_studies
 from crankdyn.errors import Problem, SceneError
@@ -21,25 +23,12 @@ from crankdyn.orchestrator import plan, run_plan
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.plugins import Registry
 from crankdyn.scene import scene_from_dict
-sys.path.insert(0, "tests")
+sys.path.insert(0, TESTS)
 from conftest import example_data
+from child_processes import children
 
 PARENT = os.getpid()
 scene = scene_from_dict(example_data("petrol-1cyl"))
-
-def children():
-    import glob
-    mine = str(os.getpid())
-    found = []
-    for p in glob.glob("/proc/[0-9]*/stat"):
-        try:  # any process of the machine may end between the listing and the read
-            with open(p) as fh:
-                parent = fh.read().split(") ")[-1].split()[1]
-        except (FileNotFoundError, ProcessLookupError, IndexError):
-            continue
-        if parent == mine:
-            found.append(p)
-    return found
 
 def stage(name, run, provides=(), requires=(), last=False):
     return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),

@@ -8,12 +8,14 @@ thread (a pytest-xdist worker has some) and before WeasyPrint is imported."""
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
 pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the printer is forked")
 
-SETUP = """
+# the fresh interpreter imports the tests folder's helpers from here
+SETUP = f"TESTS = {str(Path(__file__).resolve().parent)!r}\n" + """
 import os, sys
 from crankdyn.report import printer
 from crankdyn.report.context import FigureFile
@@ -22,19 +24,8 @@ SVG = (b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50" viewBox
        b'<text x="5" y="30" font-size="12">kinematics</text></svg>')
 HTML = '<h1>crankdyn</h1><p>Figure 1</p><img src="figures/fig_1.svg"><p>after it</p>'
 
-def children():
-    import glob
-    mine = str(os.getpid())
-    found = []
-    for p in glob.glob("/proc/[0-9]*/stat"):
-        try:  # any process of the machine may end between the listing and the read
-            with open(p) as fh:
-                parent = fh.read().split(") ")[-1].split()[1]
-        except (FileNotFoundError, ProcessLookupError, IndexError):
-            continue
-        if parent == mine:
-            found.append(p)
-    return found
+sys.path.insert(0, TESTS)
+from child_processes import children
 """
 
 
