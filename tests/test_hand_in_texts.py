@@ -164,3 +164,10 @@ def test_the_wear_diagram_is_laid_inwards_from_the_journal_circle_with_its_scale
     """As the textbook draws it, and the caption says the scale: the largest load in kN."""
     one = reports("petrol-1cyl-uk")
     assert re.search(r"навантаження відкладено всередину кола шийки, найбільше \([\d ,\u202f]+ кН\) – на 0,6 радіуса", one)
+
+
+def test_a_check_that_agrees_to_rounding_says_so_instead_of_printing_the_rounding(reports):
+    """3,9·10⁻¹⁶ reads as a result; '< 10⁻¹²' says that the two calculations agree."""
+    one = reports("petrol-1cyl-uk")
+    assert "відносна різниця &lt; 10⁻¹²" in one or "відносна різниця < 10⁻¹²" in one
+    assert not re.search(r"різниця \d,\d·10⁻1[3-9]", one)

@@ -186,18 +186,18 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
     four-stroke diagram computed from cycle data; none for other cycles."""
     if ctx.scene is None or ctx.scene.engine.strokes != 4 or getattr(ctx.scene, "cycle", None) is None:
         return []
-    rounding = rounding_parameters(ctx.scene)
     angle = frame["crank_angle_deg"]
     theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
-    where = {"advance": 360.0 - rounding.ignition_advance_deg,
-             "visible": 360.0 - rounding.ignition_advance_deg + rounding.combustion_delay_deg,
+    # the rounding's angles as run() used them (its results), the valve timing as the scene gives it
+    where = {"advance": 360.0 - r["ignition_advance_deg"],
+             "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
              "peak": r["max_pressure_crank_angle_deg"], # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
              "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
-             "exhaust": 540.0 - rounding.exhaust_opens_before_bdc_deg}
+             "exhaust": 540.0 - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg}
     step = float(angle[1] - angle[0])
     points = []
     for label, at, curve, offset in _POINTS:
-        i = int(round(where.get(at, at) / step)) % len(angle) if isinstance(at, str) else int(round(at / step)) % len(angle)
+        i = int(round(where.get(at, at) / step)) % len(angle)  # a named event's angle, or the angle given
         # c: the end of the compression line, p_c; at TDC itself the theoretical spark-ignition cycle
         # is already at p_z (heat added at constant volume)
         p = (r["compression_end_pressure_Pa"] / 1e6 if curve == "compression_end"

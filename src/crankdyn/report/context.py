@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
+import math
 import os
 import re
 from importlib import resources
@@ -16,7 +17,7 @@ from markupsafe import Markup, escape
 
 from ..errors import PluginError
 from ..plugin_types import declared
-from .i18n import Translator
+from .i18n import Translator, superscript
 from .typeset import typeset_figure
 
 
@@ -298,7 +299,7 @@ class RenderContext:
         """A relative difference of a check: "< 10⁻¹²" at the level of rounding (a number such as
         3,9·10⁻¹⁶ reads as a result where it only says that two calculations agree)."""
         if abs(relative) < self.ROUNDING_LEVEL:
-            return "< " + self.t.number(self.ROUNDING_LEVEL, 1).replace("1·", "")
+            return "< 10" + superscript(round(math.log10(self.ROUNDING_LEVEL)))
         return self.t.number(relative, significant)
 
     def render_template(self, name: str, **values: Any) -> str:
