@@ -171,3 +171,11 @@ def test_a_check_that_agrees_to_rounding_says_so_instead_of_printing_the_roundin
     one = reports("petrol-1cyl-uk")
     assert "відносна різниця &lt; 10⁻¹²" in one or "відносна різниця < 10⁻¹²" in one
     assert not re.search(r"різниця \d,\d·10⁻1[3-9]", one)
+
+
+def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(reports):
+    """Coefficients are all 1 for one cylinder; the conclusion says the forces: C = m_R R ω² of the
+    example (17 235 N, as equation 6.1 prints it) and P_I, P_II."""
+    one = reports("petrol-1cyl-uk")
+    text = re.sub(r"<[^>]+>", "", one).replace("\u202f", " ")
+    assert "Незрівноважені сили (амплітуди): C = 17 235 Н, PI = 8248 Н, PII = 2357 Н" in text

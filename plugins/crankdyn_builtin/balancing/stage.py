@@ -696,7 +696,7 @@ def _conclude(ctx, r) -> None:
     if unbalanced and len(r["cylinder_labels"]) == 1:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
-            f"{_plain_symbol(s)[1:]} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
+            f"{_plain_symbol(s, '')} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
         ctx.conclude(t("balancing.conclusion_unbalanced",
@@ -733,13 +733,14 @@ def _summary_symbol(s) -> Markup:
     return Markup("Σ<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
 
 
-def _plain_symbol(s) -> str:
-    """``ΣP_I``, ``ΣM_II``, ``ΣC``: the symbol as table 6.3 prints it (typeset with its subscript)."""
+def _plain_symbol(s, sum_sign: str = "Σ") -> str:
+    """``ΣP_I``, ``ΣM_II``, ``ΣC``: the symbol as table 6.3 prints it (typeset with its subscript);
+    ``sum_sign=""`` for one cylinder's own force (``P_I``)."""
     kind, base = s["quantity"].split("_", 1)
     order = base[1:] if base.startswith("P") else ""
     if kind == "sum":
-        return f"ΣP_{order}" if order else "Σ" + base
-    return f"ΣM_{order or base}"
+        return f"{sum_sign}P_{order}" if order else sum_sign + base
+    return f"{sum_sign}M_{order or base}"
 
 
 BALANCING_STAGE = Stage(
