@@ -27,7 +27,7 @@ def _positions(example: str):
 def _scheme(example: str):
     positions = _positions(example)
     labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
-    fig = md.scheme_figure(positions, 0, labels, "Crank star", "Firing order: 1")
+    fig, _ = md.scheme_figure(positions, 0, labels, "Crank star", "Firing order: 1")
     fig.canvas.draw()
     return fig
 

@@ -170,15 +170,21 @@ def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]
     return [(i, ", ".join(names) + "\n" + at) for i, names, at, _ in merged]
 
 
+def scale_text(scale: float, t) -> str:
+    """A drawing's scale as written on it: "1:2,5" (a reduction), "1:1", "2:1" (an enlargement)."""
+    return f"{t.number_g(scale, 4)}:1" if scale >= 1 else f"1:{t.number_g(1 / scale, 4)}"
+
+
 def render(output: StageOutput, ctx) -> str:
     """The scheme at TDC, the positions figure and the animated block (drawing only)."""
     t = ctx.t
     positions, animation = output.artifacts["positions"], output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]
     order = " – ".join(positions.firing_order)
-    fig = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
-                           t("drawing.firing_order", order=order) if order else "")
-    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption"), "scheme", see="drawing.see_scheme")
+    fig, scale = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
+                                 t("drawing.firing_order", order=order) if order else "")
+    scale = scale_text(scale, t)
+    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale), "scheme", see="drawing.see_scheme")
     # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
     frames = _merged_frames([(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)),
                               angles[k]) for i, k in enumerate(POSITIONS)])
@@ -188,7 +194,7 @@ def render(output: StageOutput, ctx) -> str:
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
-    return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme,
+    return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),
                                step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)

@@ -85,6 +85,84 @@ def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
         return fig, fig.subplots(**subplots)
 
 
+#: Marks a figure laid out by its author (a drawing to scale): :func:`to_svg` leaves its axes where they are.
+FIXED_LAYOUT = "_crankdyn_fixed_layout"
+_MM_PER_INCH = 25.4
+
+
+def new_drawing(width_mm: float, height_mm: float):
+    """An empty figure of ``width_mm`` x ``height_mm`` on an Agg canvas whose axes are placed in
+    millimetres (:func:`add_axes_mm`) and stay there: a drawing to scale."""
+    import matplotlib  # lazy: heavy optional import
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
+    from matplotlib.figure import Figure  # lazy: heavy optional import
+
+    _keep_more_mathtext()
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=(width_mm / _MM_PER_INCH, height_mm / _MM_PER_INCH))
+        FigureCanvasAgg(fig)
+    setattr(fig, FIXED_LAYOUT, True)
+    return fig
+
+
+def add_axes_mm(fig, left_mm: float, bottom_mm: float, width_mm: float, height_mm: float):
+    """Axes at a place of the figure given in millimetres from its lower left corner."""
+    import matplotlib  # lazy: heavy optional import
+
+    w, h = (size * _MM_PER_INCH for size in fig.get_size_inches())
+    with matplotlib.rc_context(STYLE):
+        return fig.add_axes((left_mm / w, bottom_mm / h, width_mm / w, height_mm / h))
+
+
+def drawn_box(axes, renderer):
+    """The box (display units) of what the axes draw: their lines, patches, texts and titles,
+    not their own rectangle (a drawing's limits keep room it may not use); None if nothing."""
+    from matplotlib.collections import Collection  # lazy: heavy optional import
+    from matplotlib.transforms import Bbox  # lazy: heavy optional import
+
+    boxes = []
+    for ax in axes:
+        skip = {ax.patch, *ax.spines.values(), ax.xaxis, ax.yaxis}
+        for artist in ax.get_children():
+            if artist in skip or not artist.get_visible():
+                continue
+            if hasattr(artist, "get_text") and not artist.get_text():
+                continue  # the axes' empty title slots
+            box = _collection_box(ax, artist) if isinstance(artist, Collection) else artist.get_tightbbox(renderer)
+            if box is not None and box.width >= 0 and box.height >= 0 and np.isfinite(box.bounds).all():
+                boxes.append(box)
+    return Bbox.union(boxes) if boxes else None
+
+
+def _collection_box(ax, collection):
+    """A collection's box from its data limits: matplotlib gives the whole axes for its tight box."""
+    from matplotlib.transforms import Bbox  # lazy: heavy optional import
+
+    limits = collection.get_datalim(ax.transData)
+    if not np.isfinite(limits.get_points()).all():
+        return None
+    return Bbox.intersection(Bbox(ax.transData.transform(limits.get_points())).padded(1.0), ax.bbox)
+
+
+def fit_to_content(fig, margin_mm: float) -> None:
+    """Grow or shrink the figure to what it draws (every text and arrow too) plus ``margin_mm``,
+    keeping the size of each axes on paper, and so the scale of a drawing."""
+    import matplotlib  # lazy: heavy optional import
+
+    renderer = fig.canvas.get_renderer()
+    with matplotlib.rc_context(STYLE):
+        box = (drawn_box(fig.axes, renderer) or fig.bbox).transformed(fig.dpi_scale_trans.inverted())  # inches
+    margin = margin_mm / _MM_PER_INCH
+    old_w, old_h = fig.get_size_inches()
+    new_w, new_h = box.width + 2 * margin, box.height + 2 * margin
+    dx, dy = margin - box.x0, margin - box.y0
+    placed = [(ax, ax.get_position()) for ax in fig.axes]
+    fig.set_size_inches(new_w, new_h)
+    for ax, pos in placed:
+        ax.set_position(((pos.x0 * old_w + dx) / new_w, (pos.y0 * old_h + dy) / new_h,
+                         pos.width * old_w / new_w, pos.height * old_h / new_h))
+
+
 def twin_axes(ax):
     """``ax.twinx()`` in the report's style: made outside it, the twin's tick labels came out in
     matplotlib's default 10 pt beside the 9 pt of the axes it shares a figure with."""
@@ -152,7 +230,7 @@ def to_svg(fig) -> bytes:
         renderer = MixedModeRenderer(fig, width, height, 72,
                                      RendererSVG(width * 72, height * 72, buffer, image_dpi=72,
                                                  metadata={"Date": None}))
-        if fig.axes:
+        if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
             with renderer._draw_disabled():
                 adjust = get_tight_layout_figure(fig, fig.axes, get_subplotspec_list(fig.axes), renderer,
                                                  pad=1.08)

@@ -311,24 +311,99 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
     ax.set_ylim(-1.7, 1.7)
     ax.set_aspect("equal")
     hide_axes(ax)
-    ax.set_title(title, fontsize=8)
-    ax.text(0, -1.65, firing_label, ha="center", va="top", fontsize=7)
+    # "Crank star (at the TDC of cylinder 1)" in two lines: as narrow as the star
+    ax.set_title(title.replace(" (", "\n(", 1) if len(title) > 24 else title, fontsize=8)
+    ax.text(0, -1.65, _wrapped_order(firing_label), ha="center", va="top", fontsize=7)
+
+
+def _wrapped_order(label: str, width: int = 30) -> str:
+    """A firing order in lines of at most ``width`` characters, broken after a dash, so that a
+    V8's order stays as narrow as the crank star above it."""
+    lines = [""]
+    for k, part in enumerate(label.split(" – ")):
+        piece = part if k == 0 else " – " + part
+        if lines[-1] and len(lines[-1]) + len(piece) > width:
+            lines[-1] += " –"
+            lines.append(part)
+        else:
+            lines[-1] += piece
+    return "\n".join(lines)
+
+
+#: Scales of a drawing, paper length : real length (ДСТУ ISO 5455, ГОСТ 2.302): enlargements,
+#: full size, reductions; a larger or smaller mechanism continues the 1-2-5 steps.
+DRAWING_SCALES = (50.0, 20.0, 10.0, 5.0, 4.0, 2.5, 2.0, 1.0, 1 / 2, 1 / 2.5, 1 / 4, 1 / 5, 1 / 10, 1 / 15,
+                  1 / 20, 1 / 25, 1 / 40, 1 / 50, 1 / 75, 1 / 100)
+#: Room for the mechanism on the page (mm, width x height), beside the crank star when there is
+#: one, and the most a figure may take: the A4 text width (210 mm less margins of 30 and 15 mm),
+#: so that the page shows it at its own size and so at its scale.
+SCHEME_ROOM_MM = (150.0, 150.0)
+SCHEME_ROOM_WITH_STAR_MM = (112.0, 150.0)
+PAGE_ROOM_MM = (165.0, 200.0)
+_LIMITS_SLACK = 1.6
+STAR_SIZE_MM = 40.0
+_STAR_GAP_MM = 8.0
+_MARGIN_MM = 2.0
+
+
+def drawing_scale(extent_mm: tuple[float, float], room_mm: tuple[float, float]) -> float:
+    """The largest standard scale (paper : real) at which a drawing of ``extent_mm`` (width,
+    height) fits into ``room_mm``: 1/2.5 for "М 1:2,5"."""
+    fits = [s for s in DRAWING_SCALES if extent_mm[0] * s <= room_mm[0] and extent_mm[1] * s <= room_mm[1]]
+    if fits:
+        return fits[0]
+    denominator = 1 / DRAWING_SCALES[-1]
+    while extent_mm[0] > room_mm[0] * denominator or extent_mm[1] > room_mm[1] * denominator:
+        denominator *= 2.5 if str(int(denominator))[0] == "2" else 2.0  # 1:200, 1:500, 1:1000, ...
+    return 1 / denominator
+
+
+def _smaller_scale(scale: float) -> float:
+    smaller = [s for s in DRAWING_SCALES if s < scale * (1 - 1e-9)]
+    return smaller[0] if smaller else drawing_scale((1.0, 1.0), (scale / 2, scale / 2))
 
 
 def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
-    """The scheme at frame ``i`` with its dimension lines, and the crank star when there are cranks."""
+    """(figure, scale): the scheme at frame ``i`` with its dimension lines, and the crank star when
+    there are cranks, drawn to a standard scale (paper : real, 0.25 for "М 1:4").
+
+    Laid out here, not by the tight layout (which would resize the drawing), in millimetres on
+    paper: the largest standard scale at which the mechanism's limits fit its room, and then
+    smaller ones while the figure with its texts is wider or taller than the page allows."""
     geometry = upright(geometry)
+    (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1
-    fig, axes = new_figure(16, 10, ncols=2 if with_star else 1,
-                           gridspec_kw={"width_ratios": [2.3, 1]} if with_star else None)
-    ax = axes[0] if with_star else axes
+    room = SCHEME_ROOM_WITH_STAR_MM if with_star else SCHEME_ROOM_MM
+    # the limits keep room for labels the drawing may not have: start a step or two larger
+    scale = drawing_scale((x1 - x0, y1 - y0), (room[0] * _LIMITS_SLACK, room[1] * _LIMITS_SLACK))
+    while True:
+        fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale)
+        width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
+        if width_mm <= PAGE_ROOM_MM[0] and height_mm <= room[1] or scale < 1e-9:
+            return fig, scale
+        scale = _smaller_scale(scale)
+
+
+def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float):
+    from .figures import add_axes_mm, drawn_box, fit_to_content, new_drawing  # lazy: heavy optional import (matplotlib)
+
+    (x0, x1), (y0, y1) = _limits(geometry)
+    with_star = len(geometry.cranks) > 1
+    width_mm, height_mm = (x1 - x0) * scale, (y1 - y0) * scale
+    fig = new_drawing(width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm, max(height_mm, STAR_SIZE_MM))
+    ax = add_axes_mm(fig, 0.0, 0.0, width_mm, height_mm)
     draw_mechanism(ax, geometry, i)
-    limits = _limits(geometry)
-    ax.set_xlim(*limits[0])
-    ax.set_ylim(*limits[1])
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
     draw_dimensions(ax, geometry, i, labels)
     if with_star:
-        draw_crank_star(axes[1], geometry, star_title, firing_label)
+        # beside what the mechanism draws, not beside its limits' unused room
+        box = drawn_box([ax], fig.canvas.get_renderer())
+        right_mm = box.x1 / fig.dpi * 25.4 if box is not None else width_mm
+        star = add_axes_mm(fig, right_mm + _STAR_GAP_MM, max(height_mm - STAR_SIZE_MM, 0.0) / 2,
+                           STAR_SIZE_MM, STAR_SIZE_MM)
+        draw_crank_star(star, geometry, star_title, firing_label)
+    fit_to_content(fig, _MARGIN_MM)
     return fig
 
 
