@@ -3,15 +3,13 @@ positions figure, and the animation driven in headless Chromium."""
 
 from __future__ import annotations
 
-import re
-
-from pathlib import Path
-
 import base64
 import io
+import re
 import sys
 import time
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 import pytest
