@@ -62,3 +62,25 @@ def test_the_bore_is_drawn_at_scale():
     left, right = ax.transData.transform([(walls[0], 0.0), (walls[-1], 0.0)])[:, 0]
     on_paper_mm = (right - left) / fig.dpi * MM_PER_INCH
     assert on_paper_mm == pytest.approx(bore_mm * scale, rel=0.02)
+
+
+@pytest.mark.parametrize(("example", "cylinders", "links"), [
+    ("inline4-petrol", ["1"], {"crank_1", "rod_1"}),
+    ("inline6-diesel-trace", ["1"], {"crank_1", "rod_1"}),
+    ("v8-petrol", ["1L", "1R"], {"crank_1", "rod_1L", "rod_1R"}),
+])
+def test_front_view_shows_the_first_cylinder_of_each_row(example, cylinders, links):
+    """In front view an in-line engine's cylinders hide one another: one piston, its rod and its
+    crank, not four rods meeting on one piston pin; a V shows both banks' first cylinders."""
+    geometry = _positions(example)
+    front = md.front_view(geometry)
+    assert [g.label for g in front.guides] == cylinders
+    assert {name for name, _, _ in front.links} == links
+    assert front.cranks == geometry.cranks  # the crank star still shows every crank
+    for _, a, b in front.links:
+        assert a in front.joints and b in front.joints
+
+
+def test_front_view_keeps_a_radial_engine_whole():
+    geometry = _positions("radial9-aircraft")
+    assert md.front_view(geometry) is geometry

@@ -195,6 +195,7 @@ def render(output: StageOutput, ctx) -> str:
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
+                               front_view=len(md.front_view(positions).guides) < len(positions.guides),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),
                                step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)

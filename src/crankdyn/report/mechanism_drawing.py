@@ -53,6 +53,36 @@ def upright(geometry):
                    cranks=[(label, lag - np.degrees(turn), cyl) for label, lag, cyl in geometry.cranks])
 
 
+def _axis_key(g):
+    return (round(g.origin_m[0], 9), round(g.origin_m[1], 9), round(g.direction[0], 6), round(g.direction[1], 6),
+            g.moving)
+
+
+def front_view(geometry):
+    """What a front view shows: on each cylinder axis only its first cylinder (the nearest to the
+    viewer), with its rod and crank; the cylinders behind it (an in-line engine's row, a V's
+    banks) are left out, as the cranks they hang on are on the crank star beside the drawing.
+
+    Drawn in one plane, an in-line four's pistons 1 and 2 shared one liner and its crank pin at
+    0° and 180° one piston pin, which no reader takes for the scheme of a mechanism."""
+    first: dict = {}
+    for g in geometry.guides:
+        first.setdefault(_axis_key(g), g)
+    if len(first) == len(geometry.guides):
+        return geometry
+    kept = list(first.values())
+    wrists = {g.joint for g in kept}
+    labels = {g.label for g in kept}
+    # a cylinder's own links: its rod (the slave's master link and web too), then its crank
+    own = [l for l in geometry.links if l[0].startswith(("rod_", "master_", "master_web_"))
+           and (l[2] in wrists or l[0].split("_")[-1] in labels)]
+    pins = {l[1] for l in own}
+    cranks = [l for l in geometry.links if l[0].startswith("crank") and l[2] in pins]
+    links = cranks + own
+    used = {j for _, a, b in links for j in (a, b)} | set(geometry.fixed)
+    return replace(geometry, links=links, guides=kept, joints={k: v for k, v in geometry.joints.items() if k in used})
+
+
 def _extent_mm(geometry) -> float:
     points = np.concatenate([p.reshape(-1, 2) for p in geometry.joints.values()]) * MM
     span = np.ptp(points, axis=0).max()
@@ -183,8 +213,7 @@ def _one_per_axis(guides):
 
     merged: dict = {}
     for g in guides:
-        key = (round(g.origin_m[0], 9), round(g.origin_m[1], 9), round(g.direction[0], 6), round(g.direction[1], 6),
-               g.moving)
+        key = _axis_key(g)
         if key in merged:
             first = merged[key]
             merged[key] = replace(first, label=f"{first.label}, {g.label}" if g.label else first.label)
@@ -305,7 +334,9 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
         u = np.array([np.sin(np.radians(-lag)), np.cos(np.radians(-lag))])
         ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2)
         ax.add_patch(_circle(u, 0.06, INK, 1.0, fill=True))
-        ax.text(*(u * 1.15), f"{', '.join(cranks)}\n({', '.join(cylinders)})", fontsize=7, **outward_alignment(u))
+        # the cylinders in brackets only where they are not the cranks' own numbers (a V's 1L, 1R)
+        text = ", ".join(cranks) if list(cylinders) == list(cranks) else f"{', '.join(cranks)}\n({', '.join(cylinders)})"
+        ax.text(*(u * 1.15), text, fontsize=7, **outward_alignment(u))
     ax.add_patch(_circle((0, 0), 0.07, INK, 1.0, fill=True))
     ax.set_xlim(-1.7, 1.7)
     ax.set_ylim(-1.7, 1.7)
@@ -370,7 +401,7 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
     Laid out here, not by the tight layout (which would resize the drawing), in millimetres on
     paper: the largest standard scale at which the mechanism's limits fit its room, and then
     smaller ones while the figure with its texts is wider or taller than the page allows."""
-    geometry = upright(geometry)
+    geometry = upright(front_view(geometry))
     (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1
     room = SCHEME_ROOM_WITH_STAR_MM if with_star else SCHEME_ROOM_MM
@@ -409,7 +440,7 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
     """Small multiples: the mechanism at each (frame, caption), on one scale."""
-    geometry = upright(geometry)
+    geometry = upright(front_view(geometry))
     limits = _limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols = 3 if aspect < 1.2 else 6
@@ -459,7 +490,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     The JSON holds, per joint, the positions (mm, y up) at every frame; links by joint names;
     pistons as (joint, guide origin, direction, half bore, skirt, crown).
     """
-    geometry = upright(geometry)
+    geometry = upright(front_view(geometry))
     (x0, x1), (y0, y1) = _limits(geometry)
     names = list(geometry.joints)
     frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
