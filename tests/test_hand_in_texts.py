@@ -145,9 +145,24 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
     """No bay's axis of symmetry, no crank lag or bank angle, no sum over cylinders, no moment
     columns in the table of orders for one cylinder; an in-line four keeps them."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    for words in ("вісь симетрії відсіку", "кут відставання", "до суми по циліндрах", "Площина моменту"):
+    for words in ("кут відставання", "до суми по циліндрах", "Площина моменту"):
         assert words not in one and words in four, words
     assert "Відцентрова сила і сили інерції кожного порядку" in one
+
+
+def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
+    """The supervisor of the in-line four read a V engine's text: "the axis of symmetry of a bay",
+    "the crank lag together with the bank angle", rods "side by side" on a common crank pin."""
+    four, v8 = reports("inline4-petrol"), reports("v8-petrol")
+    for words in ("вісь симетрії відсіку", "разом із кутом розвалу", "розташовані поруч", "спільну шатунну шийку"):
+        assert words not in four and words in v8, words
+    assert "Кожен циліндр діє на власну шатунну шийку" in four
+    assert "Схема двигуна і порядок роботи циліндрів" in four
+    # the cycle delays of 1-3-4-2, in firing order
+    table = four[four.index("Коліна циліндрів і зсуви їхніх робочих циклів"):]
+    cells = [c for c in table[:table.index("</table>")].split("<td")[1:]]
+    values = [c.split(">", 1)[1].split("<", 1)[0] for c in cells]
+    assert values == ["1", "1", "0", "0", "3", "3", "180", "180", "4", "4", "0", "360", "2", "2", "180", "540"]
 
 
 def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(reports):

@@ -231,7 +231,8 @@ def run(scene, inputs) -> StageOutput:
     results: dict = {"layout": e.layout, "cylinders": e.cylinders, "cranks": layout.cranks,
                      "rod_type": e.rod_type, "firing_order": list(layout.firing_order),
                      "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
-                     "firing_intervals_deg": layout.firing_intervals_deg().tolist()}
+                     "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
+                     "cylinder_phases": cylinder_phases(layout)}
     tables: dict = {}
     notes = _firing_notes(layout, scene.firing_order_chosen)
     if scene.firing_order_chosen:
@@ -300,6 +301,27 @@ def run(scene, inputs) -> StageOutput:
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
 
 
+def cylinder_phases(layout: lay.EngineLayout) -> list[dict]:
+    """Each cylinder's crank (1-based, from the free end), that crank's lag behind crank 1, its
+    axis angle from bank 0, and the delay of its working cycle after cylinder 1's (deg): the
+    shift by which its forces enter the sums on the crank pins and the shaft."""
+    return [{"cylinder": c.label, "crank": c.bay + 1, "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
+             "axis_deg": float(c.axis_deg), "cycle_delay_deg": float(c.firing_delay_deg)} for c in layout.cylinders]
+
+
+def _phase_table(r: dict, ctx):
+    """Table of :func:`cylinder_phases` in firing order (the cycle delays then rise)."""
+    t = ctx.t
+    phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
+    columns = [(t("bays.cylinder"), [p["cylinder"] for p in phases], None),
+               (t("bays.crank"), [str(p["crank"]) for p in phases], None),
+               (t("bays.crank_lag"), [p["crank_lag_deg"] for p in phases], 0)]
+    if any(p["axis_deg"] for p in phases):
+        columns.append((t("bays.axis_angle"), [p["axis_deg"] for p in phases], 0))
+    columns.append((t("bays.cycle_delay"), [p["cycle_delay_deg"] for p in phases], 0))
+    return ctx.table(columns, caption=t("bays.phases_caption"), header_html=False)
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     if r["cylinders"] == 1:
@@ -338,8 +360,11 @@ def render(output: StageOutput, ctx) -> str | None:
         ax.set_ylabel(t("unit.MPa"))
         ax.legend(loc="upper right", fontsize=8)
         figure = ctx.figure(fig, t("bays.figure_caption"), "bay")
+    own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
+    if own_pins:
+        ctx.title = t("bays.title_own_pins")
     return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
-                               figure=figure)
+                               figure=figure, phase_table=_phase_table(r, ctx), own_pins=own_pins)
 
 
 BAYS_STAGE = Stage(
