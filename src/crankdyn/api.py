@@ -41,7 +41,7 @@ from .outputs import FORMATS, _named_tables, results_document
 from .pipeline import render_files
 from .plugins import default_registry
 from .report.context import RenderContext
-from .report.figures import STYLE
+from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
 from .scene import Scene, merge, scene_from_dict
 
@@ -203,7 +203,7 @@ def _release(fig) -> None:
 
 
     with plt.rc_context(STYLE):
-        fig.tight_layout()
+        tight_layout(fig)
     plt.close(fig)
 
 

@@ -659,8 +659,14 @@ def _means_table(ctx, r):
         (t("balancing.angle"), [x[4] for x in means_rows], None),
     ] + ([] if single else [("<i>z</i>, " + t("unit.mm"), [x[5] for x in means_rows], None)])
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
-    caption = (t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
-               if single and r["counterweights"] and r["balance_shafts"] else t("balancing.means_caption", **radii))
+    if not r["balance_shafts"]:
+        caption = t("balancing.means_caption_counterweights", **radii)
+    elif not r["counterweights"]:
+        caption = t("balancing.means_caption_shafts", **radii)
+    elif single:
+        caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
+    else:
+        caption = t("balancing.means_caption", **radii)
     return ctx.table(columns, caption=caption, css_class="data wide")
 
 
@@ -699,14 +705,41 @@ def _conclude(ctx, r) -> None:
             f"{_plain_symbol(s, '')} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
-        ctx.conclude(t("balancing.conclusion_unbalanced",
-                       items=", ".join(f"{_plain_symbol(s)} = {ctx.num(s['coefficient'], 4)}" for s in unbalanced)))
+        ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(
+            f"{_plain_symbol(s)} = {ctx.num(s['coefficient'], 4)}{_absolute(ctx, r, s)}" for s in unbalanced)))
     else:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
-        ctx.conclude(t("balancing.conclusion_means", counterweights=len(r["counterweights"]),
-                       shafts=len(r["balance_shafts"]), orders=", ".join(map(str, r["residual"]["balanced_orders"])),
-                       count=len(r["residual"]["balanced_orders"])))
+        ctx.conclude(_means_sentence(t, r))
+
+
+def _absolute(ctx, r, item) -> str:
+    """ " (9426 N)": an unbalanced sum's amplitude, or a moment's, beside its textbook coefficient."""
+    force = item["quantity"].startswith("sum_")
+    value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
+    if value is None:
+        return ""
+    unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
+    return f" ({ctx.num(value, 4)} {unit})"
+
+
+def _means_sentence(t, r) -> str:
+    """What the fitted means are, and what is balanced with them: the shafts' own orders, and
+    the crank arrangement's part where it balances an order (or the centrifugal forces) alone."""
+    shaft_orders = sorted({shaft["order"] for shaft in r["balance_shafts"]})
+    means = []
+    if r["counterweights"]:
+        means.append(t("balancing.means_counterweights", n=len(r["counterweights"])))
+    if r["balance_shafts"]:
+        means.append(t("balancing.means_shafts", n=len(r["balance_shafts"]), k=len(shaft_orders),
+                       orders=", ".join(map(str, shaft_orders))))
+    balanced = r["residual"]["balanced_orders"]
+    by_means = set(shaft_orders) | ({1} if r["counterweights"] else set())
+    with_scheme = not r["counterweights"] or any(order not in by_means for order in balanced)
+    single = len(r["cylinder_labels"]) == 1
+    return t("balancing.conclusion_means_single" if single else "balancing.conclusion_means", means=t("balancing.means_and").join(means),
+             with_them=t("balancing.with_means_and_scheme" if with_scheme else "balancing.with_means"),
+             orders=", ".join(map(str, balanced)), count=len(balanced))
 
 
 def render(output: StageOutput, ctx) -> str | None:

@@ -331,14 +331,18 @@ def render(output: StageOutput, ctx) -> str | None:
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
     # the digits of table 7.1, which the conclusion repeats
-    ctx.conclude(t("bearings.conclusion", k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
+    peaks = [p["max_N"] for p in r["crank_pins"]]
+    # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
+    pins_equal = len(peaks) > 1 and max(peaks) - min(peaks) <= 1e-9 * max(peaks)
+    conclusion = "bearings.conclusion_single" if single else "bearings.conclusion_equal" if pins_equal else "bearings.conclusion"
+    ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
                    p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
     journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                table_journals=table_journals, dims=d, shared_pins=shared_pins, single=single,
-                               journal_names=journal_names)
+                               journal_names=journal_names, pins_equal=pins_equal)
 
 
 BEARINGS_STAGE = Stage(

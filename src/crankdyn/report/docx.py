@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CrankdynError
-from .figures import STYLE
+from .figures import STYLE, tight_layout
 
 PNG_DPI = 220
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr",
@@ -446,7 +446,7 @@ def _figure_png(figure: Any) -> bytes:
 
     buffer = io.BytesIO()
     with plt.rc_context(STYLE):
-        figure.tight_layout()  # laid out here: the SVG may have been drawn by another process
+        tight_layout(figure)  # laid out here: the SVG may have been drawn by another process
         figure.set_layout_engine(None)
         figure.savefig(buffer, format="png", dpi=PNG_DPI, metadata={"Software": None})
     return buffer.getvalue()

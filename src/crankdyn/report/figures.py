@@ -163,6 +163,13 @@ def fit_to_content(fig, margin_mm: float) -> None:
                          pos.width * old_w / new_w, pos.height * old_h / new_h))
 
 
+def tight_layout(fig) -> None:
+    """``fig.tight_layout()`` unless the figure was laid out by its author (:data:`FIXED_LAYOUT`:
+    a drawing to scale, which a tight layout would resize)."""
+    if not getattr(fig, FIXED_LAYOUT, False):
+        fig.tight_layout()
+
+
 def twin_axes(ax):
     """``ax.twinx()`` in the report's style: made outside it, the twin's tick labels came out in
     matplotlib's default 10 pt beside the 9 pt of the axes it shares a figure with."""
