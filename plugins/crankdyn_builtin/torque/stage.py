@@ -46,6 +46,7 @@ def run(scene, inputs) -> StageOutput:
         "mean_from_work_Nm": from_work,
         "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
         "mean_from_power_Nm": from_power,
+        "indicated_power_kW": cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
         "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power if from_power else None,
         "max_Nm": float(torque[i_max]),
         "max_crank_angle_deg": float(angle[i_max]),
