@@ -751,6 +751,15 @@ def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
     return parts
 
 
+def _digits_that_differ(relative: float, least: int = 4, most: int = 8) -> int:
+    """Significant digits that show two values a relative difference apart as different: two
+    beyond the first that differs ("δ = 0,0100014, the energy method 0,0100000 (0,014 %)"),
+    where four digits printed 0,01000 twice beside a difference."""
+    if not relative or not math.isfinite(relative):
+        return least
+    return int(min(most, max(least, math.ceil(-math.log10(abs(relative))) + 2)))
+
+
 def render(output: StageOutput, ctx) -> str:
     """The section: the speed over the cycle and the single-mass solver study, then the torsional
     model when the scene has one, and the conclusions."""
@@ -764,10 +773,11 @@ def render(output: StageOutput, ctx) -> str:
     if torsion is None:  # no torsional model in the scene: the title does not promise one
         ctx.title = t("speed_fluctuation.title_rigid")
     parts = _torsion_parts(ctx, output, torsion) if torsion is not None else {}
-    ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], 4),
-                   energy=ctx.num(r["irregularity_energy"], 4),
+    digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
+    ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], digits),
+                   energy=ctx.num(r["irregularity_energy"], digits),
                    deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
-    return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion,
+    return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                worked=worked_speed_fluctuation(ctx, r), **parts)
