@@ -98,6 +98,24 @@ SYMBOLS: dict[str, Symbol] = {
     "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio"),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
     "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width"),
+    # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
+    "mechanism_mean_inertia": Symbol("J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2",
+                                     "symbol.mechanism_mean_inertia"),
+    "shaft_inertia": Symbol("J", {"en": "e", "uk": "в", "ru": "в"}, "unit.kg_m2", "symbol.shaft_inertia"),
+    "flywheel_inertia": Symbol("J", {"en": "f", "uk": "мах", "ru": "мах"}, "unit.kg_m2", "symbol.flywheel_inertia"),
+    "required_inertia": Symbol("J", {"en": "0"}, "unit.kg_m2", "symbol.required_inertia"),
+    "rim_inertia": Symbol("J", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg_m2", "symbol.rim_inertia"),
+    "rim_thin_mass": Symbol("m", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg", "symbol.rim_thin_mass"),
+    "rim_mean_diameter": Symbol("D", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.mm", "symbol.rim_mean_diameter"),
+    "rim_outer_diameter": Symbol("D", {"en": "o", "uk": "з", "ru": "н"}, "unit.mm", "symbol.rim_outer_diameter"),
+    "rim_speed": Symbol("v", {"en": "o", "uk": "з", "ru": "н"}, "unit.m_s", "symbol.rim_speed"),
+    "mean_angular_velocity": Symbol("ω", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.rad_s",
+                                    "symbol.mean_angular_velocity"),
+    "mean_torque": Symbol("M", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.Nm", "symbol.mean_torque"),
+    "gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", "symbol.gas_torque"),
+    "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
+    "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
+    "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
 }
 
 
