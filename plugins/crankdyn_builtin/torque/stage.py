@@ -46,7 +46,6 @@ def run(scene, inputs) -> StageOutput:
         "mean_from_work_Nm": from_work,
         "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
         "mean_from_power_Nm": from_power,
-        "indicated_power_kW": cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
         "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power if from_power else None,
         "max_Nm": float(torque[i_max]),
         "max_crank_angle_deg": float(angle[i_max]),
@@ -57,6 +56,9 @@ def run(scene, inputs) -> StageOutput:
         "period_deg": lay.sampled_period_deg(torque, scene.analysis.angle_step_deg, layout.cycle_deg),
         "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),
+        # each cylinder's cycle delay: its own crank angle alpha_i = alpha - delay (mod the cycle)
+        "cylinder_cycle_delays_deg": [{"cylinder": c.label, "crank": c.bay + 1, "cycle_delay_deg": float(c.firing_delay_deg)}
+                                      for c in layout.cylinders],
         "indicated_power_W": work_all * e.rpm / 60.0 / revolutions,
         "journals": [{"journal": f"{k + 1}-{k + 2 if k + 1 < layout.cranks else 0}",
                       "max_abs_Nm": float(np.max(np.abs(journal[k])) * R * area)} for k in range(layout.cranks)],
@@ -112,10 +114,11 @@ def render(output: StageOutput, ctx) -> str | None:
         chunk = [columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
         if start + per_table >= cranks:
             chunk.append(columns[-1])
-        tables.append(ctx.table(chunk, caption=t("torque.table_b3_caption", first=start + 1,
+        caption = "torque.table_b3_caption_torque" if chunk[-1] is columns[-1] else "torque.table_b3_caption"
+        tables.append(ctx.table(chunk, caption=t(caption, first=start + 1,
                                                    last=min(start + per_table, cranks)), css_class="data wide",
                                   extremes=extremes))
-    tables[-1] += worked_torque(ctx, f, rows, labels, cranks)
+    tables[-1] += worked_torque(ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"])
 
     fig, ax = new_figure(16, 8.5)
     ax.plot(angle, f["output_torque_Nm"], color="C0", label=t("torque.output"))

@@ -9,11 +9,15 @@ from crankdyn.physics.forces import piston_area_m2
 from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, worked_row
 
 
-def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
-    """``t_kN = t_1 + … + t_N`` and ``M_d = t_kN R F_p`` with the numbers of one row of table B.3."""
+def worked_torque(ctx, f, rows, labels, cranks: int, delays: list[dict] = ()) -> Markup:
+    """``t_kN = t_1 + … + t_N`` and ``M_d = t_kN R F_p`` with the numbers of one row of table B.3,
+    after the sentence that gives each cylinder's own crank angle at that row (``delays``: the
+    torque stage's ``cylinder_cycle_delays_deg``), so that every t_i can be found in its table."""
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), f.row(rows[i])
+    own = ", ".join(f"α_{{{d['cylinder']}}} = {t.number_g((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
+                    for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"])))
     engine = ctx.scene.engine
     radius, area = engine.crank_radius_m, piston_area_m2(engine.bore)
     terms = [printed_fixed(t, float(row[f"crank{k}_tangential_Pa"]) / 1e6, 3) for k in range(1, cranks + 1)]
@@ -35,4 +39,5 @@ def worked_torque(ctx, f, rows, labels, cranks: int) -> Markup:
                    {"t_k": tk, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
                    exact={"t_k": journal, "R": radius, "F_p": area, "alpha_deg": alpha}),
     ]
-    return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps))
+    note = t("torque.worked_own_angles", angles=own) if own else ""
+    return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))
