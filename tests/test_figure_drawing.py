@@ -211,3 +211,16 @@ def test_six_digit_ticks_are_written_in_full_not_with_an_offset():
     labels, scale = tick_labels([-100000.0, -50000.0, 0.0, 50000.0, 100000.0], translator("uk"))
     assert scale == 0 and labels[-1].replace("\u202f", " ").replace("\u00a0", " ") == "100 000"
     assert tick_labels([0.0, 1e6, 2e6], translator("uk"))[1] == 6
+
+
+def test_an_outside_legend_takes_as_many_columns_as_fit_in_even_rows():
+    """Four labels "main journal after crank 1" … in one row were wider than the 16 cm figure (the
+    layout squeezed the plot into its right half): two rows of two; short labels keep one row."""
+    from crankdyn.report.figures import new_figure
+    from crankdyn.report.typeset import _legend_columns
+
+    fig, ax = new_figure(16, 8)
+    long = [f"корінна шийка за коліном {k}" for k in range(1, 5)]
+    assert _legend_columns(ax, long, 8.0) == 2
+    assert _legend_columns(ax, ["t", "z", "k", "n"], 8.0) == 4
+    assert _legend_columns(ax, ["one label only"], 8.0) == 1

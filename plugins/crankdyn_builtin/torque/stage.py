@@ -133,7 +133,7 @@ def render(output: StageOutput, ctx) -> str | None:
     for k in range(1, cranks + 1):
         ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
     crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("unit.MPa"))
+    ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
     ax.legend(loc="upper right", fontsize=7, ncol=3)
     figure_journals = ctx.figure(fig, t("torque.journals_caption"), "journal_torques")
 

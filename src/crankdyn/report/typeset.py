@@ -315,8 +315,22 @@ def _legend_outside(ax) -> None:
     if len(labels) != len(legend.get_texts()) or not labels:
         return  # a legend built from its own handles: leave it as its author placed it
     size = legend.get_texts()[0].get_fontsize()
-    ax.legend(handles, labels, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=min(len(labels), 4),
+    ax.legend(handles, labels, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=_legend_columns(ax, labels, size),
               frameon=False, fontsize=size, borderaxespad=0.2)
+
+
+def _legend_columns(ax, labels, size_pt: float) -> int:
+    """As many columns (at most 4) as fit the figure's width: four long labels in one row ("main
+    journal after crank 1" …) were wider than the figure, and the layout squeezed the axes into
+    its right half to make room. A label's width is estimated at 0.55 em a character, plus the
+    line sample and the gap between columns (about 3 em)."""
+    width_pt = ax.figure.get_figwidth() * 72.0 * 0.95
+    longest = max(len(label) for label in labels)
+    for columns in (4, 3, 2):
+        if columns <= len(labels) and columns * (longest * 0.55 + 3.0) * size_pt <= width_pt:
+            rows = math.ceil(len(labels) / columns)
+            return math.ceil(len(labels) / rows)  # rows filled evenly: 2 + 2, not 3 + 1
+    return 1
 
 
 def _locale_ticks(axis, t) -> None:
