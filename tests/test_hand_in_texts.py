@@ -206,3 +206,16 @@ def test_the_torque_check_gives_each_cylinders_own_angle_and_the_units_of_its_ta
     assert re.search(r"Таблиця 7\.\d – Сили і набіжні моменти на колінах 1–4 \[1, табл\. Б\.3\], МПа \(Mд – у Н·м\)", four)
     assert "набігаюч" not in four and "Набігаюч" not in four
     assert "Ni = 63,51 кВт" in four and "точно 30 000/π = 9549,3" in four
+
+
+def test_a_displayed_equation_breaks_only_between_its_formulas():
+    """The PDF broke (10.2) inside a fraction, "ΔL/ | (J ω²)", and (11.4) between "M_c =" and its
+    value: each formula is kept whole, a long one broken only after an equals sign."""
+    from crankdyn.report.context import unbroken_parts
+
+    html = unbroken_parts("<i>a</i> = 1, &nbsp; <i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)")
+    assert html == ('<span class="eq-part"><i>a</i> = 1</span>, &nbsp; '
+                    '<span class="eq-part"><i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)</span>')
+    long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, 20)) + " = 108,3 Н·м"
+    pieces = unbroken_parts(long).split('<span class="eq-part">')[1:]
+    assert len(pieces) == 3 and pieces[-1].startswith("108,3 Н·м")

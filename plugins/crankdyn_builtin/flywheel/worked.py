@@ -36,7 +36,7 @@ def worked_flywheel(ctx, r) -> Markup:
                        "<i>J</i><sub>0</sub> − <i>J</i><sub>m</sub> − <i>J</i><sub>e</sub>",
                        f"{j0_txt} − {jm_txt} − {je_txt}", r["required_flywheel_inertia_kg_m2"], 0, unit, inputs,
                        significant=4, exact=exact))
-    steps.append(WorkedStep("irregularity", "<i>δ</i>", "Δ<i>L</i>/(<i>J ω</i><sub>m</sub><sup>2</sup>)",
+    steps.append(WorkedStep("irregularity", "<i>δ</i>", "Δ<i>L</i>/(<i>J</i> <i>ω</i><sub>m</sub><sup>2</sup>)",
                             f"{excess_txt}/({jt_txt}·{w_txt}<sup>2</sup>)", r["irregularity"], 0, "", inputs,
                             significant=4, exact=exact))
     return worked_markup(ctx, WorkedBlock("flywheel", ctx.last_table_number, None, steps,

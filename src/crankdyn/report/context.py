@@ -110,6 +110,26 @@ def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
     return html
 
 
+#: Where a displayed equation may break: between its formulas (", &nbsp;"), and in a long formula
+#: after an equals sign; never inside a fraction or between a quantity and its value (the PDF
+#: broke "ΔL/ | (J ω²)" and "M_c = | 108,3 N·m" at the line's end).
+_FORMULA_SEPARATOR = ", &nbsp;"
+_LONG_FORMULA_CHARS = 60
+
+
+def unbroken_parts(formula_html: str) -> str:
+    """``formula_html`` with each part that must not break in a ``<span class="eq-part">``
+    (``white-space: nowrap``), the breaks allowed only between the parts."""
+    parts = []
+    for formula in formula_html.split(_FORMULA_SEPARATOR):
+        pieces = [formula]
+        if len(re.sub(r"<[^>]+>|&[a-z]+;", "x", formula)) > _LONG_FORMULA_CHARS and " = " in formula:
+            chunks = formula.split(" = ")
+            pieces = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
+        parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
+    return _FORMULA_SEPARATOR.join(parts)
+
+
 @dataclass
 class RenderContext:
     """Per-report rendering state shared by all sections.
@@ -179,7 +199,7 @@ class RenderContext:
         self._equation += 1
         number = f"{self.section_number}.{self._equation}"
         anchor = f' id="eq-{escape(label)}"' if label else ""
-        return Markup(f'<div class="equation"{anchor}><span class="formula">{formula_html}</span>'
+        return Markup(f'<div class="equation"{anchor}><span class="formula">{unbroken_parts(formula_html)}</span>'
                       f'<span class="eqno">({number})</span></div>')
 
     #: Body rows of a table that fit one page at the report's table type size (9.5 pt), after
