@@ -122,12 +122,13 @@ def unbroken_parts(formula_html: str) -> str:
     (``white-space: nowrap``), the breaks allowed only between the parts."""
     parts = []
     for formula in formula_html.split(_FORMULA_SEPARATOR):
+        formula = formula.strip()
         pieces = [formula]
         if len(re.sub(r"<[^>]+>|&[a-z]+;", "x", formula)) > _LONG_FORMULA_CHARS and " = " in formula:
             chunks = formula.split(" = ")
             pieces = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
         parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
-    return _FORMULA_SEPARATOR.join(parts)
+    return (_FORMULA_SEPARATOR + " ").join(parts)
 
 
 @dataclass
