@@ -219,3 +219,25 @@ def test_a_displayed_equation_breaks_only_between_its_formulas():
     long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, 20)) + " = 108,3 Н·м"
     pieces = unbroken_parts(long).split('<span class="eq-part">')[1:]
     assert len(pieces) == 3 and pieces[-1].startswith("108,3 Н·м")
+
+
+def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports):
+    """The supervisor could not check the bearing and balancing tables without the firing order
+    and the cylinder spacing, nor the rounding and the flywheel without their data: table 1.1
+    lists the engine's layout, the cycle's rounding data and (through Stage.input_rows) the
+    flywheel's given data."""
+    four = reports("inline4-petrol")
+    table = four[four.index("Таблиця 1.1"):]
+    rows = {}
+    for row in table[:table.index("</table>")].split("<tr")[1:]:
+        cells = [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, re.S)]
+        rows[cells[0]] = cells[1:]
+    assert rows["Порядок роботи циліндрів"][1] == "1–3–4–2"
+    assert rows["Відстань між осями сусідніх циліндрів"][1:] == ["92", "мм"]
+    assert rows["Тиск у картері"] == ["p0", "0,1", "МПа"]
+    assert rows["Кут випередження запалювання (до ВМТ)"][1:] == ["22", "°"]
+    assert rows["Закриття впускного клапана (після НМТ)"][1:] == ["50", "°"]
+    assert rows["Допустимий коефіцієнт нерівномірності обертання"][:2] == ["[δ]", "0,01"]
+    assert rows["Власний момент інерції колінчастого вала"] == ["Jв", "0,006", "кг·м²"]
+    assert rows["Густина матеріалу маховика"][1:] == ["7850", "кг/м³"]
+    assert "ρ = 1" in four  # a spark-ignition cycle: stated where the formulas with ρ begin

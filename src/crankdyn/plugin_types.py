@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -277,6 +277,9 @@ class Stage:
                 sheets of tables.xlsx); ``*`` as in ``figures``. Returning a table not declared is a
                 :class:`crankdyn.errors.PluginError`. The numbered tables of the report's text
                 (``ctx.table``) belong to the section and are not declared.
+    input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
+                given data of this stage's own scene table that the report's first table (the
+                task's data) lists after the engine's, translated by ``ctx.t``; None: none.
     """
 
     name: str
@@ -299,6 +302,7 @@ class Stage:
     services: tuple[str, ...] = ()
     figures: tuple[str, ...] = ()
     tables: tuple[str, ...] = ()
+    input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:

@@ -269,6 +269,29 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table)
 
 
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [flywheel] table's given data for the report's table of the task's data."""
+    opts = options(scene, "flywheel", FlywheelOptions)
+    t, num = ctx.t, ctx.t.number_g
+    inertia = t("flywheel.unit_kg_m2")
+    rows = []
+    if opts.required_irregularity is not None:
+        rows.append((t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 4), ""))
+    if opts.inertia is not None:
+        rows.append((t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia))
+    if opts.engine_inertia:
+        rows.append((t("flywheel.input_engine_inertia"), "<i>J</i><sub>e</sub>", num(opts.engine_inertia, 4), inertia))
+    if opts.rim_mean_diameter is not None:
+        rows.append((t("flywheel.input_rim_diameter"), "<i>D</i><sub>m</sub>", num(opts.rim_mean_diameter * 1e3, 4),
+                     t("unit.mm")))
+    if opts.rim_width is not None:
+        rows.append((t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm")))
+    rows.append((t("flywheel.input_rim_density"), "", num(opts.rim_density, 4), t("flywheel.unit_kg_m3")))
+    if opts.max_rim_speed is not None:
+        rows.append((t("flywheel.input_rim_speed"), "[<i>v</i><sub>o</sub>]", num(opts.max_rim_speed, 4), t("unit.m_s")))
+    return rows
+
+
 FLYWHEEL_STAGE = Stage(
     template_dir=TEMPLATES,
     name="flywheel",
@@ -282,5 +305,6 @@ FLYWHEEL_STAGE = Stage(
     tables=("flywheel",),
     references=("poda2007", "khurmi2005", "timoshenko1956"),
     options_table="flywheel",
+    input_rows=input_rows,
     options_model=FlywheelOptions,
 )

@@ -163,6 +163,12 @@ def appendix_letter(t, index: int) -> str:
     return letters[index] if index < len(letters) else str(index + 1)
 
 
+def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
+    """The given-data rows of the stages in the plan (``Stage.input_rows``), in plan order."""
+    return [tuple(row) for stage in result.plan.order if stage.input_rows is not None
+            for row in stage.input_rows(result.scene, ctx)]
+
+
 def render_html(result: RunResult, registry: Registry, language: str | None = None,
                 sections_cache=None, figure_sink=None) -> RenderedReport:
     """The report of ``result``; with a :class:`crankdyn.report.section_cache.SectionCache`
@@ -182,7 +188,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     ctx.start_section(1, "input")
     sections.append(SectionView(1, "input", t("report.input_title"),
                                 Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                           mechanism=registry.mechanisms.get(scene.engine.mechanism)))))
+                                                           mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                                           stage_rows=_stage_input_rows(result, ctx)))))
     references: list[str] = ["poda2007"]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
