@@ -657,7 +657,7 @@ def _means_table(ctx, r):
         ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
         ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + ([] if single else [("<i>z</i>, " + t("unit.mm"), [x[5] for x in means_rows], None)])
+    ] + ([] if single else [("<i>z</i> " + t("balancing.from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)
