@@ -241,3 +241,15 @@ def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports)
     assert rows["Власний момент інерції колінчастого вала"] == ["Jв", "0,006", "кг·м²"]
     assert rows["Густина матеріалу маховика"][1:] == ["7850", "кг/м³"]
     assert "ρ = 1" in four  # a spark-ignition cycle: stated where the formulas with ρ begin
+
+
+def test_the_introduction_states_the_aim_and_the_tasks_and_sections_do_not_repeat_the_method(reports):
+    """ДСТУ 3008: the introduction gives the aim and the tasks (one per section of the note); the
+    project's method [1] is cited there once, not again at the head of every section."""
+    four = reports("inline4-petrol")
+    intro = four[four.index('id="sec-introduction"'):]
+    intro = intro[:intro.index("</section>")]
+    assert "Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою [1]" in intro
+    tasks = re.findall(r"<li>(.*?)</li>", intro[intro.index('class="tasks"'):])
+    assert tasks[0] == "кінематика кривошипно-шатунного механізму;" and tasks[-1].endswith(".")
+    assert "Розрахунок виконано за методикою [1]." not in four

@@ -546,6 +546,23 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
     return rows
 
 
+def _labelled_points(points, width_cm: float = 13.0, height_cm: float = 7.5, gap_cm: float = 0.45) -> list[int]:
+    """Indices of the (x, y) points of a log-log plot that get a label: the coarse steps cost
+    about the same time (the fixed overhead), so their labels piled up at the left; a point is
+    labelled when it lies at least ``gap_cm`` from every labelled one, the plot's decades
+    spread over about ``width_cm`` by ``height_cm``. The first and last are always labelled."""
+    logs = np.log10(np.asarray(points, dtype=float))
+    span = np.ptp(logs, axis=0)
+    scale = np.array([width_cm, height_cm]) / np.where(span > 0, span, 1.0)
+    placed: list[int] = []
+    for k in [0, len(points) - 1] + list(range(1, len(points) - 1)):
+        if k in placed:
+            continue
+        if k in (0, len(points) - 1) or all(np.hypot(*((logs[k] - logs[j]) * scale)) >= gap_cm for j in placed):
+            placed.append(k)
+    return sorted(placed)
+
+
 # ------------------------------------------------------------------ the stage
 def applies(scene) -> str | None:
     if scene.cycle is None or scene.masses is None:
@@ -847,8 +864,9 @@ def _render_steps(r, ctx):
     if has_theory:
         errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
-    for s, x in zip(steps, times):
-        ax.annotate(f"{ctx.t.number_g(s['angle_step_deg'])}°", (x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)),
+    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
+    for k in _labelled_points(points):
+        ax.annotate(f"{ctx.t.number_g(steps[k]['angle_step_deg'])}°", points[k],
                     textcoords="offset points", xytext=(3, 4), fontsize=7)
     ax.set_xlabel(t("numerics.axis_time_ms"))
     ax.set_ylabel(t("numerics.axis_error_percent"))

@@ -163,6 +163,10 @@ def appendix_letter(t, index: int) -> str:
     return letters[index] if index < len(letters) else str(index + 1)
 
 
+#: The source of the whole project's method: cited as [1] in the introduction.
+PROJECT_METHOD = "poda2007"
+
+
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``Stage.input_rows``), in plan order."""
     return [tuple(row) for stage in result.plan.order if stage.input_rows is not None
@@ -190,7 +194,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
                                 Markup(ctx.render_template("sections/input.html.j2", scene=scene,
                                                            mechanism=registry.mechanisms.get(scene.engine.mechanism),
                                                            stage_rows=_stage_input_rows(result, ctx)))))
-    references: list[str] = ["poda2007"]  # the method of the whole project, cited in the introduction
+    references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
         to_appendix = course and stage.name in NUMERICS_STAGES
@@ -213,7 +217,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         for ref in stage.references:
             if ref not in references:
                 references.append(ref)
-        if stage.references:
+        # a section of the project's own method (cited in the introduction) does not repeat it
+        if stage.references and set(stage.references) != {PROJECT_METHOD}:
             numbers = [references.index(r) + 1 for r in stage.references]
             body = f"<p>{escape(t('doc.method_from', refs=cite(numbers)))}</p>" + body
         view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))

@@ -345,13 +345,19 @@ def _locale_ticks(axis, t) -> None:
 
 
 def _log_minor_label(x: float, view, t) -> str:
-    """A log axis's minor tick label (2, 3 and 5 times a power of ten) when the axis spans less
-    than a decade and so shows at most one power of ten: otherwise such an axis had no number."""
+    """A log axis's minor tick label where its powers of ten alone leave it (almost) without
+    numbers: 2, 3 and 5 times a power of ten when it spans less than a decade (at most one power
+    of ten shows), 2 and 5 times one ("5·10⁻²") when it spans less than two (one or two show)."""
     low, high = sorted(float(v) for v in view)
-    if low <= 0 or not math.isfinite(high) or high / low >= 10.0 or x <= 0:
+    if low <= 0 or not math.isfinite(high) or high / low >= 100.0 or x <= 0:
         return ""
-    mantissa = x / 10.0 ** math.floor(math.log10(x) + 1e-9)
-    return t.number_g(x, 3) if any(abs(mantissa - m) < 1e-6 for m in (2.0, 3.0, 5.0)) else ""
+    exponent = math.floor(math.log10(x) + 1e-9)
+    mantissa = x / 10.0 ** exponent
+    if high / low < 10.0:
+        return t.number_g(x, 3) if any(abs(mantissa - m) < 1e-6 for m in (2.0, 3.0, 5.0)) else ""
+    if any(abs(mantissa - m) < 1e-6 for m in (2.0, 5.0)):
+        return f"{int(round(mantissa))}·10{superscript(exponent)}"
+    return ""
 
 
 def _log_label(x: float, t) -> str:
