@@ -166,18 +166,21 @@ def test_load_diagram_labels_side_by_side_keep_a_gap():
     """"210, 570" ending 1 pt before "30" would read as "210, 57030": the second label moves."""
     from crankdyn_builtin.bearings.stage import _label_places
 
-    width = len("210, 570") * 3.4
+    width = len("210, 570") * 3.8
     points = [(0.0, 0.0), (width + 1.0, 0.0)]  # "30" would start 1 pt after "210, 570" ends
     places = _label_places(points, ["210, 570", "30"], per_pt=1.0)
     assert places[0] == (2, 2, "left", "bottom") and places[1] != (2, 2, "left", "bottom")
 
 
-def test_load_diagram_label_with_no_free_corner_takes_the_least_crowded_one():
-    """Labels all round a point: the new label goes where it covers least, not up and right."""
+def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_first():
+    """Crowded labels printed over each other were unreadable ("300, 660" on a tick label): a
+    label with no free corner, near or further out, inside the plotting area, is left out (the
+    point keeps its mark, the table its numbers); labels are placed in the order asked for."""
     from crankdyn_builtin.bearings.stage import _label_places
 
-    # right above (a wide label) and to the left and right below (short ones): the lower left is least covered
-    points = [(2.0, 6.0), (-14.0, -2.0), (4.0, -9.0), (-32.0, -12.0), (0.0, 0.0)]
-    texts = ["1234567890", "12", "12", "1", "210, 570"]
-    places = _label_places(points, texts, per_pt=1.0)
-    assert places[4] == (-2, -2, "right", "top")  # every corner is covered; this one least
+    # a box just large enough for the point itself: no 10 pt label fits inside
+    assert _label_places([(0.0, 0.0)], ["210"], per_pt=1.0, bounds=(-3.0, -3.0, 3.0, 3.0)) == [None]
+    # two points 1 pt apart: the one placed first takes up-and-right, whichever comes first in the list
+    points, texts = [(0.0, 0.0), (1.0, 0.0)], ["30", "60"]
+    assert _label_places(points, texts, per_pt=1.0, order=[1, 0])[1] == (2, 2, "left", "bottom")
+    assert _label_places(points, texts, per_pt=1.0)[0] == (2, 2, "left", "bottom")

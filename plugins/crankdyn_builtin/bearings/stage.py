@@ -172,30 +172,41 @@ def _coinciding(x, y, tolerance) -> list[tuple[int, list[int]]]:
     return groups
 
 
-_PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left", "top"), (-2, -2, "right", "top"))
+_PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left", "top"), (-2, -2, "right", "top"),
+           (7, 7, "left", "bottom"), (-7, 7, "right", "bottom"), (7, -7, "left", "top"), (-7, -7, "right", "top"))
 
 
-def _label_places(points, texts, per_pt) -> list[tuple]:
+def _label_places(points, texts, per_pt, bounds=None, order=None) -> list[tuple | None]:
     """(dx, dy in points, ha, va) for a 6 pt label at each point (x right, y up, data units;
-    ``per_pt`` data units per point): up and right of the point, or the first other corner whose
-    box overlaps no label placed before it, or else the corner that overlaps them least. Boxes are kept 2 pt apart: two labels side by side
-    without a gap read as one number ("210, 570" beside "30": "210, 57030")."""
+    ``per_pt`` data units per point), or None where no label fits: up and right of the point, or
+    the first other corner, near or a little further out, whose box meets no label placed
+    before it and stays inside ``bounds`` (x0, y0, x1, y1: the plotting area, so that no label
+    covers a tick label). Labels are placed in ``order`` (indices; default: as given), the
+    most important first; a point whose label has no room keeps its mark only, as the table
+    gives its numbers (crowded labels printed over each other were unreadable: "300, 660" on
+    the tick label "4"). Boxes are kept 2 pt apart: two labels side by side without a gap read
+    as one number ("210, 570" beside "30": "210, 57030")."""
     placed: list[tuple[float, float, float, float]] = []
-    out = []
+    out: list[tuple | None] = [None] * len(points)
     gap = 1.0 * per_pt  # each box grows by half the gap on every side
-    for (x, y), text in zip(points, texts):
-        width, height = len(text) * 3.4 * per_pt, 7.0 * per_pt
-        boxes = []
-        for dx, dy, ha, va in _PLACES:
+
+    def free(box) -> bool:
+        if bounds is not None and (box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2] or box[3] > bounds[3]):
+            return False
+        return all(min(box[2], c[2]) <= max(box[0], c[0]) or min(box[3], c[3]) <= max(box[1], c[1]) for c in placed)
+
+    for i in (range(len(points)) if order is None else order):
+        (x, y), text = points[i], texts[i]
+        width, height = len(text) * 3.8 * per_pt, 7.0 * per_pt  # DejaVu Sans digits: 0.64 em
+        for place in _PLACES:
+            dx, dy, ha, va = place
             x0 = x + dx * per_pt - (width if ha == "right" else 0.0)
             y0 = y + dy * per_pt - (height if va == "top" else 0.0)
-            boxes.append((x0 - gap, y0 - gap, x0 + width + gap, y0 + height + gap))
-        # the first corner whose box meets no other; with none free, the one that overlaps least
-        overlap = [sum(max(0.0, min(b[2], c[2]) - max(b[0], c[0])) * max(0.0, min(b[3], c[3]) - max(b[1], c[1]))
-                       for c in placed) for b in boxes]
-        k = next((k for k, area in enumerate(overlap) if area == 0.0), int(np.argmin(overlap)))
-        placed.append(boxes[k])
-        out.append(_PLACES[k])
+            box = (x0 - gap, y0 - gap, x0 + width + gap, y0 + height + gap)
+            if free(box):
+                placed.append(box)
+                out[i] = place
+                break
     return out
 
 
@@ -204,28 +215,48 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     """A polar load diagram; ``axes``: the names of its horizontal and vertical components (crank
     axes t, z unless the diagram is drawn in the rod's or the engine's axes)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
-    fig, ax = new_figure(12, 12)
+    span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
+    radius = diameter_scale * span
+    shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
+    shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
+    # equal scales on both axes: a tall diagram (a main journal's, far from its pole) gets a taller
+    # figure rather than a plot 3 cm wide, a wide one a wider figure
+    aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
+    width_cm, height_cm = (12.0, min(17.0, 12.0 * math.sqrt(aspect))) if aspect >= 1 else \
+        (min(16.0, 12.0 / math.sqrt(aspect)), 12.0)
+    fig, ax = new_figure(width_cm, height_cm)
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
     step = angle[1] - angle[0]
     every = max(int(round(labels_every / step)), 1)
     ax.plot(t[::every], z[::every], "o", ms=2.5, color="C3", linestyle="none")  # one artist for all marks
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
-    span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
     texts = [", ".join(ctx.t.number_g(angle[k * every]) for k in same) for _, same in groups]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
-    # about 270 pt of axes for the larger range the axes show (equal aspect): the curve, the pole's
-    # circle and matplotlib's 5 % margins; z grows downwards on the page
-    radius = diameter_scale * span
-    shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
-    shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
-    per_pt = 1.1 * max(shown_t, shown_z, 1e-9) / 270.0
+    # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
+    # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
+    # z grows downwards on the page
+    box_pt = ((width_cm - 2.0) * 72 / 2.54, (height_cm - 2.2) * 72 / 2.54)
+    per_pt = 1.1 * max(shown_t / box_pt[0], shown_z / box_pt[1], 1e-12)
     screen = [(x, -y) for x, y in anchors]
-    for (x, y), text, (dx, dy, ha, va) in zip(anchors, texts, _label_places(screen, texts, per_pt)):
-        ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
+    low_t, high_t = min(np.min(t), -radius), max(np.max(t), radius)
+    low_z, high_z = min(np.min(z), pole_z - radius), max(np.max(z), pole_z + radius)
+    margin_t, margin_z = 0.05 * (high_t - low_t), 0.05 * (high_z - low_z)  # matplotlib's own margins
+    bounds = (low_t - margin_t, -(high_z + margin_z), high_t + margin_t, -(low_z - margin_z))
+    # the largest load's label first, then the dead centres' (multiples of 90 deg), then the rest
+    q = np.hypot([a[0] for a in anchors], [a[1] - pole_z for a in anchors])
+    peak = int(np.argmax(q)) if len(q) else 0
+    def rank(g: int):
+        angles = [angle[k * every] for k in groups[g][1]]
+        return (g != peak, not any(abs(a % 90.0) < 1e-9 for a in angles), g)
+    order = sorted(range(len(groups)), key=rank)
+    for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order)):
+        if place is not None:
+            dx, dy, ha, va = place
+            ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
