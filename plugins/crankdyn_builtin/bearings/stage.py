@@ -120,7 +120,7 @@ def run(scene, inputs) -> StageOutput:
     bearing_t, bearing_z = brg.to_frame(ja, jn, engine_t, engine_z)
 
     def summary(t, z, d, w):
-        s = brg.polar_summary(t, z, area, d, w)
+        s = brg.polar_summary(t, z, area, d, w, angle)
         # Contact point on the rotating part: opposite to the force applied to it.
         psi, wear = brg.wear_diagram(-t, -z, np.hypot(t, z) * area, opts.wear_spread_deg)
         start, end, centre = brg.least_loaded_arc(psi, wear)
@@ -220,9 +220,10 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
     shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
     # equal scales on both axes: a tall diagram (a main journal's, far from its pole) gets a taller
-    # figure rather than a plot 3 cm wide, a wide one a wider figure
+    # figure (at most 14 cm: with its caption it still shares a page with text) rather than a plot
+    # 3 cm wide, a wide one a wider figure
     aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
-    width_cm, height_cm = (12.0, min(17.0, 12.0 * math.sqrt(aspect))) if aspect >= 1 else \
+    width_cm, height_cm = (12.0, min(14.0, 12.0 * math.sqrt(aspect))) if aspect >= 1 else \
         (min(16.0, 12.0 / math.sqrt(aspect)), 12.0)
     fig, ax = new_figure(width_cm, height_cm)
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
@@ -298,6 +299,16 @@ def _wear_figure(ctx, wear, r):
     return ctx.figure(fig, caption, f"wear_pin{k}", see="bearings.see_wear")
 
 
+def _load_range(ctx, kind: str, load: dict, name) -> str:
+    """What a load diagram shows, in a sentence: the load's range over the cycle and its mean."""
+    if "min_crank_angle_deg" not in load:
+        return ""
+    t = ctx.t
+    return t(f"bearings.range_{kind}", name=name, min=t.fixed(load["min_N"] / 1e3, 2),
+             max=t.fixed(load["max_N"] / 1e3, 2), mean=t.fixed(load["mean_N"] / 1e3, 2),
+             min_angle=t.number_g(load["min_crank_angle_deg"]), max_angle=t.number_g(load["max_crank_angle_deg"]))
+
+
 def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     r = output.results
@@ -371,7 +382,11 @@ def render(output: StageOutput, ctx) -> str | None:
                    oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
     d = r["dimensions"]
     journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
+    analysis = [_load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k) for k in r["drawn_pins"]]
+    analysis += [_load_range(ctx, "journal", r["main_journals"][j - 1], r["main_journals"][j - 1]["journal"])
+                 for j in r["drawn_journals"]]
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
+                               analysis=" ".join(a for a in analysis if a),
                                table_journals=table_journals, dims=d, shared_pins=shared_pins, single=single,
                                journal_names=journal_names, pins_equal=pins_equal)
 

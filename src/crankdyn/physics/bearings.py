@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .extrema import first_argmax, first_argmin
+
 
 def crank_axes(crank_position_rad):
     """(e_t, e_z) of a crank at position phi (from ``a`` in the direction of rotation), each (2, N)."""
@@ -88,12 +90,19 @@ def journal_loads(crank_forces_a, crank_forces_n, share_before, share_after):
     return ja, jn
 
 
-def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m):
-    """Largest and mean load (N) and bearing pressure (MPa) over the cycle (textbook §5.1 end)."""
+def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m, crank_angle_deg=None):
+    """Largest, smallest and mean load (N) and the largest and mean bearing pressure (MPa) over
+    the cycle (textbook §5.1 end); with ``crank_angle_deg`` also the angles of the largest and
+    the smallest load (the first of equal ones, :mod:`crankdyn.physics.extrema`)."""
     magnitude = np.hypot(t_Pa, z_Pa) * piston_area_m2
     area = diameter_m * width_m
-    return {"max_N": float(magnitude.max()), "mean_N": float(magnitude.mean()),
-            "max_MPa": float(magnitude.max() / area / 1e6), "mean_MPa": float(magnitude.mean() / area / 1e6)}
+    out = {"max_N": float(magnitude.max()), "mean_N": float(magnitude.mean()), "min_N": float(magnitude.min()),
+           "max_MPa": float(magnitude.max() / area / 1e6), "mean_MPa": float(magnitude.mean() / area / 1e6)}
+    if crank_angle_deg is not None:
+        angle = np.asarray(crank_angle_deg, dtype=float)
+        out["max_crank_angle_deg"] = float(angle[first_argmax(magnitude)])
+        out["min_crank_angle_deg"] = float(angle[first_argmin(magnitude)])
+    return out
 
 
 #: Elements of one block of the (surface angle x crank angle) matrix of the wear diagram (32 MiB of floats).
