@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -295,8 +296,13 @@ def _wear_figure(ctx, wear, r):
     ax.set_yticks([])
     ax.grid(False, axis="y")
     ax.spines["polar"].set_visible(False)  # the journal's circle is the only circle
-    caption = ctx.t("bearings.wear_caption", k=k, w_max=ctx.num(load.max() / 1e3))
+    caption = _one_of(ctx.t, "bearings.wear_caption", k, len(r["crank_pins"]) == 1)
     return ctx.figure(fig, caption, f"wear_pin{k}", see="bearings.see_wear")
+
+
+def _one_of(t, key: str, k, single: bool) -> str:
+    """The catalog text ``key`` for crank (pin) ``k``, without the number when there is one crank."""
+    return re.sub(r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k))).strip()
 
 
 def _load_range(ctx, kind: str, load: dict, name) -> str:
@@ -324,16 +330,17 @@ def render(output: StageOutput, ctx) -> str | None:
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
         figures.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
-                              angle, -c_rod, t("bearings.pin_title", k=k), pin["oil_hole_deg"], 0.12, labels_every,
-                              f"pin{k}", t(pin_caption, k=k)))
+                              angle, -c_rod, t("bearings.pin_title", k="" if single else k).strip(), pin["oil_hole_deg"], 0.12, labels_every,
+                              f"pin{k}", _one_of(t, pin_caption, k, single)))
         figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
-                              0.0, t("bearings.rod_title", k=k), None, 0.12, labels_every, f"rod_bearing{k}",
-                              t("bearings.rod_caption", k=k), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
+                              0.0, t("bearings.rod_title", k="" if single else k).strip(), None, 0.12, labels_every, f"rod_bearing{k}",
+                              _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
         figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
                               0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
-                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"])))
+                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"],
+                                                                          crank=max(j - 1, 1))))
         figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
                               angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
@@ -343,13 +350,13 @@ def render(output: StageOutput, ctx) -> str | None:
     # Unrolled diagrams of the load magnitude.
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:
-        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6, label=t("bearings.pin_label", k=k))
+        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6, label=t("bearings.pin_label", k="" if single else k).strip())
     for j in r["drawn_journals"]:
         label = r["main_journals"][j - 1]["journal"]
         ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
                 label=t("bearings.journal_label", label=label))
     crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel("|q|, " + t("unit.MPa"))
+    ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
     ax.legend(loc="upper right", fontsize=8)
     figures.append(ctx.figure(fig, t("bearings.unrolled_caption"), "unrolled"))
 

@@ -183,7 +183,7 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_aspect("equal")
         ax.set_xlabel(t("kinematics.axis_cm_x"))
         ax.set_ylabel(t("kinematics.axis_cm_z"))
-        figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm")
+        figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm", see="kinematics.see_cm")
 
     ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
                    v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
