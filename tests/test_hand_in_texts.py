@@ -202,7 +202,7 @@ def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(rep
 
 def test_the_torque_check_gives_each_cylinders_own_angle_and_the_units_of_its_table(reports):
     """t_k4 = t_1 + … + t_4 at α = 30° could not be traced without the cylinders' own angles:
-    α_i = α − Δα₀ᵢ with the delays 0, 540, 180, 360° of 1-3-4-2 (cylinders 1, 2, 3, 4)."""
+    α_i = α − Δα_0i with the delays 0, 540, 180, 360° of 1-3-4-2 (cylinders 1, 2, 3, 4)."""
     four = re.sub(r"<[^>]+>", "", reports("inline4-petrol")).replace("\u202f", " ")
     assert "α1 = 30°, α2 = 210°, α3 = 570°, α4 = 390°" in four
     assert re.search(r"Таблиця 7\.\d – Сили і набіжні моменти на колінах 1–4 \[1, табл\. Б\.3\], МПа \(Mд – у Н·м\)", four)

@@ -7,6 +7,7 @@ from pathlib import Path
 import math
 
 import numpy as np
+from markupsafe import Markup, escape
 from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, BayLoads
@@ -313,13 +314,14 @@ def _phase_table(r: dict, ctx):
     """Table of :func:`cylinder_phases` in firing order (the cycle delays then rise)."""
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
-    columns = [(t("bays.cylinder"), [p["cylinder"] for p in phases], None),
-               (t("bays.crank"), [str(p["crank"]) for p in phases], None),
-               (t("bays.crank_lag"), [p["crank_lag_deg"] for p in phases], 0)]
+    columns = [(escape(t("bays.cylinder")), [p["cylinder"] for p in phases], None),
+               (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
+               (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0)]
     if any(p["axis_deg"] for p in phases):
-        columns.append((t("bays.axis_angle"), [p["axis_deg"] for p in phases], 0))
-    columns.append((t("bays.cycle_delay"), [p["cycle_delay_deg"] for p in phases], 0))
-    return ctx.table(columns, caption=t("bays.phases_caption"), header_html=False)
+        columns.append((escape(t("bays.axis_angle")), [p["axis_deg"] for p in phases], 0))
+    columns.append((escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
+                    [p["cycle_delay_deg"] for p in phases], 0))
+    return ctx.table(columns, caption=t("bays.phases_caption"))
 
 
 def render(output: StageOutput, ctx) -> str | None:

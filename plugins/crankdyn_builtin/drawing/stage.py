@@ -170,6 +170,14 @@ def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]
     return [(i, ", ".join(names) + "\n" + at) for i, names, at, _ in merged]
 
 
+def _front_view_kind(positions) -> str:
+    """"row": the scheme shows one cylinder of an in-line row; "rows": one of each bank; "": all."""
+    shown = md.front_view(positions).guides
+    if len(shown) == len(positions.guides):
+        return ""
+    return "row" if len(shown) == 1 else "rows"
+
+
 def scale_text(scale: float, t) -> str:
     """A drawing's scale as written on it: "1:2,5" (a reduction), "1:1", "2:1" (an enlargement)."""
     return f"{t.number_g(scale, 4)}:1" if scale >= 1 else f"1:{t.number_g(1 / scale, 4)}"
@@ -195,7 +203,7 @@ def render(output: StageOutput, ctx) -> str:
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
-                               front_view=len(md.front_view(positions).guides) < len(positions.guides),
+                               front_view=_front_view_kind(positions),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),
                                step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
