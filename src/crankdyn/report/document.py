@@ -233,8 +233,10 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
                for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
-    timing = [(t(s.title_key) if s.title_key else s.name, result.timing_s[s.name]) for s in result.plan.order
-              if s.name in result.timing_s]
+    # each stage under its section's title as printed (a stage may retitle its section for the scene)
+    shown = {v.key: v.title for v in (*sections, *appendices)}
+    timing = [(shown.get(s.name) or (t(s.title_key) if s.title_key else s.name), result.timing_s[s.name])
+              for s in result.plan.order if s.name in result.timing_s]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
                     for p in template_search_path([])[:1])
     html = env.get_template("report.html.j2").render(
