@@ -257,7 +257,7 @@ def render(output: StageOutput, ctx) -> str:
                  (t("flywheel.row_rim_outer"), "<i>D</i><sub>o</sub>", rim["outer_diameter_m"] * 1e3, t("unit.mm")),
                  (t("flywheel.row_rim_mass"), "<i>m</i>", rim["mass_kg"], t("unit.kg")),
                  (t("flywheel.row_rim_speed"), "<i>v</i><sub>o</sub>", rim["speed_m_s"], t("unit.m_s")),
-                 (t("flywheel.row_rim_stress"), "<i>σ</i> = <i>ρv</i><sup>2</sup>", rim["hoop_stress_Pa"] / 1e6,
+                 (t("flywheel.row_rim_stress"), "<i>σ</i> = <i>ρ</i><sub>mat</sub> <i>v</i><sub>o</sub><sup>2</sup>", rim["hoop_stress_Pa"] / 1e6,
                   t("unit.MPa"))]
     table = ctx.table([(t("input.quantity"), [x[0] for x in rows], None),
                        (t("input.symbol"), [Markup(x[1]) for x in rows], None),
@@ -286,7 +286,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
                      t("unit.mm")))
     if opts.rim_width is not None:
         rows.append((t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm")))
-    rows.append((t("flywheel.input_rim_density"), "", num(opts.rim_density, 4), t("flywheel.unit_kg_m3")))
+    rows.append((t("flywheel.input_rim_density"), "<i>ρ</i><sub>mat</sub>", num(opts.rim_density, 4), t("flywheel.unit_kg_m3")))
     if opts.max_rim_speed is not None:
         rows.append((t("flywheel.input_rim_speed"), "[<i>v</i><sub>o</sub>]", num(opts.max_rim_speed, 4), t("unit.m_s")))
     return rows

@@ -30,6 +30,9 @@ class Symbol:
     sub: dict[str, str]
     unit: str
     meaning: str
+    #: a second meaning of a letter that one calculation gives it (δ: the expansion ratio, and the
+    #: irregularity in the flywheel sections): listed only when one of these sections is present
+    sections: tuple[str, ...] = ()
 
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
@@ -116,6 +119,8 @@ SYMBOLS: dict[str, Symbol] = {
     "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
     "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
     "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
+    "material_density": Symbol("ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"),
+    "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=("flywheel", "speed_fluctuation")),
 }
 
 
@@ -148,6 +153,8 @@ def symbols_used(html: str, language: str) -> list[str]:
     crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's)."""
     used = []
     for key in SYMBOLS:
+        if SYMBOLS[key].sections and not any(f'data-stage="{s}"' in html for s in SYMBOLS[key].sections):
+            continue
         markup = re.escape(symbol_html(key, language))
         if re.search(markup if symbol_sub(key, language) else markup + "(?!<sub>)", html):
             used.append(key)
