@@ -150,15 +150,17 @@ def render(output: StageOutput, ctx) -> str:
 
     angle = frame["crank_angle_deg"]
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
-    axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0", label=t("kinematics.chosen"))
+    # one colour for the report's curves in every panel, the two-term acceleration dashed; one
+    # legend above the top panel for all three (under the bottom panel it sat between two panels)
+    axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0")
     axes[0].set_ylabel(t("kinematics.axis_s"))
-    axes[1].plot(angle, frame["piston_velocity_m_s"], color="C1")
+    axes[1].plot(angle, frame["piston_velocity_m_s"], color="C0")
     axes[1].set_ylabel(t("kinematics.axis_v"))
-    axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C2", label=t("kinematics.exact"))
-    axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1,
-                 label=t("kinematics.two_term"))
+    exact = axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C0")[0]
+    two_term = axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1)[0]
     axes[2].set_ylabel(t("kinematics.axis_j"))
-    axes[2].legend(loc="upper right", fontsize=8)
+    axes[0].legend([exact, two_term], [t("kinematics.exact"), t("kinematics.two_term_j")], loc="lower right",
+                   bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False, fontsize=8, borderaxespad=0.2)
     # The motion repeats every revolution; one revolution is the textbook's fig. 3.
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
     for ax in axes:
