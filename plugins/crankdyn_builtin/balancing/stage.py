@@ -476,7 +476,9 @@ def _star_figure(ctx, r):
         for key, members in groups.items():
             d = math.radians(key / 100)
             _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
-            ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7)
+            # on a white ground: the dashed cylinder axis behind a label along it no longer cuts it
+            ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7,
+                    zorder=5, bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6})
         # the title inside the axes' limits: above them, an equal-aspect panel's title was cut at the top
         ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)

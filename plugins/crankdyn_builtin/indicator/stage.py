@@ -162,8 +162,8 @@ def _trace_pressure(scene, motion, area, swept):
 #: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
 _POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
-           ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (-5, 3)),
-           ("f", "visible", "actual", (4, -3)), ("c″", 360.0, "actual", (4, -2)),
+           ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (4, -3)),
+           ("f", "visible", "actual", (-5, 3)), ("c″", 360.0, "actual", (4, -2)),
            ("z", "theory_peak", "theory", (4, 2)), ("z′", "peak", "actual", (4, 2)),
            ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (4, -3)))
 
@@ -178,6 +178,8 @@ def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
     inset.set_ylim(0.0, low)
     inset.set_xlim(float(np.min(volume_l)), float(np.max(volume_l)))
     inset.tick_params(labelsize=7)
+    inset.set_xlabel(t("indicator.axis_volume"), fontsize=7, labelpad=1)
+    inset.set_ylabel(t("indicator.axis_pressure"), fontsize=7, labelpad=1)
     inset.set_title(t("indicator.inset_title"), fontsize=7)
 
 
