@@ -315,6 +315,23 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
              min_angle=t.number_g(load["min_crank_angle_deg"]), max_angle=t.number_g(load["max_crank_angle_deg"]))
 
 
+def _unrolled_figure(ctx, f, r, angle, single: bool):
+    """The unrolled diagrams: the load's magnitude on the drawn crank pins and main journals."""
+    t = ctx.t
+    fig, ax = new_figure(16, 8)
+    for k in r["drawn_pins"]:
+        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
+                label=t("bearings.pin_label", k="" if single else k).strip())
+    for j in r["drawn_journals"]:
+        label = r["main_journals"][j - 1]["journal"]
+        ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
+                label=t("bearings.journal_label", label=label))
+    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
+    ax.legend(loc="upper right", fontsize=8)
+    return ctx.figure(fig, t("bearings.unrolled_caption"), "unrolled")
+
+
 def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     r = output.results
@@ -347,18 +364,7 @@ def render(output: StageOutput, ctx) -> str | None:
                               t("bearings.main_bearing_caption", label=journal["journal"]),
                               axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
-    # Unrolled diagrams of the load magnitude.
-    fig, ax = new_figure(16, 8)
-    for k in r["drawn_pins"]:
-        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6, label=t("bearings.pin_label", k="" if single else k).strip())
-    for j in r["drawn_journals"]:
-        label = r["main_journals"][j - 1]["journal"]
-        ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
-                label=t("bearings.journal_label", label=label))
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
-    ax.legend(loc="upper right", fontsize=8)
-    figures.append(ctx.figure(fig, t("bearings.unrolled_caption"), "unrolled"))
+    figures.append(_unrolled_figure(ctx, f, r, angle, single))
 
     table_pins = ctx.table([
         (t("bearings.crank"), [str(p["crank"]) for p in r["crank_pins"]], None),
