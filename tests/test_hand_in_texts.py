@@ -255,3 +255,11 @@ def test_the_introduction_states_the_aim_and_the_tasks_and_sections_do_not_repea
     tasks = re.findall(r"<li>(.*?)</li>", intro[intro.index('class="tasks"'):])
     assert tasks[0] == "кінематика кривошипно-шатунного механізму;" and tasks[-1].endswith(".")
     assert "Розрахунок виконано за методикою [1]." not in four
+
+
+def test_the_engine_layout_section_refers_to_the_scheme_with_the_crank_star(reports):
+    """A supervisor missed a scheme of the cranks in section 6: it refers to Fig. 3.1, drawn
+    with the crank star in section 3, by the number that figure got (ctx.figure_number)."""
+    four = reports("inline4-petrol")
+    assert "кінематичній схемі (рис. 3.1, зірка кривошипів)" in four
+    assert 'src="figures/fig_3_1_scheme.svg"' in four

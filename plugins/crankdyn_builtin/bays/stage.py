@@ -366,7 +366,8 @@ def render(output: StageOutput, ctx) -> str | None:
     if own_pins:
         ctx.title = t("bays.title_own_pins")
     return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
-                               figure=figure, phase_table=_phase_table(r, ctx), own_pins=own_pins)
+                               figure=figure, phase_table=_phase_table(r, ctx), own_pins=own_pins,
+                               scheme_figure=ctx.figure_number("scheme"))
 
 
 BAYS_STAGE = Stage(

@@ -28,8 +28,11 @@ class FigureFile:
     (in parallel): a section's markup needs only the file name, so no figure holds up the text.
     """
 
-    def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None):
+    def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None,
+                 number: str = "", key: str = ""):
         self.name = name
+        self.number = number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
+        self.key = key  # the name its stage declares (``Stage.figures``)
         self.figure = figure  # the matplotlib figure (the Word export draws it again as PNG)
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
@@ -288,7 +291,7 @@ class RenderContext:
         # ASCII file names (an appendix figure "Б.1" -> fig_u411_1_...): safe in every file system and URL
         ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
-        self.figures.append(FigureFile(file_name, figure=fig, t=self.t))
+        self.figures.append(FigureFile(file_name, figure=fig, t=self.t, number=number, key=name))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t(see or "doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
@@ -297,6 +300,11 @@ class RenderContext:
         return Markup(f'<div class="figure-block"><p class="see">{see}</p>'
                       f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
                       f"<figcaption>{caption_text}</figcaption></figure></div>")
+
+    def figure_number(self, key: str) -> str | None:
+        """The printed number of a figure an earlier section drew under ``key`` (a stage's declared
+        figure name, e.g. the drawing's "scheme"), for a reference from a later section; None if none."""
+        return next((f.number for f in self.figures if f.key == key and f.number), None)
 
     # ----------------------------------------------------------------- text
     def conclude(self, sentence: str) -> str:
