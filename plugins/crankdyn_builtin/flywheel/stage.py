@@ -265,7 +265,8 @@ def render(output: StageOutput, ctx) -> str:
                        (t("input.unit"), [x[3] for x in rows], None)],
                       caption=t("flywheel.table_caption")) + worked_flywheel(ctx, r)
     ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
-                   delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"])))
+                   delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"]),
+                   mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]), shaft=ctx.num(r["engine_inertia_kg_m2"])))
     return ctx.render_template("sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table)
 
 
