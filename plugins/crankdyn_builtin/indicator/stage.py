@@ -235,7 +235,8 @@ def render(output: StageOutput, ctx) -> str:
     ax.set_xlabel(t("indicator.axis_volume"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)
-    figure_pv = ctx.figure(fig, t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV")
+    figure_pv = ctx.figure(fig, t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
+                           see="indicator.see_pv")
     pv_number = ctx.last_figure_number
 
     fig, ax = new_figure(16, 8)
@@ -245,7 +246,7 @@ def render(output: StageOutput, ctx) -> str:
     crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)
-    figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha")
+    figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha", see="indicator.see_palpha")
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
     rows, labels, extremes = add_extreme_rows(angle, rows, labels,
