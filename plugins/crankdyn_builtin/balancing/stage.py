@@ -515,10 +515,14 @@ def _models_figure(ctx, r):
             th = np.linspace(0, 2 * np.pi / o["speed"], 241)
             wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
+            # the vectors named at their tips, so that a black-and-white print still tells them apart
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
+                ax.text(0.55 * f.imag, 0.55 * f.real, "f", fontsize=7, style="italic", ha="right", va="bottom")
             if abs(b) > 1e-9:
                 _arrow(ax, f.imag, f.real, f.imag + b.imag, f.real + b.real, color="C3")
+                ax.text(f.imag + 0.55 * b.imag, f.real + 0.55 * b.real, "b", fontsize=7, style="italic",
+                        ha="left", va="top")
             lim = max(abs(f) + abs(b), 1.0) * 1.25
             ax.set_xlim(-lim, lim)
             ax.set_ylim(-lim, lim)
