@@ -184,3 +184,41 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
     points, texts = [(0.0, 0.0), (1.0, 0.0)], ["30", "60"]
     assert _label_places(points, texts, per_pt=1.0, order=[1, 0])[1] == (2, 2, "left", "bottom")
     assert _label_places(points, texts, per_pt=1.0)[0] == (2, 2, "left", "bottom")
+
+def test_counterweight_loads_in_crank_axes():
+    """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
+    counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
+    from crankdyn.contracts import Counterweights
+    from crankdyn_builtin.bearings.stage import counterweight_loads_Pa
+
+    fitted = Counterweights(crank=np.array([0, 1, 1]), centrifugal_N=np.array([2.0, 3.0, 1.0]),
+                            angle_from_crank_rad=np.radians([180.0, 90.0, 0.0]))
+    t, z = counterweight_loads_Pa(fitted, 3, area_m2=0.5)
+    np.testing.assert_allclose(t, [0.0, 6.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(z, [4.0, -2.0, 0.0], atol=1e-12)
+    assert not np.any(counterweight_loads_Pa(None, 2, 1.0)[0])
+
+
+def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
+    """The counterweight the balancing section fits, Q = F + C (half the first-order force and the
+    rotating masses' centrifugal force, opposite the pin), acts on the crank between two equal
+    spans: each main journal's diagram (the reaction, in crank axes) moves by -Q/2 along z at
+    every angle, t unchanged; the crank pin's load does not change. Q from the masses of the
+    forces stage, not from the balancing stage's numbers."""
+    from crankdyn.orchestrator import plan
+
+    with_cw = run("petrol-1cyl")
+    scene = with_cw.scene
+    names = [s.name for s in plan(scene, REGISTRY).order if s.name != "balancing"]
+    without = run_scene(scene, REGISTRY, names)
+    f = with_cw.outputs["forces"].results
+    e = scene.engine
+    q_Pa = (f["rotating_mass_kg"] + 0.5 * f["reciprocating_mass_kg"]) * e.crank_radius_m * e.angular_velocity_rad_s ** 2 \
+        / f["piston_area_m2"]
+    a, b = with_cw.outputs["bearings"].tables["bearings"], without.outputs["bearings"].tables["bearings"]
+    assert with_cw.outputs["bearings"].results["with_counterweights"]
+    assert not without.outputs["bearings"].results["with_counterweights"]
+    for j in (0, 1):
+        np.testing.assert_allclose(a[f"journal{j}_z_Pa"] - b[f"journal{j}_z_Pa"], -0.5 * q_Pa, rtol=1e-9)
+        np.testing.assert_allclose(a[f"journal{j}_t_Pa"], b[f"journal{j}_t_Pa"], atol=1e-6 * q_Pa)
+    np.testing.assert_allclose(a["pin1_z_Pa"], b["pin1_z_Pa"], rtol=1e-12)

@@ -85,10 +85,13 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
 
 
 def test_the_main_journal_diagram_says_whose_force_it_shows(reports):
-    """The journal diagram is the bearing's force on the journal (the reaction), computed without
-    counterweights: said in the text, so that its sign and size are not mistaken."""
-    one = reports("petrol-1cyl-uk")
-    assert "сила, з якою на неї діє підшипник" in one and "без противаг" in one
+    """The journal diagram is the bearing's force on the journal (the reaction), with the
+    counterweights the balancing section fits (the in-line four fits none): said in the text, so
+    that its sign and size are not mistaken."""
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    assert "сила, з якою на неї діє підшипник" in one
+    assert "обчислено з противагами, які визначено в розділі про зрівноваження" in one
+    assert "обчислено для колінчастого вала без противаг" in four
 
 
 def test_a_single_crank_is_not_described_as_one_of_many(reports):

@@ -18,6 +18,7 @@ ENGINE_TORQUE = "engine_torque"
 BAY_LOADS = "bay_loads"
 CRANK_LOADS = "crank_loads"
 FLYWHEEL = "flywheel"
+COUNTERWEIGHTS = "counterweights"
 
 
 @dataclass(frozen=True)
@@ -138,6 +139,21 @@ class CrankLoads:
     centrifugal_Pa: float
     piston_area_m2: float
     crank_radius_m: float
+
+
+@dataclass(frozen=True)
+class Counterweights:
+    """The counterweights the balancing stage fits on the crankshaft (none: empty arrays).
+
+    ``crank``: the 0-based index (from the free end) of the crank each sits on (its two halves
+    on that crank's webs); ``centrifugal_N``: its centrifugal force m r omega^2 at the scene's
+    speed [N]; ``angle_from_crank_rad``: its direction from its crank's, in the direction of
+    rotation (pi: opposite the crank pin).
+    """
+
+    crank: np.ndarray
+    centrifugal_N: np.ndarray
+    angle_from_crank_rad: np.ndarray
 
 
 @dataclass(frozen=True)

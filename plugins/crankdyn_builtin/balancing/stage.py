@@ -16,7 +16,7 @@ import numpy as np
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
-from crankdyn.contracts import ENGINE_TORQUE, KINEMATICS
+from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS, Counterweights
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
@@ -404,7 +404,15 @@ def run(scene, inputs) -> StageOutput:
         results["explorer"] = _explore(e, layout, opts.explore_top)
     notes.append(("balancing.note_check", {"orders": n_max, "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
-    return StageOutput(data={}, results=results, tables={"balancing": table}, notes=notes)
+    return StageOutput(data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)}, results=results,
+                       tables={"balancing": table}, notes=notes)
+
+
+def _fitted(counterweights: list[dict], omega_rad_s: float) -> Counterweights:
+    """The counterweights of results.json as the bearings stage takes them (forces at the speed)."""
+    return Counterweights(crank=np.array([cw["crank"] - 1 for cw in counterweights], dtype=int),
+                          centrifugal_N=np.array([cw["mass_radius_kg_m"] * omega_rad_s ** 2 for cw in counterweights]),
+                          angle_from_crank_rad=np.radians([cw["angle_from_crank_deg"] for cw in counterweights]))
 
 
 def _signed(value: complex) -> float | dict:
@@ -788,7 +796,7 @@ BALANCING_STAGE = Stage(
     title_key="balancing.title",
     requires=(KINEMATICS,),
     uses=(ENGINE_TORQUE,),
-    provides=(),
+    provides=(COUNTERWEIGHTS,),
     applies=applies,
     run=run,
     render=render,

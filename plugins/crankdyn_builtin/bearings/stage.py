@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import BaseModel, ConfigDict
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, KINEMATICS
+from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.plugin_types import Stage, StageOutput
@@ -80,6 +80,36 @@ def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict
     return {"bearings": table, "wear": wear}
 
 
+def counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.ndarray, np.ndarray]:
+    """(t, z) of every crank's counterweights' centrifugal force in its crank axes, per piston
+    area [Pa]; zeros without counterweights (none fitted, or no balancing stage in the plan)."""
+    t, z = np.zeros(cranks), np.zeros(cranks)
+    if fitted is not None:
+        p = np.asarray(fitted.centrifugal_N, dtype=float) / area_m2
+        psi = np.asarray(fitted.angle_from_crank_rad, dtype=float)
+        np.add.at(t, np.asarray(fitted.crank, dtype=int), p * np.sin(psi))
+        np.add.at(z, np.asarray(fitted.crank, dtype=int), -p * np.cos(psi))
+    return t, z
+
+
+def _pin_and_rod_loads(loads, bays, motion, layout):
+    """(pin t, pin z, rod-bearing t, rod-bearing z), each (cranks, N): the rods' load on each crank
+    pin in crank axes, and the rod bearing of each bay's master rod in rod axes."""
+    angle = loads.crank_angle_deg
+    pin_t, pin_z = brg.crank_pin_load(loads.tangential_Pa, loads.radial_Pa, bays.centrifugal_rod_Pa)
+    master = layout.bay(0)[0]
+    rod_t, rod_z = np.zeros_like(pin_t), np.zeros_like(pin_z)
+    revolution = int(round(360 / (angle[1] - angle[0])))
+    for k in range(layout.cranks):
+        # Each bay's master rod sees its crank at its own cycle angle.
+        delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
+        local = np.radians((angle - delay) % 360.0)
+        beta = np.interp(np.degrees(local), motion.crank_angle_deg[:revolution], motion.rod_angle_rad[:revolution],
+                         period=360.0)
+        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local, beta)
+    return pin_t, pin_z, rod_t, rod_z
+
+
 def run(scene, inputs) -> StageOutput:
     loads, bays, motion = inputs[CRANK_LOADS], inputs[BAY_LOADS], inputs[KINEMATICS]
     opts = options(scene, "bearings", BearingOptions)
@@ -93,22 +123,15 @@ def run(scene, inputs) -> StageOutput:
         if values is not None and any(not 1 <= v <= limit for v in values):
             raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
 
-    # Crank pins: load of the rods in crank axes; the rod bearing of bay master rod in rod axes.
-    pin_t, pin_z = brg.crank_pin_load(loads.tangential_Pa, loads.radial_Pa, bays.centrifugal_rod_Pa)
-    master = layout.bay(0)[0]
-    rod_t = np.zeros_like(pin_t)
-    rod_z = np.zeros_like(pin_z)
-    for k in range(cranks):
-        # Each bay's master rod sees its crank at its own cycle angle.
-        delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
-        local = np.radians((angle - delay) % 360.0)
-        beta = np.interp(np.degrees(local), motion.crank_angle_deg[: int(round(360 / (angle[1] - angle[0])))],
-                         motion.rod_angle_rad[: int(round(360 / (angle[1] - angle[0])))], period=360.0)
-        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local, beta)
+    pin_t, pin_z, rod_t, rod_z = _pin_and_rod_loads(loads, bays, motion, layout)
 
     # Main journals: each crank a beam on two supports; forces in the engine frame.
     positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
-    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa, loads.radial_Pa, loads.centrifugal_Pa, positions)
+    # with the counterweights the balancing section fits (their centrifugal force on the webs,
+    # as a crank force in crank axes: t = p sin psi, z = -p cos psi, psi from the crank)
+    cw_t, cw_z = counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
+    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa + cw_t[:, None], loads.radial_Pa + cw_z[:, None],
+                                          loads.centrifugal_Pa, positions)
     share_after = np.full(cranks, opts.span_ratio)
     ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
     # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
@@ -142,6 +165,7 @@ def run(scene, inputs) -> StageOutput:
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
                        "main_journal_width_m": w_main, "defaulted": defaulted},
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
+        "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "main_journals": [{"journal": journal_label(j), **journals[j]} for j in range(cranks + 1)],
         "rod_bearings": [{"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
                          for k in range(cranks)],
@@ -409,6 +433,7 @@ BEARINGS_STAGE = Stage(
     name="bearings",
     title_key="bearings.title",
     requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS),
+    uses=(COUNTERWEIGHTS,),
     provides=(),
     applies=applies,
     run=run,
