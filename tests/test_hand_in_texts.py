@@ -266,3 +266,11 @@ def test_the_engine_layout_section_refers_to_the_scheme_with_the_crank_star(repo
     four = reports("inline4-petrol")
     assert "кінематичній схемі (рис. 3.1, зірка кривошипів)" in four
     assert 'src="figures/fig_3_1_scheme.svg"' in four
+
+
+def test_counts_of_balancing_means_are_written_in_words(reports):
+    """ДСТУ 3008: a number without a unit up to nine in words: "одна противага і один
+    зрівноважувальний вал", "два зрівноважувальні вали", not "1 противага і 1 …"."""
+    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    assert "Засоби зрівноваження: одна противага і один зрівноважувальний вал (порядок 1)." in one
+    assert "Засоби зрівноваження: два зрівноважувальні вали (порядок 2)." in four

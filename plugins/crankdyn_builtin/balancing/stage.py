@@ -737,16 +737,24 @@ def _absolute(ctx, r, item) -> str:
     return f" ({ctx.num(value, 4)} {unit})"
 
 
+def _in_words(t, n: int) -> dict[str, str]:
+    """``words_m``/``words_f``: a count of one to nine in words, as a text writes a number without a
+    unit (ДСТУ 3008), in the masculine and the feminine; a larger count in digits."""
+    if 1 <= n <= 9:
+        return {f"words_{g}": t(f"balancing.numerals_{g}").split("|")[n - 1] for g in ("m", "f")}
+    return {"words_m": str(n), "words_f": str(n)}
+
+
 def _means_sentence(t, r) -> str:
     """What the fitted means are, and what is balanced with them: the shafts' own orders, and
     the crank arrangement's part where it balances an order (or the centrifugal forces) alone."""
     shaft_orders = sorted({shaft["order"] for shaft in r["balance_shafts"]})
     means = []
     if r["counterweights"]:
-        means.append(t("balancing.means_counterweights", n=len(r["counterweights"])))
+        means.append(t("balancing.means_counterweights", n=len(r["counterweights"]), **_in_words(t, len(r["counterweights"]))))
     if r["balance_shafts"]:
         means.append(t("balancing.means_shafts", n=len(r["balance_shafts"]), k=len(shaft_orders),
-                       orders=", ".join(map(str, shaft_orders))))
+                       orders=", ".join(map(str, shaft_orders)), **_in_words(t, len(r["balance_shafts"]))))
     balanced = r["residual"]["balanced_orders"]
     by_means = set(shaft_orders) | ({1} if r["counterweights"] else set())
     with_scheme = not r["counterweights"] or any(order not in by_means for order in balanced)
