@@ -189,7 +189,7 @@ def test_counterweight_loads_in_crank_axes():
     """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
     counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
     from crankdyn.contracts import Counterweights
-    from crankdyn_builtin.bearings.stage import counterweight_loads_Pa
+    from crankdyn_builtin.bearings.stage import _counterweight_loads_Pa as counterweight_loads_Pa
 
     fitted = Counterweights(crank=np.array([0, 1, 1]), centrifugal_N=np.array([2.0, 3.0, 1.0]),
                             angle_from_crank_rad=np.radians([180.0, 90.0, 0.0]))

@@ -233,7 +233,7 @@ def run(scene, inputs) -> StageOutput:
                      "rod_type": e.rod_type, "firing_order": list(layout.firing_order),
                      "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
-                     "cylinder_phases": cylinder_phases(layout)}
+                     "cylinder_phases": lay.cylinder_phases(layout)}
     tables: dict = {}
     notes = _firing_notes(layout, scene.firing_order_chosen)
     if scene.firing_order_chosen:
@@ -300,14 +300,6 @@ def run(scene, inputs) -> StageOutput:
                      centrifugal_rod_Pa=centrifugal_rod, piston_area_m2=area, crank_radius_m=R, layout=layout,
                      indicated_work_J=work_all)
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
-
-
-def cylinder_phases(layout: lay.EngineLayout) -> list[dict]:
-    """Each cylinder's crank (1-based, from the free end), that crank's lag behind crank 1, its
-    axis angle from bank 0, and the delay of its working cycle after cylinder 1's (deg): the
-    shift by which its forces enter the sums on the crank pins and the shaft."""
-    return [{"cylinder": c.label, "crank": c.bay + 1, "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
-             "axis_deg": float(c.axis_deg), "cycle_delay_deg": float(c.firing_delay_deg)} for c in layout.cylinders]
 
 
 def _phase_table(r: dict, ctx):

@@ -80,16 +80,13 @@ def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict
     return {"bearings": table, "wear": wear}
 
 
-def counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.ndarray, np.ndarray]:
-    """(t, z) of every crank's counterweights' centrifugal force in its crank axes, per piston
-    area [Pa]; zeros without counterweights (none fitted, or no balancing stage in the plan)."""
-    t, z = np.zeros(cranks), np.zeros(cranks)
-    if fitted is not None:
-        p = np.asarray(fitted.centrifugal_N, dtype=float) / area_m2
-        psi = np.asarray(fitted.angle_from_crank_rad, dtype=float)
-        np.add.at(t, np.asarray(fitted.crank, dtype=int), p * np.sin(psi))
-        np.add.at(z, np.asarray(fitted.crank, dtype=int), -p * np.cos(psi))
-    return t, z
+def _counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per-crank (t, z) of the fitted counterweights (:class:`crankdyn.contracts.Counterweights`)
+    per piston area [Pa]; zeros without counterweights (none fitted, or no balancing in the plan)."""
+    if fitted is None:
+        return np.zeros(cranks), np.zeros(cranks)
+    return brg.counterweight_crank_load_Pa(fitted.crank, np.asarray(fitted.centrifugal_N) / area_m2,
+                                           fitted.angle_from_crank_rad, cranks)
 
 
 def _pin_and_rod_loads(loads, bays, motion, layout):
@@ -127,9 +124,8 @@ def run(scene, inputs) -> StageOutput:
 
     # Main journals: each crank a beam on two supports; forces in the engine frame.
     positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
-    # with the counterweights the balancing section fits (their centrifugal force on the webs,
-    # as a crank force in crank axes: t = p sin psi, z = -p cos psi, psi from the crank)
-    cw_t, cw_z = counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
+    # with the counterweights the balancing section fits (their centrifugal force on the webs)
+    cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
     fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa + cw_t[:, None], loads.radial_Pa + cw_z[:, None],
                                           loads.centrifugal_Pa, positions)
     share_after = np.full(cranks, opts.span_ratio)
@@ -345,7 +341,7 @@ def _unrolled_figure(ctx, f, r, angle, single: bool):
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:
         ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
-                label=t("bearings.pin_label", k="" if single else k).strip())
+                label=_one_of(t, "bearings.pin_label", k, single))
     for j in r["drawn_journals"]:
         label = r["main_journals"][j - 1]["journal"]
         ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
@@ -371,10 +367,10 @@ def render(output: StageOutput, ctx) -> str | None:
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
         figures.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
-                              angle, -c_rod, t("bearings.pin_title", k="" if single else k).strip(), pin["oil_hole_deg"], 0.12, labels_every,
+                              angle, -c_rod, _one_of(t, "bearings.pin_title", k, single), pin["oil_hole_deg"], 0.12, labels_every,
                               f"pin{k}", _one_of(t, pin_caption, k, single)))
         figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
-                              0.0, t("bearings.rod_title", k="" if single else k).strip(), None, 0.12, labels_every, f"rod_bearing{k}",
+                              0.0, _one_of(t, "bearings.rod_title", k, single), None, 0.12, labels_every, f"rod_bearing{k}",
                               _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]

@@ -274,7 +274,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     """The [flywheel] table's given data for the report's table of the task's data."""
     opts = options(scene, "flywheel", FlywheelOptions)
     t, num = ctx.t, ctx.t.number_g
-    inertia = t("flywheel.unit_kg_m2")
+    inertia = t("unit.kg_m2")
     rows = []
     if opts.required_irregularity is not None:
         rows.append((t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 4), ""))
@@ -287,7 +287,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
                      t("unit.mm")))
     if opts.rim_width is not None:
         rows.append((t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm")))
-    rows.append((t("flywheel.input_rim_density"), "<i>ρ</i><sub>mat</sub>", num(opts.rim_density, 4), t("flywheel.unit_kg_m3")))
+    rows.append((t("flywheel.input_rim_density"), "<i>ρ</i><sub>mat</sub>", num(opts.rim_density, 4), t("unit.kg_m3")))
     if opts.max_rim_speed is not None:
         rows.append((t("flywheel.input_rim_speed"), "[<i>v</i><sub>o</sub>]", num(opts.max_rim_speed, 4), t("unit.m_s")))
     return rows

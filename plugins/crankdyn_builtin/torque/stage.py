@@ -57,9 +57,9 @@ def run(scene, inputs) -> StageOutput:
         "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),
         # each cylinder's cycle delay: its own crank angle alpha_i = alpha - delay (mod the cycle)
-        "cylinder_cycle_delays_deg": [{"cylinder": c.label, "crank": c.bay + 1, "cycle_delay_deg": float(c.firing_delay_deg)}
-                                      for c in layout.cylinders],
-        "indicated_power_W": work_all * e.rpm / 60.0 / revolutions,
+        "cylinder_cycle_delays_deg": [{k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
+                                      for p in lay.cylinder_phases(layout)],
+        "indicated_power_W": 1e3 * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
         "journals": [{"journal": f"{k + 1}-{k + 2 if k + 1 < layout.cranks else 0}",
                       "max_abs_Nm": float(np.max(np.abs(journal[k])) * R * area)} for k in range(layout.cranks)],
         "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),

@@ -29,6 +29,23 @@ def crank_axes(crank_position_rad):
     return e_t, e_z
 
 
+def counterweight_crank_load_Pa(crank, specific_force_Pa, angle_from_crank_rad, cranks: int):
+    """(t, z) per crank, arrays (cranks,), of counterweights' centrifugal forces in crank axes [Pa].
+
+    A counterweight at ``angle_from_crank_rad`` psi from its crank (in the direction of
+    rotation) pulls along cos psi u + sin psi e_t, u the crank's outward direction = -e_z
+    (:func:`crank_axes`): t = p sin psi, z = -p cos psi; opposite the pin (psi = pi) it adds p to
+    z, as the rotating masses' c (negative) takes from it. ``crank``: the 0-based crank of each
+    counterweight; ``specific_force_Pa``: its m r omega^2 per piston area.
+    """
+    p = np.asarray(specific_force_Pa, dtype=float)
+    psi = np.asarray(angle_from_crank_rad, dtype=float)
+    t, z = np.zeros(cranks), np.zeros(cranks)
+    np.add.at(t, np.asarray(crank, dtype=int), p * np.sin(psi))
+    np.add.at(z, np.asarray(crank, dtype=int), -p * np.cos(psi))
+    return t, z
+
+
 def crank_pin_load(tangential_Pa, radial_Pa, centrifugal_rod_Pa):
     """Load of the rod(s) on the crank pin in crank axes: (t, z + c_rod), textbook §5.1, fig. 17."""
     return np.asarray(tangential_Pa, dtype=float), np.asarray(radial_Pa, dtype=float) + centrifugal_rod_Pa

@@ -341,3 +341,12 @@ def sampled_period_deg(values, step_deg: float, cycle_deg: float, rtol: float = 
         if np.max(np.abs(np.roll(v, shift) - v)) <= tol:
             return cycle_deg / k
     return float(cycle_deg)
+
+
+def cylinder_phases(layout: EngineLayout) -> list[dict]:
+    """Each cylinder's crank (1-based, from the free end), that crank's lag behind crank 1 (deg),
+    its axis angle from bank 0 (deg), and the delay of its working cycle after cylinder 1's (deg):
+    the shift by which its forces enter the sums on the crank pins and the shaft (its own crank
+    angle is alpha - delay, mod the cycle)."""
+    return [{"cylinder": c.label, "crank": c.bay + 1, "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
+             "axis_deg": float(c.axis_deg), "cycle_delay_deg": float(c.firing_delay_deg)} for c in layout.cylinders]

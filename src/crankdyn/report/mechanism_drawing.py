@@ -390,8 +390,8 @@ def drawing_scale(extent_mm: tuple[float, float], room_mm: tuple[float, float]) 
 
 
 def _smaller_scale(scale: float) -> float:
-    smaller = [s for s in DRAWING_SCALES if s < scale * (1 - 1e-9)]
-    return smaller[0] if smaller else drawing_scale((1.0, 1.0), (scale / 2, scale / 2))
+    """The next standard scale below ``scale`` (1:2 -> 1:2,5; 1:100 -> 1:200)."""
+    return drawing_scale((1.0, 1.0), (scale * (1 - 1e-9), scale * (1 - 1e-9)))
 
 
 def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
