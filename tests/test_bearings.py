@@ -222,3 +222,12 @@ def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
         np.testing.assert_allclose(a[f"journal{j}_z_Pa"] - b[f"journal{j}_z_Pa"], -0.5 * q_Pa, rtol=1e-9)
         np.testing.assert_allclose(a[f"journal{j}_t_Pa"], b[f"journal{j}_t_Pa"], atol=1e-6 * q_Pa)
     np.testing.assert_allclose(a["pin1_z_Pa"], b["pin1_z_Pa"], rtol=1e-12)
+
+
+def test_polar_summary_range_and_the_angles_of_its_extremes():
+    """|(t, z)| = 5, 1, 2, 5 (3-4-5 triangles): the largest at the first of its equal samples."""
+    t, z = np.array([3.0, 1.0, 2.0, 4.0]), np.array([4.0, 0.0, 0.0, 3.0])
+    s = brg.polar_summary(t, z, piston_area_m2=2.0, diameter_m=0.5, width_m=0.1, crank_angle_deg=[0.0, 90.0, 180.0, 270.0])
+    assert (s["max_N"], s["min_N"], s["mean_N"]) == (10.0, 2.0, pytest.approx(6.5))
+    assert (s["max_crank_angle_deg"], s["min_crank_angle_deg"]) == (0.0, 90.0)
+    assert s["max_MPa"] == pytest.approx(10.0 / 0.05 / 1e6)
