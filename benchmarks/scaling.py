@@ -35,7 +35,7 @@ def _point(example: str, step: float, cylinders: int | None, memory: bool) -> di
     import tracemalloc
 
     from crankdyn.cli import examples_dir
-    from crankdyn.orchestrator import plan
+    from crankdyn.orchestrator import plan, stage_inputs
     from crankdyn.plugins import default_registry
     from crankdyn.scene import load_scene
 
@@ -44,11 +44,12 @@ def _point(example: str, step: float, cylinders: int | None, memory: bool) -> di
         # firing intervals equal, in firing order 1..n; a long shaft needs no other change
         overrides["engine"] = {"cylinders": cylinders, "firing_order": list(range(1, cylinders + 1))}
     scene = load_scene(examples_dir() / f"{example}.toml", overrides)
-    stages = plan(scene, default_registry()).order
+    the_plan = plan(scene, default_registry())
     rows = {}
     data: dict = {}
-    for stage in stages:
-        inputs = {key: data[key] for key in stage.requires}
+    for stage in the_plan.order:
+        # the orchestrator's own inputs: required and used data, and the services a stage names
+        inputs = stage_inputs(stage, data, the_plan.registry)
         start = time.perf_counter()
         output = stage.run(scene, inputs)
         seconds = time.perf_counter() - start
