@@ -112,16 +112,32 @@ def test_wear_diagram_and_oil_hole():
     assert wear.max() == pytest.approx(10.0) and wear.min() == 0.0
 
 
-def test_wear_diagram_in_blocks_counts_each_load_over_its_spread(monkeypatch):
+def test_wear_diagram_counts_each_load_over_its_spread():
     # Loads pressing at 0.5, 90.5 and 200.5 deg (off the 1-deg surface grid, so no psi sits exactly
     # at the 60 deg edge) with weights 1, 2, 4: the wear at psi is the sum of the
-    # weights whose contact is within 60 deg, whatever the block size of the computation.
-    monkeypatch.setattr(brg, "_BLOCK_ELEMENTS", 7)
+    # weights whose contact is within 60 deg.
     angles = np.radians([0.5, 90.5, 200.5])
     psi, wear = brg.wear_diagram(np.sin(angles), np.cos(angles), [1.0, 2.0, 4.0])
     expected = [sum(w for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0))
                     if abs((p - a + 180.0) % 360.0 - 180.0) <= 60.0) for p in psi]
     np.testing.assert_allclose(wear, expected)
+
+
+@pytest.mark.parametrize("spread, resolution", [(60.0, 1.0), (30.0, 0.5), (0.5, 1.0), (89.5, 2.0)])
+def test_wear_diagram_equals_its_definition_on_and_off_the_surface_grid(spread, resolution):
+    # The runs of surface points found per load must be those of the definition
+    # |psi - contact| <= spread on the circle, also for contacts exactly on the grid (edges
+    # included), next to 0/360 (runs that wrap) and a spread narrower than the grid (loads that
+    # cover no point); where nothing presses the wear is exactly 0.
+    rng = np.random.default_rng(7)
+    degrees = np.concatenate([rng.uniform(0, 360, 300), np.arange(0.0, 360.0, 7.0), [0.0, 359.9999999, 1e-9, 300.0]])
+    weight = rng.uniform(0.5, 3.0, degrees.size)
+    a = np.radians(degrees)
+    psi, wear = brg.wear_diagram(weight * np.sin(a), weight * np.cos(a), weight, spread, resolution)
+    contact = np.degrees(np.arctan2(weight * np.sin(a), weight * np.cos(a))) % 360.0
+    inside = np.abs((psi[:, None] - contact[None, :] + 180.0) % 360.0 - 180.0) <= spread
+    np.testing.assert_allclose(wear, (inside * weight).sum(axis=1), rtol=1e-12, atol=0)
+    assert np.array_equal(wear == 0, ~inside.any(axis=1))
 
 
 def test_results_keys_per_pin_and_journal():

@@ -188,3 +188,32 @@ def test_a_run_stopped_by_its_budget_reports_its_progress():
                         [1e-15, 1e-12], max_nfev=200)
     assert not run.success and 0 < run.progress < 1 and run.nfev >= 200
     assert run.steps_needed > run.steps
+
+
+@pytest.mark.parametrize("width", [1, 2, 7, 64, 2047, 2048, 36001])
+def test_power_sum_is_the_geometric_sum_in_closed_form(width):
+    # c_k = r^k: sum_{k=1}^{K} (r z)^k = r z (1 - (r z)^K) / (1 - r z), for K a square, not a
+    # square, and one (the blocks of the sum must cover every harmonic exactly once).
+    r = 0.999
+    coefficients = r ** np.arange(1, width + 1)
+    power_sum = sf.PowerSum(coefficients)
+    for angle in (0.3, 2.0, -1.1, 40.0):
+        z = np.exp(1j * angle)
+        q = r * z
+        expected = q * (1 - q**width) / (1 - q)
+        assert abs(power_sum(z) - expected) <= 1e-12 * max(1.0, abs(expected))
+
+
+def test_long_single_disc_series_gives_what_the_short_path_gives(monkeypatch):
+    # The right-hand side's long-series path (blocked torque sum, the inertia's few harmonics
+    # directly) against the short path's one product over all harmonics, on the in-line four.
+    _, _, inertia, series, _, _ = problem()
+    short = sf.DiscSeries(series, [inertia])
+    monkeypatch.setattr(sf, "_BLAS_MAX_WIDTH", 1)
+    long = sf.DiscSeries(series, [inertia])
+    long_series = sf.PeriodicSeries(series.mean, series.coefficients, series.period_rad)
+    assert long._long and not short._long and long_series._first_sum is not None
+    for alpha in np.random.default_rng(3).uniform(0, 4 * np.pi, 20):
+        m, j, dj = short.scalar(alpha)
+        np.testing.assert_allclose(long.scalar(alpha), (m, j, dj), rtol=1e-12, atol=1e-12 * abs(m))
+        assert long_series(float(alpha)) == pytest.approx(series(float(alpha)), rel=1e-12, abs=1e-12 * abs(m))

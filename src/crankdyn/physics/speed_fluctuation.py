@@ -197,6 +197,42 @@ _GRID_MIN_WORK = 1 << 23
 _BLAS_MAX_WIDTH = 2048
 
 
+class PowerSum:
+    r""":math:`\sum_{k=1}^{K} c_k z^k` for one complex ``z``, in O(K) work and O(sqrt K) memory.
+
+    With :math:`k = bB + j + 1` the sum is :math:`\sum_b (z^B)^b \sum_{j<B} c_{bB+j+1} z^{j+1}`:
+    two short power tables (B and K/B entries, B = sqrt K) and one matrix-vector product over
+    the coefficients stored as a (K/B, B) block. Writing the K powers out (``cumprod`` over a
+    length-K row) costs a sequential complex product per harmonic and a row that, at fine
+    angle steps, no longer fits the CPU's cache; this reads each coefficient once. The powers
+    carry ~sqrt(K) rounding steps instead of K.
+    """
+
+    def __init__(self, coefficients):
+        c = np.asarray(coefficients, dtype=complex).reshape(-1)
+        self.width = c.size
+        self.block = max(1, math.isqrt(max(c.size - 1, 0)) + 1)
+        rows = -(-c.size // self.block)
+        padded = np.zeros(rows * self.block, dtype=complex)
+        padded[: c.size] = c
+        self._table = padded.reshape(rows, self.block)
+        self._small = np.empty(self.block, dtype=complex)
+        self._large = np.empty(rows, dtype=complex)
+
+    def __call__(self, z: complex) -> complex:
+        small, large = self._small, self._large
+        small.fill(z)
+        np.cumprod(small, out=small)  # z^1 .. z^B
+        # einsum's own loop: a BLAS product this long may be split over threads, which on a
+        # machine busy with other processes costs milliseconds per call (see _BLAS_MAX_WIDTH)
+        inner = np.einsum("bj,j->b", self._table, small)
+        if inner.size == 1:
+            return complex(inner[0])
+        large.fill(small[-1])
+        np.cumprod(large, out=large)  # (z^B)^1 .. (z^B)^(rows)
+        return complex(inner[0] + np.einsum("b,b->", large[:-1], inner[1:]))
+
+
 class PeriodicSeries:
     r"""Trigonometric interpolant of samples on a uniform periodic grid, one column per quantity.
 
@@ -217,6 +253,7 @@ class PeriodicSeries:
         self.columns = self.mean.size
         self._scratch = None
         self._first_column = np.ascontiguousarray(self.coefficients[:, 0])
+        self._first_sum = PowerSum(self._first_column) if self._first_column.size >= _BLAS_MAX_WIDTH else None
 
     @classmethod
     def from_samples(cls, values, period_rad: float) -> "PeriodicSeries":
@@ -240,6 +277,9 @@ class PeriodicSeries:
     def __call__(self, alpha):
         """Every column at ``alpha`` (shape ``alpha.shape + (columns,)``, or ``alpha.shape`` for one column)."""
         if np.ndim(alpha) == 0 and self.columns == 1:  # the single-mass ODE's hot path
+            if self._first_sum is not None:
+                z = cmath.exp(1j * self.wavenumbers[0] * float(alpha))
+                return float(self.mean[0] + self._first_sum(z).real)
             buffer = self._buffer(1)[0]
             buffer.fill(cmath.exp(1j * self.wavenumbers[0] * float(alpha)))
             np.cumprod(buffer, out=buffer)
@@ -383,10 +423,14 @@ class DiscSeries:
             coef[index, c, 2] = 1j * series.orders * series.coefficients
         self.coef = coef
         self.single = np.ascontiguousarray(coef[:, 0, :])
-        self._single_rows = self._product = None
-        if width >= _BLAS_MAX_WIDTH:
-            self._single_rows = np.ascontiguousarray(self.single.T)
-            self._product = np.empty_like(self._single_rows)
+        self._long = width >= _BLAS_MAX_WIDTH
+        if self._long:
+            # the torque's harmonics are dense, the inertia's only every ``step``-th and few: summing
+            # the three columns over the whole width (a (3, K) product) spilled out of the L2 cache
+            # at fine steps and made the time grow faster than the number of angles
+            self._torque_sum = PowerSum(coef[:, 0, 0])
+            self._inertia_index = np.flatnonzero(np.any(coef[:, 0, 1:] != 0, axis=1))
+            self._inertia_rows = np.ascontiguousarray(coef[self._inertia_index, 0, 1:])
         self.by_disc = np.ascontiguousarray(coef.transpose(1, 0, 2))  # (m, K, 3)
         self.mean = np.stack([torque.mean, [s.constant_kg_m2 for s in inertia], np.zeros(m)], axis=1)
         self.w1 = 2 * np.pi / torque.period_rad
@@ -397,15 +441,18 @@ class DiscSeries:
 
     def scalar(self, alpha: float):
         """(M_g, J, J') of a single disc (m = 1) at one angle."""
-        row = self._row
-        row.fill(cmath.exp(1j * self.w1 * alpha))
-        np.cumprod(row, out=row)
-        if self._single_rows is None:
+        z = cmath.exp(1j * self.w1 * alpha)
+        if not self._long:
+            row = self._row
+            row.fill(z)
+            np.cumprod(row, out=row)
             value = (row @ self.single).real
-        else:  # long series: elementwise, as multi-threaded BLAS would thrash on a busy machine
-            np.multiply(self._single_rows, row, out=self._product)
-            value = self._product.sum(axis=1).real
-        return self.mean[0, 0] + value[0], self.mean[0, 1] + value[1], value[2]
+            return self.mean[0, 0] + value[0], self.mean[0, 1] + value[1], value[2]
+        torque = self._torque_sum(z).real
+        # the inertia's few harmonics: their powers directly (k + 1 is the harmonic's number)
+        powers = np.exp(1j * self.w1 * alpha * (self._inertia_index + 1.0))
+        inertia = (powers @ self._inertia_rows).real
+        return self.mean[0, 0] + torque, self.mean[0, 1] + inertia[0], inertia[1]
 
     def __call__(self, angles) -> np.ndarray:
         powers = self._powers
