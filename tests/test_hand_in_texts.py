@@ -274,3 +274,17 @@ def test_counts_of_balancing_means_are_written_in_words(reports):
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
     assert "Засоби зрівноваження: одна противага і один зрівноважувальний вал (порядок 1)." in one
     assert "Засоби зрівноваження: два зрівноважувальні вали (порядок 2)." in four
+
+
+def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(reports):
+    # "Методом RK45 з відносним допуском 1,0·10⁻⁸ (66 кроків) …": the table of the runs has
+    # that run's row (method, 10⁻⁸, the steps), and the error figure rings it with a legend entry.
+    html = reports("inline4-petrol")
+    section = html[html.index('data-stage="speed_fluctuation"'):]
+    quoted = re.search(r"Методом (\w+) з відносним допуском 1,0·10⁻⁸ \((\d+) крок", section)
+    assert quoted, "the quoted run"
+    row = rf'<tr><td class="text">{quoted[1]}</td><td class="text">10⁻⁸</td><td>{quoted[2]}</td>'
+    assert row in section
+    figure = re.search(r'src="(figures/[^"]*solvers_single\.svg)"', section)[1]
+    with open(f"{_ROOTS[0]}/inline4-petrol/{figure}", encoding="utf-8") as fh:
+        assert "розрахунок, використаний у розділі" in fh.read()

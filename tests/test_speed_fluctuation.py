@@ -153,6 +153,19 @@ def test_every_solver_converges_to_the_exact_solution():
         assert all(r["time_s"] > 0 for r in runs)
 
 
+def test_the_run_the_section_quotes_is_a_row_of_its_table():
+    # The text quotes the chosen method at SINGLE_MASS_RTOL; that run is in the solver records (the
+    # table and figure) once, marked, after its method's other runs, with the quoted figures.
+    r = inline4().outputs["speed_fluctuation"].results
+    used = [k for k, rec in enumerate(r["solvers"]) if rec.get("used")]
+    assert len(used) == 1
+    record = r["solvers"][used[0]]
+    assert record["method"] == r["solver"]["method"] and record["rtol"] == r["solver"]["rtol"]
+    assert record["steps"] == r["solver"]["steps"] and record["error_relative"] == r["solver"]["error_relative"]
+    following = r["solvers"][used[0] + 1:]
+    assert all(rec["method"] != record["method"] for rec in following)
+
+
 def test_single_mass_problem_is_not_stiff():
     solver = inline4().outputs["speed_fluctuation"].results["solver"]
     assert solver["method"] == "RK45" and solver["automatic"] and not solver["stiff"]

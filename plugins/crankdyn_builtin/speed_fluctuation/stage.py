@@ -228,6 +228,9 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
     w_max, w_min = float(omega_solver.max()), float(omega_solver.min())
     summary = _choice_record(choice, "single")
     chosen_error = sf.phase_error(chosen, exact)
+    # the run the section quotes is in the table and the figure too, after its method's other runs
+    last_of_method = max(i for i, r in enumerate(records) if r["method"] == choice.method)
+    records.insert(last_of_method + 1, {**_run_record(chosen, chosen_error), "used": True})
     summary.update({"rtol": SINGLE_MASS_RTOL, "steps": chosen.steps, "nfev": chosen.nfev, "time_s": chosen.time_s,
                     "error_relative": chosen_error if math.isfinite(chosen_error) else None,
                     "irregularity": (w_max - w_min) / (0.5 * (w_max + w_min)),
@@ -627,6 +630,10 @@ def _error_figure(ctx, records, caption, name, key="error_relative"):
             for r in rows:
                 ax.annotate(_power_of_ten(r["rtol"], t), (r["time_s"] * 1e3, r[key]), fontsize=6, xytext=(3, 3),
                             textcoords="offset points")
+    used = [r for r in records if r.get("used") and r[key] is not None and r[key] > 0]
+    if used:  # the run the section quotes, ringed (a shape, not a colour: black-and-white print)
+        ax.loglog([r["time_s"] * 1e3 for r in used], [r[key] for r in used], "o", ms=11, mfc="none", mec="black",
+                  mew=0.9, label=t("speed_fluctuation.used_run"))
     ax.set_xlabel(t("speed_fluctuation.axis_time"))
     ax.set_ylabel(t("speed_fluctuation.axis_error"))
     ax.legend(loc="best", fontsize=8)
