@@ -19,6 +19,7 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
+from .equation_legend import add_equation_legends
 from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html
 from ..plausibility import format_params, warnings
 
@@ -249,6 +250,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _fill_counts(html, t, len(references))
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
+    html = add_equation_legends(html, t, language)
     html = _fill_symbol_list(html, t, language)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))

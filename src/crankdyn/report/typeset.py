@@ -100,7 +100,8 @@ SYMBOLS: dict[str, Symbol] = {
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio"),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
-    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width"),
+    # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
+    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=("bearings",)),
     # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
     "mechanism_mean_inertia": Symbol("J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2",
                                      "symbol.mechanism_mean_inertia"),

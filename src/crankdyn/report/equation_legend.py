@@ -1,0 +1,96 @@
+"""The "where …" lines under a displayed equation (ДСТУ 3008: the symbols of a formula are
+explained right below it, in the order in which they stand in it, each on its own line; the first
+line starts with "де" at the paragraph indent, without a colon).
+
+A symbol is explained under the first equation of the report that shows it; later equations
+rely on that (and on the list of symbols in front of the introduction). The symbols, their
+meanings and units come from the one symbol table (:data:`crankdyn.report.typeset.SYMBOLS`), so
+the lines say what the list of symbols says. A letter with a second meaning in some sections
+(``Symbol.sections``) is read with that meaning inside those sections only, and a symbol marked
+by a prime (``p_i′``) is another quantity, not explained as the unprimed one.
+
+Works on the typeset report (symbols written in the report's language); nothing here computes.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+
+from markupsafe import escape
+
+from .typeset import SYMBOLS, symbol_html, symbol_sub, symbol_unit
+
+_SECTION_OR_EQUATION = re.compile(
+    r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
+    r'|<div class="equation"[^>]*><span class="formula">(?P<formula>.*?)</span><span class="eqno">[^<]*</span></div>',
+    re.S)
+
+_SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
+
+
+@functools.lru_cache(maxsize=8)
+def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], ...]:
+    """(key, pattern, sections) per symbol: its markup, not followed by a prime, nor (for a symbol
+    without a subscript) by a subscript; and a symbol without sections is not read in the sections
+    where another symbol of the same markup takes over."""
+    taken_over: dict[str, set[str]] = {}
+    for key, symbol in SYMBOLS.items():
+        if symbol.sections:
+            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+    out = []
+    for key, symbol in SYMBOLS.items():
+        markup = symbol_html(key, language)
+        tail = "(?![′″])" if symbol_sub(key, language) else "(?!<sub>|[′″])"
+        out.append((key, re.compile(re.escape(markup) + tail), symbol.sections,
+                    () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
+    return tuple(out)
+
+
+def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
+    """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance."""
+    found = []
+    for key, pattern, only_in, not_in in _patterns(language):
+        if (only_in and stage not in only_in) or stage in not_in:
+            continue
+        match = pattern.search(formula_html)
+        if match is not None:
+            found.append((match.start(), key))
+    return [key for _, key in sorted(found)]
+
+
+def legend_html(keys: list[str], t, language: str) -> str:
+    """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
+    stop after the last."""
+    lines = []
+    for k, key in enumerate(keys):
+        unit = symbol_unit(key, t)
+        meaning = t(f"symbol.{key}")
+        if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
+            meaning = _SECTIONS_NOTE.sub("", meaning)
+        meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
+        end = "." if k == len(keys) - 1 else ";"
+        lines.append(f'<span class="where-line">{symbol_html(key, language)} – {meaning}{end}</span>')
+    # the word in a box of its own: the lines after the first stand under the first symbol
+    return (f'<p class="where"><span class="where-word">{escape(t("doc.equation_where"))} </span>'
+            f'<span class="where-lines">{"<br>".join(lines)}</span></p>')
+
+
+def add_equation_legends(html: str, t, language: str) -> str:
+    """``html`` with a "where" paragraph after each equation that shows symbols not explained before."""
+    explained: set[str] = set()
+    stage = ""
+    parts = []
+    position = 0
+    for match in _SECTION_OR_EQUATION.finditer(html):
+        if match.group("stage") is not None:
+            stage = match.group("stage")
+            continue
+        new = [key for key in symbols_in(match.group("formula"), language, stage) if key not in explained]
+        if not new:
+            continue
+        explained.update(new)
+        parts += [html[position:match.end()], legend_html(new, t, language)]
+        position = match.end()
+    parts.append(html[position:])
+    return "".join(parts)

@@ -1,0 +1,90 @@
+"""The "де …" lines under equations (ДСТУ 3008): which symbols, in what order, said how."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from crankdyn.report.equation_legend import add_equation_legends, symbols_in
+from crankdyn.report.i18n import translator
+from crankdyn.plugins import default_registry
+
+REGISTRY = default_registry()
+
+
+def _equation(formula: str, number: str = "1.1") -> str:
+    return (f'<div class="equation"><span class="formula">{formula}</span>'
+            f'<span class="eqno">({number})</span></div>')
+
+
+def _section(stage: str, body: str) -> str:
+    return f'<section class="chapter" data-stage="{stage}">{body}</section>'
+
+
+@pytest.fixture(scope="module")
+def uk():
+    return translator("uk", REGISTRY.catalogs)
+
+
+def _legends(html: str) -> list[str]:
+    """Each "where" paragraph as plain text, its lines separated by " | "."""
+    out = []
+    for m in re.finditer(r'<p class="where">(.*?)</p>', html, re.S):
+        text = re.sub(r"<br>", " | ", m.group(1))
+        out.append(re.sub(r"<[^>]+>", "", text))
+    return out
+
+
+def test_symbols_are_listed_in_the_order_they_stand_in_the_formula():
+    # R = S/2, λ = R/L: R first, then S, λ, L (each once)
+    formula = "<i>R</i> = <i>S</i>/2, <i>λ</i> = <i>R</i>/<i>L</i>"
+    assert symbols_in(formula, "uk", "kinematics") == ["crank_radius", "stroke", "rod_ratio", "rod_length"]
+
+
+def test_a_symbol_is_explained_under_its_first_equation_only(uk):
+    html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + "<p>text</p>"
+                    + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"))
+    legends = _legends(add_equation_legends(html, uk, "uk"))
+    assert legends == ["де R – радіус кривошипа, мм; | S – хід поршня, мм.",
+                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, мм."]
+    # the paragraph follows its equation, before the text after it
+    out = add_equation_legends(html, uk, "uk")
+    assert out.index("(1.1)") < out.index("де ") < out.index("<p>text</p>")
+
+
+def test_an_equation_of_known_symbols_gets_no_legend(uk):
+    html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + _equation("<i>S</i> = 2<i>R</i>", "1.2"))
+    assert len(_legends(add_equation_legends(html, uk, "uk"))) == 1
+
+
+def test_a_primed_symbol_is_another_quantity():
+    # p_i′ (the theoretical diagram's pressure) is not p_i, the mean indicated pressure
+    assert "mean_indicated_pressure" not in symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator")
+    assert symbols_in("<i>p</i><sub>i</sub> = 1", "uk", "indicator") == ["mean_indicated_pressure"]
+
+
+def test_a_letter_with_a_second_meaning_is_read_by_its_section():
+    # δ: the further-expansion ratio in the indicator section, the irregularity in the flywheel's
+    assert symbols_in("<i>δ</i> = 1", "uk", "indicator") == ["post_expansion_ratio"]
+    assert symbols_in("<i>δ</i> = 1", "uk", "flywheel") == ["irregularity"]
+    # B: the bearing width in the bearings section, not the ellipse's semi-axis in the balancing one
+    assert symbols_in("<i>B</i> = 1", "uk", "bearings") == ["bearing_width"]
+    assert symbols_in("<i>B</i> = 1", "uk", "balancing") == []
+
+
+def test_a_symbol_without_subscript_is_not_read_in_one_with_a_subscript():
+    # ω_ш is the rod's angular velocity, not ω
+    assert symbols_in("<i>ω</i><sub>ш</sub> = 1", "uk", "kinematics") == ["rod_angular_velocity"]
+
+
+def test_the_section_note_of_a_second_meaning_is_not_repeated_in_its_section(uk):
+    legends = _legends(add_equation_legends(_section("flywheel", _equation("<i>δ</i> = 1")), uk, "uk"))
+    assert legends == ["де δ – коефіцієнт нерівномірності обертання."]
+
+
+def test_every_report_language_has_its_word():
+    for language, word in (("uk", "де"), ("ru", "где"), ("en", "where")):
+        t = translator(language, REGISTRY.catalogs)
+        html = add_equation_legends(_section("kinematics", _equation("<i>L</i> = 1")), t, language)
+        assert _legends(html)[0].startswith(word + " L – ")
