@@ -71,6 +71,10 @@ def test_a_letter_with_a_second_meaning_is_read_by_its_section():
     # B: the bearing width in the bearings section, not the ellipse's semi-axis in the balancing one
     assert symbols_in("<i>B</i> = 1", "uk", "bearings") == ["bearing_width"]
     assert symbols_in("<i>B</i> = 1", "uk", "balancing") == []
+    # n: the crank speed, and the textbook's specific side force in the forces section
+    assert symbols_in("<i>n</i> = 1", "uk", "kinematics") == ["crank_speed"]
+    assert symbols_in("<i>n</i> = <i>p</i><sub>1</sub> tg <i>β</i>", "uk", "forces") == [
+        "side_specific", "total_pressure", "rod_angle"]
 
 
 def test_a_symbol_without_subscript_is_not_read_in_one_with_a_subscript():

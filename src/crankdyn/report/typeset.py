@@ -85,6 +85,8 @@ SYMBOLS: dict[str, Symbol] = {
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
     "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific"),
+    # the textbook's n is also the crank speed: in the forces section it is the side force
+    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=("forces",)),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
