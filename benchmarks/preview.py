@@ -51,6 +51,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scene", default=str(ROOT / "examples" / "petrol-1cyl.toml"))
     parser.add_argument("--edits", type=int, default=10)
+    parser.add_argument("--each", action="store_true", help="print every edit's times too")
     args = parser.parse_args()
     if CHROMIUM is None:
         raise SystemExit("Debian's chromium is not installed (.ci/setup.sh installs it)")
@@ -90,6 +91,9 @@ def main() -> None:
                 figures_s.append(time.monotonic() - start)
                 _wait(lambda: not _status(base)["building"], 60, "the build to end", interval=0.05)
                 server_s.append(_status(base)["render_s"])
+                if args.each:
+                    print(f"edit {len(page_s):3d}: page {page_s[-1]:.2f}  whole {complete_s[-1]:.2f}  "
+                          f"figures {figures_s[-1]:.2f}  server {server_s[-1]:.2f}", flush=True)
                 time.sleep(0.3)
         finally:
             if browser is not None:
