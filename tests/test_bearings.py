@@ -247,3 +247,22 @@ def test_polar_summary_range_and_the_angles_of_its_extremes():
     assert (s["max_N"], s["min_N"], s["mean_N"]) == (10.0, 2.0, pytest.approx(6.5))
     assert (s["max_crank_angle_deg"], s["min_crank_angle_deg"]) == (0.0, 90.0)
     assert s["max_MPa"] == pytest.approx(10.0 / 0.05 / 1e6)
+
+
+def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_says():
+    # A beam on two supports l apart, loaded at l′ from the first: the second carries F l′/l, the
+    # first F l″/l (l″ = l − l′). journal_loads with share_after = l′/l (the stage's span_ratio)
+    # must do so, and equation (9.3) must print R_j = −[(l′_i/l_i) F_i + (l″_{i+1}/l_{i+1}) F_{i+1}]
+    # (the journal after crank i, before crank i+1), not the primes the other way round.
+    l, l_prime = 1.0, 0.3
+    force = np.array([[2.0, -1.0]])  # one crank, two angles
+    before, after = brg.journal_loads(force, 3 * force, np.array([(l - l_prime) / l]), np.array([l_prime / l]))
+    np.testing.assert_allclose(before[0], (l - l_prime) / l * force[0])
+    np.testing.assert_allclose(before[1], l_prime / l * force[0])
+    np.testing.assert_allclose(after[1], l_prime / l * 3 * force[0])
+    import crankdyn_builtin.bearings as plugin
+
+    with open(f"{plugin.__path__[0]}/templates/sections/bearings.html.j2", encoding="utf-8") as fh:
+        text = fh.read()
+    assert ("(<i>l</i>′<sub><i>i</i></sub>/<i>l</i><sub><i>i</i></sub>) <b><i>F</i></b><sub><i>i</i></sub> + "
+            "(<i>l</i>″<sub><i>i</i>+1</sub>/<i>l</i><sub><i>i</i>+1</sub>)") in text
