@@ -92,3 +92,14 @@ def test_every_report_language_has_its_word():
         t = translator(language, REGISTRY.catalogs)
         html = add_equation_legends(_section("kinematics", _equation("<i>L</i> = 1")), t, language)
         assert _legends(html)[0].startswith(word + " L – ")
+
+
+def test_a_delta_or_a_prime_makes_another_quantity():
+    # ΔL (the excess work) is not L (the rod's length); p_i′ is not p_i; Δα_0i is not α
+    assert symbols_in("Δ<i>L</i> = <i>W</i><sub>max</sub>", "uk", "flywheel") == ["excess_work"]
+    assert symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator") == ["theoretical_mean_indicated_pressure"]
+    assert symbols_in("<i>α</i><sub><i>i</i></sub> = <i>α</i> − Δ<i>α</i><sub>0<i>i</i></sub>", "uk", "torque") == [
+        "cylinder_crank_angle", "crank_angle", "cycle_delay"]
+    # the bare p: the gas pressure, but the bearing pressure in the bearings section
+    assert symbols_in("<i>p</i> = 1", "uk", "indicator") == ["cylinder_pressure"]
+    assert symbols_in("<i>p</i> = 1", "uk", "bearings") == ["bearing_pressure"]

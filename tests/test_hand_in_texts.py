@@ -46,7 +46,7 @@ def test_the_balancing_section_of_one_cylinder_speaks_of_one_cylinder(reports):
 
 def test_the_resultants_motion_is_said_in_words(reports):
     one = reports("petrol-1cyl-uk")
-    assert "Рух результуючої" in one and "пульсує вздовж прямої" in one
+    assert "Рух рівнодійної" in one and "пульсує вздовж прямої" in one
     assert "уздовж прямої</td>" not in one.replace("пульсує вздовж прямої", "")
     assert "Півосі годографа, велика / мала" in one
 

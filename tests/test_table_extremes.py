@@ -64,7 +64,7 @@ def test_the_report_shows_the_peak_pressure_row_in_bold_and_names_it(tmp_path):
     # each table names the extremes of its own columns: p_г and n in 5.1, q in 5.2, t in both
     assert "найбільша тангенціальна сила" in notes["5.1"] and "найбільша тангенціальна сила" in notes["5.2"]
     assert "тиск газів" in notes["5.1"] and "тиск газів" not in notes["5.2"] and "бокова сила" in notes["5.1"]
-    assert "α = 1° – найбільша результуюча сила q" in notes["5.2"]  # the conclusions' angle has its row
+    assert "α = 1° – найбільша рівнодійна сила q" in notes["5.2"]  # the conclusions' angle has its row
     assert "Примітка. Крім рядків із кроком 30°" in notes["4.1"]
     table_41 = html[html.index('data-number="4.1"'):]
     table_41 = table_41[:table_41.index("</table>")]

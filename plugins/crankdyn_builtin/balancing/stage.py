@@ -719,8 +719,10 @@ def _conclude(ctx, r) -> None:
             f"{_plain_symbol(s, '')} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
+        # the textbook's coefficient is the sum over its scale (ΣP_II/C_II = 4,000), beside its amplitude
         ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(
-            f"{_plain_symbol(s)} = {ctx.num(s['coefficient'], 4)}{_absolute(ctx, r, s)}" for s in unbalanced)))
+            f"{_plain_symbol(s)}/{_scale_symbol(s)} = {ctx.num(s['coefficient'], 4)}{_absolute(ctx, r, s)}"
+            for s in unbalanced)))
     else:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
@@ -728,13 +730,13 @@ def _conclude(ctx, r) -> None:
 
 
 def _absolute(ctx, r, item) -> str:
-    """ " (9426 N)": an unbalanced sum's amplitude, or a moment's, beside its textbook coefficient."""
+    """ " (ΣP_II = 9426 N)": an unbalanced sum's amplitude, or a moment's, beside its textbook coefficient."""
     force = item["quantity"].startswith("sum_")
     value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
     if value is None:
         return ""
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
-    return f" ({ctx.num(value, 4)} {unit})"
+    return f" ({_plain_symbol(item)} = {ctx.num(value, 4)} {unit})"
 
 
 def _in_words(t, n: int) -> dict[str, str]:
@@ -786,6 +788,14 @@ def _summary_symbol(s) -> Markup:
     if kind == "sum":
         return Markup("Σ<i>C</i>" if base == "C" else "Σ<i>P</i><sub>" + base[1:] + "</sub>")
     return Markup("Σ<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
+
+
+def _scale_symbol(s) -> str:
+    """What table 6.3 divides a sum by: C_n (C for the centrifugal forces), and a moment also by a."""
+    kind, base = s["quantity"].split("_", 1)
+    order = base[1:] if base.startswith("P") else ""
+    scale = f"C_{order}" if order else "C"
+    return scale if kind == "sum" else f"({scale}·a)"
 
 
 def _plain_symbol(s, sum_sign: str = "Σ") -> str:

@@ -574,7 +574,7 @@ def _solver_table(ctx, records, caption, twist=False):
     rows = [r for r in records if not r.get("reference")]
     columns = [
         (t("speed_fluctuation.col_method"), [r["method"] for r in rows], None),
-        ("rtol", [_sci(r["rtol"], t.decimal_separator).replace("1,0·", "").replace("1.0·", "") for r in rows], None),
+        (t("speed_fluctuation.col_rtol"), [_sci(r["rtol"], t.decimal_separator).replace("1,0·", "").replace("1.0·", "") for r in rows], None),
         (t("speed_fluctuation.col_steps"), [_steps_text(ctx, r) for r in rows], None),
         (t("speed_fluctuation.col_nfev"), [str(r["nfev"]) for r in rows], None),
         (t("speed_fluctuation.col_njev"), [f"{r['njev']}/{r['nlu']}" for r in rows], None),

@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html, symbol_sub, symbol_unit
+from .typeset import SYMBOLS, symbol_html, symbol_unit
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -41,8 +41,10 @@ def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], .
     out = []
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
-        tail = "(?![′″])" if symbol_sub(key, language) else "(?!<sub>|[′″])"
-        out.append((key, re.compile(re.escape(markup) + tail), symbol.sections,
+        has_sub = "<sub>" in markup
+        tail = "(?![′″])" if has_sub else "(?!<sub>|[′″])"
+        head = "" if markup.startswith("Δ") else "(?<!Δ)"  # ΔL is not L
+        out.append((key, re.compile(head + re.escape(markup) + tail), symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 

@@ -33,6 +33,8 @@ class Symbol:
     #: a second meaning of a letter that one calculation gives it (δ: the expansion ratio, and the
     #: irregularity in the flywheel sections): listed only when one of these sections is present
     sections: tuple[str, ...] = ()
+    #: the markup, where the symbol is more than a letter with a subscript (Δ<i>L</i>, p_i′)
+    html: str = ""
 
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
@@ -124,6 +126,20 @@ SYMBOLS: dict[str, Symbol] = {
     "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
     "material_density": Symbol("ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"),
     "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=("flywheel", "speed_fluctuation")),
+    # the quantities of the equations that the "де …" lines explain (crankdyn.report.equation_legend)
+    "cylinder_pressure": Symbol("p", {}, "unit.MPa", "symbol.cylinder_pressure"),
+    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=("bearings",)),
+    "cylinder_volume": Symbol("V", {}, "unit.l", "symbol.cylinder_volume"),
+    "theoretical_mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.theoretical_mean_indicated_pressure",
+                                                  html="<i>p</i><sub>i</sub>′"),
+    "piston_velocity_max": Symbol("v", {"en": "max"}, "unit.m_s", "symbol.piston_velocity_max"),
+    "piston_acceleration_max": Symbol("j", {"en": "max"}, "unit.m_s2", "symbol.piston_acceleration_max"),
+    "piston_acceleration_min": Symbol("j", {"en": "min"}, "unit.m_s2", "symbol.piston_acceleration_min"),
+    "cylinder_crank_angle": Symbol("α", {"en": "i"}, "°", "symbol.cylinder_crank_angle",
+                                   html="<i>α</i><sub><i>i</i></sub>"),
+    "cycle_delay": Symbol("α", {"en": "0i"}, "°", "symbol.cycle_delay", html="Δ<i>α</i><sub>0<i>i</i></sub>"),
+    "accumulated_work": Symbol("W", {}, "unit.J", "symbol.accumulated_work"),
+    "excess_work": Symbol("L", {}, "unit.J", "symbol.excess_work", html="Δ<i>L</i>"),
 }
 
 
@@ -146,6 +162,8 @@ def symbol_sub(key: str, language: str) -> str:
 def symbol_html(key: str, language: str) -> str:
     """``<i>s</i><sub>п</sub>``: the symbol as HTML markup."""
     s = SYMBOLS[key]
+    if s.html:
+        return s.html
     sub = symbol_sub(key, language)
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
@@ -158,8 +176,9 @@ def symbols_used(html: str, language: str) -> list[str]:
     for key in SYMBOLS:
         if SYMBOLS[key].sections and not any(f'data-stage="{s}"' in html for s in SYMBOLS[key].sections):
             continue
-        markup = re.escape(symbol_html(key, language))
-        if re.search(markup if symbol_sub(key, language) else markup + "(?!<sub>)", html):
+        html_of = symbol_html(key, language)
+        markup = ("" if html_of.startswith("Δ") else "(?<!Δ)") + re.escape(html_of)
+        if re.search(markup if "<sub>" in html_of else markup + "(?!<sub>)", html):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language))
 
