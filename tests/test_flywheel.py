@@ -176,3 +176,18 @@ def test_flywheel_table_needs_something_to_do():
     with pytest.raises(SceneError) as info:
         run("petrol-1cyl", {"flywheel": {"required_irregularity": 0.01, "engine_inertia": "0.01 kg"}})
     assert info.value.problems[0].field == "flywheel.engine_inertia"
+
+
+@pytest.mark.parametrize("changes, shown", [
+    ({}, False),  # sized for [δ]: its δ is [δ] again, no row of its own
+    ({"flywheel": {"required_irregularity": None, "inertia": "0.2 kg*m^2", "rim_mean_diameter": None,
+                   "max_rim_speed": None}}, True),  # a given flywheel: its δ is a result
+    ({"flywheel": {"required_irregularity": 0.2, "rim_mean_diameter": None, "max_rim_speed": None}}, True),
+])
+def test_the_table_lists_delta_only_where_it_is_a_result(changes, shown):
+    from crankdyn.report.document import render_html
+
+    result = run("inline4-petrol", changes)
+    html = render_html(result, REGISTRY, "en").linked_html
+    section = html[html.index('data-stage="flywheel"'):html.index('data-stage="speed_fluctuation"')]
+    assert ("Cyclic irregularity (energy method)" in section) is shown

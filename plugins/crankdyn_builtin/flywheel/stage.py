@@ -245,7 +245,11 @@ def render(output: StageOutput, ctx) -> str:
     if r["flywheel_given"]:
         rows.append((t("flywheel.row_given_flywheel"), "<i>J</i><sub>f</sub>", r["flywheel_inertia_kg_m2"],
                      t("flywheel.unit_kg_m2")))
-    rows.append((t("flywheel.row_delta"), "<i>δ</i>", r["irregularity"], "—"))
+    # a flywheel sized for [δ] gives [δ] back: the row says something only for a given flywheel,
+    # or where the engine's own inertia already keeps δ below [δ]
+    required = r["required_irregularity"]
+    if r["flywheel_given"] or required is None or abs(r["irregularity"] - required) > 1e-9 * required:
+        rows.append((t("flywheel.row_delta"), "<i>δ</i>", r["irregularity"], "—"))
     rim = r["rim"]
     if rim is not None:
         rows += [(t("flywheel.row_rim_mean_diameter"), "<i>D</i><sub>m</sub>", rim["mean_diameter_m"] * 1e3,
