@@ -83,3 +83,32 @@ def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, ca
     html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
     seen = html.replace("\u202f", " ").replace("\u00a0", " ")  # numbers kept on the line of their unit
     assert "середня швидкість поршня 100 м/с перевищує 25 м/с" in seen
+
+
+def test_a_ukrainian_report_of_latin_title_texts_is_warned_about_on_the_terminal(tmp_path, capsys):
+    from crankdyn.plausibility import language_warnings
+
+    english = scene_from_dict(modified("inline4-petrol", {"report": {"language": "uk"}}), base_dir=examples_dir())
+    (key, params), = language_warnings(english)
+    assert key == "plausibility.latin_texts" and params["language"] == "uk"
+    assert params["fields"].split(", ")[:2] == ["report.title", "report.subtitle"]
+    assert "engine.name" in params["fields"]
+    assert language_warnings(load_scene(examples_dir() / "petrol-1cyl-uk.toml")) == []  # Cyrillic texts
+    assert language_warnings(load_scene(examples_dir() / "inline4-petrol.toml")) == []  # an English report
+    assert main(["report", str(examples_dir() / "inline4-petrol.toml"), "-o", str(tmp_path / "out"),
+                 "--format", "json", "-q", "--lang", "uk"]) == 0
+    assert "report.title, report.subtitle" in capsys.readouterr().err
+
+
+def test_a_scene_without_a_title_gets_the_report_languages_default_title():
+    from crankdyn.orchestrator import run_scene
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.document import render_html
+
+    data = modified("petrol-1cyl-uk", {})
+    data["report"].pop("title", None)
+    scene = scene_from_dict(data, base_dir=examples_dir())
+    registry = default_registry()
+    html = render_html(run_scene(scene, registry, requested=["kinematics"]), registry).linked_html
+    assert "Динамічний розрахунок поршневого двигуна" in html
+    assert "Dynamic calculation of a piston engine" not in html

@@ -11,6 +11,7 @@ diesels; the rod's centre of mass between its big end and the rod's middle).
 
 from __future__ import annotations
 
+import re
 from typing import Any
 from pydantic import BaseModel
 from .report.i18n import translator
@@ -62,6 +63,31 @@ def warnings(scene, result=None) -> list[tuple[str, dict[str, Any]]]:
             found.append(("plausibility.rod_cm", {"fraction": fraction, "low": ROD_CM_FRACTION_RANGE[0],
                                                   "high": ROD_CM_FRACTION_RANGE[1]}))
     return found
+
+
+_LATIN = re.compile(r"[A-Za-z]")
+_CYRILLIC = re.compile(r"[\u0400-\u04FF]")
+#: The scene's own texts that a report prints as they are (title page, assignment, abstract).
+_PRINTED_TEXTS = ("report.title", "report.subtitle", "report.ministry", "report.university", "report.department",
+                  "report.discipline", "report.student", "report.supervisor", "report.city", "engine.name")
+
+
+def language_warnings(scene) -> list[tuple[str, dict[str, Any]]]:
+    """A Ukrainian or Russian report whose scene gives its title page's texts in Latin letters
+    only (an English example run with ``--lang uk``): the report prints them as written. For the
+    terminal only; the report itself says nothing of it."""
+    language = scene.report.language
+    if language not in ("uk", "ru"):
+        return []
+    latin = []
+    for name in _PRINTED_TEXTS:
+        table, field = name.split(".")
+        owner = getattr(scene, table)
+        value = getattr(owner, field, None)
+        if field in owner.model_fields_set and isinstance(value, str) and _LATIN.search(value) \
+                and not _CYRILLIC.search(value):
+            latin.append(name)
+    return [("plausibility.latin_texts", {"fields": ", ".join(latin), "language": language})] if latin else []
 
 
 def _peak_pressure_Pa(scene, result) -> float | None:

@@ -20,7 +20,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number as _number, options, quantity as _quantity
 from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn_builtin.flywheel.worked import worked_flywheel
+from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -245,10 +245,7 @@ def render(output: StageOutput, ctx) -> str:
     if r["flywheel_given"]:
         rows.append((t("flywheel.row_given_flywheel"), "<i>J</i><sub>f</sub>", r["flywheel_inertia_kg_m2"],
                      t("flywheel.unit_kg_m2")))
-    # a flywheel sized for [δ] gives [δ] back: the row says something only for a given flywheel,
-    # or where the engine's own inertia already keeps δ below [δ]
-    required = r["required_irregularity"]
-    if r["flywheel_given"] or required is None or abs(r["irregularity"] - required) > 1e-9 * required:
+    if irregularity_is_a_result(r):
         rows.append((t("flywheel.row_delta"), "<i>δ</i>", r["irregularity"], "—"))
     rim = r["rim"]
     if rim is not None:

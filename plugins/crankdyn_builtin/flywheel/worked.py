@@ -9,8 +9,15 @@ from markupsafe import Markup
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup
 
 
+def irregularity_is_a_result(r) -> bool:
+    """Whether δ is a result to show: a flywheel sized for [δ] gives [δ] back; δ says something for a
+    given flywheel, or where the engine's own inertia already keeps it below [δ]."""
+    required = r["required_irregularity"]
+    return r["flywheel_given"] or required is None or abs(r["irregularity"] - required) > 1e-9 * required
+
+
 def worked_flywheel(ctx, r) -> Markup:
-    """J_0 = ΔL/([δ]ω²), J_f = J_0 − J_m − J_e (when a δ is required) and δ = ΔL/(Jω²)."""
+    """J_0 = ΔL/([δ]ω²), J_f = J_0 − J_m − J_e (when a δ is required) and δ = ΔL/(Jω²) (when δ is a result)."""
     t = ctx.t
     excess_txt, excess = printed(t, r["excess_work_J"])  # as the results table prints them
     w_txt, w = printed(t, r["angular_velocity_rad_s"], 5)
@@ -36,8 +43,9 @@ def worked_flywheel(ctx, r) -> Markup:
                        "<i>J</i><sub>0</sub> − <i>J</i><sub>m</sub> − <i>J</i><sub>e</sub>",
                        f"{j0_txt} − {jm_txt} − {je_txt}", r["required_flywheel_inertia_kg_m2"], 0, unit, inputs,
                        significant=4, exact=exact))
-    steps.append(WorkedStep("irregularity", "<i>δ</i>", "Δ<i>L</i>/(<i>J</i> <i>ω</i><sub>m</sub><sup>2</sup>)",
-                            f"{excess_txt}/({jt_txt}·{w_txt}<sup>2</sup>)", r["irregularity"], 0, "", inputs,
-                            significant=4, exact=exact))
+    if irregularity_is_a_result(r):
+        steps.append(WorkedStep("irregularity", "<i>δ</i>", "Δ<i>L</i>/(<i>J</i> <i>ω</i><sub>m</sub><sup>2</sup>)",
+                                f"{excess_txt}/({jt_txt}·{w_txt}<sup>2</sup>)", r["irregularity"], 0, "", inputs,
+                                significant=4, exact=exact))
     return worked_markup(ctx, WorkedBlock("flywheel", ctx.last_table_number, None, steps,
                                           note=t("flywheel.worked_total")))

@@ -240,20 +240,32 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
               for s in result.plan.order if s.name in result.timing_s]
     css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
                     for p in template_search_path([])[:1])
+    title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
-        _=t, num=ctx.num, scene=scene, meta=scene.report, sections=sections, notes=notes,
+        _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
         timing=timing, skipped=skipped, appendices=appendices, course=course,
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
         findings=ctx.findings,
     )
-    html = _fill_counts(html, t, len(references))
-    html = typeset_html(html, language, report_units(t), t.decimal_separator)
-    html = add_equation_legends(html, t, language)
-    html = _fill_symbol_list(html, t, language)
+    html = _finish(html, t, language, len(references))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+def _title(scene, t) -> str:
+    """The scene's title; a scene without one gets the report language's (the model's default is English)."""
+    return scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
+
+
+def _finish(html: str, t, language: str, sources: int) -> str:
+    """What needs the whole document: the abstract's counts, the typesetting, the equations'
+    "where" lines and the list of the symbols shown."""
+    html = _fill_counts(html, t, sources)
+    html = typeset_html(html, language, report_units(t), t.decimal_separator)
+    html = add_equation_legends(html, t, language)
+    return _fill_symbol_list(html, t, language)
 
 
 _LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
