@@ -103,3 +103,23 @@ def test_a_delta_or_a_prime_makes_another_quantity():
     # the bare p: the gas pressure, but the bearing pressure in the bearings section
     assert symbols_in("<i>p</i> = 1", "uk", "indicator") == ["cylinder_pressure"]
     assert symbols_in("<i>p</i> = 1", "uk", "bearings") == ["bearing_pressure"]
+
+
+def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
+    # k in sin^{2k} and the n of C_n are indices; t and z in e_{t,i} name axes; R_j in bold is a
+    # vector; but the exponent n_1 of a polytrope is the polytropic index
+    assert symbols_in("sin<sup>2<i>k</i></sup> <i>α</i>", "uk", "forces") == ["crank_angle"]
+    assert symbols_in("<i>C</i><sub><i>n</i></sub>", "uk", "balancing") == []
+    assert symbols_in("<b><i>e</i></b><sub><i>t</i>,<i>i</i></sub>", "uk", "bearings") == []
+    assert symbols_in("<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings") == []
+    assert symbols_in("<i>p</i><sub>a</sub>(<i>V</i><sub>a</sub>/<i>V</i>)<sup><i>n</i><sub>1</sub></sup>", "uk",
+                      "indicator") == ["intake_end_pressure", "total_volume", "cylinder_volume", "compression_polytrope"]
+
+
+def test_a_mechanism_of_its_own_letters_gets_no_legend():
+    # the vane engine's β is its rotor tail's angle, not a connecting rod's: Stage.legend = False
+    html = add_equation_legends(_section("vane", _equation("<i>β</i> = 1")), translator("uk", REGISTRY.catalogs),
+                                "uk", frozenset({"vane"}))
+    assert _legends(html) == []
+    assert not REGISTRY.stages["vane"].legend and not REGISTRY.stages["planetary"].legend
+    assert REGISTRY.stages["forces"].legend

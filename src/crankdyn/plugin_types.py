@@ -280,6 +280,9 @@ class Stage:
     input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
                 given data of this stage's own scene table that the report's first table (the
                 task's data) lists after the engine's, translated by ``ctx.t``; None: none.
+    legend:     whether the core's symbol table explains this section's equations (the "де …"
+                lines, ``crankdyn.report.equation_legend``); False for a mechanism whose letters
+                mean its own members (a vane engine's β is not a connecting rod's angle).
     """
 
     name: str
@@ -303,6 +306,7 @@ class Stage:
     figures: tuple[str, ...] = ()
     tables: tuple[str, ...] = ()
     input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
+    legend: bool = True
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:

@@ -493,6 +493,7 @@ PLANETARY_STAGE = Stage(
     template_dir=TEMPLATES,
     name="planetary",
     title_key="planetary.title",
+    legend=False,  # its letters name its own members (carrier, planet, rotor), not a crank-slider's
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,

@@ -349,6 +349,7 @@ VANE_STAGE = Stage(
     template_dir=TEMPLATES,
     name="vane",
     title_key="vane.title",
+    legend=False,  # its letters name its own members (carrier, planet, rotor), not a crank-slider's
     requires=(),
     provides=(),
     applies=applies,

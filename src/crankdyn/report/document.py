@@ -249,7 +249,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
         findings=ctx.findings,
     )
-    html = _finish(html, t, language, len(references))
+    html = _finish(html, t, language, len(references),
+                   frozenset(s.name for s in result.plan.order if not s.legend))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
 
@@ -259,12 +260,12 @@ def _title(scene, t) -> str:
     return scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
 
 
-def _finish(html: str, t, language: str, sources: int) -> str:
+def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str]) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown."""
     html = _fill_counts(html, t, sources)
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
-    html = add_equation_legends(html, t, language)
+    html = add_equation_legends(html, t, language, without_legend)
     return _fill_symbol_list(html, t, language)
 
 

@@ -43,21 +43,30 @@ def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], .
         markup = symbol_html(key, language)
         has_sub = "<sub>" in markup
         tail = "(?![′″])" if has_sub else "(?!<sub>|[′″])"
-        head = "" if markup.startswith("Δ") else "(?<!Δ)"  # ΔL is not L
+        # ΔL is not L; a bold letter is a vector or a matrix (R_j, q_ш.ш), not the scalar of the table
+        head = "(?<!<b>)" + ("" if markup.startswith("Δ") else "(?<!Δ)")
         out.append((key, re.compile(head + re.escape(markup) + tail), symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 
 
+_SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
+
+
 def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
-    """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance."""
+    """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
+    A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
+    not the quantity; a symbol with its own subscript there is one (the exponent n_1)."""
+    scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
     for key, pattern, only_in, not_in in _patterns(language):
         if (only_in and stage not in only_in) or stage in not_in:
             continue
-        match = pattern.search(formula_html)
-        if match is not None:
-            found.append((match.start(), key))
+        bare = "<sub>" not in symbol_html(key, language)
+        for match in pattern.finditer(formula_html):
+            if not (bare and any(start < match.start() < end for start, end in scripts)):
+                found.append((match.start(), key))
+                break
     return [key for _, key in sorted(found)]
 
 
@@ -78,8 +87,9 @@ def legend_html(keys: list[str], t, language: str) -> str:
             f'<span class="where-lines">{"<br>".join(lines)}</span></p>')
 
 
-def add_equation_legends(html: str, t, language: str) -> str:
-    """``html`` with a "where" paragraph after each equation that shows symbols not explained before."""
+def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset()) -> str:
+    """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
+    none in the sections of ``skip_stages`` (``Stage.legend`` False)."""
     explained: set[str] = set()
     stage = ""
     parts = []
@@ -87,6 +97,8 @@ def add_equation_legends(html: str, t, language: str) -> str:
     for match in _SECTION_OR_EQUATION.finditer(html):
         if match.group("stage") is not None:
             stage = match.group("stage")
+            continue
+        if stage in skip_stages:
             continue
         new = [key for key in symbols_in(match.group("formula"), language, stage) if key not in explained]
         if not new:

@@ -443,7 +443,8 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     geometry = upright(front_view(geometry))
     limits = _limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
-    cols = 3 if aspect < 1.2 else 6
+    # a tall (upright) mechanism side by side: as many columns as frames, so each is as large as fits
+    cols = 3 if aspect < 1.2 else max(1, min(6, len(frames)))
     rows = (len(frames) + cols - 1) // cols
     fig, axes = new_figure(16, min(16.0 / cols * aspect + 1.0, 11.0) * rows, nrows=rows, ncols=cols)
     flat = np.atleast_1d(axes).ravel()

@@ -86,9 +86,9 @@ SYMBOLS: dict[str, Symbol] = {
     "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
-    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific"),
+    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=("forces", "bays")),
     # the textbook's n is also the crank speed: in the forces section it is the side force
-    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=("forces",)),
+    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=("forces", "bays")),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
