@@ -46,8 +46,8 @@ def test_a_symbol_is_explained_under_its_first_equation_only(uk):
     html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + "<p>text</p>"
                     + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"))
     legends = _legends(add_equation_legends(html, uk, "uk"))
-    assert legends == ["де R – радіус кривошипа, мм; | S – хід поршня, мм.",
-                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, мм."]
+    assert legends == ["де R – радіус кривошипа, м; | S – хід поршня, м.",
+                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, м."]
     # the paragraph follows its equation, before the text after it
     out = add_equation_legends(html, uk, "uk")
     assert out.index("(1.1)") < out.index("де ") < out.index("<p>text</p>")
@@ -123,3 +123,15 @@ def test_a_mechanism_of_its_own_letters_gets_no_legend():
     assert _legends(html) == []
     assert not REGISTRY.stages["vane"].legend and not REGISTRY.stages["planetary"].legend
     assert REGISTRY.stages["forces"].legend
+
+
+def test_the_lines_give_the_si_units_the_equation_is_evaluated_in(uk):
+    # M_k = t R F_p holds in Pa, m and m² (the worked substitutions use them), not in the tables'
+    # MPa, mm and cm²; a litre is a cubic metre here, a unit already SI stays
+    html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
+                                        "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>"))
+    line = _legends(add_equation_legends(html, uk, "uk"))[0]
+    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
+                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
+                 "ms – маса частин, що рухаються поступально, кг."):
+        assert part in line.replace("&#39;", "'"), part

@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html, symbol_unit
+from .typeset import SYMBOLS, symbol_html
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -70,12 +70,23 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     return [key for _, key in sorted(found)]
 
 
+#: The tables' units and the SI units an equation is evaluated in (Mк = t R Fп holds in Pa, m and m²,
+#: not in MPa, mm and cm²): the "where" lines give the latter, as the worked substitutions use them.
+_SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "unit.MPa": "unit.Pa"}
+
+
+def _si_unit(key: str, t) -> str:
+    unit = SYMBOLS[key].unit
+    unit = _SI_UNITS.get(unit, unit)
+    return t(unit) if unit.startswith("unit.") else unit
+
+
 def legend_html(keys: list[str], t, language: str) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
     stop after the last."""
     lines = []
     for k, key in enumerate(keys):
-        unit = symbol_unit(key, t)
+        unit = _si_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)
