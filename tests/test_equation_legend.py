@@ -135,3 +135,11 @@ def test_the_lines_give_the_si_units_the_equation_is_evaluated_in(uk):
                  "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
                  "ms – маса частин, що рухаються поступально, кг."):
         assert part in line.replace("&#39;", "'"), part
+
+
+def test_a_product_in_one_italic_run_is_read_letter_by_letter():
+    # v = Rω sin(α + β): ω stands before α
+    assert symbols_in("<i>v</i><sub>п</sub> = <i>Rω</i> sin(<i>α</i> + <i>β</i>)", "uk", "kinematics") == [
+        "piston_velocity", "crank_radius", "crank_angular_velocity", "crank_angle", "rod_angle"]
+    assert symbols_in("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>", "uk", "forces") == [
+        "crank_torque", "tangential_specific", "crank_radius", "piston_area"]

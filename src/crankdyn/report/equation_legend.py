@@ -51,12 +51,16 @@ def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], .
 
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
+_ITALIC_RUN = re.compile(r"<i>([^<]{2,})</i>")
 
 
 def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
     not the quantity; a symbol with its own subscript there is one (the exponent n_1)."""
+    # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter
+    formula_html = _ITALIC_RUN.sub(lambda m: "".join(c if c.isspace() else f"<i>{c}</i>" for c in m.group(1)),
+                                   formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
     for key, pattern, only_in, not_in in _patterns(language):
