@@ -637,11 +637,17 @@ def _summary_table(ctx, r):
         (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
         (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
                                 for s in rows], None),
-        (t("balancing.remedy"), [" + ".join(t("balancing.remedy_" + p) for p in s["remedy"].split("+"))
-                                 for s in rows], None),
+        (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
     ], caption=t("balancing.summary_caption"))
 
     return summary_table
+
+
+def _remedy_text(t, remedy: str) -> str:
+    """The means of one order in words: a Lanchester pair named as such, several means joined by "і"."""
+    if remedy == "shaft_forward+shaft_backward":
+        return t("balancing.remedy_shaft_pair")
+    return t("balancing.means_and").join(t("balancing.remedy_" + part) for part in remedy.split("+"))
 
 
 def _means_table(ctx, r):
