@@ -143,3 +143,12 @@ def test_a_product_in_one_italic_run_is_read_letter_by_letter():
         "piston_velocity", "crank_radius", "crank_angular_velocity", "crank_angle", "rod_angle"]
     assert symbols_in("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>", "uk", "forces") == [
         "crank_torque", "tangential_specific", "crank_radius", "piston_area"]
+
+
+def test_the_flywheel_equations_explain_their_own_quantities(uk):
+    # ½J(ω_max² − ω_min²) = ΔL: J, ω_max and ω_min are explained under it, in that order
+    html = _section("flywheel", _equation("½<i>J</i>(<i>ω</i><sub>max</sub><sup>2</sup> − <i>ω</i><sub>min</sub>"
+                                          "<sup>2</sup>) = Δ<i>L</i>"))
+    line = _legends(add_equation_legends(html, uk, "uk"))[0]
+    assert line.startswith("де J – зведений до колінчастого вала момент інерції")
+    assert line.index("ωmax –") < line.index("ωmin –") < line.index("ΔL –")

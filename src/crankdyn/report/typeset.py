@@ -140,6 +140,11 @@ SYMBOLS: dict[str, Symbol] = {
     "cycle_delay": Symbol("α", {"en": "0i"}, "°", "symbol.cycle_delay", html="Δ<i>α</i><sub>0<i>i</i></sub>"),
     "accumulated_work": Symbol("W", {}, "unit.J", "symbol.accumulated_work"),
     "excess_work": Symbol("L", {}, "unit.J", "symbol.excess_work", html="Δ<i>L</i>"),
+    "reduced_inertia": Symbol("J", {}, "unit.kg_m2", "symbol.reduced_inertia"),
+    "angular_velocity_max": Symbol("ω", {"en": "max"}, "unit.rad_s", "symbol.angular_velocity_max"),
+    "angular_velocity_min": Symbol("ω", {"en": "min"}, "unit.rad_s", "symbol.angular_velocity_min"),
+    "rim_stress": Symbol("σ", {}, "unit.MPa", "symbol.rim_stress"),
+    "kinetic_energy": Symbol("E", {}, "unit.J", "symbol.kinetic_energy"),
 }
 
 
