@@ -172,7 +172,8 @@ def wear_diagram(contact_t, contact_z, weight, spread_deg: float = 60.0, resolut
     for _ in range(3):
         last -= ~covered(last)
     hit = covered(first) & (last >= first)
-    start, end = np.mod(first[hit], points), np.mod(first[hit], points) + (last - first + 1)[hit]
+    start = np.mod(first[hit], points)
+    end = start + (last - first + 1)[hit]
     wear = np.cumsum(_run_starts_and_ends(start, end, weight[hit], points))
     # where no load presses, exactly nothing (the cumulative sum would leave its rounding there)
     pressed = np.cumsum(_run_starts_and_ends(start, end, np.ones(start.size), points))

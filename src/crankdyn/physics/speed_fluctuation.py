@@ -210,7 +210,6 @@ class PowerSum:
 
     def __init__(self, coefficients):
         c = np.asarray(coefficients, dtype=complex).reshape(-1)
-        self.width = c.size
         self.block = max(1, math.isqrt(max(c.size - 1, 0)) + 1)
         rows = -(-c.size // self.block)
         padded = np.zeros(rows * self.block, dtype=complex)

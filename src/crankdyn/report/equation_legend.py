@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html
+from .typeset import SYMBOLS, symbol_html, symbol_pattern
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -30,10 +30,12 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], ...]:
-    """(key, pattern, sections) per symbol: its markup, not followed by a prime, nor (for a symbol
-    without a subscript) by a subscript; and a symbol without sections is not read in the sections
-    where another symbol of the same markup takes over."""
+def _patterns(language: str) -> tuple[tuple[str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
+    """(key, pattern, bare, only in sections, not in sections) per symbol. The pattern is the symbol
+    table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
+    bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
+    own. A symbol without sections is not read in the sections where another of the same markup
+    takes over."""
     taken_over: dict[str, set[str]] = {}
     for key, symbol in SYMBOLS.items():
         if symbol.sections:
@@ -41,11 +43,8 @@ def _patterns(language: str) -> tuple[tuple[str, re.Pattern, tuple[str, ...]], .
     out = []
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
-        has_sub = "<sub>" in markup
-        tail = "(?![′″])" if has_sub else "(?!<sub>|[′″])"
-        # ΔL is not L; a bold letter is a vector or a matrix (R_j, q_ш.ш), not the scalar of the table
-        head = "(?<!<b>)" + ("" if markup.startswith("Δ") else "(?<!Δ)")
-        out.append((key, re.compile(head + re.escape(markup) + tail), symbol.sections,
+        pattern = re.compile(symbol_pattern(key, language, head="(?<!<b>)", tail="(?![′″])"))
+        out.append((key, pattern, "<sub>" not in markup, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 
@@ -63,10 +62,9 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
                                    formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
-    for key, pattern, only_in, not_in in _patterns(language):
+    for key, pattern, bare, only_in, not_in in _patterns(language):
         if (only_in and stage not in only_in) or stage in not_in:
             continue
-        bare = "<sub>" not in symbol_html(key, language)
         for match in pattern.finditer(formula_html):
             if not (bare and any(start < match.start() < end for start, end in scripts)):
                 found.append((match.start(), key))

@@ -173,6 +173,16 @@ def symbol_html(key: str, language: str) -> str:
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
 
+def symbol_pattern(key: str, language: str, head: str = "", tail: str = "") -> str:
+    """The regular expression of symbol ``key``'s markup: not after a Δ (ΔL is not L, unless the
+    symbol is the Δ one), and a symbol without a subscript not followed by one (ω is not ω_ш);
+    ``head``/``tail``: further look-behind and look-ahead conditions."""
+    markup = symbol_html(key, language)
+    head += "" if markup.startswith("Δ") else "(?<!Δ)"
+    tail = tail if "<sub>" in markup else "(?!<sub>)" + tail
+    return head + re.escape(markup) + tail
+
+
 def symbols_used(html: str, language: str) -> list[str]:
     """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
@@ -181,9 +191,7 @@ def symbols_used(html: str, language: str) -> list[str]:
     for key in SYMBOLS:
         if SYMBOLS[key].sections and not any(f'data-stage="{s}"' in html for s in SYMBOLS[key].sections):
             continue
-        html_of = symbol_html(key, language)
-        markup = ("" if html_of.startswith("Δ") else "(?<!Δ)") + re.escape(html_of)
-        if re.search(markup if "<sub>" in html_of else markup + "(?!<sub>)", html):
+        if re.search(symbol_pattern(key, language), html):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language))
 
