@@ -8,8 +8,9 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
+from .aside import aside
 from .errors import PluginError, Problem, SceneError
-from .plugin_types import SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput, declared
+from .plugin_types import SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput, declared
 from .plugins import Registry
 from .scene import Scene, options
 
@@ -238,7 +239,8 @@ def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:
     if registry is None:
         raise PluginError(f"stage {stage.name!r} needs {list(stage.services)}, but the plan has no registry")
     known = {SERVICE_RUNNER: lambda: Runner(registry),
-             SERVICE_ERROR_PROBES: lambda: list(registry.error_probes.values())}
+             SERVICE_ERROR_PROBES: lambda: list(registry.error_probes.values()),
+             SERVICE_ASIDE: lambda: aside}
     unknown = [s for s in stage.services if s not in known]
     if unknown:
         raise PluginError(f"stage {stage.name!r} asks for unknown services {unknown}; known: {sorted(known)}")

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import outputs
+from .aside import spare_core
 from .background import start_studies
 from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
@@ -123,9 +124,12 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     # One report on its own (not a batch's variant, which shares the cores with the other
     # variants, nor the preview's cached run): the studies are computed in a forked child while
     # the report is rendered (crankdyn.background).
-    aside = (cache is None and figure_workers is None and (os.cpu_count() or 1) > 1
-             and any(f in formats for f in ("html", "pdf", "docx")))
-    with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
+    alone = cache is None and figure_workers is None
+    renders = any(f in formats for f in ("html", "pdf", "docx"))
+    aside = alone and (os.cpu_count() or 1) > 1 and renders
+    # Nothing to render (JSON, CSV, XLSX): the second core is spare while the stages run, and a
+    # study computes its independent parts there (crankdyn.aside).
+    with frozen_heap(), spare_core(alone and not renders):
         result = run_scene(scene, registry, stages, languages, cache=cache, defer_studies=aside)
         try:
             if aside:

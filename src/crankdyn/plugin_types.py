@@ -267,7 +267,8 @@ class Stage:
                 (in the key they follow the stages' requires/provides order, then the
                 order given here).
     services:   objects the orchestrator passes in ``inputs`` (``SERVICE_RUNNER``,
-                ``SERVICE_ERROR_PROBES``, see below); a stage never builds its own registry.
+                ``SERVICE_ERROR_PROBES``, ``SERVICE_ASIDE``, see below); a stage never builds
+                its own registry, nor decides on its own to use another core.
     figures:    the names of the figures ``render`` may draw (the ``name`` of each
                 ``ctx.figure(fig, caption, name)``; the file is figures/fig_<number>_<name>.svg).
                 A ``*`` stands for any text, for a figure drawn once per cylinder or bearing
@@ -322,7 +323,10 @@ def declared(name: str, declarations: tuple[str, ...]) -> bool:
 SERVICE_RUNNER = "crankdyn:runner"
 #: the :class:`ErrorProbe` s every plugin registered with the ``crankdyn_error_probes`` hook.
 SERVICE_ERROR_PROBES = "crankdyn:error_probes"
-SERVICES = (SERVICE_RUNNER, SERVICE_ERROR_PROBES)
+#: :func:`crankdyn.aside.aside`: ``aside(fn, *args)`` computes ``fn(*args)`` in a forked child when
+#: the report's process has a core to spare (a report that renders nothing), else when asked.
+SERVICE_ASIDE = "crankdyn:aside"
+SERVICES = (SERVICE_RUNNER, SERVICE_ERROR_PROBES, SERVICE_ASIDE)
 
 
 @dataclass(frozen=True)

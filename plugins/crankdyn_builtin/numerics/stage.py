@@ -44,7 +44,7 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
-from crankdyn.plugin_types import (SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
+from crankdyn.plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
                                    Stage, StageOutput)
 from crankdyn.report.figures import new_figure
 from crankdyn.scene import Analysis, Scene, number, options
@@ -617,7 +617,7 @@ def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference)
 
 
 def run(scene, inputs) -> StageOutput:
-    runner, probes = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES]
+    runner, probes, aside = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES], inputs[SERVICE_ASIDE]
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
     tables: dict[str, Any] = {}
@@ -629,38 +629,34 @@ def run(scene, inputs) -> StageOutput:
     # Each study step is moved onto the engine's grid (the largest step grid/k not above it), so
     # that it divides the cycle and every firing interval for any number of cylinders.
     others = sorted(set(study_steps_deg(scene, opts.steps_deg)) - {scene_step}, reverse=True)
-    runs: list[StepRun] = []
     refused: dict[str, str] = {}
     start = time.perf_counter()
-    for step in [scene_step] + others:
-        if step != scene_step and time.perf_counter() - start > opts.time_budget_s:
-            refused[f"{step:g}"] = (f"{_BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
-                                    "([numerics] time_budget_s)")
-            continue
-        try:
-            runs.append(run_at_step(scene, step, opts.repeats, runner=runner))
-        except (CrankdynError, ValueError) as exc:
-            reason = "; ".join(p.allowed for p in getattr(exc, "problems", [])) or str(exc)
-            refused[f"{step:g}"] = reason
-    runs.sort(key=lambda r: -r.step_deg)
-    sample = next((r for r in runs if r.step_deg == scene_step), None)
+    sample = _run_or_refuse(scene, scene_step, opts, runner, refused)
     if sample is None:
         # The pipeline cannot be re-run from the installed plugins (e.g. a mechanism registered
         # only in a custom registry): no step study, said so in results.json and the report.
         results["steps_unavailable"] = refused.get(f"{scene_step:g}", "the scene's pipeline cannot be re-run")
-        _kinematics_part(scene, opts, results, tables)
-        _probes(scene, results, probes, runner)
+        _merge(results, tables, _side_studies(scene, opts, None, runner, probes))
         return StageOutput(data={}, results=results, tables=tables, notes=notes)
-    printed = sample.values  # the re-run at the scene's own step: the numbers this report prints
-    try:
-        reference = reference_values(scene, sample, runner)
-    except ValueError as exc:  # the pointwise model refused an angle: use a fine step, say why
-        run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner)
-        reference = Reference("fine_step", run.values, {}, 0.0, note=str(exc))
+    # the reference, the kinematics forms and the solvers need none of the other steps' re-runs:
+    # computed beside them when the report's process has a core to spare (crankdyn.aside)
+    with aside(_side_studies, scene, opts, sample, runner, probes) as side:
+        runs = [sample]
+        for step in others:
+            if time.perf_counter() - start > opts.time_budget_s:
+                refused[f"{step:g}"] = (f"{_BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
+                                        "([numerics] time_budget_s)")
+                continue
+            run = _run_or_refuse(scene, step, opts, runner, refused)
+            if run is not None:
+                runs.append(run)
+        runs.sort(key=lambda r: -r.step_deg)
+        timed, timings, overhead = time_steps(scene, runs, opts.repeats, runner)
+        studies = side.result()
+    reference = studies["reference"]
     ref = reference.values
-
-    timed, timings, overhead = time_steps(scene, runs, opts.repeats, runner)
     step_rows = _step_rows(runs, timings, reference)
+    printed = sample.values  # the re-run at the scene's own step: the numbers this report prints
 
     at_scene = {"angle_step_deg": scene_step}
     for q in QUANTITIES:
@@ -687,10 +683,37 @@ def run(scene, inputs) -> StageOutput:
         "at_scene_step": at_scene,
     })
     tables["steps"] = step_rows
-
-    _kinematics_part(scene, opts, results, tables)
-    _probes(scene, results, probes, runner)
+    _merge(results, tables, studies)
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+def _run_or_refuse(scene, step: float, opts, runner, refused: dict[str, str]) -> StepRun | None:
+    """The re-run at ``step``, or None with the reason in ``refused``."""
+    try:
+        return run_at_step(scene, step, opts.repeats, runner=runner)
+    except (CrankdynError, ValueError) as exc:
+        refused[f"{step:g}"] = "; ".join(p.allowed for p in getattr(exc, "problems", [])) or str(exc)
+        return None
+
+
+def _side_studies(scene, opts, sample: StepRun | None, runner, probes) -> dict[str, Any]:
+    """What the study computes beside the re-runs at the other steps: the reference (with a
+    ``sample``, the re-run at the scene's step), the kinematics forms and the solver studies."""
+    out: dict[str, Any] = {"results": {}, "tables": {}}
+    if sample is not None:
+        try:
+            out["reference"] = reference_values(scene, sample, runner)
+        except ValueError as exc:  # the pointwise model refused an angle: use a fine step, say why
+            run = run_at_step(scene, _FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner)
+            out["reference"] = Reference("fine_step", run.values, {}, 0.0, note=str(exc))
+    _kinematics_part(scene, opts, out["results"], out["tables"])
+    _probes(scene, out["results"], probes, runner)
+    return out
+
+
+def _merge(results: dict, tables: dict, studies: dict[str, Any]) -> None:
+    results.update(studies["results"])
+    tables.update(studies["tables"])
 
 
 def study_steps_deg(scene, steps_deg) -> list[float]:
@@ -972,7 +995,7 @@ NUMERICS_STAGE = Stage(
     references=("ismailov",),
     options_table="numerics",
     options_model=NumericsOptions,
-    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
+    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES, SERVICE_ASIDE),
 )
 
 NUMERICS_KINEMATICS_STAGE = Stage(

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 from typing import Callable, Optional
 
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline, CubicSpline
+
+from .hermite import hermite_cubic
 
 __all__ = [
     "clearance_volume_m3",
@@ -576,6 +577,8 @@ def _volume_interpolant(alpha, volume, cycle):
     _require(gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG, "crank_angle_deg",
              f"largest step {gaps.max():g} deg",
              f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)")
+    from scipy.interpolate import CubicSpline  # lazy: heavy optional import (~25 ms; sampled volumes only)
+
     spline = CubicSpline(np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]),
                          bc_type="periodic")
     derivative = spline.derivative()
@@ -822,9 +825,7 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
              f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
              "firing TDC)")
     p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
-    combustion = CubicHermiteSpline([psi_c1, 0.0, psi_peak, psi_j],
-                                    [p_c1, p_c2, peak, p_j],
-                                    [s_c1, d_c2, 0.0, s_j])
+    combustion = hermite_cubic([psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
     return np.where(in_window, combustion(psi_c1 + offset), pressure), psi_j
@@ -871,8 +872,7 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     if four:
         _require(_hermite_is_monotone(d_mid, s_end, m2), "exhaust_opens_before_bdc_deg",
                  eo, "a value for which the BDC-exhaust rounding is monotone")
-    drop = CubicHermiteSpline([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end],
-                              [s_b1, d_mid, s_end])
+    drop = hermite_cubic([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
     return np.where(in_window, drop(psi_b1 + offset), pressure)

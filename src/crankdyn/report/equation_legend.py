@@ -30,7 +30,7 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str) -> tuple[tuple[str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
+def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
     """(key, pattern, bare, only in sections, not in sections) per symbol. The pattern is the symbol
     table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
     bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
@@ -44,7 +44,7 @@ def _patterns(language: str) -> tuple[tuple[str, re.Pattern, bool, tuple[str, ..
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
         pattern = re.compile(symbol_pattern(key, language, head="(?<!<b>)", tail="(?![′″])"))
-        out.append((key, pattern, "<sub>" not in markup, symbol.sections,
+        out.append((key, markup, pattern, "<sub>" not in markup, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 
@@ -62,8 +62,8 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
                                    formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
-    for key, pattern, bare, only_in, not_in in _patterns(language):
-        if (only_in and stage not in only_in) or stage in not_in:
+    for key, markup, pattern, bare, only_in, not_in in _patterns(language):
+        if (only_in and stage not in only_in) or stage in not_in or markup not in formula_html:
             continue
         for match in pattern.finditer(formula_html):
             if not (bare and any(start < match.start() < end for start, end in scripts)):
