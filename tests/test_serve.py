@@ -402,3 +402,26 @@ def test_a_study_that_must_run_again_follows_the_page(tmp_path):
     assert b'class="pending"' in published[0].page and b'class="pending"' not in published[1].page
     assert final.figures and all(f.drawn for f in final.figures)
     assert set(published[0].figures) <= set(final.figures)  # the first page's figures, kept and drawn
+
+
+def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
+    # the figures are drawn by forked children, whose matplotlib caches (typeset labels, fonts)
+    # die with them: the server draws each figure once itself while nothing is to be built, so
+    # that the children of the next saves start warm; a save meanwhile stops the warming
+    preview = Preview(_trace_scene(tmp_path), stages=["kinematics", "indicator"])
+    snapshot = preview.build()
+    assert snapshot.state == "report" and snapshot.figures and all(f.drawn for f in snapshot.figures)
+    preview._dirty.set()  # a save came: nothing drawn
+    preview._warm(snapshot)
+    assert preview._warmed == set()
+    preview._dirty.clear()
+    shown = [f.svg for f in snapshot.figures]
+    preview._warm(snapshot)
+    assert preview._warmed == {f.name for f in snapshot.figures}
+    assert all(f._typeset_in == os.getpid() for f in snapshot.figures)  # drawn in this process
+    assert [f.svg for f in snapshot.figures] == shown  # the page's SVGs are the children's, kept
+    drawn_again = []
+    for figure in snapshot.figures:
+        figure.draw = lambda figure=figure: drawn_again.append(figure.name)
+    preview._warm(snapshot)  # once: the next save's figures of the same names are not drawn again
+    assert drawn_again == []

@@ -220,6 +220,7 @@ class Preview:
         self._drawn = threading.Condition()  # notified after each figure the builder draws
         self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
+        self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
@@ -380,7 +381,27 @@ class Preview:
             if not self._dirty.wait(0.5) or self._stop.is_set():
                 continue
             self._dirty.clear()  # saves during the build mark it dirty again: one more build follows
-            self.build()
+            self._warm(self.build())
+
+    def _warm(self, snapshot: Snapshot) -> None:
+        """While nothing is to be built, draw here, once, each figure this process has not drawn
+        before, and throw the SVG away: the figures are drawn by children forked from this
+        process, and what matplotlib keeps per process (typeset mathtext labels, loaded fonts)
+        died with each child, so every save had all labels typeset again (a third of the
+        drawing time). A child forked after this finds them ready. A save meanwhile stops the
+        warming between two figures (one figure, a few tens of ms, is the longest it waits)."""
+        if snapshot.state != "report":
+            return
+        for figure in snapshot.figures:
+            if self._dirty.is_set() or self._stop.is_set():
+                return
+            if figure.name in self._warmed or not figure.drawn:
+                continue
+            try:
+                figure.draw()  # in this process; the SVG the page shows is the child's, kept
+            except Exception:  # noqa: BLE001 - warming is an optimisation: the figure was drawn already
+                pass
+            self._warmed.add(figure.name)
 
     def _watcher(self) -> None:
         import watchfiles  # lazy: heavy optional import (watchfiles: only while the preview watches the scene)
