@@ -111,6 +111,23 @@ def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
     assert "$" not in svg and "e-0" not in svg and "^" not in svg
 
 
+def test_a_log_axis_over_many_decades_has_no_minor_ticks():
+    # eight unlabelled marks a decade over nine decades are a comb (and ~100 tick objects to
+    # make); up to five decades the minor ticks stay
+    from crankdyn.report.figures import new_figure, to_svg
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import typeset_figure
+
+    fig, (wide, narrow) = new_figure(16, 10, ncols=2)  # tall enough for a major tick every decade
+    wide.loglog([0.03, 0.7], [1.2e-7, 30.0])  # x: 1.4 decades, y: 8.4 (matplotlib: 80 minor ticks)
+    narrow.semilogy([0.0, 1.0], [1e-3, 10.0])  # 4 decades
+    typeset_figure(fig, translator("uk", default_registry().catalogs))
+    to_svg(fig)
+    assert len(wide.yaxis.get_minorticklocs()) == 0 and len(wide.yaxis.minorTicks) <= 1
+    assert len(wide.xaxis.get_minorticklocs()) > 0
+    assert len(narrow.yaxis.get_minorticklocs()) > 0
+
+
 def test_figures_drawn_while_the_next_sections_render_are_the_serial_bytes(examples):
     from crankdyn.report.figures import IncrementalDrawing
 

@@ -340,14 +340,15 @@ def typeset_figure(fig, t) -> None:
     language = t.language
     for ax in fig.get_axes():
         _legend_outside(ax)  # first: the new legend takes its labels from the artists, untypeset
-    for text in fig.findobj(Text):
-        value = text.get_text()
-        if value and ("_" in value or "^" in value) and "$" not in value:
-            text.set_text(mathtext(value, language))
+    # the tick locators first: gathering the texts makes each axis's ticks for its locator
     for ax in fig.get_axes():
         for axes in (ax, *ax.child_axes):  # an inset's ticks too (the p–V diagram's pumping loop)
             for axis in (axes.xaxis, axes.yaxis):
                 _locale_ticks(axis, t)
+    for text in fig.findobj(Text):
+        value = text.get_text()
+        if value and ("_" in value or "^" in value) and "$" not in value:
+            text.set_text(mathtext(value, language))
 
 
 def _legend_outside(ax) -> None:
@@ -386,6 +387,21 @@ def _locale_ticks(axis, t) -> None:
     elif isinstance(major, LogFormatter):  # 10⁻³ typeset; minor labels only where no power of ten shows
         axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t)))
         axis.set_minor_formatter(FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t)))
+        if _decades(axis.get_view_interval()) > _MINOR_TICKS_MAX_DECADES:
+            from matplotlib.ticker import NullLocator  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+
+            # eight unlabelled marks a decade over ten decades are a comb, not a scale (and each
+            # mark is a matplotlib tick of five artists: a third of the error study's figure)
+            axis.set_minor_locator(NullLocator())
+
+
+#: A log axis spanning more decades than this has no minor ticks.
+_MINOR_TICKS_MAX_DECADES = 5.0
+
+
+def _decades(view) -> float:
+    low, high = sorted(float(v) for v in view)
+    return math.log10(high / low) if low > 0 and math.isfinite(high) else 0.0
 
 
 def _log_minor_label(x: float, view, t) -> str:
