@@ -93,3 +93,10 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONWARNINGS": "ignore"}
     return subprocess.run([sys.executable, "-m", "crankdyn", *args], capture_output=True, text=True, cwd=cwd,
                           env=env, timeout=300)
+
+
+def as_read(html: str) -> str:
+    """The report's HTML as a reader's eye takes it: the line-break binders undone (the no-break
+    spaces around an "=" before a number, the word joiner after a slash: ``unbreakable_html``).
+    For tests that look for words."""
+    return html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")

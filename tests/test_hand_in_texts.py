@@ -10,6 +10,7 @@ from functools import lru_cache
 
 import pytest
 
+from conftest import as_read
 from crankdyn.cli import examples_dir, main
 
 
@@ -171,7 +172,7 @@ def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
 def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(reports):
     """The task sheet gives the main data itself (a supervisor's form has them), and the table of
     a spark-ignition engine leaves out ρ = 1, which is no datum of its task (a diesel's keeps it)."""
-    one = reports("petrol-1cyl-uk")
+    one = as_read(reports("petrol-1cyl-uk"))
     assignment = one[one.index('<section class="assignment"'):]
     assignment = assignment[:assignment.index("</section>")]
     assert "D = 82" in assignment and "S = 78" in assignment and "n = 5600" in assignment
@@ -199,14 +200,14 @@ def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(rep
     """Coefficients are all 1 for one cylinder; the conclusion says the forces: C = m_R R ω² of the
     example (17 235 N, as equation 6.1 prints it) and P_I, P_II."""
     one = reports("petrol-1cyl-uk")
-    text = re.sub(r"<[^>]+>", "", one).replace("\u202f", " ")
+    text = re.sub(r"<[^>]+>", "", as_read(one)).replace("\u202f", " ")
     assert "Незрівноважені сили (амплітуди): C = 17 235 Н, PI = 8248 Н, PII = 2357 Н" in text
 
 
 def test_the_torque_check_gives_each_cylinders_own_angle_and_the_units_of_its_table(reports):
     """t_k4 = t_1 + … + t_4 at α = 30° could not be traced without the cylinders' own angles:
     α_i = α − Δα_0i with the delays 0, 540, 180, 360° of 1-3-4-2 (cylinders 1, 2, 3, 4)."""
-    four = re.sub(r"<[^>]+>", "", reports("inline4-petrol")).replace("\u202f", " ")
+    four = re.sub(r"<[^>]+>", "", as_read(reports("inline4-petrol"))).replace("\u202f", " ")
     assert "α1 = 30°, α2 = 210°, α3 = 570°, α4 = 390°" in four
     assert re.search(r"Таблиця 7\.\d – Сили і набіжні моменти на колінах 1–4 \[1, табл\. Б\.3\], МПа \(Mд – у Н·м\)", four)
     assert "набігаюч" not in four and "Набігаюч" not in four
@@ -231,7 +232,7 @@ def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports)
     and the cylinder spacing, nor the rounding and the flywheel without their data: table 1.1
     lists the engine's layout, the cycle's rounding data and (through Stage.input_rows) the
     flywheel's given data."""
-    four = reports("inline4-petrol")
+    four = as_read(reports("inline4-petrol"))
     table = four[four.index("Таблиця 1.1"):]
     rows = {}
     for row in table[:table.index("</table>")].split("<tr")[1:]:
@@ -288,3 +289,25 @@ def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(repo
     figure = re.search(r'src="(figures/[^"]*solvers_single\.svg)"', section)[1]
     with open(f"{_ROOTS[0]}/inline4-petrol/{figure}", encoding="utf-8") as fh:
         assert "розрахунок, використаний у розділі" in fh.read()
+
+
+def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports):
+    """The PDF ended lines with "p_z =" (the value on the next line) and "156 м/" (с² on the next):
+    no-break spaces around an "=" that a number follows, a word joiner after a slash inside a word
+    or formula; a web address keeps its breaks, a tag its slash, a script its text."""
+    from crankdyn.report.typeset import unbreakable_html
+
+    html = unbreakable_html("<p><i>p</i><sub>z</sub> = 6,0\u202fМПа, 156\u202fм/с² за α = −4°; a = b; "
+                            "<i>ΣM</i>/(<i>C</i>a); див. https://doi.org/10.1/x</p><script>x = 1; a/b</script>")
+    assert "</sub>\u00a0=\u00a06,0\u202fМПа" in html and "α\u00a0=\u00a0−4°" in html
+    assert "a = b" in html  # no number follows: the line may break there
+    assert "156\u202fм/\u2060с²" in html and "</i>/\u2060(" in html
+    assert "https://doi.org/10.1/x" in html and "<script>x = 1; a/b</script>" in html
+    assert "</i>" in html and "</sub>" in html and unbreakable_html(html) == html  # once is enough
+
+    # the whole report: in running text every "X = <number>" is bound (a displayed equation
+    # breaks after an "=" on purpose, between its parts), and no tag is broken
+    four = reports("inline4-petrol")
+    body = re.sub(r'<span class="eq-part">.*?</span>', "", re.sub(r"<script.*?</script>", "", four, flags=re.S))
+    assert not re.search(r"[^ \u00a0] = [−-]?\d", re.sub(r"<[^>]+>", "", body))
+    assert "м/\u2060с" in four and not re.search(r"</\u2060|<\u2060", four)

@@ -8,7 +8,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from conftest import example_data, modified, write_scene
+from conftest import as_read, example_data, modified, write_scene
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plausibility import defaults_applied, warnings
@@ -81,7 +81,7 @@ def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, ca
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
     assert "mean piston speed is 100 m/s" in capsys.readouterr().err
     html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
-    seen = html.replace("\u202f", " ").replace("\u00a0", " ")  # numbers kept on the line of their unit
+    seen = as_read(html).replace("\u202f", " ").replace("\u00a0", " ")  # numbers kept on the line of their unit
     assert "середня швидкість поршня 100 м/с перевищує 25 м/с" in seen
 
 

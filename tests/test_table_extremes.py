@@ -8,6 +8,7 @@ import re
 
 import numpy as np
 
+from conftest import as_read
 from crankdyn.cli import examples_dir, main
 from crankdyn.report.context import add_extreme_rows, sample_rows
 
@@ -56,7 +57,7 @@ def test_the_report_shows_the_peak_pressure_row_in_bold_and_names_it(tmp_path):
     out = tmp_path / "uk"
     assert main(["report", str(examples_dir() / "petrol-1cyl-uk.toml"), "-o", str(out), "--format", "html",
                  "-q"]) == 0
-    html = (out / "report.html").read_text(encoding="utf-8")
+    html = as_read((out / "report.html").read_text(encoding="utf-8"))
     tables = re.findall(r'<table class="data[^"]*" data-number="([^"]+)".*?</table>\s*(<p class="table-note">.*?</p>)?',
                         html, re.S)
     notes = {number: note for number, note in tables}

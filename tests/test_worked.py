@@ -20,6 +20,7 @@ import re
 import pytest
 from markupsafe import Markup
 
+from conftest import as_read
 from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
@@ -170,7 +171,7 @@ def check_worked(html: str, worked, language: str) -> set[str]:
             elif block.table_number and block.angle_deg is None:  # a table of results: the row of its symbol
                 assert any(cell.startswith(step.lhs_html) for row in shown for cell in row), (step.quantity, shown)
             # the result is written in the worked line itself
-            assert f"= {text}" in html
+            assert f"= {text}" in as_read(html)
             formula = FORMULAS[step.quantity]
             assert formula(step.inputs) == pytest.approx(step.value, abs=_tolerance(step)), step.quantity
             assert step.exact, step.quantity

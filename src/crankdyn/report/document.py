@@ -20,7 +20,7 @@ from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 from .equation_legend import add_equation_legends
-from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html
+from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html
 from ..plausibility import format_params, warnings
 
 
@@ -266,7 +266,7 @@ def _finish(html: str, t, language: str, sources: int, without_legend: frozenset
     html = _fill_counts(html, t, sources)
     html = typeset_html(html, language, report_units(t), t.decimal_separator)
     html = add_equation_legends(html, t, language, without_legend)
-    return _fill_symbol_list(html, t, language)
+    return unbreakable_html(_fill_symbol_list(html, t, language))
 
 
 _LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)

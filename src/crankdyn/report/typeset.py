@@ -276,6 +276,24 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
     return text
 
 
+#: "p_z = 6 МПа", "α = 464°": a quantity and its value are not parted at the line's end (ДСТУ 3008
+#: would repeat the sign on the next line, which HTML cannot): no-break spaces around "=" when a
+#: number follows it.
+_EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d)")
+#: "м/с²", "ΣM/(C·a)": no line break after a slash inside a word or formula (a web address keeps
+#: its breaks: it has no other place to break; the slash of a closing tag the sub/superscripts
+#: put in is no slash of the text).
+_SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
+WORD_JOINER = "\u2060"
+
+
+def _unbreakable(text: str) -> str:
+    text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
+    if "/" in text and "://" not in text and "www." not in text:
+        text = _SLASH_IN_WORD.sub("/" + WORD_JOINER, text)
+    return text
+
+
 def _unit_spacing(text: str, units: list[str]) -> str:
     return _unit_pattern(tuple(units)).sub(lambda m: f"{m.group(1)}{NARROW_NBSP}{m.group(2)}", text)
 
@@ -291,6 +309,31 @@ def _unit_pattern(units: tuple[str, ...]) -> re.Pattern:
 _TAG = re.compile(r"(<[^>]+>)")
 
 
+def unbreakable_html(html: str) -> str:
+    """The document with no line break between a quantity and its value ("p_z = 6 МПа") nor after
+    a slash inside a word or formula ("м/с²"), in every text node (the last pass over the report:
+    the equations' legends and the list of symbols included)."""
+    parts = _TAG.split(html)
+    skip = 0
+    for i, part in enumerate(parts):
+        if i % 2 == 1:
+            skip = _skip_depth(part, skip)
+        elif not skip and ("=" in part or "/" in part):
+            parts[i] = _unbreakable(part)
+    return "".join(parts)
+
+
+def _skip_depth(tag: str, skip: int) -> int:
+    """How deep inside ``<style>``, ``<script>`` or ``<title>`` (whose text is not the report's)
+    the text after ``tag`` is."""
+    name = tag[1:].split(None, 1)[0].rstrip(">").lower() if len(tag) > 2 else ""
+    if name in ("style", "script", "title"):
+        return skip + 1
+    if name in ("/style", "/script", "/title"):
+        return max(skip - 1, 0)
+    return skip
+
+
 def typeset_html(html: str, language: str, units: list[str], decimal: str = ",") -> str:
     """Apply :func:`typeset_text_html` to every text node of a document (not to tags,
     attribute values, ``<style>``, ``<script>`` or ``<title>``) and give the table headers'
@@ -300,11 +343,7 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
     skip = 0
     for i, part in enumerate(parts):
         if i % 2 == 1:  # a tag
-            name = part[1:].split(None, 1)[0].rstrip(">").lower() if len(part) > 2 else ""
-            if name in ("style", "script", "title"):
-                skip += 1
-            elif name in ("/style", "/script", "/title"):
-                skip = max(skip - 1, 0)
+            skip = _skip_depth(part, skip)
             continue
         if skip or not part.strip():
             continue
