@@ -251,7 +251,7 @@ def render(output: StageOutput, ctx) -> str:
     if rim is not None:
         rows += [(t("flywheel.row_rim_mean_diameter"), "<i>D</i><sub>m</sub>", rim["mean_diameter_m"] * 1e3,
                   t("unit.mm")),
-                 (t("flywheel.row_rim_thin_mass"), "<i>m</i><sub>rim</sub> = 4<i>J</i>/<i>D</i><sub>m</sub><sup>2</sup>",
+                 (t("flywheel.row_rim_thin_mass"), "<i>m</i><sub>rim</sub> = 4<i>J</i><sub>rim</sub>/<i>D</i><sub>m</sub><sup>2</sup>",
                   rim["thin_rim_mass_kg"], t("unit.kg")),
                  (t("flywheel.row_rim_thickness"), "<i>h</i>", rim["thickness_m"] * 1e3, t("unit.mm")),
                  (t("flywheel.row_rim_width"), "<i>b</i>", rim["width_m"] * 1e3, t("unit.mm")),

@@ -155,6 +155,7 @@ SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
     "exact": {"uk": "точн", "ru": "точн"},
     "bearing": {"uk": "ш.п", "ru": "ш.п"},
     "pin": {"uk": "ш.ш", "ru": "ш.ш"},
+    "ref": {"uk": "ет", "ru": "эт"},  # a reference value (M_ref, L_ref of the error study)
 }
 
 
