@@ -86,10 +86,15 @@ class Handle:
         self.close()
 
 
+def can_fork() -> bool:
+    """POSIX ``fork``, and no other thread whose held lock a child's copy could stall on."""
+    return hasattr(os, "fork") and threading.active_count() == 1
+
+
 def aside(fn: Callable[..., Any], *args: Any) -> Handle:
     """Start ``fn(*args)`` in a forked child if a core is spare (see the module docstring)."""
     global _spare
-    if not (_spare and hasattr(os, "fork") and threading.active_count() == 1):
+    if not (_spare and can_fork()):
         return Handle(fn, args)
     read_fd, write_fd = os.pipe()
     pid = os.fork()

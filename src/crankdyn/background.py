@@ -18,14 +18,9 @@ from __future__ import annotations
 import os
 import pickle
 import signal
-import threading
 
+from .aside import can_fork
 from .orchestrator import RunResult, run_stage
-
-
-def can_fork() -> bool:
-    """POSIX ``fork``, and no other thread whose held lock a child's copy could stall on."""
-    return hasattr(os, "fork") and threading.active_count() == 1
 
 
 class ForkedStudies:

@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .. import background
+from ..aside import can_fork as _no_other_thread
 from ..heap import freeze_more
 
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
@@ -311,7 +311,7 @@ def default_workers() -> int:
 def can_fork(allow_threads: bool = False) -> bool:
     """Whether figures may be drawn in forked children: POSIX ``fork``, and (unless the caller
     knows better) no other thread that a child's copy of a held lock could stall."""
-    return hasattr(os, "fork") if allow_threads else background.can_fork()
+    return hasattr(os, "fork") if allow_threads else _no_other_thread()
 
 
 def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threads: bool = False) -> list[bytes]:
