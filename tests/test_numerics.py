@@ -243,6 +243,23 @@ def test_best_times_takes_the_repeats_in_turns():
     assert order == ["a", "b"] + ["b", "b", "a", "a"] + ["a", "a", "b", "b"]
 
 
+def test_best_times_stops_once_the_minima_have_settled():
+    clock = FakeClock()
+    # a steady 1 ms per call: after the autorange repeat, no round lowers the best, so three quiet
+    # rounds end the timing at 4 repeats of the 15 allowed
+    steady = clock.function([1e-3] * 100)
+    timings = num.best_times([steady], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
+    assert timings[0].repeats == 4 and timings[0].best_s == pytest.approx(1e-3)
+    # a machine under load: the time keeps falling by more than 1 % a round for 8 rounds, so the
+    # timing goes on until three rounds in a row lower nothing
+    falling = [2e-3 * 0.9 ** k for k in range(8)]
+    loaded = clock.function([c for c in falling for _ in (0, 1)] + [falling[-1]] * 100)
+    timings = num.best_times([loaded], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
+    assert timings[0].repeats == 11 and timings[0].best_s == pytest.approx(falling[-1])
+    # without settled_rounds every repeat is taken
+    assert num.best_times([clock.function([1e-3] * 100)], 6, min_time_s=1e-3, clock=clock)[0].repeats == 6
+
+
 def test_step_times_are_the_formulas_with_the_overhead_apart():
     result = run("petrol-1cyl", UNLIMITED)
     r = result.outputs["numerics"].results

@@ -67,6 +67,10 @@ _MIN_REPEAT_S = 2.5e-4
 # A whole re-run through the stages (a mechanism without a pointwise model) costs the study itself
 # once per repeat: best of a few is enough there, since its fixed overhead is part of what it times.
 _RERUN_REPEATS = 3
+# The steps' timing stops before ``repeats`` once this many rounds in a row lowered no step's best
+# time by more than this fraction (the minima have settled; a loaded machine gets more rounds).
+_SETTLED_ROUNDS = 3
+_SETTLED_RELATIVE = 0.01
 _FALLBACK_REFERENCE_STEP_DEG = 0.05
 # Pointwise reference: Gauss-Legendre panels and the dense extremum search.
 _PANEL_DEG = 0.25
@@ -195,28 +199,41 @@ def _autorange(fn: Callable[[], Any], min_time_s: float, clock: Callable[[], flo
 
 
 def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: float = _MIN_REPEAT_S,
-               clock: Callable[[], float] = time.perf_counter) -> list[Timing]:
+               clock: Callable[[], float] = time.perf_counter, settled_rounds: int = 0) -> list[Timing]:
     """timeit-style best time per call of each function, the repeats taken in turns.
 
     Each function's loop count is found as :meth:`timeit.Timer.autorange` does (that first
-    measurement counts as its first repeat); then ``repeats - 1`` further repeats go round all
-    the functions in turn (backwards and forwards), so a burst of load on the machine slows every
-    function alike rather than one step of the study, each repeat after one untimed call (warm
-    caches). The minimum is kept: load only ever adds time.
+    measurement counts as its first repeat); then up to ``repeats - 1`` further repeats go round
+    all the functions in turn (backwards and forwards), so a burst of load on the machine slows
+    every function alike rather than one step of the study, each repeat after one untimed call
+    (warm caches). The minimum is kept: load only ever adds time.
+
+    With ``settled_rounds`` > 0 the repeats stop early, once that many rounds in a row have
+    lowered no function's best time by more than ``_SETTLED_RELATIVE``: the minima have settled,
+    and further rounds cost time without changing them. A loaded machine keeps lowering some
+    minimum, so it gets more rounds, up to ``repeats``.
     """
     ranged = [_autorange(fn, min_time_s, clock) for fn in functions]
     best = [per_call for _, per_call in ranged]
+    taken, quiet = 1, 0
     for round_ in range(max(1, repeats) - 1):
+        if settled_rounds and quiet >= settled_rounds:
+            break
         # every other round backwards: no function always follows the same one (cache state)
         order = range(len(functions)) if round_ % 2 else range(len(functions) - 1, -1, -1)
+        lowered = False
         for k in order:
             fn, loops = functions[k], ranged[k][0]
             fn()  # untimed: the previous function left other data in the caches
             start = clock()
             for _ in range(loops):
                 fn()
-            best[k] = min(best[k], (clock() - start) / loops)
-    return [Timing(b, loops, max(1, repeats)) for b, (loops, _) in zip(best, ranged)]
+            per_call = (clock() - start) / loops
+            lowered |= per_call < best[k] * (1 - _SETTLED_RELATIVE)
+            best[k] = min(best[k], per_call)
+        taken += 1
+        quiet = 0 if lowered else quiet + 1
+    return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged)]
 
 
 def _step_formulas(model: "PointwiseModel", run: StepRun) -> Callable[[], tuple]:
@@ -253,7 +270,8 @@ def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
             copy = scene_with_step(scene, r.step_deg)
             plans.append(functools.partial(runner.run, copy, runner.plan(copy, _needed_stages(copy, runner))))
         return "rerun", best_times(plans, min(repeats, _RERUN_REPEATS), min_time_s=_MIN_REPEAT_S, clock=clock), None
-    timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=_MIN_REPEAT_S, clock=clock)
+    timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=_MIN_REPEAT_S, clock=clock,
+                         settled_rounds=_SETTLED_ROUNDS)
     overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings)))
     return "formulas", timings, overhead
 

@@ -324,9 +324,14 @@ def unbreakable_html(html: str) -> str:
     return "".join(parts)
 
 
+_SKIP_FIRST = frozenset("sStT/")
+
+
 def _skip_depth(tag: str, skip: int) -> int:
     """How deep inside ``<style>``, ``<script>`` or ``<title>`` (whose text is not the report's)
     the text after ``tag`` is."""
+    if tag[1:2] not in _SKIP_FIRST or (tag[1:2] == "/" and tag[2:3] not in _SKIP_FIRST):
+        return skip  # most tags: no need to parse the name (a report has thousands)
     name = tag[1:].split(None, 1)[0].rstrip(">").lower() if len(tag) > 2 else ""
     if name in ("style", "script", "title"):
         return skip + 1
