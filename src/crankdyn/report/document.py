@@ -264,9 +264,46 @@ def _finish(html: str, t, language: str, sources: int, without_legend: frozenset
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown."""
     html = _fill_counts(html, t, sources)
-    html = typeset_html(html, language, report_units(t), t.decimal_separator)
+    html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator)
     html = add_equation_legends(html, t, language, without_legend)
-    return unbreakable_html(_fill_symbol_list(html, t, language))
+    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language))
+
+
+#: Where the document's sections start (each at the start of a line, in report.html.j2).
+_SECTION_START = re.compile(r'(?m)^(?=<section class=")')
+_SKIPPED_TAG = re.compile(r"<(/?)(?:script|style|title)\b", re.I)
+
+
+def _balanced(part: str) -> bool:
+    """Whether ``part`` closes every ``<script>``, ``<style>`` and ``<title>`` it opens."""
+    depth = 0
+    for m in _SKIPPED_TAG.finditer(part):
+        depth += -1 if m.group(1) else 1
+    return depth == 0
+
+
+def by_sections(transform, html: str, *args) -> str:
+    """``transform(html, *args)`` for a pass over text nodes, applied section by section.
+
+    Each part is a pure function of its text, so a part met before (the live preview renders the
+    report again after each save, mostly with the same sections) is taken from the transform's
+    cache instead of being typeset again. Split only where no script, style or title is open
+    (the passes skip their text), else the whole document is transformed at once.
+    """
+    parts = _SECTION_START.split(html)
+    if len(parts) == 1 or not all(_balanced(p) for p in parts):
+        return transform(html, *args)
+    return "".join(transform(part, *args) for part in parts)
+
+
+@functools.lru_cache(maxsize=512)
+def _typeset_part(part: str, language: str, units: tuple[str, ...], decimal: str) -> str:
+    return typeset_html(part, language, list(units), decimal)
+
+
+@functools.lru_cache(maxsize=512)
+def _unbreakable_part(part: str) -> str:
+    return unbreakable_html(part)
 
 
 _LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
