@@ -16,7 +16,6 @@ from pathlib import Path
 
 from .version import __version__
 from .errors import CrankdynError, Problem, SceneError, UsageError
-from .report import printer
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
@@ -192,12 +191,16 @@ def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
 
 
 def _report(args) -> int:
+    printer = None
     if "pdf" in (f.strip() for f in args.format.split(",")):
+        from .report import printer  # lazy: heavy optional import (only a PDF has a printer)
+
         printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
     try:
         return _write_report(args)
     finally:
-        printer.discard()  # one not used (a refused scene, no PDF after all): stopped
+        if printer is not None:
+            printer.discard()  # one not used (a refused scene, no PDF after all): stopped
 
 
 def _write_report(args) -> int:

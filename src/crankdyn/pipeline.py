@@ -19,7 +19,6 @@ from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
 from .manifest import write_outputs
 from .heap import frozen_heap
-from .report import printer
 from .scene import Scene
 
 
@@ -91,6 +90,7 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
 
 
 def _pdf(rendered) -> bytes:
+    from .report import printer  # lazy: heavy optional import (only a PDF has a printer)
     from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
     # made by the printer process the command line started (WeasyPrint loaded meanwhile), if any
