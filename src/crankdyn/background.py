@@ -93,3 +93,158 @@ def start_studies(result: RunResult) -> RunResult:
     """``result`` with its deferred studies being computed in a forked child (if one can be)."""
     result.background = ForkedStudies.start(result)
     return result
+
+
+# ----------------------------------------------------------------- the live preview's study worker
+class StudyWorker:
+    """A process that computes the live preview's studies while the server renders the rest.
+
+    The preview shows a saved scene's page first and the error study after it; the study can be
+    computed meanwhile, on the core the rendering leaves idle. A child forked at each save would
+    be forked beside the server's threads (the HTTP server's, the file watcher's), which is not
+    safe: twice in 70 edits the watcher missed a save. So one worker is forked when the preview
+    starts, before any thread, and each save sends it the scene (pickled; the stages' data holds
+    functions that cannot be): the worker runs the plan itself, through a stage cache of its own
+    (the stages before the study are cheap next to it), and sends the studies' outputs back, as
+    :class:`ForkedStudies` does. The same scene and code give the same values.
+
+    One job at a time: a new job first reads what the worker still sends for the previous one
+    (the two never write to each other at once). A worker that died, or an output it could not
+    pickle, is computed again in the server's process (:meth:`RunResult.study_output`).
+    """
+
+    def __init__(self, pid: int, sock) -> None:
+        self.pid = pid
+        self._sock = sock
+        self._reader, self._writer = sock.makefile("rb"), sock.makefile("wb")
+        self._jobs = 0
+        self._unread: int | None = None  # the job whose answers are not all read yet
+        self.alive = True
+
+    @classmethod
+    def start(cls) -> "StudyWorker | None":
+        """Fork the worker (None where fork is not safe: no ``fork``, or other threads running)."""
+        import socket  # lazy: heavy optional import (only the live preview has a study worker)
+
+        if not can_fork():
+            return None
+        ours, theirs = socket.socketpair()
+        pid = os.fork()
+        if pid == 0:  # the worker: serve jobs until the server closes the socket
+            ours.close()
+            status = 0
+            try:
+                _serve_jobs(theirs.makefile("rb"), theirs.makefile("wb"))
+            except BaseException:
+                status = 1
+            finally:
+                os._exit(status)
+        theirs.close()
+        return cls(pid, ours)
+
+    def submit(self, scene, stages: list[str] | None, studies: list[str]) -> "WorkerJob | None":
+        """Have the worker run ``scene``'s plan (``stages`` as asked for, None: all) and send
+        the outputs of the ``studies`` in it."""
+        if not self.alive:
+            return None
+        self._drain()
+        self._jobs += 1
+        try:
+            pickle.dump((self._jobs, scene, stages, studies), self._writer, protocol=pickle.HIGHEST_PROTOCOL)
+            self._writer.flush()
+        except Exception:  # a scene or data that cannot be pickled, a dead worker: computed here
+            self._fail()
+            return None
+        self._unread = self._jobs
+        return WorkerJob(self, self._jobs)
+
+    def _read(self, job: int) -> tuple | None:
+        """The worker's next message for ``job`` (("done",) at its end), skipping older jobs'."""
+        while self.alive and self._unread is not None:
+            try:
+                number, message = pickle.load(self._reader)
+            except Exception:  # EOF: the worker died
+                self._fail()
+                return None
+            if message == ("done",) and number == self._unread:
+                self._unread = None
+            if number == job:
+                return message
+        return None
+
+    def _drain(self) -> None:
+        while self._unread is not None and self.alive:
+            self._read(self._unread)
+
+    def _fail(self) -> None:
+        self.alive = False
+        self._unread = None
+
+    def stop(self) -> None:
+        """End the worker and reap it."""
+        self.alive = False
+        for stream in (self._writer, self._reader, self._sock):
+            try:
+                stream.close()
+            except OSError:
+                pass
+        try:
+            os.kill(self.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        try:
+            os.waitpid(self.pid, 0)
+        except ChildProcessError:
+            pass
+
+
+class WorkerJob:
+    """One save's studies at the :class:`StudyWorker`: the ``background`` of a :class:`RunResult`."""
+
+    def __init__(self, worker: StudyWorker, number: int) -> None:
+        self._worker, self._number = worker, number
+        self._received: dict[str, tuple | None] = {}
+        self._ended = False
+
+    def take(self, name: str) -> tuple | None:
+        """(output, seconds) of study ``name``; None if the worker could not give it."""
+        while name not in self._received and not self._ended:
+            message = self._worker._read(self._number)
+            if message is None or message == ("done",):
+                self._ended = True
+                break
+            got, output, elapsed = message
+            self._received[got] = None if output is None else (output, elapsed)
+        return self._received.pop(name, None)
+
+    def close(self) -> None:
+        """Nothing to stop: the worker's remaining answers are read before its next job."""
+        self._ended = True
+
+
+def _serve_jobs(reader, writer) -> None:
+    from .cache import StageCache  # lazy: heavy optional import (only the preview's worker caches stages)
+    from .orchestrator import plan  # lazy: heavy optional import (only the preview's worker plans)
+    from .plugins import default_registry  # lazy: heavy optional import (the plugins, in the worker)
+
+    registry, cache = None, StageCache()
+    while True:
+        try:
+            number, scene, stages, studies = pickle.load(reader)
+        except EOFError:
+            return
+        registry = registry or default_registry()
+        try:
+            result = cache.run_plan(scene, plan(scene, registry, stages))
+            outputs = [(name, result.outputs[name], result.timing_s[name]) for name in studies]
+        except Exception:  # computed again in the server's process, which then raises it
+            outputs = [(name, None, 0.0) for name in studies]
+        for name, output, elapsed in outputs:
+            try:
+                message = pickle.dumps((number, (name, output, elapsed)), protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception:  # an output that cannot be pickled: computed in the server's process
+                message = pickle.dumps((number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL)
+            writer.write(message)
+            writer.flush()
+        writer.write(pickle.dumps((number, ("done",)), protocol=pickle.HIGHEST_PROTOCOL))
+        writer.flush()

@@ -34,6 +34,7 @@ from .scene import Scene
 
 #: Read of the scene as a whole (``dict(scene)``, ``model_dump``, ``__dict__``): depends on every field.
 EVERYTHING = "*"
+_ALL = frozenset({EVERYTHING})
 #: The plugin tables (``[flywheel]``, ``[torsion]``, ...), kept as pydantic extras.
 EXTRA = "__extra__"
 _WHOLE = {"__dict__", "model_dump", "model_dump_json", "model_copy", "__getstate__", "__reduce_ex__"}
@@ -183,36 +184,58 @@ class StageCache:
 
     def __init__(self) -> None:
         self._entries: dict[str, _Entry] = {}
+        # a deferred study: (stage, upstream digests, digests of every scene field) when deferred
+        self._deferred_keys: dict[str, tuple] = {}
         self.runs: Counter[str] = Counter()  # real runs per stage (cache hits not counted)
 
     def _valid(self, entry: _Entry | None, stage: Stage, scene: Scene, upstream: tuple) -> bool:
         return (entry is not None and entry.stage is stage and entry.upstream == upstream
                 and entry.fields == field_digests(scene, entry.reads))
 
-    def run_plan(self, scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunResult:
+    @staticmethod
+    def _run(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, frozenset[str]]:
+        """(output, the scene fields it read) of ``stage`` run on a read-tracking copy of ``scene``."""
+        tracked = _tracked_copy(scene)
+        try:
+            output = stage.run(tracked, inputs)
+        finally:
+            reads = reads_of(tracked)
+        check_output(stage, output)
+        return output, reads
+
+    def run_plan(self, scene: Scene, the_plan: Plan, defer_studies: bool = False,
+                 deferred: RunResult | None = None) -> RunResult:
         """:func:`crankdyn.orchestrator.run_plan`, re-running only stages whose inputs changed.
 
         With ``defer_studies``, a stage that would have to run again, comes ``last`` and provides
         nothing (a study of the others, such as the error against run time: no stage can wait
         for it) is not run: it is missing from the result's outputs (:attr:`RunResult.pending`),
-        and a second call without ``defer_studies`` runs it (and only it)."""
+        its inputs are kept in :attr:`RunResult.deferred` (so that it can be computed meanwhile,
+        :mod:`crankdyn.background`), and a second call without ``defer_studies`` runs it (and
+        only it). Given that first call's result as ``deferred``, the second call takes a study
+        from it (:meth:`RunResult.study_output`: from its background child, or computed with the
+        kept inputs) when the scene and the study's upstream data are still the ones it was
+        deferred with; the study then counts as having read every field."""
         data: dict[str, Any] = {}
         digests: dict[str, str] = {}
         outputs: dict[str, StageOutput] = {}
         timing: dict[str, float] = {}
+        kept: dict[str, dict[str, Any]] = {}
         for stage in the_plan.order:
             upstream = tuple((key, digests[key]) for key in (*stage.requires, *stage.uses) if key in digests)
             entry = self._entries.get(stage.name)
             start = time.perf_counter()
             if not self._valid(entry, stage, scene, upstream):
-                if defer_studies and is_study(stage):
+                study = (stage, upstream, field_digests(scene, _ALL)) if is_study(stage) else None
+                if defer_studies and study is not None:
+                    kept[stage.name] = stage_inputs(stage, data, the_plan.registry)
+                    self._deferred_keys[stage.name] = study
                     continue
-                tracked = _tracked_copy(scene)
-                try:
-                    output = stage.run(tracked, stage_inputs(stage, data, the_plan.registry))
-                finally:
-                    reads = reads_of(tracked)
-                check_output(stage, output)
+                if study is not None and deferred is not None and stage.name in deferred.deferred \
+                        and self._deferred_keys.get(stage.name) == study:
+                    output, reads = deferred.study_output(stage.name), _ALL
+                else:
+                    output, reads = self._run(stage, scene, stage_inputs(stage, data, the_plan.registry))
                 entry = _Entry(stage, reads, field_digests(scene, reads), upstream, output,
                                {key: _digest(value) for key, value in output.data.items()})
                 self._entries[stage.name] = entry
@@ -221,4 +244,4 @@ class StageCache:
             data.update(entry.output.data)
             digests.update(entry.data_digests)
             outputs[stage.name] = entry.output
-        return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing)
+        return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=kept)

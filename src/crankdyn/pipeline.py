@@ -140,16 +140,28 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
 
 
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
-                    stage_cache, sections_cache, defer_studies: bool = False):
+                    stage_cache, sections_cache, defer_studies: bool = False, studies: RunResult | None = None,
+                    worker=None):
     """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
     inputs changed) and render the report (re-rendering only the sections whose stage output or
     scene reads changed); the figures are left undrawn, so that the page can be shown first. With
     ``defer_studies`` a study that has to run again (the error against run time) is left for the
-    next call and its section says so (``RunResult.pending``).
-    Returns (run result, :class:`crankdyn.report.document.RenderedReport`)."""
+    next call and its section says so (``RunResult.pending``); the preview's study ``worker``
+    (:class:`crankdyn.background.StudyWorker`) computes it meanwhile, and the next call, given
+    the returned ``studies``, takes it from there (or computes it, if the scene changed since).
+    Returns (run result, :class:`crankdyn.report.document.RenderedReport`, the deferred studies
+    as a :class:`RunResult` to pass as ``studies``, or None)."""
     from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
 
     check_scene(scene, registry, languages)
     with frozen_heap():  # the collector skips the imported modules and cached results (crankdyn.heap)
-        result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies)
-        return result, render_html(result, registry, sections_cache=sections_cache)
+        result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies,
+                                      deferred=studies)
+        deferred = None
+        if result.deferred:  # shown as pending in this rendering, computed by the worker meanwhile
+            deferred = RunResult(scene=scene, plan=result.plan, outputs={}, deferred=result.deferred)
+            result.deferred = {}
+            if worker is not None:
+                deferred.background = worker.submit(scene, None if stages is None else list(stages),
+                                                    [s.name for s in result.plan.order if s.name in deferred.deferred])
+        return result, render_html(result, registry, sections_cache=sections_cache), deferred

@@ -42,6 +42,7 @@ from urllib.parse import parse_qs, quote, urlsplit
 
 from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
+from .background import StudyWorker
 from .pipeline import run_for_preview
 from .plugins import default_registry
 from .report.context import FIGURE_DIR, draw_figures, start_drawing
@@ -221,6 +222,8 @@ class Preview:
         self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
         self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
+        self._worker = None  # computes the studies while the page is rendered (start)
+        self._studies = None  # the studies the shown page says follow, being computed there
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
@@ -241,9 +244,12 @@ class Preview:
         try:
             snapshot = self._publish(*self._render(defer_studies=True), start)
             if snapshot.pending:  # the study, and nothing else, runs now (its figures drawn meanwhile)
+                in_children = {id(f) for f in snapshot.figures if not f.drawn}
                 finish = start_drawing(snapshot.figures)
                 try:
                     snapshot = self._publish(*self._render(defer_studies=False), start)
+                    if finish is not None:  # the study's figures: drawn here while the children draw
+                        self._draw_here([f for f in snapshot.figures if id(f) not in in_children])
                 finally:
                     if finish is not None:
                         finish()
@@ -280,8 +286,14 @@ class Preview:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            result, rendered = run_for_preview(scene, self._registry, self.stages, available_languages(),
-                                               self.stage_cache, self.sections_cache, defer_studies)
+            studies, self._studies = self._studies, None
+            try:
+                result, rendered, self._studies = run_for_preview(
+                    scene, self._registry, self.stages, available_languages(), self.stage_cache,
+                    self.sections_cache, defer_studies, studies, self._worker)
+            finally:
+                if studies is not None:  # taken from, or not wanted (the scene changed meanwhile)
+                    studies.close_background()
         except Exception as exc:  # noqa: BLE001 - every failure becomes a page, the server lives on
             state, page, problems = error_page(exc, self.scene_path)
             return state, page, problems, None, [], ()
@@ -306,6 +318,17 @@ class Preview:
             with self._drawn:
                 self._drawn.notify_all()
         object.__setattr__(snapshot, "figures_s", time.perf_counter() - start)
+
+    def _draw_here(self, figures) -> None:
+        """Draw, in this process, the figures no child is drawing (the study's, new with the whole
+        page), while the children draw the others: this process would only wait for them, and
+        it has the figures' labels typeset already (:meth:`_warm`)."""
+        for figure in figures:
+            if figure.drawn:
+                continue
+            figure.svg  # noqa: B018 - drawn and kept
+            with self._drawn:
+                self._drawn.notify_all()
 
     def figures_ready(self, version: str, timeout: float = 120.0) -> bool:
         """Wait until the figures of snapshot ``version`` are drawn (False if another snapshot came)."""
@@ -361,7 +384,10 @@ class Preview:
         return {self.scene_path} | {Path(os.path.abspath(p)) for p in referenced_files(self.scene_path)}
 
     def start(self) -> None:
-        """Start the builder and watcher threads; the first build begins at once."""
+        """Start the study worker, then the builder and watcher threads; the first build begins
+        at once. The worker is forked first: forking beside running threads is not safe."""
+        if self._worker is None:
+            self._worker = StudyWorker.start()
         self._dirty.set()
         for target, name in ((self._builder, "crankdyn-builder"), (self._watcher, "crankdyn-watcher")):
             thread = threading.Thread(target=target, name=name, daemon=True)
@@ -375,6 +401,9 @@ class Preview:
             self._published.notify_all()
         for thread in self._threads:
             thread.join(timeout)
+        if self._worker is not None:  # no worker left behind
+            self._worker.stop()
+            self._worker = None
 
     def _builder(self) -> None:
         while not self._stop.is_set():

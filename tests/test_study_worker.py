@@ -1,0 +1,133 @@
+"""The live preview's study worker (crankdyn.background.StudyWorker): forked before the server's
+threads, it computes the study of each save while the page is rendered; the study it sends is the
+one the server would compute, a scene changed meanwhile is computed in place, a dead worker leaves
+the study to the server, and stopping the preview leaves no process behind.
+
+Each case runs in a fresh interpreter: the worker is forked only by a process with no other
+thread (a pytest-xdist worker has some)."""
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the study worker is forked")
+
+SETUP = f"TESTS = {str(Path(__file__).resolve().parent)!r}\n" + """
+import os, re, shutil, signal, sys, tempfile, threading
+from pathlib import Path
+sys.path.insert(0, TESTS)
+from child_processes import children
+from crankdyn import background
+from crankdyn.background import StudyWorker
+from crankdyn.cli import examples_dir
+from crankdyn.serve import Preview
+
+folder = Path(tempfile.mkdtemp())
+scene = folder / "scene.toml"
+shutil.copy(examples_dir() / "kinematics-only.toml", scene)
+STUDY = "numerics_kinematics"
+
+taken = []
+take = background.WorkerJob.take
+def counting_take(self, name):
+    got = take(self, name)
+    taken.append((name, got is not None))
+    return got
+background.WorkerJob.take = counting_take
+
+def values(output):
+    # the study's numbers but its measured times (which differ from run to run)
+    def plain(x):
+        if isinstance(x, dict):
+            return {k: plain(v) for k, v in x.items() if "time" not in k and "timing" not in k and "loops" not in k}
+        if isinstance(x, list):
+            return [plain(v) for v in x]
+        return x
+    return plain(output.results)
+
+def edit(rod_mm):
+    text = scene.read_text(encoding="utf-8")
+    scene.write_text(re.sub(r'rod_length = "[0-9.]+ mm"', f'rod_length = "{rod_mm} mm"', text), encoding="utf-8")
+"""
+
+
+def run(code: str) -> None:
+    done = subprocess.run([sys.executable, "-c", SETUP + textwrap.dedent(code)], capture_output=True, text=True,
+                          timeout=180)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.strip().endswith("ok"), done.stdout
+
+
+def test_the_worker_computes_each_saves_study_as_the_server_would():
+    run("""
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()
+    assert preview._worker is not None
+    for rod in (200, 210):
+        edit(rod)
+        snapshot = preview.build()
+        assert snapshot.state == "report" and not snapshot.pending
+        assert taken[-1] == (STUDY, True), taken  # the worker's output
+        by_worker = preview.stage_cache._entries[STUDY].output
+        in_place = Preview(scene)  # no worker: computed in this process
+        in_place.build()
+        assert values(in_place.stage_cache._entries[STUDY].output) == values(by_worker)
+    worker = preview._worker.pid
+    preview.stop()
+    assert preview._worker is None and not children(), children()
+    print("ok")
+    """)
+
+
+def test_a_scene_changed_between_the_page_and_its_study_is_computed_here():
+    run("""
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()
+    preview._render(defer_studies=True)  # the page: the worker starts on the study of 200 mm
+    edit(230)  # saved again before the study was taken
+    state, page, problems, html, figures, pending = preview._render(defer_studies=False)
+    assert state == "report" and not pending and (STUDY, True) not in taken, taken
+    here = preview.stage_cache._entries[STUDY].output
+    fresh = Preview(scene)
+    fresh.build()
+    assert values(here) == values(fresh.stage_cache._entries[STUDY].output)
+    edit(240)  # and the worker still serves the next save (the stale answer was read first)
+    preview.build()
+    assert taken[-1] == (STUDY, True), taken
+    preview.stop()
+    assert not children()
+    print("ok")
+    """)
+
+
+def test_a_dead_worker_leaves_the_study_to_the_server():
+    run("""
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()
+    os.kill(preview._worker.pid, signal.SIGKILL)
+    os.waitpid(preview._worker.pid, 0)
+    snapshot = preview.build()
+    assert snapshot.state == "report" and not snapshot.pending and STUDY in preview.stage_cache._entries
+    assert (STUDY, True) not in taken and not preview._worker.alive
+    preview.stop()
+    assert not children()
+    print("ok")
+    """)
+
+
+def test_no_worker_is_forked_beside_other_threads():
+    run("""
+    gate = threading.Event()
+    thread = threading.Thread(target=gate.wait)
+    thread.start()
+    try:
+        assert StudyWorker.start() is None
+    finally:
+        gate.set()
+        thread.join()
+    assert not children()
+    print("ok")
+    """)
