@@ -131,3 +131,34 @@ def test_no_worker_is_forked_beside_other_threads():
     assert not children()
     print("ok")
     """)
+
+
+def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
+    run("""
+    from crankdyn import serve
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()
+    published = []
+    publish = preview._publish
+    preview._publish = lambda *args: published.append(publish(*args)) or published[-1]
+    preview.build()  # the first save: no study time known yet, the page first, then the whole
+    assert [bool(s.pending) for s in published] == [True, False]
+    assert preview._study_s is not None and preview._study_s < serve.STUDY_INLINE_S
+    edit(220)
+    del published[:]
+    snapshot = preview.build()  # the study took less than STUDY_INLINE_S: waited for, one page
+    assert len(published) == 1 and not snapshot.pending and b'class="pending"' not in snapshot.page
+    assert taken[-1] == (STUDY, True), taken
+    kept = preview.stage_cache._entries[STUDY].output  # kept as if run in the server
+    runs = dict(preview.stage_cache.runs)
+    preview.build()  # nothing changed: nothing computed again, in the server or the worker
+    assert preview.stage_cache._entries[STUDY].output is kept and dict(preview.stage_cache.runs) == runs
+    serve.STUDY_INLINE_S = 0.0  # a slow study: the page first again
+    edit(230)
+    del published[:]
+    preview.build()
+    assert [bool(s.pending) for s in published] == [True, False]
+    preview.stop()
+    assert not children()
+    print("ok")
+    """)

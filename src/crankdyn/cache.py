@@ -192,6 +192,22 @@ class StageCache:
         return (entry is not None and entry.stage is stage and entry.upstream == upstream
                 and entry.fields == field_digests(scene, entry.reads))
 
+    def deferred_study(self, name: str) -> bool:
+        """Whether a :meth:`run_plan` deferred study ``name``."""
+        return name in self._deferred_keys
+
+    def adopt(self, name: str, output: StageOutput) -> None:
+        """Keep the output of the deferred study ``name``, computed elsewhere (the preview's study
+        worker) for the scene it was deferred with, as if it had run here; it counts as having
+        read every field."""
+        kept = self._entries.get(name)
+        if kept is not None and kept.output is output:
+            return  # kept already (it ran here, or was taken from the worker by run_plan)
+        stage, upstream, fields = self._deferred_keys[name]
+        self._entries[name] = _Entry(stage, _ALL, fields, upstream, output,
+                                     {key: _digest(value) for key, value in output.data.items()})
+        self.runs[name] += 1
+
     @staticmethod
     def _run(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, frozenset[str]]:
         """(output, the scene fields it read) of ``stage`` run on a read-tracking copy of ``scene``."""

@@ -141,7 +141,7 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
 
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
                     stage_cache, sections_cache, defer_studies: bool = False, studies: RunResult | None = None,
-                    worker=None):
+                    worker=None, inline_studies: bool = False):
     """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
     inputs changed) and render the report (re-rendering only the sections whose stage output or
     scene reads changed); the figures are left undrawn, so that the page can be shown first. With
@@ -149,6 +149,8 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     next call and its section says so (``RunResult.pending``); the preview's study ``worker``
     (:class:`crankdyn.background.StudyWorker`) computes it meanwhile, and the next call, given
     the returned ``studies``, takes it from there (or computes it, if the scene changed since).
+    With ``inline_studies`` as well (a study the worker computes quickly), this rendering waits
+    for the worker's study when its section comes, so that the page is shown once, whole.
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`, the deferred studies
     as a :class:`RunResult` to pass as ``studies``, or None)."""
     from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
@@ -164,4 +166,12 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
             if worker is not None:
                 deferred.background = worker.submit(scene, None if stages is None else list(stages),
                                                     [s.name for s in result.plan.order if s.name in deferred.deferred])
-        return result, render_html(result, registry, sections_cache=sections_cache), deferred
+            if inline_studies and deferred.background is not None:  # taken when their sections come
+                result.deferred, result.background, deferred = deferred.deferred, deferred.background, None
+        try:
+            rendered = render_html(result, registry, sections_cache=sections_cache)
+        finally:
+            result.close_background()
+        for name in [name for name in result.outputs if stage_cache.deferred_study(name)]:
+            stage_cache.adopt(name, result.outputs[name])  # the worker's study, kept as if run here
+        return result, rendered, deferred

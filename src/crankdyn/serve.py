@@ -43,6 +43,7 @@ from urllib.parse import parse_qs, quote, urlsplit
 from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
 from .background import StudyWorker
+from .orchestrator import is_study
 from .pipeline import run_for_preview
 from .plugins import default_registry
 from .report.context import FIGURE_DIR, draw_figures, start_drawing
@@ -196,6 +197,12 @@ def _watch_names(paths: Iterable[Path]) -> set[Path]:
 
 # --------------------------------------------------------------------------- the preview
 
+#: A study that took less than this (s) on the last save is waited for on the next: the page is
+#: then shown once, whole, instead of first without the study and again with it (each showing a
+#: reload of the tab, on the cores that draw the figures).
+STUDY_INLINE_S = 0.3
+
+
 class Preview:
     """Builds snapshots of one scene; watches its files; renders the PDF on request."""
 
@@ -224,6 +231,7 @@ class Preview:
         self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
         self._worker = None  # computes the studies while the page is rendered (start)
         self._studies = None  # the studies the shown page says follow, being computed there
+        self._study_s: float | None = None  # how long the last save's study took
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
@@ -290,7 +298,11 @@ class Preview:
             try:
                 result, rendered, self._studies = run_for_preview(
                     scene, self._registry, self.stages, available_languages(), self.stage_cache,
-                    self.sections_cache, defer_studies, studies, self._worker)
+                    self.sections_cache, defer_studies, studies, self._worker,
+                    inline_studies=self._study_s is not None and self._study_s < STUDY_INLINE_S)
+                times = [result.timing_s[s.name] for s in result.plan.order if is_study(s) and s.name in result.timing_s]
+                if times:
+                    self._study_s = max(times)
             finally:
                 if studies is not None:  # taken from, or not wanted (the scene changed meanwhile)
                     studies.close_background()
