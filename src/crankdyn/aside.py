@@ -74,16 +74,22 @@ class Handle:
             return
         self._reader.close()
         self._reader = None
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(self._pid, signal.SIGKILL)
-        with contextlib.suppress(ChildProcessError):
-            os.waitpid(self._pid, 0)
+        stop_child(self._pid)
 
     def __enter__(self) -> "Handle":
         return self
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def stop_child(pid: int) -> None:
+    """Kill the forked child ``pid`` (done or not, it has nothing more to do) and reap it; one that
+    ended, or was reaped, already is no error."""
+    with contextlib.suppress(ProcessLookupError):
+        os.kill(pid, signal.SIGKILL)
+    with contextlib.suppress(ChildProcessError):
+        os.waitpid(pid, 0)
 
 
 def can_fork() -> bool:

@@ -17,9 +17,8 @@ from __future__ import annotations
 
 import os
 import pickle
-import signal
 
-from .aside import can_fork
+from .aside import can_fork, stop_child
 from .orchestrator import RunResult, run_stage
 
 
@@ -68,14 +67,7 @@ class ForkedStudies:
     def close(self) -> None:
         """Stop the child if it is still computing, and reap it."""
         self._reader.close()
-        try:
-            os.kill(self.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        try:
-            os.waitpid(self.pid, 0)
-        except ChildProcessError:
-            pass
+        stop_child(self.pid)
 
 
 def _compute(scene, jobs, out) -> None:
@@ -188,14 +180,7 @@ class StudyWorker:
                 stream.close()
             except OSError:
                 pass
-        try:
-            os.kill(self.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        try:
-            os.waitpid(self.pid, 0)
-        except ChildProcessError:
-            pass
+        stop_child(self.pid)
 
 
 class WorkerJob:

@@ -21,6 +21,8 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from multiprocessing.connection import Pipe, wait
 
+from .aside import stop_child
+
 DEFAULT_TIMEOUT_S = 120.0
 
 
@@ -101,11 +103,7 @@ class _Worker:
 
     def kill(self) -> None:
         """Stop the worker now and wait for it."""
-        try:
-            os.kill(self.pid, signal.SIGKILL)
-            os.waitpid(self.pid, 0)
-        except (ProcessLookupError, ChildProcessError):
-            pass
+        stop_child(self.pid)
         self.connection.close()
 
 
@@ -240,8 +238,7 @@ def run_limited(function: Callable, args: tuple, timeout_s: float,
         while True:
             left = deadline - time.monotonic()
             if left <= 0 or not select.select([read_end], [], [], left)[0]:
-                os.kill(pid, signal.SIGKILL)
-                os.waitpid(pid, 0)
+                stop_child(pid)
                 return "timeout", None, time.monotonic() - start
             chunk = os.read(read_end, 1 << 20)
             if not chunk:

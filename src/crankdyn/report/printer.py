@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import os
 import pickle
-import signal
 import socket
 import sys
 import threading
 from collections.abc import Sequence
 
+from ..aside import stop_child
 from .weasy import load_weasyprint
 
 #: The printer of this process: (its pid, its socket, the pid that started it) or None.
@@ -142,11 +142,4 @@ def discard() -> None:
 
 def _stop(pid: int, sock: socket.socket) -> None:
     sock.close()
-    try:
-        os.kill(pid, signal.SIGKILL)  # done or not, it has nothing more to do
-    except ProcessLookupError:
-        pass
-    try:
-        os.waitpid(pid, 0)
-    except ChildProcessError:
-        pass
+    stop_child(pid)
