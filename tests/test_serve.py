@@ -425,3 +425,25 @@ def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
         figure.draw = lambda figure=figure: drawn_again.append(figure.name)
     preview._warm(snapshot)  # once: the next save's figures of the same names are not drawn again
     assert drawn_again == []
+
+
+def test_a_changed_data_file_is_computed_again(tmp_path):
+    # the stage cache keys a stage by the scene fields it read: the trace's file name stays the
+    # same when its data changes, so the preview starts its caches afresh then
+    scene = _trace_scene(tmp_path)
+    preview = Preview(scene, stages=["kinematics", "indicator"])
+    first = preview.build()
+    assert first.state == "report"
+    peak = preview.stage_cache._entries["indicator"].output.results
+    trace = tmp_path / "diesel6-1600rpm.ind"
+    lines = trace.read_text(encoding="utf-8").splitlines(keepends=True)
+    # every pressure (second column) 10 % higher
+    scaled = [line if not line.strip() or not line.split()[0].replace(".", "", 1).isdigit() else
+              line.replace(line.split()[1], f"{float(line.split()[1]) * 1.1:.2f}", 1) for line in lines]
+    trace.write_text("".join(scaled), encoding="utf-8")
+    preview.build()
+    again = preview.stage_cache._entries["indicator"].output.results
+    assert again != peak and preview.stage_cache.runs["indicator"] == 1  # a fresh cache ran it once
+    runs = dict(preview.stage_cache.runs)
+    preview.build()  # nothing changed since: kept
+    assert dict(preview.stage_cache.runs) == runs

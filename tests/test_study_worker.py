@@ -162,3 +162,84 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     assert not children()
     print("ok")
     """)
+
+
+# A registry of two stages, as in test_background: a base and a study of it, slow when asked to be.
+REGISTRY = """
+import time
+from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugins import Registry
+from crankdyn.scene import scene_from_dict
+from conftest import example_data
+
+def stage(name, run, provides=(), requires=(), last=False):
+    return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),
+                 applies=lambda scene: None, run=run, render=lambda output, ctx: "", last=last)
+
+def base(scene, inputs):
+    return StageOutput(data={"x": float(scene.masses.piston_group)})
+
+def study(scene, inputs):
+    if inputs["x"] > 10:  # a scene that makes the study slow
+        time.sleep(60)
+    return StageOutput(results={"twice_x": 2 * inputs["x"], "pid": os.getpid(), "marker": "custom"})
+
+registry = Registry()
+for s in (stage("base", base, provides=["x"]), stage("study", study, requires=["x"], last=True)):
+    registry.stages[s.name] = s
+
+def with_mass(kg):
+    data = example_data("petrol-1cyl")
+    data["masses"]["piston_group"] = f"{kg} kg"
+    return scene_from_dict(data)
+"""
+
+
+def test_the_worker_computes_with_the_registry_it_was_given():
+    run(REGISTRY + textwrap.dedent("""
+    worker = StudyWorker.start(registry)
+    job = worker.submit(with_mass(0.5), None, ["study"])
+    output, elapsed = job.take("study")
+    assert output.results["marker"] == "custom" and output.results["twice_x"] == 1.0
+    assert output.results["pid"] == worker.pid and elapsed > 0
+    worker.stop()
+    assert not children()
+    print("ok")
+    """))
+
+
+def test_a_busy_worker_leaves_the_next_study_to_the_server_and_stops_at_once():
+    run(REGISTRY + textwrap.dedent("""
+    worker = StudyWorker.start(registry)
+    slow = worker.submit(with_mass(20), None, ["study"])  # sleeps a minute in the worker
+    assert slow is not None
+    assert worker.submit(with_mass(0.5), None, ["study"]) is None  # not queued behind it: computed here
+    got = []
+    waiting = threading.Thread(target=lambda: got.append(slow.take("study")))
+    waiting.start()  # a builder waiting for the slow study ...
+    time.sleep(0.5)
+    worker.stop()  # ... does not keep the preview from stopping
+    waiting.join(10)
+    assert not waiting.is_alive() and got == [None] and not worker.alive
+    assert not children()
+    print("ok")
+    """))
+
+
+def test_a_save_that_computes_nothing_keeps_the_last_study_time():
+    run("""
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()
+    preview.build()
+    first = preview._study_s
+    assert first is not None and first > 0
+    preview._study_s = 123.0
+    preview.build()  # nothing changed: the study is a cache hit, its time says nothing
+    assert preview._study_s == 123.0
+    edit(250)
+    preview.build()
+    assert preview._study_s != 123.0 and preview._study_s > 0
+    entry_time = preview._study_s
+    preview.stop()
+    print("ok")
+    """)

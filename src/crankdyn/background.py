@@ -94,28 +94,32 @@ class StudyWorker:
     The preview shows a saved scene's page first and the error study after it; the study can be
     computed meanwhile, on the core the rendering leaves idle. A child forked at each save would
     be forked beside the server's threads (the HTTP server's, the file watcher's), which is not
-    safe: twice in 70 edits the watcher missed a save. So one worker is forked when the preview
-    starts, before any thread, and each save sends it the scene (pickled; the stages' data holds
-    functions that cannot be): the worker runs the plan itself, through a stage cache of its own
-    (the stages before the study are cheap next to it), and sends the studies' outputs back, as
+    safe. So one worker is forked when the preview starts, before any thread, and each save sends
+    it the scene (pickled; the stages' data holds functions that cannot be): the worker runs the
+    plan itself, with the preview's registry, through a stage cache of its own (the stages before
+    the study are cheap next to it), and sends the studies' outputs back, as
     :class:`ForkedStudies` does. The same scene and code give the same values.
 
-    One job at a time: a new job first reads what the worker still sends for the previous one
-    (the two never write to each other at once). A worker that died, or an output it could not
-    pickle, is computed again in the server's process (:meth:`RunResult.study_output`).
+    One job at a time, as length-prefixed pickles over a socket pair: the server sends a job only
+    when it has read every answer to the previous one (the two never write to each other at
+    once). While the worker is still busy with a job nobody waits for any more (the scene was
+    saved again), a new save's study is computed in the server instead of waiting. A worker that
+    died, or an output it could not pickle, is computed again in the server's process
+    (:meth:`RunResult.study_output`).
     """
 
     def __init__(self, pid: int, sock) -> None:
         self.pid = pid
         self._sock = sock
-        self._reader, self._writer = sock.makefile("rb"), sock.makefile("wb")
         self._jobs = 0
         self._unread: int | None = None  # the job whose answers are not all read yet
+        self._forget = False  # the next job starts the worker's stage cache afresh (forget)
         self.alive = True
 
     @classmethod
-    def start(cls) -> "StudyWorker | None":
-        """Fork the worker (None where fork is not safe: no ``fork``, or other threads running)."""
+    def start(cls, registry=None) -> "StudyWorker | None":
+        """Fork the worker (None where fork is not safe: no ``fork``, or other threads running);
+        it computes with ``registry`` (None: the installed plugins, loaded in the worker)."""
         import socket  # lazy: heavy optional import (only the live preview has a study worker)
 
         if not can_fork():
@@ -126,7 +130,7 @@ class StudyWorker:
             ours.close()
             status = 0
             try:
-                _serve_jobs(theirs.makefile("rb"), theirs.makefile("wb"))
+                _serve_jobs(theirs, registry)
             except BaseException:
                 status = 1
             finally:
@@ -136,26 +140,37 @@ class StudyWorker:
 
     def submit(self, scene, stages: list[str] | None, studies: list[str]) -> "WorkerJob | None":
         """Have the worker run ``scene``'s plan (``stages`` as asked for, None: all) and send
-        the outputs of the ``studies`` in it."""
+        the outputs of the ``studies`` in it; None (computed in the server) when the worker is
+        busy with an earlier job, is gone, or the scene cannot be pickled."""
         if not self.alive:
             return None
-        self._drain()
-        self._jobs += 1
+        self._drain(block=False)
+        if self._unread is not None:  # still computing a study nobody waits for
+            return None
         try:
-            pickle.dump((self._jobs, scene, stages, studies), self._writer, protocol=pickle.HIGHEST_PROTOCOL)
-            self._writer.flush()
-        except Exception:  # a scene or data that cannot be pickled, a dead worker: computed here
+            message = pickle.dumps((self._jobs + 1, scene, stages, studies, self._forget),
+                                   protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception:  # noqa: BLE001 - this scene cannot be sent: computed in the server, this time
+            return None
+        try:
+            _send(self._sock, message)
+        except OSError:  # the worker is gone
             self._fail()
             return None
-        self._unread = self._jobs
+        self._jobs += 1
+        self._unread, self._forget = self._jobs, False
         return WorkerJob(self, self._jobs)
+
+    def forget(self) -> None:
+        """Have the worker start its stage cache afresh with the next job (a data file changed)."""
+        self._forget = True
 
     def _read(self, job: int) -> tuple | None:
         """The worker's next message for ``job`` (("done",) at its end), skipping older jobs'."""
         while self.alive and self._unread is not None:
             try:
-                number, message = pickle.load(self._reader)
-            except Exception:  # EOF: the worker died
+                number, message = pickle.loads(_receive(self._sock))
+            except Exception:  # noqa: BLE001 - EOF or a broken message: the worker died
                 self._fail()
                 return None
             if message == ("done",) and number == self._unread:
@@ -164,8 +179,13 @@ class StudyWorker:
                 return message
         return None
 
-    def _drain(self) -> None:
+    def _drain(self, block: bool = True) -> None:
+        """Read the answers to the unread job: all of them, or (``block`` False) those already sent."""
+        import select  # lazy: heavy optional import (only the live preview has a study worker)
+
         while self._unread is not None and self.alive:
+            if not block and not select.select([self._sock], [], [], 0)[0]:
+                return
             self._read(self._unread)
 
     def _fail(self) -> None:
@@ -173,14 +193,31 @@ class StudyWorker:
         self._unread = None
 
     def stop(self) -> None:
-        """End the worker and reap it."""
+        """End the worker and reap it (first: a thread reading its answers then sees EOF at once)."""
         self.alive = False
-        for stream in (self._writer, self._reader, self._sock):
-            try:
-                stream.close()
-            except OSError:
-                pass
         stop_child(self.pid)
+        self._sock.close()
+
+
+def _send(sock, message: bytes) -> None:
+    sock.sendall(len(message).to_bytes(8, "little") + message)
+
+
+def _receive(sock) -> bytes:
+    """One message of :func:`_send`: exactly its bytes (EOFError when the other side is gone)."""
+    size = int.from_bytes(_exactly(sock, 8), "little")
+    return _exactly(sock, size)
+
+
+def _exactly(sock, size: int) -> bytes:
+    chunks, left = [], size
+    while left:
+        chunk = sock.recv(min(left, 1 << 20))
+        if not chunk:
+            raise EOFError("the other side closed the socket")
+        chunks.append(chunk)
+        left -= len(chunk)
+    return b"".join(chunks)
 
 
 class WorkerJob:
@@ -207,29 +244,29 @@ class WorkerJob:
         self._ended = True
 
 
-def _serve_jobs(reader, writer) -> None:
+def _serve_jobs(sock, registry=None) -> None:
     from .cache import StageCache  # lazy: heavy optional import (only the preview's worker caches stages)
     from .orchestrator import plan  # lazy: heavy optional import (only the preview's worker plans)
     from .plugins import default_registry  # lazy: heavy optional import (the plugins, in the worker)
 
-    registry, cache = None, StageCache()
+    cache = StageCache()
     while True:
         try:
-            number, scene, stages, studies = pickle.load(reader)
+            number, scene, stages, studies, forget = pickle.loads(_receive(sock))
         except EOFError:
             return
+        if forget:
+            cache = StageCache()
         registry = registry or default_registry()
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))
             outputs = [(name, result.outputs[name], result.timing_s[name]) for name in studies]
-        except Exception:  # computed again in the server's process, which then raises it
+        except Exception:  # noqa: BLE001 - computed again in the server's process, which then raises it
             outputs = [(name, None, 0.0) for name in studies]
         for name, output, elapsed in outputs:
             try:
                 message = pickle.dumps((number, (name, output, elapsed)), protocol=pickle.HIGHEST_PROTOCOL)
-            except Exception:  # an output that cannot be pickled: computed in the server's process
+            except Exception:  # noqa: BLE001 - an output that cannot be pickled: computed in the server
                 message = pickle.dumps((number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL)
-            writer.write(message)
-            writer.flush()
-        writer.write(pickle.dumps((number, ("done",)), protocol=pickle.HIGHEST_PROTOCOL))
-        writer.flush()
+            _send(sock, message)
+        _send(sock, pickle.dumps((number, ("done",)), protocol=pickle.HIGHEST_PROTOCOL))

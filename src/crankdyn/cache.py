@@ -240,7 +240,7 @@ class StageCache:
         for stage in the_plan.order:
             upstream = tuple((key, digests[key]) for key in (*stage.requires, *stage.uses) if key in digests)
             entry = self._entries.get(stage.name)
-            start = time.perf_counter()
+            start, taken = time.perf_counter(), None
             if not self._valid(entry, stage, scene, upstream):
                 study = (stage, upstream, field_digests(scene, _ALL)) if is_study(stage) else None
                 if defer_studies and study is not None:
@@ -250,13 +250,14 @@ class StageCache:
                 if study is not None and deferred is not None and stage.name in deferred.deferred \
                         and self._deferred_keys.get(stage.name) == study:
                     output, reads = deferred.study_output(stage.name), _ALL
+                    taken = deferred.timing_s[stage.name]  # its run (in the worker), not the wait for it
                 else:
                     output, reads = self._run(stage, scene, stage_inputs(stage, data, the_plan.registry))
                 entry = _Entry(stage, reads, field_digests(scene, reads), upstream, output,
                                {key: _digest(value) for key, value in output.data.items()})
                 self._entries[stage.name] = entry
                 self.runs[stage.name] += 1
-            timing[stage.name] = time.perf_counter() - start
+            timing[stage.name] = time.perf_counter() - start if taken is None else taken
             data.update(entry.output.data)
             digests.update(entry.data_digests)
             outputs[stage.name] = entry.output

@@ -22,6 +22,7 @@ build keeps its URL, so the browser shows it from its cache at once.
 
 from __future__ import annotations
 
+import hashlib
 import html
 import json
 import os
@@ -185,6 +186,19 @@ def referenced_files(scene_path: Path) -> set[Path]:
     return found
 
 
+def files_digest(paths: Iterable[Path]) -> str:
+    """A digest of the files' names and contents (a missing or unreadable file counts as such)."""
+    digest = hashlib.blake2b(digest_size=16)
+    for path in sorted(paths):
+        digest.update(str(path).encode("utf-8", "surrogateescape") + b"\0")
+        try:
+            digest.update(path.read_bytes())
+        except OSError as exc:
+            digest.update(f"unreadable: {exc.__class__.__name__}".encode())
+        digest.update(b"\0")
+    return digest.hexdigest()
+
+
 def _watch_names(paths: Iterable[Path]) -> set[Path]:
     """The names change events arrive with: the file in its resolved folder, and its target if a link."""
     names = set()
@@ -232,6 +246,7 @@ class Preview:
         self._worker = None  # computes the studies while the page is rendered (start)
         self._studies = None  # the studies the shown page says follow, being computed there
         self._study_s: float | None = None  # how long the last save's study took
+        self._data_digest: str | None = None  # of the files the scene names (_forget_if_data_changed)
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
@@ -294,13 +309,17 @@ class Preview:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
+            self._forget_if_data_changed()
             studies, self._studies = self._studies, None
+            runs = dict(self.stage_cache.runs)
             try:
                 result, rendered, self._studies = run_for_preview(
                     scene, self._registry, self.stages, available_languages(), self.stage_cache,
                     self.sections_cache, defer_studies, studies, self._worker,
                     inline_studies=self._study_s is not None and self._study_s < STUDY_INLINE_S)
-                times = [result.timing_s[s.name] for s in result.plan.order if is_study(s) and s.name in result.timing_s]
+                # how long the studies computed now took to compute (not a cache hit's nothing)
+                times = [result.timing_s[s.name] for s in result.plan.order
+                         if is_study(s) and s.name in result.timing_s and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
                 if times:
                     self._study_s = max(times)
             finally:
@@ -319,6 +338,17 @@ class Preview:
             page = page.replace(f'src="{FIGURE_DIR}/{figure.name}"',
                                 f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
         return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
+
+    def _forget_if_data_changed(self) -> None:
+        """Start the caches afresh when a file the scene names (a trace) changed: a stage's cache
+        key holds the scene's fields, and a file name that stays the same hid the new data."""
+        digest = files_digest(self.watched() - {self.scene_path})
+        if self._data_digest is not None and digest != self._data_digest:
+            self.stage_cache = StageCache()
+            self.sections_cache.forget()
+            if self._worker is not None:
+                self._worker.forget()
+        self._data_digest = digest
 
     def _draw(self, snapshot: Snapshot, start: float) -> None:
         """Draw the snapshot's new figures, shared by forked processes, and wake the requests
@@ -399,7 +429,7 @@ class Preview:
         """Start the study worker, then the builder and watcher threads; the first build begins
         at once. The worker is forked first: forking beside running threads is not safe."""
         if self._worker is None:
-            self._worker = StudyWorker.start()
+            self._worker = StudyWorker.start(self._registry)
         self._dirty.set()
         for target, name in ((self._builder, "crankdyn-builder"), (self._watcher, "crankdyn-watcher")):
             thread = threading.Thread(target=target, name=name, daemon=True)
