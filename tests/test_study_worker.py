@@ -66,6 +66,7 @@ def test_the_worker_computes_each_saves_study_as_the_server_would():
     preview = Preview(scene)
     preview._worker = StudyWorker.start()
     assert preview._worker is not None
+    preview._study_s = 0.0  # a quick study: the worker's, waited for
     for rod in (200, 210):
         edit(rod)
         snapshot = preview.build()
@@ -84,20 +85,33 @@ def test_the_worker_computes_each_saves_study_as_the_server_would():
 
 def test_a_scene_changed_between_the_page_and_its_study_is_computed_here():
     run("""
-    preview = Preview(scene)
-    preview._worker = StudyWorker.start()
-    preview._render(defer_studies=True)  # the page: the worker starts on the study of 200 mm
+    from crankdyn.cache import StageCache
+    from crankdyn.pipeline import run_for_preview
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.i18n import available_languages
+    from crankdyn.report.section_cache import SectionCache
+    from crankdyn.scene import load_scene
+    registry, cache, sections, worker = default_registry(), StageCache(), SectionCache(), StudyWorker.start()
+
+    def render(defer, studies=None):
+        return run_for_preview(load_scene(scene), registry, None, available_languages(), cache, sections,
+                               defer, studies, worker)
+    result, rendered, deferred = render(True)  # the page: the worker starts on the study of 200 mm
+    assert result.pending == [STUDY] and deferred is not None and deferred.background is not None
     edit(230)  # saved again before the study was taken
-    state, page, problems, html, figures, pending = preview._render(defer_studies=False)
-    assert state == "report" and not pending and (STUDY, True) not in taken, taken
-    here = preview.stage_cache._entries[STUDY].output
+    result, rendered, rest = render(False, deferred)
+    deferred.close_background()
+    assert not result.pending and rest is None and (STUDY, True) not in taken, taken
     fresh = Preview(scene)
     fresh.build()
-    assert values(here) == values(fresh.stage_cache._entries[STUDY].output)
-    edit(240)  # and the worker still serves the next save (the stale answer was read first)
-    preview.build()
+    assert values(result.outputs[STUDY]) == values(fresh.stage_cache._entries[STUDY].output)
+    edit(240)  # and the worker serves the next save (the unwanted answer read first)
+    result, rendered, deferred = render(True)
+    while deferred.background is None:  # still busy with the unwanted study: computed here
+        result, rendered, deferred = render(True)
+    result, rendered, rest = render(False, deferred)
     assert taken[-1] == (STUDY, True), taken
-    preview.stop()
+    worker.stop()
     assert not children()
     print("ok")
     """)
@@ -109,6 +123,7 @@ def test_a_dead_worker_leaves_the_study_to_the_server():
     preview._worker = StudyWorker.start()
     os.kill(preview._worker.pid, signal.SIGKILL)
     os.waitpid(preview._worker.pid, 0)
+    preview._study_s = 0.0  # a quick study: the worker's, if it could
     snapshot = preview.build()
     assert snapshot.state == "report" and not snapshot.pending and STUDY in preview.stage_cache._entries
     assert (STUDY, True) not in taken and not preview._worker.alive
@@ -153,11 +168,12 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     runs = dict(preview.stage_cache.runs)
     preview.build()  # nothing changed: nothing computed again, in the server or the worker
     assert preview.stage_cache._entries[STUDY].output is kept and dict(preview.stage_cache.runs) == runs
-    serve.STUDY_INLINE_S = 0.0  # a slow study: the page first again
+    serve.STUDY_INLINE_S = 0.0  # a slow study: the page first again, the study computed here
     edit(230)
     del published[:]
+    asked = len(taken)
     preview.build()
-    assert [bool(s.pending) for s in published] == [True, False]
+    assert [bool(s.pending) for s in published] == [True, False] and len(taken) == asked
     preview.stop()
     assert not children()
     print("ok")

@@ -312,16 +312,17 @@ class Preview:
             self._forget_if_data_changed()
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
+            answered = self._worker.last_job if self._worker is not None else None
             try:
+                # a quick study: computed by the worker while the page is rendered, and waited for;
+                # a slow one follows the page, computed here (the worker would compute the changed
+                # stages a second time, on the cores the figures need)
+                quick = self._study_s is not None and self._study_s < STUDY_INLINE_S
                 result, rendered, self._studies = run_for_preview(
                     scene, self._registry, self.stages, available_languages(), self.stage_cache,
-                    self.sections_cache, defer_studies, studies, self._worker,
-                    inline_studies=self._study_s is not None and self._study_s < STUDY_INLINE_S)
-                # how long the studies computed now took to compute (not a cache hit's nothing)
-                times = [result.timing_s[s.name] for s in result.plan.order
-                         if is_study(s) and s.name in result.timing_s and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
-                if times:
-                    self._study_s = max(times)
+                    self.sections_cache, defer_studies, studies, self._worker if quick else None,
+                    inline_studies=quick)
+                self._note_study_time(result, runs, answered)
             finally:
                 if studies is not None:  # taken from, or not wanted (the scene changed meanwhile)
                     studies.close_background()
@@ -338,6 +339,17 @@ class Preview:
             page = page.replace(f'src="{FIGURE_DIR}/{figure.name}"',
                                 f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
         return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
+
+    def _note_study_time(self, result, runs: dict, answered) -> None:
+        """How long the worker takes for this save's studies (the page waits that long in
+        :data:`STUDY_INLINE_S`'s case): its whole run of the plan when it ran them, else the
+        server's run of the stages that ran again plus the studies (nothing on a cache hit)."""
+        if self._worker is not None and self._worker.last_job not in (None, answered):
+            self._study_s = self._worker.last_job[1]
+            return
+        ran = [s for s in result.plan.order if s.name in result.timing_s and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
+        if any(is_study(s) for s in ran):
+            self._study_s = sum(result.timing_s[s.name] for s in ran)
 
     def _forget_if_data_changed(self) -> None:
         """Start the caches afresh when a file the scene names (a trace) changed: a stage's cache
