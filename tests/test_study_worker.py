@@ -66,7 +66,7 @@ def test_the_worker_computes_each_saves_study_as_the_server_would():
     preview = Preview(scene)
     preview._worker = StudyWorker.start()
     assert preview._worker is not None
-    preview._study_s = 0.0  # a quick study: the worker's, waited for
+    preview._study_s = preview._stages_s = 0.0  # a quick study: the worker's, waited for
     for rod in (200, 210):
         edit(rod)
         snapshot = preview.build()
@@ -123,7 +123,7 @@ def test_a_dead_worker_leaves_the_study_to_the_server():
     preview._worker = StudyWorker.start()
     os.kill(preview._worker.pid, signal.SIGKILL)
     os.waitpid(preview._worker.pid, 0)
-    preview._study_s = 0.0  # a quick study: the worker's, if it could
+    preview._study_s = preview._stages_s = 0.0  # a quick study: the worker's, if it could
     snapshot = preview.build()
     assert snapshot.state == "report" and not snapshot.pending and STUDY in preview.stage_cache._entries
     assert (STUDY, True) not in taken and not preview._worker.alive
@@ -159,6 +159,9 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     preview.build()  # the first save: no study time known yet, the page first, then the whole
     assert [bool(s.pending) for s in published] == [True, False]
     assert preview._study_s is not None and preview._study_s < serve.STUDY_INLINE_S
+    edit(215)  # the first save ran every stage: a save that runs few again
+    preview.build()
+    assert preview._stages_s < serve.WORKER_STAGES_S
     edit(220)
     del published[:]
     snapshot = preview.build()  # the study took less than STUDY_INLINE_S: waited for, one page

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import os
 import pickle
-import time
 
 from .aside import can_fork, stop_child
 from .orchestrator import RunResult, run_stage
@@ -116,8 +115,6 @@ class StudyWorker:
         self._unread: int | None = None  # the job whose answers are not all read yet
         self._forget = False  # the next job starts the worker's stage cache afresh (forget)
         self.alive = True
-        #: (job number, seconds) of the last job answered: the worker's whole run of the plan
-        self.last_job: tuple[int, float] | None = None
 
     @classmethod
     def start(cls, registry=None) -> "StudyWorker | None":
@@ -169,7 +166,7 @@ class StudyWorker:
         self._forget = True
 
     def _read(self, job: int) -> tuple | None:
-        """The worker's next message for ``job`` ((None, seconds) at its end: no stage is named None), skipping older jobs'."""
+        """The worker's next message for ``job`` ((None,) at its end: no stage is named None), skipping older jobs'."""
         while self.alive and self._unread is not None:
             try:
                 number, message = pickle.loads(_receive(self._sock))
@@ -178,7 +175,6 @@ class StudyWorker:
                 return None
             if message[0] is None and number == self._unread:
                 self._unread = None
-                self.last_job = (number, message[1])
             if number == job:
                 return message
         return None
@@ -262,7 +258,6 @@ def _serve_jobs(sock, registry=None) -> None:
         if forget:
             cache = StageCache()
         registry = registry or default_registry()
-        start = time.perf_counter()
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))
             outputs = [(name, result.outputs[name], result.timing_s[name]) for name in studies]
@@ -274,4 +269,4 @@ def _serve_jobs(sock, registry=None) -> None:
             except Exception:  # noqa: BLE001 - an output that cannot be pickled: computed in the server
                 message = pickle.dumps((number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL)
             _send(sock, message)
-        _send(sock, pickle.dumps((number, (None, time.perf_counter() - start)), protocol=pickle.HIGHEST_PROTOCOL))
+        _send(sock, pickle.dumps((number, (None,)), protocol=pickle.HIGHEST_PROTOCOL))

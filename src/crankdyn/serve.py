@@ -211,10 +211,13 @@ def _watch_names(paths: Iterable[Path]) -> set[Path]:
 
 # --------------------------------------------------------------------------- the preview
 
-#: A study that took less than this (s) on the last save is waited for on the next: the page is
-#: then shown once, whole, instead of first without the study and again with it (each showing a
-#: reload of the tab, on the cores that draw the figures).
-STUDY_INLINE_S = 0.3
+#: A study that took less than this (s) on the last save is computed by the study worker on the
+#: next and waited for: the page is then shown once, whole, instead of first without the study
+#: and again with it (each showing a reload of the tab, on the cores that draw the figures) ...
+STUDY_INLINE_S = 0.5
+#: ... if the stages the save ran again took less than this (s): the worker runs them a second
+#: time (the in-line four's 0.4 s cost the figures' cores more than the worker saved).
+WORKER_STAGES_S = 0.1
 
 
 class Preview:
@@ -246,6 +249,7 @@ class Preview:
         self._worker = None  # computes the studies while the page is rendered (start)
         self._studies = None  # the studies the shown page says follow, being computed there
         self._study_s: float | None = None  # how long the last save's study took
+        self._stages_s: float | None = None  # ... and the stages it ran again before it
         self._data_digest: str | None = None  # of the files the scene names (_forget_if_data_changed)
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
@@ -312,17 +316,17 @@ class Preview:
             self._forget_if_data_changed()
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
-            answered = self._worker.last_job if self._worker is not None else None
             try:
                 # a quick study: computed by the worker while the page is rendered, and waited for;
                 # a slow one follows the page, computed here (the worker would compute the changed
                 # stages a second time, on the cores the figures need)
-                quick = self._study_s is not None and self._study_s < STUDY_INLINE_S
+                quick = (self._study_s is not None and self._study_s < STUDY_INLINE_S
+                         and self._stages_s is not None and self._stages_s < WORKER_STAGES_S)
                 result, rendered, self._studies = run_for_preview(
                     scene, self._registry, self.stages, available_languages(), self.stage_cache,
                     self.sections_cache, defer_studies, studies, self._worker if quick else None,
                     inline_studies=quick)
-                self._note_study_time(result, runs, answered)
+                self._note_times(result, runs)
             finally:
                 if studies is not None:  # taken from, or not wanted (the scene changed meanwhile)
                     studies.close_background()
@@ -340,16 +344,15 @@ class Preview:
                                 f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
         return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
 
-    def _note_study_time(self, result, runs: dict, answered) -> None:
-        """How long the worker takes for this save's studies (the page waits that long in
-        :data:`STUDY_INLINE_S`'s case): its whole run of the plan when it ran them, else the
-        server's run of the stages that ran again plus the studies (nothing on a cache hit)."""
-        if self._worker is not None and self._worker.last_job not in (None, answered):
-            self._study_s = self._worker.last_job[1]
-            return
-        ran = [s for s in result.plan.order if s.name in result.timing_s and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
-        if any(is_study(s) for s in ran):
-            self._study_s = sum(result.timing_s[s.name] for s in ran)
+    def _note_times(self, result, runs: dict) -> None:
+        """How long this save's studies took (the worker's or the server's run) and the stages
+        it ran again before them, for the next save's choice (nothing ran: the last times stay)."""
+        ran = [s for s in result.plan.order if s.name in result.timing_s
+               and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
+        studies = [result.timing_s[s.name] for s in ran if is_study(s)]
+        if studies:
+            self._study_s = max(studies)
+            self._stages_s = sum(result.timing_s[s.name] for s in ran if not is_study(s))
 
     def _forget_if_data_changed(self) -> None:
         """Start the caches afresh when a file the scene names (a trace) changed: a stage's cache
