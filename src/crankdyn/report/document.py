@@ -296,12 +296,17 @@ def by_sections(transform, html: str, *args) -> str:
     return "".join(transform(part, *args) for part in parts)
 
 
-@functools.lru_cache(maxsize=512)
+#: Sections kept typeset: a report's sections in a few languages (the preview's saves), not more
+#: (a batch worker renders many variants' sections that never come again).
+_TYPESET_PARTS = 128
+
+
+@functools.lru_cache(maxsize=_TYPESET_PARTS)
 def _typeset_part(part: str, language: str, units: tuple[str, ...], decimal: str) -> str:
     return typeset_html(part, language, list(units), decimal)
 
 
-@functools.lru_cache(maxsize=512)
+@functools.lru_cache(maxsize=_TYPESET_PARTS)
 def _unbreakable_part(part: str) -> str:
     return unbreakable_html(part)
 
