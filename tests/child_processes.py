@@ -18,3 +18,19 @@ def children() -> list[str]:
         if parent == mine:
             found.append(path)
     return found
+
+
+def run_fresh(setup: str, code: str, timeout: float = 120, says_ok: bool = True):
+    """Run ``setup`` and the (dedented) ``code`` in a fresh interpreter, which then has no thread
+    but its own (a pytest-xdist worker has some, and the code under test forks only without);
+    it must exit 0 and, with ``says_ok``, print "ok" last. Returns the finished process."""
+    import subprocess
+    import sys
+    import textwrap
+
+    done = subprocess.run([sys.executable, "-c", setup + textwrap.dedent(code)], capture_output=True, text=True,
+                          timeout=timeout)
+    assert done.returncode == 0, done.stdout + done.stderr
+    if says_ok:
+        assert done.stdout.strip().endswith("ok"), done.stdout
+    return done

@@ -7,12 +7,10 @@ Each forking case runs in a fresh interpreter: a child is forked only by a proce
 thread (a pytest-xdist worker has some)."""
 
 import os
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import pytest
+from child_processes import run_fresh
 
 from crankdyn.aside import aside, spare_core
 
@@ -31,11 +29,8 @@ def where(x):
 """
 
 
-def run(code: str) -> None:
-    done = subprocess.run([sys.executable, "-c", SETUP + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=120)
-    assert done.returncode == 0, done.stdout + done.stderr
-    assert done.stdout.strip().endswith("ok"), done.stdout
+def run(code: str):
+    return run_fresh(SETUP, code, timeout=120)
 
 
 def test_without_a_spare_core_the_value_is_computed_in_place_when_asked():

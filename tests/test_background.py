@@ -5,12 +5,10 @@ computed in the report's process (its own error raised there), no process left b
 Each case runs in a fresh interpreter: the child is forked only by a process with no other
 thread (a pytest-xdist worker has some)."""
 
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import pytest
+from child_processes import run_fresh
 
 pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the studies' child is forked")
 
@@ -53,12 +51,8 @@ def deferred(reg):
 """
 
 
-def run(code: str) -> subprocess.CompletedProcess:
-    done = subprocess.run([sys.executable, "-c", SETUP + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=120)
-    assert done.returncode == 0, done.stdout + done.stderr
-    assert done.stdout.strip().endswith("ok"), done.stdout
-    return done
+def run(code: str):
+    return run_fresh(SETUP, code, timeout=120)
 
 
 def test_a_study_is_computed_in_the_child_with_the_serial_result():

@@ -5,12 +5,10 @@ it can fail ends with the PDF made in-process (or the report's own error), no pr
 Each case runs in a fresh interpreter: the printer is forked only by a process with no other
 thread (a pytest-xdist worker has some) and before WeasyPrint is imported."""
 
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import pytest
+from child_processes import run_fresh
 
 pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the printer is forked")
 
@@ -29,11 +27,8 @@ from child_processes import children
 """
 
 
-def run(code: str) -> subprocess.CompletedProcess:
-    done = subprocess.run([sys.executable, "-c", SETUP + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=120)
-    assert done.returncode == 0, done.stdout + done.stderr
-    return done
+def run(code: str):
+    return run_fresh(SETUP, code, timeout=120, says_ok=False)
 
 
 def test_the_printer_makes_the_same_pdf_and_asks_for_each_figure():

@@ -6,12 +6,11 @@ the study to the server, and stopping the preview leaves no process behind.
 Each case runs in a fresh interpreter: the worker is forked only by a process with no other
 thread (a pytest-xdist worker has some)."""
 
-import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
 import pytest
+from child_processes import run_fresh
 
 pytestmark = pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="the study worker is forked")
 
@@ -48,23 +47,29 @@ def values(output):
         return x
     return plain(output.results)
 
+def with_worker():
+    preview = Preview(scene)
+    preview._worker = StudyWorker.start()  # as Preview.start() does, without its threads
+    return preview
+
+def finish(preview):
+    preview.stop()
+    assert preview._worker is None and not children(), children()
+    print("ok")
+
 def edit(rod_mm):
     text = scene.read_text(encoding="utf-8")
     scene.write_text(re.sub(r'rod_length = "[0-9.]+ mm"', f'rod_length = "{rod_mm} mm"', text), encoding="utf-8")
 """
 
 
-def run(code: str) -> None:
-    done = subprocess.run([sys.executable, "-c", SETUP + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=180)
-    assert done.returncode == 0, done.stdout + done.stderr
-    assert done.stdout.strip().endswith("ok"), done.stdout
+def run(code: str):
+    return run_fresh(SETUP, code, timeout=180)
 
 
 def test_the_worker_computes_each_saves_study_as_the_server_would():
     run("""
-    preview = Preview(scene)
-    preview._worker = StudyWorker.start()
+    preview = with_worker()
     assert preview._worker is not None
     preview._study_s = preview._stages_s = 0.0  # a quick study: the worker's, waited for
     for rod in (200, 210):
@@ -119,17 +124,14 @@ def test_a_scene_changed_between_the_page_and_its_study_is_computed_here():
 
 def test_a_dead_worker_leaves_the_study_to_the_server():
     run("""
-    preview = Preview(scene)
-    preview._worker = StudyWorker.start()
+    preview = with_worker()
     os.kill(preview._worker.pid, signal.SIGKILL)
     os.waitpid(preview._worker.pid, 0)
     preview._study_s = preview._stages_s = 0.0  # a quick study: the worker's, if it could
     snapshot = preview.build()
     assert snapshot.state == "report" and not snapshot.pending and STUDY in preview.stage_cache._entries
     assert (STUDY, True) not in taken and not preview._worker.alive
-    preview.stop()
-    assert not children()
-    print("ok")
+    finish(preview)
     """)
 
 
@@ -151,8 +153,7 @@ def test_no_worker_is_forked_beside_other_threads():
 def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     run("""
     from crankdyn import serve
-    preview = Preview(scene)
-    preview._worker = StudyWorker.start()
+    preview = with_worker()
     published = []
     publish = preview._publish
     preview._publish = lambda *args: published.append(publish(*args)) or published[-1]
@@ -177,9 +178,7 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     asked = len(taken)
     preview.build()
     assert [bool(s.pending) for s in published] == [True, False] and len(taken) == asked
-    preview.stop()
-    assert not children()
-    print("ok")
+    finish(preview)
     """)
 
 
@@ -247,8 +246,7 @@ def test_a_busy_worker_leaves_the_next_study_to_the_server_and_stops_at_once():
 
 def test_a_save_that_computes_nothing_keeps_the_last_study_time():
     run("""
-    preview = Preview(scene)
-    preview._worker = StudyWorker.start()
+    preview = with_worker()
     preview.build()
     first = preview._study_s
     assert first is not None and first > 0
