@@ -160,8 +160,10 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     preview.build()  # the first save: no study time known yet, the page first, then the whole
     assert [bool(s.pending) for s in published] == [True, False]
     assert preview._study_s is not None and preview._study_s < serve.STUDY_INLINE_S
-    edit(215)  # the first save ran every stage: a save that runs few again
+    stages_first = preview._stages_s  # every stage ran (first pass), then the study (second)
+    edit(215)  # a save that runs few stages again
     preview.build()
+    assert stages_first > 0  # the first pass's stages, not the second pass's none
     assert preview._stages_s < serve.WORKER_STAGES_S
     edit(220)
     del published[:]

@@ -345,14 +345,17 @@ class Preview:
         return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
 
     def _note_times(self, result, runs: dict) -> None:
-        """How long this save's studies took (the worker's or the server's run) and the stages
-        it ran again before them, for the next save's choice (nothing ran: the last times stay)."""
+        """How long the studies this rendering ran took (the worker's or the server's run), and
+        the other stages it ran again, for the next save's choice. A save's first pass runs the
+        stages, its second the study; what did not run keeps its last time."""
         ran = [s for s in result.plan.order if s.name in result.timing_s
                and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
         studies = [result.timing_s[s.name] for s in ran if is_study(s)]
+        stages = [result.timing_s[s.name] for s in ran if not is_study(s)]
         if studies:
             self._study_s = max(studies)
-            self._stages_s = sum(result.timing_s[s.name] for s in ran if not is_study(s))
+        if stages:
+            self._stages_s = sum(stages)
 
     def _forget_if_data_changed(self) -> None:
         """Start the caches afresh when a file the scene names (a trace) changed: a stage's cache
