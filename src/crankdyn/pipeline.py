@@ -160,14 +160,16 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
         result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies,
                                       deferred=studies)
         deferred = None
-        if result.deferred:  # shown as pending in this rendering, computed by the worker meanwhile
-            deferred = RunResult(scene=scene, plan=result.plan, outputs={}, deferred=result.deferred)
-            result.deferred = {}
-            if worker is not None:
-                deferred.background = worker.submit(scene, None if stages is None else list(stages),
-                                                    [s.name for s in result.plan.order if s.name in deferred.deferred])
-            if inline_studies and deferred.background is not None:  # taken when their sections come
-                result.deferred, result.background, deferred = deferred.deferred, deferred.background, None
+        if result.deferred:  # computed by the worker meanwhile, if there is one
+            job = None if worker is None else worker.submit(
+                scene, None if stages is None else list(stages), [s.name for s in result.plan.order
+                                                                 if s.name in result.deferred])
+            if inline_studies and job is not None:  # taken when their sections come
+                result.background = job
+            else:  # shown as pending in this rendering, taken (or computed) by the next
+                deferred = RunResult(scene=scene, plan=result.plan, outputs={}, deferred=result.deferred,
+                                     background=job)
+                result.deferred = {}
         try:
             rendered = render_html(result, registry, sections_cache=sections_cache)
         finally:
