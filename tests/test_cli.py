@@ -51,3 +51,31 @@ def test_plugins_listing_via_subprocess():
     assert "crank_slider" in done.stdout and "builtin_kinematics" in done.stdout
     assert "requires=kinematics,gas_pressure" in done.stdout
     assert "languages: en, ru, uk" in done.stdout
+
+
+def test_the_command_tunes_the_collector_and_main_alone_does_not(monkeypatch, capsys):
+    """``crankdyn`` (cli.run) collects less often and freezes before exit; main(), used in-process, does not."""
+    import sys
+
+    import pytest
+
+    from crankdyn import cli
+
+    calls = []
+    monkeypatch.setattr(cli.gc, "set_threshold", lambda *limits: calls.append(("threshold", limits)))
+    monkeypatch.setattr(cli.gc, "freeze", lambda: calls.append(("freeze",)))
+    assert main(["example", "--list"]) == 0
+    assert calls == []
+    monkeypatch.setattr(sys, "argv", ["crankdyn", "example", "no-such-engine", "-o", "x.toml"])
+    with pytest.raises(SystemExit) as ended:
+        cli.run()
+    assert ended.value.code == 2
+    assert calls[0][0] == "threshold" and calls[0][1][0] == cli.YOUNG_GENERATION_THRESHOLD
+    assert calls[-1] == ("freeze",)
+
+
+def test_the_installed_command_is_run():
+    from importlib.metadata import entry_points
+
+    (script,) = entry_points(group="console_scripts", name="crankdyn")
+    assert script.value == "crankdyn.cli:run"

@@ -1,7 +1,5 @@
 """``python -m crankdyn`` is the same as the ``crankdyn`` command."""
 
-import sys
+from .cli import run
 
-from .cli import main
-
-sys.exit(main())
+run()
