@@ -59,7 +59,7 @@ WORDS = {
 
 #: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
 ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn", "Radau", "RK", "BDF", "LSODA",
-                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "diag",
+                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "dJ", "diag",
                  "MN"}  # MN: a segment between the points M and N of the source's drawing
 
 

@@ -237,7 +237,8 @@ def render(output: StageOutput, ctx) -> str:
              t("flywheel.unit_kg_m2")),
             (t("flywheel.row_engine"), "<i>J</i><sub>e</sub>", r["engine_inertia_kg_m2"], t("flywheel.unit_kg_m2"))]
     if r["required_irregularity"] is not None:
-        rows += [(t("flywheel.row_required_delta"), "[<i>δ</i>]", r["required_irregularity"], "—"),
+        # a given value, as the task's data table prints it (0,01, not 0,01000)
+        rows += [(t("flywheel.row_required_delta"), "[<i>δ</i>]", t.number_g(r["required_irregularity"], 4), "—"),
                  (t("flywheel.row_required_total"), "<i>J</i><sub>0</sub>", r["required_total_inertia_kg_m2"],
                   t("flywheel.unit_kg_m2")),
                  (t("flywheel.row_required_flywheel"), "<i>J</i><sub>f</sub>", r["required_flywheel_inertia_kg_m2"],
@@ -262,7 +263,7 @@ def render(output: StageOutput, ctx) -> str:
                   t("unit.MPa"))]
     table = ctx.table([(t("input.quantity"), [x[0] for x in rows], None),
                        (t("input.symbol"), [Markup(x[1]) for x in rows], None),
-                       (t("input.value"), [ctx.num(x[2]) for x in rows], None),
+                       (t("input.value"), [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows], None),
                        (t("input.unit"), [x[3] for x in rows], None)],
                       caption=t("flywheel.table_caption")) + worked_flywheel(ctx, r)
     ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),

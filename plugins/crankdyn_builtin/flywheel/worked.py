@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup
+from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup
 
 
 def irregularity_is_a_result(r) -> bool:
@@ -31,7 +31,7 @@ def worked_flywheel(ctx, r) -> Markup:
              "J_0": r["required_total_inertia_kg_m2"] or 0.0}
     unit, steps = t("flywheel.unit_kg_m2"), []
     if r["required_irregularity"] is not None:
-        d_txt, delta = printed(t, r["required_irregularity"])
+        d_txt, delta = printed_g(t, r["required_irregularity"])  # given: as written
         inputs["delta_req"], exact["delta_req"] = delta, r["required_irregularity"]
         steps.append(
             WorkedStep("required_total_inertia", "<i>J</i><sub>0</sub>",

@@ -145,6 +145,31 @@ SYMBOLS: dict[str, Symbol] = {
     "angular_velocity_min": Symbol("ω", {"en": "min"}, "unit.rad_s", "symbol.angular_velocity_min"),
     "rim_stress": Symbol("σ", {}, "unit.MPa", "symbol.rim_stress"),
     "kinetic_energy": Symbol("E", {}, "unit.J", "symbol.kinetic_energy"),
+    "initial_energy": Symbol("E", {"en": "0"}, "unit.J", "symbol.initial_energy"),
+    "cycle_angle": Symbol("Φ", {}, "", "symbol.cycle_angle", html="Φ"),
+    "piston_transfer": Symbol("s", {}, "unit.m_rad", "symbol.piston_transfer", html="<i>s</i>′"),
+    "piston_transfer_derivative": Symbol("s", {}, "unit.m_rad2", "symbol.piston_transfer_derivative", html="<i>s</i>″"),
+    "inertia_derivative": Symbol("J", {}, "unit.kg_m2_rad", "symbol.inertia_derivative", html="<i>J</i>′"),
+    "inertia_torque": Symbol("M", {"en": "j"}, "unit.Nm", "symbol.inertia_torque"),
+    "nominal_angular_velocity": Symbol("ω", {"en": "n"}, "unit.rad_s", "symbol.nominal_angular_velocity"),
+    "gas_excess_work": Symbol("W", {"en": "g", "uk": "г", "ru": "г"}, "unit.J", "symbol.gas_excess_work"),
+    # the running torques of the torque section, as specific tangential forces
+    "cylinder_tangential": Symbol("t", {"en": "i"}, "unit.MPa", "symbol.cylinder_tangential",
+                                  html="<i>t</i><sub><i>i</i></sub>"),
+    "pin_running_tangential": Symbol("t", {"en": "wi"}, "unit.MPa", "symbol.pin_running_tangential",
+                                     html="<i>t</i><sub>w<i>i</i></sub>"),
+    "journal_running_tangential": Symbol("t", {"en": "ki"}, "unit.MPa", "symbol.journal_running_tangential",
+                                         html="<i>t</i><sub>k<i>i</i></sub>"),
+    "last_journal_tangential": Symbol("t", {"en": "kN"}, "unit.MPa", "symbol.last_journal_tangential",
+                                      html="<i>t</i><sub>k<i>N</i></sub>"),
+    "order_force": Symbol("P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"),
+    # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
+    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=("bearings",)),
+    "pin_load_mean": Symbol("Q", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.pin_load_mean",
+                            sections=("bearings",)),
+    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=("bearings",)),
+    "journal_load_mean": Symbol("R", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.journal_load_mean",
+                                sections=("bearings",)),
 }
 
 
