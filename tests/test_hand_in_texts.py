@@ -311,3 +311,47 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     body = re.sub(r'<span class="eq-part">.*?</span>', "", re.sub(r"<script.*?</script>", "", four, flags=re.S))
     assert not re.search(r"[^ \u00a0] = [−-]?\d", re.sub(r"<[^>]+>", "", body))
     assert "м/\u2060с" in four and not re.search(r"</\u2060|<\u2060", four)
+
+
+#: The symbols a supervisor found unexplained in the in-line four's Ukrainian note (ninth session),
+#: as the typeset report writes them, with the number of the equation that first shows them.
+_ONCE_UNEXPLAINED = {
+    "7.2": ["<i>t</i><sub>w<i>i</i></sub>", "<i>t</i><sub><i>i</i></sub>", "<i>t</i><sub>k<i>i</i></sub>",
+            "<i>t</i><sub>k<i>N</i></sub>"],
+    "8.2": ["<i>j</i><sub>п</sub>", "<i>P</i><sub><i>n</i></sub>"],
+    "10.3": ["Φ", "<i>s</i>′"],
+    "11.2": ["<i>J</i>′"],
+    "11.3": ["<i>M</i><sub>j</sub>", "<i>s</i>″", "<i>ω</i><sub>n</sub>"],
+    "11.4": ["<i>E</i><sub>0</sub>", "<i>W</i><sub>г</sub>"],
+}
+
+
+def _where_lines(html: str, number: str) -> list[str]:
+    """The symbols explained under equation ``number`` and under every equation before it."""
+    before = html[:html.index(f'<span class="eqno">({number})</span>')]
+    after = html[len(before):]
+    own = re.match(r'.*?</div>\s*(<p class="where">.*?</p>)?', after, flags=re.S).group(1) or ""
+    lines = re.findall(r'<span class="where-line">(.*?) – ', before + own)
+    return lines
+
+
+def test_the_symbols_a_supervisor_found_unexplained_are_explained_and_listed(reports):
+    html = reports("inline4-petrol")
+    listed = re.search(r'id="sec-symbols".*?</section>', html, flags=re.S).group(0)
+    for number, symbols in _ONCE_UNEXPLAINED.items():
+        explained = _where_lines(html, number)
+        for symbol in symbols:
+            assert symbol in explained, (number, symbol)
+            assert f'<span class="symbol">{symbol}</span>' in listed, symbol
+    # appendix B's cycle is the flywheel's Φ, no second letter for it
+    assert "Θ" not in html
+    # the mean over the cycle is said in words where it is first written
+    assert "⟨s′²⟩ (кутові дужки тут і далі – середнє за цикл)" in as_read(html)
+
+
+def test_a_given_value_is_printed_as_given_wherever_it_appears(reports):
+    """[δ] = 0,01 from the scene: 0,01 in the data, the flywheel's table, its text and worked line
+    (not 0,0100 in one place and 0,01000 in another)."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
+    assert shown and set(shown) == {"0,01"}, shown
