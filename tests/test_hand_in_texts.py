@@ -355,3 +355,17 @@ def test_a_given_value_is_printed_as_given_wherever_it_appears(reports):
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
     assert shown and set(shown) == {"0,01"}, shown
+
+
+def test_the_conclusions_name_the_most_loaded_main_journal_as_its_table_gives_it(reports):
+    html = reports("inline4-petrol")
+    table = re.search(r'<table class="data" data-number="(\d+\.\d+)"><caption>Таблиця \1 – Навантаження на корінні'
+                      r'.*?<tbody>(.*?)</tbody>', html, flags=re.S)
+    rows = [re.findall(r"<td[^>]*>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", table.group(2))]
+    label, r_max, _, _, p_mean, oil = max(rows, key=lambda row: float(row[1].replace(",", ".")))
+    conclusions = as_read(re.sub(r"<[^>]+>", "", re.search(r'id="sec-conclusions".*?</section>', html,
+                                                            flags=re.S).group(0)))
+    conclusions = conclusions.replace("\u202f", " ").replace("\u00a0", " ")
+    assert (f"Найбільш навантажена корінна шийка {label} сприймає до {r_max} кН за середнього тиску на "
+            f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}°, відлічуваним, як у табл. "
+            f"{table.group(1)}.") in conclusions

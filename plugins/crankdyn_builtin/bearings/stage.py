@@ -402,7 +402,9 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
-    ], caption=t("bearings.journals_table_caption")) + worked_bearing(ctx, r, "journal")
+    ], caption=t("bearings.journals_table_caption"))
+    journals_table_number = ctx.last_table_number
+    table_journals += worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
     # the digits of table 7.1, which the conclusion repeats
@@ -410,9 +412,13 @@ def render(output: StageOutput, ctx) -> str | None:
     # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
     pins_equal = len(peaks) > 1 and max(peaks) - min(peaks) <= 1e-9 * max(peaks)
     conclusion = "bearings.conclusion_single" if single else "bearings.conclusion_equal" if pins_equal else "bearings.conclusion"
+    journal = max(r["main_journals"], key=lambda j: j["max_N"])  # the first of equal ones, as the table lists them
     ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
                    p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
-                   oil=ctx.t.number_g(pin["oil_hole_deg"], 4)))
+                   oil=ctx.t.number_g(pin["oil_hole_deg"], 4))
+                 + " " + t("bearings.conclusion_journal", label=journal["journal"], r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2),
+                           p_mean=ctx.t.fixed(journal["mean_MPa"], 2), oil=ctx.t.number_g(journal["oil_hole_deg"], 4),
+                           table=journals_table_number))
     d = r["dimensions"]
     journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
     analysis = [_load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k) for k in r["drawn_pins"]]
