@@ -369,3 +369,9 @@ def test_the_conclusions_name_the_most_loaded_main_journal_as_its_table_gives_it
     assert (f"Найбільш навантажена корінна шийка {label} сприймає до {r_max} кН за середнього тиску на "
             f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}°, відлічуваним, як у табл. "
             f"{table.group(1)}.") in conclusions
+
+
+def test_the_worked_lines_keep_their_short_brackets_whole(reports):
+    lines = re.findall(r'<p class="worked-line">(.*?)</p>', reports("inline4-petrol"))
+    grouped = [line for line in lines if '<span class="group">(1 − cos 30°)</span>' in line]
+    assert grouped, "the piston displacement's worked line"

@@ -126,7 +126,10 @@ def _table_rows(html: str, number: str) -> list[list[str]]:
 def worked_html(html: str, block) -> str:
     """The markup of ``block`` in the report."""
     blocks = re.findall(r'<div class="worked">.*?</div>', html, flags=re.S)
-    mine = [b for b in blocks if all(f"= {s.substituted_html} =" in b for s in block.steps)]
+    from crankdyn.report.worked import groups_unbroken
+
+    # the line as printed: its short bracketed groups held together (groups_unbroken)
+    mine = [b for b in blocks if all(f"= {groups_unbroken(s.substituted_html)} =" in b for s in block.steps)]
     assert len(mine) == 1, block.stage
     return mine[0]
 
@@ -199,3 +202,21 @@ def test_other_mechanisms_worked_results_equal_their_tables(example, stages, lan
     html, worked = _sections(example, stages, language)
     assert check_worked(html, worked, language) == set(stages) - {"forces"} | ({"forces_torque"} if "forces" in stages
                                                                               else set())
+
+
+def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
+    """The PDF broke "(1 − cos | 8,048°)" and "(589,260 + | 583,396)" at a line's end (ninth
+    session's supervisor reading): each short innermost group is kept whole, longer ones and
+    groups that would cut a sub- or superscript's tag are left to break."""
+    from crankdyn.report.worked import GROUP_CHARS, groups_unbroken
+
+    line = "<i>s</i> = <i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>] = 0,039·[(1 − cos 8,048°)/0,28]"
+    out = groups_unbroken(line)
+    assert out.count('<span class="group">') == 3
+    assert '<span class="group">(1 − cos 8,048°)</span>' in out
+    assert re.sub(r'</?span[^>]*>', "", out) == line  # nothing else changed
+    long_group = "(" + "1 + " * GROUP_CHARS + "1)"
+    assert groups_unbroken(long_group) == long_group
+    across = "<sub>k(<i>i</i></sub>−1)"
+    assert groups_unbroken(across) == across
+

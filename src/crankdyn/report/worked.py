@@ -10,6 +10,8 @@ Nothing here computes physics.
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -93,6 +95,35 @@ def _parse(text: str) -> float:
     return float(f"{mantissa}e{int(exponent.translate(_FROM_SUPERSCRIPT))}" if exponent else mantissa)
 
 
+#: The longest innermost bracketed group of a worked line (visible characters) kept on one line: the
+#: PDF broke "(1 − cos | 8,048°)" and "(589,260 + | 583,396)" at the line's end; a longer group may break.
+GROUP_CHARS = 40
+_INNERMOST_GROUP = re.compile(r"\([^()]*\)")
+_TAG_RE = re.compile(r"<[^>]+>")
+
+
+def _tags_balanced(html: str) -> bool:
+    """Whether every tag opened in ``html`` is closed in it, and none closed that it did not open."""
+    depth: list[str] = []
+    for closing, name in re.findall(r"<(/?)(\w+)", html):
+        if not closing:
+            depth.append(name)
+        elif not depth or depth.pop() != name:
+            return False
+    return not depth
+
+
+def groups_unbroken(line_html: str) -> str:
+    """``line_html`` with each short innermost "( … )" group in a span that the page does not break."""
+    def keep(match: re.Match) -> str:
+        group = match.group(0)
+        if len(_TAG_RE.sub("", group)) > GROUP_CHARS or not _tags_balanced(group):
+            return group
+        return f'<span class="group">{group}</span>'
+
+    return _INNERMOST_GROUP.sub(keep, line_html)
+
+
 def worked_markup(ctx, block: WorkedBlock) -> Markup:
     """The worked example's sentence and one displayed line per step.
 
@@ -111,8 +142,8 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
     for step in block.steps:
         result = step.result_text(t)
         unit = "°" if step.unit == "°" else f" {escape(step.unit)}" if step.unit else ""
-        parts.append(f'<p class="worked-line">{step.lhs_html} = {step.formula_html} = '
-                     f'{step.substituted_html} = {escape(result)}{unit}</p>')
+        line = f"{step.lhs_html} = {step.formula_html} = {step.substituted_html} = {escape(result)}{unit}"
+        parts.append(f'<p class="worked-line">{groups_unbroken(line)}</p>')
     parts.append("</div>")
     ctx.worked.append(block)
     return Markup("".join(parts))
