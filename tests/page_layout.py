@@ -161,4 +161,7 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
                     problems.append(f"page {i + 1}: the caption {line[:50]!r} without its table")
         if re.match(rf"{re.escape(figure_word)} \S+ [–—]", page[0]):
             problems.append(f"page {i + 1} starts with the caption {page[0][:50]!r} away from its figure")
+        # 4. A table's note ("Примітка. …", under the table) never starts a page apart from its table.
+        if re.match(r"(Примітка|Примечание|Note)\. ", page[0]):
+            problems.append(f"page {i + 1} starts with a table note {page[0][:50]!r} away from its table")
     return problems
