@@ -375,3 +375,16 @@ def test_the_worked_lines_keep_their_short_brackets_whole(reports):
     lines = re.findall(r'<p class="worked-line">(.*?)</p>', reports("inline4-petrol"))
     grouped = [line for line in lines if '<span class="group">(1 − cos 30°)</span>' in line]
     assert grouped, "the piston displacement's worked line"
+
+
+def test_the_error_appendix_cites_its_source_for_what_it_takes_from_it(reports):
+    """Ismailov's paper gives the series of the piston kinematics, not the error study's method: the
+    appendix says what it compares as in that source, not "calculated by the method of [n]"."""
+    html = reports("inline4-petrol")
+    appendix = "".join(re.findall(r'<section class="chapter appendix"[^>]*data-stage="numerics".*?</section>', html,
+                                  flags=re.S))
+    assert "за методикою" not in appendix
+    number = re.search(r"порівняно з її рядами за степенями λ, як у \[(\d+)\]", appendix).group(1)
+    references = re.findall(r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html,
+                                                          flags=re.S).group(1))
+    assert references[int(number) - 1].startswith("Ismailov")

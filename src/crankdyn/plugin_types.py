@@ -260,6 +260,9 @@ class Stage:
     options_table: name of a top-level scene table this stage reads (e.g. "flywheel").
     options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
     references: catalog keys of the sources the method comes from.
+    references_sentence: catalog key of the sentence that opens the section citing them
+                (``{refs}``: "[2, 8]"); default ``doc.method_from``, "the calculation follows [n]",
+                which overclaims for a section that takes only a part from its sources.
     default:    whether the stage runs when the scene does not list stages.
     last:       order hint: run (and appear in the report) after every stage that is
                 ready at the same time, e.g. a summary of the others; ``requires`` still rules.
@@ -297,6 +300,7 @@ class Stage:
     render: Callable[[StageOutput, Any], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
+    references_sentence: str = "doc.method_from"
     uses: tuple[str, ...] = ()
     default: bool = True
     last: bool = False

@@ -1011,6 +1011,7 @@ NUMERICS_STAGE = Stage(
     figures=("error_vs_time", "kinematics_forms"),
     tables=("steps", "kinematics_forms"),
     references=("ismailov",),
+    references_sentence="numerics.sources",
     options_table="numerics",
     options_model=NumericsOptions,
     services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES, SERVICE_ASIDE),
@@ -1029,5 +1030,6 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     tables=("kinematics_forms",),
     last=True,
     references=("ismailov",),
+    references_sentence="numerics.sources",
     services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
 )

@@ -221,7 +221,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         # a section of the project's own method (cited in the introduction) does not repeat it
         if stage.references and set(stage.references) != {PROJECT_METHOD}:
             numbers = [references.index(r) + 1 for r in stage.references]
-            body = f"<p>{escape(t('doc.method_from', refs=cite(numbers)))}</p>" + body
+            body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
         view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
