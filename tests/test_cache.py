@@ -73,3 +73,25 @@ def test_a_stage_with_services_runs_through_the_cache():
     assert any(stage.services for stage in the_plan.order)
     result = StageCache().run_plan(scene, the_plan)
     assert set(result.outputs) == {stage.name for stage in the_plan.order}
+
+
+def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
+    """The trace's name stays in the scene when its data change: the stage that opened it through
+    ``scene.resolve`` runs again (and only it, and what follows from it)."""
+    import shutil
+
+    from crankdyn.cache import FILE
+
+    shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
+    shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
+    scene = load_scene(tmp_path / "trace.toml")
+    cache = StageCache()
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
+    trace = (tmp_path / "diesel6-1600rpm.ind").resolve()
+    assert FILE + str(trace) in cache._entries["indicator"].reads
+    assert not any(read.startswith(FILE) for read in cache._entries["kinematics"].reads)
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
+    assert cache.runs["indicator"] == 1  # the same bytes: kept
+    trace.write_bytes(trace.read_bytes().replace(b"1600", b"1601", 1) + b"\n")
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
+    assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1

@@ -428,8 +428,8 @@ def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
 
 
 def test_a_changed_data_file_is_computed_again(tmp_path):
-    # the stage cache keys a stage by the scene fields it read: the trace's file name stays the
-    # same when its data changes, so the preview starts its caches afresh then
+    # the trace's file name stays the same when its data changes: the stage cache keys the stage
+    # that opened it by the file's contents too, and re-runs that stage only
     scene = _trace_scene(tmp_path)
     preview = Preview(scene, stages=["kinematics", "indicator"])
     first = preview.build()
@@ -443,7 +443,8 @@ def test_a_changed_data_file_is_computed_again(tmp_path):
     trace.write_text("".join(scaled), encoding="utf-8")
     preview.build()
     again = preview.stage_cache._entries["indicator"].output.results
-    assert again != peak and preview.stage_cache.runs["indicator"] == 1  # a fresh cache ran it once
+    assert again != peak and preview.stage_cache.runs["indicator"] == 2
+    assert preview.stage_cache.runs["kinematics"] == 1  # it read no data file: kept
     runs = dict(preview.stage_cache.runs)
     preview.build()  # nothing changed since: kept
     assert dict(preview.stage_cache.runs) == runs

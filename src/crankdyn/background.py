@@ -113,7 +113,6 @@ class StudyWorker:
         self._sock = sock
         self._jobs = 0
         self._unread: int | None = None  # the job whose answers are not all read yet
-        self._forget = False  # the next job starts the worker's stage cache afresh (forget)
         self.alive = True
 
     @classmethod
@@ -148,7 +147,7 @@ class StudyWorker:
         if self._unread is not None:  # still computing a study nobody waits for
             return None
         try:
-            message = pickle.dumps((self._jobs + 1, scene, stages, studies, self._forget),
+            message = pickle.dumps((self._jobs + 1, scene, stages, studies),
                                    protocol=pickle.HIGHEST_PROTOCOL)
         except Exception:  # noqa: BLE001 - this scene cannot be sent: computed in the server, this time
             return None
@@ -158,12 +157,8 @@ class StudyWorker:
             self._fail()
             return None
         self._jobs += 1
-        self._unread, self._forget = self._jobs, False
+        self._unread = self._jobs
         return WorkerJob(self, self._jobs)
-
-    def forget(self) -> None:
-        """Have the worker start its stage cache afresh with the next job (a data file changed)."""
-        self._forget = True
 
     def _read(self, job: int) -> tuple | None:
         """The worker's next message for ``job`` ((None,) at its end: no stage is named None), skipping older jobs'."""
@@ -252,11 +247,9 @@ def _serve_jobs(sock, registry=None) -> None:
     cache = StageCache()
     while True:
         try:
-            number, scene, stages, studies, forget = pickle.loads(_receive(sock))
+            number, scene, stages, studies = pickle.loads(_receive(sock))
         except EOFError:
             return
-        if forget:
-            cache = StageCache()
         registry = registry or default_registry()
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))

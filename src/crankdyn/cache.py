@@ -7,6 +7,10 @@ Each stage's result is cached under
   of the scene, so nothing has to be declared by hand and a plugin stage is covered too), and
 * the digests of the upstream data it was given (its ``requires``), by content.
 
+A data file the stage opened through ``scene.resolve`` (a pressure trace) is a read too, keyed by
+the file's path and digested by its contents: a changed trace under the same name re-runs the
+stages that read it, and only those.
+
 A save that changes ``masses.rod`` therefore re-runs the stages that read ``[masses]`` (and
 those whose upstream data changed as a result), but not the indicator diagram, which reads
 only ``[engine]`` and ``[cycle]``. A stage whose reads cannot be told apart (it iterated or
@@ -24,6 +28,7 @@ import types
 import uuid
 from collections import Counter
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from pydantic import BaseModel
@@ -39,6 +44,8 @@ _ALL = frozenset({EVERYTHING})
 EXTRA = "__extra__"
 _WHOLE = {"__dict__", "model_dump", "model_dump_json", "model_copy", "__getstate__", "__reduce_ex__"}
 _EXTRA_NAMES = {"__pydantic_extra__", "model_extra"}
+#: A read of a data file: this prefix and the file's resolved path (``Scene.resolve``).
+FILE = "file:"
 
 _reads: dict[int, set[str]] = {}
 _classes: dict[type, type] = {}
@@ -58,6 +65,8 @@ def _tracking_class(cls: type) -> type:
             if record is None:
                 return value
             reads, prefix = record
+            if name == "resolve" and not prefix:  # a data file: its contents are what the stage read
+                return functools.partial(_resolve_recorded, value, reads)
             if name in fields:
                 if not prefix and isinstance(value, BaseModel):  # one level deep: tables of the scene
                     return _tracked_table(value, reads, name)
@@ -77,6 +86,12 @@ def _tracking_class(cls: type) -> type:
 #: id(tracked copy) -> (the read set it records into, the prefix of its reads: "" or "masses.")
 _recorder: dict[int, tuple[set[str], str]] = {}
 _tables: dict[tuple[int, str], Any] = {}  # (id(scene copy), field) -> its tracked table, made once
+
+
+def _resolve_recorded(resolve, reads: set[str], name: str):
+    path = resolve(name)
+    reads.add(FILE + str(path))
+    return path
 
 
 def _construct(cls: type, model: BaseModel):
@@ -149,7 +164,13 @@ def _digest(value: Any, depth: int = 0) -> str:
 
 
 def _field_value(scene: Scene, name: str) -> Any:
-    """The value a recorded read names: ``engine``, ``masses.rod``, ``__extra__``, ``mechanism.__extra__``."""
+    """The value a recorded read names: ``engine``, ``masses.rod``, ``__extra__``, ``mechanism.__extra__``,
+    ``file:/path`` (the file's bytes; a missing or unreadable one: why)."""
+    if name.startswith(FILE):
+        try:
+            return Path(name[len(FILE):]).read_bytes()
+        except OSError as exc:
+            return f"unreadable: {exc.__class__.__name__}"
     head, _, rest = name.partition(".")
     value = scene.model_extra if head == EXTRA else scene.__dict__.get(head)
     if not rest:
@@ -165,7 +186,7 @@ def field_digests(scene: Scene, names: frozenset[str]) -> tuple[tuple[str, str],
     """Digests of the read fields of ``scene``, top-level (``engine``) or in a table (``masses.rod``);
     see :data:`EVERYTHING`, :data:`EXTRA`."""
     if EVERYTHING in names:
-        names = frozenset(type(scene).model_fields) | {EXTRA}
+        names = frozenset(type(scene).model_fields) | {EXTRA} | {n for n in names if n.startswith(FILE)}
     return tuple((name, _digest(_field_value(scene, name))) for name in sorted(names))
 
 

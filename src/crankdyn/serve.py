@@ -22,7 +22,6 @@ build keeps its URL, so the browser shows it from its cache at once.
 
 from __future__ import annotations
 
-import hashlib
 import html
 import json
 import os
@@ -186,19 +185,6 @@ def referenced_files(scene_path: Path) -> set[Path]:
     return found
 
 
-def files_digest(paths: Iterable[Path]) -> str:
-    """A digest of the files' names and contents (a missing or unreadable file counts as such)."""
-    digest = hashlib.blake2b(digest_size=16)
-    for path in sorted(paths):
-        digest.update(str(path).encode("utf-8", "surrogateescape") + b"\0")
-        try:
-            digest.update(path.read_bytes())
-        except OSError as exc:
-            digest.update(f"unreadable: {exc.__class__.__name__}".encode())
-        digest.update(b"\0")
-    return digest.hexdigest()
-
-
 def _watch_names(paths: Iterable[Path]) -> set[Path]:
     """The names change events arrive with: the file in its resolved folder, and its target if a link."""
     names = set()
@@ -250,7 +236,6 @@ class Preview:
         self._studies = None  # the studies the shown page says follow, being computed there
         self._study_s: float | None = None  # how long the last save's study took
         self._stages_s: float | None = None  # ... and the stages it ran again before it
-        self._data_digest: str | None = None  # of the files the scene names (_forget_if_data_changed)
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
@@ -313,7 +298,6 @@ class Preview:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
             scene = load_scene(self.scene_path, overrides)
-            self._forget_if_data_changed()
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
             try:
@@ -356,17 +340,6 @@ class Preview:
             self._study_s = max(studies)
         if stages:
             self._stages_s = sum(stages)
-
-    def _forget_if_data_changed(self) -> None:
-        """Start the caches afresh when a file the scene names (a trace) changed: a stage's cache
-        key holds the scene's fields, and a file name that stays the same hid the new data."""
-        digest = files_digest(self.watched() - {self.scene_path})
-        if self._data_digest is not None and digest != self._data_digest:
-            self.stage_cache = StageCache()
-            self.sections_cache.forget()
-            if self._worker is not None:
-                self._worker.forget()
-        self._data_digest = digest
 
     def _draw(self, snapshot: Snapshot, start: float) -> None:
         """Draw the snapshot's new figures, shared by forked processes, and wake the requests
