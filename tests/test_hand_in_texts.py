@@ -388,3 +388,20 @@ def test_the_error_appendix_cites_its_source_for_what_it_takes_from_it(reports):
     references = re.findall(r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html,
                                                           flags=re.S).group(1))
     assert references[int(number) - 1].startswith("Ismailov")
+
+
+def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_said_to_be_equal(reports):
+    """A supervisor's reading of the ru single cylinder: "the most loaded crank pin (1)" of one pin,
+    "the most loaded main journal 0-1" of two equally loaded ones, an oil hole at 192 in the table
+    and 192,5° in the conclusions."""
+    html = reports("petrol-1cyl-uk")
+    text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
+    assert "найбільш навантаженої шатунної шийки" not in text
+    assert "Найбільший тиск на підшипник шатунної шийки – найбільша сила" in text
+    assert "(0-1; усі корінні шийки навантажені однаково)" in text
+    assert "Найбільш навантажена корінна шийка" not in text
+    journals = re.search(r'<caption>Таблиця (\d+\.\d+) – Навантаження на корінні.*?<tbody>(.*?)</tbody>', html,
+                         flags=re.S)
+    oil = re.findall(r"<td[^>]*>(.*?)</td>", journals.group(2))[5]
+    assert "Корінні шийки навантажені однаково: до " in text
+    assert f"отвір для мастила – під кутом {oil}°, відлічуваним, як у табл. {journals.group(1)}." in text

@@ -16,7 +16,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import worked_bearing
+from crankdyn_builtin.bearings.worked import loads_equal, worked_bearing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -408,17 +408,17 @@ def render(output: StageOutput, ctx) -> str | None:
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
     # the digits of table 7.1, which the conclusion repeats
-    peaks = [p["max_N"] for p in r["crank_pins"]]
     # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
-    pins_equal = len(peaks) > 1 and max(peaks) - min(peaks) <= 1e-9 * max(peaks)
+    pins_equal = loads_equal(r["crank_pins"])
     conclusion = "bearings.conclusion_single" if single else "bearings.conclusion_equal" if pins_equal else "bearings.conclusion"
     journal = max(r["main_journals"], key=lambda j: j["max_N"])  # the first of equal ones, as the table lists them
     ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
                    p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
-                   oil=ctx.t.number_g(pin["oil_hole_deg"], 4))
-                 + " " + t("bearings.conclusion_journal", label=journal["journal"], r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2),
-                           p_mean=ctx.t.fixed(journal["mean_MPa"], 2), oil=ctx.t.number_g(journal["oil_hole_deg"], 4),
-                           table=journals_table_number))
+                   oil=ctx.t.fixed(pin["oil_hole_deg"], 0))  # as the tables print it
+                 + " " + t("bearings.conclusion_journal_equal" if loads_equal(r["main_journals"]) else
+                           "bearings.conclusion_journal", label=journal["journal"],
+                           r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2), p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
+                           oil=ctx.t.fixed(journal["oil_hole_deg"], 0), table=journals_table_number))
     d = r["dimensions"]
     journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
     analysis = [_load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k) for k in r["drawn_pins"]]

@@ -21,18 +21,26 @@ def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -
                       row_key=key)
 
 
+def loads_equal(records) -> bool:
+    """Whether every pin (journal) of ``records`` carries the same largest load, to rounding (1e-9)."""
+    peaks = [x["max_N"] for x in records]
+    return len(peaks) > 1 and max(peaks) - min(peaks) <= 1e-9 * max(peaks)
+
+
 def worked_bearing(ctx, r, kind: str) -> Markup:
     """After the pins table (``kind`` "pin") or the journals table ("journal"): p_max of the most
     loaded one, which the polar diagrams show."""
     dims = r["dimensions"]
+    records = r["crank_pins"] if kind == "pin" else r["main_journals"]
+    record = max(records, key=lambda p: p["max_N"])  # the first of equals, as the stage picks it
     if kind == "pin":
-        record = max(r["crank_pins"], key=lambda p: p["max_N"])  # the first of equals, as the stage picks it
         key, load_html = str(record["crank"]), "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
     else:
-        record = max(r["main_journals"], key=lambda j: j["max_N"])
         key, load_html = record["journal"], "<i>R</i><sub>max</sub>"
         size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
     step = _pressure_step(ctx, f"{kind}_pressure_max", load_html, record, key, *size)
-    note = ctx.t(f"bearings.worked_{kind}", label=key)
+    # "the most loaded" only where one is: a single crank pin has no rival, equal loads have no first
+    variant = "_single" if len(records) == 1 else "_equal" if loads_equal(records) else ""
+    note = ctx.t(f"bearings.worked_{kind}{variant}", label=key)
     return worked_markup(ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note))
