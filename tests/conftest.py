@@ -97,6 +97,9 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
 
 def as_read(html: str) -> str:
     """The report's HTML as a reader's eye takes it: the line-break binders undone (the no-break
-    spaces around an "=" before a number, the word joiner after a slash: ``unbreakable_html``).
-    For tests that look for words."""
-    return html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
+    spaces around an "=" before a number, the word joiner after a slash, the no-break space before
+    an initial: ``unbreakable_html``). For tests that look for words."""
+    import re
+
+    html = html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
+    return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)", " ", html)

@@ -10,7 +10,7 @@ import re
 
 import pandas as pd
 import pytest
-from conftest import run_cli
+from conftest import as_read, run_cli
 
 from crankdyn.batch import parse_cell, read_variants, run_batch
 from crankdyn.cli import examples_dir
@@ -166,7 +166,7 @@ def test_each_variant_title_page_names_its_own_variant_and_student(tmp_path):
     students = {"3": "Шевченко Т. Г.", "14": "Коваленко І. А."}
     for variant, student in students.items():
         html = (out / variant / "report.html").read_text(encoding="utf-8")
-        title = re.search(r'<section class="title-page">.*?</section>', html, flags=re.S).group(0)
+        title = as_read(re.search(r'<section class="title-page">.*?</section>', html, flags=re.S).group(0))
         assert f'<div class="variant">Варіант {variant}</div>' in title
         assert f'<td class="name">{student}</td>' in title
         other = next(s for v, s in students.items() if v != variant)

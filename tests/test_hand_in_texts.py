@@ -129,7 +129,7 @@ def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
     assert "Основні результати: найбільший абсолютний тиск газів у циліндрі" in abstract and "навантаження на шатунну шийку" in abstract
     assert '<span class="appendix-kind">(довідковий)</span>' in one
     intro = one[one.index('id="sec-introduction"'):]
-    intro = intro[:intro.index("</section>")]
+    intro = as_read(intro[:intro.index("</section>")])
     assert "у додатку Б" in intro and "в додатку А" in intro
 
 
@@ -303,6 +303,10 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     assert "a = b" in html  # no number follows: the line may break there
     assert "156\u202fм/\u2060с²" in html and "</i>/\u2060(" in html
     assert "https://doi.org/10.1/x" in html and "<script>x = 1; a/b</script>" in html
+    # a surname and its initials stay on one line (the title page had "Петров В. | М.")
+    named = unbreakable_html("<p>доц. Петров В. М.; Khurmi R. S., Gupta J. K. Theory; табл. Б.1; рис. 2.1</p>")
+    assert "доц. Петров\u00a0В.\u00a0М.;" in named and "Khurmi\u00a0R.\u00a0S., Gupta\u00a0J.\u00a0K. Theory" in named
+    assert "табл. Б.1; рис. 2.1" in named
     assert "</i>" in html and "</sub>" in html and unbreakable_html(html) == html  # once is enough
 
     # the whole report: in running text every "X = <number>" is bound (a displayed equation

@@ -88,7 +88,7 @@ def _decimal_points(text: str) -> list[str]:
 def _latin_words(document: str, scene_texts=()) -> list[str]:
     """Latin-letter words outside the allowed set; the scene's own texts (title-page fields,
     engine name: the student's data, in whatever language the student wrote them) left out."""
-    body = document.split("<body", 1)[1].replace("\u2060", "")  # the word joiner after "8.2/"
+    body = as_read(document.split("<body", 1)[1])  # the word joiner after "8.2/", the no-break space before initials
     for value in sorted(scene_texts, key=len, reverse=True):
         if len(value) > 3:  # not the language code
             for shown in (html_lib.escape(value, quote=False), str(markupsafe.escape(value))):  # "'" as &#39;

@@ -311,12 +311,17 @@ _EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d)")
 #: put in is no slash of the text).
 _SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
 WORD_JOINER = "\u2060"
+#: "Петров В. М.", "Khurmi R. S.": a surname and its initials stay on one line (the title page had
+#: "Петров В. /М."): a no-break space before a capital initial after a word or an initial.
+_BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[\s,;:)]|$))")
 
 
 def _unbreakable(text: str) -> str:
     text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
     if "/" in text and "://" not in text and "www." not in text:
         text = _SLASH_IN_WORD.sub("/" + WORD_JOINER, text)
+    if ". " in text:
+        text = _BEFORE_INITIAL.sub("\u00a0", text)
     return text
 
 
@@ -344,7 +349,7 @@ def unbreakable_html(html: str) -> str:
     for i, part in enumerate(parts):
         if i % 2 == 1:
             skip = _skip_depth(part, skip)
-        elif not skip and ("=" in part or "/" in part):
+        elif not skip and ("=" in part or "/" in part or ". " in part):
             parts[i] = _unbreakable(part)
     return "".join(parts)
 
