@@ -409,3 +409,16 @@ def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_sai
     oil = re.findall(r"<td[^>]*>(.*?)</td>", journals.group(2))[5]
     assert "Корінні шийки навантажені однаково: до " in text
     assert f"отвір для мастила – під кутом {oil}°, відлічуваним, як у табл. {journals.group(1)}." in text
+
+
+def test_the_balancing_conclusion_prints_the_forces_as_the_table_of_orders_does(reports):
+    """ΣP_VI = 4,416 N in the conclusions against 4 N in the table (and 48,09 against 48 in the ru
+    single cylinder): one value, one precision."""
+    for example in ("inline4-petrol", "petrol-1cyl-uk"):
+        html = reports(example)
+        conclusions = re.sub(r"<[^>]+>", "", re.search(r'id="sec-conclusions".*?</section>', html, flags=re.S).group(0))
+        forces = re.findall(r"P[IVX]+\u00a0=\u00a0([\d\u202f]+(?:,\d+)?)\u202fН", conclusions)
+        assert forces, example
+        table = re.search(r"<th>(?:Σ)?<i>P</i>(?:<sub>max</sub>)?, Н</th>.*?</table>", html, flags=re.S).group(0)
+        cells = set(re.findall(r"<td[^>]*>([^<]*)</td>", table))
+        assert all(force in cells for force in forces), (example, forces)

@@ -722,7 +722,7 @@ def _conclude(ctx, r) -> None:
     if unbalanced and len(r["cylinder_labels"]) == 1:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
-            f"{_plain_symbol(s, '')} = {ctx.num(amplitudes[s['quantity'].split('_', 1)[1]], 4)} {t('balancing.unit_N')}"
+            f"{_plain_symbol(s, '')} = {ctx.t.fixed(amplitudes[s['quantity'].split('_', 1)[1]], 0)} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
         # the textbook's coefficient is the sum over its scale (ΣP_II/C_II = 4,000), beside its amplitude
@@ -742,7 +742,8 @@ def _absolute(ctx, r, item) -> str:
     if value is None:
         return ""
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
-    return f" ({_plain_symbol(item)} = {ctx.num(value, 4)} {unit})"
+    # as the table of orders prints it: whole newtons, newton-metres to a tenth
+    return f" ({_plain_symbol(item)} = {ctx.t.fixed(value, 0 if force else 1)} {unit})"
 
 
 def _in_words(t, n: int) -> dict[str, str]:
