@@ -422,3 +422,9 @@ def test_the_balancing_conclusion_prints_the_forces_as_the_table_of_orders_does(
         table = re.search(r"<th>(?:Σ)?<i>P</i>(?:<sub>max</sub>)?, Н</th>.*?</table>", html, flags=re.S).group(0)
         cells = set(re.findall(r"<td[^>]*>([^<]*)</td>", table))
         assert all(force in cells for force in forces), (example, forces)
+
+
+def test_a_single_cylinder_has_no_total_torque_to_react_to(reports):
+    one, four = (as_read(re.sub(r"<[^>]+>", "", reports(e))) for e in ("petrol-1cyl-uk", "inline4-petrol"))
+    assert "реакції індикаторного крутного моменту" in one and "реакції сумарного" not in one
+    assert "реакції сумарного індикаторного крутного моменту" in four
