@@ -658,7 +658,7 @@ def _means_table(ctx, r):
     for cw in r["counterweights"]:
         label = t("balancing.counterweight_single") if single else t("balancing.counterweight", crank=cw["crank"])
         means_rows.append((label, "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
-                           ctx.num(cw["mass_kg"], 4) + f" ({ctx.num(cw['mass_per_web_kg'], 4)} × 2)",
+                           ctx.num(cw["mass_kg"], 4) + f" ({ctx.num(cw['mass_per_web_kg'], 4)}\u00a0×\u00a02)",  # one unit in a narrow cell
                            ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
                            ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—"))
     for shaft in r["balance_shafts"]:
