@@ -122,6 +122,27 @@ def shared_html(name: str, changes: dict | None = None, language: str | None = N
     return _shared_html(name, json.dumps(changes or {}, sort_keys=True), language)
 
 
+_REPORTS: dict = {}
+
+
+@pytest.fixture(scope="session")
+def shared_report(tmp_path_factory):
+    """``report(example, language=None)``: the folder of ``crankdyn report EXAMPLE.toml --format html -q``
+    (with ``--lang LANGUAGE`` if given) of a bundled example, written once per test process and shared
+    by the test files that read it: READ ONLY."""
+    from crankdyn.cli import main
+
+    def report(example: str, language: str | None = None) -> Path:
+        if (example, language) not in _REPORTS:
+            out = tmp_path_factory.mktemp("shared_report") / example
+            args = ["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html", "-q"]
+            assert main(args + (["--lang", language] if language else [])) == 0
+            _REPORTS[(example, language)] = out
+        return _REPORTS[(example, language)]
+
+    return report
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONWARNINGS": "ignore"}
     return subprocess.run([sys.executable, "-m", "crankdyn", *args], capture_output=True, text=True, cwd=cwd,
