@@ -109,17 +109,17 @@ def shared_run(name: str, changes: dict | None = None, stages=None):
 
 
 @functools.lru_cache(maxsize=None)
-def _shared_html(name: str, changes_json: str, language: str | None):
+def _shared_html(name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None):
     from crankdyn.plugins import default_registry
     from crankdyn.report.document import render_html
 
-    return render_html(_shared_run(name, changes_json, None), default_registry(), language)
+    return render_html(_shared_run(name, changes_json, stages), default_registry(), language)
 
 
-def shared_html(name: str, changes: dict | None = None, language: str | None = None):
-    """``render_html`` of :func:`shared_run` (every stage) in ``language``, rendered once per test
-    process: READ ONLY."""
-    return _shared_html(name, json.dumps(changes or {}, sort_keys=True), language)
+def shared_html(name: str, changes: dict | None = None, language: str | None = None, stages=None):
+    """``render_html`` of :func:`shared_run` in ``language``, rendered once per test process: READ ONLY."""
+    return _shared_html(name, json.dumps(changes or {}, sort_keys=True), language,
+                        None if stages is None else tuple(stages))
 
 
 _REPORTS: dict = {}

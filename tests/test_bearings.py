@@ -9,8 +9,7 @@ import pytest
 from crankdyn.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import render_html
-from conftest import shared_run
+from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 
@@ -143,8 +142,7 @@ def test_results_keys_per_pin_and_journal():
 
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_bearing_section_renders(language):
-    result = run("inline4-petrol")
-    html = render_html(result, REGISTRY, language).html
+    html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
 
