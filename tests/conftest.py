@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import copy
+import functools
+import json
 import os
 import subprocess
 import sys
@@ -87,6 +89,58 @@ def modified(name: str, changes: dict) -> dict:
 
     apply(data, changes)
     return data
+
+
+@functools.lru_cache(maxsize=None)
+def _shared_run(name: str, changes_json: str, stages: tuple[str, ...] | None):
+    from crankdyn.orchestrator import run_scene  # lazy: the heavy imports only for the tests that compute
+    from crankdyn.plugins import default_registry
+    from crankdyn.scene import scene_from_dict
+
+    scene = scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir())
+    return run_scene(scene, default_registry(), None if stages is None else list(stages))
+
+
+def shared_run(name: str, changes: dict | None = None, stages=None):
+    """The run of example ``name`` (``changes`` laid over it, as :func:`modified`; ``stages`` as
+    ``run_scene``'s ``requested``), computed once per test process and shared by every test file
+    that asks for the same: READ ONLY (a test that changes what it got must copy it first)."""
+    return _shared_run(name, json.dumps(changes or {}, sort_keys=True), None if stages is None else tuple(stages))
+
+
+@functools.lru_cache(maxsize=None)
+def _shared_html(name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None):
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.document import render_html
+
+    return render_html(_shared_run(name, changes_json, stages), default_registry(), language)
+
+
+def shared_html(name: str, changes: dict | None = None, language: str | None = None, stages=None):
+    """``render_html`` of :func:`shared_run` in ``language``, rendered once per test process: READ ONLY."""
+    return _shared_html(name, json.dumps(changes or {}, sort_keys=True), language,
+                        None if stages is None else tuple(stages))
+
+
+_REPORTS: dict = {}
+
+
+@pytest.fixture(scope="session")
+def shared_report(tmp_path_factory):
+    """``report(example, language=None)``: the folder of ``crankdyn report EXAMPLE.toml --format html -q``
+    (with ``--lang LANGUAGE`` if given) of a bundled example, written once per test process and shared
+    by the test files that read it: READ ONLY."""
+    from crankdyn.cli import main
+
+    def report(example: str, language: str | None = None) -> Path:
+        if (example, language) not in _REPORTS:
+            out = tmp_path_factory.mktemp("shared_report") / example
+            args = ["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html", "-q"]
+            assert main(args + (["--lang", language] if language else [])) == 0
+            _REPORTS[(example, language)] = out
+        return _REPORTS[(example, language)]
+
+    return report
 
 
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:

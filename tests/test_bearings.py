@@ -2,31 +2,22 @@
 
 from __future__ import annotations
 
-import functools
-import json
 
 import numpy as np
 import pytest
 
-from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
-from conftest import modified
+from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 
 
-@functools.lru_cache(maxsize=None)
-def _run(name: str, changes_json: str):
-    return run_scene(scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir()), REGISTRY)
-
-
 def run(name, changes=None):
-    """One computation per scene and worker, shared by the tests (they only read the results)."""
-    return _run(name, json.dumps(changes or {}, sort_keys=True))
+    """One computation per scene and worker, shared by the tests (they only read the results) and
+    with the other test files (conftest.shared_run)."""
+    return shared_run(name, changes)
 
 
 def test_single_cylinder_pin_diagram_is_t_and_z_plus_c_rod():
@@ -151,8 +142,7 @@ def test_results_keys_per_pin_and_journal():
 
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_bearing_section_renders(language):
-    result = run("inline4-petrol")
-    html = render_html(result, REGISTRY, language).html
+    html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
 

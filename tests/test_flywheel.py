@@ -2,32 +2,24 @@
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 import pytest
 
-from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import flywheel as fw
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
-from conftest import modified
+from conftest import shared_run
 
 REGISTRY = default_registry()
 FLYWHEEL_1CYL = {"flywheel": {"required_irregularity": 0.02}}
 
 
-@functools.lru_cache(maxsize=None)
-def _run(name: str, changes: str = "{}"):
-    return run_scene(scene_from_dict(modified(name, eval(changes)), base_dir=examples_dir()), REGISTRY)
-
-
 def run(name, changes=None):
-    return _run(name, repr(changes or {}))
+    """One computation per scene and worker, shared with the other test files (read only)."""
+    return shared_run(name, changes)
 
 
 # ----------------------------------------------------------------------------- physics

@@ -11,26 +11,28 @@ from functools import lru_cache
 import pytest
 
 from conftest import as_read
-from crankdyn.cli import examples_dir, main
+
+
+#: The reports' folders by example, as the tests last asked for them.
+_FOLDERS: dict = {}
 
 
 @lru_cache(maxsize=None)
-def _html(example: str, tmp_root: str) -> str:
-    out = f"{tmp_root}/{example}"
-    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", out, "--format", "html", "-q",
-                 "--lang", "uk"]) == 0
-    with open(f"{out}/report.html", encoding="utf-8") as fh:
+def _html(folder) -> str:
+    with open(f"{folder}/report.html", encoding="utf-8") as fh:
         return fh.read()
 
 
-_ROOTS: list = []
-
-
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory):
-    root = tmp_path_factory.mktemp("hand_in")
-    _ROOTS[:] = [root]
-    return lambda example: _html(example, str(root))
+def reports(shared_report):
+    """The Ukrainian HTML report of an example (conftest.shared_report, shared with other test files:
+    read only); ``--lang uk`` for the examples written in another language."""
+    def html(example):
+        folder = shared_report(example, None if example.endswith("-uk") else "uk")
+        _FOLDERS[example] = folder
+        return _html(folder)
+
+    return html
 
 
 def test_the_balancing_section_of_one_cylinder_speaks_of_one_cylinder(reports):
@@ -57,7 +59,7 @@ def test_the_forces_legend_writes_the_gas_pressure_as_the_text_does(reports):
     from crankdyn.report.typeset import symbol_mathtext
 
     assert symbol_mathtext("gas_pressure", "uk") == "$p_{\\mathrm{г}}$"
-    svg = next(_ROOTS[0].glob("petrol-1cyl-uk/figures/*_forces.svg")).read_text(encoding="utf-8")
+    svg = next(_FOLDERS["petrol-1cyl-uk"].glob("figures/*_forces.svg")).read_text(encoding="utf-8")
     legend = svg[svg.index("<!-- $p_{\\mathrm{"):][:800]
     assert "<!-- $p_{\\mathrm{г}}$ -->" in svg and re.search(r">г</tspan>", legend)
 
@@ -287,7 +289,7 @@ def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(repo
     row = rf'<tr><td class="text">{quoted[1]}</td><td class="text">10⁻⁸</td><td>{quoted[2]}</td>'
     assert row in section
     figure = re.search(r'src="(figures/[^"]*solvers_single\.svg)"', section)[1]
-    with open(f"{_ROOTS[0]}/inline4-petrol/{figure}", encoding="utf-8") as fh:
+    with open(f"{_FOLDERS['inline4-petrol']}/{figure}", encoding="utf-8") as fh:
         assert "розрахунок, використаний у розділі" in fh.read()
 
 

@@ -58,13 +58,10 @@ def test_a_diesel_z_ends_the_heat_addition_at_rho_times_v_c(marked):
     assert points["z"][0] == pytest.approx(rho * r["clearance_volume_m3"] * 1e3, rel=2e-2)
 
 
-def test_the_pumping_loop_is_enlarged_in_an_inset_with_locale_ticks(tmp_path):
+def test_the_pumping_loop_is_enlarged_in_an_inset_with_locale_ticks(shared_report):
     """At the scale of a 5 MPa peak the intake and exhaust lines (0,1 MPa) are one line: an inset
     shows them, its ticks written as the report writes numbers (decimal comma in uk)."""
-    from crankdyn.cli import main
-
-    assert main(["report", str(examples_dir() / "petrol-1cyl-uk.toml"), "-o", str(tmp_path), "--format", "html",
-                 "-q"]) == 0
-    svg = next((tmp_path / "figures").glob("fig_*_pV.svg")).read_text(encoding="utf-8")
+    out = shared_report("petrol-1cyl-uk")  # the HTML report, shared with other test files (read only)
+    svg = next((out / "figures").glob("fig_*_pV.svg")).read_text(encoding="utf-8")
     assert "впуск і випуск (збільшено)" in svg
     assert ">0,05<" in svg and ">0.05<" not in svg

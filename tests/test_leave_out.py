@@ -13,14 +13,11 @@ import re
 import pytest
 from markupsafe import escape
 
-from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
 from crankdyn.outputs import results_document
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, render_html, skipped_reason
+from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, skipped_reason
 from crankdyn.report.i18n import translator
-from crankdyn.scene import scene_from_dict
-from conftest import modified
+from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 ENGINE = {"kinematics", "indicator", "forces", "numerics"}
@@ -83,8 +80,8 @@ def absent_keys(name):
 def build(name):
     if name not in _CACHE:
         example, changes = MATRIX[name][:2]
-        result = run_scene(scene_from_dict(modified(example, changes), base_dir=examples_dir()), REGISTRY)
-        _CACHE[name] = (result, results_document(result), render_html(result, REGISTRY, "en").html)
+        result = shared_run(example, changes)  # shared with the other test files (read only)
+        _CACHE[name] = (result, results_document(result), shared_html(example, changes, "en").html)
     return _CACHE[name]
 
 
@@ -163,7 +160,7 @@ def test_balancing_needs_no_cycle():
     for stage in ("forces", "bays", "torque", "bearings"):
         assert "gas_pressure" in skipped[stage] and "[cycle]" in skipped[stage], (stage, skipped[stage])
     assert "[cycle]" in skipped["numerics"] and "[masses]" not in skipped["numerics"]
-    with_cycle = run_scene(scene_from_dict(modified("v8-petrol", {}), base_dir=examples_dir()), REGISTRY)
+    with_cycle = shared_run("v8-petrol")
     full = with_cycle.outputs["balancing"].results
     alone = result.outputs["balancing"].results
     assert full["reaction_torque_range_Nm"] > 0 and alone["reaction_torque_range_Nm"] is None

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import functools
-import json
 
 import math
 
@@ -16,22 +14,17 @@ from crankdyn.orchestrator import run_scene
 from crankdyn.physics import articulated as art
 from crankdyn.physics.layout import LayoutError, build_layout
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from conftest import modified, write_scene
+from conftest import modified, shared_html, shared_run, write_scene
 
 REGISTRY = default_registry()
 MULTI = ["inline4-petrol", "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]
 
 
-@functools.lru_cache(maxsize=None)
-def _run(name: str, changes_json: str):
-    return run_scene(scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir()), REGISTRY)
-
-
 def run(name, changes=None):
-    """One computation per scene and worker, shared by the tests (they only read the results)."""
-    return _run(name, json.dumps(changes or {}, sort_keys=True))
+    """One computation per scene and worker, shared by the tests (they only read the results) and
+    with the other test files (conftest.shared_run)."""
+    return shared_run(name, changes)
 
 
 # ----------------------------------------------------------------------------- layouts
@@ -203,7 +196,7 @@ def test_diesel_rk_six_cylinder_acceptance():
     assert torque["mean_from_work_Nm"] == pytest.approx(work_one * 6 / (4 * math.pi), rel=1e-12)
     assert abs(torque["mean_Nm"] / (work_one * 6 / (4 * math.pi)) - 1) < 0.002
     assert torque["period_deg"] == 120.0
-    html = render_html(result, REGISTRY, "en").html
+    html = shared_html("inline6-diesel-trace", language="en").html
     assert "Mean output torque" in html and 'data-stage="torque"' in html
 
 
@@ -243,8 +236,7 @@ def test_torque_period_and_symmetric_v8():
 @pytest.mark.parametrize("name", ["v8-petrol", "radial9-aircraft"])
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_multibank_reports_render(name, language):
-    result = run(name)
-    rendered = render_html(result, REGISTRY, language)
+    rendered = shared_html(name, language=language)
     assert not rendered.missing_translations
     assert 'data-stage="bays"' in rendered.html and 'data-stage="torque"' in rendered.html
     if name.startswith("radial"):

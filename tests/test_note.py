@@ -24,7 +24,7 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
-from conftest import ARTIFACTS, as_read, modified, write_scene
+from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
 from page_layout import layout_problems
 from test_worked import check_worked
 
@@ -190,7 +190,7 @@ def test_explanatory_note_pdf(tmp_path, language):
 @pytest.mark.parametrize("example, language", [("inline4-petrol", "uk")])  # ru: the PDF test above
 def test_multicylinder_note_has_no_english_words(example, language):
     scene = load_scene(examples_dir() / f"{example}.toml")
-    rendered = render_html(run_scene(scene, REGISTRY), REGISTRY, language)
+    rendered = shared_html(example, language=language)  # the example's full run, shared with other files
     assert not rendered.missing_translations, rendered.missing_translations
     scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
     words = _latin_words(rendered.html, scene_texts)
@@ -277,8 +277,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
     shown = {}
     for name, stages in scenes.items():
-        result = run_scene(load_scene(examples_dir() / f"{name}.toml"), REGISTRY, stages)
-        html = render_html(result, REGISTRY, language).html
+        html = shared_html(name, language=language, stages=stages).html  # shared with other files (read only)
         listed = _symbol_list(html)
         rest = html.replace(listed, "")
         rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)

@@ -19,7 +19,7 @@ from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.numerics import stage as num
-from conftest import modified
+from conftest import modified, shared_run
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",
@@ -28,15 +28,11 @@ FAST = {"numerics": {"steps_deg": [10], "repeats": 1}}
 # The examples as they are, but with no time budget: which steps run must not depend on the load
 # of the machine (the budget itself is tested below).
 UNLIMITED = {"numerics": {"time_budget_s": 3600}}
-_RUNS: dict = {}
 
 
 def run(name, changes=None):
-    key = (name, repr(changes))
-    if key not in _RUNS:
-        scene = scene_from_dict(modified(name, changes or {}), base_dir=examples_dir())
-        _RUNS[key] = run_scene(scene, REGISTRY)
-    return _RUNS[key]
+    """One computation per scene and test process, shared with the other test files (read only)."""
+    return shared_run(name, changes)
 
 
 def render_section(result, stage="numerics", language="en"):
@@ -146,7 +142,9 @@ def test_articulated_reference_sums_master_and_slave_work():
 
 
 def test_scene_copy_at_another_step_is_faithful():
-    scene = run("radial9-aircraft").scene
+    # the scene of the run below (shared with the other tests here): a run of its own only for the scene
+    # would be the costliest in this file (the radial's full numerics study)
+    scene = run("radial9-aircraft", UNLIMITED).scene
     copy = num.scene_with_step(scene, 0.5)
     assert copy.analysis.angle_step_deg == 0.5 and copy.analysis.table_step_deg == 0.5
     assert copy.plugin_tables() == scene.plugin_tables() and copy.base_dir == scene.base_dir

@@ -13,12 +13,16 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics.pressure_trace import read_diesel_rk_ind_table
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, modified
+from conftest import example_data, modified, shared_run
 
 REGISTRY = default_registry()
 
 
 def run(name: str, changes: dict | None = None, base_dir: Path | None = None):
+    """The example's run; from the bundled examples' folder, computed once per test process and shared
+    with the other tests and test files (read only)."""
+    if base_dir is None:
+        return shared_run(name, changes)
     data = modified(name, changes or {})
     from crankdyn.cli import examples_dir
 

@@ -9,21 +9,18 @@ from pathlib import Path
 import pytest
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import render_html
 from crankdyn.report.i18n import core_catalog_dir, load_catalog_file
 from crankdyn.report.pdf import BlockedResource, _fetcher, is_allowed
-from crankdyn.scene import scene_from_dict
-from conftest import modified
+from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 
 
 def _render(name="petrol-1cyl", language="en", changes=None):
-    scene = scene_from_dict(modified(name, changes or {}), base_dir=examples_dir())
-    result = run_scene(scene, REGISTRY)
-    return result, render_html(result, REGISTRY, language)
+    """The example's run and report, computed once per test process and shared with the other test
+    files (read only)."""
+    return shared_run(name, changes), shared_html(name, changes, language)
 
 
 @pytest.mark.parametrize("language, table, figure, sep", [("en", "Table 2.1 —", "Figure 2.1 —", "."),

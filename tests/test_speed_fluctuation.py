@@ -7,21 +7,18 @@ import functools
 import numpy as np
 import pytest
 
-from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.flywheel.stage import crank_train
-from conftest import modified
+from conftest import shared_run
 
 REGISTRY = default_registry()
 
 
 @functools.lru_cache(maxsize=None)
 def inline4():
-    return run_scene(scene_from_dict(modified("inline4-petrol", {}), base_dir=examples_dir()), REGISTRY)
+    return shared_run("inline4-petrol")  # shared with the other test files (read only)
 
 
 @functools.lru_cache(maxsize=None)

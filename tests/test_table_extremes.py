@@ -9,7 +9,6 @@ import re
 import numpy as np
 
 from conftest import as_read
-from crankdyn.cli import examples_dir, main
 from crankdyn.report.context import add_extreme_rows, sample_rows
 
 
@@ -53,10 +52,8 @@ def test_extremes_at_one_angle_share_a_row_and_the_least_is_found_too():
     assert len(rows2) == len(rows) + 2
 
 
-def test_the_report_shows_the_peak_pressure_row_in_bold_and_names_it(tmp_path):
-    out = tmp_path / "uk"
-    assert main(["report", str(examples_dir() / "petrol-1cyl-uk.toml"), "-o", str(out), "--format", "html",
-                 "-q"]) == 0
+def test_the_report_shows_the_peak_pressure_row_in_bold_and_names_it(shared_report):
+    out = shared_report("petrol-1cyl-uk")  # the HTML report, shared with other test files (read only)
     html = as_read((out / "report.html").read_text(encoding="utf-8"))
     tables = re.findall(r'<table class="data[^"]*" data-number="([^"]+)".*?</table>\s*(<p class="table-note">.*?</p>)?',
                         html, re.S)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import json
 import math
 import re
@@ -11,29 +10,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
 from crankdyn.plugins import default_registry
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
-from crankdyn.scene import scene_from_dict
 from crankdyn.units import parse_quantity
-from conftest import modified
+from conftest import shared_run
 
 REGISTRY = default_registry()
 
 
-@functools.lru_cache(maxsize=None)
-def _run(name: str, changes: str = "{}"):
-    return run_scene(scene_from_dict(modified(name, eval(changes)), base_dir=examples_dir()), REGISTRY)
-
-
 def run(name, changes=None):
-    return _run(name, repr(changes or {}))
+    """One computation per scene and worker, shared with the other test files (read only)."""
+    return shared_run(name, changes)
 
 
 # ----------------------------------------------------------------------------- modes

@@ -14,6 +14,7 @@ so the crank pin is B = R (cos alpha, sin alpha).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,12 +95,18 @@ def slave_motion(master_crank_angle_rad, geometry: SlaveGeometry, angular_veloci
                        slave_rod_angle_rad=np.arcsin(cn / l))
 
 
+@functools.lru_cache(maxsize=4096)
 def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, float]:
     """(x_tdc_m, master angle at slave TDC rad, x_bdc_m, master angle at slave BDC rad).
 
     Located on a dense grid and refined by Brent's root search on the analytic piston velocity
     (zero at a dead centre), so the angles are exact to round-off (a search on the flat position
     itself finds them only to ~1e-8 rad).
+
+    Remembered per geometry (a frozen, hashable value; the answer is a tuple of floats): an
+    articulated engine's run asks for the same slaves' dead centres again and again (the slave rod
+    length of equal compression is solved for in every run of the bays stage, and the numerics study
+    runs that stage once per angle step, the drawing's geometry once more).
     """
     grid = np.linspace(0.0, 2 * np.pi, 3601)[:-1]
     x = slave_motion(grid, geometry).piston_position_m
