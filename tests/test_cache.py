@@ -4,6 +4,7 @@ changed (issue 17). Counted stage runs, not timings."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from crankdyn.cache import StageCache
 from crankdyn.cli import examples_dir
@@ -88,10 +89,36 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
     cache = StageCache()
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     trace = (tmp_path / "diesel6-1600rpm.ind").resolve()
-    assert FILE + str(trace) in cache._entries["indicator"].reads
+    assert any(read.startswith(FILE) and read.endswith(f":{trace}") for read in cache._entries["indicator"].reads)
     assert not any(read.startswith(FILE) for read in cache._entries["kinematics"].reads)
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 1  # the same bytes: kept
     trace.write_bytes(trace.read_bytes().replace(b"1600", b"1601", 1) + b"\n")
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
+    assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1
+
+
+def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_read(tmp_path, monkeypatch):
+    """The preview's user saves a new trace while the indicator is computed from the old one: the
+    entry keeps the digest of the bytes the stage opened, so the next run computes the new ones
+    (found by a review: the digest used to be taken after the run)."""
+    import shutil
+
+    import crankdyn_builtin.indicator.stage as indicator_stage
+
+    shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
+    shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
+    scene = load_scene(tmp_path / "trace.toml")
+    read = indicator_stage.trace.read_diesel_rk_ind
+
+    def read_then_saved(path):
+        out = read(path)
+        monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read)
+        Path(path).write_bytes(Path(path).read_bytes().replace(b"1600", b"1601", 1) + b"\n")
+        return out
+
+    monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read_then_saved)
+    cache = StageCache()
+    cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1

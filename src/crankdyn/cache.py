@@ -89,9 +89,18 @@ _tables: dict[tuple[int, str], Any] = {}  # (id(scene copy), field) -> its track
 
 
 def _resolve_recorded(resolve, reads: set[str], name: str):
+    """``resolve(name)``, recorded with the file's digest as the stage opens it: a file saved again
+    while the stage runs then differs from what its output was computed from."""
     path = resolve(name)
-    reads.add(FILE + str(path))
+    reads.add(f"{FILE}{_file_digest(path)}:{path}")
     return path
+
+
+def _file_digest(path) -> str:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as exc:  # a missing or unreadable file: that is what the stage met
+        return f"unreadable-{exc.__class__.__name__}"
 
 
 def _construct(cls: type, model: BaseModel):
@@ -165,12 +174,9 @@ def _digest(value: Any, depth: int = 0) -> str:
 
 def _field_value(scene: Scene, name: str) -> Any:
     """The value a recorded read names: ``engine``, ``masses.rod``, ``__extra__``, ``mechanism.__extra__``,
-    ``file:/path`` (the file's bytes; a missing or unreadable one: why)."""
+    ``file:<digest>:/path`` (the file's digest now)."""
     if name.startswith(FILE):
-        try:
-            return Path(name[len(FILE):]).read_bytes()
-        except OSError as exc:
-            return f"unreadable: {exc.__class__.__name__}"
+        return _file_digest(name[len(FILE):].split(":", 1)[1])
     head, _, rest = name.partition(".")
     value = scene.model_extra if head == EXTRA else scene.__dict__.get(head)
     if not rest:
@@ -182,12 +188,19 @@ def _field_value(scene: Scene, name: str) -> Any:
     return value.__dict__.get(rest)
 
 
-def field_digests(scene: Scene, names: frozenset[str]) -> tuple[tuple[str, str], ...]:
+def field_digests(scene: Scene, names: frozenset[str], as_read: bool = False) -> tuple[tuple[str, str], ...]:
     """Digests of the read fields of ``scene``, top-level (``engine``) or in a table (``masses.rod``);
-    see :data:`EVERYTHING`, :data:`EXTRA`."""
+    see :data:`EVERYTHING`, :data:`EXTRA`. A data file's digest is its contents' now, or with
+    ``as_read`` (when an entry is made) the one it had when the stage opened it."""
     if EVERYTHING in names:
         names = frozenset(type(scene).model_fields) | {EXTRA} | {n for n in names if n.startswith(FILE)}
-    return tuple((name, _digest(_field_value(scene, name))) for name in sorted(names))
+
+    def value(name: str):
+        if as_read and name.startswith(FILE):
+            return name[len(FILE):].split(":", 1)[0]
+        return _field_value(scene, name)
+
+    return tuple((name, _digest(value(name))) for name in sorted(names))
 
 
 @dataclass
@@ -274,7 +287,7 @@ class StageCache:
                     taken = deferred.timing_s[stage.name]  # its run (in the worker), not the wait for it
                 else:
                     output, reads = self._run(stage, scene, stage_inputs(stage, data, the_plan.registry))
-                entry = _Entry(stage, reads, field_digests(scene, reads), upstream, output,
+                entry = _Entry(stage, reads, field_digests(scene, reads, as_read=True), upstream, output,
                                {key: _digest(value) for key, value in output.data.items()})
                 self._entries[stage.name] = entry
                 self.runs[stage.name] += 1

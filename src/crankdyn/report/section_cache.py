@@ -63,7 +63,7 @@ class SectionCache:
             reads = reads_of(tracked) if tracked is not None else frozenset()
         self.renders[stage.name] = self.renders.get(stage.name, 0) + 1
         if scene is not None:
-            self._sections[stage.name] = _Section(stage, output, key, reads, field_digests(scene, reads), body,
+            self._sections[stage.name] = _Section(stage, output, key, reads, field_digests(scene, reads, as_read=True), body,
                                                   ctx.title, list(ctx.conclusions), ctx.findings[findings_before:],
                                                   ctx.worked[worked_before:],
                                                   ctx.figures[figures_before:])
