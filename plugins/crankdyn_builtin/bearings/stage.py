@@ -16,7 +16,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import loads_equal, worked_bearing
+from crankdyn_builtin.bearings.worked import loads_equal, most_loaded, worked_bearing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -411,12 +411,14 @@ def render(output: StageOutput, ctx) -> str | None:
     # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
     pins_equal = loads_equal(r["crank_pins"])
     conclusion = "bearings.conclusion_single" if single else "bearings.conclusion_equal" if pins_equal else "bearings.conclusion"
-    journal = max(r["main_journals"], key=lambda j: j["max_N"])  # the first of equal ones, as the table lists them
+    tied = most_loaded(r["main_journals"])
+    journal = tied[0]
+    journal_key = ("bearings.conclusion_journal_equal" if loads_equal(r["main_journals"]) else
+                   "bearings.conclusion_journal_tied" if len(tied) > 1 else "bearings.conclusion_journal")
     ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
                    p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
                    oil=ctx.t.fixed(pin["oil_hole_deg"], 0))  # as the tables print it
-                 + " " + t("bearings.conclusion_journal_equal" if loads_equal(r["main_journals"]) else
-                           "bearings.conclusion_journal", label=journal["journal"],
+                 + " " + t(journal_key, label=journal["journal"], labels=", ".join(j["journal"] for j in tied),
                            r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2), p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
                            oil=ctx.t.fixed(journal["oil_hole_deg"], 0), table=journals_table_number))
     d = r["dimensions"]

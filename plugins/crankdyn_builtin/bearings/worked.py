@@ -21,10 +21,16 @@ def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -
                       row_key=key)
 
 
+def most_loaded(records) -> list:
+    """The pins (journals) of ``records`` whose largest load is the largest to rounding (1e-9), in
+    the tables' order: a tie is decided by no digit beyond the round-off."""
+    peak = max(x["max_N"] for x in records)
+    return [x for x in records if x["max_N"] >= peak * (1 - 1e-9)]
+
+
 def loads_equal(records) -> bool:
     """Whether every pin (journal) of ``records`` carries the same largest load, to rounding (1e-9)."""
-    peaks = [x["max_N"] for x in records]
-    return len(peaks) > 1 and max(peaks) - min(peaks) <= 1e-9 * max(peaks)
+    return len(records) > 1 and len(most_loaded(records)) == len(records)
 
 
 def worked_bearing(ctx, r, kind: str) -> Markup:
@@ -32,7 +38,8 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
     loaded one, which the polar diagrams show."""
     dims = r["dimensions"]
     records = r["crank_pins"] if kind == "pin" else r["main_journals"]
-    record = max(records, key=lambda p: p["max_N"])  # the first of equals, as the stage picks it
+    tied = most_loaded(records)
+    record = tied[0]
     if kind == "pin":
         key, load_html = str(record["crank"]), "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
@@ -41,6 +48,7 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
     step = _pressure_step(ctx, f"{kind}_pressure_max", load_html, record, key, *size)
     # "the most loaded" only where one is: a single crank pin has no rival, equal loads have no first
-    variant = "_single" if len(records) == 1 else "_equal" if loads_equal(records) else ""
-    note = ctx.t(f"bearings.worked_{kind}{variant}", label=key)
+    variant = "_single" if len(records) == 1 else "_equal" if loads_equal(records) else "_tied" if len(tied) > 1 else ""
+    others = ", ".join(str(x["crank"] if kind == "pin" else x["journal"]) for x in tied[1:])
+    note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
     return worked_markup(ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note))
