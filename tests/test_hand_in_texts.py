@@ -448,3 +448,13 @@ def test_a_defaulted_combustion_delay_says_where_it_comes_from(reports):
     text = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl-uk")))
     assert "через 2,42°" in text
     assert "Затримку згоряння взято за підручником [1, підрозд. 3.1]: 0,11 кута випередження запалювання" in text
+
+
+def test_a_small_unbalanced_force_is_not_printed_as_zero():
+    """A review's finding: whole newtons printed the two-stroke's sixth order (0,19 N) as "0 N"."""
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.balancing.stage import newtons
+    from crankdyn.plugins import default_registry
+
+    t = translator("uk", default_registry().catalogs)
+    assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == ["17\u202f235", "192", "10", "4,4", "0,19"]

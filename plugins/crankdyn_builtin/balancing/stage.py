@@ -585,7 +585,7 @@ def _coefficients_table(ctx, r):
         ("<i>P</i>/<i>C</i><sub><i>n</i></sub>" if single else "Σ<i>P</i>/<i>C</i><sub><i>n</i></sub>",
          [o["force_coefficient"] for o in orders], 4),
         (("<i>P</i><sub>max</sub>, " if single else "Σ<i>P</i>, ") + t("balancing.unit_N"),
-         [o["force_max_N"] for o in orders], 0),  # whole newtons, as the text's C = 17 235 N
+         [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
         (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
@@ -722,7 +722,7 @@ def _conclude(ctx, r) -> None:
     if unbalanced and len(r["cylinder_labels"]) == 1:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
-            f"{_plain_symbol(s, '')} = {ctx.t.fixed(amplitudes[s['quantity'].split('_', 1)[1]], 0)} {t('balancing.unit_N')}"
+            f"{_plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
         # the textbook's coefficient is the sum over its scale (ΣP_II/C_II = 4,000), beside its amplitude
@@ -735,6 +735,13 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(_means_sentence(t, r))
 
 
+def newtons(t, force_N: float) -> str:
+    """A force as the table of orders and the conclusions print it: whole newtons (C = 17 235 Н),
+    two significant digits under 10 N, where whole newtons would print a small unbalanced force
+    as 0 or 1 Н."""
+    return t.fixed(force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
+
+
 def _absolute(ctx, r, item) -> str:
     """ " (ΣP_II = 9426 N)": an unbalanced sum's amplitude, or a moment's, beside its textbook coefficient."""
     force = item["quantity"].startswith("sum_")
@@ -742,8 +749,8 @@ def _absolute(ctx, r, item) -> str:
     if value is None:
         return ""
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
-    # as the table of orders prints it: whole newtons, newton-metres to a tenth
-    return f" ({_plain_symbol(item)} = {ctx.t.fixed(value, 0 if force else 1)} {unit})"
+    # as the table of orders prints it
+    return f" ({_plain_symbol(item)} = {newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)} {unit})"
 
 
 def _in_words(t, n: int) -> dict[str, str]:
