@@ -458,3 +458,17 @@ def test_a_small_unbalanced_force_is_not_printed_as_zero():
 
     t = translator("uk", default_registry().catalogs)
     assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == ["17\u202f235", "192", "10", "4,4", "0,19"]
+
+
+def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
+    """A review's finding: [δ] = 0.0066667 printed 0,006667 in the table and text, 0,0066667 in the
+    worked line (4 against 6 significant digits)."""
+    from conftest import modified, write_scene
+    from crankdyn.cli import main
+
+    scene = write_scene(tmp_path / "d.toml", modified("inline4-petrol", {"flywheel": {"required_irregularity": 0.0066667},
+                                                                         "report": {"language": "uk"}}))
+    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q", "--stages", "flywheel"]) == 0
+    text = as_read(re.sub(r"<[^>]+>", "", (tmp_path / "out" / "report.html").read_text(encoding="utf-8")))
+    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
+    assert len(shown) >= 3 and set(shown) == {"0,0066667"}, shown

@@ -238,7 +238,7 @@ def render(output: StageOutput, ctx) -> str:
             (t("flywheel.row_engine"), "<i>J</i><sub>e</sub>", r["engine_inertia_kg_m2"], t("flywheel.unit_kg_m2"))]
     if r["required_irregularity"] is not None:
         # a given value, as the task's data table prints it (0,01, not 0,01000)
-        rows += [(t("flywheel.row_required_delta"), "[<i>δ</i>]", t.number_g(r["required_irregularity"], 4), "—"),
+        rows += [(t("flywheel.row_required_delta"), "[<i>δ</i>]", t.number_g(r["required_irregularity"], 6), "—"),
                  (t("flywheel.row_required_total"), "<i>J</i><sub>0</sub>", r["required_total_inertia_kg_m2"],
                   t("flywheel.unit_kg_m2")),
                  (t("flywheel.row_required_flywheel"), "<i>J</i><sub>f</sub>", r["required_flywheel_inertia_kg_m2"],
@@ -279,7 +279,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     inertia = t("unit.kg_m2")
     rows = []
     if opts.required_irregularity is not None:
-        rows.append((t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 4), ""))
+        rows.append((t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 6), ""))
     if opts.inertia is not None:
         rows.append((t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia))
     if opts.engine_inertia:
