@@ -122,3 +122,27 @@ def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1
+
+
+def test_a_study_computed_elsewhere_depends_on_the_data_files_too(tmp_path):
+    """A review's finding: a study adopted from the preview's worker counted as having read every
+    scene field but no data file, so a trace edited between the grid's angles (the indicator's
+    output unchanged) left it stale."""
+    import shutil
+
+    from crankdyn.cache import FILE
+
+    shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
+    shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
+    scene = load_scene(tmp_path / "trace.toml")
+    the_plan = plan(scene, REGISTRY, ["numerics"])
+    cache = StageCache()
+    cache.run_plan(scene, the_plan, defer_studies=True)
+    assert cache.deferred_study("numerics")
+    cache.adopt("numerics", run_plan(scene, the_plan).outputs["numerics"])
+    entry = cache._entries["numerics"]
+    assert any(read.startswith(FILE) for read in entry.reads)
+    assert cache._valid(entry, entry.stage, scene, entry.upstream)
+    trace = tmp_path / "diesel6-1600rpm.ind"
+    trace.write_bytes(trace.read_bytes() + b"\n")
+    assert not cache._valid(entry, entry.stage, scene, entry.upstream)

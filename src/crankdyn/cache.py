@@ -218,13 +218,21 @@ class StageCache:
 
     def __init__(self) -> None:
         self._entries: dict[str, _Entry] = {}
-        # a deferred study: (stage, upstream digests, digests of every scene field) when deferred
+        # a deferred study: (stage, upstream digests, digests of every scene field and data file) when deferred
         self._deferred_keys: dict[str, tuple] = {}
+        self._deferred_reads: dict[str, frozenset[str]] = {}
         self.runs: Counter[str] = Counter()  # real runs per stage (cache hits not counted)
 
     def _valid(self, entry: _Entry | None, stage: Stage, scene: Scene, upstream: tuple) -> bool:
         return (entry is not None and entry.stage is stage and entry.upstream == upstream
                 and entry.fields == field_digests(scene, entry.reads))
+
+    def _everything(self) -> frozenset[str]:
+        """What a study computed elsewhere counts as having read: every scene field, and every data
+        file a stage of this cache has opened, as it is now (the worker's own reads do not come back)."""
+        paths = {name[len(FILE):].split(":", 1)[1] for entry in self._entries.values() for name in entry.reads
+                 if name.startswith(FILE)}
+        return _ALL | {f"{FILE}{_file_digest(path)}:{path}" for path in paths}
 
     def deferred_study(self, name: str) -> bool:
         """Whether a :meth:`run_plan` deferred study ``name``."""
@@ -238,7 +246,7 @@ class StageCache:
         if kept is not None and kept.output is output:
             return  # kept already (it ran here, or was taken from the worker by run_plan)
         stage, upstream, fields = self._deferred_keys[name]
-        self._entries[name] = _Entry(stage, _ALL, fields, upstream, output,
+        self._entries[name] = _Entry(stage, self._deferred_reads[name], fields, upstream, output,
                                      {key: _digest(value) for key, value in output.data.items()})
         self.runs[name] += 1
 
@@ -276,14 +284,16 @@ class StageCache:
             entry = self._entries.get(stage.name)
             start, taken = time.perf_counter(), None
             if not self._valid(entry, stage, scene, upstream):
-                study = (stage, upstream, field_digests(scene, _ALL)) if is_study(stage) else None
+                everything = self._everything() if is_study(stage) else _ALL
+                study = (stage, upstream, field_digests(scene, everything, as_read=True)) if is_study(stage) else None
                 if defer_studies and study is not None:
                     kept[stage.name] = stage_inputs(stage, data, the_plan.registry)
                     self._deferred_keys[stage.name] = study
+                    self._deferred_reads[stage.name] = everything
                     continue
                 if study is not None and deferred is not None and stage.name in deferred.deferred \
                         and self._deferred_keys.get(stage.name) == study:
-                    output, reads = deferred.study_output(stage.name), _ALL
+                    output, reads = deferred.study_output(stage.name), everything
                     taken = deferred.timing_s[stage.name]  # its run (in the worker), not the wait for it
                 else:
                     output, reads = self._run(stage, scene, stage_inputs(stage, data, the_plan.registry))
