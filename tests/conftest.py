@@ -156,4 +156,4 @@ def as_read(html: str) -> str:
     import re
 
     html = html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
-    return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)", " ", html)
+    return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)|(?<=[A-ZА-ЯІЇЄҐЁ]\\.)\u00a0(?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])", " ", html)

@@ -307,8 +307,10 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     assert "https://doi.org/10.1/x" in html and "<script>x = 1; a/b</script>" in html
     # a surname and its initials stay on one line (the title page had "Петров В. | М.")
     named = unbreakable_html("<p>доц. Петров В. М.; Khurmi R. S., Gupta J. K. Theory; табл. Б.1; рис. 2.1</p>")
-    assert "доц. Петров\u00a0В.\u00a0М.;" in named and "Khurmi\u00a0R.\u00a0S., Gupta\u00a0J.\u00a0K. Theory" in named
+    assert "доц. Петров\u00a0В.\u00a0М.;" in named and "Khurmi\u00a0R.\u00a0S., Gupta\u00a0J.\u00a0K.\u00a0Theory" in named  # an initial before a capitalised word: bound too
     assert "табл. Б.1; рис. 2.1" in named
+    joined = unbreakable_html("<p>доц. Петров В.М.; В. М. Петров, Khurmi R.S.</p>")
+    assert "Петров\u00a0В.М.;" in joined and "В.\u00a0М.\u00a0Петров," in joined and "Khurmi\u00a0R.S." in joined
     assert "</i>" in html and "</sub>" in html and unbreakable_html(html) == html  # once is enough
 
     # the whole report: in running text every "X = <number>" is bound (a displayed equation

@@ -311,9 +311,11 @@ _EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d)")
 #: put in is no slash of the text).
 _SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
 WORD_JOINER = "\u2060"
-#: "Петров В. М.", "Khurmi R. S.": a surname and its initials stay on one line (the title page had
-#: "Петров В. /М."): a no-break space before a capital initial after a word or an initial.
-_BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[\s,;:)]|$))")
+#: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
+#: title page had "Петров В. /М."): a no-break space before a capital initial after a word or an
+#: initial, and ("В. М. Петров") after an initial before a capitalised word.
+_BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-ZА-ЯІЇЄҐЁ]\.)*(?:[\s,;:)]|$))"
+                             r"|(?<=\b[A-ZА-ЯІЇЄҐЁ]\.) (?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])")
 
 
 def _unbreakable(text: str) -> str:
