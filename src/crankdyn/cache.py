@@ -44,7 +44,8 @@ _ALL = frozenset({EVERYTHING})
 EXTRA = "__extra__"
 _WHOLE = {"__dict__", "model_dump", "model_dump_json", "model_copy", "__getstate__", "__reduce_ex__"}
 _EXTRA_NAMES = {"__pydantic_extra__", "model_extra"}
-#: A read of a data file: this prefix and the file's resolved path (``Scene.resolve``).
+#: A read of a data file: this prefix, the file's digest when read, ":" and its resolved path
+#: (``Scene.resolve``); :func:`_file_read` makes one, :func:`_file_parts` takes it apart.
 FILE = "file:"
 
 _reads: dict[int, set[str]] = {}
@@ -92,8 +93,19 @@ def _resolve_recorded(resolve, reads: set[str], name: str):
     """``resolve(name)``, recorded with the file's digest as the stage opens it: a file saved again
     while the stage runs then differs from what its output was computed from."""
     path = resolve(name)
-    reads.add(f"{FILE}{_file_digest(path)}:{path}")
+    reads.add(_file_read(path))
     return path
+
+
+def _file_read(path) -> str:
+    """The read of data file ``path`` as it is now."""
+    return f"{FILE}{_file_digest(path)}:{path}"
+
+
+def _file_parts(read: str) -> tuple[str, str]:
+    """(digest when read, path) of a :data:`FILE` read."""
+    digest, path = read[len(FILE):].split(":", 1)
+    return digest, path
 
 
 def _file_digest(path) -> str:
@@ -176,7 +188,7 @@ def _field_value(scene: Scene, name: str) -> Any:
     """The value a recorded read names: ``engine``, ``masses.rod``, ``__extra__``, ``mechanism.__extra__``,
     ``file:<digest>:/path`` (the file's digest now)."""
     if name.startswith(FILE):
-        return _file_digest(name[len(FILE):].split(":", 1)[1])
+        return _file_digest(_file_parts(name)[1])
     head, _, rest = name.partition(".")
     value = scene.model_extra if head == EXTRA else scene.__dict__.get(head)
     if not rest:
@@ -197,7 +209,7 @@ def field_digests(scene: Scene, names: frozenset[str], as_read: bool = False) ->
 
     def value(name: str):
         if as_read and name.startswith(FILE):
-            return name[len(FILE):].split(":", 1)[0]
+            return _file_parts(name)[0]
         return _field_value(scene, name)
 
     return tuple((name, _digest(value(name))) for name in sorted(names))
@@ -230,9 +242,9 @@ class StageCache:
     def _everything(self) -> frozenset[str]:
         """What a study computed elsewhere counts as having read: every scene field, and every data
         file a stage of this cache has opened, as it is now (the worker's own reads do not come back)."""
-        paths = {name[len(FILE):].split(":", 1)[1] for entry in self._entries.values() for name in entry.reads
+        paths = {_file_parts(name)[1] for entry in self._entries.values() for name in entry.reads
                  if name.startswith(FILE)}
-        return _ALL | {f"{FILE}{_file_digest(path)}:{path}" for path in paths}
+        return _ALL | {_file_read(path) for path in paths}
 
     def deferred_study(self, name: str) -> bool:
         """Whether a :meth:`run_plan` deferred study ``name``."""
@@ -284,8 +296,10 @@ class StageCache:
             entry = self._entries.get(stage.name)
             start, taken = time.perf_counter(), None
             if not self._valid(entry, stage, scene, upstream):
-                everything = self._everything() if is_study(stage) else _ALL
-                study = (stage, upstream, field_digests(scene, everything, as_read=True)) if is_study(stage) else None
+                study = everything = None
+                if is_study(stage):
+                    everything = self._everything()
+                    study = (stage, upstream, field_digests(scene, everything, as_read=True))
                 if defer_studies and study is not None:
                     kept[stage.name] = stage_inputs(stage, data, the_plan.registry)
                     self._deferred_keys[stage.name] = study
