@@ -156,3 +156,78 @@ def test_the_real_error_study_comes_from_the_child_in_a_report():
     assert b'"numerics"' in files["results.json"] and "report.html" in files
     print("ok")
     """)
+
+
+# ----------------------------------------------------------------- the whole run in a child (ForkedRun)
+RUN_SETUP = """
+from crankdyn.background import ForkedRun
+
+def located(scene, inputs):
+    return StageOutput(data={"x": 21.0}, results={"pid": os.getpid()})
+
+def located_registry(*studies, base_run=located):
+    reg = Registry()
+    for s in (stage("base", base_run, provides=["x"]), *studies):
+        reg.stages[s.name] = s
+    return reg
+"""
+
+
+def run_whole(code: str):
+    return run_fresh(SETUP + RUN_SETUP, code, timeout=120)
+
+
+def test_the_stages_computed_in_a_child_give_the_serial_result_and_the_studies_follow():
+    run_whole("""
+    reg = located_registry(stage("study", study, requires=["x"], last=True))
+    the_plan = plan(scene, reg)
+    result = ForkedRun.start(scene, the_plan).result()
+    assert result.outputs["base"].results["pid"] != PARENT  # computed aside
+    assert result.outputs["base"].data == {"x": 21.0} and result.timing_s["base"] > 0
+    assert list(result.deferred) == ["study"] and result.deferred["study"] == {"x": 21.0}
+    assert result.study_output("study").results == {"twice_x": 42.0, "pid": result.outputs["base"].results["pid"]}
+    result.complete()
+    assert result.background is None and not children()
+    print("ok")
+    """)
+
+
+def test_a_stage_failing_in_the_child_leaves_the_run_to_this_process_which_raises_its_error():
+    run_whole("""
+    def refused(scene, inputs):
+        if os.getpid() != PARENT:
+            raise SceneError(Problem("engine.bore", 0.0, "a bore above zero"))
+        raise RuntimeError("only the child should have run this")
+    reg = located_registry(base_run=refused)
+    assert ForkedRun.start(scene, plan(scene, reg)).result() is None and not children()
+    print("ok")
+    """)
+
+
+def test_outputs_that_cannot_be_pickled_leave_the_run_to_this_process():
+    run_whole("""
+    def closure(scene, inputs):
+        return StageOutput(data={"x": lambda: 21.0})
+    assert ForkedRun.start(scene, plan(scene, located_registry(base_run=closure))).result() is None
+    assert not children()
+    print("ok")
+    """)
+
+
+def test_a_report_computes_its_stages_in_a_child_while_it_prepares_the_figures():
+    run("""
+    import sys
+    from crankdyn import background, pipeline
+    from crankdyn.plugins import default_registry
+    got = []
+    result_of = background.ForkedRun.result
+    def recorded(self):
+        got.append(("scipy" in sys.modules, "matplotlib.figure" in sys.modules))
+        return result_of(self)
+    background.ForkedRun.result = recorded
+    result, files = pipeline.run_and_render(scene, default_registry(), ["html", "json"])
+    # this process imported matplotlib, not scipy, while the child computed
+    assert got == [(False, True)], got
+    assert result.background is None and not children() and "report.html" in files
+    print("ok")
+    """)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import tomllib
 
 from crankdyn.cli import main
@@ -72,6 +73,24 @@ def test_the_command_tunes_the_collector_and_main_alone_does_not(monkeypatch, ca
     assert ended.value.code == 2
     assert calls[0][0] == "threshold" and calls[0][1][0] == cli.YOUNG_GENERATION_THRESHOLD
     assert calls[-1] == ("freeze",)
+
+
+def test_the_command_keeps_blas_to_one_thread_unless_the_user_chose(monkeypatch):
+    """``crankdyn`` sets OPENBLAS_NUM_THREADS=1 before numpy is imported; a user's own value stays."""
+    import subprocess
+    import sys
+
+    from crankdyn import cli
+
+    probe = ("import os, sys, runpy; sys.argv = ['crankdyn', 'example', '--list'];"
+             "import crankdyn.cli as c; assert 'numpy' not in sys.modules, 'numpy imported before run()';"
+             "c.main = lambda: print(os.environ.get('OPENBLAS_NUM_THREADS')) or 0; c.run()")
+    env = {k: v for k, v in os.environ.items() if k != cli.BLAS_THREADS_ENV}
+    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip() == "1"
+    env[cli.BLAS_THREADS_ENV] = "4"
+    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip() == "4"
 
 
 def test_the_installed_command_is_run():

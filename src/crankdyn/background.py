@@ -19,7 +19,7 @@ import os
 import pickle
 
 from .aside import can_fork, stop_child
-from .orchestrator import RunResult, run_stage
+from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
 
 
 class ForkedStudies:
@@ -79,6 +79,73 @@ def _compute(scene, jobs, out) -> None:
             message = pickle.dumps((stage.name, None, 0.0), protocol=pickle.HIGHEST_PROTOCOL)
         out.write(message)
         out.flush()
+
+
+class ForkedRun:
+    """A scene's stages computed in a forked child while the report's process gets its rendering
+    ready (imports matplotlib, Jinja and the catalogs, which take as long as scipy's import and
+    the stages together): the two halves of a report's start-up on two cores.
+
+    The child runs the plan with the studies deferred, sends the pickled outputs and timings, and
+    goes on with the studies as :class:`ForkedStudies` does (the same pipe, read by one). Outputs
+    that cannot be pickled, a stage that raises, or a child that dies give None: the report's
+    process then runs the plan itself, so the result, and any error, is the one the serial run gives.
+    """
+
+    def __init__(self, pid: int, reader, scene, the_plan: Plan) -> None:
+        self.pid, self._reader = pid, reader
+        self._scene, self._plan = scene, the_plan
+
+    @classmethod
+    def start(cls, scene, the_plan: Plan) -> "ForkedRun | None":
+        if not can_fork():
+            return None
+        read_fd, write_fd = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
+            status = 0
+            try:
+                os.close(read_fd)
+                with os.fdopen(write_fd, "wb") as out:
+                    _run_and_send(scene, the_plan, out)
+            except BaseException:
+                status = 1
+            finally:
+                os._exit(status)
+        os.close(write_fd)
+        return cls(pid, os.fdopen(read_fd, "rb"), scene, the_plan)
+
+    def result(self) -> RunResult | None:
+        """The computed result, its studies still coming from the child; None if the child failed."""
+        try:
+            got = pickle.load(self._reader)
+        except Exception:  # EOF (the child died), a broken message
+            got = None
+        if got is None:
+            self.close()
+            return None
+        outputs, timing = got
+        result = resume_plan(self._scene, self._plan, outputs, timing)
+        result.background = ForkedStudies(self.pid, self._reader) if result.deferred else None
+        if result.background is None:
+            self.close()
+        return result
+
+    def close(self) -> None:
+        self._reader.close()
+        stop_child(self.pid)
+
+
+def _run_and_send(scene, the_plan: Plan, out) -> None:
+    try:
+        result = run_plan(scene, the_plan, defer_studies=True)
+        message = pickle.dumps((result.outputs, result.timing_s), protocol=pickle.HIGHEST_PROTOCOL)
+    except Exception:  # run again in the report's process, which then raises it
+        out.write(pickle.dumps(None))
+        return
+    out.write(message)
+    out.flush()
+    _compute(scene, [(s, result.deferred[s.name]) for s in the_plan.order if s.name in result.deferred], out)
 
 
 def start_studies(result: RunResult) -> RunResult:

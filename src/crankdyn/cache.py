@@ -34,6 +34,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from .orchestrator import Plan, RunResult, check_output, is_study, stage_inputs
+from .physics import lazy
 from .plugin_types import Stage, StageOutput
 from .scene import Scene
 
@@ -266,6 +267,7 @@ class StageCache:
     def _run(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, frozenset[str]]:
         """(output, the scene fields it read) of ``stage`` run on a read-tracking copy of ``scene``."""
         tracked = _tracked_copy(scene)
+        lazy.import_all()  # before the stage, as orchestrator.run_stage does
         try:
             output = stage.run(tracked, inputs)
         finally:

@@ -13,6 +13,7 @@ from .errors import PluginError, Problem, SceneError
 from .plugin_types import SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput, declared
 from .plugins import Registry
 from .scene import Scene, options
+from .physics import lazy
 
 
 @dataclass
@@ -270,6 +271,7 @@ def check_output(stage: Stage, output: StageOutput) -> None:
 
 def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, float]:
     """(output, seconds) of ``stage.run``, its output checked against the stage's declarations."""
+    lazy.import_all()  # not timed as the stage's
     start = time.perf_counter()
     output = stage.run(scene, inputs)
     elapsed = time.perf_counter() - start
@@ -294,6 +296,20 @@ def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunRe
         data.update(output.data)
         outputs[stage.name] = output
     return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred)
+
+
+def resume_plan(scene: Scene, the_plan: Plan, outputs: dict[str, StageOutput],
+                timing_s: dict[str, float]) -> RunResult:
+    """The result ``run_plan(scene, the_plan, defer_studies=True)`` gives, from the outputs and
+    timings of its stages computed elsewhere (a forked child): the studies' inputs are built here."""
+    data: dict[str, Any] = {}
+    deferred: dict[str, dict[str, Any]] = {}
+    for stage in the_plan.order:
+        if is_study(stage):
+            deferred[stage.name] = stage_inputs(stage, data, the_plan.registry)
+        else:
+            data.update(outputs[stage.name].data)
+    return RunResult(scene=scene, plan=the_plan, outputs=dict(outputs), timing_s=dict(timing_s), deferred=deferred)
 
 
 def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from . import outputs
 from .aside import spare_core
-from .background import start_studies
+from .background import ForkedRun, start_studies
 from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
 from .manifest import write_outputs
@@ -28,6 +28,25 @@ class ReportRun:
 
     result: RunResult
     written: list[Path]
+
+
+def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
+               languages: Iterable[str]) -> RunResult | None:
+    """The scene computed by a forked child (studies included, as they come) while this process
+    imports and prepares what rendering needs; None if no child could (then run it here).
+    A bad scene is refused here, before anything is forked."""
+    check_scene(scene, registry, languages)
+    forked = ForkedRun.start(scene, plan(scene, registry, stages))
+    if forked is None:
+        return None
+    try:
+        from .report.figures import prepare  # lazy: heavy optional import (matplotlib, while the child computes)
+
+        prepare()
+    except BaseException:
+        forked.close()
+        raise
+    return forked.result()
 
 
 def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
@@ -50,6 +69,7 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
         from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
         from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
         from .report.figures import IncrementalDrawing, can_fork, default_workers  # lazy: heavy optional import
+        from .report import mathtext_store  # lazy: heavy optional import (with the figures)
 
         workers = default_workers() if figure_workers is None else figure_workers
         drawing = IncrementalDrawing(workers) if workers > 1 and can_fork() else None
@@ -69,6 +89,7 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
                 drawing.abandon()
             raise
         draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
+        mathtext_store.save()  # the labels typeset here, for the next run
         if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
         elif "html" in formats:
@@ -130,10 +151,12 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     # Nothing to render (JSON, CSV, XLSX): the second core is spare while the stages run, and a
     # study computes its independent parts there (crankdyn.aside).
     with frozen_heap(), spare_core(alone and not renders):
-        result = run_scene(scene, registry, stages, languages, cache=cache, defer_studies=aside)
-        try:
+        result = _run_aside(scene, registry, stages, languages) if aside else None
+        if result is None:
+            result = run_scene(scene, registry, stages, languages, cache=cache, defer_studies=aside)
             if aside:
                 start_studies(result)
+        try:
             return result, render_files(result, registry, formats, self_contained, figure_workers)
         finally:
             result.close_background()  # also when rendering failed: no child is left behind

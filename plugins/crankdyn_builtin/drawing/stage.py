@@ -13,7 +13,7 @@ import functools
 from pathlib import Path
 
 import numpy as np
-from scipy import optimize
+from crankdyn.physics.lazy import optimize
 
 from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin

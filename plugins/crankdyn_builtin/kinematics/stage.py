@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -50,6 +51,12 @@ def _rod_centre_of_mass(alpha, radius, ratio, omega, distance_m) -> tuple[dict, 
                "rod_cm_acceleration_x_m_s2": ax, "rod_cm_acceleration_z_m_s2": az}
     return columns, {"rod_cm_from_big_end_m": distance_m,
                      "rod_cm_acceleration_max_m_s2": float(np.max(np.hypot(ax, az)))}
+
+
+def _displacement_at_deg(displacement, radius_m: float, ratio: float, crank_angle_deg):
+    """Piston displacement (m) at any crank angle (deg) by the stage's chosen formula; a
+    module-level function (not a lambda), so that the output can be pickled to another process."""
+    return displacement(np.radians(crank_angle_deg), radius_m, ratio)
 
 
 def run(scene, inputs) -> StageOutput:
@@ -121,7 +128,7 @@ def run(scene, inputs) -> StageOutput:
         # the rod's rates in closed form (rod_dynamics would otherwise differentiate the angle spectrally)
         extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m,
                "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
-        displacement_at=lambda a_deg: displacement(np.radians(a_deg), radius, ratio),
+        displacement_at=functools.partial(_displacement_at_deg, displacement, radius, ratio),
     )
     notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),
              ("kinematics.note_two_term_error", {"ds_mm": results["two_term_displacement_error_max_m"] * 1e3,

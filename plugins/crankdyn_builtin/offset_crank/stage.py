@@ -7,11 +7,13 @@ the crank's angle from the cylinder axis, ``extra["crank_angle_at_tdc_rad"]``).
 
 from __future__ import annotations
 
+import functools
+
 from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from scipy import optimize
+from crankdyn.physics.lazy import optimize
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
@@ -122,6 +124,11 @@ def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list
     return notes
 
 
+def _displacement_at_deg(radius_m: float, ratio: float, offset_ratio: float, crank_angle_deg):
+    """Piston displacement (m) at any crank angle (deg); module level, so the output pickles."""
+    return oc.piston_displacement_m(np.radians(crank_angle_deg), radius_m, ratio, offset_ratio)
+
+
 def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     params = options(scene, "mechanism", OffsetParams)
@@ -198,7 +205,7 @@ def run(scene, inputs) -> StageOutput:
         extra={"rod_ratio": lam, "rod_length_m": L, "offset_m": e,
                "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
                "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
-        displacement_at=lambda a_deg: oc.piston_displacement_m(np.radians(a_deg), R, lam, k),
+        displacement_at=functools.partial(_displacement_at_deg, R, lam, k),
     )
     return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table},
                        notes=_notes(scene, results, geometry.stroke_m, R))

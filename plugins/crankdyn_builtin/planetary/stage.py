@@ -9,6 +9,8 @@ stage puts the rod's rotating mass on the crank circle, which the big end here l
 
 from __future__ import annotations
 
+import functools
+
 from pathlib import Path
 
 import math
@@ -17,7 +19,7 @@ from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict, model_validator
-from scipy import optimize
+from crankdyn.physics.lazy import optimize
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
@@ -324,6 +326,11 @@ def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transm
     }
 
 
+def _displacement_at_deg(z_tdc_m: float, tdc_phi_rad: float, geometry, crank_angle_deg):
+    """Slider displacement from TDC (m) at any crank angle (deg); module level, so the output pickles."""
+    return z_tdc_m - pl.slider_motion(np.radians(crank_angle_deg) + tdc_phi_rad, geometry).pin_z_m
+
+
 def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> PistonMotion:
     """The ``kinematics`` this stage provides (exact; displacement at any angle from the linkage)."""
     tdc_phi, z_tdc = dc.tdc_carrier_angle_rad, dc.tdc_height_m
@@ -339,7 +346,7 @@ def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> Pis
         extra={"rod_length_m": geometry.rod_length_m, "carrier_radius_m": geometry.carrier_radius_m,
                "rod_angular_velocity_rad_s": omega * slider.rod_angle_d1,
                "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2},
-        displacement_at=lambda a_deg: z_tdc - pl.slider_motion(np.radians(a_deg) + tdc_phi, geometry).pin_z_m,
+        displacement_at=functools.partial(_displacement_at_deg, z_tdc, tdc_phi, geometry),
     )
 
 

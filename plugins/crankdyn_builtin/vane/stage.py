@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from scipy import optimize
+from crankdyn.physics.lazy import optimize
 
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn

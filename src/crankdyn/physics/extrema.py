@@ -11,7 +11,7 @@ relative tolerance of the extreme value**, the tolerance relative to the curve's
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize
+from .lazy import optimize
 
 #: Relative tolerance (of the curve's peak-to-peak range) within which two peaks count as equal.
 EXTREMUM_RTOL = 1e-9

@@ -40,7 +40,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy import optimize
+from .lazy import optimize
 from .extrema import first_argmax, first_argmin
 
 __all__ = [

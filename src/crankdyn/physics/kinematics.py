@@ -37,7 +37,7 @@ motion of a point on the rod.
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize
+from .lazy import optimize
 from .extrema import first_argmin
 
 __all__ = [

@@ -33,7 +33,7 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-from scipy import optimize
+from .lazy import optimize
 
 from .rod_dynamics import SliderMotion, slider_from_big_end
 from .extrema import first_argmax

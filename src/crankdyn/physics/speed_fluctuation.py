@@ -60,7 +60,7 @@ import time
 from typing import Callable, NamedTuple
 
 import numpy as np
-from scipy import integrate, optimize
+from .lazy import integrate, optimize
 
 from . import kinematics as kin
 from .extrema import first_argmax, first_argmin
@@ -649,7 +649,8 @@ class SolverRun(NamedTuple):
         return self.steps / min(self.progress, 1.0)
 
 
-_METHODS = {"RK45": integrate.RK45, "Radau": integrate.Radau, "BDF": integrate.BDF, "LSODA": integrate.LSODA}
+#: scipy.integrate's solver classes by name (looked up when used: scipy is imported on first use)
+_METHODS = ("RK45", "Radau", "BDF", "LSODA")
 
 
 def run_solver(fun, t_span, y0, method: str, rtol: float, atol, jac=None, max_nfev: int | None = None,
@@ -675,7 +676,9 @@ def run_solver(fun, t_span, y0, method: str, rtol: float, atol, jac=None, max_nf
                          int(sol.nlu), int(sol.t.size - 1), elapsed, float(progress), sol.t, sol.y,
                          sol.sol if dense_output else None, sol.t_events, sol.y_events)
     start = time.perf_counter()
-    solver = _METHODS[method](fun, t_span[0], np.asarray(y0, dtype=float), t_span[1], rtol=rtol, atol=atol,
+    if method not in _METHODS:
+        raise ValueError(f"unknown solver {method!r}; allowed: {', '.join(_METHODS)}")
+    solver = getattr(integrate, method)(fun, t_span[0], np.asarray(y0, dtype=float), t_span[1], rtol=rtol, atol=atol,
                               **options)
     ts, ys = [solver.t], [solver.y.copy()]
     message = "finished"

@@ -46,7 +46,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy import linalg
+from .lazy import linalg
 
 from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, run_solver
 from .extrema import first_argmax

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..aside import can_fork as _no_other_thread
 from ..heap import freeze_more
+from . import mathtext_store
 
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
@@ -61,7 +62,15 @@ def _keep_more_mathtext() -> None:
 
     @functools.lru_cache(MATHTEXT_CACHE)
     def shared(output_type, s, dpi, prop, antialiased, load_glyph_flags):
-        return typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
+        if output_type != "vector":  # a raster (the Word export's PNG) is not stored
+            return typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
+        stored = mathtext_store.store()
+        key = stored.key(s, dpi, prop, load_glyph_flags)
+        parse = stored.get(key)
+        if parse is None:
+            parse = typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
+            stored.put(key, parse)
+        return parse
 
     def _parse_cached(self, s, dpi, prop, antialiased, load_glyph_flags):
         parsers.setdefault(self._output_type, self)
@@ -70,6 +79,17 @@ def _keep_more_mathtext() -> None:
     _parse_cached.crankdyn_shared = True
     _parse_cached.cache_info = shared.cache_info
     MathTextParser._parse_cached = _parse_cached
+
+
+def prepare() -> None:
+    """Import what drawing needs and read the stored labels (:mod:`crankdyn.report.mathtext_store`)
+    ahead of the first figure: a report does this while its stages are computed elsewhere."""
+    import matplotlib.backends.backend_agg  # noqa: F401  # lazy: heavy optional import
+    import matplotlib.backends.backend_svg  # noqa: F401  # lazy: heavy optional import
+    import matplotlib.figure  # noqa: F401  # lazy: heavy optional import
+
+    _keep_more_mathtext()
+    mathtext_store.store().preload()
 
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
@@ -355,6 +375,7 @@ class ForkedDrawing:
             code = 1
             try:
                 payload = pickle.dumps([self.jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
+                mathtext_store.save()  # the labels this child typeset, for the next run
                 with os.fdopen(write_end, "wb") as pipe:
                     pipe.write(payload)
                 code = 0

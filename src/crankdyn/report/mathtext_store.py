@@ -1,0 +1,197 @@
+"""Typeset mathtext labels kept on disk between runs, so that a report does not typeset again
+the labels every report has (``$\\alpha$, °``, ``$p_{\\rm g}$, MPa`` ...).
+
+matplotlib typesets a label with pyparsing, about 5 ms each; a report's figures have about 70
+distinct labels, and each figure-drawing process typesets its own: a third of the figures'
+drawing time. A typeset label (matplotlib's ``VectorParse``: its box and each glyph's font file,
+size, code and position) is a small record; this module keeps those records in one JSON file
+in matplotlib's cache folder (``matplotlib.get_cachedir()``, where it keeps its font list).
+
+Safe to share and to lose:
+- JSON, never pickle: a record names a font only by a path, and a path that is not one of
+  matplotlib's known fonts discards the record;
+- every record is keyed by what matplotlib's own result depends on: the string, dpi, font
+  properties, glyph loading flags, matplotlib's version, every ``mathtext.*`` and ``font.*``
+  setting and the list of fonts matplotlib knows, so a changed setting or font is a miss;
+- a damaged or foreign file is ignored (and later replaced); written atomically, so a reader
+  never sees half a file; two writers at once lose at most each other's new records.
+
+``CRANKDYN_MATHTEXT_CACHE`` names another file, or ``off`` for none (the cold benchmark).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+
+#: Environment variable: the store's file, or "off" for no store.
+STORE_ENV = "CRANKDYN_MATHTEXT_CACHE"
+#: Records kept in the file (the newest); a report has ~70, a variant's labels are the same.
+MAX_RECORDS = 4096
+_FORMAT = 1
+
+
+class MathtextStore:
+    """Records read from the file once, and those typeset since, written back by :meth:`save`."""
+
+    def __init__(self, path: Path | None):
+        self.path = path
+        self._records: dict[str, list] | None = None
+        self._new: dict[str, list] = {}
+        self._context: tuple | None = None  # (rc and fonts state, its digest)
+        self._known_fonts: frozenset[str] | None = None
+
+    # -------------------------------------------------------------- lookup
+    def key(self, s: str, dpi: float, prop, load_glyph_flags) -> str:
+        return json.dumps([self._context_digest(), s, float(dpi), _font_key(prop), str(load_glyph_flags)],
+                          ensure_ascii=False)
+
+    def get(self, key: str):
+        """The stored ``VectorParse`` for ``key``, or None."""
+        record = self._read().get(key)
+        if record is None:
+            return None
+        try:
+            return _parse_from_record(record, self._fonts())
+        except (KeyError, ValueError, TypeError, OSError, RuntimeError):
+            return None
+
+    def put(self, key: str, parse) -> None:
+        record = _record_of(parse)
+        if record is not None:
+            self._read()[key] = record
+            self._new[key] = record
+
+    # -------------------------------------------------------------- the file
+    def preload(self) -> None:
+        """Read the file and list matplotlib's fonts now (before forking drawers, which inherit both)."""
+        self._read()
+        if self._records:
+            self._fonts()
+            self._context_digest()
+
+    def _read(self) -> dict:
+        if self._records is None:
+            self._records = _load(self.path) if self.path is not None else {}
+        return self._records
+
+    def save(self) -> None:
+        """Merge this process's new records into the file (newest kept), atomically."""
+        if not self._new or self.path is None:
+            return
+        new, self._new = self._new, {}
+        records = _load(self.path)
+        for key in new:
+            records.pop(key, None)  # moved to the end: the newest survive the cap
+        records.update(new)
+        kept = dict(list(records.items())[-MAX_RECORDS:])
+        temporary = None
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            handle, temporary = tempfile.mkstemp(dir=self.path.parent, prefix=self.path.name, suffix=".tmp")
+            with os.fdopen(handle, "w", encoding="utf-8") as out:
+                json.dump({"format": _FORMAT, "records": kept}, out, ensure_ascii=False)
+            os.replace(temporary, self.path)
+        except OSError:  # a read-only or full cache folder: the next run typesets again
+            if temporary is not None and os.path.exists(temporary):
+                os.unlink(temporary)
+
+    # -------------------------------------------------------------- context
+    def _context_digest(self) -> str:
+        import matplotlib  # lazy: heavy optional import
+
+        state = (matplotlib.__version__,
+                 tuple((k, repr(v)) for k, v in matplotlib.rcParams.items()
+                       if k.startswith(("mathtext.", "font.", "text.kerning_factor"))))
+        if self._context is None or self._context[0] != state:
+            fonts = sorted(self._fonts())
+            digest = hashlib.sha256(repr((state, fonts)).encode("utf-8")).hexdigest()[:16]
+            self._context = (state, digest)
+        return self._context[1]
+
+    def _fonts(self) -> frozenset[str]:
+        """The font files matplotlib knows: the only paths a record may name."""
+        if self._known_fonts is None:
+            from matplotlib.font_manager import fontManager  # lazy: heavy optional import
+
+            self._known_fonts = frozenset(str(f.fname) for f in fontManager.ttflist)
+        return self._known_fonts
+
+
+def _font_key(prop) -> list:
+    return [list(prop.get_family()), prop.get_style(), prop.get_variant(), str(prop.get_weight()),
+            str(prop.get_stretch()), float(prop.get_size_in_points()), str(prop.get_file()),
+            prop.get_math_fontfamily()]
+
+
+def _record_of(parse) -> list | None:
+    """A ``VectorParse`` as JSON values; None if a glyph's font has no single file."""
+    glyphs = []
+    for font, size, code, index, x, y in parse.glyphs:
+        path = getattr(font, "fname", None)
+        if not isinstance(path, str):
+            return None
+        glyphs.append([path, float(size), int(code), int(index), float(x), float(y)])
+    return [float(parse.width), float(parse.height), float(parse.depth), glyphs,
+            [[float(v) for v in rect] for rect in parse.rects]]
+
+
+def _parse_from_record(record: list, known_fonts: frozenset[str]):
+    import numpy as np  # lazy: heavy optional import (with matplotlib)
+    from matplotlib.font_manager import get_font  # lazy: heavy optional import
+    from matplotlib.mathtext import VectorParse  # lazy: heavy optional import
+
+    width, height, depth, glyphs, rects = record
+    if any(g[0] not in known_fonts for g in glyphs):
+        raise ValueError("a font matplotlib does not know")
+    # matplotlib gives the box and each glyph's height as numpy floats: the same values back
+    return VectorParse(np.float64(width), np.float64(height), np.float64(depth),
+                       [(get_font(path), float(size), int(code), int(index), float(x), np.float64(y))
+                        for path, size, code, index, x, y in glyphs],
+                       [tuple(float(v) for v in rect) for rect in rects])
+
+
+def _load(path: Path | None) -> dict:
+    if path is None:
+        return {}
+    try:
+        with open(path, encoding="utf-8") as handle:
+            data = json.load(handle)
+    except (OSError, ValueError):
+        return {}
+    if not isinstance(data, dict) or data.get("format") != _FORMAT or not isinstance(data.get("records"), dict):
+        return {}
+    return {k: v for k, v in data["records"].items() if isinstance(v, list) and len(v) == 5}
+
+
+def store_path() -> Path | None:
+    """The store's file: ``CRANKDYN_MATHTEXT_CACHE``, or crankdyn-mathtext.json in matplotlib's
+    cache folder; None when switched off."""
+    value = os.environ.get(STORE_ENV, "").strip()
+    if value.lower() in {"off", "0", "no", "none"}:
+        return None
+    if value:
+        return Path(value)
+    import matplotlib  # lazy: heavy optional import
+
+    return Path(matplotlib.get_cachedir()) / "crankdyn-mathtext.json"
+
+
+_store: MathtextStore | None = None
+
+
+def store() -> MathtextStore:
+    """This process's store (made on first use; a forked child shares what was read before)."""
+    global _store
+    if _store is None:
+        _store = MathtextStore(store_path())
+    return _store
+
+
+def save() -> None:
+    """Write this process's new records, if any (after drawing; a forked drawer before it exits)."""
+    if _store is not None:
+        _store.save()

@@ -1,0 +1,146 @@
+"""Typeset mathtext labels kept between runs (crankdyn.report.mathtext_store): a label read back
+draws exactly the SVG a freshly typeset one draws, and a damaged, foreign or switched-off store
+only costs the typesetting again."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from crankdyn.report import mathtext_store
+
+LABELS = [r"$p_{\rm g}$, MPa", r"$\alpha$, °", r"$M_{\rm к}$, Н·м", r"$\frac{1}{2}\sqrt{x^2}$"]
+
+
+def _typeset(label: str, size: float = 9.0):
+    """matplotlib's own typesetting of ``label`` (no cache of any kind)."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.mathtext import MathTextParser
+
+    parser = MathTextParser("path")
+    typeset = getattr(MathTextParser._parse_cached, "__wrapped__", None)
+    if typeset is None:  # crankdyn replaced matplotlib's cache: its own function keeps the original
+        return parser.parse(label, 72, FontProperties(size=size))
+    return typeset(parser, label, 72, FontProperties(size=size), True, _flags())
+
+
+def _flags():
+    from matplotlib.ft2font import LoadFlags
+
+    return LoadFlags.NO_HINTING
+
+
+def _key(store, label: str, size: float = 9.0):
+    from matplotlib.font_manager import FontProperties
+
+    return store.key(label, 72, FontProperties(size=size), _flags())
+
+
+def test_a_label_read_back_is_the_label_typeset(tmp_path):
+    path = tmp_path / "store.json"
+    writer = mathtext_store.MathtextStore(path)
+    for label in LABELS:
+        writer.put(_key(writer, label), _typeset(label))
+    writer.save()
+    reader = mathtext_store.MathtextStore(path)
+    for label in LABELS:
+        fresh, stored = _typeset(label), reader.get(_key(reader, label))
+        assert stored is not None, label
+        assert (stored.width, stored.height, stored.depth, stored.rects) == \
+            (fresh.width, fresh.height, fresh.depth, fresh.rects)
+        assert [(g[0].fname, *g[1:]) for g in stored.glyphs] == [(g[0].fname, *g[1:]) for g in fresh.glyphs]
+        assert [type(v) for v in stored[:3]] == [type(v) for v in fresh[:3]]
+    # another size, another string: not in the store
+    assert reader.get(_key(reader, LABELS[0], size=10.0)) is None
+    assert reader.get(_key(reader, r"$\beta$")) is None
+
+
+def test_a_damaged_store_is_ignored_and_replaced(tmp_path):
+    path = tmp_path / "store.json"
+    path.write_text('{"format": 1, "records": {"broken', encoding="utf-8")
+    store = mathtext_store.MathtextStore(path)
+    assert store.get(_key(store, LABELS[0])) is None
+    store.put(_key(store, LABELS[0]), _typeset(LABELS[0]))
+    store.save()
+    assert len(json.loads(path.read_text(encoding="utf-8"))["records"]) == 1
+
+
+def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
+    path = tmp_path / "store.json"
+    store = mathtext_store.MathtextStore(path)
+    key = _key(store, LABELS[0])
+    store.put(key, _typeset(LABELS[0]))
+    store.save()
+    data = json.loads(path.read_text(encoding="utf-8"))
+    data["records"][key][3][0][0] = str(path)  # any file that is not one of matplotlib's fonts
+    path.write_text(json.dumps(data), encoding="utf-8")
+    reader = mathtext_store.MathtextStore(path)
+    assert reader.get(key) is None
+
+
+def test_the_store_keeps_the_newest_records_only(tmp_path, monkeypatch):
+    monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
+    path = tmp_path / "store.json"
+    store = mathtext_store.MathtextStore(path)
+    for label in LABELS[:3]:
+        store.put(_key(store, label), _typeset(label))
+    store.save()
+    kept = json.loads(path.read_text(encoding="utf-8"))["records"]
+    assert list(kept) == [_key(store, label) for label in LABELS[1:3]]
+
+
+def test_the_store_can_be_switched_off_or_moved(monkeypatch, tmp_path):
+    monkeypatch.setenv(mathtext_store.STORE_ENV, "off")
+    assert mathtext_store.store_path() is None
+    store = mathtext_store.MathtextStore(None)
+    store.put(_key(store, LABELS[0]), _typeset(LABELS[0]))
+    store.save()  # nowhere to write: nothing happens
+    monkeypatch.setenv(mathtext_store.STORE_ENV, str(tmp_path / "elsewhere.json"))
+    assert mathtext_store.store_path() == tmp_path / "elsewhere.json"
+
+
+FIGURE = r"""
+import hashlib, sys
+import matplotlib._mathtext as M
+typeset = []
+parse = M.Parser.parse
+M.Parser.parse = lambda self, s, *a, **k: typeset.append(s) or parse(self, s, *a, **k)
+from crankdyn.report import figures, mathtext_store
+fig, ax = figures.new_figure(8, 5)
+ax.plot([0, 1], [0, 2])
+ax.set_xlabel(r"$\alpha$, °")
+ax.set_ylabel(r"$p_{\rm g}$, MPa")
+ax.set_title(r"$\frac{\pi D^2}{4}$")
+svg = figures.to_svg(fig)
+mathtext_store.save()
+print(hashlib.sha256(svg).hexdigest(), len(typeset))
+"""
+
+
+def test_a_figure_drawn_from_the_store_is_byte_for_byte_the_typeset_one(tmp_path):
+    """Two processes: the first typesets and stores the labels, the second reads them back."""
+    env = {**__import__("os").environ, mathtext_store.STORE_ENV: str(tmp_path / "store.json")}
+
+    def draw():
+        done = subprocess.run([sys.executable, "-c", FIGURE], env=env, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
+        digest, typeset = done.stdout.split()
+        return digest, int(typeset)
+
+    cold, warm = draw(), draw()
+    assert cold[1] > 0 and warm[1] == 0  # the second process typeset nothing
+    assert cold[0] == warm[0]
+
+
+@pytest.mark.parametrize("label", LABELS)
+def test_the_store_keys_on_the_matplotlib_settings(tmp_path, label):
+    import matplotlib
+
+    store = mathtext_store.MathtextStore(tmp_path / "store.json")
+    key = _key(store, label)
+    with matplotlib.rc_context({"mathtext.fontset": "stix"}):
+        assert _key(store, label) != key
+    assert _key(store, label) == key
