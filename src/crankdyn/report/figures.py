@@ -13,6 +13,7 @@ import os
 import pickle
 import re
 import select
+import struct
 import sys
 from collections.abc import Callable, Sequence
 
@@ -81,6 +82,10 @@ def _keep_more_mathtext() -> None:
     MathTextParser._parse_cached = _parse_cached
 
 
+#: The label :func:`prepare` typesets (upright and italic letters, a subscript: the fonts labels use).
+WARM_UP_LABEL = r"$\alpha_{\rm x}$"
+
+
 def prepare() -> None:
     """Import what drawing needs and read the stored labels (:mod:`crankdyn.report.mathtext_store`)
     ahead of the first figure: a report does this while its stages are computed elsewhere."""
@@ -88,8 +93,16 @@ def prepare() -> None:
     import matplotlib.backends.backend_svg  # noqa: F401  # lazy: heavy optional import
     import matplotlib.figure  # noqa: F401  # lazy: heavy optional import
 
+    import matplotlib  # lazy: heavy optional import
+    from matplotlib.font_manager import FontProperties  # lazy: heavy optional import
+    from matplotlib.mathtext import MathTextParser  # lazy: heavy optional import
+
     _keep_more_mathtext()
     mathtext_store.store().preload()
+    # One label typeset now: matplotlib builds its mathtext grammar and loads the fonts here, once,
+    # for the drawers forked later to inherit, instead of in each of them (~40 ms a drawer)
+    with matplotlib.rc_context(STYLE):
+        MathTextParser("path").parse(WARM_UP_LABEL, 72, FontProperties(size=STYLE["font.size"]))
 
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
@@ -338,20 +351,19 @@ def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threa
     """``[job() for job in jobs]``, the work shared by ``workers`` processes.
 
     matplotlib draws in Python, one core per process; a report's figures are independent, so
-    forked children (which inherit the figures already built, nothing is pickled on the way in)
-    each draw every ``workers``-th figure while this process draws its own share. A child that
-    fails or dies leaves its figures to be drawn here, so the result (and any exception) is the
-    serial one. Serial when ``workers`` is 1, there are fewer than 4 jobs or forking is unsafe.
+    ``workers - 1`` forked children (which inherit the figures already built, nothing is pickled
+    on the way in) and this process take the figures one by one (:class:`SharedDrawing`). A child
+    that fails or dies leaves its figures to be drawn here, so the result (and any exception) is
+    the serial one. Serial when ``workers`` is 1, there are fewer than 4 jobs or forking is unsafe.
     """
     jobs = list(jobs)
     workers = min(workers, len(jobs) // 2)
-    if workers <= 1 or len(jobs) < 4 or not can_fork(allow_threads):
+    if workers <= 1 or len(jobs) < 4 or len(jobs) > SHARED_JOBS_MAX or not can_fork(allow_threads):
         return [job() for job in jobs]
-    drawing = ForkedDrawing(jobs, [list(range(k, len(jobs), workers)) for k in range(1, workers)])
+    drawing = SharedDrawing(jobs, children=workers - 1)
     try:
-        for i in range(0, len(jobs), workers):
-            drawing.results[i] = jobs[i]()
-    finally:  # even when a figure of this process's share failed: no child is left behind
+        drawing.draw_here()
+    finally:  # even when a figure this process took failed: no child is left behind
         drawing.collect()
     return drawing.finish()
 
@@ -401,6 +413,87 @@ class ForkedDrawing:
                         self.results[i] = svg
                 except Exception:  # noqa: BLE001 - a truncated answer: those figures are drawn here
                     pass
+
+    def finish(self) -> list[bytes]:
+        """Every job's result: the children's, and here what they did not deliver."""
+        self.collect()
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+
+
+#: A job's number as written to :class:`SharedDrawing`'s pipe (two bytes: up to 65 535 jobs).
+_TOKEN = struct.Struct(">H")
+#: Jobs a :class:`SharedDrawing` takes: their numbers must fit in a pipe before anyone reads it
+#: (Linux: 64 KiB, POSIX at least 512 bytes).
+SHARED_JOBS_MAX = 256
+
+
+class SharedDrawing:
+    """Jobs taken one at a time, in order, by this process and ``children`` forked ones: whoever
+    is free takes the next, so all finish within about one job of each other (a fixed half each
+    left one process drawing the last long figure alone while the other waited).
+
+    The jobs' numbers are written to a pipe before the fork; each process reads one number (a
+    read of two bytes from a pipe is not split) until the pipe is empty. A child sends back
+    ``(number, result)`` pairs; a job whose child failed or died is done here by :meth:`finish`,
+    so the results (and any exception) are the serial ones. Call :meth:`collect` exactly once.
+    """
+
+    def __init__(self, jobs: Sequence[Callable[[], bytes]], children: int):
+        self.jobs = list(jobs)
+        if len(self.jobs) > SHARED_JOBS_MAX:
+            raise ValueError(f"{len(self.jobs)} jobs; a shared drawing takes at most {SHARED_JOBS_MAX}")
+        self.results: list[bytes | None] = [None] * len(self.jobs)
+        self._claims, numbers = os.pipe()
+        os.write(numbers, b"".join(_TOKEN.pack(i) for i in range(len(self.jobs))))
+        os.close(numbers)  # the pipe ends once every number is taken
+        self._children = [self._fork() for _ in range(children)]
+
+    def _claim(self) -> int | None:
+        token = os.read(self._claims, _TOKEN.size)
+        return _TOKEN.unpack(token)[0] if len(token) == _TOKEN.size else None
+
+    def _fork(self):
+        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
+        read_end, write_end = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: take, draw, send, leave without running the parent's exit handlers
+            os.close(read_end)
+            code = 1
+            try:
+                drawn = []
+                while (number := self._claim()) is not None:
+                    drawn.append((number, self.jobs[number]()))
+                payload = pickle.dumps(drawn, protocol=pickle.HIGHEST_PROTOCOL)
+                mathtext_store.save()  # the labels this child typeset, for the next run
+                with os.fdopen(write_end, "wb") as pipe:
+                    pipe.write(payload)
+                code = 0
+            finally:
+                os._exit(code)
+        os.close(write_end)
+        return pid, read_end
+
+    def draw_here(self) -> None:
+        """Take and draw jobs in this process until none is left."""
+        while (number := self._claim()) is not None:
+            self.results[number] = self.jobs[number]()
+
+    def collect(self) -> None:
+        """Wait for every child and keep what it drew (no job is taken after this)."""
+        children, self._children = self._children, []
+        for pid, read_end in children:
+            with os.fdopen(read_end, "rb") as pipe:
+                payload = pipe.read()
+            _, status = os.waitpid(pid, 0)
+            if status == 0:
+                try:
+                    for number, result in pickle.loads(payload):
+                        self.results[number] = result
+                except Exception:  # noqa: BLE001 - a truncated answer: those jobs are done here
+                    pass
+        if self._claims is not None:
+            os.close(self._claims)
+            self._claims = None
 
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
@@ -481,14 +574,22 @@ class IncrementalDrawing:
     def finish(self) -> None:
         self._store(finished_only=True)
         waiting, self._waiting = self._waiting, []
-        if len(waiting) >= 2:  # the rest shared with a new child (a busy one has at most BATCH left)
-            self._fork(waiting[1::2])
-            waiting = waiting[0::2]
+        if 2 <= len(waiting) <= SHARED_JOBS_MAX:
+            # the rest taken figure by figure by this process and a new child (a busy one has at
+            # most BATCH left)
+            shared = SharedDrawing([f.draw for f in waiting], children=1)
+            try:
+                shared.draw_here()
+            finally:
+                shared.collect()
+                self._store(finished_only=False)
+            for figure, svg in zip(waiting, shared.finish()):
+                figure._svg = svg
+            return
         try:
             for figure in waiting:
-                figure.svg  # noqa: B018 - drawn here for its side effect, while the children draw theirs
+                figure.svg  # noqa: B018 - drawn here for its side effect
         finally:
-            self._waiting = []
             self._store(finished_only=False)
 
     def abandon(self) -> None:
