@@ -1,0 +1,47 @@
+"""scipy imported on first use (crankdyn.physics.lazy): the physics modules and the built-in
+plugins import without it, a stage that calls it imports it then, and the stage's run time in
+the report does not include that import."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+from crankdyn.orchestrator import run_stage
+from crankdyn.physics import lazy
+from crankdyn.plugin_types import Stage, StageOutput
+
+
+def test_the_physics_and_the_plugins_import_without_scipy_and_import_it_when_called():
+    code = textwrap.dedent("""
+        import sys
+        import crankdyn.pipeline, crankdyn.scene
+        from crankdyn.plugins import default_registry
+        from crankdyn.physics import articulated, extrema, flywheel, kinematics, planetary, speed_fluctuation, torsion
+        registry = default_registry()
+        assert "scipy" not in sys.modules, sorted(m for m in sys.modules if m.startswith("scipy"))[:5]
+        v_max, angle = kinematics.max_piston_velocity_exact(0.04, 0.25, 600.0)
+        assert "scipy.optimize" in sys.modules and v_max > 0
+        print("ok")
+    """)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr
+
+
+def test_a_stage_is_timed_without_the_import_its_first_call_makes(tmp_path, monkeypatch):
+    (tmp_path / "slow_to_import.py").write_text("import time\ntime.sleep(0.3)\nVALUE = 7\n", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    slow = lazy.LazyModule("slow_to_import")
+
+    def run(scene, inputs):
+        return StageOutput(results={"value": slow.VALUE})
+
+    stage = Stage(name="uses_slow", title_key="x", requires=(), provides=(), applies=lambda scene: None,
+                  run=run, render=lambda output, ctx: "")
+    before = lazy.import_seconds()
+    output, elapsed = run_stage(stage, None, {})
+    assert output.results["value"] == 7
+    assert lazy.import_seconds() - before >= 0.3  # the import was counted ...
+    assert elapsed < 0.1  # ... and left out of the stage's time
+    sys.modules.pop("slow_to_import", None)
