@@ -226,7 +226,24 @@ def test_a_displayed_equation_breaks_only_between_its_formulas():
                     '<span class="eq-part"><i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)</span>')
     long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, 20)) + " = 108,3 Н·м"
     pieces = unbroken_parts(long).split('<span class="eq-part">')[1:]
-    assert len(pieces) == 3 and pieces[-1].startswith("108,3 Н·м")
+    assert pieces[-1].startswith("108,3 Н·м") and len(pieces) == 20
+    assert pieces[0].startswith("<i>M</i> = <i>t</i><sub>1</sub>")  # "M =" not alone on a line
+    assert all(p.startswith("+ ") for p in pieces[1:-1])  # the sign opens the next line
+
+
+def test_a_long_formula_breaks_before_a_sign_outside_parentheses_only():
+    """(4.4) of the ru report stood on three lines: "p′ᵢ =" alone, the whole bracket, the value."""
+    from crankdyn.report.context import unbroken_parts
+
+    formula = ("<i>p</i><sub>i</sub>′ = <i>p</i><sub>c</sub>/⁠(<i>ε</i> − 1) · [<i>λ</i>(<i>ρ</i> − 1) + "
+               "<i>λρ</i>/⁠(<i>n</i><sub>2</sub> − 1) · (1 − 1/<i>δ</i><sup>n−1</sup>) − 1/⁠(<i>n</i><sub>1</sub> − 1)"
+               " · (1 − 1/<i>ε</i><sup>n−1</sup>)] = 0,8814 МПа")
+    pieces = [p.split("</span>")[0] for p in unbroken_parts(formula).split('<span class="eq-part">')[1:]]
+    assert pieces[0].startswith("<i>p</i><sub>i</sub>′ = <i>p</i><sub>c</sub>")
+    assert [p[:2] for p in pieces[1:3]] == ["+ ", "− "] and pieces[-1] == "0,8814 МПа"
+    for piece in pieces:  # no cut inside a pair of parentheses
+        text = re.sub(r"<[^>]+>", "", piece)
+        assert text.count("(") == text.count(")"), piece
 
 
 def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports):
@@ -474,3 +491,23 @@ def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
     text = as_read(re.sub(r"<[^>]+>", "", (tmp_path / "out" / "report.html").read_text(encoding="utf-8")))
     shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
     assert len(shown) >= 3 and set(shown) == {"0,0066667"}, shown
+
+
+def test_subsections_are_numbered_and_listed_in_the_contents(tmp_path, examples):
+    """The vane, planetary, rod-dynamics and torsion sections had unnumbered <h3> headings (DSTU
+    3008: subsections are numbered within their section and listed in the contents)."""
+    from crankdyn.cli import main
+
+    assert main(["report", str(examples / "vane-engine-kinematics.toml"), "-o", str(tmp_path), "--format", "html",
+                 "-q"]) == 0
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert "<h3>" not in page
+    headings = re.findall(r'<h3 class="subsection" id="sec-(\d+)\.(\d+)">(\d+)\.(\d+) ', page)
+    assert len(headings) >= 3
+    assert all(a == c and b == d for a, b, c, d in headings)
+    section = headings[0][0]
+    assert [int(b) for a, b, _, _ in headings if a == section] == list(range(1, 1 + sum(
+        1 for a, *_ in headings if a == section)))
+    contents = page[page.index('<nav class="contents">'):page.index("</nav>")]
+    for a, b, _, _ in headings:
+        assert f'href="#sec-{a}.{b}"' in contents

@@ -122,16 +122,57 @@ _LONG_FORMULA_CHARS = 60
 
 def unbroken_parts(formula_html: str) -> str:
     """``formula_html`` with each part that must not break in a ``<span class="eq-part">``
-    (``white-space: nowrap``), the breaks allowed only between the parts."""
+    (``white-space: nowrap``), the breaks allowed only between the parts.
+
+    A long formula breaks after an equals sign and, in a long side, before a plus or minus that
+    stands outside parentheses (the sign then opens the next line); a short left-hand side
+    ("p′ᵢ =") stays with what follows it rather than on a line of its own."""
     parts = []
     for formula in formula_html.split(_FORMULA_SEPARATOR):
         formula = formula.strip()
         pieces = [formula]
-        if len(re.sub(r"<[^>]+>|&[a-z]+;", "x", formula)) > _LONG_FORMULA_CHARS and " = " in formula:
+        if _visible_length(formula) > _LONG_FORMULA_CHARS and " = " in formula:
             chunks = formula.split(" = ")
-            pieces = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
+            sides = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
+            pieces = [sub for side in sides for sub in _at_operators(side)]
+            if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
+                    and _visible_length(pieces[0] + pieces[1]) <= _LONG_FORMULA_CHARS:
+                pieces[:2] = [pieces[0] + " " + pieces[1]]
         parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
     return (_FORMULA_SEPARATOR + " ").join(parts)
+
+
+#: A left-hand side this short ("p′ᵢ =") is not left alone on a line.
+_SHORT_SIDE_CHARS = 12
+
+
+def _visible_length(html: str) -> int:
+    return len(re.sub(r"<[^>]+>|&[a-z]+;", "x", html))
+
+
+def _at_operators(side: str) -> list[str]:
+    """``side`` (of a long formula) cut before each " + " and " − " outside parentheses (inside
+    one square bracket at most: the bracket of a long sum); a short side is returned whole."""
+    if _visible_length(side) <= _LONG_FORMULA_CHARS:
+        return [side]
+    cuts, round_depth, square_depth, in_tag = [], 0, 0, False
+    for i, char in enumerate(side):
+        if in_tag:
+            in_tag = char != ">"
+            continue
+        if char == "<":
+            in_tag = True
+        elif char in "()":
+            round_depth += 1 if char == "(" else -1
+        elif char in "[]":
+            square_depth += 1 if char == "[" else -1
+        elif char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1 and i:
+            cuts.append(i)
+    pieces, start = [], 0
+    for cut in cuts:
+        pieces.append(side[start:cut])
+        start = cut + 1
+    return pieces + [side[start:]]
 
 
 @dataclass
@@ -149,6 +190,7 @@ class RenderContext:
     _equation: int = 0
     _table: int = 0
     _figure: int = 0
+    _subsection: int = 0
     stage_name: str = ""
     table_step_deg: float = 10.0
     cycle_deg: float = 720.0
@@ -186,7 +228,7 @@ class RenderContext:
         """Start numbering a section; ``figures``: the names its stage declares (``Stage.figures``)."""
         self.section_number = number
         self.stage_name = stage_name
-        self._equation = self._table = self._figure = 0
+        self._equation = self._table = self._figure = self._subsection = 0
         self.title = None
         self.declared_figures = figures
 
@@ -300,6 +342,13 @@ class RenderContext:
         return Markup(f'<div class="figure-block"><p class="see">{see}</p>'
                       f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
                       f"<figcaption>{caption_text}</figcaption></figure></div>")
+
+    def subsection(self, title: str) -> Markup:
+        """A numbered subsection's heading ("4.2 Title", DSTU 3008:2015, 6.2: subsections are numbered
+        within their section), listed in the table of contents."""
+        self._subsection += 1
+        number = f"{self.section_number}.{self._subsection}"
+        return Markup(f'<h3 class="subsection" id="sec-{escape(number)}">{escape(number)} {escape(title)}</h3>')
 
     def figure_number(self, key: str) -> str | None:
         """The printed number of a figure an earlier section drew under ``key`` (a stage's declared

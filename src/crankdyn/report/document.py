@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime
 import functools
 import hashlib
+import html as html_lib
 import pickle
 import re
 from dataclasses import dataclass, field
@@ -41,6 +42,10 @@ def report_units(t) -> list[str]:
     return sorted(units | {"%", "°C", "K", "Н", "кН", "Вт", "кВт", "N", "kN", "W", "kW", "с", "s", "мс", "ms"})
 
 
+#: A numbered subsection's heading as :meth:`RenderContext.subsection` writes it.
+_SUBSECTION = re.compile(r'<h3 class="subsection" id="sec-([^"]+)">([^<]*)</h3>')
+
+
 @dataclass
 class SectionView:
     number: int
@@ -48,6 +53,11 @@ class SectionView:
     title: str
     html: Markup
     conclusions: list[str] = field(default_factory=list)
+
+    @property
+    def subsections(self) -> list[tuple[str, str]]:
+        """(number, heading) of each numbered subsection, for the table of contents."""
+        return [(m[1], html_lib.unescape(m[2])) for m in _SUBSECTION.finditer(self.html)]
 
 
 @dataclass
