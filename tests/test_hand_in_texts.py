@@ -511,3 +511,22 @@ def test_subsections_are_numbered_and_listed_in_the_contents(tmp_path, examples)
     contents = page[page.index('<nav class="contents">'):page.index("</nav>")]
     for a, b, _, _ in headings:
         assert f'href="#sec-{a}.{b}"' in contents
+
+
+def test_the_closing_row_of_the_theoretical_diagram_is_point_r():
+    """The ru reading: point r (end of exhaust, p_r) was placed at α = 0°, where table 4.1 showed
+    p_a (the intake line the periodic grid starts with). The text now places r at 720°, and the
+    theoretical column's 720° row ends the exhaust line at p_r; the 0° row keeps p_a."""
+    from conftest import shared_html
+
+    html = shared_html("petrol-1cyl-ru").linked_html
+    assert "r – конец выпуска (ВМТ, α = 720°)" in as_read(html)
+    table = html[html.index("Таблица 4.1"):]
+    rows = re.findall(r"<tr[^>]*>(.*?)</tr>", table[:table.index("</table>")])
+    cells = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)] for row in rows[1:]]
+    given = html[html.index("Давление остаточных газов"):][:400]
+    p_r = re.search(r"<td[^>]*>(0,\d+)</td>", given)[1]  # as the data table gives it: 0,118
+    assert cells[0][0] == "0" and cells[-1][0] == "720"
+    assert float(cells[-1][2].replace(",", ".")) == pytest.approx(float(p_r.replace(",", ".")))
+    assert cells[0][2] != cells[-1][2]  # 0°: p_a, the intake line
+    assert cells[0][3] == cells[-1][3]  # the actual (rounded) diagram is continuous at TDC

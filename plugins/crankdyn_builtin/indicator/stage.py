@@ -253,7 +253,8 @@ def render(output: StageOutput, ctx) -> str:
                                               [(pressure, "max", t("indicator.extreme_p_max"))])
     columns = [("<i>α</i>, °", ctx.angle_labels(labels), None), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
     if has_theory:
-        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), theory[rows], 4))
+        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), _closing_row_theory(theory, rows, labels,
+                                                                                         ctx.cycle_deg), 4))
     columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
     table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes)
     table += worked_indicator(ctx, frame, rows, labels, r)
@@ -271,6 +272,17 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
                                points=bool(points), pv_number=pv_number,
                                table=table, deviation=deviation, has_theory=has_theory)
+
+
+def _closing_row_theory(theory, rows, labels, cycle_deg: float):
+    """The theoretical pressure at the table's rows, the closing row (720°) given the value the
+    diagram ends the cycle with: where it ends on a flat line (the exhaust line at p_r, point r),
+    that line's value, not the intake's p_a that the periodic grid has at 0° (the theoretical
+    diagram steps from p_r to p_a at TDC; a table with p_a at 720° contradicts point r)."""
+    shown = np.array(theory[rows], dtype=float)
+    if len(labels) and abs(float(labels[-1]) - cycle_deg) < 1e-9 and len(theory) > 2 and theory[-1] == theory[-2]:
+        shown[-1] = theory[-1]
+    return shown
 
 
 INDICATOR_STAGE = Stage(
