@@ -530,3 +530,18 @@ def test_the_closing_row_of_the_theoretical_diagram_is_point_r():
     assert float(cells[-1][2].replace(",", ".")) == pytest.approx(float(p_r.replace(",", ".")))
     assert cells[0][2] != cells[-1][2]  # 0°: p_a, the intake line
     assert cells[0][3] == cells[-1][3]  # the actual (rounded) diagram is continuous at TDC
+
+
+def test_the_two_term_acceleration_is_shown_by_its_difference_from_the_exact_one():
+    """Fig. 2.1: on the scale of j the dashed two-term curve could not be told from the exact one;
+    a bottom panel shows their difference, whose largest size is the note's figure."""
+    import numpy as np
+
+    from conftest import shared_html, shared_run
+
+    figure = next(f for f in shared_html("petrol-1cyl").figures if f.key == "piston").figure
+    assert len(figure.axes) == 4
+    difference = figure.axes[3].get_lines()[0].get_ydata()
+    results = shared_run("petrol-1cyl").outputs["kinematics"].results
+    assert float(np.max(np.abs(difference))) == pytest.approx(results["two_term_acceleration_error_max_m_s2"],
+                                                              rel=1e-12)

@@ -156,9 +156,10 @@ def render(output: StageOutput, ctx) -> str:
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
     angle = frame["crank_angle_deg"]
-    fig, axes = new_figure(16, 16, nrows=3, sharex=True)
+    fig, axes = new_figure(16, 19, nrows=4, sharex=True, gridspec_kw={"height_ratios": [1, 1, 1, 0.6]})
     # one colour for the report's curves in every panel, the two-term acceleration dashed; one
-    # legend above the top panel for all three (under the bottom panel it sat between two panels)
+    # legend above the top panel for all; the bottom panel shows the two-term acceleration's
+    # difference from the exact one (on the scale of j itself the two curves cannot be told apart)
     axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0")
     axes[0].set_ylabel(t("kinematics.axis_s"))
     axes[1].plot(angle, frame["piston_velocity_m_s"], color="C0")
@@ -166,10 +167,13 @@ def render(output: StageOutput, ctx) -> str:
     exact = axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C0")[0]
     two_term = axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1)[0]
     axes[2].set_ylabel(t("kinematics.axis_j"))
+    axes[3].plot(angle, frame["piston_acceleration_two_term_m_s2"] - frame["piston_acceleration_m_s2"],
+                 color="C3", ls="--", lw=1)
+    axes[3].set_ylabel(t("kinematics.axis_dj"))
     axes[0].legend([exact, two_term], [t("kinematics.exact"), t("kinematics.two_term_j")], loc="lower right",
                    bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False, fontsize=8, borderaxespad=0.2)
     # The motion repeats every revolution; one revolution is the textbook's fig. 3.
-    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
+    crank_angle_axis(axes[3], 360.0, t("axis.crank_angle"))
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
     figure_main = ctx.figure(fig, t("kinematics.figure_caption"), "piston")
