@@ -545,3 +545,20 @@ def test_the_two_term_acceleration_is_shown_by_its_difference_from_the_exact_one
     results = shared_run("petrol-1cyl").outputs["kinematics"].results
     assert float(np.max(np.abs(difference))) == pytest.approx(results["two_term_acceleration_error_max_m_s2"],
                                                               rel=1e-12)
+
+
+def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
+    """Two supervisor readings: the check compared ∮p dV, pumping loop included, with the thermal
+    calculation's p_i, which leaves the gas exchange to the mechanical losses (0,73 % by the
+    coincidence of the two). The check now takes (L_i − L_нас)/V_h."""
+    from conftest import shared_html, shared_run
+
+    r = shared_run("petrol-1cyl").outputs["indicator"].results
+    swept = r["indicated_work_J"] / r["mean_indicated_pressure_Pa"]
+    assert r["pumping_work_J"] < 0  # p_r > p_a: the piston works on the gas in exchange
+    assert r["gross_mean_indicated_pressure_Pa"] == pytest.approx((r["indicated_work_J"] - r["pumping_work_J"]) / swept)
+    assert r["mean_indicated_pressure_deviation_percent"] == pytest.approx(
+        100 * (r["gross_mean_indicated_pressure_Pa"] / r["thermal_mean_indicated_pressure_Pa"] - 1))
+    text = as_read(shared_html("petrol-1cyl-ru").linked_html)
+    assert "по диаграмме без насосных ходов – 0,8598\u202fМПа; отклонение 1,2\u202f%" in text
+    assert "<i>L</i><sub>нас</sub> = ∫" in text  # the equation, with the Russian subscript

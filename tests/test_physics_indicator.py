@@ -19,6 +19,7 @@ from crankdyn.physics.indicator import (
     indicated_work_J,
     mean_indicated_pressure_Pa,
     pressure_ratio,
+    pumping_work_J,
     rounded_pressure_Pa,
     theoretical_mean_indicated_pressure_Pa,
     theoretical_pressure_Pa,
@@ -193,6 +194,33 @@ def test_numeric_work_matches_closed_form(make, strokes):
     if strokes == 4:
         pumping = abs(params.intake_pressure_Pa - params.exhaust_pressure_Pa) * SWEPT_VOLUME_M3
         assert pumping / abs(closed) > 1e-3
+
+
+@pytest.mark.parametrize("make", PARAM_SETS, ids=PARAM_IDS)
+@pytest.mark.parametrize("step_deg", [0.05, 720.0 / 1001])
+def test_pumping_work_of_the_theoretical_diagram_is_its_closed_form(make, step_deg):
+    """The pumping strokes of the theoretical four-stroke diagram: intake at p_a, exhaust at p_r,
+    so W_pump = (p_a − p_r) V_h, and W_i − W_pump is the closed form p_i′ V_h of the compression
+    and expansion strokes (eq. 4.4), which the thermal calculation's p_i stands for. A step of
+    720/1001° puts the strokes' ends (180°, 540°) between samples: interpolated, not skipped."""
+    params = make(4)
+    v_c = clearance_volume_m3(SWEPT_VOLUME_M3, params.compression_ratio)
+    alpha = np.arange(round(720.0 / step_deg)) * step_deg
+    volume = volume_of(alpha, v_c)
+    pressure = theoretical_pressure_Pa(alpha, volume, v_c, params)
+    pumping = pumping_work_J(pressure, volume, alpha, 4)
+    closed = (params.intake_pressure_Pa - params.exhaust_pressure_Pa) * SWEPT_VOLUME_M3
+    assert pumping == pytest.approx(closed, rel=1e-3 if step_deg > 0.5 else 1e-6)
+    gross = indicated_work_J(pressure, volume) - pumping
+    rel = 5e-3 if step_deg > 0.5 else 1e-4
+    assert gross == pytest.approx(theoretical_mean_indicated_pressure_Pa(params) * SWEPT_VOLUME_M3, rel=rel)
+
+
+def test_a_two_stroke_cycle_has_no_pumping_strokes_and_a_bad_grid_is_refused():
+    alpha = np.arange(0.0, 360.0, 1.0)
+    assert pumping_work_J(np.ones_like(alpha), np.ones_like(alpha), alpha, 2) == 0.0
+    with pytest.raises(ValueError, match="crank_angle_deg"):
+        pumping_work_J(np.ones_like(alpha), np.ones_like(alpha), alpha, 4)  # a 360° grid for a four-stroke
 
 
 @pytest.mark.parametrize("make", PARAM_SETS, ids=PARAM_IDS)

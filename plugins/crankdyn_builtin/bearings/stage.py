@@ -197,7 +197,7 @@ _PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left",
            (7, 7, "left", "bottom"), (-7, 7, "right", "bottom"), (7, -7, "left", "top"), (-7, -7, "right", "top"))
 
 
-def _label_places(points, texts, per_pt, bounds=None, order=None) -> list[tuple | None]:
+def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=()) -> list[tuple | None]:
     """(dx, dy in points, ha, va) for a 6 pt label at each point (x right, y up, data units;
     ``per_pt`` data units per point), or None where no label fits: up and right of the point, or
     the first other corner, near or a little further out, whose box meets no label placed
@@ -206,8 +206,9 @@ def _label_places(points, texts, per_pt, bounds=None, order=None) -> list[tuple 
     most important first; a point whose label has no room keeps its mark only, as the table
     gives its numbers (crowded labels printed over each other were unreadable: "300, 660" on
     the tick label "4"). Boxes are kept 2 pt apart: two labels side by side without a gap read
-    as one number ("210, 570" beside "30": "210, 57030")."""
-    placed: list[tuple[float, float, float, float]] = []
+    as one number ("210, 570" beside "30": "210, 57030"). ``obstacles``: boxes (x0, y0, x1, y1)
+    no label may cover (the pole's mark and letter, the oil hole's line)."""
+    placed: list[tuple[float, float, float, float]] = list(obstacles)
     out: list[tuple | None] = [None] * len(points)
     gap = 1.0 * per_pt  # each box grows by half the gap on every side
 
@@ -229,6 +230,19 @@ def _label_places(points, texts, per_pt, bounds=None, order=None) -> list[tuple 
                 out[i] = place
                 break
     return out
+
+
+def _pole_and_oil_hole(pole_z: float, radius: float, oil_deg: float | None, per_pt: float) -> list[tuple]:
+    """Boxes (screen data units: x right, y up = −z) that a polar diagram's labels keep clear of:
+    the pole's cross and its letter O (8 pt, 9 pt down and left of it), and points along the oil
+    hole's line ("90, 330, 660" was printed over the line, "180" over the O)."""
+    boxes = [(-12 * per_pt, -pole_z - 12 * per_pt, 5 * per_pt, -pole_z + 5 * per_pt)]
+    if oil_deg is not None:
+        psi = math.radians(oil_deg)
+        for share in np.linspace(0.15, 1.0, 7):
+            x, y = share * radius * math.sin(psi), -(pole_z + share * radius * math.cos(psi))
+            boxes.append((x - 4 * per_pt, y - 4 * per_pt, x + 4 * per_pt, y + 4 * per_pt))
+    return boxes
 
 
 def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption,
@@ -275,7 +289,8 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
         angles = [angle[k * every] for k in groups[g][1]]
         return (g != peak, not any(abs(a % 90.0) < 1e-9 for a in angles), g)
     order = sorted(range(len(groups)), key=rank)
-    for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order)):
+    obstacles = _pole_and_oil_hole(pole_z, radius, oil_deg, per_pt)
+    for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order, obstacles)):
         if place is not None:
             dx, dy, ha, va = place
             ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)

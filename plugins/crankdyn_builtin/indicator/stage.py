@@ -116,9 +116,14 @@ def run(scene, inputs) -> StageOutput:
 
     work = ind.indicated_work_J(pressure, volume)
     p_i = ind.mean_indicated_pressure_Pa(work, swept)
+    # the thermal calculation's p_i leaves the gas exchange out (physics.indicator.pumping_work_J)
+    pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
+    p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
     peak = first_argmax(pressure)
     results.update({
         "indicated_work_J": work,
+        "pumping_work_J": pumping,
+        "gross_mean_indicated_pressure_Pa": p_i_gross,
         "mean_indicated_pressure_Pa": p_i,
         "max_pressure_Pa": float(pressure[peak]),
         "max_pressure_crank_angle_deg": float(angle[peak]),
@@ -127,9 +132,9 @@ def run(scene, inputs) -> StageOutput:
     if scene.cycle.mean_indicated_pressure is not None:
         target = scene.cycle.mean_indicated_pressure
         results["thermal_mean_indicated_pressure_Pa"] = target
-        results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i - target) / target
-    elif scene.cycle.source == "theoretical":
-        results["diagram_fullness"] = p_i / results["theoretical_mean_indicated_pressure_Pa"]
+        results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i_gross - target) / target
+    elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
+        results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
 
     gas = GasPressure(crank_angle_deg=angle, pressure_Pa=pressure, volume_m3=volume, source=scene.cycle.source,
                       indicated_work_J=work, swept_volume_m3=swept)

@@ -42,6 +42,7 @@ __all__ = [
     "default_combustion_delay_deg",
     "rounded_pressure_Pa",
     "indicated_work_J",
+    "pumping_work_J",
     "mean_indicated_pressure_Pa",
     "crank_angle_from_volume_approx_deg",
     "crank_angle_from_volume_exact_deg",
@@ -942,6 +943,62 @@ def indicated_work_J(pressure_Pa, volume_m3):
     p_closed = np.append(p, p[0])
     v_closed = np.append(v, v[0])
     return float(np.sum(0.5 * (p_closed[1:] + p_closed[:-1]) * np.diff(v_closed)))
+
+
+#: The four-stroke cycle's gas-exchange strokes, deg: exhaust from BDC (540°) to TDC (720°), then
+#: intake from TDC (0°) to BDC (180°), with α = 0 at the TDC that starts the intake (Poda 2007, §3.1).
+PUMPING_STROKES_DEG = ((540.0, 720.0), (0.0, 180.0))
+
+
+def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int):
+    """Work of the gas-exchange (pumping) strokes of one cycle, J: the part of the indicated work
+    done during exhaust and intake; zero for a two-stroke cycle, which has no such strokes.
+
+    Parameters
+    ----------
+    pressure_Pa, volume_m3 : array_like
+        Cylinder pressure (Pa) and volume (m^3) over one cycle, as for :func:`indicated_work_J`.
+    crank_angle_deg : array_like
+        Their crank angles, deg: a uniform grid 0, h, ..., 720 − h (α = 0 at the TDC before intake).
+    strokes : int
+        2 or 4.
+
+    Returns
+    -------
+    float
+        W_pump = integral of p dV over 540°…720° and 0°…180°, J; negative when the cylinder exhausts
+        at a higher pressure than it takes in (p_r > p_a).
+
+    Notes
+    -----
+    The thermal calculation's mean indicated pressure covers the compression and expansion
+    strokes only (its p_i′ is the closed form of those strokes, :func:`theoretical_mean_indicated_pressure_Pa`),
+    the pumping losses being counted with the mechanical ones; the diagram's p_i to compare with
+    it is therefore (W_i − W_pump) / V_h, the "gross" indicated work of Heywood (1988), §2.4.
+    Same trapezoid rule as :func:`indicated_work_J`, with the ends of each stroke interpolated
+    linearly where they fall between samples. For the theoretical diagram it equals
+    (p_a − p_r) V_h, the pumping loop of :func:`theoretical_pressure_Pa`.
+    """
+    if strokes == 2:
+        return 0.0
+    _require(strokes == 4, "strokes", strokes, "2 or 4")
+    p = np.asarray(pressure_Pa, dtype=float)
+    v = np.asarray(volume_m3, dtype=float)
+    a = np.asarray(crank_angle_deg, dtype=float)
+    _require(a.shape == p.shape == v.shape and a.size >= 3, "crank_angle_deg",
+             f"shape {a.shape}", f"the shape of pressure_Pa {p.shape}")
+    step = a[1] - a[0]
+    _require(abs(a[0]) < 1e-9 * step and abs(a[-1] + step - 720.0) < 1e-6 * step, "crank_angle_deg",
+             f"{a[0]:g} .. {a[-1]:g}", "a uniform grid from 0 to 720 deg less one step")
+    # the closed cycle: the first sample again at 720°
+    a, p, v = np.append(a, 720.0), np.append(p, p[0]), np.append(v, v[0])
+    work = 0.0
+    for start, end in PUMPING_STROKES_DEG:
+        inside = (a > start) & (a < end)
+        ap = np.concatenate(([start], a[inside], [end]))
+        pp, vp = np.interp(ap, a, p), np.interp(ap, a, v)
+        work += float(np.sum(0.5 * (pp[1:] + pp[:-1]) * np.diff(vp)))
+    return work
 
 
 def mean_indicated_pressure_Pa(work_J, swept_volume_m3):
