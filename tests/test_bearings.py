@@ -191,6 +191,30 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
     assert _label_places(points, texts, per_pt=1.0, order=[1, 0])[1] == (2, 2, "left", "bottom")
     assert _label_places(points, texts, per_pt=1.0)[0] == (2, 2, "left", "bottom")
 
+def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
+    """The ru reading: "90, 330, 660" was printed over the oil hole's line, "180" over the pole's O.
+    A label's box meets none of the obstacles (pole, letter O, points along the line)."""
+    from crankdyn_builtin.bearings.stage import _label_places, _pole_and_oil_hole
+
+    obstacles = _pole_and_oil_hole(pole_z=0.0, radius=20.0, oil_deg=0.0, per_pt=1.0)  # the line runs up to z = 20
+    # screen y is −z: the line occupies y in [−20, 0] at x = 0
+    points = [(0.0, -20.0), (0.0, 0.0), (-3.0, -10.0)]
+    places = _label_places(points, ["90, 330, 660", "180", "540"], per_pt=1.0, obstacles=obstacles)
+    for (x, y), text, place in zip(points, ["90, 330, 660", "180", "540"], places):
+        if place is None:
+            continue
+        dx, dy, ha, va = place
+        width, height = len(text) * 3.8, 7.0
+        x0 = x + dx - (width if ha == "right" else 0.0)
+        y0 = y + dy - (height if va == "top" else 0.0)
+        for box in obstacles:
+            assert min(x0 + width, box[2]) <= max(x0, box[0]) or min(y0 + height, box[3]) <= max(y0, box[1]), \
+                (text, place, box)
+    # without the obstacles the first choice, up and right, would have been taken
+    assert _label_places(points[1:2], ["180"], per_pt=1.0) == [(2, 2, "left", "bottom")]
+    assert places[1] != (2, 2, "left", "bottom")
+
+
 def test_counterweight_loads_in_crank_axes():
     """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
     counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
