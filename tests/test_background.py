@@ -231,3 +231,45 @@ def test_a_report_computes_its_stages_in_a_child_while_it_prepares_the_figures()
     assert result.background is None and not children() and "report.html" in files
     print("ok")
     """)
+
+
+def test_no_process_to_be_had_leaves_the_run_and_the_studies_to_this_process():
+    """A review: os.fork raising EAGAIN made the report fail (exit 1) and leaked the pipe."""
+    run_whole("""
+    import errno
+    real_fork = os.fork
+    def refused():
+        raise OSError(errno.EAGAIN, "Resource temporarily unavailable")
+    before = len(os.listdir("/proc/self/fd"))
+    os.fork = refused
+    reg = located_registry(stage("study", study, requires=["x"], last=True))
+    assert ForkedRun.start(scene, plan(scene, reg)) is None
+    result = deferred(reg)  # run_plan here, the studies' child refused too
+    assert result.background is None and result.study_output("study").results["pid"] == PARENT
+    from crankdyn.report.figures import draw_jobs
+    assert draw_jobs([lambda i=i: str(i).encode() for i in range(6)], workers=2) == [str(i).encode() for i in range(6)]
+    os.fork = real_fork
+    assert len(os.listdir("/proc/self/fd")) == before, "a pipe left open"
+    print("ok")
+    """)
+
+
+def test_an_interrupt_while_waiting_for_the_run_stops_the_child():
+    """A review: KeyboardInterrupt in ForkedRun.result left the child computing."""
+    run_whole("""
+    import signal, time
+    def slow(scene, inputs):
+        time.sleep(60)
+        return StageOutput(data={"x": 1.0})
+    forked = ForkedRun.start(scene, plan(scene, located_registry(base_run=slow)))
+    signal.signal(signal.SIGALRM, lambda *a: (_ for _ in ()).throw(KeyboardInterrupt()))
+    signal.setitimer(signal.ITIMER_REAL, 0.3)
+    try:
+        forked.result()
+    except KeyboardInterrupt:
+        pass
+    else:
+        raise AssertionError("no interrupt")
+    assert not children()
+    print("ok")
+    """)

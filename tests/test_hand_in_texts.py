@@ -244,6 +244,11 @@ def test_a_long_formula_breaks_before_a_sign_outside_parentheses_only():
     for piece in pieces:  # no cut inside a pair of parentheses
         text = re.sub(r"<[^>]+>", "", piece)
         assert text.count("(") == text.count(")"), piece
+    # nor inside an element (a review: "<sup>n − 1</sup>" was cut into two spans)
+    long_sup = "<i>q</i> = " + " + ".join("<i>a</i><sup>n − 1 + k</sup>" for _ in range(8)) + " = 1"
+    for piece in unbroken_parts(long_sup).split('<span class="eq-part">')[1:]:
+        body = piece.rsplit("</span>", 1)[0]
+        assert body.count("<sup>") == body.count("</sup>"), body
 
 
 def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports):

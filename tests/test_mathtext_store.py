@@ -75,8 +75,11 @@ def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
     store.put(key, _typeset(LABELS[0]))
     store.save()
     data = json.loads(path.read_text(encoding="utf-8"))
-    data["records"][key][3][0][0] = str(path)  # any file that is not one of matplotlib's fonts
+    record = data["records"][key]
+    record[3][0][0] = str(path)  # any file that is not one of matplotlib's fonts, stamped as it is
+    record[5][str(path)] = mathtext_store._stamp(str(path))
     path.write_text(json.dumps(data), encoding="utf-8")
+    assert mathtext_store._valid(record)  # well formed: refused for its font only
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(key) is None
 
@@ -144,3 +147,83 @@ def test_the_store_keys_on_the_matplotlib_settings(tmp_path, label):
     with matplotlib.rc_context({"mathtext.fontset": "stix"}):
         assert _key(store, label) != key
     assert _key(store, label) == key
+
+
+@pytest.mark.parametrize("damage", ["rect of three", "huge code", "float code", "no stamps", "nan width"])
+def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, damage):
+    """A review: a record with a rect of three numbers or a glyph code of 10**12 passed the font
+    check and failed while drawing, in every later report (save() merged it back)."""
+    path = tmp_path / "store.json"
+    store = mathtext_store.MathtextStore(path)
+    key = _key(store, LABELS[3])  # a fraction and a root: it has rects
+    store.put(key, _typeset(LABELS[3]))
+    store.save()
+    data = json.loads(path.read_text(encoding="utf-8"))
+    record = data["records"][key]
+    assert record[4], "the label has rectangles (the fraction's bar)"
+    if damage == "rect of three":
+        record[4][0] = record[4][0][:3]
+    elif damage == "huge code":
+        record[3][0][2] = 10 ** 12
+    elif damage == "float code":
+        record[3][0][2] = 65.5
+    elif damage == "no stamps":
+        record[5] = {}
+    else:
+        record[0] = float("nan")
+    path.write_text(json.dumps(data), encoding="utf-8")
+    reader = mathtext_store.MathtextStore(path)
+    assert reader.get(key) is None
+    assert key not in mathtext_store._load(path)
+
+
+def test_a_font_file_changed_in_place_is_a_miss(tmp_path):
+    path = tmp_path / "store.json"
+    store = mathtext_store.MathtextStore(path)
+    key = _key(store, LABELS[0])
+    store.put(key, _typeset(LABELS[0]))
+    store.save()
+    data = json.loads(path.read_text(encoding="utf-8"))
+    font = next(iter(data["records"][key][5]))
+    data["records"][key][5][font] = [data["records"][key][5][font][0], 1]  # another modification time
+    path.write_text(json.dumps(data), encoding="utf-8")
+    assert mathtext_store.MathtextStore(path).get(key) is None
+
+
+def test_a_glyph_of_another_matplotlib_is_not_stored_and_a_failing_store_does_not_stop_a_figure(
+        tmp_path, monkeypatch):
+    """matplotlib before 3.11 gives five fields a glyph (no glyph index): such a parse is not
+    stored; and whatever the store raises, the label is typeset and the figure drawn."""
+    from types import SimpleNamespace
+
+    fresh = _typeset(LABELS[0])
+    older = SimpleNamespace(width=fresh.width, height=fresh.height, depth=fresh.depth, rects=fresh.rects,
+                            glyphs=[g[:3] + g[4:] for g in fresh.glyphs])
+    assert mathtext_store._record_of(older) is None
+
+    from crankdyn.report import figures
+
+    class Broken:
+        def key(self, *args):
+            raise RuntimeError("a store that fails")
+
+    monkeypatch.setattr(mathtext_store, "store", lambda: Broken())
+    fig, ax = figures.new_figure(6, 4)
+    ax.set_xlabel(r"$\omega_{\rm broken}$, 1/s")
+    assert b"broken" in figures.to_svg(fig)
+
+
+def test_labels_read_back_are_kept_as_the_newest(tmp_path, monkeypatch):
+    """The cap drops the least recently used records, not the labels every report reads back."""
+    monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
+    path = tmp_path / "store.json"
+    first = mathtext_store.MathtextStore(path)
+    for label in LABELS[:2]:
+        first.put(_key(first, label), _typeset(label))
+    first.save()
+    second = mathtext_store.MathtextStore(path)
+    assert second.get(_key(second, LABELS[0])) is not None  # read back in this run
+    second.put(_key(second, LABELS[2]), _typeset(LABELS[2]))
+    second.save()
+    kept = json.loads(path.read_text(encoding="utf-8"))["records"]
+    assert set(kept) == {_key(second, LABELS[0]), _key(second, LABELS[2])}

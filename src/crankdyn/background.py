@@ -38,7 +38,12 @@ class ForkedStudies:
         if not jobs or not can_fork():
             return None
         read_fd, write_fd = os.pipe()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:  # no process to be had: the studies are computed here when wanted
+            os.close(read_fd)
+            os.close(write_fd)
+            return None
         if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
             status = 0
             try:
@@ -101,7 +106,12 @@ class ForkedRun:
         if not can_fork():
             return None
         read_fd, write_fd = os.pipe()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:  # no process to be had (EAGAIN, ENOMEM): the plan is run here
+            os.close(read_fd)
+            os.close(write_fd)
+            return None
         if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
             status = 0
             try:
@@ -119,13 +129,16 @@ class ForkedRun:
         """The computed result, its studies still coming from the child; None if the child failed."""
         try:
             got = pickle.load(self._reader)
-        except Exception:  # EOF (the child died), a broken message
-            got = None
-        if got is None:
+            if got is None:  # the child could not compute or send the plan
+                self.close()
+                return None
+            outputs, timing = got
+            result = resume_plan(self._scene, self._plan, outputs, timing)
+        except BaseException as exc:  # also an interrupt: no child is left computing
             self.close()
-            return None
-        outputs, timing = got
-        result = resume_plan(self._scene, self._plan, outputs, timing)
+            if isinstance(exc, Exception):  # EOF (the child died), a broken message: run it here
+                return None
+            raise
         result.background = ForkedStudies(self.pid, self._reader) if result.deferred else None
         if result.background is None:
             self.close()

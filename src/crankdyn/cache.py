@@ -317,7 +317,7 @@ class StageCache:
                 self._entries[stage.name] = entry
                 self.runs[stage.name] += 1
             # as orchestrator.run_stage times it: without scipy's import on the stage's first call
-            timing[stage.name] = (time.perf_counter() - start - (lazy.import_seconds() - imported)
+            timing[stage.name] = (max(0.0, time.perf_counter() - start - (lazy.import_seconds() - imported))
                                   if taken is None else taken)
             data.update(entry.output.data)
             digests.update(entry.data_digests)

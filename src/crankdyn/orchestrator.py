@@ -273,7 +273,8 @@ def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[Stage
     """(output, seconds) of ``stage.run``, its output checked against the stage's declarations."""
     start, imported = time.perf_counter(), lazy.import_seconds()
     output = stage.run(scene, inputs)
-    elapsed = time.perf_counter() - start - (lazy.import_seconds() - imported)  # not scipy's import
+    # not scipy's import; never below zero (the count is the process's: another thread's import too)
+    elapsed = max(0.0, time.perf_counter() - start - (lazy.import_seconds() - imported))
     check_output(stage, output)
     return output, elapsed
 

@@ -152,21 +152,28 @@ def _visible_length(html: str) -> int:
 
 def _at_operators(side: str) -> list[str]:
     """``side`` (of a long formula) cut before each " + " and " − " outside parentheses (inside
-    one square bracket at most: the bracket of a long sum); a short side is returned whole."""
+    one square bracket at most: the bracket of a long sum) and outside any element (an exponent's
+    "n − 1" stays in its <sup>); a short side is returned whole."""
     if _visible_length(side) <= _LONG_FORMULA_CHARS:
         return [side]
-    cuts, round_depth, square_depth, in_tag = [], 0, 0, False
+    cuts, round_depth, square_depth, in_tag, open_elements = [], 0, 0, False, 0
     for i, char in enumerate(side):
         if in_tag:
             in_tag = char != ">"
             continue
         if char == "<":
             in_tag = True
+            tag = side[i:side.find(">", i) + 1]
+            if tag.startswith("</"):
+                open_elements -= 1
+            elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
+                open_elements += 1
         elif char in "()":
             round_depth += 1 if char == "(" else -1
         elif char in "[]":
             square_depth += 1 if char == "[" else -1
-        elif char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1 and i:
+        elif char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1 \
+                and not open_elements and i:  # not inside <sub>, <sup>, <i> ...
             cuts.append(i)
     pieces, start = [], 0
     for cut in cuts:

@@ -43,7 +43,7 @@ def report_units(t) -> list[str]:
 
 
 #: A numbered subsection's heading as :meth:`RenderContext.subsection` writes it.
-_SUBSECTION = re.compile(r'<h3 class="subsection" id="sec-([^"]+)">([^<]*)</h3>')
+_SUBSECTION = re.compile(r'<h3 class="subsection" id="sec-([^"]+)">(.*?)</h3>', re.S)
 
 
 @dataclass
@@ -57,7 +57,7 @@ class SectionView:
     @property
     def subsections(self) -> list[tuple[str, str]]:
         """(number, heading) of each numbered subsection, for the table of contents."""
-        return [(m[1], html_lib.unescape(m[2])) for m in _SUBSECTION.finditer(self.html)]
+        return [(m[1], html_lib.unescape(re.sub(r"<[^>]+>", "", m[2]))) for m in _SUBSECTION.finditer(self.html)]
 
 
 @dataclass

@@ -65,12 +65,19 @@ def _keep_more_mathtext() -> None:
     def shared(output_type, s, dpi, prop, antialiased, load_glyph_flags):
         if output_type != "vector":  # a raster (the Word export's PNG) is not stored
             return typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
-        stored = mathtext_store.store()
-        key = stored.key(s, dpi, prop, load_glyph_flags)
-        parse = stored.get(key)
+        try:
+            stored = mathtext_store.store()
+            key = stored.key(s, dpi, prop, load_glyph_flags)
+            parse = stored.get(key)
+        except Exception:  # noqa: BLE001 - the store is an aid: without it the label is typeset
+            stored = parse = None
         if parse is None:
             parse = typeset(parsers[output_type], s, dpi, prop, antialiased, load_glyph_flags)
-            stored.put(key, parse)
+            if stored is not None:
+                try:
+                    stored.put(key, parse)
+                except Exception:  # noqa: BLE001 - not kept; the next run typesets it again
+                    pass
         return parse
 
     def _parse_cached(self, s, dpi, prop, antialiased, load_glyph_flags):
@@ -381,16 +388,20 @@ class ForkedDrawing:
     def _fork(self, mine: list[int]):
         freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
         read_end, write_end = os.pipe()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:  # no process to be had: an empty answer, so these jobs are done here
+            os.close(write_end)
+            return None, read_end, mine
         if pid == 0:  # the child: draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
             try:
                 payload = pickle.dumps([self.jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
-                mathtext_store.save()  # the labels this child typeset, for the next run
                 with os.fdopen(write_end, "wb") as pipe:
                     pipe.write(payload)
                 code = 0
+                mathtext_store.save()  # the labels this child typeset, for the next run (after the answer)
             finally:
                 os._exit(code)
         os.close(write_end)
@@ -406,6 +417,8 @@ class ForkedDrawing:
         for pid, read_end, mine in children:
             with os.fdopen(read_end, "rb") as pipe:
                 payload = pipe.read()
+            if pid is None:  # never forked: its jobs are done here
+                continue
             _, status = os.waitpid(pid, 0)
             if status == 0:
                 try:
@@ -446,16 +459,27 @@ class SharedDrawing:
         self._claims, numbers = os.pipe()
         os.write(numbers, b"".join(_TOKEN.pack(i) for i in range(len(self.jobs))))
         os.close(numbers)  # the pipe ends once every number is taken
-        self._children = [self._fork() for _ in range(children)]
+        self._children = []
+        for _ in range(children):
+            child = self._fork()
+            if child is None:  # no more processes to be had: this one takes what is left
+                break
+            self._children.append(child)
 
     def _claim(self) -> int | None:
         token = os.read(self._claims, _TOKEN.size)
         return _TOKEN.unpack(token)[0] if len(token) == _TOKEN.size else None
 
     def _fork(self):
+        """(pid, the end its answer comes from), or None when no process could be forked."""
         freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
         read_end, write_end = os.pipe()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:
+            os.close(read_end)
+            os.close(write_end)
+            return None
         if pid == 0:  # the child: take, draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
@@ -463,11 +487,10 @@ class SharedDrawing:
                 drawn = []
                 while (number := self._claim()) is not None:
                     drawn.append((number, self.jobs[number]()))
-                payload = pickle.dumps(drawn, protocol=pickle.HIGHEST_PROTOCOL)
-                mathtext_store.save()  # the labels this child typeset, for the next run
                 with os.fdopen(write_end, "wb") as pipe:
-                    pipe.write(payload)
+                    pipe.write(pickle.dumps(drawn, protocol=pickle.HIGHEST_PROTOCOL))
                 code = 0
+                mathtext_store.save()  # the labels this child typeset, for the next run (after the answer)
             finally:
                 os._exit(code)
         os.close(write_end)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -31,7 +32,7 @@ from pathlib import Path
 STORE_ENV = "CRANKDYN_MATHTEXT_CACHE"
 #: Records kept in the file (the newest); a report has ~70, a variant's labels are the same.
 MAX_RECORDS = 4096
-_FORMAT = 1
+_FORMAT = 2
 
 
 class MathtextStore:
@@ -41,6 +42,7 @@ class MathtextStore:
         self.path = path
         self._records: dict[str, list] | None = None
         self._new: dict[str, list] = {}
+        self._used: set[str] = set()  # keys read back in this process: kept as the newest by save()
         self._context: tuple | None = None  # (rc and fonts state, its digest)
         self._known_fonts: frozenset[str] | None = None
 
@@ -55,9 +57,11 @@ class MathtextStore:
         if record is None:
             return None
         try:
-            return _parse_from_record(record, self._fonts())
-        except (KeyError, ValueError, TypeError, OSError, RuntimeError):
+            parse = _parse_from_record(record, self._fonts())
+        except Exception:  # noqa: BLE001 - a record that cannot be used is typeset afresh
             return None
+        self._used.add(key)
+        return parse
 
     def put(self, key: str, parse) -> None:
         record = _record_of(parse)
@@ -84,9 +88,12 @@ class MathtextStore:
             return
         new, self._new = self._new, {}
         records = _load(self.path)
-        for key in new:
-            records.pop(key, None)  # moved to the end: the newest survive the cap
-        records.update(new)
+        # this run's labels, new or read back, move to the end: the cap drops the least recently used
+        recent = {key: records[key] for key in self._used if key in records}
+        recent.update(new)
+        for key in recent:
+            records.pop(key, None)
+        records.update(recent)
         kept = dict(list(records.items())[-MAX_RECORDS:])
         temporary = None
         try:
@@ -128,15 +135,54 @@ def _font_key(prop) -> list:
 
 
 def _record_of(parse) -> list | None:
-    """A ``VectorParse`` as JSON values; None if a glyph's font has no single file."""
-    glyphs = []
-    for font, size, code, index, x, y in parse.glyphs:
-        path = getattr(font, "fname", None)
-        if not isinstance(path, str):
+    """A ``VectorParse`` as JSON values, with the size and time of each font file it names; None
+    where it is not one this module can give back the same: a glyph not as matplotlib 3.11 gives
+    it (font, size, code, glyph index, x, y), a font without a single file or not its first face."""
+    glyphs, stamps = [], {}
+    for glyph in parse.glyphs:
+        if len(glyph) != 6:  # matplotlib before 3.11 had no glyph index: not stored
             return None
+        font, size, code, index, x, y = glyph
+        path = getattr(font, "fname", None)
+        if not isinstance(path, str) or getattr(font, "face_index", 0) != 0:
+            return None
+        if path not in stamps:
+            stamps[path] = _stamp(path)
+            if stamps[path] is None:
+                return None
         glyphs.append([path, float(size), int(code), int(index), float(x), float(y)])
     return [float(parse.width), float(parse.height), float(parse.depth), glyphs,
-            [[float(v) for v in rect] for rect in parse.rects]]
+            [[float(v) for v in rect] for rect in parse.rects], stamps]
+
+
+def _stamp(path: str) -> list | None:
+    """A font file's size and modification time (ns): a font replaced in place is a miss."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return None
+    return [info.st_size, info.st_mtime_ns]
+
+
+def _finite(*values) -> bool:
+    return all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values)
+
+
+def _valid(record) -> bool:
+    """Whether ``record`` has exactly the shape :func:`_record_of` writes (a damaged or foreign
+    file's record is dropped, never drawn)."""
+    if not (isinstance(record, list) and len(record) == 6 and _finite(*record[:3])):
+        return False
+    glyphs, rects, stamps = record[3], record[4], record[5]
+    if not (isinstance(glyphs, list) and isinstance(rects, list) and isinstance(stamps, dict)):
+        return False
+    for glyph in glyphs:
+        if not (isinstance(glyph, list) and len(glyph) == 6 and isinstance(glyph[0], str) and glyph[0] in stamps
+                and _finite(*glyph[1:]) and isinstance(glyph[2], int) and isinstance(glyph[3], int)
+                and 0 <= glyph[2] <= 0x10FFFF and 0 <= glyph[3] < 1 << 32):
+            return False
+    return all(isinstance(r, list) and len(r) == 4 and _finite(*r) for r in rects) and \
+        all(isinstance(v, list) and len(v) == 2 and all(isinstance(n, int) for n in v) for v in stamps.values())
 
 
 def _parse_from_record(record: list, known_fonts: frozenset[str]):
@@ -144,9 +190,12 @@ def _parse_from_record(record: list, known_fonts: frozenset[str]):
     from matplotlib.font_manager import get_font  # lazy: heavy optional import
     from matplotlib.mathtext import VectorParse  # lazy: heavy optional import
 
-    width, height, depth, glyphs, rects = record
-    if any(g[0] not in known_fonts for g in glyphs):
-        raise ValueError("a font matplotlib does not know")
+    if not _valid(record):
+        raise ValueError("not a record of this store")
+    width, height, depth, glyphs, rects, stamps = record
+    for path, stamp in stamps.items():
+        if path not in known_fonts or _stamp(path) != stamp:
+            raise ValueError("a font matplotlib does not know, or one changed since")
     # matplotlib gives the box and each glyph's height as numpy floats: the same values back
     return VectorParse(np.float64(width), np.float64(height), np.float64(depth),
                        [(get_font(path), float(size), int(code), int(index), float(x), np.float64(y))
@@ -164,7 +213,7 @@ def _load(path: Path | None) -> dict:
         return {}
     if not isinstance(data, dict) or data.get("format") != _FORMAT or not isinstance(data.get("records"), dict):
         return {}
-    return {k: v for k, v in data["records"].items() if isinstance(v, list) and len(v) == 5}
+    return {k: v for k, v in data["records"].items() if isinstance(k, str) and _valid(v)}
 
 
 def store_path() -> Path | None:

@@ -7,6 +7,7 @@ and ``crankdyn.scene.options`` (with ``quantity``/``number`` for option models).
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -91,6 +92,11 @@ def applies(scene) -> str | None:
     return None
 
 
+def _displacement_at_deg(radius_m: float, crank_angle_deg):
+    """Piston displacement (m) at any crank angle (deg)."""
+    return physics.piston_displacement_m(np.radians(crank_angle_deg), radius_m)
+
+
 def run(scene, inputs) -> StageOutput:
     """Physics only: arrays in SI on the scene's crank-angle grid; no text."""
     radius, omega = scene.engine.crank_radius_m, scene.engine.angular_velocity_rad_s
@@ -103,7 +109,8 @@ def run(scene, inputs) -> StageOutput:
         crank_angle_deg=angle_deg, piston_displacement_m=s, piston_velocity_m_s=v, piston_acceleration_m_s2=j,
         rod_angle_rad=None,  # no connecting rod: the force stage passes the piston force along the axis
         crank_radius_m=radius, angular_velocity_rad_s=omega, method="exact",
-        displacement_at=lambda a_deg: physics.piston_displacement_m(np.radians(a_deg), radius),
+        # a module-level function, not a lambda: the output pickles, so a report computes it aside
+        displacement_at=functools.partial(_displacement_at_deg, radius),
     )
     results = {
         "crank_radius_m": radius,
