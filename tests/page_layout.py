@@ -149,6 +149,11 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
             head = table_set[labels[page[0]]][0]
             if len(page) < 2 or not head or page[1].split()[0] != head[0].split()[0]:
                 problems.append(f"page {i + 1}: {page[0]!r} is not followed by the table's header")
+            # 5. ... and carries at least two of its rows ("Продовження таблиці 7.1" over the one
+            #    row 720, a copy of row 0, read as a table of its own)
+            rows = [line for line in page[2:] if _starts_table_row(line, {labels[page[0]]: table_set[labels[page[0]]]})]
+            if len(rows) < 2:
+                problems.append(f"page {i + 1}: {page[0]!r} goes on with {len(rows)} row(s) only")
         elif (number := _starts_table_row(page[0], table_set)) is not None:
             problems.append(f"page {i + 1} goes on with table {number} without {continued(number)!r}: {page[0][:60]!r}")
         # 3. A table caption (above its table) never ends a page; a figure caption (below its

@@ -213,10 +213,21 @@ def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
     line = "<i>s</i> = <i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>] = 0,039·[(1 − cos 8,048°)/0,28]"
     out = groups_unbroken(line)
     assert out.count('<span class="group">') == 3
-    assert '<span class="group">(1 − cos 8,048°)</span>' in out
-    assert re.sub(r'</?span[^>]*>', "", out) == line  # nothing else changed
+    assert '<span class="group">(1 − cos\u00a08,048°)</span>' in out
+    # nothing else changed but the function bound to its argument
+    assert re.sub(r'</?span[^>]*>', "", out).replace("cos\u00a0", "cos ") == line
     long_group = "(" + "1 + " * GROUP_CHARS + "1)"
     assert groups_unbroken(long_group) == long_group
     across = "<sub>k(<i>i</i></sub>−1)"
     assert groups_unbroken(across) == across
 
+
+
+def test_a_function_stays_with_its_argument_and_a_slash_with_its_bracket():
+    """A review of the uk PDF: "…/cos | 8,048°" and "…583,396)/ | (589,260 + …" broke at the line's end."""
+    from crankdyn.report.worked import groups_unbroken
+
+    out = groups_unbroken("cos(30° + 8,048°)/cos 8,048° + 0,2800·cos<sup>2</sup> 30°/cos<sup>3</sup> 8,048°")
+    assert "/cos\u00a08,048°" in out and "cos<sup>2</sup>\u00a030°" in out and "cos<sup>3</sup>\u00a08,048°" in out
+    assert ")</span>/\u2060<span class=\"group\">(589,260" in groups_unbroken("2·(589,260 − 583,396)/(589,260 + 583,396)")
+    assert groups_unbroken("cosine 3") == "cosine 3"  # a word, not the function

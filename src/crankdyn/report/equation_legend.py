@@ -83,12 +83,30 @@ def _si_unit(key: str, t) -> str:
     return t(unit) if unit.startswith("unit.") else unit
 
 
-def legend_html(keys: list[str], t, language: str) -> str:
+def _shown_unit(key: str, formula: str, t, language: str) -> str | None:
+    """The unit the equation itself gives ``key``'s value in ("R = S/2 = 39,000 мм"): the table's
+    unit when one of the formula's parts starts with the symbol and ends with that unit (a where
+    line in metres under a value in millimetres contradicted it), else None."""
+    unit = SYMBOLS[key].unit
+    if not unit.startswith("unit."):
+        return None
+    shown = t(unit)
+    symbol = symbol_html(key, language)
+    for part in formula.split(", &nbsp;"):
+        text = re.sub(r'</?span[^>]*>', "", part).strip()
+        ends = re.sub(r"<[^>]+>", "", text).rstrip()
+        if text.startswith(symbol + " =") and ends.endswith(shown) and ends[:-len(shown)].rstrip("\u202f\u00a0 ")[-1:].isdigit():
+            return shown
+    return None
+
+
+def legend_html(keys: list[str], t, language: str, formula: str = "") -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last."""
+    stop after the last; the unit is the one ``formula`` gives the symbol's value in, if it gives
+    one, else the SI unit the equation is evaluated in."""
     lines = []
     for k, key in enumerate(keys):
-        unit = _si_unit(key, t)
+        unit = _shown_unit(key, formula, t, language) or _si_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)
@@ -117,7 +135,7 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
         if not new:
             continue
         explained.update(new)
-        parts += [html[position:match.end()], legend_html(new, t, language)]
+        parts += [html[position:match.end()], legend_html(new, t, language, match.group("formula"))]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)

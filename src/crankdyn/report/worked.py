@@ -113,14 +113,24 @@ def _tags_balanced(html: str) -> bool:
     return not depth
 
 
+#: A function's name and its argument ("cos 8,048°", "cos<sup>3</sup> 8,048°"): bound by a no-break space.
+_FUNCTION_ARGUMENT = re.compile(r"\b(cos|sin|tg|ctg|arcsin|arccos|arctg|ln|exp)((?:<sup>[^<]*</sup>)?) (?=\S)")
+#: A slash before a bracket ("…)/(589,260 + …"): a word joiner after it, as the equations have.
+_SLASH_BRACKET = re.compile(r"/(?=[(\[])")
+
+
 def groups_unbroken(line_html: str) -> str:
-    """``line_html`` with each short innermost "( … )" group in a span that the page does not break."""
+    """``line_html`` with each short innermost "( … )" group in a span that the page does not
+    break, a function bound to its argument and no break after a slash before a bracket (a review
+    of the PDF: "…/cos | 8,048°", "…583,396)/ | (589,260 + …")."""
     def keep(match: re.Match) -> str:
         group = match.group(0)
         if len(_TAG_RE.sub("", group)) > GROUP_CHARS or not _tags_balanced(group):
             return group
         return f'<span class="group">{group}</span>'
 
+    line_html = _FUNCTION_ARGUMENT.sub(lambda m: f"{m.group(1)}{m.group(2)}\u00a0", line_html)
+    line_html = _SLASH_BRACKET.sub("/\u2060", line_html)
     return _INNERMOST_GROUP.sub(keep, line_html)
 
 
