@@ -280,3 +280,15 @@ def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_say
         text = fh.read()
     assert ("(<i>l</i>′<sub><i>i</i></sub>/<i>l</i><sub><i>i</i></sub>) <b><i>F</i></b><sub><i>i</i></sub> + "
             "(<i>l</i>″<sub><i>i</i>+1</sub>/<i>l</i><sub><i>i</i>+1</sub>)") in text
+
+
+def test_pins_that_print_alike_take_one_row():
+    """The uk reading: table 9.1 of the in-line four repeated one row four times."""
+    from crankdyn_builtin.bearings.worked import pin_rows as _pin_rows
+
+    pin = {"max_N": 16370.0, "mean_N": 9890.0, "max_MPa": 10.22, "mean_MPa": 6.17, "oil_hole_deg": 175.0}
+    same = [dict(pin, crank=k) for k in range(1, 5)]
+    assert _pin_rows(same) == (same[:1], ["1–4"])
+    other = same[:3] + [dict(pin, crank=4, max_N=17000.0)]
+    assert _pin_rows(other) == (other, ["1", "2", "3", "4"])
+    assert _pin_rows(same[:1]) == (same[:1], ["1"])

@@ -16,7 +16,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import loads_equal, most_loaded, worked_bearing
+from crankdyn_builtin.bearings.worked import loads_equal, most_loaded, pin_rows, worked_bearing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -401,13 +401,14 @@ def render(output: StageOutput, ctx) -> str | None:
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
 
+    pins, pin_labels = pin_rows(r["crank_pins"])
     table_pins = ctx.table([
-        (t("bearings.crank"), [str(p["crank"]) for p in r["crank_pins"]], None),
-        ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in r["crank_pins"]], 2),
-        ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in r["crank_pins"]], 2),
-        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in r["crank_pins"]], 2),
-        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in r["crank_pins"]], 2),
-        (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in r["crank_pins"]], 0),
+        (t("bearings.crank"), pin_labels, None),
+        ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
+        ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
+        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
+        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
+        (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in pins], 0),
     ], caption=t("bearings.pins_table_caption_single" if single else "bearings.pins_table_caption")) + \
         worked_bearing(ctx, r, "pin")
     table_journals = ctx.table([

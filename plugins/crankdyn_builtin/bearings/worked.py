@@ -33,6 +33,17 @@ def loads_equal(records) -> bool:
     return len(records) > 1 and len(most_loaded(records)) == len(records)
 
 
+def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
+    """The pins table's rows and their crank labels: one row "1–4" for pins that print alike
+    (identical cylinders, each on a crank of its own: the same loads shifted in phase), which the
+    table repeated four times."""
+    printed = {(round(p["max_N"] / 1e3, 2), round(p["mean_N"] / 1e3, 2), round(p["max_MPa"], 2),
+                round(p["mean_MPa"], 2), round(p["oil_hole_deg"])) for p in pins}
+    if len(pins) > 1 and len(printed) == 1:
+        return pins[:1], [f"{pins[0]['crank']}–{pins[-1]['crank']}"]
+    return pins, [str(p["crank"]) for p in pins]
+
+
 def worked_bearing(ctx, r, kind: str) -> Markup:
     """After the pins table (``kind`` "pin") or the journals table ("journal"): p_max of the most
     loaded one, which the polar diagrams show."""
@@ -41,7 +52,10 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
     tied = most_loaded(records)
     record = tied[0]
     if kind == "pin":
-        key, load_html = str(record["crank"]), "<i>Q</i><sub>max</sub>"
+        labels = pin_rows(records)[1]
+        # the table's row: one "1–4" for pins that print alike
+        key = labels[0] if len(labels) == 1 else str(record["crank"])
+        load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
     else:
         key, load_html = record["journal"], "<i>R</i><sub>max</sub>"
