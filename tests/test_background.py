@@ -192,7 +192,8 @@ def test_the_stages_computed_in_a_child_give_the_serial_result_and_the_studies_f
     """)
 
 
-def test_a_stage_failing_in_the_child_leaves_the_run_to_this_process_which_raises_its_error():
+def test_a_stage_failing_in_the_child_or_outputs_that_cannot_be_pickled_leave_the_run_to_this_process():
+    """One fresh interpreter for both (each costs a second and a half of the suite)."""
     run_whole("""
     def refused(scene, inputs):
         if os.getpid() != PARENT:
@@ -200,12 +201,6 @@ def test_a_stage_failing_in_the_child_leaves_the_run_to_this_process_which_raise
         raise RuntimeError("only the child should have run this")
     reg = located_registry(base_run=refused)
     assert ForkedRun.start(scene, plan(scene, reg)).result() is None and not children()
-    print("ok")
-    """)
-
-
-def test_outputs_that_cannot_be_pickled_leave_the_run_to_this_process():
-    run_whole("""
     def closure(scene, inputs):
         return StageOutput(data={"x": lambda: 21.0})
     assert ForkedRun.start(scene, plan(scene, located_registry(base_run=closure))).result() is None

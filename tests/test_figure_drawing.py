@@ -45,7 +45,7 @@ def test_a_free_process_takes_the_next_job_while_another_draws_a_long_one():
     else, the other process draws the rest meanwhile (a fixed half each made one wait for the other)."""
 
     def job(i):
-        time.sleep(1.0 if i == 0 else 0.01)
+        time.sleep(0.6 if i == 0 else 0.01)
         return str(os.getpid()).encode()
 
     results = draw_jobs([lambda i=i: job(i) for i in range(8)], workers=2, allow_threads=True)

@@ -268,7 +268,7 @@ def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports)
     assert rows["Кут випередження запалювання (до ВМТ)"][1:] == ["22", "°"]
     assert rows["Закриття впускного клапана (після НМТ)"][1:] == ["50", "°"]
     assert rows["Допустимий коефіцієнт нерівномірності обертання"][:2] == ["[δ]", "0,01"]
-    assert rows["Момент інерції вала без мас колін (корінні шийки, противаги, шків)"] == ["Jв", "0,006", "кг·м²"]
+    assert rows["Момент інерції вала без мас колін (корінні шийки, шків, противаги, якщо вони є)"] == ["Jв", "0,006", "кг·м²"]
     assert rows["Густина матеріалу маховика"][1:] == ["7850", "кг/м³"]
     assert "ρ = 1" in four  # a spark-ignition cycle: stated where the formulas with ρ begin
 
