@@ -39,6 +39,25 @@ def _key(store, label: str, size: float = 9.0):
     return store.key(label, 72, FontProperties(size=size), _flags())
 
 
+def _saved(path, labels):
+    """A store at ``path`` that typeset ``labels`` and saved them."""
+    store = mathtext_store.MathtextStore(path)
+    for label in labels:
+        store.put(_key(store, label), _typeset(label))
+    store.save()
+    return store
+
+
+def _stored(tmp_path, label: str):
+    """(path, key, the file's data) after one store typeset and saved ``label``."""
+    path = tmp_path / "store.json"
+    store = mathtext_store.MathtextStore(path)
+    key = _key(store, label)
+    store.put(key, _typeset(label))
+    store.save()
+    return path, key, json.loads(path.read_text(encoding="utf-8"))
+
+
 def test_a_label_read_back_is_the_label_typeset(tmp_path):
     path = tmp_path / "store.json"
     writer = mathtext_store.MathtextStore(path)
@@ -69,12 +88,7 @@ def test_a_damaged_store_is_ignored_and_replaced(tmp_path):
 
 
 def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
-    path = tmp_path / "store.json"
-    store = mathtext_store.MathtextStore(path)
-    key = _key(store, LABELS[0])
-    store.put(key, _typeset(LABELS[0]))
-    store.save()
-    data = json.loads(path.read_text(encoding="utf-8"))
+    path, key, data = _stored(tmp_path, LABELS[0])
     record = data["records"][key]
     record[3][0][0] = str(path)  # any file that is not one of matplotlib's fonts, stamped as it is
     record[5][str(path)] = mathtext_store._stamp(str(path))
@@ -87,10 +101,7 @@ def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
 def test_the_store_keeps_the_newest_records_only(tmp_path, monkeypatch):
     monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
     path = tmp_path / "store.json"
-    store = mathtext_store.MathtextStore(path)
-    for label in LABELS[:3]:
-        store.put(_key(store, label), _typeset(label))
-    store.save()
+    store = _saved(path, LABELS[:3])
     kept = json.loads(path.read_text(encoding="utf-8"))["records"]
     assert list(kept) == [_key(store, label) for label in LABELS[1:3]]
 
@@ -153,12 +164,7 @@ def test_the_store_keys_on_the_matplotlib_settings(tmp_path, label):
 def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, damage):
     """A review: a record with a rect of three numbers or a glyph code of 10**12 passed the font
     check and failed while drawing, in every later report (save() merged it back)."""
-    path = tmp_path / "store.json"
-    store = mathtext_store.MathtextStore(path)
-    key = _key(store, LABELS[3])  # a fraction and a root: it has rects
-    store.put(key, _typeset(LABELS[3]))
-    store.save()
-    data = json.loads(path.read_text(encoding="utf-8"))
+    path, key, data = _stored(tmp_path, LABELS[3])  # a fraction and a root: it has rects
     record = data["records"][key]
     assert record[4], "the label has rectangles (the fraction's bar)"
     if damage == "rect of three":
@@ -178,12 +184,7 @@ def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, 
 
 
 def test_a_font_file_changed_in_place_is_a_miss(tmp_path):
-    path = tmp_path / "store.json"
-    store = mathtext_store.MathtextStore(path)
-    key = _key(store, LABELS[0])
-    store.put(key, _typeset(LABELS[0]))
-    store.save()
-    data = json.loads(path.read_text(encoding="utf-8"))
+    path, key, data = _stored(tmp_path, LABELS[0])
     font = next(iter(data["records"][key][5]))
     data["records"][key][5][font] = [data["records"][key][5][font][0], 1]  # another modification time
     path.write_text(json.dumps(data), encoding="utf-8")
@@ -217,10 +218,7 @@ def test_labels_read_back_are_kept_as_the_newest(tmp_path, monkeypatch):
     """The cap drops the least recently used records, not the labels every report reads back."""
     monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
     path = tmp_path / "store.json"
-    first = mathtext_store.MathtextStore(path)
-    for label in LABELS[:2]:
-        first.put(_key(first, label), _typeset(label))
-    first.save()
+    _saved(path, LABELS[:2])
     second = mathtext_store.MathtextStore(path)
     assert second.get(_key(second, LABELS[0])) is not None  # read back in this run
     second.put(_key(second, LABELS[2]), _typeset(LABELS[2]))

@@ -97,6 +97,19 @@ def can_fork() -> bool:
     return hasattr(os, "fork") and threading.active_count() == 1
 
 
+def fork_with_pipe() -> tuple[int, int, int] | None:
+    """(pid, read end, write end): a pipe and a fork (pid 0 in the child), or None, with nothing
+    left open, where no process is to be had (EAGAIN, ENOMEM): the caller computes itself."""
+    read_fd, write_fd = os.pipe()
+    try:
+        pid = os.fork()
+    except OSError:
+        os.close(read_fd)
+        os.close(write_fd)
+        return None
+    return pid, read_fd, write_fd
+
+
 def aside(fn: Callable[..., Any], *args: Any) -> Handle:
     """Start ``fn(*args)`` in a forked child if a core is spare (see the module docstring)."""
     global _spare

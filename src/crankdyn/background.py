@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import pickle
 
-from .aside import can_fork, stop_child
+from .aside import can_fork, fork_with_pipe, stop_child
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
 
 
@@ -35,28 +35,10 @@ class ForkedStudies:
     def start(cls, result: RunResult) -> "ForkedStudies | None":
         """Fork the child for ``result.deferred`` (None: nothing deferred, or no safe fork)."""
         jobs = [(s, result.deferred[s.name]) for s in result.plan.order if s.name in result.deferred]
-        if not jobs or not can_fork():
+        if not jobs:
             return None
-        read_fd, write_fd = os.pipe()
-        try:
-            pid = os.fork()
-        except OSError:  # no process to be had: the studies are computed here when wanted
-            os.close(read_fd)
-            os.close(write_fd)
-            return None
-        if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
-            status = 0
-            try:
-                os.close(read_fd)
-                with os.fdopen(write_fd, "wb") as out:
-                    _compute(result.scene, jobs, out)
-            except BaseException:
-                status = 1
-            finally:
-                os._exit(status)
-        # closed here at once, so that children forked later (the figures') do not hold it open
-        os.close(write_fd)
-        return cls(pid, os.fdopen(read_fd, "rb"))
+        child = _fork_sending(lambda out: _compute(result.scene, jobs, out))
+        return None if child is None else cls(*child)
 
     def take(self, name: str) -> tuple | None:
         """(output, seconds) of study ``name`` from the child; None if the child could not give it."""
@@ -73,6 +55,29 @@ class ForkedStudies:
         """Stop the child if it is still computing, and reap it."""
         self._reader.close()
         stop_child(self.pid)
+
+
+def _fork_sending(send) -> tuple[int, object] | None:
+    """(pid, the file its messages are read from) of a child forked to run ``send(out)`` and
+    leave; None where no child may or can be forked (another thread; EAGAIN, ENOMEM): the caller
+    then computes in its own process."""
+    forked = fork_with_pipe() if can_fork() else None
+    if forked is None:
+        return None
+    pid, read_fd, write_fd = forked
+    if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
+        status = 0
+        try:
+            os.close(read_fd)
+            with os.fdopen(write_fd, "wb") as out:
+                send(out)
+        except BaseException:
+            status = 1
+        finally:
+            os._exit(status)
+    # closed here at once, so that children forked later (the figures') do not hold it open
+    os.close(write_fd)
+    return pid, os.fdopen(read_fd, "rb")
 
 
 def _compute(scene, jobs, out) -> None:
@@ -103,27 +108,8 @@ class ForkedRun:
 
     @classmethod
     def start(cls, scene, the_plan: Plan) -> "ForkedRun | None":
-        if not can_fork():
-            return None
-        read_fd, write_fd = os.pipe()
-        try:
-            pid = os.fork()
-        except OSError:  # no process to be had (EAGAIN, ENOMEM): the plan is run here
-            os.close(read_fd)
-            os.close(write_fd)
-            return None
-        if pid == 0:  # the child: compute, send, and leave without running the parent's exit code
-            status = 0
-            try:
-                os.close(read_fd)
-                with os.fdopen(write_fd, "wb") as out:
-                    _run_and_send(scene, the_plan, out)
-            except BaseException:
-                status = 1
-            finally:
-                os._exit(status)
-        os.close(write_fd)
-        return cls(pid, os.fdopen(read_fd, "rb"), scene, the_plan)
+        child = _fork_sending(lambda out: _run_and_send(scene, the_plan, out))
+        return None if child is None else cls(*child, scene, the_plan)
 
     def result(self) -> RunResult | None:
         """The computed result, its studies still coming from the child; None if the child failed."""

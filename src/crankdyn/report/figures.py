@@ -20,6 +20,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..aside import can_fork as _no_other_thread
+from ..aside import fork_with_pipe
 from ..heap import freeze_more
 from . import mathtext_store
 
@@ -387,12 +388,10 @@ class ForkedDrawing:
 
     def _fork(self, mine: list[int]):
         freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
-        read_end, write_end = os.pipe()
-        try:
-            pid = os.fork()
-        except OSError:  # no process to be had: an empty answer, so these jobs are done here
-            os.close(write_end)
-            return None, read_end, mine
+        forked = fork_with_pipe()
+        if forked is None:  # no process to be had: these jobs are done here
+            return None, None, mine
+        pid, read_end, write_end = forked
         if pid == 0:  # the child: draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
@@ -409,16 +408,16 @@ class ForkedDrawing:
 
     def done(self) -> bool:
         """Whether every child has finished drawing (its answer is waiting in its pipe)."""
-        return all(select.select([read_end], [], [], 0)[0] for _, read_end, _ in self._children)
+        return all(read_end is None or select.select([read_end], [], [], 0)[0] for _, read_end, _ in self._children)
 
     def collect(self) -> None:
         """Wait for every child and keep what it drew."""
         children, self._children = self._children, []
         for pid, read_end, mine in children:
-            with os.fdopen(read_end, "rb") as pipe:
-                payload = pipe.read()
             if pid is None:  # never forked: its jobs are done here
                 continue
+            with os.fdopen(read_end, "rb") as pipe:
+                payload = pipe.read()
             _, status = os.waitpid(pid, 0)
             if status == 0:
                 try:
@@ -473,13 +472,10 @@ class SharedDrawing:
     def _fork(self):
         """(pid, the end its answer comes from), or None when no process could be forked."""
         freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
-        read_end, write_end = os.pipe()
-        try:
-            pid = os.fork()
-        except OSError:
-            os.close(read_end)
-            os.close(write_end)
+        forked = fork_with_pipe()
+        if forked is None:
             return None
+        pid, read_end, write_end = forked
         if pid == 0:  # the child: take, draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
