@@ -567,3 +567,14 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
     text = as_read(shared_html("petrol-1cyl-ru").linked_html)
     assert "по диаграмме без насосных ходов – 0,8598\u202fМПа; отклонение 1,2\u202f%" in text
     assert "<i>L</i><sub>нас</sub> = ∫" in text  # the equation, with the Russian subscript
+
+
+def test_the_imaginary_unit_is_upright_and_said_to_be_one():
+    """The uk reading: in (8.4) "Σ_i e^{i(φ_i − nξ_i)}" the italic i was both the cylinder's index
+    and the imaginary unit. The unit is upright (ISO 80000-2) and named in the text."""
+    from conftest import shared_html
+
+    for name, language, words in (("inline4-petrol", "uk", "уявна одиниця"), ("petrol-1cyl-ru", "ru", "мнимая единица")):
+        html = shared_html(name, language=language).linked_html
+        assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html
+        assert "e<sup>i<i>nθ</i></sup>" in html and words in html
