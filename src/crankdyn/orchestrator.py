@@ -279,10 +279,12 @@ def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[Stage
     return output, elapsed
 
 
-def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunResult:
+def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False,
+             computed: tuple[dict[str, StageOutput], dict[str, float]] | None = None) -> RunResult:
     """Run the stages of ``the_plan`` in order. With ``defer_studies`` the studies
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
-    :meth:`RunResult.study_output` computes (or receives) each when it is wanted."""
+    :meth:`RunResult.study_output` computes (or receives) each when it is wanted. ``computed``:
+    (outputs, seconds) of the stages already run elsewhere (a forked child), taken instead of running them."""
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
@@ -292,7 +294,10 @@ def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False) -> RunRe
         if defer_studies and is_study(stage):
             deferred[stage.name] = inputs
             continue
-        output, timing[stage.name] = run_stage(stage, scene, inputs)
+        if computed is not None:
+            output, timing[stage.name] = computed[0][stage.name], computed[1][stage.name]
+        else:
+            output, timing[stage.name] = run_stage(stage, scene, inputs)
         data.update(output.data)
         outputs[stage.name] = output
     return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred)
@@ -302,14 +307,7 @@ def resume_plan(scene: Scene, the_plan: Plan, outputs: dict[str, StageOutput],
                 timing_s: dict[str, float]) -> RunResult:
     """The result ``run_plan(scene, the_plan, defer_studies=True)`` gives, from the outputs and
     timings of its stages computed elsewhere (a forked child): the studies' inputs are built here."""
-    data: dict[str, Any] = {}
-    deferred: dict[str, dict[str, Any]] = {}
-    for stage in the_plan.order:
-        if is_study(stage):
-            deferred[stage.name] = stage_inputs(stage, data, the_plan.registry)
-        else:
-            data.update(outputs[stage.name].data)
-    return RunResult(scene=scene, plan=the_plan, outputs=dict(outputs), timing_s=dict(timing_s), deferred=deferred)
+    return run_plan(scene, the_plan, defer_studies=True, computed=(outputs, timing_s))
 
 
 def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,

@@ -21,6 +21,7 @@ Safe to share and to lose:
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -155,8 +156,10 @@ def _record_of(parse) -> list | None:
             [[float(v) for v in rect] for rect in parse.rects], stamps]
 
 
+@functools.lru_cache(maxsize=None)
 def _stamp(path: str) -> list | None:
-    """A font file's size and modification time (ns): a font replaced in place is a miss."""
+    """A font file's size and modification time (ns): a font replaced in place is a miss (read
+    once per process and font: every label read back checks the fonts it names)."""
     try:
         info = os.stat(path)
     except OSError:
