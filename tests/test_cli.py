@@ -93,6 +93,36 @@ def test_the_command_keeps_blas_to_one_thread_unless_the_user_chose(monkeypatch)
                           check=True).stdout.strip() == "4"
 
 
+def test_the_command_documents_matplotlib_artists_briefly_unless_the_user_chose():
+    """``crankdyn`` skips the property lists matplotlib writes into its artists' docstrings at
+    import (≈ 0.1 s of a report); a program importing crankdyn gets them, and so do artist
+    classes defined after the figures' import."""
+    import subprocess
+    import sys
+
+    from crankdyn import cli
+    from crankdyn.report import figures
+
+    assert cli.ARTIST_DOCSTRINGS_ENV == figures.ARTIST_DOCSTRINGS_ENV
+    probe = ("import os, sys; sys.argv = ['crankdyn', 'example', '--list'];"
+             "import crankdyn.cli as c;"
+             "c.main = lambda: print(os.environ.get(c.ARTIST_DOCSTRINGS_ENV)) or 0; c.run()")
+    env = {k: v for k, v in os.environ.items() if k != cli.ARTIST_DOCSTRINGS_ENV}
+    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip() == "brief"
+    docs = ("import matplotlib.artist as a; from crankdyn.report.figures import import_matplotlib\n"
+            "full = a.kwdoc; import_matplotlib(); import matplotlib.lines as l\n"
+            "class Mine(l.Line2D): pass\n"
+            "print(a.kwdoc is full, 'markerfacecolor' in l.Line2D.set.__doc__, 'markerfacecolor' in Mine.set.__doc__)")
+    for value, listed in (("brief", "False"), ("full", "True"), (None, "True")):
+        if value is not None:
+            env[cli.ARTIST_DOCSTRINGS_ENV] = value
+        else:
+            env.pop(cli.ARTIST_DOCSTRINGS_ENV, None)
+        out = subprocess.run([sys.executable, "-c", docs], env=env, capture_output=True, text=True, check=True)
+        assert out.stdout.split() == ["True", listed, "True"], (value, out.stdout)
+
+
 def test_the_installed_command_is_run():
     from importlib.metadata import entry_points
 

@@ -34,6 +34,9 @@ YOUNG_GENERATION_THRESHOLD = 10_000
 #: on the cores a report's stage child and figure drawers need (0.2 s of CPU in an HTML report).
 #: Read when numpy is first imported, which the command does after :func:`run` starts.
 BLAS_THREADS_ENV = "OPENBLAS_NUM_THREADS"
+#: matplotlib's artists documented briefly in the command's process (crankdyn.report.figures,
+#: where this name is read: that module is not imported before a report is rendered).
+ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -169,6 +172,7 @@ def run() -> None:
     """The ``crankdyn`` command (and ``python -m crankdyn``): :func:`main` in a process of its own."""
     gc.set_threshold(YOUNG_GENERATION_THRESHOLD, *gc.get_threshold()[1:])
     os.environ.setdefault(BLAS_THREADS_ENV, "1")
+    os.environ.setdefault(ARTIST_DOCSTRINGS_ENV, "brief")
     code = main()
     # Nothing is left to collect that matters: outputs are closed; atexit handlers still run.
     gc.freeze()

@@ -94,12 +94,42 @@ def _keep_more_mathtext() -> None:
 WARM_UP_LABEL = r"$\alpha_{\rm x}$"
 
 
-def prepare() -> None:
-    """Import what drawing needs and read the stored labels (:mod:`crankdyn.report.mathtext_store`)
-    ahead of the first figure: a report does this while its stages are computed elsewhere."""
+#: ``brief``: the artist classes matplotlib defines when :func:`import_matplotlib` imports it get
+#: a one-line ``set()`` docstring instead of the list of every settable property, which matplotlib
+#: builds for each class at import (≈ 0.1 s of the 0.35 s the import takes). The ``crankdyn``
+#: command sets it unless the user did (no one reads a docstring there); a program or a notebook
+#: using crankdyn keeps matplotlib's full ``help()``.
+ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
+
+
+def _brief_kwdoc(artist) -> str:
+    return "(not listed: matplotlib imported by the crankdyn command; see matplotlib.artist.kwdoc)"
+
+
+def import_matplotlib() -> None:
+    """Import the parts of matplotlib the figures use (the figure, the Agg and SVG backends)."""
+    if os.environ.get(ARTIST_DOCSTRINGS_ENV) == "brief" and "matplotlib.figure" not in sys.modules:
+        import matplotlib.artist  # lazy: heavy optional import
+
+        full, matplotlib.artist.kwdoc = matplotlib.artist.kwdoc, _brief_kwdoc
+        try:
+            _import_figure_and_backends()
+        finally:
+            # classes defined later (a plugin's artists) are documented as matplotlib does
+            matplotlib.artist.kwdoc = full
+    _import_figure_and_backends()
+
+
+def _import_figure_and_backends() -> None:
     import matplotlib.backends.backend_agg  # noqa: F401  # lazy: heavy optional import
     import matplotlib.backends.backend_svg  # noqa: F401  # lazy: heavy optional import
     import matplotlib.figure  # noqa: F401  # lazy: heavy optional import
+
+
+def prepare() -> None:
+    """Import what drawing needs and read the stored labels (:mod:`crankdyn.report.mathtext_store`)
+    ahead of the first figure: a report does this while its stages are computed elsewhere."""
+    import_matplotlib()
 
     import matplotlib  # lazy: heavy optional import
     from matplotlib.font_manager import FontProperties  # lazy: heavy optional import
@@ -115,6 +145,7 @@ def prepare() -> None:
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
     """(figure, axes) as ``pyplot.subplots`` returns them, on an Agg canvas, without pyplot."""
+    import_matplotlib()
     import matplotlib  # lazy: heavy optional import
     from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
     from matplotlib.figure import Figure  # lazy: heavy optional import
@@ -134,6 +165,7 @@ _MM_PER_INCH = 25.4
 def new_drawing(width_mm: float, height_mm: float):
     """An empty figure of ``width_mm`` x ``height_mm`` on an Agg canvas whose axes are placed in
     millimetres (:func:`add_axes_mm`) and stay there: a drawing to scale."""
+    import_matplotlib()
     import matplotlib  # lazy: heavy optional import
     from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
     from matplotlib.figure import Figure  # lazy: heavy optional import

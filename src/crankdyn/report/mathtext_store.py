@@ -193,8 +193,7 @@ def _parse_from_record(record: list, known_fonts: frozenset[str]):
     from matplotlib.font_manager import get_font  # lazy: heavy optional import
     from matplotlib.mathtext import VectorParse  # lazy: heavy optional import
 
-    if not _valid(record):
-        raise ValueError("not a record of this store")
+    # the record has the shape _record_of writes: made by it, or read by _load, which checks that
     width, height, depth, glyphs, rects, stamps = record
     for path, stamp in stamps.items():
         if path not in known_fonts or _stamp(path) != stamp:
