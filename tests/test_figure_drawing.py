@@ -259,3 +259,33 @@ def test_an_outside_legend_takes_as_many_columns_as_fit_in_even_rows():
     assert _legend_columns(ax, long, 8.0) == 2
     assert _legend_columns(ax, ["t", "z", "k", "n"], 8.0) == 4
     assert _legend_columns(ax, ["one label only"], 8.0) == 1
+
+
+def test_a_figure_given_as_its_builder_is_built_once_where_it_is_drawn():
+    from crankdyn.report.context import FigureFile
+    from crankdyn.report.figures import new_figure, to_svg
+
+    def build():
+        calls.append(os.getpid())
+        fig, ax = new_figure(8, 6)
+        ax.plot([0, 1, 2], [1, 3, 2])
+        return fig
+
+    calls = []
+    figure = FigureFile("fig_1_1_a.svg", build=build)
+    assert calls == [] and not figure.drawn and figure.made_from(build)
+    svg = figure.svg
+    assert figure.svg == svg and calls == [os.getpid()]  # built once, for the first drawing
+    assert figure.figure is figure.figure and len(calls) == 1
+    assert svg == to_svg(build())  # the bytes of the same figure built and drawn at once
+
+
+def test_the_report_process_renders_the_text_without_building_the_figures_given_as_builders(examples):
+    """The built-in stages hand ctx.figure the function that builds each figure: rendering a
+    report's text creates no axes in its process (they are created in the child that draws)."""
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "petrol-1cyl.toml"), registry, None, ())
+    figures = render_html(result, registry).figures
+    # every figure but the scheme, whose scale (printed in its caption) is measured on the drawing
+    assert [f.name for f in figures if f._figure is not None] == ["fig_3_1_scheme.svg"]
+    assert len(figures) >= 16

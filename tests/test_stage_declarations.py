@@ -80,7 +80,7 @@ class _Recording(RenderContext):
     def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
         self.check_figure_declared(name)
         self.drawn.append((self.stage_name, name))
-        plt.close(fig)
+        plt.close(fig() if callable(fig) else fig)  # a builder is called: every example's figures are built
         return Markup("")
 
 

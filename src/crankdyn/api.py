@@ -302,6 +302,8 @@ class Result:
             def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
                 self.check_figure_declared(name)  # also for the sections not shown
                 key = name if name not in figures else f"{self.stage_name}.{name}"
+                if callable(fig):  # given as the function that builds it: the API hands out Figures
+                    fig = fig()
                 figures[key] = fig
                 if figures_only or (only is not None and self.stage_name != only):
                     self._figure += 1

@@ -7,6 +7,7 @@ assembles the results and renders the section.
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import math
@@ -458,7 +459,14 @@ def _arrow(ax, x0, y0, x1, y1, **kw):
 
 def _star_figure(ctx, r):
     """Crank diagrams seen from the free end: cranks (first order) and doubled angles (second order)."""
-    t = ctx.t
+    single = len(r["cylinder_labels"]) == 1  # one crank and one cylinder: a vector of each order, not a "star"
+    caption = ctx.t("balancing.star_caption_single") if single else ctx.t("balancing.star_caption")
+    return ctx.figure(partial(_star_drawing, ctx.t, r), caption, "crank_diagrams",
+                      see="balancing.see_star_single" if single else "balancing.see_star")
+
+
+def _star_drawing(t, r):
+    """The crank diagrams' figure (:func:`_star_figure`)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
     fig, axes = new_figure(16, 8.2, ncols=2)
     crank_dirs = np.radians(r["crank_directions_deg"])
@@ -491,19 +499,29 @@ def _star_figure(ctx, r):
         ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)
         ax.set_ylim(-1.4, 1.75)
-    # one crank and one cylinder: a vector of each order, not a "star" of them
-    caption = t("balancing.star_caption_single") if len(labels) == 1 else t("balancing.star_caption")
-    return ctx.figure(fig, caption, "crank_diagrams",
-                      see="balancing.see_star_single" if len(labels) == 1 else "balancing.see_star")
+    return fig
+
+
+def _models_shown(r) -> tuple[list, bool]:
+    """The orders the vector models show, and whether a row of moments is drawn."""
+    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + \
+        [o for o in r["orders"] if o["order"] >= 4 and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)][:1]
+    moments = r["cylinder_spacing_m"] is not None or any(o["moment_coefficient"] > NEGLIGIBLE for o in shown)
+    return shown, moments
 
 
 def _models_figure(ctx, r):
     """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
-    t = ctx.t
+    moments = _models_shown(r)[1]
+    return ctx.figure(partial(_models_drawing, ctx.t, r),
+                      ctx.t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
+                      "vector_models", see="balancing.see_models")
+
+
+def _models_drawing(t, r):
+    """The vector models' figure (:func:`_models_figure`)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
-    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + \
-        [o for o in r["orders"] if o["order"] >= 4 and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)][:1]
-    moments = r["cylinder_spacing_m"] is not None or any(o["moment_coefficient"] > NEGLIGIBLE for o in shown)
+    shown, moments = _models_shown(r)
     rows = 2 if moments else 1
     fig, axes = new_figure(16, rows * (16.0 / len(shown) + 0.9), nrows=rows, ncols=len(shown), squeeze=False)
     for col, o in enumerate(shown):
@@ -543,8 +561,7 @@ def _models_figure(ctx, r):
             title = (f"$\\Sigma P_{{{sub}}}/{amp}$" if o["order"] else "$\\Sigma C/C$") if kind == "force" \
                 else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
             ax.set_title(title, fontsize=8)
-    return ctx.figure(fig, t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
-                      "vector_models", see="balancing.see_models")
+    return fig
 
 
 def _masses_table(ctx, r):

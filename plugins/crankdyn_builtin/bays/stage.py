@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import math
@@ -345,21 +346,27 @@ def render(output: StageOutput, ctx) -> str | None:
             ("<i>l</i> (3), " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
             ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
         ], caption=t("bays.slave_caption"))
-        fig, ax = new_figure(16, 8)
-        ax.plot(angle, f["bay_tangential_Pa"] / 1e6, label="$t_\\Sigma$")
-        ax.plot(angle, f["bay_radial_Pa"] / 1e6, label="$z_\\Sigma$")
-        ax.plot(angle, f["master_side_Pa"] / 1e6, label="$n_\\Sigma$", lw=1)
-        ax.axhline(0, color="0.3", lw=0.6)
-        crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-        ax.set_ylabel(t("unit.MPa"))
-        ax.legend(loc="upper right", fontsize=8)
-        figure = ctx.figure(fig, t("bays.figure_caption"), "bay")
+        figure = ctx.figure(partial(_bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay")
     own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
     if own_pins:
         ctx.title = t("bays.title_own_pins")
     return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
                                figure=figure, phase_table=_phase_table(r, ctx), own_pins=own_pins,
                                scheme_figure=ctx.figure_number("scheme"))
+
+
+def _bay_figure(f, cycle_deg, t):
+    """The bay's summed tangential and radial forces and the master rod's side force over the cycle."""
+    angle = f["crank_angle_deg"]
+    fig, ax = new_figure(16, 8)
+    ax.plot(angle, f["bay_tangential_Pa"] / 1e6, label="$t_\\Sigma$")
+    ax.plot(angle, f["bay_radial_Pa"] / 1e6, label="$z_\\Sigma$")
+    ax.plot(angle, f["master_side_Pa"] / 1e6, label="$n_\\Sigma$", lw=1)
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("unit.MPa"))
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
 
 
 BAYS_STAGE = Stage(

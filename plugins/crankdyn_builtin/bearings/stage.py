@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -249,6 +250,12 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
            axes=("t", "z")):
     """A polar load diagram; ``axes``: the names of its horizontal and vertical components (crank
     axes t, z unless the diagram is drawn in the rod's or the engine's axes)."""
+    return ctx.figure(partial(_polar_drawing, ctx.t, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale,
+                              labels_every, axes), caption, name, see="bearings.see_polar")
+
+
+def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, axes):
+    """The polar load diagram's figure (:func:`_polar`)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
     span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
     radius = diameter_scale * span
@@ -270,7 +277,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
-    texts = [", ".join(ctx.t.number_g(angle[k * every]) for k in same) for _, same in groups]
+    texts = [", ".join(translator.number_g(angle[k * every]) for k in same) for _, same in groups]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
     # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
     # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
@@ -305,15 +312,21 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
         ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
     ax.set_aspect("equal")
     ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
-    ax.set_xlabel(f"{axes[0]}, " + ctx.t("unit.MPa"))
-    ax.set_ylabel(f"{axes[1]}, " + ctx.t("unit.MPa"))
+    ax.set_xlabel(f"{axes[0]}, " + translator("unit.MPa"))
+    ax.set_ylabel(f"{axes[1]}, " + translator("unit.MPa"))
     ax.set_title(title, fontsize=9)
-    return ctx.figure(fig, caption, name, see="bearings.see_polar")
+    return fig
 
 
 def _wear_figure(ctx, wear, r):
     """Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point)."""
     k = r["drawn_pins"][0]
+    caption = _one_of(ctx.t, "bearings.wear_caption", k, len(r["crank_pins"]) == 1)
+    return ctx.figure(partial(_wear_drawing, wear, r, k), caption, f"wear_pin{k}", see="bearings.see_wear")
+
+
+def _wear_drawing(wear, r, k):
+    """The wear diagram's figure (:func:`_wear_figure`)."""
     fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
     ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
     ax.set_theta_direction(1)
@@ -331,8 +344,7 @@ def _wear_figure(ctx, wear, r):
     ax.set_yticks([])
     ax.grid(False, axis="y")
     ax.spines["polar"].set_visible(False)  # the journal's circle is the only circle
-    caption = _one_of(ctx.t, "bearings.wear_caption", k, len(r["crank_pins"]) == 1)
-    return ctx.figure(fig, caption, f"wear_pin{k}", see="bearings.see_wear")
+    return fig
 
 
 def _one_of(t, key: str, k, single: bool) -> str:
@@ -352,7 +364,12 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
 
 def _unrolled_figure(ctx, f, r, angle, single: bool):
     """The unrolled diagrams: the load's magnitude on the drawn crank pins and main journals."""
-    t = ctx.t
+    return ctx.figure(partial(_unrolled_drawing, ctx.t, ctx.cycle_deg, f, r, angle, single),
+                      ctx.t("bearings.unrolled_caption"), "unrolled")
+
+
+def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
+    """The unrolled diagrams' figure (:func:`_unrolled_figure`)."""
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:
         ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
@@ -361,10 +378,10 @@ def _unrolled_figure(ctx, f, r, angle, single: bool):
         label = r["main_journals"][j - 1]["journal"]
         ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
                 label=t("bearings.journal_label", label=label))
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
     ax.legend(loc="upper right", fontsize=8)
-    return ctx.figure(fig, t("bearings.unrolled_caption"), "unrolled")
+    return fig
 
 
 def render(output: StageOutput, ctx) -> str | None:

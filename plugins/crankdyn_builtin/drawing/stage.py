@@ -10,6 +10,7 @@ engine) is drawn from its geometry's output travel (``drawing_linkage``).
 from __future__ import annotations
 
 import functools
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -196,7 +197,7 @@ def render(output: StageOutput, ctx) -> str:
     # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
     frames = _merged_frames([(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)),
                               angles[k]) for i, k in enumerate(POSITIONS)])
-    figure_positions = ctx.figure(md.positions_figure(positions, frames), t("drawing.positions_caption"), "positions",
+    figure_positions = ctx.figure(partial(md.positions_figure, positions, frames), t("drawing.positions_caption"), "positions",
                                   see="drawing.see_positions")
     svg, payload = md.animation_svg(animation)
     curves = output.artifacts["curves"]

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from markupsafe import Markup
@@ -209,28 +210,8 @@ def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     r = output.results
     f = output.tables.arrays("flywheel")
-    angle = f["crank_angle_deg"]
-    work = f["excess_work_J"]
-    i_max, i_min = first_argmax(work), first_argmin(work)
-
-    fig, axes = new_figure(16, 13, nrows=2, sharex=True)
-    axes[0].plot(angle, f["torque_Nm"], color="C0", label=t("flywheel.torque"))
-    axes[0].axhline(r["mean_torque_Nm"], color="C3", ls="--", lw=1, label=t("flywheel.mean_torque"))
-    axes[0].fill_between(angle, f["torque_Nm"], r["mean_torque_Nm"], color="C0", alpha=0.15, lw=0)
-    axes[0].set_ylabel(t("flywheel.axis_torque"))
-    axes[0].legend(loc="upper right", fontsize=8, ncol=2)
-    axes[1].plot(angle, work, color="C2", label=t("flywheel.cumulative_work"))
-    axes[1].plot([angle[i_max]], [work[i_max]], "o", color="C3")
-    axes[1].plot([angle[i_min]], [work[i_min]], "o", color="C3")
-    axes[1].annotate("", xy=(angle[i_max], work[i_max]), xytext=(angle[i_max], work[i_min]),
-                     arrowprops={"arrowstyle": "<->", "color": "C3"})
-    axes[1].axhline(work[i_min], color="C3", lw=0.6, ls=":")
-    axes[1].text(angle[i_max], 0.5 * (work[i_max] + work[i_min]), "  ΔL", color="C3", va="center")
-    axes[1].set_ylabel(t("flywheel.axis_work"))
-    for ax in axes:
-        ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(axes[1], ctx.cycle_deg, t("axis.crank_angle"))
-    figure_work = ctx.figure(fig, t("flywheel.work_caption"), "excess_work")
+    figure_work = ctx.figure(partial(_work_figure, f, r["mean_torque_Nm"], ctx.cycle_deg, t),
+                             t("flywheel.work_caption"), "excess_work")
 
     rows = [(t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
             (t("flywheel.row_mechanism"), "<i>J</i><sub>m</sub>", r["mechanism_inertia_mean_kg_m2"],
@@ -270,6 +251,31 @@ def render(output: StageOutput, ctx) -> str:
                    delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"]),
                    mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]), shaft=ctx.num(r["engine_inertia_kg_m2"])))
     return ctx.render_template("sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table)
+
+
+def _work_figure(f, mean_torque_Nm, cycle_deg, t):
+    """The engine torque against its mean, and the cumulative excess work with its swing ΔL."""
+    angle = f["crank_angle_deg"]
+    work = f["excess_work_J"]
+    i_max, i_min = first_argmax(work), first_argmin(work)
+    fig, axes = new_figure(16, 13, nrows=2, sharex=True)
+    axes[0].plot(angle, f["torque_Nm"], color="C0", label=t("flywheel.torque"))
+    axes[0].axhline(mean_torque_Nm, color="C3", ls="--", lw=1, label=t("flywheel.mean_torque"))
+    axes[0].fill_between(angle, f["torque_Nm"], mean_torque_Nm, color="C0", alpha=0.15, lw=0)
+    axes[0].set_ylabel(t("flywheel.axis_torque"))
+    axes[0].legend(loc="upper right", fontsize=8, ncol=2)
+    axes[1].plot(angle, work, color="C2", label=t("flywheel.cumulative_work"))
+    axes[1].plot([angle[i_max]], [work[i_max]], "o", color="C3")
+    axes[1].plot([angle[i_min]], [work[i_min]], "o", color="C3")
+    axes[1].annotate("", xy=(angle[i_max], work[i_max]), xytext=(angle[i_max], work[i_min]),
+                     arrowprops={"arrowstyle": "<->", "color": "C3"})
+    axes[1].axhline(work[i_min], color="C3", lw=0.6, ls=":")
+    axes[1].text(angle[i_max], 0.5 * (work[i_max] + work[i_min]), "  ΔL", color="C3", va="center")
+    axes[1].set_ylabel(t("flywheel.axis_work"))
+    for ax in axes:
+        ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(axes[1], cycle_deg, t("axis.crank_angle"))
+    return fig
 
 
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -202,6 +203,36 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
     return {"rod": exact_rod, "results": results, "columns": columns}
 
 
+def _forces_figure(t, cycle_deg, angle, mpa):
+    """The specific gas, inertia and total forces, n and k, z and t over the cycle (MPa)."""
+    fig, axes = new_figure(16, 19, nrows=3, sharex=True)
+    panels = ([("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
+               ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
+               ("total_Pa", symbol_mathtext("total_pressure", t.language))],
+              [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
+    for ax, curves in zip(axes, panels):
+        # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
+        for (key, label), style in zip(curves, ("-", "--", "-.")):
+            ax.plot(angle, mpa[key], ls=style, label=label)
+        ax.axhline(0, color="0.3", lw=0.6)
+        ax.set_ylabel(", ".join(label for _, label in curves) + ", " + t("forces.axis_specific"))
+        ax.legend(loc="upper right", fontsize=8, ncol=3)
+    crank_angle_axis(axes[2], cycle_deg, t("axis.crank_angle"))
+    return fig
+
+
+def _torque_figure(t, cycle_deg, angle, torque_Nm, mean_torque_Nm):
+    """One cylinder's torque over the cycle, with its mean."""
+    fig, ax = new_figure(16, 8)
+    ax.plot(angle, torque_Nm, color="C0", label=t("forces.torque"))
+    ax.axhline(mean_torque_Nm, color="C3", ls="--", lw=1, label=t("forces.mean_torque"))
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("forces.axis_torque"))
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
+
+
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     f = output.tables.arrays("forces")
@@ -242,29 +273,10 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
     ], caption=t("forces.table_q_caption"), extremes=extremes) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
-    fig, axes = new_figure(16, 19, nrows=3, sharex=True)
-    panels = ([("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
-               ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
-               ("total_Pa", symbol_mathtext("total_pressure", t.language))],
-              [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
-    for ax, curves in zip(axes, panels):
-        # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
-        for (key, label), style in zip(curves, ("-", "--", "-.")):
-            ax.plot(angle, mpa[key], ls=style, label=label)
-        ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_ylabel(", ".join(label for _, label in curves) + ", " + t("forces.axis_specific"))
-        ax.legend(loc="upper right", fontsize=8, ncol=3)
-    crank_angle_axis(axes[2], ctx.cycle_deg, t("axis.crank_angle"))
-    figure_forces = ctx.figure(fig, t("forces.figure_caption"), "forces")
-
-    fig, ax = new_figure(16, 8)
-    ax.plot(angle, f["torque_Nm"], color="C0", label=t("forces.torque"))
-    ax.axhline(r["mean_torque_Nm"], color="C3", ls="--", lw=1, label=t("forces.mean_torque"))
-    ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("forces.axis_torque"))
-    ax.legend(loc="upper right", fontsize=8)
-    figure_torque = ctx.figure(fig, t("forces.torque_caption"), "torque")
+    figure_forces = ctx.figure(partial(_forces_figure, t, ctx.cycle_deg, angle, mpa), t("forces.figure_caption"),
+                               "forces")
+    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"]),
+                               t("forces.torque_caption"), "torque")
 
     if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage
         ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))

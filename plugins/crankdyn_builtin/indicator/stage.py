@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -222,36 +223,14 @@ def render(output: StageOutput, ctx) -> str:
     pressure = frame["pressure_Pa"] / 1e6
     has_theory = "pressure_theoretical_Pa" in frame
 
-    fig, ax = new_figure(16, 9.5)
-    if has_theory:
-        theory = frame["pressure_theoretical_Pa"] / 1e6
-        ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
-                label=t("indicator.theoretical"))
-    ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
-            label=t("indicator.actual") if has_theory else t("indicator.trace"))
-    if has_theory:
-        _pumping_inset(ax, np.append(volume_l, volume_l[0]), np.append(theory, theory[0]),
-                       np.append(pressure, pressure[0]), t)
+    theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
     points = _characteristic_points(ctx, frame, r) if has_theory else []
-    for label, volume, p, (dx, dy) in points:
-        ax.plot([volume], [p], "o", ms=3, color="k")
-        ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
-                    ha="left" if dx >= 0 else "right", va="bottom" if dy >= 0 else "top")
-    ax.set_xlabel(t("indicator.axis_volume"))
-    ax.set_ylabel(t("indicator.axis_pressure"))
-    ax.legend(loc="upper right", fontsize=8)
-    figure_pv = ctx.figure(fig, t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
+    figure_pv = ctx.figure(partial(_pv_figure, volume_l, pressure, theory, points, t),
+                           t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
                            see="indicator.see_pv")
     pv_number = ctx.last_figure_number
-
-    fig, ax = new_figure(16, 8)
-    if has_theory:
-        ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
-    ax.plot(angle, pressure, color="C3", label=t("indicator.actual") if has_theory else t("indicator.trace"))
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("indicator.axis_pressure"))
-    ax.legend(loc="upper right", fontsize=8)
-    figure_pa = ctx.figure(fig, t("indicator.palpha_caption"), "p_alpha", see="indicator.see_palpha")
+    figure_pa = ctx.figure(partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t),
+                           t("indicator.palpha_caption"), "p_alpha", see="indicator.see_palpha")
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
     rows, labels, extremes = add_extreme_rows(angle, rows, labels,
@@ -277,6 +256,39 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
                                points=bool(points), pv_number=pv_number,
                                table=table, deviation=deviation, has_theory=has_theory)
+
+
+def _pv_figure(volume_l, pressure, theory, points, t):
+    """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
+    fig, ax = new_figure(16, 9.5)
+    if theory is not None:
+        ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
+                label=t("indicator.theoretical"))
+    ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
+            label=t("indicator.actual") if theory is not None else t("indicator.trace"))
+    if theory is not None:
+        _pumping_inset(ax, np.append(volume_l, volume_l[0]), np.append(theory, theory[0]),
+                       np.append(pressure, pressure[0]), t)
+    for label, volume, p, (dx, dy) in points:
+        ax.plot([volume], [p], "o", ms=3, color="k")
+        ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
+                    ha="left" if dx >= 0 else "right", va="bottom" if dy >= 0 else "top")
+    ax.set_xlabel(t("indicator.axis_volume"))
+    ax.set_ylabel(t("indicator.axis_pressure"))
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
+
+
+def _palpha_figure(angle, pressure, theory, cycle_deg, t):
+    """The pressure against the crank angle over the cycle (with the theoretical one, if any)."""
+    fig, ax = new_figure(16, 8)
+    if theory is not None:
+        ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
+    ax.plot(angle, pressure, color="C3", label=t("indicator.actual") if theory is not None else t("indicator.trace"))
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("indicator.axis_pressure"))
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
 
 
 def _closing_row_theory(theory, rows, labels, cycle_deg: float):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -155,6 +156,22 @@ def render(output: StageOutput, ctx) -> str:
     ], caption=t("kinematics.table_caption"))
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
+    figure_main = ctx.figure(partial(_piston_figure, frame, t), t("kinematics.figure_caption"), "piston")
+    figure_rod = ctx.figure(partial(_rod_figure, frame, t), t("kinematics.rod_figure_caption"), "rod")
+    figure_cm = None
+    if "rod_cm_x_m" in frame:
+        figure_cm = ctx.figure(partial(_rod_cm_figure, frame, t), t("kinematics.cm_figure_caption"), "rod_cm",
+                               see="kinematics.see_cm")
+
+    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
+                   v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
+                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.t.number_g(r["j_min_crank_angle_deg"], 4)))
+    return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
+                               figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
+
+
+def _piston_figure(frame, t):
+    """The piston's s, v, j over one revolution, and the two-term j's difference from the exact."""
     angle = frame["crank_angle_deg"]
     fig, axes = new_figure(16, 19, nrows=4, sharex=True, gridspec_kw={"height_ratios": [1, 1, 1, 0.6]})
     # one colour for the report's curves in every panel, the two-term acceleration dashed; one
@@ -176,8 +193,12 @@ def render(output: StageOutput, ctx) -> str:
     crank_angle_axis(axes[3], 360.0, t("axis.crank_angle"))
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
-    figure_main = ctx.figure(fig, t("kinematics.figure_caption"), "piston")
+    return fig
 
+
+def _rod_figure(frame, t):
+    """The rod's angle, angular velocity and angular acceleration over one revolution."""
+    angle = frame["crank_angle_deg"]
     fig, axes = new_figure(16, 10, nrows=2, sharex=True)
     axes[0].plot(angle, frame["rod_angle_deg"], color="C4")
     axes[0].set_ylabel(t("kinematics.axis_beta"))
@@ -187,22 +208,17 @@ def render(output: StageOutput, ctx) -> str:
     axes[1].set_ylabel(t("kinematics.axis_rod_omega"))
     ax2.set_ylabel(t("kinematics.axis_rod_epsilon"))
     crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
-    figure_rod = ctx.figure(fig, t("kinematics.rod_figure_caption"), "rod")
+    return fig
 
-    figure_cm = None
-    if "rod_cm_x_m" in frame:
-        fig, ax = new_figure(9, 9)
-        ax.plot(frame["rod_cm_x_m"] * 1e3, frame["rod_cm_z_m"] * 1e3, color="C0")
-        ax.set_aspect("equal")
-        ax.set_xlabel(t("kinematics.axis_cm_x"))
-        ax.set_ylabel(t("kinematics.axis_cm_z"))
-        figure_cm = ctx.figure(fig, t("kinematics.cm_figure_caption"), "rod_cm", see="kinematics.see_cm")
 
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
-                   v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.t.number_g(r["j_min_crank_angle_deg"], 4)))
-    return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
+def _rod_cm_figure(frame, t):
+    """The path of the rod's centre of mass."""
+    fig, ax = new_figure(9, 9)
+    ax.plot(frame["rod_cm_x_m"] * 1e3, frame["rod_cm_z_m"] * 1e3, color="C0")
+    ax.set_aspect("equal")
+    ax.set_xlabel(t("kinematics.axis_cm_x"))
+    ax.set_ylabel(t("kinematics.axis_cm_z"))
+    return fig
 
 
 def _worked(ctx, rows, labels, r):

@@ -849,6 +849,13 @@ def _render_kinematics(r, ctx):
          [ctx.num(row["acceleration_error_max_m_s2"], 2) for row in rows], None),
         (t("numerics.time_per_evaluation"), [ctx.num(row["time_per_evaluation_s"] * 1e6, 3) for row in rows], None),
     ], caption=t("numerics.forms_caption", points=rows[0]["points"]))
+    figure = ctx.figure(functools.partial(_forms_figure, rows, t), t("numerics.forms_figure_caption"),
+                        "kinematics_forms")
+    return table, figure
+
+
+def _forms_figure(rows, t):
+    """The largest displacement error of each form of the piston kinematics against its time per evaluation."""
     fig, ax = new_figure(16, 8.5)
     for row in rows:
         ax.loglog([row["time_per_evaluation_s"] * 1e6], [max(row["displacement_error_max_m"], _LOG_FLOOR * 1e-3)],
@@ -856,8 +863,7 @@ def _render_kinematics(r, ctx):
     ax.set_xlabel(t("numerics.axis_time_us"))
     ax.set_ylabel(t("numerics.axis_displacement_error"))
     ax.legend(loc="best", fontsize=7, ncol=2)
-    figure = ctx.figure(fig, t("numerics.forms_figure_caption"), "kinematics_forms")
-    return table, figure
+    return fig
 
 
 def _render_probes(r, ctx):
@@ -897,22 +903,8 @@ def _render_steps(r, ctx):
                          if "theoretical_work_error_relative" in s else "—" for s in steps], None))
     table = ctx.table(columns, caption=t("numerics.steps_caption"), css_class="data wide")
 
-    fig, ax = new_figure(16, 10)
-    times = [s["time_s"] * 1e3 for s in steps]
-    for i, q in enumerate(QUANTITIES):
-        errors = [max(100 * s[f"{q}_error_relative"], 100 * _LOG_FLOOR) for s in steps]
-        ax.loglog(times, errors, marker="os^vD"[i], label=labels[q])
-    if has_theory:
-        errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
-        ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
-    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
-    for k in _labelled_points(points):
-        ax.annotate(f"{ctx.t.number_g(steps[k]['angle_step_deg'])}°", points[k],
-                    textcoords="offset points", xytext=(3, 4), fontsize=7)
-    ax.set_xlabel(t("numerics.axis_time_ms"))
-    ax.set_ylabel(t("numerics.axis_error_percent"))
-    ax.legend(loc="best", fontsize=7)
-    figure = ctx.figure(fig, t("numerics.steps_figure_caption"), "error_vs_time")
+    figure = ctx.figure(functools.partial(_steps_figure, steps, labels, has_theory, t),
+                        t("numerics.steps_figure_caption"), "error_vs_time")
 
     a = r["at_scene_step"]
     statement = t("numerics.printed_errors", step=_plain(ctx, a["angle_step_deg"]),
@@ -931,6 +923,26 @@ def _render_steps(r, ctx):
     else:
         reference_text = t("numerics.reference_fine_step", step=_plain(ctx, r["reference_step_deg"]))
     return table, figure, statement, reference_text + " " + _timing_text(r, ctx)
+
+
+def _steps_figure(steps, labels, has_theory, t):
+    """The errors of the step study's quantities against the run time, the points marked with their step."""
+    fig, ax = new_figure(16, 10)
+    times = [s["time_s"] * 1e3 for s in steps]
+    for i, q in enumerate(QUANTITIES):
+        errors = [max(100 * s[f"{q}_error_relative"], 100 * _LOG_FLOOR) for s in steps]
+        ax.loglog(times, errors, marker="os^vD"[i], label=labels[q])
+    if has_theory:
+        errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
+        ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
+    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
+    for k in _labelled_points(points):
+        ax.annotate(f"{t.number_g(steps[k]['angle_step_deg'])}°", points[k],
+                    textcoords="offset points", xytext=(3, 4), fontsize=7)
+    ax.set_xlabel(t("numerics.axis_time_ms"))
+    ax.set_ylabel(t("numerics.axis_error_percent"))
+    ax.legend(loc="best", fontsize=7)
+    return fig
 
 
 def _timing_text(r, ctx) -> str:

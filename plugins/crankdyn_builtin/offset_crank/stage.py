@@ -228,6 +228,20 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
     ], caption=t("offset_crank.table_caption")) + worked_offset_crank(ctx, g, labels, r)
 
+    figure_main = ctx.figure(functools.partial(_piston_figure, f, r["bdc_crank_angle_deg"], t),
+                             t("offset_crank.figure_caption"), "offset_piston")
+    figure_rod = ctx.figure(functools.partial(_rod_figure, f, t), t("offset_crank.rod_figure_caption"), "offset_rod")
+
+    ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
+                   tdc=ctx.t.number_g(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.t.number_g(r["bdc_crank_angle_deg"], 4),
+                   stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
+                   ratio=ctx.num(r["stroke_time_ratio"], 5)))
+    return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,
+                               figure_rod=figure_rod)
+
+
+def _piston_figure(f, bdc_crank_angle_deg, t):
+    """The piston's s, v, j over one revolution against the central crank-slider's, BDC marked."""
     angle = f["crank_angle_deg"]
     one = angle < 360.0
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
@@ -241,24 +255,22 @@ def render(output: StageOutput, ctx) -> str:
                 label=t("offset_crank.central_label"))
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
-    axes[0].axvline(r["bdc_crank_angle_deg"], color="C3", lw=0.8, ls=":")
+    axes[0].axvline(bdc_crank_angle_deg, color="C3", lw=0.8, ls=":")
     axes[0].legend(loc="upper right", fontsize=8)
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    figure_main = ctx.figure(fig, t("offset_crank.figure_caption"), "offset_piston")
+    return fig
 
+
+def _rod_figure(f, t):
+    """The rod's angle over one revolution."""
+    angle = f["crank_angle_deg"]
+    one = angle < 360.0
     fig, ax = new_figure(16, 7)
     ax.plot(angle[one], f["rod_angle_deg"][one], color="C4")
     ax.axhline(0, color="0.3", lw=0.6)
     ax.set_ylabel(t("offset_crank.axis_beta"))
     crank_angle_axis(ax, 360.0, t("axis.crank_angle"))
-    figure_rod = ctx.figure(fig, t("offset_crank.rod_figure_caption"), "offset_rod")
-
-    ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
-                   tdc=ctx.t.number_g(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.t.number_g(r["bdc_crank_angle_deg"], 4),
-                   stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
-                   ratio=ctx.num(r["stroke_time_ratio"], 5)))
-    return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod)
+    return fig
 
 
 OFFSET_CRANK_STAGE = Stage(

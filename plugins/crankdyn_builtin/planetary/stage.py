@@ -379,7 +379,12 @@ def _sampled_table(f, r, span, ctx) -> str:
 
 def _path_figure(f, r, inside, ctx) -> str:
     """The big end's trajectory and the mechanism at TDC with the torque arm MN (source, figs. 1 and 3b)."""
-    t = ctx.t
+    return ctx.figure(functools.partial(_path_plot, f, r, inside, ctx.t), ctx.t("planetary.path_caption"),
+                      "planetary_path")
+
+
+def _path_plot(f, r, inside, t):
+    """The gears' pitch circles, the big end's path and the mechanism at TDC with its arm MN."""
     mm = 1e3
     snap = r["tdc_snapshot_m"]
     fig, ax = new_figure(16, 10)
@@ -408,27 +413,37 @@ def _path_figure(f, r, inside, ctx) -> str:
     ax.set_xlabel(t("planetary.axis_x"))
     ax.set_ylabel(t("planetary.axis_z"))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)
-    return ctx.figure(fig, t("planetary.path_caption"), "planetary_path")
+    return fig
 
 
 def _family_figure(family, r, ctx) -> str:
     """The big-end paths of the source's fig. 2 family of gear ratios."""
-    t = ctx.t
+    return ctx.figure(functools.partial(_family_plot, family, r["fixed_pitch_diameter_m"], ctx.t),
+                      ctx.t("planetary.family_caption_" + r["gear"]), "planetary_family")
+
+
+def _family_plot(family, fixed_pitch_diameter_m, t):
+    """One big-end path per gear ratio of the family, side by side, in the fixed gear's pitch circle."""
     mm = 1e3
     fig, axes = new_figure(16, 6.5, ncols=3)
     for ax, ratio in zip(axes, FAMILY_RATIOS):
-        d_fixed = r["fixed_pitch_diameter_m"] * mm
+        d_fixed = fixed_pitch_diameter_m * mm
         _circle(ax, (0.0, 0.0), d_fixed / 2, color="0.5", ls="--", lw=0.8)
         ax.plot(family[f"ratio_{ratio:g}_x_m"] * mm, family[f"ratio_{ratio:g}_z_m"] * mm, color="C0")
         ax.set_aspect("equal")
         ax.set_title(f"d₁ = {d_fixed / ratio:.4g}, d₂ = {d_fixed:.4g} " + t("unit.mm"), fontsize=8)
         ax.tick_params(labelsize=7)
-    return ctx.figure(fig, t("planetary.family_caption_" + r["gear"]), "planetary_family")
+    return fig
 
 
 def _motion_figure(f, angle, inside, span, ctx) -> str:
     """Piston displacement, velocity and acceleration against the equivalent crank-slider's (source, fig. 3a)."""
-    t = ctx.t
+    return ctx.figure(functools.partial(_motion_plot, f, angle, inside, span, ctx.t), ctx.t("planetary.motion_caption"),
+                      "planetary_motion")
+
+
+def _motion_plot(f, angle, inside, span, t):
+    """The piston's s, v, j over the period, the equivalent crank-slider's dashed beside them."""
     mm = 1e3
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
     for ax, key, unit, scale, label in ((axes[0], "piston_displacement", "_m", mm, "planetary.axis_s"),
@@ -441,12 +456,17 @@ def _motion_figure(f, angle, inside, span, ctx) -> str:
         ax.set_ylabel(t(label))
     axes[0].legend(loc="upper right", fontsize=8)
     crank_angle_axis(axes[2], span, t("axis.crank_angle"))
-    return ctx.figure(fig, t("planetary.motion_caption"), "planetary_motion")
+    return fig
 
 
 def _arms_figure(f, angle, inside, span, ctx) -> str:
     """How a piston force reaches the carrier: the torque arms and the tooth and carrier force ratios."""
-    t = ctx.t
+    return ctx.figure(functools.partial(_arms_plot, f, angle, inside, span, ctx.t), ctx.t("planetary.arms_caption"),
+                      "planetary_arms")
+
+
+def _arms_plot(f, angle, inside, span, t):
+    """The torque arms above the tooth and carrier force ratios over the period."""
     mm = 1e3
     fig, axes = new_figure(16, 12, nrows=2, sharex=True)
     axes[0].plot(angle[inside], f["carrier_torque_arm_m"][inside] * mm, color="C0",
@@ -466,7 +486,7 @@ def _arms_figure(f, angle, inside, span, ctx) -> str:
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[1], span, t("axis.crank_angle"))
-    return ctx.figure(fig, t("planetary.arms_caption"), "planetary_arms")
+    return fig
 
 
 def render(output: StageOutput, ctx) -> str:

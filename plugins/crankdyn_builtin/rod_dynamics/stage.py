@@ -8,6 +8,7 @@ Needs the rod's moment of inertia, ``masses.rod_moment_of_inertia``.
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 from typing import Literal
@@ -209,6 +210,26 @@ def render(output: StageOutput, ctx) -> str:
     table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
                       css_class="data wide") + worked_rod_dynamics(ctx, g, labels, r)
 
+    figure_motion = ctx.figure(partial(_motion_figure, f, period, t), t("rod_dynamics.motion_caption"), "rod_motion")
+    figure_torque = ctx.figure(partial(_torque_figure, f, period, exact, t),
+                               t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
+                               "rod_torque")
+
+    if exact:
+        ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),
+                       difference=ctx.num(r["torque_difference_max_abs_Nm"]),
+                       relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
+                       model=t("rod_dynamics.model_" + r["model"])))
+    else:
+        ctx.conclude(t("rod_dynamics.conclusion_two", cm=ctx.num(r["cm_acceleration_max_m_s2"]),
+                       torque=ctx.num(r["torque_two_mass_max_abs_Nm"])))
+    return ctx.render_template("sections/rod_dynamics.html.j2", r=r, exact=exact, table=table,
+                               figure_motion=figure_motion, figure_torque=figure_torque)
+
+
+def _motion_figure(f, period, t):
+    """The rod's angular velocity, angular acceleration and its centre of mass's acceleration over the period."""
+    angle = f["crank_angle_deg"]
     inside = angle < period
     fig, axes = new_figure(16, 14, nrows=3, sharex=True)
     axes[0].plot(angle[inside], f["rod_angular_velocity_rad_s"][inside], color="C0")
@@ -222,8 +243,13 @@ def render(output: StageOutput, ctx) -> str:
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[2], period, t("axis.crank_angle"))
-    figure_motion = ctx.figure(fig, t("rod_dynamics.motion_caption"), "rod_motion")
+    return fig
 
+
+def _torque_figure(f, period, exact, t):
+    """The rod's torque in the two-mass split and, when exact, the exact one, their difference and the couple."""
+    angle = f["crank_angle_deg"]
+    inside = angle < period
     fig, axes = new_figure(16, 11 if exact else 6, nrows=2 if exact else 1, sharex=True)
     top = axes[0] if exact else axes
     top.plot(angle[inside], f["torque_two_mass_Nm"][inside], color="0.45" if exact else "C0",
@@ -241,19 +267,7 @@ def render(output: StageOutput, ctx) -> str:
     for ax in (axes if exact else [axes]):
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[1] if exact else axes, period, t("axis.crank_angle"))
-    figure_torque = ctx.figure(fig, t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
-                               "rod_torque")
-
-    if exact:
-        ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),
-                       difference=ctx.num(r["torque_difference_max_abs_Nm"]),
-                       relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
-                       model=t("rod_dynamics.model_" + r["model"])))
-    else:
-        ctx.conclude(t("rod_dynamics.conclusion_two", cm=ctx.num(r["cm_acceleration_max_m_s2"]),
-                       torque=ctx.num(r["torque_two_mass_max_abs_Nm"])))
-    return ctx.render_template("sections/rod_dynamics.html.j2", r=r, exact=exact, table=table,
-                               figure_motion=figure_motion, figure_torque=figure_torque)
+    return fig
 
 
 ROD_DYNAMICS_STAGE = Stage(

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import math
 from dataclasses import dataclass
+from functools import partial
 from typing import Annotated, Literal
 
 import numpy as np
@@ -619,7 +620,11 @@ def _power_of_ten(value: float, t) -> str:
 
 
 def _error_figure(ctx, records, caption, name, key="error_relative"):
-    t = ctx.t
+    return ctx.figure(partial(_error_plot, records, key, ctx.t), caption, name)
+
+
+def _error_plot(records, key, t):
+    """The error of each solver's runs against their time, the tolerances marked, the run quoted ringed."""
     fig, ax = new_figure(16, 9)
     for i, method in enumerate(METHODS):
         rows = [r for r in records if r["method"] == method and not r.get("reference") and r[key] is not None
@@ -637,24 +642,29 @@ def _error_figure(ctx, records, caption, name, key="error_relative"):
     ax.set_xlabel(t("speed_fluctuation.axis_time"))
     ax.set_ylabel(t("speed_fluctuation.axis_error"))
     ax.legend(loc="best", fontsize=8)
-    return ctx.figure(fig, caption, name)
+    return fig
 
 
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
-    t = ctx.t
+    return ctx.figure(partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
+                      ctx.t("speed_fluctuation.speed_caption"), "speed")
+
+
+def _speed_plot(f, method, cycle_deg, t):
+    """The speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
     angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
     axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
-                 label=t("speed_fluctuation.solver_curve", method=r["solver"]["method"]))
+                 label=t("speed_fluctuation.solver_curve", method=method))
     axes[0].plot(angle, f["omega_energy_method_rad_s"], color="C2", ls=":", label=t("speed_fluctuation.energy_curve"))
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
     axes[0].legend(loc="upper right", fontsize=8)
     axes[1].plot(angle, f["inertia_kg_m2"], color="C4")
     axes[1].set_ylabel(t("speed_fluctuation.axis_inertia"))
-    crank_angle_axis(axes[1], ctx.cycle_deg, t("axis.crank_angle"))
-    return ctx.figure(fig, t("speed_fluctuation.speed_caption"), "speed")
+    crank_angle_axis(axes[1], cycle_deg, t("axis.crank_angle"))
+    return fig
 
 
 def _shaft_tables(ctx, torsion, node_names, parts) -> None:
@@ -682,17 +692,24 @@ def _shaft_tables(ctx, torsion, node_names, parts) -> None:
 def _modes_figure(ctx, torsion, parts) -> None:
     """The shapes of the first (at most three) elastic modes along the shaft."""
     t = ctx.t
-    nodes, modes = torsion["nodes"], torsion["modes"]
+    modes = torsion["modes"]
+    labels = [t("speed_fluctuation.mode_label", mode=m["mode"], f=ctx.num(m["natural_frequency_Hz"], 4))
+              for m in modes[: min(3, len(modes))]]
+    parts["figure_modes"] = ctx.figure(partial(_modes_plot, len(torsion["nodes"]), modes, labels, t),
+                                       t("speed_fluctuation.modes_figure_caption"), "modes")
+
+
+def _modes_plot(node_count, modes, labels, t):
+    """The shapes of the first modes (one curve per label) along the shaft's nodes."""
     fig, ax = new_figure(16, 7)
-    for m in modes[: min(3, len(modes))]:
-        ax.plot(range(1, len(nodes) + 1), m["shape"], "o-", label=t("speed_fluctuation.mode_label", mode=m["mode"],
-                                                                   f=ctx.num(m["natural_frequency_Hz"], 4)))
+    for m, label in zip(modes, labels):
+        ax.plot(range(1, node_count + 1), m["shape"], "o-", label=label)
     ax.axhline(0, color="0.3", lw=0.6)
-    ax.set_xticks(range(1, len(nodes) + 1))
+    ax.set_xticks(range(1, node_count + 1))
     ax.set_xlabel(t("speed_fluctuation.axis_node"))
     ax.set_ylabel(t("speed_fluctuation.axis_amplitude"))
     ax.legend(loc="best", fontsize=7)
-    parts["figure_modes"] = ctx.figure(fig, t("speed_fluctuation.modes_figure_caption"), "modes")
+    return fig
 
 
 def _harmonics_table(ctx, torsion, parts) -> None:
@@ -713,7 +730,12 @@ def _harmonics_table(ctx, torsion, parts) -> None:
 def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     """The periodic state: the flywheel's and the first crank's speed against the rigid shaft's, and the
     torque in every span, over the shaft angle."""
-    t = ctx.t
+    parts["figure_torsion"] = ctx.figure(partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
+                                         ctx.t("speed_fluctuation.torsion_caption"), "torsion")
+
+
+def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
+    """The speeds of the reference node and the first crank against the rigid shaft's, and the span torques."""
     nodes = torsion["nodes"]
     fig, axes = new_figure(16, 13, nrows=2, sharex=True)
     shaft = tf["shaft_angle_deg"]
@@ -730,8 +752,8 @@ def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
         axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
     axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
     axes[1].legend(loc="upper right", fontsize=6, ncol=3)
-    crank_angle_axis(axes[1], ctx.cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
-    parts["figure_torsion"] = ctx.figure(fig, t("speed_fluctuation.torsion_caption"), "torsion")
+    crank_angle_axis(axes[1], cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
+    return fig
 
 
 def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
@@ -796,6 +818,24 @@ def _campbell(ctx, torsion, parts) -> None:
     conclusion on the critical speeds near the operating speed."""
     t = ctx.t
     rpm = torsion["operating_rpm"]
+    parts["figure_campbell"] = ctx.figure(partial(_campbell_plot, torsion, t),
+                                          t("speed_fluctuation.campbell_caption", band=ctx.num(100 * CRITICAL_BAND, 2)),
+                                          "campbell")
+    near = torsion["critical_speeds_near_operating"]
+    if near:
+        items = "; ".join(t("speed_fluctuation.critical_item", mode=c["mode"], order=ctx.num(c["order"], 3),
+                            rpm=ctx.num(c["critical_rpm"], 4), deviation=ctx.num(c["deviation_percent"], 2),
+                            vector=ctx.num(c["vector_sum"], 2)) for c in near)
+        ctx.conclude(t("speed_fluctuation.conclusion_critical", rpm=ctx.num(rpm, 4),
+                       band=ctx.num(100 * CRITICAL_BAND, 2), items=items, zeta=ctx.num(torsion["damping_ratio"], 3)))
+    else:
+        ctx.conclude(t("speed_fluctuation.conclusion_no_critical", rpm=ctx.num(rpm, 4),
+                       band=ctx.num(100 * CRITICAL_BAND, 2)))
+
+
+def _campbell_plot(torsion, t):
+    """The natural frequencies and the significant orders against engine speed, the operating band shaded."""
+    rpm = torsion["operating_rpm"]
     harmonics = torsion["harmonics"]
     largest = max((h["amplitude_Nm"] for h in harmonics), default=0.0)
     main = [h for h in harmonics if h["amplitude_Nm"] >= MAIN_ORDER_FRACTION * largest]
@@ -805,7 +845,7 @@ def _campbell(ctx, torsion, parts) -> None:
     for h in main:
         ax.plot(speeds, h["order"] * speeds / 60.0, color="0.6", lw=0.6)
         end = min(1.3 * rpm, top * 60.0 / h["order"])
-        ax.text(end, h["order"] * end / 60.0, ctx.t.number_g(h["order"]), fontsize=6, color="0.35")
+        ax.text(end, h["order"] * end / 60.0, t.number_g(h["order"]), fontsize=6, color="0.35")
     for m in torsion["modes"][:2]:
         ax.axhline(m["natural_frequency_Hz"], color="C0", lw=1.0)
     ax.axvspan((1 - CRITICAL_BAND) * rpm, (1 + CRITICAL_BAND) * rpm, color="C3", alpha=0.12, lw=0)
@@ -817,18 +857,7 @@ def _campbell(ctx, torsion, parts) -> None:
     ax.set_ylim(0, top)
     ax.set_xlabel(t("speed_fluctuation.axis_campbell_rpm"))
     ax.set_ylabel(t("speed_fluctuation.axis_campbell_hz"))
-    parts["figure_campbell"] = ctx.figure(fig, t("speed_fluctuation.campbell_caption",
-                                                 band=ctx.num(100 * CRITICAL_BAND, 2)), "campbell")
-    near = torsion["critical_speeds_near_operating"]
-    if near:
-        items = "; ".join(t("speed_fluctuation.critical_item", mode=c["mode"], order=ctx.num(c["order"], 3),
-                            rpm=ctx.num(c["critical_rpm"], 4), deviation=ctx.num(c["deviation_percent"], 2),
-                            vector=ctx.num(c["vector_sum"], 2)) for c in near)
-        ctx.conclude(t("speed_fluctuation.conclusion_critical", rpm=ctx.num(rpm, 4),
-                       band=ctx.num(100 * CRITICAL_BAND, 2), items=items, zeta=ctx.num(torsion["damping_ratio"], 3)))
-    else:
-        ctx.conclude(t("speed_fluctuation.conclusion_no_critical", rpm=ctx.num(rpm, 4),
-                       band=ctx.num(100 * CRITICAL_BAND, 2)))
+    return fig
 
 
 def _node_name(t, name: str) -> str:

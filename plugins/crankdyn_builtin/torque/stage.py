@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -120,22 +121,10 @@ def render(output: StageOutput, ctx) -> str | None:
                                   extremes=extremes))
     tables[-1] += worked_torque(ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"])
 
-    fig, ax = new_figure(16, 8.5)
-    ax.plot(angle, f["output_torque_Nm"], color="C0", label=t("torque.output"))
-    ax.axhline(r["mean_Nm"], color="C3", ls="--", lw=1, label=t("torque.mean"))
-    ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("torque.axis_torque"))
-    ax.legend(loc="upper right", fontsize=8)
-    figure_output = ctx.figure(fig, t("torque.output_caption"), "output_torque")
-
-    fig, ax = new_figure(16, 9)
-    for k in range(1, cranks + 1):
-        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
-    crank_angle_axis(ax, ctx.cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
-    ax.legend(loc="upper right", fontsize=7, ncol=3)
-    figure_journals = ctx.figure(fig, t("torque.journals_caption"), "journal_torques")
+    figure_output = ctx.figure(partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
+                               t("torque.output_caption"), "output_torque")
+    figure_journals = ctx.figure(partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
+                                 "journal_torques")
 
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
     danger = ctx.table([
@@ -155,6 +144,30 @@ def render(output: StageOutput, ctx) -> str | None:
                    period=ctx.t.number_g(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
     return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
                                figure_journals=figure_journals, danger=danger)
+
+
+def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
+    """The engine's output torque over the cycle, with its mean."""
+    fig, ax = new_figure(16, 8.5)
+    ax.plot(angle, torque_Nm, color="C0", label=t("torque.output"))
+    ax.axhline(mean_Nm, color="C3", ls="--", lw=1, label=t("torque.mean"))
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(t("torque.axis_torque"))
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
+
+
+def _journals_figure(f, cranks, cycle_deg, t):
+    """The running torque on each main journal over the cycle."""
+    angle = f["crank_angle_deg"]
+    fig, ax = new_figure(16, 9)
+    for k in range(1, cranks + 1):
+        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
+    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    return fig
 
 
 TORQUE_STAGE = Stage(

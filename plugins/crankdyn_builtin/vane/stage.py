@@ -10,6 +10,7 @@ Scene mapping: ``engine.stroke`` = 2r (the slider's travel along the rocker's sl
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -200,21 +201,15 @@ def run(scene, inputs) -> StageOutput:
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
 
-def _comparison_plotter(f, compare, r, ctx):
-    """``plot(ax, key, scale, **style)``: one column of the vane table over the crank angle, with the
-    same column at each comparison rod ratio dashed beside it."""
+def _plot_compared(f, compare, lam, others, t, ax, key, scale=1.0, **style):
+    """One column of the vane table over the crank angle, with the same column at each comparison
+    rod ratio dashed beside it (``partial`` of the tables gives ``plot(ax, key, scale, **style)``)."""
     angle = f["crank_angle_deg"]
-    lam = r["rod_ratio"]
-    others = r["compare_rod_ratios"]
-
-    def plot(ax, key, scale=1.0, **style):
-        ax.plot(angle, f[key] * scale, color="C0", label=f"λ = {ctx.t.number_g(lam, 4)}", **style)
-        for i, other in enumerate(others):
-            ax.plot(angle, compare[f"{key}_lambda_{other:g}"] * scale, color=f"C{i + 1}", ls="--", lw=1,
-                    label=f"λ = {ctx.t.number_g(other, 4)}")
-        ax.axhline(0, color="0.3", lw=0.6)
-
-    return plot
+    ax.plot(angle, f[key] * scale, color="C0", label=f"λ = {t.number_g(lam, 4)}", **style)
+    for i, other in enumerate(others):
+        ax.plot(angle, compare[f"{key}_lambda_{other:g}"] * scale, color=f"C{i + 1}", ls="--", lw=1,
+                label=f"λ = {t.number_g(other, 4)}")
+    ax.axhline(0, color="0.3", lw=0.6)
 
 
 def _vane_table(f, r, ctx) -> str:
@@ -241,7 +236,11 @@ def _vane_table(f, r, ctx) -> str:
 
 def _two_panels(plot, ctx, keys, axis_labels, caption_key, name) -> str:
     """An angle and its rate (or a rate and its derivative) over the crank angle, with the comparison rod ratios."""
-    t = ctx.t
+    return ctx.figure(partial(_two_panels_plot, plot, keys, axis_labels, ctx.t), ctx.t(caption_key), name)
+
+
+def _two_panels_plot(plot, keys, axis_labels, t):
+    """Two columns of the vane table, one above the other, over the crank angle."""
     fig, axes = new_figure(16, 11, nrows=2, sharex=True)
     plot(axes[0], keys[0])
     axes[0].set_ylabel(t(axis_labels[0]))
@@ -249,12 +248,16 @@ def _two_panels(plot, ctx, keys, axis_labels, caption_key, name) -> str:
     plot(axes[1], keys[1])
     axes[1].set_ylabel(t(axis_labels[1]))
     crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
-    return ctx.figure(fig, t(caption_key), name)
+    return fig
 
 
 def _rocker_figure(f, ctx) -> str:
     """The rocker joint's x and y position, velocity and acceleration over the crank angle."""
-    t = ctx.t
+    return ctx.figure(partial(_rocker_plot, f, ctx.t), ctx.t("vane.rocker_caption"), "vane_rocker")
+
+
+def _rocker_plot(f, t):
+    """The rocker joint's x and y position, velocity and acceleration, one panel each."""
     mm = 1e3
     angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
@@ -268,13 +271,18 @@ def _rocker_figure(f, ctx) -> str:
         ax.set_ylabel(t(label))
     axes[0].legend(loc="upper right", fontsize=8)
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    return ctx.figure(fig, t("vane.rocker_caption"), "vane_rocker")
+    return fig
 
 
 def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, zeros=()) -> str:
     """Value, velocity and acceleration of one coordinate over the crank angle, with the
     comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
-    t = ctx.t
+    return ctx.figure(partial(_three_panels_plot, plot, keys, axis_labels, legend_loc, zeros, ctx.t),
+                      ctx.t(caption_key), name)
+
+
+def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
+    """Three columns of the vane table (the first in mm), one above the other, marks at ``zeros`` below the first."""
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
     for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
         plot(ax, key, 1e3 if i == 0 else 1.0)
@@ -285,13 +293,17 @@ def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, z
         for ax in axes[1:]:
             ax.axvline(zero, color="C3", lw=0.7, ls=":")
     crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    return ctx.figure(fig, t(caption_key), name)
+    return fig
 
 
 def _lambda_figure(by_lambda, lam, ctx) -> str:
     """How the rod ratio λ sets the largest core angle, the slider's largest travel and the angle where
     its acceleration vanishes; the scene's λ marked."""
-    t = ctx.t
+    return ctx.figure(partial(_lambda_plot, by_lambda, lam, ctx.t), ctx.t("vane.lambda_caption"), "vane_lambda")
+
+
+def _lambda_plot(by_lambda, lam, t):
+    """The rod-ratio study's three curves side by side, the scene's λ marked."""
     fig, axes = new_figure(16, 6.5, ncols=3)
     x = by_lambda["rod_ratio"]
     axes[0].plot(x, by_lambda["core_angle_max_deg"], color="C0")
@@ -306,7 +318,7 @@ def _lambda_figure(by_lambda, lam, ctx) -> str:
         ax.axvline(lam, color="C3", lw=0.7, ls=":")
         ax.set_xlabel("λ")
         ax.tick_params(labelsize=7)
-    return ctx.figure(fig, t("vane.lambda_caption"), "vane_lambda")
+    return fig
 
 
 def render(output: StageOutput, ctx) -> str:
@@ -317,7 +329,8 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     lam = r["rod_ratio"]
     mm = 1e3
-    plot = _comparison_plotter(f, (output.tables.arrays("compare") if "compare" in output.tables else None), r, ctx)
+    plot = partial(_plot_compared, f, (output.tables.arrays("compare") if "compare" in output.tables else None), lam,
+                   r["compare_rod_ratios"], t)
 
     table = _vane_table(f, r, ctx)
     figure_angles = _two_panels(plot, ctx, ("core_angle_deg", "vane_angle_deg"), ("vane.axis_beta", "vane.axis_gamma"),

@@ -26,14 +26,18 @@ class FigureFile:
 
     The SVG is drawn when first asked for, or for all figures at once by :func:`draw_figures`
     (in parallel): a section's markup needs only the file name, so no figure holds up the text.
+    ``figure`` may be given as a ``build`` function instead, which makes the matplotlib figure
+    where it is first needed: in the forked child that draws it, so that the report's process
+    only writes text (creating a figure's axes costs as much as a third of drawing it).
     """
 
     def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None,
-                 number: str = "", key: str = ""):
+                 number: str = "", key: str = "", build: Callable[[], Any] | None = None):
         self.name = name
         self.number = number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
         self.key = key  # the name its stage declares (``Stage.figures``)
-        self.figure = figure  # the matplotlib figure (the Word export draws it again as PNG)
+        self._figure = figure
+        self._build = build
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
         self._typeset_in = None  # the process that typeset the figure (a forked drawer's is not this one)
@@ -44,6 +48,18 @@ class FigureFile:
     @property
     def drawn(self) -> bool:
         return self._svg is not None
+
+    @property
+    def figure(self):
+        """The matplotlib figure (built now if it was given as a function; the Word export draws
+        it again as PNG)."""
+        if self._figure is None and self._build is not None:
+            self._figure = self._build()
+        return self._figure
+
+    def made_from(self, fig) -> bool:
+        """Whether this is ``fig`` (a Figure, or the function that builds one), without building it."""
+        return fig is self._figure or fig is self._build
 
     def typeset(self):
         """The matplotlib figure with its text typeset for the report's language, in this process
@@ -333,18 +349,25 @@ class RenderContext:
         """Number a matplotlib figure and return its markup (with the sentence that refers to it
         before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use).
 
+        ``fig``: the figure, or better a function of no arguments that builds and returns it
+        (called once, by the process that draws the figure: a forked child while this one goes
+        on with the text). It is called after ``render`` has returned, so it must take what it
+        draws as arguments (``functools.partial``) or from variables not changed afterwards.
+
         ``see``: the catalog key of that sentence, with ``{number}`` (default ``doc.see_figure``,
         which speaks of curves): a scheme or a vector diagram is announced as what it is."""
         self.check_figure_declared(name)
         for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
-            if earlier.figure is fig and not earlier.drawn:
+            if earlier.made_from(fig) and not earlier.drawn:
                 earlier.svg  # noqa: B018 - drawn for its side effect
         self._figure += 1
         number = f"{self.section_number}.{self._figure}"
         # ASCII file names (an appendix figure "Б.1" -> fig_u411_1_...): safe in every file system and URL
         ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
-        self.figures.append(FigureFile(file_name, figure=fig, t=self.t, number=number, key=name))
+        built = None if callable(fig) else fig
+        self.figures.append(FigureFile(file_name, figure=built, t=self.t, number=number, key=name,
+                                       build=fig if built is None else None))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         see = escape(self.t(see or "doc.see_figure", number=number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained

@@ -128,8 +128,6 @@ def run(scene, inputs) -> StageOutput:
 
 def render(output: StageOutput, ctx) -> str:
     """Text and figures from what run() produced; never physics."""
-    import matplotlib.pyplot as plt
-
     t = ctx.t
     frame = output.tables.arrays("scotch_yoke")
     r = output.results
@@ -146,6 +144,19 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"][shown], 0),
     ], caption=t("scotch_yoke.table_caption"))
 
+    # a function that builds the figure, called later by the process that draws it
+    figure = ctx.figure(functools.partial(_motion_figure, frame, t), t("scotch_yoke.figure_caption"), "scotch_yoke")
+
+    ctx.conclude(t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"])))
+    return ctx.render_template("sections/scotch_yoke.html.j2", r=r, table=table, figure=figure)
+
+
+def _motion_figure(frame, t):
+    """The yoke's s, v, j over one turn of the crank."""
+    import matplotlib.pyplot as plt
+
+    angle = frame["crank_angle_deg"]
+    one_turn = angle < 360.0
     fig, axes = plt.subplots(3, 1, figsize=(16 / 2.54, 14 / 2.54), sharex=True)
     for ax, key, scale, label in ((axes[0], "piston_displacement_m", 1e3, "scotch_yoke.axis_s"),
                                   (axes[1], "piston_velocity_m_s", 1.0, "scotch_yoke.axis_v"),
@@ -155,10 +166,7 @@ def render(output: StageOutput, ctx) -> str:
         ax.set_ylabel(t(label))
     axes[2].set_xlabel(t("axis.crank_angle"))
     axes[2].set_xlim(0, 360)
-    figure = ctx.figure(fig, t("scotch_yoke.figure_caption"), "scotch_yoke")
-
-    ctx.conclude(t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"])))
-    return ctx.render_template("sections/scotch_yoke.html.j2", r=r, table=table, figure=figure)
+    return fig
 
 
 SCOTCH_YOKE_STAGE = Stage(
