@@ -163,3 +163,18 @@ def test_the_flywheel_equations_explain_their_own_quantities(uk):
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     assert line.startswith("де J – зведений до колінчастого вала момент інерції")
     assert line.index("ωmax –") < line.index("ωmin –") < line.index("ΔL –")
+
+
+def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
+    """The markup, not after a Δ nor a given text, and a bare symbol not followed by a subscript:
+    the positions found are those of the conditions written as look-behinds in front."""
+    import re
+
+    from crankdyn.report.typeset import symbol_html, symbol_pattern
+
+    bare = symbol_html("crank_angular_velocity", "uk")  # <i>ω</i>
+    text = f"{bare} = Δ{bare}; <b>{bare}</b>, {bare}<sub>ш</sub>, {bare}′ {bare}"
+    pattern = symbol_pattern("crank_angular_velocity", "uk", not_after=("<b>",), tail="(?![′″])")
+    found = [m.start() for m in re.finditer(pattern, text)]
+    expected = [m.start() for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)]
+    assert found == expected == [0, len(text) - len(bare)]

@@ -70,3 +70,20 @@ def test_another_language_renders_every_section_again():
     _build(_scene(), stages, sections)
     _build(_scene(report={"language": "uk"}), stages, sections)
     assert sections.renders == {"kinematics": 2, "indicator": 2, "forces": 2}
+
+
+def test_the_preview_builds_each_sections_figures_as_the_section_is_rendered(examples):
+    """The page's placeholders need each figure's size: the preview builds the figures given as
+    builders while it renders (and the worker computes the study of the last section), not after."""
+    from crankdyn.cache import StageCache
+    from crankdyn.pipeline import run_for_preview
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.i18n import available_languages
+    from crankdyn.report.section_cache import SectionCache
+    from crankdyn.scene import load_scene
+
+    registry = default_registry()
+    _, rendered, _ = run_for_preview(load_scene(examples / "kinematics-only.toml"), registry, None,
+                                     available_languages(), StageCache(), SectionCache())
+    assert rendered.figures and all(f._figure is not None for f in rendered.figures)
+    assert not any(f.drawn for f in rendered.figures)  # built, not drawn: the page is shown first

@@ -162,6 +162,13 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
             result.close_background()  # also when rendering failed: no child is left behind
 
 
+def _build_figures(figures) -> None:
+    """Build the figures given as the functions that build them (``FigureFile.figure``)."""
+    for figure in figures:
+        if not figure.drawn:
+            figure.figure  # noqa: B018 - built for its side effect
+
+
 def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
                     stage_cache, sections_cache, defer_studies: bool = False, studies: RunResult | None = None,
                     worker=None, inline_studies: bool = False):
@@ -194,7 +201,9 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
                                      background=job)
                 result.deferred = {}
         try:
-            rendered = render_html(result, registry, sections_cache=sections_cache)
+            # each section's figures built as it comes (the page's placeholders need their sizes):
+            # meanwhile the worker computes the study whose section comes last
+            rendered = render_html(result, registry, sections_cache=sections_cache, figure_sink=_build_figures)
         finally:
             result.close_background()
         for name in [name for name in result.outputs if stage_cache.deferred_study(name)]:

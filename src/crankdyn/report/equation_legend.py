@@ -43,7 +43,7 @@ def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[st
     out = []
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
-        pattern = re.compile(symbol_pattern(key, language, head="(?<!<b>)", tail="(?![′″])"))
+        pattern = re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])"))
         out.append((key, markup, pattern, "<sub>" not in markup, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
