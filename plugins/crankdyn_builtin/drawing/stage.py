@@ -14,7 +14,7 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
-from crankdyn.physics.lazy import optimize
+from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin
@@ -85,8 +85,7 @@ def _refined(travel_at, angle_deg, values, order: int, kind: str) -> float:
         return float((4 * derivative(a, h) - derivative(a, 2 * h)) / 3)
 
     step = angle_deg[1] - angle_deg[0]
-    res = optimize.minimize_scalar(lambda a: -sign * f(a), bounds=(angle_deg[i] - step, angle_deg[i] + step),
-                                   method="bounded", options={"xatol": 1e-9})
+    res = minimize_bounded(lambda a: -sign * f(a), angle_deg[i] - step, angle_deg[i] + step, xatol=1e-9)
     return float(res.x) if -res.fun >= sign * f(angle_deg[i]) else float(angle_deg[i])
 
 

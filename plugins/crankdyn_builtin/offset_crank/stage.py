@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from crankdyn.physics.lazy import optimize
+from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
@@ -94,8 +94,7 @@ def _extreme(fn, angle_deg, values, sign):
     i = first_argmax(sign * values)
     step = np.radians(angle_deg[1] - angle_deg[0]) if len(angle_deg) > 1 else 0.1
     centre = np.radians(angle_deg[i])
-    res = optimize.minimize_scalar(lambda a: -sign * float(fn(a)), bounds=(centre - step, centre + step),
-                                   method="bounded", options={"xatol": 1e-12})
+    res = minimize_bounded(lambda a: -sign * float(fn(a)), centre - step, centre + step, xatol=1e-12)
     best = float(res.x) if -res.fun >= sign * values[i] else centre
     return float(fn(best)), float(np.degrees(best) % 360.0)
 

@@ -19,7 +19,7 @@ from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict, model_validator
-from crankdyn.physics.lazy import optimize
+from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
@@ -192,8 +192,7 @@ def piston_extremes(alpha, v, j, omega, geometry, dc, revolutions) -> dict:
     def extreme(fn, values, sign):
         i = first_argmax(sign * values)
         step = alpha[1] - alpha[0]
-        res = optimize.minimize_scalar(lambda a: -sign * fn(a), bounds=(alpha[i] - step, alpha[i] + step),
-                                       method="bounded", options={"xatol": 1e-12})
+        res = minimize_bounded(lambda a: -sign * fn(a), alpha[i] - step, alpha[i] + step, xatol=1e-12)
         best = float(res.x) if -res.fun >= sign * values[i] else float(alpha[i])
         return fn(best), float(np.degrees(best) % (360.0 * revolutions))
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from crankdyn.physics.lazy import optimize
+from crankdyn.physics.scalar_search import brentq
 
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
@@ -162,7 +162,7 @@ def run(scene, inputs) -> StageOutput:
 
     zeros = np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam))
     # Independent check of the closed form: a root search on j_yp itself around each zero.
-    found = [optimize.brentq(lambda a: float(vn.slider_vertical_acceleration_m_s2(a, r, lam, omega)),
+    found = [brentq(lambda a: float(vn.slider_vertical_acceleration_m_s2(a, r, lam, omega)),
                              np.radians(z) - 0.2, np.radians(z) + 0.2, xtol=1e-14) for z in zeros]
     zeros_check = float(np.max(np.abs(np.degrees(found) - zeros)))
     y_max = vn.slider_vertical_travel_max_m(r, lam)

@@ -18,7 +18,7 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from .lazy import optimize
+from .scalar_search import brentq, minimize_bounded
 from .extrema import first_argmin
 
 
@@ -119,10 +119,10 @@ def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, fl
         i = first_argmin(sign * x)
         lo, hi = grid[i] - 2 * np.pi / 3600, grid[i] + 2 * np.pi / 3600
         if velocity(lo) * velocity(hi) < 0:
-            a = optimize.brentq(velocity, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+            a = brentq(velocity, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
         else:  # no sign change across the bracket (not expected): the bounded search on the position
-            a = optimize.minimize_scalar(lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),
-                                bounds=(lo, hi), method="bounded", options={"xatol": 1e-12}).x
+            a = minimize_bounded(lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),
+                                 lo, hi, xatol=1e-12).x
         out += [float(slave_motion(np.array([a]), geometry).piston_position_m[0]), float(a) % (2 * np.pi)]
     return out[0], out[1], out[2], out[3]
 
@@ -182,7 +182,7 @@ def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ra
             raise ValueError("no slave rod length gives the master's compression ratio with this pin "
                              "(the rod would have to be shorter than its reach to the slave axis)")
         lo = max(lo - 2 * R, shortest)
-    return float(optimize.brentq(mismatch, lo, hi, xtol=1e-13))
+    return float(brentq(mismatch, lo, hi, xtol=1e-13))
 
 
 def reduced_master_rod_masses(master_rod_kg: float, master_cm_from_big_end_m: float, rod_length_m: float,

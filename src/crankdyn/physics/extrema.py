@@ -11,7 +11,7 @@ relative tolerance of the extreme value**, the tolerance relative to the curve's
 from __future__ import annotations
 
 import numpy as np
-from .lazy import optimize
+from .scalar_search import brentq
 
 #: Relative tolerance (of the curve's peak-to-peak range) within which two peaks count as equal.
 EXTREMUM_RTOL = 1e-9
@@ -101,7 +101,7 @@ def periodic_extreme(fn, derivative, period: float, kind: str = "max", samples: 
         if d_lo == 0.0 or d_hi == 0.0 or d_lo * d_hi > 0:
             root = lo if d_lo == 0.0 else (hi if d_hi == 0.0 else float(x[i]))
         else:
-            root = optimize.brentq(lambda a: float(derivative(a)), lo, hi, xtol=1e-15 * period,
+            root = brentq(lambda a: float(derivative(a)), lo, hi, xtol=1e-15 * period,
                                    rtol=4 * np.finfo(float).eps, maxiter=200)
         root = root % period
         if period - root < 1e-12 * period:  # a root just below 0, e.g. -1e-17: it is angle 0

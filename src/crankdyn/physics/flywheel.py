@@ -40,7 +40,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from .lazy import optimize
+from .scalar_search import brentq
 from .extrema import first_argmax, first_argmin
 
 __all__ = [
@@ -196,7 +196,7 @@ def rim_design(inertia_kg_m2, mean_diameter_m, density_kg_m3, width_m=None) -> R
     if inertia_of(D) < inertia_kg_m2:
         raise ValueError(f"no rim of mean diameter {D:g} m reaches {inertia_kg_m2:g} kg m^2 "
                          f"(even a rim as thick as its mean diameter has {inertia_of(D):.3g} kg m^2)")
-    h = optimize.brentq(lambda x: inertia_of(x) - inertia_kg_m2, 0.0, D, xtol=1e-15, rtol=1e-13)
+    h = brentq(lambda x: inertia_of(x) - inertia_kg_m2, 0.0, D, xtol=1e-15, rtol=1e-13)
     b = h if width_m is None else float(width_m)
     mass = math.pi * rho * b * D * h
     return RimDesign(D, b, h, D + h, D - h, mass, thin_rim_mass_kg(inertia_kg_m2, D), inertia_of(h))

@@ -37,7 +37,7 @@ motion of a point on the rod.
 from __future__ import annotations
 
 import numpy as np
-from .lazy import optimize
+from .scalar_search import brentq
 from .extrema import first_argmin
 
 __all__ = [
@@ -672,7 +672,7 @@ def max_piston_velocity_exact(crank_radius_m, rod_ratio, angular_velocity_rad_s)
         # point, so the bracket would not change sign.
         crank_angle_at_max_rad = quarter_turn
     else:
-        crank_angle_at_max_rad = optimize.brentq(
+        crank_angle_at_max_rad = brentq(
             lambda angle: float(piston_acceleration_exact_m_s2(angle, 1.0, rod_ratio, 1.0)),
             0.0,
             quarter_turn,
@@ -797,7 +797,7 @@ def min_piston_acceleration_exact(crank_radius_m, rod_ratio, angular_velocity_ra
         if bracket_values[index + 1] == 0.0:
             candidates.append(float(right))
             continue
-        root = optimize.brentq(
+        root = brentq(
             lambda angle: float(_jerk_bracket(angle, rod_ratio)),
             left,
             right,

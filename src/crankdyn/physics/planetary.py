@@ -33,7 +33,7 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-from .lazy import optimize
+from .scalar_search import brentq, minimize_bounded
 
 from .rod_dynamics import SliderMotion, slider_from_big_end
 from .extrema import first_argmax
@@ -215,9 +215,8 @@ def lateral_reach_m(geometry: PlanetaryGeometry, revolutions: int = 1) -> float:
     x = np.abs(big_end_path(phi, geometry)[0])
     i = first_argmax(x)
     step = phi[1] - phi[0]
-    best = optimize.minimize_scalar(lambda p: -abs(float(big_end_path(p, geometry)[0])),
-                                    bounds=(phi[i] - step, phi[i] + step), method="bounded",
-                                    options={"xatol": 1e-13})
+    best = minimize_bounded(lambda p: -abs(float(big_end_path(p, geometry)[0])), phi[i] - step, phi[i] + step,
+                            xatol=1e-13)
     return float(max(x[i], -best.fun))
 
 
@@ -242,9 +241,8 @@ def _refine_extreme(phi_i, step, geometry, sign):
     if f_hi == 0.0:
         return hi
     if np.sign(f_lo) != np.sign(f_hi):
-        return optimize.brentq(slope, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
-    result = optimize.minimize_scalar(lambda p: -sign * float(slider_motion(p, geometry).pin_z_m),
-                                      bounds=(lo, hi), method="bounded", options={"xatol": 1e-13})
+        return brentq(slope, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+    result = minimize_bounded(lambda p: -sign * float(slider_motion(p, geometry).pin_z_m), lo, hi, xatol=1e-13)
     return float(result.x)
 
 

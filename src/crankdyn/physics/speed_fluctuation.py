@@ -60,7 +60,8 @@ import time
 from typing import Callable, NamedTuple
 
 import numpy as np
-from .lazy import integrate, optimize
+from .lazy import integrate
+from .scalar_search import brentq, minimize_bounded
 
 from . import kinematics as kin
 from .extrema import first_argmax, first_argmin
@@ -574,7 +575,7 @@ def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_v
         high *= 4.0
     if mean_speed_error(low) >= 0:
         raise ValueError("no periodic solution with a positive speed")
-    e0 = optimize.brentq(mean_speed_error, low, high, xtol=1e-14 * high, rtol=1e-15, maxiter=200)
+    e0 = brentq(mean_speed_error, low, high, xtol=1e-14 * high, rtol=1e-15, maxiter=200)
 
     def omega_at(alpha):
         jj, _ = inertia(np.asarray(alpha, dtype=float))
@@ -586,8 +587,7 @@ def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_v
 
     def refine(index, sign):
         a0 = angle[index]
-        res = optimize.minimize_scalar(lambda x: -sign * float(omega_at(x)), bounds=(a0 - h, a0 + h),
-                                       method="bounded", options={"xatol": 1e-12})
+        res = minimize_bounded(lambda x: -sign * float(omega_at(x)), a0 - h, a0 + h, xatol=1e-12)
         return float(res.x) % period_rad, float(omega_at(res.x))
 
     a_max, w_max = refine(first_argmax(omega), +1)
@@ -770,7 +770,7 @@ def stable_step_s(eigenvalues) -> float:
         if first == 0:
             radius = 0.0  # unstable from the start (e.g. a purely imaginary eigenvalue)
         else:
-            radius = optimize.brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,
+            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,
                                      radii[first - 1], radii[first])
         limit = min(limit, radius / size)
     return limit
