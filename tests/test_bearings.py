@@ -140,6 +140,15 @@ def test_results_keys_per_pin_and_journal():
         assert entry["max_N"] >= entry["mean_N"] > 0
 
 
+def test_main_journals_are_named_by_the_cranks_they_lie_between_each_name_once():
+    """0 is the free end, the number after the last crank the other end: a single-throw shaft has
+    journals 0-1 and 1-2 (a supervisor read "1-0" as 0-1 written backwards)."""
+    assert [j["journal"] for j in run("petrol-1cyl").outputs["bearings"].results["main_journals"]] == ["0-1", "1-2"]
+    v8 = run("v8-petrol").outputs
+    assert [j["journal"] for j in v8["bearings"].results["main_journals"]] == ["0-1", "1-2", "2-3", "3-4", "4-5"]
+    assert [j["journal"] for j in v8["torque"].results["journals"]] == ["1-2", "2-3", "3-4", "4-5"]
+
+
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_bearing_section_renders(language):
     html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)

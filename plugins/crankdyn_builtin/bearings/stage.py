@@ -155,8 +155,8 @@ def run(scene, inputs) -> StageOutput:
     drawn_pins = opts.pins or [most_loaded_pin]
     drawn_journals = opts.journals or [most_loaded_journal]
 
-    def journal_label(j):  # journal j (0-based) lies after crank j; 0 is at the free end
-        return f"{j}-{j + 1 if j < cranks else 0}"
+    def journal_label(j):  # journal j (0-based) lies after crank j: 0 is the free end, cranks + 1 the other
+        return f"{j}-{j + 1}"
 
     results = {
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,

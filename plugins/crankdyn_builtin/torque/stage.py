@@ -61,7 +61,7 @@ def run(scene, inputs) -> StageOutput:
         "cylinder_cycle_delays_deg": [{k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
                                       for p in lay.cylinder_phases(layout)],
         "indicated_power_W": 1e3 * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
-        "journals": [{"journal": f"{k + 1}-{k + 2 if k + 1 < layout.cranks else 0}",
+        "journals": [{"journal": f"{k + 1}-{k + 2}",  # as the bearings' journals
                       "max_abs_Nm": float(np.max(np.abs(journal[k])) * R * area)} for k in range(layout.cranks)],
         "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),
                                                  "z_Pa": float(bays.radial_Pa[k, i]),
