@@ -140,12 +140,16 @@ def test_the_lines_give_the_si_units_the_equation_is_evaluated_in(uk):
 def test_a_value_the_equation_gives_in_the_tables_unit_is_explained_in_that_unit(uk):
     """A review: "R = S/2 = 39,000 мм" above "R – радіус кривошипа, м", "F_п = 52,81 см²" above
     "F_п – площа поршня, м²": a symbol whose value the equation shows is explained in the unit it
-    is shown in; the others keep the SI unit the equation holds in."""
+    is shown in, and so is every symbol of the same table unit in those lines (a supervisor:
+    "R, мм; S, м" under R = S/2 contradicts itself); the others keep the SI unit."""
     html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2 = 39,000\u202fмм, &nbsp; "
                                             "<i>F</i><sub>п</sub> = π<i>D</i><sup>2</sup>/4 = 52,81\u202fсм²"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("R – радіус кривошипа, мм;", "S – хід поршня, м;", "Fп – площа поршня, см²;", "D – діаметр циліндра, м."):
+    for part in ("R – радіус кривошипа, мм;", "S – хід поршня, мм;", "Fп – площа поршня, см²;", "D – діаметр циліндра, мм."):
         assert part in line, (part, line)
+    html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>"))
+    line = _legends(add_equation_legends(html, uk, "uk"))[0]  # no value shown: SI, as the equation holds
+    assert "R – радіус кривошипа, м;" in line and "Fп – площа поршня, м²." in line, line
 
 
 def test_a_product_in_one_italic_run_is_read_letter_by_letter():

@@ -102,11 +102,14 @@ def _shown_unit(key: str, formula: str, t, language: str) -> str | None:
 
 def legend_html(keys: list[str], t, language: str, formula: str = "") -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit is the one ``formula`` gives the symbol's value in, if it gives
-    one, else the SI unit the equation is evaluated in."""
+    stop after the last; the unit is the one ``formula`` gives the symbol's value in, or another
+    symbol's value of the same table unit, else the SI unit the equation is evaluated in."""
     lines = []
+    # a value the equation shows in its table's unit (R = 39 мм) sets that unit for every symbol of
+    # the same table unit in these lines (S and L in мм too: "R, мм; S, м" read as a contradiction)
+    shown = {SYMBOLS[key].unit for key in keys if _shown_unit(key, formula, t, language)}
     for k, key in enumerate(keys):
-        unit = _shown_unit(key, formula, t, language) or _si_unit(key, t)
+        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in shown else _si_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)
