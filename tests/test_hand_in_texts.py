@@ -578,3 +578,22 @@ def test_the_imaginary_unit_is_upright_and_said_to_be_one():
         html = shared_html(name, language=language).linked_html
         assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html
         assert "e<sup>i<i>nθ</i></sup>" in html and words in html
+
+
+def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line():
+    """DSTU 3008:2015: a formula is carried over after =, + or −, the sign repeated on the next
+    line (a supervisor: "(4.4) starts its second line with − and no sign ends the first"). The
+    Word export's equation, which wraps by itself, has each sign once."""
+    from crankdyn.report.context import _printed_length, unbroken_parts
+    from crankdyn.report.docx import formula_mathml, parse_html
+
+    long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub> · <i>R</i>" for k in range(1, 16)) + " − <i>c</i> = 108,3 Н·м"
+    lines = unbroken_parts(long).split('<br class="eq-break">')
+    assert len(lines) >= 3
+    for before, after in zip(lines, lines[1:]):
+        carried = re.search(r'<span class="eq-carry">\s*([=+−])\s*</span></span>$', before)
+        opening = re.sub(r"<[^>]+>", "", after).lstrip()[:1]
+        assert carried and carried.group(1) == opening, (before[-80:], after[:80])
+    assert all(_printed_length(re.sub(r'<span class="eq-carry">[^<]*</span>', "", line)) <= 66 for line in lines)
+    mathml = formula_mathml(parse_html(f'<span class="formula">{unbroken_parts(long)}</span>'))
+    assert mathml.count("<mo>+</mo>") == 14 and mathml.count("<mo>=</mo>") == 2 and mathml.count("<mo>−</mo>") == 1

@@ -154,8 +154,36 @@ def unbroken_parts(formula_html: str) -> str:
             if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
                     and _visible_length(pieces[0] + pieces[1]) <= _LONG_FORMULA_CHARS:
                 pieces[:2] = [pieces[0] + " " + pieces[1]]
-        parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
+        if _printed_length(formula) > _LINE_CHARS and len(pieces) > 1:
+            parts.append(_broken_lines(pieces))
+        else:
+            parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
     return (_FORMULA_SEPARATOR + " ").join(parts)
+
+
+#: The characters of a formula's line on the page (about 72 at the equations' size in the PDF):
+#: a formula longer than that is broken into lines here, where the sign can be repeated.
+_LINE_CHARS = 66
+
+
+def _broken_lines(pieces: list[str]) -> str:
+    """The pieces of a long formula packed into lines of at most :data:`_LINE_CHARS`, the sign
+    where a line breaks repeated at the start of the next (DSTU 3008:2015, 6.7: a formula is
+    carried over after =, +, − ..., the sign repeated on the next line). The repeated sign is an
+    ``eq-carry`` span (the Word export, whose equation wraps by itself, leaves it out)."""
+    lines: list[list[str]] = [[]]
+    for piece in pieces:
+        line = lines[-1]
+        if line and _printed_length(" ".join(line + [piece])) > _LINE_CHARS:
+            lines.append([])
+        lines[-1].append(piece)
+    for before, after in zip(lines, lines[1:]):
+        if after[0][:2] in ("+ ", "− "):  # broken before a sign: it also ends the line above
+            before[-1] += f'<span class="eq-carry"> {after[0][0]}</span>'
+        elif before[-1].endswith(" ="):  # broken after an equals sign: it also opens the next line
+            after[0] = f'<span class="eq-carry">= </span>{after[0]}'
+    return '<br class="eq-break">'.join(" ".join(f'<span class="eq-part">{p}</span>' for p in line)
+                                        for line in lines)
 
 
 #: A left-hand side this short ("p′ᵢ =") is not left alone on a line.
@@ -164,6 +192,11 @@ _SHORT_SIDE_CHARS = 12
 
 def _visible_length(html: str) -> int:
     return len(re.sub(r"<[^>]+>|&[a-z]+;", "x", html))
+
+
+def _printed_length(html: str) -> int:
+    """The characters ``html`` prints (a tag none, an entity one)."""
+    return len(re.sub(r"<[^>]+>", "", re.sub(r"&[a-z]+;", "x", html)))
 
 
 def _at_operators(side: str) -> list[str]:

@@ -147,6 +147,8 @@ def _text_items(text: str, italic: bool, bold: bool) -> list[str]:
 def _math_items(node: Node, italic: bool = False, bold: bool = False) -> list[str]:
     items: list[str] = []
     for child in node.children:
+        if "eq-carry" in child.classes():  # a sign repeated where the PDF's line breaks: Word wraps itself
+            continue
         if not child.tag:
             items += _text_items(child.text, italic, bold)
         elif child.tag in ("sub", "sup"):
