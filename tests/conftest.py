@@ -149,6 +149,21 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
                           env=env, timeout=300)
 
 
+#: One part of a broken formula (crankdyn.report.formula_lines): its text, tags other than spans,
+#: and spans without further spans inside (a bracketed group, a carried sign).
+_EQ_PART = r'<span class="eq-part">((?:[^<]+|<(?!/?span\b)[^>]*>|<span\b[^>]*>(?:[^<]+|<(?!/?span\b)[^>]*>)*</span>)*)</span>'
+
+
+def formula_as_read(html: str) -> str:
+    """``html`` with each formula's line markup undone: the carried-over signs dropped, the parts
+    unwrapped, a forced line break read as a space (the formula as one line of text)."""
+    import re
+
+    html = re.sub(r'<span class="eq-carry">[^<]*</span>', "", html)
+    html = html.replace('<br class="eq-break">', " ")
+    return re.sub(_EQ_PART, lambda m: m.group(1), html)
+
+
 def as_read(html: str) -> str:
     """The report's HTML as a reader's eye takes it: the line-break binders undone (the no-break
     spaces around an "=" before a number, the word joiner after a slash, the no-break space before
@@ -156,4 +171,5 @@ def as_read(html: str) -> str:
     import re
 
     html = html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
+    html = formula_as_read(html)
     return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)|(?<=[A-ZА-ЯІЇЄҐЁ]\\.)\u00a0(?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])", " ", html)

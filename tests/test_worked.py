@@ -20,7 +20,7 @@ import re
 import pytest
 from markupsafe import Markup
 
-from conftest import as_read
+from conftest import as_read, formula_as_read
 from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
@@ -131,7 +131,8 @@ def worked_html(html: str, block) -> str:
     from crankdyn.report.worked import groups_unbroken
 
     # the line as printed: its short bracketed groups held together (groups_unbroken)
-    mine = [b for b in blocks if all(f"= {groups_unbroken(s.substituted_html)} =" in b for s in block.steps)]
+    mine = [b for b in blocks
+            if all(f"= {groups_unbroken(s.substituted_html)} =" in formula_as_read(b) for s in block.steps)]
     assert len(mine) == 1, block.stage
     return mine[0]
 

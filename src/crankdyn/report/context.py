@@ -17,6 +17,7 @@ from markupsafe import Markup, escape
 
 from ..errors import PluginError
 from ..plugin_types import declared
+from .formula_lines import unbroken_parts
 from .i18n import Translator, superscript
 from .typeset import typeset_figure
 
@@ -127,108 +128,6 @@ def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
         data = base64.b64encode(figure.svg).decode("ascii")
         html = html.replace(f'src="{FIGURE_DIR}/{figure.name}"', f'src="data:image/svg+xml;base64,{data}"')
     return html
-
-
-#: Where a displayed equation may break: between its formulas (", &nbsp;"), and in a long formula
-#: after an equals sign; never inside a fraction or between a quantity and its value (the PDF
-#: broke "ΔL/ | (J ω²)" and "M_c = | 108,3 N·m" at the line's end).
-_FORMULA_SEPARATOR = ", &nbsp;"
-_LONG_FORMULA_CHARS = 60
-
-
-def unbroken_parts(formula_html: str) -> str:
-    """``formula_html`` with each part that must not break in a ``<span class="eq-part">``
-    (``white-space: nowrap``), the breaks allowed only between the parts.
-
-    A long formula breaks after an equals sign and, in a long side, before a plus or minus that
-    stands outside parentheses (the sign then opens the next line); a short left-hand side
-    ("p′ᵢ =") stays with what follows it rather than on a line of its own."""
-    parts = []
-    for formula in formula_html.split(_FORMULA_SEPARATOR):
-        formula = formula.strip()
-        pieces = [formula]
-        if _visible_length(formula) > _LONG_FORMULA_CHARS and " = " in formula:
-            chunks = formula.split(" = ")
-            sides = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
-            pieces = [sub for side in sides for sub in _at_operators(side)]
-            if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
-                    and _visible_length(pieces[0] + pieces[1]) <= _LONG_FORMULA_CHARS:
-                pieces[:2] = [pieces[0] + " " + pieces[1]]
-        if _printed_length(formula) > _LINE_CHARS and len(pieces) > 1:
-            parts.append(_broken_lines(pieces))
-        else:
-            parts.append(" ".join(f'<span class="eq-part">{p}</span>' for p in pieces))
-    return (_FORMULA_SEPARATOR + " ").join(parts)
-
-
-#: The characters of a formula's line on the page (about 72 at the equations' size in the PDF):
-#: a formula longer than that is broken into lines here, where the sign can be repeated.
-_LINE_CHARS = 66
-
-
-def _broken_lines(pieces: list[str]) -> str:
-    """The pieces of a long formula packed into lines of at most :data:`_LINE_CHARS`, the sign
-    where a line breaks repeated at the start of the next (DSTU 3008:2015, 6.7: a formula is
-    carried over after =, +, − ..., the sign repeated on the next line). The repeated sign is an
-    ``eq-carry`` span (the Word export, whose equation wraps by itself, leaves it out)."""
-    lines: list[list[str]] = [[]]
-    for piece in pieces:
-        line = lines[-1]
-        if line and _printed_length(" ".join(line + [piece])) > _LINE_CHARS:
-            lines.append([])
-        lines[-1].append(piece)
-    for before, after in zip(lines, lines[1:]):
-        if after[0][:2] in ("+ ", "− "):  # broken before a sign: it also ends the line above
-            before[-1] += f'<span class="eq-carry"> {after[0][0]}</span>'
-        elif before[-1].endswith(" ="):  # broken after an equals sign: it also opens the next line
-            after[0] = f'<span class="eq-carry">= </span>{after[0]}'
-    return '<br class="eq-break">'.join(" ".join(f'<span class="eq-part">{p}</span>' for p in line)
-                                        for line in lines)
-
-
-#: A left-hand side this short ("p′ᵢ =") is not left alone on a line.
-_SHORT_SIDE_CHARS = 12
-
-
-def _visible_length(html: str) -> int:
-    return len(re.sub(r"<[^>]+>|&[a-z]+;", "x", html))
-
-
-def _printed_length(html: str) -> int:
-    """The characters ``html`` prints (a tag none, an entity one)."""
-    return len(re.sub(r"<[^>]+>", "", re.sub(r"&[a-z]+;", "x", html)))
-
-
-def _at_operators(side: str) -> list[str]:
-    """``side`` (of a long formula) cut before each " + " and " − " outside parentheses (inside
-    one square bracket at most: the bracket of a long sum) and outside any element (an exponent's
-    "n − 1" stays in its <sup>); a short side is returned whole."""
-    if _visible_length(side) <= _LONG_FORMULA_CHARS:
-        return [side]
-    cuts, round_depth, square_depth, in_tag, open_elements = [], 0, 0, False, 0
-    for i, char in enumerate(side):
-        if in_tag:
-            in_tag = char != ">"
-            continue
-        if char == "<":
-            in_tag = True
-            tag = side[i:side.find(">", i) + 1]
-            if tag.startswith("</"):
-                open_elements -= 1
-            elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
-                open_elements += 1
-        elif char in "()":
-            round_depth += 1 if char == "(" else -1
-        elif char in "[]":
-            square_depth += 1 if char == "[" else -1
-        elif char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1 \
-                and not open_elements and i:  # not inside <sub>, <sup>, <i> ...
-            cuts.append(i)
-    pieces, start = [], 0
-    for cut in cuts:
-        pieces.append(side[start:cut])
-        start = cut + 1
-    return pieces + [side[start:]]
 
 
 @dataclass

@@ -17,6 +17,7 @@ from typing import Sequence
 
 import numpy as np
 from markupsafe import Markup, escape
+from .formula_lines import unbroken_parts
 from .i18n import MINUS, NARROW_NBSP
 
 
@@ -98,6 +99,9 @@ def _parse(text: str) -> float:
 #: The longest innermost bracketed group of a worked line (visible characters) kept on one line: the
 #: PDF broke "(1 − cos | 8,048°)" and "(589,260 + | 583,396)" at the line's end; a longer group may break.
 GROUP_CHARS = 40
+#: The printed characters of a worked line (the text's width less its indent; an equation's line,
+#: beside its number, holds fewer).
+WORKED_LINE_CHARS = 84
 _INNERMOST_GROUP = re.compile(r"\([^()]*\)")
 _TAG_RE = re.compile(r"<[^>]+>")
 
@@ -153,7 +157,8 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
         result = step.result_text(t)
         unit = "°" if step.unit == "°" else f" {escape(step.unit)}" if step.unit else ""
         line = f"{step.lhs_html} = {step.formula_html} = {step.substituted_html} = {escape(result)}{unit}"
-        parts.append(f'<p class="worked-line">{groups_unbroken(line)}</p>')
+        # carried over as an equation is: after "=" or at a sign outside brackets, the sign repeated
+        parts.append(f'<p class="worked-line">{unbroken_parts(groups_unbroken(line), WORKED_LINE_CHARS)}</p>')
     parts.append("</div>")
     ctx.worked.append(block)
     return Markup("".join(parts))
