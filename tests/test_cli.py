@@ -77,20 +77,26 @@ def test_the_command_tunes_the_collector_and_main_alone_does_not(monkeypatch, ca
 
 def test_the_command_keeps_blas_to_one_thread_unless_the_user_chose(monkeypatch):
     """``crankdyn`` sets OPENBLAS_NUM_THREADS=1 before numpy is imported; a user's own value stays."""
+    from crankdyn import cli
+
+    assert _the_command_sets(cli.BLAS_THREADS_ENV, None) == "1"
+    assert _the_command_sets(cli.BLAS_THREADS_ENV, "4") == "4"
+
+
+def _the_command_sets(name: str, users_value: str | None) -> str:
+    """The value of environment variable ``name`` the ``crankdyn`` command runs with (``cli.run``,
+    before numpy is imported), when the user set it to ``users_value`` (None: not set)."""
     import subprocess
     import sys
 
-    from crankdyn import cli
-
-    probe = ("import os, sys, runpy; sys.argv = ['crankdyn', 'example', '--list'];"
+    probe = ("import os, sys; sys.argv = ['crankdyn', 'example', '--list'];"
              "import crankdyn.cli as c; assert 'numpy' not in sys.modules, 'numpy imported before run()';"
-             "c.main = lambda: print(os.environ.get('OPENBLAS_NUM_THREADS')) or 0; c.run()")
-    env = {k: v for k, v in os.environ.items() if k != cli.BLAS_THREADS_ENV}
-    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
-                          check=True).stdout.strip() == "1"
-    env[cli.BLAS_THREADS_ENV] = "4"
-    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
-                          check=True).stdout.strip() == "4"
+             f"c.main = lambda: print(os.environ.get({name!r})) or 0; c.run()")
+    env = {k: v for k, v in os.environ.items() if k != name}
+    if users_value is not None:
+        env[name] = users_value
+    return subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                          check=True).stdout.strip()
 
 
 def test_the_command_documents_matplotlib_artists_briefly_unless_the_user_chose():
@@ -104,12 +110,9 @@ def test_the_command_documents_matplotlib_artists_briefly_unless_the_user_chose(
     from crankdyn.report import figures
 
     assert cli.ARTIST_DOCSTRINGS_ENV == figures.ARTIST_DOCSTRINGS_ENV
-    probe = ("import os, sys; sys.argv = ['crankdyn', 'example', '--list'];"
-             "import crankdyn.cli as c;"
-             "c.main = lambda: print(os.environ.get(c.ARTIST_DOCSTRINGS_ENV)) or 0; c.run()")
+    assert _the_command_sets(cli.ARTIST_DOCSTRINGS_ENV, None) == "brief"
+    assert _the_command_sets(cli.ARTIST_DOCSTRINGS_ENV, "full") == "full"
     env = {k: v for k, v in os.environ.items() if k != cli.ARTIST_DOCSTRINGS_ENV}
-    assert subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
-                          check=True).stdout.strip() == "brief"
     docs = ("import matplotlib.artist as a; from crankdyn.report.figures import import_matplotlib\n"
             "full = a.kwdoc; import_matplotlib(); import matplotlib.lines as l\n"
             "class Mine(l.Line2D): pass\n"

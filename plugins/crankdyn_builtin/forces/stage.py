@@ -13,7 +13,7 @@ from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html, symbol_mathtext
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
-from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import rod_loads
@@ -223,14 +223,8 @@ def _forces_figure(t, cycle_deg, angle, mpa):
 
 def _torque_figure(t, cycle_deg, angle, torque_Nm, mean_torque_Nm):
     """One cylinder's torque over the cycle, with its mean."""
-    fig, ax = new_figure(16, 8)
-    ax.plot(angle, torque_Nm, color="C0", label=t("forces.torque"))
-    ax.axhline(mean_torque_Nm, color="C3", ls="--", lw=1, label=t("forces.mean_torque"))
-    ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("forces.axis_torque"))
-    ax.legend(loc="upper right", fontsize=8)
-    return fig
+    return curve_with_mean_figure(angle, torque_Nm, mean_torque_Nm, cycle_deg, t,
+                                  (t("forces.torque"), t("forces.mean_torque"), t("forces.axis_torque")))
 
 
 def render(output: StageOutput, ctx) -> str:

@@ -12,7 +12,7 @@ from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.torque.worked import worked_torque
 
@@ -148,14 +148,8 @@ def render(output: StageOutput, ctx) -> str | None:
 
 def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
     """The engine's output torque over the cycle, with its mean."""
-    fig, ax = new_figure(16, 8.5)
-    ax.plot(angle, torque_Nm, color="C0", label=t("torque.output"))
-    ax.axhline(mean_Nm, color="C3", ls="--", lw=1, label=t("torque.mean"))
-    ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("torque.axis_torque"))
-    ax.legend(loc="upper right", fontsize=8)
-    return fig
+    return curve_with_mean_figure(angle, torque_Nm, mean_Nm, cycle_deg, t,
+                                  (t("torque.output"), t("torque.mean"), t("torque.axis_torque")), height_cm=8.5)
 
 
 def _journals_figure(f, cranks, cycle_deg, t):

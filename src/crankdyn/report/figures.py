@@ -272,6 +272,20 @@ def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
             close_cycle(line, cycle_deg)
 
 
+def curve_with_mean_figure(angle_deg, values, mean, cycle_deg: float, t, labels: tuple[str, str, str],
+                           height_cm: float = 8.0):
+    """A quantity over the cycle with its mean dashed (a torque and its mean torque): ``labels``
+    are the curve's, the mean's and the vertical axis's."""
+    fig, ax = new_figure(16, height_cm)
+    ax.plot(angle_deg, values, color="C0", label=labels[0])
+    ax.axhline(mean, color="C3", ls="--", lw=1, label=labels[1])
+    ax.axhline(0, color="0.3", lw=0.6)
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel(labels[2])
+    ax.legend(loc="upper right", fontsize=8)
+    return fig
+
+
 def close_cycle(line, cycle_deg: float) -> None:
     """Draw a curve over a whole cycle's grid (0 .. cycle − step, the grid has no end point) on to
     the cycle's end with its first value, where a periodic quantity returns: a torque curve that
