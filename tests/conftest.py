@@ -172,4 +172,5 @@ def as_read(html: str) -> str:
 
     html = html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
     html = formula_as_read(html)
+    html = re.sub("(?<=[.\\w])\u00a0(?=[0-9]|[A-ZА-ЯІЇЄҐЁ]\\.[0-9])", " ", html)  # "рис.\u00a07.1": the number bound
     return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)|(?<=[A-ZА-ЯІЇЄҐЁ]\\.)\u00a0(?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])", " ", html)

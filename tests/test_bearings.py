@@ -301,3 +301,22 @@ def test_pins_that_print_alike_take_one_row():
     other = same[:3] + [dict(pin, crank=4, max_N=17000.0)]
     assert _pin_rows(other) == (other, ["1", "2", "3", "4"])
     assert _pin_rows(same[:1]) == (same[:1], ["1"])
+
+
+def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_number_bound():
+    """A supervisor: each tall, narrow polar diagram stood alone on a page, half of it empty. A crank
+    pin's and its rod bearing's diagrams (a main journal's and its bearing's) share a row when both
+    are at most HALF_WIDTH_CM wide; "рис. 7.1" is never parted at a line's end."""
+    import re
+
+    from crankdyn_builtin.bearings.stage import HALF_WIDTH_CM, _polar_size
+
+    html = shared_html("petrol-1cyl-uk").html
+    rows = re.findall(r'<div class="figure-row">(.*?)</div></div>(?=\s*<div class="figure-block|\s*<div class="figure-row|\s*<p)',
+                      html, flags=re.S)
+    assert len(rows) == 2 and all(row.count("<figure ") == 2 for row in rows), len(rows)
+    assert "рис.\u00a07.1" in html and "рис.\u00a07.2" in html
+    # a tall diagram is only as wide as its plot needs; a round one keeps its 12 cm and stands alone
+    t = np.cos(np.linspace(0, 2 * np.pi, 73))
+    assert _polar_size(t, 3 * np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)[0] <= HALF_WIDTH_CM
+    assert _polar_size(t, np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12) == (12.0, 12.0)

@@ -76,7 +76,7 @@ def test_a_log_axis_shorter_than_a_decade_labels_its_minor_ticks():
 
 
 def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
-    one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
+    one, four = as_read(reports("petrol-1cyl-uk")), as_read(reports("inline4-petrol"))
     for sentence in ("Кінематичну схему механізму наведено на рис. 3.1.",
                      "Характерні положення механізму показано на рис. 3.2.",
                      "Схему коліна наведено на рис.", "Векторні моделі і годографи наведено на рис.",

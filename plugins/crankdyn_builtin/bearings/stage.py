@@ -8,6 +8,7 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
+from markupsafe import Markup
 from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
@@ -248,25 +249,46 @@ def _pole_and_oil_hole(pole_z: float, radius: float, oil_deg: float | None, per_
 
 def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption,
            axes=("t", "z")):
-    """A polar load diagram; ``axes``: the names of its horizontal and vertical components (crank
-    axes t, z unless the diagram is drawn in the rod's or the engine's axes)."""
+    """A polar load diagram's markup, and whether it is narrow enough to stand beside another;
+    ``axes``: the names of its horizontal and vertical components (crank axes t, z unless the
+    diagram is drawn in the rod's or the engine's axes)."""
+    width_cm = _polar_size(t_Pa / 1e6, z_Pa / 1e6, pole_z, diameter_scale)[0]
     return ctx.figure(partial(_polar_drawing, ctx.t, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale,
-                              labels_every, axes), caption, name, see="bearings.see_polar")
+                              labels_every, axes), caption, name, see="bearings.see_polar"), width_cm <= HALF_WIDTH_CM
+
+
+#: A diagram at most this wide (cm) stands beside the next one: two tall, narrow diagrams on a
+#: page instead of one on each, with half of it empty (a supervisor's reading).
+HALF_WIDTH_CM = 8.0
+
+
+def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, float]:
+    """(span, the journal circle's radius, the t and z ranges shown) of a polar diagram (MPa)."""
+    span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
+    radius = diameter_scale * span
+    shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
+    shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
+    return span, radius, shown_t, shown_z
+
+
+def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
+    """(width, height) in cm of a polar diagram of ``t``, ``z`` (MPa) around the pole: equal scales
+    on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
+    taller figure (at most 14 cm: with its caption it still shares a page with text) only as wide
+    as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one a wider figure."""
+    _, _, shown_t, shown_z = _polar_extent(t, z, pole_z, diameter_scale)
+    aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
+    if aspect < 1:
+        return min(16.0, 12.0 / math.sqrt(aspect)), 12.0
+    height = min(14.0, 12.0 * math.sqrt(aspect))
+    return min(12.0, max(7.0, 1.1 * (height - 2.2) / aspect + 2.4)), height
 
 
 def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, axes):
     """The polar load diagram's figure (:func:`_polar`)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
-    span = max(np.max(np.abs(t)), np.max(np.abs(z)), abs(pole_z), 1e-9)
-    radius = diameter_scale * span
-    shown_t = max(np.max(t), radius) - min(np.min(t), -radius)
-    shown_z = max(np.max(z), pole_z + radius) - min(np.min(z), pole_z - radius)
-    # equal scales on both axes: a tall diagram (a main journal's, far from its pole) gets a taller
-    # figure (at most 14 cm: with its caption it still shares a page with text) rather than a plot
-    # 3 cm wide, a wide one a wider figure
-    aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
-    width_cm, height_cm = (12.0, min(14.0, 12.0 * math.sqrt(aspect))) if aspect >= 1 else \
-        (min(16.0, 12.0 / math.sqrt(aspect)), 12.0)
+    span, radius, shown_t, shown_z = _polar_extent(t, z, pole_z, diameter_scale)
+    width_cm, height_cm = _polar_size(t, z, pole_z, diameter_scale)
     fig, ax = new_figure(width_cm, height_cm)
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
     step = angle[1] - angle[0]
@@ -316,6 +338,17 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     ax.set_ylabel(f"{axes[1]}, " + translator("unit.MPa"))
     ax.set_title(title, fontsize=9)
     return fig
+
+
+def _side_by_side(pairs: list) -> list:
+    """The diagrams' markup, each two narrow ones (a crank pin and its rod bearing, a main journal
+    and its bearing) in one row."""
+    out = []
+    for k in range(0, len(pairs) - 1, 2):
+        (first, narrow_first), (second, narrow_second) = pairs[k], pairs[k + 1]
+        out += [Markup(f'<div class="figure-row">{first}{second}</div>')] if narrow_first and narrow_second \
+            else [first, second]
+    return out + [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2:]]
 
 
 def _wear_figure(ctx, wear, r):
@@ -396,25 +429,27 @@ def render(output: StageOutput, ctx) -> str | None:
     shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
     single = len(r["crank_pins"]) == 1  # one crank: no neighbouring cranks, no choice of crank pin
     pin_caption = "bearings.pin_caption_shared" if shared_pins else "bearings.pin_caption"
+    polar = []  # (markup, narrow) of each polar diagram, in pairs: a crank pin and its rod bearing, ...
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
-        figures.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
+        polar.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
                               angle, -c_rod, _one_of(t, "bearings.pin_title", k, single), pin["oil_hole_deg"], 0.12, labels_every,
                               f"pin{k}", _one_of(t, pin_caption, k, single)))
-        figures.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
+        polar.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
                               0.0, _one_of(t, "bearings.rod_title", k, single), None, 0.12, labels_every, f"rod_bearing{k}",
                               _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
-        figures.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
+        polar.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
                               0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
                               labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"],
                                                                           crank=max(j - 1, 1))))
-        figures.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
+        polar.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
                               angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
                               t("bearings.main_bearing_caption", label=journal["journal"]),
                               axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
+    figures += _side_by_side(polar)
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
 

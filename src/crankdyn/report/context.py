@@ -130,6 +130,12 @@ def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
     return html
 
 
+def bound_number(sentence: str, number: str) -> str:
+    """``sentence`` with the table's or figure's ``number`` bound to the word before it by a
+    no-break space ("рис. 7.1", "табл. 2.1": never parted at a line's end)."""
+    return sentence.replace(f" {number}", f"\u00a0{number}")
+
+
 @dataclass
 class RenderContext:
     """Per-report rendering state shared by all sections.
@@ -301,7 +307,8 @@ class RenderContext:
         self.figures.append(FigureFile(file_name, figure=built, t=self.t, number=number, key=name,
                                        build=fig if built is None else None))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
-        see = escape(self.t(see or "doc.see_figure", number=number))
+        # the number bound to the word before it ("рис. 7.1" never parted at a line's end)
+        see = escape(bound_number(self.t(see or "doc.see_figure", number=number), number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
         # one block, so that the sentence never ends a page without the figure it announces
@@ -370,7 +377,8 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
         rows = [f'<tr data-continued="{label}"' + r[len("<tr"):] if r.startswith("<tr") else r for r in rows]
     head = f"<thead><tr>{head_html}</tr></thead>"
     return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
-                  + (f'<p class="see">{escape(t("doc.see_table", number=number))}</p>' if see else "")
+                  + (f'<p class="see">{escape(bound_number(t("doc.see_table", number=number), number))}</p>'
+                     if see else "")
                   + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
                   f"{head}<tbody>{''.join(rows)}</tbody></table>"
                   + (f'<p class="table-note">{escape(note)}</p>' if note else "") + "</div>")
