@@ -205,7 +205,7 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
 
 def _forces_figure(t, cycle_deg, angle, mpa):
     """The specific gas, inertia and total forces, n and k, z and t over the cycle (MPa)."""
-    fig, axes = new_figure(16, 19, nrows=3, sharex=True)
+    fig, axes = new_figure(16, 13.5, nrows=3, sharex=True)
     panels = ([("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
                ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
                ("total_Pa", symbol_mathtext("total_pressure", t.language))],
