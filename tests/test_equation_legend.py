@@ -145,8 +145,12 @@ def test_a_value_the_equation_gives_in_the_tables_unit_is_explained_in_that_unit
     html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2 = 39,000\u202fмм, &nbsp; "
                                             "<i>F</i><sub>п</sub> = π<i>D</i><sup>2</sup>/4 = 52,81\u202fсм²"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("R – радіус кривошипа, мм;", "S – хід поршня, мм;", "Fп – площа поршня, см²;", "D – діаметр циліндра, мм."):
+    for part in ("R – радіус кривошипа, мм;", "S – хід поршня, мм;", "Fп – площа поршня, см²;", "D – діаметр циліндра, м."):
         assert part in line, (part, line)
+    html = _section("indicator", _equation("<i>L</i><sub>i</sub> = ∮ <i>p</i> d<i>V</i> = 1124\u202fДж, &nbsp; "
+                                           "<i>p</i><sub>i</sub> = <i>L</i><sub>i</sub>/<i>V</i><sub>h</sub> = 2,258\u202fМПа"))
+    line = _legends(add_equation_legends(html, uk, "uk"))[0]  # a review: p in МПа with a work in J
+    assert "тиск газів у циліндрі, Па;" in line and "середній індикаторний тиск, МПа;" in line, line
     html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]  # no value shown: SI, as the equation holds
     assert "R – радіус кривошипа, м;" in line and "Fп – площа поршня, м²." in line, line

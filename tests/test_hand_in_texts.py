@@ -597,3 +597,19 @@ def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line()
     assert all(_printed_length(re.sub(r'<span class="eq-carry">[^<]*</span>', "", line)) <= 66 for line in lines)
     mathml = formula_mathml(parse_html(f'<span class="formula">{unbroken_parts(long)}</span>'))
     assert mathml.count("<mo>+</mo>") == 14 and mathml.count("<mo>=</mo>") == 2 and mathml.count("<mo>−</mo>") == 1
+
+
+def test_an_equals_sign_inside_a_group_or_bracket_is_no_break_point():
+    """A review: splitting a long worked line at every " = " cut "(a = 1)" in its group span."""
+    from crankdyn.report.formula_lines import unbroken_parts
+
+    long = '<i>x</i> = <span class="group">(<i>a</i> = 1)</span> + ' + " + ".join(
+        f"<i>b</i><sub>{k}</sub>" for k in range(30)) + " = 5"
+    html = unbroken_parts(long, 84)
+    assert '<span class="group">(<i>a</i> = 1)</span>' in html
+    opened = re.findall(r"<(/?)(span|i|sub)\b", html)
+    depth = 0
+    for closing, _ in opened:
+        depth += -1 if closing else 1
+        assert depth >= 0
+    assert depth == 0

@@ -417,19 +417,19 @@ def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
     return fig
 
 
-def render(output: StageOutput, ctx) -> str | None:
+def _shared_pins(ctx, r) -> bool:
+    """One rod on each crank pin (in-line engines: False) or several sharing one (V, W, radial)."""
+    return ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
+
+
+def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
+    """(markup, narrow) of each polar diagram, in pairs: a crank pin and its rod bearing, a main
+    journal and its bearing."""
     t = ctx.t
-    r = output.results
-    f = output.tables.arrays("bearings")
-    angle = f["crank_angle_deg"]
     labels_every = 30.0 if ctx.cycle_deg > 360 else 15.0
-    figures = []
     c_rod = r["centrifugal_rod_Pa"] / 1e6
-    # one rod on each crank pin (in-line engines) or several sharing one (V, W, radial)
-    shared_pins = ctx.scene is not None and ctx.scene.engine.cylinders > len(r["crank_pins"])
-    single = len(r["crank_pins"]) == 1  # one crank: no neighbouring cranks, no choice of crank pin
-    pin_caption = "bearings.pin_caption_shared" if shared_pins else "bearings.pin_caption"
-    polar = []  # (markup, narrow) of each polar diagram, in pairs: a crank pin and its rod bearing, ...
+    pin_caption = "bearings.pin_caption_shared" if _shared_pins(ctx, r) else "bearings.pin_caption"
+    polar = []
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
         polar.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
@@ -449,7 +449,16 @@ def render(output: StageOutput, ctx) -> str | None:
                               labels_every, f"main_bearing{j - 1}",
                               t("bearings.main_bearing_caption", label=journal["journal"]),
                               axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
-    figures += _side_by_side(polar)
+    return polar
+
+
+def render(output: StageOutput, ctx) -> str | None:
+    t = ctx.t
+    r = output.results
+    f = output.tables.arrays("bearings")
+    angle = f["crank_angle_deg"]
+    single = len(r["crank_pins"]) == 1  # one crank: no neighbouring cranks, no choice of crank pin
+    figures = _side_by_side(_polar_diagrams(ctx, r, f, angle, single))
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
 
@@ -496,7 +505,7 @@ def render(output: StageOutput, ctx) -> str | None:
                  for j in r["drawn_journals"]]
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                analysis=" ".join(a for a in analysis if a),
-                               table_journals=table_journals, dims=d, shared_pins=shared_pins, single=single,
+                               table_journals=table_journals, dims=d, shared_pins=_shared_pins(ctx, r), single=single,
                                journal_names=journal_names, pins_equal=pins_equal)
 
 

@@ -32,6 +32,11 @@ def _value(f: Callable[[float], float], x: float) -> float:
     return value
 
 
+def _negative(value: float) -> bool:
+    """The sign bit (C's signbit): −0.0 counts as negative."""
+    return math.copysign(1.0, value) < 0
+
+
 def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, rtol: float = RTOL,
            maxiter: int = MAXITER) -> float:
     """A root of ``f`` in [a, b], where f(a) and f(b) differ in sign, to within
@@ -41,15 +46,17 @@ def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, 
         raise ValueError(f"xtol must be > 0 and rtol >= {RTOL!r} (got {xtol!r}, {rtol!r})")
     previous, current = float(a), float(b)
     f_previous, f_current = _value(f, previous), _value(f, current)
-    if f_previous * f_current > 0:
-        raise ValueError("f(a) and f(b) must have different signs")
     if f_previous == 0:
         return previous
     if f_current == 0:
         return current
+    # signs compared by their sign bits, not by a product (1e-170² underflows to zero)
+    if _negative(f_previous) == _negative(f_current):
+        raise ValueError("f(a) and f(b) must have different signs")
     block, f_block, step_before, step = 0.0, 0.0, 0.0, 0.0
     for _ in range(maxiter):
-        if f_previous * f_current < 0:  # the root lies between previous and current: block it there
+        if f_previous != 0 and f_current != 0 and _negative(f_previous) != _negative(f_current):
+            # the root lies between previous and current: block it there
             block, f_block = previous, f_previous
             step_before = step = current - previous
         if abs(f_block) < abs(f_current):  # current is the best estimate, block the other end

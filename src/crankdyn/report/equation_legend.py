@@ -100,16 +100,27 @@ def _shown_unit(key: str, formula: str, t, language: str) -> str | None:
     return None
 
 
+def _shown_units(key: str, keys: list[str], formula: str, t, language: str) -> set[str]:
+    """The table units of the symbols standing beside ``key`` in one of its formulas whose value
+    the equation shows in that unit (R = S/2 = 39 мм, λ = R/L: "unit.mm" for R, S and L; "R, мм;
+    S, м" read as a contradiction). Only symbols of ``key``'s own formulas count: in
+    L_i = ∮ p dV = 1124 Дж, p_i = L_i/V_h = 2,258 МПа, p stays in Pa."""
+    shown = [other for other in keys if _shown_unit(other, formula, t, language)]
+    units: set[str] = set()
+    for part in formula.split(", &nbsp;"):
+        if re.search(symbol_pattern(key, language), part):
+            units |= {SYMBOLS[other].unit for other in shown if re.search(symbol_pattern(other, language), part)}
+    return units
+
+
 def legend_html(keys: list[str], t, language: str, formula: str = "") -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
     stop after the last; the unit is the one ``formula`` gives the symbol's value in, or another
     symbol's value of the same table unit, else the SI unit the equation is evaluated in."""
     lines = []
-    # a value the equation shows in its table's unit (R = 39 мм) sets that unit for every symbol of
-    # the same table unit in these lines (S and L in мм too: "R, мм; S, м" read as a contradiction)
-    shown = {SYMBOLS[key].unit for key in keys if _shown_unit(key, formula, t, language)}
     for k, key in enumerate(keys):
-        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in shown else _si_unit(key, t)
+        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in _shown_units(key, keys, formula, t, language) \
+            else _si_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)

@@ -30,7 +30,7 @@ def unbroken_parts(formula_html: str, line_chars: int | None = None) -> str:
         formula = formula.strip()
         pieces = [formula]
         if _visible_length(formula) > _LONG_FORMULA_CHARS and " = " in formula:
-            chunks = formula.split(" = ")
+            chunks = _outside(formula, (" = ",))
             sides = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
             pieces = [sub for side in sides for sub in _at_operators(side)]
             if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
@@ -91,6 +91,36 @@ def _visible_length(html: str) -> int:
 def _printed_length(html: str) -> int:
     """The characters ``html`` prints (a tag none, an entity one)."""
     return len(re.sub(r"<[^>]+>", "", re.sub(r"&[a-z]+;", "x", html)))
+
+
+def _outside(text: str, separators: tuple[str, ...]) -> list[str]:
+    """``text`` split at each of ``separators`` that stands outside parentheses and elements
+    (a worked line's "(x = 1)" in a group span stays whole)."""
+    chunks, start, depth, in_tag = [], 0, 0, False
+    i = 0
+    while i < len(text):
+        char = text[i]
+        if in_tag:
+            in_tag = char != ">"
+        elif char == "<":
+            in_tag = True
+            tag = text[i:text.find(">", i) + 1]
+            if tag.startswith("</"):
+                depth -= 1
+            elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
+                depth += 1
+        elif char in "([":
+            depth += 1
+        elif char in ")]":
+            depth -= 1
+        elif depth == 0 and any(text.startswith(sep, i) for sep in separators):
+            sep = next(sep for sep in separators if text.startswith(sep, i))
+            chunks.append(text[start:i])
+            start = i + len(sep)
+            i = start
+            continue
+        i += 1
+    return chunks + [text[start:]]
 
 
 def _at_operators(side: str) -> list[str]:
