@@ -30,7 +30,7 @@ def unbroken_parts(formula_html: str, line_chars: int | None = None) -> str:
         formula = formula.strip()
         pieces = [formula]
         if _visible_length(formula) > _LONG_FORMULA_CHARS and " = " in formula:
-            chunks = _outside(formula, (" = ",))
+            chunks = _outside(formula, " = ")
             sides = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
             pieces = [sub for side in sides for sub in _at_operators(side)]
             if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
@@ -93,33 +93,38 @@ def _printed_length(html: str) -> int:
     return len(re.sub(r"<[^>]+>", "", re.sub(r"&[a-z]+;", "x", html)))
 
 
-def _outside(text: str, separators: tuple[str, ...]) -> list[str]:
-    """``text`` split at each of ``separators`` that stands outside parentheses and elements
-    (a worked line's "(x = 1)" in a group span stays whole)."""
-    chunks, start, depth, in_tag = [], 0, 0, False
-    i = 0
-    while i < len(text):
-        char = text[i]
+def _depths(text: str):
+    """(index, character, parentheses open, square brackets open, elements open) for each
+    character of ``text`` outside its tags."""
+    round_depth = square_depth = open_elements = 0
+    in_tag = False
+    for i, char in enumerate(text):
         if in_tag:
             in_tag = char != ">"
-        elif char == "<":
+            continue
+        if char == "<":
             in_tag = True
             tag = text[i:text.find(">", i) + 1]
             if tag.startswith("</"):
-                depth -= 1
+                open_elements -= 1
             elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
-                depth += 1
-        elif char in "([":
-            depth += 1
-        elif char in ")]":
-            depth -= 1
-        elif depth == 0 and any(text.startswith(sep, i) for sep in separators):
-            sep = next(sep for sep in separators if text.startswith(sep, i))
-            chunks.append(text[start:i])
-            start = i + len(sep)
-            i = start
+                open_elements += 1
             continue
-        i += 1
+        round_depth += (char == "(") - (char == ")")
+        square_depth += (char == "[") - (char == "]")
+        yield i, char, round_depth, square_depth, open_elements
+
+
+def _outside(text: str, separator: str) -> list[str]:
+    """``text`` split at each ``separator`` that stands outside brackets and elements (a worked
+    line's "(x = 1)" in a group span stays whole)."""
+    cuts = [i for i, char, round_depth, square_depth, open_elements in _depths(text)
+            if not (round_depth or square_depth or open_elements) and text.startswith(separator, i)]
+    chunks, start = [], 0
+    for cut in cuts:
+        if cut >= start:
+            chunks.append(text[start:cut])
+            start = cut + len(separator)
     return chunks + [text[start:]]
 
 
@@ -129,25 +134,9 @@ def _at_operators(side: str) -> list[str]:
     "n − 1" stays in its <sup>); a short side is returned whole."""
     if _visible_length(side) <= _LONG_FORMULA_CHARS:
         return [side]
-    cuts, round_depth, square_depth, in_tag, open_elements = [], 0, 0, False, 0
-    for i, char in enumerate(side):
-        if in_tag:
-            in_tag = char != ">"
-            continue
-        if char == "<":
-            in_tag = True
-            tag = side[i:side.find(">", i) + 1]
-            if tag.startswith("</"):
-                open_elements -= 1
-            elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
-                open_elements += 1
-        elif char in "()":
-            round_depth += 1 if char == "(" else -1
-        elif char in "[]":
-            square_depth += 1 if char == "[" else -1
-        elif char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1 \
-                and not open_elements and i:  # not inside <sub>, <sup>, <i> ...
-            cuts.append(i)
+    cuts = [i for i, char, round_depth, square_depth, open_elements in _depths(side)
+            if char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1
+            and not open_elements and i]  # not inside <sub>, <sup>, <i> ...
     pieces, start = [], 0
     for cut in cuts:
         pieces.append(side[start:cut])
