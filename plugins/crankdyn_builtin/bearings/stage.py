@@ -276,7 +276,11 @@ def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
     on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
     taller figure (at most 14 cm: with its caption it still shares a page with text) only as wide
     as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one a wider figure."""
-    _, _, shown_t, shown_z = _polar_extent(t, z, pole_z, diameter_scale)
+    return _size_for(*_polar_extent(t, z, pole_z, diameter_scale)[2:])
+
+
+def _size_for(shown_t: float, shown_z: float) -> tuple[float, float]:
+    """(width, height) in cm of a polar diagram showing these t and z ranges (:func:`_polar_size`)."""
     aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
     if aspect < 1:
         return min(16.0, 12.0 / math.sqrt(aspect)), 12.0
@@ -288,7 +292,7 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     """The polar load diagram's figure (:func:`_polar`)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
     span, radius, shown_t, shown_z = _polar_extent(t, z, pole_z, diameter_scale)
-    width_cm, height_cm = _polar_size(t, z, pole_z, diameter_scale)
+    width_cm, height_cm = _size_for(shown_t, shown_z)
     fig, ax = new_figure(width_cm, height_cm)
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
     step = angle[1] - angle[0]

@@ -100,12 +100,12 @@ def _shown_unit(key: str, formula: str, t, language: str) -> str | None:
     return None
 
 
-def _shown_units(key: str, keys: list[str], formula: str, t, language: str) -> set[str]:
+def _shown_units(key: str, shown: list[str], formula: str, language: str) -> set[str]:
     """The table units of the symbols standing beside ``key`` in one of its formulas whose value
     the equation shows in that unit (R = S/2 = 39 мм, λ = R/L: "unit.mm" for R, S and L; "R, мм;
     S, м" read as a contradiction). Only symbols of ``key``'s own formulas count: in
-    L_i = ∮ p dV = 1124 Дж, p_i = L_i/V_h = 2,258 МПа, p stays in Pa."""
-    shown = [other for other in keys if _shown_unit(other, formula, t, language)]
+    L_i = ∮ p dV = 1124 Дж, p_i = L_i/V_h = 2,258 МПа, p stays in Pa. ``shown``: the symbols whose
+    value the equation shows in their table's unit."""
     units: set[str] = set()
     for part in formula.split(", &nbsp;"):
         if re.search(symbol_pattern(key, language), part):
@@ -118,8 +118,9 @@ def legend_html(keys: list[str], t, language: str, formula: str = "") -> str:
     stop after the last; the unit is the one ``formula`` gives the symbol's value in, or another
     symbol's value of the same table unit, else the SI unit the equation is evaluated in."""
     lines = []
+    shown = [key for key in keys if _shown_unit(key, formula, t, language)]
     for k, key in enumerate(keys):
-        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in _shown_units(key, keys, formula, t, language) \
+        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in _shown_units(key, shown, formula, language) \
             else _si_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands

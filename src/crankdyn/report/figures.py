@@ -117,7 +117,8 @@ def import_matplotlib() -> None:
         finally:
             # classes defined later (a plugin's artists) are documented as matplotlib does
             matplotlib.artist.kwdoc = full
-    _import_figure_and_backends()
+    else:
+        _import_figure_and_backends()
 
 
 def _import_figure_and_backends() -> None:
