@@ -138,20 +138,14 @@ def test_vane_engine_drawn_from_its_geometry():
 def _html(example: str, language: str = "en") -> str:
     """The report of ``example`` with the drawing's section only (the other sections are tested
     elsewhere; rendering them here would only cost time)."""
-    from dataclasses import replace
-
-    from crankdyn.report.document import render_html
-
-    result = _run(example)
-    drawing_only = replace(result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")])
-    return render_html(replace(result, plan=drawing_only), _registry(), language).html
+    return _rendered(example, language).html
 
 
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_report_has_scheme_positions_and_animation(example):
     html = _html(example)
     assert html.count('class="mech-animation"') == 1
-    assert re.search(r"Kinematic scheme of the mechanism at the top dead centre \(scale (1:[0-9.]+|[0-9.]+:1)\)", html)
+    assert re.search(r"Kinematic scheme of the mechanism at α = 45° \(scale (1:[0-9.]+|[0-9.]+:1)\)", html)
     assert "The mechanism at its characteristic positions" in html
     assert html.count('<img alt="') >= 2  # the scheme and the positions figure (static: they print)
     assert "@media print { .mech-animation { display: none !important; } }" in html
@@ -161,13 +155,55 @@ def test_report_has_scheme_positions_and_animation(example):
     assert "src=" not in block.split("</script>\n</div>")[0].replace('src="data:', "")
 
 
-@pytest.mark.parametrize("language, title", [("uk", "Кінематична схема механізму у ВМТ"),
-                                             ("ru", "Кинематическая схема механизма в ВМТ")])
+@pytest.mark.parametrize("language, title", [("uk", "Кінематична схема механізму за кута α = 45°"),
+                                             ("ru", "Кинематическая схема механизма при угле α = 45°")])
 def test_drawing_texts_are_translated(language, title):
     html = _html("v8-petrol", language)
     assert title in html
     for english in ("Kinematic scheme", "characteristic positions", "Firing order", "Crank star", "Drag the slider"):
         assert english not in html
+
+
+@pytest.mark.parametrize("example, marked", [("petrol-1cyl", True), ("inline4-petrol", True),
+                                             ("offset-crank-engine", True), ("v8-petrol", False),
+                                             ("radial9-aircraft", False), ("vane-engine-kinematics", False)])
+def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
+    """The scheme shows the crank at α = 45° (the crank pin where the geometry puts it at 45° from
+    the cylinder axis, clockwise), and, where one cylinder axis is drawn, the angles α and β, the
+    sense of rotation ω and the dead centres, named in the text; a V or a radial is drawn without
+    them (they would cross the other banks) and its text does not speak of them."""
+    from crankdyn.report import mechanism_drawing as md
+
+    result = _run(example)
+    stage = "drawing" if "drawing" in result.outputs else "drawing_linkage"
+    output = result.outputs[stage]
+    positions = output.artifacts["positions"]
+    frame = len(output.results["crank_angles_deg"])  # the scheme's frame follows the six positions
+    assert output.results["scheme_angle_deg"] == 45.0
+    crank = next((l for l in positions.links if l[0] in ("crank", "crank_1", "carrier")), None)
+    if crank is not None and stage == "drawing":
+        pin, at_tdc = (positions.joints[crank[2]][k] - positions.joints[crank[1]][k] for k in (frame, 0))
+        # 45° clockwise from the crank at TDC (frame 0), which an offset cylinder's is not along +y
+        turn = np.degrees(np.arctan2(at_tdc[1] * pin[0] - at_tdc[0] * pin[1], at_tdc @ pin))  # clockwise
+        assert turn == pytest.approx(45.0, abs=1e-9)
+    figure = next(f for f in _rendered(example).figures if f.key == "scheme")
+    svg = figure.svg.decode("utf-8")
+    html = _html(example)
+    for mark in ("α", "β", "ω", ">TDC<", ">BDC<"):
+        assert (mark in svg) is marked, mark
+    assert ("α is the crank angle from the cylinder axis in the sense of rotation" in html) is marked
+    assert (md.angle_mark_parts(md.front_view(positions)) is not None) is marked or example == "vane-engine-kinematics"
+
+
+@lru_cache(maxsize=None)
+def _rendered(example: str, language: str = "en"):
+    from dataclasses import replace
+
+    from crankdyn.report.document import render_html
+
+    result = _run(example)
+    drawing_only = replace(result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")])
+    return render_html(replace(result, plan=drawing_only), _registry(), language)
 
 
 # ----------------------------------------------------------------------------- browser

@@ -28,6 +28,10 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 #: The characteristic positions, in the order they are drawn.
 POSITIONS = ("tdc", "bdc", "v_max", "v_min", "j_max", "j_min")
+#: The crank angle the scheme is drawn at (deg from cylinder 1's TDC): the crank, the rod and
+#: their angles α and β apart and visible, as a textbook draws the mechanism (at TDC the rod
+#: covers the crank).
+SCHEME_ANGLE_DEG = 45.0
 #: Frames of the animation per revolution (at most; never finer than the scene's grid).
 FRAMES_PER_REVOLUTION = 180
 
@@ -138,13 +142,15 @@ def run(scene, inputs) -> StageOutput:
     every = max(1, int(round(period / FRAMES_PER_REVOLUTION / step))) if period <= 360.0 else \
         max(1, int(round(period / (2 * FRAMES_PER_REVOLUTION) / step)))
     frames_deg = np.arange(0.0, period - 1e-9, step * every)
-    at = np.radians([angles[k] for k in POSITIONS])
+    # the characteristic positions, then the scheme's
+    at = np.radians([angles[k] for k in POSITIONS] + [SCHEME_ANGLE_DEG])
     positions = geometry_of(scene, at)
     animation = geometry_of(scene, np.radians(frames_deg))
     grid = np.rint(np.interp(frames_deg, angle, np.arange(len(angle)))).astype(int)
     curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
     results = {"crank_angles_deg": {k: angles[k] for k in POSITIONS}, "animation_frames": int(len(frames_deg)),
-               "animation_step_deg": float(step * every), "motion_period_deg": period}
+               "animation_step_deg": float(step * every), "motion_period_deg": period,
+               "scheme_angle_deg": SCHEME_ANGLE_DEG}
     # No tables: the joint positions are drawing data (kept for render only), the angles are in results.
     return StageOutput(results=results,
                        artifacts={"positions": positions, "animation": animation, "curves": curves})
@@ -184,15 +190,18 @@ def scale_text(scale: float, t) -> str:
 
 
 def render(output: StageOutput, ctx) -> str:
-    """The scheme at TDC, the positions figure and the animated block (drawing only)."""
+    """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
     positions, animation = output.artifacts["positions"], output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]
     order = " – ".join(positions.firing_order)
-    fig, scale = md.scheme_figure(positions, 0, _labels(positions, ctx), t("drawing.crank_star"),
-                                 t("drawing.firing_order", order=order) if order else "")
+    marks = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": t("drawing.mark_tdc"), "bdc": t("drawing.mark_bdc")}
+    fig, scale = md.scheme_figure(positions, len(POSITIONS), _labels(positions, ctx), t("drawing.crank_star"),
+                                 t("drawing.firing_order", order=order) if order else "", marks)
     scale = scale_text(scale, t)
-    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale), "scheme", see="drawing.see_scheme")
+    scheme_angle = t.number_g(output.results["scheme_angle_deg"], 4)
+    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale, angle=scheme_angle), "scheme",
+                               see="drawing.see_scheme")
     # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
     frames = _merged_frames([(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)),
                               angles[k]) for i, k in enumerate(POSITIONS)])
@@ -202,7 +211,10 @@ def render(output: StageOutput, ctx) -> str:
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
+    parts = md.angle_mark_parts(md.front_view(positions))
+    marked = parts is not None and None not in parts  # the text names α, β, ω and the dead centres
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
+                               scheme_angle=scheme_angle, marks=marked,
                                front_view=_front_view_kind(positions),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),

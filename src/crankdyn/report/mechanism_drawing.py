@@ -284,6 +284,89 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
 
 
+def _direction_deg(v) -> float:
+    """The angle of the vector ``v`` in degrees, counter-clockwise from +x (matplotlib's arcs)."""
+    return float(np.degrees(np.arctan2(v[1], v[0])))
+
+
+def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None:
+    """An arc from direction ``start`` to ``end`` (unit vectors) around ``centre`` (mm), the
+    shorter way, with its symbol just outside the middle of the arc."""
+    from matplotlib.patches import Arc  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+
+    a, b = _direction_deg(start), _direction_deg(end)
+    if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
+        a, b = b, a
+    ax.add_patch(Arc(centre, 2 * radius, 2 * radius, theta1=a, theta2=b if b > a else b + 360.0,
+                     color="0.2", lw=0.6, zorder=6))
+    middle = np.radians(a + ((b - a) % 360.0) / 2)
+    at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
+    ax.text(*at, text, ha="center", va="center", fontsize=9, fontstyle="italic", color="0.1", zorder=7)
+
+
+def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
+    """A curved arrow clockwise (the crank's sense of rotation) on the left of ``centre``, named
+    ``text`` (ω)."""
+    from matplotlib.patches import FancyArrowPatch  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+
+    c = np.asarray(centre, dtype=float)
+    start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (215.0, 145.0))
+    ax.add_patch(FancyArrowPatch(start, end, connectionstyle="arc3,rad=-0.35", arrowstyle="-|>",
+                                 mutation_scale=7, color="0.2", lw=0.6, zorder=6))
+    ax.text(*(c + (radius + extent * 0.045) * np.array([-1.0, 0.0])), text, ha="right", va="center", fontsize=9,
+            fontstyle="italic", color="0.1", zorder=7)
+
+
+def angle_mark_parts(geometry):
+    """(liner, crank, rod) that :func:`draw_angle_marks` marks: the first cylinder's liner, the
+    crank from the crank centre and the rod from its pin to that liner's piston pin (None each
+    where the mechanism has none); None when the first guide is no cylinder liner, or when the
+    drawing shows more than one cylinder axis (a V's or a radial's marks would cross the other
+    banks' liners and rods)."""
+    if len(geometry.guides) != 1 or geometry.guides[0].moving is not None or geometry.guides[0].bore_m <= 0:
+        return None
+    guide = geometry.guides[0]
+    crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None)
+    rod = None if crank is None else next((l for l in geometry.links if l[1] == crank[2] and l[2] == guide.joint),
+                                          None)
+    return guide, crank, rod
+
+
+def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], tdc_frame: int = 0) -> None:
+    """The crank angle α (from the crank's direction at TDC, frame ``tdc_frame``: the cylinder's
+    axis, or beside it for an offset cylinder, whose angles count from TDC too), the rod's angle β
+    (from the axis to the rod), the sense of rotation ω, and the dead centres of the first piston's
+    pin (ВМТ, НМТ) at frame ``i``, each where the geometry has what it names (:func:`angle_mark_parts`)."""
+    parts = angle_mark_parts(geometry) if marks else None
+    if parts is None:
+        return
+    guide, crank, rod = parts
+    extent = _extent_mm(geometry)
+    j = geometry.joints
+    o, d, n = _guide_frame(geometry, guide, i)
+    if crank is not None:
+        centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+        radius = float(np.linalg.norm(pin - centre))
+        at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
+        zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
+        # the line the angle is measured from: the crank at TDC, through the crank centre
+        ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * radius * 1.35], color="0.45", lw=0.5,
+                ls="-.", zorder=1)
+        if radius > 0:
+            _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
+            _rotation_arrow(ax, centre, radius * 0.45, marks["omega"], extent)
+        if rod is not None:
+            wrist = j[guide.joint][i] * MM
+            length = float(np.linalg.norm(pin - wrist))
+            _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, marks["beta"], extent)
+    half = guide.bore_m * MM / 2
+    for distance, text in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
+        at = o + d * distance * MM
+        # a short line beside the liner at the pin's dead centre, named beyond it
+        ax.plot(*np.c_[at + n * (half + extent * 0.035), at + n * (half + extent * 0.075)], color="0.2", lw=0.6)
+        ax.text(*(at + n * (half + extent * 0.085)), text, fontsize=8, color="0.15", **outward_alignment(n))
+
+
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
     """R of an engine with several cylinders: the rods of every bank meet at the crank pin, so the
     text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
@@ -394,9 +477,11 @@ def _smaller_scale(scale: float) -> float:
     return drawing_scale((1.0, 1.0), (scale * (1 - 1e-9), scale * (1 - 1e-9)))
 
 
-def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = ""):
+def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = "",
+                  marks: dict[str, str] | None = None):
     """(figure, scale): the scheme at frame ``i`` with its dimension lines, and the crank star when
-    there are cranks, drawn to a standard scale (paper : real, 0.25 for "М 1:4").
+    there are cranks, drawn to a standard scale (paper : real, 0.25 for "М 1:4"); ``marks``: the
+    texts of :func:`draw_angle_marks` (the angles, the sense of rotation, the dead centres).
 
     Laid out here, not by the tight layout (which would resize the drawing), in millimetres on
     paper: the largest standard scale at which the mechanism's limits fit its room, and then
@@ -408,14 +493,15 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
     # the limits keep room for labels the drawing may not have: start a step or two larger
     scale = drawing_scale((x1 - x0, y1 - y0), (room[0] * _LIMITS_SLACK, room[1] * _LIMITS_SLACK))
     while True:
-        fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale)
+        fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale, marks or {})
         width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
         if width_mm <= PAGE_ROOM_MM[0] and height_mm <= room[1] or scale < 1e-9:
             return fig, scale
         scale = _smaller_scale(scale)
 
 
-def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float):
+def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float,
+               marks: dict[str, str]):
     from .figures import add_axes_mm, drawn_box, fit_to_content, new_drawing  # lazy: heavy optional import (matplotlib)
 
     (x0, x1), (y0, y1) = _limits(geometry)
@@ -427,6 +513,7 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     draw_dimensions(ax, geometry, i, labels)
+    draw_angle_marks(ax, geometry, i, marks)
     if with_star:
         # beside what the mechanism draws, not beside its limits' unused room
         box = drawn_box([ax], fig.canvas.get_renderer())
