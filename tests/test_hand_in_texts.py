@@ -41,7 +41,7 @@ def test_the_balancing_section_of_one_cylinder_speaks_of_one_cylinder(reports):
                    "реальна сила інерції", "Векторні моделі і годографи сил"):
         assert phrase in one, phrase
         assert phrase not in four, phrase
-    for phrase in ("однакових у всіх циліндрах", "сума реальних сил по циліндрах", "відстань між циліндрами",
+    for phrase in ("однакових у всіх циліндрах", "сума реальних сил усіх циліндрів", "відстань між циліндрами",
                    "моменти внизу"):
         assert phrase not in one, phrase
         assert phrase in four, phrase
@@ -151,7 +151,7 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
     """No bay's axis of symmetry, no crank lag or bank angle, no sum over cylinders, no moment
     columns in the table of orders for one cylinder; an in-line four keeps them."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    for words in ("кут відставання", "до суми по циліндрах", "Площина моменту"):
+    for words in ("кут відставання", "до суми сил усіх циліндрів", "Площина моменту"):
         assert words not in one and words in four, words
     assert "Відцентрова сила і сили інерції кожного порядку" in one
 
