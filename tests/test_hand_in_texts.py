@@ -460,6 +460,23 @@ def test_the_balancing_conclusion_prints_the_forces_as_the_table_of_orders_does(
         assert all(force in cells for force in forces), (example, forces)
 
 
+def test_the_balancing_conclusion_multiplies_out(reports):
+    """A supervisor: "ΣP_II/C_II = 4,000 (ΣP_II = 9426 Н)" beside C_II = λC_I = 2310 Н, while
+    4·2310 = 9240. Each unbalanced force is now printed with the coefficient and the one-cylinder
+    amplitude it multiplies, |A_n|·C_I, which the section's table of amplitudes prints too: the
+    product of the printed numbers gives the printed force to their precision."""
+    html = reports("inline4-petrol")
+    text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
+    conclusion = re.search(r"Зрівноваженість: незрівноважені (.*?) \(у дужках", text).group(1)
+    items = re.findall(r"ΣP([IVX]+) = (\d[\d ]*(?:,\d+)?) Н \(([\d,]+)·\|A(\d+)\|CI\)", conclusion)
+    assert [i[0] for i in items] == ["II", "IV", "VI"], conclusion
+    c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
+    for roman, force, coefficient, order in items:
+        cell = re.search(rf"<td[^>]*><i>A</i><sub>{order}</sub></td><td>([^<]+)</td>", html).group(1)
+        expected = float(coefficient.replace(",", ".")) * abs(float(cell.replace("−", "-").replace(",", "."))) * c_first
+        assert float(force.replace(" ", "").replace(",", ".")) == pytest.approx(expected, rel=2e-3, abs=0.06), (roman, force, expected)
+
+
 def test_a_single_cylinder_has_no_total_torque_to_react_to(reports):
     one, four = (as_read(re.sub(r"<[^>]+>", "", reports(e))) for e in ("petrol-1cyl-uk", "inline4-petrol"))
     assert "реакції індикаторного крутного моменту" in one and "реакції сумарного" not in one

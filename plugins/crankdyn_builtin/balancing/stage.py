@@ -742,10 +742,11 @@ def _conclude(ctx, r) -> None:
             f"{_plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
-        # the textbook's coefficient is the sum over its scale (ΣP_II/C_II = 4,000), beside its amplitude
-        ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(
-            f"{_plain_symbol(s)}/{_scale_symbol(s)} = {ctx.num(s['coefficient'], 4)}{_absolute(ctx, r, s)}"
-            for s in unbalanced)))
+        # the amplitude, and the textbook's coefficient times the scale it divides by (C_n = |A_n|·C_I,
+        # table 8.2): "ΣP_II = 9426 Н (4,000·A_2C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
+        # the textbook's C_II = λC_I did not
+        ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(_unbalanced_item(ctx, r, s)
+                                                                         for s in unbalanced)))
     else:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
@@ -759,15 +760,26 @@ def newtons(t, force_N: float) -> str:
     return t.fixed(force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
 
 
-def _absolute(ctx, r, item) -> str:
-    """ " (ΣP_II = 9426 N)": an unbalanced sum's amplitude, or a moment's, beside its textbook coefficient."""
+def _unbalanced_item(ctx, r, item) -> str:
+    """"ΣP_II = 9426 Н (4,000·A_2C_I)", "ΣM_I = 12,5 Н·м (0,5000·A_1C_I·a)": an unbalanced sum's
+    amplitude with the coefficient and the one-cylinder amplitude it multiplies (as table 8.2
+    divides); "ΣP_II/C_II = 4,000" without an amplitude to print."""
     force = item["quantity"].startswith("sum_")
     value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
+    coefficient = ctx.num(item["coefficient"], 4)
     if value is None:
-        return ""
+        return f"{_plain_symbol(item)}/{_scale_symbol(item)} = {coefficient}"
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
-    # as the table of orders prints it
-    return f" ({_plain_symbol(item)} = {newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)} {unit})"
+    amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
+    _, base = item["quantity"].split("_", 1)
+    order = _ROMAN_ORDERS.get(base[1:]) if base.startswith("P") else None
+    # A_1 = 1: the first order's amplitude is C_I itself
+    scale = "C" if order is None else "C_I" if order == 1 else f"|A_{order}|C_I"
+    return f"{_plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
+
+
+#: The orders' Roman numerals (as the tables print them) back to their numbers.
+_ROMAN_ORDERS = {bal.roman(n): n for n in range(1, 40)}
 
 
 def _in_words(t, n: int) -> dict[str, str]:
