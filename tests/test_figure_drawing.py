@@ -131,6 +131,26 @@ def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
     assert "$" not in svg and "e-0" not in svg and "^" not in svg
 
 
+def test_a_log_axis_of_everyday_numbers_is_labelled_with_plain_numbers():
+    # a supervisor: "2·10⁰, 5·10⁰, 10¹" on the error study's step axis, where 2, 5 and 10 are meant;
+    # within 0,01…10 000 the labels are plain numbers in the report's locale, beyond it powers of ten
+    from crankdyn.report.figures import new_figure, to_svg
+    from crankdyn.report.i18n import translator
+    from crankdyn.report.typeset import typeset_figure
+
+    fig, (plain, powers) = new_figure(12, 6, ncols=2)
+    plain.loglog([0.5, 30.0], [0.05, 2.0])
+    powers.loglog([1e-4, 1e-1], [1e-6, 1.0])
+    typeset_figure(fig, translator("uk", default_registry().catalogs))
+    fig.canvas.draw()
+    shown = [label.get_text() for axis in (plain.xaxis, plain.yaxis)
+             for label in axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True) if label.get_text()]
+    assert {"1", "10", "0,1", "2", "5"} <= set(shown), shown
+    assert not any("10⁰" in x or "10¹" in x or "·10" in x for x in shown), shown
+    svg = to_svg(fig).decode("utf-8")
+    assert "10⁻³" in svg and "10⁻⁶" in svg  # the wide axis keeps its powers of ten
+
+
 def test_a_log_axis_over_many_decades_has_no_minor_ticks():
     # eight unlabelled marks a decade over nine decades are a comb (and ~100 tick objects to
     # make); up to five decades the minor ticks stay

@@ -472,7 +472,7 @@ def _locale_ticks(axis, t) -> None:
     if type(major) is ScalarFormatter:  # leave custom formatters
         axis.set_major_formatter(locale_formatter(t))
     elif isinstance(major, LogFormatter):  # 10⁻³ typeset; minor labels only where no power of ten shows
-        axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t)))
+        axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t, axis.get_view_interval())))
         axis.set_minor_formatter(FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t)))
         if _decades(axis.get_view_interval()) > _MINOR_TICKS_MAX_DECADES:
             from matplotlib.ticker import NullLocator  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
@@ -503,14 +503,28 @@ def _log_minor_label(x: float, view, t) -> str:
     if high / low < 10.0:
         return t.number_g(x, 3) if any(abs(mantissa - m) < 1e-6 for m in (2.0, 3.0, 5.0)) else ""
     if any(abs(mantissa - m) < 1e-6 for m in (2.0, 5.0)):
-        return f"{int(round(mantissa))}·10{superscript(exponent)}"
+        return t.number_g(x, 3) if _plain_numbers(view) else f"{int(round(mantissa))}·10{superscript(exponent)}"
     return ""
 
 
-def _log_label(x: float, t) -> str:
+#: A log axis within these limits is labelled with plain numbers (0,05; 2; 10; 500), as a reader
+#: writes them, not as powers of ten ("2·10⁰", "10¹": a supervisor's remark).
+PLAIN_LOG_RANGE = (1e-2, 1e4)
+
+
+def _plain_numbers(view) -> bool:
+    low, high = sorted(float(v) for v in view)
+    return PLAIN_LOG_RANGE[0] * (1 - 1e-9) <= low and high <= PLAIN_LOG_RANGE[1] * (1 + 1e-9)
+
+
+def _log_label(x: float, t, view=None) -> str:
+    """A log axis's major label: a power of ten as 10⁻³, or a plain number on an axis within
+    :data:`PLAIN_LOG_RANGE` (``view``: the axis's limits)."""
     if x <= 0 or not math.isfinite(x):
         return ""
     exponent = math.log10(x)
+    if view is not None and _plain_numbers(view):
+        return t.number_g(x, 6)
     if abs(exponent - round(exponent)) < 1e-9:
         # Unicode superscripts, as in the tables (1,2·10⁻⁵): real superscripts, and plain text,
         # so no mathtext has to be typeset for each of a log axis's labels
