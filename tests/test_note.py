@@ -359,3 +359,12 @@ def test_double_primed_symbols_are_typeset_as_the_primed_ones():
 
     html = typeset_text_html("l′_i + l″_i = l_i", "uk", [])
     assert html == "<i>l</i>′<sub>i</sub> + <i>l</i>″<sub>i</sub> = <i>l</i><sub>i</sub>"
+
+
+def test_a_number_with_a_power_of_ten_keeps_its_unit_on_its_line():
+    """A supervisor: "±4,3·10⁻⁵ / МПа" parted at a line's end (the narrow no-break space went only
+    after a plain digit)."""
+    from crankdyn.report.typeset import typeset_text_html
+
+    html = typeset_text_html("t_min ±4,3·10⁻⁵ МПа, 0,0067 %, 17 235 Н", "uk", ["МПа", "%", "Н"])
+    assert "10⁻⁵\u202fМПа" in html and "0,0067\u202f%" in html and "235\u202fН" in html

@@ -343,10 +343,10 @@ def _unit_spacing(text: str, units: list[str]) -> str:
 
 @functools.lru_cache(maxsize=16)
 def _unit_pattern(units: tuple[str, ...]) -> re.Pattern:
-    """A number, a space and one of ``units`` (longest first): built once per unit list, not for
-    each of a report's text nodes."""
+    """A number (its last digit, or the superscript exponent of ``3,0·10⁻⁵``), a space and one of
+    ``units`` (longest first): built once per unit list, not for each of a report's text nodes."""
     alternatives = "|".join(re.escape(u) for u in sorted(units, key=len, reverse=True))
-    return re.compile(rf"(\d)[ \u00a0]({alternatives})(?![{_LETTER}])")
+    return re.compile(rf"([\d⁰¹²³⁴⁵⁶⁷⁸⁹])[ \u00a0]({alternatives})(?![{_LETTER}])")
 
 
 _TAG = re.compile(r"(<[^>]+>)")
