@@ -221,12 +221,12 @@ class RenderContext:
 
     def table(self, columns: Sequence[tuple[str, Sequence[float] | Sequence[str], int | None]],
               caption: str, header_html: bool = True, css_class: str = "data",
-              extremes: Sequence[TableExtreme] = ()) -> Markup:
+              extremes: Sequence[TableExtreme] = (), see: bool | str = True) -> Markup:
         """A numbered table, referred to in a sentence before it. ``columns`` are (header
         markup, values, decimals or None for text). A long table continues on the next pages
         with the continuation label and the repeated header; a wide one goes on landscape pages.
         ``extremes``: rows added between the table step's rows (:func:`add_extreme_rows`), set in
-        bold and named in a note under the table."""
+        bold and named in a note under the table. ``see``: as :func:`table_markup`'s."""
         self._table += 1
         number = f"{self.section_number}.{self._table}"
         head = "".join(f"<th>{Markup(h) if header_html else escape(h)}</th>" for h, _, _ in columns)
@@ -247,7 +247,7 @@ class RenderContext:
                 cells.append(f"<td{css}><b>{text}</b></td>" if i in marked else f"<td{css}>{text}</td>")
             rows.append(('<tr class="extremum">' if i in marked else "<tr>") + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
-        return table_markup(self.t, number, caption_text, head, rows, css_class,
+        return table_markup(self.t, number, caption_text, head, rows, css_class, see=see,
                             note=self.extremes_note(extremes))
 
     def angle_labels(self, labels: Sequence[float]) -> list[str]:
@@ -266,7 +266,7 @@ class RenderContext:
 
     def table_html(self, headers: Sequence[str], rows: Sequence[Sequence[str]], caption: str,
                    css_class: str = "data", markup_columns: Sequence[int] = (),
-                   text_columns: Sequence[int] = (), see: bool = True) -> Markup:
+                   text_columns: Sequence[int] = (), see: bool | str = True) -> Markup:
         """A numbered table from text cells; ``markup_columns`` hold template-authored markup
         (symbols), every other cell is escaped; ``text_columns`` are set as text, not numbers."""
         self._table += 1
@@ -361,8 +361,12 @@ class RenderContext:
 
 
 def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
-                 css_class: str = "data", see: bool = True, note: str = "") -> Markup:
+                 css_class: str = "data", see: bool | str = True, note: str = "") -> Markup:
     """A numbered table's markup: the sentence referring to it, the caption, the header and the rows.
+
+    ``see``: the catalog key of the sentence referring to the table, with ``{number}`` (True: the
+    general ``doc.see_table``, "the results are given in table N"; False: none, the stage's text
+    refers to the table itself).
 
     A table of more rows than :attr:`RenderContext.BREAKABLE_ROWS` (landscape: a page's) may break between rows
     where the page ends, wherever it starts; the printed page repeats the header
@@ -376,9 +380,9 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
         label = escape(t("doc.continued", number=number))
         rows = [f'<tr data-continued="{label}"' + r[len("<tr"):] if r.startswith("<tr") else r for r in rows]
     head = f"<thead><tr>{head_html}</tr></thead>"
+    see_key = see if isinstance(see, str) else "doc.see_table"
     return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
-                  + (f'<p class="see">{escape(bound_number(t("doc.see_table", number=number), number))}</p>'
-                     if see else "")
+                  + (f'<p class="see">{escape(bound_number(t(see_key, number=number), number))}</p>' if see else "")
                   + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
                   f"{head}<tbody>{''.join(rows)}</tbody></table>"
                   + (f'<p class="table-note">{escape(note)}</p>' if note else "") + "</div>")
