@@ -30,6 +30,14 @@ def pytest_runtest_makereport(item, call):
         report.longrepr = f"CRANKDYN_CI: a system tool is missing: {report.longrepr}"
 
 
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(config, items):
+    """Tests marked ``long`` (a PDF, a browser, a fresh virtual environment: 3-10 s each) go first,
+    after pytest-randomly's shuffle: started last, one of them kept a core busy for 10 s while
+    the other had nothing left to take (longest first: xdist's workers end within a short test)."""
+    items.sort(key=lambda item: item.get_closest_marker("long") is None)  # stable: the shuffle stays
+
+
 @pytest.fixture(scope="session")
 def examples() -> Path:
     return examples_dir()

@@ -103,6 +103,7 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
     return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text) if w not in ALLOWED_LATIN]
 
 
+@pytest.mark.long
 @needs_poppler
 @pytest.mark.parametrize("language", list(LANGUAGES))
 def test_explanatory_note_pdf(tmp_path, language):

@@ -39,6 +39,7 @@ def _clean_venv_seeing_this_one(venv: Path, env: dict) -> Path:
     return python
 
 
+@pytest.mark.long
 def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path):
     source = tmp_path / "plugin-example"
     # Build from a copy, so that setuptools' build/ and *.egg-info never land in the repository.

@@ -325,6 +325,7 @@ def _start_serve(scene: Path, *extra: str) -> tuple[subprocess.Popen, str]:
 
 @pytest.mark.skipif(CHROMIUM is None or BASH is None,
                     reason="Debian's chromium package is not installed (.ci/setup.sh installs it)")
+@pytest.mark.long
 def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path):
     scene = write_scene(tmp_path / "engine.toml", modified("petrol-1cyl", {"report": {"title": "Preview one"}}))
     server, base = _start_serve(scene, "--stages", "kinematics,indicator")

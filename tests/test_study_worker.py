@@ -150,6 +150,7 @@ def test_no_worker_is_forked_beside_other_threads():
     """)
 
 
+@pytest.mark.long
 def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole():
     run("""
     from crankdyn import serve
