@@ -78,6 +78,9 @@ def _decimal_points(text: str) -> list[str]:
     found = []
     for m in re.finditer(r"(\S*\s?\S*\s?)(?<![\d.,])(\d+\.\d+)(?![\d.])", text):
         before = m.group(1)
+        line = text[text.rfind("\n", 0, m.start(2)) + 1:m.start(2)]
+        if not line.strip() and re.match(r" [^\W\d_]", text[m.end(2):]) and text[m.end(2) + 1].isupper():
+            continue  # a numbered subsection's heading ("2.1 Передавання сили на водило"), in the contents too
         if re.search(r"(табл|рис|Таблиц|Рисун|таблиц|розд|подразд|підрозд|додат|прилож|Продовження|Продолжение|"
                      r"crankdyn)[^\s]*\s*[А-ЯA-Z]?\.?\s*$|\($|[–-]$", before):
             continue
@@ -344,8 +347,14 @@ def test_landscape_tables_go_after_the_portrait_material_that_follows_them():
     after = '<div class="table-block"><table data-number="7.3"></table></div>'
     figure = '<div class="figure-block"><figure data-number="7.1"></figure></div><p>text</p>'
     # the wide table and the one right after it move past the figure and the text, before table 7.3
+    # (the text after the last figure leads them onto their landscape page, not alone on a portrait one)
+    lead = '<div class="landscape-lead"><p>text</p></div>'
     assert landscape_tables_later("<p>a</p>" + wide + "\n" + narrow + figure + after) == \
-        "<p>a</p>" + figure + wide + "\n" + narrow + after
+        "<p>a</p>" + figure.replace("<p>text</p>", lead) + wide + "\n" + narrow + after
+    # a row of figures is closed before the lead; text alone (no figure) moves as before
+    row = '<div class="figure-row">' + figure.replace("<p>text</p>", "") * 2 + "</div>"
+    assert landscape_tables_later(wide + row + "<p>t</p>" + after) == row + lead.replace("text", "t") + wide + after
+    assert landscape_tables_later(wide + "<p>t</p>" + after) == "<p>t</p>" + wide + after
     # another landscape table next: the text between shares their landscape pages, nothing moves
     second = wide.replace("7.1", "7.2")
     assert landscape_tables_later(wide + "<p>t</p>" + second) == wide + "<p>t</p>" + second
