@@ -83,8 +83,11 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
                      "Векторну діаграму наведено на рис. 7.1.", "Діаграму зношування наведено на рис."):
         assert sentence in one, sentence
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
-    assert "Графіки показано на рис. 3.1." not in one
-    assert "Графіки показано на рис. 2.1." in one  # curves are still "графіки"
+    # every figure and table says what it holds, none is announced as just "the curves" or "the results"
+    assert "Графіки показано на рис." not in one
+    assert ("Залежності переміщення, швидкості та прискорення поршня від кута повороту кривошипа "
+            "показано на рис. 2.1.") in one
+    assert "Кінематичні параметри поршня і питомі сили, що діють у механізмі одного циліндра, наведено в табл." in one
 
 
 def test_the_main_journal_diagram_says_whose_force_it_shows(reports):

@@ -256,7 +256,9 @@ def test_numerics_refusals_in_the_report_language(language):
     scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
     assert not _latin_words(rendered.html, scene_texts), sorted(set(_latin_words(rendered.html, scene_texts)))
     t = translator(language, REGISTRY.catalogs)
-    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in html_lib.unescape(rendered.html)
+    # (the unit bound to its number by a narrow no-break space: "1,00·10⁻⁹ с" as one)
+    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in \
+        html_lib.unescape(rendered.html).replace("\u202f", " ")
 
     from crankdyn_builtin.numerics.stage import refused_steps
 

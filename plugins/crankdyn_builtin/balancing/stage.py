@@ -582,7 +582,7 @@ def _masses_table(ctx, r):
                                 ctx.num(r["acceleration_harmonics"]["VI"], 4)], None),
         (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
                                  ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
-    ], caption=t("balancing.masses_caption"))
+    ], caption=t("balancing.masses_caption"), see="balancing.see_masses")
     return masses_table + worked_balancing(ctx, r)
 
 
@@ -621,7 +621,8 @@ def _coefficients_table(ctx, r):
                                            ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1) for o in orders], None),
         ]
     return ctx.table(columns, caption=t("balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"),
-                     css_class="data wide")
+                     css_class="data wide",
+                     see="balancing.see_coefficients_single" if single else "balancing.see_coefficients")
 
 
 def _bay_table(ctx, r):
@@ -638,7 +639,8 @@ def _bay_table(ctx, r):
                  "<i>B</i><sub>I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
                  "<i>A</i><sub>II</sub>/<i>C</i><sub>II</sub>", "<i>B</i><sub>II</sub>/<i>C</i><sub>II</sub>")
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
-        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)], caption=t("balancing.bay_caption"))
+        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)],
+                              caption=t("balancing.bay_caption"), see="balancing.see_bay")
 
     return bay_table
 
@@ -655,7 +657,7 @@ def _summary_table(ctx, r):
         (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
                                 for s in rows], None),
         (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
-    ], caption=t("balancing.summary_caption"))
+    ], caption=t("balancing.summary_caption"), see="balancing.see_summary")
 
     return summary_table
 
@@ -698,13 +700,18 @@ def _means_table(ctx, r):
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)
+        see = "balancing.see_means_counterweight" if len(r["counterweights"]) == 1 \
+            else "balancing.see_means_counterweights"
     elif not r["counterweights"]:
         caption = t("balancing.means_caption_shafts", **radii)
+        see = "balancing.see_means_shaft" if len(r["balance_shafts"]) == 1 else "balancing.see_means_shafts"
     elif single:
         caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
+        see = "balancing.see_means_single"  # one counterweight and one or more shafts
     else:
         caption = t("balancing.means_caption", **radii)
-    return ctx.table(columns, caption=caption, css_class="data wide")
+        see = "balancing.see_means"
+    return ctx.table(columns, caption=caption, css_class="data wide", see=see)
 
 
 def _explorer_table(ctx, r):
@@ -727,7 +734,8 @@ def _explorer_table(ctx, r):
             (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
             (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
             (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
-        ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide")
+        ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide",
+            see="balancing.see_explorer")
 
     return explorer_table
 

@@ -314,7 +314,20 @@ def _phase_table(r: dict, ctx):
         columns.append((escape(t("bays.axis_angle")), [p["axis_deg"] for p in phases], 0))
     columns.append((escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
                     [p["cycle_delay_deg"] for p in phases], 0))
-    return ctx.table(columns, caption=t("bays.phases_caption"))
+    return ctx.table(columns, caption=t("bays.phases_caption"), see="bays.see_phases")
+
+
+def _slave_table(r: dict, ctx):
+    """Table of the articulated (slave) rods' geometry."""
+    t = ctx.t
+    return ctx.table([
+        (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
+        ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
+        ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
+        ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
+        ("<i>l</i> (3), " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
+        ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
+    ], caption=t("bays.slave_caption"), see="bays.see_slaves")
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -322,6 +335,8 @@ def render(output: StageOutput, ctx) -> str | None:
     if r["cylinders"] == 1:
         return None
     t = ctx.t
+    # tables are numbered as made: the cylinders' phases first, as the template shows them
+    phase_table = _phase_table(r, ctx)
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
     bay_table = slave_table = figure = None
     if "bay" in output.tables:
@@ -329,6 +344,7 @@ def render(output: StageOutput, ctx) -> str | None:
         angle = f["crank_angle_deg"]
         rows, labels = sample_rows(angle, ctx.table_step_deg)
         first = output.tables.arrays([k for k in output.tables if k.startswith("slave_")][0])
+        slave_table = _slave_table(r, ctx)
         bay_table = ctx.table([
             ("<i>α</i>, °", labels, 0),
             ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
@@ -337,21 +353,14 @@ def render(output: StageOutput, ctx) -> str | None:
             ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
             ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
             ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
-        ], caption=t("bays.table_b2_caption"))
-        slave_table = ctx.table([
-            (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
-            ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
-            ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
-            ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
-            ("<i>l</i> (3), " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
-            ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
-        ], caption=t("bays.slave_caption"))
-        figure = ctx.figure(partial(_bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay")
+        ], caption=t("bays.table_b2_caption"), see="bays.see_table_b2")
+        figure = ctx.figure(partial(_bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay",
+                            see="bays.see_figure")
     own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
     if own_pins:
         ctx.title = t("bays.title_own_pins")
     return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
-                               figure=figure, phase_table=_phase_table(r, ctx), own_pins=own_pins,
+                               figure=figure, phase_table=phase_table, own_pins=own_pins,
                                scheme_figure=ctx.figure_number("scheme"))
 
 

@@ -402,7 +402,7 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
 def _unrolled_figure(ctx, f, r, angle, single: bool):
     """The unrolled diagrams: the load's magnitude on the drawn crank pins and main journals."""
     return ctx.figure(partial(_unrolled_drawing, ctx.t, ctx.cycle_deg, f, r, angle, single),
-                      ctx.t("bearings.unrolled_caption"), "unrolled")
+                      ctx.t("bearings.unrolled_caption"), "unrolled", see="bearings.see_unrolled")
 
 
 def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
@@ -474,7 +474,8 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
         (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in pins], 0),
-    ], caption=t("bearings.pins_table_caption_single" if single else "bearings.pins_table_caption")) + \
+    ], caption=t("bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"),
+        see="bearings.see_pins_single" if single else "bearings.see_pins") + \
         worked_bearing(ctx, r, "pin")
     table_journals = ctx.table([
         (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
@@ -483,7 +484,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
-    ], caption=t("bearings.journals_table_caption"))
+    ], caption=t("bearings.journals_table_caption"), see="bearings.see_journals")
     journals_table_number = ctx.last_table_number
     table_journals += worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]

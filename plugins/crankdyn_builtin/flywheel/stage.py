@@ -211,7 +211,7 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     f = output.tables.arrays("flywheel")
     figure_work = ctx.figure(partial(_work_figure, f, r["mean_torque_Nm"], ctx.cycle_deg, t),
-                             t("flywheel.work_caption"), "excess_work")
+                             t("flywheel.work_caption"), "excess_work", see="flywheel.see_work")
 
     rows = [(t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
             (t("flywheel.row_mechanism"), "<i>J</i><sub>m</sub>", r["mechanism_inertia_mean_kg_m2"],
@@ -246,7 +246,7 @@ def render(output: StageOutput, ctx) -> str:
                        (t("input.symbol"), [Markup(x[1]) for x in rows], None),
                        (t("input.value"), [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows], None),
                        (t("input.unit"), [x[3] for x in rows], None)],
-                      caption=t("flywheel.table_caption")) + worked_flywheel(ctx, r)
+                      caption=t("flywheel.table_caption"), see="flywheel.see_table") + worked_flywheel(ctx, r)
     ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
                    delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"]),
                    mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]), shaft=ctx.num(r["engine_inertia_kg_m2"])))

@@ -255,7 +255,8 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>k</i>", mpa["rod_Pa"][rows], 3),
         ("<i>z</i>", mpa["radial_Pa"][rows], 3),
         ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
-    ], caption=t("forces.table_b1_caption"), css_class="data wide", extremes=extremes)
+    ], caption=t("forces.table_b1_caption"), css_class="data wide", extremes=extremes,
+        see="forces.see_table_b1")
     worked = _worked(ctx, f.take(rows), labels, r)
     rows, labels, extremes = add_extreme_rows(angle, grid_rows, grid_labels, [
         (f["resultant_Pa"], "max", t("forces.extreme_q_max")), *t_extremes], resolution=0.0)
@@ -265,12 +266,13 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
         ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
-    ], caption=t("forces.table_q_caption"), extremes=extremes) + worked_crank_torque(ctx, f.take(rows), labels, r)
+    ], caption=t("forces.table_q_caption"), extremes=extremes,
+        see="forces.see_table_q") + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     figure_forces = ctx.figure(partial(_forces_figure, t, ctx.cycle_deg, angle, mpa), t("forces.figure_caption"),
-                               "forces")
+                               "forces", see="forces.see_figure")
     figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"]),
-                               t("forces.torque_caption"), "torque")
+                               t("forces.torque_caption"), "torque", see="forces.see_torque")
 
     if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage
         ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))

@@ -240,7 +240,7 @@ def render(output: StageOutput, ctx) -> str:
         columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), _closing_row_theory(theory, rows, labels,
                                                                                          ctx.cycle_deg), 4))
     columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
-    table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes)
+    table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table")
     table += worked_indicator(ctx, frame, rows, labels, r)
 
     ctx.find(t("indicator.finding", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),

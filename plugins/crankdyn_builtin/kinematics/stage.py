@@ -153,11 +153,13 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>β</i>, °", f["rod_angle_deg"], 2),
         ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
         ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("kinematics.table_caption"))
+    ], caption=t("kinematics.table_caption"), see="kinematics.see_table")
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
-    figure_main = ctx.figure(partial(_piston_figure, frame, t), t("kinematics.figure_caption"), "piston")
-    figure_rod = ctx.figure(partial(_rod_figure, frame, t), t("kinematics.rod_figure_caption"), "rod")
+    figure_main = ctx.figure(partial(_piston_figure, frame, t), t("kinematics.figure_caption"), "piston",
+                             see="kinematics.see_figure")
+    figure_rod = ctx.figure(partial(_rod_figure, frame, t), t("kinematics.rod_figure_caption"), "rod",
+                            see="kinematics.see_rod_figure")
     figure_cm = None
     if "rod_cm_x_m" in frame:
         figure_cm = ctx.figure(partial(_rod_cm_figure, frame, t), t("kinematics.cm_figure_caption"), "rod_cm",

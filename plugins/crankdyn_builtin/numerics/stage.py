@@ -848,9 +848,9 @@ def _render_kinematics(r, ctx):
         ("max |Δ<i>j</i>|/<i>ω</i><sup>2</sup>, " + t("unit.m"),
          [ctx.num(row["acceleration_error_max_m_s2"], 2) for row in rows], None),
         (t("numerics.time_per_evaluation"), [ctx.num(row["time_per_evaluation_s"] * 1e6, 3) for row in rows], None),
-    ], caption=t("numerics.forms_caption", points=rows[0]["points"]))
+    ], caption=t("numerics.forms_caption", points=rows[0]["points"]), see="numerics.see_forms_table")
     figure = ctx.figure(functools.partial(_forms_figure, rows, t), t("numerics.forms_figure_caption"),
-                        "kinematics_forms")
+                        "kinematics_forms", see="numerics.see_forms_figure")
     return table, figure
 
 
@@ -879,7 +879,7 @@ def _render_probes(r, ctx):
             (t("numerics.setting"), [p["setting"] for p in points], None),
             (t("numerics.error"), [ctx.num(p["error"], 2) + " " + p["error_unit"] for p in points], None),
             (t("numerics.time_ms"), [ctx.num(p["time_s"] * 1e3, 3) for p in points], None),
-        ], caption=t("numerics.solver_caption", title=study["title"]))
+        ], caption=t("numerics.solver_caption", title=study["title"]), see="numerics.see_solver")
         out.append((study["title"], table, ""))
     return out
 
@@ -901,10 +901,11 @@ def _render_steps(r, ctx):
         columns.append((t("numerics.q_theoretical_work") + ", %",
                         [ctx.num(100 * s["theoretical_work_error_relative"], 2)
                          if "theoretical_work_error_relative" in s else "—" for s in steps], None))
-    table = ctx.table(columns, caption=t("numerics.steps_caption"), css_class="data wide")
+    table = ctx.table(columns, caption=t("numerics.steps_caption"), css_class="data wide",
+                      see="numerics.see_steps_table")
 
     figure = ctx.figure(functools.partial(_steps_figure, steps, labels, has_theory, t),
-                        t("numerics.steps_figure_caption"), "error_vs_time")
+                        t("numerics.steps_figure_caption"), "error_vs_time", see="numerics.see_steps_figure")
 
     a = r["at_scene_step"]
     statement = t("numerics.printed_errors", step=_plain(ctx, a["angle_step_deg"]),

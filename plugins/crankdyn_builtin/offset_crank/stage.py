@@ -225,11 +225,12 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>β</i>, °", g["rod_angle_deg"], 2),
         ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
         ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("offset_crank.table_caption")) + worked_offset_crank(ctx, g, labels, r)
+    ], caption=t("offset_crank.table_caption"), see="offset_crank.see_table") + worked_offset_crank(ctx, g, labels, r)
 
     figure_main = ctx.figure(functools.partial(_piston_figure, f, r["bdc_crank_angle_deg"], t),
-                             t("offset_crank.figure_caption"), "offset_piston")
-    figure_rod = ctx.figure(functools.partial(_rod_figure, f, t), t("offset_crank.rod_figure_caption"), "offset_rod")
+                             t("offset_crank.figure_caption"), "offset_piston", see="offset_crank.see_figure")
+    figure_rod = ctx.figure(functools.partial(_rod_figure, f, t), t("offset_crank.rod_figure_caption"), "offset_rod",
+                            see="offset_crank.see_rod_figure")
 
     ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
                    tdc=ctx.t.number_g(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.t.number_g(r["bdc_crank_angle_deg"], 4),

@@ -372,14 +372,14 @@ def _sampled_table(f, r, span, ctx) -> str:
         ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"] * mm, 3),
         ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"] * mm, 3),
         ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"], 3),
-    ], caption=t("planetary.table_caption"))
+    ], caption=t("planetary.table_caption"), see="planetary.see_table")
     return table + worked_planetary(ctx, g, labels, r)
 
 
 def _path_figure(f, r, inside, ctx) -> str:
     """The big end's trajectory and the mechanism at TDC with the torque arm MN (source, figs. 1 and 3b)."""
     return ctx.figure(functools.partial(_path_plot, f, r, inside, ctx.t), ctx.t("planetary.path_caption"),
-                      "planetary_path")
+                      "planetary_path", see="planetary.see_path")
 
 
 def _path_plot(f, r, inside, t):
@@ -418,7 +418,8 @@ def _path_plot(f, r, inside, t):
 def _family_figure(family, r, ctx) -> str:
     """The big-end paths of the source's fig. 2 family of gear ratios."""
     return ctx.figure(functools.partial(_family_plot, family, r["fixed_pitch_diameter_m"], ctx.t),
-                      ctx.t("planetary.family_caption_" + r["gear"]), "planetary_family")
+                      ctx.t("planetary.family_caption_" + r["gear"]), "planetary_family",
+                      see="planetary.see_family_" + r["gear"])
 
 
 def _family_plot(family, fixed_pitch_diameter_m, t):
@@ -438,7 +439,7 @@ def _family_plot(family, fixed_pitch_diameter_m, t):
 def _motion_figure(f, angle, inside, span, ctx) -> str:
     """Piston displacement, velocity and acceleration against the equivalent crank-slider's (source, fig. 3a)."""
     return ctx.figure(functools.partial(_motion_plot, f, angle, inside, span, ctx.t), ctx.t("planetary.motion_caption"),
-                      "planetary_motion")
+                      "planetary_motion", see="planetary.see_motion")
 
 
 def _motion_plot(f, angle, inside, span, t):
@@ -461,7 +462,7 @@ def _motion_plot(f, angle, inside, span, t):
 def _arms_figure(f, angle, inside, span, ctx) -> str:
     """How a piston force reaches the carrier: the torque arms and the tooth and carrier force ratios."""
     return ctx.figure(functools.partial(_arms_plot, f, angle, inside, span, ctx.t), ctx.t("planetary.arms_caption"),
-                      "planetary_arms")
+                      "planetary_arms", see="planetary.see_arms")
 
 
 def _arms_plot(f, angle, inside, span, t):

@@ -208,12 +208,14 @@ def render(output: StageOutput, ctx) -> str:
         columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
                     ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
     table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
-                      css_class="data wide") + worked_rod_dynamics(ctx, g, labels, r)
+                      css_class="data wide", see="rod_dynamics.see_table" if exact else "rod_dynamics.see_table_two") \
+        + worked_rod_dynamics(ctx, g, labels, r)
 
-    figure_motion = ctx.figure(partial(_motion_figure, f, period, t), t("rod_dynamics.motion_caption"), "rod_motion")
+    figure_motion = ctx.figure(partial(_motion_figure, f, period, t), t("rod_dynamics.motion_caption"), "rod_motion",
+                               see="rod_dynamics.see_motion")
     figure_torque = ctx.figure(partial(_torque_figure, f, period, exact, t),
                                t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
-                               "rod_torque")
+                               "rod_torque", see="rod_dynamics.see_torque" if exact else "rod_dynamics.see_torque_two")
 
     if exact:
         ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),

@@ -570,7 +570,7 @@ def run(scene, inputs) -> StageOutput:
 
 # --------------------------------------------------------------------------- report
 
-def _solver_table(ctx, records, caption, twist=False):
+def _solver_table(ctx, records, caption, see, twist=False):
     t = ctx.t
     rows = [r for r in records if not r.get("reference")]
     columns = [
@@ -585,7 +585,7 @@ def _solver_table(ctx, records, caption, twist=False):
     if twist:
         columns.append((t("speed_fluctuation.col_error_twist"),
                         [_error_text(ctx, r.get("error_twist_relative")) for r in rows], None))
-    return ctx.table(columns, caption=caption)
+    return ctx.table(columns, caption=caption, see=see)
 
 
 def _steps_text(ctx, r):
@@ -619,8 +619,8 @@ def _power_of_ten(value: float, t) -> str:
     return t.number_g(value, 2)
 
 
-def _error_figure(ctx, records, caption, name, key="error_relative"):
-    return ctx.figure(partial(_error_plot, records, key, ctx.t), caption, name)
+def _error_figure(ctx, records, caption, name, see, key="error_relative"):
+    return ctx.figure(partial(_error_plot, records, key, ctx.t), caption, name, see=see)
 
 
 def _error_plot(records, key, t):
@@ -648,7 +648,7 @@ def _error_plot(records, key, t):
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
     return ctx.figure(partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
-                      ctx.t("speed_fluctuation.speed_caption"), "speed")
+                      ctx.t("speed_fluctuation.speed_caption"), "speed", see="speed_fluctuation.see_speed")
 
 
 def _speed_plot(f, method, cycle_deg, t):
@@ -679,14 +679,14 @@ def _shaft_tables(ctx, torsion, node_names, parts) -> None:
          (t("speed_fluctuation.col_twist"), [ctx.num(x * 1e3) for x in torsion["twist_max_rad"]] + ["—"], None),
          (t("speed_fluctuation.col_span_torque"), [ctx.num(x) for x in torsion["span_torque_max_Nm"]] + ["—"],
           None)],
-        caption=t("speed_fluctuation.nodes_caption"))
+        caption=t("speed_fluctuation.nodes_caption"), see="speed_fluctuation.see_nodes")
     parts["table_modes"] = ctx.table(
         [(t("speed_fluctuation.col_mode"), [str(m["mode"]) for m in modes], None),
          ("<i>ω</i>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
          ("<i>f</i>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
         + [(Markup("<i>a</i><sub>") + str(i + 1) + Markup("</sub>"), [m["shape"][i] for m in modes], 3)
            for i in range(len(nodes))],
-        caption=t("speed_fluctuation.modes_caption"))
+        caption=t("speed_fluctuation.modes_caption"), see="speed_fluctuation.see_modes_table")
 
 
 def _modes_figure(ctx, torsion, parts) -> None:
@@ -696,7 +696,8 @@ def _modes_figure(ctx, torsion, parts) -> None:
     labels = [t("speed_fluctuation.mode_label", mode=m["mode"], f=ctx.num(m["natural_frequency_Hz"], 4))
               for m in modes[: min(3, len(modes))]]
     parts["figure_modes"] = ctx.figure(partial(_modes_plot, len(torsion["nodes"]), modes, labels, t),
-                                       t("speed_fluctuation.modes_figure_caption"), "modes")
+                                       t("speed_fluctuation.modes_figure_caption"), "modes",
+                                       see="speed_fluctuation.see_modes_figure")
 
 
 def _modes_plot(node_count, modes, labels, t):
@@ -724,14 +725,15 @@ def _harmonics_table(ctx, torsion, parts) -> None:
            for k, m in enumerate(shown)]
         + [(t("speed_fluctuation.col_vector_sum", mode=m["mode"]), [h["vector_sum"][k] for h in harmonics], 2)
            for k, m in enumerate(shown)],
-        caption=t("speed_fluctuation.harmonics_caption"))
+        caption=t("speed_fluctuation.harmonics_caption"), see="speed_fluctuation.see_harmonics")
 
 
 def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     """The periodic state: the flywheel's and the first crank's speed against the rigid shaft's, and the
     torque in every span, over the shaft angle."""
     parts["figure_torsion"] = ctx.figure(partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
-                                         ctx.t("speed_fluctuation.torsion_caption"), "torsion")
+                                         ctx.t("speed_fluctuation.torsion_caption"), "torsion",
+                                         see="speed_fluctuation.see_torsion")
 
 
 def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
@@ -770,10 +772,11 @@ def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
     _torsion_figure(ctx, output.tables.arrays("torsion"), torsion, node_names, parts)
     if torsion["solvers"]:
         parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
-                                                       t("speed_fluctuation.torsion_table_caption"), twist=True)
+                                                       t("speed_fluctuation.torsion_table_caption"),
+                                                       "speed_fluctuation.see_torsion_table", twist=True)
         parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
                                                         t("speed_fluctuation.torsion_figure_caption"),
-                                                        "solvers_torsion")
+                                                        "solvers_torsion", "speed_fluctuation.see_torsion_figure")
     ctx.conclude(t("speed_fluctuation.conclusion_torsion", f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
                    else "—", method=torsion["solver"]["method"],
                    twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
@@ -796,8 +799,10 @@ def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     r = output.results
     figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
-    table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"))
-    figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single")
+    table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"),
+                                 "speed_fluctuation.see_single_table")
+    figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single",
+                                  "speed_fluctuation.see_single_figure")
 
     torsion = r["torsion"]
     if torsion is None:  # no torsional model in the scene: the title does not promise one
@@ -820,7 +825,7 @@ def _campbell(ctx, torsion, parts) -> None:
     rpm = torsion["operating_rpm"]
     parts["figure_campbell"] = ctx.figure(partial(_campbell_plot, torsion, t),
                                           t("speed_fluctuation.campbell_caption", band=ctx.num(100 * CRITICAL_BAND, 2)),
-                                          "campbell")
+                                          "campbell", see="speed_fluctuation.see_campbell")
     near = torsion["critical_speeds_near_operating"]
     if near:
         items = "; ".join(t("speed_fluctuation.critical_item", mode=c["mode"], order=ctx.num(c["order"], 3),

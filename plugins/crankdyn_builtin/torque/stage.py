@@ -115,16 +115,19 @@ def render(output: StageOutput, ctx) -> str | None:
         chunk = [columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
         if start + per_table >= cranks:
             chunk.append(columns[-1])
-        caption = "torque.table_b3_caption_torque" if chunk[-1] is columns[-1] else "torque.table_b3_caption"
+        with_torque = chunk[-1] is columns[-1]
+        caption = "torque.table_b3_caption_torque" if with_torque else "torque.table_b3_caption"
+        see = ("torque.see_table_b3_single" if cranks == 1 else "torque.see_table_b3_torque") if with_torque \
+            else "torque.see_table_b3"
         tables.append(ctx.table(chunk, caption=t(caption, first=start + 1,
                                                    last=min(start + per_table, cranks)), css_class="data wide",
-                                  extremes=extremes))
+                                  extremes=extremes, see=see))
     tables[-1] += worked_torque(ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"])
 
     figure_output = ctx.figure(partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
-                               t("torque.output_caption"), "output_torque")
+                               t("torque.output_caption"), "output_torque", see="torque.see_output")
     figure_journals = ctx.figure(partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
-                                 "journal_torques")
+                                 "journal_torques", see="torque.see_journals")
 
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
     danger = ctx.table([
@@ -135,7 +138,8 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>t</i><sub>k</sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-    ], caption=t("torque.table_b4_caption"))
+    ], caption=t("torque.table_b4_caption"),
+        see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4")
 
     ctx.find(t("torque.finding", mean=ctx.num(r["mean_Nm"])))
     ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),

@@ -230,13 +230,13 @@ def _vane_table(f, r, ctx) -> str:
         ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"], 3),
         ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"], 0),
         ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"] * mm, 2),
-    ], caption=t("vane.table_caption"), css_class="data wide")
+    ], caption=t("vane.table_caption"), css_class="data wide", see="vane.see_table")
     return table + worked_vane(ctx, g, labels, r)
 
 
-def _two_panels(plot, ctx, keys, axis_labels, caption_key, name) -> str:
+def _two_panels(plot, ctx, keys, axis_labels, caption_key, name, see) -> str:
     """An angle and its rate (or a rate and its derivative) over the crank angle, with the comparison rod ratios."""
-    return ctx.figure(partial(_two_panels_plot, plot, keys, axis_labels, ctx.t), ctx.t(caption_key), name)
+    return ctx.figure(partial(_two_panels_plot, plot, keys, axis_labels, ctx.t), ctx.t(caption_key), name, see=see)
 
 
 def _two_panels_plot(plot, keys, axis_labels, t):
@@ -253,7 +253,8 @@ def _two_panels_plot(plot, keys, axis_labels, t):
 
 def _rocker_figure(f, ctx) -> str:
     """The rocker joint's x and y position, velocity and acceleration over the crank angle."""
-    return ctx.figure(partial(_rocker_plot, f, ctx.t), ctx.t("vane.rocker_caption"), "vane_rocker")
+    return ctx.figure(partial(_rocker_plot, f, ctx.t), ctx.t("vane.rocker_caption"), "vane_rocker",
+                      see="vane.see_rocker")
 
 
 def _rocker_plot(f, t):
@@ -274,11 +275,11 @@ def _rocker_plot(f, t):
     return fig
 
 
-def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, zeros=()) -> str:
+def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, see, zeros=()) -> str:
     """Value, velocity and acceleration of one coordinate over the crank angle, with the
     comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
     return ctx.figure(partial(_three_panels_plot, plot, keys, axis_labels, legend_loc, zeros, ctx.t),
-                      ctx.t(caption_key), name)
+                      ctx.t(caption_key), name, see=see)
 
 
 def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
@@ -299,7 +300,8 @@ def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
 def _lambda_figure(by_lambda, lam, ctx) -> str:
     """How the rod ratio λ sets the largest core angle, the slider's largest travel and the angle where
     its acceleration vanishes; the scene's λ marked."""
-    return ctx.figure(partial(_lambda_plot, by_lambda, lam, ctx.t), ctx.t("vane.lambda_caption"), "vane_lambda")
+    return ctx.figure(partial(_lambda_plot, by_lambda, lam, ctx.t), ctx.t("vane.lambda_caption"), "vane_lambda",
+                      see="vane.see_lambda")
 
 
 def _lambda_plot(by_lambda, lam, t):
@@ -334,18 +336,19 @@ def render(output: StageOutput, ctx) -> str:
 
     table = _vane_table(f, r, ctx)
     figure_angles = _two_panels(plot, ctx, ("core_angle_deg", "vane_angle_deg"), ("vane.axis_beta", "vane.axis_gamma"),
-                                "vane.angles_caption", "vane_angles")
+                                "vane.angles_caption", "vane_angles", "vane.see_angles")
     figure_core = _two_panels(plot, ctx, ("core_angular_velocity_rad_s", "core_angular_acceleration_rad_s2"),
-                              ("vane.axis_omega_c", "vane.axis_epsilon_c"), "vane.core_caption", "vane_core")
+                              ("vane.axis_omega_c", "vane.axis_epsilon_c"), "vane.core_caption", "vane_core",
+                              "vane.see_core")
     figure_rocker = _rocker_figure(f, ctx)
     figure_slider = _three_panels(
         plot, ctx, ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
         ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"), "upper right", "vane.slider_caption",
-        "vane_slider", r["slider_vertical_acceleration_zeros_deg"])
+        "vane_slider", "vane.see_slider", r["slider_vertical_acceleration_zeros_deg"])
     figure_relative = _three_panels(
         plot, ctx, ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
         ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
-        "vane.relative_caption", "vane_relative")
+        "vane.relative_caption", "vane_relative", "vane.see_relative")
     figure_lambda = _lambda_figure(output.tables.arrays("by_lambda"), lam, ctx)
 
     zeros = r["slider_vertical_acceleration_zeros_deg"]

@@ -257,12 +257,30 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
-        findings=ctx.findings,
+        findings=ctx.findings, keywords=keywords(t, scene.engine.mechanism, [v.key for v in sections]),
     )
     html = _finish(html, t, language, len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+#: The abstract's key words: DSTU 3008:2015 and GOST 7.32-2017 ask for five to fifteen.
+KEYWORDS_MAX = 15
+
+
+def keywords(t, mechanism: str, stages: list[str]) -> str:
+    """The abstract's key words, upper case, for what this report holds: the calculation, the
+    mechanism (its description in the catalog, up to the colon) and each section's own words
+    (``<stage>.keywords`` in its plugin's catalog, comma-separated; a stage without them adds none)."""
+    words = [t("doc.keyword_general")]
+    if t.has(f"mechanism.{mechanism}"):
+        words.append(t(f"mechanism.{mechanism}").split(":", 1)[0])
+    for stage in stages:
+        if t.has(f"{stage}.keywords"):
+            words += [w.strip() for w in t(f"{stage}.keywords").split(",") if w.strip()]
+    unique = list(dict.fromkeys(w.upper() for w in words))
+    return ", ".join(unique[:KEYWORDS_MAX])
 
 
 def _title(scene, t) -> str:

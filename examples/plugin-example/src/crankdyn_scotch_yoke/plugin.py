@@ -142,10 +142,11 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"][shown] * 1e3, 2),
         ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"][shown], 2),
         ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"][shown], 0),
-    ], caption=t("scotch_yoke.table_caption"))
+    ], caption=t("scotch_yoke.table_caption"), see="scotch_yoke.see_table")
 
     # a function that builds the figure, called later by the process that draws it
-    figure = ctx.figure(functools.partial(_motion_figure, frame, t), t("scotch_yoke.figure_caption"), "scotch_yoke")
+    figure = ctx.figure(functools.partial(_motion_figure, frame, t), t("scotch_yoke.figure_caption"), "scotch_yoke",
+                        see="scotch_yoke.see_figure")
 
     ctx.conclude(t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"])))
     return ctx.render_template("sections/scotch_yoke.html.j2", r=r, table=table, figure=figure)

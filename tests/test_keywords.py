@@ -1,0 +1,41 @@
+"""The abstract's key words name what the report holds (a supervisor: the balancing, the bearings
+and the flywheel were calculated and the key words did not say so)."""
+
+from __future__ import annotations
+
+import re
+
+from conftest import shared_html
+
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import KEYWORDS_MAX, keywords
+from crankdyn.report.i18n import translator
+
+
+def _keywords(html: str) -> list[str]:
+    return re.search(r'<p class="keywords">(.*?)</p>', html, flags=re.S).group(1).split(", ")
+
+
+def test_the_key_words_follow_the_sections():
+    full = _keywords(shared_html("inline4-petrol", language="uk").html)
+    alone = _keywords(shared_html("kinematics-only", language="uk").html)
+    assert full[:2] == ["ДИНАМІЧНИЙ РОЗРАХУНОК", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ МЕХАНІЗМ"]
+    for word in ("КІНЕМАТИКА", "ІНДИКАТОРНА ДІАГРАМА", "КРУТНИЙ МОМЕНТ", "ЗРІВНОВАЖЕННЯ", "МАХОВИК"):
+        assert word in full, (word, full)
+    assert "КІНЕМАТИКА" in alone and "МАХОВИК" not in alone and "ЗРІВНОВАЖЕННЯ" not in alone
+    assert 5 <= len(full) <= KEYWORDS_MAX and len(set(full)) == len(full)
+    assert all(w == w.upper() for w in full)
+
+
+def test_key_words_in_every_language_come_from_the_catalogs():
+    registry = default_registry()
+    stages = ["kinematics", "indicator", "forces", "torque", "balancing", "bearings", "flywheel"]
+    for language, general in (("en", "DYNAMIC CALCULATION"), ("ru", "ДИНАМИЧЕСКИЙ РАСЧЁТ")):
+        t = translator(language, registry.catalogs)
+        words = keywords(t, "crank_slider", stages).split(", ")
+        assert words[0] == general and len(words) >= 7, words
+        assert not t.missing
+    # a stage without key words of its own (a third party's) adds none; a mechanism without a
+    # description in the catalog none either
+    t = translator("uk", registry.catalogs)
+    assert keywords(t, "no_such_mechanism", ["no_such_stage"]) == "ДИНАМІЧНИЙ РОЗРАХУНОК"
