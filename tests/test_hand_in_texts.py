@@ -85,6 +85,10 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
     # every figure and table says what it holds, none is announced as just "the curves" or "the results"
     assert "Графіки показано на рис." not in one
+    four_text = as_read(four)
+    for generic in ("Графіки показано на рис.", "Результати розрахунку наведено в табл."):
+        assert generic not in as_read(one) and generic not in four_text, generic
+    assert "Час обчислення кожного етапу розрахунку наведено в табл." in four_text
     assert ("Залежності переміщення, швидкості та прискорення поршня від кута повороту кривошипа "
             "показано на рис. 2.1.") in one
     assert "Кінематичні параметри поршня і питомі сили, що діють у механізмі одного циліндра, наведено в табл." in one
