@@ -39,3 +39,22 @@ def test_key_words_in_every_language_come_from_the_catalogs():
     # description in the catalog none either
     t = translator("uk", registry.catalogs)
     assert keywords(t, "no_such_mechanism", ["no_such_stage"]) == "ДИНАМІЧНИЙ РОЗРАХУНОК"
+
+
+def test_the_abstract_names_the_balancing_and_the_flywheel():
+    """A supervisor: the abstract left out the balancing and the flywheel results."""
+    import html as html_lib
+
+    from conftest import as_read, shared_run
+    from crankdyn.report.i18n import translator
+
+    rendered = shared_html("inline4-petrol", language="uk").html
+    abstract = html_lib.unescape(re.sub(r"<[^>]+>", "", as_read(
+        re.search(r'<section class="abstract">(.*?)</section>', rendered, flags=re.S).group(1))))
+    results = shared_run("inline4-petrol").outputs
+    t = translator("uk", default_registry().catalogs)
+    flywheel = t.number(results["flywheel"].results["flywheel_inertia_kg_m2"], 4)
+    assert f"момент інерції маховика {flywheel}\u202fкг·м²" in abstract, abstract
+    unbalanced = [s["quantity"] for s in results["balancing"].results["summary"] if not s["balanced"]]
+    assert unbalanced == ["sum_PII", "sum_PIV", "sum_PVI"]
+    assert "незрівноважені ΣPII, ΣPIV, ΣPVI" in abstract, abstract

@@ -744,7 +744,11 @@ def _conclude(ctx, r) -> None:
     """The section's conclusions: what stays unbalanced, which means are fitted."""
     t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
-    if unbalanced and len(r["cylinder_labels"]) == 1:  # one cylinder: coefficients are all 1; say the forces
+    single = len(r["cylinder_labels"]) == 1
+    # for the abstract: which resultants stay unbalanced, by their symbols ("ΣP_II, ΣP_IV"), or none
+    ctx.find(t("balancing.finding_unbalanced", items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in unbalanced))
+             if unbalanced else t("balancing.finding_balanced"))
+    if unbalanced and single:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
             f"{_plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"

@@ -247,6 +247,7 @@ def render(output: StageOutput, ctx) -> str:
                        (t("input.value"), [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows], None),
                        (t("input.unit"), [x[3] for x in rows], None)],
                       caption=t("flywheel.table_caption"), see="flywheel.see_table") + worked_flywheel(ctx, r)
+    ctx.find(t("flywheel.finding", flywheel=ctx.num(r["flywheel_inertia_kg_m2"]), delta=ctx.num(r["irregularity"], 3)))
     ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
                    delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"]),
                    mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]), shaft=ctx.num(r["engine_inertia_kg_m2"])))
