@@ -199,8 +199,12 @@ _PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left",
            (7, 7, "left", "bottom"), (-7, 7, "right", "bottom"), (7, -7, "left", "top"), (-7, -7, "right", "top"))
 
 
+#: The polar diagrams' angle labels, pt (6 pt read as too small in print: a supervisor).
+LABEL_PT = 7.0
+
+
 def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=()) -> list[tuple | None]:
-    """(dx, dy in points, ha, va) for a 6 pt label at each point (x right, y up, data units;
+    """(dx, dy in points, ha, va) for a :data:`LABEL_PT` label at each point (x right, y up, data units;
     ``per_pt`` data units per point), or None where no label fits: up and right of the point, or
     the first other corner, near or a little further out, whose box meets no label placed
     before it and stays inside ``bounds`` (x0, y0, x1, y1: the plotting area, so that no label
@@ -221,7 +225,8 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=()) 
 
     for i in (range(len(points)) if order is None else order):
         (x, y), text = points[i], texts[i]
-        width, height = len(text) * 3.8 * per_pt, 7.0 * per_pt  # DejaVu Sans digits: 0.64 em
+        # DejaVu Sans digits: 0.64 em wide; a line 1.17 em high
+        width, height = len(text) * 0.64 * LABEL_PT * per_pt, 1.17 * LABEL_PT * per_pt
         for place in _PLACES:
             dx, dy, ha, va = place
             x0 = x + dx * per_pt - (width if ha == "right" else 0.0)
@@ -326,7 +331,7 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order, obstacles)):
         if place is not None:
             dx, dy, ha, va = place
-            ax.annotate(text, (x, y), fontsize=6, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
+            ax.annotate(text, (x, y), fontsize=LABEL_PT, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
