@@ -637,3 +637,11 @@ def test_an_equals_sign_inside_a_group_or_bracket_is_no_break_point():
         depth += -1 if closing else 1
         assert depth >= 0
     assert depth == 0
+
+
+def test_the_inertia_torque_of_several_cylinders_sums_over_them(reports):
+    """A supervisor: (11.3) M_j = −m_s ω² s″s′ for a four-cylinder engine, without the sum over
+    its cylinders (each at its own cycle angle α_i, as the reduced moment of inertia sums them)."""
+    four = reports("inline4-petrol")
+    equation = re.search(r"<i>M</i><sub>j</sub> = −.*?</div>", four, flags=re.S).group(0)
+    assert "Σ<sub><i>i</i></sub> <i>s</i>″(<i>α</i><sub><i>i</i></sub>)<i>s</i>′(<i>α</i><sub><i>i</i></sub>)" in equation

@@ -813,6 +813,7 @@ def render(output: StageOutput, ctx) -> str:
                    energy=ctx.num(r["irregularity_energy"], digits),
                    deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
     return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
+                               cylinders=ctx.scene.engine.cylinders,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                worked=worked_speed_fluctuation(ctx, r), **parts)
