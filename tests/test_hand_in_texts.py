@@ -645,3 +645,10 @@ def test_the_inertia_torque_of_several_cylinders_sums_over_them(reports):
     four = reports("inline4-petrol")
     equation = re.search(r"<i>M</i><sub>j</sub> = −.*?</div>", four, flags=re.S).group(0)
     assert "Σ<sub><i>i</i></sub> <i>s</i>″(<i>α</i><sub><i>i</i></sub>)<i>s</i>′(<i>α</i><sub><i>i</i></sub>)" in equation
+
+
+def test_the_crank_radius_is_printed_without_padding_zeros(reports):
+    """A supervisor: "R = S/2 = 39,000 мм" (false precision) for a stroke of 78 mm."""
+    one = as_read(reports("petrol-1cyl-uk"))
+    assert "<i>R</i> = <i>S</i>/2 = 39\u202fмм" in one
+    assert "39,000" not in one
