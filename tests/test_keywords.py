@@ -55,6 +55,10 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     t = translator("uk", default_registry().catalogs)
     flywheel = t.number(results["flywheel"].results["flywheel_inertia_kg_m2"], 4)
     assert f"момент інерції маховика {flywheel}\u202fкг·м²" in abstract, abstract
-    unbalanced = [s["quantity"] for s in results["balancing"].results["summary"] if not s["balanced"]]
+    balancing = results["balancing"].results
+    unbalanced = [s["quantity"] for s in balancing["summary"] if not s["balanced"]]
     assert unbalanced == ["sum_PII", "sum_PIV", "sum_PVI"]
-    assert "незрівноважені ΣPII, ΣPIV, ΣPVI" in abstract, abstract
+    # the example fits Lanchester's shafts (second order): the abstract says what they leave (a
+    # supervisor: "C and P_I unbalanced" in the abstract of an engine the section balances)
+    assert 2 in balancing["residual"]["balanced_orders"] and balancing["balance_shafts"]
+    assert "із засобами зрівноваження незрівноважені ΣPIV, ΣPVI" in abstract, abstract

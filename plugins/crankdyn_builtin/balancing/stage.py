@@ -745,9 +745,13 @@ def _conclude(ctx, r) -> None:
     t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
     single = len(r["cylinder_labels"]) == 1
-    # for the abstract: which resultants stay unbalanced, by their symbols ("ΣP_II, ΣP_IV"), or none
-    ctx.find(t("balancing.finding_unbalanced", items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in unbalanced))
-             if unbalanced else t("balancing.finding_balanced"))
+    # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
+    # symbols ("ΣP_II, ΣP_IV"), or none
+    left = _left_unbalanced(r, unbalanced)
+    means = bool(r["counterweights"] or r["balance_shafts"])
+    ctx.find(t("balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
+               items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in left))
+             if left else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced"))
     if unbalanced and single:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
@@ -763,6 +767,16 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
+
+
+def _left_unbalanced(r, unbalanced) -> list:
+    """The unbalanced resultants the fitted means leave: those of an order no balance shaft or
+    counterweight balances (``residual.balanced_orders``; the centrifugal forces, order 0, by
+    counterweights)."""
+    balanced = set((r.get("residual") or {}).get("balanced_orders") or ())
+    if r["counterweights"]:
+        balanced.add(0)
+    return [s for s in unbalanced if s["order"] not in balanced]
 
 
 def newtons(t, force_N: float) -> str:
