@@ -189,9 +189,15 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     figure = next(f for f in _rendered(example).figures if f.key == "scheme")
     svg = figure.svg.decode("utf-8")
     html = _html(example)
-    for mark in ("α", "β", "ω", ">TDC<", ">BDC<"):
+    for mark in ("α", "β", "ω", ">TDC<", ">BDC<", ">O<", ">A<", ">B<", ">S = 78"):
         assert (mark in svg) is marked, mark
     assert ("α is the crank angle from the cylinder axis in the sense of rotation" in html) is marked
+    if marked:  # the stroke between the dead centres: 2R of a central crank-slider, longer with an offset
+        stroke = positions.dimensions["S"]
+        expected = 2 * positions.dimensions["R"] if "e" not in positions.dimensions else \
+            np.sqrt((positions.dimensions["L"] + positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2) \
+            - np.sqrt((positions.dimensions["L"] - positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2)
+        assert stroke == pytest.approx(expected, rel=1e-12)
     assert (md.angle_mark_parts(md.front_view(positions)) is not None) is marked or example == "vane-engine-kinematics"
 
 

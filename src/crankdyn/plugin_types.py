@@ -78,7 +78,8 @@ class MechanismGeometry:
     guides:     cylinders and slots (:class:`Guide`).
     circles:    (centre joint, radius m, kind): gear pitch circles ("fixed" or "moving").
     traces:     name -> array (m, 2): fixed curves drawn thin (e.g. the big end's path).
-    dimensions: symbol -> value [m] for the scheme's dimension lines: ``R``, ``L``, ``e``, ``D``.
+    dimensions: symbol -> value [m] for the scheme's dimension lines: ``R``, ``L``, ``e``, ``D``,
+                ``S`` (the stroke, between the dead centres the scheme marks).
     travel_m:   the output member's displacement from its dead centre nearest the head
                 (the piston displacement s), array (n,), used when no kinematics stage
                 provides the motion.

@@ -48,7 +48,7 @@ def single_geometry(scene, crank_angle_rad) -> MechanismGeometry:
         joints=joints,
         links=[("crank", "crank_centre", "crank_pin"), ("rod", "crank_pin", "wrist_pin")],
         guides=[Guide("wrist_pin", travel_m=(L - R, L + R), bore_m=e.bore)],
-        dimensions={"R": R, "L": L, "D": e.bore},
+        dimensions={"R": R, "L": L, "D": e.bore, "S": 2 * R},  # a central crank-slider's stroke
         travel_m=s,
     )
 
@@ -107,7 +107,7 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
             guides.append(Guide(wrist, direction=tuple(unit(psi)), travel_m=(low, high), bore_m=e.bore,
                                 label=c.label))
     return MechanismGeometry(joints=joints, links=links, guides=guides,
-                             dimensions={"R": R, "L": L, "D": e.bore}, travel_m=travel,
+                             dimensions={"R": R, "L": L, "D": e.bore, "S": 2 * R}, travel_m=travel,
                              cranks=cranks, firing_order=tuple(layout.firing_order))
 
 

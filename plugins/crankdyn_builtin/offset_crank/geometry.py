@@ -30,6 +30,6 @@ def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:
         links=[("crank", "crank_centre", "crank_pin"), ("rod", "crank_pin", "wrist_pin")],
         guides=[Guide("wrist_pin", origin_m=(offset, 0.0), travel_m=(dc.bdc_height_m, dc.tdc_height_m),
                       bore_m=e.bore, label="1")],
-        dimensions={"R": R, "L": L, "e": offset, "D": e.bore},
+        dimensions={"R": R, "L": L, "e": offset, "D": e.bore, "S": dc.tdc_height_m - dc.bdc_height_m},
         travel_m=oc.piston_displacement_m(alpha, R, R / L, offset / L),
     )

@@ -332,39 +332,84 @@ def angle_mark_parts(geometry):
     return guide, crank, rod
 
 
-def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], tdc_frame: int = 0) -> None:
-    """The crank angle α (from the crank's direction at TDC, frame ``tdc_frame``: the cylinder's
-    axis, or beside it for an offset cylinder, whose angles count from TDC too), the rod's angle β
-    (from the axis to the rod), the sense of rotation ω, and the dead centres of the first piston's
-    pin (ВМТ, НМТ) at frame ``i``, each where the geometry has what it names (:func:`angle_mark_parts`)."""
+def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[str, str] | None = None,
+                     tdc_frame: int = 0) -> None:
+    """What a textbook's kinematic scheme marks, at frame ``i``, where the geometry has what it
+    names (:func:`angle_mark_parts`): the joints O (shaft axis), B (crank pin), A (piston pin); the
+    crank angle α from the crank's direction at TDC (frame ``tdc_frame``: the cylinder's axis, or
+    beside it for an offset cylinder, whose angles count from TDC too); the rod's angle β from the
+    axis; the sense of rotation ω; the piston pin's dead centres (ВМТ, НМТ) with the stroke
+    between them (``labels["S"]``); the rod's length (``labels["L"]``) by a leader, not by a
+    dimension line, which would cross the liner and the piston of a rod at an angle."""
     parts = angle_mark_parts(geometry) if marks else None
     if parts is None:
         return
+    labels = labels or {}
     guide, crank, rod = parts
     extent = _extent_mm(geometry)
     j = geometry.joints
     o, d, n = _guide_frame(geometry, guide, i)
+    wrist = j[guide.joint][i] * MM
+    letter = {"fontsize": 9, "color": "0.1", "zorder": 7}
+    ax.text(*(wrist - n * extent * 0.03), "A", ha="right", va="center", **letter)
     if crank is not None:
         centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
         radius = float(np.linalg.norm(pin - centre))
         at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
         zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
-        # the line the angle is measured from: the crank at TDC, through the crank centre
-        ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * radius * 1.35], color="0.45", lw=0.5,
-                ls="-.", zorder=1)
+        # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
+        # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
+        bottom = float(np.dot(o - centre, d)) + (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - 0.04 * extent
+        collinear = abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+        top = max(radius * 1.35, bottom) if collinear else radius * 1.35
+        ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * top], color="0.45", lw=0.5, ls="-.", zorder=1)
+        ax.text(*(centre + np.array([-1.0, -0.6]) * extent * 0.03), "O", ha="right", va="top", **letter)
         if radius > 0:
+            ax.text(*(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter)
             _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
-            _rotation_arrow(ax, centre, radius * 0.45, marks["omega"], extent)
+            _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
         if rod is not None:
-            wrist = j[guide.joint][i] * MM
             length = float(np.linalg.norm(pin - wrist))
             _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, marks["beta"], extent)
+            if "L" in labels:
+                _rod_length_aside(ax, pin, wrist, o, d, n, guide, labels["L"], extent)
+    _stroke(ax, o, d, n, guide, marks, labels.get("S", ""), extent)
+
+
+def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) -> None:
+    """The rod's length written beside the liner, on the side the rod leans away from, joined by
+    a leader to the rod below the liner (at most a third of the way up from the crank pin), so
+    that the leader crosses neither the liner's wall nor the piston."""
+    below = (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - 0.09 * extent  # under the liner and the offset e
+    rise = float(np.dot(wrist - pin, d))
+    share = 1.0 / 3.0 if rise <= 0 else min(1.0 / 3.0, max(0.0, (below - float(np.dot(pin - o, d))) / rise))
+    anchor = pin + (wrist - pin) * share
+    side = -1.0 if float(np.dot(pin - wrist, n)) > 0 else 1.0  # away from the crank pin
     half = guide.bore_m * MM / 2
-    for distance, text in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
+    along = float(np.dot(anchor - o, d))
+    at = o + d * along + n * side * (half + extent * 0.06)
+    ax.plot(*np.c_[anchor, at], color="0.35", lw=0.5)
+    ax.text(*(at + n * side * extent * 0.01), text, fontsize=8, color="0.15", va="center",
+            ha="left" if float((n * side)[0]) > 0 else "right", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+
+
+def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
+    """The piston pin's dead centres beside the liner (a short line at each, named ВМТ and НМТ),
+    and the stroke S between them as a dimension line with its text."""
+    half = guide.bore_m * MM / 2
+    ends = []
+    for distance, name in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
         at = o + d * distance * MM
-        # a short line beside the liner at the pin's dead centre, named beyond it
-        ax.plot(*np.c_[at + n * (half + extent * 0.035), at + n * (half + extent * 0.075)], color="0.2", lw=0.6)
-        ax.text(*(at + n * (half + extent * 0.085)), text, fontsize=8, color="0.15", **outward_alignment(n))
+        start, end = at + n * (half + extent * 0.035), at + n * (half + extent * 0.11)
+        ax.plot(*np.c_[start, end], color="0.2", lw=0.6)
+        ax.text(*(end + n * extent * 0.01), name, fontsize=8, color="0.15", **outward_alignment(n))
+        ends.append(at + n * (half + extent * 0.09))
+    if text:
+        ax.annotate("", xy=ends[1], xytext=ends[0], arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
+                                                                  "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+        middle = (ends[0] + ends[1]) / 2 + n * extent * 0.015
+        ax.text(*middle, text, fontsize=8, color="0.15", rotation=90 if abs(float(d[1])) > 0.7 else 0,
+                ha="left", va="center", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
 
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -512,8 +557,10 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
     draw_mechanism(ax, geometry, i)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
-    draw_dimensions(ax, geometry, i, labels)
-    draw_angle_marks(ax, geometry, i, marks)
+    marked = bool(marks) and angle_mark_parts(geometry) is not None
+    # a marked scheme writes L beside the liner (draw_angle_marks); S only there
+    draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
+    draw_angle_marks(ax, geometry, i, marks, labels)
     if with_star:
         # beside what the mechanism draws, not beside its limits' unused room
         box = drawn_box([ax], fig.canvas.get_renderer())
