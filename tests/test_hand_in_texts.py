@@ -80,8 +80,16 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
     for sentence in ("Кінематичну схему механізму наведено на рис. 3.1.",
                      "Характерні положення механізму показано на рис. 3.2.",
                      "Схему коліна наведено на рис.", "Векторні моделі і годографи наведено на рис.",
-                     "Векторну діаграму наведено на рис. 7.1.", "Діаграму зношування наведено на рис."):
+                     "Векторну діаграму навантаження на шатунну шийку наведено на рис. 7.1.",
+                     "Векторну діаграму навантаження на шатунний підшипник наведено на рис. 7.2.",
+                     "Діаграму зношування шатунної шийки наведено на рис."):
         assert sentence in one, sentence
+    # each diagram of a pair side by side says whose load it shows (a supervisor: two "the vector
+    # diagram is given in fig. 9.x" next to each other); several cranks: with their numbers
+    for sentence in ("Векторну діаграму навантаження на шатунну шийку 1 наведено на рис. 9.1.",
+                     "Векторну діаграму навантаження на корінну шийку 2-3 наведено на рис. 9.3.",
+                     "Векторну діаграму навантаження на корінний підшипник 2-3 наведено на рис. 9.4."):
+        assert sentence in four, sentence
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
     # every figure and table says what it holds, none is announced as just "the curves" or "the results"
     assert "Графіки показано на рис." not in one

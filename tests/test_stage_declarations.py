@@ -77,7 +77,7 @@ class _Recording(RenderContext):
 
     drawn: list
 
-    def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
+    def figure(self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
         self.check_figure_declared(name)
         self.drawn.append((self.stage_name, name))
         plt.close(fig() if callable(fig) else fig)  # a builder is called: every example's figures are built

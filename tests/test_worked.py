@@ -89,7 +89,7 @@ FORMULAS = {
 }
 
 
-def _no_figure(fig, caption: str, name: str, see: str | None = None) -> Markup:
+def _no_figure(fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
     if callable(fig):  # the function that would build it: nothing to release
         return Markup("")
     import matplotlib.pyplot as plt  # lazy: heavy optional import

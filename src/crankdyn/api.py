@@ -299,7 +299,8 @@ class Result:
         figures: dict[str, Any] = {}
 
         class Capture(RenderContext):
-            def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
+            def figure(self, fig, caption: str, name: str, see: str | None = None,
+                       see_params: dict | None = None) -> Markup:
                 self.check_figure_declared(name)  # also for the sections not shown
                 key = name if name not in figures else f"{self.stage_name}.{name}"
                 if callable(fig):  # given as the function that builds it: the API hands out Figures
@@ -309,7 +310,7 @@ class Result:
                     self._figure += 1
                     _release(fig)
                     return Markup("")
-                return super().figure(fig, caption, name, see)
+                return super().figure(fig, caption, name, see, see_params)
 
         t = translator(language, registry.catalogs)
         scene = self.scene

@@ -253,13 +253,16 @@ def _pole_and_oil_hole(pole_z: float, radius: float, oil_deg: float | None, per_
 
 
 def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption,
-           axes=("t", "z")):
+           axes=("t", "z"), see=("bearings.see_polar", {})):
     """A polar load diagram's markup, and whether it is narrow enough to stand beside another;
     ``axes``: the names of its horizontal and vertical components (crank axes t, z unless the
-    diagram is drawn in the rod's or the engine's axes)."""
+    diagram is drawn in the rod's or the engine's axes); ``see``: the key and placeholders of
+    the sentence announcing it, which names the journal or bearing (two diagrams side by side
+    were each announced as just "the vector diagram")."""
     width_cm = _polar_size(t_Pa / 1e6, z_Pa / 1e6, pole_z, diameter_scale)[0]
     return ctx.figure(partial(_polar_drawing, ctx.t, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale,
-                              labels_every, axes), caption, name, see="bearings.see_polar"), width_cm <= HALF_WIDTH_CM
+                              labels_every, axes), caption, name, see=see[0], see_params=see[1]), \
+        width_cm <= HALF_WIDTH_CM
 
 
 #: A diagram at most this wide (cm) stands beside the next one: two tall, narrow diagrams on a
@@ -363,8 +366,10 @@ def _side_by_side(pairs: list) -> list:
 def _wear_figure(ctx, wear, r):
     """Wear diagram of the drawn crank pin (load spread over +-60 deg around each contact point)."""
     k = r["drawn_pins"][0]
-    caption = _one_of(ctx.t, "bearings.wear_caption", k, len(r["crank_pins"]) == 1)
-    return ctx.figure(partial(_wear_drawing, wear, r, k), caption, f"wear_pin{k}", see="bearings.see_wear")
+    single = len(r["crank_pins"]) == 1
+    caption = _one_of(ctx.t, "bearings.wear_caption", k, single)
+    return ctx.figure(partial(_wear_drawing, wear, r, k), caption, f"wear_pin{k}", see="bearings.see_wear_pin",
+                      see_params={"k": "" if single else f" {k}"})
 
 
 def _wear_drawing(wear, r, k):
@@ -443,21 +448,25 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
         pin = r["crank_pins"][k - 1]
         polar.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
                               angle, -c_rod, _one_of(t, "bearings.pin_title", k, single), pin["oil_hole_deg"], 0.12, labels_every,
-                              f"pin{k}", _one_of(t, pin_caption, k, single)))
+                              f"pin{k}", _one_of(t, pin_caption, k, single),
+                              see=("bearings.see_polar_pin", {"k": "" if single else f" {k}"})))
         polar.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
                               0.0, _one_of(t, "bearings.rod_title", k, single), None, 0.12, labels_every, f"rod_bearing{k}",
-                              _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))))
+                              _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z")),
+                              see=("bearings.see_polar_rod", {"k": "" if single else f" {k}"})))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
         polar.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
                               0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
                               labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"],
-                                                                          crank=max(j - 1, 1))))
+                                                                          crank=max(j - 1, 1)),
+                              see=("bearings.see_polar_journal", {"label": journal["journal"]})))
         polar.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
                               angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
                               t("bearings.main_bearing_caption", label=journal["journal"]),
-                              axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y"))))
+                              axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
+                              see=("bearings.see_polar_main_bearing", {"label": journal["journal"]})))
     return polar
 
 

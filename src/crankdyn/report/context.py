@@ -283,7 +283,7 @@ class RenderContext:
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
         return table_markup(self.t, number, caption_text, head, body, css_class, see=see)
 
-    def figure(self, fig, caption: str, name: str, see: str | None = None) -> Markup:
+    def figure(self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
         """Number a matplotlib figure and return its markup (with the sentence that refers to it
         before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use).
 
@@ -293,7 +293,8 @@ class RenderContext:
         draws as arguments (``functools.partial``) or from variables not changed afterwards.
 
         ``see``: the catalog key of that sentence, with ``{number}`` (default ``doc.see_figure``,
-        which speaks of curves): a scheme or a vector diagram is announced as what it is."""
+        which speaks of curves): a scheme or a vector diagram is announced as what it is;
+        ``see_params``: its other placeholders ("the load on crank pin {k}")."""
         self.check_figure_declared(name)
         for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
             if earlier.made_from(fig) and not earlier.drawn:
@@ -308,7 +309,7 @@ class RenderContext:
                                        build=fig if built is None else None))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         # the number bound to the word before it ("рис. 7.1" never parted at a line's end)
-        see = escape(bound_number(self.t(see or "doc.see_figure", number=number), number))
+        see = escape(bound_number(self.t(see or "doc.see_figure", number=number, **(see_params or {})), number))
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
         # one block, so that the sentence never ends a page without the figure it announces
