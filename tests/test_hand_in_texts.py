@@ -660,3 +660,19 @@ def test_the_crank_radius_is_printed_without_padding_zeros(reports):
     one = as_read(reports("petrol-1cyl-uk"))
     assert "<i>R</i> = <i>S</i>/2 = 39\u202fмм" in one
     assert "39,000" not in one
+
+
+def test_orders_are_written_as_ordinal_words(reports):
+    """A supervisor: "сили порядку 1" where a Ukrainian text writes "сили першого порядку"."""
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.balancing.stage import orders_in_words
+
+    t = translator("uk", default_registry().catalogs)
+    assert orders_in_words(t, [1]) == "першого"
+    assert orders_in_words(t, [1, 2]) == "першого і другого"
+    assert orders_in_words(t, [1, 2, 4]) == "першого, другого і четвертого"
+    assert orders_in_words(t, [12]) == "12"
+    four = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    assert "сили інерції першого і другого порядків зрівноважено" in four
+    assert "порядку 1" not in four and "порядків 1, 2" not in four

@@ -832,7 +832,15 @@ def _means_sentence(t, r) -> str:
     single = len(r["cylinder_labels"]) == 1
     return t("balancing.conclusion_means_single" if single else "balancing.conclusion_means", means=t("balancing.means_and").join(means),
              with_them=t("balancing.with_means_and_scheme" if with_scheme else "balancing.with_means"),
-             orders=", ".join(map(str, balanced)), count=len(balanced))
+             orders=", ".join(map(str, balanced)), orders_words=orders_in_words(t, balanced), count=len(balanced))
+
+
+def orders_in_words(t, orders) -> str:
+    """"першого і другого": the orders as ordinal words (a text writes "сили першого порядку", not
+    "сили порядку 1"), the last joined by "and"; an order above ten in digits."""
+    words = t("balancing.ordinals").split("|")
+    named = [words[n - 1] if 1 <= n <= len(words) else str(n) for n in orders]
+    return named[0] if len(named) == 1 else ", ".join(named[:-1]) + t("balancing.ordinals_and") + named[-1]
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -849,7 +857,7 @@ def render(output: StageOutput, ctx) -> str | None:
     return ctx.render_template("sections/balancing.html.j2", r=r, star=star, masses_table=masses_table,
                                models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
                                summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
-                               spacing=r["cylinder_spacing_m"])
+                               spacing=r["cylinder_spacing_m"], orders_in_words=partial(orders_in_words, ctx.t))
 
 
 def _summary_symbol(s) -> Markup:
