@@ -312,9 +312,11 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     from crankdyn_builtin.bearings.stage import HALF_WIDTH_CM, _polar_size
 
     html = shared_html("petrol-1cyl-uk").html
-    rows = re.findall(r'<div class="figure-row">(.*?)</div></div>(?=\s*<div class="figure-block|\s*<div class="figure-row|\s*<p)',
+    rows = re.findall(r'<div class="figure-row-block"><p class="see">([^<]*)</p><div class="figure-row">(.*?)</div></div></div>',
                       html, flags=re.S)
-    assert len(rows) == 2 and all(row.count("<figure ") == 2 for row in rows), len(rows)
+    assert len(rows) == 2 and all(row.count("<figure ") == 2 and "class=\"see\"" not in row for _, row in rows), len(rows)
+    # announced together above the row, each figure by its number, before the row
+    assert all(all(f"рис.\u00a0{n}" in sentences for n in re.findall(r'data-number="([^"]+)"', row)) for sentences, row in rows)
     assert "рис.\u00a07.1" in html and "рис.\u00a07.2" in html
     # a tall diagram is only as wide as its plot needs; a round one keeps its 12 cm and stands alone
     t = np.cos(np.linspace(0, 2 * np.pi, 73))

@@ -166,7 +166,8 @@ def test_drawing_texts_are_translated(language, title):
 
 @pytest.mark.parametrize("example, marked", [("petrol-1cyl", True), ("inline4-petrol", True),
                                              ("offset-crank-engine", True), ("v8-petrol", False),
-                                             ("radial9-aircraft", False), ("vane-engine-kinematics", False)])
+                                             ("radial9-aircraft", False), ("vane-engine-kinematics", False),
+                                             ("planetary-kinematics", False)])
 def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     """The scheme shows the crank at α = 45° (the crank pin where the geometry puts it at 45° from
     the cylinder axis, clockwise), and, where one cylinder axis is drawn, the angles α and β, the
@@ -191,14 +192,17 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     html = _html(example)
     for mark in ("α", "β", "ω", ">TDC<", ">BDC<", ">O<", ">A<", ">B<", ">S = 78"):
         assert (mark in svg) is marked, mark
-    assert ("α is the crank angle from the cylinder axis in the sense of rotation" in html) is marked
+    assert ("α is the crank angle from the crank&#39;s position at TDC" in html) is marked
+    assert ("S is the stroke" in html) is marked
     if marked:  # the stroke between the dead centres: 2R of a central crank-slider, longer with an offset
         stroke = positions.dimensions["S"]
         expected = 2 * positions.dimensions["R"] if "e" not in positions.dimensions else \
             np.sqrt((positions.dimensions["L"] + positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2) \
             - np.sqrt((positions.dimensions["L"] - positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2)
         assert stroke == pytest.approx(expected, rel=1e-12)
-    assert (md.angle_mark_parts(md.front_view(positions)) is not None) is marked or example == "vane-engine-kinematics"
+    assert (md.angle_mark_parts(md.front_view(positions)) is not None) is marked
+    if not marked and "L" in positions.dimensions and positions.links:  # its rod's length is drawn as before
+        assert ">L = " in svg
 
 
 @lru_cache(maxsize=None)

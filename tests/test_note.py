@@ -106,6 +106,15 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
     return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text) if w not in ALLOWED_LATIN]
 
 
+def _check_hyphenation(text: str, title_page: str, language: str) -> None:
+    """None made by the machine in Ukrainian (pyphen's uk_UA patterns break between any two
+    consonants: "та-нгенціальна"), and no name parted on the title page in any language."""
+    hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
+    if language == "uk":
+        assert all(ln.endswith("кривошипно-") for ln in hyphenated), hyphenated  # a compound's own hyphen
+    assert not re.search(r"[-\u2010]\s*$", title_page, flags=re.M), title_page
+
+
 @pytest.mark.long
 @needs_poppler
 @pytest.mark.parametrize("language", list(LANGUAGES))
@@ -123,13 +132,7 @@ def test_explanatory_note_pdf(tmp_path, language):
     if language != "en":  # F_p and M_k take the textbook's Cyrillic subscripts in text and equations alike
         assert not re.findall(r".{30}[FM]</i><sub>[pk]</sub>", html)
 
-    # Hyphenation: none made by the machine in Ukrainian (pyphen's uk_UA patterns break between any
-    # two consonants: "та-нгенціальна"), and no name parted on the title page in any language.
-    hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
-    if language == "uk":
-        assert all(ln.endswith("кривошипно-") for ln in hyphenated), hyphenated  # a compound's own hyphen
-    assert not re.search(r"[-\u2010]\s*$", pages[0], flags=re.M), pages[0]
-
+    _check_hyphenation(text, pages[0], language)
     # Typography: nothing a reader sees is written the programmer's way.
     assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
     assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]

@@ -358,9 +358,21 @@ def _side_by_side(pairs: list) -> list:
     out = []
     for k in range(0, len(pairs) - 1, 2):
         (first, narrow_first), (second, narrow_second) = pairs[k], pairs[k + 1]
-        out += [Markup(f'<div class="figure-row">{first}{second}</div>')] if narrow_first and narrow_second \
-            else [first, second]
+        out += [_figure_row(first, second)] if narrow_first and narrow_second else [first, second]
     return out + [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2:]]
+
+
+_SEE = re.compile(r'<p class="see">(.*?)</p>', flags=re.S)
+
+
+def _figure_row(first, second) -> Markup:
+    """Two figures side by side, announced together in one paragraph above the row (each one's
+    sentence in its own half-width column took two lines, and the row then no longer fitted under
+    a chapter's text: a 27 %-full page; a supervisor saw the captions at different heights)."""
+    sentences = " ".join(m.group(1) for block in (first, second) for m in [_SEE.search(str(block))] if m)
+    blocks = "".join(_SEE.sub("", str(block), count=1) for block in (first, second))
+    return Markup(f'<div class="figure-row-block"><p class="see">{sentences}</p>'
+                  f'<div class="figure-row">{blocks}</div></div>')
 
 
 def _wear_figure(ctx, wear, r):

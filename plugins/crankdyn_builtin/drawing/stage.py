@@ -211,10 +211,9 @@ def render(output: StageOutput, ctx) -> str:
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
-    parts = md.angle_mark_parts(md.front_view(positions))
-    marked = parts is not None and None not in parts  # the text names α, β, ω and the dead centres
+    marked = md.angle_mark_parts(md.front_view(positions)) is not None  # the text names each mark
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
-                               scheme_angle=scheme_angle, marks=marked,
+                               scheme_angle=scheme_angle, marks=marked, stroke="S" in positions.dimensions,
                                front_view=_front_view_kind(positions),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),

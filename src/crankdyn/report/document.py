@@ -257,7 +257,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
-        findings=ctx.findings, keywords=keywords(t, scene.engine.mechanism, [v.key for v in sections]),
+        findings=ctx.findings, keywords=keywords(t, scene.engine.mechanism, [_catalog_section(registry, v.key)
+                                                                            for v in sections]),
     )
     html = _finish(html, t, language, len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
@@ -269,11 +270,20 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
 KEYWORDS_MAX = 15
 
 
+def _catalog_section(registry, stage: str) -> str:
+    """The catalog section a stage's texts are in: its title key's (``drawing_linkage`` writes
+    with ``drawing``'s catalog)."""
+    found = registry.stages.get(stage)
+    return found.title_key.split(".", 1)[0] if found is not None and found.title_key else stage
+
+
 def keywords(t, mechanism: str, stages: list[str]) -> str:
-    """The abstract's key words, upper case, for what this report holds: the calculation, the
-    mechanism (its description in the catalog, up to the colon) and each section's own words
-    (``<stage>.keywords`` in its plugin's catalog, comma-separated; a stage without them adds none)."""
-    words = [t("doc.keyword_general")]
+    """The abstract's key words, upper case, for what this report holds: the calculation and the
+    engine (``doc.keyword_general``, comma-separated), the mechanism (its description in the
+    catalog, up to the colon) and each section's own words (``<section>.keywords`` in its
+    plugin's catalog, comma-separated; a stage without them adds none). A report of the
+    kinematics alone has five."""
+    words = [w.strip() for w in t("doc.keyword_general").split(",")]
     if t.has(f"mechanism.{mechanism}"):
         words.append(t(f"mechanism.{mechanism}").split(":", 1)[0])
     for stage in stages:

@@ -319,8 +319,9 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
 
 def angle_mark_parts(geometry):
     """(liner, crank, rod) that :func:`draw_angle_marks` marks: the first cylinder's liner, the
-    crank from the crank centre and the rod from its pin to that liner's piston pin (None each
-    where the mechanism has none); None when the first guide is no cylinder liner, or when the
+    crank (a link named ``crank`` or ``crank_1`` from ``crank_centre``) and the rod from its pin to
+    that liner's piston pin; None when the mechanism has no such crank and rod, when the first
+    guide is no cylinder liner, or when the
     drawing shows more than one cylinder axis (a V's or a radial's marks would cross the other
     banks' liners and rods)."""
     if len(geometry.guides) != 1 or geometry.guides[0].moving is not None or geometry.guides[0].bore_m <= 0:
@@ -329,7 +330,8 @@ def angle_mark_parts(geometry):
     crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None)
     rod = None if crank is None else next((l for l in geometry.links if l[1] == crank[2] and l[2] == guide.joint),
                                           None)
-    return guide, crank, rod
+    # all or nothing: the section's text names every mark (a planetary gear's carrier is no crank)
+    return None if crank is None or rod is None else (guide, crank, rod)
 
 
 def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[str, str] | None = None,
