@@ -282,8 +282,9 @@ def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, fl
 def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram of ``t``, ``z`` (MPa) around the pole: equal scales
     on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
-    taller figure (at most 14 cm: with its caption it still shares a page with text) only as wide
-    as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one a wider figure."""
+    taller figure (at most 13 cm: with its caption and the sentence above a pair it still shares a
+    page with text) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
+    a wider figure."""
     return _size_for(*_polar_extent(t, z, pole_z, diameter_scale)[2:])
 
 
@@ -292,7 +293,7 @@ def _size_for(shown_t: float, shown_z: float) -> tuple[float, float]:
     aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
     if aspect < 1:
         return min(16.0, 12.0 / math.sqrt(aspect)), 12.0
-    height = min(14.0, 12.0 * math.sqrt(aspect))
+    height = min(13.0, 12.0 * math.sqrt(aspect))
     return min(12.0, max(7.0, 1.1 * (height - 2.2) / aspect + 2.4)), height
 
 
