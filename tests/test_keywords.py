@@ -67,3 +67,16 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     # supervisor: "C and P_I unbalanced" in the abstract of an engine the section balances)
     assert 2 in balancing["residual"]["balanced_orders"] and balancing["balance_shafts"]
     assert "із засобами зрівноваження незрівноважені ΣPIV, ΣPVI" in abstract, abstract
+
+
+def test_the_abstract_aim_lists_the_sections_the_note_holds():
+    """The aim spoke of gas forces and torques in a note of the kinematics alone: it now lists the
+    note's own sections (the input data aside), each title as it heads its section."""
+    full = shared_html("inline4-petrol", language="uk").html
+    alone = shared_html("kinematics-only", language="uk").html
+    for html, present, absent in ((full, ("маховик", "аналіз зрівноваженості двигуна"), ()),
+                                  (alone, ("кінематика кривошипно-шатунного механізму",), ("маховик", "сили тиску"))):
+        aim = re.search(r"Мета роботи – динамічний розрахунок двигуна: (.*?)\.</p>", html).group(1)
+        titles = re.findall(r'<h2>\d+ ([^<]+)</h2>', html)
+        assert aim.split("; ") == [t[0].lower() + t[1:] for t in titles[1:]], (aim, titles)
+        assert all(p in aim for p in present) and not any(a in aim for a in absent), aim

@@ -259,6 +259,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
         findings=ctx.findings, keywords=keywords(t, scene.engine.mechanism, [_catalog_section(registry, v.key)
                                                                             for v in sections]),
+        aim="; ".join(_lower_first(v.title) for v in sections[1:]),  # the sections (a title may hold a comma)
     )
     html = _finish(html, t, language, len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
@@ -291,6 +292,12 @@ def keywords(t, mechanism: str, stages: list[str]) -> str:
             words += [w.strip() for w in t(f"{stage}.keywords").split(",") if w.strip()]
     unique = list(dict.fromkeys(w.upper() for w in words))
     return ", ".join(unique[:KEYWORDS_MAX])
+
+
+def _lower_first(title: str) -> str:
+    """A section's title inside a sentence: "кінематика …" for "Кінематика …", an abbreviation
+    ("ВМТ …") kept."""
+    return title[:1].lower() + title[1:] if len(title) > 1 and title[1].islower() else title
 
 
 def _title(scene, t) -> str:
