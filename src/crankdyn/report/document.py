@@ -257,14 +257,19 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
-        findings=ctx.findings, keywords=keywords(t, scene.engine.mechanism, [_catalog_section(registry, v.key)
-                                                                            for v in sections]),
-        aim="; ".join(_lower_first(v.title) for v in sections[1:]),  # the sections (a title may hold a comma)
+        findings=ctx.findings, **_abstract_parts(t, registry, scene, sections),
     )
     html = _finish(html, t, language, len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+def _abstract_parts(t, registry, scene, sections) -> dict:
+    """The abstract's key words and its aim: the note's sections after the input data, each title
+    as it heads its section ("; " between them: a title may hold a comma)."""
+    return {"keywords": keywords(t, scene.engine.mechanism, [_catalog_section(registry, v.key) for v in sections]),
+            "aim": "; ".join(_lower_first(v.title) for v in sections[1:])}
 
 
 #: The abstract's key words: DSTU 3008:2015 and GOST 7.32-2017 ask for five to fifteen.
