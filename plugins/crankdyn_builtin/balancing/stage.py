@@ -759,7 +759,7 @@ def _conclude(ctx, r) -> None:
             for s in unbalanced if s["quantity"].startswith("sum_"))))
     elif unbalanced:
         # the amplitude, and the textbook's coefficient times the scale it divides by (C_n = |A_n|·C_I,
-        # table 8.2): "ΣP_II = 9426 Н (4,000·A_2C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
+        # table 8.2): "ΣP_II = 9426 Н (4,000·|A_2|C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
         # the textbook's C_II = λC_I did not
         ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(_unbalanced_item(ctx, r, s)
                                                                          for s in unbalanced)))
@@ -787,7 +787,7 @@ def newtons(t, force_N: float) -> str:
 
 
 def _unbalanced_item(ctx, r, item) -> str:
-    """"ΣP_II = 9426 Н (4,000·A_2C_I)", "ΣM_I = 12,5 Н·м (0,5000·A_1C_I·a)": an unbalanced sum's
+    """"ΣP_II = 9426 Н (4,000·|A_2|C_I)", "ΣM_I = 12,5 Н·м (0,5000·C_I·a)": an unbalanced sum's
     amplitude with the coefficient and the one-cylinder amplitude it multiplies (as table 8.2
     divides); "ΣP_II/C_II = 4,000" without an amplitude to print."""
     force = item["quantity"].startswith("sum_")
@@ -797,15 +797,10 @@ def _unbalanced_item(ctx, r, item) -> str:
         return f"{_plain_symbol(item)}/{_scale_symbol(item)} = {coefficient}"
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
     amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
-    _, base = item["quantity"].split("_", 1)
-    order = _ROMAN_ORDERS.get(base[1:]) if base.startswith("P") else None
-    # A_1 = 1: the first order's amplitude is C_I itself
-    scale = "C" if order is None else "C_I" if order == 1 else f"|A_{order}|C_I"
+    order = item["order"]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
+    scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|C_I"
     return f"{_plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 
-
-#: The orders' Roman numerals (as the tables print them) back to their numbers.
-_ROMAN_ORDERS = {bal.roman(n): n for n in range(1, 40)}
 
 
 def _in_words(t, n: int) -> dict[str, str]:

@@ -24,6 +24,7 @@ JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
 INK = "0.1"
 LABEL_GAP = 0.2  # room for the cylinder label beyond the liner, fraction of the extent
 LABEL_OFFSET = 0.05  # where the cylinder label starts beyond the liner, fraction of the extent
+LABEL_BOX = {"facecolor": "white", "edgecolor": "none", "pad": 0.5}  # a dimension's text over the lines it crosses
 
 
 def view_rotation_rad(geometry) -> float:
@@ -97,6 +98,12 @@ def _guide_frame(geometry, guide, i):
         return a, d, np.array([d[1], -d[0]])
     d = np.asarray(guide.direction, dtype=float)
     return np.asarray(guide.origin_m, dtype=float) * MM, d, np.array([d[1], -d[0]])
+
+
+def liner_ends_mm(guide) -> tuple[float, float]:
+    """(skirt end, crown end) of a cylinder liner along its axis from ``origin_m`` (mm): the piston
+    pin's travel with a skirt of 0.35 and a crown of 0.45 bore beyond it."""
+    return (guide.travel_m[0] - 0.35 * guide.bore_m) * MM, (guide.travel_m[1] + 0.45 * guide.bore_m) * MM
 
 
 def _hatch(ax, start, end, normal, size, color, alpha):
@@ -229,6 +236,12 @@ def _circle(centre, radius, color, alpha, ls="-", fill=False):
                   ls=ls, alpha=alpha, zorder=5 if fill else 2)
 
 
+def _dimension_arrow(ax, a, b) -> None:
+    """A dimension line's arrow from ``a`` to ``b`` (mm), heads at both ends."""
+    ax.annotate("", xy=b, xytext=a, arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
+                                               "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+
+
 def _dimension(ax, p, q, text, offset, extent):
     """A dimension line from p to q (mm), shifted by ``offset`` along its normal, with its text."""
     p, q = np.asarray(p, float), np.asarray(q, float)
@@ -238,8 +251,7 @@ def _dimension(ax, p, q, text, offset, extent):
     for end, base in ((a, p), (b, q)):
         ax.plot(*np.c_[base + n * np.sign(offset) * extent * 0.01, end + n * np.sign(offset) * extent * 0.02],
                 color="0.35", lw=0.5)
-    ax.annotate("", xy=b, xytext=a, arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
-                                                   "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+    _dimension_arrow(ax, a, b)
     # The text starts just outside the dimension line and grows away from the drawing, so that it
     # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
     side = n * np.sign(offset)
@@ -247,7 +259,7 @@ def _dimension(ax, p, q, text, offset, extent):
     va = "bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center"
     mid = (a + b) / 2 + side * extent * 0.015
     ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15",
-            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+            bbox=LABEL_BOX)
 
 
 def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
@@ -270,16 +282,16 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         # Between the vertical through the crank axis and the cylinder axis, below the liner.
-        y = (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - extent * 0.03
+        y = liner_ends_mm(guide)[0] - extent * 0.03
         ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
         _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), "", 0.0, extent)
         ax.text(guide.origin_m[0] * MM + extent * 0.03, y, labels["e"], ha="left", va="center", fontsize=8,
-                color="0.15", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+                color="0.15", bbox=LABEL_BOX)
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
         clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * (guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM + clear)
+        top = o + d * (liner_ends_mm(guide)[1] + clear)
         half = guide.bore_m * MM / 2
         _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
 
@@ -347,34 +359,32 @@ def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[s
     if parts is None:
         return
     labels = labels or {}
-    guide, crank, rod = parts
+    guide, crank, _ = parts
     extent = _extent_mm(geometry)
     j = geometry.joints
     o, d, n = _guide_frame(geometry, guide, i)
     wrist = j[guide.joint][i] * MM
     letter = {"fontsize": 9, "color": "0.1", "zorder": 7}
     ax.text(*(wrist - n * extent * 0.03), "A", ha="right", va="center", **letter)
-    if crank is not None:
-        centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-        radius = float(np.linalg.norm(pin - centre))
-        at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
-        zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
-        # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
-        # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
-        bottom = float(np.dot(o - centre, d)) + (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - 0.04 * extent
-        collinear = abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
-        top = max(radius * 1.35, bottom) if collinear else radius * 1.35
-        ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * top], color="0.45", lw=0.5, ls="-.", zorder=1)
-        ax.text(*(centre + np.array([-1.0, -0.6]) * extent * 0.03), "O", ha="right", va="top", **letter)
-        if radius > 0:
-            ax.text(*(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter)
-            _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
-            _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
-        if rod is not None:
-            length = float(np.linalg.norm(pin - wrist))
-            _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, marks["beta"], extent)
-            if "L" in labels:
-                _rod_length_aside(ax, pin, wrist, o, d, n, guide, labels["L"], extent)
+    centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+    radius = float(np.linalg.norm(pin - centre))
+    at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
+    zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
+    # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
+    # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
+    bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
+    collinear = abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+    top = max(radius * 1.35, bottom) if collinear else radius * 1.35
+    ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * top], color="0.45", lw=0.5, ls="-.", zorder=1)
+    ax.text(*(centre + np.array([-1.0, -0.6]) * extent * 0.03), "O", ha="right", va="top", **letter)
+    if radius > 0:
+        ax.text(*(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter)
+        _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
+        _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
+    length = float(np.linalg.norm(pin - wrist))
+    _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, marks["beta"], extent)
+    if "L" in labels:
+        _rod_length_aside(ax, pin, wrist, o, d, n, guide, labels["L"], extent)
     _stroke(ax, o, d, n, guide, marks, labels.get("S", ""), extent)
 
 
@@ -382,7 +392,7 @@ def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) 
     """The rod's length written beside the liner, on the side the rod leans away from, joined by
     a leader to the rod below the liner (at most a third of the way up from the crank pin), so
     that the leader crosses neither the liner's wall nor the piston."""
-    below = (guide.travel_m[0] - 0.35 * guide.bore_m) * MM - 0.09 * extent  # under the liner and the offset e
+    below = liner_ends_mm(guide)[0] - 0.09 * extent  # under the liner and the offset e
     rise = float(np.dot(wrist - pin, d))
     share = 1.0 / 3.0 if rise <= 0 else min(1.0 / 3.0, max(0.0, (below - float(np.dot(pin - o, d))) / rise))
     anchor = pin + (wrist - pin) * share
@@ -392,7 +402,7 @@ def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) 
     at = o + d * along + n * side * (half + extent * 0.06)
     ax.plot(*np.c_[anchor, at], color="0.35", lw=0.5)
     ax.text(*(at + n * side * extent * 0.01), text, fontsize=8, color="0.15", va="center",
-            ha="left" if float((n * side)[0]) > 0 else "right", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+            ha="left" if float((n * side)[0]) > 0 else "right", bbox=LABEL_BOX)
 
 
 def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
@@ -407,11 +417,10 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
         ax.text(*(end + n * extent * 0.01), name, fontsize=8, color="0.15", **outward_alignment(n))
         ends.append(at + n * (half + extent * 0.09))
     if text:
-        ax.annotate("", xy=ends[1], xytext=ends[0], arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
-                                                                  "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+        _dimension_arrow(ax, ends[0], ends[1])
         middle = (ends[0] + ends[1]) / 2 + n * extent * 0.015
         ax.text(*middle, text, fontsize=8, color="0.15", rotation=90 if abs(float(d[1])) > 0.7 else 0,
-                ha="left", va="center", bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+                ha="left", va="center", bbox=LABEL_BOX)
 
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -424,7 +433,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     for guide in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
         if guide.bore_m > 0 and guide.moving is None:
             go, gd, gn = _guide_frame(geometry, guide, i)
-            ends = [guide.travel_m[0] * MM - 0.35 * guide.bore_m * MM, guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM]
+            ends = liner_ends_mm(guide)
             lowest = min([lowest] + [float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
                                      for e in ends for s in (-1, 1)])
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
@@ -432,7 +441,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     at = np.array([float(p[0]), lowest - extent * 0.08])
     ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5)
     ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15",
-            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+            bbox=LABEL_BOX)
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -449,7 +458,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
     at = np.array([edge + (1 if right else -1) * extent * 0.05, mid[1]])
     ax.plot([mid[0], at[0]], [mid[1], at[1]], color="0.35", lw=0.5)
     ax.text(*at, text, ha="left" if right else "right", va="center", fontsize=8, color="0.15",
-            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+            bbox=LABEL_BOX)
 
 
 def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
@@ -669,8 +678,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
             if guide.bore_m > 0 and guide.moving is None:
                 o, d, n = _guide_frame(geometry, guide, 0)
                 half = guide.bore_m * MM / 2
-                bottom = guide.travel_m[0] * MM - 0.35 * guide.bore_m * MM
-                top = guide.travel_m[1] * MM + 0.45 * guide.bore_m * MM
+                bottom, top = liner_ends_mm(guide)
                 for side in (-1, 1):
                     _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
                            extent * 0.02, INK, 1.0)
