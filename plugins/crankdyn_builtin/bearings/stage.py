@@ -382,7 +382,7 @@ def _wear_figure(ctx, wear, r):
     single = len(r["crank_pins"]) == 1
     caption = _one_of(ctx.t, "bearings.wear_caption", k, single)
     return ctx.figure(partial(_wear_drawing, wear, r, k), caption, f"wear_pin{k}", see="bearings.see_wear_pin",
-                      see_params={"k": "" if single else f" {k}"})
+                      see_params=_crank_number(k, single))
 
 
 def _wear_drawing(wear, r, k):
@@ -405,6 +405,12 @@ def _wear_drawing(wear, r, k):
     ax.grid(False, axis="y")
     ax.spines["polar"].set_visible(False)  # the journal's circle is the only circle
     return fig
+
+
+def _crank_number(k, single: bool) -> dict:
+    """``{k}`` of a sentence naming crank (pin) ``k`` ("на шатунну шийку{k}"): " 1", or nothing
+    when there is one crank."""
+    return {"k": "" if single else f" {k}"}
 
 
 def _one_of(t, key: str, k, single: bool) -> str:
@@ -462,11 +468,11 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
         polar.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
                               angle, -c_rod, _one_of(t, "bearings.pin_title", k, single), pin["oil_hole_deg"], 0.12, labels_every,
                               f"pin{k}", _one_of(t, pin_caption, k, single),
-                              see=("bearings.see_polar_pin", {"k": "" if single else f" {k}"})))
+                              see=("bearings.see_polar_pin", _crank_number(k, single))))
         polar.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
                               0.0, _one_of(t, "bearings.rod_title", k, single), None, 0.12, labels_every, f"rod_bearing{k}",
                               _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z")),
-                              see=("bearings.see_polar_rod", {"k": "" if single else f" {k}"})))
+                              see=("bearings.see_polar_rod", _crank_number(k, single))))
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
         polar.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
