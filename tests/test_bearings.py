@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 
 import numpy as np
 import pytest
@@ -154,6 +155,12 @@ def test_bearing_section_renders(language):
     html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
+    # a journal's name as the pins' "1–4": an en dash between the cranks' numbers (a supervisor
+    # read "0-1" beside "1–4" as two conventions); the results keep the identifier "0-1"
+    section = html[html.index('data-stage="bearings"'):]
+    section = section[:section.index("</section>")]
+    text = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
+    assert "2\u20133" in text and not re.search(r"\b\d-\d\b", text)
 
 
 def test_load_diagram_labels_of_coinciding_points_are_merged():

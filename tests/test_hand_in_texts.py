@@ -87,8 +87,8 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
     # each diagram of a pair side by side says whose load it shows (a supervisor: two "the vector
     # diagram is given in fig. 9.x" next to each other); several cranks: with their numbers
     for sentence in ("Векторну діаграму навантаження на шатунну шийку 1 наведено на рис. 9.1.",
-                     "Векторну діаграму навантаження на корінну шийку 2-3 наведено на рис. 9.3.",
-                     "Векторну діаграму навантаження на корінний підшипник 2-3 наведено на рис. 9.4."):
+                     "Векторну діаграму навантаження на корінну шийку 2–3 наведено на рис. 9.3.",
+                     "Векторну діаграму навантаження на корінний підшипник 2–3 наведено на рис. 9.4."):
         assert sentence in four, sentence
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
     # every figure and table says what it holds, none is announced as just "the curves" or "the results"
@@ -118,9 +118,9 @@ def test_a_single_crank_is_not_described_as_one_of_many(reports):
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
     assert "розподіляється між двома корінними шийками" in one and "обох сусідніх колін" not in one
     assert "Навантаження на шатунну шийку:" in one and "обидві корінні шийки навантажені однаково" in one
-    assert "діаграми побудовано для шийки 0-1" in one
+    assert "діаграми побудовано для шийки 0–1" in one
     assert "обох сусідніх колін" in four and "Навантаження на шатунні шийки:" in four
-    assert re.search(r"найбільш навантаженої корінної шийки \(\d-\d\)", four)
+    assert re.search(r"найбільш навантаженої корінної шийки \(\d–\d\)", four)
 
 
 def test_table_cells_of_words_are_text_and_empty_cells_get_a_dash(reports):
@@ -443,7 +443,7 @@ def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_sai
     text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
     assert "найбільш навантаженої шатунної шийки" not in text
     assert "Найбільший тиск на підшипник шатунної шийки – найбільша сила" in text
-    assert "(0-1; усі корінні шийки навантажені однаково)" in text
+    assert "(0–1; усі корінні шийки навантажені однаково)" in text
     assert "Найбільш навантажена корінна шийка" not in text
     journals = re.search(r'<caption>Таблиця (\d+\.\d+) – Навантаження на корінні.*?<tbody>(.*?)</tbody>', html,
                          flags=re.S)

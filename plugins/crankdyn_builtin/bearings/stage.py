@@ -18,7 +18,7 @@ from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import loads_equal, most_loaded, pin_rows, worked_bearing
+from crankdyn_builtin.bearings.worked import journal_name, loads_equal, most_loaded, pin_rows, worked_bearing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -157,7 +157,7 @@ def run(scene, inputs) -> StageOutput:
     drawn_journals = opts.journals or [most_loaded_journal]
 
     def journal_label(j):  # journal j (0-based) lies after crank j: 0 is the free end, cranks + 1 the other
-        return f"{j}-{j + 1}"
+        return f"{j}-{j + 1}"  # an identifier in the results; the report prints journal_name
 
     results = {
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
@@ -441,7 +441,7 @@ def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
         ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
                 label=_one_of(t, "bearings.pin_label", k, single))
     for j in r["drawn_journals"]:
-        label = r["main_journals"][j - 1]["journal"]
+        label = journal_name(r["main_journals"][j - 1])
         ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
                 label=t("bearings.journal_label", label=label))
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
@@ -476,16 +476,16 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
         polar.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
-                              0.0, t("bearings.journal_title", label=journal["journal"]), journal["oil_hole_deg"], 0.12,
-                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal["journal"],
+                              0.0, t("bearings.journal_title", label=journal_name(journal)), journal["oil_hole_deg"], 0.12,
+                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal_name(journal),
                                                                           crank=max(j - 1, 1)),
-                              see=("bearings.see_polar_journal", {"label": journal["journal"]})))
+                              see=("bearings.see_polar_journal", {"label": journal_name(journal)})))
         polar.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
-                              angle, 0.0, t("bearings.main_bearing_title", label=journal["journal"]), None, 0.12,
+                              angle, 0.0, t("bearings.main_bearing_title", label=journal_name(journal)), None, 0.12,
                               labels_every, f"main_bearing{j - 1}",
-                              t("bearings.main_bearing_caption", label=journal["journal"]),
+                              t("bearings.main_bearing_caption", label=journal_name(journal)),
                               axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
-                              see=("bearings.see_polar_main_bearing", {"label": journal["journal"]})))
+                              see=("bearings.see_polar_main_bearing", {"label": journal_name(journal)})))
     return polar
 
 
@@ -511,7 +511,7 @@ def render(output: StageOutput, ctx) -> str | None:
         see="bearings.see_pins_single" if single else "bearings.see_pins") + \
         worked_bearing(ctx, r, "pin")
     table_journals = ctx.table([
-        (t("bearings.journal"), [j["journal"] for j in r["main_journals"]], None),
+        (t("bearings.journal"), [journal_name(j) for j in r["main_journals"]], None),
         ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
         ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
@@ -533,13 +533,13 @@ def render(output: StageOutput, ctx) -> str | None:
     ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
                    p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
                    oil=ctx.t.fixed(pin["oil_hole_deg"], 0))  # as the tables print it
-                 + " " + t(journal_key, label=journal["journal"], labels=", ".join(j["journal"] for j in tied),
+                 + " " + t(journal_key, label=journal_name(journal), labels=", ".join(journal_name(j) for j in tied),
                            r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2), p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
                            oil=ctx.t.fixed(journal["oil_hole_deg"], 0), table=journals_table_number))
     d = r["dimensions"]
-    journal_names = ", ".join(r["main_journals"][j - 1]["journal"] for j in r["drawn_journals"])
+    journal_names = ", ".join(journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"])
     analysis = [_load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k) for k in r["drawn_pins"]]
-    analysis += [_load_range(ctx, "journal", r["main_journals"][j - 1], r["main_journals"][j - 1]["journal"])
+    analysis += [_load_range(ctx, "journal", r["main_journals"][j - 1], journal_name(r["main_journals"][j - 1]))
                  for j in r["drawn_journals"]]
     return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
                                analysis=" ".join(a for a in analysis if a),

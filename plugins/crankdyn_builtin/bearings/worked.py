@@ -28,6 +28,12 @@ def most_loaded(records) -> list:
     return [x for x in records if x["max_N"] >= peak * (1 - 1e-9)]
 
 
+def journal_name(journal: dict) -> str:
+    """A main journal's name as the report prints it: "0–1", an en dash between the cranks' numbers
+    as between the pins' "1–4" (the results keep the identifier "0-1")."""
+    return journal["journal"].replace("-", "\u2013")
+
+
 def loads_equal(records) -> bool:
     """Whether every pin (journal) of ``records`` carries the same largest load, to rounding (1e-9)."""
     return len(records) > 1 and len(most_loaded(records)) == len(records)
@@ -58,11 +64,11 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
     else:
-        key, load_html = record["journal"], "<i>R</i><sub>max</sub>"
+        key, load_html = journal_name(record), "<i>R</i><sub>max</sub>"
         size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
     step = _pressure_step(ctx, f"{kind}_pressure_max", load_html, record, key, *size)
     # "the most loaded" only where one is: a single crank pin has no rival, equal loads have no first
     variant = "_single" if len(records) == 1 else "_equal" if loads_equal(records) else "_tied" if len(tied) > 1 else ""
-    others = ", ".join(str(x["crank"] if kind == "pin" else x["journal"]) for x in tied[1:])
+    others = ", ".join(str(x["crank"]) if kind == "pin" else journal_name(x) for x in tied[1:])
     note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
     return worked_markup(ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note))
