@@ -121,6 +121,22 @@ def test_positions_are_the_kinematics_extremes(example):
         assert abs((drawn[key] - angle + 180.0) % 360.0 - 180.0) < 1e-3, (key, drawn[key], angle)
 
 
+@pytest.mark.parametrize("example", ["petrol-1cyl", "offset-crank-engine"])
+def test_speed_extremes_are_named_by_the_stroke_they_lie_on(example):
+    """v_max lies on the stroke towards BDC, v_min (the largest speed back) on the stroke towards
+    TDC: the piston's travel rises from TDC to BDC and falls after, so the angles' order says it;
+    the panels say it in words (a supervisor read "v_min" as the slowest piston)."""
+    import crankdyn_builtin.drawing
+    from crankdyn.report.i18n import load_catalog_file
+
+    drawn = _run(example).outputs["drawing"].results["crank_angles_deg"]
+    assert drawn["tdc"] < drawn["v_max"] < drawn["bdc"] < drawn["v_min"] < 360.0
+    words = {"uk": ("до НМТ", "до ВМТ"), "ru": ("к НМТ", "к ВМТ"), "en": ("towards BDC", "towards TDC")}
+    for language, (down, up) in words.items():
+        catalog = load_catalog_file(Path(crankdyn_builtin.drawing.__file__).parent / "i18n" / f"drawing.{language}.toml")
+        assert down in catalog["drawing.position_v_max"] and up in catalog["drawing.position_v_min"]
+
+
 def test_vane_engine_drawn_from_its_geometry():
     """No stage provides a piston motion for the vane engine: drawing_linkage takes the slider's
     travel along the slot from the geometry; it is the source's y_po, so its extremes are known."""
