@@ -89,13 +89,29 @@ def test_a_damaged_store_is_ignored_and_replaced(tmp_path):
 
 def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
     path, key, data = _stored(tmp_path, LABELS[0])
-    record = data["records"][key]
+    record = json.loads(data["records"][key])
     record[3][0][0] = str(path)  # any file that is not one of matplotlib's fonts, stamped as it is
     record[5][str(path)] = mathtext_store._stamp(str(path))
+    data["records"][key] = json.dumps(record)
     path.write_text(json.dumps(data), encoding="utf-8")
     assert mathtext_store._valid(record)  # well formed: refused for its font only
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(key) is None
+
+
+@pytest.mark.parametrize("damage", ['[1, 2', '[1.0, 2.0, 3.0, [], [], {}, 7]', '{"a": 1}',
+                                    '[1.0, 1.0, 1.0, [["/no/font", 9.0, 65, 1, 0.0, 0.0]], [], {}]'])
+def test_a_damaged_record_is_dropped_and_the_others_read(tmp_path, damage):
+    """Records are checked when a label asks for one, not when the file is read: a damaged
+    record costs its own label's typesetting, the rest of the store still serves."""
+    path = tmp_path / "store.json"
+    store = _saved(path, LABELS[:2])
+    data = json.loads(path.read_text(encoding="utf-8"))
+    data["records"][_key(store, LABELS[0])] = damage
+    path.write_text(json.dumps(data), encoding="utf-8")
+    reader = mathtext_store.MathtextStore(path)
+    assert reader.get(_key(reader, LABELS[0])) is None
+    assert reader.get(_key(reader, LABELS[1])) is not None
 
 
 def test_the_store_keeps_the_newest_records_only(tmp_path, monkeypatch):
@@ -165,7 +181,7 @@ def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, 
     """A review: a record with a rect of three numbers or a glyph code of 10**12 passed the font
     check and failed while drawing, in every later report (save() merged it back)."""
     path, key, data = _stored(tmp_path, LABELS[3])  # a fraction and a root: it has rects
-    record = data["records"][key]
+    record = json.loads(data["records"][key])
     assert record[4], "the label has rectangles (the fraction's bar)"
     if damage == "rect of three":
         record[4][0] = record[4][0][:3]
@@ -177,16 +193,23 @@ def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, 
         record[5] = {}
     else:
         record[0] = float("nan")
+    data["records"][key] = json.dumps(record)
     path.write_text(json.dumps(data), encoding="utf-8")
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(key) is None
-    assert key not in mathtext_store._load(path)
+    # typeset afresh, the label's good record replaces the damaged one
+    reader.put(key, _typeset(LABELS[3]))
+    reader.save()
+    assert json.loads(path.read_text(encoding="utf-8"))["records"][key] != data["records"][key]
+    assert mathtext_store.MathtextStore(path).get(key) is not None
 
 
 def test_a_font_file_changed_in_place_is_a_miss(tmp_path):
     path, key, data = _stored(tmp_path, LABELS[0])
-    font = next(iter(data["records"][key][5]))
-    data["records"][key][5][font] = [data["records"][key][5][font][0], 1]  # another modification time
+    record = json.loads(data["records"][key])
+    font = next(iter(record[5]))
+    record[5][font] = [record[5][font][0], 1]  # another modification time
+    data["records"][key] = json.dumps(record)
     path.write_text(json.dumps(data), encoding="utf-8")
     assert mathtext_store.MathtextStore(path).get(key) is None
 
