@@ -311,3 +311,29 @@ def test_the_report_process_renders_the_text_without_building_the_figures_given_
     # every figure but the scheme, whose scale (printed in its caption) is measured on the drawing
     assert [f.name for f in figures if f._figure is not None] == ["fig_3_1_scheme.svg"]
     assert len(figures) >= 16
+
+
+def test_font_heights_remembered_by_the_svg_renderer_give_matplotlibs_own_bytes(monkeypatch):
+    """The SVG renderer answers a text's line height from the font tables once per font and size
+    (figures._remember_font_heights); a figure of one- and two-line texts, mathtext, two sizes
+    and a Cyrillic label is byte for byte the one matplotlib lays out reading the tables itself."""
+    from matplotlib.backends.backend_svg import RendererSVG
+
+    from crankdyn.report import figures
+
+    def drawn() -> bytes:
+        fig, ax = figures.new_figure(8, 6)
+        ax.plot([0, 1, 2], [0, 1e4, 3])
+        ax.set_xlabel("Кут повороту колінчастого вала α, °")
+        ax.set_ylabel(r"$p_{\rm г}$, МПа")
+        ax.set_title("two\nlines", fontsize=12)
+        ax.text(0.5, 0.5, "note", fontsize=7)
+        return figures.to_svg(fig)
+
+    figures._remember_font_heights()
+    assert "_get_font_height_metrics" in RendererSVG.__dict__, "the hook is installed"
+    remembered = drawn()
+    monkeypatch.delattr(RendererSVG, "_get_font_height_metrics")
+    monkeypatch.setattr(figures, "_remember_font_heights", lambda: None)  # to_svg would put it back
+    assert not hasattr(RendererSVG, "_get_font_height_metrics")
+    assert drawn() == remembered
