@@ -39,7 +39,7 @@ LANGUAGES = {
     "uk": ("petrol-1cyl-uk", [], "Таблиця", "Рисунок", "табл.", "рис.", "Продовження таблиці", "РЕФЕРАТ",
            "ВИСНОВКИ", "ПЕРЕЛІК ДЖЕРЕЛ ПОСИЛАННЯ"),
     "ru": ("petrol-1cyl-ru", [], "Таблица", "Рисунок", "табл.", "рис.", "Продолжение таблицы", "РЕФЕРАТ",
-           "ВЫВОДЫ", "СПИСОК ИСПОЛЬЗОВАННЫХ ИСТОЧНИКОВ"),
+           "ЗАКЛЮЧЕНИЕ", "СПИСОК ИСПОЛЬЗОВАННЫХ ИСТОЧНИКОВ"),
     # --lang overrides the scene's language, as a student would do it on the command line
     "en": ("petrol-1cyl-ru", ["--lang", "en"], "Table", "Figure", "table", "figure", "Table", "ABSTRACT",
            "CONCLUSIONS", "REFERENCES"),

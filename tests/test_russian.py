@@ -40,7 +40,7 @@ def test_russian_html_captions_numbers_and_decimal_comma(russian):
     assert not russian.missing_translations, russian.missing_translations
     assert '<html lang="ru">' in html
     for text in ("Содержание", "Исходные данные", "Кинематика кривошипно-шатунного механизма",
-                 "Таблица 2.1 – ", "Рисунок 2.1 – ", "Выводы", "Список использованных источников"):
+                 "Таблица 2.1 – ", "Рисунок 2.1 – ", "Заключение", "Список использованных источников"):
         assert text in html, text
     assert not re.search(r"(Table|Figure) \d+\.\d+", html)  # no English caption left
     assert "0,2800" in html and "0.2800" not in html  # lambda, with the decimal comma
