@@ -752,21 +752,55 @@ def _conclude(ctx, r) -> None:
     ctx.find(t("balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
                items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in left))
              if left else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced"))
-    if unbalanced and single:  # one cylinder: coefficients are all 1; say the forces
+    negligible = [s for s in unbalanced if _negligible(r, s)]
+    significant = [s for s in unbalanced if s not in negligible]
+    if significant and single:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
             f"{_plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"
-            for s in unbalanced if s["quantity"].startswith("sum_"))))
-    elif unbalanced:
+            for s in significant if s["quantity"].startswith("sum_"))))
+    elif significant:
         # the amplitude, and the textbook's coefficient times the scale it divides by (C_n = |A_n|·C_I,
         # table 8.2): "ΣP_II = 9426 Н (4,000·|A_2|C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
         # the textbook's C_II = λC_I did not
         ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(_unbalanced_item(ctx, r, s)
-                                                                         for s in unbalanced)))
-    else:
+                                                                         for s in significant)))
+    elif not negligible:
         ctx.conclude(t("balancing.conclusion_balanced"))
+    if negligible:
+        _conclude_negligible(ctx, r, negligible, single, alone=not significant)
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
+
+
+#: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
+#: (a moment: of C_I·a, a the cylinder spacing) is said to be negligible, not listed among the
+#: unbalanced ones (a supervisor: "ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
+NEGLIGIBLE_SHARE = 0.01
+
+
+def _negligible(r, item) -> bool:
+    """Whether ``item``'s amplitude is under :data:`NEGLIGIBLE_SHARE` of C_I (a moment: of C_I·a)."""
+    force = item["quantity"].startswith("sum_")
+    value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
+    scale = r["first_order_N"] * (1.0 if force else r["cylinder_spacing_m"] or 0.0)
+    return value is not None and scale > 0 and abs(value) < NEGLIGIBLE_SHARE * scale
+
+
+def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
+    """"ΣP_VI = 4,4 Н is under 1 % of C_I, negligible": after the unbalanced ones, or alone."""
+    t = ctx.t
+    items = []
+    for item in negligible:
+        force = item["quantity"].startswith("sum_")
+        value = r["absolute"][item["quantity"] + ("_N" if force else "_Nm")]
+        amplitude = newtons(t, value) if force else t.number_g(value, 2)
+        items.append(f"{_plain_symbol(item, '' if single else 'Σ')} = {amplitude} "
+                     f"{t('balancing.unit_N') if force else t('unit.Nm')}")
+    moments = any(not item["quantity"].startswith("sum_") for item in negligible)
+    reference = t("balancing.negligible_reference") + (" " + t("balancing.negligible_reference_moment") if moments else "")
+    ctx.conclude(t("balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
+                   items=", ".join(items), percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2), reference=reference))
 
 
 def _left_unbalanced(r, unbalanced) -> list:
