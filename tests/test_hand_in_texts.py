@@ -694,3 +694,11 @@ def test_orders_are_written_as_ordinal_words(reports):
     four = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     assert "сили інерції першого і другого порядків зрівноважено" in four
     assert "порядку 1" not in four and "порядків 1, 2" not in four
+
+
+def test_the_journal_torque_has_one_subscript_alphabet(reports):
+    """The ru reading: table 7.2's rows wrote "|tк|" (Cyrillic) under its own header "tk, МПа" and
+    the list of symbols' Latin t_k: one symbol, one spelling."""
+    html = reports("inline4-petrol")
+    assert "<sub>k</sub>" in html or "<sub>k<i>" in html
+    assert "<i>t</i><sub>к" not in html
