@@ -167,11 +167,13 @@ def _trace_pressure(scene, motion, area, swept):
 #: the start of intake; "advance" is the ignition (injection), "visible" the start of visible
 #: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
+#: A vertical offset of 0 centres the label on its point's height: b″ stands between b and a at
+#: BDC, a label under it read as a's (a supervisor).
 _POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
            ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (4, -3)),
            ("f", "visible", "actual", (-5, 3)), ("c″", 360.0, "actual", (4, -2)),
            ("z", "theory_peak", "theory", (4, 2)), ("z′", "peak", "actual", (4, 2)),
-           ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (4, -3)))
+           ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (5, 0)))
 
 
 def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
@@ -272,7 +274,7 @@ def _pv_figure(volume_l, pressure, theory, points, t):
     for label, volume, p, (dx, dy) in points:
         ax.plot([volume], [p], "o", ms=3, color="k")
         ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
-                    ha="left" if dx >= 0 else "right", va="bottom" if dy >= 0 else "top")
+                    ha="left" if dx >= 0 else "right", va="center" if dy == 0 else "bottom" if dy > 0 else "top")
     ax.set_xlabel(t("indicator.axis_volume"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)
