@@ -65,3 +65,27 @@ def test_the_pumping_loop_is_enlarged_in_an_inset_with_locale_ticks(shared_repor
     svg = next((out / "figures").glob("fig_*_pV.svg")).read_text(encoding="utf-8")
     assert "впуск і випуск (збільшено)" in svg
     assert ">0,05<" in svg and ">0.05<" not in svg
+
+
+def test_each_label_at_bdc_is_nearest_its_own_point():
+    """b, b″ and a stand one above the other at BDC (0,36, 0,24 and 0,085 МПа in the in-line four):
+    each label's centre is nearer its own point than the others' (a supervisor read b″'s label,
+    set under its point, as a's)."""
+    from crankdyn.report.figures import to_svg
+    from crankdyn_builtin.indicator.stage import _POINTS, _pv_figure
+
+    offsets = {label: offset for label, _, _, offset in _POINTS}
+    heights = {"b": 0.36, "b″": 0.239, "a": 0.085}
+    points = [(label, 0.46, p, offsets[label]) for label, p in heights.items()]
+    volume = np.linspace(0.05, 0.46, 50)
+    pressure = 0.1 + 5.0 * np.exp(-30 * (volume - 0.05))
+    fig = _pv_figure(volume, pressure, None, points, lambda key, **kw: key)
+    to_svg(fig)  # laid out and drawn as in the report
+    ax = fig.axes[0]
+    renderer = fig.canvas.get_renderer()
+    where = {label: ax.transData.transform((0.46, p)) for label, p in heights.items()}
+    for text in ax.texts:
+        box = text.get_window_extent(renderer)
+        centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
+        nearest = min(where, key=lambda label: np.hypot(*(centre - where[label])))
+        assert nearest == text.get_text(), (text.get_text(), nearest)
