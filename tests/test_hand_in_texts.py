@@ -702,3 +702,10 @@ def test_the_journal_torque_has_one_subscript_alphabet(reports):
     html = reports("inline4-petrol")
     assert "<sub>k</sub>" in html or "<sub>k<i>" in html
     assert "<i>t</i><sub>к" not in html
+
+
+def test_an_in_line_engine_is_not_said_to_have_central_rods(reports):
+    """The ru reading: "шатуны: центральные" in an in-line four, where "central rod" belongs to V
+    and radial engines (rods side by side or a master rod on one pin): each rod has its own pin."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    assert "шатуни: по одному на кожній шатунній шийці" in text and "шатуни: центральні" not in text
