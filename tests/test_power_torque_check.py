@@ -21,3 +21,53 @@ def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(
     from_work = work_J * cylinders / (2 * math.pi * strokes / 2)
     from_power = cs.torque_from_power_Nm(work_J, cylinders, strokes, rpm)
     assert from_power / from_work == pytest.approx(9555.0 / (30000.0 / math.pi), rel=1e-12)
+
+
+def test_effective_output_against_the_indicated_one():
+    """η_m = N_e/N_i and M_e = N_e/ω: at 6000 rpm (ω = 200π) 50 kW effective of 62.5 kW
+    indicated is η_m = 0.8 and M_e = 50 000/(200π) = 79.577 N·m; a motored N_i ≤ 0 has no η_m."""
+    out = cs.effective_output(62500.0, 50000.0, 200 * math.pi)
+    assert out["mechanical_efficiency"] == pytest.approx(0.8, rel=1e-15)
+    assert out["mean_effective_torque_Nm"] == pytest.approx(79.57747154594767, rel=1e-12)
+    assert cs.effective_output(-1.0, 50000.0, 100.0)["mechanical_efficiency"] is None
+
+
+@pytest.mark.parametrize(("example", "stage", "n_e_W"), [("inline4-petrol", "torque", 55e3), ("petrol-1cyl-uk", "forces", 13.5e3)])
+def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example, stage, n_e_W):
+    """The scene's N_e (engine.effective_power) against N_i from the indicator work: η_m = N_e/N_i
+    with N_i = W_i·i·n/(60·τ/2), and M_e = η_m·M_i with M_i = W/(2π·τ/2), the mean torque from
+    the work (the same ω on both sides); the report's sentence prints them."""
+    from conftest import shared_html, shared_run
+
+    result = shared_run(example)
+    r = result.outputs[stage].results
+    e = result.scene.engine
+    work_all = result.outputs["torque"].results["mean_from_work_Nm"] * 2 * math.pi * e.strokes / 2
+    n_i = work_all * e.rpm / 60 / (e.strokes / 2)
+    assert r["effective_power_W"] == n_e_W
+    assert r["mechanical_efficiency"] == pytest.approx(n_e_W / n_i, rel=1e-12)
+    assert r["mean_effective_torque_Nm"] == pytest.approx(r["mechanical_efficiency"] * work_all / (2 * math.pi * e.strokes / 2),
+                                                         rel=1e-12)
+    html = shared_html(example, language="uk").html
+    assert "механічний ККД <i>η</i><sub>м</sub>" in html
+    assert "<i>N</i><sub>e</sub></td>" in html  # the given data's row
+
+
+def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
+    """η_m ≥ 1 is no mechanical efficiency: the diagram does not deliver the rated power (the
+    example's report language, English)."""
+    from crankdyn.cli import examples_dir
+    from crankdyn.orchestrator import run_scene
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.document import render_html
+    from crankdyn.scene import load_scene
+
+    text = (examples_dir() / "inline4-petrol.toml").read_text(encoding="utf-8")
+    scene_file = tmp_path / "scene.toml"
+    scene_file.write_text(text.replace('effective_power = "55 kW"', 'effective_power = "0.08 MW"'), encoding="utf-8")
+    registry = default_registry()
+    scene = load_scene(scene_file)
+    assert scene.engine.effective_power == pytest.approx(80e3)
+    result = run_scene(scene, registry, ["torque"])
+    assert result.outputs["torque"].results["mechanical_efficiency"] > 1
+    assert "mechanical efficiency is not below one" in render_html(result, registry).html

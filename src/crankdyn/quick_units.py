@@ -29,6 +29,7 @@ _INERTIA = {"kg*m^2": 1.0, "kg*m**2": 1.0, "kg m^2": 1.0, "kg m**2": 1.0, "kg·m
 _STIFFNESS = {"N*m/rad": 1.0, "N m/rad": 1.0, "kN*m/rad": 1000.0, "N*m": 1.0}
 _DENSITY = {"kg/m^3": 1.0, "kg/m**3": 1.0}
 _VELOCITY = {"m/s": 1.0}
+_POWER = {"W": 1.0, "kW": 1000.0, "MW": 1000000.0}
 
 #: kind -> {unit spelling: factor to the SI unit of :data:`crankdyn.units.SI_UNIT`}
 FACTORS = {
@@ -41,6 +42,7 @@ FACTORS = {
     "torsional_stiffness": _STIFFNESS,
     "density": _DENSITY,
     "velocity": _VELOCITY,
+    "power": _POWER,
 }
 
 

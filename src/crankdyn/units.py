@@ -24,6 +24,7 @@ SI_UNIT = {
     "torsional_stiffness": "N*m/rad",
     "density": "kg/m**3",
     "velocity": "m/s",
+    "power": "W",
 }
 
 
@@ -82,7 +83,7 @@ def _shown(text: str) -> str:
 def _example(kind: str) -> str:
     return {"length": "82 mm", "mass": "0.45 kg", "pressure": "0.085 MPa", "time": "1.5 ms",
             "volume": "0.5 L", "moment_of_inertia": "0.12 kg*m^2", "torsional_stiffness": "1.2e5 N*m/rad",
-            "density": "7200 kg/m^3", "velocity": "50 m/s"}[kind]
+            "density": "7200 kg/m^3", "velocity": "50 m/s", "power": "55 kW"}[kind]
 
 
 def format_si(value: float, kind: str, unit: str) -> str:

@@ -16,6 +16,7 @@ from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fix
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.physics import kinematics as kin
+from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import rod_loads
 from crankdyn.scene import options
 from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
@@ -69,6 +70,15 @@ def _higher_orders_max_Pa(inertia_Pa, first_order_Pa, second_order_Pa) -> float:
     return float(np.max(np.abs(inertia_Pa - first_order_Pa - second_order_Pa)))
 
 
+def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
+    """A single cylinder's N_e against its N_i (η_m, M_e), when the scene gives N_e; an engine of
+    more cylinders has them in the torque section."""
+    if engine.cylinders != 1 or engine.effective_power is None:
+        return {}
+    omega = engine.angular_velocity_rad_s
+    return phys_crankshaft.effective_output(mean_torque_from_work_Nm * omega, engine.effective_power, omega)
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine, masses = scene.engine, scene.masses
@@ -76,8 +86,7 @@ def run(scene, inputs) -> StageOutput:
     radius, omega, ratio = motion.crank_radius_m, motion.angular_velocity_rad_s, engine.rod_ratio_value
     area = phys.piston_area_m2(engine.bore)
 
-    rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m,
-                                                             scene.rod_cm_from_big_end_m)
+    rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m, scene.rod_cm_from_big_end_m)
     reciprocating = masses.piston_group + rod_reciprocating
     rotating = rod_rotating + masses.crank_pin + 2.0 * masses.crank_web
 
@@ -129,6 +138,7 @@ def run(scene, inputs) -> StageOutput:
         "inertia_work_relative": float(np.mean(inertia_torque) / np.max(np.abs(inertia_torque)))
         if np.max(np.abs(inertia_torque)) > 0 else 0.0,
     }
+    results.update(_effective(engine, mean_from_work))
     results.update(_extremes(motion.crank_angle_deg, (
         ("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
         ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),

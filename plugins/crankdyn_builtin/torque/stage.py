@@ -71,6 +71,8 @@ def run(scene, inputs) -> StageOutput:
                                           for kind, i in combo.items()}}
                       for k, combo in enumerate(combos)],
     }
+    if e.effective_power is not None:
+        results.update(cs.effective_output(results["indicated_power_W"], e.effective_power, e.angular_velocity_rad_s))
     columns = {"crank_angle_deg": angle}
     for k in range(layout.cranks):
         columns[f"crank{k + 1}_radial_Pa"] = bays.radial_Pa[k]

@@ -53,6 +53,16 @@ def torque_from_power_Nm(indicated_work_J: float, cylinders: int, strokes: int, 
     return 9555.0 * indicated_power_kW(indicated_work_J, cylinders, strokes, rpm) / rpm
 
 
+def effective_output(indicated_power_W: float, effective_power_W: float, angular_velocity_rad_s: float) -> dict:
+    """The rated effective power N_e [W] (the thermal calculation's) against the indicated power
+    N_i [W] the indicator diagram gives: the mechanical efficiency η_m = N_e/N_i (None for an
+    N_i ≤ 0, a motored trace) and the mean effective torque M_e = N_e/ω = η_m M_i [N·m]
+    (M_i = N_i/ω, the mean indicated torque)."""
+    return {"effective_power_W": effective_power_W, "indicated_power_W": indicated_power_W,
+            "mechanical_efficiency": effective_power_W / indicated_power_W if indicated_power_W > 0 else None,
+            "mean_effective_torque_Nm": effective_power_W / angular_velocity_rad_s}
+
+
 def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_Pa):
     """Table B.4: for each crank, the grid index where z, t, q and the journal torque t_k peak.
 
