@@ -148,6 +148,9 @@ def render(output: StageOutput, ctx) -> str | None:
                    deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
                    max_angle=ctx.t.number_g(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),
                    period=ctx.t.number_g(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
+    if r.get("mechanical_efficiency") is not None:
+        ctx.conclude(t("torque.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
+                       eta=ctx.num(r["mechanical_efficiency"], 3)))
     return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
                                figure_journals=figure_journals, danger=danger)
 
