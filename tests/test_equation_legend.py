@@ -193,3 +193,11 @@ def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
     found = [m.start() for m in re.finditer(pattern, text)]
     expected = [m.start() for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)]
     assert found == expected == [0, len(text) - len(bare)]
+
+
+def test_a_dotted_letter_is_not_the_letter():
+    """A review of the planetary note: "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
+    is the second derivative of a coordinate (the italic run "z̈" was read letter by letter)."""
+    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == []
+    assert symbols_in("<i>β̈</i> (cos <i>β</i>)", "uk", "rod_dynamics") == ["rod_angle"]
+    assert symbols_in("<i>Rω</i>", "uk", "kinematics") == ["crank_radius", "crank_angular_velocity"]

@@ -55,15 +55,17 @@ def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[st
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
 _ITALIC_RUN = re.compile(r"<i>([^<]{2,})</i>")
+#: A letter with the combining marks on it (z̈, β̇: a derivative, another quantity than z or β).
+_LETTER = re.compile(r"\S[\u0300-\u036f]*")
 
 
 def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
     not the quantity; a symbol with its own subscript there is one (the exponent n_1)."""
-    # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter
-    formula_html = _ITALIC_RUN.sub(lambda m: "".join(c if c.isspace() else f"<i>{c}</i>" for c in m.group(1)),
-                                   formula_html)
+    # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter, a letter
+    # keeping its dots (<i>z̈</i> is not z)
+    formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
     for key, markup, pattern, bare, only_in, not_in in _patterns(language):
