@@ -46,8 +46,8 @@ def test_a_symbol_is_explained_under_its_first_equation_only(uk):
     html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + "<p>text</p>"
                     + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"))
     legends = _legends(add_equation_legends(html, uk, "uk"))
-    assert legends == ["де R – радіус кривошипа, м; | S – хід поршня, м.",
-                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, м."]
+    assert legends == ["де R – радіус кривошипа, мм; | S – хід поршня, мм.",
+                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, мм."]
     # the paragraph follows its equation, before the text after it
     out = add_equation_legends(html, uk, "uk")
     assert out.index("(1.1)") < out.index("де ") < out.index("<p>text</p>")
@@ -125,35 +125,42 @@ def test_a_mechanism_of_its_own_letters_gets_no_legend():
     assert REGISTRY.stages["forces"].legend
 
 
-def test_the_lines_give_the_si_units_the_equation_is_evaluated_in(uk):
-    # M_k = t R F_p holds in Pa, m and m² (the worked substitutions use them), not in the tables'
-    # MPa, mm and cm²; a litre is a cubic metre here, a unit already SI stays
+def test_the_lines_give_the_units_the_tables_show(uk):
+    """Two supervisors read "s_п – переміщення поршня, м" beside a table in мм, and "d, B" in m beside
+    a worked line in kN and mm, as contradictions: a line gives the symbol table's unit (the tables',
+    the worked lines' and the equations' own values), not the SI unit the formula is evaluated in."""
     html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
-                                        "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>"))
+                                        "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
-                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
-                 "ms – маса частин, що рухаються поступально, кг."):
+    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, МПа;",
+                 "R – радіус кривошипа, мм;", "Fп – площа поршня, см²;", "Vh – робочий об'єм циліндра, л;",
+                 "ms – маса частин, що рухаються поступально, кг;", "sп – переміщення поршня, мм."):
         assert part in line.replace("&#39;", "'"), part
-
-
-def test_a_value_the_equation_gives_in_the_tables_unit_is_explained_in_that_unit(uk):
-    """A review: "R = S/2 = 39,000 мм" above "R – радіус кривошипа, м", "F_п = 52,81 см²" above
-    "F_п – площа поршня, м²": a symbol whose value the equation shows is explained in the unit it
-    is shown in, and so is every symbol of the same table unit in those lines (a supervisor:
-    "R, мм; S, м" under R = S/2 contradicts itself); the others keep the SI unit."""
-    html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2 = 39,000\u202fмм, &nbsp; "
-                                            "<i>F</i><sub>п</sub> = π<i>D</i><sup>2</sup>/4 = 52,81\u202fсм²"))
+    html = _section("bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("R – радіус кривошипа, мм;", "S – хід поршня, мм;", "Fп – площа поршня, см²;", "D – діаметр циліндра, м."):
-        assert part in line, (part, line)
-    html = _section("indicator", _equation("<i>L</i><sub>i</sub> = ∮ <i>p</i> d<i>V</i> = 1124\u202fДж, &nbsp; "
-                                           "<i>p</i><sub>i</sub> = <i>L</i><sub>i</sub>/<i>V</i><sub>h</sub> = 2,258\u202fМПа"))
-    line = _legends(add_equation_legends(html, uk, "uk"))[0]  # a review: p in МПа with a work in J
-    assert "тиск газів у циліндрі, Па;" in line and "середній індикаторний тиск, МПа;" in line, line
-    html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>"))
-    line = _legends(add_equation_legends(html, uk, "uk"))[0]  # no value shown: SI, as the equation holds
-    assert "R – радіус кривошипа, м;" in line and "Fп – площа поршня, м²." in line, line
+    assert "d·B, МПа;" in line and "d – діаметр шийки, мм;" in line and "B – ширина підшипника, мм." in line, line
+
+
+def test_an_equation_may_declare_symbols_in_si_units(uk):
+    """``RenderContext.equation(..., si=keys)``: those symbols' lines give the SI unit, the others
+    the tables'; a key the symbol table does not know is an error naming the stage."""
+    import jinja2
+
+    from crankdyn.errors import PluginError
+    from crankdyn.report.context import RenderContext
+
+    ctx = RenderContext(t=uk, env=jinja2.Environment(), stage_name="forces")
+    formula = "<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>"
+    html = _section("forces", str(ctx.equation(formula, si=("crank_radius", "piston_area", "tangential_specific"))))
+    line = _legends(add_equation_legends(html, uk, "uk"))[0]
+    assert "t – питома тангенціальна сила, Па;" in line and "R – радіус кривошипа, м;" in line, line
+    assert "Fп – площа поршня, м²." in line and "Н·м" in line, line
+    plain = _section("forces", str(ctx.equation(formula)))
+    assert "R – радіус кривошипа, мм;" in _legends(add_equation_legends(plain, uk, "uk"))[0]
+    labelled = _section("forces", str(ctx.equation(formula, label="torque", si=("crank_radius",))))
+    assert "R – радіус кривошипа, м;" in _legends(add_equation_legends(labelled, uk, "uk"))[0]
+    with pytest.raises(PluginError, match="'forces'.*crank_radious"):
+        ctx.equation(formula, si=("crank_radious",))
 
 
 def test_a_product_in_one_italic_run_is_read_letter_by_letter():
@@ -186,3 +193,11 @@ def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
     found = [m.start() for m in re.finditer(pattern, text)]
     expected = [m.start() for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)]
     assert found == expected == [0, len(text) - len(bare)]
+
+
+def test_a_dotted_letter_is_not_the_letter():
+    """A review of the planetary note: "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
+    is the second derivative of a coordinate (the italic run "z̈" was read letter by letter)."""
+    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == []
+    assert symbols_in("<i>β̈</i> (cos <i>β</i>)", "uk", "rod_dynamics") == ["rod_angle"]
+    assert symbols_in("<i>Rω</i>", "uk", "kinematics") == ["crank_radius", "crank_angular_velocity"]

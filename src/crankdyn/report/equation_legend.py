@@ -23,8 +23,12 @@ from .typeset import SYMBOLS, symbol_html, symbol_pattern
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
-    r'|<div class="equation"[^>]*><span class="formula">(?P<formula>.*?)</span><span class="eqno">[^<]*</span></div>',
+    r'|<div class="equation"(?P<attributes>[^>]*)><span class="formula">(?P<formula>.*?)</span>'
+    r'<span class="eqno">[^<]*</span></div>',
     re.S)
+
+#: An equation's declaration of the symbols its lines explain in SI units (``data-si="key key"``).
+_DECLARED_SI = re.compile(r'\bdata-si="([^"]*)"')
 
 _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
@@ -51,15 +55,17 @@ def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[st
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
 _ITALIC_RUN = re.compile(r"<i>([^<]{2,})</i>")
+#: A letter with the combining marks on it (z̈, β̇: a derivative, another quantity than z or β).
+_LETTER = re.compile(r"\S[\u0300-\u036f]*")
 
 
 def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
     not the quantity; a symbol with its own subscript there is one (the exponent n_1)."""
-    # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter
-    formula_html = _ITALIC_RUN.sub(lambda m: "".join(c if c.isspace() else f"<i>{c}</i>" for c in m.group(1)),
-                                   formula_html)
+    # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter, a letter
+    # keeping its dots (<i>z̈</i> is not z)
+    formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
     for key, markup, pattern, bare, only_in, not_in in _patterns(language):
@@ -72,56 +78,36 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     return [key for _, key in sorted(found)]
 
 
-#: The tables' units and the SI units an equation is evaluated in (Mк = t R Fп holds in Pa, m and m²,
-#: not in MPa, mm and cm²): the "where" lines give the latter, as the worked substitutions use them.
+#: The display units that have an SI unit of their own, for the symbols an equation declares SI
+#: (:meth:`~crankdyn.report.context.RenderContext.equation`'s ``si``): a litre is a cubic metre there.
 _SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "unit.MPa": "unit.Pa"}
 
 
-def _si_unit(key: str, t) -> str:
+def line_unit(key: str, t, si: bool = False) -> str:
+    """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio).
+
+    The rule: the symbol table's unit (:data:`~crankdyn.report.typeset.SYMBOLS`), which is the unit
+    the report's tables, figures, worked substitutions and the equations' own values show the
+    quantity in ("s_п – переміщення поршня, мм" beside the table's "s_п, мм" and the worked
+    "s_п = … = 6,60 мм"; "d, B" in mm beside "p_max = Q_max/(d B) = 16,37·10³/(51,66·31,00) =
+    10,22 МПа"). The SI unit (m, Pa, m², m³) only where the equation declares the symbol so
+    (``si``): an equation that holds as printed in a coherent system alone (M_к = t R F_п, σ = ρ v²)
+    AND whose symbol no value nearby shows. Each built-in equation's quantities are shown nearby
+    in their table units (a table of the section, a worked line, the equation itself), so none
+    declares one: the SI unit the formula is evaluated in was read beside them as a contradiction
+    ("s_п, м" under a table in мм)."""
     unit = SYMBOLS[key].unit
-    unit = _SI_UNITS.get(unit, unit)
+    if si:
+        unit = _SI_UNITS.get(unit, unit)
     return t(unit) if unit.startswith("unit.") else unit
 
 
-def _shown_unit(key: str, formula: str, t, language: str) -> str | None:
-    """The unit the equation itself gives ``key``'s value in ("R = S/2 = 39,000 мм"): the table's
-    unit when one of the formula's parts starts with the symbol and ends with that unit (a where
-    line in metres under a value in millimetres contradicted it), else None."""
-    unit = SYMBOLS[key].unit
-    if not unit.startswith("unit."):
-        return None
-    shown = t(unit)
-    symbol = symbol_html(key, language)
-    for part in formula.split(", &nbsp;"):
-        text = re.sub(r'</?span[^>]*>', "", part).strip()
-        ends = re.sub(r"<[^>]+>", "", text).rstrip()
-        if text.startswith(symbol + " =") and ends.endswith(shown) and ends[:-len(shown)].rstrip("\u202f\u00a0 ")[-1:].isdigit():
-            return shown
-    return None
-
-
-def _shown_units(key: str, shown: list[str], formula: str, language: str) -> set[str]:
-    """The table units of the symbols standing beside ``key`` in one of its formulas whose value
-    the equation shows in that unit (R = S/2 = 39 мм, λ = R/L: "unit.mm" for R, S and L; "R, мм;
-    S, м" read as a contradiction). Only symbols of ``key``'s own formulas count: in
-    L_i = ∮ p dV = 1124 Дж, p_i = L_i/V_h = 2,258 МПа, p stays in Pa. ``shown``: the symbols whose
-    value the equation shows in their table's unit."""
-    units: set[str] = set()
-    for part in formula.split(", &nbsp;"):
-        if re.search(symbol_pattern(key, language), part):
-            units |= {SYMBOLS[other].unit for other in shown if re.search(symbol_pattern(other, language), part)}
-    return units
-
-
-def legend_html(keys: list[str], t, language: str, formula: str = "") -> str:
+def legend_html(keys: list[str], t, language: str, si: frozenset[str] = frozenset()) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit is the one ``formula`` gives the symbol's value in, or another
-    symbol's value of the same table unit, else the SI unit the equation is evaluated in."""
+    stop after the last; the unit as :func:`line_unit` says (SI for the keys in ``si``)."""
     lines = []
-    shown = [key for key in keys if _shown_unit(key, formula, t, language)]
     for k, key in enumerate(keys):
-        unit = t(SYMBOLS[key].unit) if SYMBOLS[key].unit in _shown_units(key, shown, formula, language) \
-            else _si_unit(key, t)
+        unit = line_unit(key, t, key in si)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)
@@ -150,7 +136,9 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
         if not new:
             continue
         explained.update(new)
-        parts += [html[position:match.end()], legend_html(new, t, language, match.group("formula"))]
+        declared = _DECLARED_SI.search(match.group("attributes"))
+        si = frozenset(declared.group(1).split() if declared else ())
+        parts += [html[position:match.end()], legend_html(new, t, language, si)]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)
