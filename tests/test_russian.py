@@ -106,3 +106,16 @@ def test_caption_style_of_the_cyrillic_reports():
 
 
 # The Russian PDF (Cyrillic text, captions, a Times-metric font): tests/test_note.py::test_explanatory_note_pdf[ru].
+
+
+def test_a_russian_note_numbers_its_pages_at_the_bottom_centre():
+    """ГОСТ 7.32-2017, 6.3.2 (a Ukrainian note: DSTU 3008, top right): report.ru.css is added to the
+    page frame of a Russian report only."""
+    registry = default_registry()
+    from crankdyn.scene import load_scene
+
+    result = run_scene(load_scene(examples_dir() / "petrol-1cyl-ru.toml"), registry, ["kinematics"])
+    html = render_html(result, registry).html
+    assert "@bottom-center { content: counter(page)" in html
+    uk = run_scene(load_scene(examples_dir() / "petrol-1cyl-uk.toml"), registry, ["kinematics"])
+    assert "@bottom-center" not in render_html(uk, registry).html

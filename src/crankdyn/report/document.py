@@ -248,8 +248,9 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     shown = {v.key: v.title for v in (*sections, *appendices)}
     timing = [(shown.get(s.name) or (t(s.title_key) if s.title_key else s.name), result.timing_s[s.name])
               for s in result.plan.order if s.name in result.timing_s]
-    css = "\n".join((Path(p) / "report.css").read_text(encoding="utf-8")
-                    for p in template_search_path([])[:1])
+    # the page frame, and a language's own print rules where its standard differs (report.ru.css)
+    css = "\n".join((Path(p) / name).read_text(encoding="utf-8") for p in template_search_path([])[:1]
+                    for name in ("report.css", f"report.{language}.css") if (Path(p) / name).is_file())
     title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
         _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
