@@ -709,3 +709,20 @@ def test_an_in_line_engine_is_not_said_to_have_central_rods(reports):
     and radial engines (rods side by side or a master rod on one pin): each rod has its own pin."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     assert "шатуни: по одному на кожній шатунній шийці" in text and "шатуни: центральні" not in text
+
+
+def test_the_introductions_aim_is_what_the_sections_do(reports):
+    """The ru reading: the aim named forces, torques and the balance but not the bearings and the
+    flywheel the note computes; a note of the kinematics alone claimed forces and the balance.
+    The aim lists each section's own aim, in the note's order."""
+    four = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    aim = re.search(r"Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою \[1\]: (.*?)\.\n", four)
+    assert aim, "the aim"
+    for part in ("визначити кінематичні параметри механізму", "побудувати індикаторну діаграму",
+                 "оцінити зрівноваженість двигуна", "визначити навантаження на шийки й підшипники колінчастого вала",
+                 "підібрати маховик"):
+        assert part in aim.group(1), part
+    assert aim.group(1).index("побудувати індикаторну") < aim.group(1).index("підібрати маховик")
+    kinematics = as_read(re.sub(r"<[^>]+>", "", reports("kinematics-only")))
+    aim = re.search(r"Мета роботи – виконати[^\n]*", kinematics).group(0)
+    assert "визначити кінематичні параметри механізму" in aim and "сили" not in aim and "зрівноваж" not in aim

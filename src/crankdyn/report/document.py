@@ -268,9 +268,24 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
 
 def _abstract_parts(t, registry, scene, sections) -> dict:
     """The abstract's key words and its aim: the note's sections after the input data, each title
-    as it heads its section ("; " between them: a title may hold a comma)."""
-    return {"keywords": keywords(t, scene.engine.mechanism, [_catalog_section(registry, v.key) for v in sections]),
-            "aim": "; ".join(_lower_first(v.title) for v in sections[1:])}
+    as it heads its section ("; " between them: a title may hold a comma); the introduction's aim
+    from what the sections do (:func:`introduction_aim`)."""
+    catalogs = [_catalog_section(registry, v.key) for v in sections]
+    return {"keywords": keywords(t, scene.engine.mechanism, catalogs),
+            "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
+            "introduction_aim": introduction_aim(t, catalogs)}
+
+
+def introduction_aim(t, stages: list[str]) -> str:
+    """The introduction's aim: "… by the method of [1]: to determine …, assess … and size the
+    flywheel", each section's ``<section>.aim`` (its plugin's catalog) once, in the note's order; a
+    note whose sections have none says the aim without them (a kinematics note was said to
+    determine forces and torques and the engine's balance)."""
+    aims = list(dict.fromkeys(t(f"{stage}.aim") for stage in stages if t.has(f"{stage}.aim")))
+    if not aims:
+        return t("doc.introduction_aim_plain")
+    listed = aims[0] if len(aims) == 1 else ", ".join(aims[:-1]) + t("doc.aim_last") + aims[-1]
+    return t("doc.introduction_aim", aims=listed)
 
 
 #: The abstract's key words: DSTU 3008:2015 and GOST 7.32-2017 ask for five to fifteen.
