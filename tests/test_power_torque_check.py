@@ -71,3 +71,29 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
     result = run_scene(scene, registry, ["torque"])
     assert result.outputs["torque"].results["mechanical_efficiency"] > 1
     assert "mechanical efficiency is not below one" in render_html(result, registry).html
+
+
+def test_each_main_journals_torque_range_and_amplitude():
+    """The ru reading: only the largest running torques were given, a fatigue check needs the
+    smallest and the amplitude too. Each journal k's torque is t_kk·R·F_p over the cycle (the
+    table's running specific force): its max, min and (max − min)/2; the last journal carries the
+    engine's output torque."""
+    import numpy as np
+    from conftest import shared_html, shared_run
+
+    result = shared_run("inline4-petrol")
+    out = result.outputs["torque"]
+    f = out.tables.arrays("torque")
+    area = math.pi * result.scene.engine.bore ** 2 / 4
+    radius = result.scene.engine.stroke / 2
+    for k, journal in enumerate(out.results["journals"], start=1):
+        torque = np.asarray(f[f"journal{k}_torque_Pa"]) * radius * area
+        assert journal["max_Nm"] == pytest.approx(torque.max(), rel=1e-12)
+        assert journal["min_Nm"] == pytest.approx(torque.min(), rel=1e-12)
+        assert journal["amplitude_Nm"] == pytest.approx((torque.max() - torque.min()) / 2, rel=1e-12)
+        assert journal["max_abs_Nm"] == pytest.approx(np.abs(torque).max(), rel=1e-12)
+    last = out.results["journals"][-1]
+    assert last["max_Nm"] == pytest.approx(out.results["max_Nm"], rel=1e-12)
+    assert last["min_Nm"] == pytest.approx(out.results["min_Nm"], rel=1e-12)
+    html = shared_html("inline4-petrol", language="uk").html
+    assert "Набіжні крутні моменти на корінних шийках: найбільший і найменший за цикл та амплітуда" in html

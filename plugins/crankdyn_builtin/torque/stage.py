@@ -61,8 +61,8 @@ def run(scene, inputs) -> StageOutput:
         "cylinder_cycle_delays_deg": [{k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
                                       for p in lay.cylinder_phases(layout)],
         "indicated_power_W": 1e3 * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
-        "journals": [{"journal": f"{k + 1}-{k + 2}",  # as the bearings' journals
-                      "max_abs_Nm": float(np.max(np.abs(journal[k])) * R * area)} for k in range(layout.cranks)],
+        "journals": [_journal_range(f"{k + 1}-{k + 2}", journal[k] * R * area)  # named as the bearings' journals
+                     for k in range(layout.cranks)],
         "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),
                                                  "z_Pa": float(bays.radial_Pa[k, i]),
                                                  "t_Pa": float(bays.tangential_Pa[k, i]),
@@ -89,6 +89,25 @@ def run(scene, inputs) -> StageOutput:
                                 centrifugal_Pa=bays.centrifugal_Pa, piston_area_m2=area, crank_radius_m=R),
     }
     return StageOutput(data=data, results=results, tables={"torque": columns})
+
+
+def _journal_range(name: str, torque_Nm) -> dict:
+    """A main journal's running torque over the cycle: its largest magnitude, its largest and
+    smallest values and the amplitude (M_max − M_min)/2 a fatigue check of the journal takes."""
+    high, low = float(np.max(torque_Nm)), float(np.min(torque_Nm))
+    return {"journal": name, "max_abs_Nm": float(np.max(np.abs(torque_Nm))), "max_Nm": high, "min_Nm": low,
+            "amplitude_Nm": (high - low) / 2}
+
+
+def _journals_table(ctx, journals) -> str:
+    """The running torques' range on each main journal (after the figure of them)."""
+    t = ctx.t
+    return ctx.table([
+        (t("torque.journal"), [j["journal"].replace("-", "\u2013") for j in journals], None),
+        (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
+        (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
+        (t("torque.journal_amplitude") + ", " + t("unit.Nm"), [j["amplitude_Nm"] for j in journals], 1),
+    ], caption=t("torque.journals_table_caption"), see="torque.see_journals_table")
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -131,6 +150,7 @@ def render(output: StageOutput, ctx) -> str | None:
     figure_journals = ctx.figure(partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
                                  "journal_torques", see="torque.see_journals")
 
+    journals_table = _journals_table(ctx, r["journals"])
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
     danger = ctx.table([
         (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
@@ -152,7 +172,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ctx.conclude(t("torque.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
                        eta=ctx.num(r["mechanical_efficiency"], 3)))
     return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
-                               figure_journals=figure_journals, danger=danger)
+                               figure_journals=figure_journals, journals_table=journals_table, danger=danger)
 
 
 def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
