@@ -230,7 +230,7 @@ def run(scene, inputs) -> StageOutput:
     n = len(angle)
     area = forces.piston_area_m2
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
-    results: dict = {"layout": e.layout, "cylinders": e.cylinders, "cranks": layout.cranks,
+    results: dict = {"layout": e.layout, "cylinders": e.cylinders, "cranks": layout.cranks, "strokes": e.strokes,
                      "rod_type": e.rod_type, "firing_order": list(layout.firing_order),
                      "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
@@ -317,6 +317,25 @@ def _phase_table(r: dict, ctx):
     return ctx.table(columns, caption=t("bays.phases_caption"), see="bays.see_phases")
 
 
+def _stroke_table(r: dict, ctx):
+    """The strokes of every cylinder over cylinder 1's crank angle (a four-stroke engine; none for
+    a two-stroke or where :func:`crankdyn.physics.layout.stroke_sequence` gives no table)."""
+    if r["strokes"] != 4:
+        return None
+    phases = r["cylinder_phases"]
+    sequence = lay.stroke_sequence([p["cycle_delay_deg"] for p in phases])
+    if sequence is None:
+        return None
+    step, rows = sequence
+    t = ctx.t
+    headers = [t("bays.cylinder")] + [f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
+                                      for c in range(int(720 // step))]
+    body = [[p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
+            for p, runs in zip(phases, rows)]
+    return ctx.table_html(headers, body, caption=t("bays.strokes_caption"), text_columns=range(1, 13),
+                          see="bays.see_strokes")
+
+
 def _slave_table(r: dict, ctx):
     """Table of the articulated (slave) rods' geometry."""
     t = ctx.t
@@ -337,6 +356,7 @@ def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     # tables are numbered as made: the cylinders' phases first, as the template shows them
     phase_table = _phase_table(r, ctx)
+    stroke_table = _stroke_table(r, ctx)
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
     bay_table = slave_table = figure = None
     if "bay" in output.tables:
@@ -360,7 +380,7 @@ def render(output: StageOutput, ctx) -> str | None:
     if own_pins:
         ctx.title = t("bays.title_own_pins")
     return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
-                               figure=figure, phase_table=phase_table, own_pins=own_pins,
+                               figure=figure, phase_table=phase_table, stroke_table=stroke_table, own_pins=own_pins,
                                scheme_figure=ctx.figure_number("scheme"))
 
 

@@ -350,3 +350,37 @@ def cylinder_phases(layout: EngineLayout) -> list[dict]:
     angle is alpha - delay, mod the cycle)."""
     return [{"cylinder": c.label, "crank": c.bay + 1, "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
              "axis_deg": float(c.axis_deg), "cycle_delay_deg": float(c.firing_delay_deg)} for c in layout.cylinders]
+
+
+#: A four-stroke cylinder's strokes in the order its own crank angle passes them from the TDC at
+#: the start of intake (0°): intake, compression, expansion (the power stroke), exhaust.
+FOUR_STROKES = ("intake", "compression", "expansion", "exhaust")
+
+
+def stroke_sequence(cycle_delays_deg: list[float], max_columns: int = 12) -> tuple[float, list[list[tuple[str, int]]]] | None:
+    """The table of strokes of a four-stroke engine: for each cylinder (its working cycle delayed
+    by ``cycle_delays_deg`` after cylinder 1's), its strokes over cylinder 1's crank angle 0…720°
+    as runs of (stroke, columns), a column being ``step`` degrees: the largest step every
+    cylinder's strokes begin on (the greatest common divisor of 180° and the delays). Cylinder i
+    is in stroke ⌊((α − Δα_0i) mod 720°)/180°⌋ of :data:`FOUR_STROKES`. None when the delays are
+    not whole degrees or the step would make more than ``max_columns`` columns (an uneven firing
+    order on odd angles): no table a page can hold."""
+    delays = [d % 720.0 for d in cycle_delays_deg]
+    if any(abs(d - round(d)) > 1e-6 for d in delays):
+        return None
+    step = 180
+    for d in delays:
+        step = gcd(step, int(round(d)) % 180 or 180)
+    if 720 // step > max_columns:
+        return None
+    rows = []
+    for d in delays:
+        strokes = [FOUR_STROKES[int(((c * step - round(d)) % 720) // 180)] for c in range(720 // step)]
+        runs: list[tuple[str, int]] = []
+        for stroke in strokes:
+            if runs and runs[-1][0] == stroke:
+                runs[-1] = (stroke, runs[-1][1] + 1)
+            else:
+                runs.append((stroke, 1))
+        rows.append(runs)
+    return float(step), rows

@@ -276,7 +276,9 @@ class RenderContext:
                    css_class: str = "data", markup_columns: Sequence[int] = (),
                    text_columns: Sequence[int] = (), see: bool | str = True) -> Markup:
         """A numbered table from text cells; ``markup_columns`` hold template-authored markup
-        (symbols), every other cell is escaped; ``text_columns`` are set as text, not numbers."""
+        (symbols), every other cell is escaped; ``text_columns`` are set as text, not numbers. A
+        cell given as (text, n) spans n columns (a stroke over several intervals); the column
+        indices of ``markup_columns`` and ``text_columns`` count the cells of a row as given."""
         self._table += 1
         number = f"{self.section_number}.{self._table}"
         head = "".join(f"<th>{escape(h)}</th>" for h in headers)
@@ -284,8 +286,9 @@ class RenderContext:
         for row in rows:
             cells = []
             for i, cell in enumerate(row):
+                cell, span = cell if isinstance(cell, tuple) else (cell, 1)
                 content = Markup(cell) if i in markup_columns else escape(cell)
-                css = ' class="text"' if i in text_columns else ""
+                css = (' class="text"' if i in text_columns else "") + (f' colspan="{span}"' if span > 1 else "")
                 cells.append(f"<td{css}>{content}</td>")
             body.append("<tr>" + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
