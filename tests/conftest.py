@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import gc
 import json
 import os
 import subprocess
@@ -13,9 +14,21 @@ from pathlib import Path
 
 import pytest
 
+from crankdyn import cli
 from crankdyn.cli import examples_dir
 
 ARTIFACTS = Path(__file__).resolve().parent / "artifacts"
+
+# The test processes run as the ``crankdyn`` command does (crankdyn.cli.run), unless the user chose:
+# - one OpenBLAS thread: set here, in the process that starts the xdist workers, before they import
+#   numpy (this one has: pytest-randomly imports it), and so also in the interpreters the tests start;
+#   the stages' arrays are small, and the BLAS threads spin after each call on the core the other
+#   worker needs (about 5 % of the suite's CPU time);
+# - the young generation collected less often: the workers keep every shared run and report
+#   (_shared_run, _shared_html) for the tests after, a large heap that each collection of the older
+#   generations walks (about 8 % of the CPU time of the report-rendering test files).
+os.environ.setdefault(cli.BLAS_THREADS_ENV, "1")
+gc.set_threshold(cli.YOUNG_GENERATION_THRESHOLD, *gc.get_threshold()[1:])
 
 
 @pytest.hookimpl(hookwrapper=True)

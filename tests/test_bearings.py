@@ -318,7 +318,7 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
 
     from crankdyn_builtin.bearings.stage import HALF_WIDTH_CM, _polar_size
 
-    html = shared_html("petrol-1cyl-uk").html
+    html = shared_html("petrol-1cyl-uk").linked_html
     rows = re.findall(r'<div class="figure-row-block"><p class="see">([^<]*)</p><div class="figure-row">(.*?)</div></div></div>',
                       html, flags=re.S)
     assert len(rows) == 2 and all(row.count("<figure ") == 2 and "class=\"see\"" not in row for _, row in rows), len(rows)

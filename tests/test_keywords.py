@@ -17,15 +17,15 @@ def _keywords(html: str) -> list[str]:
 
 
 def test_the_key_words_follow_the_sections():
-    full = _keywords(shared_html("inline4-petrol", language="uk").html)
-    alone = _keywords(shared_html("kinematics-only", language="uk").html)
+    full = _keywords(shared_html("inline4-petrol", language="uk").linked_html)
+    alone = _keywords(shared_html("kinematics-only", language="uk").linked_html)
     assert full[:3] == ["ДИНАМІЧНИЙ РОЗРАХУНОК", "ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ МЕХАНІЗМ"]
     for word in ("КІНЕМАТИКА", "ІНДИКАТОРНА ДІАГРАМА", "КРУТНИЙ МОМЕНТ", "ЗРІВНОВАЖЕННЯ", "МАХОВИК"):
         assert word in full, (word, full)
     assert "КІНЕМАТИКА" in alone and "МАХОВИК" not in alone and "ЗРІВНОВАЖЕННЯ" not in alone
     # DSTU 3008: five to fifteen, also for the smallest reports; the vane engine's scheme is drawn by
     # drawing_linkage, which writes with the drawing stage's catalog
-    vane = _keywords(shared_html("vane-engine-kinematics", language="uk").html)
+    vane = _keywords(shared_html("vane-engine-kinematics", language="uk").linked_html)
     assert "КІНЕМАТИЧНА СХЕМА" in vane, vane
     assert len(alone) >= 5 and len(vane) >= 5, (alone, vane)
     assert 5 <= len(full) <= KEYWORDS_MAX and len(set(full)) == len(full)
@@ -53,7 +53,7 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     from conftest import as_read, shared_run
     from crankdyn.report.i18n import translator
 
-    rendered = shared_html("inline4-petrol", language="uk").html
+    rendered = shared_html("inline4-petrol", language="uk").linked_html
     abstract = html_lib.unescape(re.sub(r"<[^>]+>", "", as_read(
         re.search(r'<section class="abstract">(.*?)</section>', rendered, flags=re.S).group(1))))
     results = shared_run("inline4-petrol").outputs
@@ -72,8 +72,8 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
 def test_the_abstract_aim_lists_the_sections_the_note_holds():
     """The aim spoke of gas forces and torques in a note of the kinematics alone: it now lists the
     note's own sections (the input data aside), each title as it heads its section."""
-    full = shared_html("inline4-petrol", language="uk").html
-    alone = shared_html("kinematics-only", language="uk").html
+    full = shared_html("inline4-petrol", language="uk").linked_html
+    alone = shared_html("kinematics-only", language="uk").linked_html
     for html, present, absent in ((full, ("маховик", "аналіз зрівноваженості двигуна"), ()),
                                   (alone, ("кінематика кривошипно-шатунного механізму",), ("маховик", "сили тиску"))):
         aim = re.search(r"Мета роботи – динамічний розрахунок двигуна: (.*?)\.</p>", html).group(1)

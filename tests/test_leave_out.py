@@ -81,7 +81,7 @@ def build(name):
     if name not in _CACHE:
         example, changes = MATRIX[name][:2]
         result = shared_run(example, changes)  # shared with the other test files (read only)
-        _CACHE[name] = (result, results_document(result), shared_html(example, changes, "en").html)
+        _CACHE[name] = (result, results_document(result), shared_html(example, changes, "en").linked_html)
     return _CACHE[name]
 
 

@@ -196,7 +196,7 @@ def test_diesel_rk_six_cylinder_acceptance():
     assert torque["mean_from_work_Nm"] == pytest.approx(work_one * 6 / (4 * math.pi), rel=1e-12)
     assert abs(torque["mean_Nm"] / (work_one * 6 / (4 * math.pi)) - 1) < 0.002
     assert torque["period_deg"] == 120.0
-    html = shared_html("inline6-diesel-trace", language="en").html
+    html = shared_html("inline6-diesel-trace", language="en").linked_html
     assert "Mean output torque" in html and 'data-stage="torque"' in html
 
 
@@ -236,11 +236,11 @@ def test_torque_period_and_symmetric_v8():
 @pytest.mark.parametrize("name", ["v8-petrol", "radial9-aircraft"])
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_multibank_reports_render(name, language):
-    rendered = shared_html(name, language=language)
+    rendered = shared_html(name, language=language)  # the text only: its figures are not drawn here
     assert not rendered.missing_translations
-    assert 'data-stage="bays"' in rendered.html and 'data-stage="torque"' in rendered.html
+    assert 'data-stage="bays"' in rendered.linked_html and 'data-stage="torque"' in rendered.linked_html
     if name.startswith("radial"):
-        assert ("B.2" in rendered.html) or ("Б.2" in rendered.html)
+        assert ("B.2" in rendered.linked_html) or ("Б.2" in rendered.linked_html)
 
 
 # ----------------------------------------------------------------------------- every layout

@@ -210,10 +210,10 @@ def test_multicylinder_note_has_no_english_words(example, language):
     rendered = shared_html(example, language=language)  # the example's full run, shared with other files
     assert not rendered.missing_translations, rendered.missing_translations
     scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
-    words = _latin_words(rendered.html, scene_texts)
+    words = _latin_words(rendered.linked_html, scene_texts)  # the text: its figures are not drawn here
     assert not words, sorted(set(words))
     text = html_lib.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<img[^>]*>|<(script|style|svg)\b.*?</\1>", " ",
-                                                           rendered.html, flags=re.S)))
+                                                           rendered.linked_html, flags=re.S)))
     assert "^" not in text and not re.search(r"[A-Za-zА-Яа-я]_", text)
     # numeral agreement by the CLDR plural rules: 4 циліндри / 4 цилиндра, not "4 циліндрів"
     assert ("4 циліндри" if language == "uk" else "4 цилиндра") in text
@@ -244,11 +244,11 @@ def test_worked_substitutions_equal_their_table_rows(angle):
     rendered = render_html(result, REGISTRY, "en")
     t = translator("en", REGISTRY.catalogs)
     assert {b.stage for b in rendered.worked} >= {"kinematics", "forces"}
-    assert check_worked(rendered.html, rendered.worked, "en") == {"indicator", "forces_torque"}  # the other stages
+    assert check_worked(rendered.linked_html, rendered.worked, "en") == {"indicator", "forces_torque"}  # the other stages
     for block in (b for b in rendered.worked if b.stage in ("kinematics", "forces")):
         assert block.angle_deg == angle
         table = re.search(rf'<table class="[^"]*" data-number="{re.escape(block.table_number)}">(.*?)</div>',
-                          rendered.html, flags=re.S).group(1)
+                          rendered.linked_html, flags=re.S).group(1)
         row = re.search(rf"<tr(?:\s[^>]*)?><td>{t.fixed(angle, 0)}</td>(.*?)</tr>", table).group(1)
         cells = re.findall(r"<td>([^<]*)</td>", row)
         for step in block.steps:
@@ -265,13 +265,14 @@ def test_numerics_refusals_in_the_report_language(language):
                                                         "report": {"detail": "full"}}), base_dir=examples_dir())
     result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces", "numerics"])
     rendered = render_html(result, REGISTRY, language)
-    assert 'data-part="refused-steps"' in rendered.html
+    html = rendered.linked_html  # the text: the figures are not drawn here
+    assert 'data-part="refused-steps"' in html
     scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
-    assert not _latin_words(rendered.html, scene_texts), sorted(set(_latin_words(rendered.html, scene_texts)))
+    assert not _latin_words(html, scene_texts), sorted(set(_latin_words(html, scene_texts)))
     t = translator(language, REGISTRY.catalogs)
     # (the unit bound to its number by a narrow no-break space: "1,00·10⁻⁹ с" as one)
     assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in \
-        html_lib.unescape(rendered.html).replace("\u202f", " ")
+        html_lib.unescape(html).replace("\u202f", " ")
 
     from crankdyn_builtin.numerics.stage import refused_steps
 
@@ -296,7 +297,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
     shown = {}
     for name, stages in scenes.items():
-        html = shared_html(name, language=language, stages=stages).html  # shared with other files (read only)
+        html = shared_html(name, language=language, stages=stages).linked_html  # shared with other files (read only)
         listed = _symbol_list(html)
         rest = html.replace(listed, "")
         rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)

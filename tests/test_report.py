@@ -60,17 +60,19 @@ def test_catalogs_complete_in_every_language():
 
 def test_kinematics_only_report_leaves_sections_out():
     result, rendered = _render("kinematics-only")
-    assert 'data-stage="kinematics"' in rendered.html
-    assert 'data-stage="indicator"' not in rendered.html and 'data-stage="forces"' not in rendered.html
+    html = rendered.linked_html  # the text: its figures are not drawn here
+    assert 'data-stage="kinematics"' in html
+    assert 'data-stage="indicator"' not in html and 'data-stage="forces"' not in html
     # the reason is stated (in the report's language) in the method notes
-    assert "the scene gives no working-cycle (indicator diagram) data" in rendered.html
+    assert "the scene gives no working-cycle (indicator diagram) data" in html
 
 
 def test_scene_text_is_escaped():
     _, rendered = _render(changes={"report": {"title": "<script>alert('x')</script>", "student": "A & B"}})
-    assert "<script>alert" not in rendered.html
-    assert "&lt;script&gt;alert" in rendered.html
-    assert "A &amp; B" in rendered.html
+    html = rendered.linked_html  # the text (the figures, inlined as data: URIs, hold no scene text)
+    assert "<script>alert" not in html
+    assert "&lt;script&gt;alert" in html
+    assert "A &amp; B" in html
 
 
 def test_url_fetcher_only_reaches_package_assets(tmp_path):
