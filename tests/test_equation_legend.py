@@ -133,7 +133,7 @@ def test_the_lines_give_the_si_units_the_equation_is_evaluated_in(uk):
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
                  "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
-                 "ms – маса частин, що рухаються поступально, кг."):
+                 "ms – маса частин, що рухаються зворотно-поступально, кг."):
         assert part in line.replace("&#39;", "'"), part
 
 

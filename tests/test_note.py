@@ -111,7 +111,7 @@ def _check_hyphenation(text: str, title_page: str, language: str) -> None:
     consonants: "та-нгенціальна"), and no name parted on the title page in any language."""
     hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
     if language == "uk":
-        assert all(ln.endswith("кривошипно-") for ln in hyphenated), hyphenated  # a compound's own hyphen
+        assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), hyphenated  # a compound's own hyphen
     assert not re.search(r"[-\u2010]\s*$", title_page, flags=re.M), title_page
 
 
