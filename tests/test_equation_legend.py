@@ -134,7 +134,7 @@ def test_the_lines_give_the_units_the_tables_show(uk):
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, МПа;",
                  "R – радіус кривошипа, мм;", "Fп – площа поршня, см²;", "Vh – робочий об'єм циліндра, л;",
-                 "ms – маса частин, що рухаються поступально, кг;", "sп – переміщення поршня, мм."):
+                 "ms – маса частин, що рухаються зворотно-поступально, кг;", "sп – переміщення поршня, мм."):
         assert part in line.replace("&#39;", "'"), part
     html = _section("bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]

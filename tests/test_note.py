@@ -112,9 +112,9 @@ def _check_hyphenation(text: str, title_page: str, language: str) -> None:
     language (the ru reading: "доц. Пет-/ров" on the assignment)."""
     hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
     if language == "uk":
-        assert all(ln.endswith("кривошипно-") for ln in hyphenated), hyphenated  # a compound's own hyphen
+        assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), hyphenated  # a compound's own hyphen
     parted = [ln for ln in title_page.splitlines() if re.search(r"[-\u2010]\s*$", ln)
-              and not ln.rstrip().endswith("кривошипно-")]  # a compound's own hyphen may end a line
+              and not ln.rstrip().endswith(("кривошипно-", "зворотно-"))]  # a compound's own hyphen may end a line
     assert not parted, parted
 
 
