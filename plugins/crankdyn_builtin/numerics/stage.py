@@ -862,7 +862,7 @@ def _forms_figure(rows, t):
                   marker=_FORM_MARKERS[row["form"]], ls="none", ms=7, label=_form_label(t, row))
     ax.set_xlabel(t("numerics.axis_time_us"))
     ax.set_ylabel(t("numerics.axis_displacement_error"))
-    ax.legend(loc="best", fontsize=7, ncol=2)
+    ax.legend(loc="best", fontsize=8, ncol=2)
     return fig
 
 
@@ -942,7 +942,7 @@ def _steps_figure(steps, labels, has_theory, t):
                     textcoords="offset points", xytext=(3, 4), fontsize=7)
     ax.set_xlabel(t("numerics.axis_time_ms"))
     ax.set_ylabel(t("numerics.axis_error_percent"))
-    ax.legend(loc="best", fontsize=7)
+    ax.legend(loc="best", fontsize=8)
     return fig
 
 

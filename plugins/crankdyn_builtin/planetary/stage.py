@@ -411,7 +411,7 @@ def _path_plot(f, r, inside, t):
     ax.set_aspect("equal")
     ax.set_xlabel(t("planetary.axis_x"))
     ax.set_ylabel(t("planetary.axis_z"))
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     return fig
 
 
@@ -476,13 +476,13 @@ def _arms_plot(f, angle, inside, span, t):
     axes[0].plot(angle[inside], f["conventional_torque_arm_m"][inside] * mm, color="0.45", ls="--", lw=1,
                  label=t("planetary.arm_conventional"))
     axes[0].set_ylabel(t("planetary.axis_arm"))
-    axes[0].legend(loc="upper right", fontsize=7)
+    axes[0].legend(loc="upper right", fontsize=8)
     axes[1].plot(angle[inside], f["tooth_tangential_per_piston_force"][inside], color="C2",
                  label=t("planetary.tooth_force"))
     axes[1].plot(angle[inside], f["carrier_radial_per_piston_force"][inside], color="C4", ls="--",
                  label=t("planetary.carrier_radial"))
     axes[1].set_ylabel(t("planetary.axis_force_ratio"))
-    axes[1].legend(loc="upper right", fontsize=7)
+    axes[1].legend(loc="upper right", fontsize=8)
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[1], span, t("axis.crank_angle"))

@@ -633,7 +633,7 @@ def _error_plot(records, key, t):
             # milliseconds, as the table of the runs beside it
             ax.loglog([r["time_s"] * 1e3 for r in rows], [r[key] for r in rows], "o-", color=f"C{i}", label=method)
             for r in rows:
-                ax.annotate(_power_of_ten(r["rtol"], t), (r["time_s"] * 1e3, r[key]), fontsize=6, xytext=(3, 3),
+                ax.annotate(_power_of_ten(r["rtol"], t), (r["time_s"] * 1e3, r[key]), fontsize=7, xytext=(3, 3),
                             textcoords="offset points")
     used = [r for r in records if r.get("used") and r[key] is not None and r[key] > 0]
     if used:  # the run the section quotes, ringed (a shape, not a colour: black-and-white print)
@@ -709,7 +709,7 @@ def _modes_plot(node_count, modes, labels, t):
     ax.set_xticks(range(1, node_count + 1))
     ax.set_xlabel(t("speed_fluctuation.axis_node"))
     ax.set_ylabel(t("speed_fluctuation.axis_amplitude"))
-    ax.legend(loc="best", fontsize=7)
+    ax.legend(loc="best", fontsize=8)
     return fig
 
 
@@ -748,12 +748,12 @@ def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
     first_crank = next(i for i, node in enumerate(nodes) if node["name"].startswith("crank "))
     axes[0].plot(shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank])
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
-    axes[0].legend(loc="upper right", fontsize=7)
+    axes[0].legend(loc="upper right", fontsize=8)
     spans = [c for c in tf.columns if c.startswith("span_torque_")]
     for j, column in enumerate(spans):
         axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
     axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
-    axes[1].legend(loc="upper right", fontsize=6, ncol=3)
+    axes[1].legend(loc="upper right", fontsize=8, ncol=3)
     crank_angle_axis(axes[1], cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
     return fig
 
@@ -851,7 +851,7 @@ def _campbell_plot(torsion, t):
     for h in main:
         ax.plot(speeds, h["order"] * speeds / 60.0, color="0.6", lw=0.6)
         end = min(1.3 * rpm, top * 60.0 / h["order"])
-        ax.text(end, h["order"] * end / 60.0, t.number_g(h["order"]), fontsize=6, color="0.35")
+        ax.text(end, h["order"] * end / 60.0, t.number_g(h["order"]), fontsize=7, color="0.35")
     for m in torsion["modes"][:2]:
         ax.axhline(m["natural_frequency_Hz"], color="C0", lw=1.0)
     ax.axvspan((1 - CRITICAL_BAND) * rpm, (1 + CRITICAL_BAND) * rpm, color="C3", alpha=0.12, lw=0)

@@ -189,7 +189,7 @@ def _journals_figure(f, cranks, cycle_deg, t):
         ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
-    ax.legend(loc="upper right", fontsize=7, ncol=3)
+    ax.legend(loc="upper right", fontsize=8, ncol=3)
     return fig
 
 

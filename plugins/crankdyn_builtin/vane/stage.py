@@ -313,7 +313,7 @@ def _lambda_plot(by_lambda, lam, t):
     axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_tail"], color="C0", label="l = 1")
     axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_crank"], color="C1", ls="--", label="r = 1")
     axes[1].set_ylabel(t("vane.axis_y_max"))
-    axes[1].legend(loc="upper left", fontsize=7)
+    axes[1].legend(loc="upper left", fontsize=8)
     axes[2].plot(x, by_lambda["acceleration_zero_deg"], color="C0")
     axes[2].set_ylabel(t("vane.axis_alpha_zero"))
     for ax in axes:
