@@ -96,7 +96,7 @@ def test_every_report_language_has_its_word():
 
 def test_a_delta_or_a_prime_makes_another_quantity():
     # ΔL (the excess work) is not L (the rod's length); p_i′ is not p_i; Δα_0i is not α
-    assert symbols_in("Δ<i>L</i> = <i>W</i><sub>max</sub>", "uk", "flywheel") == ["excess_work"]
+    assert symbols_in("Δ<i>L</i> = <i>W</i><sub>max</sub>", "uk", "flywheel") == ["excess_work", "accumulated_work_max"]
     assert symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator") == ["theoretical_mean_indicated_pressure"]
     assert symbols_in("<i>α</i><sub><i>i</i></sub> = <i>α</i> − Δ<i>α</i><sub>0<i>i</i></sub>", "uk", "torque") == [
         "cylinder_crank_angle", "crank_angle", "cycle_delay"]
@@ -106,12 +106,14 @@ def test_a_delta_or_a_prime_makes_another_quantity():
 
 
 def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
-    # k in sin^{2k} and the n of C_n are indices; t and z in e_{t,i} name axes; R_j in bold is a
-    # vector; but the exponent n_1 of a polytrope is the polytropic index
+    # k in sin^{2k} and the n of C_n are indices (C_n is the amplitude, not C nor the crank speed n);
+    # t and z in e_{t,i} name axes (an italic bold e is no symbol); R_j and q_ш.ш in bold are the
+    # vectors, not the crank radius nor q; but the exponent n_1 of a polytrope is the polytropic index
     assert symbols_in("sin<sup>2<i>k</i></sup> <i>α</i>", "uk", "forces") == ["crank_angle"]
-    assert symbols_in("<i>C</i><sub><i>n</i></sub>", "uk", "balancing") == []
+    assert symbols_in("<i>C</i><sub><i>n</i></sub>", "uk", "balancing") == ["order_amplitude"]
     assert symbols_in("<b><i>e</i></b><sub><i>t</i>,<i>i</i></sub>", "uk", "bearings") == []
-    assert symbols_in("<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings") == []
+    assert symbols_in("<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings") == [
+        "journal_load_vector", "pin_load_vector"]
     assert symbols_in("<i>p</i><sub>a</sub>(<i>V</i><sub>a</sub>/<i>V</i>)<sup><i>n</i><sub>1</sub></sup>", "uk",
                       "indicator") == ["intake_end_pressure", "total_volume", "cylinder_volume", "compression_polytrope"]
 

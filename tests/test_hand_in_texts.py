@@ -621,13 +621,15 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
 
 def test_the_imaginary_unit_is_upright_and_said_to_be_one():
     """The uk reading: in (8.4) "Σ_i e^{i(φ_i − nξ_i)}" the italic i was both the cylinder's index
-    and the imaginary unit. The unit is upright (ISO 80000-2) and named in the text."""
+    and the imaginary unit. The unit is upright (ISO 80000-2) and named in the text; and (a ru
+    supervisor: an upright i beside the index i is still one letter for two things) it is j, as in
+    the engineering textbooks, i numbering the cylinders."""
     from conftest import shared_html
 
     for name, language, words in (("inline4-petrol", "uk", "уявна одиниця"), ("petrol-1cyl-ru", "ru", "мнимая единица")):
         html = shared_html(name, language=language).linked_html
-        assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html
-        assert "e<sup>i<i>nθ</i></sup>" in html and words in html
+        assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html and "e<sup>i" not in html
+        assert "e<sup>j<i>nθ</i></sup>" in html and words in html
 
 
 def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line():

@@ -635,9 +635,9 @@ def _bay_table(ctx, r):
         def show(v):
             return ctx.num(v, 4) if not isinstance(v, dict) else f"{ctx.num(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
 
-        heads = ("<i>F</i>/<i>C</i><sub>I</sub>", "<i>P</i>/<i>C</i><sub>I</sub>", "<i>A</i><sub>I</sub>/<i>C</i><sub>I</sub>",
-                 "<i>B</i><sub>I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
-                 "<i>A</i><sub>II</sub>/<i>C</i><sub>II</sub>", "<i>B</i><sub>II</sub>/<i>C</i><sub>II</sub>")
+        heads = ("<i>F</i>/<i>C</i><sub>I</sub>", "<i>P</i>/<i>C</i><sub>I</sub>", "<i>a</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
+                 "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
+                 "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>", "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>")
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)],
                               caption=t("balancing.bay_caption"), see="balancing.see_bay")

@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html, symbol_pattern
+from .typeset import SYMBOLS, symbol_html, symbol_pattern, unshifted_indices
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -48,7 +48,7 @@ def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[st
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
         pattern = re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])"))
-        out.append((key, markup, pattern, "<sub>" not in markup, symbol.sections,
+        out.append((key, markup, pattern, "<sub>" not in markup and not symbol.in_scripts, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 
@@ -62,7 +62,9 @@ _LETTER = re.compile(r"\S[\u0300-\u036f]*")
 def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
-    not the quantity; a symbol with its own subscript there is one (the exponent n_1)."""
+    not the quantity; a symbol with its own subscript there is one (the exponent n_1), and so is one
+    marked ``in_scripts`` (θ of e^{jnθ}). A shifted index is the index (l″_{i+1} is l″_i)."""
+    formula_html = unshifted_indices(formula_html)
     # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter, a letter
     # keeping its dots (<i>z̈</i> is not z)
     formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)

@@ -33,8 +33,11 @@ class Symbol:
     #: a second meaning of a letter that one calculation gives it (δ: the expansion ratio, and the
     #: irregularity in the flywheel sections): listed only when one of these sections is present
     sections: tuple[str, ...] = ()
-    #: the markup, where the symbol is more than a letter with a subscript (Δ<i>L</i>, p_i′)
+    #: the markup, where the symbol is more than a letter with a subscript (Δ<i>L</i>, p_i′, a vector
+    #: <b><i>q</i></b><sub>{sub}</sub>: ``{sub}`` stands for the language's subscript)
     html: str = ""
+    #: a bare letter that is the quantity inside an exponent too (θ of e^{jnθ}), not an index
+    in_scripts: bool = False
 
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
@@ -102,8 +105,9 @@ SYMBOLS: dict[str, Symbol] = {
     "centrifugal_force": Symbol("C", {}, "unit.N", "symbol.centrifugal_force"),
     "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
     "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
-    "order_amplitude": Symbol("C", {"en": "n"}, "unit.N", "symbol.order_amplitude"),
-    "acceleration_harmonic": Symbol("A", {"en": "n"}, "", "symbol.acceleration_harmonic"),
+    "order_amplitude": Symbol("C", {"en": "n"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>n</i></sub>"),
+    "acceleration_harmonic": Symbol("A", {"en": "n"}, "", "symbol.acceleration_harmonic",
+                                    html="<i>A</i><sub><i>n</i></sub>"),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio"),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
@@ -180,6 +184,70 @@ SYMBOLS: dict[str, Symbol] = {
     "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=("bearings",)),
     "journal_load_mean": Symbol("R", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.journal_load_mean",
                                 sections=("bearings",)),
+    # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
+    # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
+    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=("balancing",)),
+    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True),
+    "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
+    "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
+    "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
+                                 html="<i>b̄</i><sub><i>n</i></sub>"),
+    "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>"),
+    "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
+                                  html="<i>φ</i><sub><i>i</i></sub>", sections=("balancing",)),
+    "cylinder_phase": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_phase", html="<i>φ</i><sub><i>i</i></sub>",
+                             sections=("speed_fluctuation",)),
+    "cylinder_position": Symbol("x", {"en": "i"}, "unit.mm", "symbol.cylinder_position",
+                                html="<i>x</i><sub><i>i</i></sub>"),
+    "cylinder_order_force": Symbol("P", {"en": "ni"}, "unit.N", "symbol.cylinder_order_force",
+                                   html="<i>P</i><sub><i>n</i><i>i</i></sub>"),
+    "order_moment": Symbol("M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"),
+    "hodograph_semi_axis_x": Symbol("a", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_x"),
+    "hodograph_semi_axis_y": Symbol("b", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_y"),
+    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing"),
+    # the bearings section's vectors (bold) and spans
+    "pin_load_vector": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa", "symbol.pin_load_vector",
+                              html="<b><i>q</i></b><sub>{sub}</sub>"),
+    "rod_bearing_load_vector": Symbol("q", {"en": "bearing", "uk": "ш.п", "ru": "ш.п"}, "unit.MPa",
+                                      "symbol.rod_bearing_load_vector", html="<b><i>q</i></b><sub>{sub}</sub>"),
+    "rotation_matrix": Symbol("Π", {}, "", "symbol.rotation_matrix", html="<b>Π</b>"),
+    "journal_load_vector": Symbol("R", {"en": "j"}, "unit.MPa", "symbol.journal_load_vector",
+                                  html="<b><i>R</i></b><sub><i>j</i></sub>"),
+    "crank_force_vector": Symbol("F", {"en": "i"}, "unit.MPa", "symbol.crank_force_vector",
+                                 html="<b><i>F</i></b><sub><i>i</i></sub>"),
+    "crank_t_unit_vector": Symbol("e", {"en": "t,i"}, "", "symbol.crank_t_unit_vector",
+                                  html="<b>e</b><sub><i>t</i>,<i>i</i></sub>"),
+    "crank_z_unit_vector": Symbol("e", {"en": "z,i"}, "", "symbol.crank_z_unit_vector",
+                                  html="<b>e</b><sub><i>z</i>,<i>i</i></sub>"),
+    "cylinder_radial": Symbol("z", {"en": "i"}, "unit.MPa", "symbol.cylinder_radial", html="<i>z</i><sub><i>i</i></sub>"),
+    "crank_span": Symbol("l", {"en": "i"}, "unit.mm", "symbol.crank_span", html="<i>l</i><sub><i>i</i></sub>"),
+    "span_before": Symbol("l", {"en": "i"}, "unit.mm", "symbol.span_before", html="<i>l</i>′<sub><i>i</i></sub>"),
+    "span_after": Symbol("l", {"en": "i"}, "unit.mm", "symbol.span_after", html="<i>l</i>″<sub><i>i</i></sub>"),
+    # the flywheel's rim and the accumulated work's extremes
+    "accumulated_work_max": Symbol("W", {"en": "max"}, "unit.J", "symbol.accumulated_work_max"),
+    "accumulated_work_min": Symbol("W", {"en": "min"}, "unit.J", "symbol.accumulated_work_min"),
+    "rim_mass": Symbol("m", {}, "unit.kg", "symbol.rim_mass", sections=("flywheel",)),
+    "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=("flywheel",)),
+    "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=("flywheel",)),
+    # the error study (numerics)
+    "relative_error": Symbol("ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"),
+    "studied_value": Symbol("X", {}, "", "symbol.studied_value"),
+    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>"),
+    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque"),
+    "reference_torque": Symbol("M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"),
+    "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
+    "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
+                                  html="<i>s</i><sub><i>N</i></sub>"),
+    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=("numerics",)),
+    "power_series_coefficient": Symbol("c", {"en": "k"}, "", "symbol.power_series_coefficient",
+                                       html="<i>c</i><sub><i>k</i></sub>"),
+    "fourier_series_coefficient": Symbol("H", {"en": "k"}, "", "symbol.fourier_series_coefficient",
+                                         html="<i>H</i><sub><i>k</i></sub>"),
+    # the given data and the indicator diagram's tables
+    "strokes": Symbol("τ", {}, "", "symbol.strokes"),
+    "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
+    "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
+    "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
 }
 
 
@@ -203,9 +271,9 @@ def symbol_sub(key: str, language: str) -> str:
 def symbol_html(key: str, language: str) -> str:
     """``<i>s</i><sub>п</sub>``: the symbol as HTML markup."""
     s = SYMBOLS[key]
-    if s.html:
-        return s.html
     sub = symbol_sub(key, language)
+    if s.html:
+        return s.html.replace("{sub}", sub)
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
 
@@ -225,10 +293,22 @@ def symbol_pattern(key: str, language: str, not_after: tuple[str, ...] = (), tai
     return literal + checks + tail
 
 
+#: A subscript index shifted by one (``l″_{i+1}``, ``t_{k(i−1)}``): the same quantity as at index i.
+_SHIFTED_INDEX = re.compile(r"<sub>([^<(]*)\(?<i>([a-z])</i>[+−]1\)?</sub>")
+
+
+def unshifted_indices(html: str) -> str:
+    """``html`` with each subscript index shifted by one written as the index itself (``l″_{i+1}``
+    read as ``l″_i``, ``t_{k(i−1)}`` as ``t_{ki}``): the symbol the table defines at index i."""
+    return _SHIFTED_INDEX.sub(r"<sub>\1<i>\2</i></sub>", html) if "1</sub>" in html or "1)</sub>" in html else html
+
+
 def symbols_used(html: str, language: str) -> list[str]:
     """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
-    crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's)."""
+    crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's); a shifted index counts as the
+    index (:func:`unshifted_indices`)."""
+    html = unshifted_indices(html)
     used = []
     for key in SYMBOLS:
         if SYMBOLS[key].sections and not any(f'data-stage="{s}"' in html for s in SYMBOLS[key].sections):

@@ -1,0 +1,126 @@
+"""Every symbol a displayed equation shows is in the one symbol table (so the list of symbols has it
+and a "where" line explains it under its first equation), and no letter has two meanings within
+one section (a supervisor: θ, f_n, ξ_i, q_ш.ш, R_j, l′_i … had only a "Здесь …" paragraph; i was
+the imaginary unit and the summation index of one formula, A/B the hodograph's semi-axes beside
+A_n and the bearing width B, z the radial force and the position along the shaft)."""
+
+from __future__ import annotations
+
+import re
+from collections import defaultdict
+
+import pytest
+
+from conftest import shared_html
+from crankdyn.report.equation_legend import _SECTION_OR_EQUATION, symbols_in
+from crankdyn.report.i18n import translator
+from crankdyn.report.typeset import SYMBOLS, symbol_html
+from crankdyn.plugins import default_registry
+
+EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk")
+LANGUAGES = ("uk", "ru", "en")
+
+#: A symbol as an equation writes it: an italic (or bold) letter, its primes and subscript; an
+#: upright bold letter (the rotation matrix Π, the unit vectors e).
+_TOKEN = re.compile(r"(?:<b>)?Δ?<i>[^<]+</i>(?:</b>)?[′″]?(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?[′″]?"
+                    r"|<b>[^<]+</b>(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?")
+_RUN = re.compile(r"<i>([^<]{2,})</i>")
+_SCRIPT = re.compile(r"<(sub|sup)>(?:[^<]|<i>[^<]*</i>|<sub>[^<]*</sub>)*?</\1>")
+#: an instance of an indexed symbol (A_2 of A_n, H_1 of H_k)
+_NUMBERED = re.compile(r"^<i>(\w)</i><sub>\d+</sub>$")
+
+
+def _equations(html: str):
+    """(stage, formula) of each displayed equation of a report."""
+    stage = ""
+    for m in _SECTION_OR_EQUATION.finditer(html):
+        if m.group("stage") is not None:
+            stage = m.group("stage")
+        else:
+            yield stage, m.group("formula")
+
+
+def _tokens(formula: str) -> list[str]:
+    """The symbols ``formula`` shows, a product in one italic run read letter by letter; a bare
+    letter inside a sub- or superscript is an index or exponent, not a symbol."""
+    formula = _RUN.sub(lambda m: "".join(f"<i>{c}</i>" for c in re.findall(r"\S[\u0300-\u036f]*", m.group(1))),
+                       formula)
+    scripts = [m.span() for m in _SCRIPT.finditer(formula)]
+    return [t.group(0) for t in _TOKEN.finditer(formula)
+            if "<sub>" in t.group(0) or not any(a < t.start() < b for a, b in scripts)]
+
+
+def _indexed_symbol(token: str, language: str, stage: str) -> bool:
+    m = _NUMBERED.match(token)
+    if not m:
+        return False
+    return any(symbols_in(symbol_html(key, language), language, stage) == [key]
+               for key, symbol in SYMBOLS.items()
+               if symbol.base == m.group(1) and re.search(r"<sub><i>\w</i></sub>$", symbol_html(key, language)))
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_every_symbol_of_an_equation_is_in_the_symbol_table(example, language):
+    missing = set()
+    for stage, formula in _equations(shared_html(example, language=language).linked_html):
+        for token in _tokens(formula):
+            if not symbols_in(token, language, stage) and not _indexed_symbol(token, language, stage):
+                missing.add((stage, token))
+    assert not missing, sorted(missing)
+
+
+def test_a_markup_has_one_meaning_in_each_section():
+    """Two symbols of one markup (p: the cylinder pressure, and the bearing pressure in the bearings
+    section) never both apply in one section."""
+    by_markup = defaultdict(list)
+    for key, symbol in SYMBOLS.items():
+        for language in LANGUAGES:
+            by_markup[(language, symbol_html(key, language))].append(symbol.sections)
+    for (language, markup), sections in by_markup.items():
+        assert sum(1 for s in sections if not s) <= 1, markup
+        scoped = [stage for s in sections for stage in s]
+        assert len(scoped) == len(set(scoped)), markup
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_no_letter_has_two_meanings_within_a_section(language):
+    """Within one section a letter is not both a quantity and the imaginary unit or an index of the
+    same formula, and a bare letter is not beside the same letter with another meaning's
+    subscript: the hodograph's semi-axes are a_e, b_e (A_n, B: other quantities), the position
+    along the shaft x_i (z_i: the radial force), the imaginary unit an upright j (i numbers the
+    cylinders)."""
+    html = shared_html("inline4-petrol", language=language).linked_html
+    balancing = [f for stage, f in _equations(html) if stage == "balancing"]
+    assert balancing and not any(re.search(r"e<sup>−?i", f) for f in balancing)
+    assert any("e<sup>j" in f for f in balancing)
+    assert not any(re.search(r"<i>[AB]</i>(?!<sub>)", f) for f in balancing)
+    assert not any("<i>z</i><sub>" in f for f in balancing)
+    keys_by_stage = defaultdict(set)
+    for stage, formula in _equations(html):
+        keys_by_stage[stage].update(symbols_in(formula, language, stage))
+    for stage, keys in keys_by_stage.items():
+        markups = [symbol_html(key, language) for key in keys]
+        assert len(markups) == len(set(markups)), (stage, sorted(keys))
+
+
+def test_the_new_symbols_are_explained_under_their_first_equation():
+    ru = translator("ru", default_registry().catalogs)
+    html = shared_html("inline4-petrol", language="ru").linked_html
+    for key in ("shaft_angle", "crank_lag", "cylinder_axis_angle", "cylinder_position", "pin_load_vector",
+                "rod_bearing_load_vector", "rotation_matrix", "journal_load_vector", "span_after", "rim_width",
+                "relative_error", "hodograph_semi_axis_x"):
+        line = f'<span class="where-line">{symbol_html(key, "ru")} – '
+        assert line in html, key
+        assert ru(f"symbol.{key}").split(" (")[0] in html
+
+
+def test_the_symbols_paragraphs_say_no_meaning_twice():
+    """The "Здесь …" paragraphs under the balancing and bearings equations keep the conventions
+    only: what a symbol means is said by its "where" line."""
+    html = shared_html("inline4-petrol", language="ru").linked_html
+    plain = re.sub(r"<[^>]+>", "", html)
+    assert "Здесь θ – угол поворота" not in plain
+    assert "Здесь q – удельная нагрузка" not in plain
+    assert "A и B – горизонтальная" not in plain
+    assert "l′i + l″i = li" in plain  # a convention the lines do not say
