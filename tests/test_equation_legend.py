@@ -46,8 +46,8 @@ def test_a_symbol_is_explained_under_its_first_equation_only(uk):
     html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + "<p>text</p>"
                     + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"))
     legends = _legends(add_equation_legends(html, uk, "uk"))
-    assert legends == ["де R – радіус кривошипа, мм; | S – хід поршня, мм.",
-                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, мм."]
+    assert legends == ["де R – радіус кривошипа, м; | S – хід поршня, м.",
+                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, м."]
     # the paragraph follows its equation, before the text after it
     out = add_equation_legends(html, uk, "uk")
     assert out.index("(1.1)") < out.index("де ") < out.index("<p>text</p>")
@@ -127,42 +127,21 @@ def test_a_mechanism_of_its_own_letters_gets_no_legend():
     assert REGISTRY.stages["forces"].legend
 
 
-def test_the_lines_give_the_units_the_tables_show(uk):
-    """Two supervisors read "s_п – переміщення поршня, м" beside a table in мм, and "d, B" in m beside
-    a worked line in kN and mm, as contradictions: a line gives the symbol table's unit (the tables',
-    the worked lines' and the equations' own values), not the SI unit the formula is evaluated in."""
+def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
+    """A line gives the SI unit the formula is evaluated in and the worked substitutions use, as
+    the list of symbols says before it lists the tables' units: lines in the tables' units made
+    the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in мм,
+    F_п in см² is ten times too small; p = q F_п/(d B) a hundred times)."""
     html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
                                         "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, МПа;",
-                 "R – радіус кривошипа, мм;", "Fп – площа поршня, см²;", "Vh – робочий об'єм циліндра, л;",
-                 "ms – маса частин, що рухаються зворотно-поступально, кг;", "sп – переміщення поршня, мм."):
+    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
+                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
+                 "ms – маса частин, що рухаються зворотно-поступально, кг;", "sп – переміщення поршня, м."):
         assert part in line.replace("&#39;", "'"), part
     html = _section("bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    assert "d·B, МПа;" in line and "d – діаметр шийки, мм;" in line and "B – ширина підшипника, мм." in line, line
-
-
-def test_an_equation_may_declare_symbols_in_si_units(uk):
-    """``RenderContext.equation(..., si=keys)``: those symbols' lines give the SI unit, the others
-    the tables'; a key the symbol table does not know is an error naming the stage."""
-    import jinja2
-
-    from crankdyn.errors import PluginError
-    from crankdyn.report.context import RenderContext
-
-    ctx = RenderContext(t=uk, env=jinja2.Environment(), stage_name="forces")
-    formula = "<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>"
-    html = _section("forces", str(ctx.equation(formula, si=("crank_radius", "piston_area", "tangential_specific"))))
-    line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    assert "t – питома тангенціальна сила, Па;" in line and "R – радіус кривошипа, м;" in line, line
-    assert "Fп – площа поршня, м²." in line and "Н·м" in line, line
-    plain = _section("forces", str(ctx.equation(formula)))
-    assert "R – радіус кривошипа, мм;" in _legends(add_equation_legends(plain, uk, "uk"))[0]
-    labelled = _section("forces", str(ctx.equation(formula, label="torque", si=("crank_radius",))))
-    assert "R – радіус кривошипа, м;" in _legends(add_equation_legends(labelled, uk, "uk"))[0]
-    with pytest.raises(PluginError, match="'forces'.*crank_radious"):
-        ctx.equation(formula, si=("crank_radious",))
+    assert "d·B, Па;" in line and "d – діаметр шийки, м;" in line and "B – ширина підшипника, м." in line, line
 
 
 def test_a_product_in_one_italic_run_is_read_letter_by_letter():

@@ -499,10 +499,13 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     engine with only such is not called unbalanced."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol"))).replace("\u202f", " ").replace("\u00a0", " ")
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
-    rest = re.search(r"Решта незрівноваженості \((.*?)\) не перевищує 1 % від амплітуди сили інерції першого "
-                     r"порядку одного циліндра CI, нею можна знехтувати\.", text).group(1)
+    rest = re.search(r"Інші незрівноважені сили й моменти \((.*?)\) становлять менше ніж 1 % амплітуди сили інерції "
+                     r"першого порядку одного циліндра CI, тому ними можна знехтувати\.", text).group(1)
     value = re.fullmatch(r"ΣPVI = ([\d,]+) Н", rest).group(1)
     assert 0 < float(value.replace(",", ".")) < 0.01 * c_first
+    html = reports("inline4-petrol")
+    abstract = re.sub(r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0))
+    assert "ΣPIV" in abstract and "ΣPVI" not in abstract  # nor is it called unbalanced there
     from crankdyn_builtin.balancing.stage import _negligible
 
     r = {"absolute": {"sum_PVI_N": 1.5, "M_PIV_Nm": 9.5}, "first_order_N": 1000.0, "cylinder_spacing_m": 0.5}

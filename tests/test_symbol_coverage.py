@@ -124,3 +124,23 @@ def test_the_symbols_paragraphs_say_no_meaning_twice():
     assert "Здесь q – удельная нагрузка" not in plain
     assert "A и B – горизонтальная" not in plain
     assert "l′i + l″i = li" in plain  # a convention the lines do not say
+
+
+def test_a_sections_own_letters_keep_their_meaning_there():
+    """A review: the planetary note's list of symbols called a "the distance between adjacent
+    cylinder axes" and θ "the crank angle from cylinder 1's TDC" (the carrier's arm and the
+    planet's angle there), and the rod dynamics' torque M got the error study's meaning. The
+    balancing and error-study letters are read in their sections only."""
+    import re
+
+    from conftest import shared_html
+
+    planetary = shared_html("planetary-kinematics", language="uk").linked_html
+    assert "відстань між осями сусідніх циліндрів" not in planetary
+    assert "кут повороту колінчастого вала від ВМТ першого циліндра" not in planetary
+    offset = shared_html("offset-crank-engine", language="uk").linked_html
+    rod = offset[offset.find('data-stage="rod_dynamics"'):]
+    rod = rod[:rod.find("</section>")]
+    assert not re.search(r"<i>M</i> – сумарний індикаторний крутний момент", rod)
+    four = shared_html("inline4-petrol", language="uk").linked_html
+    assert "відстань між осями сусідніх циліндрів" in four and "від ВМТ першого циліндра" in four

@@ -696,7 +696,7 @@ def _means_table(ctx, r):
         ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
         ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + ([] if single else [("<i>z</i> " + t("balancing.from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
+    ] + ([] if single else [("<i>x</i> " + t("balancing.from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)
@@ -747,7 +747,7 @@ def _conclude(ctx, r) -> None:
     single = len(r["cylinder_labels"]) == 1
     # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
     # symbols ("ΣP_II, ΣP_IV"), or none
-    left = _left_unbalanced(r, unbalanced)
+    left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
     means = bool(r["counterweights"] or r["balance_shafts"])
     ctx.find(t("balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
                items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in left))

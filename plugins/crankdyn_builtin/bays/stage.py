@@ -225,8 +225,7 @@ def run(scene, inputs) -> StageOutput:
     motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
     e, m = scene.engine, scene.masses
     layout = engine_layout(scene)
-    step = scene.analysis.angle_step_deg
-    angle = motion.crank_angle_deg
+    step, angle = scene.analysis.angle_step_deg, motion.crank_angle_deg
     n = len(angle)
     area = forces.piston_area_m2
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
@@ -235,6 +234,7 @@ def run(scene, inputs) -> StageOutput:
                      "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
                      "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
                      "cylinder_phases": lay.cylinder_phases(layout)}
+    results["stroke_sequence"] = _stroke_sequence(e.strokes, results["cylinder_phases"])  # the table of strokes
     tables: dict = {}
     notes = _firing_notes(layout, scene.firing_order_chosen)
     if scene.firing_order_chosen:
@@ -317,16 +317,22 @@ def _phase_table(r: dict, ctx):
     return ctx.table(columns, caption=t("bays.phases_caption"), see="bays.see_phases")
 
 
-def _stroke_table(r: dict, ctx):
-    """The strokes of every cylinder over cylinder 1's crank angle (a four-stroke engine; none for
-    a two-stroke or where :func:`crankdyn.physics.layout.stroke_sequence` gives no table)."""
-    if r["strokes"] != 4:
-        return None
-    phases = r["cylinder_phases"]
-    sequence = lay.stroke_sequence([p["cycle_delay_deg"] for p in phases])
+def _stroke_sequence(strokes: int, phases: list[dict]) -> dict | None:
+    """The table of strokes' data (:func:`crankdyn.physics.layout.stroke_sequence`): a four-stroke
+    engine's, None for a two-stroke or where the strokes begin too often for a table."""
+    sequence = lay.stroke_sequence([p["cycle_delay_deg"] for p in phases]) if strokes == 4 else None
     if sequence is None:
         return None
     step, rows = sequence
+    return {"step_deg": step, "rows": [[list(run) for run in runs] for runs in rows]}
+
+
+def _stroke_table(r: dict, ctx):
+    """The strokes of every cylinder over cylinder 1's crank angle (none without the data)."""
+    sequence, phases = r.get("stroke_sequence"), r["cylinder_phases"]
+    if not sequence:
+        return None
+    step, rows = sequence["step_deg"], sequence["rows"]
     t = ctx.t
     headers = [t("bays.cylinder")] + [f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
                                       for c in range(int(720 // step))]

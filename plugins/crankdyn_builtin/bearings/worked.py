@@ -9,13 +9,14 @@ from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fix
 
 
 def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -> WorkedStep:
-    """p_max = load/(d B) with the load as the table prints it (kN) and the bearing's size in mm."""
+    """p_max = load/(d B) in SI, as the where-lines give the symbols: the load as the table prints it
+    (kN, ·10³ to N), the bearing's size in mm (·10⁻³ to m), the result in Pa (·10⁻⁶ to the table's MPa)."""
     t = ctx.t
     q_txt, q = printed_fixed(t, record["max_N"] / 1e3, 2)
     d_txt, d = printed(t, diameter_m * 1e3)
     b_txt, b = printed(t, width_m * 1e3)
     return WorkedStep(quantity, "<i>p</i><sub>max</sub>", f"{load_html}/(<i>d B</i>)",
-                      f"{q_txt}·10<sup>3</sup>/({d_txt}·{b_txt})", record["max_MPa"], 2, t("unit.MPa"),
+                      f"{q_txt}·10<sup>3</sup>/({d_txt}·10<sup>−3</sup>·{b_txt}·10<sup>−3</sup>)·10<sup>−6</sup>", record["max_MPa"], 2, t("unit.MPa"),
                       {"Q": q, "d_mm": d, "B_mm": b},
                       exact={"Q": record["max_N"] / 1e3, "d_mm": diameter_m * 1e3, "B_mm": width_m * 1e3},
                       row_key=key)

@@ -106,7 +106,7 @@ def _journals_table(ctx, journals) -> str:
         (t("torque.journal"), [j["journal"].replace("-", "\u2013") for j in journals], None),
         (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
         (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
-        (t("torque.journal_amplitude") + ", " + t("unit.Nm"), [j["amplitude_Nm"] for j in journals], 1),
+        (t("torque.journal_amplitude") + ", " + t("unit.Nm"), [j["amplitude_Nm"] for j in journals], 1),  # words: M_max is the engine's
     ], caption=t("torque.journals_table_caption"), see="torque.see_journals_table")
 
 

@@ -19,7 +19,7 @@ from ..errors import PluginError
 from ..plugin_types import declared
 from .formula_lines import unbroken_parts
 from .i18n import Translator, superscript
-from .typeset import SYMBOLS, typeset_figure
+from .typeset import typeset_figure
 
 
 class FigureFile:
@@ -201,19 +201,11 @@ class RenderContext:
                               f"Stage.figures (declared: {list(self.declared_figures)})")
 
     # ----------------------------------------------------------------- numbering
-    def equation(self, formula_html: str, label: str = "", si: Sequence[str] = ()) -> Markup:
-        """A displayed, numbered equation. ``formula_html`` is template-authored markup. ``si``: keys
-        of :data:`~crankdyn.report.typeset.SYMBOLS` its "where" lines explain in SI units rather than
-        in the tables' (:func:`crankdyn.report.equation_legend.line_unit` says when); an unknown
-        key is a :class:`PluginError` naming the stage."""
-        unknown = [key for key in si if key not in SYMBOLS]
-        if unknown:
-            raise PluginError(f"stage {self.stage_name!r}: an equation declares SI units for {unknown}, "
-                              "which are not keys of crankdyn.report.typeset.SYMBOLS")
+    def equation(self, formula_html: str, label: str = "") -> Markup:
+        """A displayed, numbered equation. ``formula_html`` is template-authored markup."""
         self._equation += 1
         number = f"{self.section_number}.{self._equation}"
         anchor = f' id="eq-{escape(label)}"' if label else ""
-        anchor += f' data-si="{escape(" ".join(si))}"' if si else ""
         return Markup(f'<div class="equation"{anchor}><span class="formula">{unbroken_parts(formula_html)}</span>'
                       f'<span class="eqno">({number})</span></div>')
 

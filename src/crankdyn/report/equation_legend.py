@@ -27,9 +27,6 @@ _SECTION_OR_EQUATION = re.compile(
     r'<span class="eqno">[^<]*</span></div>',
     re.S)
 
-#: An equation's declaration of the symbols its lines explain in SI units (``data-si="key key"``).
-_DECLARED_SI = re.compile(r'\bdata-si="([^"]*)"')
-
 _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
@@ -80,36 +77,31 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     return [key for _, key in sorted(found)]
 
 
-#: The display units that have an SI unit of their own, for the symbols an equation declares SI
-#: (:meth:`~crankdyn.report.context.RenderContext.equation`'s ``si``): a litre is a cubic metre there.
-_SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "unit.MPa": "unit.Pa"}
+#: The tables' units and the SI units a formula is evaluated in (M_к = t R F_п holds in Pa, m and m²,
+#: not in MPa, mm and cm²; a litre is a cubic metre, a kilonewton a newton there).
+_SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "unit.MPa": "unit.Pa",
+             "unit.kN": "unit.N", "unit.kW": "unit.W"}
 
 
-def line_unit(key: str, t, si: bool = False) -> str:
-    """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio).
-
-    The rule: the symbol table's unit (:data:`~crankdyn.report.typeset.SYMBOLS`), which is the unit
-    the report's tables, figures, worked substitutions and the equations' own values show the
-    quantity in ("s_п – переміщення поршня, мм" beside the table's "s_п, мм" and the worked
-    "s_п = … = 6,60 мм"; "d, B" in mm beside "p_max = Q_max/(d B) = 16,37·10³/(51,66·31,00) =
-    10,22 МПа"). The SI unit (m, Pa, m², m³) only where the equation declares the symbol so
-    (``si``): an equation that holds as printed in a coherent system alone (M_к = t R F_п, σ = ρ v²)
-    AND whose symbol no value nearby shows. Each built-in equation's quantities are shown nearby
-    in their table units (a table of the section, a worked line, the equation itself), so none
-    declares one: the SI unit the formula is evaluated in was read beside them as a contradiction
-    ("s_п, м" under a table in мм)."""
+def line_unit(key: str, t) -> str:
+    """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio):
+    the SI unit the formulas are evaluated in and the worked substitutions put the numbers in
+    (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
+    the figures and the equations' own results show convenient units (мм, МПа, см², л), as the
+    list of symbols says before it lists them in those units. Where-lines in the tables' units
+    made the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in
+    мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
     unit = SYMBOLS[key].unit
-    if si:
-        unit = _SI_UNITS.get(unit, unit)
+    unit = _SI_UNITS.get(unit, unit)
     return t(unit) if unit.startswith("unit.") else unit
 
 
-def legend_html(keys: list[str], t, language: str, si: frozenset[str] = frozenset()) -> str:
+def legend_html(keys: list[str], t, language: str) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit as :func:`line_unit` says (SI for the keys in ``si``)."""
+    stop after the last; the unit as :func:`line_unit` says."""
     lines = []
     for k, key in enumerate(keys):
-        unit = line_unit(key, t, key in si)
+        unit = line_unit(key, t)
         meaning = t(f"symbol.{key}")
         if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
             meaning = _SECTIONS_NOTE.sub("", meaning)
@@ -138,9 +130,7 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
         if not new:
             continue
         explained.update(new)
-        declared = _DECLARED_SI.search(match.group("attributes"))
-        si = frozenset(declared.group(1).split() if declared else ())
-        parts += [html[position:match.end()], legend_html(new, t, language, si)]
+        parts += [html[position:match.end()], legend_html(new, t, language)]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)

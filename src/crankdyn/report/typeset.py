@@ -44,6 +44,9 @@ class Symbol:
 #: languages (the textbook's Cyrillic subscripts in uk/ru, Latin ones in English) and the
 #: main quantities every calculation uses. The list of symbols in front of the introduction is
 #: printed from this table, with the symbols the report actually shows.
+#: The error-against-run-time appendices, whose letters (X, M, Δα) mean the studied quantity.
+_ERROR_STUDY = ("numerics", "numerics_kinematics")
+
 SYMBOLS: dict[str, Symbol] = {
     "crank_angle": Symbol("α", {}, "°", "symbol.crank_angle"),
     "rod_angle": Symbol("β", {}, "°", "symbol.rod_angle"),
@@ -134,6 +137,7 @@ SYMBOLS: dict[str, Symbol] = {
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
     "mechanical_efficiency": Symbol("η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"),
     "effective_torque": Symbol("M", {"en": "e"}, "unit.Nm", "symbol.effective_torque"),
+    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=("torque", "forces")),
     "gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", "symbol.gas_torque"),
     "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
     "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
@@ -187,24 +191,25 @@ SYMBOLS: dict[str, Symbol] = {
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
     # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
     "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=("balancing",)),
-    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True),
+    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=("balancing",)),
     "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
     "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
     "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
                                  html="<i>b̄</i><sub><i>n</i></sub>"),
-    "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>"),
+    "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>",
+                        sections=("balancing",)),
     "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
                                   html="<i>φ</i><sub><i>i</i></sub>", sections=("balancing",)),
     "cylinder_phase": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_phase", html="<i>φ</i><sub><i>i</i></sub>",
                              sections=("speed_fluctuation",)),
     "cylinder_position": Symbol("x", {"en": "i"}, "unit.mm", "symbol.cylinder_position",
-                                html="<i>x</i><sub><i>i</i></sub>"),
+                                html="<i>x</i><sub><i>i</i></sub>", sections=("balancing",)),
     "cylinder_order_force": Symbol("P", {"en": "ni"}, "unit.N", "symbol.cylinder_order_force",
                                    html="<i>P</i><sub><i>n</i><i>i</i></sub>"),
     "order_moment": Symbol("M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"),
     "hodograph_semi_axis_x": Symbol("a", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_x"),
     "hodograph_semi_axis_y": Symbol("b", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_y"),
-    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing"),
+    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=("balancing",)),
     # the bearings section's vectors (bold) and spans
     "pin_load_vector": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa", "symbol.pin_load_vector",
                               html="<b><i>q</i></b><sub>{sub}</sub>"),
@@ -231,9 +236,9 @@ SYMBOLS: dict[str, Symbol] = {
     "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=("flywheel",)),
     # the error study (numerics)
     "relative_error": Symbol("ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"),
-    "studied_value": Symbol("X", {}, "", "symbol.studied_value"),
-    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>"),
-    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque"),
+    "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=_ERROR_STUDY),
+    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=_ERROR_STUDY),
+    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=_ERROR_STUDY),
     "reference_torque": Symbol("M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"),
     "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
     "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
