@@ -155,8 +155,8 @@ def test_bearing_section_renders(language):
     html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
-    # a journal's name as the pins' "1–4": an en dash between the cranks' numbers (a supervisor
-    # read "0-1" beside "1–4" as two conventions); the results keep the identifier "0-1"
+    # a journal's name "2–3": an en dash between the cranks' numbers (a supervisor read "0-1" beside
+    # the pins' "1–4" as two conventions; the pins' range is now "1…4"); the results keep "0-1"
     section = html[html.index('data-stage="bearings"'):]
     section = section[:section.index("</section>")]
     text = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
@@ -304,7 +304,7 @@ def test_pins_that_print_alike_take_one_row():
 
     pin = {"max_N": 16370.0, "mean_N": 9890.0, "max_MPa": 10.22, "mean_MPa": 6.17, "oil_hole_deg": 175.0}
     same = [dict(pin, crank=k) for k in range(1, 5)]
-    assert _pin_rows(same) == (same[:1], ["1–4"])
+    assert _pin_rows(same) == (same[:1], ["1…4"])
     other = same[:3] + [dict(pin, crank=4, max_N=17000.0)]
     assert _pin_rows(other) == (other, ["1", "2", "3", "4"])
     assert _pin_rows(same[:1]) == (same[:1], ["1"])

@@ -41,13 +41,14 @@ def loads_equal(records) -> bool:
 
 
 def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
-    """The pins table's rows and their crank labels: one row "1–4" for pins that print alike
+    """The pins table's rows and their crank labels: one row "1…4" for pins that print alike
     (identical cylinders, each on a crank of its own: the same loads shifted in phase), which the
-    table repeated four times."""
+    table repeated four times; an ellipsis, not the en dash of a main journal's name "1–2" (the
+    journal between cranks 1 and 2), which a supervisor read the same."""
     printed = {(round(p["max_N"] / 1e3, 2), round(p["mean_N"] / 1e3, 2), round(p["max_MPa"], 2),
                 round(p["mean_MPa"], 2), round(p["oil_hole_deg"])) for p in pins}
     if len(pins) > 1 and len(printed) == 1:
-        return pins[:1], [f"{pins[0]['crank']}–{pins[-1]['crank']}"]
+        return pins[:1], [f"{pins[0]['crank']}…{pins[-1]['crank']}"]
     return pins, [str(p["crank"]) for p in pins]
 
 
@@ -60,7 +61,7 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
     record = tied[0]
     if kind == "pin":
         labels = pin_rows(records)[1]
-        # the table's row: one "1–4" for pins that print alike
+        # the table's row: one "1…4" for pins that print alike
         key = labels[0] if len(labels) == 1 else str(record["crank"])
         load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
