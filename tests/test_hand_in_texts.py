@@ -731,3 +731,15 @@ def test_the_introductions_aim_is_what_the_sections_do(reports):
     kinematics = as_read(re.sub(r"<[^>]+>", "", reports("kinematics-only")))
     aim = re.search(r"Мета роботи – виконати[^\n]*", kinematics).group(0)
     assert "визначити кінематичні параметри механізму" in aim and "сили" not in aim and "зрівноваж" not in aim
+
+
+def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
+    """The uk check: "Велика вісь від вертикалі 0,0" beside the semi-axes 1,000 / 1,000 of the
+    centrifugal force's circle: a circle has no major axis, the cell says "—"."""
+    from crankdyn_builtin.balancing.stage import _circular
+
+    assert _circular({"semi_major": 1.0, "semi_minor": 1.0}) and _circular({"semi_major": 0.0, "semi_minor": 0.0})
+    assert not _circular({"semi_major": 1.0, "semi_minor": 0.0}) and not _circular({"semi_major": 1.0, "semi_minor": 0.99})
+    html = reports("petrol-1cyl-uk")
+    row = re.search(r"<tr><td[^>]*><i>C</i></td>(.*?)</tr>", html).group(1)
+    assert re.findall(r"<td[^>]*>([^<]*)</td>", row)[2:4] == ["1,000 / 1,000", "—"], row

@@ -607,8 +607,8 @@ def _coefficients_table(ctx, r):
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
                                          for o in orders], None),
-        (t("balancing.major_axis"), ["—" if zero(o, "force") else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
-                                     for o in orders], None),
+        (t("balancing.major_axis"), ["—" if zero(o, "force") or _circular(o["force_hodograph"])
+                                     else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1) for o in orders], None),
         (t("balancing.sense"), ["—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
                                 for o in orders], None),
     ]
@@ -803,6 +803,13 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
                    items=", ".join(items), percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2), reference=reference))
 
 
+def _circular(hodograph: dict) -> bool:
+    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (a
+    supervisor read "0,0°" beside the semi-axes 1,000 / 1,000)."""
+    return round(hodograph["semi_major"], 9) == 0 or \
+        abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
+
+
 def _left_unbalanced(r, unbalanced) -> list:
     """The unbalanced resultants the fitted means leave: those of an order no balance shaft or
     counterweight balances (``residual.balanced_orders``; the centrifugal forces, order 0, by
@@ -832,7 +839,8 @@ def _unbalanced_item(ctx, r, item) -> str:
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
     amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
     order = item["order"]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
-    scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|C_I"
+    # a word joiner after the bar: "(4,000·|A4|" was parted from "CI)" at a line's end
+    scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|\u2060C_I"
     return f"{_plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 
 
