@@ -93,7 +93,7 @@ def numbered_sections(html: str) -> list[str]:
 
 def numerics_parts(html: str) -> set[str]:
     parts = set(re.findall(r'data-part="([^"]+)"', html))
-    if "L (theor.), %" in html:
+    if "<i>L</i><sub>i</sub> (theor.), %" in html:  # the closed-form indicated work's column
         parts.add("theoretical")
     return parts
 
