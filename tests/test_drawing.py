@@ -306,3 +306,14 @@ def test_positions_at_one_angle_share_a_panel():
               (4, "j_max\nα = 0°", 359.99), (5, "j_min\nα = 158,2°", 158.2)]
     assert _merged_frames(frames) == [(0, "ВМТ, j_max\nα = 0°"), (1, "НМТ\nα = 180°"), (2, "v_max\nα = 75,4°"),
                                       (5, "j_min\nα = 158,2°")]
+
+
+def test_positions_are_drawn_in_the_order_the_crank_reaches_them():
+    """The uk check: j_min at 158,2° stood after v_min at 284,6°. Panels follow the crank angle;
+    TDC and j_max at 359,99° still share the first panel."""
+    from crankdyn_builtin.drawing.stage import position_frames
+
+    angles = {"tdc": 0.0, "bdc": 180.0, "v_max": 75.4, "v_min": 284.6, "j_max": 359.99, "j_min": 158.2}
+    frames = position_frames(angles, lambda k: f"{k}\nα = {angles[k]}°")
+    assert [caption.split("\n")[0] for _, caption in frames] == ["tdc, j_max", "v_max", "j_min", "bdc", "v_min"]
+    assert [i for i, _ in frames] == [0, 2, 5, 1, 3]

@@ -161,6 +161,14 @@ def _labels(geometry, ctx) -> dict[str, str]:
     return {k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
 
 
+def position_frames(angles: dict[str, float], caption) -> list[tuple[int, str]]:
+    """The positions figure's panels (index into :data:`POSITIONS`, caption) in the order the crank
+    reaches them (a supervisor: j_min at 158,2° came after v_min at 284,6°), those at one angle
+    merged (:func:`_merged_frames`); ``caption(key)`` writes a panel's caption."""
+    order = sorted(range(len(POSITIONS)), key=lambda i: angles[POSITIONS[i]] % 360.0)
+    return _merged_frames([(i, caption(POSITIONS[i]), angles[POSITIONS[i]]) for i in order])
+
+
 def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]]:
     """One panel per distinct position: of a central crank-slider, TDC is also where the piston's
     acceleration is largest, and two identical panels ("ВМТ" and "j_max", both at 0°) would be
@@ -203,8 +211,7 @@ def render(output: StageOutput, ctx) -> str:
     figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale, angle=scheme_angle), "scheme",
                                see="drawing.see_scheme")
     # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
-    frames = _merged_frames([(i, t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)),
-                              angles[k]) for i, k in enumerate(POSITIONS)])
+    frames = position_frames(angles, lambda k: t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)))
     figure_positions = ctx.figure(partial(md.positions_figure, positions, frames), t("drawing.positions_caption"), "positions",
                                   see="drawing.see_positions")
     svg, payload = md.animation_svg(animation)
