@@ -144,3 +144,11 @@ def test_a_sections_own_letters_keep_their_meaning_there():
     assert not re.search(r"<i>M</i> – сумарний індикаторний крутний момент", rod)
     four = shared_html("inline4-petrol", language="uk").linked_html
     assert "відстань між осями сусідніх циліндрів" in four and "від ВМТ першого циліндра" in four
+
+
+def test_the_error_tables_count_of_angles_is_not_the_series_n():
+    """The uk check: "N" counted the angles in table Б.1 and the series' terms in (Б.2)."""
+    from conftest import shared_html
+
+    html = shared_html("petrol-1cyl", language="uk").linked_html
+    assert "<th>Кількість кутів</th>" in html and "<th><i>N</i></th>" not in html

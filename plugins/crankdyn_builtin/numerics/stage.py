@@ -893,7 +893,7 @@ def _render_steps(r, ctx):
               "resultant_max": t("numerics.q_resultant_max")}
     has_theory = any("theoretical_work_error_relative" in s for s in steps)
     columns = [("Δ<i>α</i>, °", [_plain(ctx, s["angle_step_deg"]) for s in steps], None),
-               ("<i>N</i>", [str(s["points"]) for s in steps], None),
+               (t("numerics.angles_count"), [str(s["points"]) for s in steps], None),  # N is the series' terms
                (t("numerics.time_ms"), [ctx.num(s["time_s"] * 1e3, 3) for s in steps], None)]
     for q in QUANTITIES:
         columns.append((labels[q] + ", %", [ctx.num(100 * s[f"{q}_error_relative"], 2) for s in steps], None))
