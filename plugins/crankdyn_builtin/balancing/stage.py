@@ -779,10 +779,16 @@ def _conclude(ctx, r) -> None:
 NEGLIGIBLE_SHARE = 0.01
 
 
+def _summary_amplitude(r, item) -> tuple[float | None, bool]:
+    """(amplitude of an item of the summary: N for a force, N·m for a moment, None where the
+    results have none; whether it is a force)."""
+    force = item["quantity"].startswith("sum_")
+    return r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm")), force
+
+
 def _negligible(r, item) -> bool:
     """Whether ``item``'s amplitude is under :data:`NEGLIGIBLE_SHARE` of C_I (a moment: of C_I·a)."""
-    force = item["quantity"].startswith("sum_")
-    value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
+    value, force = _summary_amplitude(r, item)
     scale = r["first_order_N"] * (1.0 if force else r["cylinder_spacing_m"] or 0.0)
     return value is not None and scale > 0 and abs(value) < NEGLIGIBLE_SHARE * scale
 
@@ -792,8 +798,7 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     t = ctx.t
     items = []
     for item in negligible:
-        force = item["quantity"].startswith("sum_")
-        value = r["absolute"][item["quantity"] + ("_N" if force else "_Nm")]
+        value, force = _summary_amplitude(r, item)
         amplitude = newtons(t, value) if force else t.number_g(value, 2)
         items.append(f"{_plain_symbol(item, '' if single else 'Σ')} = {amplitude} "
                      f"{t('balancing.unit_N') if force else t('unit.Nm')}")
@@ -831,8 +836,7 @@ def _unbalanced_item(ctx, r, item) -> str:
     """"ΣP_II = 9426 Н (4,000·|A_2|C_I)", "ΣM_I = 12,5 Н·м (0,5000·C_I·a)": an unbalanced sum's
     amplitude with the coefficient and the one-cylinder amplitude it multiplies (as table 8.2
     divides); "ΣP_II/C_II = 4,000" without an amplitude to print."""
-    force = item["quantity"].startswith("sum_")
-    value = r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm"))
+    value, force = _summary_amplitude(r, item)
     coefficient = ctx.num(item["coefficient"], 4)
     if value is None:
         return f"{_plain_symbol(item)}/{_scale_symbol(item)} = {coefficient}"

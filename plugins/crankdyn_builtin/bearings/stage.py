@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict
 from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
+from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
@@ -156,18 +157,15 @@ def run(scene, inputs) -> StageOutput:
     drawn_pins = opts.pins or [most_loaded_pin]
     drawn_journals = opts.journals or [most_loaded_journal]
 
-    def journal_label(j):  # journal j (0-based) lies after crank j: 0 is the free end, cranks + 1 the other
-        return f"{j}-{j + 1}"  # an identifier in the results; the report prints journal_name
-
     results = {
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
                        "main_journal_width_m": w_main, "defaulted": defaulted},
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
-        "main_journals": [{"journal": journal_label(j), **journals[j]} for j in range(cranks + 1)],
+        "main_journals": [{"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)],
         "rod_bearings": [{"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
                          for k in range(cranks)],
-        "main_bearings": [{"journal": journal_label(j), **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main)}
+        "main_bearings": [{"journal": lay.journal_label(j), **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main)}
                           for j in range(cranks + 1)],
         "drawn_pins": drawn_pins,
         "drawn_journals": drawn_journals,

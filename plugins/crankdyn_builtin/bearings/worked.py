@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
+from crankdyn.report.typeset import journal_name as printed_journal
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup
 
 
@@ -30,9 +31,8 @@ def most_loaded(records) -> list:
 
 
 def journal_name(journal: dict) -> str:
-    """A main journal's name as the report prints it: "0–1", an en dash between the cranks' numbers
-    as between the pins' "1–4" (the results keep the identifier "0-1")."""
-    return journal["journal"].replace("-", "\u2013")
+    """A main journal's name as the report prints it ("0–1"; the results keep the identifier "0-1")."""
+    return printed_journal(journal["journal"])
 
 
 def loads_equal(records) -> bool:

@@ -12,6 +12,7 @@ from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
+from crankdyn.report.typeset import journal_name
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.torque.worked import worked_torque
@@ -61,7 +62,7 @@ def run(scene, inputs) -> StageOutput:
         "cylinder_cycle_delays_deg": [{k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
                                       for p in lay.cylinder_phases(layout)],
         "indicated_power_W": 1e3 * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
-        "journals": [_journal_range(f"{k + 1}-{k + 2}", journal[k] * R * area)  # named as the bearings' journals
+        "journals": [_journal_range(lay.journal_label(k + 1), journal[k] * R * area)  # as the bearings' journals
                      for k in range(layout.cranks)],
         "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),
                                                  "z_Pa": float(bays.radial_Pa[k, i]),
@@ -103,7 +104,7 @@ def _journals_table(ctx, journals) -> str:
     """The running torques' range on each main journal (after the figure of them)."""
     t = ctx.t
     return ctx.table([
-        (t("torque.journal"), [j["journal"].replace("-", "\u2013") for j in journals], None),
+        (t("torque.journal"), [journal_name(j["journal"]) for j in journals], None),
         (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
         (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
         (t("torque.journal_amplitude") + ", " + t("unit.Nm"), [j["amplitude_Nm"] for j in journals], 1),  # words: M_max is the engine's

@@ -384,3 +384,9 @@ def stroke_sequence(cycle_delays_deg: list[float], max_columns: int = 12) -> tup
                 runs.append((stroke, 1))
         rows.append(runs)
     return float(step), rows
+
+
+def journal_label(journal: int) -> str:
+    """A main journal's identifier in the results: the cranks it lies between, "0-1" for journal 0
+    at the free end, "k-(k+1)" for the one after crank k (the textbook's naming)."""
+    return f"{journal}-{journal + 1}"

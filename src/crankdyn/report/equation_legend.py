@@ -23,7 +23,7 @@ from .typeset import SYMBOLS, symbol_html, symbol_pattern, unshifted_indices
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
-    r'|<div class="equation"(?P<attributes>[^>]*)><span class="formula">(?P<formula>.*?)</span>'
+    r'|<div class="equation"[^>]*><span class="formula">(?P<formula>.*?)</span>'
     r'<span class="eqno">[^<]*</span></div>',
     re.S)
 

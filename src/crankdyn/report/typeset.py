@@ -663,3 +663,9 @@ def locale_formatter(t):
             return f"×10{superscript(self.scale)}" if self.scale else ""
 
     return LocaleFormatter()
+
+
+def journal_name(label: str) -> str:
+    """A main journal's identifier ("0-1") as the report prints it: an en dash between the cranks'
+    numbers ("0–1"), as a range of numbers is set."""
+    return label.replace("-", "\u2013")
