@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Catalog, Stage, StageOutput, Symbol
 
 HERE = Path(__file__).resolve().parent
 
@@ -61,7 +61,8 @@ STAGE = Stage(name="throwaway", title_key="throwaway.title", requires=(), provid
               template_dir=HERE / "templates",
               figures=("throwaway_travel",), tables=("travel",),
               answer_columns=(AnswerColumn("throwaway_stroke_mm", "stroke_m", "mm", factor=1e3,
-                                           label_key="throwaway.answer.stroke"),))
+                                           label_key="throwaway.answer.stroke"),),
+              symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")})
 
 
 @hookimpl
@@ -74,19 +75,20 @@ def crankdyn_catalogs():
     return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
 '''
 
-TEMPLATE = "<p class=\"throwaway\">{{ _('throwaway.body', stroke=num(r.stroke_m * 1000)) }}</p>\n{{ figure }}\n"
+TEMPLATE = ("<p class=\"throwaway\">{{ _('throwaway.body', stroke=num(r.stroke_m * 1000)) }}</p>\n"
+            "{{ eq('<i>h</i><sub>t</sub> = <i>R</i>(1 − cos <i>α</i>)') }}\n{{ figure }}\n")
 
-# title, body, conclusion, figure caption, axis labels, the answer column's label
+# title, body, conclusion, figure caption, axis labels, the answer column's label, the meaning of its symbol h_t
 CATALOGS = {
     "en": ("Stroke of the crank mechanism", "The piston travels {stroke} mm between its dead centres.",
            "The measured stroke is {stroke} mm.", "Piston travel over one turn", "Crank angle, °", "Travel, mm",
-           "Piston stroke, mm"),
+           "Piston stroke, mm", "travel of the piston from TDC"),
     "uk": ("Хід кривошипно-шатунного механізму", "Поршень проходить {stroke} мм між мертвими точками.",
            "Виміряний хід становить {stroke} мм.", "Переміщення поршня за один оберт", "Кут повороту, °",
-           "Переміщення, мм", "Хід поршня, мм"),
+           "Переміщення, мм", "Хід поршня, мм", "переміщення поршня від ВМТ"),
     "ru": ("Ход кривошипно-шатунного механизма", "Поршень проходит {stroke} мм между мёртвыми точками.",
            "Измеренный ход равен {stroke} мм.", "Перемещение поршня за один оборот", "Угол поворота, °",
-           "Перемещение, мм", "Ход поршня, мм"),
+           "Перемещение, мм", "Ход поршня, мм", "перемещение поршня от ВМТ"),
 }
 KEYS = ("title", "body", "conclusion", "figure_caption", "axis_angle", "axis_travel", "answer.stroke")
 
@@ -108,7 +110,9 @@ def _write_plugin(folder: Path) -> None:
     (package / "templates" / "sections" / "throwaway.html.j2").write_text(TEMPLATE, encoding="utf-8")
     for language, texts in CATALOGS.items():
         lines = "".join(f'{key} = "{text}"\n' for key, text in zip(KEYS, texts))
-        (package / "i18n" / f"throwaway.{language}.toml").write_text(f"[throwaway]\n{lines}", encoding="utf-8")
+        # the meaning of its symbol: symbol.<stage>.<key>
+        (package / "i18n" / f"throwaway.{language}.toml").write_text(
+            f'[throwaway]\n{lines}\n[symbol.throwaway]\ntravel = "{texts[-1]}"\n', encoding="utf-8")
 
 
 def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_translations(tmp_path, monkeypatch):
@@ -128,12 +132,16 @@ def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_transla
         # The independent value: the scene's own stroke = 100 mm.
         assert result.outputs["throwaway"].results["stroke_m"] == pytest.approx(0.100, rel=1e-9)
         html = files["report.html"].decode("utf-8")
-        title, body, conclusion, caption, *_, label = CATALOGS[language]
+        title, body, conclusion, caption, *_, label, meaning = CATALOGS[language]
         assert title in html and '<p class="throwaway">' in html
         stroke = "100.0" if language == "en" else "100,0"  # the report's number format per language
         # the report keeps a number on the line of its unit (a narrow no-break space)
         seen = html.replace("\u202f", " ").replace("\u00a0", " ")
         assert body.format(stroke=stroke) in seen and conclusion.format(stroke=stroke) in seen
+        # its own letter h_t (Stage.symbols): in the list of symbols, and in the "where" line under its equation
+        row = '<span class="symbol"><i>h</i><sub>t</sub></span> – <span class="meaning">' + meaning
+        assert html.count(row) == 1 and html.index(row) < html.index('<p class="throwaway">')
+        assert html.index('<span class="where-line"><i>h</i><sub>t</sub> – ' + meaning) > html.index('<p class="throwaway">')
         for other in set(CATALOGS) - {language}:
             assert CATALOGS[other][0] not in html and CATALOGS[other][3] not in html
 

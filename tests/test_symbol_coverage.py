@@ -17,7 +17,10 @@ from crankdyn.report.i18n import translator
 from crankdyn.report.typeset import SYMBOLS, symbol_html
 from crankdyn.plugins import default_registry
 
-EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk")
+EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk",
+            # the stages whose letters are their own (Stage.symbols): the rod dynamics (offset crank),
+            # articulated rods (radial), the torsional model, the offset crank, the kinematics study
+            "offset-crank-engine", "radial9-aircraft", "inline4-torsion", "kinematics-only")
 LANGUAGES = ("uk", "ru", "en")
 
 #: A symbol as an equation writes it: an italic (or bold) letter, its primes and subscript; an
@@ -152,3 +155,30 @@ def test_the_error_tables_count_of_angles_is_not_the_series_n():
 
     html = shared_html("petrol-1cyl", language="uk").linked_html
     assert "<th>Кількість кутів</th>" in html and "<th><i>N</i></th>" not in html
+
+
+def test_every_stage_symbol_has_a_meaning_in_every_language():
+    """A stage's own letters (Stage.symbols) are explained from its plugin's catalogs, as
+    ``symbol.<stage>.<key>``, in each report language; a meaning is plain text (no "_" the list
+    would print as it is)."""
+    registry = default_registry()
+    declared = [f"{stage.name}.{key}" for stage in registry.stages.values() for key in stage.symbols]
+    assert len(declared) >= 59 and all(key in SYMBOLS for key in declared)
+    for language in LANGUAGES:
+        t = translator(language, registry.catalogs)
+        for key in declared:
+            assert t.has(f"symbol.{key}"), (language, key)
+            assert "_" not in t(f"symbol.{key}"), (language, key)
+
+
+def test_a_stage_symbol_key_must_be_an_identifier():
+    from types import SimpleNamespace
+
+    from crankdyn.errors import PluginError
+    from crankdyn.plugin_types import Symbol
+    from crankdyn.report.typeset import use_stage_symbols
+
+    with pytest.raises(PluginError, match="'bad key'"):
+        use_stage_symbols([SimpleNamespace(name="odd", symbols={"bad key": Symbol("x", {}, "")})])
+    with pytest.raises(PluginError, match="'x'"):
+        use_stage_symbols([SimpleNamespace(name="odd", symbols={"x": ("x", "mm")})])

@@ -216,6 +216,33 @@ class Section:
 
 
 @dataclass(frozen=True)
+class Symbol:
+    """A quantity's symbol: base letter, subscript per language (none: ``{}``; English where a
+    language has none), unit (a catalog key ``unit.…``, a literal such as ``°``, or ``""`` for a
+    ratio) and the meaning's catalog key, ``symbol.<key>`` of the symbol's key in the table.
+
+    The core's table (:data:`crankdyn.report.typeset.SYMBOLS`) holds the quantities many sections
+    share; a stage declares its own letters in ``Stage.symbols`` (key ``k`` of stage ``s`` is
+    ``s.k`` in the table, its meaning the catalog key ``symbol.s.k`` in the plugin's catalogs,
+    and it applies in the stage's own section unless ``sections`` says otherwise). In its
+    sections a symbol with ``sections`` takes over from a core symbol of the same markup.
+    """
+
+    base: str
+    sub: dict[str, str]
+    unit: str
+    meaning: str = ""
+    #: a second meaning of a letter that one calculation gives it (δ: the expansion ratio, and the
+    #: irregularity in the flywheel sections): listed only when one of these sections is present
+    sections: tuple[str, ...] = ()
+    #: the markup, where the symbol is more than a letter with a subscript (Δ<i>L</i>, p_i′, a vector
+    #: <b><i>q</i></b><sub>{sub}</sub>: ``{sub}`` stands for the language's subscript)
+    html: str = ""
+    #: a bare letter that is the quantity inside an exponent too (θ of e^{jnθ}), not an index
+    in_scripts: bool = False
+
+
+@dataclass(frozen=True)
 class AnswerColumn:
     """A column of the batch answer key (``answer_key.csv``/``.xlsx``) a stage declares.
 
@@ -285,9 +312,14 @@ class Stage:
     input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
                 given data of this stage's own scene table that the report's first table (the
                 task's data) lists after the engine's, translated by ``ctx.t``; None: none.
-    legend:     whether the core's symbol table explains this section's equations (the "де …"
-                lines, ``crankdyn.report.equation_legend``); False for a mechanism whose letters
-                mean its own members (a vane engine's β is not a connecting rod's angle).
+    legend:     whether the symbol table explains this section's equations (the "де …"
+                lines, ``crankdyn.report.equation_legend``); False for a section that explains
+                its letters in its own words.
+    symbols:    key -> :class:`Symbol`: the letters this stage's equations use that the core's
+                symbol table does not have (or has with another meaning), each with its meaning
+                ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
+                and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
+                a connecting rod's angle: declared here, it takes over in the vane's section).
     """
 
     name: str
@@ -313,6 +345,8 @@ class Stage:
     tables: tuple[str, ...] = ()
     input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
     legend: bool = True
+    # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
+    symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:

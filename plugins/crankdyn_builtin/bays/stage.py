@@ -17,7 +17,7 @@ from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
 from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.physics import layout as lay
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number as _number, options, quantity as _quantity
@@ -350,7 +350,7 @@ def _slave_table(r: dict, ctx):
         ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
         ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
         ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
-        ("<i>l</i> (3), " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
+        ("<i>l</i> [1], " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
         ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
     ], caption=t("bays.slave_caption"), see="bays.see_slaves")
 
@@ -404,6 +404,26 @@ def _bay_figure(f, cycle_deg, t):
     return fig
 
 
+#: The articulated rods' letters (textbook §3.3, eq. (27)-(33); meanings: symbol.bays.<key> in
+#: i18n/): l numbers the slave (side) cylinders.
+_L = {"en": "l"}
+SYMBOLS = {
+    "slave_rod_angle": Symbol("β", _L, "°", html="<i>β</i><sub><i>l</i></sub>"),
+    "slave_crank_angle": Symbol("α", _L, "°", html="<i>α</i><sub><i>l</i></sub>"),
+    "slave_rod_length": Symbol("l", {}, "unit.mm"),
+    "pin_radius": Symbol("r", {}, "unit.mm"),
+    "bank_angle": Symbol("γ", {}, "°"),
+    "pin_angle": Symbol("γ", {"en": "1"}, "°"),
+    "pin_angle_difference": Symbol("φ", {}, "°"),
+    "slave_total_force": Symbol("p", _L, "unit.MPa", html="<i>p</i><sub>1<i>l</i></sub>"),
+    "slave_rod_force": Symbol("k", _L, "unit.MPa", html="<i>k</i><sub><i>l</i></sub>"),
+    "slave_side_force": Symbol("n", _L, "unit.MPa", html="<i>n</i>′<sub><i>l</i></sub>"),
+    "master_side_force_total": Symbol("n", {"en": "Σ"}, "unit.MPa"),
+    "slave_tangential_force": Symbol("t", _L, "unit.MPa", html="<i>t</i><sub><i>l</i></sub>"),
+    "slave_radial_force": Symbol("z", _L, "unit.MPa", html="<i>z</i><sub><i>l</i></sub>"),
+}
+
+
 BAYS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bays",
@@ -418,4 +438,5 @@ BAYS_STAGE = Stage(
     references=("poda2007",),
     options_table="articulated",
     options_model=ArticulatedOptions,
+    symbols=SYMBOLS,
 )

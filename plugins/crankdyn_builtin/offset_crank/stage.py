@@ -19,7 +19,7 @@ from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
-from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
@@ -273,6 +273,17 @@ def _rod_figure(f, t):
     return fig
 
 
+#: The offset's letters (meanings: symbol.offset_crank.<key> in i18n/).
+SYMBOLS = {
+    "offset": Symbol("e", {}, "unit.mm"),
+    "offset_ratio": Symbol("k", {}, ""),
+    "axis_crank_angle": Symbol("φ", {}, "°"),
+    "tdc_angle": Symbol("φ", {"en": "TDC", "uk": "ВМТ", "ru": "ВМТ"}, "°"),
+    "bdc_angle": Symbol("φ", {"en": "BDC", "uk": "НМТ", "ru": "НМТ"}, "°"),
+    "time_ratio": Symbol("K", {}, ""),
+}
+
+
 OFFSET_CRANK_STAGE = Stage(
     template_dir=TEMPLATES,
     name="offset_crank",
@@ -285,4 +296,5 @@ OFFSET_CRANK_STAGE = Stage(
     figures=("offset_piston", "offset_rod"),
     tables=("offset_crank",),
     references=("poda2007",),
+    symbols=SYMBOLS,
 )

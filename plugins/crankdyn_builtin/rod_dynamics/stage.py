@@ -20,7 +20,7 @@ from crankdyn.contracts import KINEMATICS
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import rod_dynamics as rd
 from crankdyn.physics.forces import rod_mass_split_kg
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options
@@ -272,6 +272,35 @@ def _torque_figure(f, period, exact, t):
     return fig
 
 
+#: The letters of this section's equations (meanings: symbol.rod_dynamics.<key> in i18n/).
+_G, _A, _B = {"en": "G"}, {"en": "A"}, {"en": "B"}
+SYMBOLS = {
+    "moment_of_inertia_G": Symbol("I", _G, "unit.kg_m2"),
+    "two_mass_moment_of_inertia": Symbol("I", {"en": "2"}, "unit.kg_m2"),
+    "model_moment_of_inertia": Symbol("I", {}, "unit.kg_m2"),
+    "two_mass_A": Symbol("m", _A, "unit.kg"),
+    "two_mass_B": Symbol("m", _B, "unit.kg"),
+    "three_mass_A": Symbol("m", _A, "unit.kg", html="<i>m</i>′<sub>{sub}</sub>"),
+    "three_mass_B": Symbol("m", _B, "unit.kg", html="<i>m</i>′<sub>{sub}</sub>"),
+    "three_mass_G": Symbol("m", _G, "unit.kg"),
+    "acceleration_G": Symbol("a", _G, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
+    "velocity_G": Symbol("v", _G, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
+    "acceleration_A": Symbol("a", _A, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
+    "velocity_A": Symbol("v", _A, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
+    "acceleration_B": Symbol("a", _B, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
+    "velocity_B": Symbol("v", _B, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
+    "cylinder_axis_vector": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub>{sub}</sub>"),
+    "small_end_acceleration": Symbol("z\u0308", _A, "unit.m_s2"),
+    "rod_angular_velocity": Symbol("β\u0307", {}, "unit.rad_s"),
+    "rod_angular_acceleration": Symbol("β\u0308", {}, "unit.rad_s2"),
+    "inertia_couple": Symbol("M", _G, "unit.Nm"),
+    "correction_couple": Symbol("M", _G, "unit.Nm", html="Δ<i>M</i><sub>{sub}</sub>"),
+    "rod_inertia_torque": Symbol("M", {}, "unit.Nm"),
+    "rod_inertia_torque_exact": Symbol("M", {"en": "exact", "uk": "точн", "ru": "точн"}, "unit.Nm"),
+    "rod_inertia_torque_two_mass": Symbol("M", {"en": "2"}, "unit.Nm"),
+}
+
+
 ROD_DYNAMICS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="rod_dynamics",
@@ -286,4 +315,5 @@ ROD_DYNAMICS_STAGE = Stage(
     references=("poda2007",),
     options_table="rod_dynamics",
     options_model=RodDynamicsOptions,
+    symbols=SYMBOLS,
 )

@@ -17,7 +17,7 @@ from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.i18n import superscript
 from crankdyn.scene import number as _number, options, quantity as _quantity
@@ -872,6 +872,29 @@ def _node_name(t, name: str) -> str:
     return t("speed_fluctuation.node_" + name.replace(" ", "_"))
 
 
+#: The torsional model's letters (meanings: symbol.speed_fluctuation.<key> in i18n/): i numbers
+#: the discs, s the modes.
+_I = {"en": "i"}
+SYMBOLS = {
+    "disc_inertia": Symbol("J", _I, "unit.kg_m2", html="<i>J</i><sub><i>i</i></sub>"),
+    "disc_inertia_derivative": Symbol("J", _I, "unit.kg_m2_rad", html="<i>J</i>′<sub><i>i</i></sub>"),
+    "disc_angle": Symbol("θ", _I, "speed_fluctuation.unit_rad", html="<i>θ</i><sub><i>i</i></sub>"),
+    "disc_speed": Symbol("θ\u0307", _I, "unit.rad_s", html="<i>θ\u0307</i><sub><i>i</i></sub>"),
+    "disc_acceleration": Symbol("θ\u0308", _I, "unit.rad_s2", html="<i>θ\u0308</i><sub><i>i</i></sub>"),
+    "disc_angles": Symbol("θ", {}, "speed_fluctuation.unit_rad"),
+    "disc_speeds": Symbol("θ\u0307", {}, "unit.rad_s"),
+    "disc_gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", html="<i>M</i><sub>{sub}<i>i</i></sub>"),
+    "stiffness_matrix": Symbol("K", {}, "speed_fluctuation.unit_N_m_rad", html="<b>K</b>"),
+    "damping_matrix": Symbol("C", {}, "speed_fluctuation.unit_N_m_s_rad", html="<b>C</b>"),
+    "inertia_matrix": Symbol("M", {}, "unit.kg_m2", html="<b>M</b>"),
+    "mode_matrix": Symbol("Φ", {}, "", html="<b>Φ</b>"),
+    "kronecker": Symbol("δ", {}, "", html="<i>δ</i><sub><i>i</i><i>N</i></sub>"),
+    "mode_shape": Symbol("v", {"en": "s"}, "", html="<i>v</i><sub><i>s</i></sub>"),
+    "natural_frequency": Symbol("ω", {"en": "s"}, "unit.rad_s", html="<i>ω</i><sub><i>s</i></sub>"),
+    "damping_ratio": Symbol("ζ", {}, ""),
+}
+
+
 SPEED_FLUCTUATION_STAGE = Stage(
     template_dir=TEMPLATES,
     name="speed_fluctuation",
@@ -886,4 +909,5 @@ SPEED_FLUCTUATION_STAGE = Stage(
     references=("denhartog1956", "hairer1996", "scipy2020"),
     options_table="torsion",
     options_model=TorsionOptions,
+    symbols=SYMBOLS,
 )

@@ -21,7 +21,7 @@ from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 from .equation_legend import add_equation_legends
-from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html
+from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
 from ..plausibility import format_params, warnings
 
 
@@ -77,6 +77,8 @@ class RenderedReport:
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
+    """The templates of the plan's stages; and the registry's stages' own letters join the symbol table."""
+    use_stage_symbols(registry.stages.values())
     extra = [s.template_dir for s in result.plan.order if s.template_dir is not None]
     return _cached_environment(tuple(str(p) for p in template_search_path(extra)))
 

@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html, symbol_pattern, unshifted_indices
+from .typeset import SYMBOLS, symbol_html, symbol_pattern, symbols_generation, unit_text, unshifted_indices
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -31,12 +31,13 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str) -> tuple[tuple[str, str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
+def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
     """(key, pattern, bare, only in sections, not in sections) per symbol. The pattern is the symbol
     table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
     bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
     own. A symbol without sections is not read in the sections where another of the same markup
-    takes over."""
+    takes over. ``generation``: :func:`~crankdyn.report.typeset.symbols_generation`, so that the
+    patterns follow symbols stages add."""
     taken_over: dict[str, set[str]] = {}
     for key, symbol in SYMBOLS.items():
         if symbol.sections:
@@ -67,7 +68,7 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
-    for key, markup, pattern, bare, only_in, not_in in _patterns(language):
+    for key, markup, pattern, bare, only_in, not_in in _patterns(language, symbols_generation()):
         if (only_in and stage not in only_in) or stage in not_in or markup not in formula_html:
             continue
         for match in pattern.finditer(formula_html):
@@ -92,8 +93,7 @@ def line_unit(key: str, t) -> str:
     made the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in
     мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
     unit = SYMBOLS[key].unit
-    unit = _SI_UNITS.get(unit, unit)
-    return t(unit) if unit.startswith("unit.") else unit
+    return unit_text(_SI_UNITS.get(unit, unit), t)
 
 
 def legend_html(keys: list[str], t, language: str) -> str:

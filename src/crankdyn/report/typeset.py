@@ -15,29 +15,12 @@ from __future__ import annotations
 import functools
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import replace
 
+from ..errors import PluginError
+from ..plugin_types import Symbol
 from .i18n import MINUS, NARROW_NBSP, superscript
 import numpy as np
-
-
-@dataclass(frozen=True)
-class Symbol:
-    """A quantity's symbol: base letter, subscript per language (none: ``{}``), unit (a catalog
-    key ``unit.…``, a literal such as ``°``, or ``""`` for a ratio) and the meaning's catalog key."""
-
-    base: str
-    sub: dict[str, str]
-    unit: str
-    meaning: str
-    #: a second meaning of a letter that one calculation gives it (δ: the expansion ratio, and the
-    #: irregularity in the flywheel sections): listed only when one of these sections is present
-    sections: tuple[str, ...] = ()
-    #: the markup, where the symbol is more than a letter with a subscript (Δ<i>L</i>, p_i′, a vector
-    #: <b><i>q</i></b><sub>{sub}</sub>: ``{sub}`` stands for the language's subscript)
-    html: str = ""
-    #: a bare letter that is the quantity inside an exponent too (θ of e^{jnθ}), not an index
-    in_scripts: bool = False
 
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
@@ -256,6 +239,36 @@ SYMBOLS: dict[str, Symbol] = {
 }
 
 
+#: Raised each time stages' symbols change the table: what is built from it (patterns) keys on it.
+_generation = 0
+_STAGE_SYMBOL_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def use_stage_symbols(stages) -> None:
+    """Put the symbols ``stages`` declare (``Stage.symbols``) into :data:`SYMBOLS`: key ``k`` of
+    stage ``s`` as ``s.k`` (meaning: the catalog key ``symbol.s.k``), read in the stage's own
+    section unless the symbol names its ``sections``. Called with the registry's stages before a
+    report is rendered; a stage not in a report's plan adds nothing to it (its section is absent).
+    A plugin's key that is not an identifier is a :class:`~crankdyn.errors.PluginError`."""
+    global _generation
+    wanted: dict[str, Symbol] = {}
+    for stage in stages:
+        for key, symbol in getattr(stage, "symbols", {}).items():
+            if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
+                raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
+                                  "to a crankdyn.plugin_types.Symbol")
+            wanted[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
+    if all(SYMBOLS.get(key) == symbol for key, symbol in wanted.items()):
+        return
+    SYMBOLS.update(wanted)
+    _generation += 1
+    _subscript_map.cache_clear()
+
+
+def symbols_generation() -> int:
+    """How many times stages' symbols have changed :data:`SYMBOLS` in this process."""
+    return _generation
+
 #: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
 SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
     "mean": {"uk": "сер", "ru": "ср"},
@@ -332,8 +345,13 @@ def _alphabetical(key: str, language: str) -> tuple:
 
 def symbol_unit(key: str, t) -> str:
     """The symbol's unit in the report's language ("" for a ratio)."""
-    unit = SYMBOLS[key].unit
-    return t(unit) if unit.startswith("unit.") else unit
+    return unit_text(SYMBOLS[key].unit, t)
+
+
+def unit_text(unit: str, t) -> str:
+    """A symbol's unit as printed: a catalog key (``unit.kg``, or a plugin's own such as
+    ``speed_fluctuation.unit_N_m_rad``) in the report's language, else the literal (``°``, "")."""
+    return t(unit) if "." in unit and " " not in unit and t.has(unit) else unit
 
 
 def symbol_mathtext(key: str, language: str) -> str:
