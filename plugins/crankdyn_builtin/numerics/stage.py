@@ -45,7 +45,7 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
 from crankdyn.plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
-                                   Stage, StageOutput, Symbol)
+                                   Stage, StageOutput)
 from crankdyn.report.figures import new_figure
 from crankdyn.scene import Analysis, Scene, number, options
 from crankdyn.scene import _problems  # one error format for every refusal
@@ -1045,6 +1045,4 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     references=("ismailov",),
     references_sentence="numerics.sources",
     services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
-    # the series' term number, a factor of the harmonic's argument (cos 2kα) as well as an index
-    symbols={"term": Symbol("k", {}, "")},
 )

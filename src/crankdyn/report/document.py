@@ -466,14 +466,21 @@ def _fill_counts(html: str, t, sources: int) -> str:
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
 
 
-def symbol_list_html(keys, t, language: str, abbreviations: bool = True) -> str:
+def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
-    (paragraphs, not a table: the Word export gives every table a repeated header row)."""
+    (paragraphs, not a table: the Word export gives every table a repeated header row). A stage's
+    own letter (``Stage.symbols``) whose markup the list shows with another meaning too says where
+    it holds, from ``places`` (stage -> "у розділі 2"): "k – відносний дезаксіал (у розділі 2)"."""
+    markups = [symbol_html(key, language) for key in keys]
     rows = []
-    for key in keys:
+    for key, markup in zip(keys, markups):
         unit = symbol_unit(key, t)
-        meaning = escape(t(f"symbol.{key}")) + (f", {escape(unit)}" if unit else "")
-        rows.append(f'<p class="symbol-row"><span class="symbol">{symbol_html(key, language)}</span> – '
+        meaning = t(f"symbol.{key}")
+        stage = key.split(".", 1)[0] if "." in key else None
+        if stage and markups.count(markup) > 1 and (places or {}).get(stage):
+            meaning += f" ({places[stage]})"
+        meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
+        rows.append(f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
                     f'<span class="meaning">{meaning}</span></p>')
     html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'
     if abbreviations:
@@ -481,9 +488,27 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True) -> str:
     return html
 
 
+#: A numbered chapter or an appendix of the document, with the stage it shows.
+_CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data-stage="([^"]+)">\s*'
+                      r'<h2[^>]*>(?:(\d+) |[^<]*?(\w+)<br>)')
+
+
+def _places(html: str, t) -> dict[str, str]:
+    """stage -> where its section stands, "у розділі 2" / "у додатку Б" (the appendix's letter as
+    its heading prints it)."""
+    found: dict[str, list[str]] = {}
+    for m in _CHAPTER.finditer(html):
+        appendix, stage, number, letter = m.groups()
+        if number or (appendix and letter):
+            found.setdefault(stage, []).append(t("doc.symbol_in_appendix", letter=letter) if appendix
+                                               else t("doc.symbol_in_section", number=number))
+    return {stage: ", ".join(places) for stage, places in found.items()}
+
+
 def _fill_symbol_list(html: str, t, language: str) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
     body = head.split("<body", 1)[-1] + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
-    return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body) + rest
+    return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body,
+                                   _places(rest, t)) + rest

@@ -226,7 +226,7 @@ SYMBOLS: dict[str, Symbol] = {
     "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
     "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
                                   html="<i>s</i><sub><i>N</i></sub>"),
-    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=("numerics",)),
+    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=_ERROR_STUDY),
     "power_series_coefficient": Symbol("c", {"en": "k"}, "", "symbol.power_series_coefficient",
                                        html="<i>c</i><sub><i>k</i></sub>"),
     "fourier_series_coefficient": Symbol("H", {"en": "k"}, "", "symbol.fourier_series_coefficient",
