@@ -76,6 +76,18 @@ def run_point(example: str, step: float, cylinders: int | None, memory: bool) ->
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+
+def best_point(example: str, step: float, repeat: int) -> dict:
+    """``repeat`` points in fresh processes, each stage's least time of them (a stage of a tenth of
+    a second timed once varies by 5-10 % on a busy machine; the halving ratio compares two such)
+    and the largest peak memory."""
+    points = [run_point(example, step, None, False) for _ in range(repeat)]
+    points = [p for p in points if "error" not in p] or points[:1]
+    if "error" in points[0]:
+        return points[0]
+    best = {name: {"s": min(p["stages"][name]["s"] for p in points), "peak_MB": None} for name in points[0]["stages"]}
+    return {"points": points[0]["points"], "stages": best, "maxrss_MB": max(p["maxrss_MB"] for p in points)}
+
 def report(title: str, label: str, points: list[tuple[str, dict]]) -> None:
     print(f"\n{title}")
     stages = []
