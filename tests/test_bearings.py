@@ -231,6 +231,32 @@ def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
     assert places[1] != (2, 2, "left", "bottom")
 
 
+def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
+    """A supervisor: labels sat on the curve ("90, 450" on the loop it labels) and inside loops.
+    With the curve given, a label goes to a corner the curve does not cross, facing away from the
+    curve's centre; where every free corner is crossed, to the one crossed least."""
+    import numpy as np
+
+    from crankdyn_builtin.bearings.stage import _curve_samples, _label_places
+
+    angle = np.radians(np.arange(0.0, 360.0, 1.0))
+    circle = _curve_samples(50 * np.cos(angle), 50 * np.sin(angle), 1.0)
+    assert np.max(np.abs(np.hypot(*circle) - 50.0)) < 0.1 and np.max(np.hypot(*np.diff(circle, axis=1))) <= 1.0
+    # the circle's left and right edges: the labels outside it, left and right
+    places = _label_places([(-50.0, 0.0), (50.0, 0.0)], ["210", "30"], per_pt=1.0, curve=circle)
+    assert places[0][2] == "right" and places[1][2] == "left"
+    assert _label_places([(-50.0, 0.0)], ["210"], per_pt=1.0)[0] == (2, 2, "left", "bottom")  # inside, without it
+
+    # a straight line through the point, up and right: the first corner would sit on it
+    line = _curve_samples(np.linspace(-30, 30, 61), np.linspace(-30, 30, 61), 1.0)
+    place = _label_places([(0.0, 0.0)], ["90, 450"], per_pt=1.0, curve=line)[0]
+    width, height = len("90, 450") * 0.64 * 7.0, 1.17 * 7.0
+    x0 = place[0] - (width if place[2] == "right" else 0.0)
+    y0 = place[1] - (height if place[3] == "top" else 0.0)
+    assert not np.any((line[0] > x0) & (line[0] < x0 + width) & (line[1] > y0) & (line[1] < y0 + height)), place
+    assert _label_places([(0.0, 0.0)], ["90, 450"], per_pt=1.0)[0] == (2, 2, "left", "bottom")
+
+
 def test_counterweight_loads_in_crank_axes():
     """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
     counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
