@@ -123,5 +123,8 @@ def test_plugin_report_in_process_uses_only_its_catalogs(yoke_registry):
     for language in ("en", "uk", "ru"):
         rendered = render_html(result, yoke_registry, language)
         assert not rendered.missing_translations, (language, rendered.missing_translations)
+        # its own letters s, v, j (Stage.symbols) explained under its first equation, from its catalogs
+        meaning = {"en": "piston velocity", "uk": "швидкість поршня", "ru": "скорость поршня"}[language]
+        assert f'<span class="where-line"><i>v</i> – {meaning}, ' in rendered.linked_html
     with pytest.raises(Exception, match="scotch_yoke.table_step"):
         run_scene(scene_from_dict({**data, "scotch_yoke": {"table_step": 45}}), yoke_registry)

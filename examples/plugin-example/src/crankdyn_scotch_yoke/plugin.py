@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Guide, Mechanism, MechanismGeometry, Stage, StageOutput
+from crankdyn.plugin_types import Catalog, Guide, Mechanism, MechanismGeometry, Stage, StageOutput, Symbol
 from crankdyn.scene import number, options
 
 from . import physics
@@ -184,6 +184,10 @@ SCOTCH_YOKE_STAGE = Stage(
     references=("scotch_yoke_uicker",),
     options_table="scotch_yoke",
     options_model=YokeOptions,
+    # the letters of the section's equations that crankdyn's symbol table does not have: explained
+    # in the list of symbols and under the equation, from [symbol.scotch_yoke] in i18n/
+    symbols={"displacement": Symbol("s", {}, "unit.mm"), "velocity": Symbol("v", {}, "unit.m_s"),
+             "acceleration": Symbol("j", {}, "unit.m_s2")},
 )
 
 
