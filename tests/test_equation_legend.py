@@ -118,13 +118,29 @@ def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
                       "indicator") == ["intake_end_pressure", "total_volume", "cylinder_volume", "compression_polytrope"]
 
 
-def test_a_mechanism_of_its_own_letters_gets_no_legend():
-    # the vane engine's β is its rotor tail's angle, not a connecting rod's: Stage.legend = False
+def test_a_section_that_explains_its_letters_in_its_own_words_gets_no_legend():
+    # Stage.legend = False: no "where" lines in that section (here a made-up one)
     html = add_equation_legends(_section("vane", _equation("<i>β</i> = 1")), translator("uk", REGISTRY.catalogs),
                                 "uk", frozenset({"vane"}))
     assert _legends(html) == []
-    assert not REGISTRY.stages["vane"].legend and not REGISTRY.stages["planetary"].legend
     assert REGISTRY.stages["forces"].legend
+
+
+def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
+    # the vane engine's β is its core's tail angle, not a connecting rod's, and its α is counted from
+    # the cranks' upper position, not from a TDC: its own symbols take over in its section
+    assert REGISTRY.stages["vane"].legend and REGISTRY.stages["planetary"].legend
+    uk = translator("uk", REGISTRY.catalogs)
+    line = _legends(add_equation_legends(_section("vane", _equation("<i>β</i> = −arcsin(<i>λ</i> sin <i>α</i>)")),
+                                         uk, "uk"))[0]
+    assert "β – кут відхилення хвостовика осердя від вертикалі, °;" in line
+    assert "λ – відношення радіуса кривошипа до довжини хвостовика;" in line
+    assert "α – кут повороту кривошипів від їхнього верхнього положення, °." in line
+    assert "шатуна" not in line and "ВМТ" not in line
+    # the planetary carrier's torque is M_в in uk (the Latin c is the resistance torque's M_оп there)
+    line = _legends(add_equation_legends(_section("planetary", _equation("<i>M</i><sub>в</sub> = <i>F h</i>")),
+                                         uk, "uk"))[0]
+    assert "Mв – крутний момент на водилі, Н·м;" in line
 
 
 def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):

@@ -20,7 +20,9 @@ from crankdyn.plugins import default_registry
 EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk",
             # the stages whose letters are their own (Stage.symbols): the rod dynamics (offset crank),
             # articulated rods (radial), the torsional model, the offset crank, the kinematics study
-            "offset-crank-engine", "radial9-aircraft", "inline4-torsion", "kinematics-only")
+            "offset-crank-engine", "radial9-aircraft", "inline4-torsion", "kinematics-only",
+            # the vane engine and the planetary mechanism (the only examples of these two stages)
+            "vane-engine-kinematics", "planetary-kinematics")
 LANGUAGES = ("uk", "ru", "en")
 
 #: A symbol as an equation writes it: an italic (or bold) letter, its primes and subscript; an
@@ -186,13 +188,29 @@ def test_a_stage_symbol_key_must_be_an_identifier():
 
 @pytest.mark.parametrize("language, note", [("uk", "у розділі 2"), ("en", "in section 2")])
 def test_a_stage_letter_listed_with_another_meaning_says_where_it_holds(language, note):
-    """The offset crank's k = e/L beside the force along the rod k (and the kinematics study's term
-    number k): the list of symbols says in which section the stage's own k holds."""
+    """The offset crank's k = e/L beside the force along the rod k: the list of symbols says in
+    which section the stage's own k holds."""
     html = shared_html("offset-crank-engine", language=language).linked_html
     listed = html[html.index('<div class="symbol-list">'):]
     listed = listed[:listed.index("</div>")]
     t = translator(language, default_registry().catalogs)
     rows = re.findall(r'<span class="symbol"><i>k</i></span> – <span class="meaning">([^<]*)</span>', listed)
-    assert f"{t('symbol.offset_crank.offset_ratio')} ({note})" in rows and len(rows) == 3
+    assert f"{t('symbol.offset_crank.offset_ratio')} ({note})" in rows and len(rows) == 2
     # a letter the list shows once keeps its meaning as it is
     assert f"<i>e</i></span> – <span class=\"meaning\">{t('symbol.offset_crank.offset')}," in listed
+
+
+def test_the_list_of_symbols_gives_a_taken_over_letter_only_the_meaning_it_has():
+    """A core symbol whose letter a stage takes over in its section is listed only if the report
+    shows it elsewhere (the vane engine's μ is no torque non-uniformity); a symbol of some sections
+    only if it stands in one of them (the rod dynamics' M is not the error study's total torque).
+    The vane's points (O₃, P, B′) are names, upright, not quantities."""
+    vane = shared_html("vane-engine-kinematics", language="uk").linked_html
+    listed = vane[vane.index('id="sec-symbols"'):]
+    listed = listed[:listed.index("</section>")]
+    assert "коефіцієнт нерівномірності крутного моменту" not in listed
+    assert "відношення кутової швидкості осердя до кутової швидкості кривошипів" in listed
+    assert "<i>y</i><sub>p</sub> = O<sub>3</sub>P = " in vane and "<i>O</i>" not in vane
+    planetary = shared_html("planetary-kinematics", language="uk").linked_html
+    listed = planetary[planetary.index('id="sec-symbols"'):]
+    assert "сумарний індикаторний крутний момент" not in listed[:listed.index("</section>")]

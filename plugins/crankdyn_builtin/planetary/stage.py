@@ -25,7 +25,7 @@ from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
-from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
@@ -516,11 +516,52 @@ def render(output: StageOutput, ctx) -> str:
                                figure_family=figure_family, figure_motion=figure_motion, figure_arms=figure_arms)
 
 
+#: The letters of the section's equations (meanings: symbol.planetary.<key> in i18n/); the crank angle,
+#: the crankshaft's speed, the rod's angle and length and the piston's motion are the core's. The
+#: subscripts are Latin in every language (f: the fixed gear, p: the planet, B: the big end, A: the
+#: piston pin), but the carrier torque's, whose Latin c is the resistance torque's M_оп in uk/ru.
+#: P, C and K in the prose are points; in the equations they are the points' position vectors.
+_CARRIER = {"en": "c", "uk": "в", "ru": "в"}
+SYMBOLS = {
+    "fixed_teeth": Symbol("z", {"en": "f"}, ""),
+    "planet_teeth": Symbol("z", {"en": "p"}, ""),
+    "module": Symbol("m", {}, "unit.mm"),
+    "fixed_diameter": Symbol("d", {"en": "f"}, "unit.mm"),
+    "planet_diameter": Symbol("d", {"en": "p"}, "unit.mm"),
+    "gear_ratio": Symbol("i", {}, ""),
+    "carrier_radius": Symbol("a", {}, "unit.mm"),
+    "speed_ratio": Symbol("k", {}, ""),
+    "planet_angular_velocity": Symbol("ω", {"en": "p"}, "unit.rad_s"),
+    "big_end_x": Symbol("x", {"en": "B"}, "unit.mm"),
+    "big_end_z": Symbol("z", {"en": "B"}, "unit.mm"),
+    "carrier_angle": Symbol("φ", {}, "°"),
+    "pin_radius": Symbol("e", {}, "unit.mm"),
+    "pin_angle": Symbol("θ", {}, "°"),
+    "pin_phase": Symbol("ψ", {"en": "0"}, "°"),
+    "piston_pin_z": Symbol("z", {"en": "A"}, "unit.mm"),
+    "piston_pin_z_tdc": Symbol("z", {"en": "A,TDC", "uk": "A,ВМТ", "ru": "A,ВМТ"}, "unit.mm"),
+    "big_end_x_derivative": Symbol("x", {"en": "B"}, "unit.m_rad", html="<i>x</i>′<sub>{sub}</sub>"),
+    "big_end_z_derivative": Symbol("z", {"en": "B"}, "unit.m_rad", html="<i>z</i>′<sub>{sub}</sub>"),
+    "rod_force_vector": Symbol("F", {"en": "P"}, "unit.N", html="<b>F</b><sub>{sub}</sub>"),
+    "piston_force": Symbol("F", {}, "unit.N"),
+    "tooth_tangential": Symbol("F", {"en": "t"}, "unit.N"),
+    "pin_vector": Symbol("P", {}, "unit.mm", html="<b>P</b>"),
+    "planet_centre_vector": Symbol("C", {}, "unit.mm", html="<b>C</b>"),
+    "mesh_sign": Symbol("s", {}, ""),
+    "planet_radius": Symbol("r", {"en": "p"}, "unit.mm"),
+    "tooth_radial": Symbol("F", {"en": "r"}, "unit.N"),
+    "pressure_angle": Symbol("α", {"en": "w"}, "°"),
+    "carrier_torque": Symbol("M", _CARRIER, "unit.Nm"),
+    "tooth_force_vector": Symbol("F", {"en": "K"}, "unit.N", html="<b>F</b><sub>{sub}</sub>"),
+    "rotation_direction": Symbol("t", {}, "", html="<b>t</b>"),
+    "torque_arm": Symbol("h", {}, "unit.mm"),
+}
+
+
 PLANETARY_STAGE = Stage(
     template_dir=TEMPLATES,
     name="planetary",
     title_key="planetary.title",
-    legend=False,  # its letters name its own members (carrier, planet, rotor), not a crank-slider's
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,
@@ -529,4 +570,5 @@ PLANETARY_STAGE = Stage(
     figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
     tables=("planetary", "family"),
     references=("ismailov",),
+    symbols=SYMBOLS,
 )

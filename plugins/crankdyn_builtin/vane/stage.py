@@ -20,7 +20,7 @@ from crankdyn.physics.scalar_search import brentq
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
 from crankdyn.physics.extrema import central_derivative, periodic_extreme
-from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
@@ -361,11 +361,49 @@ def render(output: StageOutput, ctx) -> str:
                                figure_relative=figure_relative, figure_lambda=figure_lambda)
 
 
+#: The letters of the section's equations (meanings: symbol.vane.<key> in i18n/). The crank angle,
+#: the speed, the stroke, λ, β and μ mean the vane mechanism's own members here, not a crank-slider's,
+#: so they take over from the core's in this section. The subscripts are the source's (c: the core,
+#: k: the rocker, p: the slider, po: the slider relative to the rocker), Latin in every language.
+#: O₃, P and B′ in the equations are points (upright, not quantities), explained in the prose.
+SYMBOLS = {
+    "crank_angle": Symbol("α", {}, "°"),
+    "angular_velocity": Symbol("ω", {}, "unit.rad_s"),
+    "crank_radius": Symbol("r", {}, "unit.mm"),
+    "tail_length": Symbol("l", {}, "unit.mm"),
+    "stroke": Symbol("S", {}, "unit.mm"),
+    "rod_ratio": Symbol("λ", {}, ""),
+    "chi": Symbol("χ", {}, ""),
+    "tail_angle": Symbol("β", {}, "°"),
+    "tail_angle_max": Symbol("β", {"en": "max"}, "°"),
+    "vane_angle": Symbol("γ", {}, "°"),
+    "vane_angle_max": Symbol("γ", {"en": "max"}, "°"),
+    "core_angular_velocity": Symbol("ω", {"en": "c"}, "unit.rad_s"),
+    "core_angular_acceleration": Symbol("ε", {"en": "c"}, "unit.rad_s2"),
+    "rocker_x": Symbol("x", {"en": "k"}, "unit.mm"),
+    "rocker_y": Symbol("y", {"en": "k"}, "unit.mm"),
+    "rocker_vx": Symbol("v", {"en": "xk"}, "unit.m_s"),
+    "rocker_vy": Symbol("v", {"en": "yk"}, "unit.m_s"),
+    "rocker_jx": Symbol("j", {"en": "xk"}, "unit.m_s2"),
+    "rocker_jy": Symbol("j", {"en": "yk"}, "unit.m_s2"),
+    "slider_x": Symbol("x", {"en": "p"}, "unit.mm"),
+    "slider_y": Symbol("y", {"en": "p"}, "unit.mm"),
+    "slider_rise_max": Symbol("y", {"en": "max"}, "unit.mm"),
+    "slider_vy": Symbol("v", {"en": "yp"}, "unit.m_s"),
+    "slider_jy": Symbol("j", {"en": "yp"}, "unit.m_s2"),
+    "acceleration_zero": Symbol("α", {"en": "0"}, "°"),
+    "integer": Symbol("N", {}, ""),
+    "relative_y": Symbol("y", {"en": "po"}, "unit.mm"),
+    "relative_v": Symbol("v", {"en": "po"}, "unit.m_s"),
+    "relative_j": Symbol("j", {"en": "po"}, "unit.m_s2"),
+    "mu": Symbol("μ", {}, ""),
+}
+
+
 VANE_STAGE = Stage(
     template_dir=TEMPLATES,
     name="vane",
     title_key="vane.title",
-    legend=False,  # its letters name its own members (carrier, planet, rotor), not a crank-slider's
     requires=(),
     provides=(),
     applies=applies,
@@ -374,4 +412,5 @@ VANE_STAGE = Stage(
     figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
     tables=("vane", "compare", "by_lambda"),
     references=("klementev2023",),
+    symbols=SYMBOLS,
 )

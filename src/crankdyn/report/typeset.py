@@ -321,17 +321,41 @@ def unshifted_indices(html: str) -> str:
     return _SHIFTED_INDEX.sub(r"<sub>\1<i>\2</i></sub>", html) if "1</sub>" in html or "1)</sub>" in html else html
 
 
+_STAGE_START = re.compile(r'<section\b[^>]*\bdata-stage="([^"]*)"')
+
+
+def _stage_parts(html: str) -> list[tuple[str, str]]:
+    """(stage, text) of ``html`` in order: a part runs from a section's start to the next section's
+    start (as the "where" lines read a report, equation_legend); the part before the first is ""."""
+    starts = list(_STAGE_START.finditer(html))
+    parts = [("", html[:starts[0].start()] if starts else html)]
+    for m, after in zip(starts, starts[1:] + [None]):
+        parts.append((m.group(1), html[m.start():after.start() if after else len(html)]))
+    return parts
+
+
 def symbols_used(html: str, language: str) -> list[str]:
     """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
     crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's); a shifted index counts as the
-    index (:func:`unshifted_indices`)."""
-    html = unshifted_indices(html)
+    index (:func:`unshifted_indices`). A symbol of some sections counts only where it is read: in
+    those sections; one of all sections not in the sections where one of the same markup takes
+    over (the vane engine's μ is not the torque non-uniformity, the rod dynamics' M not the error
+    study's total torque)."""
+    parts = _stage_parts(unshifted_indices(html))
+    taken_over: dict[str, set[str]] = {}
+    for key, symbol in SYMBOLS.items():
+        if symbol.sections:
+            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+    texts: dict[tuple[bool, frozenset[str]], str] = {}
     used = []
-    for key in SYMBOLS:
-        if SYMBOLS[key].sections and not any(f'data-stage="{s}"' in html for s in SYMBOLS[key].sections):
-            continue
-        if re.search(symbol_pattern(key, language), html):
+    for key, symbol in SYMBOLS.items():
+        # (True, sections): the text of those sections; (False, sections): the text outside them
+        scope = ((True, frozenset(symbol.sections)) if symbol.sections
+                 else (False, frozenset(taken_over.get(symbol_html(key, language), ()))))
+        if scope not in texts:
+            texts[scope] = "".join(text for stage, text in parts if (stage in scope[1]) == scope[0])
+        if texts[scope] and re.search(symbol_pattern(key, language), texts[scope]):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language))
 
