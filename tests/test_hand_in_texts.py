@@ -524,7 +524,7 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
     textbook's 0,11 of the advance (spark) or 6nτ (diesel), and the note says so."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl-uk")))
     assert "через 2,42°" in text
-    assert "Затримку займання взято за підручником [1, підрозд. 3.1]: 0,11 кута випередження запалювання" in text
+    assert "Затримку займання взято за посібником [1, підрозд. 3.1]: 0,11 кута випередження запалювання" in text
 
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():

@@ -350,7 +350,7 @@ def _slave_table(r: dict, ctx):
         ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
         ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
         ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
-        ("<i>l</i> [1], " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
+        ("<i>l</i> " + t("bays.by_source") + ", " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
         ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
     ], caption=t("bays.slave_caption"), see="bays.see_slaves")
 
@@ -369,7 +369,8 @@ def render(output: StageOutput, ctx) -> str | None:
         f = output.tables.arrays("bay")
         angle = f["crank_angle_deg"]
         rows, labels = sample_rows(angle, ctx.table_step_deg)
-        first = output.tables.arrays([k for k in output.tables if k.startswith("slave_")][0])
+        first_key = [k for k in output.tables if k.startswith("slave_")][0]
+        first = output.tables.arrays(first_key)
         slave_table = _slave_table(r, ctx)
         bay_table = ctx.table([
             ("<i>α</i>, °", labels, 0),
@@ -379,7 +380,7 @@ def render(output: StageOutput, ctx) -> str | None:
             ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
             ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
             ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
-        ], caption=t("bays.table_b2_caption"), see="bays.see_table_b2")
+        ], caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")), see="bays.see_table_b2")
         figure = ctx.figure(partial(_bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay",
                             see="bays.see_figure")
     own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
@@ -421,6 +422,11 @@ SYMBOLS = {
     "master_side_force_total": Symbol("n", {"en": "Σ"}, "unit.MPa"),
     "slave_tangential_force": Symbol("t", _L, "unit.MPa", html="<i>t</i><sub><i>l</i></sub>"),
     "slave_radial_force": Symbol("z", _L, "unit.MPa", html="<i>z</i><sub><i>l</i></sub>"),
+    "slave_stroke": Symbol("S", _L, "unit.mm", html="<i>S</i><sub><i>l</i></sub>"),
+    "bay_radial_force": Symbol("z", {"en": "Σ"}, "unit.MPa"),
+    "bay_tangential_force": Symbol("t", {"en": "Σ"}, "unit.MPa"),
+    # the whole bay's resultant, where the forces section's q is one cylinder's
+    "bay_resultant": Symbol("q", {}, "unit.MPa"),
 }
 
 

@@ -206,7 +206,7 @@ def render(output: StageOutput, ctx) -> str:
     if exact:
         columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"], 2)]
         columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
-                    ("Δ<i>M</i>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
+                    ("<i>M</i><sub>exact</sub> − <i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
     table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
                       css_class="data wide", see="rod_dynamics.see_table" if exact else "rod_dynamics.see_table_two") \
         + worked_rod_dynamics(ctx, g, labels, r)
@@ -291,8 +291,6 @@ SYMBOLS = {
     "velocity_B": Symbol("v", _B, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
     "cylinder_axis_vector": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub>{sub}</sub>"),
     "small_end_acceleration": Symbol("z\u0308", _A, "unit.m_s2"),
-    "rod_angular_velocity": Symbol("β\u0307", {}, "unit.rad_s"),
-    "rod_angular_acceleration": Symbol("β\u0308", {}, "unit.rad_s2"),
     "inertia_couple": Symbol("M", _G, "unit.Nm"),
     "correction_couple": Symbol("M", _G, "unit.Nm", html="Δ<i>M</i><sub>{sub}</sub>"),
     "rod_inertia_torque": Symbol("M", {}, "unit.Nm"),

@@ -673,8 +673,8 @@ def _shaft_tables(ctx, torsion, node_names, parts) -> None:
     nodes, modes = torsion["nodes"], torsion["modes"]
     parts["table_nodes"] = ctx.table(
         [(t("speed_fluctuation.col_node"), [f"{i + 1}: {name}" for i, name in enumerate(node_names)], None),
-         ("<i>J</i>, " + t("flywheel.unit_kg_m2"), [ctx.num(n["inertia_mean_kg_m2"]) for n in nodes], None),
-         ("<i>k</i>, " + t("speed_fluctuation.unit_N_m_rad"),
+         ("<i>J</i><sub><i>i</i></sub>, " + t("flywheel.unit_kg_m2"), [ctx.num(n["inertia_mean_kg_m2"]) for n in nodes], None),
+         ("<i>c</i><sub><i>i</i></sub>, " + t("speed_fluctuation.unit_N_m_rad"),
           [ctx.num(k) for k in torsion["span_stiffness_N_m_rad"]] + ["—"], None),
          (t("speed_fluctuation.col_twist"), [ctx.num(x * 1e3) for x in torsion["twist_max_rad"]] + ["—"], None),
          (t("speed_fluctuation.col_span_torque"), [ctx.num(x) for x in torsion["span_torque_max_Nm"]] + ["—"],
@@ -682,8 +682,8 @@ def _shaft_tables(ctx, torsion, node_names, parts) -> None:
         caption=t("speed_fluctuation.nodes_caption"), see="speed_fluctuation.see_nodes")
     parts["table_modes"] = ctx.table(
         [(t("speed_fluctuation.col_mode"), [str(m["mode"]) for m in modes], None),
-         ("<i>ω</i>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
-         ("<i>f</i>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
+         ("<i>ω</i><sub><i>s</i></sub>, " + t("unit.rad_s"), [ctx.num(m["natural_frequency_rad_s"]) for m in modes], None),
+         ("<i>f</i><sub><i>s</i></sub>, " + t("speed_fluctuation.unit_Hz"), [ctx.num(m["natural_frequency_Hz"]) for m in modes], None)]
         + [(Markup("<i>a</i><sub>") + str(i + 1) + Markup("</sub>"), [m["shape"][i] for m in modes], 3)
            for i in range(len(nodes))],
         caption=t("speed_fluctuation.modes_caption"), see="speed_fluctuation.see_modes_table")
@@ -881,15 +881,17 @@ SYMBOLS = {
     "disc_angle": Symbol("θ", _I, "speed_fluctuation.unit_rad", html="<i>θ</i><sub><i>i</i></sub>"),
     "disc_speed": Symbol("θ\u0307", _I, "unit.rad_s", html="<i>θ\u0307</i><sub><i>i</i></sub>"),
     "disc_acceleration": Symbol("θ\u0308", _I, "unit.rad_s2", html="<i>θ\u0308</i><sub><i>i</i></sub>"),
-    "disc_angles": Symbol("θ", {}, "speed_fluctuation.unit_rad"),
-    "disc_speeds": Symbol("θ\u0307", {}, "unit.rad_s"),
-    "disc_gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", html="<i>M</i><sub>{sub}<i>i</i></sub>"),
+    "disc_angles": Symbol("θ", {}, "speed_fluctuation.unit_rad", html="<b><i>θ</i></b>"),
+    "disc_speeds": Symbol("θ\u0307", {}, "unit.rad_s", html="<b><i>θ\u0307</i></b>"),
+    "disc_gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", html="<i>M</i><sub>{sub},<i>i</i></sub>"),
     "stiffness_matrix": Symbol("K", {}, "speed_fluctuation.unit_N_m_rad", html="<b>K</b>"),
     "damping_matrix": Symbol("C", {}, "speed_fluctuation.unit_N_m_s_rad", html="<b>C</b>"),
     "inertia_matrix": Symbol("M", {}, "unit.kg_m2", html="<b>M</b>"),
     "mode_matrix": Symbol("Φ", {}, "", html="<b>Φ</b>"),
     "kronecker": Symbol("δ", {}, "", html="<i>δ</i><sub><i>i</i><i>N</i></sub>"),
-    "mode_shape": Symbol("v", {"en": "s"}, "", html="<i>v</i><sub><i>s</i></sub>"),
+    "mode_shape": Symbol("v", {"en": "s"}, "", html="<b><i>v</i></b><sub><i>s</i></sub>"),
+    "span_stiffness": Symbol("c", _I, "speed_fluctuation.unit_N_m_rad", html="<i>c</i><sub><i>i</i></sub>"),
+    "natural_frequency_Hz": Symbol("f", {"en": "s"}, "speed_fluctuation.unit_Hz", html="<i>f</i><sub><i>s</i></sub>"),
     "natural_frequency": Symbol("ω", {"en": "s"}, "unit.rad_s", html="<i>ω</i><sub><i>s</i></sub>"),
     "damping_ratio": Symbol("ζ", {}, ""),
 }

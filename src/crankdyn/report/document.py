@@ -470,7 +470,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
     (paragraphs, not a table: the Word export gives every table a repeated header row). A stage's
     own letter (``Stage.symbols``) whose markup the list shows with another meaning too says where
-    it holds, from ``places`` (stage -> "у розділі 2"): "k – відносний дезаксіал (у розділі 2)"."""
+    it holds, from ``places`` (stage -> "у розділі 2"): "k – відносний дезаксаж (у розділі 2)"."""
     markups = [symbol_html(key, language) for key in keys]
     rows = []
     for key, markup in zip(keys, markups):

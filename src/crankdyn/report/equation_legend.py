@@ -103,7 +103,9 @@ def legend_html(keys: list[str], t, language: str) -> str:
     for k, key in enumerate(keys):
         unit = line_unit(key, t)
         meaning = t(f"symbol.{key}")
-        if SYMBOLS[key].sections:  # "(in the flywheel sections)" is said by where the line stands
+        # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
+        # own symbol (Stage.symbols, "stage.key") carries no such note, its parentheses stay
+        if SYMBOLS[key].sections and "." not in key:
             meaning = _SECTIONS_NOTE.sub("", meaning)
         meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
         end = "." if k == len(keys) - 1 else ";"
