@@ -8,6 +8,7 @@ table's header and rows hold, so the checks need no guesses about the content.
 
 from __future__ import annotations
 
+import functools
 import html as html_lib
 import re
 import subprocess
@@ -77,10 +78,11 @@ def under_the_block(png: Path, first_sheet: bool = False) -> bool:
     1,3 mm), i.e. text running on towards the block."""
     ink, px, _ = _ink(png, True)
     if ink.shape[1] > ink.shape[0]:
-        left, top, right, bottom = FRAME_LANDSCAPE
+        _, top, right, bottom = FRAME_LANDSCAPE
         page_h = FRAMED_LANDSCAPE[1]
         band = ink[int((top + 2) * px):int((bottom - 2) * px), int((TURNED_BLOCK_RIGHT + 2) * px):int(24.5 * px)]
-        below = ink[int((page_h - FRAMED_LANDSCAPE[4] + 1.5) * px):int((bottom - 2) * px), int((TURNED_BLOCK_RIGHT + 2) * px):int((right - 2) * px)]
+        below = ink[int((page_h - FRAMED_LANDSCAPE[4] + 1.5) * px):int((bottom - 2) * px),
+                    int((TURNED_BLOCK_RIGHT + 2) * px):int((right - 2) * px)]
         return bool(band.any() or below.any())
     left, top, right, bottom = FRAME_PORTRAIT
     block = FIRST_BLOCK_TOP if first_sheet else BLOCK_TOP
@@ -111,8 +113,14 @@ def _pdftotext(pdf: Path, *args: str) -> list[str]:
 def crop_texts(pdf: Path, left: float, top: float, right: float, bottom: float) -> list[str]:
     """Each page's text inside the rectangle (mm from the page's top-left corner)."""
     pt = 72 / 25.4
-    box = [round(left * pt), round(top * pt), round((right - left) * pt), round((bottom - top) * pt)]
-    return _pdftotext(pdf, *(a for name, v in zip(("-x", "-y", "-W", "-H"), box) for a in (name, str(v))))
+    box = (round(left * pt), round(top * pt), round((right - left) * pt), round((bottom - top) * pt))
+    return list(_crop_texts(str(pdf), Path(pdf).stat().st_mtime_ns, box))
+
+
+@functools.lru_cache(maxsize=32)
+def _crop_texts(pdf: str, mtime_ns: int, box: tuple[int, int, int, int]) -> tuple[str, ...]:
+    """(one run of pdftotext per file version and rectangle: the checks ask for some twice)"""
+    return tuple(_pdftotext(Path(pdf), *(a for name, v in zip(("-x", "-y", "-W", "-H"), box) for a in (name, str(v)))))
 
 
 def landscape_pages(pdf: Path) -> list[bool]:

@@ -1,8 +1,8 @@
 """The ESKD sheet frame and title blocks of the printed note (``[report] frame = "eskd"``).
 
 The default (``frame = "none"``) report is the one of before, byte for byte; the frame only adds
-its stylesheet and its running blocks. One framed PDF (the in-line four in Ukrainian, which has
-landscape pages) is read as a supervisor checks it: no frame on the title page and the
+its stylesheet and its running blocks. One framed PDF (the in-line four in Ukrainian, whose torque
+section has landscape pages) is read as a supervisor checks it: no frame on the title page and the
 assignment, form 2 with the total on the first sheet, the designation and the sheet's own number
 on every other one (turned on the landscape pages), nothing running into a block.
 """
@@ -120,10 +120,11 @@ def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
 @pytest.mark.long
 @needs_poppler
 def test_the_framed_pdf_numbers_its_sheets_in_the_blocks(tmp_path):
-    """Issue: the ESKD frame. The in-line four in Ukrainian (68 pages, two of them landscape)."""
+    """Issue: the ESKD frame. The in-line four in Ukrainian, up to its torque section (36 pages, two of
+    them landscape: the table of the forces on the cranks)."""
     scene = write_scene(tmp_path / "framed.toml", modified("inline4-petrol", {"report": FRAMED | {"language": "uk"}}))
     out = tmp_path / "out"
-    assert main(["report", str(scene), "-o", str(out), "--format", "html,pdf", "-q"]) == 0
+    assert main(["report", str(scene), "-o", str(out), "--format", "html,pdf", "-q", "--stages", "torque"]) == 0
     pdf, html = out / "report.pdf", (out / "report.html").read_text(encoding="utf-8")
     full = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True,
                           check=True).stdout.split("\f")[:-1]
