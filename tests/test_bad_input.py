@@ -40,6 +40,8 @@ CASES = [
     ("compression index out of range", {"cycle": {"compression_index": 2.5}}, "cycle.compression_index"),
     ("unknown mechanism", {"engine": {"mechanism": "steam_walking_beam"}}, "engine.mechanism"),
     ("unknown language", {"report": {"language": "tlh"}}, "report.language"),
+    ("unknown sheet frame", {"report": {"frame": "gost"}}, "report.frame = 'gost': allowed values: 'none' or 'eskd'"),
+    ("designation not text", {"report": {"designation": 41}}, "report.designation = 41: input should be a valid string"),
     ("unknown stage", {"analysis": {"stages": ["kinematics", "telepathy"]}}, "telepathy"),
     ("delay after TDC", {"cycle": {"rounding": {"ignition_advance_deg": 10, "combustion_delay_deg": 12}}},
      "combustion_delay_deg"),

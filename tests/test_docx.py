@@ -34,7 +34,9 @@ def kinematics(tmp_path_factory) -> Path:
 
 
 def _html_structure(html: str) -> dict:
-    """What the HTML report shows: tables, figures, equations and the headings outside the contents list."""
+    """What the HTML report shows: tables, figures, equations and the headings outside the contents list
+    (not the title blocks of the ESKD frame, which are the PDF's page furniture and not in the Word file)."""
+    html = re.sub(r'<div class="eskd-block.*?</table></div>', "", html, flags=re.S)
     body = re.sub(r"<nav\b.*?</nav>", "", html, flags=re.S)
     headings = [(int(level) - 1, unescape(re.sub(r"<[^>]+>", "", re.sub(r"<br\s*/?>", "\n", text))).strip())
                 for level, text in re.findall(r"<h([2-4])\b[^>]*>(.*?)</h\1>", body, re.S)]

@@ -25,7 +25,7 @@ from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
 from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
-from page_layout import layout_problems
+from page_layout import layout_problems, page_texts
 from test_worked import check_worked
 
 REGISTRY = default_registry()
@@ -65,11 +65,6 @@ ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn
 
 #: A table or figure number: chapter (or appendix letter) and position, "2.1", "А.1".
 NUMBER = r"[0-9A-ZА-Я]+\.\d+"
-
-
-def _pages(pdf) -> list[str]:
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
-    return text.split("\f")[:-1] if text.endswith("\f") else text.split("\f")
 
 
 def _decimal_points(text: str) -> list[str]:
@@ -129,9 +124,9 @@ def test_explanatory_note_pdf(tmp_path, language):
     scene_file = write_scene(tmp_path / f"{example}.toml", modified(example, {"analysis": {"table_step_deg": 15}}))
     assert main(["report", str(scene_file), "-o", str(out), "--format", "html,pdf", "-q", *extra]) == 0
     assert not list(out.rglob("*.tmp"))
-    pages = _pages(out / "report.pdf")
-    text = "\f".join(pages)
     html = (out / "report.html").read_text(encoding="utf-8")
+    pages = page_texts(out / "report.pdf", html)  # (uk: the example's ESKD frame; what is inside it)
+    text = "\f".join(pages)
     if language != "en":  # F_p and M_k take the textbook's Cyrillic subscripts in text and equations alike
         assert not re.findall(r".{30}[FM]</i><sub>[pk]</sub>", html)
 
@@ -332,11 +327,11 @@ def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path)
     out = tmp_path / "out"
     assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
                  "--lang", language]) == 0
-    pages = _pages(out / "report.pdf")
+    html = (out / "report.html").read_text(encoding="utf-8")
+    pages = page_texts(out / "report.pdf", html)
     text = "\f".join(pages)
     assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
     assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
-    html = (out / "report.html").read_text(encoding="utf-8")
     if language != "en":
         scene = load_scene(examples_dir() / f"{example}.toml")
         scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]

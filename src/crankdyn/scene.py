@@ -108,6 +108,11 @@ class ReportMeta(_Strict):
     detail: Literal["course", "full"] = "course"
     #: crank angle of the worked substitutions (one calculation with the numbers put in)
     worked_angle_deg: Annotated[float, Field(ge=0, le=720)] = 30.0
+    #: the printed sheets: ``none`` (the page number of DSTU 3008:2015) or ``eskd``, the frame and
+    #: title blocks of ДСТУ ГОСТ 2.104:2006 (form 2 on the first sheet, 2а on the others; report/frame.py)
+    frame: Literal["none", "eskd"] = "none"
+    #: the document's designation in the title blocks (e.g. "КП.ДВЗ.041.00.000 ПЗ"; empty: the cell is left blank)
+    designation: str = ""
 
 
 def _year(year: int) -> int:

@@ -20,6 +20,7 @@ from ..orchestrator import RunResult
 from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
+from .frame import frame_html
 from .equation_legend import add_equation_legends
 from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
 from ..plausibility import format_params, warnings
@@ -250,9 +251,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     shown = {v.key: v.title for v in (*sections, *appendices)}
     timing = [(shown.get(s.name) or (t(s.title_key) if s.title_key else s.name), result.timing_s[s.name])
               for s in result.plan.order if s.name in result.timing_s]
-    # the page frame, and a language's own print rules where its standard differs (report.ru.css)
-    css = "\n".join((Path(p) / name).read_text(encoding="utf-8") for p in template_search_path([])[:1]
-                    for name in ("report.css", f"report.{language}.css") if (Path(p) / name).is_file())
+    css = report_css(language, scene.report.frame)
     title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
         _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
@@ -260,12 +259,21 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         numerics_number=numerics_number, references=references, css=Markup(css),
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
-        findings=ctx.findings, **_abstract_parts(t, registry, scene, sections),
+        findings=ctx.findings, frame=frame_html(env, t, scene.report, title),
+        **_abstract_parts(t, registry, scene, sections),
     )
     html = _finish(html, t, language, len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
+
+
+def report_css(language: str, frame: str = "none") -> str:
+    """The page frame (report.css), a language's own print rules where its standard differs
+    (report.ru.css) and, with ``[report] frame = "eskd"``, the sheet frame (frame-eskd.css)."""
+    names = ("report.css", f"report.{language}.css", *(("frame-eskd.css",) if frame == "eskd" else ()))
+    return "\n".join((Path(p) / name).read_text(encoding="utf-8") for p in template_search_path([])[:1]
+                     for name in names if (Path(p) / name).is_file())
 
 
 def _abstract_parts(t, registry, scene, sections) -> dict:

@@ -15,7 +15,9 @@ The conversion follows the HTML generically rather than the sections of today:
   (``<i>``, ``<b>``, ``<sub>``, ``<sup>`` and text) as MathML, then its number;
 * every ``<img>`` showing one of the report's figures becomes a PNG at :data:`PNG_DPI` drawn
   from the same matplotlib figure (the HTML has it as SVG);
-* ``nav`` (the contents) becomes the TOC field, its entries the field's text until Word updates it.
+* ``nav`` (the contents) becomes the TOC field, its entries the field's text until Word updates it;
+* the title blocks of ``[report] frame = "eskd"`` are left out: the Word document has no sheet frame
+  (the PDF's page furniture; a student draws it with the university's Word template).
 
 The styles (Times New Roman 14 pt, 1.5 line spacing, first-line indent, black headings,
 grid tables, captions) are in a reference.docx made from pandoc's own default at first use.
@@ -200,6 +202,8 @@ def _transform(node: Node, images: dict[str, str]) -> None:
             continue
         classes = child.classes()
         if "mech-animation" in classes:  # interactive, screen only (hidden in print as well)
+            continue
+        if "eskd-block" in classes:  # the sheet frame's title blocks: the PDF's page furniture, not text
             continue
         if "equation" in classes:
             new_children.append(_equation(child))
