@@ -49,7 +49,7 @@ def test_no_table_where_the_strokes_begin_between_whole_degrees_or_too_often(del
 def test_the_bays_section_prints_the_table_with_strokes_spanning_their_columns():
     from conftest import shared_html
 
-    html = shared_html("v8-petrol", language="uk").html
+    html = shared_html("v8-petrol", language="uk").linked_html
     import re
 
     assert re.search(r"Таблиця \d+\.2 – Чергування тактів у циліндрах за кутом повороту колінчастого вала, °", html)

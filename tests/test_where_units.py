@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import html as html_lib
 import re
-from functools import lru_cache
 
 import pytest
+
+from conftest import shared_html
 
 #: Units of the tables that no formula holds in as printed.
 _TABLE_ONLY = {"мм", "МПа", "см²", "л", "кН", "кВт", "mm", "MPa", "cm²", "l", "kN", "kW"}
@@ -22,16 +23,11 @@ def _text(html: str) -> str:
     return html_lib.unescape(re.sub(r"<[^>]+>", "", html)).replace("\u2060", "").strip()
 
 
-@lru_cache(maxsize=None)
-def _read(folder) -> str:
-    return (folder / "report.html").read_text(encoding="utf-8")
-
-
 @pytest.mark.parametrize("example, language", [
     ("petrol-1cyl", "uk"), ("inline4-petrol", "uk"), ("offset-crank-engine", "uk"),
     ("petrol-1cyl", "en"), ("petrol-1cyl-ru", None)])
-def test_a_where_line_gives_the_si_unit(shared_report, example, language):
-    html = _read(shared_report(example, language))
+def test_a_where_line_gives_the_si_unit(example, language):
+    html = shared_html(example, language=language).linked_html  # the text without drawing its figures
     lines = [_text(m.group(1)) for m in _WHERE.finditer(html)]
     assert len(lines) > 40
     units = [re.search(r", ([^,]+)[;.]$", line) for line in lines]
@@ -40,11 +36,11 @@ def test_a_where_line_gives_the_si_unit(shared_report, example, language):
     assert sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"}) >= 10
 
 
-def test_the_worked_lines_substitute_si_numbers_and_the_list_says_so(shared_report):
+def test_the_worked_lines_substitute_si_numbers_and_the_list_says_so():
     """The in-line four: R substituted in metres (0,03900), the bearing pressure from kN and mm
     converted to N and m (·10³, ·10⁻³) and the result from Pa to МПа (·10⁻⁶); the list of symbols
     tells the reader which units the formulas take."""
-    html = _read(shared_report("inline4-petrol", "uk"))
+    html = shared_html("inline4-petrol", language="uk").linked_html
     worked = [_text(m.group(1)) for m in _WORKED.finditer(html)]
     assert any("0,03900" in w for w in worked)
     pressure = next(w for w in worked if w.startswith("pmax = Qmax/(d B)"))
