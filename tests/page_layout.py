@@ -246,7 +246,10 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
         # 2. A page that goes on with a table starts with "Table N.M continued" and its header.
         if page[0] in labels:
             head = table_set[labels[page[0]]][0]
-            if len(page) < 2 or not head or page[1].split()[0] != head[0].split()[0]:
+            # a header of two lines (a long column title wraps) sets its one-line cells in the middle,
+            # on its second line: the next two lines start with the first word of a header cell
+            firsts = {cell.split()[0].rstrip(",") for cell in head if cell.split()}
+            if len(page) < 2 or not head or not any(line.split()[0].rstrip(",") in firsts for line in page[1:3]):
                 problems.append(f"page {i + 1}: {page[0]!r} is not followed by the table's header")
             # 5. ... and carries at least two of its rows ("Продовження таблиці 7.1" over the one
             #    row 720, a copy of row 0, read as a table of its own)
