@@ -215,3 +215,23 @@ def test_the_list_of_symbols_gives_a_taken_over_letter_only_the_meaning_it_has()
     planetary = shared_html("planetary-kinematics", language="uk").linked_html
     listed = planetary[planetary.index('id="sec-symbols"'):]
     assert "сумарний індикаторний крутний момент" not in listed[:listed.index("</section>")]
+
+
+def test_a_mechanism_names_the_given_data_its_own_way():
+    """A review of the vane note: its table of given data spoke of a piston stroke, a crank radius R
+    and a connecting rod L, and the list of symbols gave S, λ, ω two meanings each. The mechanism
+    names those rows (Mechanism.input_rows) as its section does, and its letters hold there too."""
+    html = shared_html("vane-engine-kinematics", language="uk").linked_html
+    given = html[html.index('data-stage="input"'):]
+    given = given[:given.index("</table>")]
+    for row in ("Хід повзуна вздовж паза куліси", "Радіус кривошипів", "Довжина хвостовика осердя",
+                "<i>r</i> = <i>S</i>/"):
+        assert row in given, row
+    assert "Довжина шатуна" not in given and "<i>R</i> = " not in given
+    listed = html[html.index('<div class="symbol-list">'):]
+    listed = listed[:listed.index("</div>")]
+    for letter in ("S", "λ", "ω", "l", "r"):
+        assert listed.count(f'<span class="symbol"><i>{letter}</i></span>') == 1, letter
+    # a piston engine's list keeps the crank-slider's meanings (the vane's letters are not in its report)
+    petrol = shared_html("petrol-1cyl", language="uk").linked_html
+    assert "хід повзуна" not in petrol and "Хід поршня" in petrol

@@ -32,6 +32,11 @@ class Mechanism:
     the named joint positions of the linkage at the given crank angles (an array), built
     from the same physics functions as the mechanism's kinematics. With it the ``drawing``
     stage draws the kinematic scheme, the characteristic positions and the animation.
+
+    ``input_rows`` (optional) renames rows of the report's table of given data for a mechanism
+    whose members are not a crank-slider's: row -> (catalog key of the quantity, symbol markup),
+    rows ``bore``, ``stroke``, ``crank_radius``, ``rod_length``, ``rod_ratio`` (a vane engine's
+    ``rod_length`` is the tail of its core, l, not a connecting rod's L).
     """
 
     name: str
@@ -39,6 +44,8 @@ class Mechanism:
     check: Callable[["Scene"], list] = lambda scene: []
     params_model: type | None = None  # pydantic model of the scene's [mechanism] table
     geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
+    # compare=False: a Mechanism stays hashable with a mapping here
+    input_rows: Mapping[str, tuple[str, str]] = field(default_factory=dict, compare=False)
 
 
 @dataclass

@@ -62,6 +62,9 @@ VANE_MECHANISM = Mechanism(
     summary="vane engine with a crank-rocker parallelogram converting mechanism (kinematics only)",
     check=check,
     params_model=VaneParams,
+    # the task's stroke is the slider's travel, its rod the core's tail (the section's own S, r, l, λ)
+    input_rows={"stroke": ("vane.input_stroke", "<i>S</i>"), "crank_radius": ("vane.input_radius", "<i>r</i> = <i>S</i>/2"),
+                "rod_length": ("vane.input_tail", "<i>l</i>"), "rod_ratio": ("vane.input_ratio", "<i>λ</i> = <i>r</i>/<i>l</i>")},
 )
 
 
@@ -366,13 +369,15 @@ def render(output: StageOutput, ctx) -> str:
 #: so they take over from the core's in this section. The subscripts are the source's (c: the core,
 #: k: the rocker, p: the slider, po: the slider relative to the rocker), Latin in every language.
 #: O₃, P and B′ in the equations are points (upright, not quantities), explained in the prose.
+#: the input table names the task's data as this section does (VANE_MECHANISM.input_rows)
+_WITH_INPUT = ("vane", "input")
 SYMBOLS = {
     "crank_angle": Symbol("α", {}, "°"),
-    "angular_velocity": Symbol("ω", {}, "unit.rad_s"),
-    "crank_radius": Symbol("r", {}, "unit.mm"),
-    "tail_length": Symbol("l", {}, "unit.mm"),
-    "stroke": Symbol("S", {}, "unit.mm"),
-    "rod_ratio": Symbol("λ", {}, ""),
+    "angular_velocity": Symbol("ω", {}, "unit.rad_s", sections=_WITH_INPUT),
+    "crank_radius": Symbol("r", {}, "unit.mm", sections=_WITH_INPUT),
+    "tail_length": Symbol("l", {}, "unit.mm", sections=_WITH_INPUT),
+    "stroke": Symbol("S", {}, "unit.mm", sections=_WITH_INPUT),
+    "rod_ratio": Symbol("λ", {}, "", sections=_WITH_INPUT),
     "chi": Symbol("χ", {}, ""),
     "tail_angle": Symbol("β", {}, "°"),
     "tail_angle_max": Symbol("β", {"en": "max"}, "°"),

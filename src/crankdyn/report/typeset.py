@@ -341,15 +341,18 @@ def symbols_used(html: str, language: str) -> list[str]:
     index (:func:`unshifted_indices`). A symbol of some sections counts only where it is read: in
     those sections; one of all sections not in the sections where one of the same markup takes
     over (the vane engine's μ is not the torque non-uniformity, the rod dynamics' M not the error
-    study's total torque)."""
+    study's total torque). A stage's own symbol (``stage.key``) exists only in a report that has the
+    stage's section (the vane engine's S of the input table is not a piston engine's)."""
     parts = _stage_parts(unshifted_indices(html))
+    present = {stage for stage, _ in parts}
+    table = {key: symbol for key, symbol in SYMBOLS.items() if "." not in key or key.split(".", 1)[0] in present}
     taken_over: dict[str, set[str]] = {}
-    for key, symbol in SYMBOLS.items():
+    for key, symbol in table.items():
         if symbol.sections:
             taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
     texts: dict[tuple[bool, frozenset[str]], str] = {}
     used = []
-    for key, symbol in SYMBOLS.items():
+    for key, symbol in table.items():
         # (True, sections): the text of those sections; (False, sections): the text outside them
         scope = ((True, frozenset(symbol.sections)) if symbol.sections
                  else (False, frozenset(taken_over.get(symbol_html(key, language), ()))))
