@@ -135,6 +135,8 @@ def test_speed_extremes_are_named_by_the_stroke_they_lie_on(example):
     for language, (down, up) in words.items():
         catalog = load_catalog_file(Path(crankdyn_builtin.drawing.__file__).parent / "i18n" / f"drawing.{language}.toml")
         assert down in catalog["drawing.position_v_max"] and up in catalog["drawing.position_v_min"]
+        # the return stroke's is its largest speed too, not a "v_min" (read as the slowest piston)
+        assert catalog["drawing.position_v_min"].startswith("v_max")
 
 
 def test_vane_engine_drawn_from_its_geometry():

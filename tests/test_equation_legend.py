@@ -152,7 +152,7 @@ def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
                                         "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"))
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
-                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об'єм циліндра, м³;",
+                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об’єм циліндра, м³;",
                  "ms – маса частин, що рухаються зворотно-поступально, кг;", "sп – переміщення поршня, м."):
         assert part in line.replace("&#39;", "'"), part
     html = _section("bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)"))
