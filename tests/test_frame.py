@@ -109,6 +109,22 @@ def test_a_cell_text_is_set_in_the_largest_size_that_fits():
     assert abs(text_width_em("доц. Петренко В. М.") - 8.67) < 0.4  # the font's own advances: 8,67 em
 
 
+def test_the_block_names_surname_and_initials_in_one_size():
+    """A supervisor: "доц. Петренко В. М." was set smaller than "Іваненко О. П." above it; the block
+    writes the surname and initials (the title page keeps the academic title), both in one size."""
+    from crankdyn.report.frame import person_in_block, title_block
+    from crankdyn.report.i18n import translator
+    from crankdyn.scene import scene_from_dict
+
+    assert person_in_block("доц. Петренко В. М.") == "Петренко В. М."
+    assert person_in_block("ст. викл. Коваль І. І.") == "Коваль І. І."
+    assert person_in_block("Іваненко О. П.") == "Іваненко О. П." and person_in_block("Prof. A. Supervisor") == "Prof. A. Supervisor"
+    meta = scene_from_dict(modified("petrol-1cyl-uk", {"report": {"student": "Костянтинопольська О. П.",
+                                                                   "supervisor": "доц. Петренко В. М."}})).report
+    block = title_block(translator("uk"), meta, "Назва")
+    assert block["supervisor"].text == "Петренко В. М." and block["student"].size == block["supervisor"].size < 8.0
+
+
 def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
     """What each page shows in its "Арк." number cell: form 2а's bottom 8 mm of its last 10 mm (the
     turned one's on a landscape page: the bottom-left corner of the frame)."""
@@ -138,7 +154,7 @@ def test_the_framed_pdf_numbers_its_sheets_in_the_blocks(tmp_path):
         assert DESIGNATION not in page and "Арк." not in page and not re.search(r"^\s*\d+\s*$", page, flags=re.M)
     # the first sheet (the abstract): form 2 with the names, its number 3 and the total
     assert first.index(True) == 2 and first.count(True) == 1 and "РЕФЕРАТ" in full[2]
-    for word in ("Розроб.", "Іваненко <О.> & П.", "Перевір.", "доц. Петренко В. М.", "Літ.", "Аркушів",
+    for word in ("Розроб.", "Іваненко <О.> & П.", "Перевір.", "Петренко В. М.", "Літ.", "Аркушів",
                  "Пояснювальна записка", "НАУ «ХАІ»", "Кафедра 203", "гр. 241", DESIGNATION):
         assert word in full[2].replace("\u00a0", " "), word
     sheet, sheets = (" ".join(t.split()) for t in (crop_texts(pdf, 170.5, 272.5, 184.5, 276.5)[2],

@@ -96,6 +96,16 @@ class Cell:
         return Markup(f"font-size: {self.size:g}pt")
 
 
+def person_in_block(name: str) -> str:
+    """A name as the title block writes it, surname and initials: the academic title a title page
+    gives before it ("доц.", "проф.", "ст. викл.": words in small letters ending in a full stop)
+    left out ("доц. Петренко В. М." → "Петренко В. М.")."""
+    words = name.split()
+    while len(words) > 1 and words[0][:1].islower() and words[0].endswith((".", ",")):
+        words.pop(0)
+    return " ".join(words)
+
+
 def title_block(t, meta, title: str) -> dict:
     """What the blocks hold: the designation, the names of the author and the supervisor, the
     document's name (the report's title and "Пояснювальна записка") and the organisation
@@ -103,11 +113,14 @@ def title_block(t, meta, title: str) -> dict:
     organisation = "\n".join(part for part in (meta.university, meta.department,
                                               t("frame.group", group=meta.group) if meta.group else "") if part)
     name = f"{title}\n{t('doc.explanatory_note')}"
+    student, supervisor = person_in_block(meta.student), person_in_block(meta.supervisor)
+    # the column's names in one size (a longer name set smaller than the one above it looked odd)
+    names = min(fitting_size(student, 21, 4.5, 8.0, lines=1), fitting_size(supervisor, 21, 4.5, 8.0, lines=1))
     return {
         "designation": Cell(meta.designation, fitting_size(meta.designation, 116, 13)),
         "designation_small": Cell(meta.designation, fitting_size(meta.designation, 106, 13)),
-        "student": Cell(meta.student, fitting_size(meta.student, 21, 4.5, 8.0, lines=1)),
-        "supervisor": Cell(meta.supervisor, fitting_size(meta.supervisor, 21, 4.5, 8.0, lines=1)),
+        "student": Cell(student, names),
+        "supervisor": Cell(supervisor, names),
         "name": Cell(name, fitting_size(name, 66, 23, 12.0)),
         "organisation": Cell(organisation, fitting_size(organisation, 48, 13.5, 9.0)),
     }
