@@ -114,3 +114,14 @@ def test_results_json_keys_are_documented(tmp_path):
                                      r"<force>_\2_", sub)
                     generic = re.sub(r"_(Pa|Nm)$", "_<unit>", generic) if generic.startswith("<force>") else generic
                     assert f"`{sub}`" in readme or f"`{generic}`" in readme, f"{key}.{sub} not in README"
+
+
+def test_captions_side_by_side_keep_a_gutter():
+    """A supervisor read two captions of a figure row across as one line ("…шатунну шийку (полюс O
+    навантаження на шатунний підшипник…"): each caption of a row is padded from its neighbour."""
+    import re
+
+    from crankdyn.report.document import report_css
+
+    rule = re.search(r"\.figure-row > \.figure-block figcaption \{([^}]*)\}", report_css("uk"))
+    assert rule and re.search(r"padding: 0 (0\.[5-9]|1(\.\d)?)em", rule.group(1))
