@@ -804,8 +804,10 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
                      f"{t('balancing.unit_N') if force else t('unit.Nm')}")
     moments = any(not item["quantity"].startswith("sum_") for item in negligible)
     reference = t("balancing.negligible_reference") + (" " + t("balancing.negligible_reference_moment") if moments else "")
+    what = t("balancing.negligible_forces_moments" if moments else "balancing.negligible_forces")
     ctx.conclude(t("balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
-                   items=", ".join(items), percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2), reference=reference))
+                   items=", ".join(items), percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2), reference=reference,
+                   what=what))
 
 
 def _circular(hodograph: dict) -> bool:
