@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -125,3 +126,25 @@ def test_captions_side_by_side_keep_a_gutter():
 
     rule = re.search(r"\.figure-row > \.figure-block figcaption \{([^}]*)\}", report_css("uk"))
     assert rule and re.search(r"padding: 0 (0\.[5-9]|1(\.\d)?)em", rule.group(1))
+
+
+@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext (poppler) is not installed")
+def test_a_line_breaks_before_an_italic_symbol_where_it_should():
+    """A supervisor: a paragraph's first line held the one word "Амплітуду" and went on on the next.
+    WeasyPrint cannot break a line just before an italic element there; the PDF's HTML has the word
+    space inside the element (report.pdf.spaces_into_inline), and the first line is full."""
+    import subprocess
+
+    from crankdyn.report.document import report_css
+    from crankdyn.report.pdf import html_to_pdf, spaces_into_inline
+
+    assert spaces_into_inline("за посібником <i>C</i> і <b><i>θ</i></b>, (<i>α</i>)") == \
+        "за посібником<i> C</i> і<b><i> θ</i></b>, (<i>α</i>)"
+    paragraph = ("Амплітуду сили другого порядку можна обчислити двома способами: за посібником "
+                 "<i>C</i><sub>II</sub> = λ<i>C</i><sub>I</sub> і точно – як другу гармоніку точної сили інерції.")
+    html = (f'<html lang="uk"><head><meta charset="utf-8"><style>{report_css("uk")}</style></head>'
+            f'<body><section class="chapter"><p>{paragraph}</p></section></body></html>')
+    text = subprocess.run(["pdftotext", "-layout", "-", "-"], input=html_to_pdf(html), capture_output=True,
+                          check=True).stdout.decode("utf-8")
+    first = text.strip().splitlines()[0].split()
+    assert len(first) > 5, first

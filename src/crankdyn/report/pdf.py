@@ -9,6 +9,7 @@ files inside the package's own templates folder load.
 from __future__ import annotations
 
 import logging
+import re
 from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
@@ -73,9 +74,23 @@ def _fetcher(in_memory: dict | None = None):
     return safe_url_fetcher
 
 
+#: A word space before an italic or bold symbol in running text ("за посібником <i>C</i><sub>II</sub>").
+_SPACE_BEFORE_INLINE = re.compile(r"(?<=\S) ((?:<b>)?<i>|<b>)")
+
+
+def spaces_into_inline(html: str) -> str:
+    """``html`` with the word space before an italic or bold element moved into it (" <i>C</i>" →
+    "<i> C</i>"): the same text, for WeasyPrint (70), which cannot break a line just before an
+    inline element there and breaks it at the line's first space instead (a supervisor: a paragraph's
+    first line held only "Амплітуду", the rest of it on the next). A space at a line's start is
+    dropped as anywhere else."""
+    return _SPACE_BEFORE_INLINE.sub(r"\1 ", html)
+
+
 def html_to_pdf(html: str, figures=()) -> bytes:
     """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to."""
     HTML = load_weasyprint().HTML
+    html = spaces_into_inline(html)
 
     # A blocked resource is logged by WeasyPrint as a warning and left out; keep the
     # console quiet (the tests check the blocking itself).
