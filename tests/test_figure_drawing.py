@@ -337,3 +337,18 @@ def test_font_heights_remembered_by_the_svg_renderer_give_matplotlibs_own_bytes(
     monkeypatch.setattr(figures, "_remember_font_heights", lambda: None)  # to_svg would put it back
     assert not hasattr(RendererSVG, "_get_font_height_metrics")
     assert drawn() == remembered
+
+
+def test_the_curves_of_one_axes_differ_by_dash_as_well_as_colour():
+    """A supervisor: two solid curves, blue and orange, read as one on a black-and-white copy. The
+    figures' cycle gives each colour its own dash, so curves drawn without a style of their own differ
+    in print too (the first stays solid)."""
+    import matplotlib
+
+    from crankdyn.report.figures import STYLE
+
+    with matplotlib.rc_context(STYLE):
+        cycle = list(matplotlib.rcParams["axes.prop_cycle"])
+    dashes = [str(entry["linestyle"]) for entry in cycle]
+    assert dashes[0] == "-" and len(set(dashes)) == len(dashes) >= 6
+    assert len({entry["color"] for entry in cycle}) == len(cycle)

@@ -28,6 +28,7 @@ from . import mathtext_store
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
 # pays nothing for plotting and no global figure state builds up between reports.
 
+
 STYLE = {
     "svg.fonttype": "none",  # text stays text: searchable in the PDF (fonts: the report's, below)
     "font.family": "DejaVu Sans",
@@ -37,6 +38,12 @@ STYLE = {
     "axes.spines.top": False,
     "axes.spines.right": False,
     "lines.linewidth": 1.4,
+    # each colour with its own dash: the curves of one axes stay apart in black-and-white print
+    # (a supervisor: two solid lines, blue and orange, read as one on a grey copy)
+    # (matplotlib reads the cycle from this text as from its matplotlibrc)
+    "axes.prop_cycle": "cycler(color=['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2',"
+                       " '#7f7f7f']) + cycler(linestyle=['-', '--', '-.', ':', (0, (6, 2, 1, 2, 1, 2)), (0, (8, 3)),"
+                       " (0, (1, 3)), (0, (4, 1, 1, 1))])",
     # 72 = the SVG's own resolution: the layout pass (Agg) and the SVG pass then share
     # matplotlib's mathtext cache (keyed by dpi) instead of typesetting every label twice
     "figure.dpi": 72,
