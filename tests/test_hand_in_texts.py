@@ -753,3 +753,12 @@ def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
     html = reports("petrol-1cyl-uk")
     row = re.search(r"<tr><td[^>]*><i>C</i></td>(.*?)</tr>", html).group(1)
     assert re.findall(r"<td[^>]*>([^<]*)</td>", row)[2:4] == ["1,000 / 1,000", "—"], row
+
+
+def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(reports):
+    """A supervisor: the headers "Швидкість, ×ω" and "m r, кг·мм" read as a program's output."""
+    one = reports("petrol-1cyl-uk")
+    table = one[one.index("Противага (радіус"):]
+    head = as_read(re.sub(r"<[^>]+>", "", table[:table.index("</thead>")]))
+    assert "Кутова швидкість у частках ω" in head and "Статичний момент mr, кг·мм" in head
+    assert "×ω" not in head

@@ -693,7 +693,7 @@ def _means_table(ctx, r):
     columns = [
         (t("balancing.means"), [x[0] for x in means_rows], None),
         (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-        ("<i>m r</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
+        (t("balancing.static_moment") + " <i>mr</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
         ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
     ] + ([] if single else [("<i>x</i> " + t("balancing.from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
