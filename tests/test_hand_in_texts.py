@@ -629,7 +629,7 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
         100 * (r["gross_mean_indicated_pressure_Pa"] / r["thermal_mean_indicated_pressure_Pa"] - 1))
     text = as_read(shared_html("petrol-1cyl-ru").linked_html)
     assert "по диаграмме без насосных ходов – 0,8598\u202fМПа; отклонение 1,2\u202f%" in text
-    assert "<i>L</i><sub>нас</sub> = ∫" in text  # the equation, with the Russian subscript
+    assert "<i>L</i><sub>нас</sub> = ∮" in text  # the equation, with the Russian subscript
 
 
 def test_the_imaginary_unit_is_upright_and_said_to_be_one():
