@@ -355,3 +355,21 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     t = np.cos(np.linspace(0, 2 * np.pi, 73))
     assert _polar_size(t, 3 * np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)[0] <= HALF_WIDTH_CM
     assert _polar_size(t, np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12) == (12.0, 12.0)
+
+
+def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():
+    """A supervisor: the wear diagram had angles but no axes and no direction, so 0° could not be
+    related to +z nor the oil hole checked. It draws the crank's z (towards the shaft axis, at 0°)
+    and t (the direction of rotation, at 90°), inside the journal's circle."""
+    import numpy as np
+
+    from crankdyn_builtin.bearings.stage import _wear_drawing
+
+    psi = np.arange(0.0, 360.0, 1.0)
+    wear = {"surface_angle_deg": psi, "pin1_wear_N": 1.0 + np.cos(np.radians(psi))}
+    fig = _wear_drawing(wear, {"crank_pins": [{"oil_hole_deg": 180.0}]}, 1)
+    ax = fig.axes[0]
+    names = {text.get_text(): text.get_position() for text in ax.texts}
+    assert names["$z$"][0] == 0.0 and abs(names["$t$"][0] - np.pi / 2) < 1e-12
+    assert all(radius < 0.4 for _, radius in names.values())  # clear of the wear, laid from 0.4 inwards at most
+    assert sum(1 for child in ax.get_children() if type(child).__name__ == "Annotation") == 2

@@ -446,6 +446,12 @@ def _wear_drawing(wear, r, k):
     ax.plot(np.linspace(0, 2 * np.pi, 361), np.ones(361), color="0.2", lw=1.0)
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
     ax.plot([oil, oil], [0.85, 1.12], color="C2", lw=2)
+    # the crank's axes the angles are counted in, as the polar diagrams draw them (a supervisor could
+    # not tell where 0° and +z were): z towards the shaft axis, t in the direction of rotation
+    for angle, name in ((0.0, "$z$"), (np.pi / 2, "$t$")):
+        ax.annotate("", xy=(angle, 0.25), xytext=(0.0, 0.0),
+                    arrowprops={"arrowstyle": "-|>", "color": "0.25", "lw": 1.0})
+        ax.text(angle, 0.33, name, ha="center", va="center", fontsize=10)  # inside the wear (from 0.4 in)
     ax.set_ylim(0, 1.15)
     ax.set_yticks([])
     ax.grid(False, axis="y")
