@@ -19,7 +19,8 @@ import re
 
 from markupsafe import escape
 
-from .typeset import SYMBOLS, symbol_html, symbol_pattern, symbols_generation, unit_text, unshifted_indices
+from .typeset import (SYMBOLS, sections_taking_over, symbol_html, symbol_pattern, symbols_generation, unit_text,
+                      unshifted_indices)
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
@@ -38,10 +39,7 @@ def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, re.Pa
     own. A symbol without sections is not read in the sections where another of the same markup
     takes over. ``generation``: :func:`~crankdyn.report.typeset.symbols_generation`, so that the
     patterns follow symbols stages add."""
-    taken_over: dict[str, set[str]] = {}
-    for key, symbol in SYMBOLS.items():
-        if symbol.sections:
-            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+    taken_over = sections_taking_over(SYMBOLS, language)
     out = []
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)

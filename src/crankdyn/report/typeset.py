@@ -334,6 +334,16 @@ def _stage_parts(html: str) -> list[tuple[str, str]]:
     return parts
 
 
+def sections_taking_over(symbols: dict, language: str) -> dict[str, set[str]]:
+    """markup -> the sections where a symbol of ``symbols`` with that markup and its own
+    ``sections`` is read: there a symbol of all sections with the same markup is not."""
+    taken_over: dict[str, set[str]] = {}
+    for key, symbol in symbols.items():
+        if symbol.sections:
+            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+    return taken_over
+
+
 def symbols_used(html: str, language: str) -> list[str]:
     """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
@@ -346,10 +356,7 @@ def symbols_used(html: str, language: str) -> list[str]:
     parts = _stage_parts(unshifted_indices(html))
     present = {stage for stage, _ in parts}
     table = {key: symbol for key, symbol in SYMBOLS.items() if "." not in key or key.split(".", 1)[0] in present}
-    taken_over: dict[str, set[str]] = {}
-    for key, symbol in table.items():
-        if symbol.sections:
-            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+    taken_over = sections_taking_over(table, language)
     texts: dict[tuple[bool, frozenset[str]], str] = {}
     used = []
     for key, symbol in table.items():
