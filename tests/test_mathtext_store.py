@@ -114,6 +114,22 @@ def test_a_damaged_record_is_dropped_and_the_others_read(tmp_path, damage):
     assert reader.get(_key(reader, LABELS[1])) is not None
 
 
+def test_a_label_typeset_under_other_font_or_mathtext_settings_has_another_key(tmp_path):
+    """The key holds the settings typesetting reads (mathtext.*, font.*), read as they stand when
+    the label is asked for (inside a figure's rc_context), and no others."""
+    import matplotlib
+
+    store = mathtext_store.MathtextStore(tmp_path / "store.json")
+    plain = _key(store, LABELS[0])
+    with matplotlib.rc_context({"mathtext.fontset": "stix"}):
+        assert _key(store, LABELS[0]) != plain
+    with matplotlib.rc_context({"font.family": ["serif"]}):
+        assert _key(store, LABELS[0]) != plain
+    with matplotlib.rc_context({"lines.linewidth": 7.0}):
+        assert _key(store, LABELS[0]) == plain
+    assert _key(store, LABELS[0]) == plain
+
+
 def test_the_store_keeps_the_newest_records_only(tmp_path, monkeypatch):
     monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
     path = tmp_path / "store.json"

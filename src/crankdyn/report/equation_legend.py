@@ -32,8 +32,10 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, re.Pattern, bool, tuple[str, ...], tuple[str, ...]], ...]:
-    """(key, pattern, bare, only in sections, not in sections) per symbol. The pattern is the symbol
+def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
+    """(key, markup, bare, only in sections, not in sections) per symbol; its pattern is
+    :func:`_pattern`'s (compiled when a formula shows the markup: a report shows a third of the
+    symbols, and compiling them all took 40 ms). The pattern is the symbol
     table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
     bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
     own. A symbol without sections is not read in the sections where another of the same markup
@@ -43,10 +45,14 @@ def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, re.Pa
     out = []
     for key, symbol in SYMBOLS.items():
         markup = symbol_html(key, language)
-        pattern = re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])"))
-        out.append((key, markup, pattern, "<sub>" not in markup and not symbol.in_scripts, symbol.sections,
+        out.append((key, markup, "<sub>" not in markup and not symbol.in_scripts, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
+
+
+@functools.lru_cache(maxsize=4096)
+def _pattern(key: str, language: str, generation: int) -> re.Pattern:
+    return re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])"))
 
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
@@ -66,10 +72,11 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
-    for key, markup, pattern, bare, only_in, not_in in _patterns(language, symbols_generation()):
+    generation = symbols_generation()
+    for key, markup, bare, only_in, not_in in _patterns(language, generation):
         if (only_in and stage not in only_in) or stage in not_in or markup not in formula_html:
             continue
-        for match in pattern.finditer(formula_html):
+        for match in _pattern(key, language, generation).finditer(formula_html):
             if not (bare and any(start < match.start() < end for start, end in scripts)):
                 found.append((match.start(), key))
                 break
