@@ -482,3 +482,15 @@ def test_a_single_cylinder_gets_a_counterweight_and_one_first_order_shaft_by_def
     four = balancing("inline4-petrol")
     assert four["residual"]["balanced_orders"] == [1, 2]
     assert sorted(s["speed_ratio"] for s in four["balance_shafts"]) == [-2, 2]
+
+
+@pytest.mark.parametrize("language, one, several", [("en", "P_II remains", "P_II, P_IV remain"),
+                                                     ("uk", "залишається P_II", "залишаються P_II, P_IV"),
+                                                     ("ru", "остаётся P_II", "остаются P_II, P_IV")])
+def test_the_abstracts_finding_agrees_in_number_with_what_stays_unbalanced(language, one, several):
+    """One force left unbalanced 'remains', two 'remain' (the abstract read 'P_II remain')."""
+    from crankdyn.report.i18n import translator
+
+    t = translator(language, REGISTRY.catalogs)
+    assert one in t("balancing.finding_unbalanced_means", count=1, items="P_II")
+    assert several in t("balancing.finding_unbalanced_means", count=2, items="P_II, P_IV")

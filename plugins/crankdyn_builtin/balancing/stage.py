@@ -750,7 +750,7 @@ def _conclude(ctx, r) -> None:
     left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
     means = bool(r["counterweights"] or r["balance_shafts"])
     ctx.find(t("balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
-               items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in left))
+               count=len(left), items=", ".join(_plain_symbol(s, "" if single else "Σ") for s in left))
              if left else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced"))
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
