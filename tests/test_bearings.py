@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -179,8 +180,10 @@ def test_load_diagram_labels_move_to_a_free_corner():
 
     points, texts = [(0.0, 0.0), (1.0, 0.0), (100.0, 100.0)], ["210", "570", "30"]
     places = _label_places(points, texts, per_pt=1.0)  # a 3-digit label is about 10 x 7 pt
-    assert places[0] == (2, 2, "left", "bottom")
-    assert places[1] != places[0] and places[1][2:] in (("right", "bottom"), ("left", "top"), ("right", "top"))
+    # up and right of the first point is nearer the second one: the first goes to the next corner,
+    # and the second, its up-right corner free, takes it
+    assert places[0] == (-2, 2, "right", "bottom")
+    assert places[1] == (2, 2, "left", "bottom")
     assert places[2] == (2, 2, "left", "bottom")  # far from the others
 
 
@@ -191,7 +194,8 @@ def test_load_diagram_labels_side_by_side_keep_a_gap():
     width = len("210, 570") * 3.8
     points = [(0.0, 0.0), (width + 1.0, 0.0)]  # "30" would start 1 pt after "210, 570" ends
     places = _label_places(points, ["210, 570", "30"], per_pt=1.0)
-    assert places[0] == (2, 2, "left", "bottom") and places[1] != (2, 2, "left", "bottom")
+    # up and right of the first point the long label would lie over the second point: it goes left
+    assert places[0] == (-2, 2, "right", "bottom") and places[1] == (2, 2, "left", "bottom")
 
 
 def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_first():
@@ -202,10 +206,36 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
 
     # a box just large enough for the point itself: no 10 pt label fits inside
     assert _label_places([(0.0, 0.0)], ["210"], per_pt=1.0, bounds=(-3.0, -3.0, 3.0, 3.0)) == [None]
-    # two points 1 pt apart: the one placed first takes up-and-right, whichever comes first in the list
+    # two points 1 pt apart: the one placed first takes the first corner nearer itself than the
+    # other point (up and right of the left point is nearer the right one: it goes left)
     points, texts = [(0.0, 0.0), (1.0, 0.0)], ["30", "60"]
     assert _label_places(points, texts, per_pt=1.0, order=[1, 0])[1] == (2, 2, "left", "bottom")
-    assert _label_places(points, texts, per_pt=1.0)[0] == (2, 2, "left", "bottom")
+    assert _label_places(points, texts, per_pt=1.0)[0] == (-2, 2, "right", "bottom")
+
+
+def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
+    """The ru reading: "330" stood beside the 480° mark, "120" beside the 330° one. Whatever the
+    crowding, a label's box is nearer its own point than any other point."""
+    from crankdyn_builtin.bearings.stage import _label_places
+
+    rng = np.random.default_rng(7)
+    points = [tuple(p) for p in rng.uniform(0.0, 60.0, size=(25, 2))]
+    texts = [str(30 * k) for k in range(25)]
+    placed = 0
+    for i, place in enumerate(_label_places(points, texts, per_pt=1.0)):
+        if place is None:
+            continue
+        placed += 1
+        dx, dy, ha, va = place
+        width, height = len(texts[i]) * 0.64 * 7.0, 1.17 * 7.0
+        x0 = points[i][0] + dx - (width if ha == "right" else 0.0)
+        y0 = points[i][1] + dy - (height if va == "top" else 0.0)
+
+        def distance(p):
+            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))
+
+        assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), texts[i]
+    assert placed >= 10  # the rule leaves most labels a place
 
 def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
     """The ru reading: "90, 330, 660" was printed over the oil hole's line, "180" over the pole's O.

@@ -216,6 +216,9 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
     as one number ("210, 570" beside "30": "210, 57030"). ``obstacles``: boxes (x0, y0, x1, y1)
     no label may cover (the pole's mark and letter, the oil hole's line).
 
+    A label goes only where it is nearer its own point than any other point (placed far out, it
+    was read as the next mark's).
+
     ``curve``: (x, y) arrays of points along the drawn curve (:func:`_curve_samples`): a label
     then goes to the first free corner, facing away from the curve's centre, whose box the curve
     does not cross ("90, 450" sat on the loop it labels), or where every free corner is crossed,
@@ -230,6 +233,17 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
             return False
         return all(min(box[2], c[2]) <= max(box[0], c[0]) or min(box[3], c[3]) <= max(box[1], c[1]) for c in placed)
 
+    xy = np.asarray(points, dtype=float).reshape(-1, 2)
+
+    def own_nearest(i, inner) -> bool:
+        # a label read as another mark's ("330" beside the 480° mark, 1.5 pt nearer it): the box
+        # must be nearer its own mark than any other, by half a point at least
+        dx = np.maximum.reduce([inner[0] - xy[:, 0], np.zeros(len(xy)), xy[:, 0] - inner[2]])
+        dy = np.maximum.reduce([inner[1] - xy[:, 1], np.zeros(len(xy)), xy[:, 1] - inner[3]])
+        distance = np.hypot(dx, dy)
+        others = np.delete(distance, i)
+        return not len(others) or bool(np.min(others) > distance[i] + 0.5 * per_pt)
+
     def crossings(inner) -> int:
         return 0 if curve is None else int(np.count_nonzero((curve[0] > inner[0]) & (curve[0] < inner[2]) &
                                                              (curve[1] > inner[1]) & (curve[1] < inner[3])))
@@ -243,7 +257,7 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
             x0 = x + place[0] * per_pt - (width if place[2] == "right" else 0.0)
             y0 = y + place[1] * per_pt - (height if place[3] == "top" else 0.0)
             box = (x0 - gap, y0 - gap, x0 + width + gap, y0 + height + gap)
-            if free(box):
+            if free(box) and own_nearest(i, (x0, y0, x0 + width, y0 + height)):
                 under = crossings((x0, y0, x0 + width, y0 + height))
                 if best is None or under < best[0]:
                     best = (under, place, box)
