@@ -358,6 +358,10 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     joined = unbreakable_html("<p>доц. Петров В.М.; В. М. Петров, Khurmi R.S.</p>")
     assert "Петров\u00a0В.М.;" in joined and "В.\u00a0М.\u00a0Петров," in joined and "Khurmi\u00a0R.S." in joined
     assert "</i>" in html and "</sub>" in html and unbreakable_html(html) == html  # once is enough
+    # an absolute value's opening bar keeps its contents (the ru note ended a line with "C_n = |")
+    bars = unbreakable_html("<p><i>C</i><sub>n</sub> = |<i>A</i><sub>n</sub>|·<i>C</i><sub>I</sub>, (|<i>x</i>|), a | b</p>")
+    assert "</sub>\u00a0=\u00a0|\u2060<i>A</i>" in bars and "(|\u2060<i>x</i>" in bars and "a | b" in bars
+    assert unbreakable_html(bars) == bars
 
     # the whole report: in running text every "X = <number>" is bound (a displayed equation
     # breaks after an "=" on purpose, between its parts), and no tag is broken

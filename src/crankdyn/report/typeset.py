@@ -456,12 +456,15 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
 #: "p_z = 6 МПа", "α = 464°": a quantity and its value are not parted at the line's end (ДСТУ 3008
 #: would repeat the sign on the next line, which HTML cannot): no-break spaces around "=" when a
 #: number follows it.
-_EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d)")
+_EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d|\|)")
 #: "м/с²", "ΣM/(C·a)": no line break after a slash inside a word or formula (a web address keeps
 #: its breaks: it has no other place to break; the slash of a closing tag the sub/superscripts
 #: put in is no slash of the text).
 _SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
 WORD_JOINER = "\u2060"
+#: "C_n = |A_n|·C_I": no line break after the opening bar of an absolute value (Unicode lets a
+#: line break after "|": the ru reading found "C_n = |" at a line's end).
+_OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=])|^)\|(?=[^\s|\u2060]|$)")
 #: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
 #: title page had "Петров В. /М."): a no-break space before a capital initial after a word or an
 #: initial, and ("В. М. Петров") after an initial before a capitalised word.
@@ -471,6 +474,8 @@ _BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-Z
 
 def _unbreakable(text: str) -> str:
     text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
+    if "|" in text:
+        text = _OPENING_BAR.sub("|" + WORD_JOINER, text)
     if "/" in text and "://" not in text and "www." not in text:
         text = _SLASH_IN_WORD.sub("/" + WORD_JOINER, text)
     if ". " in text:
@@ -495,14 +500,14 @@ _TAG = re.compile(r"(<[^>]+>)")
 
 def unbreakable_html(html: str) -> str:
     """The document with no line break between a quantity and its value ("p_z = 6 МПа") nor after
-    a slash inside a word or formula ("м/с²"), in every text node (the last pass over the report:
+    a slash inside a word or formula ("м/с²") or an absolute value's opening bar, in every text node (the last pass over the report:
     the equations' legends and the list of symbols included)."""
     parts = _TAG.split(html)
     skip = 0
     for i, part in enumerate(parts):
         if i % 2 == 1:
             skip = _skip_depth(part, skip)
-        elif not skip and ("=" in part or "/" in part or ". " in part):
+        elif not skip and ("=" in part or "/" in part or ". " in part or "|" in part):
             parts[i] = _unbreakable(part)
     return "".join(parts)
 
