@@ -494,3 +494,14 @@ def test_the_abstracts_finding_agrees_in_number_with_what_stays_unbalanced(langu
     t = translator(language, REGISTRY.catalogs)
     assert one in t("balancing.finding_unbalanced_means", count=1, items="P_II")
     assert several in t("balancing.finding_unbalanced_means", count=2, items="P_II, P_IV")
+
+
+def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
+    """The ru reading: ΣP_I/C_I in the figure had italic Roman numerals, upright in the text."""
+    from crankdyn.cli import main
+
+    out = tmp_path / "out"
+    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--format", "html", "-q",
+                 "--stages", "balancing"]) == 0
+    svg = "".join(p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg"))
+    assert r"$\Sigma P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg

@@ -556,7 +556,8 @@ def _models_drawing(t, r):
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
             if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
                 ax.text(0, -0.8 * lim, t("balancing.balanced_label"), ha="center", fontsize=7, color="C2")
-            sub = "C" if o["order"] == 0 else o["name"][1:]
+            # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
+            sub = "C" if o["order"] == 0 else f"\\mathrm{{{o['name'][1:]}}}"
             amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
             title = (f"$\\Sigma P_{{{sub}}}/{amp}$" if o["order"] else "$\\Sigma C/C$") if kind == "force" \
                 else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
