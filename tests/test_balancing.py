@@ -505,3 +505,7 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
                  "--stages", "balancing"]) == 0
     svg = "".join(p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg"))
     assert r"$\Sigma P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg
+    # one cylinder: no moments in the summary table, nor in its caption (the ru reading)
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "Balance of the forces, and the balancing means" in html
+    assert "Balance of the forces and moments" not in html

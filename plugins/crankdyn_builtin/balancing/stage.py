@@ -650,7 +650,8 @@ def _summary_table(ctx, r):
     """What is balanced by itself and what each balancing means takes."""
     t = ctx.t
     rows = r["summary"]
-    if len(r["cylinder_labels"]) == 1:  # one cylinder's forces act in the plane of its crank: no moments
+    single = len(r["cylinder_labels"]) == 1
+    if single:  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
     summary_table = ctx.table([
         (t("balancing.quantity"), [_summary_symbol(s) for s in rows], None),
@@ -658,7 +659,8 @@ def _summary_table(ctx, r):
         (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
                                 for s in rows], None),
         (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
-    ], caption=t("balancing.summary_caption"), see="balancing.see_summary")
+    ], caption=t("balancing.summary_caption_forces" if single else "balancing.summary_caption"),
+        see="balancing.see_summary")
 
     return summary_table
 
