@@ -1,0 +1,61 @@
+"""Mistakes a plugin author makes are reported, not passed over: a ``requires`` key no registered
+stage provides (a typo) refuses the plan, naming the stage, the key and the known keys."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+import crankdyn.plugins
+from crankdyn.cli import main
+from crankdyn.errors import PluginError
+from crankdyn.orchestrator import plan
+from crankdyn.plugin_types import SERVICE_RUNNER, Stage, StageOutput
+from crankdyn.plugins import Registry, default_registry
+from crankdyn.scene import scene_from_dict
+from conftest import example_data, write_scene
+
+REGISTRY = default_registry()
+
+
+def _stage(requires, applies=lambda scene: None, name="friction"):
+    return Stage(name=name, title_key="friction.title", requires=tuple(requires), provides=(), applies=applies,
+                 run=lambda scene, inputs: StageOutput(results={"x": 1.0}), render=lambda output, ctx: "")
+
+
+def _with(*stages: Stage) -> Registry:
+    registry = dataclasses.replace(REGISTRY, stages=dict(REGISTRY.stages), owner=dict(REGISTRY.owner))
+    for stage in stages:
+        registry.stages[stage.name] = stage
+        registry.owner["stage:" + stage.name] = "test"
+    return registry
+
+
+def test_a_requirement_no_registered_stage_provides_refuses_the_plan():
+    scene = scene_from_dict(example_data("petrol-1cyl"))
+    with pytest.raises(PluginError) as caught:
+        plan(scene, _with(_stage(["kinematics", "force"])))
+    message = str(caught.value)
+    assert "stage 'friction' requires 'force', which no registered stage provides; did you mean 'forces'?" in message
+    assert "Known keys" in message and "forces" in message.split("Known keys")[1]
+    assert "'kinematics'" not in message  # a key that is provided is not named as unknown
+    with pytest.raises(PluginError, match="Stage.services, not Stage.requires"):
+        plan(scene, _with(_stage([SERVICE_RUNNER])))
+
+
+def test_a_requirement_provided_by_a_stage_that_does_not_apply_still_leaves_the_stage_out():
+    # kinematics-only has no cycle: the stages providing the gas pressure and the forces do not apply
+    scene = scene_from_dict(example_data("kinematics-only"))
+    the_plan = plan(scene, _with(_stage(["forces"])))
+    assert "friction" not in [s.name for s in the_plan.order]
+    assert "needs 'forces'" in the_plan.skipped["friction"]
+
+
+def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypatch, capsys):
+    scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
+    monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: _with(_stage(["force"])))
+    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "json", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "stage 'friction' requires 'force'" in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
