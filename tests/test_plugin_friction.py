@@ -59,3 +59,29 @@ def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypat
     err = capsys.readouterr().err
     assert "stage 'friction' requires 'force'" in err and "Traceback" not in err
     assert not (tmp_path / "out").exists()
+
+
+# ------------------------------------------------------------------ missing translations (crankdyn report)
+
+def test_the_report_command_warns_once_about_keys_missing_in_its_language(tmp_path, monkeypatch, capsys):
+    # the stage's title_key is in no catalog: the report is written, with a warning naming it
+    scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
+    monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: _with(_stage(["kinematics"])))
+    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "no translation" in line]
+    assert warnings == ["crankdyn: warning: the report in 'en' has no translation for 1 key(s): friction.title"]
+    assert (tmp_path / "out" / "report.html").is_file()
+
+
+def test_a_report_without_missing_keys_gives_no_warning(tmp_path, capsys):
+    scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
+    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q", "--lang", "uk"]) == 0
+    assert "no translation" not in capsys.readouterr().err
+
+
+def test_the_missing_keys_line_names_ten_and_counts_the_rest():
+    from crankdyn.cli import missing_translations_line
+
+    line = missing_translations_line("ru", {f"k{i:02d}" for i in range(13)})
+    assert line.endswith("k00, k01, k02, k03, k04, k05, k06, k07, k08, k09 and 3 more")
+    assert "'ru'" in line and "13 key(s)" in line
