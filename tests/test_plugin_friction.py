@@ -85,3 +85,40 @@ def test_the_missing_keys_line_names_ten_and_counts_the_rest():
     line = missing_translations_line("ru", {f"k{i:02d}" for i in range(13)})
     assert line.endswith("k00, k01, k02, k03, k04, k05, k06, k07, k08, k09 and 3 more")
     assert "'ru'" in line and "13 key(s)" in line
+
+
+# ------------------------------------------------------------------ answer-key columns whose key is absent
+
+def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_per_batch(tmp_path, monkeypatch,
+                                                                                          capsys):
+    import crankdyn.batch
+    from crankdyn.cli import examples_dir
+    from crankdyn.plugin_types import AnswerColumn
+
+    kinematics = REGISTRY.stages["kinematics"]
+    typo = dataclasses.replace(kinematics, answer_columns=(*kinematics.answer_columns,
+                                                           AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")))
+    monkeypatch.setattr(crankdyn.batch, "_worker_registry", _with(typo))  # forked workers inherit it
+    variants = tmp_path / "v.csv"
+    variants.write_text("variant,engine.rpm\na,4000\nb,5000\n", encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["batch", str(variants), "--base", str(examples_dir() / "kinematics-only.toml"), "-o", str(out),
+                 "--format", "json", "--jobs", "1", "-q"]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert warnings == ["crankdyn batch: warning: answer-key column 'v_top_m_s' left out: stage 'kinematics' "
+                        "has no result 'v_top_m_s' (AnswerColumn.key)"]
+    header = (out / "answer_key.csv").read_text(encoding="utf-8").splitlines()[0]
+    assert "v_max_m_s" in header and "v_top_m_s" not in header
+
+
+def test_a_key_absent_in_some_variants_only_or_of_a_stage_that_did_not_run_is_not_warned_about():
+    from crankdyn.answer_key import KeyColumn, absent, unanswered
+    from crankdyn.plugin_types import AnswerColumn
+
+    columns = [KeyColumn("forces", AnswerColumn("p_MPa", "peak.p_Pa")), KeyColumn("kinematics", AnswerColumn("v", "v"))]
+    ran = {"stages_run": ["forces", "kinematics"], "forces": {"peak": {"p_Pa": None}}, "kinematics": {}}
+    assert absent(ran, columns) == ["v"]  # a key present with no number is not absent
+    assert absent({"stages_run": ["kinematics"], "kinematics": {"v": 1.0}}, columns) == []  # forces did not run
+    assert unanswered(columns, [(["kinematics"], ["v"]), (["kinematics"], [])]) == []
+    assert unanswered(columns, [(["kinematics"], ["v"]), (["forces"], [])]) == [
+        "answer-key column 'v' left out: stage 'kinematics' has no result 'v' (AnswerColumn.key)"]

@@ -285,6 +285,8 @@ def _batch(args) -> int:
     report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
                        stages=o.stages, progress=o.progress, timeout=o.timeout, data_dirs=o.data_dirs,
                        scheduler=o.scheduler, connect_timeout=o.connect_timeout)
+    for warning in report.warnings:
+        print(f"crankdyn batch: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
           f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
@@ -311,6 +313,8 @@ def _sweep(args) -> int:
     report, notes = run_sweep(request)
     for note in notes:
         print(f"crankdyn sweep: {note}", file=sys.stderr)
+    for warning in report.warnings:
+        print(f"crankdyn sweep: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn sweep: {done} of {len(report.outcomes)} points computed in {report.seconds:.1f} s; "
           f"written to {args.output}: " + ", ".join(p.name for p in report.written))
