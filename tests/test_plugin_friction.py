@@ -105,8 +105,9 @@ def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_p
     assert main(["batch", str(variants), "--base", str(examples_dir() / "kinematics-only.toml"), "-o", str(out),
                  "--format", "json", "--jobs", "1", "-q"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
-    assert warnings == ["crankdyn batch: warning: answer-key column 'v_top_m_s' left out: stage 'kinematics' "
-                        "has no result 'v_top_m_s' (AnswerColumn.key)"]
+    assert len(warnings) == 1 and warnings[0].startswith(
+        "crankdyn batch: warning: answer-key column 'v_top_m_s' left out: no variant's 'kinematics' results hold "
+        "'v_top_m_s' (a typo in AnswerColumn.key")
     header = (out / "answer_key.csv").read_text(encoding="utf-8").splitlines()[0]
     assert "v_max_m_s" in header and "v_top_m_s" not in header
 
@@ -120,5 +121,5 @@ def test_a_key_absent_in_some_variants_only_or_of_a_stage_that_did_not_run_is_no
     assert absent(ran, columns) == ["v"]  # a key present with no number is not absent
     assert absent({"stages_run": ["kinematics"], "kinematics": {"v": 1.0}}, columns) == []  # forces did not run
     assert unanswered(columns, [(["kinematics"], ["v"]), (["kinematics"], [])]) == []
-    assert unanswered(columns, [(["kinematics"], ["v"]), (["forces"], [])]) == [
-        "answer-key column 'v' left out: stage 'kinematics' has no result 'v' (AnswerColumn.key)"]
+    [warning] = unanswered(columns, [(["kinematics"], ["v"]), (["forces"], [])])
+    assert warning.startswith("answer-key column 'v' left out: no variant's 'kinematics' results hold 'v'")

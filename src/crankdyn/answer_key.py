@@ -94,8 +94,11 @@ def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[st
     for column in columns:
         ran = [missing for stages, missing in outcomes if column.stage in stages]
         if ran and all(column.name in missing for missing in ran):
-            warnings.append(f"answer-key column {column.name!r} left out: stage {column.stage!r} has no "
-                            f"result {column.declared.key!r} (AnswerColumn.key)")
+            # either cause is possible (a measured pressure trace gives no compression-end pressure):
+            # the warning names both rather than guess
+            warnings.append(f"answer-key column {column.name!r} left out: no variant's {column.stage!r} results "
+                            f"hold {column.declared.key!r} (a typo in AnswerColumn.key, or a result these "
+                            f"scenes do not give)")
     return warnings
 
 
