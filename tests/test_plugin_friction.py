@@ -1,5 +1,7 @@
 """Mistakes a plugin author makes are reported, not passed over: a ``requires`` key no registered
-stage provides (a typo) refuses the plan, naming the stage, the key and the known keys."""
+stage provides (a typo) refuses the plan, naming the stage, the key and the known keys; ``crankdyn
+report`` warns about catalog keys missing in its language; a batch warns, once, about an answer-key
+column whose key its stage's results lack."""
 
 from __future__ import annotations
 
@@ -7,11 +9,13 @@ import dataclasses
 
 import pytest
 
+import crankdyn.batch
 import crankdyn.plugins
-from crankdyn.cli import main
+from crankdyn.answer_key import KeyColumn, absent, unanswered
+from crankdyn.cli import examples_dir, main, missing_translations_line
 from crankdyn.errors import PluginError
 from crankdyn.orchestrator import plan
-from crankdyn.plugin_types import SERVICE_RUNNER, Stage, StageOutput
+from crankdyn.plugin_types import SERVICE_RUNNER, AnswerColumn, Stage, StageOutput
 from crankdyn.plugins import Registry, default_registry
 from crankdyn.scene import scene_from_dict
 from conftest import example_data, write_scene
@@ -80,8 +84,6 @@ def test_a_report_without_missing_keys_gives_no_warning(tmp_path, capsys):
 
 
 def test_the_missing_keys_line_names_ten_and_counts_the_rest():
-    from crankdyn.cli import missing_translations_line
-
     line = missing_translations_line("ru", {f"k{i:02d}" for i in range(13)})
     assert line.endswith("k00, k01, k02, k03, k04, k05, k06, k07, k08, k09 and 3 more")
     assert "'ru'" in line and "13 key(s)" in line
@@ -91,10 +93,6 @@ def test_the_missing_keys_line_names_ten_and_counts_the_rest():
 
 def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_per_batch(tmp_path, monkeypatch,
                                                                                           capsys):
-    import crankdyn.batch
-    from crankdyn.cli import examples_dir
-    from crankdyn.plugin_types import AnswerColumn
-
     kinematics = REGISTRY.stages["kinematics"]
     typo = dataclasses.replace(kinematics, answer_columns=(*kinematics.answer_columns,
                                                            AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")))
@@ -113,9 +111,6 @@ def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_p
 
 
 def test_a_key_absent_in_some_variants_only_or_of_a_stage_that_did_not_run_is_not_warned_about():
-    from crankdyn.answer_key import KeyColumn, absent, unanswered
-    from crankdyn.plugin_types import AnswerColumn
-
     columns = [KeyColumn("forces", AnswerColumn("p_MPa", "peak.p_Pa")), KeyColumn("kinematics", AnswerColumn("v", "v"))]
     ran = {"stages_run": ["forces", "kinematics"], "forces": {"peak": {"p_Pa": None}}, "kinematics": {}}
     assert absent(ran, columns) == ["v"]  # a key present with no number is not absent
