@@ -71,6 +71,37 @@ def _lookup(results: Any, path: str) -> Any:
     return results
 
 
+def _present(results: Any, path: str) -> bool:
+    for part in path.split("."):
+        if not isinstance(results, dict) or part not in results:
+            return False
+        results = results[part]
+    return True
+
+
+def absent(document: dict, columns: list[KeyColumn]) -> list[str]:
+    """The columns whose stage ran in this results.json document but whose key is not in its
+    results (a typo in ``AnswerColumn.key``, or a result renamed): their cells stay empty, and the
+    batch warns (:func:`unanswered`) rather than leave the column out without a word."""
+    ran = set(document.get("stages_run") or ())
+    return [c.name for c in columns if c.stage in ran and not _present(document.get(c.stage), c.declared.key)]
+
+
+def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[str]]]) -> list[str]:
+    """One warning per column whose key was absent from its stage's results in every variant that
+    ran the stage; ``outcomes``: (stages run, :func:`absent` columns) of each successful variant."""
+    warnings = []
+    for column in columns:
+        ran = [missing for stages, missing in outcomes if column.stage in stages]
+        if ran and all(column.name in missing for missing in ran):
+            # either cause is possible (a measured pressure trace gives no compression-end pressure):
+            # the warning names both rather than guess
+            warnings.append(f"answer-key column {column.name!r} left out: no variant's {column.stage!r} results "
+                            f"hold {column.declared.key!r} (a typo in AnswerColumn.key, or a result these "
+                            f"scenes do not give)")
+    return warnings
+
+
 def answers(document: dict, columns: list[KeyColumn]) -> dict[str, Any]:
     """The answer-key values of one results.json document (a stage that did not run gives None)."""
     out: dict[str, Any] = {}

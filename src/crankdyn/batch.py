@@ -59,6 +59,7 @@ class Outcome:
     error: str = ""
     answers: dict[str, Any] = field(default_factory=dict)
     stages_run: list[str] = field(default_factory=list)
+    absent: list[str] = field(default_factory=list)  # answer-key columns whose key its stage's results lack
     files: int = 0
     rendered: dict[str, bytes] | None = None  # files rendered on a Dask worker, until written here
 
@@ -70,6 +71,7 @@ class BatchReport:
     seconds: float
     written: list[Path]
     interrupted: bool = False  # Ctrl-C ended the run; unfinished variants are failure rows
+    warnings: list[str] = field(default_factory=list)  # for the user, once per batch (answer_key.unanswered)
 
     @property
     def failures(self) -> list[Outcome]:
@@ -219,7 +221,8 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
 
         document = outputs.results_document(result)
         return Outcome(variant.row, variant.name, True, time.perf_counter() - start, answers=answers(document),
-                       stages_run=list(result.stages_run), files=count, rendered=rendered)
+                       stages_run=list(result.stages_run), files=count, rendered=rendered,
+                       absent=answer_key.absent(document, answer_key.answer_columns(_registry())))
     except SceneError as exc:
         message = "; ".join(str(p) for p in exc.problems)
         return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")
@@ -366,7 +369,15 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     outcomes, interrupted = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
     written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)))
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, interrupted)
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, interrupted,
+                       key_warnings(outcomes))
+
+
+def key_warnings(outcomes: list[Outcome]) -> list[str]:
+    """The answer key's warnings, once per batch (not per variant): columns whose key no variant's
+    stage results held (:func:`crankdyn.answer_key.unanswered`)."""
+    return answer_key.unanswered(answer_key.answer_columns(_registry()),
+                                 [(o.stages_run, o.absent) for o in outcomes if o.ok])
 
 
 def load_base(base_path: Path) -> tuple[dict, str]:

@@ -244,6 +244,9 @@ def _write_report(args) -> int:
     run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained)
     result, written = run.result, run.written
     _print_warnings(result, registry)
+    if run.missing_translations:
+        print(f"crankdyn: {missing_translations_line(result.scene.report.language, run.missing_translations)}",
+              file=sys.stderr)
     if not args.quiet:
         main_files = [p for p in written if p.parent == args.output]
         print(f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
@@ -251,6 +254,15 @@ def _write_report(args) -> int:
         for name, reason in result.plan.skipped.items():
             print(f"  stage {name} left out: {reason}")
     return 0
+
+
+def missing_translations_line(language: str, keys: set[str], shown: int = 10) -> str:
+    """One warning line for the catalog keys a report has no text for in ``language`` (the first
+    ``shown`` by name, then how many more): the report is written anyway, with the keys in it."""
+    names = sorted(keys)
+    more = f" and {len(names) - shown} more" if len(names) > shown else ""
+    return (f"warning: the report in {language!r} has no translation for {len(names)} key(s): "
+            + ", ".join(names[:shown]) + more)
 
 
 def _stage_list(text: str | None) -> list[str] | None:
@@ -273,6 +285,8 @@ def _batch(args) -> int:
     report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
                        stages=o.stages, progress=o.progress, timeout=o.timeout, data_dirs=o.data_dirs,
                        scheduler=o.scheduler, connect_timeout=o.connect_timeout)
+    for warning in report.warnings:
+        print(f"crankdyn batch: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
           f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
@@ -299,6 +313,8 @@ def _sweep(args) -> int:
     report, notes = run_sweep(request)
     for note in notes:
         print(f"crankdyn sweep: {note}", file=sys.stderr)
+    for warning in report.warnings:
+        print(f"crankdyn sweep: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
     print(f"crankdyn sweep: {done} of {len(report.outcomes)} points computed in {report.seconds:.1f} s; "
           f"written to {args.output}: " + ", ".join(p.name for p in report.written))

@@ -10,7 +10,8 @@ from typing import Any, Iterable
 
 from .aside import aside
 from .errors import PluginError, Problem, SceneError
-from .plugin_types import SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, Stage, StageOutput, declared
+from .plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, SERVICES, Stage, StageOutput,
+                           declared)
 from .plugins import Registry
 from .scene import Scene, options
 from .physics import lazy
@@ -125,7 +126,8 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     ``requested`` (or ``scene.analysis.stages``) names the stages wanted; by default
     every stage that applies and is marked default. Prerequisites are added from
     ``requires``/``provides``; a stage whose requirement nobody applicable provides is
-    left out with the reason.
+    left out with the reason. A requirement no registered stage provides at all is a
+    :class:`PluginError` (a mistake in the plugin, whatever the scene).
     """
     requested = list(requested) if requested is not None else scene.analysis.stages
     if requested is not None:
@@ -133,6 +135,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         if unknown:
             raise SceneError([Problem("stages", n, "unknown stage; installed: " + ", ".join(sorted(registry.stages)))
                               for n in unknown])
+    _check_requirements(registry)
     skipped: dict[str, str] = {}
     applicable: dict[str, Stage] = {}
     for name, stage in sorted(registry.stages.items()):
@@ -187,6 +190,29 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         if reason is not None:
             skipped[name] = reason
     return Plan(order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry)
+
+
+def _check_requirements(registry: Registry) -> None:
+    """Every key a registered stage ``requires`` is provided by some registered stage.
+
+    A key nobody provides is a mistake in the plugin (a typo such as "force" for "forces"), not a
+    property of the scene: left out as "not applicable" it would pass unnoticed with exit 0. A key
+    provided by a stage that does not apply to this scene is fine (``plan`` leaves the stage out)."""
+    known = sorted({key for stage in registry.stages.values() for key in stage.provides})
+    problems = []
+    for name, stage in sorted(registry.stages.items()):
+        for key in stage.requires:
+            if key in known:
+                continue
+            if key in SERVICES:  # the orchestrator hands services in, no stage provides them
+                hint = "; a service is named in Stage.services, not Stage.requires"
+            else:
+                close = difflib.get_close_matches(key, known, n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+            problems.append(f"stage {name!r} requires {key!r}, which no registered stage provides{hint}")
+    if problems:
+        raise PluginError("; ".join(problems) + ". Known keys (provided by the registered stages): "
+                          + (", ".join(known) or "none"))
 
 
 def _topological(stages: dict[str, Stage]) -> list[Stage]:

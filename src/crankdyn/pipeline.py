@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import outputs
@@ -28,6 +28,8 @@ class ReportRun:
 
     result: RunResult
     written: list[Path]
+    #: catalog keys the rendered report (HTML, PDF, DOCX) has no text for in its language
+    missing_translations: set[str] = field(default_factory=set)
 
 
 def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
@@ -50,20 +52,22 @@ def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
 
 
 def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
-                 self_contained: bool = False, figure_workers: int | None = None) -> dict[str, bytes]:
+                 self_contained: bool = False, figure_workers: int | None = None,
+                 missing: set[str] | None = None) -> dict[str, bytes]:
     """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written).
 
     report.html refers to the figures in ``figures/``, each stored once; with ``self_contained``
     they are inlined in the page instead (and no figures/ folder is written). The figures are
     drawn by ``figure_workers`` processes (default: one per CPU; a batch, which runs its
-    variants in parallel, passes 1).
+    variants in parallel, passes 1). The catalog keys the report has no text for are added to
+    ``missing``, if given (``crankdyn report`` warns about them).
     """
     with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
-        return _render_files(result, registry, list(formats), self_contained, figure_workers)
+        return _render_files(result, registry, list(formats), self_contained, figure_workers, missing)
 
 
 def _render_files(result: RunResult, registry: Registry, formats: list[str], self_contained: bool,
-                  figure_workers: int | None) -> dict[str, bytes]:
+                  figure_workers: int | None, missing: set[str] | None = None) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "html" in formats or "pdf" in formats or "docx" in formats:
         from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
@@ -89,6 +93,8 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
                 drawing.abandon()
             raise
         draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
+        if missing is not None:
+            missing.update(rendered.missing_translations)
         mathtext_store.save()  # the labels typeset here, for the next run
         if "html" in formats and self_contained:
             files["report.html"] = rendered.html.encode("utf-8")
@@ -128,18 +134,22 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
     those crankdyn listed in its manifest there). Raises :class:`crankdyn.errors.SceneError` (and
     writes nothing) for a bad scene.
     """
-    result, files = run_and_render(scene, registry, formats, stages, languages, self_contained=self_contained)
-    return ReportRun(result=result, written=write_outputs(Path(out_dir), files))
+    missing: set[str] = set()
+    result, files = run_and_render(scene, registry, formats, stages, languages, self_contained=self_contained,
+                                   missing=missing)
+    return ReportRun(result=result, written=write_outputs(Path(out_dir), files), missing_translations=missing)
 
 
 def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
                    languages: Iterable[str] = (), *, self_contained: bool = False,
-                   cache=None, figure_workers: int | None = None) -> tuple[RunResult, dict[str, bytes]]:
+                   cache=None, figure_workers: int | None = None,
+                   missing: set[str] | None = None) -> tuple[RunResult, dict[str, bytes]]:
     """Compute ``scene`` and render its files in memory: the one path of ``report``, ``batch`` and ``serve``.
 
     ``crankdyn report`` and ``batch`` write the files (:func:`write_report`); ``serve`` shows
     ``report.html`` in the browser and passes its stage ``cache`` (re-running only the stages whose
-    inputs changed). Raises :class:`crankdyn.errors.SceneError` for a bad scene.
+    inputs changed). ``missing``: see :func:`render_files`. Raises
+    :class:`crankdyn.errors.SceneError` for a bad scene.
     """
     formats = list(formats)
     # One report on its own (not a batch's variant, which shares the cores with the other
@@ -157,7 +167,7 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
             if aside:
                 start_studies(result)
         try:
-            return result, render_files(result, registry, formats, self_contained, figure_workers)
+            return result, render_files(result, registry, formats, self_contained, figure_workers, missing)
         finally:
             result.close_background()  # also when rendering failed: no child is left behind
 

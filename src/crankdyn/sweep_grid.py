@@ -34,7 +34,7 @@ from typing import Any
 from .answer_key import answer_columns
 from .api import _nested_overrides
 from .batch import (VARIANT_COLUMN, BatchReport, RunOptions, Variant, _nest, _registry, batch_language, execute,
-                    key_files, load_base, parse_cell)
+                    key_files, key_warnings, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
 from .manifest import write_outputs
 from .scene import merge, scene_from_dict
@@ -399,7 +399,8 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
         files.update(plotted)
         notes += [note] if note else []
     written = write_outputs(Path(request.out_dir), files)
-    return BatchReport(Path(request.out_dir), outcomes, time.perf_counter() - start, written, interrupted), notes
+    return (BatchReport(Path(request.out_dir), outcomes, time.perf_counter() - start, written, interrupted,
+                        key_warnings(outcomes)), notes)
 
 
 def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, plot_x: str | None) -> Sweep:
