@@ -295,7 +295,7 @@ def test_every_layout_keeps_the_invariants(layout, strokes, cylinders, bank, lag
         assert np.isfinite(entry["max_N"]) and entry["max_N"] > 0
 
 
-@pytest.mark.long
+@pytest.mark.slow  # the multi-cylinder crankshaft chapter in a Ukrainian PDF: tests/test_frame.py's in-line four
 def test_v8_pdf_in_ukrainian(tmp_path):
     import shutil
     import subprocess
