@@ -123,3 +123,22 @@ def test_apply_to_loads_needs_the_moment_of_inertia():
     data = modified("petrol-1cyl", {"rod_dynamics": {"apply_to_loads": True}})
     with pytest.raises(SceneError, match="rod_moment_of_inertia"):
         run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
+
+
+def test_the_side_and_rod_forces_handed_on_are_the_reported_ones(exact_run):
+    """A later stage (a plugin's) reads the side force N and the rod force K from CrankForces: the
+    rigid rod's with apply_to_loads (against the Newton-Euler solve), the two-mass model's
+    n = p_1 tg β without it (a plugin walkthrough had to recompute them, wrongly for the rigid rod)."""
+    from crankdyn.contracts import FORCES, KINEMATICS
+
+    scene, e, m = exact_run.scene, exact_run.scene.engine, exact_run.scene.masses
+    data = exact_run.outputs["forces"].data[FORCES]
+    area, alpha = data.piston_area_m2, np.radians(data.crank_angle_deg)
+    ref = newton_euler(alpha, e.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m, m.rod,
+                       m.rod_moment_of_inertia, m.piston_group, e.angular_velocity_rad_s, data.gas_Pa * area)
+    assert np.max(np.abs(data.side_Pa * area - ref["N"])) < 1e-9 * np.max(np.abs(ref["N"]))
+    plain = _run("petrol-1cyl", apply=False)
+    two = plain.outputs["forces"].data[FORCES]
+    beta = plain.outputs["kinematics"].data[KINEMATICS].rod_angle_rad
+    np.testing.assert_allclose(two.side_Pa, two.total_Pa * np.tan(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa)))
+    np.testing.assert_allclose(two.rod_Pa, two.total_Pa / np.cos(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa)))

@@ -67,7 +67,12 @@ class GasPressure:
 
 @dataclass(frozen=True)
 class CrankForces:
-    """Specific forces (Pa, per unit piston area) in the sign convention of Poda (2007)."""
+    """Specific forces (Pa, per unit piston area) in the sign convention of Poda (2007).
+
+    ``side_Pa`` (the piston's side force on the cylinder wall, N) and ``rod_Pa`` (the force along
+    the rod, K) are those the forces stage reports: the two-mass model's, or the rigid rod's with
+    ``[rod_dynamics] apply_to_loads``; None from a stage that does not give them.
+    """
 
     crank_angle_deg: np.ndarray
     gas_Pa: np.ndarray
@@ -78,6 +83,8 @@ class CrankForces:
     centrifugal_Pa: float
     piston_area_m2: float
     torque_Nm: np.ndarray
+    side_Pa: np.ndarray | None = None
+    rod_Pa: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
