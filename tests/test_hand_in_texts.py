@@ -115,7 +115,7 @@ def test_the_main_journal_diagram_says_whose_force_it_shows(reports):
     that its sign and size are not mistaken."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
     assert "сила, з якою на неї діє підшипник" in one
-    assert "обчислено з противагами, які визначено в розділі про зрівноваження" in one
+    assert "обчислено з противагами, які визначено в розділі 6" in one
     assert "обчислено для колінчастого вала без противаг" in four
 
 
@@ -766,3 +766,30 @@ def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(r
     head = as_read(re.sub(r"<[^>]+>", "", table[:table.index("</thead>")]))
     assert "Кутова швидкість у частках ω" in head and "Статичний момент mr, кг·мм" in head
     assert "×ω" not in head
+
+
+@pytest.mark.parametrize("language, present, absent", [
+    ("uk", "з розділу 2.", "в розділі «Аналіз зрівноваженості двигуна»:"),
+    ("ru", "(см. раздел 2)", "в разделе «Анализ уравновешенности двигателя»:"),
+    ("en", "in section 2.", "in section “Balancing of the engine”:")])
+def test_a_section_is_referred_to_by_its_number(language, present, absent):
+    """A supervisor: "(см. раздел кинематики)" names no section. A catalog text writes
+    @@SECTION:stage@@ for the number that stage's section has in this report; a stage without a
+    section there is named by its section's title in quotes."""
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.document import fill_section_numbers
+    from crankdyn.report.i18n import translator
+
+    t = translator(language, default_registry().catalogs)
+    page = ('<section class="chapter" id="sec-1" data-stage="input">\n<h2 id="h-1">1 X</h2>'
+            '<section class="chapter" id="sec-2" data-stage="kinematics">\n<h2 id="h-2">2 Y</h2>'
+            '<section class="chapter appendix" id="sec-a" data-stage="numerics">\n<h2 id="h-a">Додаток<br>А</h2>')
+    words = {"uk": ("з розділу @@SECTION:kinematics@@.", "в розділі @@SECTION:balancing@@:"),
+             "ru": ("(см. раздел @@SECTION:kinematics@@)", "в разделе @@SECTION:balancing@@:"),
+             "en": ("in section @@SECTION:kinematics@@.", "in section @@SECTION:balancing@@:")}[language]
+    filled = fill_section_numbers(page + " ".join(words), t)
+    assert present in filled and absent in filled and "@@" not in filled
+    # the bundled reports: every mark filled
+    html = shared_html("petrol-1cyl-ru", language=language).linked_html
+    assert "@@SECTION" not in html
+    assert present.rstrip(".)") in html

@@ -340,6 +340,7 @@ def _finish(html: str, t, language: str, sources: int, without_legend: frozenset
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown."""
     html = _fill_counts(html, t, sources)
+    html = fill_section_numbers(html, t)
     html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator)
     html = add_equation_legends(html, t, language, without_legend)
     return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language))
@@ -499,6 +500,24 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
 #: A numbered chapter or an appendix of the document, with the stage it shows.
 _CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data-stage="([^"]+)">\s*'
                       r'<h2[^>]*>(?:(\d+) |[^<]*?(\w+)<br>)')
+
+
+#: ``@@SECTION:kinematics@@`` in a catalog text: the number of that stage's section in this report
+#: ("див. розділ 2"; a supervisor: "см. раздел кинематики" names no section).
+SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
+
+
+def fill_section_numbers(html: str, t) -> str:
+    """Each :data:`SECTION_MARK` replaced by its stage's section number; a stage without a section
+    in this report by its section's title in quotes (the sentence then still reads)."""
+    if "@@SECTION:" not in html:
+        return html
+    numbers = {stage: number for appendix, stage, number, _ in _CHAPTER.findall(html) if number and not appendix}
+
+    def number(m: re.Match) -> str:
+        stage = m.group(1)
+        return numbers.get(stage) or t("doc.quoted", text=t(f"{stage}.title"))
+    return SECTION_MARK.sub(number, html)
 
 
 def _places(html: str, t) -> dict[str, str]:
