@@ -153,10 +153,9 @@ def run(scene, inputs) -> StageOutput:
         results["exact_rod"] = exact["results"]
         frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
         notes.append(("forces.note_exact_rod", {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
-    data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa,
-                       total_Pa=total_Pa, tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
-                       centrifugal_Pa=centrifugal_Pa, piston_area_m2=area, torque_Nm=torque,
-                       side_Pa=rod.side_Pa, rod_Pa=rod.rod_Pa)
+    data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa, total_Pa=total_Pa,
+                       tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa, centrifugal_Pa=centrifugal_Pa,
+                       piston_area_m2=area, torque_Nm=torque, side_Pa=rod.side_Pa, rod_Pa=rod.rod_Pa)
     notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
              ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])})] + notes
     return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
