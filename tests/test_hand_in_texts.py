@@ -787,7 +787,9 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     words = {"uk": ("з розділу @@SECTION:kinematics@@.", "в розділі @@SECTION:balancing@@:"),
              "ru": ("(см. раздел @@SECTION:kinematics@@)", "в разделе @@SECTION:balancing@@:"),
              "en": ("in section @@SECTION:kinematics@@.", "in section @@SECTION:balancing@@:")}[language]
-    filled = fill_section_numbers(page + " ".join(words), t)
+    from crankdyn.report.document import _stage_title
+
+    filled = fill_section_numbers(page + " ".join(words), lambda stage: _stage_title(t, default_registry(), stage), t)
     assert present in filled and absent in filled and "@@" not in filled
     # the bundled reports: every mark filled
     html = shared_html("petrol-1cyl-ru", language=language).linked_html

@@ -63,20 +63,15 @@ def answer_columns(registry: Registry) -> list[KeyColumn]:
     return columns
 
 
-def _lookup(results: Any, path: str) -> Any:
-    for part in path.split("."):
-        if not isinstance(results, dict):
-            return None
-        results = results.get(part)
-    return results
+_ABSENT = object()
 
 
-def _present(results: Any, path: str) -> bool:
+def _lookup(results: Any, path: str, default: Any = None) -> Any:
     for part in path.split("."):
         if not isinstance(results, dict) or part not in results:
-            return False
+            return default
         results = results[part]
-    return True
+    return results
 
 
 def absent(document: dict, columns: list[KeyColumn]) -> list[str]:
@@ -84,7 +79,7 @@ def absent(document: dict, columns: list[KeyColumn]) -> list[str]:
     results (a typo in ``AnswerColumn.key``, or a result renamed): their cells stay empty, and the
     batch warns (:func:`unanswered`) rather than leave the column out without a word."""
     ran = set(document.get("stages_run") or ())
-    return [c.name for c in columns if c.stage in ran and not _present(document.get(c.stage), c.declared.key)]
+    return [c.name for c in columns if c.stage in ran and _lookup(document.get(c.stage), c.declared.key, _ABSENT) is _ABSENT]
 
 
 def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[str]]]) -> list[str]:

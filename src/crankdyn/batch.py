@@ -220,9 +220,10 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
             count = 0
 
         document = outputs.results_document(result)
-        return Outcome(variant.row, variant.name, True, time.perf_counter() - start, answers=answers(document),
-                       stages_run=list(result.stages_run), files=count, rendered=rendered,
-                       absent=answer_key.absent(document, answer_key.answer_columns(_registry())))
+        columns = answer_key.answer_columns(_registry())
+        return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
+                       answers=answer_key.answers(document, columns), stages_run=list(result.stages_run), files=count,
+                       rendered=rendered, absent=answer_key.absent(document, columns))
     except SceneError as exc:
         message = "; ".join(str(p) for p in exc.problems)
         return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")

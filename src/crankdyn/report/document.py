@@ -262,7 +262,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         findings=ctx.findings, frame=frame_html(env, t, scene.report, title),
         **_abstract_parts(t, registry, scene, sections),
     )
-    html = _finish(html, t, language, len(references),
+    html = _finish(fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t), t, language,
+                   len(references),
                    frozenset(s.name for s in result.plan.order if not s.legend))
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
@@ -340,7 +341,6 @@ def _finish(html: str, t, language: str, sources: int, without_legend: frozenset
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown."""
     html = _fill_counts(html, t, sources)
-    html = fill_section_numbers(html, t)
     html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator)
     html = add_equation_legends(html, t, language, without_legend)
     return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language))
@@ -507,16 +507,16 @@ _CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data
 SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
 
 
-def fill_section_numbers(html: str, t) -> str:
+def fill_section_numbers(html: str, title, t) -> str:
     """Each :data:`SECTION_MARK` replaced by its stage's section number; a stage without a section
-    in this report by its section's title in quotes (the sentence then still reads)."""
+    in this report by its section's title (``title(stage)``) in quotes (the sentence then still reads)."""
     if "@@SECTION:" not in html:
         return html
     numbers = {stage: number for appendix, stage, number, _ in _CHAPTER.findall(html) if number and not appendix}
 
     def number(m: re.Match) -> str:
         stage = m.group(1)
-        return numbers.get(stage) or t("doc.quoted", text=t(f"{stage}.title"))
+        return numbers.get(stage) or t("doc.quoted", text=title(stage))
     return SECTION_MARK.sub(number, html)
 
 
