@@ -3,6 +3,7 @@ drawn one by one, in the same order, and never a lost figure or a child left beh
 
 from __future__ import annotations
 
+import io
 import os
 import time
 
@@ -352,3 +353,40 @@ def test_the_curves_of_one_axes_differ_by_dash_as_well_as_colour():
     dashes = [str(entry["linestyle"]) for entry in cycle]
     assert dashes[0] == "-" and len(set(dashes)) == len(dashes) >= 6
     assert len({entry["color"] for entry in cycle}) == len(cycle)
+
+
+def test_a_mathtext_label_is_measured_by_the_typesetting_that_draws_it(monkeypatch):
+    """figures._measure_math_as_drawn: the SVG renderer measures a mathtext label with the box of
+    the typesetting it draws (matplotlib's own typesets it again at 100 pt for the measure). The
+    box is that typesetting's, within a point of matplotlib's scaled measure (each typeset box is
+    rounded up to whole points), and drawing a figure typesets no label at 100 pt."""
+    import matplotlib
+    from matplotlib.backends.backend_svg import RendererSVG
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextToPath
+
+    from crankdyn.report import figures
+
+    figures._measure_math_as_drawn()
+    renderer = RendererSVG(100, 100, io.StringIO())
+    label = r"$p_{\rm г} \cdot 10^{-3}$, МПа"
+    with matplotlib.rc_context(figures.STYLE):
+        for size_pt in (7.0, 9.0, 12.5):
+            prop = FontProperties(size=size_pt)
+            drawn = renderer._text2path.mathtext_parser.parse(label, 72, prop)
+            measured = renderer.get_text_width_height_descent(label, prop, True)
+            assert measured == (drawn.width, drawn.height, drawn.depth)
+            scaled = TextToPath().get_text_width_height_descent(label, prop, True)
+            assert all(0 <= ours - theirs <= 1.0 + 1e-9 for ours, theirs in zip(measured, scaled)), (measured, scaled)
+            plain = renderer.get_text_width_height_descent("МПа", prop, False)
+            assert plain == TextToPath().get_text_width_height_descent("МПа", prop, False)  # plain text: matplotlib's
+
+    at_100_pt = []
+    measure = TextToPath.get_text_width_height_descent
+    monkeypatch.setattr(TextToPath, "get_text_width_height_descent",
+                        lambda self, s, prop, ismath: at_100_pt.append(s) or measure(self, s, prop, ismath))
+    fig, ax = figures.new_figure(8, 6)
+    ax.set_ylabel(label)
+    ax.set_title(r"$\omega_{\rm к}$ and plain text")
+    figures.to_svg(fig)
+    assert at_100_pt and not [s for s in at_100_pt if "$" in s]  # plain texts only
