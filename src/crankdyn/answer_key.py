@@ -89,8 +89,8 @@ def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[st
     for column in columns:
         ran = [missing for stages, missing in outcomes if column.stage in stages]
         if ran and all(column.name in missing for missing in ran):
-            # either cause is possible (a measured pressure trace gives no compression-end pressure):
-            # the warning names both rather than guess
+            # a stage states a result its scene does not give as None (not absent), so absent in
+            # every variant is most likely a typo; a third-party stage may not, so both are named
             warnings.append(f"answer-key column {column.name!r} left out: no variant's {column.stage!r} results "
                             f"hold {column.declared.key!r} (a typo in AnswerColumn.key, or a result these "
                             f"scenes do not give)")
