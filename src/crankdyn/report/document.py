@@ -22,7 +22,7 @@ from .context import FigureFile, RenderContext, inline_figures, template_search_
 from .i18n import translator
 from .frame import frame_html
 from .equation_legend import add_equation_legends
-from .typeset import symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
+from .typeset import SYMBOLS, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
 from ..plausibility import format_params, warnings
 
 
@@ -477,17 +477,19 @@ def _fill_counts(html: str, t, sources: int) -> str:
 
 def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
-    (paragraphs, not a table: the Word export gives every table a repeated header row). A stage's
-    own letter (``Stage.symbols``) whose markup the list shows with another meaning too says where
-    it holds, from ``places`` (stage -> "у розділі 2"): "k – відносний дезаксаж (у розділі 2)"."""
+    (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
+    whose markup the list shows with another meaning too, and which holds in some sections only (a
+    stage's own letter, ``Stage.symbols``, or a core symbol's ``Symbol.sections``), says where it
+    holds, from ``places`` (stage -> [("section", "2"), ("appendix", "Б")]): "k – відносний
+    дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language) for key in keys]
     rows = []
     for key, markup in zip(keys, markups):
         unit = symbol_unit(key, t)
         meaning = t(f"symbol.{key}")
-        stage = key.split(".", 1)[0] if "." in key else None
-        if stage and markups.count(markup) > 1 and (places or {}).get(stage):
-            meaning += f" ({places[stage]})"
+        where = _where(_symbol_stages(key), places or {}, t) if markups.count(markup) > 1 else ""
+        if where:
+            meaning += f" ({where})"
         meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
         rows.append(f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
                     f'<span class="meaning">{meaning}</span></p>')
@@ -495,6 +497,30 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html
+
+
+def _symbol_stages(key: str) -> tuple[str, ...]:
+    """The stages whose sections a symbol's meaning holds in: a stage's own symbol its stage, a
+    core symbol those it declares (none: it holds throughout)."""
+    if "." in key:
+        return (key.split(".", 1)[0],)
+    symbol = SYMBOLS.get(key)
+    return tuple(symbol.sections) if symbol is not None else ()
+
+
+def _where(stages, places: dict, t) -> str:
+    """"у розділах 5 і 8, у додатку А": the sections and appendices of ``stages`` in this report."""
+    found = [place for stage in stages for place in places.get(stage, ())]
+    numbers = sorted({value for kind, value in found if kind == "section"}, key=int)
+    letters = sorted({value for kind, value in found if kind == "appendix"})
+    parts = []
+    if numbers:
+        parts.append(t("doc.symbol_in_section", number=numbers[0]) if len(numbers) == 1
+                     else t("doc.symbol_in_sections", numbers=t.join_and(numbers)))
+    if letters:
+        parts.append(t("doc.symbol_in_appendix", letter=letters[0]) if len(letters) == 1
+                     else t("doc.symbol_in_appendices", letters=t.join_and(letters)))
+    return ", ".join(parts)
 
 
 #: A numbered chapter or an appendix of the document, with the stage it shows.
@@ -520,16 +546,17 @@ def fill_section_numbers(html: str, title, t) -> str:
     return SECTION_MARK.sub(number, html)
 
 
-def _places(html: str, t) -> dict[str, str]:
-    """stage -> where its section stands, "у розділі 2" / "у додатку Б" (the appendix's letter as
-    its heading prints it)."""
-    found: dict[str, list[str]] = {}
+def _places(html: str) -> dict[str, list[tuple[str, str]]]:
+    """stage -> where its sections stand: ("section", "2") or ("appendix", "Б", the appendix's
+    letter as its heading prints it)."""
+    found: dict[str, list[tuple[str, str]]] = {}
     for m in _CHAPTER.finditer(html):
         appendix, stage, number, letter = m.groups()
-        if number or (appendix and letter):
-            found.setdefault(stage, []).append(t("doc.symbol_in_appendix", letter=letter) if appendix
-                                               else t("doc.symbol_in_section", number=number))
-    return {stage: ", ".join(places) for stage, places in found.items()}
+        if number and not appendix:
+            found.setdefault(stage, []).append(("section", number))
+        elif appendix and letter:
+            found.setdefault(stage, []).append(("appendix", letter))
+    return found
 
 
 def _fill_symbol_list(html: str, t, language: str) -> str:
@@ -538,4 +565,4 @@ def _fill_symbol_list(html: str, t, language: str) -> str:
     body = head.split("<body", 1)[-1] + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
     return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body,
-                                   _places(rest, t)) + rest
+                                   _places(rest)) + rest

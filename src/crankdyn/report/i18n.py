@@ -133,6 +133,12 @@ class Translator:
         index = present.index(category) if category in present else len(present) - 1
         return choices[min(index, len(choices) - 1)]
 
+    def join_and(self, items) -> str:
+        """``items`` as the report language lists them: "5, 6 і 8" (Babel's CLDR list patterns)."""
+        from babel.lists import format_list  # lazy: heavy optional import (babel: only when a report lists)
+
+        return format_list(list(items), locale=self.locale)
+
     # ----------------------------------------------------------------- numbers
     def number(self, value: float, significant: int = 4) -> str:
         """``value`` to ``significant`` digits, plain notation where sensible."""
