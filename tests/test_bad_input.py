@@ -42,6 +42,8 @@ CASES = [
     ("unknown language", {"report": {"language": "tlh"}}, "report.language"),
     ("unknown sheet frame", {"report": {"frame": "gost"}}, "report.frame = 'gost': allowed values: 'none' or 'eskd'"),
     ("designation not text", {"report": {"designation": 41}}, "report.designation = 41: input should be a valid string"),
+    ("title-block letter too long", {"report": {"letter": "УНКП"}},
+     "report.letter = 'УНКП': string should have at most 3 characters"),
     ("unknown stage", {"analysis": {"stages": ["kinematics", "telepathy"]}}, "telepathy"),
     ("delay after TDC", {"cycle": {"rounding": {"ignition_advance_deg": 10, "combustion_delay_deg": 12}}},
      "combustion_delay_deg"),

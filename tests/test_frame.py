@@ -33,7 +33,8 @@ DESIGNATION = "КП.ДВЗ.041.00.000 ПЗ"
 #: names as a student may type them: markup characters are text, printed as typed
 FRAMED = {"frame": "eskd", "designation": DESIGNATION, "student": "Іваненко <О.> & П.",
           "supervisor": "доц. Петренко В. М.", "group": "241", "university": "НАУ «ХАІ»",
-          "department": "Кафедра 203", "title": "Динамічний розрахунок рядного чотирициліндрового двигуна"}
+          "department": "Кафедра 203", "title": "Динамічний розрахунок рядного чотирициліндрового двигуна",
+          "standards_controller": "ст. викл. Коваль І. І.", "approver": "проф. Мельник С. О.", "letter": "У"}
 
 needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdfinfo") is None,
                                    reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
@@ -79,6 +80,10 @@ def test_the_frame_only_adds_its_blocks_and_stylesheet(language):
     assert "Іваненко &lt;О.&gt; &amp;" in blocks and "<О.>" not in blocks
     assert blocks.count(DESIGNATION) == 3 and blocks.count('class="eskd-page"') == 3
     assert blocks.count('class="eskd-pages"') == 1
+    # Н. контр. and Затв. with their names (surname and initials), Літ. a character a cell
+    assert re.search(r"(Н\.\sконтр|N\.\scontr)\.</td><td[^>]*>Коваль\sІ\.\sІ\.</td>", blocks)
+    assert re.search(r"(Затв|Утв|Approved)\.?</td><td[^>]*>Мельник\sС\.\sО\.</td>", blocks)
+    assert re.findall(r'<td class="lit"[^>]*>([^<]*)</td>', blocks) == ["У", "", ""]
     labels = {"uk": ("Зм.", "Арк.", "№ докум.", "Підпис", "Дата", "Розроб.", "Перевір.", "Н. контр.", "Затв.",
                      "Літ.", "Аркушів", "Пояснювальна записка", "гр. 241"),
               "ru": ("Изм.", "Лист", "№ докум.", "Подп.", "Дата", "Разраб.", "Пров.", "Н. контр.", "Утв.",

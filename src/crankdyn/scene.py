@@ -113,6 +113,11 @@ class ReportMeta(_Strict):
     frame: Literal["none", "eskd"] = "none"
     #: the document's designation in the title blocks (e.g. "КП.ДВЗ.041.00.000 ПЗ"; empty: the cell is left blank)
     designation: str = ""
+    #: the title block's other people (surname and initials): Н. контр. and Затв. (empty: left for a signature)
+    standards_controller: str = ""
+    approver: str = ""
+    #: the title block's Літ. cells, one character each (a department's letter for student work, e.g. "У")
+    letter: Annotated[str, Field(max_length=3)] = ""
 
 
 def _year(year: int) -> int:

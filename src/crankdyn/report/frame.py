@@ -107,20 +107,21 @@ def person_in_block(name: str) -> str:
 
 
 def title_block(t, meta, title: str) -> dict:
-    """What the blocks hold: the designation, the names of the author and the supervisor, the
-    document's name (the report's title and "Пояснювальна записка") and the organisation
+    """What the blocks hold: the designation, the names of the author, the supervisor, the
+    standards controller and the approver, the letter (Літ., a character a cell), the document's name (the report's title and "Пояснювальна записка") and the organisation
     (university, department, group), each in the largest size that fits its cell."""
     organisation = "\n".join(part for part in (meta.university, meta.department,
                                               t("frame.group", group=meta.group) if meta.group else "") if part)
     name = f"{title}\n{t('doc.explanatory_note')}"
-    student, supervisor = person_in_block(meta.student), person_in_block(meta.supervisor)
+    people = {role: person_in_block(getattr(meta, role))
+              for role in ("student", "supervisor", "standards_controller", "approver")}
     # the column's names in one size (a longer name set smaller than the one above it looked odd)
-    names = min(fitting_size(student, 21, 4.5, 8.0, lines=1), fitting_size(supervisor, 21, 4.5, 8.0, lines=1))
+    names = min(fitting_size(person, 21, 4.5, 8.0, lines=1) for person in people.values())
     return {
         "designation": Cell(meta.designation, fitting_size(meta.designation, 116, 13)),
         "designation_small": Cell(meta.designation, fitting_size(meta.designation, 106, 13)),
-        "student": Cell(student, names),
-        "supervisor": Cell(supervisor, names),
+        **{role: Cell(person, names) for role, person in people.items()},
+        "letter": [Cell(character.strip(), 8.0) for character in meta.letter.ljust(3)],
         "name": Cell(name, fitting_size(name, 66, 23, 12.0)),
         "organisation": Cell(organisation, fitting_size(organisation, 48, 13.5, 9.0)),
     }
