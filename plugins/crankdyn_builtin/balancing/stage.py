@@ -600,9 +600,11 @@ def _coefficients_table(ctx, r):
     single = len(r["cylinder_labels"]) == 1  # one cylinder: no moments, no sums
     columns = [
         (t("balancing.order"), [order_name(o) for o in orders], None),
-        ("<i>P</i>/<i>C</i><sub><i>n</i></sub>" if single else "Σ<i>P</i>/<i>C</i><sub><i>n</i></sub>",
+        # in words: P and M alone name other quantities in this section (the bay model's P)
+        (t("balancing.head_force_max_ratio" if single else "balancing.head_resultant_force_ratio")
+         + " <i>C</i><sub><i>n</i></sub>",
          [o["force_coefficient"] for o in orders], 4),
-        (("<i>P</i><sub>max</sub>, " if single else "Σ<i>P</i>, ") + t("balancing.unit_N"),
+        (t("balancing.head_force_max" if single else "balancing.head_resultant_force") + ", " + t("balancing.unit_N"),
          [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
         (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
@@ -615,8 +617,9 @@ def _coefficients_table(ctx, r):
     ]
     if not single:
         columns += [
-            ("Σ<i>M</i>/(<i>C</i><sub><i>n</i></sub><i>a</i>)", [o["moment_coefficient"] for o in orders], 4),
-            ("Σ<i>M</i>, " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+            (t("balancing.head_resultant_moment_ratio") + " <i>C</i><sub><i>n</i></sub><i>a</i>",
+             [o["moment_coefficient"] for o in orders], 4),
+            (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
                                           for o in orders], None),
             (t("balancing.moment_plane"), ["—" if zero(o, "moment") else
                                            ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1) for o in orders], None),
@@ -696,10 +699,10 @@ def _means_table(ctx, r):
     columns = [
         (t("balancing.means"), [x[0] for x in means_rows], None),
         (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-        (t("balancing.static_moment") + " <i>mr</i>, " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
-        ("<i>m</i>, " + t("unit.kg"), [x[3] for x in means_rows], None),
+        (t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
+        (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + ([] if single else [("<i>x</i> " + t("balancing.from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
+    ] + ([] if single else [(t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)

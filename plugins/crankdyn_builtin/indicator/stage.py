@@ -12,7 +12,7 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax
@@ -307,6 +307,12 @@ def _closing_row_theory(theory, rows, labels, cycle_deg: float):
     return shown
 
 
+#: The indicator's own letters (Stage.symbols): the theoretical (unrounded) diagram's pressure of its table.
+SYMBOLS = {
+    "theoretical_pressure": Symbol("p", {"en": "theor", "uk": "теор", "ru": "теор"}, "unit.MPa"),
+}
+
+
 INDICATOR_STAGE = Stage(
     template_dir=TEMPLATES,
     name="indicator",
@@ -319,6 +325,7 @@ INDICATOR_STAGE = Stage(
     figures=("pV", "p_alpha"),
     tables=("indicator",),
     references=("poda2007",),
+    symbols=SYMBOLS,
     answer_columns=(
         AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),
         AnswerColumn("p_max_MPa", "max_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_max_MPa"),
