@@ -235,3 +235,31 @@ def test_a_mechanism_names_the_given_data_its_own_way():
     # a piston engine's list keeps the crank-slider's meanings (the vane's letters are not in its report)
     petrol = shared_html("petrol-1cyl", language="uk").linked_html
     assert "хід повзуна" not in petrol and "Хід поршня" in petrol
+
+
+#: A numbered instance of a symbol indexed by i: t_w1 of t_wi, z_3 of z_i.
+_NUMBERED_INSTANCE = re.compile(r"^<i>(\w)</i><sub>(\w*?)\d+</sub>$")
+_SECTION_START = re.compile(r'<section class="chapter[^"]*" id="[^"]*" data-stage="([^"]+)">')
+
+
+def _instance_of_an_indexed_symbol(token: str, language: str, stage: str) -> bool:
+    m = _NUMBERED_INSTANCE.match(token)
+    return bool(m) and bool(symbols_in(f"<i>{m.group(1)}</i><sub>{m.group(2)}<i>i</i></sub>", language, stage))
+
+
+@pytest.mark.parametrize("example, language", [(e, lang) for e in EXAMPLES for lang in LANGUAGES])
+def test_every_symbol_of_a_table_header_or_caption_is_in_the_symbol_table(example, language):
+    """A supervisor: p_теор, p_max, ΣP/C_n, mr, t_max … headed table columns and were nowhere
+    defined. Every letter a table's header or caption shows is in the one symbol table (so in
+    the list of symbols), with its meaning in that section; a crank's column (t_w1) is the
+    numbered instance of its symbol (t_wi)."""
+    html = shared_html(example, language=language).linked_html
+    starts = [(m.start(), m.group(1)) for m in _SECTION_START.finditer(html)]
+    missing = set()
+    for m in re.finditer(r"<th[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>", html, flags=re.S):
+        stage = next((name for start, name in reversed(starts) if start < m.start()), "")
+        for token in _tokens(m.group(1) or m.group(2)):
+            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)
+                    or _instance_of_an_indexed_symbol(token, language, stage)):
+                missing.add((stage, token))
+    assert not missing, sorted(missing)

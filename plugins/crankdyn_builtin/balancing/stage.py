@@ -606,7 +606,7 @@ def _coefficients_table(ctx, r):
          [o["force_coefficient"] for o in orders], 4),
         (t("balancing.head_force_max" if single else "balancing.head_resultant_force") + ", " + t("balancing.unit_N"),
          [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
-        (t("balancing.hodograph_axes"), ["—" if zero(o, "force") else
+        (t("balancing.hodograph_axes") + " <i>C</i><sub><i>n</i></sub>", ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
                                          for o in orders], None),

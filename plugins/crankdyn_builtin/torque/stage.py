@@ -160,7 +160,7 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-        ("<i>t</i><sub>k</sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+        ("<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
     ], caption=t("torque.table_b4_caption"),
         see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4")
 
