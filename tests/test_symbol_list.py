@@ -15,8 +15,9 @@ def _rows(html: str) -> list[str]:
 
 def test_a_letter_with_several_meanings_names_the_sections_of_each_sectioned_meaning():
     t = translator("uk")
-    places = {"forces": [("section", "5")], "bays": [("section", "9")], "balancing": [("section", "6")],
-              "flywheel": [("section", "8")]}
+    shows = "<i>n</i> <i>δ</i>"  # each section shows both letters
+    places = {"forces": [("section", "5", shows)], "bays": [("section", "9", shows)],
+              "balancing": [("section", "6", shows)], "flywheel": [("section", "8", shows)]}
     rows = _rows(symbol_list_html(["crank_speed", "side_specific", "harmonic_order", "irregularity"], t, "uk",
                                   places=places))
     assert rows[0] == "n – частота обертання колінчастого вала, хв⁻¹"  # holds throughout: no place
@@ -27,10 +28,10 @@ def test_a_letter_with_several_meanings_names_the_sections_of_each_sectioned_mea
 
 def test_a_meaning_of_the_appendices_and_a_stage_absent_from_the_report():
     t = translator("en")
-    places = {"numerics": [("appendix", "A"), ("appendix", "B")]}
+    places = {"numerics": [("appendix", "A", "<i>k</i><sub>2</sub>"), ("appendix", "B", "<i>k</i> = 1")]}
     rows = _rows(symbol_list_html(["series_term", "side_specific", "rod_specific", "shaft_angle"], t, "en",
                                   places=places))
-    assert rows[0] == "k – number of a term of a series (in appendices A and B)"
+    assert rows[0] == "k – number of a term of a series (in appendix B)"  # appendix A shows k₂, not k
     assert rows[1].startswith("n – specific side force pressing the piston against the cylinder wall, ")
     assert "(" not in rows[2]  # forces and bays are not in this report: nothing to point to
 
@@ -39,4 +40,17 @@ def test_the_places_are_read_from_the_report_headings():
     html = ('<section class="chapter" id="sec-forces" data-stage="forces">\n  <h2 id="x">5 Сили</h2>'
             '<section class="chapter appendix" id="sec-numerics" data-stage="numerics">\n'
             '  <h2 class="unnumbered">Додаток А<br><span>(довідковий)</span><br>Похибка</h2>')
-    assert _places(html) == {"forces": [("section", "5")], "numerics": [("appendix", "А")]}
+    places = _places(html)
+    assert {stage: [where[:2] for where in found] for stage, found in places.items()} == {
+        "forces": [("section", "5")], "numerics": [("appendix", "А")]}
+    assert places["forces"][0][2].endswith("5 Сили</h2>") and "Похибка" in places["numerics"][0][2]
+
+
+def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_letter():
+    """The in-line four's reading: "k – питома сила, що діє вздовж шатуна (у розділах 5 і 6)",
+    where section 6 (the bays) shows no k."""
+    t = translator("uk")
+    places = {"forces": [("section", "5", "<i>k</i> = <i>p</i><sub>1</sub>/cos <i>β</i>")],
+              "bays": [("section", "6", "<i>k</i><sub>2</sub> <i>N</i><sub>i</sub>")]}
+    rows = _rows(symbol_list_html(["rod_specific", "series_term"], t, "uk", places=places))
+    assert rows[0] == "k – питома сила, що діє вздовж шатуна (у розділі 5), МПа"

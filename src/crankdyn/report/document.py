@@ -480,14 +480,14 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
     stage's own letter, ``Stage.symbols``, or a core symbol's ``Symbol.sections``), says where it
-    holds, from ``places`` (stage -> [("section", "2"), ("appendix", "Б")]): "k – відносний
+    holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it: "k – відносний
     дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language) for key in keys]
     rows = []
     for key, markup in zip(keys, markups):
         unit = symbol_unit(key, t)
         meaning = t(f"symbol.{key}")
-        where = _where(_symbol_stages(key), places or {}, t) if markups.count(markup) > 1 else ""
+        where = _where(_symbol_stages(key), places or {}, t, markup) if markups.count(markup) > 1 else ""
         if where:
             meaning += f" ({where})"
         meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
@@ -508,9 +508,12 @@ def _symbol_stages(key: str) -> tuple[str, ...]:
     return tuple(symbol.sections) if symbol is not None else ()
 
 
-def _where(stages, places: dict, t) -> str:
-    """"у розділах 5 і 8, у додатку А": the sections and appendices of ``stages`` in this report."""
-    found = [place for stage in stages for place in places.get(stage, ())]
+def _where(stages, places: dict, t, markup: str) -> str:
+    """"у розділах 5 і 8, у додатку А": the sections and appendices of ``stages`` in this report
+    that show ``markup`` (a meaning declared for a section that does not use the letter is not
+    said to hold there)."""
+    shown = re.compile(re.escape(markup) + r"(?!<sub>|<sup>[′″]|[′″])")
+    found = [(kind, value) for stage in stages for kind, value, body in places.get(stage, ()) if shown.search(body)]
     numbers = sorted({value for kind, value in found if kind == "section"}, key=int)
     letters = sorted({value for kind, value in found if kind == "appendix"})
     parts = []
@@ -546,16 +549,18 @@ def fill_section_numbers(html: str, title, t) -> str:
     return SECTION_MARK.sub(number, html)
 
 
-def _places(html: str) -> dict[str, list[tuple[str, str]]]:
-    """stage -> where its sections stand: ("section", "2") or ("appendix", "Б", the appendix's
-    letter as its heading prints it)."""
-    found: dict[str, list[tuple[str, str]]] = {}
-    for m in _CHAPTER.finditer(html):
+def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
+    """stage -> where its sections stand, with each section's HTML: ("section", "2", html) or
+    ("appendix", "Б", html), the appendix's letter as its heading prints it."""
+    found: dict[str, list[tuple[str, str, str]]] = {}
+    chapters = list(_CHAPTER.finditer(html))
+    for m, following in zip(chapters, [*chapters[1:], None]):
         appendix, stage, number, letter = m.groups()
+        body = html[m.start():following.start() if following else len(html)]
         if number and not appendix:
-            found.setdefault(stage, []).append(("section", number))
+            found.setdefault(stage, []).append(("section", number, body))
         elif appendix and letter:
-            found.setdefault(stage, []).append(("appendix", letter))
+            found.setdefault(stage, []).append(("appendix", letter, body))
     return found
 
 
