@@ -485,10 +485,13 @@ def test_a_single_cylinder_gets_a_counterweight_and_one_first_order_shaft_by_def
 
 
 @pytest.mark.parametrize("language, one, several", [("en", "P_II remains", "P_II, P_IV remain"),
-                                                     ("uk", "залишається P_II", "залишаються P_II, P_IV"),
-                                                     ("ru", "остаётся P_II", "остаются P_II, P_IV")])
+                                                     ("uk", "незрівноваженою залишається величина P_II",
+                                                      "незрівноваженими залишаються величини P_II, P_IV"),
+                                                     ("ru", "неуравновешенной остаётся величина P_II",
+                                                      "неуравновешенными остаются величины P_II, P_IV")])
 def test_the_abstracts_finding_agrees_in_number_with_what_stays_unbalanced(language, one, several):
-    """One force left unbalanced 'remains', two 'remain' (the abstract read 'P_II remain')."""
+    """One force left unbalanced 'remains', two 'remain' (the abstract read 'P_II remain'; then
+    'незрівноваженими залишається ΣP_IV', a plural adjective: the word 'величина' carries the number)."""
     from crankdyn.report.i18n import translator
 
     t = translator(language, REGISTRY.catalogs)

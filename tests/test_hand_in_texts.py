@@ -336,7 +336,7 @@ def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(repo
     assert re.search(r"<tr[^>]*>" + re.escape(row), section)
     figure = re.search(r'src="(figures/[^"]*solvers_single\.svg)"', section)[1]
     with open(f"{_FOLDERS['inline4-petrol']}/{figure}", encoding="utf-8") as fh:
-        assert "розрахунок, використаний у розділі" in fh.read()
+        assert "розрахунок, використаний у цьому розділі" in fh.read()
 
 
 def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports):

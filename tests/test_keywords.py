@@ -67,7 +67,7 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     # supervisor: "C and P_I unbalanced" in the abstract of an engine the section balances)
     assert 2 in balancing["residual"]["balanced_orders"] and balancing["balance_shafts"]
     # and not what the conclusions call negligible (ΣP_VI = 4,4 Н, under 1 % of C_I)
-    assert "після встановлення засобів зрівноваження незрівноваженими залишається ΣPIV" in abstract and "ΣPVI" not in abstract, abstract
+    assert "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV" in abstract and "ΣPVI" not in abstract, abstract
 
 
 def test_the_abstract_aim_lists_the_sections_the_note_holds():
