@@ -602,7 +602,7 @@ def _coefficients_table(ctx, r):
         (t("balancing.order"), [order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
         (t("balancing.head_force_max_ratio" if single else "balancing.head_resultant_force_ratio")
-         + " <i>C</i><sub><i>n</i></sub>",
+         + "<i>C</i><sub><i>n</i></sub>",
          [o["force_coefficient"] for o in orders], 4),
         (t("balancing.head_force_max" if single else "balancing.head_resultant_force") + ", " + t("balancing.unit_N"),
          [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
@@ -617,7 +617,7 @@ def _coefficients_table(ctx, r):
     ]
     if not single:
         columns += [
-            (t("balancing.head_resultant_moment_ratio") + " <i>C</i><sub><i>n</i></sub><i>a</i>",
+            (t("balancing.head_resultant_moment_ratio") + "(<i>C</i><sub><i>n</i></sub><i>a</i>)",
              [o["moment_coefficient"] for o in orders], 4),
             (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
                                           for o in orders], None),
