@@ -54,3 +54,12 @@ def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_lette
               "bays": [("section", "6", "<i>k</i><sub>2</sub> <i>N</i><sub>i</sub>")]}
     rows = _rows(symbol_list_html(["rod_specific", "series_term"], t, "uk", places=places))
     assert rows[0] == "k – питома сила, що діє вздовж шатуна (у розділі 5), МПа"
+
+
+def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
+    """A supervisor: "[5, 6, 7]" is written "[5–7]"."""
+    from crankdyn.report.document import cite
+
+    assert cite([1]) == "[1]" and cite([2, 1, 2]) == "[1, 2]"
+    assert cite([7, 5, 6]) == "[5–7]"
+    assert cite([1, 3, 4, 5, 6, 9, 10]) == "[1, 3–6, 9, 10]"

@@ -168,8 +168,17 @@ UNLISTED_SKIPS = ("skip.other_mechanism", "skip.covered")
 
 
 def cite(numbers) -> str:
-    """``[1, 2]``: sources cited by their numbers in the list of references."""
-    return "[" + ", ".join(str(n) for n in sorted(set(numbers))) + "]"
+    """``[1, 2]``, ``[5–7]``: sources cited by their numbers in the list of references, three or
+    more consecutive numbers as a range (ДСТУ 8302:2015 practice, as "[5–7]" for "[5, 6, 7]")."""
+    ordered = sorted(set(numbers))
+    runs: list[list[int]] = []
+    for n in ordered:
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return "[" + ", ".join(f"{run[0]}–{run[-1]}" if len(run) >= 3 else ", ".join(map(str, run))
+                           for run in runs) + "]"
 
 
 def appendix_letter(t, index: int) -> str:
