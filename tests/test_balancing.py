@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -507,7 +508,11 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
     assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--format", "html", "-q",
                  "--stages", "balancing"]) == 0
     svg = "".join(p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg"))
-    assert r"$\Sigma P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg
+    assert r"$P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg
+    # one cylinder's own forces, no sums (the uk reading: "ΣC/C" over a single crank), here as in its tables
+    section = re.search(r'data-stage="balancing">.*?</section>', (out / "report.html").read_text(encoding="utf-8"),
+                        flags=re.S).group(0)
+    assert r"\Sigma" not in svg and "Σ" not in section
     # one cylinder: no moments in the summary table, nor in its caption (the ru reading)
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Balance of the forces, and the balancing means" in html

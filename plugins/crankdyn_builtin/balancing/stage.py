@@ -559,8 +559,10 @@ def _models_drawing(t, r):
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
             sub = "C" if o["order"] == 0 else f"\\mathrm{{{o['name'][1:]}}}"
             amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
-            title = (f"$\\Sigma P_{{{sub}}}/{amp}$" if o["order"] else "$\\Sigma C/C$") if kind == "force" \
-                else f"$\\Sigma M_{{{sub}}}/({amp}a)$"
+            # one cylinder's own force, without the sum sign, as its tables and text write it
+            sigma = "" if len(r["cylinder_labels"]) == 1 else "\\Sigma "
+            title = (f"${sigma}P_{{{sub}}}/{amp}$" if o["order"] else f"${sigma}C/C$") if kind == "force" \
+                else f"${sigma}M_{{{sub}}}/({amp}a)$"
             ax.set_title(title, fontsize=8)
     return fig
 
@@ -657,7 +659,7 @@ def _summary_table(ctx, r):
     if single:  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
     summary_table = ctx.table([
-        (t("balancing.quantity"), [_summary_symbol(s) for s in rows], None),
+        (t("balancing.quantity"), [_summary_symbol(s, "" if single else "Σ") for s in rows], None),
         (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
         (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
                                 for s in rows], None),
@@ -731,12 +733,12 @@ def _explorer_table(ctx, r):
             ("№", [str(c["rank"]) for c in rows], None),
             (t("balancing.cranks"), ["; ".join(t.number_g(v) for v in c["crank_angles_deg"]) for c in rows], None),
             (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
-            ("ΣC", [c["coefficients"]["sum_C"] for c in rows], 3),
-            ("M<sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
-            ("ΣP<sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),
-            ("M<sub>I</sub>", [c["coefficients"]["M_PI"] for c in rows], 3),
-            ("ΣP<sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
-            ("M<sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
+            ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
+            ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
+            ("Σ<i>P</i><sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),
+            ("Σ<i>M</i><sub>I</sub>", [c["coefficients"]["M_PI"] for c in rows], 3),
+            ("Σ<i>P</i><sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
+            ("Σ<i>M</i><sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
             (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
             (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
             (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
@@ -909,11 +911,13 @@ def render(output: StageOutput, ctx) -> str | None:
                                spacing=r["cylinder_spacing_m"], orders_in_words=partial(orders_in_words, ctx.t))
 
 
-def _summary_symbol(s) -> Markup:
+def _summary_symbol(s, sum_sign: str = "Σ") -> Markup:
+    """ΣC, ΣP_II, ΣM_I as the summary table prints them; one cylinder's without the sum sign (C, P_II),
+    as its table of orders and its text write them."""
     kind, base = s["quantity"].split("_", 1)
     if kind == "sum":
-        return Markup("Σ<i>C</i>" if base == "C" else "Σ<i>P</i><sub>" + base[1:] + "</sub>")
-    return Markup("Σ<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
+        return Markup(f"{sum_sign}<i>C</i>" if base == "C" else f"{sum_sign}<i>P</i><sub>" + base[1:] + "</sub>")
+    return Markup(f"{sum_sign}<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
 
 
 def _scale_symbol(s) -> str:
