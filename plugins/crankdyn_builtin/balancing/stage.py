@@ -403,7 +403,8 @@ def run(scene, inputs) -> StageOutput:
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
-    notes.append(("balancing.note_check", {"orders": n_max, "samples": CHECK_SAMPLES}))
+    notes.append(("balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
+                  {"orders": n_max, "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     return StageOutput(data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)}, results=results,
                        tables={"balancing": table}, notes=notes)
