@@ -63,3 +63,28 @@ def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
     assert cite([1]) == "[1]" and cite([2, 1, 2]) == "[1, 2]"
     assert cite([7, 5, 6]) == "[5–7]"
     assert cite([1, 3, 4, 5, 6, 9, 10]) == "[1, 3–6, 9, 10]"
+
+
+def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equations():
+    """A supervisor: "координату x", "вектори F і P", "n-го порядку" upright in the text while the
+    formulas set the same letters in italics. Not an initial, a Roman numeral, the imaginary unit
+    j, Euler's e, a letter of a formula's markup or of an English title quoted in the note."""
+    from crankdyn.report.typeset import typeset_html
+
+    def typeset(text: str, language: str = "uk") -> str:
+        return typeset_html(f"<p>{text}</p>", language, [])[3:-4]
+
+    assert typeset("координату x кожного циліндра") == "координату <i>x</i> кожного циліндра"
+    assert typeset("вектори F і P посібника, осей t–z, як") == \
+        "вектори <i>F</i> і <i>P</i> посібника, осей <i>t</i>–<i>z</i>, як"
+    assert typeset("сила n-го порядку") == "сила <i>n</i>-го порядку"
+    assert typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."  # (a capital before "." is an initial)
+    assert typeset("сила P_I і l′_i тут") == "сила <i>P</i><sub>I</sub> і <i>l</i>′<sub>i</sub> тут"
+    # left upright
+    assert "<i>" not in typeset("Khurmi R. S. і порядок I, V та X.")
+    assert "<i>j</i>" not in typeset("де j (прямим шрифтом) – уявна одиниця, cos α + j sin α")
+    assert "<i>e</i>" not in typeset("вектор e^{jα} тут")
+    assert typeset("тема: «Dynamic calculation of a four-cylinder engine»") == \
+        "тема: «Dynamic calculation of a four-cylinder engine»"
+    assert typeset("d<i>V</i> і <i>p</i>") == "d<i>V</i> і <i>p</i>"  # a formula's letters keep their markup
+    assert typeset("координату x", "en") == "координату x"  # English prose: "a" and "I" are words

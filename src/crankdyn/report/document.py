@@ -573,10 +573,15 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
     return found
 
 
+_ASSIGNMENT = re.compile(r'<section class="assignment">.*?</section>', re.S)
+
+
 def _fill_symbol_list(html: str, t, language: str) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
-    body = head.split("<body", 1)[-1] + rest
+    # the assignment sheet repeats the given data with the core's letters (S = 100 мм); the given
+    # data's section names them as the mechanism does (a vane engine's S is its slider's travel)
+    body = _ASSIGNMENT.sub("", head.split("<body", 1)[-1]) + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
     return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body,
                                    _places(rest)) + rest

@@ -454,8 +454,43 @@ def _braces(text: str) -> str:
     return text[1:-1] if text.startswith("{") and text.endswith("}") else text
 
 
-def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",") -> str:
-    """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing."""
+#: A Latin letter standing alone in Cyrillic prose is a quantity's symbol ("координату x", "n-го
+#: порядку", "вектори F і P", "d·B"): set in italics as the equations set it (a supervisor: the same
+#: letter upright in the text and italic in the formula). Only between spaces or punctuation inside
+#: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
+#: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop), a Roman numeral
+#: (I, V, X), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
+_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,\u00a0\u202f])([A-HJ-UWYZa-z])"
+                           r"(?=[\s,.;:!?)\]»”–—·=+−/\u00a0\u202f′″]|-[а-яіїєґ])")
+_CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
+#: Cyrillic-prose languages, whose lone Latin letters are symbols (in English "a" and "I" are words).
+_ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
+
+
+def _prose_letter(m: re.Match) -> str:
+    letter, text, end = m.group(1), m.string, m.end()
+    following = text[end:end + 12]
+    if (letter.isupper() and following.startswith(".")) or re.match(r"[′″]?[_^]", following):
+        return letter  # an initial; or a symbol with a subscript, which _SUB sets whole
+    if letter == "j" and (following.startswith(" (") or following.startswith(" sin")):
+        return letter  # the imaginary unit, upright
+    before = _LAST_WORD.search(text, 0, m.start())
+    after = _FIRST_WORD.match(text, end)
+    if (before and _LATIN_WORD.fullmatch(before.group(1))) or (after and _LATIN_WORD.fullmatch(after.group(1))):
+        return letter  # an article amid Latin words: the student's English title quoted in the note
+    return f"<i>{letter}</i>"
+
+
+_LAST_WORD = re.compile(r"([^\W\d_]+)[^\w]*$")
+_FIRST_WORD = re.compile(r"[^\w]*([^\W\d_]+)")
+_LATIN_WORD = re.compile(r"[A-Za-z]{2,}")
+
+
+def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",",
+                      prose: bool = False) -> str:
+    """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing;
+    ``prose`` (a node outside any italic, bold, sub- or superscript), in Cyrillic prose a lone Latin
+    letter (a symbol) in italics."""
     subs = _subscript_map(language)
 
     def sub(m: re.Match) -> str:
@@ -470,6 +505,9 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
         return f"{mantissa}·10{sign}{digits}"
 
     text = _E_NUMBER.sub(e_number, text)
+    if prose and language in _ITALIC_PROSE_LANGUAGES and _CYRILLIC.search(text):
+        # (a text in Latin letters only, as an English title a student typed, is not Cyrillic prose)
+        text = _PROSE_LETTER.sub(_prose_letter, text)
     text = _SUB.sub(sub, text)
     text = _SUP.sub(lambda m: f"<sup>{_braces(m.group(1)).replace('-', MINUS)}</sup>", text)
     if units:
@@ -539,6 +577,11 @@ def unbreakable_html(html: str) -> str:
 _SKIP_FIRST = frozenset("sStT/")
 
 
+#: The inline tags a formula's markup is made of: text inside them is no prose.
+_INLINE_TAG = re.compile(r"<(/?)(?:i|b|sub|sup)[\s>]")
+_INLINE_FIRST = frozenset("ibs/")
+
+
 def _skip_depth(tag: str, skip: int) -> int:
     """How deep inside ``<style>``, ``<script>`` or ``<title>`` (whose text is not the report's)
     the text after ``tag`` is."""
@@ -558,14 +601,16 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
     and equations' ``<i>X</i><sub>Y</sub>`` the language's subscript."""
     subs = _subscript_map(language)
     parts = _TAG.split(html)
-    skip = 0
+    skip = inline = 0  # inside style/script/title; inside an italic, bold, sub- or superscript
     for i, part in enumerate(parts):
         if i % 2 == 1:  # a tag
             skip = _skip_depth(part, skip)
+            if part[1:2] in _INLINE_FIRST and (m := _INLINE_TAG.match(part)):
+                inline = max(inline + (-1 if m.group(1) else 1), 0)
             continue
         if skip or not part.strip():
             continue
-        parts[i] = typeset_text_html(part, language, units, decimal)
+        parts[i] = typeset_text_html(part, language, units, decimal, prose=not inline)
     out = "".join(parts)
     return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
                                    f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>", out)
