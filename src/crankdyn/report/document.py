@@ -22,7 +22,7 @@ from .context import FigureFile, RenderContext, inline_figures, template_search_
 from .i18n import translator
 from .frame import frame_html
 from .equation_legend import add_equation_legends
-from .typeset import SYMBOLS, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
+from .typeset import SYMBOLS, italic_letters, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
 from ..plausibility import format_params, warnings
 
 
@@ -499,7 +499,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
         where = _where(_symbol_stages(key), places or {}, t, markup) if markups.count(markup) > 1 else ""
         if where:
             meaning += f" ({where})"
-        meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
+        meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
         rows.append(f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
                     f'<span class="meaning">{meaning}</span></p>')
     html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'

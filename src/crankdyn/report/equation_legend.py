@@ -19,7 +19,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import (SYMBOLS, sections_taking_over, symbol_html, symbol_pattern, symbols_generation, unit_text,
+from .typeset import (SYMBOLS, italic_letters, sections_taking_over, symbol_html, symbol_pattern, symbols_generation, unit_text,
                       unshifted_indices)
 
 _SECTION_OR_EQUATION = re.compile(
@@ -112,7 +112,7 @@ def legend_html(keys: list[str], t, language: str) -> str:
         # own symbol (Stage.symbols, "stage.key") carries no such note, its parentheses stay
         if SYMBOLS[key].sections and "." not in key:
             meaning = _SECTIONS_NOTE.sub("", meaning)
-        meaning = escape(meaning) + (f", {escape(unit)}" if unit else "")
+        meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
         end = "." if k == len(keys) - 1 else ";"
         lines.append(f'<span class="where-line">{symbol_html(key, language)} – {meaning}{end}</span>')
     # the word in a box of its own: the lines after the first stand under the first symbol

@@ -460,8 +460,8 @@ def _braces(text: str) -> str:
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop), a Roman numeral
 #: (I, V, X), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
-_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,\u00a0\u202f])([A-HJ-UWYZa-z])"
-                           r"(?=[\s,.;:!?)\]»”–—·=+−/\u00a0\u202f′″]|-[а-яіїєґ])")
+_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|\u00a0\u202f\u2060])([A-HJ-UWYZa-z])"
+                           r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″]|-[а-яіїєґ])")
 _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 #: Cyrillic-prose languages, whose lone Latin letters are symbols (in English "a" and "I" are words).
 _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
@@ -486,6 +486,14 @@ _FIRST_WORD = re.compile(r"[^\w]*([^\W\d_]+)")
 _LATIN_WORD = re.compile(r"[A-Za-z]{2,}")
 
 
+def italic_letters(text: str, language: str) -> str:
+    """An escaped text with its lone Latin letters in italics, as the report's prose has them (the
+    meanings of the list of symbols and of the "where" lines, which are put in after the typesetting)."""
+    if language in _ITALIC_PROSE_LANGUAGES and _CYRILLIC.search(text):
+        return _PROSE_LETTER.sub(_prose_letter, text)
+    return text
+
+
 def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",",
                       prose: bool = False) -> str:
     """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing;
@@ -505,9 +513,8 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
         return f"{mantissa}·10{sign}{digits}"
 
     text = _E_NUMBER.sub(e_number, text)
-    if prose and language in _ITALIC_PROSE_LANGUAGES and _CYRILLIC.search(text):
-        # (a text in Latin letters only, as an English title a student typed, is not Cyrillic prose)
-        text = _PROSE_LETTER.sub(_prose_letter, text)
+    if prose:  # (a text in Latin letters only, as an English title a student typed, is no Cyrillic prose)
+        text = italic_letters(text, language)
     text = _SUB.sub(sub, text)
     text = _SUP.sub(lambda m: f"<sup>{_braces(m.group(1)).replace('-', MINUS)}</sup>", text)
     if units:
