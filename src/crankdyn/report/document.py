@@ -258,8 +258,10 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
                for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
     # each stage under its section's title as printed (a stage may retitle its section for the scene)
     shown = {v.key: v.title for v in (*sections, *appendices)}
-    timing = [(shown.get(s.name) or (t(s.title_key) if s.title_key else s.name), result.timing_s[s.name])
-              for s in result.plan.order if s.name in result.timing_s]
+    # a stage that ran without a section (one cylinder's engine scheme, its torque) says so: a
+    # supervisor found stages timed that the note has no section of
+    timing = [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
+               result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
     css = report_css(language, scene.report.frame)
     title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
