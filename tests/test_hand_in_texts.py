@@ -361,6 +361,8 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     # an absolute value's opening bar keeps its contents (the ru note ended a line with "C_n = |")
     bars = unbreakable_html("<p><i>C</i><sub>n</sub> = |<i>A</i><sub>n</sub>|·<i>C</i><sub>I</sub>, (|<i>x</i>|), a | b</p>")
     assert "</sub>\u00a0=\u00a0|\u2060<i>A</i>" in bars and "(|\u2060<i>x</i>" in bars and "a | b" in bars
+    # after a product's dot too (the uk reading: "(4,000·|" at a line's end, "A₄|C_I)" on the next)
+    assert "4,000·|\u2060<i>A</i>" in unbreakable_html("<p>(4,000·|<i>A</i><sub>4</sub>|<i>C</i><sub>I</sub>)</p>")
     assert unbreakable_html(bars) == bars
 
     # the whole report: in running text every "X = <number>" is bound (a displayed equation

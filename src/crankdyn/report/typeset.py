@@ -533,7 +533,7 @@ _SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
 WORD_JOINER = "\u2060"
 #: "C_n = |A_n|·C_I": no line break after the opening bar of an absolute value (Unicode lets a
 #: line break after "|": the ru reading found "C_n = |" at a line's end).
-_OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=])|^)\|(?=[^\s|\u2060]|$)")
+_OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=·])|^)\|(?=[^\s|\u2060]|$)")
 #: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
 #: title page had "Петров В. /М."): a no-break space before a capital initial after a word or an
 #: initial, and ("В. М. Петров") after an initial before a capitalised word.
