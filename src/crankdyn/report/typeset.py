@@ -133,6 +133,8 @@ SYMBOLS: dict[str, Symbol] = {
     "cylinder_volume": Symbol("V", {}, "unit.l", "symbol.cylinder_volume"),
     "theoretical_mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.theoretical_mean_indicated_pressure",
                                                   html="<i>p</i><sub>i</sub>′"),
+    "theoretical_indicated_work": Symbol("L", {"en": "i"}, "unit.J", "symbol.theoretical_indicated_work",
+                                         html="<i>L</i><sub>i</sub>′"),
     "piston_velocity_max": Symbol("v", {"en": "max"}, "unit.m_s", "symbol.piston_velocity_max"),
     "piston_acceleration_max": Symbol("j", {"en": "max"}, "unit.m_s2", "symbol.piston_acceleration_max"),
     "piston_acceleration_min": Symbol("j", {"en": "min"}, "unit.m_s2", "symbol.piston_acceleration_min"),
@@ -460,7 +462,7 @@ def _braces(text: str) -> str:
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop), a Roman numeral
 #: (I, V, X), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
-_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|\u00a0\u202f\u2060])([A-HJ-UWYZa-z])"
+_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|ΣΔ\u00a0\u202f\u2060])([A-HJ-UWYZa-z])"
                            r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″]|-[а-яіїєґ])")
 _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 #: Cyrillic-prose languages, whose lone Latin letters are symbols (in English "a" and "I" are words).
