@@ -99,6 +99,6 @@ def test_each_main_journals_torque_range_and_amplitude():
     assert "Набіжні крутні моменти на корінних шийках: найбільший і найменший за цикл та амплітуда" in html
     # the journals' names explained where they first appear (the bearings section explained them
     # four pages later), and μ named where the section states it (the conclusions name it μ)
-    assert "(шийку названо номерами колін, між якими вона лежить: 1–2 – між колінами 1 і 2)" in html
+    assert "(шийку названо номерами колін, між якими вона лежить: 1–2 – між колінами 1 і 2; 0 – вільний кінець вала, номер після останнього коліна – кінець з боку маховика)" in html
     assert "коефіцієнт нерівномірності крутного моменту <i>μ</i>" in html or \
         "коефіцієнт нерівномірності крутного моменту μ" in html

@@ -258,10 +258,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
                for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
     # each stage under its section's title as printed (a stage may retitle its section for the scene)
     shown = {v.key: v.title for v in (*sections, *appendices)}
-    # a stage that ran without a section (one cylinder's engine scheme, its torque) says so: a
-    # supervisor found stages timed that the note has no section of
-    timing = [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
-               result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
+    timing = _timing_rows(result, shown, t)
     css = report_css(language, scene.report.frame)
     title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
@@ -286,6 +283,13 @@ def report_css(language: str, frame: str = "none") -> str:
     names = ("report.css", f"report.{language}.css", *(("frame-eskd.css",) if frame == "eskd" else ()))
     return "\n".join((Path(p) / name).read_text(encoding="utf-8") for p in template_search_path([])[:1]
                      for name in names if (Path(p) / name).is_file())
+
+
+def _timing_rows(result, shown: dict, t) -> list[tuple[str, float]]:
+    """(title, seconds) of each stage that ran; one that ran without a section (one cylinder's
+    engine scheme, its torque) says so (a supervisor found stages timed that the note has no section of)."""
+    return [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
+             result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
 
 
 def _abstract_parts(t, registry, scene, sections) -> dict:

@@ -95,7 +95,8 @@ SYMBOLS: dict[str, Symbol] = {
     "acceleration_harmonic": Symbol("A", {"en": "n"}, "", "symbol.acceleration_harmonic",
                                     html="<i>A</i><sub><i>n</i></sub>"),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
-    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio"),
+    # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
+    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=("indicator",)),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
     # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
     "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=("bearings",)),
