@@ -511,6 +511,16 @@ def _models_shown(r) -> tuple[list, bool]:
     return shown, moments
 
 
+def _name_arrow(ax, name: str, start: complex, vector: complex, side: float) -> None:
+    """``name`` in italics beside the middle of the arrow ``start`` → ``start + vector`` (complex
+    numbers: imag along x, real along y, as the panels draw them), 5 pt off it on ``side`` (+1 left)."""
+    length = abs(vector)
+    normal = (-vector.real / length * side, vector.imag / length * side)  # the arrow turned by 90°
+    middle = start + 0.5 * vector
+    ax.annotate(name, (middle.imag, middle.real), xytext=(5 * normal[0], 5 * normal[1]), textcoords="offset points",
+                fontsize=7, style="italic", ha="center", va="center")
+
+
 def _models_figure(ctx, r):
     """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
     moments = _models_shown(r)[1]
@@ -542,21 +552,23 @@ def _models_drawing(t, r):
             th = np.linspace(0, 2 * np.pi / o["speed"], 241)
             wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
-            # the vectors named at their tips, so that a black-and-white print still tells them apart
+            # the vectors named beside their middles (a black-and-white print still tells them apart),
+            # f on the left of its arrow, b on the right, 5 pt off the line (a supervisor: on the arrows)
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
-                ax.text(0.55 * f.imag, 0.55 * f.real, "f", fontsize=7, style="italic", ha="right", va="bottom")
+                _name_arrow(ax, "f", 0j, f, side=1.0)
             if abs(b) > 1e-9:
                 _arrow(ax, f.imag, f.real, f.imag + b.imag, f.real + b.real, color="C3")
-                ax.text(f.imag + 0.55 * b.imag, f.real + 0.55 * b.real, "b", fontsize=7, style="italic",
-                        ha="left", va="top")
+                _name_arrow(ax, "b", f, b, side=-1.0)
             lim = max(abs(f) + abs(b), 1.0) * 1.25
             ax.set_xlim(-lim, lim)
             ax.set_ylim(-lim, lim)
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
             if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
-                ax.text(0, -0.8 * lim, t("balancing.balanced_label"), ha="center", fontsize=7, color="C2")
+                # under the panel, clear of its dotted circle (a supervisor: printed over it)
+                ax.text(0.5, 0.0, t("balancing.balanced_label"), ha="center", va="top", fontsize=7, color="C2",
+                        transform=ax.transAxes)
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
             sub = "C" if o["order"] == 0 else f"\\mathrm{{{o['name'][1:]}}}"
             amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
