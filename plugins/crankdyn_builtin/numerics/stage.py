@@ -930,16 +930,19 @@ def _steps_figure(steps, labels, has_theory, t):
     """The errors of the step study's quantities against the run time, the points marked with their step."""
     fig, ax = new_figure(16, 10)
     times = [s["time_s"] * 1e3 for s in steps]
+    highest = [100 * _LOG_FLOOR] * len(steps)  # each step's highest marker: its label goes above them all
     for i, q in enumerate(QUANTITIES):
         errors = [max(100 * s[f"{q}_error_relative"], 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="os^vD"[i], label=labels[q])
+        highest = [max(h, e) for h, e in zip(highest, errors)]
     if has_theory:
         errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
+        highest = [max(h, e) for h, e in zip(highest, errors)]
     points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
-    for k in _labelled_points(points):
-        ax.annotate(f"{t.number_g(steps[k]['angle_step_deg'])}°", points[k],
-                    textcoords="offset points", xytext=(3, 4), fontsize=7)
+    for k in _labelled_points(points):  # (a supervisor: the labels printed over the markers)
+        ax.annotate(f"{t.number_g(steps[k]['angle_step_deg'])}°", (times[k], highest[k]),
+                    textcoords="offset points", xytext=(0, 6), ha="center", va="bottom", fontsize=7)
     ax.set_xlabel(t("numerics.axis_time_ms"))
     ax.set_ylabel(t("numerics.axis_error_percent"))
     ax.legend(loc="best", fontsize=8)
