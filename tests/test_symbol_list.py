@@ -81,10 +81,25 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
     assert typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."  # (a capital before "." is an initial)
     assert typeset("сила P_I і l′_i тут") == "сила <i>P</i><sub>I</sub> і <i>l</i>′<sub>i</sub> тут"
     # left upright
-    assert "<i>" not in typeset("Khurmi R. S. і порядок I, V та X.")
+    assert "<i>" not in typeset("Khurmi R. S. і порядок I.")
+    # V and X are the volume and a studied value, at a sentence's end too; an initial follows a name
+    assert typeset("координатах p–V, величини X. Тут") == "координатах <i>p</i>–<i>V</i>, величини <i>X</i>. Тут"
+    assert typeset("маса, зведена до радіуса R, а в частках Rω², M = 9555 N/n тут") == \
+        "маса, зведена до радіуса <i>R</i>, а в частках <i>R</i>ω², <i>M</i> = 9555 <i>N</i>/<i>n</i> тут"
     assert "<i>j</i>" not in typeset("де j (прямим шрифтом) – уявна одиниця, cos α + j sin α")
     assert "<i>e</i>" not in typeset("вектор e^{jα} тут")
     assert typeset("тема: «Dynamic calculation of a four-cylinder engine»") == \
         "тема: «Dynamic calculation of a four-cylinder engine»"
     assert typeset("d<i>V</i> і <i>p</i>") == "d<i>V</i> і <i>p</i>"  # a formula's letters keep their markup
     assert typeset("координату x", "en") == "координату x"  # English prose: "a" and "I" are words
+
+
+def test_a_meaning_ending_with_its_letter_and_a_one_letter_table_cell_are_in_italics():
+    """The second uk/ru reading: "зведена до радіуса R, кг" kept R upright (the unit is put after
+    the meaning), and the criteria column's cells z, t, q stood upright under italic headers."""
+    from crankdyn.report.typeset import italic_letters, typeset_html
+
+    assert italic_letters("маса, зведена до радіуса R", "ru") == "маса, зведена до радіуса <i>R</i>"
+    assert typeset_html('<tr><td class="text">z</td><td>1,5</td></tr>', "uk", []) == \
+        '<tr><td class="text"><i>z</i></td><td>1,5</td></tr>'
+    assert typeset_html('<tr><td class="text">z</td></tr>', "en", []) == '<tr><td class="text">z</td></tr>'

@@ -462,9 +462,12 @@ def _braces(text: str) -> str:
 #: letter upright in the text and italic in the formula). Only between spaces or punctuation inside
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop), a Roman numeral
-#: (I, V, X), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
-_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|ΣΔ\u00a0\u202f\u2060])([A-HJ-UWYZa-z])"
-                           r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″]|-[а-яіїєґ])")
+#: (I: V and X are the volume and a studied value), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
+_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|/ΣΔ\u00a0\u202f\u2060])([A-HJ-Za-z])"
+                           r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″α-ωΑ-Ω]|-[а-яіїєґ])")
+#: The same, where the text ends with the letter too (a meaning put in before its unit: "… до радіуса R").
+_PROSE_LETTER_AT_END = re.compile(_PROSE_LETTER.pattern[:-1] + "|$)")
+_ONE_LETTER = re.compile(r"[A-Za-z]")
 _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 #: Cyrillic-prose languages, whose lone Latin letters are symbols (in English "a" and "I" are words).
 _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
@@ -473,8 +476,10 @@ _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
 def _prose_letter(m: re.Match) -> str:
     letter, text, end = m.group(1), m.string, m.end()
     following = text[end:end + 12]
-    if (letter.isupper() and following.startswith(".")) or re.match(r"[′″]?[_^]", following):
-        return letter  # an initial; or a symbol with a subscript, which _SUB sets whole
+    if re.match(r"[′″]?[_^]", following):
+        return letter  # a symbol with a subscript, which _SUB sets whole
+    if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(text, 0, m.start()):
+        return letter  # an initial: after a capitalised name or another initial ("Khurmi R. S.")
     if letter == "j" and (following.startswith(" (") or following.startswith(" sin")):
         return letter  # the imaginary unit, upright
     before = _LAST_WORD.search(text, 0, m.start())
@@ -484,16 +489,19 @@ def _prose_letter(m: re.Match) -> str:
     return f"<i>{letter}</i>"
 
 
+_AFTER_NAME = re.compile(r"(?:\b[A-ZА-ЯІЇЄҐ][\w’'-]*\.?)[\s\u00a0]+$")
 _LAST_WORD = re.compile(r"([^\W\d_]+)[^\w]*$")
 _FIRST_WORD = re.compile(r"[^\w]*([^\W\d_]+)")
 _LATIN_WORD = re.compile(r"[A-Za-z]{2,}")
 
 
-def italic_letters(text: str, language: str) -> str:
+def italic_letters(text: str, language: str, whole: bool = True) -> str:
     """An escaped text with its lone Latin letters in italics, as the report's prose has them (the
-    meanings of the list of symbols and of the "where" lines, which are put in after the typesetting)."""
+    meanings of the list of symbols and of the "where" lines, which are put in after the typesetting).
+    ``whole``: the text is all there is (a letter may end it); a document's text node may end with
+    a formula's letter before its markup (the d of "d<i>V</i>"), which stays as it is."""
     if language in _ITALIC_PROSE_LANGUAGES and _CYRILLIC.search(text):
-        return _PROSE_LETTER.sub(_prose_letter, text)
+        return (_PROSE_LETTER_AT_END if whole else _PROSE_LETTER).sub(_prose_letter, text)
     return text
 
 
@@ -517,7 +525,7 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
 
     text = _E_NUMBER.sub(e_number, text)
     if prose:  # (a text in Latin letters only, as an English title a student typed, is no Cyrillic prose)
-        text = italic_letters(text, language)
+        text = italic_letters(text, language, whole=False)
     text = _SUB.sub(sub, text)
     text = _SUP.sub(lambda m: f"<sup>{_braces(m.group(1)).replace('-', MINUS)}</sup>", text)
     if units:
@@ -619,6 +627,10 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
                 inline = max(inline + (-1 if m.group(1) else 1), 0)
             continue
         if skip or not part.strip():
+            continue
+        if not inline and language in _ITALIC_PROSE_LANGUAGES and _ONE_LETTER.fullmatch(part) \
+                and parts[i - 1].startswith("<td"):
+            parts[i] = f"<i>{part}</i>"  # a table cell that is a symbol (the criteria z, t, q)
             continue
         parts[i] = typeset_text_html(part, language, units, decimal, prose=not inline)
     out = "".join(parts)
