@@ -185,7 +185,7 @@ SYMBOLS: dict[str, Symbol] = {
     "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
     "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
     "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
-                                 html="<i>b̄</i><sub><i>n</i></sub>"),
+                                 html="<i>b</i><sub><i>n</i></sub><sup>*</sup>"),  # (b̄: the bar crossed the ascender)
     "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>",
                         sections=("balancing",)),
     "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
