@@ -389,7 +389,8 @@ def test_double_primed_symbols_are_typeset_as_the_primed_ones():
     from crankdyn.report.typeset import typeset_text_html
 
     html = typeset_text_html("l′_i + l″_i = l_i", "uk", [])
-    assert html == "<i>l</i>′<sub>i</sub> + <i>l</i>″<sub>i</sub> = <i>l</i><sub>i</sub>"
+    # the index in italics, as formula 7.3 sets it (the second reading)
+    assert html == "<i>l</i>′<sub><i>i</i></sub> + <i>l</i>″<sub><i>i</i></sub> = <i>l</i><sub><i>i</i></sub>"
 
 
 def test_a_number_with_a_power_of_ten_keeps_its_unit_on_its_line():

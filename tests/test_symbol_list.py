@@ -79,7 +79,10 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
         "вектори <i>F</i> і <i>P</i> посібника, осей <i>t</i>–<i>z</i>, як"
     assert typeset("сила n-го порядку") == "сила <i>n</i>-го порядку"
     assert typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."  # (a capital before "." is an initial)
-    assert typeset("сила P_I і l′_i тут") == "сила <i>P</i><sub>I</sub> і <i>l</i>′<sub>i</sub> тут"
+    # an index subscript in italics as the equations set it, a numeral or a word's one upright
+    assert typeset("сила P_I і l′_i, C_n, Δα_{0i}, p_i тут") == ("сила <i>P</i><sub>I</sub> і <i>l</i>′<sub><i>i</i></sub>, "
+                                                          "<i>C</i><sub><i>n</i></sub>, Δ<i>α</i><sub>0<i>i</i></sub>, "
+                                                          "<i>p</i><sub>i</sub> тут")
     # left upright
     assert "<i>" not in typeset("Khurmi R. S. і порядок I.")
     # V and X are the volume and a studied value, at a sentence's end too; an initial follows a name

@@ -473,6 +473,23 @@ _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
 
 
+@functools.lru_cache(maxsize=1)
+def _index_subscripts() -> dict[tuple[str, str], str]:
+    """(base, subscript as a catalog writes it) -> the subscript's markup, for the symbols whose
+    subscript holds an index in italics (l_i, C_n, Δα_0i, t_wi): the text sets them as the
+    equations do (the second reading: l′_i upright in the text, italic in formula 7.3). A pair
+    that another symbol writes upright (p_i, the indicated pressure) is left as it is."""
+    indexed: dict[tuple[str, str], str] = {}
+    upright: set[tuple[str, str]] = set()
+    for symbol in SYMBOLS.values():
+        m = re.fullmatch(r"(?:Δ)?(?:<b>)?<i>(.)</i>(?:</b>)?[′″]?<sub>(.*?)</sub>[′″]?", symbol.html or "")
+        if m and "<i>" in m.group(2):
+            indexed[(m.group(1), re.sub(r"<[^>]+>", "", m.group(2)))] = m.group(2)
+        elif not symbol.html:
+            upright.update((symbol.base, sub) for sub in symbol.sub.values())
+    return {pair: markup for pair, markup in indexed.items() if pair not in upright}
+
+
 def _prose_letter(m: re.Match) -> str:
     letter, text, end = m.group(1), m.string, m.end()
     following = text[end:end + 12]
@@ -511,10 +528,11 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
     ``prose`` (a node outside any italic, bold, sub- or superscript), in Cyrillic prose a lone Latin
     letter (a symbol) in italics."""
     subs = _subscript_map(language)
+    indices = _index_subscripts()
 
     def sub(m: re.Match) -> str:
         base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
-        s = subs.get((base, s), s)
+        s = indices.get((base, s)) or subs.get((base, s), s)
         return f"<i>{base}</i>{prime}<sub>{s}</sub>{prime2}"
 
     def e_number(m: re.Match) -> str:
