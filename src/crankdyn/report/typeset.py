@@ -461,8 +461,9 @@ def _braces(text: str) -> str:
 #: порядку", "вектори F і P", "d·B"): set in italics as the equations set it (a supervisor: the same
 #: letter upright in the text and italic in the formula). Only between spaces or punctuation inside
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
-#: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop), a Roman numeral
-#: (I: V and X are the volume and a studied value), the upright imaginary unit j ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
+#: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop after a name), the
+#: Roman numeral I (V and X are the volume and a studied value), the upright imaginary unit j
+#: ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
 _PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|/ΣΔ\u00a0\u202f\u2060])([A-HJ-Za-z])"
                            r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″α-ωΑ-Ω]|-[а-яіїєґ])")
 #: The same, where the text ends with the letter too (a meaning put in before its unit: "… до радіуса R").
@@ -493,14 +494,15 @@ def _index_subscripts() -> dict[tuple[str, str], str]:
 def _prose_letter(m: re.Match) -> str:
     letter, text, end = m.group(1), m.string, m.end()
     following = text[end:end + 12]
+    preceding = text[max(0, m.start() - 40):m.start()]  # (the words around it: a window, not the whole node)
     if re.match(r"[′″]?[_^]", following):
         return letter  # a symbol with a subscript, which _SUB sets whole
-    if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(text, 0, m.start()):
+    if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(preceding):
         return letter  # an initial: after a capitalised name or another initial ("Khurmi R. S.")
     if letter == "j" and (following.startswith(" (") or following.startswith(" sin")):
         return letter  # the imaginary unit, upright
-    before = _LAST_WORD.search(text, 0, m.start())
-    after = _FIRST_WORD.match(text, end)
+    before = _LAST_WORD.search(preceding)
+    after = _FIRST_WORD.match(following + text[end + 12:end + 40])
     if (before and _LATIN_WORD.fullmatch(before.group(1))) or (after and _LATIN_WORD.fullmatch(after.group(1))):
         return letter  # an article amid Latin words: the student's English title quoted in the note
     return f"<i>{letter}</i>"
