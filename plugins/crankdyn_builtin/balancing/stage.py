@@ -634,7 +634,8 @@ def _coefficients_table(ctx, r):
         columns += [
             (t("balancing.head_resultant_moment_ratio") + "(<i>C</i><sub><i>n</i></sub><i>a</i>)",
              [o["moment_coefficient"] for o in orders], 4),
-            (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"), ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+            (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
+             ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
                                           for o in orders], None),
             (t("balancing.moment_plane"), ["—" if zero(o, "moment") else
                                            ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1) for o in orders], None),
@@ -717,7 +718,8 @@ def _means_table(ctx, r):
         (t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
         (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + ([] if single else [(t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"), [x[5] for x in means_rows], None)])
+    ] + ([] if single else [(t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
+                             [x[5] for x in means_rows], None)])
     radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)

@@ -22,7 +22,8 @@ from .context import FigureFile, RenderContext, inline_figures, template_search_
 from .i18n import translator
 from .frame import frame_html
 from .equation_legend import add_equation_legends
-from .typeset import SYMBOLS, italic_letters, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html, use_stage_symbols
+from .typeset import (SYMBOLS, italic_letters, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html,
+                      use_stage_symbols)
 from ..plausibility import format_params, warnings
 
 
@@ -495,8 +496,8 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
     stage's own letter, ``Stage.symbols``, or a core symbol's ``Symbol.sections``), says where it
-    holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it: "k – відносний
-    дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
+    holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
+    "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language) for key in keys]
     rows = []
     for key, markup in zip(keys, markups):

@@ -19,8 +19,8 @@ import re
 
 from markupsafe import escape
 
-from .typeset import (SYMBOLS, italic_letters, sections_taking_over, symbol_html, symbol_pattern, symbols_generation, unit_text,
-                      unshifted_indices)
+from .typeset import (SYMBOLS, italic_letters, sections_taking_over, symbol_html, symbol_pattern, symbols_generation,
+                      unit_text, unshifted_indices)
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'

@@ -108,8 +108,9 @@ def person_in_block(name: str) -> str:
 
 def title_block(t, meta, title: str) -> dict:
     """What the blocks hold: the designation, the names of the author, the supervisor, the
-    standards controller and the approver, the letter (Літ., a character a cell), the document's name (the report's title and "Пояснювальна записка") and the organisation
-    (university, department, group), each in the largest size that fits its cell."""
+    standards controller and the approver, the letter (Літ., a character a cell), the document's
+    name (the report's title and "Пояснювальна записка") and the organisation (university,
+    department, group), each in the largest size that fits its cell."""
     organisation = "\n".join(part for part in (meta.university, meta.department,
                                               t("frame.group", group=meta.group) if meta.group else "") if part)
     name = f"{title}\n{t('doc.explanatory_note')}"
