@@ -106,3 +106,14 @@ def test_a_meaning_ending_with_its_letter_and_a_one_letter_table_cell_are_in_ita
     assert typeset_html('<tr><td class="text">z</td><td>1,5</td></tr>', "uk", []) == \
         '<tr><td class="text"><i>z</i></td><td>1,5</td></tr>'
     assert typeset_html('<tr><td class="text">z</td></tr>', "en", []) == '<tr><td class="text">z</td></tr>'
+
+
+def test_a_letter_of_the_prose_only_is_in_the_list_too():
+    """The first reading: T of "ω_m = Φ/T" (the time-mean speed, in the method notes) was nowhere
+    defined. Set in italics in the prose, the list finds and explains it."""
+    from conftest import shared_html
+
+    html = shared_html("inline4-petrol", language="uk").linked_html
+    listed = html[html.index('<div class="symbol-list">'):]
+    assert "Φ/<i>T</i>" in html
+    assert '<span class="symbol"><i>T</i></span> – <span class="meaning">тривалість одного циклу, с</span>' in listed

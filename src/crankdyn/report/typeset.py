@@ -117,6 +117,8 @@ SYMBOLS: dict[str, Symbol] = {
     "torque_max": Symbol("M", {"en": "max"}, "unit.Nm", "symbol.torque_max"),
     "torque_min": Symbol("M", {"en": "min"}, "unit.Nm", "symbol.torque_min"),
     "torque_non_uniformity": Symbol("μ", {}, "", "symbol.torque_non_uniformity"),
+    # the time of one cycle (ω_m = Φ/T, the speed fluctuation's time-mean speed)
+    "cycle_period": Symbol("T", {}, "unit.s", "symbol.cycle_period"),
     "indicated_power": Symbol("N", {"en": "i"}, "unit.kW", "symbol.indicated_power"),
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
     "mechanical_efficiency": Symbol("η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"),
