@@ -117,3 +117,17 @@ def test_a_letter_of_the_prose_only_is_in_the_list_too():
     listed = html[html.index('<div class="symbol-list">'):]
     assert "Φ/<i>T</i>" in html
     assert '<span class="symbol"><i>T</i></span> – <span class="meaning">тривалість одного циклу, с</span>' in listed
+
+
+def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
+    """The first reading: a single-cylinder note defined θ 'від ВМТ першого циліндра' and M as the
+    'сумарний' torque. A meaning may have a one-cylinder form (``symbol.<key>_single``), which the
+    list and the "where" lines of a one-cylinder note use."""
+    from conftest import shared_html
+
+    t = translator("uk")
+    assert _rows(symbol_list_html(["shaft_angle"], t, "uk", single=True)) == ["θ – кут повороту колінчастого вала від ВМТ циліндра, °"]
+    assert _rows(symbol_list_html(["shaft_angle"], t, "uk")) == ["θ – кут повороту колінчастого вала від ВМТ першого циліндра, °"]
+    one = shared_html("petrol-1cyl-uk", language="uk").linked_html
+    four = shared_html("inline4-petrol", language="uk").linked_html
+    assert "від ВМТ першого циліндра" not in one and "від ВМТ першого циліндра" in four

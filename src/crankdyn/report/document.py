@@ -21,7 +21,7 @@ from ..plugins import Registry
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .i18n import translator
 from .frame import frame_html
-from .equation_legend import add_equation_legends
+from .equation_legend import add_equation_legends, symbol_meaning
 from .typeset import (SYMBOLS, italic_letters, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html,
                       use_stage_symbols)
 from ..plausibility import format_params, warnings
@@ -272,8 +272,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         **_abstract_parts(t, registry, scene, sections),
     )
     html = _finish(fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t), t, language,
-                   len(references),
-                   frozenset(s.name for s in result.plan.order if not s.legend))
+                   len(references), frozenset(s.name for s in result.plan.order if not s.legend),
+                   single=scene.engine.cylinders == 1)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
 
@@ -353,13 +353,13 @@ def _title(scene, t) -> str:
     return scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
 
 
-def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str]) -> str:
+def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str], single: bool = False) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
-    "where" lines and the list of the symbols shown."""
+    "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings)."""
     html = _fill_counts(html, t, sources)
     html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator)
-    html = add_equation_legends(html, t, language, without_legend)
-    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language))
+    html = add_equation_legends(html, t, language, without_legend, single)
+    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, single))
 
 
 #: Where the document's sections start (each at the start of a line, in report.html.j2).
@@ -491,7 +491,8 @@ def _fill_counts(html: str, t, sources: int) -> str:
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
 
 
-def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None) -> str:
+def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None,
+                     single: bool = False) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
@@ -502,7 +503,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     rows = []
     for key, markup in zip(keys, markups):
         unit = symbol_unit(key, t)
-        meaning = t(f"symbol.{key}")
+        meaning = symbol_meaning(t, key, single)
         where = _where(_symbol_stages(key), places or {}, t, markup) if markups.count(markup) > 1 else ""
         if where:
             meaning += f" ({where})"
@@ -583,7 +584,7 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
 _ASSIGNMENT = re.compile(r'<section class="assignment">.*?</section>', re.S)
 
 
-def _fill_symbol_list(html: str, t, language: str) -> str:
+def _fill_symbol_list(html: str, t, language: str, single: bool = False) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
     # the assignment sheet repeats the given data with the core's letters (S = 100 мм); the given
@@ -591,4 +592,4 @@ def _fill_symbol_list(html: str, t, language: str) -> str:
     body = _ASSIGNMENT.sub("", head.split("<body", 1)[-1]) + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
     return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body,
-                                   _places(rest)) + rest
+                                   _places(rest), single) + rest

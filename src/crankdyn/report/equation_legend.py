@@ -101,13 +101,19 @@ def line_unit(key: str, t) -> str:
     return unit_text(_SI_UNITS.get(unit, unit), t)
 
 
-def legend_html(keys: list[str], t, language: str) -> str:
+def symbol_meaning(t, key: str, single: bool = False) -> str:
+    """A symbol's meaning from the catalogs; for a one-cylinder engine its ``_single`` form where
+    the catalog gives one (θ "від ВМТ циліндра", not "першого циліндра"; M not "сумарний")."""
+    return t(f"symbol.{key}_single") if single and t.has(f"symbol.{key}_single") else t(f"symbol.{key}")
+
+
+def legend_html(keys: list[str], t, language: str, single: bool = False) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
     stop after the last; the unit as :func:`line_unit` says."""
     lines = []
     for k, key in enumerate(keys):
         unit = line_unit(key, t)
-        meaning = t(f"symbol.{key}")
+        meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (Stage.symbols, "stage.key") carries no such note, its parentheses stay
         if SYMBOLS[key].sections and "." not in key:
@@ -120,7 +126,8 @@ def legend_html(keys: list[str], t, language: str) -> str:
             f'<span class="where-lines">{"<br>".join(lines)}</span></p>')
 
 
-def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset()) -> str:
+def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset(),
+                         single: bool = False) -> str:
     """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
     none in the sections of ``skip_stages`` (``Stage.legend`` False)."""
     explained: set[str] = set()
@@ -137,7 +144,7 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
         if not new:
             continue
         explained.update(new)
-        parts += [html[position:match.end()], legend_html(new, t, language)]
+        parts += [html[position:match.end()], legend_html(new, t, language, single)]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)
