@@ -616,12 +616,11 @@ def _coefficients_table(ctx, r):
     columns = [
         (t("balancing.order"), [order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
-        (t("balancing.head_force_max_ratio" if single else "balancing.head_resultant_force_ratio")
-         + "<i>C</i><sub><i>n</i></sub>",
+        (t("balancing.head_force_max_ratio" if single else "balancing.head_resultant_force_ratio", scale=_C_N),
          [o["force_coefficient"] for o in orders], 4),
         (t("balancing.head_force_max" if single else "balancing.head_resultant_force") + ", " + t("balancing.unit_N"),
          [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
-        (t("balancing.hodograph_axes") + " <i>C</i><sub><i>n</i></sub>", ["—" if zero(o, "force") else
+        (t("balancing.hodograph_axes", scale=_C_N), ["—" if zero(o, "force") else
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                                          f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
                                          for o in orders], None),
@@ -632,7 +631,7 @@ def _coefficients_table(ctx, r):
     ]
     if not single:
         columns += [
-            (t("balancing.head_resultant_moment_ratio") + "(<i>C</i><sub><i>n</i></sub><i>a</i>)",
+            (t("balancing.head_resultant_moment_ratio", scale=f"({_C_N}<i>a</i>)"),
              [o["moment_coefficient"] for o in orders], 4),
             (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
              ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
@@ -924,6 +923,10 @@ def render(output: StageOutput, ctx) -> str | None:
                                models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
                                summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
                                spacing=r["cylinder_spacing_m"], orders_in_words=partial(orders_in_words, ctx.t))
+
+
+#: The amplitude a table of orders divides by, as its headers print it (the catalogs' ``{scale}``).
+_C_N = "<i>C</i><sub><i>n</i></sub>"
 
 
 def _summary_symbol(s, sum_sign: str = "Σ") -> Markup:

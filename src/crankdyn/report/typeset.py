@@ -466,10 +466,13 @@ def _braces(text: str) -> str:
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop after a name), the
 #: Roman numeral I (V and X are the volume and a studied value), the upright imaginary unit j
 #: ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
-_PROSE_LETTER = re.compile(r"(?<=[\s(\[«„“–—·=+−,|/ΣΔ\u00a0\u202f\u2060])([A-HJ-Za-z])"
-                           r"(?=[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″α-ωΑ-Ω]|-[а-яіїєґ])")
+_LETTER_BEFORE = r"(?<=[\s(\[«„“–—·=+−,|/ΣΔ\u00a0\u202f\u2060])([A-HJ-Za-z])"
+_LETTER_AFTER = r"[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″α-ωΑ-Ω]|-[а-яіїєґ]"
+_PROSE_LETTER = re.compile(rf"{_LETTER_BEFORE}(?={_LETTER_AFTER})")
 #: The same, where the text ends with the letter too (a meaning put in before its unit: "… до радіуса R").
-_PROSE_LETTER_AT_END = re.compile(_PROSE_LETTER.pattern[:-1] + "|$)")
+_PROSE_LETTER_AT_END = re.compile(rf"{_LETTER_BEFORE}(?={_LETTER_AFTER}|$)")
+#: What follows a letter that _SUB sets with its subscript or exponent.
+_SCRIPT_NEXT = re.compile(r"[′″]?[_^]")
 _ONE_LETTER = re.compile(r"[A-Za-z]")
 _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 #: Cyrillic-prose languages, whose lone Latin letters are symbols (in English "a" and "I" are words).
@@ -497,7 +500,7 @@ def _prose_letter(m: re.Match) -> str:
     letter, text, end = m.group(1), m.string, m.end()
     following = text[end:end + 12]
     preceding = text[max(0, m.start() - 40):m.start()]  # (the words around it: a window, not the whole node)
-    if re.match(r"[′″]?[_^]", following):
+    if _SCRIPT_NEXT.match(following):
         return letter  # a symbol with a subscript, which _SUB sets whole
     if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(preceding):
         return letter  # an initial: after a capitalised name or another initial ("Khurmi R. S.")
