@@ -30,6 +30,17 @@ def test_example_written_with_its_data_file_and_runs(tmp_path, capsys):
         "numerics_kinematics_forms.csv", "numerics_steps.csv", "torque.csv"]
 
 
+def test_an_example_reuses_an_identical_data_file_and_keeps_a_different_one(tmp_path, capsys):
+    assert main(["example", "diesel-rk-trace", "-o", str(tmp_path / "a.toml")]) == 0
+    data = next(p for p in tmp_path.iterdir() if p.suffix != ".toml")
+    # the second example shares the data file: identical bytes are reused, not refused
+    assert main(["example", "inline6-diesel-trace", "-o", str(tmp_path / "b.toml")]) == 0
+    data.write_text("my own trace", encoding="utf-8")
+    assert main(["example", "inline6-diesel-trace", "-o", str(tmp_path / "c.toml")]) == 2
+    assert data.name in capsys.readouterr().err
+    assert data.read_text(encoding="utf-8") == "my own trace" and not (tmp_path / "c.toml").exists()
+
+
 def test_unknown_example(capsys):
     assert main(["example", "no-such-engine", "-o", "x.toml"]) == 2
     assert "available" in capsys.readouterr().err

@@ -278,13 +278,17 @@ class Result:
         """The main results, as the batch answer key has them (units in the names)."""
         return answers(self.document)
 
-    def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
-        """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
+    def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
+              *, force: bool = False) -> list[Path]:
+        """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths.
+
+        As the command line, it replaces only files crankdyn wrote there and left unchanged; a file in
+        the way raises :class:`crankdyn.errors.OutputError` unless ``force`` is true."""
         formats = list(formats)
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
             raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))
-        return write_outputs(Path(out_dir), render_files(self.run_result, _registry(), formats))
+        return write_outputs(Path(out_dir), render_files(self.run_result, _registry(), formats), force=force)
 
     # ----------------------------------------------------------------- report sections
     def _render(self, figures_only: bool = False, language: str | None = None,

@@ -11,6 +11,7 @@ import gc
 import os
 import json
 import sys
+import warnings
 import time
 import tomllib
 from importlib import resources
@@ -55,6 +56,9 @@ def _parser() -> argparse.ArgumentParser:
     report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     report.add_argument("--self-contained", action="store_true",
                         help="inline the figures in report.html instead of referring to figures/*.svg")
+    report.add_argument("--force", action="store_true",
+                        help="replace files in the output folder that crankdyn did not write or that were "
+                        "edited since (otherwise the run is refused and nothing is written)")
     report.add_argument("-q", "--quiet", action="store_true")
     _data_dir_option(report)
 
@@ -185,7 +189,7 @@ def main(argv: list[str] | None = None) -> int:
                "batch": _batch, "explore": _explore,
                "sweep": _sweep}[args.command]
     try:
-        return handler(args)
+        return _with_product_warnings(handler, args)
     except CrankdynError as exc:
         print(f"crankdyn: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -197,6 +201,21 @@ def main(argv: list[str] | None = None) -> int:
         print(f"crankdyn: internal error: {exc.__class__.__name__}: {exc}\n"
               "(run again with --debug for the traceback, and please report it)", file=sys.stderr)
         return EXIT_INTERNAL
+
+
+def _with_product_warnings(handler, args) -> int:
+    """Run ``handler`` with crankdyn's own warnings (a kept output file ...) shown as one line each."""
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if category.__module__.startswith("crankdyn"):
+            print(f"crankdyn: warning: {message}", file=sys.stderr)
+        else:
+            shown(message, category, filename, lineno, file, line)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        return handler(args)
 
 
 def _formats(text: str) -> list[str]:
@@ -241,7 +260,8 @@ def _write_report(args) -> int:
     start = time.perf_counter()
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
-    run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained)
+    run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained,
+                       force=args.force)
     result, written = run.result, run.written
     _print_warnings(result, registry)
     if run.missing_translations:
@@ -437,7 +457,10 @@ def _example(args) -> int:
     if data:
         files[data] = (source.parent / data).read_bytes()
     folder = target.parent if str(target.parent) else Path(".")
-    existing = [folder / name for name in files if (folder / name).exists()]
+    # A file already there with exactly these bytes (the data file two examples share) is reused.
+    existing = [folder / name for name in files if (folder / name).exists() or (folder / name).is_symlink()]
+    existing = [path for path in existing if path.is_symlink() or not path.is_file()
+                or path.read_bytes() != files[path.name]]
     if existing and not args.force:
         raise UsageError(f"{existing[0]} exists; not overwritten (give --force to replace it, or another -o FILE)")
     write_atomically(target.parent if str(target.parent) else Path("."), files)

@@ -58,3 +58,8 @@ class UsageError(CrankdynError):
 
 class PluginError(CrankdynError):
     """A plugin is inconsistent: duplicate names, unmet requirements, cycles."""
+
+
+class OutputError(CrankdynError):
+    """The output folder cannot take the run's files: not a folder, not writable, or a file in the
+    way that crankdyn did not write (kept unless the run is forced)."""

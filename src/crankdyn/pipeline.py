@@ -127,17 +127,18 @@ def _pdf(rendered) -> bytes:
 
 def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],
                  stages: Iterable[str] | None = None, languages: Iterable[str] = (),
-                 self_contained: bool = False) -> ReportRun:
+                 self_contained: bool = False, force: bool = False) -> ReportRun:
     """Compute ``scene`` and write its outputs below ``out_dir``, as ``crankdyn report`` does.
 
     Files of an earlier run into ``out_dir`` that this one does not write again are removed (only
-    those crankdyn listed in its manifest there). Raises :class:`crankdyn.errors.SceneError` (and
-    writes nothing) for a bad scene.
+    those crankdyn wrote and nobody changed since). Raises :class:`crankdyn.errors.SceneError` (and
+    writes nothing) for a bad scene, :class:`crankdyn.errors.OutputError` (and writes nothing) when a
+    file in ``out_dir`` is in the way and ``force`` is false.
     """
     missing: set[str] = set()
     result, files = run_and_render(scene, registry, formats, stages, languages, self_contained=self_contained,
                                    missing=missing)
-    return ReportRun(result=result, written=write_outputs(Path(out_dir), files), missing_translations=missing)
+    return ReportRun(result=result, written=write_outputs(Path(out_dir), files, force=force), missing_translations=missing)
 
 
 def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
