@@ -1,4 +1,4 @@
-"""The angle step from a tolerance (issue 18, item 2).
+"""The angle step from a tolerance.
 
 A scene without ``analysis.angle_step_deg`` gets the largest step that divides the cycle and every
 firing delay and bank angle and is not above 1 deg (the bound for [numerics] tolerance = 0.1 %). The
@@ -13,12 +13,14 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
 import pytest
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
 from crankdyn.orchestrator import check_scene, run_scene
 from crankdyn.plugins import default_registry
+from crankdyn.report.context import sample_rows
 from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.bays.stage import engine_layout
 from conftest import modified
@@ -50,6 +52,7 @@ def divides(step, angle):
 def brute_force_step(scene, limit_deg=1.0):
     layout = engine_layout(scene)
     angles = [c.firing_delay_deg for c in layout.cylinders] + [c.axis_deg for c in layout.cylinders]
+    angles.append(scene.analysis.table_step_deg)  # the tables' rows are whole crank angles
     m = math.ceil(layout.cycle_deg / limit_deg - 1e-9)
     while True:
         step = layout.cycle_deg / m
@@ -64,7 +67,7 @@ def test_default_step_and_the_numerics_study(name):
     step = scene.analysis.angle_step_deg
     assert scene.angle_step_defaulted
     assert step == pytest.approx(brute_force_step(scene), rel=1e-12)
-    assert divides(step, scene.analysis.table_step_deg) and abs(scene.analysis.table_step_deg - 10) <= step
+    assert scene.analysis.table_step_deg == 10 and divides(step, 10)
     result = run_scene(scene, REGISTRY)
     numerics = result.outputs["numerics"].results
     assert not numerics["steps_refused"], numerics["steps_refused"]
@@ -93,3 +96,15 @@ def test_refusal_names_steps_that_work(step):
         check_scene(scene_from_dict(accepted, base_dir=examples_dir()), REGISTRY)
     for s in suggested:  # each works: 720 deg and every firing delay k*720/7 are whole multiples (to 12 digits)
         assert all(abs(k * 720 / 7 / s - round(k * 720 / 7 / s)) < 1e-8 for k in range(8))
+
+
+@pytest.mark.parametrize("name", list(ENGINES))
+def test_thirty_degree_tables_print_whole_crank_angles(name):
+    data = {**ENGINES[name], "analysis": {"table_step_deg": 30}}
+    scene = scene_from_dict(data, base_dir=examples_dir())
+    step = scene.analysis.angle_step_deg
+    assert step <= 1 and divides(step, 30) and all(divides(step, c.firing_delay_deg)
+                                                   for c in engine_layout(scene).cylinders)
+    angle = np.arange(round(scene.engine.cycle_deg / step)) * step
+    _, labels = sample_rows(angle, scene.analysis.table_step_deg)
+    assert np.allclose(labels, np.arange(0, scene.engine.cycle_deg + 1, 30.0), atol=1e-9)

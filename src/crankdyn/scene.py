@@ -275,6 +275,10 @@ class Cycle(_Strict):
         return self
 
 
+DEFAULT_TABLE_STEP_DEG = 10.0
+"""Crank angle between the rows of the printed tables when the scene gives none [deg]."""
+
+
 class Analysis(_Strict):
     """Numerical options and the choice of stages."""
 
@@ -392,8 +396,10 @@ class Scene(_Strict):
         Angle step: the largest step grid/k on the engine's grid (:attr:`engine_grid_deg`) not above
         1 deg x sqrt(tolerance / 0.1 %): the error of a peak read off a grid grows as the step squared
         (f(x0 + h/2) = f_max - f''(x0) h^2/8), and 1 deg keeps the peaks of the bundled engines within
-        0.1 % (the numerics study measures it for every scene and reports it). Table step: the whole
-        multiple of the angle step nearest 10 deg.
+        0.1 % (the numerics study measures it for every scene and reports it); the grid is narrowed to
+        also divide the table step (10 deg unless given), so every table row is a whole crank angle.
+        Table step for a step the scene gives: 10 deg when the step divides it, else the whole
+        multiple of the step nearest 10 deg.
         """
         a = self.analysis
         given = set(a.model_fields_set)
@@ -407,11 +413,19 @@ class Scene(_Strict):
             if step == a.angle_step_deg and a.table_step_deg is not None:
                 return
 
-        if step is None:
-            step = step_on_grid_deg(self.engine_grid_deg, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3))))
         table = a.table_step_deg
-        if table is None:
-            table = step * max(1, round(10.0 / step)) if step <= 10.0 else step
+        if step is None:
+            # Tables print whole crank angles: the step divides the table step as well as the
+            # firing delays and bank angles (the gcd of the engine's grid and the table step).
+            table = DEFAULT_TABLE_STEP_DEG if table is None else table
+            grid = lay.grid_deg(self.engine.cycle_deg, [self.engine_grid_deg, table])
+            step = step_on_grid_deg(grid, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3))))
+        elif table is None:
+            ratio = DEFAULT_TABLE_STEP_DEG / step
+            if abs(ratio - round(ratio)) <= 1e-9:
+                table = DEFAULT_TABLE_STEP_DEG
+            else:
+                table = step * max(1, round(ratio)) if step <= DEFAULT_TABLE_STEP_DEG else step
         new = a.model_copy(update={"angle_step_deg": step, "table_step_deg": table})
         object.__setattr__(new, "__pydantic_fields_set__", given)
         object.__setattr__(self, "analysis", new)

@@ -252,15 +252,25 @@ class RenderContext:
 
     def angle_labels(self, labels: Sequence[float]) -> list[str]:
         """Crank angles as a table's first column: whole degrees without a decimal, an added
-        extremum's angle with the digits it has (372,5), in the report's locale."""
-        return [self.t.number_g(float(a), 6) for a in labels]
+        extremum's angle with the digits the angle step resolves (372,5), in the report's locale."""
+        return [self.angle_text(float(a)) for a in labels]
+
+    def angle_text(self, angle_deg: float) -> str:
+        """A crank angle as printed: whole degrees as they are; an angle between whole degrees with
+        one decimal per decade the computation step is finer than 1 deg (at least one), since the
+        step is the resolution an angle read off the grid has."""
+        if abs(angle_deg - round(angle_deg)) < 1e-9:
+            return self.t.number_g(float(round(angle_deg)), 6)
+        step = self.scene.analysis.angle_step_deg if self.scene is not None else None
+        decimals = max(1, math.ceil(-math.log10(step) - 1e-9)) if step else 1
+        return self.t.number_g(round(angle_deg, decimals), 6)
 
     def extremes_note(self, extremes: Sequence[TableExtreme]) -> str:
         """The note under a table that names its added extremum rows ("" without any)."""
         if not extremes:
             return ""
         items = self.t("doc.table_extremes_separator").join(
-            self.t("doc.table_extreme_item", angle=self.t.number_g(e.crank_angle_deg, 6), what=e.what)
+            self.t("doc.table_extreme_item", angle=self.angle_text(e.crank_angle_deg), what=e.what)
             for e in extremes)
         return self.t("doc.table_extremes_note", step=self.t.number_g(self.table_step_deg, 6), items=items)
 
