@@ -10,6 +10,7 @@ import dataclasses
 import gc
 import os
 import json
+import signal
 import sys
 import time
 import tomllib
@@ -96,12 +97,13 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)")
     batch.add_argument("--format", default="html,pdf,json,csv",
                        help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
-    batch.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    batch.add_argument("-j", "--jobs", type=int, help="worker processes (default and most: the available cores)")
     batch.add_argument("--lang", help="report language code (overrides report.language)")
     batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one variant may take before it is stopped and listed as failed (default 120)")
+                       help="seconds one variant may take before it is stopped and listed as failed "
+                       "(default 120, at most 86400)")
     _scheduler_options(batch)
     _data_dir_option(batch)
     _sweep_parser(sub)
@@ -126,13 +128,14 @@ def _sweep_parser(sub) -> None:
     sweep.add_argument("--plot-format", default="svg", help="svg, png or svg,png (default svg)")
     sweep.add_argument("--format", default="none", help="files of each point in DIR/<point>/, as for 'report' "
                        "(default none: only the answer key and the plot)")
-    sweep.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    sweep.add_argument("-j", "--jobs", type=int, help="worker processes (default and most: the available cores)")
     sweep.add_argument("--lang", help="report language code (overrides report.language)")
     sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
                        "fewer stages, faster points")
     sweep.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     sweep.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one point may take before it is stopped and listed as failed (default 120)")
+                       help="seconds one point may take before it is stopped and listed as failed "
+                       "(default 120, at most 86400)")
     _scheduler_options(sweep)
     _data_dir_option(sweep)
 
@@ -142,23 +145,27 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
                         help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
                         "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
     parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
-                        help="seconds to wait for the --scheduler (default 10)")
+                        help="seconds to wait for the --scheduler (default 10, at most 86400)")
 
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import RunOptions  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch import RunOptions, available_cores  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch_runner import check_seconds  # lazy: heavy optional import (numpy, scipy: per command)
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
     if args.jobs is not None and args.scheduler:
         raise UsageError("--jobs applies to the local worker processes; on a Dask cluster the workers set how "
                          "many variants run at once (dask worker --nthreads N): give one or the other")
-    if not args.timeout > 0:
-        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
-    if not args.connect_timeout > 0:
-        raise UsageError(f"--connect-timeout {args.connect_timeout:g}: give a positive number of seconds")
-    return RunOptions(formats, args.jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
+    check_seconds("--timeout", args.timeout)
+    check_seconds("--connect-timeout", args.connect_timeout)
+    jobs = args.jobs
+    if jobs is not None and jobs > available_cores():
+        jobs = available_cores()
+        print(f"crankdyn {args.command}: --jobs {args.jobs}: capped at {jobs}, the cores available "
+              "(more worker processes only share them)", file=sys.stderr)
+    return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
                       tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
 
 
@@ -189,8 +196,8 @@ def main(argv: list[str] | None = None) -> int:
     except CrankdynError as exc:
         print(f"crankdyn: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM where a batch handles it so
+        return 128 + getattr(exc, "number", signal.SIGINT)
     except Exception as exc:  # noqa: BLE001 - the last line of defence for the user
         if args.debug:
             raise
@@ -296,9 +303,9 @@ def _batch(args) -> int:
         lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures]
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print("crankdyn batch: interrupted (Ctrl-C); the answer key and failures.csv cover what finished",
-              file=sys.stderr)
-        return 130
+        print(f"crankdyn batch: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+              "failures.csv cover what finished", file=sys.stderr)
+        return 128 + report.stop_signal
     if report.failures:
         return EXIT_BAD_INPUT
     return 0
@@ -324,9 +331,15 @@ def _sweep(args) -> int:
         lines += [f"  ... and {len(report.failures) - 20} more"] if len(report.failures) > 20 else []
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print("crankdyn sweep: interrupted (Ctrl-C); the answer key covers what finished", file=sys.stderr)
-        return 130
+        print(f"crankdyn sweep: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+              "failures.csv cover what finished", file=sys.stderr)
+        return 128 + report.stop_signal
     return EXIT_BAD_INPUT if report.failures or any(n.startswith("no point") for n in notes) else 0
+
+
+def _stop_name(number: int) -> str:
+    """How the user stopped a batch or sweep: Ctrl-C (SIGINT) or the signal's name."""
+    return "Ctrl-C" if number == signal.SIGINT else signal.Signals(number).name
 
 
 def _csv_list(text: str) -> list[str]:
