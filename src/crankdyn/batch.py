@@ -161,7 +161,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         raise SceneError(Problem("variants", source, "empty file; the first row names the scene fields, "
                                  "e.g. variant,report.student,engine.bore"), source)
     header = [h.strip() for h in rows[0]]
-    _check_size(source, len(header), len(rows) - 1)
+    _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(rows) - 1)
     problems = []
     seen: set[str] = set()
     for i, name in enumerate(header, start=1):
@@ -216,12 +216,12 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     return fields, variants
 
 
-def _check_size(source: str, columns: int, rows: int) -> None:
+def _check_size(source: str, fields: int, rows: int) -> None:
     """At most :data:`MAX_FIELDS` override columns and :data:`MAX_VARIANTS` rows (blank rows aside)."""
     problems = []
-    if columns > MAX_FIELDS + 1:  # the variant column besides the fields
-        problems.append(Problem("variants", f"{columns} columns",
-                                f"at most {MAX_FIELDS} scene fields and the {VARIANT_COLUMN} column"))
+    if fields > MAX_FIELDS:
+        problems.append(Problem("variants", f"{fields} scene field columns",
+                                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} column)"))
     if rows > MAX_VARIANTS:
         problems.append(Problem("variants", f"{rows} rows", f"at most {MAX_VARIANTS} variants in one batch"))
     if problems:

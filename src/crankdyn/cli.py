@@ -300,7 +300,7 @@ def _batch(args) -> int:
     if report.failures:
         lines = [f"crankdyn batch: {len(report.failures)} variant(s) failed "
                  f"(listed in {args.output / 'failures.csv'}):"]
-        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures]
+        lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
         print(f"crankdyn batch: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
@@ -327,14 +327,23 @@ def _sweep(args) -> int:
           f"written to {args.output}: " + ", ".join(p.name for p in report.written))
     if report.failures:
         lines = [f"crankdyn sweep: {len(report.failures)} point(s) failed (listed in {args.output / 'failures.csv'}):"]
-        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures[:20]]
-        lines += [f"  ... and {len(report.failures) - 20} more"] if len(report.failures) > 20 else []
+        lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
         print(f"crankdyn sweep: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
               "failures.csv cover what finished", file=sys.stderr)
         return 128 + report.stop_signal
     return EXIT_BAD_INPUT if report.failures or any(n.startswith("no point") for n in notes) else 0
+
+
+#: Failed variants a batch or sweep names on stderr; failures.csv lists them all.
+FAILURES_SHOWN = 20
+
+
+def _failure_lines(failures: list, shown: int = FAILURES_SHOWN) -> list[str]:
+    """One line per failed variant, the first ``shown`` of them, then how many more."""
+    lines = [f"  row {o.row} ({o.name}): {o.error}" for o in failures[:shown]]
+    return lines + ([f"  ... and {len(failures) - shown} more"] if len(failures) > shown else [])
 
 
 def _stop_name(number: int) -> str:
