@@ -186,12 +186,15 @@ def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[lis
 
     The numbers of names and of combinations are checked from ``len()`` before any values are
     listed (``range(1, 10**9)`` is refused as it is); an iterator is read up to one value past the
-    limit. A string or a mapping as a field's values is a TypeError, not a list of characters or keys.
+    limit. A string or a mapping as a field's values is a TypeError, not a list of characters or
+    keys.
     """
     if not isinstance(grid, Mapping):
-        raise TypeError(f"grid must map dotted scene fields to lists of values, not {type(grid).__name__}")
+        raise TypeError("grid must map dotted scene fields to lists of values, "
+                        f"not {type(grid).__name__}")
     if len(grid) > MAX_FIELDS:
-        raise SceneError(Problem("grid", f"{len(grid)} fields", f"at most {MAX_FIELDS} fields"), "sweep")
+        raise SceneError(Problem("grid", f"{len(grid)} fields", f"at most {MAX_FIELDS} fields"),
+                         "sweep")
     names = list(grid)
     for name in names:
         given = grid[name]
@@ -205,7 +208,7 @@ def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[lis
 
 
 def _size(values: Iterable[Any]) -> int | None:
-    """``len(values)`` without listing them (None for an iterator; beyond any limit if too large)."""
+    """``len(values)`` without listing them: None for an iterator, beyond the limit if too large."""
     try:
         return len(values)  # type: ignore[arg-type]
     except OverflowError:  # range(10**30): more than an index can count
@@ -215,7 +218,7 @@ def _size(values: Iterable[Any]) -> int | None:
 
 
 def _check_points(sizes: dict[str, int | None]) -> None:
-    """At most MAX_VARIANTS values per field and combinations in all (sizes not known yet are left out)."""
+    """At most MAX_VARIANTS values per field and combinations in all (None: a size not known)."""
     problems = [Problem(name, f"{size} values", f"at most {MAX_VARIANTS} values")
                 for name, size in sizes.items() if size is not None and size > MAX_VARIANTS]
     if not problems:
@@ -223,8 +226,9 @@ def _check_points(sizes: dict[str, int | None]) -> None:
         for size in sizes.values():
             points *= size if size is not None else 1
             if points > MAX_VARIANTS:
-                problems.append(Problem("grid", f"more than {MAX_VARIANTS} combinations",
-                                        f"at most {MAX_VARIANTS} (the product of the numbers of values)"))
+                problems.append(Problem(
+                    "grid", f"more than {MAX_VARIANTS} combinations",
+                    f"at most {MAX_VARIANTS} (the product of the numbers of values)"))
                 break
     if problems:
         raise SceneError(problems, "sweep")

@@ -27,7 +27,8 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
-from .batch_runner import DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask, stop_signals
+from .batch_runner import (DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask,
+                           stop_signals)
 from .errors import CrankdynError, Problem, SceneError, UsageError
 from .manifest import MANIFEST, write_outputs
 from .outputs import xlsx_bytes
@@ -92,7 +93,7 @@ class BatchReport:
     outcomes: list[Outcome]
     seconds: float
     written: list[Path]
-    interrupted: bool = False  # Ctrl-C or SIGTERM ended the run; unfinished variants are failure rows
+    interrupted: bool = False  # Ctrl-C or SIGTERM ended the run; unfinished variants failed
     warnings: list[str] = field(default_factory=list)  # for the user, once per batch (answer_key.unanswered)
     stop_signal: int = 0  # the signal that ended it (signal.SIGINT, signal.SIGTERM), 0 if none
 
@@ -150,7 +151,8 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     try:
         rows = list(csv.reader(io.StringIO(text), dialect))
     except csv.Error as exc:  # a cell beyond the csv module's field size limit, a NUL byte
-        raise SceneError(Problem("variants", source, f"not a readable CSV file: {exc}"), source) from None
+        raise SceneError(Problem("variants", source, f"not a readable CSV file: {exc}"),
+                         source) from None
     # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
     # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
     decimal_comma = dialect.delimiter != ","
@@ -203,9 +205,10 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         wanted = row.get(VARIANT_COLUMN, "") or f"{row_number:0{width}d}"
         name = folder_name(wanted, f"{row_number:0{width}d}")
         if wanted.casefold() in RESERVED_NAMES or name.casefold() in RESERVED_NAMES:
+            own = ", ".join(sorted(RESERVED_NAMES))
             reserved.append(Problem(f"row {row_number}, column {VARIANT_COLUMN}", wanted,
-                                    "a name of the batch's own files (" + ", ".join(sorted(RESERVED_NAMES))
-                                    + "); give the variant another id"))
+                                    f"a name of the batch's own files ({own}); "
+                                    "give the variant another id"))
         if name in names:
             error = error or f"variant id {wanted!r} is used by row {names[name]} too; ids must be unique"
             name = f"{name}__row{row_number}"
@@ -217,13 +220,15 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
 
 
 def _check_size(source: str, fields: int, rows: int) -> None:
-    """At most :data:`MAX_FIELDS` override columns and :data:`MAX_VARIANTS` rows (blank rows aside)."""
+    """At most :data:`MAX_FIELDS` override columns and :data:`MAX_VARIANTS` rows (not blank)."""
     problems = []
     if fields > MAX_FIELDS:
         problems.append(Problem("variants", f"{fields} scene field columns",
-                                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} column)"))
+                                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} "
+                                "column)"))
     if rows > MAX_VARIANTS:
-        problems.append(Problem("variants", f"{rows} rows", f"at most {MAX_VARIANTS} variants in one batch"))
+        problems.append(Problem("variants", f"{rows} rows",
+                                f"at most {MAX_VARIANTS} variants in one batch"))
     if problems:
         raise SceneError(problems, source)
 
@@ -432,8 +437,8 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
     written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)))
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, bool(stop_signal),
-                       key_warnings(outcomes), stop_signal)
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written,
+                       bool(stop_signal), key_warnings(outcomes), stop_signal)
 
 
 def check_options(options: RunOptions) -> None:
@@ -487,23 +492,31 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
     formats = options.formats
     data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
     timeout = DEFAULT_TIMEOUT_S if options.timeout is None else options.timeout
+    languages = _languages(base, options)
     with stop_signals() as received:
-        if client is None:
-            warm(formats, _languages(base, options))  # forked workers inherit the loaded plugins and libraries
-            jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
-            tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
-            unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
-                                 finished, failed)
-        else:
-            tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
-            try:
-                unfinished = run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client,
-                                          timeout, finished, failed,
-                                          prepare=partial(warm, tuple(formats), _languages(base, options)),
-                                          collect=partial(_write_rendered, Path(out_dir)))
-            finally:
-                client.close()
-    stop_signal = (received[0] if received else signal.SIGINT) if unfinished else 0
+        try:
+            if client is None:
+                warm(formats, languages)  # forked workers inherit the loaded plugins and libraries
+                jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
+                tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
+                run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
+                        finished, failed)
+            else:
+                tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
+                try:
+                    run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client,
+                                 timeout, finished, failed,
+                                 prepare=partial(warm, tuple(formats), languages),
+                                 collect=partial(_write_rendered, Path(out_dir)))
+                finally:
+                    client.close()
+        except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
+            pass
+    # The variants without an outcome, found from the outcomes: an interruption can come while
+    # one outcome is between its worker and the list.
+    done = {o.row for o in outcomes}
+    unfinished = [v for v in variants if v.row not in done]
+    stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
     what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
     for variant in unfinished:
         outcomes.append(failed(variant, f"not finished: the batch was interrupted ({what})", 0.0))

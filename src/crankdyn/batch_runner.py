@@ -38,7 +38,8 @@ def check_seconds(option: str, value: object) -> float:
 
     number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
     if number is None or not 0 < number <= MAX_TIMEOUT_S:  # False for NaN too
-        shown = f"{value:g}" if isinstance(number, float) else repr(value) if number is None else str(value)
+        shown = (repr(value) if number is None
+                 else f"{number:g}" if isinstance(number, float) else str(number))
         raise UsageError(f"{option} {shown}: give a number of seconds above 0 and at most "
                          f"{MAX_TIMEOUT_S:g} (one day)")
     return float(number)

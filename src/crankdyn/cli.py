@@ -97,12 +97,14 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)")
     batch.add_argument("--format", default="html,pdf,json,csv",
                        help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
-    batch.add_argument("-j", "--jobs", type=int, help="worker processes (default and most: the available cores)")
+    batch.add_argument("-j", "--jobs", type=int,
+                       help="worker processes (default and most: the available cores)")
     batch.add_argument("--lang", help="report language code (overrides report.language)")
     batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one variant may take before it is stopped and listed as failed "
+                       help="seconds one variant may take before it is stopped and listed as "
+                       "failed "
                        "(default 120, at most 86400)")
     _scheduler_options(batch)
     _data_dir_option(batch)
@@ -128,7 +130,8 @@ def _sweep_parser(sub) -> None:
     sweep.add_argument("--plot-format", default="svg", help="svg, png or svg,png (default svg)")
     sweep.add_argument("--format", default="none", help="files of each point in DIR/<point>/, as for 'report' "
                        "(default none: only the answer key and the plot)")
-    sweep.add_argument("-j", "--jobs", type=int, help="worker processes (default and most: the available cores)")
+    sweep.add_argument("-j", "--jobs", type=int,
+                       help="worker processes (default and most: the available cores)")
     sweep.add_argument("--lang", help="report language code (overrides report.language)")
     sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
                        "fewer stages, faster points")
@@ -150,8 +153,9 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import RunOptions, available_cores  # lazy: heavy optional import (numpy, scipy: per command)
-    from .batch_runner import check_seconds  # lazy: heavy optional import (numpy, scipy: per command)
+    # lazy: heavy optional imports (numpy, scipy: per command)
+    from .batch import RunOptions, available_cores
+    from .batch_runner import check_seconds
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
@@ -165,8 +169,9 @@ def _run_options(args, formats: list[str]):
         jobs = available_cores()
         print(f"crankdyn {args.command}: --jobs {args.jobs}: capped at {jobs}, the cores available "
               "(more worker processes only share them)", file=sys.stderr)
-    return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
-                      tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
+    return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None,
+                      args.timeout, tuple(str(d) for d in args.data_dir), args.scheduler,
+                      args.connect_timeout)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:

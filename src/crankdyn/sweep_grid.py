@@ -34,8 +34,9 @@ from typing import Any
 
 from .answer_key import answer_columns
 from .api import _nested_overrides
-from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant, _nest, _registry,
-                    batch_language, check_options, execute, key_files, key_warnings, load_base, parse_cell)
+from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant,
+                    _nest, _registry, batch_language, check_options, execute, key_files,
+                    key_warnings, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
 from .manifest import write_outputs
 from .scene import merge, scene_from_dict
@@ -123,7 +124,8 @@ def _range_axis(name: str, start: Any, stop: Any, count: Any = None, step: Any =
             raise SceneError(Problem(name, count, "the number of values must be a whole number >= 2 "
                                      "(START:STOP:COUNT; for one value give it alone)"))
         if count > MAX_POINTS:
-            raise SceneError(Problem(name, count, f"the number of values must be at most {MAX_POINTS}"))
+            raise SceneError(Problem(name, count,
+                                     f"the number of values must be at most {MAX_POINTS}"))
         numbers = [a + (b - a) * k / (count - 1) for k in range(count)]
     else:
         s, unit_s = _split_quantity(name, step, "the step")
@@ -133,7 +135,8 @@ def _range_axis(name: str, start: Any, stop: Any, count: Any = None, step: Any =
             raise SceneError(Problem(name, step, f"the step must be non-zero and lead from {start} to {stop}"))
         steps = (b - a) / s * (1 + 1e-12) + 1e-9
         if not steps < MAX_POINTS:  # infinite too, for a step far smaller than the range
-            raise SceneError(Problem(name, step, f"gives more than {MAX_POINTS} values; at most {MAX_POINTS}"))
+            raise SceneError(Problem(name, step,
+                                     f"gives more than {MAX_POINTS} values; at most {MAX_POINTS}"))
         count = int(math.floor(steps)) + 1
         numbers = [a + s * k for k in range(count)]
     if a == b:
@@ -187,7 +190,8 @@ def parse_values(name: str, text: str) -> Axis:
         if not re.fullmatch(r"\d+", count_text):
             raise SceneError(Problem(name, count_text, "the number of values must be a whole number >= 2"))
         if len(count_text.lstrip("0")) > len(str(MAX_POINTS)):  # not read as a number at all
-            raise SceneError(Problem(name, count_text, f"the number of values must be at most {MAX_POINTS}"))
+            raise SceneError(Problem(name, count_text,
+                                     f"the number of values must be at most {MAX_POINTS}"))
         return _range_axis(name, start, stop, count=int(count_text), unit=unit)
     return _list_axis(name, [parse_cell(v) for v in _split_list(text)])
 
@@ -270,10 +274,11 @@ def read_sweep_file(path: Path) -> Sweep:
 
 
 def check_field_count(count: int, source: str = "sweep") -> None:
-    """At most :data:`~crankdyn.batch.MAX_FIELDS` swept and fixed fields, counted before any is read."""
+    """At most :data:`~crankdyn.batch.MAX_FIELDS` swept and fixed fields, counted before any is
+    read."""
     if count > MAX_FIELDS:
-        raise SceneError(Problem("sweep", f"{count} fields", f"at most {MAX_FIELDS} swept and fixed fields"),
-                         source)
+        raise SceneError(Problem("sweep", f"{count} fields",
+                                 f"at most {MAX_FIELDS} swept and fixed fields"), source)
 
 
 def grid_points(sizes: Iterable[int]) -> int:
@@ -294,15 +299,17 @@ def check_sweep(sweep: Sweep) -> None:
     check_field_count(len(sweep.axes) + len(sweep.fixed))
     names = [a.name for a in sweep.axes]
     counts = collections.Counter(names)
-    problems = [Problem(n, "", "swept twice") for n in sorted(n for n, k in counts.items() if k > 1)]
+    problems = [Problem(n, "", "swept twice")
+                for n in sorted(n for n, k in counts.items() if k > 1)]
     problems += [Problem(n, sweep.fixed[n], "both swept and fixed: give one or the other")
                  for n in names if n in sweep.fixed]
     if not sweep.axes:
         problems.append(Problem("--set", "", "nothing to sweep: give a field with several values, "
                                 "e.g. --set engine.rpm=2000:6000:5"))
     if sweep.points > MAX_POINTS:
-        problems.append(Problem("sweep", f"more than {MAX_POINTS} points", f"at most {MAX_POINTS} points "
-                                "in the grid (the product of the numbers of values of the swept fields)"))
+        problems.append(Problem("sweep", f"more than {MAX_POINTS} points",
+                                f"at most {MAX_POINTS} points in the grid (the product of the "
+                                "numbers of values of the swept fields)"))
     if problems:
         raise SceneError(problems, "sweep")
     _nested_overrides({**{a.name: a.values[0] for a in sweep.axes}, **sweep.fixed})  # the batch/API name rules
@@ -437,7 +444,8 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
         files.update(plotted)
         notes += [note] if note else []
     written = write_outputs(Path(request.out_dir), files)
-    return (BatchReport(Path(request.out_dir), outcomes, time.perf_counter() - start, written, bool(stop_signal),
+    seconds = time.perf_counter() - start
+    return (BatchReport(Path(request.out_dir), outcomes, seconds, written, bool(stop_signal),
                         key_warnings(outcomes), stop_signal), notes)
 
 
@@ -445,7 +453,8 @@ def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, 
     """The sweep of ``--grid FILE`` with ``--set NAME=VALUES`` laid over it (a --set replaces the file's field)."""
     sweep = read_sweep_file(grid) if grid else Sweep([])
     sets = list(sets)
-    names = {text.partition("=")[0].strip() for text in sets} | {a.name for a in sweep.axes} | set(sweep.fixed)
+    names = {text.partition("=")[0].strip() for text in sets}
+    names |= {a.name for a in sweep.axes} | set(sweep.fixed)
     check_field_count(len(names))  # before any --set's values are read
     for text in sets:
         name, equals, values = text.partition("=")
