@@ -33,7 +33,7 @@ from typing import Any
 from markupsafe import Markup
 
 from . import answer_key
-from .batch import _nest, answers
+from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
 from .errors import Problem, SceneError
 from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, run_scene
@@ -161,15 +161,17 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     One row per combination, in the order of :func:`itertools.product` over the grid (the
     first name varies slowest): the grid's own columns, then the answer-key columns of
     ``crankdyn batch`` (units in the names; columns no run has are left out, as there).
+    The grid has at most :data:`~crankdyn.batch.MAX_FIELDS` names and
+    :data:`~crankdyn.batch.MAX_VARIANTS` combinations, as ``crankdyn sweep``; a larger one raises
+    :class:`SceneError` before anything runs.
     """
     import pandas as pd  # lazy: heavy optional import (pandas: only for a sweep's table)
 
-
-    names = list(grid)
+    names, values = _grid_values(grid)
     stages = list(stages) if stages is not None else None
     key_columns = answer_key.answer_columns(_registry())  # the same columns as the batch answer key
     rows = []
-    for combination in itertools.product(*(list(grid[n]) for n in names)):
+    for combination in itertools.product(*values):
         variant = load(scene, dict(zip(names, combination)))
         document = results_document(run_scene(variant, _registry(), stages, _languages()))
         rows.append([*combination, *answer_key.answers(document, key_columns).values()])
@@ -177,6 +179,59 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     frame = pd.DataFrame(rows, columns=[*names, *answer_names])
     empty = [c for c in answer_names if frame[c].isna().all()]
     return frame.drop(columns=empty)
+
+
+def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[list[Any]]]:
+    """The names of ``grid`` and the values of each, within the limits of ``crankdyn sweep``.
+
+    The numbers of names and of combinations are checked from ``len()`` before any values are
+    listed (``range(1, 10**9)`` is refused as it is); an iterator is read up to one value past the
+    limit. A string or a mapping as a field's values is a TypeError, not a list of characters or
+    keys.
+    """
+    if not isinstance(grid, Mapping):
+        raise TypeError("grid must map dotted scene fields to lists of values, "
+                        f"not {type(grid).__name__}")
+    if len(grid) > MAX_FIELDS:
+        raise SceneError(Problem("grid", f"{len(grid)} fields", f"at most {MAX_FIELDS} fields"),
+                         "sweep")
+    names = list(grid)
+    for name in names:
+        given = grid[name]
+        if isinstance(given, (str, bytes, Mapping)) or not isinstance(given, Iterable):
+            raise TypeError(f"grid[{name!r}] must be a list of values, not {type(given).__name__} "
+                            f"(one value is a list of one: [{given!r}])")
+    _check_points({name: _size(grid[name]) for name in names})
+    values = [list(itertools.islice(grid[name], MAX_VARIANTS + 1)) for name in names]
+    _check_points(dict(zip(names, map(len, values))))
+    return names, values
+
+
+def _size(values: Iterable[Any]) -> int | None:
+    """``len(values)`` without listing them: None for an iterator, beyond the limit if too large."""
+    try:
+        return len(values)  # type: ignore[arg-type]
+    except OverflowError:  # range(10**30): more than an index can count
+        return MAX_VARIANTS + 1
+    except TypeError:
+        return None
+
+
+def _check_points(sizes: dict[str, int | None]) -> None:
+    """At most MAX_VARIANTS values per field and combinations in all (None: a size not known)."""
+    problems = [Problem(name, f"{size} values", f"at most {MAX_VARIANTS} values")
+                for name, size in sizes.items() if size is not None and size > MAX_VARIANTS]
+    if not problems:
+        points = 1
+        for size in sizes.values():
+            points *= size if size is not None else 1
+            if points > MAX_VARIANTS:
+                problems.append(Problem(
+                    "grid", f"more than {MAX_VARIANTS} combinations",
+                    f"at most {MAX_VARIANTS} (the product of the numbers of values)"))
+                break
+    if problems:
+        raise SceneError(problems, "sweep")
 
 
 # --------------------------------------------------------------------------- the result

@@ -11,10 +11,12 @@ and the others go on. At the end the batch writes an answer key of the main resu
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import math
 import os
 import re
+import signal
 import sys
 import time
 import tomllib
@@ -25,9 +27,10 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
-from .batch_runner import DEFAULT_TIMEOUT_S, connect, run_all, run_all_dask
+from .batch_runner import (DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask,
+                           stop_signals)
 from .errors import CrankdynError, Problem, SceneError, UsageError
-from .manifest import write_outputs
+from .manifest import MANIFEST, write_outputs
 from .outputs import xlsx_bytes
 from .pipeline import run_and_render
 from .plugins import default_registry
@@ -36,6 +39,26 @@ from .report.i18n import available_languages
 from .scene import merge, scene_from_dict
 
 VARIANT_COLUMN = "variant"
+
+#: Variants of one run: the rows of a batch CSV, the points of a sweep (``crankdyn sweep`` and
+#: :func:`crankdyn.api.sweep` alike). Checked from the counts before any list of variants is built.
+MAX_VARIANTS = 100_000
+
+#: Fields of one run: the override columns of a batch CSV, the swept and fixed fields of a sweep,
+#: the names of an API grid. A scene has a few dozen fields; this leaves room for all of them.
+MAX_FIELDS = 200
+
+#: Characters of a variant's folder name. A longer id is cut and ends in ``-`` and 8 hex digits of
+#: the SHA-256 of the whole id, so the name stays stable between runs and distinct between ids.
+MAX_VARIANT_NAME_CHARS = 80
+
+#: UTF-8 bytes of a variant's folder name (file systems allow 255 bytes per name).
+MAX_VARIANT_NAME_BYTES = 160
+
+#: The batch's own files in its output folder (compared case-insensitively): no variant id may be
+#: one of them, or its folder would take the place of the answer key, failure list or manifest.
+RESERVED_NAMES = frozenset(n.casefold() for n in (
+    "answer_key.csv", "answer_key.xlsx", "answer_key.parquet", "failures.csv", MANIFEST))
 
 # The answer key's columns are declared by the stages (``Stage.answer_columns``) and
 # collected from the registry by :mod:`crankdyn.answer_key`; this module names no result key.
@@ -70,8 +93,9 @@ class BatchReport:
     outcomes: list[Outcome]
     seconds: float
     written: list[Path]
-    interrupted: bool = False  # Ctrl-C ended the run; unfinished variants are failure rows
+    interrupted: bool = False  # Ctrl-C or SIGTERM ended the run; unfinished variants failed
     warnings: list[str] = field(default_factory=list)  # for the user, once per batch (answer_key.unanswered)
+    stop_signal: int = 0  # the signal that ended it (signal.SIGINT, signal.SIGTERM), 0 if none
 
     @property
     def failures(self) -> list[Outcome]:
@@ -124,7 +148,11 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
     except csv.Error:
         dialect = csv.excel
-    rows = list(csv.reader(io.StringIO(text), dialect))
+    try:
+        rows = list(csv.reader(io.StringIO(text), dialect))
+    except csv.Error as exc:  # a cell beyond the csv module's field size limit, a NUL byte
+        raise SceneError(Problem("variants", source, f"not a readable CSV file: {exc}"),
+                         source) from None
     # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
     # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
     decimal_comma = dialect.delimiter != ","
@@ -135,6 +163,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         raise SceneError(Problem("variants", source, "empty file; the first row names the scene fields, "
                                  "e.g. variant,report.student,engine.bore"), source)
     header = [h.strip() for h in rows[0]]
+    _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(rows) - 1)
     problems = []
     seen: set[str] = set()
     for i, name in enumerate(header, start=1):
@@ -159,6 +188,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
 
     variants: list[Variant] = []
     names: dict[str, int] = {}
+    reserved: list[Problem] = []
     header_index = numbered[0][0]
     width = max(2, len(str(numbered[-1][0] - header_index)))
     for record, cells in numbered[1:]:
@@ -173,13 +203,49 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
             if row[name] != "":  # an empty cell keeps the base scene's value
                 overrides = merge(overrides, _nest(name, parse_cell(row[name])))
         wanted = row.get(VARIANT_COLUMN, "") or f"{row_number:0{width}d}"
-        name = _SAFE.sub("_", wanted).strip("._") or f"{row_number:0{width}d}"
+        name = folder_name(wanted, f"{row_number:0{width}d}")
+        if wanted.casefold() in RESERVED_NAMES or name.casefold() in RESERVED_NAMES:
+            own = ", ".join(sorted(RESERVED_NAMES))
+            reserved.append(Problem(f"row {row_number}, column {VARIANT_COLUMN}", wanted,
+                                    f"a name of the batch's own files ({own}); "
+                                    "give the variant another id"))
         if name in names:
             error = error or f"variant id {wanted!r} is used by row {names[name]} too; ids must be unique"
             name = f"{name}__row{row_number}"
         names.setdefault(name, row_number)
         variants.append(Variant(row_number, name, overrides, row, error))
+    if reserved:
+        raise SceneError(reserved, source)
     return fields, variants
+
+
+def _check_size(source: str, fields: int, rows: int) -> None:
+    """At most :data:`MAX_FIELDS` override columns and :data:`MAX_VARIANTS` rows (not blank)."""
+    problems = []
+    if fields > MAX_FIELDS:
+        problems.append(Problem("variants", f"{fields} scene field columns",
+                                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} "
+                                "column)"))
+    if rows > MAX_VARIANTS:
+        problems.append(Problem("variants", f"{rows} rows",
+                                f"at most {MAX_VARIANTS} variants in one batch"))
+    if problems:
+        raise SceneError(problems, source)
+
+
+def folder_name(wanted: str, fallback: str) -> str:
+    """The folder of the variant ``wanted``: its id with only letters, digits, ``_ . -`` kept
+    (``fallback`` when nothing is left), cut to :data:`MAX_VARIANT_NAME_CHARS` with a stable hash
+    suffix when longer."""
+    name = _SAFE.sub("_", wanted).strip("._") or fallback
+    if len(name) <= MAX_VARIANT_NAME_CHARS and len(name.encode("utf-8")) <= MAX_VARIANT_NAME_BYTES:
+        return name
+    suffix = "-" + hashlib.sha256(wanted.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+    head = name[:MAX_VARIANT_NAME_CHARS - len(suffix)]
+    while len(head.encode("utf-8")) > MAX_VARIANT_NAME_BYTES - len(suffix):
+        head = head[:-1]
+    head = head.rstrip("._-")
+    return head + suffix if head else suffix[1:]
 
 
 # --------------------------------------------------------------------------- one row
@@ -358,20 +424,28 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
 
     Each row runs in a worker process limited to ``timeout`` seconds (default 120) — on this
-    machine, or on the Dask cluster whose scheduler is at ``scheduler``; Ctrl-C stops the workers,
-    and the answer key and failure list are still written for what finished.
+    machine, or on the Dask cluster whose scheduler is at ``scheduler``; Ctrl-C or SIGTERM stops
+    the workers, and the answer key and failure list are still written for what finished.
     """
 
     start = time.perf_counter()
     options = RunOptions(list(formats), jobs, language, stages, progress, on_outcome, timeout, data_dirs,
                          scheduler, connect_timeout)
+    check_options(options)
     base, base_dir = load_base(base_path)
     fields, variants = read_variants(Path(csv_path))
-    outcomes, interrupted = execute(variants, base, base_dir, out_dir, options)
+    outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
     written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)))
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written, interrupted,
-                       key_warnings(outcomes))
+    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written,
+                       bool(stop_signal), key_warnings(outcomes), stop_signal)
+
+
+def check_options(options: RunOptions) -> None:
+    """The time limits of ``options`` within (0, MAX_TIMEOUT_S] seconds; UsageError otherwise."""
+    if options.timeout is not None:
+        check_seconds("timeout", options.timeout)
+    check_seconds("connect_timeout", options.connect_timeout)
 
 
 def key_warnings(outcomes: list[Outcome]) -> list[str]:
@@ -394,12 +468,12 @@ def load_base(base_path: Path) -> tuple[dict, str]:
 
 
 def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
-            options: RunOptions) -> tuple[list[Outcome], bool]:
+            options: RunOptions) -> tuple[list[Outcome], int]:
     """Run the variants (local worker processes, or the Dask cluster of ``options.scheduler``).
 
-    Returns the outcomes in row order and whether Ctrl-C interrupted the run (the unfinished
-    variants are then failure rows). Raises UsageError, before anything runs, when the
-    scheduler cannot be reached.
+    Returns the outcomes in row order and the signal that interrupted the run (SIGINT for
+    Ctrl-C, SIGTERM; 0 when it ran through; the unfinished variants are then failure rows).
+    Raises UsageError, before anything runs, when the scheduler cannot be reached.
     """
 
     client = _client(options) if options.scheduler else None
@@ -418,24 +492,43 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
     formats = options.formats
     data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
     timeout = DEFAULT_TIMEOUT_S if options.timeout is None else options.timeout
-    if client is None:
-        warm(formats, _languages(base, options))  # forked workers inherit the loaded plugins and libraries
-        jobs = max(1, min(options.jobs or available_cores(), max(len(variants), 1)))
-        tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
-        unfinished = run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
-                             finished, failed)
-    else:
-        tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
+    languages = _languages(base, options)
+    with stop_signals() as received:
         try:
-            unfinished = run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client, timeout,
-                                      finished, failed, prepare=partial(warm, tuple(formats), _languages(base, options)),
-                                      collect=partial(_write_rendered, Path(out_dir)))
-        finally:
-            client.close()
+            if client is None:
+                warm(formats, languages)  # forked workers inherit the loaded plugins and libraries
+                jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
+                tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
+                run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
+                        finished, failed)
+            else:
+                tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
+                try:
+                    run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client,
+                                 timeout, finished, failed,
+                                 prepare=partial(warm, tuple(formats), languages),
+                                 collect=partial(_write_rendered, Path(out_dir)))
+                finally:
+                    client.close()
+        except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
+            pass
+    # The variants without an outcome, found from the outcomes: an interruption can come while
+    # one outcome is between its worker and the list.
+    done = {o.row for o in outcomes}
+    unfinished = [v for v in variants if v.row not in done]
+    stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
+    what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
     for variant in unfinished:
-        outcomes.append(failed(variant, "not finished: the batch was interrupted (Ctrl-C)", 0.0))
+        outcomes.append(failed(variant, f"not finished: the batch was interrupted ({what})", 0.0))
     outcomes.sort(key=lambda o: o.row)
-    return outcomes, bool(unfinished)
+    return outcomes, int(stop_signal)
+
+
+def worker_count(jobs: int | None) -> int:
+    """The local worker processes for ``jobs`` wanted: at most the available cores (more only
+    share the same cores, and their variants run into the time limit), all of them by default."""
+    cores = available_cores()
+    return cores if jobs is None else max(1, min(jobs, cores))
 
 
 def _languages(base: dict, options: RunOptions) -> tuple[str, ...]:

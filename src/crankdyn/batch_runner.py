@@ -4,9 +4,9 @@ The variants run in worker processes (forked where the platform allows, so the p
 and libraries loaded once by the parent are shared), at most ``jobs`` at a time, each
 worker running several variants in turn. A variant that exceeds ``timeout`` seconds is
 killed with its worker and becomes a failure row; a worker that dies without an answer
-is one too. Ctrl-C stops the workers and ends the
-loop cleanly: the caller still writes the answer key and the failure list of what
-finished.
+is one too. Ctrl-C, and SIGTERM (what ``kill``, ``timeout`` and job schedulers send) alike,
+stops the workers and ends the loop cleanly: the caller still writes the answer key and the
+failure list of what finished.
 """
 
 from __future__ import annotations
@@ -18,12 +18,67 @@ import signal
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from multiprocessing.connection import Pipe, wait
 
 from .aside import stop_child
 
 DEFAULT_TIMEOUT_S = 120.0
+
+#: The longest time limit a variant may be given (``--timeout``), and the longest wait for a Dask
+#: scheduler (``--connect-timeout``): one day, in seconds.
+MAX_TIMEOUT_S = 86_400.0
+
+
+def check_seconds(option: str, value: object) -> float:
+    """``value`` as a number of seconds above 0 and at most :data:`MAX_TIMEOUT_S`; anything else
+    (infinity, NaN, a negative number, a string) raises UsageError naming ``option``."""
+    from .errors import UsageError  # lazy: the runner itself needs nothing of the errors
+
+    number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+    if number is None or not 0 < number <= MAX_TIMEOUT_S:  # False for NaN too
+        shown = (repr(value) if number is None
+                 else f"{number:g}" if isinstance(number, float) else str(number))
+        raise UsageError(f"{option} {shown}: give a number of seconds above 0 and at most "
+                         f"{MAX_TIMEOUT_S:g} (one day)")
+    return float(number)
+
+
+class StopSignal(KeyboardInterrupt):
+    """The KeyboardInterrupt a signal handled as Ctrl-C raises; ``number`` is the signal's."""
+
+    def __init__(self, number: int):
+        super().__init__(f"signal {number}")
+        self.number = number
+
+
+@contextmanager
+def stop_signals() -> Iterator[list[int]]:
+    """While the block runs, SIGTERM is handled as Ctrl-C is: it raises :class:`StopSignal` (once;
+    a further signal while the run stops is let pass). Yields the list the received signal's
+    number is put in. Only the main thread can handle signals: elsewhere nothing changes, and a
+    signal the process ignores stays ignored."""
+    received: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield received
+        return
+
+    def stop(number, frame):
+        if not received:
+            received.append(number)
+            raise StopSignal(number)
+
+    wanted = {signal.SIGTERM: signal.SIG_DFL, signal.SIGINT: signal.default_int_handler}
+    previous = {number: signal.getsignal(number) for number in wanted}
+    mine = [number for number, default in wanted.items() if previous[number] is default]
+    for number in mine:
+        signal.signal(number, stop)
+    try:
+        yield received
+    finally:
+        for number in mine:
+            signal.signal(number, previous[number])
 
 
 #: Variants one worker process runs before a fresh fork of the batch's process replaces it. A
@@ -37,6 +92,7 @@ def _serve_variants(connection, function: Callable) -> None:
     """A worker's life: ``function(*args)`` for each ``args`` received, the result sent back,
     until told to stop (None) or its batch is gone (EOF)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the parent's handler: a worker just ends
     parent = os.getppid()
     try:
         while True:

@@ -10,6 +10,7 @@ import dataclasses
 import gc
 import os
 import json
+import signal
 import sys
 import warnings
 import time
@@ -100,12 +101,15 @@ def _parser() -> argparse.ArgumentParser:
     batch.add_argument("-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)")
     batch.add_argument("--format", default="html,pdf,json,csv",
                        help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
-    batch.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    batch.add_argument("-j", "--jobs", type=int,
+                       help="worker processes (default and most: the available cores)")
     batch.add_argument("--lang", help="report language code (overrides report.language)")
     batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one variant may take before it is stopped and listed as failed (default 120)")
+                       help="seconds one variant may take before it is stopped and listed as "
+                       "failed "
+                       "(default 120, at most 86400)")
     _scheduler_options(batch)
     _data_dir_option(batch)
     _sweep_parser(sub)
@@ -130,13 +134,15 @@ def _sweep_parser(sub) -> None:
     sweep.add_argument("--plot-format", default="svg", help="svg, png or svg,png (default svg)")
     sweep.add_argument("--format", default="none", help="files of each point in DIR/<point>/, as for 'report' "
                        "(default none: only the answer key and the plot)")
-    sweep.add_argument("-j", "--jobs", type=int, help="worker processes (default: the available cores)")
+    sweep.add_argument("-j", "--jobs", type=int,
+                       help="worker processes (default and most: the available cores)")
     sweep.add_argument("--lang", help="report language code (overrides report.language)")
     sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
                        "fewer stages, faster points")
     sweep.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     sweep.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one point may take before it is stopped and listed as failed (default 120)")
+                       help="seconds one point may take before it is stopped and listed as failed "
+                       "(default 120, at most 86400)")
     _scheduler_options(sweep)
     _data_dir_option(sweep)
 
@@ -146,24 +152,30 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
                         help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
                         "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
     parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
-                        help="seconds to wait for the --scheduler (default 10)")
+                        help="seconds to wait for the --scheduler (default 10, at most 86400)")
 
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import RunOptions  # lazy: heavy optional import (numpy, scipy: per command)
+    # lazy: heavy optional imports (numpy, scipy: per command)
+    from .batch import RunOptions, available_cores
+    from .batch_runner import check_seconds
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
     if args.jobs is not None and args.scheduler:
         raise UsageError("--jobs applies to the local worker processes; on a Dask cluster the workers set how "
                          "many variants run at once (dask worker --nthreads N): give one or the other")
-    if not args.timeout > 0:
-        raise UsageError(f"--timeout {args.timeout:g}: give a positive number of seconds")
-    if not args.connect_timeout > 0:
-        raise UsageError(f"--connect-timeout {args.connect_timeout:g}: give a positive number of seconds")
-    return RunOptions(formats, args.jobs, args.lang, _stage_list(args.stages), not args.quiet, None, args.timeout,
-                      tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
+    check_seconds("--timeout", args.timeout)
+    check_seconds("--connect-timeout", args.connect_timeout)
+    jobs = args.jobs
+    if jobs is not None and jobs > available_cores():
+        jobs = available_cores()
+        print(f"crankdyn {args.command}: --jobs {args.jobs}: capped at {jobs}, the cores available "
+              "(more worker processes only share them)", file=sys.stderr)
+    return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None,
+                      args.timeout, tuple(str(d) for d in args.data_dir), args.scheduler,
+                      args.connect_timeout)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
@@ -193,8 +205,8 @@ def main(argv: list[str] | None = None) -> int:
     except CrankdynError as exc:
         print(f"crankdyn: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM where a batch handles it so
+        return 128 + getattr(exc, "number", signal.SIGINT)
     except Exception as exc:  # noqa: BLE001 - the last line of defence for the user
         if args.debug:
             raise
@@ -313,12 +325,12 @@ def _batch(args) -> int:
     if report.failures:
         lines = [f"crankdyn batch: {len(report.failures)} variant(s) failed "
                  f"(listed in {args.output / 'failures.csv'}):"]
-        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures]
+        lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print("crankdyn batch: interrupted (Ctrl-C); the answer key and failures.csv cover what finished",
-              file=sys.stderr)
-        return 130
+        print(f"crankdyn batch: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+              "failures.csv cover what finished", file=sys.stderr)
+        return 128 + report.stop_signal
     if report.failures:
         return EXIT_BAD_INPUT
     return 0
@@ -340,13 +352,28 @@ def _sweep(args) -> int:
           f"written to {args.output}: " + ", ".join(p.name for p in report.written))
     if report.failures:
         lines = [f"crankdyn sweep: {len(report.failures)} point(s) failed (listed in {args.output / 'failures.csv'}):"]
-        lines += [f"  row {o.row} ({o.name}): {o.error}" for o in report.failures[:20]]
-        lines += [f"  ... and {len(report.failures) - 20} more"] if len(report.failures) > 20 else []
+        lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print("crankdyn sweep: interrupted (Ctrl-C); the answer key covers what finished", file=sys.stderr)
-        return 130
+        print(f"crankdyn sweep: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+              "failures.csv cover what finished", file=sys.stderr)
+        return 128 + report.stop_signal
     return EXIT_BAD_INPUT if report.failures or any(n.startswith("no point") for n in notes) else 0
+
+
+#: Failed variants a batch or sweep names on stderr; failures.csv lists them all.
+FAILURES_SHOWN = 20
+
+
+def _failure_lines(failures: list, shown: int = FAILURES_SHOWN) -> list[str]:
+    """One line per failed variant, the first ``shown`` of them, then how many more."""
+    lines = [f"  row {o.row} ({o.name}): {o.error}" for o in failures[:shown]]
+    return lines + ([f"  ... and {len(failures) - shown} more"] if len(failures) > shown else [])
+
+
+def _stop_name(number: int) -> str:
+    """How the user stopped a batch or sweep: Ctrl-C (SIGINT) or the signal's name."""
+    return "Ctrl-C" if number == signal.SIGINT else signal.Signals(number).name
 
 
 def _csv_list(text: str) -> list[str]:

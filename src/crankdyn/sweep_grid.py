@@ -20,6 +20,7 @@ values are then that unit's numbers, and the key column names it (``engine.bore 
 
 from __future__ import annotations
 
+import collections
 import importlib.util
 import itertools
 import math
@@ -33,14 +34,17 @@ from typing import Any
 
 from .answer_key import answer_columns
 from .api import _nested_overrides
-from .batch import (VARIANT_COLUMN, BatchReport, RunOptions, Variant, _nest, _registry, batch_language, execute,
-                    key_files, key_warnings, load_base, parse_cell)
+from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant,
+                    _nest, _registry, batch_language, check_options, execute, key_files,
+                    key_warnings, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
 from .manifest import write_outputs
 from .scene import merge, scene_from_dict
 from .sweep_plot import plot_files
 
-MAX_POINTS = 100_000
+#: Points of a sweep's grid, and values of one swept field: :data:`crankdyn.batch.MAX_VARIANTS`.
+#: A range's count is checked before its values are made, the grid's size before its points are.
+MAX_POINTS = MAX_VARIANTS
 MAX_PLOT_LINES = 12
 KEY_FORMATS = ("csv", "xlsx", "parquet")
 PLOT_FORMATS = ("svg", "png")
@@ -81,7 +85,8 @@ class Sweep:
 
     @property
     def points(self) -> int:
-        return math.prod(len(a.values) for a in self.axes)
+        """The grid's points; any number above :data:`MAX_POINTS` stands for "too many"."""
+        return grid_points(len(a.values) for a in self.axes)
 
 
 # --------------------------------------------------------------------------- reading ranges
@@ -118,6 +123,9 @@ def _range_axis(name: str, start: Any, stop: Any, count: Any = None, step: Any =
         if isinstance(count, bool) or not isinstance(count, int) or count < 2:
             raise SceneError(Problem(name, count, "the number of values must be a whole number >= 2 "
                                      "(START:STOP:COUNT; for one value give it alone)"))
+        if count > MAX_POINTS:
+            raise SceneError(Problem(name, count,
+                                     f"the number of values must be at most {MAX_POINTS}"))
         numbers = [a + (b - a) * k / (count - 1) for k in range(count)]
     else:
         s, unit_s = _split_quantity(name, step, "the step")
@@ -125,9 +133,11 @@ def _range_axis(name: str, start: Any, stop: Any, count: Any = None, step: Any =
             raise SceneError(Problem(name, step, f"the step must be in the range's unit ({unit or 'none'})"))
         if not (math.isfinite(s) and s != 0 and (b - a) * s >= 0):
             raise SceneError(Problem(name, step, f"the step must be non-zero and lead from {start} to {stop}"))
-        count = int(math.floor((b - a) / s * (1 + 1e-12) + 1e-9)) + 1
-        if count > MAX_POINTS:
-            raise SceneError(Problem(name, step, f"gives {count} values; at most {MAX_POINTS}"))
+        steps = (b - a) / s * (1 + 1e-12) + 1e-9
+        if not steps < MAX_POINTS:  # infinite too, for a step far smaller than the range
+            raise SceneError(Problem(name, step,
+                                     f"gives more than {MAX_POINTS} values; at most {MAX_POINTS}"))
+        count = int(math.floor(steps)) + 1
         numbers = [a + s * k for k in range(count)]
     if a == b:
         raise SceneError(Problem(name, f"{start}:{stop}", "the range's start and stop are equal; give one value alone"))
@@ -142,6 +152,8 @@ def _list_axis(name: str, values: list[Any]) -> Axis:
     """Values listed one by one; numbers in the key when they are all numbers of one unit."""
     if not values:
         raise SceneError(Problem(name, values, "give at least one value"))
+    if len(values) > MAX_POINTS:
+        raise SceneError(Problem(name, f"{len(values)} values", f"at most {MAX_POINTS}"))
     if len({repr(v) for v in values}) < len(values):
         raise SceneError(Problem(name, values, "a value is listed twice"))
     parsed = []
@@ -177,6 +189,9 @@ def parse_values(name: str, text: str) -> Axis:
         count_text, unit = match[2], match[3]  # "76:88:4 mm": the unit after the count applies to both ends
         if not re.fullmatch(r"\d+", count_text):
             raise SceneError(Problem(name, count_text, "the number of values must be a whole number >= 2"))
+        if len(count_text.lstrip("0")) > len(str(MAX_POINTS)):  # not read as a number at all
+            raise SceneError(Problem(name, count_text,
+                                     f"the number of values must be at most {MAX_POINTS}"))
         return _range_axis(name, start, stop, count=int(count_text), unit=unit)
     return _list_axis(name, [parse_cell(v) for v in _split_list(text)])
 
@@ -244,28 +259,57 @@ def read_sweep_file(path: Path) -> Sweep:
     if not isinstance(plot, dict) or set(plot) - {"x", "y"}:
         problems.append(Problem("plot", plot, "a table with y = \"<result column>\" and optionally x = \"<field>\""))
         plot = {}
+    for table in ("sweep", "fixed"):
+        if not isinstance(data.get(table, {}), dict):
+            problems.append(Problem(table, data[table], "a table of dotted scene fields"))
     if problems:
         raise SceneError(problems, source)
+    swept, fixed = _flatten(data.get("sweep", {})), _flatten(data.get("fixed", {}))
+    check_field_count(len(swept) + len(fixed), source)
     try:
-        axes = [axis_from_toml(name, value) for name, value in _flatten(data.get("sweep", {})).items()]
+        axes = [axis_from_toml(name, value) for name, value in swept.items()]
     except SceneError as exc:
         raise SceneError(exc.problems, source) from None
-    return Sweep(axes, _flatten(data.get("fixed", {})), plot.get("y"), plot.get("x"))
+    return Sweep(axes, fixed, plot.get("y"), plot.get("x"))
+
+
+def check_field_count(count: int, source: str = "sweep") -> None:
+    """At most :data:`~crankdyn.batch.MAX_FIELDS` swept and fixed fields, counted before any is
+    read."""
+    if count > MAX_FIELDS:
+        raise SceneError(Problem("sweep", f"{count} fields",
+                                 f"at most {MAX_FIELDS} swept and fixed fields"), source)
+
+
+def grid_points(sizes: Iterable[int]) -> int:
+    """The product of ``sizes``, stopped once it passes :data:`MAX_POINTS` (its value then is
+    only known to be larger)."""
+    points = 1
+    for size in sizes:
+        points *= size
+        if points > MAX_POINTS:
+            break
+    return points
 
 
 # --------------------------------------------------------------------------- the grid
 
 def check_sweep(sweep: Sweep) -> None:
     """The field names by the batch/API rules, no field twice, something swept, a bounded grid."""
+    check_field_count(len(sweep.axes) + len(sweep.fixed))
     names = [a.name for a in sweep.axes]
-    problems = [Problem(n, "", "swept twice") for n in sorted({n for n in names if names.count(n) > 1})]
+    counts = collections.Counter(names)
+    problems = [Problem(n, "", "swept twice")
+                for n in sorted(n for n, k in counts.items() if k > 1)]
     problems += [Problem(n, sweep.fixed[n], "both swept and fixed: give one or the other")
                  for n in names if n in sweep.fixed]
     if not sweep.axes:
         problems.append(Problem("--set", "", "nothing to sweep: give a field with several values, "
                                 "e.g. --set engine.rpm=2000:6000:5"))
     if sweep.points > MAX_POINTS:
-        problems.append(Problem("sweep", sweep.points, f"points in the grid; at most {MAX_POINTS}"))
+        problems.append(Problem("sweep", f"more than {MAX_POINTS} points",
+                                f"at most {MAX_POINTS} points in the grid (the product of the "
+                                "numbers of values of the swept fields)"))
     if problems:
         raise SceneError(problems, "sweep")
     _nested_overrides({**{a.name: a.values[0] for a in sweep.axes}, **sweep.fixed})  # the batch/API name rules
@@ -356,6 +400,7 @@ def check_request(request: SweepRequest) -> None:
     """Everything about the request that can be wrong before a point runs (exit 2, nothing written)."""
     sweep = request.sweep
     check_sweep(sweep)
+    check_options(request.options)
     bad = [f for f in request.key_formats if f not in KEY_FORMATS]
     if bad or not request.key_formats:
         raise UsageError(f"unknown --key {','.join(bad) or '(none)'}; allowed: a subset of {','.join(KEY_FORMATS)}")
@@ -392,20 +437,25 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     if problems:
         raise SceneError(problems, "sweep")
     fields, points = variants(request.sweep)
-    outcomes, interrupted = execute(points, base, base_dir, request.out_dir, request.options)
+    outcomes, stop_signal = execute(points, base, base_dir, request.out_dir, request.options)
     files = key_files(fields, outcomes, points, request.key_formats, batch_language(base, request.options))
     if request.sweep.plot_y is not None:
         plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
         files.update(plotted)
         notes += [note] if note else []
     written = write_outputs(Path(request.out_dir), files)
-    return (BatchReport(Path(request.out_dir), outcomes, time.perf_counter() - start, written, interrupted,
-                        key_warnings(outcomes)), notes)
+    seconds = time.perf_counter() - start
+    return (BatchReport(Path(request.out_dir), outcomes, seconds, written, bool(stop_signal),
+                        key_warnings(outcomes), stop_signal), notes)
 
 
 def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, plot_x: str | None) -> Sweep:
     """The sweep of ``--grid FILE`` with ``--set NAME=VALUES`` laid over it (a --set replaces the file's field)."""
     sweep = read_sweep_file(grid) if grid else Sweep([])
+    sets = list(sets)
+    names = {text.partition("=")[0].strip() for text in sets}
+    names |= {a.name for a in sweep.axes} | set(sweep.fixed)
+    check_field_count(len(names))  # before any --set's values are read
     for text in sets:
         name, equals, values = text.partition("=")
         name = name.strip()
