@@ -253,3 +253,19 @@ def test_random_histories_never_touch_a_file_crankdyn_did_not_write(tmp_path_fac
 def _below_link(out: Path, name: str) -> bool:
     parts = Path(name).parts[:-1]
     return any((out.joinpath(*parts[: i + 1])).is_symlink() for i in range(len(parts)))
+
+
+def test_a_sweep_keeps_an_edited_answer_key_and_refuses_before_computing(tmp_path, capsys):
+    out = tmp_path / "study"
+    args = ["sweep", str(SCENE), "--set", "engine.rpm=1000:2000:2", "-o", str(out), "--key", "csv", "-q",
+            "--stages", "kinematics"]
+    assert main(args) == 0
+    key = out / "answer_key.csv"
+    key.write_text("marked by hand\n", encoding="utf-8")
+    capsys.readouterr()
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "answer_key.csv: changed since crankdyn wrote it" in err and "--force" in err
+    assert key.read_text(encoding="utf-8") == "marked by hand\n"
+    assert main([*args, "--force"]) == 0
+    assert key.read_text(encoding="utf-8").startswith("variant")

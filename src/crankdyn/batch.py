@@ -30,7 +30,7 @@ from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so fork
 from .batch_runner import (DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask,
                            stop_signals)
 from .errors import CrankdynError, Problem, SceneError, UsageError
-from .manifest import MANIFEST, write_outputs
+from .manifest import MANIFEST, check_outputs, write_outputs
 from .outputs import xlsx_bytes
 from .pipeline import run_and_render
 from .plugins import default_registry
@@ -57,6 +57,8 @@ MAX_VARIANT_NAME_BYTES = 160
 
 #: The batch's own files in its output folder (compared case-insensitively): no variant id may be
 #: one of them, or its folder would take the place of the answer key, failure list or manifest.
+KEY_FILE_NAMES = ("answer_key.csv", "answer_key.xlsx", "failures.csv")
+"""The files a batch writes in its output folder besides one folder per variant."""
 RESERVED_NAMES = frozenset(n.casefold() for n in (
     "answer_key.csv", "answer_key.xlsx", "answer_key.parquet", "failures.csv", MANIFEST))
 
@@ -263,7 +265,7 @@ def _registry():
 
 def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, formats: list[str],
                 language: str | None, stages: list[str] | None, data_dirs: tuple[str, ...] = (),
-                return_files: bool = False) -> Outcome:
+                return_files: bool = False, force: bool = False) -> Outcome:
     """Compute and write one variant; never raises (an error is part of the outcome).
 
     With ``return_files`` the files are rendered in memory and returned in ``Outcome.rendered``
@@ -281,7 +283,7 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
             rendered, count = files, len(files)
         elif formats:
 
-            count = len(write_outputs(Path(out_dir) / variant.name, files))
+            count = len(write_outputs(Path(out_dir) / variant.name, files, force=force))
         else:
             count = 0
 
@@ -414,13 +416,14 @@ class RunOptions:
     data_dirs: tuple[str, ...] = ()
     scheduler: str | None = None  # a Dask scheduler's address: the variants run on that cluster
     connect_timeout: float = 10.0  # seconds to reach the scheduler
+    force: bool = False  # replace files in the output folder that crankdyn did not write
 
 
 def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
               jobs: int | None = None, language: str | None = None, stages: list[str] | None = None,
               progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None,
               timeout: float | None = None, data_dirs: tuple[str, ...] = (), scheduler: str | None = None,
-              connect_timeout: float = 10.0) -> BatchReport:
+              connect_timeout: float = 10.0, force: bool = False) -> BatchReport:
     """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
 
     Each row runs in a worker process limited to ``timeout`` seconds (default 120) — on this
@@ -430,13 +433,15 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
 
     start = time.perf_counter()
     options = RunOptions(list(formats), jobs, language, stages, progress, on_outcome, timeout, data_dirs,
-                         scheduler, connect_timeout)
+                         scheduler, connect_timeout, force)
     check_options(options)
     base, base_dir = load_base(base_path)
     fields, variants = read_variants(Path(csv_path))
+    check_outputs(Path(out_dir), KEY_FILE_NAMES, force=force)  # refused before hours of computing
     outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
-    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)))
+    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)),
+                            force=force)
     return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written,
                        bool(stop_signal), key_warnings(outcomes), stop_signal)
 
@@ -498,7 +503,8 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
             if client is None:
                 warm(formats, languages)  # forked workers inherit the loaded plugins and libraries
                 jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
-                tail = (str(out_dir), formats, options.language, options.stages, data_dirs)
+                tail = (str(out_dir), formats, options.language, options.stages, data_dirs, False,
+                        options.force)
                 run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
                         finished, failed)
             else:
@@ -507,7 +513,7 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
                     run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client,
                                  timeout, finished, failed,
                                  prepare=partial(warm, tuple(formats), languages),
-                                 collect=partial(_write_rendered, Path(out_dir)))
+                                 collect=partial(_write_rendered, Path(out_dir), force=options.force))
                 finally:
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
@@ -563,14 +569,14 @@ def _client(options: RunOptions):
                          "address it prints (tcp://HOST:8786)") from None
 
 
-def _write_rendered(out_dir: Path, outcome: Outcome) -> Outcome:
+def _write_rendered(out_dir: Path, outcome: Outcome, force: bool = False) -> Outcome:
     """Write the files a Dask worker rendered for one variant below ``out_dir/<variant>/``."""
     files, outcome.rendered = outcome.rendered, None
     if outcome.ok and files:
 
         try:
-            outcome.files = len(write_outputs(out_dir / outcome.name, files))
-        except OSError as exc:
+            outcome.files = len(write_outputs(out_dir / outcome.name, files, force=force))
+        except (OSError, CrankdynError) as exc:
             outcome.ok, outcome.error = False, f"cannot write its files: {exc}"
     return outcome
 

@@ -153,6 +153,9 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
                         "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
     parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
                         help="seconds to wait for the --scheduler (default 10, at most 86400)")
+    parser.add_argument("--force", action="store_true",
+                        help="replace files in the output folder that crankdyn did not write or that were "
+                        "edited since (otherwise they are kept and the run is refused)")
 
 
 def _run_options(args, formats: list[str]):
@@ -175,7 +178,7 @@ def _run_options(args, formats: list[str]):
               "(more worker processes only share them)", file=sys.stderr)
     return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None,
                       args.timeout, tuple(str(d) for d in args.data_dir), args.scheduler,
-                      args.connect_timeout)
+                      args.connect_timeout, args.force)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:

@@ -104,6 +104,21 @@ def write_outputs(out_dir: Path, files: dict[str, bytes], *, force: bool = False
     return [out_dir / name for name in files]
 
 
+def check_outputs(out_dir: Path, names: list[str] | tuple[str, ...], *, force: bool = False) -> None:
+    """Raise :class:`crankdyn.errors.OutputError` when :func:`write_outputs` would refuse to write
+    ``names`` into ``out_dir`` whatever their content (a user's file, an edited output, a link):
+    a batch checks its answer key's place before it computes its variants. Writes nothing."""
+    out_dir = Path(out_dir)
+    if not out_dir.exists() and not out_dir.is_symlink():
+        return
+    with _Folder.open(out_dir) as folder:
+        previous = read_manifest(folder, out_dir)
+        payloads = {name: None for name in names}
+        plan = _plan(folder, payloads, previous, force)  # type: ignore[arg-type]
+        if plan.conflicts:
+            raise OutputError(_conflict_message(out_dir, plan.conflicts))
+
+
 def _plan(folder: _Folder, files: dict[str, bytes], previous: dict[str, list[Version]],
           force: bool) -> _Plan:
     plan = _Plan()

@@ -38,7 +38,7 @@ from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOp
                     _nest, _registry, batch_language, check_options, execute, key_files,
                     key_warnings, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
-from .manifest import write_outputs
+from .manifest import check_outputs, write_outputs
 from .scene import merge, scene_from_dict
 from .sweep_plot import plot_files
 
@@ -437,13 +437,15 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     if problems:
         raise SceneError(problems, "sweep")
     fields, points = variants(request.sweep)
+    key_names = [f"answer_key.{f}" for f in request.key_formats] + ["failures.csv"]
+    check_outputs(Path(request.out_dir), key_names, force=request.options.force)  # before computing
     outcomes, stop_signal = execute(points, base, base_dir, request.out_dir, request.options)
     files = key_files(fields, outcomes, points, request.key_formats, batch_language(base, request.options))
     if request.sweep.plot_y is not None:
         plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
         files.update(plotted)
         notes += [note] if note else []
-    written = write_outputs(Path(request.out_dir), files)
+    written = write_outputs(Path(request.out_dir), files, force=request.options.force)
     seconds = time.perf_counter() - start
     return (BatchReport(Path(request.out_dir), outcomes, seconds, written, bool(stop_signal),
                         key_warnings(outcomes), stop_signal), notes)
