@@ -56,10 +56,12 @@ def _parser() -> argparse.ArgumentParser:
     report.add_argument("--self-contained", action="store_true",
                         help="inline the figures in report.html instead of referring to figures/*.svg")
     report.add_argument("-q", "--quiet", action="store_true")
+    _stage_timeout_option(report)
     _data_dir_option(report)
 
     check = sub.add_parser("check", help="validate a scene as 'report' does (computed, nothing written)")
     check.add_argument("scene", type=Path)
+    _stage_timeout_option(check)
     _data_dir_option(check)
 
     example = sub.add_parser("example", help="list or write the bundled example scenes")
@@ -162,6 +164,27 @@ def _run_options(args, formats: list[str]):
                       tuple(str(d) for d in args.data_dir), args.scheduler, args.connect_timeout)
 
 
+#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin_guard's, without its import)
+DEFAULT_STAGE_TIMEOUT_S = 120.0
+MAX_STAGE_TIMEOUT_S = 3600.0
+
+
+def _stage_timeout_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--timeout", type=float, default=DEFAULT_STAGE_TIMEOUT_S, metavar="SECONDS",
+                        help="seconds one stage may take before the command stops with its name "
+                        f"(default {DEFAULT_STAGE_TIMEOUT_S:g}, at most {MAX_STAGE_TIMEOUT_S:g})")
+
+
+def _stage_time_limit(seconds: float):
+    """The time limit of each stage (``--timeout``), checked: > 0 and at most the maximum."""
+    from .plugin_guard import stage_time_limit  # lazy: heavy optional import (numpy, with the plugins)
+
+    if not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
+        raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 and "
+                         f"at most {MAX_STAGE_TIMEOUT_S:g}")
+    return stage_time_limit(seconds)
+
+
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--data-dir", action="append", type=Path, default=[], metavar="DIR",
                         help="a folder data files (cycle.trace_file ...) may also be read from; by default only "
@@ -226,7 +249,8 @@ def _report(args) -> int:
 
         printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
     try:
-        return _write_report(args)
+        with _stage_time_limit(args.timeout):
+            return _write_report(args)
     finally:
         if printer is not None:
             printer.discard()  # one not used (a refused scene, no PDF after all): stopped
@@ -241,6 +265,7 @@ def _write_report(args) -> int:
     start = time.perf_counter()
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
+    _print_broken(registry)
     run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained)
     result, written = run.result, run.written
     _print_warnings(result, registry)
@@ -378,11 +403,17 @@ def _explore(args) -> int:
 
 
 def _check(args) -> int:
+    with _stage_time_limit(args.timeout):
+        return _check_scene(args)
+
+
+def _check_scene(args) -> int:
     from .orchestrator import run_scene  # lazy: heavy optional import (numpy, scipy: per command)
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
     scene, languages = _load(args.scene, data_dirs=args.data_dir)
     registry = default_registry()
+    _print_broken(registry)
     # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
     # 'check' passes is one 'report' accepts; nothing is written.
     result = run_scene(scene, registry, None, languages)
@@ -399,6 +430,12 @@ def _check(args) -> int:
         for field, value in applied:
             print(f"  {field} = {value!r}")
     return 0
+
+
+def _print_broken(registry) -> None:
+    """A warning for each plugin left out because it failed to load (``crankdyn plugins`` lists them)."""
+    for message in registry.broken.values():
+        print(f"crankdyn: warning: {message}; the plugin is left out", file=sys.stderr)
 
 
 def _print_warnings(result, registry) -> None:
@@ -457,6 +494,10 @@ def _plugins(args) -> int:
         print(f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
               f"provides={','.join(stage.provides) or '-'}"
               f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}")
+    if registry.broken:
+        print("broken (failed to load, left out):")
+        for name, message in sorted(registry.broken.items()):
+            print(f"  {name:24s} {message}")
     from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
 
     print("languages: " + ", ".join(available_languages()))
