@@ -228,6 +228,12 @@ def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_inst
     assert "stages = 'friction': unknown stage" in err
     assert "installed but not loaded: plugin 'friction_plugin' (import)" in err and "Traceback" not in err
     assert not refused.exists()
+    # a mechanism it might have provided: the same
+    yoke = write_scene(tmp_path / "yoke.toml", modified(SCENE, {"engine": {"mechanism": "friction_yoke"}}))
+    assert cli.main(["check", str(yoke)]) == 2
+    err = capsys.readouterr().err
+    assert "engine.mechanism = 'friction_yoke': unknown mechanism" in err
+    assert "installed but not loaded: plugin 'friction_plugin' (import)" in err
 
 
 def test_an_entry_point_that_raises_at_import_through_importlib_metadata(monkeypatch):
@@ -311,10 +317,19 @@ HANGING = """
         return None
 
 
+    def _quick(scene, inputs):
+        return StageOutput(results={"done": True})
+
+
+    def _stage(name, run=_quick, render=lambda output, ctx: "<p>slow</p>", last=False):
+        return Stage(name=name, title_key="slow.title", requires=("kinematics",), provides=(),
+                     applies=_applies, run=run, render=render, last=last)
+
+
     @hookimpl
     def crankdyn_stages():
-        return [Stage(name="slow", title_key="slow.title", requires=("kinematics",), provides=(),
-                      applies=_applies, run=_forever, render=lambda output, ctx: "<p>slow</p>")]
+        return [_stage("slow", run=_forever), _stage("slow_render", render=_forever),
+                _stage("slow_study", run=_forever, last=True)]
 """
 
 
@@ -324,8 +339,13 @@ def _environment(site: Path) -> dict:
     return env
 
 
-@pytest.mark.parametrize("formats", ["json", "html,json"])  # the stages run here / in a forked child
-def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(formats, tmp_path):
+@pytest.mark.parametrize(("stage", "step", "formats"), [
+    ("slow", "run", "json"),  # the stages run in the command's process
+    ("slow", "run", "html,json"),  # in a forked child while the rendering gets ready
+    ("slow_study", "run", "html,json"),  # a study, in a forked child while the report is rendered
+    ("slow_render", "render", "html"),
+])
+def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(stage, step, formats, tmp_path):
     site = tmp_path / "site"
     site.mkdir()
     _install(site, "slow_plugin", HANGING)
@@ -333,12 +353,23 @@ def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(formats, tm
     out = tmp_path / "out"
     # the subprocess's own timeout only keeps a failing test from hanging the suite
     done = subprocess.run([sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(out), "--format",
-                           formats, "--stages", "slow", "--timeout", "1"], capture_output=True, text=True,
+                           formats, "--stages", stage, "--timeout", "1"], capture_output=True, text=True,
                           env=_environment(site), timeout=300)
     assert done.returncode == 2, done.stderr
-    assert done.stderr == ("crankdyn: plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit "
-                           "of 1 s a stage may take (crankdyn report --timeout SECONDS)\n")
+    assert done.stderr == (f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not finish within "
+                           "the limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n")
     assert not out.exists()
+
+
+def test_check_applies_the_same_limit(tmp_path):
+    site = tmp_path / "site"
+    site.mkdir()
+    _install(site, "slow_plugin", HANGING)
+    scene = write_scene(tmp_path / "s.toml", modified(SCENE, {"analysis": {"stages": ["slow"]}}))
+    done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene), "--timeout", "1"],
+                          capture_output=True, text=True, env=_environment(site), timeout=300)
+    assert done.returncode == 2, done.stderr
+    assert "plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit of 1 s" in done.stderr
 
 
 def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_path):
