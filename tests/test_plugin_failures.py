@@ -29,7 +29,7 @@ from crankdyn.orchestrator import run_scene
 from crankdyn.pipeline import run_and_render
 from crankdyn.plugin_guard import (DEFAULT_STAGE_TIMEOUT_S, MAX_STAGE_TIMEOUT_S, check_stage_output,
                                    stage_time_limit)
-from crankdyn.plugin_types import Mechanism, Stage, StageOutput
+from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
 from conftest import example_data, modified, write_scene
@@ -178,6 +178,28 @@ def test_a_plugin_whose_hook_fails_is_left_out_and_listed_as_broken(hook, expect
     assert expected in registry.broken["hooked"]
     assert "fine" in registry.stages and "kinematics" in registry.stages  # the others work
     assert not any(owner == "hooked" for owner in registry.owner.values())
+
+
+class _Options:
+    """Not a pydantic model."""
+
+
+def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
+    bad_toml = tmp_path / "extra.en.toml"
+    bad_toml.write_text('[extra]\ntitle = "Extra\n', encoding="utf-8")
+    not_texts = tmp_path / "other.en.toml"
+    not_texts.write_text('[other]\ntitle = 5\n', encoding="utf-8")
+    cataloged = [types.ModuleType(name) for name in ("bad_toml", "not_texts", "missing")]
+    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml")):
+        module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
+    modelled = _plugin("modelled", mechanisms=[Mechanism(name="m", summary="m", params_model=_Options)])
+    registry = _registry(*cataloged, modelled)
+    assert "not a readable TOML file (TOMLDecodeError: " in registry.broken["bad_toml"]
+    assert "other.title = 5 is not a text" in registry.broken["not_texts"]
+    assert "absent.toml' is not a file" in registry.broken["missing"]
+    assert "params_model = <class 'test_plugin_failures._Options'>; expected a pydantic" in registry.broken["modelled"]
+    assert all(str(c.path) not in {str(bad_toml), str(not_texts)} for c in registry.catalogs)
+    assert registry.catalogs  # the built-in ones
 
 
 def _install(site: Path, name: str, source: str) -> None:
@@ -359,6 +381,26 @@ def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(stage, step
     assert done.stderr == (f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not finish within "
                            "the limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n")
     assert not out.exists()
+
+
+def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_path):
+    site = tmp_path / "site"
+    site.mkdir()
+    _install(site, "stuck_plugin", "import time\nwhile True:\n    time.sleep(0.05)\n")
+    script = textwrap.dedent("""
+        from crankdyn.plugin_guard import stage_time_limit
+        from crankdyn.plugins import default_registry
+
+        with stage_time_limit(1):
+            registry = default_registry()
+        print(registry.broken["stuck_plugin"])
+        print("kinematics" in registry.stages)
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=_environment(site),
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == ("plugin 'stuck_plugin' (import): import did not finish within the limit of 1 s a stage "
+                           "may take (crankdyn report --timeout SECONDS)\nTrue\n")
 
 
 def test_check_applies_the_same_limit(tmp_path):

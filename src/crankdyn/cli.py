@@ -485,7 +485,8 @@ def _example(args) -> int:
 def _plugins(args) -> int:
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
-    registry = default_registry()
+    with _stage_time_limit(DEFAULT_STAGE_TIMEOUT_S):  # a plugin whose import never ends is named
+        registry = default_registry()
     print("mechanisms:")
     for name, mech in sorted(registry.mechanisms.items()):
         print(f"  {name:24s} [{registry.owner['mechanism:' + name]}] {mech.summary}")

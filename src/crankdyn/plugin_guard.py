@@ -25,6 +25,7 @@ import os
 import signal
 import threading
 import time
+import tomllib
 from collections.abc import Iterator, Mapping
 from typing import Any, Callable
 
@@ -43,6 +44,8 @@ MAX_STAGE_TIMEOUT_S = 3600.0
 _REPEAT_S = 0.5
 #: the longest exception text quoted in a message
 _QUOTED_CHARS = 300
+#: the largest catalog file a plugin may bring
+_MAX_CATALOG_BYTES = 8 * 2**20
 #: how deep results may nest (a list holding itself would recurse without end)
 _MAX_DEPTH = 32
 
@@ -183,7 +186,7 @@ def _garbage(plugin: str, where: str, step: str, value: object, expected: str) -
 _NAME_TUPLES = ("requires", "provides", "uses", "references", "services", "figures", "tables")
 
 
-def checked_stage(stage: object, plugin: str, hook: str) -> Stage:
+def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -> Stage:
     """``stage`` as a hook returned it, checked field by field (a str where a tuple of names
     belongs would be read as its letters); a list of names becomes a tuple."""
     where = f"hook {hook}"
@@ -209,10 +212,13 @@ def checked_stage(stage: object, plugin: str, hook: str) -> Stage:
     if not isinstance(stage.title_key, str) or (stage.options_table is not None
                                                 and not isinstance(stage.options_table, str)):
         raise PluginFailure(plugin, where, f"stage {stage.name!r}: title_key and options_table are str")
+    if not _is_model(stage.options_model):
+        raise PluginFailure(plugin, where, f"stage {stage.name!r}: options_model = "
+                            f"{shorten(stage.options_model)}; expected a pydantic model class or None")
     return dataclasses.replace(stage, **fixed) if fixed else stage
 
 
-def checked_mechanism(mechanism: object, plugin: str, hook: str) -> Mechanism:
+def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool = True) -> Mechanism:
     where = f"hook {hook}"
     if not isinstance(mechanism, Mechanism):
         raise _garbage(plugin, where, "the hook", mechanism, "Mechanism objects")
@@ -222,10 +228,18 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str) -> Mechanism:
     if not callable(mechanism.check) or not (mechanism.geometry is None or callable(mechanism.geometry)):
         raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: check (and geometry, if given) "
                             "must be functions")
+    if not _is_model(mechanism.params_model):
+        raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: params_model = "
+                            f"{shorten(mechanism.params_model)}; expected a pydantic model class or None")
     return mechanism
 
 
-def checked_probe(probe: object, plugin: str, hook: str) -> ErrorProbe:
+def _is_model(model: object) -> bool:
+    """None, or a class that validates a table as a pydantic model does."""
+    return model is None or (isinstance(model, type) and callable(getattr(model, "model_validate", None)))
+
+
+def checked_probe(probe: object, plugin: str, hook: str, foreign: bool = True) -> ErrorProbe:
     where = f"hook {hook}"
     if not isinstance(probe, ErrorProbe):
         raise _garbage(plugin, where, "the hook", probe, "ErrorProbe objects")
@@ -235,7 +249,8 @@ def checked_probe(probe: object, plugin: str, hook: str) -> ErrorProbe:
     return probe
 
 
-def checked_catalog(catalog: object, plugin: str, hook: str) -> Catalog:
+def checked_catalog(catalog: object, plugin: str, hook: str, foreign: bool = True) -> Catalog:
+    """``catalog`` as a hook returned it; a third-party catalog's file is read: TOML of texts."""
     where = f"hook {hook}"
     if not isinstance(catalog, Catalog):
         raise _garbage(plugin, where, "the hook", catalog, "Catalog objects")
@@ -243,7 +258,33 @@ def checked_catalog(catalog: object, plugin: str, hook: str) -> Catalog:
             or not os.path.isfile(catalog.path):
         raise PluginFailure(plugin, where, f"catalog {shorten(catalog.language)}: path "
                             f"{shorten(str(catalog.path))} is not a file")
+    problem = _catalog_problem(catalog.path) if foreign else None
+    if problem:
+        raise PluginFailure(plugin, where, f"catalog {catalog.language!r} ({catalog.path}): {problem}")
     return catalog
+
+
+def _catalog_problem(path) -> str | None:
+    if os.path.getsize(path) > _MAX_CATALOG_BYTES:
+        return f"larger than {_MAX_CATALOG_BYTES // 2**20} MB"
+    try:
+        with open(path, "rb") as file:
+            table = tomllib.load(file)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        return f"not a readable TOML file ({describe(exc)})"
+    return _texts_problem(table, "")
+
+
+def _texts_problem(table: dict, prefix: str) -> str | None:
+    """The first key of a catalog whose value is neither a text nor a table of texts."""
+    for key, value in table.items():
+        if isinstance(value, dict):
+            problem = _texts_problem(value, f"{prefix}{key}.")
+            if problem:
+                return problem
+        elif not isinstance(value, str):
+            return f"{prefix}{key} = {shorten(value, 60)} is not a text"
+    return None
 
 
 # ----------------------------------------------------------------------------- guarded calls

@@ -151,7 +151,7 @@ def _hook_items(impl, name: str, hook_name: str, check, foreign: bool) -> list:
     except TypeError:
         raise PluginFailure(name, f"hook {hook_name}", f"the hook returned {shorten(returned)}; "
                             "expected a list") from None
-    return [check(item, name, hook_name) for item in items]
+    return [check(item, name, hook_name, foreign) for item in items]
 
 
 def broken_note(registry: Registry) -> str:
