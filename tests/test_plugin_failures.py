@@ -37,11 +37,14 @@ from conftest import example_data, modified, write_scene
 SCENE = "kinematics-only"
 
 
+def _stroke(scene, inputs) -> StageOutput:
+    return StageOutput(results={"stroke_m": 2 * inputs[KINEMATICS].crank_radius_m})
+
+
 def _stage(name: str = "extra", **changes) -> Stage:
     """A stage after the kinematics that works; ``changes`` replace its parts with broken ones."""
     fields = dict(name=name, title_key="extra.title", requires=(KINEMATICS,), provides=(),
-                  applies=lambda scene: None,
-                  run=lambda scene, inputs: StageOutput(results={"stroke_m": 2 * inputs[KINEMATICS].crank_radius_m}),
+                  applies=lambda scene: None, run=_stroke,
                   render=lambda output, ctx: "<p>extra</p>")
     fields.update(changes)
     return Stage(**fields)
@@ -72,7 +75,8 @@ def _failure(registry, stages=("extra",), formats=("json",), scene=None) -> Plug
 
 # --------------------------------------------------------------------------- the stage's calls
 def test_a_working_throwaway_stage_runs_so_the_failures_below_are_its_breakages():
-    result, files = run_and_render(_scene(), _registry(_plugin("fine_plugin", [_stage()])), ["json"], ["extra"])
+    registry = _registry(_plugin("fine_plugin", [_stage()]))
+    result, files = run_and_render(_scene(), registry, ["json"], ["extra"])
     # the scene's stroke, 100 mm, is twice the crank radius the kinematics stage found
     assert result.outputs["extra"].results["stroke_m"] == pytest.approx(0.100, rel=1e-12)
     assert "results.json" in files
@@ -88,9 +92,10 @@ def test_a_working_throwaway_stage_runs_so_the_failures_below_are_its_breakages(
      "run returned data with the keys ['stray']; the stage declares provides=[]"),
     (dict(run=lambda scene, inputs: StageOutput(results={"x": object()})),
      "results['x']: <object object"),
-    (dict(run=lambda scene, inputs: StageOutput(results={1: 2.0})), "results: the key 1 is not a str"),
-    (dict(run=lambda scene, inputs: StageOutput(tables={"extra": {"a": [1, 2], "b": [1]}}), tables=("extra",)),
-     "tables['extra']: columns of different lengths [1, 2]"),
+    (dict(run=lambda scene, inputs: StageOutput(results={1: 2.0})),
+     "results: the key 1 is not a str"),
+    (dict(run=lambda scene, inputs: StageOutput(tables={"extra": {"a": [1, 2], "b": [1]}}),
+          tables=("extra",)), "tables['extra']: columns of different lengths [1, 2]"),
     (dict(run=lambda scene, inputs: StageOutput(tables={"other": {"a": [1]}})),
      "tables['other']: not declared in Stage.tables"),
     (dict(run=lambda scene, inputs: StageOutput(notes=["extra.note"])), "notes = ['extra.note']"),
@@ -116,7 +121,8 @@ def test_a_scene_error_a_stage_raises_is_the_scenes_and_passes_as_it_is():
         raise SceneError(Problem("extra.gap", 3, "at most 2"))
 
     with pytest.raises(SceneError) as caught:
-        run_and_render(_scene(), _registry(_plugin("strict", [_stage(run=refuse)])), ["json"], ["extra"])
+        registry = _registry(_plugin("strict", [_stage(run=refuse)]))
+        run_and_render(_scene(), registry, ["json"], ["extra"])
     assert "extra.gap = 3: at most 2" in str(caught.value)
 
 
@@ -124,26 +130,28 @@ def _nan_motion(scene, inputs):
     angles = np.arange(0.0, 720.0, 10.0)
     velocity = np.sin(np.radians(angles))
     velocity[[3, 7]] = np.nan
-    motion = PistonMotion(angles, np.zeros_like(angles), velocity, np.zeros_like(angles), None, 0.05,
-                          314.0, "exact")
+    zeros = np.zeros_like(angles)
+    motion = PistonMotion(angles, zeros, velocity, zeros, None, 0.05, 314.0, "exact")
     return StageOutput(data={KINEMATICS: motion})
 
 
 def _yoke_plugin(run) -> types.ModuleType:
-    stage = Stage(name="yoke_kinematics", title_key="yoke.title", requires=(), provides=(KINEMATICS,),
-                  applies=lambda scene: None if scene.engine.mechanism == "nan_yoke" else "not a yoke",
-                  run=run, render=lambda output, ctx: None)
+    def applies(scene):
+        return None if scene.engine.mechanism == "nan_yoke" else "not a yoke"
+
+    stage = Stage(name="yoke_kinematics", title_key="yoke.title", requires=(),
+                  provides=(KINEMATICS,), applies=applies, run=run, render=lambda output, ctx: None)
     return _plugin("yoke_plugin", [stage], [Mechanism(name="nan_yoke", summary="a yoke")])
 
 
 def test_contract_data_holding_nan_or_of_the_wrong_type_is_named():
     scene = _scene({"engine": {"mechanism": "nan_yoke"}})
-    failure = _failure(_registry(_yoke_plugin(_nan_motion)), stages=["yoke_kinematics"], scene=scene)
+    failure = _failure(_registry(_yoke_plugin(_nan_motion)), ["yoke_kinematics"], scene=scene)
     assert str(failure).startswith("plugin 'yoke_plugin' (stage 'yoke_kinematics'): run returned "
                                    "data['kinematics']: piston_velocity_m_s = ")
     assert "2 value(s) not finite (NaN or infinite)" in str(failure)
-    failure = _failure(_registry(_yoke_plugin(lambda scene, inputs: StageOutput(data={KINEMATICS: [1.0]}))),
-                       stages=["yoke_kinematics"], scene=scene)
+    listed = _yoke_plugin(lambda scene, inputs: StageOutput(data={KINEMATICS: [1.0]}))
+    failure = _failure(_registry(listed), ["yoke_kinematics"], scene=scene)
     assert "data['kinematics']: [1.0] is not a crankdyn.contracts.PistonMotion" in str(failure)
 
 
@@ -169,11 +177,14 @@ def test_a_built_in_stages_own_error_stays_an_internal_error():
     (lambda: 1 / 0, "the hook raised ZeroDivisionError: division by zero"),
     (lambda: 5, "the hook returned 5; expected a list"),
     (lambda: [object()], "the hook returned <object object"),
-    (lambda: [_stage(requires="kinematics")], "stage 'extra': requires = 'kinematics'; expected a tuple of str"),
-    (lambda: [_stage(run="not a function")], "stage 'extra': run = 'not a function'; expected a function"),
+    (lambda: [_stage(requires="kinematics")],
+     "stage 'extra': requires = 'kinematics'; expected a tuple of str"),
+    (lambda: [_stage(run="not a function")],
+     "stage 'extra': run = 'not a function'; expected a function"),
 ])
 def test_a_plugin_whose_hook_fails_is_left_out_and_listed_as_broken(hook, expected):
-    registry = _registry(_plugin("hooked", stages_hook=hook), _plugin("fine_plugin", [_stage("fine")]))
+    registry = _registry(_plugin("hooked", stages_hook=hook),
+                         _plugin("fine_plugin", [_stage("fine")]))
     assert registry.broken["hooked"].startswith("plugin 'hooked' (hook crankdyn_stages): ")
     assert expected in registry.broken["hooked"]
     assert "fine" in registry.stages and "kinematics" in registry.stages  # the others work
@@ -192,12 +203,14 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
     cataloged = [types.ModuleType(name) for name in ("bad_toml", "not_texts", "missing")]
     for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml")):
         module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
-    modelled = _plugin("modelled", mechanisms=[Mechanism(name="m", summary="m", params_model=_Options)])
+    mechanism = Mechanism(name="m", summary="m", params_model=_Options)
+    modelled = _plugin("modelled", mechanisms=[mechanism])
     registry = _registry(*cataloged, modelled)
     assert "not a readable TOML file (TOMLDecodeError: " in registry.broken["bad_toml"]
     assert "other.title = 5 is not a text" in registry.broken["not_texts"]
     assert "absent.toml' is not a file" in registry.broken["missing"]
-    assert "params_model = <class 'test_plugin_failures._Options'>; expected a pydantic" in registry.broken["modelled"]
+    assert ("params_model = <class 'test_plugin_failures._Options'>; expected a pydantic"
+            in registry.broken["modelled"])
     assert all(str(c.path) not in {str(bad_toml), str(not_texts)} for c in registry.catalogs)
     assert registry.catalogs  # the built-in ones
 
@@ -207,7 +220,8 @@ def _install(site: Path, name: str, source: str) -> None:
     (site / f"{name}.py").write_text(textwrap.dedent(source), encoding="utf-8")
     info = site / f"{name}-0.1.dist-info"
     info.mkdir(parents=True)
-    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 0.1\n", encoding="utf-8")
+    metadata = f"Metadata-Version: 2.1\nName: {name}\nVersion: 0.1\n"
+    (info / "METADATA").write_text(metadata, encoding="utf-8")
     (info / "entry_points.txt").write_text(f"[crankdyn]\n{name} = {name}\n", encoding="utf-8")
 
 
@@ -225,10 +239,12 @@ def broken_install(tmp_path, monkeypatch):
     return site
 
 
-def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_install, tmp_path, capsys):
+def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_install, tmp_path,
+                                                                     capsys):
     registry = crankdyn.plugins.default_registry()
-    assert registry.broken == {"friction_plugin": "plugin 'friction_plugin' (import): import raised "
-                               "ModuleNotFoundError: No module named 'crankdyn_friction_dependency_not_installed'"}
+    assert registry.broken == {"friction_plugin": (
+        "plugin 'friction_plugin' (import): import raised ModuleNotFoundError: "
+        "No module named 'crankdyn_friction_dependency_not_installed'")}
     assert "kinematics" in registry.stages
 
     assert cli.main(["plugins"]) == 0
@@ -245,13 +261,16 @@ def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_inst
 
     # a stage it might have provided: refused, naming the broken plugin; nothing written
     refused = tmp_path / "refused"
-    assert cli.main(["report", str(scene), "-o", str(refused), "--format", "json", "--stages", "friction"]) == 2
+    assert cli.main(["report", str(scene), "-o", str(refused), "--format", "json",
+                     "--stages", "friction"]) == 2
     err = capsys.readouterr().err
     assert "stages = 'friction': unknown stage" in err
-    assert "installed but not loaded: plugin 'friction_plugin' (import)" in err and "Traceback" not in err
+    assert "installed but not loaded: plugin 'friction_plugin' (import)" in err
+    assert "Traceback" not in err
     assert not refused.exists()
     # a mechanism it might have provided: the same
-    yoke = write_scene(tmp_path / "yoke.toml", modified(SCENE, {"engine": {"mechanism": "friction_yoke"}}))
+    yoke = write_scene(tmp_path / "yoke.toml",
+                       modified(SCENE, {"engine": {"mechanism": "friction_yoke"}}))
     assert cli.main(["check", str(yoke)]) == 2
     err = capsys.readouterr().err
     assert "engine.mechanism = 'friction_yoke': unknown mechanism" in err
@@ -268,26 +287,32 @@ def test_an_entry_point_that_raises_at_import_through_importlib_metadata(monkeyp
             raise RuntimeError("configuration file missing")
 
     real = importlib.metadata.entry_points
-    monkeypatch.setattr(importlib.metadata, "entry_points",
-                        lambda **kw: [*real(**kw), Failing()] if kw.get("group") == "crankdyn" else real(**kw))
+    def entry_points(**selection):
+        found = real(**selection)
+        return [*found, Failing()] if selection.get("group") == "crankdyn" else found
+
+    monkeypatch.setattr(importlib.metadata, "entry_points", entry_points)
     registry = crankdyn.plugins.default_registry()
-    assert registry.broken == {"exploding": "plugin 'exploding' (import): import raised RuntimeError: "
-                               "configuration file missing"}
+    assert registry.broken == {"exploding": "plugin 'exploding' (import): import raised "
+                               "RuntimeError: configuration file missing"}
     assert "kinematics" in registry.stages
 
 
-# --------------------------------------------------------------------------- the command line and the API
-def test_the_command_line_names_the_plugin_with_exit_2_and_writes_nothing(tmp_path, monkeypatch, capsys):
+# ---------------------------------------------------------------- the command line and the API
+def test_the_command_line_names_the_plugin_with_exit_2_and_writes_nothing(tmp_path, monkeypatch,
+                                                                          capsys):
     registry = _registry(_plugin("bad_render", [_stage(render=lambda output, ctx: 1 / 0)]))
     monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: registry)
     scene = write_scene(tmp_path / "s.toml", example_data(SCENE))
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.txt").write_text("mine", encoding="utf-8")
-    code = cli.main(["report", str(scene), "-o", str(out), "--format", "html,json", "--stages", "extra"])
+    code = cli.main(["report", str(scene), "-o", str(out), "--format", "html,json",
+                     "--stages", "extra"])
     err = capsys.readouterr().err
     assert code == 2
-    assert err == "crankdyn: plugin 'bad_render' (stage 'extra'): render raised ZeroDivisionError: division by zero\n"
+    assert err == ("crankdyn: plugin 'bad_render' (stage 'extra'): render raised "
+                   "ZeroDivisionError: division by zero\n")
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
 
 
@@ -298,7 +323,8 @@ def test_the_python_api_raises_the_documented_error_naming_the_plugin(monkeypatc
     with pytest.raises(PluginError) as caught:
         crankdyn.api.run(scene, stages=["extra"])
     assert isinstance(caught.value, PluginFailure)
-    assert str(caught.value) == "plugin 'bad_run' (stage 'extra'): run raised ZeroDivisionError: division by zero"
+    assert str(caught.value) == ("plugin 'bad_run' (stage 'extra'): run raised "
+                                 "ZeroDivisionError: division by zero")
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "1e400", str(MAX_STAGE_TIMEOUT_S * 2)])
@@ -310,7 +336,8 @@ def test_timeout_outside_its_range_is_refused(value, tmp_path, capsys):
 
 
 def test_the_command_lines_limits_are_the_guards():
-    assert (cli.DEFAULT_STAGE_TIMEOUT_S, cli.MAX_STAGE_TIMEOUT_S) == (DEFAULT_STAGE_TIMEOUT_S, MAX_STAGE_TIMEOUT_S)
+    assert cli.DEFAULT_STAGE_TIMEOUT_S == DEFAULT_STAGE_TIMEOUT_S
+    assert cli.MAX_STAGE_TIMEOUT_S == MAX_STAGE_TIMEOUT_S
     with pytest.raises(ValueError):
         with stage_time_limit(math.inf):
             pass
@@ -319,10 +346,11 @@ def test_the_command_lines_limits_are_the_guards():
 def test_a_named_failure_survives_the_way_back_from_a_forked_child():
     failure = StageTimeLimit("slow_plugin", "stage 'slow'", "run did not finish")
     back = pickle.loads(pickle.dumps(failure))
-    assert type(back) is StageTimeLimit and str(back) == str(failure) and back.plugin == "slow_plugin"
+    assert type(back) is StageTimeLimit and str(back) == str(failure)
+    assert back.plugin == "slow_plugin"
 
 
-# --------------------------------------------------------------------------- a stage that never ends
+# ---------------------------------------------------------------- a stage that never ends
 HANGING = """
     import time
 
@@ -367,19 +395,22 @@ def _environment(site: Path) -> dict:
     ("slow_study", "run", "html,json"),  # a study, in a forked child while the report is rendered
     ("slow_render", "render", "html"),
 ])
-def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(stage, step, formats, tmp_path):
+def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(stage, step, formats,
+                                                                     tmp_path):
     site = tmp_path / "site"
     site.mkdir()
     _install(site, "slow_plugin", HANGING)
     scene = write_scene(tmp_path / "s.toml", example_data(SCENE))
     out = tmp_path / "out"
     # the subprocess's own timeout only keeps a failing test from hanging the suite
-    done = subprocess.run([sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(out), "--format",
-                           formats, "--stages", stage, "--timeout", "1"], capture_output=True, text=True,
-                          env=_environment(site), timeout=300)
+    command = [sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(out),
+               "--format", formats, "--stages", stage, "--timeout", "1"]
+    done = subprocess.run(command, capture_output=True, text=True, env=_environment(site),
+                          timeout=300)
     assert done.returncode == 2, done.stderr
-    assert done.stderr == (f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not finish within "
-                           "the limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n")
+    assert done.stderr == (f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not "
+                           "finish within the limit of 1 s a stage may take "
+                           "(crankdyn report --timeout SECONDS)\n")
     assert not out.exists()
 
 
@@ -396,11 +427,12 @@ def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_pa
         print(registry.broken["stuck_plugin"])
         print("kinematics" in registry.stages)
     """)
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=_environment(site),
-                          timeout=300)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          env=_environment(site), timeout=300)
     assert done.returncode == 0, done.stderr
-    assert done.stdout == ("plugin 'stuck_plugin' (import): import did not finish within the limit of 1 s a stage "
-                           "may take (crankdyn report --timeout SECONDS)\nTrue\n")
+    assert done.stdout == ("plugin 'stuck_plugin' (import): import did not finish within the "
+                           "limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n"
+                           "True\n")
 
 
 def test_check_applies_the_same_limit(tmp_path):
@@ -411,7 +443,8 @@ def test_check_applies_the_same_limit(tmp_path):
     done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene), "--timeout", "1"],
                           capture_output=True, text=True, env=_environment(site), timeout=300)
     assert done.returncode == 2, done.stderr
-    assert "plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit of 1 s" in done.stderr
+    assert ("plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit of 1 s"
+            in done.stderr)
 
 
 def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_path):
@@ -431,8 +464,8 @@ def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_pa
             print(exc.plugin, exc.where)
     """)
     write_scene(tmp_path / "s.toml", example_data(SCENE))
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=_environment(site),
-                          timeout=300)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          env=_environment(site), timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout == "slow_plugin stage 'slow'\n"
 

@@ -177,11 +177,11 @@ def _stage_timeout_option(parser: argparse.ArgumentParser) -> None:
 
 def _stage_time_limit(seconds: float):
     """The time limit of each stage (``--timeout``), checked: > 0 and at most the maximum."""
-    from .plugin_guard import stage_time_limit  # lazy: heavy optional import (numpy, with the plugins)
+    from .plugin_guard import stage_time_limit  # lazy: heavy optional import (numpy)
 
     if not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
-        raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 and "
-                         f"at most {MAX_STAGE_TIMEOUT_S:g}")
+        raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 "
+                         f"and at most {MAX_STAGE_TIMEOUT_S:g}")
     return stage_time_limit(seconds)
 
 
@@ -433,7 +433,8 @@ def _check_scene(args) -> int:
 
 
 def _print_broken(registry) -> None:
-    """A warning for each plugin left out because it failed to load (``crankdyn plugins`` lists them)."""
+    """A warning for each plugin left out because it failed to load (``crankdyn plugins`` lists
+    them)."""
     for message in registry.broken.values():
         print(f"crankdyn: warning: {message}; the plugin is left out", file=sys.stderr)
 

@@ -86,7 +86,8 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
     if mechanism is None:
         problems.append(Problem("engine.mechanism", scene.engine.mechanism,
-                                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms)) + broken))
+                                "unknown mechanism; installed: "
+                                + ", ".join(sorted(registry.mechanisms)) + broken))
     else:
         if mechanism.params_model is not None:
             try:
@@ -106,7 +107,8 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
             close = difflib.get_close_matches(table, known, n=1)
             hint = f"did you mean [{close[0]}]? " if close else ""
             problems.append(Problem(table, "[" + table + "]",
-                                    f"unknown table; {hint}known tables: " + ", ".join(known) + broken))
+                                    f"unknown table; {hint}known tables: " + ", ".join(known)
+                                    + broken))
         elif stage.options_model is not None:
             try:
                 options(scene, table, stage.options_model)
@@ -137,8 +139,9 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     if requested is not None:
         unknown = [n for n in requested if n not in registry.stages]
         if unknown:
-            raise SceneError([Problem("stages", n, "unknown stage; installed: " + ", ".join(sorted(registry.stages))
-                                      + broken_note(registry)) for n in unknown])
+            installed = ", ".join(sorted(registry.stages)) + broken_note(registry)
+            raise SceneError([Problem("stages", n, "unknown stage; installed: " + installed)
+                              for n in unknown])
     _check_requirements(registry)
     skipped: dict[str, str] = {}
     applicable: dict[str, Stage] = {}

@@ -92,7 +92,8 @@ def stage_time_limit(seconds: float | None) -> Iterator[None]:
     program has its own ``SIGALRM`` handler)."""
     global _limit_s
     if seconds is not None and not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
-        raise ValueError(f"a stage time limit is > 0 and at most {MAX_STAGE_TIMEOUT_S:g} s, not {seconds!r}")
+        raise ValueError(f"a stage time limit is > 0 and at most {MAX_STAGE_TIMEOUT_S:g} s, "
+                         f"not {seconds!r}")
     usable = (seconds is not None and hasattr(signal, "setitimer")
               and threading.current_thread() is threading.main_thread()
               and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None, _on_alarm))
@@ -135,8 +136,9 @@ def call_limited(label: tuple[str, str, str], fn: Callable[..., Any], *args: Any
         _disarm()
         del _running[depth:]
         plugin, where, step = exc.args[0] if exc.args else label
-        raise StageTimeLimit(plugin, where, f"{step} did not finish within the limit of {_limit_s:g} s "
-                             "a stage may take (crankdyn report --timeout SECONDS)") from None
+        what = (f"{step} did not finish within the limit of {_limit_s:g} s a stage may take "
+                "(crankdyn report --timeout SECONDS)")
+        raise StageTimeLimit(plugin, where, what) from None
 
 
 def _armed(label, fn, args):
@@ -163,7 +165,8 @@ def describe(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
-def call(plugin: str, where: str, step: str, foreign: bool, fn: Callable[..., Any], *args: Any) -> Any:
+def call(plugin: str, where: str, step: str, foreign: bool, fn: Callable[..., Any],
+         *args: Any) -> Any:
     """``fn(*args)`` for ``plugin``'s ``where`` within the time limit; a third-party (``foreign``)
     plugin's error raised as a :class:`PluginFailure` that names it."""
     try:
@@ -193,7 +196,8 @@ def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -
     if not isinstance(stage, Stage):
         raise _garbage(plugin, where, "the hook", stage, "Stage objects")
     if not isinstance(stage.name, str) or not stage.name.strip():
-        raise PluginFailure(plugin, where, f"a Stage's name is {shorten(stage.name)}; expected a non-empty str")
+        raise PluginFailure(plugin, where, f"a Stage's name is {shorten(stage.name)}; "
+                            "expected a non-empty str")
     fixed: dict[str, Any] = {}
     for name in _NAME_TUPLES:
         value = getattr(stage, name)
@@ -207,14 +211,15 @@ def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -
             raise PluginFailure(plugin, where, f"stage {stage.name!r}: {name} = "
                                 f"{shorten(getattr(stage, name))}; expected a function")
     if stage.input_rows is not None and not callable(stage.input_rows):
-        raise PluginFailure(plugin, where, f"stage {stage.name!r}: input_rows = {shorten(stage.input_rows)}; "
-                            "expected a function or None")
+        raise PluginFailure(plugin, where, f"stage {stage.name!r}: input_rows = "
+                            f"{shorten(stage.input_rows)}; expected a function or None")
     if not isinstance(stage.title_key, str) or (stage.options_table is not None
                                                 and not isinstance(stage.options_table, str)):
-        raise PluginFailure(plugin, where, f"stage {stage.name!r}: title_key and options_table are str")
+        raise PluginFailure(plugin, where,
+                            f"stage {stage.name!r}: title_key and options_table are str")
     if not _is_model(stage.options_model):
         raise PluginFailure(plugin, where, f"stage {stage.name!r}: options_model = "
-                            f"{shorten(stage.options_model)}; expected a pydantic model class or None")
+                            f"{shorten(stage.options_model)}; expected a pydantic model or None")
     return dataclasses.replace(stage, **fixed) if fixed else stage
 
 
@@ -225,18 +230,20 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool =
     if not isinstance(mechanism.name, str) or not mechanism.name.strip():
         raise PluginFailure(plugin, where, f"a Mechanism's name is {shorten(mechanism.name)}; "
                             "expected a non-empty str")
-    if not callable(mechanism.check) or not (mechanism.geometry is None or callable(mechanism.geometry)):
-        raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: check (and geometry, if given) "
-                            "must be functions")
+    geometry = mechanism.geometry
+    if not callable(mechanism.check) or not (geometry is None or callable(geometry)):
+        raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: check (and geometry, "
+                            "if given) must be functions")
     if not _is_model(mechanism.params_model):
         raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: params_model = "
-                            f"{shorten(mechanism.params_model)}; expected a pydantic model class or None")
+                            f"{shorten(mechanism.params_model)}; expected a pydantic model or None")
     return mechanism
 
 
 def _is_model(model: object) -> bool:
     """None, or a class that validates a table as a pydantic model does."""
-    return model is None or (isinstance(model, type) and callable(getattr(model, "model_validate", None)))
+    return model is None or (isinstance(model, type)
+                             and callable(getattr(model, "model_validate", None)))
 
 
 def checked_probe(probe: object, plugin: str, hook: str, foreign: bool = True) -> ErrorProbe:
@@ -260,7 +267,8 @@ def checked_catalog(catalog: object, plugin: str, hook: str, foreign: bool = Tru
                             f"{shorten(str(catalog.path))} is not a file")
     problem = _catalog_problem(catalog.path) if foreign else None
     if problem:
-        raise PluginFailure(plugin, where, f"catalog {catalog.language!r} ({catalog.path}): {problem}")
+        raise PluginFailure(plugin, where,
+                            f"catalog {catalog.language!r} ({catalog.path}): {problem}")
     return catalog
 
 
@@ -393,11 +401,14 @@ def _output_problem(stage: Stage, output: StageOutput) -> str | None:
         problem = _table_problem(stage, name, dict.__getitem__(output.tables, name))
         if problem:
             return f"tables[{shorten(name)}]: {problem}"
-    if not isinstance(output.notes, (list, tuple)) or not all(
-            isinstance(n, (list, tuple)) and len(n) == 2 and isinstance(n[0], str) and isinstance(n[1], Mapping)
-            for n in output.notes):
+    if not isinstance(output.notes, (list, tuple)) or not all(map(_is_note, output.notes)):
         return f"notes = {shorten(output.notes)}; expected a list of (catalog key, parameters dict)"
     return None
+
+
+def _is_note(note: object) -> bool:
+    return (isinstance(note, (list, tuple)) and len(note) == 2 and isinstance(note[0], str)
+            and isinstance(note[1], Mapping))
 
 
 def _contract_problem(key: str, value: object) -> str | None:
@@ -461,7 +472,8 @@ def _json_problem(value: object, path: str, depth: int) -> str | None:
             if problem:
                 return problem
         return None
-    return f"{path}: {shorten(value, 60)} ({type(value).__name__}) cannot be written to results.json"
+    return (f"{path}: {shorten(value, 60)} ({type(value).__name__}) cannot be written to "
+            "results.json")
 
 
 def _table_problem(stage: Stage, name: object, table: object) -> str | None:
@@ -473,7 +485,8 @@ def _table_problem(stage: Stage, name: object, table: object) -> str | None:
         lengths = set()
         for column, values in table.items():
             if not isinstance(values, (list, tuple, np.ndarray)) or np.ndim(values) != 1:
-                return f"column {shorten(column)} is {shorten(values, 60)}; expected a list or 1-D array"
+                return (f"column {shorten(column)} is {shorten(values, 60)}; "
+                        "expected a list or 1-D array")
             lengths.add(len(values))
         return None if len(lengths) <= 1 else f"columns of different lengths {sorted(lengths)}"
     if isinstance(table, list) and all(isinstance(row, Mapping) for row in table):

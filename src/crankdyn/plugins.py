@@ -66,7 +66,8 @@ def _load_entry_points(manager: pluggy.PluginManager) -> None:
             broken[name] = str(exc)
             continue
         except SystemExit as exc:  # a module that ends the program when imported
-            broken[name] = str(PluginFailure(name, "import", f"import raised {plugin_guard.describe(exc)}"))
+            what = f"import raised {plugin_guard.describe(exc)}"
+            broken[name] = str(PluginFailure(name, "import", what))
             continue
         _register(manager, plugin, name)
 
@@ -78,7 +79,8 @@ def _register(manager: pluggy.PluginManager, plugin: object, name: str | None) -
         manager.register(plugin, name=name)
     except Exception as exc:  # pluggy's PluginValidationError, ValueError
         label = name or plugin_name(manager, plugin)
-        getattr(manager, _BROKEN)[label] = str(PluginFailure(label, "import", plugin_guard.describe(exc)))
+        failure = PluginFailure(label, "import", plugin_guard.describe(exc))
+        getattr(manager, _BROKEN)[label] = str(failure)
 
 
 def plugin_name(manager: pluggy.PluginManager, plugin: object) -> str:
@@ -91,8 +93,12 @@ def plugin_name(manager: pluggy.PluginManager, plugin: object) -> str:
 
 
 def is_builtin(plugin: object) -> bool:
-    """Whether ``plugin`` is one of crankdyn's own (a module or object of :data:`BUILTIN_PACKAGE`)."""
-    module = plugin.__name__ if isinstance(plugin, types.ModuleType) else getattr(plugin, "__module__", "")
+    """Whether ``plugin`` is one of crankdyn's own (a module or object of
+    :data:`BUILTIN_PACKAGE`)."""
+    if isinstance(plugin, types.ModuleType):
+        module = plugin.__name__
+    else:
+        module = getattr(plugin, "__module__", "")
     return str(module).split(".")[0] == BUILTIN_PACKAGE
 
 
@@ -125,7 +131,8 @@ def collect(manager: pluggy.PluginManager) -> Registry:
                 continue
             returned[kind].append((name, foreign, items))
     registry = Registry(broken=broken)
-    targets = {"mechanism": registry.mechanisms, "stage": registry.stages, "error probe": registry.error_probes}
+    targets = {"mechanism": registry.mechanisms, "stage": registry.stages,
+               "error probe": registry.error_probes}
     for kind, target in targets.items():
         for name, foreign, items in returned[kind]:
             if name in broken:
@@ -137,7 +144,8 @@ def collect(manager: pluggy.PluginManager) -> Registry:
                                       f"{registry.owner[key]!r} and by {name!r}")
                 target[item.name] = _GUARDS[kind](item, name, foreign)
                 registry.owner[key] = name
-    registry.catalogs = [c for name, _, items in returned["catalog"] if name not in broken for c in items]
+    registry.catalogs = [c for name, _, items in returned["catalog"] if name not in broken
+                         for c in items]
     return registry
 
 
