@@ -173,9 +173,15 @@ def test_a_built_in_stages_own_error_stays_an_internal_error():
 
 
 # --------------------------------------------------------------------------- hooks and imports
+def _scene_error():
+    raise SceneError(Problem("x", 1, "none"))
+
+
 @pytest.mark.parametrize(("hook", "expected"), [
     (lambda: 1 / 0, "the hook raised ZeroDivisionError: division by zero"),
     (lambda: 5, "the hook returned 5; expected a list"),
+    (lambda: sys.exit(3), "the hook raised SystemExit: 3"),
+    (_scene_error, "the hook raised SceneError: invalid scene: 1 problem(s) - x = 1: none"),
     (lambda: [object()], "the hook returned <object object"),
     (lambda: [_stage(requires="kinematics")],
      "stage 'extra': requires = 'kinematics'; expected a tuple of str"),

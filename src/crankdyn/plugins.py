@@ -16,7 +16,7 @@ from typing import Iterable
 import pluggy
 
 from . import hookspecs, plugin_guard
-from .errors import PluginError, PluginFailure, shorten
+from .errors import CrankdynError, PluginError, PluginFailure, shorten
 from .plugin_types import Catalog, ErrorProbe, Mechanism, Stage
 
 ENTRY_POINT_GROUP = hookspecs.PROJECT_NAME
@@ -61,15 +61,22 @@ def _load_entry_points(manager: pluggy.PluginManager) -> None:
         if name in broken or manager.get_plugin(name) is not None or manager.is_blocked(name):
             continue
         try:
-            plugin = plugin_guard.call(name, "import", "import", True, entry_point.load)
+            plugin = _loading(name, "import", "import", entry_point.load)
         except PluginFailure as exc:
             broken[name] = str(exc)
             continue
-        except SystemExit as exc:  # a module that ends the program when imported
-            what = f"import raised {plugin_guard.describe(exc)}"
-            broken[name] = str(PluginFailure(name, "import", what))
-            continue
         _register(manager, plugin, name)
+
+
+def _loading(plugin: str, where: str, step: str, fn):
+    """``fn()`` of a plugin being loaded: whatever it raises, even a SceneError or an exit, is
+    a :class:`PluginFailure` (a scene has not been read yet)."""
+    try:
+        return plugin_guard.call(plugin, where, step, True, fn)
+    except PluginFailure:
+        raise
+    except (CrankdynError, SystemExit) as exc:  # SystemExit: a module that ends the program
+        raise PluginFailure(plugin, where, f"{step} raised {plugin_guard.describe(exc)}") from exc
 
 
 def _register(manager: pluggy.PluginManager, plugin: object, name: str | None) -> None:
@@ -151,7 +158,11 @@ def collect(manager: pluggy.PluginManager) -> Registry:
 
 def _hook_items(impl, name: str, hook_name: str, check, foreign: bool) -> list:
     """What one plugin's hook returned, each item checked (a :class:`PluginFailure` if not)."""
-    returned = plugin_guard.call(name, f"hook {hook_name}", "the hook", foreign, impl.function)
+    where = f"hook {hook_name}"
+    if foreign:
+        returned = _loading(name, where, "the hook", impl.function)
+    else:
+        returned = plugin_guard.call(name, where, "the hook", foreign, impl.function)
     if returned is None:
         return []
     try:
