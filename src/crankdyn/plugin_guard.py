@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 import math
 import numbers
 import os
@@ -300,6 +301,7 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
     """``stage`` whose calls are named and limited in time (see the module docstring)."""
     where = f"stage {stage.name!r}"
 
+    @functools.wraps(stage.applies)
     def applies(scene):
         reason = call(plugin, where, "applies", foreign, stage.applies, scene)
         if reason is not None and not isinstance(reason, str):
@@ -307,18 +309,21 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
                            "None (the stage applies) or a str (the reason it does not)")
         return reason
 
+    @functools.wraps(stage.run)
     def run(scene, inputs):
         output = call(plugin, where, "run", foreign, stage.run, scene, inputs)
         if foreign:
             check_stage_output(stage, output, plugin)
         return output
 
+    @functools.wraps(stage.render)
     def render(output, ctx):
         body = call(plugin, where, "render", foreign, stage.render, output, ctx)
         if body is not None and not isinstance(body, str):
             raise _garbage(plugin, where, "render", body, "the section's HTML as a str, or None")
         return body
 
+    @functools.wraps(stage.input_rows)
     def input_rows(scene, ctx):
         rows = call(plugin, where, "input_rows", foreign, stage.input_rows, scene, ctx)
         if foreign and not _is_rows(rows):
@@ -339,6 +344,7 @@ def _is_rows(rows: object) -> bool:
 def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mechanism:
     where = f"mechanism {mechanism.name!r}"
 
+    @functools.wraps(mechanism.check)
     def check(scene):
         problems = call(plugin, where, "check", foreign, mechanism.check, scene)
         if foreign and not (isinstance(problems, (list, tuple))
@@ -346,6 +352,7 @@ def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mecha
             raise _garbage(plugin, where, "check", problems, "a list of crankdyn.errors.Problem")
         return problems
 
+    @functools.wraps(mechanism.geometry)
     def geometry(scene, crank_angle_rad):
         shape = call(plugin, where, "geometry", foreign, mechanism.geometry, scene, crank_angle_rad)
         if foreign and not isinstance(shape, MechanismGeometry):
@@ -359,9 +366,11 @@ def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mecha
 def guarded_probe(probe: ErrorProbe, plugin: str, foreign: bool) -> ErrorProbe:
     where = f"error probe {probe.name!r}"
 
+    @functools.wraps(probe.applies)
     def applies(scene):
         return bool(call(plugin, where, "applies", foreign, probe.applies, scene))
 
+    @functools.wraps(probe.run)
     def run(scene, runner):
         points = call(plugin, where, "run", foreign, probe.run, scene, runner)
         if foreign and not (isinstance(points, (list, tuple))
