@@ -114,8 +114,11 @@ class _WrongTypePlugin:
 
 
 def test_hook_must_return_typed_objects():
-    with pytest.raises(PluginError, match="expected Mechanism"):
-        collect(plugin_manager(extra_plugins=[_WrongTypePlugin()]))
+    registry = collect(plugin_manager(extra_plugins=[_WrongTypePlugin()]))
+    (message,) = registry.broken.values()  # left out and named, the other plugins kept
+    assert "(hook crankdyn_mechanisms): the hook returned 'not a mechanism'; expected Mechanism" in message
+    assert message.startswith("plugin 'test_orchestrator._WrongTypePlugin' ")
+    assert "crank_slider" in registry.mechanisms
 
 
 def test_builtins_register_through_entry_points():

@@ -19,6 +19,7 @@ import os
 import pickle
 
 from .aside import can_fork, fork_with_pipe, stop_child
+from .errors import StageTimeLimit
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
 
 
@@ -49,7 +50,10 @@ class ForkedStudies:
                 self._ended = True
                 break
             self._received[got] = None if output is None else (output, elapsed)
-        return self._received.pop(name, None)
+        taken = self._received.pop(name, None)
+        if taken is not None and isinstance(taken[0], StageTimeLimit):
+            raise taken[0]  # computed again here, it would only take as long again
+        return taken
 
     def close(self) -> None:
         """Stop the child if it is still computing, and reap it."""
@@ -85,6 +89,8 @@ def _compute(scene, jobs, out) -> None:
         try:
             output, elapsed = run_stage(stage, scene, inputs)
             message = pickle.dumps((stage.name, output, elapsed), protocol=pickle.HIGHEST_PROTOCOL)
+        except StageTimeLimit as exc:  # raised by the report's process as it is
+            message = pickle.dumps((stage.name, exc, 0.0), protocol=pickle.HIGHEST_PROTOCOL)
         except Exception:  # computed again in the report's process, which then raises it
             message = pickle.dumps((stage.name, None, 0.0), protocol=pickle.HIGHEST_PROTOCOL)
         out.write(message)
@@ -115,6 +121,8 @@ class ForkedRun:
         """The computed result, its studies still coming from the child; None if the child failed."""
         try:
             got = pickle.load(self._reader)
+            if isinstance(got, StageTimeLimit):  # computed again here, it would take as long again
+                raise got
             if got is None:  # the child could not compute or send the plan
                 self.close()
                 return None
@@ -122,7 +130,8 @@ class ForkedRun:
             result = resume_plan(self._scene, self._plan, outputs, timing)
         except BaseException as exc:  # also an interrupt: no child is left computing
             self.close()
-            if isinstance(exc, Exception):  # EOF (the child died), a broken message: run it here
+            if isinstance(exc, Exception) and not isinstance(exc, StageTimeLimit):
+                # EOF (the child died), a broken message: run it here
                 return None
             raise
         result.background = ForkedStudies(self.pid, self._reader) if result.deferred else None
@@ -139,6 +148,9 @@ def _run_and_send(scene, the_plan: Plan, out) -> None:
     try:
         result = run_plan(scene, the_plan, defer_studies=True)
         message = pickle.dumps((result.outputs, result.timing_s), protocol=pickle.HIGHEST_PROTOCOL)
+    except StageTimeLimit as exc:  # raised by the report's process as it is
+        out.write(pickle.dumps(exc))
+        return
     except Exception:  # run again in the report's process, which then raises it
         out.write(pickle.dumps(None))
         return
@@ -298,7 +310,10 @@ class WorkerJob:
                 break
             got, output, elapsed = message
             self._received[got] = None if output is None else (output, elapsed)
-        return self._received.pop(name, None)
+        taken = self._received.pop(name, None)
+        if taken is not None and isinstance(taken[0], StageTimeLimit):
+            raise taken[0]  # computed again here, it would only take as long again
+        return taken
 
     def close(self) -> None:
         """Nothing to stop: the worker's remaining answers are read before its next job."""

@@ -166,27 +166,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
                                  "e.g. variant,report.student,engine.bore"), source)
     header = [h.strip() for h in rows[0]]
     _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(rows) - 1)
-    problems = []
-    seen: set[str] = set()
-    for i, name in enumerate(header, start=1):
-        if not name:
-            problems.append(Problem(f"column {i}", name, "empty column name; name a scene field such as engine.bore"))
-        elif name in seen:
-            problems.append(Problem(f"column {i}", name, "named twice"))
-        elif name != VARIANT_COLUMN and (any(not part for part in name.split("."))
-                                          or not re.fullmatch(r"[A-Za-z_][\w.]*", name)):
-            problems.append(Problem(f"column {i}", name, "not a dotted scene path such as engine.bore or "
-                                    "cycle.rounding.ignition_advance_deg"))
-        seen.add(name)
-    fields = [h for h in header if h != VARIANT_COLUMN]
-    for a in fields:
-        for b in fields:
-            if b.startswith(a + "."):
-                problems.append(Problem(f"column {b}", b, f"conflicts with column {a}: give one or the other"))
-    if not fields:
-        problems.append(Problem("variants", ",".join(header), "no column overrides a scene field"))
-    if problems:
-        raise SceneError(problems, source)
+    fields = _header_fields(source, header)
 
     variants: list[Variant] = []
     names: dict[str, int] = {}
@@ -219,6 +199,32 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     if reserved:
         raise SceneError(reserved, source)
     return fields, variants
+
+
+def _header_fields(source: str, header: list[str]) -> list[str]:
+    """The scene fields a variants file's header names; a malformed header raises SceneError."""
+    problems = []
+    seen: set[str] = set()
+    for i, name in enumerate(header, start=1):
+        if not name:
+            problems.append(Problem(f"column {i}", name, "empty column name; name a scene field such as engine.bore"))
+        elif name in seen:
+            problems.append(Problem(f"column {i}", name, "named twice"))
+        elif name != VARIANT_COLUMN and (any(not part for part in name.split("."))
+                                          or not re.fullmatch(r"[A-Za-z_][\w.]*", name)):
+            problems.append(Problem(f"column {i}", name, "not a dotted scene path such as engine.bore or "
+                                    "cycle.rounding.ignition_advance_deg"))
+        seen.add(name)
+    fields = [h for h in header if h != VARIANT_COLUMN]
+    for a in fields:
+        for b in fields:
+            if b.startswith(a + "."):
+                problems.append(Problem(f"column {b}", b, f"conflicts with column {a}: give one or the other"))
+    if not fields:
+        problems.append(Problem("variants", ",".join(header), "no column overrides a scene field"))
+    if problems:
+        raise SceneError(problems, source)
+    return fields
 
 
 def _check_size(source: str, fields: int, rows: int) -> None:

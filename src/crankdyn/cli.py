@@ -61,10 +61,12 @@ def _parser() -> argparse.ArgumentParser:
                         help="replace files in the output folder that crankdyn did not write or that were "
                         "edited since (otherwise the run is refused and nothing is written)")
     report.add_argument("-q", "--quiet", action="store_true")
+    _stage_timeout_option(report)
     _data_dir_option(report)
 
     check = sub.add_parser("check", help="validate a scene as 'report' does (computed, nothing written)")
     check.add_argument("scene", type=Path)
+    _stage_timeout_option(check)
     _data_dir_option(check)
 
     example = sub.add_parser("example", help="list or write the bundled example scenes")
@@ -160,9 +162,8 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    # lazy: heavy optional imports (numpy, scipy: per command)
-    from .batch import RunOptions, available_cores
-    from .batch_runner import check_seconds
+    from .batch import RunOptions, available_cores  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch_runner import check_seconds  # lazy: heavy optional import (numpy, scipy: per command)
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
@@ -179,6 +180,27 @@ def _run_options(args, formats: list[str]):
     return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None,
                       args.timeout, tuple(str(d) for d in args.data_dir), args.scheduler,
                       args.connect_timeout, args.force)
+
+
+#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin_guard's, without its import)
+DEFAULT_STAGE_TIMEOUT_S = 120.0
+MAX_STAGE_TIMEOUT_S = 3600.0
+
+
+def _stage_timeout_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--timeout", type=float, default=DEFAULT_STAGE_TIMEOUT_S, metavar="SECONDS",
+                        help="seconds one stage may take before the command stops with its name "
+                        f"(default {DEFAULT_STAGE_TIMEOUT_S:g}, at most {MAX_STAGE_TIMEOUT_S:g})")
+
+
+def _stage_time_limit(seconds: float):
+    """The time limit of each stage (``--timeout``), checked: > 0 and at most the maximum."""
+    from .plugin_guard import stage_time_limit  # lazy: heavy optional import (numpy)
+
+    if not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
+        raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 "
+                         f"and at most {MAX_STAGE_TIMEOUT_S:g}")
+    return stage_time_limit(seconds)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
@@ -260,7 +282,8 @@ def _report(args) -> int:
 
         printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
     try:
-        return _write_report(args)
+        with _stage_time_limit(args.timeout):
+            return _write_report(args)
     finally:
         if printer is not None:
             printer.discard()  # one not used (a refused scene, no PDF after all): stopped
@@ -275,6 +298,7 @@ def _write_report(args) -> int:
     start = time.perf_counter()
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
+    _print_broken(registry)
     run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained,
                        force=args.force)
     result, written = run.result, run.written
@@ -428,11 +452,17 @@ def _explore(args) -> int:
 
 
 def _check(args) -> int:
+    with _stage_time_limit(args.timeout):
+        return _check_scene(args)
+
+
+def _check_scene(args) -> int:
     from .orchestrator import run_scene  # lazy: heavy optional import (numpy, scipy: per command)
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
     scene, languages = _load(args.scene, data_dirs=args.data_dir)
     registry = default_registry()
+    _print_broken(registry)
     # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
     # 'check' passes is one 'report' accepts; nothing is written.
     result = run_scene(scene, registry, None, languages)
@@ -449,6 +479,13 @@ def _check(args) -> int:
         for field, value in applied:
             print(f"  {field} = {value!r}")
     return 0
+
+
+def _print_broken(registry) -> None:
+    """A warning for each plugin left out because it failed to load (``crankdyn plugins`` lists
+    them)."""
+    for message in registry.broken.values():
+        print(f"crankdyn: warning: {message}; the plugin is left out", file=sys.stderr)
 
 
 def _print_warnings(result, registry) -> None:
@@ -501,7 +538,8 @@ def _example(args) -> int:
 def _plugins(args) -> int:
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
-    registry = default_registry()
+    with _stage_time_limit(DEFAULT_STAGE_TIMEOUT_S):  # a plugin whose import never ends is named
+        registry = default_registry()
     print("mechanisms:")
     for name, mech in sorted(registry.mechanisms.items()):
         print(f"  {name:24s} [{registry.owner['mechanism:' + name]}] {mech.summary}")
@@ -510,6 +548,10 @@ def _plugins(args) -> int:
         print(f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
               f"provides={','.join(stage.provides) or '-'}"
               f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}")
+    if registry.broken:
+        print("broken (failed to load, left out):")
+        for name, message in sorted(registry.broken.items()):
+            print(f"  {name:24s} {message}")
     from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
 
     print("languages: " + ", ".join(available_languages()))

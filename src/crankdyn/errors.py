@@ -63,3 +63,23 @@ class PluginError(CrankdynError):
 class OutputError(CrankdynError):
     """The output folder cannot take the run's files: not a folder, not writable, or a file in the
     way that crankdyn did not write (kept unless the run is forced)."""
+
+
+class PluginFailure(PluginError):
+    """A plugin failed: its import or a hook raised, a stage's ``applies``, ``run`` or ``render``
+    (a mechanism's ``check``, ``geometry``) raised or returned what :mod:`crankdyn.plugin_types`
+    does not allow, or a stage ran past the time limit. The message is
+    ``plugin '<plugin>' (<where>): <what>``; ``where`` is ``import``, ``hook <name>``,
+    ``stage '<name>'``, ``mechanism '<name>'`` or ``error probe '<name>'``."""
+
+    def __init__(self, plugin: str, where: str, what: str):
+        self.plugin, self.where, self.what = plugin, where, what
+        super().__init__(f"plugin {plugin!r} ({where}): {what}")
+
+    def __reduce__(self):  # sent back from a forked child as it is
+        return (type(self), (self.plugin, self.where, self.what))
+
+
+class StageTimeLimit(PluginFailure):
+    """A plugin's stage (or hook) ran past the time limit one stage may take
+    (``crankdyn report --timeout``, :func:`crankdyn.plugin_guard.stage_time_limit`)."""

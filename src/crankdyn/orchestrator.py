@@ -12,7 +12,7 @@ from .aside import aside
 from .errors import PluginError, Problem, SceneError
 from .plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, SERVICES, Stage, StageOutput,
                            declared)
-from .plugins import Registry
+from .plugins import Registry, broken_note
 from .scene import Scene, options
 from .physics import lazy
 
@@ -81,10 +81,13 @@ class RunResult:
 def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ()) -> None:
     """Checks that need the plugins: mechanism name, its own checks, language, stage names."""
     problems: list[Problem] = []
+    # a plugin that failed to load may be the one that would have known the name
+    broken = broken_note(registry)
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
     if mechanism is None:
         problems.append(Problem("engine.mechanism", scene.engine.mechanism,
-                                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms))))
+                                "unknown mechanism; installed: "
+                                + ", ".join(sorted(registry.mechanisms)) + broken))
     else:
         if mechanism.params_model is not None:
             try:
@@ -103,7 +106,9 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
             known = ["report", "engine", "masses", "cycle", "analysis", "mechanism", *sorted(claimed)]
             close = difflib.get_close_matches(table, known, n=1)
             hint = f"did you mean [{close[0]}]? " if close else ""
-            problems.append(Problem(table, "[" + table + "]", f"unknown table; {hint}known tables: " + ", ".join(known)))
+            problems.append(Problem(table, "[" + table + "]",
+                                    f"unknown table; {hint}known tables: " + ", ".join(known)
+                                    + broken))
         elif stage.options_model is not None:
             try:
                 options(scene, table, stage.options_model)
@@ -111,11 +116,12 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
                 problems += exc.problems
     languages = sorted(set(languages))
     if languages and scene.report.language not in languages:
-        problems.append(Problem("report.language", scene.report.language, "allowed: " + ", ".join(languages)))
+        problems.append(Problem("report.language", scene.report.language,
+                                "allowed: " + ", ".join(languages) + broken))
     for name in scene.analysis.stages or ():
         if name not in registry.stages:
             problems.append(Problem("analysis.stages", name, "unknown stage; installed: "
-                                    + ", ".join(sorted(registry.stages))))
+                                    + ", ".join(sorted(registry.stages)) + broken))
     if problems:
         raise SceneError(problems)
 
@@ -133,7 +139,8 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     if requested is not None:
         unknown = [n for n in requested if n not in registry.stages]
         if unknown:
-            raise SceneError([Problem("stages", n, "unknown stage; installed: " + ", ".join(sorted(registry.stages)))
+            installed = ", ".join(sorted(registry.stages)) + broken_note(registry)
+            raise SceneError([Problem("stages", n, "unknown stage; installed: " + installed)
                               for n in unknown])
     _check_requirements(registry)
     skipped: dict[str, str] = {}
