@@ -30,22 +30,6 @@ def children() -> list[str]:
     return found
 
 
-def run_fresh(setup: str, code: str, timeout: float = 120, says_ok: bool = True):
-    """Run ``setup`` and the (dedented) ``code`` in a fresh interpreter, which then has no thread
-    but its own (a pytest-xdist worker has some, and the code under test forks only without);
-    it must exit 0 and, with ``says_ok``, print "ok" last. Returns the finished process."""
-    import subprocess
-    import sys
-    import textwrap
-
-    done = subprocess.run([sys.executable, "-c", setup + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=timeout)
-    assert done.returncode == 0, done.stdout + done.stderr
-    if says_ok:
-        assert done.stdout.strip().endswith("ok"), done.stdout
-    return done
-
-
 def in_fresh_process(test):
     """Run the decorated test in a fresh pytest process of its own: an interpreter with no thread
     but its own (a pytest-xdist worker has some, and the code under test forks only without), in
