@@ -41,18 +41,45 @@ def in_fresh_process(test):
         node = os.environ["PYTEST_CURRENT_TEST"].rsplit(" ", 1)[0]
         if os.environ.get(FRESH_PROCESS_ENV) == node:
             return test(*args, **kwargs)
-        env = {k: v for k, v in os.environ.items()
-               if not k.startswith(("PYTEST_XDIST", "PYTEST_CURRENT_TEST")) and k != FRESH_PROCESS_ENV}
+        env = {
+            k: v
+            for k, v in os.environ.items()
+            if not k.startswith(("PYTEST_XDIST", "PYTEST_CURRENT_TEST")) and k != FRESH_PROCESS_ENV
+        }
         env[FRESH_PROCESS_ENV] = node
         # -n 0: no xdist workers (no execnet threads); -m "": the node runs whatever its marks;
         # without the plugins and conftest.py the test does not use, the process starts in a third
         # of the time (such a test takes its fixtures from pytest itself).
-        done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "no:randomly",
-                               "-p", "no:cacheprovider", "-p", "no:hypothesispytest", "--noconftest",
-                               "-m", "", node],
-                              cwd=ROOT, env=env, capture_output=True, text=True, timeout=600, check=False)
+        done = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "pytest",
+                "-q",
+                "-n",
+                "0",
+                "-p",
+                "no:randomly",
+                "-p",
+                "no:cacheprovider",
+                "-p",
+                "no:hypothesispytest",
+                "--noconftest",
+                "-m",
+                "",
+                node,
+            ],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+            check=False,
+        )
         report = done.stdout[-6000:] + done.stderr[-2000:]
         assert done.returncode == 0, f"{node} failed in its own process:\n{report}"
-        assert re.search(r"\b1 passed\b", done.stdout), f"{node} did not run in its own process:\n{report}"
+        assert re.search(r"\b1 passed\b", done.stdout), (
+            f"{node} did not run in its own process:\n{report}"
+        )
 
     return wrapper

@@ -12,7 +12,9 @@ DOCS = Path(__file__).resolve().parent.parent / "docs"
 
 @functools.cache
 def documentation_text() -> str:
-    spec = importlib.util.spec_from_file_location("docs_reference_hook", DOCS / "hooks" / "reference.py")
+    spec = importlib.util.spec_from_file_location(
+        "docs_reference_hook", DOCS / "hooks" / "reference.py"
+    )
     hook = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(hook)
     pages = [p.read_text(encoding="utf-8") for p in sorted(DOCS.glob("*.md"))]

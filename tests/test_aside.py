@@ -13,8 +13,10 @@ from child_processes import children, in_fresh_process
 
 from crankdyn.aside import aside, spare_core
 
-forking = pytest.mark.skipif(not hasattr(os, "fork") or len(os.sched_getaffinity(0)) < 2,
-                             reason="a child is forked only on a machine with a spare core")
+forking = pytest.mark.skipif(
+    not hasattr(os, "fork") or len(os.sched_getaffinity(0)) < 2,
+    reason="a child is forked only on a machine with a spare core",
+)
 
 
 def where(x):
@@ -117,8 +119,11 @@ def test_leaving_early_stops_the_child():
 
 def _untimed(value):
     if isinstance(value, dict):
-        return {k: _untimed(v) for k, v in value.items()
-                if not (k.endswith("_s") or "time" in k or "loops" in k or "overhead" in k)}
+        return {
+            k: _untimed(v)
+            for k, v in value.items()
+            if not (k.endswith("_s") or "time" in k or "loops" in k or "overhead" in k)
+        }
     if isinstance(value, list):
         return [_untimed(v) for v in value]
     return value

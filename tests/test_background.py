@@ -29,8 +29,16 @@ def _scene():
 
 
 def stage(name, run, provides=(), requires=(), last=False):
-    return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),
-                 applies=lambda scene: None, run=run, render=lambda output, ctx: "", last=last)
+    return Stage(
+        name=name,
+        title_key=name,
+        requires=tuple(requires),
+        provides=tuple(provides),
+        applies=lambda scene: None,
+        run=run,
+        render=lambda output, ctx: "",
+        last=last,
+    )
 
 
 def base(scene, inputs):
@@ -87,7 +95,9 @@ def test_studies_come_back_in_plan_order_and_complete_takes_the_rest():
     def other(scene, inputs):
         return StageOutput(results={"pid": os.getpid()})
 
-    reg = registry(stage("a_study", study, requires=["x"], last=True), stage("b_study", other, last=True))
+    reg = registry(
+        stage("a_study", study, requires=["x"], last=True), stage("b_study", other, last=True)
+    )
     result = deferred(scene, reg)
     result.complete()
     assert list(result.outputs) == ["base", "a_study", "b_study"]
@@ -168,7 +178,8 @@ def test_the_real_error_study_comes_from_the_child_in_a_report(monkeypatch):
     assert b'"numerics"' in files["results.json"] and "report.html" in files
 
 
-# ----------------------------------------------------------------- the whole run in a child (ForkedRun)
+# --- the whole run in a child (ForkedRun)
+
 
 @in_fresh_process
 def test_the_stages_computed_in_a_child_give_the_serial_result_and_the_studies_follow():
@@ -185,7 +196,7 @@ def test_the_stages_computed_in_a_child_give_the_serial_result_and_the_studies_f
 
 
 @in_fresh_process
-def test_a_stage_failing_in_the_child_or_outputs_that_cannot_be_pickled_leave_the_run_to_this_process():
+def test_a_stage_failing_or_unpicklable_outputs_in_the_child_leave_the_run_to_this_process():
     scene, parent = _scene(), os.getpid()
 
     def refused(scene, inputs):

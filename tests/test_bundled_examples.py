@@ -1,4 +1,4 @@
-"""crankdyn.example_path: the bundled example scenes by name, and dir(crankdyn) listing the lazy API."""
+"""crankdyn.example_path: the bundled example scenes by name; dir(crankdyn) lists the lazy API."""
 
 from __future__ import annotations
 
@@ -46,10 +46,16 @@ def test_a_name_that_is_not_text_is_refused():
 
 def test_dir_lists_the_lazy_names_without_importing_them():
     # A fresh interpreter: in this one the API may already have been imported by another test.
-    code = ("import sys, crankdyn\n"
-            "print(' '.join(dir(crankdyn)))\n"
-            "print('crankdyn.api' in sys.modules)\n")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    code = (
+        "import sys, crankdyn\n"
+        "print(' '.join(dir(crankdyn)))\n"
+        "print('crankdyn.api' in sys.modules)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
     names, api_imported = done.stdout.splitlines()
-    assert {"load", "run", "sweep", "Result", "SceneError", "example_path", "__version__"} <= set(names.split())
+    assert {"load", "run", "sweep", "Result", "SceneError", "example_path", "__version__"} <= set(
+        names.split()
+    )
     assert api_imported == "False"

@@ -15,12 +15,16 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 
-pytest.importorskip("mkdocs", reason="mkdocs is in the test extra; without it the site cannot be built")
+pytest.importorskip(
+    "mkdocs", reason="mkdocs is in the test extra; without it the site cannot be built"
+)
 pytest.importorskip("mkdocstrings", reason="mkdocstrings-python builds the API reference")
 
 
 def _hook():
-    spec = importlib.util.spec_from_file_location("docs_reference_hook", ROOT / "docs" / "hooks" / "reference.py")
+    spec = importlib.util.spec_from_file_location(
+        "docs_reference_hook", ROOT / "docs" / "hooks" / "reference.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -30,8 +34,15 @@ def _hook():
 def site(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("site")
     env = {**os.environ, "NO_MKDOCS_2_WARNING": "1"}
-    built = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)], cwd=ROOT,
-                           capture_output=True, text=True, env=env, timeout=600, check=False)
+    built = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+        check=False,
+    )
     assert built.returncode == 0, built.stdout[-4000:] + built.stderr[-4000:]
     return out
 
@@ -104,7 +115,9 @@ def test_a_meaning_for_a_field_the_code_lacks_fails_the_build(monkeypatch):
         return descriptions
 
     monkeypatch.setattr(hook, "_descriptions", with_extra)
-    with pytest.raises(hook.PluginError, match=r"'flywheel_mass' is no field of crankdyn.scene.Masses"):
+    with pytest.raises(
+        hook.PluginError, match=r"'flywheel_mass' is no field of crankdyn.scene.Masses"
+    ):
         hook.scene_reference()
     with pytest.raises(hook.PluginError, match=r"\[no_such_stage\] is no stage of the registry"):
         hook.results_reference()

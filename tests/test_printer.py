@@ -18,8 +18,10 @@ from crankdyn.report.context import FigureFile
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the printer is forked")
 
-SVG = (b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50" viewBox="0 0 100 50">'
-       b'<text x="5" y="30" font-size="12">kinematics</text></svg>')
+SVG = (
+    b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50" viewBox="0 0 100 50">'
+    b'<text x="5" y="30" font-size="12">kinematics</text></svg>'
+)
 HTML = '<h1>crankdyn</h1><p>Figure 1</p><img src="figures/fig_1.svg"><p>after it</p>'
 
 

@@ -53,12 +53,18 @@ def taken(monkeypatch):
 
 def values(output):
     """The study's numbers but its measured times (which differ from run to run)."""
+
     def plain(x):
         if isinstance(x, dict):
-            return {k: plain(v) for k, v in x.items() if "time" not in k and "timing" not in k and "loops" not in k}
+            return {
+                k: plain(v)
+                for k, v in x.items()
+                if "time" not in k and "timing" not in k and "loops" not in k
+            }
         if isinstance(x, list):
             return [plain(v) for v in x]
         return x
+
     return plain(output.results)
 
 
@@ -75,7 +81,9 @@ def finish(preview):
 
 def edit(scene, rod_mm):
     text = scene.read_text(encoding="utf-8")
-    scene.write_text(re.sub(r'rod_length = "[0-9.]+ mm"', f'rod_length = "{rod_mm} mm"', text), encoding="utf-8")
+    scene.write_text(
+        re.sub(r'rod_length = "[0-9.]+ mm"', f'rod_length = "{rod_mm} mm"', text), encoding="utf-8"
+    )
 
 
 @in_fresh_process
@@ -104,11 +112,25 @@ def test_a_scene_changed_between_the_page_and_its_study_is_computed_here(scene, 
     from crankdyn.report.section_cache import SectionCache
     from crankdyn.scene import load_scene
 
-    registry, cache, sections, worker = default_registry(), StageCache(), SectionCache(), StudyWorker.start()
+    registry, cache, sections, worker = (
+        default_registry(),
+        StageCache(),
+        SectionCache(),
+        StudyWorker.start(),
+    )
 
     def render(defer, studies=None):
-        return run_for_preview(load_scene(scene), registry, None, available_languages(), cache, sections,
-                               defer, studies, worker)
+        return run_for_preview(
+            load_scene(scene),
+            registry,
+            None,
+            available_languages(),
+            cache,
+            sections,
+            defer,
+            studies,
+            worker,
+        )
 
     result, rendered, deferred = render(True)  # the page: the worker starts on the study of 200 mm
     assert result.pending == [STUDY] and deferred is not None and deferred.background is not None
@@ -136,7 +158,11 @@ def test_a_dead_worker_leaves_the_study_to_the_server(scene, taken):
     os.waitpid(preview._worker.pid, 0)
     preview._study_s = preview._stages_s = 0.0  # a quick study: the worker's, if it could
     snapshot = preview.build()
-    assert snapshot.state == "report" and not snapshot.pending and STUDY in preview.stage_cache._entries
+    assert (
+        snapshot.state == "report"
+        and not snapshot.pending
+        and STUDY in preview.stage_cache._entries
+    )
     assert (STUDY, True) not in taken and not preview._worker.alive
     finish(preview)
 
@@ -187,8 +213,13 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole(scene, tak
     kept = preview.stage_cache._entries[STUDY].output  # kept as if run in the server
     runs = dict(preview.stage_cache.runs)
     preview.build()  # nothing changed: nothing computed again, in the server or the worker
-    assert preview.stage_cache._entries[STUDY].output is kept and dict(preview.stage_cache.runs) == runs
-    monkeypatch.setattr(serve, "STUDY_INLINE_S", 0.0)  # a slow study: the page first again, computed here
+    assert (
+        preview.stage_cache._entries[STUDY].output is kept
+        and dict(preview.stage_cache.runs) == runs
+    )
+    monkeypatch.setattr(
+        serve, "STUDY_INLINE_S", 0.0
+    )  # a slow study: the page first again, computed here
     edit(scene, 230)
     del published[:]
     asked = len(taken)
@@ -199,8 +230,16 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole(scene, tak
 
 # A registry of two stages, as in test_background: a base and a study of it, slow when asked to be.
 def _stage(name, run, provides=(), requires=(), last=False):
-    return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),
-                 applies=lambda scene: None, run=run, render=lambda output, ctx: "", last=last)
+    return Stage(
+        name=name,
+        title_key=name,
+        requires=tuple(requires),
+        provides=tuple(provides),
+        applies=lambda scene: None,
+        run=run,
+        render=lambda output, ctx: "",
+        last=last,
+    )
 
 
 def _base(scene, inputs):
@@ -208,7 +247,9 @@ def _base(scene, inputs):
 
 
 def _study(scene, inputs):
-    if inputs["x"] > 10:  # a scene whose study never ends by itself: it waits on a pipe nobody writes
+    if (
+        inputs["x"] > 10
+    ):  # a scene whose study never ends by itself: it waits on a pipe nobody writes
         never, _kept_open = os.pipe()
         os.read(never, 1)
     return StageOutput(results={"twice_x": 2 * inputs["x"], "pid": os.getpid(), "marker": "custom"})
@@ -216,7 +257,10 @@ def _study(scene, inputs):
 
 def _registry():
     registry = Registry()
-    for s in (_stage("base", _base, provides=["x"]), _stage("study", _study, requires=["x"], last=True)):
+    for s in (
+        _stage("base", _base, provides=["x"]),
+        _stage("study", _study, requires=["x"], last=True),
+    ):
         registry.stages[s.name] = s
     return registry
 
@@ -243,7 +287,9 @@ def test_a_busy_worker_leaves_the_next_study_to_the_server_and_stops_at_once():
     worker = StudyWorker.start(_registry())
     endless = worker.submit(_with_mass(20), None, ["study"])  # never ends in the worker
     assert endless is not None
-    assert worker.submit(_with_mass(0.5), None, ["study"]) is None  # not queued behind it: computed here
+    assert (
+        worker.submit(_with_mass(0.5), None, ["study"]) is None
+    )  # not queued behind it: computed here
     got = []
     waiting_started = threading.Event()
 

@@ -14,8 +14,16 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-# What setuptools reads to build the wheel; the copy keeps build/ and *.egg-info out of the repository.
-SOURCES = ["pyproject.toml", "LICENSE", "docs/pypi-description.md", "src", "plugins", "templates", "examples"]
+# What setuptools reads to build the wheel; the copy keeps build/ and *.egg-info out of the sources.
+SOURCES = [
+    "pyproject.toml",
+    "LICENSE",
+    "docs/pypi-description.md",
+    "src",
+    "plugins",
+    "templates",
+    "examples",
+]
 # Data under the GPL-3.0 and the scenes that read it (examples/diesel6-1600rpm.ind.NOTICE).
 SOURCE_TREE_ONLY = ["diesel6-1600rpm.ind", "diesel-rk-trace.toml", "inline6-diesel-trace.toml"]
 
@@ -36,9 +44,23 @@ def wheel(tmp_path_factory) -> Path:
     work = tmp_path_factory.mktemp("wheel")
     _copy_sources(work / "source")
     env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
-    built = subprocess.run([sys.executable, "-m", "build", "--wheel", "--no-isolation", "--outdir",
-                            str(work / "dist"), str(work / "source")],
-                           capture_output=True, text=True, env=env, timeout=300, check=False)
+    built = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "build",
+            "--wheel",
+            "--no-isolation",
+            "--outdir",
+            str(work / "dist"),
+            str(work / "source"),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+        check=False,
+    )
     assert built.returncode == 0, built.stdout[-3000:] + built.stderr[-3000:]
     wheels = list((work / "dist").glob("crankdyn-*.whl"))
     assert len(wheels) == 1, wheels
@@ -69,7 +91,9 @@ def test_the_wheel_leaves_out_the_gpl_trace_and_its_scenes(wheel):
     assert not [n for n in names if n.endswith(".ind") or n.endswith(".NOTICE")], names
     # ... while the source tree keeps them, with the notice next to the data
     assert (ROOT / "examples" / "diesel6-1600rpm.ind").is_file()
-    assert "GPL-3.0" in (ROOT / "examples" / "diesel6-1600rpm.ind.NOTICE").read_text(encoding="utf-8")
+    assert "GPL-3.0" in (ROOT / "examples" / "diesel6-1600rpm.ind.NOTICE").read_text(
+        encoding="utf-8"
+    )
 
 
 @pytest.mark.long
@@ -81,7 +105,10 @@ def test_the_wheel_metadata_has_a_short_description_and_urls(wheel):
     assert "Author: crankdyn contributors" in header
     assert "Classifier: License :: OSI Approved :: MIT License" in header
     assert "Project-URL: Documentation, https://" in header
-    assert description.strip() == (ROOT / "docs" / "pypi-description.md").read_text(encoding="utf-8").strip()
+    assert (
+        description.strip()
+        == (ROOT / "docs" / "pypi-description.md").read_text(encoding="utf-8").strip()
+    )
     # a package index shows it without the repository: no relative links or pictures
     assert "](docs/" not in description and "](./" not in description and "<img" not in description
 
@@ -96,17 +123,28 @@ def test_examples_of_the_installed_wheel_load_from_any_folder(wheel, tmp_path):
     # The unpacked wheel comes first on the path; the dependencies are this environment's.
     env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
     env["PYTHONPATH"] = str(target)
-    code = ("import crankdyn, pathlib\n"
-            "path = crankdyn.example_path('petrol-1cyl')\n"
-            "scene = crankdyn.load(path)\n"
-            "print(pathlib.Path(crankdyn.__file__).parent)\n"
-            "print(path)\n"
-            "print(scene.engine.rpm)\n")
-    done = subprocess.run([sys.executable, "-c", code], cwd=elsewhere, capture_output=True, text=True, env=env,
-                          timeout=300, check=False)
+    code = (
+        "import crankdyn, pathlib\n"
+        "path = crankdyn.example_path('petrol-1cyl')\n"
+        "scene = crankdyn.load(path)\n"
+        "print(pathlib.Path(crankdyn.__file__).parent)\n"
+        "print(path)\n"
+        "print(scene.engine.rpm)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=elsewhere,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr
     package, path, rpm = done.stdout.split()
     assert Path(package) == target / "crankdyn"
     assert Path(path) == target / "crankdyn" / "examples" / "petrol-1cyl.toml"
-    expected_rpm = __import__("tomllib").loads((ROOT / "examples" / "petrol-1cyl.toml").read_text("utf-8"))
+    expected_rpm = __import__("tomllib").loads(
+        (ROOT / "examples" / "petrol-1cyl.toml").read_text("utf-8")
+    )
     assert float(rpm) == expected_rpm["engine"]["rpm"]

@@ -49,6 +49,7 @@ def _cell(text: str) -> str:
 
 # --- scene reference ------------------------------------------------------------------------------
 
+
 def _closure(function) -> dict[str, Any]:
     try:
         return dict(inspect.getclosurevars(function).nonlocals)
@@ -77,19 +78,28 @@ def _describe_annotated(metadata: list) -> tuple[str, list[str]]:
         elif {"gt", "ge", "lt", "le"} & set(values):  # a plain number's range
             kind = kind or "number"
             bounds += _bounds(values)
-        for attribute, symbol in (("gt", ">"), ("ge", "≥"), ("lt", "<"), ("le", "≤"), ("max_length", "length ≤")):
+        for attribute, symbol in (
+            ("gt", ">"),
+            ("ge", "≥"),
+            ("lt", "<"),
+            ("le", "≤"),
+            ("max_length", "length ≤"),
+        ):
             value = getattr(item, attribute, None)
             if value is not None and not callable(value):
-                bounds.append(f"{symbol} {value:g}" if isinstance(value, (int, float)) else f"{symbol} {value}")
+                bounds.append(
+                    f"{symbol} {value:g}"
+                    if isinstance(value, (int, float))
+                    else f"{symbol} {value}"
+                )
     return kind, bounds
 
 
 def _type_text(annotation, metadata: list) -> str:
-    optional = False
+
     origin = typing.get_origin(annotation)
     if origin in (typing.Union, types.UnionType):
         members = [a for a in typing.get_args(annotation) if a is not type(None)]
-        optional = len(members) < len(typing.get_args(annotation))
         annotation = members[0] if len(members) == 1 else annotation
     if typing.get_origin(annotation) is typing.Annotated:
         base, *extra = typing.get_args(annotation)
@@ -190,19 +200,28 @@ def scene_reference() -> str:
                 continue
             for field in (f.strip() for f in group.split(",")):
                 if field not in fields:
-                    problems.append(f"scene-fields.toml: [{name}] {field!r} is no field of {source}")
+                    problems.append(
+                        f"scene-fields.toml: [{name}] {field!r} is no field of {source}"
+                    )
                 covered[field] = group
         missing = [f for f in fields if f not in covered]
-        problems += [f"scene-fields.toml: [{name}] has no meaning for the field {f!r} ({source})" for f in missing]
+        problems += [
+            f"scene-fields.toml: [{name}] has no meaning for the field {f!r} ({source})"
+            for f in missing
+        ]
         if name.startswith("mechanism."):
-            title = f"`[mechanism]` of `engine.mechanism = \"{name.split('.', 1)[1]}\"`"
+            title = f'`[mechanism]` of `engine.mechanism = "{name.split(".", 1)[1]}"`'
         else:
             title = f"`[{name}]`"
         lines = [f"### {title}", ""]
         if meanings.get("_about"):
             lines += [meanings["_about"], ""]
-        lines += [f"From the code: {source}.", "", "| key | type, unit, range | default | meaning |",
-                  "|---|---|---|---|"]
+        lines += [
+            f"From the code: {source}.",
+            "",
+            "| key | type, unit, range | default | meaning |",
+            "|---|---|---|---|",
+        ]
         seen = set()
         for field, info in fields.items():
             group = covered.get(field)
@@ -211,7 +230,9 @@ def scene_reference() -> str:
             seen.add(group)
             members = [f.strip() for f in group.split(",")]
             keys = "<br>".join(f"`{m}`" for m in members)
-            kinds = "<br>".join(_cell(_type_text(fields[m].annotation, fields[m].metadata)) for m in members)
+            kinds = "<br>".join(
+                _cell(_type_text(fields[m].annotation, fields[m].metadata)) for m in members
+            )
             defaults = "<br>".join(_default_text(fields[m], m) for m in members)
             lines.append(f"| {keys} | {kinds} | {defaults} | {_cell(meanings[group])} |")
         if meanings.get("_note"):
@@ -220,14 +241,21 @@ def scene_reference() -> str:
         if name == "analysis" and mechanism.get("_about"):
             parts.append("### `[mechanism]`\n\n" + mechanism["_about"])
     if problems:
-        raise PluginError("the scene reference does not match the code:\n  " + "\n  ".join(problems))
+        raise PluginError(
+            "the scene reference does not match the code:\n  " + "\n  ".join(problems)
+        )
     return "\n\n".join(parts) + "\n"
 
 
 # --- results.json reference -----------------------------------------------------------------------
 
+
 def _csv_name(stage: str, table: str) -> str:
-    return f"`tables/{stage}.csv`" if table == stage else f"`tables/{stage}_{table.replace('*', '<n>')}.csv`"
+    return (
+        f"`tables/{stage}.csv`"
+        if table == stage
+        else f"`tables/{stage}_{table.replace('*', '<n>')}.csv`"
+    )
 
 
 def results_reference() -> str:
@@ -237,13 +265,21 @@ def results_reference() -> str:
     descriptions = _descriptions("results-keys.toml")
     registry = default_registry()
     english = translator("en", registry.catalogs)
-    problems = [f"results-keys.toml: [{name}] is no stage of the registry"
-                for name in descriptions if name != "_top" and name not in registry.stages
-                and not any(name == s.name for s in registry.stages.values())]
+    problems = [
+        f"results-keys.toml: [{name}] is no stage of the registry"
+        for name in descriptions
+        if name != "_top"
+        and name not in registry.stages
+        and not any(name == s.name for s in registry.stages.values())
+    ]
     # A stage may share its keys with another of the same results (drawing and drawing_linkage).
     aliases = {"drawing_linkage": "drawing"}
     parts = ["### The document's own keys", "", "| key | meaning |", "|---|---|"]
-    parts += [f"| {_keys(k)} | {_cell(v)} |" for k, v in descriptions["_top"].items() if not k.startswith("_")]
+    parts += [
+        f"| {_keys(k)} | {_cell(v)} |"
+        for k, v in descriptions["_top"].items()
+        if not k.startswith("_")
+    ]
     for stage in sorted(registry.stages.values(), key=lambda s: s.name):
         meanings = descriptions.get(stage.name) or descriptions.get(aliases.get(stage.name, ""))
         if meanings is None:
@@ -252,12 +288,20 @@ def results_reference() -> str:
         lines = ["", f"### `{stage.name}` — {english(stage.title_key)}", ""]
         if meanings.get("_about"):
             lines += [meanings["_about"], ""]
-        declared = [("requires", ", ".join(f"`{k}`" for k in stage.requires) or "—"),
-                    ("provides", ", ".join(f"`{k}`" for k in stage.provides) or "—")]
+        declared = [
+            ("requires", ", ".join(f"`{k}`" for k in stage.requires) or "—"),
+            ("provides", ", ".join(f"`{k}`" for k in stage.provides) or "—"),
+        ]
         if stage.uses:
             declared.append(("uses when present", ", ".join(f"`{k}`" for k in stage.uses)))
-        declared.append(("runs", "by default, when the scene needs it" if stage.default
-                         else "only when named in `analysis.stages`"))
+        declared.append(
+            (
+                "runs",
+                "by default, when the scene needs it"
+                if stage.default
+                else "only when named in `analysis.stages`",
+            )
+        )
         if stage.options_table:
             declared.append(("options", f"`[{stage.options_table}]`"))
         if stage.tables:
@@ -265,14 +309,20 @@ def results_reference() -> str:
         if stage.figures:
             declared.append(("figures", ", ".join(f"`{f}`" for f in stage.figures)))
         if stage.answer_columns:
-            declared.append(("answer-key columns", ", ".join(f"`{c.column}`" for c in stage.answer_columns)))
+            declared.append(
+                ("answer-key columns", ", ".join(f"`{c.column}`" for c in stage.answer_columns))
+            )
         lines += ["| declared | |", "|---|---|"] + [f"| {k} | {v} |" for k, v in declared]
         keys = [(k, v) for k, v in meanings.items() if not k.startswith("_")]
         if keys:
-            lines += ["", "| key | meaning |", "|---|---|"] + [f"| {_keys(k)} | {_cell(v)} |" for k, v in keys]
+            lines += ["", "| key | meaning |", "|---|---|"] + [
+                f"| {_keys(k)} | {_cell(v)} |" for k, v in keys
+            ]
         parts.append("\n".join(lines))
     if problems:
-        raise PluginError("the results.json reference does not match the code:\n  " + "\n  ".join(problems))
+        raise PluginError(
+            "the results.json reference does not match the code:\n  " + "\n  ".join(problems)
+        )
     return "\n".join(parts) + "\n"
 
 

@@ -8,6 +8,7 @@ The public Python API (see docs/api.md): :func:`crankdyn.load`, :func:`crankdyn.
 Mechanisms and analysis stages are pluggy plugins; see :mod:`crankdyn.hookspecs`.
 """
 
+from .bundled import example_path
 from .version import __version__
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError", "example_path", "__version__"]
@@ -21,10 +22,6 @@ def __getattr__(name: str):
         from . import api  # lazy: heavy optional import (numpy, scipy: import crankdyn stays light)
 
         return getattr(api, name)
-    if name == "example_path":
-        from .bundled import example_path
-
-        return example_path
     raise AttributeError(f"module 'crankdyn' has no attribute {name!r}")
 
 

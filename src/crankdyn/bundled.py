@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from importlib import resources
 from pathlib import Path
 
 
 def examples_folder() -> Path:
     """The folder of the bundled example scenes (``crankdyn example --list`` names them)."""
+    from importlib import resources  # lazy: heavy optional import (import crankdyn stays light)
+
     return Path(str(resources.files("crankdyn.examples")))
 
 
@@ -24,7 +25,7 @@ def example_path(name: str) -> Path:
     """
     if not isinstance(name, str):
         raise ValueError(f"example name must be a text such as 'petrol-1cyl', not {name!r}")
-    stem = name[:-len(".toml")] if name.endswith(".toml") else name
+    stem = name[: -len(".toml")] if name.endswith(".toml") else name
     path = examples_folder() / f"{stem}.toml"
     if "/" in stem or "\\" in stem or not path.is_file():
         raise ValueError(f"unknown example {name!r}; available: " + ", ".join(example_names()))
