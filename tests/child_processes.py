@@ -1,8 +1,18 @@
-"""The processes a process has started and not yet reaped, for the tests that fork (run in the
-fresh interpreters of test_background and test_printer, which import this file)."""
+"""Helpers of the tests that fork: the processes a process has started and not yet reaped, and
+running a test in a pytest process of its own (test_aside, test_background, test_printer,
+test_study_worker)."""
 
+import functools
 import glob
 import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+# Set to a test's node id in the pytest process that runs it alone (``in_fresh_process``).
+FRESH_PROCESS_ENV = "CRANKDYN_TEST_FRESH_PROCESS"
 
 
 def children() -> list[str]:
@@ -20,17 +30,56 @@ def children() -> list[str]:
     return found
 
 
-def run_fresh(setup: str, code: str, timeout: float = 120, says_ok: bool = True):
-    """Run ``setup`` and the (dedented) ``code`` in a fresh interpreter, which then has no thread
-    but its own (a pytest-xdist worker has some, and the code under test forks only without);
-    it must exit 0 and, with ``says_ok``, print "ok" last. Returns the finished process."""
-    import subprocess
-    import sys
-    import textwrap
+def in_fresh_process(test):
+    """Run the decorated test in a fresh pytest process of its own: an interpreter with no thread
+    but its own (a pytest-xdist worker has some, and the code under test forks only without), in
+    which nothing of another test was imported or started. Its assertions stay in the test
+    function, and a failure shows that process's pytest report."""
 
-    done = subprocess.run([sys.executable, "-c", setup + textwrap.dedent(code)], capture_output=True, text=True,
-                          timeout=timeout)
-    assert done.returncode == 0, done.stdout + done.stderr
-    if says_ok:
-        assert done.stdout.strip().endswith("ok"), done.stdout
-    return done
+    @functools.wraps(test)
+    def wrapper(*args, **kwargs):
+        node = os.environ["PYTEST_CURRENT_TEST"].rsplit(" ", 1)[0]
+        if os.environ.get(FRESH_PROCESS_ENV) == node:
+            return test(*args, **kwargs)
+        env = {
+            k: v
+            for k, v in os.environ.items()
+            if not k.startswith(("PYTEST_XDIST", "PYTEST_CURRENT_TEST")) and k != FRESH_PROCESS_ENV
+        }
+        env[FRESH_PROCESS_ENV] = node
+        # -n 0: no xdist workers (no execnet threads); -m "": the node runs whatever its marks;
+        # without the plugins and conftest.py the test does not use, the process starts in a third
+        # of the time (such a test takes its fixtures from pytest itself).
+        done = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "pytest",
+                "-q",
+                "-n",
+                "0",
+                "-p",
+                "no:randomly",
+                "-p",
+                "no:cacheprovider",
+                "-p",
+                "no:hypothesispytest",
+                "--noconftest",
+                "-m",
+                "",
+                node,
+            ],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+            check=False,
+        )
+        report = done.stdout[-6000:] + done.stderr[-2000:]
+        assert done.returncode == 0, f"{node} failed in its own process:\n{report}"
+        assert re.search(r"\b1 passed\b", done.stdout), (
+            f"{node} did not run in its own process:\n{report}"
+        )
+
+    return wrapper

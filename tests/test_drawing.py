@@ -288,8 +288,12 @@ def test_animation_moves_in_chromium(tmp_path):
 
         start = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
         browser.evaluate(f"{root}.querySelector('.mech-play').click()")
-        time.sleep(1.5)
-        end = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
+        # playing draws frames one after the other: wait for a few (a generous deadline)
+        for _ in range(600):
+            end = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
+            if end[0] - start[0] >= 10:
+                break
+            time.sleep(0.05)
         browser.evaluate(f"{root}.querySelector('.mech-play').click()")
         frames = end[0] - start[0]
         fps = frames / ((end[1] - start[1]) / 1000.0)

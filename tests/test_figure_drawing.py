@@ -27,11 +27,24 @@ def _no_children_left() -> bool:
     return False
 
 
-def test_jobs_are_shared_between_processes_and_come_back_in_order():
+def _wait_for(condition, what: str, deadline_s: float = 60.0) -> None:
+    """Poll ``condition`` until it holds; a generous deadline only turns a hang into a failure."""
+    end = time.monotonic() + deadline_s
+    while not condition():
+        assert time.monotonic() < end, f"waited {deadline_s:g} s for {what}"
+        time.sleep(0.01)
+
+
+def test_jobs_are_shared_between_processes_and_come_back_in_order(tmp_path):
     parent = os.getpid()
+    arrivals = tmp_path / "pids"
 
     def job(i):
-        time.sleep(0.05)  # long enough for the children to start and take their share
+        # each job waits until all three processes have taken one: the figures are shared, not
+        # drawn by whichever process happens to start first
+        with open(arrivals, "a", encoding="utf-8") as file:
+            file.write(f"{os.getpid()}\n")
+        _wait_for(lambda: len(set(arrivals.read_text(encoding="utf-8").split())) >= 3, "three processes")
         return f"{i}:{os.getpid()}".encode()
 
     results = draw_jobs([lambda i=i: job(i) for i in range(9)], workers=3, allow_threads=True)
@@ -41,12 +54,18 @@ def test_jobs_are_shared_between_processes_and_come_back_in_order():
     assert _no_children_left()
 
 
-def test_a_free_process_takes_the_next_job_while_another_draws_a_long_one():
+def test_a_free_process_takes_the_next_job_while_another_draws_a_long_one(tmp_path):
     """Taken one by one, not in fixed shares: whoever draws the long first figure draws nothing
     else, the other process draws the rest meanwhile (a fixed half each made one wait for the other)."""
 
+    done = tmp_path / "done"
+
     def job(i):
-        time.sleep(0.6 if i == 0 else 0.01)
+        if i == 0:  # the long figure: drawn until every other one is done
+            _wait_for(lambda: done.exists() and len(done.read_bytes()) == 7, "the other seven figures")
+        else:
+            with open(done, "ab") as file:
+                file.write(b"x")
         return str(os.getpid()).encode()
 
     results = draw_jobs([lambda i=i: job(i) for i in range(8)], workers=2, allow_threads=True)

@@ -1,4 +1,5 @@
-"""The new mechanisms are documented: scene keys and results.json keys in README.md."""
+"""The mechanisms are documented: their scene keys and results.json keys in the documentation's
+scene and results.json references."""
 
 from __future__ import annotations
 
@@ -9,9 +10,10 @@ import pytest
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugins import default_registry
+from documented import documentation_text
 
 ROOT = Path(__file__).resolve().parent.parent
-README = (ROOT / "README.md").read_text(encoding="utf-8")
+DOCUMENTATION = documentation_text()
 EXAMPLES = ["offset-crank-engine", "planetary-kinematics", "vane-engine-kinematics"]
 
 
@@ -22,21 +24,21 @@ def test_results_keys_of_the_mechanism_examples_are_documented(tmp_path, example
     document = json.loads((out / "results.json").read_text(encoding="utf-8"))
     for stage in ("offset_crank", "planetary", "vane", "rod_dynamics"):
         for key, value in document.get(stage, {}).items():
-            assert f"`{key}`" in README, f"{stage}.{key} not in README"
+            assert f"`{key}`" in DOCUMENTATION, f"{stage}.{key} not documented"
             if isinstance(value, dict):
                 for sub in value:
-                    assert f"`{sub}`" in README, f"{stage}.{key}.{sub} not in README"
+                    assert f"`{sub}`" in DOCUMENTATION, f"{stage}.{key}.{sub} not documented"
 
 
 def test_scene_keys_of_the_mechanisms_are_documented():
     registry = default_registry()
     for name in ("offset_crank_slider", "planetary", "vane_crank_rocker"):
-        assert f"`{name}`" in README
+        assert f"`{name}`" in DOCUMENTATION
         for field in registry.mechanisms[name].params_model.model_fields:
-            assert f"`{field}`" in README, (name, field)
+            assert f"`{field}`" in DOCUMENTATION, (name, field)
     for field in registry.stages["rod_dynamics"].options_model.model_fields:
-        assert f"`{field}`" in README
-    assert "`rod_moment_of_inertia`" in README and "`[rod_dynamics]`" in README
+        assert f"`{field}`" in DOCUMENTATION
+    assert "`rod_moment_of_inertia`" in DOCUMENTATION and "`[rod_dynamics]`" in DOCUMENTATION
 
 
 def test_mechanism_examples_are_listed_and_written(tmp_path, capsys):

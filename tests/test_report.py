@@ -101,20 +101,22 @@ def test_pdf_with_hostile_scene_text_does_not_fetch(tmp_path):
 
 
 def test_results_json_keys_are_documented(tmp_path):
-    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    from documented import documentation_text
+
+    readme = documentation_text()
     for example in ("petrol-1cyl", "diesel-rk-trace", "kinematics-only"):
         out = tmp_path / example
         assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "json", "-q"]) == 0
         document = json.loads((out / "results.json").read_text(encoding="utf-8"))
         assert [p for p in out.iterdir() if p.name != ".crankdyn-manifest.json"] == [out / "results.json"]
         for key, value in document.items():
-            assert f"`{key}`" in readme, key
+            assert f"`{key}`" in readme, f"{key} not in the results.json reference"
             if isinstance(value, dict) and key not in ("stages_skipped", "timing_s"):
                 for sub in value:
                     generic = re.sub(r"^(total|side|rod|tangential|radial|resultant|torque)_(max|min)_",
                                      r"<force>_\2_", sub)
                     generic = re.sub(r"_(Pa|Nm)$", "_<unit>", generic) if generic.startswith("<force>") else generic
-                    assert f"`{sub}`" in readme or f"`{generic}`" in readme, f"{key}.{sub} not in README"
+                    assert f"`{sub}`" in readme or f"`{generic}`" in readme, f"{key}.{sub} not in the results.json reference"
 
 
 def test_captions_side_by_side_keep_a_gutter():

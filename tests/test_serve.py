@@ -177,16 +177,19 @@ def test_figures_are_served_by_url_and_a_kept_figure_keeps_its_url(preview_serve
     assert status == 200 and headers["Content-Type"] == "image/svg+xml" and svg.lstrip().startswith(b"<?xml")
     assert "immutable" in headers["Cache-Control"]
     assert _get(base + "figures/nothing/fig_1.svg")[0] == 404
-    # The long poll: answered at once for an old version, held back for the current one.
+    # The long poll: answered at once for an old version, held back for the current one until a
+    # new build is published (held back, it answers with the new version, not the one it was given).
     assert _get(base + "version?after=old")[2].decode() == first["version"]
-    start = time.monotonic()
-    assert preview.version_after(first["version"], timeout=0.3) == first["version"]
-    assert time.monotonic() - start >= 0.25
+    answered = []
+    poll = threading.Thread(target=lambda: answered.append(preview.version_after(first["version"], timeout=120)))
+    poll.start()
 
     # A change of the cycle re-renders the indicator section, not the kinematics one: the
     # kinematics figures keep their URLs (the browser shows them from its cache), the rest change.
     _edit(scene, compression_ratio="17.6")
     _wait(lambda: (s := _status(base))["version"] != first["version"] and not s["building"], 60, "a new build")
+    poll.join(120)
+    assert len(answered) == 1 and answered[0] != first["version"]
     new_page = _get(base)[2].decode()
     new_urls = re.findall(r'(?:src|data-figure)="(figures/[^"]+)"', new_page)
     assert all(f'src="{u}"' in new_page for u in urls if "/fig_2_" in u)  # kept: drawn, shown at once

@@ -2,14 +2,16 @@
 
 The public Python API (see docs/api.md): :func:`crankdyn.load`, :func:`crankdyn.run`
 (returning a :class:`crankdyn.Result`) and :func:`crankdyn.sweep`, defined in
-:mod:`crankdyn.api`; and the ``crankdyn`` command line. The lower-level entry points are
+:mod:`crankdyn.api`; :func:`crankdyn.example_path`, the path of a bundled example scene; and the
+``crankdyn`` command line. The lower-level entry points are
 :func:`crankdyn.scene.load_scene` and :func:`crankdyn.orchestrator.run_scene`.
 Mechanisms and analysis stages are pluggy plugins; see :mod:`crankdyn.hookspecs`.
 """
 
+from .bundled import example_path
 from .version import __version__
 
-__all__ = ["load", "run", "sweep", "Result", "SceneError", "__version__"]
+__all__ = ["load", "run", "sweep", "Result", "SceneError", "example_path", "__version__"]
 
 _API = {"load", "run", "sweep", "Result", "SceneError"}
 
@@ -21,3 +23,8 @@ def __getattr__(name: str):
 
         return getattr(api, name)
     raise AttributeError(f"module 'crankdyn' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    # The lazy names are not in the module's namespace until first used; dir() lists them anyway.
+    return sorted(set(globals()) | set(__all__))
