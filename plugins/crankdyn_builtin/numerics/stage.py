@@ -51,8 +51,7 @@ from crankdyn.scene import Analysis, Scene, number, options
 from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics import articulated as art
-from crankdyn_builtin.bays.stage import engine_layout
-from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
+from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 from crankdyn.physics.layout import step_on_grid_deg
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

@@ -21,9 +21,9 @@ from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.i18n import superscript
 from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene_inputs import crank_train
 from crankdyn.units import parse_quantity
 
-from crankdyn_builtin.flywheel.stage import crank_train
 from crankdyn.physics import irregularity as irr
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
