@@ -286,6 +286,10 @@ class Stage:
                 ``run`` finds them in ``inputs`` only when they were provided.
     applies:    ``applies(scene) -> None`` when the scene needs this stage, else the
                 reason (one English sentence; it goes to results.json and the report).
+                A stage that names ``services`` may take them as a second argument,
+                ``applies(scene, services)`` (the mapping ``run`` finds in ``inputs``): a stage
+                whose applicability depends on the run's other plugins asks the run's registry
+                (``services[SERVICE_RUNNER].registry``), never a registry of its own.
     run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
                 to the object an earlier stage provided.
     render:     ``render(output, ctx) -> str | None``: the section's HTML (usually via
@@ -333,7 +337,7 @@ class Stage:
     title_key: str
     requires: tuple[str, ...]
     provides: tuple[str, ...]
-    applies: Callable[["Scene"], str | None]
+    applies: Callable[..., str | None]
     run: Callable[["Scene", Mapping[str, Any]], StageOutput]
     # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
     # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).

@@ -122,7 +122,7 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
 
 def _needed_stages(scene, runner) -> list[str]:
     return [s.name for s in runner.stages.values()
-            if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and s.applies(scene) is None]
+            if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and runner.applies(s, scene) is None]
 
 
 @dataclass
