@@ -22,6 +22,22 @@ if TYPE_CHECKING:  # pragma: no cover
 
 
 @dataclass(frozen=True)
+class PlausibilityRule:
+    """A check of a valid scene for values no real engine has: a warning, never an error.
+
+    ``check(scene, results)`` returns the warnings (catalog key, parameters) it finds; ``results``
+    is the declaring stage's ``StageOutput.results`` when the stage ran, else None (the check
+    before a run, or a mechanism's rule). A mechanism declares its rules in
+    ``Mechanism.plausibility`` (they hold for scenes naming it), a stage in
+    ``Stage.plausibility``; the texts are catalog entries in the declaring plugin's catalogs
+    (or the core's, for the rules :mod:`crankdyn.plausibility` offers).
+    """
+
+    name: str
+    check: Callable[["Scene", Mapping[str, Any] | None], list[tuple[str, dict[str, Any]]]]
+
+
+@dataclass(frozen=True)
 class Mechanism:
     """A mechanism type a scene can name in ``engine.mechanism``.
 
@@ -37,6 +53,9 @@ class Mechanism:
     whose members are not a crank-slider's: row -> (catalog key of the quantity, symbol markup),
     rows ``bore``, ``stroke``, ``crank_radius``, ``rod_length``, ``rod_ratio`` (a vane engine's
     ``rod_length`` is the tail of its core, l, not a connecting rod's L).
+
+    ``plausibility``: the :class:`PlausibilityRule` s of this mechanism's scenes (a crank-slider's
+    λ = R/L and its rod's centre of mass), besides the core's rules that hold for every engine.
     """
 
     name: str
@@ -46,6 +65,7 @@ class Mechanism:
     geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
     # compare=False: a Mechanism stays hashable with a mapping here
     input_rows: Mapping[str, tuple[str, str]] = field(default_factory=dict, compare=False)
+    plausibility: tuple[PlausibilityRule, ...] = ()
 
 
 @dataclass
@@ -331,6 +351,10 @@ class Stage:
                 ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
                 and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
                 a connecting rod's angle: declared here, it takes over in the vane's section).
+    plausibility: the :class:`PlausibilityRule` s checking this stage's scene values or results
+                (the indicator's peak pressure).
+    appendix:   whether the section is a study of the numerics rather than part of a course brief:
+                with ``[report] detail = "course"`` (the default) it goes to an appendix.
     """
 
     name: str
@@ -358,6 +382,8 @@ class Stage:
     legend: bool = True
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
+    plausibility: tuple[PlausibilityRule, ...] = ()
+    appendix: bool = False
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:

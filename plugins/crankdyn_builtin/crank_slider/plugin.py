@@ -4,6 +4,7 @@ multi-cylinder engine (layouts in-line, V, W, Y, X, boxer, radial; see the ``bay
 from crankdyn.errors import Problem, SceneError
 from crankdyn.hookspecs import hookimpl
 from crankdyn.physics import layout as lay
+from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 from crankdyn.plugin_types import Mechanism
 from crankdyn.scene_inputs import engine_layout
 
@@ -38,5 +39,6 @@ def crankdyn_mechanisms():
             summary="central (axial) crank-slider mechanism: the cylinder axis passes through the crankshaft axis",
             check=_check_crank_slider,
             geometry=engine_geometry,
+            plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
         ),
     ]

@@ -13,6 +13,7 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
 from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
+from crankdyn.plausibility import peak_pressure
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -275,6 +276,7 @@ SYMBOLS = {
 
 
 INDICATOR_STAGE = Stage(
+    plausibility=(peak_pressure("max_pressure_Pa"),),
     template_dir=TEMPLATES,
     name="indicator",
     title_key="indicator.title",

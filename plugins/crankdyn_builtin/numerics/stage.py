@@ -1015,6 +1015,7 @@ def render_kinematics(output: StageOutput, ctx) -> str | None:
 
 NUMERICS_STAGE = Stage(
     template_dir=TEMPLATES,
+    appendix=True,  # a study of the numerics, not part of a course brief
     name="numerics",
     title_key="numerics.title",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
@@ -1034,6 +1035,7 @@ NUMERICS_STAGE = Stage(
 
 NUMERICS_KINEMATICS_STAGE = Stage(
     template_dir=TEMPLATES,
+    appendix=True,
     name="numerics_kinematics",
     title_key="numerics.title",
     requires=(KINEMATICS,),

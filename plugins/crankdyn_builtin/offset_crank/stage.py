@@ -19,6 +19,7 @@ from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
+from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -63,6 +64,8 @@ OFFSET_CRANK_MECHANISM = Mechanism(
             "distance e (the pin offset)",
     check=check,
     params_model=OffsetParams,
+    # λ = R/L and the rod's centre of mass hold as for the central crank-slider
+    plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
 )
 
 

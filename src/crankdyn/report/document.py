@@ -134,10 +134,6 @@ def _bytecode_cache() -> jinja2.BytecodeCache | None:
         return None
 
 
-#: Stages whose sections are a study of the numerics rather than part of a course brief: with
-#: ``[report] detail = "course"`` (the default) they go to an appendix.
-NUMERICS_STAGES = ("numerics", "numerics_kinematics")
-
 _SKIP_REASONS = (  # the stages' own (English) reasons, as results.json keeps them -> catalog keys
     (re.compile(r"no \[masses\]"), "skip.no_masses"),
     (re.compile(r"no \[flywheel\]"), "skip.no_flywheel"),
@@ -221,7 +217,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
-        to_appendix = course and stage.name in NUMERICS_STAGES
+        to_appendix = course and stage.appendix  # a study of the numerics (Stage.appendix)
         number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
@@ -252,7 +248,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
                                     for k, v in params.items()}))
 
 
-    for key, params in warnings(scene, result):  # values no real engine has: noted, not refused
+    for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
