@@ -8,9 +8,12 @@ import pytest
 
 from crankdyn.report.equation_legend import add_equation_legends, symbols_in
 from crankdyn.report.i18n import translator
+from crankdyn.report.typeset import symbol_table
 from crankdyn.plugins import default_registry
 
 REGISTRY = default_registry()
+#: The table a report of the registry reads: the core's symbols and the stages' own.
+SYMBOLS = symbol_table(REGISTRY.stages.values())
 
 
 def _equation(formula: str, number: str = "1.1") -> str:
@@ -132,14 +135,14 @@ def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
     assert REGISTRY.stages["vane"].legend and REGISTRY.stages["planetary"].legend
     uk = translator("uk", REGISTRY.catalogs)
     line = _legends(add_equation_legends(_section("vane", _equation("<i>β</i> = −arcsin(<i>λ</i> sin <i>α</i>)")),
-                                         uk, "uk"))[0]
+                                         uk, "uk", symbols=SYMBOLS))[0]
     assert "β – кут відхилення хвостовика осердя від вертикалі, °;" in line
     assert "λ – відношення радіуса кривошипа до довжини хвостовика;" in line
     assert "α – кут повороту кривошипів від їхнього верхнього положення, °." in line
     assert "шатуна" not in line and "ВМТ" not in line
     # the planetary carrier's torque is M_в in uk (the Latin c is the resistance torque's M_оп there)
     line = _legends(add_equation_legends(_section("planetary", _equation("<i>M</i><sub>в</sub> = <i>F h</i>")),
-                                         uk, "uk"))[0]
+                                         uk, "uk", symbols=SYMBOLS))[0]
     assert "Mв – крутний момент на водилі, Н·м;" in line
 
 
@@ -196,7 +199,8 @@ def test_a_dotted_letter_is_not_the_letter():
     """A review of the planetary note: "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
     is the second derivative of a coordinate (the italic run "z̈" was read letter by letter)."""
     # the rod dynamics' own letters (Stage.symbols): the vectors and the dotted z̈_A, none of them z
-    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == [
+    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics",
+                      SYMBOLS) == [
         "rod_dynamics.acceleration_G", "rod_dynamics.small_end_acceleration", "rod_dynamics.cylinder_axis_vector"]
     assert symbols_in("<i>β̈</i> (cos <i>β</i>)", "uk", "rod_dynamics") == ["rod_angle"]
     assert symbols_in("<i>z</i> = <i>β</i>", "uk", "forces")[1:] == ["rod_angle"]  # z itself: the radial force
