@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from crankdyn.report.equation_legend import add_equation_legends, symbols_in
+from crankdyn.report import equation_legend
 from crankdyn.report.i18n import translator
 from crankdyn.report.typeset import symbol_table
 from crankdyn.plugins import default_registry
@@ -14,6 +14,15 @@ from crankdyn.plugins import default_registry
 REGISTRY = default_registry()
 #: The table a report of the registry reads: the core's symbols and the stages' own.
 SYMBOLS = symbol_table(REGISTRY.stages.values())
+
+
+def symbols_in(formula: str, language: str, stage: str, symbols=SYMBOLS) -> list[str]:
+    return equation_legend.symbols_in(formula, language, stage, symbols)
+
+
+def add_equation_legends(html: str, t, language: str, skip_stages=frozenset(), single=False,
+                         symbols=SYMBOLS) -> str:
+    return equation_legend.add_equation_legends(html, t, language, skip_stages, single, symbols)
 
 
 def _equation(formula: str, number: str = "1.1") -> str:
@@ -199,8 +208,7 @@ def test_a_dotted_letter_is_not_the_letter():
     """A review of the planetary note: "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
     is the second derivative of a coordinate (the italic run "z̈" was read letter by letter)."""
     # the rod dynamics' own letters (Stage.symbols): the vectors and the dotted z̈_A, none of them z
-    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics",
-                      SYMBOLS) == [
+    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == [
         "rod_dynamics.acceleration_G", "rod_dynamics.small_end_acceleration", "rod_dynamics.cylinder_axis_vector"]
     assert symbols_in("<i>β̈</i> (cos <i>β</i>)", "uk", "rod_dynamics") == ["rod_angle"]
     assert symbols_in("<i>z</i> = <i>β</i>", "uk", "forces")[1:] == ["rod_angle"]  # z itself: the radial force

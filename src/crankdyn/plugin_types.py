@@ -249,7 +249,8 @@ class Symbol:
     ratio) and the meaning's catalog key, ``symbol.<key>`` of the symbol's key in the table.
 
     The core's table (:data:`crankdyn.report.typeset.SYMBOLS`) holds the quantities many sections
-    share; a stage declares its own letters in ``Stage.symbols`` (key ``k`` of stage ``s`` is
+    share (some bound to the sections of the stages that declare them in ``Stage.section_symbols``);
+    a stage declares its own letters in ``Stage.symbols`` (key ``k`` of stage ``s`` is
     ``s.k`` in the table, its meaning the catalog key ``symbol.s.k`` in the plugin's catalogs,
     and it applies in the stage's own section unless ``sections`` says otherwise). In its
     sections a symbol with ``sections`` takes over from a core symbol of the same markup.
@@ -351,6 +352,10 @@ class Stage:
                 ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
                 and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
                 a connecting rod's angle: declared here, it takes over in the vane's section).
+    section_symbols: keys of the core's section-bound symbols (``Symbol.sections`` =
+                ``crankdyn.report.typeset.SECTION_BOUND``: the side force n, the irregularity δ)
+                whose meaning holds in this stage's section; a letter the core gives another
+                meaning elsewhere (n, the crank speed) is read so there.
     plausibility: the :class:`PlausibilityRule` s checking this stage's scene values or results
                 (the indicator's peak pressure).
     appendix:   whether the section is a study of the numerics rather than part of a course brief:
@@ -382,6 +387,7 @@ class Stage:
     legend: bool = True
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
+    section_symbols: tuple[str, ...] = ()
     plausibility: tuple[PlausibilityRule, ...] = ()
     appendix: bool = False
 

@@ -964,6 +964,12 @@ def _plain_symbol(s, sum_sign: str = "Σ") -> str:
 BALANCING_STAGE = Stage(
     template_dir=TEMPLATES,
     name="balancing",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("harmonic_order", "shaft_angle", "crank_lag", "cylinder_axis_angle",
+                     "cylinder_position", "bay_forward_first", "bay_backward_first",
+                     "bay_forward_second", "bay_backward_second", "bay_semi_axis_x_first",
+                     "bay_semi_axis_y_first", "bay_semi_axis_x_second", "bay_semi_axis_y_second",
+                     "cylinder_spacing"),
     title_key="balancing.title",
     requires=(KINEMATICS,),
     uses=(ENGINE_TORQUE,),

@@ -331,6 +331,8 @@ SYMBOLS = {
 BAYS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bays",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("rod_specific", "side_specific"),
     title_key="bays.title",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
     provides=(BAY_LOADS,),

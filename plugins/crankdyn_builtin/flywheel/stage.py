@@ -255,6 +255,8 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
 FLYWHEEL_STAGE = Stage(
     template_dir=TEMPLATES,
     name="flywheel",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("irregularity", "rim_mass", "rim_width", "rim_height"),
     title_key="flywheel.title",
     requires=(ENGINE_TORQUE, BAY_LOADS),
     provides=(FLYWHEEL,),

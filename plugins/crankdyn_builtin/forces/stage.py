@@ -327,6 +327,8 @@ def _worked(ctx, rows, labels, r):
 FORCES_STAGE = Stage(
     template_dir=TEMPLATES,
     name="forces",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("rod_specific", "side_specific", "indicated_torque"),
     title_key="forces.title",
     requires=(KINEMATICS, GAS_PRESSURE),
     provides=(FORCES,),

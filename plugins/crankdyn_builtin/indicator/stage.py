@@ -279,6 +279,8 @@ INDICATOR_STAGE = Stage(
     plausibility=(peak_pressure("max_pressure_Pa"),),
     template_dir=TEMPLATES,
     name="indicator",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("post_expansion_ratio",),
     title_key="indicator.title",
     requires=(KINEMATICS,),
     provides=(GAS_PRESSURE,),

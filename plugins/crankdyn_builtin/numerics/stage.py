@@ -1017,6 +1017,10 @@ NUMERICS_STAGE = Stage(
     template_dir=TEMPLATES,
     appendix=True,  # a study of the numerics, not part of a course brief
     name="numerics",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                     "tangential_max", "tangential_min", "crank_load_max",
+                     "displacement_difference", "acceleration_difference"),
     title_key="numerics.title",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
     last=True,  # it judges the numbers of the sections before it
@@ -1037,6 +1041,10 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     template_dir=TEMPLATES,
     appendix=True,
     name="numerics_kinematics",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                     "tangential_max", "tangential_min", "crank_load_max",
+                     "displacement_difference", "acceleration_difference"),
     title_key="numerics.title",
     requires=(KINEMATICS,),
     provides=(),

@@ -900,6 +900,8 @@ SYMBOLS = {
 SPEED_FLUCTUATION_STAGE = Stage(
     template_dir=TEMPLATES,
     name="speed_fluctuation",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("irregularity", "cylinder_phase"),
     title_key="speed_fluctuation.title",
     requires=(ENGINE_TORQUE, BAY_LOADS, CRANK_LOADS, FLYWHEEL),
     provides=(),

@@ -30,8 +30,11 @@ import numpy as np
 #: languages (the textbook's Cyrillic subscripts in uk/ru, Latin ones in English) and the
 #: main quantities every calculation uses. The list of symbols in front of the introduction is
 #: printed from this table, with the symbols the report actually shows.
-#: The error-against-run-time appendices, whose letters (X, M, Δα) mean the studied quantity.
-_ERROR_STUDY = ("numerics", "numerics_kinematics")
+#: ``Symbol.sections`` of a core symbol whose meaning holds only in the sections of the stages that
+#: declare it (``Stage.section_symbols``: the side force n of the force sections, δ the
+#: irregularity of the flywheel's); in a table no stage of the registry declares it for, it holds
+#: nowhere.
+SECTION_BOUND = ("<declaring stages>",)
 
 _CORE_SYMBOLS: dict[str, Symbol] = {
     "crank_angle": Symbol("α", {}, "°", "symbol.crank_angle"),
@@ -81,9 +84,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
-    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=("forces", "bays")),
+    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=SECTION_BOUND),
     # the textbook's n is also the crank speed: in the forces section it is the side force
-    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=("forces", "bays")),
+    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
@@ -99,10 +102,10 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
                                     html="<i>A</i><sub><i>n</i></sub>"),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
-    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=("indicator",)),
+    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=SECTION_BOUND),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
     # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
-    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=("bearings",)),
+    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=SECTION_BOUND),
     # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
     "mechanism_mean_inertia": Symbol("J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2",
                                      "symbol.mechanism_mean_inertia"),
@@ -126,16 +129,16 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
     "mechanical_efficiency": Symbol("η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"),
     "effective_torque": Symbol("M", {"en": "e"}, "unit.Nm", "symbol.effective_torque"),
-    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=("torque", "forces")),
+    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=SECTION_BOUND),
     "gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", "symbol.gas_torque"),
     "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
     "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
     "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
     "material_density": Symbol("ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"),
-    "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=("flywheel", "speed_fluctuation")),
+    "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=SECTION_BOUND),
     # the quantities of the equations that the "де …" lines explain (crankdyn.report.equation_legend)
     "cylinder_pressure": Symbol("p", {}, "unit.MPa", "symbol.cylinder_pressure"),
-    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=("bearings",)),
+    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=SECTION_BOUND),
     "cylinder_volume": Symbol("V", {}, "unit.l", "symbol.cylinder_volume"),
     "theoretical_mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.theoretical_mean_indicated_pressure",
                                                   html="<i>p</i><sub>i</sub>′"),
@@ -173,50 +176,50 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
                                       html="<i>t</i><sub>k<i>N</i></sub>"),
     "order_force": Symbol("P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"),
     # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
-    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=("bearings",)),
+    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=SECTION_BOUND),
     "pin_load_mean": Symbol("Q", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.pin_load_mean",
-                            sections=("bearings",)),
+                            sections=SECTION_BOUND),
     "bearing_pressure_max": Symbol("p", {"en": "max"}, "unit.MPa", "symbol.bearing_pressure_max",
-                                   sections=("bearings",)),
+                                   sections=SECTION_BOUND),
     "bearing_pressure_mean": Symbol("p", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.MPa",
-                                    "symbol.bearing_pressure_mean", sections=("bearings",)),
-    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=("bearings",)),
+                                    "symbol.bearing_pressure_mean", sections=SECTION_BOUND),
+    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=SECTION_BOUND),
     "journal_load_mean": Symbol("R", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.journal_load_mean",
-                                sections=("bearings",)),
+                                sections=SECTION_BOUND),
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
     # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
-    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=("balancing",)),
-    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=("balancing",)),
+    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
+    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND),
     "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
     "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
     "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
                                  html="<i>b</i><sub><i>n</i></sub><sup>*</sup>"),  # (b̄: the bar crossed the ascender)
     "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>",
-                        sections=("balancing",)),
+                        sections=SECTION_BOUND),
     "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
-                                  html="<i>φ</i><sub><i>i</i></sub>", sections=("balancing",)),
+                                  html="<i>φ</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
     "cylinder_phase": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_phase", html="<i>φ</i><sub><i>i</i></sub>",
-                             sections=("speed_fluctuation",)),
+                             sections=SECTION_BOUND),
     "cylinder_position": Symbol("x", {"en": "i"}, "unit.mm", "symbol.cylinder_position",
-                                html="<i>x</i><sub><i>i</i></sub>", sections=("balancing",)),
+                                html="<i>x</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
     "cylinder_order_force": Symbol("P", {"en": "ni"}, "unit.N", "symbol.cylinder_order_force",
                                    html="<i>P</i><sub><i>n</i><i>i</i></sub>"),
     "order_moment": Symbol("M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"),
     # a bay's dynamically equivalent model (the textbook's figures 29-33): its rotating vectors and
     # the semi-axes of its hodographs, first and second order
-    "bay_forward_first": Symbol("F", {}, "unit.N", "symbol.bay_forward_first", sections=("balancing",)),
-    "bay_backward_first": Symbol("P", {}, "unit.N", "symbol.bay_backward_first", sections=("balancing",)),
-    "bay_forward_second": Symbol("K", {}, "unit.N", "symbol.bay_forward_second", sections=("balancing",)),
-    "bay_backward_second": Symbol("Z", {}, "unit.N", "symbol.bay_backward_second", sections=("balancing",)),
-    "bay_semi_axis_x_first": Symbol("a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=("balancing",)),
-    "bay_semi_axis_y_first": Symbol("b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=("balancing",)),
+    "bay_forward_first": Symbol("F", {}, "unit.N", "symbol.bay_forward_first", sections=SECTION_BOUND),
+    "bay_backward_first": Symbol("P", {}, "unit.N", "symbol.bay_backward_first", sections=SECTION_BOUND),
+    "bay_forward_second": Symbol("K", {}, "unit.N", "symbol.bay_forward_second", sections=SECTION_BOUND),
+    "bay_backward_second": Symbol("Z", {}, "unit.N", "symbol.bay_backward_second", sections=SECTION_BOUND),
+    "bay_semi_axis_x_first": Symbol("a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=SECTION_BOUND),
+    "bay_semi_axis_y_first": Symbol("b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=SECTION_BOUND),
     "bay_semi_axis_x_second": Symbol("a", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_x_second",
-                                     sections=("balancing",)),
+                                     sections=SECTION_BOUND),
     "bay_semi_axis_y_second": Symbol("b", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_y_second",
-                                     sections=("balancing",)),
+                                     sections=SECTION_BOUND),
     "hodograph_semi_axis_x": Symbol("a", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_x"),
     "hodograph_semi_axis_y": Symbol("b", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_y"),
-    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=("balancing",)),
+    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=SECTION_BOUND),
     # the bearings section's vectors (bold) and spans
     "pin_load_vector": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa", "symbol.pin_load_vector",
                               html="<b><i>q</i></b><sub>{sub}</sub>"),
@@ -238,27 +241,27 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     # the flywheel's rim and the accumulated work's extremes
     "accumulated_work_max": Symbol("W", {"en": "max"}, "unit.J", "symbol.accumulated_work_max"),
     "accumulated_work_min": Symbol("W", {"en": "min"}, "unit.J", "symbol.accumulated_work_min"),
-    "rim_mass": Symbol("m", {}, "unit.kg", "symbol.rim_mass", sections=("flywheel",)),
-    "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=("flywheel",)),
-    "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=("flywheel",)),
+    "rim_mass": Symbol("m", {}, "unit.kg", "symbol.rim_mass", sections=SECTION_BOUND),
+    "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=SECTION_BOUND),
+    "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=SECTION_BOUND),
     # the error study (numerics)
     "relative_error": Symbol("ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"),
-    "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=_ERROR_STUDY),
-    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=_ERROR_STUDY),
-    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=_ERROR_STUDY),
+    "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=SECTION_BOUND),
+    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=SECTION_BOUND),
+    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=SECTION_BOUND),
     "reference_torque": Symbol("M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"),
     "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
     "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
                                   html="<i>s</i><sub><i>N</i></sub>"),
-    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=_ERROR_STUDY),
+    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=SECTION_BOUND),
     # the error table's columns (the relative error of each) and the kinematics forms' differences
-    "tangential_max": Symbol("t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=_ERROR_STUDY),
-    "tangential_min": Symbol("t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=_ERROR_STUDY),
-    "crank_load_max": Symbol("q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=_ERROR_STUDY),
+    "tangential_max": Symbol("t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=SECTION_BOUND),
+    "tangential_min": Symbol("t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=SECTION_BOUND),
+    "crank_load_max": Symbol("q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=SECTION_BOUND),
     "displacement_difference": Symbol("s", {}, "unit.m", "symbol.displacement_difference", html="Δ<i>s</i>",
-                                      sections=_ERROR_STUDY),
+                                      sections=SECTION_BOUND),
     "acceleration_difference": Symbol("j", {}, "unit.m_s2", "symbol.acceleration_difference", html="Δ<i>j</i>",
-                                      sections=_ERROR_STUDY),
+                                      sections=SECTION_BOUND),
     "power_series_coefficient": Symbol("c", {"en": "k"}, "", "symbol.power_series_coefficient",
                                        html="<i>c</i><sub><i>k</i></sub>"),
     "fourier_series_coefficient": Symbol("H", {"en": "k"}, "", "symbol.fourier_series_coefficient",
@@ -314,14 +317,30 @@ def symbol_table(stages: Iterable) -> SymbolTable:
     Built from the registry's stages for each report; a stage not in a report's plan adds nothing
     to it (its section is absent). A plugin's key that is not an identifier is a
     :class:`~crankdyn.errors.PluginError`."""
+    stages = list(stages)
     table = dict(_CORE_SYMBOLS)
+    table.update(_section_bound(stages))
     for stage in stages:
         for key, symbol in getattr(stage, "symbols", {}).items():
             if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
                 raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
                                   "to a crankdyn.plugin_types.Symbol")
             table[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
-    return SymbolTable(table)
+    return SymbolTable({key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND})
+
+
+def _section_bound(stages: list) -> dict[str, Symbol]:
+    """The core's :data:`SECTION_BOUND` symbols with the sections of the stages that declare them
+    (``Stage.section_symbols``); one that is not such a symbol is a :class:`PluginError`."""
+    declaring: dict[str, list[str]] = {}
+    for stage in stages:
+        for key in getattr(stage, "section_symbols", ()):
+            symbol = _CORE_SYMBOLS.get(key)
+            if symbol is None or symbol.sections != SECTION_BOUND:
+                raise PluginError(f"stage {stage.name!r}: {key!r} in section_symbols is not one of the core's "
+                                  "section-bound symbols (typeset.SECTION_BOUND)")
+            declaring.setdefault(key, []).append(stage.name)
+    return {key: replace(_CORE_SYMBOLS[key], sections=tuple(names)) for key, names in declaring.items()}
 
 
 #: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
