@@ -203,8 +203,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
     symbols = symbol_table(registry.stages.values())  # the core's letters and the stages' own
-    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg,
-                        scene=scene, symbols=symbols)
+    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg,
+                        cycle_deg=scene.engine.cycle_deg, scene=scene, symbols=symbols)
     course = scene.report.detail == "course"
 
     sections: list[SectionView] = []
@@ -247,7 +247,6 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         for key, params in (output.notes if output is not None else ()):
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
-
 
     for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))
