@@ -31,18 +31,6 @@ os.environ.setdefault(cli.BLAS_THREADS_ENV, "1")
 gc.set_threshold(cli.YOUNG_GENERATION_THRESHOLD, *gc.get_threshold()[1:])
 
 
-def _symbol_table_as_reports_see_it() -> None:
-    """The core's symbols and the registered stages' own (``Stage.symbols``): a report adds the
-    latter before it renders; a test that reads the table directly sees it the same in any order."""
-    from crankdyn.plugins import default_registry
-    from crankdyn.report.typeset import use_stage_symbols
-
-    use_stage_symbols(default_registry().stages.values())
-
-
-_symbol_table_as_reports_see_it()
-
-
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     """Under CI (``CRANKDYN_CI=1``, set by .ci/run) a test skipped because a system tool "is not

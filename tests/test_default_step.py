@@ -22,7 +22,7 @@ from crankdyn.orchestrator import check_scene, run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.report.context import sample_rows
 from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.bays.stage import engine_layout
+from crankdyn.scene_inputs import engine_layout
 from conftest import modified
 from test_extreme import even_firing_order
 

@@ -6,11 +6,23 @@ import re
 
 import pytest
 
-from crankdyn.report.equation_legend import add_equation_legends, symbols_in
+from crankdyn.report import equation_legend
 from crankdyn.report.i18n import translator
+from crankdyn.report.typeset import symbol_table
 from crankdyn.plugins import default_registry
 
 REGISTRY = default_registry()
+#: The table a report of the registry reads: the core's symbols and the stages' own.
+SYMBOLS = symbol_table(REGISTRY.stages.values())
+
+
+def symbols_in(formula: str, language: str, stage: str, symbols=SYMBOLS) -> list[str]:
+    return equation_legend.symbols_in(formula, language, stage, symbols)
+
+
+def add_equation_legends(html: str, t, language: str, skip_stages=frozenset(), single=False,
+                         symbols=SYMBOLS) -> str:
+    return equation_legend.add_equation_legends(html, t, language, skip_stages, single, symbols)
 
 
 def _equation(formula: str, number: str = "1.1") -> str:
@@ -132,14 +144,14 @@ def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
     assert REGISTRY.stages["vane"].legend and REGISTRY.stages["planetary"].legend
     uk = translator("uk", REGISTRY.catalogs)
     line = _legends(add_equation_legends(_section("vane", _equation("<i>β</i> = −arcsin(<i>λ</i> sin <i>α</i>)")),
-                                         uk, "uk"))[0]
+                                         uk, "uk", symbols=SYMBOLS))[0]
     assert "β – кут відхилення хвостовика осердя від вертикалі, °;" in line
     assert "λ – відношення радіуса кривошипа до довжини хвостовика;" in line
     assert "α – кут повороту кривошипів від їхнього верхнього положення, °." in line
     assert "шатуна" not in line and "ВМТ" not in line
     # the planetary carrier's torque is M_в in uk (the Latin c is the resistance torque's M_оп there)
     line = _legends(add_equation_legends(_section("planetary", _equation("<i>M</i><sub>в</sub> = <i>F h</i>")),
-                                         uk, "uk"))[0]
+                                         uk, "uk", symbols=SYMBOLS))[0]
     assert "Mв – крутний момент на водилі, Н·м;" in line
 
 

@@ -13,7 +13,8 @@ from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.scene import load_scene
-from crankdyn_builtin.indicator.stage import _characteristic_points, rounding_parameters
+from crankdyn.scene_inputs import rounding_parameters
+from crankdyn_builtin.indicator.stage import _characteristic_points
 
 REGISTRY = default_registry()
 

@@ -286,10 +286,12 @@ def _symbol_list(html: str) -> str:
 
 @pytest.mark.parametrize("language", ["uk", "ru", "en"])
 def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
-    """One symbol table (report.typeset.SYMBOLS) printed before the introduction: each symbol the
+    """The run's symbol table (report.typeset.symbol_table) printed before the introduction: each symbol the
     report shows, with its subscript in the report's language, its meaning and unit from the
     catalogs; none the report does not show."""
-    from crankdyn.report.typeset import SYMBOLS, symbol_html, symbol_unit, symbols_used
+    from crankdyn.report.typeset import symbol_html, symbol_table, symbol_unit, symbols_used
+
+    table = symbol_table(REGISTRY.stages.values())
 
     t = translator(language, REGISTRY.catalogs)
     scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
@@ -299,14 +301,14 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
         listed = _symbol_list(html)
         rest = html.replace(listed, "")
         rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
-        keys = symbols_used(rest, language)
-        assert [markup for markup, _ in rows] == [symbol_html(k, language) for k in keys]
+        keys = symbols_used(rest, language, table)
+        assert [markup for markup, _ in rows] == [symbol_html(k, language, table) for k in keys]
         where = re.compile(" \\((?:%s) [^)]*\\)" % "|".join(
             t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
             for kind in ("section", "sections", "appendix", "appendices")))
         markups = [markup for markup, _ in rows]
         for (markup, meaning), key in zip(rows, keys):
-            unit = symbol_unit(key, t)
+            unit = symbol_unit(key, t, table)
             text = as_read(html_lib.unescape(re.sub(r"</?i>", "", meaning)))  # its letters in italics
             # a letter with several meanings says where a sectioned one holds (tests/test_symbol_list.py)
             assert not where.search(text) or markups.count(markup) > 1
@@ -315,7 +317,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     # the kinematics alone shows no gas pressure; the full calculation does, with its own subscript
     assert "gas_pressure" not in shown["kinematics-only"] and "gas_pressure" in shown["petrol-1cyl"]
     assert {"crank_angle", "piston_displacement", "rod_ratio"} <= shown["kinematics-only"]
-    assert shown["kinematics-only"] < set(SYMBOLS)
+    assert shown["kinematics-only"] < set(table)
     subscript = {"uk": "п", "ru": "п", "en": "p"}[language]
     assert f"<i>s</i><sub>{subscript}</sub>" in _symbol_list(html)
     # listed in the contents, before the introduction

@@ -12,23 +12,28 @@ from conftest import as_read, example_data, modified, write_scene
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plausibility import defaults_applied, warnings
+from crankdyn.plugins import default_registry
 from crankdyn.scene import load_scene, scene_from_dict
 
 CATALOGS = Path(__file__).parents[1] / "templates" / "i18n"
 
 
-def _keys(changes: dict) -> list[str]:
-    return [key for key, _ in warnings(scene_from_dict(modified("petrol-1cyl", changes), base_dir=examples_dir()))]
+REGISTRY = default_registry()
+
+
+def _keys(changes: dict, example: str = "petrol-1cyl") -> list[str]:
+    scene = scene_from_dict(modified(example, changes), base_dir=examples_dir())
+    return [key for key, _ in warnings(scene, REGISTRY)]
 
 
 @pytest.mark.parametrize("path", sorted(examples_dir().glob("*.toml")), ids=lambda p: p.stem)
 def test_no_bundled_example_is_implausible(path):
-    assert warnings(load_scene(path)) == []
+    assert warnings(load_scene(path), REGISTRY) == []
 
 
 def test_mean_piston_speed_against_s_n_over_30():
     scene = scene_from_dict(modified("petrol-1cyl", {"engine": {"rpm": 20000}}), base_dir=examples_dir())
-    (key, params), = warnings(scene)
+    (key, params), = warnings(scene, REGISTRY)
     assert key == "plausibility.piston_speed"
     assert params["speed"] == pytest.approx(0.078 * 20000 / 30)  # c_m = S n / 30 = 52 m/s
     assert params["rpm_limit"] == pytest.approx(25 * 30 / 0.078)  # n at c_m = 25 m/s
@@ -48,6 +53,25 @@ def test_mean_piston_speed_against_s_n_over_30():
 ])
 def test_each_warning_fires_on_its_own(changes, expected):
     assert _keys(changes) == expected
+
+
+@pytest.mark.parametrize("changes, expected", [
+    ({"engine": {"rod_length": "65 mm"}}, ["plausibility.rod_ratio"]),  # λ = 39/65 = 0.6 > 0.45
+    ({"engine": {"rod_length": "130 mm"}}, []),  # λ = 39/130 = 0.3
+    ({"masses": {"rod_cm_fraction": 0.7}}, ["plausibility.rod_cm"]),
+])
+def test_the_offset_crank_slider_is_checked_as_a_crank_slider(changes, expected):
+    """The offset mechanism declares the crank-slider's λ and rod-centre rules as its own."""
+    assert _keys(changes, "offset-crank-engine") == expected
+
+
+def test_a_mechanism_without_the_rod_rules_gets_no_rod_warning():
+    """λ = 0.6 is implausible only where a mechanism declares the rule: the planetary mechanism
+    does not (its rod_ratio is no connecting rod's λ)."""
+    registry = default_registry()
+    planetary = registry.mechanisms["planetary"]
+    assert all(rule.name != "rod_ratio" for rule in planetary.plausibility)
+    assert "rod_ratio" in {rule.name for rule in registry.mechanisms["offset_crank_slider"].plausibility}
 
 
 def test_catalogs_carry_every_warning_in_every_language_with_the_same_placeholders():

@@ -10,7 +10,7 @@ import pytest
 from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugins import default_registry
-from crankdyn_builtin.flywheel.stage import crank_train
+from crankdyn.scene_inputs import crank_train
 from conftest import shared_run
 
 REGISTRY = default_registry()

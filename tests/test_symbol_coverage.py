@@ -12,10 +12,21 @@ from collections import defaultdict
 import pytest
 
 from conftest import shared_html
-from crankdyn.report.equation_legend import _SECTION_OR_EQUATION, symbols_in
+from crankdyn.report import equation_legend, typeset
+from crankdyn.report.equation_legend import _SECTION_OR_EQUATION
 from crankdyn.report.i18n import translator
-from crankdyn.report.typeset import SYMBOLS, symbol_html
 from crankdyn.plugins import default_registry
+
+#: The table a report of the installed plugins reads: the core's symbols and the stages' own.
+SYMBOLS = typeset.symbol_table(default_registry().stages.values())
+
+
+def symbols_in(formula: str, language: str, stage: str) -> list[str]:
+    return equation_legend.symbols_in(formula, language, stage, SYMBOLS)
+
+
+def symbol_html(key: str, language: str) -> str:
+    return typeset.symbol_html(key, language, SYMBOLS)
 
 EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk")
 #: The stages whose letters are their own (Stage.symbols): the rod dynamics (offset crank), the
@@ -179,12 +190,10 @@ def test_a_stage_symbol_key_must_be_an_identifier():
 
     from crankdyn.errors import PluginError
     from crankdyn.plugin_types import Symbol
-    from crankdyn.report.typeset import use_stage_symbols
-
     with pytest.raises(PluginError, match="'bad key'"):
-        use_stage_symbols([SimpleNamespace(name="odd", symbols={"bad key": Symbol("x", {}, "")})])
+        typeset.symbol_table([SimpleNamespace(name="odd", symbols={"bad key": Symbol("x", {}, "")})])
     with pytest.raises(PluginError, match="'x'"):
-        use_stage_symbols([SimpleNamespace(name="odd", symbols={"x": ("x", "mm")})])
+        typeset.symbol_table([SimpleNamespace(name="odd", symbols={"x": ("x", "mm")})])
 
 
 @pytest.mark.parametrize("language, note", [("uk", "у розділі 2"), ("en", "in section 2")])

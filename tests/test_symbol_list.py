@@ -5,8 +5,18 @@ from __future__ import annotations
 
 import re
 
-from crankdyn.report.document import _places, symbol_list_html
+from crankdyn.plugins import default_registry
+from crankdyn.report import document
+from crankdyn.report.document import _places
 from crankdyn.report.i18n import translator
+from crankdyn.report.typeset import symbol_table
+
+#: The table a report of the installed plugins reads (the stages bind the sectioned letters).
+SYMBOLS = symbol_table(default_registry().stages.values())
+
+
+def symbol_list_html(keys, t, language, abbreviations=True, places=None, single=False):
+    return document.symbol_list_html(keys, t, language, abbreviations, places, single, SYMBOLS)
 
 
 def _rows(html: str) -> list[str]:

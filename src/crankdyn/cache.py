@@ -49,45 +49,57 @@ _EXTRA_NAMES = {"__pydantic_extra__", "model_extra"}
 #: (``Scene.resolve``); :func:`_file_read` makes one, :func:`_file_parts` takes it apart.
 FILE = "file:"
 
-_reads: dict[int, set[str]] = {}
-_classes: dict[type, type] = {}
+#: The slot of a tracked copy that holds its :class:`_Recording` (None: not recording any more).
+_RECORDING = "_crankdyn_recording"
 
 
+@dataclass
+class _Recording:
+    """What a tracked copy records into: the read set (shared by a scene copy and its tables), the
+    prefix of its reads ("" or "masses.") and, on a scene copy, its tracked tables, made once."""
+
+    reads: set[str]
+    prefix: str
+    tables: dict[str, Any]
+
+
+def _recording(tracked) -> _Recording | None:
+    try:
+        return object.__getattribute__(tracked, _RECORDING)
+    except AttributeError:  # the slot was never set
+        return None
+
+
+@functools.cache
 def _tracking_class(cls: type) -> type:
     """``cls`` with reads recorded: a field of the scene is recorded as its name, except that
     a table (a pydantic sub-model: ``masses``, ``engine``...) comes back as a tracked copy of
     itself, whose own reads are recorded as ``masses.rod``: a stage reading only
-    ``masses.rod_cm_fraction`` does not depend on ``masses.rod``."""
-    if cls not in _classes:
-        fields = frozenset(cls.model_fields)
+    ``masses.rod_cm_fraction`` does not depend on ``masses.rod``. Each copy keeps its recording
+    in a slot of its own (made once per class: a pydantic class is costly to build)."""
+    fields = frozenset(cls.model_fields)
 
-        def __getattribute__(self, name):  # noqa: N807 - the hook itself
-            value = super(tracked, self).__getattribute__(name)
-            record = _recorder.get(id(self))
-            if record is None:
-                return value
-            reads, prefix = record
-            if name == "resolve" and not prefix:  # a data file: its contents are what the stage read
-                return functools.partial(_resolve_recorded, value, reads)
-            if name in fields:
-                if not prefix and isinstance(value, BaseModel):  # one level deep: tables of the scene
-                    return _tracked_table(value, reads, name)
-                reads.add(prefix + name)
-            elif name in _EXTRA_NAMES:
-                reads.add(prefix + EXTRA if prefix else EXTRA)
-            elif name in _WHOLE:
-                reads.add(prefix.rstrip(".") if prefix else EVERYTHING)
+    def __getattribute__(self, name):  # noqa: N807 - the hook itself
+        value = super(tracked, self).__getattribute__(name)
+        record = _recording(self)
+        if record is None:
             return value
+        reads, prefix = record.reads, record.prefix
+        if name == "resolve" and not prefix:  # a data file: its contents are what the stage read
+            return functools.partial(_resolve_recorded, value, reads)
+        if name in fields:
+            if not prefix and isinstance(value, BaseModel):  # one level deep: tables of the scene
+                return _tracked_table(value, record, name)
+            reads.add(prefix + name)
+        elif name in _EXTRA_NAMES:
+            reads.add(prefix + EXTRA if prefix else EXTRA)
+        elif name in _WHOLE:
+            reads.add(prefix.rstrip(".") if prefix else EVERYTHING)
+        return value
 
-        tracked = type(f"Tracked{cls.__name__}", (cls,), {"__getattribute__": __getattribute__,
-                                                           "__module__": __name__})
-        _classes[cls] = tracked
-    return _classes[cls]
-
-
-#: id(tracked copy) -> (the read set it records into, the prefix of its reads: "" or "masses.")
-_recorder: dict[int, tuple[set[str], str]] = {}
-_tables: dict[tuple[int, str], Any] = {}  # (id(scene copy), field) -> its tracked table, made once
+    tracked = type(f"Tracked{cls.__name__}", (cls,), {"__getattribute__": __getattribute__,
+                                                       "__slots__": (_RECORDING,), "__module__": __name__})
+    return tracked
 
 
 def _resolve_recorded(resolve, reads: set[str], name: str):
@@ -121,23 +133,21 @@ def _construct(cls: type, model: BaseModel):
     return cls.model_construct(_fields_set=set(model.model_fields_set), **values, **(model.model_extra or {}))
 
 
-def _tracked_table(table: BaseModel, reads: set[str], name: str):
-    """A tracked copy of a scene table, recording its reads as ``name.field`` into ``reads``."""
-    key = (id(reads), name)
-    copy = _tables.get(key)
+def _tracked_table(table: BaseModel, scene_record: _Recording, name: str):
+    """The scene copy's tracked copy of its table ``name``, recording its reads as ``name.field``
+    into the scene copy's read set (made once per scene copy)."""
+    copy = scene_record.tables.get(name)
     if copy is None:
         copy = _construct(_tracking_class(type(table)), table)
-        _recorder[id(copy)] = (reads, name + ".")
-        _tables[key] = copy  # kept (alive, so its id is not reused) until reads_of
+        object.__setattr__(copy, _RECORDING, _Recording(scene_record.reads, name + ".", {}))
+        scene_record.tables[name] = copy
     return copy
 
 
 def _tracked_copy(scene: Scene) -> Scene:
-    """The same scene (no validation re-run) whose field reads are recorded in ``_reads``."""
+    """The same scene (no validation re-run) whose field reads it records itself."""
     copy = _construct(_tracking_class(type(scene)), scene)
-    reads: set[str] = set()
-    _reads[id(copy)] = reads
-    _recorder[id(copy)] = (reads, "")
+    object.__setattr__(copy, _RECORDING, _Recording(set(), "", {}))
     return copy
 
 
@@ -148,11 +158,13 @@ def tracked_copy(scene: Scene) -> Scene:
 
 def reads_of(tracked: Scene) -> frozenset[str]:
     """The fields read through ``tracked`` so far (and stop recording them)."""
-    reads = _reads.pop(id(tracked), set())
-    _recorder.pop(id(tracked), None)
-    for key in [k for k in _tables if k[0] == id(reads)]:
-        _recorder.pop(id(_tables.pop(key)), None)
-    return frozenset(reads)
+    record = _recording(tracked)
+    if record is None:
+        return frozenset()
+    for table in record.tables.values():
+        object.__setattr__(table, _RECORDING, None)
+    object.__setattr__(tracked, _RECORDING, None)
+    return frozenset(record.reads)
 
 
 def _digest(value: Any, depth: int = 0) -> str:

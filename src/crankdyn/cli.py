@@ -492,7 +492,7 @@ def _print_warnings(result, registry) -> None:
     """Plausibility warnings (a valid scene with values no real engine has) on stderr."""
     from .plausibility import console_lines, language_warnings, warnings  # lazy: heavy optional import (numpy, scipy: per command)
 
-    for line in console_lines(warnings(result.scene, result) + language_warnings(result.scene), registry):
+    for line in console_lines(warnings(result.scene, registry, result) + language_warnings(result.scene), registry):
         print(f"crankdyn: {line}", file=sys.stderr)
 
 

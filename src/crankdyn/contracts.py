@@ -7,9 +7,12 @@ A third-party mechanism plugin that provides ``"kinematics"`` returns a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Literal
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict
+
+from .scene import number as _number, quantity as _quantity
 
 KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"
@@ -181,3 +184,34 @@ class FlywheelDesign:
     irregularity: float  # delta of the energy method with this flywheel
     required_irregularity: float | None
     required_flywheel_inertia_kg_m2: float | None
+
+
+# Scene tables read by more than one plugin: the table's name is the owning stage's
+# ``options_table``; the model is shared so that every reader validates it alike.
+
+
+class ArticulatedOptions(BaseModel):
+    """The articulated rods' table: slave-rod geometry and masses (owned by the bay stage; the
+    crank-slider's drawing and the balancing stage read it too)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    pin_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
+    pin_angle_deg: _number(gt=-360, lt=360) | None = None
+    pin_angles_deg: list[_number(gt=-360, lt=360)] | None = None
+    slave_rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
+    slave_rod: _quantity("mass", gt=0, le=5000, unit="kg") | None = None
+    slave_rod_cm_fraction: _number(gt=0, lt=1) = 0.475
+    slave_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+
+
+class RodDynamicsOptions(BaseModel):
+    """The connecting rod's model (owned by the rod-dynamics stage; the force stage reads
+    ``apply_to_loads``)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    model: Literal["two_mass", "three_mass", "correction_couple"] = "two_mass"
+    # true: the forces (and so bays, torque, bearings) use the rigid rod with I_G instead of the
+    # two-mass split; the forces section gives the difference (needs masses.rod_moment_of_inertia)
+    apply_to_loads: bool = False

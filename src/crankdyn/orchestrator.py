@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import heapq
+import inspect
 import time
 from dataclasses import dataclass, field
 from typing import Any, Iterable
@@ -146,7 +147,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     skipped: dict[str, str] = {}
     applicable: dict[str, Stage] = {}
     for name, stage in sorted(registry.stages.items()):
-        reason = stage.applies(scene)
+        reason = stage_applies(stage, scene, registry)
         if reason is None:
             applicable[name] = stage
         else:
@@ -264,6 +265,19 @@ class Runner:
 
     def run(self, scene: Scene, the_plan: Plan) -> RunResult:
         return run_plan(scene, the_plan)
+
+    def applies(self, stage: Stage, scene: Scene) -> str | None:
+        """Why ``stage`` does not apply to ``scene`` in this registry, or None (as ``plan`` asks)."""
+        return stage_applies(stage, scene, self.registry)
+
+
+def stage_applies(stage: Stage, scene: Scene, registry: Registry | None) -> str | None:
+    """``stage.applies`` for ``scene``: with the services the stage names as its second argument
+    when its ``applies`` takes one (a stage whose applicability depends on the other plugins of the
+    run, e.g. on the scene's mechanism), else with the scene alone."""
+    if stage.services and len(inspect.signature(stage.applies).parameters) >= 2:
+        return stage.applies(scene, _services(stage, registry))
+    return stage.applies(scene)
 
 
 def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:

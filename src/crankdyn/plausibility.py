@@ -3,7 +3,11 @@
 A student's slip (rpm 10x too high, bore and stroke swapped, rod length in cm) often
 still gives a valid scene; these checks name it. Each warning is a catalog key under
 ``plausibility.`` with its parameters, so the console, ``check`` and the report's notes
-say the same thing in the reader's language. The limits are the ranges of real piston
+say the same thing in the reader's language. Every engine is checked for its mean piston speed
+and S/D (:data:`CORE_RULES`); a mechanism or stage declares the rules of its own quantities
+(:class:`crankdyn.plugin_types.PlausibilityRule`: ``Mechanism.plausibility``,
+``Stage.plausibility``), e.g. the crank-slider's :data:`ROD_RATIO` and :data:`ROD_CENTRE_OF_MASS`
+and the indicator's :func:`peak_pressure` offered here. The limits are the ranges of real piston
 engines quoted by the course texts (mean piston speed up to 20-25 m/s for the fastest
 engines; lambda = R/L 0.15-0.45; S/D 0.5-1.6; peak pressures up to 20-25 MPa in boosted
 diesels; the rod's centre of mass between its big end and the rod's middle).
@@ -14,6 +18,8 @@ from __future__ import annotations
 import re
 from typing import Any
 from pydantic import BaseModel
+
+from .plugin_types import PlausibilityRule
 from .report.i18n import translator
 
 MAX_MEAN_PISTON_SPEED_M_S = 25.0
@@ -21,8 +27,6 @@ ROD_RATIO_RANGE = (0.15, 0.45)
 STROKE_BORE_RANGE = (0.5, 1.6)
 MAX_PEAK_PRESSURE_PA = 25e6
 ROD_CM_FRACTION_RANGE = (0.1, 0.5)
-# Mechanisms whose lambda = R/L is the crank-slider's ratio.
-_CRANK_SLIDERS = ("crank_slider", "offset_crank")
 
 
 def mean_piston_speed_m_s(stroke_m: float, rpm: float) -> float:
@@ -35,33 +39,90 @@ def rpm_for_piston_speed(stroke_m: float, speed_m_s: float) -> float:
     return 30.0 * speed_m_s / stroke_m
 
 
-def warnings(scene, result=None) -> list[tuple[str, dict[str, Any]]]:
-    """``(catalog key, parameters)`` of every implausible value of ``scene`` (and of its computed
-    ``result``, when given: the peak pressure of a pressure trace is known only after reading it)."""
+def _piston_speed(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     engine = scene.engine
-    found: list[tuple[str, dict[str, Any]]] = []
     speed = mean_piston_speed_m_s(engine.stroke, engine.rpm)
-    if speed > MAX_MEAN_PISTON_SPEED_M_S:
-        found.append(("plausibility.piston_speed", {
-            "speed": speed, "limit": MAX_MEAN_PISTON_SPEED_M_S, "rpm": engine.rpm,
-            "rpm_limit": rpm_for_piston_speed(engine.stroke, MAX_MEAN_PISTON_SPEED_M_S)}))
-    if engine.mechanism in _CRANK_SLIDERS:
-        ratio = engine.rod_ratio_value
-        if not ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
-            found.append(("plausibility.rod_ratio", {"ratio": ratio, "low": ROD_RATIO_RANGE[0],
-                                                     "high": ROD_RATIO_RANGE[1]}))
-    stroke_bore = engine.stroke / engine.bore
-    if not STROKE_BORE_RANGE[0] <= stroke_bore <= STROKE_BORE_RANGE[1]:
-        found.append(("plausibility.stroke_bore", {"ratio": stroke_bore, "low": STROKE_BORE_RANGE[0],
-                                                   "high": STROKE_BORE_RANGE[1]}))
-    peak = _peak_pressure_Pa(scene, result)
-    if peak is not None and peak > MAX_PEAK_PRESSURE_PA:
-        found.append(("plausibility.peak_pressure", {"pressure": peak / 1e6, "limit": MAX_PEAK_PRESSURE_PA / 1e6}))
-    if scene.masses is not None and engine.mechanism in _CRANK_SLIDERS:
-        fraction = scene.rod_cm_from_big_end_m / engine.rod_length_m
-        if not ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:
-            found.append(("plausibility.rod_cm", {"fraction": fraction, "low": ROD_CM_FRACTION_RANGE[0],
-                                                  "high": ROD_CM_FRACTION_RANGE[1]}))
+    if speed <= MAX_MEAN_PISTON_SPEED_M_S:
+        return []
+    return [("plausibility.piston_speed", {
+        "speed": speed, "limit": MAX_MEAN_PISTON_SPEED_M_S, "rpm": engine.rpm,
+        "rpm_limit": rpm_for_piston_speed(engine.stroke, MAX_MEAN_PISTON_SPEED_M_S)})]
+
+
+def _stroke_bore(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+    ratio = scene.engine.stroke / scene.engine.bore
+    if STROKE_BORE_RANGE[0] <= ratio <= STROKE_BORE_RANGE[1]:
+        return []
+    return [("plausibility.stroke_bore", {"ratio": ratio, "low": STROKE_BORE_RANGE[0],
+                                          "high": STROKE_BORE_RANGE[1]})]
+
+
+def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+    ratio = scene.engine.rod_ratio_value
+    if ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
+        return []
+    return [("plausibility.rod_ratio", {"ratio": ratio, "low": ROD_RATIO_RANGE[0],
+                                        "high": ROD_RATIO_RANGE[1]})]
+
+
+def _rod_cm(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+    if scene.masses is None:
+        return []
+    fraction = scene.rod_cm_from_big_end_m / scene.engine.rod_length_m
+    if ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:
+        return []
+    return [("plausibility.rod_cm", {"fraction": fraction, "low": ROD_CM_FRACTION_RANGE[0],
+                                     "high": ROD_CM_FRACTION_RANGE[1]})]
+
+
+#: What every engine is checked for, whatever its mechanism: the mean piston speed and S/D.
+CORE_RULES = (PlausibilityRule("piston_speed", _piston_speed),
+              PlausibilityRule("stroke_bore", _stroke_bore))
+#: λ = R/L of a connecting rod from a crank pin to a piston pin, for a mechanism to declare
+#: (``Mechanism.plausibility``) whose λ is the crank-slider's ratio.
+ROD_RATIO = PlausibilityRule("rod_ratio", _rod_ratio)
+#: The rod's centre of mass between its big end and the rod's middle, for a mechanism with a
+#: crank-slider's connecting rod to declare.
+ROD_CENTRE_OF_MASS = PlausibilityRule("rod_cm", _rod_cm)
+
+
+def peak_pressure(result_key: str) -> PlausibilityRule:
+    """The peak cylinder pressure against the boosted diesels' 25 MPa, for a stage to declare:
+    its result ``result_key`` (Pa) when it ran, else the scene's ``cycle.max_pressure``."""
+    def check(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+        peak = _peak_pressure_Pa(scene, results, result_key)
+        if peak is None or peak <= MAX_PEAK_PRESSURE_PA:
+            return []
+        return [("plausibility.peak_pressure", {"pressure": peak / 1e6, "limit": MAX_PEAK_PRESSURE_PA / 1e6})]
+
+    return PlausibilityRule("peak_pressure", check)
+
+
+def _peak_pressure_Pa(scene, results, result_key: str) -> float | None:
+    value = (results or {}).get(result_key)
+    if isinstance(value, (int, float)):
+        return float(value)
+    if scene.cycle is not None and scene.cycle.max_pressure is not None:
+        return scene.cycle.max_pressure
+    return None
+
+
+def warnings(scene, registry, result=None) -> list[tuple[str, dict[str, Any]]]:
+    """``(catalog key, parameters)`` of every implausible value of ``scene`` (and of its computed
+    ``result``, when given: the peak pressure of a pressure trace is known only after reading it):
+    the core's rules, the rules of the scene's mechanism, then those of the registry's stages
+    (each given its stage's results when the stage ran)."""
+    found: list[tuple[str, dict[str, Any]]] = []
+    for rule in CORE_RULES:
+        found += rule.check(scene, None)
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
+    for rule in (mechanism.plausibility if mechanism is not None else ()):
+        found += rule.check(scene, None)
+    outputs = result.outputs if result is not None else {}
+    for name, stage in registry.stages.items():
+        results = outputs[name].results if name in outputs else None
+        for rule in stage.plausibility:
+            found += rule.check(scene, results)
     return found
 
 
@@ -88,16 +149,6 @@ def language_warnings(scene) -> list[tuple[str, dict[str, Any]]]:
                 and not _CYRILLIC.search(value):
             latin.append(name)
     return [("plausibility.latin_texts", {"fields": ", ".join(latin), "language": language})] if latin else []
-
-
-def _peak_pressure_Pa(scene, result) -> float | None:
-    if result is not None and "indicator" in result.outputs:
-        value = result.outputs["indicator"].results.get("max_pressure_Pa")
-        if isinstance(value, (int, float)):
-            return float(value)
-    if scene.cycle is not None and scene.cycle.max_pressure is not None:
-        return scene.cycle.max_pressure
-    return None
 
 
 def defaults_applied(scene) -> list[tuple[str, Any]]:

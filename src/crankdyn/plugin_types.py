@@ -22,6 +22,22 @@ if TYPE_CHECKING:  # pragma: no cover
 
 
 @dataclass(frozen=True)
+class PlausibilityRule:
+    """A check of a valid scene for values no real engine has: a warning, never an error.
+
+    ``check(scene, results)`` returns the warnings (catalog key, parameters) it finds; ``results``
+    is the declaring stage's ``StageOutput.results`` when the stage ran, else None (the check
+    before a run, or a mechanism's rule). A mechanism declares its rules in
+    ``Mechanism.plausibility`` (they hold for scenes naming it), a stage in
+    ``Stage.plausibility``; the texts are catalog entries in the declaring plugin's catalogs
+    (or the core's, for the rules :mod:`crankdyn.plausibility` offers).
+    """
+
+    name: str
+    check: Callable[["Scene", Mapping[str, Any] | None], list[tuple[str, dict[str, Any]]]]
+
+
+@dataclass(frozen=True)
 class Mechanism:
     """A mechanism type a scene can name in ``engine.mechanism``.
 
@@ -37,6 +53,9 @@ class Mechanism:
     whose members are not a crank-slider's: row -> (catalog key of the quantity, symbol markup),
     rows ``bore``, ``stroke``, ``crank_radius``, ``rod_length``, ``rod_ratio`` (a vane engine's
     ``rod_length`` is the tail of its core, l, not a connecting rod's L).
+
+    ``plausibility``: the :class:`PlausibilityRule` s of this mechanism's scenes (a crank-slider's
+    λ = R/L and its rod's centre of mass), besides the core's rules that hold for every engine.
     """
 
     name: str
@@ -46,6 +65,7 @@ class Mechanism:
     geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
     # compare=False: a Mechanism stays hashable with a mapping here
     input_rows: Mapping[str, tuple[str, str]] = field(default_factory=dict, compare=False)
+    plausibility: tuple[PlausibilityRule, ...] = ()
 
 
 @dataclass
@@ -229,7 +249,8 @@ class Symbol:
     ratio) and the meaning's catalog key, ``symbol.<key>`` of the symbol's key in the table.
 
     The core's table (:data:`crankdyn.report.typeset.SYMBOLS`) holds the quantities many sections
-    share; a stage declares its own letters in ``Stage.symbols`` (key ``k`` of stage ``s`` is
+    share (some bound to the sections of the stages that declare them in ``Stage.section_symbols``);
+    a stage declares its own letters in ``Stage.symbols`` (key ``k`` of stage ``s`` is
     ``s.k`` in the table, its meaning the catalog key ``symbol.s.k`` in the plugin's catalogs,
     and it applies in the stage's own section unless ``sections`` says otherwise). In its
     sections a symbol with ``sections`` takes over from a core symbol of the same markup.
@@ -286,6 +307,10 @@ class Stage:
                 ``run`` finds them in ``inputs`` only when they were provided.
     applies:    ``applies(scene) -> None`` when the scene needs this stage, else the
                 reason (one English sentence; it goes to results.json and the report).
+                A stage that names ``services`` may take them as a second argument,
+                ``applies(scene, services)`` (the mapping ``run`` finds in ``inputs``): a stage
+                whose applicability depends on the run's other plugins asks the run's registry
+                (``services[SERVICE_RUNNER].registry``), never a registry of its own.
     run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
                 to the object an earlier stage provided.
     render:     ``render(output, ctx) -> str | None``: the section's HTML (usually via
@@ -327,13 +352,21 @@ class Stage:
                 ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
                 and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
                 a connecting rod's angle: declared here, it takes over in the vane's section).
+    section_symbols: keys of the core's section-bound symbols (``Symbol.sections`` =
+                ``crankdyn.report.typeset.SECTION_BOUND``: the side force n, the irregularity δ)
+                whose meaning holds in this stage's section; a letter the core gives another
+                meaning elsewhere (n, the crank speed) is read so there.
+    plausibility: the :class:`PlausibilityRule` s checking this stage's scene values or results
+                (the indicator's peak pressure).
+    appendix:   whether the section is a study of the numerics rather than part of a course brief:
+                with ``[report] detail = "course"`` (the default) it goes to an appendix.
     """
 
     name: str
     title_key: str
     requires: tuple[str, ...]
     provides: tuple[str, ...]
-    applies: Callable[["Scene"], str | None]
+    applies: Callable[..., str | None]
     run: Callable[["Scene", Mapping[str, Any]], StageOutput]
     # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
     # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
@@ -354,6 +387,9 @@ class Stage:
     legend: bool = True
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
+    section_symbols: tuple[str, ...] = ()
+    plausibility: tuple[PlausibilityRule, ...] = ()
+    appendix: bool = False
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:

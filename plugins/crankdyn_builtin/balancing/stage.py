@@ -17,7 +17,7 @@ import numpy as np
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
-from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS, Counterweights
+from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS, ArticulatedOptions, Counterweights
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
@@ -25,7 +25,7 @@ from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import hide_axes, new_figure
 from crankdyn.scene import options, quantity as _quantity
-from crankdyn_builtin.bays.stage import engine_layout, rotating_mass_per_crank_kg
+from crankdyn.scene_inputs import engine_layout, rotating_mass_per_crank_kg
 from crankdyn_builtin.balancing.worked import worked_balancing
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -35,6 +35,9 @@ ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
 CHECK_SAMPLES = 720  # shaft angles per revolution in the time-domain check
 CHECK_TOLERANCE = 1e-9  # relative agreement required between the vector method and the time-domain sum
 NEGLIGIBLE = 1e-9  # a coefficient below this counts as balanced
+
+#: The scene table of the articulated rods, read for the mass rotating with a crank pin.
+ARTICULATED = "articulated"
 
 
 def _orders(values: list[int]) -> list[int]:
@@ -309,7 +312,9 @@ def inertia_masses(scene, layout) -> "bal.Masses":
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
     m_s = m.piston_group + rod_rec
-    m_R = rotating_mass_per_crank_kg(scene, layout)
+    articulated = (options(scene, ARTICULATED, ArticulatedOptions)
+                   if scene.engine.rod_type == "articulated" else None)
+    m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
     return bal.Masses(m_s, m_R, R, lam, w)
 
 
@@ -959,6 +964,12 @@ def _plain_symbol(s, sum_sign: str = "Σ") -> str:
 BALANCING_STAGE = Stage(
     template_dir=TEMPLATES,
     name="balancing",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("harmonic_order", "shaft_angle", "crank_lag", "cylinder_axis_angle",
+                     "cylinder_position", "bay_forward_first", "bay_backward_first",
+                     "bay_forward_second", "bay_backward_second", "bay_semi_axis_x_first",
+                     "bay_semi_axis_y_first", "bay_semi_axis_x_second", "bay_semi_axis_y_second",
+                     "cylinder_spacing"),
     title_key="balancing.title",
     requires=(KINEMATICS,),
     uses=(ENGINE_TORQUE,),

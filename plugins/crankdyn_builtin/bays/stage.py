@@ -9,10 +9,8 @@ import math
 
 import numpy as np
 from markupsafe import Markup, escape
-from pydantic import BaseModel, ConfigDict
 
-from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, BayLoads
-from crankdyn.errors import Problem, SceneError
+from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, ArticulatedOptions, BayLoads
 from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
 from crankdyn.physics.indicator import indicated_work_J
@@ -20,53 +18,13 @@ from crankdyn.physics import layout as lay
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
-from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene import options
+from crankdyn.scene_inputs import engine_layout, slave_geometries
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
-
-
-class ArticulatedOptions(BaseModel):
-    """The [articulated] table: slave-rod geometry and masses."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
-
-    pin_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
-    pin_angle_deg: _number(gt=-360, lt=360) | None = None
-    pin_angles_deg: list[_number(gt=-360, lt=360)] | None = None
-    slave_rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
-    slave_rod: _quantity("mass", gt=0, le=5000, unit="kg") | None = None
-    slave_rod_cm_fraction: _number(gt=0, lt=1) = 0.475
-    slave_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
-
-
-def engine_layout(scene) -> lay.EngineLayout:
-    e = scene.engine
-    try:
-        return lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
-                                e.crank_angles_deg, e.rod_type, e.uneven_firing)
-    except lay.LayoutError as exc:
-        raise SceneError(Problem(exc.field, exc.value, str(exc))) from None
-
-
-def check_layout(scene) -> list:
-    """Scene checks for the layout (used by the crank-slider mechanism's check)."""
-    try:
-        layout = engine_layout(scene)
-        step = scene.analysis.angle_step_deg
-        grid = lay.layout_grid_deg(layout)
-        for c in layout.cylinders:
-            lay.grid_shift(c.firing_delay_deg, step, grid)
-            lay.grid_shift(c.axis_deg, step, grid)
-    except SceneError as exc:
-        return exc.problems
-    except lay.LayoutError as exc:
-        return [Problem(exc.field, exc.value, str(exc))]
-    if scene.engine.rod_type == "articulated":
-        if "articulated" not in scene.plugin_tables():
-            return [Problem("articulated", "(missing)", "articulated rods need an [articulated] table with "
-                            "pin_radius (distance from the big-end centre to the slave pins)")]
-    return []
+#: The scene table of the articulated rods (:class:`crankdyn.contracts.ArticulatedOptions`).
+ARTICULATED = "articulated"
 
 
 def applies(scene) -> str | None:
@@ -75,66 +33,6 @@ def applies(scene) -> str | None:
     if scene.engine.mechanism != "crank_slider":
         return "multi-cylinder bays are built from central crank-slider mechanisms"
     return None
-
-
-def _slave_geometries(scene, layout, opts) -> list[tuple[lay.Cylinder, art.SlaveGeometry, float]]:
-    """(slave cylinder, geometry, slave rod length source) for the slaves of bay 0."""
-    e = scene.engine
-    R, L = e.crank_radius_m, e.rod_length_m
-    bay = layout.bay(0)
-    master = bay[0]
-    slaves = [c for c in bay if not c.master]
-    if opts.pin_angles_deg is not None and len(opts.pin_angles_deg) != len(slaves):
-        raise SceneError(Problem("articulated.pin_angles_deg", opts.pin_angles_deg,
-                                 f"needs one angle per slave rod ({len(slaves)})"))
-    out = []
-    for j, slave in enumerate(slaves):
-        gamma = math.radians(slave.axis_deg - master.axis_deg)
-        if opts.pin_angles_deg is not None:
-            pin_angle = math.radians(opts.pin_angles_deg[j])
-        elif opts.pin_angle_deg is not None:
-            pin_angle = math.radians(opts.pin_angle_deg)
-        else:
-            pin_angle = gamma
-        if opts.pin_radius >= L:
-            raise SceneError(Problem("articulated.pin_radius", opts.pin_radius, "must be shorter than the master rod"))
-        geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, L - opts.pin_radius)
-        try:
-            if opts.slave_rod_length is not None:
-                length = opts.slave_rod_length
-            elif scene.cycle is not None and scene.cycle.compression_ratio is not None:
-                length = art.slave_rod_length_equal_compression_m(geometry, scene.cycle.compression_ratio)
-            else:
-                length = L - opts.pin_radius  # textbook eq. (4)
-            geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, length)
-            art.slave_motion(np.linspace(0, 2 * np.pi, 721), geometry)
-        except ValueError as exc:
-            raise SceneError(Problem("articulated.slave_rod_length", opts.slave_rod_length, str(exc))) from None
-        out.append((slave, geometry))
-    return out
-
-
-def rotating_mass_per_crank_kg(scene, layout) -> float:
-    """Mass rotating with one crank pin, reduced to the crank radius (kg): the rods' rotating
-    shares (an articulated bay: the reduced master rod, textbook fig. 9) plus pin and webs.
-
-    The same mass that ``run`` turns into the centrifugal force c; it needs no pressures, so
-    balancing can use it in a scene without a working cycle.
-    """
-    e, m = scene.engine, scene.masses
-    _, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
-    crank_rotating = m.crank_pin + 2 * m.crank_web
-    if e.rod_type != "articulated":
-        return rod_rot * layout.cylinders_per_bay + crank_rotating
-    opts = options(scene, "articulated", ArticulatedOptions)
-    slaves = _slave_geometries(scene, layout, opts)
-    slave_rod = opts.slave_rod if opts.slave_rod is not None else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m
-    s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
-    rot_master = rod_rot
-    for _, g in slaves:
-        rot_master += art.reduced_master_rod_masses(0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin,
-                                                    g.pin_radius_m, g.pin_angle_rad)[1]
-    return rot_master + crank_rotating
 
 
 def _wrapped_deg(angle: float) -> float:
@@ -258,8 +156,8 @@ def run(scene, inputs) -> StageOutput:
         centrifugal_rod = phys.centrifugal_pressure_Pa(rods_rotating, R, w, area)
         work_all = gas.indicated_work_J * e.cylinders
     else:
-        opts = options(scene, "articulated", ArticulatedOptions)
-        slaves = _slave_geometries(scene, layout, opts)
+        opts = options(scene, ARTICULATED, ArticulatedOptions)
+        slaves = slave_geometries(scene, layout, opts, ARTICULATED)
         s_rec, recip_master, rot_master = _articulated_masses(opts, m.rod, slaves, L, rod_rec, rod_rot)
         alpha_local = np.radians(angle % 360.0)
         master_j = motion.piston_acceleration_m_s2
@@ -433,6 +331,8 @@ SYMBOLS = {
 BAYS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bays",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("rod_specific", "side_specific"),
     title_key="bays.title",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
     provides=(BAY_LOADS,),
@@ -442,7 +342,7 @@ BAYS_STAGE = Stage(
     figures=("bay",),
     tables=("bay", "slave_*"),
     references=("poda2007",),
-    options_table="articulated",
+    options_table=ARTICULATED,
     options_model=ArticulatedOptions,
     symbols=SYMBOLS,
 )

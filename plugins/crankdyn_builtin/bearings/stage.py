@@ -616,6 +616,10 @@ def render(output: StageOutput, ctx) -> str | None:
 BEARINGS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bearings",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("bearing_width", "bearing_pressure", "pin_load_max", "pin_load_mean",
+                     "bearing_pressure_max", "bearing_pressure_mean", "journal_load_max",
+                     "journal_load_mean"),
     title_key="bearings.title",
     requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS),
     uses=(COUNTERWEIGHTS,),

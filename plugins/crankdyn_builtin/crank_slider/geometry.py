@@ -13,26 +13,14 @@ import numpy as np
 
 from crankdyn.physics import articulated as art
 from crankdyn.physics import kinematics as kin
+from crankdyn.contracts import ArticulatedOptions
+from crankdyn.physics.plane import along, polar, unit
 from crankdyn.plugin_types import Guide, MechanismGeometry
-from crankdyn_builtin.bays.stage import engine_layout
 from crankdyn.scene import options
-from crankdyn_builtin.bays.stage import ArticulatedOptions, _slave_geometries
+from crankdyn.scene_inputs import engine_layout, slave_geometries
 
-
-def unit(angle_rad: float) -> np.ndarray:
-    """The unit vector at ``angle_rad`` clockwise from +y (the drawing's crank direction)."""
-    return np.array([math.sin(angle_rad), math.cos(angle_rad)])
-
-
-def polar(radius_m, angle_rad) -> np.ndarray:
-    """Points (n, 2) at ``radius_m`` and angles ``angle_rad`` clockwise from +y."""
-    angle = np.asarray(angle_rad, dtype=float)
-    return np.stack([radius_m * np.sin(angle), radius_m * np.cos(angle)], axis=-1)
-
-
-def along(axis_rad: float, distance_m) -> np.ndarray:
-    """Points (n, 2) on the axis through the origin at ``axis_rad``, ``distance_m`` from it."""
-    return np.asarray(distance_m, dtype=float)[:, None] * unit(axis_rad)[None, :]
+#: The scene table of the articulated rods (the bay stage's), read for the slave rods' drawing.
+ARTICULATED = "articulated"
 
 
 def single_geometry(scene, crank_angle_rad) -> MechanismGeometry:
@@ -113,5 +101,6 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
 
 def _slaves(scene, layout) -> dict[float, art.SlaveGeometry]:
     """Slave-rod geometry by the slave's bank angle from its master (deg)."""
-    opts = options(scene, "articulated", ArticulatedOptions)
-    return {round(math.degrees(g.bank_angle_rad), 9): g for _, g, *_ in _slave_geometries(scene, layout, opts)}
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    return {round(math.degrees(g.bank_angle_rad), 9): g
+            for _, g in slave_geometries(scene, layout, opts, ARTICULATED)}

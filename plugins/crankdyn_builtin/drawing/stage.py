@@ -9,7 +9,6 @@ engine) is drawn from its geometry's output travel (``drawing_linkage``).
 
 from __future__ import annotations
 
-import functools
 from functools import partial
 from pathlib import Path
 
@@ -18,8 +17,7 @@ from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.plugins import default_registry
+from crankdyn.plugin_types import SERVICE_RUNNER, Stage, StageOutput
 from crankdyn.report import mechanism_drawing as md
 from markupsafe import Markup
 
@@ -36,33 +34,29 @@ SCHEME_ANGLE_DEG = 45.0
 FRAMES_PER_REVOLUTION = 180
 
 
-@functools.lru_cache(maxsize=1)
-def _registry():
-    return default_registry()
-
-
-def mechanism_geometry(scene):
-    """The ``geometry`` callable of the scene's mechanism, or None."""
-    mechanism = _registry().mechanisms.get(scene.engine.mechanism)
+def mechanism_geometry(scene, services):
+    """The ``geometry`` callable of the scene's mechanism in the run's registry, or None."""
+    mechanism = services[SERVICE_RUNNER].registry.mechanisms.get(scene.engine.mechanism)
     return None if mechanism is None else mechanism.geometry
 
 
-def _has_piston_motion(scene) -> bool:
-    return any(KINEMATICS in s.provides and s.applies(scene) is None for s in _registry().stages.values())
+def _has_piston_motion(scene, services) -> bool:
+    runner = services[SERVICE_RUNNER]
+    return any(KINEMATICS in s.provides and runner.applies(s, scene) is None for s in runner.stages.values())
 
 
-def applies(scene) -> str | None:
-    if mechanism_geometry(scene) is None:
+def applies(scene, services) -> str | None:
+    if mechanism_geometry(scene, services) is None:
         return f"the mechanism {scene.engine.mechanism!r} gives no geometry to draw"
-    if not _has_piston_motion(scene):
+    if not _has_piston_motion(scene, services):
         return "no stage provides the piston motion for this mechanism (drawn by drawing_linkage)"
     return None
 
 
-def applies_linkage(scene) -> str | None:
-    if mechanism_geometry(scene) is None:
+def applies_linkage(scene, services) -> str | None:
+    if mechanism_geometry(scene, services) is None:
         return f"the mechanism {scene.engine.mechanism!r} gives no geometry to draw"
-    if _has_piston_motion(scene):
+    if _has_piston_motion(scene, services):
         return "the mechanism has a piston motion (drawn by the drawing stage)"
     return None
 
@@ -118,7 +112,7 @@ def _motion(scene, inputs):
     if motion is not None:
         return (motion.crank_angle_deg, motion.piston_displacement_m, motion.piston_velocity_m_s,
                 motion.piston_acceleration_m_s2, motion.displacement_at)
-    geometry = mechanism_geometry(scene)
+    geometry = mechanism_geometry(scene, inputs)
     angle = scene.crank_angles_deg
     angle = angle[angle < 360.0]
 
@@ -134,7 +128,7 @@ def _motion(scene, inputs):
 
 def run(scene, inputs) -> StageOutput:
     """Geometry at the characteristic angles and at the animation's frames (physics only)."""
-    geometry_of = mechanism_geometry(scene)
+    geometry_of = mechanism_geometry(scene, inputs)
     angle, s, v, j, travel_at = _motion(scene, inputs)
     angles = characteristic_angles(angle, s, v, j, travel_at)
     period = _period_deg(angle, s)
@@ -228,7 +222,8 @@ def render(output: StageOutput, ctx) -> str:
 
 
 _COMMON = dict(template_dir=TEMPLATES, title_key="drawing.title", provides=(), run=run, render=render,
-               references=("poda2007",), figures=("scheme", "positions"), tables=())
+               references=("poda2007",), figures=("scheme", "positions"), tables=(),
+               services=(SERVICE_RUNNER,))
 
 DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), applies=applies, **_COMMON)
 # After the mechanism's own section (nothing orders it: it requires no data).

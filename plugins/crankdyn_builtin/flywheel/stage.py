@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import math
-from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
@@ -15,11 +14,10 @@ from pydantic import BaseModel, ConfigDict, model_validator
 from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
-from crankdyn.physics import forces as phys
-from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene_inputs import crank_train
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
@@ -54,54 +52,6 @@ class FlywheelOptions(BaseModel):
         if self.rim_width is not None and self.rim_mean_diameter is None:
             raise ValueError("rim_width needs rim_mean_diameter")
         return self
-
-
-@dataclass(frozen=True)
-class CrankTrain:
-    """Masses of the crank mechanisms as the reduced-inertia model sees them."""
-
-    phase_rad: np.ndarray  # TDC (firing-delay) angle of every cylinder
-    crank_of_cylinder: np.ndarray  # crank index of every cylinder
-    reciprocating_kg: np.ndarray  # m_s of every cylinder
-    rotating_kg: float  # m_R of one crank (all rods on its pin + crank pin + webs)
-    cranks: int
-    crank_radius_m: float
-    rod_ratio: float
-    articulated: bool
-
-    def series(self, constant_kg_m2: float = 0.0, crank: int | None = None) -> sf.InertiaSeries:
-        """J(alpha) of the whole engine (or of one crank) plus ``constant_kg_m2``."""
-        pick = np.ones(self.phase_rad.size, bool) if crank is None else self.crank_of_cylinder == crank
-        cranks = self.cranks if crank is None else 1
-        rotating = self.rotating_kg * self.crank_radius_m ** 2 * cranks
-        return sf.inertia_series(self.phase_rad[pick], self.reciprocating_kg[pick], self.crank_radius_m,
-                                 self.rod_ratio, constant_kg_m2 + rotating)
-
-
-def crank_train(scene, bays) -> CrankTrain:
-    """The reduced-inertia masses of the scene's engine.
-
-    m_s = piston group + the rod's reciprocating part (eq. 17) for every cylinder; m_R from the
-    centrifugal term c = -m_R R omega^2 / F_p of the bay stage, so it holds whatever that stage
-    lumped on the crank pin (all rods of the bay, the pin and the webs reduced to R).
-    Articulated slave rods are taken to move like the master (the textbook's assumption).
-    """
-    e, m = scene.engine, scene.masses
-    layout = bays.layout
-    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
-    omega = e.angular_velocity_rad_s
-    rotating = -bays.centrifugal_Pa * bays.piston_area_m2 / (bays.crank_radius_m * omega ** 2)
-    cylinders = layout.cylinders
-    return CrankTrain(
-        phase_rad=np.radians([c.firing_delay_deg for c in cylinders]),
-        crank_of_cylinder=np.array([c.bay for c in cylinders]),
-        reciprocating_kg=np.full(len(cylinders), m.piston_group + float(rod_rec)),
-        rotating_kg=float(rotating),
-        cranks=layout.cranks,
-        crank_radius_m=bays.crank_radius_m,
-        rod_ratio=e.rod_ratio_value,
-        articulated=e.rod_type == "articulated",
-    )
 
 
 def applies(scene) -> str | None:
@@ -305,6 +255,8 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
 FLYWHEEL_STAGE = Stage(
     template_dir=TEMPLATES,
     name="flywheel",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("irregularity", "rim_mass", "rim_width", "rim_height"),
     title_key="flywheel.title",
     requires=(ENGINE_TORQUE, BAY_LOADS),
     provides=(FLYWHEEL,),

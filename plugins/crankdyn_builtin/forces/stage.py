@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces
+from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces, RodDynamicsOptions
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
@@ -19,7 +19,6 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import rod_loads
 from crankdyn.scene import options
-from crankdyn_builtin.rod_dynamics.stage import RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
 from crankdyn_builtin.forces.worked import worked_crank_torque
 
@@ -328,6 +327,8 @@ def _worked(ctx, rows, labels, r):
 FORCES_STAGE = Stage(
     template_dir=TEMPLATES,
     name="forces",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("rod_specific", "side_specific", "indicated_torque"),
     title_key="forces.title",
     requires=(KINEMATICS, GAS_PRESSURE),
     provides=(FORCES,),

@@ -12,6 +12,8 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
+from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
+from crankdyn.plausibility import peak_pressure
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -27,46 +29,6 @@ def applies(scene) -> str | None:
     if scene.cycle is None:
         return "the scene has no [cycle] data (indicator-diagram parameters or a pressure trace)"
     return None
-
-
-def cycle_parameters(scene) -> ind.CycleParameters:
-    c = scene.cycle
-    return ind.CycleParameters(
-        strokes=scene.engine.strokes,
-        ignition=c.ignition,
-        compression_ratio=c.compression_ratio,
-        intake_pressure_Pa=c.intake_pressure,
-        compression_index=c.compression_index,
-        max_pressure_Pa=c.max_pressure,
-        pre_expansion_ratio=c.pre_expansion_ratio,
-        expansion_index=c.expansion_index,
-        exhaust_pressure_Pa=c.exhaust_pressure if c.exhaust_pressure is not None else c.intake_pressure,
-    )
-
-
-def rounding_parameters(scene) -> ind.RoundingParameters:
-    r, c = scene.cycle.rounding, scene.cycle
-    # Textbook mid-range defaults: spark advance 20-25 deg, diesel injection advance 10-40 deg.
-    advance = r.ignition_advance_deg if r.ignition_advance_deg is not None else (22.0 if c.ignition == "spark" else 18.0)
-    delay = r.combustion_delay_deg
-    if delay is None:
-        delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm, r.combustion_delay_time)
-    four_stroke = scene.engine.strokes == 4
-    try:
-        return ind.RoundingParameters(
-            ignition_advance_deg=advance,
-            combustion_delay_deg=delay,
-            pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
-            peak_pressure_fraction=r.peak_pressure_fraction,
-            peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
-            exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
-            # Valve overlap and intake closing exist only in the four-stroke cycle.
-            exhaust_closes_after_tdc_deg=r.exhaust_closes_after_tdc_deg if four_stroke else 0.0,
-            intake_opens_before_tdc_deg=r.intake_opens_before_tdc_deg if four_stroke else 0.0,
-            intake_closes_after_bdc_deg=r.intake_closes_after_bdc_deg if four_stroke else 0.0,
-        )
-    except ValueError as exc:
-        raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
 
 
 def run(scene, inputs) -> StageOutput:
@@ -314,8 +276,11 @@ SYMBOLS = {
 
 
 INDICATOR_STAGE = Stage(
+    plausibility=(peak_pressure("max_pressure_Pa"),),
     template_dir=TEMPLATES,
     name="indicator",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("post_expansion_ratio",),
     title_key="indicator.title",
     requires=(KINEMATICS,),
     provides=(GAS_PRESSURE,),

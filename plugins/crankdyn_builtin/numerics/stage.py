@@ -51,8 +51,7 @@ from crankdyn.scene import Analysis, Scene, number, options
 from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics import articulated as art
-from crankdyn_builtin.bays.stage import engine_layout
-from crankdyn_builtin.indicator.stage import cycle_parameters, rounding_parameters
+from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 from crankdyn.physics.layout import step_on_grid_deg
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -123,7 +122,7 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
 
 def _needed_stages(scene, runner) -> list[str]:
     return [s.name for s in runner.stages.values()
-            if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and s.applies(scene) is None]
+            if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and runner.applies(s, scene) is None]
 
 
 @dataclass
@@ -1016,7 +1015,12 @@ def render_kinematics(output: StageOutput, ctx) -> str | None:
 
 NUMERICS_STAGE = Stage(
     template_dir=TEMPLATES,
+    appendix=True,  # a study of the numerics, not part of a course brief
     name="numerics",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                     "tangential_max", "tangential_min", "crank_load_max",
+                     "displacement_difference", "acceleration_difference"),
     title_key="numerics.title",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
     last=True,  # it judges the numbers of the sections before it
@@ -1035,7 +1039,12 @@ NUMERICS_STAGE = Stage(
 
 NUMERICS_KINEMATICS_STAGE = Stage(
     template_dir=TEMPLATES,
+    appendix=True,
     name="numerics_kinematics",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                     "tangential_max", "tangential_min", "crank_load_max",
+                     "displacement_difference", "acceleration_difference"),
     title_key="numerics.title",
     requires=(KINEMATICS,),
     provides=(),

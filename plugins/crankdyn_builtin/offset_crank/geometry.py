@@ -11,7 +11,7 @@ import numpy as np
 from crankdyn.physics import offset_crank as oc
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.scene import options
-from crankdyn_builtin.crank_slider.geometry import polar
+from crankdyn.physics.plane import polar
 from .stage import OffsetParams
 
 

@@ -19,10 +19,12 @@ from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
+from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
+from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
@@ -30,6 +32,8 @@ from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 MECHANISM = "offset_crank_slider"
+#: Plugin tables that only a multi-cylinder engine reads (the articulated rods).
+MULTI_CYLINDER_TABLES = ("articulated",)
 
 
 class OffsetParams(BaseModel):
@@ -40,28 +44,8 @@ class OffsetParams(BaseModel):
     offset: quantity("length", ge=-2.0, le=2.0, unit="mm", scale=1e-3)
 
 
-def single_mechanism_problems(scene, what: str) -> list[Problem]:
-    """Problems of a scene that gives multi-cylinder keys to a one-cylinder mechanism."""
-    e = scene.engine
-    problems = []
-    if e.cylinders != 1:
-        problems.append(Problem("engine.cylinders", e.cylinders, f"the {what} is computed for one cylinder: 1"))
-    if e.layout != "inline":
-        problems.append(Problem("engine.layout", e.layout, f"the {what} has one cylinder; leave layout out"))
-    if e.rod_type != "central":
-        problems.append(Problem("engine.rod_type", e.rod_type, f"the {what} has a single rod; leave rod_type out"))
-    for name in ("bank_angle_deg", "firing_order", "crank_angles_deg", "cylinder_spacing"):
-        if getattr(e, name) is not None:
-            problems.append(Problem(f"engine.{name}", getattr(e, name),
-                                    f"applies to multi-cylinder engines only; the {what} has one cylinder"))
-    if "articulated" in scene.plugin_tables():
-        problems.append(Problem("articulated", "[articulated]", f"articulated rods need a multi-cylinder "
-                                                                 f"crank_slider engine, not the {what}"))
-    return problems
-
-
 def check(scene) -> list[Problem]:
-    problems = single_mechanism_problems(scene, "offset crank-slider")
+    problems = single_mechanism_problems(scene, "offset crank-slider", MULTI_CYLINDER_TABLES)
     params = options(scene, "mechanism", OffsetParams)
     R, L = scene.engine.crank_radius_m, scene.engine.rod_length_m
     try:
@@ -80,6 +64,8 @@ OFFSET_CRANK_MECHANISM = Mechanism(
             "distance e (the pin offset)",
     check=check,
     params_model=OffsetParams,
+    # λ = R/L and the rod's centre of mass hold as for the central crank-slider
+    plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
 )
 
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from crankdyn.physics import planetary as pl
 from crankdyn.plugin_types import Guide, MechanismGeometry
-from crankdyn_builtin.crank_slider.geometry import polar
+from crankdyn.physics.plane import polar
 from .stage import geometry_of
 
 

@@ -30,12 +30,14 @@ from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 
-from crankdyn_builtin.offset_crank.stage import single_mechanism_problems
+from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.planetary.worked import worked_planetary
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
+#: Plugin tables that only a multi-cylinder engine reads (the articulated rods).
+MULTI_CYLINDER_TABLES = ("articulated",)
 
 MECHANISM = "planetary"
 MAX_ROD_ANGLE_DEG = 80.0  # beyond this the linkage is locked or about to lock
@@ -106,7 +108,7 @@ def geometry_of(scene) -> tuple[PlanetaryParams, pl.PlanetaryGeometry]:
 
 
 def check(scene) -> list[Problem]:
-    problems = single_mechanism_problems(scene, "planetary crank mechanism")
+    problems = single_mechanism_problems(scene, "planetary crank mechanism", MULTI_CYLINDER_TABLES)
     if scene.cycle is not None:
         problems.append(Problem("cycle", "[cycle]", "the planetary mechanism is computed for its kinematics and the "
                                 "force transmission per unit piston force; the gas- and inertia-force stages put the "

@@ -11,12 +11,10 @@ from __future__ import annotations
 from functools import partial
 from pathlib import Path
 
-from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict
 
-from crankdyn.contracts import KINEMATICS
+from crankdyn.contracts import KINEMATICS, RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import rod_dynamics as rd
 from crankdyn.physics.forces import rod_mass_split_kg
@@ -30,17 +28,6 @@ from crankdyn_builtin.rod_dynamics.worked import worked_rod_dynamics
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 ROD_MECHANISMS = ("crank_slider", "offset_crank_slider", "planetary")
-
-
-class RodDynamicsOptions(BaseModel):
-    """The [rod_dynamics] table."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
-
-    model: Literal["two_mass", "three_mass", "correction_couple"] = "two_mass"
-    # true: the forces (and so bays, torque, bearings) use the rigid rod with I_G instead of the
-    # two-mass split; the forces section gives the difference (needs masses.rod_moment_of_inertia)
-    apply_to_loads: bool = False
 
 
 def applies(scene) -> str | None:

@@ -21,9 +21,9 @@ from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.i18n import superscript
 from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene_inputs import crank_train
 from crankdyn.units import parse_quantity
 
-from crankdyn_builtin.flywheel.stage import crank_train
 from crankdyn.physics import irregularity as irr
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
@@ -900,6 +900,8 @@ SYMBOLS = {
 SPEED_FLUCTUATION_STAGE = Stage(
     template_dir=TEMPLATES,
     name="speed_fluctuation",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("irregularity", "cylinder_phase"),
     title_key="speed_fluctuation.title",
     requires=(ENGINE_TORQUE, BAY_LOADS, CRANK_LOADS, FLYWHEEL),
     provides=(),

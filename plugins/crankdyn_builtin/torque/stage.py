@@ -197,6 +197,8 @@ def _journals_figure(f, cranks, cycle_deg, t):
 TORQUE_STAGE = Stage(
     template_dir=TEMPLATES,
     name="torque",
+    # the core's letters that hold with their meaning in this section only
+    section_symbols=("indicated_torque",),
     title_key="torque.title",
     requires=(BAY_LOADS,),
     provides=(ENGINE_TORQUE, CRANK_LOADS),

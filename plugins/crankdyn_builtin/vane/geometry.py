@@ -15,7 +15,7 @@ import numpy as np
 
 from crankdyn.physics import vane as vn
 from crankdyn.plugin_types import Guide, MechanismGeometry
-from crankdyn_builtin.crank_slider.geometry import polar
+from crankdyn.physics.plane import polar
 
 
 def vane_geometry(scene, crank_angle_rad) -> MechanismGeometry:

@@ -25,11 +25,13 @@ from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 
-from crankdyn_builtin.offset_crank.stage import single_mechanism_problems
+from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn_builtin.vane.worked import worked_vane
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
+#: Plugin tables that only a multi-cylinder engine reads (the articulated rods).
+MULTI_CYLINDER_TABLES = ("articulated",)
 
 MECHANISM = "vane_crank_rocker"
 WORKING_CYCLE_DEG = (90.0, 810.0)  # one side of the vane: alpha = 90...450...810 (source)
@@ -45,7 +47,7 @@ class VaneParams(BaseModel):
 
 
 def check(scene) -> list[Problem]:
-    problems = single_mechanism_problems(scene, "vane engine")
+    problems = single_mechanism_problems(scene, "vane engine", MULTI_CYLINDER_TABLES)
     if scene.cycle is not None:
         problems.append(Problem("cycle", "[cycle]", "the vane engine is studied for its kinematics only: its "
                                 "working volumes follow the vane angle, not a piston, so the indicator-diagram and "

@@ -57,6 +57,7 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from dataclasses import dataclass
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -869,3 +870,25 @@ def harmonic_amplitudes(values, cycle_revolutions: float, max_order: float):
     if n % 2 == 0:
         coefficients[k[keep] == n // 2] /= 2.0
     return orders[keep], coefficients
+
+
+@dataclass(frozen=True)
+class CrankTrain:
+    """Masses of the crank mechanisms as the reduced-inertia model sees them."""
+
+    phase_rad: np.ndarray  # TDC (firing-delay) angle of every cylinder
+    crank_of_cylinder: np.ndarray  # crank index of every cylinder
+    reciprocating_kg: np.ndarray  # m_s of every cylinder
+    rotating_kg: float  # m_R of one crank (all rods on its pin + crank pin + webs)
+    cranks: int
+    crank_radius_m: float
+    rod_ratio: float
+    articulated: bool
+
+    def series(self, constant_kg_m2: float = 0.0, crank: int | None = None) -> InertiaSeries:
+        """J(alpha) of the whole engine (or of one crank) plus ``constant_kg_m2``."""
+        pick = np.ones(self.phase_rad.size, bool) if crank is None else self.crank_of_cylinder == crank
+        cranks = self.cranks if crank is None else 1
+        rotating = self.rotating_kg * self.crank_radius_m ** 2 * cranks
+        return inertia_series(self.phase_rad[pick], self.reciprocating_kg[pick], self.crank_radius_m,
+                              self.rod_ratio, constant_kg_m2 + rotating)

@@ -19,7 +19,7 @@ from ..errors import PluginError
 from ..plugin_types import declared
 from .formula_lines import unbroken_parts
 from .i18n import Translator, superscript
-from .typeset import typeset_figure
+from .typeset import SYMBOLS, SymbolTable, typeset_figure
 
 
 class FigureFile:
@@ -33,7 +33,8 @@ class FigureFile:
     """
 
     def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None,
-                 number: str = "", key: str = "", build: Callable[[], Any] | None = None):
+                 number: str = "", key: str = "", build: Callable[[], Any] | None = None,
+                 symbols: SymbolTable = SYMBOLS):
         self.name = name
         self.number = number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
         self.key = key  # the name its stage declares (``Stage.figures``)
@@ -41,6 +42,7 @@ class FigureFile:
         self._build = build
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
+        self._symbols = symbols  # the report's symbol table (its subscripts per language)
         self._typeset_in = None  # the process that typeset the figure (a forked drawer's is not this one)
         # Set while a forked child draws this figure: called (once) to wait for that child's SVG
         # instead of drawing the figure a second time here.
@@ -66,7 +68,7 @@ class FigureFile:
         """The matplotlib figure with its text typeset for the report's language, in this process
         (once; a figure drawn by a forked process was typeset there, not here)."""
         if self._t is not None and self._typeset_in != os.getpid():
-            typeset_figure(self.figure, self._t)
+            typeset_figure(self.figure, self._t, self._symbols)
             self._typeset_in = os.getpid()
         return self.figure
 
@@ -166,6 +168,8 @@ class RenderContext:
     #: the figure names the section's stage declares (``Stage.figures``); None: not checked
     #: (the input section, a context built by hand)
     declared_figures: tuple[str, ...] | None = None
+    #: the report's symbol table (the core's and the registry's stages', ``typeset.symbol_table``)
+    symbols: SymbolTable = SYMBOLS
 
     def __post_init__(self) -> None:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
@@ -318,7 +322,7 @@ class RenderContext:
         ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
         built = None if callable(fig) else fig
-        self.figures.append(FigureFile(file_name, figure=built, t=self.t, number=number, key=name,
+        self.figures.append(FigureFile(file_name, figure=built, t=self.t, number=number, key=name, symbols=self.symbols,
                                        build=fig if built is None else None))
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         # the number bound to the word before it ("рис. 7.1" never parted at a line's end)

@@ -22,8 +22,8 @@ from .context import FigureFile, RenderContext, inline_figures, template_search_
 from .i18n import translator
 from .frame import frame_html
 from .equation_legend import add_equation_legends, symbol_meaning
-from .typeset import (SYMBOLS, italic_letters, symbol_html, symbol_unit, symbols_used, typeset_html, unbreakable_html,
-                      use_stage_symbols)
+from .typeset import (SYMBOLS, SymbolTable, italic_letters, symbol_html, symbol_table, symbol_unit, symbols_used,
+                      typeset_html, unbreakable_html)
 from ..plausibility import format_params, warnings
 
 
@@ -79,8 +79,7 @@ class RenderedReport:
 
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
-    """The templates of the plan's stages; and the registry's stages' own letters join the symbol table."""
-    use_stage_symbols(registry.stages.values())
+    """The templates of the plan's stages."""
     extra = [s.template_dir for s in result.plan.order if s.template_dir is not None]
     return _cached_environment(tuple(str(p) for p in template_search_path(extra)))
 
@@ -133,10 +132,6 @@ def _bytecode_cache() -> jinja2.BytecodeCache | None:
     except (OSError, RuntimeError):  # RuntimeError: the folder is not this user's own
         return None
 
-
-#: Stages whose sections are a study of the numerics rather than part of a course brief: with
-#: ``[report] detail = "course"`` (the default) they go to an appendix.
-NUMERICS_STAGES = ("numerics", "numerics_kinematics")
 
 _SKIP_REASONS = (  # the stages' own (English) reasons, as results.json keeps them -> catalog keys
     (re.compile(r"no \[masses\]"), "skip.no_masses"),
@@ -207,7 +202,9 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     language = language or scene.report.language
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
-    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
+    symbols = symbol_table(registry.stages.values())  # the core's letters and the stages' own
+    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg,
+                        cycle_deg=scene.engine.cycle_deg, scene=scene, symbols=symbols)
     course = scene.report.detail == "course"
 
     sections: list[SectionView] = []
@@ -221,7 +218,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
-        to_appendix = course and stage.name in NUMERICS_STAGES
+        to_appendix = course and stage.appendix  # a study of the numerics (Stage.appendix)
         number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
@@ -251,8 +248,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
 
-
-    for key, params in warnings(scene, result):  # values no real engine has: noted, not refused
+    for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
@@ -273,7 +269,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     )
     html = _finish(fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t), t, language,
                    len(references), frozenset(s.name for s in result.plan.order if not s.legend),
-                   single=scene.engine.cylinders == 1)
+                   single=scene.engine.cylinders == 1, symbols=symbols)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
 
@@ -353,13 +349,14 @@ def _title(scene, t) -> str:
     return scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
 
 
-def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str], single: bool = False) -> str:
+def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str], single: bool = False,
+            symbols: SymbolTable = SYMBOLS) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings)."""
     html = _fill_counts(html, t, sources)
-    html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator)
-    html = add_equation_legends(html, t, language, without_legend, single)
-    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, single))
+    html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator, symbols)
+    html = add_equation_legends(html, t, language, without_legend, single, symbols)
+    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, single, symbols))
 
 
 #: Where the document's sections start (each at the start of a line, in report.html.j2).
@@ -395,8 +392,9 @@ _TYPESET_PARTS = 128
 
 
 @functools.lru_cache(maxsize=_TYPESET_PARTS)
-def _typeset_part(part: str, language: str, units: tuple[str, ...], decimal: str) -> str:
-    return typeset_html(part, language, list(units), decimal)
+def _typeset_part(part: str, language: str, units: tuple[str, ...], decimal: str,
+                  symbols: SymbolTable = SYMBOLS) -> str:
+    return typeset_html(part, language, list(units), decimal, symbols)
 
 
 @functools.lru_cache(maxsize=_TYPESET_PARTS)
@@ -492,19 +490,19 @@ def _fill_counts(html: str, t, sources: int) -> str:
 
 
 def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None,
-                     single: bool = False) -> str:
+                     single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
     stage's own letter, ``Stage.symbols``, or a core symbol's ``Symbol.sections``), says where it
     holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
-    markups = [symbol_html(key, language) for key in keys]
+    markups = [symbol_html(key, language, symbols) for key in keys]
     rows = []
     for key, markup in zip(keys, markups):
-        unit = symbol_unit(key, t)
+        unit = symbol_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
-        where = _where(_symbol_stages(key), places or {}, t, markup) if markups.count(markup) > 1 else ""
+        where = _where(_symbol_stages(key, symbols), places or {}, t, markup) if markups.count(markup) > 1 else ""
         if where:
             meaning += f" ({where})"
         meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
@@ -516,12 +514,12 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     return html
 
 
-def _symbol_stages(key: str) -> tuple[str, ...]:
+def _symbol_stages(key: str, symbols: SymbolTable) -> tuple[str, ...]:
     """The stages whose sections a symbol's meaning holds in: a stage's own symbol its stage, a
     core symbol those it declares (none: it holds throughout)."""
     if "." in key:
         return (key.split(".", 1)[0],)
-    symbol = SYMBOLS.get(key)
+    symbol = symbols.get(key)
     return tuple(symbol.sections) if symbol is not None else ()
 
 
@@ -584,12 +582,12 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
 _ASSIGNMENT = re.compile(r'<section class="assignment">.*?</section>', re.S)
 
 
-def _fill_symbol_list(html: str, t, language: str, single: bool = False) -> str:
+def _fill_symbol_list(html: str, t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
     # the assignment sheet repeats the given data with the core's letters (S = 100 мм); the given
     # data's section names them as the mechanism does (a vane engine's S is its slider's travel)
     body = _ASSIGNMENT.sub("", head.split("<body", 1)[-1]) + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
-    return head + symbol_list_html(symbols_used(body, language), t, language, abbreviation in body,
-                                   _places(rest), single) + rest
+    return head + symbol_list_html(symbols_used(body, language, symbols), t, language, abbreviation in body,
+                                   _places(rest), single, symbols) + rest

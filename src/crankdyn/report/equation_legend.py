@@ -4,8 +4,9 @@ line starts with "де" at the paragraph indent, without a colon).
 
 A symbol is explained under the first equation of the report that shows it; later equations
 rely on that (and on the list of symbols in front of the introduction). The symbols, their
-meanings and units come from the one symbol table (:data:`crankdyn.report.typeset.SYMBOLS`), so
-the lines say what the list of symbols says. A letter with a second meaning in some sections
+meanings and units come from the report's symbol table (a
+:class:`crankdyn.report.typeset.SymbolTable`, the core's symbols by default), so the lines say what
+the list of symbols says. A letter with a second meaning in some sections
 (``Symbol.sections``) is read with that meaning inside those sections only, and a symbol marked
 by a prime (``p_i′``) is another quantity, not explained as the unprimed one.
 
@@ -19,7 +20,7 @@ import re
 
 from markupsafe import escape
 
-from .typeset import (SYMBOLS, italic_letters, sections_taking_over, symbol_html, symbol_pattern, symbols_generation,
+from .typeset import (SYMBOLS, SymbolTable, italic_letters, sections_taking_over, symbol_html, symbol_pattern,
                       unit_text, unshifted_indices)
 
 _SECTION_OR_EQUATION = re.compile(
@@ -32,27 +33,26 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str, generation: int = 0) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
+def _patterns(language: str, symbols: SymbolTable) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
     """(key, markup, bare, only in sections, not in sections) per symbol; its pattern is
     :func:`_pattern`'s (compiled when a formula shows the markup: a report shows a third of the
     symbols, and compiling them all took 40 ms). The pattern is the symbol
     table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
     bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
     own. A symbol without sections is not read in the sections where another of the same markup
-    takes over. ``generation``: :func:`~crankdyn.report.typeset.symbols_generation`, so that the
-    patterns follow symbols stages add."""
-    taken_over = sections_taking_over(SYMBOLS, language)
+    takes over. Kept per table (a table is hashed by its contents)."""
+    taken_over = sections_taking_over(symbols, language)
     out = []
-    for key, symbol in SYMBOLS.items():
-        markup = symbol_html(key, language)
+    for key, symbol in symbols.items():
+        markup = symbol_html(key, language, symbols)
         out.append((key, markup, "<sub>" not in markup and not symbol.in_scripts, symbol.sections,
                     () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
     return tuple(out)
 
 
 @functools.lru_cache(maxsize=4096)
-def _pattern(key: str, language: str, generation: int) -> re.Pattern:
-    return re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])"))
+def _pattern(key: str, language: str, symbols: SymbolTable) -> re.Pattern:
+    return re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])", symbols=symbols))
 
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
@@ -61,7 +61,7 @@ _ITALIC_RUN = re.compile(r"<i>([^<]{2,})</i>")
 _LETTER = re.compile(r"\S[\u0300-\u036f]*")
 
 
-def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
+def symbols_in(formula_html: str, language: str, stage: str, symbols: SymbolTable = SYMBOLS) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
     not the quantity; a symbol with its own subscript there is one (the exponent n_1), and so is one
@@ -72,11 +72,10 @@ def symbols_in(formula_html: str, language: str, stage: str) -> list[str]:
     formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
-    generation = symbols_generation()
-    for key, markup, bare, only_in, not_in in _patterns(language, generation):
+    for key, markup, bare, only_in, not_in in _patterns(language, symbols):
         if (only_in and stage not in only_in) or stage in not_in or markup not in formula_html:
             continue
-        for match in _pattern(key, language, generation).finditer(formula_html):
+        for match in _pattern(key, language, symbols).finditer(formula_html):
             if not (bare and any(start < match.start() < end for start, end in scripts)):
                 found.append((match.start(), key))
                 break
@@ -89,7 +88,7 @@ _SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "u
              "unit.kN": "unit.N", "unit.kW": "unit.W"}
 
 
-def line_unit(key: str, t) -> str:
+def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
     """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio):
     the SI unit the formulas are evaluated in and the worked substitutions put the numbers in
     (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
@@ -97,7 +96,7 @@ def line_unit(key: str, t) -> str:
     list of symbols says before it lists them in those units. Where-lines in the tables' units
     made the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in
     мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
-    unit = SYMBOLS[key].unit
+    unit = symbols[key].unit
     return unit_text(_SI_UNITS.get(unit, unit), t)
 
 
@@ -107,27 +106,27 @@ def symbol_meaning(t, key: str, single: bool = False) -> str:
     return t(f"symbol.{key}_single") if single and t.has(f"symbol.{key}_single") else t(f"symbol.{key}")
 
 
-def legend_html(keys: list[str], t, language: str, single: bool = False) -> str:
+def legend_html(keys: list[str], t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
     stop after the last; the unit as :func:`line_unit` says."""
     lines = []
     for k, key in enumerate(keys):
-        unit = line_unit(key, t)
+        unit = line_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (Stage.symbols, "stage.key") carries no such note, its parentheses stay
-        if SYMBOLS[key].sections and "." not in key:
+        if symbols[key].sections and "." not in key:
             meaning = _SECTIONS_NOTE.sub("", meaning)
         meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
         end = "." if k == len(keys) - 1 else ";"
-        lines.append(f'<span class="where-line">{symbol_html(key, language)} – {meaning}{end}</span>')
+        lines.append(f'<span class="where-line">{symbol_html(key, language, symbols)} – {meaning}{end}</span>')
     # the word in a box of its own: the lines after the first stand under the first symbol
     return (f'<p class="where"><span class="where-word">{escape(t("doc.equation_where"))} </span>'
             f'<span class="where-lines">{"<br>".join(lines)}</span></p>')
 
 
 def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset(),
-                         single: bool = False) -> str:
+                         single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
     none in the sections of ``skip_stages`` (``Stage.legend`` False)."""
     explained: set[str] = set()
@@ -140,11 +139,11 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
             continue
         if stage in skip_stages:
             continue
-        new = [key for key in symbols_in(match.group("formula"), language, stage) if key not in explained]
+        new = [key for key in symbols_in(match.group("formula"), language, stage, symbols) if key not in explained]
         if not new:
             continue
         explained.update(new)
-        parts += [html[position:match.end()], legend_html(new, t, language, single)]
+        parts += [html[position:match.end()], legend_html(new, t, language, single, symbols)]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)

@@ -3,9 +3,11 @@
 Catalog texts and stage code write a subscript the short way, ``s_п`` or ``p_z′``, and a power
 ``10^−16`` or ``cos^2``; tables and equations write ``<i>s</i><sub>p</sub>``. This module turns
 both into typeset mathematics for the medium: real ``<sub>``/``<sup>`` in HTML (hence the PDF),
-matplotlib mathtext in figures. One symbol table (:data:`SYMBOLS`) gives each quantity's
-subscript per language, its unit and its meaning, so ``s_p`` in a table header and ``s_п`` in
-the running text of a Ukrainian report come out as the same symbol.
+matplotlib mathtext in figures. One symbol table gives each quantity's subscript per language,
+its unit and its meaning, so ``s_p`` in a table header and ``s_п`` in the running text of a
+Ukrainian report come out as the same symbol. A report's table is a :class:`SymbolTable` built
+for its run (:func:`symbol_table`): the core's symbols (:data:`SYMBOLS`, never changed) and those
+the registry's stages declare; every function here takes the table to read (the core's by default).
 
 Nothing here computes physics or changes a number's value.
 """
@@ -16,6 +18,7 @@ import functools
 import math
 import re
 from dataclasses import replace
+from typing import Iterable, Iterator, Mapping
 
 from ..errors import PluginError
 from ..plugin_types import Symbol
@@ -27,10 +30,13 @@ import numpy as np
 #: languages (the textbook's Cyrillic subscripts in uk/ru, Latin ones in English) and the
 #: main quantities every calculation uses. The list of symbols in front of the introduction is
 #: printed from this table, with the symbols the report actually shows.
-#: The error-against-run-time appendices, whose letters (X, M, Δα) mean the studied quantity.
-_ERROR_STUDY = ("numerics", "numerics_kinematics")
+#: ``Symbol.sections`` of a core symbol whose meaning holds only in the sections of the stages that
+#: declare it (``Stage.section_symbols``: the side force n of the force sections, δ the
+#: irregularity of the flywheel's); in a table no stage of the registry declares it for, it holds
+#: nowhere.
+SECTION_BOUND = ("<declaring stages>",)
 
-SYMBOLS: dict[str, Symbol] = {
+_CORE_SYMBOLS: dict[str, Symbol] = {
     "crank_angle": Symbol("α", {}, "°", "symbol.crank_angle"),
     "rod_angle": Symbol("β", {}, "°", "symbol.rod_angle"),
     "cylinder_bore": Symbol("D", {}, "unit.mm", "symbol.cylinder_bore"),
@@ -78,9 +84,9 @@ SYMBOLS: dict[str, Symbol] = {
     "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
-    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=("forces", "bays")),
+    "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=SECTION_BOUND),
     # the textbook's n is also the crank speed: in the forces section it is the side force
-    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=("forces", "bays")),
+    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
@@ -96,10 +102,10 @@ SYMBOLS: dict[str, Symbol] = {
                                     html="<i>A</i><sub><i>n</i></sub>"),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
-    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=("indicator",)),
+    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=SECTION_BOUND),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
     # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
-    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=("bearings",)),
+    "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=SECTION_BOUND),
     # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
     "mechanism_mean_inertia": Symbol("J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2",
                                      "symbol.mechanism_mean_inertia"),
@@ -123,16 +129,16 @@ SYMBOLS: dict[str, Symbol] = {
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
     "mechanical_efficiency": Symbol("η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"),
     "effective_torque": Symbol("M", {"en": "e"}, "unit.Nm", "symbol.effective_torque"),
-    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=("torque", "forces")),
+    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=SECTION_BOUND),
     "gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", "symbol.gas_torque"),
     "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
     "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
     "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
     "material_density": Symbol("ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"),
-    "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=("flywheel", "speed_fluctuation")),
+    "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=SECTION_BOUND),
     # the quantities of the equations that the "де …" lines explain (crankdyn.report.equation_legend)
     "cylinder_pressure": Symbol("p", {}, "unit.MPa", "symbol.cylinder_pressure"),
-    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=("bearings",)),
+    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=SECTION_BOUND),
     "cylinder_volume": Symbol("V", {}, "unit.l", "symbol.cylinder_volume"),
     "theoretical_mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.theoretical_mean_indicated_pressure",
                                                   html="<i>p</i><sub>i</sub>′"),
@@ -170,50 +176,50 @@ SYMBOLS: dict[str, Symbol] = {
                                       html="<i>t</i><sub>k<i>N</i></sub>"),
     "order_force": Symbol("P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"),
     # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
-    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=("bearings",)),
+    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=SECTION_BOUND),
     "pin_load_mean": Symbol("Q", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.pin_load_mean",
-                            sections=("bearings",)),
+                            sections=SECTION_BOUND),
     "bearing_pressure_max": Symbol("p", {"en": "max"}, "unit.MPa", "symbol.bearing_pressure_max",
-                                   sections=("bearings",)),
+                                   sections=SECTION_BOUND),
     "bearing_pressure_mean": Symbol("p", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.MPa",
-                                    "symbol.bearing_pressure_mean", sections=("bearings",)),
-    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=("bearings",)),
+                                    "symbol.bearing_pressure_mean", sections=SECTION_BOUND),
+    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=SECTION_BOUND),
     "journal_load_mean": Symbol("R", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.journal_load_mean",
-                                sections=("bearings",)),
+                                sections=SECTION_BOUND),
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
     # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
-    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=("balancing",)),
-    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=("balancing",)),
+    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
+    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND),
     "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
     "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
     "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
                                  html="<i>b</i><sub><i>n</i></sub><sup>*</sup>"),  # (b̄: the bar crossed the ascender)
     "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>",
-                        sections=("balancing",)),
+                        sections=SECTION_BOUND),
     "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
-                                  html="<i>φ</i><sub><i>i</i></sub>", sections=("balancing",)),
+                                  html="<i>φ</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
     "cylinder_phase": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_phase", html="<i>φ</i><sub><i>i</i></sub>",
-                             sections=("speed_fluctuation",)),
+                             sections=SECTION_BOUND),
     "cylinder_position": Symbol("x", {"en": "i"}, "unit.mm", "symbol.cylinder_position",
-                                html="<i>x</i><sub><i>i</i></sub>", sections=("balancing",)),
+                                html="<i>x</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
     "cylinder_order_force": Symbol("P", {"en": "ni"}, "unit.N", "symbol.cylinder_order_force",
                                    html="<i>P</i><sub><i>n</i><i>i</i></sub>"),
     "order_moment": Symbol("M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"),
     # a bay's dynamically equivalent model (the textbook's figures 29-33): its rotating vectors and
     # the semi-axes of its hodographs, first and second order
-    "bay_forward_first": Symbol("F", {}, "unit.N", "symbol.bay_forward_first", sections=("balancing",)),
-    "bay_backward_first": Symbol("P", {}, "unit.N", "symbol.bay_backward_first", sections=("balancing",)),
-    "bay_forward_second": Symbol("K", {}, "unit.N", "symbol.bay_forward_second", sections=("balancing",)),
-    "bay_backward_second": Symbol("Z", {}, "unit.N", "symbol.bay_backward_second", sections=("balancing",)),
-    "bay_semi_axis_x_first": Symbol("a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=("balancing",)),
-    "bay_semi_axis_y_first": Symbol("b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=("balancing",)),
+    "bay_forward_first": Symbol("F", {}, "unit.N", "symbol.bay_forward_first", sections=SECTION_BOUND),
+    "bay_backward_first": Symbol("P", {}, "unit.N", "symbol.bay_backward_first", sections=SECTION_BOUND),
+    "bay_forward_second": Symbol("K", {}, "unit.N", "symbol.bay_forward_second", sections=SECTION_BOUND),
+    "bay_backward_second": Symbol("Z", {}, "unit.N", "symbol.bay_backward_second", sections=SECTION_BOUND),
+    "bay_semi_axis_x_first": Symbol("a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=SECTION_BOUND),
+    "bay_semi_axis_y_first": Symbol("b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=SECTION_BOUND),
     "bay_semi_axis_x_second": Symbol("a", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_x_second",
-                                     sections=("balancing",)),
+                                     sections=SECTION_BOUND),
     "bay_semi_axis_y_second": Symbol("b", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_y_second",
-                                     sections=("balancing",)),
+                                     sections=SECTION_BOUND),
     "hodograph_semi_axis_x": Symbol("a", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_x"),
     "hodograph_semi_axis_y": Symbol("b", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_y"),
-    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=("balancing",)),
+    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=SECTION_BOUND),
     # the bearings section's vectors (bold) and spans
     "pin_load_vector": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa", "symbol.pin_load_vector",
                               html="<b><i>q</i></b><sub>{sub}</sub>"),
@@ -235,27 +241,27 @@ SYMBOLS: dict[str, Symbol] = {
     # the flywheel's rim and the accumulated work's extremes
     "accumulated_work_max": Symbol("W", {"en": "max"}, "unit.J", "symbol.accumulated_work_max"),
     "accumulated_work_min": Symbol("W", {"en": "min"}, "unit.J", "symbol.accumulated_work_min"),
-    "rim_mass": Symbol("m", {}, "unit.kg", "symbol.rim_mass", sections=("flywheel",)),
-    "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=("flywheel",)),
-    "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=("flywheel",)),
+    "rim_mass": Symbol("m", {}, "unit.kg", "symbol.rim_mass", sections=SECTION_BOUND),
+    "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=SECTION_BOUND),
+    "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=SECTION_BOUND),
     # the error study (numerics)
     "relative_error": Symbol("ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"),
-    "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=_ERROR_STUDY),
-    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=_ERROR_STUDY),
-    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=_ERROR_STUDY),
+    "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=SECTION_BOUND),
+    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=SECTION_BOUND),
+    "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=SECTION_BOUND),
     "reference_torque": Symbol("M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"),
     "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
     "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
                                   html="<i>s</i><sub><i>N</i></sub>"),
-    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=_ERROR_STUDY),
+    "series_term": Symbol("k", {}, "", "symbol.series_term", sections=SECTION_BOUND),
     # the error table's columns (the relative error of each) and the kinematics forms' differences
-    "tangential_max": Symbol("t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=_ERROR_STUDY),
-    "tangential_min": Symbol("t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=_ERROR_STUDY),
-    "crank_load_max": Symbol("q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=_ERROR_STUDY),
+    "tangential_max": Symbol("t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=SECTION_BOUND),
+    "tangential_min": Symbol("t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=SECTION_BOUND),
+    "crank_load_max": Symbol("q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=SECTION_BOUND),
     "displacement_difference": Symbol("s", {}, "unit.m", "symbol.displacement_difference", html="Δ<i>s</i>",
-                                      sections=_ERROR_STUDY),
+                                      sections=SECTION_BOUND),
     "acceleration_difference": Symbol("j", {}, "unit.m_s2", "symbol.acceleration_difference", html="Δ<i>j</i>",
-                                      sections=_ERROR_STUDY),
+                                      sections=SECTION_BOUND),
     "power_series_coefficient": Symbol("c", {"en": "k"}, "", "symbol.power_series_coefficient",
                                        html="<i>c</i><sub><i>k</i></sub>"),
     "fourier_series_coefficient": Symbol("H", {"en": "k"}, "", "symbol.fourier_series_coefficient",
@@ -268,35 +274,74 @@ SYMBOLS: dict[str, Symbol] = {
 }
 
 
-#: Raised each time stages' symbols change the table: what is built from it (patterns) keys on it.
-_generation = 0
+class SymbolTable(Mapping[str, Symbol]):
+    """A report's symbol table: key -> :class:`~crankdyn.plugin_types.Symbol`, in order, never
+    changed after it is made. Equal (and hashed) by its contents, so what is built from a table
+    (the subscript maps, the "where" lines' patterns) is kept per table's contents, and a run
+    with other plugins' symbols never reads another run's."""
+
+    __slots__ = ("_symbols", "_contents")
+
+    def __init__(self, symbols: Mapping[str, Symbol]):
+        self._symbols = dict(symbols)
+        self._contents = repr(list(self._symbols.items()))
+
+    def __getitem__(self, key: str) -> Symbol:
+        return self._symbols[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._symbols)
+
+    def __len__(self) -> int:
+        return len(self._symbols)
+
+    def __hash__(self) -> int:
+        return hash(self._contents)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, SymbolTable) and other._contents == self._contents
+
+    def __repr__(self) -> str:
+        return f"SymbolTable({len(self)} symbols)"
+
+
+#: The core's symbols: the quantities many sections share (see above).
+SYMBOLS = SymbolTable(_CORE_SYMBOLS)
 _STAGE_SYMBOL_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
-def use_stage_symbols(stages) -> None:
-    """Put the symbols ``stages`` declare (``Stage.symbols``) into :data:`SYMBOLS`: key ``k`` of
-    stage ``s`` as ``s.k`` (meaning: the catalog key ``symbol.s.k``), read in the stage's own
-    section unless the symbol names its ``sections``. Called with the registry's stages before a
-    report is rendered; a stage not in a report's plan adds nothing to it (its section is absent).
-    A plugin's key that is not an identifier is a :class:`~crankdyn.errors.PluginError`."""
-    global _generation
-    wanted: dict[str, Symbol] = {}
+def symbol_table(stages: Iterable) -> SymbolTable:
+    """The symbol table of a run: the core's :data:`SYMBOLS` and the symbols ``stages`` declare
+    (``Stage.symbols``): key ``k`` of stage ``s`` as ``s.k`` (meaning: the catalog key
+    ``symbol.s.k``), read in the stage's own section unless the symbol names its ``sections``.
+    Built from the registry's stages for each report; a stage not in a report's plan adds nothing
+    to it (its section is absent). A plugin's key that is not an identifier is a
+    :class:`~crankdyn.errors.PluginError`."""
+    stages = list(stages)
+    table = dict(_CORE_SYMBOLS)
+    table.update(_section_bound(stages))
     for stage in stages:
         for key, symbol in getattr(stage, "symbols", {}).items():
             if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
                 raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
                                   "to a crankdyn.plugin_types.Symbol")
-            wanted[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
-    if all(SYMBOLS.get(key) == symbol for key, symbol in wanted.items()):
-        return
-    SYMBOLS.update(wanted)
-    _generation += 1
-    _subscript_map.cache_clear()
+            table[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
+    return SymbolTable({key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND})
 
 
-def symbols_generation() -> int:
-    """How many times stages' symbols have changed :data:`SYMBOLS` in this process."""
-    return _generation
+def _section_bound(stages: list) -> dict[str, Symbol]:
+    """The core's :data:`SECTION_BOUND` symbols with the sections of the stages that declare them
+    (``Stage.section_symbols``); one that is not such a symbol is a :class:`PluginError`."""
+    declaring: dict[str, list[str]] = {}
+    for stage in stages:
+        for key in getattr(stage, "section_symbols", ()):
+            symbol = _CORE_SYMBOLS.get(key)
+            if symbol is None or symbol.sections != SECTION_BOUND:
+                raise PluginError(f"stage {stage.name!r}: {key!r} in section_symbols is not one of the core's "
+                                  "section-bound symbols (typeset.SECTION_BOUND)")
+            declaring.setdefault(key, []).append(stage.name)
+    return {key: replace(_CORE_SYMBOLS[key], sections=tuple(names)) for key, names in declaring.items()}
+
 
 #: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
 SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
@@ -309,22 +354,23 @@ SUBSCRIPT_WORDS: dict[str, dict[str, str]] = {
 }
 
 
-def symbol_sub(key: str, language: str) -> str:
+def symbol_sub(key: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     """The subscript of symbol ``key`` in ``language`` (English if the language has none; "" for none)."""
-    sub = SYMBOLS[key].sub
+    sub = symbols[key].sub
     return sub.get(language, sub.get("en", ""))
 
 
-def symbol_html(key: str, language: str) -> str:
+def symbol_html(key: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     """``<i>s</i><sub>п</sub>``: the symbol as HTML markup."""
-    s = SYMBOLS[key]
-    sub = symbol_sub(key, language)
+    s = symbols[key]
+    sub = symbol_sub(key, language, symbols)
     if s.html:
         return s.html.replace("{sub}", sub)
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
 
-def symbol_pattern(key: str, language: str, not_after: tuple[str, ...] = (), tail: str = "") -> str:
+def symbol_pattern(key: str, language: str, not_after: tuple[str, ...] = (), tail: str = "",
+                   symbols: SymbolTable = SYMBOLS) -> str:
     """The regular expression of symbol ``key``'s markup: not after a Δ (ΔL is not L, unless the
     symbol is the Δ one) nor after any of ``not_after``, and a symbol without a subscript not
     followed by one (ω is not ω_ш); ``tail``: a further look-ahead condition.
@@ -332,7 +378,7 @@ def symbol_pattern(key: str, language: str, not_after: tuple[str, ...] = (), tai
     The markup comes first and the look-behinds after it (each reaching back over the markup):
     the search then looks for the markup's text, where a pattern that opens with a look-behind is
     tried at every character of a report (≈ 45 ms of a report's rendering for its symbol list)."""
-    markup = symbol_html(key, language)
+    markup = symbol_html(key, language, symbols)
     literal = re.escape(markup)
     before = (*not_after, *(() if markup.startswith("Δ") else ("Δ",)))
     checks = "".join(f"(?<!{re.escape(text)}{literal})" for text in before)
@@ -363,18 +409,18 @@ def _stage_parts(html: str) -> list[tuple[str, str]]:
     return parts
 
 
-def sections_taking_over(symbols: dict, language: str) -> dict[str, set[str]]:
+def sections_taking_over(symbols: SymbolTable, language: str) -> dict[str, set[str]]:
     """markup -> the sections where a symbol of ``symbols`` with that markup and its own
     ``sections`` is read: there a symbol of all sections with the same markup is not."""
     taken_over: dict[str, set[str]] = {}
     for key, symbol in symbols.items():
         if symbol.sections:
-            taken_over.setdefault(symbol_html(key, language), set()).update(symbol.sections)
+            taken_over.setdefault(symbol_html(key, language, symbols), set()).update(symbol.sections)
     return taken_over
 
 
-def symbols_used(html: str, language: str) -> list[str]:
-    """The keys of :data:`SYMBOLS` whose markup the (typeset) report ``html`` shows, in alphabetical order.
+def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> list[str]:
+    """The keys of ``symbols`` whose markup the (typeset) report ``html`` shows, in alphabetical order.
     A symbol without a subscript counts only where no subscript follows it (``<i>ω</i>`` is the
     crank's angular velocity, ``<i>ω</i><sub>ш</sub>`` the rod's); a shifted index counts as the
     index (:func:`unshifted_indices`). A symbol of some sections counts only where it is read: in
@@ -384,31 +430,32 @@ def symbols_used(html: str, language: str) -> list[str]:
     stage's section (the vane engine's S of the input table is not a piston engine's)."""
     parts = _stage_parts(unshifted_indices(html))
     present = {stage for stage, _ in parts}
-    table = {key: symbol for key, symbol in SYMBOLS.items() if "." not in key or key.split(".", 1)[0] in present}
+    table = SymbolTable({key: symbol for key, symbol in symbols.items()
+                         if "." not in key or key.split(".", 1)[0] in present})
     taken_over = sections_taking_over(table, language)
     texts: dict[tuple[bool, frozenset[str]], str] = {}
     used = []
     for key, symbol in table.items():
         # (True, sections): the text of those sections; (False, sections): the text outside them
         scope = ((True, frozenset(symbol.sections)) if symbol.sections
-                 else (False, frozenset(taken_over.get(symbol_html(key, language), ()))))
+                 else (False, frozenset(taken_over.get(symbol_html(key, language, table), ()))))
         if scope not in texts:
             texts[scope] = "".join(text for stage, text in parts if (stage in scope[1]) == scope[0])
-        if texts[scope] and re.search(symbol_pattern(key, language), texts[scope]):
+        if texts[scope] and re.search(symbol_pattern(key, language, symbols=table), texts[scope]):
             used.append(key)
-    return sorted(used, key=lambda k: _alphabetical(k, language))
+    return sorted(used, key=lambda k: _alphabetical(k, language, table))
 
 
-def _alphabetical(key: str, language: str) -> tuple:
+def _alphabetical(key: str, language: str, symbols: SymbolTable) -> tuple:
     """The list of symbols' order: Latin letters, then Greek, each in its alphabet's order, a
     capital before its small letter, a symbol without subscript before those with one."""
-    base = SYMBOLS[key].base
-    return (not base.isascii(), base.lower(), base.islower(), symbol_sub(key, language))
+    base = symbols[key].base
+    return (not base.isascii(), base.lower(), base.islower(), symbol_sub(key, language, symbols))
 
 
-def symbol_unit(key: str, t) -> str:
+def symbol_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
     """The symbol's unit in the report's language ("" for a ratio)."""
-    return unit_text(SYMBOLS[key].unit, t)
+    return unit_text(symbols[key].unit, t)
 
 
 def unit_text(unit: str, t) -> str:
@@ -417,23 +464,23 @@ def unit_text(unit: str, t) -> str:
     return t(unit) if "." in unit and " " not in unit and t.has(unit) else unit
 
 
-def symbol_mathtext(key: str, language: str) -> str:
+def symbol_mathtext(key: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     """``$s_{\\mathrm{п}}$``: the symbol as matplotlib mathtext."""
-    s = SYMBOLS[key]
-    return f"${s.base}_{{\\mathrm{{{symbol_sub(key, language)}}}}}$"
+    s = symbols[key]
+    return f"${s.base}_{{\\mathrm{{{symbol_sub(key, language, symbols)}}}}}$"
 
 
 _BASES = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyzαβγδεζηθικλμνξπρστυφχψωΔΣΦ"
 
 
-@functools.lru_cache(maxsize=None)
-def _subscript_map(language: str) -> dict[tuple[str, str], str]:
+@functools.lru_cache(maxsize=16)
+def _subscript_map(language: str, symbols: SymbolTable = SYMBOLS) -> dict[tuple[str, str], str]:
     """(base, any language's subscript) -> the subscript in ``language``."""
     out: dict[tuple[str, str], str] = {}
     for word, forms in SUBSCRIPT_WORDS.items():
         for base in _BASES:
             out[(base, word)] = forms.get(language, word)
-    for s in SYMBOLS.values():
+    for s in symbols.values():
         if not s.sub:
             continue
         target = s.sub.get(language, s.sub["en"])
@@ -479,15 +526,15 @@ _CYRILLIC = re.compile(r"[а-яА-ЯіїєґІЇЄҐёЁ]")
 _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
 
 
-@functools.lru_cache(maxsize=1)
-def _index_subscripts() -> dict[tuple[str, str], str]:
+@functools.lru_cache(maxsize=8)
+def _index_subscripts(symbols: SymbolTable = SYMBOLS) -> dict[tuple[str, str], str]:
     """(base, subscript as a catalog writes it) -> the subscript's markup, for the symbols whose
     subscript holds an index in italics (l_i, C_n, Δα_0i, t_wi): the text sets them as the
     equations do (the second reading: l′_i upright in the text, italic in formula 7.3). A pair
     that another symbol writes upright (p_i, the indicated pressure) is left as it is."""
     indexed: dict[tuple[str, str], str] = {}
     upright: set[tuple[str, str]] = set()
-    for symbol in SYMBOLS.values():
+    for symbol in symbols.values():
         m = re.fullmatch(r"(?:Δ)?(?:<b>)?<i>(.)</i>(?:</b>)?[′″]?<sub>(.*?)</sub>[′″]?", symbol.html or "")
         if m and "<i>" in m.group(2):
             indexed[(m.group(1), re.sub(r"<[^>]+>", "", m.group(2)))] = m.group(2)
@@ -530,12 +577,12 @@ def italic_letters(text: str, language: str, whole: bool = True) -> str:
 
 
 def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",",
-                      prose: bool = False) -> str:
+                      prose: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing;
     ``prose`` (a node outside any italic, bold, sub- or superscript), in Cyrillic prose a lone Latin
     letter (a symbol) in italics."""
-    subs = _subscript_map(language)
-    indices = _index_subscripts()
+    subs = _subscript_map(language, symbols)
+    indices = _index_subscripts(symbols)
 
     def sub(m: re.Match) -> str:
         base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
@@ -638,11 +685,12 @@ def _skip_depth(tag: str, skip: int) -> int:
     return skip
 
 
-def typeset_html(html: str, language: str, units: list[str], decimal: str = ",") -> str:
+def typeset_html(html: str, language: str, units: list[str], decimal: str = ",",
+                 symbols: SymbolTable = SYMBOLS) -> str:
     """Apply :func:`typeset_text_html` to every text node of a document (not to tags,
     attribute values, ``<style>``, ``<script>`` or ``<title>``) and give the table headers'
     and equations' ``<i>X</i><sub>Y</sub>`` the language's subscript."""
-    subs = _subscript_map(language)
+    subs = _subscript_map(language, symbols)
     parts = _TAG.split(html)
     skip = inline = 0  # inside style/script/title; inside an italic, bold, sub- or superscript
     for i, part in enumerate(parts):
@@ -657,18 +705,18 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",")
                 and parts[i - 1].startswith("<td"):
             parts[i] = f"<i>{part}</i>"  # a table cell that is a symbol (the criteria z, t, q)
             continue
-        parts[i] = typeset_text_html(part, language, units, decimal, prose=not inline)
+        parts[i] = typeset_text_html(part, language, units, decimal, prose=not inline, symbols=symbols)
     out = "".join(parts)
     return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
                                    f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>", out)
 
 
 # ----------------------------------------------------------------------------- figures
-def mathtext(text: str, language: str) -> str:
+def mathtext(text: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     """A figure label with ``s_п``/``ω^2`` as matplotlib mathtext (a ``$`` in the text is kept)."""
     if "$" in text or ("_" not in text and "^" not in text):
         return text
-    subs = _subscript_map(language)
+    subs = _subscript_map(language, symbols)
 
     def sub(m: re.Match) -> str:
         base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
@@ -680,7 +728,7 @@ def mathtext(text: str, language: str) -> str:
     return text.replace("$$", "")
 
 
-def typeset_figure(fig, t) -> None:
+def typeset_figure(fig, t, symbols: SymbolTable = SYMBOLS) -> None:
     """Make every text of a matplotlib figure typeset for the report's language: mathtext
     sub/superscripts in labels, titles, legends and annotations, and locale tick labels
     (decimal comma in uk/ru, "−", ×10ⁿ offsets instead of ``1e-03``)."""
@@ -697,7 +745,7 @@ def typeset_figure(fig, t) -> None:
     for text in fig.findobj(Text):
         value = text.get_text()
         if value and ("_" in value or "^" in value) and "$" not in value:
-            text.set_text(mathtext(value, language))
+            text.set_text(mathtext(value, language, symbols))
 
 
 def _legend_outside(ax) -> None:
