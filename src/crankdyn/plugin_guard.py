@@ -302,8 +302,8 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
     where = f"stage {stage.name!r}"
 
     @functools.wraps(stage.applies)
-    def applies(scene):
-        reason = call(plugin, where, "applies", foreign, stage.applies, scene)
+    def applies(scene, *services):  # services: as the orchestrator passes them (Stage.services)
+        reason = call(plugin, where, "applies", foreign, stage.applies, scene, *services)
         if reason is not None and not isinstance(reason, str):
             raise _garbage(plugin, where, "applies", reason,
                            "None (the stage applies) or a str (the reason it does not)")
