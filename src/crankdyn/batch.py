@@ -292,14 +292,17 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
         return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
                        answers=answer_key.answers(document, columns), stages_run=list(result.stages_run), files=count,
                        rendered=rendered, absent=answer_key.absent(document, columns))
-    except SceneError as exc:
-        message = "; ".join(str(p) for p in exc.problems)
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")
-    except CrankdynError as exc:
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, str(exc).replace("\n", " "))
     except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
-                       f"internal error: {exc.__class__.__name__}: {exc}")
+        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, error_text(exc))
+
+
+def error_text(exc: Exception) -> str:
+    """A variant's error as its failure row states it."""
+    if isinstance(exc, SceneError):
+        return "invalid scene: " + "; ".join(str(p) for p in exc.problems)
+    if isinstance(exc, CrankdynError):
+        return str(exc).replace("\n", " ")
+    return f"internal error: {exc.__class__.__name__}: {exc}"
 
 
 def _variant_scene(base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]):
