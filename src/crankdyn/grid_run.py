@@ -185,7 +185,7 @@ def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str 
 def chunks(variants: list[Variant], workers: int, size: int = CHUNK_POINTS) -> list[list[Variant]]:
     """``variants`` in chunks of at most ``size`` points, and at least two chunks per worker when
     there are enough points (so that no worker waits for the last long one)."""
-    size = max(1, min(size, math.ceil(len(variants) / max(1, 2 * workers))))
+    size = max(1, min(size, len(variants) // max(1, 2 * workers)))
     return [variants[k:k + size] for k in range(0, len(variants), size)]
 
 
