@@ -200,3 +200,27 @@ def test_a_larger_grid_in_chunks_equals_the_points_run_alone():
     assert len(points) == 180
     outcomes, _ = execute_key(points, base, base_dir, RunOptions([], jobs=2, progress=False))
     _assert_same_keys(outcomes, _per_point(base, base_dir, points))
+
+
+def test_on_dask_the_points_go_in_chunks_and_give_the_local_key(monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    import crankdyn.grid_run as grid_run
+
+    submitted = []
+    real = grid_run.run_all_dask
+
+    def counting(items, *args, **kwargs):
+        submitted.append([len(item) for item in items])
+        return real(items, *args, **kwargs)
+
+    monkeypatch.setattr(grid_run, "run_all_dask", counting)
+    base, base_dir, points = _grid(TWELVE)
+    local, _ = execute_key(points, base, base_dir, RunOptions([], jobs=1, progress=False))
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2,
+                                  dashboard_address=None) as cluster:
+        options = RunOptions([], progress=False, scheduler=cluster.scheduler_address)
+        remote, stop = execute_key(points, base, base_dir, options)
+    assert stop == 0
+    # one task per chunk (two per worker thread here), every point in one of them
+    assert submitted == [[3, 3, 3, 3]]
+    _assert_same_keys(remote, local)
