@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from crankdyn import answer_key
@@ -184,11 +185,13 @@ def test_chunks_cover_every_point_once_in_order():
 def test_the_sweep_runs_the_study_once_and_says_so(tmp_path):
     sweep = sweep_from_args(["engine.rpm=3000:5000:3"], None, None, None)
     options = RunOptions([], jobs=1, progress=False)
-    report, notes = run_sweep(SweepRequest(PETROL, sweep, tmp_path / "out", options, ["csv"]))
+    report, notes = run_sweep(SweepRequest(PETROL, sweep, tmp_path / "out", options, ["csv", "xlsx"]))
     assert not report.failures and len(report.outcomes) == 3
     studies = [s.name for s in _registry().stages.values() if is_study(s)]
     said = [n for n in notes if "ran once, for the base scene" in n]
     assert said and all(any(f"'{name}'" in n for name in studies) for n in said)
+    sheet = pd.read_excel(tmp_path / "out" / "answer_key.xlsx", sheet_name="notes")
+    assert sheet["note"].tolist() == notes  # the key's own notes say how it was computed
     assert not any("numerics" in o.stages_run for o in report.outcomes)
     assert math.isfinite(report.outcomes[0].answers["p_max_MPa"])
 
