@@ -120,10 +120,17 @@ def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
     """The points grouped by their key plan (almost always one group: the grid's points differ in
     values, seldom in the stages that apply)."""
     groups: dict[tuple[str, ...], tuple[Plan, list[_Point]]] = {}
+    plans: dict[tuple, Plan] = {}
     for point in scenes:
         try:
             check_scene(point.scene, registry, languages)
-            the_plan = key_plan(plan(point.scene, registry, stages), registry)
+            # a plan follows from what each stage's applies says and the stages asked for alone
+            said = (tuple(s.applies(point.scene) for s in registry.stages.values()),
+                    tuple(stages if stages is not None else point.scene.analysis.stages or ()),
+                    stages is None and point.scene.analysis.stages is None)
+            if said not in plans:
+                plans[said] = key_plan(plan(point.scene, registry, stages), registry)
+            the_plan = plans[said]
         except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
             point.error = error_text(exc)
             continue
