@@ -44,14 +44,16 @@ GOALS = {"points_per_s": 500.0, "of_numpy": 10.0, "dask_share": 0.8}
 
 
 def grid_sets(points: int) -> list[str]:
-    """``--set`` arguments of a grid of about ``points`` points: speed x rod ratio x peak pressure."""
+    """``--set`` arguments of a grid of about ``points`` points: speed x rod ratio x peak
+    pressure."""
     side = max(2, round((points / 1.25) ** (1 / 3)))  # 10 000 points: 25 speeds x 20 x 20
     speeds = max(2, points // (side * side))
     return [f"engine.rpm=2000:7000:{speeds}", f"engine.rod_ratio=0.24:0.32:{side}",
             f"cycle.max_pressure=4.5 MPa:7.5 MPa:{side}"]
 
 
-def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict, step_deg: float = 1.0) -> dict[str, np.ndarray]:
+def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict,
+               step_deg: float = 1.0) -> dict[str, np.ndarray]:
     """The sweep's formulas as plain numpy over points x angles (petrol-1cyl's masses and cycle).
 
     Kinematics of the central crank-slider (exact), the theoretical diagram's polytropes (no
@@ -69,7 +71,8 @@ def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict, step_deg: float = 1.0) -
     cos_b = np.sqrt(1 - (lam * sin_a) ** 2)
     s = radius * (1 - cos_a + (1 - cos_b) / lam)
     v = radius * omega * sin_a * (1 + lam * cos_a / cos_b)
-    j = radius * omega ** 2 * (cos_a + lam * (cos_a ** 2 - sin_a ** 2 + lam ** 2 * sin_a ** 4) / cos_b ** 3)
+    j = radius * omega ** 2 * (cos_a + lam * (cos_a ** 2 - sin_a ** 2 + lam ** 2 * sin_a ** 4)
+                               / cos_b ** 3)
     # the theoretical diagram: intake, polytropic compression, combustion at TDC, expansion, exhaust
     eps, n1, n2 = cycle["compression_ratio"], cycle["compression_index"], cycle["expansion_index"]
     p_a, p_r = _pascal(cycle["intake_pressure"]), _pascal(cycle["exhaust_pressure"])
@@ -124,13 +127,15 @@ CHECKED = {"v_mean_m_s": 1e-12, "j_max_m_s2": 1e-12, "p_c_MPa": 1e-12, "p_j_tdc_
 
 
 def check_reference(reference: dict[str, np.ndarray], outcomes) -> float:
-    """The largest relative difference of the checked columns; raises if one is beyond its tolerance."""
+    """The largest relative difference of the closed-form columns; raises if any checked column
+    is beyond its tolerance."""
     worst = 0.0
     for column, tolerance in CHECKED.items():
         key = np.array([o.answers[column] for o in outcomes], dtype=float)
         difference = float(np.max(np.abs(reference[column] - key) / np.abs(key)))
         if difference > tolerance:
-            raise AssertionError(f"bare numpy and the sweep differ in {column}: {difference:.3g} > {tolerance:g}")
+            raise AssertionError(f"bare numpy and the sweep differ in {column}: "
+                                 f"{difference:.3g} > {tolerance:g}")
         worst = max(worst, difference) if tolerance < 1e-9 else worst
     return worst
 
@@ -138,14 +143,16 @@ def check_reference(reference: dict[str, np.ndarray], outcomes) -> float:
 def _dask_options(jobs: int):
     from distributed import LocalCluster  # lazy: the optional dask extra
 
-    return LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=":0")
+    return LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                        dashboard_address=":0")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=10_000)
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--sample", type=int, default=40, help="points run point by point (default 40)")
+    parser.add_argument("--sample", type=int, default=40,
+                        help="points run point by point (default 40)")
     parser.add_argument("--no-dask", action="store_true")
     args = parser.parse_args()
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -170,7 +177,8 @@ def main() -> None:
     failed = [o for o in fast if not o.ok]
 
     by_row = {o.row: o for o in fast}
-    worst = max((abs(by_row[o.row].answers[c] - v) / abs(v) for o in slow for c, v in o.answers.items()
+    worst = max((abs(by_row[o.row].answers[c] - v) / abs(v)
+                 for o in slow for c, v in o.answers.items()
                  if v not in (None, 0)), default=0.0)
 
     rpm = np.array([float(v.cells["engine.rpm"]) for v in points])
@@ -202,7 +210,8 @@ def main() -> None:
         print(f"dask ({args.jobs} worker processes):          {dask_rate:9.1f} points/s   "
               f"{dask_rate / chunked:.0%} of chunked (goal >= {GOALS['dask_share']:.0%})")
     print(f"chunked vs per point, largest relative difference over the sample's key: {worst:.2g}")
-    print(f"bare numpy vs the key, closed-form columns: largest relative difference {closed_form:.2g}")
+    print("bare numpy vs the key, closed-form columns: largest relative difference "
+          f"{closed_form:.2g}")
 
 
 if __name__ == "__main__":

@@ -5,18 +5,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
+import crankdyn.batch as batch
 from crankdyn import answer_key
-from crankdyn.batch import RunOptions, _registry, _variant_scene, load_base, run_variant
+from crankdyn.batch import RunOptions, Variant, _registry, _variant_scene, load_base, run_variant
 from crankdyn.cli import examples_dir
 from crankdyn.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
 from crankdyn.orchestrator import is_study, plan, run_stage, stage_inputs
-from crankdyn.plugins import Registry
+from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
+from crankdyn.plugins import Registry, default_registry
 from crankdyn.sweep_grid import SweepRequest, base_for, run_sweep, sweep_from_args, variants
 
 PETROL = examples_dir() / "petrol-1cyl.toml"
@@ -50,7 +53,8 @@ def _assert_same_keys(fast, slow):
 
 # Three fields each stage of the key reads: the speed (kinematics, forces, torque), the rod ratio
 # (the extremes' root searches) and the peak pressure (the indicator's rounding).
-TWELVE = ["engine.rpm=3000:6000:3", "engine.rod_ratio=0.25,0.3", "cycle.max_pressure=5.5 MPa,6.5 MPa"]
+TWELVE = ["engine.rpm=3000:6000:3", "engine.rod_ratio=0.25,0.3",
+          "cycle.max_pressure=5.5 MPa,6.5 MPa"]
 
 
 def test_twelve_points_in_chunks_equal_the_points_run_alone():
@@ -75,7 +79,8 @@ def test_the_chunked_sweep_on_worker_processes_equals_the_points_run_alone():
 
 def test_a_failing_point_fails_alone_and_the_others_of_its_chunk_keep_their_answers():
     # a peak 170° after TDC is past the exhaust opening: the indicator refuses those points
-    base, base_dir, points = _grid(["engine.rod_ratio=0.28,0.3", "cycle.rounding.peak_angle_after_tdc_deg=12,170"])
+    base, base_dir, points = _grid(["engine.rod_ratio=0.28,0.3",
+                                    "cycle.rounding.peak_angle_after_tdc_deg=12,170"])
     fast = run_chunk(base, base_dir, points, None, None)
     slow = _per_point(base, base_dir, points)
     assert [o.ok for o in fast] == [o.ok for o in slow] == [True, False, True, False]
@@ -101,14 +106,16 @@ def test_the_key_plan_keeps_the_key_stages_their_prerequisites_and_no_study():
         assert set(stage.requires) <= provided
     left_out = [s for s in full.order if s.name not in names and not is_study(s)]
     assert left_out and not any(s.answer_columns for s in left_out)
-    assert {c.stage for c in answer_key.answer_columns(registry)} & {s.name for s in full.order} <= set(names)
+    key_stages = {c.stage for c in answer_key.answer_columns(registry)}
+    assert key_stages & {s.name for s in full.order} <= set(names)
 
 
 def _same(got, expected, what):
     if isinstance(expected, np.ndarray):
         scale = float(np.max(np.abs(expected))) if expected.size else 1.0
-        np.testing.assert_allclose(got, expected, rtol=RELATIVE, atol=1e-12 * (scale or 1.0), err_msg=what)
-    elif isinstance(expected, (float, np.floating)) or (isinstance(expected, int) and not isinstance(expected, bool)):
+        np.testing.assert_allclose(got, expected, rtol=RELATIVE, atol=1e-12 * (scale or 1.0),
+                                   err_msg=what)
+    elif isinstance(expected, (float, int, np.floating)) and not isinstance(expected, bool):
         assert got == pytest.approx(expected, rel=RELATIVE, abs=1e-300), what
     elif isinstance(expected, dict):
         assert set(got) == set(expected), what
@@ -141,7 +148,8 @@ def test_run_many_gives_the_data_and_results_of_run_point_by_point():
                 for key, value in single.data.items():
                     if getattr(value, "displacement_at", None) is not None:
                         angles = np.array([0.0, 33.3, 181.0])
-                        _same(output.data[key].displacement_at(angles), value.displacement_at(angles), key)
+                        _same(output.data[key].displacement_at(angles),
+                              value.displacement_at(angles), key)
         for d, single in zip(data, singles):
             d.update(single.data)
     assert checked  # at least one stage of the key declares run_many
@@ -185,7 +193,8 @@ def test_chunks_cover_every_point_once_in_order():
 def test_the_sweep_runs_the_study_once_and_says_so(tmp_path):
     sweep = sweep_from_args(["engine.rpm=3000:5000:3"], None, None, None)
     options = RunOptions([], jobs=1, progress=False)
-    report, notes = run_sweep(SweepRequest(PETROL, sweep, tmp_path / "out", options, ["csv", "xlsx"]))
+    request = SweepRequest(PETROL, sweep, tmp_path / "out", options, ["csv", "xlsx"])
+    report, notes = run_sweep(request)
     assert not report.failures and len(report.outcomes) == 3
     studies = [s.name for s in _registry().stages.values() if is_study(s)]
     said = [n for n in notes if "ran once, for the base scene" in n]
@@ -199,7 +208,8 @@ def test_the_sweep_runs_the_study_once_and_says_so(tmp_path):
 @pytest.mark.slow
 def test_a_larger_grid_in_chunks_equals_the_points_run_alone():
     base, base_dir, points = _grid(["engine.rpm=2000:7000:6", "engine.rod_ratio=0.24:0.32:5",
-                                    "cycle.max_pressure=4.5 MPa,6 MPa,7.5 MPa", "engine.bore=76 mm,88 mm"])
+                                    "cycle.max_pressure=4.5 MPa,6 MPa,7.5 MPa",
+                                    "engine.bore=76 mm,88 mm"])
     assert len(points) == 180
     outcomes, _ = execute_key(points, base, base_dir, RunOptions([], jobs=2, progress=False))
     _assert_same_keys(outcomes, _per_point(base, base_dir, points))
@@ -227,3 +237,30 @@ def test_on_dask_the_points_go_in_chunks_and_give_the_local_key(monkeypatch):
     # one task per chunk (two per worker thread here), every point in one of them
     assert submitted == [[3, 3, 3, 3]]
     _assert_same_keys(remote, local)
+
+
+HANG_RPM = 4444
+
+
+def _hang_at(scene, inputs):
+    if scene.engine.rpm == HANG_RPM:
+        time.sleep(60.0)  # far beyond the time limit: finishing at all proves the point was stopped
+    return StageOutput(results={"x": 1.0})
+
+
+def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_fails(monkeypatch):
+    hanging = Stage(name="hang_for_test", title_key="kinematics.title", requires=(), provides=(),
+                    applies=lambda scene: None, run=_hang_at, render=lambda output, ctx: None,
+                    answer_columns=(AnswerColumn("hang_x", "x"),))
+    registry = default_registry()
+    stages = {**registry.stages, hanging.name: hanging}
+    monkeypatch.setattr(batch, "_worker_registry", dataclasses.replace(registry, stages=stages))
+    base, base_dir = load_base(examples_dir() / "kinematics-only.toml")
+    points = [Variant(k, f"p{k}", {"engine": {"rpm": rpm}}, {"variant": f"p{k}"})
+              for k, rpm in enumerate([3000, HANG_RPM, 3500, 4000], start=1)]
+    options = RunOptions([], jobs=1, progress=False, timeout=1.0)
+    outcomes, stop = execute_key(points, base, base_dir, options)
+    assert stop == 0
+    assert [o.ok for o in outcomes] == [True, False, True, True]
+    assert "time limit" in outcomes[1].error
+    assert [o.answers["hang_x"] for o in outcomes if o.ok] == [1.0, 1.0, 1.0]

@@ -187,7 +187,8 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
                 run_scene(point, _registry(), stages, _languages())
                 raise SceneError(Problem("sweep", str(combination), error), "sweep")
             document = {"stages_run": run_names, **results}
-            rows.append([*combination, *(number(v) for v in answer_key.answers(document, key_columns).values())])
+            values = answer_key.answers(document, key_columns).values()
+            rows.append([*combination, *(number(v) for v in values)])
     answer_names = [c.name for c in key_columns]
     frame = pd.DataFrame(rows, columns=[*names, *answer_names])
     empty = [c for c in answer_names if frame[c].isna().all()]

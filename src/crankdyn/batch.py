@@ -293,7 +293,8 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
                        answers=answer_key.answers(document, columns), stages_run=list(result.stages_run), files=count,
                        rendered=rendered, absent=answer_key.absent(document, columns))
     except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, error_text(exc))
+        return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
+                       error_text(exc))
 
 
 def error_text(exc: Exception) -> str:
@@ -594,7 +595,8 @@ def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant
     CSV and Parquet keys carry the column names only.
     """
     by_row = {v.row: v for v in variants}
-    makers = {"csv": _answer_key_csv, "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
+    makers = {"csv": _answer_key_csv,
+              "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
               "parquet": _answer_key_parquet}
     files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
     if any(not o.ok for o in outcomes):
@@ -670,7 +672,8 @@ def _failures_csv(outcomes, by_row) -> bytes:
     return _csv_bytes(*_failure_rows(outcomes, by_row))
 
 
-def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK, notes: list[str] = ()) -> bytes:
+def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK,
+                     notes: list[str] = ()) -> bytes:
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
     header, rows = _answer_rows(fields, outcomes, by_row)

@@ -34,7 +34,8 @@ from .batch import (Outcome, Progress, RunOptions, Variant, _client, _registry, 
                     error_text, warm, worker_count)
 from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
 from .errors import PluginError
-from .orchestrator import Plan, check_output, check_scene, is_study, plan, run_plan, run_stage, stage_inputs
+from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage,
+                           stage_inputs)
 from .plugin_types import Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene
@@ -207,8 +208,10 @@ def study_once(scene: Scene, registry: Registry, stages: list[str] | None) -> li
         check_scene(scene, registry)
         run_plan(scene, the_plan)
     except Exception as exc:  # noqa: BLE001 - the points' answers do not depend on it
-        return [f"the study {name!r} failed for the base scene: {error_text(exc)}" for name in studies]
-    return [f"the study {name!r} (error against run time) ran once, for the base scene, not per point"
+        return [f"the study {name!r} failed for the base scene: {error_text(exc)}"
+                for name in studies]
+    return [f"the study {name!r} (error against run time) ran once, for the base scene, "
+            "not per point"
             for name in studies]
 
 
@@ -259,7 +262,8 @@ def execute_key(variants: list[Variant], base: dict, base_dir: str,
                 _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun)
             else:
                 try:
-                    _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed, rerun)
+                    _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
+                              rerun)
                 finally:
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
@@ -288,7 +292,8 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
     workers = max(1, sum(client.nthreads().values()))
     items = chunks(variants, workers)
     prepare = partial(warm, (), ())
-    if run_all_dask(items, run_chunk, args_of, client, timeout * len(items[0]) if items else timeout,
+    limit = timeout * len(items[0]) if items else timeout
+    if run_all_dask(items, run_chunk, args_of, client, limit,
                     finished, failed, prepare=prepare):
         return
     if rerun:
@@ -304,7 +309,8 @@ def _with_unfinished(variants: list[Variant], outcomes: list[Outcome],
     unfinished = [v for v in variants if v.row not in done]
     stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
     what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
-    outcomes += [Outcome(v.row, v.name, False, 0.0, f"not finished: the sweep was interrupted ({what})")
+    reason = f"not finished: the sweep was interrupted ({what})"
+    outcomes += [Outcome(v.row, v.name, False, 0.0, reason)
                  for v in unfinished]
     outcomes.sort(key=lambda o: o.row)
     return outcomes, int(stop_signal)

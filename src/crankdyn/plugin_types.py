@@ -358,7 +358,8 @@ class Stage:
     tables: tuple[str, ...] = ()
     input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
     legend: bool = True
-    run_many: Callable[[Sequence["Scene"], Sequence[Mapping[str, Any]]], Sequence[StageOutput]] | None = None
+    run_many: (Callable[[Sequence["Scene"], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
+               | None) = None
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
 

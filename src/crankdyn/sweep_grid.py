@@ -445,8 +445,8 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     else:  # the answer key only: chunks of points, the studies once (crankdyn.grid_run)
         notes += base_studies(base, base_dir, request.options)
         outcomes, stop_signal = execute_key(points, base, base_dir, request.options)
-    files = key_files(fields, outcomes, points, request.key_formats, batch_language(base, request.options),
-                      notes)
+    language = batch_language(base, request.options)
+    files = key_files(fields, outcomes, points, request.key_formats, language, notes)
     if request.sweep.plot_y is not None:
         plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
         files.update(plotted)

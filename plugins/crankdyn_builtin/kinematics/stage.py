@@ -150,7 +150,8 @@ def _extreme_shapes(ratio: float) -> tuple[float, float, float]:
 def _uniform(scenes) -> bool:
     """Whether ``scenes`` share the angle grid, the kinematics form and having masses or not."""
     first = scenes[0]
-    return all(s.analysis.kinematics == first.analysis.kinematics and (s.masses is None) == (first.masses is None)
+    return all(s.analysis.kinematics == first.analysis.kinematics
+               and (s.masses is None) == (first.masses is None)
                and np.array_equal(s.crank_angles_deg, first.crank_angles_deg) for s in scenes)
 
 
@@ -170,7 +171,8 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
     method = first.analysis.kinematics
     chosen = exact if method == "exact" else approx
-    displacement = kin.piston_displacement_exact_m if method == "exact" else kin.piston_displacement_approx_m
+    displacement = (kin.piston_displacement_exact_m if method == "exact"
+                    else kin.piston_displacement_approx_m)
     beta = kin.rod_angle_rad(alpha, ratio)
     rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
     rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
@@ -202,16 +204,19 @@ def run_many(scenes, inputs) -> list[StageOutput]:
             "j_max_m_s2": kin.max_piston_acceleration_m_s2(r, lam, w),
             "j_min_m_s2": float(r) * float(w) ** 2 * j_shape,
             "j_min_crank_angle_deg": float(np.degrees(j_angle)),
-            "j_min_textbook_m_s2": j_min_tb, "j_min_textbook_crank_angle_deg": float(np.degrees(j_min_tb_angle)),
+            "j_min_textbook_m_s2": j_min_tb,
+            "j_min_textbook_crank_angle_deg": float(np.degrees(j_min_tb_angle)),
             "rod_angle_max_deg": float(np.degrees(np.arcsin(lam))),
             **{name: float(values[k]) for name, values in rows.items()},
         }
         motion = PistonMotion(
-            crank_angle_deg=angle_deg, piston_displacement_m=chosen["s"][k], piston_velocity_m_s=chosen["v"][k],
-            piston_acceleration_m_s2=chosen["j"][k], rod_angle_rad=beta[k], crank_radius_m=r,
+            crank_angle_deg=angle_deg, piston_displacement_m=chosen["s"][k],
+            piston_velocity_m_s=chosen["v"][k], piston_acceleration_m_s2=chosen["j"][k],
+            rod_angle_rad=beta[k], crank_radius_m=r,
             angular_velocity_rad_s=w, method=method,
             extra={"rod_ratio": lam, "rod_length_m": engine.rod_length_m,
-                   "rod_angular_velocity_rad_s": rod_omega[k], "rod_angular_acceleration_rad_s2": rod_epsilon[k]},
+                   "rod_angular_velocity_rad_s": rod_omega[k],
+                   "rod_angular_acceleration_rad_s2": rod_epsilon[k]},
             displacement_at=functools.partial(_displacement_at_deg, displacement, r, lam),
         )
         outputs.append(StageOutput(data={KINEMATICS: motion}, results=results))
