@@ -19,6 +19,7 @@ import pytest
 
 import crankdyn
 import crankdyn.batch as batch
+import crankdyn.grid_run as grid_run
 from crankdyn.batch import (MAX_FIELDS, MAX_VARIANT_NAME_BYTES, MAX_VARIANT_NAME_CHARS,
                             MAX_VARIANTS, available_cores, folder_name, read_variants, run_batch,
                             worker_count)
@@ -198,8 +199,9 @@ def test_jobs_are_capped_at_the_cores():
 def test_the_cli_says_jobs_are_capped_and_runs_no_more_workers(tmp_path, capsys, monkeypatch):
     started = []
     real = batch.run_all
-    monkeypatch.setattr(batch, "run_all", lambda items, function, args_of, jobs, *rest:
-                        started.append(jobs) or real(items, function, args_of, jobs, *rest))
+    for module in (batch, grid_run):  # a batch's variants, a sweep's chunks of points
+        monkeypatch.setattr(module, "run_all", lambda items, function, args_of, jobs, *rest:
+                            started.append(jobs) or real(items, function, args_of, jobs, *rest))
     rows = available_cores() + 1
     out = tmp_path / "out"
     code = main(["sweep", str(BASE), f"--set=engine.rpm=1000:6000:{rows}", "--jobs", "1000",

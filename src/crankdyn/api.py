@@ -35,6 +35,7 @@ from markupsafe import Markup
 from . import answer_key
 from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
 from .errors import Problem, SceneError
+from .grid_run import CHUNK_POINTS, evaluate, number, study_once
 from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, run_scene
 from .outputs import FORMATS, _named_tables, results_document
@@ -158,6 +159,11 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
           stages: Iterable[str] | None = None) -> "pd.DataFrame":  # noqa: F821
     """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
 
+    The combinations are computed as ``crankdyn sweep`` computes them: in chunks, only the stages
+    whose answer-key columns they fill, a stage's ``run_many`` over many points at once; the
+    studies (the error against run time) run once, for ``scene``, and
+    ``frame.attrs["notes"]`` says so.
+
     One row per combination, in the order of :func:`itertools.product` over the grid (the
     first name varies slowest): the grid's own columns, then the answer-key columns of
     ``crankdyn batch`` (units in the names; columns no run has are left out, as there).
@@ -170,15 +176,35 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     names, values = _grid_values(grid)
     stages = list(stages) if stages is not None else None
     key_columns = answer_key.answer_columns(_registry())  # the same columns as the batch answer key
+    combinations = list(itertools.product(*values))
     rows = []
-    for combination in itertools.product(*values):
-        variant = load(scene, dict(zip(names, combination)))
-        document = results_document(run_scene(variant, _registry(), stages, _languages()))
-        rows.append([*combination, *answer_key.answers(document, key_columns).values()])
+    for start in range(0, len(combinations), CHUNK_POINTS):  # the points at array speed, in chunks
+        part = combinations[start:start + CHUNK_POINTS]
+        scenes = [load(scene, dict(zip(names, combination))) for combination in part]
+        for combination, point, (run_names, results, error) in zip(
+                part, scenes, evaluate(scenes, _registry(), stages, _languages())):
+            if error:  # the point's own exception, as a run of it alone raises it
+                run_scene(point, _registry(), stages, _languages())
+                raise SceneError(Problem("sweep", str(combination), error), "sweep")
+            document = {"stages_run": run_names, **results}
+            values = answer_key.answers(document, key_columns).values()
+            rows.append([*combination, *(number(v) for v in values)])
     answer_names = [c.name for c in key_columns]
     frame = pd.DataFrame(rows, columns=[*names, *answer_names])
     empty = [c for c in answer_names if frame[c].isna().all()]
-    return frame.drop(columns=empty)
+    frame = frame.drop(columns=empty)
+    frame.attrs["notes"] = _studies(scene, stages) if combinations else []
+    return frame
+
+
+def _studies(scene: Scene | str | Path | Mapping, stages: list[str] | None) -> list[str]:
+    """The studies of the sweep's base ``scene`` run once: the notes saying so."""
+    try:
+        base = load(scene)
+    except SceneError as exc:
+        return [f"the studies (error against run time) did not run: the base scene alone is not "
+                f"valid ({'; '.join(str(p) for p in exc.problems)})"]
+    return study_once(base, _registry(), stages)
 
 
 def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[list[Any]]]:

@@ -298,14 +298,18 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
         return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
                        answers=answer_key.answers(document, columns), stages_run=list(result.stages_run), files=count,
                        rendered=rendered, absent=answer_key.absent(document, columns))
-    except SceneError as exc:
-        message = "; ".join(str(p) for p in exc.problems)
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, f"invalid scene: {message}")
-    except CrankdynError as exc:
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start, str(exc).replace("\n", " "))
     except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
         return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
-                       f"internal error: {exc.__class__.__name__}: {exc}")
+                       error_text(exc))
+
+
+def error_text(exc: Exception) -> str:
+    """A variant's error as its failure row states it."""
+    if isinstance(exc, SceneError):
+        return "invalid scene: " + "; ".join(str(p) for p in exc.problems)
+    if isinstance(exc, CrankdynError):
+        return str(exc).replace("\n", " ")
+    return f"internal error: {exc.__class__.__name__}: {exc}"
 
 
 def _variant_scene(base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]):
@@ -588,14 +592,17 @@ def _write_rendered(out_dir: Path, outcome: Outcome, force: bool = False) -> Out
 
 
 def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant],
-              formats: Iterable[str] = ("csv", "xlsx"), language: str = i18n.FALLBACK) -> dict[str, bytes]:
+              formats: Iterable[str] = ("csv", "xlsx"), language: str = i18n.FALLBACK,
+              notes: Iterable[str] = ()) -> dict[str, bytes]:
     """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv.
 
     The workbook shows each result column's label (``AnswerColumn.label_key``) in ``language``
-    above the column names; the CSV and Parquet keys carry the column names only.
+    above the column names, and ``notes`` (how the key was computed) on a sheet of their own; the
+    CSV and Parquet keys carry the column names only.
     """
     by_row = {v.row: v for v in variants}
-    makers = {"csv": _answer_key_csv, "xlsx": partial(_answer_key_xlsx, language=language),
+    makers = {"csv": _answer_key_csv,
+              "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
               "parquet": _answer_key_parquet}
     files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
     if any(not o.ok for o in outcomes):
@@ -671,7 +678,8 @@ def _failures_csv(outcomes, by_row) -> bytes:
     return _csv_bytes(*_failure_rows(outcomes, by_row))
 
 
-def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK) -> bytes:
+def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK,
+                     notes: list[str] = ()) -> bytes:
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
     header, rows = _answer_rows(fields, outcomes, by_row)
@@ -684,6 +692,8 @@ def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK) ->
     failed_rows = [[neutralised(v) for v in row] for row in failed_rows]
     if failed_rows:
         sheets.append(("failures", pd.DataFrame(failed_rows, columns=failed_header)))
+    if notes:
+        sheets.append(("notes", pd.DataFrame([[neutralised(n)] for n in notes], columns=["note"])))
     return xlsx_bytes(sheets)
 
 

@@ -347,6 +347,12 @@ class Stage:
     legend:     whether the symbol table explains this section's equations (the "де …"
                 lines, ``crankdyn.report.equation_legend``); False for a section that explains
                 its letters in its own words.
+    run_many:   optional ``run_many(scenes, inputs) -> [StageOutput, ...]``: ``run`` over many
+                scenes at once (a sweep's points: arrays over points × angles), ``inputs`` one
+                mapping per scene as ``run`` gets it. Each output's ``data`` and ``results`` equal
+                what ``run`` gives for its scene (``tables`` and ``notes`` may stay empty: a sweep
+                renders nothing). When it raises, the sweep runs ``run`` point by point, so each
+                point gets its own error; without it, the sweep always does.
     symbols:    key -> :class:`Symbol`: the letters this stage's equations use that the core's
                 symbol table does not have (or has with another meaning), each with its meaning
                 ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
@@ -385,6 +391,8 @@ class Stage:
     tables: tuple[str, ...] = ()
     input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
     legend: bool = True
+    run_many: (Callable[[Sequence["Scene"], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
+               | None) = None
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
     section_symbols: tuple[str, ...] = ()

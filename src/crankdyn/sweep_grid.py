@@ -35,9 +35,10 @@ from typing import Any
 from .answer_key import answer_columns
 from .api import _nested_overrides
 from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant,
-                    _nest, _registry, batch_language, check_options, execute, key_files,
-                    key_warnings, load_base, parse_cell)
+                    _nest, _registry, _variant_scene, batch_language, check_options, execute,
+                    key_files, key_warnings, load_base, parse_cell)
 from .errors import Problem, SceneError, UsageError
+from .grid_run import execute_key, study_once
 from .manifest import check_outputs, write_outputs
 from .scene import merge, scene_from_dict
 from .sweep_plot import plot_files
@@ -439,8 +440,13 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     fields, points = variants(request.sweep)
     key_names = [f"answer_key.{f}" for f in request.key_formats] + ["failures.csv"]
     check_outputs(Path(request.out_dir), key_names, force=request.options.force)  # before computing
-    outcomes, stop_signal = execute(points, base, base_dir, request.out_dir, request.options)
-    files = key_files(fields, outcomes, points, request.key_formats, batch_language(base, request.options))
+    if request.options.formats:  # files of each point: each point runs the whole report
+        outcomes, stop_signal = execute(points, base, base_dir, request.out_dir, request.options)
+    else:  # the answer key only: chunks of points, the studies once (crankdyn.grid_run)
+        notes += base_studies(base, base_dir, request.options)
+        outcomes, stop_signal = execute_key(points, base, base_dir, request.options)
+    language = batch_language(base, request.options)
+    files = key_files(fields, outcomes, points, request.key_formats, language, notes)
     if request.sweep.plot_y is not None:
         plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
         files.update(plotted)
@@ -449,6 +455,20 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     seconds = time.perf_counter() - start
     return (BatchReport(Path(request.out_dir), outcomes, seconds, written, bool(stop_signal),
                         key_warnings(outcomes), stop_signal), notes)
+
+
+def base_studies(base: dict, base_dir: str, options: RunOptions) -> list[str]:
+    """The studies of the base scene's plan (the error against run time), run once for the sweep
+    rather than per point; the notes saying so. A base scene that is not valid alone (the sweep
+    supplies a field it lacks) has its studies left out, with a note."""
+    variant = Variant(0, "base", {}, {VARIANT_COLUMN: "base"})
+    data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
+    try:
+        scene = _variant_scene(base, base_dir, variant, options.language, data_dirs)
+    except SceneError as exc:
+        return [f"the studies (error against run time) did not run: the base scene alone is not "
+                f"valid ({'; '.join(str(p) for p in exc.problems)})"]
+    return study_once(scene, _registry(), options.stages)
 
 
 def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, plot_x: str | None) -> Sweep:

@@ -138,6 +138,91 @@ def run(scene, inputs) -> StageOutput:
                        notes=notes)
 
 
+@functools.lru_cache(maxsize=4096)
+def _extreme_shapes(ratio: float) -> tuple[float, float, float]:
+    """(crank angle of v_max, j_min / (R omega^2), crank angle of j_min) of the exact motion, in
+    rad: they depend on lambda alone, so many points of a sweep share one root search."""
+    _, v_angle = kin.max_piston_velocity_exact(1.0, ratio, 1.0)
+    j_shape, j_angle = kin.min_piston_acceleration_exact(1.0, ratio, 1.0)
+    return v_angle, j_shape, j_angle
+
+
+def _uniform(scenes) -> bool:
+    """Whether ``scenes`` share the angle grid, the kinematics form and having masses or not."""
+    first = scenes[0]
+    return all(s.analysis.kinematics == first.analysis.kinematics
+               and (s.masses is None) == (first.masses is None)
+               and np.array_equal(s.crank_angles_deg, first.crank_angles_deg) for s in scenes)
+
+
+def run_many(scenes, inputs) -> list[StageOutput]:
+    """``run`` over many scenes at once (a sweep's points): the curves as arrays over points x
+    angles, the extremes' angles once per rod ratio; the same data and results as ``run``, no
+    tables or notes (a sweep renders nothing)."""
+    if not _uniform(scenes):
+        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+    first = scenes[0]
+    angle_deg = first.crank_angles_deg
+    alpha = np.radians(angle_deg)
+    radii = [s.engine.crank_radius_m for s in scenes]
+    ratios = [s.engine.rod_ratio_value for s in scenes]
+    omegas = [s.engine.angular_velocity_rad_s for s in scenes]
+    radius, ratio, omega = (np.asarray(v, dtype=float)[:, None] for v in (radii, ratios, omegas))
+    exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
+    method = first.analysis.kinematics
+    chosen = exact if method == "exact" else approx
+    displacement = (kin.piston_displacement_exact_m if method == "exact"
+                    else kin.piston_displacement_approx_m)
+    beta = kin.rod_angle_rad(alpha, ratio)
+    rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
+    rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
+    shapes = [_extreme_shapes(float(r)) for r in ratios]
+    v_angles = np.asarray([v for v, _, _ in shapes])
+    v_max = kin.piston_velocity_exact_m_s(v_angles, radius[:, 0], ratio[:, 0], omega[:, 0])
+    rows = {
+        "rod_angular_velocity_max_rad_s": np.max(np.abs(rod_omega), axis=1),
+        "rod_angular_acceleration_max_rad_s2": np.max(np.abs(rod_epsilon), axis=1),
+        "two_term_displacement_error_max_m": np.max(np.abs(approx["s"] - exact["s"]), axis=1),
+        "two_term_acceleration_error_max_m_s2": np.max(np.abs(approx["j"] - exact["j"]), axis=1),
+    }
+    if first.masses is not None:
+        distance = np.asarray([s.rod_cm_from_big_end_m for s in scenes], dtype=float)[:, None]
+        ax, az = kin.rod_point_acceleration_m_s2(alpha, radius, ratio, distance, omega)
+        rows["rod_cm_from_big_end_m"] = distance[:, 0]
+        rows["rod_cm_acceleration_max_m_s2"] = np.max(np.hypot(ax, az), axis=1)
+    outputs = []
+    for k, scene in enumerate(scenes):
+        engine, r, lam, w = scene.engine, radii[k], ratios[k], omegas[k]
+        v_angle, j_shape, j_angle = shapes[k]
+        j_min_tb, j_min_tb_angle = kin.min_piston_acceleration_approx(r, lam, w)
+        results = {
+            "crank_radius_m": r, "rod_length_m": engine.rod_length_m, "rod_ratio": lam,
+            "angular_velocity_rad_s": w, "method": method,
+            "mean_piston_speed_m_s": kin.mean_piston_speed_m_s(r, w),
+            "v_max_m_s": float(v_max[k]), "v_max_crank_angle_deg": float(np.degrees(v_angle)),
+            "v_max_approx_m_s": kin.max_piston_velocity_approx_m_s(r, lam, w),
+            "j_max_m_s2": kin.max_piston_acceleration_m_s2(r, lam, w),
+            "j_min_m_s2": float(r) * float(w) ** 2 * j_shape,
+            "j_min_crank_angle_deg": float(np.degrees(j_angle)),
+            "j_min_textbook_m_s2": j_min_tb,
+            "j_min_textbook_crank_angle_deg": float(np.degrees(j_min_tb_angle)),
+            "rod_angle_max_deg": float(np.degrees(np.arcsin(lam))),
+            **{name: float(values[k]) for name, values in rows.items()},
+        }
+        motion = PistonMotion(
+            crank_angle_deg=angle_deg, piston_displacement_m=chosen["s"][k],
+            piston_velocity_m_s=chosen["v"][k], piston_acceleration_m_s2=chosen["j"][k],
+            rod_angle_rad=beta[k], crank_radius_m=r,
+            angular_velocity_rad_s=w, method=method,
+            extra={"rod_ratio": lam, "rod_length_m": engine.rod_length_m,
+                   "rod_angular_velocity_rad_s": rod_omega[k],
+                   "rod_angular_acceleration_rad_s2": rod_epsilon[k]},
+            displacement_at=functools.partial(_displacement_at_deg, displacement, r, lam),
+        )
+        outputs.append(StageOutput(data={KINEMATICS: motion}, results=results))
+    return outputs
+
+
 def render(output: StageOutput, ctx) -> str:
     frame = output.tables.arrays("kinematics")
     r = output.results
@@ -259,6 +344,7 @@ KINEMATICS_STAGE = Stage(
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
+    run_many=run_many,
     render=render,
     figures=("piston", "rod", "rod_cm"),
     tables=("kinematics",),

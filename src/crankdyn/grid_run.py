@@ -1,0 +1,316 @@
+"""A sweep's answer key at array speed: many points computed together, nothing rendered.
+
+A point of a sweep that writes no files of its own needs only the numbers of the answer key.
+Its points therefore run in chunks (one worker call, or one Dask task, per chunk), and within a
+chunk:
+
+* only the stages that fill answer-key columns run (:func:`key_plan`), with what they require and
+  use; the studies of the other stages (the error against run time) run once, for the base scene
+  (:func:`study_once`), not per point;
+* the stages run one after the other over all the chunk's points: a stage that declares
+  ``Stage.run_many`` computes them at once (arrays over points × angles), any other stage point by
+  point with its ``run``;
+* the answers are read from each stage's results directly, without building a results document.
+
+Points that fail (a bad combination of values, a stage's error) become failure rows, as in a
+batch. No stage is named here: what runs, and how, comes from the stages' declarations.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import answer_key
+from .batch import (Outcome, Progress, RunOptions, Variant, _client, _registry, _variant_scene,
+                    error_text, warm, worker_count)
+from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
+from .errors import PluginError
+from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage,
+                           stage_inputs)
+from .plugin_types import Stage, StageOutput
+from .plugins import Registry
+from .scene import Scene
+
+#: Points per chunk: one worker call (one Dask task) computes them together. A few hundred
+#: amortise a call's cost (a fork, a pickled answer, a Dask task's round trip) and keep a
+#: chunk's arrays (points × angles per quantity) to a few megabytes.
+CHUNK_POINTS = 250
+
+
+def key_plan(the_plan: Plan, registry: Registry) -> Plan:
+    """``the_plan`` cut to the stages whose answer-key columns a sweep fills: each stage that
+    declares ``answer_columns``, the stages providing what it requires or uses, and so on; no
+    study (:func:`~crankdyn.orchestrator.is_study`). The order is the plan's."""
+    by_key = {key: s.name for s in the_plan.order for key in s.provides}
+    by_name = {s.name: s for s in the_plan.order}
+    wanted = [s.name for s in the_plan.order if s.answer_columns and not is_study(s)]
+    kept: set[str] = set()
+    while wanted:
+        name = wanted.pop()
+        if name in kept:
+            continue
+        kept.add(name)
+        stage = by_name[name]
+        wanted += [by_key[k] for k in (*stage.requires, *stage.uses) if k in by_key]
+    order = [s for s in the_plan.order if s.name in kept and not is_study(s)]
+    return Plan(order=order, skipped=dict(the_plan.skipped), registry=registry)
+
+
+def number(value: Any) -> Any:
+    """A result as results.json holds it: numpy numbers as Python numbers, a non-finite one None."""
+    if isinstance(value, (np.floating, float)):
+        value = float(value)
+        return value if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+@dataclass
+class _Point:
+    """One point while its chunk runs: its scene, the data its stages provided, their results."""
+
+    index: int
+    scene: Scene
+    data: dict[str, Any] = field(default_factory=dict)
+    results: dict[str, dict] = field(default_factory=dict)
+    error: str = ""
+
+
+def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry) -> None:
+    """Run ``stage`` for ``points``: all at once through ``run_many`` when the stage has one, else
+    (or when that raised: every point then gets its own error) point by point."""
+    inputs = [stage_inputs(stage, p.data, registry) for p in points]
+    if stage.run_many is not None and len(points) > 1:
+        try:
+            outputs = list(stage.run_many([p.scene for p in points], inputs))
+            if len(outputs) != len(points):
+                raise PluginError(f"stage {stage.name!r}: run_many returned {len(outputs)} outputs "
+                                  f"for {len(points)} scenes")
+            for point, output in zip(points, outputs):
+                check_output(stage, output)
+                _take(stage, point, output)
+            return
+        except Exception:  # noqa: BLE001 - the points are run one by one: each gets its own error
+            pass
+    for point, given in zip(points, inputs):
+        try:
+            output, _ = run_stage(stage, point.scene, given)
+        except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
+            point.error = error_text(exc)
+            continue
+        _take(stage, point, output)
+
+
+def _take(stage: Stage, point: _Point, output: StageOutput) -> None:
+    point.data.update(output.data)
+    point.results[stage.name] = output.results
+
+
+def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
+             languages: Iterable[str]) -> dict[tuple[str, ...], tuple[Plan, list[_Point]]]:
+    """The points grouped by their key plan (almost always one group: the grid's points differ in
+    values, seldom in the stages that apply)."""
+    groups: dict[tuple[str, ...], tuple[Plan, list[_Point]]] = {}
+    plans: dict[tuple, Plan] = {}
+    for point in scenes:
+        try:
+            check_scene(point.scene, registry, languages)
+            # a plan follows from what each stage's applies says and the stages asked for alone
+            said = (tuple(s.applies(point.scene) for s in registry.stages.values()),
+                    tuple(stages if stages is not None else point.scene.analysis.stages or ()),
+                    stages is None and point.scene.analysis.stages is None)
+            if said not in plans:
+                plans[said] = key_plan(plan(point.scene, registry, stages), registry)
+            the_plan = plans[said]
+        except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
+            point.error = error_text(exc)
+            continue
+        names = tuple(s.name for s in the_plan.order)
+        groups.setdefault(names, (the_plan, []))[1].append(point)
+    return groups
+
+
+def evaluate(scenes: Sequence[Scene], registry: Registry, stages: list[str] | None = None,
+             languages: Iterable[str] = ()) -> list[tuple[list[str], dict[str, dict], str]]:
+    """(stages run, stage -> its results, error text or "") of each scene, in order: the key
+    plan's stages run over all the scenes together."""
+    points = [_Point(k, scene) for k, scene in enumerate(scenes)]
+    out: list[tuple[list[str], dict[str, dict], str]] = [([], {}, "")] * len(points)
+    for names, (the_plan, group) in _planned(points, registry, stages, languages).items():
+        alive = group
+        for stage in the_plan.order:
+            _stage_outputs(stage, alive, registry)
+            alive = [p for p in alive if not p.error]
+        for point in group:
+            out[point.index] = (list(names), point.results, point.error)
+    for point in points:
+        if point.error and not out[point.index][2]:
+            out[point.index] = ([], {}, point.error)
+    return out
+
+
+def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str | None,
+              stages: list[str] | None, data_dirs: tuple[str, ...] = ()) -> list[Outcome]:
+    """The outcomes of a chunk of a sweep's points (answers only, nothing rendered or written);
+    never raises: an error is part of its point's outcome."""
+    start = time.perf_counter()
+    registry = _registry()
+    columns = answer_key.answer_columns(registry)
+    ready: list[tuple[Variant, Scene]] = []
+    outcomes: dict[int, Outcome] = {}
+    for variant in variants:
+        if variant.error:
+            outcomes[variant.row] = Outcome(variant.row, variant.name, False, 0.0, variant.error)
+            continue
+        try:
+            ready.append((variant, _variant_scene(base, base_dir, variant, language, data_dirs)))
+        except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
+            outcomes[variant.row] = Outcome(variant.row, variant.name, False, 0.0, error_text(exc))
+    evaluated = evaluate([scene for _, scene in ready], registry, stages)
+    seconds = (time.perf_counter() - start) / max(1, len(variants))  # a chunk's time, shared out
+    for (variant, _), (run, results, error) in zip(ready, evaluated):
+        if error:
+            outcomes[variant.row] = Outcome(variant.row, variant.name, False, seconds, error)
+            continue
+        document = {"stages_run": run, **results}
+        outcomes[variant.row] = Outcome(
+            variant.row, variant.name, True, seconds, stages_run=run,
+            answers={c: number(v) for c, v in answer_key.answers(document, columns).items()},
+            absent=answer_key.absent(document, columns))
+    return [outcomes[v.row] for v in variants]
+
+
+def chunks(variants: list[Variant], workers: int, size: int = CHUNK_POINTS) -> list[list[Variant]]:
+    """``variants`` in chunks of at most ``size`` points, and at least two chunks per worker when
+    there are enough points (so that no worker waits for the last long one)."""
+    size = max(1, min(size, len(variants) // max(1, 2 * workers)))
+    return [variants[k:k + size] for k in range(0, len(variants), size)]
+
+
+def study_once(scene: Scene, registry: Registry, stages: list[str] | None) -> list[str]:
+    """Run the studies of ``scene``'s plan (the error against run time) once; the notes saying so,
+    one per study: its name and, if it failed, why."""
+    the_plan = plan(scene, registry, stages)
+    studies = [s.name for s in the_plan.order if is_study(s)]
+    if not studies:
+        return []
+    try:
+        check_scene(scene, registry)
+        run_plan(scene, the_plan)
+    except Exception as exc:  # noqa: BLE001 - the points' answers do not depend on it
+        return [f"the study {name!r} failed for the base scene: {error_text(exc)}"
+                for name in studies]
+    return [f"the study {name!r} (error against run time) ran once, for the base scene, "
+            "not per point"
+            for name in studies]
+
+
+# --------------------------------------------------------------------------- running the chunks
+
+class _Rerun(list):
+    """A chunk that timed out or whose worker died: its points run again one by one, each with
+    its own time limit, so that only the point at fault fails."""
+
+
+def execute_key(variants: list[Variant], base: dict, base_dir: str,
+                options: RunOptions) -> tuple[list[Outcome], int]:
+    """The answers of ``variants`` (a sweep's points, nothing rendered), in chunks: local worker
+    processes, or the Dask cluster of ``options.scheduler``. Returns the outcomes in row order and
+    the signal that interrupted the run (0 when it ran through), as :func:`crankdyn.batch.execute`.
+
+    A chunk is given the time limits of its points together; a chunk that runs out of it (or
+    whose worker dies) is run again point by point, each point with its own limit.
+    """
+    client = _client(options) if options.scheduler else None
+    bar = Progress(len(variants), enabled=options.progress)
+    outcomes: list[Outcome] = []
+    rerun: list[Variant] = []
+
+    def finished(result: list[Outcome]) -> None:
+        if isinstance(result, _Rerun):
+            rerun.extend(result)
+            return
+        for outcome in result:
+            outcomes.append(outcome)
+            bar.update(outcome)
+            if options.on_outcome:
+                options.on_outcome(outcome)
+
+    def failed(chunk: list[Variant], reason: str, seconds: float) -> list[Outcome]:
+        if len(chunk) > 1:
+            return _Rerun(chunk)
+        return [Outcome(v.row, v.name, False, seconds, reason) for v in chunk]
+
+    data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
+    timeout = DEFAULT_TIMEOUT_S if options.timeout is None else options.timeout
+    tail = (options.language, options.stages, data_dirs)
+    with stop_signals() as received:
+        try:
+            if client is None:
+                warm()  # forked workers inherit the loaded plugins and libraries
+                jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
+                _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun)
+            else:
+                try:
+                    _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
+                              rerun)
+                finally:
+                    client.close()
+        except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
+            pass
+    return _with_unfinished(variants, outcomes, received)
+
+
+def _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun) -> None:
+    def args_of(chunk):
+        return (base, base_dir, chunk, *tail)
+
+    items = chunks(variants, jobs)
+    if run_all(items, run_chunk, args_of, jobs, timeout * len(items[0]) if items else timeout,
+               finished, failed):
+        return  # interrupted
+    if rerun:
+        single = [[v] for v in rerun]
+        rerun.clear()
+        run_all(single, run_chunk, args_of, jobs, timeout, finished, failed)
+
+
+def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed, rerun) -> None:
+    def args_of(chunk):
+        return (base, base_dir, chunk, *tail)
+
+    workers = max(1, sum(client.nthreads().values()))
+    items = chunks(variants, workers)
+    prepare = partial(warm, (), ())
+    limit = timeout * len(items[0]) if items else timeout
+    if run_all_dask(items, run_chunk, args_of, client, limit,
+                    finished, failed, prepare=prepare):
+        return
+    if rerun:
+        single = [[v] for v in rerun]
+        rerun.clear()
+        run_all_dask(single, run_chunk, args_of, client, timeout, finished, failed, prepare=prepare)
+
+
+def _with_unfinished(variants: list[Variant], outcomes: list[Outcome],
+                     received: list[int]) -> tuple[list[Outcome], int]:
+    """The outcomes in row order, a failure row for each point without one (an interruption)."""
+    done = {o.row for o in outcomes}
+    unfinished = [v for v in variants if v.row not in done]
+    stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
+    what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
+    reason = f"not finished: the sweep was interrupted ({what})"
+    outcomes += [Outcome(v.row, v.name, False, 0.0, reason)
+                 for v in unfinished]
+    outcomes.sort(key=lambda o: o.row)
+    return outcomes, int(stop_signal)
