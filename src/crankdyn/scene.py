@@ -11,6 +11,8 @@ from __future__ import annotations
 import datetime
 import difflib
 import math
+import stat
+import sys
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -20,7 +22,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from .datafiles import data_file_problem
 from .errors import MISSING, Problem, SceneError
-from .inputcheck import structure_problems, table_problems
+from .inputcheck import structure_problems, table_problems, toml_float
 from .physics import firing_explorer as fe
 from .physics import layout as lay
 from .physics.layout import nearest_steps_deg, step_on_grid_deg
@@ -67,9 +69,13 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
     def check(value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ValueError("must be a number")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:
+            raise ValueError("must be a finite number (this integer is too large for a float)") from None
         if not math.isfinite(value):
             raise ValueError("must be a finite number")
+        _check_representable(value)
         parts, ok = [], True
         for symbol, bound, test in ((">", gt, lambda a, b: a > b), (">=", ge, lambda a, b: a >= b),
                                     ("<", lt, lambda a, b: a < b), ("<=", le, lambda a, b: a <= b)):
@@ -81,6 +87,13 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
         return value
 
     return Annotated[float, BeforeValidator(check)]
+
+
+def _check_representable(value: float) -> None:
+    """Refuse a nonzero value too close to zero to compute with (subnormal: its square is 0)."""
+    if value != 0.0 and abs(value) < sys.float_info.min:
+        raise ValueError(f"is too close to zero to compute with (below {sys.float_info.min:.3g}); give 0 "
+                         "or a value of a physical size")
 
 
 # Public names for plugins that declare their own scene tables.
@@ -133,7 +146,9 @@ class Engine(_Strict):
     mechanism: str = "crank_slider"
     strokes: Literal[2, 4] = 4
     cylinders: Annotated[int, AfterValidator(lambda n: _cylinders(n))] = 1
-    rpm: _number(gt=0, le=30000)
+    #: at least 1 rpm: the inertia forces go as the square of the speed, and far below it they
+    #: (and the speed fluctuation's ratios) vanish in round-off
+    rpm: _number(ge=1, le=30000)
     bore: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
     stroke: _quantity("length", gt=0, le=4.0, unit="mm", scale=1e-3)
     rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
@@ -485,22 +500,56 @@ def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None 
 
 # --------------------------------------------------------------------------- loading
 
-def load_scene(path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()) -> Scene:
-    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
-    path = Path(path)
-    source = str(path)
+#: Bytes of a scene file: a scene is a page of text; a larger file is not a scene.
+MAX_SCENE_BYTES = 1_000_000
+
+
+def parse_scene_text(text: str, source: str) -> dict:
+    """The tables of a scene's TOML ``text`` (a leading BOM is allowed); SceneError naming ``source``."""
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError(Problem("scene", source, f"a scene may be at most {MAX_SCENE_BYTES} characters "
+                                 f"long (it has {len(text)})"), source)
     try:
-        text = path.read_text(encoding="utf-8-sig")  # Windows Notepad saves a BOM
-    except FileNotFoundError:
-        raise SceneError(Problem("scene", source, "file not found"), source) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"), source) from None
-    try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text.removeprefix("\ufeff"), parse_float=toml_float)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
     except RecursionError:
         raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"), source) from None
+    except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
+        raise SceneError(Problem("scene", source, "an integer must lie between -2^63 and 2^63 - 1 "
+                                 "(64 bits, as TOML defines integers)"), source) from None
+
+
+def read_scene_data(path: str | Path) -> dict:
+    """The tables of the scene file at ``path`` (UTF-8, a BOM allowed); SceneError if it cannot be read."""
+    path = Path(path)
+    source = str(path)
+    try:
+        status = path.stat()
+        if stat.S_ISDIR(status.st_mode):
+            raise IsADirectoryError
+        if not stat.S_ISREG(status.st_mode):  # a pipe or a device: reading it may never end
+            raise SceneError(Problem("scene", source, "not a regular file"), source)
+        size = status.st_size
+        if size > MAX_SCENE_BYTES:
+            raise SceneError(Problem("scene", source, f"a scene file may be at most {MAX_SCENE_BYTES} "
+                                     f"bytes (it has {size})"), source)
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_SCENE_BYTES + 1)  # a file growing meanwhile is read no further
+        text = raw.decode("utf-8-sig")  # Windows Notepad saves a BOM
+    except FileNotFoundError:
+        raise SceneError(Problem("scene", source, "file not found"), source) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"),
+                         source) from None
+    return parse_scene_text(text, source)
+
+
+def load_scene(path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()) -> Scene:
+    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
+    path = Path(path)
+    source = str(path)
+    data = read_scene_data(path)
     if overrides:
         data = merge(data, overrides)
     return scene_from_dict(data, base_dir=path.parent.resolve(), source=source, data_dirs=data_dirs)
