@@ -19,6 +19,11 @@ MAX_DEPTH = 16
 #: Characters in one text value (a title, a name, a file name): a title page holds far less, and
 #: a text of megabytes would make the page layout run for minutes.
 MAX_TEXT_LENGTH = 1000
+#: A nonzero number below the smallest normal float (2.2e-308) is subnormal: its square is 0.
+TOO_CLOSE_TO_ZERO = (f"is too close to zero to compute with (below {sys.float_info.min:.3g}); "
+                     "give 0 or a value of a physical size")
+#: Characters in one key (the longest name of the scene's tables has 30).
+MAX_KEY_LENGTH = 100
 #: Items in one array (firing orders, crank angles, lists of steps hold a few dozen).
 MAX_ARRAY_LENGTH = 10_000
 #: TOML integers are 64-bit signed; a longer one cannot be computed with as a float either.
@@ -60,6 +65,11 @@ def structure_problems(data: Any) -> list[Problem]:
             continue
         if isinstance(value, dict):
             for key, item in value.items():
+                if len(str(key)) > MAX_KEY_LENGTH:
+                    cut = str(key)[:MAX_KEY_LENGTH // 2] + "..."
+                    problems.append(Problem(f"{path}.{cut}" if path else cut, f"(a key of {len(str(key))} "
+                                            "characters)", f"a key may be at most {MAX_KEY_LENGTH} characters long"))
+                    continue
                 child = f"{path}.{key}" if path else str(key)
                 if _CONTROL.search(str(key)):
                     problems.append(Problem(child, str(key), "a key may not contain control characters"))
@@ -91,11 +101,9 @@ def value_problem(path: str, value: Any) -> Problem | None:
             return Problem(path, _LongInteger(value), f"an integer must lie between {MIN_INTEGER} and "
                            f"{MAX_INTEGER} (64 bits, as TOML defines integers)")
     elif isinstance(value, UnderflowedFloat):
-        return Problem(path, value.text, f"a number this close to zero (below {sys.float_info.min:.3g}) "
-                       "cannot be computed with; give 0 or a value of a physical size")
+        return Problem(path, value.text, TOO_CLOSE_TO_ZERO)
     elif isinstance(value, float) and value != 0.0 and abs(value) < sys.float_info.min:
-        return Problem(path, value, f"a number this close to zero (below {sys.float_info.min:.3g}) "
-                       "cannot be computed with; give 0 or a value of a physical size")
+        return Problem(path, value, TOO_CLOSE_TO_ZERO)
     return None
 
 

@@ -22,7 +22,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from .datafiles import data_file_problem
 from .errors import MISSING, Problem, SceneError
-from .inputcheck import structure_problems, table_problems, toml_float
+from .inputcheck import TOO_CLOSE_TO_ZERO, structure_problems, table_problems, toml_float
 from .physics import firing_explorer as fe
 from .physics import layout as lay
 from .physics.layout import nearest_steps_deg, step_on_grid_deg
@@ -92,8 +92,7 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
 def _check_representable(value: float) -> None:
     """Refuse a nonzero value too close to zero to compute with (subnormal: its square is 0)."""
     if value != 0.0 and abs(value) < sys.float_info.min:
-        raise ValueError(f"is too close to zero to compute with (below {sys.float_info.min:.3g}); give 0 "
-                         "or a value of a physical size")
+        raise ValueError(TOO_CLOSE_TO_ZERO)
 
 
 # Public names for plugins that declare their own scene tables.
@@ -139,6 +138,12 @@ def _year(year: int) -> int:
     return year
 
 
+#: The smallest bore and stroke, m (0.1 mm).
+MIN_SIZE_M = 1e-4
+#: The smallest rod ratio lambda = R/L (the search for the piston's extremes needs lambda^2 > 0).
+MIN_ROD_RATIO = 1e-6
+
+
 class Engine(_Strict):
     """Engine and mechanism geometry (SI after loading)."""
 
@@ -149,8 +154,9 @@ class Engine(_Strict):
     #: at least 1 rpm: the inertia forces go as the square of the speed, and far below it they
     #: (and the speed fluctuation's ratios) vanish in round-off
     rpm: _number(ge=1, le=30000)
-    bore: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
-    stroke: _quantity("length", gt=0, le=4.0, unit="mm", scale=1e-3)
+    #: at least 0.1 mm: below it the piston area and the swept volume vanish in round-off
+    bore: _quantity("length", ge=MIN_SIZE_M, le=2.0, unit="mm", scale=1e-3)
+    stroke: _quantity("length", ge=MIN_SIZE_M, le=4.0, unit="mm", scale=1e-3)
     rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
     rod_ratio: _number(gt=0, lt=1) | None = None
     crankcase_pressure: _quantity("pressure", ge=0, le=1e6, unit="MPa", scale=1e6) = "0.1 MPa"
@@ -171,6 +177,9 @@ class Engine(_Strict):
     def _rod(self) -> "Engine":
         if (self.rod_length is None) == (self.rod_ratio is None):
             raise ValueError("give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)")
+        if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
+            raise _FieldError("rod_ratio", f"must be >= {MIN_ROD_RATIO:g}: a longer rod than "
+                              f"{1 / MIN_ROD_RATIO:g} crank radii moves the piston as a pure sine")
         if self.rod_length is not None and self.rod_length <= self.stroke / 2:
             raise _FieldError("rod_length", f"the rod must be longer than the crank radius "
                               f"(stroke/2 = {self.stroke / 2 * 1e3:g} mm), i.e. lambda = R/L < 1")
