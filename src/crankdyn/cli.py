@@ -352,6 +352,10 @@ def _explore(args) -> int:
                                          top=None if args.all else args.top)
     except LayoutError as exc:
         raise SceneError(Problem("--" + exc.field.split(".")[-1].replace("_", "-"), exc.value, str(exc))) from None
+    except firing_explorer.TooManyFiringOrders as exc:
+        option = ("--all", "(every firing order)") if args.all else ("--top", args.top)
+        raise SceneError(Problem(option[0], option[1], f"{exc}; list the best ones with --top N, "
+                                 f"N <= {firing_explorer.MAX_RANKED_ORDERS}")) from None
     seconds = time.perf_counter() - start
     if args.json:
         print(json.dumps({**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False))
