@@ -330,6 +330,12 @@ def test_api_takes_a_string_of_stages_as_one_name():
     assert "kinematics" in by_name.stages_run and "k" not in by_name.stages_run
 
 
+def test_api_write_takes_a_string_as_one_format(tmp_path):
+    written = crankdyn.run(KINEMATICS_ONLY, stages="kinematics").write(tmp_path / "out", formats="json")
+    names = {p.name for p in written}
+    assert "results.json" in names and not any(n.endswith((".html", ".pdf", ".csv")) for n in names)
+
+
 @pytest.mark.parametrize("stages", [5, [5], {"kinematics": 1}, [b"kinematics"]])
 def test_api_refuses_stages_of_a_wrong_type(stages):
     with pytest.raises(TypeError, match="stages must be"):

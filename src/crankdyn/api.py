@@ -305,7 +305,7 @@ class Result:
 
     def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv")) -> list[Path]:
         """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths."""
-        formats = list(formats)
+        formats = [formats] if isinstance(formats, str) else list(formats)  # a string is one format
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
             raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))
