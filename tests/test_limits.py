@@ -354,3 +354,19 @@ def test_api_refuses_overrides_that_are_not_a_mapping(overrides):
     with pytest.raises(TypeError, match="overrides must be a mapping"):
         crankdyn.load(KINEMATICS_ONLY, overrides)
 
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_pipe_as_scene_is_refused_without_waiting(tmp_path, capsys):
+    pipe = tmp_path / "scene.toml"
+    os.mkfifo(pipe)
+    _refused(capsys, ["check", str(pipe)], "scene = ", "not a regular file")
+    with pytest.raises(crankdyn.SceneError, match="not a regular file"):
+        crankdyn.load(pipe)
+
+
+def test_api_refuses_a_file_name_with_a_nul_character():
+    with pytest.raises(crankdyn.SceneError) as caught:
+        crankdyn.load("scene\x00.toml")
+    assert str(caught.value).startswith("invalid scene scene\\x00.toml: 1 problem(s)")
+    assert "not a file name" in str(caught.value)

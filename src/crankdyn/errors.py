@@ -46,7 +46,12 @@ class SceneError(CrankdynError):
         super().__init__(self._message())
 
     def _message(self) -> str:
-        head = f"invalid scene {self.source}" if self.source else "invalid scene"
+        source = self.source
+        if source is not None and not source.isprintable():  # control characters escaped
+            source = repr(source)[1:-1]
+        if source is not None and len(source) > 200:
+            source = source[:197] + "..."
+        head = f"invalid scene {source}" if source else "invalid scene"
         lines = [f"{head}: {len(self.problems)} problem(s)"]
         lines += [f"  - {p}" for p in self.problems]
         return "\n".join(lines)

@@ -551,6 +551,8 @@ def read_scene_data(path: str | Path) -> dict:
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"),
                          source) from None
+    except ValueError:  # a NUL character in the name
+        raise SceneError(Problem("scene", source, "not a file name"), source) from None
     return parse_scene_text(text, source)
 
 
