@@ -49,6 +49,11 @@ def test_title_longer_than_the_limit_is_refused(tmp_path, capsys):
     assert title not in err  # the value is shortened in the message
 
 
+def test_bytes_title_longer_than_the_limit_is_refused():
+    with pytest.raises(crankdyn.SceneError, match=r"report.title = b'TTT.*at most 1000 characters"):
+        crankdyn.load(KINEMATICS_ONLY, {"report.title": b"T" * 1001})
+
+
 def test_title_at_the_limit_is_accepted():
     scene = crankdyn.load(KINEMATICS_ONLY, {"report.title": "T" * 1000})
     assert scene.report.title == "T" * 1000
@@ -86,9 +91,10 @@ def test_integers_just_outside_64_bits_are_refused(value, shown):
     assert f"engine.cylinders = {shown}: an integer must lie between" in str(caught.value)
 
 
-def test_array_longer_than_the_limit_is_refused():
+@pytest.mark.parametrize("kind", [list, tuple])
+def test_array_longer_than_the_limit_is_refused(kind):
     with pytest.raises(crankdyn.SceneError) as caught:
-        crankdyn.load(KINEMATICS_ONLY, {"engine.crank_angles_deg": [0] * 10_001})
+        crankdyn.load(KINEMATICS_ONLY, {"engine.crank_angles_deg": kind([0] * 10_001)})
     assert "engine.crank_angles_deg = '(an array of 10001 items)': an array may hold at most 10000" \
         in str(caught.value)
 

@@ -74,7 +74,7 @@ def structure_problems(data: Any) -> list[Problem]:
                 if _CONTROL.search(str(key)):
                     problems.append(Problem(child, str(key), "a key may not contain control characters"))
                 stack.append((child, item, depth + 1))
-        elif isinstance(value, list):
+        elif isinstance(value, (list, tuple, set, frozenset)):  # the API may be given any of them
             if len(value) > MAX_ARRAY_LENGTH:
                 problems.append(Problem(path or "scene", f"(an array of {len(value)} items)",
                                         f"an array may hold at most {MAX_ARRAY_LENGTH} items"))
@@ -89,6 +89,9 @@ def structure_problems(data: Any) -> list[Problem]:
 
 def value_problem(path: str, value: Any) -> Problem | None:
     """Why one plain value (text, integer, float) may not stand in a scene, or None."""
+    if isinstance(value, (bytes, bytearray)) and len(value) > MAX_TEXT_LENGTH:  # read as text
+        return Problem(path, value, f"text may be at most {MAX_TEXT_LENGTH} characters long "
+                       f"(it has {len(value)})")
     if isinstance(value, str):
         if len(value) > MAX_TEXT_LENGTH:
             return Problem(path, value, f"text may be at most {MAX_TEXT_LENGTH} characters long "
