@@ -376,3 +376,17 @@ def test_api_refuses_a_file_name_with_a_nul_character():
         crankdyn.load("scene\x00.toml")
     assert str(caught.value).startswith("invalid scene scene\\x00.toml: 1 problem(s)")
     assert "not a file name" in str(caught.value)
+
+
+def test_a_message_lists_at_most_50_problems_each_cut_to_1000_characters():
+    unknown = {f"key{k}": 1 for k in range(60)}
+    with pytest.raises(crankdyn.SceneError) as caught:
+        crankdyn.load(KINEMATICS_ONLY, {"engine": unknown})
+    lines = str(caught.value).splitlines()
+    assert len(caught.value.problems) == 60
+    assert len(lines) == 1 + 50 + 1 and lines[-1] == "  ... and 10 more"
+    labels = list(range(1, 5001))  # four cylinders: labels 5 to 5000 do not exist
+    with pytest.raises(crankdyn.SceneError) as caught:
+        crankdyn.load(KINEMATICS_ONLY, {"engine.cylinders": 4, "engine.firing_order": labels})
+    line = next(x for x in str(caught.value).splitlines() if "engine.firing_order" in x)
+    assert line.endswith("...") and len(line) < 1200

@@ -5,6 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 
+#: Characters of what one problem says is allowed (a message listing ten thousand bad items
+#: would bury the others).
+MAX_MESSAGE = 1000
+#: Problems a message lists (all of them stay in ``SceneError.problems``).
+MAX_LISTED = 50
+
+
 @dataclass(frozen=True)
 class Problem:
     """One thing wrong with the input: where, what was given, what is allowed."""
@@ -15,7 +22,8 @@ class Problem:
 
     def __str__(self) -> str:
         shown = "(missing)" if self.value is _MISSING else shorten(self.value)
-        return f"{self.field} = {shown}: {self.allowed}"
+        allowed = self.allowed if len(self.allowed) <= MAX_MESSAGE else self.allowed[:MAX_MESSAGE - 3] + "..."
+        return f"{self.field} = {shown}: {allowed}"
 
 
 def shorten(value: object, limit: int = 100) -> str:
@@ -53,7 +61,9 @@ class SceneError(CrankdynError):
             source = source[:197] + "..."
         head = f"invalid scene {source}" if source else "invalid scene"
         lines = [f"{head}: {len(self.problems)} problem(s)"]
-        lines += [f"  - {p}" for p in self.problems]
+        lines += [f"  - {p}" for p in self.problems[:MAX_LISTED]]
+        if len(self.problems) > MAX_LISTED:
+            lines.append(f"  ... and {len(self.problems) - MAX_LISTED} more")
         return "\n".join(lines)
 
 
