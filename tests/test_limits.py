@@ -390,3 +390,17 @@ def test_a_message_lists_at_most_50_problems_each_cut_to_1000_characters():
         crankdyn.load(KINEMATICS_ONLY, {"engine.cylinders": 4, "engine.firing_order": labels})
     line = next(x for x in str(caught.value).splitlines() if "engine.firing_order" in x)
     assert line.endswith("...") and len(line) < 1200
+
+
+def test_trace_file_name_too_long_for_the_file_system_is_refused(tmp_path, capsys):
+    name = "t" * 300 + ".csv"  # longer than a file name may be (255 bytes on common file systems)
+    _refused(capsys, ["check", str(_trace_scene(tmp_path, name))], "cycle.trace_file = 'tttt",
+             "cannot be looked up")
+
+
+@pytest.mark.skipif(not hasattr(os, "symlink"), reason="symbolic links")
+def test_trace_file_in_a_loop_of_links_is_refused(tmp_path, capsys):
+    os.symlink(tmp_path / "b.csv", tmp_path / "a.csv")
+    os.symlink(tmp_path / "a.csv", tmp_path / "b.csv")
+    _refused(capsys, ["check", str(_trace_scene(tmp_path, "a.csv"))], "cycle.trace_file = 'a.csv'",
+             "cannot be looked up")
