@@ -404,3 +404,8 @@ def test_trace_file_in_a_loop_of_links_is_refused(tmp_path, capsys):
     os.symlink(tmp_path / "a.csv", tmp_path / "b.csv")
     _refused(capsys, ["check", str(_trace_scene(tmp_path, "a.csv"))], "cycle.trace_file = 'a.csv'",
              "cannot be looked up")
+
+
+def test_trace_of_blank_lines_is_refused_by_its_line_count(tmp_path, capsys):
+    (tmp_path / "trace.csv").write_text("angle,p_bar\n" + "\n" * 200_000 + "0,1\n", encoding="utf-8")
+    _refused(capsys, ["check", str(_trace_scene(tmp_path))], "more than 200000 lines")

@@ -43,6 +43,8 @@ class PressureTraceError(ValueError):
 # ---------------------------------------------------------------------------
 #: Data rows of a trace file.
 MAX_TRACE_ROWS = 100_000
+#: Lines of a trace file, blank ones included.
+MAX_TRACE_LINES = 2 * MAX_TRACE_ROWS
 #: Bytes of a trace file (a Diesel-RK row of nine columns takes about a hundred).
 MAX_TRACE_BYTES = 32 * 1024 * 1024
 #: Columns of a Diesel-RK file (it writes nine).
@@ -98,6 +100,10 @@ def _numbered_lines(handle, name):
         if not line:
             return
         number += 1
+        if number > MAX_TRACE_LINES:
+            raise PressureTraceError(
+                f"{name}: more than {MAX_TRACE_LINES} lines; a pressure trace may have at most "
+                f"{MAX_TRACE_LINES} lines (blank ones included) and {MAX_TRACE_ROWS} data rows")
         read += len(line)
         text = line.rstrip("\r\n")
         if len(text) > MAX_LINE_LENGTH:
