@@ -12,6 +12,7 @@ import csv
 import math
 import os
 import re
+import threading
 from array import array
 
 import numpy as np
@@ -54,6 +55,7 @@ MAX_LINE_LENGTH = 10_000
 #: Traces kept after reading (the indicator and numerics stages of one run share one reading).
 _CACHE_SIZE = 4
 _CACHE: dict[tuple, object] = {}
+_CACHE_LOCK = threading.Lock()
 
 
 # ---------------------------------------------------------------------------
@@ -73,8 +75,9 @@ def _read_once(path, kind, parse):
         with open(name, "r", encoding="utf-8-sig", errors="strict") as handle:
             status = os.fstat(handle.fileno())
             key = (kind, status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns)
-            if key in _CACHE:
-                return _CACHE[key]
+            cached = _CACHE.get(key)
+            if cached is not None:
+                return cached
             if status.st_size > MAX_TRACE_BYTES:
                 raise PressureTraceError(
                     f"{name}: the file has {status.st_size} bytes; a pressure trace may have at most "
@@ -84,9 +87,10 @@ def _read_once(path, kind, parse):
         raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from None
     except OSError as exc:
         raise PressureTraceError(f"{name}: cannot read the file ({exc.__class__.__name__})") from None
-    while len(_CACHE) >= _CACHE_SIZE:
-        _CACHE.pop(next(iter(_CACHE)))
-    _CACHE[key] = value
+    with _CACHE_LOCK:  # stages of a batch may run in threads
+        while len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = value
     return value
 
 
