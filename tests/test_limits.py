@@ -62,7 +62,8 @@ def test_title_at_the_limit_is_accepted():
 def test_scene_file_larger_than_the_limit_is_refused(tmp_path, capsys):
     scene = tmp_path / "big.toml"
     text = KINEMATICS_ONLY.read_text(encoding="utf-8")
-    scene.write_text(text + "# " + "x" * (1_000_001 - len(text.encode()) - 3) + "\n", encoding="utf-8")
+    padding = "x" * (1_000_001 - len(text.encode()) - 3)
+    scene.write_text(text + "# " + padding + "\n", encoding="utf-8")
     assert scene.stat().st_size == 1_000_001 == MAX_SCENE_BYTES + 1
     _refused(capsys, ["check", str(scene)], "scene = ", "at most 1000000 bytes", "(it has 1000001)")
 
@@ -72,7 +73,8 @@ def test_integer_of_400_digits_is_refused_naming_the_field(tmp_path, capsys):
     text = KINEMATICS_ONLY.read_text(encoding="utf-8")
     assert "\nrpm = " in text
     head, tail = text.split("\nrpm = ", 1)
-    scene.write_text(head + "\nrpm = " + "9" * 400 + "\n" + tail.split("\n", 1)[1], encoding="utf-8")
+    rest = tail.split("\n", 1)[1]
+    scene.write_text(head + "\nrpm = " + "9" * 400 + "\n" + rest, encoding="utf-8")
     _refused(capsys, ["check", str(scene)], "engine.rpm = 99999999999999999999... (400 digits)",
              str(INT64_MAX))
 
@@ -84,7 +86,8 @@ def test_integer_beyond_pythons_text_conversion_is_refused(tmp_path, capsys):
     _refused(capsys, ["check", str(scene)], "scene = ", "2^63 - 1")
 
 
-@pytest.mark.parametrize("value, shown", [(2**63, "9223372036854775808"), (-2**63 - 1, "-9223372036854775809")])
+@pytest.mark.parametrize("value, shown", [(2**63, "9223372036854775808"),
+                                          (-2**63 - 1, "-9223372036854775809")])
 def test_integers_just_outside_64_bits_are_refused(value, shown):
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(KINEMATICS_ONLY, {"engine.cylinders": value})
@@ -95,8 +98,16 @@ def test_integers_just_outside_64_bits_are_refused(value, shown):
 def test_array_longer_than_the_limit_is_refused(kind):
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(KINEMATICS_ONLY, {"engine.crank_angles_deg": kind([0] * 10_001)})
-    assert "engine.crank_angles_deg = '(an array of 10001 items)': an array may hold at most 10000" \
-        in str(caught.value)
+    expected = ("engine.crank_angles_deg = '(an array of 10001 items)': "
+                "an array may hold at most 10000")
+    assert expected in str(caught.value)
+
+
+def test_table_with_more_keys_than_the_limit_is_refused():
+    with pytest.raises(crankdyn.SceneError) as caught:
+        crankdyn.load(KINEMATICS_ONLY, {"engine": {f"k{n}": n for n in range(10_001)}})
+    expected = "engine = '(a table of 10001 keys)': a table may hold at most 10000 keys"
+    assert expected in str(caught.value)
 
 
 def test_key_longer_than_the_limit_is_refused():
@@ -114,7 +125,8 @@ def test_subnormal_rpm_is_refused(tmp_path, capsys):
 
 
 def test_rpm_below_one_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"rpm": 0.5}}, "engine.rpm = 0.5: must be >= 1 and <= 30000")
+    _check_refused(tmp_path, capsys, {"engine": {"rpm": 0.5}},
+                   "engine.rpm = 0.5: must be >= 1 and <= 30000")
 
 
 def test_float_literal_that_underflows_to_zero_is_refused(tmp_path, capsys):
@@ -127,11 +139,13 @@ def test_float_literal_that_underflows_to_zero_is_refused(tmp_path, capsys):
 
 @pytest.mark.parametrize("bore", ["1e-320 mm", "1e-310 um", "1e-400 mm"])
 def test_quantity_that_underflows_in_si_is_refused(tmp_path, capsys, bore):
-    _check_refused(tmp_path, capsys, {"engine": {"bore": bore}}, f"engine.bore = '{bore}'", "too close to zero")
+    _check_refused(tmp_path, capsys, {"engine": {"bore": bore}}, f"engine.bore = '{bore}'",
+                   "too close to zero")
 
 
 def test_bore_below_a_tenth_of_a_millimetre_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"bore": "0.09 mm"}}, "engine.bore = '0.09 mm': must be >= 0.1 mm")
+    _check_refused(tmp_path, capsys, {"engine": {"bore": "0.09 mm"}},
+                   "engine.bore = '0.09 mm': must be >= 0.1 mm")
 
 
 def test_tiny_rod_ratio_is_refused(tmp_path, capsys):
@@ -151,20 +165,23 @@ def test_smallest_engine_accepted_computes_without_numeric_warnings(tmp_path):
     warns of nothing (a RuntimeWarning is turned into an error here)."""
     scene = write_scene(tmp_path / "tiny.toml", modified("petrol-1cyl", {
         "engine": {"bore": "0.1 mm", "stroke": "0.1 mm", "rpm": 1, "rod_ratio": 1e-6},
-        "masses": {"piston_group": "1e-6 kg", "rod": "1e-6 kg", "crank_pin": "0 kg", "crank_web": "0 kg"}}))
+        "masses": {"piston_group": "1e-6 kg", "rod": "1e-6 kg", "crank_pin": "0 kg",
+                   "crank_web": "0 kg"}}))
     env = {**os.environ, "PYTHONWARNINGS": "error::RuntimeWarning"}
-    done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene)], capture_output=True,
-                          text=True, env=env, timeout=300)
+    done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene)],
+                          capture_output=True, text=True, env=env, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "Warning" not in done.stderr and 'File "' not in done.stderr
 
 
 def test_refusal_in_a_separate_process_shows_no_warning_or_path(tmp_path):
-    scene = write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", {"engine": {"rpm": 5e-324}}))
-    done = subprocess.run([sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(tmp_path / "out")],
-                          capture_output=True, text=True, timeout=300)
+    scene = write_scene(tmp_path / "scene.toml",
+                        modified("petrol-1cyl", {"engine": {"rpm": 5e-324}}))
+    argv = [sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(tmp_path / "out")]
+    done = subprocess.run(argv, capture_output=True, text=True, timeout=300)
     assert done.returncode == 2
-    assert done.stderr.startswith("crankdyn: invalid scene") and "engine.rpm = 5e-324" in done.stderr
+    assert done.stderr.startswith("crankdyn: invalid scene")
+    assert "engine.rpm = 5e-324" in done.stderr
     assert "Warning" not in done.stderr and ".py" not in done.stderr
     assert not (tmp_path / "out").exists()
 
@@ -202,8 +219,10 @@ def test_trace_larger_than_the_byte_limit_is_refused_before_reading(tmp_path, ca
 
 @pytest.mark.parametrize("cell", ["1" * 200_000, '"' + "1" * 200_000 + '"'])
 def test_trace_cell_over_128_kb_is_refused_naming_the_line(tmp_path, capsys, cell):
-    (tmp_path / "trace.csv").write_text(f"crank_angle_deg,pressure_bar\n0,{cell}\n1,2\n", encoding="utf-8")
-    _refused(capsys, ["check", str(_trace_scene(tmp_path))], "trace.csv, line 2: longer than 10000 characters")
+    text = f"crank_angle_deg,pressure_bar\n0,{cell}\n1,2\n"
+    (tmp_path / "trace.csv").write_text(text, encoding="utf-8")
+    _refused(capsys, ["check", str(_trace_scene(tmp_path))],
+             "trace.csv, line 2: longer than 10000 characters")
 
 
 def test_diesel_rk_file_with_too_many_columns_is_refused(tmp_path):
@@ -245,7 +264,8 @@ def test_trace_values_read_through_the_stream(tmp_path):
 def test_trace_errors_keep_their_line_numbers(tmp_path):
     path = tmp_path / "trace.csv"
     path.write_text("angle,p_bar\n0,1\n\n10,1\n10,2\n", encoding="utf-8")
-    with pytest.raises(trace.PressureTraceError, match=r"line 5: crank angle 10 deg does not exceed"):
+    with pytest.raises(trace.PressureTraceError,
+                       match=r"line 5: crank angle 10 deg does not exceed"):
         trace.read_pressure_csv(path)
     path.write_text("angle,p_bar\n0,1\n10,-1\n", encoding="utf-8")
     with pytest.raises(trace.PressureTraceError, match=r"line 3: pressure \[bar\] -1 is negative"):
@@ -257,13 +277,13 @@ def test_trace_errors_keep_their_line_numbers(tmp_path):
 def test_explore_all_above_the_limit_is_refused(capsys):
     orders = math.factorial(10 - 1)  # an in-line 10, four-stroke: (i - 1)! even-firing orders
     assert orders > firing_explorer.MAX_RANKED_ORDERS == 50_000
-    _refused(capsys, ["explore", "--cylinders", "10", "--all"], "--all = ", f"{orders:,} even-firing orders",
-             "at most 50,000", "--top N")
+    _refused(capsys, ["explore", "--cylinders", "10", "--all"], "--all = ",
+             f"{orders:,} even-firing orders", "at most 50,000", "--top N")
 
 
 def test_explore_top_above_the_limit_is_refused_for_a_w24(capsys):
-    _refused(capsys, ["explore", "--cylinders", "24", "--layout", "W", "--bank-angle", "30", "--top", "50001"],
-             "--top = 50001", "at most 50,000")
+    _refused(capsys, ["explore", "--cylinders", "24", "--layout", "W", "--bank-angle", "30",
+                      "--top", "50001"], "--top = 50001", "at most 50,000")
 
 
 def test_explore_all_within_the_limit_lists_every_order(capsys):
@@ -275,8 +295,8 @@ def test_explore_all_within_the_limit_lists_every_order(capsys):
 
 @pytest.mark.parametrize("angle", ["nan", "inf", "5e-324", "360", "-5"])
 def test_explore_bank_angle_out_of_range_is_refused(capsys, angle):
-    _refused(capsys, ["explore", "--cylinders", "8", "--layout", "V", "--bank-angle", angle], "--bank-angle = ",
-             "> 0 and < 360")
+    _refused(capsys, ["explore", "--cylinders", "8", "--layout", "V", "--bank-angle", angle],
+             "--bank-angle = ", "> 0 and < 360")
 
 
 # --------------------------------------------------------------------------- the Python API
@@ -321,8 +341,8 @@ def test_api_refuses_a_huge_integer_with_a_scene_error():
 
 
 def test_api_and_command_line_give_the_same_problems(tmp_path, capsys):
-    scene = write_scene(tmp_path / "scene.toml", modified("kinematics-only", {"engine": {"rpm": 5e-324},
-                                                                               "report": {"title": "T" * 2000}}))
+    changes = {"engine": {"rpm": 5e-324}, "report": {"title": "T" * 2000}}
+    scene = write_scene(tmp_path / "scene.toml", modified("kinematics-only", changes))
     err = _refused(capsys, ["check", str(scene)])
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(scene)
@@ -337,7 +357,8 @@ def test_api_takes_a_string_of_stages_as_one_name():
 
 
 def test_api_write_takes_a_string_as_one_format(tmp_path):
-    written = crankdyn.run(KINEMATICS_ONLY, stages="kinematics").write(tmp_path / "out", formats="json")
+    result = crankdyn.run(KINEMATICS_ONLY, stages="kinematics")
+    written = result.write(tmp_path / "out", formats="json")
     names = {p.name for p in written}
     assert "results.json" in names and not any(n.endswith((".html", ".pdf", ".csv")) for n in names)
 
@@ -407,5 +428,6 @@ def test_trace_file_in_a_loop_of_links_is_refused(tmp_path, capsys):
 
 
 def test_trace_of_blank_lines_is_refused_by_its_line_count(tmp_path, capsys):
-    (tmp_path / "trace.csv").write_text("angle,p_bar\n" + "\n" * 200_000 + "0,1\n", encoding="utf-8")
+    text = "angle,p_bar\n" + "\n" * 200_000 + "0,1\n"
+    (tmp_path / "trace.csv").write_text(text, encoding="utf-8")
     _refused(capsys, ["check", str(_trace_scene(tmp_path))], "more than 200000 lines")

@@ -168,14 +168,16 @@ def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
     if isinstance(stages, str):
         return [stages]
     if isinstance(stages, Mapping) or not isinstance(stages, Iterable):
-        raise TypeError(f"stages must be a stage name or a list of stage names, not {type(stages).__name__}")
+        raise TypeError("stages must be a stage name or a list of stage names, not "
+                        f"{type(stages).__name__}")
     names = list(itertools.islice(stages, MAX_STAGE_NAMES + 1))
     if len(names) > MAX_STAGE_NAMES:
         raise SceneError(Problem("stages", f"(more than {MAX_STAGE_NAMES} names)",
                                  f"at most {MAX_STAGE_NAMES} stage names"))
     wrong = [n for n in names if not isinstance(n, str)]
     if wrong:
-        raise TypeError(f"stages must be stage names (strings), not {type(wrong[0]).__name__}: {wrong[0]!r}")
+        raise TypeError(f"stages must be stage names (strings), not {type(wrong[0]).__name__}: "
+                        f"{wrong[0]!r}")
     return names
 
 

@@ -348,8 +348,8 @@ def _explore(args) -> int:
                                  else f"does not apply to a {args.layout} engine"))
     if args.bank_angle is not None and not (0 < args.bank_angle < 360
                                             and args.bank_angle >= sys.float_info.min):
-        raise SceneError(Problem("--bank-angle", args.bank_angle, "an angle in degrees, > 0 and < 360 "
-                                 "(as engine.bank_angle_deg)"))
+        raise SceneError(Problem("--bank-angle", args.bank_angle,
+                                 "an angle in degrees, > 0 and < 360 (as engine.bank_angle_deg)"))
     start = time.perf_counter()
     try:
         result = firing_explorer.explore(args.cylinders, args.layout, args.strokes, args.bank_angle,

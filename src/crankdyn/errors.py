@@ -22,7 +22,9 @@ class Problem:
 
     def __str__(self) -> str:
         shown = "(missing)" if self.value is _MISSING else shorten(self.value)
-        allowed = self.allowed if len(self.allowed) <= MAX_MESSAGE else self.allowed[:MAX_MESSAGE - 3] + "..."
+        allowed = self.allowed
+        if len(allowed) > MAX_MESSAGE:
+            allowed = allowed[:MAX_MESSAGE - 3] + "..."
         return f"{self.field} = {shown}: {allowed}"
 
 

@@ -24,7 +24,8 @@ TOO_CLOSE_TO_ZERO = (f"is too close to zero to compute with (below {sys.float_in
                      "give 0 or a value of a physical size")
 #: Characters in one key (the longest name of the scene's tables has 30).
 MAX_KEY_LENGTH = 100
-#: Items in one array (firing orders, crank angles, lists of steps hold a few dozen).
+#: Items in one array (firing orders, crank angles, lists of steps hold a few dozen), and keys
+#: in one table.
 MAX_ARRAY_LENGTH = 10_000
 #: TOML integers are 64-bit signed; a longer one cannot be computed with as a float either.
 MIN_INTEGER, MAX_INTEGER = -2**63, 2**63 - 1
@@ -45,7 +46,8 @@ class UnderflowedFloat(float):
 
 
 def toml_float(text: str) -> float:
-    """``parse_float`` of :func:`tomllib.loads`: a float, marked when a nonzero text underflows to 0."""
+    """``parse_float`` of :func:`tomllib.loads`: a float, marked when a nonzero text underflows
+    to 0."""
     value = float(text)
     if value == 0.0 and re.search(r"[1-9]", text.lower().split("e")[0]):
         return UnderflowedFloat(text)
@@ -64,11 +66,16 @@ def structure_problems(data: Any) -> list[Problem]:
                                     f"tables and arrays may be nested at most {MAX_DEPTH} levels deep"))
             continue
         if isinstance(value, dict):
+            if len(value) > MAX_ARRAY_LENGTH:
+                problems.append(Problem(path or "scene", f"(a table of {len(value)} keys)",
+                                        f"a table may hold at most {MAX_ARRAY_LENGTH} keys"))
+                continue
             for key, item in value.items():
                 if len(str(key)) > MAX_KEY_LENGTH:
                     cut = str(key)[:MAX_KEY_LENGTH // 2] + "..."
-                    problems.append(Problem(f"{path}.{cut}" if path else cut, f"(a key of {len(str(key))} "
-                                            "characters)", f"a key may be at most {MAX_KEY_LENGTH} characters long"))
+                    allowed = f"a key may be at most {MAX_KEY_LENGTH} characters long"
+                    problems.append(Problem(f"{path}.{cut}" if path else cut,
+                                            f"(a key of {len(str(key))} characters)", allowed))
                     continue
                 child = f"{path}.{key}" if path else str(key)
                 if _CONTROL.search(str(key)):
@@ -97,12 +104,12 @@ def value_problem(path: str, value: Any) -> Problem | None:
             return Problem(path, value, f"text may be at most {MAX_TEXT_LENGTH} characters long "
                            f"(it has {len(value)})")
         if _CONTROL.search(value):
-            return Problem(path, value, "text may not contain control characters (tabs, line breaks, "
-                           "escape codes); write it on one line")
+            return Problem(path, value, "text may not contain control characters (tabs, line "
+                           "breaks, escape codes); write it on one line")
     elif isinstance(value, int) and not isinstance(value, bool):
         if not MIN_INTEGER <= value <= MAX_INTEGER:
-            return Problem(path, _LongInteger(value), f"an integer must lie between {MIN_INTEGER} and "
-                           f"{MAX_INTEGER} (64 bits, as TOML defines integers)")
+            return Problem(path, _LongInteger(value), f"an integer must lie between {MIN_INTEGER} "
+                           f"and {MAX_INTEGER} (64 bits, as TOML defines integers)")
     elif isinstance(value, UnderflowedFloat):
         return Problem(path, value.text, TOO_CLOSE_TO_ZERO)
     elif isinstance(value, float) and value != 0.0 and abs(value) < sys.float_info.min:

@@ -72,7 +72,8 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
         try:
             value = float(value)
         except OverflowError:
-            raise ValueError("must be a finite number (this integer is too large for a float)") from None
+            raise ValueError("must be a finite number (this integer is too large for a float)") \
+                from None
         if not math.isfinite(value):
             raise ValueError("must be a finite number")
         _check_representable(value)
@@ -514,23 +515,26 @@ MAX_SCENE_BYTES = 1_000_000
 
 
 def parse_scene_text(text: str, source: str) -> dict:
-    """The tables of a scene's TOML ``text`` (a leading BOM is allowed); SceneError naming ``source``."""
+    """The tables of a scene's TOML ``text`` (a leading BOM is allowed); SceneError naming
+    ``source``."""
     if len(text) > MAX_SCENE_BYTES:
-        raise SceneError(Problem("scene", source, f"a scene may be at most {MAX_SCENE_BYTES} characters "
-                                 f"long (it has {len(text)})"), source)
+        raise SceneError(Problem("scene", source, f"a scene may be at most {MAX_SCENE_BYTES} "
+                                 f"characters long (it has {len(text)})"), source)
     try:
         return tomllib.loads(text.removeprefix("\ufeff"), parse_float=toml_float)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
     except RecursionError:
-        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"), source) from None
+        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"),
+                         source) from None
     except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
         raise SceneError(Problem("scene", source, "an integer must lie between -2^63 and 2^63 - 1 "
                                  "(64 bits, as TOML defines integers)"), source) from None
 
 
 def read_scene_data(path: str | Path) -> dict:
-    """The tables of the scene file at ``path`` (UTF-8, a BOM allowed); SceneError if it cannot be read."""
+    """The tables of the scene file at ``path`` (UTF-8, a BOM allowed); SceneError if it
+    cannot be read."""
     path = Path(path)
     source = str(path)
     try:
@@ -541,22 +545,23 @@ def read_scene_data(path: str | Path) -> dict:
             raise SceneError(Problem("scene", source, "not a regular file"), source)
         size = status.st_size
         if size > MAX_SCENE_BYTES:
-            raise SceneError(Problem("scene", source, f"a scene file may be at most {MAX_SCENE_BYTES} "
-                                     f"bytes (it has {size})"), source)
+            raise SceneError(Problem("scene", source, f"a scene file may be at most "
+                                     f"{MAX_SCENE_BYTES} bytes (it has {size})"), source)
         with path.open("rb") as handle:
             raw = handle.read(MAX_SCENE_BYTES + 1)  # a file growing meanwhile is read no further
         text = raw.decode("utf-8-sig")  # Windows Notepad saves a BOM
     except FileNotFoundError:
         raise SceneError(Problem("scene", source, "file not found"), source) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"),
-                         source) from None
+        reason = f"cannot read the file ({exc.__class__.__name__})"
+        raise SceneError(Problem("scene", source, reason), source) from None
     except ValueError:  # a NUL character in the name
         raise SceneError(Problem("scene", source, "not a file name"), source) from None
     return parse_scene_text(text, source)
 
 
-def load_scene(path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()) -> Scene:
+def load_scene(path: str | Path, overrides: dict | None = None,
+               data_dirs: tuple[str, ...] = ()) -> Scene:
     """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
     path = Path(path)
     source = str(path)

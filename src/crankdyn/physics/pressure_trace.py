@@ -80,13 +80,14 @@ def _read_once(path, kind, parse):
                 return cached
             if status.st_size > MAX_TRACE_BYTES:
                 raise PressureTraceError(
-                    f"{name}: the file has {status.st_size} bytes; a pressure trace may have at most "
-                    f"{MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
+                    f"{name}: the file has {status.st_size} bytes; a pressure trace may have at "
+                    f"most {MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
             value = parse(name, _numbered_lines(handle, name))
     except UnicodeDecodeError as exc:
         raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from None
     except OSError as exc:
-        raise PressureTraceError(f"{name}: cannot read the file ({exc.__class__.__name__})") from None
+        raise PressureTraceError(
+            f"{name}: cannot read the file ({exc.__class__.__name__})") from None
     with _CACHE_LOCK:  # stages of a batch may run in threads
         while len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
