@@ -431,3 +431,16 @@ def test_trace_of_blank_lines_is_refused_by_its_line_count(tmp_path, capsys):
     text = "angle,p_bar\n" + "\n" * 200_000 + "0,1\n"
     (tmp_path / "trace.csv").write_text(text, encoding="utf-8")
     _refused(capsys, ["check", str(_trace_scene(tmp_path))], "more than 200000 lines")
+
+
+def test_preview_watch_list_survives_hostile_scenes(tmp_path):
+    from crankdyn.serve import referenced_files
+
+    dotted = tmp_path / "dotted.toml"
+    dotted.write_text("x." * 5000 + "y = 1\n", encoding="utf-8")
+    huge = tmp_path / "huge.toml"
+    huge.write_text("x = " + "7" * 5000 + "\n", encoding="utf-8")
+    assert referenced_files(dotted) == set() and referenced_files(huge) == set()
+    with_bom = tmp_path / "bom.toml"
+    with_bom.write_text('\ufeff[cycle]\ntrace_file = "p.csv"\n', encoding="utf-8")
+    assert referenced_files(with_bom) == {tmp_path / "p.csv"}
