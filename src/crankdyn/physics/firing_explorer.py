@@ -299,13 +299,8 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
     if reason:
         result.reason = reason
         return result
-    count = cylinders // multiplicity
-    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
-    result.arrangements = len(lags)
-    result.firing_orders = len(lags) * per_arrangement
-    wanted = result.firing_orders if top is None else min(top, result.firing_orders)
-    if wanted > MAX_RANKED_ORDERS:
-        raise TooManyFiringOrders(result.firing_orders, wanted)
+    count, per_arrangement = _count_orders(result, len(lags), cylinders // multiplicity,
+                                           multiplicity, top)
     vertical = bal.vertical_axis_deg(layout, bank_angle_deg)
     # The phase of a cylinder (its TDC, mod 360) is its crank lag plus its bank angle: both whole
     # multiples of the unit, so the vector models work from small tables of unit vectors.
@@ -359,6 +354,19 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
         result.located_rank = int(np.sum(tier < own_tier)) * per_arrangement + i + 1
         result.located = candidate(result.located_rank, rows, i)
     return result
+
+
+def _count_orders(result: Exploration, arrangements: int, count: int, multiplicity: int,
+                  top: int | None) -> tuple[int, int]:
+    """(count, firing orders per arrangement); the counts set on ``result``. TooManyFiringOrders
+    when more than :data:`MAX_RANKED_ORDERS` rows would be ranked and listed."""
+    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
+    result.arrangements = arrangements
+    result.firing_orders = arrangements * per_arrangement
+    wanted = result.firing_orders if top is None else min(top, result.firing_orders)
+    if wanted > MAX_RANKED_ORDERS:
+        raise TooManyFiringOrders(result.firing_orders, wanted)
+    return count, per_arrangement
 
 
 def _candidate(rank: int, rows: dict[str, np.ndarray], i: int, lags, unit: float, labels, coefficients) -> Candidate:
