@@ -119,7 +119,7 @@ def test_the_bundled_sweep_file(tmp_path):
 @pytest.mark.parametrize("args, field, message", [
     (["--set", "engine.rpm=2000:6000:1"], "engine.rpm", "whole number >= 2"),
     (["--set", "engine.bore=76 mm:0.088 m:3"], "engine.bore", "one unit"),
-    (["--set", "engine.bore=-10 mm:80 mm:3"], "engine.bore", "> 0"),  # a value the scene refuses, before any run
+    (["--set", "engine.bore=-10 mm:80 mm:3"], "engine.bore", ">= 0.1 mm"),  # a value the scene refuses, before any run
     (["--set", "engine.boer=70 mm,80 mm"], "boer", "bore"),
     (["--set", "engine..rpm=1,2"], "engine..rpm", "dotted scene path"),
     (["--set", "engine.rpm"], "--set", "NAME=VALUES"),

@@ -23,7 +23,6 @@ from __future__ import annotations
 import html
 import itertools
 import re
-import tomllib
 import weakref
 from collections.abc import Iterable, Mapping
 from functools import cached_property, lru_cache
@@ -44,9 +43,13 @@ from .plugins import default_registry
 from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
-from .scene import Scene, merge, scene_from_dict
+from .inputcheck import structure_problems
+from .scene import Scene, merge, read_scene_data, scene_from_dict
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError"]
+
+#: Stage names one run may ask for (far more than are installed; an endless iterator stops here).
+MAX_STAGE_NAMES = 1000
 
 # The input each scene was loaded from (raw TOML-level data, base folder), so that a loaded
 # scene can be loaded again with other overrides (sweep). Keyed by id, dropped with the scene.
@@ -75,18 +78,16 @@ def _source_data(source: Any) -> tuple[dict, str, str]:
         return dict(source), str(Path.cwd()), "scene"
     if isinstance(source, (str, Path)):
         path = Path(source)
-        name = str(path)
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise SceneError(Problem("scene", name, "file not found"), name) from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise SceneError(Problem("scene", name, f"cannot read the file ({exc.__class__.__name__})"),
-                             name) from None
-        except tomllib.TOMLDecodeError as exc:
-            raise SceneError(Problem("scene", name, f"not valid TOML: {exc}"), name) from None
-        return data, str(path.parent.resolve()), name
+        return read_scene_data(path), str(path.parent.resolve()), str(path)
     raise TypeError(f"expected a scene file path, a dict or a scene from crankdyn.load, not {type(source).__name__}")
+
+
+def _checked(data: Any, source: str) -> None:
+    """Refuse nesting, sizes and text a scene may not hold before anything walks ``data``
+    recursively (a dict nested thousands deep, or holding itself, would exhaust the stack)."""
+    problems = structure_problems(data)
+    if problems:
+        raise SceneError(problems, source)
 
 
 def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
@@ -129,9 +130,14 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     Every problem (unknown key, value out of range, unknown mechanism or stage) raises one
     :class:`SceneError` listing them all; nothing is printed.
     """
+    if overrides is not None and not isinstance(overrides, Mapping):
+        raise TypeError(f"overrides must be a mapping of dotted scene paths to values, not "
+                        f"{type(overrides).__name__}")
     data, base_dir, name = _source_data(source)
+    _checked(data, name)
     changes = {**(overrides or {}), **more}
     if changes:
+        _checked({str(k): v for k, v in changes.items()}, "overrides")
         data = _without_none(merge(data, _nested_overrides(changes)))
     scene = scene_from_dict(data, base_dir=base_dir, source=name)
     try:
@@ -149,10 +155,31 @@ def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None
     ``stages`` names the stages wanted (their prerequisites are added), as ``--stages`` does;
     by default the scene's ``analysis.stages`` or every default stage that applies.
     """
+    stages = _stage_names(stages)
     if not isinstance(scene, Scene):
         scene = load(scene)
-    stages = list(stages) if stages is not None else None
     return Result(run_scene(scene, _registry(), stages, _languages()))
+
+
+def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
+    """``stages`` as a list of names: a string is one name (never its letters); TypeError for
+    anything that is not a name or an iterable of names."""
+    if stages is None:
+        return None
+    if isinstance(stages, str):
+        return [stages]
+    if isinstance(stages, Mapping) or not isinstance(stages, Iterable):
+        raise TypeError("stages must be a stage name or a list of stage names, not "
+                        f"{type(stages).__name__}")
+    names = list(itertools.islice(stages, MAX_STAGE_NAMES + 1))
+    if len(names) > MAX_STAGE_NAMES:
+        raise SceneError(Problem("stages", f"(more than {MAX_STAGE_NAMES} names)",
+                                 f"at most {MAX_STAGE_NAMES} stage names"))
+    wrong = [n for n in names if not isinstance(n, str)]
+    if wrong:
+        raise TypeError(f"stages must be stage names (strings), not {type(wrong[0]).__name__}: "
+                        f"{wrong[0]!r}")
+    return names
 
 
 def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
@@ -174,7 +201,7 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     import pandas as pd  # lazy: heavy optional import (pandas: only for a sweep's table)
 
     names, values = _grid_values(grid)
-    stages = list(stages) if stages is not None else None
+    stages = _stage_names(stages)
     key_columns = answer_key.answer_columns(_registry())  # the same columns as the batch answer key
     combinations = list(itertools.product(*values))
     rows = []
@@ -365,7 +392,7 @@ class Result:
 
         As the command line, it replaces only files crankdyn wrote there and left unchanged; a file in
         the way raises :class:`crankdyn.errors.OutputError` unless ``force`` is true."""
-        formats = list(formats)
+        formats = [formats] if isinstance(formats, str) else list(formats)  # a string is one format
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
             raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))

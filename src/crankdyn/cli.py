@@ -420,12 +420,20 @@ def _explore(args) -> int:
         raise SceneError(Problem("--bank-angle", args.bank_angle,
                                  f"required for a {args.layout} engine" if needs_angle
                                  else f"does not apply to a {args.layout} engine"))
+    if args.bank_angle is not None and not (0 < args.bank_angle < 360
+                                            and args.bank_angle >= sys.float_info.min):
+        raise SceneError(Problem("--bank-angle", args.bank_angle,
+                                 "an angle in degrees, > 0 and < 360 (as engine.bank_angle_deg)"))
     start = time.perf_counter()
     try:
         result = firing_explorer.explore(args.cylinders, args.layout, args.strokes, args.bank_angle,
                                          top=None if args.all else args.top)
     except LayoutError as exc:
         raise SceneError(Problem("--" + exc.field.split(".")[-1].replace("_", "-"), exc.value, str(exc))) from None
+    except firing_explorer.TooManyFiringOrders as exc:
+        option = ("--all", "(every firing order)") if args.all else ("--top", args.top)
+        raise SceneError(Problem(option[0], option[1], f"{exc}; list the best ones with --top N, "
+                                 f"N <= {firing_explorer.MAX_RANKED_ORDERS}")) from None
     seconds = time.perf_counter() - start
     if args.json:
         print(json.dumps({**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False))

@@ -5,6 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 
+#: Characters of what one problem says is allowed (a message listing ten thousand bad items
+#: would bury the others).
+MAX_MESSAGE = 1000
+#: Problems a message lists (all of them stay in ``SceneError.problems``).
+MAX_LISTED = 50
+
+
 @dataclass(frozen=True)
 class Problem:
     """One thing wrong with the input: where, what was given, what is allowed."""
@@ -15,7 +22,10 @@ class Problem:
 
     def __str__(self) -> str:
         shown = "(missing)" if self.value is _MISSING else shorten(self.value)
-        return f"{self.field} = {shown}: {self.allowed}"
+        allowed = self.allowed
+        if len(allowed) > MAX_MESSAGE:
+            allowed = allowed[:MAX_MESSAGE - 3] + "..."
+        return f"{self.field} = {shown}: {allowed}"
 
 
 def shorten(value: object, limit: int = 100) -> str:
@@ -46,9 +56,16 @@ class SceneError(CrankdynError):
         super().__init__(self._message())
 
     def _message(self) -> str:
-        head = f"invalid scene {self.source}" if self.source else "invalid scene"
+        source = self.source
+        if source is not None and not source.isprintable():  # control characters escaped
+            source = repr(source)[1:-1]
+        if source is not None and len(source) > 200:
+            source = source[:197] + "..."
+        head = f"invalid scene {source}" if source else "invalid scene"
         lines = [f"{head}: {len(self.problems)} problem(s)"]
-        lines += [f"  - {p}" for p in self.problems]
+        lines += [f"  - {p}" for p in self.problems[:MAX_LISTED]]
+        if len(self.problems) > MAX_LISTED:
+            lines.append(f"  ... and {len(self.problems) - MAX_LISTED} more")
         return "\n".join(lines)
 
 

@@ -49,6 +49,8 @@ def parse(text: str, registry) -> tuple[float, dict[str, int]]:
     number = float(match.group(1).replace(",", "."))
     if not math.isfinite(number):
         raise QuantityError("the number is out of range")
+    if number == 0 and re.search(r"[1-9]", match.group(1).lower().split("e")[0]):
+        raise QuantityError("the number is too close to zero to compute with")
     rest = text[match.end():].strip()
     if not rest:
         raise QuantityError("has no unit")

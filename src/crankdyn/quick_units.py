@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 
 # A number as pint's tokenizer reads it, then optional spaces, then the unit spelling.
 _QUANTITY = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S.*?)\s*")
@@ -57,4 +58,6 @@ def quick_quantity(text: str, kind: str) -> float | None:
     number = match.group(1)
     magnitude = float(number) if any(c in number for c in ".eE") else int(number)
     value = float(magnitude * factor)
+    if abs(value) < sys.float_info.min and re.search(r"[1-9]", number.lower().split("e")[0]):
+        return None  # a nonzero number that underflows: pint's path words the refusal
     return value if math.isfinite(value) else None

@@ -11,6 +11,8 @@ from __future__ import annotations
 import datetime
 import difflib
 import math
+import stat
+import sys
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -20,7 +22,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from .datafiles import data_file_problem
 from .errors import MISSING, Problem, SceneError
-from .inputcheck import structure_problems, table_problems
+from .inputcheck import TOO_CLOSE_TO_ZERO, structure_problems, table_problems, toml_float
 from .physics import firing_explorer as fe
 from .physics import layout as lay
 from .physics.layout import nearest_steps_deg, step_on_grid_deg
@@ -67,9 +69,14 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
     def check(value: Any) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ValueError("must be a number")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:
+            raise ValueError("must be a finite number (this integer is too large for a float)") \
+                from None
         if not math.isfinite(value):
             raise ValueError("must be a finite number")
+        _check_representable(value)
         parts, ok = [], True
         for symbol, bound, test in ((">", gt, lambda a, b: a > b), (">=", ge, lambda a, b: a >= b),
                                     ("<", lt, lambda a, b: a < b), ("<=", le, lambda a, b: a <= b)):
@@ -81,6 +88,12 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
         return value
 
     return Annotated[float, BeforeValidator(check)]
+
+
+def _check_representable(value: float) -> None:
+    """Refuse a nonzero value too close to zero to compute with (subnormal: its square is 0)."""
+    if value != 0.0 and abs(value) < sys.float_info.min:
+        raise ValueError(TOO_CLOSE_TO_ZERO)
 
 
 # Public names for plugins that declare their own scene tables.
@@ -126,6 +139,12 @@ def _year(year: int) -> int:
     return year
 
 
+#: The smallest bore and stroke, m (0.1 mm).
+MIN_SIZE_M = 1e-4
+#: The smallest rod ratio lambda = R/L (the search for the piston's extremes needs lambda^2 > 0).
+MIN_ROD_RATIO = 1e-6
+
+
 class Engine(_Strict):
     """Engine and mechanism geometry (SI after loading)."""
 
@@ -133,9 +152,12 @@ class Engine(_Strict):
     mechanism: str = "crank_slider"
     strokes: Literal[2, 4] = 4
     cylinders: Annotated[int, AfterValidator(lambda n: _cylinders(n))] = 1
-    rpm: _number(gt=0, le=30000)
-    bore: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3)
-    stroke: _quantity("length", gt=0, le=4.0, unit="mm", scale=1e-3)
+    #: at least 1 rpm: the inertia forces go as the square of the speed, and far below it they
+    #: (and the speed fluctuation's ratios) vanish in round-off
+    rpm: _number(ge=1, le=30000)
+    #: at least 0.1 mm: below it the piston area and the swept volume vanish in round-off
+    bore: _quantity("length", ge=MIN_SIZE_M, le=2.0, unit="mm", scale=1e-3)
+    stroke: _quantity("length", ge=MIN_SIZE_M, le=4.0, unit="mm", scale=1e-3)
     rod_length: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
     rod_ratio: _number(gt=0, lt=1) | None = None
     crankcase_pressure: _quantity("pressure", ge=0, le=1e6, unit="MPa", scale=1e6) = "0.1 MPa"
@@ -156,6 +178,9 @@ class Engine(_Strict):
     def _rod(self) -> "Engine":
         if (self.rod_length is None) == (self.rod_ratio is None):
             raise ValueError("give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)")
+        if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
+            raise _FieldError("rod_ratio", f"must be >= {MIN_ROD_RATIO:g}: a longer rod than "
+                              f"{1 / MIN_ROD_RATIO:g} crank radii moves the piston as a pure sine")
         if self.rod_length is not None and self.rod_length <= self.stroke / 2:
             raise _FieldError("rod_length", f"the rod must be longer than the crank radius "
                               f"(stroke/2 = {self.stroke / 2 * 1e3:g} mm), i.e. lambda = R/L < 1")
@@ -499,22 +524,62 @@ def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None 
 
 # --------------------------------------------------------------------------- loading
 
-def load_scene(path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()) -> Scene:
-    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
-    path = Path(path)
-    source = str(path)
+#: Bytes of a scene file: a scene is a page of text; a larger file is not a scene.
+MAX_SCENE_BYTES = 1_000_000
+
+
+def parse_scene_text(text: str, source: str) -> dict:
+    """The tables of a scene's TOML ``text`` (a leading BOM is allowed); SceneError naming
+    ``source``."""
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError(Problem("scene", source, f"a scene may be at most {MAX_SCENE_BYTES} "
+                                 f"characters long (it has {len(text)})"), source)
     try:
-        text = path.read_text(encoding="utf-8-sig")  # Windows Notepad saves a BOM
-    except FileNotFoundError:
-        raise SceneError(Problem("scene", source, "file not found"), source) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(Problem("scene", source, f"cannot read the file ({exc.__class__.__name__})"), source) from None
-    try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text.removeprefix("\ufeff"), parse_float=toml_float)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
     except RecursionError:
-        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"), source) from None
+        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"),
+                         source) from None
+    except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
+        raise SceneError(Problem("scene", source, "an integer must lie between -2^63 and 2^63 - 1 "
+                                 "(64 bits, as TOML defines integers)"), source) from None
+
+
+def read_scene_data(path: str | Path) -> dict:
+    """The tables of the scene file at ``path`` (UTF-8, a BOM allowed); SceneError if it
+    cannot be read."""
+    path = Path(path)
+    source = str(path)
+    try:
+        status = path.stat()
+        if stat.S_ISDIR(status.st_mode):
+            raise IsADirectoryError
+        if not stat.S_ISREG(status.st_mode):  # a pipe or a device: reading it may never end
+            raise SceneError(Problem("scene", source, "not a regular file"), source)
+        size = status.st_size
+        if size > MAX_SCENE_BYTES:
+            raise SceneError(Problem("scene", source, f"a scene file may be at most "
+                                     f"{MAX_SCENE_BYTES} bytes (it has {size})"), source)
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_SCENE_BYTES + 1)  # a file growing meanwhile is read no further
+        text = raw.decode("utf-8-sig")  # Windows Notepad saves a BOM
+    except FileNotFoundError:
+        raise SceneError(Problem("scene", source, "file not found"), source) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = f"cannot read the file ({exc.__class__.__name__})"
+        raise SceneError(Problem("scene", source, reason), source) from None
+    except ValueError:  # a NUL character in the name
+        raise SceneError(Problem("scene", source, "not a file name"), source) from None
+    return parse_scene_text(text, source)
+
+
+def load_scene(path: str | Path, overrides: dict | None = None,
+               data_dirs: tuple[str, ...] = ()) -> Scene:
+    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
+    path = Path(path)
+    source = str(path)
+    data = read_scene_data(path)
     if overrides:
         data = merge(data, overrides)
     return scene_from_dict(data, base_dir=path.parent.resolve(), source=source, data_dirs=data_dirs)

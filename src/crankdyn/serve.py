@@ -30,7 +30,6 @@ import signal
 import sys
 import threading
 import time
-import tomllib
 import traceback
 import webbrowser
 from collections.abc import Callable, Iterable
@@ -50,7 +49,8 @@ from .report.context import FIGURE_DIR, draw_figures, start_drawing
 from .report.i18n import available_languages
 from .report.pdf import html_to_pdf
 from .report.section_cache import SectionCache
-from .scene import load_scene
+from .inputcheck import MAX_DEPTH
+from .scene import load_scene, read_scene_data
 
 HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
@@ -169,19 +169,18 @@ def referenced_files(scene_path: Path) -> set[Path]:
     file watched; relative names are resolved against the scene's folder.
     """
     try:
-        data = tomllib.loads(scene_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        data = read_scene_data(scene_path)
+    except SceneError:
         return set()
     found: set[Path] = set()
-
-    def walk(table):
+    tables = [(data, 0)]
+    while tables:  # iterative: dotted keys may nest a table thousands deep
+        table, depth = tables.pop()
         for key, value in table.items():
-            if isinstance(value, dict):
-                walk(value)
+            if isinstance(value, dict) and depth < MAX_DEPTH:
+                tables.append((value, depth + 1))
             elif isinstance(value, str) and key.endswith("_file") and value.strip():
                 found.add(scene_path.parent / value)
-
-    walk(data)
     return found
 
 

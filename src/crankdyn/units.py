@@ -8,6 +8,7 @@ that catches "82 kg" given for a bore.
 from __future__ import annotations
 
 import math
+import sys
 from functools import lru_cache
 
 from .quick_units import quick_quantity
@@ -72,6 +73,9 @@ def parse_quantity(text: object, kind: str) -> float:
         value = math.inf
     if not math.isfinite(value):
         raise ValueError(f"{_shown(text)} is not a finite {kind}; e.g. {example!r}")
+    if number != 0 and abs(value) < sys.float_info.min:
+        raise ValueError(f"{_shown(text)} is too close to zero to compute with (below "
+                         f"{sys.float_info.min:.3g} {si}); give 0 or a {kind} of a physical size")
     return value
 
 

@@ -47,6 +47,19 @@ from . import layout as lay
 RULE_KEYS = ("neighbours", "same_pin", "same_half")
 COEFFICIENT_KEYS = ("sum_C", "M_C", "sum_PI", "M_PI", "sum_PII", "M_PII")
 _TIER_TOL = 1e-7
+#: Firing orders one exploration ranks and lists at most (``top``, or every one): an in-line 9
+#: has 40 320; an in-line 10 (362 880) or a W24 (21 934 080) listed in full would take gigabytes.
+MAX_RANKED_ORDERS = 50_000
+
+
+class TooManyFiringOrders(ValueError):
+    """More firing orders were asked for than :data:`MAX_RANKED_ORDERS`."""
+
+    def __init__(self, firing_orders: int, wanted: int):
+        super().__init__(f"this engine has {firing_orders:,} even-firing orders; at most "
+                         f"{MAX_RANKED_ORDERS:,} are ranked and listed at once")
+        self.firing_orders = firing_orders
+        self.wanted = wanted
 
 
 @dataclass(frozen=True)
@@ -272,6 +285,7 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
         As in the scene's [engine] table (layout conventions of :mod:`crankdyn.physics.layout`).
     top : int or None
         Number of ranked rows to return; None ranks every firing order (each one scored).
+        TooManyFiringOrders when more than :data:`MAX_RANKED_ORDERS` rows would be listed.
     locate : (crank lags in deg, firing order labels), optional
         A firing order whose rank is wanted (e.g. the scene's own).
 
@@ -285,10 +299,8 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
     if reason:
         result.reason = reason
         return result
-    count = cylinders // multiplicity
-    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
-    result.arrangements = len(lags)
-    result.firing_orders = len(lags) * per_arrangement
+    count, per_arrangement = _count_orders(result, len(lags), cylinders // multiplicity,
+                                           multiplicity, top)
     vertical = bal.vertical_axis_deg(layout, bank_angle_deg)
     # The phase of a cylinder (its TDC, mod 360) is its crank lag plus its bank angle: both whole
     # multiples of the unit, so the vector models work from small tables of unit vectors.
@@ -342,6 +354,19 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
         result.located_rank = int(np.sum(tier < own_tier)) * per_arrangement + i + 1
         result.located = candidate(result.located_rank, rows, i)
     return result
+
+
+def _count_orders(result: Exploration, arrangements: int, count: int, multiplicity: int,
+                  top: int | None) -> tuple[int, int]:
+    """(count, firing orders per arrangement); the counts set on ``result``. TooManyFiringOrders
+    when more than :data:`MAX_RANKED_ORDERS` rows would be ranked and listed."""
+    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
+    result.arrangements = arrangements
+    result.firing_orders = arrangements * per_arrangement
+    wanted = result.firing_orders if top is None else min(top, result.firing_orders)
+    if wanted > MAX_RANKED_ORDERS:
+        raise TooManyFiringOrders(result.firing_orders, wanted)
+    return count, per_arrangement
 
 
 def _candidate(rank: int, rows: dict[str, np.ndarray], i: int, lags, unit: float, labels, coefficients) -> Candidate:

@@ -12,6 +12,8 @@ import csv
 import math
 import os
 import re
+import threading
+from array import array
 
 import numpy as np
 
@@ -36,18 +38,95 @@ class PressureTraceError(ValueError):
 
 
 # ---------------------------------------------------------------------------
+# Limits: a trace is one cycle; one sample per 0.0072 deg of a four-stroke cycle is far finer
+# than any measurement or simulation, and the limits keep a run within seconds and its memory
+# (the numerics stage integrates between every pair of samples) within a few hundred megabytes.
+# ---------------------------------------------------------------------------
+#: Data rows of a trace file.
+MAX_TRACE_ROWS = 100_000
+#: Lines of a trace file, blank ones included.
+MAX_TRACE_LINES = 2 * MAX_TRACE_ROWS
+#: Bytes of a trace file (a Diesel-RK row of nine columns takes about a hundred).
+MAX_TRACE_BYTES = 32 * 1024 * 1024
+#: Columns of a Diesel-RK file (it writes nine).
+MAX_COLUMNS = 64
+#: Characters of one line of a trace file.
+MAX_LINE_LENGTH = 10_000
+#: Traces kept after reading (the indicator and numerics stages of one run share one reading).
+_CACHE_SIZE = 4
+_CACHE: dict[tuple, object] = {}
+_CACHE_LOCK = threading.Lock()
+
+
+# ---------------------------------------------------------------------------
 # Low-level helpers
 # ---------------------------------------------------------------------------
-def _read_lines(path):
-    """Lines of a text file; missing or unreadable files raise PressureTraceError."""
+def _read_once(path, kind, parse):
+    """``parse(name, numbered lines)`` of the file ``path``, read once as a stream of lines.
+
+    A file already read (same file, size and modification time) is not read again: the
+    stages of a run that use the trace share one reading. Size limits are checked before and
+    while reading; every problem raises PressureTraceError.
+    """
     name = os.fspath(path)
     if not os.path.isfile(name):
         raise PressureTraceError(f"{name}: file not found (a pressure-trace file is required)")
     try:
         with open(name, "r", encoding="utf-8-sig", errors="strict") as handle:
-            return handle.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from exc
+            status = os.fstat(handle.fileno())
+            key = (kind, status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns)
+            cached = _CACHE.get(key)
+            if cached is not None:
+                return cached
+            if status.st_size > MAX_TRACE_BYTES:
+                raise PressureTraceError(
+                    f"{name}: the file has {status.st_size} bytes; a pressure trace may have at "
+                    f"most {MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
+            value = parse(name, _numbered_lines(handle, name))
+    except UnicodeDecodeError as exc:
+        raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from None
+    except OSError as exc:
+        raise PressureTraceError(
+            f"{name}: cannot read the file ({exc.__class__.__name__})") from None
+    with _CACHE_LOCK:  # stages of a batch may run in threads
+        while len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = value
+    return value
+
+
+def _numbered_lines(handle, name):
+    """(line number, text) of each non-blank line; no line longer than MAX_LINE_LENGTH is read
+    whole, and no more than MAX_TRACE_BYTES characters in all (a file growing meanwhile)."""
+    read = 0
+    number = 0
+    while True:
+        line = handle.readline(MAX_LINE_LENGTH + 2)
+        if not line:
+            return
+        number += 1
+        if number > MAX_TRACE_LINES:
+            raise PressureTraceError(
+                f"{name}: more than {MAX_TRACE_LINES} lines; a pressure trace may have at most "
+                f"{MAX_TRACE_LINES} lines (blank ones included) and {MAX_TRACE_ROWS} data rows")
+        read += len(line)
+        text = line.rstrip("\r\n")
+        if len(text) > MAX_LINE_LENGTH:
+            raise PressureTraceError(
+                f"{name}, line {number}: longer than {MAX_LINE_LENGTH} characters; a row of a "
+                "pressure trace holds a few numbers")
+        if read > MAX_TRACE_BYTES:
+            raise PressureTraceError(
+                f"{name}: more than {MAX_TRACE_BYTES} bytes; a pressure trace may have at most "
+                f"{MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
+        if text.strip():
+            yield number, text
+
+
+def _too_many_rows(name):
+    return PressureTraceError(
+        f"{name}: more than {MAX_TRACE_ROWS} data rows; a pressure trace may have at most "
+        f"{MAX_TRACE_ROWS} rows (one cycle sampled every {720 / MAX_TRACE_ROWS:g} deg or coarser)")
 
 
 def _cell(text, limit=30):
@@ -70,22 +149,34 @@ def _to_float(text, name, line_number, column):
     return value
 
 
+def _csv_fields(text, name, line_number):
+    """The cells of one CSV line (quoted cells as the csv module reads them)."""
+    if '"' not in text:
+        return text.split(",")
+    try:
+        return next(csv.reader([text]))
+    except csv.Error as exc:
+        raise PressureTraceError(f"{name}, line {line_number}: not a CSV row ({exc})") from None
+
+
 def _check_trace(name, angle_deg, pressure, line_numbers, pressure_label):
-    """Common checks: enough rows, strictly increasing angles, positive pressure."""
+    """Common checks: enough rows, strictly increasing angles, positive pressure (arrays)."""
     if len(angle_deg) < 2:
         raise PressureTraceError(
             f"{name}: {len(angle_deg)} data row(s); at least 2 are required")
-    for k in range(1, len(angle_deg)):
-        if not angle_deg[k] > angle_deg[k - 1]:
-            raise PressureTraceError(
-                f"{name}, line {line_numbers[k]}: crank angle {angle_deg[k]:g} deg does not "
-                f"exceed the previous {angle_deg[k - 1]:g} deg (angles must be strictly "
-                "increasing)")
-    for k, value in enumerate(pressure):
-        if value < 0:
-            raise PressureTraceError(
-                f"{name}, line {line_numbers[k]}: {pressure_label} {value:g} is negative "
-                "(absolute pressure >= 0 is required)")
+    falling = np.flatnonzero(~(angle_deg[1:] > angle_deg[:-1]))
+    if falling.size:
+        k = int(falling[0]) + 1
+        raise PressureTraceError(
+            f"{name}, line {line_numbers[k]}: crank angle {angle_deg[k]:g} deg does not "
+            f"exceed the previous {angle_deg[k - 1]:g} deg (angles must be strictly "
+            "increasing)")
+    negative = np.flatnonzero(pressure < 0)
+    if negative.size:
+        k = int(negative[0])
+        raise PressureTraceError(
+            f"{name}, line {line_numbers[k]}: {pressure_label} {pressure[k]:g} is negative "
+            "(absolute pressure >= 0 is required)")
 
 
 def _header_unit(header):
@@ -134,14 +225,18 @@ def read_pressure_csv(path):
     -----
     File format defined for crankdyn (derived).
     """
-    name = os.fspath(path)
-    lines = _read_lines(path)
-    numbered = [(k + 1, line) for k, line in enumerate(lines) if line.strip()]
-    if not numbered:
+    angle, pressure = _read_once(path, "csv", _parse_csv)
+    return angle.copy(), pressure.copy()
+
+
+def _parse_csv(name, lines):
+    """(angle deg, pressure Pa) of the CSV trace whose non-blank ``lines`` are given."""
+    first = next(lines, None)
+    if first is None:
         raise PressureTraceError(
             f"{name}: the file is empty (a header row and at least 2 data rows are required)")
-    header_line, header_text = numbered[0]
-    header = next(csv.reader([header_text]))
+    header_line, header_text = first
+    header = _csv_fields(header_text, name, header_line)
     if len(header) < 2:
         raise PressureTraceError(
             f"{name}, line {header_line}: header has {len(header)} column(s); at least 2 "
@@ -160,18 +255,32 @@ def read_pressure_csv(path):
             "'p [MPa]', 'p (MPa)' or 'pressure_MPa'")
     factor = _PRESSURE_UNITS_TO_PA[unit.strip().lower()]
 
-    angles, pressures, line_numbers = [], [], []
-    for line_number, text in numbered[1:]:
-        fields = next(csv.reader([text]))
+    angles, pressures, line_numbers = array("d"), array("d"), array("q")
+    for line_number, text in lines:
+        if len(line_numbers) >= MAX_TRACE_ROWS:
+            raise _too_many_rows(name)
+        fields = _csv_fields(text, name, line_number)
         if len(fields) < 2:
             raise PressureTraceError(
                 f"{name}, line {line_number}: {len(fields)} column(s); at least 2 (crank "
                 "angle, pressure) are required")
-        angles.append(_to_float(fields[0], name, line_number, 1))
-        pressures.append(_to_float(fields[1], name, line_number, 2))
+        try:
+            angle, pressure = float(fields[0]), float(fields[1])
+        except ValueError:
+            angle, pressure = None, None
+        if angle is None or not (math.isfinite(angle) and math.isfinite(pressure)):
+            angle = _to_float(fields[0], name, line_number, 1)  # raises the worded error
+            pressure = _to_float(fields[1], name, line_number, 2)
+        angles.append(angle)
+        pressures.append(pressure)
         line_numbers.append(line_number)
-    _check_trace(name, angles, pressures, line_numbers, f"pressure [{unit.strip()}]")
-    return np.asarray(angles, dtype=float), np.asarray(pressures, dtype=float) * factor
+    angle_deg = np.frombuffer(angles, dtype=float)
+    pressure_in_unit = np.frombuffer(pressures, dtype=float)
+    _check_trace(name, angle_deg, pressure_in_unit, line_numbers, f"pressure [{unit.strip()}]")
+    angle_deg.flags.writeable = False
+    pressure_Pa = pressure_in_unit * factor
+    pressure_Pa.flags.writeable = False
+    return angle_deg, pressure_Pa
 
 
 # ---------------------------------------------------------------------------
@@ -206,41 +315,55 @@ def read_diesel_rk_ind_table(path):
     -----
     Format as written by Diesel-RK (derived from the file layout).
     """
-    name = os.fspath(path)
-    lines = _read_lines(path)
-    numbered = [(k + 1, line) for k, line in enumerate(lines) if line.strip()]
-    if not numbered:
+    table = _read_once(path, "diesel-rk", _parse_diesel_rk)
+    return {column: values.copy() for column, values in table.items()}
+
+
+def _parse_diesel_rk(name, lines):
+    """Every column of the Diesel-RK ``.ind`` file whose non-blank ``lines`` are given."""
+    first = next(lines, None)
+    if first is None:
         raise PressureTraceError(
             f"{name}: the file is empty (a Diesel-RK .ind file starts with a line of column "
             "names and a line 'Arrays')")
-    header_line, header_text = numbered[0]
+    header_line, header_text = first
     names = header_text.split()
     if len(names) < 2:
         raise PressureTraceError(
             f"{name}, line {header_line}: {len(names)} column name(s); at least 2 (angle, "
             "pressure) are required")
+    if len(names) > MAX_COLUMNS:
+        raise PressureTraceError(
+            f"{name}, line {header_line}: {len(names)} column names; at most {MAX_COLUMNS} are "
+            "allowed")
     if len(set(names)) != len(names):
         raise PressureTraceError(
             f"{name}, line {header_line}: duplicate column names {names}; names must be "
             "unique")
-    if len(numbered) < 2 or numbered[1][1].strip().lower() != "arrays":
-        where = numbered[1][0] if len(numbered) > 1 else header_line + 1
+    second = next(lines, None)
+    if second is None or second[1].strip().lower() != "arrays":
+        where = second[0] if second is not None else header_line + 1
         raise PressureTraceError(
             f"{name}, line {where}: expected the line 'Arrays' after the column names")
-    rows, line_numbers = [], []
-    for line_number, text in numbered[2:]:
+    values, line_numbers = array("d"), array("q")
+    for line_number, text in lines:
+        if len(line_numbers) >= MAX_TRACE_ROWS:
+            raise _too_many_rows(name)
         fields = text.split()
         if len(fields) != len(names):
             raise PressureTraceError(
                 f"{name}, line {line_number}: {len(fields)} column(s); exactly "
                 f"{len(names)} are required ({' '.join(names)})")
-        rows.append([_to_float(f, name, line_number, c + 1) for c, f in enumerate(fields)])
+        values.extend(_to_float(f, name, line_number, c + 1) for c, f in enumerate(fields))
         line_numbers.append(line_number)
-    if not rows:
+    if not line_numbers:
         raise PressureTraceError(f"{name}: no data rows after 'Arrays' (at least 2 required)")
-    data = np.asarray(rows, dtype=float)
+    data = np.frombuffer(values, dtype=float).reshape(len(line_numbers), len(names))
     _check_trace(name, data[:, 0], data[:, 1], line_numbers, f"pressure {names[1]}")
-    return {column: data[:, k].copy() for k, column in enumerate(names)}
+    table = {column: data[:, k].copy() for k, column in enumerate(names)}
+    for column in table.values():
+        column.flags.writeable = False
+    return table
 
 
 def read_diesel_rk_ind(path):
