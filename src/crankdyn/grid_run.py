@@ -34,7 +34,7 @@ from .batch import (Outcome, Progress, RunOptions, Variant, _client, _registry, 
                     error_text, warm, worker_count)
 from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
 from .errors import PluginError
-from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage,
+from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage, stage_applies,
                            stage_inputs)
 from .plugin_types import Stage, StageOutput
 from .plugins import Registry
@@ -126,7 +126,7 @@ def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
         try:
             check_scene(point.scene, registry, languages)
             # a plan follows from what each stage's applies says and the stages asked for alone
-            said = (tuple(s.applies(point.scene) for s in registry.stages.values()),
+            said = (tuple(stage_applies(s, point.scene, registry) for s in registry.stages.values()),
                     tuple(stages if stages is not None else point.scene.analysis.stages or ()),
                     stages is None and point.scene.analysis.stages is None)
             if said not in plans:
