@@ -73,7 +73,8 @@ def _masses(rng: random.Random, bore_mm: float) -> dict:
 
 def _cycle(rng: random.Random, diesel: bool, strokes: int) -> dict:
     cycle = copy.deepcopy(_DIESEL_CYCLE if diesel else _PETROL_CYCLE)
-    cycle.pop("mean_indicated_pressure", None)  # the thermal calculation's value of the example's engine
+    # the thermal calculation's value of the example's engine
+    cycle.pop("mean_indicated_pressure", None)
     if diesel:
         cycle["compression_ratio"] = round(rng.uniform(15.0, 19.0), 1)
         cycle["max_pressure"] = f"{rng.uniform(7.0, 10.0):.2f} MPa"
@@ -99,7 +100,7 @@ def _report(language: str, title: str) -> dict:
 
 def _piston_engine(rng, language, *, layout, cylinders, bank=None, strokes=4, diesel=False,
                    rod_type="central", flywheel=False) -> tuple[dict, int]:
-    """An engine of ``layout`` from the V8 example's masses and cycle, evenly firing; (data, cranks)."""
+    """An evenly firing engine of ``layout`` from the in-line four's data; (data, cranks)."""
     bore, stroke, rod_ratio = _sizes(rng, (95.0, 130.0) if diesel else (70.0, 100.0))
     data = copy.deepcopy(example_data("inline4-petrol"))
     data.pop("flywheel")
@@ -131,9 +132,10 @@ def _inline(rng, language, index):
     strokes = rng.choice([2, 4, 4])
     diesel = rng.random() < 0.4
     flywheel = cylinders > 1 and rng.random() < 0.5
-    data, cranks = _piston_engine(rng, language, layout="inline", cylinders=cylinders, strokes=strokes,
-                                  diesel=diesel, flywheel=flywheel)
-    return (f"inline{cylinders}-{strokes}s-{'diesel' if diesel else 'petrol'}", data, cranks, flywheel, True)
+    data, cranks = _piston_engine(rng, language, layout="inline", cylinders=cylinders,
+                                  strokes=strokes, diesel=diesel, flywheel=flywheel)
+    name = f"inline{cylinders}-{strokes}s-{'diesel' if diesel else 'petrol'}"
+    return name, data, cranks, flywheel, True
 
 
 #: (layout, cylinders, bank angle, strokes) of engines that can fire evenly
@@ -149,8 +151,10 @@ def _banked(rng, language, index):
     rod_type = rng.choice(["central", "fork"]) if layout == "V" else "central"
     flywheel = rng.random() < 0.4
     data, cranks = _piston_engine(rng, language, layout=layout, cylinders=cylinders, bank=bank,
-                                  strokes=strokes, diesel=diesel, rod_type=rod_type, flywheel=flywheel)
-    name = f"{layout}{cylinders}-{strokes}s" + (f"-{bank}" if bank else "") + ("-diesel" if diesel else "")
+                                  strokes=strokes, diesel=diesel, rod_type=rod_type,
+                                  flywheel=flywheel)
+    name = (f"{layout}{cylinders}-{strokes}s" + (f"-{bank}" if bank else "")
+            + ("-diesel" if diesel else ""))
     return name, data, cranks, flywheel, True
 
 
@@ -197,7 +201,8 @@ def _single(rng, language, index):
 def _kinematics_only(rng, language, index):
     data = copy.deepcopy(example_data("kinematics-only"))
     data["engine"].pop("rod_length")
-    data["engine"].update(rod_ratio=round(rng.uniform(0.2, 0.35), 3), rpm=rng.randrange(1500, 7000, 500))
+    data["engine"].update(rod_ratio=round(rng.uniform(0.2, 0.35), 3),
+                          rpm=rng.randrange(1500, 7000, 500))
     data["analysis"] = {**_analysis(rng), "kinematics": rng.choice(["exact", "approximate"])}
     data["report"]["language"] = language
     return f"kinematics-only-{index}", data, 1, False, False
@@ -237,7 +242,8 @@ def _vane(rng, language, index):
 def _scotch_yoke(rng, language, index):
     """The example plugin: a rod-less mechanism, for its kinematics or under a petrol cycle."""
     if index == 0:
-        data = {"engine": {"mechanism": "scotch_yoke", "strokes": 2, "rpm": rng.randrange(1000, 3000, 250),
+        data = {"engine": {"mechanism": "scotch_yoke", "strokes": 2,
+                           "rpm": rng.randrange(1000, 3000, 250),
                            "bore": "60 mm", "stroke": "80 mm", "rod_ratio": 0.25},
                 "scotch_yoke": {"table_step_deg": 45}, "report": _report(language, "Scotch yoke")}
         return "scotch-yoke-kinematics", data, 1, False, False
@@ -249,8 +255,9 @@ def _scotch_yoke(rng, language, index):
 
 
 #: (family, how many scenes it gives); 60 in all.
-FAMILIES = ((_inline, 12), (_banked, len(_BANKED)), (_radial, len(_RADIAL)), (_trace, 3), (_single, 4),
-            (_kinematics_only, 4), (_offset, 5), (_planetary, 4), (_vane, 4), (_scotch_yoke, 2))
+FAMILIES = ((_inline, 12), (_banked, len(_BANKED)), (_radial, len(_RADIAL)), (_trace, 3),
+            (_single, 4), (_kinematics_only, 4), (_offset, 5), (_planetary, 4), (_vane, 4),
+            (_scotch_yoke, 2))
 
 
 def corpus(seed: int, languages=None) -> list[CorpusScene]:
@@ -264,6 +271,6 @@ def corpus(seed: int, languages=None) -> list[CorpusScene]:
             for language in languages or (LANGUAGES[len(scenes) % len(LANGUAGES)],):
                 data = copy.deepcopy(data)
                 data["report"]["language"] = language
-                scenes.append(CorpusScene(f"{seed}-{name}-{language}", data, language, cranks, flywheel,
-                                          cycle, plugin=family is _scotch_yoke))
+                scenes.append(CorpusScene(f"{seed}-{name}-{language}", data, language, cranks,
+                                          flywheel, cycle, plugin=family is _scotch_yoke))
     return scenes

@@ -233,8 +233,8 @@ def _forces_figure(t, cycle_deg, angle, mpa):
 
 def _torque_figure(t, cycle_deg, angle, torque_Nm, mean_torque_Nm, whose=""):
     """One cylinder's torque over the cycle, with its mean."""
-    return curve_with_mean_figure(angle, torque_Nm, mean_torque_Nm, cycle_deg, t,
-                                  (t("forces.torque" + whose), t("forces.mean_torque"), t("forces.axis_torque")))
+    labels = (t("forces.torque" + whose), t("forces.mean_torque"), t("forces.axis_torque"))
+    return curve_with_mean_figure(angle, torque_Nm, mean_torque_Nm, cycle_deg, t, labels)
 
 
 def _whose_torque(scene) -> str:
@@ -290,8 +290,9 @@ def render(output: StageOutput, ctx) -> str:
 
     figure_forces = ctx.figure(partial(_forces_figure, t, ctx.cycle_deg, angle, mpa), t("forces.figure_caption"),
                                "forces", see="forces.see_figure")
-    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"],
-                                       whose), t("forces.torque_caption" + whose), "torque",
+    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"],
+                                       r["mean_torque_Nm"], whose),
+                               t("forces.torque_caption" + whose), "torque",
                                see="forces.see_torque" + whose)
 
     if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage

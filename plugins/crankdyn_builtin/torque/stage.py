@@ -152,8 +152,8 @@ def render(output: StageOutput, ctx) -> str | None:
                                t("torque.output_caption"), "output_torque", see="torque.see_output")
     # one crank: its one journal behind it carries the output torque, shown above
     figure_journals = None if cranks == 1 else ctx.figure(
-        partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"), "journal_torques",
-        see="torque.see_journals")
+        partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
+        "journal_torques", see="torque.see_journals")
     journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
     danger = ctx.table([

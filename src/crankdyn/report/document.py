@@ -433,7 +433,7 @@ def landscape_tables_later(body: str) -> str:
     position = 0
     while (m := _LANDSCAPE_BLOCK.search(body, position)) is not None:
         group_end = m.end()
-        while True:  # the tables (numbers in order) and worked checks (back references) right after it
+        while True:  # the tables (numbers in order) and worked checks right after it go with it
             gap = len(body) - group_end - len(body[group_end:].lstrip())
             more = (_TABLE_BLOCK_WHOLE.match(body, group_end + gap)
                     or _WORKED_BLOCK_WHOLE.match(body, group_end + gap))
