@@ -65,7 +65,7 @@ def test_kinematics_only_report_leaves_sections_out():
     assert 'data-stage="kinematics"' in html
     assert 'data-stage="indicator"' not in html and 'data-stage="forces"' not in html
     # the reason is stated (in the report's language) in the method notes
-    assert "the scene gives no working-cycle (indicator diagram) data" in html
+    assert "the assignment gives no working-cycle (indicator diagram) data" in html
 
 
 def test_scene_text_is_escaped():

@@ -918,8 +918,8 @@ def render(output: StageOutput, ctx) -> str | None:
     star = _star_figure(ctx, r)
     masses_table = _masses_table(ctx, r)
     models_figure = _models_figure(ctx, r)
+    bay_table = _bay_table(ctx, r)  # numbered as the section shows them: the bay's model first
     coef_table = _coefficients_table(ctx, r)
-    bay_table = _bay_table(ctx, r)
     summary_table = _summary_table(ctx, r)
     means_table = _means_table(ctx, r)
     explorer_table = _explorer_table(ctx, r)

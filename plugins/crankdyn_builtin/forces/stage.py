@@ -230,10 +230,18 @@ def _forces_figure(t, cycle_deg, angle, mpa):
     return fig
 
 
-def _torque_figure(t, cycle_deg, angle, torque_Nm, mean_torque_Nm):
+def _torque_figure(t, cycle_deg, angle, torque_Nm, mean_torque_Nm, whose=""):
     """One cylinder's torque over the cycle, with its mean."""
-    return curve_with_mean_figure(angle, torque_Nm, mean_torque_Nm, cycle_deg, t,
-                                  (t("forces.torque"), t("forces.mean_torque"), t("forces.axis_torque")))
+    labels = (t("forces.torque" + whose), t("forces.mean_torque"), t("forces.axis_torque"))
+    return curve_with_mean_figure(angle, torque_Nm, mean_torque_Nm, cycle_deg, t, labels)
+
+
+def _whose_torque(scene) -> str:
+    """The catalog keys' suffix for whose torque the section gives: one crank's where each crank
+    carries one cylinder (an in-line engine), one cylinder's where a crank carries several (V, W,
+    boxer, a radial's one crank)."""
+    several = scene is not None and scene.engine.cylinders > 1 and scene.engine.layout != "inline"
+    return "_cylinder" if several else ""
 
 
 def render(output: StageOutput, ctx) -> str:
@@ -243,6 +251,7 @@ def render(output: StageOutput, ctx) -> str:
     angle = f["crank_angle_deg"]
     mpa = {k: f[k] / 1e6 for k in f.columns if k.endswith("_Pa")}
 
+    whose = _whose_torque(ctx.scene)
     grid_rows, grid_labels = sample_rows(angle, ctx.table_step_deg)
     # every extreme the conclusions name gets its row, even one a hair above a table row's value
     t_extremes = [(f["tangential_Pa"], "max", t("forces.extreme_t_max")),
@@ -275,17 +284,19 @@ def render(output: StageOutput, ctx) -> str:
         ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
         ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
-    ], caption=t("forces.table_q_caption"), extremes=extremes,
-        see="forces.see_table_q") + worked_crank_torque(ctx, f.take(rows), labels, r)
+    ], caption=t("forces.table_q_caption" + whose), extremes=extremes,
+        see="forces.see_table_q" + whose) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
     figure_forces = ctx.figure(partial(_forces_figure, t, ctx.cycle_deg, angle, mpa), t("forces.figure_caption"),
                                "forces", see="forces.see_figure")
-    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"]),
-                               t("forces.torque_caption"), "torque", see="forces.see_torque")
+    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"],
+                                       r["mean_torque_Nm"], whose),
+                               t("forces.torque_caption" + whose), "torque",
+                               see="forces.see_torque" + whose)
 
     if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage
         ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))
-    ctx.conclude(t("forces.conclusion_torque", mean=ctx.num(r["mean_torque_Nm"]),
+    ctx.conclude(t("forces.conclusion_torque" + whose, mean=ctx.num(r["mean_torque_Nm"]),
                    from_work=ctx.num(r["mean_torque_from_work_Nm"]),
                    deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
                    t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.t.number_g(r["torque_max_crank_angle_deg"], 4)))

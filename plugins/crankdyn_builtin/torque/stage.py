@@ -139,6 +139,8 @@ def render(output: StageOutput, ctx) -> str | None:
             chunk.append(columns[-1])
         with_torque = chunk[-1] is columns[-1]
         caption = "torque.table_b3_caption_torque" if with_torque else "torque.table_b3_caption"
+        if cranks == 1:  # one crank carries every cylinder: no running torques between cranks
+            caption = "torque.table_b3_caption_single"
         see = ("torque.see_table_b3_single" if cranks == 1 else "torque.see_table_b3_torque") if with_torque \
             else "torque.see_table_b3"
         tables.append(ctx.table(chunk, caption=t(caption, first=start + 1,
@@ -148,10 +150,11 @@ def render(output: StageOutput, ctx) -> str | None:
 
     figure_output = ctx.figure(partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
                                t("torque.output_caption"), "output_torque", see="torque.see_output")
-    figure_journals = ctx.figure(partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
-                                 "journal_torques", see="torque.see_journals")
-
-    journals_table = _journals_table(ctx, r["journals"])
+    # one crank: its one journal behind it carries the output torque, shown above
+    figure_journals = None if cranks == 1 else ctx.figure(
+        partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
+        "journal_torques", see="torque.see_journals")
+    journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
     danger = ctx.table([
         (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),

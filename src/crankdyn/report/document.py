@@ -405,6 +405,8 @@ def _unbreakable_part(part: str) -> str:
 _LANDSCAPE_BLOCK = re.compile(r'<div class="table-block[^"]*\blandscape\b[^"]*">.*?</div>', re.S)
 _TABLE_BLOCK = re.compile(r'<div class="table-block')
 _TABLE_BLOCK_WHOLE = re.compile(r'<div class="table-block[^"]*">.*?</div>', re.S)
+#: a worked check right after a table: it refers to the table's row, so it moves with the table
+_WORKED_BLOCK_WHOLE = re.compile(r'<div class="worked">.*?</div>', re.S)
 _DIV_TAG = re.compile(r"<(/?)div\b")
 
 
@@ -429,9 +431,10 @@ def landscape_tables_later(body: str) -> str:
     position = 0
     while (m := _LANDSCAPE_BLOCK.search(body, position)) is not None:
         group_end = m.end()
-        while True:  # the tables right after it go with it, so that the numbers stay in order
+        while True:  # the tables (numbers in order) and worked checks right after it go with it
             gap = len(body) - group_end - len(body[group_end:].lstrip())
-            more = _TABLE_BLOCK_WHOLE.match(body, group_end + gap)
+            more = (_TABLE_BLOCK_WHOLE.match(body, group_end + gap)
+                    or _WORKED_BLOCK_WHOLE.match(body, group_end + gap))
             if more is None:
                 break
             group_end = more.end()
