@@ -1,4 +1,5 @@
-"""The Word export (issue 20): report.docx has the HTML report's structure, with native tables and equations."""
+"""The Word export: report.docx has the HTML report's structure, with native tables and equations,
+set as the PDF sets them (equations, worked substitutions, tables, pages)."""
 
 from __future__ import annotations
 
@@ -37,6 +38,7 @@ def _html_structure(html: str) -> dict:
     """What the HTML report shows: tables, figures, equations and the headings outside the contents list
     (not the title blocks of the ESKD frame, which are the PDF's page furniture and not in the Word file)."""
     html = re.sub(r'<div class="eskd-block.*?</table></div>', "", html, flags=re.S)
+    html = re.sub(r'<table class="signatures">.*?</table>', "", html, flags=re.S)  # lines, not a grid
     body = re.sub(r"<nav\b.*?</nav>", "", html, flags=re.S)
     headings = [(int(level) - 1, unescape(re.sub(r"<[^>]+>", "", re.sub(r"<br\s*/?>", "\n", text))).strip())
                 for level, text in re.findall(r"<h([2-4])\b[^>]*>(.*?)</h\1>", body, re.S)]
@@ -94,17 +96,6 @@ def test_docx_styles_page_and_fields(kinematics):
     assert captions and all(re.match(r"^\w+ \w+\.\d+ ", c) for c in captions)
 
 
-def test_formula_markup_becomes_mathml():
-    node = word.parse_html("<span><i>m</i><sub>s</sub> = 0.5 kg, <i>R&omega;</i><sup>2</sup>"
-                           "<i>x</i><sub>1</sub><sup>3</sup> 1,5&middot;10⁻³</span>").children[0]
-    assert word.formula_mathml(node) == (
-        '<math display="inline"><mrow><msub><mi>m</mi><mrow><mi mathvariant="normal">s</mi></mrow></msub>'
-        '<mo>=</mo><mn>0.5</mn><mi mathvariant="normal">kg</mi><mo>,</mo><mi>R</mi>'
-        '<msup><mi>ω</mi><mrow><mn>2</mn></mrow></msup>'
-        '<msubsup><mi>x</mi><mrow><mn>1</mn></mrow><mrow><mn>3</mn></mrow></msubsup>'
-        '<mtext>1,5</mtext><mo>·</mo><msup><mn>10</mn><mn>−3</mn></msup></mrow></math>')
-
-
 def test_batch_writes_one_docx_per_variant(tmp_path):
     from crankdyn.batch import run_batch
 
@@ -138,3 +129,197 @@ def test_libreoffice_converts_the_docx_to_pdf(tmp_path):
     subprocess.run(["pdftoppm", "-r", "60", "-png", "-f", "3", "-l", "3", "-singlefile", str(pdf),
                     str(ARTIFACTS / "docx-petrol-uk-page3")], check=True, timeout=120)
     assert (ARTIFACTS / "docx-petrol-uk-page3.png").stat().st_size > 1000
+
+
+# --------------------------------------------------------------------------- equations, blocks, tables, pages
+
+M = "{http://schemas.openxmlformats.org/officeDocument/2006/math}"
+
+
+def _omml(markup: str, size: int = 28):
+    from xml.etree import ElementTree
+
+    from crankdyn.report import docx_math
+
+    xml = docx_math.omml(word.parse_html(f"<span>{markup}</span>").children[0], size)
+    return ElementTree.fromstring(f'<w:p xmlns:w="{W[1:-1]}" xmlns:m="{M[1:-1]}">{xml}</w:p>')
+
+
+def _delimiters(tree) -> list[tuple[str, str, list[str]]]:
+    """Each m:d: its opening and closing characters and the order of its properties."""
+    out = []
+    for d in tree.iter(f"{M}d"):
+        props = list(d.find(f"{M}dPr"))
+        values = {p.tag: p.get(f"{M}val") for p in props}
+        out.append((values.get(f"{M}begChr"), values.get(f"{M}endChr"), [p.tag[len(M):] for p in props]))
+    return out
+
+
+def test_brackets_bars_and_braces_are_delimiter_elements():
+    tree = _omml("<i>s</i><sub>п</sub> = <i>R</i> [(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>], "
+                 "|⁠<i>f</i><sub><i>n</i></sub> − <i>b</i><sub><i>n</i></sub>|⁠ {<i>x</i>}")
+    found = _delimiters(tree)
+    assert sorted((b, e) for b, e, _ in found) == sorted([("[", "]"), ("(", ")"), ("(", ")"), ("|", "|"),
+                                                         ("{", "}")])
+    # the schema's order: LibreOffice reads an end character written before the separator as ")"
+    assert all(order[:3] == ["begChr", "sepChr", "endChr"] for _, _, order in found)
+    # the square bracket holds both round ones; no bracket or bar is left as a character
+    square = next(d for d in tree.iter(f"{M}d") if d.find(f"{M}dPr/{M}begChr").get(f"{M}val") == "[")
+    assert len(list(square.iter(f"{M}d"))) == 3
+    texts = "".join(t.text or "" for t in tree.iter(f"{M}t"))
+    assert not set("()[]{}|\u2060") & set(texts)
+
+
+def test_a_bracket_without_its_pair_stays_a_character():
+    tree = _omml("= 0,046·[cos(30°)/cos 8,9°")  # one line of a formula broken across lines
+    assert [(b, e) for b, e, _ in _delimiters(tree)] == [("(", ")")]
+    assert "[" in "".join(t.text or "" for t in tree.iter(f"{M}t"))
+
+
+def test_conjugate_and_powers_are_scripts_and_runs_have_the_body_size():
+    tree = _omml("<i>b</i><sub><i>n</i></sub><sup>*</sup> + (<i>α</i> + <i>β</i>)<sup>2</sup> + 1,5·10⁻³")
+    subsup = tree.find(f".//{M}sSubSup")
+    assert subsup is not None and "".join(t.text for t in subsup.find(f"{M}sup").iter(f"{M}t")) == "*"
+    assert "".join(t.text for t in subsup.find(f"{M}e").iter(f"{M}t")) == "b"
+    powers = list(tree.iter(f"{M}sSup"))
+    assert [p.find(f"{M}e")[0].tag for p in powers] == [f"{M}d", f"{M}r"]  # (α + β)², 10⁻³
+    assert "".join(t.text for t in powers[1].find(f"{M}sup").iter(f"{M}t")) == "−3"
+    sizes = {r.find(f"{W}rPr/{W}sz").get(f"{W}val") for r in tree.iter(f"{M}r")}
+    assert sizes == {"28"}  # 14 pt, the body text's size
+
+
+def _sample_html(long_equation: str) -> str:
+    row = "".join(f"<td>{-1.5 * k:.3f}".replace(".", ",").replace("-", "−") + "</td>" for k in range(16))
+    return f"""<html lang="uk"><body>
+<section class="title-page"><div class="ministry">Міністерство</div><div class="doc-kind">Пояснювальна записка</div>
+<table class="signatures"><tr><td>Виконав: студент</td></tr>
+<tr><td class="line"><span class="blank wide"></span> <span class="hint">(підпис)</span></td></tr></table>
+<div class="city-year">2026</div></section>
+<section class="assignment"><div class="ministry">Кафедра</div><h2 class="unnumbered">Завдання</h2><p>Текст.</p></section>
+<section class="abstract"><h2 class="unnumbered">Реферат</h2>
+<p class="counts">Пояснювальна записка: <a class="pagecount" href="#document-end"></a> с., 2 рис.</p></section>
+<section class="chapter" id="sec-1"><h2>1 Кінематика</h2>
+<div class="equation"><span class="formula"><span class="eq-part"><i>R</i> = <i>S</i>/2 = 46 мм</span></span>
+<span class="eqno">(1.1)</span></div>
+<div class="equation"><span class="formula">{long_equation}</span><span class="eqno">(1.2)</span></div>
+<p class="where"><span class="where-word">де </span><span class="where-lines"><span class="where-line"><i>R</i> – радіус
+кривошипа, м;</span><br><span class="where-line"><i>S</i> – хід поршня, м.</span></span></p>
+<div class="worked"><p class="worked-line"><span class="eq-part"><i>s</i> = <i>R</i>[(1 − cos <i>α</i>)] =</span><br
+class="eq-break"><span class="eq-part"><span class="eq-carry">= </span>0,046·[(1 − cos 30°)] = 7,96 мм</span></p></div>
+<div class="table-block"><table class="data" data-number="1.1"><caption>Таблиця 1.1 – Кінематика</caption>
+<thead><tr><th><i>α</i>, °</th><th>Назва</th><th><i>s</i>, мм</th></tr></thead>
+<tbody><tr><td>0</td><td class="text">ВМТ</td><td>0,00</td></tr><tr><td>30</td><td class="text">—</td><td>−7,96</td></tr>
+</tbody></table></div></section>
+<section class="chapter" id="sec-2"><h2>2 Сили</h2>
+<div class="table-block long landscape"><p class="see">Сили наведено в табл. 2.1.</p>
+<table class="data wide" data-number="2.1"><caption>Таблиця 2.1 – Сили</caption>
+<thead><tr>{"".join(f"<th><i>z</i><sub>{k}</sub></th>" for k in range(16))}</tr></thead>
+<tbody><tr>{row}</tr><tr>{row}</tr></tbody></table></div><p>Після таблиці.</p></section>
+</body></html>"""
+
+
+@pytest.fixture(scope="module")
+def sample_docx(tmp_path_factory) -> Path:
+    long = ", &nbsp; ".join(f'<span class="eq-part"><i>x</i><sub>{k}</sub> = <i>R</i>(1 − cos {k}<i>α</i>) '
+                            f'+ <i>λ</i>(1 − cos<sup>2</sup> <i>β</i>) = {k},{k}5 мм</span>' for k in range(1, 4))
+    path = tmp_path_factory.mktemp("sample") / "report.docx"
+    path.write_bytes(word.report_docx(_sample_html(long), [], "uk"))
+    return path
+
+
+def _paragraphs(path: Path):
+    import docx
+
+    return docx.Document(str(path)).paragraphs
+
+
+def test_equations_number_at_the_right_margin_long_ones_on_several_lines(sample_docx):
+    equations = [p for p in _paragraphs(sample_docx) if p.style.name == "Equation"]
+    xml = [p._p.xml for p in equations]
+    # (1.1) on one line: a tab to the centre, the formula, a tab to the right margin, the number
+    assert re.search(r"<w:tab/>.*<m:oMath>.*</m:oMath>.*<w:tab/>.*\(1\.1\)", xml[0], re.S)
+    # (1.2): three parts too wide for a line together, on lines of their own; the number on the last
+    long = [x for x in xml[1:]]
+    assert len(long) >= 2 and all("<m:oMath>" in x for x in long)
+    assert "(1.2)" in long[-1] and not any("(1.2)" in x for x in long[:-1])
+    assert all("<w:keepNext/>" in x for x in long[:-1])
+    from crankdyn.report import docx_blocks, docx_math
+
+    for x in long:  # every line's estimated width within the line, at no less than 10 pt
+        sizes = {int(v) for v in re.findall(r'<w:sz w:val="(\d+)"/>', x)}
+        assert min(sizes) >= docx_blocks.SMALLEST_EQUATION_SIZE
+    assert docx_math.CHAR_EM > 0
+
+
+def test_where_lines_and_worked_substitutions_are_left_aligned_lines(sample_docx):
+    paragraphs = _paragraphs(sample_docx)
+    where = [p for p in paragraphs if p.style.name == "Where"]
+    assert [p.text.split("–")[0].strip() for p in where] == ["де\tR", "S"]
+    worked = [p for p in paragraphs if p.style.name == "Worked Line"]
+    assert [p.text[:8] for p in worked] == ["s = R[(1", "= 0,046·"]
+    import docx
+
+    styles = docx.Document(str(sample_docx)).styles
+    for name in ("Where", "Worked Line"):
+        assert styles[name].paragraph_format.alignment == 0  # left, never justified
+        assert all("<w:br/>" not in p._p.xml for p in paragraphs if p.style.name == name)
+
+
+def _cell_alignments(table) -> list[list[str]]:
+    return [[(c._tc.find(f"{W}p/{W}pPr/{W}jc").get(f"{W}val")) for c in row.cells] for row in table.rows]
+
+
+def test_tables_numbers_right_text_centred_header_repeated(sample_docx):
+    import docx
+
+    document = docx.Document(str(sample_docx))
+    assert len(document.tables) == 2  # the signature block is lines, not a table
+    first = document.tables[0]
+    assert _cell_alignments(first) == [["center"] * 3, ["right", "center", "right"], ["right", "center", "right"]]
+    assert first.rows[0]._tr.find(f"{W}trPr/{W}tblHeader") is not None
+    assert all(r._tr.find(f"{W}trPr/{W}cantSplit") is not None for r in first.rows)
+    widths = [int(c.get(f"{W}w")) for c in first._tbl.findall(f"{W}tblGrid/{W}gridCol")]
+    assert widths[1] < widths[0] * 3 and sum(widths) <= word.TEXT_WIDTH  # from the content, not the page
+    # every number fits its column whole: the column is at least as wide as its longest number
+    wide = document.tables[1]
+    size = int(wide._tbl.find(f".//{W}r/{W}rPr/{W}sz").get(f"{W}val"))
+    for k, col in enumerate(wide._tbl.findall(f"{W}tblGrid/{W}gridCol")):
+        longest = max(len(row.cells[k].text) for row in wide.rows)
+        assert int(col.get(f"{W}w")) >= longest * 0.5 * size * 10, (k, longest)
+
+
+def test_wide_table_in_a_landscape_section(sample_docx):
+    import docx
+
+    document = docx.Document(str(sample_docx))
+    orientations = [(s.orientation, s.page_width > s.page_height) for s in document.sections]
+    assert [wide for _, wide in orientations] == [False, True, False]
+    assert orientations[1][0] == 1  # WD_ORIENT.LANDSCAPE
+    # the wide table is in the landscape section: the section break before it, the next one after it
+    body = document.element.body
+    kinds = [("table" if el.tag == f"{W}tbl" else "break" if el.find(f"{W}pPr/{W}sectPr") is not None else "")
+             for el in body]
+    kinds = [k for k in kinds if k]
+    assert kinds == ["table", "break", "table", "break"]
+    # only the title page has no page number
+    assert [s.different_first_page_header_footer for s in document.sections] == [True, False, False]
+
+
+def test_title_page_and_parts_start_new_pages(sample_docx):
+    paragraphs = _paragraphs(sample_docx)
+    breaks = [p.text for p in paragraphs if "<w:pageBreakBefore/>" in p._p.xml
+              or (p.style.name == "heading 1" and "<w:pageBreakBefore w:val=\"0\"/>" not in p._p.xml)]
+    assert breaks == ["Кафедра", "Реферат", "1 Кінематика", "2 Сили"]
+    # the heading under the department's line stays on that line's page; unnumbered ones centred
+    task = next(p for p in paragraphs if p.text == "Завдання")
+    assert '<w:pageBreakBefore w:val="0"/>' in task._p.xml and '<w:jc w:val="center"/>' in task._p.xml
+    import docx
+
+    assert docx.Document(str(sample_docx)).styles["Heading 1"].font.all_caps  # as the PDF prints them
+    # the signature block: lines without borders
+    signature = [p for p in paragraphs if p.style.name == "Signature"]
+    assert [p.text.strip() for p in signature][0] == "Виконав: студент" and signature[1].text.endswith("(підпис)")
+    assert "<w:tbl>" not in "".join(p._p.xml for p in signature) and "<w:u " in signature[1]._p.xml
+    # the abstract's page count is a NUMPAGES field
+    counts = next(p for p in paragraphs if p.text.startswith("Пояснювальна записка:"))
+    assert " NUMPAGES " in counts._p.xml and "CRANKDYN" not in counts._p.xml

@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CrankdynError
+from . import docx_blocks
 from .figures import STYLE, tight_layout
 
 PNG_DPI = 220
@@ -51,6 +52,10 @@ MM = 1440 / 25.4
 PAGE = {"w": 11906, "h": 16838, "top": round(20 * MM), "bottom": round(20 * MM), "left": round(30 * MM),
         "right": round(15 * MM)}
 TEXT_WIDTH = PAGE["w"] - PAGE["left"] - PAGE["right"]
+# A landscape page (a wide table): left and right 20 mm, top 20 mm, bottom 15 mm, as in the PDF.
+LANDSCAPE = {"w": PAGE["h"], "h": PAGE["w"], "top": round(20 * MM), "bottom": round(15 * MM),
+             "left": round(20 * MM), "right": round(20 * MM)}
+LANDSCAPE_TEXT_WIDTH = LANDSCAPE["w"] - LANDSCAPE["left"] - LANDSCAPE["right"]
 
 
 class DocxError(CrankdynError):
@@ -110,81 +115,45 @@ def parse_html(text: str) -> Node:
     return builder.root
 
 
-# --------------------------------------------------------------------------- formulas as MathML
-
-_TOKEN = re.compile(r"(?P<space>[\s\u00a0]+)|(?P<num>\d+(?:[.,]\d+)?)|(?P<sup>[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+)"
-                    r"|(?P<word>[^\W\d_]+)|(?P<op>.)", re.S)
-_FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789−")
-_LATIN_OR_GREEK = re.compile(r"^[A-Za-z\u0370-\u03ff]+$")
-
-
-def _text_items(text: str, italic: bool, bold: bool) -> list[str]:
-    items: list[str] = []
-    for m in _TOKEN.finditer(text):
-        kind, value = m.lastgroup, m.group()
-        if kind == "space":
-            if "\u00a0" in value:
-                items.append('<mspace width="1em"/>')
-        elif kind == "num":  # a decimal comma as text: pandoc would split the number at it
-            tag = "mtext" if "," in value else "mn"
-            items.append(f"<{tag}>{htmlmod.escape(value)}</{tag}>")
-        elif kind == "sup":  # a power of ten typeset with superscript digits (10⁻¹⁶)
-            exponent = f"<mn>{htmlmod.escape(value.translate(_FROM_SUPERSCRIPT))}</mn>"
-            base = items.pop() if items else "<mrow/>"
-            items.append(f"<msup>{base}{exponent}</msup>")
-        elif kind == "word":
-            if not _LATIN_OR_GREEK.match(value):
-                items.append(f"<mtext>{htmlmod.escape(value)}</mtext>")  # e.g. a unit in Cyrillic
-            elif italic:
-                variant = ' mathvariant="bold-italic"' if bold else ""
-                items += [f"<mi{variant}>{htmlmod.escape(c)}</mi>" for c in value]
-            else:
-                variant = "bold" if bold else "normal"
-                items.append(f'<mi mathvariant="{variant}">{htmlmod.escape(value)}</mi>')
-        else:
-            items.append(f"<mo>{htmlmod.escape(value)}</mo>")
-    return items
-
-
-def _math_items(node: Node, italic: bool = False, bold: bool = False) -> list[str]:
-    items: list[str] = []
-    for child in node.children:
-        if "eq-carry" in child.classes():  # a sign repeated where the PDF's line breaks: Word wraps itself
-            continue
-        if not child.tag:
-            items += _text_items(child.text, italic, bold)
-        elif child.tag in ("sub", "sup"):
-            script = "<mrow>" + "".join(_math_items(child, italic, bold)) + "</mrow>"
-            base = items.pop() if items else "<mrow/>"
-            if child.tag == "sup" and base.startswith("<msub>") and base.endswith("</msub>"):
-                items.append("<msubsup>" + base[len("<msub>"):-len("</msub>")] + script + "</msubsup>")
-            else:
-                items.append(f"<m{child.tag}>{base}{script}</m{child.tag}>")
-        else:
-            items += _math_items(child, italic or child.tag in ("i", "em", "var"),
-                                 bold or child.tag in ("b", "strong"))
-    return items
-
-
-def formula_mathml(node: Node) -> str:
-    """The markup of a report formula (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``) as inline MathML."""
-    return '<math display="inline"><mrow>' + "".join(_math_items(node)) + "</mrow></math>"
-
-
 # --------------------------------------------------------------------------- HTML for pandoc
 
 def _custom(style: str, *children: Node) -> Node:
     return Node("div", {"data-custom-style": style}, list(children))
 
 
-def _equation(node: Node) -> Node:
+@dataclass
+class _Blocks:
+    """What the HTML given to pandoc only points at: the blocks written as WordprocessingML here
+    (a paragraph ``RAW<n>X`` stands for ``raw[n]``) and marks for the paragraph after a mark."""
+
+    raw: list[str] = field(default_factory=list)
+    text_width: int = 0
+
+    def block(self, xml: str) -> Node:
+        self.raw.append(xml)
+        return Node("p", children=[Node("", text=f"{_RAW}{len(self.raw) - 1}X")])
+
+    @staticmethod
+    def mark(what: str) -> Node:
+        return Node("p", children=[Node("", text=f"{_MARK}{what}")])
+
+
+_RAW, _MARK, _NUMPAGES = "CRANKDYNRAW", "CRANKDYNMARK", "CRANKDYNNUMPAGES"
+_SECTION_PORTRAIT, _SECTION_LANDSCAPE = "CRANKDYNSECTIONPORTRAIT", "CRANKDYNSECTIONLANDSCAPE"
+
+
+def _section_end(placeholder: str) -> str:
+    """An empty paragraph of no height that ends a section (its sectPr, filled in later)."""
+    return ('<w:p><w:pPr><w:spacing w:before="0" w:after="0" w:line="20" w:lineRule="exact"/>'
+            f'<w:ind w:firstLine="0"/><w:rPr><w:sz w:val="2"/></w:rPr>{placeholder}</w:pPr></w:p>')
+
+
+def _equation(node: Node, blocks: _Blocks) -> Node:
     formula = next((n for n in node.walk() if "formula" in n.classes()), None)
     number = next((n for n in node.walk() if "eqno" in n.classes()), None)
-    math = formula_mathml(formula if formula is not None else node)
-    paragraph = Node("p", children=[Node("raw", text=math)])
-    if number is not None:
-        paragraph.children.append(Node("", text=number.plain().strip()))
-    return _custom("Equation", paragraph)
+    number_text = number.plain().strip() if number is not None else ""
+    return blocks.block(docx_blocks.equation(formula if formula is not None else node, number_text,
+                                             blocks.text_width))
 
 
 def _contents(node: Node) -> list[Node]:
@@ -195,9 +164,40 @@ def _contents(node: Node) -> list[Node]:
     return out
 
 
-def _transform(node: Node, images: dict[str, str]) -> None:
-    new_children: list[Node] = []
+def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[Node]:
+    """A table block (the sentence referring to it, the caption, the table, its note); a wide one
+    (``.landscape``) in a landscape section of its own."""
+    landscape = "landscape" in node.classes()
+    width = LANDSCAPE_TEXT_WIDTH if landscape else blocks.text_width
+    out: list[Node] = [blocks.block(_section_end(_SECTION_PORTRAIT))] if landscape else []
     for child in node.children:
+        if child.tag == "table":
+            caption = next((c for c in child.children if c.tag == "caption"), None)
+            if caption is not None:
+                out.append(blocks.block(docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))))
+            xml, _ = docx_blocks.table(child, width, "wide" in child.classes())
+            out.append(blocks.block(xml))
+        elif child.tag:
+            holder = Node("div", children=[child])
+            _transform(holder, images, blocks)
+            out += holder.children
+    if landscape:
+        out.append(blocks.block(_section_end(_SECTION_LANDSCAPE)))
+    return out
+
+
+#: Blocks of the title page and the assignment set in a style of their own (as the PDF's CSS sets them).
+_CLASS_STYLES = {"university": "Title Page University", "doc-kind": "Title Page Kind",
+                 "doc-title": "Title Page Subject", "city-year": "Title Page Year", "ministry": "Centred",
+                 "department": "Centred", "centered": "Centred"}
+_BLOCKS = {"p", "div", "table", "ul", "ol", "section", "figure", "h2", "h3", "h4"}
+
+
+def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = False) -> None:
+    new_children: list[Node] = []
+    sections = 0
+    for position, child in enumerate(node.children):
+        first_block = not any(c.tag for c in node.children[:position])
         if child.tag in ("style", "script", "head"):
             continue
         classes = child.classes()
@@ -205,8 +205,31 @@ def _transform(node: Node, images: dict[str, str]) -> None:
             continue
         if "eskd-block" in classes:  # the sheet frame's title blocks: the PDF's page furniture, not text
             continue
+        if top and child.tag in ("section", "nav"):
+            if sections:  # every part after the title page starts on a new page, as in the PDF
+                new_children.append(blocks.mark("break"))
+            sections += 1
         if "equation" in classes:
-            new_children.append(_equation(child))
+            new_children.append(_equation(child, blocks))
+            continue
+        if child.tag == "p" and "worked-line" in classes:
+            new_children.append(blocks.block(docx_blocks.worked_line(child)))
+            continue
+        if child.tag == "p" and "where" in classes:
+            new_children.append(blocks.block(docx_blocks.where(child)))
+            continue
+        if child.tag == "table" and "signatures" in classes:
+            new_children.append(blocks.block(docx_blocks.signatures(child)))
+            continue
+        if "table-block" in classes:
+            new_children += _table_block(child, blocks, images)
+            continue
+        if child.tag == "table":
+            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes)
+            new_children.append(blocks.block(xml))
+            continue
+        if child.tag == "a" and "pagecount" in classes:
+            new_children.append(Node("", text=_NUMPAGES))
             continue
         if child.tag == "nav":
             new_children += _contents(child)
@@ -214,13 +237,21 @@ def _transform(node: Node, images: dict[str, str]) -> None:
         if child.tag == "h1":
             new_children.append(_custom("Title", Node("p", children=child.children)))
             continue
+        if child.tag == "h2" and "unnumbered" in classes:
+            new_children.append(blocks.mark("centre"))
+        if child.tag == "h2" and not first_block:  # (a heading under a line: that line starts the page)
+            new_children.append(blocks.mark("samepage"))
+        style = next((s for c, s in _CLASS_STYLES.items() if c in classes), None)
+        if child.tag == "div" and style and not any(c.tag in _BLOCKS for c in child.children):
+            new_children.append(_custom(style, Node("p", children=child.children)))
+            continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
             child.attrs["src"] = images[child.attrs["src"]]
         if "title-page" in classes:
-            _transform(child, images)
+            _transform(child, images, blocks)
             new_children.append(_custom("Title Page", child))
             continue
-        _transform(child, images)
+        _transform(child, images, blocks)
         new_children.append(child)
     node.children = new_children
 
@@ -237,12 +268,15 @@ def _serialise(node: Node) -> str:
     return inner if node.tag == "root" else f"<{node.tag}{attrs}>{inner}</{node.tag}>"
 
 
-def pandoc_html(report_html: str, images: dict[str, str]) -> str:
-    """The report HTML rewritten for pandoc: MathML equations, PNG figures, custom styles, no contents list."""
+def pandoc_html(report_html: str, images: dict[str, str], blocks: "_Blocks | None" = None) -> str:
+    """The report HTML rewritten for pandoc: PNG figures, custom styles, no contents list, and
+    the blocks written here (equations, tables ...) as placeholders collected in ``blocks``."""
+    blocks = blocks if blocks is not None else _Blocks()
+    blocks.text_width = blocks.text_width or TEXT_WIDTH
     root = parse_html(report_html)
     body = next((n for n in root.walk() if n.tag == "body"), root)
     lang = next((n.attrs.get("lang", "") for n in root.walk() if n.tag == "html"), "")
-    _transform(body, images)
+    _transform(body, images, blocks, top=True)
     return f'<!DOCTYPE html><html lang="{htmlmod.escape(lang)}"><head><meta charset="utf-8"><title></title></head>' \
            f"<body>{''.join(_serialise(c) for c in body.children)}</body></html>"
 
@@ -281,14 +315,22 @@ _STYLES = (
      TNR + '<w:sz w:val="28"/><w:szCs w:val="28"/>'),
     ("BodyText", "Body Text", "Normal", '<w:spacing w:before="0" w:after="0"/><w:ind w:firstLine="709"/>', ""),
     ("FirstParagraph", "First Paragraph", "BodyText", "", ""),
-    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
+    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>', ""),
+    ("TableCell", "Table Cell", "Normal", '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
+     '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="22"/><w:szCs w:val="22"/>'),
+    ("TitlePageUniversity", "Title Page University", "TitlePage", "", '<w:b/><w:bCs/><w:caps/>'),
+    ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="2400" w:after="0"/>',
+     '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>'),
+    ("TitlePageSubject", "Title Page Subject", "TitlePage", '<w:spacing w:before="60" w:after="1200"/>'
+     '<w:ind w:left="567" w:right="567" w:firstLine="0"/>', '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
+    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="2400" w:after="0"/>', ""),
+    ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
     ("TitlePage", "Title Page", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Heading1", "heading 1", "Normal", '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
      'w:after="240"/><w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="0"/>',
-     '<w:b/><w:bCs/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
+     '<w:b/><w:bCs/><w:caps/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
     ("Heading2", "heading 2", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
      '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="1"/>', '<w:b/><w:bCs/>'),
     ("Heading3", "heading 3", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
@@ -301,6 +343,12 @@ _STYLES = (
     ("Equation", "Equation", "Normal", f'<w:tabs><w:tab w:val="center" w:pos="{TEXT_WIDTH // 2}"/>'
      f'<w:tab w:val="right" w:pos="{TEXT_WIDTH}"/></w:tabs><w:spacing w:before="120" w:after="120"/>'
      '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("WorkedLine", "Worked Line", "Normal", '<w:spacing w:before="60" w:after="60"/>'
+     f'<w:ind w:left="{2 * 280}" w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("Where", "Where", "Normal", f'<w:ind w:left="{docx_blocks.PARAGRAPH_INDENT}" w:firstLine="0"/>'
+     '<w:jc w:val="left"/>', ""),
+    ("Signature", "Signature", "Normal", '<w:spacing w:before="0" w:after="0"/>'
+     '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>', ""),
     ("TOCHeading", "TOC Heading", "Normal", '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
      '<w:jc w:val="center"/>', '<w:b/><w:bCs/><w:caps/>'),
     ("TOC1", "toc 1", "Normal", f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
@@ -370,10 +418,19 @@ _HEADER = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
            '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>')
 # DSTU 3008:2015: the page number in the top right corner (a header, as the PDF has it)
 _HEADER_ID = "rIdCrankdynHeader"
-_SECTION = (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
-            f'<w:pgSz w:w="{PAGE["w"]}" w:h="{PAGE["h"]}"/>'
-            f'<w:pgMar w:top="{PAGE["top"]}" w:right="{PAGE["right"]}" w:bottom="{PAGE["bottom"]}" '
-            f'w:left="{PAGE["left"]}" w:header="709" w:footer="567" w:gutter="0"/><w:titlePg/></w:sectPr>')
+
+
+def _section(page: dict, first: bool) -> str:
+    """A section's properties: its page, the header with the page number (none on the document's
+    first page: the title page)."""
+    orient = ' w:orient="landscape"' if page["w"] > page["h"] else ""
+    return (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
+            f'<w:pgSz w:w="{page["w"]}" w:h="{page["h"]}"{orient}/>'
+            f'<w:pgMar w:top="{page["top"]}" w:right="{page["right"]}" w:bottom="{page["bottom"]}" '
+            f'w:left="{page["left"]}" w:header="709" w:footer="567" w:gutter="0"/>'
+            + ("<w:titlePg/>" if first else "") + "</w:sectPr>")
+
+
 _TOC_BEGIN = ('<w:r><w:fldChar w:fldCharType="begin" w:dirty="true"/></w:r>'
               '<w:r><w:instrText xml:space="preserve"> TOC \\o "1-3" \\h \\z \\u </w:instrText></w:r>'
               '<w:r><w:fldChar w:fldCharType="separate"/></w:r>')
@@ -385,23 +442,50 @@ def _styled(paragraph: str, style_id: str) -> bool:
     return f'<w:pStyle w:val="{style_id}" />' in paragraph or f'<w:pStyle w:val="{style_id}"/>' in paragraph
 
 
-def _equation_tabs(paragraph: str) -> str:
-    """Centre the equation and put its number at the right margin (tab stops of the Equation style)."""
-    tab = "<w:r><w:tab/></w:r>"
-    paragraph = paragraph.replace("</w:pPr>", "</w:pPr>" + tab, 1)
-    last = paragraph.rfind("<w:r>")
-    if last > paragraph.find("</m:oMath>") > 0:
-        paragraph = paragraph[:last] + tab + paragraph[last:]
-    return paragraph
+def _numpages(count: str) -> str:
+    """The NUMPAGES field (the abstract's page count), its result ``count`` until it is updated."""
+    return ('<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> NUMPAGES '
+            '</w:instrText></w:r><w:r><w:fldChar w:fldCharType="separate"/></w:r>'
+            f'<w:r><w:t>{count}</w:t></w:r><w:r><w:fldChar w:fldCharType="end"/></w:r>')
 
 
-def _document(xml: str) -> str:
+def _with_property(paragraph: str, prop: str) -> str:
+    """``paragraph`` with the paragraph property ``prop`` (after its style, where the schema has it)."""
+    if "<w:pPr>" in paragraph or "<w:pPr " in paragraph:
+        m = re.search(r"<w:pPr\s*>(\s*<w:pStyle [^>]*/>)?", paragraph)
+        return paragraph[:m.end()] + prop + paragraph[m.end():]
+    return re.sub(r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph, count=1)
+
+
+_MARK_PROPERTIES = {"break": "<w:pageBreakBefore/>", "samepage": '<w:pageBreakBefore w:val="0"/>',
+                    "centre": '<w:ind w:firstLine="0"/><w:jc w:val="center"/>'}
+
+
+def _document(xml: str, raw: list[str] | None = None) -> str:
+    raw = raw or []
     paragraphs = list(_PARAGRAPH.finditer(xml))
     toc = [m for m in paragraphs if _styled(m.group(0), "TOC1")]
     edits: dict[int, str] = {}
+    pending: list[str] = []
     for m in paragraphs:
-        if _styled(m.group(0), "Equation"):
-            edits[m.start()] = _equation_tabs(m.group(0))
+        text = m.group(0)
+        found = re.search(rf"{_RAW}(\d+)X|{_MARK}(\w+)", text)
+        if found and found.group(2):  # a mark: no paragraph of its own, a property of the next one
+            pending.append(_MARK_PROPERTIES[found.group(2)])
+            edits[m.start()] = ""
+            continue
+        if found:
+            text = raw[int(found.group(1))]
+        if pending:
+            first = _PARAGRAPH.search(text)
+            if first:
+                changed = first.group(0)
+                for prop in pending:
+                    changed = _with_property(changed, prop)
+                text = text[:first.start()] + changed + text[first.end():]
+            pending = []
+        if text != m.group(0):
+            edits[m.start()] = text
     if toc:
         first, last = toc[0], toc[-1]
         text = edits.get(first.start(), first.group(0))
@@ -414,14 +498,21 @@ def _document(xml: str) -> str:
             out += [xml[position:m.start()], edits[m.start()]]
             position = m.end()
     xml = "".join(out) + xml[position:]
-    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION, xml, count=1, flags=re.S)
+    xml = re.sub(rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>([^<]*?){_NUMPAGES}'
+                 r'([^<]*)</w:t></w:r>', lambda m: f'{m.group(1)}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>'
+                 + _numpages("") + f'{m.group(1)}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>', xml, flags=re.S)
+    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION_PORTRAIT, xml, count=1,
+                 flags=re.S)
+    sections = iter(range(10 ** 6))
+    xml = re.sub(f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
+                 lambda m: _section(PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE, next(sections) == 0), xml)
     if 'xmlns:r="' not in xml[:2000]:
         xml = xml.replace("<w:document ", '<w:document xmlns:r="http://schemas.openxmlformats.org/officeDocument/'
                           '2006/relationships" ', 1)
     return xml
 
 
-def _finish(docx: bytes) -> bytes:
+def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
     """pandoc's output with the page set-up, the header with page numbers, the TOC field and equation tabs."""
     out = io.BytesIO()
     with zipfile.ZipFile(io.BytesIO(docx)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
@@ -429,7 +520,7 @@ def _finish(docx: bytes) -> bytes:
             data = source.read(item.filename)
             name = item.filename
             if name == "word/document.xml":
-                data = _document(data.decode("utf-8")).encode("utf-8")
+                data = _document(data.decode("utf-8"), raw).encode("utf-8")
             elif name == "word/_rels/document.xml.rels":
                 data = data.replace(b"</Relationships>", (
                     f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
@@ -470,9 +561,10 @@ def report_docx(html: str, figures: list, language: str) -> bytes:
             name = f"figure_{i:03d}.png"
             (folder / name).write_bytes(_figure_png(source))
             images["data:image/svg+xml;base64," + base64.b64encode(figure.svg).decode("ascii")] = name
-        (folder / "report.html").write_text(pandoc_html(html, images), encoding="utf-8")
+        blocks = _Blocks(text_width=TEXT_WIDTH)
+        (folder / "report.html").write_text(pandoc_html(html, images, blocks), encoding="utf-8")
         (folder / "reference.docx").write_bytes(reference_docx())
         _pandoc(["--from", "html", "--to", "docx", "--shift-heading-level-by=-1", "--metadata", f"lang={language}",
                  "--reference-doc", str(folder / "reference.docx"), "--resource-path", str(folder),
                  "--output", str(folder / "report.docx"), str(folder / "report.html")])
-        return _finish((folder / "report.docx").read_bytes())
+        return _finish((folder / "report.docx").read_bytes(), blocks.raw)
