@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CrankdynError
-from . import docx_blocks
+from . import docx_blocks, docx_pages
 from .figures import STYLE, tight_layout
 
 PNG_DPI = 220
@@ -128,6 +128,17 @@ class _Blocks:
 
     raw: list[str] = field(default_factory=list)
     text_width: int = 0
+    language: str = "en"
+    folder: Path | None = None  # where the figures' PNG files are
+
+    def continued(self, table: Node) -> str:
+        """The label of a page a numbered table continues on: the one its rows carry (a long
+        table's), else the catalog's ``doc.continued``."""
+        number = table.attrs.get("data-number", "")
+        if not number:
+            return ""
+        carried = next((n.attrs["data-continued"] for n in table.walk() if "data-continued" in n.attrs), "")
+        return carried or _continued_label(self.language).format(number=number)
 
     def block(self, xml: str) -> Node:
         self.raw.append(xml)
@@ -140,6 +151,38 @@ class _Blocks:
 
 _RAW, _MARK, _NUMPAGES = "CRANKDYNRAW", "CRANKDYNMARK", "CRANKDYNNUMPAGES"
 _SECTION_PORTRAIT, _SECTION_LANDSCAPE = "CRANKDYNSECTIONPORTRAIT", "CRANKDYNSECTIONLANDSCAPE"
+
+
+@lru_cache(maxsize=8)
+def _continued_label(language: str) -> str:
+    from .i18n import core_catalog_dir, load_catalog_file
+
+    for name in (language, "en"):
+        path = core_catalog_dir() / f"{name}.toml"
+        if path.is_file():
+            label = load_catalog_file(path).get("doc.continued")
+            if label:
+                return label
+    return "{number}"
+
+
+#: A figure at most this high (mm): a little lower than the PDF's 175 mm, which shrinks a figure
+#: to the rest of its page where Word moves it to the next; never wider than the text.
+FIGURE_MAX_HEIGHT_MM = 160
+
+
+def _figure_size(png: Path) -> dict[str, str]:
+    """The width and height of a figure's picture for pandoc, in mm: its size at :data:`PNG_DPI`,
+    scaled down to the PDF's greatest height and the text width."""
+    import struct
+
+    try:
+        width_px, height_px = struct.unpack(">II", png.read_bytes()[16:24])  # the PNG's IHDR
+    except (OSError, struct.error):
+        return {}
+    width, height = width_px / PNG_DPI * 25.4, height_px / PNG_DPI * 25.4
+    scale = min(1.0, FIGURE_MAX_HEIGHT_MM / height, TEXT_WIDTH / MM / width)
+    return {"width": f"{width * scale:.1f}mm", "height": f"{height * scale:.1f}mm"}
 
 
 def _section_end(placeholder: str) -> str:
@@ -175,7 +218,8 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
             caption = next((c for c in child.children if c.tag == "caption"), None)
             if caption is not None:
                 out.append(blocks.block(docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))))
-            xml, _ = docx_blocks.table(child, width, "wide" in child.classes())
+            note = any("table-note" in c.classes() for c in node.children)
+            xml, _ = docx_blocks.table(child, width, "wide" in child.classes(), blocks.continued(child), note)
             out.append(blocks.block(xml))
         elif child.tag:
             holder = Node("div", children=[child])
@@ -225,7 +269,7 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             new_children += _table_block(child, blocks, images)
             continue
         if child.tag == "table":
-            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes)
+            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes, blocks.continued(child))
             new_children.append(blocks.block(xml))
             continue
         if child.tag == "a" and "pagecount" in classes:
@@ -247,6 +291,7 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
             child.attrs["src"] = images[child.attrs["src"]]
+            child.attrs.update(_figure_size(blocks.folder / child.attrs["src"]) if blocks.folder else {})
         if "title-page" in classes:
             _transform(child, images, blocks)
             new_children.append(_custom("Title Page", child))
@@ -276,6 +321,7 @@ def pandoc_html(report_html: str, images: dict[str, str], blocks: "_Blocks | Non
     root = parse_html(report_html)
     body = next((n for n in root.walk() if n.tag == "body"), root)
     lang = next((n.attrs.get("lang", "") for n in root.walk() if n.tag == "html"), "")
+    blocks.language = lang or blocks.language
     _transform(body, images, blocks, top=True)
     return f'<!DOCTYPE html><html lang="{htmlmod.escape(lang)}"><head><meta charset="utf-8"><title></title></head>' \
            f"<body>{''.join(_serialise(c) for c in body.children)}</body></html>"
@@ -349,6 +395,8 @@ _STYLES = (
      '<w:jc w:val="left"/>', ""),
     ("Signature", "Signature", "Normal", '<w:spacing w:before="0" w:after="0"/>'
      '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("TableContinued", "Table Continued", "Normal", '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
+     '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
     ("TOCHeading", "TOC Heading", "Normal", '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
      '<w:jc w:val="center"/>', '<w:b/><w:bCs/><w:caps/>'),
     ("TOC1", "toc 1", "Normal", f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
@@ -549,8 +597,9 @@ def _figure_png(figure: Any) -> bytes:
     return buffer.getvalue()
 
 
-def report_docx(html: str, figures: list, language: str) -> bytes:
-    """report.docx from the report HTML and its figures (each with the matplotlib figure it was drawn from)."""
+def report_docx(html: str, figures: list, language: str, layout: bool = True) -> bytes:
+    """report.docx from the report HTML and its figures (each with the matplotlib figure it was drawn from);
+    ``layout``: its pages laid out by LibreOffice where it is installed (:mod:`.docx_pages`)."""
     with tempfile.TemporaryDirectory(prefix="crankdyn-docx-") as tmp:
         folder = Path(tmp)
         images: dict[str, str] = {}
@@ -561,10 +610,11 @@ def report_docx(html: str, figures: list, language: str) -> bytes:
             name = f"figure_{i:03d}.png"
             (folder / name).write_bytes(_figure_png(source))
             images["data:image/svg+xml;base64," + base64.b64encode(figure.svg).decode("ascii")] = name
-        blocks = _Blocks(text_width=TEXT_WIDTH)
+        blocks = _Blocks(text_width=TEXT_WIDTH, folder=folder)
         (folder / "report.html").write_text(pandoc_html(html, images, blocks), encoding="utf-8")
         (folder / "reference.docx").write_bytes(reference_docx())
         _pandoc(["--from", "html", "--to", "docx", "--shift-heading-level-by=-1", "--metadata", f"lang={language}",
                  "--reference-doc", str(folder / "reference.docx"), "--resource-path", str(folder),
                  "--output", str(folder / "report.docx"), str(folder / "report.html")])
-        return _finish((folder / "report.docx").read_bytes(), blocks.raw)
+        document = _finish((folder / "report.docx").read_bytes(), blocks.raw)
+    return docx_pages.lay_out(document) if layout else document

@@ -21,8 +21,9 @@ BODY_SIZE, TABLE_SIZE, WIDE_TABLE_SIZE, SMALLEST_EQUATION_SIZE = 28, 22, 18, 20
 #: Twips (twentieths of a point).
 PARAGRAPH_INDENT = 709  # 1.25 cm
 CELL_MARGIN = 57  # each side (1 mm)
-#: A character's width in ems for estimating column widths (Times New Roman: about half an em).
-TEXT_EM = 0.5
+#: A character's width in ems for estimating column widths (Times New Roman: about half an em;
+#: Cyrillic capitals and bold digits wider).
+TEXT_EM = 0.58
 
 
 def escape(text: str) -> str:
@@ -209,38 +210,40 @@ def _cell_text(cell) -> str:
 
 
 def _longest_word(text: str) -> int:
-    return max((len(w) for w in text.split()), default=0)
+    """The longest piece of ``text`` a line cannot break: words, and ranges after their dash ("60–")."""
+    return max((len(w) for w in re.split(r"\s+|(?<=[–/])", text)), default=0)
 
 
 def column_widths(rows: list[list], header_rows: int, size: int, text_width: int) -> list[int]:
-    """Column widths in twips from the content: a column as wide as its longest cell (a header
-    wraps at its words, a number never breaks), scaled down to the text width if wider."""
+    """Column widths in twips from the content: each column as wide as its longest cell, the
+    header on one line if the table then fits the text width, else wrapped at its words; body
+    cells wrapped at their words if still too wide. A word or number is never broken: a table
+    whose words alone are too wide is scaled to the text width."""
     columns = max((len(r) for r in rows), default=0)
     em = size * 10  # twips per em at ``size`` half-points
-    natural = [0.0] * columns
-    least = [0.0] * columns
+    full, natural, least = ([0.0] * columns for _ in range(3))
     for k, row in enumerate(rows):
-        for c, cell in enumerate(row[:columns]):
-            text = _cell_text(cell)
+        position = 0
+        for cell in row:
             span = int(cell.attrs.get("colspan", "1") or 1)
-            if span > 1:
+            c, position = position, position + span
+            if span > 1 or c >= columns:
                 continue
-            words = _longest_word(text) * TEXT_EM * em
+            text = _cell_text(cell)
+            whole, words = len(text) * TEXT_EM * em, _longest_word(text) * TEXT_EM * em
+            full[c] = max(full[c], whole)
+            natural[c] = max(natural[c], words if k < header_rows else whole)
             least[c] = max(least[c], words)
-            natural[c] = max(natural[c], words if k < header_rows else len(text) * TEXT_EM * em)
-    pad = 2 * CELL_MARGIN + 60
-    natural = [max(n, 1.5 * em) + pad for n in natural]
-    least = [max(n, 1.5 * em) + pad for n in least]
-    total = sum(natural)
-    if total <= text_width:
-        return [round(w) for w in natural]
-    # shrink what can wrap (the longer cells' text) and keep every word and number whole
-    spare = sum(n - m for n, m in zip(natural, least))
-    excess = total - text_width
-    if spare >= excess:
+    pad = 2 * CELL_MARGIN + 80
+    widths = [[max(w, 1.5 * em) + pad for w in ws] for ws in (full, natural, least)]
+    for candidate in widths:
+        if sum(candidate) <= text_width:
+            return [round(w) for w in candidate]
+    natural, least = widths[1], widths[2]
+    spare, excess = sum(n - m for n, m in zip(natural, least)), sum(natural) - text_width
+    if spare >= excess:  # wrap the longer cells' text
         return [round(n - (n - m) * excess / spare) for n, m in zip(natural, least)]
-    scale = text_width / sum(least)
-    return [round(m * scale) for m in least]
+    return [round(m * text_width / sum(least)) for m in least]
 
 
 def _alignment(cell, header: bool, first: bool, table_classes: set[str]) -> str:
@@ -252,8 +255,20 @@ def _alignment(cell, header: bool, first: bool, table_classes: set[str]) -> str:
     return "right" if _NUMBER.match(text) or not text else "center"
 
 
-def table(node, text_width: int, wide: bool) -> tuple[str, int]:
-    """The table (w:tbl) and its font size: header rows repeated on every page, rows never split."""
+def _identity(node, continued: str) -> str:
+    number = node.attrs.get("data-number", "")
+    if not number:
+        return ""
+    return (f'<w:tblCaption w:val="{htmlmod.escape(number)}"/>'
+            f'<w:tblDescription w:val="{htmlmod.escape(continued)}"/>')
+
+
+def table(node, text_width: int, wide: bool, continued: str = "", note: bool = False) -> tuple[str, int]:
+    """The table (w:tbl) and its font size: header rows repeated on every page.
+    A numbered table carries its number and its continuation label ("Table N continued") as its
+    caption and description (``w:tblCaption``, ``w:tblDescription``), for the page pass.
+    As in the PDF, the header and the first two rows keep together (under the caption before
+    them), and so do the last rows and the table's ``note`` after them."""
     classes = node.classes()
     head = [r for part in node.children if part.tag == "thead" for r in part.children if r.tag == "tr"]
     body = [r for part in node.children if part.tag in ("tbody", "tfoot") for r in part.children if r.tag == "tr"]
@@ -263,12 +278,18 @@ def table(node, text_width: int, wide: bool) -> tuple[str, int]:
     widths = column_widths(rows, len(head), size, text_width)
     grid = "".join(f'<w:gridCol w:w="{w}"/>' for w in widths)
     out = [f'<w:tbl><w:tblPr><w:tblStyle w:val="Table"/><w:tblW w:w="{sum(widths)}" w:type="dxa"/>'
-           f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/></w:tblPr><w:tblGrid>{grid}</w:tblGrid>']
+           f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/>{_identity(node, continued)}</w:tblPr>'
+           f'<w:tblGrid>{grid}</w:tblGrid>']
+    keep = set(range(len(head) + min(2, len(body))))  # the first three rows under the header
+    keep |= set(range(len(head) + max(0, len(body) - 3), len(head) + len(body) - 1))  # the last three
+    if note:
+        keep.add(len(head) + len(body) - 1)
     for k, (row_node, cells) in enumerate(zip(head + body, rows)):
         header = k < len(head)
         bold = "extremum" in row_node.classes()
-        trpr = "<w:cantSplit/>" + ("<w:tblHeader/>" if header else "")
-        out.append(f"<w:tr><w:trPr>{trpr}</w:trPr>")
+        # (no w:cantSplit: LibreOffice 7.4 drops the rows of such a table that starts near a page's
+        # end; a row of one line does not split anyway)
+        out.append("<w:tr><w:trPr><w:tblHeader/></w:trPr>" if header else "<w:tr>")
         column = 0
         for c, cell in enumerate(cells):
             span = int(cell.attrs.get("colspan", "1") or 1)
@@ -279,7 +300,8 @@ def table(node, text_width: int, wide: bool) -> tuple[str, int]:
             align = _alignment(cell, header or cell.tag == "th", c == 0, classes)
             content = runs(cell, size, bold=bold or (cell.tag == "th" and False)) or "<w:r><w:t></w:t></w:r>"
             out.append(f"<w:tc><w:tcPr>{tcpr}</w:tcPr>"
-                       + paragraph("TableCell", content, f'<w:jc w:val="{align}"/>') + "</w:tc>")
+                       + paragraph("TableCell", content, ("<w:keepNext/>" if k in keep else "")
+                                                      + f'<w:jc w:val="{align}"/>') + "</w:tc>")
         out.append("</w:tr>")
     out.append("</w:tbl>")
     return "".join(out), size
