@@ -20,6 +20,13 @@ from crankdyn.report import docx as word
 from crankdyn.scene import load_scene
 
 pytestmark = pytest.mark.skipif(shutil.which("pandoc") is None, reason="pandoc is not installed")
+
+
+@pytest.fixture(autouse=True)
+def _no_layout_pass_in_fast_tests(request, monkeypatch):
+    """The default suite checks the Word XML itself; the LibreOffice layout pass runs under -m slow."""
+    if request.node.get_closest_marker("slow") is None:
+        monkeypatch.setenv("CRANKDYN_DOCX_LAYOUT", "0")
 W = "{http://schemas.openxmlformats.org/wordprocessingml/2006/main}"
 
 
@@ -60,7 +67,10 @@ def _docx_structure(path: Path) -> dict:
     numbers = [t._tbl.find(f"{W}tblPr/{W}tblCaption") for t in document.tables]
     tables = len({n.get(f"{W}val") for n in numbers if n is not None}) + sum(n is None for n in numbers)
     return {"tables": tables, "figures": len(document.inline_shapes),
-            "equations": len(re.findall(r"<m:oMath>", xml)), "headings": headings}
+            # an equation set on several lines is several paragraphs, all but the last kept with the next
+            "equations": sum(1 for p in document.paragraphs if p.style.name == "Equation"
+                             and "<m:oMath>" in p._p.xml and "<w:keepNext/>" not in p._p.xml),
+            "headings": headings}
 
 
 def _check_structure(out: Path) -> dict:
@@ -115,25 +125,6 @@ def test_batch_writes_one_docx_per_variant(tmp_path):
 @pytest.mark.parametrize("example", sorted(p.stem for p in examples_dir().glob("*.toml")))
 def test_every_bundled_example_docx_matches_its_html(example, tmp_path):
     _check_structure(_write(example, tmp_path))
-
-
-@pytest.mark.slow
-@pytest.mark.skipif(shutil.which("soffice") is None, reason="LibreOffice (soffice) is not installed")
-def test_libreoffice_converts_the_docx_to_pdf(tmp_path):
-    out = _write("petrol-1cyl", tmp_path, "uk")
-    done = subprocess.run(["soffice", f"-env:UserInstallation=file://{tmp_path}/lo-profile", "--headless",
-                           "--convert-to", "pdf", "--outdir", str(tmp_path), str(out / "report.docx")],
-                          capture_output=True, text=True, timeout=300)
-    pdf = tmp_path / "report.pdf"
-    assert done.returncode == 0 and pdf.exists(), done.stderr
-    pages = int(re.search(r"Pages:\s+(\d+)", subprocess.run(["pdfinfo", str(pdf)], capture_output=True,
-                                                             text=True).stdout).group(1))
-    assert pages >= 10
-    # Keep a picture of the first calculation page (after the title page and the contents) as an artifact.
-    ARTIFACTS.mkdir(exist_ok=True)
-    subprocess.run(["pdftoppm", "-r", "60", "-png", "-f", "3", "-l", "3", "-singlefile", str(pdf),
-                    str(ARTIFACTS / "docx-petrol-uk-page3")], check=True, timeout=120)
-    assert (ARTIFACTS / "docx-petrol-uk-page3.png").stat().st_size > 1000
 
 
 # --------------------------------------------------------------------------- equations, blocks, tables, pages
@@ -328,3 +319,128 @@ def test_title_page_and_parts_start_new_pages(sample_docx):
     # the abstract's page count is a NUMPAGES field
     counts = next(p for p in paragraphs if p.text.startswith("Пояснювальна записка:"))
     assert " NUMPAGES " in counts._p.xml and "CRANKDYN" not in counts._p.xml
+
+
+# --------------------------------------------------------------------------- LibreOffice's pages (-m slow)
+
+needs_libreoffice = pytest.mark.skipif(shutil.which("soffice") is None or shutil.which("pdftotext") is None,
+                                       reason="LibreOffice (soffice) or poppler-utils is not installed")
+WORDS = {"uk": ("Таблиця", "Рисунок"), "ru": ("Таблица", "Рисунок")}
+
+
+def _libreoffice_pdf(docx_path: Path, folder: Path) -> Path:
+    from crankdyn.report import docx_pages
+
+    pdf = docx_pages.to_pdf(docx_path, folder, shutil.which("soffice"), docx_pages.profile(folder / "profile"))
+    assert pdf is not None
+    return pdf
+
+
+def _first_line_top(pdf: Path, page: int) -> float | None:
+    """The top of the page's first line of text, as a share of the page's height."""
+    box = subprocess.run(["pdftotext", "-bbox-layout", "-f", str(page), "-l", str(page), str(pdf), "-"],
+                         capture_output=True, text=True, check=True).stdout
+    height = float(re.search(r'<page width="[\d.]+" height="([\d.]+)"', box).group(1))
+    tops = [float(y) for y in re.findall(r'<line xMin="[\d.]+" yMin="([\d.]+)"', box)]
+    tops = [t for t in tops if t / height > 0.06]  # not the running page number in the top margin
+    return min(tops) / height if tops else None
+
+
+def _figure_above(pdf: Path, page: int, png: Path) -> bool:
+    """Whether a picture (ink with no text: the Word file's figures are raster images) stands
+    above the page's first line of text."""
+    import numpy as np
+    from PIL import Image
+
+    top = _first_line_top(pdf, page)
+    ink = np.asarray(Image.open(png).convert("L")) < 200
+    rows = np.flatnonzero(ink[int(0.07 * ink.shape[0]):int((top or 0) * ink.shape[0]) - 2].any(axis=1))
+    return top is not None and rows.size > 10
+
+
+def _check_libreoffice_pages(out: Path, language: str, tmp_path: Path) -> tuple[Path, list[str]]:
+    """The LibreOffice PDF of report.docx passes the checks of the WeasyPrint PDF (page_layout)."""
+    from page_layout import layout_problems, page_images, page_texts
+
+    from crankdyn.report.i18n import translator
+
+    html = (out / "report.html").read_text(encoding="utf-8")
+    pdf = _libreoffice_pdf(out / "report.docx", tmp_path / "lo")
+    pages = page_texts(pdf, "")  # the Word file has no ESKD frame
+    text = "\f".join(pages)
+    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
+    assert "¿" not in text and "�" not in text
+    table_word, figure_word = WORDS[language]
+    t = translator(language, default_registry().catalogs)
+    problems = layout_problems(pdf, pages, html, tmp_path / "pages", table_word=table_word, figure_word=figure_word,
+                               continued=lambda number: t("doc.continued", number=number))
+    images = page_images(pdf, tmp_path / "pages")
+    # a figure caption first in the page's text under its picture (no text in a raster image) is in place
+    problems = [p for p in problems if not (m := re.match(r"page (\d+) starts with the caption '(Рисунок|Figure)", p))
+                or not _figure_above(pdf, int(m.group(1)), images[int(m.group(1)) - 1])]
+    # The abstract counts the document's pages, figures and tables.
+    abstract = next(p for p in pages if re.search(r"^\s*(РЕФЕРАТ)\s*$", p, flags=re.M))
+    counts = [int(n) for n in re.findall(r"(\d+)\s", abstract.split(":", 1)[1])[:3]]
+    figures = set(re.findall(rf"{figure_word}\s+([0-9A-ZА-Я]+\.\d+)\s+[–—]", text))
+    tables = set(re.findall(rf"{table_word}\s+([0-9A-ZА-Я]+\.\d+)\s+[–—]", text))
+    assert counts == [len(pages), len(figures), len(tables)], (counts, abstract[:200])
+    # The contents: every entry with the page its heading starts.
+    contents = next(p for p in pages if re.search(r"\.{5,}\s*\d+\s*$", p, flags=re.M))
+    entries = re.findall(r"^\s*(\S.*?)\s*\.{3,}\s*(\d+)\s*$", contents, flags=re.M)
+    assert len(entries) >= 4, contents
+    for title, number in entries:
+        first = " ".join(pages[int(number) - 1].split()[:3]).upper()
+        assert " ".join(title.split()[:3]).upper().startswith(first[:8]), (title, number, first)
+    return pdf, problems
+
+
+def _side_by_side(word_pdf: Path, pdf: Path, page_word: int, page_pdf: int, target: Path) -> None:
+    from PIL import Image
+
+    images = []
+    for source, page, name in ((word_pdf, page_word, "word"), (pdf, page_pdf, "pdf")):
+        stem = target.parent / f"{target.stem}-{name}"
+        subprocess.run(["pdftoppm", "-r", "50", "-png", "-singlefile", "-f", str(page), "-l", str(page), str(source),
+                        str(stem)], check=True, timeout=120)
+        images.append(Image.open(f"{stem}.png").convert("RGB"))
+        Path(f"{stem}.png").unlink()
+    sheet = Image.new("RGB", (sum(i.width for i in images) + 10, max(i.height for i in images)), "gray")
+    sheet.paste(images[0], (0, 0))
+    sheet.paste(images[1], (images[0].width + 10, 0))
+    sheet.save(target)
+
+
+@pytest.mark.slow
+@needs_libreoffice
+@pytest.mark.parametrize("language", ["uk", "ru"])
+@pytest.mark.parametrize("example", sorted(p.stem for p in examples_dir().glob("*.toml")))
+def test_libreoffice_pages_of_every_bundled_example_pass_the_pdf_checks(example, language, tmp_path):
+    out = tmp_path / "out"
+    write_report(load_scene(examples_dir() / f"{example}.toml", {"report": {"language": language}}),
+                 default_registry(), out, ["html", "docx"])
+    _check_structure(out)
+    _, problems = _check_libreoffice_pages(out, language, tmp_path)
+    assert not problems, problems
+
+
+@pytest.mark.slow
+@needs_libreoffice
+@pytest.mark.parametrize("example, word_page", [("inline6-diesel-trace", "Таблиця 2.1"),
+                                                ("petrol-1cyl-uk", "Таблиця 5.1")])
+def test_word_and_pdf_pages_side_by_side(example, word_page, tmp_path):
+    """Page images of the Word file (through LibreOffice) and the PDF, side by side in tests/artifacts:
+    the page with a given table's caption in each."""
+    out = tmp_path / "out"
+    write_report(load_scene(examples_dir() / f"{example}.toml", {"report": {"language": "uk"}}),
+                 default_registry(), out, ["html", "pdf", "docx"])
+    word_pdf = _libreoffice_pdf(out / "report.docx", tmp_path / "lo")
+    pages = {}
+    for name, source in (("word", word_pdf), ("pdf", out / "report.pdf")):
+        text = subprocess.run(["pdftotext", "-layout", str(source), "-"], capture_output=True, text=True,
+                              check=True).stdout.split("\f")
+        pages[name] = next(i for i, page in enumerate(text, 1) if re.search(rf"{word_page} [–—]", page))
+    ARTIFACTS.mkdir(exist_ok=True)
+    target = ARTIFACTS / f"word-vs-pdf-{example}.png"
+    _side_by_side(word_pdf, out / "report.pdf", pages["word"], pages["pdf"], target)
+    assert target.stat().st_size > 10000

@@ -214,11 +214,9 @@ def _longest_word(text: str) -> int:
     return max((len(w) for w in re.split(r"\s+|(?<=[–/])", text)), default=0)
 
 
-def column_widths(rows: list[list], header_rows: int, size: int, text_width: int) -> list[int]:
-    """Column widths in twips from the content: each column as wide as its longest cell, the
-    header on one line if the table then fits the text width, else wrapped at its words; body
-    cells wrapped at their words if still too wide. A word or number is never broken: a table
-    whose words alone are too wide is scaled to the text width."""
+def _candidate_widths(rows: list[list], header_rows: int, size: int) -> list[list[float]]:
+    """Column widths in twips with the header on one line, with it wrapped at its words, and with
+    every cell wrapped at its words."""
     columns = max((len(r) for r in rows), default=0)
     em = size * 10  # twips per em at ``size`` half-points
     full, natural, least = ([0.0] * columns for _ in range(3))
@@ -235,7 +233,20 @@ def column_widths(rows: list[list], header_rows: int, size: int, text_width: int
             natural[c] = max(natural[c], words if k < header_rows else whole)
             least[c] = max(least[c], words)
     pad = 2 * CELL_MARGIN + 80
-    widths = [[max(w, 1.5 * em) + pad for w in ws] for ws in (full, natural, least)]
+    return [[max(w, 1.5 * em) + pad for w in ws] for ws in (full, natural, least)]
+
+
+def fits(rows: list[list], header_rows: int, size: int, text_width: int) -> bool:
+    """Whether the table fits the text width at ``size``, its header wrapped at its words at most."""
+    return sum(_candidate_widths(rows, header_rows, size)[1]) <= text_width
+
+
+def column_widths(rows: list[list], header_rows: int, size: int, text_width: int) -> list[int]:
+    """Column widths in twips from the content: each column as wide as its longest cell, the
+    header on one line if the table then fits the text width, else wrapped at its words; body
+    cells wrapped at their words if still too wide. A word or number is never broken: a table
+    whose words alone are too wide is scaled to the text width."""
+    widths = _candidate_widths(rows, header_rows, size)
     for candidate in widths:
         if sum(candidate) <= text_width:
             return [round(w) for w in candidate]
@@ -274,8 +285,11 @@ def table(node, text_width: int, wide: bool, continued: str = "", note: bool = F
     body = [r for part in node.children if part.tag in ("tbody", "tfoot") for r in part.children if r.tag == "tr"]
     body += [r for r in node.children if r.tag == "tr"]
     rows = [[c for c in r.children if c.tag in ("th", "td")] for r in head + body]
-    size = WIDE_TABLE_SIZE if wide else TABLE_SIZE
+    size = TABLE_SIZE
     widths = column_widths(rows, len(head), size, text_width)
+    if wide and not fits(rows, len(head), size, text_width):  # a wide table: smaller, as in the PDF
+        size = WIDE_TABLE_SIZE
+        widths = column_widths(rows, len(head), size, text_width)
     grid = "".join(f'<w:gridCol w:w="{w}"/>' for w in widths)
     out = [f'<w:tbl><w:tblPr><w:tblStyle w:val="Table"/><w:tblW w:w="{sum(widths)}" w:type="dxa"/>'
            f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/>{_identity(node, continued)}</w:tblPr>'
