@@ -202,8 +202,17 @@ def _equation(node: Node, blocks: _Blocks) -> Node:
 def _contents(node: Node) -> list[Node]:
     heading = next((n for n in node.walk() if n.tag in ("h1", "h2", "h3", "h4")), None)
     out = [_custom("TOC Heading", Node("p", children=[Node("", text=heading.plain().strip())]))] if heading else []
-    entries = [n.plain().strip() for n in node.walk() if n.tag == "li"]
-    out += [_custom("toc 1", Node("p", children=[Node("", text=e)])) for e in entries if e]
+
+    def entries(list_node: Node, level: int) -> None:
+        for item in (c for c in list_node.children if c.tag == "li"):
+            own = "".join(c.plain() for c in item.children if c.tag not in ("ul", "ol"))
+            if own.strip():
+                out.append(_custom(f"toc {level}", Node("p", children=[Node("", text=" ".join(own.split()))])))
+            for sub in (c for c in item.children if c.tag in ("ul", "ol")):
+                entries(sub, min(level + 1, 2))
+
+    for list_node in (n for n in node.children if n.tag in ("ul", "ol")):
+        entries(list_node, 1)
     return out
 
 
@@ -512,7 +521,7 @@ _MARK_PROPERTIES = {"break": "<w:pageBreakBefore/>", "samepage": '<w:pageBreakBe
 def _document(xml: str, raw: list[str] | None = None) -> str:
     raw = raw or []
     paragraphs = list(_PARAGRAPH.finditer(xml))
-    toc = [m for m in paragraphs if _styled(m.group(0), "TOC1")]
+    toc = [m for m in paragraphs if _styled(m.group(0), "TOC1") or _styled(m.group(0), "TOC2")]
     edits: dict[int, str] = {}
     pending: list[str] = []
     for m in paragraphs:

@@ -104,13 +104,16 @@ class _Builder:
                           sum(i.width for i in items) + 2 * CHAR_EM, "d"))
         elif char == BAR or char in OPENING:
             self.frames.append((char, []))
-        else:  # a closing bracket whose opening one is on another line
-            self.text(char, "p")
+        else:  # a closing bracket whose opening one is on another line: ordinary text (LibreOffice
+            # draws a lone math bracket as "¿")
+            self.text(char, "nor")
 
     def script(self, tag: str, content: list[Item]) -> None:
         script_xml = "".join(i.xml for i in content)
         width = SCRIPT_EM / CHAR_EM * sum(i.width for i in content)
-        base = self.items.pop() if self.items else Item("", 0.0)
+        # a script after an operator or a space has no base (the "¹/₁₆" of a fraction in text)
+        base = self.items.pop() if self.items and self.items[-1].kind not in ("operator", "space", "gap") \
+            else Item("", 0.0)
         if tag == "sup" and base.kind == "sub":
             self.add(Item(f"<m:sSubSup><m:e>{base.base}</m:e><m:sub>{base.script}</m:sub>"
                           f"<m:sup>{script_xml}</m:sup></m:sSubSup>", base.width + width, "run"))
@@ -125,7 +128,7 @@ class _Builder:
         """The items, unclosed brackets as plain characters before their content."""
         while len(self.frames) > 1:
             opening, items = self.frames.pop()
-            self.text(opening, "p")
+            self.text(opening, "nor")
             self.items.extend(items)
         return self.items
 

@@ -192,16 +192,17 @@ def _heading_key(text: str) -> str:
 def fill_contents(xml: str, pages: list[list[str]]) -> str:
     """The contents' entries with the page their heading is on, the page count's field with the
     number of pages."""
-    entries = list(re.finditer(r'<w:p>(?:(?!</w:p>).)*?<w:pStyle w:val="TOC1" ?/>(?:(?!</w:p>).)*?</w:p>', xml, re.S))
+    entries = list(re.finditer(r'<w:p>(?:(?!</w:p>).)*?<w:pStyle w:val="TOC[12]" ?/>(?:(?!</w:p>).)*?</w:p>', xml, re.S))
     contents_page = next((i for i, page in enumerate(pages)
                           if entries and any(_heading_key(_text(entries[0].group(0))) == _heading_key(line)
                                              for line in page)), 0)
     out, position, page_index = [], 0, contents_page + 1
     for m in entries:
         key = _heading_key(_text(m.group(0)))
+        chapter = 'w:val="TOC1"' in m.group(0)  # a chapter starts a page; a subsection is anywhere on one
         found = next((i for i in range(page_index, len(pages))
                       if any(_heading_key(line).startswith(key) or key.startswith(_heading_key(line)) and
-                             len(line) > 8 for line in pages[i][:3])), None)
+                             len(line) > 8 for line in (pages[i][:3] if chapter else pages[i]))), None)
         paragraph = m.group(0)
         if found is not None:
             page_index = found
