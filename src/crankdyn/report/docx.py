@@ -166,9 +166,9 @@ def _continued_label(language: str) -> str:
     return "{number}"
 
 
-#: A figure at most this high (mm): a little lower than the PDF's 175 mm, which shrinks a figure
+#: A figure at most this high (mm): lower than the PDF's 175 mm, which shrinks a figure
 #: to the rest of its page where Word moves it to the next; never wider than the text.
-FIGURE_MAX_HEIGHT_MM = 160
+FIGURE_MAX_HEIGHT_MM = 150
 
 
 def _figure_size(png: Path) -> dict[str, str]:
@@ -374,11 +374,11 @@ _STYLES = (
     ("TableCell", "Table Cell", "Normal", '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
      '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="22"/><w:szCs w:val="22"/>'),
     ("TitlePageUniversity", "Title Page University", "TitlePage", "", '<w:b/><w:bCs/><w:caps/>'),
-    ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="2400" w:after="0"/>',
+    ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="1440" w:after="0"/>',
      '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>'),
-    ("TitlePageSubject", "Title Page Subject", "TitlePage", '<w:spacing w:before="60" w:after="1200"/>'
+    ("TitlePageSubject", "Title Page Subject", "TitlePage", '<w:spacing w:before="60" w:after="720"/>'
      '<w:ind w:left="567" w:right="567" w:firstLine="0"/>', '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
-    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="2400" w:after="0"/>', ""),
+    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>', ""),
     ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),

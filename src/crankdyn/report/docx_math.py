@@ -32,6 +32,11 @@ _LATIN_OR_GREEK = re.compile(r"^[A-Za-z\u0370-\u03ff]+$")
 CHAR_EM, SCRIPT_EM, OPERATOR_EM = 0.5, 0.35, 0.8
 #: Relations and binary operators: the equation sets the space around them.
 OPERATORS = set("=+−±×≈≠<>≤≥→")
+#: Characters set as ordinary text (LibreOffice Math draws "*" alone as "¿"), and punctuation,
+#: never the base of a script.
+ORDINARY, PUNCTUATION = set("*#%&"), set("/,;:·…")
+_TO_SUPERSCRIPT = str.maketrans("0123456789−+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+_TO_SUBSCRIPT = str.maketrans("0123456789−+", "₀₁₂₃₄₅₆₇₈₉₋₊")
 
 
 @dataclass
@@ -111,9 +116,16 @@ class _Builder:
     def script(self, tag: str, content: list[Item]) -> None:
         script_xml = "".join(i.xml for i in content)
         width = SCRIPT_EM / CHAR_EM * sum(i.width for i in content)
-        # a script after an operator or a space has no base (the "¹/₁₆" of a fraction in text)
-        base = self.items.pop() if self.items and self.items[-1].kind not in ("operator", "space", "gap") \
-            else Item("", 0.0)
+        if not self.items or self.items[-1].kind in ("operator", "space", "gap", "punct"):
+            # a script with no base (the "¹/₁₆" of a fraction in text): the digits raised or lowered
+            # as characters, else on an empty base (an empty m:e is drawn as a box by LibreOffice)
+            text = "".join(re.findall(r"<m:t[^>]*>([^<]*)</m:t>", script_xml))
+            table = _TO_SUPERSCRIPT if tag == "sup" else _TO_SUBSCRIPT
+            if text and text.translate(table) != text and not re.search(r"[^0-9−+]", text):
+                self.text(text.translate(table), "nor")
+                return
+            self.add(Item(_run("\u200a", "nor", self.size), 0.1))
+        base = self.items.pop()
         if tag == "sup" and base.kind == "sub":
             self.add(Item(f"<m:sSubSup><m:e>{base.base}</m:e><m:sub>{base.script}</m:sub>"
                           f"<m:sup>{script_xml}</m:sup></m:sSubSup>", base.width + width, "run"))
@@ -162,8 +174,10 @@ def _tokens(builder: _Builder, text: str, italic: bool, bold: bool) -> None:
             builder.delimiter_char(value)
         elif value in OPERATORS:
             builder.add(builder.operator(value))
+        elif value in ORDINARY:  # a character LibreOffice Math reads as an operator of its own
+            builder.text(value, "nor")
         else:
-            builder.add(Item(_run(value, "p", builder.size), CHAR_EM))
+            builder.add(Item(_run(value, "p", builder.size), CHAR_EM, "punct" if value in PUNCTUATION else "run"))
 
 
 def _walk(builder: _Builder, node, italic: bool = False, bold: bool = False) -> None:

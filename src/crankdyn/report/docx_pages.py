@@ -100,8 +100,24 @@ def _text(xml: str) -> str:
     return htmlmod.unescape("".join(re.findall(r"<w:t(?:\s[^>]*)?>([^<]*)</w:t>", xml)))
 
 
-def _row_tokens(row: str) -> list[str]:
-    return " ".join(_text(cell).replace("\u2060", "") for cell in _CELL.findall(row)).split()
+def _row_matcher(row: str):
+    """Whether a line of the page's text is the row: its cells' text, or, for a row whose longest
+    cell wraps over several lines, a line with the other cells' text and part of the longest."""
+    cells = [_text(cell).replace("\u2060", "").split() for cell in _CELL.findall(row)]
+    whole = [t for c in cells for t in c]
+    longest = max(range(len(cells)), key=lambda k: len(" ".join(cells[k])), default=0)
+    others = [t for k, c in enumerate(cells) if k != longest for t in c]
+    long_words = set(cells[longest]) if cells else set()
+
+    def matches(tokens: list[str]) -> bool:
+        if tokens == whole:
+            return True
+        if not others or not long_words:
+            return False
+        # (the short cells are centred: on a line of their own, or with some of the longest's words)
+        return [t for t in tokens if t not in long_words] == others
+
+    return matches if whole else (lambda tokens: False)
 
 
 @dataclass
@@ -140,13 +156,13 @@ def _breaks(xml: str, pages: list[list[str]]) -> list[tuple[TablePart, int]]:
     found = []
     parts = table_parts(xml)
     for part in parts:
-        rows = [_row_tokens(r) for r in part.body]
+        rows = [_row_matcher(r) for r in part.body]
         last_seen = None  # (page, index) of the last body row found so far
         for i, page in enumerate(pages):
             for line in page:
                 tokens = line.split()
                 start = 0 if last_seen is None else last_seen[1] + 1
-                k = next((k for k in range(start, len(rows)) if rows[k] and tokens == rows[k]), None)
+                k = next((k for k in range(start, len(rows)) if rows[k](tokens)), None)
                 if k is None:
                     continue
                 if last_seen is not None and last_seen[0] < i and k > 0:
@@ -171,6 +187,10 @@ def split_tables(xml: str, pages: list[list[str]], section_breaks: bool = True) 
         if _chapter(part.number) in done:
             continue
         done.add(_chapter(part.number))
+        # as in the PDF, the next page takes at least the table's last three rows
+        k = min(k, len(part.body) - 3)
+        if k < 2:
+            continue
         table = xml[part.start:part.end]
         props = table[:table.index("<w:tr>")]
         label = ('<w:p><w:pPr><w:pStyle w:val="TableContinued"/><w:pageBreakBefore/><w:keepNext/></w:pPr>'
