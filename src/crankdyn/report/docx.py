@@ -1,18 +1,23 @@
 """The report as an editable Word document (``--format docx``), converted by pandoc from the report HTML.
 
-Why pandoc: it is the well-kept converter that turns HTML tables into native Word tables
-(header rows repeated on every page), ``<figure>`` into a picture with its caption, and MathML
-into native Word equations (OMML, ``m:oMath``), with the styles of a reference document. What
-it cannot express from HTML is done on its output afterwards, in a few small XML edits: the
-page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers top right, none on
-the title page), the contents as a Word TOC field that Word updates on opening, and the tab
-stops that put an equation's number at the right margin.
+Why pandoc: it is the well-kept converter that turns HTML headings, paragraphs, lists and
+``<figure>`` (a picture with its caption) into Word, with the styles of a reference document.
+The blocks it cannot set from HTML as the PDF sets them are written as WordprocessingML here
+(:mod:`.docx_blocks`, :mod:`.docx_math`) and stand in pandoc's input as placeholder paragraphs
+replaced in its output; the page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers
+top right, none on the title page, landscape sections), the contents as a TOC field and the
+abstract's page count as a NUMPAGES field are small XML edits of its output. Where LibreOffice is
+installed, :mod:`.docx_pages` lays the document out once to add the "Table N.M continued" labels
+and fill in the fields' results.
 
 The conversion follows the HTML generically rather than the sections of today:
 
 * ``h2``/``h3``/``h4`` become Heading 1/2/3 (``h1``, the title on the title page, the Title style);
-* every ``.equation`` becomes a paragraph of style "Equation": its ``.formula`` markup
-  (``<i>``, ``<b>``, ``<sub>``, ``<sup>`` and text) as MathML, then its number;
+  each top-level part after the title page starts a new page, an unnumbered heading is centred;
+* every ``.equation`` becomes one or more paragraphs of style "Equation": its ``.formula``
+  markup (``<i>``, ``<b>``, ``<sub>``, ``<sup>`` and text) as OMML, then its number;
+* worked substitutions and "where" lines become left-aligned paragraphs, one a line;
+* tables become Word tables with columns from their content, numbers right-aligned;
 * every ``<img>`` showing one of the report's figures becomes a PNG at :data:`PNG_DPI` drawn
   from the same matplotlib figure (the HTML has it as SVG);
 * ``nav`` (the contents) becomes the TOC field, its entries the field's text until Word updates it;
@@ -137,7 +142,8 @@ class _Blocks:
         number = table.attrs.get("data-number", "")
         if not number:
             return ""
-        carried = next((n.attrs["data-continued"] for n in table.walk() if "data-continued" in n.attrs), "")
+        carried = next((n.attrs["data-continued"] for n in table.walk()
+                        if "data-continued" in n.attrs), "")
         return carried or _continued_label(self.language).format(number=number)
 
     def block(self, xml: str) -> Node:
@@ -207,7 +213,8 @@ def _contents(node: Node) -> list[Node]:
         for item in (c for c in list_node.children if c.tag == "li"):
             own = "".join(c.plain() for c in item.children if c.tag not in ("ul", "ol"))
             if own.strip():
-                out.append(_custom(f"toc {level}", Node("p", children=[Node("", text=" ".join(own.split()))])))
+                entry = Node("p", children=[Node("", text=" ".join(own.split()))])
+                out.append(_custom(f"toc {level}", entry))
             for sub in (c for c in item.children if c.tag in ("ul", "ol")):
                 entries(sub, min(level + 1, 2))
 
@@ -226,9 +233,11 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
         if child.tag == "table":
             caption = next((c for c in child.children if c.tag == "caption"), None)
             if caption is not None:
-                out.append(blocks.block(docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))))
+                paragraph = docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))
+                out.append(blocks.block(paragraph))
             note = any("table-note" in c.classes() for c in node.children)
-            xml, _ = docx_blocks.table(child, width, "wide" in child.classes(), blocks.continued(child), note)
+            xml, _ = docx_blocks.table(child, width, "wide" in child.classes(),
+                                       blocks.continued(child), note)
             out.append(blocks.block(xml))
         elif child.tag:
             holder = Node("div", children=[child])
@@ -239,10 +248,10 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
     return out
 
 
-#: Blocks of the title page and the assignment set in a style of their own (as the PDF's CSS sets them).
+#: Blocks of the title page and the assignment in a style of their own (as the PDF's CSS sets them).
 _CLASS_STYLES = {"university": "Title Page University", "doc-kind": "Title Page Kind",
-                 "doc-title": "Title Page Subject", "city-year": "Title Page Year", "ministry": "Centred",
-                 "department": "Centred", "centered": "Centred"}
+                 "doc-title": "Title Page Subject", "city-year": "Title Page Year",
+                 "ministry": "Centred", "department": "Centred", "centered": "Centred"}
 _BLOCKS = {"p", "div", "table", "ul", "ol", "section", "figure", "h2", "h3", "h4"}
 
 
@@ -278,7 +287,8 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             new_children += _table_block(child, blocks, images)
             continue
         if child.tag == "table":
-            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes, blocks.continued(child))
+            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes,
+                                       blocks.continued(child))
             new_children.append(blocks.block(xml))
             continue
         if child.tag == "a" and "pagecount" in classes:
@@ -292,7 +302,7 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             continue
         if child.tag == "h2" and "unnumbered" in classes:
             new_children.append(blocks.mark("centre"))
-        if child.tag == "h2" and not first_block:  # (a heading under a line: that line starts the page)
+        if child.tag == "h2" and not first_block:  # under a line: the line starts the page
             new_children.append(blocks.mark("samepage"))
         style = next((s for c, s in _CLASS_STYLES.items() if c in classes), None)
         if child.tag == "div" and style and not any(c.tag in _BLOCKS for c in child.children):
@@ -300,7 +310,8 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
             child.attrs["src"] = images[child.attrs["src"]]
-            child.attrs.update(_figure_size(blocks.folder / child.attrs["src"]) if blocks.folder else {})
+            if blocks.folder:
+                child.attrs.update(_figure_size(blocks.folder / child.attrs["src"]))
         if "title-page" in classes:
             _transform(child, images, blocks)
             new_children.append(_custom("Title Page", child))
@@ -370,15 +381,19 @@ _STYLES = (
      TNR + '<w:sz w:val="28"/><w:szCs w:val="28"/>'),
     ("BodyText", "Body Text", "Normal", '<w:spacing w:before="0" w:after="0"/><w:ind w:firstLine="709"/>', ""),
     ("FirstParagraph", "First Paragraph", "BodyText", "", ""),
-    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>', ""),
-    ("TableCell", "Table Cell", "Normal", '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
+    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>',
+     ""),
+    ("TableCell", "Table Cell", "Normal",
+     '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
      '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="22"/><w:szCs w:val="22"/>'),
     ("TitlePageUniversity", "Title Page University", "TitlePage", "", '<w:b/><w:bCs/><w:caps/>'),
     ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="1440" w:after="0"/>',
      '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>'),
-    ("TitlePageSubject", "Title Page Subject", "TitlePage", '<w:spacing w:before="60" w:after="720"/>'
-     '<w:ind w:left="567" w:right="567" w:firstLine="0"/>', '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
-    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>', ""),
+    ("TitlePageSubject", "Title Page Subject", "TitlePage",
+     '<w:spacing w:before="60" w:after="720"/><w:ind w:left="567" w:right="567" w:firstLine="0"/>',
+     '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
+    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>',
+     ""),
     ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
@@ -404,7 +419,8 @@ _STYLES = (
      '<w:jc w:val="left"/>', ""),
     ("Signature", "Signature", "Normal", '<w:spacing w:before="0" w:after="0"/>'
      '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>', ""),
-    ("TableContinued", "Table Continued", "Normal", '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
+    ("TableContinued", "Table Continued", "Normal",
+     '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
      '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
     ("TOCHeading", "TOC Heading", "Normal", '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
      '<w:jc w:val="center"/>', '<w:b/><w:bCs/><w:caps/>'),
@@ -501,17 +517,26 @@ def _styled(paragraph: str, style_id: str) -> bool:
 
 def _numpages(count: str) -> str:
     """The NUMPAGES field (the abstract's page count), its result ``count`` until it is updated."""
-    return ('<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> NUMPAGES '
-            '</w:instrText></w:r><w:r><w:fldChar w:fldCharType="separate"/></w:r>'
+    return ('<w:r><w:fldChar w:fldCharType="begin"/></w:r>'
+            '<w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
+            '<w:r><w:fldChar w:fldCharType="separate"/></w:r>'
             f'<w:r><w:t>{count}</w:t></w:r><w:r><w:fldChar w:fldCharType="end"/></w:r>')
 
 
 def _with_property(paragraph: str, prop: str) -> str:
-    """``paragraph`` with the paragraph property ``prop`` (after its style, where the schema has it)."""
+    """``paragraph`` with the paragraph property ``prop`` (after its style, in schema order)."""
     if "<w:pPr>" in paragraph or "<w:pPr " in paragraph:
         m = re.search(r"<w:pPr\s*>(\s*<w:pStyle [^>]*/>)?", paragraph)
         return paragraph[:m.end()] + prop + paragraph[m.end():]
-    return re.sub(r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph, count=1)
+    return re.sub(r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph,
+                  count=1)
+
+
+def _page_count_field(m: re.Match) -> str:
+    """A run holding the page count's placeholder: the text before it, the field, the text after."""
+    run = m.group(1)
+    return (f'{run}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>' + _numpages("")
+            + f'{run}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>')
 
 
 _MARK_PROPERTIES = {"break": "<w:pageBreakBefore/>", "samepage": '<w:pageBreakBefore w:val="0"/>',
@@ -555,14 +580,14 @@ def _document(xml: str, raw: list[str] | None = None) -> str:
             out += [xml[position:m.start()], edits[m.start()]]
             position = m.end()
     xml = "".join(out) + xml[position:]
-    xml = re.sub(rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>([^<]*?){_NUMPAGES}'
-                 r'([^<]*)</w:t></w:r>', lambda m: f'{m.group(1)}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>'
-                 + _numpages("") + f'{m.group(1)}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>', xml, flags=re.S)
-    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION_PORTRAIT, xml, count=1,
-                 flags=re.S)
+    xml = re.sub(rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>'
+                 rf'([^<]*?){_NUMPAGES}([^<]*)</w:t></w:r>', _page_count_field, xml, flags=re.S)
+    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION_PORTRAIT, xml,
+                 count=1, flags=re.S)
     sections = iter(range(10 ** 6))
     xml = re.sub(f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
-                 lambda m: _section(PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE, next(sections) == 0), xml)
+                 lambda m: _section(PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE,
+                                    next(sections) == 0), xml)
     if 'xmlns:r="' not in xml[:2000]:
         xml = xml.replace("<w:document ", '<w:document xmlns:r="http://schemas.openxmlformats.org/officeDocument/'
                           '2006/relationships" ', 1)
@@ -607,8 +632,9 @@ def _figure_png(figure: Any) -> bytes:
 
 
 def report_docx(html: str, figures: list, language: str, layout: bool = True) -> bytes:
-    """report.docx from the report HTML and its figures (each with the matplotlib figure it was drawn from);
-    ``layout``: its pages laid out by LibreOffice where it is installed (:mod:`.docx_pages`)."""
+    """report.docx from the report HTML and its figures (each with the matplotlib figure it was
+    drawn from); ``layout``: its pages laid out by LibreOffice where it is installed
+    (:mod:`.docx_pages`)."""
     with tempfile.TemporaryDirectory(prefix="crankdyn-docx-") as tmp:
         folder = Path(tmp)
         images: dict[str, str] = {}

@@ -40,9 +40,16 @@ def _run(text: str, italic: bool, bold: bool, script: str, size: int | None) -> 
     return f'<w:r>{rpr}<w:t xml:space="preserve">{escape(text)}</w:t></w:r>'
 
 
-def runs(node, size: int | None = None, italic: bool = False, bold: bool = False, script: str = "",
-         skip: frozenset = frozenset()) -> str:
-    """The inline markup of ``node`` (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``, ``<br>``) as w:r runs;
+def runs(
+    node,
+    size: int | None = None,
+    italic: bool = False,
+    bold: bool = False,
+    script: str = "",
+    skip: frozenset = frozenset(),
+) -> str:
+    """The inline markup of ``node`` (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``, ``<br>``) as
+    w:r runs;
     elements with a class in ``skip`` are left out."""
     out = []
     for child in node.children:
@@ -54,10 +61,27 @@ def runs(node, size: int | None = None, italic: bool = False, bold: bool = False
         elif child.tag == "br":
             out.append("<w:r><w:br/></w:r>")
         elif child.tag in ("sub", "sup"):
-            out.append(runs(child, size, italic, bold, "subscript" if child.tag == "sub" else "superscript", skip))
+            out.append(
+                runs(
+                    child,
+                    size,
+                    italic,
+                    bold,
+                    "subscript" if child.tag == "sub" else "superscript",
+                    skip,
+                )
+            )
         else:
-            out.append(runs(child, size, italic or child.tag in ("i", "em", "var"),
-                            bold or child.tag in ("b", "strong"), script, skip))
+            out.append(
+                runs(
+                    child,
+                    size,
+                    italic or child.tag in ("i", "em", "var"),
+                    bold or child.tag in ("b", "strong"),
+                    script,
+                    skip,
+                )
+            )
     return "".join(out)
 
 
@@ -67,11 +91,15 @@ def paragraph(style: str, content: str, ppr: str = "") -> str:
 
 # --------------------------------------------------------------------------- equations
 
+
 def _split_parts(formula) -> list[list]:
-    """The formula's children grouped by its parts (``.eq-part``), each with the separator before it."""
+    """The formula's children grouped by its parts (``.eq-part``), each with the separator
+    before it."""
     groups: list[list] = [[]]
     for child in formula.children:
-        if "eq-part" in child.classes() and any("eq-part" in c.classes() for g in groups for c in g):
+        if "eq-part" in child.classes() and any(
+            "eq-part" in c.classes() for g in groups for c in g
+        ):
             groups.append([])
         groups[-1].append(child)
     return [g for g in groups if g]
@@ -115,16 +143,22 @@ def equation(formula, number: str, text_width: int) -> str:
         last = k == len(lines) - 1
         math = docx_math.omml(node_type("span", children=children), size)
         centre = width(children, size) <= centred
-        tail = f'<w:r><w:tab/></w:r><w:r><w:t xml:space="preserve">{escape(number)}</w:t></w:r>' \
-            if last and number else ""
+        tail = (
+            f'<w:r><w:tab/></w:r><w:r><w:t xml:space="preserve">{escape(number)}</w:t></w:r>'
+            if last and number
+            else ""
+        )
         ppr = "" if last else "<w:keepNext/>"
         if not centre:  # too wide to centre: it starts at the left margin
             ppr += f'<w:tabs><w:tab w:val="clear" w:pos="{text_width // 2}"/></w:tabs>'
-        out.append(paragraph("Equation", ("<w:r><w:tab/></w:r>" if centre else "") + math + tail, ppr))
+        out.append(
+            paragraph("Equation", ("<w:r><w:tab/></w:r>" if centre else "") + math + tail, ppr)
+        )
     return "".join(out)
 
 
-# --------------------------------------------------------------------------- worked lines and "where"
+# ----------------------------------------------------------------- worked lines and "where"
+
 
 def worked_line(node) -> str:
     """A worked substitution: one left-aligned paragraph per line of the PDF (``br.eq-break``)."""
@@ -156,8 +190,10 @@ def where(node) -> str:
     for k, line in enumerate(lines):
         keep = "<w:keepNext/>" if k < len(lines) - 1 else ""
         if k == 0:
-            ppr = (f'{keep}<w:tabs><w:tab w:val="left" w:pos="{left}"/></w:tabs>'
-                   f'<w:ind w:left="{left}" w:hanging="{hang}"/>')
+            ppr = (
+                f'{keep}<w:tabs><w:tab w:val="left" w:pos="{left}"/></w:tabs>'
+                f'<w:ind w:left="{left}" w:hanging="{hang}"/>'
+            )
             content = _run(word_text, False, False, "", None) + "<w:r><w:tab/></w:r>" + runs(line)
         else:
             ppr = f'{keep}<w:ind w:left="{left}" w:firstLine="0"/>'
@@ -167,6 +203,7 @@ def where(node) -> str:
 
 
 # --------------------------------------------------------------------------- the signature block
+
 
 def signatures(table) -> str:
     """The title page's signature block as lines without borders: blanks as underlined tabs."""
@@ -188,11 +225,16 @@ def _cell_line(cell) -> str:
         classes = child.classes()
         if "blank" in classes:
             length = 14 if "wide" in classes else 9
-            out.append(f'<w:r><w:rPr><w:u w:val="single"/></w:rPr><w:t xml:space="preserve">'
-                       f'{chr(0xa0) * length}</w:t></w:r>')
+            out.append(
+                f'<w:r><w:rPr><w:u w:val="single"/></w:rPr><w:t xml:space="preserve">'
+                f'{chr(0xa0) * length}</w:t></w:r>'
+            )
         elif "hint" in classes:
-            out.append(f'<w:r><w:rPr><w:sz w:val="20"/><w:szCs w:val="20"/></w:rPr><w:t xml:space="preserve">'
-                       f'{escape(child.plain())}</w:t></w:r>')
+            out.append(
+                '<w:r><w:rPr><w:sz w:val="20"/><w:szCs w:val="20"/></w:rPr>'
+                f'<w:t xml:space="preserve">'
+                f'{escape(child.plain())}</w:t></w:r>'
+            )
         elif not child.tag:
             out.append(_run(child.text.replace("\n", " "), False, False, "", None))
         else:
@@ -210,7 +252,8 @@ def _cell_text(cell) -> str:
 
 
 def _longest_word(text: str) -> int:
-    """The longest piece of ``text`` a line cannot break: words, and ranges after their dash ("60–")."""
+    """The longest piece of ``text`` a line cannot break: words, and ranges after their dash
+    ("60–")."""
     return max((len(w) for w in re.split(r"\s+|(?<=[–/])", text)), default=0)
 
 
@@ -237,7 +280,8 @@ def _candidate_widths(rows: list[list], header_rows: int, size: int) -> list[lis
 
 
 def fits(rows: list[list], header_rows: int, size: int, text_width: int) -> bool:
-    """Whether the table fits the text width at ``size``, its header wrapped at its words at most."""
+    """Whether the table fits the text width at ``size``, its header wrapped at its words at
+    most."""
     return sum(_candidate_widths(rows, header_rows, size)[1]) <= text_width
 
 
@@ -270,19 +314,31 @@ def _identity(node, continued: str) -> str:
     number = node.attrs.get("data-number", "")
     if not number:
         return ""
-    return (f'<w:tblCaption w:val="{htmlmod.escape(number)}"/>'
-            f'<w:tblDescription w:val="{htmlmod.escape(continued)}"/>')
+    return (
+        f'<w:tblCaption w:val="{htmlmod.escape(number)}"/>'
+        f'<w:tblDescription w:val="{htmlmod.escape(continued)}"/>'
+    )
 
 
-def table(node, text_width: int, wide: bool, continued: str = "", note: bool = False) -> tuple[str, int]:
+def table(
+    node, text_width: int, wide: bool, continued: str = "", note: bool = False
+) -> tuple[str, int]:
     """The table (w:tbl) and its font size: header rows repeated on every page.
     A numbered table carries its number and its continuation label ("Table N continued") as its
     caption and description (``w:tblCaption``, ``w:tblDescription``), for the page pass.
     As in the PDF, the header and the first two rows keep together (under the caption before
     them), and so do the last rows and the table's ``note`` after them."""
     classes = node.classes()
-    head = [r for part in node.children if part.tag == "thead" for r in part.children if r.tag == "tr"]
-    body = [r for part in node.children if part.tag in ("tbody", "tfoot") for r in part.children if r.tag == "tr"]
+    head = [
+        r for part in node.children if part.tag == "thead" for r in part.children if r.tag == "tr"
+    ]
+    body = [
+        r
+        for part in node.children
+        if part.tag in ("tbody", "tfoot")
+        for r in part.children
+        if r.tag == "tr"
+    ]
     body += [r for r in node.children if r.tag == "tr"]
     rows = [[c for c in r.children if c.tag in ("th", "td")] for r in head + body]
     size = TABLE_SIZE
@@ -291,11 +347,15 @@ def table(node, text_width: int, wide: bool, continued: str = "", note: bool = F
         size = WIDE_TABLE_SIZE
         widths = column_widths(rows, len(head), size, text_width)
     grid = "".join(f'<w:gridCol w:w="{w}"/>' for w in widths)
-    out = [f'<w:tbl><w:tblPr><w:tblStyle w:val="Table"/><w:tblW w:w="{sum(widths)}" w:type="dxa"/>'
-           f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/>{_identity(node, continued)}</w:tblPr>'
-           f'<w:tblGrid>{grid}</w:tblGrid>']
+    out = [
+        f'<w:tbl><w:tblPr><w:tblStyle w:val="Table"/><w:tblW w:w="{sum(widths)}" w:type="dxa"/>'
+        f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/>{_identity(node, continued)}</w:tblPr>'
+        f'<w:tblGrid>{grid}</w:tblGrid>'
+    ]
     keep = set(range(len(head) + min(2, len(body))))  # the first three rows under the header
-    keep |= set(range(len(head) + max(0, len(body) - 3), len(head) + len(body) - 1))  # the last three
+    keep |= set(
+        range(len(head) + max(0, len(body) - 3), len(head) + len(body) - 1)
+    )  # the last three
     if note:
         keep.add(len(head) + len(body) - 1)
     for k, (row_node, cells) in enumerate(zip(head + body, rows)):
@@ -307,15 +367,26 @@ def table(node, text_width: int, wide: bool, continued: str = "", note: bool = F
         column = 0
         for c, cell in enumerate(cells):
             span = int(cell.attrs.get("colspan", "1") or 1)
-            cell_width = sum(widths[column:column + span])
+            cell_width = sum(widths[column : column + span])
             column += span
-            tcpr = f'<w:tcW w:w="{cell_width}" w:type="dxa"/>' + (f'<w:gridSpan w:val="{span}"/>' if span > 1 else "")
+            tcpr = f'<w:tcW w:w="{cell_width}" w:type="dxa"/>' + (
+                f'<w:gridSpan w:val="{span}"/>' if span > 1 else ""
+            )
             tcpr += '<w:vAlign w:val="center"/>'
             align = _alignment(cell, header or cell.tag == "th", c == 0, classes)
-            content = runs(cell, size, bold=bold or (cell.tag == "th" and False)) or "<w:r><w:t></w:t></w:r>"
-            out.append(f"<w:tc><w:tcPr>{tcpr}</w:tcPr>"
-                       + paragraph("TableCell", content, ("<w:keepNext/>" if k in keep else "")
-                                                      + f'<w:jc w:val="{align}"/>') + "</w:tc>")
+            content = (
+                runs(cell, size, bold=bold or (cell.tag == "th" and False))
+                or "<w:r><w:t></w:t></w:r>"
+            )
+            out.append(
+                f"<w:tc><w:tcPr>{tcpr}</w:tcPr>"
+                + paragraph(
+                    "TableCell",
+                    content,
+                    ("<w:keepNext/>" if k in keep else "") + f'<w:jc w:val="{align}"/>',
+                )
+                + "</w:tc>"
+            )
         out.append("</w:tr>")
     out.append("</w:tbl>")
     return "".join(out), size

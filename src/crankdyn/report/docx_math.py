@@ -24,8 +24,11 @@ BAR = "|"
 #: Characters the HTML carries for line breaking only (word joiner, soft hyphen, zero-width space).
 INVISIBLE = dict.fromkeys(map(ord, "\u2060\u00ad\u200b"), None)
 _FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789−")
-_TOKEN = re.compile(r"(?P<space>[\s\u00a0]+)|(?P<num>\d+(?:[.,]\d+)?)|(?P<sup>[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+)"
-                    r"|(?P<word>[^\W\d_]+)|(?P<op>.)", re.S)
+_TOKEN = re.compile(
+    r"(?P<space>[\s\u00a0]+)|(?P<num>\d+(?:[.,]\d+)?)|(?P<sup>[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+)"
+    r"|(?P<word>[^\W\d_]+)|(?P<op>.)",
+    re.S,
+)
 _LATIN_OR_GREEK = re.compile(r"^[A-Za-z\u0370-\u03ff]+$")
 
 #: Widths in ems used to estimate a formula's length (Cambria Math: about half an em a letter).
@@ -42,6 +45,7 @@ _TO_SUBSCRIPT = str.maketrans("0123456789−+", "₀₁₂₃₄₅₆₇₈₉�
 @dataclass
 class Item:
     """One piece of a formula: its OMML and its estimated width in ems."""
+
     xml: str
     width: float
     # "run", "sub" (an m:sSub, which a following superscript joins), "d", "operator", "space", "gap"
@@ -57,15 +61,21 @@ def _run(text: str, style: str, size: int) -> str:
     else:
         rpr = f'<m:rPr><m:sty m:val="{style}"/></m:rPr>' if style else ""
     font = "Times New Roman" if style == "nor" else "Cambria Math"
-    wrpr = (f'<w:rPr><w:rFonts w:ascii="{font}" w:hAnsi="{font}" w:cs="{font}"/>'
-            f'<w:sz w:val="{size}"/><w:szCs w:val="{size}"/></w:rPr>')
-    return f'<m:r>{rpr}{wrpr}<m:t xml:space="preserve">{htmlmod.escape(text, quote=False)}</m:t></m:r>'
+    wrpr = (
+        f'<w:rPr><w:rFonts w:ascii="{font}" w:hAnsi="{font}" w:cs="{font}"/>'
+        f'<w:sz w:val="{size}"/><w:szCs w:val="{size}"/></w:rPr>'
+    )
+    return (
+        f'<m:r>{rpr}{wrpr}<m:t xml:space="preserve">{htmlmod.escape(text, quote=False)}</m:t></m:r>'
+    )
 
 
 def delimiter(opening: str, closing: str, content: str) -> str:
     """An m:d around ``content`` (its properties in the schema's order)."""
-    return (f'<m:d><m:dPr><m:begChr m:val="{htmlmod.escape(opening)}"/><m:sepChr m:val=""/>'
-            f'<m:endChr m:val="{htmlmod.escape(closing)}"/><m:grow/></m:dPr><m:e>{content}</m:e></m:d>')
+    return (
+        f'<m:d><m:dPr><m:begChr m:val="{htmlmod.escape(opening)}"/><m:sepChr m:val=""/>'
+        f'<m:endChr m:val="{htmlmod.escape(closing)}"/><m:grow/></m:dPr><m:e>{content}</m:e></m:d>'
+    )
 
 
 class _Builder:
@@ -95,7 +105,12 @@ class _Builder:
         self.items.append(item)
 
     def operator(self, text: str) -> Item:
-        return Item(_run(text, "nor", self.size), OPERATOR_EM * (0.6 + 0.2 * len(text)), "operator", script=text)
+        return Item(
+            _run(text, "nor", self.size),
+            OPERATOR_EM * (0.6 + 0.2 * len(text)),
+            "operator",
+            script=text,
+        )
 
     def text(self, text: str, style: str) -> None:
         self.add(Item(_run(text, style, self.size), CHAR_EM * len(text)))
@@ -105,8 +120,13 @@ class _Builder:
         if char == BAR and top == BAR or char in CLOSING and top == CLOSING[char]:
             opening, items = self.frames.pop()
             closing = BAR if char == BAR else char
-            self.add(Item(delimiter(opening, closing, "".join(i.xml for i in items)),
-                          sum(i.width for i in items) + 2 * CHAR_EM, "d"))
+            self.add(
+                Item(
+                    delimiter(opening, closing, "".join(i.xml for i in items)),
+                    sum(i.width for i in items) + 2 * CHAR_EM,
+                    "d",
+                )
+            )
         elif char == BAR or char in OPENING:
             self.frames.append((char, []))
         else:  # a closing bracket whose opening one is on another line: ordinary text (LibreOffice
@@ -127,14 +147,31 @@ class _Builder:
             self.add(Item(_run("\u200a", "nor", self.size), 0.1))
         base = self.items.pop()
         if tag == "sup" and base.kind == "sub":
-            self.add(Item(f"<m:sSubSup><m:e>{base.base}</m:e><m:sub>{base.script}</m:sub>"
-                          f"<m:sup>{script_xml}</m:sup></m:sSubSup>", base.width + width, "run"))
+            self.add(
+                Item(
+                    f"<m:sSubSup><m:e>{base.base}</m:e><m:sub>{base.script}</m:sub>"
+                    f"<m:sup>{script_xml}</m:sup></m:sSubSup>",
+                    base.width + width,
+                    "run",
+                )
+            )
         elif tag == "sub":
-            self.add(Item(f"<m:sSub><m:e>{base.xml}</m:e><m:sub>{script_xml}</m:sub></m:sSub>",
-                          base.width + width, "sub", base.xml, script_xml))
+            self.add(
+                Item(
+                    f"<m:sSub><m:e>{base.xml}</m:e><m:sub>{script_xml}</m:sub></m:sSub>",
+                    base.width + width,
+                    "sub",
+                    base.xml,
+                    script_xml,
+                )
+            )
         else:
-            self.add(Item(f"<m:sSup><m:e>{base.xml}</m:e><m:sup>{script_xml}</m:sup></m:sSup>",
-                          base.width + width))
+            self.add(
+                Item(
+                    f"<m:sSup><m:e>{base.xml}</m:e><m:sup>{script_xml}</m:sup></m:sSup>",
+                    base.width + width,
+                )
+            )
 
     def finish(self) -> list[Item]:
         """The items, unclosed brackets as plain characters before their content."""
@@ -149,8 +186,11 @@ def _tokens(builder: _Builder, text: str, italic: bool, bold: bool) -> None:
     for m in _TOKEN.finditer(text.translate(INVISIBLE)):
         kind, value = m.lastgroup, m.group()
         if kind == "space":
-            # ordinary text: a math run's spaces are dropped (LibreOffice) or replaced by its own spacing
-            if "\u00a0" in value and len(value) > 1:  # the gap between the parts of a formula (", &nbsp; ")
+            # ordinary text: a math run's spaces are dropped (LibreOffice) or replaced by its
+            # own spacing
+            if (
+                "\u00a0" in value and len(value) > 1
+            ):  # the gap between the parts of a formula (", &nbsp; ")
                 builder.add(Item(_run("\u2002\u2002", "nor", builder.size), 1.0, "gap"))
             elif value == "\u202f":  # a narrow space (a number and its unit)
                 builder.add(Item(_run("\u202f", "nor", builder.size), 0.15, "space"))
@@ -177,7 +217,13 @@ def _tokens(builder: _Builder, text: str, italic: bool, bold: bool) -> None:
         elif value in ORDINARY:  # a character LibreOffice Math reads as an operator of its own
             builder.text(value, "nor")
         else:
-            builder.add(Item(_run(value, "p", builder.size), CHAR_EM, "punct" if value in PUNCTUATION else "run"))
+            builder.add(
+                Item(
+                    _run(value, "p", builder.size),
+                    CHAR_EM,
+                    "punct" if value in PUNCTUATION else "run",
+                )
+            )
 
 
 def _walk(builder: _Builder, node, italic: bool = False, bold: bool = False) -> None:
@@ -194,7 +240,12 @@ def _walk(builder: _Builder, node, italic: bool = False, bold: bool = False) -> 
         elif child.tag == "br":
             continue
         else:
-            _walk(builder, child, italic or child.tag in ("i", "em", "var"), bold or child.tag in ("b", "strong"))
+            _walk(
+                builder,
+                child,
+                italic or child.tag in ("i", "em", "var"),
+                bold or child.tag in ("b", "strong"),
+            )
 
 
 def formula_items(node, size: int) -> list[Item]:
@@ -210,5 +261,5 @@ def formula_width(node, size: int) -> float:
 
 
 def omml(node, size: int) -> str:
-    """The formula markup of ``node`` (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``) as an m:oMath."""
+    """The formula markup of ``node`` (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``) as m:oMath."""
     return "<m:oMath>" + "".join(i.xml for i in formula_items(node, size)) + "</m:oMath>"

@@ -1,4 +1,4 @@
-"""The Word document's pages, as LibreOffice lays them out: continuation labels, contents, page count.
+"""The Word document's pages as LibreOffice lays them out: continued tables, contents, page count.
 
 Word has no "Table N continued" line on the pages a table continues on, and it fills in the
 contents' page numbers and the page count only when its fields are updated. When LibreOffice
@@ -36,9 +36,11 @@ MAX_LAYOUTS = 8
 EQUATION_POINTS = 14
 CONVERSION_TIMEOUT_S = 300
 _PROFILE = """<?xml version="1.0" encoding="UTF-8"?>
-<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" \
+<oor:items xmlns:oor="http://openoffice.org/2001/registry" \
+xmlns:xs="http://www.w3.org/2001/XMLSchema" \
 xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
-<item oor:path="/org.openoffice.Office.Math/StandardFormat"><prop oor:name="BaseSize" oor:op="fuse">\
+<item oor:path="/org.openoffice.Office.Math/StandardFormat">\
+<prop oor:name="BaseSize" oor:op="fuse">\
 <value>{points}</value></prop></item>
 </oor:items>
 """
@@ -46,7 +48,10 @@ xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
 
 def libreoffice() -> str | None:
     """The LibreOffice program, if the layout pass can run here."""
-    if os.environ.get("CRANKDYN_DOCX_LAYOUT", "1").strip() == "0" or shutil.which("pdftotext") is None:
+    if (
+        os.environ.get("CRANKDYN_DOCX_LAYOUT", "1").strip() == "0"
+        or shutil.which("pdftotext") is None
+    ):
         return None
     return shutil.which("soffice") or shutil.which("libreoffice")
 
@@ -55,16 +60,30 @@ def profile(folder: Path) -> Path:
     """A LibreOffice user profile for the conversion (equations at the body text's size)."""
     user = folder / "user"
     user.mkdir(parents=True, exist_ok=True)
-    (user / "registrymodifications.xcu").write_text(_PROFILE.format(points=EQUATION_POINTS), encoding="utf-8")
+    (user / "registrymodifications.xcu").write_text(
+        _PROFILE.format(points=EQUATION_POINTS), encoding="utf-8"
+    )
     return folder
 
 
 def to_pdf(docx: Path, out_dir: Path, program: str, profile_dir: Path) -> Path | None:
     """``docx`` converted to PDF by LibreOffice, or None when it fails."""
     try:
-        subprocess.run([program, f"-env:UserInstallation={profile_dir.resolve().as_uri()}", "--headless",
-                        "--convert-to", "pdf", "--outdir", str(out_dir), str(docx)],
-                       capture_output=True, timeout=CONVERSION_TIMEOUT_S, check=False)
+        subprocess.run(
+            [
+                program,
+                f"-env:UserInstallation={profile_dir.resolve().as_uri()}",
+                "--headless",
+                "--convert-to",
+                "pdf",
+                "--outdir",
+                str(out_dir),
+                str(docx),
+            ],
+            capture_output=True,
+            timeout=CONVERSION_TIMEOUT_S,
+            check=False,
+        )
     except (OSError, subprocess.TimeoutExpired):
         return None
     pdf = out_dir / (docx.stem + ".pdf")
@@ -73,8 +92,13 @@ def to_pdf(docx: Path, out_dir: Path, program: str, profile_dir: Path) -> Path |
 
 def page_texts(pdf: Path) -> list[list[str]]:
     """Each page's non-empty lines, whitespace normalised, the running page number left out."""
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True,
-                          timeout=CONVERSION_TIMEOUT_S, check=True).stdout
+    text = subprocess.run(
+        ["pdftotext", "-layout", str(pdf), "-"],
+        capture_output=True,
+        text=True,
+        timeout=CONVERSION_TIMEOUT_S,
+        check=True,
+    ).stdout
     pages = text.split("\f")
     if pages and not pages[-1].strip():
         pages.pop()
@@ -123,6 +147,7 @@ def _row_matcher(row: str):
 @dataclass
 class TablePart:
     """One w:tbl of a numbered table (a table split at a page break is several)."""
+
     start: int
     end: int
     number: str
@@ -144,8 +169,17 @@ def table_parts(xml: str) -> list[TablePart]:
         head = [r for r in rows if "<w:tblHeader/>" in r]
         body = [r for r in rows if "<w:tblHeader/>" not in r]
         key = htmlmod.unescape(number.group(1))
-        parts.append(TablePart(m.start(), m.end(), key, htmlmod.unescape(label.group(1)) if label else "",
-                               head, body, seen.get(key, 0)))
+        parts.append(
+            TablePart(
+                m.start(),
+                m.end(),
+                key,
+                htmlmod.unescape(label.group(1)) if label else "",
+                head,
+                body,
+                seen.get(key, 0),
+            )
+        )
         seen[key] = seen.get(key, 0) + len(body)
     return parts
 
@@ -191,10 +225,13 @@ def split_tables(xml: str, pages: list[list[str]], section_breaks: bool = True) 
         k = min(k, len(part.body) - 3)
         if k < 2:
             continue
-        table = xml[part.start:part.end]
-        props = table[:table.index("<w:tr>")]
-        label = ('<w:p><w:pPr><w:pStyle w:val="TableContinued"/><w:pageBreakBefore/><w:keepNext/></w:pPr>'
-                 f'<w:r><w:t xml:space="preserve">{htmlmod.escape(part.label, quote=False)}</w:t></w:r></w:p>')
+        table = xml[part.start : part.end]
+        props = table[: table.index("<w:tr>")]
+        label = (
+            '<w:p><w:pPr><w:pStyle w:val="TableContinued"/><w:pageBreakBefore/><w:keepNext/>'
+            '</w:pPr><w:r><w:t xml:space="preserve">'
+            f'{htmlmod.escape(part.label, quote=False)}</w:t></w:r></w:p>'
+        )
         first = props + "".join(part.head + part.body[:k]) + "</w:tbl>"
         rest = props + "".join(part.head + part.body[k:]) + "</w:tbl>"
         edits.append((part.start, part.end, first + label + rest))
@@ -203,7 +240,8 @@ def split_tables(xml: str, pages: list[list[str]], section_breaks: bool = True) 
     return xml, len(edits)
 
 
-# --------------------------------------------------------------------------- contents and page count
+# ----------------------------------------------------------------- contents and page count
+
 
 def _heading_key(text: str) -> str:
     return " ".join(text.upper().split())
@@ -212,17 +250,39 @@ def _heading_key(text: str) -> str:
 def fill_contents(xml: str, pages: list[list[str]]) -> str:
     """The contents' entries with the page their heading is on, the page count's field with the
     number of pages."""
-    entries = list(re.finditer(r'<w:p>(?:(?!</w:p>).)*?<w:pStyle w:val="TOC[12]" ?/>(?:(?!</w:p>).)*?</w:p>', xml, re.S))
-    contents_page = next((i for i, page in enumerate(pages)
-                          if entries and any(_heading_key(_text(entries[0].group(0))) == _heading_key(line)
-                                             for line in page)), 0)
+    entries = list(
+        re.finditer(
+            r'<w:p>(?:(?!</w:p>).)*?<w:pStyle w:val="TOC[12]" ?/>(?:(?!</w:p>).)*?</w:p>', xml, re.S
+        )
+    )
+    contents_page = next(
+        (
+            i
+            for i, page in enumerate(pages)
+            if entries
+            and any(_heading_key(_text(entries[0].group(0))) == _heading_key(line) for line in page)
+        ),
+        0,
+    )
     out, position, page_index = [], 0, contents_page + 1
     for m in entries:
         key = _heading_key(_text(m.group(0)))
-        chapter = 'w:val="TOC1"' in m.group(0)  # a chapter starts a page; a subsection is anywhere on one
-        found = next((i for i in range(page_index, len(pages))
-                      if any(_heading_key(line).startswith(key) or key.startswith(_heading_key(line)) and
-                             len(line) > 8 for line in (pages[i][:3] if chapter else pages[i]))), None)
+        chapter = 'w:val="TOC1"' in m.group(
+            0
+        )  # a chapter starts a page; a subsection is anywhere on one
+        found = next(
+            (
+                i
+                for i in range(page_index, len(pages))
+                if any(
+                    _heading_key(line).startswith(key)
+                    or key.startswith(_heading_key(line))
+                    and len(line) > 8
+                    for line in (pages[i][:3] if chapter else pages[i])
+                )
+            ),
+            None,
+        )
         paragraph = m.group(0)
         if found is not None:
             page_index = found
@@ -231,21 +291,32 @@ def fill_contents(xml: str, pages: list[list[str]]) -> str:
             end = paragraph.rfind('<w:r><w:fldChar w:fldCharType="end"/></w:r>')
             end = end if end > 0 else paragraph.rfind("</w:p>")
             paragraph = paragraph[:end] + number + paragraph[end:]
-        out += [xml[position:m.start()], paragraph]
+        out += [xml[position : m.start()], paragraph]
         position = m.end()
     xml = "".join(out) + xml[position:]
-    return re.sub(r'(<w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
-                  r'<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>)[^<]*(</w:t>)',
-                  lambda m: f"{m.group(1)}{len(pages)}{m.group(2)}", xml)
+    return re.sub(
+        r'(<w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
+        r'<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>)[^<]*(</w:t>)',
+        lambda m: f"{m.group(1)}{len(pages)}{m.group(2)}",
+        xml,
+    )
 
 
 # --------------------------------------------------------------------------- the pass
 
+
 def _replace_document(docx: bytes, xml: str) -> bytes:
     out = io.BytesIO()
-    with zipfile.ZipFile(io.BytesIO(docx)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
+    with (
+        zipfile.ZipFile(io.BytesIO(docx)) as source,
+        zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target,
+    ):
         for item in source.infolist():
-            data = xml.encode("utf-8") if item.filename == "word/document.xml" else source.read(item.filename)
+            data = (
+                xml.encode("utf-8")
+                if item.filename == "word/document.xml"
+                else source.read(item.filename)
+            )
             target.writestr(item, data)
     return out.getvalue()
 
