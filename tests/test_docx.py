@@ -382,6 +382,24 @@ def test_tables_numbers_right_text_centred_header_repeated(sample_docx):
         assert int(col.get(f"{W}w")) >= longest * 0.5 * size * 10, (k, longest)
 
 
+def test_column_widths_wrap_the_long_text_not_every_column():
+    from crankdyn.report import docx_blocks
+
+    node = word.parse_html(
+        "<table><thead><tr><th>Величина</th><th>Значення</th></tr></thead><tbody>"
+        + "<tr><td>Відстань від центра кривошипної головки до центра мас шатуна</td><td>1</td></tr>"
+        + "<tr><td>Файл</td><td>diesel-1600rpm-indicator.ind</td></tr></tbody></table>"
+    ).children[0]
+    rows = [[c for c in r.children if c.tag in ("th", "td")] for r in node.walk() if r.tag == "tr"]
+    width = 6000  # twips: neither column's longest text fits beside the other's
+    widths = docx_blocks.column_widths(rows, 1, 22, width)
+    em = 220 * docx_blocks.TEXT_EM  # a character at 11 pt, in twips
+    assert sum(widths) == pytest.approx(width, abs=2)  # the whole width, shared out
+    assert widths[0] > len("кривошипної") * em + 100 and widths[1] > len("diesel-1600rpm-indicator.ind") * 0.5 * em
+    # a narrow table stays as wide as its content
+    assert sum(docx_blocks.column_widths(rows[:1], 1, 22, width)) < width / 2
+
+
 def test_wide_table_in_a_landscape_section(sample_docx):
     import docx
 

@@ -291,7 +291,7 @@ def column_widths(rows: list[list], header_rows: int, size: int, text_width: int
     cells wrapped at their words if still too wide. A word or number is never broken: a table
     whose words alone are too wide is scaled to the text width."""
     widths = _candidate_widths(rows, header_rows, size)
-    for candidate in widths:
+    for candidate in widths[:2]:
         if sum(candidate) <= text_width:
             return [round(w) for w in candidate]
     natural, least = widths[1], widths[2]
