@@ -493,7 +493,7 @@ def _figure_above(pdf: Path, page: int, png: Path) -> bool:
     from PIL import Image
 
     top = _first_line_top(pdf, page)
-    ink = np.asarray(Image.open(png).convert("L")) < 200
+    ink = np.asarray(Image.open(png).convert("L")) < 240  # a figure's thin light lines count
     rows = np.flatnonzero(
         ink[int(0.07 * ink.shape[0]) : int((top or 0) * ink.shape[0]) - 2].any(axis=1)
     )
