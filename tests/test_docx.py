@@ -398,6 +398,9 @@ def test_column_widths_wrap_the_long_text_not_every_column():
     assert widths[0] > len("кривошипної") * em + 100 and widths[1] > len("diesel-1600rpm-indicator.ind") * 0.5 * em
     # a narrow table stays as wide as its content
     assert sum(docx_blocks.column_widths(rows[:1], 1, 22, width)) < width / 2
+    # the row whose text wraps is kept on one page, the others may not be (see docx_blocks.table)
+    xml, _ = docx_blocks.table(node, width, False)
+    assert ["<w:cantSplit/>" in r for r in re.findall(r"<w:tr>.*?</w:tr>", xml)] == [False, True, False]
 
 
 def test_wide_table_in_a_landscape_section(sample_docx):

@@ -301,6 +301,19 @@ def column_widths(rows: list[list], header_rows: int, size: int, text_width: int
     return [round(m * text_width / sum(least)) for m in least]
 
 
+def _wraps(cells: list, widths: list[int], size: int) -> bool:
+    """Whether a cell of the row takes more than one line (its estimated text wider than its
+    column)."""
+    column = 0
+    for cell in cells:
+        span = int(cell.attrs.get("colspan", "1") or 1)
+        room = sum(widths[column : column + span]) - 2 * CELL_MARGIN
+        column += span
+        if len(_cell_text(cell)) * TEXT_EM * size * 10 > room:
+            return True
+    return False
+
+
 def _alignment(cell, header: bool, first: bool, table_classes: set[str]) -> str:
     if header or "text" in cell.classes():
         return "center"
@@ -361,9 +374,14 @@ def table(
     for k, (row_node, cells) in enumerate(zip(head + body, rows)):
         header = k < len(head)
         bold = "extremum" in row_node.classes()
-        # (no w:cantSplit: LibreOffice 7.4 drops the rows of such a table that starts near a page's
-        # end; a row of one line does not split anyway)
-        out.append("<w:tr><w:trPr><w:tblHeader/></w:trPr>" if header else "<w:tr>")
+        # a row of several lines never splits; w:cantSplit on every row would make LibreOffice 7.4
+        # drop the rows of a table that starts near a page's end (a row of one line cannot split)
+        if header:
+            out.append("<w:tr><w:trPr><w:tblHeader/></w:trPr>")
+        elif _wraps(cells, widths, size):
+            out.append("<w:tr><w:trPr><w:cantSplit/></w:trPr>")
+        else:
+            out.append("<w:tr>")
         column = 0
         for c, cell in enumerate(cells):
             span = int(cell.attrs.get("colspan", "1") or 1)
