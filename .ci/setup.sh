@@ -20,14 +20,15 @@ if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
     # shellcheck disable=SC2086
     $SUDO apt-get install -y -qq $missing >/dev/null
   fi
-  # LibreOffice Writer, without its recommended extras (Java, the GUI's help): the slow test converts
-  # report.docx to PDF with it.
-  if ! command -v soffice >/dev/null 2>&1; then
+  # LibreOffice Writer and Math (without Math a document's equations are not drawn), without their
+  # recommended extras (Java, the GUI's help): the Word export lays its pages out with it, the slow
+  # test converts report.docx to PDF with it.
+  if ! command -v soffice >/dev/null 2>&1 || ! dpkg -s libreoffice-math >/dev/null 2>&1; then
     SUDO=""
     [ "$(id -u)" -eq 0 ] || SUDO="sudo"
     export DEBIAN_FRONTEND=noninteractive
     $SUDO apt-get update -qq
-    $SUDO apt-get install -y -qq --no-install-recommends libreoffice-writer >/dev/null
+    $SUDO apt-get install -y -qq --no-install-recommends libreoffice-writer libreoffice-math >/dev/null
   fi
 fi
 

@@ -71,7 +71,7 @@ class DocxError(CrankdynError):
 
 @dataclass
 class Node:
-    tag: str  # "" for a text node, "raw" for markup passed through as it is (MathML)
+    tag: str  # "" for a text node, "raw" for markup passed through as it is
     attrs: dict[str, str] = field(default_factory=dict)
     children: list["Node"] = field(default_factory=list)
     text: str = ""
