@@ -395,12 +395,14 @@ def test_column_widths_wrap_the_long_text_not_every_column():
     widths = docx_blocks.column_widths(rows, 1, 22, width)
     em = 220 * 0.5  # a narrow character at 11 pt, in twips
     assert sum(widths) == pytest.approx(width, abs=2)  # the whole width, shared out
-    assert widths[0] > len("кривошипної") * em + 100 and widths[1] > len("diesel-1600rpm-indicator.ind") * 0.5 * em
+    assert widths[0] > len("кривошипної") * em + 100
+    assert widths[1] > len("diesel-1600rpm-indicator.ind") * 0.5 * em
     # a narrow table stays as wide as its content
     assert sum(docx_blocks.column_widths(rows[:1], 1, 22, width)) < width / 2
     # the row whose text wraps is kept on one page, the others may not be (see docx_blocks.table)
     xml, _ = docx_blocks.table(node, width, False)
-    assert ["<w:cantSplit/>" in r for r in re.findall(r"<w:tr>.*?</w:tr>", xml)] == [False, True, False]
+    rows_xml = re.findall(r"<w:tr>.*?</w:tr>", xml)
+    assert ["<w:cantSplit/>" in r for r in rows_xml] == [False, True, False]
 
 
 def test_wide_table_in_a_landscape_section(sample_docx):
@@ -639,3 +641,50 @@ def test_word_and_pdf_pages_side_by_side(example, word_page, tmp_path):
     target = ARTIFACTS / f"word-vs-pdf-{example}.png"
     _side_by_side(word_pdf, out / "report.pdf", pages["word"], pages["pdf"], target)
     assert target.stat().st_size > 10000
+
+
+def test_a_table_going_on_over_a_page_break_is_split_under_its_label():
+    from crankdyn.report import docx_blocks, docx_pages
+
+    rows = "".join(f"<tr><td>{a}</td><td>{a / 7:.2f}</td></tr>" for a in range(0, 390, 30))
+    node = word.parse_html(
+        f'<table data-number="2.1"><thead><tr><th>α, °</th><th>s, мм</th></tr></thead>'
+        f"<tbody>{rows}</tbody></table>"
+    ).children[0]
+    table, _ = docx_blocks.table(node, word.TEXT_WIDTH, False, "Продовження таблиці 2.1")
+    xml = f"<w:body><w:p/>{table}<w:p/></w:body>"
+    # LibreOffice's pages: rows 0…150 on the first, the header again and 180…360 on the next
+    page_rows = [f"{angle} {angle / 7:.2f}" for angle in range(0, 390, 30)]
+    pages = [["Таблиця 2.1", "α, ° s, мм", *page_rows[:6]], ["α, ° s, мм", *page_rows[6:]]]
+    split, made = docx_pages.split_tables(xml, pages)
+    assert made == 1
+    parts = docx_pages.table_parts(split)
+    assert [(p.number, len(p.head), len(p.body), p.first_row) for p in parts] == [
+        ("2.1", 1, 6, 0),
+        ("2.1", 1, 7, 6),
+    ]
+    between = split[parts[0].end : parts[1].start]
+    assert "<w:pageBreakBefore/>" in between and ">Продовження таблиці 2.1<" in between
+    # the next layout finds the rest under its label: nothing more to split
+    labelled = [pages[0], ["Продовження таблиці 2.1", *pages[1]]]
+    assert docx_pages.split_tables(split, labelled)[1] == 0
+    # a break leaving fewer than three rows for the next page takes three there
+    late = [["α, ° s, мм", *page_rows[:12]], ["α, ° s, мм", page_rows[12]]]
+    parts = docx_pages.table_parts(docx_pages.split_tables(xml, late)[0])
+    assert [len(p.body) for p in parts] == [10, 3]
+
+
+def test_contents_get_the_pages_their_headings_start_and_the_page_count_its_value():
+    from crankdyn.report import docx_pages
+
+    entry = '<w:p><w:pPr><w:pStyle w:val="TOC1"/></w:pPr><w:r><w:t>{}</w:t></w:r></w:p>'
+    xml = (
+        entry.format("Вступ") + entry.format("1 Вихідні дані")
+        + '<w:p><w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
+        '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t></w:t></w:r></w:p>'
+    )
+    pages = [["ЗМІСТ", "Вступ....3", "1 Вихідні дані....4"], ["Текст"], ["ВСТУП", "Текст"],
+             ["1 ВИХІДНІ ДАНІ"], ["Кінець"]]
+    filled = docx_pages.fill_contents(xml, pages)
+    assert re.findall(r"<w:tab/></w:r><w:r><w:t>(\d+)</w:t>", filled) == ["3", "4"]
+    assert "<w:r><w:t>5</w:t></w:r></w:p>" in filled  # five pages

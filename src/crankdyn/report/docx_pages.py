@@ -34,7 +34,7 @@ MAX_LAYOUTS = 8
 #: LibreOffice sets an imported equation in its own default size (12 pt) unless its profile says
 #: otherwise: the conversion's profile gives the body text's size.
 EQUATION_POINTS = 14
-CONVERSION_TIMEOUT_S = 300
+CONVERSION_TIMEOUT_S = 120
 _PROFILE = """<?xml version="1.0" encoding="UTF-8"?>
 <oor:items xmlns:oor="http://openoffice.org/2001/registry" \
 xmlns:xs="http://www.w3.org/2001/XMLSchema" \
@@ -255,15 +255,11 @@ def fill_contents(xml: str, pages: list[list[str]]) -> str:
             r'<w:p>(?:(?!</w:p>).)*?<w:pStyle w:val="TOC[12]" ?/>(?:(?!</w:p>).)*?</w:p>', xml, re.S
         )
     )
-    contents_page = next(
-        (
-            i
-            for i, page in enumerate(pages)
-            if entries
-            and any(_heading_key(_text(entries[0].group(0))) == _heading_key(line) for line in page)
-        ),
-        0,
-    )
+    first = _heading_key(_text(entries[0].group(0))) if entries else None
+    # the contents' page: its first entry, alone or followed by its dots and page number
+    listed = re.compile(rf"{re.escape(first)}[\s.]*\d*") if first else None
+    contents_page = next((i for i, page in enumerate(pages)
+                          if listed and any(listed.fullmatch(_heading_key(line)) for line in page)), 0)
     out, position, page_index = [], 0, contents_page + 1
     for m in entries:
         key = _heading_key(_text(m.group(0)))
@@ -328,24 +324,26 @@ def lay_out(docx: bytes) -> bytes:
     if program is None:
         return docx
     with tempfile.TemporaryDirectory(prefix="crankdyn-docx-layout-") as tmp:
-        folder = Path(tmp)
-        profile_dir = profile(folder / "profile")
-        xml = zipfile.ZipFile(io.BytesIO(docx)).read("word/document.xml").decode("utf-8")
-        pages: list[list[str]] = []
-        for layout in range(MAX_LAYOUTS):
-            source = folder / "report.docx"
-            source.write_bytes(_replace_document(docx, xml))
-            pdf = to_pdf(source, folder, program, profile_dir)
-            if pdf is None:
-                return docx
-            pages = page_texts(pdf)
-            xml, made = split_tables(xml, pages)
-            if not made:
-                break
-            if layout == MAX_LAYOUTS - 1:  # the last splits' pages: laid out once more
-                source.write_bytes(_replace_document(docx, xml))
-                pdf = to_pdf(source, folder, program, profile_dir)
-                if pdf is None:
-                    return docx
-                pages = page_texts(pdf)
-        return _replace_document(docx, fill_contents(xml, pages))
+        try:
+            return _lay_out(docx, Path(tmp), program)
+        except (OSError, subprocess.SubprocessError, UnicodeDecodeError):
+            return docx  # the document as it is: its fields filled in by Word
+
+
+def _lay_out(docx: bytes, folder: Path, program: str) -> bytes:
+    profile_dir = profile(folder / "profile")
+    xml = zipfile.ZipFile(io.BytesIO(docx)).read("word/document.xml").decode("utf-8")
+    pages: list[list[str]] = []
+    for layout in range(MAX_LAYOUTS + 1):
+        source = folder / "report.docx"
+        source.write_bytes(_replace_document(docx, xml))
+        pdf = to_pdf(source, folder, program, profile_dir)
+        if pdf is None:
+            return docx
+        pages = page_texts(pdf)
+        if layout == MAX_LAYOUTS:  # the last splits' pages, laid out once more
+            break
+        xml, made = split_tables(xml, pages)
+        if not made:
+            break
+    return _replace_document(docx, fill_contents(xml, pages))
