@@ -269,7 +269,7 @@ def _sample_html(long_equation: str) -> str:
 <tr><td class="line"><span class="blank wide"></span> <span class="hint">(підпис)</span></td></tr>
 </table><div class="city-year">2026</div></section>
 <section class="assignment"><div class="ministry">Кафедра</div>
-<h2 class="unnumbered">Завдання</h2><p>Текст.</p></section>
+<h2 class="unnumbered">Завдання</h2><p>Дата видачі <span class="blank"></span></p></section>
 <section class="abstract"><h2 class="unnumbered">Реферат</h2>
 <p class="counts">Пояснювальна записка: <a class="pagecount"
 href="#document-end"></a> с., 2 рис.</p>
@@ -453,6 +453,9 @@ def test_title_page_and_parts_start_new_pages(sample_docx):
         1
     ].text.endswith("(підпис)")
     assert "<w:tbl>" not in "".join(p._p.xml for p in signature) and "<w:u " in signature[1]._p.xml
+    # a blank to write on is an underlined space, as the PDF's line
+    issued = next(p for p in paragraphs if p.text.startswith("Дата видачі"))
+    assert issued.text.endswith("\u00a0") and "<w:u " in issued._p.xml
     # the abstract's page count is a NUMPAGES field
     counts = next(p for p in paragraphs if p.text.startswith("Пояснювальна записка:"))
     assert " NUMPAGES " in counts._p.xml and "CRANKDYN" not in counts._p.xml

@@ -251,7 +251,8 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
 #: Blocks of the title page and the assignment in a style of their own (as the PDF's CSS sets them).
 _CLASS_STYLES = {"university": "Title Page University", "doc-kind": "Title Page Kind",
                  "doc-title": "Title Page Subject", "city-year": "Title Page Year",
-                 "ministry": "Centred", "department": "Centred", "centered": "Centred"}
+                 "ministry": "Centred", "department": "Centred", "centered": "Centred",
+                 "keywords": "Keywords"}
 _BLOCKS = {"p", "div", "table", "ul", "ol", "section", "figure", "h2", "h3", "h4"}
 
 
@@ -291,6 +292,10 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
                                        blocks.continued(child))
             new_children.append(blocks.block(xml))
             continue
+        if child.tag == "span" and "blank" in classes:  # a line to sign on: underlined spaces
+            spaces = "\u00a0" * (14 if "wide" in classes else 9)
+            new_children.append(Node("u", children=[Node("", text=spaces)]))
+            continue
         if child.tag == "a" and "pagecount" in classes:
             new_children.append(Node("", text=_NUMPAGES))
             continue
@@ -305,7 +310,7 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
         if child.tag == "h2" and not first_block:  # under a line: the line starts the page
             new_children.append(blocks.mark("samepage"))
         style = next((s for c, s in _CLASS_STYLES.items() if c in classes), None)
-        if child.tag == "div" and style and not any(c.tag in _BLOCKS for c in child.children):
+        if child.tag in ("div", "p") and style and not any(c.tag in _BLOCKS for c in child.children):
             new_children.append(_custom(style, Node("p", children=child.children)))
             continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
@@ -394,6 +399,7 @@ _STYLES = (
      '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
     ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>',
      ""),
+    ("Keywords", "Keywords", "BodyText", '<w:jc w:val="left"/>', "<w:caps/>"),
     ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
