@@ -79,7 +79,6 @@ def _docx_structure(path: Path) -> dict:
     import docx
 
     document = docx.Document(str(path))
-    xml = zipfile.ZipFile(path).read("word/document.xml").decode("utf-8")
     headings = [
         (int(p.style.name.split()[-1]), p.text.strip())
         for p in document.paragraphs
