@@ -58,12 +58,10 @@ if command -v apt-get >/dev/null 2>&1 && command -v dpkg >/dev/null 2>&1; then
   install_system_packages $RUNTIME_PACKAGES
   if [ "$DEV" -eq 1 ]; then
     install_system_packages $DEV_PACKAGES
-    # LibreOffice Writer without its recommended extras (Java, the GUI's help).
-    if command -v soffice >/dev/null 2>&1; then
-      say "LibreOffice present: $(command -v soffice)"
-    else
-      APT_OPTIONS="--no-install-recommends" install_system_packages libreoffice-writer
-    fi
+    # LibreOffice Writer and Math (without Math a document's equations are not drawn), without
+    # their recommended extras (Java, the GUI's help): the Word export lays its pages out with it,
+    # the slow tests convert report.docx to PDF with it.
+    APT_OPTIONS="--no-install-recommends" install_system_packages libreoffice-writer libreoffice-math
   fi
 else
   say "not a Debian-based system: install Pango (with pangoft2) and HarfBuzz, and serif fonts with"

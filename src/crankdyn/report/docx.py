@@ -1,18 +1,23 @@
 """The report as an editable Word document (``--format docx``), converted by pandoc from the report HTML.
 
-Why pandoc: it is the well-kept converter that turns HTML tables into native Word tables
-(header rows repeated on every page), ``<figure>`` into a picture with its caption, and MathML
-into native Word equations (OMML, ``m:oMath``), with the styles of a reference document. What
-it cannot express from HTML is done on its output afterwards, in a few small XML edits: the
-page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers top right, none on
-the title page), the contents as a Word TOC field that Word updates on opening, and the tab
-stops that put an equation's number at the right margin.
+Why pandoc: it is the well-kept converter that turns HTML headings, paragraphs, lists and
+``<figure>`` (a picture with its caption) into Word, with the styles of a reference document.
+The blocks it cannot set from HTML as the PDF sets them are written as WordprocessingML here
+(:mod:`.docx_blocks`, :mod:`.docx_math`) and stand in pandoc's input as placeholder paragraphs
+replaced in its output; the page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers
+top right, none on the title page, landscape sections), the contents as a TOC field and the
+abstract's page count as a NUMPAGES field are small XML edits of its output. Where LibreOffice is
+installed, :mod:`.docx_pages` lays the document out once to add the "Table N.M continued" labels
+and fill in the fields' results.
 
 The conversion follows the HTML generically rather than the sections of today:
 
 * ``h2``/``h3``/``h4`` become Heading 1/2/3 (``h1``, the title on the title page, the Title style);
-* every ``.equation`` becomes a paragraph of style "Equation": its ``.formula`` markup
-  (``<i>``, ``<b>``, ``<sub>``, ``<sup>`` and text) as MathML, then its number;
+  each top-level part after the title page starts a new page, an unnumbered heading is centred;
+* every ``.equation`` becomes one or more paragraphs of style "Equation": its ``.formula``
+  markup (``<i>``, ``<b>``, ``<sub>``, ``<sup>`` and text) as OMML, then its number;
+* worked substitutions and "where" lines become left-aligned paragraphs, one a line;
+* tables become Word tables with columns from their content, numbers right-aligned;
 * every ``<img>`` showing one of the report's figures becomes a PNG at :data:`PNG_DPI` drawn
   from the same matplotlib figure (the HTML has it as SVG);
 * ``nav`` (the contents) becomes the TOC field, its entries the field's text until Word updates it;
@@ -40,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CrankdynError
+from . import docx_blocks, docx_pages
 from .figures import STYLE, tight_layout
 
 PNG_DPI = 220
@@ -51,6 +57,10 @@ MM = 1440 / 25.4
 PAGE = {"w": 11906, "h": 16838, "top": round(20 * MM), "bottom": round(20 * MM), "left": round(30 * MM),
         "right": round(15 * MM)}
 TEXT_WIDTH = PAGE["w"] - PAGE["left"] - PAGE["right"]
+# A landscape page (a wide table): left and right 20 mm, top 20 mm, bottom 15 mm, as in the PDF.
+LANDSCAPE = {"w": PAGE["h"], "h": PAGE["w"], "top": round(20 * MM), "bottom": round(15 * MM),
+             "left": round(20 * MM), "right": round(20 * MM)}
+LANDSCAPE_TEXT_WIDTH = LANDSCAPE["w"] - LANDSCAPE["left"] - LANDSCAPE["right"]
 
 
 class DocxError(CrankdynError):
@@ -61,7 +71,7 @@ class DocxError(CrankdynError):
 
 @dataclass
 class Node:
-    tag: str  # "" for a text node, "raw" for markup passed through as it is (MathML)
+    tag: str  # "" for a text node, "raw" for markup passed through as it is
     attrs: dict[str, str] = field(default_factory=dict)
     children: list["Node"] = field(default_factory=list)
     text: str = ""
@@ -110,94 +120,147 @@ def parse_html(text: str) -> Node:
     return builder.root
 
 
-# --------------------------------------------------------------------------- formulas as MathML
-
-_TOKEN = re.compile(r"(?P<space>[\s\u00a0]+)|(?P<num>\d+(?:[.,]\d+)?)|(?P<sup>[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+)"
-                    r"|(?P<word>[^\W\d_]+)|(?P<op>.)", re.S)
-_FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789−")
-_LATIN_OR_GREEK = re.compile(r"^[A-Za-z\u0370-\u03ff]+$")
-
-
-def _text_items(text: str, italic: bool, bold: bool) -> list[str]:
-    items: list[str] = []
-    for m in _TOKEN.finditer(text):
-        kind, value = m.lastgroup, m.group()
-        if kind == "space":
-            if "\u00a0" in value:
-                items.append('<mspace width="1em"/>')
-        elif kind == "num":  # a decimal comma as text: pandoc would split the number at it
-            tag = "mtext" if "," in value else "mn"
-            items.append(f"<{tag}>{htmlmod.escape(value)}</{tag}>")
-        elif kind == "sup":  # a power of ten typeset with superscript digits (10⁻¹⁶)
-            exponent = f"<mn>{htmlmod.escape(value.translate(_FROM_SUPERSCRIPT))}</mn>"
-            base = items.pop() if items else "<mrow/>"
-            items.append(f"<msup>{base}{exponent}</msup>")
-        elif kind == "word":
-            if not _LATIN_OR_GREEK.match(value):
-                items.append(f"<mtext>{htmlmod.escape(value)}</mtext>")  # e.g. a unit in Cyrillic
-            elif italic:
-                variant = ' mathvariant="bold-italic"' if bold else ""
-                items += [f"<mi{variant}>{htmlmod.escape(c)}</mi>" for c in value]
-            else:
-                variant = "bold" if bold else "normal"
-                items.append(f'<mi mathvariant="{variant}">{htmlmod.escape(value)}</mi>')
-        else:
-            items.append(f"<mo>{htmlmod.escape(value)}</mo>")
-    return items
-
-
-def _math_items(node: Node, italic: bool = False, bold: bool = False) -> list[str]:
-    items: list[str] = []
-    for child in node.children:
-        if "eq-carry" in child.classes():  # a sign repeated where the PDF's line breaks: Word wraps itself
-            continue
-        if not child.tag:
-            items += _text_items(child.text, italic, bold)
-        elif child.tag in ("sub", "sup"):
-            script = "<mrow>" + "".join(_math_items(child, italic, bold)) + "</mrow>"
-            base = items.pop() if items else "<mrow/>"
-            if child.tag == "sup" and base.startswith("<msub>") and base.endswith("</msub>"):
-                items.append("<msubsup>" + base[len("<msub>"):-len("</msub>")] + script + "</msubsup>")
-            else:
-                items.append(f"<m{child.tag}>{base}{script}</m{child.tag}>")
-        else:
-            items += _math_items(child, italic or child.tag in ("i", "em", "var"),
-                                 bold or child.tag in ("b", "strong"))
-    return items
-
-
-def formula_mathml(node: Node) -> str:
-    """The markup of a report formula (text, ``<i>``, ``<b>``, ``<sub>``, ``<sup>``) as inline MathML."""
-    return '<math display="inline"><mrow>' + "".join(_math_items(node)) + "</mrow></math>"
-
-
 # --------------------------------------------------------------------------- HTML for pandoc
 
 def _custom(style: str, *children: Node) -> Node:
     return Node("div", {"data-custom-style": style}, list(children))
 
 
-def _equation(node: Node) -> Node:
+@dataclass
+class _Blocks:
+    """What the HTML given to pandoc only points at: the blocks written as WordprocessingML here
+    (a paragraph ``RAW<n>X`` stands for ``raw[n]``) and marks for the paragraph after a mark."""
+
+    raw: list[str] = field(default_factory=list)
+    text_width: int = 0
+    language: str = "en"
+    folder: Path | None = None  # where the figures' PNG files are
+
+    def continued(self, table: Node) -> str:
+        """The label of a page a numbered table continues on: the one its rows carry (a long
+        table's), else the catalog's ``doc.continued``."""
+        number = table.attrs.get("data-number", "")
+        if not number:
+            return ""
+        carried = next((n.attrs["data-continued"] for n in table.walk()
+                        if "data-continued" in n.attrs), "")
+        return carried or _continued_label(self.language).format(number=number)
+
+    def block(self, xml: str) -> Node:
+        self.raw.append(xml)
+        return Node("p", children=[Node("", text=f"{_RAW}{len(self.raw) - 1}X")])
+
+    @staticmethod
+    def mark(what: str) -> Node:
+        return Node("p", children=[Node("", text=f"{_MARK}{what}")])
+
+
+_RAW, _MARK, _NUMPAGES = "CRANKDYNRAW", "CRANKDYNMARK", "CRANKDYNNUMPAGES"
+_SECTION_PORTRAIT, _SECTION_LANDSCAPE = "CRANKDYNSECTIONPORTRAIT", "CRANKDYNSECTIONLANDSCAPE"
+
+
+@lru_cache(maxsize=8)
+def _continued_label(language: str) -> str:
+    from .i18n import core_catalog_dir, load_catalog_file
+
+    for name in (language, "en"):
+        path = core_catalog_dir() / f"{name}.toml"
+        if path.is_file():
+            label = load_catalog_file(path).get("doc.continued")
+            if label:
+                return label
+    return "{number}"
+
+
+#: A figure at most this high (mm): lower than the PDF's 175 mm, which shrinks a figure
+#: to the rest of its page where Word moves it to the next; never wider than the text.
+FIGURE_MAX_HEIGHT_MM = 150
+
+
+def _figure_size(png: Path) -> dict[str, str]:
+    """The width and height of a figure's picture for pandoc, in mm: its size at :data:`PNG_DPI`,
+    scaled down to the PDF's greatest height and the text width."""
+    import struct
+
+    try:
+        width_px, height_px = struct.unpack(">II", png.read_bytes()[16:24])  # the PNG's IHDR
+    except (OSError, struct.error):
+        return {}
+    width, height = width_px / PNG_DPI * 25.4, height_px / PNG_DPI * 25.4
+    scale = min(1.0, FIGURE_MAX_HEIGHT_MM / height, TEXT_WIDTH / MM / width)
+    return {"width": f"{width * scale:.1f}mm", "height": f"{height * scale:.1f}mm"}
+
+
+def _section_end(placeholder: str) -> str:
+    """An empty paragraph of no height that ends a section (its sectPr, filled in later)."""
+    return ('<w:p><w:pPr><w:spacing w:before="0" w:after="0" w:line="20" w:lineRule="exact"/>'
+            f'<w:ind w:firstLine="0"/><w:rPr><w:sz w:val="2"/></w:rPr>{placeholder}</w:pPr></w:p>')
+
+
+def _equation(node: Node, blocks: _Blocks) -> Node:
     formula = next((n for n in node.walk() if "formula" in n.classes()), None)
     number = next((n for n in node.walk() if "eqno" in n.classes()), None)
-    math = formula_mathml(formula if formula is not None else node)
-    paragraph = Node("p", children=[Node("raw", text=math)])
-    if number is not None:
-        paragraph.children.append(Node("", text=number.plain().strip()))
-    return _custom("Equation", paragraph)
+    number_text = number.plain().strip() if number is not None else ""
+    return blocks.block(docx_blocks.equation(formula if formula is not None else node, number_text,
+                                             blocks.text_width))
 
 
 def _contents(node: Node) -> list[Node]:
     heading = next((n for n in node.walk() if n.tag in ("h1", "h2", "h3", "h4")), None)
     out = [_custom("TOC Heading", Node("p", children=[Node("", text=heading.plain().strip())]))] if heading else []
-    entries = [n.plain().strip() for n in node.walk() if n.tag == "li"]
-    out += [_custom("toc 1", Node("p", children=[Node("", text=e)])) for e in entries if e]
+
+    def entries(list_node: Node, level: int) -> None:
+        for item in (c for c in list_node.children if c.tag == "li"):
+            own = "".join(c.plain() for c in item.children if c.tag not in ("ul", "ol"))
+            if own.strip():
+                entry = Node("p", children=[Node("", text=" ".join(own.split()))])
+                out.append(_custom(f"toc {level}", entry))
+            for sub in (c for c in item.children if c.tag in ("ul", "ol")):
+                entries(sub, min(level + 1, 2))
+
+    for list_node in (n for n in node.children if n.tag in ("ul", "ol")):
+        entries(list_node, 1)
     return out
 
 
-def _transform(node: Node, images: dict[str, str]) -> None:
-    new_children: list[Node] = []
+def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[Node]:
+    """A table block (the sentence referring to it, the caption, the table, its note); a wide one
+    (``.landscape``) in a landscape section of its own."""
+    landscape = "landscape" in node.classes()
+    width = LANDSCAPE_TEXT_WIDTH if landscape else blocks.text_width
+    out: list[Node] = [blocks.block(_section_end(_SECTION_PORTRAIT))] if landscape else []
     for child in node.children:
+        if child.tag == "table":
+            caption = next((c for c in child.children if c.tag == "caption"), None)
+            if caption is not None:
+                paragraph = docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))
+                out.append(blocks.block(paragraph))
+            note = any("table-note" in c.classes() for c in node.children)
+            xml, _ = docx_blocks.table(child, width, "wide" in child.classes(),
+                                       blocks.continued(child), note)
+            out.append(blocks.block(xml))
+        elif child.tag:
+            holder = Node("div", children=[child])
+            _transform(holder, images, blocks)
+            out += holder.children
+    if landscape:
+        out.append(blocks.block(_section_end(_SECTION_LANDSCAPE)))
+    return out
+
+
+#: Blocks of the title page and the assignment in a style of their own (as the PDF's CSS sets them).
+_CLASS_STYLES = {"university": "Title Page University", "doc-kind": "Title Page Kind",
+                 "doc-title": "Title Page Subject", "city-year": "Title Page Year",
+                 "ministry": "Centred", "department": "Centred", "centered": "Centred",
+                 "keywords": "Keywords"}
+_BLOCKS = {"p", "div", "table", "ul", "ol", "section", "figure", "h2", "h3", "h4"}
+
+
+def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = False) -> None:
+    new_children: list[Node] = []
+    sections = 0
+    for position, child in enumerate(node.children):
+        first_block = not any(c.tag for c in node.children[:position])
         if child.tag in ("style", "script", "head"):
             continue
         classes = child.classes()
@@ -205,8 +268,36 @@ def _transform(node: Node, images: dict[str, str]) -> None:
             continue
         if "eskd-block" in classes:  # the sheet frame's title blocks: the PDF's page furniture, not text
             continue
+        if top and child.tag in ("section", "nav"):
+            if sections:  # every part after the title page starts on a new page, as in the PDF
+                new_children.append(blocks.mark("break"))
+            sections += 1
         if "equation" in classes:
-            new_children.append(_equation(child))
+            new_children.append(_equation(child, blocks))
+            continue
+        if child.tag == "p" and "worked-line" in classes:
+            new_children.append(blocks.block(docx_blocks.worked_line(child)))
+            continue
+        if child.tag == "p" and "where" in classes:
+            new_children.append(blocks.block(docx_blocks.where(child)))
+            continue
+        if child.tag == "table" and "signatures" in classes:
+            new_children.append(blocks.block(docx_blocks.signatures(child)))
+            continue
+        if "table-block" in classes:
+            new_children += _table_block(child, blocks, images)
+            continue
+        if child.tag == "table":
+            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes,
+                                       blocks.continued(child))
+            new_children.append(blocks.block(xml))
+            continue
+        if child.tag == "span" and "blank" in classes:  # a line to sign on: underlined spaces
+            spaces = "\u00a0" * (14 if "wide" in classes else 9)
+            new_children.append(Node("u", children=[Node("", text=spaces)]))
+            continue
+        if child.tag == "a" and "pagecount" in classes:
+            new_children.append(Node("", text=_NUMPAGES))
             continue
         if child.tag == "nav":
             new_children += _contents(child)
@@ -214,13 +305,23 @@ def _transform(node: Node, images: dict[str, str]) -> None:
         if child.tag == "h1":
             new_children.append(_custom("Title", Node("p", children=child.children)))
             continue
+        if child.tag == "h2" and "unnumbered" in classes:
+            new_children.append(blocks.mark("centre"))
+        if child.tag == "h2" and not first_block:  # under a line: the line starts the page
+            new_children.append(blocks.mark("samepage"))
+        style = next((s for c, s in _CLASS_STYLES.items() if c in classes), None)
+        if child.tag in ("div", "p") and style and not any(c.tag in _BLOCKS for c in child.children):
+            new_children.append(_custom(style, Node("p", children=child.children)))
+            continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
             child.attrs["src"] = images[child.attrs["src"]]
+            if blocks.folder:
+                child.attrs.update(_figure_size(blocks.folder / child.attrs["src"]))
         if "title-page" in classes:
-            _transform(child, images)
+            _transform(child, images, blocks)
             new_children.append(_custom("Title Page", child))
             continue
-        _transform(child, images)
+        _transform(child, images, blocks)
         new_children.append(child)
     node.children = new_children
 
@@ -237,12 +338,16 @@ def _serialise(node: Node) -> str:
     return inner if node.tag == "root" else f"<{node.tag}{attrs}>{inner}</{node.tag}>"
 
 
-def pandoc_html(report_html: str, images: dict[str, str]) -> str:
-    """The report HTML rewritten for pandoc: MathML equations, PNG figures, custom styles, no contents list."""
+def pandoc_html(report_html: str, images: dict[str, str], blocks: "_Blocks | None" = None) -> str:
+    """The report HTML rewritten for pandoc: PNG figures, custom styles, no contents list, and
+    the blocks written here (equations, tables ...) as placeholders collected in ``blocks``."""
+    blocks = blocks if blocks is not None else _Blocks()
+    blocks.text_width = blocks.text_width or TEXT_WIDTH
     root = parse_html(report_html)
     body = next((n for n in root.walk() if n.tag == "body"), root)
     lang = next((n.attrs.get("lang", "") for n in root.walk() if n.tag == "html"), "")
-    _transform(body, images)
+    blocks.language = lang or blocks.language
+    _transform(body, images, blocks, top=True)
     return f'<!DOCTYPE html><html lang="{htmlmod.escape(lang)}"><head><meta charset="utf-8"><title></title></head>' \
            f"<body>{''.join(_serialise(c) for c in body.children)}</body></html>"
 
@@ -281,14 +386,27 @@ _STYLES = (
      TNR + '<w:sz w:val="28"/><w:szCs w:val="28"/>'),
     ("BodyText", "Body Text", "Normal", '<w:spacing w:before="0" w:after="0"/><w:ind w:firstLine="709"/>', ""),
     ("FirstParagraph", "First Paragraph", "BodyText", "", ""),
-    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
+    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>',
+     ""),
+    ("TableCell", "Table Cell", "Normal",
+     '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
+     '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="22"/><w:szCs w:val="22"/>'),
+    ("TitlePageUniversity", "Title Page University", "TitlePage", "", '<w:b/><w:bCs/><w:caps/>'),
+    ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="1440" w:after="0"/>',
+     '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>'),
+    ("TitlePageSubject", "Title Page Subject", "TitlePage",
+     '<w:spacing w:before="60" w:after="720"/><w:ind w:left="567" w:right="567" w:firstLine="0"/>',
+     '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
+    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>',
+     ""),
+    ("Keywords", "Keywords", "BodyText", '<w:jc w:val="left"/>', "<w:caps/>"),
+    ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
      '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
     ("TitlePage", "Title Page", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
     ("Heading1", "heading 1", "Normal", '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
      'w:after="240"/><w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="0"/>',
-     '<w:b/><w:bCs/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
+     '<w:b/><w:bCs/><w:caps/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
     ("Heading2", "heading 2", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
      '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="1"/>', '<w:b/><w:bCs/>'),
     ("Heading3", "heading 3", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
@@ -301,6 +419,15 @@ _STYLES = (
     ("Equation", "Equation", "Normal", f'<w:tabs><w:tab w:val="center" w:pos="{TEXT_WIDTH // 2}"/>'
      f'<w:tab w:val="right" w:pos="{TEXT_WIDTH}"/></w:tabs><w:spacing w:before="120" w:after="120"/>'
      '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("WorkedLine", "Worked Line", "Normal", '<w:spacing w:before="60" w:after="60"/>'
+     f'<w:ind w:left="{2 * 280}" w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("Where", "Where", "Normal", f'<w:ind w:left="{docx_blocks.PARAGRAPH_INDENT}" w:firstLine="0"/>'
+     '<w:jc w:val="left"/>', ""),
+    ("Signature", "Signature", "Normal", '<w:spacing w:before="0" w:after="0"/>'
+     '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    ("TableContinued", "Table Continued", "Normal",
+     '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
+     '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
     ("TOCHeading", "TOC Heading", "Normal", '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
      '<w:jc w:val="center"/>', '<w:b/><w:bCs/><w:caps/>'),
     ("TOC1", "toc 1", "Normal", f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
@@ -370,10 +497,19 @@ _HEADER = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
            '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>')
 # DSTU 3008:2015: the page number in the top right corner (a header, as the PDF has it)
 _HEADER_ID = "rIdCrankdynHeader"
-_SECTION = (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
-            f'<w:pgSz w:w="{PAGE["w"]}" w:h="{PAGE["h"]}"/>'
-            f'<w:pgMar w:top="{PAGE["top"]}" w:right="{PAGE["right"]}" w:bottom="{PAGE["bottom"]}" '
-            f'w:left="{PAGE["left"]}" w:header="709" w:footer="567" w:gutter="0"/><w:titlePg/></w:sectPr>')
+
+
+def _section(page: dict, first: bool) -> str:
+    """A section's properties: its page, the header with the page number (none on the document's
+    first page: the title page)."""
+    orient = ' w:orient="landscape"' if page["w"] > page["h"] else ""
+    return (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
+            f'<w:pgSz w:w="{page["w"]}" w:h="{page["h"]}"{orient}/>'
+            f'<w:pgMar w:top="{page["top"]}" w:right="{page["right"]}" w:bottom="{page["bottom"]}" '
+            f'w:left="{page["left"]}" w:header="709" w:footer="567" w:gutter="0"/>'
+            + ("<w:titlePg/>" if first else "") + "</w:sectPr>")
+
+
 _TOC_BEGIN = ('<w:r><w:fldChar w:fldCharType="begin" w:dirty="true"/></w:r>'
               '<w:r><w:instrText xml:space="preserve"> TOC \\o "1-3" \\h \\z \\u </w:instrText></w:r>'
               '<w:r><w:fldChar w:fldCharType="separate"/></w:r>')
@@ -385,23 +521,59 @@ def _styled(paragraph: str, style_id: str) -> bool:
     return f'<w:pStyle w:val="{style_id}" />' in paragraph or f'<w:pStyle w:val="{style_id}"/>' in paragraph
 
 
-def _equation_tabs(paragraph: str) -> str:
-    """Centre the equation and put its number at the right margin (tab stops of the Equation style)."""
-    tab = "<w:r><w:tab/></w:r>"
-    paragraph = paragraph.replace("</w:pPr>", "</w:pPr>" + tab, 1)
-    last = paragraph.rfind("<w:r>")
-    if last > paragraph.find("</m:oMath>") > 0:
-        paragraph = paragraph[:last] + tab + paragraph[last:]
-    return paragraph
+def _numpages(count: str) -> str:
+    """The NUMPAGES field (the abstract's page count), its result ``count`` until it is updated."""
+    return ('<w:r><w:fldChar w:fldCharType="begin"/></w:r>'
+            '<w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
+            '<w:r><w:fldChar w:fldCharType="separate"/></w:r>'
+            f'<w:r><w:t>{count}</w:t></w:r><w:r><w:fldChar w:fldCharType="end"/></w:r>')
 
 
-def _document(xml: str) -> str:
+def _with_property(paragraph: str, prop: str) -> str:
+    """``paragraph`` with the paragraph property ``prop`` (after its style, in schema order)."""
+    if "<w:pPr>" in paragraph or "<w:pPr " in paragraph:
+        m = re.search(r"<w:pPr\s*>(\s*<w:pStyle [^>]*/>)?", paragraph)
+        return paragraph[:m.end()] + prop + paragraph[m.end():]
+    return re.sub(r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph,
+                  count=1)
+
+
+def _page_count_field(m: re.Match) -> str:
+    """A run holding the page count's placeholder: the text before it, the field, the text after."""
+    run = m.group(1)
+    return (f'{run}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>' + _numpages("")
+            + f'{run}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>')
+
+
+_MARK_PROPERTIES = {"break": "<w:pageBreakBefore/>", "samepage": '<w:pageBreakBefore w:val="0"/>',
+                    "centre": '<w:ind w:firstLine="0"/><w:jc w:val="center"/>'}
+
+
+def _document(xml: str, raw: list[str] | None = None) -> str:
+    raw = raw or []
     paragraphs = list(_PARAGRAPH.finditer(xml))
-    toc = [m for m in paragraphs if _styled(m.group(0), "TOC1")]
+    toc = [m for m in paragraphs if _styled(m.group(0), "TOC1") or _styled(m.group(0), "TOC2")]
     edits: dict[int, str] = {}
+    pending: list[str] = []
     for m in paragraphs:
-        if _styled(m.group(0), "Equation"):
-            edits[m.start()] = _equation_tabs(m.group(0))
+        text = m.group(0)
+        found = re.search(rf"{_RAW}(\d+)X|{_MARK}(\w+)", text)
+        if found and found.group(2):  # a mark: no paragraph of its own, a property of the next one
+            pending.append(_MARK_PROPERTIES[found.group(2)])
+            edits[m.start()] = ""
+            continue
+        if found:
+            text = raw[int(found.group(1))]
+        if pending:
+            first = _PARAGRAPH.search(text)
+            if first:
+                changed = first.group(0)
+                for prop in pending:
+                    changed = _with_property(changed, prop)
+                text = text[:first.start()] + changed + text[first.end():]
+            pending = []
+        if text != m.group(0):
+            edits[m.start()] = text
     if toc:
         first, last = toc[0], toc[-1]
         text = edits.get(first.start(), first.group(0))
@@ -414,14 +586,21 @@ def _document(xml: str) -> str:
             out += [xml[position:m.start()], edits[m.start()]]
             position = m.end()
     xml = "".join(out) + xml[position:]
-    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION, xml, count=1, flags=re.S)
+    xml = re.sub(rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>'
+                 rf'([^<]*?){_NUMPAGES}([^<]*)</w:t></w:r>', _page_count_field, xml, flags=re.S)
+    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION_PORTRAIT, xml,
+                 count=1, flags=re.S)
+    sections = iter(range(10 ** 6))
+    xml = re.sub(f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
+                 lambda m: _section(PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE,
+                                    next(sections) == 0), xml)
     if 'xmlns:r="' not in xml[:2000]:
         xml = xml.replace("<w:document ", '<w:document xmlns:r="http://schemas.openxmlformats.org/officeDocument/'
                           '2006/relationships" ', 1)
     return xml
 
 
-def _finish(docx: bytes) -> bytes:
+def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
     """pandoc's output with the page set-up, the header with page numbers, the TOC field and equation tabs."""
     out = io.BytesIO()
     with zipfile.ZipFile(io.BytesIO(docx)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
@@ -429,7 +608,7 @@ def _finish(docx: bytes) -> bytes:
             data = source.read(item.filename)
             name = item.filename
             if name == "word/document.xml":
-                data = _document(data.decode("utf-8")).encode("utf-8")
+                data = _document(data.decode("utf-8"), raw).encode("utf-8")
             elif name == "word/_rels/document.xml.rels":
                 data = data.replace(b"</Relationships>", (
                     f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
@@ -458,8 +637,10 @@ def _figure_png(figure: Any) -> bytes:
     return buffer.getvalue()
 
 
-def report_docx(html: str, figures: list, language: str) -> bytes:
-    """report.docx from the report HTML and its figures (each with the matplotlib figure it was drawn from)."""
+def report_docx(html: str, figures: list, language: str, layout: bool = True) -> bytes:
+    """report.docx from the report HTML and its figures (each with the matplotlib figure it was
+    drawn from); ``layout``: its pages laid out by LibreOffice where it is installed
+    (:mod:`.docx_pages`)."""
     with tempfile.TemporaryDirectory(prefix="crankdyn-docx-") as tmp:
         folder = Path(tmp)
         images: dict[str, str] = {}
@@ -470,9 +651,11 @@ def report_docx(html: str, figures: list, language: str) -> bytes:
             name = f"figure_{i:03d}.png"
             (folder / name).write_bytes(_figure_png(source))
             images["data:image/svg+xml;base64," + base64.b64encode(figure.svg).decode("ascii")] = name
-        (folder / "report.html").write_text(pandoc_html(html, images), encoding="utf-8")
+        blocks = _Blocks(text_width=TEXT_WIDTH, folder=folder)
+        (folder / "report.html").write_text(pandoc_html(html, images, blocks), encoding="utf-8")
         (folder / "reference.docx").write_bytes(reference_docx())
         _pandoc(["--from", "html", "--to", "docx", "--shift-heading-level-by=-1", "--metadata", f"lang={language}",
                  "--reference-doc", str(folder / "reference.docx"), "--resource-path", str(folder),
                  "--output", str(folder / "report.docx"), str(folder / "report.html")])
-        return _finish((folder / "report.docx").read_bytes())
+        document = _finish((folder / "report.docx").read_bytes(), blocks.raw)
+    return docx_pages.lay_out(document) if layout else document
