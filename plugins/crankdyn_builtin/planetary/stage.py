@@ -557,6 +557,9 @@ SYMBOLS = {
     "tooth_force_vector": Symbol("F", {"en": "K"}, "unit.N", html="<b>F</b><sub>{sub}</sub>"),
     "rotation_direction": Symbol("t", {}, "", html="<b>t</b>"),
     "torque_arm": Symbol("h", {}, "unit.mm"),
+    # the points of the rod line's arm MN (the table's column and the text at TDC)
+    "shaft_axis_point": Symbol("M", {}, ""),
+    "arm_foot_point": Symbol("N", {}, ""),
 }
 
 

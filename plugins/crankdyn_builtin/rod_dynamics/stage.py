@@ -272,6 +272,8 @@ SYMBOLS = {
     "three_mass_G": Symbol("m", _G, "unit.kg"),
     "acceleration_G": Symbol("a", _G, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
     "velocity_G": Symbol("v", _G, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
+    "cm_acceleration_x": Symbol("a", {"en": "Gx"}, "unit.m_s2"),
+    "cm_acceleration_z": Symbol("a", {"en": "Gz"}, "unit.m_s2"),
     "acceleration_A": Symbol("a", _A, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
     "velocity_A": Symbol("v", _A, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
     "acceleration_B": Symbol("a", _B, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),

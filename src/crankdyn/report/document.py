@@ -177,6 +177,17 @@ def cite(numbers) -> str:
                            for run in runs) + "]"
 
 
+#: A source cited in a catalog's text by its key, "[@ismailov, fig. 3b]": the number the source
+#: has in the report's list of references takes its place ("[2, fig. 3b]").
+_CITED_KEY = re.compile(r"\[@([A-Za-z0-9_]+)")
+
+
+def cite_sources(text: str, references: list[str]) -> str:
+    """``text`` with each "[@key" of a listed source replaced by "[n" of its number."""
+    return _CITED_KEY.sub(lambda m: f"[{references.index(m.group(1)) + 1}" if m.group(1) in references
+                          else m.group(0), text)
+
+
 def appendix_letter(t, index: int) -> str:
     letters = t("doc.appendix_letters")
     return letters[index] if index < len(letters) else str(index + 1)
@@ -242,11 +253,12 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         if stage.references and set(stage.references) != {PROJECT_METHOD}:
             numbers = [references.index(r) + 1 for r in stage.references]
             body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
+        body = cite_sources(body, references)
         view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
-            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
-                                    for k, v in params.items()}))
+            notes.append(cite_sources(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                                                 for k, v in params.items()}), references))
 
     for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))
