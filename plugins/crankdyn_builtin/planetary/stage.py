@@ -157,6 +157,8 @@ PLANETARY_MECHANISM = Mechanism(
             "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
     check=check,
     params_model=PlanetaryParams,
+    # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)
+    input_rows={"crank_radius": None, "rod_ratio": None},
 )
 
 

@@ -164,6 +164,8 @@ def run(scene, inputs) -> StageOutput:
         results.update(more)
         columns.update(more_columns)
         notes += more_notes
+        if scene.cycle is not None:  # with the cycle the force stage computes the rod's loads
+            notes.append(("rod_dynamics.note_forces_two_mass", {}))
     table = columns
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))

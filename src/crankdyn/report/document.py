@@ -15,6 +15,7 @@ import jinja2
 from markupsafe import Markup, escape
 
 from ..version import __version__
+from ..contracts import COUNTERWEIGHTS, FORCES
 from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry
@@ -197,6 +198,15 @@ def appendix_letter(t, index: int) -> str:
 PROJECT_METHOD = "poda2007"
 
 
+def _inputs_used(result) -> dict[str, bool]:
+    """Which of the assignment's masses and pressures the run uses: the crank's masses enter the
+    forces on the crank pin and the balancing, the crankcase pressure the piston force; a report
+    that computes neither does not list them (a kinematics-only mechanism's)."""
+    provided = {key for stage in result.plan.order for key in stage.provides}
+    return {"uses_crank_masses": bool(provided & {FORCES, COUNTERWEIGHTS}),
+            "uses_crankcase_pressure": FORCES in provided}
+
+
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``Stage.input_rows``), in plan order."""
     return [tuple(row) for stage in result.plan.order if stage.input_rows is not None
@@ -225,7 +235,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     sections.append(SectionView(1, "input", t("report.input_title"),
                                 Markup(ctx.render_template("sections/input.html.j2", scene=scene,
                                                            mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                                           stage_rows=_stage_input_rows(result, ctx)))))
+                                                           stage_rows=_stage_input_rows(result, ctx),
+                                                           **_inputs_used(result)))))
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
