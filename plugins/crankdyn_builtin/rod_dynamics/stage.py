@@ -154,6 +154,7 @@ def run(scene, inputs) -> StageOutput:
         "torque_two_mass_Nm": torque_two,
         "torque_model_Nm": torque_two,
     }
+    results["period_deg"] = float(motion.extra.get("period_deg", 360.0))
     notes = []
     if inertia is None:
         notes.append(("rod_dynamics.note_no_inertia", {}))
@@ -180,7 +181,8 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
     angle = f["crank_angle_deg"]
-    period = 360.0 if ctx.scene is None or ctx.scene.engine.mechanism != "planetary" else ctx.cycle_deg
+    # the motion's own period: one turn, or the turns after which a planetary mechanism repeats
+    period = r.get("period_deg", 360.0)
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
     g = f.take(rows)
     columns = [
