@@ -360,6 +360,14 @@ def _offset_geometry(g, motion, rod_length_m: float):
     return g, k
 
 
+def _offset_orders(opts, offset_ratio: float):
+    """An offset crank-slider's force has odd orders too (the third is as large as the fourth): its
+    tables show them unless the scene names the orders."""
+    if offset_ratio and "include_orders" not in opts.model_fields_set:
+        return opts.model_copy(update={"include_orders": OFFSET_ORDERS})
+    return opts
+
+
 def _harmonics_json(harmonics, orders) -> dict:
     """A_n of the piston acceleration by order name; an offset crank-slider's complex A_n as the
     amplitude |A_n| and the phase psi_n (a_n cos n alpha + b_n sin n alpha = |A_n| cos(n alpha + psi_n))."""
@@ -373,10 +381,10 @@ def _harmonics_json(harmonics, orders) -> dict:
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
-    opts = opts.model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
     e = scene.engine
     layout = engine_layout(scene)
     g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
+    opts = _offset_orders(opts, k).model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     a = e.cylinder_spacing  # None: moments in units of a only
     masses = inertia_masses(scene, layout, k)
@@ -387,9 +395,6 @@ def run(scene, inputs) -> StageOutput:
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
     models = {0: bal.rotating_model(g)}
-    if k and "include_orders" not in opts.model_fields_set:
-        # an offset crank-slider's force has odd orders too: the third is as large as the fourth
-        opts = opts.model_copy(update={"include_orders": OFFSET_ORDERS})
     for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
         models[n] = bal.reciprocating_model(g, n)
     coefficients, absolute, orders = order_vectors(g, models, opts.include_orders, C, C_I, harmonics, a)

@@ -198,6 +198,14 @@ def appendix_letter(t, index: int) -> str:
 PROJECT_METHOD = "poda2007"
 
 
+def _input_section(result, registry, ctx) -> Markup:
+    """Section 1: the assignment's data the report uses."""
+    scene = result.scene
+    return Markup(ctx.render_template("sections/input.html.j2", scene=scene,
+                                      mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                      stage_rows=_stage_input_rows(result, ctx), **_inputs_used(result)))
+
+
 def _inputs_used(result) -> dict[str, bool]:
     """Which of the assignment's masses and pressures the run uses: the crank's masses enter the
     forces on the crank pin and the balancing, the crankcase pressure the piston force; a report
@@ -232,11 +240,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     appendices: list[SectionView] = []
     core_letter = appendix_letter(t, 0) if course else ""
     ctx.start_section(1, "input")
-    sections.append(SectionView(1, "input", t("report.input_title"),
-                                Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                           mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                                           stage_rows=_stage_input_rows(result, ctx),
-                                                           **_inputs_used(result)))))
+    sections.append(SectionView(1, "input", t("report.input_title"), _input_section(result, registry, ctx)))
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
@@ -264,8 +268,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         if stage.references and set(stage.references) != {PROJECT_METHOD}:
             numbers = [references.index(r) + 1 for r in stage.references]
             body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
-        body = cite_sources(body, references)
-        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
+        view = SectionView(number, stage.name, ctx.title or t(stage.title_key),
+                           Markup(cite_sources(body, references)), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
             notes.append(cite_sources(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
