@@ -44,8 +44,22 @@ class OffsetParams(BaseModel):
     offset: quantity("length", ge=-2.0, le=2.0, unit="mm", scale=1e-3)
 
 
+def _layout_problems(scene) -> list[Problem]:
+    """An offset crank-slider engine has one or more cylinders, each with its own central-type rod
+    on its crank pin (in line, V, boxer); articulated rods are built on a central master rod."""
+    problems = []
+    if scene.engine.rod_type == "articulated":
+        problems.append(Problem("engine.rod_type", "articulated", "the offset crank-slider's rods are its own: "
+                                "central or fork_and_blade (articulated rods need the central crank-slider)"))
+    for table in MULTI_CYLINDER_TABLES:
+        if table in scene.plugin_tables():
+            problems.append(Problem(table, f"[{table}]", "applies to articulated rods, which the offset "
+                                                         "crank-slider does not have"))
+    return problems
+
+
 def check(scene) -> list[Problem]:
-    problems = single_mechanism_problems(scene, "offset crank-slider", MULTI_CYLINDER_TABLES)
+    problems = _layout_problems(scene)
     params = options(scene, "mechanism", OffsetParams)
     R, L = scene.engine.crank_radius_m, scene.engine.rod_length_m
     try:
