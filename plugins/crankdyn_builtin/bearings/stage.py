@@ -15,7 +15,7 @@ from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATIC
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
@@ -164,6 +164,8 @@ def run(scene, inputs) -> StageOutput:
     drawn_journals = opts.journals or [most_loaded_journal]
 
     results = {
+        # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
+        "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
                        "main_journal_width_m": w_main, "defaulted": defaulted},
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
@@ -619,6 +621,10 @@ def render(output: StageOutput, ctx) -> str | None:
                                journal_names=journal_names, pins_equal=pins_equal)
 
 
+#: The crank's angle from the cylinder axis of an offset crank-slider (symbol.bearings.<key>).
+SYMBOLS = {"axis_crank_angle": Symbol("φ", {}, "°")}
+
+
 BEARINGS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bearings",
@@ -638,4 +644,5 @@ BEARINGS_STAGE = Stage(
     references=("poda2007",),
     options_table="bearings",
     options_model=BearingOptions,
+    symbols=SYMBOLS,
 )
