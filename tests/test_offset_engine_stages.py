@@ -4,6 +4,8 @@ exact acceleration, the central mechanism at e = 0)."""
 
 from __future__ import annotations
 
+import tomllib
+
 import numpy as np
 import pytest
 from scipy import integrate
@@ -152,3 +154,26 @@ def test_multi_cylinder_offset_engine(engine):
     work = result.outputs["bays"].results["indicated_work_J"]
     assert torque.mean_torque_Nm == pytest.approx(work / (4 * np.pi), rel=2e-3)
 
+
+
+def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
+    """The Scotch yoke (the example plugin) provides `kinematics` only: with masses and a cycle it
+    gets the bays, torque and bearings, and its torque is T = F_piston R sin(alpha) (ds/dalpha of
+    a yoke), by virtual work."""
+    from test_scene_corpus import _plugin_registry  # the example plugin, registered once
+
+    data = tomllib.loads((examples_dir() / "plugin-example" / "scotch-yoke.toml").read_text(encoding="utf-8"))
+    data["analysis"] = {"angle_step_deg": 2}
+    data["masses"] = {"piston_group": "0.4 kg", "rod": "0.3 kg", "rod_cm_fraction": 0.3,
+                      "crank_pin": "0.2 kg", "crank_web": "0.1 kg"}
+    data["cycle"] = {"source": "theoretical", "ignition": "spark", "compression_ratio": 9,
+                     "intake_pressure": "0.09 MPa", "compression_index": 1.36, "max_pressure": "5 MPa",
+                     "expansion_index": 1.25}
+    result = run_scene(scene_from_dict(data, base_dir=examples_dir() / "plugin-example"), _plugin_registry())
+    for stage in ("bays", "torque", "bearings"):
+        assert stage in result.stages_run, result.plan.skipped.get(stage)
+    forces = result.outputs["forces"].tables["forces"]
+    alpha = np.radians(forces["crank_angle_deg"].to_numpy())
+    piston_force = forces["total_Pa"].to_numpy() * np.pi * 0.06**2 / 4
+    torque = result.outputs["torque"].data[ENGINE_TORQUE].torque_Nm
+    np.testing.assert_allclose(torque, piston_force * 0.04 * np.sin(alpha), atol=1e-9 * np.max(np.abs(piston_force)))
