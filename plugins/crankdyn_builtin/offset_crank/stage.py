@@ -24,7 +24,6 @@ from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
-from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
