@@ -197,7 +197,8 @@ def test_approximate_kinematics_request_is_noted_and_exact_is_used():
     ({"mechanism": None}, "mechanism.offset", "missing"),
     ({"mechanism": {"offset": 8}}, "mechanism.offset", "unit"),
     ({"mechanism": {"offset": "8 mm", "ofset": "1 mm"}}, "mechanism.ofset", "unknown key"),
-    ({"engine": {"cylinders": 4}}, "engine.cylinders", "one cylinder"),
+    ({"engine": {"cylinders": 5, "layout": "radial", "rod_type": "articulated"}}, "engine.rod_type",
+     "articulated rods need the central crank-slider"),
 ])
 def test_bad_offset_scenes_are_refused(tmp_path, capsys, changes, field, text):
     scene = write_scene(tmp_path / "scene.toml", modified("offset-crank-engine", changes))

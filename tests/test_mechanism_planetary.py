@@ -262,3 +262,44 @@ def test_tdc_snapshot_foot_of_the_arm_is_the_rod_line_arm_away_from_the_shaft():
     assert abs(along[0] * off[1] - along[1] * off[0]) < 1e-15  # N on the rod's line
     assert snap["pitch_point"] == pytest.approx([0.03 * math.sin(dc.tdc_carrier_angle_rad),
                                                  0.03 * math.cos(dc.tdc_carrier_angle_rad)], rel=1e-15)
+
+
+# ----------------------------------------------------------------------------- a kinematics-only note
+
+@pytest.fixture(scope="module")
+def planetary_run():
+    scene = scene_from_dict(modified("planetary-kinematics", {"analysis": {"table_step_deg": 30}}),
+                            base_dir=examples_dir())
+    return run_scene(scene, REGISTRY)
+
+
+def test_piston_inertia_force_from_the_given_masses(planetary_run):
+    """P_j = -(m_pg + m_r l_R/L) j_p, with j_p from a central difference of the displacement."""
+    out = planetary_run.outputs["planetary"]
+    motion = out.data["kinematics"]
+    table = out.tables["planetary"]
+    angle = table["crank_angle_deg"].to_numpy()
+    h = 0.05  # deg
+    d2s = (motion.displacement_at(angle + h) - 2 * motion.displacement_at(angle)
+           + motion.displacement_at(angle - h)) / np.radians(h) ** 2
+    omega = math.pi * 3000 / 30
+    mass = 0.45 + 0.60 * 0.275  # piston group, the rod's share at the pin (examples' rod_cm_fraction)
+    force = table["inertia_force_N"].to_numpy()
+    np.testing.assert_allclose(force, -mass * omega**2 * d2s, atol=1e-5 * np.max(np.abs(force)))
+    assert out.results["inertia_force_min_N"] == pytest.approx(force.min())
+
+
+def test_kinematics_only_note_lists_what_it_uses_and_repeats_every_turn(planetary_run):
+    html = render_html(planetary_run, REGISTRY, "uk").html
+    given = html.split("Таблиця 1.1", 1)[1].split("</table>", 1)[0]
+    assert "<i>R</i> = <i>S</i>/2" not in given and "<i>λ</i> = <i>R</i>/<i>L</i>" not in given
+    for absent in ("Маса шатунної шийки", "Тиск у картері"):
+        assert absent not in given
+    assert "Маса поршневого комплекту" in given
+    # the rod dynamics' table runs over the motion's one turn, not the four-stroke cycle
+    rod = planetary_run.outputs["rod_dynamics"].results
+    assert rod["period_deg"] == 360.0
+    assert ">720<" not in html and ">390<" not in html
+    # the source cited by its number in the list of references; no phrase about a forces section
+    assert "[2, рис. 3б]" in html and "джерела;" not in html
+    assert "Розділ про сили" not in html and "У розділі про сили" not in html

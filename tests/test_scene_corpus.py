@@ -42,6 +42,7 @@ from crankdyn.outputs import results_document
 from crankdyn.plugins import collect, default_registry, plugin_manager
 from crankdyn.report.document import render_html
 from crankdyn.report.equation_legend import symbols_in
+from crankdyn.report.typeset import symbol_table
 from crankdyn.scene import scene_from_dict
 from scene_corpus import LANGUAGES, corpus
 from test_note import _decimal_points, _latin_words
@@ -81,13 +82,7 @@ SOFTWARE = {"en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
 
 #: (scene name of SEED, check) of the defects the corpus finds and the report still has, each with
 #: what fails; under -m slow each is a strict xfail (a fixed one fails it, to be taken off here).
-KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {
-    "symbols": (
-        "undefined symbols: a_Gx, a_Gz (the rod dynamics of the offset crank and the planetary "
-        "mechanism), M and N (the planetary mechanism's points)",
-        ("41-offset-0-en", "41-offset-1-uk", "41-offset-2-ru", "41-offset-3-en", "41-offset-4-uk",
-         "41-planetary-0-ru", "41-planetary-1-en", "41-planetary-2-uk", "41-planetary-3-ru")),
-}
+KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {}
 KNOWN: dict[tuple[str, str], str] = {(name, check): why
                                      for check, (why, names) in KNOWN_DEFECTS.items()
                                      for name in names}
@@ -111,6 +106,8 @@ class Note:
         self.case = case
         self.language = case.language
         self.result = run_scene(scene_from_dict(case.data, base_dir=examples_dir()), registry)
+        # the letters of the report: the core's and those the run's stages declare
+        self.symbols = symbol_table(registry.stages.values())
         self.rendered = render_html(self.result, registry, case.language)
         self.html = self.rendered.linked_html
         self.results = json.loads(json.dumps(results_document(self.result), default=str))
@@ -191,14 +188,16 @@ def check_symbols(note: Note) -> list[str]:
     language, missing = note.language, set()
     for stage, formula in _equations(note.html):
         for token in _tokens(formula):
-            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)):
+            if not (symbols_in(token, language, stage, note.symbols)
+                    or _indexed_symbol(token, language, stage)):
                 missing.add((stage, token))
     starts = [(m.start(), m.group(1)) for m in _SECTION_START.finditer(note.html)]
     heads = r"<th\b[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>"
     for m in re.finditer(heads, note.html, flags=re.S):
         stage = next((name for start, name in reversed(starts) if start < m.start()), "")
         for token in _tokens(m.group(1) or m.group(2)):
-            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)
+            if not (symbols_in(token, language, stage, note.symbols)
+                    or _indexed_symbol(token, language, stage)
                     or _instance_of_an_indexed_symbol(token, language, stage)):
                 missing.add((stage, token))
     return [f"undefined symbol {token} in {stage}" for stage, token in sorted(missing)]

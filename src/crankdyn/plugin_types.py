@@ -52,7 +52,8 @@ class Mechanism:
     ``input_rows`` (optional) renames rows of the report's table of given data for a mechanism
     whose members are not a crank-slider's: row -> (catalog key of the quantity, symbol markup),
     rows ``bore``, ``stroke``, ``crank_radius``, ``rod_length``, ``rod_ratio`` (a vane engine's
-    ``rod_length`` is the tail of its core, l, not a connecting rod's L).
+    ``rod_length`` is the tail of its core, l, not a connecting rod's L); None leaves out a row
+    the mechanism has no quantity for (a planetary mechanism's R = S/2 and λ = R/L).
 
     ``plausibility``: the :class:`PlausibilityRule` s of this mechanism's scenes (a crank-slider's
     λ = R/L and its rod's centre of mass), besides the core's rules that hold for every engine.
@@ -64,7 +65,7 @@ class Mechanism:
     params_model: type | None = None  # pydantic model of the scene's [mechanism] table
     geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
     # compare=False: a Mechanism stays hashable with a mapping here
-    input_rows: Mapping[str, tuple[str, str]] = field(default_factory=dict, compare=False)
+    input_rows: Mapping[str, tuple[str, str] | None] = field(default_factory=dict, compare=False)
     plausibility: tuple[PlausibilityRule, ...] = ()
 
 

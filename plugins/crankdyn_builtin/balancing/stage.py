@@ -7,6 +7,7 @@ assembles the results and renders the section.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import partial
 from pathlib import Path
 
@@ -22,7 +23,7 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import hide_axes, new_figure
 from crankdyn.scene import options, quantity as _quantity
 from crankdyn.scene_inputs import engine_layout, rotating_mass_per_crank_kg
@@ -90,11 +91,22 @@ def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
     return [1] if scene.engine.cylinders == 1 else [1, 2]
 
 
+#: The orders an offset crank-slider's tables show unless the scene names them.
+OFFSET_ORDERS = [1, 2, 3, 4, 6]
+
+#: The mechanisms whose piston motion is a crank-slider's (``extra``: ``rod_ratio``, with an
+#: offset ``offset_m`` and ``crank_angle_at_tdc_rad``): the vector models take their exact
+#: acceleration's Fourier series.
+CRANK_SLIDERS = ("crank_slider", "offset_crank_slider")
+
+
 def applies(scene) -> str | None:
     if scene.masses is None:
         return "the scene has no [masses]"
-    if scene.engine.mechanism != "crank_slider":
-        return "the vector models of balancing are built for central crank-slider mechanisms"
+    if scene.engine.mechanism not in CRANK_SLIDERS:
+        return "the vector models of balancing are built for crank-slider mechanisms (central or offset)"
+    if scene.engine.mechanism != "crank_slider" and scene.engine.rod_type == "articulated":
+        return "articulated rods are built on a central crank-slider's master rod"
     return None
 
 
@@ -151,9 +163,11 @@ def order_vectors(g, models: dict, include_orders, C: float, C_I: float, harmoni
         absolute["sum_" + name + "_N"] = force_coef * amplitude
         absolute["M_" + name + "_Nm"] = moment_coef * amplitude * a if a is not None else None
         s = C if n == 0 else harmonics[n] * C_I
-        hf = bal.hodograph(_c(model.force_forward) * s, _c(model.force_backward) * s, model.speed,
+        # a complex harmonic (an offset crank-slider) turns its counter-rotating part back
+        s_back = np.conj(s)
+        hf = bal.hodograph(_c(model.force_forward) * s, _c(model.force_backward) * s_back, model.speed,
                            tolerance=NEGLIGIBLE * amplitude * g.cylinders)
-        hm = bal.hodograph(_c(model.moment_forward) * s, _c(model.moment_backward) * s, model.speed,
+        hm = bal.hodograph(_c(model.moment_forward) * s, _c(model.moment_backward) * s_back, model.speed,
                            tolerance=NEGLIGIBLE * amplitude * g.cylinders)
         unit_m = a if a is not None else 1.0
         orders.append({
@@ -162,9 +176,9 @@ def order_vectors(g, models: dict, include_orders, C: float, C_I: float, harmoni
             "force_max_N": force_coef * amplitude,
             "moment_max_Nm": moment_coef * amplitude * a if a is not None else None,
             "force_forward": _vector(_c(model.force_forward) * s, 1.0),
-            "force_backward": _vector(_c(model.force_backward) * s, 1.0),
+            "force_backward": _vector(_c(model.force_backward) * s_back, 1.0),
             "moment_forward": _vector(_c(model.moment_forward) * s, unit_m),
-            "moment_backward": _vector(_c(model.moment_backward) * s, unit_m),
+            "moment_backward": _vector(_c(model.moment_backward) * s_back, unit_m),
             "force_hodograph": _hodograph_json(hf, 1.0),
             "moment_hodograph": _hodograph_json(hm, unit_m),
         })
@@ -305,9 +319,10 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
     return table
 
 
-def inertia_masses(scene, layout) -> "bal.Masses":
+def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> "bal.Masses":
     """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
-    m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``)."""
+    m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
+    ``offset_ratio`` k = e/L of an offset crank-slider."""
     e, m = scene.engine, scene.masses
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
@@ -315,7 +330,7 @@ def inertia_masses(scene, layout) -> "bal.Masses":
     articulated = (options(scene, ARTICULATED, ArticulatedOptions)
                    if scene.engine.rod_type == "articulated" else None)
     m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
-    return bal.Masses(m_s, m_R, R, lam, w)
+    return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
 
 
 def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
@@ -334,19 +349,48 @@ def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
     return notes
 
 
+def _offset_geometry(g, motion, rod_length_m: float):
+    """The geometry and k = e/L of the piston motion's mechanism: an offset crank-slider's crank
+    points phi_TDC past its cylinder axis at TDC (``extra``: ``offset_m``,
+    ``crank_angle_at_tdc_rad``); a central one's along it (k = 0)."""
+    k = motion.extra.get("offset_m", 0.0) / rod_length_m
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    if tdc:
+        g = replace(g, crank_direction_rad=g.crank_direction_rad + tdc)
+    return g, k
+
+
+def _offset_orders(opts, offset_ratio: float):
+    """An offset crank-slider's force has odd orders too (the third is as large as the fourth): its
+    tables show them unless the scene names the orders."""
+    if offset_ratio and "include_orders" not in opts.model_fields_set:
+        return opts.model_copy(update={"include_orders": OFFSET_ORDERS})
+    return opts
+
+
+def _harmonics_json(harmonics, orders) -> dict:
+    """A_n of the piston acceleration by order name; an offset crank-slider's complex A_n as the
+    amplitude |A_n| and the phase psi_n (a_n cos n alpha + b_n sin n alpha = |A_n| cos(n alpha + psi_n))."""
+    if not np.iscomplexobj(harmonics):
+        return {"acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in orders}}
+    return {"acceleration_harmonics": {bal.roman(n): float(abs(harmonics[n])) for n in orders},
+            "acceleration_harmonic_phases_deg": {bal.roman(n): math.degrees(np.angle(harmonics[n]))
+                                                 for n in orders}}
+
+
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
-    opts = opts.model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
     e = scene.engine
     layout = engine_layout(scene)
-    g = bal.geometry_from_layout(layout)
+    g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
+    opts = _offset_orders(opts, k).model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     a = e.cylinder_spacing  # None: moments in units of a only
-    masses = inertia_masses(scene, layout)
+    masses = inertia_masses(scene, layout, k)
     m_s, m_R = masses.reciprocating_kg, masses.rotating_kg
-    n_max = bal.orders_needed(lam)
-    harmonics = bal.harmonics_for(lam, n_max)
+    n_max = bal.orders_needed(lam, offset_ratio=k)
+    harmonics = bal.harmonics_for(lam, n_max, k)
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
@@ -357,7 +401,7 @@ def run(scene, inputs) -> StageOutput:
 
     theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
     spacing = a if a is not None else 1.0
-    all_orders = [1] + list(range(2, n_max + 1, 2))
+    all_orders = bal.inertia_orders(n_max, k)
     f_td, m_td, scale_F, scale_M, check = time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a)
 
     shaft_positions = None
@@ -381,9 +425,10 @@ def run(scene, inputs) -> StageOutput:
         "first_order_N": C_I,
         "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
         # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
-        "second_order_exact_N": float(harmonics[2]) * C_I,
-        "second_order_difference_relative": float(harmonics[2]) * C_I / masses.second_order_textbook_N - 1.0,
-        "acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in all_orders},
+        "second_order_exact_N": float(abs(harmonics[2])) * C_I,
+        "second_order_difference_relative": float(abs(harmonics[2])) * C_I / masses.second_order_textbook_N - 1.0,
+        **_harmonics_json(harmonics, all_orders),
+        "offset_ratio": k,
         "acceleration_series": {bal.roman(n): v for n, v in bal.acceleration_series(lam).items()},
         "cylinder_spacing_m": a,
         "vertical_axis_deg": g.vertical_deg,
@@ -585,8 +630,41 @@ def _models_drawing(t, r):
     return fig
 
 
+#: The orders whose |A_n| and psi_n the table of an offset crank-slider's masses gives.
+OFFSET_TABLE_ORDERS = ("I", "II", "III", "IV")
+
+
+def _offset_masses_table(ctx, r):
+    """An offset crank-slider's masses, force amplitudes and the acceleration's harmonics as
+    amplitude |A_n| and phase psi_n (its series has sine terms and odd orders)."""
+    t = ctx.t
+    unit_n = " " + t("balancing.unit_N")
+    orders = [n for n in OFFSET_TABLE_ORDERS if n in r["acceleration_harmonics"]]
+    names = [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
+        "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
+        "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+        "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>")]
+    names += [Markup(f"|<i>A</i><sub>{bal_order(n)}</sub>|") for n in orders]
+    values = [ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"), ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+              ctx.num(r["centrifugal_N"]) + unit_n, ctx.num(r["first_order_N"]) + unit_n,
+              ctx.num(r["second_order_N"]) + unit_n]
+    values += [ctx.num(r["acceleration_harmonics"][n], 6) for n in orders]
+    phases = [""] * 5 + [t.fixed(r["acceleration_harmonic_phases_deg"][n], 2) for n in orders]
+    table = ctx.table([(t("balancing.quantity"), names, None), (t("balancing.value"), values, None),
+                       (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>n</i></sub>, °"), phases, None)],
+                      caption=t("balancing.masses_caption"), see="balancing.see_masses")
+    return table + worked_balancing(ctx, r)
+
+
+def bal_order(name: str) -> int:
+    """The order a Roman numeral of :func:`crankdyn.physics.balancing.roman` names."""
+    return {v: k for k, v in bal.ROMAN.items()}.get(name) or int(name)
+
+
 def _masses_table(ctx, r):
     """Masses, inertia-force amplitudes and acceleration harmonics."""
+    if r.get("offset_ratio"):
+        return _offset_masses_table(ctx, r)
     t = ctx.t
     masses_table = ctx.table([
         (t("balancing.quantity"), [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
@@ -961,6 +1039,10 @@ def _plain_symbol(s, sum_sign: str = "Σ") -> str:
     return f"{sum_sign}M_{order or base}"
 
 
+#: The offset crank-slider's phase of an acceleration harmonic (meaning: symbol.balancing.<key>).
+SYMBOLS = {"harmonic_phase": Symbol("ψ", {"en": "n"}, "°", html="<i>ψ</i><sub><i>n</i></sub>")}
+
+
 BALANCING_STAGE = Stage(
     template_dir=TEMPLATES,
     name="balancing",
@@ -978,6 +1060,7 @@ BALANCING_STAGE = Stage(
     run=run,
     render=render,
     figures=("crank_diagrams", "vector_models"),
+    symbols=SYMBOLS,
     tables=("balancing",),
     references=("poda2007",),
     options_table="balancing",

@@ -30,8 +30,9 @@ ARTICULATED = "articulated"
 def applies(scene) -> str | None:
     if scene.masses is None:
         return "the scene has no [masses]"
-    if scene.engine.mechanism != "crank_slider":
-        return "multi-cylinder bays are built from central crank-slider mechanisms"
+    if scene.engine.rod_type == "articulated" and scene.engine.mechanism != "crank_slider":
+        # the slave rods' linkage is solved on the central crank-slider's master rod
+        return "articulated rods are built on a central crank-slider's master rod"
     return None
 
 

@@ -15,7 +15,7 @@ from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATIC
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn.physics.extrema import first_argmax
@@ -100,13 +100,17 @@ def _pin_and_rod_loads(loads, bays, motion, layout):
     master = layout.bay(0)[0]
     rod_t, rod_z = np.zeros_like(pin_t), np.zeros_like(pin_z)
     revolution = int(round(360 / (angle[1] - angle[0])))
+    # the crank's angle from the cylinder axis is alpha + this (an offset crank-slider's phi_TDC)
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
     for k in range(layout.cranks):
         # Each bay's master rod sees its crank at its own cycle angle.
         delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
         local = np.radians((angle - delay) % 360.0)
-        beta = np.interp(np.degrees(local), motion.crank_angle_deg[:revolution], motion.rod_angle_rad[:revolution],
-                         period=360.0)
-        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local, beta)
+        # without a rod (a Scotch yoke) the pin's bearing is the slider's, along the cylinder axis
+        beta = (0.0 if motion.rod_angle_rad is None else
+                np.interp(np.degrees(local), motion.crank_angle_deg[:revolution],
+                          motion.rod_angle_rad[:revolution], period=360.0))
+        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local + tdc, beta)
     return pin_t, pin_z, rod_t, rod_z
 
 
@@ -126,7 +130,9 @@ def run(scene, inputs) -> StageOutput:
     pin_t, pin_z, rod_t, rod_z = _pin_and_rod_loads(loads, bays, motion, layout)
 
     # Main journals: each crank a beam on two supports; forces in the engine frame.
-    positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
+    # each crank's angle from the engine's vertical (the cylinder axis of a one-cylinder engine)
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    positions = np.array([theta + tdc - np.radians(lag) for lag in layout.crank_lag_deg])
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
     fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa + cw_t[:, None], loads.radial_Pa + cw_z[:, None],
@@ -158,6 +164,8 @@ def run(scene, inputs) -> StageOutput:
     drawn_journals = opts.journals or [most_loaded_journal]
 
     results = {
+        # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
+        "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
         "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
                        "main_journal_width_m": w_main, "defaulted": defaulted},
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
@@ -613,6 +621,10 @@ def render(output: StageOutput, ctx) -> str | None:
                                journal_names=journal_names, pins_equal=pins_equal)
 
 
+#: The crank's angle from the cylinder axis of an offset crank-slider (symbol.bearings.<key>).
+SYMBOLS = {"axis_crank_angle": Symbol("φ", {}, "°")}
+
+
 BEARINGS_STAGE = Stage(
     template_dir=TEMPLATES,
     name="bearings",
@@ -632,4 +644,5 @@ BEARINGS_STAGE = Stage(
     references=("poda2007",),
     options_table="bearings",
     options_model=BearingOptions,
+    symbols=SYMBOLS,
 )

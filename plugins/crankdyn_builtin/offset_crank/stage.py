@@ -24,7 +24,6 @@ from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
-from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
@@ -44,8 +43,22 @@ class OffsetParams(BaseModel):
     offset: quantity("length", ge=-2.0, le=2.0, unit="mm", scale=1e-3)
 
 
+def _layout_problems(scene) -> list[Problem]:
+    """An offset crank-slider engine has one or more cylinders, each with its own central-type rod
+    on its crank pin (in line, V, boxer); articulated rods are built on a central master rod."""
+    problems = []
+    if scene.engine.rod_type == "articulated":
+        problems.append(Problem("engine.rod_type", "articulated", "the offset crank-slider's rods are its own: "
+                                "central or fork_and_blade (articulated rods need the central crank-slider)"))
+    for table in MULTI_CYLINDER_TABLES:
+        if table in scene.plugin_tables():
+            problems.append(Problem(table, f"[{table}]", "applies to articulated rods, which the offset "
+                                                         "crank-slider does not have"))
+    return problems
+
+
 def check(scene) -> list[Problem]:
-    problems = single_mechanism_problems(scene, "offset crank-slider", MULTI_CYLINDER_TABLES)
+    problems = _layout_problems(scene)
     params = options(scene, "mechanism", OffsetParams)
     R, L = scene.engine.crank_radius_m, scene.engine.rod_length_m
     try:

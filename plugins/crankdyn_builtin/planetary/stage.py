@@ -23,6 +23,7 @@ from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
+from crankdyn.physics import forces as phys
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
@@ -31,7 +32,7 @@ from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 
 from crankdyn.scene_inputs import single_mechanism_problems
-from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.planetary.worked import worked_planetary
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -157,6 +158,8 @@ PLANETARY_MECHANISM = Mechanism(
             "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
     check=check,
     params_model=PlanetaryParams,
+    # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)
+    input_rows={"crank_radius": None, "rod_ratio": None},
 )
 
 
@@ -291,7 +294,9 @@ def run(scene, inputs) -> StageOutput:
 
     table = _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission,
                               conventional_arm, alpha, R_eq, lam_eq)
-    motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc)
+    motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions)
+    if scene.masses is not None:
+        results.update(_piston_inertia(scene, j, angle_deg, table))
     notes = [("planetary.note_derived", {}),
              ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
              ("planetary.note_family", {})]
@@ -332,7 +337,7 @@ def _displacement_at_deg(z_tdc_m: float, tdc_phi_rad: float, geometry, crank_ang
     return z_tdc_m - pl.slider_motion(np.radians(crank_angle_deg) + tdc_phi_rad, geometry).pin_z_m
 
 
-def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> PistonMotion:
+def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions: int) -> PistonMotion:
     """The ``kinematics`` this stage provides (exact; displacement at any angle from the linkage)."""
     tdc_phi, z_tdc = dc.tdc_carrier_angle_rad, dc.tdc_height_m
     return PistonMotion(
@@ -346,9 +351,24 @@ def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc) -> Pis
         method="exact",
         extra={"rod_length_m": geometry.rod_length_m, "carrier_radius_m": geometry.carrier_radius_m,
                "rod_angular_velocity_rad_s": omega * slider.rod_angle_d1,
-               "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2},
+               "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2,
+               "period_deg": 360.0 * revolutions},
         displacement_at=functools.partial(_displacement_at_deg, z_tdc, tdc_phi, geometry),
     )
+
+
+def _piston_inertia(scene, j, angle_deg, table: dict) -> dict:
+    """The inertia force of the reciprocating masses, P_j = −m_j j_p (N): the piston group and the
+    rod's share at the piston pin (two-mass split), added to ``table``; its extremes (N, deg)."""
+    rod_reciprocating, _ = phys.rod_mass_split_kg(scene.masses.rod, scene.engine.rod_length_m,
+                                                  scene.rod_cm_from_big_end_m)
+    mass = scene.masses.piston_group + rod_reciprocating
+    force = -mass * j
+    table["inertia_force_N"] = force
+    low, high = first_argmin(force), first_argmax(force)
+    return {"reciprocating_mass_kg": mass, "rod_reciprocating_mass_kg": rod_reciprocating,
+            "inertia_force_max_N": float(force[high]), "inertia_force_max_crank_angle_deg": float(angle_deg[high]),
+            "inertia_force_min_N": float(force[low]), "inertia_force_min_crank_angle_deg": float(angle_deg[low])}
 
 
 def _circle(ax, centre, radius, **style):
@@ -374,7 +394,8 @@ def _sampled_table(f, r, span, ctx) -> str:
         ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"] * mm, 3),
         ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"] * mm, 3),
         ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"], 3),
-    ], caption=t("planetary.table_caption"), see="planetary.see_table")
+    ] + ([("<i>P</i><sub>j</sub>, " + t("unit.kN"), g["inertia_force_N"] / 1e3, 3)] if "inertia_force_N" in g else []),
+        caption=t("planetary.table_caption"), see="planetary.see_table")
     return table + worked_planetary(ctx, g, labels, r)
 
 
@@ -557,6 +578,12 @@ SYMBOLS = {
     "tooth_force_vector": Symbol("F", {"en": "K"}, "unit.N", html="<b>F</b><sub>{sub}</sub>"),
     "rotation_direction": Symbol("t", {}, "", html="<b>t</b>"),
     "torque_arm": Symbol("h", {}, "unit.mm"),
+    # the inertia force of the reciprocating masses, given the masses
+    "inertia_force": Symbol("P", {"en": "j"}, "unit.N"),
+    "reciprocating_mass": Symbol("m", {"en": "j"}, "unit.kg"),
+    # the points of the rod line's arm MN (the table's column and the text at TDC)
+    "shaft_axis_point": Symbol("M", {}, ""),
+    "arm_foot_point": Symbol("N", {}, ""),
 }
 
 

@@ -154,6 +154,7 @@ def run(scene, inputs) -> StageOutput:
         "torque_two_mass_Nm": torque_two,
         "torque_model_Nm": torque_two,
     }
+    results["period_deg"] = float(motion.extra.get("period_deg", 360.0))
     notes = []
     if inertia is None:
         notes.append(("rod_dynamics.note_no_inertia", {}))
@@ -164,6 +165,8 @@ def run(scene, inputs) -> StageOutput:
         results.update(more)
         columns.update(more_columns)
         notes += more_notes
+        if scene.cycle is not None:  # with the cycle the force stage computes the rod's loads
+            notes.append(("rod_dynamics.note_forces_two_mass", {}))
     table = columns
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))
@@ -178,7 +181,8 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
     angle = f["crank_angle_deg"]
-    period = 360.0 if ctx.scene is None or ctx.scene.engine.mechanism != "planetary" else ctx.cycle_deg
+    # the motion's own period: one turn, or the turns after which a planetary mechanism repeats
+    period = r.get("period_deg", 360.0)
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
     g = f.take(rows)
     columns = [
@@ -272,6 +276,8 @@ SYMBOLS = {
     "three_mass_G": Symbol("m", _G, "unit.kg"),
     "acceleration_G": Symbol("a", _G, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
     "velocity_G": Symbol("v", _G, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
+    "cm_acceleration_x": Symbol("a", {"en": "Gx"}, "unit.m_s2"),
+    "cm_acceleration_z": Symbol("a", {"en": "Gz"}, "unit.m_s2"),
     "acceleration_A": Symbol("a", _A, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
     "velocity_A": Symbol("v", _A, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
     "acceleration_B": Symbol("a", _B, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),

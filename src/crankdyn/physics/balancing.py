@@ -59,6 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kinematics as kin
+from . import offset_crank as oc
 from .layout import EngineLayout
 
 ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 8: "VIII", 10: "X", 12: "XII", 14: "XIV", 16: "XVI"}
@@ -71,7 +72,8 @@ def roman(order: int) -> str:
 
 # --------------------------------------------------------------------------- piston acceleration series
 
-def acceleration_harmonics(rod_ratio: float, max_order: int = 64, samples: int = 1024) -> np.ndarray:
+def acceleration_harmonics(rod_ratio: float, max_order: int = 64, samples: int = 1024,
+                           offset_ratio: float = 0.0) -> np.ndarray:
     """Fourier coefficients A_n of the exact piston acceleration, n = 0 .. max_order.
 
     ``j(alpha) = R w^2 sum_n A_n cos(n alpha)`` for the central crank-slider (derived here;
@@ -88,15 +90,27 @@ def acceleration_harmonics(rod_ratio: float, max_order: int = 64, samples: int =
         Highest order returned.
     samples : int
         FFT length (a power of two, > 2*max_order).
+    offset_ratio : float
+        k = e/L of an offset crank-slider (alpha then counts from its TDC). With k != 0 the
+        acceleration is not even in alpha and the coefficients are complex,
+        ``j = R w^2 Re(sum_n A_n exp(i n alpha))``, ``A_n = a_n - i b_n`` of
+        ``a_n cos(n alpha) + b_n sin(n alpha)``; every order appears, odd ones too.
 
     Returns
     -------
     numpy.ndarray
-        A_n for n = 0..max_order (dimensionless); odd n > 1 are zero to round-off.
+        A_n for n = 0..max_order (dimensionless); real for k = 0, where odd n > 1 are zero to
+        round-off.
     """
     if samples <= 2 * max_order:
         raise ValueError("samples must exceed twice max_order")
     alpha = 2 * np.pi * np.arange(samples) / samples
+    if offset_ratio:
+        j = oc.piston_acceleration_m_s2(alpha, 1.0, rod_ratio, offset_ratio, 1.0)
+        spectrum = np.fft.rfft(j) / samples
+        coefficients = 2.0 * spectrum[: max_order + 1]
+        coefficients[0] = spectrum[0]
+        return coefficients
     j = kin.piston_acceleration_exact_m_s2(alpha, 1.0, rod_ratio, 1.0)
     spectrum = np.fft.rfft(j) / samples
     coefficients = 2.0 * spectrum.real[: max_order + 1]
@@ -116,24 +130,35 @@ def acceleration_series(rod_ratio: float) -> dict[int, float]:
     }
 
 
-def orders_needed(rod_ratio: float, tolerance: float = 1e-15, max_order: int = 512) -> int:
-    """Highest even order whose A_n still exceeds ``tolerance`` (the series is truncated after it).
+def orders_needed(rod_ratio: float, tolerance: float = 1e-15, max_order: int = 512,
+                  offset_ratio: float = 0.0) -> int:
+    """Highest order whose A_n still exceeds ``tolerance`` (the series is truncated after it): an
+    even order for the central crank-slider, any order with an offset (``offset_ratio`` k = e/L).
 
     The coefficients fall roughly like (lambda / (1 + sqrt(1 - lambda^2)))^n: order 18 for
     lambda = 0.28, about 250 for lambda = 0.99.
     """
-    a = acceleration_harmonics(rod_ratio, max_order, samples=4 * max_order)
-    significant = [n for n in range(2, max_order + 1, 2) if abs(a[n]) > tolerance]
+    a = acceleration_harmonics(rod_ratio, max_order, samples=4 * max_order, offset_ratio=offset_ratio)
+    orders = range(2, max_order + 1, 1 if offset_ratio else 2)
+    significant = [n for n in orders if abs(a[n]) > tolerance]
     return max(significant) if significant else 2
 
 
-def harmonics_for(rod_ratio: float, highest_order: int) -> np.ndarray:
+def inertia_orders(highest_order: int, offset_ratio: float = 0.0) -> list[int]:
+    """The orders of the reciprocating inertia force up to ``highest_order``: 1 and the even ones
+    of the central crank-slider, every order of an offset one."""
+    if offset_ratio:
+        return list(range(1, highest_order + 1))
+    return [1] + list(range(2, highest_order + 1, 2))
+
+
+def harmonics_for(rod_ratio: float, highest_order: int, offset_ratio: float = 0.0) -> np.ndarray:
     """:func:`acceleration_harmonics` up to at least ``highest_order`` (and 12), exact to round-off."""
     top = max(int(highest_order), 12)
     samples = 1024
     while samples <= 4 * top:
         samples *= 2
-    return acceleration_harmonics(rod_ratio, top, samples)
+    return acceleration_harmonics(rod_ratio, top, samples, offset_ratio)
 
 
 # --------------------------------------------------------------------------- geometry
@@ -265,6 +290,15 @@ def rotating_model(g: BalanceGeometry) -> OrderModel:
     return OrderModel(0, force, zero, moment, zero)
 
 
+def scaled(model: OrderModel, amplitude) -> OrderModel:
+    """``model`` times a harmonic's amplitude ``A_n C_I``: the co-rotating parts times it, the
+    counter-rotating ones times its conjugate (``Re(A e^{i n alpha}) = (A e^{i n alpha} +
+    conj(A) e^{-i n alpha}) / 2``); a real amplitude scales both alike."""
+    back = np.conj(amplitude)
+    return OrderModel(model.order, model.force_forward * amplitude, model.force_backward * back,
+                      model.moment_forward * amplitude, model.moment_backward * back)
+
+
 def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
     """Order-n reciprocating forces as co- and counter-rotating vectors (textbook §6.1-6.2, extended to any n).
 
@@ -346,6 +380,14 @@ class Masses:
     crank_radius_m: float
     rod_ratio: float
     angular_velocity_rad_s: float
+    offset_ratio: float = 0.0  # k = e/L of an offset crank-slider
+
+    def piston_acceleration_m_s2(self, alpha_rad):
+        """The exact piston acceleration at the crank angle ``alpha_rad`` from TDC (closed form)."""
+        R, lam, w = self.crank_radius_m, self.rod_ratio, self.angular_velocity_rad_s
+        if self.offset_ratio:
+            return oc.piston_acceleration_m_s2(alpha_rad, R, lam, self.offset_ratio, w)
+        return kin.piston_acceleration_exact_m_s2(alpha_rad, R, lam, w)
 
     @property
     def centrifugal_N(self) -> float:
@@ -376,8 +418,7 @@ def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: fl
     """
     theta = np.asarray(theta_rad, dtype=float)[:, None]
     alpha = theta - g.cylinder_phase_rad[None, :]
-    j = kin.piston_acceleration_exact_m_s2(alpha, masses.crank_radius_m, masses.rod_ratio,
-                                           masses.angular_velocity_rad_s)
+    j = masses.piston_acceleration_m_s2(alpha)
     recip = masses.reciprocating_kg * j * np.exp(1j * g.cylinder_axis_rad)[None, :]
     crank = masses.centrifugal_N * np.exp(1j * (theta + g.crank_direction_rad[None, :]))
     force = recip.sum(axis=1) + crank.sum(axis=1)
@@ -388,7 +429,8 @@ def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: fl
 def vector_method_sum(g: BalanceGeometry, masses: Masses, theta_rad, orders, spacing_m: float = 1.0,
                       harmonics: np.ndarray | None = None, rotating: bool = True):
     """The same resultants from the vector models: rotating masses plus the given orders (N, N*m)."""
-    harmonics = harmonics_for(masses.rod_ratio, max(orders, default=2)) if harmonics is None else harmonics
+    if harmonics is None:
+        harmonics = harmonics_for(masses.rod_ratio, max(orders, default=2), masses.offset_ratio)
     theta = np.asarray(theta_rad, dtype=float)
     force = np.zeros(theta.shape, dtype=complex)
     moment = np.zeros(theta.shape, dtype=complex)
@@ -397,10 +439,9 @@ def vector_method_sum(g: BalanceGeometry, masses: Masses, theta_rad, orders, spa
         force += masses.centrifugal_N * model.force(theta)
         moment += masses.centrifugal_N * model.moment(theta)
     for n in orders:
-        model = reciprocating_model(g, n)
-        amplitude = harmonics[n] * masses.first_order_N
-        force += amplitude * model.force(theta)
-        moment += amplitude * model.moment(theta)
+        model = scaled(reciprocating_model(g, n), harmonics[n] * masses.first_order_N)
+        force += model.force(theta)
+        moment += model.moment(theta)
     return force, moment * spacing_m
 
 
@@ -515,13 +556,12 @@ def design_means(g: BalanceGeometry, masses: Masses, harmonics: np.ndarray, bala
             moment += c1 * complex(first.moment_forward)
         means.counterweights = masses_for(force, moment, 1, w, ends, tol)
     for n in sorted(set(balance_orders)):
-        model = reciprocating_model(g, n)
-        amplitude = harmonics[n] * masses.first_order_N
+        model = scaled(reciprocating_model(g, n), harmonics[n] * masses.first_order_N)
         parts = [(-n, complex(model.force_backward), complex(model.moment_backward))]
         if not (n == 1 and first_order_forward == "crankshaft"):
             parts.insert(0, (n, complex(model.force_forward), complex(model.moment_forward)))
         for speed, f, m in parts:
-            if abs(amplitude * f) <= tol and abs(amplitude * m) <= tol:
+            if abs(f) <= tol and abs(m) <= tol:
                 continue
-            means.shafts[speed] = masses_for(amplitude * f, amplitude * m, speed, w, shaft_positions, tol)
+            means.shafts[speed] = masses_for(f, m, speed, w, shaft_positions, tol)
     return means

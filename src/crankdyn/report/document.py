@@ -15,6 +15,7 @@ import jinja2
 from markupsafe import Markup, escape
 
 from ..version import __version__
+from ..contracts import COUNTERWEIGHTS, FORCES
 from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
 from ..plugins import Registry
@@ -177,6 +178,17 @@ def cite(numbers) -> str:
                            for run in runs) + "]"
 
 
+#: A source cited in a catalog's text by its key, "[@ismailov, fig. 3b]": the number the source
+#: has in the report's list of references takes its place ("[2, fig. 3b]").
+_CITED_KEY = re.compile(r"\[@([A-Za-z0-9_]+)")
+
+
+def cite_sources(text: str, references: list[str]) -> str:
+    """``text`` with each "[@key" of a listed source replaced by "[n" of its number."""
+    return _CITED_KEY.sub(lambda m: f"[{references.index(m.group(1)) + 1}" if m.group(1) in references
+                          else m.group(0), text)
+
+
 def appendix_letter(t, index: int) -> str:
     letters = t("doc.appendix_letters")
     return letters[index] if index < len(letters) else str(index + 1)
@@ -184,6 +196,23 @@ def appendix_letter(t, index: int) -> str:
 
 #: The source of the whole project's method: cited as [1] in the introduction.
 PROJECT_METHOD = "poda2007"
+
+
+def _input_section(result, registry, ctx) -> Markup:
+    """Section 1: the assignment's data the report uses."""
+    scene = result.scene
+    return Markup(ctx.render_template("sections/input.html.j2", scene=scene,
+                                      mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                      stage_rows=_stage_input_rows(result, ctx), **_inputs_used(result)))
+
+
+def _inputs_used(result) -> dict[str, bool]:
+    """Which of the assignment's masses and pressures the run uses: the crank's masses enter the
+    forces on the crank pin and the balancing, the crankcase pressure the piston force; a report
+    that computes neither does not list them (a kinematics-only mechanism's)."""
+    provided = {key for stage in result.plan.order for key in stage.provides}
+    return {"uses_crank_masses": bool(provided & {FORCES, COUNTERWEIGHTS}),
+            "uses_crankcase_pressure": FORCES in provided}
 
 
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
@@ -211,10 +240,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     appendices: list[SectionView] = []
     core_letter = appendix_letter(t, 0) if course else ""
     ctx.start_section(1, "input")
-    sections.append(SectionView(1, "input", t("report.input_title"),
-                                Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                           mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                                           stage_rows=_stage_input_rows(result, ctx)))))
+    sections.append(SectionView(1, "input", t("report.input_title"), _input_section(result, registry, ctx)))
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     notes: list[str] = []
     for stage in result.plan.order:
@@ -242,11 +268,12 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         if stage.references and set(stage.references) != {PROJECT_METHOD}:
             numbers = [references.index(r) + 1 for r in stage.references]
             body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
-        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
+        view = SectionView(number, stage.name, ctx.title or t(stage.title_key),
+                           Markup(cite_sources(body, references)), list(ctx.conclusions))
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
-            notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
-                                    for k, v in params.items()}))
+            notes.append(cite_sources(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                                                 for k, v in params.items()}), references))
 
     for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
         notes.append(t(key, **format_params(params, t.decimal_separator)))

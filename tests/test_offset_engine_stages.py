@@ -1,0 +1,179 @@
+"""The offset crank-slider through the torque, bearing and balancing stages: each result against
+an independent value (virtual work, the rod's direction from the linkage, a quadrature of the
+exact acceleration, the central mechanism at e = 0)."""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from crankdyn.cli import examples_dir
+from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS
+from crankdyn.orchestrator import run_scene
+from crankdyn.physics import balancing as bal
+from crankdyn.physics import offset_crank as oc
+from crankdyn.plugins import default_registry
+from crankdyn.scene import scene_from_dict
+from conftest import modified
+
+REGISTRY = default_registry()
+R, L, E = 0.039, 0.14, 0.008  # examples/offset-crank-engine.toml
+LAM, K = R / L, E / L
+#: a coarser grid than the example's keeps each run cheap; the checks hold at any step
+COARSE = {"analysis": {"angle_step_deg": 2, "table_step_deg": 30}}
+
+
+def _run(changes=None):
+    data = modified("offset-crank-engine", {**COARSE, **(changes or {})})
+    return run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
+
+
+@pytest.fixture(scope="module")
+def offset_run():
+    return _run()
+
+
+def test_offset_engine_gets_torque_bearings_and_balancing(offset_run):
+    for stage in ("bays", "torque", "bearings", "balancing"):
+        assert stage in offset_run.stages_run, offset_run.plan.skipped.get(stage)
+
+
+def test_torque_by_virtual_work(offset_run):
+    """T omega = F_piston v_piston, with v from a central difference of the displacement."""
+    motion = offset_run.outputs["offset_crank"].data[KINEMATICS]
+    forces = offset_run.outputs["forces"].tables["forces"]
+    torque = offset_run.outputs["torque"].data[ENGINE_TORQUE]
+    area = np.pi * 0.082**2 / 4
+    h = 1e-3  # deg
+    ds = (motion.displacement_at(motion.crank_angle_deg + h)
+          - motion.displacement_at(motion.crank_angle_deg - h)) / np.radians(2 * h)
+    piston_force = forces["total_Pa"].to_numpy() * area
+    np.testing.assert_allclose(torque.torque_Nm, piston_force * ds,
+                               atol=1e-6 * np.max(np.abs(piston_force)) * R)
+
+
+def test_rod_bearing_is_loaded_along_the_rod(offset_run):
+    """The two-mass rod carries its force along its axis: across the rod the bearing sees only the
+    rod's rotating part, c_rod sin(phi + beta), phi the crank's angle from the cylinder axis."""
+    table = offset_run.outputs["bearings"].tables["bearings"]
+    c_rod = offset_run.outputs["bearings"].results["centrifugal_rod_Pa"]
+    alpha = np.radians(table["crank_angle_deg"].to_numpy())
+    phi = alpha + oc.dead_centres(R, L, E).tdc_angle_rad
+    beta = oc.rod_angle_rad(phi, LAM, K)
+    np.testing.assert_allclose(table["rod_bearing1_t_Pa"], c_rod * np.sin(phi + beta),
+                               atol=1e-9 * abs(c_rod))
+
+
+def test_main_bearings_carry_the_rod_force_and_the_rotating_masses(offset_run):
+    """Both main bearings together carry the rod's push along its own axis, (p1 tan beta, p1) in
+    engine axes (t lateral, z along the cylinder axis towards the shaft), and the rotating masses'
+    and counterweights' force, fixed in the crank's axes and turned with it by phi = alpha + phi_TDC."""
+    table = offset_run.outputs["bearings"].tables["bearings"]
+    p1 = offset_run.outputs["forces"].tables["forces"]["total_Pa"].to_numpy()
+    forces = offset_run.outputs["forces"].data["forces"]
+    alpha = np.radians(table["crank_angle_deg"].to_numpy())
+    phi = alpha + oc.dead_centres(R, L, E).tdc_angle_rad
+    beta = oc.rod_angle_rad(phi, LAM, K)
+    # in crank axes: z towards the shaft (the centrifugal force, outward, is negative), t across
+    cw = offset_run.outputs["balancing"].data[COUNTERWEIGHTS]
+    pull = cw.centrifugal_N / forces.piston_area_m2  # each counterweight pulls outward at psi
+    crank_z = forces.centrifugal_Pa - np.sum(pull * np.cos(cw.angle_from_crank_rad))
+    crank_t = np.sum(pull * np.sin(cw.angle_from_crank_rad))
+    lateral = p1 * np.tan(beta) + crank_t * np.cos(phi) - crank_z * np.sin(phi)
+    axial = p1 + crank_t * np.sin(phi) + crank_z * np.cos(phi)
+    total_t = table["main_bearing0_t_Pa"].to_numpy() + table["main_bearing1_t_Pa"].to_numpy()
+    total_z = table["main_bearing0_z_Pa"].to_numpy() + table["main_bearing1_z_Pa"].to_numpy()
+    scale = np.max(np.abs(p1))
+    np.testing.assert_allclose(total_t, lateral, atol=1e-9 * scale)
+    np.testing.assert_allclose(total_z, axial, atol=1e-9 * scale)
+
+
+def test_offset_harmonics_by_quadrature():
+    """A_n = a_n - i b_n with a_n, b_n the Fourier integrals of the exact offset acceleration."""
+    harmonics = bal.harmonics_for(LAM, 12, K)
+    for n in (1, 2, 3, 4):
+        def j(a):
+            return oc.piston_acceleration_m_s2(a, 1.0, LAM, K, 1.0)
+        a_n = integrate.quad(lambda a: j(a) * np.cos(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi
+        b_n = integrate.quad(lambda a: j(a) * np.sin(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi
+        assert harmonics[n] == pytest.approx(complex(a_n, -b_n), abs=1e-12)
+    assert abs(harmonics[3]) > 1e-3  # an odd order the central mechanism does not have
+
+
+def test_offset_harmonics_become_the_central_ones():
+    central = bal.harmonics_for(LAM, 12)
+    tiny = bal.harmonics_for(LAM, 12, 1e-9)
+    np.testing.assert_allclose(tiny.real, central, atol=1e-8)
+    np.testing.assert_allclose(tiny.imag, 0.0, atol=1e-8)
+
+
+def test_offset_balancing_checks_against_the_exact_force(offset_run):
+    r = offset_run.outputs["balancing"].results
+    assert r["offset_ratio"] == pytest.approx(K)
+    assert r["time_domain_check"]["agrees"] and r["residual"]["vanishes"]
+    assert 3 in r["time_domain_check"]["orders"]
+    # one cylinder: every order pulses along the axis with its amplitude |A_n| C_I
+    harmonics = bal.harmonics_for(LAM, 12, K)
+    for o in r["orders"]:
+        if o["order"]:
+            assert o["force_max_N"] == pytest.approx(abs(harmonics[o["order"]]) * r["first_order_N"], rel=1e-9)
+
+
+def test_zero_offset_balancing_is_the_central_one():
+    offset = _run({"mechanism": {"offset": "0 mm"}})
+    central = _run({"engine": {"mechanism": "crank_slider"}, "mechanism": None})
+    a, b = offset.outputs["balancing"].results, central.outputs["balancing"].results
+    assert a["counterweights"][0]["mass_kg"] == pytest.approx(b["counterweights"][0]["mass_kg"], rel=1e-12)
+    assert a["absolute"]["sum_PII_N"] == pytest.approx(b["absolute"]["sum_PII_N"], rel=1e-12)
+    ta, tb = offset.outputs["bearings"].tables["bearings"], central.outputs["bearings"].tables["bearings"]
+    for column in ("rod_bearing1_t_Pa", "rod_bearing1_z_Pa", "main_bearing0_t_Pa", "main_bearing1_z_Pa"):
+        np.testing.assert_allclose(ta[column], tb[column], atol=1e-6 * np.max(np.abs(tb[column])))
+
+
+@pytest.mark.parametrize("engine", [
+    {"cylinders": 4, "firing_order": [1, 3, 4, 2], "cylinder_spacing": "90 mm"},
+    {"cylinders": 8, "layout": "V", "bank_angle_deg": 90, "cylinder_spacing": "90 mm"},
+])
+def test_multi_cylinder_offset_engine(engine):
+    """Every cylinder an offset crank-slider at its own phase: the vector models reproduce the sum of
+    the cylinders' exact inertia forces, and the torque's mean is the indicated work per cycle."""
+    result = _run({"engine": engine, "analysis": {"angle_step_deg": 3, "table_step_deg": 30}})
+    for stage in ("bays", "torque", "bearings", "balancing"):
+        assert stage in result.stages_run, result.plan.skipped.get(stage)
+    balancing = result.outputs["balancing"].results
+    assert balancing["time_domain_check"]["agrees"] and balancing["residual"]["vanishes"]
+    harmonics = bal.harmonics_for(LAM, 12, K)
+    if engine["cylinders"] == 4:  # in line: the first orders cancel, the second add up
+        assert balancing["coefficients"]["sum_PI"] == 0.0
+        assert balancing["absolute"]["sum_PII_N"] == pytest.approx(
+            4 * abs(harmonics[2]) * balancing["first_order_N"], rel=1e-9)
+    torque = result.outputs["torque"].data[ENGINE_TORQUE]
+    work = result.outputs["bays"].results["indicated_work_J"]
+    assert torque.mean_torque_Nm == pytest.approx(work / (4 * np.pi), rel=2e-3)
+
+
+
+def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
+    """The Scotch yoke (the example plugin) provides `kinematics` only: with masses and a cycle it
+    gets the bays, torque and bearings, and its torque is T = F_piston R sin(alpha) (ds/dalpha of
+    a yoke), by virtual work."""
+    from test_scene_corpus import _plugin_registry  # the example plugin, registered once
+
+    data = tomllib.loads((examples_dir() / "plugin-example" / "scotch-yoke.toml").read_text(encoding="utf-8"))
+    data["analysis"] = {"angle_step_deg": 2}
+    data["masses"] = {"piston_group": "0.4 kg", "rod": "0.3 kg", "rod_cm_fraction": 0.3,
+                      "crank_pin": "0.2 kg", "crank_web": "0.1 kg"}
+    data["cycle"] = {"source": "theoretical", "ignition": "spark", "compression_ratio": 9,
+                     "intake_pressure": "0.09 MPa", "compression_index": 1.36, "max_pressure": "5 MPa",
+                     "expansion_index": 1.25}
+    result = run_scene(scene_from_dict(data, base_dir=examples_dir() / "plugin-example"), _plugin_registry())
+    for stage in ("bays", "torque", "bearings"):
+        assert stage in result.stages_run, result.plan.skipped.get(stage)
+    forces = result.outputs["forces"].tables["forces"]
+    alpha = np.radians(forces["crank_angle_deg"].to_numpy())
+    piston_force = forces["total_Pa"].to_numpy() * np.pi * 0.06**2 / 4
+    torque = result.outputs["torque"].data[ENGINE_TORQUE].torque_Nm
+    np.testing.assert_allclose(torque, piston_force * 0.04 * np.sin(alpha), atol=1e-9 * np.max(np.abs(piston_force)))
