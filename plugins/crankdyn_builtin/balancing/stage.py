@@ -498,7 +498,7 @@ def _star_drawing(t, r):
         for key, members in groups.items():
             d = math.radians(key / 100)
             _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
-            # on a white ground: the dashed cylinder axis behind a label along it no longer cuts it
+            # on a white ground: the dashed cylinder axis behind a label along it does not cut it
             ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7,
                     zorder=5, bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6})
         # the title inside the axes' limits: above them, an equal-aspect panel's title was cut at the top
@@ -558,7 +558,7 @@ def _models_drawing(t, r):
             wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
             # the vectors named beside their middles (a black-and-white print still tells them apart),
-            # f on the left of its arrow, b on the right, 5 pt off the line (a supervisor: on the arrows)
+            # f on the left of its arrow, b on the right, 5 pt off the line (on the arrows they are unreadable)
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
                 _name_arrow(ax, "f", 0j, f, side=1.0)
@@ -571,7 +571,7 @@ def _models_drawing(t, r):
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
             if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
-                # under the panel, clear of its dotted circle (a supervisor: printed over it)
+                # under the panel, clear of its dotted circle (over it the label is unreadable)
                 ax.text(0.5, 0.0, t("balancing.balanced_label"), ha="center", va="top", fontsize=7, color="C2",
                         transform=ax.transAxes)
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
@@ -802,7 +802,7 @@ def _conclude(ctx, r) -> None:
 
 #: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
 #: (a moment: of C_I·a, a the cylinder spacing) is said to be negligible, not listed among the
-#: unbalanced ones (a supervisor: "ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
+#: unbalanced ones ("ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
 NEGLIGIBLE_SHARE = 0.01
 
 
@@ -838,8 +838,8 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
 
 
 def _circular(hodograph: dict) -> bool:
-    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (a
-    supervisor read "0,0°" beside the semi-axes 1,000 / 1,000)."""
+    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (an
+    angle "0,0°" beside the semi-axes 1,000 / 1,000 would mean nothing)."""
     return round(hodograph["semi_major"], 9) == 0 or \
         abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
 

@@ -200,7 +200,7 @@ _FAR_PLACES = ((12, 12, "left", "bottom"), (-12, 12, "right", "bottom"), (12, -1
                (-12, -12, "right", "top"))
 
 
-#: The polar diagrams' angle labels, pt (6 pt read as too small in print: a supervisor).
+#: The polar diagrams' angle labels, pt (6 pt is too small to read in print).
 LABEL_PT = 7.0
 
 
@@ -324,7 +324,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
 
 
 #: A diagram at most this wide (cm) stands beside the next one: two tall, narrow diagrams on a
-#: page instead of one on each, with half of it empty (a supervisor's reading).
+#: page instead of one on each, with half of it empty.
 HALF_WIDTH_CM = 8.0
 
 
@@ -428,8 +428,8 @@ _SEE = re.compile(r'<p class="see">(.*?)</p>', flags=re.S)
 
 def _figure_row(first, second) -> Markup:
     """Two figures side by side, announced together in one paragraph above the row (each one's
-    sentence in its own half-width column took two lines, and the row then no longer fitted under
-    a chapter's text: a 27 %-full page; a supervisor saw the captions at different heights)."""
+    sentence in its own half-width column takes two lines, and the row then does not fit under
+    a chapter's text: a 27 %-full page, and the captions at different heights)."""
     sentences = " ".join(m.group(1) for block in (first, second) for m in [_SEE.search(str(block))] if m)
     blocks = "".join(_SEE.sub("", str(block), count=1) for block in (first, second))
     return Markup(f'<div class="figure-row-block"><p class="see">{sentences}</p>'
@@ -460,8 +460,8 @@ def _wear_drawing(wear, r, k):
     ax.plot(np.linspace(0, 2 * np.pi, 361), np.ones(361), color="0.2", lw=1.0)
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
     ax.plot([oil, oil], [0.85, 1.12], color="C2", lw=2)
-    # the crank's axes the angles are counted in, as the polar diagrams draw them (a supervisor could
-    # not tell where 0° and +z were): z towards the shaft axis, t in the direction of rotation
+    # the crank's axes the angles are counted in, as the polar diagrams draw them (without them a
+    # reader cannot tell where 0° and +z are): z towards the shaft axis, t in the direction of rotation
     for angle, name in ((0.0, "$z$"), (np.pi / 2, "$t$")):
         ax.annotate("", xy=(angle, 0.25), xytext=(0.0, 0.0),
                     arrowprops={"arrowstyle": "-|>", "color": "0.25", "lw": 1.0})

@@ -284,7 +284,7 @@ def report_css(language: str, frame: str = "none") -> str:
 
 def _timing_rows(result, shown: dict, t) -> list[tuple[str, float]]:
     """(title, seconds) of each stage that ran; one that ran without a section (one cylinder's
-    engine scheme, its torque) says so (a supervisor found stages timed that the note has no section of)."""
+    engine scheme, its torque) says so (a stage timed with no section of its own is otherwise a puzzle)."""
     return [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
              result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
 
@@ -550,7 +550,7 @@ _CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data
 
 
 #: ``@@SECTION:kinematics@@`` in a catalog text: the number of that stage's section in this report
-#: ("див. розділ 2"; a supervisor: "см. раздел кинематики" names no section).
+#: ("див. розділ 2"; "см. раздел кинематики" names no section).
 SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
 
 
