@@ -1,4 +1,4 @@
-"""The Word export (issue 20): report.docx has the HTML report's structure, with native tables and equations."""
+"""The Word export: report.docx has the HTML report's structure, with native tables and equations."""
 
 from __future__ import annotations
 

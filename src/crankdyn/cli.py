@@ -62,7 +62,7 @@ def report_languages() -> list[str]:
 def report_language(text: str) -> str:
     """``--lang`` as a language code: any case (``UK`` is ``uk``); a name or code users often type
     for another (``ua``, ``eng``, ``uk-UA``) is refused with the code it most likely means."""
-    import difflib
+    import difflib  # lazy: heavy optional import (only a refused --lang is matched)
 
     languages = report_languages()
     code = text.strip().lower()
@@ -150,7 +150,14 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"crankdyn {__version__}")
     parser.add_argument("--debug", action="store_true", help="show a traceback on internal errors")
     sub = parser.add_subparsers(dest="command", required=True)
+    _report_parser(sub)
+    _other_parsers(sub)
+    _batch_parser(sub)
+    _sweep_parser(sub)
+    return parser
 
+
+def _report_parser(sub) -> None:
     report = _command(sub, "report", "compute a scene and write the report and data", REPORT_EPILOG)
     report.add_argument("scene", type=Path, help="the scene file (TOML)")
     report.add_argument("-o", "--output", type=Path, default=Path("report"), help="output folder (default: report)")
@@ -170,6 +177,8 @@ def _parser() -> argparse.ArgumentParser:
     _stage_timeout_option(report)
     _data_dir_option(report)
 
+
+def _other_parsers(sub) -> None:
     check = _command(sub, "check", "validate a scene as 'report' does (computed, nothing written)",
                      CHECK_EPILOG)
     check.add_argument("scene", type=Path, help="the scene file (TOML)")
@@ -209,6 +218,8 @@ def _parser() -> argparse.ArgumentParser:
     serve.add_argument("--open", action="store_true", help="open the preview in the default browser")
     serve.add_argument("-q", "--quiet", action="store_true", help="no log lines on stderr, only the URL")
 
+
+def _batch_parser(sub) -> None:
     batch = _command(sub, "batch", "one report per row of a CSV of student variants, plus an "
                      "answer key", BATCH_EPILOG)
     batch.add_argument("variants", type=Path, help="CSV: a header of dotted scene paths (engine.bore, ...) "
@@ -228,8 +239,6 @@ def _parser() -> argparse.ArgumentParser:
                        "(default 120, at most 86400)")
     _scheduler_options(batch)
     _data_dir_option(batch)
-    _sweep_parser(sub)
-    return parser
 
 
 def _sweep_parser(sub) -> None:

@@ -501,7 +501,7 @@ def _star_drawing(t, r):
             # on a white ground: the dashed cylinder axis behind a label along it does not cut it
             ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7,
                     zorder=5, bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6})
-        # the title inside the axes' limits: above them, an equal-aspect panel's title was cut at the top
+        # the title inside the axes' limits: above them, an equal-aspect panel's title is cut
         ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)
         ax.set_ylim(-1.4, 1.75)
@@ -558,7 +558,7 @@ def _models_drawing(t, r):
             wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
             # the vectors named beside their middles (a black-and-white print still tells them apart),
-            # f on the left of its arrow, b on the right, 5 pt off the line (on the arrows they are unreadable)
+            # f on the left of its arrow, b on the right, 5 pt off the line (not on the arrows)
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
                 _name_arrow(ax, "f", 0j, f, side=1.0)
@@ -872,7 +872,7 @@ def _unbalanced_item(ctx, r, item) -> str:
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
     amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
     order = item["order"]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
-    # a word joiner after the bar: "(4,000·|A4|" was parted from "CI)" at a line's end
+    # a word joiner after the bar: "(4,000·|A4|" is not parted from "CI)" at a line's end
     scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|\u2060C_I"
     return f"{_plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 

@@ -52,8 +52,8 @@ STYLE = {
 
 
 #: Typeset mathtext strings kept per process. matplotlib keeps 50 per parser, and each renderer
-#: has a parser of its own (every figure's SVG renderer makes a new one): a label was typeset
-#: again for every figure, and for every report of a batch or save of the preview
+#: has a parser of its own (every figure's SVG renderer makes a new one): a label would be
+#: typeset again for every figure, and for every report of a batch or save of the preview
 #: (pyparsing: ~5 ms a label).
 MATHTEXT_CACHE = 4096
 

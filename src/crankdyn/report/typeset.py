@@ -618,8 +618,8 @@ WORD_JOINER = "\u2060"
 #: line break after "|", which would leave "C_n = |" at a line's end).
 _OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=·])|^)\|(?=[^\s|\u2060]|$)")
 #: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
-#: title page would otherwise break "Петров В. /М."): a no-break space before a capital initial after a word or an
-#: initial, and ("В. М. Петров") after an initial before a capitalised word.
+#: title page would otherwise break "Петров В. /М."): a no-break space before a capital
+#: initial after a word or an initial, and ("В. М. Петров") after an initial before a capitalised word.
 _BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-ZА-ЯІЇЄҐЁ]\.)*(?:[\s,;:)]|$))"
                              r"|(?<=\b[A-ZА-ЯІЇЄҐЁ]\.) (?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])")
 
@@ -763,8 +763,8 @@ def _legend_outside(ax) -> None:
 
 def _legend_columns(ax, labels, size_pt: float) -> int:
     """As many columns (at most 4) as fit the figure's width: four long labels in one row ("main
-    journal after crank 1" …) were wider than the figure, and the layout squeezed the axes into
-    its right half to make room. A label's width is estimated at 0.55 em a character, plus the
+    journal after crank 1" …) are wider than the figure, and the layout would squeeze the axes
+    into its right half to make room. A label's width is estimated at 0.55 em a character, plus the
     line sample and the gap between columns (about 3 em)."""
     width_pt = ax.figure.get_figwidth() * 72.0 * 0.95
     longest = max(len(label) for label in labels)
