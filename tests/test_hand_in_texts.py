@@ -1,4 +1,4 @@
-"""The Ukrainian report of a single-cylinder engine as a supervisor reads it: the balancing
+"""The Ukrainian report of a single-cylinder engine as a supervisor checks it: the balancing
 section speaks of one cylinder, not of sums over cylinders and moments;
 the figure of vector models is captioned for what it shows; the forces figure's legend writes
 p_г as the text does; a log axis shorter than a decade still carries numbers."""

@@ -108,7 +108,7 @@ REPORT_EPILOG = """\
 
 CHECK_EPILOG = """\
   crankdyn check engine.toml            # valid? the stages run and left out, the defaults
-  crankdyn check engine.toml --lang uk  # the warnings in Ukrainian"""
+  crankdyn check engine.toml --lang uk  # checked as a Ukrainian report"""
 
 EXAMPLE_EPILOG = """\
   crankdyn example --list
