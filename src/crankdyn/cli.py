@@ -171,7 +171,7 @@ def _report_parser(sub) -> None:
     report.add_argument("--force", action="store_true",
                         help="replace files in the output folder that crankdyn did not write or that were "
                         "edited since (otherwise the run is refused and nothing is written)")
-    report.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    report.add_argument("-q", "--quiet", action="store_true", help="no summary line (warnings still shown)")
     report.add_argument("-v", "--verbose", action="store_true",
                         help="also list the stages left out and why (as 'check' does)")
     _stage_timeout_option(report)
