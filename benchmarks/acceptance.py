@@ -1,4 +1,5 @@
-"""Issue 17's acceptance figures, each as a ratio to its goal measured in the same run.
+"""The acceptance figures (start-up, rendering, memory, batch, preview), each as a ratio to its
+goal measured in the same run.
 
 Run from the repository root (takes a few minutes; writes only below a temporary folder):
 
@@ -150,7 +151,7 @@ def main() -> None:
                          found["save -> ... with the error study too"], 1.0))
             rows.append(("preview: save -> its figures loaded too, median (s) / 1 s", figures, 1.0))
 
-    print(f"issue 17 acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs)")
+    print(f"acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs)")
     print(f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}")
     for what, measured, goal in rows:
         ratio = measured / goal

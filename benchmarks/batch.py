@@ -6,14 +6,14 @@ Builds a variants CSV over the bundled petrol-1cyl example (speed, piston mass a
 pressure vary per row; rows 7 and 19 carry a bad value) and, each in a fresh process, runs the
 batch exactly as the command line does, twice per repeat, interleaved:
 
-* ``warm``: as crankdyn does now (the parent loads matplotlib with a first figure, the report
+* ``warm``: as crankdyn does (the parent loads matplotlib with a first figure, the report
   language's translator and, for PDFs, WeasyPrint once; the forked workers inherit them);
-* ``cold``: the parent loads only the plugins and the report code, as before issue 17 item 3,
+* ``cold``: the parent loads only the plugins and the report code (no warm-up),
   so every variant's worker imports and initialises the rest itself.
 
 It also times the work of one variant in one warm process (compute + render + write, the
 median of three), which gives the batch-level overhead as a ratio: wall time / (ok variants x
-work per variant / jobs). Prints the goal of issue 17 (30 variants HTML + JSON in <= 30 s on two
+work per variant / jobs). Prints the batch goal (30 variants HTML + JSON in <= 30 s on two
 cores) as a ratio and appends a record to benchmarks/results/batch.jsonl. Not part of the tests.
 """
 
@@ -33,7 +33,7 @@ import time
 from pathlib import Path
 
 BROKEN = {7: ("engine.bore", "-82 mm"), 19: ("cycle.max_pressure", "1.0 MPa")}
-GOAL_S = 30.0  # issue 17: 30 variants, HTML + JSON, two cores
+GOAL_S = 30.0  # 30 variants, HTML + JSON, two cores
 
 
 def write_variants(path: Path, rows: int) -> Path:
@@ -52,7 +52,7 @@ def write_variants(path: Path, rows: int) -> Path:
 
 
 def _cold_warm(formats, languages=()) -> None:
-    """What the batch's parent loaded before issue 17 item 3: the plugins and the report code only."""
+    """A batch parent without the warm-up: the plugins and the report code only."""
     import crankdyn.batch as batch
     from crankdyn import outputs, pipeline  # noqa: F401
     from crankdyn.report import i18n  # noqa: F401

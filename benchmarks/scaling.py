@@ -12,7 +12,7 @@ again under ``tracemalloc`` for its own peak of allocated memory (numpy reports 
 tracemalloc), so the time column is free of the tracing overhead. Writes nothing; not part of
 the test suite (heavy points belong here, never in tests).
 
-Acceptance (issue 17): the in-line 4 example at a 0.01 deg step within 600 MB of peak memory,
+Goal: the in-line 4 example at a 0.01 deg step within 600 MB of peak memory,
 and halving the step at most doubling every stage's time (the ``x prev`` column, within noise).
 """
 

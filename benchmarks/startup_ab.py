@@ -6,7 +6,7 @@ The earlier commit is unpacked (``git archive``) into a temporary folder and put
 ``PYTHONPATH``, so the same interpreter and packages run both; each repeat times, in turn, the
 yardstick ``python3 -c "import numpy, scipy.integrate, scipy.optimize"``, the earlier tree and
 this one (whole processes, byte-code caching on). Prints the medians, the ratios to the yardstick
-(issue 17's goal: at most 1.5) and the numerics stage's own time from each results.json.
+(the goal: at most 1.5) and the numerics stage's own time from each results.json.
 Not part of the test suite.
 """
 

@@ -1,4 +1,4 @@
-"""Page-layout checks on a rendered explanatory note (issue: DSTU 3008 layout).
+"""Page-layout checks on a rendered explanatory note (DSTU 3008 layout).
 
 Reads a PDF the way a supervisor leafs through it: the pages as low-resolution images
 (``pdftoppm``) for how full each one is, and the pages' text (``pdftotext -layout``) for what

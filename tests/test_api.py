@@ -1,4 +1,4 @@
-"""The Python API (issue 21): crankdyn.load/run/sweep, Result, docs/api.md and the example notebook."""
+"""The Python API: crankdyn.load/run/sweep, Result, docs/api.md and the example notebook."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""True dead centres of articulated (slave) rods, the actual firing intervals and the torque period (issue 18).
+"""True dead centres of articulated (slave) rods, the actual firing intervals and the torque period.
 
 Independent reference, written here: the slave-rod linkage solved directly in Cartesian coordinates. Master
 axis along x, crank pin B = R (cos a, sin a), master rod angle b with sin b = lambda sin a, the slave pin
@@ -56,7 +56,7 @@ def test_dead_centre_shifts_against_a_direct_solve(radial):
         assert abs(s["tdc_shift_deg"] - math.degrees(tdc - g)) < 1e-7, s["cylinder"]
         assert abs(s["bdc_shift_deg"] - math.degrees(bdc - g - math.pi)) < 1e-7, s["cylinder"]
         shifts.append(abs(s["tdc_shift_deg"]))
-    assert 3.5 < max(shifts) < 4.5  # the issue's measurement: up to 3.9 deg
+    assert 3.5 < max(shifts) < 4.5  # measured on this engine: up to 3.9 deg
 
 
 def test_actual_firing_intervals_and_torque_period(radial):

@@ -1,4 +1,4 @@
-"""Balancing (issue 5): vector models against the real forces, textbook closed forms, counterweights and shafts."""
+"""Balancing: vector models against the real forces, textbook closed forms, counterweights and shafts."""
 
 from __future__ import annotations
 
@@ -501,7 +501,7 @@ def test_the_abstracts_finding_agrees_in_number_with_what_stays_unbalanced(langu
 
 
 def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
-    """The ru reading: ΣP_I/C_I in the figure had italic Roman numerals, upright in the text."""
+    """ΣP_I/C_I sets its Roman numerals upright in the figure, as the text does."""
     from crankdyn.cli import main
 
     out = tmp_path / "out"
@@ -509,11 +509,11 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
                  "--stages", "balancing"]) == 0
     svg = "".join(p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg"))
     assert r"$P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg
-    # one cylinder's own forces, no sums (the uk reading: "ΣC/C" over a single crank), here as in its tables
+    # one cylinder's own forces, no sums (no "ΣC/C" over a single crank), here as in its tables
     section = re.search(r'data-stage="balancing">.*?</section>', (out / "report.html").read_text(encoding="utf-8"),
                         flags=re.S).group(0)
     assert r"\Sigma" not in svg and "Σ" not in section
-    # one cylinder: no moments in the summary table, nor in its caption (the ru reading)
+    # one cylinder: no moments in the summary table, nor in its caption
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Balance of the forces, and the balancing means" in html
     assert "Balance of the forces and moments" not in html

@@ -155,7 +155,7 @@ def test_batch_cli_refuses_a_missing_base_scene(tmp_path):
 
 
 def test_each_variant_title_page_names_its_own_variant_and_student(tmp_path):
-    """Issue 15, item 9: the batch writes each student's own title page (HTML only, no PDF)."""
+    """The batch writes each student's own title page (HTML only, no PDF)."""
     path = tmp_path / "v.csv"
     path.write_text("variant,report.student,engine.rpm\n3,Шевченко Т. Г.,4000\n14,Коваленко І. А.,4500\n",
                     encoding="utf-8")

@@ -1,4 +1,4 @@
-"""Vector load diagrams of crank pins, main journals and bearings (issue 4)."""
+"""Vector load diagrams of crank pins, main journals and bearings."""
 
 from __future__ import annotations
 
@@ -144,7 +144,7 @@ def test_results_keys_per_pin_and_journal():
 
 def test_main_journals_are_named_by_the_cranks_they_lie_between_each_name_once():
     """0 is the free end, the number after the last crank the other end: a single-throw shaft has
-    journals 0-1 and 1-2 (a supervisor read "1-0" as 0-1 written backwards)."""
+    journals 0-1 and 1-2 ("1-0" would read as 0-1 written backwards)."""
     assert [j["journal"] for j in run("petrol-1cyl").outputs["bearings"].results["main_journals"]] == ["0-1", "1-2"]
     v8 = run("v8-petrol").outputs
     assert [j["journal"] for j in v8["bearings"].results["main_journals"]] == ["0-1", "1-2", "2-3", "3-4", "4-5"]
@@ -156,8 +156,8 @@ def test_bearing_section_renders(language):
     html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
-    # a journal's name "2–3": an en dash between the cranks' numbers (a supervisor read "0-1" beside
-    # the pins' "1–4" as two conventions; the pins' range is now "1…4"); the results keep "0-1"
+    # a journal's name "2–3": an en dash between the cranks' numbers ("0-1" beside the pins' "1–4"
+    # would read as two conventions; the pins' range is "1…4"); the results keep "0-1"
     section = html[html.index('data-stage="bearings"'):]
     section = section[:section.index("</section>")]
     text = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
@@ -214,7 +214,7 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
 
 
 def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
-    """The ru reading: "330" stood beside the 480° mark, "120" beside the 330° one. Whatever the
+    """No "330" beside the 480° mark, no "120" beside the 330° one: whatever the
     crowding, a label's box is nearer its own point than any other point."""
     from crankdyn_builtin.bearings.stage import _label_places
 
@@ -238,8 +238,8 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
     assert placed >= 10  # the rule leaves most labels a place
 
 def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
-    """The ru reading: "90, 330, 660" was printed over the oil hole's line, "180" over the pole's O.
-    A label's box meets none of the obstacles (pole, letter O, points along the line)."""
+    """No "90, 330, 660" printed over the oil hole's line, no "180" over the pole's O:
+    a label's box meets none of the obstacles (pole, letter O, points along the line)."""
     from crankdyn_builtin.bearings.stage import _label_places, _pole_and_oil_hole
 
     obstacles = _pole_and_oil_hole(pole_z=0.0, radius=20.0, oil_deg=0.0, per_pt=1.0)  # the line runs up to z = 20
@@ -262,7 +262,7 @@ def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
 
 
 def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
-    """A supervisor: labels sat on the curve ("90, 450" on the loop it labels) and inside loops.
+    """No label on the curve ("90, 450" on the loop it labels) nor inside a loop.
     With the curve given, a label goes to a corner the curve does not cross, facing away from the
     curve's centre; where every free corner is crossed, to the one crossed least."""
     import numpy as np
@@ -355,7 +355,7 @@ def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_say
 
 
 def test_pins_that_print_alike_take_one_row():
-    """The uk reading: table 9.1 of the in-line four repeated one row four times."""
+    """Table 9.1 of the in-line four does not repeat one row four times."""
     from crankdyn_builtin.bearings.worked import pin_rows as _pin_rows
 
     pin = {"max_N": 16370.0, "mean_N": 9890.0, "max_MPa": 10.22, "mean_MPa": 6.17, "oil_hole_deg": 175.0}
@@ -367,7 +367,7 @@ def test_pins_that_print_alike_take_one_row():
 
 
 def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_number_bound():
-    """A supervisor: each tall, narrow polar diagram stood alone on a page, half of it empty. A crank
+    """No tall, narrow polar diagram alone on a page, half of it empty. A crank
     pin's and its rod bearing's diagrams (a main journal's and its bearing's) share a row when both
     are at most HALF_WIDTH_CM wide; "рис. 7.1" is never parted at a line's end."""
     import re
@@ -388,8 +388,8 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
 
 
 def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():
-    """A supervisor: the wear diagram had angles but no axes and no direction, so 0° could not be
-    related to +z nor the oil hole checked. It draws the crank's z (towards the shaft axis, at 0°)
+    """Without axes and a direction the wear diagram's 0° cannot be related to +z nor the oil
+    hole checked. It draws the crank's z (towards the shaft axis, at 0°)
     and t (the direction of rotation, at 90°), inside the journal's circle."""
     import numpy as np
 

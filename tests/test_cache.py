@@ -1,5 +1,5 @@
 """Incremental preview: a stage re-runs only when the scene fields it read or its upstream data
-changed (issue 17). Counted stage runs, not timings."""
+changed. Counted stage runs, not timings."""
 
 from __future__ import annotations
 
@@ -101,7 +101,7 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
 def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_read(tmp_path, monkeypatch):
     """The preview's user saves a new trace while the indicator is computed from the old one: the
     entry keeps the digest of the bytes the stage opened, so the next run computes the new ones
-    (found by a review: the digest used to be taken after the run)."""
+    (a digest taken after the run would miss an edit made while the stage ran)."""
     import shutil
 
     import crankdyn_builtin.indicator.stage as indicator_stage
@@ -125,9 +125,9 @@ def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_
 
 
 def test_a_study_computed_elsewhere_depends_on_the_data_files_too(tmp_path):
-    """A review's finding: a study adopted from the preview's worker counted as having read every
-    scene field but no data file, so a trace edited between the grid's angles (the indicator's
-    output unchanged) left it stale."""
+    """A study adopted from the preview's worker counts as having read every scene field and its
+    data files, so a trace edited between the grid's angles (the indicator's output unchanged)
+    does not leave it stale."""
     import shutil
 
     from crankdyn.cache import FILE

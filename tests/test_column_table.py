@@ -1,4 +1,4 @@
-"""A stage's tables read without pandas (issue 17: the report's serial start): ``Tables.arrays``
+"""A stage's tables read without pandas (the report's serial start): ``Tables.arrays``
 gives the same numbers as the DataFrame, a pickled ``Tables`` stays as stored, and a report
 renders without importing pandas."""
 

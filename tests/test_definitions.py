@@ -1,4 +1,4 @@
-"""One definition per quantity (issue 18, item 3): both definitions reported and named, each checked
+"""One definition per quantity: both definitions reported and named, each checked
 against an independent value.
 
 * C_II: the textbook's lambda*C_I and the exact second harmonic A_2*C_I of the inertia force. A_2 is

@@ -1,4 +1,4 @@
-"""Mechanism drawings (issue 16): geometry against the kinematics, the report's scheme and
+"""Mechanism drawings: geometry against the kinematics, the report's scheme and
 positions figure, and the animation driven in headless Chromium."""
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ def test_positions_are_the_kinematics_extremes(example):
 def test_speed_extremes_are_named_by_the_stroke_they_lie_on(example):
     """v_max lies on the stroke towards BDC, v_min (the largest speed back) on the stroke towards
     TDC: the piston's travel rises from TDC to BDC and falls after, so the angles' order says it;
-    the panels say it in words (a supervisor read "v_min" as the slowest piston)."""
+    the panels say it in words ("v_min" alone reads as the slowest piston)."""
     import crankdyn_builtin.drawing
     from crankdyn.report.i18n import load_catalog_file
 

@@ -157,8 +157,8 @@ def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
 
 def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
     """A line gives the SI unit the formula is evaluated in and the worked substitutions use, as
-    the list of symbols says before it lists the tables' units: lines in the tables' units made
-    the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in мм,
+    the list of symbols says before it lists the tables' units: lines in the tables' units make
+    the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм,
     F_п in см² is ten times too small; p = q F_п/(d B) a hundred times)."""
     html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
                                         "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"))
@@ -205,8 +205,8 @@ def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
 
 
 def test_a_dotted_letter_is_not_the_letter():
-    """A review of the planetary note: "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
-    is the second derivative of a coordinate (the italic run "z̈" was read letter by letter)."""
+    """The planetary note has no "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
+    is the second derivative of a coordinate (the italic run "z̈" is not read letter by letter)."""
     # the rod dynamics' own letters (Stage.symbols): the vectors and the dotted z̈_A, none of them z
     assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == [
         "rod_dynamics.acceleration_G", "rod_dynamics.small_end_acceleration", "rod_dynamics.cylinder_axis_vector"]

@@ -1,4 +1,4 @@
-"""Exact rod loads (issue 18, item 5): with ``[rod_dynamics] apply_to_loads = true`` the forces, and so the
+"""Exact rod loads: with ``[rod_dynamics] apply_to_loads = true`` the forces, and so the
 bays, torque and bearings, use the rod as a rigid body.
 
 Independent reference, written here: the Newton-Euler equations of the piston and of the rod solved as a

@@ -1,4 +1,4 @@
-"""Firing-order and crank-arrangement explorer (issue 5, item 4)."""
+"""Firing-order and crank-arrangement explorer."""
 
 from __future__ import annotations
 

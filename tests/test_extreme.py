@@ -1,4 +1,4 @@
-"""Stiff and extreme scenes (issue 7, item 4): every output finite and its invariants kept, or a clear refusal.
+"""Stiff and extreme scenes: every output finite and its invariants kept, or a clear refusal.
 
 Each scene is a bundled example with a few keys changed (conftest.modified). The whole pipeline runs
 (not the PDF), including the numerics stage in a quick setting. Invariants and their tolerances:

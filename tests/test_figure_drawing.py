@@ -152,7 +152,7 @@ def test_log_axis_labels_are_powers_of_ten_in_unicode_superscripts():
 
 
 def test_a_log_axis_of_everyday_numbers_is_labelled_with_plain_numbers():
-    # a supervisor: "2·10⁰, 5·10⁰, 10¹" on the error study's step axis, where 2, 5 and 10 are meant;
+    # not "2·10⁰, 5·10⁰, 10¹" on the error study's step axis, where 2, 5 and 10 are meant;
     # within 0,01…10 000 the labels are plain numbers in the report's locale, beyond it powers of ten
     from crankdyn.report.figures import new_figure, to_svg
     from crankdyn.report.i18n import translator
@@ -281,7 +281,7 @@ def test_the_locale_formatter_gives_the_same_labels_when_asked_again_for_the_sam
 
 def test_six_digit_ticks_are_written_in_full_not_with_an_offset():
     """A rod's angular acceleration of 60 000 rad/s² reads "60 000" on its axis, not "0,6" under a
-    "×10⁵" at the axis end that a reader has to find (the supervisor's reading of fig. 2.2)."""
+    "×10⁵" at the axis end that a reader has to find."""
     from crankdyn.report.i18n import translator
     from crankdyn.report.typeset import tick_labels
 
@@ -360,7 +360,7 @@ def test_font_heights_remembered_by_the_svg_renderer_give_matplotlibs_own_bytes(
 
 
 def test_the_curves_of_one_axes_differ_by_dash_as_well_as_colour():
-    """A supervisor: two solid curves, blue and orange, read as one on a black-and-white copy. The
+    """Two solid curves, blue and orange, read as one on a black-and-white copy. The
     figures' cycle gives each colour its own dash, so curves drawn without a style of their own differ
     in print too (the first stays solid)."""
     import matplotlib

@@ -1,5 +1,5 @@
 """Figures stored once: report.html refers to figures/*.svg, --self-contained inlines them, the PDF
-gets them from memory through the safe URL fetcher (issue 17, rendering)."""
+gets them from memory through the safe URL fetcher."""
 
 from __future__ import annotations
 

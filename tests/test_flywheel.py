@@ -1,4 +1,4 @@
-"""The flywheel by the energy method (issue 7, item 2): excess work, irregularity, inertia, rim."""
+"""The flywheel by the energy method: excess work, irregularity, inertia, rim."""
 
 from __future__ import annotations
 

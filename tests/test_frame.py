@@ -115,7 +115,7 @@ def test_a_cell_text_is_set_in_the_largest_size_that_fits():
 
 
 def test_the_block_names_surname_and_initials_in_one_size():
-    """A supervisor: "доц. Петренко В. М." was set smaller than "Іваненко О. П." above it; the block
+    """"доц. Петренко В. М." is not set smaller than "Іваненко О. П." above it; the block
     writes the surname and initials (the title page keeps the academic title), both in one size."""
     from crankdyn.report.frame import person_in_block, title_block
     from crankdyn.report.i18n import translator
@@ -141,7 +141,7 @@ def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
 @pytest.mark.long
 @needs_poppler
 def test_the_framed_pdf_numbers_its_sheets_in_the_blocks(tmp_path):
-    """Issue: the ESKD frame. The in-line four in Ukrainian, up to its torque section (34 pages, one of
+    """The ESKD frame: the in-line four in Ukrainian, up to its torque section (34 pages, one of
     them landscape: the table of the forces on the cranks)."""
     # rows every 90°: fewer pages to lay out, the wide table of the forces on the cranks still landscape
     scene = write_scene(tmp_path / "framed.toml", modified("inline4-petrol", {"report": FRAMED | {"language": "uk"},

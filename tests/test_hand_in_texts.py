@@ -1,5 +1,5 @@
-"""What a supervisor read in the Ukrainian report of a single-cylinder engine (the fifth session's
-review): the balancing section speaks of one cylinder, not of sums over cylinders and moments;
+"""The Ukrainian report of a single-cylinder engine as a supervisor checks it: the balancing
+section speaks of one cylinder, not of sums over cylinders and moments;
 the figure of vector models is captioned for what it shows; the forces figure's legend writes
 p_г as the text does; a log axis shorter than a decade still carries numbers."""
 
@@ -91,8 +91,8 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
                      "Векторну діаграму навантаження на шатунний підшипник наведено на рис. 7.2.",
                      "Діаграму зношування шатунної шийки наведено на рис."):
         assert sentence in one, sentence
-    # each diagram of a pair side by side says whose load it shows (a supervisor: two "the vector
-    # diagram is given in fig. 9.x" next to each other); several cranks: with their numbers
+    # each diagram of a pair side by side says whose load it shows (not two "the vector diagram
+    # is given in fig. 9.x" next to each other); several cranks: with their numbers
     for sentence in ("Векторну діаграму навантаження на шатунну шийку 1 наведено на рис. 9.1.",
                      "Векторну діаграму навантаження на корінну шийку 2–3 наведено на рис. 9.3.",
                      "Векторну діаграму навантаження на корінний підшипник 2–3 наведено на рис. 9.4."):
@@ -158,8 +158,8 @@ def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
 
 
 def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_text_uses(reports):
-    """The supervisor found m_cp, m_w, C, C_I, c, V_a, δ, d, B used but not listed; m_cp read as
-    the Cyrillic 'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ."""
+    """m_cp, m_w, C, C_I, c, V_a, δ, d, B are used, so listed; m_cp would read as the Cyrillic
+    'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ."""
     one = reports("petrol-1cyl-uk")
     symbols = one[one.index('class="symbol-list"'):]
     symbols = symbols[:symbols.index("</div>")]
@@ -179,7 +179,7 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
 
 
 def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
-    """The supervisor of the in-line four read a V engine's text: "the axis of symmetry of a bay",
+    """The in-line four's note has none of a V engine's text: "the axis of symmetry of a bay",
     "the crank lag together with the bank angle", rods "side by side" on a common crank pin."""
     four, v8 = reports("inline4-petrol"), reports("v8-petrol")
     for words in ("вісь симетрії відсіку", "разом із кутом розвалу", "розташовані поруч", "спільну шатунну шийку"):
@@ -205,7 +205,7 @@ def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(report
 
 def test_the_wear_diagram_is_laid_inwards_from_the_journal_circle_with_its_scale(reports):
     """As the textbook draws it, and the caption says the scale: the largest summed load to 0.6 of
-    the radius, a relative measure (two supervisors read "6938 kN" as an impossible force; the sum
+    the radius, a relative measure ("6938 kN" would read as an impossible force; the sum
     over the grid's angles depends on the angle step)."""
     one = reports("petrol-1cyl-uk")
     assert re.search(r"сумарні навантаження секторів відкладено всередину кола шийки \(умовна міра зношування, а не "
@@ -225,7 +225,7 @@ def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(rep
     example (17 235 N, as equation 6.1 prints it) and P_I, P_II."""
     one = reports("petrol-1cyl-uk")
     text = re.sub(r"<[^>]+>", "", as_read(one)).replace("\u202f", " ")
-    # without the balancing means (a supervisor: "unbalanced" beside "balanced with its means" read as a contradiction)
+    # without the balancing means ("unbalanced" beside "balanced with its means" reads as a contradiction)
     assert "Без засобів зрівноваження незрівноважені сили (амплітуди): C = 17 235 Н, PI = 8248 Н, PII = 2357 Н" in text
     assert "Інші незрівноважені сили (" in text and "сили й моменти" not in text  # one cylinder: no moments
 
@@ -268,7 +268,7 @@ def test_a_long_formula_breaks_before_a_sign_outside_parentheses_only():
     for piece in pieces:  # no cut inside a pair of parentheses
         text = re.sub(r"<[^>]+>", "", piece)
         assert text.count("(") == text.count(")"), piece
-    # nor inside an element (a review: "<sup>n − 1</sup>" was cut into two spans)
+    # nor inside an element ("<sup>n − 1</sup>" is not cut into two spans)
     long_sup = "<i>q</i> = " + " + ".join("<i>a</i><sup>n − 1 + k</sup>" for _ in range(8)) + " = 1"
     for piece in unbroken_parts(long_sup).split('<span class="eq-part">')[1:]:
         body = piece.rsplit("</span>", 1)[0]
@@ -276,8 +276,8 @@ def test_a_long_formula_breaks_before_a_sign_outside_parentheses_only():
 
 
 def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports):
-    """The supervisor could not check the bearing and balancing tables without the firing order
-    and the cylinder spacing, nor the rounding and the flywheel without their data: table 1.1
+    """The bearing and balancing tables cannot be checked without the firing order and the
+    cylinder spacing, nor the rounding and the flywheel without their data: table 1.1
     lists the engine's layout, the cycle's rounding data and (through Stage.input_rows) the
     flywheel's given data."""
     four = as_read(reports("inline4-petrol"))
@@ -310,7 +310,7 @@ def test_the_introduction_states_the_aim_and_the_tasks_and_sections_do_not_repea
 
 
 def test_the_engine_layout_section_refers_to_the_scheme_with_the_crank_star(reports):
-    """A supervisor missed a scheme of the cranks in section 6: it refers to Fig. 3.1, drawn
+    """Section 6 needs a scheme of the cranks: it refers to Fig. 3.1, drawn
     with the crank star in section 3, by the number that figure got (ctx.figure_number)."""
     four = reports("inline4-petrol")
     assert "кінематичній схемі (рис. 3.1, зірка кривошипів)" in four
@@ -361,7 +361,7 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     # an absolute value's opening bar keeps its contents (the ru note ended a line with "C_n = |")
     bars = unbreakable_html("<p><i>C</i><sub>n</sub> = |<i>A</i><sub>n</sub>|·<i>C</i><sub>I</sub>, (|<i>x</i>|), a | b</p>")
     assert "</sub>\u00a0=\u00a0|\u2060<i>A</i>" in bars and "(|\u2060<i>x</i>" in bars and "a | b" in bars
-    # after a product's dot too (the uk reading: "(4,000·|" at a line's end, "A₄|C_I)" on the next)
+    # after a product's dot too (not "(4,000·|" at a line's end, "A₄|C_I)" on the next)
     assert "4,000·|\u2060<i>A</i>" in unbreakable_html("<p>(4,000·|<i>A</i><sub>4</sub>|<i>C</i><sub>I</sub>)</p>")
     assert unbreakable_html(bars) == bars
 
@@ -373,7 +373,7 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     assert "м/\u2060с" in four and not re.search(r"</\u2060|<\u2060", four)
 
 
-#: The symbols a supervisor found unexplained in the in-line four's Ukrainian note (ninth session),
+#: Symbols of the in-line four's Ukrainian note that need an explanation,
 #: as the typeset report writes them, with the number of the equation that first shows them.
 _ONCE_UNEXPLAINED = {
     "7.2": ["<i>t</i><sub>w<i>i</i></sub>", "<i>t</i><sub><i>i</i></sub>", "<i>t</i><sub>k<i>i</i></sub>",
@@ -395,7 +395,7 @@ def _where_lines(html: str, number: str) -> list[str]:
     return lines
 
 
-def test_the_symbols_a_supervisor_found_unexplained_are_explained_and_listed(reports):
+def test_the_in_line_fours_symbols_are_explained_and_listed(reports):
     html = reports("inline4-petrol")
     listed = re.search(r'id="sec-symbols".*?</section>', html, flags=re.S).group(0)
     for number, symbols in _ONCE_UNEXPLAINED.items():
@@ -451,9 +451,9 @@ def test_the_error_appendix_cites_its_source_for_what_it_takes_from_it(reports):
 
 
 def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_said_to_be_equal(reports):
-    """A supervisor's reading of the ru single cylinder: "the most loaded crank pin (1)" of one pin,
-    "the most loaded main journal 0-1" of two equally loaded ones, an oil hole at 192 in the table
-    and 192,5° in the conclusions."""
+    """A single cylinder's note has no "the most loaded crank pin (1)" of one pin, no "the most
+    loaded main journal 0-1" of two equally loaded ones, and one oil-hole angle in the table and
+    the conclusions (not 192 and 192,5°)."""
     html = reports("petrol-1cyl-uk")
     text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
     assert "найбільш навантаженої шатунної шийки" not in text
@@ -467,8 +467,8 @@ def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_sai
 
 
 def test_journals_tied_by_round_off_are_named_together_not_one_picked_by_its_last_digit():
-    """A review's finding: in the six-cylinder trace engine four main journals carry 58 141,704 N to
-    the last digit; the conclusion named one of them "the most loaded"."""
+    """In the six-cylinder trace engine four main journals carry 58 141,704 N to the last digit;
+    the conclusion names them together, not one of them "the most loaded"."""
     from crankdyn_builtin.bearings.worked import loads_equal, most_loaded
 
     records = [{"journal": "0-1", "max_N": 1.0e4}, {"journal": "1-2", "max_N": 58141.70445238453},
@@ -491,8 +491,8 @@ def test_the_balancing_conclusion_prints_the_forces_as_the_table_of_orders_does(
 
 
 def test_the_balancing_conclusion_multiplies_out(reports):
-    """A supervisor: "ΣP_II/C_II = 4,000 (ΣP_II = 9426 Н)" beside C_II = λC_I = 2310 Н, while
-    4·2310 = 9240. Each unbalanced force is now printed with the coefficient and the one-cylinder
+    """Not "ΣP_II/C_II = 4,000 (ΣP_II = 9426 Н)" beside C_II = λC_I = 2310 Н, while
+    4·2310 = 9240. Each unbalanced force is printed with the coefficient and the one-cylinder
     amplitude it multiplies, |A_n|·C_I, which the section's table of amplitudes prints too: the
     product of the printed numbers gives the printed force to their precision."""
     html = reports("inline4-petrol")
@@ -509,12 +509,12 @@ def test_the_balancing_conclusion_multiplies_out(reports):
 
 
 def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(reports):
-    """A supervisor: "ΣP_VI = 4,4 Н" listed as unbalanced beside ΣP_II = 9426 Н. A resultant under
+    """Not "ΣP_VI = 4,4 Н" listed as unbalanced beside ΣP_II = 9426 Н. A resultant under
     1 % of one cylinder's C_I (a moment: of C_I·a) is said to be negligible, after the others; an
     engine with only such is not called unbalanced."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol"))).replace("\u202f", " ").replace("\u00a0", " ")
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
-    # forces only: what is left is ΣP_VI, no moment (a supervisor: "сили й моменти" where there were none)
+    # forces only: what is left is ΣP_VI, no moment (no "сили й моменти" where there are none)
     rest = re.search(r"Інші незрівноважені сили \((.*?)\) становлять менше ніж 1 % амплітуди сили інерції "
                      r"першого порядку одного циліндра CI, тому ними можна знехтувати\.", text).group(1)
     value = re.fullmatch(r"ΣPVI = ([\d,]+) Н", rest).group(1)
@@ -536,7 +536,7 @@ def test_a_single_cylinder_has_no_total_torque_to_react_to(reports):
 
 
 def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
-    """The ru reading: "начало видимого сгорания через 2,42°" with no source; a default is the
+    """Not "начало видимого сгорания через 2,42°" with no source; a default is the
     textbook's 0,11 of the advance (spark) or 6nτ (diesel), and the note says so."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl-uk")))
     assert "через 2,42°" in text
@@ -544,7 +544,7 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
 
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():
-    """A review's finding: whole newtons printed the two-stroke's sixth order (0,19 N) as "0 N"."""
+    """Whole newtons would print the two-stroke's sixth order (0,19 N) as "0 N"."""
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.balancing.stage import newtons
     from crankdyn.plugins import default_registry
@@ -554,8 +554,8 @@ def test_a_small_unbalanced_force_is_not_printed_as_zero():
 
 
 def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
-    """A review's finding: [δ] = 0.0066667 printed 0,006667 in the table and text, 0,0066667 in the
-    worked line (4 against 6 significant digits)."""
+    """[δ] = 0.0066667 is printed with the same digits in the table, the text and the worked
+    line (not 0,006667 against 0,0066667)."""
     from conftest import modified, write_scene
     from crankdyn.cli import main
 
@@ -588,8 +588,8 @@ def test_subsections_are_numbered_and_listed_in_the_contents(tmp_path, examples)
 
 
 def test_the_closing_row_of_the_theoretical_diagram_is_point_r():
-    """The ru reading: point r (end of exhaust, p_r) was placed at α = 0°, where table 4.1 showed
-    p_a (the intake line the periodic grid starts with). The text now places r at 720°, and the
+    """Point r (end of exhaust, p_r) is not at α = 0°, where table 4.1 shows p_a (the intake
+    line the periodic grid starts with). The text places r at 720°, and the
     theoretical column's 720° row ends the exhaust line at p_r; the 0° row keeps p_a."""
     from conftest import shared_html
 
@@ -622,9 +622,9 @@ def test_the_two_term_acceleration_is_shown_by_its_difference_from_the_exact_one
 
 
 def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
-    """Two supervisor readings: the check compared ∮p dV, pumping loop included, with the thermal
-    calculation's p_i, which leaves the gas exchange to the mechanical losses (0,73 % by the
-    coincidence of the two). The check now takes (L_i − L_нас)/V_h."""
+    """The thermal calculation's p_i leaves the gas exchange to the mechanical losses, so ∮p dV,
+    pumping loop included, is no check of it (0,73 % only by coincidence). The check takes
+    (L_i − L_нас)/V_h."""
     from conftest import shared_html, shared_run
 
     r = shared_run("petrol-1cyl").outputs["indicator"].results
@@ -639,9 +639,9 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
 
 
 def test_the_imaginary_unit_is_upright_and_said_to_be_one():
-    """The uk reading: in (8.4) "Σ_i e^{i(φ_i − nξ_i)}" the italic i was both the cylinder's index
-    and the imaginary unit. The unit is upright (ISO 80000-2) and named in the text; and (a ru
-    supervisor: an upright i beside the index i is still one letter for two things) it is j, as in
+    """In (8.4) "Σ_i e^{i(φ_i − nξ_i)}" an italic i would be both the cylinder's index and the
+    imaginary unit. The unit is upright (ISO 80000-2) and named in the text; and (an upright i
+    beside the index i is still one letter for two things) it is j, as in
     the engineering textbooks, i numbering the cylinders."""
     from conftest import shared_html
 
@@ -653,7 +653,7 @@ def test_the_imaginary_unit_is_upright_and_said_to_be_one():
 
 def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line():
     """DSTU 3008:2015: a formula is carried over after =, + or −, the sign repeated on the next
-    line (a supervisor: "(4.4) starts its second line with − and no sign ends the first"). The
+    line (not "(4.4) starts its second line with − and no sign ends the first"). The
     Word export's equation, which wraps by itself, has each sign once."""
     from crankdyn.report.formula_lines import _printed_length, unbroken_parts
     from crankdyn.report.docx import parse_html
@@ -673,7 +673,7 @@ def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line()
 
 
 def test_an_equals_sign_inside_a_group_or_bracket_is_no_break_point():
-    """A review: splitting a long worked line at every " = " cut "(a = 1)" in its group span."""
+    """A long worked line split at every " = " would cut "(a = 1)" in its group span."""
     from crankdyn.report.formula_lines import unbroken_parts
 
     long = '<i>x</i> = <span class="group">(<i>a</i> = 1)</span> + ' + " + ".join(
@@ -689,7 +689,7 @@ def test_an_equals_sign_inside_a_group_or_bracket_is_no_break_point():
 
 
 def test_the_inertia_torque_of_several_cylinders_sums_over_them(reports):
-    """A supervisor: (11.3) M_j = −m_s ω² s″s′ for a four-cylinder engine, without the sum over
+    """Not (11.3) M_j = −m_s ω² s″s′ for a four-cylinder engine, without the sum over
     its cylinders (each at its own cycle angle α_i, as the reduced moment of inertia sums them)."""
     four = reports("inline4-petrol")
     equation = re.search(r"<i>M</i><sub>j</sub> = −.*?</div>", four, flags=re.S).group(0)
@@ -697,14 +697,14 @@ def test_the_inertia_torque_of_several_cylinders_sums_over_them(reports):
 
 
 def test_the_crank_radius_is_printed_without_padding_zeros(reports):
-    """A supervisor: "R = S/2 = 39,000 мм" (false precision) for a stroke of 78 mm."""
+    """Not "R = S/2 = 39,000 мм" (false precision) for a stroke of 78 mm."""
     one = as_read(reports("petrol-1cyl-uk"))
     assert "<i>R</i> = <i>S</i>/2 = 39\u202fмм" in one
     assert "39,000" not in one
 
 
 def test_orders_are_written_as_ordinal_words(reports):
-    """A supervisor: "сили порядку 1" where a Ukrainian text writes "сили першого порядку"."""
+    """Not "сили порядку 1" where a Ukrainian text writes "сили першого порядку"."""
     from crankdyn.plugins import default_registry
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.balancing.stage import orders_in_words
@@ -720,7 +720,7 @@ def test_orders_are_written_as_ordinal_words(reports):
 
 
 def test_the_journal_torque_has_one_subscript_alphabet(reports):
-    """The ru reading: table 7.2's rows wrote "|tк|" (Cyrillic) under its own header "tk, МПа" and
+    """Not table 7.2's rows with "|tк|" (Cyrillic) under its own header "tk, МПа" and
     the list of symbols' Latin t_k: one symbol, one spelling."""
     html = reports("inline4-petrol")
     assert "<sub>k</sub>" in html or "<sub>k<i>" in html
@@ -728,15 +728,15 @@ def test_the_journal_torque_has_one_subscript_alphabet(reports):
 
 
 def test_an_in_line_engine_is_not_said_to_have_central_rods(reports):
-    """The ru reading: "шатуны: центральные" in an in-line four, where "central rod" belongs to V
+    """No "шатуны: центральные" in an in-line four, where "central rod" belongs to V
     and radial engines (rods side by side or a master rod on one pin): each rod has its own pin."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     assert "шатуни: по одному на кожній шатунній шийці" in text and "шатуни: центральні" not in text
 
 
 def test_the_introductions_aim_is_what_the_sections_do(reports):
-    """The ru reading: the aim named forces, torques and the balance but not the bearings and the
-    flywheel the note computes; a note of the kinematics alone claimed forces and the balance.
+    """The aim names the bearings and the flywheel the note computes, not only forces, torques
+    and the balance; a note of the kinematics alone claims no forces and no balance.
     The aim lists each section's own aim, in the note's order."""
     four = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     aim = re.search(r"Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою \[1\]: (.*?)\.\n", four)
@@ -764,7 +764,7 @@ def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
 
 
 def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(reports):
-    """A supervisor: the headers "Швидкість, ×ω" and "m r, кг·мм" read as a program's output."""
+    """Headers like "Швидкість, ×ω" and "m r, кг·мм" read as a program's output."""
     one = reports("petrol-1cyl-uk")
     table = one[one.index("Противага (центр мас на радіусі"):]
     head = as_read(re.sub(r"<[^>]+>", "", table[:table.index("</thead>")]))
@@ -777,7 +777,7 @@ def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(r
     ("ru", "(см. раздел 2)", "в разделе «Анализ уравновешенности двигателя»:"),
     ("en", "in section 2.", "in section “Balancing of the engine”:")])
 def test_a_section_is_referred_to_by_its_number(language, present, absent):
-    """A supervisor: "(см. раздел кинематики)" names no section. A catalog text writes
+    """"(см. раздел кинематики)" names no section. A catalog text writes
     @@SECTION:stage@@ for the number that stage's section has in this report; a stage without a
     section there is named by its section's title in quotes."""
     from crankdyn.plugins import default_registry

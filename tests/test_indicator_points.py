@@ -70,8 +70,8 @@ def test_the_pumping_loop_is_enlarged_in_an_inset_with_locale_ticks(shared_repor
 
 def test_each_label_at_bdc_is_nearest_its_own_point():
     """b, b″ and a stand one above the other at BDC (0,36, 0,24 and 0,085 МПа in the in-line four):
-    each label's centre is nearer its own point than the others' (a supervisor read b″'s label,
-    set under its point, as a's)."""
+    each label's centre is nearer its own point than the others' (b″'s label set under its point
+    would read as a's)."""
     from crankdyn.report.figures import to_svg
     from crankdyn_builtin.indicator.stage import _POINTS, _pv_figure
 

@@ -1,4 +1,4 @@
-"""The three steps of the rounded indicator diagram, each a function of its own (issue 14):
+"""The three steps of the rounded indicator diagram, each a function of its own:
 their values at the construction's nodes against the values the construction prescribes."""
 
 import numpy as np

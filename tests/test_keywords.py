@@ -1,5 +1,5 @@
-"""The abstract's key words name what the report holds (a supervisor: the balancing, the bearings
-and the flywheel were calculated and the key words did not say so)."""
+"""The abstract's key words name what the report holds (the balancing, the bearings and the
+flywheel when they are calculated)."""
 
 from __future__ import annotations
 
@@ -47,7 +47,7 @@ def test_key_words_in_every_language_come_from_the_catalogs():
 
 
 def test_the_abstract_names_the_balancing_and_the_flywheel():
-    """A supervisor: the abstract left out the balancing and the flywheel results."""
+    """The abstract gives the balancing and the flywheel results."""
     import html as html_lib
 
     from conftest import as_read, shared_run

@@ -75,7 +75,7 @@ def test_function_local_imports_are_documented_lazy_imports():
 
 
 def test_no_function_over_80_lines():
-    """No exceptions: the last long functions were split along their physical and report steps (issue 14)."""
+    """No exceptions: long functions are split along their physical and report steps."""
     too_long = []
     for path in SOURCES:
         for function in _functions(path):
@@ -86,7 +86,7 @@ def test_no_function_over_80_lines():
 
 
 def test_a_json_only_report_imports_no_rendering_library(tmp_path):
-    """Start-up (issue 17): the JSON-only path imports what it uses, nothing of the rendering stack."""
+    """Start-up: the JSON-only path imports what it uses, nothing of the rendering stack."""
     heavy = ["pandas", "matplotlib", "jinja2", "babel", "pint", "weasyprint", "openpyxl", "pypandoc", "docx"]
     code = ("import sys\nfrom crankdyn.cli import main\n"
             f"code = main(['report', {str(ROOT / 'examples' / 'petrol-1cyl.toml')!r}, '-o', {str(tmp_path)!r}, "

@@ -1,4 +1,4 @@
-"""Leave out what a scene does not need (issue 7, item 5): which sections appear, in HTML and results.json.
+"""Leave out what a scene does not need: which sections appear, in HTML and results.json.
 
 A matrix of scenes — kinematics only, one cylinder, two-stroke, in-line (with and without a flywheel
 request), articulated rods, a pressure trace — each with the report sections and results.json keys
@@ -52,7 +52,7 @@ MATRIX = {
                     ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
                     # its numerics study moves every step onto the engine's grid: nothing refused
                     {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
-    # A balancing exercise: geometry, masses and layout, no working cycle (issue 18, item 1).
+    # A balancing exercise: geometry, masses and layout, no working cycle.
     "balancing-only": ("v8-petrol", {"cycle": None},
                        {"kinematics", "balancing", "numerics_kinematics"},
                        {"indicator", "forces", "bays", "torque", "bearings", "numerics"},

@@ -194,8 +194,8 @@ def test_the_store_keys_on_the_matplotlib_settings(tmp_path, label):
 
 @pytest.mark.parametrize("damage", ["rect of three", "huge code", "float code", "no stamps", "nan width"])
 def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, damage):
-    """A review: a record with a rect of three numbers or a glyph code of 10**12 passed the font
-    check and failed while drawing, in every later report (save() merged it back)."""
+    """A record with a rect of three numbers or a glyph code of 10**12 would pass the font check
+    and fail while drawing, in every later report (save() would merge it back)."""
     path, key, data = _stored(tmp_path, LABELS[3])  # a fraction and a root: it has rects
     record = json.loads(data["records"][key])
     assert record[4], "the label has rectangles (the fraction's bar)"

@@ -120,7 +120,7 @@ def test_two_mass_torque_of_the_crank_slider_is_the_textbook_one():
 
 
 def test_crank_slider_passes_its_closed_form_rod_rates():
-    # issue 18: the kinematics stage hands its closed-form rates on; the note on spectral differentiation is gone
+    # the kinematics stage hands its closed-form rates on: no note on spectral differentiation
     result = _run("petrol-1cyl", {"masses": {"rod_moment_of_inertia": "0.0015 kg m^2"}})
     out = result.outputs["rod_dynamics"]
     assert out.results["derivatives"] == "analytic"

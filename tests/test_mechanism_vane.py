@@ -228,7 +228,7 @@ def _root(fn, lo_deg, hi_deg):
 
 
 def test_extremes_by_root_finding_against_an_independent_solve():
-    """Issue 18: extremes exact to 1e-9 rad, one coordinate (y_p = O3P, downwards) for value and derivatives.
+    """Extremes exact to 1e-9 rad, one coordinate (y_p = O3P, downwards) for value and derivatives.
 
     The derivatives used here are written out by hand from the source's forms, independently of the code:
     v_yp = -w r lam sin a cos a / chi  =>  dv/da = 0  <=>  chi^2 cos 2a + lam^2 sin^2 a cos^2 a = 0

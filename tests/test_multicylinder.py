@@ -1,4 +1,4 @@
-"""Multi-cylinder engines: layouts, firing order, articulated rods, crankshaft torques (issue 3)."""
+"""Multi-cylinder engines: layouts, firing order, articulated rods, crankshaft torques."""
 
 from __future__ import annotations
 
@@ -287,7 +287,7 @@ def test_every_layout_keeps_the_invariants(layout, strokes, cylinders, bank, lag
     torque = result.outputs["torque"].results
     assert result.outputs["bays"].results["even_firing"]
     assert torque["mean_Nm"] == pytest.approx(torque["mean_from_work_Nm"], rel=3e-4)
-    # articulated master and slave cylinders differ: the torque repeats per crank only (issue 18)
+    # articulated master and slave cylinders differ: the torque repeats per crank only
     cranks = result.outputs["bays"].results["cranks"]
     expected = 180.0 * strokes / (cranks if rod == "articulated" else cylinders)
     assert torque["period_deg"] == pytest.approx(expected)
@@ -311,7 +311,7 @@ def test_v8_pdf_in_ukrainian(tmp_path):
 
 @pytest.mark.parametrize("cylinders, layout, bank", [(4, "inline", None), (6, "inline", None), (8, "V", 90)])
 def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
-    """Issue 18: no firing_order -> the explorer's top-ranked order and crank arrangement, said in the report.
+    """No firing_order -> the explorer's top-ranked order and crank arrangement, said in the report.
     Checked against invariants: even firing, and the free first-order forces and moments of an in-line 4,
     in-line 6 vanish (both orders up to the second for the in-line 6); the cross-plane V8 keeps only a
     co-rotating first-order couple, which counterweights cure (no balance shaft)."""

@@ -1,4 +1,4 @@
-"""The explanatory note a student hands in (issue: DSTU 3008 layout, typography and language).
+"""The explanatory note a student hands in (DSTU 3008 layout, typography and language).
 
 One PDF per language (uk, ru, en) is rendered once per test and every acceptance check runs on
 it: typography (no ``^``, ``_``, ``e-03``; decimal comma), the abstract's counts against the
@@ -104,7 +104,7 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
 def _check_hyphenation(text: str, title_page: str, language: str) -> None:
     """None made by the machine in Ukrainian (pyphen's uk_UA patterns break between any two
     consonants: "та-нгенціальна"), and no name parted on the title page and the assignment in any
-    language (the ru reading: "доц. Пет-/ров" on the assignment)."""
+    language (not "доц. Пет-/ров" on the assignment)."""
     hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
     if language == "uk":
         assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), hyphenated  # a compound's own hyphen
@@ -333,7 +333,7 @@ EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
 @pytest.mark.parametrize("language", ["uk", "ru", "en"])
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path):
-    """Acceptance of issue 15 for every bundled example in every language: pdftotext finds no
+    """Every bundled example in every language: pdftotext finds no
     ``^``, no ``_``, no ``e-03`` number; in uk/ru no decimal point inside a number and no Latin
     word outside the allowed set; and the pages pass the supervisor's layout check."""
     out = tmp_path / "out"
@@ -391,13 +391,13 @@ def test_double_primed_symbols_are_typeset_as_the_primed_ones():
     from crankdyn.report.typeset import typeset_text_html
 
     html = typeset_text_html("l′_i + l″_i = l_i", "uk", [])
-    # the index in italics, as formula 7.3 sets it (the second reading)
+    # the index in italics, as formula 7.3 sets it
     assert html == "<i>l</i>′<sub><i>i</i></sub> + <i>l</i>″<sub><i>i</i></sub> = <i>l</i><sub><i>i</i></sub>"
 
 
 def test_a_number_with_a_power_of_ten_keeps_its_unit_on_its_line():
-    """A supervisor: "±4,3·10⁻⁵ / МПа" parted at a line's end (the narrow no-break space went only
-    after a plain digit)."""
+    """"±4,3·10⁻⁵ МПа" is not parted at a line's end (the narrow no-break space follows a
+    superscript digit too, not only a plain one)."""
     from crankdyn.report.typeset import typeset_text_html
 
     html = typeset_text_html("t_min ±4,3·10⁻⁵ МПа, 0,0067 %, 17 235 Н", "uk", ["МПа", "%", "Н"])

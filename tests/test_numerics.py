@@ -153,7 +153,7 @@ def test_scene_copy_at_another_step_is_faithful():
         num.scene_with_step(scene, 7.0)
     with pytest.raises(SceneError, match="firing delays"):  # 30 deg does not divide the 40-deg banks
         num.run_at_step(scene, 30.0, repeats=1, runner=Runner(REGISTRY))
-    # The study moves 30 and 15 deg onto the engine's 40-deg grid (issue 18): 20 and 40/3 deg, none refused.
+    # The study moves 30 and 15 deg onto the engine's 40-deg grid: 20 and 40/3 deg, none refused.
     results = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results
     assert results["steps_refused"] == {}
     studied = [row["angle_step_deg"] for row in results["steps"]]

@@ -74,8 +74,8 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
 
 
 def test_each_main_journals_torque_range_and_amplitude():
-    """The ru reading: only the largest running torques were given, a fatigue check needs the
-    smallest and the amplitude too. Each journal k's torque is t_kk·R·F_p over the cycle (the
+    """A fatigue check needs the smallest running torques and the amplitude, not only the
+    largest. Each journal k's torque is t_kk·R·F_p over the cycle (the
     table's running specific force): its max, min and (max − min)/2; the last journal carries the
     engine's output torque."""
     import numpy as np

@@ -120,7 +120,7 @@ def test_results_json_keys_are_documented(tmp_path):
 
 
 def test_captions_side_by_side_keep_a_gutter():
-    """A supervisor read two captions of a figure row across as one line ("…шатунну шийку (полюс O
+    """Two captions of a figure row must not read across as one line ("…шатунну шийку (полюс O
     навантаження на шатунний підшипник…"): each caption of a row is padded from its neighbour."""
     import re
 
@@ -132,7 +132,7 @@ def test_captions_side_by_side_keep_a_gutter():
 
 @pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext (poppler) is not installed")
 def test_a_line_breaks_before_an_italic_symbol_where_it_should():
-    """A supervisor: a paragraph's first line held the one word "Амплітуду" and went on on the next.
+    """A paragraph's first line does not hold the one word "Амплітуду" and go on on the next.
     WeasyPrint cannot break a line just before an italic element there; the PDF's HTML has the word
     space inside the element (report.pdf.spaces_into_inline), and the first line is full."""
     import subprocess

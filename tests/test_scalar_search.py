@@ -20,7 +20,7 @@ ROOTS = [  # (function, bracket, keyword arguments)
     (lambda x: math.atan(1e4 * (x - 0.3)), (-10.0, 10.0), {"xtol": 1e-14}),
     (lambda a: float(kin.piston_acceleration_exact_m_s2(a, 1.0, 0.28, 1.0)), (0.0, math.pi / 2), {}),
     (lambda x: x, (0.0, 1.0), {}),  # a root at an end of the bracket
-    (lambda x: 1e-170 * (x - 0.3), (0.0, 1.0), {}),  # values whose product underflows (a review)
+    (lambda x: 1e-170 * (x - 0.3), (0.0, 1.0), {}),  # values whose product underflows
 ]
 
 

@@ -1,4 +1,4 @@
-"""Generated scenes (tests/scene_corpus.py) read as a supervisor reads a note: its typography and
+"""Generated scenes (tests/scene_corpus.py) checked as a supervisor checks a note: its typography and
 language, and its text against the engine's structure.
 
 Each scene of the fixed seed is run (the numerics study at its cheapest) and its note rendered to

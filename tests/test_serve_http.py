@@ -14,7 +14,7 @@ from crankdyn.serve import Preview, PreviewServer, content_disposition
 @pytest.mark.parametrize("name", ["report.pdf", "Сцена двигуна.pdf", 'a"b\\c.pdf', "ДВЗ №1 – варіант 7.pdf"])
 def test_content_disposition_is_latin1_and_carries_the_utf8_name(name):
     header = content_disposition(name)
-    header.encode("latin-1")  # what http.server does with every header; a Cyrillic name used to fail here
+    header.encode("latin-1")  # what http.server does with every header: a Cyrillic name must pass
     plain = header.split('filename="', 1)[1].split('"', 1)[0]
     assert plain.isascii() and '"' not in plain and "\\" not in plain and len(plain) == len(name)
     if name.isascii() and plain == name:

@@ -1,4 +1,4 @@
-"""Crankshaft speed fluctuation with the variable reduced inertia (issue 7, item 3, single mass)."""
+"""Crankshaft speed fluctuation with the variable reduced inertia (single mass)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Stages declare the figures and tables they produce (``Stage.figures``, ``Stage.tables``, issue 14):
+"""Stages declare the figures and tables they produce (``Stage.figures``, ``Stage.tables``):
 the core refuses a figure or a table not declared, naming the stage; every bundled example draws and
 writes only what its stages declare."""
 

@@ -1,8 +1,8 @@
 """Every symbol a displayed equation shows is in the one symbol table (so the list of symbols has it
 and a "where" line explains it under its first equation), and no letter has two meanings within
-one section (a supervisor: θ, f_n, ξ_i, q_ш.ш, R_j, l′_i … had only a "Здесь …" paragraph; i was
-the imaginary unit and the summation index of one formula, A/B the hodograph's semi-axes beside
-A_n and the bearing width B, z the radial force and the position along the shaft)."""
+one section (not θ, f_n, ξ_i, q_ш.ш, R_j, l′_i … with only a "Здесь …" paragraph; not i as
+the imaginary unit and the summation index of one formula, A/B as the hodograph's semi-axes beside
+A_n and the bearing width B, z as the radial force and the position along the shaft)."""
 
 from __future__ import annotations
 
@@ -144,9 +144,9 @@ def test_the_symbols_paragraphs_say_no_meaning_twice():
 
 
 def test_a_sections_own_letters_keep_their_meaning_there():
-    """A review: the planetary note's list of symbols called a "the distance between adjacent
+    """The planetary note's list of symbols must not call a "the distance between adjacent
     cylinder axes" and θ "the crank angle from cylinder 1's TDC" (the carrier's arm and the
-    planet's angle there), and the rod dynamics' torque M got the error study's meaning. The
+    planet's angle there), nor give the rod dynamics' torque M the error study's meaning. The
     balancing and error-study letters are read in their sections only."""
     import re
 
@@ -227,8 +227,8 @@ def test_the_list_of_symbols_gives_a_taken_over_letter_only_the_meaning_it_has()
 
 
 def test_a_mechanism_names_the_given_data_its_own_way():
-    """A review of the vane note: its table of given data spoke of a piston stroke, a crank radius R
-    and a connecting rod L, and the list of symbols gave S, λ, ω two meanings each. The mechanism
+    """The vane note's table of given data speaks of no piston stroke, crank radius R or
+    connecting rod L, and its list of symbols gives S, λ, ω one meaning each. The mechanism
     names those rows (Mechanism.input_rows) as its section does, and its letters hold there too."""
     html = shared_html("vane-engine-kinematics", language="uk").linked_html
     given = html[html.index('data-stage="input"'):]
@@ -258,8 +258,8 @@ def _instance_of_an_indexed_symbol(token: str, language: str, stage: str) -> boo
 
 @pytest.mark.parametrize("example, language", [(e, lang) for e in EXAMPLES for lang in LANGUAGES])
 def test_every_symbol_of_a_table_header_or_caption_is_in_the_symbol_table(example, language):
-    """A supervisor: p_теор, p_max, ΣP/C_n, mr, t_max … headed table columns and were nowhere
-    defined. Every letter a table's header or caption shows is in the one symbol table (so in
+    """p_теор, p_max, ΣP/C_n, mr, t_max … head table columns and must be defined.
+    Every letter a table's header or caption shows is in the one symbol table (so in
     the list of symbols), with its meaning in that section; a crank's column (t_w1) is the
     numbered instance of its symbol (t_wi)."""
     html = shared_html(example, language=language).linked_html

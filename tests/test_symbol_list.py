@@ -57,7 +57,7 @@ def test_the_places_are_read_from_the_report_headings():
 
 
 def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_letter():
-    """The in-line four's reading: "k – питома сила, що діє вздовж шатуна (у розділах 5 і 6)",
+    """Not "k – питома сила, що діє вздовж шатуна (у розділах 5 і 6)" in the in-line four,
     where section 6 (the bays) shows no k."""
     t = translator("uk")
     places = {"forces": [("section", "5", "<i>k</i> = <i>p</i><sub>1</sub>/cos <i>β</i>")],
@@ -67,7 +67,7 @@ def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_lette
 
 
 def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
-    """A supervisor: "[5, 6, 7]" is written "[5–7]"."""
+    """"[5, 6, 7]" is written "[5–7]"."""
     from crankdyn.report.document import cite
 
     assert cite([1]) == "[1]" and cite([2, 1, 2]) == "[1, 2]"
@@ -76,8 +76,8 @@ def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
 
 
 def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equations():
-    """A supervisor: "координату x", "вектори F і P", "n-го порядку" upright in the text while the
-    formulas set the same letters in italics. Not an initial, a Roman numeral, the imaginary unit
+    """"координату x", "вектори F і P", "n-го порядку" in italics in the text, as the formulas
+    set the same letters. Not an initial, a Roman numeral, the imaginary unit
     j, Euler's e, a letter of a formula's markup or of an English title quoted in the note."""
     from crankdyn.report.typeset import typeset_html
 
@@ -108,8 +108,8 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
 
 
 def test_a_meaning_ending_with_its_letter_and_a_one_letter_table_cell_are_in_italics():
-    """The second uk/ru reading: "зведена до радіуса R, кг" kept R upright (the unit is put after
-    the meaning), and the criteria column's cells z, t, q stood upright under italic headers."""
+    """"зведена до радіуса R, кг" sets R in italics (the unit is put after the meaning), and the
+    criteria column's cells z, t, q are in italics as their headers are."""
     from crankdyn.report.typeset import italic_letters, typeset_html
 
     assert italic_letters("маса, зведена до радіуса R", "ru") == "маса, зведена до радіуса <i>R</i>"
@@ -119,8 +119,8 @@ def test_a_meaning_ending_with_its_letter_and_a_one_letter_table_cell_are_in_ita
 
 
 def test_a_letter_of_the_prose_only_is_in_the_list_too():
-    """The first reading: T of "ω_m = Φ/T" (the time-mean speed, in the method notes) was nowhere
-    defined. Set in italics in the prose, the list finds and explains it."""
+    """T of "ω_m = Φ/T" (the time-mean speed, in the method notes) is defined too. Set in
+    italics in the prose, the list finds and explains it."""
     from conftest import shared_html
 
     html = shared_html("inline4-petrol", language="uk").linked_html
@@ -130,8 +130,8 @@ def test_a_letter_of_the_prose_only_is_in_the_list_too():
 
 
 def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
-    """The first reading: a single-cylinder note defined θ 'від ВМТ першого циліндра' and M as the
-    'сумарний' torque. A meaning may have a one-cylinder form (``symbol.<key>_single``), which the
+    """A single-cylinder note defines θ not 'від ВМТ першого циліндра' nor M as the 'сумарний'
+    torque. A meaning may have a one-cylinder form (``symbol.<key>_single``), which the
     list and the "where" lines of a one-cylinder note use."""
     from conftest import shared_html
 

@@ -1,4 +1,4 @@
-"""Torsional multi-mass model of the crankshaft; stiff and non-stiff solvers (issue 7, item 3)."""
+"""Torsional multi-mass model of the crankshaft; stiff and non-stiff solvers."""
 
 from __future__ import annotations
 
@@ -230,7 +230,7 @@ def test_results_keys_are_documented():
 
 
 def test_critical_speeds_near_the_operating_speed_are_flagged():
-    """Issue 18: the in-line 4 at 5600 rpm lies between the order-7 (5427 rpm) and order-6.5 (5845 rpm)
+    """The in-line 4 at 5600 rpm lies between the order-7 (5427 rpm) and order-6.5 (5845 rpm)
     critical speeds of mode 1. Independently: n_c = 60 f_1 / nu for every listed order with at least 1 %
     of the largest amplitude, kept when within 10 % of 5600 rpm."""
     t = run("inline4-torsion").outputs["speed_fluctuation"].results["torsion"]

@@ -1,8 +1,8 @@
 """The units of the "де …" lines are the SI units the formulas hold in and the worked substitutions
 put the numbers in; the tables, figures and results show handier units (мм, МПа, см², л), as the
-list of symbols says first. Two supervisors read "s_п, м" beside a table in мм as a contradiction;
-a review and a third supervisor then showed that lines in the tables' units make the formulas wrong
-as read (M_к = t R F_п with t in МПа, R in мм and F_п in см² is ten times too small)."""
+list of symbols says first. "s_п, м" beside a table in мм is no contradiction: lines in the
+tables' units would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм and F_п
+in см² is ten times too small)."""
 
 from __future__ import annotations
 

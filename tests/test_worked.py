@@ -1,4 +1,4 @@
-"""Worked substitutions (issue 15 item 6): every stage's worked result equals its table row.
+"""Worked substitutions: every stage's worked result equals its table row.
 
 For each worked step the report shows, three checks, in uk, ru and en:
 * the result as printed is a cell of the row it names (the row at the worked angle of the table the
@@ -208,8 +208,8 @@ def test_other_mechanisms_worked_results_equal_their_tables(example, stages, lan
 
 
 def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
-    """The PDF broke "(1 − cos | 8,048°)" and "(589,260 + | 583,396)" at a line's end (ninth
-    session's supervisor reading): each short innermost group is kept whole, longer ones and
+    """The PDF does not break "(1 − cos | 8,048°)" and "(589,260 + | 583,396)" at a line's end:
+    each short innermost group is kept whole, longer ones and
     groups that would cut a sub- or superscript's tag are left to break."""
     from crankdyn.report.worked import GROUP_CHARS, groups_unbroken
 
@@ -227,7 +227,7 @@ def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
 
 
 def test_a_function_stays_with_its_argument_and_a_slash_with_its_bracket():
-    """A review of the uk PDF: "…/cos | 8,048°" and "…583,396)/ | (589,260 + …" broke at the line's end."""
+    """Not "…/cos | 8,048°" nor "…583,396)/ | (589,260 + …" broken at a line's end in the uk PDF."""
     from crankdyn.report.worked import groups_unbroken
 
     out = groups_unbroken("cos(30° + 8,048°)/cos 8,048° + 0,2800·cos<sup>2</sup> 30°/cos<sup>3</sup> 8,048°")

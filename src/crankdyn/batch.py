@@ -339,7 +339,7 @@ def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
     Beyond the plugins and the report code: matplotlib with a first figure drawn to SVG (its font
     list, text layout and mathtext parser), the translators of ``languages`` (Babel's locale data)
     and, for PDFs, WeasyPrint with a first page laid out (fontconfig). Without this, every
-    variant's worker process paid for each of them again (issue 17, item 3).
+    variant's worker process would pay for each of them again.
     """
     formats, languages = set(formats), tuple(languages)
     wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {f"language:{x}" for x in languages}

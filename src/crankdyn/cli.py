@@ -41,62 +41,187 @@ BLAS_THREADS_ENV = "OPENBLAS_NUM_THREADS"
 ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
 
 
+#: The formats ``--format`` accepts: crankdyn.outputs.FORMATS, named here without importing that
+#: module (numpy), so that ``--help`` answers at once.
+REPORT_FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
+#: What users type for a report language, with the code they mean.
+LANGUAGE_ALIASES = {
+    "ua": "uk", "ukr": "uk", "ukrainian": "uk", "українська": "uk", "укр": "uk",
+    "rus": "ru", "russian": "ru", "русский": "ru", "рус": "ru",
+    "eng": "en", "english": "en", "gb": "en", "us": "en",
+}
+
+
+def report_languages() -> list[str]:
+    """The report languages of the core catalogs (crankdyn.report.i18n.available_languages, read
+    without importing it: that module imports numpy)."""
+    catalogs = Path(str(resources.files("crankdyn.templates"))) / "i18n"
+    return sorted(p.stem for p in catalogs.glob("*.toml"))
+
+
+def report_language(text: str) -> str:
+    """``--lang`` as a language code: any case (``UK`` is ``uk``); a name or code users often type
+    for another (``ua``, ``eng``, ``uk-UA``) is refused with the code it most likely means."""
+    import difflib  # lazy: heavy optional import (only a refused --lang is matched)
+
+    languages = report_languages()
+    code = text.strip().lower()
+    if code in languages:
+        return code
+    meant = LANGUAGE_ALIASES.get(code) or next(
+        (part for part in code.replace("_", "-").split("-") if part in languages), None)
+    if meant is None:
+        close = difflib.get_close_matches(code, languages, n=1, cutoff=0.6)  # "enn", not "de"
+        meant = close[0] if close else None
+    hint = f"; did you mean {meant!r}?" if meant else ""
+    raise UsageError(f"--lang {text!r}: not a report language{hint} "
+                     f"(available: {', '.join(languages)})")
+
+
+def _command(sub, name: str, help_text: str, epilog: str) -> argparse.ArgumentParser:
+    """A subcommand whose ``--help`` ends with its examples, laid out as written."""
+    description = help_text[:1].upper() + help_text[1:] + "."
+    return sub.add_parser(name, help=help_text, description=description,
+                          epilog="examples:\n" + epilog,
+                          formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def _lang_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--lang", metavar="CODE",
+                        help="report language, any case: " + ", ".join(report_languages())
+                        + " (default: the scene's report.language)")
+
+
+MAIN_EPILOG = """\
+first report:
+  crankdyn example petrol-1cyl -o my-engine.toml
+  crankdyn check my-engine.toml
+  crankdyn report my-engine.toml -o report
+
+'crankdyn COMMAND --help' shows a command's options and examples."""
+
+REPORT_EPILOG = """\
+  crankdyn report engine.toml                       # into report/: html, pdf, json, csv
+  crankdyn report engine.toml -o out --format html,docx --lang uk
+  crankdyn report engine.toml --format json --stages forces -v   # and the stages left out
+  crankdyn report engine.toml --data-dir ../traces  # a data file from another folder"""
+
+CHECK_EPILOG = """\
+  crankdyn check engine.toml            # valid? the stages run and left out, the defaults
+  crankdyn check engine.toml --lang uk  # checked as a Ukrainian report"""
+
+EXAMPLE_EPILOG = """\
+  crankdyn example --list
+  crankdyn example petrol-1cyl -o my-engine.toml
+  crankdyn example diesel-rk-trace -o diesel.toml   # also writes the pressure trace it refers to"""
+
+PLUGINS_EPILOG = """\
+  crankdyn plugins"""
+
+EXPLORE_EPILOG = """\
+  crankdyn explore --cylinders 4
+  crankdyn explore --cylinders 8 --layout V --bank-angle 90 --top 5
+  crankdyn explore --cylinders 6 --strokes 2 --all --json"""
+
+SERVE_EPILOG = """\
+  crankdyn serve engine.toml --open     # edit engine.toml; the page re-renders on save
+  crankdyn serve engine.toml --port 0 --lang ru"""
+
+BATCH_EPILOG = """\
+  crankdyn batch variants.csv --base engine.toml -o batch
+  crankdyn batch variants.csv --base engine.toml --format pdf --lang uk -j 2
+  crankdyn batch variants.csv --base engine.toml --scheduler tcp://10.0.0.5:8786
+
+variants.csv: a header of dotted scene fields, one row per student, e.g.
+  variant,engine.bore,engine.rpm
+  1,82 mm,5600"""
+
+SWEEP_EPILOG = """\
+  crankdyn sweep engine.toml --set engine.bore=76mm:88mm:4 --set engine.rod_ratio=0.26,0.3
+  crankdyn sweep engine.toml --set engine.rpm=2000:6000:step=500 --plot j_max_m_s2 -o sweep
+  crankdyn sweep engine.toml --grid study.toml --key csv,parquet"""
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="crankdyn", description="Dynamic calculation of crank mechanisms and "
-                                     "piston engines, written up as a course-project report.")
+                                     "piston engines,\nwritten up as a course-project report.",
+                                     epilog=MAIN_EPILOG,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"crankdyn {__version__}")
     parser.add_argument("--debug", action="store_true", help="show a traceback on internal errors")
     sub = parser.add_subparsers(dest="command", required=True)
+    _report_parser(sub)
+    _other_parsers(sub)
+    _batch_parser(sub)
+    _sweep_parser(sub)
+    return parser
 
-    report = sub.add_parser("report", help="compute a scene and write the report and data")
-    report.add_argument("scene", type=Path)
+
+def _report_parser(sub) -> None:
+    report = _command(sub, "report", "compute a scene and write the report and data", REPORT_EPILOG)
+    report.add_argument("scene", type=Path, help="the scene file (TOML)")
     report.add_argument("-o", "--output", type=Path, default=Path("report"), help="output folder (default: report)")
     report.add_argument("--format", default="html,pdf,json,csv",
-                        help="comma-separated subset of html,pdf,json,csv,xlsx (default: html,pdf,json,csv)")
-    report.add_argument("--lang", help="report language code (overrides report.language)")
+                        help="comma-separated subset of " + ",".join(REPORT_FORMATS)
+                        + " (default: html,pdf,json,csv; docx needs pandoc)")
+    _lang_option(report)
     report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     report.add_argument("--self-contained", action="store_true",
                         help="inline the figures in report.html instead of referring to figures/*.svg")
     report.add_argument("--force", action="store_true",
                         help="replace files in the output folder that crankdyn did not write or that were "
                         "edited since (otherwise the run is refused and nothing is written)")
-    report.add_argument("-q", "--quiet", action="store_true")
+    report.add_argument("-q", "--quiet", action="store_true", help="no summary line (warnings still shown)")
+    report.add_argument("-v", "--verbose", action="store_true",
+                        help="also list the stages left out and why (as 'check' does)")
     _stage_timeout_option(report)
     _data_dir_option(report)
 
-    check = sub.add_parser("check", help="validate a scene as 'report' does (computed, nothing written)")
-    check.add_argument("scene", type=Path)
+
+def _other_parsers(sub) -> None:
+    check = _command(sub, "check", "validate a scene as 'report' does (computed, nothing written)",
+                     CHECK_EPILOG)
+    check.add_argument("scene", type=Path, help="the scene file (TOML)")
+    _lang_option(check)
     _stage_timeout_option(check)
     _data_dir_option(check)
 
-    example = sub.add_parser("example", help="list or write the bundled example scenes")
-    example.add_argument("name", nargs="?")
+    example = _command(sub, "example", "list or write the bundled example scenes", EXAMPLE_EPILOG)
+    example.add_argument("name", nargs="?", help="the example to write (see --list)")
     example.add_argument("--list", action="store_true", help="list the bundled examples")
     example.add_argument("-o", "--output", type=Path, help="file to write the example scene to")
     example.add_argument("--force", action="store_true", help="overwrite an existing file")
 
-    sub.add_parser("plugins", help="list installed plugins, mechanisms and stages")
+    _command(sub, "plugins", "list installed plugins, mechanisms, stages and report languages",
+             PLUGINS_EPILOG)
 
-    explore = sub.add_parser("explore", help="rank the even-firing crank arrangements and firing orders "
-                             "of an engine by balance and firing rules")
+    explore = _command(sub, "explore", "rank the even-firing crank arrangements and firing orders "
+                       "of an engine by balance and firing rules", EXPLORE_EPILOG)
     explore.add_argument("--cylinders", type=int, required=True, help="number of cylinders (1-24)")
-    explore.add_argument("--layout", default="inline", choices=["inline", "V", "W", "Y", "X", "boxer", "radial"])
-    explore.add_argument("--strokes", type=int, default=4, choices=[2, 4])
+    explore.add_argument("--layout", default="inline",
+                         choices=["inline", "V", "W", "Y", "X", "boxer", "radial"],
+                         help="cylinder layout (default inline)")
+    explore.add_argument("--strokes", type=int, default=4, choices=[2, 4],
+                         help="strokes per cycle (default 4)")
     explore.add_argument("--bank-angle", type=float, help="angle between adjacent banks, deg (V, W, Y, X)")
     explore.add_argument("--top", type=int, default=10, help="rows to show (default 10)")
     explore.add_argument("--all", action="store_true", help="rank and show every firing order")
     explore.add_argument("--json", action="store_true", help="print the ranking as JSON")
 
-    serve = sub.add_parser("serve", help="live HTML preview on 127.0.0.1 that re-renders when the scene is saved")
-    serve.add_argument("scene", type=Path)
+    serve = _command(sub, "serve", "live HTML preview on 127.0.0.1 that re-renders when the scene "
+                     "is saved", SERVE_EPILOG)
+    serve.add_argument("scene", type=Path, help="the scene file (TOML)")
     serve.add_argument("--port", type=int, default=8765,
                        help="port on 127.0.0.1 (default 8765; 0 picks a free one)")
-    serve.add_argument("--lang", help="report language code (overrides report.language)")
+    _lang_option(serve)
     serve.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     serve.add_argument("--open", action="store_true", help="open the preview in the default browser")
     serve.add_argument("-q", "--quiet", action="store_true", help="no log lines on stderr, only the URL")
 
-    batch = sub.add_parser("batch", help="one report per row of a CSV of student variants, plus an answer key")
+
+def _batch_parser(sub) -> None:
+    batch = _command(sub, "batch", "one report per row of a CSV of student variants, plus an "
+                     "answer key", BATCH_EPILOG)
     batch.add_argument("variants", type=Path, help="CSV: a header of dotted scene paths (engine.bore, ...) "
                        "and an optional 'variant' column; one row per student")
     batch.add_argument("--base", type=Path, required=True, help="the scene every row starts from")
@@ -105,7 +230,7 @@ def _parser() -> argparse.ArgumentParser:
                        help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
     batch.add_argument("-j", "--jobs", type=int,
                        help="worker processes (default and most: the available cores)")
-    batch.add_argument("--lang", help="report language code (overrides report.language)")
+    _lang_option(batch)
     batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     batch.add_argument("--timeout", type=float, default=120.0,
@@ -114,13 +239,12 @@ def _parser() -> argparse.ArgumentParser:
                        "(default 120, at most 86400)")
     _scheduler_options(batch)
     _data_dir_option(batch)
-    _sweep_parser(sub)
-    return parser
 
 
 def _sweep_parser(sub) -> None:
-    sweep = sub.add_parser("sweep", help="a design study: every combination of ranges of scene fields, "
-                           "the answer key as a table and a plot of one result over the grid")
+    sweep = _command(sub, "sweep", "a design study: every combination of ranges of scene fields, "
+                     "the answer key as a table and a plot of one result over the grid",
+                     SWEEP_EPILOG)
     sweep.add_argument("scene", type=Path, help="the scene every point starts from")
     sweep.add_argument("--set", action="append", default=[], metavar="NAME=VALUES",
                        help="a swept field: START:STOP:COUNT (2000:6000:5), START:STOP:step=STEP, A,B,C "
@@ -138,7 +262,7 @@ def _sweep_parser(sub) -> None:
                        "(default none: only the answer key and the plot)")
     sweep.add_argument("-j", "--jobs", type=int,
                        help="worker processes (default and most: the available cores)")
-    sweep.add_argument("--lang", help="report language code (overrides report.language)")
+    _lang_option(sweep)
     sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
                        "fewer stages, faster points")
     sweep.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -226,6 +350,8 @@ def main(argv: list[str] | None = None) -> int:
                "batch": _batch, "explore": _explore,
                "sweep": _sweep}[args.command]
     try:
+        if getattr(args, "lang", None) is not None:
+            args.lang = report_language(args.lang)
         return _with_product_warnings(handler, args)
     except CrankdynError as exc:
         print(f"crankdyn: {exc}", file=sys.stderr)
@@ -263,7 +389,17 @@ def _formats(text: str) -> list[str]:
     if bad or not chosen:
         raise UsageError(f"unknown --format {', '.join(bad) or repr(text)}; allowed: a comma-separated subset of "
                          + ",".join(FORMATS))
+    _require_tools(chosen)
     return chosen
+
+
+def _require_tools(formats: list[str]) -> None:
+    """The programs the chosen formats need, found before anything is computed (exit 2 with how
+    to install a missing one): a Word file needs pandoc."""
+    if "docx" in formats:
+        from .report.docx import pandoc_path  # lazy: heavy optional import (only for a Word file)
+
+        pandoc_path()
 
 
 def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
@@ -310,9 +446,16 @@ def _write_report(args) -> int:
         main_files = [p for p in written if p.parent == args.output]
         print(f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
               + ", ".join(p.name for p in main_files))
-        for name, reason in result.plan.skipped.items():
-            print(f"  stage {name} left out: {reason}")
+    if args.verbose and not args.quiet:
+        _print_left_out(result.plan)
     return 0
+
+
+def _print_left_out(plan) -> None:
+    """The stages of the plan left out, each with its reason: a fact about the scene, not a
+    warning."""
+    for name, reason in plan.skipped.items():
+        print(f"  stage {name} left out: {reason}")
 
 
 def missing_translations_line(language: str, keys: set[str], shown: int = 10) -> str:
@@ -468,7 +611,7 @@ def _check_scene(args) -> int:
     from .orchestrator import run_scene  # lazy: heavy optional import (numpy, scipy: per command)
     from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
 
-    scene, languages = _load(args.scene, data_dirs=args.data_dir)
+    scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
     _print_broken(registry)
     # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
@@ -476,8 +619,7 @@ def _check_scene(args) -> int:
     result = run_scene(scene, registry, None, languages)
     the_plan = result.plan
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
-    for name, reason in the_plan.skipped.items():
-        print(f"  stage {name} left out: {reason}")
+    _print_left_out(the_plan)
     _print_warnings(result, registry)
     from .plausibility import defaults_applied  # lazy: heavy optional import (numpy, scipy: per command)
 

@@ -369,7 +369,24 @@ def value_problems(base: dict, base_dir: str, sweep: Sweep, data_dirs: tuple[str
                 own = [p for p in own if str(p) in {str(q) for q in again}]
             for problem in own + [p for p in found if p.field not in first]:
                 problems.setdefault(str(problem), problem)
-    return list(problems.values())
+    return _merged(list(problems.values()))
+
+
+class _Values(tuple):
+    """Several values of one field with the same problem, shown as a list: ``76, 80, 84``."""
+
+    def __repr__(self) -> str:
+        return ", ".join(repr(value) for value in self)
+
+
+def _merged(problems: list[Problem]) -> list[Problem]:
+    """One problem per field and reason, naming every value that has it (a unit missing from a
+    range is one mistake, however many values the range has)."""
+    values: dict[tuple[str, str], list[Any]] = {}
+    for problem in problems:
+        values.setdefault((problem.field, problem.allowed), []).append(problem.value)
+    return [Problem(name, found[0] if len(found) == 1 else _Values(found), allowed)
+            for (name, allowed), found in values.items()]
 
 
 def _scene_problems(base: dict, base_dir: str, values: dict[str, Any], data_dirs: tuple[str, ...]) -> list[Problem]:

@@ -543,10 +543,10 @@ def _star_drawing(t, r):
         for key, members in groups.items():
             d = math.radians(key / 100)
             _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
-            # on a white ground: the dashed cylinder axis behind a label along it no longer cuts it
+            # on a white ground: the dashed cylinder axis behind a label along it does not cut it
             ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7,
                     zorder=5, bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6})
-        # the title inside the axes' limits: above them, an equal-aspect panel's title was cut at the top
+        # the title inside the axes' limits: above them, an equal-aspect panel's title is cut
         ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)
         ax.set_ylim(-1.4, 1.75)
@@ -603,7 +603,7 @@ def _models_drawing(t, r):
             wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
             # the vectors named beside their middles (a black-and-white print still tells them apart),
-            # f on the left of its arrow, b on the right, 5 pt off the line (a supervisor: on the arrows)
+            # f on the left of its arrow, b on the right, 5 pt off the line (not on the arrows)
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
                 _name_arrow(ax, "f", 0j, f, side=1.0)
@@ -616,7 +616,7 @@ def _models_drawing(t, r):
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
             if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
-                # under the panel, clear of its dotted circle (a supervisor: printed over it)
+                # under the panel, clear of its dotted circle (over it the label is unreadable)
                 ax.text(0.5, 0.0, t("balancing.balanced_label"), ha="center", va="top", fontsize=7, color="C2",
                         transform=ax.transAxes)
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
@@ -880,7 +880,7 @@ def _conclude(ctx, r) -> None:
 
 #: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
 #: (a moment: of C_I·a, a the cylinder spacing) is said to be negligible, not listed among the
-#: unbalanced ones (a supervisor: "ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
+#: unbalanced ones ("ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
 NEGLIGIBLE_SHARE = 0.01
 
 
@@ -916,8 +916,8 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
 
 
 def _circular(hodograph: dict) -> bool:
-    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (a
-    supervisor read "0,0°" beside the semi-axes 1,000 / 1,000)."""
+    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (an
+    angle "0,0°" beside the semi-axes 1,000 / 1,000 would mean nothing)."""
     return round(hodograph["semi_major"], 9) == 0 or \
         abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
 
@@ -950,7 +950,7 @@ def _unbalanced_item(ctx, r, item) -> str:
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
     amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
     order = item["order"]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
-    # a word joiner after the bar: "(4,000·|A4|" was parted from "CI)" at a line's end
+    # a word joiner after the bar: "(4,000·|A4|" is not parted from "CI)" at a line's end
     scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|\u2060C_I"
     return f"{_plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 

@@ -208,7 +208,7 @@ _FAR_PLACES = ((12, 12, "left", "bottom"), (-12, 12, "right", "bottom"), (12, -1
                (-12, -12, "right", "top"))
 
 
-#: The polar diagrams' angle labels, pt (6 pt read as too small in print: a supervisor).
+#: The polar diagrams' angle labels, pt (6 pt is too small to read in print).
 LABEL_PT = 7.0
 
 
@@ -219,7 +219,7 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
     before it and stays inside ``bounds`` (x0, y0, x1, y1: the plotting area, so that no label
     covers a tick label). Labels are placed in ``order`` (indices; default: as given), the
     most important first; a point whose label has no room keeps its mark only, as the table
-    gives its numbers (crowded labels printed over each other were unreadable: "300, 660" on
+    gives its numbers (crowded labels printed over each other are unreadable: "300, 660" on
     the tick label "4"). Boxes are kept 2 pt apart: two labels side by side without a gap read
     as one number ("210, 570" beside "30": "210, 57030"). ``obstacles``: boxes (x0, y0, x1, y1)
     no label may cover (the pole's mark and letter, the oil hole's line).
@@ -308,7 +308,7 @@ def _curve_samples(x, y, spacing: float, most: int = 1500) -> tuple[np.ndarray, 
 def _pole_and_oil_hole(pole_z: float, radius: float, oil_deg: float | None, per_pt: float) -> list[tuple]:
     """Boxes (screen data units: x right, y up = −z) that a polar diagram's labels keep clear of:
     the pole's cross and its letter O (8 pt, 9 pt down and left of it), and points along the oil
-    hole's line ("90, 330, 660" was printed over the line, "180" over the O)."""
+    hole's line (not "90, 330, 660" printed over the line, "180" over the O)."""
     boxes = [(-12 * per_pt, -pole_z - 12 * per_pt, 5 * per_pt, -pole_z + 5 * per_pt)]
     if oil_deg is not None:
         psi = math.radians(oil_deg)
@@ -324,7 +324,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
     ``axes``: the names of its horizontal and vertical components (crank axes t, z unless the
     diagram is drawn in the rod's or the engine's axes); ``see``: the key and placeholders of
     the sentence announcing it, which names the journal or bearing (two diagrams side by side
-    were each announced as just "the vector diagram")."""
+    are not each announced as just "the vector diagram")."""
     width_cm = _polar_size(t_Pa / 1e6, z_Pa / 1e6, pole_z, diameter_scale)[0]
     return ctx.figure(partial(_polar_drawing, ctx.t, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale,
                               labels_every, axes), caption, name, see=see[0], see_params=see[1]), \
@@ -332,7 +332,7 @@ def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, label
 
 
 #: A diagram at most this wide (cm) stands beside the next one: two tall, narrow diagrams on a
-#: page instead of one on each, with half of it empty (a supervisor's reading).
+#: page instead of one on each, with half of it empty.
 HALF_WIDTH_CM = 8.0
 
 
@@ -436,8 +436,8 @@ _SEE = re.compile(r'<p class="see">(.*?)</p>', flags=re.S)
 
 def _figure_row(first, second) -> Markup:
     """Two figures side by side, announced together in one paragraph above the row (each one's
-    sentence in its own half-width column took two lines, and the row then no longer fitted under
-    a chapter's text: a 27 %-full page; a supervisor saw the captions at different heights)."""
+    sentence in its own half-width column takes two lines, and the row then does not fit under
+    a chapter's text: a 27 %-full page, and the captions at different heights)."""
     sentences = " ".join(m.group(1) for block in (first, second) for m in [_SEE.search(str(block))] if m)
     blocks = "".join(_SEE.sub("", str(block), count=1) for block in (first, second))
     return Markup(f'<div class="figure-row-block"><p class="see">{sentences}</p>'
@@ -468,8 +468,8 @@ def _wear_drawing(wear, r, k):
     ax.plot(np.linspace(0, 2 * np.pi, 361), np.ones(361), color="0.2", lw=1.0)
     oil = np.radians(r["crank_pins"][k - 1]["oil_hole_deg"])
     ax.plot([oil, oil], [0.85, 1.12], color="C2", lw=2)
-    # the crank's axes the angles are counted in, as the polar diagrams draw them (a supervisor could
-    # not tell where 0° and +z were): z towards the shaft axis, t in the direction of rotation
+    # the crank's axes the angles are counted in, as the polar diagrams draw them (without them
+    # 0° and +z are nowhere): z towards the shaft axis, t in the direction of rotation
     for angle, name in ((0.0, "$z$"), (np.pi / 2, "$t$")):
         ax.annotate("", xy=(angle, 0.25), xytext=(0.0, 0.0),
                     arrowprops={"arrowstyle": "-|>", "color": "0.25", "lw": 1.0})

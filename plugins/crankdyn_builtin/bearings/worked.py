@@ -44,7 +44,7 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
     """The pins table's rows and their crank labels: one row "1…4" for pins that print alike
     (identical cylinders, each on a crank of its own: the same loads shifted in phase), which the
     table repeated four times; an ellipsis, not the en dash of a main journal's name "1–2" (the
-    journal between cranks 1 and 2), which a supervisor read the same."""
+    journal between cranks 1 and 2), which reads the same."""
     printed = {(round(p["max_N"] / 1e3, 2), round(p["mean_N"] / 1e3, 2), round(p["max_MPa"], 2),
                 round(p["mean_MPa"], 2), round(p["oil_hole_deg"])) for p in pins}
     if len(pins) > 1 and len(printed) == 1:

@@ -1,4 +1,4 @@
-"""The flywheel by the energy method: excess work, cyclic irregularity, inertia, rim (issue 7, item 2)."""
+"""The flywheel by the energy method: excess work, cyclic irregularity, inertia, rim."""
 
 from __future__ import annotations
 

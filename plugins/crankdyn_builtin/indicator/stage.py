@@ -133,7 +133,7 @@ def _trace_pressure(scene, motion, area, swept):
 #: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
 #: A vertical offset of 0 centres the label on its point's height: b″ stands between b and a at
-#: BDC, a label under it read as a's (a supervisor).
+#: BDC, and a label under it would read as a's.
 _POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
            ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (4, -3)),
            ("f", "visible", "actual", (-5, 3)), ("c″", 360.0, "actual", (4, -2)),

@@ -1,4 +1,4 @@
-"""Error against run time, measured on the scene itself (issue 7, item 1).
+"""Error against run time, measured on the scene itself.
 
 Three studies, all measured when the report is made:
 

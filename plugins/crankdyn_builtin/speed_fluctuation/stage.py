@@ -1,4 +1,4 @@
-"""Crankshaft speed fluctuation as an initial-value problem; torsional multi-mass model (issue 7, item 3)."""
+"""Crankshaft speed fluctuation as an initial-value problem; torsional multi-mass model."""
 
 from __future__ import annotations
 

@@ -145,7 +145,7 @@ def _run_bounds(contact, spread_deg: float, resolution_deg: float, points: int):
     The run is [ceil(lower), floor(upper)] of lower, upper = (contact -+ spread)/resolution; only a
     load whose bound falls within 1e-6 of a surface point, where the test's rounding decides, is
     settled by the test itself, stepping from the estimate (at a 0.01 deg step the test over every
-    load, seven times a diagram, was a third of the bearings stage)."""
+    load, seven times a diagram, would be a third of the bearings stage)."""
     lower, upper = (contact - spread_deg) / resolution_deg, (contact + spread_deg) / resolution_deg
     first, last = np.ceil(lower).astype(np.int64), np.floor(upper).astype(np.int64)
     hit = last >= first

@@ -187,8 +187,8 @@ _BLOCK_ELEMENTS = 1 << 20
 #: A set of angles is taken as the uniform grid when every angle is within this fraction of
 #: the period of ``k * period / M`` (rounding of degrees to radians is ~1e-16 of it).
 _GRID_TOLERANCE = 1e-13
-#: Below this many (angle, harmonic) products a grid is summed directly, as a short one always
-#: was (the FFT agrees to rounding, which an adaptive ODE solver started from it would amplify
+#: Below this many (angle, harmonic) products a grid is summed directly (the FFT agrees to
+#: rounding, which an adaptive ODE solver started from it would amplify
 #: into a different step sequence); above it the direct sum would grow with the square of the
 #: number of angles.
 _GRID_MIN_WORK = 1 << 23

@@ -311,7 +311,7 @@ def report_css(language: str, frame: str = "none") -> str:
 
 def _timing_rows(result, shown: dict, t) -> list[tuple[str, float]]:
     """(title, seconds) of each stage that ran; one that ran without a section (one cylinder's
-    engine scheme, its torque) says so (a supervisor found stages timed that the note has no section of)."""
+    engine scheme, its torque) says so (a timing row needs a section to refer to)."""
     return [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
              result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
 
@@ -329,7 +329,7 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
 def introduction_aim(t, stages: list[str]) -> str:
     """The introduction's aim: "… by the method of [1]: to determine …, assess … and size the
     flywheel", each section's ``<section>.aim`` (its plugin's catalog) once, in the note's order; a
-    note whose sections have none says the aim without them (a kinematics note was said to
+    note whose sections have none says the aim without them (a kinematics note does not claim to
     determine forces and torques and the engine's balance)."""
     aims = list(dict.fromkeys(t(f"{stage}.aim") for stage in stages if t.has(f"{stage}.aim")))
     if not aims:
@@ -577,7 +577,7 @@ _CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data
 
 
 #: ``@@SECTION:kinematics@@`` in a catalog text: the number of that stage's section in this report
-#: ("див. розділ 2"; a supervisor: "см. раздел кинематики" names no section).
+#: ("див. розділ 2"; "см. раздел кинематики" names no section).
 SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
 
 

@@ -94,7 +94,7 @@ def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
     (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
     the figures and the equations' own results show convenient units (мм, МПа, см², л), as the
     list of symbols says before it lists them in those units. Where-lines in the tables' units
-    made the formulas wrong as read (a review and a supervisor: M_к = t R F_п with t in МПа, R in
+    would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in
     мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
     unit = symbols[key].unit
     return unit_text(_SI_UNITS.get(unit, unit), t)

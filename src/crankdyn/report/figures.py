@@ -39,7 +39,7 @@ STYLE = {
     "axes.spines.right": False,
     "lines.linewidth": 1.4,
     # each colour with its own dash: the curves of one axes stay apart in black-and-white print
-    # (a supervisor: two solid lines, blue and orange, read as one on a grey copy)
+    # (two solid lines, blue and orange, read as one on a grey copy)
     # (matplotlib reads the cycle from this text as from its matplotlibrc)
     "axes.prop_cycle": "cycler(color=['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2',"
                        " '#7f7f7f']) + cycler(linestyle=['-', '--', '-.', ':', (0, (6, 2, 1, 2, 1, 2)), (0, (8, 3)),"
@@ -52,8 +52,8 @@ STYLE = {
 
 
 #: Typeset mathtext strings kept per process. matplotlib keeps 50 per parser, and each renderer
-#: has a parser of its own (every figure's SVG renderer makes a new one): a label was typeset
-#: again for every figure, and for every report of a batch or save of the preview
+#: has a parser of its own (every figure's SVG renderer makes a new one): a label would be
+#: typeset again for every figure, and for every report of a batch or save of the preview
 #: (pyparsing: ~5 ms a label).
 MATHTEXT_CACHE = 4096
 

@@ -81,8 +81,8 @@ _SPACE_BEFORE_INLINE = re.compile(r"(?<=\S) ((?:<b>)?<i>|<b>)")
 def spaces_into_inline(html: str) -> str:
     """``html`` with the word space before an italic or bold element moved into it (" <i>C</i>" →
     "<i> C</i>"): the same text, for WeasyPrint (70), which cannot break a line just before an
-    inline element there and breaks it at the line's first space instead (a supervisor: a paragraph's
-    first line held only "Амплітуду", the rest of it on the next). A space at a line's start is
+    inline element there and breaks it at the line's first space instead (a paragraph's first
+    line would hold only "Амплітуду", the rest of it on the next). A space at a line's start is
     dropped as anywhere else."""
     return _SPACE_BEFORE_INLINE.sub(r"\1 ", html)
 

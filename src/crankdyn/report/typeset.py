@@ -507,7 +507,7 @@ def _braces(text: str) -> str:
 
 
 #: A Latin letter standing alone in Cyrillic prose is a quantity's symbol ("координату x", "n-го
-#: порядку", "вектори F і P", "d·B"): set in italics as the equations set it (a supervisor: the same
+#: порядку", "вектори F і P", "d·B"): set in italics as the equations set it (not the same
 #: letter upright in the text and italic in the formula). Only between spaces or punctuation inside
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop after a name), the
@@ -530,7 +530,7 @@ _ITALIC_PROSE_LANGUAGES = frozenset({"uk", "ru"})
 def _index_subscripts(symbols: SymbolTable = SYMBOLS) -> dict[tuple[str, str], str]:
     """(base, subscript as a catalog writes it) -> the subscript's markup, for the symbols whose
     subscript holds an index in italics (l_i, C_n, Δα_0i, t_wi): the text sets them as the
-    equations do (the second reading: l′_i upright in the text, italic in formula 7.3). A pair
+    equations do (not l′_i upright in the text and italic in formula 7.3). A pair
     that another symbol writes upright (p_i, the indicated pressure) is left as it is."""
     indexed: dict[tuple[str, str], str] = {}
     upright: set[tuple[str, str]] = set()
@@ -615,11 +615,11 @@ _EQUALS_NUMBER = re.compile(r" = (?=[−\-+]?\d|\|)")
 _SLASH_IN_WORD = re.compile(r"(?<![\s<])/(?=[^\s/>\u2060])")
 WORD_JOINER = "\u2060"
 #: "C_n = |A_n|·C_I": no line break after the opening bar of an absolute value (Unicode lets a
-#: line break after "|": the ru reading found "C_n = |" at a line's end).
+#: line break after "|", which would leave "C_n = |" at a line's end).
 _OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=·])|^)\|(?=[^\s|\u2060]|$)")
 #: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
-#: title page had "Петров В. /М."): a no-break space before a capital initial after a word or an
-#: initial, and ("В. М. Петров") after an initial before a capitalised word.
+#: title page would otherwise break "Петров В. /М."): a no-break space before a capital
+#: initial after a word or an initial, and ("В. М. Петров") after an initial before a capitalised word.
 _BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-ZА-ЯІЇЄҐЁ]\.)*(?:[\s,;:)]|$))"
                              r"|(?<=\b[A-ZА-ЯІЇЄҐЁ]\.) (?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])")
 
@@ -763,8 +763,8 @@ def _legend_outside(ax) -> None:
 
 def _legend_columns(ax, labels, size_pt: float) -> int:
     """As many columns (at most 4) as fit the figure's width: four long labels in one row ("main
-    journal after crank 1" …) were wider than the figure, and the layout squeezed the axes into
-    its right half to make room. A label's width is estimated at 0.55 em a character, plus the
+    journal after crank 1" …) are wider than the figure, and the layout would squeeze the axes
+    into its right half to make room. A label's width is estimated at 0.55 em a character, plus the
     line sample and the gap between columns (about 3 em)."""
     width_pt = ax.figure.get_figwidth() * 72.0 * 0.95
     longest = max(len(label) for label in labels)
@@ -818,7 +818,7 @@ def _log_minor_label(x: float, view, t) -> str:
 
 
 #: A log axis within these limits is labelled with plain numbers (0,05; 2; 10; 500), as a reader
-#: writes them, not as powers of ten ("2·10⁰", "10¹": a supervisor's remark).
+#: writes them, not as powers of ten ("2·10⁰", "10¹").
 PLAIN_LOG_RANGE = (1e-2, 1e4)
 
 

@@ -125,8 +125,8 @@ _SLASH_BRACKET = re.compile(r"/(?=[(\[])")
 
 def groups_unbroken(line_html: str) -> str:
     """``line_html`` with each short innermost "( … )" group in a span that the page does not
-    break, a function bound to its argument and no break after a slash before a bracket (a review
-    of the PDF: "…/cos | 8,048°", "…583,396)/ | (589,260 + …")."""
+    break, a function bound to its argument and no break after a slash before a bracket (not
+    "…/cos | 8,048°", "…583,396)/ | (589,260 + …" across a line's end)."""
     def keep(match: re.Match) -> str:
         group = match.group(0)
         if len(_TAG_RE.sub("", group)) > GROUP_CHARS or not _tags_balanced(group):
