@@ -462,7 +462,7 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
                     ha="center", bbox=LABEL_BOX, zorder=7)
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
     candidates = [(sign * (clear + k * extent * 0.04), share) for k in range(4) for sign in (-1.0, 1.0)
-                  for share in (0.5, 0.6, 0.4, 0.7, 0.3)]
+                  for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)]
     for offset, share in candidates + [candidates[0]]:
         side = n * np.sign(offset)
         label.set_position(p + (q - p) * share + n * offset + side * extent * 0.008)
