@@ -227,6 +227,8 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
                                scheme_angle=scheme_angle, marks=marked, stroke="S" in positions.dimensions,
                                front_view=_front_view_kind(positions),
+                               master_rod=bool(md.master_rod_bodies(positions, 0)),
+                               counterweight=bool(md.counterweights(positions, 0)),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),
                                step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
