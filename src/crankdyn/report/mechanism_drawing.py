@@ -271,25 +271,27 @@ def drawn_links(geometry):
     return [link for link in geometry.links if not link[0].startswith("master_")]
 
 
-def master_rod_bodies(geometry, i: int) -> list:
-    """The big end of each master rod at frame ``i`` (mm): the polygon through its knuckle pins
-    (the slave rods' pins, in order round the crank pin), drawn filled as one rigid member
-    (ГОСТ 2.770: a link with more than two joints), the master's shank leaving it as a bar."""
+def master_rod_joints(geometry) -> list[list[str]]:
+    """The knuckle pins of each master rod in order round its crank pin (at the first frame: the
+    body is rigid, so the order holds at every frame): the animation's bodies."""
     pins: dict[str, list[str]] = {}
     for name, a, b in geometry.links:
         if name.startswith("master_") and not name.startswith("master_web_"):
             pins.setdefault(a, []).append(b)
     bodies = []
     for centre, knuckles in pins.items():
-        c = geometry.joints[centre][i] * MM
-        points = np.array([geometry.joints[k][i] * MM for k in knuckles])
-        if len(points) < 2:
-            continue
-        if len(points) == 2:  # two knuckle pins: a triangle with the crank pin
-            points = np.vstack([points, c])
-        order = np.argsort(np.arctan2(points[:, 1] - c[1], points[:, 0] - c[0]))
-        bodies.append(points[order])
-    return bodies
+        c = geometry.joints[centre][0]
+        angles = [np.arctan2(*(geometry.joints[k][0] - c)[::-1]) for k in knuckles]
+        names = [k for _, k in sorted(zip(angles, knuckles))]
+        bodies.append(names + [centre] if len(names) == 2 else names)
+    return [b for b in bodies if len(b) >= 3]
+
+
+def master_rod_bodies(geometry, i: int) -> list:
+    """The big end of each master rod at frame ``i`` (mm): the polygon through its knuckle pins
+    (:func:`master_rod_joints`), drawn filled as one rigid member (ГОСТ 2.770: a link with more
+    than two joints), the master's shank leaving it as a bar."""
+    return [np.array([geometry.joints[k][i] * MM for k in names]) for names in master_rod_joints(geometry)]
 
 
 #: A crank's counterweight as drawn: a segment of a disc opposite the crank pin (radius and
@@ -869,8 +871,9 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
                 "half": g.bore_m * MM / 2 * 0.97, "skirt": piston_skirt_mm(g, geometry), "crown": CROWN * g.bore_m * MM}
                for g in geometry.guides if g.bore_m > 0 and g.moving is None]
-    payload = {"joints": frames, "links": [[a, b, 0.3 if "web" in name else 1.0] for name, a, b in geometry.links],
-               "pistons": pistons, "r": extent * JOINT_R, "fixed": list(geometry.fixed)}
+    payload = {"joints": frames, "links": [[a, b, 1.0] for _, a, b in drawn_links(geometry)],
+               "bodies": master_rod_joints(geometry), "pistons": pistons, "r": extent * JOINT_R,
+               "fixed": list(geometry.fixed)}
     static = _static_svg(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
     svg = (f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
