@@ -792,12 +792,12 @@ def positions_layout(geometry, count: int) -> tuple[int, int]:
 
 def _panel_limits(geometry):
     """A positions panel's limits: room for the cylinders' numbers only (no dimension lines)."""
-    return _limits(geometry, label_gap=0.1, pad_share=0.02)
+    return _limits(geometry, label_gap=0.1, pad_share=0.04)
 
 
 def positions_sheets(geometry, frames: list) -> list[list]:
-    """The frames split into the figures that hold them (:func:`positions_layout`), as evenly as
-    the rows allow: five panels of a radial as three and two, not four and one."""
+    """The frames split into the figures that hold them (:func:`positions_layout`), each but the
+    last filled with whole rows: five panels of a radial as four (two rows) and one."""
     cols, per_sheet = positions_layout(geometry, len(frames))
     sheets = -(-len(frames) // per_sheet)
     size = -(-len(frames) // sheets)
