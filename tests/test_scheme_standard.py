@@ -76,8 +76,8 @@ def test_no_two_cylinders_cross(engine):
 
 
 def test_the_overlap_check_finds_crossing_cylinders():
-    """The check above can fail: two liners of a nine-cylinder radial drawn from their pistons'
-    skirts at BDC (the drawing before the liners were cut short) cross."""
+    """The check above can fail: two liners of a nine-cylinder radial, were they drawn down to
+    their pistons' full skirts at BDC, would cross."""
     geometry = _positions("radial9")
     full = [_outline(*md._guide_frame(geometry, g, 0), g.travel_m[0] * 1e3 - md.SKIRT * g.bore_m * 1e3,
                      md.liner_ends_mm(g)[1], g.bore_m * 1e3 / 2) for g in geometry.guides]
@@ -153,8 +153,8 @@ def _panels_mm(fig) -> list[float]:
 
 @pytest.mark.parametrize("engine", ["radial9", "radial7", "v8"])
 def test_each_position_of_a_radial_or_v_is_half_the_text_width(engine):
-    """Not five 1,6 cm drawings: two in a row, each half the A4 text width, on as many figures as
-    the page's figure height needs, none taller (the printed page would shrink it)."""
+    """Two in a row, each half the A4 text width, on as many figures as the page's figure height
+    needs, none taller (the printed page would shrink it)."""
     output = _drawing(engine)
     positions = output.artifacts["positions"]
     frames = [(k, f"position {k}\nα = {k}°") for k in range(len(output.results["crank_angles_deg"]))]

@@ -370,7 +370,8 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
-    texts = [", ".join(translator.angle(angle[k * every], step) for k in same) for _, same in groups]
+    texts = [", ".join(translator.angle(angle[k * every], step) for k in same)
+             for _, same in groups]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
     # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
     # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
