@@ -828,7 +828,8 @@ def _explorer_table(ctx, r):
         rows = x["rows"]
         explorer_table = ctx.table([
             ("№", [str(c["rank"]) for c in rows], None),
-            (t("balancing.cranks"), ["; ".join(t.number_g(v) for v in c["crank_angles_deg"]) for c in rows], None),
+            (t("balancing.cranks"), ["; ".join(ctx.angle_text(v) for v in c["crank_angles_deg"])
+                                     for c in rows], None),
             (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
             ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
             ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),

@@ -378,7 +378,8 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
-    texts = [", ".join(translator.number_g(angle[k * every]) for k in same) for _, same in groups]
+    texts = [", ".join(translator.angle(angle[k * every], step) for k in same)
+             for _, same in groups]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
     # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
     # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
@@ -499,7 +500,8 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
     t = ctx.t
     return t(f"bearings.range_{kind}", name=name, min=t.fixed(load["min_N"] / 1e3, 2),
              max=t.fixed(load["max_N"] / 1e3, 2), mean=t.fixed(load["mean_N"] / 1e3, 2),
-             min_angle=t.number_g(load["min_crank_angle_deg"]), max_angle=t.number_g(load["max_crank_angle_deg"]))
+             min_angle=ctx.angle_text(load["min_crank_angle_deg"]),
+             max_angle=ctx.angle_text(load["max_crank_angle_deg"]))
 
 
 def _unrolled_figure(ctx, f, r, angle, single: bool):

@@ -30,6 +30,9 @@ POSITIONS = ("tdc", "bdc", "v_max", "v_min", "j_max", "j_min")
 #: their angles α and β apart and visible, as a textbook draws the mechanism (at TDC the rod
 #: covers the crank).
 SCHEME_ANGLE_DEG = 45.0
+#: The crank angle of the scheme of an engine with articulated rods: cylinder 1's TDC, where the
+#: master rod's knuckle pins stand clear of the shaft's axis (at 45 deg one of them covers it).
+ARTICULATED_SCHEME_ANGLE_DEG = 0.0
 #: Frames of the animation per revolution (at most; never finer than the scene's grid).
 FRAMES_PER_REVOLUTION = 180
 
@@ -126,6 +129,14 @@ def _motion(scene, inputs):
     return angle, s, v, j, travel_at
 
 
+def scheme_angle_deg(geometry) -> float:
+    """The crank angle the scheme is drawn at: :data:`ARTICULATED_SCHEME_ANGLE_DEG` for a
+    mechanism with a master rod, :data:`SCHEME_ANGLE_DEG` otherwise."""
+    if md.master_rod_bodies(geometry, 0):
+        return ARTICULATED_SCHEME_ANGLE_DEG
+    return SCHEME_ANGLE_DEG
+
+
 def run(scene, inputs) -> StageOutput:
     """Geometry at the characteristic angles and at the animation's frames (physics only)."""
     geometry_of = mechanism_geometry(scene, inputs)
@@ -137,14 +148,15 @@ def run(scene, inputs) -> StageOutput:
         max(1, int(round(period / (2 * FRAMES_PER_REVOLUTION) / step)))
     frames_deg = np.arange(0.0, period - 1e-9, step * every)
     # the characteristic positions, then the scheme's
-    at = np.radians([angles[k] for k in POSITIONS] + [SCHEME_ANGLE_DEG])
+    scheme_angle = scheme_angle_deg(geometry_of(scene, np.zeros(1)))
+    at = np.radians([angles[k] for k in POSITIONS] + [scheme_angle])
     positions = geometry_of(scene, at)
     animation = geometry_of(scene, np.radians(frames_deg))
     grid = np.rint(np.interp(frames_deg, angle, np.arange(len(angle)))).astype(int)
     curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
     results = {"crank_angles_deg": {k: angles[k] for k in POSITIONS}, "animation_frames": int(len(frames_deg)),
                "animation_step_deg": float(step * every), "motion_period_deg": period,
-               "scheme_angle_deg": SCHEME_ANGLE_DEG}
+               "scheme_angle_deg": scheme_angle}
     # No tables: the joint positions are drawing data (kept for render only), the angles are in results.
     return StageOutput(results=results,
                        artifacts={"positions": positions, "animation": animation, "curves": curves})
@@ -201,13 +213,12 @@ def render(output: StageOutput, ctx) -> str:
     fig, scale = md.scheme_figure(positions, len(POSITIONS), _labels(positions, ctx), t("drawing.crank_star"),
                                  t("drawing.firing_order", order=order) if order else "", marks)
     scale = scale_text(scale, t)
-    scheme_angle = t.number_g(output.results["scheme_angle_deg"], 4)
+    scheme_angle = ctx.angle_text(output.results["scheme_angle_deg"])
     figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale, angle=scheme_angle), "scheme",
                                see="drawing.see_scheme")
-    # one decimal at most, none for a whole degree: "0°", "75,4°", "180°", "284,6°" side by side
-    frames = position_frames(angles, lambda k: t("drawing.position_" + k, angle=ctx.t.number_g(round(angles[k], 1), 5)))
-    figure_positions = ctx.figure(partial(md.positions_figure, positions, frames), t("drawing.positions_caption"), "positions",
-                                  see="drawing.see_positions")
+    # none for a whole degree, the step's resolution otherwise: "0°", "75,4°", "180°", "284,6°"
+    frames = position_frames(angles, lambda k: t("drawing.position_" + k, angle=ctx.angle_text(angles[k])))
+    figure_positions = _positions_figures(ctx, positions, frames)
     svg, payload = md.animation_svg(animation)
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
@@ -216,13 +227,29 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
                                scheme_angle=scheme_angle, marks=marked, stroke="S" in positions.dimensions,
                                front_view=_front_view_kind(positions),
+                               master_rod=bool(md.master_rod_bodies(positions, 0)),
+                               counterweight=bool(md.counterweights(positions, 0)),
                                figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
                                payload=Markup(payload.replace("</", "<\\/")),
                                step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
 
 
+def _positions_figures(ctx, positions, frames) -> Markup:
+    """The positions figure, on as many figures as the page needs (:func:`md.positions_sheets`):
+    the second and later ones captioned as the continuation."""
+    t = ctx.t
+    sheets = md.positions_sheets(positions, frames)
+    parts = [ctx.figure(partial(md.positions_figure, positions, sheets[0]), t("drawing.positions_caption"),
+                        "positions", see="drawing.see_positions")]
+    for k, sheet in enumerate(sheets[1:], start=2):
+        parts.append(ctx.figure(partial(md.positions_figure, positions, sheet),
+                                t("drawing.positions_caption_continued"), f"positions_{k}",
+                                see="drawing.see_positions_continued"))
+    return Markup("\n").join(parts)
+
+
 _COMMON = dict(template_dir=TEMPLATES, title_key="drawing.title", provides=(), run=run, render=render,
-               references=("poda2007",), figures=("scheme", "positions"), tables=(),
+               references=("poda2007",), figures=("scheme", "positions", "positions_*"), tables=(),
                services=(SERVICE_RUNNER,))
 
 DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), applies=applies, **_COMMON)

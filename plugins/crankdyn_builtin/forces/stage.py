@@ -299,14 +299,14 @@ def render(output: StageOutput, ctx) -> str:
     ctx.conclude(t("forces.conclusion_torque" + whose, mean=ctx.num(r["mean_torque_Nm"]),
                    from_work=ctx.num(r["mean_torque_from_work_Nm"]),
                    deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
-                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.t.number_g(r["torque_max_crank_angle_deg"], 4)))
+                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.angle_text(r["torque_max_crank_angle_deg"])))
     if r.get("mechanical_efficiency") is not None:  # a single cylinder given its N_e
         ctx.conclude(t("forces.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
                        eta=ctx.num(r["mechanical_efficiency"], 3)))
     ctx.conclude(t("forces.conclusion_loads", q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
-                   q_angle=ctx.t.number_g(r["resultant_max_crank_angle_deg"], 4),
+                   q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
                    n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
-                   n_angle=ctx.t.number_g(float(angle[first_argmax(np.abs(f["side_Pa"]))]), 4)))
+                   n_angle=ctx.angle_text(float(angle[first_argmax(np.abs(f["side_Pa"]))]))))
     return ctx.render_template("sections/forces.html.j2", r=r, table_b1=table_b1, table_q=table_q,
                                figure_forces=figure_forces, figure_torque=figure_torque, worked=worked)
 

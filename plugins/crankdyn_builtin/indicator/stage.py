@@ -211,10 +211,10 @@ def render(output: StageOutput, ctx) -> str:
     table += worked_indicator(ctx, frame, rows, labels, r)
 
     ctx.find(t("indicator.finding", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                angle=ctx.t.number_g(r["max_pressure_crank_angle_deg"], 4)))
+                angle=ctx.angle_text(r["max_pressure_crank_angle_deg"])))
     deviation = r.get("mean_indicated_pressure_deviation_percent")
     ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                   angle=ctx.t.number_g(r["max_pressure_crank_angle_deg"], 4),
+                   angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
                    p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6), work=ctx.num(r["indicated_work_J"])))
     if deviation is not None:
         key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"

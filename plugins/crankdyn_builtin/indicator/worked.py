@@ -64,5 +64,5 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
                       f"{p_txt}·({va_txt}/{v_txt})<sup>{n_txt}</sup>",
                       float(frame["pressure_theoretical_Pa"][rows][i]) / 1e6, 4, t("unit.MPa"),
                       inputs, exact=exact)
-    note = t(f"indicator.worked_{line}", angle=t.number_g(alpha))
+    note = t(f"indicator.worked_{line}", angle=ctx.angle_text(alpha))
     return worked_markup(ctx, WorkedBlock("indicator", ctx.last_table_number, alpha, [step], note=note))

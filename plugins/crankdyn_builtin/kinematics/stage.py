@@ -250,9 +250,9 @@ def render(output: StageOutput, ctx) -> str:
         figure_cm = ctx.figure(partial(_rod_cm_figure, frame, t), t("kinematics.cm_figure_caption"), "rod_cm",
                                see="kinematics.see_cm")
 
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.t.number_g(r["v_max_crank_angle_deg"], 4),
+    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.angle_text(r["v_max_crank_angle_deg"]),
                    v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.t.number_g(r["j_min_crank_angle_deg"], 4)))
+                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.angle_text(r["j_min_crank_angle_deg"])))
     return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
                                figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
 
@@ -313,7 +313,7 @@ def _worked(ctx, rows, labels, r):
     t, lang = ctx.t, ctx.t.language
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), rows.row(i)
-    a = t.number_g(alpha)
+    a = ctx.angle_text(alpha)
     r_txt, r_m = printed(t, r["crank_radius_m"])
     l_txt, lam = printed(t, r["rod_ratio"])
     w_txt, omega = printed(t, r["angular_velocity_rad_s"], 5)

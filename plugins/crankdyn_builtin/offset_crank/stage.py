@@ -232,7 +232,8 @@ def render(output: StageOutput, ctx) -> str:
                             see="offset_crank.see_rod_figure")
 
     ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
-                   tdc=ctx.t.number_g(r["tdc_crank_angle_from_axis_deg"], 4), bdc=ctx.t.number_g(r["bdc_crank_angle_deg"], 4),
+                   tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
+                   bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
                    stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
                    ratio=ctx.num(r["stroke_time_ratio"], 5)))
     return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,

@@ -44,5 +44,5 @@ def worked_offset_crank(ctx, g, labels, r) -> Markup:
                    f"{w_txt}·{lam_txt}·cos {f_txt}°/cos {b_s}", float(row["rod_angular_velocity_rad_s"]), 1,
                    t("unit.rad_s"), inputs, exact=exact),
     ]
-    note = t("offset_crank.worked_phi", alpha=t.number_g(alpha), phi=f_txt)
+    note = t("offset_crank.worked_phi", alpha=ctx.angle_text(alpha), phi=f_txt)
     return worked_markup(ctx, WorkedBlock("offset_crank", ctx.last_table_number, alpha, steps, note=note))

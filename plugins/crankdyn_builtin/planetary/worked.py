@@ -39,5 +39,5 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
         WorkedStep("planetary_rod_angle", "<i>β</i>", "arcsin(<i>x</i><sub>B</sub>/<i>L</i>)",
                    f"arcsin({bracketed(x_txt, x)}/{l_txt})", float(row["rod_angle_deg"]), 2, "°", inputs, exact=exact),
     ]
-    note = t("planetary.worked_phi", alpha=t.number_g(alpha), phi=f_txt)
+    note = t("planetary.worked_phi", alpha=ctx.angle_text(alpha), phi=f_txt)
     return worked_markup(ctx, WorkedBlock("planetary", ctx.last_table_number, alpha, steps, note=note))

@@ -170,8 +170,8 @@ def render(output: StageOutput, ctx) -> str | None:
     ctx.find(t("torque.finding", mean=ctx.num(r["mean_Nm"])))
     ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),
                    deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
-                   max_angle=ctx.t.number_g(r["max_crank_angle_deg"], 4), min=ctx.num(r["min_Nm"]),
-                   period=ctx.t.number_g(r["period_deg"], 4), mu=ctx.num(r["non_uniformity"], 3)))
+                   max_angle=ctx.angle_text(r["max_crank_angle_deg"]), min=ctx.num(r["min_Nm"]),
+                   period=ctx.angle_text(r["period_deg"]), mu=ctx.num(r["non_uniformity"], 3)))
     if r.get("mechanical_efficiency") is not None:
         ctx.conclude(t("torque.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
                        eta=ctx.num(r["mechanical_efficiency"], 3)))

@@ -16,7 +16,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: list[dict] = ()) ->
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), f.row(rows[i])
-    own = ", ".join(f"α_{{{d['cylinder']}}} = {t.number_g((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
+    own = ", ".join(f"α_{{{d['cylinder']}}} = {ctx.angle_text((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
                     for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"])))
     engine = ctx.scene.engine
     radius, area = engine.crank_radius_m, piston_area_m2(engine.bore)

@@ -13,7 +13,7 @@ def worked_vane(ctx, g, labels, r) -> Markup:
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), g.row(i)
-    a = t.number_g(alpha)
+    a = ctx.angle_text(alpha)
     lam_txt, lam = printed_g(t, r["rod_ratio"])
     w_txt, w = printed(t, r["angular_velocity_rad_s"], 5)
     r_txt, r_mm = printed_g(t, r["crank_radius_m"] * 1e3)

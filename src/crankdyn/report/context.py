@@ -175,6 +175,7 @@ class RenderContext:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
         # whoever built the environment (the report, the API's single sections, the tests).
         self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
+        self.env.filters["angle"] = self.angle_text  # a crank angle: "372°", "75,4°"
 
     @property
     def worked_angle_deg(self) -> float:
@@ -263,11 +264,7 @@ class RenderContext:
         """A crank angle as printed: whole degrees as they are; an angle between whole degrees with
         one decimal per decade the computation step is finer than 1 deg (at least one), since the
         step is the resolution an angle read off the grid has."""
-        if abs(angle_deg - round(angle_deg)) < 1e-9:
-            return self.t.number_g(float(round(angle_deg)), 6)
-        step = self.scene.analysis.angle_step_deg if self.scene is not None else None
-        decimals = max(1, math.ceil(-math.log10(step) - 1e-9)) if step else 1
-        return self.t.number_g(round(angle_deg, decimals), 6)
+        return self.t.angle(angle_deg, self.scene.analysis.angle_step_deg if self.scene is not None else None)
 
     def extremes_note(self, extremes: Sequence[TableExtreme]) -> str:
         """The note under a table that names its added extremum rows ("" without any)."""
@@ -374,6 +371,7 @@ class RenderContext:
     def render_template(self, name: str, **values: Any) -> str:
         if "numg" not in self.env.filters:  # "372°", "7,5°": a number without padding zeros
             self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
+        self.env.filters["angle"] = self.angle_text  # this report's step
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
 

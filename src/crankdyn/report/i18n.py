@@ -161,6 +161,16 @@ class Translator:
             text = text.rstrip("0").rstrip(self.decimal_separator_babel)
         return text
 
+    def angle(self, angle_deg: float, step_deg: float | None = None) -> str:
+        """A crank angle as printed: whole degrees as they are; an angle between whole degrees with
+        one decimal per decade the computation step ``step_deg`` is finer than 1 deg (at least one),
+        since the step is the resolution an angle read off the grid has."""
+        angle_deg = float(angle_deg)
+        if abs(angle_deg - round(angle_deg)) < 1e-9:
+            return self.number_g(float(round(angle_deg)), 6)
+        decimals = max(1, math.ceil(-math.log10(step_deg) - 1e-9)) if step_deg else 1
+        return self.number_g(round(angle_deg, decimals), 6)
+
     @property
     def decimal_separator_babel(self) -> str:
         from babel.numbers import get_decimal_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)

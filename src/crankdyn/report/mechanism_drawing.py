@@ -100,17 +100,62 @@ def _guide_frame(geometry, guide, i):
     return np.asarray(guide.origin_m, dtype=float) * MM, d, np.array([d[1], -d[0]])
 
 
-def liner_ends_mm(guide) -> tuple[float, float]:
+SKIRT = 0.35  # the piston below its pin, fraction of the bore
+CROWN = 0.45  # the piston above its pin, fraction of the bore
+SHORT_SKIRT = 0.12  # the least skirt drawn, where the neighbouring cylinders leave no room
+
+
+def liner_ends_mm(guide, geometry=None) -> tuple[float, float]:
     """(skirt end, crown end) of a cylinder liner along its axis from ``origin_m`` (mm): the piston
-    pin's travel with a skirt of 0.35 and a crown of 0.45 bore beyond it."""
-    return (guide.travel_m[0] - 0.35 * guide.bore_m) * MM, (guide.travel_m[1] + 0.45 * guide.bore_m) * MM
+    pin's travel with the piston's skirt (:func:`piston_skirt_mm`) and a crown of 0.45 bore beyond
+    it; with ``geometry``, a liner starts no nearer the shaft than its neighbours' walls allow
+    (:func:`liner_floor_mm`), so that the cylinders of a radial or a V do not cross."""
+    bottom = guide.travel_m[0] * MM - piston_skirt_mm(guide, geometry)
+    if geometry is not None:
+        bottom = max(bottom, liner_floor_mm(geometry, guide))
+    return bottom, (guide.travel_m[1] + CROWN * guide.bore_m) * MM
+
+
+def liner_floor_mm(geometry, guide) -> float:
+    """The distance from the guide's origin (mm) beyond which its liner's walls and hatching clear
+    those of every cylinder whose axis leaves the same origin at another angle: two liners of
+    half-width h at an angle θ meet at h / tan(θ/2) from the shaft. -inf when nothing is near, or
+    when the angle is too narrow for the liners to part within the piston's travel."""
+    if guide.moving is not None or guide.bore_m <= 0:
+        return -np.inf
+    d = np.asarray(guide.direction, dtype=float)
+    gap = _extent_mm(geometry) * 0.02 * 0.4  # part of the hatching's depth between the liners
+    floor = -np.inf
+    for other in geometry.guides:
+        if other.moving is not None or other.bore_m <= 0 or not np.allclose(other.origin_m, guide.origin_m):
+            continue
+        cos_theta = float(np.clip(np.dot(d, np.asarray(other.direction, dtype=float)), -1.0, 1.0))
+        theta = float(np.arccos(cos_theta))
+        if theta < 1e-6 or theta > np.pi - 1e-6:
+            continue
+        half = max(guide.bore_m, other.bore_m) * MM / 2
+        floor = max(floor, (half + gap) / np.tan(theta / 2))
+    travel = [v * MM for v in guide.travel_m]
+    return floor if floor <= travel[0] + 0.5 * (travel[1] - travel[0]) else -np.inf
+
+
+def piston_skirt_mm(guide, geometry=None) -> float:
+    """The piston's length below its pin (mm): 0.35 bore, shortened (to 0.12 bore at least) where
+    the liner is cut short by its neighbours (:func:`liner_floor_mm`), as a radial engine's
+    pistons are, so that at its dead centre the piston stays in its cylinder and clear of the
+    pistons beside it."""
+    full = SKIRT * guide.bore_m * MM
+    if geometry is None:
+        return full
+    room = guide.travel_m[0] * MM - liner_floor_mm(geometry, guide)
+    return float(np.clip(room, SHORT_SKIRT * guide.bore_m * MM, full))
 
 
 def _hatch(ax, start, end, normal, size, color, alpha):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
     from matplotlib.collections import LineCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
-    ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
+    ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
     d = (end - start) / length
     count = max(int(length / size), 2)
@@ -123,7 +168,7 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
     """A fixed revolute joint: a small triangle on a hatched base below ``centre``."""
     c = np.asarray(centre)
     tri = np.array([c, c + [-size, -1.6 * size], c + [size, -1.6 * size], c])
-    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, alpha=alpha)
+    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha)
     _hatch(ax, c + [-1.6 * size, -1.6 * size], c + [1.6 * size, -1.6 * size], np.array([0.0, -1.0]),
            size * 0.8, color, alpha)
 
@@ -135,9 +180,9 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
     pin = geometry.joints[guide.joint][i] * MM
     if guide.bore_m > 0:
         half = guide.bore_m * MM / 2
-        skirt = 0.35 * guide.bore_m * MM
-        crown = 0.45 * guide.bore_m * MM
-        bottom, top = low - skirt, high + crown
+        skirt = piston_skirt_mm(guide, geometry)
+        crown = CROWN * guide.bore_m * MM
+        bottom, top = liner_ends_mm(guide, geometry)
         for side in (-1, 1):
             a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
             _hatch(ax, a, b, n * side, extent * 0.02, color, alpha)
@@ -147,17 +192,17 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
         corners = [pos - skirt, pos + crown]
         rect = np.array([o + d * corners[0] - n * half * 0.97, o + d * corners[1] - n * half * 0.97,
                          o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
-        ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
+        ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, ls="-", alpha=alpha, zorder=3)
         if guide.label:
             _guide_label(ax, o, d, n, top, half, guide.label, extent, color=color, alpha=alpha)
     else:
         width = extent * 0.035
         for side in (-1, 1):
             a, b = o + d * (low - width) + n * side * width, o + d * (high + width) + n * side * width
-            ax.plot(*np.c_[a, b], color=color, lw=1.0, alpha=alpha)
+            ax.plot(*np.c_[a, b], color=color, lw=1.0, ls="-", alpha=alpha)
         block = np.array([pin - d * width * 1.2 - n * width, pin + d * width * 1.2 - n * width,
                           pin + d * width * 1.2 + n * width, pin - d * width * 1.2 + n * width])
-        ax.fill(block[:, 0], block[:, 1], facecolor="white", edgecolor=color, lw=1.2, alpha=alpha, zorder=3)
+        ax.fill(block[:, 0], block[:, 1], facecolor="white", edgecolor=color, lw=1.2, ls="-", alpha=alpha, zorder=3)
 
 
 def _guide_label(ax, o, d, n, top, half, label: str, extent: float, **style) -> None:
@@ -200,10 +245,15 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
     from matplotlib.collections import LineCollection, PatchCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
-    # A link named "*web*" is a rigid body's bracing (a master rod's big end to its slave pins): drawn thin.
-    bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in geometry.links]
-    widths = [0.7 if "web" in name else 2.0 for name, _, _ in geometry.links]
-    ax.add_collection(LineCollection(bars, colors=[color], linewidths=widths, alpha=alpha, capstyle="round", zorder=4))
+    bodies = master_rod_bodies(geometry, i)
+    for outline in bodies:
+        ax.fill(outline[:, 0], outline[:, 1], facecolor="0.86", edgecolor=color, lw=1.6, ls="-", alpha=alpha,
+                zorder=3.5, joinstyle="round")
+    for outline in counterweights(geometry, i):
+        ax.fill(outline[:, 0], outline[:, 1], facecolor="0.93", edgecolor=color, lw=1.0, ls="-", alpha=alpha,
+                zorder=1.5)
+    bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in drawn_links(geometry)]
+    ax.add_collection(LineCollection(bars, colors=[color], linewidths=2.0, alpha=alpha, capstyle="round", zorder=4))
     if static:
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][i] * MM, r_joint * 1.6, color, alpha)
@@ -213,6 +263,62 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
     ax.autoscale_view()
     ax.set_aspect("equal")
     hide_axes(ax)
+
+
+def drawn_links(geometry):
+    """The links drawn as bars: all but a master rod's members from its big end to its knuckle
+    pins (``master_*``), which :func:`master_rod_bodies` draws as one rigid body."""
+    return [link for link in geometry.links if not link[0].startswith("master_")]
+
+
+def master_rod_joints(geometry) -> list[list[str]]:
+    """The knuckle pins of each master rod in order round its crank pin (at the first frame: the
+    body is rigid, so the order holds at every frame): the animation's bodies."""
+    pins: dict[str, list[str]] = {}
+    for name, a, b in geometry.links:
+        if name.startswith("master_") and not name.startswith("master_web_"):
+            pins.setdefault(a, []).append(b)
+    bodies = []
+    for centre, knuckles in pins.items():
+        c = geometry.joints[centre][0]
+        angles = [np.arctan2(*(geometry.joints[k][0] - c)[::-1]) for k in knuckles]
+        names = [k for _, k in sorted(zip(angles, knuckles))]
+        bodies.append(names + [centre] if len(names) == 2 else names)
+    return [b for b in bodies if len(b) >= 3]
+
+
+def master_rod_bodies(geometry, i: int) -> list:
+    """The big end of each master rod at frame ``i`` (mm): the polygon through its knuckle pins
+    (:func:`master_rod_joints`), drawn filled as one rigid member (ГОСТ 2.770: a link with more
+    than two joints), the master's shank leaving it as a bar."""
+    return [np.array([geometry.joints[k][i] * MM for k in names]) for names in master_rod_joints(geometry)]
+
+
+#: A crank's counterweight as drawn: a segment of a disc opposite the crank pin (radius and
+#: half-angle), a symbol of the crank's balance mass, not its size.
+COUNTERWEIGHT_RADIUS = 0.6
+COUNTERWEIGHT_HALF_ANGLE_DEG = 55.0
+
+
+def counterweights(geometry, i: int) -> list:
+    """Outlines (mm) of the counterweights of a piston engine's cranks at frame ``i``: on every
+    link ``crank`` or ``crank_<k>`` from the shaft's axis, when the mechanism has a cylinder."""
+    if not any(g.bore_m > 0 and g.moving is None for g in geometry.guides):
+        return []
+    outlines = []
+    for name, a, b in geometry.links:
+        if a != "crank_centre" or not (name == "crank" or name.removeprefix("crank_").isdigit()):
+            continue
+        c, pin = geometry.joints[a][i] * MM, geometry.joints[b][i] * MM
+        radius = float(np.linalg.norm(pin - c))
+        if radius <= 0:
+            continue
+        away = np.arctan2(c[1] - pin[1], c[0] - pin[0])
+        half = np.radians(COUNTERWEIGHT_HALF_ANGLE_DEG)
+        arc = np.linspace(away - half, away + half, 24)
+        rim = c + COUNTERWEIGHT_RADIUS * radius * np.c_[np.cos(arc), np.sin(arc)]
+        outlines.append(np.vstack([c, rim, c]))
+    return outlines
 
 
 def _one_per_axis(guides):
@@ -250,7 +356,7 @@ def _dimension(ax, p, q, text, offset, extent):
     a, b = p + n * offset, q + n * offset
     for end, base in ((a, p), (b, q)):
         ax.plot(*np.c_[base + n * np.sign(offset) * extent * 0.01, end + n * np.sign(offset) * extent * 0.02],
-                color="0.35", lw=0.5)
+                color="0.35", lw=0.5, ls="-")
     _dimension_arrow(ax, a, b)
     # The text starts just outside the dimension line and grows away from the drawing, so that it
     # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
@@ -275,25 +381,97 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
     elif crank and "R" in labels:
         _dimension(ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent)
-    if rod and "L" in labels:
+    if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 2:
+        _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
+    elif rod and "L" in labels:
         # Outside the liner, so the text stays clear of the hatching.
         clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
         _dimension(ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent)
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         # Between the vertical through the crank axis and the cylinder axis, below the liner.
-        y = liner_ends_mm(guide)[0] - extent * 0.03
+        y = liner_ends_mm(guide, geometry)[0] - extent * 0.03
         ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
         _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), "", 0.0, extent)
-        ax.text(guide.origin_m[0] * MM + extent * 0.03, y, labels["e"], ha="left", va="center", fontsize=8,
-                color="0.15", bbox=LABEL_BOX)
+        # on the side the rod does not cross at that height
+        ends = sorted([0.0, guide.origin_m[0] * MM])
+        rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
+        left = rod_x is not None and rod_x > ends[1]
+        ax.text(ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03, y, labels["e"],
+                ha="right" if left else "left", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX)
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
         clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * (liner_ends_mm(guide)[1] + clear)
+        top = o + d * (liner_ends_mm(guide, geometry)[1] + clear)
         half = guide.bore_m * MM / 2
         _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
+
+
+def _x_at(a, b, y: float) -> float | None:
+    """The abscissa at which the segment a-b (mm) crosses the height ``y``; None if it does not."""
+    if (a[1] - y) * (b[1] - y) > 0 or a[1] == b[1]:
+        return None
+    return float(a[0] + (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]))
+
+
+def member_segments_mm(geometry, i: int) -> np.ndarray:
+    """(n, 2, 2) segments (mm) of what the scheme draws at frame ``i`` with a thick line: the
+    bars, the master rods' outlines, the liners' walls and the pistons; what a text must not cross."""
+    j = geometry.joints
+    segments = [(j[a][i] * MM, j[b][i] * MM) for _, a, b in drawn_links(geometry)]
+    for outline in master_rod_bodies(geometry, i):
+        segments += list(zip(outline, np.roll(outline, -1, axis=0)))
+    for guide in _one_per_axis(geometry.guides):
+        if guide.bore_m <= 0 or guide.moving is not None:
+            continue
+        o, d, n = _guide_frame(geometry, guide, i)
+        half = guide.bore_m * MM / 2
+        bottom, top = liner_ends_mm(guide, geometry)
+        segments += [(o + d * bottom + n * side * half, o + d * top + n * side * half) for side in (-1, 1)]
+        pos = float(np.dot(j[guide.joint][i] * MM - o, d))
+        low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
+        corners = [o + d * low - n * half, o + d * high - n * half, o + d * high + n * half, o + d * low + n * half]
+        segments += list(zip(corners, corners[1:] + corners[:1]))
+    return np.array(segments, dtype=float).reshape(-1, 2, 2)
+
+
+def text_crosses(box, segments_display) -> bool:
+    """Whether any segment (display coordinates, (n, 2, 2)) passes through ``box`` (a Bbox)."""
+    if len(segments_display) == 0:
+        return False
+    t = np.linspace(0.0, 1.0, 60)[None, :, None]
+    points = segments_display[:, :1, :] + (segments_display[:, 1:, :] - segments_display[:, :1, :]) * t
+    inside = ((points[..., 0] > box.x0) & (points[..., 0] < box.x1) & (points[..., 1] > box.y0)
+              & (points[..., 1] < box.y1))
+    return bool(inside.any())
+
+
+def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> None:
+    """L of an engine whose rods and liners surround the master rod (a radial, a V): the dimension
+    line beside the rod, clear of its liner, with the text along it (ГОСТ 2.307) at the first
+    offset and place whose box crosses no bar, body, liner or piston (the nearest when none is)."""
+    j = geometry.joints
+    p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
+    d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+    n = np.array([-d[1], d[0]])
+    rotation = float(np.degrees(np.arctan2(d[1], d[0])))
+    rotation = rotation - 180.0 if rotation > 90.0 else rotation + 180.0 if rotation <= -90.0 else rotation
+    up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
+    segments = ax.transData.transform(member_segments_mm(geometry, i).reshape(-1, 2)).reshape(-1, 2, 2)
+    renderer = ax.figure.canvas.get_renderer()
+    label = ax.text(0.0, 0.0, text, fontsize=8, color="0.15", rotation=rotation, rotation_mode="anchor",
+                    ha="center", bbox=LABEL_BOX, zorder=7)
+    clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
+    candidates = [(sign * (clear + k * extent * 0.04), share) for k in range(4) for sign in (-1.0, 1.0)
+                  for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)]
+    for offset, share in candidates + [candidates[0]]:
+        side = n * np.sign(offset)
+        label.set_position(p + (q - p) * share + n * offset + side * extent * 0.008)
+        label.set_va("bottom" if float(np.dot(up, side)) > 0 else "top")
+        if not text_crosses(label.get_window_extent(renderer), segments):
+            break
+    _dimension(ax, p, q, "", offset, extent)
 
 
 def _direction_deg(v) -> float:
@@ -317,15 +495,16 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
 
 
 def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
-    """A curved arrow clockwise (the crank's sense of rotation) on the left of ``centre``, named
-    ``text`` (ω)."""
+    """A curved arrow clockwise (the crank's sense of rotation) on the upper left of ``centre``,
+    named ``text`` (ω): clear of the counterweight below the shaft of a crank at 45 deg."""
     from matplotlib.patches import FancyArrowPatch  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
 
     c = np.asarray(centre, dtype=float)
-    start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (215.0, 145.0))
+    start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (165.0, 105.0))
     ax.add_patch(FancyArrowPatch(start, end, connectionstyle="arc3,rad=-0.35", arrowstyle="-|>",
                                  mutation_scale=7, color="0.2", lw=0.6, zorder=6))
-    ax.text(*(c + (radius + extent * 0.045) * np.array([-1.0, 0.0])), text, ha="right", va="center", fontsize=9,
+    middle = np.array([np.cos(np.radians(140.0)), np.sin(np.radians(140.0))])
+    ax.text(*(c + (radius + extent * 0.03) * middle), text, ha="right", va="bottom", fontsize=9,
             fontstyle="italic", color="0.1", zorder=7)
 
 
@@ -376,7 +555,8 @@ def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[s
     collinear = abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
     top = max(radius * 1.35, bottom) if collinear else radius * 1.35
     ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * top], color="0.45", lw=0.5, ls="-.", zorder=1)
-    ax.text(*(centre + np.array([-1.0, -0.6]) * extent * 0.03), "O", ha="right", va="top", **letter)
+    # right of the shaft's axis: the counterweight lies opposite the crank, below on the left
+    ax.text(*(centre + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter)
     if radius > 0:
         ax.text(*(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter)
         _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
@@ -400,7 +580,7 @@ def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) 
     half = guide.bore_m * MM / 2
     along = float(np.dot(anchor - o, d))
     at = o + d * along + n * side * (half + extent * 0.06)
-    ax.plot(*np.c_[anchor, at], color="0.35", lw=0.5)
+    ax.plot(*np.c_[anchor, at], color="0.35", lw=0.5, ls="-")
     ax.text(*(at + n * side * extent * 0.01), text, fontsize=8, color="0.15", va="center",
             ha="left" if float((n * side)[0]) > 0 else "right", bbox=LABEL_BOX)
 
@@ -413,7 +593,7 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
     for distance, name in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
         at = o + d * distance * MM
         start, end = at + n * (half + extent * 0.035), at + n * (half + extent * 0.11)
-        ax.plot(*np.c_[start, end], color="0.2", lw=0.6)
+        ax.plot(*np.c_[start, end], color="0.2", lw=0.6, ls="-")
         ax.text(*(end + n * extent * 0.01), name, fontsize=8, color="0.15", **outward_alignment(n))
         ends.append(at + n * (half + extent * 0.09))
     if text:
@@ -433,13 +613,13 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     for guide in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
         if guide.bore_m > 0 and guide.moving is None:
             go, gd, gn = _guide_frame(geometry, guide, i)
-            ends = liner_ends_mm(guide)
+            ends = liner_ends_mm(guide, geometry)
             lowest = min([lowest] + [float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
                                      for e in ends for s in (-1, 1)])
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
     at = np.array([float(p[0]), lowest - extent * 0.08])
-    ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5)
+    ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
     ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15",
             bbox=LABEL_BOX)
 
@@ -456,7 +636,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
     right = mid[0] >= float(p[0])
     edge = (max if right else min)(float(points[i][0]) * MM for points in j.values())
     at = np.array([edge + (1 if right else -1) * extent * 0.05, mid[1]])
-    ax.plot([mid[0], at[0]], [mid[1], at[1]], color="0.35", lw=0.5)
+    ax.plot([mid[0], at[0]], [mid[1], at[1]], color="0.35", lw=0.5, ls="-")
     ax.text(*at, text, ha="left" if right else "right", va="center", fontsize=8, color="0.15",
             bbox=LABEL_BOX)
 
@@ -471,7 +651,7 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
         cyls.extend(cylinders)
     for lag, (cranks, cylinders) in directions.items():
         u = np.array([np.sin(np.radians(-lag)), np.cos(np.radians(-lag))])
-        ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2)
+        ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2, ls="-")
         ax.add_patch(_circle(u, 0.06, INK, 1.0, fill=True))
         # the cylinders in brackets only where they are not the cranks' own numbers (a V's 1L, 1R)
         text = ", ".join(cranks) if list(cylinders) == list(cranks) else f"{', '.join(cranks)}\n({', '.join(cylinders)})"
@@ -583,28 +763,75 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
     return fig
 
 
+#: The positions figure: the A4 text width and the most a figure is shown high (the printed
+#: page's limit for a figure), mm; each panel's title takes one line above it.
+TEXT_WIDTH_MM = 165.0
+FIGURE_HEIGHT_MM = 175.0
+_PANEL_TITLE_MM = 5.0
+#: Panels no higher than this times their width are drawn two in a row (half the text width
+#: each); taller ones (a cylinder above its crank) three in a row.
+SQUARE_ASPECT = 1.3
+
+
+def _title_mm(aspect: float) -> float:
+    """Room above a panel for its title: one line beside a square panel, two above a narrow one."""
+    return _PANEL_TITLE_MM if aspect <= SQUARE_ASPECT else 2 * _PANEL_TITLE_MM
+
+
+def positions_layout(geometry, count: int) -> tuple[int, int]:
+    """(panels in a row, panels on one figure) of the positions figure: two in a row when a panel
+    is about as high as wide (a radial, a V), so that each is half the text width; three in a
+    row when it is tall; as many rows as the page's figure height holds."""
+    (x0, x1), (y0, y1) = _panel_limits(upright(front_view(geometry)))
+    aspect = (y1 - y0) / (x1 - x0)
+    cols = min(count, 2 if aspect <= SQUARE_ASPECT else 3)
+    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    rows = max(1, int(FIGURE_HEIGHT_MM // (width * aspect + _title_mm(aspect))))
+    return max(cols, 1), max(cols, 1) * rows
+
+
+def _panel_limits(geometry):
+    """A positions panel's limits: room for the cylinders' numbers only (no dimension lines)."""
+    return _limits(geometry, label_gap=0.1, pad_share=0.04)
+
+
+def positions_sheets(geometry, frames: list) -> list[list]:
+    """The frames split into the figures that hold them (:func:`positions_layout`), each but the
+    last filled with whole rows: five panels of a radial as four (two rows) and one."""
+    cols, per_sheet = positions_layout(geometry, len(frames))
+    sheets = -(-len(frames) // per_sheet)
+    size = -(-len(frames) // sheets)
+    size = -(-size // cols) * cols if size > cols else size  # whole rows first
+    return [frames[k:k + size] for k in range(0, len(frames), size)]
+
+
 def positions_figure(geometry, frames: list[tuple[int, str]]):
-    """Small multiples: the mechanism at each (frame, caption), on one scale."""
+    """Small multiples: the mechanism at each (frame, caption), on one scale, laid out in
+    millimetres (:func:`positions_layout`): each panel is a fixed share of the text width."""
+    from .figures import add_axes_mm, new_drawing  # lazy: heavy optional import (matplotlib)
+
     geometry = upright(front_view(geometry))
-    limits = _limits(geometry)
+    limits = _panel_limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
-    # a tall (upright) mechanism side by side: as many columns as frames, so each is as large as fits
-    cols = 3 if aspect < 1.2 else max(1, min(6, len(frames)))
-    rows = (len(frames) + cols - 1) // cols
-    fig, axes = new_figure(16, min(16.0 / cols * aspect + 1.0, 11.0) * rows, nrows=rows, ncols=cols)
-    flat = np.atleast_1d(axes).ravel()
-    for ax, (i, caption) in zip(flat, frames):
+    cols, _ = positions_layout(geometry, len(frames))
+    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    height = width * aspect
+    rows = -(-len(frames) // cols)
+    row_mm = height + _title_mm(aspect)
+    fig = new_drawing(width * cols, row_mm * rows)
+    for k, (i, caption) in enumerate(frames):
+        row, col = divmod(k, cols)
+        ax = add_axes_mm(fig, col * width, (rows - 1 - row) * row_mm, width, height)
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
-        ax.set_title(caption, fontsize=8)
-    for ax in flat[len(frames):]:
-        hide_axes(ax)
+        ax.set_title(caption.replace("\n", " — ") if aspect <= SQUARE_ASPECT else caption, fontsize=8, pad=2)
     return fig
 
 
-def _limits(geometry):
-    """Axis limits (mm) holding every joint over the frames, every liner with its piston and label."""
+def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
+    """Axis limits (mm) holding every joint over the frames, every liner with its piston and label
+    (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``."""
     parts = [p.reshape(-1, 2) for p in geometry.joints.values()]
     parts += [t.reshape(-1, 2) for t in geometry.traces.values()]
     for c, radius, _ in geometry.circles:
@@ -617,13 +844,13 @@ def _limits(geometry):
         o, d = np.asarray(g.origin_m), np.asarray(g.direction)
         n = np.array([d[1], -d[0]])
         low = g.travel_m[0] - 0.35 * g.bore_m
-        high = g.travel_m[1] + 0.45 * g.bore_m + LABEL_GAP * span / MM
+        high = g.travel_m[1] + CROWN * g.bore_m + label_gap * span / MM
         half = g.bore_m / 2 + 0.02 * span / MM
         parts.append(np.array([o + d * low + n * half, o + d * low - n * half, o + d * high + n * half,
                                o + d * high - n * half]))
     pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.06 * np.ptp(pts, axis=0).max()
+    pad = pad_share * np.ptp(pts, axis=0).max()
     return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
 
 
@@ -642,10 +869,11 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
     extent = _extent_mm(geometry)
     pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
-                "half": g.bore_m * MM / 2 * 0.97, "skirt": 0.35 * g.bore_m * MM, "crown": 0.45 * g.bore_m * MM}
+                "half": g.bore_m * MM / 2 * 0.97, "skirt": piston_skirt_mm(g, geometry), "crown": CROWN * g.bore_m * MM}
                for g in geometry.guides if g.bore_m > 0 and g.moving is None]
-    payload = {"joints": frames, "links": [[a, b, 0.3 if "web" in name else 1.0] for name, a, b in geometry.links],
-               "pistons": pistons, "r": extent * JOINT_R, "fixed": list(geometry.fixed)}
+    payload = {"joints": frames, "links": [[a, b, 1.0] for _, a, b in drawn_links(geometry)],
+               "bodies": master_rod_joints(geometry), "pistons": pistons, "r": extent * JOINT_R,
+               "fixed": list(geometry.fixed)}
     static = _static_svg(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
     svg = (f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
@@ -678,7 +906,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
             if guide.bore_m > 0 and guide.moving is None:
                 o, d, n = _guide_frame(geometry, guide, 0)
                 half = guide.bore_m * MM / 2
-                bottom, top = liner_ends_mm(guide)
+                bottom, top = liner_ends_mm(guide, geometry)
                 for side in (-1, 1):
                     _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
                            extent * 0.02, INK, 1.0)

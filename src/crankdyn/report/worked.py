@@ -148,7 +148,7 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
         intro = t("doc.worked_intro_results", table=block.table_number) if block.table_number else \
             t("doc.worked_intro_text")
     else:
-        angle = t.number_g(block.angle_deg)
+        angle = ctx.angle_text(block.angle_deg)
         intro = t("doc.worked_intro", angle=angle, table=block.table_number)
     parts = ['<div class="worked">', f'<p>{escape(intro)}</p>']
     if block.note:

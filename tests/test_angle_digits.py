@@ -1,0 +1,48 @@
+"""Crank angles in the text carry no more decimals than the computation step resolves."""
+
+from __future__ import annotations
+
+import html
+import math
+import re
+
+import pytest
+
+from conftest import shared_html, shared_run
+from crankdyn.report.i18n import translator
+
+#: An in-line engine whose cylinder count divides no round angle: its cylinders' own crank
+#: angles (720/7 deg apart) fall between whole degrees.
+SEVEN = {"engine": {"cylinders": 7, "firing_order": None}, "analysis": {"angle_step_deg": None}}
+
+#: "α = 30°", "α 2 = 544.3°" (the subscript's tag taken out), "α = 0,9°": the number after α
+#: (not after Δα, the step itself).
+ALPHA = re.compile(r"(?<!Δ)α(?: ?\d{1,2})? = [−-]?(\d[\d\u202f ]*)(?:[.,](\d+))? ?°")
+
+
+def _text(page: str) -> str:
+    page = re.sub(r"<(script|style)\b.*?</\1>", " ", page, flags=re.S)
+    return re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", page)))
+
+
+def _allowed_decimals(step_deg: float) -> int:
+    return max(1, math.ceil(-math.log10(step_deg) - 1e-9))
+
+
+@pytest.mark.parametrize("language", ["en", "uk"])
+def test_crank_angles_of_a_seven_cylinder_engine_carry_the_step_decimals(language):
+    step = shared_run("inline4-petrol", SEVEN).scene.analysis.angle_step_deg
+    text = _text(shared_html("inline4-petrol", SEVEN, language).linked_html)
+    found = ALPHA.findall(text)
+    assert len(found) >= 8  # the worked check's seven cylinder angles at least
+    # the cylinders' own angles lie between whole degrees: the check is not empty
+    assert any(decimals for _, decimals in found)
+    too_fine = [f"{whole}.{decimals}" for whole, decimals in found if len(decimals) > _allowed_decimals(step)]
+    assert not too_fine, too_fine
+
+
+@pytest.mark.parametrize(("angle", "step", "text"), [
+    (544.2857142857, 1.0, "544,3"), (0.857143, 0.5, "0,9"), (623.0769, 0.25, "623,1"), (623.0769, 0.05, "623,08"),
+    (180.0, 0.989011, "180"), (372.04, 0.05, "372,04"), (359.99, 1.0, "360")])
+def test_a_crank_angle_is_printed_to_the_step(angle, step, text):
+    assert translator("uk", ()).angle(angle, step) == text
