@@ -14,7 +14,7 @@ from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html, symbol_mathtext
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
-from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.physics.extrema import EXTREMUM_RTOL, first_argmax, first_argmin
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import rod_loads
@@ -32,16 +32,34 @@ def applies(scene) -> str | None:
     return None
 
 
-def _extremes(crank_angle_deg, series) -> dict:
-    """``<name>_max_<unit>``/``_min_`` and their crank angles (°) for each (name, unit, values) of
-    ``series``: the first sample of each extreme (physics.extrema)."""
-    out = {}
-    for base, unit, values in series:
-        for which, pick in (("max", first_argmax), ("min", first_argmin)):
-            i = pick(values)
-            out[f"{base}_{which}_{unit}"] = float(values[i])
-            out[f"{base}_{which}_crank_angle_deg"] = float(crank_angle_deg[i])
+def _extremes_many(crank_angle_deg, many) -> list[dict]:
+    """For each ``series`` of ``many`` (tuples of (name, unit, values)), ``<name>_max_<unit>``/
+    ``_min_`` and their crank angles (°): the first sample of each extreme (physics.extrema), all
+    the curves of all the series found together."""
+    rows = np.stack([values for series in many for _, _, values in series])
+    at_max, at_min = _first_extremes(rows)
+    out, row = [], 0
+    for series in many:
+        found = {}
+        for base, unit, values in series:
+            for which, i in (("max", at_max[row]), ("min", at_min[row])):
+                found[f"{base}_{which}_{unit}"] = float(values[i])
+                found[f"{base}_{which}_crank_angle_deg"] = float(crank_angle_deg[i])
+            row += 1
+        out.append(found)
     return out
+
+
+def _first_extremes(rows) -> tuple[np.ndarray, np.ndarray]:
+    """(index of the first maximum, of the first minimum) of each row of ``rows`` (curves x
+    angles): per row the first sample within ``EXTREMUM_RTOL`` x its range of the extreme, as
+    ``physics.extrema.first_argmax``/``first_argmin`` find it for one curve."""
+    v = np.asarray(rows, dtype=float)
+    if not np.isfinite(v).all():  # NaN samples are ignored there: row by row
+        return (np.array([first_argmax(r) for r in v]), np.array([first_argmin(r) for r in v]))
+    low, high = np.min(v, axis=1, keepdims=True), np.max(v, axis=1, keepdims=True)
+    band = EXTREMUM_RTOL * (high - low)
+    return np.argmax(v >= high - band, axis=1), np.argmax(v <= low + band, axis=1)
 
 
 def _forces_table(motion, pressures: dict, rod, resultant_Pa, torque_Nm) -> dict:
@@ -79,6 +97,25 @@ def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
 
 
 def run(scene, inputs) -> StageOutput:
+    series, finish = _forces(scene, inputs)
+    return finish(_extremes_many(inputs[KINEMATICS].crank_angle_deg, [series])[0])
+
+
+def run_many(scenes, inputs) -> list[StageOutput]:
+    """``run`` over many scenes at once (a sweep's points): the extremes of the seven curves of
+    every point, most of a point's time, found over (points x curves) x angles at once; the rest
+    as ``run`` computes it. Scenes on other angle grids: ``run`` one by one."""
+    angle = inputs[0][KINEMATICS].crank_angle_deg
+    if not all(np.array_equal(given[KINEMATICS].crank_angle_deg, angle) for given in inputs):
+        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+    parts = [_forces(scene, given) for scene, given in zip(scenes, inputs)]
+    extremes = _extremes_many(angle, [series for series, _ in parts])
+    return [finish(found) for (_, finish), found in zip(parts, extremes)]
+
+
+def _forces(scene, inputs):
+    """(the curves whose extremes the results give, ``finish(extremes) -> StageOutput``) of
+    ``scene``: everything of ``run`` but the extremes, which ``_extremes_many`` finds."""
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine, masses = scene.engine, scene.masses
     alpha = motion.crank_angle_rad
@@ -138,26 +175,35 @@ def run(scene, inputs) -> StageOutput:
         if np.max(np.abs(inertia_torque)) > 0 else 0.0,
     }
     results.update(_effective(engine, mean_from_work))
-    results.update(_extremes(motion.crank_angle_deg, (
+    series = (
         ("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
         ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
-        ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque))))
+        ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque))
 
-    frame = _forces_table(motion, {"gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "inertia_first_order_Pa": first_Pa,
-                                   "inertia_second_order_Pa": second_Pa, "total_Pa": total_Pa}, rod, resultant_Pa,
-                          torque)
-    notes = []
-    if exact is not None:
-        results["rod_model"] = "exact"
-        results["exact_rod"] = exact["results"]
-        frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
-        notes.append(("forces.note_exact_rod", {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
-    data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa, inertia_Pa=inertia_Pa, total_Pa=total_Pa,
-                       tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa, centrifugal_Pa=centrifugal_Pa,
-                       piston_area_m2=area, torque_Nm=torque, side_Pa=rod.side_Pa, rod_Pa=rod.rod_Pa)
-    notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
-             ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])})] + notes
-    return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
+    def finish(extremes: dict) -> StageOutput:
+        results.update(extremes)
+        pressures = {"gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "inertia_first_order_Pa": first_Pa,
+                     "inertia_second_order_Pa": second_Pa, "total_Pa": total_Pa}
+        frame = _forces_table(motion, pressures, rod, resultant_Pa, torque)
+        notes = []
+        if exact is not None:
+            results["rod_model"] = "exact"
+            results["exact_rod"] = exact["results"]
+            frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
+            notes.append(("forces.note_exact_rod",
+                          {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
+        data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa,
+                           inertia_Pa=inertia_Pa, total_Pa=total_Pa,
+                           tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
+                           centrifugal_Pa=centrifugal_Pa, piston_area_m2=area, torque_Nm=torque,
+                           side_Pa=rod.side_Pa, rod_Pa=rod.rod_Pa)
+        notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
+                 ("forces.note_inertia_work",
+                  {"relative": abs(results["inertia_work_relative"])})] + notes
+        return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame},
+                           notes=notes)
+
+    return series, finish
 
 
 _NOTE_KEYS = ("crank_pin_difference_max_N", "crank_pin_two_mass_max_N", "side_exact_max_N", "side_two_mass_max_N",
@@ -345,6 +391,7 @@ FORCES_STAGE = Stage(
     provides=(FORCES,),
     applies=applies,
     run=run,
+    run_many=run_many,
     render=render,
     figures=("forces", "torque"),
     tables=("forces",),
