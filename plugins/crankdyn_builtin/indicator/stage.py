@@ -63,7 +63,7 @@ def run(scene, inputs, *, junction_deg: float | None = None) -> StageOutput:
                 def volume_at(a_deg):
                     return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
             pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding, volume_function=volume_at,
-                                               junction_deg=junction_deg)
+                                               junction_deg=junction_deg, theoretical_Pa=theoretical)
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)

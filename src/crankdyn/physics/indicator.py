@@ -825,7 +825,7 @@ def _local_offset_deg(alpha, start_deg, cycle):
 
 def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
                         *, volume_function: Optional[Callable] = None,
-                        junction_deg: Optional[float] = None):
+                        junction_deg: Optional[float] = None, theoretical_Pa=None):
     """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
 
     Parameters
@@ -856,6 +856,9 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
         for this diagram (:func:`combustion_junctions_deg`, many diagrams at
         once): the search for it is then skipped.  NaN stands for a diagram
         without one (the same ValueError as the search).
+    theoretical_Pa : array_like, optional
+        :func:`theoretical_pressure_Pa` at these angles, when the caller has
+        computed it: the diagram the rounding starts from, not computed again.
 
     Returns
     -------
@@ -890,7 +893,10 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
              "a CycleParameters instance")
     _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
              "a RoundingParameters instance")
-    pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    if theoretical_Pa is None:
+        pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    else:
+        pressure = np.asarray(theoretical_Pa, dtype=float)
     cycle = _cycle_deg(params)
     tdc = _firing_tdc_deg(params)
     four = params.strokes == 4
@@ -999,7 +1005,7 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     combustion = hermite_cubic([psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
-    return np.where(in_window, combustion(psi_c1 + offset), pressure), psi_j
+    return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
 
 
 def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
@@ -1046,7 +1052,17 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     drop = hermite_cubic([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
-    return np.where(in_window, drop(psi_b1 + offset), pressure)
+    return _laid_over(pressure, in_window, drop, psi_b1 + offset)
+
+
+def _laid_over(pressure, in_window, curve, at):
+    """``pressure`` with ``curve(at)`` where ``in_window``: the curve evaluated in its window only
+    (the same numbers as everywhere, a few of them)."""
+    if np.ndim(pressure) == 0 or np.shape(in_window) != np.shape(pressure):
+        return np.where(in_window, curve(at), pressure)
+    out = np.array(pressure, dtype=float)
+    out[in_window] = curve(np.broadcast_to(at, np.shape(pressure))[in_window])
+    return out
 
 
 def _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle):
