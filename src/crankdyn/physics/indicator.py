@@ -56,6 +56,7 @@ _JUNCTION_SEARCH_STEP_DEG = 0.01
 _JUNCTION_TOLERANCE_DEG = 1e-10
 _JUNCTION_REFINE_POINTS = 64  # points per refinement of the junction's bracket
 _JUNCTION_SCAN_CHUNK = 1000  # grid points tested at a time when looking for the junction (10 deg)
+_JUNCTION_MANY_FIRST_CHUNK = 200  # the first part of the grid tested for many diagrams at once
 # Largest cyclic gap of the caller's grid from which the cylinder volume may
 # be reconstructed by a periodic spline (the textbook table step is 10-15 deg).
 _MAX_VOLUME_GRID_STEP_DEG = 15.0
@@ -734,22 +735,24 @@ def _passing_many(psi, psi_peak, peak_Pa, lines, rows):
 
 def _first_passing_steps(psi_peak, psi_limit, peak, lines):
     """Per row, the first k >= 1 of the 0.01-deg grid psi_peak + k * step (up to psi_limit)
-    that passes the test, 0 where none does; scanned a chunk of the grid at a time."""
+    that passes the test, 0 where none does; scanned a part of the grid at a time, the first
+    2 deg (J lies 1-2 deg after Z' in a typical diagram), then parts twice as long each time."""
     step = _JUNCTION_SEARCH_STEP_DEG
     last = np.floor((psi_limit - psi_peak) / step).astype(int)
     first = np.zeros(len(psi_peak), dtype=int)
     pending = last >= 1
-    begin = 1
+    begin, size = 1, _JUNCTION_MANY_FIRST_CHUNK
     while pending.any():
         rows = np.flatnonzero(pending)
-        k = np.arange(begin, begin + _JUNCTION_SCAN_CHUNK)
+        k = np.arange(begin, begin + size)
         psi = psi_peak[rows, None] + step * k[None, :]
         hits = _passing_many(psi, psi_peak[rows, None], peak[rows, None], lines, rows)
         hits &= k[None, :] <= last[rows, None]
         hit = hits.any(axis=1)
         first[rows[hit]] = k[np.argmax(hits[hit], axis=1)]
         pending[rows[hit]] = False
-        begin += _JUNCTION_SCAN_CHUNK
+        begin += size
+        size = min(2 * size, _JUNCTION_SCAN_CHUNK)
         pending &= last >= begin
     return first
 
