@@ -102,54 +102,116 @@ def run(scene, inputs) -> StageOutput:
 
 
 def run_many(scenes, inputs) -> list[StageOutput]:
-    """``run`` over many scenes at once (a sweep's points): the extremes of the seven curves of
-    every point, most of a point's time, found over (points x curves) x angles at once; the rest
-    as ``run`` computes it. Scenes on other angle grids: ``run`` one by one."""
+    """``run`` over many scenes at once (a sweep's points): the forces over points x angles, the
+    extremes of every point's seven curves over (points x curves) x angles; the same data and
+    results as ``run``. Scenes on other angle grids: ``run`` one by one."""
     angle = inputs[0][KINEMATICS].crank_angle_deg
     if not all(np.array_equal(given[KINEMATICS].crank_angle_deg, angle) for given in inputs):
         return [run(scene, given) for scene, given in zip(scenes, inputs)]
-    parts = [_forces(scene, given) for scene, given in zip(scenes, inputs)]
+    curves = _curves_many(scenes, inputs)
+    parts = [_forces(scene, given, c) for scene, given, c in zip(scenes, inputs, curves)]
     extremes = _extremes_many(angle, [series for series, _ in parts])
     return [finish(found) for (_, finish), found in zip(parts, extremes)]
 
 
-def _forces(scene, inputs):
-    """(the curves whose extremes the results give, ``finish(extremes) -> StageOutput``) of
-    ``scene``: everything of ``run`` but the extremes, which ``_extremes_many`` finds."""
-    motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
+def _masses(scene) -> tuple[float, float, float, float]:
+    """(reciprocating, rotating, the rod's reciprocating, the rod's rotating) mass of ``scene``, kg."""
     engine, masses = scene.engine, scene.masses
-    alpha = motion.crank_angle_rad
-    radius, omega, ratio = motion.crank_radius_m, motion.angular_velocity_rad_s, engine.rod_ratio_value
-    area = phys.piston_area_m2(engine.bore)
-
     rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m, scene.rod_cm_from_big_end_m)
     reciprocating = masses.piston_group + rod_reciprocating
     rotating = rod_rotating + masses.crank_pin + 2.0 * masses.crank_web
+    return reciprocating, rotating, rod_reciprocating, rod_rotating
 
-    gas_Pa = gas.pressure_Pa - engine.crankcase_pressure
-    inertia_Pa = phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2, area)
-    first_Pa = phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area)
-    second_Pa = phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio, omega, area)
+
+def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankcase_Pa, radius, omega,
+            ratio, area, reciprocating, rotating, rod_rotating) -> dict:
+    """The specific forces (Pa) over the crank angles ``alpha`` (rad): one mechanism's numbers as
+    scalars and its curves as 1-D arrays, or many mechanisms' numbers as columns (points, 1) and
+    their curves as rows (points x angles); ``rod`` holds the rod's components."""
+    gas_Pa = pressure_Pa - crankcase_Pa
+    inertia_Pa = phys.inertia_pressure_Pa(reciprocating, acceleration_m_s2, area)
     total_Pa = gas_Pa + inertia_Pa
+    rod = phys.rod_force_components(total_Pa, crank_from_axis, beta)
+    centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
+    return {
+        "gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "total_Pa": total_Pa, "rod": rod,
+        "first_Pa": phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area),
+        "second_Pa": phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio, omega, area),
+        "centrifugal_Pa": centrifugal_Pa,
+        "centrifugal_rod_Pa": phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area),
+        "resultant_Pa": phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa),
+        "torque_Nm": phys.crank_torque_Nm(rod.tangential_Pa, radius, area),
+        # the inertia force's own torque: its cycle integral is the inertia work, zero for a
+        # consistent kinematic model (a check of the kinematics the report prints)
+        "inertia_torque_Nm": phys.crank_torque_Nm(
+            phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa, radius, area),
+    }
+
+
+def _beta(motion, alpha):
     # The rod resolves p1 at the crank's angle from the cylinder axis: alpha, unless the
     # mechanism counts alpha from a TDC off the axis (offset crank). A mechanism without a
     # rod (rod_angle_rad None, e.g. a Scotch yoke) passes the force along the axis (beta = 0).
     crank_from_axis = alpha + motion.extra.get("crank_angle_at_tdc_rad", 0.0)
     beta = motion.rod_angle_rad if motion.rod_angle_rad is not None else np.zeros_like(alpha)
-    rod = phys.rod_force_components(total_Pa, crank_from_axis, beta)
-    centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
-    centrifugal_rod_Pa = phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area)
-    resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
+    return crank_from_axis, beta
+
+
+def _curves_many(scenes, inputs) -> list[dict]:
+    """:func:`_curves` of each scene, computed over points x angles (the scenes share the grid)."""
+    motions = [given[KINEMATICS] for given in inputs]
+    alpha = motions[0].crank_angle_rad
+    angles = [_beta(m, alpha) for m in motions]
+
+    def column(values):
+        return np.asarray(values, dtype=float)[:, None]
+
+    masses = [_masses(scene) for scene in scenes]
+    many = _curves(alpha, np.stack([a for a, _ in angles]), np.stack([b for _, b in angles]),
+                   np.stack([given[GAS_PRESSURE].pressure_Pa for given in inputs]),
+                   np.stack([m.piston_acceleration_m_s2 for m in motions]),
+                   column([s.engine.crankcase_pressure for s in scenes]),
+                   column([m.crank_radius_m for m in motions]),
+                   column([m.angular_velocity_rad_s for m in motions]),
+                   column([s.engine.rod_ratio_value for s in scenes]),
+                   column([phys.piston_area_m2(s.engine.bore) for s in scenes]),
+                   *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses])))
+    out = []
+    for k in range(len(scenes)):
+        curves = {key: (value[k] if np.ndim(value) == 2 else value[k, 0] if np.ndim(value) else value)
+                  for key, value in many.items() if key != "rod"}
+        curves["centrifugal_Pa"] = float(many["centrifugal_Pa"][k, 0])
+        curves["centrifugal_rod_Pa"] = float(many["centrifugal_rod_Pa"][k, 0])
+        curves["rod"] = phys.RodForces(*(np.asarray(part)[k] for part in many["rod"]))
+        out.append(curves)
+    return out
+
+
+def _forces(scene, inputs, curves: dict | None = None):
+    """(the curves whose extremes the results give, ``finish(extremes) -> StageOutput``) of
+    ``scene``: everything of ``run`` but the extremes, which ``_extremes_many`` finds; ``curves``
+    its :func:`_curves` when ``run_many`` has computed them."""
+    motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
+    engine = scene.engine
+    alpha = motion.crank_angle_rad
+    radius, omega, ratio = motion.crank_radius_m, motion.angular_velocity_rad_s, engine.rod_ratio_value
+    area = phys.piston_area_m2(engine.bore)
+    reciprocating, rotating, rod_reciprocating, rod_rotating = _masses(scene)
+    if curves is None:
+        crank_from_axis, beta = _beta(motion, alpha)
+        curves = _curves(alpha, crank_from_axis, beta, gas.pressure_Pa, motion.piston_acceleration_m_s2,
+                         engine.crankcase_pressure, radius, omega, ratio, area, reciprocating, rotating,
+                         rod_rotating)
+    gas_Pa, inertia_Pa, total_Pa = curves["gas_Pa"], curves["inertia_Pa"], curves["total_Pa"]
+    first_Pa, second_Pa, rod = curves["first_Pa"], curves["second_Pa"], curves["rod"]
+    centrifugal_Pa, centrifugal_rod_Pa = curves["centrifugal_Pa"], curves["centrifugal_rod_Pa"]
+    resultant_Pa, torque = curves["resultant_Pa"], curves["torque_Nm"]
+    inertia_torque = curves["inertia_torque_Nm"]
     exact = _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa)
     if exact is not None:
         rod = exact["rod"]
         resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
-    torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
-
-    # Torque of the inertia force alone: its cycle integral is the inertia work, zero for a
-    # consistent kinematic model (a check of the kinematics the report prints).
-    inertia_torque = phys.crank_torque_Nm(phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa,
-                                          radius, area)
+        torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
     revolutions_per_cycle = engine.strokes / 2
     mean_torque = float(np.mean(torque))
     mean_from_work = gas.indicated_work_J / (2 * np.pi * revolutions_per_cycle)
