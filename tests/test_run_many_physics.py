@@ -8,12 +8,12 @@ import math
 
 import numpy as np
 import pytest
+from crankdyn_builtin.forces.stage import _first_extremes
+from crankdyn_builtin.torque.stage import sampled_periods_deg
 
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn_builtin.forces.stage import _first_extremes
-from crankdyn_builtin.torque.stage import sampled_periods_deg
 
 AREA_M2 = math.pi * 0.082 ** 2 / 4.0
 
@@ -28,7 +28,8 @@ def _diagrams():
     ratios; the last has its exhaust opening 1 deg after the peak: no junction fits before it."""
     spark = ind.CycleParameters(4, "spark", 9.5, 0.085e6, 1.37, 6.5e6, 1.0, 1.25, 0.11e6)
     diesel = ind.CycleParameters(4, "diesel", 17.0, 0.09e6, 1.37, 9.0e6, 1.4, 1.25, 0.11e6)
-    rounding = ind.RoundingParameters(22.0, 8.0, 0.5e6, 0.85, 12.0, exhaust_opens_before_bdc_deg=50.0,
+    rounding = ind.RoundingParameters(22.0, 8.0, 0.5e6, 0.85, 12.0,
+                                      exhaust_opens_before_bdc_deg=50.0,
                                       exhaust_closes_after_tdc_deg=20.0,
                                       intake_opens_before_tdc_deg=20.0)
     rows = []
@@ -70,7 +71,8 @@ def test_the_junctions_of_many_diagrams_are_each_diagrams_own():
                                         junction_deg=junction)
         np.testing.assert_array_equal(given, alone)
         # J lies after the peak Z' and before the exhaust opening b'
-        assert rounding.peak_angle_after_tdc_deg < junction < 180.0 - rounding.exhaust_opens_before_bdc_deg
+        exhaust_opens = 180.0 - rounding.exhaust_opens_before_bdc_deg
+        assert rounding.peak_angle_after_tdc_deg < junction < exhaust_opens
     assert np.isnan(junctions[-1])
     params, rounding, r, lam, v_c = rows[-1]
 

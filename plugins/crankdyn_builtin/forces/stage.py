@@ -115,7 +115,8 @@ def run_many(scenes, inputs) -> list[StageOutput]:
 
 
 def _masses(scene) -> tuple[float, float, float, float]:
-    """(reciprocating, rotating, the rod's reciprocating, the rod's rotating) mass of ``scene``, kg."""
+    """(reciprocating, rotating, the rod's reciprocating, the rod's rotating) mass of ``scene``,
+    kg."""
     engine, masses = scene.engine, scene.masses
     rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m, scene.rod_cm_from_big_end_m)
     reciprocating = masses.piston_group + rod_reciprocating
@@ -123,8 +124,8 @@ def _masses(scene) -> tuple[float, float, float, float]:
     return reciprocating, rotating, rod_reciprocating, rod_rotating
 
 
-def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankcase_Pa, radius, omega,
-            ratio, area, reciprocating, rotating, rod_rotating) -> dict:
+def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankcase_Pa, radius,
+            omega, ratio, area, reciprocating, rotating, rod_rotating) -> dict:
     """The specific forces (Pa) over the crank angles ``alpha`` (rad): one mechanism's numbers as
     scalars and its curves as 1-D arrays, or many mechanisms' numbers as columns (points, 1) and
     their curves as rows (points x angles); ``rod`` holds the rod's components."""
@@ -136,15 +137,18 @@ def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankc
     return {
         "gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "total_Pa": total_Pa, "rod": rod,
         "first_Pa": phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area),
-        "second_Pa": phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio, omega, area),
+        "second_Pa": phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio,
+                                                           omega, area),
         "centrifugal_Pa": centrifugal_Pa,
         "centrifugal_rod_Pa": phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area),
-        "resultant_Pa": phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa),
+        "resultant_Pa": phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa,
+                                                             centrifugal_Pa),
         "torque_Nm": phys.crank_torque_Nm(rod.tangential_Pa, radius, area),
         # the inertia force's own torque: its cycle integral is the inertia work, zero for a
         # consistent kinematic model (a check of the kinematics the report prints)
         "inertia_torque_Nm": phys.crank_torque_Nm(
-            phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa, radius, area),
+            phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa, radius,
+            area),
     }
 
 
@@ -178,9 +182,8 @@ def _curves_many(scenes, inputs) -> list[dict]:
                    *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses])))
     out = []
     for k in range(len(scenes)):
-        curves = {key: (value[k] if np.ndim(value) == 2 else value[k, 0] if np.ndim(value) else value)
-                  for key, value in many.items() if key != "rod"}
-        curves["centrifugal_Pa"] = float(many["centrifugal_Pa"][k, 0])
+        curves = {key: value[k] for key, value in many.items() if key != "rod"}
+        curves["centrifugal_Pa"] = float(many["centrifugal_Pa"][k, 0])  # a column: one number
         curves["centrifugal_rod_Pa"] = float(many["centrifugal_rod_Pa"][k, 0])
         curves["rod"] = phys.RodForces(*(np.asarray(part)[k] for part in many["rod"]))
         out.append(curves)
@@ -194,14 +197,15 @@ def _forces(scene, inputs, curves: dict | None = None):
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine = scene.engine
     alpha = motion.crank_angle_rad
-    radius, omega, ratio = motion.crank_radius_m, motion.angular_velocity_rad_s, engine.rod_ratio_value
+    radius, omega = motion.crank_radius_m, motion.angular_velocity_rad_s
+    ratio = engine.rod_ratio_value
     area = phys.piston_area_m2(engine.bore)
     reciprocating, rotating, rod_reciprocating, rod_rotating = _masses(scene)
     if curves is None:
         crank_from_axis, beta = _beta(motion, alpha)
-        curves = _curves(alpha, crank_from_axis, beta, gas.pressure_Pa, motion.piston_acceleration_m_s2,
-                         engine.crankcase_pressure, radius, omega, ratio, area, reciprocating, rotating,
-                         rod_rotating)
+        curves = _curves(alpha, crank_from_axis, beta, gas.pressure_Pa,
+                         motion.piston_acceleration_m_s2, engine.crankcase_pressure, radius, omega,
+                         ratio, area, reciprocating, rotating, rod_rotating)
     gas_Pa, inertia_Pa, total_Pa = curves["gas_Pa"], curves["inertia_Pa"], curves["total_Pa"]
     first_Pa, second_Pa, rod = curves["first_Pa"], curves["second_Pa"], curves["rod"]
     centrifugal_Pa, centrifugal_rod_Pa = curves["centrifugal_Pa"], curves["centrifugal_rod_Pa"]

@@ -62,8 +62,9 @@ def run(scene, inputs, *, junction_deg: float | None = None) -> StageOutput:
             if motion.displacement_at is not None:
                 def volume_at(a_deg):
                     return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
-            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding, volume_function=volume_at,
-                                               junction_deg=junction_deg, theoretical_Pa=theoretical)
+            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
+                                               volume_function=volume_at, junction_deg=junction_deg,
+                                               theoretical_Pa=theoretical)
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)
@@ -151,8 +152,8 @@ def run_many(scenes, inputs) -> list[StageOutput]:
         return [run(scene, given) for scene, given in zip(scenes, inputs)]
     params = [cycle_parameters(scene) for scene in scenes]
     areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
-    clearances = np.asarray([ind.clearance_volume_m3(area * scene.engine.stroke, p.compression_ratio)
-                             for area, scene, p in zip(areas, scenes, params)], dtype=float)
+    clearances = np.asarray([ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
+                             for area, s, p in zip(areas, scenes, params)], dtype=float)
     area_column, clearance_column = areas[:, None], clearances[:, None]
 
     def volume_at(angle_deg, rows):
@@ -160,7 +161,8 @@ def run_many(scenes, inputs) -> list[StageOutput]:
 
     junctions = ind.combustion_junctions_deg(params, [rounding_parameters(s) for s in scenes],
                                              clearances, volume_at)
-    return [run(scene, given, junction_deg=float(j)) for scene, given, j in zip(scenes, inputs, junctions)]
+    return [run(scene, given, junction_deg=float(j))
+            for scene, given, j in zip(scenes, inputs, junctions)]
 
 
 def _trace_pressure(scene, motion, area, swept):

@@ -57,7 +57,8 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         "min_crank_angle_deg": float(angle[i_min]),
         # measured on the torque itself: cycle/cylinders for even firing of identical cylinders, longer
         # when the firing is uneven or the cylinders differ (articulated slave rods)
-        "period_deg": (lay.sampled_period_deg(torque, scene.analysis.angle_step_deg, layout.cycle_deg)
+        "period_deg": (lay.sampled_period_deg(torque, scene.analysis.angle_step_deg,
+                                              layout.cycle_deg)
                        if period_deg is None else period_deg),
         "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),

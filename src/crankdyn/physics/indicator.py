@@ -764,7 +764,9 @@ def _refined_junctions(rows, lo, hi, psi_peak, peak, lines):
     active = np.flatnonzero(hi - lo > _JUNCTION_TOLERANCE_DEG)
     while active.size:
         a_lo, a_hi = lo[active, None], hi[active, None]
-        inner = a_lo + (a_hi - a_lo) * np.arange(1, _JUNCTION_REFINE_POINTS) / _JUNCTION_REFINE_POINTS
+        # as _find_junction_deg writes it, operation for operation: the same numbers
+        inner = (a_lo + (a_hi - a_lo) * np.arange(1, _JUNCTION_REFINE_POINTS)
+                 / _JUNCTION_REFINE_POINTS)
         valid = (inner > a_lo) & (inner < a_hi)
         ok = _passing_many(inner, psi_peak[rows[active], None], peak[rows[active], None], lines,
                            rows[active]) & valid
