@@ -32,9 +32,11 @@ def applies(scene) -> str | None:
     return None
 
 
-def run(scene, inputs, *, junction_deg: float | None = None) -> StageOutput:
-    """The diagram of ``scene``; ``junction_deg`` is its rounding's junction J when
-    ``run_many`` has found it for many scenes at once (deg after firing TDC)."""
+def run(scene, inputs, *, junction_deg: float | None = None,
+        volumes: dict | None = None) -> StageOutput:
+    """The diagram of ``scene``; ``junction_deg`` is its rounding's junction J and ``volumes`` the
+    cylinder volume (m³) at the angles the rounding reads it off (deg: m³) when ``run_many`` has
+    computed them for many scenes at once."""
     motion = inputs[KINEMATICS]
     engine = scene.engine
     area = piston_area_m2(engine.bore)
@@ -61,6 +63,9 @@ def run(scene, inputs, *, junction_deg: float | None = None) -> StageOutput:
             volume_at = None
             if motion.displacement_at is not None:
                 def volume_at(a_deg):
+                    known = _known_volume(volumes, a_deg)
+                    if known is not None:
+                        return known
                     return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
             pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
                                                volume_function=volume_at, junction_deg=junction_deg,
@@ -113,6 +118,33 @@ def run(scene, inputs, *, junction_deg: float | None = None) -> StageOutput:
                        notes=notes)
 
 
+def _known_volume(volumes: dict | None, angle_deg):
+    """The volume ``run_many`` computed at the one angle ``angle_deg``, as an array of its shape;
+    None for another angle."""
+    if volumes is None or np.size(angle_deg) != 1:
+        return None
+    known = volumes.get(float(np.ravel(angle_deg)[0]))
+    return None if known is None else np.full(np.shape(angle_deg), known)
+
+
+def _rounding_volumes(scenes, rounding, junctions, volume_at) -> list[dict]:
+    """For each scene, the cylinder volume (m³) at the angles of its rounding's points C', J and
+    b' and 1e-4° either side (the central difference of the lines' slopes), computed over points
+    x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for."""
+    step = 1e-4  # deg: the rounding's central difference
+    cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
+    tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
+    psi = np.array([[-(r.ignition_advance_deg - r.combustion_delay_deg), j,
+                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions)])
+    at = np.mod(tdc + psi, cycle)
+    angles = np.concatenate([at, at + step, at - step], axis=1)
+    rows = np.arange(len(scenes))
+    found = np.isfinite(angles)
+    values = volume_at(np.where(found, angles, 0.0), rows)
+    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k]) if ok}
+            for k in rows]
+
+
 def _stacked_displacement(motions):
     """The motions' ``displacement_at`` as one function ``(angle_deg, rows) -> m`` of angles
     (rows, M), when they are one function with other numbers (``functools.partial`` of the same
@@ -159,10 +191,11 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     def volume_at(angle_deg, rows):
         return clearance_column[rows] + area_column[rows] * displacement(angle_deg, rows)
 
-    junctions = ind.combustion_junctions_deg(params, [rounding_parameters(s) for s in scenes],
-                                             clearances, volume_at)
-    return [run(scene, given, junction_deg=float(j))
-            for scene, given, j in zip(scenes, inputs, junctions)]
+    rounding = [rounding_parameters(s) for s in scenes]
+    junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
+    volumes = _rounding_volumes(scenes, rounding, junctions, volume_at)
+    return [run(scene, given, junction_deg=float(j), volumes=v)
+            for scene, given, j, v in zip(scenes, inputs, junctions, volumes)]
 
 
 def _trace_pressure(scene, motion, area, swept):
