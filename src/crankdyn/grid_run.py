@@ -40,7 +40,7 @@ from .plugin_types import Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene
 
-#: Points per chunk: one worker call (one Dask task) computes them together. A few hundred
+#: Points per chunk: one call of a local worker computes them together. A few hundred
 #: amortise a call's cost (a fork, a pickled answer, a Dask task's round trip) and keep a
 #: chunk's arrays (points × angles per quantity) to a few megabytes.
 CHUNK_POINTS = 250

@@ -127,10 +127,12 @@ def _known_volume(volumes: dict | None, angle_deg):
     return None if known is None else np.full(np.shape(angle_deg), known)
 
 
-def _rounding_volumes(scenes, rounding, junctions, volume_at) -> list[dict]:
+def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> list[dict]:
     """For each scene, the cylinder volume (m³) at the angles of its rounding's points C', J and
     b' and 1e-4° either side (the central difference of the lines' slopes), computed over points
-    x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for."""
+    x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for.
+    A volume below the clearance (a negative displacement) is left out: ``run`` computes it and
+    refuses it as it would alone."""
     step = 1e-4  # deg: the rounding's central difference
     cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
     tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
@@ -141,6 +143,7 @@ def _rounding_volumes(scenes, rounding, junctions, volume_at) -> list[dict]:
     rows = np.arange(len(scenes))
     found = np.isfinite(angles)
     values = volume_at(np.where(found, angles, 0.0), rows)
+    found &= values >= np.asarray(clearances, dtype=float)[:, None]
     return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k]) if ok}
             for k in rows]
 
@@ -193,7 +196,7 @@ def run_many(scenes, inputs) -> list[StageOutput]:
 
     rounding = [rounding_parameters(s) for s in scenes]
     junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
-    volumes = _rounding_volumes(scenes, rounding, junctions, volume_at)
+    volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
     return [run(scene, given, junction_deg=float(j), volumes=v)
             for scene, given, j, v in zip(scenes, inputs, junctions, volumes)]
 
