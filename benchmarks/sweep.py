@@ -14,14 +14,17 @@ key sees new inputs at every point. Measured, each in this one process and run:
 * ``chunked``: the whole grid as ``crankdyn sweep`` computes it (crankdyn.grid_run): chunks of
   points on ``--jobs`` worker processes, the key's stages only, ``run_many`` where a stage has one,
   the study once for the base scene;
-* ``dask``: the same on a local Dask cluster of ``--jobs`` worker processes;
+* ``dask``: the same on a local Dask cluster of ``--jobs`` worker processes, timed after a
+  sweep of a few points has loaded crankdyn in the fresh workers (printed as the warm-up);
 * ``bare numpy``: the kinematics, a polytropic (unrounded) pressure curve, the forces and the
   torque of the same grid written as plain numpy over points x angles in one thread
   (:func:`bare_numpy`), checked against the chunked sweep's answer key in the columns that do not
   depend on the diagram's rounding.
 
 Prints points/s and the ratios of the acceptance: chunked >= 500 points/s on 2 cores, chunked
-within 10x of bare numpy, dask >= 80 % of chunked. Not part of the test suite; writes nothing.
+within 10x of bare numpy, dask >= 80 % of chunked; and the CPU seconds per point of the chunked
+sweep (all its processes) and of bare numpy, which other work on a shared machine does not change.
+Not part of the test suite; writes nothing.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import resource
 import time
 from pathlib import Path
 
@@ -140,6 +144,14 @@ def check_reference(reference: dict[str, np.ndarray], outcomes) -> float:
     return worst
 
 
+def cpu_seconds() -> float:
+    """CPU seconds (user + system) of this process and of its ended child processes (the local
+    sweep's workers are ended when it returns)."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def _dask_options(jobs: int):
     from distributed import LocalCluster  # lazy: the optional dask extra
 
@@ -172,7 +184,9 @@ def main() -> None:
 
     start = time.perf_counter()
     notes = base_studies(base, base_dir, options)
+    cpu_start = cpu_seconds()
     fast, _ = execute_key(points, base, base_dir, options)
+    chunked_cpu = (cpu_seconds() - cpu_start) / len(points)
     chunked = len(points) / (time.perf_counter() - start)
     failed = [o for o in fast if not o.ok]
 
@@ -184,18 +198,33 @@ def main() -> None:
     rpm = np.array([float(v.cells["engine.rpm"]) for v in points])
     ratio = np.array([float(v.cells["engine.rod_ratio"]) for v in points])
     peak = np.array([float(v.cells["cycle.max_pressure [MPa]"]) * 1e6 for v in points])
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), cpu_seconds()
     reference = bare_numpy(rpm, ratio, peak, base)
+    numpy_cpu = (cpu_seconds() - cpu_start) / len(points)
     numpy_rate = len(points) / (time.perf_counter() - start)
     closed_form = check_reference(reference, fast)
 
     dask_rate = None
     if not args.no_dask:
+        from distributed import Client  # lazy: the optional dask extra
+
         with _dask_options(args.jobs) as cluster:
             on_dask = RunOptions([], progress=False, scheduler=cluster.scheduler_address)
+            # a fresh cluster's workers import crankdyn on their first task: a small sweep first,
+            # so that the ratio compares throughput (the local workers fork a warmed process)
+            start = time.perf_counter()
+            execute_key(points[: 4 * args.jobs], base, base_dir, on_dask)
+            dask_warm_s = time.perf_counter() - start
+            with Client(cluster) as client:
+                workers_before = sum(client.run(cpu_seconds).values())
+            cpu_start = cpu_seconds()
             start = time.perf_counter()
             remote, _ = execute_key(points, base, base_dir, on_dask)
             dask_rate = len(points) / (time.perf_counter() - start)
+            here = cpu_seconds() - cpu_start  # the scheduler and the client run in this process
+            with Client(cluster) as client:
+                workers = sum(client.run(cpu_seconds).values()) - workers_before
+            dask_cpu = (here, workers)
             assert [o.answers for o in remote] == [o.answers for o in fast]
 
     print(f"notes: {'; '.join(notes)}")
@@ -208,7 +237,14 @@ def main() -> None:
           f"chunked is {numpy_rate / chunked:.1f}x slower (goal <= {GOALS['of_numpy']:g}x)")
     if dask_rate is not None:
         print(f"dask ({args.jobs} worker processes):          {dask_rate:9.1f} points/s   "
-              f"{dask_rate / chunked:.0%} of chunked (goal >= {GOALS['dask_share']:.0%})")
+              f"{dask_rate / chunked:.0%} of chunked (goal >= {GOALS['dask_share']:.0%}); "
+              f"workers warmed first in {dask_warm_s:.1f} s")
+        print(f"dask CPU time per point: workers {dask_cpu[1] / len(points) * 1e6:.0f} us, "
+              f"scheduler and client {dask_cpu[0] / len(points) * 1e6:.0f} us "
+              f"(chunked: {chunked_cpu * 1e6:.0f} us)")
+    print(f"CPU time per point (this process and its workers): chunked {chunked_cpu * 1e6:.0f} us, "
+          f"bare numpy {numpy_cpu * 1e6:.0f} us: {chunked_cpu / numpy_cpu:.1f}x (on a shared "
+          f"machine the wall-clock ratios follow the other load; these do not)")
     print(f"chunked vs per point, largest relative difference over the sample's key: {worst:.2g}")
     print("bare numpy vs the key, closed-form columns: largest relative difference "
           f"{closed_form:.2g}")

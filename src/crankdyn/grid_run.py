@@ -18,12 +18,12 @@ batch. No stage is named here: what runs, and how, comes from the stages' declar
 
 from __future__ import annotations
 
+import gc
 import math
 import signal
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -40,10 +40,13 @@ from .plugin_types import Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene
 
-#: Points per chunk: one worker call (one Dask task) computes them together. A few hundred
+#: Points per chunk: one call of a local worker computes them together. A few hundred
 #: amortise a call's cost (a fork, a pickled answer, a Dask task's round trip) and keep a
 #: chunk's arrays (points × angles per quantity) to a few megabytes.
 CHUNK_POINTS = 250
+#: Points per Dask task: a task costs its worker a fork and a round trip through the scheduler
+#: (some 50 ms on a busy 2-core machine), so a cluster's chunks are twice as long.
+DASK_CHUNK_POINTS = 500
 
 
 def key_plan(the_plan: Plan, registry: Registry) -> Plan:
@@ -290,8 +293,8 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
         return (base, base_dir, chunk, *tail)
 
     workers = max(1, sum(client.nthreads().values()))
-    items = chunks(variants, workers)
-    prepare = partial(warm, (), ())
+    items = chunks(variants, workers, DASK_CHUNK_POINTS)
+    prepare = _prepare_dask_worker
     limit = timeout * len(items[0]) if items else timeout
     if run_all_dask(items, run_chunk, args_of, client, limit,
                     finished, failed, prepare=prepare):
@@ -300,6 +303,22 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
         single = [[v] for v in rerun]
         rerun.clear()
         run_all_dask(single, run_chunk, args_of, client, timeout, finished, failed, prepare=prepare)
+
+
+def _prepare_dask_worker() -> None:
+    """Load the libraries once per Dask worker (:func:`crankdyn.batch.warm`) and move what is
+    loaded out of the garbage collector's sight (``gc.freeze``): each chunk runs in a child forked
+    from the worker, whose collections would otherwise walk every inherited object, and so copy
+    the worker's memory page by page, in every chunk. Frozen once per process: what the worker
+    makes later is collected as usual."""
+    global _frozen
+    warm((), ())
+    if not _frozen:
+        _frozen = True
+        gc.freeze()
+
+
+_frozen = False
 
 
 def _with_unfinished(variants: list[Variant], outcomes: list[Outcome],

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from functools import partial
 from pathlib import Path
 
@@ -31,7 +32,11 @@ def applies(scene) -> str | None:
     return None
 
 
-def run(scene, inputs) -> StageOutput:
+def run(scene, inputs, *, junction_deg: float | None = None,
+        volumes: dict | None = None) -> StageOutput:
+    """The diagram of ``scene``; ``junction_deg`` is its rounding's junction J and ``volumes`` the
+    cylinder volume (m³) at the angles the rounding reads it off (deg: m³) when ``run_many`` has
+    computed them for many scenes at once."""
     motion = inputs[KINEMATICS]
     engine = scene.engine
     area = piston_area_m2(engine.bore)
@@ -58,8 +63,13 @@ def run(scene, inputs) -> StageOutput:
             volume_at = None
             if motion.displacement_at is not None:
                 def volume_at(a_deg):
+                    known = _known_volume(volumes, a_deg)
+                    if known is not None:
+                        return known
                     return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
-            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding, volume_function=volume_at)
+            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
+                                               volume_function=volume_at, junction_deg=junction_deg,
+                                               theoretical_Pa=theoretical)
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)
@@ -106,6 +116,89 @@ def run(scene, inputs) -> StageOutput:
                       indicated_work_J=work, swept_volume_m3=swept)
     return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table},
                        notes=notes)
+
+
+def _known_volume(volumes: dict | None, angle_deg):
+    """The volume ``run_many`` computed at the one angle ``angle_deg``, as an array of its shape;
+    None for another angle."""
+    if volumes is None or np.size(angle_deg) != 1:
+        return None
+    known = volumes.get(float(np.ravel(angle_deg)[0]))
+    return None if known is None else np.full(np.shape(angle_deg), known)
+
+
+def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> list[dict]:
+    """For each scene, the cylinder volume (m³) at the angles of its rounding's points C', J and
+    b' and 1e-4° either side (the central difference of the lines' slopes), computed over points
+    x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for.
+    A volume below the clearance (a negative displacement) is left out: ``run`` computes it and
+    refuses it as it would alone."""
+    step = 1e-4  # deg: the rounding's central difference
+    cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
+    tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
+    psi = np.array([[-(r.ignition_advance_deg - r.combustion_delay_deg), j,
+                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions)])
+    at = np.mod(tdc + psi, cycle)
+    angles = np.concatenate([at, at + step, at - step], axis=1)
+    rows = np.arange(len(scenes))
+    found = np.isfinite(angles)
+    values = volume_at(np.where(found, angles, 0.0), rows)
+    found &= values >= np.asarray(clearances, dtype=float)[:, None]
+    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k]) if ok}
+            for k in rows]
+
+
+def _stacked_displacement(motions):
+    """The motions' ``displacement_at`` as one function ``(angle_deg, rows) -> m`` of angles
+    (rows, M), when they are one function with other numbers (``functools.partial`` of the same
+    function, each number a column); None otherwise."""
+    first = motions[0].displacement_at
+    partials = [m.displacement_at for m in motions]
+    if not all(isinstance(d, functools.partial) and d.func is first.func and not d.keywords
+               and len(d.args) == len(first.args) for d in partials):
+        return None
+    columns = []
+    for position, shared in enumerate(first.args):
+        values = [d.args[position] for d in partials]
+        if all(v is shared for v in values):
+            columns.append(None)
+        elif all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+            columns.append(np.asarray(values, dtype=float)[:, None])
+        else:
+            return None
+
+    def displacement(angle_deg, rows):
+        args = [a if c is None else c[rows] for a, c in zip(first.args, columns)]
+        return first.func(*args, angle_deg)
+
+    return displacement
+
+
+def run_many(scenes, inputs) -> list[StageOutput]:
+    """``run`` over many scenes at once (a sweep's points): the junctions J of their diagrams'
+    rounding, the search that dominates a point, found together over points x angles
+    (``physics.indicator.combustion_junctions_deg``); each scene's diagram then as ``run`` gives
+    it. Measured traces, mixed strokes or a displacement without a common formula: ``run`` one by
+    one."""
+    motions = [given[KINEMATICS] for given in inputs]
+    displacement = _stacked_displacement(motions)
+    if (displacement is None or any(s.cycle.source != "theoretical" for s in scenes)
+            or len({s.engine.strokes for s in scenes}) > 1):
+        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+    params = [cycle_parameters(scene) for scene in scenes]
+    areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
+    clearances = np.asarray([ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
+                             for area, s, p in zip(areas, scenes, params)], dtype=float)
+    area_column, clearance_column = areas[:, None], clearances[:, None]
+
+    def volume_at(angle_deg, rows):
+        return clearance_column[rows] + area_column[rows] * displacement(angle_deg, rows)
+
+    rounding = [rounding_parameters(s) for s in scenes]
+    junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
+    volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
+    return [run(scene, given, junction_deg=float(j), volumes=v)
+            for scene, given, j, v in zip(scenes, inputs, junctions, volumes)]
 
 
 def _trace_pressure(scene, motion, area, swept):
@@ -286,6 +379,7 @@ INDICATOR_STAGE = Stage(
     provides=(GAS_PRESSURE,),
     applies=applies,
     run=run,
+    run_many=run_many,
     render=render,
     figures=("pV", "p_alpha"),
     tables=("indicator",),

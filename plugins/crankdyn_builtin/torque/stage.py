@@ -27,7 +27,9 @@ def applies(scene) -> str | None:
     return None
 
 
-def run(scene, inputs) -> StageOutput:
+def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
+    """The loads and torque of ``scene``; ``period_deg`` is its torque's sampled period when
+    ``run_many`` has measured it for many scenes at once."""
     bays = inputs[BAY_LOADS]
     e = scene.engine
     layout = bays.layout
@@ -55,7 +57,9 @@ def run(scene, inputs) -> StageOutput:
         "min_crank_angle_deg": float(angle[i_min]),
         # measured on the torque itself: cycle/cylinders for even firing of identical cylinders, longer
         # when the firing is uneven or the cylinders differ (articulated slave rods)
-        "period_deg": lay.sampled_period_deg(torque, scene.analysis.angle_step_deg, layout.cycle_deg),
+        "period_deg": (lay.sampled_period_deg(torque, scene.analysis.angle_step_deg,
+                                              layout.cycle_deg)
+                       if period_deg is None else period_deg),
         "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),
         # each cylinder's cycle delay: its own crank angle alpha_i = alpha - delay (mod the cycle)
@@ -90,6 +94,48 @@ def run(scene, inputs) -> StageOutput:
                                 centrifugal_Pa=bays.centrifugal_Pa, piston_area_m2=area, crank_radius_m=R),
     }
     return StageOutput(data=data, results=results, tables={"torque": columns})
+
+
+def sampled_periods_deg(values, cycle_deg: float, rtol: float = 1e-9) -> np.ndarray:
+    """``physics.layout.sampled_period_deg`` of each row of ``values`` (points x angles over
+    ``cycle_deg``), the rows tested together: per row the smallest cycle/k (a whole number of
+    steps) by which the samples repeat within ``rtol`` x their range, deg."""
+    v = np.asarray(values, dtype=float)
+    count, n = v.shape
+    tol = rtol * np.maximum(np.maximum(np.ptp(v, axis=1), np.max(np.abs(v), axis=1)), 1e-300)
+    period = np.full(count, float(cycle_deg))
+    open_rows = np.arange(count)
+    for k in range(n, 1, -1):
+        if n % k or not open_rows.size:
+            continue
+        shift = n // k
+        # the first sample rejects most shifts: only the rows it passes are compared in full
+        rows = open_rows[np.abs(v[open_rows, -shift] - v[open_rows, 0]) <= tol[open_rows]]
+        if rows.size:
+            repeats = np.max(np.abs(np.roll(v[rows], shift, axis=1) - v[rows]), axis=1) <= tol[rows]
+            period[rows[repeats]] = cycle_deg / k
+            open_rows = np.setdiff1d(open_rows, rows[repeats])
+    return period
+
+
+def _output_torque_Nm(bays):
+    """The engine's output torque over the cycle, N·m (eq. 46)."""
+    return cs.running_torques(bays.tangential_Pa)[1][-1] * bays.crank_radius_m * bays.piston_area_m2
+
+
+def run_many(scenes, inputs) -> list[StageOutput]:
+    """``run`` over many scenes at once (a sweep's points): the torques' periods, the search over
+    the cycle's divisors that dominates a point, measured over points x angles; each scene's loads
+    then as ``run`` gives them. Scenes on other grids or cycles: ``run`` one by one."""
+    bays = [given[BAY_LOADS] for given in inputs]
+    first = bays[0]
+    if not all(b.layout.cycle_deg == first.layout.cycle_deg
+               and np.array_equal(b.crank_angle_deg, first.crank_angle_deg) for b in bays):
+        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+    torques = np.stack([_output_torque_Nm(b) for b in bays])
+    periods = sampled_periods_deg(torques, first.layout.cycle_deg)
+    return [run(scene, given, period_deg=float(period))
+            for scene, given, period in zip(scenes, inputs, periods)]
 
 
 def _journal_range(name: str, torque_Nm) -> dict:
@@ -207,6 +253,7 @@ TORQUE_STAGE = Stage(
     provides=(ENGINE_TORQUE, CRANK_LOADS),
     applies=applies,
     run=run,
+    run_many=run_many,
     render=render,
     figures=("output_torque", "journal_torques"),
     tables=("torque",),

@@ -41,6 +41,7 @@ __all__ = [
     "RoundingParameters",
     "default_combustion_delay_deg",
     "rounded_pressure_Pa",
+    "combustion_junctions_deg",
     "indicated_work_J",
     "pumping_work_J",
     "mean_indicated_pressure_Pa",
@@ -55,6 +56,7 @@ _JUNCTION_SEARCH_STEP_DEG = 0.01
 _JUNCTION_TOLERANCE_DEG = 1e-10
 _JUNCTION_REFINE_POINTS = 64  # points per refinement of the junction's bracket
 _JUNCTION_SCAN_CHUNK = 1000  # grid points tested at a time when looking for the junction (10 deg)
+_JUNCTION_MANY_FIRST_CHUNK = 200  # the first part of the grid tested for many diagrams at once
 # Largest cyclic gap of the caller's grid from which the cylinder volume may
 # be reconstructed by a periodic spline (the textbook table step is 10-15 deg).
 _MAX_VOLUME_GRID_STEP_DEG = 15.0
@@ -658,13 +660,177 @@ def _find_junction_deg(psi_peak, psi_limit, peak_Pa, expansion_at):
     return hi
 
 
+def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_function):
+    """The junction J of the combustion rounding of many diagrams at once.
+
+    Parameters
+    ----------
+    params : sequence of CycleParameters
+        One per diagram, all of one number of strokes.
+    rounding : sequence of RoundingParameters
+        One per diagram.
+    clearance_volume_m3 : array_like, shape (P,)
+        Clearance volume V_c of each diagram, m^3, > 0.
+    volume_function : callable
+        ``volume_function(angle_deg, rows) -> volume_m3``: the cylinder volume,
+        m^3, of the diagrams ``rows`` (an index array) at crank angles
+        ``angle_deg`` of shape (len(rows), M), deg, row by row; as the
+        ``volume_function`` of :func:`rounded_pressure_Pa`, it must accept
+        angles 1e-4 deg outside the cycle.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P,)
+        psi_J, deg after firing TDC; NaN for a diagram whose rounding from Z'
+        joins the expansion line nowhere before b'.
+
+    Notes
+    -----
+    Row by row the same search as :func:`rounded_pressure_Pa` makes for one
+    diagram (:func:`_combustion_rounding`): the first angle of the 0.01-deg
+    grid after Z' where a monotone Hermite segment from Z' (zero slope) meets
+    the expansion line (eq. 13, derived construction), refined on grids of
+    1/64 of the bracket to 1e-10 deg.  The grids hold the same numbers, so each
+    row's J equals the one-diagram search's; pass it to
+    :func:`rounded_pressure_Pa` as ``junction_deg``.
+    """
+    count = len(params)
+    _require(count == len(rounding) and count > 0, "rounding", f"{len(rounding)} entries",
+             f"one per diagram ({count}), at least one")
+    cycle = _cycle_deg(params[0])
+    _require(all(_cycle_deg(p) == cycle for p in params), "params", "mixed strokes",
+             "diagrams of one number of strokes")
+    tdc = _firing_tdc_deg(params[0])
+    lines = _ColumnLines(np.asarray(clearance_volume_m3, dtype=float).reshape(count, 1), params,
+                         volume_function, tdc, cycle)
+    psi_peak = np.array([r.peak_angle_after_tdc_deg for r in rounding], dtype=float)
+    psi_limit = 180.0 - np.array([r.exhaust_opens_before_bdc_deg for r in rounding], dtype=float)
+    peak = np.array([r.peak_pressure_fraction * p.max_pressure_Pa
+                     for r, p in zip(rounding, params)], dtype=float)
+    first = _first_passing_steps(psi_peak, psi_limit, peak, lines)
+    found = np.flatnonzero(first > 0)
+    junction = np.full(count, np.nan)
+    if found.size == 0:
+        return junction
+    step = _JUNCTION_SEARCH_STEP_DEG
+    hi = psi_peak[found] + step * first[found]
+    lo = np.where(first[found] == 1, psi_peak[found], psi_peak[found] + step * (first[found] - 1))
+    p, slope = lines.expansion_at(hi[:, None], found)
+    sure = np.array([bool(p[k, 0] < peak[row]) and _hermite_is_monotone(
+        0.0, float(slope[k, 0]), float((p[k, 0] - peak[row]) / (hi[k] - psi_peak[row])))
+        for k, row in enumerate(found)], dtype=bool)
+    found, hi, lo = found[sure], hi[sure], lo[sure]
+    junction[found] = _refined_junctions(found, lo, hi, psi_peak, peak, lines)
+    return junction
+
+
+def _passing_many(psi, psi_peak, peak_Pa, lines, rows):
+    """The Fritsch-Carlson test of :func:`_find_junction_deg` row by row, psi of shape (rows, M)."""
+    p, slope = lines.expansion_at(psi, rows)
+    secant = (p - peak_Pa) / (psi - psi_peak)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        beta = slope / secant
+    return (p < peak_Pa) & (beta >= -1e-12) & (beta <= 3.0 + 1e-12)
+
+
+def _first_passing_steps(psi_peak, psi_limit, peak, lines):
+    """Per row, the first k >= 1 of the 0.01-deg grid psi_peak + k * step (up to psi_limit)
+    that passes the test, 0 where none does; scanned a part of the grid at a time, the first
+    2 deg (J lies 1-2 deg after Z' in a typical diagram), then parts twice as long each time."""
+    step = _JUNCTION_SEARCH_STEP_DEG
+    last = np.floor((psi_limit - psi_peak) / step).astype(int)
+    first = np.zeros(len(psi_peak), dtype=int)
+    pending = last >= 1
+    begin, size = 1, _JUNCTION_MANY_FIRST_CHUNK
+    while pending.any():
+        rows = np.flatnonzero(pending)
+        k = np.arange(begin, begin + size)
+        psi = psi_peak[rows, None] + step * k[None, :]
+        hits = _passing_many(psi, psi_peak[rows, None], peak[rows, None], lines, rows)
+        hits &= k[None, :] <= last[rows, None]
+        hit = hits.any(axis=1)
+        first[rows[hit]] = k[np.argmax(hits[hit], axis=1)]
+        pending[rows[hit]] = False
+        begin += size
+        size = min(2 * size, _JUNCTION_SCAN_CHUNK)
+        pending &= last >= begin
+    return first
+
+
+def _refined_junctions(rows, lo, hi, psi_peak, peak, lines):
+    """Each bracket (lo, hi] of the junction narrowed to 1e-10 deg on grids of 1/64 of it, row by
+    row as :func:`_find_junction_deg` narrows one; returns hi."""
+    lo, hi = lo.copy(), hi.copy()
+    active = np.flatnonzero(hi - lo > _JUNCTION_TOLERANCE_DEG)
+    while active.size:
+        a_lo, a_hi = lo[active, None], hi[active, None]
+        # as _find_junction_deg writes it, operation for operation: the same numbers
+        inner = (a_lo + (a_hi - a_lo) * np.arange(1, _JUNCTION_REFINE_POINTS)
+                 / _JUNCTION_REFINE_POINTS)
+        valid = (inner > a_lo) & (inner < a_hi)
+        ok = _passing_many(inner, psi_peak[rows[active], None], peak[rows[active], None], lines,
+                           rows[active]) & valid
+        any_ok = ok.any(axis=1)
+        first_ok = np.argmax(ok, axis=1)
+        columns = np.arange(inner.shape[1])
+        last_valid = np.where(valid, columns, -1).max(axis=1)
+        for k, row in enumerate(active):
+            if last_valid[k] < 0:  # the bracket is down to adjacent floats
+                lo[row] = hi[row]
+                continue
+            if any_ok[k]:
+                j = first_ok[k]
+                before = lo[row] if j == 0 or not valid[k, j - 1] else inner[k, j - 1]
+                hi[row], lo[row] = inner[k, j], before
+            else:
+                lo[row] = inner[k, last_valid[k]]
+        active = active[hi[active] - lo[active] > _JUNCTION_TOLERANCE_DEG]
+    return hi
+
+
+class _ColumnLines:
+    """The expansion line and its slope of many diagrams, their numbers as columns (P, 1)."""
+
+    def __init__(self, clearance_m3, params, volume_function, tdc_deg, cycle_deg):
+        def column(name):
+            return np.array([getattr(p, name) for p in params], dtype=float)[:, None]
+
+        self.clearance_m3 = clearance_m3
+        self.columns = {name: column(name) for name in (
+            "compression_ratio", "pre_expansion_ratio", "max_pressure_Pa", "expansion_index")}
+        self.volume_function = volume_function
+        self.tdc_deg = tdc_deg
+        self.cycle_deg = cycle_deg
+
+    def expansion_at(self, psi, rows):
+        """(p, dp/dpsi) of the expansion line of diagrams ``rows`` at psi (rows, M), Pa, Pa/deg;
+        dV/dalpha by the central difference of :func:`_function_volume`."""
+        step = 1e-4
+        a = np.mod(np.asarray(self.tdc_deg + psi, dtype=float), self.cycle_deg)
+        v = np.asarray(self.volume_function(a, rows), dtype=float)
+        dv = (np.asarray(self.volume_function(a + step, rows), dtype=float)
+              - np.asarray(self.volume_function(a - step, rows), dtype=float)) / (2.0 * step)
+        params = _Columns({name: c[rows] for name, c in self.columns.items()})
+        clearance = self.clearance_m3[rows]
+        return (_expansion_line_Pa(v, clearance, params),
+                _expansion_slope_Pa_per_deg(v, dv, clearance, params))
+
+
+class _Columns:
+    """Cycle parameters as attributes holding columns (P, 1), for the lines' formulas."""
+
+    def __init__(self, values: dict):
+        self.__dict__.update(values)
+
+
 def _local_offset_deg(alpha, start_deg, cycle):
     """Angle travelled from ``start_deg`` to ``alpha`` in the direction of rotation."""
     return np.mod(alpha - start_deg, cycle)
 
 
 def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
-                        *, volume_function: Optional[Callable] = None):
+                        *, volume_function: Optional[Callable] = None,
+                        junction_deg: Optional[float] = None, theoretical_Pa=None):
     """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
 
     Parameters
@@ -690,6 +856,14 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
         grid; otherwise they come from a periodic cubic spline through
         (crank_angle_deg, volume_m3), which reproduces engine kinematics to
         ~1e-9 relative on a 1-deg grid.
+    junction_deg : float, optional
+        The junction J, deg after firing TDC, when the caller has found it
+        for this diagram (:func:`combustion_junctions_deg`, many diagrams at
+        once): the search for it is then skipped.  NaN stands for a diagram
+        without one (the same ValueError as the search).
+    theoretical_Pa : array_like, optional
+        :func:`theoretical_pressure_Pa` at these angles, when the caller has
+        computed it: the diagram the rounding starts from, not computed again.
 
     Returns
     -------
@@ -724,7 +898,10 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
              "a CycleParameters instance")
     _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
              "a RoundingParameters instance")
-    pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    if theoretical_Pa is None:
+        pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    else:
+        pressure = np.asarray(theoretical_Pa, dtype=float)
     cycle = _cycle_deg(params)
     tdc = _firing_tdc_deg(params)
     four = params.strokes == 4
@@ -738,7 +915,7 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     else:
         volume_at = _function_volume(volume_function, cycle)
     lines = _Lines(volume_at, tdc, clearance_volume_m3, params)
-    pressure, psi_j = _combustion_rounding(alpha, pressure, lines, rounding, cycle)
+    pressure, psi_j = _combustion_rounding(alpha, pressure, lines, rounding, cycle, junction_deg)
     pressure = _exhaust_drop(alpha, pressure, lines, rounding, cycle, psi_j)
     if four:
         pressure = _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle)
@@ -772,7 +949,7 @@ def _drop_end_psi_deg(rounding) -> float:
     return 180.0 + 0.5 * rounding.exhaust_opens_before_bdc_deg
 
 
-def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
+def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, junction_deg=None):
     """Combustion rounding C' -> C'' -> Z' -> J laid over ``pressure`` (Pa); returns (pressure, psi_J).
 
     C' at psi = -(advance - delay) lies on the compression line (its value and
@@ -785,7 +962,8 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
     a monotone Hermite segment from Z' (zero slope) to J (expansion line's
     value and slope) exists; for a zero start slope the Fritsch-Carlson test
     reduces to slope_J <= 3 * secant.  It is found on an internal 0.01-deg
-    grid, refined on finer grids to 1e-10 deg.
+    grid, refined on finer grids to 1e-10 deg (unless ``junction_deg`` gives
+    it: NaN for none).
     """
     params = lines.params
     four = params.strokes == 4
@@ -818,7 +996,10 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
              "for this pressure_rise_to_tdc_Pa)")
     _require(_hermite_is_monotone(d_c2, 0.0, m2), "peak_angle_after_tdc_deg", psi_peak,
              "a value for which the C''-Z' rounding is monotone")
-    psi_j = _find_junction_deg(psi_peak, psi_b1, peak, lines.expansion_at)
+    if junction_deg is None:
+        psi_j = _find_junction_deg(psi_peak, psi_b1, peak, lines.expansion_at)
+    else:
+        psi_j = None if np.isnan(junction_deg) else float(junction_deg)
     _require(psi_j is not None,
              "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
              f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
@@ -829,7 +1010,7 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle):
     combustion = hermite_cubic([psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
-    return np.where(in_window, combustion(psi_c1 + offset), pressure), psi_j
+    return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
 
 
 def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
@@ -876,7 +1057,17 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     drop = hermite_cubic([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
-    return np.where(in_window, drop(psi_b1 + offset), pressure)
+    return _laid_over(pressure, in_window, drop, psi_b1 + offset)
+
+
+def _laid_over(pressure, in_window, curve, at):
+    """``pressure`` with ``curve(at)`` where ``in_window``: the curve evaluated in its window only
+    (the same numbers as everywhere, a few of them)."""
+    if np.ndim(pressure) == 0 or np.shape(in_window) != np.shape(pressure):
+        return np.where(in_window, curve(at), pressure)
+    out = np.array(pressure, dtype=float)
+    out[in_window] = curve(np.broadcast_to(at, np.shape(pressure))[in_window])
+    return out
 
 
 def _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle):
