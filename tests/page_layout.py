@@ -12,8 +12,8 @@ import functools
 import html as html_lib
 import re
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from PIL import Image

@@ -13,6 +13,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from conftest import modified
 from openpyxl import load_workbook
 
 from crankdyn import answer_key, batch, outputs
@@ -20,7 +21,6 @@ from crankdyn.cli import examples_dir
 from crankdyn.pipeline import run_and_render
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 ROOT = Path(__file__).resolve().parents[1]
 

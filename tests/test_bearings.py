@@ -7,11 +7,11 @@ import re
 
 import numpy as np
 import pytest
+from conftest import shared_html, shared_run
 
 from crankdyn.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
 from crankdyn.plugins import default_registry
-from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 

@@ -17,6 +17,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from conftest import ARTIFACTS, modified, shared_run, write_scene
+from page_layout import crop_texts, first_sheets, landscape_pages, layout_problems, page_texts
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugins import default_registry
@@ -24,8 +26,6 @@ from crankdyn.report.document import render_html, report_css
 from crankdyn.report.docx import pandoc_html
 from crankdyn.report.frame import fitting_size, text_width_em
 from crankdyn.scene import scene_from_dict
-from conftest import ARTIFACTS, modified, shared_run, write_scene
-from page_layout import crop_texts, first_sheets, landscape_pages, layout_problems, page_texts
 
 REGISTRY = default_registry()
 TEMPLATES = Path(__file__).resolve().parents[1] / "templates"

@@ -17,6 +17,9 @@ import types
 
 import markupsafe
 import pytest
+from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
+from page_layout import layout_problems, page_texts
+from test_worked import check_worked
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.orchestrator import run_scene
@@ -24,9 +27,6 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
-from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
-from page_layout import layout_problems, page_texts
-from test_worked import check_worked
 
 REGISTRY = default_registry()
 

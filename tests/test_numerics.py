@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified, shared_run
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
@@ -19,7 +20,6 @@ from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.numerics import stage as num
-from conftest import modified, shared_run
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import example_data, modified, write_scene
 
 import crankdyn.api
 import crankdyn.plugins
@@ -27,12 +28,15 @@ from crankdyn.errors import PluginError, PluginFailure, Problem, SceneError, Sta
 from crankdyn.hookspecs import hookimpl
 from crankdyn.orchestrator import run_scene
 from crankdyn.pipeline import run_and_render
-from crankdyn.plugin_guard import (DEFAULT_STAGE_TIMEOUT_S, MAX_STAGE_TIMEOUT_S, check_stage_output,
-                                   stage_time_limit)
+from crankdyn.plugin_guard import (
+    DEFAULT_STAGE_TIMEOUT_S,
+    MAX_STAGE_TIMEOUT_S,
+    check_stage_output,
+    stage_time_limit,
+)
 from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, modified, write_scene
 
 SCENE = "kinematics-only"
 

@@ -4,7 +4,7 @@ cranks in one direction (1 and 4 of an in-line four) share one label instead of 
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -16,7 +16,7 @@ from crankdyn.report import mechanism_drawing as md
 from crankdyn.scene import load_scene
 
 
-@lru_cache(maxsize=None)
+@cache
 def _positions(example: str):
     scene = load_scene(examples_dir() / f"{example}.toml")
     registry = default_registry()

@@ -14,7 +14,13 @@ from conftest import run_cli
 from crankdyn.batch import RunOptions
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
-from crankdyn.sweep_grid import SweepRequest, parse_values, read_sweep_file, run_sweep, sweep_from_args
+from crankdyn.sweep_grid import (
+    SweepRequest,
+    parse_values,
+    read_sweep_file,
+    run_sweep,
+    sweep_from_args,
+)
 
 KINEMATICS = examples_dir() / "kinematics-only.toml"  # R = 50 mm, S = 100 mm, rod_length = 200 mm
 SWEEP_FILE = Path(__file__).resolve().parent.parent / "examples" / "sweeps" / "bore-rod-ratio.toml"

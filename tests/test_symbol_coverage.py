@@ -10,12 +10,12 @@ import re
 from collections import defaultdict
 
 import pytest
-
 from conftest import shared_html
+
+from crankdyn.plugins import default_registry
 from crankdyn.report import equation_legend, typeset
 from crankdyn.report.equation_legend import _SECTION_OR_EQUATION
 from crankdyn.report.i18n import translator
-from crankdyn.plugins import default_registry
 
 #: The table a report of the installed plugins reads: the core's symbols and the stages' own.
 SYMBOLS = typeset.symbol_table(default_registry().stages.values())

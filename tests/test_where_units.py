@@ -10,7 +10,6 @@ import html as html_lib
 import re
 
 import pytest
-
 from conftest import shared_html
 
 #: Units of the tables that no formula holds in as printed.

@@ -35,6 +35,7 @@ from . import answer_key
 from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
 from .errors import Problem, SceneError
 from .grid_run import CHUNK_POINTS, evaluate, number, study_once
+from .inputcheck import structure_problems
 from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, run_scene
 from .outputs import FORMATS, _named_tables, results_document
@@ -43,7 +44,6 @@ from .plugins import default_registry
 from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
-from .inputcheck import structure_problems
 from .scene import Scene, merge, read_scene_data, scene_from_dict
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError"]
@@ -149,7 +149,7 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     return scene
 
 
-def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None) -> "Result":
+def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None) -> Result:
     """Compute ``scene`` (a scene, or anything :func:`load` takes) and return its :class:`Result`.
 
     ``stages`` names the stages wanted (their prerequisites are added), as ``--stages`` does;
@@ -183,7 +183,7 @@ def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
 
 
 def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
-          stages: Iterable[str] | None = None) -> "pd.DataFrame":  # noqa: F821
+          stages: Iterable[str] | None = None) -> pd.DataFrame:  # noqa: F821
     """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
 
     The combinations are computed as ``crankdyn sweep`` computes them: in chunks, only the stages
@@ -318,7 +318,7 @@ def _release(fig) -> None:
 class _LazyFigures(Mapping):
     """``result.figures``: matplotlib Figures by name, rendered on first access."""
 
-    def __init__(self, result: "Result"):
+    def __init__(self, result: Result):
         self._result = result
         self._figures: dict | None = None
 
@@ -367,7 +367,7 @@ class Result:
         return results_document(self.run_result)
 
     @cached_property
-    def tables(self) -> dict[str, "pd.DataFrame"]:  # noqa: F821
+    def tables(self) -> dict[str, pd.DataFrame]:  # noqa: F821
         """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
         return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
 
@@ -402,7 +402,9 @@ class Result:
     def _render(self, figures_only: bool = False, language: str | None = None,
                 only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
-        from .report.document import _environment  # lazy: heavy optional import (jinja2: only when a section is rendered)
+        from .report.document import (
+            _environment,  # lazy: heavy optional import (jinja2: only when a section is rendered)
+        )
 
         registry = _registry()
         language = language or self.scene.report.language

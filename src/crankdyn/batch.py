@@ -27,8 +27,14 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
-from .batch_runner import (DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask,
-                           stop_signals)
+from .batch_runner import (
+    DEFAULT_TIMEOUT_S,
+    check_seconds,
+    connect,
+    run_all,
+    run_all_dask,
+    stop_signals,
+)
 from .errors import CrankdynError, Problem, SceneError, UsageError
 from .manifest import MANIFEST, check_outputs, write_outputs
 from .outputs import xlsx_bytes

@@ -30,12 +30,31 @@ from typing import Any
 import numpy as np
 
 from . import answer_key
-from .batch import (Outcome, Progress, RunOptions, Variant, _client, _registry, _variant_scene,
-                    error_text, warm, worker_count)
+from .batch import (
+    Outcome,
+    Progress,
+    RunOptions,
+    Variant,
+    _client,
+    _registry,
+    _variant_scene,
+    error_text,
+    warm,
+    worker_count,
+)
 from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
 from .errors import PluginError
-from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage, stage_applies,
-                           stage_inputs)
+from .orchestrator import (
+    Plan,
+    check_output,
+    check_scene,
+    is_study,
+    plan,
+    run_plan,
+    run_stage,
+    stage_applies,
+    stage_inputs,
+)
 from .plugin_types import Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene

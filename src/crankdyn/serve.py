@@ -39,9 +39,10 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import parse_qs, quote, urlsplit
 
+from .background import StudyWorker
 from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
-from .background import StudyWorker
+from .inputcheck import MAX_DEPTH
 from .orchestrator import is_study
 from .pipeline import run_for_preview
 from .plugins import default_registry
@@ -49,7 +50,6 @@ from .report.context import FIGURE_DIR, draw_figures, start_drawing
 from .report.i18n import available_languages
 from .report.pdf import html_to_pdf
 from .report.section_cache import SectionCache
-from .inputcheck import MAX_DEPTH
 from .scene import load_scene, read_scene_data
 
 HOST = "127.0.0.1"

@@ -34,9 +34,24 @@ from typing import Any
 
 from .answer_key import answer_columns
 from .api import _nested_overrides
-from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant,
-                    _nest, _registry, _variant_scene, batch_language, check_options, execute,
-                    key_files, key_warnings, load_base, parse_cell)
+from .batch import (
+    MAX_FIELDS,
+    MAX_VARIANTS,
+    VARIANT_COLUMN,
+    BatchReport,
+    RunOptions,
+    Variant,
+    _nest,
+    _registry,
+    _variant_scene,
+    batch_language,
+    check_options,
+    execute,
+    key_files,
+    key_warnings,
+    load_base,
+    parse_cell,
+)
 from .errors import Problem, SceneError, UsageError
 from .grid_run import execute_key, study_once
 from .manifest import check_outputs, write_outputs

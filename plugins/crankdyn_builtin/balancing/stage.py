@@ -7,24 +7,30 @@ assembles the results and renders the section.
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from pathlib import Path
-
-import math
 from typing import Annotated, Literal
 
 import numpy as np
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
-from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS, ArticulatedOptions, Counterweights
+from crankdyn.contracts import (
+    COUNTERWEIGHTS,
+    ENGINE_TORQUE,
+    KINEMATICS,
+    ArticulatedOptions,
+    Counterweights,
+)
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import hide_axes, new_figure
-from crankdyn.scene import options, quantity as _quantity
+from crankdyn.scene import options
+from crankdyn.scene import quantity as _quantity
 from crankdyn.scene_inputs import engine_layout, rotating_mass_per_crank_kg
 from crankdyn_builtin.balancing.worked import worked_balancing
 
@@ -305,7 +311,7 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
     return table
 
 
-def inertia_masses(scene, layout) -> "bal.Masses":
+def inertia_masses(scene, layout) -> bal.Masses:
     """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
     m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``)."""
     e, m = scene.engine, scene.masses

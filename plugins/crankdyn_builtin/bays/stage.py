@@ -2,19 +2,25 @@
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from pathlib import Path
-
-import math
 
 import numpy as np
 from markupsafe import Markup, escape
 
-from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, ArticulatedOptions, BayLoads
+from crankdyn.contracts import (
+    BAY_LOADS,
+    FORCES,
+    GAS_PRESSURE,
+    KINEMATICS,
+    ArticulatedOptions,
+    BayLoads,
+)
 from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
-from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.physics import layout as lay
+from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure

@@ -15,11 +15,17 @@ from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATIC
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
+from crankdyn.physics.extrema import first_argmax
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import journal_name, loads_equal, most_loaded, pin_rows, worked_bearing
+from crankdyn_builtin.bearings.worked import (
+    journal_name,
+    loads_equal,
+    most_loaded,
+    pin_rows,
+    worked_bearing,
+)
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"

@@ -8,18 +8,25 @@ from pathlib import Path
 import numpy as np
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces, RodDynamicsOptions
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import forces as phys
+from crankdyn.physics import kinematics as kin
+from crankdyn.physics import rod_loads
+from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.typeset import symbol_html, symbol_mathtext
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
-from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn.physics import kinematics as kin
-from crankdyn.physics import crankshaft as phys_crankshaft
-from crankdyn.physics import rod_loads
+from crankdyn.report.typeset import symbol_html, symbol_mathtext
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed,
+    printed_fixed,
+    worked_markup,
+    worked_row,
+)
 from crankdyn.scene import options
-from crankdyn.errors import Problem, SceneError
 from crankdyn_builtin.forces.worked import worked_crank_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

@@ -11,14 +11,13 @@ from crankdyn.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
+from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
 from crankdyn.plausibility import peak_pressure
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
-from crankdyn.physics.extrema import first_argmax
-
+from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
 from crankdyn_builtin.indicator.worked import worked_indicator
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

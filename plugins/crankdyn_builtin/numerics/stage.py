@@ -26,33 +26,45 @@ the registry the scene itself runs with; this stage never builds a registry of i
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import functools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Callable
+from pathlib import Path
+from typing import Annotated, Any
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
 from crankdyn.errors import CrankdynError, PluginError, Problem, SceneError
+from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
-from crankdyn.plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
-                                   Stage, StageOutput)
-from crankdyn.report.figures import new_figure
-from crankdyn.scene import Analysis, Scene, number, options
-from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.physics import articulated as art
-from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 from crankdyn.physics.layout import step_on_grid_deg
+from crankdyn.plugin_types import (  # noqa: F401
+    SERVICE_ASIDE,
+    SERVICE_ERROR_PROBES,
+    SERVICE_RUNNER,
+    ErrorProbe,
+    ProbePoint,
+    Stage,
+    StageOutput,
+)
+from crankdyn.report.figures import new_figure
+from crankdyn.scene import (
+    Analysis,
+    Scene,
+    _problems,  # one error format for every refusal
+    number,
+    options,
+)
+from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -235,7 +247,7 @@ def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: 
     return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged)]
 
 
-def _step_formulas(model: "PointwiseModel", run: StepRun) -> Callable[[], tuple]:
+def _step_formulas(model: PointwiseModel, run: StepRun) -> Callable[[], tuple]:
     """The formulas of a step on its N angles: piston acceleration, rod angle, forces, torque, and the
     judged values (mean torque, t_max, t_min, q_max), from the step's pressure curve."""
     gas = next(o.data[GAS_PRESSURE] for o in run.outputs.values() if GAS_PRESSURE in o.data)

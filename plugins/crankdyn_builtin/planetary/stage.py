@@ -10,28 +10,25 @@ stage puts the rod's rotating mass on the crank circle, which the big end here l
 from __future__ import annotations
 
 import functools
-
-from pathlib import Path
-
 import math
 from fractions import Fraction
+from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict, model_validator
-from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
+from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.scalar_search import minimize_bounded
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-
 from crankdyn.scene_inputs import single_mechanism_problems
-from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.planetary.worked import worked_planetary
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

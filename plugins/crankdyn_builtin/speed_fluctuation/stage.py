@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
 from dataclasses import dataclass
 from functools import partial
+from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
@@ -15,16 +14,17 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, model_validator
 
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import irregularity as irr
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.i18n import superscript
-from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene import number as _number
+from crankdyn.scene import options
+from crankdyn.scene import quantity as _quantity
 from crankdyn.scene_inputs import crank_train
 from crankdyn.units import parse_quantity
-
-from crankdyn.physics import irregularity as irr
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -105,7 +105,7 @@ class TorsionOptions(BaseModel):
     explicit_budget: _number(ge=100, le=1e7) = 20000
 
     @model_validator(mode="after")
-    def _consistent(self) -> "TorsionOptions":
+    def _consistent(self) -> TorsionOptions:
         if (self.free_end_inertia is None) != (self.free_end_stiffness is None):
             raise ValueError("give free_end_inertia and free_end_stiffness together (a disc ahead of crank 1: "
                              "timing gear, pulley or damper, and the stiffness of the crank nose), or neither")

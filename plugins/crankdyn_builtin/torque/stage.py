@@ -10,11 +10,11 @@ import numpy as np
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
+from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.typeset import journal_name
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
-from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.report.typeset import journal_name
 from crankdyn_builtin.torque.worked import worked_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

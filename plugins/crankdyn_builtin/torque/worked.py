@@ -6,7 +6,15 @@ from __future__ import annotations
 from markupsafe import Markup
 
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    printed_fixed,
+    worked_markup,
+    worked_row,
+)
 
 
 def worked_torque(ctx, f, rows, labels, cranks: int, delays: list[dict] = ()) -> Markup:

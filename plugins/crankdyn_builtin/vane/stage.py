@@ -15,16 +15,15 @@ from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from crankdyn.physics.scalar_search import brentq
 
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
 from crankdyn.physics.extrema import central_derivative, periodic_extreme
+from crankdyn.physics.scalar_search import brentq
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-
 from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn_builtin.vane.worked import worked_vane
 

@@ -18,8 +18,9 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from .scalar_search import brentq, minimize_bounded
+
 from .extrema import first_argmin
+from .scalar_search import brentq, minimize_bounded
 
 
 @dataclass(frozen=True)

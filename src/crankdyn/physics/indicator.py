@@ -22,8 +22,8 @@ timing).  Equations marked "derived" were derived for this module.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, Optional
 
 import numpy as np
 
@@ -176,7 +176,7 @@ class CycleParameters:
     max_pressure_Pa: float
     pre_expansion_ratio: float
     expansion_index: float
-    exhaust_pressure_Pa: Optional[float] = None
+    exhaust_pressure_Pa: float | None = None
 
     def __post_init__(self):
         _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
@@ -578,7 +578,9 @@ def _volume_interpolant(alpha, volume, cycle):
     _require(gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG, "crank_angle_deg",
              f"largest step {gaps.max():g} deg",
              f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)")
-    from scipy.interpolate import CubicSpline  # lazy: heavy optional import (~25 ms; sampled volumes only)
+    from scipy.interpolate import (
+        CubicSpline,  # lazy: heavy optional import (~25 ms; sampled volumes only)
+    )
 
     spline = CubicSpline(np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]),
                          bc_type="periodic")
@@ -664,7 +666,7 @@ def _local_offset_deg(alpha, start_deg, cycle):
 
 
 def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
-                        *, volume_function: Optional[Callable] = None):
+                        *, volume_function: Callable | None = None):
     """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
 
     Parameters

@@ -19,10 +19,10 @@ Conventions
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-import numpy as np
 from fractions import Fraction
 from math import gcd
+
+import numpy as np
 
 LAYOUT_BANKS = {"inline": 1, "V": 2, "boxer": 2, "W": 3, "Y": 3, "X": 4}
 BANK_LETTERS = {1: ("",), 2: ("L", "R"), 3: ("L", "C", "R"), 4: ("A", "B", "C", "D")}
@@ -299,7 +299,7 @@ def grid_deg(cycle_deg: float, angles_deg) -> float:
     return float(g)
 
 
-def layout_grid_deg(layout: "EngineLayout") -> float:
+def layout_grid_deg(layout: EngineLayout) -> float:
     """:func:`grid_deg` of a layout: cycle, firing delays and bank-axis angles."""
     angles = [c.firing_delay_deg for c in layout.cylinders] + [c.axis_deg for c in layout.cylinders]
     return grid_deg(layout.cycle_deg, angles)

@@ -33,10 +33,10 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-from .scalar_search import brentq, minimize_bounded
 
-from .rod_dynamics import SliderMotion, slider_from_big_end
 from .extrema import first_argmax
+from .rod_dynamics import SliderMotion, slider_from_big_end
+from .scalar_search import brentq, minimize_bounded
 
 __all__ = [
     "PlanetaryGeometry",

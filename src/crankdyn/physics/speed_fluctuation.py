@@ -57,15 +57,16 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
-from .lazy import integrate
-from .scalar_search import brentq, minimize_bounded
 
 from . import kinematics as kin
 from .extrema import first_argmax, first_argmin
+from .lazy import integrate
+from .scalar_search import brentq, minimize_bounded
 
 __all__ = [
     "arm_derivatives",
@@ -257,7 +258,7 @@ class PeriodicSeries:
         self._first_sum = PowerSum(self._first_column) if self._first_column.size >= _BLAS_MAX_WIDTH else None
 
     @classmethod
-    def from_samples(cls, values, period_rad: float) -> "PeriodicSeries":
+    def from_samples(cls, values, period_rad: float) -> PeriodicSeries:
         """From samples at ``k * period / N`` (k = 0..N-1) along axis 0."""
         values = np.asarray(values, dtype=float)
         column = values.reshape(values.shape[0], -1)
@@ -347,7 +348,7 @@ class PeriodicSeries:
             self._scratch[rows] = np.empty((rows, self.wavenumbers.size), dtype=complex)
         return self._scratch[rows]
 
-    def derivative(self) -> "PeriodicSeries":
+    def derivative(self) -> PeriodicSeries:
         """d/dalpha of the series (zero mean)."""
         return PeriodicSeries(np.zeros(self.columns), self.coefficients * (1j * self.wavenumbers[:, None]),
                               self.period_rad)

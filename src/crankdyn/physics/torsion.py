@@ -46,10 +46,10 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from .lazy import linalg
 
-from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, run_solver
 from .extrema import first_argmax
+from .lazy import linalg
+from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, run_solver
 
 __all__ = [
     "stiffness_matrix",

@@ -14,18 +14,26 @@ from pathlib import Path
 import jinja2
 from markupsafe import Markup, escape
 
-from ..version import __version__
-from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
-from ..plugins import Registry
-from .context import FigureFile, RenderContext, inline_figures, template_search_path
-from .i18n import translator
-from .frame import frame_html
-from .equation_legend import add_equation_legends, symbol_meaning
-from .typeset import (SYMBOLS, SymbolTable, italic_letters, symbol_html, symbol_table, symbol_unit, symbols_used,
-                      typeset_html, unbreakable_html)
+from ..physics.extrema import EXTREMUM_RTOL
 from ..plausibility import format_params, warnings
-
+from ..plugins import Registry
+from ..version import __version__
+from .context import FigureFile, RenderContext, inline_figures, template_search_path
+from .equation_legend import add_equation_legends, symbol_meaning
+from .frame import frame_html
+from .i18n import translator
+from .typeset import (
+    SYMBOLS,
+    SymbolTable,
+    italic_letters,
+    symbol_html,
+    symbol_table,
+    symbol_unit,
+    symbols_used,
+    typeset_html,
+    unbreakable_html,
+)
 
 _IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
 

@@ -63,7 +63,7 @@ class DocxError(CrankdynError):
 class Node:
     tag: str  # "" for a text node, "raw" for markup passed through as it is (MathML)
     attrs: dict[str, str] = field(default_factory=dict)
-    children: list["Node"] = field(default_factory=list)
+    children: list[Node] = field(default_factory=list)
     text: str = ""
 
     def classes(self) -> set[str]:

@@ -385,7 +385,10 @@ def to_svg(fig) -> bytes:
     follows is ``FigureCanvasSVG.print_svg`` with the ``TightLayoutEngine`` step before the draw.
     """
     import matplotlib  # lazy: heavy optional import
-    from matplotlib._tight_layout import get_subplotspec_list, get_tight_layout_figure  # lazy: heavy optional import
+    from matplotlib._tight_layout import (  # lazy: heavy optional import
+        get_subplotspec_list,
+        get_tight_layout_figure,
+    )
     from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
     from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
 

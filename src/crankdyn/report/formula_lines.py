@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import re
 
-
 #: Where a displayed equation may break: between its formulas (", &nbsp;"), and in a long formula
 #: after an equals sign; never inside a fraction or between a quantity and its value (the PDF
 #: broke "ΔL/ | (J ω²)" and "M_c = | 108,3 N·m" at the line's end).

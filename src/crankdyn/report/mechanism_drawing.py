@@ -108,7 +108,9 @@ def liner_ends_mm(guide) -> tuple[float, float]:
 
 def _hatch(ax, start, end, normal, size, color, alpha):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
-    from matplotlib.collections import LineCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.collections import (
+        LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     ax.plot(*np.c_[start, end], color=color, lw=1.0, alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
@@ -197,8 +199,13 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
             ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
-    from matplotlib.collections import LineCollection, PatchCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
-    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.collections import (  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+        LineCollection,
+        PatchCollection,
+    )
+    from matplotlib.patches import (
+        Circle,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     # A link named "*web*" is a rigid body's bracing (a master rod's big end to its slave pins): drawn thin.
     bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in geometry.links]
@@ -230,7 +237,9 @@ def _one_per_axis(guides):
 
 
 def _circle(centre, radius, color, alpha, ls="-", fill=False):
-    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        Circle,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     return Circle(centre, radius, facecolor="white" if fill else "none", edgecolor=color, lw=1.0 if not fill else 1.1,
                   ls=ls, alpha=alpha, zorder=5 if fill else 2)
@@ -304,7 +313,9 @@ def _direction_deg(v) -> float:
 def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None:
     """An arc from direction ``start`` to ``end`` (unit vectors) around ``centre`` (mm), the
     shorter way, with its symbol just outside the middle of the arc."""
-    from matplotlib.patches import Arc  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        Arc,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     a, b = _direction_deg(start), _direction_deg(end)
     if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
@@ -319,7 +330,9 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
 def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
     """A curved arrow clockwise (the crank's sense of rotation) on the left of ``centre``, named
     ``text`` (ω)."""
-    from matplotlib.patches import FancyArrowPatch  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     c = np.asarray(centre, dtype=float)
     start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (215.0, 145.0))
@@ -558,7 +571,12 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
 
 def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float,
                marks: dict[str, str]):
-    from .figures import add_axes_mm, drawn_box, fit_to_content, new_drawing  # lazy: heavy optional import (matplotlib)
+    from .figures import (  # lazy: heavy optional import (matplotlib)
+        add_axes_mm,
+        drawn_box,
+        fit_to_content,
+        new_drawing,
+    )
 
     (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1

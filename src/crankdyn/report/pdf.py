@@ -13,6 +13,7 @@ import re
 from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
+
 from .context import FIGURE_DIR
 from .weasy import load_weasyprint
 

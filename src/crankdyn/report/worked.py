@@ -11,12 +11,12 @@ Nothing here computes physics.
 from __future__ import annotations
 
 import re
-
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 from markupsafe import Markup, escape
+
 from .formula_lines import unbroken_parts
 from .i18n import MINUS, NARROW_NBSP
 
