@@ -52,10 +52,10 @@ def table(title: str, header: list[str], rows: list[list], widths: list[int] | N
         return
     widths = widths or [max([len(str(h))] + [len(str(r[i])) for r in rows]) for i, h in enumerate(header)]
     print(f"\n{title}")
-    print("  ".join(f"{h:>{w}}" if i else f"{h:<{w}}" for i, (h, w) in enumerate(zip(header, widths))))
+    print("  ".join(f"{h:>{w}}" if i else f"{h:<{w}}" for i, (h, w) in enumerate(zip(header, widths, strict=True))))
     print("  ".join("-" * w for w in widths))
     for row in rows:
-        print("  ".join(f"{c:>{w}}" if i else f"{c:<{w}}" for i, (c, w) in enumerate(zip(row, widths))))
+        print("  ".join(f"{c:>{w}}" if i else f"{c:<{w}}" for i, (c, w) in enumerate(zip(row, widths, strict=True))))
 
 
 def ms(seconds: float) -> str:

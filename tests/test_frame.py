@@ -135,7 +135,7 @@ def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
     turned one's on a landscape page: the bottom-left corner of the frame)."""
     portrait = crop_texts(pdf, 195.5, 284.5, 204.5, 291.5)
     turned = crop_texts(pdf, 5.5, 195.5, 12.5, 204.5)
-    return [" ".join((t if wide else p).split()) for p, t, wide in zip(portrait, turned, landscape)]
+    return [" ".join((t if wide else p).split()) for p, t, wide in zip(portrait, turned, landscape, strict=True)]
 
 
 @pytest.mark.long

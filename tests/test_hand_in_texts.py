@@ -659,7 +659,7 @@ def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line()
     long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub> · <i>R</i>" for k in range(1, 16)) + " − <i>c</i> = 108,3 Н·м"
     lines = unbroken_parts(long).split('<br class="eq-break">')
     assert len(lines) >= 3
-    for before, after in zip(lines, lines[1:]):
+    for before, after in zip(lines, lines[1:], strict=False):
         carried = re.search(r'<span class="eq-carry">\s*([=+−])\s*</span></span>$', before)
         opening = re.sub(r"<[^>]+>", "", after).lstrip()[:1]
         assert carried and carried.group(1) == opening, (before[-80:], after[:80])

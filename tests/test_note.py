@@ -307,7 +307,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
             t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
             for kind in ("section", "sections", "appendix", "appendices")))
         markups = [markup for markup, _ in rows]
-        for (markup, meaning), key in zip(rows, keys):
+        for (markup, meaning), key in zip(rows, keys, strict=True):
             unit = symbol_unit(key, t, table)
             text = as_read(html_lib.unescape(re.sub(r"</?i>", "", meaning)))  # its letters in italics
             # a letter with several meanings says where a sectioned one holds (tests/test_symbol_list.py)

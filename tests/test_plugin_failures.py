@@ -211,7 +211,7 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
     not_texts = tmp_path / "other.en.toml"
     not_texts.write_text('[other]\ntitle = 5\n', encoding="utf-8")
     cataloged = [types.ModuleType(name) for name in ("bad_toml", "not_texts", "missing")]
-    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml")):
+    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml"), strict=True):
         module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
     mechanism = Mechanism(name="m", summary="m", params_model=_Options)
     modelled = _plugin("modelled", mechanisms=[mechanism])

@@ -44,7 +44,7 @@ def _segments(ax):
     for collection in ax.collections:
         if isinstance(collection, LineCollection):
             widths = np.broadcast_to(collection.get_linewidths(), (len(collection.get_segments()),))
-            for segment, width in zip(collection.get_segments(), widths):
+            for segment, width in zip(collection.get_segments(), widths, strict=True):
                 if width >= 0.8:
                     yield collection, collection.get_transform().transform(segment)
 
@@ -54,7 +54,7 @@ def _crossed_lines(ax, text, renderer) -> list:
     box = text.get_window_extent(renderer).padded(-1.0)
     crossed = []
     for member, xy in _segments(ax):
-        for a, b in zip(xy[:-1], xy[1:]):
+        for a, b in zip(xy[:-1], xy[1:], strict=True):
             points = a + (b - a) * np.linspace(0.0, 1.0, 50)[:, None]
             if any(box.contains(*p) for p in points):
                 crossed.append(member)

@@ -207,9 +207,9 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     rows = []
     for start in range(0, len(combinations), CHUNK_POINTS):  # the points at array speed, in chunks
         part = combinations[start:start + CHUNK_POINTS]
-        scenes = [load(scene, dict(zip(names, combination))) for combination in part]
+        scenes = [load(scene, dict(zip(names, combination, strict=True))) for combination in part]
         for combination, point, (run_names, results, error) in zip(
-                part, scenes, evaluate(scenes, _registry(), stages, _languages())):
+                part, scenes, evaluate(scenes, _registry(), stages, _languages()), strict=True):
             if error:  # the point's own exception, as a run of it alone raises it
                 run_scene(point, _registry(), stages, _languages())
                 raise SceneError(Problem("sweep", str(combination), error), "sweep")
@@ -256,7 +256,7 @@ def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[lis
                             f"(one value is a list of one: [{given!r}])")
     _check_points({name: _size(grid[name]) for name in names})
     values = [list(itertools.islice(grid[name], MAX_VARIANTS + 1)) for name in names]
-    _check_points(dict(zip(names, map(len, values))))
+    _check_points(dict(zip(names, map(len, values), strict=True)))
     return names, values
 
 

@@ -185,7 +185,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
             error = f"row has {len(cells)} cells but the header names {len(header)} columns"
         cells = (cells + [""] * len(header))[:len(header)]
-        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells)))
+        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells), strict=True))
         overrides: dict = {}
         for name in fields:
             if row[name] != "":  # an empty cell keeps the base scene's value

@@ -342,7 +342,7 @@ def variants(sweep: Sweep) -> tuple[list[str], list[Variant]]:
     for row, combination in enumerate(indices, start=1):
         overrides = fixed
         cells = {VARIANT_COLUMN: f"p{row:0{width}d}"}
-        for axis, k in zip(sweep.axes, combination):
+        for axis, k in zip(sweep.axes, combination, strict=True):
             overrides = merge(overrides, _nest(axis.name, axis.values[k]))
             cells[axis.column] = axis.cell(k)
         out.append(Variant(row, cells[VARIANT_COLUMN], overrides, cells))

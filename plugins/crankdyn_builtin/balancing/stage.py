@@ -485,7 +485,7 @@ def _star_drawing(t, r):
     labels = r["cylinder_labels"]
     phases = np.radians(r["cylinder_phases_deg"])
     axes_rad = np.radians(r["cylinder_axes_deg"])
-    for ax, order in zip(axes, (1, 2)):
+    for ax, order in zip(axes, (1, 2), strict=True):
         ax.set_aspect("equal")
         hide_axes(ax)
         ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
@@ -669,7 +669,7 @@ def _bay_table(ctx, r):
                  "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
                  "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>", "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>")
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
-        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)],
+        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
                               caption=t("balancing.bay_caption"), see="balancing.see_bay")
 
     return bay_table

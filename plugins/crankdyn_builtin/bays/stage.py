@@ -51,7 +51,7 @@ def _true_firing(layout, slaves, slave_info) -> dict:
     slaves of every bay sit like those of bay 0); the intervals between firings in firing order."""
     shift_of = {}
     bay0 = layout.bay(0)
-    for (slave, _), info in zip(slaves, slave_info):
+    for (slave, _), info in zip(slaves, slave_info, strict=True):
         shift_of[bay0.index(slave)] = info["tdc_shift_deg"]
     true_delay = {}
     for k in range(layout.cranks):
@@ -241,7 +241,7 @@ def _stroke_table(r: dict, ctx):
     headers = [t("bays.cylinder")] + [f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
                                       for c in range(int(720 // step))]
     body = [[p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
-            for p, runs in zip(phases, rows)]
+            for p, runs in zip(phases, rows, strict=True)]
     return ctx.table_html(headers, body, caption=t("bays.strokes_caption"), text_columns=range(1, 13),
                           see="bays.see_strokes")
 

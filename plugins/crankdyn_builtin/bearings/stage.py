@@ -156,8 +156,8 @@ def run(scene, inputs) -> StageOutput:
         s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
         return s, (psi, wear)
 
-    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)])
-    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)])
+    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True)
+    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)], strict=True)
     most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
     most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
     drawn_pins = opts.pins or [most_loaded_pin]
@@ -398,7 +398,7 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     obstacles = _pole_and_oil_hole(pole_z, radius, oil_deg, per_pt)
     curve = _curve_samples(t, -z, 2.0 * per_pt)  # screen coordinates, as the labels'
     for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order, obstacles,
-                                                                 curve)):
+                                                                 curve), strict=True):
         if place is not None:
             dx, dy, ha, va = place
             ax.annotate(text, (x, y), fontsize=LABEL_PT, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)

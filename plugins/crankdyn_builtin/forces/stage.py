@@ -226,9 +226,9 @@ def _forces_figure(t, cycle_deg, angle, mpa):
                ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
                ("total_Pa", symbol_mathtext("total_pressure", t.language))],
               [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
-    for ax, curves in zip(axes, panels):
+    for ax, curves in zip(axes, panels, strict=True):
         # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
-        for (key, label), style in zip(curves, ("-", "--", "-.")):
+        for (key, label), style in zip(curves, ("-", "--", "-."), strict=False):
             ax.plot(angle, mpa[key], ls=style, label=label)
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(", ".join(label for _, label in curves) + ", " + t("forces.axis_specific"))

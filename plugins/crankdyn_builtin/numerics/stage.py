@@ -244,7 +244,7 @@ def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: 
             best[k] = min(best[k], per_call)
         taken += 1
         quiet = 0 if lowered else quiet + 1
-    return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged)]
+    return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged, strict=True)]
 
 
 def _step_formulas(model: PointwiseModel, run: StepRun) -> Callable[[], tuple]:
@@ -283,7 +283,7 @@ def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
         return "rerun", best_times(plans, min(repeats, _RERUN_REPEATS), min_time_s=_MIN_REPEAT_S, clock=clock), None
     timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=_MIN_REPEAT_S, clock=clock,
                          settled_rounds=_SETTLED_ROUNDS)
-    overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings)))
+    overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings, strict=True)))
     return "formulas", timings, overhead
 
 
@@ -433,7 +433,7 @@ class PointwiseModel:
                 centres[k] = float(local[k * offsets.size + i])
                 best[k] = max(best[k], float(part[i]))
             step /= 100.0
-        return {name: sign * value for (name, _, sign), value in zip(kinds, best)}
+        return {name: sign * value for (name, _, sign), value in zip(kinds, best, strict=True)}
 
 
 def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) -> float:
@@ -566,7 +566,7 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
                                           kin.piston_acceleration_exact_m_s2(a, radius, ratio, 1.0))))
     rows = []
     timings = best_times([fn for _, _, fn in forms], repeats)
-    for (name, terms, fn), timing in zip(forms, timings):
+    for (name, terms, fn), timing in zip(forms, timings, strict=True):
         s, _, j = fn()
         rows.append({"form": name, "terms": terms,
                      "displacement_error_max_m": float(np.max(np.abs(s - s_ref))),
@@ -633,7 +633,7 @@ def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference)
     """One row per step: points, the timed formulas, the re-run's wall time, values and their errors."""
     ref = reference.values
     step_rows = []
-    for r, timing in zip(runs, timings):
+    for r, timing in zip(runs, timings, strict=True):
         row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
                "rerun_time_s": r.time_s}
         for q in QUANTITIES:
@@ -945,12 +945,12 @@ def _steps_figure(steps, labels, has_theory, t):
     for i, q in enumerate(QUANTITIES):
         errors = [max(100 * s[f"{q}_error_relative"], 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="os^vD"[i], label=labels[q])
-        highest = [max(h, e) for h, e in zip(highest, errors)]
+        highest = [max(h, e) for h, e in zip(highest, errors, strict=True)]
     if has_theory:
         errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
-        highest = [max(h, e) for h, e in zip(highest, errors)]
-    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
+        highest = [max(h, e) for h, e in zip(highest, errors, strict=True)]
+    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times, strict=True)]
     for k in _labelled_points(points):  # (a supervisor: the labels printed over the markers)
         ax.annotate(f"{t.number_g(steps[k]['angle_step_deg'])}°", (times[k], highest[k]),
                     textcoords="offset points", xytext=(0, 6), ha="center", va="bottom", fontsize=7)

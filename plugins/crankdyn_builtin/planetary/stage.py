@@ -425,7 +425,7 @@ def _family_plot(family, fixed_pitch_diameter_m, t):
     """One big-end path per gear ratio of the family, side by side, in the fixed gear's pitch circle."""
     mm = 1e3
     fig, axes = new_figure(16, 6.5, ncols=3)
-    for ax, ratio in zip(axes, FAMILY_RATIOS):
+    for ax, ratio in zip(axes, FAMILY_RATIOS, strict=True):
         d_fixed = fixed_pitch_diameter_m * mm
         _circle(ax, (0.0, 0.0), d_fixed / 2, color="0.5", ls="--", lw=0.8)
         ax.plot(family[f"ratio_{ratio:g}_x_m"] * mm, family[f"ratio_{ratio:g}_z_m"] * mm, color="C0")

@@ -395,7 +395,7 @@ def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, trai
     relative vector sum and critical speed for every elastic mode."""
     n, modes = shaft.n, shaft.modes
     rows = []
-    for order, c in zip(orders, coefficients):
+    for order, c in zip(orders, coefficients, strict=True):
         if order > max(MAX_ORDER, significant) + 1e-9:
             break
         rows.append({
@@ -435,7 +435,7 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
 
     results = {
-        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias)],
+        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias, strict=True)],
         "reference_node": int(reference),
         "span_stiffness_N_m_rad": [float(k) for k in spans],
         "damping_ratio": opts.damping_ratio,
@@ -703,7 +703,7 @@ def _modes_figure(ctx, torsion, parts) -> None:
 def _modes_plot(node_count, modes, labels, t):
     """The shapes of the first modes (one curve per label) along the shaft's nodes."""
     fig, ax = new_figure(16, 7)
-    for m, label in zip(modes, labels):
+    for m, label in zip(modes, labels, strict=False):
         ax.plot(range(1, node_count + 1), m["shape"], "o-", label=label)
     ax.axhline(0, color="0.3", lw=0.6)
     ax.set_xticks(range(1, node_count + 1))

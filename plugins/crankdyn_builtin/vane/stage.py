@@ -289,7 +289,7 @@ def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, s
 def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
     """Three columns of the vane table (the first in mm), one above the other, marks at ``zeros`` below the first."""
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
+    for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels, strict=True)):
         plot(ax, key, 1e3 if i == 0 else 1.0)
         ax.set_ylabel(t(label))
         if i == 0:

@@ -206,7 +206,7 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
             members = [lab for lab in labels if bay_of[lab] == bay]
             candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
             if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
-                first, other = members[0], next(m for m, c in zip(members, candidates)
+                first, other = members[0], next(m for m, c in zip(members, candidates, strict=True)
                                                  if _angle_distance(c, candidates[0]) > _TOL)
                 raise LayoutError("engine.firing_order", firing_order,
                                   f"cylinders {first} and {other} share a crank, so they fire "
@@ -224,7 +224,7 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
         base = (psi[labels[0]] + lags[0]) % 360.0
         geometric = {lab: (psi[lab] + lags[bay_of[lab]] - base) % 360.0 for lab in labels}
         delay = {order[0]: 0.0}
-        for prev, nxt in zip(order[:-1], order[1:]):
+        for prev, nxt in zip(order[:-1], order[1:], strict=True):
             step = (geometric[nxt] - geometric[prev]) % 360.0
             step = step if step > _TOL else 360.0
             delay[nxt] = delay[prev] + step

@@ -388,7 +388,7 @@ class InertiaSeries:
         if np.ndim(alpha) == 0:  # the single-mass ODE's hot path: Horner's scheme in plain complex arithmetic
             z = cmath.exp(1j * float(alpha))
             value = derivative = 0j
-            for c, d in zip(self._reversed, self._reversed_derivative):
+            for c, d in zip(self._reversed, self._reversed_derivative, strict=True):
                 value = value * z + c
                 derivative = derivative * z + d
             return self.constant_kg_m2 + (value * z).real, (derivative * z).real

@@ -199,7 +199,7 @@ def forced_response(inertias_kg_m2, stiffness: np.ndarray, damping: np.ndarray, 
     M = np.diag(J)
     coefficients = np.empty_like(node_torque.coefficients)
     for k, (omega_k, torque_k) in enumerate(zip(node_torque.wavenumbers * angular_velocity_rad_s,
-                                                 node_torque.coefficients)):
+                                                 node_torque.coefficients, strict=True)):
         coefficients[k] = np.linalg.solve(stiffness - omega_k ** 2 * M + 1j * omega_k * damping, torque_k)
     keep = np.array([i for i in range(n) if i != reference_node])
     mean = np.zeros(n)

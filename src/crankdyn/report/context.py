@@ -109,7 +109,7 @@ def start_drawing(figures: Sequence[FigureFile], workers: int | None = None):
     drawing = ForkedDrawing([f.draw for f in pending], [list(range(k, len(pending), workers)) for k in range(workers)])
 
     def finish() -> None:
-        for figure, svg in zip(pending, drawing.finish()):
+        for figure, svg in zip(pending, drawing.finish(), strict=True):
             figure._svg = svg
     return finish
 
@@ -121,7 +121,7 @@ def draw_figures(figures: Sequence[FigureFile], workers: int | None = None, allo
 
     pending = [f for f in figures if not f.drawn]
     drawn = draw_jobs([f.draw for f in pending], default_workers() if workers is None else workers, allow_threads)
-    for figure, svg in zip(pending, drawn):
+    for figure, svg in zip(pending, drawn, strict=True):
         figure._svg = svg
 
 
@@ -247,7 +247,7 @@ class RenderContext:
         rows = []
         for i in range(n_rows):
             cells = []
-            for (_, values, decimals), words in zip(columns, wordy):
+            for (_, values, decimals), words in zip(columns, wordy, strict=True):
                 v = values[i]
                 text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
                 text = text or "—"  # an empty cell gets a dash, as the standard asks

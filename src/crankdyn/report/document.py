@@ -510,7 +510,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language, symbols) for key in keys]
     rows = []
-    for key, markup in zip(keys, markups):
+    for key, markup in zip(keys, markups, strict=True):
         unit = symbol_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         where = _where(_symbol_stages(key, symbols), places or {}, t, markup) if markups.count(markup) > 1 else ""
@@ -580,7 +580,7 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
     ("appendix", "Б", html), the appendix's letter as its heading prints it."""
     found: dict[str, list[tuple[str, str, str]]] = {}
     chapters = list(_CHAPTER.finditer(html))
-    for m, following in zip(chapters, [*chapters[1:], None]):
+    for m, following in zip(chapters, [*chapters[1:], None], strict=True):
         appendix, stage, number, letter = m.groups()
         body = html[m.start():following.start() if following else len(html)]
         if number and not appendix:

@@ -555,7 +555,7 @@ class ForkedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
 
 
 #: A job's number as written to :class:`SharedDrawing`'s pipe (two bytes: up to 65 535 jobs).
@@ -643,7 +643,7 @@ class SharedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
 
 
 class IncrementalDrawing:
@@ -690,7 +690,7 @@ class IncrementalDrawing:
 
     @staticmethod
     def _keep(drawing: ForkedDrawing, batch: list) -> None:
-        for figure, svg in zip(batch, drawing.finish()):
+        for figure, svg in zip(batch, drawing.finish(), strict=True):
             figure._svg = svg
             figure.awaiting = None
 
@@ -728,7 +728,7 @@ class IncrementalDrawing:
             finally:
                 shared.collect()
                 self._store(finished_only=False)
-            for figure, svg in zip(waiting, shared.finish()):
+            for figure, svg in zip(waiting, shared.finish(), strict=True):
                 figure._svg = svg
             return
         try:

@@ -611,7 +611,7 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     rows = (len(frames) + cols - 1) // cols
     fig, axes = new_figure(16, min(16.0 / cols * aspect + 1.0, 11.0) * rows, nrows=rows, ncols=cols)
     flat = np.atleast_1d(axes).ravel()
-    for ax, (i, caption) in zip(flat, frames):
+    for ax, (i, caption) in zip(flat, frames, strict=False):
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
@@ -723,7 +723,7 @@ def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
         span = np.ptp(y) or 1.0
         ys = pad + (height - 2 * pad) * (1 - (y - y.min()) / span)
         xs = np.linspace(0.0, width, n, endpoint=False)
-        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys))
+        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys, strict=True))
         return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
                 f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
 

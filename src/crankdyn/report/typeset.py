@@ -404,7 +404,7 @@ def _stage_parts(html: str) -> list[tuple[str, str]]:
     start (as the "where" lines read a report, equation_legend); the part before the first is ""."""
     starts = list(_STAGE_START.finditer(html))
     parts = [("", html[:starts[0].start()] if starts else html)]
-    for m, after in zip(starts, starts[1:] + [None]):
+    for m, after in zip(starts, starts[1:] + [None], strict=True):
         parts.append((m.group(1), html[m.start():after.start() if after else len(html)]))
     return parts
 
