@@ -232,7 +232,7 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
         y0 = points[i][1] + dy - (height if va == "top" else 0.0)
 
         def distance(p):
-            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))
+            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))  # noqa: B023 - called within this iteration
 
         assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), texts[i]
     assert placed >= 10  # the rule leaves most labels a place

@@ -303,9 +303,9 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
         rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
         keys = symbols_used(rest, language, table)
         assert [markup for markup, _ in rows] == [symbol_html(k, language, table) for k in keys]
-        where = re.compile(" \\((?:%s) [^)]*\\)" % "|".join(
+        where = re.compile(" \\((?:{}) [^)]*\\)".format("|".join(
             t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
-            for kind in ("section", "sections", "appendix", "appendices")))
+            for kind in ("section", "sections", "appendix", "appendices"))))
         markups = [markup for markup, _ in rows]
         for (markup, meaning), key in zip(rows, keys, strict=True):
             unit = symbol_unit(key, t, table)

@@ -94,7 +94,7 @@ def test_a_markup_has_one_meaning_in_each_section():
     for key, symbol in SYMBOLS.items():
         for language in LANGUAGES:
             by_markup[(language, symbol_html(key, language))].append(symbol.sections)
-    for (language, markup), sections in by_markup.items():
+    for (_, markup), sections in by_markup.items():
         assert sum(1 for s in sections if not s) <= 1, markup
         scoped = [stage for s in sections for stage in s]
         assert len(scoped) == len(set(scoped)), markup

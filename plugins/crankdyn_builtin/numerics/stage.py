@@ -880,7 +880,7 @@ def _forms_figure(rows, t):
 def _render_probes(r, ctx):
     t = ctx.t
     out = []
-    for name, study in (r.get("solvers") or {}).items():
+    for study in (r.get("solvers") or {}).values():
         points = study["points"]
         if not points:
             out.append((study["title"], None, study.get("refused", "")))

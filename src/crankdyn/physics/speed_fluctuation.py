@@ -772,7 +772,7 @@ def stable_step_s(eigenvalues) -> float:
         if first == 0:
             radius = 0.0  # unstable from the start (e.g. a purely imaginary eigenvalue)
         else:
-            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,
+            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,  # noqa: B023 - called within this iteration
                                      radii[first - 1], radii[first])
         limit = min(limit, radius / size)
     return limit
