@@ -27,7 +27,7 @@ import weakref
 from collections.abc import Iterable, Mapping
 from functools import cached_property, lru_cache
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from markupsafe import Markup
 
@@ -45,6 +45,9 @@ from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
 from .scene import Scene, merge, read_scene_data, scene_from_dict
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError"]
 
@@ -145,7 +148,7 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     except SceneError as exc:
         raise SceneError(exc.problems, name) from None
     key = id(scene)
-    _SOURCES[key] = (weakref.ref(scene, lambda _ref, key=key: _SOURCES.pop(key, None)), data, base_dir)
+    _SOURCES[key] = (weakref.ref(scene, lambda _ref: _SOURCES.pop(key, None)), data, base_dir)
     return scene
 
 
@@ -183,7 +186,7 @@ def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
 
 
 def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
-          stages: Iterable[str] | None = None) -> pd.DataFrame:  # noqa: F821
+          stages: Iterable[str] | None = None) -> pd.DataFrame:
     """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
 
     The combinations are computed as ``crankdyn sweep`` computes them: in chunks, only the stages
@@ -214,8 +217,8 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
                 run_scene(point, _registry(), stages, _languages())
                 raise SceneError(Problem("sweep", str(combination), error), "sweep")
             document = {"stages_run": run_names, **results}
-            values = answer_key.answers(document, key_columns).values()
-            rows.append([*combination, *(number(v) for v in values)])
+            answered = answer_key.answers(document, key_columns).values()
+            rows.append([*combination, *(number(v) for v in answered)])
     answer_names = [c.name for c in key_columns]
     frame = pd.DataFrame(rows, columns=[*names, *answer_names])
     empty = [c for c in answer_names if frame[c].isna().all()]
@@ -367,7 +370,7 @@ class Result:
         return results_document(self.run_result)
 
     @cached_property
-    def tables(self) -> dict[str, pd.DataFrame]:  # noqa: F821
+    def tables(self) -> dict[str, pd.DataFrame]:
         """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
         return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
 

@@ -75,7 +75,8 @@ class Handle:
             return
         self._reader.close()
         self._reader = None
-        stop_child(self._pid)
+        if self._pid is not None:  # a reader comes with its child
+            stop_child(self._pid)
 
     def __enter__(self) -> Handle:
         return self

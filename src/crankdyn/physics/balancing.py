@@ -172,6 +172,8 @@ def vertical_axis_deg(layout: str, bank_angle_deg: float | None) -> float:
         return 0.0
     if layout == "boxer":
         return 90.0
+    if bank_angle_deg is None:
+        raise ValueError(f"the {layout} layout needs a bank angle")
     if layout in ("V", "X"):
         return 0.5 * float(bank_angle_deg)
     if layout in ("W", "Y"):
@@ -308,6 +310,7 @@ def hodograph(forward: complex, backward: complex, speed: int, tolerance: float 
     else:
         theta = ((arg_b - arg_f) / 2.0) / speed
         direction = arg_f + speed * theta
+    assert direction is not None  # f + b > tolerance: f or b is above tolerance * scale
     period = 2 * math.pi / speed
     theta = theta % (period / 2.0) if arg_f is not None and arg_b is not None else 0.0
     if abs(f - b) <= tolerance * scale:

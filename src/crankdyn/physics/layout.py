@@ -97,6 +97,8 @@ def bank_axes_deg(layout: str, bank_angle_deg: float | None, cylinders: int) -> 
         return [360.0 * k / cylinders for k in range(cylinders)]
     if layout == "boxer":
         return [0.0, 180.0]
+    if bank_angle_deg is None:
+        raise ValueError(f"the {layout} layout needs a bank angle")
     gamma = float(bank_angle_deg)
     if layout == "V":
         return [0.0, gamma]

@@ -609,12 +609,12 @@ def single_mass_rhs(gas_torque: PeriodicSeries, load_torque_Nm: float, inertia: 
     if isinstance(inertia, InertiaSeries) and gas_torque.columns == 1:
         discs = DiscSeries(gas_torque, [inertia])
 
-        def rhs(t, y):
+        def scalar_rhs(t, y):
             alpha, omega = y[0], y[1]
             m, j, dj = discs.scalar(alpha)
             return np.array([omega, (m - load_torque_Nm - 0.5 * dj * omega * omega) / j])
 
-        return rhs
+        return scalar_rhs
 
     def rhs(t, y):
         alpha, omega = y[0], y[1]

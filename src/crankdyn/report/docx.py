@@ -255,7 +255,7 @@ def pandoc_path() -> str:
     if found:
         return found
     try:
-        import pypandoc  # type: ignore[import-not-found]  # lazy: heavy optional import (pandoc: only for a Word file)
+        import pypandoc  # lazy: heavy optional import (pandoc: only for a Word file)
 
         return pypandoc.get_pandoc_path()
     except Exception:  # noqa: BLE001 - not installed, or installed without its binary
