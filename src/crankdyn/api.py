@@ -431,7 +431,7 @@ class Result:
 
         t = translator(language, registry.catalogs)
         scene = self.scene
-        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,
+        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,  # type: ignore[arg-type]  # the scene set it
                       cycle_deg=scene.engine.cycle_deg, scene=scene)
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data

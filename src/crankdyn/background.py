@@ -21,6 +21,7 @@ import pickle
 from .aside import can_fork, fork_with_pipe, stop_child
 from .errors import StageTimeLimit
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
+from .plugin_types import StageOutput
 
 
 class ForkedStudies:
@@ -338,7 +339,8 @@ def _serve_jobs(sock, registry=None) -> None:
         registry = registry or default_registry()
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))
-            outputs = [(name, result.outputs[name], result.timing_s[name]) for name in studies]
+            outputs: list[tuple[str, StageOutput | None, float]] = [
+                (name, result.outputs[name], result.timing_s[name]) for name in studies]
         except Exception:  # noqa: BLE001 - computed again in the server's process, which then raises it
             outputs = [(name, None, 0.0) for name in studies]
         for name, output, elapsed in outputs:

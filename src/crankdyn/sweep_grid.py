@@ -27,7 +27,7 @@ import math
 import re
 import time
 import tomllib
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -77,7 +77,7 @@ class Axis:
 
     name: str
     values: list[Any]
-    numbers: list[float | None]
+    numbers: Sequence[float | None]
     unit: str = ""
 
     @property
@@ -172,7 +172,7 @@ def _list_axis(name: str, values: list[Any]) -> Axis:
         raise SceneError(Problem(name, f"{len(values)} values", f"at most {MAX_POINTS}"))
     if len({repr(v) for v in values}) < len(values):
         raise SceneError(Problem(name, values, "a value is listed twice"))
-    parsed = []
+    parsed: list[tuple[float, str] | None] = []
     for value in values:
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             parsed.append((float(value), ""))
@@ -181,7 +181,7 @@ def _list_axis(name: str, values: list[Any]) -> Axis:
         parsed.append((float(match[1]), match[2]) if match else None)
     units = {p[1] for p in parsed if p is not None}
     if all(p is not None for p in parsed) and len(units) == 1:
-        return Axis(name, list(values), [p[0] for p in parsed], units.pop())
+        return Axis(name, list(values), [p[0] for p in parsed if p is not None], units.pop())
     return Axis(name, list(values), [None] * len(values))
 
 

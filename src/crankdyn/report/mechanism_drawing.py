@@ -685,7 +685,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
         w, h = xlim[1] - xlim[0], ylim[1] - ylim[0]
         fig = Figure(figsize=(6.0, 6.0 * h / w))  # no pyplot state, as in figures.new_figure
         FigureCanvasAgg(fig)
-        ax = fig.add_axes([0, 0, 1, 1])
+        ax = fig.add_axes((0, 0, 1, 1))
         extent = _extent_mm(geometry)
         for path in geometry.traces.values():
             ax.plot(path[:, 0] * MM, path[:, 1] * MM, color="0.55", lw=0.7, ls=(0, (4, 2)))
