@@ -50,7 +50,8 @@ def test_ruff_with_the_repositorys_rules_refuses_a_bad_file(tmp_path):
     done = _tool("ruff", "check", "--no-cache", "--config", str(ROOT / "pyproject.toml"),
                  "--output-format", "concise", str(tmp_path / "bad.py"))
     assert done.returncode == 1
-    assert {"I001", "F401", "B905", "UP006"} <= set(re.findall(r": ([A-Z]+[0-9]+) ", done.stdout)), done.stdout
+    codes = set(re.findall(r": ([A-Z]+[0-9]+) ", done.stdout))
+    assert {"I001", "F401", "B905", "UP006"} <= codes, done.stdout
 
 
 @pytest.mark.long
@@ -68,4 +69,5 @@ def test_mypy_refuses_a_bad_file(tmp_path):
                  "--cache-dir", str(ROOT / ".mypy_cache" / "refused"), str(tmp_path / "bad.py"))
     assert done.returncode == 1
     assert "bad.py:2: error: Incompatible return value type" in done.stdout, done.stdout
-    assert "bad.py:5: error: Argument 1 to \"length\" has incompatible type" in done.stdout, done.stdout
+    wrong_argument = 'bad.py:5: error: Argument 1 to "length" has incompatible type'
+    assert wrong_argument in done.stdout, done.stdout
