@@ -132,7 +132,7 @@ def main() -> None:
                 steps = json.loads((tmp / "n" / "results.json").read_text())["numerics"]["steps"]
                 steps.sort(key=lambda s: s["points"])
                 falls = [(a["points"], b["points"], a["time_s"], b["time_s"])
-                         for a, b in zip(steps, steps[1:]) if a["time_s"] > b["time_s"]]
+                         for a, b in zip(steps, steps[1:], strict=False) if a["time_s"] > b["time_s"]]
                 monotone += not falls
                 for n_a, n_b, t_a, t_b in falls:  # which neighbours, by how much: noise or a real fall
                     print(f"  not monotone: {n_a} angles {t_a * 1e6:.2f} us > {n_b} angles {t_b * 1e6:.2f} us",

@@ -52,10 +52,10 @@ def table(title: str, header: list[str], rows: list[list], widths: list[int] | N
         return
     widths = widths or [max([len(str(h))] + [len(str(r[i])) for r in rows]) for i, h in enumerate(header)]
     print(f"\n{title}")
-    print("  ".join(f"{h:>{w}}" if i else f"{h:<{w}}" for i, (h, w) in enumerate(zip(header, widths))))
+    print("  ".join(f"{h:>{w}}" if i else f"{h:<{w}}" for i, (h, w) in enumerate(zip(header, widths, strict=True))))
     print("  ".join("-" * w for w in widths))
     for row in rows:
-        print("  ".join(f"{c:>{w}}" if i else f"{c:<{w}}" for i, (c, w) in enumerate(zip(row, widths))))
+        print("  ".join(f"{c:>{w}}" if i else f"{c:<{w}}" for i, (c, w) in enumerate(zip(row, widths, strict=True))))
 
 
 def ms(seconds: float) -> str:
@@ -83,8 +83,8 @@ def compute_per_stage(registry, names, repeat):
         verdict = "ok" if compute < GOALS["compute_s"] else "over 50 ms"
         rows.append([name] + [ms(best[s]) if s in best else "—" for s in stage_names]
                     + [ms(compute), verdict])
-    table("1. Compute time per stage, ms (best of %d; 'compute' = all stages but the numerics study, goal < 50 ms)"
-          % repeat, ["example"] + stage_names + ["compute", "verdict"], rows)
+    table(f"1. Compute time per stage, ms (best of {repeat}; 'compute' = all stages but the numerics study, goal < 50 ms)",
+          ["example"] + stage_names + ["compute", "verdict"], rows)
 
 
 # --------------------------------------------------------------------------- 2. HTML and PDF
@@ -93,8 +93,8 @@ def report_times(registry, names, repeat, pdf: bool):
     for name in names:
         scene = load_scene(examples_dir() / f"{name}.toml")
         result = run_plan(scene, plan(scene, registry))
-        html_s, rendered = best_of(lambda: render_html(result, registry), max(1, repeat // 4))
-        pdf_s = best_of(lambda: html_to_pdf(rendered.html), 1)[0] if pdf else None
+        html_s, rendered = best_of(lambda: render_html(result, registry), max(1, repeat // 4))  # noqa: B023 - called within this iteration
+        pdf_s = best_of(lambda: html_to_pdf(rendered.html), 1)[0] if pdf else None  # noqa: B023 - called within this iteration
         rows.append([name, ms(html_s), ms(pdf_s) if pdf_s is not None else "skipped", str(len(rendered.figures)),
                      "ok" if html_s < GOALS["html_s"] else "over 2 s"])
     table("2. Report rendering, ms", ["example", "HTML", "PDF", "figures", "HTML verdict"], rows)
@@ -129,7 +129,7 @@ def error_against_time(registry, names):
             table(f"3b. {name}: piston kinematics forms ({r['kinematics_forms'][0]['points']} angles; errors "
                   "against the exact form in extended precision)",
                   ["form", "max |ds|, m", "max |dj|/w^2, m", "time, us"], rows)
-        for probe, study in (r.get("solvers") or {}).items():
+        for study in (r.get("solvers") or {}).values():
             rows = [[p["method"], p["setting"], f"{p['error']:.2e} {p['error_unit']}", ms(p["time_s"])]
                     for p in study["points"]]
             if rows:
@@ -221,8 +221,8 @@ def overhead(registry, repeat):
         kin_stage, forces_stage = stages["kinematics"], stages["forces"]
 
         def pipeline():
-            motion = kin_stage.run(scene, {})
-            return forces_stage.run(scene, {KINEMATICS: motion.data[KINEMATICS], GAS_PRESSURE: gas})
+            motion = kin_stage.run(scene, {})  # noqa: B023 - called within this iteration
+            return forces_stage.run(scene, {KINEMATICS: motion.data[KINEMATICS], GAS_PRESSURE: gas})  # noqa: B023 - called within this iteration
 
         e, m = scene.engine, scene.masses
         rec, rot = rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
@@ -231,8 +231,8 @@ def overhead(registry, repeat):
         pipeline()
         bare_numpy(*args)
         t_pipe, out = best_of(pipeline, repeat)
-        t_bare, bare = best_of(lambda: bare_numpy(*args), repeat)
-        t_same, _ = best_of(lambda: bare_numpy_same_outputs(*args, scene.rod_cm_from_big_end_m), repeat)
+        t_bare, bare = best_of(lambda: bare_numpy(*args), repeat)  # noqa: B023 - called within this iteration
+        t_same, _ = best_of(lambda: bare_numpy_same_outputs(*args, scene.rod_cm_from_big_end_m), repeat)  # noqa: B023 - called within this iteration
         frame = out.tables["forces"]
         agree = max(abs(out.results["mean_torque_Nm"] - bare["mean_torque"]) / abs(bare["mean_torque"]),
                     float(np.max(np.abs(frame["tangential_Pa"].to_numpy() - bare["t"]))) / abs(bare["t_max"]))

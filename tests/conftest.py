@@ -112,9 +112,11 @@ def modified(name: str, changes: dict) -> dict:
     return data
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _shared_run(name: str, changes_json: str, stages: tuple[str, ...] | None):
-    from crankdyn.orchestrator import run_scene  # lazy: the heavy imports only for the tests that compute
+    from crankdyn.orchestrator import (
+        run_scene,  # lazy: the heavy imports only for the tests that compute
+    )
     from crankdyn.plugins import default_registry
     from crankdyn.scene import scene_from_dict
 
@@ -129,7 +131,7 @@ def shared_run(name: str, changes: dict | None = None, stages=None):
     return _shared_run(name, json.dumps(changes or {}, sort_keys=True), None if stages is None else tuple(stages))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _shared_html(name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None):
     from crankdyn.plugins import default_registry
     from crankdyn.report.document import render_html

@@ -12,8 +12,8 @@ import functools
 import html as html_lib
 import re
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from PIL import Image
@@ -120,7 +120,7 @@ def crop_texts(pdf: Path, left: float, top: float, right: float, bottom: float) 
 @functools.lru_cache(maxsize=32)
 def _crop_texts(pdf: str, mtime_ns: int, box: tuple[int, int, int, int]) -> tuple[str, ...]:
     """(one run of pdftotext per file version and rectangle: the checks ask for some twice)"""
-    return tuple(_pdftotext(Path(pdf), *(a for name, v in zip(("-x", "-y", "-W", "-H"), box) for a in (name, str(v)))))
+    return tuple(_pdftotext(Path(pdf), *(a for name, v in zip(("-x", "-y", "-W", "-H"), box, strict=True) for a in (name, str(v)))))
 
 
 def landscape_pages(pdf: Path) -> list[bool]:
@@ -136,7 +136,7 @@ def first_sheets(pdf: Path) -> list[bool]:
     its rows "Т. контр." and "Н. контр." (17 mm × 10 mm above "Затв."), where form 2а has its two
     empty rows for changes."""
     rows = crop_texts(pdf, 21.0, 278.0, 36.0, 286.0)
-    return [bool(text.strip()) and not wide for text, wide in zip(rows, landscape_pages(pdf))]
+    return [bool(text.strip()) and not wide for text, wide in zip(rows, landscape_pages(pdf), strict=True)]
 
 
 def page_texts(pdf: Path, html: str) -> list[str]:
@@ -150,7 +150,7 @@ def page_texts(pdf: Path, html: str) -> list[str]:
     left, top, right, bottom = FRAME_LANDSCAPE
     landscape = crop_texts(pdf, TURNED_BLOCK_RIGHT + 1, top + 1, right - 1, bottom - 1)
     return [w if wide else f if is_first else p
-            for p, f, w, wide, is_first in zip(portrait, first, landscape, landscape_pages(pdf), first_sheets(pdf))]
+            for p, f, w, wide, is_first in zip(portrait, first, landscape, landscape_pages(pdf), first_sheets(pdf), strict=True)]
 
 
 def _plain(markup: str) -> str:

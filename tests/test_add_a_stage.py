@@ -13,6 +13,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from conftest import modified
 from openpyxl import load_workbook
 
 from crankdyn import answer_key, batch, outputs
@@ -20,7 +21,6 @@ from crankdyn.cli import examples_dir
 from crankdyn.pipeline import run_and_render
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -109,7 +109,7 @@ def _write_plugin(folder: Path) -> None:
     (package / "plugin.py").write_text(textwrap.dedent(PLUGIN), encoding="utf-8")
     (package / "templates" / "sections" / "throwaway.html.j2").write_text(TEMPLATE, encoding="utf-8")
     for language, texts in CATALOGS.items():
-        lines = "".join(f'{key} = "{text}"\n' for key, text in zip(KEYS, texts))
+        lines = "".join(f'{key} = "{text}"\n' for key, text in zip(KEYS, texts[:-1], strict=True))
         # the meaning of its symbol: symbol.<stage>.<key>
         (package / "i18n" / f"throwaway.{language}.toml").write_text(
             f'[throwaway]\n{lines}\n[symbol.throwaway]\ntravel = "{texts[-1]}"\n', encoding="utf-8")

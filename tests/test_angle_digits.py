@@ -7,8 +7,8 @@ import math
 import re
 
 import pytest
-
 from conftest import shared_html, shared_run
+
 from crankdyn.report.i18n import translator
 
 #: An in-line engine whose cylinder count divides no round angle: its cylinders' own crank

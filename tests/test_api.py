@@ -160,7 +160,7 @@ def test_section_uses_the_report_templates_in_the_chosen_language(petrol):
 def test_summary_shows_main_values_and_leave_out_reasons(petrol):
     summary = petrol._repr_html_()
     assert "v_max_m_s" in summary and f"{petrol.values['kinematics.v_max_m_s']:.6g}" in summary
-    for name, reason in petrol.skipped.items():
+    for name in petrol.skipped:
         assert name in summary
     assert petrol.skipped and "Stages left out" in summary
 

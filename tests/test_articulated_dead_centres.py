@@ -13,13 +13,13 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified
 from scipy import optimize
 
 from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 

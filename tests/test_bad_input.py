@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from conftest import modified, run_cli, write_scene
 
 from crankdyn.cli import main
-from conftest import modified, run_cli, write_scene
 
 # (case id, changes to the petrol example, text the message must contain)
 CASES = [

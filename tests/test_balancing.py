@@ -9,6 +9,7 @@ import re
 
 import numpy as np
 import pytest
+from conftest import modified
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
@@ -18,7 +19,6 @@ from crankdyn.physics.layout import build_layout
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 SQRT3 = math.sqrt(3.0)
@@ -30,7 +30,7 @@ INLINE8_CROSS.update({"flywheel": None, "torsion": None})
 RADIAL_CENTRAL = {"engine": {"rod_type": "central"}, "articulated": None}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _run(name: str, changes_json: str = "{}"):
     scene = scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir())
     return run_scene(scene, REGISTRY, ["balancing"])  # and its prerequisites only: keeps the tests fast

@@ -114,7 +114,7 @@ def test_jobs_and_scheduler_together_are_refused(tmp_path):
 def test_dask_is_imported_only_for_a_scheduler(tmp_path):
     """The local pool never loads dask: it stays an optional extra."""
     code = ("import sys; from pathlib import Path; from crankdyn.batch import run_batch; "
-            f"r = run_batch(Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3]), ['json'], jobs=1, progress=False); "
+            "r = run_batch(Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3]), ['json'], jobs=1, progress=False); "
             "print(len(r.outcomes), sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))")
     done = subprocess.run([sys.executable, "-c", code, str(_variants(tmp_path / "v.csv")), str(BASE),
                            str(tmp_path / "out")], capture_output=True, text=True, timeout=120)

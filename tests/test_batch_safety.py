@@ -20,9 +20,17 @@ import pytest
 import crankdyn
 import crankdyn.batch as batch
 import crankdyn.grid_run as grid_run
-from crankdyn.batch import (MAX_FIELDS, MAX_VARIANT_NAME_BYTES, MAX_VARIANT_NAME_CHARS,
-                            MAX_VARIANTS, available_cores, folder_name, read_variants, run_batch,
-                            worker_count)
+from crankdyn.batch import (
+    MAX_FIELDS,
+    MAX_VARIANT_NAME_BYTES,
+    MAX_VARIANT_NAME_CHARS,
+    MAX_VARIANTS,
+    available_cores,
+    folder_name,
+    read_variants,
+    run_batch,
+    worker_count,
+)
 from crankdyn.batch_runner import MAX_TIMEOUT_S, check_seconds
 from crankdyn.cli import examples_dir, main
 from crankdyn.errors import SceneError, UsageError

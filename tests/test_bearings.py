@@ -7,11 +7,11 @@ import re
 
 import numpy as np
 import pytest
+from conftest import shared_html, shared_run
 
 from crankdyn.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
 from crankdyn.plugins import default_registry
-from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 
@@ -111,7 +111,7 @@ def test_wear_diagram_counts_each_load_over_its_spread():
     # weights whose contact is within 60 deg.
     angles = np.radians([0.5, 90.5, 200.5])
     psi, wear = brg.wear_diagram(np.sin(angles), np.cos(angles), [1.0, 2.0, 4.0])
-    expected = [sum(w for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0))
+    expected = [sum(w for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0), strict=True)
                     if abs((p - a + 180.0) % 360.0 - 180.0) <= 60.0) for p in psi]
     np.testing.assert_allclose(wear, expected)
 
@@ -232,7 +232,7 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
         y0 = points[i][1] + dy - (height if va == "top" else 0.0)
 
         def distance(p):
-            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))
+            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))  # noqa: B023 - called within this iteration
 
         assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), texts[i]
     assert placed >= 10  # the rule leaves most labels a place
@@ -246,7 +246,7 @@ def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
     # screen y is −z: the line occupies y in [−20, 0] at x = 0
     points = [(0.0, -20.0), (0.0, 0.0), (-3.0, -10.0)]
     places = _label_places(points, ["90, 330, 660", "180", "540"], per_pt=1.0, obstacles=obstacles)
-    for (x, y), text, place in zip(points, ["90, 330, 660", "180", "540"], places):
+    for (x, y), text, place in zip(points, ["90, 330, 660", "180", "540"], places, strict=True):
         if place is None:
             continue
         dx, dy, ha, va = place

@@ -5,8 +5,9 @@ from __future__ import annotations
 import os
 import tomllib
 
-from crankdyn.cli import main
 from conftest import run_cli
+
+from crankdyn.cli import main
 
 EXPECTED_EXAMPLES = {"petrol-1cyl", "diesel-1cyl", "diesel-rk-trace", "two-stroke-1cyl", "kinematics-only"}
 

@@ -15,6 +15,8 @@ import re
 
 import numpy as np
 import pytest
+from conftest import modified
+from test_extreme import even_firing_order
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
@@ -23,8 +25,6 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.context import sample_rows
 from crankdyn.scene import scene_from_dict
 from crankdyn.scene_inputs import engine_layout
-from conftest import modified
-from test_extreme import even_firing_order
 
 REGISTRY = default_registry()
 CHEAP = {"numerics": {"steps_deg": [10], "repeats": 1, "kinematics_forms": False},

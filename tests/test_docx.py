@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import re
 import shutil
-from html import unescape
 import subprocess
 import zipfile
+from html import unescape
 from pathlib import Path
 
 import pytest
-
 from conftest import ARTIFACTS
+
 from crankdyn.cli import examples_dir
 from crankdyn.pipeline import write_report
 from crankdyn.plugins import default_registry

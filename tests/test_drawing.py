@@ -9,7 +9,7 @@ import io
 import re
 import sys
 import time
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -27,12 +27,12 @@ PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-examp
 PLUGIN_SRC = PLUGIN_DIR / "src"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _registry():
     return default_registry()
 
 
-@lru_cache(maxsize=None)
+@cache
 def _run(example: str):
     """Kinematics and the drawing only (the cheapest run that draws)."""
     scene = load_scene(examples_dir() / f"{example}.toml")
@@ -153,7 +153,7 @@ def test_vane_engine_drawn_from_its_geometry():
 
 # ----------------------------------------------------------------------------- HTML
 
-@lru_cache(maxsize=None)
+@cache
 def _html(example: str, language: str = "en") -> str:
     """The report of ``example`` with the drawing's section only (the other sections are tested
     elsewhere; rendering them here would only cost time)."""
@@ -227,7 +227,7 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
         assert ">L = " in svg
 
 
-@lru_cache(maxsize=None)
+@cache
 def _rendered(example: str, language: str = "en"):
     from dataclasses import replace
 

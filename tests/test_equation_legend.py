@@ -6,10 +6,10 @@ import re
 
 import pytest
 
+from crankdyn.plugins import default_registry
 from crankdyn.report import equation_legend
 from crankdyn.report.i18n import translator
 from crankdyn.report.typeset import symbol_table
-from crankdyn.plugins import default_registry
 
 REGISTRY = default_registry()
 #: The table a report of the registry reads: the core's symbols and the stages' own.

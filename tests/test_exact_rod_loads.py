@@ -16,13 +16,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import modified
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 I_G = "0.0035 kg m^2"

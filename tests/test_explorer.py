@@ -58,7 +58,7 @@ def test_inline8_full_ranking_is_sorted_and_its_coefficients_are_right():
             assert row.coefficients[key] == pytest.approx(value, abs=1e-12)
     # keys never decrease down the table: in-line first key = sum_PI + M_PI, then the second order
     first = [r.coefficients["sum_PI"] + r.coefficients["M_PI"] for r in result.rows]
-    assert all(b >= a - 1e-7 for a, b in zip(first, first[1:]))
+    assert all(b >= a - 1e-7 for a, b in zip(first, first[1:], strict=False))
     best = result.rows[0]
     assert all(v == 0.0 for v in best.coefficients.values())  # the mirror-symmetric (cross) crankshaft
     assert best.neighbours == 0

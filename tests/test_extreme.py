@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified, write_scene
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.errors import SceneError
@@ -33,7 +34,6 @@ from crankdyn.orchestrator import run_scene
 from crankdyn.physics.layout import bank_axes_deg, cylinder_labels
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified, write_scene
 
 REGISTRY = default_registry()
 QUICK = {"numerics": {"steps_deg": [10], "repeats": 1}}

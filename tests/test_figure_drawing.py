@@ -396,7 +396,7 @@ def test_a_mathtext_label_is_measured_by_the_typesetting_that_draws_it(monkeypat
             measured = renderer.get_text_width_height_descent(label, prop, True)
             assert measured == (drawn.width, drawn.height, drawn.depth)
             scaled = TextToPath().get_text_width_height_descent(label, prop, True)
-            assert all(0 <= ours - theirs <= 1.0 + 1e-9 for ours, theirs in zip(measured, scaled)), (measured, scaled)
+            assert all(0 <= ours - theirs <= 1.0 + 1e-9 for ours, theirs in zip(measured, scaled, strict=True)), (measured, scaled)
             plain = renderer.get_text_width_height_descent("МПа", prop, False)
             assert plain == TextToPath().get_text_width_height_descent("МПа", prop, False)  # plain text: matplotlib's
 

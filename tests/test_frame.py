@@ -17,6 +17,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from conftest import ARTIFACTS, modified, shared_run, write_scene
+from page_layout import crop_texts, first_sheets, landscape_pages, layout_problems, page_texts
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugins import default_registry
@@ -24,8 +26,6 @@ from crankdyn.report.document import render_html, report_css
 from crankdyn.report.docx import pandoc_html
 from crankdyn.report.frame import fitting_size, text_width_em
 from crankdyn.scene import scene_from_dict
-from conftest import ARTIFACTS, modified, shared_run, write_scene
-from page_layout import crop_texts, first_sheets, landscape_pages, layout_problems, page_texts
 
 REGISTRY = default_registry()
 TEMPLATES = Path(__file__).resolve().parents[1] / "templates"
@@ -135,7 +135,7 @@ def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
     turned one's on a landscape page: the bottom-left corner of the frame)."""
     portrait = crop_texts(pdf, 195.5, 284.5, 204.5, 291.5)
     turned = crop_texts(pdf, 5.5, 195.5, 12.5, 204.5)
-    return [" ".join((t if wide else p).split()) for p, t, wide in zip(portrait, turned, landscape)]
+    return [" ".join((t if wide else p).split()) for p, t, wide in zip(portrait, turned, landscape, strict=True)]
 
 
 @pytest.mark.long

@@ -6,12 +6,10 @@ p_г as the text does; a log axis shorter than a decade still carries numbers.""
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import cache
 
 import pytest
-
 from conftest import as_read, shared_html
-
 
 #: The reports' folders by example, as the tests last asked for them.
 _FOLDERS: dict = {}
@@ -19,7 +17,7 @@ _FOLDERS: dict = {}
 _WITH_FIGURE_FILES = ("petrol-1cyl-uk", "inline4-petrol")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _html(folder) -> str:
     with open(f"{folder}/report.html", encoding="utf-8") as fh:
         return fh.read()
@@ -545,9 +543,9 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():
     """Whole newtons would print the two-stroke's sixth order (0,19 N) as "0 N"."""
+    from crankdyn.plugins import default_registry
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.balancing.stage import newtons
-    from crankdyn.plugins import default_registry
 
     t = translator("uk", default_registry().catalogs)
     assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == ["17\u202f235", "192", "10", "4,4", "0,19"]
@@ -557,6 +555,7 @@ def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
     """[δ] = 0.0066667 is printed with the same digits in the table, the text and the worked
     line (not 0,006667 against 0,0066667)."""
     from conftest import modified, write_scene
+
     from crankdyn.cli import main
 
     scene = write_scene(tmp_path / "d.toml", modified("inline4-petrol", {"flywheel": {"required_irregularity": 0.0066667},
@@ -610,7 +609,6 @@ def test_the_two_term_acceleration_is_shown_by_its_difference_from_the_exact_one
     """Fig. 2.1: on the scale of j the dashed two-term curve could not be told from the exact one;
     a bottom panel shows their difference, whose largest size is the note's figure."""
     import numpy as np
-
     from conftest import shared_html, shared_run
 
     figure = next(f for f in shared_html("petrol-1cyl").figures if f.key == "piston").figure
@@ -655,14 +653,14 @@ def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line()
     """DSTU 3008:2015: a formula is carried over after =, + or −, the sign repeated on the next
     line (not "(4.4) starts its second line with − and no sign ends the first"). The
     Word export's equation, which wraps by itself, has each sign once."""
-    from crankdyn.report.formula_lines import _printed_length, unbroken_parts
     from crankdyn.report.docx import parse_html
     from crankdyn.report.docx_math import omml
+    from crankdyn.report.formula_lines import _printed_length, unbroken_parts
 
     long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub> · <i>R</i>" for k in range(1, 16)) + " − <i>c</i> = 108,3 Н·м"
     lines = unbroken_parts(long).split('<br class="eq-break">')
     assert len(lines) >= 3
-    for before, after in zip(lines, lines[1:]):
+    for before, after in zip(lines, lines[1:], strict=False):
         carried = re.search(r'<span class="eq-carry">\s*([=+−])\s*</span></span>$', before)
         opening = re.sub(r"<[^>]+>", "", after).lstrip()[:1]
         assert carried and carried.group(1) == opening, (before[-80:], after[:80])

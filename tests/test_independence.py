@@ -19,6 +19,7 @@ import typing
 from pathlib import Path
 
 import pytest
+from conftest import modified
 
 from crankdyn import answer_key, contracts, outputs
 from crankdyn.cli import examples_dir
@@ -26,7 +27,6 @@ from crankdyn.pipeline import run_and_render
 from crankdyn.plausibility import console_lines, warnings
 from crankdyn.plugins import Registry, collect, default_registry, plugin_manager
 from crankdyn.scene import Engine, scene_from_dict
-from conftest import modified
 
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ROOT / "src" / "crankdyn"

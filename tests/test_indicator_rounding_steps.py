@@ -3,9 +3,15 @@ their values at the construction's nodes against the values the construction pre
 
 import numpy as np
 import pytest
+from test_physics_indicator import (
+    CRANK_RADIUS_M,
+    PISTON_AREA_M2,
+    exact_displacement_m,
+    rounding_for,
+    spark,
+)
 
 from crankdyn.physics import indicator as ind
-from test_physics_indicator import CRANK_RADIUS_M, PISTON_AREA_M2, exact_displacement_m, rounding_for, spark
 
 
 def _setup():

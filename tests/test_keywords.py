@@ -51,6 +51,7 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     import html as html_lib
 
     from conftest import as_read, shared_run
+
     from crankdyn.report.i18n import translator
 
     rendered = shared_html("inline4-petrol", language="uk").linked_html

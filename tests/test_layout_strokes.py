@@ -22,7 +22,7 @@ def test_an_in_line_four_firing_1_3_4_2_is_the_textbooks_table():
         ["compression", "expansion", "exhaust", "intake"],
         ["exhaust", "intake", "compression", "expansion"],
         ["expansion", "exhaust", "intake", "compression"]]
-    for column in zip(*(_expanded(r) for r in rows)):
+    for column in zip(*(_expanded(r) for r in rows), strict=True):
         assert sorted(column) == sorted(["intake", "compression", "expansion", "exhaust"])
 
 
@@ -30,14 +30,14 @@ def test_a_v8_firing_every_90_degrees_has_90_degree_columns_and_strokes_spanning
     delays = [0.0, 90.0, 450.0, 540.0, 270.0, 360.0, 180.0, 630.0]
     step, rows = stroke_sequence(delays)
     assert step == 90.0
-    for delay, runs in zip(delays, rows):
+    for delay, runs in zip(delays, rows, strict=True):
         strokes = _expanded(runs)
         assert len(strokes) == 8
         # cylinder i is in stroke floor(((a - delay) mod 720) / 180) at the column's start a
         assert strokes == [("intake", "compression", "expansion", "exhaust")[int(((c * 90 - delay) % 720) // 180)]
                            for c in range(8)]
-        assert sum(span for _, span in runs) == 8 and all(a[0] != b[0] for a, b in zip(runs, runs[1:]))
-    for column in zip(*(_expanded(r) for r in rows)):  # two cylinders in each stroke at any moment
+        assert sum(span for _, span in runs) == 8 and all(a[0] != b[0] for a, b in zip(runs, runs[1:], strict=False))
+    for column in zip(*(_expanded(r) for r in rows), strict=True):  # two cylinders in each stroke at any moment
         assert all(column.count(s) == 2 for s in set(column))
 
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import time
 import textwrap
+import time
 
 from crankdyn.orchestrator import run_stage
 from crankdyn.physics import lazy

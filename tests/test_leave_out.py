@@ -11,13 +11,13 @@ from __future__ import annotations
 import re
 
 import pytest
+from conftest import shared_html, shared_run
 from markupsafe import escape
 
 from crankdyn.outputs import results_document
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, skipped_reason
 from crankdyn.report.i18n import translator
-from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 ENGINE = {"kinematics", "indicator", "forces", "numerics"}

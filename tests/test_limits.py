@@ -11,13 +11,13 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import example_data, modified, write_scene
 
 import crankdyn
 from crankdyn.cli import main
 from crankdyn.physics import firing_explorer
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.scene import MAX_SCENE_BYTES
-from conftest import example_data, modified, write_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 KINEMATICS_ONLY = ROOT / "examples" / "kinematics-only.toml"

@@ -7,10 +7,10 @@ import json
 from pathlib import Path
 
 import pytest
+from documented import documentation_text
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugins import default_registry
-from documented import documentation_text
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCUMENTATION = documentation_text()

@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from conftest import modified, write_scene
 from scipy import optimize
 
 from crankdyn.cli import examples_dir, main
@@ -17,7 +18,6 @@ from crankdyn.physics import offset_crank as oc
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from conftest import modified, write_scene
 
 REGISTRY = default_registry()
 R, L, E = 0.039, 0.14, 0.008

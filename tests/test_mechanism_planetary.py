@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified, write_scene
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.errors import SceneError
@@ -17,7 +18,6 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.planetary.stage import tdc_snapshot_m
-from conftest import modified, write_scene
 
 REGISTRY = default_registry()
 L = 0.15

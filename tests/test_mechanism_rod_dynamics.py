@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import modified
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
@@ -13,7 +14,6 @@ from crankdyn.physics import kinematics as central
 from crankdyn.physics import rod_dynamics as rd
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 M, L, LR, I_G = 0.6, 0.14, 0.0385, 0.0014

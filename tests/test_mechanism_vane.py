@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified, write_scene
 from scipy import optimize
 
 from crankdyn.cli import examples_dir, main
@@ -17,7 +18,6 @@ from crankdyn.physics import vane as vn
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from conftest import modified, write_scene
 
 REGISTRY = default_registry()
 ALPHA = np.linspace(0.0, 2.0 * np.pi, 721)

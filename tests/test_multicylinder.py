@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-
 import math
 
 import numpy as np
 import pytest
+from conftest import modified, shared_html, shared_run, write_scene
 from scipy.optimize import brentq
 
 from crankdyn.cli import examples_dir, main
@@ -15,7 +15,6 @@ from crankdyn.physics import articulated as art
 from crankdyn.physics.layout import LayoutError, build_layout
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified, shared_html, shared_run, write_scene
 
 REGISTRY = default_registry()
 MULTI = ["inline4-petrol", "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]

@@ -17,6 +17,9 @@ import types
 
 import markupsafe
 import pytest
+from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
+from page_layout import layout_problems, page_texts
+from test_worked import check_worked
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.orchestrator import run_scene
@@ -24,9 +27,6 @@ from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
 from crankdyn.scene import load_scene, scene_from_dict
-from conftest import ARTIFACTS, as_read, modified, shared_html, write_scene
-from page_layout import layout_problems, page_texts
-from test_worked import check_worked
 
 REGISTRY = default_registry()
 
@@ -303,11 +303,11 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
         rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
         keys = symbols_used(rest, language, table)
         assert [markup for markup, _ in rows] == [symbol_html(k, language, table) for k in keys]
-        where = re.compile(" \\((?:%s) [^)]*\\)" % "|".join(
+        where = re.compile(" \\((?:{}) [^)]*\\)".format("|".join(
             t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
-            for kind in ("section", "sections", "appendix", "appendices")))
+            for kind in ("section", "sections", "appendix", "appendices"))))
         markups = [markup for markup, _ in rows]
-        for (markup, meaning), key in zip(rows, keys):
+        for (markup, meaning), key in zip(rows, keys, strict=True):
             unit = symbol_unit(key, t, table)
             text = as_read(html_lib.unescape(re.sub(r"</?i>", "", meaning)))  # its letters in italics
             # a letter with several meanings says where a sectioned one holds (tests/test_symbol_list.py)

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import modified, shared_run
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
@@ -19,7 +20,6 @@ from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene import scene_from_dict
 from crankdyn_builtin.numerics import stage as num
-from conftest import modified, shared_run
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",
@@ -127,7 +127,7 @@ def test_pointwise_model_from_displacement_alone_matches_the_analytic_one():
     t_analytic, _, _ = analytic.forces(a)
     assert q_generic is None
     np.testing.assert_allclose(t_generic, t_analytic, rtol=0, atol=1e-6 * np.max(np.abs(t_analytic)))
-    for g, h in zip(generic.integrals(), analytic.integrals()):
+    for g, h in zip(generic.integrals(), analytic.integrals(), strict=True):
         assert g == pytest.approx(h, rel=1e-9)
 
 
@@ -176,7 +176,7 @@ def test_kinematics_forms_against_independent_errors(ratio):
     assert rows[("exact", None)]["acceleration_error_max_m_s2"] < 1e-12 * radius
     errors = [rows[k]["displacement_error_max_m"] for k in (("two_term", 2), ("series", 3), ("series", 4),
                                                             ("series", 5))]
-    assert all(b < a or a < 1e-15 * radius for a, b in zip(errors, errors[1:]))
+    assert all(b < a or a < 1e-15 * radius for a, b in zip(errors, errors[1:], strict=False))
     assert all(r["time_per_evaluation_s"] > 0 for r in rows.values())
 
 

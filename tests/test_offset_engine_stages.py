@@ -8,6 +8,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from conftest import modified
 from scipy import integrate
 
 from crankdyn.cli import examples_dir
@@ -17,7 +18,6 @@ from crankdyn.physics import balancing as bal
 from crankdyn.physics import offset_crank as oc
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 R, L, E = 0.039, 0.14, 0.008  # examples/offset-crank-engine.toml
@@ -97,8 +97,8 @@ def test_offset_harmonics_by_quadrature():
     for n in (1, 2, 3, 4):
         def j(a):
             return oc.piston_acceleration_m_s2(a, 1.0, LAM, K, 1.0)
-        a_n = integrate.quad(lambda a: j(a) * np.cos(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi
-        b_n = integrate.quad(lambda a: j(a) * np.sin(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi
+        a_n = integrate.quad(lambda a: j(a) * np.cos(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi  # noqa: B023 - called within this iteration
+        b_n = integrate.quad(lambda a: j(a) * np.sin(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi  # noqa: B023 - called within this iteration
         assert harmonics[n] == pytest.approx(complex(a_n, -b_n), abs=1e-12)
     assert abs(harmonics[3]) > 1e-3  # an odd order the central mechanism does not have
 

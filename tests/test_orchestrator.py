@@ -5,6 +5,7 @@ from __future__ import annotations
 import random
 
 import pytest
+from conftest import example_data
 
 from crankdyn.errors import PluginError, SceneError
 from crankdyn.hookspecs import hookimpl
@@ -12,7 +13,6 @@ from crankdyn.orchestrator import plan, run_plan, run_scene
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.plugins import Registry, collect, default_registry, plugin_manager
 from crankdyn.scene import scene_from_dict
-from conftest import example_data
 
 
 def _stage(name, requires=(), provides=(), applies=None, default=True):

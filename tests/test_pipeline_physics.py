@@ -7,13 +7,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import modified, shared_run
 
 from crankdyn.orchestrator import run_scene
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics.pressure_trace import read_diesel_rk_ind_table
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, modified, shared_run
 
 REGISTRY = default_registry()
 

@@ -14,12 +14,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import modified
 
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
 

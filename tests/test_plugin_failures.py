@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import example_data, modified, write_scene
 
 import crankdyn.api
 import crankdyn.plugins
@@ -27,12 +28,15 @@ from crankdyn.errors import PluginError, PluginFailure, Problem, SceneError, Sta
 from crankdyn.hookspecs import hookimpl
 from crankdyn.orchestrator import run_scene
 from crankdyn.pipeline import run_and_render
-from crankdyn.plugin_guard import (DEFAULT_STAGE_TIMEOUT_S, MAX_STAGE_TIMEOUT_S, check_stage_output,
-                                   stage_time_limit)
+from crankdyn.plugin_guard import (
+    DEFAULT_STAGE_TIMEOUT_S,
+    MAX_STAGE_TIMEOUT_S,
+    check_stage_output,
+    stage_time_limit,
+)
 from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, modified, write_scene
 
 SCENE = "kinematics-only"
 
@@ -207,7 +211,7 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
     not_texts = tmp_path / "other.en.toml"
     not_texts.write_text('[other]\ntitle = 5\n', encoding="utf-8")
     cataloged = [types.ModuleType(name) for name in ("bad_toml", "not_texts", "missing")]
-    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml")):
+    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml"), strict=True):
         module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
     mechanism = Mechanism(name="m", summary="m", params_model=_Options)
     modelled = _plugin("modelled", mechanisms=[mechanism])

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
+from conftest import example_data, write_scene
 
 import crankdyn.batch
 import crankdyn.plugins
@@ -18,7 +19,6 @@ from crankdyn.orchestrator import plan
 from crankdyn.plugin_types import SERVICE_RUNNER, AnswerColumn, Stage, StageOutput
 from crankdyn.plugins import Registry, default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, write_scene
 
 REGISTRY = default_registry()
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from conftest import modified
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -20,7 +21,6 @@ from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
 from crankdyn.scene import scene_from_dict
-from conftest import modified
 
 REGISTRY = default_registry()
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -8,12 +8,12 @@ import shutil
 from pathlib import Path
 
 import pytest
+from conftest import shared_html, shared_run
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugins import default_registry
 from crankdyn.report.i18n import core_catalog_dir, load_catalog_file
 from crankdyn.report.pdf import BlockedResource, _fetcher, is_allowed
-from conftest import shared_html, shared_run
 
 REGISTRY = default_registry()
 

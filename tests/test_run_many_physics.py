@@ -8,12 +8,12 @@ import math
 
 import numpy as np
 import pytest
-from crankdyn_builtin.forces.stage import _first_extremes
-from crankdyn_builtin.torque.stage import sampled_periods_deg
 
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn_builtin.forces.stage import _first_extremes
+from crankdyn_builtin.torque.stage import sampled_periods_deg
 
 AREA_M2 = math.pi * 0.082 ** 2 / 4.0
 
@@ -61,7 +61,7 @@ def test_the_junctions_of_many_diagrams_are_each_diagrams_own():
     junctions = ind.combustion_junctions_deg([r[0] for r in rows], [r[1] for r in rows],
                                              clearance, volume_at)
     angle = np.arange(0.0, 720.0, 1.0)
-    for (params, rounding, r, lam, v_c), junction in zip(rows[:-1], junctions[:-1]):
+    for (params, rounding, r, lam, v_c), junction in zip(rows[:-1], junctions[:-1], strict=False):
         def one(a, r=r, lam=lam, v_c=v_c):
             return v_c + AREA_M2 * _displacement_m(a, r, lam)
 

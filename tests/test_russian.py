@@ -48,7 +48,7 @@ def test_russian_html_captions_numbers_and_decimal_comma(russian):
 
 def _chapters(html: str) -> dict[int, str]:
     parts = re.split(r'<section class="chapter" id="sec-(\w+)"', html)
-    return {int(key): body for key, body in zip(parts[1::2], parts[2::2]) if key.isdigit()}
+    return {int(key): body for key, body in zip(parts[1::2], parts[2::2], strict=True) if key.isdigit()}
 
 
 def test_tables_figures_equations_numbered_within_their_section(russian):

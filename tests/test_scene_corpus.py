@@ -34,8 +34,17 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import as_read
+from scene_corpus import LANGUAGES, corpus
+from test_note import _decimal_points, _latin_words
+from test_symbol_coverage import (
+    _SECTION_START,
+    _equations,
+    _indexed_symbol,
+    _instance_of_an_indexed_symbol,
+    _tokens,
+)
+
 from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.outputs import results_document
@@ -44,10 +53,6 @@ from crankdyn.report.document import render_html
 from crankdyn.report.equation_legend import symbols_in
 from crankdyn.report.typeset import symbol_table
 from crankdyn.scene import scene_from_dict
-from scene_corpus import LANGUAGES, corpus
-from test_note import _decimal_points, _latin_words
-from test_symbol_coverage import (_SECTION_START, _equations, _indexed_symbol,
-                                  _instance_of_an_indexed_symbol, _tokens)
 
 SEED = 41
 SECOND_SEED = 2026
@@ -338,7 +343,7 @@ CHECKS = {"language": check_language, "symbols": check_symbols, "structure": che
           "software": check_software_words}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _note(seed: int, name: str, languages: tuple[str, ...] | None = None) -> Note:
     return Note(next(c for c in corpus(seed, languages) if c.name == name))
 
@@ -404,9 +409,10 @@ PDF_SAMPLE = ("inline7-", "radial5-", "planetary-")
                     reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
 @pytest.mark.parametrize("kind", PDF_SAMPLE)
 def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_path):
+    from page_layout import layout_problems, page_texts
+
     from crankdyn.pipeline import render_files
     from crankdyn.report.i18n import translator
-    from page_layout import layout_problems, page_texts
 
     case = next(c for c in SCENES if kind in c.name)
     note = _note(SEED, case.name)

@@ -4,7 +4,7 @@ cranks in one direction (1 and 4 of an in-line four) share one label instead of 
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -16,7 +16,7 @@ from crankdyn.report import mechanism_drawing as md
 from crankdyn.scene import load_scene
 
 
-@lru_cache(maxsize=None)
+@cache
 def _positions(example: str):
     scene = load_scene(examples_dir() / f"{example}.toml")
     registry = default_registry()
@@ -44,7 +44,7 @@ def _segments(ax):
     for collection in ax.collections:
         if isinstance(collection, LineCollection):
             widths = np.broadcast_to(collection.get_linewidths(), (len(collection.get_segments()),))
-            for segment, width in zip(collection.get_segments(), widths):
+            for segment, width in zip(collection.get_segments(), widths, strict=True):
                 if width >= 0.8:
                     yield collection, collection.get_transform().transform(segment)
 
@@ -54,7 +54,7 @@ def _crossed_lines(ax, text, renderer) -> list:
     box = text.get_window_extent(renderer).padded(-1.0)
     crossed = []
     for member, xy in _segments(ax):
-        for a, b in zip(xy[:-1], xy[1:]):
+        for a, b in zip(xy[:-1], xy[1:], strict=True):
             points = a + (b - a) * np.linspace(0.0, 1.0, 50)[:, None]
             if any(box.contains(*p) for p in points):
                 crossed.append(member)

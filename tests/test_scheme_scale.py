@@ -5,10 +5,10 @@ PDF shows it at its own size."""
 from __future__ import annotations
 
 import pytest
+from test_scheme_labels import _positions
 
 from crankdyn.report import mechanism_drawing as md
 from crankdyn.report.figures import FIXED_LAYOUT, to_svg
-from test_scheme_labels import _positions
 
 MM_PER_INCH = 25.4
 

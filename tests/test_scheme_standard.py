@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import shared_run
+
 from crankdyn.report import mechanism_drawing as md
 
 MM_PER_INCH = 25.4
@@ -58,7 +58,7 @@ def _pistons_mm(geometry, i: int) -> list[np.ndarray]:
 def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
     """Whether two convex polygons overlap by more than a touch (separating axis theorem)."""
     for polygon in (a, b):
-        for p, q in zip(polygon, np.roll(polygon, -1, axis=0)):
+        for p, q in zip(polygon, np.roll(polygon, -1, axis=0), strict=False):
             normal = np.array([q[1] - p[1], p[0] - q[0]])
             pa, pb = a @ normal, b @ normal
             if pa.max() <= pb.min() + 1e-6 * np.abs(normal).sum() or pb.max() <= pa.min() + 1e-6 * np.abs(normal).sum():

@@ -95,7 +95,7 @@ def test_truncation_error_sign_bounds_and_maximum(ratio, terms):
 @pytest.mark.parametrize("ratio", [0.28, 0.9, 0.99])
 def test_error_falls_with_every_term_and_the_series_converges(ratio):
     errors = [series.displacement_truncation_error_max_m(R, ratio, n) for n in range(1, 8)]
-    assert all(b < a for a, b in zip(errors, errors[1:]))
+    assert all(b < a for a, b in zip(errors, errors[1:], strict=False))
     # the tail after N terms is below c_N lam^(2N-1) R / (1 - lam^2): choose N for 1e-13 R
     if ratio > 0.95:
         return  # ~1500 terms would be needed; the bounds test covers lambda = 0.99

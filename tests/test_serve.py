@@ -29,8 +29,8 @@ from pathlib import Path
 import pytest
 from conftest import ARTIFACTS, modified, write_scene
 
-from crankdyn.errors import Problem, SceneError
 from crankdyn.cli import examples_dir
+from crankdyn.errors import Problem, SceneError
 from crankdyn.serve import Preview, PreviewServer, error_page, referenced_files, with_reload
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")

@@ -6,22 +6,22 @@ import functools
 
 import numpy as np
 import pytest
+from conftest import shared_run
 
 from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugins import default_registry
 from crankdyn.scene_inputs import crank_train
-from conftest import shared_run
 
 REGISTRY = default_registry()
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def inline4():
     return shared_run("inline4-petrol")  # shared with the other test files (read only)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def problem():
     """The single-mass problem of the bundled in-line four: series, gas torque, exact solution."""
     result = inline4()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import pytest
+from conftest import example_data, modified
 from markupsafe import Markup
 
 from crankdyn.cli import examples_dir
@@ -18,7 +19,6 @@ from crankdyn.report.document import _environment, render_html
 from crankdyn.report.figures import new_figure
 from crankdyn.report.i18n import available_languages, translator
 from crankdyn.scene import scene_from_dict
-from conftest import example_data, modified
 
 REGISTRY = default_registry()
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))

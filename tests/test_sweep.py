@@ -14,7 +14,13 @@ from conftest import run_cli
 from crankdyn.batch import RunOptions
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
-from crankdyn.sweep_grid import SweepRequest, parse_values, read_sweep_file, run_sweep, sweep_from_args
+from crankdyn.sweep_grid import (
+    SweepRequest,
+    parse_values,
+    read_sweep_file,
+    run_sweep,
+    sweep_from_args,
+)
 
 KINEMATICS = examples_dir() / "kinematics-only.toml"  # R = 50 mm, S = 100 mm, rod_length = 200 mm
 SWEEP_FILE = Path(__file__).resolve().parent.parent / "examples" / "sweeps" / "bore-rod-ratio.toml"
@@ -72,7 +78,7 @@ def test_the_cartesian_product_in_order_with_closed_form_results(tmp_path):
     key = pd.read_csv(tmp_path / "out" / "answer_key.csv")
     assert key["variant"].tolist() == [f"p{k:02d}" for k in range(1, 7)] and key["row"].tolist() == list(range(1, 7))
     # the first field varies slowest; every combination exactly once
-    assert list(zip(key["engine.rpm"], key["engine.rod_ratio"])) == [(n, r) for n in rpms for r in ratios]
+    assert list(zip(key["engine.rpm"], key["engine.rod_ratio"], strict=True)) == [(n, r) for n in rpms for r in ratios]
     assert "report.student" not in key  # a field set for every point is not a key column
     for _, row in key.iterrows():
         omega = math.pi * row["engine.rpm"] / 30
@@ -178,5 +184,5 @@ def test_a_combination_bad_only_together_is_a_failure_row_not_a_refusal(tmp_path
     failures = pd.read_csv(tmp_path / "out" / "failures.csv")
     assert failures["row"].tolist() == [3]
     key = pd.read_csv(tmp_path / "out" / "answer_key.csv")
-    assert list(zip(key["engine.stroke [mm]"], key["engine.rod_length [mm]"])) == [(100, 120), (100, 400), (300, 400)]
+    assert list(zip(key["engine.stroke [mm]"], key["engine.rod_length [mm]"], strict=True)) == [(100, 120), (100, 400), (300, 400)]
     assert (tmp_path / "out" / "sweep-v_max_m_s.svg").is_file()  # drawn with a gap where p03 failed

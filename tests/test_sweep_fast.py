@@ -40,7 +40,7 @@ def _per_point(base, base_dir, points, stages=None):
 
 def _assert_same_keys(fast, slow):
     assert [o.row for o in fast] == [o.row for o in slow]
-    for a, b in zip(fast, slow):
+    for a, b in zip(fast, slow, strict=True):
         assert a.ok == b.ok, (a.error, b.error)
         assert set(a.answers) == set(b.answers)
         for column, expected in b.answers.items():
@@ -84,7 +84,7 @@ def test_a_failing_point_fails_alone_and_the_others_of_its_chunk_keep_their_answ
     fast = run_chunk(base, base_dir, points, None, None)
     slow = _per_point(base, base_dir, points)
     assert [o.ok for o in fast] == [o.ok for o in slow] == [True, False, True, False]
-    for a, b in zip(fast, slow):
+    for a, b in zip(fast, slow, strict=True):
         assert a.error == b.error
     _assert_same_keys(fast, slow)
 
@@ -159,10 +159,10 @@ def _check_run_many(sets, scene_path) -> set[str]:
     checked = set()
     for stage in the_plan.order:
         inputs = [stage_inputs(stage, d, registry) for d in data]
-        singles = [run_stage(stage, scene, given)[0] for scene, given in zip(scenes, inputs)]
+        singles = [run_stage(stage, scene, given)[0] for scene, given in zip(scenes, inputs, strict=True)]
         if stage.run_many is not None:
             checked.add(stage.name)
-            for output, single in zip(stage.run_many(scenes, inputs), singles):
+            for output, single in zip(stage.run_many(scenes, inputs), singles, strict=False):
                 _same(output.results, single.results, f"{stage.name} results")
                 _same(output.data, single.data, f"{stage.name} data")
                 # the curves a later stage reads off the grid: the same function of the angle
@@ -171,7 +171,7 @@ def _check_run_many(sets, scene_path) -> set[str]:
                         angles = np.array([0.0, 33.3, 181.0])
                         _same(output.data[key].displacement_at(angles),
                               value.displacement_at(angles), key)
-        for d, single in zip(data, singles):
+        for d, single in zip(data, singles, strict=True):
             d.update(single.data)
     return checked
 
@@ -195,7 +195,7 @@ def test_a_failing_run_many_falls_back_to_run_point_by_point():
     fallen = evaluate(scenes, _registry_with(refuses))
     plain = evaluate(scenes, _registry_with(None))
     assert calls and all(n == len(scenes) for n in calls)
-    for (run_a, results_a, error_a), (run_b, results_b, error_b) in zip(fallen, plain):
+    for (run_a, results_a, error_a), (run_b, results_b, error_b) in zip(fallen, plain, strict=True):
         assert run_a == run_b and not error_a and not error_b
         for stage, results in results_b.items():
             assert results_a[stage].keys() == results.keys()

@@ -10,12 +10,12 @@ import re
 from collections import defaultdict
 
 import pytest
-
 from conftest import shared_html
+
+from crankdyn.plugins import default_registry
 from crankdyn.report import equation_legend, typeset
 from crankdyn.report.equation_legend import _SECTION_OR_EQUATION
 from crankdyn.report.i18n import translator
-from crankdyn.plugins import default_registry
 
 #: The table a report of the installed plugins reads: the core's symbols and the stages' own.
 SYMBOLS = typeset.symbol_table(default_registry().stages.values())
@@ -94,7 +94,7 @@ def test_a_markup_has_one_meaning_in_each_section():
     for key, symbol in SYMBOLS.items():
         for language in LANGUAGES:
             by_markup[(language, symbol_html(key, language))].append(symbol.sections)
-    for (language, markup), sections in by_markup.items():
+    for (_, markup), sections in by_markup.items():
         assert sum(1 for s in sections if not s) <= 1, markup
         scoped = [stage for s in sections for stage in s]
         assert len(scoped) == len(set(scoped)), markup

@@ -7,8 +7,8 @@ from __future__ import annotations
 import re
 
 import numpy as np
-
 from conftest import as_read
+
 from crankdyn.report.context import add_extreme_rows, sample_rows
 
 

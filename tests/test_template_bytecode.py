@@ -3,6 +3,7 @@
 import os
 
 import jinja2
+
 from crankdyn.report import document
 
 

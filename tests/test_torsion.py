@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import shared_run
 
 from crankdyn.errors import SceneError
 from crankdyn.physics import speed_fluctuation as sf
@@ -18,7 +18,6 @@ from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.units import parse_quantity
-from conftest import shared_run
 
 REGISTRY = default_registry()
 

@@ -10,7 +10,6 @@ import html as html_lib
 import re
 
 import pytest
-
 from conftest import shared_html
 
 #: Units of the tables that no formula holds in as printed.
@@ -31,7 +30,7 @@ def test_a_where_line_gives_the_si_unit(example, language):
     lines = [_text(m.group(1)) for m in _WHERE.finditer(html)]
     assert len(lines) > 40
     units = [re.search(r", ([^,]+)[;.]$", line) for line in lines]
-    wrong = [line for line, unit in zip(lines, units) if unit and unit.group(1) in _TABLE_ONLY]
+    wrong = [line for line, unit in zip(lines, units, strict=True) if unit and unit.group(1) in _TABLE_ONLY]
     assert not wrong, wrong[:5]
     assert sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"}) >= 10
 

@@ -18,9 +18,9 @@ import math
 import re
 
 import pytest
+from conftest import as_read, formula_as_read
 from markupsafe import Markup
 
-from conftest import as_read, formula_as_read
 from crankdyn.cli import examples_dir
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import default_registry
@@ -98,7 +98,7 @@ def _no_figure(fig, caption: str, name: str, see: str | None = None, see_params:
     return Markup("")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _stages_run(example: str, stages: tuple[str, ...]):
     return run_scene(load_scene(examples_dir() / f"{example}.toml"), REGISTRY, list(stages))
 

@@ -72,7 +72,7 @@ def _describe_annotated(metadata: list) -> tuple[str, list[str]]:
             kind = f"quantity ({values['kind'].replace('_', ' ')})"
         elif "unit" in values and "scale" in values:  # the quantity's range, in its unit
             unit, scale = values["unit"], values["scale"]
-            bounds += _bounds(values, lambda x: f"{x / scale:g} {unit}".strip())
+            bounds += _bounds(values, lambda x: f"{x / scale:g} {unit}".strip())  # noqa: B023 - called within this iteration
             if unit:
                 kind = f"{kind or 'quantity'}, e.g. in {unit}"
         elif {"gt", "ge", "lt", "le"} & set(values):  # a plain number's range
@@ -223,7 +223,7 @@ def scene_reference() -> str:
             "|---|---|---|---|",
         ]
         seen = set()
-        for field, info in fields.items():
+        for field in fields:
             group = covered.get(field)
             if group is None or group in seen:
                 continue

@@ -27,7 +27,7 @@ import weakref
 from collections.abc import Iterable, Mapping
 from functools import cached_property, lru_cache
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from markupsafe import Markup
 
@@ -35,6 +35,7 @@ from . import answer_key
 from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
 from .errors import Problem, SceneError
 from .grid_run import CHUNK_POINTS, evaluate, number, study_once
+from .inputcheck import structure_problems
 from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, run_scene
 from .outputs import FORMATS, _named_tables, results_document
@@ -43,8 +44,10 @@ from .plugins import default_registry
 from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
-from .inputcheck import structure_problems
 from .scene import Scene, merge, read_scene_data, scene_from_dict
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
 
 __all__ = ["load", "run", "sweep", "Result", "SceneError"]
 
@@ -145,11 +148,11 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     except SceneError as exc:
         raise SceneError(exc.problems, name) from None
     key = id(scene)
-    _SOURCES[key] = (weakref.ref(scene, lambda _ref, key=key: _SOURCES.pop(key, None)), data, base_dir)
+    _SOURCES[key] = (weakref.ref(scene, lambda _ref: _SOURCES.pop(key, None)), data, base_dir)
     return scene
 
 
-def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None) -> "Result":
+def run(scene: Scene | str | Path | Mapping, stages: Iterable[str] | None = None) -> Result:
     """Compute ``scene`` (a scene, or anything :func:`load` takes) and return its :class:`Result`.
 
     ``stages`` names the stages wanted (their prerequisites are added), as ``--stages`` does;
@@ -183,7 +186,7 @@ def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
 
 
 def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
-          stages: Iterable[str] | None = None) -> "pd.DataFrame":  # noqa: F821
+          stages: Iterable[str] | None = None) -> pd.DataFrame:
     """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
 
     The combinations are computed as ``crankdyn sweep`` computes them: in chunks, only the stages
@@ -207,15 +210,15 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     rows = []
     for start in range(0, len(combinations), CHUNK_POINTS):  # the points at array speed, in chunks
         part = combinations[start:start + CHUNK_POINTS]
-        scenes = [load(scene, dict(zip(names, combination))) for combination in part]
+        scenes = [load(scene, dict(zip(names, combination, strict=True))) for combination in part]
         for combination, point, (run_names, results, error) in zip(
-                part, scenes, evaluate(scenes, _registry(), stages, _languages())):
+                part, scenes, evaluate(scenes, _registry(), stages, _languages()), strict=True):
             if error:  # the point's own exception, as a run of it alone raises it
                 run_scene(point, _registry(), stages, _languages())
                 raise SceneError(Problem("sweep", str(combination), error), "sweep")
             document = {"stages_run": run_names, **results}
-            values = answer_key.answers(document, key_columns).values()
-            rows.append([*combination, *(number(v) for v in values)])
+            answered = answer_key.answers(document, key_columns).values()
+            rows.append([*combination, *(number(v) for v in answered)])
     answer_names = [c.name for c in key_columns]
     frame = pd.DataFrame(rows, columns=[*names, *answer_names])
     empty = [c for c in answer_names if frame[c].isna().all()]
@@ -256,7 +259,7 @@ def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[lis
                             f"(one value is a list of one: [{given!r}])")
     _check_points({name: _size(grid[name]) for name in names})
     values = [list(itertools.islice(grid[name], MAX_VARIANTS + 1)) for name in names]
-    _check_points(dict(zip(names, map(len, values))))
+    _check_points(dict(zip(names, map(len, values), strict=True)))
     return names, values
 
 
@@ -318,7 +321,7 @@ def _release(fig) -> None:
 class _LazyFigures(Mapping):
     """``result.figures``: matplotlib Figures by name, rendered on first access."""
 
-    def __init__(self, result: "Result"):
+    def __init__(self, result: Result):
         self._result = result
         self._figures: dict | None = None
 
@@ -367,7 +370,7 @@ class Result:
         return results_document(self.run_result)
 
     @cached_property
-    def tables(self) -> dict[str, "pd.DataFrame"]:  # noqa: F821
+    def tables(self) -> dict[str, pd.DataFrame]:
         """Every table by the name of its CSV file (``kinematics``, ``forces_bays``...); units in the column names."""
         return {name: frame.copy() for name, frame in _named_tables(self.run_result)}
 
@@ -402,7 +405,9 @@ class Result:
     def _render(self, figures_only: bool = False, language: str | None = None,
                 only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
-        from .report.document import _environment  # lazy: heavy optional import (jinja2: only when a section is rendered)
+        from .report.document import (
+            _environment,  # lazy: heavy optional import (jinja2: only when a section is rendered)
+        )
 
         registry = _registry()
         language = language or self.scene.report.language
@@ -426,7 +431,7 @@ class Result:
 
         t = translator(language, registry.catalogs)
         scene = self.scene
-        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,
+        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,  # type: ignore[arg-type]  # the scene set it
                       cycle_deg=scene.engine.cycle_deg, scene=scene)
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data

@@ -25,7 +25,8 @@ import os
 import pickle
 import signal
 import threading
-from typing import Any, Callable, Iterator
+from collections.abc import Callable, Iterator
+from typing import Any
 
 _spare = False  # set by spare_core() in the process that owns the cores; never in a child
 
@@ -74,9 +75,10 @@ class Handle:
             return
         self._reader.close()
         self._reader = None
-        stop_child(self._pid)
+        if self._pid is not None:  # a reader comes with its child
+            stop_child(self._pid)
 
-    def __enter__(self) -> "Handle":
+    def __enter__(self) -> Handle:
         return self
 
     def __exit__(self, *exc) -> None:

@@ -21,6 +21,7 @@ import pickle
 from .aside import can_fork, fork_with_pipe, stop_child
 from .errors import StageTimeLimit
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
+from .plugin_types import StageOutput
 
 
 class ForkedStudies:
@@ -33,7 +34,7 @@ class ForkedStudies:
         self._ended = False
 
     @classmethod
-    def start(cls, result: RunResult) -> "ForkedStudies | None":
+    def start(cls, result: RunResult) -> ForkedStudies | None:
         """Fork the child for ``result.deferred`` (None: nothing deferred, or no safe fork)."""
         jobs = [(s, result.deferred[s.name]) for s in result.plan.order if s.name in result.deferred]
         if not jobs:
@@ -113,7 +114,7 @@ class ForkedRun:
         self._scene, self._plan = scene, the_plan
 
     @classmethod
-    def start(cls, scene, the_plan: Plan) -> "ForkedRun | None":
+    def start(cls, scene, the_plan: Plan) -> ForkedRun | None:
         child = _fork_sending(lambda out: _run_and_send(scene, the_plan, out))
         return None if child is None else cls(*child, scene, the_plan)
 
@@ -194,7 +195,7 @@ class StudyWorker:
         self.alive = True
 
     @classmethod
-    def start(cls, registry=None) -> "StudyWorker | None":
+    def start(cls, registry=None) -> StudyWorker | None:
         """Fork the worker (None where fork is not safe: no ``fork``, or other threads running);
         it computes with ``registry`` (None: the installed plugins, loaded in the worker)."""
         import socket  # lazy: heavy optional import (only the live preview has a study worker)
@@ -215,7 +216,7 @@ class StudyWorker:
         theirs.close()
         return cls(pid, ours)
 
-    def submit(self, scene, stages: list[str] | None, studies: list[str]) -> "WorkerJob | None":
+    def submit(self, scene, stages: list[str] | None, studies: list[str]) -> WorkerJob | None:
         """Have the worker run ``scene``'s plan (``stages`` as asked for, None: all) and send
         the outputs of the ``studies`` in it; None (computed in the server) when the worker is
         busy with an earlier job, is gone, or the scene cannot be pickled."""
@@ -321,9 +322,13 @@ class WorkerJob:
 
 
 def _serve_jobs(sock, registry=None) -> None:
-    from .cache import StageCache  # lazy: heavy optional import (only the preview's worker caches stages)
+    from .cache import (
+        StageCache,  # lazy: heavy optional import (only the preview's worker caches stages)
+    )
     from .orchestrator import plan  # lazy: heavy optional import (only the preview's worker plans)
-    from .plugins import default_registry  # lazy: heavy optional import (the plugins, in the worker)
+    from .plugins import (
+        default_registry,  # lazy: heavy optional import (the plugins, in the worker)
+    )
 
     cache = StageCache()
     while True:
@@ -334,7 +339,8 @@ def _serve_jobs(sock, registry=None) -> None:
         registry = registry or default_registry()
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))
-            outputs = [(name, result.outputs[name], result.timing_s[name]) for name in studies]
+            outputs: list[tuple[str, StageOutput | None, float]] = [
+                (name, result.outputs[name], result.timing_s[name]) for name in studies]
         except Exception:  # noqa: BLE001 - computed again in the server's process, which then raises it
             outputs = [(name, None, 0.0) for name in studies]
         for name, output, elapsed in outputs:

@@ -27,8 +27,14 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
-from .batch_runner import (DEFAULT_TIMEOUT_S, check_seconds, connect, run_all, run_all_dask,
-                           stop_signals)
+from .batch_runner import (
+    DEFAULT_TIMEOUT_S,
+    check_seconds,
+    connect,
+    run_all,
+    run_all_dask,
+    stop_signals,
+)
 from .errors import CrankdynError, Problem, SceneError, UsageError
 from .manifest import MANIFEST, check_outputs, write_outputs
 from .outputs import xlsx_bytes
@@ -179,7 +185,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
             error = f"row has {len(cells)} cells but the header names {len(header)} columns"
         cells = (cells + [""] * len(header))[:len(header)]
-        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells)))
+        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells), strict=True))
         overrides: dict = {}
         for name in fields:
             if row[name] != "":  # an empty cell keeps the base scene's value

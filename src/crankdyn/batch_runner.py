@@ -34,7 +34,9 @@ MAX_TIMEOUT_S = 86_400.0
 def check_seconds(option: str, value: object) -> float:
     """``value`` as a number of seconds above 0 and at most :data:`MAX_TIMEOUT_S`; anything else
     (infinity, NaN, a negative number, a string) raises UsageError naming ``option``."""
-    from .errors import UsageError  # lazy: heavy optional import (the runner itself needs no errors)
+    from .errors import (
+        UsageError,  # lazy: heavy optional import (the runner itself needs no errors)
+    )
 
     number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
     if number is None or not 0 < number <= MAX_TIMEOUT_S:  # False for NaN too

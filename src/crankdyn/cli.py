@@ -8,18 +8,18 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import gc
-import os
 import json
+import os
 import signal
 import sys
-import warnings
 import time
 import tomllib
+import warnings
 from importlib import resources
 from pathlib import Path
 
-from .version import __version__
 from .errors import CrankdynError, Problem, SceneError, UsageError
+from .version import __version__
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 1
@@ -286,8 +286,13 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import RunOptions, available_cores  # lazy: heavy optional import (numpy, scipy: per command)
-    from .batch_runner import check_seconds  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch import (  # lazy: heavy optional import (numpy, scipy: per command)
+        RunOptions,
+        available_cores,
+    )
+    from .batch_runner import (
+        check_seconds,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
@@ -403,7 +408,9 @@ def _require_tools(formats: list[str]) -> None:
 
 
 def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
-    from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
+    from .report.i18n import (
+        available_languages,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
     from .scene import load_scene  # lazy: heavy optional import (numpy, scipy: per command)
 
     overrides = {"report": {"language": lang}} if lang else None
@@ -507,7 +514,11 @@ def _batch(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .sweep_grid import SweepRequest, run_sweep, sweep_from_args  # lazy: heavy optional import (numpy, scipy: per command)
+    from .sweep_grid import (  # lazy: heavy optional import (numpy, scipy: per command)
+        SweepRequest,
+        run_sweep,
+        sweep_from_args,
+    )
 
     formats = [] if args.format.strip().lower() == "none" else _formats(args.format)
     request = SweepRequest(args.scene, sweep_from_args(args.set, args.grid, args.plot, args.plot_x), args.output,
@@ -552,7 +563,9 @@ def _csv_list(text: str) -> list[str]:
 
 def _explore(args) -> int:
     from .physics import firing_explorer  # lazy: heavy optional import (numpy, scipy: per command)
-    from .physics.layout import LayoutError  # lazy: heavy optional import (numpy, scipy: per command)
+    from .physics.layout import (
+        LayoutError,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     if not 1 <= args.cylinders <= 24:
         raise SceneError(Problem("--cylinders", args.cylinders, "a whole number from 1 to 24"))
@@ -621,7 +634,9 @@ def _check_scene(args) -> int:
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
     _print_left_out(the_plan)
     _print_warnings(result, registry)
-    from .plausibility import defaults_applied  # lazy: heavy optional import (numpy, scipy: per command)
+    from .plausibility import (
+        defaults_applied,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     applied = defaults_applied(scene)
     if applied:
@@ -640,7 +655,11 @@ def _print_broken(registry) -> None:
 
 def _print_warnings(result, registry) -> None:
     """Plausibility warnings (a valid scene with values no real engine has) on stderr."""
-    from .plausibility import console_lines, language_warnings, warnings  # lazy: heavy optional import (numpy, scipy: per command)
+    from .plausibility import (  # lazy: heavy optional import (numpy, scipy: per command)
+        console_lines,
+        language_warnings,
+        warnings,
+    )
 
     for line in console_lines(warnings(result.scene, registry, result) + language_warnings(result.scene), registry):
         print(f"crankdyn: {line}", file=sys.stderr)
@@ -702,7 +721,9 @@ def _plugins(args) -> int:
         print("broken (failed to load, left out):")
         for name, message in sorted(registry.broken.items()):
             print(f"  {name:24s} {message}")
-    from .report.i18n import available_languages  # lazy: heavy optional import (numpy, scipy: per command)
+    from .report.i18n import (
+        available_languages,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     print("languages: " + ", ".join(available_languages()))
     return 0

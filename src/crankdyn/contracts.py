@@ -6,13 +6,15 @@ A third-party mechanism plugin that provides ``"kinematics"`` returns a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, Literal
+from typing import Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
 
-from .scene import number as _number, quantity as _quantity
+from .scene import number as _number
+from .scene import quantity as _quantity
 
 KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 #: Characters of what one problem says is allowed (a message listing ten thousand bad items
 #: would bury the others).
 MAX_MESSAGE = 1000

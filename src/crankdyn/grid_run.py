@@ -30,12 +30,31 @@ from typing import Any
 import numpy as np
 
 from . import answer_key
-from .batch import (Outcome, Progress, RunOptions, Variant, _client, _registry, _variant_scene,
-                    error_text, warm, worker_count)
+from .batch import (
+    Outcome,
+    Progress,
+    RunOptions,
+    Variant,
+    _client,
+    _registry,
+    _variant_scene,
+    error_text,
+    warm,
+    worker_count,
+)
 from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
 from .errors import PluginError
-from .orchestrator import (Plan, check_output, check_scene, is_study, plan, run_plan, run_stage, stage_applies,
-                           stage_inputs)
+from .orchestrator import (
+    Plan,
+    check_output,
+    check_scene,
+    is_study,
+    plan,
+    run_plan,
+    run_stage,
+    stage_applies,
+    stage_inputs,
+)
 from .plugin_types import Stage, StageOutput
 from .plugins import Registry
 from .scene import Scene
@@ -99,13 +118,13 @@ def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry) -> No
             if len(outputs) != len(points):
                 raise PluginError(f"stage {stage.name!r}: run_many returned {len(outputs)} outputs "
                                   f"for {len(points)} scenes")
-            for point, output in zip(points, outputs):
+            for point, output in zip(points, outputs, strict=True):
                 check_output(stage, output)
                 _take(stage, point, output)
             return
         except Exception:  # noqa: BLE001 - the points are run one by one: each gets its own error
             pass
-    for point, given in zip(points, inputs):
+    for point, given in zip(points, inputs, strict=True):
         try:
             output, _ = run_stage(stage, point.scene, given)
         except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
@@ -181,7 +200,7 @@ def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str 
             outcomes[variant.row] = Outcome(variant.row, variant.name, False, 0.0, error_text(exc))
     evaluated = evaluate([scene for _, scene in ready], registry, stages)
     seconds = (time.perf_counter() - start) / max(1, len(variants))  # a chunk's time, shared out
-    for (variant, _), (run, results, error) in zip(ready, evaluated):
+    for (variant, _), (run, results, error) in zip(ready, evaluated, strict=True):
         if error:
             outcomes[variant.row] = Outcome(variant.row, variant.name, False, seconds, error)
             continue

@@ -13,7 +13,7 @@ plugins (the orchestrator refuses duplicates).
 
 from __future__ import annotations
 
-from typing import Iterable
+from collections.abc import Iterable
 
 import pluggy
 

@@ -135,7 +135,7 @@ class _LongInteger:
         return f"{self.sign}{self.leading}... ({self.digits} digits)"
 
 
-def table_problems(data: dict, plugin_tables: set[str] = frozenset()) -> list[Problem]:
+def table_problems(data: dict, plugin_tables: set[str] | frozenset[str] = frozenset()) -> list[Problem]:
     """Top-level tables whose name is close to a missing core table: "did you mean [engine]?"."""
     problems = []
     for name in data:

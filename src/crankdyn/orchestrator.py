@@ -6,16 +6,24 @@ import difflib
 import heapq
 import inspect
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any
 
 from .aside import aside
 from .errors import PluginError, Problem, SceneError
-from .plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, SERVICES, Stage, StageOutput,
-                           declared)
+from .physics import lazy
+from .plugin_types import (
+    SERVICE_ASIDE,
+    SERVICE_ERROR_PROBES,
+    SERVICE_RUNNER,
+    SERVICES,
+    Stage,
+    StageOutput,
+    declared,
+)
 from .plugins import Registry, broken_note
 from .scene import Scene, options
-from .physics import lazy
 
 
 @dataclass

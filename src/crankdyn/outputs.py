@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 
 from . import manifest
-from .version import __version__
 from .orchestrator import RunResult
+from .version import __version__
 
 FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 

@@ -15,10 +15,10 @@ from pathlib import Path
 from . import outputs
 from .aside import spare_core
 from .background import ForkedRun, start_studies
+from .heap import frozen_heap
+from .manifest import write_outputs
 from .orchestrator import RunResult, check_scene, plan, run_scene
 from .plugins import Registry
-from .manifest import write_outputs
-from .heap import frozen_heap
 from .scene import Scene
 
 
@@ -42,7 +42,9 @@ def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
     if forked is None:
         return None
     try:
-        from .report.figures import prepare  # lazy: heavy optional import (matplotlib, while the child computes)
+        from .report.figures import (
+            prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
+        )
 
         prepare()
     except BaseException:
@@ -70,10 +72,18 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
                   figure_workers: int | None, missing: set[str] | None = None) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "html" in formats or "pdf" in formats or "docx" in formats:
-        from .report.context import draw_figures  # lazy: heavy optional import (jinja2, babel, matplotlib)
-        from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
-        from .report.figures import IncrementalDrawing, can_fork, default_workers  # lazy: heavy optional import
         from .report import mathtext_store  # lazy: heavy optional import (with the figures)
+        from .report.context import (
+            draw_figures,  # lazy: heavy optional import (jinja2, babel, matplotlib)
+        )
+        from .report.document import (
+            render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
+        )
+        from .report.figures import (  # lazy: heavy optional import
+            IncrementalDrawing,
+            can_fork,
+            default_workers,
+        )
 
         workers = default_workers() if figure_workers is None else figure_workers
         drawing = IncrementalDrawing(workers) if workers > 1 and can_fork() else None
@@ -194,7 +204,9 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     for the worker's study when its section comes, so that the page is shown once, whole.
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`, the deferred studies
     as a :class:`RunResult` to pass as ``studies``, or None)."""
-    from .report.document import render_html  # lazy: heavy optional import (jinja2, babel, matplotlib)
+    from .report.document import (
+        render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
+    )
 
     check_scene(scene, registry, languages)
     with frozen_heap():  # the collector skips the imported modules and cached results (crankdyn.heap)

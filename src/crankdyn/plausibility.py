@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import re
 from typing import Any
+
 from pydantic import BaseModel
 
 from .plugin_types import PlausibilityRule

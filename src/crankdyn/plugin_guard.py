@@ -27,15 +27,23 @@ import signal
 import threading
 import time
 import tomllib
-from collections.abc import Iterator, Mapping
-from typing import Any, Callable
+from collections.abc import Callable, Iterator, Mapping
+from typing import Any
 
 import numpy as np
 
 from . import contracts
 from .errors import CrankdynError, PluginFailure, Problem, SceneError, StageTimeLimit, shorten
-from .plugin_types import (Catalog, ErrorProbe, Mechanism, MechanismGeometry, ProbePoint, Stage,
-                           StageOutput, declared)
+from .plugin_types import (
+    Catalog,
+    ErrorProbe,
+    Mechanism,
+    MechanismGeometry,
+    ProbePoint,
+    Stage,
+    StageOutput,
+    declared,
+)
 
 #: seconds one stage may take in ``crankdyn report`` unless ``--timeout`` says otherwise
 DEFAULT_STAGE_TIMEOUT_S = 120.0

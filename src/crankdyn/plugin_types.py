@@ -8,10 +8,11 @@ from what ``run`` produced; never physics). The orchestrator orders stages by
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -34,7 +35,7 @@ class PlausibilityRule:
     """
 
     name: str
-    check: Callable[["Scene", Mapping[str, Any] | None], list[tuple[str, dict[str, Any]]]]
+    check: Callable[[Scene, Mapping[str, Any] | None], list[tuple[str, dict[str, Any]]]]
 
 
 @dataclass(frozen=True)
@@ -61,9 +62,9 @@ class Mechanism:
 
     name: str
     summary: str
-    check: Callable[["Scene"], list] = lambda scene: []
+    check: Callable[[Scene], list] = lambda scene: []
     params_model: type | None = None  # pydantic model of the scene's [mechanism] table
-    geometry: Callable[["Scene", Any], "MechanismGeometry"] | None = None
+    geometry: Callable[[Scene, Any], MechanismGeometry] | None = None
     # compare=False: a Mechanism stays hashable with a mapping here
     input_rows: Mapping[str, tuple[str, str] | None] = field(default_factory=dict, compare=False)
     plausibility: tuple[PlausibilityRule, ...] = ()
@@ -152,7 +153,7 @@ class ColumnTable:
     def columns(self) -> list[str]:
         return list(self._columns)
 
-    def take(self, rows) -> "ColumnTable":
+    def take(self, rows) -> ColumnTable:
         """The rows at the integer positions ``rows`` (as ``DataFrame.iloc[rows]``)."""
         return ColumnTable({name: values[rows] for name, values in self._columns.items()})
 
@@ -189,7 +190,7 @@ class Tables(dict):
     def __reduce__(self):
         return (Tables, ({name: super(Tables, self).__getitem__(name) for name in dict.keys(self)},))
 
-    def __getitem__(self, name: str) -> "pd.DataFrame":
+    def __getitem__(self, name: str) -> pd.DataFrame:
         table = super().__getitem__(name)
         if isinstance(table, (dict, list)):
             import pandas as pd  # lazy: heavy optional import (pandas: only when a table is read)
@@ -223,7 +224,7 @@ class StageOutput:
 
     data: dict[str, Any] = field(default_factory=dict)
     results: dict[str, Any] = field(default_factory=dict)
-    tables: dict[str, "pd.DataFrame"] = field(default_factory=dict)
+    tables: dict[str, pd.DataFrame] = field(default_factory=dict)
     notes: list[tuple[str, dict]] = field(default_factory=list)
     artifacts: dict[str, Any] = field(default_factory=dict)
 
@@ -374,7 +375,7 @@ class Stage:
     requires: tuple[str, ...]
     provides: tuple[str, ...]
     applies: Callable[..., str | None]
-    run: Callable[["Scene", Mapping[str, Any]], StageOutput]
+    run: Callable[[Scene, Mapping[str, Any]], StageOutput]
     # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
     # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
     render: Callable[[StageOutput, Any], str | None]
@@ -390,9 +391,9 @@ class Stage:
     services: tuple[str, ...] = ()
     figures: tuple[str, ...] = ()
     tables: tuple[str, ...] = ()
-    input_rows: Callable[["Scene", Any], Sequence[tuple[str, str, str, str]]] | None = None
+    input_rows: Callable[[Scene, Any], Sequence[tuple[str, str, str, str]]] | None = None
     legend: bool = True
-    run_many: (Callable[[Sequence["Scene"], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
+    run_many: (Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
                | None) = None
     # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
@@ -452,8 +453,8 @@ class ErrorProbe:
 
     name: str
     title: str
-    applies: Callable[["Scene"], bool]
-    run: Callable[["Scene", Any], list[ProbePoint]]
+    applies: Callable[[Scene], bool]
+    run: Callable[[Scene, Any], list[ProbePoint]]
 
 
 @dataclass(frozen=True)

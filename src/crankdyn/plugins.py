@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import importlib.metadata
 import types
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Iterable
 
 import pluggy
 

@@ -18,7 +18,15 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    model_validator,
+)
 
 from .datafiles import data_file_problem
 from .errors import MISSING, Problem, SceneError
@@ -175,7 +183,7 @@ class Engine(_Strict):
     effective_power: _quantity("power", gt=0, le=1e8, unit="kW", scale=1e3) | None = None
 
     @model_validator(mode="after")
-    def _rod(self) -> "Engine":
+    def _rod(self) -> Engine:
         if (self.rod_length is None) == (self.rod_ratio is None):
             raise ValueError("give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)")
         if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
@@ -234,7 +242,7 @@ class Masses(_Strict):
     rod_moment_of_inertia: _quantity("moment_of_inertia", gt=0, le=1000, unit="kg m^2") | None = None
 
     @model_validator(mode="after")
-    def _cm(self) -> "Masses":
+    def _cm(self) -> Masses:
         if (self.rod_cm_from_big_end is None) == (self.rod_cm_fraction is None):
             raise ValueError("give exactly one of rod_cm_from_big_end (e.g. '38 mm') or rod_cm_fraction "
                              "(l_R/L, textbook 0.18-0.32 for car engines)")
@@ -275,7 +283,7 @@ class Cycle(_Strict):
     trace_firing_tdc_deg: _number(ge=-1440, le=1440) = 360.0
 
     @model_validator(mode="after")
-    def _complete(self) -> "Cycle":
+    def _complete(self) -> Cycle:
         if self.source == "trace":
             if not self.trace_file:
                 raise _FieldError("trace_file", "a trace cycle needs trace_file (CSV or Diesel-RK .ind)")
@@ -337,7 +345,7 @@ class Scene(_Strict):
     data_dirs: tuple[str, ...] = ()
 
     @model_validator(mode="after")
-    def _consistent(self) -> "Scene":
+    def _consistent(self) -> Scene:
         self._default_firing_order()
         self._default_steps()
         step = self.analysis.angle_step_deg

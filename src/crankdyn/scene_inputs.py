@@ -20,6 +20,7 @@ from .physics import indicator as ind
 from .physics import layout as lay
 from .physics.speed_fluctuation import CrankTrain
 
+
 def engine_layout(scene) -> lay.EngineLayout:
     """The scene's engine layout; a :class:`SceneError` naming the field it cannot be built from."""
     e = scene.engine

@@ -39,9 +39,10 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import parse_qs, quote, urlsplit
 
+from .background import StudyWorker
 from .cache import StageCache
 from .errors import MISSING, CrankdynError, Problem, SceneError
-from .background import StudyWorker
+from .inputcheck import MAX_DEPTH
 from .orchestrator import is_study
 from .pipeline import run_for_preview
 from .plugins import default_registry
@@ -49,7 +50,6 @@ from .report.context import FIGURE_DIR, draw_figures, start_drawing
 from .report.i18n import available_languages
 from .report.pdf import html_to_pdf
 from .report.section_cache import SectionCache
-from .inputcheck import MAX_DEPTH
 from .scene import load_scene, read_scene_data
 
 HOST = "127.0.0.1"
@@ -231,7 +231,7 @@ class Preview:
         self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
         self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
-        self._worker = None  # computes the studies while the page is rendered (start)
+        self._worker: StudyWorker | None = None  # computes the studies while the page is rendered (start)
         self._studies = None  # the studies the shown page says follow, being computed there
         self._study_s: float | None = None  # how long the last save's study took
         self._stages_s: float | None = None  # ... and the stages it ran again before it
@@ -405,6 +405,8 @@ class Preview:
         """The PDF of ``snapshot``'s report, built on the first request for that version."""
         with self._pdf_lock:
             if self._pdf_cache is None or self._pdf_cache[0] != snapshot.version:
+                if snapshot.report_html is None:
+                    raise CrankdynError("the scene has no report to print")
                 # drawn by the builder, never here (matplotlib is not thread-safe)
                 if not self.figures_ready(snapshot.version):
                     raise CrankdynError("the report's figures were not drawn in time")

@@ -27,16 +27,31 @@ import math
 import re
 import time
 import tomllib
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from .answer_key import answer_columns
 from .api import _nested_overrides
-from .batch import (MAX_FIELDS, MAX_VARIANTS, VARIANT_COLUMN, BatchReport, RunOptions, Variant,
-                    _nest, _registry, _variant_scene, batch_language, check_options, execute,
-                    key_files, key_warnings, load_base, parse_cell)
+from .batch import (
+    MAX_FIELDS,
+    MAX_VARIANTS,
+    VARIANT_COLUMN,
+    BatchReport,
+    RunOptions,
+    Variant,
+    _nest,
+    _registry,
+    _variant_scene,
+    batch_language,
+    check_options,
+    execute,
+    key_files,
+    key_warnings,
+    load_base,
+    parse_cell,
+)
 from .errors import Problem, SceneError, UsageError
 from .grid_run import execute_key, study_once
 from .manifest import check_outputs, write_outputs
@@ -62,7 +77,7 @@ class Axis:
 
     name: str
     values: list[Any]
-    numbers: list[float | None]
+    numbers: Sequence[float | None]
     unit: str = ""
 
     @property
@@ -157,7 +172,7 @@ def _list_axis(name: str, values: list[Any]) -> Axis:
         raise SceneError(Problem(name, f"{len(values)} values", f"at most {MAX_POINTS}"))
     if len({repr(v) for v in values}) < len(values):
         raise SceneError(Problem(name, values, "a value is listed twice"))
-    parsed = []
+    parsed: list[tuple[float, str] | None] = []
     for value in values:
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             parsed.append((float(value), ""))
@@ -166,7 +181,7 @@ def _list_axis(name: str, values: list[Any]) -> Axis:
         parsed.append((float(match[1]), match[2]) if match else None)
     units = {p[1] for p in parsed if p is not None}
     if all(p is not None for p in parsed) and len(units) == 1:
-        return Axis(name, list(values), [p[0] for p in parsed], units.pop())
+        return Axis(name, list(values), [p[0] for p in parsed if p is not None], units.pop())
     return Axis(name, list(values), [None] * len(values))
 
 
@@ -327,7 +342,7 @@ def variants(sweep: Sweep) -> tuple[list[str], list[Variant]]:
     for row, combination in enumerate(indices, start=1):
         overrides = fixed
         cells = {VARIANT_COLUMN: f"p{row:0{width}d}"}
-        for axis, k in zip(sweep.axes, combination):
+        for axis, k in zip(sweep.axes, combination, strict=True):
             overrides = merge(overrides, _nest(axis.name, axis.values[k]))
             cells[axis.column] = axis.cell(k)
         out.append(Variant(row, cells[VARIANT_COLUMN], overrides, cells))

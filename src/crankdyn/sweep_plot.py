@@ -53,7 +53,7 @@ def draw(sweep, outcomes: list[Outcome]):
     for combination in itertools.product(*(range(len(a.values)) for a in others)):
         ys = moved[combination] if combination else moved
         label = ", ".join(f"{a.name} = {a.cell(k)}{' ' + a.unit if a.unit else ''}"
-                          for a, k in zip(others, combination))
+                          for a, k in zip(others, combination, strict=True))
         ax.plot(xs, ys, marker="o", markersize=3.5, label=label or None)
     if not numeric:
         ax.set_xticks(xs, [str(v) for v in x_axis.values])

@@ -11,8 +11,8 @@ import math
 import sys
 from functools import lru_cache
 
-from .quick_units import quick_quantity
 from .quantity import QuantityError, parse
+from .quick_units import quick_quantity
 
 # Display units and the SI unit each physical kind converts to.
 SI_UNIT = {

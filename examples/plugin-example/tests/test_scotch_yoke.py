@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from crankdyn_scotch_yoke import physics, plugin
 
 from crankdyn.orchestrator import run_scene
 from crankdyn.plugins import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
-from crankdyn_scotch_yoke import physics, plugin
 
 SCENE = {
     "engine": {"mechanism": "scotch_yoke", "strokes": 2, "rpm": 1500, "bore": "60 mm", "stroke": "80 mm",

@@ -7,25 +7,31 @@ assembles the results and renders the section.
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
-
-import math
 from typing import Annotated, Literal
 
 import numpy as np
 from markupsafe import Markup
 from pydantic import AfterValidator, BaseModel, ConfigDict
 
-from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS, ArticulatedOptions, Counterweights
+from crankdyn.contracts import (
+    COUNTERWEIGHTS,
+    ENGINE_TORQUE,
+    KINEMATICS,
+    ArticulatedOptions,
+    Counterweights,
+)
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import hide_axes, new_figure
-from crankdyn.scene import options, quantity as _quantity
+from crankdyn.scene import options
+from crankdyn.scene import quantity as _quantity
 from crankdyn.scene_inputs import engine_layout, rotating_mass_per_crank_kg
 from crankdyn_builtin.balancing.worked import worked_balancing
 
@@ -319,7 +325,7 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
     return table
 
 
-def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> "bal.Masses":
+def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
     """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
     m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
     ``offset_ratio`` k = e/L of an offset crank-slider."""
@@ -524,7 +530,7 @@ def _star_drawing(t, r):
     labels = r["cylinder_labels"]
     phases = np.radians(r["cylinder_phases_deg"])
     axes_rad = np.radians(r["cylinder_axes_deg"])
-    for ax, order in zip(axes, (1, 2)):
+    for ax, order in zip(axes, (1, 2), strict=True):
         ax.set_aspect("equal")
         hide_axes(ax)
         ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
@@ -741,7 +747,7 @@ def _bay_table(ctx, r):
                  "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
                  "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>", "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>")
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
-        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys)],
+        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
                               caption=t("balancing.bay_caption"), see="balancing.see_bay")
 
     return bay_table

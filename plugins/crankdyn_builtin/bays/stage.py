@@ -2,19 +2,25 @@
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from pathlib import Path
-
-import math
 
 import numpy as np
 from markupsafe import Markup, escape
 
-from crankdyn.contracts import BAY_LOADS, FORCES, GAS_PRESSURE, KINEMATICS, ArticulatedOptions, BayLoads
+from crankdyn.contracts import (
+    BAY_LOADS,
+    FORCES,
+    GAS_PRESSURE,
+    KINEMATICS,
+    ArticulatedOptions,
+    BayLoads,
+)
 from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
-from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.physics import layout as lay
+from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
@@ -46,7 +52,7 @@ def _true_firing(layout, slaves, slave_info) -> dict:
     slaves of every bay sit like those of bay 0); the intervals between firings in firing order."""
     shift_of = {}
     bay0 = layout.bay(0)
-    for (slave, _), info in zip(slaves, slave_info):
+    for (slave, _), info in zip(slaves, slave_info, strict=True):
         shift_of[bay0.index(slave)] = info["tdc_shift_deg"]
     true_delay = {}
     for k in range(layout.cranks):
@@ -236,7 +242,7 @@ def _stroke_table(r: dict, ctx):
     headers = [t("bays.cylinder")] + [f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
                                       for c in range(int(720 // step))]
     body = [[p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
-            for p, runs in zip(phases, rows)]
+            for p, runs in zip(phases, rows, strict=True)]
     return ctx.table_html(headers, body, caption=t("bays.strokes_caption"), text_columns=range(1, 13),
                           see="bays.see_strokes")
 

@@ -15,11 +15,17 @@ from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATIC
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
+from crankdyn.physics.extrema import first_argmax
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-from crankdyn.physics.extrema import first_argmax
-from crankdyn_builtin.bearings.worked import journal_name, loads_equal, most_loaded, pin_rows, worked_bearing
+from crankdyn_builtin.bearings.worked import (
+    journal_name,
+    loads_equal,
+    most_loaded,
+    pin_rows,
+    worked_bearing,
+)
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -156,8 +162,8 @@ def run(scene, inputs) -> StageOutput:
         s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
         return s, (psi, wear)
 
-    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)])
-    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)])
+    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True)
+    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)], strict=True)
     most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
     most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
     drawn_pins = opts.pins or [most_loaded_pin]
@@ -401,7 +407,7 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     obstacles = _pole_and_oil_hole(pole_z, radius, oil_deg, per_pt)
     curve = _curve_samples(t, -z, 2.0 * per_pt)  # screen coordinates, as the labels'
     for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order, obstacles,
-                                                                 curve)):
+                                                                 curve), strict=True):
         if place is not None:
             dx, dy, ha, va = place
             ax.annotate(text, (x, y), fontsize=LABEL_PT, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)

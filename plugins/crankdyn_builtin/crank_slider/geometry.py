@@ -11,9 +11,9 @@ import math
 
 import numpy as np
 
+from crankdyn.contracts import ArticulatedOptions
 from crankdyn.physics import articulated as art
 from crankdyn.physics import kinematics as kin
-from crankdyn.contracts import ArticulatedOptions
 from crankdyn.physics.plane import along, polar, unit
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.scene import options

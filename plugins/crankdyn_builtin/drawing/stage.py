@@ -13,13 +13,13 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
-from crankdyn.physics.scalar_search import minimize_bounded
+from markupsafe import Markup
 
 from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.physics.scalar_search import minimize_bounded
 from crankdyn.plugin_types import SERVICE_RUNNER, Stage, StageOutput
 from crankdyn.report import mechanism_drawing as md
-from markupsafe import Markup
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"

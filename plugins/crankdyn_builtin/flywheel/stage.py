@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
 from functools import partial
+from pathlib import Path
 
 import numpy as np
 from markupsafe import Markup
@@ -14,11 +13,13 @@ from pydantic import BaseModel, ConfigDict, model_validator
 from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
+from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.plugin_types import Stage, StageOutput
 from crankdyn.report.figures import crank_angle_axis, new_figure
-from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene import number as _number
+from crankdyn.scene import options
+from crankdyn.scene import quantity as _quantity
 from crankdyn.scene_inputs import crank_train
-from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -45,7 +46,7 @@ class FlywheelOptions(BaseModel):
     max_rim_speed: _quantity("velocity", gt=0, le=1000, unit="m/s") | None = None
 
     @model_validator(mode="after")
-    def _something_to_do(self) -> "FlywheelOptions":
+    def _something_to_do(self) -> FlywheelOptions:
         if self.required_irregularity is None and self.inertia is None:
             raise ValueError("give required_irregularity (delta, e.g. 0.01, to design the flywheel) "
                              "and/or inertia (a chosen flywheel, e.g. '0.12 kg*m^2')")

@@ -8,18 +8,25 @@ from pathlib import Path
 import numpy as np
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces, RodDynamicsOptions
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import forces as phys
+from crankdyn.physics import kinematics as kin
+from crankdyn.physics import rod_loads
+from crankdyn.physics.extrema import EXTREMUM_RTOL, first_argmax, first_argmin
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.typeset import symbol_html, symbol_mathtext
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup, worked_row
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
-from crankdyn.physics.extrema import EXTREMUM_RTOL, first_argmax, first_argmin
-from crankdyn.physics import kinematics as kin
-from crankdyn.physics import crankshaft as phys_crankshaft
-from crankdyn.physics import rod_loads
+from crankdyn.report.typeset import symbol_html, symbol_mathtext
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed,
+    printed_fixed,
+    worked_markup,
+    worked_row,
+)
 from crankdyn.scene import options
-from crankdyn.errors import Problem, SceneError
 from crankdyn_builtin.forces.worked import worked_crank_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -107,11 +114,11 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     results as ``run``. Scenes on other angle grids: ``run`` one by one."""
     angle = inputs[0][KINEMATICS].crank_angle_deg
     if not all(np.array_equal(given[KINEMATICS].crank_angle_deg, angle) for given in inputs):
-        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+        return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     curves = _curves_many(scenes, inputs)
-    parts = [_forces(scene, given, c) for scene, given, c in zip(scenes, inputs, curves)]
+    parts = [_forces(scene, given, c) for scene, given, c in zip(scenes, inputs, curves, strict=False)]
     extremes = _extremes_many(angle, [series for series, _ in parts])
-    return [finish(found) for (_, finish), found in zip(parts, extremes)]
+    return [finish(found) for (_, finish), found in zip(parts, extremes, strict=False)]
 
 
 def _masses(scene) -> tuple[float, float, float, float]:
@@ -179,7 +186,7 @@ def _curves_many(scenes, inputs) -> list[dict]:
                    column([m.angular_velocity_rad_s for m in motions]),
                    column([s.engine.rod_ratio_value for s in scenes]),
                    column([phys.piston_area_m2(s.engine.bore) for s in scenes]),
-                   *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses])))
+                   *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses], strict=False)))
     out = []
     for k in range(len(scenes)):
         curves = {key: value[k] for key, value in many.items() if key != "rod"}
@@ -331,9 +338,9 @@ def _forces_figure(t, cycle_deg, angle, mpa):
                ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
                ("total_Pa", symbol_mathtext("total_pressure", t.language))],
               [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
-    for ax, curves in zip(axes, panels):
+    for ax, curves in zip(axes, panels, strict=True):
         # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
-        for (key, label), style in zip(curves, ("-", "--", "-.")):
+        for (key, label), style in zip(curves, ("-", "--", "-."), strict=False):
             ax.plot(angle, mpa[key], ls=style, label=label)
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(", ".join(label for _, label in curves) + ", " + t("forces.axis_specific"))

@@ -5,7 +5,14 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    worked_markup,
+    worked_row,
+)
 
 #: mechanisms whose crank radius is the scene's R (the planetary linkage turns its carrier instead)
 CRANK_MECHANISMS = ("crank_slider", "offset_crank_slider")

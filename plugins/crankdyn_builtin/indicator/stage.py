@@ -12,14 +12,13 @@ from crankdyn.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
+from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
 from crankdyn.plausibility import peak_pressure
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
-from crankdyn.physics.extrema import first_argmax
-
+from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
 from crankdyn_builtin.indicator.worked import worked_indicator
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -137,14 +136,14 @@ def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> lis
     cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
     tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
     psi = np.array([[-(r.ignition_advance_deg - r.combustion_delay_deg), j,
-                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions)])
+                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions, strict=False)])
     at = np.mod(tdc + psi, cycle)
     angles = np.concatenate([at, at + step, at - step], axis=1)
     rows = np.arange(len(scenes))
     found = np.isfinite(angles)
     values = volume_at(np.where(found, angles, 0.0), rows)
     found &= values >= np.asarray(clearances, dtype=float)[:, None]
-    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k]) if ok}
+    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k], strict=False) if ok}
             for k in rows]
 
 
@@ -168,7 +167,7 @@ def _stacked_displacement(motions):
             return None
 
     def displacement(angle_deg, rows):
-        args = [a if c is None else c[rows] for a, c in zip(first.args, columns)]
+        args = [a if c is None else c[rows] for a, c in zip(first.args, columns, strict=False)]
         return first.func(*args, angle_deg)
 
     return displacement
@@ -184,11 +183,11 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     displacement = _stacked_displacement(motions)
     if (displacement is None or any(s.cycle.source != "theoretical" for s in scenes)
             or len({s.engine.strokes for s in scenes}) > 1):
-        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+        return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     params = [cycle_parameters(scene) for scene in scenes]
     areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
     clearances = np.asarray([ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
-                             for area, s, p in zip(areas, scenes, params)], dtype=float)
+                             for area, s, p in zip(areas, scenes, params, strict=False)], dtype=float)
     area_column, clearance_column = areas[:, None], clearances[:, None]
 
     def volume_at(angle_deg, rows):
@@ -198,7 +197,7 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
     volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
     return [run(scene, given, junction_deg=float(j), volumes=v)
-            for scene, given, j, v in zip(scenes, inputs, junctions, volumes)]
+            for scene, given, j, v in zip(scenes, inputs, junctions, volumes, strict=False)]
 
 
 def _trace_pressure(scene, motion, area, swept):

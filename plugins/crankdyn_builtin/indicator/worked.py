@@ -9,7 +9,14 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed,
+    printed_g,
+    worked_markup,
+    worked_row,
+)
 
 
 def polytrope_of(crank_angle_deg: float, strokes: int) -> str | None:

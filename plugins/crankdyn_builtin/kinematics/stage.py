@@ -160,7 +160,7 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     angles, the extremes' angles once per rod ratio; the same data and results as ``run``, no
     tables or notes (a sweep renders nothing)."""
     if not _uniform(scenes):
-        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+        return [run(scene, given) for scene, given in zip(scenes, inputs, strict=True)]
     first = scenes[0]
     angle_deg = first.crank_angles_deg
     alpha = np.radians(angle_deg)

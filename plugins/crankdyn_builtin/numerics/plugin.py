@@ -9,7 +9,7 @@ from pathlib import Path
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
-from .stage import NUMERICS_STAGE, NUMERICS_KINEMATICS_STAGE
+from .stage import NUMERICS_KINEMATICS_STAGE, NUMERICS_STAGE
 
 HERE = Path(__file__).resolve().parent
 

@@ -26,33 +26,45 @@ the registry the scene itself runs with; this stage never builds a registry of i
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import functools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Callable
+from pathlib import Path
+from typing import Annotated, Any
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
 from crankdyn.errors import CrankdynError, PluginError, Problem, SceneError
+from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
-from crankdyn.plugin_types import (SERVICE_ASIDE, SERVICE_ERROR_PROBES, SERVICE_RUNNER, ErrorProbe, ProbePoint,  # noqa: F401
-                                   Stage, StageOutput)
-from crankdyn.report.figures import new_figure
-from crankdyn.scene import Analysis, Scene, number, options
-from crankdyn.scene import _problems  # one error format for every refusal
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.physics import articulated as art
-from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 from crankdyn.physics.layout import step_on_grid_deg
+from crankdyn.plugin_types import (  # noqa: F401
+    SERVICE_ASIDE,
+    SERVICE_ERROR_PROBES,
+    SERVICE_RUNNER,
+    ErrorProbe,
+    ProbePoint,
+    Stage,
+    StageOutput,
+)
+from crankdyn.report.figures import new_figure
+from crankdyn.scene import (
+    Analysis,
+    Scene,
+    _problems,  # one error format for every refusal
+    number,
+    options,
+)
+from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -232,10 +244,10 @@ def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: 
             best[k] = min(best[k], per_call)
         taken += 1
         quiet = 0 if lowered else quiet + 1
-    return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged)]
+    return [Timing(b, loops, taken) for b, (loops, _) in zip(best, ranged, strict=True)]
 
 
-def _step_formulas(model: "PointwiseModel", run: StepRun) -> Callable[[], tuple]:
+def _step_formulas(model: PointwiseModel, run: StepRun) -> Callable[[], tuple]:
     """The formulas of a step on its N angles: piston acceleration, rod angle, forces, torque, and the
     judged values (mean torque, t_max, t_min, q_max), from the step's pressure curve."""
     gas = next(o.data[GAS_PRESSURE] for o in run.outputs.values() if GAS_PRESSURE in o.data)
@@ -271,7 +283,7 @@ def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
         return "rerun", best_times(plans, min(repeats, _RERUN_REPEATS), min_time_s=_MIN_REPEAT_S, clock=clock), None
     timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=_MIN_REPEAT_S, clock=clock,
                          settled_rounds=_SETTLED_ROUNDS)
-    overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings)))
+    overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings, strict=True)))
     return "formulas", timings, overhead
 
 
@@ -421,7 +433,7 @@ class PointwiseModel:
                 centres[k] = float(local[k * offsets.size + i])
                 best[k] = max(best[k], float(part[i]))
             step /= 100.0
-        return {name: sign * value for (name, _, sign), value in zip(kinds, best)}
+        return {name: sign * value for (name, _, sign), value in zip(kinds, best, strict=True)}
 
 
 def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) -> float:
@@ -554,7 +566,7 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
                                           kin.piston_acceleration_exact_m_s2(a, radius, ratio, 1.0))))
     rows = []
     timings = best_times([fn for _, _, fn in forms], repeats)
-    for (name, terms, fn), timing in zip(forms, timings):
+    for (name, terms, fn), timing in zip(forms, timings, strict=True):
         s, _, j = fn()
         rows.append({"form": name, "terms": terms,
                      "displacement_error_max_m": float(np.max(np.abs(s - s_ref))),
@@ -621,7 +633,7 @@ def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference)
     """One row per step: points, the timed formulas, the re-run's wall time, values and their errors."""
     ref = reference.values
     step_rows = []
-    for r, timing in zip(runs, timings):
+    for r, timing in zip(runs, timings, strict=True):
         row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
                "rerun_time_s": r.time_s}
         for q in QUANTITIES:
@@ -868,7 +880,7 @@ def _forms_figure(rows, t):
 def _render_probes(r, ctx):
     t = ctx.t
     out = []
-    for name, study in (r.get("solvers") or {}).items():
+    for study in (r.get("solvers") or {}).values():
         points = study["points"]
         if not points:
             out.append((study["title"], None, study.get("refused", "")))
@@ -933,12 +945,12 @@ def _steps_figure(steps, labels, has_theory, t):
     for i, q in enumerate(QUANTITIES):
         errors = [max(100 * s[f"{q}_error_relative"], 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="os^vD"[i], label=labels[q])
-        highest = [max(h, e) for h, e in zip(highest, errors)]
+        highest = [max(h, e) for h, e in zip(highest, errors, strict=True)]
     if has_theory:
         errors = [max(100 * s.get("theoretical_work_error_relative", 0.0), 100 * _LOG_FLOOR) for s in steps]
         ax.loglog(times, errors, marker="x", ls="--", color="0.4", label=t("numerics.q_theoretical_work"))
-        highest = [max(h, e) for h, e in zip(highest, errors)]
-    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times)]
+        highest = [max(h, e) for h, e in zip(highest, errors, strict=True)]
+    points = [(x, max(100 * s["mean_torque_error_relative"], 100 * _LOG_FLOOR)) for s, x in zip(steps, times, strict=True)]
     for k in _labelled_points(points):  # (a supervisor: the labels printed over the markers)
         ax.annotate(f"{t.number_g(steps[k]['angle_step_deg'])}°", (times[k], highest[k]),
                     textcoords="offset points", xytext=(0, 6), ha="center", va="bottom", fontsize=7)

@@ -9,9 +9,10 @@ from __future__ import annotations
 import numpy as np
 
 from crankdyn.physics import offset_crank as oc
+from crankdyn.physics.plane import polar
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.scene import options
-from crankdyn.physics.plane import polar
+
 from .stage import OffsetParams
 
 

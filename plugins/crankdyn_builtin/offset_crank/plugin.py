@@ -10,8 +10,8 @@ from pathlib import Path
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
-from .stage import OFFSET_CRANK_STAGE, OFFSET_CRANK_MECHANISM
 from .geometry import offset_geometry
+from .stage import OFFSET_CRANK_MECHANISM, OFFSET_CRANK_STAGE
 
 HERE = Path(__file__).resolve().parent
 

@@ -8,23 +8,22 @@ the crank's angle from the cylinder axis, ``extra["crank_angle_at_tdc_rad"]``).
 from __future__ import annotations
 
 import functools
-
 from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
+from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.scalar_search import minimize_bounded
 from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import options, quantity
-from crankdyn.physics.extrema import first_argmax
 from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).

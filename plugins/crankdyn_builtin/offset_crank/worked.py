@@ -5,7 +5,15 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_g, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    printed_g,
+    worked_markup,
+    worked_row,
+)
 
 
 def worked_offset_crank(ctx, g, labels, r) -> Markup:

@@ -10,8 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from crankdyn.physics import planetary as pl
-from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.physics.plane import polar
+from crankdyn.plugin_types import Guide, MechanismGeometry
+
 from .stage import geometry_of
 
 

@@ -10,8 +10,8 @@ from pathlib import Path
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
-from .stage import PLANETARY_STAGE, PLANETARY_MECHANISM
 from .geometry import planetary_geometry
+from .stage import PLANETARY_MECHANISM, PLANETARY_STAGE
 
 HERE = Path(__file__).resolve().parent
 

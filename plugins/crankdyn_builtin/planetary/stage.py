@@ -10,29 +10,26 @@ stage puts the rod's rotating mass on the crank circle, which the big end here l
 from __future__ import annotations
 
 import functools
-
-from pathlib import Path
-
 import math
 from fractions import Fraction
+from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, BaseModel, ConfigDict, model_validator
-from crankdyn.physics.scalar_search import minimize_bounded
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import forces as phys
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
+from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.physics.scalar_search import minimize_bounded
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-
 from crankdyn.scene_inputs import single_mechanism_problems
-from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn_builtin.planetary.worked import worked_planetary
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -449,7 +446,7 @@ def _family_plot(family, fixed_pitch_diameter_m, t):
     """One big-end path per gear ratio of the family, side by side, in the fixed gear's pitch circle."""
     mm = 1e3
     fig, axes = new_figure(16, 6.5, ncols=3)
-    for ax, ratio in zip(axes, FAMILY_RATIOS):
+    for ax, ratio in zip(axes, FAMILY_RATIOS, strict=True):
         d_fixed = fixed_pitch_diameter_m * mm
         _circle(ax, (0.0, 0.0), d_fixed / 2, color="0.5", ls="--", lw=0.8)
         ax.plot(family[f"ratio_{ratio:g}_x_m"] * mm, family[f"ratio_{ratio:g}_z_m"] * mm, color="C0")

@@ -5,8 +5,16 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, printed_g, \
-    worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    printed_fixed,
+    printed_g,
+    worked_markup,
+    worked_row,
+)
 
 
 def worked_planetary(ctx, g, labels, r) -> Markup:

@@ -11,7 +11,6 @@ from __future__ import annotations
 from functools import partial
 from pathlib import Path
 
-
 import numpy as np
 
 from crankdyn.contracts import KINEMATICS, RodDynamicsOptions

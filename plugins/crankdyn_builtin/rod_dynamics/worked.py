@@ -6,8 +6,15 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, \
-    worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    printed_fixed,
+    worked_markup,
+    worked_row,
+)
 
 
 def worked_rod_dynamics(ctx, g, labels, r) -> Markup:

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
 from dataclasses import dataclass
 from functools import partial
+from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
@@ -15,16 +14,17 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, model_validator
 
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import irregularity as irr
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.report.i18n import superscript
-from crankdyn.scene import number as _number, options, quantity as _quantity
+from crankdyn.scene import number as _number
+from crankdyn.scene import options
+from crankdyn.scene import quantity as _quantity
 from crankdyn.scene_inputs import crank_train
 from crankdyn.units import parse_quantity
-
-from crankdyn.physics import irregularity as irr
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -105,7 +105,7 @@ class TorsionOptions(BaseModel):
     explicit_budget: _number(ge=100, le=1e7) = 20000
 
     @model_validator(mode="after")
-    def _consistent(self) -> "TorsionOptions":
+    def _consistent(self) -> TorsionOptions:
         if (self.free_end_inertia is None) != (self.free_end_stiffness is None):
             raise ValueError("give free_end_inertia and free_end_stiffness together (a disc ahead of crank 1: "
                              "timing gear, pulley or damper, and the stiffness of the crank nose), or neither")
@@ -395,7 +395,7 @@ def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, trai
     relative vector sum and critical speed for every elastic mode."""
     n, modes = shaft.n, shaft.modes
     rows = []
-    for order, c in zip(orders, coefficients):
+    for order, c in zip(orders, coefficients, strict=True):
         if order > max(MAX_ORDER, significant) + 1e-9:
             break
         rows.append({
@@ -435,7 +435,7 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
 
     results = {
-        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias)],
+        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias, strict=True)],
         "reference_node": int(reference),
         "span_stiffness_N_m_rad": [float(k) for k in spans],
         "damping_ratio": opts.damping_ratio,
@@ -703,7 +703,7 @@ def _modes_figure(ctx, torsion, parts) -> None:
 def _modes_plot(node_count, modes, labels, t):
     """The shapes of the first modes (one curve per label) along the shaft's nodes."""
     fig, ax = new_figure(16, 7)
-    for m, label in zip(modes, labels):
+    for m, label in zip(modes, labels, strict=False):
         ax.plot(range(1, node_count + 1), m["shape"], "o-", label=label)
     ax.axhline(0, color="0.3", lw=0.6)
     ax.set_xticks(range(1, node_count + 1))

@@ -10,11 +10,11 @@ import numpy as np
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
+from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.typeset import journal_name
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
-from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.report.typeset import journal_name
 from crankdyn_builtin.torque.worked import worked_torque
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -131,11 +131,11 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     first = bays[0]
     if not all(b.layout.cycle_deg == first.layout.cycle_deg
                and np.array_equal(b.crank_angle_deg, first.crank_angle_deg) for b in bays):
-        return [run(scene, given) for scene, given in zip(scenes, inputs)]
+        return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     torques = np.stack([_output_torque_Nm(b) for b in bays])
     periods = sampled_periods_deg(torques, first.layout.cycle_deg)
     return [run(scene, given, period_deg=float(period))
-            for scene, given, period in zip(scenes, inputs, periods)]
+            for scene, given, period in zip(scenes, inputs, periods, strict=False)]
 
 
 def _journal_range(name: str, torque_Nm) -> dict:

@@ -3,13 +3,23 @@ table row (the last part of table B.3, which holds the last journal and M_d)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from markupsafe import Markup
 
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.report.worked import WorkedBlock, WorkedStep, bracketed, printed, printed_fixed, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    bracketed,
+    printed,
+    printed_fixed,
+    worked_markup,
+    worked_row,
+)
 
 
-def worked_torque(ctx, f, rows, labels, cranks: int, delays: list[dict] = ()) -> Markup:
+def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()) -> Markup:
     """``t_kN = t_1 + … + t_N`` and ``M_d = t_kN R F_p`` with the numbers of one row of table B.3,
     after the sentence that gives each cylinder's own crank angle at that row (``delays``: the
     torque stage's ``cylinder_cycle_delays_deg``), so that every t_i can be found in its table."""

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from crankdyn.physics import vane as vn
-from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.physics.plane import polar
+from crankdyn.plugin_types import Guide, MechanismGeometry
 
 
 def vane_geometry(scene, crank_angle_rad) -> MechanismGeometry:

@@ -10,8 +10,8 @@ from pathlib import Path
 from crankdyn.hookspecs import hookimpl
 from crankdyn.plugin_types import Catalog
 
-from .stage import VANE_STAGE, VANE_MECHANISM
 from .geometry import vane_geometry
+from .stage import VANE_MECHANISM, VANE_STAGE
 
 HERE = Path(__file__).resolve().parent
 

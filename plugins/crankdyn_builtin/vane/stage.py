@@ -15,16 +15,15 @@ from pathlib import Path
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
-from crankdyn.physics.scalar_search import brentq
 
 from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
 from crankdyn.physics.extrema import central_derivative, periodic_extreme
+from crankdyn.physics.scalar_search import brentq
 from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
-
 from crankdyn.scene_inputs import single_mechanism_problems
 from crankdyn_builtin.vane.worked import worked_vane
 
@@ -290,7 +289,7 @@ def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, s
 def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
     """Three columns of the vane table (the first in mm), one above the other, marks at ``zeros`` below the first."""
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels)):
+    for i, (ax, key, label) in enumerate(zip(axes, keys, axis_labels, strict=True)):
         plot(ax, key, 1e3 if i == 0 else 1.0)
         ax.set_ylabel(t(label))
         if i == 0:

@@ -5,7 +5,14 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed,
+    printed_g,
+    worked_markup,
+    worked_row,
+)
 
 
 def worked_vane(ctx, g, labels, r) -> Markup:

@@ -18,8 +18,9 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from .scalar_search import brentq, minimize_bounded
+
 from .extrema import first_argmin
+from .scalar_search import brentq, minimize_bounded
 
 
 @dataclass(frozen=True)
@@ -121,7 +122,7 @@ def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, fl
         if velocity(lo) * velocity(hi) < 0:
             a = brentq(velocity, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
         else:  # no sign change across the bracket (not expected): the bounded search on the position
-            a = minimize_bounded(lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),
+            a = minimize_bounded(lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),  # noqa: B023 - called within this iteration
                                  lo, hi, xatol=1e-12).x
         out += [float(slave_motion(np.array([a]), geometry).piston_position_m[0]), float(a) % (2 * np.pi)]
     return out[0], out[1], out[2], out[3]

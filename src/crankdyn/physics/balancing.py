@@ -113,9 +113,9 @@ def acceleration_harmonics(rod_ratio: float, max_order: int = 64, samples: int =
         return coefficients
     j = kin.piston_acceleration_exact_m_s2(alpha, 1.0, rod_ratio, 1.0)
     spectrum = np.fft.rfft(j) / samples
-    coefficients = 2.0 * spectrum.real[: max_order + 1]
-    coefficients[0] = spectrum.real[0]
-    return coefficients
+    real_coefficients = 2.0 * spectrum.real[: max_order + 1]
+    real_coefficients[0] = spectrum.real[0]
+    return real_coefficients
 
 
 def acceleration_series(rod_ratio: float) -> dict[int, float]:
@@ -197,6 +197,8 @@ def vertical_axis_deg(layout: str, bank_angle_deg: float | None) -> float:
         return 0.0
     if layout == "boxer":
         return 90.0
+    if bank_angle_deg is None:
+        raise ValueError(f"the {layout} layout needs a bank angle")
     if layout in ("V", "X"):
         return 0.5 * float(bank_angle_deg)
     if layout in ("W", "Y"):
@@ -342,6 +344,7 @@ def hodograph(forward: complex, backward: complex, speed: int, tolerance: float 
     else:
         theta = ((arg_b - arg_f) / 2.0) / speed
         direction = arg_f + speed * theta
+    assert direction is not None  # f + b > tolerance: f or b is above tolerance * scale
     period = 2 * math.pi / speed
     theta = theta % (period / 2.0) if arg_f is not None and arg_b is not None else 0.0
     if abs(f - b) <= tolerance * scale:

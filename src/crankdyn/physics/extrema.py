@@ -11,6 +11,7 @@ relative tolerance of the extreme value**, the tolerance relative to the curve's
 from __future__ import annotations
 
 import numpy as np
+
 from .scalar_search import brentq
 
 #: Relative tolerance (of the curve's peak-to-peak range) within which two peaks count as equal.

@@ -315,7 +315,7 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
         seqs = _firing_sequences(phase[members], multiplicity, count, cylinders, strokes)
         rules = _rules(seqs, banks, bays)
         result.scored_firing_orders += seqs.shape[0] * seqs.shape[1]
-        flat = {k: v.reshape(-1) for k, v in rules.items()}
+        flat: dict[str, np.ndarray] = {k: v.reshape(-1) for k, v in rules.items()}
         flat["arrangement"] = np.repeat(members, seqs.shape[1])
         flat["tier"] = tier[flat["arrangement"]]
         flat["sequence"] = seqs.reshape(-1, cylinders)
@@ -384,7 +384,7 @@ def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluat
     (crank lags in deg, firing order labels), or None when it is not an even-firing arrangement
     of this engine."""
     want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
-    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else []
+    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else np.array([], dtype=int)
     index = {label: i for i, label in enumerate(labels)}
     if not len(match) or not all(x in index for x in locate[1]):
         return None

@@ -40,8 +40,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from .scalar_search import brentq
+
 from .extrema import first_argmax, first_argmin
+from .scalar_search import brentq
 
 __all__ = [
     "ExcessWork",

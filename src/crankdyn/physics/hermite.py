@@ -18,7 +18,7 @@ Written here rather than taken from ``scipy.interpolate`` because that package c
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

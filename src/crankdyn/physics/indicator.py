@@ -22,8 +22,8 @@ timing).  Equations marked "derived" were derived for this module.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, Optional
 
 import numpy as np
 
@@ -178,7 +178,7 @@ class CycleParameters:
     max_pressure_Pa: float
     pre_expansion_ratio: float
     expansion_index: float
-    exhaust_pressure_Pa: Optional[float] = None
+    exhaust_pressure_Pa: float | None = None
 
     def __post_init__(self):
         _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
@@ -580,7 +580,9 @@ def _volume_interpolant(alpha, volume, cycle):
     _require(gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG, "crank_angle_deg",
              f"largest step {gaps.max():g} deg",
              f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)")
-    from scipy.interpolate import CubicSpline  # lazy: heavy optional import (~25 ms; sampled volumes only)
+    from scipy.interpolate import (
+        CubicSpline,  # lazy: heavy optional import (~25 ms; sampled volumes only)
+    )
 
     spline = CubicSpline(np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]),
                          bc_type="periodic")
@@ -706,7 +708,7 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     psi_peak = np.array([r.peak_angle_after_tdc_deg for r in rounding], dtype=float)
     psi_limit = 180.0 - np.array([r.exhaust_opens_before_bdc_deg for r in rounding], dtype=float)
     peak = np.array([r.peak_pressure_fraction * p.max_pressure_Pa
-                     for r, p in zip(rounding, params)], dtype=float)
+                     for r, p in zip(rounding, params, strict=False)], dtype=float)
     first = _first_passing_steps(psi_peak, psi_limit, peak, lines)
     found = np.flatnonzero(first > 0)
     junction = np.full(count, np.nan)
@@ -829,8 +831,8 @@ def _local_offset_deg(alpha, start_deg, cycle):
 
 
 def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
-                        *, volume_function: Optional[Callable] = None,
-                        junction_deg: Optional[float] = None, theoretical_Pa=None):
+                        *, volume_function: Callable | None = None,
+                        junction_deg: float | None = None, theoretical_Pa=None):
     """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
 
     Parameters

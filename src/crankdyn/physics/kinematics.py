@@ -37,8 +37,9 @@ motion of a point on the rod.
 from __future__ import annotations
 
 import numpy as np
-from .scalar_search import brentq
+
 from .extrema import first_argmin
+from .scalar_search import brentq
 
 __all__ = [
     "rod_angle_rad",

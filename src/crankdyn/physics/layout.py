@@ -19,10 +19,10 @@ Conventions
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-import numpy as np
 from fractions import Fraction
 from math import gcd
+
+import numpy as np
 
 LAYOUT_BANKS = {"inline": 1, "V": 2, "boxer": 2, "W": 3, "Y": 3, "X": 4}
 BANK_LETTERS = {1: ("",), 2: ("L", "R"), 3: ("L", "C", "R"), 4: ("A", "B", "C", "D")}
@@ -97,6 +97,8 @@ def bank_axes_deg(layout: str, bank_angle_deg: float | None, cylinders: int) -> 
         return [360.0 * k / cylinders for k in range(cylinders)]
     if layout == "boxer":
         return [0.0, 180.0]
+    if bank_angle_deg is None:
+        raise ValueError(f"the {layout} layout needs a bank angle")
     gamma = float(bank_angle_deg)
     if layout == "V":
         return [0.0, gamma]
@@ -206,7 +208,7 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
             members = [lab for lab in labels if bay_of[lab] == bay]
             candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
             if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
-                first, other = members[0], next(m for m, c in zip(members, candidates)
+                first, other = members[0], next(m for m, c in zip(members, candidates, strict=True)
                                                  if _angle_distance(c, candidates[0]) > _TOL)
                 raise LayoutError("engine.firing_order", firing_order,
                                   f"cylinders {first} and {other} share a crank, so they fire "
@@ -224,7 +226,7 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
         base = (psi[labels[0]] + lags[0]) % 360.0
         geometric = {lab: (psi[lab] + lags[bay_of[lab]] - base) % 360.0 for lab in labels}
         delay = {order[0]: 0.0}
-        for prev, nxt in zip(order[:-1], order[1:]):
+        for prev, nxt in zip(order[:-1], order[1:], strict=True):
             step = (geometric[nxt] - geometric[prev]) % 360.0
             step = step if step > _TOL else 360.0
             delay[nxt] = delay[prev] + step
@@ -299,7 +301,7 @@ def grid_deg(cycle_deg: float, angles_deg) -> float:
     return float(g)
 
 
-def layout_grid_deg(layout: "EngineLayout") -> float:
+def layout_grid_deg(layout: EngineLayout) -> float:
     """:func:`grid_deg` of a layout: cycle, firing delays and bank-axis angles."""
     angles = [c.firing_delay_deg for c in layout.cylinders] + [c.axis_deg for c in layout.cylinders]
     return grid_deg(layout.cycle_deg, angles)

@@ -33,10 +33,10 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-from .scalar_search import brentq, minimize_bounded
 
-from .rod_dynamics import SliderMotion, slider_from_big_end
 from .extrema import first_argmax
+from .rod_dynamics import SliderMotion, slider_from_big_end
+from .scalar_search import brentq, minimize_bounded
 
 __all__ = [
     "PlanetaryGeometry",
@@ -200,7 +200,8 @@ def big_end_path(carrier_angle_rad, geometry: PlanetaryGeometry):
 
 def slider_motion(carrier_angle_rad, geometry: PlanetaryGeometry) -> SliderMotion:
     """Piston pin and rod angle (see :func:`crankdyn.physics.rod_dynamics.slider_from_big_end`)."""
-    return slider_from_big_end(*big_end_path(carrier_angle_rad, geometry), geometry.rod_length_m)
+    x, z, x_d1, z_d1, x_d2, z_d2 = big_end_path(carrier_angle_rad, geometry)
+    return slider_from_big_end(x, z, x_d1, z_d1, x_d2, z_d2, geometry.rod_length_m)
 
 
 def lateral_reach_m(geometry: PlanetaryGeometry, revolutions: int = 1) -> float:

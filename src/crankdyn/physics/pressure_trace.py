@@ -72,7 +72,7 @@ def _read_once(path, kind, parse):
     if not os.path.isfile(name):
         raise PressureTraceError(f"{name}: file not found (a pressure-trace file is required)")
     try:
-        with open(name, "r", encoding="utf-8-sig", errors="strict") as handle:
+        with open(name, encoding="utf-8-sig", errors="strict") as handle:
             status = os.fstat(handle.fileno())
             key = (kind, status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns)
             cached = _CACHE.get(key)

@@ -336,7 +336,7 @@ def point_masses_inertia_torque_Nm(masses_kg, velocities, accelerations, angular
     directly, independently of the rigid-body form.
     """
     power = 0.0
-    for m, (vx, vz), (ax, az) in zip(masses_kg, velocities, accelerations):
+    for m, (vx, vz), (ax, az) in zip(masses_kg, velocities, accelerations, strict=True):
         power = power + float(m) * (_as_float_array(ax) * vx + _as_float_array(az) * vz)
     return -_as_float_array(power) / float(angular_velocity_rad_s)
 

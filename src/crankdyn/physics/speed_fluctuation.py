@@ -57,15 +57,16 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
-from .lazy import integrate
-from .scalar_search import brentq, minimize_bounded
 
 from . import kinematics as kin
 from .extrema import first_argmax, first_argmin
+from .lazy import integrate
+from .scalar_search import brentq, minimize_bounded
 
 __all__ = [
     "arm_derivatives",
@@ -257,7 +258,7 @@ class PeriodicSeries:
         self._first_sum = PowerSum(self._first_column) if self._first_column.size >= _BLAS_MAX_WIDTH else None
 
     @classmethod
-    def from_samples(cls, values, period_rad: float) -> "PeriodicSeries":
+    def from_samples(cls, values, period_rad: float) -> PeriodicSeries:
         """From samples at ``k * period / N`` (k = 0..N-1) along axis 0."""
         values = np.asarray(values, dtype=float)
         column = values.reshape(values.shape[0], -1)
@@ -347,7 +348,7 @@ class PeriodicSeries:
             self._scratch[rows] = np.empty((rows, self.wavenumbers.size), dtype=complex)
         return self._scratch[rows]
 
-    def derivative(self) -> "PeriodicSeries":
+    def derivative(self) -> PeriodicSeries:
         """d/dalpha of the series (zero mean)."""
         return PeriodicSeries(np.zeros(self.columns), self.coefficients * (1j * self.wavenumbers[:, None]),
                               self.period_rad)
@@ -387,7 +388,7 @@ class InertiaSeries:
         if np.ndim(alpha) == 0:  # the single-mass ODE's hot path: Horner's scheme in plain complex arithmetic
             z = cmath.exp(1j * float(alpha))
             value = derivative = 0j
-            for c, d in zip(self._reversed, self._reversed_derivative):
+            for c, d in zip(self._reversed, self._reversed_derivative, strict=True):
                 value = value * z + c
                 derivative = derivative * z + d
             return self.constant_kg_m2 + (value * z).real, (derivative * z).real
@@ -608,12 +609,12 @@ def single_mass_rhs(gas_torque: PeriodicSeries, load_torque_Nm: float, inertia: 
     if isinstance(inertia, InertiaSeries) and gas_torque.columns == 1:
         discs = DiscSeries(gas_torque, [inertia])
 
-        def rhs(t, y):
+        def scalar_rhs(t, y):
             alpha, omega = y[0], y[1]
             m, j, dj = discs.scalar(alpha)
             return np.array([omega, (m - load_torque_Nm - 0.5 * dj * omega * omega) / j])
 
-        return rhs
+        return scalar_rhs
 
     def rhs(t, y):
         alpha, omega = y[0], y[1]
@@ -771,7 +772,7 @@ def stable_step_s(eigenvalues) -> float:
         if first == 0:
             radius = 0.0  # unstable from the start (e.g. a purely imaginary eigenvalue)
         else:
-            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,
+            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,  # noqa: B023 - called within this iteration
                                      radii[first - 1], radii[first])
         limit = min(limit, radius / size)
     return limit

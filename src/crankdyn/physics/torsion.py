@@ -46,10 +46,10 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from .lazy import linalg
 
-from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, run_solver
 from .extrema import first_argmax
+from .lazy import linalg
+from .speed_fluctuation import DiscSeries, InertiaSeries, PeriodicSeries, SolverRun, run_solver
 
 __all__ = [
     "stiffness_matrix",
@@ -199,7 +199,7 @@ def forced_response(inertias_kg_m2, stiffness: np.ndarray, damping: np.ndarray, 
     M = np.diag(J)
     coefficients = np.empty_like(node_torque.coefficients)
     for k, (omega_k, torque_k) in enumerate(zip(node_torque.wavenumbers * angular_velocity_rad_s,
-                                                 node_torque.coefficients)):
+                                                 node_torque.coefficients, strict=True)):
         coefficients[k] = np.linalg.solve(stiffness - omega_k ** 2 * M + 1j * omega_k * damping, torque_k)
     keep = np.array([i for i in range(n) if i != reference_node])
     mean = np.zeros(n)
@@ -416,23 +416,24 @@ def periodic_steady_state(model: ShaftModel, z0, period_rad: float, cycle_time_g
     z = np.asarray(z0, dtype=float).copy()
     start_angle = float(z[0])
     n = model.n
-    history, runs = [], []
+    history: list[float] = []
+    runs: list[SolverRun] = []
     cycle_time = cycle_time_guess_s
 
     def one_cycle(t, y):
         return y[0] - (start_angle + period_rad)
 
-    one_cycle.terminal = True
-    one_cycle.direction = 1
+    one_cycle.terminal = True  # type: ignore[attr-defined]  # scipy reads an event's attributes
+    one_cycle.direction = 1  # type: ignore[attr-defined]
     change = np.inf
     for cycle in range(1, max_cycles + 1):
         run = run_solver(model, (0.0, 2.0 * cycle_time), z, method, rtol, atol, jac=model.jacobian,
                          events=one_cycle, dense_output=True)
         runs.append(run)
-        if not run.success or not run.t_events or run.t_events[0].size == 0:
+        if not run.success or not run.t_events or run.t_events[0].size == 0 or run.y_events is None:
             return SteadyState(z, cycle_time, cycle, False, float("nan"), history, runs, model.load)
         cycle_time = float(run.t_events[0][0])
-        z_end = np.array(run.y_events[0][0], dtype=float)
+        z_end = np.array(run.y_events[0][0], dtype=np.float64)
         z_end[0] -= period_rad
         gained = model.energy(z_end) - model.energy(z)
         model.load += gained / period_rad

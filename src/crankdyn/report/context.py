@@ -7,10 +7,11 @@ import html as html_lib
 import math
 import os
 import re
-from importlib import resources
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 from markupsafe import Markup, escape
@@ -95,7 +96,11 @@ def start_drawing(figures: Sequence[FigureFile], workers: int | None = None):
     """Start drawing the figures not drawn yet in forked children (one per CPU), leaving this
     process free; returns a callable that waits for them and stores the SVGs (drawing here what
     a child did not deliver), or None when there is nothing to draw or forking is not possible."""
-    from .figures import ForkedDrawing, can_fork, default_workers  # lazy: heavy optional import (matplotlib)
+    from .figures import (  # lazy: heavy optional import (matplotlib)
+        ForkedDrawing,
+        can_fork,
+        default_workers,
+    )
 
     pending = [f for f in figures if not f.drawn]
     workers = default_workers() if workers is None else workers
@@ -104,7 +109,7 @@ def start_drawing(figures: Sequence[FigureFile], workers: int | None = None):
     drawing = ForkedDrawing([f.draw for f in pending], [list(range(k, len(pending), workers)) for k in range(workers)])
 
     def finish() -> None:
-        for figure, svg in zip(pending, drawing.finish()):
+        for figure, svg in zip(pending, drawing.finish(), strict=True):
             figure._svg = svg
     return finish
 
@@ -116,7 +121,7 @@ def draw_figures(figures: Sequence[FigureFile], workers: int | None = None, allo
 
     pending = [f for f in figures if not f.drawn]
     drawn = draw_jobs([f.draw for f in pending], default_workers() if workers is None else workers, allow_threads)
-    for figure, svg in zip(pending, drawn):
+    for figure, svg in zip(pending, drawn, strict=True):
         figure._svg = svg
 
 
@@ -243,7 +248,7 @@ class RenderContext:
         rows = []
         for i in range(n_rows):
             cells = []
-            for (_, values, decimals), words in zip(columns, wordy):
+            for (_, values, decimals), words in zip(columns, wordy, strict=True):
                 v = values[i]
                 text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
                 text = text or "—"  # an empty cell gets a dash, as the standard asks

@@ -14,19 +14,27 @@ from pathlib import Path
 import jinja2
 from markupsafe import Markup, escape
 
-from ..version import __version__
 from ..contracts import COUNTERWEIGHTS, FORCES
-from ..physics.extrema import EXTREMUM_RTOL
 from ..orchestrator import RunResult
-from ..plugins import Registry
-from .context import FigureFile, RenderContext, inline_figures, template_search_path
-from .i18n import translator
-from .frame import frame_html
-from .equation_legend import add_equation_legends, symbol_meaning
-from .typeset import (SYMBOLS, SymbolTable, italic_letters, symbol_html, symbol_table, symbol_unit, symbols_used,
-                      typeset_html, unbreakable_html)
+from ..physics.extrema import EXTREMUM_RTOL
 from ..plausibility import format_params, warnings
-
+from ..plugins import Registry
+from ..version import __version__
+from .context import FigureFile, RenderContext, inline_figures, template_search_path
+from .equation_legend import add_equation_legends, symbol_meaning
+from .frame import frame_html
+from .i18n import translator
+from .typeset import (
+    SYMBOLS,
+    SymbolTable,
+    italic_letters,
+    symbol_html,
+    symbol_table,
+    symbol_unit,
+    symbols_used,
+    typeset_html,
+    unbreakable_html,
+)
 
 _IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
 
@@ -529,7 +537,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language, symbols) for key in keys]
     rows = []
-    for key, markup in zip(keys, markups):
+    for key, markup in zip(keys, markups, strict=True):
         unit = symbol_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         where = _where(_symbol_stages(key, symbols), places or {}, t, markup) if markups.count(markup) > 1 else ""
@@ -599,7 +607,7 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
     ("appendix", "Б", html), the appendix's letter as its heading prints it."""
     found: dict[str, list[tuple[str, str, str]]] = {}
     chapters = list(_CHAPTER.finditer(html))
-    for m, following in zip(chapters, [*chapters[1:], None]):
+    for m, following in zip(chapters, [*chapters[1:], None], strict=True):
         appendix, stage, number, letter = m.groups()
         body = html[m.start():following.start() if following else len(html)]
         if number and not appendix:

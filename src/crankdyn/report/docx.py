@@ -73,7 +73,7 @@ class DocxError(CrankdynError):
 class Node:
     tag: str  # "" for a text node, "raw" for markup passed through as it is
     attrs: dict[str, str] = field(default_factory=dict)
-    children: list["Node"] = field(default_factory=list)
+    children: list[Node] = field(default_factory=list)
     text: str = ""
 
     def classes(self) -> set[str]:
@@ -338,7 +338,7 @@ def _serialise(node: Node) -> str:
     return inner if node.tag == "root" else f"<{node.tag}{attrs}>{inner}</{node.tag}>"
 
 
-def pandoc_html(report_html: str, images: dict[str, str], blocks: "_Blocks | None" = None) -> str:
+def pandoc_html(report_html: str, images: dict[str, str], blocks: _Blocks | None = None) -> str:
     """The report HTML rewritten for pandoc: PNG figures, custom styles, no contents list, and
     the blocks written here (equations, tables ...) as placeholders collected in ``blocks``."""
     blocks = blocks if blocks is not None else _Blocks()
@@ -360,7 +360,7 @@ def pandoc_path() -> str:
     if found:
         return found
     try:
-        import pypandoc  # type: ignore[import-not-found]  # lazy: heavy optional import (pandoc: only for a Word file)
+        import pypandoc  # lazy: heavy optional import (pandoc: only for a Word file)
 
         return pypandoc.get_pandoc_path()
     except Exception:  # noqa: BLE001 - not installed, or installed without its binary

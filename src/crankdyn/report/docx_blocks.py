@@ -301,9 +301,9 @@ def column_widths(rows: list[list], header_rows: int, size: int, text_width: int
         if sum(candidate) <= text_width:
             return [round(w) for w in candidate]
     natural, least = widths[1], widths[2]
-    spare, excess = sum(n - m for n, m in zip(natural, least)), sum(natural) - text_width
+    spare, excess = sum(n - m for n, m in zip(natural, least, strict=False)), sum(natural) - text_width
     if spare >= excess:  # wrap the longer cells' text
-        return [round(n - (n - m) * excess / spare) for n, m in zip(natural, least)]
+        return [round(n - (n - m) * excess / spare) for n, m in zip(natural, least, strict=False)]
     return [round(m * text_width / sum(least)) for m in least]
 
 
@@ -377,7 +377,7 @@ def table(
     )  # the last three
     if note:
         keep.add(len(head) + len(body) - 1)
-    for k, (row_node, cells) in enumerate(zip(head + body, rows)):
+    for k, (row_node, cells) in enumerate(zip(head + body, rows, strict=False)):
         header = k < len(head)
         bold = "extremum" in row_node.classes()
         # a row of several lines never splits; w:cantSplit on every row would make LibreOffice 7.4

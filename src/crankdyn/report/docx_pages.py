@@ -20,13 +20,13 @@ The pass is skipped without ``soffice`` or ``pdftotext``, or with ``CRANKDYN_DOC
 from __future__ import annotations
 
 import html as htmlmod
+import io
 import os
 import re
 import shutil
 import subprocess
 import tempfile
 import zipfile
-import io
 from dataclasses import dataclass
 from pathlib import Path
 

@@ -20,8 +20,16 @@ import re
 
 from markupsafe import escape
 
-from .typeset import (SYMBOLS, SymbolTable, italic_letters, sections_taking_over, symbol_html, symbol_pattern,
-                      unit_text, unshifted_indices)
+from .typeset import (
+    SYMBOLS,
+    SymbolTable,
+    italic_letters,
+    sections_taking_over,
+    symbol_html,
+    symbol_pattern,
+    unit_text,
+    unshifted_indices,
+)
 
 _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'

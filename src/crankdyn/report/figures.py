@@ -16,6 +16,7 @@ import select
 import struct
 import sys
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,12 +25,15 @@ from ..aside import fork_with_pipe
 from ..heap import freeze_more
 from . import mathtext_store
 
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.typing import RcKeyType
+
 # matplotlib is imported only when a figure is drawn (lazy: heavy optional import), and never
 # through pyplot: each figure is a plain ``Figure`` on its own Agg canvas, so a JSON-only run
 # pays nothing for plotting and no global figure state builds up between reports.
 
 
-STYLE = {
+STYLE: dict[RcKeyType, Any] = {
     "svg.fonttype": "none",  # text stays text: searchable in the PDF (fonts: the report's, below)
     "font.family": "DejaVu Sans",
     "font.size": 9,
@@ -63,7 +67,7 @@ def _keep_more_mathtext() -> None:
     state but that type: its grammar is shared by the class), holding :data:`MATHTEXT_CACHE`."""
     from matplotlib.mathtext import MathTextParser  # lazy: heavy optional import
 
-    parse = MathTextParser._parse_cached
+    parse = MathTextParser._parse_cached  # type: ignore[attr-defined]  # matplotlib's private cache
     if getattr(parse, "crankdyn_shared", False) or not hasattr(parse, "__wrapped__"):
         return
     typeset = parse.__wrapped__
@@ -92,9 +96,9 @@ def _keep_more_mathtext() -> None:
         parsers.setdefault(self._output_type, self)
         return shared(self._output_type, s, dpi, prop, antialiased, load_glyph_flags)
 
-    _parse_cached.crankdyn_shared = True
-    _parse_cached.cache_info = shared.cache_info
-    MathTextParser._parse_cached = _parse_cached
+    _parse_cached.crankdyn_shared = True  # type: ignore[attr-defined]  # marks the replacement
+    _parse_cached.cache_info = shared.cache_info  # type: ignore[attr-defined]  # as lru_cache's
+    MathTextParser._parse_cached = _parse_cached  # type: ignore[attr-defined]  # matplotlib's private cache
 
 
 #: The font tables :meth:`matplotlib.text.Text._get_layout` reads for a text's line height,
@@ -111,9 +115,9 @@ def _font_height_metrics(font_files: tuple[str, ...], size_pt: float, dpi: float
 
     font = get_font(list(font_files))
     for table_name, gap_key, ascent_key, descent_key in _HEIGHT_TABLES:
-        table = font.get_sfnt_table(table_name)
+        table = font.get_sfnt_table(table_name)  # type: ignore[call-overload]  # a name it knows
         if table is not None:
-            scale = 1 / font.get_sfnt_table("head")["unitsPerEm"] * size_pt * dpi / 72
+            scale = 1 / font.get_sfnt_table("head")["unitsPerEm"] * size_pt * dpi / 72  # type: ignore[index]  # a font has a head
             return table[ascent_key] * scale, -table[descent_key] * scale, table[gap_key] * scale
     return None, None, None  # no table: matplotlib measures the text "lp" instead
 
@@ -136,7 +140,7 @@ def _remember_font_heights() -> None:
     def _get_font_height_metrics(self, prop):
         return _font_height_metrics(tuple(fontManager._find_fonts_by_props(prop)), prop.get_size_in_points(), 72.0)
 
-    RendererSVG._get_font_height_metrics = _get_font_height_metrics
+    RendererSVG._get_font_height_metrics = _get_font_height_metrics  # type: ignore[attr-defined]  # private
 
 
 #: The label :func:`prepare` typesets (upright and italic letters, a subscript: the fonts labels use).
@@ -372,8 +376,8 @@ def _measure_math_as_drawn() -> None:
             return width, height, descent
         return measure(self, s, prop, ismath)
 
-    get_text_width_height_descent.crankdyn_as_drawn = True
-    RendererSVG.get_text_width_height_descent = get_text_width_height_descent
+    get_text_width_height_descent.crankdyn_as_drawn = True  # type: ignore[attr-defined]  # marks the replacement
+    RendererSVG.get_text_width_height_descent = get_text_width_height_descent  # type: ignore[method-assign]  # measured as drawn
 
 
 def to_svg(fig) -> bytes:
@@ -385,7 +389,10 @@ def to_svg(fig) -> bytes:
     follows is ``FigureCanvasSVG.print_svg`` with the ``TightLayoutEngine`` step before the draw.
     """
     import matplotlib  # lazy: heavy optional import
-    from matplotlib._tight_layout import get_subplotspec_list, get_tight_layout_figure  # lazy: heavy optional import
+    from matplotlib._tight_layout import (  # lazy: heavy optional import
+        get_subplotspec_list,
+        get_tight_layout_figure,
+    )
     from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
     from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
 
@@ -552,7 +559,7 @@ class ForkedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
 
 
 #: A job's number as written to :class:`SharedDrawing`'s pipe (two bytes: up to 65 535 jobs).
@@ -573,6 +580,8 @@ class SharedDrawing:
     so the results (and any exception) are the serial ones. Call :meth:`collect` exactly once.
     """
 
+    _claims: int | None  # the pipe's end the numbers are read from; None once closed
+
     def __init__(self, jobs: Sequence[Callable[[], bytes]], children: int):
         self.jobs = list(jobs)
         if len(self.jobs) > SHARED_JOBS_MAX:
@@ -589,6 +598,7 @@ class SharedDrawing:
             self._children.append(child)
 
     def _claim(self) -> int | None:
+        assert self._claims is not None  # claims are read before collect() closes the pipe
         token = os.read(self._claims, _TOKEN.size)
         return _TOKEN.unpack(token)[0] if len(token) == _TOKEN.size else None
 
@@ -640,7 +650,7 @@ class SharedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results)]
+        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
 
 
 class IncrementalDrawing:
@@ -687,7 +697,7 @@ class IncrementalDrawing:
 
     @staticmethod
     def _keep(drawing: ForkedDrawing, batch: list) -> None:
-        for figure, svg in zip(batch, drawing.finish()):
+        for figure, svg in zip(batch, drawing.finish(), strict=True):
             figure._svg = svg
             figure.awaiting = None
 
@@ -725,7 +735,7 @@ class IncrementalDrawing:
             finally:
                 shared.collect()
                 self._store(finished_only=False)
-            for figure, svg in zip(waiting, shared.finish()):
+            for figure, svg in zip(waiting, shared.finish(), strict=True):
                 figure._svg = svg
             return
         try:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import re
 
-
 #: Where a displayed equation may break: between its formulas (", &nbsp;"), and in a long formula
 #: after an equals sign; never inside a fraction or between a quantity and its value (the PDF
 #: broke "ΔL/ | (J ω²)" and "M_c = | 108,3 N·m" at the line's end).
@@ -72,7 +71,7 @@ def _broken_lines(pieces: list[str], line_chars: int) -> str:
         if line and _printed_length(" ".join(line + [piece])) > line_chars:
             lines.append([])
         lines[-1].append(piece)
-    for before, after in zip(lines, lines[1:]):
+    for before, after in zip(lines, lines[1:], strict=False):
         if after[0][:2] in ("+ ", "− "):  # broken before a sign: it also ends the line above
             before[-1] += f'<span class="eq-carry"> {after[0][0]}</span>'
         elif before[-1].endswith(" ="):  # broken after an equals sign: it also opens the next line

@@ -12,10 +12,10 @@ import functools
 import math
 import re
 import tomllib
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Iterable
 
 from ..errors import PluginError
 from ..plugin_types import Catalog
@@ -78,7 +78,10 @@ def _parsed_catalog(path: str, mtime_ns: int, size: int) -> dict[str, str]:
 def _babel_locale(name: str):
     """The Babel locale called ``name`` (English if Babel does not know it), parsed once: every
     number of a report asks for it."""
-    from babel import Locale, UnknownLocaleError  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+    from babel import (  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+        Locale,
+        UnknownLocaleError,
+    )
 
     try:
         return Locale.parse(name)
@@ -135,7 +138,9 @@ class Translator:
 
     def join_and(self, items) -> str:
         """``items`` as the report language lists them: "5, 6 і 8" (Babel's CLDR list patterns)."""
-        from babel.lists import format_list  # lazy: heavy optional import (babel: only when a report lists)
+        from babel.lists import (
+            format_list,  # lazy: heavy optional import (babel: only when a report lists)
+        )
 
         return format_list(list(items), locale=self.locale)
 
@@ -173,7 +178,9 @@ class Translator:
 
     @property
     def decimal_separator_babel(self) -> str:
-        from babel.numbers import get_decimal_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+        from babel.numbers import (
+            get_decimal_symbol,  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+        )
 
         return get_decimal_symbol(self.locale)
 
@@ -192,7 +199,10 @@ class Translator:
 def _format_fixed(rounded: float, decimals: int, locale) -> str:
     """Babel's text of an already rounded number in ``locale`` (a babel Locale; kept: tick
     labels and table cells repeat, and Babel takes some 0.1 ms a number)."""
-    from babel.numbers import format_decimal, get_group_symbol  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+    from babel.numbers import (  # lazy: heavy optional import (babel: only when a number is formatted for a report)
+        format_decimal,
+        get_group_symbol,
+    )
 
     pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + ("." + "0" * decimals if decimals > 0 else "")
     text = format_decimal(rounded, format=pattern, locale=locale)

@@ -167,7 +167,7 @@ def _record_of(parse) -> list | None:
             [[float(v) for v in rect] for rect in parse.rects], stamps]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _stamp(path: str) -> list | None:
     """A font file's size and modification time (ns): a font replaced in place is a miss (read
     once per process and font: every label read back checks the fonts it names)."""

@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 from markupsafe import escape
 
-from .figures import STYLE, hide_axes, new_figure
+from .figures import STYLE, hide_axes
 
 MM = 1e3
 JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
@@ -153,7 +153,9 @@ def piston_skirt_mm(guide, geometry=None) -> float:
 
 def _hatch(ax, start, end, normal, size, color, alpha):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
-    from matplotlib.collections import LineCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.collections import (
+        LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
@@ -242,8 +244,13 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
             ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
-    from matplotlib.collections import LineCollection, PatchCollection  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
-    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.collections import (  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+        LineCollection,
+        PatchCollection,
+    )
+    from matplotlib.patches import (
+        Circle,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     bodies = master_rod_bodies(geometry, i)
     for outline in bodies:
@@ -282,7 +289,7 @@ def master_rod_joints(geometry) -> list[list[str]]:
     for centre, knuckles in pins.items():
         c = geometry.joints[centre][0]
         angles = [np.arctan2(*(geometry.joints[k][0] - c)[::-1]) for k in knuckles]
-        names = [k for _, k in sorted(zip(angles, knuckles))]
+        names = [k for _, k in sorted(zip(angles, knuckles, strict=False))]
         bodies.append(names + [centre] if len(names) == 2 else names)
     return [b for b in bodies if len(b) >= 3]
 
@@ -336,7 +343,9 @@ def _one_per_axis(guides):
 
 
 def _circle(centre, radius, color, alpha, ls="-", fill=False):
-    from matplotlib.patches import Circle  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        Circle,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     return Circle(centre, radius, facecolor="white" if fill else "none", edgecolor=color, lw=1.0 if not fill else 1.1,
                   ls=ls, alpha=alpha, zorder=5 if fill else 2)
@@ -421,7 +430,7 @@ def member_segments_mm(geometry, i: int) -> np.ndarray:
     j = geometry.joints
     segments = [(j[a][i] * MM, j[b][i] * MM) for _, a, b in drawn_links(geometry)]
     for outline in master_rod_bodies(geometry, i):
-        segments += list(zip(outline, np.roll(outline, -1, axis=0)))
+        segments += list(zip(outline, np.roll(outline, -1, axis=0), strict=False))
     for guide in _one_per_axis(geometry.guides):
         if guide.bore_m <= 0 or guide.moving is not None:
             continue
@@ -432,7 +441,7 @@ def member_segments_mm(geometry, i: int) -> np.ndarray:
         pos = float(np.dot(j[guide.joint][i] * MM - o, d))
         low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
         corners = [o + d * low - n * half, o + d * high - n * half, o + d * high + n * half, o + d * low + n * half]
-        segments += list(zip(corners, corners[1:] + corners[:1]))
+        segments += list(zip(corners, corners[1:] + corners[:1], strict=False))
     return np.array(segments, dtype=float).reshape(-1, 2, 2)
 
 
@@ -482,7 +491,9 @@ def _direction_deg(v) -> float:
 def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None:
     """An arc from direction ``start`` to ``end`` (unit vectors) around ``centre`` (mm), the
     shorter way, with its symbol just outside the middle of the arc."""
-    from matplotlib.patches import Arc  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        Arc,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     a, b = _direction_deg(start), _direction_deg(end)
     if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
@@ -497,7 +508,9 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
 def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
     """A curved arrow clockwise (the crank's sense of rotation) on the upper left of ``centre``,
     named ``text`` (ω): clear of the counterweight below the shaft of a crank at 45 deg."""
-    from matplotlib.patches import FancyArrowPatch  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.patches import (
+        FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     c = np.asarray(centre, dtype=float)
     start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (165.0, 105.0))
@@ -738,7 +751,12 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
 
 def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float,
                marks: dict[str, str]):
-    from .figures import add_axes_mm, drawn_box, fit_to_content, new_drawing  # lazy: heavy optional import (matplotlib)
+    from .figures import (  # lazy: heavy optional import (matplotlib)
+        add_axes_mm,
+        drawn_box,
+        fit_to_content,
+        new_drawing,
+    )
 
     (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1
@@ -895,7 +913,7 @@ def _static_svg(geometry, xlim, ylim) -> str:
         w, h = xlim[1] - xlim[0], ylim[1] - ylim[0]
         fig = Figure(figsize=(6.0, 6.0 * h / w))  # no pyplot state, as in figures.new_figure
         FigureCanvasAgg(fig)
-        ax = fig.add_axes([0, 0, 1, 1])
+        ax = fig.add_axes((0, 0, 1, 1))
         extent = _extent_mm(geometry)
         for path in geometry.traces.values():
             ax.plot(path[:, 0] * MM, path[:, 1] * MM, color="0.55", lw=0.7, ls=(0, (4, 2)))
@@ -933,7 +951,7 @@ def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
         span = np.ptp(y) or 1.0
         ys = pad + (height - 2 * pad) * (1 - (y - y.min()) / span)
         xs = np.linspace(0.0, width, n, endpoint=False)
-        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys))
+        points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys, strict=True))
         return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
                 f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
 

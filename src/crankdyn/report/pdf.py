@@ -13,6 +13,7 @@ import re
 from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
+
 from .context import FIGURE_DIR
 from .weasy import load_weasyprint
 
@@ -53,7 +54,7 @@ def _fetcher(in_memory: dict | None = None):
     weasyprint = load_weasyprint()
     in_memory = dict(in_memory or {})
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
-        class SafeURLFetcher(weasyprint.URLFetcher):
+        class SafeURLFetcher(weasyprint.URLFetcher):  # type: ignore[name-defined]  # loaded at run time
             def fetch(self, url, headers=None):
                 if unquote(url) in in_memory:
                     return weasyprint.urls.URLFetcherResponse(url, in_memory[unquote(url)].svg,

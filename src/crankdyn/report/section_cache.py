@@ -12,6 +12,7 @@ thus leaves the kinematics and indicator sections, and their figures, as they we
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 from ..cache import field_digests, reads_of, tracked_copy
 from ..plugin_types import Stage, StageOutput
 from .context import FigureFile, RenderContext

@@ -17,14 +17,14 @@ from __future__ import annotations
 import functools
 import math
 import re
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import replace
-from typing import Iterable, Iterator, Mapping
+
+import numpy as np
 
 from ..errors import PluginError
 from ..plugin_types import Symbol
 from .i18n import MINUS, NARROW_NBSP, superscript
-import numpy as np
-
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
 #: languages (the textbook's Cyrillic subscripts in uk/ru, Latin ones in English) and the
@@ -404,7 +404,7 @@ def _stage_parts(html: str) -> list[tuple[str, str]]:
     start (as the "where" lines read a report, equation_legend); the part before the first is ""."""
     starts = list(_STAGE_START.finditer(html))
     parts = [("", html[:starts[0].start()] if starts else html)]
-    for m, after in zip(starts, starts[1:] + [None]):
+    for m, after in zip(starts, starts[1:] + [None], strict=True):
         parts.append((m.group(1), html[m.start():after.start() if after else len(html)]))
     return parts
 
@@ -732,7 +732,9 @@ def typeset_figure(fig, t, symbols: SymbolTable = SYMBOLS) -> None:
     """Make every text of a matplotlib figure typeset for the report's language: mathtext
     sub/superscripts in labels, titles, legends and annotations, and locale tick labels
     (decimal comma in uk/ru, "−", ×10ⁿ offsets instead of ``1e-03``)."""
-    from matplotlib.text import Text  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.text import (
+        Text,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     language = t.language
     for ax in fig.get_axes():
@@ -776,7 +778,11 @@ def _legend_columns(ax, labels, size_pt: float) -> int:
 
 
 def _locale_ticks(axis, t) -> None:
-    from matplotlib.ticker import FuncFormatter, LogFormatter, ScalarFormatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.ticker import (  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+        FuncFormatter,
+        LogFormatter,
+        ScalarFormatter,
+    )
 
     major = axis.get_major_formatter()
     if type(major) is ScalarFormatter:  # leave custom formatters
@@ -785,7 +791,9 @@ def _locale_ticks(axis, t) -> None:
         axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t, axis.get_view_interval())))
         axis.set_minor_formatter(FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t)))
         if _decades(axis.get_view_interval()) > _MINOR_TICKS_MAX_DECADES:
-            from matplotlib.ticker import NullLocator  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+            from matplotlib.ticker import (
+                NullLocator,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+            )
 
             # eight unlabelled marks a decade over ten decades are a comb, not a scale (and each
             # mark is a matplotlib tick of five artists: a third of the error study's figure)
@@ -861,7 +869,9 @@ def tick_labels(values, t) -> tuple[list[str], int]:
 
 def locale_formatter(t):
     """A matplotlib tick formatter that writes numbers as the report's text does (Babel)."""
-    from matplotlib.ticker import Formatter  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.ticker import (
+        Formatter,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     class LocaleFormatter(Formatter):
         def __init__(self):

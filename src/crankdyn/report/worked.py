@@ -11,12 +11,12 @@ Nothing here computes physics.
 from __future__ import annotations
 
 import re
-
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 from markupsafe import Markup, escape
+
 from .formula_lines import unbroken_parts
 from .i18n import MINUS, NARROW_NBSP
 
@@ -59,8 +59,7 @@ class WorkedBlock:
 
 def worked_row(labels: Sequence[float], wanted_deg: float) -> int:
     """Index of the printed table row nearest ``wanted_deg`` (the first of equals)."""
-    labels = np.asarray(labels, dtype=float)
-    return int(np.argmin(np.abs(labels - wanted_deg)))
+    return int(np.argmin(np.abs(np.asarray(labels, dtype=float) - wanted_deg)))
 
 
 def printed(t, value: float, significant: int = 4) -> tuple[str, float]:

@@ -17,7 +17,15 @@ from pydantic import BaseModel, ConfigDict
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Guide, Mechanism, MechanismGeometry, Stage, StageOutput, Symbol
+from crankdyn.plugin_types import (
+    Catalog,
+    Guide,
+    Mechanism,
+    MechanismGeometry,
+    Stage,
+    StageOutput,
+    Symbol,
+)
 from crankdyn.scene import number, options
 
 from . import physics
