@@ -161,7 +161,7 @@ _SECTION_PORTRAIT, _SECTION_LANDSCAPE = "CRANKDYNSECTIONPORTRAIT", "CRANKDYNSECT
 
 @lru_cache(maxsize=8)
 def _continued_label(language: str) -> str:
-    from .i18n import core_catalog_dir, load_catalog_file
+    from .i18n import core_catalog_dir, load_catalog_file  # lazy: heavy optional import (only a continued table)
 
     for name in (language, "en"):
         path = core_catalog_dir() / f"{name}.toml"
@@ -180,7 +180,7 @@ FIGURE_MAX_HEIGHT_MM = 150
 def _figure_size(png: Path) -> dict[str, str]:
     """The width and height of a figure's picture for pandoc, in mm: its size at :data:`PNG_DPI`,
     scaled down to the PDF's greatest height and the text width."""
-    import struct
+    import struct  # lazy: heavy optional import (only when a figure is sized)
 
     try:
         width_px, height_px = struct.unpack(">II", png.read_bytes()[16:24])  # the PNG's IHDR
