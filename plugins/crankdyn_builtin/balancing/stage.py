@@ -979,7 +979,7 @@ BALANCING_STAGE = Stage(
     render=render,
     figures=("crank_diagrams", "vector_models"),
     tables=("balancing",),
-    references=("poda2007",),
+    references=("poda2007", "lukanin1995", "taylor1985"),
     options_table="balancing",
     options_model=BalancingOptions,
 )

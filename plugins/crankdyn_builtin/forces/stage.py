@@ -9,6 +9,7 @@ import numpy as np
 
 from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces, RodDynamicsOptions
 from crankdyn.physics import forces as phys
+from crankdyn.plausibility import mechanical_efficiency
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html, symbol_mathtext
@@ -348,7 +349,8 @@ FORCES_STAGE = Stage(
     render=render,
     figures=("forces", "torque"),
     tables=("forces",),
-    references=("poda2007",),
+    references=("poda2007", "popyk1970", "kolchin2002"),
+    plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06, label_key="forces.answer.p_j_tdc_MPa"),
         AnswerColumn("c_MPa", "centrifugal_Pa", "MPa", factor=1e-06, label_key="forces.answer.c_MPa"),

@@ -13,8 +13,8 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.forces import piston_area_m2
 from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
-from crankdyn.plausibility import peak_pressure
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
+from crankdyn.plausibility import MAX_PEAK_PRESSURE_PA, peak_pressure
+from crankdyn.plugin_types import AnswerColumn, PlausibilityRule, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.physics.extrema import first_argmax
@@ -275,8 +275,28 @@ SYMBOLS = {
 }
 
 
+
+#: The rounded diagram's peak p_z' of a diesel, MPa: below 5 MPa a diesel would not ignite its
+#: fuel reliably (the end of compression alone reaches 3.5-5.5 MPa), above 20 MPa only the most
+#: highly boosted engines run (up to 25 MPa, where the core's peak-pressure rule takes over).
+DIESEL_PEAK_RANGE_MPA = (5.0, 20.0)
+
+
+def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
+    """A diesel's p_z' (the rounded diagram's peak) outside :data:`DIESEL_PEAK_RANGE_MPA`."""
+    if scene.cycle is None or scene.cycle.ignition != "diesel":
+        return []
+    peak = (results or {}).get("peak_pressure_rounded_Pa")
+    if not isinstance(peak, (int, float)) or peak > MAX_PEAK_PRESSURE_PA:
+        return []
+    low, high = DIESEL_PEAK_RANGE_MPA
+    if low <= peak / 1e6 <= high:
+        return []
+    return [("indicator.plausibility_diesel_peak", {"pressure": peak / 1e6, "low": low, "high": high})]
+
+
 INDICATOR_STAGE = Stage(
-    plausibility=(peak_pressure("max_pressure_Pa"),),
+    plausibility=(peak_pressure("max_pressure_Pa"), PlausibilityRule("diesel_peak", _diesel_peak)),
     template_dir=TEMPLATES,
     name="indicator",
     # the core's letters that hold with their meaning in this section only
@@ -289,7 +309,7 @@ INDICATOR_STAGE = Stage(
     render=render,
     figures=("pV", "p_alpha"),
     tables=("indicator",),
-    references=("poda2007",),
+    references=("poda2007", "orlin1983", "heywood1988"),
     symbols=SYMBOLS,
     answer_columns=(
         AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),

@@ -10,6 +10,7 @@ import numpy as np
 from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
+from crankdyn.plausibility import mechanical_efficiency
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import journal_name
@@ -210,7 +211,8 @@ TORQUE_STAGE = Stage(
     render=render,
     figures=("output_torque", "journal_torques"),
     tables=("torque",),
-    references=("poda2007",),
+    references=("poda2007", "lukanin1995"),
+    plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
         AnswerColumn("M_max_Nm", "max_Nm", "N·m", label_key="torque.answer.M_max_Nm"),

@@ -24,7 +24,7 @@ from .frame import frame_html
 from .equation_legend import add_equation_legends, symbol_meaning
 from .typeset import (SYMBOLS, SymbolTable, italic_letters, symbol_html, symbol_table, symbol_unit, symbols_used,
                       typeset_html, unbreakable_html)
-from ..plausibility import format_params, warnings
+from ..plausibility import format_params, report_key, scene_warnings, stage_warnings
 
 
 _IDENTIFIER = re.compile(r"\b[a-z]+(?:[._][a-z]+)+\b")
@@ -177,6 +177,27 @@ def cite(numbers) -> str:
                            for run in runs) + "]"
 
 
+def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
+    """The section's paragraphs and the conclusions' sentences of the warnings ``found``
+    (:func:`crankdyn.plausibility.report_key`) not ``said`` before (two stages may judge one
+    value); a warning's ``source`` parameter (a catalog key of the reference its limits come
+    from) is cited by its number, added to ``references``."""
+    paragraphs, conclusions = [], []
+    for key, params in found:
+        if (key, repr(sorted(params.items()))) in said:
+            continue
+        said.add((key, repr(sorted(params.items()))))
+        shown = format_params(params, t.decimal_separator)
+        if "source" in params:
+            if params["source"] not in references:
+                references.append(params["source"])
+            shown["source"] = cite([references.index(params["source"]) + 1])
+        sentence = t(report_key(t, key, "section"), **shown)
+        paragraphs.append(f'<p class="plausibility">{escape(sentence)}</p>')
+        conclusions.append(t(report_key(t, key, "conclusion"), **shown))
+    return "".join(paragraphs), conclusions
+
+
 def appendix_letter(t, index: int) -> str:
     letters = t("doc.appendix_letters")
     return letters[index] if index < len(letters) else str(index + 1)
@@ -211,15 +232,21 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     appendices: list[SectionView] = []
     core_letter = appendix_letter(t, 0) if course else ""
     ctx.start_section(1, "input")
-    sections.append(SectionView(1, "input", t("report.input_title"),
-                                Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                           mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                                           stage_rows=_stage_input_rows(result, ctx)))))
+    input_view = SectionView(1, "input", t("report.input_title"),
+                             Markup(ctx.render_template("sections/input.html.j2", scene=scene,
+                                                        mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                                        stage_rows=_stage_input_rows(result, ctx))))
+    sections.append(input_view)
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
+    references += [key for key in t("doc.standards").split() if key not in references]
+    said: set = set()
+    given_warnings = plausibility_text(t, scene_warnings(scene, registry), references, said)
     notes: list[str] = []
+    shown_stages: set[str] = set()
     for stage in result.plan.order:
         to_appendix = course and stage.appendix  # a study of the numerics (Stage.appendix)
-        number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
+        # a course note has one appendix: the studies' short statements go into the core's
+        number = core_letter if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
         figures_before = len(ctx.figures)
@@ -235,21 +262,33 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
         body = landscape_tables_later(body)
-        for ref in stage.references:
+        cited = stage.references + (() if course else stage.references_full)
+        for ref in cited:
             if ref not in references:
                 references.append(ref)
         # a section of the project's own method (cited in the introduction) does not repeat it
-        if stage.references and set(stage.references) != {PROJECT_METHOD}:
-            numbers = [references.index(r) + 1 for r in stage.references]
+        if cited and set(cited) != {PROJECT_METHOD}:
+            numbers = [references.index(r) + 1 for r in cited]
             body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
-        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body), list(ctx.conclusions))
+        shown_stages.add(stage.name)
+        found, concluded = plausibility_text(
+            t, stage_warnings(stage, scene, output.results if output is not None else None), references,
+            said)
+        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body + found),
+                           list(ctx.conclusions) + concluded)
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
 
-    for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
-        notes.append(t(key, **format_params(params, t.decimal_separator)))
+    # values no real engine has (noted, not refused): the given data's, and those of a stage
+    # without a section of its own, said with the given data
+    unshown = [w for name, stage in registry.stages.items() if name not in shown_stages
+               for w in stage_warnings(stage, scene, result.outputs[name].results
+                                       if name in result.outputs else None)]
+    found, concluded = plausibility_text(t, unshown, references, said)
+    input_view.html = Markup(input_view.html + given_warnings[0] + found)
+    input_view.conclusions += given_warnings[1] + concluded
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
                for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
@@ -262,6 +301,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
         timing=timing, skipped=skipped, appendices=appendices, course=course,
         numerics_number=numerics_number, references=references, css=Markup(css),
+        standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
         findings=ctx.findings, frame=frame_html(env, t, scene.report, title),
