@@ -43,6 +43,7 @@ from crankdyn.outputs import results_document
 from crankdyn.plugins import collect, default_registry, plugin_manager
 from crankdyn.report.document import render_html
 from crankdyn.report.equation_legend import symbols_in
+from crankdyn.report.typeset import symbol_table
 from crankdyn.scene import scene_from_dict
 from scene_corpus import LANGUAGES, corpus
 from test_note import _decimal_points, _latin_words
@@ -115,6 +116,7 @@ class Note:
         self.language = case.language
         self.result = run_scene(scene_from_dict(case.data, base_dir=examples_dir()), registry)
         self.rendered = render_html(self.result, registry, case.language)
+        self.symbols = symbol_table(registry.stages.values())  # the core's letters and the stages'
         self.html = self.rendered.linked_html
         self.results = json.loads(json.dumps(results_document(self.result), default=str))
         body = self.html.split("<body", 1)[1]
@@ -194,14 +196,16 @@ def check_symbols(note: Note) -> list[str]:
     language, missing = note.language, set()
     for stage, formula in _equations(note.html):
         for token in _tokens(formula):
-            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)):
+            if not (symbols_in(token, language, stage, note.symbols)
+                    or _indexed_symbol(token, language, stage)):
                 missing.add((stage, token))
     starts = [(m.start(), m.group(1)) for m in _SECTION_START.finditer(note.html)]
     heads = r"<th\b[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>"
     for m in re.finditer(heads, note.html, flags=re.S):
         stage = next((name for start, name in reversed(starts) if start < m.start()), "")
         for token in _tokens(m.group(1) or m.group(2)):
-            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)
+            if not (symbols_in(token, language, stage, note.symbols)
+                    or _indexed_symbol(token, language, stage)
                     or _instance_of_an_indexed_symbol(token, language, stage)):
                 missing.add((stage, token))
     return [f"undefined symbol {token} in {stage}" for stage, token in sorted(missing)]
