@@ -213,6 +213,53 @@ def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
             for row in stage.input_rows(result.scene, ctx)]
 
 
+def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None:
+    """``stage``'s section as rendered (or kept by the preview's cache); its figures go to
+    ``figure_sink`` as soon as it is rendered."""
+    figures_before = len(ctx.figures)
+    if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
+        body = f'<p class="pending">{escape(ctx.t("doc.section_pending"))}</p>'
+    elif sections_cache is None:
+        body = stage.render(output, ctx)
+    else:
+        body = sections_cache.render(stage, output, ctx)
+    if figure_sink is not None:
+        figure_sink(ctx.figures[figures_before:])
+    return body
+
+
+def _input_view(result, registry, ctx) -> SectionView:
+    """The given data's section (its plausibility sentences are added when the run is read)."""
+    scene = result.scene
+    ctx.start_section(1, "input")
+    return SectionView(1, "input", ctx.t("report.input_title"),
+                       Markup(ctx.render_template("sections/input.html.j2", scene=scene,
+                                                  mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                                  stage_rows=_stage_input_rows(result, ctx))))
+
+
+def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
+    """The sentence citing the sources of ``stage``'s method (added to ``references``); none for
+    a section of the project's own method alone, cited in the introduction. A course note cites
+    no source of a full report's study (``Stage.references_full``)."""
+    cited = stage.references + (() if course else stage.references_full)
+    for ref in cited:
+        if ref not in references:
+            references.append(ref)
+    if not cited or set(cited) == {PROJECT_METHOD}:
+        return ""
+    numbers = [references.index(r) + 1 for r in cited]
+    return f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>"
+
+
+def _unshown_warnings(result, registry, shown_stages) -> list:
+    """The warnings of the stages without a section in the note (left out, or run for their data
+    only): said with the given data."""
+    return [w for name, stage in registry.stages.items() if name not in shown_stages
+            for w in stage_warnings(stage, result.scene, result.outputs[name].results
+                                    if name in result.outputs else None)]
+
+
 def render_html(result: RunResult, registry: Registry, language: str | None = None,
                 sections_cache=None, figure_sink=None) -> RenderedReport:
     """The report of ``result``; with a :class:`crankdyn.report.section_cache.SectionCache`
@@ -231,15 +278,11 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     sections: list[SectionView] = []
     appendices: list[SectionView] = []
     core_letter = appendix_letter(t, 0) if course else ""
-    ctx.start_section(1, "input")
-    input_view = SectionView(1, "input", t("report.input_title"),
-                             Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                        mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                                        stage_rows=_stage_input_rows(result, ctx))))
+    input_view = _input_view(result, registry, ctx)
     sections.append(input_view)
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
     references += [key for key in t("doc.standards").split() if key not in references]
-    said: set = set()
+    said: set = set()  # the warnings the note has said
     given_warnings = plausibility_text(t, scene_warnings(scene, registry), references, said)
     notes: list[str] = []
     shown_stages: set[str] = set()
@@ -249,27 +292,11 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         number = core_letter if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
-        figures_before = len(ctx.figures)
         output = result.study_output(stage.name)  # a deferred study's: received or computed now
-        if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
-            body = f'<p class="pending">{escape(t("doc.section_pending"))}</p>'
-        elif sections_cache is None:
-            body = stage.render(output, ctx)
-        else:
-            body = sections_cache.render(stage, output, ctx)
-        if figure_sink is not None:
-            figure_sink(ctx.figures[figures_before:])
+        body = _section_body(stage, output, ctx, sections_cache, figure_sink)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
-        body = landscape_tables_later(body)
-        cited = stage.references + (() if course else stage.references_full)
-        for ref in cited:
-            if ref not in references:
-                references.append(ref)
-        # a section of the project's own method (cited in the introduction) does not repeat it
-        if cited and set(cited) != {PROJECT_METHOD}:
-            numbers = [references.index(r) + 1 for r in cited]
-            body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
+        body = _cited_sources(t, stage, course, references) + landscape_tables_later(body)
         shown_stages.add(stage.name)
         found, concluded = plausibility_text(
             t, stage_warnings(stage, scene, output.results if output is not None else None), references,
@@ -281,12 +308,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                     for k, v in params.items()}))
 
-    # values no real engine has (noted, not refused): the given data's, and those of a stage
-    # without a section of its own, said with the given data
-    unshown = [w for name, stage in registry.stages.items() if name not in shown_stages
-               for w in stage_warnings(stage, scene, result.outputs[name].results
-                                       if name in result.outputs else None)]
-    found, concluded = plausibility_text(t, unshown, references, said)
+    found, concluded = plausibility_text(t, _unshown_warnings(result, registry, shown_stages),
+                                         references, said)
     input_view.html = Markup(input_view.html + given_warnings[0] + found)
     input_view.conclusions += given_warnings[1] + concluded
     numerics_number = core_letter or len(sections) + 1
