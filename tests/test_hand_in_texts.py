@@ -449,8 +449,8 @@ def test_the_error_appendix_cites_its_source_for_what_it_takes_from_it(reports):
     """Ismailov's paper gives the series of the piston kinematics, not the error study's method: the
     appendix says what it compares as in that source, not "calculated by the method of [n]"."""
     html = shared_html("inline4-petrol", {"report": {"detail": "full"}}, language="uk").linked_html
-    appendix = "".join(re.findall(r'<section class="chapter"[^>]*data-stage="numerics".*?</section>', html,
-                                  flags=re.S))
+    appendix = "".join(re.findall(r'<section class="chapter"[^>]*data-stage="numerics".*?</section>',
+                                  html, flags=re.S))
     assert "за методикою" not in appendix
     number = re.search(r"порівняно з її рядами за степенями λ, як у \[(\d+)\]", appendix).group(1)
     references = re.findall(r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html,

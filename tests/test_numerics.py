@@ -39,7 +39,8 @@ def render_section(result, stage="numerics", language="en", detail="full"):
     """Only the stage's own section (the whole report is tested in test_leave_out), as the report
     of ``[report] detail`` shows it: the full study, or a course note's statement."""
     t = translator(language, REGISTRY.catalogs)
-    scene = result.scene.model_copy(update={"report": result.scene.report.model_copy(update={"detail": detail})})
+    report = result.scene.report.model_copy(update={"detail": detail})
+    scene = result.scene.model_copy(update={"report": report})
     ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
                         cycle_deg=result.scene.engine.cycle_deg, scene=scene)
     ctx.start_section(7, stage)
@@ -353,7 +354,8 @@ def test_a_course_note_states_the_error_against_time_in_plain_words():
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     assert "At the step of this report, Δα = 1°" in html
     assert f"takes {ctx.num(own['time_s'] * 1e3, 2)} ms" in html
-    assert f"a step of {coarse['angle_step_deg']:g}° would take {ctx.num(coarse['time_s'] * 1e3, 2)} ms" in html
+    coarse_ms = ctx.num(coarse["time_s"] * 1e3, 2)
+    assert f"a step of {coarse['angle_step_deg']:g}° would take {coarse_ms} ms" in html
     worst = max(coarse[f"{q}_error_relative"] for q in num.QUANTITIES)
     assert f"errors up to {ctx.num(100 * worst, 2)} %" in html
     for word in ("RK45", "Radau", "BDF", "LSODA", "Jacobian", "series", "Maclaurin"):

@@ -292,7 +292,8 @@ def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
     low, high = DIESEL_PEAK_RANGE_MPA
     if low <= peak / 1e6 <= high:
         return []
-    return [("indicator.plausibility_diesel_peak", {"pressure": peak / 1e6, "low": low, "high": high})]
+    return [("indicator.plausibility_diesel_peak",
+             {"pressure": peak / 1e6, "low": low, "high": high})]
 
 
 INDICATOR_STAGE = Stage(

@@ -780,7 +780,8 @@ def _torsion_parts(ctx, output: StageOutput, torsion, course: bool = False) -> d
         parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
                                                         t("speed_fluctuation.torsion_figure_caption"),
                                                         "solvers_torsion", "speed_fluctuation.see_torsion_figure")
-    ctx.conclude(t("speed_fluctuation.conclusion_torsion" + ("_course" if course else ""), f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
+    conclusion = "speed_fluctuation.conclusion_torsion" + ("_course" if course else "")
+    ctx.conclude(t(conclusion, f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
                    else "—", method=torsion["solver"]["method"],
                    twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
                    torque=ctx.num(max(torsion["span_torque_max_Nm"]))))
@@ -808,7 +809,8 @@ def render(output: StageOutput, ctx) -> str:
     if not course:
         table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"),
                                      "speed_fluctuation.see_single_table")
-        figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"),
+        figure_single = _error_figure(ctx, r["solvers"],
+                                      t("speed_fluctuation.single_figure_caption"),
                                       "solvers_single", "speed_fluctuation.see_single_figure")
 
     torsion = r["torsion"]

@@ -232,9 +232,10 @@ def _input_view(result, registry, ctx) -> SectionView:
     """The given data's section (its plausibility sentences are added when the run is read)."""
     scene = result.scene
     ctx.start_section(1, "input")
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
     return SectionView(1, "input", ctx.t("report.input_title"),
                        Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                  mechanism=registry.mechanisms.get(scene.engine.mechanism),
+                                                  mechanism=mechanism,
                                                   stage_rows=_stage_input_rows(result, ctx))))
 
 
@@ -298,11 +299,10 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
             continue
         body = _cited_sources(t, stage, course, references) + landscape_tables_later(body)
         shown_stages.add(stage.name)
-        found, concluded = plausibility_text(
-            t, stage_warnings(stage, scene, output.results if output is not None else None), references,
-            said)
-        view = SectionView(number, stage.name, ctx.title or t(stage.title_key), Markup(body + found),
-                           list(ctx.conclusions) + concluded)
+        results = output.results if output is not None else None
+        found, concluded = plausibility_text(t, stage_warnings(stage, scene, results), references, said)
+        view = SectionView(number, stage.name, ctx.title or t(stage.title_key),
+                           Markup(body + found), list(ctx.conclusions) + concluded)
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
             notes.append(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
