@@ -8,15 +8,16 @@ that must be there and those that must not. Only the in-line example asks for a 
 
 from __future__ import annotations
 
+import dataclasses
 import re
 
 import pytest
-from conftest import shared_html, shared_run
+from conftest import shared_run
 from markupsafe import escape
 
 from crankdyn.outputs import results_document
 from crankdyn.plugins import default_registry
-from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, skipped_reason
+from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, render_html, skipped_reason
 from crankdyn.report.i18n import translator
 
 REGISTRY = default_registry()
@@ -77,11 +78,19 @@ def absent_keys(name):
     return absent if MATRIX[name][4] & FLYWHEEL else absent | FLYWHEEL
 
 
+def full_detail(result):
+    """``result`` as a ``[report] detail = "full"`` scene's (the same run: the detail changes
+    only what the report shows): every section and the studies' parts in the body."""
+    report = result.scene.report.model_copy(update={"detail": "full"})
+    return dataclasses.replace(result, scene=result.scene.model_copy(update={"report": report}))
+
+
 def build(name):
     if name not in _CACHE:
         example, changes = MATRIX[name][:2]
         result = shared_run(example, changes)  # shared with the other test files (read only)
-        _CACHE[name] = (result, results_document(result), shared_html(example, changes, "en").linked_html)
+        html = render_html(full_detail(result), REGISTRY, "en").linked_html
+        _CACHE[name] = (result, results_document(result), html)
     return _CACHE[name]
 
 

@@ -35,11 +35,14 @@ def run(name, changes=None):
     return shared_run(name, changes)
 
 
-def render_section(result, stage="numerics", language="en"):
-    """Only the stage's own section (the whole report is tested in test_leave_out)."""
+def render_section(result, stage="numerics", language="en", detail="full"):
+    """Only the stage's own section (the whole report is tested in test_leave_out), as the report
+    of ``[report] detail`` shows it: the full study, or a course note's statement."""
     t = translator(language, REGISTRY.catalogs)
+    report = result.scene.report.model_copy(update={"detail": detail})
+    scene = result.scene.model_copy(update={"report": report})
     ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
-                        cycle_deg=result.scene.engine.cycle_deg, scene=result.scene)
+                        cycle_deg=result.scene.engine.cycle_deg, scene=scene)
     ctx.start_section(7, stage)
     html = next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
     return html, ctx, t
@@ -338,3 +341,24 @@ def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
     # without the hint the name decides, as before
     registry.stages["aaa_summary"] = stage("aaa_summary", requires=("a",))
     assert [s.name for s in plan(scene, registry).order] == ["bbb", "aaa_summary", "ccc", "zzz"]
+
+
+def test_a_course_note_states_the_error_against_time_in_plain_words():
+    """``detail = "course"``: the step, the errors of the main results at it and the time, against
+    the coarsest step studied; no table, figure, solver or series comparison."""
+    result = run("inline4-petrol", UNLIMITED)
+    r = result.outputs["numerics"].results
+    html, ctx, t = render_section(result, detail="course")
+    assert not t.missing and not ctx.figures and "<table" not in html
+    own = next(s for s in r["steps"] if s["angle_step_deg"] == r["at_scene_step"]["angle_step_deg"])
+    coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
+    assert "At the step of this report, Δα = 1°" in html
+    assert f"takes {ctx.num(own['time_s'] * 1e3, 2)} ms" in html
+    coarse_ms = ctx.num(coarse["time_s"] * 1e3, 2)
+    assert f"a step of {coarse['angle_step_deg']:g}° would take {coarse_ms} ms" in html
+    worst = max(coarse[f"{q}_error_relative"] for q in num.QUANTITIES)
+    assert f"errors up to {ctx.num(100 * worst, 2)} %" in html
+    for word in ("RK45", "Radau", "BDF", "LSODA", "Jacobian", "series", "Maclaurin"):
+        assert word not in html
+    kinematics_only = run("kinematics-only", UNLIMITED)
+    assert render_section(kinematics_only, "numerics_kinematics", detail="course")[0] is None

@@ -106,7 +106,11 @@ def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, ca
     assert "mean piston speed is 100 m/s" in capsys.readouterr().err
     html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
     seen = as_read(html).replace("\u202f", " ").replace("\u00a0", " ")  # numbers kept on the line of their unit
-    assert "середня швидкість поршня 100 м/с перевищує 25 м/с" in seen
+    given = seen.split('id="sec-1"', 1)[1].split('id="sec-2"', 1)[0]  # the given data's section
+    assert "Середня швидкість поршня 100 м/с перевищує 25 м/с" in given
+    conclusions = seen.split('class="conclusions"', 1)[1].split("</ol>", 1)[0]
+    assert "Середня швидкість поршня перевищує звичайну для поршневих двигунів" in conclusions
+    assert "engine.rpm" not in seen  # the note speaks of the engine, not of its input file
 
 
 def test_a_ukrainian_report_of_latin_title_texts_is_warned_about_on_the_terminal(tmp_path, capsys):

@@ -20,7 +20,8 @@ all three languages, and a sample of PDFs through the page-layout check. The che
   appears, a worked check referring back to a table, never forward;
 * angles: every table's crank angle a whole number of degrees except a marked extreme's row; a
   worked check's angle one of its table's rows;
-* no software word in the note: scene, TOML, CSV, test, a key name, a "[table]".
+* no software word in the note: scene, TOML, CSV, test, a key name, a "[table]", a solver's or
+  library's name.
 """
 
 from __future__ import annotations
@@ -80,7 +81,9 @@ ONE_CRANKS_TORQUE = {"en": r"torque of one crank", "uk": r"момент\w* од�
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
 #: Words of the program, not of the engine: the input file, its format, its keys, the tests.
-_KEY_NAMES = r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b"
+_KEY_NAMES = (r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
+              # the solvers and libraries a full report's numerics chapter compares
+              r"\bRK45\b|\bRadau\b|\bBDF\b|\bLSODA\b|\bSciPy\b|\bPython\b")
 SOFTWARE = {"en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
             "uk": r"\bсцен[аиіуоюе]\w*|\bтест\w*|" + _KEY_NAMES,
             "ru": r"\bсцен[аыуеой]\w*|\bтест\w*|" + _KEY_NAMES}
@@ -114,6 +117,7 @@ class Note:
         # the letters of the report: the core's and those the run's stages declare
         self.symbols = symbol_table(registry.stages.values())
         self.rendered = render_html(self.result, registry, case.language)
+        self.symbols = symbol_table(registry.stages.values())  # the core's letters and the stages'
         self.html = self.rendered.linked_html
         self.results = json.loads(json.dumps(results_document(self.result), default=str))
         body = self.html.split("<body", 1)[1]

@@ -123,7 +123,8 @@ def test_no_letter_has_two_meanings_within_a_section(language):
 
 def test_the_new_symbols_are_explained_under_their_first_equation():
     ru = translator("ru", default_registry().catalogs)
-    html = shared_html("inline4-petrol", language="ru").linked_html
+    # the full report: the error study's relative error ε_X is a symbol of its numerics chapter
+    html = shared_html("inline4-petrol", {"report": {"detail": "full"}}, language="ru").linked_html
     for key in ("shaft_angle", "crank_lag", "cylinder_axis_angle", "cylinder_position", "pin_load_vector",
                 "rod_bearing_load_vector", "rotation_matrix", "journal_load_vector", "span_after", "rim_width",
                 "relative_error", "hodograph_semi_axis_x"):
@@ -167,7 +168,7 @@ def test_the_error_tables_count_of_angles_is_not_the_series_n():
     """The uk check: "N" counted the angles in table Б.1 and the series' terms in (Б.2)."""
     from conftest import shared_html
 
-    html = shared_html("petrol-1cyl", language="uk").linked_html
+    html = shared_html("petrol-1cyl", {"report": {"detail": "full"}}, language="uk").linked_html
     assert "<th>Кількість кутів</th>" in html and "<th><i>N</i></th>" not in html
 
 

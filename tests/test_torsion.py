@@ -153,11 +153,14 @@ def test_rigid_shaft_limit_reproduces_the_single_mass_solution():
     assert t["steady_state"]["converged"]
 
 
-def _sections(result, language):
-    """The flywheel and speed-fluctuation sections only (the whole report is tested elsewhere)."""
+def _sections(result, language, detail="full"):
+    """The flywheel and speed-fluctuation sections only (the whole report is tested elsewhere), as
+    the report of ``[report] detail`` shows them (the full one compares the solvers)."""
     t = translator(language, REGISTRY.catalogs)
+    report = result.scene.report.model_copy(update={"detail": detail})
+    scene = result.scene.model_copy(update={"report": report})
     ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
-                        cycle_deg=result.scene.engine.cycle_deg, scene=result.scene)
+                        cycle_deg=result.scene.engine.cycle_deg, scene=scene)
     html = []
     for number, stage in enumerate(("flywheel", "speed_fluctuation"), start=9):
         ctx.start_section(number, stage)
@@ -177,6 +180,10 @@ def test_torsion_sections_render(language):
         numbers = [int(n) for n in re.findall(r'(?<!data-continued=")' + re.escape(word) + r"10\.(\d+)", html)]
         assert numbers == list(range(1, len(numbers) + 1)), (word, numbers)
     assert len(ctx.conclusions) == 4  # flywheel, critical speeds, torsion, speed fluctuation
+    course, _, course_ctx = _sections(run("inline4-torsion"), language, detail="course")
+    assert "Radau" not in course and "RK45" not in course and course.count('src="figures/') == 5
+    assert len(course_ctx.conclusions) == 4
+    assert not any("Radau" in c for c in course_ctx.conclusions)
 
 
 def test_torsion_without_a_flywheel_uses_the_last_crank():

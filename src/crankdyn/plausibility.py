@@ -2,9 +2,10 @@
 
 A student's slip (rpm 10x too high, bore and stroke swapped, rod length in cm) often
 still gives a valid scene; these checks name it. Each warning is a catalog key under
-``plausibility.`` with its parameters, so the console, ``check`` and the report's notes
-say the same thing in the reader's language. Every engine is checked for its mean piston speed
-and S/D (:data:`CORE_RULES`); a mechanism or stage declares the rules of its own quantities
+``plausibility.`` with its parameters, so the console, ``check`` and the report say the same
+thing in the reader's language (the report in the section of the quantity and in the
+conclusions, in the engineer's words: :func:`report_key`). Every engine is checked for its mean
+piston speed and S/D (:data:`CORE_RULES`); a mechanism or stage declares the rules of its own quantities
 (:class:`crankdyn.plugin_types.PlausibilityRule`: ``Mechanism.plausibility``,
 ``Stage.plausibility``), e.g. the crank-slider's :data:`ROD_RATIO` and :data:`ROD_CENTRE_OF_MASS`
 and the indicator's :func:`peak_pressure` offered here. The limits are the ranges of real piston
@@ -28,6 +29,12 @@ ROD_RATIO_RANGE = (0.15, 0.45)
 STROKE_BORE_RANGE = (0.5, 1.6)
 MAX_PEAK_PRESSURE_PA = 25e6
 ROD_CM_FRACTION_RANGE = (0.1, 0.5)
+#: A real engine at its rated speed loses at least 5 % of its indicated power to friction,
+#: pumping and its auxiliaries; the usual mechanical efficiencies are 0.70-0.90 (Kolchin and
+#: Demidov, the thermal calculation's choice of eta_m for petrol engines and diesels).
+MAX_MECHANICAL_EFFICIENCY = 0.95
+MECHANICAL_EFFICIENCY_RANGE = (0.70, 0.90)
+MECHANICAL_EFFICIENCY_SOURCE = "kolchin2002"
 
 
 def mean_piston_speed_m_s(stroke_m: float, rpm: float) -> float:
@@ -99,6 +106,21 @@ def peak_pressure(result_key: str) -> PlausibilityRule:
     return PlausibilityRule("peak_pressure", check)
 
 
+def mechanical_efficiency(result_key: str) -> PlausibilityRule:
+    """The mechanical efficiency N_e/N_i a stage computed (its result ``result_key``) against the
+    0.95 no real engine reaches, for the stages that compute it to declare."""
+    def check(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+        eta = (results or {}).get(result_key)
+        if not isinstance(eta, (int, float)) or eta <= MAX_MECHANICAL_EFFICIENCY:
+            return []
+        low, high = MECHANICAL_EFFICIENCY_RANGE
+        return [("plausibility.mechanical_efficiency", {
+            "eta": float(eta), "limit": MAX_MECHANICAL_EFFICIENCY, "low": low, "high": high,
+            "source": MECHANICAL_EFFICIENCY_SOURCE})]
+
+    return PlausibilityRule("mechanical_efficiency", check)
+
+
 def _peak_pressure_Pa(scene, results, result_key: str) -> float | None:
     value = (results or {}).get(result_key)
     if isinstance(value, (int, float)):
@@ -125,6 +147,32 @@ def warnings(scene, registry, result=None) -> list[tuple[str, dict[str, Any]]]:
         for rule in stage.plausibility:
             found += rule.check(scene, results)
     return found
+
+
+def scene_warnings(scene, registry) -> list[tuple[str, dict[str, Any]]]:
+    """The core's rules and the scene's mechanism's: what the report says of its given data."""
+    found: list[tuple[str, dict[str, Any]]] = []
+    for rule in CORE_RULES:
+        found += rule.check(scene, None)
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
+    for rule in (mechanism.plausibility if mechanism is not None else ()):
+        found += rule.check(scene, None)
+    return found
+
+
+def stage_warnings(stage, scene, results) -> list[tuple[str, dict[str, Any]]]:
+    """The rules ``stage`` declares, given its results (None when it did not run)."""
+    found: list[tuple[str, dict[str, Any]]] = []
+    for rule in stage.plausibility:
+        found += rule.check(scene, results)
+    return found
+
+
+def report_key(t, key: str, kind: str) -> str:
+    """The catalog key of a warning as a report words it: ``<key>_section`` (the sentence in the
+    section, in the engineer's words, naming no input key) or ``<key>_conclusion`` (the
+    conclusions' sentence, no limits repeated), else the warning's own text."""
+    return f"{key}_{kind}" if t.has(f"{key}_{kind}") else key
 
 
 _LATIN = re.compile(r"[A-Za-z]")

@@ -195,7 +195,8 @@ def _garbage(plugin: str, where: str, step: str, value: object, expected: str) -
 
 
 # ----------------------------------------------------------------------------- registrations
-_NAME_TUPLES = ("requires", "provides", "uses", "references", "services", "figures", "tables")
+_NAME_TUPLES = ("requires", "provides", "uses", "references", "references_full", "services",
+                "figures", "tables")
 
 
 def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -> Stage:

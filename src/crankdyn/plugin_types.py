@@ -322,6 +322,9 @@ class Stage:
     options_table: name of a top-level scene table this stage reads (e.g. "flywheel").
     options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
     references: catalog keys of the sources the method comes from.
+    references_full: catalog keys of the sources only the full report's study cites (its solver
+                and series comparisons, ``[report] detail = "full"``): a course note lists
+                only the sources it cites.
     references_sentence: catalog key of the sentence that opens the section citing them
                 (``{refs}``: "[2, 8]"); default ``doc.method_from``, "the calculation follows [n]",
                 which overclaims for a section that takes only a part from its sources.
@@ -381,6 +384,7 @@ class Stage:
     render: Callable[[StageOutput, Any], str | None]
     template_dir: Path | None = None
     references: tuple[str, ...] = ()
+    references_full: tuple[str, ...] = ()
     references_sentence: str = "doc.method_from"
     uses: tuple[str, ...] = ()
     default: bool = True

@@ -1069,7 +1069,7 @@ BALANCING_STAGE = Stage(
     figures=("crank_diagrams", "vector_models"),
     symbols=SYMBOLS,
     tables=("balancing",),
-    references=("poda2007",),
+    references=("poda2007", "lukanin1995", "taylor1985"),
     options_table="balancing",
     options_model=BalancingOptions,
 )

@@ -16,7 +16,7 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin_types import Stage, StageOutput, Symbol
+from crankdyn.plugin_types import PlausibilityRule, Stage, StageOutput, Symbol
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene import number, options, quantity
 from crankdyn_builtin.bearings.worked import (
@@ -51,6 +51,32 @@ class BearingOptions(BaseModel):
     pins: list[int] | None = None
     journals: list[int] | None = None
     wear_spread_deg: number(gt=0, le=90) = 60.0
+
+
+#: Allowable specific loads of crank-pin bearings, MPa: (mean, largest) for petrol engines and
+#: for diesels (Kolchin and Demidov, the wear diagram of the crank pin: mean 4-12 MPa and largest
+#: 7-20 MPa in petrol engines, mean 6-16 MPa and largest 20-42 MPa in diesels; the upper ends
+#: are the limits). An engine of unknown ignition (a measured trace) is judged as a diesel.
+ALLOWABLE_PIN_PRESSURE_MPA = {"spark": (12.0, 20.0), "diesel": (16.0, 42.0)}
+ALLOWABLE_PRESSURE_SOURCE = "kolchin2002"
+
+
+def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
+    """The most loaded crank pin's mean and largest bearing pressure against the allowable ones
+    of its kind of engine (:data:`ALLOWABLE_PIN_PRESSURE_MPA`)."""
+    pins = (results or {}).get("crank_pins")
+    if not pins:
+        return []
+    ignition = getattr(scene.cycle, "ignition", None) if scene.cycle is not None else None
+    kind = "spark" if ignition == "spark" else "diesel"
+    mean_limit, max_limit = ALLOWABLE_PIN_PRESSURE_MPA[kind]
+    p_mean = max(pin["mean_MPa"] for pin in pins)
+    p_max = max(pin["max_MPa"] for pin in pins)
+    if p_mean <= mean_limit and p_max <= max_limit:
+        return []
+    return [(f"bearings.plausibility_pin_pressure_{kind}", {
+        "p_mean": float(p_mean), "p_max": float(p_max), "mean_limit": mean_limit,
+        "max_limit": max_limit, "source": ALLOWABLE_PRESSURE_SOURCE})]
 
 
 def applies(scene) -> str | None:
@@ -649,7 +675,8 @@ BEARINGS_STAGE = Stage(
     render=render,
     figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
     tables=("bearings", "wear"),
-    references=("poda2007",),
+    references=("poda2007", "orlin1984"),
+    plausibility=(PlausibilityRule("pin_pressure", _pin_pressure),),
     options_table="bearings",
     options_model=BearingOptions,
     symbols=SYMBOLS,

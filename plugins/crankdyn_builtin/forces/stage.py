@@ -14,6 +14,7 @@ from crankdyn.physics import forces as phys
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import rod_loads
 from crankdyn.physics.extrema import EXTREMUM_RTOL, first_argmax, first_argmin
+from crankdyn.plausibility import mechanical_efficiency
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
@@ -468,7 +469,8 @@ FORCES_STAGE = Stage(
     render=render,
     figures=("forces", "torque"),
     tables=("forces",),
-    references=("poda2007",),
+    references=("poda2007", "popyk1970", "kolchin2002"),
+    plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06, label_key="forces.answer.p_j_tdc_MPa"),
         AnswerColumn("c_MPa", "centrifugal_Pa", "MPa", factor=1e-06, label_key="forces.answer.c_MPa"),

@@ -14,8 +14,8 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.plausibility import peak_pressure
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput, Symbol
+from crankdyn.plausibility import MAX_PEAK_PRESSURE_PA, peak_pressure
+from crankdyn.plugin_types import AnswerColumn, PlausibilityRule, Stage, StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, new_figure
 from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
@@ -59,16 +59,10 @@ def run(scene, inputs, *, junction_deg: float | None = None,
         volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
         theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
         try:
-            volume_at = None
-            if motion.displacement_at is not None:
-                def volume_at(a_deg):
-                    known = _known_volume(volumes, a_deg)
-                    if known is not None:
-                        return known
-                    return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
             pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
-                                               volume_function=volume_at, junction_deg=junction_deg,
-                                               theoretical_Pa=theoretical)
+                                               volume_function=_volume_function(motion, area, clearance,
+                                                                                volumes),
+                                               junction_deg=junction_deg, theoretical_Pa=theoretical)
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)
@@ -115,6 +109,21 @@ def run(scene, inputs, *, junction_deg: float | None = None,
                       indicated_work_J=work, swept_volume_m3=swept)
     return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table},
                        notes=notes)
+
+
+def _volume_function(motion, area: float, clearance: float, volumes: dict | None):
+    """The cylinder volume (m³) at any crank angle (deg) from the mechanism's displacement, taking
+    the ``volumes`` already computed for a chunk of points; None without a displacement function."""
+    if motion.displacement_at is None:
+        return None
+
+    def volume_at(a_deg):
+        known = _known_volume(volumes, a_deg)
+        if known is not None:
+            return known
+        return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
+
+    return volume_at
 
 
 def _known_volume(volumes: dict | None, angle_deg):
@@ -367,8 +376,29 @@ SYMBOLS = {
 }
 
 
+
+#: The rounded diagram's peak p_z' of a diesel, MPa: below 5 MPa a diesel would not ignite its
+#: fuel reliably (the end of compression alone reaches 3.5-5.5 MPa), above 20 MPa only the most
+#: highly boosted engines run (up to 25 MPa, where the core's peak-pressure rule takes over).
+DIESEL_PEAK_RANGE_MPA = (5.0, 20.0)
+
+
+def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
+    """A diesel's p_z' (the rounded diagram's peak) outside :data:`DIESEL_PEAK_RANGE_MPA`."""
+    if scene.cycle is None or scene.cycle.ignition != "diesel":
+        return []
+    peak = (results or {}).get("peak_pressure_rounded_Pa")
+    if not isinstance(peak, (int, float)) or peak > MAX_PEAK_PRESSURE_PA:
+        return []
+    low, high = DIESEL_PEAK_RANGE_MPA
+    if low <= peak / 1e6 <= high:
+        return []
+    return [("indicator.plausibility_diesel_peak",
+             {"pressure": peak / 1e6, "low": low, "high": high})]
+
+
 INDICATOR_STAGE = Stage(
-    plausibility=(peak_pressure("max_pressure_Pa"),),
+    plausibility=(peak_pressure("max_pressure_Pa"), PlausibilityRule("diesel_peak", _diesel_peak)),
     template_dir=TEMPLATES,
     name="indicator",
     # the core's letters that hold with their meaning in this section only
@@ -382,7 +412,7 @@ INDICATOR_STAGE = Stage(
     render=render,
     figures=("pV", "p_alpha"),
     tables=("indicator",),
-    references=("poda2007",),
+    references=("poda2007", "orlin1983", "heywood1988"),
     symbols=SYMBOLS,
     answer_columns=(
         AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),

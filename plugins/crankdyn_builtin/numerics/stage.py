@@ -31,6 +31,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from html import escape
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -968,8 +969,43 @@ def _timing_text(r, ctx) -> str:
     return ctx.t("numerics.timing_rerun", **common)
 
 
+def _course_note(ctx) -> bool:
+    """A course note (``[report] detail = "course"``) states the error against time in a few
+    sentences; the study's tables, figures and methods belong to the full report."""
+    return ctx.scene is not None and ctx.scene.report.detail == "course"
+
+
+def render_course(r, ctx) -> str | None:
+    """The course note's statement: the step, the errors of the main results at it and the time
+    of the calculation, against the coarsest step studied (what a coarser step would save)."""
+    if "steps" not in r:
+        return None
+    t = ctx.t
+    a = r["at_scene_step"]
+    statement = t("numerics.printed_errors", step=_plain(ctx, a["angle_step_deg"]),
+                  torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
+                  work=ctx.num(100 * a["indicated_work_error_relative"], 2),
+                  t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
+                  t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
+                  q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2))
+    ctx.conclude(statement)
+    own = min(r["steps"], key=lambda s: abs(s["angle_step_deg"] - a["angle_step_deg"]))
+    coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
+    text = [statement]
+    if coarse is not own:
+        text.append(t("numerics.course_time", step=_plain(ctx, own["angle_step_deg"]),
+                      time=ctx.num(own["time_s"] * 1e3, 2),
+                      coarse=_plain(ctx, coarse["angle_step_deg"]),
+                      coarse_time=ctx.num(coarse["time_s"] * 1e3, 2),
+                      coarse_error=ctx.num(100 * max(coarse[f"{q}_error_relative"]
+                                                     for q in QUANTITIES), 2)))
+    return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
+
+
 def render(output: StageOutput, ctx) -> str:
     r = output.results
+    if _course_note(ctx):
+        return render_course(r, ctx)
     step_table = step_figure = statement = reference_text = None
     if "steps" in r:
         step_table, step_figure, statement, reference_text = _render_steps(r, ctx)
@@ -1016,6 +1052,8 @@ def _kinematics_statement(r, ctx) -> str | None:
 
 def render_kinematics(output: StageOutput, ctx) -> str | None:
     r = output.results
+    if _course_note(ctx):  # the series of the kinematics are a study of the full report
+        return None
     forms_table, forms_figure = _render_kinematics(r, ctx)
     if forms_table is None and not r.get("solvers"):
         return None
@@ -1042,7 +1080,7 @@ NUMERICS_STAGE = Stage(
     render=render,
     figures=("error_vs_time", "kinematics_forms"),
     tables=("steps", "kinematics_forms"),
-    references=("ismailov",),
+    references_full=("ismailov",),
     references_sentence="numerics.sources",
     options_table="numerics",
     options_model=NumericsOptions,
@@ -1066,7 +1104,7 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     figures=("kinematics_forms",),
     tables=("kinematics_forms",),
     last=True,
-    references=("ismailov",),
+    references_full=("ismailov",),
     references_sentence="numerics.sources",
     services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
 )

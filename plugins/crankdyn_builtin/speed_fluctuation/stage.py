@@ -554,8 +554,10 @@ def run(scene, inputs) -> StageOutput:
         "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
         "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
     }}
-    notes = [("speed_fluctuation.note_reference", {}),
-             ("speed_fluctuation.note_irregularity", {
+    # the solvers' check against the exact solution is a full report's (``detail = "full"``)
+    full = scene.report.detail == "full"
+    notes = [("speed_fluctuation.note_reference", {})] if full else []
+    notes += [("speed_fluctuation.note_irregularity", {
                  "midrange": results["irregularity"], "time_mean": results["irregularity_time_mean"],
                  "omega_mid": 0.5 * (exact.omega_max_rad_s + exact.omega_min_rad_s),
                  "omega_mean": exact.omega_mean_rad_s})]
@@ -563,7 +565,7 @@ def run(scene, inputs) -> StageOutput:
         torsion, torsion_tables = _torsion(scene, torque, crank_loads, design, train, exact, torsion_opts)
         results["torsion"] = torsion
         tables.update(torsion_tables)
-        if not torsion["steady_state"]["converged"]:
+        if full and not torsion["steady_state"]["converged"]:  # a course note's section says it
             notes.append(("speed_fluctuation.note_not_converged", {"cycles": torsion["steady_state"]["cycles"]}))
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
@@ -758,9 +760,10 @@ def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
     return fig
 
 
-def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
+def _torsion_parts(ctx, output: StageOutput, torsion, course: bool = False) -> dict:
     """The torsional subsection's tables and figures, made in the order the template shows them
-    (tables and figures are numbered as made), and its conclusions."""
+    (tables and figures are numbered as made), and its conclusions; a course note's without
+    the solvers' comparison."""
     t = ctx.t
     parts = {}
     node_names = [_node_name(t, node["name"]) for node in torsion["nodes"]]
@@ -770,14 +773,15 @@ def _torsion_parts(ctx, output: StageOutput, torsion) -> dict:
     _harmonics_table(ctx, torsion, parts)
     _campbell(ctx, torsion, parts)
     _torsion_figure(ctx, output.tables.arrays("torsion"), torsion, node_names, parts)
-    if torsion["solvers"]:
+    if torsion["solvers"] and not course:
         parts["table_torsion_solvers"] = _solver_table(ctx, torsion["solvers"],
                                                        t("speed_fluctuation.torsion_table_caption"),
                                                        "speed_fluctuation.see_torsion_table", twist=True)
         parts["figure_torsion_solvers"] = _error_figure(ctx, torsion["solvers"],
                                                         t("speed_fluctuation.torsion_figure_caption"),
                                                         "solvers_torsion", "speed_fluctuation.see_torsion_figure")
-    ctx.conclude(t("speed_fluctuation.conclusion_torsion", f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
+    conclusion = "speed_fluctuation.conclusion_torsion" + ("_course" if course else "")
+    ctx.conclude(t(conclusion, f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes
                    else "—", method=torsion["solver"]["method"],
                    twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
                    torque=ctx.num(max(torsion["span_torque_max_Nm"]))))
@@ -798,22 +802,28 @@ def render(output: StageOutput, ctx) -> str:
     model when the scene has one, and the conclusions."""
     t = ctx.t
     r = output.results
+    # a course note gives the results; the solvers' comparison is the full report's study
+    course = ctx.scene is not None and ctx.scene.report.detail == "course"
     figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
-    table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"),
-                                 "speed_fluctuation.see_single_table")
-    figure_single = _error_figure(ctx, r["solvers"], t("speed_fluctuation.single_figure_caption"), "solvers_single",
-                                  "speed_fluctuation.see_single_figure")
+    table_single = figure_single = None
+    if not course:
+        table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"),
+                                     "speed_fluctuation.see_single_table")
+        figure_single = _error_figure(ctx, r["solvers"],
+                                      t("speed_fluctuation.single_figure_caption"),
+                                      "solvers_single", "speed_fluctuation.see_single_figure")
 
     torsion = r["torsion"]
     if torsion is None:  # no torsional model in the scene: the title does not promise one
         ctx.title = t("speed_fluctuation.title_rigid")
-    parts = _torsion_parts(ctx, output, torsion) if torsion is not None else {}
+    parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
-    ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], digits),
+    ctx.conclude(t("speed_fluctuation.conclusion" + ("_course" if course else ""),
+                   delta=ctx.num(r["irregularity"], digits),
                    energy=ctx.num(r["irregularity_energy"], digits),
                    deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
     return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
-                               cylinders=ctx.scene.engine.cylinders,
+                               cylinders=ctx.scene.engine.cylinders, course=course,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                worked=worked_speed_fluctuation(ctx, r), **parts)
@@ -910,7 +920,8 @@ SPEED_FLUCTUATION_STAGE = Stage(
     render=render,
     figures=("speed", "solvers_single", "modes", "campbell", "torsion", "solvers_torsion"),
     tables=("speed_fluctuation", "torsion"),
-    references=("denhartog1956", "hairer1996", "scipy2020"),
+    references=("denhartog1956",),
+    references_full=("hairer1996", "scipy2020"),
     options_table="torsion",
     options_model=TorsionOptions,
     symbols=SYMBOLS,

@@ -11,6 +11,7 @@ from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax, first_argmin
+from crankdyn.plausibility import mechanical_efficiency
 from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
@@ -257,7 +258,8 @@ TORQUE_STAGE = Stage(
     render=render,
     figures=("output_torque", "journal_torques"),
     tables=("torque",),
-    references=("poda2007",),
+    references=("poda2007", "lukanin1995"),
+    plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
         AnswerColumn("M_max_Nm", "max_Nm", "N·m", label_key="torque.answer.M_max_Nm"),

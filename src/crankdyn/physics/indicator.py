@@ -859,13 +859,10 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
         (crank_angle_deg, volume_m3), which reproduces engine kinematics to
         ~1e-9 relative on a 1-deg grid.
     junction_deg : float, optional
-        The junction J, deg after firing TDC, when the caller has found it
-        for this diagram (:func:`combustion_junctions_deg`, many diagrams at
-        once): the search for it is then skipped.  NaN stands for a diagram
-        without one (the same ValueError as the search).
+        The junction J, deg after firing TDC, found by the caller
+        (:func:`combustion_junctions_deg`); NaN: none fits (ValueError).
     theoretical_Pa : array_like, optional
-        :func:`theoretical_pressure_Pa` at these angles, when the caller has
-        computed it: the diagram the rounding starts from, not computed again.
+        :func:`theoretical_pressure_Pa` at these angles, if already computed.
 
     Returns
     -------
@@ -896,10 +893,7 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     """
     alpha = np.asarray(crank_angle_deg, dtype=float)
     volume = np.asarray(volume_m3, dtype=float)
-    _require(isinstance(params, CycleParameters), "params", type(params).__name__,
-             "a CycleParameters instance")
-    _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
-             "a RoundingParameters instance")
+    _check_rounding_inputs(params, rounding)
     if theoretical_Pa is None:
         pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
     else:
@@ -907,11 +901,6 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     cycle = _cycle_deg(params)
     tdc = _firing_tdc_deg(params)
     four = params.strokes == 4
-    if not four:
-        for name in ("exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
-                     "intake_closes_after_bdc_deg"):
-            _require(getattr(rounding, name) == 0, name, getattr(rounding, name),
-                     "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)")
     if volume_function is None:
         volume_at = _volume_interpolant(alpha, volume, cycle)
     else:
@@ -922,6 +911,19 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     if four:
         pressure = _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle)
     return pressure
+
+
+def _check_rounding_inputs(params, rounding) -> None:
+    """The types of ``params`` and ``rounding``; a two-stroke cycle has no valve timing near TDC."""
+    _require(isinstance(params, CycleParameters), "params", type(params).__name__,
+             "a CycleParameters instance")
+    _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
+             "a RoundingParameters instance")
+    if params.strokes != 4:
+        for name in ("exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
+                     "intake_closes_after_bdc_deg"):
+            _require(getattr(rounding, name) == 0, name, getattr(rounding, name),
+                     "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)")
 
 
 @dataclass(frozen=True)

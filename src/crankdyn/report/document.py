@@ -17,7 +17,7 @@ from markupsafe import Markup, escape
 from ..contracts import COUNTERWEIGHTS, FORCES
 from ..orchestrator import RunResult
 from ..physics.extrema import EXTREMUM_RTOL
-from ..plausibility import format_params, warnings
+from ..plausibility import format_params, report_key, scene_warnings, stage_warnings
 from ..plugins import Registry
 from ..version import __version__
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
@@ -197,6 +197,27 @@ def cite_sources(text: str, references: list[str]) -> str:
                           else m.group(0), text)
 
 
+def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
+    """The section's paragraphs and the conclusions' sentences of the warnings ``found``
+    (:func:`crankdyn.plausibility.report_key`) not ``said`` before (two stages may judge one
+    value); a warning's ``source`` parameter (a catalog key of the reference its limits come
+    from) is cited by its number, added to ``references``."""
+    paragraphs, conclusions = [], []
+    for key, params in found:
+        if (key, repr(sorted(params.items()))) in said:
+            continue
+        said.add((key, repr(sorted(params.items()))))
+        shown = format_params(params, t.decimal_separator)
+        if "source" in params:
+            if params["source"] not in references:
+                references.append(params["source"])
+            shown["source"] = cite([references.index(params["source"]) + 1])
+        sentence = t(report_key(t, key, "section"), **shown)
+        paragraphs.append(f'<p class="plausibility">{escape(sentence)}</p>')
+        conclusions.append(t(report_key(t, key, "conclusion"), **shown))
+    return "".join(paragraphs), conclusions
+
+
 def appendix_letter(t, index: int) -> str:
     letters = t("doc.appendix_letters")
     return letters[index] if index < len(letters) else str(index + 1)
@@ -204,14 +225,6 @@ def appendix_letter(t, index: int) -> str:
 
 #: The source of the whole project's method: cited as [1] in the introduction.
 PROJECT_METHOD = "poda2007"
-
-
-def _input_section(result, registry, ctx) -> Markup:
-    """Section 1: the assignment's data the report uses."""
-    scene = result.scene
-    return Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                      mechanism=registry.mechanisms.get(scene.engine.mechanism),
-                                      stage_rows=_stage_input_rows(result, ctx), **_inputs_used(result)))
 
 
 def _inputs_used(result) -> dict[str, bool]:
@@ -227,6 +240,55 @@ def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``Stage.input_rows``), in plan order."""
     return [tuple(row) for stage in result.plan.order if stage.input_rows is not None
             for row in stage.input_rows(result.scene, ctx)]
+
+
+def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None:
+    """``stage``'s section as rendered (or kept by the preview's cache); its figures go to
+    ``figure_sink`` as soon as it is rendered."""
+    figures_before = len(ctx.figures)
+    if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
+        body = f'<p class="pending">{escape(ctx.t("doc.section_pending"))}</p>'
+    elif sections_cache is None:
+        body = stage.render(output, ctx)
+    else:
+        body = sections_cache.render(stage, output, ctx)
+    if figure_sink is not None:
+        figure_sink(ctx.figures[figures_before:])
+    return body
+
+
+def _input_view(result, registry, ctx) -> SectionView:
+    """The given data's section (its plausibility sentences are added when the run is read)."""
+    scene = result.scene
+    ctx.start_section(1, "input")
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
+    return SectionView(1, "input", ctx.t("report.input_title"),
+                       Markup(ctx.render_template("sections/input.html.j2", scene=scene,
+                                                  mechanism=mechanism,
+                                                  stage_rows=_stage_input_rows(result, ctx),
+                                                  **_inputs_used(result))))
+
+
+def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
+    """The sentence citing the sources of ``stage``'s method (added to ``references``); none for
+    a section of the project's own method alone, cited in the introduction. A course note cites
+    no source of a full report's study (``Stage.references_full``)."""
+    cited = stage.references + (() if course else stage.references_full)
+    for ref in cited:
+        if ref not in references:
+            references.append(ref)
+    if not cited or set(cited) == {PROJECT_METHOD}:
+        return ""
+    numbers = [references.index(r) + 1 for r in cited]
+    return f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>"
+
+
+def _unshown_warnings(result, registry, shown_stages) -> list:
+    """The warnings of the stages without a section in the note (left out, or run for their data
+    only): said with the given data."""
+    return [w for name, stage in registry.stages.items() if name not in shown_stages
+            for w in stage_warnings(stage, result.scene, result.outputs[name].results
+                                    if name in result.outputs else None)]
 
 
 def render_html(result: RunResult, registry: Registry, language: str | None = None,
@@ -247,44 +309,39 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     sections: list[SectionView] = []
     appendices: list[SectionView] = []
     core_letter = appendix_letter(t, 0) if course else ""
-    ctx.start_section(1, "input")
-    sections.append(SectionView(1, "input", t("report.input_title"), _input_section(result, registry, ctx)))
+    input_view = _input_view(result, registry, ctx)
+    sections.append(input_view)
     references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
+    references += [key for key in t("doc.standards").split() if key not in references]
+    said: set = set()  # the warnings the note has said
+    given_warnings = plausibility_text(t, scene_warnings(scene, registry), references, said)
     notes: list[str] = []
+    shown_stages: set[str] = set()
     for stage in result.plan.order:
         to_appendix = course and stage.appendix  # a study of the numerics (Stage.appendix)
-        number = appendix_letter(t, len(appendices) + 1) if to_appendix else len(sections) + 1
+        # a course note has one appendix: the studies' short statements go into the core's
+        number = core_letter if to_appendix else len(sections) + 1
         ctx.start_section(number, stage.name, stage.figures)
         ctx.conclusions = []
-        figures_before = len(ctx.figures)
         output = result.study_output(stage.name)  # a deferred study's: received or computed now
-        if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
-            body = f'<p class="pending">{escape(t("doc.section_pending"))}</p>'
-        elif sections_cache is None:
-            body = stage.render(output, ctx)
-        else:
-            body = sections_cache.render(stage, output, ctx)
-        if figure_sink is not None:
-            figure_sink(ctx.figures[figures_before:])
+        body = _section_body(stage, output, ctx, sections_cache, figure_sink)
         if body is None:  # the stage ran for its data but has nothing to show for this scene
             continue
-        body = landscape_tables_later(body)
-        for ref in stage.references:
-            if ref not in references:
-                references.append(ref)
-        # a section of the project's own method (cited in the introduction) does not repeat it
-        if stage.references and set(stage.references) != {PROJECT_METHOD}:
-            numbers = [references.index(r) + 1 for r in stage.references]
-            body = f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>" + body
+        body = _cited_sources(t, stage, course, references) + landscape_tables_later(body)
+        shown_stages.add(stage.name)
+        results = output.results if output is not None else None
+        found, concluded = plausibility_text(t, stage_warnings(stage, scene, results), references, said)
         view = SectionView(number, stage.name, ctx.title or t(stage.title_key),
-                           Markup(cite_sources(body, references)), list(ctx.conclusions))
+                           Markup(cite_sources(body + found, references)), list(ctx.conclusions) + concluded)
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
             notes.append(cite_sources(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
                                                  for k, v in params.items()}), references))
 
-    for key, params in warnings(scene, registry, result):  # values no real engine has: noted, not refused
-        notes.append(t(key, **format_params(params, t.decimal_separator)))
+    found, concluded = plausibility_text(t, _unshown_warnings(result, registry, shown_stages),
+                                         references, said)
+    input_view.html = Markup(input_view.html + given_warnings[0] + found)
+    input_view.conclusions += given_warnings[1] + concluded
     numerics_number = core_letter or len(sections) + 1
     skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
                for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
@@ -297,6 +354,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
         timing=timing, skipped=skipped, appendices=appendices, course=course,
         numerics_number=numerics_number, references=references, css=Markup(css),
+        standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
         version=__version__, generated=datetime.date.today().isoformat(), language=language,
         findings=ctx.findings, frame=frame_html(env, t, scene.report, title),

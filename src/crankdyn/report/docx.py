@@ -161,7 +161,10 @@ _SECTION_PORTRAIT, _SECTION_LANDSCAPE = "CRANKDYNSECTIONPORTRAIT", "CRANKDYNSECT
 
 @lru_cache(maxsize=8)
 def _continued_label(language: str) -> str:
-    from .i18n import core_catalog_dir, load_catalog_file  # lazy: heavy optional import (only a continued table)
+    from .i18n import (  # lazy: heavy optional import (only a continued table)
+        core_catalog_dir,
+        load_catalog_file,
+    )
 
     for name in (language, "en"):
         path = core_catalog_dir() / f"{name}.toml"

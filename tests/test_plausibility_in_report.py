@@ -1,0 +1,131 @@
+"""Values no real engine has, said in the note: a sentence in the section of the quantity and one
+in the conclusions, in the note's language, with the source of an allowable value cited [n]."""
+
+from __future__ import annotations
+
+import html as html_lib
+import re
+
+import pytest
+from conftest import modified
+
+from crankdyn.cli import examples_dir
+from crankdyn.orchestrator import run_scene
+from crankdyn.plugins import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.report.i18n import translator
+from crankdyn.scene import scene_from_dict
+
+REGISTRY = default_registry()
+
+
+def _plain(markup: str) -> str:
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", markup))
+    for space in ("\u00a0", "\u202f"):  # the report keeps numbers on the line of their unit
+        text = text.replace(space, " ")
+    return " ".join(text.replace("\u2060", "").split())
+
+
+class Note:
+    """The note of an example with ``changes``, only the stages up to ``stages`` run."""
+
+    def __init__(self, example: str, changes: dict, stages: tuple[str, ...], language: str):
+        scene = scene_from_dict(modified(example, changes), base_dir=examples_dir())
+        self.result = run_scene(scene, REGISTRY, requested=stages)
+        self.html = render_html(self.result, REGISTRY, language).linked_html
+        self.t = translator(language, REGISTRY.catalogs)
+
+    def section(self, stage: str) -> str:
+        start = self.html.index(f'data-stage="{stage}"')
+        return _plain(self.html[start:self.html.index("</section>", start)])
+
+    @property
+    def conclusions(self) -> str:
+        start = self.html.index('<ol class="conclusions">')
+        return _plain(self.html[start:self.html.index("</ol>", start)])
+
+    @property
+    def references(self) -> list[str]:
+        block = re.search(r'<ol class="references">(.*?)</ol>', self.html, flags=re.S).group(1)
+        return [_plain(item) for item in re.findall(r"<li>(.*?)</li>", block, flags=re.S)]
+
+    def cited(self, text: str) -> str:
+        """The reference a "[n]" at the end of a range in ``text`` names."""
+        number = int(re.search(r"\[(\d+)\]", text).group(1))
+        return self.references[number - 1]
+
+
+def test_a_mechanical_efficiency_above_0_95_is_said_in_the_torque_section_and_the_conclusions():
+    # 55 kW of the example give eta_m = 0.866; 62 kW of the same indicated power give 0.976
+    high = Note("inline4-petrol", {"engine": {"effective_power": "62 kW"}}, ("torque",), "uk")
+    eta = high.result.outputs["torque"].results["mechanical_efficiency"]
+    assert eta == pytest.approx(0.866 * 62 / 55, rel=2e-3) and eta > 0.95
+    section = high.section("torque")
+    assert f"Механічний ККД η м = {eta:.3f}".replace(".", ",") in section
+    assert "перевищує 0,95" in section and "η м = 0,7–0,9 [" in section
+    cited = high.cited(section[section.index("перевищує 0,95"):])
+    assert cited.startswith("Колчин А. И., Демидов В. П.")
+    assert high.t("plausibility.mechanical_efficiency_conclusion") in high.conclusions
+    usual = Note("inline4-petrol", {}, ("torque",), "uk")
+    assert "перевищує 0,95" not in usual.section("torque")
+    assert usual.t("plausibility.mechanical_efficiency_conclusion") not in usual.conclusions
+
+
+def test_a_crank_pin_pressure_above_the_allowable_one_is_compared_with_the_textbooks_values():
+    # the example's pin: mean 6.17 MPa, largest 10.2 MPa against 12 and 20 MPa of petrol engines;
+    # a pin 12 mm wide instead of 31 mm carries 31/12 times the pressure
+    narrow = Note("inline4-petrol", {"bearings": {"crank_pin_width": "12 mm"}}, ("bearings",), "ru")
+    pins = narrow.result.outputs["bearings"].results["crank_pins"]
+    p_mean = max(pin["mean_MPa"] for pin in pins)
+    assert p_mean == pytest.approx(6.175 * 30.996 / 12, rel=1e-3)
+    section = narrow.section("bearings")
+    sentence = section[section.index("Наиболее нагруженный шатунный подшипник"):]
+    assert f"среднее давление {p_mean:.3g}".replace(".", ",") in sentence
+    assert ("для бензиновых двигателей допустимы среднее давление до 12 МПа "
+            "и наибольшее до 20 МПа [") in sentence
+    assert narrow.cited(sentence).startswith("Колчин А. И., Демидов В. П.")
+    key = "bearings.plausibility_pin_pressure_spark_conclusion"
+    assert narrow.t(key) in narrow.conclusions
+    usual = Note("inline4-petrol", {}, ("bearings",), "ru")
+    assert "Наиболее нагруженный шатунный подшипник" not in usual.section("bearings")
+    assert usual.t(key) not in usual.conclusions
+
+
+def test_a_diesels_crank_pin_is_judged_by_the_diesels_allowable_pressures():
+    # the diesel example's pin within 16 and 42 MPa; 10 mm wide it carries several times more
+    narrow = Note("diesel-1cyl", {"bearings": {"crank_pin_width": "10 mm"}}, ("bearings",), "uk")
+    section = narrow.section("bearings")
+    assert "для дизелів допустимі середній тиск до 16 МПа і найбільший до 42 МПа [" in section
+    assert narrow.t("bearings.plausibility_pin_pressure_diesel_conclusion") in narrow.conclusions
+    usual = Note("diesel-1cyl", {}, ("bearings",), "uk")
+    assert "для дизелів допустимі" not in usual.section("bearings")
+
+
+def test_a_diesels_peak_pressure_outside_its_usual_range_is_said_in_the_indicator_section():
+    # p_z' = 0.85 p_z: 24 MPa give 20.4 MPa, above the 20 MPa of the most boosted diesels but
+    # below the 25 MPa where the peak-pressure rule of every engine speaks
+    high = Note("diesel-1cyl", {"cycle": {"max_pressure": "24 MPa"}}, ("indicator",), "en")
+    peak = high.result.outputs["indicator"].results["peak_pressure_rounded_Pa"] / 1e6
+    assert peak == pytest.approx(0.85 * 24, rel=1e-9)
+    assert f"p z ′ = {peak:.3g} MPa lies outside 5–20 MPa" in high.section("indicator")
+    assert high.t("indicator.plausibility_diesel_peak_conclusion") in high.conclusions
+    usual = Note("diesel-1cyl", {}, ("indicator",), "en")  # p_z' = 0.85 * 8.5 = 7.2 MPa
+    assert "usual range of diesels" not in usual.section("indicator") + usual.conclusions
+
+
+@pytest.mark.parametrize("changes, phrase, conclusion", [
+    ({"engine": {"rpm": 20000}}, "Середня швидкість поршня 52 м/с перевищує 25 м/с",
+     "plausibility.piston_speed_conclusion"),  # c_m = S n / 30 = 0.078 * 20000 / 30
+    ({"engine": {"rod_ratio": 0.6}}, "λ = 0,6 лежить поза межами 0,15–0,45",
+     "plausibility.rod_ratio_conclusion"),
+])
+def test_a_piston_speed_or_rod_ratio_outside_the_usual_range_is_said_with_the_given_data(
+        changes, phrase, conclusion):
+    odd = Note("petrol-1cyl", changes, ("kinematics",), "uk")
+    given = odd.section("input")
+    assert phrase in given and odd.t(conclusion) in odd.conclusions
+    assert "engine." not in given  # in the engineer's words, no input key
+    usual = Note("petrol-1cyl", {}, ("kinematics",), "uk")
+    given = usual.section("input")
+    assert "лежить поза межами" not in given and "перевищує" not in given
+    assert usual.t(conclusion) not in usual.conclusions
