@@ -852,8 +852,8 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
         ``volume_function(angle_deg_array) -> volume_m3_array`` on the same
         cycle; it is called with angles reduced modulo the cycle and
         +-1e-4 deg around them (central difference for dV/dalpha), so it
-        must accept angles slightly outside [0, cycle).  The rounding needs V and dV/dalpha at angles that the
-        caller's grid may miss (C', b', the junction J).  If given, these are
+        must accept angles slightly outside [0, cycle).  The rounding needs V
+        and dV/dalpha where the caller's grid may miss (C', b', J).  If given, these are
         taken from it and the result is exactly independent of the caller's
         grid; otherwise they come from a periodic cubic spline through
         (crank_angle_deg, volume_m3), which reproduces engine kinematics to
@@ -888,8 +888,7 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
     previous window, J before b', the exhaust rounding end before the intake
     opening), else ValueError.
 
-    Poda (2007) section 3.1 gives the points 3, C', C'', Z', b' and the
-    typical values; the curves joining them are a derived construction.
+    Poda (2007) section 3.1 gives the points 3, C', C'', Z', b' and typical values; the joining curves are derived.
     """
     alpha = np.asarray(crank_angle_deg, dtype=float)
     volume = np.asarray(volume_m3, dtype=float)
