@@ -124,14 +124,10 @@ def xlsx_bytes(sheets) -> bytes:
 
 
 def _cell(value: Any) -> Any:
-    if isinstance(value, (np.floating, float)):
-        value = float(value)
-        return value if math.isfinite(value) else None
-    if isinstance(value, np.integer):
-        return int(value)
+    """A cell as a workbook holds it: numpy numbers as Python numbers, a non-finite one empty."""
     if isinstance(value, np.bool_):
         return bool(value)
-    return value
+    return _jsonable(value)
 
 
 def _sheet_name(name: str, used: set[str]) -> str:

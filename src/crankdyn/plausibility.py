@@ -135,12 +135,7 @@ def warnings(scene, registry, result=None) -> list[tuple[str, dict[str, Any]]]:
     ``result``, when given: the peak pressure of a pressure trace is known only after reading it):
     the core's rules, the rules of the scene's mechanism, then those of the registry's stages
     (each given its stage's results when the stage ran)."""
-    found: list[tuple[str, dict[str, Any]]] = []
-    for rule in CORE_RULES:
-        found += rule.check(scene, None)
-    mechanism = registry.mechanisms.get(scene.engine.mechanism)
-    for rule in (mechanism.plausibility if mechanism is not None else ()):
-        found += rule.check(scene, None)
+    found = scene_warnings(scene, registry)
     outputs = result.outputs if result is not None else {}
     for name, stage in registry.stages.items():
         results = outputs[name].results if name in outputs else None
