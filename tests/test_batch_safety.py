@@ -372,3 +372,15 @@ def test_the_api_refuses_a_bad_time_limit_before_anything_is_written(tmp_path, t
         run_batch(_variants_csv(tmp_path / "v.csv", ["v1"]), BASE, out, ["json"], progress=False,
                   timeout=timeout)
     assert not out.exists()
+
+
+def test_a_variants_file_too_large_or_not_a_file_is_refused_before_reading(tmp_path, monkeypatch):
+    big = tmp_path / "variants.csv"
+    big.write_text("engine.rpm\n1000\n", encoding="utf-8")
+    monkeypatch.setattr(batch, "MAX_VARIANTS_FILE_BYTES", 10)
+    with pytest.raises(SceneError, match="at most 10 bytes"):
+        batch.read_variants(big)
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(SceneError, match="not a regular file"):
+        batch.read_variants(fifo)  # a pipe would wait for a writer forever

@@ -54,6 +54,10 @@ MAX_VARIANTS = 100_000
 #: the names of an API grid. A scene has a few dozen fields; this leaves room for all of them.
 MAX_FIELDS = 200
 
+#: Bytes of a batch's variants file, checked before it is read: 100 000 rows of a few dozen short
+#: cells take a few MB; a file far larger is not a class's variants.
+MAX_VARIANTS_FILE_BYTES = 64 * 1024 * 1024
+
 #: Characters of a variant's folder name. A longer id is cut and ends in ``-`` and 8 hex digits of
 #: the SHA-256 of the whole id, so the name stays stable between runs and distinct between ids.
 MAX_VARIANT_NAME_CHARS = 80
@@ -145,6 +149,13 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
 
     source = str(csv_path)
     try:
+        if not csv_path.is_file():
+            if csv_path.exists():
+                raise SceneError(Problem("variants", source, "not a regular file"), source)
+        elif csv_path.stat().st_size > MAX_VARIANTS_FILE_BYTES:
+            raise SceneError(Problem("variants", source, f"a variants file may be at most "
+                                     f"{MAX_VARIANTS_FILE_BYTES} bytes (it has "
+                                     f"{csv_path.stat().st_size})"), source)
         text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
     except FileNotFoundError:
         raise SceneError(Problem("variants", source, "file not found"), source) from None
