@@ -150,3 +150,12 @@ def test_a_line_breaks_before_an_italic_symbol_where_it_should():
                           check=True).stdout.decode("utf-8")
     first = text.strip().splitlines()[0].split()
     assert len(first) > 5, first
+
+
+def test_a_two_stroke_assignment_lists_no_valve_timing_of_a_four_stroke():
+    """The exhaust closing, intake opening and intake closing near the dead centres belong to a
+    four-stroke cycle; a two-stroke's assignment lists only the exhaust ports' opening."""
+    two = shared_html("two-stroke-1cyl", language="en", stages=("indicator",)).html
+    four = shared_html("petrol-1cyl", language="en", stages=("indicator",)).html
+    for row in ("Exhaust valve closes", "Intake valve opens", "Intake valve closes"):
+        assert row not in two and row in four
