@@ -71,6 +71,18 @@ def test_a_mechanical_efficiency_above_0_95_is_said_in_the_torque_section_and_th
     assert usual.t("plausibility.mechanical_efficiency_conclusion") not in usual.conclusions
 
 
+def test_a_mechanical_efficiency_below_0_60_is_said_in_the_torque_section_and_the_conclusions():
+    # 55 kW of the example give eta_m = 0.866; 35 kW of the same indicated power give 0.551
+    low = Note("inline4-petrol", {"engine": {"effective_power": "35 kW"}}, ("torque",), "ru")
+    eta = low.result.outputs["torque"].results["mechanical_efficiency"]
+    assert eta == pytest.approx(0.866 * 35 / 55, rel=2e-3) and eta < 0.60
+    section = low.section("torque")
+    assert "ниже 0,6" in section and "η м = 0,7–0,9 [" in section
+    assert low.t("plausibility.mechanical_efficiency_low_conclusion") in low.conclusions
+    usual = Note("inline4-petrol", {}, ("torque",), "ru")
+    assert "ниже 0,6" not in usual.section("torque")
+
+
 def test_a_crank_pin_pressure_above_the_allowable_one_is_compared_with_the_textbooks_values():
     # the example's pin: mean 6.17 MPa, largest 10.2 MPa against 12 and 20 MPa of petrol engines;
     # a pin 12 mm wide instead of 31 mm carries 31/12 times the pressure

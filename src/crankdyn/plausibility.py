@@ -33,6 +33,8 @@ ROD_CM_FRACTION_RANGE = (0.1, 0.5)
 #: pumping and its auxiliaries; the usual mechanical efficiencies are 0.70-0.90 (Kolchin and
 #: Demidov, the thermal calculation's choice of eta_m for petrol engines and diesels).
 MAX_MECHANICAL_EFFICIENCY = 0.95
+#: Below it the friction and pumping would take over 40 % of the indicated power at the rated speed.
+MIN_MECHANICAL_EFFICIENCY = 0.60
 MECHANICAL_EFFICIENCY_RANGE = (0.70, 0.90)
 MECHANICAL_EFFICIENCY_SOURCE = "kolchin2002"
 
@@ -108,15 +110,17 @@ def peak_pressure(result_key: str) -> PlausibilityRule:
 
 def mechanical_efficiency(result_key: str) -> PlausibilityRule:
     """The mechanical efficiency N_e/N_i a stage computed (its result ``result_key``) against the
-    0.95 no real engine reaches, for the stages that compute it to declare."""
+    0.95 no real engine reaches and the 0.60 below which the given powers do not belong together,
+    for the stages that compute it to declare."""
     def check(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
         eta = (results or {}).get(result_key)
-        if not isinstance(eta, (int, float)) or eta <= MAX_MECHANICAL_EFFICIENCY:
+        if not isinstance(eta, (int, float)) or MIN_MECHANICAL_EFFICIENCY <= eta <= MAX_MECHANICAL_EFFICIENCY:
             return []
         low, high = MECHANICAL_EFFICIENCY_RANGE
-        return [("plausibility.mechanical_efficiency", {
-            "eta": float(eta), "limit": MAX_MECHANICAL_EFFICIENCY, "low": low, "high": high,
-            "source": MECHANICAL_EFFICIENCY_SOURCE})]
+        above = eta > MAX_MECHANICAL_EFFICIENCY
+        return [("plausibility.mechanical_efficiency" + ("" if above else "_low"), {
+            "eta": float(eta), "limit": MAX_MECHANICAL_EFFICIENCY if above else MIN_MECHANICAL_EFFICIENCY,
+            "low": low, "high": high, "source": MECHANICAL_EFFICIENCY_SOURCE})]
 
     return PlausibilityRule("mechanical_efficiency", check)
 
