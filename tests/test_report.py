@@ -159,3 +159,12 @@ def test_a_two_stroke_assignment_lists_no_valve_timing_of_a_four_stroke():
     four = shared_html("petrol-1cyl", language="en", stages=("indicator",)).html
     for row in ("Exhaust valve closes", "Intake valve opens", "Intake valve closes"):
         assert row not in two and row in four
+
+
+def test_the_running_torque_is_said_to_grow_towards_the_output_end_only_where_it_does():
+    # in-line four: 226, 355, 487, 603 N·m along the journals; in-line three: 248, 454, 363 N·m
+    four = shared_html("inline4-petrol", language="en", stages=("torque",)).html
+    three = shared_html("inline3-petrol", language="en", stages=("torque",)).html
+    assert "grows towards the flywheel end" in four and "not on the last journal" not in four
+    assert "grows towards the flywheel end" not in three
+    assert "not on the last journal here but on the journal after crank 2" in three
