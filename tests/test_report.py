@@ -168,3 +168,20 @@ def test_the_running_torque_is_said_to_grow_towards_the_output_end_only_where_it
     assert "grows towards the flywheel end" in four and "not on the last journal" not in four
     assert "grows towards the flywheel end" not in three
     assert "not on the last journal here but on the journal after crank 2" in three
+
+
+def test_a_radials_conclusions_give_the_crank_pins_load_of_all_its_cylinders():
+    """One crank carries every cylinder of a radial: the conclusions state the summed load the
+    bay table shows, and name the forces section's value as one cylinder's."""
+    import re
+
+    run = shared_run("radial9-aircraft", stages=("bays",))
+    html = shared_html("radial9-aircraft", language="en", stages=("bays",)).html
+    bay = run.outputs["bays"].tables.arrays("bay")["bay_resultant_Pa"]
+    single = run.outputs["forces"].results["resultant_max_Pa"]
+    conclusions = html[html.index('<ol class="conclusions">'):]
+    plain = re.sub(r"<[^>]+>", "", conclusions).replace("\xa0", " ").replace("\u202f", " ")
+    said = re.search(r"takes the largest resultant load q = ([\d.]+)", plain)
+    assert said and float(said.group(1)) == pytest.approx(bay.max() / 1e6, rel=1e-3)
+    assert bay.max() > 1.2 * single  # the summed load is not one cylinder's
+    assert "From one cylinder" in plain and "forces alone" in plain

@@ -20,6 +20,7 @@ from crankdyn.contracts import (
 from crankdyn.physics import articulated as art
 from crankdyn.physics import forces as phys
 from crankdyn.physics import layout as lay
+from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.indicator import indicated_work_J
 from crankdyn.plugin_types import Stage, StageOutput, Symbol
 from crankdyn.report.context import sample_rows
@@ -288,6 +289,9 @@ def render(output: StageOutput, ctx) -> str | None:
         ], caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")), see="bays.see_table_b2")
         figure = ctx.figure(partial(_bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay",
                             see="bays.see_figure")
+        peak = first_argmax(f["bay_resultant_Pa"])  # the crank pin's load of all its cylinders
+        ctx.conclude(t("bays.conclusion_bay_load", q_max=ctx.num(f["bay_resultant_Pa"][peak] / 1e6),
+                       q_angle=ctx.angle_text(float(angle[peak])), table=ctx.last_table_number))
     own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
     if own_pins:
         ctx.title = t("bays.title_own_pins")

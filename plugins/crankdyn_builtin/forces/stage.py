@@ -423,7 +423,7 @@ def render(output: StageOutput, ctx) -> str:
     if r.get("mechanical_efficiency") is not None:  # a single cylinder given its N_e
         ctx.conclude(t("forces.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
                        eta=ctx.num(r["mechanical_efficiency"], 3)))
-    ctx.conclude(t("forces.conclusion_loads", q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
+    ctx.conclude(t("forces.conclusion_loads" + whose, q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
                    q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
                    n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
                    n_angle=ctx.angle_text(float(angle[first_argmax(np.abs(f["side_Pa"]))]))))
