@@ -143,3 +143,21 @@ def test_the_installed_command_is_run():
 
     (script,) = entry_points(group="console_scripts", name="crankdyn")
     assert script.value == "crankdyn.cli:run"
+
+
+def test_output_piped_into_a_reader_that_stops_early_is_not_an_error():
+    """`crankdyn plugins | head -1`: the closed pipe ends the command quietly, as other tools do.
+    The pipe's reading end is closed before the command writes, so every write meets it closed."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        done = subprocess.run([sys.executable, "-m", "crankdyn", "plugins"], stdout=write_end,
+                              stderr=subprocess.PIPE, text=True, timeout=120)
+    finally:
+        os.close(write_end)
+    assert done.returncode == 0, done.stderr
+    assert "internal error" not in done.stderr and "Exception ignored" not in done.stderr

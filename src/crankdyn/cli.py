@@ -344,9 +344,19 @@ def run() -> None:
     os.environ.setdefault(BLAS_THREADS_ENV, "1")
     os.environ.setdefault(ARTIST_DOCSTRINGS_ENV, "brief")
     code = main()
+    try:
+        sys.stdout.flush()  # what is still buffered, while a closed pipe can be told from an error
+    except BrokenPipeError:
+        _quiet_stdout()
     # Nothing is left to collect that matters: outputs are closed; atexit handlers still run.
     gc.freeze()
     sys.exit(code)
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at devnull: its reader went away (`crankdyn plugins | head`), and the
+    interpreter's final flush would report the closed pipe once more."""
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -363,6 +373,9 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM where a batch handles it so
         return 128 + getattr(exc, "number", signal.SIGINT)
+    except BrokenPipeError:  # the reader of the output went away: nothing more to say
+        _quiet_stdout()
+        return 0
     except Exception as exc:  # noqa: BLE001 - the last line of defence for the user
         if args.debug:
             raise
