@@ -133,7 +133,7 @@ def test_a_batch_of_300_character_ids_writes_every_row(tmp_path):
 # --------------------------------------------------------------------------- SIGTERM
 
 def _start(args: list[str], cwd: Path) -> subprocess.Popen:
-    # A process session of its own: the signal goes to the whole process group, as `timeout` and job
+    # Started as the leader of its own process group: the signal goes to the whole group, as `timeout` and job
     # schedulers send it, the worker processes included.
     return subprocess.Popen([sys.executable, "-m", "crankdyn", *args], cwd=cwd,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
