@@ -152,6 +152,8 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
     if delay is None:
         delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm,
                                                  r.combustion_delay_time)
+    if 0 <= delay < 90 and 0 < advance < 90 and delay >= advance:
+        raise SceneError(_delay_problem(scene, advance, delay))
     four_stroke = scene.engine.strokes == 4
     try:
         return ind.RoundingParameters(
@@ -168,6 +170,24 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
         )
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+
+
+def _delay_problem(scene, advance: float, delay: float) -> Problem:
+    """The ignition delay reaching past the advance, named by the fields the user can change
+    (either value may be a default: the delay of a diesel grows with the speed, 6·n·τ)."""
+    r = scene.cycle.rounding
+    advance_text = (f"{advance:g} deg" if r.ignition_advance_deg is not None
+                    else f"{advance:g} deg by default")
+    if r.combustion_delay_deg is not None:
+        return Problem("cycle.rounding.combustion_delay_deg", delay,
+                       f"less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
+                       " so that combustion starts before top dead centre")
+    time_ms = (r.combustion_delay_time if r.combustion_delay_time is not None else 1.5e-3) * 1e3
+    return Problem("cycle.rounding.ignition_advance_deg",
+                   advance if r.ignition_advance_deg is not None else f"{advance:g} (default)",
+                   f"more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
+                   f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_ms:g} ms):"
+                   " give a larger advance or a shorter delay time")
 
 
 def single_mechanism_problems(scene, what: str, multi_cylinder_tables: tuple[str, ...] = ()) -> list[Problem]:
