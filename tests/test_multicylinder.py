@@ -40,6 +40,17 @@ def test_radial_default_firing_order_every_other_cylinder():
     assert np.allclose(layout.firing_intervals_deg(), 80.0)
 
 
+def test_a_firing_order_written_from_another_cylinder_is_the_same_cycle():
+    # the right bank's first cylinder written first, as a Russian handbook numbers a V8
+    v8 = ["1L", "1R", "4L", "2L", "2R", "3L", "3R", "4R"]
+    from_right = v8[1:] + v8[:1]
+    ref = build_layout("V", 4, 8, 90, v8, None)
+    other = build_layout("V", 4, 8, 90, from_right, None)
+    assert other.firing_order == ref.firing_order == tuple(v8)
+    assert other.crank_lag_deg == ref.crank_lag_deg
+    assert np.allclose(other.firing_intervals_deg(), 90.0)
+
+
 @pytest.mark.parametrize("args, field, text", [
     (("inline", 4, 4, None, [1, 3, 3, 2], None), "engine.firing_order", "repeated: 3"),
     (("inline", 4, 4, None, [1, 3, 2], None), "engine.firing_order", "missing: 4"),
