@@ -34,8 +34,6 @@ def applies(scene) -> str | None:
     return None
 
 
-# --------------------------------------------------------------------------- single mass
-
 def _single_mass(scene, torque, bays, design, train):
     omega_n = torque.angular_velocity_rad_s
     alpha = np.radians(torque.crank_angle_deg)
@@ -123,8 +121,6 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
                     "end_angle_error_rad": float(chosen.y[0, -1] - gas_series.period_rad)})
     return summary, records, (dense[0], omega_solver)
 
-
-# --------------------------------------------------------------------------- stage
 
 def run(scene, inputs) -> StageOutput:
     torque, bays, crank_loads, design = inputs[ENGINE_TORQUE], inputs[BAY_LOADS], inputs[CRANK_LOADS], inputs[FLYWHEEL]

@@ -7,7 +7,6 @@ import math
 
 from crankdyn.report.i18n import superscript
 
-# --------------------------------------------------------------------------- report
 
 def _solver_table(ctx, records, caption, see, twist=False):
     t = ctx.t

@@ -45,8 +45,6 @@ def critical_near(harmonic_rows, mode_rows, rpm: float) -> list[dict]:
     return sorted(near, key=lambda c: abs(c["deviation_percent"]))
 
 
-# --------------------------------------------------------------------------- torsion
-
 def _spans(opts: TorsionOptions, cranks: int, has_flywheel: bool = True) -> list[float]:
     given = opts.span_stiffness
     if isinstance(given, list):
