@@ -104,20 +104,20 @@ def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_
     (a digest taken after the run would miss an edit made while the stage ran)."""
     import shutil
 
-    import crankdyn_builtin.indicator.stage as indicator_stage
+    import crankdyn_builtin.indicator.compute as indicator_compute
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
     scene = load_scene(tmp_path / "trace.toml")
-    read = indicator_stage.trace.read_diesel_rk_ind
+    read = indicator_compute.trace.read_diesel_rk_ind
 
     def read_then_saved(path):
         out = read(path)
-        monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read)
+        monkeypatch.setattr(indicator_compute.trace, "read_diesel_rk_ind", read)
         Path(path).write_bytes(Path(path).read_bytes().replace(b"1600", b"1601", 1) + b"\n")
         return out
 
-    monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read_then_saved)
+    monkeypatch.setattr(indicator_compute.trace, "read_diesel_rk_ind", read_then_saved)
     cache = StageCache()
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))

@@ -18,7 +18,7 @@ from crankdyn.physics import planetary as pl
 from crankdyn.plugins import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.planetary.stage import tdc_snapshot_m
+from crankdyn_builtin.planetary.compute import tdc_snapshot_m
 
 REGISTRY = default_registry()
 L = 0.15

@@ -236,7 +236,7 @@ def test_extremes_by_root_finding_against_an_independent_solve():
     eps_c = lam (1 - lam^2) w^2 sin a / chi^3 is largest at 90 deg: lam w^2 / sqrt(1 - lam^2);
     v_po = w r (sin a + lam sin a cos a / chi)  =>  cos a + lam (chi^2 cos 2a + lam^2 sin^2 a cos^2 a)/chi^3 = 0.
     """
-    from crankdyn_builtin.vane.stage import extremes
+    from crankdyn_builtin.vane.compute import extremes
 
     r, lam, w = 0.04, 0.8, 100.0
 

@@ -13,7 +13,7 @@ from crankdyn.physics.plane import polar
 from crankdyn.plugin_types import Guide, MechanismGeometry
 from crankdyn.scene import options
 
-from .stage import OffsetParams
+from .options import OffsetParams
 
 
 def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:

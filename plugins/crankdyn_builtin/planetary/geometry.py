@@ -13,7 +13,7 @@ from crankdyn.physics import planetary as pl
 from crankdyn.physics.plane import polar
 from crankdyn.plugin_types import Guide, MechanismGeometry
 
-from .stage import geometry_of
+from .compute import geometry_of
 
 
 def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:

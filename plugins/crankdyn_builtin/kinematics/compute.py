@@ -1,23 +1,18 @@
-"""Kinematics of the central crank-slider (Poda 2007 §2; Tristen et al. for the extremes)."""
+"""Kinematics of the central crank-slider (Poda 2007 §2; Tristen et al. for the extremes).
+
+
+The computation: ``applies``, ``run``, ``run_many`` and their pure helpers.
+"""
 
 from __future__ import annotations
 
 import functools
-from functools import partial
-from pathlib import Path
 
 import numpy as np
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.physics import kinematics as kin
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.report.context import sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure, twin_axes
-from crankdyn.report.typeset import symbol_html
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
-
-#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
-TEMPLATES = Path(__file__).resolve().parent / "templates"
+from crankdyn.plugin_types import StageOutput
 
 
 def applies(scene) -> str | None:
@@ -221,140 +216,3 @@ def run_many(scenes, inputs) -> list[StageOutput]:
         )
         outputs.append(StageOutput(data={KINEMATICS: motion}, results=results))
     return outputs
-
-
-def render(output: StageOutput, ctx) -> str:
-    frame = output.tables.arrays("kinematics")
-    r = output.results
-    t = ctx.t
-    # The motion repeats every revolution, so one revolution is tabulated.
-    rows, labels = sample_rows(frame["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
-    f = frame.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"], 0),
-        ("<i>β</i>, °", f["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("kinematics.table_caption"), see="kinematics.see_table")
-    worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
-
-    figure_main = ctx.figure(partial(_piston_figure, frame, t), t("kinematics.figure_caption"), "piston",
-                             see="kinematics.see_figure")
-    figure_rod = ctx.figure(partial(_rod_figure, frame, t), t("kinematics.rod_figure_caption"), "rod",
-                            see="kinematics.see_rod_figure")
-    figure_cm = None
-    if "rod_cm_x_m" in frame:
-        figure_cm = ctx.figure(partial(_rod_cm_figure, frame, t), t("kinematics.cm_figure_caption"), "rod_cm",
-                               see="kinematics.see_cm")
-
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.angle_text(r["v_max_crank_angle_deg"]),
-                   v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.angle_text(r["j_min_crank_angle_deg"])))
-    return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
-
-
-def _piston_figure(frame, t):
-    """The piston's s, v, j over one revolution, and the two-term j's difference from the exact."""
-    angle = frame["crank_angle_deg"]
-    fig, axes = new_figure(16, 19, nrows=4, sharex=True, gridspec_kw={"height_ratios": [1, 1, 1, 0.6]})
-    # one colour for the report's curves in every panel, the two-term acceleration dashed; one
-    # legend above the top panel for all; the bottom panel shows the two-term acceleration's
-    # difference from the exact one (on the scale of j itself the two curves cannot be told apart)
-    axes[0].plot(angle, frame["piston_displacement_m"] * 1e3, color="C0")
-    axes[0].set_ylabel(t("kinematics.axis_s"))
-    axes[1].plot(angle, frame["piston_velocity_m_s"], color="C0")
-    axes[1].set_ylabel(t("kinematics.axis_v"))
-    exact = axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C0")[0]
-    two_term = axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1)[0]
-    axes[2].set_ylabel(t("kinematics.axis_j"))
-    axes[3].plot(angle, frame["piston_acceleration_two_term_m_s2"] - frame["piston_acceleration_m_s2"],
-                 color="C3", ls="--", lw=1)
-    axes[3].set_ylabel(t("kinematics.axis_dj"))
-    axes[0].legend([exact, two_term], [t("kinematics.exact"), t("kinematics.two_term_j")], loc="lower right",
-                   bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False, fontsize=8, borderaxespad=0.2)
-    # The motion repeats every revolution; one revolution is the textbook's fig. 3.
-    crank_angle_axis(axes[3], 360.0, t("axis.crank_angle"))
-    for ax in axes:
-        ax.axhline(0, color="0.3", lw=0.6)
-    return fig
-
-
-def _rod_figure(frame, t):
-    """The rod's angle, angular velocity and angular acceleration over one revolution."""
-    angle = frame["crank_angle_deg"]
-    fig, axes = new_figure(16, 10, nrows=2, sharex=True)
-    axes[0].plot(angle, frame["rod_angle_deg"], color="C4")
-    axes[0].set_ylabel(t("kinematics.axis_beta"))
-    axes[1].plot(angle, frame["rod_angular_velocity_rad_s"], color="C5", label="ω")
-    ax2 = twin_axes(axes[1])
-    ax2.plot(angle, frame["rod_angular_acceleration_rad_s2"], color="C6", ls="--", label="ε")
-    axes[1].set_ylabel(t("kinematics.axis_rod_omega"))
-    ax2.set_ylabel(t("kinematics.axis_rod_epsilon"))
-    crank_angle_axis(axes[1], 360.0, t("axis.crank_angle"))
-    return fig
-
-
-def _rod_cm_figure(frame, t):
-    """The path of the rod's centre of mass."""
-    fig, ax = new_figure(9, 9)
-    ax.plot(frame["rod_cm_x_m"] * 1e3, frame["rod_cm_z_m"] * 1e3, color="C0")
-    ax.set_aspect("equal")
-    ax.set_xlabel(t("kinematics.axis_cm_x"))
-    ax.set_ylabel(t("kinematics.axis_cm_z"))
-    return fig
-
-
-def _worked(ctx, rows, labels, r):
-    """Displacement, velocity and acceleration of the piston with the numbers of one table row."""
-    t, lang = ctx.t, ctx.t.language
-    i = worked_row(labels, ctx.worked_angle_deg)
-    alpha, row = float(labels[i]), rows.row(i)
-    a = ctx.angle_text(alpha)
-    r_txt, r_m = printed(t, r["crank_radius_m"])
-    l_txt, lam = printed(t, r["rod_ratio"])
-    w_txt, omega = printed(t, r["angular_velocity_rad_s"], 5)
-    b_txt, beta = printed(t, float(row["rod_angle_deg"]))
-    inputs = {"R_m": r_m, "lambda": lam, "omega": omega, "alpha_deg": alpha, "beta_deg": beta}
-    steps = [
-        WorkedStep("piston_displacement", symbol_html("piston_displacement", lang),
-                   "<i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>]",
-                   f"{r_txt}·[(1 − cos {a}°) + (1 − cos {b_txt}°)/{l_txt}]·10³",
-                   float(row["piston_displacement_m"]) * 1e3, 2, t("unit.mm"), inputs),
-        WorkedStep("piston_velocity", symbol_html("piston_velocity", lang),
-                   "<i>Rω</i> sin(<i>α</i> + <i>β</i>)/cos <i>β</i>",
-                   f"{r_txt}·{w_txt}·sin({a}° + {b_txt}°)/cos {b_txt}°",
-                   float(row["piston_velocity_m_s"]), 2, t("unit.m_s"), inputs),
-        WorkedStep("piston_acceleration", symbol_html("piston_acceleration", lang),
-                   "<i>Rω</i><sup>2</sup>[cos(<i>α</i> + <i>β</i>)/cos <i>β</i> + <i>λ</i> cos<sup>2</sup><i>α</i>/cos<sup>3</sup><i>β</i>]",
-                   f"{r_txt}·{w_txt}<sup>2</sup>·[cos({a}° + {b_txt}°)/cos {b_txt}° + {l_txt}·cos<sup>2</sup> {a}°/cos<sup>3</sup> {b_txt}°]",
-                   float(row["piston_acceleration_m_s2"]), 0, t("unit.m_s2"), inputs),
-    ]
-    return worked_markup(ctx, WorkedBlock("kinematics", ctx.last_table_number, alpha, steps))
-
-
-KINEMATICS_STAGE = Stage(
-    template_dir=TEMPLATES,
-    name="kinematics",
-    title_key="kinematics.title",
-    requires=(),
-    provides=(KINEMATICS,),
-    applies=applies,
-    run=run,
-    run_many=run_many,
-    render=render,
-    figures=("piston", "rod", "rod_cm"),
-    tables=("kinematics",),
-    references=("poda2007", "tristen", "artobolevsky1988", "kolchin2002"),
-    answer_columns=(
-        AnswerColumn("v_max_m_s", "v_max_m_s", "m/s", label_key="kinematics.answer.v_max_m_s"),
-        AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°", label_key="kinematics.answer.v_max_crank_angle_deg"),
-        AnswerColumn("v_mean_m_s", "mean_piston_speed_m_s", "m/s", label_key="kinematics.answer.v_mean_m_s"),
-        AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²", label_key="kinematics.answer.j_max_m_s2"),
-        AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²", label_key="kinematics.answer.j_min_m_s2"),
-        AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°", label_key="kinematics.answer.j_min_crank_angle_deg"),
-    ),
-)

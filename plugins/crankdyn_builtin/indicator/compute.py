@@ -1,10 +1,12 @@
-"""Indicator diagram: theoretical p-V diagram, its rounding, or a measured pressure trace (Poda 2007 §3.1)."""
+"""Indicator diagram: theoretical p-V diagram, its rounding, or a measured pressure trace (Poda 2007 §3.1).
+
+
+The computation: ``applies``, ``run``, ``run_many`` and their pure helpers.
+"""
 
 from __future__ import annotations
 
 import functools
-from functools import partial
-from pathlib import Path
 
 import numpy as np
 
@@ -14,15 +16,9 @@ from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.plausibility import MAX_PEAK_PRESSURE_PA, peak_pressure
-from crankdyn.plugin_types import AnswerColumn, PlausibilityRule, Stage, StageOutput, Symbol
-from crankdyn.report.context import add_extreme_rows, sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.plausibility import MAX_PEAK_PRESSURE_PA
+from crankdyn.plugin_types import StageOutput
 from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
-from crankdyn_builtin.indicator.worked import worked_indicator
-
-#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
-TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
 def applies(scene) -> str | None:
@@ -228,155 +224,6 @@ def _trace_pressure(scene, motion, area, swept):
     return pressure, volume
 
 
-#: The textbook's characteristic points of a four-stroke diagram: (label, crank angle of cylinder 1 in
-#: degrees or a rounding parameter's name, which curve, label offset in points). 0° is the TDC at
-#: the start of intake; "advance" is the ignition (injection), "visible" the start of visible
-#: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
-#: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
-#: A vertical offset of 0 centres the label on its point's height: b″ stands between b and a at
-#: BDC, and a label under it would read as a's.
-_POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
-           ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (4, -3)),
-           ("f", "visible", "actual", (-5, 3)), ("c″", 360.0, "actual", (4, -2)),
-           ("z", "theory_peak", "theory", (4, 2)), ("z′", "peak", "actual", (4, 2)),
-           ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (5, 0)))
-
-
-def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
-    """The exhaust and intake strokes enlarged in a corner of the p–V diagram: at the scale of the
-    combustion peak the pumping loop (0,1 MPa against 5 MPa) is one line."""
-    low = 0.45 * float(np.max(actual_MPa)) / 5.0 + 0.1  # about 0.55 MPa for a 5 MPa peak
-    inset = ax.inset_axes([0.45, 0.32, 0.5, 0.42])
-    inset.plot(volume_l, theory_MPa, color="0.45", lw=0.8, ls="--")
-    inset.plot(volume_l, actual_MPa, color="C3", lw=1.0)
-    inset.set_ylim(0.0, low)
-    inset.set_xlim(float(np.min(volume_l)), float(np.max(volume_l)))
-    inset.tick_params(labelsize=7)
-    inset.set_xlabel(t("indicator.axis_volume"), fontsize=7, labelpad=1)
-    inset.set_ylabel(t("indicator.axis_pressure"), fontsize=7, labelpad=1)
-    inset.set_title(t("indicator.inset_title"), fontsize=7)
-
-
-def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
-    """(label, volume in l, pressure in MPa, label offset) of each characteristic point of a
-    four-stroke diagram computed from cycle data; none for other cycles."""
-    if ctx.scene is None or ctx.scene.engine.strokes != 4 or getattr(ctx.scene, "cycle", None) is None:
-        return []
-    angle = frame["crank_angle_deg"]
-    theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
-    # the rounding's angles as run() used them (its results), the valve timing as the scene gives it
-    where = {"advance": 360.0 - r["ignition_advance_deg"],
-             "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
-             "peak": r["max_pressure_crank_angle_deg"], # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
-             "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
-             "exhaust": 540.0 - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg}
-    step = float(angle[1] - angle[0])
-    points = []
-    for label, at, curve, offset in _POINTS:
-        i = int(round(where.get(at, at) / step)) % len(angle)  # a named event's angle, or the angle given
-        # c: the end of the compression line, p_c; at TDC itself the theoretical spark-ignition cycle
-        # is already at p_z (heat added at constant volume)
-        p = (r["compression_end_pressure_Pa"] / 1e6 if curve == "compression_end"
-             else theory[i] if curve == "theory" else actual[i])
-        points.append((label, float(frame["cylinder_volume_m3"][i] * 1e3), float(p), offset))
-    return points
-
-
-def render(output: StageOutput, ctx) -> str:
-    t = ctx.t
-    frame = output.tables.arrays("indicator")
-    r = output.results
-    angle = frame["crank_angle_deg"]
-    volume_l = frame["cylinder_volume_m3"] * 1e3
-    pressure = frame["pressure_Pa"] / 1e6
-    has_theory = "pressure_theoretical_Pa" in frame
-
-    theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
-    points = _characteristic_points(ctx, frame, r) if has_theory else []
-    figure_pv = ctx.figure(partial(_pv_figure, volume_l, pressure, theory, points, t),
-                           t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
-                           see="indicator.see_pv")
-    pv_number = ctx.last_figure_number
-    figure_pa = ctx.figure(partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t),
-                           t("indicator.palpha_caption"), "p_alpha", see="indicator.see_palpha")
-
-    rows, labels = sample_rows(angle, ctx.table_step_deg)
-    rows, labels, extremes = add_extreme_rows(angle, rows, labels,
-                                              [(pressure, "max", t("indicator.extreme_p_max"))])
-    columns = [("<i>α</i>, °", ctx.angle_labels(labels), None), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
-    if has_theory:
-        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), _closing_row_theory(theory, rows, labels,
-                                                                                         ctx.cycle_deg), 4))
-    columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
-    table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table")
-    table += worked_indicator(ctx, frame, rows, labels, r)
-
-    ctx.find(t("indicator.finding", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                angle=ctx.angle_text(r["max_pressure_crank_angle_deg"])))
-    deviation = r.get("mean_indicated_pressure_deviation_percent")
-    ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                   angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
-                   p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6), work=ctx.num(r["indicated_work_J"])))
-    if deviation is not None:
-        key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
-        ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
-    diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
-    return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
-                               points=bool(points), pv_number=pv_number,
-                               table=table, deviation=deviation, has_theory=has_theory)
-
-
-def _pv_figure(volume_l, pressure, theory, points, t):
-    """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
-    fig, ax = new_figure(16, 9.5)
-    if theory is not None:
-        ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
-                label=t("indicator.theoretical"))
-    ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
-            label=t("indicator.actual") if theory is not None else t("indicator.trace"))
-    if theory is not None:
-        _pumping_inset(ax, np.append(volume_l, volume_l[0]), np.append(theory, theory[0]),
-                       np.append(pressure, pressure[0]), t)
-    for label, volume, p, (dx, dy) in points:
-        ax.plot([volume], [p], "o", ms=3, color="k")
-        ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
-                    ha="left" if dx >= 0 else "right", va="center" if dy == 0 else "bottom" if dy > 0 else "top")
-    ax.set_xlabel(t("indicator.axis_volume"))
-    ax.set_ylabel(t("indicator.axis_pressure"))
-    ax.legend(loc="upper right", fontsize=8)
-    return fig
-
-
-def _palpha_figure(angle, pressure, theory, cycle_deg, t):
-    """The pressure against the crank angle over the cycle (with the theoretical one, if any)."""
-    fig, ax = new_figure(16, 8)
-    if theory is not None:
-        ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
-    ax.plot(angle, pressure, color="C3", label=t("indicator.actual") if theory is not None else t("indicator.trace"))
-    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel(t("indicator.axis_pressure"))
-    ax.legend(loc="upper right", fontsize=8)
-    return fig
-
-
-def _closing_row_theory(theory, rows, labels, cycle_deg: float):
-    """The theoretical pressure at the table's rows, the closing row (720°) given the value the
-    diagram ends the cycle with: where it ends on a flat line (the exhaust line at p_r, point r),
-    that line's value, not the intake's p_a that the periodic grid has at 0° (the theoretical
-    diagram steps from p_r to p_a at TDC; a table with p_a at 720° contradicts point r)."""
-    shown = np.array(theory[rows], dtype=float)
-    if len(labels) and abs(float(labels[-1]) - cycle_deg) < 1e-9 and len(theory) > 2 and theory[-1] == theory[-2]:
-        shown[-1] = theory[-1]
-    return shown
-
-
-#: The indicator's own letters (Stage.symbols): the theoretical (unrounded) diagram's pressure of its table.
-SYMBOLS = {
-    "theoretical_pressure": Symbol("p", {"en": "theor", "uk": "теор", "ru": "теор"}, "unit.MPa"),
-}
-
-
-
 #: The rounded diagram's peak p_z' of a diesel, MPa: below 5 MPa a diesel would not ignite its
 #: fuel reliably (the end of compression alone reaches 3.5-5.5 MPa), above 20 MPa only the most
 #: highly boosted engines run (up to 25 MPa, where the core's peak-pressure rule takes over).
@@ -395,31 +242,3 @@ def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
         return []
     return [("indicator.plausibility_diesel_peak",
              {"pressure": peak / 1e6, "low": low, "high": high})]
-
-
-INDICATOR_STAGE = Stage(
-    plausibility=(peak_pressure("max_pressure_Pa"), PlausibilityRule("diesel_peak", _diesel_peak)),
-    template_dir=TEMPLATES,
-    name="indicator",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("post_expansion_ratio",),
-    title_key="indicator.title",
-    requires=(KINEMATICS,),
-    provides=(GAS_PRESSURE,),
-    applies=applies,
-    run=run,
-    run_many=run_many,
-    render=render,
-    figures=("pV", "p_alpha"),
-    tables=("indicator",),
-    references=("poda2007", "orlin1983", "heywood1988"),
-    symbols=SYMBOLS,
-    answer_columns=(
-        AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),
-        AnswerColumn("p_max_MPa", "max_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_max_MPa"),
-        AnswerColumn("p_max_crank_angle_deg", "max_pressure_crank_angle_deg", "°", label_key="indicator.answer.p_max_crank_angle_deg"),
-        AnswerColumn("p_i_MPa", "mean_indicated_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_i_MPa"),
-        AnswerColumn("L_i_J", "indicated_work_J", "J", label_key="indicator.answer.L_i_J"),
-        AnswerColumn("N_i_cylinder_kW", "indicated_power_W", "kW", factor=0.001, label_key="indicator.answer.N_i_cylinder_kW"),
-    ),
-)

@@ -4,12 +4,11 @@ Rod angle, angular velocity and acceleration, centre-of-mass acceleration and th
 inertia loads, in the textbook's two-mass split (default) and in the dynamically exact
 models (three masses, or two masses plus a correction couple), with their difference.
 Needs the rod's moment of inertia, ``masses.rod_moment_of_inertia``.
+
+The computation: ``applies``, ``run`` and their pure helpers.
 """
 
 from __future__ import annotations
-
-from functools import partial
-from pathlib import Path
 
 import numpy as np
 
@@ -17,14 +16,8 @@ from crankdyn.contracts import KINEMATICS, RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import rod_dynamics as rd
 from crankdyn.physics.forces import rod_mass_split_kg
-from crankdyn.plugin_types import Stage, StageOutput, Symbol
-from crankdyn.report.context import sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn.plugin_types import StageOutput
 from crankdyn.scene import options
-from crankdyn_builtin.rod_dynamics.worked import worked_rod_dynamics
-
-#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
-TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 ROD_MECHANISMS = ("crank_slider", "offset_crank_slider", "planetary")
 
@@ -172,138 +165,3 @@ def run(scene, inputs) -> StageOutput:
     if motion.method == "approximate":
         notes.append(("rod_dynamics.note_approximate", {"mean": float(np.mean(columns["torque_model_Nm"]))}))
     return StageOutput(data={}, results=results, tables={"rod_dynamics": table}, notes=notes)
-
-
-def render(output: StageOutput, ctx) -> str:
-    t = ctx.t
-    f = output.tables.arrays("rod_dynamics")
-    r = output.results
-    exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
-    angle = f["crank_angle_deg"]
-    # the motion's own period: one turn, or the turns after which a planetary mechanism repeats
-    period = r.get("period_deg", 360.0)
-    rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
-    g = f.take(rows)
-    columns = [
-        ("<i>α</i>, °", labels, 0),
-        ("<i>β</i>, °", g["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
-        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"], 0),
-        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"], 0),
-        ("<i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_two_mass_Nm"], 2),
-    ]
-    if exact:
-        columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"], 2)]
-        columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
-                    ("<i>M</i><sub>exact</sub> − <i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
-    table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
-                      css_class="data wide", see="rod_dynamics.see_table" if exact else "rod_dynamics.see_table_two") \
-        + worked_rod_dynamics(ctx, g, labels, r)
-
-    figure_motion = ctx.figure(partial(_motion_figure, f, period, t), t("rod_dynamics.motion_caption"), "rod_motion",
-                               see="rod_dynamics.see_motion")
-    figure_torque = ctx.figure(partial(_torque_figure, f, period, exact, t),
-                               t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
-                               "rod_torque", see="rod_dynamics.see_torque" if exact else "rod_dynamics.see_torque_two")
-
-    if exact:
-        ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),
-                       difference=ctx.num(r["torque_difference_max_abs_Nm"]),
-                       relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
-                       model=t("rod_dynamics.model_" + r["model"])))
-    else:
-        ctx.conclude(t("rod_dynamics.conclusion_two", cm=ctx.num(r["cm_acceleration_max_m_s2"]),
-                       torque=ctx.num(r["torque_two_mass_max_abs_Nm"])))
-    return ctx.render_template("sections/rod_dynamics.html.j2", r=r, exact=exact, table=table,
-                               figure_motion=figure_motion, figure_torque=figure_torque)
-
-
-def _motion_figure(f, period, t):
-    """The rod's angular velocity, angular acceleration and its centre of mass's acceleration over the period."""
-    angle = f["crank_angle_deg"]
-    inside = angle < period
-    fig, axes = new_figure(16, 14, nrows=3, sharex=True)
-    axes[0].plot(angle[inside], f["rod_angular_velocity_rad_s"][inside], color="C0")
-    axes[0].set_ylabel(t("rod_dynamics.axis_omega"))
-    axes[1].plot(angle[inside], f["rod_angular_acceleration_rad_s2"][inside], color="C1")
-    axes[1].set_ylabel(t("rod_dynamics.axis_epsilon"))
-    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"][inside], color="C2", label="x")
-    axes[2].plot(angle[inside], f["cm_acceleration_z_m_s2"][inside], color="C3", ls="--", label="z")
-    axes[2].set_ylabel(t("rod_dynamics.axis_cm"))
-    axes[2].legend(loc="upper right", fontsize=8)
-    for ax in axes:
-        ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(axes[2], period, t("axis.crank_angle"))
-    return fig
-
-
-def _torque_figure(f, period, exact, t):
-    """The rod's torque in the two-mass split and, when exact, the exact one, their difference and the couple."""
-    angle = f["crank_angle_deg"]
-    inside = angle < period
-    fig, axes = new_figure(16, 11 if exact else 6, nrows=2 if exact else 1, sharex=True)
-    top = axes[0] if exact else axes
-    top.plot(angle[inside], f["torque_two_mass_Nm"][inside], color="0.45" if exact else "C0",
-             ls="--" if exact else "-", label=t("rod_dynamics.two_mass"))
-    if exact:
-        top.plot(angle[inside], f["torque_exact_Nm"][inside], color="C0", label=t("rod_dynamics.exact"))
-        axes[1].plot(angle[inside], f["torque_difference_Nm"][inside], color="C3",
-                     label=t("rod_dynamics.difference"))
-        axes[1].plot(angle[inside], f["inertia_couple_Nm"][inside], color="C4", ls=":",
-                     label=t("rod_dynamics.couple"))
-        axes[1].set_ylabel(t("rod_dynamics.axis_torque"))
-        axes[1].legend(loc="upper right", fontsize=8)
-    top.set_ylabel(t("rod_dynamics.axis_torque"))
-    top.legend(loc="upper right", fontsize=8)
-    for ax in (axes if exact else [axes]):
-        ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(axes[1] if exact else axes, period, t("axis.crank_angle"))
-    return fig
-
-
-#: The letters of this section's equations (meanings: symbol.rod_dynamics.<key> in i18n/).
-_G, _A, _B = {"en": "G"}, {"en": "A"}, {"en": "B"}
-SYMBOLS = {
-    "moment_of_inertia_G": Symbol("I", _G, "unit.kg_m2"),
-    "two_mass_moment_of_inertia": Symbol("I", {"en": "2"}, "unit.kg_m2"),
-    "model_moment_of_inertia": Symbol("I", {}, "unit.kg_m2"),
-    "two_mass_A": Symbol("m", _A, "unit.kg"),
-    "two_mass_B": Symbol("m", _B, "unit.kg"),
-    "three_mass_A": Symbol("m", _A, "unit.kg", html="<i>m</i>′<sub>{sub}</sub>"),
-    "three_mass_B": Symbol("m", _B, "unit.kg", html="<i>m</i>′<sub>{sub}</sub>"),
-    "three_mass_G": Symbol("m", _G, "unit.kg"),
-    "acceleration_G": Symbol("a", _G, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
-    "velocity_G": Symbol("v", _G, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
-    "cm_acceleration_x": Symbol("a", {"en": "Gx"}, "unit.m_s2"),
-    "cm_acceleration_z": Symbol("a", {"en": "Gz"}, "unit.m_s2"),
-    "acceleration_A": Symbol("a", _A, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
-    "velocity_A": Symbol("v", _A, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
-    "acceleration_B": Symbol("a", _B, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
-    "velocity_B": Symbol("v", _B, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
-    "cylinder_axis_vector": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub>{sub}</sub>"),
-    "small_end_acceleration": Symbol("z\u0308", _A, "unit.m_s2"),
-    "inertia_couple": Symbol("M", _G, "unit.Nm"),
-    "correction_couple": Symbol("M", _G, "unit.Nm", html="Δ<i>M</i><sub>{sub}</sub>"),
-    "rod_inertia_torque": Symbol("M", {}, "unit.Nm"),
-    "rod_inertia_torque_exact": Symbol("M", {"en": "exact", "uk": "точн", "ru": "точн"}, "unit.Nm"),
-    "rod_inertia_torque_two_mass": Symbol("M", {"en": "2"}, "unit.Nm"),
-}
-
-
-ROD_DYNAMICS_STAGE = Stage(
-    template_dir=TEMPLATES,
-    name="rod_dynamics",
-    title_key="rod_dynamics.title",
-    requires=(KINEMATICS,),
-    provides=(),
-    applies=applies,
-    run=run,
-    render=render,
-    figures=("rod_motion", "rod_torque"),
-    tables=("rod_dynamics",),
-    references=("poda2007",),
-    options_table="rod_dynamics",
-    options_model=RodDynamicsOptions,
-    symbols=SYMBOLS,
-)

@@ -3,15 +3,15 @@
 The kinematics are exact for any pin offset e; the force, torque and indicator stages
 take them through ``PistonMotion`` unchanged (the force stage resolves the rod force at
 the crank's angle from the cylinder axis, ``extra["crank_angle_at_tdc_rad"]``).
+
+The computation: ``applies``, ``run`` and their pure helpers.
 """
 
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict
 
 from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
@@ -19,27 +19,15 @@ from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.scalar_search import minimize_bounded
-from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
-from crankdyn.plugin_types import Mechanism, Stage, StageOutput, Symbol
-from crankdyn.report.context import sample_rows
-from crankdyn.report.figures import crank_angle_axis, new_figure
-from crankdyn.scene import options, quantity
-from crankdyn_builtin.offset_crank.worked import worked_offset_crank
+from crankdyn.plugin_types import StageOutput
+from crankdyn.scene import options
 
-#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
-TEMPLATES = Path(__file__).resolve().parent / "templates"
+from .options import OffsetParams
 
 MECHANISM = "offset_crank_slider"
+
 #: Plugin tables that only a multi-cylinder engine reads (the articulated rods).
 MULTI_CYLINDER_TABLES = ("articulated",)
-
-
-class OffsetParams(BaseModel):
-    """The [mechanism] table of an offset crank-slider."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
-
-    offset: quantity("length", ge=-2.0, le=2.0, unit="mm", scale=1e-3)
 
 
 def _layout_problems(scene) -> list[Problem]:
@@ -68,17 +56,6 @@ def check(scene) -> list[Problem]:
                                 "reach the crank pin at every angle (the crank cannot turn a full revolution), "
                                 "and at |e| = L - R the linkage locks at BDC"))
     return problems
-
-
-OFFSET_CRANK_MECHANISM = Mechanism(
-    name=MECHANISM,
-    summary="offset (desaxial) crank-slider mechanism: the cylinder axis passes the crankshaft axis at a "
-            "distance e (the pin offset)",
-    check=check,
-    params_model=OffsetParams,
-    # λ = R/L and the rod's centre of mass hold as for the central crank-slider
-    plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
-)
 
 
 def applies(scene) -> str | None:
@@ -206,94 +183,3 @@ def run(scene, inputs) -> StageOutput:
     )
     return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table},
                        notes=_notes(scene, results, geometry.stroke_m, R))
-
-
-def render(output: StageOutput, ctx) -> str:
-    t = ctx.t
-    f = output.tables.arrays("offset_crank")
-    r = output.results
-    rows, labels = sample_rows(f["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
-    g = f.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>φ</i>, °", g["crank_angle_from_axis_deg"] % 360.0, 2),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * 1e3, 3),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
-        ("<i>β</i>, °", g["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("offset_crank.table_caption"), see="offset_crank.see_table") + worked_offset_crank(ctx, g, labels, r)
-
-    figure_main = ctx.figure(functools.partial(_piston_figure, f, r["bdc_crank_angle_deg"], t),
-                             t("offset_crank.figure_caption"), "offset_piston", see="offset_crank.see_figure")
-    figure_rod = ctx.figure(functools.partial(_rod_figure, f, t), t("offset_crank.rod_figure_caption"), "offset_rod",
-                            see="offset_crank.see_rod_figure")
-
-    ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
-                   tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
-                   bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
-                   stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
-                   ratio=ctx.num(r["stroke_time_ratio"], 5)))
-    return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod)
-
-
-def _piston_figure(f, bdc_crank_angle_deg, t):
-    """The piston's s, v, j over one revolution against the central crank-slider's, BDC marked."""
-    angle = f["crank_angle_deg"]
-    one = angle < 360.0
-    fig, axes = new_figure(16, 16, nrows=3, sharex=True)
-    for ax, key, label in ((axes[0], "piston_displacement", "offset_crank.axis_s"),
-                           (axes[1], "piston_velocity", "offset_crank.axis_v"),
-                           (axes[2], "piston_acceleration", "offset_crank.axis_j")):
-        scale = 1e3 if key == "piston_displacement" else 1.0
-        unit = "_m" if key == "piston_displacement" else ("_m_s" if key == "piston_velocity" else "_m_s2")
-        ax.plot(angle[one], f[key + unit][one] * scale, color="C0", label=t("offset_crank.offset_label"))
-        ax.plot(angle[one], f["central_" + key + unit][one] * scale, color="0.45", ls="--", lw=1,
-                label=t("offset_crank.central_label"))
-        ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_ylabel(t(label))
-    axes[0].axvline(bdc_crank_angle_deg, color="C3", lw=0.8, ls=":")
-    axes[0].legend(loc="upper right", fontsize=8)
-    crank_angle_axis(axes[2], 360.0, t("axis.crank_angle"))
-    return fig
-
-
-def _rod_figure(f, t):
-    """The rod's angle over one revolution."""
-    angle = f["crank_angle_deg"]
-    one = angle < 360.0
-    fig, ax = new_figure(16, 7)
-    ax.plot(angle[one], f["rod_angle_deg"][one], color="C4")
-    ax.axhline(0, color="0.3", lw=0.6)
-    ax.set_ylabel(t("offset_crank.axis_beta"))
-    crank_angle_axis(ax, 360.0, t("axis.crank_angle"))
-    return fig
-
-
-#: The offset's letters (meanings: symbol.offset_crank.<key> in i18n/).
-SYMBOLS = {
-    "offset": Symbol("e", {}, "unit.mm"),
-    "offset_ratio": Symbol("k", {}, ""),
-    "axis_crank_angle": Symbol("φ", {}, "°"),
-    "tdc_angle": Symbol("φ", {"en": "TDC", "uk": "ВМТ", "ru": "ВМТ"}, "°"),
-    "bdc_angle": Symbol("φ", {"en": "BDC", "uk": "НМТ", "ru": "НМТ"}, "°"),
-    "time_ratio": Symbol("K", {}, ""),
-}
-
-
-OFFSET_CRANK_STAGE = Stage(
-    template_dir=TEMPLATES,
-    name="offset_crank",
-    title_key="offset_crank.title",
-    requires=(),
-    provides=(KINEMATICS,),
-    applies=applies,
-    run=run,
-    render=render,
-    figures=("offset_piston", "offset_rod"),
-    tables=("offset_crank",),
-    references=("poda2007",),
-    symbols=SYMBOLS,
-)
