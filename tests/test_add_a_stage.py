@@ -16,11 +16,13 @@ import pytest
 from conftest import modified
 from openpyxl import load_workbook
 
-from crankdyn import answer_key, batch, outputs
+from crankdyn.batch.variants import answer_key
+from crankdyn.batch.variants import variants as batch
 from crankdyn.cli import examples_dir
-from crankdyn.pipeline import run_and_render
-from crankdyn.plugins import collect, plugin_manager
-from crankdyn.scene import scene_from_dict
+from crankdyn.output import writers as outputs
+from crankdyn.output.pipeline import run_and_render
+from crankdyn.plugin.registry import collect, plugin_manager
+from crankdyn.scene.model import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -32,8 +34,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage, StageOutput, Symbol
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StageOutput, Symbol
 
 HERE = Path(__file__).resolve().parent
 

@@ -12,13 +12,13 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import balancing as bal
 from crankdyn.physics.layout import build_layout
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 SQRT3 = math.sqrt(3.0)

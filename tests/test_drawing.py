@@ -17,9 +17,9 @@ import pytest
 from conftest import ARTIFACTS
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_scene
-from crankdyn.plugins import collect, default_registry, plugin_manager
-from crankdyn.scene import load_scene
+from crankdyn.engine.orchestrator import plan, run_scene
+from crankdyn.plugin.registry import collect, default_registry, plugin_manager
+from crankdyn.scene.model import load_scene
 
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
 # The example plugin lives in the repository (it is not package data of crankdyn).

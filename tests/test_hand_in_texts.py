@@ -551,7 +551,7 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():
     """Whole newtons would print the two-stroke's sixth order (0,19 N) as "0 N"."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.balancing.stage import newtons
 
@@ -711,7 +711,7 @@ def test_the_crank_radius_is_printed_without_padding_zeros(reports):
 
 def test_orders_are_written_as_ordinal_words(reports):
     """Not "сили порядку 1" where a Ukrainian text writes "сили першого порядку"."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.balancing.stage import orders_in_words
 
@@ -786,7 +786,7 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     """"(см. раздел кинематики)" names no section. A catalog text writes
     @@SECTION:stage@@ for the number that stage's section has in this report; a stage without a
     section there is named by its section's title in quotes."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import fill_section_numbers
     from crankdyn.report.i18n import translator
 

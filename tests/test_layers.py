@@ -52,13 +52,13 @@ def test_the_layer_contract_can_fail(tmp_path, monkeypatch):
     put above the report, report/i18n's import of plugin_types.Catalog breaks the contract."""
     (tmp_path / "pyproject.toml").write_text(
         '[tool.importlinter]\nroot_packages = ["crankdyn"]\n\n[[tool.importlinter.contracts]]\n'
-        'name = "upside down"\ntype = "layers"\nlayers = ["crankdyn.plugin_types", "crankdyn.report"]\n',
+        'name = "upside down"\ntype = "layers"\nlayers = ["crankdyn.plugin.types", "crankdyn.report"]\n',
         encoding="utf-8")
     monkeypatch.chdir(tmp_path)
     out = io.StringIO()
     with redirect_stdout(out):
         code = lint_imports(config_filename=str(tmp_path / "pyproject.toml"), no_cache=True)
-    assert code != 0 and "crankdyn.report.i18n -> crankdyn.plugin_types" in out.getvalue()
+    assert code != 0 and "crankdyn.report.i18n -> crankdyn.plugin.types" in out.getvalue()
 
 
 def test_function_local_imports_are_documented_lazy_imports():
@@ -96,7 +96,7 @@ def test_a_json_only_report_imports_no_rendering_library(tmp_path):
             f"print(sorted(m for m in {heavy!r} if m in sys.modules), code)\n"
             # the same check can fail: a table read builds a DataFrame and so imports pandas (in the
             # same fresh interpreter, after the report's modules were listed)
-            "import crankdyn.plugin_types as t; t.Tables(a={'x': [1]})['a']\n"
+            "import crankdyn.plugin.types as t; t.Tables(a={'x': [1]})['a']\n"
             f"print(sorted(m for m in {heavy!r} if m in sys.modules))")
     first, then = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                  check=True).stdout.splitlines()

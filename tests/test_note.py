@@ -22,11 +22,11 @@ from page_layout import layout_problems, page_texts
 from test_worked import check_worked
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
-from crankdyn.scene import load_scene, scene_from_dict
+from crankdyn.scene.model import load_scene, scene_from_dict
 
 REGISTRY = default_registry()
 

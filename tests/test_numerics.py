@@ -9,16 +9,16 @@ import pytest
 from conftest import modified, shared_run
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import Runner, check_scene, run_scene
 from crankdyn.errors import SceneError
-from crankdyn.hookspecs import hookimpl
-from crankdyn.orchestrator import Runner, check_scene, run_scene
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import series
-from crankdyn.plugins import collect, default_registry, plugin_manager
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.registry import collect, default_registry, plugin_manager
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 from crankdyn_builtin.numerics import stage as num
 
 REGISTRY = default_registry()
@@ -325,9 +325,9 @@ def test_solver_probes_add_rows():
 
 def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
     """Stage.last (used by numerics) orders a summary after every stage ready at the same time."""
-    from crankdyn.orchestrator import plan
-    from crankdyn.plugin_types import Stage, StageOutput
-    from crankdyn.plugins import Registry
+    from crankdyn.engine.orchestrator import plan
+    from crankdyn.plugin.registry import Registry
+    from crankdyn.plugin.types import Stage, StageOutput
 
     def stage(name, requires=(), provides=(), last=False):
         return Stage(name=name, title_key="x", requires=requires, provides=provides, applies=lambda s: None,

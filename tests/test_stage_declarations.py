@@ -10,15 +10,15 @@ from conftest import example_data, modified
 from markupsafe import Markup
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import plan, run_plan, run_scene
 from crankdyn.errors import PluginError
-from crankdyn.orchestrator import plan, run_plan, run_scene
-from crankdyn.plugin_types import Stage, StageOutput, declared
-from crankdyn.plugins import Registry, default_registry
+from crankdyn.plugin.registry import Registry, default_registry
+from crankdyn.plugin.types import Stage, StageOutput, declared
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment, render_html
 from crankdyn.report.figures import new_figure
 from crankdyn.report.i18n import available_languages, translator
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))

@@ -1,4 +1,4 @@
-"""A sweep's answer key computed in chunks (crankdyn.grid_run) equals the key of each point run
+"""A sweep's answer key computed in chunks (crankdyn.batch.grid_run) equals the key of each point run
 through the whole pipeline on its own, column by column; the studies run once."""
 
 from __future__ import annotations
@@ -12,15 +12,22 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import crankdyn.batch as batch
-from crankdyn import answer_key
-from crankdyn.batch import RunOptions, Variant, _registry, _variant_scene, load_base, run_variant
+import crankdyn.batch.variants as batch
+from crankdyn.batch.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
+from crankdyn.batch.sweep import SweepRequest, base_for, run_sweep, sweep_from_args, variants
+from crankdyn.batch.variants import (
+    RunOptions,
+    Variant,
+    _registry,
+    _variant_scene,
+    answer_key,
+    load_base,
+    run_variant,
+)
 from crankdyn.cli import examples_dir
-from crankdyn.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
-from crankdyn.orchestrator import is_study, plan, run_stage, stage_inputs
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.plugins import Registry, default_registry
-from crankdyn.sweep_grid import SweepRequest, base_for, run_sweep, sweep_from_args, variants
+from crankdyn.engine.orchestrator import is_study, plan, run_stage, stage_inputs
+from crankdyn.plugin.registry import Registry, default_registry
+from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
 
 PETROL = examples_dir() / "petrol-1cyl.toml"
 RELATIVE = 1e-9
@@ -238,7 +245,7 @@ def test_a_larger_grid_in_chunks_equals_the_points_run_alone():
 
 def test_on_dask_the_points_go_in_chunks_and_give_the_local_key(monkeypatch):
     distributed = pytest.importorskip("distributed")
-    import crankdyn.grid_run as grid_run
+    import crankdyn.batch.grid_run as grid_run
 
     submitted = []
     real = grid_run.run_all_dask

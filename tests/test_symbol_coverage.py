@@ -12,7 +12,7 @@ from collections import defaultdict
 import pytest
 from conftest import shared_html
 
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import equation_legend, typeset
 from crankdyn.report.equation_legend import _SECTION_OR_EQUATION
 from crankdyn.report.i18n import translator
@@ -190,7 +190,7 @@ def test_a_stage_symbol_key_must_be_an_identifier():
     from types import SimpleNamespace
 
     from crankdyn.errors import PluginError
-    from crankdyn.plugin_types import Symbol
+    from crankdyn.plugin.types import Symbol
     with pytest.raises(PluginError, match="'bad key'"):
         typeset.symbol_table([SimpleNamespace(name="odd", symbols={"bad key": Symbol("x", {}, "")})])
     with pytest.raises(PluginError, match="'x'"):

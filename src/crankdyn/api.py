@@ -31,20 +31,20 @@ from typing import TYPE_CHECKING, Any
 
 from markupsafe import Markup
 
-from . import answer_key
-from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
+from .batch import answer_key
+from .batch.grid_run import CHUNK_POINTS, evaluate, number, study_once
+from .batch.variants import MAX_FIELDS, MAX_VARIANTS, _nest, answers
+from .engine.orchestrator import RunResult, check_scene, run_scene
 from .errors import Problem, SceneError
-from .grid_run import CHUNK_POINTS, evaluate, number, study_once
-from .inputcheck import structure_problems
-from .manifest import write_outputs
-from .orchestrator import RunResult, check_scene, run_scene
-from .outputs import FORMATS, _named_tables, results_document
-from .pipeline import render_files
-from .plugins import default_registry
+from .output.manifest import write_outputs
+from .output.pipeline import render_files
+from .output.writers import FORMATS, _named_tables, results_document
+from .plugin.registry import default_registry
 from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
-from .scene import Scene, merge, read_scene_data, scene_from_dict
+from .scene.inputcheck import structure_problems
+from .scene.model import Scene, merge, read_scene_data, scene_from_dict
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd

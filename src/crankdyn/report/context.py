@@ -17,7 +17,7 @@ import numpy as np
 from markupsafe import Markup, escape
 
 from ..errors import PluginError
-from ..plugin_types import declared
+from ..plugin.types import declared
 from .formula_lines import unbroken_parts
 from .i18n import Translator, superscript
 from .typeset import SYMBOLS, SymbolTable, typeset_figure

@@ -14,16 +14,16 @@ from pathlib import Path
 import jinja2
 from markupsafe import Markup, escape
 
-from ..contracts import COUNTERWEIGHTS, FORCES
-from ..orchestrator import RunResult
+from ..engine.orchestrator import RunResult
 from ..physics.extrema import EXTREMUM_RTOL
-from ..plausibility import format_params, report_key, scene_warnings, stage_warnings
-from ..plugins import Registry
+from ..plugin.contracts import COUNTERWEIGHTS, FORCES
+from ..plugin.registry import Registry
 from ..version import __version__
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .equation_legend import add_equation_legends, symbol_meaning
 from .frame import frame_html
 from .i18n import translator
+from .plausibility import format_params, report_key, scene_warnings, stage_warnings
 from .typeset import (
     SYMBOLS,
     SymbolTable,

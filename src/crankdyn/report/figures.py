@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..aside import can_fork as _no_other_thread
-from ..aside import fork_with_pipe
-from ..heap import freeze_more
+from ..engine.frozen_heap import freeze_more
+from ..parallel.fork import can_fork as _no_other_thread
+from ..parallel.fork import fork_with_pipe
 from . import mathtext_store
 
 if TYPE_CHECKING:  # pragma: no cover

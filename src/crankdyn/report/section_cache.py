@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..cache import field_digests, reads_of, tracked_copy
-from ..plugin_types import Stage, StageOutput
+from ..engine.stage_cache import field_digests, reads_of, tracked_copy
+from ..plugin.types import Stage, StageOutput
 from .context import FigureFile, RenderContext
 
 

@@ -23,7 +23,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import PluginError
-from ..plugin_types import Symbol
+from ..plugin.types import Symbol
 from .i18n import MINUS, NARROW_NBSP, superscript
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the

@@ -29,8 +29,8 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
-from .errors import OutputError
-from .version import __version__
+from ..errors import OutputError
+from ..version import __version__
 
 MANIFEST = ".crankdyn-manifest.json"
 FORMAT_MARKER = "crankdyn output manifest"

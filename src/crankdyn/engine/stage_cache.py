@@ -33,10 +33,10 @@ from typing import Any
 
 from pydantic import BaseModel
 
+from ..physics import lazy
+from ..plugin.types import Stage, StageOutput
+from ..scene.model import Scene
 from .orchestrator import Plan, RunResult, check_output, is_study, stage_inputs
-from .physics import lazy
-from .plugin_types import Stage, StageOutput
-from .scene import Scene
 
 #: Read of the scene as a whole (``dict(scene)``, ``model_dump``, ``__dict__``): depends on every field.
 EVERYTHING = "*"

@@ -39,18 +39,18 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import parse_qs, quote, urlsplit
 
-from .background import StudyWorker
-from .cache import StageCache
-from .errors import MISSING, CrankdynError, Problem, SceneError
-from .inputcheck import MAX_DEPTH
-from .orchestrator import is_study
-from .pipeline import run_for_preview
-from .plugins import default_registry
-from .report.context import FIGURE_DIR, draw_figures, start_drawing
-from .report.i18n import available_languages
-from .report.pdf import html_to_pdf
-from .report.section_cache import SectionCache
-from .scene import load_scene, read_scene_data
+from ..engine.orchestrator import is_study
+from ..engine.stage_cache import StageCache
+from ..engine.studies import StudyWorker
+from ..errors import MISSING, CrankdynError, Problem, SceneError
+from ..output.pipeline import run_for_preview
+from ..plugin.registry import default_registry
+from ..report.context import FIGURE_DIR, draw_figures, start_drawing
+from ..report.i18n import available_languages
+from ..report.pdf import html_to_pdf
+from ..report.section_cache import SectionCache
+from ..scene.inputcheck import MAX_DEPTH
+from ..scene.model import load_scene, read_scene_data
 
 HOST = "127.0.0.1"
 DEFAULT_PORT = 8765

@@ -11,8 +11,8 @@ import math
 import sys
 from functools import lru_cache
 
-from .quantity import QuantityError, parse
 from .quick_units import quick_quantity
+from .unit_grammar import QuantityError, parse
 
 # Display units and the SI unit each physical kind converts to.
 SI_UNIT = {

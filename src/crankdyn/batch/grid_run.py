@@ -29,8 +29,24 @@ from typing import Any
 
 import numpy as np
 
+from ..engine.orchestrator import (
+    Plan,
+    check_output,
+    check_scene,
+    is_study,
+    plan,
+    run_plan,
+    run_stage,
+    stage_applies,
+    stage_inputs,
+)
+from ..errors import PluginError
+from ..parallel.pool import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
+from ..plugin.registry import Registry
+from ..plugin.types import Stage, StageOutput
+from ..scene.model import Scene
 from . import answer_key
-from .batch import (
+from .variants import (
     Outcome,
     Progress,
     RunOptions,
@@ -42,22 +58,6 @@ from .batch import (
     warm,
     worker_count,
 )
-from .batch_runner import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
-from .errors import PluginError
-from .orchestrator import (
-    Plan,
-    check_output,
-    check_scene,
-    is_study,
-    plan,
-    run_plan,
-    run_stage,
-    stage_applies,
-    stage_inputs,
-)
-from .plugin_types import Stage, StageOutput
-from .plugins import Registry
-from .scene import Scene
 
 #: Points per chunk: one call of a local worker computes them together. A few hundred
 #: amortise a call's cost (a fork, a pickled answer, a Dask task's round trip) and keep a

@@ -15,9 +15,10 @@ from dataclasses import dataclass, field
 
 import pluggy
 
-from . import hookspecs, plugin_guard
-from .errors import CrankdynError, PluginError, PluginFailure, shorten
-from .plugin_types import Catalog, ErrorProbe, Mechanism, Stage
+from ..errors import CrankdynError, PluginError, PluginFailure, shorten
+from . import guard as plugin_guard
+from . import hooks as hookspecs
+from .types import Catalog, ErrorProbe, Mechanism, Stage
 
 ENTRY_POINT_GROUP = hookspecs.PROJECT_NAME
 #: the package of the plugins that come with crankdyn: their errors are the program's own

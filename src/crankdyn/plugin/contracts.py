@@ -13,8 +13,8 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict
 
-from .scene import number as _number
-from .scene import quantity as _quantity
+from ..scene.model import number as _number
+from ..scene.model import quantity as _quantity
 
 KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"

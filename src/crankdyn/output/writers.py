@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from ..engine.orchestrator import RunResult
+from ..version import __version__
 from . import manifest
-from .orchestrator import RunResult
-from .version import __version__
 
 FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 

@@ -32,9 +32,9 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import CrankdynError, PluginFailure, Problem, SceneError, StageTimeLimit, shorten
 from . import contracts
-from .errors import CrankdynError, PluginFailure, Problem, SceneError, StageTimeLimit, shorten
-from .plugin_types import (
+from .types import (
     Catalog,
     ErrorProbe,
     Mechanism,

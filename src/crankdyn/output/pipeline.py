@@ -12,14 +12,14 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import outputs
-from .aside import spare_core
-from .background import ForkedRun, start_studies
-from .heap import frozen_heap
+from ..engine.frozen_heap import frozen_heap
+from ..engine.orchestrator import RunResult, check_scene, plan, run_scene
+from ..engine.studies import ForkedRun, start_studies
+from ..parallel.fork import spare_core
+from ..plugin.registry import Registry
+from ..scene.model import Scene
+from . import writers as outputs
 from .manifest import write_outputs
-from .orchestrator import RunResult, check_scene, plan, run_scene
-from .plugins import Registry
-from .scene import Scene
 
 
 @dataclass
@@ -42,7 +42,7 @@ def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
     if forked is None:
         return None
     try:
-        from .report.figures import (
+        from ..report.figures import (
             prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
         )
 
@@ -72,14 +72,14 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
                   figure_workers: int | None, missing: set[str] | None = None) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "html" in formats or "pdf" in formats or "docx" in formats:
-        from .report import mathtext_store  # lazy: heavy optional import (with the figures)
-        from .report.context import (
+        from ..report import mathtext_store  # lazy: heavy optional import (with the figures)
+        from ..report.context import (
             draw_figures,  # lazy: heavy optional import (jinja2, babel, matplotlib)
         )
-        from .report.document import (
+        from ..report.document import (
             render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
         )
-        from .report.figures import (  # lazy: heavy optional import
+        from ..report.figures import (  # lazy: heavy optional import
             IncrementalDrawing,
             can_fork,
             default_workers,
@@ -112,7 +112,9 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
             files["report.html"] = rendered.linked_html.encode("utf-8")
             files.update({f"figures/{f.name}": f.svg for f in rendered.figures})
         if "docx" in formats:
-            from .report.docx import report_docx  # lazy: heavy optional import (pandoc, matplotlib)
+            from ..report.docx import (
+                report_docx,  # lazy: heavy optional import (pandoc, matplotlib)
+            )
 
             files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
     # after the report, which takes each study's output when its section comes (crankdyn.background)
@@ -127,8 +129,8 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
 
 
 def _pdf(rendered) -> bytes:
-    from .report import printer  # lazy: heavy optional import (only a PDF has a printer)
-    from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+    from ..report import printer  # lazy: heavy optional import (only a PDF has a printer)
+    from ..report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
     # made by the printer process the command line started (WeasyPrint loaded meanwhile), if any
     pdf = printer.print_pdf(rendered.linked_html, rendered.figures)
@@ -204,7 +206,7 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     for the worker's study when its section comes, so that the page is shown once, whole.
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`, the deferred studies
     as a :class:`RunResult` to pass as ``studies``, or None)."""
-    from .report.document import (
+    from ..report.document import (
         render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
     )
 

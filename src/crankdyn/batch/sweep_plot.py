@@ -13,9 +13,9 @@ import math
 
 import numpy as np
 
+from ..report.figures import STYLE, new_figure, to_svg
 from .answer_key import answer_columns
-from .batch import Outcome, _registry
-from .report.figures import STYLE, new_figure, to_svg
+from .variants import Outcome, _registry
 
 
 def _series(sweep, outcomes: list[Outcome]) -> tuple[int, np.ndarray]:

@@ -11,9 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import PluginError
-from .plugin_types import AnswerColumn, Stage
-from .plugins import Registry
+from ..errors import PluginError
+from ..plugin.registry import Registry
+from ..plugin.types import AnswerColumn, Stage
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from collections.abc import Iterable
 
 import pluggy
 
-from .plugin_types import Catalog, ErrorProbe, Mechanism, Stage
+from .types import Catalog, ErrorProbe, Mechanism, Stage
 
 PROJECT_NAME = "crankdyn"
 

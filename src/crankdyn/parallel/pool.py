@@ -22,7 +22,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from multiprocessing.connection import Pipe, wait
 
-from .aside import stop_child
+from .fork import stop_child
 
 DEFAULT_TIMEOUT_S = 120.0
 
@@ -34,7 +34,7 @@ MAX_TIMEOUT_S = 86_400.0
 def check_seconds(option: str, value: object) -> float:
     """``value`` as a number of seconds above 0 and at most :data:`MAX_TIMEOUT_S`; anything else
     (infinity, NaN, a negative number, a string) raises UsageError naming ``option``."""
-    from .errors import (
+    from ..errors import (
         UsageError,  # lazy: heavy optional import (the runner itself needs no errors)
     )
 

@@ -32,9 +32,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..api import _nested_overrides
+from ..errors import Problem, SceneError, UsageError
+from ..output.manifest import check_outputs, write_outputs
+from ..scene.model import merge, scene_from_dict
 from .answer_key import answer_columns
-from .api import _nested_overrides
-from .batch import (
+from .grid_run import execute_key, study_once
+from .sweep_plot import plot_files
+from .variants import (
     MAX_FIELDS,
     MAX_VARIANTS,
     VARIANT_COLUMN,
@@ -52,11 +57,6 @@ from .batch import (
     load_base,
     parse_cell,
 )
-from .errors import Problem, SceneError, UsageError
-from .grid_run import execute_key, study_once
-from .manifest import check_outputs, write_outputs
-from .scene import merge, scene_from_dict
-from .sweep_plot import plot_files
 
 #: Points of a sweep's grid, and values of one swept field: :data:`crankdyn.batch.MAX_VARIANTS`.
 #: A range's count is checked before its values are made, the grid's size before its points are.

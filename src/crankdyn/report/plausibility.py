@@ -21,8 +21,8 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from .plugin_types import PlausibilityRule
-from .report.i18n import translator
+from ..plugin.types import PlausibilityRule
+from .i18n import translator
 
 MAX_MEAN_PISTON_SPEED_M_S = 25.0
 ROD_RATIO_RANGE = (0.15, 0.45)

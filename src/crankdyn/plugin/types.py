@@ -19,7 +19,7 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .scene import Scene
+    from ..scene.model import Scene
 
 
 @dataclass(frozen=True)

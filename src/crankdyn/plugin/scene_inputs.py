@@ -12,13 +12,13 @@ import math
 
 import numpy as np
 
+from ..errors import Problem, SceneError
+from ..physics import articulated as art
+from ..physics import forces as phys
+from ..physics import indicator as ind
+from ..physics import layout as lay
+from ..physics.speed_fluctuation import CrankTrain
 from .contracts import ArticulatedOptions, BayLoads
-from .errors import Problem, SceneError
-from .physics import articulated as art
-from .physics import forces as phys
-from .physics import indicator as ind
-from .physics import layout as lay
-from .physics.speed_fluctuation import CrankTrain
 
 
 def engine_layout(scene) -> lay.EngineLayout:

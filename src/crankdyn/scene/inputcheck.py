@@ -13,7 +13,7 @@ import re
 import sys
 from typing import Any
 
-from .errors import Problem
+from ..errors import Problem
 
 MAX_DEPTH = 16
 #: Characters in one text value (a title, a name, a file name): a title page holds far less, and

@@ -10,10 +10,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from .aside import aside
-from .errors import PluginError, Problem, SceneError
-from .physics import lazy
-from .plugin_types import (
+from ..errors import PluginError, Problem, SceneError
+from ..parallel.fork import aside
+from ..physics import lazy
+from ..plugin.registry import Registry, broken_note
+from ..plugin.types import (
     SERVICE_ASIDE,
     SERVICE_ERROR_PROBES,
     SERVICE_RUNNER,
@@ -22,8 +23,7 @@ from .plugin_types import (
     StageOutput,
     declared,
 )
-from .plugins import Registry, broken_note
-from .scene import Scene, options
+from ..scene.model import Scene, options
 
 
 @dataclass

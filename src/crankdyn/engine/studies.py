@@ -18,10 +18,10 @@ from __future__ import annotations
 import os
 import pickle
 
-from .aside import can_fork, fork_with_pipe, stop_child
-from .errors import StageTimeLimit
+from ..errors import StageTimeLimit
+from ..parallel.fork import can_fork, fork_with_pipe, stop_child
+from ..plugin.types import StageOutput
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
-from .plugin_types import StageOutput
 
 
 class ForkedStudies:
@@ -322,12 +322,12 @@ class WorkerJob:
 
 
 def _serve_jobs(sock, registry=None) -> None:
-    from .cache import (
-        StageCache,  # lazy: heavy optional import (only the preview's worker caches stages)
+    from ..plugin.registry import (
+        default_registry,  # lazy: heavy optional import (the plugins, in the worker)
     )
     from .orchestrator import plan  # lazy: heavy optional import (only the preview's worker plans)
-    from .plugins import (
-        default_registry,  # lazy: heavy optional import (the plugins, in the worker)
+    from .stage_cache import (
+        StageCache,  # lazy: heavy optional import (only the preview's worker caches stages)
     )
 
     cache = StageCache()
