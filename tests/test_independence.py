@@ -42,8 +42,8 @@ SHARED = ({value for name, value in vars(contracts).items() if name.isupper() an
              for choice in typing.get_args(info.annotation) if isinstance(choice, str)})
 #: What the core still names, with the reason: (file, name) -> why.
 KNOWN = {
-    ("scene.py", "crank_slider"): "engine.mechanism's default in the scene format",
-    ("scene.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
+    ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
+    ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
                               "scene is loaded, before any registry is read",
 }
 
