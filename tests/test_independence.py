@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from conftest import modified
 
-from crankdyn.batch.variants import answer_key
+from crankdyn.batch import answer_key
 from crankdyn.cli import examples_dir
 from crankdyn.output import writers as outputs
 from crankdyn.output.pipeline import run_and_render
