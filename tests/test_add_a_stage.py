@@ -17,7 +17,7 @@ from conftest import modified
 from openpyxl import load_workbook
 
 from crankdyn.batch import answer_key
-from crankdyn.batch.variants import variants as batch
+from crankdyn.batch import variants as batch
 from crankdyn.cli import examples_dir
 from crankdyn.output import writers as outputs
 from crankdyn.output.pipeline import run_and_render
