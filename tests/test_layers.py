@@ -49,7 +49,7 @@ def test_import_layers_hold(monkeypatch):
 
 def test_the_layer_contract_can_fail(tmp_path, monkeypatch):
     """The same checker refuses a back-import, so the test above can fail: with the hook types
-    put above the report, report/i18n's import of plugin_types.Catalog breaks the contract."""
+    put above the report, report/i18n's import of plugin.types.Catalog breaks the contract."""
     (tmp_path / "pyproject.toml").write_text(
         '[tool.importlinter]\nroot_packages = ["crankdyn"]\n\n[[tool.importlinter.contracts]]\n'
         'name = "upside down"\ntype = "layers"\nlayers = ["crankdyn.plugin.types", "crankdyn.report"]\n',
