@@ -114,12 +114,11 @@ def modified(name: str, changes: dict) -> dict:
 
 @functools.cache
 def _shared_run(name: str, changes_json: str, stages: tuple[str, ...] | None):
-    from crankdyn.scene.model.model import scene_from_dict
-
     from crankdyn.engine.orchestrator import (
         run_scene,  # lazy: the heavy imports only for the tests that compute
     )
     from crankdyn.plugin.registry import default_registry
+    from crankdyn.scene.model import scene_from_dict
 
     scene = scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir())
     return run_scene(scene, default_registry(), None if stages is None else list(stages))

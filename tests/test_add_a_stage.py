@@ -16,8 +16,8 @@ import pytest
 from conftest import modified
 from openpyxl import load_workbook
 
-from crankdyn.batch.variants import answer_key
-from crankdyn.batch.variants import variants as batch
+from crankdyn.batch import answer_key
+from crankdyn.batch import variants as batch
 from crankdyn.cli import examples_dir
 from crankdyn.output import writers as outputs
 from crankdyn.output.pipeline import run_and_render

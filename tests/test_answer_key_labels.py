@@ -11,9 +11,9 @@ import io
 import pytest
 from openpyxl import load_workbook
 
+from crankdyn.batch import variants as batch
 from crankdyn.batch.answer_key import answer_columns
 from crankdyn.batch.variants import Outcome, RunOptions, Variant, batch_language, key_files
-from crankdyn.batch.variants import variants as batch
 from crankdyn.plugin.registry import default_registry
 from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.i18n import load_catalog_file

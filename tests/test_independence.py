@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from conftest import modified
 
-from crankdyn.batch.variants import answer_key
+from crankdyn.batch import answer_key
 from crankdyn.cli import examples_dir
 from crankdyn.output import writers as outputs
 from crankdyn.output.pipeline import run_and_render
@@ -42,8 +42,8 @@ SHARED = ({value for name, value in vars(contracts).items() if name.isupper() an
              for choice in typing.get_args(info.annotation) if isinstance(choice, str)})
 #: What the core still names, with the reason: (file, name) -> why.
 KNOWN = {
-    ("scene.py", "crank_slider"): "engine.mechanism's default in the scene format",
-    ("scene.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
+    ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
+    ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
                               "scene is loaded, before any registry is read",
 }
 

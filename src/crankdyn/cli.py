@@ -41,7 +41,8 @@ BLAS_THREADS_ENV = "OPENBLAS_NUM_THREADS"
 ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
 
 
-#: The formats ``--format`` accepts: crankdyn.outputs.FORMATS, named here without importing that
+#: The formats ``--format`` accepts: crankdyn.output.writers.FORMATS, named here without importing
+#: that
 #: module (numpy), so that ``--help`` answers at once.
 REPORT_FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 #: What users type for a report language, with the code they mean.
@@ -311,7 +312,7 @@ def _run_options(args, formats: list[str]):
                       args.connect_timeout, args.force)
 
 
-#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin_guard's, without its import)
+#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin.guard's, without its import)
 DEFAULT_STAGE_TIMEOUT_S = 120.0
 MAX_STAGE_TIMEOUT_S = 3600.0
 

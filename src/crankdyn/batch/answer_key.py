@@ -1,7 +1,7 @@
 """The batch answer key's columns, collected from what the stages declare.
 
 No stage's result key is named here: every stage lists its columns in
-``Stage.answer_columns`` (:class:`crankdyn.plugin_types.AnswerColumn`), and the key
+``Stage.answer_columns`` (:class:`crankdyn.plugin.types.AnswerColumn`), and the key
 shows them stage by stage in requires/provides order (ties by stage name), each
 stage's columns in the order it gives.
 """

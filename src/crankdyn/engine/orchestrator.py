@@ -47,7 +47,8 @@ class RunResult:
     timing_s: dict[str, float] = field(default_factory=dict)
     #: studies left for later (``run_plan(defer_studies=True)``): stage name -> its inputs
     deferred: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
-    #: where the deferred studies are being computed meanwhile (``crankdyn.background``), if anywhere
+    #: where the deferred studies are being computed meanwhile (``crankdyn.engine.studies``), if
+    #: anywhere
     background: Any = field(default=None, repr=False, compare=False)
 
     def study_output(self, name: str) -> StageOutput | None:
@@ -369,7 +370,8 @@ def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None 
               languages: Iterable[str] = (), cache=None, defer_studies: bool = False) -> RunResult:
     """Validate against the plugins, plan and run: the whole computation of one scene.
 
-    With ``cache`` (a :class:`crankdyn.cache.StageCache`) only stages whose inputs changed since
+    With ``cache`` (a :class:`crankdyn.engine.stage_cache.StageCache`) only stages whose inputs
+    changed since
     the cache's last run are run again (the live preview). ``defer_studies``: see :func:`run_plan`
     (not with a cache)."""
     check_scene(scene, registry, languages)

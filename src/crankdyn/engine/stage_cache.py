@@ -288,13 +288,14 @@ class StageCache:
 
     def run_plan(self, scene: Scene, the_plan: Plan, defer_studies: bool = False,
                  deferred: RunResult | None = None) -> RunResult:
-        """:func:`crankdyn.orchestrator.run_plan`, re-running only stages whose inputs changed.
+        """:func:`crankdyn.engine.orchestrator.run_plan`, re-running only stages whose inputs
+        changed.
 
         With ``defer_studies``, a stage that would have to run again, comes ``last`` and provides
         nothing (a study of the others, such as the error against run time: no stage can wait
         for it) is not run: it is missing from the result's outputs (:attr:`RunResult.pending`),
         its inputs are kept in :attr:`RunResult.deferred` (so that it can be computed meanwhile,
-        :mod:`crankdyn.background`), and a second call without ``defer_studies`` runs it (and
+        :mod:`crankdyn.engine.studies`), and a second call without ``defer_studies`` runs it (and
         only it). Given that first call's result as ``deferred``, the second call takes a study
         from it (:meth:`RunResult.study_output`: from its background child, or computed with the
         kept inputs) when the scene and the study's upstream data are still the ones it was

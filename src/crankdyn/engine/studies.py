@@ -3,13 +3,15 @@
 The error against run time (the ``numerics`` stage) re-runs the pipeline at nine steps and times
 them: about half a second in which ``crankdyn report`` would otherwise only wait, with the second
 core idle, before it imports matplotlib and Jinja and renders the sections. No stage waits for a
-study (:func:`crankdyn.orchestrator.is_study`), so a child forked after the other stages computes
+study (:func:`crankdyn.engine.orchestrator.is_study`), so a child forked after the other stages
+computes
 the studies meanwhile, and the report takes each study's output when its section comes.
 
 The child inherits everything (nothing is pickled on the way in) and sends back, for each study
 in plan order, the pickled ``(name, StageOutput, seconds)``. A study that raises in the child, an
 output that cannot be pickled, or a child that dies is computed again in the report's process
-(:meth:`crankdyn.orchestrator.RunResult.study_output`), so the result, and any error, is the one
+(:meth:`crankdyn.engine.orchestrator.RunResult.study_output`), so the result, and any error, is the
+one
 the serial run gives.
 """
 

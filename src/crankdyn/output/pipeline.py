@@ -64,7 +64,7 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     variants in parallel, passes 1). The catalog keys the report has no text for are added to
     ``missing``, if given (``crankdyn report`` warns about them).
     """
-    with frozen_heap():  # the collector skips the imported modules (crankdyn.heap)
+    with frozen_heap():  # the collector skips the imported modules (crankdyn.engine.frozen_heap)
         return _render_files(result, registry, list(formats), self_contained, figure_workers, missing)
 
 
@@ -117,7 +117,7 @@ def _render_files(result: RunResult, registry: Registry, formats: list[str], sel
             )
 
             files["report.docx"] = report_docx(rendered.html, rendered.figures, rendered.language)
-    # after the report, which takes each study's output when its section comes (crankdyn.background)
+    # after the report, which takes each study's output when its section comes (engine.studies)
     result.complete()
     if "json" in formats:
         files["results.json"] = outputs.json_bytes(outputs.results_document(result))
@@ -167,12 +167,12 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
     formats = list(formats)
     # One report on its own (not a batch's variant, which shares the cores with the other
     # variants, nor the preview's cached run): the studies are computed in a forked child while
-    # the report is rendered (crankdyn.background).
+    # the report is rendered (crankdyn.engine.studies).
     alone = cache is None and figure_workers is None
     renders = any(f in formats for f in ("html", "pdf", "docx"))
     aside = alone and (os.cpu_count() or 1) > 1 and renders
     # Nothing to render (JSON, CSV, XLSX): the second core is spare while the stages run, and a
-    # study computes its independent parts there (crankdyn.aside).
+    # study computes its independent parts there (crankdyn.parallel.fork).
     with frozen_heap(), spare_core(alone and not renders):
         result = _run_aside(scene, registry, stages, languages) if aside else None
         if result is None:
@@ -200,7 +200,7 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     scene reads changed); the figures are left undrawn, so that the page can be shown first. With
     ``defer_studies`` a study that has to run again (the error against run time) is left for the
     next call and its section says so (``RunResult.pending``); the preview's study ``worker``
-    (:class:`crankdyn.background.StudyWorker`) computes it meanwhile, and the next call, given
+    (:class:`crankdyn.engine.studies.StudyWorker`) computes it meanwhile, and the next call, given
     the returned ``studies``, takes it from there (or computes it, if the scene changed since).
     With ``inline_studies`` as well (a study the worker computes quickly), this rendering waits
     for the worker's study when its section comes, so that the page is shown once, whole.
@@ -211,7 +211,7 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
     )
 
     check_scene(scene, registry, languages)
-    with frozen_heap():  # the collector skips the imported modules and cached results (crankdyn.heap)
+    with frozen_heap():  # the collector skips the imported modules and cached results
         result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies,
                                       deferred=studies)
         deferred = None

@@ -1,8 +1,9 @@
 """Plugins held to their contract: every failure named, no stage running without end.
 
-:func:`crankdyn.plugins.collect` wraps what each plugin registers. A third-party plugin's stage
+:func:`crankdyn.plugin.registry.collect` wraps what each plugin registers. A third-party plugin's
+stage
 whose ``applies``, ``run``, ``render`` or ``input_rows`` raises, or returns what
-:mod:`crankdyn.plugin_types` does not allow (a reason that is not a str, an output whose data
+:mod:`crankdyn.plugin.types` does not allow (a reason that is not a str, an output whose data
 keys differ from ``provides``, a ``kinematics`` that is not a ``PistonMotion`` or holds NaN,
 results that JSON cannot hold, a section that is not a str), raises
 :class:`crankdyn.errors.PluginFailure` naming the plugin and the stage. A
@@ -58,7 +59,7 @@ _MAX_CATALOG_BYTES = 8 * 2**20
 #: how deep results may nest (a list holding itself would recurse without end)
 _MAX_DEPTH = 32
 
-#: the data a stage provides under a key of :mod:`crankdyn.contracts`, by type
+#: the data a stage provides under a key of :mod:`crankdyn.plugin.contracts`, by type
 CONTRACT_TYPES: dict[str, type] = {
     contracts.KINEMATICS: contracts.PistonMotion,
     contracts.GAS_PRESSURE: contracts.GasPressure,
@@ -430,13 +431,13 @@ def _is_note(note: object) -> bool:
 
 
 def _contract_problem(key: str, value: object) -> str | None:
-    """What is wrong with ``value`` as the data of a :mod:`crankdyn.contracts` key: its type,
+    """What is wrong with ``value`` as the data of a :mod:`crankdyn.plugin.contracts` key: its type,
     an array field that is not a finite numeric array, a number field that is not finite."""
     expected = CONTRACT_TYPES.get(key)
     if expected is None:
         return None
     if not isinstance(value, expected):
-        return f"{shorten(value)} is not a crankdyn.contracts.{expected.__name__}"
+        return f"{shorten(value)} is not a crankdyn.plugin.contracts.{expected.__name__}"
     for field in dataclasses.fields(value):
         kind = str(field.type)
         item = getattr(value, field.name)

@@ -1,13 +1,13 @@
 """Hook specifications: what a crankdyn plugin may implement.
 
-A plugin is any module or object with functions marked ``@crankdyn.hookspecs.hookimpl``,
+A plugin is any module or object with functions marked ``@crankdyn.plugin.hooks.hookimpl``,
 registered through the ``crankdyn`` entry-point group::
 
     [project.entry-points.crankdyn]
     my_plugin = "my_package.plugin"
 
 The built-in mechanisms and stages register exactly this way. Every hook returns
-typed objects from :mod:`crankdyn.plugin_types`; names must be unique across all
+typed objects from :mod:`crankdyn.plugin.types`; names must be unique across all
 plugins (the orchestrator refuses duplicates).
 """
 
@@ -36,7 +36,7 @@ def crankdyn_mechanisms() -> Iterable[Mechanism]:
     and applies only to scenes naming this mechanism.
 
     A mechanism that sets ``geometry=`` (``geometry(scene, crank_angle_rad)`` returning a
-    :class:`crankdyn.plugin_types.MechanismGeometry`: named joint positions as arrays, the
+    :class:`crankdyn.plugin.types.MechanismGeometry`: named joint positions as arrays, the
     rigid links between them, guides, pitch circles) is drawn by the ``drawing`` stage: the
     kinematic scheme, the mechanism at its characteristic positions and the HTML animation.
     """

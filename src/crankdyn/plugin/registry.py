@@ -2,7 +2,7 @@
 
 A plugin that cannot be imported, whose hook raises or returns what the hook types do not allow,
 is left out and listed in :attr:`Registry.broken` with the reason (``crankdyn plugins`` shows
-it); the other plugins work. What the others register is wrapped by :mod:`crankdyn.plugin_guard`,
+it); the other plugins work. What the others register is wrapped by :mod:`crankdyn.plugin.guard`,
 so that a failure of a third-party stage names its plugin.
 """
 

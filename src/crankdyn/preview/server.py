@@ -13,7 +13,8 @@ The open browser tab reloads itself: every page carries a small inline script th
 long poll: the tab learns of a new build at once) — and reloads when the version changes. ``/report.pdf`` renders the
 current report to PDF on request (cached per version).
 
-Fast saves: a build re-runs only the stages whose inputs changed (:class:`crankdyn.cache.StageCache`)
+Fast saves: a build re-runs only the stages whose inputs changed
+(:class:`crankdyn.engine.stage_cache.StageCache`)
 and re-renders only their sections (:class:`crankdyn.report.section_cache.SectionCache`); the
 new page is published as soon as its text is ready, and its figures follow: each is served at
 ``/figures/TOKEN/NAME`` once drawn (the request waits for it), and a figure kept from the last

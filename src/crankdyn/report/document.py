@@ -199,7 +199,7 @@ def cite_sources(text: str, references: list[str]) -> str:
 
 def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
     """The section's paragraphs and the conclusions' sentences of the warnings ``found``
-    (:func:`crankdyn.plausibility.report_key`) not ``said`` before (two stages may judge one
+    (:func:`crankdyn.report.plausibility.report_key`) not ``said`` before (two stages may judge one
     value); a warning's ``source`` parameter (a catalog key of the reference its limits come
     from) is cited by its number, added to ``references``."""
     paragraphs, conclusions = [], []

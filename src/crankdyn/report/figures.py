@@ -517,7 +517,7 @@ class ForkedDrawing:
         self._children = [self._fork(list(share)) for share in shares if share]
 
     def _fork(self, mine: list[int]):
-        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
+        freeze_more()  # the child's collector leaves the inherited heap alone (engine.frozen_heap)
         forked = fork_with_pipe()
         if forked is None:  # no process to be had: these jobs are done here
             return None, None, mine
@@ -604,7 +604,7 @@ class SharedDrawing:
 
     def _fork(self):
         """(pid, the end its answer comes from), or None when no process could be forked."""
-        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
+        freeze_more()  # the child's collector leaves the inherited heap alone (engine.frozen_heap)
         forked = fork_with_pipe()
         if forked is None:
             return None

@@ -6,7 +6,7 @@ still gives a valid scene; these checks name it. Each warning is a catalog key u
 thing in the reader's language (the report in the section of the quantity and in the
 conclusions, in the engineer's words: :func:`report_key`). Every engine is checked for its mean
 piston speed and S/D (:data:`CORE_RULES`); a mechanism or stage declares the rules of its own quantities
-(:class:`crankdyn.plugin_types.PlausibilityRule`: ``Mechanism.plausibility``,
+(:class:`crankdyn.plugin.types.PlausibilityRule`: ``Mechanism.plausibility``,
 ``Stage.plausibility``), e.g. the crank-slider's :data:`ROD_RATIO` and :data:`ROD_CENTRE_OF_MASS`
 and the indicator's :func:`peak_pressure` offered here. The limits are the ranges of real piston
 engines quoted by the course texts (mean piston speed up to 20-25 m/s for the fastest

@@ -1,6 +1,7 @@
 """Sections kept between renderings of (versions of) one scene: the live preview's second cache.
 
-The stage cache (:mod:`crankdyn.cache`) hands back the *same* ``StageOutput`` object for a
+The stage cache (:mod:`crankdyn.engine.stage_cache`) hands back the *same* ``StageOutput`` object
+for a
 stage whose inputs did not change. A section rendered from that same object, at the same
 number, in the same language, from the same values of the scene fields its ``render`` read
 (recorded while it ran, through the read-tracking scene copy) is the same section: its HTML,

@@ -275,7 +275,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
 
 
 class SymbolTable(Mapping[str, Symbol]):
-    """A report's symbol table: key -> :class:`~crankdyn.plugin_types.Symbol`, in order, never
+    """A report's symbol table: key -> :class:`~crankdyn.plugin.types.Symbol`, in order, never
     changed after it is made. Equal (and hashed) by its contents, so what is built from a table
     (the subscript maps, the "where" lines' patterns) is kept per table's contents, and a run
     with other plugins' symbols never reads another run's."""
@@ -324,7 +324,7 @@ def symbol_table(stages: Iterable) -> SymbolTable:
         for key, symbol in getattr(stage, "symbols", {}).items():
             if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
                 raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
-                                  "to a crankdyn.plugin_types.Symbol")
+                                  "to a crankdyn.plugin.types.Symbol")
             table[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
     return SymbolTable({key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND})
 
