@@ -277,7 +277,7 @@ def test_numerics_refusals_in_the_report_language(language):
     assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in \
         html_lib.unescape(html).replace("\u202f", " ")
 
-    from crankdyn_builtin.numerics.stage import refused_steps
+    from crankdyn_builtin.numerics.section import refused_steps
 
     # a step the scene's rules refuse: results.json keeps the rule, the note says so in its language
     ctx = types.SimpleNamespace(t=t, scene=scene)

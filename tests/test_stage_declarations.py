@@ -65,7 +65,7 @@ def test_a_table_not_declared_is_refused_naming_the_stage_and_the_table():
 def test_a_figure_not_declared_is_refused_naming_the_stage_and_the_figure():
     scene = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(scene, _registry(_throwaway(figures=("scheme",), tables=("main",))))
-    with pytest.raises(PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*Stage.figures"):
+    with pytest.raises(PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*StagePresentation.figures"):
         render_html(result, _registry(result.plan.order[0]))
     result = run_scene(scene, _registry(_throwaway(figures=("plot",), tables=("main",))))
     report = render_html(result, _registry(result.plan.order[0]))

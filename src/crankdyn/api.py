@@ -436,18 +436,21 @@ class Result:
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data
         for stage in self.run_result.plan.order:
-            ctx.start_section(number + 1, stage.name, stage.figures)
+            look = stage.presentation
+            if look is None:  # a stage without a section takes no number
+                continue
+            ctx.start_section(number + 1, stage.name, look.figures)
             ctx.conclusions = []
             if only is not None and stage.name != only:
                 # Still counted: a stage that shows nothing takes no number, as in the report.
-                if stage.render(self.run_result.outputs[stage.name], ctx) is not None:
+                if look.render(self.run_result.outputs[stage.name], ctx) is not None:
                     number += 1
                 continue
-            body = stage.render(self.run_result.outputs[stage.name], ctx)
+            body = look.render(self.run_result.outputs[stage.name], ctx)
             if body is None:
                 continue
             number += 1
-            title = html.escape(f"{number}. {t(stage.title_key)}")
+            title = html.escape(f"{number}. {t(look.title_key)}")
             sections[stage.name] = SectionHTML(f'<section class="crankdyn-section"><h2>{title}</h2>{body}</section>')
         return sections, figures
 

@@ -2,7 +2,7 @@
 what several plugins read of a scene, and the registry the hooks are collected into.
 
 * :mod:`crankdyn.plugin.hooks` — the hook specifications and the ``hookimpl`` marker;
-* :mod:`crankdyn.plugin.types` — ``Stage``, ``StageOutput``, ``Mechanism``, ``Catalog``, …;
+* :mod:`crankdyn.plugin.types` — ``Stage``, ``StagePresentation``, ``StageOutput``, ``Mechanism``, ``Catalog``, …;
 * :mod:`crankdyn.plugin.contracts` — the data keys and types stages hand each other;
 * :mod:`crankdyn.plugin.scene_inputs` — what several plugins pass to the shared physics;
 * :mod:`crankdyn.plugin.registry` — entry points and extra plugins collected into a ``Registry``;
@@ -49,6 +49,7 @@ from .types import (
     Section,
     Stage,
     StageOutput,
+    StagePresentation,
     Symbol,
     Tables,
 )
@@ -59,6 +60,6 @@ __all__ = [
     "AnswerColumn", "ArticulatedOptions", "BayLoads", "Catalog", "ColumnTable", "CrankForces",
     "CrankLoads", "Counterweights", "EngineTorque", "ErrorProbe", "FlywheelDesign", "GasPressure",
     "Guide", "Mechanism", "MechanismGeometry", "PistonMotion", "PlausibilityRule", "ProbePoint",
-    "Registry", "RodDynamicsOptions", "Section", "Stage", "StageOutput", "Symbol", "Tables",
+    "Registry", "RodDynamicsOptions", "Section", "Stage", "StageOutput", "StagePresentation", "Symbol", "Tables",
     "collect", "default_registry", "hookimpl", "plugin_manager",
 ]

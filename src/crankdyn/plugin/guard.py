@@ -43,6 +43,7 @@ from .types import (
     ProbePoint,
     Stage,
     StageOutput,
+    StagePresentation,
     declared,
 )
 
@@ -196,8 +197,43 @@ def _garbage(plugin: str, where: str, step: str, value: object, expected: str) -
 
 
 # ----------------------------------------------------------------------------- registrations
-_NAME_TUPLES = ("requires", "provides", "uses", "references", "references_full", "services",
-                "figures", "tables")
+_NAME_TUPLES = ("requires", "provides", "uses", "services", "tables")
+_PRESENTATION_NAME_TUPLES = ("references", "references_full", "figures")
+
+
+def _name_tuples(owner: object, names: tuple[str, ...], plugin: str, where: str,
+                 stage: str) -> dict[str, Any]:
+    """The fields ``names`` of ``owner`` given as lists, as tuples; a value that is not a tuple of
+    str is a :class:`PluginFailure`."""
+    fixed: dict[str, Any] = {}
+    for name in names:
+        value = getattr(owner, name)
+        if isinstance(value, list):
+            value = fixed[name] = tuple(value)
+        if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
+            raise PluginFailure(plugin, where, f"stage {stage!r}: {name} = {shorten(value)}; "
+                                "expected a tuple of str")
+    return fixed
+
+
+def _checked_presentation(look: object, plugin: str, where: str,
+                          stage: str) -> StagePresentation | None:
+    """A stage's presentation checked field by field as :func:`checked_stage` checks the stage."""
+    if look is None:
+        return None
+    if not isinstance(look, StagePresentation):
+        raise PluginFailure(plugin, where, f"stage {stage!r}: presentation = {shorten(look)}; "
+                            "expected a StagePresentation or None")
+    fixed = _name_tuples(look, _PRESENTATION_NAME_TUPLES, plugin, where, stage)
+    if not callable(look.render):
+        raise PluginFailure(plugin, where, f"stage {stage!r}: render = {shorten(look.render)}; "
+                            "expected a function")
+    if look.input_rows is not None and not callable(look.input_rows):
+        raise PluginFailure(plugin, where, f"stage {stage!r}: input_rows = "
+                            f"{shorten(look.input_rows)}; expected a function or None")
+    if not isinstance(look.title_key, str):
+        raise PluginFailure(plugin, where, f"stage {stage!r}: title_key and options_table are str")
+    return dataclasses.replace(look, **fixed) if fixed else look
 
 
 def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -> Stage:
@@ -209,23 +245,15 @@ def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -
     if not isinstance(stage.name, str) or not stage.name.strip():
         raise PluginFailure(plugin, where, f"a Stage's name is {shorten(stage.name)}; "
                             "expected a non-empty str")
-    fixed: dict[str, Any] = {}
-    for name in _NAME_TUPLES:
-        value = getattr(stage, name)
-        if isinstance(value, list):
-            value = fixed[name] = tuple(value)
-        if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
-            raise PluginFailure(plugin, where, f"stage {stage.name!r}: {name} = {shorten(value)}; "
-                                "expected a tuple of str")
-    for name in ("applies", "run", "render"):
+    fixed: dict[str, Any] = dict(_name_tuples(stage, _NAME_TUPLES, plugin, where, stage.name))
+    for name in ("applies", "run"):
         if not callable(getattr(stage, name)):
             raise PluginFailure(plugin, where, f"stage {stage.name!r}: {name} = "
                                 f"{shorten(getattr(stage, name))}; expected a function")
-    if stage.input_rows is not None and not callable(stage.input_rows):
-        raise PluginFailure(plugin, where, f"stage {stage.name!r}: input_rows = "
-                            f"{shorten(stage.input_rows)}; expected a function or None")
-    if not isinstance(stage.title_key, str) or (stage.options_table is not None
-                                                and not isinstance(stage.options_table, str)):
+    look = _checked_presentation(stage.presentation, plugin, where, stage.name)
+    if look is not stage.presentation:
+        fixed["presentation"] = look
+    if stage.options_table is not None and not isinstance(stage.options_table, str):
         raise PluginFailure(plugin, where,
                             f"stage {stage.name!r}: title_key and options_table are str")
     if not _is_model(stage.options_model):
@@ -326,23 +354,28 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
             check_stage_output(stage, output, plugin)
         return output
 
-    @functools.wraps(stage.render)
+    look = stage.presentation
+    if look is None:
+        return dataclasses.replace(stage, applies=applies, run=run)
+
+    @functools.wraps(look.render)
     def render(output, ctx):
-        body = call(plugin, where, "render", foreign, stage.render, output, ctx)
+        body = call(plugin, where, "render", foreign, look.render, output, ctx)
         if body is not None and not isinstance(body, str):
             raise _garbage(plugin, where, "render", body, "the section's HTML as a str, or None")
         return body
 
-    @functools.wraps(stage.input_rows)
+    @functools.wraps(look.input_rows)
     def input_rows(scene, ctx):
-        rows = call(plugin, where, "input_rows", foreign, stage.input_rows, scene, ctx)
+        rows = call(plugin, where, "input_rows", foreign, look.input_rows, scene, ctx)
         if foreign and not _is_rows(rows):
             raise _garbage(plugin, where, "input_rows", rows,
                            "a list of (quantity, symbol, value, unit) tuples of str")
         return rows
 
-    return dataclasses.replace(stage, applies=applies, run=run, render=render,
-                               input_rows=None if stage.input_rows is None else input_rows)
+    guarded = dataclasses.replace(look, render=render,
+                                  input_rows=None if look.input_rows is None else input_rows)
+    return dataclasses.replace(stage, applies=applies, run=run, presentation=guarded)
 
 
 def _is_rows(rows: object) -> bool:

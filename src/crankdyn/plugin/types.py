@@ -1,15 +1,16 @@
 """The typed objects that plugins return from the hooks in :mod:`crankdyn.hookspecs`.
 
-A stage is data plus four callables: ``applies`` (does the scene need me, and if
-not, why), ``run`` (physics: arrays in, arrays out), ``render`` (text and figures
-from what ``run`` produced; never physics). The orchestrator orders stages by
-``requires``/``provides`` only.
+A stage is data plus callables: ``applies`` (does the scene need me, and if
+not, why), ``run`` (physics: arrays in, arrays out) and, in its presentation
+(:class:`StagePresentation`), ``render`` (text and figures from what ``run`` produced;
+never physics). The orchestrator orders stages by ``requires``/``provides`` only.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields, replace
 from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -209,28 +210,36 @@ class Tables(dict):
         return [(name, self[name]) for name in self]
 
 
-@dataclass
+@dataclass(init=False)
 class StageOutput:
     """What a stage's ``run`` returns.
 
     data:       objects for later stages, one entry per key in ``Stage.provides``.
     results:    JSON-ready key results (floats, strings, lists) for results.json.
-    tables:     named tables (:class:`Tables`, given as a plain dict), written as
-                tables/<stage>_<name>.csv; column names carry their unit, e.g. ``crank_angle_deg``.
+    tables:     named tables (:class:`Tables`; given as any mapping of name -> table, e.g. a plain
+                dict), written as tables/<stage>_<name>.csv; column names carry their unit, e.g.
+                ``crank_angle_deg``.
     notes:      method notes as (catalog key, parameters) pairs, rendered by the report.
     artifacts:  objects only this stage's ``render`` uses (e.g. a computed geometry); not
                 passed to other stages and not written to any output.
     """
 
-    data: dict[str, Any] = field(default_factory=dict)
-    results: dict[str, Any] = field(default_factory=dict)
-    tables: dict[str, pd.DataFrame] = field(default_factory=dict)
-    notes: list[tuple[str, dict]] = field(default_factory=list)
-    artifacts: dict[str, Any] = field(default_factory=dict)
+    data: dict[str, Any]
+    results: dict[str, Any]
+    tables: Tables
+    notes: list[tuple[str, dict]]
+    artifacts: dict[str, Any]
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.tables, Tables):
-            self.tables = Tables(self.tables)
+    def __init__(self, data: dict[str, Any] | None = None, results: dict[str, Any] | None = None,
+                 tables: Mapping[str, Any] | None = None,
+                 notes: list[tuple[str, dict]] | None = None,
+                 artifacts: dict[str, Any] | None = None) -> None:
+        self.data = {} if data is None else data
+        self.results = {} if results is None else results
+        # a Tables given stays the same object (a stage may fill it after returning it)
+        self.tables = tables if isinstance(tables, Tables) else Tables(tables or {})
+        self.notes = [] if notes is None else notes
+        self.artifacts = {} if artifacts is None else artifacts
 
 
 @dataclass
@@ -297,11 +306,73 @@ class AnswerColumn:
 
 
 @dataclass(frozen=True)
+class StagePresentation:
+    """What a stage shows in the report: its section, figures, sources and letters.
+
+    title_key:  catalog key of the section title.
+    render:     ``render(output, ctx) -> str | None``: the section's HTML (usually via
+                ``ctx.render_template``), or None when the stage has nothing to show for
+                this scene (it ran only for the data it provides).
+    template_dir: a folder with this plugin's section templates, if it has its own.
+    references: catalog keys of the sources the method comes from.
+    references_full: catalog keys of the sources only the full report's study cites (its solver
+                and series comparisons, ``[report] detail = "full"``): a course note lists
+                only the sources it cites.
+    references_sentence: catalog key of the sentence that opens the section citing them
+                (``{refs}``: "[2, 8]"); default ``doc.method_from``, "the calculation follows [n]",
+                which overclaims for a section that takes only a part from its sources.
+    figures:    the names of the figures ``render`` may draw (the ``name`` of each
+                ``ctx.figure(fig, caption, name)``; the file is figures/fig_<number>_<name>.svg).
+                A ``*`` stands for any text, for a figure drawn once per cylinder or bearing
+                (``"wear_pin*"``). Drawing a figure not declared is a
+                :class:`crankdyn.errors.PluginError`.
+    input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
+                given data of this stage's own scene table that the report's first table (the
+                task's data) lists after the engine's, translated by ``ctx.t``; None: none.
+    legend:     whether the symbol table explains this section's equations (the "де …"
+                lines, ``crankdyn.report.equation_legend``); False for a section that explains
+                its letters in its own words.
+    symbols:    key -> :class:`Symbol`: the letters this stage's equations use that the core's
+                symbol table does not have (or has with another meaning), each with its meaning
+                ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
+                and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
+                a connecting rod's angle: declared here, it takes over in the vane's section).
+    section_symbols: keys of the core's section-bound symbols (``Symbol.sections`` =
+                ``crankdyn.report.typeset.SECTION_BOUND``: the side force n, the irregularity δ)
+                whose meaning holds in this stage's section; a letter the core gives another
+                meaning elsewhere (n, the crank speed) is read so there.
+    appendix:   whether the section is a study of the numerics rather than part of a course brief:
+                with ``[report] detail = "course"`` (the default) it goes to an appendix.
+    """
+
+    title_key: str
+    # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
+    # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
+    render: Callable[[StageOutput, Any], str | None]
+    template_dir: Path | None = None
+    references: tuple[str, ...] = ()
+    references_full: tuple[str, ...] = ()
+    references_sentence: str = "doc.method_from"
+    figures: tuple[str, ...] = ()
+    input_rows: Callable[[Scene, Any], Sequence[tuple[str, str, str, str]]] | None = None
+    legend: bool = True
+    # compare=False: a StagePresentation stays hashable (tuples elsewhere) with a mapping here
+    symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
+    section_symbols: tuple[str, ...] = ()
+    appendix: bool = False
+
+
+#: the fields of :class:`StagePresentation`, which ``Stage`` also takes as keywords (the flat form)
+PRESENTATION_FIELDS = ("title_key", "render", "template_dir", "references", "references_full",
+                       "references_sentence", "figures", "input_rows", "legend", "symbols",
+                       "section_symbols", "appendix")
+
+
+@dataclass(frozen=True)
 class Stage:
-    """An analysis stage.
+    """An analysis stage: what it computes and when it runs; what it shows is ``presentation``.
 
     name:       unique; used in ``--stages`` and results.json.
-    title_key:  catalog key of the section title.
     requires:   data keys this stage needs from earlier stages.
     provides:   data keys it makes (``StageOutput.data`` must hold exactly these).
     uses:       data keys it takes when a stage in the plan provides them (e.g. the engine
@@ -315,100 +386,121 @@ class Stage:
                 (``services[SERVICE_RUNNER].registry``), never a registry of its own.
     run:        ``run(scene, inputs) -> StageOutput``; ``inputs`` maps each required key
                 to the object an earlier stage provided.
-    render:     ``render(output, ctx) -> str | None``: the section's HTML (usually via
-                ``ctx.render_template``), or None when the stage has nothing to show for
-                this scene (it ran only for the data it provides).
-    template_dir: a folder with this plugin's section templates, if it has its own.
-    options_table: name of a top-level scene table this stage reads (e.g. "flywheel").
-    options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
-    references: catalog keys of the sources the method comes from.
-    references_full: catalog keys of the sources only the full report's study cites (its solver
-                and series comparisons, ``[report] detail = "full"``): a course note lists
-                only the sources it cites.
-    references_sentence: catalog key of the sentence that opens the section citing them
-                (``{refs}``: "[2, 8]"); default ``doc.method_from``, "the calculation follows [n]",
-                which overclaims for a section that takes only a part from its sources.
-    default:    whether the stage runs when the scene does not list stages.
-    last:       order hint: run (and appear in the report) after every stage that is
-                ready at the same time, e.g. a summary of the others; ``requires`` still rules.
-    answer_columns: the :class:`AnswerColumn` s this stage adds to the batch answer key
-                (in the key they follow the stages' requires/provides order, then the
-                order given here).
-    services:   objects the orchestrator passes in ``inputs`` (``SERVICE_RUNNER``,
-                ``SERVICE_ERROR_PROBES``, ``SERVICE_ASIDE``, see below); a stage never builds
-                its own registry, nor decides on its own to use another core.
-    figures:    the names of the figures ``render`` may draw (the ``name`` of each
-                ``ctx.figure(fig, caption, name)``; the file is figures/fig_<number>_<name>.svg).
-                A ``*`` stands for any text, for a figure drawn once per cylinder or bearing
-                (``"wear_pin*"``). Drawing a figure not declared is a :class:`crankdyn.errors.PluginError`.
-    tables:     the names of the tables ``run`` may put in ``StageOutput.tables`` (written as
-                tables/<stage>_<name>.csv, or tables/<stage>.csv for the name of the stage, and as
-                sheets of tables.xlsx); ``*`` as in ``figures``. Returning a table not declared is a
-                :class:`crankdyn.errors.PluginError`. The numbered tables of the report's text
-                (``ctx.table``) belong to the section and are not declared.
-    input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
-                given data of this stage's own scene table that the report's first table (the
-                task's data) lists after the engine's, translated by ``ctx.t``; None: none.
-    legend:     whether the symbol table explains this section's equations (the "де …"
-                lines, ``crankdyn.report.equation_legend``); False for a section that explains
-                its letters in its own words.
     run_many:   optional ``run_many(scenes, inputs) -> [StageOutput, ...]``: ``run`` over many
                 scenes at once (a sweep's points: arrays over points × angles), ``inputs`` one
                 mapping per scene as ``run`` gets it. Each output's ``data`` and ``results`` equal
                 what ``run`` gives for its scene (``tables`` and ``notes`` may stay empty: a sweep
                 renders nothing). When it raises, the sweep runs ``run`` point by point, so each
                 point gets its own error; without it, the sweep always does.
-    symbols:    key -> :class:`Symbol`: the letters this stage's equations use that the core's
-                symbol table does not have (or has with another meaning), each with its meaning
-                ``symbol.<stage>.<key>`` in the plugin's catalogs; they go to the list of symbols
-                and the "де …" lines like the core's (a vane engine's β, the tail's angle, is not
-                a connecting rod's angle: declared here, it takes over in the vane's section).
-    section_symbols: keys of the core's section-bound symbols (``Symbol.sections`` =
-                ``crankdyn.report.typeset.SECTION_BOUND``: the side force n, the irregularity δ)
-                whose meaning holds in this stage's section; a letter the core gives another
-                meaning elsewhere (n, the crank speed) is read so there.
+    options_table: name of a top-level scene table this stage reads (e.g. "flywheel").
+    options_model: pydantic model validating that table (see ``crankdyn.scene.options``).
+    services:   objects the orchestrator passes in ``inputs`` (``SERVICE_RUNNER``,
+                ``SERVICE_ERROR_PROBES``, ``SERVICE_ASIDE``, see below); a stage never builds
+                its own registry, nor decides on its own to use another core.
+    tables:     the names of the tables ``run`` may put in ``StageOutput.tables`` (written as
+                tables/<stage>_<name>.csv, or tables/<stage>.csv for the name of the stage, and as
+                sheets of tables.xlsx); ``*`` as in ``StagePresentation.figures``. Returning a
+                table not declared is a :class:`crankdyn.errors.PluginError`. The numbered tables
+                of the report's text (``ctx.table``) belong to the section and are not declared.
+    default:    whether the stage runs when the scene does not list stages.
+    last:       order hint: run (and appear in the report) after every stage that is
+                ready at the same time, e.g. a summary of the others; ``requires`` still rules.
+    answer_columns: the :class:`AnswerColumn` s this stage adds to the batch answer key
+                (in the key they follow the stages' requires/provides order, then the
+                order given here).
     plausibility: the :class:`PlausibilityRule` s checking this stage's scene values or results
                 (the indicator's peak pressure).
-    appendix:   whether the section is a study of the numerics rather than part of a course brief:
-                with ``[report] detail = "course"`` (the default) it goes to an appendix.
+    presentation: the stage's section (:class:`StagePresentation`); None: the stage shows
+                nothing (it runs for the data it provides and its results).
+
+    The presentation's fields given to ``Stage`` itself (``Stage(name=..., title_key=...,
+    render=..., figures=...)``, the flat form) are folded into a :class:`StagePresentation`
+    with a ``DeprecationWarning``; read as ``stage.title_key`` they are still there, read-only.
+    Both are kept for one release.
     """
 
     name: str
-    title_key: str
     requires: tuple[str, ...]
     provides: tuple[str, ...]
     applies: Callable[..., str | None]
     run: Callable[[Scene, Mapping[str, Any]], StageOutput]
-    # ctx is a crankdyn.report.context.RenderContext; not imported here, even for type checking:
-    # the report layer sits above the hook types (docs/architecture.md, [tool.importlinter]).
-    render: Callable[[StageOutput, Any], str | None]
-    template_dir: Path | None = None
-    references: tuple[str, ...] = ()
-    references_full: tuple[str, ...] = ()
-    references_sentence: str = "doc.method_from"
     uses: tuple[str, ...] = ()
-    default: bool = True
-    last: bool = False
-    options_table: str | None = None
-    options_model: type | None = None
-    answer_columns: tuple[AnswerColumn, ...] = ()
-    services: tuple[str, ...] = ()
-    figures: tuple[str, ...] = ()
-    tables: tuple[str, ...] = ()
-    input_rows: Callable[[Scene, Any], Sequence[tuple[str, str, str, str]]] | None = None
-    legend: bool = True
     run_many: (Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
                | None) = None
-    # compare=False: a Stage stays hashable (tuples elsewhere) with a mapping here
-    symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)
-    section_symbols: tuple[str, ...] = ()
+    options_table: str | None = None
+    options_model: type | None = None
+    services: tuple[str, ...] = ()
+    tables: tuple[str, ...] = ()
+    default: bool = True
+    last: bool = False
+    answer_columns: tuple[AnswerColumn, ...] = ()
     plausibility: tuple[PlausibilityRule, ...] = ()
-    appendix: bool = False
+    presentation: StagePresentation | None = None
+
+    def __init__(self, *, name: str, requires: tuple[str, ...], provides: tuple[str, ...],
+                 applies: Callable[..., str | None],
+                 run: Callable[[Scene, Mapping[str, Any]], StageOutput],
+                 uses: tuple[str, ...] = (),
+                 run_many: (Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]],
+                                     Sequence[StageOutput]] | None) = None,
+                 options_table: str | None = None, options_model: type | None = None,
+                 services: tuple[str, ...] = (), tables: tuple[str, ...] = (),
+                 default: bool = True, last: bool = False,
+                 answer_columns: tuple[AnswerColumn, ...] = (),
+                 plausibility: tuple[PlausibilityRule, ...] = (),
+                 presentation: StagePresentation | None = None, **flat: Any) -> None:
+        if flat:
+            presentation = _folded_presentation(name, presentation, flat)
+        given = dict(name=name, requires=requires, provides=provides, applies=applies, run=run,
+                     uses=uses, run_many=run_many, options_table=options_table,
+                     options_model=options_model, services=services, tables=tables,
+                     default=default, last=last, answer_columns=answer_columns,
+                     plausibility=plausibility, presentation=presentation)
+        for key, value in given.items():
+            object.__setattr__(self, key, value)
+
+
+def _folded_presentation(name: str, presentation: StagePresentation | None,
+                         flat: dict[str, Any]) -> StagePresentation:
+    """The flat form's presentation keywords as a :class:`StagePresentation` (over
+    ``presentation`` when one is given too, as ``dataclasses.replace(stage, title_key=...)``)."""
+    unknown = sorted(set(flat) - set(PRESENTATION_FIELDS))
+    if unknown:
+        raise TypeError(f"Stage() got an unexpected keyword argument {unknown[0]!r}")
+    warnings.warn(f"stage {name!r}: give {', '.join(sorted(flat))} in "
+                  "Stage(presentation=StagePresentation(...)); the flat form "
+                  "Stage(title_key=..., render=...) is kept for one release",
+                  DeprecationWarning, stacklevel=3)
+    if presentation is not None:
+        return replace(presentation, **flat)
+    missing = [key for key in ("title_key", "render") if key not in flat]
+    if missing:
+        raise TypeError(f"stage {name!r}: the flat form needs {' and '.join(missing)} "
+                        "(or give presentation=StagePresentation(...))")
+    return StagePresentation(**flat)
+
+
+def _presentation_property(key: str) -> property:
+    default = {f.name: f.default for f in fields(StagePresentation)}.get(key)
+
+    def read(stage: Stage) -> Any:
+        warnings.warn(f"Stage.{key} is read as Stage.presentation.{key}; the flat attribute is "
+                      "kept for one release", DeprecationWarning, stacklevel=2)
+        if stage.presentation is None:
+            return {} if key == "symbols" else (None if default is MISSING else default)
+        return getattr(stage.presentation, key)
+
+    return property(read, doc=f"``presentation.{key}`` (the flat form, kept for one release)")
+
+
+for _key in PRESENTATION_FIELDS:
+    setattr(Stage, _key, _presentation_property(_key))
+del _key
 
 
 def declared(name: str, declarations: tuple[str, ...]) -> bool:
-    """Whether ``name`` is one of ``declarations`` (``Stage.figures``/``Stage.tables``), where a
-    ``*`` in a declaration stands for any text."""
+    """Whether ``name`` is one of ``declarations`` (``StagePresentation.figures``,
+    ``Stage.tables``), where a ``*`` in a declaration stands for any text."""
     return any(fnmatchcase(name, pattern) for pattern in declarations)
 
 

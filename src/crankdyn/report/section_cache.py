@@ -42,8 +42,10 @@ class SectionCache:
         self.renders: dict[str, int] = {}
 
     def render(self, stage: Stage, output: StageOutput, ctx: RenderContext) -> str | None:
-        """``stage.render(output, ctx)``, or the kept section when nothing it depends on changed
+        """``stage.presentation.render(output, ctx)``, or the kept section when nothing it depends on changed
         (then its figures, conclusions, title and worked substitutions are put into ``ctx`` too)."""
+        if stage.presentation is None:  # a stage without a section
+            return None
         key = (ctx.section_number, ctx.t.language, ctx.table_step_deg, ctx.cycle_deg)
         kept = self._sections.get(stage.name)
         scene = ctx.scene
@@ -59,7 +61,7 @@ class SectionCache:
         tracked = tracked_copy(scene) if scene is not None else None
         ctx.scene = tracked
         try:
-            body = stage.render(output, ctx)
+            body = stage.presentation.render(output, ctx)
         finally:
             ctx.scene = scene
             reads = reads_of(tracked) if tracked is not None else frozenset()
