@@ -35,7 +35,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from crankdyn.plugin.hooks import hookimpl
-from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StageOutput, Symbol
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StageOutput, StagePresentation, Symbol
 
 HERE = Path(__file__).resolve().parent
 
@@ -58,13 +58,14 @@ def render(output, ctx):
     return ctx.render_template("sections/throwaway.html.j2", r=output.results, figure=figure)
 
 
-STAGE = Stage(name="throwaway", title_key="throwaway.title", requires=(), provides=(),
-              applies=lambda scene: None, run=run, render=render, default=False,
-              template_dir=HERE / "templates",
-              figures=("throwaway_travel",), tables=("travel",),
+STAGE = Stage(name="throwaway", requires=(), provides=(), applies=lambda scene: None, run=run,
+              default=False, tables=("travel",),
               answer_columns=(AnswerColumn("throwaway_stroke_mm", "stroke_m", "mm", factor=1e3,
                                            label_key="throwaway.answer.stroke"),),
-              symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")})
+              presentation=StagePresentation(
+                  title_key="throwaway.title", render=render, template_dir=HERE / "templates",
+                  figures=("throwaway_travel",),
+                  symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")}))
 
 
 @hookimpl

@@ -13,19 +13,19 @@ from dataclasses import replace
 
 import numpy as np
 
-from crankdyn.contracts import (
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import balancing as bal
+from crankdyn.physics import firing_explorer as fe
+from crankdyn.physics import forces as phys
+from crankdyn.plugin.contracts import (
     COUNTERWEIGHTS,
     ENGINE_TORQUE,
     KINEMATICS,
     ArticulatedOptions,
 )
-from crankdyn.errors import Problem, SceneError
-from crankdyn.physics import balancing as bal
-from crankdyn.physics import firing_explorer as fe
-from crankdyn.physics import forces as phys
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.scene_inputs import engine_layout, rotating_mass_per_crank_kg
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import engine_layout, rotating_mass_per_crank_kg
 
 from .means import means_records, remedy_summary, residual_after_means
 from .options import BalancingOptions, balance_orders_for

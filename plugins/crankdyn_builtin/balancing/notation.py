@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.plugin_types import Symbol
+from crankdyn.plugin.types import Symbol
 
 
 def circular(hodograph: dict) -> bool:

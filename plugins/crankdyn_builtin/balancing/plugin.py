@@ -11,13 +11,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import (
+from crankdyn.plugin.contracts import (
     COUNTERWEIGHTS,
     ENGINE_TORQUE,
     KINEMATICS,
 )
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Stage, StagePresentation
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .notation import SYMBOLS

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 
 from .figures import _models_figure, star_figure
 from .notation import newtons, plain_symbol, scale_symbol

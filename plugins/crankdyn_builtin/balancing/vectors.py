@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import (
+from crankdyn.physics import balancing as bal
+from crankdyn.plugin.contracts import (
     Counterweights,
 )
-from crankdyn.physics import balancing as bal
 
 CHECK_SAMPLES = 720  # shaft angles per revolution in the time-domain check
 

@@ -7,7 +7,11 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import (
+from crankdyn.physics import articulated as art
+from crankdyn.physics import forces as phys
+from crankdyn.physics import layout as lay
+from crankdyn.physics.indicator import indicated_work_J
+from crankdyn.plugin.contracts import (
     BAY_LOADS,
     FORCES,
     GAS_PRESSURE,
@@ -15,15 +19,11 @@ from crankdyn.contracts import (
     ArticulatedOptions,
     BayLoads,
 )
-from crankdyn.physics import articulated as art
-from crankdyn.physics import forces as phys
-from crankdyn.physics import layout as lay
-from crankdyn.physics.indicator import indicated_work_J
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.scene_inputs import engine_layout, slave_geometries
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import engine_layout, slave_geometries
 
-#: The scene table of the articulated rods (:class:`crankdyn.contracts.ArticulatedOptions`).
+#: The scene table of the articulated rods (:class:`crankdyn.plugin.contracts.ArticulatedOptions`).
 ARTICULATED = "articulated"
 
 

@@ -3,22 +3,22 @@
 Laid out like any third-party plugin: ``compute.py`` (run), ``section.py`` and ``figures.py``
 (render), ``templates/sections/`` (its section template) and ``i18n/`` (its catalogs) in this one
 folder; here the Stage is assembled from them. Its scene table, ``[articulated]``, is the core's
-:class:`crankdyn.contracts.ArticulatedOptions`.
+:class:`crankdyn.plugin.contracts.ArticulatedOptions`.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import (
+from crankdyn.plugin.contracts import (
     BAY_LOADS,
     FORCES,
     GAS_PRESSURE,
     KINEMATICS,
     ArticulatedOptions,
 )
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Stage, StagePresentation
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import ARTICULATED, applies, run
 from .section import SYMBOLS, render

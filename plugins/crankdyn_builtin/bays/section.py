@@ -8,7 +8,7 @@ from functools import partial
 from markupsafe import Markup, escape
 
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 
 from .figures import bay_figure

@@ -2,7 +2,7 @@
 animation's crank angles.
 
 Any mechanism whose plugin gives ``Mechanism.geometry`` is drawn (see
-:class:`crankdyn.plugin_types.MechanismGeometry`). The characteristic positions (TDC, BDC, the
+:class:`crankdyn.plugin.types.MechanismGeometry`). The characteristic positions (TDC, BDC, the
 extremes of the piston velocity and acceleration) are taken from the kinematics the
 ``kinematics`` data key carries (``drawing``); a mechanism without a piston motion (the vane
 engine) is drawn from its geometry's output travel (``drawing_linkage``).
@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crankdyn.contracts import KINEMATICS
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.physics.scalar_search import minimize_bounded
-from crankdyn.plugin_types import SERVICE_RUNNER, StageOutput
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.types import SERVICE_RUNNER, StageOutput
 from crankdyn.report import mechanism_drawing as md
 
 #: The characteristic positions, in the order they are drawn.

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import SERVICE_RUNNER, Catalog, Stage, StagePresentation
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import SERVICE_RUNNER, Catalog, Stage, StagePresentation
 
 from .compute import applies, applies_linkage, run
 from .section import render

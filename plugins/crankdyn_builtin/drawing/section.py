@@ -7,7 +7,7 @@ from functools import partial
 
 from markupsafe import Markup
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 from crankdyn.report import mechanism_drawing as md
 
 from .compute import POSITIONS

@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
+from crankdyn.plugin.scene_inputs import crank_train
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import crank_train
 
 from .options import FlywheelOptions
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Stage, StagePresentation
+from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .options import FlywheelOptions

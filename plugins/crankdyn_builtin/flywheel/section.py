@@ -6,7 +6,7 @@ from functools import partial
 
 from markupsafe import Markup
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 

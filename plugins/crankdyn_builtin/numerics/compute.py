@@ -23,10 +23,10 @@ from typing import Any
 
 import numpy as np
 
-from crankdyn.contracts import GAS_PRESSURE
 from crankdyn.errors import CrankdynError, Problem, SceneError
 from crankdyn.physics.layout import step_on_grid_deg
-from crankdyn.plugin_types import (
+from crankdyn.plugin.contracts import GAS_PRESSURE
+from crankdyn.plugin.types import (
     SERVICE_ASIDE,
     SERVICE_ERROR_PROBES,
     SERVICE_RUNNER,

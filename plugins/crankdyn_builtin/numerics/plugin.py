@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import (
+from crankdyn.plugin.contracts import FORCES, GAS_PRESSURE, KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import (
     SERVICE_ASIDE,
     SERVICE_ERROR_PROBES,
     SERVICE_RUNNER,

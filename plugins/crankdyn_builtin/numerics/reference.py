@@ -25,10 +25,10 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.plugin.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 from crankdyn.scene import (
     Scene,
 )
-from crankdyn.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
 
 from .steps import StepRun, _motion, best_times, run_at_step
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 from html import escape
 
-from crankdyn.plugin_types import (
+from crankdyn.plugin.types import (
     StageOutput,
 )
 from crankdyn.scene import (

@@ -14,9 +14,9 @@ from typing import Any
 import numpy as np
 from pydantic import ValidationError
 
-from crankdyn.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
 from crankdyn.errors import PluginError, SceneError
 from crankdyn.physics import forces as phys
+from crankdyn.plugin.contracts import ENGINE_TORQUE, FORCES, GAS_PRESSURE, KINEMATICS
 from crankdyn.scene import (
     Analysis,
     Scene,
@@ -77,7 +77,7 @@ def _values(data, cylinders: int) -> dict[str, float]:
 def run_at_step(scene: Scene, step_deg: float, repeats: int = 1, *, runner) -> StepRun:
     """Re-run the stages that give forces and engine torque at ``step_deg`` once.
 
-    ``runner``: the orchestrator's :class:`crankdyn.orchestrator.Runner` (``SERVICE_RUNNER``).
+    ``runner``: the orchestrator's :class:`crankdyn.engine.orchestrator.Runner` (``SERVICE_RUNNER``).
     ``repeats`` is kept for callers of earlier versions: the run time of the study is measured
     separately (:func:`time_steps`), with repeats, so one run gives the values.
     """
