@@ -113,7 +113,7 @@ class _Point:
 
 
 def _check_time(deadline: float | None) -> None:
-    if deadline is not None and time.monotonic() > deadline:
+    if deadline is not None and time.monotonic() >= deadline:
         raise OutOfTime
 
 
