@@ -339,7 +339,10 @@ def execute_key(variants: list[Variant], base: dict, base_dir: str,
     the signal that interrupted the run (0 when it ran through), as :func:`crankdyn.batch.execute`.
 
     A chunk is given the time limits of its points together; a chunk that runs out of it (or
-    whose worker dies) is run again point by point, each point with its own limit.
+    whose worker dies) is run again point by point, each point with its own limit. A local
+    chunk runs in a forked worker that is stopped at the limit; a Dask chunk runs in the worker's
+    own process and stops itself at the limit, before its next stage or point (the points run
+    again each in a child forked from the worker, stopped at its limit).
     """
     client = _client(options) if options.scheduler else None
     bar = Progress(len(variants), enabled=options.progress)
@@ -418,10 +421,10 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
 
 def _prepare_dask_worker() -> None:
     """Load the libraries once per Dask worker (:func:`crankdyn.batch.warm`) and move what is
-    loaded out of the garbage collector's sight (``gc.freeze``): each chunk runs in a child forked
-    from the worker, whose collections would otherwise walk every inherited object, and so copy
-    the worker's memory page by page, in every chunk. Frozen once per process: what the worker
-    makes later is collected as usual."""
+    loaded out of the garbage collector's sight (``gc.freeze``): a chunk run again point by point
+    runs each point in a child forked from the worker, whose collections would otherwise walk
+    every inherited object, and so copy the worker's memory page by page. Frozen once per
+    process: what the worker makes later is collected as usual."""
     global _frozen
     warm((), ())
     if not _frozen:
