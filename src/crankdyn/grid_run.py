@@ -32,13 +32,13 @@ import numpy as np
 
 from . import answer_key
 from .batch import (
+    VARIANT_COLUMN,
     Outcome,
     Progress,
     RunOptions,
     Variant,
     _client,
     _registry,
-    VARIANT_COLUMN,
     _variant_scene,
     error_text,
     warm,
@@ -245,7 +245,8 @@ class _PointScenes:
 
     def __init__(self, base: dict, base_dir: str, language: str | None,
                  data_dirs: tuple[str, ...]):
-        self.base, self.base_dir, self.language, self.data_dirs = base, base_dir, language, data_dirs
+        self.base, self.base_dir = base, base_dir
+        self.language, self.data_dirs = language, data_dirs
         self.fixed = {"base_dir": str(base_dir),
                       "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs)}
         self.base_clean = (isinstance(base, dict) and not {"base_dir", "data_dirs"} & set(base)
@@ -254,7 +255,8 @@ class _PointScenes:
     def scene(self, variant: Variant) -> Scene:
         changes = [variant.overrides]  # laid over the base in _variant_scene's order
         if "variant" not in variant.overrides.get("report", {}):  # the title page names its own
-            changes.append({"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}})
+            label = variant.cells.get(VARIANT_COLUMN) or variant.name
+            changes.append({"report": {"variant": label}})
         if self.language:
             changes.append({"report": {"language": self.language}})
         data = self.base
