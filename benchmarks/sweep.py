@@ -245,6 +245,11 @@ def main() -> None:
     print(f"CPU time per point (this process and its workers): chunked {chunked_cpu * 1e6:.0f} us, "
           f"bare numpy {numpy_cpu * 1e6:.0f} us: {chunked_cpu / numpy_cpu:.1f}x (on a shared "
           f"machine the wall-clock ratios follow the other load; these do not)")
+    idle = args.jobs / chunked_cpu
+    print(f"chunked on {args.jobs} otherwise idle cores (jobs / CPU time per point): {idle:9.1f} "
+          f"points/s;  goal >= {GOALS['points_per_s']:g}: {idle / GOALS['points_per_s']:.2f} of it")
+    print(f"machine load while measured (1, 5, 15 min): "
+          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
     print(f"chunked vs per point, largest relative difference over the sample's key: {worst:.2g}")
     print("bare numpy vs the key, closed-form columns: largest relative difference "
           f"{closed_form:.2g}")

@@ -22,7 +22,8 @@ import gc
 import math
 import signal
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,12 +42,14 @@ from ..engine.orchestrator import (
     stage_inputs,
 )
 from ..errors import PluginError
-from ..parallel.pool import DEFAULT_TIMEOUT_S, run_all, run_all_dask, stop_signals
+from ..parallel.pool import DEFAULT_TIMEOUT_S, OutOfTime, run_all, run_all_dask, stop_signals
 from ..plugin.registry import Registry
 from ..plugin.types import Stage, StageOutput
-from ..scene.model import Scene
+from ..scene.inputcheck import MAX_ARRAY_LENGTH, structure_problems
+from ..scene.model import Scene, merge
 from . import answer_key
 from .variants import (
+    VARIANT_COLUMN,
     Outcome,
     Progress,
     RunOptions,
@@ -63,9 +66,10 @@ from .variants import (
 #: amortise a call's cost (a fork, a pickled answer, a Dask task's round trip) and keep a
 #: chunk's arrays (points × angles per quantity) to a few megabytes.
 CHUNK_POINTS = 250
-#: Points per Dask task: a task costs its worker a fork and a round trip through the scheduler
-#: (some 50 ms on a busy 2-core machine), so a cluster's chunks are twice as long.
-DASK_CHUNK_POINTS = 500
+#: Points per Dask task: a task runs in its worker's own process (no fork), so what it costs
+#: beyond its points is a round trip through the scheduler; a few hundred points amortise it
+#: and leave enough tasks for the workers to finish together.
+DASK_CHUNK_POINTS = 250
 
 
 def key_plan(the_plan: Plan, registry: Registry) -> Plan:
@@ -108,9 +112,16 @@ class _Point:
     error: str = ""
 
 
-def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry) -> None:
+def _check_time(deadline: float | None) -> None:
+    if deadline is not None and time.monotonic() >= deadline:
+        raise OutOfTime
+
+
+def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry,
+                   deadline: float | None = None) -> None:
     """Run ``stage`` for ``points``: all at once through ``run_many`` when the stage has one, else
-    (or when that raised: every point then gets its own error) point by point."""
+    (or when that raised: every point then gets its own error) point by point, the time checked
+    against ``deadline`` before each point."""
     inputs = [stage_inputs(stage, p.data, registry) for p in points]
     if stage.run_many is not None and len(points) > 1:
         try:
@@ -125,6 +136,7 @@ def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry) -> No
         except Exception:  # noqa: BLE001 - the points are run one by one: each gets its own error
             pass
     for point, given in zip(points, inputs, strict=True):
+        _check_time(deadline)
         try:
             output, _ = run_stage(stage, point.scene, given)
         except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
@@ -163,15 +175,18 @@ def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
 
 
 def evaluate(scenes: Sequence[Scene], registry: Registry, stages: list[str] | None = None,
-             languages: Iterable[str] = ()) -> list[tuple[list[str], dict[str, dict], str]]:
+             languages: Iterable[str] = (), deadline: float | None = None,
+             ) -> list[tuple[list[str], dict[str, dict], str]]:
     """(stages run, stage -> its results, error text or "") of each scene, in order: the key
-    plan's stages run over all the scenes together."""
+    plan's stages run over all the scenes together. Past ``deadline`` (``time.monotonic``) it
+    raises :class:`~crankdyn.parallel.pool.OutOfTime` before the next stage."""
     points = [_Point(k, scene) for k, scene in enumerate(scenes)]
     out: list[tuple[list[str], dict[str, dict], str]] = [([], {}, "")] * len(points)
     for names, (the_plan, group) in _planned(points, registry, stages, languages).items():
         alive = group
         for stage in the_plan.order:
-            _stage_outputs(stage, alive, registry)
+            _check_time(deadline)
+            _stage_outputs(stage, alive, registry, deadline)
             alive = [p for p in alive if not p.error]
         for point in group:
             out[point.index] = (list(names), point.results, point.error)
@@ -182,12 +197,17 @@ def evaluate(scenes: Sequence[Scene], registry: Registry, stages: list[str] | No
 
 
 def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str | None,
-              stages: list[str] | None, data_dirs: tuple[str, ...] = ()) -> list[Outcome]:
+              stages: list[str] | None, data_dirs: tuple[str, ...] = (),
+              limit_s: float | None = None) -> list[Outcome]:
     """The outcomes of a chunk of a sweep's points (answers only, nothing rendered or written);
-    never raises: an error is part of its point's outcome."""
+    an error is part of its point's outcome. With ``limit_s`` the chunk keeps its own time limit:
+    past it, it raises :class:`~crankdyn.parallel.pool.OutOfTime` before its next stage or point
+    (a chunk run in a Dask worker's own process, which no one else can stop)."""
     start = time.perf_counter()
+    deadline = None if limit_s is None else time.monotonic() + limit_s
     registry = _registry()
     columns = answer_key.answer_columns(registry)
+    scenes = _PointScenes(base, base_dir, language, data_dirs)
     ready: list[tuple[Variant, Scene]] = []
     outcomes: dict[int, Outcome] = {}
     for variant in variants:
@@ -195,10 +215,12 @@ def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str 
             outcomes[variant.row] = Outcome(variant.row, variant.name, False, 0.0, variant.error)
             continue
         try:
-            ready.append((variant, _variant_scene(base, base_dir, variant, language, data_dirs)))
+            ready.append((variant, scenes.scene(variant)))
         except Exception as exc:  # noqa: BLE001 - one bad point must not stop its chunk
             outcomes[variant.row] = Outcome(variant.row, variant.name, False, 0.0, error_text(exc))
-    evaluated = evaluate([scene for _, scene in ready], registry, stages)
+    _check_time(deadline)
+    with _collector_paused():
+        evaluated = evaluate([scene for _, scene in ready], registry, stages, deadline=deadline)
     seconds = (time.perf_counter() - start) / max(1, len(variants))  # a chunk's time, shared out
     for (variant, _), (run, results, error) in zip(ready, evaluated, strict=True):
         if error:
@@ -210,6 +232,74 @@ def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str 
             answers={c: number(v) for c, v in answer_key.answers(document, columns).items()},
             absent=answer_key.absent(document, columns))
     return [outcomes[v.row] for v in variants]
+
+
+class _PointScenes:
+    """The scenes of a chunk's points: the base scene with each point's values, built as
+    :func:`crankdyn.batch._variant_scene` builds them, but with the base's data checked once.
+
+    The sizes, nesting and text of the base's data are checked here once; for a point, only its
+    own values and the tables they change (what a grid changes is a few numbers). Whatever does
+    not validate, or anything out of the ordinary, goes through ``_variant_scene`` itself, so a
+    bad point's error reads as a batch states it."""
+
+    def __init__(self, base: dict, base_dir: str, language: str | None,
+                 data_dirs: tuple[str, ...]):
+        self.base, self.base_dir = base, base_dir
+        self.language, self.data_dirs = language, data_dirs
+        self.fixed = {"base_dir": str(base_dir),
+                      "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs)}
+        self.base_clean = (isinstance(base, dict) and not {"base_dir", "data_dirs"} & set(base)
+                           and not structure_problems(base))
+
+    def scene(self, variant: Variant) -> Scene:
+        changes = [variant.overrides]  # laid over the base in _variant_scene's order
+        if "variant" not in variant.overrides.get("report", {}):  # the title page names its own
+            label = variant.cells.get(VARIANT_COLUMN) or variant.name
+            changes.append({"report": {"variant": label}})
+        if self.language:
+            changes.append({"report": {"language": self.language}})
+        data = self.base
+        for change in changes:
+            data = merge(data, change)
+        if self.base_clean and all(_changes_clean(data, change) for change in changes):
+            try:
+                return Scene.model_validate({**data, **self.fixed})
+            except Exception:  # noqa: BLE001 - the full path states the error
+                pass
+        return _variant_scene(self.base, self.base_dir, variant, self.language, self.data_dirs)
+
+
+def _changes_clean(data: dict, changes: dict) -> bool:
+    """Whether ``data`` (a clean base with ``changes`` laid over it) has no structure problem:
+    the changes have none of their own, name no key the loader sets, and every table they
+    change stays within its size."""
+    if {"base_dir", "data_dirs"} & set(changes) or structure_problems(changes):
+        return False
+    stack = [(data, changes)]
+    while stack:
+        table, changed = stack.pop()
+        if len(table) > MAX_ARRAY_LENGTH:
+            return False
+        stack += [(table[key], value) for key, value in changed.items()
+                  if isinstance(value, dict) and isinstance(table.get(key), dict)]
+    return True
+
+
+@contextmanager
+def _collector_paused() -> Iterator[None]:
+    """The cyclic garbage collector off while a chunk computes: its arrays and results are freed
+    by reference counting, and a collection pass every few hundred allocations would walk
+    everything the process has loaded (some 5 % of a point). A chunk's memory is bounded by its
+    points; what it leaves in cycles is collected once the collector is on again."""
+    if not gc.isenabled():
+        yield
+        return
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
 
 
 def chunks(variants: list[Variant], workers: int, size: int = CHUNK_POINTS) -> list[list[Variant]]:
@@ -251,7 +341,10 @@ def execute_key(variants: list[Variant], base: dict, base_dir: str,
     the signal that interrupted the run (0 when it ran through), as :func:`crankdyn.batch.execute`.
 
     A chunk is given the time limits of its points together; a chunk that runs out of it (or
-    whose worker dies) is run again point by point, each point with its own limit.
+    whose worker dies) is run again point by point, each point with its own limit. A local
+    chunk runs in a forked worker that is stopped at the limit; a Dask chunk runs in the worker's
+    own process and stops itself at the limit, before its next stage or point (the points run
+    again each in a child forked from the worker, stopped at its limit).
     """
     client = _client(options) if options.scheduler else None
     bar = Progress(len(variants), enabled=options.progress)
@@ -315,8 +408,12 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
     items = chunks(variants, workers, DASK_CHUNK_POINTS)
     prepare = _prepare_dask_worker
     limit = timeout * len(items[0]) if items else timeout
-    if run_all_dask(items, run_chunk, args_of, client, limit,
-                    finished, failed, prepare=prepare):
+
+    def chunk_args(chunk):  # a chunk runs in the worker's own process and keeps its own limit
+        return (*args_of(chunk), limit)
+
+    if run_all_dask(items, run_chunk, chunk_args, client, limit,
+                    finished, failed, prepare=prepare, in_process=True):
         return
     if rerun:
         single = [[v] for v in rerun]
@@ -326,10 +423,10 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
 
 def _prepare_dask_worker() -> None:
     """Load the libraries once per Dask worker (:func:`crankdyn.batch.warm`) and move what is
-    loaded out of the garbage collector's sight (``gc.freeze``): each chunk runs in a child forked
-    from the worker, whose collections would otherwise walk every inherited object, and so copy
-    the worker's memory page by page, in every chunk. Frozen once per process: what the worker
-    makes later is collected as usual."""
+    loaded out of the garbage collector's sight (``gc.freeze``): a chunk run again point by point
+    runs each point in a child forked from the worker, whose collections would otherwise walk
+    every inherited object, and so copy the worker's memory page by page. Frozen once per
+    process: what the worker makes later is collected as usual."""
     global _frozen
     warm((), ())
     if not _frozen:

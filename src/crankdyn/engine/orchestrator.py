@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import functools
 import heapq
 import inspect
 import time
@@ -284,9 +285,23 @@ def stage_applies(stage: Stage, scene: Scene, registry: Registry | None) -> str 
     """``stage.applies`` for ``scene``: with the services the stage names as its second argument
     when its ``applies`` takes one (a stage whose applicability depends on the other plugins of the
     run, e.g. on the scene's mechanism), else with the scene alone."""
-    if stage.services and len(inspect.signature(stage.applies).parameters) >= 2:
+    if stage.services and _argument_count(stage.applies) >= 2:
         return stage.applies(scene, _services(stage, registry))
     return stage.applies(scene)
+
+
+def _argument_count(function) -> int:
+    """The parameters ``function`` takes, looked up once per function (a sweep asks this of
+    every stage at every point); a callable that cannot be a cache's key is looked up each time."""
+    try:
+        return _cached_argument_count(function)
+    except TypeError:
+        return len(inspect.signature(function).parameters)
+
+
+@functools.lru_cache(maxsize=512)
+def _cached_argument_count(function) -> int:
+    return len(inspect.signature(function).parameters)
 
 
 def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:
