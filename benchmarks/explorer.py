@@ -44,8 +44,9 @@ def main() -> None:
         top_time, top = best_of(lambda: fe.explore(n, "inline", 4, top=10), args.repeat)  # noqa: B023 - called within this iteration
         if math.factorial(n - 1) <= 400_000:
             all_time, _ = best_of(
-                lambda: fe.explore(n, "inline", 4, top=None), max(1, args.repeat // 2)
-            )  # noqa: B023 - called within this iteration
+                lambda: fe.explore(n, "inline", 4, top=None),  # noqa: B023 - called within this iteration
+                max(1, args.repeat // 2),
+            )
             all_text = f"{all_time:8.3f}"
         else:
             all_text = f"{'-':>8}"

@@ -100,16 +100,16 @@ def main() -> None:
                 scene.write_text(text, encoding="utf-8")
                 markers = json.dumps([json.dumps(m) for m in expected])
                 _wait(
-                    lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True),
-                    60,  # noqa: B023 - called within this iteration
+                    lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True),  # noqa: B023 - called within this iteration
+                    60,
                     "the tab to show the new build",
                     interval=0.01,
                 )
                 page_s.append(time.monotonic() - start)
                 _wait(
-                    lambda: browser.evaluate(COMPLETE.format(old=old), tolerant=True),
+                    lambda: browser.evaluate(COMPLETE.format(old=old), tolerant=True),  # noqa: B023 - called within this iteration
                     60,
-                    "the whole page",  # noqa: B023 - called within this iteration
+                    "the whole page",
                     interval=0.01,
                 )
                 complete_s.append(time.monotonic() - start)

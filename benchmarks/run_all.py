@@ -346,8 +346,9 @@ def overhead(registry, repeat):
         t_pipe, out = best_of(pipeline, repeat)
         t_bare, bare = best_of(lambda: bare_numpy(*args), repeat)  # noqa: B023 - called within this iteration
         t_same, _ = best_of(
-            lambda: bare_numpy_same_outputs(*args, scene.rod_cm_from_big_end_m), repeat
-        )  # noqa: B023 - called within this iteration
+            lambda: bare_numpy_same_outputs(*args, scene.rod_cm_from_big_end_m),  # noqa: B023 - called within this iteration
+            repeat,
+        )
         frame = out.tables["forces"]
         agree = max(
             abs(out.results["mean_torque_Nm"] - bare["mean_torque"]) / abs(bare["mean_torque"]),

@@ -263,8 +263,9 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
 
         def distance(p):
             return math.hypot(
-                max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height)
-            )  # noqa: B023 - called within this iteration
+                max(x0 - p[0], 0.0, p[0] - x0 - width),  # noqa: B023 - called within this iteration
+                max(y0 - p[1], 0.0, p[1] - y0 - height),  # noqa: B023 - called within this iteration
+            )
 
         assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), (
             texts[i]
