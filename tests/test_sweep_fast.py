@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import threading
 import time
 from pathlib import Path
 
@@ -406,3 +407,22 @@ def test_a_chunk_builds_each_point_scene_as_a_batch_builds_it():
                 assert str(caught.value) == str(exc)
                 continue
             assert built.scene(variant) == expected
+
+
+def test_an_item_stuck_in_a_dask_workers_own_process_is_given_up_at_its_limit():
+    from crankdyn.parallel.pool import _dask_task_here
+
+    release = threading.Event()
+
+    def stuck():
+        release.wait()  # a stage that never checks its limit
+        return "late"
+
+    try:
+        status, value, _ = _dask_task_here(None, stuck, (), 0.05)
+        assert (status, value) == ("timeout", None)
+        assert _dask_task_here(None, lambda: "answer", (), 10.0)[:2] == ("ok", "answer")
+        with pytest.raises(ZeroDivisionError):
+            _dask_task_here(None, lambda: 1 / 0, (), 10.0)
+    finally:
+        release.set()

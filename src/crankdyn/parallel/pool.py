@@ -347,18 +347,45 @@ class OutOfTime(Exception):
     when it stops at it."""
 
 
+#: Seconds a chunk run in a Dask worker's own process gets beyond its limit before the task
+#: gives it up: the chunk checks its limit only between stages and points.
+DASK_GRACE_S = 1.0
+
+
 def _dask_task_here(prepare: Callable | None, function: Callable, args: tuple, timeout_s: float):
     """An item run in the Dask worker's own process: no fork, so what the worker computed for one
     item (caches, typeset labels, warmed code paths) serves the next, and no memory is copied.
-    ``function`` keeps its own time limit and raises :class:`OutOfTime` when it stops at it."""
+    ``function`` keeps its own time limit and raises :class:`OutOfTime` when it stops at it.
+
+    A call that never returns (a plugin's stage stuck inside one point) cannot check its limit:
+    the item runs in a daemon thread, and the task answers "timeout" when the thread has not
+    finished ``DASK_GRACE_S`` after the limit. The stuck call is left behind (nothing can stop a
+    thread), but the sweep goes on: its points run again one by one in forked children that are
+    killed at the limit.
+    """
     if prepare is not None:
         with _FORK_LOCK:
             prepare()
     start = time.monotonic()
-    try:
-        return "ok", function(*args), time.monotonic() - start
-    except OutOfTime:
-        return "timeout", None, time.monotonic() - start
+    answer: dict[str, object] = {}
+
+    def call() -> None:
+        try:
+            answer["value"] = function(*args)
+        except OutOfTime:
+            answer["timeout"] = True
+        except BaseException as exc:  # noqa: BLE001 - raised again in the task's own thread
+            answer["error"] = exc
+
+    worker = threading.Thread(target=call, name="crankdyn-dask-item", daemon=True)
+    worker.start()
+    worker.join(timeout_s + DASK_GRACE_S)
+    seconds = time.monotonic() - start
+    if worker.is_alive() or "timeout" in answer:
+        return "timeout", None, seconds
+    if "error" in answer:
+        raise answer["error"]  # type: ignore[misc]
+    return "ok", answer["value"], seconds
 
 
 def connect(address: str, timeout_s: float):
