@@ -80,6 +80,18 @@ ONE_CRANKS_TORQUE = {"en": r"torque of one crank", "uk": r"момент\w* од�
                      "ru": r"момент\w* одного колена"}
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
+#: What is said of a four-stroke cycle only: its pumping strokes, its constant-pressure exhaust and
+#: intake lines, its valve timing.
+FOUR_STROKE_ONLY = {
+    "en": (r"already takes off the pumping strokes", r"exhaust and intake lines at constant",
+           r"intake valve timing"),
+    "uk": (r"насосні ходи в ній уже враховано", r"лінії випуску і впуску за сталого",
+           r"фази газорозподілу"),
+    "ru": (r"насосные ходы в ней уже учтены", r"линии выпуска и впуска при постоянном",
+           r"фазы газораспределения"),
+}
+#: The gas exchange of a two-stroke cycle: the scavenging near BDC.
+SCAVENGING = {"en": r"scaveng", "uk": r"продуван", "ru": r"продувк"}
 #: Words of the program, not of the engine: the input file, its format, its keys, the tests.
 _KEY_NAMES = (r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
               # the solvers and libraries a full report's numerics chapter compares
@@ -228,6 +240,13 @@ def check_structure(note: Note) -> list[str]:
         problems += [f"a flywheel where none is designed: {m!r}"
                      for m in re.findall(rf".{{0,40}}{FLYWHEEL[language]}.{{0,20}}", note.chapters,
                                          flags=re.I)]
+    if case.cycle and scene.engine.strokes == 2 and getattr(scene, "cycle", None) is not None:
+        for pattern in FOUR_STROKE_ONLY[language]:
+            problems += [f"a four-stroke's text in a two-stroke: {m!r}"
+                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)]
+        if scene.cycle.source == "theoretical" and not re.search(SCAVENGING[language],
+                                                                      note.chapters):
+            problems.append("a two-stroke cycle's gas exchange (scavenging) is not described")
     if not case.cycle:  # a mechanism studied for its kinematics: no engine to balance
         opening = note.part(r'id="sec-(?:abstract|introduction)"')
         for pattern in (FLYWHEEL[language], BALANCING[language]):

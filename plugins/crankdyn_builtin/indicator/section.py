@@ -62,7 +62,9 @@ def render(output: StageOutput, ctx) -> str:
 
     theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
     points = _characteristic_points(ctx, frame, r) if has_theory else []
-    figure_pv = ctx.figure(partial(_pv_figure, volume_l, pressure, theory, points, t),
+    two_stroke = ctx.scene is not None and ctx.scene.engine.strokes == 2
+    figure_pv = ctx.figure(partial(_pv_figure, volume_l, pressure, theory, points, t,
+                                   two_stroke=two_stroke),
                            t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
                            see="indicator.see_pv")
     pv_number = ctx.last_figure_number
@@ -92,7 +94,8 @@ def render(output: StageOutput, ctx) -> str:
     diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
     return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
                                points=bool(points), pv_number=pv_number,
-                               table=table, deviation=deviation, has_theory=has_theory)
+                               table=table, deviation=deviation, has_theory=has_theory,
+                               two_stroke=two_stroke)
 
 
 def _closing_row_theory(theory, rows, labels, cycle_deg: float):

@@ -1,0 +1,53 @@
+"""A note says what holds for its engine's kind: a two-stroke's gas exchange is the scavenging near
+BDC (no pumping strokes, no intake and exhaust lines), a single crank has no running torque, an
+articulated-rod radial's rods are not all central; its letters mean one thing each; its numbers
+are printed to the digits the data justify and one value is printed alike wherever it appears."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import as_read, shared_html
+
+#: A two-stroke's gas exchange, per language.
+SCAVENGING = {"en": "scavenging", "uk": "продування", "ru": "продувк"}
+PUMPING_ALREADY = {"en": "already takes off the pumping strokes",
+                   "uk": "насосні ходи в ній уже враховано",
+                   "ru": "насосные ходы в ней уже учтены"}
+
+
+def _text(html: str) -> str:
+    body = html.split("<body", 1)[1]
+    body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", body, flags=re.S)
+    return " ".join(as_read(re.sub(r"<[^>]+>", " ", body)).split())
+
+
+@pytest.mark.parametrize("language", ["en", "uk", "ru"])
+def test_a_two_strokes_mechanical_losses_are_its_scavenging_not_pumping_strokes(language):
+    two = _text(shared_html("two-stroke-1cyl", {"engine": {"effective_power": "5 kW"}},
+                            language).linked_html)
+    four = _text(shared_html("petrol-1cyl-uk", None, language).linked_html)
+    effective = re.search(r"N\s*e\s*= 5 \S+, .{0,300}", two).group(0)
+    assert PUMPING_ALREADY[language] not in effective, effective
+    assert SCAVENGING[language] in effective, effective
+    assert PUMPING_ALREADY[language] in four
+
+
+@pytest.mark.parametrize("two_stroke, title", [(True, "продування поблизу НМТ (збільшено)"),
+                                               (False, "впуск і випуск (збільшено)")])
+def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke, title):
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.indicator.figures import _pv_figure
+
+    volume = np.linspace(0.05, 0.5, 50)
+    pressure = 0.1 + 4.0 * (0.05 / volume) ** 1.3
+    fig = _pv_figure(volume, pressure, pressure * 0.98, [], translator("uk", default_registry().catalogs),
+                     two_stroke=two_stroke)
+    titles = [ax.get_title() for ax in fig.axes[0].child_axes]
+    assert titles == [title]
