@@ -51,3 +51,28 @@ def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke,
                      two_stroke=two_stroke)
     titles = [ax.get_title() for ax in fig.axes[0].child_axes]
     assert titles == [title]
+
+
+def _legend_texts(rendered, key: str) -> list[str]:
+    figure = next(f for f in rendered.figures if f.key == key).figure
+    return [text.get_text() for ax in figure.axes if ax.get_legend()
+            for text in ax.get_legend().get_texts()]
+
+
+@pytest.mark.parametrize("detail, expected, absent", [
+    ("course", "чисельне інтегрування", "RK45"), ("full", "RK45", "чисельне інтегрування")])
+def test_a_course_notes_speed_figure_names_no_solver(detail, expected, absent):
+    legend = " | ".join(_legend_texts(
+        shared_html("inline4-petrol", {"report": {"detail": detail}}, "uk"), "speed"))
+    assert expected in legend and absent not in legend, legend
+
+
+def _symbol_rows(html: str) -> list[str]:
+    return re.findall(r'<p class="symbol-row"><span class="symbol">(.*?)</span> – ', html)
+
+
+def test_the_torque_non_uniformity_is_a_formula_and_listed_among_the_symbols():
+    html = shared_html("v8-petrol", None, "ru").linked_html
+    assert "<i>μ</i>" in _symbol_rows(html)
+    assert re.search(r'<i>μ</i> = \(<i>M</i><sub>max</sub> − <i>M</i><sub>min</sub>\)/'
+                     r'<i>M</i><sub>ср</sub>\s=\s\d', html)

@@ -361,9 +361,28 @@ def check_software_words(note: Note) -> list[str]:
             if m.group(0) not in allowed]
 
 
+_DELTA = re.compile(r"(?<![\[\w])δ\s*=\s*(\d+[.,]\d+)")
+#: The sentence of the speed-fluctuation section stating the δ the note gives.
+_DELTA_STATED = {"en": r"this note therefore states[^.]*?δ = [\d.]+\d",
+                 "uk": r"в записці коефіцієнт нерівномірності[^=]*?δ = [\d,]+\d",
+                 "ru": r"в записке коэффициент неравномерности[^=]*?δ = [\d,]+\d"}
+
+
+def check_one_delta(note: Note) -> list[str]:
+    """One coefficient of cyclic irregularity, printed alike, in the abstract, the conclusions and
+    the sentence of the speed-fluctuation section stating the δ the note gives."""
+    parts = {"abstract": note.part(r'class="abstract"'),
+             "conclusions": note.part(r'class="conclusions"'),
+             "section": " ".join(re.findall(_DELTA_STATED[note.language], note.chapters))}
+    printed = {(where, value) for where, text in parts.items() for value in _DELTA.findall(text)}
+    if len({value for _, value in printed}) > 1:
+        return [f"cyclic irregularity printed as {sorted(printed)}"]
+    return []
+
+
 CHECKS = {"language": check_language, "symbols": check_symbols, "structure": check_structure,
           "conclusions": check_conclusions, "order": check_order, "angles": check_angles,
-          "software": check_software_words}
+          "software": check_software_words, "delta": check_one_delta}
 
 
 @functools.cache

@@ -41,7 +41,10 @@ def _error_plot(records, key, t):
 
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
-    return ctx.figure(partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
+    # a course note names no solver: the curve is the numerical integration's
+    course = ctx.scene is not None and ctx.scene.report.detail == "course"
+    return ctx.figure(partial(_speed_plot, f, None if course else r["solver"]["method"],
+                              ctx.cycle_deg, ctx.t),
                       ctx.t("speed_fluctuation.speed_caption"), "speed", see="speed_fluctuation.see_speed")
 
 
@@ -51,7 +54,8 @@ def _speed_plot(f, method, cycle_deg, t):
     fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
     axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
-                 label=t("speed_fluctuation.solver_curve", method=method))
+                 label=t("speed_fluctuation.solver_curve", method=method) if method
+                 else t("speed_fluctuation.solver_curve_course"))
     axes[0].plot(angle, f["omega_energy_method_rad_s"], color="C2", ls=":", label=t("speed_fluctuation.energy_curve"))
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
     axes[0].legend(loc="upper right", fontsize=8)

@@ -10,6 +10,18 @@ from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
 
+#: The significant digits of the coefficient of cyclic irregularity a course note states: the
+#: flywheel section's (the energy method's δ, which the flywheel is designed with and the abstract
+#: names), so that one δ is printed alike in the abstract, the sections and the conclusions.
+ADOPTED_DELTA_DIGITS = 3
+
+
+def _course_digits(ctx, exact: float, energy: float, digits: int, most: int) -> int:
+    """``digits`` if the exact and the energy method's δ print differently with them, else
+    ``most`` (the digits that show their difference)."""
+    return digits if ctx.num(exact, digits) != ctx.num(energy, digits) else max(digits, most)
+
+
 def render(output: StageOutput, ctx) -> str:
     """The section: the speed over the cycle and the single-mass solver study, then the torsional
     model when the scene has one, and the conclusions."""
@@ -31,12 +43,22 @@ def render(output: StageOutput, ctx) -> str:
         ctx.title = t("speed_fluctuation.title_rigid")
     parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
-    ctx.conclude(t("speed_fluctuation.conclusion" + ("_course" if course else ""),
-                   delta=ctx.num(r["irregularity"], digits),
-                   energy=ctx.num(r["irregularity_energy"], digits),
-                   deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
+    if course:
+        digits = _course_digits(ctx, r["irregularity"], r["irregularity_energy"], 4, digits)
+        exact_digits = _course_digits(ctx, r["irregularity"], r["irregularity_energy"],
+                                      ADOPTED_DELTA_DIGITS, digits)
+        ctx.conclude(t("speed_fluctuation.conclusion_course",
+                       delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+                       exact=ctx.num(r["irregularity"], exact_digits),
+                       deviation=ctx.num(r["irregularity_deviation_percent"], 2)))
+    else:
+        ctx.conclude(t("speed_fluctuation.conclusion", delta=ctx.num(r["irregularity"], digits),
+                       energy=ctx.num(r["irregularity_energy"], digits),
+                       deviation=ctx.num(r["irregularity_deviation_percent"], 2),
+                       method=r["solver"]["method"]))
     return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
                                cylinders=ctx.scene.engine.cylinders, course=course,
+                               adopted_digits=ADOPTED_DELTA_DIGITS,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                worked=worked_speed_fluctuation(ctx, r), **parts)
