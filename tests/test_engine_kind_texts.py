@@ -76,3 +76,23 @@ def test_the_torque_non_uniformity_is_a_formula_and_listed_among_the_symbols():
     assert "<i>μ</i>" in _symbol_rows(html)
     assert re.search(r'<i>μ</i> = \(<i>M</i><sub>max</sub> − <i>M</i><sub>min</sub>\)/'
                      r'<i>M</i><sub>ср</sub>\s=\s\d', html)
+
+
+def test_the_ignition_delay_time_is_not_the_number_of_strokes():
+    html = shared_html("diesel-1cyl", None, "uk").linked_html
+    rows = _symbol_rows(html)
+    assert "<i>τ</i>" in rows and "<i>τ</i><sub>з</sub>" in rows, rows
+    assert re.search(r"6·<i>n</i>·<i>τ</i><sub>з</sub> за <i>τ</i><sub>з</sub>\s=\s\d", html)
+    assert not re.search(r"<i>τ</i>\s=\s\d", html)
+
+
+def test_the_number_of_cylinders_takes_no_letter_of_the_running_index():
+    html = shared_html("v8-petrol", None, "uk").linked_html
+    row = re.search(r"<tr[^>]*><td[^>]*>Кількість циліндрів</td>(.*?)</tr>", html).group(1)
+    assert "<i>i</i>" not in row, row
+
+
+def test_the_counterweights_force_is_listed_among_the_symbols():
+    html = shared_html("v8-petrol", None, "uk").linked_html
+    assert re.search(r"<i>Q</i> = <i>F</i> \+ Σ<i>C</i>", html)
+    assert "<i>Q</i>" in _symbol_rows(html)

@@ -268,6 +268,11 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
                                          html="<i>H</i><sub><i>k</i></sub>"),
     # the given data and the indicator diagram's tables
     "strokes": Symbol("τ", {}, "", "symbol.strokes"),
+    # not τ alone, which is the number of strokes
+    "ignition_delay_time": Symbol("τ", {"en": "i", "uk": "з", "ru": "з"}, "unit.ms",
+                                  "symbol.ignition_delay_time"),
+    # the balancing means: Q = F + ΣC
+    "counterweight_force": Symbol("Q", {}, "unit.N", "symbol.counterweight_force"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
