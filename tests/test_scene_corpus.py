@@ -90,6 +90,8 @@ FOUR_STROKE_ONLY = {
     "ru": (r"насосные ходы в ней уже учтены", r"линии выпуска и впуска при постоянном",
            r"фазы газораспределения"),
 }
+#: The planet gear of a planetary mechanism, which no other mechanism has.
+PLANET = {"en": r"\bplanet\b", "uk": r"сателіт", "ru": r"сателлит"}
 #: The gas exchange of a two-stroke cycle: the scavenging near BDC.
 SCAVENGING = {"en": r"scaveng", "uk": r"продуван", "ru": r"продувк"}
 #: Words of the program, not of the engine: the input file, its format, its keys, the tests.
@@ -247,6 +249,9 @@ def check_structure(note: Note) -> list[str]:
         if scene.cycle.source == "theoretical" and not re.search(SCAVENGING[language],
                                                                       note.chapters):
             problems.append("a two-stroke cycle's gas exchange (scavenging) is not described")
+    if scene.engine.mechanism != "planetary":
+        problems += [f"a planetary mechanism's word: {m!r}"
+                     for m in re.findall(rf".{{0,40}}{PLANET[language]}.{{0,20}}", note.chapters)]
     if not case.cycle:  # a mechanism studied for its kinematics: no engine to balance
         opening = note.part(r'id="sec-(?:abstract|introduction)"')
         for pattern in (FLYWHEEL[language], BALANCING[language]):
