@@ -47,8 +47,8 @@ def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke,
 
     volume = np.linspace(0.05, 0.5, 50)
     pressure = 0.1 + 4.0 * (0.05 / volume) ** 1.3
-    fig = _pv_figure(volume, pressure, pressure * 0.98, [], translator("uk", default_registry().catalogs),
-                     two_stroke=two_stroke)
+    t = translator("uk", default_registry().catalogs)
+    fig = _pv_figure(volume, pressure, pressure * 0.98, [], t, two_stroke=two_stroke)
     titles = [ax.get_title() for ax in fig.axes[0].child_axes]
     assert titles == [title]
 
@@ -96,3 +96,50 @@ def test_the_counterweights_force_is_listed_among_the_symbols():
     html = shared_html("v8-petrol", None, "uk").linked_html
     assert re.search(r"<i>Q</i> = <i>F</i> \+ Σ<i>C</i>", html)
     assert "<i>Q</i>" in _symbol_rows(html)
+
+
+@pytest.mark.parametrize("language, word, central", [
+    ("uk", "ГОЛОВНИМ І ПРИЧІПНИМИ ШАТУНАМИ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ"),
+    ("ru", "ГЛАВНЫМ И ПРИЦЕПНЫМИ ШАТУНАМИ", "ЦЕНТРАЛЬНЫЙ КРИВОШИПНО-ШАТУННЫЙ")])
+def test_an_articulated_rod_radial_is_not_called_a_central_crank_slider(language, word, central):
+    radial = _text(shared_html("radial9-aircraft", None, language).linked_html)
+    inline = _text(shared_html("inline4-petrol", None, language).linked_html)
+    assert word in radial and central not in radial
+    assert central in inline and word not in inline
+    assert "проходить через вісь колінчастого вала" not in radial.replace("осі циліндрів", "")
+
+
+def _pin_area_needed_mm2(changes) -> float:
+    """d·B at which the most loaded pin's mean and largest pressures are allowable, from the run's
+    loads and the petrol engines' 12 and 20 MPa."""
+    from conftest import shared_run
+
+    pins = shared_run("radial9-aircraft", changes).outputs["bearings"].results["crank_pins"]
+    return max(max(p["mean_N"] for p in pins) / 12.0, max(p["max_N"] for p in pins) / 20.0)
+
+
+@pytest.mark.parametrize("changes, assumed", [
+    (None, True),
+    ({"bearings": {"crank_pin_diameter": "60 mm", "crank_pin_width": "30 mm"}}, False)])
+def test_a_too_small_crank_pin_is_given_the_size_it_needs(changes, assumed):
+    text = _text(shared_html("radial9-aircraft", changes, "uk").linked_html)
+    needed = _pin_area_needed_mm2(changes)
+    sentences = re.findall(r"d · B ≥ (\d+) мм²", text)  # as printed: three significant digits
+    assert len(sentences) == 2, sentences  # the section's and the conclusion's
+    assert all(abs(int(v) - needed) <= 0.005 * needed for v in sentences), (sentences, needed)
+    assert ("ґрунтується на прийнятих розмірах" in text) is assumed
+    assert ("прийнятих за типовими співвідношеннями" in text) is assumed
+
+
+def test_a_range_whose_ends_print_alike_is_said_as_one_value():
+    import sys
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    from test_scene_corpus import check_ranges
+
+    # a flywheel so heavy that the mechanism's own variable inertia changes no printed digit
+    heavy = {"flywheel": {"required_irregularity": 0.00005, "rim_mean_diameter": "500 mm"}}
+    html = shared_html("inline4-petrol", heavy, "uk").linked_html
+    note = type("Note", (), {"text": _text(html)})()
+    assert not check_ranges(note), check_ranges(note)
+    assert re.search(r"<i>J</i>\s≈\s\d", html)

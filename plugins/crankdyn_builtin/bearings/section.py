@@ -53,7 +53,8 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
         ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
         (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
-    ], caption=t("bearings.journals_table_caption"), see="bearings.see_journals")
+    ], caption=t("bearings.journals_table_caption_single" if single  # no preceding crank
+                 else "bearings.journals_table_caption"), see="bearings.see_journals")
     journals_table_number = ctx.last_table_number
     table_journals += worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]

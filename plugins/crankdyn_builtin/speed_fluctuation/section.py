@@ -43,8 +43,10 @@ def render(output: StageOutput, ctx) -> str:
         ctx.title = t("speed_fluctuation.title_rigid")
     parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
-    if course:
-        digits = _course_digits(ctx, r["irregularity"], r["irregularity_energy"], 4, digits)
+    alike = False
+    if course:  # δ from speeds that differ by under a percent: four digits are all it holds
+        digits = 4
+        alike = ctx.num(r["irregularity"], digits) == ctx.num(r["irregularity_energy"], digits)
         exact_digits = _course_digits(ctx, r["irregularity"], r["irregularity_energy"],
                                       ADOPTED_DELTA_DIGITS, digits)
         ctx.conclude(t("speed_fluctuation.conclusion_course",
@@ -58,7 +60,7 @@ def render(output: StageOutput, ctx) -> str:
                        method=r["solver"]["method"]))
     return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
                                cylinders=ctx.scene.engine.cylinders, course=course,
-                               adopted_digits=ADOPTED_DELTA_DIGITS,
+                               adopted_digits=ADOPTED_DELTA_DIGITS, alike=alike,
                                sci=lambda value: _sci(value, t.decimal_separator),
                                figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
                                worked=worked_speed_fluctuation(ctx, r), **parts)

@@ -36,7 +36,10 @@ def render(output: StageOutput, ctx) -> str | None:
         (f["output_torque_Nm"], "max", t("torque.extreme_max")),
         (f["output_torque_Nm"], "min", t("torque.extreme_min"))])
     columns = [("<i>α</i>, °", ctx.angle_labels(labels), None)]
-    for k in range(1, cranks + 1):
+    if cranks == 1:  # one crank: the sums over its cylinders, no running torque between cranks
+        columns += [("<i>z</i><sub>Σ</sub>", f["crank1_radial_Pa"][rows] / 1e6, 3),
+                    ("<i>t</i><sub>Σ</sub>", f["crank1_tangential_Pa"][rows] / 1e6, 3)]
+    for k in range(1, cranks + 1 if cranks > 1 else 1):
         columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
                     (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
                     (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
@@ -46,7 +49,8 @@ def render(output: StageOutput, ctx) -> str | None:
     tables = []
     per_table = 4
     for start in range(0, cranks, per_table):
-        chunk = [columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
+        chunk = ([columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
+                 if cranks > 1 else columns[:-1])
         if start + per_table >= cranks:
             chunk.append(columns[-1])
         with_torque = chunk[-1] is columns[-1]
@@ -75,7 +79,8 @@ def render(output: StageOutput, ctx) -> str | None:
         ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
         ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-        ("<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+        (("<i>t</i><sub>Σ</sub>, " if cranks == 1 else "<i>t</i><sub>k<i>i</i></sub>, ") + t("unit.MPa"),
+         [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
     ], caption=t("torque.table_b4_caption"),
         see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4")
 

@@ -264,7 +264,7 @@ def _input_view(result, registry, ctx) -> SectionView:
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
     return SectionView(1, "input", ctx.t("report.input_title"),
                        Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                  mechanism=mechanism,
+                                                  mechanism=mechanism, mechanism_key=mechanism_key,
                                                   stage_rows=_stage_input_rows(result, ctx),
                                                   **_inputs_used(result))))
 
@@ -387,7 +387,7 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     as it heads its section ("; " between them: a title may hold a comma); the introduction's aim
     from what the sections do (:func:`introduction_aim`)."""
     catalogs = [_catalog_section(registry, v.key) for v in sections]
-    return {"keywords": keywords(t, scene.engine.mechanism, catalogs),
+    return {"keywords": keywords(t, mechanism_key(scene.engine), catalogs),
             "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
             "introduction_aim": introduction_aim(t, catalogs)}
 
@@ -413,6 +413,14 @@ def _catalog_section(registry, stage: str) -> str:
     with ``drawing``'s catalog)."""
     found = registry.stages.get(stage)
     return found.title_key.split(".", 1)[0] if found is not None and found.title_key else stage
+
+
+def mechanism_key(engine) -> str:
+    """The catalog key (``mechanism.<key>``) of the engine's mechanism as the note describes it:
+    a crank-slider with articulated rods is central for its master rod only."""
+    if engine.mechanism == "crank_slider" and getattr(engine, "rod_type", None) == "articulated":
+        return "crank_slider_articulated"
+    return engine.mechanism
 
 
 def keywords(t, mechanism: str, stages: list[str]) -> str:
