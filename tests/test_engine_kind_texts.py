@@ -143,3 +143,13 @@ def test_a_range_whose_ends_print_alike_is_said_as_one_value():
     note = type("Note", (), {"text": _text(html)})()
     assert not check_ranges(note), check_ranges(note)
     assert re.search(r"<i>J</i>\s≈\s\d", html)
+
+
+def test_assumed_journal_sizes_are_printed_to_a_tenth_of_a_millimetre():
+    html = shared_html("radial9-aircraft", None, "uk").linked_html
+    text = _text(html)
+    sizes = re.search(r"Розміри шийок: (.*?)\. У завданні", text).group(1)
+    values = re.findall(r"= (\d+(?:,\d+)?) мм", sizes)
+    assert len(values) == 4 and all(len(v.partition(",")[2]) <= 1 for v in values), sizes
+    # the worked substitution takes the sizes as printed
+    assert re.search(rf"\({values[0]}·10\s*−\s*3\s*·\s*{values[1]}·10", text), values

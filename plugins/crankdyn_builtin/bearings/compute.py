@@ -87,12 +87,17 @@ def applies(scene) -> str | None:
     return None
 
 
+def _assumed_size_m(value_m: float) -> float:
+    """A size taken from a typical ratio, as a drawing would give it: to 0.1 mm."""
+    return round(value_m * 1e4) / 1e4
+
+
 def _dimensions(scene, opts):
     bore = scene.engine.bore
-    d_pin = opts.crank_pin_diameter or DEFAULT_PIN_DIAMETER_PER_BORE * bore
-    w_pin = opts.crank_pin_width or DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin
-    d_main = opts.main_journal_diameter or DEFAULT_MAIN_DIAMETER_PER_BORE * bore
-    w_main = opts.main_journal_width or DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main
+    d_pin = opts.crank_pin_diameter or _assumed_size_m(DEFAULT_PIN_DIAMETER_PER_BORE * bore)
+    w_pin = opts.crank_pin_width or _assumed_size_m(DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin)
+    d_main = opts.main_journal_diameter or _assumed_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
+    w_main = opts.main_journal_width or _assumed_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
     defaulted = [name for name in ("crank_pin_diameter", "crank_pin_width", "main_journal_diameter",
                                    "main_journal_width") if getattr(opts, name) is None]
     return d_pin, w_pin, d_main, w_main, defaulted

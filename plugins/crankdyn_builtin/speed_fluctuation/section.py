@@ -9,7 +9,6 @@ from .figures import _error_figure, _speed_figure
 from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
-
 #: The significant digits of the coefficient of cyclic irregularity a course note states: the
 #: flywheel section's (the energy method's δ, which the flywheel is designed with and the abstract
 #: names), so that one δ is printed alike in the abstract, the sections and the conclusions.
