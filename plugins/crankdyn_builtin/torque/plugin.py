@@ -25,7 +25,7 @@ TORQUE_STAGE = Stage(
     template_dir=TEMPLATES,
     name="torque",
     # the core's letters that hold with their meaning in this section only
-    section_symbols=("indicated_torque",),
+    section_symbols=("indicated_torque", "crank_tangential_total", "crank_radial_total"),
     title_key="torque.title",
     requires=(BAY_LOADS,),
     provides=(ENGINE_TORQUE, CRANK_LOADS),

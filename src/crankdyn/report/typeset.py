@@ -173,8 +173,11 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "journal_running_tangential": Symbol("t", {"en": "ki"}, "unit.MPa", "symbol.journal_running_tangential",
                                          html="<i>t</i><sub>k<i>i</i></sub>"),
     # a single crank carrying several cylinders: its forces are sums over them (not cylinder i's)
-    "crank_tangential_total": Symbol("t", {"en": "Σ"}, "unit.MPa", "symbol.crank_tangential_total"),
-    "crank_radial_total": Symbol("z", {"en": "Σ"}, "unit.MPa", "symbol.crank_radial_total"),
+    # (the torque section's; the bays section names its own sums over a bay)
+    "crank_tangential_total": Symbol("t", {"en": "Σ"}, "unit.MPa", "symbol.crank_tangential_total",
+                                     sections=SECTION_BOUND),
+    "crank_radial_total": Symbol("z", {"en": "Σ"}, "unit.MPa", "symbol.crank_radial_total",
+                                 sections=SECTION_BOUND),
     "last_journal_tangential": Symbol("t", {"en": "kN"}, "unit.MPa", "symbol.last_journal_tangential",
                                       html="<i>t</i><sub>k<i>N</i></sub>"),
     "order_force": Symbol("P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"),
