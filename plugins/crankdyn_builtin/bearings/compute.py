@@ -88,8 +88,9 @@ def applies(scene) -> str | None:
 
 
 def _assumed_size_m(value_m: float) -> float:
-    """A size taken from a typical ratio, as a drawing would give it: to 0.1 mm."""
-    return round(value_m * 1e4) / 1e4
+    """A size taken from a typical ratio, as a drawing would give it: to 0.1 mm, a size under
+    10 mm (a model engine's) to three significant digits."""
+    return round(value_m * 1e4) / 1e4 if value_m >= 0.01 else float(f"{value_m:.3g}")
 
 
 def _dimensions(scene, opts):
