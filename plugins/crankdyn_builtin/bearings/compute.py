@@ -72,7 +72,7 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     params = {"p_mean": float(p_mean), "p_max": float(p_max), "mean_limit": mean_limit,
               "max_limit": max_limit, "source": ALLOWABLE_PRESSURE_SOURCE,
               "area_needed": area_needed_m2 * 1e6}
-    if diameter_m:
+    if diameter_m and width_m:
         params.update(diameter=diameter_m * 1e3, width=width_m * 1e3,
                       width_needed=area_needed_m2 / diameter_m * 1e3)
     # sizes assumed from typical ratios: the verdict is said to rest on them
