@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from conftest import shared_html, shared_run
 
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 
 REGISTRY = default_registry()
 
@@ -290,7 +290,7 @@ def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
 def test_counterweight_loads_in_crank_axes():
     """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
     counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
-    from crankdyn.contracts import Counterweights
+    from crankdyn.plugin.contracts import Counterweights
     from crankdyn_builtin.bearings.compute import _counterweight_loads_Pa as counterweight_loads_Pa
 
     fitted = Counterweights(crank=np.array([0, 1, 1]), centrifugal_N=np.array([2.0, 3.0, 1.0]),
@@ -307,7 +307,7 @@ def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
     spans: each main journal's diagram (the reaction, in crank axes) moves by -Q/2 along z at
     every angle, t unchanged; the crank pin's load does not change. Q from the masses of the
     forces stage, not from the balancing stage's numbers."""
-    from crankdyn.orchestrator import plan
+    from crankdyn.engine.orchestrator import plan
 
     with_cw = run("petrol-1cyl")
     scene = with_cw.scene

@@ -6,12 +6,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from crankdyn.cache import StageCache
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_plan
-from crankdyn.outputs import json_bytes, results_document
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene
+from crankdyn.engine.orchestrator import plan, run_plan
+from crankdyn.engine.stage_cache import StageCache
+from crankdyn.output.writers import json_bytes, results_document
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
 STAGES = ["forces"]  # kinematics, indicator, forces: quick, and the indicator reads no masses
@@ -81,7 +81,7 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
     ``scene.resolve`` runs again (and only it, and what follows from it)."""
     import shutil
 
-    from crankdyn.cache import FILE
+    from crankdyn.engine.stage_cache import FILE
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
@@ -130,7 +130,7 @@ def test_a_study_computed_elsewhere_depends_on_the_data_files_too(tmp_path):
     does not leave it stale."""
     import shutil
 
-    from crankdyn.cache import FILE
+    from crankdyn.engine.stage_cache import FILE
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")

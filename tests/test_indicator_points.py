@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene
-from crankdyn.scene_inputs import rounding_parameters
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.scene_inputs import rounding_parameters
+from crankdyn.scene.model import load_scene
 from crankdyn_builtin.indicator.section import _characteristic_points
 
 REGISTRY = default_registry()

@@ -12,12 +12,12 @@ from conftest import modified, write_scene
 from scipy import optimize
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import vane as vn
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 ALPHA = np.linspace(0.0, 2.0 * np.pi, 721)

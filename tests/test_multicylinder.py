@@ -10,11 +10,11 @@ from conftest import modified, shared_html, shared_run, write_scene
 from scipy.optimize import brentq
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import articulated as art
 from crankdyn.physics.layout import LayoutError, build_layout
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 MULTI = ["inline4-petrol", "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]

@@ -10,12 +10,12 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .options import BearingOptions
@@ -124,7 +124,7 @@ def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict
 
 
 def _counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per-crank (t, z) of the fitted counterweights (:class:`crankdyn.contracts.Counterweights`)
+    """Per-crank (t, z) of the fitted counterweights (:class:`crankdyn.plugin.contracts.Counterweights`)
     per piston area [Pa]; zeros without counterweights (none fitted, or no balancing in the plan)."""
     if fitted is None:
         return np.zeros(cranks), np.zeros(cranks)

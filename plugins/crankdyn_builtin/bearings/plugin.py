@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, PlausibilityRule, Stage
+from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
 from .compute import _pin_pressure, applies, run
 from .options import BearingOptions
@@ -23,26 +23,28 @@ from .section import SYMBOLS, render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 BEARINGS_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="bearings",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("bearing_width", "bearing_pressure", "pin_load_max", "pin_load_mean",
-                     "bearing_pressure_max", "bearing_pressure_mean", "journal_load_max",
-                     "journal_load_mean"),
-    title_key="bearings.title",
     requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS),
     uses=(COUNTERWEIGHTS,),
     provides=(),
     applies=applies,
     run=run,
-    render=render,
-    figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
     tables=("bearings", "wear"),
-    references=("poda2007", "orlin1984"),
     plausibility=(PlausibilityRule("pin_pressure", _pin_pressure),),
     options_table="bearings",
     options_model=BearingOptions,
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("bearing_width", "bearing_pressure", "pin_load_max", "pin_load_mean",
+                         "bearing_pressure_max", "bearing_pressure_mean", "journal_load_max",
+                         "journal_load_mean"),
+        title_key="bearings.title",
+        render=render,
+        figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
+        references=("poda2007", "orlin1984"),
+        symbols=SYMBOLS,
+    ),
 )
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn_builtin.bearings.worked import (
     journal_name,
     loads_equal,

@@ -8,14 +8,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS, CrankForces, RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import crankshaft as phys_crankshaft
 from crankdyn.physics import forces as phys
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics import rod_loads
 from crankdyn.physics.extrema import EXTREMUM_RTOL, first_argmax, first_argmin
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import (
+    FORCES,
+    GAS_PRESSURE,
+    KINEMATICS,
+    CrankForces,
+    RodDynamicsOptions,
+)
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 

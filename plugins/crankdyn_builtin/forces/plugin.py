@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import FORCES, GAS_PRESSURE, KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plausibility import mechanical_efficiency
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage
+from crankdyn.plugin.contracts import FORCES, GAS_PRESSURE, KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentation
+from crankdyn.report.plausibility import mechanical_efficiency
 
 from .compute import applies, run, run_many
 from .section import render
@@ -22,20 +22,13 @@ from .section import render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 FORCES_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="forces",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("rod_specific", "side_specific", "indicated_torque"),
-    title_key="forces.title",
     requires=(KINEMATICS, GAS_PRESSURE),
     provides=(FORCES,),
     applies=applies,
     run=run,
     run_many=run_many,
-    render=render,
-    figures=("forces", "torque"),
     tables=("forces",),
-    references=("poda2007", "popyk1970", "kolchin2002"),
     plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06, label_key="forces.answer.p_j_tdc_MPa"),
@@ -45,6 +38,15 @@ FORCES_STAGE = Stage(
         AnswerColumn("q_max_MPa", "resultant_max_Pa", "MPa", factor=1e-06, label_key="forces.answer.q_max_MPa"),
         AnswerColumn("M_cylinder_mean_Nm", "mean_torque_Nm", "N·m", label_key="forces.answer.M_cylinder_mean_Nm"),
         AnswerColumn("M_cylinder_max_Nm", "torque_max_Nm", "N·m", label_key="forces.answer.M_cylinder_max_Nm"),
+    ),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("rod_specific", "side_specific", "indicated_torque"),
+        title_key="forces.title",
+        render=render,
+        figures=("forces", "torque"),
+        references=("poda2007", "popyk1970", "kolchin2002"),
     ),
 )
 

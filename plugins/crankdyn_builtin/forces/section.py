@@ -7,7 +7,7 @@ from functools import partial
 import numpy as np
 
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import (

@@ -10,15 +10,15 @@ import functools
 
 import numpy as np
 
-from crankdyn.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.forces import piston_area_m2
-from crankdyn.plausibility import MAX_PEAK_PRESSURE_PA
-from crankdyn.plugin_types import StageOutput
-from crankdyn.scene_inputs import cycle_parameters, rounding_parameters
+from crankdyn.plugin.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
+from crankdyn.plugin.scene_inputs import cycle_parameters, rounding_parameters
+from crankdyn.plugin.types import StageOutput
+from crankdyn.report.plausibility import MAX_PEAK_PRESSURE_PA
 
 
 def applies(scene) -> str | None:

@@ -10,15 +10,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import GAS_PRESSURE, KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plausibility import peak_pressure
-from crankdyn.plugin_types import (
+from crankdyn.plugin.contracts import GAS_PRESSURE, KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import (
     AnswerColumn,
     Catalog,
     PlausibilityRule,
     Stage,
+    StagePresentation,
 )
+from crankdyn.report.plausibility import peak_pressure
 
 from .compute import _diesel_peak, applies, run, run_many
 from .section import SYMBOLS, render
@@ -28,21 +29,13 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 INDICATOR_STAGE = Stage(
     plausibility=(peak_pressure("max_pressure_Pa"), PlausibilityRule("diesel_peak", _diesel_peak)),
-    template_dir=TEMPLATES,
     name="indicator",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("post_expansion_ratio",),
-    title_key="indicator.title",
     requires=(KINEMATICS,),
     provides=(GAS_PRESSURE,),
     applies=applies,
     run=run,
     run_many=run_many,
-    render=render,
-    figures=("pV", "p_alpha"),
     tables=("indicator",),
-    references=("poda2007", "orlin1983", "heywood1988"),
-    symbols=SYMBOLS,
     answer_columns=(
         AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),
         AnswerColumn("p_max_MPa", "max_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_max_MPa"),
@@ -50,6 +43,16 @@ INDICATOR_STAGE = Stage(
         AnswerColumn("p_i_MPa", "mean_indicated_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_i_MPa"),
         AnswerColumn("L_i_J", "indicated_work_J", "J", label_key="indicator.answer.L_i_J"),
         AnswerColumn("N_i_cylinder_kW", "indicated_power_W", "kW", factor=0.001, label_key="indicator.answer.N_i_cylinder_kW"),
+    ),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("post_expansion_ratio",),
+        title_key="indicator.title",
+        render=render,
+        figures=("pV", "p_alpha"),
+        references=("poda2007", "orlin1983", "heywood1988"),
+        symbols=SYMBOLS,
     ),
 )
 

@@ -6,7 +6,7 @@ from functools import partial
 
 import numpy as np
 
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn_builtin.indicator.worked import worked_indicator
 

@@ -10,9 +10,9 @@ import functools
 
 import numpy as np
 
-from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.physics import kinematics as kin
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
+from crankdyn.plugin.types import StageOutput
 
 
 def applies(scene) -> str | None:

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentation
 
 from .compute import applies, run, run_many
 from .section import render
@@ -21,18 +21,13 @@ from .section import render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 KINEMATICS_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="kinematics",
-    title_key="kinematics.title",
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
     run_many=run_many,
-    render=render,
-    figures=("piston", "rod", "rod_cm"),
     tables=("kinematics",),
-    references=("poda2007", "tristen", "artobolevsky1988", "kolchin2002"),
     answer_columns=(
         AnswerColumn("v_max_m_s", "v_max_m_s", "m/s", label_key="kinematics.answer.v_max_m_s"),
         AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°", label_key="kinematics.answer.v_max_crank_angle_deg"),
@@ -40,6 +35,13 @@ KINEMATICS_STAGE = Stage(
         AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²", label_key="kinematics.answer.j_max_m_s2"),
         AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²", label_key="kinematics.answer.j_min_m_s2"),
         AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°", label_key="kinematics.answer.j_min_crank_angle_deg"),
+    ),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="kinematics.title",
+        render=render,
+        figures=("piston", "rod", "rod_cm"),
+        references=("poda2007", "tristen", "artobolevsky1988", "kolchin2002"),
     ),
 )
 

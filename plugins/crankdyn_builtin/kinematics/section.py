@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row

@@ -13,13 +13,13 @@ import functools
 
 import numpy as np
 
-from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.scalar_search import minimize_bounded
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .options import OffsetParams

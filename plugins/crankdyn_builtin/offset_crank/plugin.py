@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from crankdyn.contracts import KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
-from crankdyn.plugin_types import Catalog, Mechanism, Stage
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
+from crankdyn.report.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 
 from .compute import MECHANISM, applies, check, run
 from .geometry import offset_geometry
@@ -36,18 +36,20 @@ OFFSET_CRANK_MECHANISM = Mechanism(
 )
 
 OFFSET_CRANK_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="offset_crank",
-    title_key="offset_crank.title",
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
-    render=render,
-    figures=("offset_piston", "offset_rod"),
     tables=("offset_crank",),
-    references=("poda2007",),
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="offset_crank.title",
+        render=render,
+        figures=("offset_piston", "offset_rod"),
+        references=("poda2007",),
+        symbols=SYMBOLS,
+    ),
 )
 
 

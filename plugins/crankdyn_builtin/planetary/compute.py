@@ -16,16 +16,16 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
 from crankdyn.physics import forces as phys
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
 from crankdyn.physics.extrema import first_argmax, first_argmin
 from crankdyn.physics.scalar_search import minimize_bounded
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
+from crankdyn.plugin.scene_inputs import single_mechanism_problems
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import single_mechanism_problems
 
 from .options import PlanetaryParams
 

@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from crankdyn.contracts import KINEMATICS
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Mechanism, Stage
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
 
 from .compute import MECHANISM, applies, check, run
 from .geometry import planetary_geometry
@@ -35,18 +35,20 @@ PLANETARY_MECHANISM = Mechanism(
 )
 
 PLANETARY_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="planetary",
-    title_key="planetary.title",
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
-    render=render,
-    figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
     tables=("planetary", "family"),
-    references=("ismailov",),
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="planetary.title",
+        render=render,
+        figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
+        references=("ismailov",),
+        symbols=SYMBOLS,
+    ),
 )
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn_builtin.planetary.worked import worked_planetary
 

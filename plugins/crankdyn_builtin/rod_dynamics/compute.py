@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from crankdyn.contracts import KINEMATICS, RodDynamicsOptions
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import rod_dynamics as rd
 from crankdyn.physics.forces import rod_mass_split_kg
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import KINEMATICS, RodDynamicsOptions
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 ROD_MECHANISMS = ("crank_slider", "offset_crank_slider", "planetary")

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import KINEMATICS, RodDynamicsOptions
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Stage
+from crankdyn.plugin.contracts import KINEMATICS, RodDynamicsOptions
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .section import SYMBOLS, render
@@ -21,20 +21,22 @@ from .section import SYMBOLS, render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 ROD_DYNAMICS_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="rod_dynamics",
-    title_key="rod_dynamics.title",
     requires=(KINEMATICS,),
     provides=(),
     applies=applies,
     run=run,
-    render=render,
-    figures=("rod_motion", "rod_torque"),
     tables=("rod_dynamics",),
-    references=("poda2007",),
     options_table="rod_dynamics",
     options_model=RodDynamicsOptions,
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="rod_dynamics.title",
+        render=render,
+        figures=("rod_motion", "rod_torque"),
+        references=("poda2007",),
+        symbols=SYMBOLS,
+    ),
 )
 
 

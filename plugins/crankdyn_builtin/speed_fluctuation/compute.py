@@ -10,13 +10,13 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import irregularity as irr
 from crankdyn.physics import speed_fluctuation as sf
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.plugin.scene_inputs import crank_train
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import crank_train
 
 from .options import TorsionOptions
 from .solvers import METHODS, SINGLE_MASS_RTOL, SINGLE_MASS_RTOLS, _choice_record, _run_record

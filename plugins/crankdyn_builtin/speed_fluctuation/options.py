@@ -8,7 +8,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, model_validator
 
 from crankdyn.scene import number as _number
 from crankdyn.scene import quantity as _quantity
-from crankdyn.units import parse_quantity
+from crankdyn.scene.units import parse_quantity
 
 
 def _stiffness(kind_max: float = 1e12):

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Stage
+from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .options import TorsionOptions
@@ -25,23 +25,25 @@ from .section import SYMBOLS, render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 SPEED_FLUCTUATION_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="speed_fluctuation",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("irregularity", "cylinder_phase"),
-    title_key="speed_fluctuation.title",
     requires=(ENGINE_TORQUE, BAY_LOADS, CRANK_LOADS, FLYWHEEL),
     provides=(),
     applies=applies,
     run=run,
-    render=render,
-    figures=("speed", "solvers_single", "modes", "campbell", "torsion", "solvers_torsion"),
     tables=("speed_fluctuation", "torsion"),
-    references=("denhartog1956",),
-    references_full=("hairer1996", "scipy2020"),
     options_table="torsion",
     options_model=TorsionOptions,
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("irregularity", "cylinder_phase"),
+        title_key="speed_fluctuation.title",
+        render=render,
+        figures=("speed", "solvers_single", "modes", "campbell", "torsion", "solvers_torsion"),
+        references=("denhartog1956",),
+        references_full=("hairer1996", "scipy2020"),
+        symbols=SYMBOLS,
+    ),
 )
 
 

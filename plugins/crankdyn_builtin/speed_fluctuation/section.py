@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
 from .figures import _error_figure, _speed_figure

@@ -7,7 +7,7 @@ from functools import partial
 
 from markupsafe import Markup
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 
 from .figures import _campbell_plot, _error_figure, _modes_figure, _torsion_figure
 from .solver_text import _solver_table

@@ -6,11 +6,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, CrankLoads, EngineTorque
 from crankdyn.physics import crankshaft as cs
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.contracts import (
+    BAY_LOADS,
+    CRANK_LOADS,
+    ENGINE_TORQUE,
+    CrankLoads,
+    EngineTorque,
+)
+from crankdyn.plugin.types import StageOutput
 
 
 def applies(scene) -> str | None:

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plausibility import mechanical_efficiency
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage
+from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentation
+from crankdyn.report.plausibility import mechanical_efficiency
 
 from .compute import applies, run, run_many
 from .section import render
@@ -22,20 +22,13 @@ from .section import render
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 TORQUE_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="torque",
-    # the core's letters that hold with their meaning in this section only
-    section_symbols=("indicated_torque", "crank_tangential_total", "crank_radial_total"),
-    title_key="torque.title",
     requires=(BAY_LOADS,),
     provides=(ENGINE_TORQUE, CRANK_LOADS),
     applies=applies,
     run=run,
     run_many=run_many,
-    render=render,
-    figures=("output_torque", "journal_torques"),
     tables=("torque",),
-    references=("poda2007", "lukanin1995"),
     plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
         AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
@@ -43,6 +36,15 @@ TORQUE_STAGE = Stage(
         AnswerColumn("M_min_Nm", "min_Nm", "N·m", label_key="torque.answer.M_min_Nm"),
         AnswerColumn("torque_non_uniformity", "non_uniformity", "", label_key="torque.answer.torque_non_uniformity"),
         AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001, label_key="torque.answer.N_i_engine_kW"),
+    ),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("indicated_torque", "crank_tangential_total", "crank_radial_total"),
+        title_key="torque.title",
+        render=render,
+        figures=("output_torque", "journal_torques"),
+        references=("poda2007", "lukanin1995"),
     ),
 )
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import journal_name
 from crankdyn_builtin.torque.worked import worked_torque

@@ -18,9 +18,9 @@ from crankdyn.errors import Problem
 from crankdyn.physics import vane as vn
 from crankdyn.physics.extrema import central_derivative, periodic_extreme
 from crankdyn.physics.scalar_search import brentq
-from crankdyn.plugin_types import StageOutput
+from crankdyn.plugin.scene_inputs import single_mechanism_problems
+from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn.scene_inputs import single_mechanism_problems
 
 from .options import VaneParams
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog, Mechanism, Stage
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
 
 from .compute import MECHANISM, applies, check, run
 from .geometry import vane_geometry
@@ -34,18 +34,20 @@ VANE_MECHANISM = Mechanism(
 )
 
 VANE_STAGE = Stage(
-    template_dir=TEMPLATES,
     name="vane",
-    title_key="vane.title",
     requires=(),
     provides=(),
     applies=applies,
     run=run,
-    render=render,
-    figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
     tables=("vane", "compare", "by_lambda"),
-    references=("klementev2023",),
-    symbols=SYMBOLS,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="vane.title",
+        render=render,
+        figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
+        references=("klementev2023",),
+        symbols=SYMBOLS,
+    ),
 )
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
-from crankdyn.plugin_types import StageOutput, Symbol
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn_builtin.vane.worked import worked_vane
 

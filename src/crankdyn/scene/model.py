@@ -28,12 +28,12 @@ from pydantic import (
     model_validator,
 )
 
+from ..errors import MISSING, Problem, SceneError
+from ..physics import firing_explorer as fe
+from ..physics import layout as lay
+from ..physics.layout import nearest_steps_deg, step_on_grid_deg
 from .datafiles import data_file_problem
-from .errors import MISSING, Problem, SceneError
 from .inputcheck import TOO_CLOSE_TO_ZERO, structure_problems, table_problems, toml_float
-from .physics import firing_explorer as fe
-from .physics import layout as lay
-from .physics.layout import nearest_steps_deg, step_on_grid_deg
 from .units import parse_quantity
 
 

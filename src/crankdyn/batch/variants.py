@@ -26,8 +26,13 @@ from functools import partial
 from pathlib import Path
 from typing import Any, TextIO
 
-from . import answer_key, outputs, pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
-from .batch_runner import (
+from ..errors import CrankdynError, Problem, SceneError, UsageError
+from ..output import pipeline  # noqa: F401 - loaded here, so forked batch workers inherit them
+from ..output import writers as outputs  # noqa: F401 - loaded here, so forked batch workers inherit them
+from ..output.manifest import MANIFEST, check_outputs, write_outputs
+from ..output.pipeline import run_and_render
+from ..output.writers import xlsx_bytes
+from ..parallel.pool import (
     DEFAULT_TIMEOUT_S,
     check_seconds,
     connect,
@@ -35,14 +40,11 @@ from .batch_runner import (
     run_all_dask,
     stop_signals,
 )
-from .errors import CrankdynError, Problem, SceneError, UsageError
-from .manifest import MANIFEST, check_outputs, write_outputs
-from .outputs import xlsx_bytes
-from .pipeline import run_and_render
-from .plugins import default_registry
-from .report import i18n
-from .report.i18n import available_languages
-from .scene import merge, scene_from_dict
+from ..plugin.registry import default_registry
+from ..report import i18n
+from ..report.i18n import available_languages
+from ..scene.model import merge, scene_from_dict
+from . import answer_key  # noqa: F401 - loaded here, so forked batch workers inherit them
 
 VARIANT_COLUMN = "variant"
 
@@ -369,8 +371,8 @@ def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
         if language in i18n.available_languages():
             i18n.translator(language, registry.catalogs).number(1.5)
     if formats & {"html", "pdf", "docx"}:
-        from .report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF)
-        from .report.figures import new_figure, to_svg  # lazy: heavy optional import (matplotlib)
+        from ..report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF)
+        from ..report.figures import new_figure, to_svg  # lazy: heavy optional import (matplotlib)
 
         fig, axes = new_figure(4.0, 3.0)
         axes.plot([0.0, 1.0], [0.0, 1.0], label="λ")
@@ -378,7 +380,7 @@ def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
         axes.legend()
         to_svg(fig)
     if "pdf" in formats:
-        from .report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+        from ..report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
         html_to_pdf("<p>crankdyn</p>")
 
