@@ -304,7 +304,7 @@ class="eq-carry">= </span>0,046·[(1
 def sample_docx(tmp_path_factory) -> Path:
     long = ", &nbsp; ".join(
         f'<span class="eq-part"><i>x</i><sub>{k}</sub> = <i>R</i>(1 − cos {k}<i>α</i>) '
-        f'+ <i>λ</i>(1 − cos<sup>2</sup> <i>β</i>) = {k},{k}5 мм</span>'
+        f"+ <i>λ</i>(1 − cos<sup>2</sup> <i>β</i>) = {k},{k}5 мм</span>"
         for k in range(1, 4)
     )
     path = tmp_path_factory.mktemp("sample") / "report.docx"
@@ -417,7 +417,9 @@ def test_wide_table_in_a_landscape_section(sample_docx):
         (
             "table"
             if el.tag == f"{W}tbl"
-            else "break" if el.find(f"{W}pPr/{W}sectPr") is not None else ""
+            else "break"
+            if el.find(f"{W}pPr/{W}sectPr") is not None
+            else ""
         )
         for el in body
     ]
@@ -433,7 +435,7 @@ def test_title_page_and_parts_start_new_pages(sample_docx):
         p.text
         for p in paragraphs
         if "<w:pageBreakBefore/>" in p._p.xml
-        or (p.style.name == "heading 1" and "<w:pageBreakBefore w:val=\"0\"/>" not in p._p.xml)
+        or (p.style.name == "heading 1" and '<w:pageBreakBefore w:val="0"/>' not in p._p.xml)
     ]
     assert breaks == ["Кафедра", "Реферат", "1 Кінематика", "2 Сили"]
     # the heading under the department's line stays on that line's page; unnumbered ones centred
@@ -681,12 +683,18 @@ def test_contents_get_the_pages_their_headings_start_and_the_page_count_its_valu
 
     entry = '<w:p><w:pPr><w:pStyle w:val="TOC1"/></w:pPr><w:r><w:t>{}</w:t></w:r></w:p>'
     xml = (
-        entry.format("Вступ") + entry.format("1 Вихідні дані")
+        entry.format("Вступ")
+        + entry.format("1 Вихідні дані")
         + '<w:p><w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
         '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t></w:t></w:r></w:p>'
     )
-    pages = [["ЗМІСТ", "Вступ....3", "1 Вихідні дані....4"], ["Текст"], ["ВСТУП", "Текст"],
-             ["1 ВИХІДНІ ДАНІ"], ["Кінець"]]
+    pages = [
+        ["ЗМІСТ", "Вступ....3", "1 Вихідні дані....4"],
+        ["Текст"],
+        ["ВСТУП", "Текст"],
+        ["1 ВИХІДНІ ДАНІ"],
+        ["Кінець"],
+    ]
     filled = docx_pages.fill_contents(xml, pages)
     assert re.findall(r"<w:tab/></w:r><w:r><w:t>(\d+)</w:t>", filled) == ["3", "4"]
     assert "<w:r><w:t>5</w:t></w:r></w:p>" in filled  # five pages

@@ -12,9 +12,11 @@ from conftest import as_read, shared_html
 
 #: A two-stroke's gas exchange, per language.
 SCAVENGING = {"en": "scavenging", "uk": "продування", "ru": "продувк"}
-PUMPING_ALREADY = {"en": "already takes off the pumping strokes",
-                   "uk": "насосні ходи в ній уже враховано",
-                   "ru": "насосные ходы в ней уже учтены"}
+PUMPING_ALREADY = {
+    "en": "already takes off the pumping strokes",
+    "uk": "насосні ходи в ній уже враховано",
+    "ru": "насосные ходы в ней уже учтены",
+}
 
 
 def _text(html: str) -> str:
@@ -25,8 +27,11 @@ def _text(html: str) -> str:
 
 @pytest.mark.parametrize("language", ["en", "uk", "ru"])
 def test_a_two_strokes_mechanical_losses_are_its_scavenging_not_pumping_strokes(language):
-    two = _text(shared_html("two-stroke-1cyl", {"engine": {"effective_power": "5 kW"}},
-                            language).linked_html)
+    two = _text(
+        shared_html(
+            "two-stroke-1cyl", {"engine": {"effective_power": "5 kW"}}, language
+        ).linked_html
+    )
     four = _text(shared_html("petrol-1cyl-uk", None, language).linked_html)
     effective = re.search(r"N\s*e\s*= 5 \S+, .{0,300}", two).group(0)
     assert PUMPING_ALREADY[language] not in effective, effective
@@ -34,8 +39,10 @@ def test_a_two_strokes_mechanical_losses_are_its_scavenging_not_pumping_strokes(
     assert PUMPING_ALREADY[language] in four
 
 
-@pytest.mark.parametrize("two_stroke, title", [(True, "продування поблизу НМТ (збільшено)"),
-                                               (False, "впуск і випуск (збільшено)")])
+@pytest.mark.parametrize(
+    "two_stroke, title",
+    [(True, "продування поблизу НМТ (збільшено)"), (False, "впуск і випуск (збільшено)")],
+)
 def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke, title):
     import matplotlib
     import numpy as np
@@ -55,15 +62,22 @@ def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke,
 
 def _legend_texts(rendered, key: str) -> list[str]:
     figure = next(f for f in rendered.figures if f.key == key).figure
-    return [text.get_text() for ax in figure.axes if ax.get_legend()
-            for text in ax.get_legend().get_texts()]
+    return [
+        text.get_text()
+        for ax in figure.axes
+        if ax.get_legend()
+        for text in ax.get_legend().get_texts()
+    ]
 
 
-@pytest.mark.parametrize("detail, expected, absent", [
-    ("course", "чисельне інтегрування", "RK45"), ("full", "RK45", "чисельне інтегрування")])
+@pytest.mark.parametrize(
+    "detail, expected, absent",
+    [("course", "чисельне інтегрування", "RK45"), ("full", "RK45", "чисельне інтегрування")],
+)
 def test_a_course_notes_speed_figure_names_no_solver(detail, expected, absent):
-    legend = " | ".join(_legend_texts(
-        shared_html("inline4-petrol", {"report": {"detail": detail}}, "uk"), "speed"))
+    legend = " | ".join(
+        _legend_texts(shared_html("inline4-petrol", {"report": {"detail": detail}}, "uk"), "speed")
+    )
     assert expected in legend and absent not in legend, legend
 
 
@@ -74,8 +88,11 @@ def _symbol_rows(html: str) -> list[str]:
 def test_the_torque_non_uniformity_is_a_formula_and_listed_among_the_symbols():
     html = shared_html("v8-petrol", None, "ru").linked_html
     assert "<i>μ</i>" in _symbol_rows(html)
-    assert re.search(r'<i>μ</i> = \(<i>M</i><sub>max</sub> − <i>M</i><sub>min</sub>\)/'
-                     r'<i>M</i><sub>ср</sub>\s=\s\d', html)
+    assert re.search(
+        r"<i>μ</i> = \(<i>M</i><sub>max</sub> − <i>M</i><sub>min</sub>\)/"
+        r"<i>M</i><sub>ср</sub>\s=\s\d",
+        html,
+    )
 
 
 def test_the_ignition_delay_time_is_not_the_number_of_strokes():
@@ -98,9 +115,13 @@ def test_the_counterweights_force_is_listed_among_the_symbols():
     assert "<i>Q</i>" in _symbol_rows(html)
 
 
-@pytest.mark.parametrize("language, word, central", [
-    ("uk", "ГОЛОВНИМ І ПРИЧІПНИМИ ШАТУНАМИ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ"),
-    ("ru", "ГЛАВНЫМ И ПРИЦЕПНЫМИ ШАТУНАМИ", "ЦЕНТРАЛЬНЫЙ КРИВОШИПНО-ШАТУННЫЙ")])
+@pytest.mark.parametrize(
+    "language, word, central",
+    [
+        ("uk", "ГОЛОВНИМ І ПРИЧІПНИМИ ШАТУНАМИ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ"),
+        ("ru", "ГЛАВНЫМ И ПРИЦЕПНЫМИ ШАТУНАМИ", "ЦЕНТРАЛЬНЫЙ КРИВОШИПНО-ШАТУННЫЙ"),
+    ],
+)
 def test_an_articulated_rod_radial_is_not_called_a_central_crank_slider(language, word, central):
     radial = _text(shared_html("radial9-aircraft", None, language).linked_html)
     inline = _text(shared_html("inline4-petrol", None, language).linked_html)
@@ -118,9 +139,13 @@ def _pin_area_needed_mm2(changes) -> float:
     return max(max(p["mean_N"] for p in pins) / 12.0, max(p["max_N"] for p in pins) / 20.0)
 
 
-@pytest.mark.parametrize("changes, assumed", [
-    (None, True),
-    ({"bearings": {"crank_pin_diameter": "60 mm", "crank_pin_width": "30 mm"}}, False)])
+@pytest.mark.parametrize(
+    "changes, assumed",
+    [
+        (None, True),
+        ({"bearings": {"crank_pin_diameter": "60 mm", "crank_pin_width": "30 mm"}}, False),
+    ],
+)
 def test_a_too_small_crank_pin_is_given_the_size_it_needs(changes, assumed):
     text = _text(shared_html("radial9-aircraft", changes, "uk").linked_html)
     needed = _pin_area_needed_mm2(changes)

@@ -60,65 +60,113 @@ SECOND_SEED = 2026
 PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
 
 #: Per language: the caption words and the words a reference to a table or a figure uses.
-WORDS = {"en": ("Table", "Figure", "table", "figure"),
-         "uk": (
-         "Таблиця", "Рисунок", "табл.", "рис."),
-         "ru": (
-         "Таблица", "Рисунок", "табл.", "рис.")}
+WORDS = {
+    "en": ("Table", "Figure", "table", "figure"),
+    "uk": ("Таблиця", "Рисунок", "табл.", "рис."),
+    "ru": ("Таблица", "Рисунок", "табл.", "рис."),
+}
 
 #: What is said of a shaft of several cranks only.
 SEVERAL_CRANKS = {
-    "en": (r"between cranks \d", r"cranks 1–1\b", r"numbered from the free end", r"crank star",
-           r"towards the flywheel", r"both neighbouring cranks", r"all the cranks between",
-           r"of the preceding crank"),
-    "uk": (r"між колінами \d", r"колінах 1–1\b", r"від вільного кінця колінчастого",
-           r"зірк\w+ кривошипів", r"до маховика", r"обох сусідніх колін", r"усіх колін між",
-           r"попереднього коліна"),
-    "ru": (r"между коленами \d", r"коленах 1–1\b", r"от свободного конца коленчатого",
-           r"звезд\w+ кривошипов", r"к маховику", r"обоих соседних колен", r"всех колен между",
-           r"предыдущего колена"),
+    "en": (
+        r"between cranks \d",
+        r"cranks 1–1\b",
+        r"numbered from the free end",
+        r"crank star",
+        r"towards the flywheel",
+        r"both neighbouring cranks",
+        r"all the cranks between",
+        r"of the preceding crank",
+    ),
+    "uk": (
+        r"між колінами \d",
+        r"колінах 1–1\b",
+        r"від вільного кінця колінчастого",
+        r"зірк\w+ кривошипів",
+        r"до маховика",
+        r"обох сусідніх колін",
+        r"усіх колін між",
+        r"попереднього коліна",
+    ),
+    "ru": (
+        r"между коленами \d",
+        r"коленах 1–1\b",
+        r"от свободного конца коленчатого",
+        r"звезд\w+ кривошипов",
+        r"к маховику",
+        r"обоих соседних колен",
+        r"всех колен между",
+        r"предыдущего колена",
+    ),
 }
 #: The running torques of a shaft of several cranks, as the note's text reads them (t_wi, t_k1).
 RUNNING_TORQUE = (r"\bt w i = t k", r"\bt [wk] 1\b")
 #: One crank's torque, said where a crank carries several cylinders (it is one cylinder's).
-ONE_CRANKS_TORQUE = {"en": r"torque of one crank", "uk": r"момент\w* одного коліна",
-                     "ru": r"момент\w* одного колена"}
+ONE_CRANKS_TORQUE = {
+    "en": r"torque of one crank",
+    "uk": r"момент\w* одного коліна",
+    "ru": r"момент\w* одного колена",
+}
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
 #: What is said of a four-stroke cycle only: its pumping strokes, its constant-pressure exhaust and
 #: intake lines, its valve timing.
 FOUR_STROKE_ONLY = {
-    "en": (r"already takes off the pumping strokes", r"exhaust and intake lines at constant",
-           r"intake valve timing"),
-    "uk": (r"насосні ходи в ній уже враховано", r"лінії випуску і впуску за сталого",
-           r"фази газорозподілу"),
-    "ru": (r"насосные ходы в ней уже учтены", r"линии выпуска и впуска при постоянном",
-           r"фазы газораспределения"),
+    "en": (
+        r"already takes off the pumping strokes",
+        r"exhaust and intake lines at constant",
+        r"intake valve timing",
+    ),
+    "uk": (
+        r"насосні ходи в ній уже враховано",
+        r"лінії випуску і впуску за сталого",
+        r"фази газорозподілу",
+    ),
+    "ru": (
+        r"насосные ходы в ней уже учтены",
+        r"линии выпуска и впуска при постоянном",
+        r"фазы газораспределения",
+    ),
 }
 #: The planet gear of a planetary mechanism, which no other mechanism has.
 PLANET = {"en": r"\bplanet\b", "uk": r"сателіт", "ru": r"сателлит"}
 #: The gas exchange of a two-stroke cycle: the scavenging near BDC.
 SCAVENGING = {"en": r"scaveng", "uk": r"продуван", "ru": r"продувк"}
 #: Words of the program, not of the engine: the input file, its format, its keys, the tests.
-_KEY_NAMES = (r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
-              # the solvers and libraries a full report's numerics chapter compares
-              r"\bRK45\b|\bRadau\b|\bBDF\b|\bLSODA\b|\bSciPy\b|\bPython\b")
-SOFTWARE = {"en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
-            "uk": r"\bсцен[аиіуоюе]\w*|\bтест\w*|" + _KEY_NAMES,
-            "ru": r"\bсцен[аыуеой]\w*|\bтест\w*|" + _KEY_NAMES}
+_KEY_NAMES = (
+    r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
+    # the solvers and libraries a full report's numerics chapter compares
+    r"\bRK45\b|\bRadau\b|\bBDF\b|\bLSODA\b|\bSciPy\b|\bPython\b"
+)
+SOFTWARE = {
+    "en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
+    "uk": r"\bсцен[аиіуоюе]\w*|\bтест\w*|" + _KEY_NAMES,
+    "ru": r"\bсцен[аыуеой]\w*|\bтест\w*|" + _KEY_NAMES,
+}
 
 #: (scene name of SEED, check) of the defects the corpus finds and the report still has, each with
 #: what fails; under -m slow each is a strict xfail (a fixed one fails it, to be taken off here).
 KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {
-    "cited": ("the bays section's conclusion cites its own last table for the crank pin's largest "
-              "load, which that table's rows do not hold (the torque section's table does)",
-              tuple(f"{SEED}-radial{n}-{s}s-{lang}" for n, s, lang in (
-                  (3, 4, "en"), (5, 4, "uk"), (7, 4, "ru"), (9, 4, "en"), (4, 2, "uk"),
-                  (6, 2, "ru"), (8, 2, "en")))),
+    "cited": (
+        "the bays section's conclusion cites its own last table for the crank pin's largest "
+        "load, which that table's rows do not hold (the torque section's table does)",
+        tuple(
+            f"{SEED}-radial{n}-{s}s-{lang}"
+            for n, s, lang in (
+                (3, 4, "en"),
+                (5, 4, "uk"),
+                (7, 4, "ru"),
+                (9, 4, "en"),
+                (4, 2, "uk"),
+                (6, 2, "ru"),
+                (8, 2, "en"),
+            )
+        ),
+    ),
 }
-KNOWN: dict[tuple[str, str], str] = {(name, check): why
-                                     for check, (why, names) in KNOWN_DEFECTS.items()
-                                     for name in names}
+KNOWN: dict[tuple[str, str], str] = {
+    (name, check): why for check, (why, names) in KNOWN_DEFECTS.items() for name in names
+}
 
 
 @functools.cache
@@ -159,8 +207,9 @@ class Note:
 
     def part(self, pattern: str) -> str:
         """The text of the parts of the body whose start tag matches ``pattern``, to its end tag."""
-        found = re.findall(rf"<(section|ol|div|p)\b[^>]*{pattern}[^>]*>(.*?)</\1>", self.body,
-                           flags=re.S)
+        found = re.findall(
+            rf"<(section|ol|div|p)\b[^>]*{pattern}[^>]*>(.*?)</\1>", self.body, flags=re.S
+        )
         return " ".join(self.plain(inner) for _, inner in found)
 
     @functools.cached_property
@@ -174,22 +223,36 @@ class Note:
     @functools.cached_property
     def chapters(self) -> str:
         """The numbered chapters and the conclusions: what the note says of this engine."""
-        parts = re.findall(r'<section class="chapter" id="sec-(?:\d+|conclusions)"[^>]*>'
-                           r'(.*?)</section>', self.body, flags=re.S)
+        parts = re.findall(
+            r'<section class="chapter" id="sec-(?:\d+|conclusions)"[^>]*>'
+            r"(.*?)</section>",
+            self.body,
+            flags=re.S,
+        )
         return " ".join(self.plain(p) for p in parts)
 
     @functools.cached_property
     def tables(self) -> list[dict]:
         tables = []
-        for m in re.finditer(r'<table class="data[^"]*" data-number="([^"]+)">(.*?)</table>',
-                             self.body, flags=re.S):
+        for m in re.finditer(
+            r'<table class="data[^"]*" data-number="([^"]+)">(.*?)</table>', self.body, flags=re.S
+        ):
             head = re.findall(r"<th\b[^>]*>(.*?)</th>", m.group(2), flags=re.S)
-            rows = [(bool(re.search(r'class="[^"]*extremum', attrs)),
-                     [self.plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", inner, flags=re.S)])
-                    for attrs, inner in re.findall(r"<tr([^>]*)>(.*?)</tr>", m.group(2),
-                                                   flags=re.S)]
-            tables.append({"number": m.group(1), "start": m.start(), "head": head,
-                           "rows": [r for r in rows if r[1]]})
+            rows = [
+                (
+                    bool(re.search(r'class="[^"]*extremum', attrs)),
+                    [self.plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", inner, flags=re.S)],
+                )
+                for attrs, inner in re.findall(r"<tr([^>]*)>(.*?)</tr>", m.group(2), flags=re.S)
+            ]
+            tables.append(
+                {
+                    "number": m.group(1),
+                    "start": m.start(),
+                    "head": head,
+                    "rows": [r for r in rows if r[1]],
+                }
+            )
         return tables
 
 
@@ -203,11 +266,14 @@ def number_value(text: str) -> float | None:
 
 # ----------------------------------------------------------------------------- the checks
 
+
 def check_language(note: Note) -> list[str]:
     problems = [f"missing translation {key}" for key in sorted(note.rendered.missing_translations)]
     if "^" in note.text or re.search(r"[A-Za-zА-Яа-я]_", note.text):
-        problems += [f"programmer's notation: {m!r}"
-                     for m in re.findall(r".{20}(?:\^|[A-Za-zА-Яа-я]_).{10}", note.text)]
+        problems += [
+            f"programmer's notation: {m!r}"
+            for m in re.findall(r".{20}(?:\^|[A-Za-zА-Яа-я]_).{10}", note.text)
+        ]
     problems += [f"exponent: {m!r}" for m in re.findall(r".{20}\de[-+−]?0\d.{5}", note.text)]
     if note.language != "en":
         problems += [f"decimal point: {p!r}" for p in _decimal_points(note.lines)]
@@ -222,17 +288,21 @@ def check_symbols(note: Note) -> list[str]:
     language, missing = note.language, set()
     for stage, formula in _equations(note.html):
         for token in _tokens(formula):
-            if not (symbols_in(token, language, stage, note.symbols)
-                    or _indexed_symbol(token, language, stage)):
+            if not (
+                symbols_in(token, language, stage, note.symbols)
+                or _indexed_symbol(token, language, stage)
+            ):
                 missing.add((stage, token))
     starts = [(m.start(), m.group(1)) for m in _SECTION_START.finditer(note.html)]
     heads = r"<th\b[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>"
     for m in re.finditer(heads, note.html, flags=re.S):
         stage = next((name for start, name in reversed(starts) if start < m.start()), "")
         for token in _tokens(m.group(1) or m.group(2)):
-            if not (symbols_in(token, language, stage, note.symbols)
-                    or _indexed_symbol(token, language, stage)
-                    or _instance_of_an_indexed_symbol(token, language, stage)):
+            if not (
+                symbols_in(token, language, stage, note.symbols)
+                or _indexed_symbol(token, language, stage)
+                or _instance_of_an_indexed_symbol(token, language, stage)
+            ):
                 missing.add((stage, token))
     return [f"undefined symbol {token} in {stage}" for stage, token in sorted(missing)]
 
@@ -241,42 +311,59 @@ def check_structure(note: Note) -> list[str]:
     case, language, problems = note.case, note.language, []
     if case.single_crank:
         for pattern in SEVERAL_CRANKS[language] + RUNNING_TORQUE:
-            problems += [f"one crank, said of several: {m!r}"
-                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)]
+            problems += [
+                f"one crank, said of several: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)
+            ]
     scene = note.result.scene
     if case.cycle and case.cranks and scene.engine.cylinders > case.cranks:
-        problems += [f"one cylinder's torque called the crank's: {m!r}"
-                     for m in re.findall(rf".{{0,30}}{ONE_CRANKS_TORQUE[language]}.{{0,10}}",
-                                         note.chapters)]
+        problems += [
+            f"one cylinder's torque called the crank's: {m!r}"
+            for m in re.findall(rf".{{0,30}}{ONE_CRANKS_TORQUE[language]}.{{0,10}}", note.chapters)
+        ]
     # a radial (a propeller) or a mechanism has no flywheel end either
     if not case.flywheel and (scene.engine.layout == "radial" or not case.cycle):
-        problems += [f"a flywheel where none is designed: {m!r}"
-                     for m in re.findall(rf".{{0,40}}{FLYWHEEL[language]}.{{0,20}}", note.chapters,
-                                         flags=re.I)]
+        problems += [
+            f"a flywheel where none is designed: {m!r}"
+            for m in re.findall(
+                rf".{{0,40}}{FLYWHEEL[language]}.{{0,20}}", note.chapters, flags=re.I
+            )
+        ]
     if case.cycle and scene.engine.strokes == 2 and getattr(scene, "cycle", None) is not None:
         for pattern in FOUR_STROKE_ONLY[language]:
-            problems += [f"a four-stroke's text in a two-stroke: {m!r}"
-                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)]
-        if scene.cycle.source == "theoretical" and not re.search(SCAVENGING[language],
-                                                                      note.chapters):
+            problems += [
+                f"a four-stroke's text in a two-stroke: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)
+            ]
+        if scene.cycle.source == "theoretical" and not re.search(
+            SCAVENGING[language], note.chapters
+        ):
             problems.append("a two-stroke cycle's gas exchange (scavenging) is not described")
     if scene.engine.mechanism != "planetary":
-        problems += [f"a planetary mechanism's word: {m!r}"
-                     for m in re.findall(rf".{{0,40}}{PLANET[language]}.{{0,20}}", note.chapters)]
+        problems += [
+            f"a planetary mechanism's word: {m!r}"
+            for m in re.findall(rf".{{0,40}}{PLANET[language]}.{{0,20}}", note.chapters)
+        ]
     if not case.cycle:  # a mechanism studied for its kinematics: no engine to balance
         opening = note.part(r'id="sec-(?:abstract|introduction)"')
         for pattern in (FLYWHEEL[language], BALANCING[language]):
-            problems += [f"an engine's aim for a mechanism: {m!r}"
-                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", opening, flags=re.I)]
+            problems += [
+                f"an engine's aim for a mechanism: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", opening, flags=re.I)
+            ]
     return problems
 
 
 _REFERENCED = r"\s+[0-9A-ZА-Я]+(?:\.\d+)?(?:[–-]\d+)?"
-_REFERENCE = {"en": r"(?:[Tt]ables?|[Ff]igures?|[Ss]ections?|[Aa]ppendi\w+)" + _REFERENCED,
-              "uk": r"(?:табл|рис|розд|підрозд|додат\w*)\.?" + _REFERENCED,
-              "ru": r"(?:табл|рис|разд|подразд|прилож\w*)\.?" + _REFERENCED}
-_NUMBER = re.compile(r"(?<![\w.,])[−-]?\d{1,3}(?:[\u00a0\u2009\u202f ]\d{3})+(?:[.,]\d+)?(?![\d])"
-                     r"|(?<![\w.,])[−-]?\d+(?:[.,]\d+)?(?![\d\w])")
+_REFERENCE = {
+    "en": r"(?:[Tt]ables?|[Ff]igures?|[Ss]ections?|[Aa]ppendi\w+)" + _REFERENCED,
+    "uk": r"(?:табл|рис|розд|підрозд|додат\w*)\.?" + _REFERENCED,
+    "ru": r"(?:табл|рис|разд|подразд|прилож\w*)\.?" + _REFERENCED,
+}
+_NUMBER = re.compile(
+    r"(?<![\w.,])[−-]?\d{1,3}(?:[\u00a0\u2009\u202f ]\d{3})+(?:[.,]\d+)?(?![\d])"
+    r"|(?<![\w.,])[−-]?\d+(?:[.,]\d+)?(?![\d\w])"
+)
 
 
 def _json_numbers(value) -> list[float]:
@@ -296,8 +383,13 @@ def check_conclusions(note: Note) -> list[str]:
     text = note.part(r'class="conclusions"')
     text = re.sub(_REFERENCE[note.language], " ", text)
     text = re.sub(r"\[[\d,–\s]+\]|[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+|<sub>.*?</sub>", " ", text)
-    cells = [v for t in note.tables for _, row in t["rows"] for c in row
-             if (v := number_value(c)) is not None]
+    cells = [
+        v
+        for t in note.tables
+        for _, row in t["rows"]
+        for c in row
+        if (v := number_value(c)) is not None
+    ]
     results = _json_numbers({k: v for k, v in note.results.items() if k != "timing_s"})
     scales = (1.0, 1e-3, 1e-6, 1e3, 1e6, 100.0, 0.01)
     problems = []
@@ -308,31 +400,38 @@ def check_conclusions(note: Note) -> list[str]:
         if float(x).is_integer() and abs(x) <= 12:
             continue  # a count or an order
         decimals = len(printed.split(".")[1]) if "." in printed else 0
-        tolerance = 0.5 * 10.0 ** -decimals * (1 + 1e-9) + 1e-12
+        tolerance = 0.5 * 10.0**-decimals * (1 + 1e-9) + 1e-12
         if any(abs(abs(c) - abs(x)) <= tolerance for c in cells):
             continue
         if any(abs(abs(v * s) - abs(x)) <= tolerance for v in results for s in scales):
             continue
-        problems.append(f"conclusion number {m.group(0)!r} in no table and no result: "
-                        f"{text[max(0, m.start() - 60):m.end() + 20]!r}")
+        problems.append(
+            f"conclusion number {m.group(0)!r} in no table and no result: "
+            f"{text[max(0, m.start() - 60) : m.end() + 20]!r}"
+        )
     return problems
 
 
-_CITED_TABLE = {"en": r"\(table ([0-9A-ZА-Я]+\.\d+)\)", "uk": r"\(табл\. ([0-9A-ZА-Я]+\.\d+)\)",
-                "ru": r"\(табл\. ([0-9A-ZА-Я]+\.\d+)\)"}
+_CITED_TABLE = {
+    "en": r"\(table ([0-9A-ZА-Я]+\.\d+)\)",
+    "uk": r"\(табл\. ([0-9A-ZА-Я]+\.\d+)\)",
+    "ru": r"\(табл\. ([0-9A-ZА-Я]+\.\d+)\)",
+}
 
 
 def _printed_in(printed: str, cells: list[float]) -> bool:
     text = re.sub(r"[\u00a0\u2009\u202f ]", "", printed).replace("−", "-").replace(",", ".")
     decimals = len(text.split(".")[1]) if "." in text else 0
-    tolerance = 0.5 * 10.0 ** -decimals * (1 + 1e-9) + 1e-12
+    tolerance = 0.5 * 10.0**-decimals * (1 + 1e-9) + 1e-12
     return any(abs(abs(c) - abs(float(text))) <= tolerance for c in cells)
 
 
 def check_ranges(note: Note) -> list[str]:
     """No range whose ends print alike ("1,361 ≤ J ≤ 1,361"): one value is said as one value."""
-    return [f"a range of one value: {m.group(0)!r}" for m in re.finditer(
-        r"(?<![\d,.])(\d[\d,.]*) ≤ (\S{1,3}) ≤ \1(?![\d])", note.text)]
+    return [
+        f"a range of one value: {m.group(0)!r}"
+        for m in re.finditer(r"(?<![\d,.])(\d[\d,.]*) ≤ (\S{1,3}) ≤ \1(?![\d])", note.text)
+    ]
 
 
 def check_cited_tables(note: Note) -> list[str]:
@@ -341,15 +440,19 @@ def check_cited_tables(note: Note) -> list[str]:
     text, problems = note.part(r'class="conclusions"'), []
     for m in re.finditer(_CITED_TABLE[note.language], text):
         table = next((t for t in note.tables if t["number"] == m.group(1)), None)
-        clause = re.split(r"[.;:]\s|\)\s", text[max(0, m.start() - 160):m.start()])[-1]
-        values = [v for v in _NUMBER.findall(clause) if not re.search(
-            re.escape(v) + r"\s*°", clause) and not (v.isdigit() and int(v) <= 12)]
+        clause = re.split(r"[.;:]\s|\)\s", text[max(0, m.start() - 160) : m.start()])[-1]
+        values = [
+            v
+            for v in _NUMBER.findall(clause)
+            if not re.search(re.escape(v) + r"\s*°", clause) and not (v.isdigit() and int(v) <= 12)
+        ]
         if table is None or not values:
             continue
         cells = [x for _, row in table["rows"] for c in row if (x := number_value(c)) is not None]
         if not any(_printed_in(v, cells) for v in values):
-            problems.append(f"{values} cited from table {m.group(1)}, which does not hold them: "
-                            f"{clause!r}")
+            problems.append(
+                f"{values} cited from table {m.group(1)}, which does not hold them: {clause!r}"
+            )
     return problems
 
 
@@ -359,16 +462,21 @@ def check_order(note: Note) -> list[str]:
     table_word, figure_word, table_ref, figure_ref = WORDS[note.language]
     text, problems = note.text, []
     for word, ref in ((table_word, table_ref), (figure_word, figure_ref)):
-        captions = [(m.group(1), int(m.group(2)), m.start())
-                    for m in re.finditer(rf"{word} ([0-9A-ZА-Я]+)\.(\d+) [–—]", text)]
+        captions = [
+            (m.group(1), int(m.group(2)), m.start())
+            for m in re.finditer(rf"{word} ([0-9A-ZА-Я]+)\.(\d+) [–—]", text)
+        ]
         by_chapter: dict[str, list[int]] = {}
         for chapter, k, start in captions:
             by_chapter.setdefault(chapter, []).append(k)
             mention = re.search(rf"{re.escape(ref)}\s+{chapter}\.{k}(?![\d])", text, flags=re.I)
             if not mention or mention.start() > start:
                 problems.append(f"{word} {chapter}.{k} not referred to before it appears")
-        problems += [f"{word}s of {chapter} in the order {ks}" for chapter, ks in by_chapter.items()
-                     if ks != list(range(1, len(ks) + 1))]
+        problems += [
+            f"{word}s of {chapter} in the order {ks}"
+            for chapter, ks in by_chapter.items()
+            if ks != list(range(1, len(ks) + 1))
+        ]
     for m in re.finditer(r'<div class="worked">(.*?)</div>', note.body, flags=re.S):
         referred = rf"(?:{table_ref}|{table_word})\s+([0-9A-ZА-Я]+\.\d+)"
         for number in re.findall(referred, note.plain(m.group(1)), flags=re.I):
@@ -391,8 +499,9 @@ def check_angles(note: Note) -> list[str]:
         for extremum, row in table["rows"]:
             value = number_value(row[0])
             if not extremum and (value is None or not value.is_integer()):
-                problems.append(f"table {table['number']}: row angle {row[0]!r} "
-                                "is not a whole degree")
+                problems.append(
+                    f"table {table['number']}: row angle {row[0]!r} is not a whole degree"
+                )
     table_ref = WORDS[note.language][2]
     for m in re.finditer(r'<div class="worked">(.*?)</div>', note.body, flags=re.S):
         text = note.plain(m.group(1))
@@ -407,39 +516,55 @@ def check_software_words(note: Note) -> list[str]:
     text = re.sub(r'<ol class="references">.*?</ol>', " ", note.body, flags=re.S)
     text = note.plain(text)
     allowed = {"e.g", "i.e"}
-    return [f"software word {m.group(0)!r}: {text[max(0, m.start() - 50):m.end() + 20]!r}"
-            for m in re.finditer(SOFTWARE[note.language], text, flags=re.I)
-            if m.group(0) not in allowed]
+    return [
+        f"software word {m.group(0)!r}: {text[max(0, m.start() - 50) : m.end() + 20]!r}"
+        for m in re.finditer(SOFTWARE[note.language], text, flags=re.I)
+        if m.group(0) not in allowed
+    ]
 
 
 _DELTA = re.compile(r"(?<![\[\w])δ\s*=\s*(\d+[.,]\d+)")
 #: The sentence of the speed-fluctuation section stating the δ the note gives.
-_DELTA_STATED = {"en": r"this note therefore states[^.]*?δ = [\d.]+\d",
-                 "uk": r"в записці коефіцієнт нерівномірності[^=]*?δ = [\d,]+\d",
-                 "ru": r"в записке коэффициент неравномерности[^=]*?δ = [\d,]+\d"}
+_DELTA_STATED = {
+    "en": r"this note therefore states[^.]*?δ = [\d.]+\d",
+    "uk": r"в записці коефіцієнт нерівномірності[^=]*?δ = [\d,]+\d",
+    "ru": r"в записке коэффициент неравномерности[^=]*?δ = [\d,]+\d",
+}
 
 
 def check_one_delta(note: Note) -> list[str]:
     """One coefficient of cyclic irregularity, printed alike, in the abstract, the conclusions and
     the sentence of the speed-fluctuation section stating the δ the note gives."""
-    parts = {"abstract": note.part(r'class="abstract"'),
-             "conclusions": note.part(r'class="conclusions"'),
-             "section": " ".join(re.findall(_DELTA_STATED[note.language], note.chapters))}
+    parts = {
+        "abstract": note.part(r'class="abstract"'),
+        "conclusions": note.part(r'class="conclusions"'),
+        "section": " ".join(re.findall(_DELTA_STATED[note.language], note.chapters)),
+    }
     printed = {(where, value) for where, text in parts.items() for value in _DELTA.findall(text)}
     problems = []
     if len({value for _, value in printed}) > 1:
         problems.append(f"cyclic irregularity printed as {sorted(printed)}")
     # a ratio of speeds that differ by under a percent: four significant digits are all it holds
-    problems += [f"δ = {value} printed to {len(digits)} significant digits"
-                 for value in _DELTA.findall(note.chapters)
-                 if len(digits := value.replace(",", ".").split(".")[1].lstrip("0")) > 4]
+    problems += [
+        f"δ = {value} printed to {len(digits)} significant digits"
+        for value in _DELTA.findall(note.chapters)
+        if len(digits := value.replace(",", ".").split(".")[1].lstrip("0")) > 4
+    ]
     return problems
 
 
-CHECKS = {"language": check_language, "symbols": check_symbols, "structure": check_structure,
-          "conclusions": check_conclusions, "order": check_order, "angles": check_angles,
-          "software": check_software_words, "delta": check_one_delta,
-          "cited": check_cited_tables, "ranges": check_ranges}
+CHECKS = {
+    "language": check_language,
+    "symbols": check_symbols,
+    "structure": check_structure,
+    "conclusions": check_conclusions,
+    "order": check_order,
+    "angles": check_angles,
+    "software": check_software_words,
+    "delta": check_one_delta,
+    "cited": check_cited_tables,
+    "ranges": check_ranges,
+}
 
 
 @functools.cache
@@ -458,9 +583,25 @@ SCENES = corpus(SEED)
 def test_the_corpus_covers_every_kind_of_engine_in_every_language():
     names = [c.name for c in SCENES]
     assert len(names) >= 60 and len(set(names)) == len(names)
-    for kind in ("inline1-", "inline12-", "-2s", "-4s", "diesel", "petrol", "V", "W", "boxer",
-                 "radial3-", "radial9-", "trace", "kinematics-only", "offset", "planetary", "vane",
-                 "scotch-yoke"):
+    for kind in (
+        "inline1-",
+        "inline12-",
+        "-2s",
+        "-4s",
+        "diesel",
+        "petrol",
+        "V",
+        "W",
+        "boxer",
+        "radial3-",
+        "radial9-",
+        "trace",
+        "kinematics-only",
+        "offset",
+        "planetary",
+        "vane",
+        "scotch-yoke",
+    ):
         assert any(kind in name for name in names), kind
     counts = [sum(c.language == language for c in SCENES) for language in LANGUAGES]
     assert max(counts) - min(counts) <= 1, counts
@@ -474,9 +615,13 @@ def test_a_generated_scenes_note_reads_as_a_supervisor_expects(name):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name, check", [
-    pytest.param(name, check, marks=pytest.mark.xfail(strict=True, reason=why))
-    for (name, check), why in KNOWN.items()])
+@pytest.mark.parametrize(
+    "name, check",
+    [
+        pytest.param(name, check, marks=pytest.mark.xfail(strict=True, reason=why))
+        for (name, check), why in KNOWN.items()
+    ],
+)
 def test_a_known_defect_is_still_there(name, check):
     assert not CHECKS[check](_note(SEED, name))
 
@@ -504,8 +649,10 @@ PDF_SAMPLE = ("inline7-", "radial5-", "planetary-")
 
 @pytest.mark.slow
 @pytest.mark.long
-@pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
-                    reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+@pytest.mark.skipif(
+    shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+    reason="poppler-utils not installed (bash .ci/setup.sh installs it)",
+)
 @pytest.mark.parametrize("kind", PDF_SAMPLE)
 def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_path):
     from page_layout import layout_problems, page_texts
@@ -522,9 +669,15 @@ def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_pa
     pages = page_texts(tmp_path / "report.pdf", html)
     table_word, figure_word = WORDS[case.language][:2]
     t = translator(case.language, registry.catalogs)
-    problems = layout_problems(tmp_path / "report.pdf", pages, html, tmp_path / "pages",
-                               table_word=table_word, figure_word=figure_word,
-                               continued=lambda number: t("doc.continued", number=number))
+    problems = layout_problems(
+        tmp_path / "report.pdf",
+        pages,
+        html,
+        tmp_path / "pages",
+        table_word=table_word,
+        figure_word=figure_word,
+        continued=lambda number: t("doc.continued", number=number),
+    )
     assert not problems, problems
 
 

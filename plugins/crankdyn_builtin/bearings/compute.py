@@ -40,7 +40,7 @@ ALLOWABLE_PRESSURE_SOURCE = "kolchin2002"
 
 
 def _ignition_kind(scene) -> str:
-    """"spark" or "diesel" (an engine of unknown ignition, a measured trace, is judged as a
+    """ "spark" or "diesel" (an engine of unknown ignition, a measured trace, is judged as a
     diesel)."""
     ignition = getattr(scene.cycle, "ignition", None) if scene.cycle is not None else None
     return "spark" if ignition == "spark" else "diesel"
@@ -50,8 +50,10 @@ def pin_area_needed_m2(pins, kind: str) -> float:
     """The crank pin's projected area d·B at which the most loaded pin's mean and largest bearing
     pressures (p = Q/(d·B)) are the allowable ones of its kind of engine."""
     mean_limit, max_limit = ALLOWABLE_PIN_PRESSURE_MPA[kind]
-    return max(max(pin["mean_N"] for pin in pins) / (mean_limit * 1e6),
-               max(pin["max_N"] for pin in pins) / (max_limit * 1e6))
+    return max(
+        max(pin["mean_N"] for pin in pins) / (mean_limit * 1e6),
+        max(pin["max_N"] for pin in pins) / (max_limit * 1e6),
+    )
 
 
 def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
@@ -69,12 +71,20 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     sizes = results.get("dimensions") or {}
     area_needed_m2 = sizes.get("crank_pin_area_needed_m2") or pin_area_needed_m2(pins, kind)
     diameter_m, width_m = sizes.get("crank_pin_diameter_m"), sizes.get("crank_pin_width_m")
-    params = {"p_mean": float(p_mean), "p_max": float(p_max), "mean_limit": mean_limit,
-              "max_limit": max_limit, "source": ALLOWABLE_PRESSURE_SOURCE,
-              "area_needed": area_needed_m2 * 1e6}
+    params = {
+        "p_mean": float(p_mean),
+        "p_max": float(p_max),
+        "mean_limit": mean_limit,
+        "max_limit": max_limit,
+        "source": ALLOWABLE_PRESSURE_SOURCE,
+        "area_needed": area_needed_m2 * 1e6,
+    }
     if diameter_m and width_m:
-        params.update(diameter=diameter_m * 1e3, width=width_m * 1e3,
-                      width_needed=area_needed_m2 / diameter_m * 1e3)
+        params.update(
+            diameter=diameter_m * 1e3,
+            width=width_m * 1e3,
+            width_needed=area_needed_m2 / diameter_m * 1e3,
+        )
     # sizes assumed from typical ratios: the verdict is said to rest on them
     assumed = bool({"crank_pin_diameter", "crank_pin_width"} & set(sizes.get("defaulted", ())))
     key = f"bearings.plausibility_pin_pressure_{kind}" + ("_assumed" if assumed else "")
@@ -99,8 +109,16 @@ def _dimensions(scene, opts):
     w_pin = opts.crank_pin_width or _assumed_size_m(DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin)
     d_main = opts.main_journal_diameter or _assumed_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
     w_main = opts.main_journal_width or _assumed_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
-    defaulted = [name for name in ("crank_pin_diameter", "crank_pin_width", "main_journal_diameter",
-                                   "main_journal_width") if getattr(opts, name) is None]
+    defaulted = [
+        name
+        for name in (
+            "crank_pin_diameter",
+            "crank_pin_width",
+            "main_journal_diameter",
+            "main_journal_width",
+        )
+        if getattr(opts, name) is None
+    ]
     return d_pin, w_pin, d_main, w_main, defaulted
 
 
@@ -110,11 +128,23 @@ def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict
     cranks = len(pin[0])
     table = {"crank_angle_deg": angle}
     for k in range(cranks):
-        table.update({f"pin{k + 1}_t_Pa": pin[0][k], f"pin{k + 1}_z_Pa": pin[1][k],
-                      f"rod_bearing{k + 1}_t_Pa": rod[0][k], f"rod_bearing{k + 1}_z_Pa": rod[1][k]})
+        table.update(
+            {
+                f"pin{k + 1}_t_Pa": pin[0][k],
+                f"pin{k + 1}_z_Pa": pin[1][k],
+                f"rod_bearing{k + 1}_t_Pa": rod[0][k],
+                f"rod_bearing{k + 1}_z_Pa": rod[1][k],
+            }
+        )
     for j in range(cranks + 1):
-        table.update({f"journal{j}_t_Pa": journal[0][j], f"journal{j}_z_Pa": journal[1][j],
-                      f"main_bearing{j}_t_Pa": bearing[0][j], f"main_bearing{j}_z_Pa": bearing[1][j]})
+        table.update(
+            {
+                f"journal{j}_t_Pa": journal[0][j],
+                f"journal{j}_z_Pa": journal[1][j],
+                f"main_bearing{j}_t_Pa": bearing[0][j],
+                f"main_bearing{j}_z_Pa": bearing[1][j],
+            }
+        )
     wear = {"surface_angle_deg": wear_pins[0][0]}
     for k in range(cranks):
         wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
@@ -128,8 +158,12 @@ def _counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.nda
     per piston area [Pa]; zeros without counterweights (none fitted, or no balancing in the plan)."""
     if fitted is None:
         return np.zeros(cranks), np.zeros(cranks)
-    return brg.counterweight_crank_load_Pa(fitted.crank, np.asarray(fitted.centrifugal_N) / area_m2,
-                                           fitted.angle_from_crank_rad, cranks)
+    return brg.counterweight_crank_load_Pa(
+        fitted.crank,
+        np.asarray(fitted.centrifugal_N) / area_m2,
+        fitted.angle_from_crank_rad,
+        cranks,
+    )
 
 
 def _pin_and_rod_loads(loads, bays, motion, layout):
@@ -147,9 +181,16 @@ def _pin_and_rod_loads(loads, bays, motion, layout):
         delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
         local = np.radians((angle - delay) % 360.0)
         # without a rod (a Scotch yoke) the pin's bearing is the slider's, along the cylinder axis
-        beta = (0.0 if motion.rod_angle_rad is None else
-                np.interp(np.degrees(local), motion.crank_angle_deg[:revolution],
-                          motion.rod_angle_rad[:revolution], period=360.0))
+        beta = (
+            0.0
+            if motion.rod_angle_rad is None
+            else np.interp(
+                np.degrees(local),
+                motion.crank_angle_deg[:revolution],
+                motion.rod_angle_rad[:revolution],
+                period=360.0,
+            )
+        )
         rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local + tdc, beta)
     return pin_t, pin_z, rod_t, rod_z
 
@@ -163,7 +204,10 @@ def run(scene, inputs) -> StageOutput:
     theta = np.radians(angle)
     area = loads.piston_area_m2
     d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
-    for key, values, limit in (("bearings.pins", opts.pins, cranks), ("bearings.journals", opts.journals, cranks + 1)):
+    for key, values, limit in (
+        ("bearings.pins", opts.pins, cranks),
+        ("bearings.journals", opts.journals, cranks + 1),
+    ):
         if values is not None and any(not 1 <= v <= limit for v in values):
             raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
 
@@ -175,8 +219,12 @@ def run(scene, inputs) -> StageOutput:
     positions = np.array([theta + tdc - np.radians(lag) for lag in layout.crank_lag_deg])
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
-    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa + cw_t[:, None], loads.radial_Pa + cw_z[:, None],
-                                          loads.centrifugal_Pa, positions)
+    fa, fn = brg.crank_force_engine_frame(
+        loads.tangential_Pa + cw_t[:, None],
+        loads.radial_Pa + cw_z[:, None],
+        loads.centrifugal_Pa,
+        positions,
+    )
     share_after = np.full(cranks, opts.span_ratio)
     ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
     # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
@@ -196,8 +244,13 @@ def run(scene, inputs) -> StageOutput:
         s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
         return s, (psi, wear)
 
-    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True)
-    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)], strict=True)
+    pins, wear_pins = zip(
+        *[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True
+    )
+    journals, wear_journals = zip(
+        *[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)],
+        strict=True,
+    )
     most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
     most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
     drawn_pins = opts.pins or [most_loaded_pin]
@@ -207,26 +260,51 @@ def run(scene, inputs) -> StageOutput:
     results = {
         # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
         "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
-        "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
-                       "main_journal_width_m": w_main, "defaulted": defaulted,
-                       # the pin's d·B, and its width at its diameter, that the allowable
-                       # pressures need
-                       "crank_pin_area_needed_m2": area_needed,
-                       "crank_pin_width_needed_m": area_needed / d_pin},
+        "dimensions": {
+            "crank_pin_diameter_m": d_pin,
+            "crank_pin_width_m": w_pin,
+            "main_journal_diameter_m": d_main,
+            "main_journal_width_m": w_main,
+            "defaulted": defaulted,
+            # the pin's d·B, and its width at its diameter, that the allowable
+            # pressures need
+            "crank_pin_area_needed_m2": area_needed,
+            "crank_pin_width_needed_m": area_needed / d_pin,
+        },
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
-        "main_journals": [{"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)],
-        "rod_bearings": [{"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
-                         for k in range(cranks)],
-        "main_bearings": [{"journal": lay.journal_label(j), **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main)}
-                          for j in range(cranks + 1)],
+        "main_journals": [
+            {"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)
+        ],
+        "rod_bearings": [
+            {"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
+            for k in range(cranks)
+        ],
+        "main_bearings": [
+            {
+                "journal": lay.journal_label(j),
+                **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main),
+            }
+            for j in range(cranks + 1)
+        ],
         "drawn_pins": drawn_pins,
         "drawn_journals": drawn_journals,
         "span_ratio": opts.span_ratio,  # l'/l of every crank
         "chosen_by_default": opts.pins is None and opts.journals is None,
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
     }
-    tables = _tables(angle, (pin_t, pin_z), (rod_t, rod_z), (journal_t, journal_z), (bearing_t, bearing_z),
-                     wear_pins, wear_journals)
-    return StageOutput(data={}, results=results, tables=tables,
-                       notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
+    tables = _tables(
+        angle,
+        (pin_t, pin_z),
+        (rod_t, rod_z),
+        (journal_t, journal_z),
+        (bearing_t, bearing_z),
+        wear_pins,
+        wear_journals,
+    )
+    return StageOutput(
+        data={},
+        results=results,
+        tables=tables,
+        notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [],
+    )
