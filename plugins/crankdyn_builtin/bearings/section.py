@@ -80,7 +80,11 @@ def render(output: StageOutput, ctx) -> str | None:
             ),
             (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
         ],
-        caption=t("bearings.journals_table_caption"),
+        caption=t(
+            "bearings.journals_table_caption_single"
+            if single  # no preceding crank
+            else "bearings.journals_table_caption"
+        ),
         see="bearings.see_journals",
     )
     journals_table_number = ctx.last_table_number

@@ -6,7 +6,13 @@ from __future__ import annotations
 from markupsafe import Markup
 
 from crankdyn.report.typeset import journal_name as printed_journal
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_fixed, worked_markup
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed_fixed,
+    printed_g,
+    worked_markup,
+)
 
 
 def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -> WorkedStep:
@@ -14,8 +20,8 @@ def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -
     (kN, ·10³ to N), the bearing's size in mm (·10⁻³ to m), the result in Pa (·10⁻⁶ to the table's MPa)."""
     t = ctx.t
     q_txt, q = printed_fixed(t, record["max_N"] / 1e3, 2)
-    d_txt, d = printed(t, diameter_m * 1e3)
-    b_txt, b = printed(t, width_m * 1e3)
+    d_txt, d = printed_g(t, diameter_m * 1e3)  # as given, or as assumed to 0.1 mm
+    b_txt, b = printed_g(t, width_m * 1e3)
     return WorkedStep(
         quantity,
         "<i>p</i><sub>max</sub>",

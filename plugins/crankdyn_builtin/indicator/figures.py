@@ -7,7 +7,7 @@ import numpy as np
 from crankdyn.report.figures import crank_angle_axis, new_figure
 
 
-def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
+def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t, two_stroke=False) -> None:
     """The exhaust and intake strokes enlarged in a corner of the p–V diagram: at the scale of the
     combustion peak the pumping loop (0,1 MPa against 5 MPa) is one line."""
     low = 0.45 * float(np.max(actual_MPa)) / 5.0 + 0.1  # about 0.55 MPa for a 5 MPa peak
@@ -19,10 +19,13 @@ def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t) -> None:
     inset.tick_params(labelsize=7)
     inset.set_xlabel(t("indicator.axis_volume"), fontsize=7, labelpad=1)
     inset.set_ylabel(t("indicator.axis_pressure"), fontsize=7, labelpad=1)
-    inset.set_title(t("indicator.inset_title"), fontsize=7)
+    # a two-stroke has no pumping strokes: its low-pressure part is the scavenging near BDC
+    inset.set_title(
+        t("indicator.inset_title_two" if two_stroke else "indicator.inset_title"), fontsize=7
+    )
 
 
-def _pv_figure(volume_l, pressure, theory, points, t):
+def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
     """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
     fig, ax = new_figure(16, 9.5)
     if theory is not None:
@@ -47,6 +50,7 @@ def _pv_figure(volume_l, pressure, theory, points, t):
             np.append(theory, theory[0]),
             np.append(pressure, pressure[0]),
             t,
+            two_stroke,
         )
     for label, volume, p, (dx, dy) in points:
         ax.plot([volume], [p], "o", ms=3, color="k")

@@ -85,8 +85,9 @@ def render(output: StageOutput, ctx) -> str:
 
     theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
     points = _characteristic_points(ctx, frame, r) if has_theory else []
+    two_stroke = ctx.scene is not None and ctx.scene.engine.strokes == 2
     figure_pv = ctx.figure(
-        partial(_pv_figure, volume_l, pressure, theory, points, t),
+        partial(_pv_figure, volume_l, pressure, theory, points, t, two_stroke=two_stroke),
         t("indicator.pv_caption_points" if points else "indicator.pv_caption"),
         "pV",
         see="indicator.see_pv",
@@ -153,6 +154,7 @@ def render(output: StageOutput, ctx) -> str:
         table=table,
         deviation=deviation,
         has_theory=has_theory,
+        two_stroke=two_stroke,
     )
 
 

@@ -66,8 +66,10 @@ def _error_plot(records, key, t):
 
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
+    # a course note names no solver: the curve is the numerical integration's
+    course = ctx.scene is not None and ctx.scene.report.detail == "course"
     return ctx.figure(
-        partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
+        partial(_speed_plot, f, None if course else r["solver"]["method"], ctx.cycle_deg, ctx.t),
         ctx.t("speed_fluctuation.speed_caption"),
         "speed",
         see="speed_fluctuation.see_speed",
@@ -85,7 +87,9 @@ def _speed_plot(f, method, cycle_deg, t):
         color="C1",
         ls="--",
         lw=1,
-        label=t("speed_fluctuation.solver_curve", method=method),
+        label=t("speed_fluctuation.solver_curve", method=method)
+        if method
+        else t("speed_fluctuation.solver_curve_course"),
     )
     axes[0].plot(
         angle,

@@ -9,6 +9,17 @@ from .figures import _error_figure, _speed_figure
 from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
+#: The significant digits of the coefficient of cyclic irregularity a course note states: the
+#: flywheel section's (the energy method's δ, which the flywheel is designed with and the abstract
+#: names), so that one δ is printed alike in the abstract, the sections and the conclusions.
+ADOPTED_DELTA_DIGITS = 3
+
+
+def _course_digits(ctx, exact: float, energy: float, digits: int, most: int) -> int:
+    """``digits`` if the exact and the energy method's δ print differently with them, else
+    ``most`` (the digits that show their difference)."""
+    return digits if ctx.num(exact, digits) != ctx.num(energy, digits) else max(digits, most)
+
 
 def render(output: StageOutput, ctx) -> str:
     """The section: the speed over the cycle and the single-mass solver study, then the torsional
@@ -39,15 +50,31 @@ def render(output: StageOutput, ctx) -> str:
         ctx.title = t("speed_fluctuation.title_rigid")
     parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
-    ctx.conclude(
-        t(
-            "speed_fluctuation.conclusion" + ("_course" if course else ""),
-            delta=ctx.num(r["irregularity"], digits),
-            energy=ctx.num(r["irregularity_energy"], digits),
-            deviation=ctx.num(r["irregularity_deviation_percent"], 2),
-            method=r["solver"]["method"],
+    alike = False
+    if course:  # δ from speeds that differ by under a percent: four digits are all it holds
+        digits = 4
+        alike = ctx.num(r["irregularity"], digits) == ctx.num(r["irregularity_energy"], digits)
+        exact_digits = _course_digits(
+            ctx, r["irregularity"], r["irregularity_energy"], ADOPTED_DELTA_DIGITS, digits
         )
-    )
+        ctx.conclude(
+            t(
+                "speed_fluctuation.conclusion_course",
+                delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+                exact=ctx.num(r["irregularity"], exact_digits),
+                deviation=ctx.num(r["irregularity_deviation_percent"], 2),
+            )
+        )
+    else:
+        ctx.conclude(
+            t(
+                "speed_fluctuation.conclusion",
+                delta=ctx.num(r["irregularity"], digits),
+                energy=ctx.num(r["irregularity_energy"], digits),
+                deviation=ctx.num(r["irregularity_deviation_percent"], 2),
+                method=r["solver"]["method"],
+            )
+        )
     return ctx.render_template(
         "sections/speed_fluctuation.html.j2",
         r=r,
@@ -55,6 +82,8 @@ def render(output: StageOutput, ctx) -> str:
         delta_digits=digits,
         cylinders=ctx.scene.engine.cylinders,
         course=course,
+        adopted_digits=ADOPTED_DELTA_DIGITS,
+        alike=alike,
         sci=lambda value: _sci(value, t.decimal_separator),
         figure_speed=figure_speed,
         table_single=table_single,

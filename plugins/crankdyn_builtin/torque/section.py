@@ -50,7 +50,12 @@ def render(output: StageOutput, ctx) -> str | None:
         ],
     )
     columns = [("<i>α</i>, °", ctx.angle_labels(labels), None)]
-    for k in range(1, cranks + 1):
+    if cranks == 1:  # one crank: the sums over its cylinders, no running torque between cranks
+        columns += [
+            ("<i>z</i><sub>Σ</sub>", f["crank1_radial_Pa"][rows] / 1e6, 3),
+            ("<i>t</i><sub>Σ</sub>", f["crank1_tangential_Pa"][rows] / 1e6, 3),
+        ]
+    for k in range(1, cranks + 1 if cranks > 1 else 1):
         columns += [
             (f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
             (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
@@ -62,7 +67,11 @@ def render(output: StageOutput, ctx) -> str | None:
     tables = []
     per_table = 4
     for start in range(0, cranks, per_table):
-        chunk = [columns[0]] + columns[1 + 4 * start : 1 + 4 * min(start + per_table, cranks)]
+        chunk = (
+            [columns[0]] + columns[1 + 4 * start : 1 + 4 * min(start + per_table, cranks)]
+            if cranks > 1
+            else columns[:-1]
+        )
         if start + per_table >= cranks:
             chunk.append(columns[-1])
         with_torque = chunk[-1] is columns[-1]
@@ -121,7 +130,8 @@ def render(output: StageOutput, ctx) -> str | None:
             ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             (
-                "<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"),
+                ("<i>t</i><sub>Σ</sub>, " if cranks == 1 else "<i>t</i><sub>k<i>i</i></sub>, ")
+                + t("unit.MPa"),
                 [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows],
                 3,
             ),

@@ -44,7 +44,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
     f_txt, f_m2 = printed(t, area)
     inputs = {f"t{k}": v for k, (_, v) in enumerate(terms, start=1)}
     exact = {f"t{k}": float(row[f"crank{k}_tangential_Pa"]) / 1e6 for k in range(1, cranks + 1)}
-    total_html = f"<i>t</i><sub>k{cranks}</sub>"
+    total_html = f"<i>t</i><sub>k{cranks}</sub>" if cranks > 1 else "<i>t</i><sub>Σ</sub>"
     steps = [
         WorkedStep(
             "journal_torque_sum",
@@ -69,5 +69,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
             exact={"t_k": journal, "R": radius, "F_p": area, "alpha_deg": alpha},
         ),
     ]
+    if cranks == 1:  # one crank: t_Σ is its table's own column, no sum over cranks to show
+        steps = steps[1:]
     note = t("torque.worked_own_angles", angles=own) if own else ""
     return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))

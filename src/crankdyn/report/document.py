@@ -315,6 +315,7 @@ def _input_view(result, registry, ctx) -> SectionView:
                 "sections/input.html.j2",
                 scene=scene,
                 mechanism=mechanism,
+                mechanism_key=mechanism_key,
                 stage_rows=_stage_input_rows(result, ctx),
                 **_inputs_used(result),
             )
@@ -526,7 +527,7 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     from what the sections do (:func:`introduction_aim`)."""
     catalogs = [_catalog_section(registry, v.key) for v in sections]
     return {
-        "keywords": keywords(t, scene.engine.mechanism, catalogs),
+        "keywords": keywords(t, mechanism_key(scene.engine), catalogs),
         "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
         "introduction_aim": introduction_aim(t, catalogs),
     }
@@ -554,6 +555,14 @@ def _catalog_section(registry, stage: str) -> str:
     found = registry.stages.get(stage)
     look = found.presentation if found is not None else None
     return look.title_key.split(".", 1)[0] if look is not None and look.title_key else stage
+
+
+def mechanism_key(engine) -> str:
+    """The catalog key (``mechanism.<key>``) of the engine's mechanism as the note describes it:
+    a crank-slider with articulated rods is central for its master rod only."""
+    if engine.mechanism == "crank_slider" and getattr(engine, "rod_type", None) == "articulated":
+        return "crank_slider_articulated"
+    return engine.mechanism
 
 
 def keywords(t, mechanism: str, stages: list[str]) -> str:

@@ -277,6 +277,14 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         "symbol.journal_running_tangential",
         html="<i>t</i><sub>k<i>i</i></sub>",
     ),
+    # a single crank carrying several cylinders: its forces are sums over them (not cylinder i's)
+    # (the torque section's; the bays section names its own sums over a bay)
+    "crank_tangential_total": Symbol(
+        "t", {"en": "Σ"}, "unit.MPa", "symbol.crank_tangential_total", sections=SECTION_BOUND
+    ),
+    "crank_radial_total": Symbol(
+        "z", {"en": "Σ"}, "unit.MPa", "symbol.crank_radial_total", sections=SECTION_BOUND
+    ),
     "last_journal_tangential": Symbol(
         "t",
         {"en": "kN"},
@@ -533,6 +541,12 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     # the given data and the indicator diagram's tables
     "strokes": Symbol("τ", {}, "", "symbol.strokes"),
+    # not τ alone, which is the number of strokes
+    "ignition_delay_time": Symbol(
+        "τ", {"en": "i", "uk": "з", "ru": "з"}, "unit.ms", "symbol.ignition_delay_time"
+    ),
+    # the balancing means: Q = F + ΣC
+    "counterweight_force": Symbol("Q", {}, "unit.N", "symbol.counterweight_force"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),

@@ -1,0 +1,180 @@
+"""A note says what holds for its engine's kind: a two-stroke's gas exchange is the scavenging near
+BDC (no pumping strokes, no intake and exhaust lines), a single crank has no running torque, an
+articulated-rod radial's rods are not all central; its letters mean one thing each; its numbers
+are printed to the digits the data justify and one value is printed alike wherever it appears."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import as_read, shared_html
+
+#: A two-stroke's gas exchange, per language.
+SCAVENGING = {"en": "scavenging", "uk": "продування", "ru": "продувк"}
+PUMPING_ALREADY = {
+    "en": "already takes off the pumping strokes",
+    "uk": "насосні ходи в ній уже враховано",
+    "ru": "насосные ходы в ней уже учтены",
+}
+
+
+def _text(html: str) -> str:
+    body = html.split("<body", 1)[1]
+    body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", body, flags=re.S)
+    return " ".join(as_read(re.sub(r"<[^>]+>", " ", body)).split())
+
+
+@pytest.mark.parametrize("language", ["en", "uk", "ru"])
+def test_a_two_strokes_mechanical_losses_are_its_scavenging_not_pumping_strokes(language):
+    two = _text(
+        shared_html(
+            "two-stroke-1cyl", {"engine": {"effective_power": "5 kW"}}, language
+        ).linked_html
+    )
+    four = _text(shared_html("petrol-1cyl-uk", None, language).linked_html)
+    effective = re.search(r"N\s*e\s*= 5 \S+, .{0,300}", two).group(0)
+    assert PUMPING_ALREADY[language] not in effective, effective
+    assert SCAVENGING[language] in effective, effective
+    assert PUMPING_ALREADY[language] in four
+
+
+@pytest.mark.parametrize(
+    "two_stroke, title",
+    [(True, "продування поблизу НМТ (збільшено)"), (False, "впуск і випуск (збільшено)")],
+)
+def test_the_low_pressure_inset_of_a_two_stroke_shows_its_scavenging(two_stroke, title):
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from crankdyn.plugins import default_registry
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.indicator.figures import _pv_figure
+
+    volume = np.linspace(0.05, 0.5, 50)
+    pressure = 0.1 + 4.0 * (0.05 / volume) ** 1.3
+    t = translator("uk", default_registry().catalogs)
+    fig = _pv_figure(volume, pressure, pressure * 0.98, [], t, two_stroke=two_stroke)
+    titles = [ax.get_title() for ax in fig.axes[0].child_axes]
+    assert titles == [title]
+
+
+def _legend_texts(rendered, key: str) -> list[str]:
+    figure = next(f for f in rendered.figures if f.key == key).figure
+    return [
+        text.get_text()
+        for ax in figure.axes
+        if ax.get_legend()
+        for text in ax.get_legend().get_texts()
+    ]
+
+
+@pytest.mark.parametrize(
+    "detail, expected, absent",
+    [("course", "чисельне інтегрування", "RK45"), ("full", "RK45", "чисельне інтегрування")],
+)
+def test_a_course_notes_speed_figure_names_no_solver(detail, expected, absent):
+    legend = " | ".join(
+        _legend_texts(shared_html("inline4-petrol", {"report": {"detail": detail}}, "uk"), "speed")
+    )
+    assert expected in legend and absent not in legend, legend
+
+
+def _symbol_rows(html: str) -> list[str]:
+    return re.findall(r'<p class="symbol-row"><span class="symbol">(.*?)</span> – ', html)
+
+
+def test_the_torque_non_uniformity_is_a_formula_and_listed_among_the_symbols():
+    html = shared_html("v8-petrol", None, "ru").linked_html
+    assert "<i>μ</i>" in _symbol_rows(html)
+    assert re.search(
+        r"<i>μ</i> = \(<i>M</i><sub>max</sub> − <i>M</i><sub>min</sub>\)/"
+        r"<i>M</i><sub>ср</sub>\s=\s\d",
+        html,
+    )
+
+
+def test_the_ignition_delay_time_is_not_the_number_of_strokes():
+    html = shared_html("diesel-1cyl", None, "uk").linked_html
+    rows = _symbol_rows(html)
+    assert "<i>τ</i>" in rows and "<i>τ</i><sub>з</sub>" in rows, rows
+    assert re.search(r"6·<i>n</i>·<i>τ</i><sub>з</sub> за <i>τ</i><sub>з</sub>\s=\s\d", html)
+    assert not re.search(r"<i>τ</i>\s=\s\d", html)
+
+
+def test_the_number_of_cylinders_takes_no_letter_of_the_running_index():
+    html = shared_html("v8-petrol", None, "uk").linked_html
+    row = re.search(r"<tr[^>]*><td[^>]*>Кількість циліндрів</td>(.*?)</tr>", html).group(1)
+    assert "<i>i</i>" not in row, row
+
+
+def test_the_counterweights_force_is_listed_among_the_symbols():
+    html = shared_html("v8-petrol", None, "uk").linked_html
+    assert re.search(r"<i>Q</i> = <i>F</i> \+ Σ<i>C</i>", html)
+    assert "<i>Q</i>" in _symbol_rows(html)
+
+
+@pytest.mark.parametrize(
+    "language, word, central",
+    [
+        ("uk", "ГОЛОВНИМ І ПРИЧІПНИМИ ШАТУНАМИ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ"),
+        ("ru", "ГЛАВНЫМ И ПРИЦЕПНЫМИ ШАТУНАМИ", "ЦЕНТРАЛЬНЫЙ КРИВОШИПНО-ШАТУННЫЙ"),
+    ],
+)
+def test_an_articulated_rod_radial_is_not_called_a_central_crank_slider(language, word, central):
+    radial = _text(shared_html("radial9-aircraft", None, language).linked_html)
+    inline = _text(shared_html("inline4-petrol", None, language).linked_html)
+    assert word in radial and central not in radial
+    assert central in inline and word not in inline
+    assert "проходить через вісь колінчастого вала" not in radial.replace("осі циліндрів", "")
+
+
+def _pin_area_needed_mm2(changes) -> float:
+    """d·B at which the most loaded pin's mean and largest pressures are allowable, from the run's
+    loads and the petrol engines' 12 and 20 MPa."""
+    from conftest import shared_run
+
+    pins = shared_run("radial9-aircraft", changes).outputs["bearings"].results["crank_pins"]
+    return max(max(p["mean_N"] for p in pins) / 12.0, max(p["max_N"] for p in pins) / 20.0)
+
+
+@pytest.mark.parametrize(
+    "changes, assumed",
+    [
+        (None, True),
+        ({"bearings": {"crank_pin_diameter": "60 mm", "crank_pin_width": "30 mm"}}, False),
+    ],
+)
+def test_a_too_small_crank_pin_is_given_the_size_it_needs(changes, assumed):
+    text = _text(shared_html("radial9-aircraft", changes, "uk").linked_html)
+    needed = _pin_area_needed_mm2(changes)
+    sentences = re.findall(r"d · B ≥ (\d+) мм²", text)  # as printed: three significant digits
+    assert len(sentences) == 2, sentences  # the section's and the conclusion's
+    assert all(abs(int(v) - needed) <= 0.005 * needed for v in sentences), (sentences, needed)
+    assert ("ґрунтується на прийнятих розмірах" in text) is assumed
+    assert ("прийнятих за типовими співвідношеннями" in text) is assumed
+
+
+def test_a_range_whose_ends_print_alike_is_said_as_one_value():
+    import sys
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    from test_scene_corpus import check_ranges
+
+    # a flywheel so heavy that the mechanism's own variable inertia changes no printed digit
+    heavy = {"flywheel": {"required_irregularity": 0.00005, "rim_mean_diameter": "500 mm"}}
+    html = shared_html("inline4-petrol", heavy, "uk").linked_html
+    note = type("Note", (), {"text": _text(html)})()
+    assert not check_ranges(note), check_ranges(note)
+    assert re.search(r"<i>J</i>\s≈\s\d", html)
+
+
+def test_assumed_journal_sizes_are_printed_to_a_tenth_of_a_millimetre():
+    html = shared_html("radial9-aircraft", None, "uk").linked_html
+    text = _text(html)
+    sizes = re.search(r"Розміри шийок: (.*?)\. У завданні", text).group(1)
+    values = re.findall(r"= (\d+(?:,\d+)?) мм", sizes)
+    assert len(values) == 4 and all(len(v.partition(",")[2]) <= 1 for v in values), sizes
+    # the worked substitution takes the sizes as printed
+    assert re.search(rf"\({values[0]}·10\s*−\s*3\s*·\s*{values[1]}·10", text), values
