@@ -527,7 +527,7 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     from what the sections do (:func:`introduction_aim`)."""
     catalogs = [_catalog_section(registry, v.key) for v in sections]
     return {
-        "keywords": keywords(t, mechanism_key(scene.engine), catalogs),
+        "keywords": keywords(t, mechanism_key(scene.engine, t), catalogs),
         "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
         "introduction_aim": introduction_aim(t, catalogs),
     }
@@ -557,11 +557,13 @@ def _catalog_section(registry, stage: str) -> str:
     return look.title_key.split(".", 1)[0] if look is not None and look.title_key else stage
 
 
-def mechanism_key(engine) -> str:
+def mechanism_key(engine, t) -> str:
     """The catalog key (``mechanism.<key>``) of the engine's mechanism as the note describes it:
-    a crank-slider with articulated rods is central for its master rod only."""
-    if engine.mechanism == "crank_slider" and getattr(engine, "rod_type", None) == "articulated":
-        return "crank_slider_articulated"
+    with articulated rods, ``<mechanism>_articulated`` where a catalog describes it (a mechanism
+    whose cylinder axes meet the shaft's holds that for its master rod only)."""
+    articulated = f"{engine.mechanism}_articulated"
+    if getattr(engine, "rod_type", None) == "articulated" and t.has(f"mechanism.{articulated}"):
+        return articulated
     return engine.mechanism
 
 
