@@ -600,7 +600,10 @@ def _words_broken_at_line_ends(pages: list[str], html: str) -> list[str]:
     for page in pages:  # (a table's line holds its other columns after the broken word)
         for line in page.splitlines():
             end = re.search(r"(?<![\w-])(\w+)[-\u2010]$", line.rstrip())
-            if end and not re.search(rf"(?<![\w-]){re.escape(end.group(1))}-\w", shown):
+            if end is None:
+                continue
+            compound = rf"(?<![\w-]){re.escape(end.group(1))}-\w"
+            if not re.search(compound, shown, flags=re.IGNORECASE):  # (a heading in capitals)
                 broken.append(line.strip()[-40:])
     return broken
 
