@@ -21,10 +21,10 @@ from dataclasses import replace
 from pathlib import Path
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 GOAL_FPS = 30.0
 

@@ -53,8 +53,9 @@ def write_variants(path: Path, rows: int) -> Path:
 
 def _cold_warm(formats, languages=()) -> None:
     """A batch parent without the warm-up: the plugins and the report code only."""
-    import crankdyn.batch as batch
-    from crankdyn import outputs, pipeline  # noqa: F401
+    import crankdyn.batch.variants as batch
+    from crankdyn.output import pipeline  # noqa: F401
+    from crankdyn.output import writers as outputs  # noqa: F401
     from crankdyn.report import i18n  # noqa: F401
 
     batch._registry()
@@ -64,7 +65,7 @@ def _cold_warm(formats, languages=()) -> None:
 
 def one_batch(mode: str, variants: Path, out: Path, formats: list[str], jobs: int) -> dict:
     """One whole batch in this (fresh) process; ``mode`` is warm or cold."""
-    import crankdyn.batch as batch
+    import crankdyn.batch.variants as batch
     from crankdyn.cli import examples_dir
 
     if mode == "cold":
@@ -90,7 +91,7 @@ def work_per_variant(formats: list[str], out: Path) -> float:
     """Median seconds of one variant computed, rendered and written in a warm process (no fork)."""
     import tomllib
 
-    import crankdyn.batch as batch
+    import crankdyn.batch.variants as batch
     from crankdyn.cli import examples_dir
 
     base_path = examples_dir() / "petrol-1cyl.toml"

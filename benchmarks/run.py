@@ -11,11 +11,11 @@ import statistics
 import time
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_plan
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import plan, run_plan
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.pdf import html_to_pdf
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 GOALS_S = {"compute": 0.050, "html": 2.0}
 

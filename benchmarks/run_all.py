@@ -26,12 +26,12 @@ import time
 import numpy as np
 
 from crankdyn.cli import examples_dir
-from crankdyn.contracts import GAS_PRESSURE, KINEMATICS
-from crankdyn.orchestrator import plan, run_plan
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import plan, run_plan
+from crankdyn.plugin.contracts import GAS_PRESSURE, KINEMATICS
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.pdf import html_to_pdf
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "kinematics-only",
             "inline4-petrol", "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]

@@ -35,9 +35,9 @@ def _point(example: str, step: float, cylinders: int | None, memory: bool) -> di
     import tracemalloc
 
     from crankdyn.cli import examples_dir
-    from crankdyn.orchestrator import plan, stage_inputs
-    from crankdyn.plugins import default_registry
-    from crankdyn.scene import load_scene
+    from crankdyn.engine.orchestrator import plan, stage_inputs
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.scene.model import load_scene
 
     overrides = {"analysis": {"angle_step_deg": step, "table_step_deg": 30 if 30 / step == round(30 / step) else step}}
     if cylinders is not None:

@@ -11,7 +11,7 @@ key sees new inputs at every point. Measured, each in this one process and run:
 
 * ``per point``: a sample of the grid through the whole pipeline point by point, the error study
   included (what a sweep computed for each point before it ran in chunks);
-* ``chunked``: the whole grid as ``crankdyn sweep`` computes it (crankdyn.grid_run): chunks of
+* ``chunked``: the whole grid as ``crankdyn sweep`` computes it (crankdyn.batch.grid_run): chunks of
   points on ``--jobs`` worker processes, the key's stages only, ``run_many`` where a stage has one,
   the study once for the base scene;
 * ``dask``: the same on a local Dask cluster of ``--jobs`` worker processes, timed after a
@@ -38,10 +38,10 @@ from pathlib import Path
 
 import numpy as np
 
-from crankdyn.batch import RunOptions, execute, load_base
+from crankdyn.batch.grid_run import execute_key
+from crankdyn.batch.sweep import base_for, base_studies, sweep_from_args, variants
+from crankdyn.batch.variants import RunOptions, execute, load_base
 from crankdyn.cli import examples_dir
-from crankdyn.grid_run import execute_key
-from crankdyn.sweep_grid import base_for, base_studies, sweep_from_args, variants
 
 SCENE = examples_dir() / "petrol-1cyl.toml"
 GOALS = {"points_per_s": 500.0, "of_numpy": 10.0, "dask_share": 0.8}
@@ -245,6 +245,11 @@ def main() -> None:
     print(f"CPU time per point (this process and its workers): chunked {chunked_cpu * 1e6:.0f} us, "
           f"bare numpy {numpy_cpu * 1e6:.0f} us: {chunked_cpu / numpy_cpu:.1f}x (on a shared "
           f"machine the wall-clock ratios follow the other load; these do not)")
+    idle = args.jobs / chunked_cpu
+    print(f"chunked on {args.jobs} otherwise idle cores (jobs / CPU time per point): {idle:9.1f} "
+          f"points/s;  goal >= {GOALS['points_per_s']:g}: {idle / GOALS['points_per_s']:.2f} of it")
+    print(f"machine load while measured (1, 5, 15 min): "
+          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
     print(f"chunked vs per point, largest relative difference over the sample's key: {worst:.2g}")
     print("bare numpy vs the key, closed-form columns: largest relative difference "
           f"{closed_form:.2g}")

@@ -114,11 +114,11 @@ def modified(name: str, changes: dict) -> dict:
 
 @functools.cache
 def _shared_run(name: str, changes_json: str, stages: tuple[str, ...] | None):
-    from crankdyn.orchestrator import (
+    from crankdyn.engine.orchestrator import (
         run_scene,  # lazy: the heavy imports only for the tests that compute
     )
-    from crankdyn.plugins import default_registry
-    from crankdyn.scene import scene_from_dict
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.scene.model import scene_from_dict
 
     scene = scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir())
     return run_scene(scene, default_registry(), None if stages is None else list(stages))
@@ -133,7 +133,7 @@ def shared_run(name: str, changes: dict | None = None, stages=None):
 
 @functools.cache
 def _shared_html(name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None):
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import render_html
 
     return render_html(_shared_run(name, changes_json, stages), default_registry(), language)

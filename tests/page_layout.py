@@ -153,9 +153,13 @@ def page_texts(pdf: Path, html: str) -> list[str]:
             for p, f, w, wide, is_first in zip(portrait, first, landscape, landscape_pages(pdf), first_sheets(pdf), strict=True)]
 
 
+#: characters that shape a line break and print nothing: pdftotext never gives them back
+_INVISIBLE = dict.fromkeys(map(ord, "\u2060\u00ad\u200b"))
+
+
 def _plain(markup: str) -> str:
     text = html_lib.unescape(re.sub(r"<[^>]+>", "", re.sub(r"<br\s*/?>", " ", markup)))
-    return " ".join(text.split())
+    return " ".join(text.translate(_INVISIBLE).split())
 
 
 def headings(html: str) -> list[str]:

@@ -16,11 +16,13 @@ import pytest
 from conftest import modified
 from openpyxl import load_workbook
 
-from crankdyn import answer_key, batch, outputs
+from crankdyn.batch import answer_key
+from crankdyn.batch import variants as batch
 from crankdyn.cli import examples_dir
-from crankdyn.pipeline import run_and_render
-from crankdyn.plugins import collect, plugin_manager
-from crankdyn.scene import scene_from_dict
+from crankdyn.output import writers as outputs
+from crankdyn.output.pipeline import run_and_render
+from crankdyn.plugin.registry import collect, plugin_manager
+from crankdyn.scene.model import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -32,8 +34,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import AnswerColumn, Catalog, Stage, StageOutput, Symbol
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StageOutput, StagePresentation, Symbol
 
 HERE = Path(__file__).resolve().parent
 
@@ -56,13 +58,14 @@ def render(output, ctx):
     return ctx.render_template("sections/throwaway.html.j2", r=output.results, figure=figure)
 
 
-STAGE = Stage(name="throwaway", title_key="throwaway.title", requires=(), provides=(),
-              applies=lambda scene: None, run=run, render=render, default=False,
-              template_dir=HERE / "templates",
-              figures=("throwaway_travel",), tables=("travel",),
+STAGE = Stage(name="throwaway", requires=(), provides=(), applies=lambda scene: None, run=run,
+              default=False, tables=("travel",),
               answer_columns=(AnswerColumn("throwaway_stroke_mm", "stroke_m", "mm", factor=1e3,
                                            label_key="throwaway.answer.stroke"),),
-              symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")})
+              presentation=StagePresentation(
+                  title_key="throwaway.title", render=render, template_dir=HERE / "templates",
+                  figures=("throwaway_travel",),
+                  symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")}))
 
 
 @hookimpl

@@ -11,11 +11,11 @@ import io
 import pytest
 from openpyxl import load_workbook
 
-from crankdyn import batch
-from crankdyn.answer_key import answer_columns
-from crankdyn.batch import Outcome, RunOptions, Variant, batch_language, key_files
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.plugins import default_registry
+from crankdyn.batch import variants as batch
+from crankdyn.batch.answer_key import answer_columns
+from crankdyn.batch.variants import Outcome, RunOptions, Variant, batch_language, key_files
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
 from crankdyn.report.i18n import load_catalog_file
 
 REGISTRY = default_registry()

@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 import crankdyn
-from crankdyn.pipeline import write_report
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene
+from crankdyn.output.pipeline import write_report
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "api.md"
@@ -182,6 +182,6 @@ def test_the_sweep_command_module_does_not_shadow_the_api_function():
     """`crankdyn.sweep` stays the API function after the `crankdyn sweep` command's module is loaded
     (a submodule named ``sweep`` would replace the package attribute on import)."""
     import crankdyn
-    import crankdyn.sweep_grid  # noqa: F401
+    import crankdyn.batch.sweep  # noqa: F401
 
     assert callable(crankdyn.sweep) and crankdyn.sweep.__module__ == "crankdyn.api"

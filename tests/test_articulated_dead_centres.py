@@ -17,9 +17,9 @@ from conftest import modified
 from scipy import optimize
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 

@@ -1,4 +1,4 @@
-"""Work a stage hands aside (crankdyn.aside): computed in a forked child only when the report's
+"""Work a stage hands aside (crankdyn.parallel.fork): computed in a forked child only when the report's
 process has a spare core, the same value as computed in place, and every way the child can fail
 ends with the value computed in the stage's process (its own error raised there), no process
 left behind.
@@ -11,7 +11,7 @@ import os
 import pytest
 from child_processes import children, in_fresh_process
 
-from crankdyn.aside import aside, spare_core
+from crankdyn.parallel.fork import aside, spare_core
 
 forking = pytest.mark.skipif(
     not hasattr(os, "fork") or len(os.sched_getaffinity(0)) < 2,
@@ -136,9 +136,9 @@ def test_the_error_study_is_the_same_with_and_without_the_spare_core(monkeypatch
     # every value but the measured times is the one the serial run gives
     from conftest import example_data
 
-    from crankdyn.orchestrator import run_scene
-    from crankdyn.plugins import default_registry
-    from crankdyn.scene import scene_from_dict
+    from crankdyn.engine.orchestrator import run_scene
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.scene.model import scene_from_dict
 
     data = example_data("petrol-1cyl")
     data["numerics"] = {"steps_deg": [30, 10, 2], "repeats": 2}

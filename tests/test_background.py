@@ -1,4 +1,4 @@
-"""The studies computed in a forked child while the report is rendered (crankdyn.background):
+"""The studies computed in a forked child while the report is rendered (crankdyn.engine.studies):
 the same outputs as the serial run, and every way the child can fail ends with the study
 computed in the report's process (its own error raised there), no process left behind.
 
@@ -14,12 +14,12 @@ import pytest
 from child_processes import children, in_fresh_process
 from conftest import example_data
 
-from crankdyn.background import ForkedRun, ForkedStudies, start_studies
+from crankdyn.engine.orchestrator import plan, run_plan
+from crankdyn.engine.studies import ForkedRun, ForkedStudies, start_studies
 from crankdyn.errors import Problem, SceneError
-from crankdyn.orchestrator import plan, run_plan
-from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.plugins import Registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import Registry
+from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.scene.model import scene_from_dict
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the studies' child is forked")
 
@@ -160,8 +160,8 @@ def test_a_report_that_fails_meanwhile_leaves_no_child():
 
 @in_fresh_process
 def test_the_real_error_study_comes_from_the_child_in_a_report(monkeypatch):
-    from crankdyn import pipeline
-    from crankdyn.plugins import default_registry
+    from crankdyn.output import pipeline
+    from crankdyn.plugin.registry import default_registry
 
     taken = []
     take = ForkedStudies.take
@@ -216,8 +216,9 @@ def test_a_stage_failing_or_unpicklable_outputs_in_the_child_leave_the_run_to_th
 
 @in_fresh_process
 def test_a_report_computes_its_stages_in_a_child_while_it_prepares_the_figures(monkeypatch):
-    from crankdyn import background, pipeline
-    from crankdyn.plugins import default_registry
+    from crankdyn.engine import studies as background
+    from crankdyn.output import pipeline
+    from crankdyn.plugin.registry import default_registry
 
     got = []
     result_of = background.ForkedRun.result

@@ -70,6 +70,26 @@ def test_bad_scene_is_refused_cleanly(tmp_path: Path, capsys, case, changes, exp
     assert not out_dir.exists() or not any(out_dir.rglob("*")), "nothing may be written for a bad scene"
 
 
+@pytest.mark.parametrize("rounding, field, words", [
+    # the default delay 6·n·τ = 6 · 2500 · 1.5 ms = 22.5 deg outgrows the default advance 18 deg
+    ({"ignition_advance_deg": None, "combustion_delay_time": None},
+     "cycle.rounding.ignition_advance_deg = '18 (default)'", ("6·n·τ = 22.5 deg", "engine.rpm = 2500")),
+    ({"combustion_delay_time": None, "combustion_delay_deg": 30},
+     "cycle.rounding.combustion_delay_deg = 30", ("ignition_advance_deg (22 deg)",)),
+])
+def test_a_diesel_delay_past_the_advance_names_the_fields_to_change(tmp_path: Path, capsys, rounding,
+                                                                    field, words):
+    scene = write_scene(tmp_path / "scene.toml",
+                        modified("diesel-1cyl", {"engine": {"rpm": 2500}, "cycle": {"rounding": rounding}}))
+    code = main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "json"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert field in err and all(w in err for w in words), err
+    assert "(see message)" not in err
+    _no_traceback(err)
+    assert not (tmp_path / "out").exists()
+
+
 def _trace_scene(tmp_path: Path, trace_text: str | None, name: str = "trace.csv") -> Path:
     if trace_text is not None:
         (tmp_path / name).write_text(trace_text, encoding="utf-8")

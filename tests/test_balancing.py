@@ -12,13 +12,13 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import balancing as bal
 from crankdyn.physics.layout import build_layout
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 SQRT3 = math.sqrt(3.0)
@@ -447,7 +447,7 @@ def test_results_json_ready_and_csv_table():
 def test_order_vectors_of_a_flat_inline4():
     """The vector-method piece of the stage on its own: a flat-crank inline 4 cancels its first order
     and its rotating forces, and the four second-order forces add up (coefficient 4, Poda's table)."""
-    from crankdyn_builtin.balancing.stage import order_vectors
+    from crankdyn_builtin.balancing.vectors import order_vectors
 
     g = bal.geometry_from_layout(_layout("inline4"))
     harmonics = bal.harmonics_for(MASSES.rod_ratio, bal.orders_needed(MASSES.rod_ratio))
@@ -465,7 +465,7 @@ def test_order_vectors_of_a_flat_inline4():
     ((1, False, True, True), "counterweights+shaft_backward"), ((2, False, True, True), "shaft_forward+shaft_backward"),
     ((4, False, True, True), "none")])
 def test_remedy_names_the_means(args, expected):
-    from crankdyn_builtin.balancing.stage import remedy
+    from crankdyn_builtin.balancing.means import remedy
 
     assert remedy(*args, balance_orders=(1, 2), first_order_forward="crankshaft") == expected
 

@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from conftest import as_read, run_cli
 
-from crankdyn.batch import parse_cell, read_variants, run_batch
+from crankdyn.batch.variants import parse_cell, read_variants, run_batch
 from crankdyn.cli import examples_dir
 from crankdyn.errors import SceneError
 

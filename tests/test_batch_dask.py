@@ -15,8 +15,8 @@ import pytest
 from conftest import run_cli
 from test_batch_limits import MARKER_PREFIX, SLOW_RPM, SLOW_STAGE
 
-import crankdyn.batch as batch
-from crankdyn.batch import run_batch
+import crankdyn.batch.variants as batch
+from crankdyn.batch.variants import run_batch
 from crankdyn.cli import examples_dir
 
 distributed = pytest.importorskip("distributed")
@@ -113,7 +113,7 @@ def test_jobs_and_scheduler_together_are_refused(tmp_path):
 
 def test_dask_is_imported_only_for_a_scheduler(tmp_path):
     """The local pool never loads dask: it stays an optional extra."""
-    code = ("import sys; from pathlib import Path; from crankdyn.batch import run_batch; "
+    code = ("import sys; from pathlib import Path; from crankdyn.batch.variants import run_batch; "
             "r = run_batch(Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3]), ['json'], jobs=1, progress=False); "
             "print(len(r.outcomes), sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))")
     done = subprocess.run([sys.executable, "-c", code, str(_variants(tmp_path / "v.csv")), str(BASE),
@@ -122,8 +122,8 @@ def test_dask_is_imported_only_for_a_scheduler(tmp_path):
 
 
 def test_a_sweep_on_the_cluster_gives_the_local_answer_key(tmp_path, cluster):
-    from crankdyn.batch import RunOptions
-    from crankdyn.sweep_grid import SweepRequest, run_sweep, sweep_from_args
+    from crankdyn.batch.sweep import SweepRequest, run_sweep, sweep_from_args
+    from crankdyn.batch.variants import RunOptions
 
     keys = []
     for name, scheduler in (("local", None), ("dask", cluster.scheduler_address)):

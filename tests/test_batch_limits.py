@@ -12,11 +12,11 @@ from pathlib import Path
 import pytest
 from openpyxl import load_workbook
 
-import crankdyn.batch as batch
-from crankdyn.batch import neutralised, read_variants, run_batch
+import crankdyn.batch.variants as batch
+from crankdyn.batch.variants import neutralised, read_variants, run_batch
 from crankdyn.cli import examples_dir
-from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.types import Stage, StageOutput
 
 BASE = examples_dir() / "kinematics-only.toml"
 HANG_S = 60.0  # far beyond the test's time limit: finishing at all proves the variant was stopped

@@ -18,9 +18,10 @@ from pathlib import Path
 import pytest
 
 import crankdyn
-import crankdyn.batch as batch
-import crankdyn.grid_run as grid_run
-from crankdyn.batch import (
+import crankdyn.batch.grid_run as grid_run
+import crankdyn.batch.variants as batch
+from crankdyn.batch.sweep import MAX_POINTS, parse_values
+from crankdyn.batch.variants import (
     MAX_FIELDS,
     MAX_VARIANT_NAME_BYTES,
     MAX_VARIANT_NAME_CHARS,
@@ -31,11 +32,10 @@ from crankdyn.batch import (
     run_batch,
     worker_count,
 )
-from crankdyn.batch_runner import MAX_TIMEOUT_S, check_seconds
 from crankdyn.cli import examples_dir, main
 from crankdyn.errors import SceneError, UsageError
-from crankdyn.manifest import MANIFEST
-from crankdyn.sweep_grid import MAX_POINTS, parse_values
+from crankdyn.output.manifest import MANIFEST
+from crankdyn.parallel.pool import MAX_TIMEOUT_S, check_seconds
 
 BASE = examples_dir() / "kinematics-only.toml"
 #: Allocation a refused request may make while it is checked: far below any list of the refused
@@ -245,7 +245,7 @@ def test_ranges_of_countless_values_are_refused_with_the_limit(text):
 
 
 def test_a_listed_axis_beyond_the_limit_is_refused():
-    from crankdyn.sweep_grid import axis_from_toml
+    from crankdyn.batch.sweep import axis_from_toml
 
     with pytest.raises(SceneError, match=f"at most {MAX_POINTS}"):
         axis_from_toml("engine.rpm", list(range(MAX_POINTS + 1)))

@@ -1,4 +1,4 @@
-"""The batch's worker processes (crankdyn.batch_runner.run_all): each runs several items in turn
+"""The batch's worker processes (crankdyn.parallel.pool.run_all): each runs several items in turn
 (keeping what it loaded), is replaced after VARIANTS_PER_WORKER items, and one that hangs or dies
 fails only its own item; nothing is left running, even when the batch's process dies."""
 
@@ -12,8 +12,8 @@ import time
 
 import pytest
 
-from crankdyn import batch_runner
-from crankdyn.batch_runner import VARIANTS_PER_WORKER, run_all
+from crankdyn.parallel import pool as batch_runner
+from crankdyn.parallel.pool import VARIANTS_PER_WORKER, run_all
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="workers are forked")
 
@@ -95,7 +95,7 @@ def test_workers_leave_when_the_batch_process_dies():
     # the batch's process ends without stopping its worker (killed, out of memory, ...)
     code = """
     import os, sys
-    from crankdyn.batch_runner import _Worker
+    from crankdyn.parallel.pool import _Worker
     worker = _Worker(print)
     print(worker.pid, flush=True)
     os._exit(0)

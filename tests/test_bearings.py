@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from conftest import shared_html, shared_run
 
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import bearings as brg
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 
 REGISTRY = default_registry()
 
@@ -166,7 +166,7 @@ def test_bearing_section_renders(language):
 
 def test_load_diagram_labels_of_coinciding_points_are_merged():
     """alpha and alpha + 360 deg at (nearly) one point of a load diagram share one label."""
-    from crankdyn_builtin.bearings.stage import _coinciding
+    from crankdyn_builtin.bearings.labels import _coinciding
 
     x = [0.0, 1.0, 0.001, 2.0, 1.02, 5.0]
     y = [0.0, 1.0, 0.0, 2.0, 1.0, 5.0]
@@ -176,7 +176,7 @@ def test_load_diagram_labels_of_coinciding_points_are_merged():
 
 def test_load_diagram_labels_move_to_a_free_corner():
     """A label whose place up and right of its point is taken goes to the first free corner."""
-    from crankdyn_builtin.bearings.stage import _label_places
+    from crankdyn_builtin.bearings.labels import _label_places
 
     points, texts = [(0.0, 0.0), (1.0, 0.0), (100.0, 100.0)], ["210", "570", "30"]
     places = _label_places(points, texts, per_pt=1.0)  # a 3-digit label is about 10 x 7 pt
@@ -189,7 +189,7 @@ def test_load_diagram_labels_move_to_a_free_corner():
 
 def test_load_diagram_labels_side_by_side_keep_a_gap():
     """"210, 570" ending 1 pt before "30" would read as "210, 57030": the second label moves."""
-    from crankdyn_builtin.bearings.stage import _label_places
+    from crankdyn_builtin.bearings.labels import _label_places
 
     width = len("210, 570") * 3.8
     points = [(0.0, 0.0), (width + 1.0, 0.0)]  # "30" would start 1 pt after "210, 570" ends
@@ -202,7 +202,7 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
     """Crowded labels printed over each other were unreadable ("300, 660" on a tick label): a
     label with no free corner, near or further out, inside the plotting area, is left out (the
     point keeps its mark, the table its numbers); labels are placed in the order asked for."""
-    from crankdyn_builtin.bearings.stage import _label_places
+    from crankdyn_builtin.bearings.labels import _label_places
 
     # a box just large enough for the point itself: no 10 pt label fits inside
     assert _label_places([(0.0, 0.0)], ["210"], per_pt=1.0, bounds=(-3.0, -3.0, 3.0, 3.0)) == [None]
@@ -216,7 +216,7 @@ def test_load_diagram_label_without_room_is_left_out_and_the_important_ones_go_f
 def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
     """No "330" beside the 480° mark, no "120" beside the 330° one: whatever the
     crowding, a label's box is nearer its own point than any other point."""
-    from crankdyn_builtin.bearings.stage import _label_places
+    from crankdyn_builtin.bearings.labels import _label_places
 
     rng = np.random.default_rng(7)
     points = [tuple(p) for p in rng.uniform(0.0, 60.0, size=(25, 2))]
@@ -240,7 +240,7 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
 def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
     """No "90, 330, 660" printed over the oil hole's line, no "180" over the pole's O:
     a label's box meets none of the obstacles (pole, letter O, points along the line)."""
-    from crankdyn_builtin.bearings.stage import _label_places, _pole_and_oil_hole
+    from crankdyn_builtin.bearings.labels import _label_places, _pole_and_oil_hole
 
     obstacles = _pole_and_oil_hole(pole_z=0.0, radius=20.0, oil_deg=0.0, per_pt=1.0)  # the line runs up to z = 20
     # screen y is −z: the line occupies y in [−20, 0] at x = 0
@@ -267,7 +267,7 @@ def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
     curve's centre; where every free corner is crossed, to the one crossed least."""
     import numpy as np
 
-    from crankdyn_builtin.bearings.stage import _curve_samples, _label_places
+    from crankdyn_builtin.bearings.labels import _curve_samples, _label_places
 
     angle = np.radians(np.arange(0.0, 360.0, 1.0))
     circle = _curve_samples(50 * np.cos(angle), 50 * np.sin(angle), 1.0)
@@ -290,8 +290,8 @@ def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
 def test_counterweight_loads_in_crank_axes():
     """+t is the direction of rotation, +z from the pin to the shaft axis (crank_axes): a
     counterweight opposite the pin pulls along +z, one 90° ahead along +t."""
-    from crankdyn.contracts import Counterweights
-    from crankdyn_builtin.bearings.stage import _counterweight_loads_Pa as counterweight_loads_Pa
+    from crankdyn.plugin.contracts import Counterweights
+    from crankdyn_builtin.bearings.compute import _counterweight_loads_Pa as counterweight_loads_Pa
 
     fitted = Counterweights(crank=np.array([0, 1, 1]), centrifugal_N=np.array([2.0, 3.0, 1.0]),
                             angle_from_crank_rad=np.radians([180.0, 90.0, 0.0]))
@@ -307,7 +307,7 @@ def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
     spans: each main journal's diagram (the reaction, in crank axes) moves by -Q/2 along z at
     every angle, t unchanged; the crank pin's load does not change. Q from the masses of the
     forces stage, not from the balancing stage's numbers."""
-    from crankdyn.orchestrator import plan
+    from crankdyn.engine.orchestrator import plan
 
     with_cw = run("petrol-1cyl")
     scene = with_cw.scene
@@ -372,7 +372,7 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     are at most HALF_WIDTH_CM wide; "рис. 7.1" is never parted at a line's end."""
     import re
 
-    from crankdyn_builtin.bearings.stage import HALF_WIDTH_CM, _polar_size
+    from crankdyn_builtin.bearings.figures import HALF_WIDTH_CM, _polar_size
 
     html = shared_html("petrol-1cyl-uk").linked_html
     rows = re.findall(r'<div class="figure-row-block"><p class="see">([^<]*)</p><div class="figure-row">(.*?)</div></div></div>',
@@ -393,7 +393,7 @@ def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():
     and t (the direction of rotation, at 90°), inside the journal's circle."""
     import numpy as np
 
-    from crankdyn_builtin.bearings.stage import _wear_drawing
+    from crankdyn_builtin.bearings.figures import _wear_drawing
 
     psi = np.arange(0.0, 360.0, 1.0)
     wear = {"surface_angle_deg": psi, "pin1_wear_N": 1.0 + np.cos(np.radians(psi))}

@@ -6,12 +6,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from crankdyn.cache import StageCache
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_plan
-from crankdyn.outputs import json_bytes, results_document
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene
+from crankdyn.engine.orchestrator import plan, run_plan
+from crankdyn.engine.stage_cache import StageCache
+from crankdyn.output.writers import json_bytes, results_document
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
 STAGES = ["forces"]  # kinematics, indicator, forces: quick, and the indicator reads no masses
@@ -81,7 +81,7 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
     ``scene.resolve`` runs again (and only it, and what follows from it)."""
     import shutil
 
-    from crankdyn.cache import FILE
+    from crankdyn.engine.stage_cache import FILE
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
@@ -104,20 +104,20 @@ def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_
     (a digest taken after the run would miss an edit made while the stage ran)."""
     import shutil
 
-    import crankdyn_builtin.indicator.stage as indicator_stage
+    import crankdyn_builtin.indicator.compute as indicator_compute
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")
     scene = load_scene(tmp_path / "trace.toml")
-    read = indicator_stage.trace.read_diesel_rk_ind
+    read = indicator_compute.trace.read_diesel_rk_ind
 
     def read_then_saved(path):
         out = read(path)
-        monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read)
+        monkeypatch.setattr(indicator_compute.trace, "read_diesel_rk_ind", read)
         Path(path).write_bytes(Path(path).read_bytes().replace(b"1600", b"1601", 1) + b"\n")
         return out
 
-    monkeypatch.setattr(indicator_stage.trace, "read_diesel_rk_ind", read_then_saved)
+    monkeypatch.setattr(indicator_compute.trace, "read_diesel_rk_ind", read_then_saved)
     cache = StageCache()
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
@@ -130,7 +130,7 @@ def test_a_study_computed_elsewhere_depends_on_the_data_files_too(tmp_path):
     does not leave it stale."""
     import shutil
 
-    from crankdyn.cache import FILE
+    from crankdyn.engine.stage_cache import FILE
 
     shutil.copy(examples_dir() / "diesel-rk-trace.toml", tmp_path / "trace.toml")
     shutil.copy(examples_dir() / "diesel6-1600rpm.ind", tmp_path / "diesel6-1600rpm.ind")

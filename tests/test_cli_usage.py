@@ -72,7 +72,7 @@ def test_the_main_help_shows_a_first_report(capsys):
 
 
 def test_report_help_lists_every_format_and_language(capsys):
-    from crankdyn.outputs import FORMATS
+    from crankdyn.output.writers import FORMATS
     from crankdyn.report.i18n import available_languages
 
     assert cli.REPORT_FORMATS == FORMATS
@@ -178,10 +178,10 @@ def _never_called(calls: list):
 
 def test_a_word_report_without_pandoc_stops_before_computing(no_pandoc, tmp_path, capsys,
                                                              monkeypatch):
-    import crankdyn.pipeline
+    import crankdyn.output.pipeline
 
     calls: list = []
-    monkeypatch.setattr(crankdyn.pipeline, "write_report", _never_called(calls))
+    monkeypatch.setattr(crankdyn.output.pipeline, "write_report", _never_called(calls))
     scene = str(examples_dir() / "petrol-1cyl.toml")
     assert main(["report", scene, "-o", str(tmp_path / "o"), "--format", "json,docx"]) == 2
     err = capsys.readouterr().err
@@ -191,8 +191,8 @@ def test_a_word_report_without_pandoc_stops_before_computing(no_pandoc, tmp_path
 
 
 @pytest.mark.parametrize("command, runner", [
-    (["batch", "variants.csv", "--base", "SCENE"], "crankdyn.batch.run_batch"),
-    (["sweep", "SCENE", "--set", "engine.rpm=1000,2000"], "crankdyn.sweep_grid.run_sweep"),
+    (["batch", "variants.csv", "--base", "SCENE"], "crankdyn.batch.variants.run_batch"),
+    (["sweep", "SCENE", "--set", "engine.rpm=1000,2000"], "crankdyn.batch.sweep.run_sweep"),
 ])
 def test_a_batch_or_sweep_of_word_files_without_pandoc_stops_before_running(
         command, runner, no_pandoc, tmp_path, capsys, monkeypatch):

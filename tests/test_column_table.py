@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from crankdyn.plugin_types import ColumnTable, StageOutput, Tables
+from crankdyn.plugin.types import ColumnTable, StageOutput, Tables
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -59,7 +59,7 @@ def _modules_after(code: str) -> str:
 
 
 def test_pickling_tables_imports_no_pandas():
-    code = ("import pickle, sys\nfrom crankdyn.plugin_types import Tables\n"
+    code = ("import pickle, sys\nfrom crankdyn.plugin.types import Tables\n"
             "pickle.loads(pickle.dumps(Tables(a={'x': [1.0, 2.0]}, b=[{'x': 1.0}])))\n"
             "print('pandas' in sys.modules)")
     assert _modules_after(code).split() == ["False"]

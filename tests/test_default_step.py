@@ -19,12 +19,12 @@ from conftest import modified
 from test_extreme import even_firing_order
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import check_scene, run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import check_scene, run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.report.context import sample_rows
-from crankdyn.scene import scene_from_dict
-from crankdyn.scene_inputs import engine_layout
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 CHEAP = {"numerics": {"steps_deg": [10], "repeats": 1, "kinematics_forms": False},

@@ -18,10 +18,10 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import irregularity as irr
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 

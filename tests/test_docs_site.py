@@ -53,7 +53,7 @@ def _text(html_file: Path) -> str:
 
 @pytest.mark.long
 def test_the_scene_reference_lists_every_field_of_the_scene_model(site):
-    from crankdyn.scene import Cycle, Engine, Masses, ReportMeta
+    from crankdyn.scene.model import Cycle, Engine, Masses, ReportMeta
 
     page = _text(site / "scene" / "index.html")
     for model in (ReportMeta, Engine, Masses, Cycle, Cycle.model_fields["rounding"].annotation):
@@ -66,7 +66,7 @@ def test_the_scene_reference_lists_every_field_of_the_scene_model(site):
 
 @pytest.mark.long
 def test_the_results_reference_has_a_section_per_registered_stage(site):
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
 
     page = _text(site / "results" / "index.html")
     registry = default_registry()
@@ -116,7 +116,7 @@ def test_a_meaning_for_a_field_the_code_lacks_fails_the_build(monkeypatch):
 
     monkeypatch.setattr(hook, "_descriptions", with_extra)
     with pytest.raises(
-        hook.PluginError, match=r"'flywheel_mass' is no field of crankdyn.scene.Masses"
+        hook.PluginError, match=r"'flywheel_mass' is no field of crankdyn.scene.model.Masses"
     ):
         hook.scene_reference()
     with pytest.raises(hook.PluginError, match=r"\[no_such_stage\] is no stage of the registry"):

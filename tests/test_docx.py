@@ -14,10 +14,10 @@ import pytest
 from conftest import ARTIFACTS
 
 from crankdyn.cli import examples_dir
-from crankdyn.pipeline import write_report
-from crankdyn.plugins import default_registry
+from crankdyn.output.pipeline import write_report
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import docx as word
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 pytestmark = pytest.mark.skipif(shutil.which("pandoc") is None, reason="pandoc is not installed")
 
@@ -168,7 +168,7 @@ def test_docx_styles_page_and_fields(kinematics):
 
 
 def test_batch_writes_one_docx_per_variant(tmp_path):
-    from crankdyn.batch import run_batch
+    from crankdyn.batch.variants import run_batch
 
     (tmp_path / "variants.csv").write_text("variant,engine.rpm\na,2000\nb,4000\n", encoding="utf-8")
     report = run_batch(

@@ -17,9 +17,9 @@ import pytest
 from conftest import ARTIFACTS
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_scene
-from crankdyn.plugins import collect, default_registry, plugin_manager
-from crankdyn.scene import load_scene
+from crankdyn.engine.orchestrator import plan, run_scene
+from crankdyn.plugin.registry import collect, default_registry, plugin_manager
+from crankdyn.scene.model import load_scene
 
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
 # The example plugin lives in the repository (it is not package data of crankdyn).
@@ -310,7 +310,7 @@ def test_animation_moves_in_chromium(tmp_path):
 def test_positions_at_one_angle_share_a_panel():
     """A central crank-slider's largest acceleration is at TDC: one panel "ВМТ, j_max", not two
     identical ones; a position 0.05° or more away keeps its own (360° is the same as 0°)."""
-    from crankdyn_builtin.drawing.stage import _merged_frames
+    from crankdyn_builtin.drawing.section import _merged_frames
 
     frames = [(0, "ВМТ\nα = 0°", 0.0), (1, "НМТ\nα = 180°", 180.0), (2, "v_max\nα = 75,4°", 75.4),
               (4, "j_max\nα = 0°", 359.99), (5, "j_min\nα = 158,2°", 158.2)]
@@ -321,7 +321,7 @@ def test_positions_at_one_angle_share_a_panel():
 def test_positions_are_drawn_in_the_order_the_crank_reaches_them():
     """The uk check: j_min at 158,2° stood after v_min at 284,6°. Panels follow the crank angle;
     TDC and j_max at 359,99° still share the first panel."""
-    from crankdyn_builtin.drawing.stage import position_frames
+    from crankdyn_builtin.drawing.section import position_frames
 
     angles = {"tdc": 0.0, "bdc": 180.0, "v_max": 75.4, "v_min": 284.6, "j_max": 359.99, "j_min": 158.2}
     frames = position_frames(angles, lambda k: f"{k}\nα = {angles[k]}°")

@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import equation_legend
 from crankdyn.report.i18n import translator
 from crankdyn.report.typeset import symbol_table

@@ -19,10 +19,10 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 I_G = "0.0035 kg m^2"
@@ -129,7 +129,7 @@ def test_the_side_and_rod_forces_handed_on_are_the_reported_ones(exact_run):
     """A later stage (a plugin's) reads the side force N and the rod force K from CrankForces: the
     rigid rod's with apply_to_loads (against the Newton-Euler solve), the two-mass model's
     n = p_1 tg β without it (a plugin walkthrough had to recompute them, wrongly for the rigid rod)."""
-    from crankdyn.contracts import FORCES, KINEMATICS
+    from crankdyn.plugin.contracts import FORCES, KINEMATICS
 
     scene, e, m = exact_run.scene, exact_run.scene.engine, exact_run.scene.masses
     data = exact_run.outputs["forces"].data[FORCES]

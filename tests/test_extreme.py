@@ -29,11 +29,11 @@ import pytest
 from conftest import modified, write_scene
 
 from crankdyn.cli import examples_dir, main
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics.layout import bank_axes_deg, cylinder_labels
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 QUICK = {"numerics": {"steps_deg": [10], "repeats": 1}}

@@ -9,12 +9,12 @@ import time
 
 import pytest
 
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.context import draw_figures, start_drawing
 from crankdyn.report.document import render_html
 from crankdyn.report.figures import draw_jobs
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork() on this platform")
 
@@ -230,7 +230,7 @@ def test_figures_handed_out_are_waited_for_one_by_one_and_are_the_serial_bytes(e
 
 
 def test_a_report_to_pdf_draws_each_figure_once_and_leaves_no_child(examples, tmp_path):
-    from crankdyn.pipeline import render_files
+    from crankdyn.output.pipeline import render_files
 
     registry = default_registry()
     result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())

@@ -10,12 +10,12 @@ import subprocess
 import pytest
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.pipeline import render_files
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.output.pipeline import render_files
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.context import FigureFile
 from crankdyn.report.pdf import BlockedResource, _asset_root, _fetcher, figure_urls, html_to_pdf
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
 

@@ -11,7 +11,7 @@ from conftest import shared_run
 from crankdyn.errors import SceneError
 from crankdyn.physics import flywheel as fw
 from crankdyn.physics import speed_fluctuation as sf
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 
 REGISTRY = default_registry()
 FLYWHEEL_1CYL = {"flywheel": {"required_irregularity": 0.02}}

@@ -21,11 +21,11 @@ from conftest import ARTIFACTS, modified, shared_run, write_scene
 from page_layout import crop_texts, first_sheets, landscape_pages, layout_problems, page_texts
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html, report_css
 from crankdyn.report.docx import pandoc_html
 from crankdyn.report.frame import fitting_size, text_width_em
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 TEMPLATES = Path(__file__).resolve().parents[1] / "templates"
@@ -119,7 +119,7 @@ def test_the_block_names_surname_and_initials_in_one_size():
     writes the surname and initials (the title page keeps the academic title), both in one size."""
     from crankdyn.report.frame import person_in_block, title_block
     from crankdyn.report.i18n import translator
-    from crankdyn.scene import scene_from_dict
+    from crankdyn.scene.model import scene_from_dict
 
     assert person_in_block("доц. Петренко В. М.") == "Петренко В. М."
     assert person_in_block("ст. викл. Коваль І. І.") == "Коваль І. І."

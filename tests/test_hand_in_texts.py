@@ -530,7 +530,7 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     html = reports("inline4-petrol")
     abstract = re.sub(r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0))
     assert "ΣPIV" in abstract and "ΣPVI" not in abstract  # nor is it called unbalanced there
-    from crankdyn_builtin.balancing.stage import _negligible
+    from crankdyn_builtin.balancing.section import _negligible
 
     r = {"absolute": {"sum_PVI_N": 1.5, "M_PIV_Nm": 9.5}, "first_order_N": 1000.0, "cylinder_spacing_m": 0.5}
     assert _negligible(r, {"quantity": "sum_PVI"})  # 1.5 < 10 N
@@ -553,9 +553,9 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():
     """Whole newtons would print the two-stroke's sixth order (0,19 N) as "0 N"."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import translator
-    from crankdyn_builtin.balancing.stage import newtons
+    from crankdyn_builtin.balancing.notation import newtons
 
     t = translator("uk", default_registry().catalogs)
     assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == ["17\u202f235", "192", "10", "4,4", "0,19"]
@@ -713,9 +713,9 @@ def test_the_crank_radius_is_printed_without_padding_zeros(reports):
 
 def test_orders_are_written_as_ordinal_words(reports):
     """Not "сили порядку 1" where a Ukrainian text writes "сили першого порядку"."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import translator
-    from crankdyn_builtin.balancing.stage import orders_in_words
+    from crankdyn_builtin.balancing.section import orders_in_words
 
     t = translator("uk", default_registry().catalogs)
     assert orders_in_words(t, [1]) == "першого"
@@ -762,10 +762,10 @@ def test_the_introductions_aim_is_what_the_sections_do(reports):
 def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
     """The uk check: "Велика вісь від вертикалі 0,0" beside the semi-axes 1,000 / 1,000 of the
     centrifugal force's circle: a circle has no major axis, the cell says "—"."""
-    from crankdyn_builtin.balancing.stage import _circular
+    from crankdyn_builtin.balancing.notation import circular
 
-    assert _circular({"semi_major": 1.0, "semi_minor": 1.0}) and _circular({"semi_major": 0.0, "semi_minor": 0.0})
-    assert not _circular({"semi_major": 1.0, "semi_minor": 0.0}) and not _circular({"semi_major": 1.0, "semi_minor": 0.99})
+    assert circular({"semi_major": 1.0, "semi_minor": 1.0}) and circular({"semi_major": 0.0, "semi_minor": 0.0})
+    assert not circular({"semi_major": 1.0, "semi_minor": 0.0}) and not circular({"semi_major": 1.0, "semi_minor": 0.99})
     html = reports("petrol-1cyl-uk")
     row = re.search(r"<tr><td[^>]*><i>C</i></td>(.*?)</tr>", html).group(1)
     assert re.findall(r"<td[^>]*>([^<]*)</td>", row)[2:4] == ["1,000 / 1,000", "—"], row
@@ -788,7 +788,7 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     """"(см. раздел кинематики)" names no section. A catalog text writes
     @@SECTION:stage@@ for the number that stage's section has in this report; a stage without a
     section there is named by its section's title in quotes."""
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import fill_section_numbers
     from crankdyn.report.i18n import translator
 

@@ -1,11 +1,11 @@
-"""crankdyn.heap: the collector skips what is alive at the start of a report, and gets it all
+"""crankdyn.engine.frozen_heap: the collector skips what is alive at the start of a report, and gets it all
 back at the end (a batch worker or the preview server must not keep a report's objects)."""
 
 from __future__ import annotations
 
 import gc
 
-from crankdyn.heap import freeze_more, frozen_heap
+from crankdyn.engine.frozen_heap import freeze_more, frozen_heap
 
 
 def test_the_heap_is_frozen_inside_and_given_back_after():

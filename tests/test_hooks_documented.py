@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from crankdyn import hookspecs
+from crankdyn.plugin import hooks as hookspecs
 
 DOCS = Path(__file__).resolve().parent.parent / "docs" / "plugins.md"
 HOOKS = [name for name, obj in inspect.getmembers(hookspecs, inspect.isfunction) if name.startswith("crankdyn_")]

@@ -21,17 +21,19 @@ from pathlib import Path
 import pytest
 from conftest import modified
 
-from crankdyn import answer_key, contracts, outputs
+from crankdyn.batch import answer_key
 from crankdyn.cli import examples_dir
-from crankdyn.pipeline import run_and_render
-from crankdyn.plausibility import console_lines, warnings
-from crankdyn.plugins import Registry, collect, default_registry, plugin_manager
-from crankdyn.scene import Engine, scene_from_dict
+from crankdyn.output import writers as outputs
+from crankdyn.output.pipeline import run_and_render
+from crankdyn.plugin import contracts
+from crankdyn.plugin.registry import Registry, collect, default_registry, plugin_manager
+from crankdyn.report.plausibility import console_lines, warnings
+from crankdyn.scene.model import Engine, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 CORE = ROOT / "src" / "crankdyn"
 
-#: Names the core may spell although a built-in uses them too: the data keys of crankdyn.contracts
+#: Names the core may spell although a built-in uses them too: the data keys of crankdyn.plugin.contracts
 #: (the core's contract between plugins: "kinematics" is the key of a PistonMotion and the name of
 #: the stage providing it) and the values the core scene model itself offers (engine.rod_type =
 #: "articulated", also the name of the bay stage's table).
@@ -40,8 +42,8 @@ SHARED = ({value for name, value in vars(contracts).items() if name.isupper() an
              for choice in typing.get_args(info.annotation) if isinstance(choice, str)})
 #: What the core still names, with the reason: (file, name) -> why.
 KNOWN = {
-    ("scene.py", "crank_slider"): "engine.mechanism's default in the scene format",
-    ("scene.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
+    ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
+    ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
                               "scene is loaded, before any registry is read",
 }
 
@@ -94,11 +96,11 @@ from pathlib import Path
 
 import numpy as np
 
-from crankdyn.hookspecs import hookimpl
+from crankdyn.plugin.hooks import hookimpl
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics.plane import along, polar
-from crankdyn.plausibility import ROD_RATIO
-from crankdyn.plugin_types import (AnswerColumn, Catalog, Guide, Mechanism, MechanismGeometry,
+from crankdyn.report.plausibility import ROD_RATIO
+from crankdyn.plugin.types import (AnswerColumn, Catalog, Guide, Mechanism, MechanismGeometry,
                                    PlausibilityRule, Stage, StageOutput, Symbol)
 
 HERE = Path(__file__).resolve().parent

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene
-from crankdyn.scene_inputs import rounding_parameters
-from crankdyn_builtin.indicator.stage import _characteristic_points
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.scene_inputs import rounding_parameters
+from crankdyn.scene.model import load_scene
+from crankdyn_builtin.indicator.section import _characteristic_points
 
 REGISTRY = default_registry()
 
@@ -73,7 +73,8 @@ def test_each_label_at_bdc_is_nearest_its_own_point():
     each label's centre is nearer its own point than the others' (b″'s label set under its point
     would read as a's)."""
     from crankdyn.report.figures import to_svg
-    from crankdyn_builtin.indicator.stage import _POINTS, _pv_figure
+    from crankdyn_builtin.indicator.figures import _pv_figure
+    from crankdyn_builtin.indicator.section import _POINTS
 
     offsets = {label: offset for label, _, _, offset in _POINTS}
     heights = {"b": 0.36, "b″": 0.239, "a": 0.085}

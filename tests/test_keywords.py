@@ -7,7 +7,7 @@ import re
 
 from conftest import shared_html
 
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import KEYWORDS_MAX, keywords
 from crankdyn.report.i18n import translator
 

@@ -10,16 +10,16 @@ import sys
 import textwrap
 import time
 
-from crankdyn.orchestrator import run_stage
+from crankdyn.engine.orchestrator import run_stage
 from crankdyn.physics import lazy
-from crankdyn.plugin_types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput
 
 
 def test_the_physics_and_the_plugins_import_without_scipy_and_import_it_when_called():
     code = textwrap.dedent("""
         import sys
-        import crankdyn.pipeline, crankdyn.scene
-        from crankdyn.plugins import default_registry
+        import crankdyn.output.pipeline, crankdyn.scene.model
+        from crankdyn.plugin.registry import default_registry
         from crankdyn.physics import articulated, extrema, flywheel, kinematics, planetary, speed_fluctuation, torsion
         registry = default_registry()
         assert "scipy" not in sys.modules, sorted(m for m in sys.modules if m.startswith("scipy"))[:5]

@@ -15,8 +15,8 @@ import pytest
 from conftest import shared_run
 from markupsafe import escape
 
-from crankdyn.outputs import results_document
-from crankdyn.plugins import default_registry
+from crankdyn.output.writers import results_document
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import UNLISTED_SKIPS, _skip_key, render_html, skipped_reason
 from crankdyn.report.i18n import translator
 

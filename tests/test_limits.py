@@ -17,7 +17,7 @@ import crankdyn
 from crankdyn.cli import main
 from crankdyn.physics import firing_explorer
 from crankdyn.physics import pressure_trace as trace
-from crankdyn.scene import MAX_SCENE_BYTES
+from crankdyn.scene.model import MAX_SCENE_BYTES
 
 ROOT = Path(__file__).resolve().parent.parent
 KINEMATICS_ONLY = ROOT / "examples" / "kinematics-only.toml"
@@ -434,7 +434,7 @@ def test_trace_of_blank_lines_is_refused_by_its_line_count(tmp_path, capsys):
 
 
 def test_preview_watch_list_survives_hostile_scenes(tmp_path):
-    from crankdyn.serve import referenced_files
+    from crankdyn.preview.server import referenced_files
 
     dotted = tmp_path / "dotted.toml"
     dotted.write_text("x." * 5000 + "y = 1\n", encoding="utf-8")

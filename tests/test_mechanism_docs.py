@@ -10,7 +10,7 @@ import pytest
 from documented import documentation_text
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCUMENTATION = documentation_text()

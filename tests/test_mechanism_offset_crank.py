@@ -11,13 +11,13 @@ from conftest import modified, write_scene
 from scipy import optimize
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import forces as phys_forces
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import offset_crank as oc
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 R, L, E = 0.039, 0.14, 0.008

@@ -11,14 +11,14 @@ import pytest
 from conftest import modified, write_scene
 
 from crankdyn.cli import examples_dir, main
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import run_scene
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import planetary as pl
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.planetary.stage import tdc_snapshot_m
+from crankdyn.scene.model import scene_from_dict
+from crankdyn_builtin.planetary.compute import tdc_snapshot_m
 
 REGISTRY = default_registry()
 L = 0.15

@@ -8,12 +8,12 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import plan, run_scene
 from crankdyn.errors import SceneError
-from crankdyn.orchestrator import plan, run_scene
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import rod_dynamics as rd
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 M, L, LR, I_G = 0.6, 0.14, 0.0385, 0.0014

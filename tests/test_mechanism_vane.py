@@ -12,12 +12,12 @@ from conftest import modified, write_scene
 from scipy import optimize
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import kinematics as central
 from crankdyn.physics import vane as vn
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 ALPHA = np.linspace(0.0, 2.0 * np.pi, 721)
@@ -236,7 +236,7 @@ def test_extremes_by_root_finding_against_an_independent_solve():
     eps_c = lam (1 - lam^2) w^2 sin a / chi^3 is largest at 90 deg: lam w^2 / sqrt(1 - lam^2);
     v_po = w r (sin a + lam sin a cos a / chi)  =>  cos a + lam (chi^2 cos 2a + lam^2 sin^2 a cos^2 a)/chi^3 = 0.
     """
-    from crankdyn_builtin.vane.stage import extremes
+    from crankdyn_builtin.vane.compute import extremes
 
     r, lam, w = 0.04, 0.8, 100.0
 

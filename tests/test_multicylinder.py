@@ -10,11 +10,11 @@ from conftest import modified, shared_html, shared_run, write_scene
 from scipy.optimize import brentq
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import articulated as art
 from crankdyn.physics.layout import LayoutError, build_layout
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 MULTI = ["inline4-petrol", "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]
@@ -38,6 +38,17 @@ def test_radial_default_firing_order_every_other_cylinder():
     layout = build_layout("radial", 4, 9, None, None, None)
     assert layout.firing_order == ("1", "3", "5", "7", "9", "2", "4", "6", "8")
     assert np.allclose(layout.firing_intervals_deg(), 80.0)
+
+
+def test_a_firing_order_written_from_another_cylinder_is_the_same_cycle():
+    # the right bank's first cylinder written first, as a Russian handbook numbers a V8
+    v8 = ["1L", "1R", "4L", "2L", "2R", "3L", "3R", "4R"]
+    from_right = v8[1:] + v8[:1]
+    ref = build_layout("V", 4, 8, 90, v8, None)
+    other = build_layout("V", 4, 8, 90, from_right, None)
+    assert other.firing_order == ref.firing_order == tuple(v8)
+    assert other.crank_lag_deg == ref.crank_lag_deg
+    assert np.allclose(other.firing_intervals_deg(), 90.0)
 
 
 @pytest.mark.parametrize("args, field, text", [

@@ -22,11 +22,11 @@ from page_layout import layout_problems, page_texts
 from test_worked import check_worked
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
-from crankdyn.scene import load_scene, scene_from_dict
+from crankdyn.scene.model import load_scene, scene_from_dict
 
 REGISTRY = default_registry()
 
@@ -277,7 +277,7 @@ def test_numerics_refusals_in_the_report_language(language):
     assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in \
         html_lib.unescape(html).replace("\u202f", " ")
 
-    from crankdyn_builtin.numerics.stage import refused_steps
+    from crankdyn_builtin.numerics.section import refused_steps
 
     # a step the scene's rules refuse: results.json keeps the rule, the note says so in its language
     ctx = types.SimpleNamespace(t=t, scene=scene)

@@ -8,18 +8,19 @@ import numpy as np
 import pytest
 from conftest import modified, shared_run
 
+import crankdyn.plugin_types as plugin_types
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import Runner, check_scene, run_scene
 from crankdyn.errors import SceneError
-from crankdyn.hookspecs import hookimpl
-from crankdyn.orchestrator import Runner, check_scene, run_scene
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import series
-from crankdyn.plugins import collect, default_registry, plugin_manager
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.registry import collect, default_registry, plugin_manager
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
-from crankdyn.scene import scene_from_dict
-from crankdyn_builtin.numerics import stage as num
+from crankdyn.scene.model import scene_from_dict
+from crankdyn_builtin.numerics import compute, options, reference, steps
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",
@@ -62,7 +63,7 @@ def test_every_engine_example_measures_its_error_against_run_time(name):
     assert scene_step in steps and 0.1 in steps and len(steps) >= 6
     for s in r["steps"]:
         assert s["time_s"] > 0 and s["points"] == round(result.scene.engine.cycle_deg / s["angle_step_deg"])
-        for q in num.QUANTITIES:
+        for q in compute.QUANTITIES:
             assert math.isfinite(s[f"{q}_error_relative"])
     # The re-run at the scene's step reproduces the numbers the other sections print.
     forces = result.outputs["forces"].results
@@ -95,7 +96,7 @@ def test_every_engine_example_measures_its_error_against_run_time(name):
 def test_reference_quadrature_matches_the_closed_form_of_the_theoretical_diagram():
     """The Gauss-Legendre reference against the closed-form work of the sharp diagram (p_i' + pumping)."""
     scene = run("petrol-1cyl").scene
-    model = num.PointwiseModel(scene)
+    model = reference.PointwiseModel(scene)
     params = model._params
     model.pressure = lambda a: ind.theoretical_pressure_Pa(a, model.volume(a), model.clearance, params)
     work, _ = model.integrals()
@@ -109,7 +110,7 @@ def test_reference_quadrature_matches_the_closed_form_of_the_theoretical_diagram
 
 def test_mean_torque_reference_is_virtual_work():
     """Two independent integrals of the pointwise model: mean torque and indicated work / cycle angle."""
-    model = num.PointwiseModel(run("petrol-1cyl").scene)
+    model = reference.PointwiseModel(run("petrol-1cyl").scene)
     work, mean = model.integrals()
     assert mean == pytest.approx(work / (4 * math.pi), rel=1e-9)
 
@@ -118,8 +119,8 @@ def test_pointwise_model_from_displacement_alone_matches_the_analytic_one():
     """The generic model (numerical derivatives of displacement_at, t by virtual work) against the
     crank-slider formulas: the reference for other mechanisms is as good as the analytic one."""
     result = run("petrol-1cyl")
-    analytic = num.PointwiseModel(result.scene)
-    generic = num.PointwiseModel(result.scene.model_copy(update={"engine": result.scene.engine.model_copy(
+    analytic = reference.PointwiseModel(result.scene)
+    generic = reference.PointwiseModel(result.scene.model_copy(update={"engine": result.scene.engine.model_copy(
         update={"mechanism": "offset_crank_slider"})}), result.outputs["kinematics"].data["kinematics"])
     assert generic.analytic is False
     a = np.linspace(0.0, 720.0, 2001)
@@ -148,14 +149,14 @@ def test_scene_copy_at_another_step_is_faithful():
     # the scene of the run below (shared with the other tests here): a run of its own only for the scene
     # would be the costliest in this file (the radial's full numerics study)
     scene = run("radial9-aircraft", UNLIMITED).scene
-    copy = num.scene_with_step(scene, 0.5)
+    copy = steps.scene_with_step(scene, 0.5)
     assert copy.analysis.angle_step_deg == 0.5 and copy.analysis.table_step_deg == 0.5
     assert copy.plugin_tables() == scene.plugin_tables() and copy.base_dir == scene.base_dir
     assert copy.engine == scene.engine and copy.cycle == scene.cycle and copy.masses == scene.masses
     with pytest.raises(SceneError, match="must divide the cycle"):
-        num.scene_with_step(scene, 7.0)
+        steps.scene_with_step(scene, 7.0)
     with pytest.raises(SceneError, match="firing delays"):  # 30 deg does not divide the 40-deg banks
-        num.run_at_step(scene, 30.0, repeats=1, runner=Runner(REGISTRY))
+        steps.run_at_step(scene, 30.0, repeats=1, runner=Runner(REGISTRY))
     # The study moves 30 and 15 deg onto the engine's 40-deg grid: 20 and 40/3 deg, none refused.
     results = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results
     assert results["steps_refused"] == {}
@@ -166,7 +167,7 @@ def test_scene_copy_at_another_step_is_faithful():
 @pytest.mark.parametrize("ratio", [0.001, 0.28, 0.99])
 def test_kinematics_forms_against_independent_errors(ratio):
     radius = 0.04
-    rows = {(r["form"], r["terms"]): r for r in num.kinematics_forms(radius, ratio, repeats=1)}
+    rows = {(r["form"], r["terms"]): r for r in reference.kinematics_forms(radius, ratio, repeats=1)}
     # the grid holds 90 deg, where every truncated form has its largest displacement error
     for terms in (3, 4, 5):
         expected = series.displacement_truncation_error_max_m(radius, ratio, terms)
@@ -223,7 +224,7 @@ def test_best_times_autoranges_and_keeps_the_best_repeat_per_call():
     # f costs 1 ms per call, but 5 ms in its first (autorange) call, as under load; g costs 0.3 ms.
     f_costs = [5e-3] + [1e-3] * 10  # autorange: 1 call (>= 1 ms) per repeat; then 3 more repeats
     g_costs = [3e-4] * 100
-    timings = num.best_times([clock.function(f_costs), clock.function(g_costs)], 4, min_time_s=1e-3, clock=clock)
+    timings = steps.best_times([clock.function(f_costs), clock.function(g_costs)], 4, min_time_s=1e-3, clock=clock)
     assert [t.repeats for t in timings] == [4, 4]
     assert timings[0].loops == 1 and timings[0].best_s == pytest.approx(1e-3)  # the slow repeat is not kept
     # g: 1 call (0.3 ms) and 2 calls (0.6 ms) are too short, 5 calls (1.5 ms) are enough (timeit's 1, 2, 5, 10 ...)
@@ -238,7 +239,7 @@ def test_best_times_takes_the_repeats_in_turns():
             order.append(name)
             clock.now += 1e-3
         return fn
-    num.best_times([timed("a"), timed("b")], 3, min_time_s=1e-3, clock=clock)
+    steps.best_times([timed("a"), timed("b")], 3, min_time_s=1e-3, clock=clock)
     # autorange of each, then two rounds over both (backwards, forwards), each timed repeat after one
     # untimed call
     assert order == ["a", "b"] + ["b", "b", "a", "a"] + ["a", "a", "b", "b"]
@@ -249,23 +250,23 @@ def test_best_times_stops_once_the_minima_have_settled():
     # a steady 1 ms per call: after the autorange repeat, no round lowers the best, so three quiet
     # rounds end the timing at 4 repeats of the 15 allowed
     steady = clock.function([1e-3] * 100)
-    timings = num.best_times([steady], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
+    timings = steps.best_times([steady], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
     assert timings[0].repeats == 4 and timings[0].best_s == pytest.approx(1e-3)
     # a machine under load: the time keeps falling by more than 1 % a round for 8 rounds, so the
     # timing goes on until three rounds in a row lower nothing
     falling = [2e-3 * 0.9 ** k for k in range(8)]
     loaded = clock.function([c for c in falling for _ in (0, 1)] + [falling[-1]] * 100)
-    timings = num.best_times([loaded], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
+    timings = steps.best_times([loaded], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
     assert timings[0].repeats == 11 and timings[0].best_s == pytest.approx(falling[-1])
     # without settled_rounds every repeat is taken
-    assert num.best_times([clock.function([1e-3] * 100)], 6, min_time_s=1e-3, clock=clock)[0].repeats == 6
+    assert steps.best_times([clock.function([1e-3] * 100)], 6, min_time_s=1e-3, clock=clock)[0].repeats == 6
 
 
 def test_step_times_are_the_formulas_with_the_overhead_apart():
     result = run("petrol-1cyl", UNLIMITED)
     r = result.outputs["numerics"].results
     assert r["steps_timed"] == "formulas" and r["steps_timing_repeats"] > 1
-    assert num.NumericsOptions().repeats > 1
+    assert options.NumericsOptions().repeats > 1
     assert r["per_call_overhead_s"] > 0
     for row in r["steps"]:
         # the whole re-run costs the formulas plus at least the fixed overhead
@@ -297,7 +298,7 @@ def test_solver_probes_add_rows():
     def study(scene, runner):
         assert isinstance(runner, Runner) and "forces" in runner.stages
         calls.append(scene.engine.rpm)
-        return [num.ProbePoint("RK45", f"rtol = 1e-{k}", 10.0 ** -k, "rad/s", 1e-3 * k, "analytic") for k in (3, 6, 9)]
+        return [plugin_types.ProbePoint("RK45", f"rtol = 1e-{k}", 10.0 ** -k, "rad/s", 1e-3 * k, "analytic") for k in (3, 6, 9)]
 
     def refused(scene, runner):
         raise SceneError([])
@@ -305,9 +306,9 @@ def test_solver_probes_add_rows():
     class ProbePlugin:
         @hookimpl
         def crankdyn_error_probes(self):
-            return [num.ErrorProbe("test-solver", "Test solver", lambda s: True, study),
-                    num.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused),
-                    num.ErrorProbe("test-not-here", "Other", lambda s: False, study)]
+            return [plugin_types.ErrorProbe("test-solver", "Test solver", lambda s: True, study),
+                    plugin_types.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused),
+                    plugin_types.ErrorProbe("test-not-here", "Other", lambda s: False, study)]
 
     registry = collect(plugin_manager(extra_plugins=[ProbePlugin()]))
     assert set(registry.error_probes) == {"test-solver", "test-refused", "test-not-here"}
@@ -325,9 +326,9 @@ def test_solver_probes_add_rows():
 
 def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
     """Stage.last (used by numerics) orders a summary after every stage ready at the same time."""
-    from crankdyn.orchestrator import plan
-    from crankdyn.plugin_types import Stage, StageOutput
-    from crankdyn.plugins import Registry
+    from crankdyn.engine.orchestrator import plan
+    from crankdyn.plugin.registry import Registry
+    from crankdyn.plugin.types import Stage, StageOutput
 
     def stage(name, requires=(), provides=(), last=False):
         return Stage(name=name, title_key="x", requires=requires, provides=provides, applies=lambda s: None,
@@ -356,7 +357,7 @@ def test_a_course_note_states_the_error_against_time_in_plain_words():
     assert f"takes {ctx.num(own['time_s'] * 1e3, 2)} ms" in html
     coarse_ms = ctx.num(coarse["time_s"] * 1e3, 2)
     assert f"a step of {coarse['angle_step_deg']:g}° would take {coarse_ms} ms" in html
-    worst = max(coarse[f"{q}_error_relative"] for q in num.QUANTITIES)
+    worst = max(coarse[f"{q}_error_relative"] for q in compute.QUANTITIES)
     assert f"errors up to {ctx.num(100 * worst, 2)} %" in html
     for word in ("RK45", "Radau", "BDF", "LSODA", "Jacobian", "series", "Maclaurin"):
         assert word not in html

@@ -12,12 +12,12 @@ from conftest import modified
 from scipy import integrate
 
 from crankdyn.cli import examples_dir
-from crankdyn.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import offset_crank as oc
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.contracts import COUNTERWEIGHTS, ENGINE_TORQUE, KINEMATICS
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 R, L, E = 0.039, 0.14, 0.008  # examples/offset-crank-engine.toml

@@ -7,12 +7,12 @@ import random
 import pytest
 from conftest import example_data
 
+from crankdyn.engine.orchestrator import plan, run_plan, run_scene
 from crankdyn.errors import PluginError, SceneError
-from crankdyn.hookspecs import hookimpl
-from crankdyn.orchestrator import plan, run_plan, run_scene
-from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.plugins import Registry, collect, default_registry, plugin_manager
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.registry import Registry, collect, default_registry, plugin_manager
+from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.scene.model import scene_from_dict
 
 
 def _stage(name, requires=(), provides=(), applies=None, default=True):

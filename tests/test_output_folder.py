@@ -9,7 +9,7 @@ import stat
 import pytest
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.manifest import MANIFEST
+from crankdyn.output.manifest import MANIFEST
 
 
 def _files(folder):

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.errors import OutputError
-from crankdyn.manifest import MANIFEST, KeptFileWarning, write_outputs
+from crankdyn.output.manifest import MANIFEST, KeptFileWarning, write_outputs
 
 SCENE = examples_dir() / "kinematics-only.toml"
 
@@ -160,7 +160,7 @@ def test_a_run_stopped_half_way_leaves_its_files_recognised(tmp_path, monkeypatc
     """The manifest written before the files lists both states, so a rerun may replace them."""
     out = tmp_path / "out"
     write_outputs(out, {"a.csv": b"old a", "b.csv": b"old b"})
-    from crankdyn import manifest
+    from crankdyn.output import manifest
 
     real_write = manifest._Folder.write
 

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from conftest import modified, shared_run
 
-from crankdyn.orchestrator import run_scene
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics.pressure_trace import read_diesel_rk_ind_table
-from crankdyn.plugins import default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 

@@ -11,9 +11,9 @@ import pytest
 from conftest import as_read, example_data, modified, write_scene
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.plausibility import defaults_applied, warnings
-from crankdyn.plugins import default_registry
-from crankdyn.scene import load_scene, scene_from_dict
+from crankdyn.plugin.registry import default_registry
+from crankdyn.report.plausibility import defaults_applied, warnings
+from crankdyn.scene.model import load_scene, scene_from_dict
 
 CATALOGS = Path(__file__).parents[1] / "templates" / "i18n"
 
@@ -114,7 +114,7 @@ def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, ca
 
 
 def test_a_ukrainian_report_of_latin_title_texts_is_warned_about_on_the_terminal(tmp_path, capsys):
-    from crankdyn.plausibility import language_warnings
+    from crankdyn.report.plausibility import language_warnings
 
     english = scene_from_dict(modified("inline4-petrol", {"report": {"language": "uk"}}), base_dir=examples_dir())
     (key, params), = language_warnings(english)
@@ -129,8 +129,8 @@ def test_a_ukrainian_report_of_latin_title_texts_is_warned_about_on_the_terminal
 
 
 def test_a_scene_without_a_title_gets_the_report_languages_default_title():
-    from crankdyn.orchestrator import run_scene
-    from crankdyn.plugins import default_registry
+    from crankdyn.engine.orchestrator import run_scene
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import render_html
 
     data = modified("petrol-1cyl-uk", {})

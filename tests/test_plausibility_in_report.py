@@ -10,11 +10,11 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import translator
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 

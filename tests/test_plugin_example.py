@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 from conftest import modified
 
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import collect, plugin_manager
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import collect, plugin_manager
 from crankdyn.report.document import render_html
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
 

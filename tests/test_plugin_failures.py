@@ -21,22 +21,22 @@ import pytest
 from conftest import example_data, modified, write_scene
 
 import crankdyn.api
-import crankdyn.plugins
+import crankdyn.plugin.registry
 from crankdyn import cli
-from crankdyn.contracts import KINEMATICS, PistonMotion
+from crankdyn.engine.orchestrator import run_scene
 from crankdyn.errors import PluginError, PluginFailure, Problem, SceneError, StageTimeLimit
-from crankdyn.hookspecs import hookimpl
-from crankdyn.orchestrator import run_scene
-from crankdyn.pipeline import run_and_render
-from crankdyn.plugin_guard import (
+from crankdyn.output.pipeline import run_and_render
+from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
+from crankdyn.plugin.guard import (
     DEFAULT_STAGE_TIMEOUT_S,
     MAX_STAGE_TIMEOUT_S,
     check_stage_output,
     stage_time_limit,
 )
-from crankdyn.plugin_types import Catalog, Mechanism, Stage, StageOutput
-from crankdyn.plugins import collect, plugin_manager
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.registry import collect, plugin_manager
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StageOutput
+from crankdyn.scene.model import scene_from_dict
 
 SCENE = "kinematics-only"
 
@@ -156,12 +156,12 @@ def test_contract_data_holding_nan_or_of_the_wrong_type_is_named():
     assert "2 value(s) not finite (NaN or infinite)" in str(failure)
     listed = _yoke_plugin(lambda scene, inputs: StageOutput(data={KINEMATICS: [1.0]}))
     failure = _failure(_registry(listed), ["yoke_kinematics"], scene=scene)
-    assert "data['kinematics']: [1.0] is not a crankdyn.contracts.PistonMotion" in str(failure)
+    assert "data['kinematics']: [1.0] is not a crankdyn.plugin.contracts.PistonMotion" in str(failure)
 
 
 @pytest.mark.parametrize("name", ["petrol-1cyl", "kinematics-only"])
 def test_the_built_in_stages_outputs_pass_the_checks_a_third_party_output_gets(name):
-    registry = crankdyn.plugins.default_registry()
+    registry = crankdyn.plugin.registry.default_registry()
     result = run_scene(scene_from_dict(example_data(name)), registry)
     assert len(result.outputs) >= 2
     for stage in result.plan.order:
@@ -169,7 +169,7 @@ def test_the_built_in_stages_outputs_pass_the_checks_a_third_party_output_gets(n
 
 
 def test_a_built_in_stages_own_error_stays_an_internal_error():
-    registry = crankdyn.plugins.default_registry()
+    registry = crankdyn.plugin.registry.default_registry()
     assert not any(PluginFailure.__name__ in repr(s) for s in registry.stages.values())
     stage = registry.stages["kinematics"]
     with pytest.raises(AttributeError):  # not a PluginFailure: the program's own fault
@@ -251,7 +251,7 @@ def broken_install(tmp_path, monkeypatch):
 
 def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_install, tmp_path,
                                                                      capsys):
-    registry = crankdyn.plugins.default_registry()
+    registry = crankdyn.plugin.registry.default_registry()
     assert registry.broken == {"friction_plugin": (
         "plugin 'friction_plugin' (import): import raised ModuleNotFoundError: "
         "No module named 'crankdyn_friction_dependency_not_installed'")}
@@ -302,7 +302,7 @@ def test_an_entry_point_that_raises_at_import_through_importlib_metadata(monkeyp
         return [*found, Failing()] if selection.get("group") == "crankdyn" else found
 
     monkeypatch.setattr(importlib.metadata, "entry_points", entry_points)
-    registry = crankdyn.plugins.default_registry()
+    registry = crankdyn.plugin.registry.default_registry()
     assert registry.broken == {"exploding": "plugin 'exploding' (import): import raised "
                                "RuntimeError: configuration file missing"}
     assert "kinematics" in registry.stages
@@ -312,7 +312,7 @@ def test_an_entry_point_that_raises_at_import_through_importlib_metadata(monkeyp
 def test_the_command_line_names_the_plugin_with_exit_2_and_writes_nothing(tmp_path, monkeypatch,
                                                                           capsys):
     registry = _registry(_plugin("bad_render", [_stage(render=lambda output, ctx: 1 / 0)]))
-    monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: registry)
+    monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: registry)
     scene = write_scene(tmp_path / "s.toml", example_data(SCENE))
     out = tmp_path / "out"
     out.mkdir()
@@ -364,8 +364,8 @@ def test_a_named_failure_survives_the_way_back_from_a_forked_child():
 HANGING = """
     import time
 
-    from crankdyn.hookspecs import hookimpl
-    from crankdyn.plugin_types import Stage, StageOutput
+    from crankdyn.plugin.hooks import hookimpl
+    from crankdyn.plugin.types import Stage, StageOutput
 
 
     def _forever(*args):
@@ -429,8 +429,8 @@ def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_pa
     site.mkdir()
     _install(site, "stuck_plugin", "import time\nwhile True:\n    time.sleep(0.05)\n")
     script = textwrap.dedent("""
-        from crankdyn.plugin_guard import stage_time_limit
-        from crankdyn.plugins import default_registry
+        from crankdyn.plugin.guard import stage_time_limit
+        from crankdyn.plugin.registry import default_registry
 
         with stage_time_limit(1):
             registry = default_registry()
@@ -464,7 +464,7 @@ def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_pa
     script = textwrap.dedent(f"""
         import crankdyn
         from crankdyn.errors import StageTimeLimit
-        from crankdyn.plugin_guard import stage_time_limit
+        from crankdyn.plugin.guard import stage_time_limit
 
         scene = crankdyn.load({str(tmp_path / 's.toml')!r})
         try:

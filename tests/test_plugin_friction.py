@@ -10,15 +10,15 @@ import dataclasses
 import pytest
 from conftest import example_data, write_scene
 
-import crankdyn.batch
-import crankdyn.plugins
-from crankdyn.answer_key import KeyColumn, absent, unanswered
+import crankdyn.batch.variants
+import crankdyn.plugin.registry
+from crankdyn.batch.answer_key import KeyColumn, absent, unanswered
 from crankdyn.cli import examples_dir, main, missing_translations_line
+from crankdyn.engine.orchestrator import plan
 from crankdyn.errors import PluginError
-from crankdyn.orchestrator import plan
-from crankdyn.plugin_types import SERVICE_RUNNER, AnswerColumn, Stage, StageOutput
-from crankdyn.plugins import Registry, default_registry
-from crankdyn.scene import scene_from_dict
+from crankdyn.plugin.registry import Registry, default_registry
+from crankdyn.plugin.types import SERVICE_RUNNER, AnswerColumn, Stage, StageOutput
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 
@@ -58,7 +58,7 @@ def test_a_requirement_provided_by_a_stage_that_does_not_apply_still_leaves_the_
 
 def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypatch, capsys):
     scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
-    monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: _with(_stage(["force"])))
+    monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["force"])))
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "json", "-q"]) == 2
     err = capsys.readouterr().err
     assert "stage 'friction' requires 'force'" in err and "Traceback" not in err
@@ -70,7 +70,7 @@ def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypat
 def test_the_report_command_warns_once_about_keys_missing_in_its_language(tmp_path, monkeypatch, capsys):
     # the stage's title_key is in no catalog: the report is written, with a warning naming it
     scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
-    monkeypatch.setattr(crankdyn.plugins, "default_registry", lambda: _with(_stage(["kinematics"])))
+    monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["kinematics"])))
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "no translation" in line]
     assert warnings == ["crankdyn: warning: the report in 'en' has no translation for 1 key(s): friction.title"]
@@ -96,7 +96,7 @@ def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_p
     kinematics = REGISTRY.stages["kinematics"]
     typo = dataclasses.replace(kinematics, answer_columns=(*kinematics.answer_columns,
                                                            AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")))
-    monkeypatch.setattr(crankdyn.batch, "_worker_registry", _with(typo))  # forked workers inherit it
+    monkeypatch.setattr(crankdyn.batch.variants, "_worker_registry", _with(typo))  # forked workers inherit it
     variants = tmp_path / "v.csv"
     variants.write_text("variant,engine.rpm\na,4000\nb,5000\n", encoding="utf-8")
     out = tmp_path / "out"
@@ -125,10 +125,10 @@ def test_every_answer_column_of_a_bundled_example_is_in_its_results_or_stated_as
     """The batch's warning is for a typo, not for a result a scene does not give: a measured
     pressure trace has no end-of-compression pressure, and the indicator stage states it as None
     (the cell stays empty without a warning) instead of leaving the key out."""
-    from crankdyn.answer_key import answer_columns
-    from crankdyn.orchestrator import run_scene
-    from crankdyn.outputs import results_document
-    from crankdyn.scene import load_scene
+    from crankdyn.batch.answer_key import answer_columns
+    from crankdyn.engine.orchestrator import run_scene
+    from crankdyn.output.writers import results_document
+    from crankdyn.scene.model import load_scene
 
     document = results_document(run_scene(load_scene(examples_dir() / example), REGISTRY, None, ()))
     assert absent(document, answer_columns(REGISTRY)) == []

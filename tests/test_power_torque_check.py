@@ -57,10 +57,10 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
     """η_m ≥ 1 is no mechanical efficiency: the diagram does not deliver the rated power (the
     example's report language, English)."""
     from crankdyn.cli import examples_dir
-    from crankdyn.orchestrator import run_scene
-    from crankdyn.plugins import default_registry
+    from crankdyn.engine.orchestrator import run_scene
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import render_html
-    from crankdyn.scene import load_scene
+    from crankdyn.scene.model import load_scene
 
     text = (examples_dir() / "inline4-petrol.toml").read_text(encoding="utf-8")
     scene_file = tmp_path / "scene.toml"

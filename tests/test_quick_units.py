@@ -6,8 +6,8 @@ import random
 
 import pytest
 
-from crankdyn import units
-from crankdyn.quick_units import FACTORS, quick_quantity
+from crankdyn.scene import units
+from crankdyn.scene.units import FACTORS, quick_quantity
 
 MAGNITUDES = ["82", "0.085", "1e5", "1.2e5", "7850", "0.45", ".5", "0.006", "1E-3", "-3", "+2.5", "100"] + \
     [repr(random.Random(7).uniform(0, 1000)) for _ in range(5)] + [str(n) for n in random.Random(8).sample(range(1, 10**6), 5)]

@@ -11,7 +11,7 @@ import pytest
 from conftest import shared_html, shared_run
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.i18n import core_catalog_dir, load_catalog_file
 from crankdyn.report.pdf import BlockedResource, _fetcher, is_allowed
 

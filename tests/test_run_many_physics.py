@@ -12,8 +12,8 @@ import pytest
 from crankdyn.physics import indicator as ind
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax, first_argmin
-from crankdyn_builtin.forces.stage import _first_extremes
-from crankdyn_builtin.torque.stage import sampled_periods_deg
+from crankdyn_builtin.forces.compute import _first_extremes
+from crankdyn_builtin.torque.compute import sampled_periods_deg
 
 AREA_M2 = math.pi * 0.082 ** 2 / 4.0
 

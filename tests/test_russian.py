@@ -9,11 +9,11 @@ import pytest
 from conftest import modified
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.document import render_html
 from crankdyn.report.i18n import available_languages, core_catalog_dir, load_catalog_file
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 UKRAINIAN_ONLY = set("іїєґІЇЄҐ")  # letters Russian does not have
@@ -112,7 +112,7 @@ def test_a_russian_note_numbers_its_pages_at_the_bottom_centre():
     """ГОСТ 7.32-2017, 6.3.2 (a Ukrainian note: DSTU 3008, top right): report.ru.css is added to the
     page frame of a Russian report only."""
     registry = default_registry()
-    from crankdyn.scene import load_scene
+    from crankdyn.scene.model import load_scene
 
     result = run_scene(load_scene(examples_dir() / "petrol-1cyl-ru.toml"), registry, ["kinematics"])
     html = render_html(result, registry).html

@@ -47,13 +47,13 @@ from test_symbol_coverage import (
 )
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.outputs import results_document
-from crankdyn.plugins import collect, default_registry, plugin_manager
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.output.writers import results_document
+from crankdyn.plugin.registry import collect, default_registry, plugin_manager
 from crankdyn.report.document import render_html
 from crankdyn.report.equation_legend import symbols_in
 from crankdyn.report.typeset import symbol_table
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 SEED = 41
 SECOND_SEED = 2026
@@ -415,7 +415,7 @@ PDF_SAMPLE = ("inline7-", "radial5-", "planetary-")
 def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_path):
     from page_layout import layout_problems, page_texts
 
-    from crankdyn.pipeline import render_files
+    from crankdyn.output.pipeline import render_files
     from crankdyn.report.i18n import translator
 
     case = next(c for c in SCENES if kind in c.name)

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import plan, run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import plan, run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import mechanism_drawing as md
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 
 @cache

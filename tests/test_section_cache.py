@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import re
 
-from crankdyn.cache import StageCache
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.engine.stage_cache import StageCache
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.context import draw_figures
 from crankdyn.report.document import render_html
 from crankdyn.report.section_cache import SectionCache
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
 STAGES = ["forces"]  # kinematics, indicator, forces; no timed section, so two renderings can be equal
@@ -75,12 +75,12 @@ def test_another_language_renders_every_section_again():
 def test_the_preview_builds_each_sections_figures_as_the_section_is_rendered(examples):
     """The page's placeholders need each figure's size: the preview builds the figures given as
     builders while it renders (and the worker computes the study of the last section), not after."""
-    from crankdyn.cache import StageCache
-    from crankdyn.pipeline import run_for_preview
-    from crankdyn.plugins import default_registry
+    from crankdyn.engine.stage_cache import StageCache
+    from crankdyn.output.pipeline import run_for_preview
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import available_languages
     from crankdyn.report.section_cache import SectionCache
-    from crankdyn.scene import load_scene
+    from crankdyn.scene.model import load_scene
 
     registry = default_registry()
     _, rendered, _ = run_for_preview(load_scene(examples / "kinematics-only.toml"), registry, None,

@@ -31,7 +31,13 @@ from conftest import ARTIFACTS, modified, write_scene
 
 from crankdyn.cli import examples_dir
 from crankdyn.errors import Problem, SceneError
-from crankdyn.serve import Preview, PreviewServer, error_page, referenced_files, with_reload
+from crankdyn.preview.server import (
+    Preview,
+    PreviewServer,
+    error_page,
+    referenced_files,
+    with_reload,
+)
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 BASH = shutil.which("bash")

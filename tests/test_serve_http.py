@@ -8,7 +8,7 @@ from urllib.parse import unquote
 
 import pytest
 
-from crankdyn.serve import Preview, PreviewServer, content_disposition
+from crankdyn.preview.server import Preview, PreviewServer, content_disposition
 
 
 @pytest.mark.parametrize("name", ["report.pdf", "Сцена двигуна.pdf", 'a"b\\c.pdf', "ДВЗ №1 – варіант 7.pdf"])

@@ -10,8 +10,8 @@ from conftest import shared_run
 
 from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
-from crankdyn.plugins import default_registry
-from crankdyn.scene_inputs import crank_train
+from crankdyn.plugin.registry import default_registry
+from crankdyn.plugin.scene_inputs import crank_train
 
 REGISTRY = default_registry()
 

@@ -10,15 +10,15 @@ from conftest import example_data, modified
 from markupsafe import Markup
 
 from crankdyn.cli import examples_dir
+from crankdyn.engine.orchestrator import plan, run_plan, run_scene
 from crankdyn.errors import PluginError
-from crankdyn.orchestrator import plan, run_plan, run_scene
-from crankdyn.plugin_types import Stage, StageOutput, declared
-from crankdyn.plugins import Registry, default_registry
+from crankdyn.plugin.registry import Registry, default_registry
+from crankdyn.plugin.types import Stage, StageOutput, declared
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment, render_html
 from crankdyn.report.figures import new_figure
 from crankdyn.report.i18n import available_languages, translator
-from crankdyn.scene import scene_from_dict
+from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
@@ -65,7 +65,7 @@ def test_a_table_not_declared_is_refused_naming_the_stage_and_the_table():
 def test_a_figure_not_declared_is_refused_naming_the_stage_and_the_figure():
     scene = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(scene, _registry(_throwaway(figures=("scheme",), tables=("main",))))
-    with pytest.raises(PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*Stage.figures"):
+    with pytest.raises(PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*StagePresentation.figures"):
         render_html(result, _registry(result.plan.order[0]))
     result = run_scene(scene, _registry(_throwaway(figures=("plot",), tables=("main",))))
     report = render_html(result, _registry(result.plan.order[0]))
@@ -95,9 +95,9 @@ def _example(example: str):
                      table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
     ctx.drawn = []
     for number, stage in enumerate(result.plan.order, start=2):
-        ctx.start_section(number, stage.name, stage.figures)
+        ctx.start_section(number, stage.name, stage.presentation.figures)
         ctx.conclusions = []
-        stage.render(result.outputs[stage.name], ctx)
+        stage.presentation.render(result.outputs[stage.name], ctx)
     return result, ctx.drawn
 
 
@@ -106,7 +106,7 @@ def test_every_example_draws_and_writes_only_what_its_stages_declare(example):
     result, drawn = _example(example)
     stages = {s.name: s for s in result.plan.order}
     assert drawn, "no figure drawn"
-    undeclared = [(stage, name) for stage, name in drawn if not declared(name, stages[stage].figures)]
+    undeclared = [(stage, name) for stage, name in drawn if not declared(name, stages[stage].presentation.figures)]
     assert not undeclared, undeclared
     tables = [(stage, name) for stage, output in result.outputs.items() for name in output.tables.keys()]
     assert not [(stage, name) for stage, name in tables if not declared(name, stages[stage].tables)]
@@ -115,6 +115,6 @@ def test_every_example_draws_and_writes_only_what_its_stages_declare(example):
 def test_every_built_in_stage_declares_its_figures_and_tables():
     """A section that draws declares its figures; the declarations are names (or patterns), not empty."""
     for stage in REGISTRY.stages.values():
-        assert stage.figures, f"{stage.name} declares no figure"
-        assert all(isinstance(n, str) and n for n in (*stage.figures, *stage.tables)), stage.name
+        assert stage.presentation.figures, f"{stage.name} declares no figure"
+        assert all(isinstance(n, str) and n for n in (*stage.presentation.figures, *stage.tables)), stage.name
         assert stage.tables or stage.name.startswith("drawing"), f"{stage.name} declares no table"

@@ -1,4 +1,4 @@
-"""The live preview's study worker (crankdyn.background.StudyWorker): forked before the server's
+"""The live preview's study worker (crankdyn.engine.studies.StudyWorker): forked before the server's
 threads, it computes the study of each save while the page is rendered; the study it sends is the
 one the server would compute, a scene changed meanwhile is computed in place, a dead worker leaves
 the study to the server, and stopping the preview leaves no process behind.
@@ -16,13 +16,14 @@ import pytest
 from child_processes import children, in_fresh_process
 from conftest import example_data
 
-from crankdyn import background, serve
-from crankdyn.background import StudyWorker
 from crankdyn.cli import examples_dir
-from crankdyn.plugin_types import Stage, StageOutput
-from crankdyn.plugins import Registry
-from crankdyn.scene import scene_from_dict
-from crankdyn.serve import Preview
+from crankdyn.engine import studies as background
+from crankdyn.engine.studies import StudyWorker
+from crankdyn.plugin.registry import Registry
+from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.preview import server as serve
+from crankdyn.preview.server import Preview
+from crankdyn.scene.model import scene_from_dict
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the study worker is forked")
 
@@ -105,12 +106,12 @@ def test_the_worker_computes_each_saves_study_as_the_server_would(scene, taken):
 
 @in_fresh_process
 def test_a_scene_changed_between_the_page_and_its_study_is_computed_here(scene, taken):
-    from crankdyn.cache import StageCache
-    from crankdyn.pipeline import run_for_preview
-    from crankdyn.plugins import default_registry
+    from crankdyn.engine.stage_cache import StageCache
+    from crankdyn.output.pipeline import run_for_preview
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import available_languages
     from crankdyn.report.section_cache import SectionCache
-    from crankdyn.scene import load_scene
+    from crankdyn.scene.model import load_scene
 
     registry, cache, sections, worker = (
         default_registry(),

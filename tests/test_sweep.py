@@ -11,16 +11,16 @@ import pandas as pd
 import pytest
 from conftest import run_cli
 
-from crankdyn.batch import RunOptions
-from crankdyn.cli import examples_dir
-from crankdyn.errors import SceneError
-from crankdyn.sweep_grid import (
+from crankdyn.batch.sweep import (
     SweepRequest,
     parse_values,
     read_sweep_file,
     run_sweep,
     sweep_from_args,
 )
+from crankdyn.batch.variants import RunOptions
+from crankdyn.cli import examples_dir
+from crankdyn.errors import SceneError
 
 KINEMATICS = examples_dir() / "kinematics-only.toml"  # R = 50 mm, S = 100 mm, rod_length = 200 mm
 SWEEP_FILE = Path(__file__).resolve().parent.parent / "examples" / "sweeps" / "bore-rod-ratio.toml"

@@ -1,10 +1,11 @@
-"""A sweep's answer key computed in chunks (crankdyn.grid_run) equals the key of each point run
+"""A sweep's answer key computed in chunks (crankdyn.batch.grid_run) equals the key of each point run
 through the whole pipeline on its own, column by column; the studies run once."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
 from pathlib import Path
 
@@ -12,15 +13,23 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import crankdyn.batch as batch
-from crankdyn import answer_key
-from crankdyn.batch import RunOptions, Variant, _registry, _variant_scene, load_base, run_variant
+import crankdyn.batch.variants as batch
+from crankdyn.batch.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
+from crankdyn.batch.sweep import SweepRequest, base_for, run_sweep, sweep_from_args, variants
+from crankdyn.batch.variants import (
+    RunOptions,
+    Variant,
+    _registry,
+    _variant_scene,
+    answer_key,
+    load_base,
+    run_variant,
+)
 from crankdyn.cli import examples_dir
-from crankdyn.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
-from crankdyn.orchestrator import is_study, plan, run_stage, stage_inputs
-from crankdyn.plugin_types import AnswerColumn, Stage, StageOutput
-from crankdyn.plugins import Registry, default_registry
-from crankdyn.sweep_grid import SweepRequest, base_for, run_sweep, sweep_from_args, variants
+from crankdyn.engine.orchestrator import is_study, plan, run_stage, stage_inputs
+from crankdyn.parallel.pool import OutOfTime
+from crankdyn.plugin.registry import Registry, default_registry
+from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
 
 PETROL = examples_dir() / "petrol-1cyl.toml"
 RELATIVE = 1e-9
@@ -238,7 +247,7 @@ def test_a_larger_grid_in_chunks_equals_the_points_run_alone():
 
 def test_on_dask_the_points_go_in_chunks_and_give_the_local_key(monkeypatch):
     distributed = pytest.importorskip("distributed")
-    import crankdyn.grid_run as grid_run
+    import crankdyn.batch.grid_run as grid_run
 
     submitted = []
     real = grid_run.run_all_dask
@@ -285,3 +294,72 @@ def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_f
     assert [o.ok for o in outcomes] == [True, False, True, True]
     assert "time limit" in outcomes[1].error
     assert [o.answers["hang_x"] for o in outcomes if o.ok] == [1.0, 1.0, 1.0]
+
+
+def test_a_chunk_given_no_time_stops_before_its_first_stage():
+    ran = []
+
+    def counting(scene, inputs):
+        ran.append(scene.engine.rpm)
+        return StageOutput(results={"x": 1.0})
+
+    counted = Stage(name="count_for_test", title_key="kinematics.title", requires=(), provides=(),
+                    applies=lambda scene: None, run=counting, render=lambda output, ctx: None,
+                    answer_columns=(AnswerColumn("count_x", "x"),))
+    registry = default_registry()
+    registry = dataclasses.replace(registry, stages={**registry.stages, counted.name: counted})
+    base, base_dir, points = _grid(TWELVE[:1])
+    scenes = [_variant_scene(base, base_dir, v, None, ()) for v in points]
+    with pytest.raises(OutOfTime):
+        evaluate(scenes, registry, deadline=time.monotonic())
+    assert ran == []
+    evaluate(scenes, registry, deadline=time.monotonic() + 3600.0)
+    assert ran == [3000.0, 4500.0, 6000.0]
+
+
+def test_on_dask_a_chunk_runs_in_the_worker_and_one_out_of_time_runs_again_point_by_point(
+        monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    import crankdyn.batch.grid_run as grid_run
+
+    in_worker = []
+
+    def out_of_time(deadline):  # every chunk with a limit stops at once; the points alone run
+        if deadline is not None:
+            in_worker.append(os.getpid())
+            raise OutOfTime
+
+    monkeypatch.setattr(grid_run, "_check_time", out_of_time)
+    base, base_dir, points = _grid(TWELVE[:2])
+    local, _ = execute_key(points, base, base_dir, RunOptions([], jobs=1, progress=False))
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=1,
+                                  dashboard_address=None) as cluster:
+        options = RunOptions([], progress=False, scheduler=cluster.scheduler_address)
+        remote, stop = execute_key(points, base, base_dir, options)
+    assert stop == 0
+    # the chunks ran in the worker's process (this one: the cluster's worker is a thread here)
+    assert in_worker and set(in_worker) == {os.getpid()}
+    _assert_same_keys(remote, local)
+
+
+def test_a_chunk_builds_each_point_scene_as_a_batch_builds_it():
+    from crankdyn.batch.grid_run import _PointScenes
+
+    base, base_dir = load_base(PETROL)
+    points = [Variant(1, "a", {"engine": {"rpm": 4100.0}}, {"variant": "a"}),
+              Variant(2, "b", {"report": {"variant": "own"}, "cycle": {"max_pressure": "5 MPa"}},
+                      {"variant": "b"}),
+              Variant(3, "c", {"engine": {"rpm": -5.0}}, {"variant": "c"}),  # refused by the model
+              Variant(4, "d", {"engine": {"name": "x\ty"}}, {"variant": "d"}),  # a control char
+              Variant(5, "e", {"engine": {"bore": "1e-400 mm"}}, {"variant": "e"})]
+    for language in (None, "uk"):
+        built = _PointScenes(base, str(base_dir), language, ())
+        for variant in points:
+            try:
+                expected = _variant_scene(base, str(base_dir), variant, language, ())
+            except Exception as exc:  # noqa: BLE001 - the same error is expected
+                with pytest.raises(type(exc)) as caught:
+                    built.scene(variant)
+                assert str(caught.value) == str(exc)
+                continue
+            assert built.scene(variant) == expected

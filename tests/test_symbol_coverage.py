@@ -12,7 +12,7 @@ from collections import defaultdict
 import pytest
 from conftest import shared_html
 
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import equation_legend, typeset
 from crankdyn.report.equation_legend import _SECTION_OR_EQUATION
 from crankdyn.report.i18n import translator
@@ -187,14 +187,20 @@ def test_every_stage_symbol_has_a_meaning_in_every_language():
 
 
 def test_a_stage_symbol_key_must_be_an_identifier():
-    from types import SimpleNamespace
-
     from crankdyn.errors import PluginError
-    from crankdyn.plugin_types import Symbol
+    from crankdyn.plugin.types import Stage, StagePresentation, Symbol
+
+    def stage(symbols):
+        return Stage(name="odd", requires=(), provides=(), applies=lambda scene: None,
+                     run=lambda scene, inputs: None,
+                     presentation=StagePresentation(title_key="odd.title",
+                                                    render=lambda output, ctx: None,
+                                                    symbols=symbols))
+
     with pytest.raises(PluginError, match="'bad key'"):
-        typeset.symbol_table([SimpleNamespace(name="odd", symbols={"bad key": Symbol("x", {}, "")})])
+        typeset.symbol_table([stage({"bad key": Symbol("x", {}, "")})])
     with pytest.raises(PluginError, match="'x'"):
-        typeset.symbol_table([SimpleNamespace(name="odd", symbols={"x": ("x", "mm")})])
+        typeset.symbol_table([stage({"x": ("x", "mm")})])
 
 
 @pytest.mark.parametrize("language, note", [("uk", "у розділі 2"), ("en", "in section 2")])

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report import document
 from crankdyn.report.document import _places
 from crankdyn.report.i18n import translator

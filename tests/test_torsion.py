@@ -13,11 +13,11 @@ from conftest import shared_run
 from crankdyn.errors import SceneError
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.physics import torsion as tor
-from crankdyn.plugins import default_registry
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
-from crankdyn.units import parse_quantity
+from crankdyn.scene.units import parse_quantity
 
 REGISTRY = default_registry()
 

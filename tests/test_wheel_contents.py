@@ -148,3 +148,14 @@ def test_examples_of_the_installed_wheel_load_from_any_folder(wheel, tmp_path):
         (ROOT / "examples" / "petrol-1cyl.toml").read_text("utf-8")
     )
     assert float(rpm) == expected_rpm["engine"]["rpm"]
+
+
+@pytest.mark.long
+def test_the_wheel_carries_every_module_of_the_core(wheel):
+    """Every module under src/crankdyn (each package of the layer contract, the old paths' shims)
+    is in the wheel: a package left out of ``[tool.setuptools] packages`` is caught here."""
+    names = set(_names(wheel))
+    core = ROOT / "src" / "crankdyn"
+    modules = {"crankdyn/" + p.relative_to(core).as_posix() for p in core.rglob("*.py")}
+    assert {"crankdyn/plugin/__init__.py", "crankdyn/scene/units.py"} <= modules
+    assert sorted(modules - names) == []

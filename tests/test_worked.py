@@ -22,12 +22,12 @@ from conftest import as_read, formula_as_read
 from markupsafe import Markup
 
 from crankdyn.cli import examples_dir
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import default_registry
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import default_registry
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
-from crankdyn.scene import load_scene
+from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
 

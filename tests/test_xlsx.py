@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from crankdyn.cli import examples_dir, main
-from crankdyn.outputs import _sheet_name, xlsx_bytes
+from crankdyn.output.writers import _sheet_name, xlsx_bytes
 
 
 def test_xlsx_round_trips_with_pandas_and_matches_csv(tmp_path):

@@ -1,7 +1,7 @@
 """MkDocs hook: the scene reference and the results.json reference, generated from the code.
 
 A page that holds the line ``<!-- generated: scene-reference -->`` gets, in its place, one table per
-scene table: every field of the pydantic models (:mod:`crankdyn.scene`, the stages' option models,
+scene table: every field of the pydantic models (:mod:`crankdyn.scene.model`, the stages' option models,
 the mechanisms' parameter models) with its type, unit, range and default read from the model, and
 its meaning from ``docs/reference/scene-fields.toml``. ``<!-- generated: results-reference -->``
 gets, per stage of the registry, its declarations (``Stage``: requires, provides, options table,
@@ -63,7 +63,7 @@ def _bounds(values: dict[str, Any], shown=lambda x: f"{x:g}") -> list[str]:
 
 
 def _describe_annotated(metadata: list) -> tuple[str, list[str]]:
-    """(kind, range) of a field built by ``crankdyn.scene.quantity``/``number`` or ``Field``."""
+    """(kind, range) of a field built by ``crankdyn.scene.model.quantity``/``number`` or ``Field``."""
     kind, bounds = "", []
     for item in metadata:
         function = getattr(item, "func", None)
@@ -154,8 +154,8 @@ def _default_text(info, field: str = "") -> str:
 
 def _model_tables() -> list[tuple[str, type, str]]:
     """(table name, pydantic model, where it comes from) of every scene table the code knows."""
-    from crankdyn.plugins import default_registry
-    from crankdyn.scene import Cycle, Scene
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.scene.model import Cycle, Scene
 
     tables = []
     for name, info in Scene.model_fields.items():
@@ -163,10 +163,10 @@ def _model_tables() -> list[tuple[str, type, str]]:
         members = [a for a in typing.get_args(model) if a is not type(None)] or [model]
         model = members[0]
         if hasattr(model, "model_fields"):
-            tables.append((name, model, "crankdyn.scene." + model.__name__))
+            tables.append((name, model, "crankdyn.scene.model." + model.__name__))
             if model is Cycle:
                 rounding = Cycle.model_fields["rounding"].annotation
-                tables.append(("cycle.rounding", rounding, "crankdyn.scene." + rounding.__name__))
+                tables.append(("cycle.rounding", rounding, "crankdyn.scene.model." + rounding.__name__))
     registry = default_registry()
     for stage in sorted(registry.stages.values(), key=lambda s: s.name):
         if stage.options_table and stage.options_model is not None:
@@ -259,7 +259,7 @@ def _csv_name(stage: str, table: str) -> str:
 
 
 def results_reference() -> str:
-    from crankdyn.plugins import default_registry
+    from crankdyn.plugin.registry import default_registry
     from crankdyn.report.i18n import translator
 
     descriptions = _descriptions("results-keys.toml")

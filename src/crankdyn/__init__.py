@@ -4,8 +4,8 @@ The public Python API (see docs/api.md): :func:`crankdyn.load`, :func:`crankdyn.
 (returning a :class:`crankdyn.Result`) and :func:`crankdyn.sweep`, defined in
 :mod:`crankdyn.api`; :func:`crankdyn.example_path`, the path of a bundled example scene; and the
 ``crankdyn`` command line. The lower-level entry points are
-:func:`crankdyn.scene.load_scene` and :func:`crankdyn.orchestrator.run_scene`.
-Mechanisms and analysis stages are pluggy plugins; see :mod:`crankdyn.hookspecs`.
+:func:`crankdyn.scene.load_scene` and :func:`crankdyn.engine.orchestrator.run_scene`.
+Mechanisms and analysis stages are pluggy plugins; see :mod:`crankdyn.plugin.hooks`.
 """
 
 from .bundled import example_path

@@ -31,20 +31,20 @@ from typing import TYPE_CHECKING, Any
 
 from markupsafe import Markup
 
-from . import answer_key
-from .batch import MAX_FIELDS, MAX_VARIANTS, _nest, answers
+from .batch import answer_key
+from .batch.grid_run import CHUNK_POINTS, evaluate, number, study_once
+from .batch.variants import MAX_FIELDS, MAX_VARIANTS, _nest, answers
+from .engine.orchestrator import RunResult, check_scene, run_scene
 from .errors import Problem, SceneError
-from .grid_run import CHUNK_POINTS, evaluate, number, study_once
-from .inputcheck import structure_problems
-from .manifest import write_outputs
-from .orchestrator import RunResult, check_scene, run_scene
-from .outputs import FORMATS, _named_tables, results_document
-from .pipeline import render_files
-from .plugins import default_registry
+from .output.manifest import write_outputs
+from .output.pipeline import render_files
+from .output.writers import FORMATS, _named_tables, results_document
+from .plugin.registry import default_registry
 from .report.context import RenderContext
 from .report.figures import STYLE, tight_layout
 from .report.i18n import available_languages, translator
-from .scene import Scene, merge, read_scene_data, scene_from_dict
+from .scene.inputcheck import structure_problems
+from .scene.model import Scene, merge, read_scene_data, scene_from_dict
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -436,18 +436,21 @@ class Result:
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data
         for stage in self.run_result.plan.order:
-            ctx.start_section(number + 1, stage.name, stage.figures)
+            look = stage.presentation
+            if look is None:  # a stage without a section takes no number
+                continue
+            ctx.start_section(number + 1, stage.name, look.figures)
             ctx.conclusions = []
             if only is not None and stage.name != only:
                 # Still counted: a stage that shows nothing takes no number, as in the report.
-                if stage.render(self.run_result.outputs[stage.name], ctx) is not None:
+                if look.render(self.run_result.outputs[stage.name], ctx) is not None:
                     number += 1
                 continue
-            body = stage.render(self.run_result.outputs[stage.name], ctx)
+            body = look.render(self.run_result.outputs[stage.name], ctx)
             if body is None:
                 continue
             number += 1
-            title = html.escape(f"{number}. {t(stage.title_key)}")
+            title = html.escape(f"{number}. {t(look.title_key)}")
             sections[stage.name] = SectionHTML(f'<section class="crankdyn-section"><h2>{title}</h2>{body}</section>')
         return sections, figures
 

@@ -41,7 +41,8 @@ BLAS_THREADS_ENV = "OPENBLAS_NUM_THREADS"
 ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
 
 
-#: The formats ``--format`` accepts: crankdyn.outputs.FORMATS, named here without importing that
+#: The formats ``--format`` accepts: crankdyn.output.writers.FORMATS, named here without importing
+#: that
 #: module (numpy), so that ``--help`` answers at once.
 REPORT_FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 #: What users type for a report language, with the code they mean.
@@ -286,11 +287,11 @@ def _scheduler_options(parser: argparse.ArgumentParser) -> None:
 
 def _run_options(args, formats: list[str]):
     """The batch/sweep options of the command line, checked."""
-    from .batch import (  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch.variants import (  # lazy: heavy optional import (numpy, scipy: per command)
         RunOptions,
         available_cores,
     )
-    from .batch_runner import (
+    from .parallel.pool import (
         check_seconds,  # lazy: heavy optional import (numpy, scipy: per command)
     )
 
@@ -311,7 +312,7 @@ def _run_options(args, formats: list[str]):
                       args.connect_timeout, args.force)
 
 
-#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin_guard's, without its import)
+#: seconds one stage may take in 'report' and 'check' (crankdyn.plugin.guard's, without its import)
 DEFAULT_STAGE_TIMEOUT_S = 120.0
 MAX_STAGE_TIMEOUT_S = 3600.0
 
@@ -324,7 +325,7 @@ def _stage_timeout_option(parser: argparse.ArgumentParser) -> None:
 
 def _stage_time_limit(seconds: float):
     """The time limit of each stage (``--timeout``), checked: > 0 and at most the maximum."""
-    from .plugin_guard import stage_time_limit  # lazy: heavy optional import (numpy)
+    from .plugin.guard import stage_time_limit  # lazy: heavy optional import (numpy)
 
     if not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
         raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 "
@@ -400,7 +401,7 @@ def _with_product_warnings(handler, args) -> int:
 
 
 def _formats(text: str) -> list[str]:
-    from .outputs import FORMATS  # lazy: heavy optional import (numpy, scipy: per command)
+    from .output.writers import FORMATS  # lazy: heavy optional import (numpy, scipy: per command)
 
     chosen = [f.strip() for f in text.split(",") if f.strip()]
     bad = [f for f in chosen if f not in FORMATS]
@@ -424,7 +425,7 @@ def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
     from .report.i18n import (
         available_languages,  # lazy: heavy optional import (numpy, scipy: per command)
     )
-    from .scene import load_scene  # lazy: heavy optional import (numpy, scipy: per command)
+    from .scene.model import load_scene  # lazy: heavy optional import (numpy, scipy: per command)
 
     overrides = {"report": {"language": lang}} if lang else None
     scene = load_scene(scene_path, overrides, tuple(str(d) for d in data_dirs))
@@ -446,8 +447,12 @@ def _report(args) -> int:
 
 
 def _write_report(args) -> int:
-    from .pipeline import write_report  # lazy: heavy optional import (numpy, scipy: per command)
-    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
+    from .output.pipeline import (
+        write_report,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
+    from .plugin.registry import (
+        default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     formats = _formats(args.format)
     stages = [s.strip() for s in args.stages.split(",")] if args.stages else None
@@ -492,7 +497,7 @@ def _stage_list(text: str | None) -> list[str] | None:
 
 
 def _serve(args) -> int:
-    from .serve import serve  # lazy: heavy optional import (numpy, scipy: per command)
+    from .preview.server import serve  # lazy: heavy optional import (numpy, scipy: per command)
 
     if not 0 <= args.port <= 65535:
         raise SceneError(Problem("--port", args.port, "a port number from 1 to 65535, or 0 for any free port"))
@@ -501,7 +506,7 @@ def _serve(args) -> int:
 
 
 def _batch(args) -> int:
-    from .batch import run_batch  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch.variants import run_batch  # lazy: heavy optional import (numpy, scipy: per command)
 
     o = _run_options(args, _formats(args.format))
     report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
@@ -527,7 +532,7 @@ def _batch(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .sweep_grid import (  # lazy: heavy optional import (numpy, scipy: per command)
+    from .batch.sweep import (  # lazy: heavy optional import (numpy, scipy: per command)
         SweepRequest,
         run_sweep,
         sweep_from_args,
@@ -634,8 +639,12 @@ def _check(args) -> int:
 
 
 def _check_scene(args) -> int:
-    from .orchestrator import run_scene  # lazy: heavy optional import (numpy, scipy: per command)
-    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
+    from .engine.orchestrator import (
+        run_scene,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
+    from .plugin.registry import (
+        default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
@@ -647,7 +656,7 @@ def _check_scene(args) -> int:
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
     _print_left_out(the_plan)
     _print_warnings(result, registry)
-    from .plausibility import (
+    from .report.plausibility import (
         defaults_applied,  # lazy: heavy optional import (numpy, scipy: per command)
     )
 
@@ -668,7 +677,7 @@ def _print_broken(registry) -> None:
 
 def _print_warnings(result, registry) -> None:
     """Plausibility warnings (a valid scene with values no real engine has) on stderr."""
-    from .plausibility import (  # lazy: heavy optional import (numpy, scipy: per command)
+    from .report.plausibility import (  # lazy: heavy optional import (numpy, scipy: per command)
         console_lines,
         language_warnings,
         warnings,
@@ -698,7 +707,9 @@ def _example(args) -> int:
     source = names[args.name]
     text = source.read_bytes()
     target = args.output or Path(f"{args.name}.toml")
-    from .outputs import write_atomically  # lazy: heavy optional import (numpy, scipy: per command)
+    from .output.writers import (
+        write_atomically,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     files = {target.name: text}
     # An example may refer to a data file next to it; bring it along so the copy runs.
@@ -718,7 +729,9 @@ def _example(args) -> int:
 
 
 def _plugins(args) -> int:
-    from .plugins import default_registry  # lazy: heavy optional import (numpy, scipy: per command)
+    from .plugin.registry import (
+        default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
 
     with _stage_time_limit(DEFAULT_STAGE_TIMEOUT_S):  # a plugin whose import never ends is named
         registry = default_registry()

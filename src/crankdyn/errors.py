@@ -83,7 +83,7 @@ class OutputError(CrankdynError):
 
 class PluginFailure(PluginError):
     """A plugin failed: its import or a hook raised, a stage's ``applies``, ``run`` or ``render``
-    (a mechanism's ``check``, ``geometry``) raised or returned what :mod:`crankdyn.plugin_types`
+    (a mechanism's ``check``, ``geometry``) raised or returned what :mod:`crankdyn.plugin.types`
     does not allow, or a stage ran past the time limit. The message is
     ``plugin '<plugin>' (<where>): <what>``; ``where`` is ``import``, ``hook <name>``,
     ``stage '<name>'``, ``mechanism '<name>'`` or ``error probe '<name>'``."""
@@ -98,4 +98,4 @@ class PluginFailure(PluginError):
 
 class StageTimeLimit(PluginFailure):
     """A plugin's stage (or hook) ran past the time limit one stage may take
-    (``crankdyn report --timeout``, :func:`crankdyn.plugin_guard.stage_time_limit`)."""
+    (``crankdyn report --timeout``, :func:`crankdyn.plugin.guard.stage_time_limit`)."""

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from crankdyn_scotch_yoke import physics, plugin
 
-from crankdyn.orchestrator import run_scene
-from crankdyn.plugins import collect, plugin_manager
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.registry import collect, plugin_manager
 from crankdyn.scene import scene_from_dict
 
 SCENE = {

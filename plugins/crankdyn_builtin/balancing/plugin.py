@@ -1,15 +1,58 @@
 """The ``balancing`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``options.py`` (its scene table), ``vectors.py`` and
+``means.py`` (the physics it assembles), ``compute.py`` (applies and run), ``tables.py``,
+``section.py`` and ``figures.py`` (render), ``worked.py`` (the worked checks),
+``templates/sections/`` (its section template) and ``i18n/`` (its catalogs) in this one folder;
+here the Stage is assembled from them.
 """
+
+from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import (
+    COUNTERWEIGHTS,
+    ENGINE_TORQUE,
+    KINEMATICS,
+)
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
-from .stage import BALANCING_STAGE
+from .compute import applies, run
+from .notation import SYMBOLS
+from .options import BalancingOptions
+from .section import render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+BALANCING_STAGE = Stage(
+    name="balancing",
+    requires=(KINEMATICS,),
+    uses=(ENGINE_TORQUE,),
+    provides=(COUNTERWEIGHTS,),
+    applies=applies,
+    run=run,
+    tables=("balancing",),
+    options_table="balancing",
+    options_model=BalancingOptions,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("harmonic_order", "shaft_angle", "crank_lag", "cylinder_axis_angle",
+                         "cylinder_position", "bay_forward_first", "bay_backward_first",
+                         "bay_forward_second", "bay_backward_second", "bay_semi_axis_x_first",
+                         "bay_semi_axis_y_first", "bay_semi_axis_x_second", "bay_semi_axis_y_second",
+                         "cylinder_spacing"),
+        title_key="balancing.title",
+        render=render,
+        figures=("crank_diagrams", "vector_models"),
+        symbols=SYMBOLS,
+        references=("poda2007", "lukanin1995", "taylor1985"),
+    ),
+)
 
 HERE = Path(__file__).resolve().parent
 

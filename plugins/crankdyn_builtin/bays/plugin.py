@@ -1,15 +1,52 @@
 """The ``bays`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``compute.py`` (run), ``section.py`` and ``figures.py``
+(render), ``templates/sections/`` (its section template) and ``i18n/`` (its catalogs) in this one
+folder; here the Stage is assembled from them. Its scene table, ``[articulated]``, is the core's
+:class:`crankdyn.plugin.contracts.ArticulatedOptions`.
 """
+
+from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import (
+    BAY_LOADS,
+    FORCES,
+    GAS_PRESSURE,
+    KINEMATICS,
+    ArticulatedOptions,
+)
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
-from .stage import BAYS_STAGE
+from .compute import ARTICULATED, applies, run
+from .section import SYMBOLS, render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+BAYS_STAGE = Stage(
+    name="bays",
+    requires=(KINEMATICS, GAS_PRESSURE, FORCES),
+    provides=(BAY_LOADS,),
+    applies=applies,
+    run=run,
+    tables=("bay", "slave_*"),
+    options_table=ARTICULATED,
+    options_model=ArticulatedOptions,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("rod_specific", "side_specific"),
+        title_key="bays.title",
+        render=render,
+        figures=("bay",),
+        references=("poda2007",),
+        symbols=SYMBOLS,
+    ),
+)
 
 HERE = Path(__file__).resolve().parent
 

@@ -2,7 +2,7 @@
 
 Joint positions come from the kinematics' own functions (:mod:`crankdyn.physics.kinematics`
 for a central or fork rod, :mod:`crankdyn.physics.articulated` for slave rods), so the drawing
-and the tables share one geometry. Frame: see :class:`crankdyn.plugin_types.MechanismGeometry`.
+and the tables share one geometry. Frame: see :class:`crankdyn.plugin.types.MechanismGeometry`.
 """
 
 from __future__ import annotations
@@ -11,13 +11,13 @@ import math
 
 import numpy as np
 
-from crankdyn.contracts import ArticulatedOptions
 from crankdyn.physics import articulated as art
 from crankdyn.physics import kinematics as kin
 from crankdyn.physics.plane import along, polar, unit
-from crankdyn.plugin_types import Guide, MechanismGeometry
+from crankdyn.plugin.contracts import ArticulatedOptions
+from crankdyn.plugin.scene_inputs import engine_layout, slave_geometries
+from crankdyn.plugin.types import Guide, MechanismGeometry
 from crankdyn.scene import options
-from crankdyn.scene_inputs import engine_layout, slave_geometries
 
 #: The scene table of the articulated rods (the bay stage's), read for the slave rods' drawing.
 ARTICULATED = "articulated"

@@ -2,11 +2,11 @@
 multi-cylinder engine (layouts in-line, V, W, Y, X, boxer, radial; see the ``bays`` plugin)."""
 
 from crankdyn.errors import Problem, SceneError
-from crankdyn.hookspecs import hookimpl
 from crankdyn.physics import layout as lay
-from crankdyn.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
-from crankdyn.plugin_types import Mechanism
-from crankdyn.scene_inputs import engine_layout
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.scene_inputs import engine_layout
+from crankdyn.plugin.types import Mechanism
+from crankdyn.report.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 
 from .geometry import ARTICULATED, engine_geometry
 

@@ -1,15 +1,47 @@
 """The ``flywheel`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``options.py`` (its scene table), ``compute.py`` (run),
+``section.py`` and ``figures.py`` (render), ``worked.py`` (the worked checks),
+``templates/sections/`` (its section template) and ``i18n/`` (its catalogs) in this one folder;
+here the Stage is assembled from them.
 """
+
+from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
-from .stage import FLYWHEEL_STAGE
+from .compute import applies, run
+from .options import FlywheelOptions
+from .section import input_rows, render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+FLYWHEEL_STAGE = Stage(
+    name="flywheel",
+    requires=(ENGINE_TORQUE, BAY_LOADS),
+    provides=(FLYWHEEL,),
+    applies=applies,
+    run=run,
+    tables=("flywheel",),
+    options_table="flywheel",
+    options_model=FlywheelOptions,
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("irregularity", "rim_mass", "rim_width", "rim_height"),
+        title_key="flywheel.title",
+        render=render,
+        figures=("excess_work",),
+        references=("poda2007", "artobolevsky1988", "khurmi2005", "timoshenko1956"),
+        input_rows=input_rows,
+    ),
+)
 
 HERE = Path(__file__).resolve().parent
 

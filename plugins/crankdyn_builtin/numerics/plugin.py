@@ -1,15 +1,85 @@
 """The ``numerics`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``options.py`` (its scene table), ``steps.py`` (the angle-step
+study: re-runs and their timing), ``reference.py`` (the references the studies are measured
+against), ``compute.py`` (applies and run), ``section.py`` and ``figures.py`` (render),
+``templates/sections/`` (its section templates) and ``i18n/`` (its catalogs) in this one folder;
+here the two Stages are assembled from them.
 """
+
+from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import FORCES, GAS_PRESSURE, KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import (
+    SERVICE_ASIDE,
+    SERVICE_ERROR_PROBES,
+    SERVICE_RUNNER,
+    Catalog,
+    Stage,
+    StagePresentation,
+)
 
-from .stage import NUMERICS_KINEMATICS_STAGE, NUMERICS_STAGE
+from .compute import applies, applies_kinematics, run, run_kinematics
+from .options import NumericsOptions
+from .section import render, render_kinematics
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+NUMERICS_STAGE = Stage(
+    name="numerics",
+    requires=(KINEMATICS, GAS_PRESSURE, FORCES),
+    last=True,
+    provides=(),
+    applies=applies,
+    run=run,
+    tables=("steps", "kinematics_forms"),
+    options_table="numerics",
+    options_model=NumericsOptions,
+    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES, SERVICE_ASIDE),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        appendix=True,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                         "tangential_max", "tangential_min", "crank_load_max",
+                         "displacement_difference", "acceleration_difference"),
+        title_key="numerics.title",
+        render=render,
+        figures=("error_vs_time", "kinematics_forms"),
+        references_full=("ismailov",),
+        references_sentence="numerics.sources",
+    ),
+)
+
+
+NUMERICS_KINEMATICS_STAGE = Stage(
+    name="numerics_kinematics",
+    requires=(KINEMATICS,),
+    provides=(),
+    applies=applies_kinematics,
+    run=run_kinematics,
+    tables=("kinematics_forms",),
+    last=True,
+    services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        appendix=True,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
+                         "tangential_max", "tangential_min", "crank_load_max",
+                         "displacement_difference", "acceleration_difference"),
+        title_key="numerics.title",
+        render=render_kinematics,
+        figures=("kinematics_forms",),
+        references_full=("ismailov",),
+        references_sentence="numerics.sources",
+    ),
+)
 
 HERE = Path(__file__).resolve().parent
 

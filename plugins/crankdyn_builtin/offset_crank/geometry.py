@@ -1,6 +1,6 @@
 """Geometry of the offset (desaxial) crank-slider, from :mod:`crankdyn.physics.offset_crank`.
 
-Frame: see :class:`crankdyn.plugin_types.MechanismGeometry` (it is the physics module's frame:
+Frame: see :class:`crankdyn.plugin.types.MechanismGeometry` (it is the physics module's frame:
 ``x`` lateral, ``y`` = its ``z``). The cylinder axis is the line x = e.
 """
 
@@ -10,10 +10,10 @@ import numpy as np
 
 from crankdyn.physics import offset_crank as oc
 from crankdyn.physics.plane import polar
-from crankdyn.plugin_types import Guide, MechanismGeometry
+from crankdyn.plugin.types import Guide, MechanismGeometry
 from crankdyn.scene import options
 
-from .stage import OffsetParams
+from .options import OffsetParams
 
 
 def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:

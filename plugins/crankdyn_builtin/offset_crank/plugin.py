@@ -1,17 +1,57 @@
-"""The ``offset_crank`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
+"""The ``offset_crank`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml)
+and the stage assembled from what computes and what presents.
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``options.py`` (the scene table's options model),
+``compute.py`` (applies and run), ``section.py`` (render), ``figures.py`` (its figures),
+``geometry.py``, ``worked.py``, ``templates/sections/`` (its section template) and ``i18n/`` (its
+catalogs) in this one folder.
 """
+
+from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
+from crankdyn.report.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 
+from .compute import MECHANISM, applies, check, run
 from .geometry import offset_geometry
-from .stage import OFFSET_CRANK_MECHANISM, OFFSET_CRANK_STAGE
+from .options import OffsetParams
+from .section import SYMBOLS, render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+OFFSET_CRANK_MECHANISM = Mechanism(
+    name=MECHANISM,
+    summary="offset (desaxial) crank-slider mechanism: the cylinder axis passes the crankshaft axis at a "
+            "distance e (the pin offset)",
+    check=check,
+    params_model=OffsetParams,
+    # λ = R/L and the rod's centre of mass hold as for the central crank-slider
+    plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
+)
+
+OFFSET_CRANK_STAGE = Stage(
+    name="offset_crank",
+    requires=(),
+    provides=(KINEMATICS,),
+    applies=applies,
+    run=run,
+    tables=("offset_crank",),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="offset_crank.title",
+        render=render,
+        figures=("offset_piston", "offset_rod"),
+        references=("poda2007",),
+        symbols=SYMBOLS,
+    ),
+)
+
 
 HERE = Path(__file__).resolve().parent
 

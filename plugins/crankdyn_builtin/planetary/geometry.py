@@ -1,6 +1,6 @@
 """Geometry of the planetary crank mechanism, from :mod:`crankdyn.physics.planetary`.
 
-Frame: see :class:`crankdyn.plugin_types.MechanismGeometry` (the physics module's frame:
+Frame: see :class:`crankdyn.plugin.types.MechanismGeometry` (the physics module's frame:
 ``x`` lateral, ``y`` = its ``z``). The crank angle is measured from TDC, the carrier angle
 from the cylinder axis: phi = alpha + phi_TDC.
 """
@@ -11,9 +11,9 @@ import numpy as np
 
 from crankdyn.physics import planetary as pl
 from crankdyn.physics.plane import polar
-from crankdyn.plugin_types import Guide, MechanismGeometry
+from crankdyn.plugin.types import Guide, MechanismGeometry
 
-from .stage import geometry_of
+from .compute import geometry_of
 
 
 def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:

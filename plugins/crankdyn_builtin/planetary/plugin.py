@@ -1,17 +1,56 @@
-"""The ``planetary`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
+"""The ``planetary`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml) and
+the stage assembled from what computes and what presents.
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``options.py`` (the scene table's options model),
+``compute.py`` (applies and run), ``section.py`` (render), ``figures.py`` (its figures),
+``geometry.py``, ``worked.py``, ``templates/sections/`` (its section template) and ``i18n/`` (its
+catalogs) in this one folder.
 """
+
+from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import KINEMATICS
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
 
+from .compute import MECHANISM, applies, check, run
 from .geometry import planetary_geometry
-from .stage import PLANETARY_MECHANISM, PLANETARY_STAGE
+from .options import PlanetaryParams
+from .section import SYMBOLS, render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+PLANETARY_MECHANISM = Mechanism(
+    name=MECHANISM,
+    summary="planetary crank mechanism: the carrier is the crank, the rod's big end is on a planet gear rolling "
+            "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
+    check=check,
+    params_model=PlanetaryParams,
+    # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)
+    input_rows={"crank_radius": None, "rod_ratio": None},
+)
+
+PLANETARY_STAGE = Stage(
+    name="planetary",
+    requires=(),
+    provides=(KINEMATICS,),
+    applies=applies,
+    run=run,
+    tables=("planetary", "family"),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        title_key="planetary.title",
+        render=render,
+        figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
+        references=("ismailov",),
+        symbols=SYMBOLS,
+    ),
+)
+
 
 HERE = Path(__file__).resolve().parent
 

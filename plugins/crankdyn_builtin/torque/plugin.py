@@ -1,15 +1,53 @@
-"""The ``torque`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml).
+"""The ``torque`` plugin: the hooks the ``crankdyn`` entry point names (see pyproject.toml) and the
+stage assembled from what computes and what presents.
 
-Laid out like any third-party plugin: ``stage.py`` (run and render), ``templates/sections/``
-(its section template) and ``i18n/`` (its catalogs) in this one folder.
+Laid out like any third-party plugin: ``compute.py`` (applies and run), ``section.py`` (render),
+``figures.py`` (its figures), ``worked.py``, ``templates/sections/`` (its section template) and
+``i18n/`` (its catalogs) in this one folder.
 """
+
+from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import Catalog
+from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentation
+from crankdyn.report.plausibility import mechanical_efficiency
 
-from .stage import TORQUE_STAGE
+from .compute import applies, run, run_many
+from .section import render
+
+#: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+TORQUE_STAGE = Stage(
+    name="torque",
+    requires=(BAY_LOADS,),
+    provides=(ENGINE_TORQUE, CRANK_LOADS),
+    applies=applies,
+    run=run,
+    run_many=run_many,
+    tables=("torque",),
+    plausibility=(mechanical_efficiency("mechanical_efficiency"),),
+    answer_columns=(
+        AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
+        AnswerColumn("M_max_Nm", "max_Nm", "N·m", label_key="torque.answer.M_max_Nm"),
+        AnswerColumn("M_min_Nm", "min_Nm", "N·m", label_key="torque.answer.M_min_Nm"),
+        AnswerColumn("torque_non_uniformity", "non_uniformity", "", label_key="torque.answer.torque_non_uniformity"),
+        AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001, label_key="torque.answer.N_i_engine_kW"),
+    ),
+    presentation=StagePresentation(
+        template_dir=TEMPLATES,
+        # the core's letters that hold with their meaning in this section only
+        section_symbols=("indicated_torque",),
+        title_key="torque.title",
+        render=render,
+        figures=("output_torque", "journal_torques"),
+        references=("poda2007", "lukanin1995"),
+    ),
+)
+
 
 HERE = Path(__file__).resolve().parent
 

@@ -1,6 +1,6 @@
 """Geometry of the vane engine's crank-rocker parallelogram, from :mod:`crankdyn.physics.vane`.
 
-Frame: see :class:`crankdyn.plugin_types.MechanismGeometry`, origin on the core axis O3. The
+Frame: see :class:`crankdyn.plugin.types.MechanismGeometry`, origin on the core axis O3. The
 two equal cranks (centres O1 above, O2 below, on the vertical through O3) carry the rocker
 A1-A2 (a T: the bar A1-A2 and the upright slot on its middle S, at x = r sin alpha) that
 translates; the core's tail O3-P (length l) ends in the slider P in the slot; the vane
@@ -15,7 +15,7 @@ import numpy as np
 
 from crankdyn.physics import vane as vn
 from crankdyn.physics.plane import polar
-from crankdyn.plugin_types import Guide, MechanismGeometry
+from crankdyn.plugin.types import Guide, MechanismGeometry
 
 
 def vane_geometry(scene, crank_angle_rad) -> MechanismGeometry:

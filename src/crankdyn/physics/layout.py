@@ -151,8 +151,9 @@ def _check_layout_fields(layout: str, strokes: int, cylinders: int, bank_angle_d
 
 
 def _firing_order(firing_order: list | None, labels: list[str], layout: str, strokes: int) -> list[str]:
-    """The firing order as normalised cylinder labels: a permutation of ``labels`` starting with
-    the reference cylinder (default for one cylinder and for a radial: every second cylinder)."""
+    """The firing order as normalised cylinder labels: a permutation of ``labels`` read as a cycle
+    from the reference cylinder ``labels[0]`` (an order written from another cylinder is the same
+    cycle); default for one cylinder and for a radial: every second cylinder."""
     cylinders = len(labels)
     if firing_order is None:
         if cylinders == 1:
@@ -174,10 +175,10 @@ def _firing_order(firing_order: list | None, labels: list[str], layout: str, str
         raise LayoutError("engine.firing_order", firing_order,
                           "must name every cylinder exactly once" + (f"; repeated: {', '.join(repeated)}" if repeated else "")
                           + (f"; missing: {', '.join(missing)}" if missing else ""))
-    if order[0] != labels[0]:
-        raise LayoutError("engine.firing_order", firing_order, f"must start with cylinder {labels[0]} "
-                          "(the reference cylinder of the calculation)")
-    return order
+    # The order is a cycle: written from any cylinder it is the same engine; the calculation
+    # counts from the reference cylinder, so the cycle is read from there.
+    start = order.index(labels[0])
+    return order[start:] + order[:start]
 
 
 def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,

@@ -2,7 +2,7 @@
 
 ``scipy.optimize`` and ``scipy.integrate`` take about 0.25 s to import. A report's process
 validates the scene and renders the sections with the physics modules imported, while the
-stages that call scipy may run in another process (:mod:`crankdyn.pipeline`); a module-level
+stages that call scipy may run in another process (:mod:`crankdyn.output.pipeline`); a module-level
 ``from scipy import optimize`` would make every process pay for the import all the same. (Roots
 and extremes of scalar functions need no scipy at all: :mod:`crankdyn.physics.scalar_search`.)
 """

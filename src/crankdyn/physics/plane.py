@@ -1,5 +1,5 @@
 """Points of a mechanism's plane in the drawing frame of
-:class:`crankdyn.plugin_types.MechanismGeometry`: angles clockwise from +y, lengths in m."""
+:class:`crankdyn.plugin.types.MechanismGeometry`: angles clockwise from +y, lengths in m."""
 
 from __future__ import annotations
 

@@ -17,7 +17,7 @@ import numpy as np
 from markupsafe import Markup, escape
 
 from ..errors import PluginError
-from ..plugin_types import declared
+from ..plugin.types import declared
 from .formula_lines import unbroken_parts
 from .i18n import Translator, superscript
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
@@ -38,7 +38,7 @@ class FigureFile:
                  symbols: SymbolTable = SYMBOLS):
         self.name = name
         self.number = number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
-        self.key = key  # the name its stage declares (``Stage.figures``)
+        self.key = key  # the name its stage declares (``StagePresentation.figures``)
         self._figure = figure
         self._build = build
         self._svg = svg
@@ -170,7 +170,7 @@ class RenderContext:
     #: a section's title for what this scene's section contains, when it differs from the
     #: stage's title (honest headings: a part left out is not announced); reset per section
     title: str | None = None
-    #: the figure names the section's stage declares (``Stage.figures``); None: not checked
+    #: the figure names the section's stage declares (``StagePresentation.figures``); None: not checked
     #: (the input section, a context built by hand)
     declared_figures: tuple[str, ...] | None = None
     #: the report's symbol table (the core's and the registry's stages', ``typeset.symbol_table``)
@@ -196,7 +196,7 @@ class RenderContext:
         return f"{self.section_number}.{self._figure}"
 
     def start_section(self, number: int, stage_name: str, figures: tuple[str, ...] | None = None) -> None:
-        """Start numbering a section; ``figures``: the names its stage declares (``Stage.figures``)."""
+        """Start numbering a section; ``figures``: the names its stage declares (``StagePresentation.figures``)."""
         self.section_number = number
         self.stage_name = stage_name
         self._equation = self._table = self._figure = self._subsection = 0
@@ -205,10 +205,11 @@ class RenderContext:
 
     def check_figure_declared(self, name: str) -> None:
         """A stage draws only the figures it declares: a :class:`PluginError` naming the stage and
-        the figure otherwise (the report's figure files are what ``Stage.figures`` announces)."""
+        the figure otherwise (the report's figure files are what ``StagePresentation.figures``
+        announces)."""
         if self.declared_figures is not None and not declared(name, self.declared_figures):
             raise PluginError(f"stage {self.stage_name!r} drew the figure {name!r}, which it does not declare in "
-                              f"Stage.figures (declared: {list(self.declared_figures)})")
+                              f"StagePresentation.figures (declared: {list(self.declared_figures)})")
 
     # ----------------------------------------------------------------- numbering
     def equation(self, formula_html: str, label: str = "") -> Markup:

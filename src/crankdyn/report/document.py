@@ -14,16 +14,16 @@ from pathlib import Path
 import jinja2
 from markupsafe import Markup, escape
 
-from ..contracts import COUNTERWEIGHTS, FORCES
-from ..orchestrator import RunResult
+from ..engine.orchestrator import RunResult
 from ..physics.extrema import EXTREMUM_RTOL
-from ..plausibility import format_params, report_key, scene_warnings, stage_warnings
-from ..plugins import Registry
+from ..plugin.contracts import COUNTERWEIGHTS, FORCES
+from ..plugin.registry import Registry
 from ..version import __version__
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .equation_legend import add_equation_legends, symbol_meaning
 from .frame import frame_html
 from .i18n import translator
+from .plausibility import format_params, report_key, scene_warnings, stage_warnings
 from .typeset import (
     SYMBOLS,
     SymbolTable,
@@ -89,7 +89,8 @@ class RenderedReport:
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
     """The templates of the plan's stages."""
-    extra = [s.template_dir for s in result.plan.order if s.template_dir is not None]
+    extra = [s.presentation.template_dir for s in result.plan.order
+             if s.presentation is not None and s.presentation.template_dir is not None]
     return _cached_environment(tuple(str(p) for p in template_search_path(extra)))
 
 
@@ -199,7 +200,7 @@ def cite_sources(text: str, references: list[str]) -> str:
 
 def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
     """The section's paragraphs and the conclusions' sentences of the warnings ``found``
-    (:func:`crankdyn.plausibility.report_key`) not ``said`` before (two stages may judge one
+    (:func:`crankdyn.report.plausibility.report_key`) not ``said`` before (two stages may judge one
     value); a warning's ``source`` parameter (a catalog key of the reference its limits come
     from) is cited by its number, added to ``references``."""
     paragraphs, conclusions = [], []
@@ -237,9 +238,11 @@ def _inputs_used(result) -> dict[str, bool]:
 
 
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
-    """The given-data rows of the stages in the plan (``Stage.input_rows``), in plan order."""
-    return [tuple(row) for stage in result.plan.order if stage.input_rows is not None
-            for row in stage.input_rows(result.scene, ctx)]
+    """The given-data rows of the stages in the plan (``StagePresentation.input_rows``), in plan
+    order."""
+    shown = [stage.presentation for stage in result.plan.order if stage.presentation is not None]
+    return [tuple(row) for look in shown if look.input_rows is not None
+            for row in look.input_rows(result.scene, ctx)]
 
 
 def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None:
@@ -249,7 +252,7 @@ def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None
     if output is None:  # a study the preview computes after showing the rest (RunResult.pending)
         body = f'<p class="pending">{escape(ctx.t("doc.section_pending"))}</p>'
     elif sections_cache is None:
-        body = stage.render(output, ctx)
+        body = stage.presentation.render(output, ctx)
     else:
         body = sections_cache.render(stage, output, ctx)
     if figure_sink is not None:
@@ -272,15 +275,16 @@ def _input_view(result, registry, ctx) -> SectionView:
 def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
     """The sentence citing the sources of ``stage``'s method (added to ``references``); none for
     a section of the project's own method alone, cited in the introduction. A course note cites
-    no source of a full report's study (``Stage.references_full``)."""
-    cited = stage.references + (() if course else stage.references_full)
+    no source of a full report's study (``StagePresentation.references_full``)."""
+    look = stage.presentation
+    cited = look.references + (() if course else look.references_full)
     for ref in cited:
         if ref not in references:
             references.append(ref)
     if not cited or set(cited) == {PROJECT_METHOD}:
         return ""
     numbers = [references.index(r) + 1 for r in cited]
-    return f"<p>{escape(t(stage.references_sentence, refs=cite(numbers)))}</p>"
+    return f"<p>{escape(t(look.references_sentence, refs=cite(numbers)))}</p>"
 
 
 def _unshown_warnings(result, registry, shown_stages) -> list:
@@ -318,10 +322,13 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     notes: list[str] = []
     shown_stages: set[str] = set()
     for stage in result.plan.order:
-        to_appendix = course and stage.appendix  # a study of the numerics (Stage.appendix)
+        if stage.presentation is None:  # a stage without a section: run for its data alone
+            continue
+        # a study of the numerics (StagePresentation.appendix)
+        to_appendix = course and stage.presentation.appendix
         # a course note has one appendix: the studies' short statements go into the core's
         number = core_letter if to_appendix else len(sections) + 1
-        ctx.start_section(number, stage.name, stage.figures)
+        ctx.start_section(number, stage.name, stage.presentation.figures)
         ctx.conclusions = []
         output = result.study_output(stage.name)  # a deferred study's: received or computed now
         body = _section_body(stage, output, ctx, sections_cache, figure_sink)
@@ -331,7 +338,7 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         shown_stages.add(stage.name)
         results = output.results if output is not None else None
         found, concluded = plausibility_text(t, stage_warnings(stage, scene, results), references, said)
-        view = SectionView(number, stage.name, ctx.title or t(stage.title_key),
+        view = SectionView(number, stage.name, ctx.title or t(stage.presentation.title_key),
                            Markup(cite_sources(body + found, references)), list(ctx.conclusions) + concluded)
         (appendices if to_appendix else sections).append(view)
         for key, params in (output.notes if output is not None else ()):
@@ -361,7 +368,8 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         **_abstract_parts(t, registry, scene, sections),
     )
     html = _finish(fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t), t, language,
-                   len(references), frozenset(s.name for s in result.plan.order if not s.legend),
+                   len(references), frozenset(s.name for s in result.plan.order
+                                       if s.presentation is None or not s.presentation.legend),
                    single=scene.engine.cylinders == 1, symbols=symbols)
     return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
                           worked=list(ctx.worked))
@@ -378,7 +386,7 @@ def report_css(language: str, frame: str = "none") -> str:
 def _timing_rows(result, shown: dict, t) -> list[tuple[str, float]]:
     """(title, seconds) of each stage that ran; one that ran without a section (one cylinder's
     engine scheme, its torque) says so (a timing row needs a section to refer to)."""
-    return [(shown.get(s.name) or t("report.timing_no_section", title=t(s.title_key) if s.title_key else s.name),
+    return [(shown.get(s.name) or t("report.timing_no_section", title=_section_title(t, s)),
              result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
 
 
@@ -412,7 +420,8 @@ def _catalog_section(registry, stage: str) -> str:
     """The catalog section a stage's texts are in: its title key's (``drawing_linkage`` writes
     with ``drawing``'s catalog)."""
     found = registry.stages.get(stage)
-    return found.title_key.split(".", 1)[0] if found is not None and found.title_key else stage
+    look = found.presentation if found is not None else None
+    return look.title_key.split(".", 1)[0] if look is not None and look.title_key else stage
 
 
 def keywords(t, mechanism: str, stages: list[str]) -> str:
@@ -571,7 +580,13 @@ def _after_last_figure(html: str) -> int | None:
 
 def _stage_title(t, registry: Registry, name: str) -> str:
     stage = registry.stages.get(name)
-    return t(stage.title_key) if stage is not None and stage.title_key else name
+    return _section_title(t, stage) if stage is not None else name
+
+
+def _section_title(t, stage) -> str:
+    """The title of ``stage``'s section, or its name for a stage without one."""
+    look = stage.presentation
+    return t(look.title_key) if look is not None and look.title_key else stage.name
 
 
 def _fill_counts(html: str, t, sources: int) -> str:
@@ -590,7 +605,7 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
-    stage's own letter, ``Stage.symbols``, or a core symbol's ``Symbol.sections``), says where it
+    stage's own letter, ``StagePresentation.symbols``, or a core symbol's ``Symbol.sections``), says where it
     holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language, symbols) for key in keys]

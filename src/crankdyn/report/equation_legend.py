@@ -122,7 +122,7 @@ def legend_html(keys: list[str], t, language: str, single: bool = False, symbols
         unit = line_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
-        # own symbol (Stage.symbols, "stage.key") carries no such note, its parentheses stay
+        # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
         if symbols[key].sections and "." not in key:
             meaning = _SECTIONS_NOTE.sub("", meaning)
         meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
@@ -136,7 +136,7 @@ def legend_html(keys: list[str], t, language: str, single: bool = False, symbols
 def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset(),
                          single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
     """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
-    none in the sections of ``skip_stages`` (``Stage.legend`` False)."""
+    none in the sections of ``skip_stages`` (``StagePresentation.legend`` False)."""
     explained: set[str] = set()
     stage = ""
     parts = []

@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..aside import can_fork as _no_other_thread
-from ..aside import fork_with_pipe
-from ..heap import freeze_more
+from ..engine.frozen_heap import freeze_more
+from ..parallel.fork import can_fork as _no_other_thread
+from ..parallel.fork import fork_with_pipe
 from . import mathtext_store
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -517,7 +517,7 @@ class ForkedDrawing:
         self._children = [self._fork(list(share)) for share in shares if share]
 
     def _fork(self, mine: list[int]):
-        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
+        freeze_more()  # the child's collector leaves the inherited heap alone (engine.frozen_heap)
         forked = fork_with_pipe()
         if forked is None:  # no process to be had: these jobs are done here
             return None, None, mine
@@ -604,7 +604,7 @@ class SharedDrawing:
 
     def _fork(self):
         """(pid, the end its answer comes from), or None when no process could be forked."""
-        freeze_more()  # the child's collector leaves the inherited heap alone (crankdyn.heap)
+        freeze_more()  # the child's collector leaves the inherited heap alone (engine.frozen_heap)
         forked = fork_with_pipe()
         if forked is None:
             return None

@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..errors import PluginError
-from ..plugin_types import Catalog
+from ..plugin.types import Catalog
 
 FALLBACK = "en"
 

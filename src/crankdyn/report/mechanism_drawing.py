@@ -1,4 +1,4 @@
-"""Kinematic schemes of any mechanism from its :class:`~crankdyn.plugin_types.MechanismGeometry`.
+"""Kinematic schemes of any mechanism from its :class:`~crankdyn.plugin.types.MechanismGeometry`.
 
 One module for every mechanism: ground pivots with hatching, revolute joints as small
 circles, bars for links, pistons in their liners (or sliders in their slots), gear pitch

@@ -23,7 +23,7 @@ import sys
 import threading
 from collections.abc import Sequence
 
-from ..aside import stop_child
+from ..parallel.fork import stop_child
 from .weasy import load_weasyprint
 
 #: The printer of this process: (its pid, its socket, the pid that started it) or None.

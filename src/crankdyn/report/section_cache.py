@@ -1,6 +1,7 @@
 """Sections kept between renderings of (versions of) one scene: the live preview's second cache.
 
-The stage cache (:mod:`crankdyn.cache`) hands back the *same* ``StageOutput`` object for a
+The stage cache (:mod:`crankdyn.engine.stage_cache`) hands back the *same* ``StageOutput`` object
+for a
 stage whose inputs did not change. A section rendered from that same object, at the same
 number, in the same language, from the same values of the scene fields its ``render`` read
 (recorded while it ran, through the read-tracking scene copy) is the same section: its HTML,
@@ -13,8 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..cache import field_digests, reads_of, tracked_copy
-from ..plugin_types import Stage, StageOutput
+from ..engine.stage_cache import field_digests, reads_of, tracked_copy
+from ..plugin.types import Stage, StageOutput
 from .context import FigureFile, RenderContext
 
 
@@ -41,8 +42,10 @@ class SectionCache:
         self.renders: dict[str, int] = {}
 
     def render(self, stage: Stage, output: StageOutput, ctx: RenderContext) -> str | None:
-        """``stage.render(output, ctx)``, or the kept section when nothing it depends on changed
+        """``stage.presentation.render(output, ctx)``, or the kept section when nothing it depends on changed
         (then its figures, conclusions, title and worked substitutions are put into ``ctx`` too)."""
+        if stage.presentation is None:  # a stage without a section
+            return None
         key = (ctx.section_number, ctx.t.language, ctx.table_step_deg, ctx.cycle_deg)
         kept = self._sections.get(stage.name)
         scene = ctx.scene
@@ -58,7 +61,7 @@ class SectionCache:
         tracked = tracked_copy(scene) if scene is not None else None
         ctx.scene = tracked
         try:
-            body = stage.render(output, ctx)
+            body = stage.presentation.render(output, ctx)
         finally:
             ctx.scene = scene
             reads = reads_of(tracked) if tracked is not None else frozenset()

@@ -23,7 +23,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import PluginError
-from ..plugin_types import Symbol
+from ..plugin.types import Symbol
 from .i18n import MINUS, NARROW_NBSP, superscript
 
 #: The report's symbols, keyed by a stable name: those whose subscript differs between the
@@ -31,7 +31,7 @@ from .i18n import MINUS, NARROW_NBSP, superscript
 #: main quantities every calculation uses. The list of symbols in front of the introduction is
 #: printed from this table, with the symbols the report actually shows.
 #: ``Symbol.sections`` of a core symbol whose meaning holds only in the sections of the stages that
-#: declare it (``Stage.section_symbols``: the side force n of the force sections, δ the
+#: declare it (``StagePresentation.section_symbols``: the side force n of the force sections, δ the
 #: irregularity of the flywheel's); in a table no stage of the registry declares it for, it holds
 #: nowhere.
 SECTION_BOUND = ("<declaring stages>",)
@@ -275,7 +275,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
 
 
 class SymbolTable(Mapping[str, Symbol]):
-    """A report's symbol table: key -> :class:`~crankdyn.plugin_types.Symbol`, in order, never
+    """A report's symbol table: key -> :class:`~crankdyn.plugin.types.Symbol`, in order, never
     changed after it is made. Equal (and hashed) by its contents, so what is built from a table
     (the subscript maps, the "where" lines' patterns) is kept per table's contents, and a run
     with other plugins' symbols never reads another run's."""
@@ -312,7 +312,7 @@ _STAGE_SYMBOL_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 def symbol_table(stages: Iterable) -> SymbolTable:
     """The symbol table of a run: the core's :data:`SYMBOLS` and the symbols ``stages`` declare
-    (``Stage.symbols``): key ``k`` of stage ``s`` as ``s.k`` (meaning: the catalog key
+    (``StagePresentation.symbols``): key ``k`` of stage ``s`` as ``s.k`` (meaning: the catalog key
     ``symbol.s.k``), read in the stage's own section unless the symbol names its ``sections``.
     Built from the registry's stages for each report; a stage not in a report's plan adds nothing
     to it (its section is absent). A plugin's key that is not an identifier is a
@@ -321,20 +321,21 @@ def symbol_table(stages: Iterable) -> SymbolTable:
     table = dict(_CORE_SYMBOLS)
     table.update(_section_bound(stages))
     for stage in stages:
-        for key, symbol in getattr(stage, "symbols", {}).items():
+        look = stage.presentation
+        for key, symbol in (look.symbols if look is not None else {}).items():
             if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
                 raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
-                                  "to a crankdyn.plugin_types.Symbol")
+                                  "to a crankdyn.plugin.types.Symbol")
             table[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
     return SymbolTable({key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND})
 
 
 def _section_bound(stages: list) -> dict[str, Symbol]:
     """The core's :data:`SECTION_BOUND` symbols with the sections of the stages that declare them
-    (``Stage.section_symbols``); one that is not such a symbol is a :class:`PluginError`."""
+    (``StagePresentation.section_symbols``); one that is not such a symbol is a :class:`PluginError`."""
     declaring: dict[str, list[str]] = {}
     for stage in stages:
-        for key in getattr(stage, "section_symbols", ()):
+        for key in (stage.presentation.section_symbols if stage.presentation is not None else ()):
             symbol = _CORE_SYMBOLS.get(key)
             if symbol is None or symbol.sections != SECTION_BOUND:
                 raise PluginError(f"stage {stage.name!r}: {key!r} in section_symbols is not one of the core's "

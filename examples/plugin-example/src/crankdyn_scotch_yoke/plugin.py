@@ -1,7 +1,7 @@
 """The plugin module named by the ``crankdyn`` entry point: one mechanism, one stage, catalogs.
 
-Only crankdyn's public API is used: ``crankdyn.hookspecs.hookimpl``, the typed objects of
-``crankdyn.plugin_types``, the data contracts of ``crankdyn.contracts``, ``crankdyn.errors.Problem``
+Only crankdyn's public API is used: ``crankdyn.plugin.hooks.hookimpl``, the typed objects of
+``crankdyn.plugin.types``, the data contracts of ``crankdyn.plugin.contracts``, ``crankdyn.errors.Problem``
 and ``crankdyn.scene.options`` (with ``quantity``/``number`` for option models).
 """
 
@@ -14,16 +14,17 @@ import numpy as np
 import pandas as pd
 from pydantic import BaseModel, ConfigDict
 
-from crankdyn.contracts import KINEMATICS, PistonMotion
 from crankdyn.errors import Problem
-from crankdyn.hookspecs import hookimpl
-from crankdyn.plugin_types import (
+from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
+from crankdyn.plugin.hooks import hookimpl
+from crankdyn.plugin.types import (
     Catalog,
     Guide,
     Mechanism,
     MechanismGeometry,
     Stage,
     StageOutput,
+    StagePresentation,
     Symbol,
 )
 from crankdyn.scene import number, options
@@ -180,22 +181,24 @@ def _motion_figure(frame, t):
 
 SCOTCH_YOKE_STAGE = Stage(
     name="scotch_yoke",
-    title_key="scotch_yoke.title",
     requires=(),
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
-    render=render,
-    figures=("scotch_yoke",),  # the names given to ctx.figure in render()
     tables=("scotch_yoke",),  # the keys of StageOutput.tables in run(): tables/scotch_yoke.csv
-    template_dir=HERE / "templates",
-    references=("scotch_yoke_uicker",),
     options_table="scotch_yoke",
     options_model=YokeOptions,
-    # the letters of the section's equations that crankdyn's symbol table does not have: explained
-    # in the list of symbols and under the equation, from [symbol.scotch_yoke] in i18n/
-    symbols={"displacement": Symbol("s", {}, "unit.mm"), "velocity": Symbol("v", {}, "unit.m_s"),
-             "acceleration": Symbol("j", {}, "unit.m_s2")},
+    presentation=StagePresentation(
+        title_key="scotch_yoke.title",
+        render=render,
+        figures=("scotch_yoke",),  # the names given to ctx.figure in render()
+        template_dir=HERE / "templates",
+        references=("scotch_yoke_uicker",),
+        # the letters of the section's equations that crankdyn's symbol table does not have:
+        # explained in the list of symbols and under the equation, from [symbol.scotch_yoke] in i18n/
+        symbols={"displacement": Symbol("s", {}, "unit.mm"), "velocity": Symbol("v", {}, "unit.m_s"),
+                 "acceleration": Symbol("j", {}, "unit.m_s2")},
+    ),
 )
 
 

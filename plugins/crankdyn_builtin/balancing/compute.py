@@ -1,0 +1,228 @@
+"""Balancing: free forces and moments, counterweights, balance shafts, firing-order explorer (Poda
+2007 §6).
+
+The physics is in :mod:`crankdyn.physics.balancing` (vector models, time-domain sums, sizing of
+the balancing means) and :mod:`crankdyn.physics.firing_explorer`; this module reads the scene and
+assembles the results.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import balancing as bal
+from crankdyn.physics import firing_explorer as fe
+from crankdyn.physics import forces as phys
+from crankdyn.plugin.contracts import (
+    COUNTERWEIGHTS,
+    ENGINE_TORQUE,
+    KINEMATICS,
+    ArticulatedOptions,
+)
+from crankdyn.plugin.scene_inputs import engine_layout, rotating_mass_per_crank_kg
+from crankdyn.plugin.types import StageOutput
+from crankdyn.scene import options
+
+from .means import means_records, remedy_summary, residual_after_means
+from .options import BalancingOptions, balance_orders_for
+from .vectors import CHECK_SAMPLES, _fitted, bay_model_of, order_vectors, time_domain_check
+
+#: The scene table of the articulated rods, read for the mass rotating with a crank pin.
+ARTICULATED = "articulated"
+
+
+#: The orders an offset crank-slider's tables show unless the scene names them.
+OFFSET_ORDERS = [1, 2, 3, 4, 6]
+
+
+#: The mechanisms whose piston motion is a crank-slider's (``extra``: ``rod_ratio``, with an
+#: offset ``offset_m`` and ``crank_angle_at_tdc_rad``): the vector models take their exact
+#: acceleration's Fourier series.
+CRANK_SLIDERS = ("crank_slider", "offset_crank_slider")
+
+
+def applies(scene) -> str | None:
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    if scene.engine.mechanism not in CRANK_SLIDERS:
+        return "the vector models of balancing are built for crank-slider mechanisms (central or offset)"
+    if scene.engine.mechanism != "crank_slider" and scene.engine.rod_type == "articulated":
+        return "articulated rods are built on a central crank-slider's master rod"
+    return None
+
+
+def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
+    """The stage's table: forces (and moments, with a spacing) over one turn, before and after balancing."""
+    table = {"shaft_angle_deg": np.degrees(theta), "force_x_N": f_td.imag, "force_y_N": f_td.real}
+    if a is not None:
+        table.update({"moment_x_Nm": m_td.imag, "moment_y_Nm": m_td.real})
+    table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
+    if a is not None:
+        table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
+    return table
+
+
+def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
+    """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
+    m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
+    ``offset_ratio`` k = e/L of an offset crank-slider."""
+    e, m = scene.engine, scene.masses
+    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    m_s = m.piston_group + rod_rec
+    articulated = (options(scene, ARTICULATED, ArticulatedOptions)
+                   if scene.engine.rod_type == "articulated" else None)
+    m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
+    return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
+
+
+def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
+    """The notes on what the scene leaves out (no cylinder spacing, articulated rods, no cycle);
+    a balance-shaft spacing without the cylinder spacing is refused."""
+    notes: list[tuple[str, dict]] = []
+    if opts.balance_shaft_spacing is not None and spacing_m is None and g.cranks > 1:
+        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
+                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
+    if spacing_m is None and g.cranks > 1:
+        notes.append(("balancing.note_no_spacing", {}))
+    if rod_type == "articulated":
+        notes.append(("balancing.note_articulated", {}))
+    if torque is None:
+        notes.append(("balancing.note_no_torque", {}))
+    return notes
+
+
+def _offset_geometry(g, motion, rod_length_m: float):
+    """The geometry and k = e/L of the piston motion's mechanism: an offset crank-slider's crank
+    points phi_TDC past its cylinder axis at TDC (``extra``: ``offset_m``,
+    ``crank_angle_at_tdc_rad``); a central one's along it (k = 0)."""
+    k = motion.extra.get("offset_m", 0.0) / rod_length_m
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    if tdc:
+        g = replace(g, crank_direction_rad=g.crank_direction_rad + tdc)
+    return g, k
+
+
+def _offset_orders(opts, offset_ratio: float):
+    """An offset crank-slider's force has odd orders too (the third is as large as the fourth): its
+    tables show them unless the scene names the orders."""
+    if offset_ratio and "include_orders" not in opts.model_fields_set:
+        return opts.model_copy(update={"include_orders": OFFSET_ORDERS})
+    return opts
+
+
+def _harmonics_json(harmonics, orders) -> dict:
+    """A_n of the piston acceleration by order name; an offset crank-slider's complex A_n as the
+    amplitude |A_n| and the phase psi_n (a_n cos n alpha + b_n sin n alpha = |A_n| cos(n alpha + psi_n))."""
+    if not np.iscomplexobj(harmonics):
+        return {"acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in orders}}
+    return {"acceleration_harmonics": {bal.roman(n): float(abs(harmonics[n])) for n in orders},
+            "acceleration_harmonic_phases_deg": {bal.roman(n): math.degrees(np.angle(harmonics[n]))
+                                                 for n in orders}}
+
+
+def run(scene, inputs) -> StageOutput:
+    torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
+    opts = options(scene, "balancing", BalancingOptions)
+    e = scene.engine
+    layout = engine_layout(scene)
+    g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
+    opts = _offset_orders(opts, k).model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
+    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+    a = e.cylinder_spacing  # None: moments in units of a only
+    masses = inertia_masses(scene, layout, k)
+    m_s, m_R = masses.reciprocating_kg, masses.rotating_kg
+    n_max = bal.orders_needed(lam, offset_ratio=k)
+    harmonics = bal.harmonics_for(lam, n_max, k)
+    C, C_I = masses.centrifugal_N, masses.first_order_N
+    notes = _input_notes(opts, g, a, e.rod_type, torque)
+
+    models = {0: bal.rotating_model(g)}
+    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
+        models[n] = bal.reciprocating_model(g, n)
+    coefficients, absolute, orders = order_vectors(g, models, opts.include_orders, C, C_I, harmonics, a)
+
+    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    spacing = a if a is not None else 1.0
+    all_orders = bal.inertia_orders(n_max, k)
+    f_td, m_td, scale_F, scale_M, check = time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a)
+
+    shaft_positions = None
+    if opts.balance_shaft_spacing is not None and g.cranks > 1:
+        half = 0.5 * opts.balance_shaft_spacing / a
+        shaft_positions = (-half, half)
+    means = bal.design_means(g, masses, harmonics, opts.balance_orders, opts.counterweights,
+                             opts.first_order_forward, shaft_positions)
+    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
+    r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
+    counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
+    residual_F, residual_M, residual = residual_after_means(
+        g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, opts.balance_orders,
+        scale_F, scale_M, a)
+
+    torque_range = float(np.ptp(torque.torque_Nm)) if torque is not None else None
+    results = {
+        "reciprocating_mass_kg": m_s,
+        "rotating_mass_kg": m_R,
+        "centrifugal_N": C,
+        "first_order_N": C_I,
+        "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
+        # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
+        "second_order_exact_N": float(abs(harmonics[2])) * C_I,
+        "second_order_difference_relative": float(abs(harmonics[2])) * C_I / masses.second_order_textbook_N - 1.0,
+        **_harmonics_json(harmonics, all_orders),
+        "offset_ratio": k,
+        "acceleration_series": {bal.roman(n): v for n, v in bal.acceleration_series(lam).items()},
+        "cylinder_spacing_m": a,
+        "vertical_axis_deg": g.vertical_deg,
+        "coefficients": coefficients,
+        "absolute": absolute,
+        "orders": orders,
+        "bay_model": bay_model_of(layout, g),
+        "time_domain_check": check,
+        "counterweight_radius_m": r_cw,
+        "balance_shaft_radius_m": r_sh,
+        "counterweights": counterweights,
+        "balance_shafts": shafts,
+        "residual": residual,
+        "summary": remedy_summary(orders, g, C, C_I, harmonics, opts),
+        "reaction_torque_range_Nm": torque_range,
+        "first_order_forward": opts.first_order_forward,
+        "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
+        "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
+        "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
+        "cylinder_labels": list(g.labels),
+        "cylinder_bays": [int(b) for b in g.cylinder_bay],
+    }
+    if opts.explore:
+        results["explorer"] = _explore(e, layout, opts.explore_top)
+    notes.append(("balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
+                  {"orders": n_max, "samples": CHECK_SAMPLES}))
+    table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
+    return StageOutput(data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)}, results=results,
+                       tables={"balancing": table}, notes=notes)
+
+
+def _explore(e, layout, top: int) -> dict:
+    result = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=top,
+                        locate=(tuple(layout.crank_lag_deg), tuple(layout.firing_order)))
+    return explorer_json(result)
+
+
+def explorer_json(result: fe.Exploration) -> dict:
+    """An explorer result as JSON (also used by ``crankdyn explore --json``)."""
+    def row(c: fe.Candidate) -> dict:
+        return {"rank": c.rank, "crank_angles_deg": list(c.crank_angles_deg), "firing_order": list(c.firing_order),
+                "coefficients": c.coefficients, "neighbours": c.neighbours, "same_pin": c.same_pin,
+                "same_half": c.same_half}
+
+    return {"cylinders": result.cylinders, "layout": result.layout, "strokes": result.strokes,
+            "bank_angle_deg": result.bank_angle_deg, "interval_deg": result.interval_deg,
+            "arrangements": result.arrangements, "firing_orders": result.firing_orders,
+            "scored_firing_orders": result.scored_firing_orders, "reason": result.reason,
+            "rows": [row(c) for c in result.rows],
+            "scene_rank": result.located_rank, "scene": row(result.located) if result.located else None}

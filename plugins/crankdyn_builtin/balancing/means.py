@@ -1,0 +1,100 @@
+"""The balancing means: counterweights and balance shafts sized for the free forces and moments,
+what they leave, and the remedy for what is left."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from crankdyn.physics import balancing as bal
+
+from .vectors import CHECK_TOLERANCE, NEGLIGIBLE, _amplitude
+
+
+def means_records(g, means, r_cw: float, r_sh: float, a):
+    """Counterweights and balance shafts as results.json records (masses, kg; angles, deg; positions, m)."""
+    centre = 0.5 * (g.cranks - 1)
+
+    def position_m(z: float):
+        """Position from crank 1 along the shaft (m); 0 for a one-crank engine even without a."""
+        if g.cranks == 1:
+            return 0.0
+        return (z + centre) * a if a is not None else None
+
+    counterweights = []
+    for cw in means.counterweights:
+        k = int(round(cw.position + centre))
+        crank_dir = math.degrees(g.crank_direction_rad[k]) % 360.0
+        counterweights.append({"crank": k + 1, "mass_radius_kg_m": cw.mass_radius_kg_m,
+                               "mass_kg": cw.mass_radius_kg_m / r_cw, "mass_per_web_kg": 0.5 * cw.mass_radius_kg_m / r_cw,
+                               "angle_deg": cw.phase_deg, "angle_from_crank_deg": (cw.phase_deg - crank_dir) % 360.0,
+                               "position_m": position_m(cw.position)})
+    shafts = []
+    for speed, shaft_masses in sorted(means.shafts.items(), key=lambda kv: (abs(kv[0]), -kv[0])):
+        shafts.append({"speed_ratio": speed, "order": abs(speed),
+                       "spacing_m": (abs(shaft_masses[-1].position - shaft_masses[0].position) * a
+                                     if a is not None and len(shaft_masses) > 1 else None),
+                       "masses": [{"mass_radius_kg_m": sm.mass_radius_kg_m, "mass_kg": sm.mass_radius_kg_m / r_sh,
+                                   "phase_deg": sm.phase_deg,
+                                   "position_m": position_m(sm.position),
+                                   "end": "free" if sm.position < -1e-12 else ("power" if sm.position > 1e-12 else "middle")}
+                                  for sm in shaft_masses]})
+    return counterweights, shafts
+
+
+def residual_after_means(g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, balance_orders,
+                         scale_F, scale_M, a):
+    """What is left with the balancing means fitted, against the orders left unbalanced.
+
+    Returns (residual force N, residual moment N·m as complex arrays, the record); it "vanishes"
+    when the residual equals the vector sum of the unbalanced orders within CHECK_TOLERANCE.
+    """
+    f_means, m_means = means.forces(theta, w, spacing)
+    unbalanced_orders = [n for n in all_orders if n not in balance_orders]
+    f_left, m_left = bal.vector_method_sum(g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False)
+    residual_F, residual_M = f_td + f_means, m_td + m_means
+    residual = {
+        "balanced_orders": sorted(balance_orders),
+        "force_max_N": float(np.max(np.abs(residual_F))),
+        "moment_max_Nm": float(np.max(np.abs(residual_M))) if a is not None else None,
+        "force_deviation_relative": float(np.max(np.abs(residual_F - f_left)) / scale_F),
+        "moment_deviation_relative": float(np.max(np.abs(residual_M - m_left)) / scale_M),
+    }
+    residual["vanishes"] = bool(max(residual["force_deviation_relative"], residual["moment_deviation_relative"])
+                                < CHECK_TOLERANCE)
+    return residual_F, residual_M, residual
+
+
+def remedy(order: int, balanced: bool, forward: bool, backward: bool, balance_orders, first_order_forward: str) -> str:
+    """How an order's force or moment is dealt with: self, counterweights, shaft_forward/backward or none."""
+    if balanced:
+        return "self"
+    if order == 0:
+        return "counterweights"
+    if order in balance_orders:
+        parts = []
+        if forward:
+            parts.append("counterweights" if order == 1 and first_order_forward == "crankshaft" else "shaft_forward")
+        if backward:
+            parts.append("shaft_backward")
+        return "+".join(parts)
+    return "none"
+
+
+def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
+    """One row per order and kind (force, moment): its coefficient, whether it is balanced, the remedy."""
+    summary = []
+    for entry in orders:
+        n = entry["order"]
+        limit = NEGLIGIBLE * _amplitude(n, C, C_I, harmonics) * g.cylinders
+        for kind in ("force", "moment"):
+            coef = entry[f"{kind}_coefficient"]
+            balanced = coef < NEGLIGIBLE * g.cylinders
+            forward = entry[f"{kind}_forward"]["magnitude"] > limit
+            backward = entry[f"{kind}_backward"]["magnitude"] > limit
+            summary.append({"quantity": ("sum_" if kind == "force" else "M_") + entry["name"], "order": n,
+                            "coefficient": coef, "balanced": bool(balanced),
+                            "remedy": remedy(n, balanced, forward, backward, opts.balance_orders,
+                                             opts.first_order_forward)})
+    return summary

@@ -1,0 +1,56 @@
+"""The balancing section's notation: the letters it declares, and forces and vectors as written."""
+
+from __future__ import annotations
+
+from markupsafe import Markup
+
+from crankdyn.plugin.types import Symbol
+
+
+def circular(hodograph: dict) -> bool:
+    """Whether a hodograph is a circle to the table's three decimals: it has no major axis (an
+    angle "0,0°" beside the semi-axes 1,000 / 1,000 would mean nothing)."""
+    return round(hodograph["semi_major"], 9) == 0 or \
+        abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
+
+
+def newtons(t, force_N: float) -> str:
+    """A force as the table of orders and the conclusions print it: whole newtons (C = 17 235 Н),
+    two significant digits under 10 N, where whole newtons would print a small unbalanced force
+    as 0 or 1 Н."""
+    return t.fixed(force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
+
+
+#: The amplitude a table of orders divides by, as its headers print it (the catalogs' ``{scale}``).
+C_N = "<i>C</i><sub><i>n</i></sub>"
+
+
+def summary_symbol(s, sum_sign: str = "Σ") -> Markup:
+    """ΣC, ΣP_II, ΣM_I as the summary table prints them; one cylinder's without the sum sign (C, P_II),
+    as its table of orders and its text write them."""
+    kind, base = s["quantity"].split("_", 1)
+    if kind == "sum":
+        return Markup(f"{sum_sign}<i>C</i>" if base == "C" else f"{sum_sign}<i>P</i><sub>" + base[1:] + "</sub>")
+    return Markup(f"{sum_sign}<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
+
+
+def scale_symbol(s) -> str:
+    """What table 6.3 divides a sum by: C_n (C for the centrifugal forces), and a moment also by a."""
+    kind, base = s["quantity"].split("_", 1)
+    order = base[1:] if base.startswith("P") else ""
+    scale = f"C_{order}" if order else "C"
+    return scale if kind == "sum" else f"({scale}·a)"
+
+
+def plain_symbol(s, sum_sign: str = "Σ") -> str:
+    """``ΣP_I``, ``ΣM_II``, ``ΣC``: the symbol as table 6.3 prints it (typeset with its subscript);
+    ``sum_sign=""`` for one cylinder's own force (``P_I``)."""
+    kind, base = s["quantity"].split("_", 1)
+    order = base[1:] if base.startswith("P") else ""
+    if kind == "sum":
+        return f"{sum_sign}P_{order}" if order else sum_sign + base
+    return f"{sum_sign}M_{order or base}"
+
+
+#: The offset crank-slider's phase of an acceleration harmonic (meaning: symbol.balancing.<key>).
+SYMBOLS = {"harmonic_phase": Symbol("ψ", {"en": "n"}, "°", html="<i>ψ</i><sub><i>n</i></sub>")}

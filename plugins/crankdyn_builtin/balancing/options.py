@@ -1,0 +1,61 @@
+"""The ``[balancing]`` scene table: the orders balanced and the balancing means chosen."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import AfterValidator, BaseModel, ConfigDict
+
+from crankdyn.scene import quantity as _quantity
+
+ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
+
+
+def _orders(values: list[int]) -> list[int]:
+    bad = [v for v in values if v not in ALLOWED_ORDERS]
+    if bad:
+        raise ValueError(f"orders {bad} are not allowed: the exact piston acceleration has the first order and the "
+                         f"even orders only; allowed: {', '.join(map(str, ALLOWED_ORDERS))}")
+    if len(set(values)) != len(values):
+        raise ValueError("each order once")
+    return sorted(values)
+
+
+def _include(values: list[int]) -> list[int]:
+    values = _orders(values)
+    if 1 not in values or 2 not in values:
+        raise ValueError("must include the first and second orders (1, 2)")
+    return values
+
+
+def _top(value: int) -> int:
+    if not 1 <= value <= 200:
+        raise ValueError("must be a whole number from 1 to 200")
+    return value
+
+
+class BalancingOptions(BaseModel):
+    """The [balancing] table."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+    counterweight_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    balance_shaft_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    balance_shaft_spacing: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
+    include_orders: Annotated[list[int], AfterValidator(_include)] = [1, 2, 4, 6]
+    # None: the first order for one cylinder (a counterweight and one shaft, as single-cylinder
+    # engines are built; the second order's two Lanchester shafts are rarely worth it there), the
+    # first and second for more (:func:`balance_orders_for`)
+    balance_orders: Annotated[list[int], AfterValidator(_orders)] | None = None
+    counterweights: Literal["ends", "every_crank"] = "ends"
+    first_order_forward: Literal["crankshaft", "shaft"] = "crankshaft"
+    explore: bool = False
+    explore_top: Annotated[int, AfterValidator(_top)] = 10
+
+
+def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
+    """The orders to balance: the scene's ``[balancing] balance_orders``, else [1] for a
+    single-cylinder engine and [1, 2] for more cylinders."""
+    if opts.balance_orders is not None:
+        return list(opts.balance_orders)
+    return [1] if scene.engine.cylinders == 1 else [1, 2]

@@ -1,0 +1,99 @@
+"""The drawing's section: the kinematic scheme, the characteristic positions and (HTML) the
+mechanism's motion, drawn by :mod:`crankdyn.report.mechanism_drawing`."""
+
+from __future__ import annotations
+
+from functools import partial
+
+from markupsafe import Markup
+
+from crankdyn.plugin.types import StageOutput
+from crankdyn.report import mechanism_drawing as md
+
+from .compute import POSITIONS
+
+
+def _labels(geometry, ctx) -> dict[str, str]:
+    mm = ctx.t("unit.mm")
+    return {k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
+
+
+def position_frames(angles: dict[str, float], caption) -> list[tuple[int, str]]:
+    """The positions figure's panels (index into :data:`POSITIONS`, caption) in the order the crank
+    reaches them (a supervisor: j_min at 158,2° came after v_min at 284,6°), those at one angle
+    merged (:func:`_merged_frames`); ``caption(key)`` writes a panel's caption."""
+    order = sorted(range(len(POSITIONS)), key=lambda i: angles[POSITIONS[i]] % 360.0)
+    return _merged_frames([(i, caption(POSITIONS[i]), angles[POSITIONS[i]]) for i in order])
+
+
+def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]]:
+    """One panel per distinct position: of a central crank-slider, TDC is also where the piston's
+    acceleration is largest, and two identical panels ("ВМТ" and "j_max", both at 0°) would be
+    drawn. Captions are "what\nα = …"; positions within 0.05° share a panel, their names joined."""
+    merged: list[tuple[int, list[str], str, float]] = []
+    for i, caption, angle in frames:
+        name, _, at = caption.partition("\n")
+        same = next((m for m in merged if abs((m[3] - angle + 180.0) % 360.0 - 180.0) < 0.05), None)
+        if same is None:
+            merged.append((i, [name], at, angle))
+        else:
+            same[1].append(name)
+    return [(i, ", ".join(names) + "\n" + at) for i, names, at, _ in merged]
+
+
+def _front_view_kind(positions) -> str:
+    """"row": the scheme shows one cylinder of an in-line row; "rows": one of each bank; "": all."""
+    shown = md.front_view(positions).guides
+    if len(shown) == len(positions.guides):
+        return ""
+    return "row" if len(shown) == 1 else "rows"
+
+
+def scale_text(scale: float, t) -> str:
+    """A drawing's scale as written on it: "1:2,5" (a reduction), "1:1", "2:1" (an enlargement)."""
+    return f"{t.number_g(scale, 4)}:1" if scale >= 1 else f"1:{t.number_g(1 / scale, 4)}"
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
+    t = ctx.t
+    positions, animation = output.artifacts["positions"], output.artifacts["animation"]
+    angles = output.results["crank_angles_deg"]
+    order = " – ".join(positions.firing_order)
+    marks = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": t("drawing.mark_tdc"), "bdc": t("drawing.mark_bdc")}
+    fig, scale = md.scheme_figure(positions, len(POSITIONS), _labels(positions, ctx), t("drawing.crank_star"),
+                                 t("drawing.firing_order", order=order) if order else "", marks)
+    scale = scale_text(scale, t)
+    scheme_angle = ctx.angle_text(output.results["scheme_angle_deg"])
+    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale, angle=scheme_angle), "scheme",
+                               see="drawing.see_scheme")
+    # none for a whole degree, the step's resolution otherwise: "0°", "75,4°", "180°", "284,6°"
+    frames = position_frames(angles, lambda k: t("drawing.position_" + k, angle=ctx.angle_text(angles[k])))
+    figure_positions = _positions_figures(ctx, positions, frames)
+    svg, payload = md.animation_svg(animation)
+    curves = output.artifacts["curves"]
+    plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
+    # no conclusion of its own: the kinematics section's states the same angles, computed
+    marked = md.angle_mark_parts(md.front_view(positions)) is not None  # the text names each mark
+    return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
+                               scheme_angle=scheme_angle, marks=marked, stroke="S" in positions.dimensions,
+                               front_view=_front_view_kind(positions),
+                               master_rod=bool(md.master_rod_bodies(positions, 0)),
+                               counterweight=bool(md.counterweights(positions, 0)),
+                               figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
+                               payload=Markup(payload.replace("</", "<\\/")),
+                               step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
+
+
+def _positions_figures(ctx, positions, frames) -> Markup:
+    """The positions figure, on as many figures as the page needs (:func:`md.positions_sheets`):
+    the second and later ones captioned as the continuation."""
+    t = ctx.t
+    sheets = md.positions_sheets(positions, frames)
+    parts = [ctx.figure(partial(md.positions_figure, positions, sheets[0]), t("drawing.positions_caption"),
+                        "positions", see="drawing.see_positions")]
+    for k, sheet in enumerate(sheets[1:], start=2):
+        parts.append(ctx.figure(partial(md.positions_figure, positions, sheet),
+                                t("drawing.positions_caption_continued"), f"positions_{k}",
+                                see="drawing.see_positions_continued"))
+    return Markup("\n").join(parts)

@@ -1,0 +1,125 @@
+"""The flywheel by the energy method: excess work, cyclic irregularity, inertia, rim."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import flywheel as fw
+from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
+from crankdyn.plugin.scene_inputs import crank_train
+from crankdyn.plugin.types import StageOutput
+from crankdyn.scene import options
+
+from .options import FlywheelOptions
+
+#: Above this irregularity the energy method (a first-order expansion in delta) is refused.
+MAX_ENERGY_METHOD_IRREGULARITY = 0.5
+
+
+#: The irregularity suggested when a chosen flywheel is refused as too small.
+SUGGESTED_IRREGULARITY = 0.2
+
+
+def applies(scene) -> str | None:
+    if "flywheel" not in scene.plugin_tables():
+        return "the scene has no [flywheel] table"
+    if scene.masses is None:
+        return "the scene has no [masses]"
+    return None
+
+
+def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
+    """The flywheel's rim (its ``rim_fraction`` of the flywheel's inertia) at the scene's mean
+    diameter: dimensions, mass, rim speed and hoop stress (SI units, keys name them)."""
+    rim_inertia = flywheel_inertia_kg_m2 * opts.rim_fraction
+    try:
+        rim = fw.rim_design(rim_inertia, opts.rim_mean_diameter, opts.rim_density, opts.rim_width)
+    except ValueError as exc:
+        raise SceneError(Problem("flywheel.rim_mean_diameter", f"{opts.rim_mean_diameter * 1e3:g} mm",
+                                 f"too small for the flywheel: {exc}; choose a larger mean diameter")) from None
+    speed = omega_rad_s * rim.outer_diameter_m / 2
+    return {
+        "inertia_kg_m2": rim.inertia_kg_m2,
+        "fraction": opts.rim_fraction,
+        "mean_diameter_m": rim.mean_diameter_m,
+        "outer_diameter_m": rim.outer_diameter_m,
+        "inner_diameter_m": rim.inner_diameter_m,
+        "width_m": rim.width_m,
+        "thickness_m": rim.thickness_m,
+        "square_section": opts.rim_width is None,
+        "mass_kg": rim.mass_kg,
+        "thin_rim_mass_kg": rim.thin_rim_mass_kg,
+        "density_kg_m3": opts.rim_density,
+        "speed_m_s": speed,
+        "hoop_stress_Pa": fw.rim_hoop_stress_Pa(opts.rim_density, speed),
+        "max_speed_m_s": opts.max_rim_speed,
+        "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
+    }
+
+
+def run(scene, inputs) -> StageOutput:
+    torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
+    opts = options(scene, "flywheel", FlywheelOptions)
+    omega = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+    excess = fw.excess_work(alpha, torque.torque_Nm)
+    train = crank_train(scene, bays)
+    mechanism = train.series().mean_kg_m2
+    own = mechanism + opts.engine_inertia
+
+    required_total = required_flywheel = None
+    if opts.required_irregularity is not None:
+        required_total = fw.required_inertia_kg_m2(excess.excess_work_J, opts.required_irregularity, omega)
+        required_flywheel = max(required_total - own, 0.0)
+    flywheel = opts.inertia if opts.inertia is not None else required_flywheel
+    total = own + flywheel
+    irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
+    if irregularity > MAX_ENERGY_METHOD_IRREGULARITY:
+        needed = max(fw.required_inertia_kg_m2(excess.excess_work_J, SUGGESTED_IRREGULARITY, omega) - own, 0.0)
+        raise SceneError(Problem("flywheel.inertia", f"{flywheel:.4g} kg*m^2",
+                                 f"too small: with the engine's own {own:.4g} kg*m^2 the speed would swing by "
+                                 f"delta = {irregularity:.3g} of its mean every cycle (the crankshaft nearly stops), "
+                                 f"where neither the energy method nor the torque diagram computed at constant speed "
+                                 f"holds; a flywheel of at least {needed:.3g} kg*m^2 gives delta = "
+                                 f"{SUGGESTED_IRREGULARITY:g}"))
+
+    results: dict = {
+        "angular_velocity_rad_s": omega,
+        "mean_torque_Nm": excess.mean_torque_Nm,
+        "excess_work_J": excess.excess_work_J,
+        "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]),
+        "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]),
+        "excess_work_relative": excess.excess_work_J / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
+        if excess.mean_torque_Nm > 0 else None,
+        "mechanism_inertia_mean_kg_m2": mechanism,
+        "engine_inertia_kg_m2": opts.engine_inertia,
+        "own_inertia_kg_m2": own,
+        "required_irregularity": opts.required_irregularity,
+        "required_total_inertia_kg_m2": required_total,
+        "required_flywheel_inertia_kg_m2": required_flywheel,
+        "flywheel_given": opts.inertia is not None,
+        "flywheel_inertia_kg_m2": flywheel,
+        "total_inertia_kg_m2": total,
+        "irregularity": irregularity,
+        "flywheel_share": flywheel / total,
+        "rim": None,
+    }
+    notes = []
+    if required_flywheel == 0.0 and opts.inertia is None:
+        notes.append(("flywheel.note_no_flywheel", {"own": own}))
+    if train.articulated:
+        notes.append(("flywheel.note_articulated", {}))
+
+    if opts.rim_mean_diameter is not None and flywheel > 0:
+        results["rim"] = _rim(opts, flywheel, omega)
+
+    frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm,
+                          "excess_work_J": excess.cumulative_J}
+    design = FlywheelDesign(flywheel_inertia_kg_m2=flywheel, engine_inertia_kg_m2=opts.engine_inertia,
+                            mechanism_inertia_mean_kg_m2=mechanism, excess_work_J=excess.excess_work_J,
+                            irregularity=irregularity, required_irregularity=opts.required_irregularity,
+                            required_flywheel_inertia_kg_m2=required_flywheel)
+    return StageOutput(data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes)

@@ -1,0 +1,244 @@
+"""Indicator diagram: theoretical p-V diagram, its rounding, or a measured pressure trace (Poda 2007 §3.1).
+
+
+The computation: ``applies``, ``run``, ``run_many`` and their pure helpers.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import indicator as ind
+from crankdyn.physics import pressure_trace as trace
+from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.forces import piston_area_m2
+from crankdyn.plugin.contracts import GAS_PRESSURE, KINEMATICS, GasPressure
+from crankdyn.plugin.scene_inputs import cycle_parameters, rounding_parameters
+from crankdyn.plugin.types import StageOutput
+from crankdyn.report.plausibility import MAX_PEAK_PRESSURE_PA
+
+
+def applies(scene) -> str | None:
+    if scene.cycle is None:
+        return "the scene has no [cycle] data (indicator-diagram parameters or a pressure trace)"
+    return None
+
+
+def run(scene, inputs, *, junction_deg: float | None = None,
+        volumes: dict | None = None) -> StageOutput:
+    """The diagram of ``scene``; ``junction_deg`` is its rounding's junction J and ``volumes`` the
+    cylinder volume (m³) at the angles the rounding reads it off (deg: m³) when ``run_many`` has
+    computed them for many scenes at once."""
+    motion = inputs[KINEMATICS]
+    engine = scene.engine
+    area = piston_area_m2(engine.bore)
+    swept = area * engine.stroke
+    angle = motion.crank_angle_deg
+    results: dict = {"source": scene.cycle.source, "swept_volume_m3": swept}
+    table: dict = {"crank_angle_deg": angle}
+    notes: list = []
+
+    if scene.cycle.source == "trace":
+        pressure, volume = _trace_pressure(scene, motion, area, swept)
+        table.update({"cylinder_volume_m3": volume, "pressure_Pa": pressure})
+        notes.append(("indicator.note_trace", {"file": scene.cycle.trace_file}))
+        # a measured trace has no end of compression to read off (combustion starts before TDC):
+        # the result is stated as not given, so the answer key leaves its cell empty knowingly
+        results["compression_end_pressure_Pa"] = None
+    else:
+        params = cycle_parameters(scene)
+        rounding = rounding_parameters(scene)
+        clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
+        volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+        theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
+        try:
+            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
+                                               volume_function=_volume_function(motion, area, clearance,
+                                                                                volumes),
+                                               junction_deg=junction_deg, theoretical_Pa=theoretical)
+        except ValueError as exc:
+            raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+        work_theoretical = ind.indicated_work_J(theoretical, volume)
+        p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
+        table.update({"cylinder_volume_m3": volume, "pressure_theoretical_Pa": theoretical, "pressure_Pa": pressure})
+        results.update({
+            "clearance_volume_m3": clearance,
+            "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
+            "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
+            "theoretical_mean_indicated_pressure_Pa": p_i_closed,
+            "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(work_theoretical, swept),
+            "ignition_advance_deg": rounding.ignition_advance_deg,
+            "combustion_delay_deg": rounding.combustion_delay_deg,
+            "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
+        })
+        note_key = "indicator.note_rounding_diesel" if scene.cycle.ignition == "diesel" else "indicator.note_rounding"
+        notes.append((note_key, {"advance": rounding.ignition_advance_deg, "delay": rounding.combustion_delay_deg,
+                                 "fraction": rounding.peak_pressure_fraction,
+                                 "angle": rounding.peak_angle_after_tdc_deg}))
+
+    work = ind.indicated_work_J(pressure, volume)
+    p_i = ind.mean_indicated_pressure_Pa(work, swept)
+    # the thermal calculation's p_i leaves the gas exchange out (physics.indicator.pumping_work_J)
+    pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
+    p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
+    peak = first_argmax(pressure)
+    results.update({
+        "indicated_work_J": work,
+        "pumping_work_J": pumping,
+        "gross_mean_indicated_pressure_Pa": p_i_gross,
+        "mean_indicated_pressure_Pa": p_i,
+        "max_pressure_Pa": float(pressure[peak]),
+        "max_pressure_crank_angle_deg": float(angle[peak]),
+        "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
+    })
+    if scene.cycle.mean_indicated_pressure is not None:
+        target = scene.cycle.mean_indicated_pressure
+        results["thermal_mean_indicated_pressure_Pa"] = target
+        results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i_gross - target) / target
+    elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
+        results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
+
+    gas = GasPressure(crank_angle_deg=angle, pressure_Pa=pressure, volume_m3=volume, source=scene.cycle.source,
+                      indicated_work_J=work, swept_volume_m3=swept)
+    return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table},
+                       notes=notes)
+
+
+def _volume_function(motion, area: float, clearance: float, volumes: dict | None):
+    """The cylinder volume (m³) at any crank angle (deg) from the mechanism's displacement, taking
+    the ``volumes`` already computed for a chunk of points; None without a displacement function."""
+    if motion.displacement_at is None:
+        return None
+
+    def volume_at(a_deg):
+        known = _known_volume(volumes, a_deg)
+        if known is not None:
+            return known
+        return ind.cylinder_volume_m3(motion.displacement_at(a_deg), area, clearance)
+
+    return volume_at
+
+
+def _known_volume(volumes: dict | None, angle_deg):
+    """The volume ``run_many`` computed at the one angle ``angle_deg``, as an array of its shape;
+    None for another angle."""
+    if volumes is None or np.size(angle_deg) != 1:
+        return None
+    known = volumes.get(float(np.ravel(angle_deg)[0]))
+    return None if known is None else np.full(np.shape(angle_deg), known)
+
+
+def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> list[dict]:
+    """For each scene, the cylinder volume (m³) at the angles of its rounding's points C', J and
+    b' and 1e-4° either side (the central difference of the lines' slopes), computed over points
+    x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for.
+    A volume below the clearance (a negative displacement) is left out: ``run`` computes it and
+    refuses it as it would alone."""
+    step = 1e-4  # deg: the rounding's central difference
+    cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
+    tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
+    psi = np.array([[-(r.ignition_advance_deg - r.combustion_delay_deg), j,
+                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions, strict=False)])
+    at = np.mod(tdc + psi, cycle)
+    angles = np.concatenate([at, at + step, at - step], axis=1)
+    rows = np.arange(len(scenes))
+    found = np.isfinite(angles)
+    values = volume_at(np.where(found, angles, 0.0), rows)
+    found &= values >= np.asarray(clearances, dtype=float)[:, None]
+    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k], strict=False) if ok}
+            for k in rows]
+
+
+def _stacked_displacement(motions):
+    """The motions' ``displacement_at`` as one function ``(angle_deg, rows) -> m`` of angles
+    (rows, M), when they are one function with other numbers (``functools.partial`` of the same
+    function, each number a column); None otherwise."""
+    first = motions[0].displacement_at
+    partials = [m.displacement_at for m in motions]
+    if not all(isinstance(d, functools.partial) and d.func is first.func and not d.keywords
+               and len(d.args) == len(first.args) for d in partials):
+        return None
+    columns = []
+    for position, shared in enumerate(first.args):
+        values = [d.args[position] for d in partials]
+        if all(v is shared for v in values):
+            columns.append(None)
+        elif all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+            columns.append(np.asarray(values, dtype=float)[:, None])
+        else:
+            return None
+
+    def displacement(angle_deg, rows):
+        args = [a if c is None else c[rows] for a, c in zip(first.args, columns, strict=False)]
+        return first.func(*args, angle_deg)
+
+    return displacement
+
+
+def run_many(scenes, inputs) -> list[StageOutput]:
+    """``run`` over many scenes at once (a sweep's points): the junctions J of their diagrams'
+    rounding, the search that dominates a point, found together over points x angles
+    (``physics.indicator.combustion_junctions_deg``); each scene's diagram then as ``run`` gives
+    it. Measured traces, mixed strokes or a displacement without a common formula: ``run`` one by
+    one."""
+    motions = [given[KINEMATICS] for given in inputs]
+    displacement = _stacked_displacement(motions)
+    if (displacement is None or any(s.cycle.source != "theoretical" for s in scenes)
+            or len({s.engine.strokes for s in scenes}) > 1):
+        return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
+    params = [cycle_parameters(scene) for scene in scenes]
+    areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
+    clearances = np.asarray([ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
+                             for area, s, p in zip(areas, scenes, params, strict=False)], dtype=float)
+    area_column, clearance_column = areas[:, None], clearances[:, None]
+
+    def volume_at(angle_deg, rows):
+        return clearance_column[rows] + area_column[rows] * displacement(angle_deg, rows)
+
+    rounding = [rounding_parameters(s) for s in scenes]
+    junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
+    volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
+    return [run(scene, given, junction_deg=float(j), volumes=v)
+            for scene, given, j, v in zip(scenes, inputs, junctions, volumes, strict=False)]
+
+
+def _trace_pressure(scene, motion, area, swept):
+    c = scene.cycle
+    path = scene.resolve(c.trace_file)
+    fmt = c.trace_format or ("diesel-rk" if path.suffix.lower() == ".ind" else "csv")
+    try:
+        if fmt == "diesel-rk":
+            angle_file, pressure_file = trace.read_diesel_rk_ind(path)
+        else:
+            angle_file, pressure_file = trace.read_pressure_csv(path)
+        target_tdc = 360.0 if scene.engine.strokes == 4 else 0.0
+        pressure = trace.to_cycle_grid(angle_file, pressure_file, scene.engine.cycle_deg, motion.crank_angle_deg,
+                                       c.trace_firing_tdc_deg, target_tdc)
+    except (trace.PressureTraceError, OSError) as exc:
+        raise SceneError(Problem("cycle.trace_file", c.trace_file, str(exc))) from None
+    clearance = ind.clearance_volume_m3(swept, c.compression_ratio)
+    volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+    return pressure, volume
+
+
+#: The rounded diagram's peak p_z' of a diesel, MPa: below 5 MPa a diesel would not ignite its
+#: fuel reliably (the end of compression alone reaches 3.5-5.5 MPa), above 20 MPa only the most
+#: highly boosted engines run (up to 25 MPa, where the core's peak-pressure rule takes over).
+DIESEL_PEAK_RANGE_MPA = (5.0, 20.0)
+
+
+def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
+    """A diesel's p_z' (the rounded diagram's peak) outside :data:`DIESEL_PEAK_RANGE_MPA`."""
+    if scene.cycle is None or scene.cycle.ignition != "diesel":
+        return []
+    peak = (results or {}).get("peak_pressure_rounded_Pa")
+    if not isinstance(peak, (int, float)) or peak > MAX_PEAK_PRESSURE_PA:
+        return []
+    low, high = DIESEL_PEAK_RANGE_MPA
+    if low <= peak / 1e6 <= high:
+        return []
+    return [("indicator.plausibility_diesel_peak",
+             {"pressure": peak / 1e6, "low": low, "high": high})]

@@ -1,0 +1,23 @@
+"""The torque stage's figures: the output torque over the cycle and the journals' torques."""
+
+from __future__ import annotations
+
+from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, new_figure
+
+
+def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
+    """The engine's output torque over the cycle, with its mean."""
+    return curve_with_mean_figure(angle, torque_Nm, mean_Nm, cycle_deg, t,
+                                  (t("torque.output"), t("torque.mean"), t("torque.axis_torque")), height_cm=8.5)
+
+
+def _journals_figure(f, cranks, cycle_deg, t):
+    """The running torque on each main journal over the cycle."""
+    angle = f["crank_angle_deg"]
+    fig, ax = new_figure(16, 9)
+    for k in range(1, cranks + 1):
+        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
+    crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
+    ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
+    ax.legend(loc="upper right", fontsize=8, ncol=3)
+    return fig

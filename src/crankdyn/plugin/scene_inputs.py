@@ -1,0 +1,213 @@
+"""A scene's values as the shared physics functions take them, for every plugin that needs them.
+
+The engine's layout, the articulated rods' geometry and the mass rotating with a crank pin, the
+working cycle's parameters and the checks of a one-cylinder mechanism are read the same way by
+several stages and mechanisms; they live here, in the core library, so that no plugin imports
+another (the import-linter contract ``independence`` in pyproject.toml).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import Problem, SceneError
+from ..physics import articulated as art
+from ..physics import forces as phys
+from ..physics import indicator as ind
+from ..physics import layout as lay
+from ..physics.speed_fluctuation import CrankTrain
+from .contracts import ArticulatedOptions, BayLoads
+
+
+def engine_layout(scene) -> lay.EngineLayout:
+    """The scene's engine layout; a :class:`SceneError` naming the field it cannot be built from."""
+    e = scene.engine
+    try:
+        return lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
+                                e.crank_angles_deg, e.rod_type, e.uneven_firing)
+    except lay.LayoutError as exc:
+        raise SceneError(Problem(exc.field, exc.value, str(exc))) from None
+
+
+def _pin_angle_rad(opts: ArticulatedOptions, j: int, gamma_rad: float) -> float:
+    if opts.pin_angles_deg is not None:
+        return math.radians(opts.pin_angles_deg[j])
+    if opts.pin_angle_deg is not None:
+        return math.radians(opts.pin_angle_deg)
+    return gamma_rad
+
+
+def slave_geometries(scene, layout, opts: ArticulatedOptions,
+                     table: str) -> list[tuple[lay.Cylinder, art.SlaveGeometry]]:
+    """(slave cylinder, geometry) for the slave rods of bay 0 (their length given, or for equal
+    compression ratios when the scene gives one, else the textbook's L - pin radius, eq. (4)).
+    ``opts`` is the scene table ``table``, which the problems name."""
+    e = scene.engine
+    R, L = e.crank_radius_m, e.rod_length_m
+    bay = layout.bay(0)
+    master = bay[0]
+    slaves = [c for c in bay if not c.master]
+    if opts.pin_angles_deg is not None and len(opts.pin_angles_deg) != len(slaves):
+        raise SceneError(Problem(f"{table}.pin_angles_deg", opts.pin_angles_deg,
+                                 f"needs one angle per slave rod ({len(slaves)})"))
+    out = []
+    for j, slave in enumerate(slaves):
+        gamma = math.radians(slave.axis_deg - master.axis_deg)
+        pin_angle = _pin_angle_rad(opts, j, gamma)
+        if opts.pin_radius >= L:
+            raise SceneError(Problem(f"{table}.pin_radius", opts.pin_radius,
+                                     "must be shorter than the master rod"))
+        geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, L - opts.pin_radius)
+        try:
+            if opts.slave_rod_length is not None:
+                length = opts.slave_rod_length
+            elif scene.cycle is not None and scene.cycle.compression_ratio is not None:
+                length = art.slave_rod_length_equal_compression_m(geometry, scene.cycle.compression_ratio)
+            else:
+                length = L - opts.pin_radius  # textbook eq. (4)
+            geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, length)
+            art.slave_motion(np.linspace(0, 2 * np.pi, 721), geometry)
+        except ValueError as exc:
+            raise SceneError(Problem(f"{table}.slave_rod_length", opts.slave_rod_length,
+                                     str(exc))) from None
+        out.append((slave, geometry))
+    return out
+
+
+def rotating_mass_per_crank_kg(scene, layout, opts: ArticulatedOptions | None, table: str = "") -> float:
+    """Mass rotating with one crank pin, reduced to the crank radius (kg): the rods' rotating
+    shares (an articulated bay: the reduced master rod, textbook fig. 9) plus pin and webs.
+
+    The mass the bay stage turns into the centrifugal force c; it needs no pressures, so
+    balancing can use it in a scene without a working cycle. ``opts``: the scene's articulated
+    rods, the scene table ``table`` (read by the caller); None for other rods.
+    """
+    e, m = scene.engine, scene.masses
+    _, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    crank_rotating = m.crank_pin + 2 * m.crank_web
+    if e.rod_type != "articulated":
+        return rod_rot * layout.cylinders_per_bay + crank_rotating
+    slaves = slave_geometries(scene, layout, opts, table)
+    slave_rod = (opts.slave_rod if opts.slave_rod is not None
+                 else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m)
+    s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
+    rot_master = rod_rot
+    for _, g in slaves:
+        rot_master += art.reduced_master_rod_masses(0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin,
+                                                    g.pin_radius_m, g.pin_angle_rad)[1]
+    return rot_master + crank_rotating
+
+
+def crank_train(scene, bays: BayLoads) -> CrankTrain:
+    """The reduced-inertia masses of the scene's engine.
+
+    m_s = piston group + the rod's reciprocating part (eq. 17) for every cylinder; m_R from the
+    centrifugal term c = -m_R R omega^2 / F_p of the bay loads, so it holds whatever the bay
+    stage lumped on the crank pin (all rods of the bay, the pin and the webs reduced to R).
+    Articulated slave rods are taken to move like the master (the textbook's assumption).
+    """
+    e, m = scene.engine, scene.masses
+    layout = bays.layout
+    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    omega = e.angular_velocity_rad_s
+    rotating = -bays.centrifugal_Pa * bays.piston_area_m2 / (bays.crank_radius_m * omega ** 2)
+    cylinders = layout.cylinders
+    return CrankTrain(
+        phase_rad=np.radians([c.firing_delay_deg for c in cylinders]),
+        crank_of_cylinder=np.array([c.bay for c in cylinders]),
+        reciprocating_kg=np.full(len(cylinders), m.piston_group + float(rod_rec)),
+        rotating_kg=float(rotating),
+        cranks=layout.cranks,
+        crank_radius_m=bays.crank_radius_m,
+        rod_ratio=e.rod_ratio_value,
+        articulated=e.rod_type == "articulated",
+    )
+
+
+def cycle_parameters(scene) -> ind.CycleParameters:
+    """The theoretical cycle's parameters of the scene's ``[cycle]``."""
+    c = scene.cycle
+    return ind.CycleParameters(
+        strokes=scene.engine.strokes,
+        ignition=c.ignition,
+        compression_ratio=c.compression_ratio,
+        intake_pressure_Pa=c.intake_pressure,
+        compression_index=c.compression_index,
+        max_pressure_Pa=c.max_pressure,
+        pre_expansion_ratio=c.pre_expansion_ratio,
+        expansion_index=c.expansion_index,
+        exhaust_pressure_Pa=c.exhaust_pressure if c.exhaust_pressure is not None else c.intake_pressure,
+    )
+
+
+def rounding_parameters(scene) -> ind.RoundingParameters:
+    """The rounding of the theoretical diagram, ``[cycle.rounding]`` with the textbook's defaults."""
+    r, c = scene.cycle.rounding, scene.cycle
+    # Textbook mid-range defaults: spark advance 20-25 deg, diesel injection advance 10-40 deg.
+    advance = (r.ignition_advance_deg if r.ignition_advance_deg is not None
+               else (22.0 if c.ignition == "spark" else 18.0))
+    delay = r.combustion_delay_deg
+    if delay is None:
+        delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm,
+                                                 r.combustion_delay_time)
+    if 0 <= delay < 90 and 0 < advance < 90 and delay >= advance:
+        raise SceneError(_delay_problem(scene, advance, delay))
+    four_stroke = scene.engine.strokes == 4
+    try:
+        return ind.RoundingParameters(
+            ignition_advance_deg=advance,
+            combustion_delay_deg=delay,
+            pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
+            peak_pressure_fraction=r.peak_pressure_fraction,
+            peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
+            exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
+            # Valve overlap and intake closing exist only in the four-stroke cycle.
+            exhaust_closes_after_tdc_deg=r.exhaust_closes_after_tdc_deg if four_stroke else 0.0,
+            intake_opens_before_tdc_deg=r.intake_opens_before_tdc_deg if four_stroke else 0.0,
+            intake_closes_after_bdc_deg=r.intake_closes_after_bdc_deg if four_stroke else 0.0,
+        )
+    except ValueError as exc:
+        raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+
+
+def _delay_problem(scene, advance: float, delay: float) -> Problem:
+    """The ignition delay reaching past the advance, named by the fields the user can change
+    (either value may be a default: the delay of a diesel grows with the speed, 6·n·τ)."""
+    r = scene.cycle.rounding
+    advance_text = (f"{advance:g} deg" if r.ignition_advance_deg is not None
+                    else f"{advance:g} deg by default")
+    if r.combustion_delay_deg is not None:
+        return Problem("cycle.rounding.combustion_delay_deg", delay,
+                       f"less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
+                       " so that combustion starts before top dead centre")
+    time_ms = (r.combustion_delay_time if r.combustion_delay_time is not None else 1.5e-3) * 1e3
+    return Problem("cycle.rounding.ignition_advance_deg",
+                   advance if r.ignition_advance_deg is not None else f"{advance:g} (default)",
+                   f"more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
+                   f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_ms:g} ms):"
+                   " give a larger advance or a shorter delay time")
+
+
+def single_mechanism_problems(scene, what: str, multi_cylinder_tables: tuple[str, ...] = ()) -> list[Problem]:
+    """Problems of a scene that gives multi-cylinder keys to a one-cylinder mechanism (``what``
+    names it in the messages), or one of the plugin tables ``multi_cylinder_tables`` that only a
+    multi-cylinder engine reads."""
+    e = scene.engine
+    problems = []
+    if e.cylinders != 1:
+        problems.append(Problem("engine.cylinders", e.cylinders, f"the {what} is computed for one cylinder: 1"))
+    if e.layout != "inline":
+        problems.append(Problem("engine.layout", e.layout, f"the {what} has one cylinder; leave layout out"))
+    if e.rod_type != "central":
+        problems.append(Problem("engine.rod_type", e.rod_type, f"the {what} has a single rod; leave rod_type out"))
+    for name in ("bank_angle_deg", "firing_order", "crank_angles_deg", "cylinder_spacing"):
+        if getattr(e, name) is not None:
+            problems.append(Problem(f"engine.{name}", getattr(e, name),
+                                    f"applies to multi-cylinder engines only; the {what} has one cylinder"))
+    for table in multi_cylinder_tables:
+        if table in scene.plugin_tables():
+            problems.append(Problem(table, f"[{table}]", f"applies to multi-cylinder engines only; "
+                                                         f"the {what} has one cylinder"))
+    return problems
