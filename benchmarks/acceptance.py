@@ -75,12 +75,18 @@ FIGURES = ("startup", "html", "pdf", "size", "memory", "batch", "timing", "previ
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
-    parser.add_argument("--skip-memory", action="store_true", help="leave out the 0.01 deg in-line 4 runs")
-    parser.add_argument("--only", help="comma-separated subset of " + ",".join(FIGURES) + " (default: all)")
+    parser.add_argument(
+        "--skip-memory", action="store_true", help="leave out the 0.01 deg in-line 4 runs"
+    )
+    parser.add_argument(
+        "--only", help="comma-separated subset of " + ",".join(FIGURES) + " (default: all)"
+    )
     args = parser.parse_args()
     only = set(FIGURES) if not args.only else {f.strip() for f in args.only.split(",")}
     if only - set(FIGURES):
-        parser.error(f"unknown --only {','.join(sorted(only - set(FIGURES)))}; allowed: {','.join(FIGURES)}")
+        parser.error(
+            f"unknown --only {','.join(sorted(only - set(FIGURES)))}; allowed: {','.join(FIGURES)}"
+        )
     rows, notes = [], []
     with tempfile.TemporaryDirectory(prefix="crankdyn-accept-") as tmp:
         tmp = Path(tmp)
@@ -89,33 +95,92 @@ def main() -> None:
 
         imports = None
         if only & {"startup", "html"}:  # the yardstick of the start-up and HTML figures
-            imports = wall([sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"], env, args.repeat)
+            imports = wall(
+                [sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"],
+                env,
+                args.repeat,
+            )
         if "startup" in only:
-            json_s = wall(crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"), env, args.repeat)
-            rows.append(("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports))
+            json_s = wall(
+                crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"),
+                env,
+                args.repeat,
+            )
+            rows.append(
+                ("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports)
+            )
         if "html" in only:
-            html_s = wall(crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"), env, args.repeat)
-            rows.append(("report --format html (1 cyl) / 2 x import numpy+scipy", html_s,
-                         2.0 * imports))
+            html_s = wall(
+                crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"),
+                env,
+                args.repeat,
+            )
+            rows.append(
+                ("report --format html (1 cyl) / 2 x import numpy+scipy", html_s, 2.0 * imports)
+            )
             # the first report on a machine (or after matplotlib's settings changed): every label typeset
-            cold = wall(crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"),
-                        {**env, "CRANKDYN_MATHTEXT_CACHE": "off"}, args.repeat)
-            rows.append(("  the same, no stored labels (first run) / 2 x import", cold,
-                         2.0 * imports))
+            cold = wall(
+                crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"),
+                {**env, "CRANKDYN_MATHTEXT_CACHE": "off"},
+                args.repeat,
+            )
+            rows.append(
+                ("  the same, no stored labels (first run) / 2 x import", cold, 2.0 * imports)
+            )
         if "pdf" in only:
-            pdf_s = wall(crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"), env, args.repeat)
-            subprocess.run(crankdyn("report", one, "-o", str(tmp / "sc"), "--format", "html", "--self-contained",
-                                    "-q"), env=env, check=True, capture_output=True)
-            weasy = wall([sys.executable, "-c", "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
-                          ".write_pdf(sys.argv[2])", str(tmp / "sc" / "report.html"), str(tmp / "w.pdf")],
-                         env, args.repeat)
-            rows.append(("report --format pdf / 0.6 x WeasyPrint alone on its HTML", pdf_s,
-                         0.6 * weasy))
+            pdf_s = wall(
+                crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"),
+                env,
+                args.repeat,
+            )
+            subprocess.run(
+                crankdyn(
+                    "report",
+                    one,
+                    "-o",
+                    str(tmp / "sc"),
+                    "--format",
+                    "html",
+                    "--self-contained",
+                    "-q",
+                ),
+                env=env,
+                check=True,
+                capture_output=True,
+            )
+            weasy = wall(
+                [
+                    sys.executable,
+                    "-c",
+                    "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
+                    ".write_pdf(sys.argv[2])",
+                    str(tmp / "sc" / "report.html"),
+                    str(tmp / "w.pdf"),
+                ],
+                env,
+                args.repeat,
+            )
+            rows.append(
+                ("report --format pdf / 0.6 x WeasyPrint alone on its HTML", pdf_s, 0.6 * weasy)
+            )
         if "size" in only:
-            subprocess.run(crankdyn("report", str(EXAMPLES / "v8-petrol.toml"), "-o", str(tmp / "v8"), "--format",
-                                    "html", "-q"), env=env, check=True, capture_output=True)
-            size = (tmp / "v8" / "report.html").stat().st_size + sum(p.stat().st_size
-                                                                   for p in (tmp / "v8" / "figures").iterdir())
+            subprocess.run(
+                crankdyn(
+                    "report",
+                    str(EXAMPLES / "v8-petrol.toml"),
+                    "-o",
+                    str(tmp / "v8"),
+                    "--format",
+                    "html",
+                    "-q",
+                ),
+                env=env,
+                check=True,
+                capture_output=True,
+            )
+            size = (tmp / "v8" / "report.html").stat().st_size + sum(
+                p.stat().st_size for p in (tmp / "v8" / "figures").iterdir()
+            )
             rows.append(("V8 report.html + figures/ (MB) / 1.0 MB", size / 1e6, 1.0))
         if "memory" in only and not args.skip_memory:
             sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -125,9 +190,18 @@ def main() -> None:
             coarse = scaling.best_point("inline4-petrol", 0.02, 3)
             fine = scaling.best_point("inline4-petrol", 0.01, 3)
             rows.append(("in-line 4 at 0.01 deg: peak RSS (MB) / 600 MB", fine["maxrss_MB"], 600.0))
-            worst = max((fine["stages"][n]["s"] / max(coarse["stages"][n]["s"], 1e-9), n)
-                        for n in fine["stages"] if coarse["stages"][n]["s"] > 0.05)
-            rows.append((f"halving 0.02 -> 0.01 deg: worst stage time ratio ({worst[1]}) / 2", worst[0], 2.0))
+            worst = max(
+                (fine["stages"][n]["s"] / max(coarse["stages"][n]["s"], 1e-9), n)
+                for n in fine["stages"]
+                if coarse["stages"][n]["s"] > 0.05
+            )
+            rows.append(
+                (
+                    f"halving 0.02 -> 0.01 deg: worst stage time ratio ({worst[1]}) / 2",
+                    worst[0],
+                    2.0,
+                )
+            )
 
         if "batch" in only:
             sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -136,48 +210,110 @@ def main() -> None:
             variants = write_variants(tmp / "variants.csv", 30)
             report = crankdyn("report", one, "-o", str(tmp / "r"), "--format", "html,json", "-q")
             single = wall(report, env, args.repeat)
-            cmd = crankdyn("batch", str(variants), "--base", one, "-o", str(tmp / "b"), "--format", "html,json",
-                           "--jobs", "2", "-q")
+            cmd = crankdyn(
+                "batch",
+                str(variants),
+                "--base",
+                one,
+                "-o",
+                str(tmp / "b"),
+                "--format",
+                "html,json",
+                "--jobs",
+                "2",
+                "-q",
+            )
             single_cpu = _cpu_s(report, env)[1]
             start = time.perf_counter()
             done, batch_cpu = _cpu_s(cmd, env)
-            if done.returncode != 2 or not (tmp / "b" / "answer_key.csv").is_file():  # 2: rows 7, 19 fail on purpose
-                raise SystemExit(f"the benchmark batch did not run as expected: {done.stderr[-500:]}")
-            rows.append(("batch: 30 variants html+json, 2 jobs / 8 x one report html+json",
-                         time.perf_counter() - start, 8.0 * single))
-            notes.append(f"batch CPU seconds (all its processes) {batch_cpu:.1f}, one report's "
-                         f"{single_cpu:.2f}: {batch_cpu / single_cpu:.1f}x (the wall-time ratio on "
-                         "a shared machine follows the other load)")
+            if (
+                done.returncode != 2 or not (tmp / "b" / "answer_key.csv").is_file()
+            ):  # 2: rows 7, 19 fail on purpose
+                raise SystemExit(
+                    f"the benchmark batch did not run as expected: {done.stderr[-500:]}"
+                )
+            rows.append(
+                (
+                    "batch: 30 variants html+json, 2 jobs / 8 x one report html+json",
+                    time.perf_counter() - start,
+                    8.0 * single,
+                )
+            )
+            notes.append(
+                f"batch CPU seconds (all its processes) {batch_cpu:.1f}, one report's "
+                f"{single_cpu:.2f}: {batch_cpu / single_cpu:.1f}x (the wall-time ratio on "
+                "a shared machine follows the other load)"
+            )
 
         if "timing" in only:
             monotone = 0
             for _ in range(10):
-                subprocess.run(crankdyn("report", one, "-o", str(tmp / "n"), "--format", "json", "-q"), env=env,
-                               check=True, capture_output=True)
+                subprocess.run(
+                    crankdyn("report", one, "-o", str(tmp / "n"), "--format", "json", "-q"),
+                    env=env,
+                    check=True,
+                    capture_output=True,
+                )
                 steps = json.loads((tmp / "n" / "results.json").read_text())["numerics"]["steps"]
                 steps.sort(key=lambda s: s["points"])
-                falls = [(a["points"], b["points"], a["time_s"], b["time_s"])
-                         for a, b in zip(steps, steps[1:], strict=False) if a["time_s"] > b["time_s"]]
+                falls = [
+                    (a["points"], b["points"], a["time_s"], b["time_s"])
+                    for a, b in zip(steps, steps[1:], strict=False)
+                    if a["time_s"] > b["time_s"]
+                ]
                 monotone += not falls
-                for n_a, n_b, t_a, t_b in falls:  # which neighbours, by how much: noise or a real fall
-                    print(f"  not monotone: {n_a} angles {t_a * 1e6:.2f} us > {n_b} angles {t_b * 1e6:.2f} us",
-                          file=sys.stderr)
+                for (
+                    n_a,
+                    n_b,
+                    t_a,
+                    t_b,
+                ) in falls:  # which neighbours, by how much: noise or a real fall
+                    print(
+                        f"  not monotone: {n_a} angles {t_a * 1e6:.2f} us > {n_b} angles {t_b * 1e6:.2f} us",
+                        file=sys.stderr,
+                    )
             rows.append(("error-against-run-time table monotone, runs of 10 / 10", monotone, 10))
 
-        if "preview" in only:  # benchmarks/preview.py: crankdyn serve + headless Chromium, 10 edits of a mass
-            done = subprocess.run([sys.executable, str(Path(__file__).resolve().parent / "preview.py"), "--edits", "10"],
-                                  env=env, capture_output=True, text=True)
-            found = {m[1]: float(m[2]) for m in re.finditer(r"(?m)^(save -> [^\n]*?)\s+([0-9.]+)\s+[0-9.]+$", done.stdout)}
+        if (
+            "preview" in only
+        ):  # benchmarks/preview.py: crankdyn serve + headless Chromium, 10 edits of a mass
+            done = subprocess.run(
+                [
+                    sys.executable,
+                    str(Path(__file__).resolve().parent / "preview.py"),
+                    "--edits",
+                    "10",
+                ],
+                env=env,
+                capture_output=True,
+                text=True,
+            )
+            found = {
+                m[1]: float(m[2])
+                for m in re.finditer(r"(?m)^(save -> [^\n]*?)\s+([0-9.]+)\s+[0-9.]+$", done.stdout)
+            }
             if done.returncode != 0 or len(found) != 3:
                 raise SystemExit(f"the preview benchmark did not run: {done.stderr[-800:]}")
-            page, figures = found["save -> the tab shows the new page"], found["save -> all its figures loaded"]
-            rows.append(("preview: save -> the tab shows the new page, median (s) / 1 s", page, 1.0))
-            rows.append(("preview: save -> ... with the error study too (s) / 1 s",
-                         found["save -> ... with the error study too"], 1.0))
+            page, figures = (
+                found["save -> the tab shows the new page"],
+                found["save -> all its figures loaded"],
+            )
+            rows.append(
+                ("preview: save -> the tab shows the new page, median (s) / 1 s", page, 1.0)
+            )
+            rows.append(
+                (
+                    "preview: save -> ... with the error study too (s) / 1 s",
+                    found["save -> ... with the error study too"],
+                    1.0,
+                )
+            )
             rows.append(("preview: save -> its figures loaded too, median (s) / 1 s", figures, 1.0))
 
-    print(f"acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs; load "
-          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} over 1, 5, 15 min at the end)")
+    print(
+        f"acceptance ({os.cpu_count()} cores, median of {args.repeat} whole-process runs; load "
+        f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} over 1, 5, 15 min at the end)"
+    )
     print(f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}")
     for what, measured, goal in rows:
         ratio = measured / goal
@@ -185,8 +321,10 @@ def main() -> None:
         print(f"{what:62s} {measured:10.3f} {goal:10.3f} {ratio:7.2f}  {'ok' if ok else 'NOT MET'}")
     for note in notes:
         print(note)
-    print("not measured here: the Dask cluster's answer key equal to the local pool's is "
-          "a test (tests/test_batch_dask.py); benchmarks/batch.py shows where the batch's time goes")
+    print(
+        "not measured here: the Dask cluster's answer key equal to the local pool's is "
+        "a test (tests/test_batch_dask.py); benchmarks/batch.py shows where the batch's time goes"
+    )
 
 
 if __name__ == "__main__":

@@ -33,7 +33,9 @@ def drawing_html(example: str) -> str:
     registry = default_registry()
     scene = load_scene(examples_dir() / f"{example}.toml")
     result = run_scene(scene, registry)
-    only = replace(result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")])
+    only = replace(
+        result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")]
+    )
     return render_html(replace(result, plan=only), registry).html
 
 
@@ -66,8 +68,10 @@ def main() -> None:
             browser.close()
     fps = (end[0] - start[0]) / ((end[1] - start[1]) / 1000.0)
     verdict = "meets" if fps >= GOAL_FPS else "misses"
-    print(f"{args.example}: {fps:.1f} frames per second ({frames} moving SVG elements); "
-          f"{verdict} the goal of {GOAL_FPS:g}")
+    print(
+        f"{args.example}: {fps:.1f} frames per second ({frames} moving SVG elements); "
+        f"{verdict} the goal of {GOAL_FPS:g}"
+    )
 
 
 if __name__ == "__main__":

@@ -36,24 +36,39 @@ def main() -> None:
     args = parser.parse_args()
     fe.explore(4)  # imports and caches warm
 
-    print(f"{'cyl':>4} {'arrangements':>13} {'firing orders':>14} {'scored (top 10)':>16} {'top 10, s':>10} "
-          f"{'all, s':>8}")
+    print(
+        f"{'cyl':>4} {'arrangements':>13} {'firing orders':>14} {'scored (top 10)':>16} {'top 10, s':>10} "
+        f"{'all, s':>8}"
+    )
     for n in range(4, args.max + 1, 2):
         top_time, top = best_of(lambda: fe.explore(n, "inline", 4, top=10), args.repeat)  # noqa: B023 - called within this iteration
         if math.factorial(n - 1) <= 400_000:
-            all_time, _ = best_of(lambda: fe.explore(n, "inline", 4, top=None), max(1, args.repeat // 2))  # noqa: B023 - called within this iteration
+            all_time, _ = best_of(
+                lambda: fe.explore(n, "inline", 4, top=None), max(1, args.repeat // 2)
+            )  # noqa: B023 - called within this iteration
             all_text = f"{all_time:8.3f}"
         else:
             all_text = f"{'-':>8}"
-        print(f"{n:>4} {top.arrangements:>13,} {top.firing_orders:>14,} {top.scored_firing_orders:>16,} "
-              f"{top_time:10.3f} {all_text}")
+        print(
+            f"{n:>4} {top.arrangements:>13,} {top.firing_orders:>14,} {top.scored_firing_orders:>16,} "
+            f"{top_time:10.3f} {all_text}"
+        )
     goal_time, result = best_of(lambda: fe.explore(8, "inline", 4, top=None), args.repeat)
-    print(f"\nin-line 8, every one of the {result.firing_orders} firing orders ranked: {goal_time:.3f} s "
-          f"(goal < 1 s: {'met' if goal_time < 1 else 'MISSED'})")
-    for layout, cylinders, gamma in (("V", 8, 90.0), ("V", 12, 60.0), ("W", 12, 60.0), ("V", 16, 90.0)):
+    print(
+        f"\nin-line 8, every one of the {result.firing_orders} firing orders ranked: {goal_time:.3f} s "
+        f"(goal < 1 s: {'met' if goal_time < 1 else 'MISSED'})"
+    )
+    for layout, cylinders, gamma in (
+        ("V", 8, 90.0),
+        ("V", 12, 60.0),
+        ("W", 12, 60.0),
+        ("V", 16, 90.0),
+    ):
         t, r = best_of(lambda: fe.explore(cylinders, layout, 4, gamma, top=10), args.repeat)  # noqa: B023 - called within this iteration
-        print(f"{layout}{cylinders} {gamma:g} deg: {r.arrangements:,} arrangements, {r.firing_orders:,} firing "
-              f"orders, top 10 in {t:.3f} s")
+        print(
+            f"{layout}{cylinders} {gamma:g} deg: {r.arrangements:,} arrangements, {r.firing_orders:,} firing "
+            f"orders, top 10 in {t:.3f} s"
+        )
 
 
 if __name__ == "__main__":

@@ -34,14 +34,20 @@ from test_serve import CHROMIUM, DevTools, _start_serve, _wait  # noqa: E402 - t
 # the text is on screen once the document is parsed ("interactive"), of a build after the save: the
 # first one (its study to follow) or, when the whole page was ready before the tab reloaded, the
 # second (waiting for the first build's marker then waited for a page the tab never shows)
-PAGE_IS = ("document.readyState !== 'loading' && Array.from(document.scripts).some("
-           "s => {markers}.some(m => s.text.indexOf(m) >= 0))")
+PAGE_IS = (
+    "document.readyState !== 'loading' && Array.from(document.scripts).some("
+    "s => {markers}.some(m => s.text.indexOf(m) >= 0))"
+)
 # the whole page: no section waits for its study (p.pending), and not the page before the save
-COMPLETE = ("document.readyState !== 'loading' && !document.querySelector('p.pending') && "
-            "!Array.from(document.scripts).some(s => s.text.indexOf({old}) >= 0)")
-FIGURES_LOADED = ("document.readyState === 'complete' && !document.querySelector('p.pending') && "
-                  "Array.from(document.images).every(i => i.complete && i.naturalWidth > 0 && "
-                  "!(i.dataset.figure && i.src.startsWith('data:')))")
+COMPLETE = (
+    "document.readyState !== 'loading' && !document.querySelector('p.pending') && "
+    "!Array.from(document.scripts).some(s => s.text.indexOf({old}) >= 0)"
+)
+FIGURES_LOADED = (
+    "document.readyState === 'complete' && !document.querySelector('p.pending') && "
+    "Array.from(document.images).every(i => i.complete && i.naturalWidth > 0 && "
+    "!(i.dataset.figure && i.src.startsWith('data:')))"
+)
 
 
 def _status(base: str) -> dict:
@@ -71,32 +77,57 @@ def main() -> None:
             _wait(lambda: _status(base)["state"] == "report", 120, "the first rendering")
             browser = DevTools(base, tmp / "profile")
             browser.attach(base)
-            _wait(lambda: browser.evaluate(FIGURES_LOADED, tolerant=True), 60, "the first page and its figures")
+            _wait(
+                lambda: browser.evaluate(FIGURES_LOADED, tolerant=True),
+                60,
+                "the first page and its figures",
+            )
             text = scene.read_text(encoding="utf-8")
             for _ in range(args.edits):
                 version = _status(base)["version"]
                 boot, count = version.rsplit("-", 1)
                 expected = [f"{boot}-{int(count) + k}" for k in (1, 2)]  # this save's two builds
                 old = json.dumps(version)
-                new = re.sub(r'(?m)^(rod\s*=\s*")([0-9.]+)', lambda m: f"{m[1]}{float(m[2]) * 1.01:.5f}", text, count=1)
+                new = re.sub(
+                    r'(?m)^(rod\s*=\s*")([0-9.]+)',
+                    lambda m: f"{m[1]}{float(m[2]) * 1.01:.5f}",
+                    text,
+                    count=1,
+                )
                 assert new != text, "the scene has no masses.rod to edit"
                 text = new
                 start = time.monotonic()
                 scene.write_text(text, encoding="utf-8")
                 markers = json.dumps([json.dumps(m) for m in expected])
-                _wait(lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True), 60,  # noqa: B023 - called within this iteration
-                      "the tab to show the new build", interval=0.01)
+                _wait(
+                    lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True),
+                    60,  # noqa: B023 - called within this iteration
+                    "the tab to show the new build",
+                    interval=0.01,
+                )
                 page_s.append(time.monotonic() - start)
-                _wait(lambda: browser.evaluate(COMPLETE.format(old=old), tolerant=True), 60, "the whole page",  # noqa: B023 - called within this iteration
-                      interval=0.01)
+                _wait(
+                    lambda: browser.evaluate(COMPLETE.format(old=old), tolerant=True),
+                    60,
+                    "the whole page",  # noqa: B023 - called within this iteration
+                    interval=0.01,
+                )
                 complete_s.append(time.monotonic() - start)
-                _wait(lambda: browser.evaluate(FIGURES_LOADED, tolerant=True), 60, "the figures", interval=0.01)
+                _wait(
+                    lambda: browser.evaluate(FIGURES_LOADED, tolerant=True),
+                    60,
+                    "the figures",
+                    interval=0.01,
+                )
                 figures_s.append(time.monotonic() - start)
                 _wait(lambda: not _status(base)["building"], 60, "the build to end", interval=0.05)
                 server_s.append(_status(base)["render_s"])
                 if args.each:
-                    print(f"edit {len(page_s):3d}: page {page_s[-1]:.2f}  whole {complete_s[-1]:.2f}  "
-                          f"figures {figures_s[-1]:.2f}  server {server_s[-1]:.2f}", flush=True)
+                    print(
+                        f"edit {len(page_s):3d}: page {page_s[-1]:.2f}  whole {complete_s[-1]:.2f}  "
+                        f"figures {figures_s[-1]:.2f}  server {server_s[-1]:.2f}",
+                        flush=True,
+                    )
                 time.sleep(0.3)
         finally:
             if browser is not None:
@@ -105,13 +136,17 @@ def main() -> None:
             server.wait(10)
     print(f"live preview of {source.name}, {args.edits} edits of masses.rod (s)")
     print(f"{'':38s} {'median':>8s} {'worst':>8s}")
-    for what, values in (("save -> the tab shows the new page", page_s),
-                         ("save -> ... with the error study too", complete_s),
-                         ("save -> all its figures loaded", figures_s),
-                         ("server: build until the page is out", server_s)):
+    for what, values in (
+        ("save -> the tab shows the new page", page_s),
+        ("save -> ... with the error study too", complete_s),
+        ("save -> all its figures loaded", figures_s),
+        ("server: build until the page is out", server_s),
+    ):
         print(f"{what:38s} {statistics.median(values):8.2f} {max(values):8.2f}")
     ratio = statistics.median(page_s) / 1.0
-    print(f"goal: save -> updated page <= 1 s (median): ratio {ratio:.2f} {'ok' if ratio <= 1 else 'NOT MET'}")
+    print(
+        f"goal: save -> updated page <= 1 s (median): ratio {ratio:.2f} {'ok' if ratio <= 1 else 'NOT MET'}"
+    )
 
 
 if __name__ == "__main__":

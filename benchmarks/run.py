@@ -45,13 +45,17 @@ def main() -> None:
     rows.append(("compute (all stages)", best, median, GOALS_S["compute"]))
     for name, seconds in result.timing_s.items():
         rows.append((f"  stage {name}", seconds, seconds, None))
-    best, median, rendered = best_of(lambda: render_html(result, registry), max(args.repeat // 4, 3))
+    best, median, rendered = best_of(
+        lambda: render_html(result, registry), max(args.repeat // 4, 3)
+    )
     rows.append(("HTML (with figures)", best, median, GOALS_S["html"]))
     best, median, _ = best_of(lambda: html_to_pdf(rendered.html), 3)
     rows.append(("PDF (WeasyPrint)", best, median, None))
 
-    print(f"crankdyn benchmark: {args.example}, angle step {scene.analysis.angle_step_deg:g} deg, "
-          f"{len(scene.crank_angles_deg)} grid points")
+    print(
+        f"crankdyn benchmark: {args.example}, angle step {scene.analysis.angle_step_deg:g} deg, "
+        f"{len(scene.crank_angles_deg)} grid points"
+    )
     print(f"{'what':28s} {'best, ms':>10s} {'median, ms':>11s} {'goal, ms':>9s}  verdict")
     for what, best, median, goal in rows:
         verdict = "" if goal is None else ("ok" if best < goal else "SLOWER THAN GOAL")

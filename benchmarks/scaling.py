@@ -39,10 +39,18 @@ def _point(example: str, step: float, cylinders: int | None, memory: bool) -> di
     from crankdyn.plugin.registry import default_registry
     from crankdyn.scene.model import load_scene
 
-    overrides = {"analysis": {"angle_step_deg": step, "table_step_deg": 30 if 30 / step == round(30 / step) else step}}
+    overrides = {
+        "analysis": {
+            "angle_step_deg": step,
+            "table_step_deg": 30 if 30 / step == round(30 / step) else step,
+        }
+    }
     if cylinders is not None:
         # firing intervals equal, in firing order 1..n; a long shaft needs no other change
-        overrides["engine"] = {"cylinders": cylinders, "firing_order": list(range(1, cylinders + 1))}
+        overrides["engine"] = {
+            "cylinders": cylinders,
+            "firing_order": list(range(1, cylinders + 1)),
+        }
     scene = load_scene(examples_dir() / f"{example}.toml", overrides)
     the_plan = plan(scene, default_registry())
     rows = {}
@@ -68,13 +76,14 @@ def _point(example: str, step: float, cylinders: int | None, memory: bool) -> di
 
 def run_point(example: str, step: float, cylinders: int | None, memory: bool) -> dict:
     """One point in a fresh process (its own peak resident memory)."""
-    code = (f"import json, sys; sys.path.insert(0, {str(__file__.rsplit('/', 1)[0])!r}); import scaling; "
-            f"print(json.dumps(scaling._point({example!r}, {step!r}, {cylinders!r}, {memory!r})))")
+    code = (
+        f"import json, sys; sys.path.insert(0, {str(__file__.rsplit('/', 1)[0])!r}); import scaling; "
+        f"print(json.dumps(scaling._point({example!r}, {step!r}, {cylinders!r}, {memory!r})))"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     if done.returncode != 0:
         return {"error": (done.stderr.strip().splitlines() or ["failed"])[-1]}
     return json.loads(done.stdout.strip().splitlines()[-1])
-
 
 
 def best_point(example: str, step: float, repeat: int) -> dict:
@@ -85,8 +94,16 @@ def best_point(example: str, step: float, repeat: int) -> dict:
     points = [p for p in points if "error" not in p] or points[:1]
     if "error" in points[0]:
         return points[0]
-    best = {name: {"s": min(p["stages"][name]["s"] for p in points), "peak_MB": None} for name in points[0]["stages"]}
-    return {"points": points[0]["points"], "stages": best, "maxrss_MB": max(p["maxrss_MB"] for p in points)}
+    best = {
+        name: {"s": min(p["stages"][name]["s"] for p in points), "peak_MB": None}
+        for name in points[0]["stages"]
+    }
+    return {
+        "points": points[0]["points"],
+        "stages": best,
+        "maxrss_MB": max(p["maxrss_MB"] for p in points),
+    }
+
 
 def report(title: str, label: str, points: list[tuple[str, dict]]) -> None:
     print(f"\n{title}")
@@ -95,7 +112,9 @@ def report(title: str, label: str, points: list[tuple[str, dict]]) -> None:
         for name in p.get("stages", {}):
             if name not in stages:
                 stages.append(name)
-    print(f"{label:>8s} {'angles':>7s} {'stage':22s} {'time, s':>9s} {'x prev':>7s} {'peak, MB':>9s}")
+    print(
+        f"{label:>8s} {'angles':>7s} {'stage':22s} {'time, s':>9s} {'x prev':>7s} {'peak, MB':>9s}"
+    )
     previous: dict = {}
     for key, p in points:
         if "error" in p:
@@ -111,8 +130,10 @@ def report(title: str, label: str, points: list[tuple[str, dict]]) -> None:
             previous[name] = row["s"]
         total = sum(r["s"] for r in p["stages"].values())
         verdict = "ok" if p["maxrss_MB"] <= PEAK_GOAL_MB else f"ABOVE {PEAK_GOAL_MB:.0f} MB"
-        print(f"{key:>8s} {p['points']:7d} {'= all stages':22s} {total:9.3f} {'':>7s} "
-              f"{p['maxrss_MB']:9.1f}  process peak RSS ({verdict})")
+        print(
+            f"{key:>8s} {p['points']:7d} {'= all stages':22s} {total:9.3f} {'':>7s} "
+            f"{p['maxrss_MB']:9.1f}  process peak RSS ({verdict})"
+        )
 
 
 def main() -> None:
@@ -120,18 +141,26 @@ def main() -> None:
     parser.add_argument("--example", default="inline4-petrol")
     parser.add_argument("--steps", default=",".join(f"{s:g}" for s in STEPS_DEG))
     parser.add_argument("--cylinders", default=",".join(str(c) for c in CYLINDERS))
-    parser.add_argument("--cylinder-step", type=float, default=1.0, help="angle step of the cylinder sweep")
+    parser.add_argument(
+        "--cylinder-step", type=float, default=1.0, help="angle step of the cylinder sweep"
+    )
     parser.add_argument("--no-memory", action="store_true", help="time only, no tracemalloc pass")
     args = parser.parse_args()
     memory = not args.no_memory
     steps = [float(s) for s in args.steps.split(",") if s]
     cylinders = [int(c) for c in args.cylinders.split(",") if c]
     if steps:
-        report(f"{args.example}: angle step (deg) -> time and peak memory per stage", "step",
-               [(f"{s:g}", run_point(args.example, s, None, memory)) for s in steps])
+        report(
+            f"{args.example}: angle step (deg) -> time and peak memory per stage",
+            "step",
+            [(f"{s:g}", run_point(args.example, s, None, memory)) for s in steps],
+        )
     if cylinders:
-        report(f"{args.example}: number of cylinders at a {args.cylinder_step:g} deg step", "cyl",
-               [(str(c), run_point(args.example, args.cylinder_step, c, memory)) for c in cylinders])
+        report(
+            f"{args.example}: number of cylinders at a {args.cylinder_step:g} deg step",
+            "cyl",
+            [(str(c), run_point(args.example, args.cylinder_step, c, memory)) for c in cylinders],
+        )
 
 
 if __name__ == "__main__":

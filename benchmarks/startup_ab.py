@@ -34,17 +34,42 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="crankdyn-ab-") as tmp:
         tmp = Path(tmp)
         (tmp / "before").mkdir()
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", args.before], check=True, capture_output=True)
+        archive = subprocess.run(
+            ["git", "-C", str(ROOT), "archive", args.before], check=True, capture_output=True
+        )
         subprocess.run(["tar", "-x", "-C", str(tmp / "before")], input=archive.stdout, check=True)
         env = dict(os.environ)
         env.pop("PYTHONDONTWRITEBYTECODE", None)
         env["PYTHONPYCACHEPREFIX"] = str(tmp / "pycache")
-        before_env = dict(env, PYTHONPATH=os.pathsep.join([str(tmp / "before" / "src"), str(tmp / "before" / "plugins")]))
+        before_env = dict(
+            env,
+            PYTHONPATH=os.pathsep.join(
+                [str(tmp / "before" / "src"), str(tmp / "before" / "plugins")]
+            ),
+        )
 
         def report(name):
-            return [sys.executable, "-m", "crankdyn", "report", args.scene, "-o", str(tmp / name), "--format", "json", "-q"]
-        runs = {"import": ([sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"], env),
-                "before": (report("before-out"), before_env), "after": (report("after-out"), env)}
+            return [
+                sys.executable,
+                "-m",
+                "crankdyn",
+                "report",
+                args.scene,
+                "-o",
+                str(tmp / name),
+                "--format",
+                "json",
+                "-q",
+            ]
+
+        runs = {
+            "import": (
+                [sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"],
+                env,
+            ),
+            "before": (report("before-out"), before_env),
+            "after": (report("after-out"), env),
+        }
         for cmd, run_env in runs.values():  # warm-up: byte-code caches
             subprocess.run(cmd, env=run_env, check=True, capture_output=True)
         times: dict[str, list[float]] = {k: [] for k in runs}
@@ -58,13 +83,17 @@ def main() -> None:
                     document = json.loads((tmp / f"{name}-out" / "results.json").read_text())
                     numerics[name].append(document["timing_s"].get("numerics", float("nan")))
     median = {k: statistics.median(v) for k, v in times.items()}
-    print(f"JSON-only report of {Path(args.scene).name}, medians of {args.repeat} whole processes taken in turns "
-          f"(load average {os.getloadavg()[0]:.1f})")
+    print(
+        f"JSON-only report of {Path(args.scene).name}, medians of {args.repeat} whole processes taken in turns "
+        f"(load average {os.getloadavg()[0]:.1f})"
+    )
     print(f"  import numpy, scipy.integrate, scipy.optimize  {median['import']:.3f} s")
     for name in ("before", "after"):
         label = f"{args.before}" if name == "before" else "this tree"
-        print(f"  {label:45s} {median[name]:.3f} s  = {median[name] / median['import']:.2f} x the import "
-              f"(numerics stage {statistics.median(numerics[name]):.3f} s)")
+        print(
+            f"  {label:45s} {median[name]:.3f} s  = {median[name] / median['import']:.2f} x the import "
+            f"(numerics stage {statistics.median(numerics[name]):.3f} s)"
+        )
 
 
 if __name__ == "__main__":

@@ -52,12 +52,16 @@ def grid_sets(points: int) -> list[str]:
     pressure."""
     side = max(2, round((points / 1.25) ** (1 / 3)))  # 10 000 points: 25 speeds x 20 x 20
     speeds = max(2, points // (side * side))
-    return [f"engine.rpm=2000:7000:{speeds}", f"engine.rod_ratio=0.24:0.32:{side}",
-            f"cycle.max_pressure=4.5 MPa:7.5 MPa:{side}"]
+    return [
+        f"engine.rpm=2000:7000:{speeds}",
+        f"engine.rod_ratio=0.24:0.32:{side}",
+        f"cycle.max_pressure=4.5 MPa:7.5 MPa:{side}",
+    ]
 
 
-def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict,
-               step_deg: float = 1.0) -> dict[str, np.ndarray]:
+def bare_numpy(
+    rpm, ratio, max_pressure_Pa, base: dict, step_deg: float = 1.0
+) -> dict[str, np.ndarray]:
     """The sweep's formulas as plain numpy over points x angles (petrol-1cyl's masses and cycle).
 
     Kinematics of the central crank-slider (exact), the theoretical diagram's polytropes (no
@@ -67,7 +71,7 @@ def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict,
     engine, masses, cycle = base["engine"], base["masses"], base["cycle"]
     bore, stroke = _metres(engine["bore"]), _metres(engine["stroke"])
     radius = stroke / 2
-    area = math.pi * bore ** 2 / 4
+    area = math.pi * bore**2 / 4
     omega = (math.pi * rpm / 30)[:, None]
     lam = ratio[:, None]
     alpha = np.radians(np.arange(0.0, 720.0, step_deg))[None, :]
@@ -75,8 +79,7 @@ def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict,
     cos_b = np.sqrt(1 - (lam * sin_a) ** 2)
     s = radius * (1 - cos_a + (1 - cos_b) / lam)
     v = radius * omega * sin_a * (1 + lam * cos_a / cos_b)
-    j = radius * omega ** 2 * (cos_a + lam * (cos_a ** 2 - sin_a ** 2 + lam ** 2 * sin_a ** 4)
-                               / cos_b ** 3)
+    j = radius * omega**2 * (cos_a + lam * (cos_a**2 - sin_a**2 + lam**2 * sin_a**4) / cos_b**3)
     # the theoretical diagram: intake, polytropic compression, combustion at TDC, expansion, exhaust
     eps, n1, n2 = cycle["compression_ratio"], cycle["compression_index"], cycle["expansion_index"]
     p_a, p_r = _pascal(cycle["intake_pressure"]), _pascal(cycle["exhaust_pressure"])
@@ -85,23 +88,32 @@ def bare_numpy(rpm, ratio, max_pressure_Pa, base: dict,
     volume = clearance + area * s
     deg = np.degrees(alpha)
     compression = p_a * ((clearance + swept) / volume) ** n1
-    p_c = p_a * eps ** n1
+    p_c = p_a * eps**n1
     expansion = max_pressure_Pa[:, None] * (clearance / volume) ** n2
-    pressure = np.where(deg < 180, p_a, np.where(deg < 360, compression,
-                        np.where(deg < 540, expansion, p_r)))
+    pressure = np.where(
+        deg < 180, p_a, np.where(deg < 360, compression, np.where(deg < 540, expansion, p_r))
+    )
     m_piston, m_rod = _kilograms(masses["piston_group"]), _kilograms(masses["rod"])
     reciprocating = m_piston + m_rod * masses["rod_cm_fraction"]
-    rotating = (m_rod * (1 - masses["rod_cm_fraction"]) + _kilograms(masses["crank_pin"])
-                + 2 * _kilograms(masses["crank_web"]))
+    rotating = (
+        m_rod * (1 - masses["rod_cm_fraction"])
+        + _kilograms(masses["crank_pin"])
+        + 2 * _kilograms(masses["crank_web"])
+    )
     total = pressure - _pascal(engine["crankcase_pressure"]) - reciprocating * j / area
     sin_b = lam * sin_a
     tangential = total * (sin_a * cos_b + cos_a * sin_b) / cos_b
     torque = tangential * area * radius
-    return {"v_mean_m_s": stroke * rpm / 30, "v_max_m_s": np.max(v, axis=1), "j_max_m_s2": j[:, 0],
-            "j_min_m_s2": np.min(j, axis=1), "p_c_MPa": np.full(len(rpm), p_c) * 1e-6,
-            "p_j_tdc_MPa": -reciprocating * j[:, 0] / area * 1e-6,
-            "c_MPa": -rotating * radius * omega[:, 0] ** 2 / area * 1e-6,
-            "M_cylinder_max_Nm": np.max(torque, axis=1)}
+    return {
+        "v_mean_m_s": stroke * rpm / 30,
+        "v_max_m_s": np.max(v, axis=1),
+        "j_max_m_s2": j[:, 0],
+        "j_min_m_s2": np.min(j, axis=1),
+        "p_c_MPa": np.full(len(rpm), p_c) * 1e-6,
+        "p_j_tdc_MPa": -reciprocating * j[:, 0] / area * 1e-6,
+        "c_MPa": -rotating * radius * omega[:, 0] ** 2 / area * 1e-6,
+        "M_cylinder_max_Nm": np.max(torque, axis=1),
+    }
 
 
 def _number(text, unit: str, scale: float) -> float:
@@ -126,8 +138,15 @@ def _kilograms(text) -> float:
 
 #: Columns the bare numpy reference must reproduce, with the relative tolerance: closed forms to
 #: round-off; extremes read off the 1° grid (the key's are root searches) to the grid's accuracy.
-CHECKED = {"v_mean_m_s": 1e-12, "j_max_m_s2": 1e-12, "p_c_MPa": 1e-12, "p_j_tdc_MPa": 1e-12,
-           "c_MPa": 1e-12, "v_max_m_s": 1e-4, "j_min_m_s2": 1e-3}
+CHECKED = {
+    "v_mean_m_s": 1e-12,
+    "j_max_m_s2": 1e-12,
+    "p_c_MPa": 1e-12,
+    "p_j_tdc_MPa": 1e-12,
+    "c_MPa": 1e-12,
+    "v_max_m_s": 1e-4,
+    "j_min_m_s2": 1e-3,
+}
 
 
 def check_reference(reference: dict[str, np.ndarray], outcomes) -> float:
@@ -138,8 +157,9 @@ def check_reference(reference: dict[str, np.ndarray], outcomes) -> float:
         key = np.array([o.answers[column] for o in outcomes], dtype=float)
         difference = float(np.max(np.abs(reference[column] - key) / np.abs(key)))
         if difference > tolerance:
-            raise AssertionError(f"bare numpy and the sweep differ in {column}: "
-                                 f"{difference:.3g} > {tolerance:g}")
+            raise AssertionError(
+                f"bare numpy and the sweep differ in {column}: {difference:.3g} > {tolerance:g}"
+            )
         worst = max(worst, difference) if tolerance < 1e-9 else worst
     return worst
 
@@ -155,16 +175,18 @@ def cpu_seconds() -> float:
 def _dask_options(jobs: int):
     from distributed import LocalCluster  # lazy: the optional dask extra
 
-    return LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                        dashboard_address=":0")
+    return LocalCluster(
+        n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=":0"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=10_000)
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--sample", type=int, default=40,
-                        help="points run point by point (default 40)")
+    parser.add_argument(
+        "--sample", type=int, default=40, help="points run point by point (default 40)"
+    )
     parser.add_argument("--no-dask", action="store_true")
     args = parser.parse_args()
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -174,8 +196,10 @@ def main() -> None:
     base, _ = base_for(base, sweep)
     _, points = variants(sweep)
     options = RunOptions([], jobs=args.jobs, progress=False)
-    print(f"grid: {len(points)} points of {SCENE.name} ({', '.join(grid_sets(args.points))}), "
-          f"{args.jobs} jobs, {os.cpu_count()} cores")
+    print(
+        f"grid: {len(points)} points of {SCENE.name} ({', '.join(grid_sets(args.points))}), "
+        f"{args.jobs} jobs, {os.cpu_count()} cores"
+    )
 
     sample = points[:: max(1, len(points) // args.sample)][: args.sample]
     start = time.perf_counter()
@@ -191,9 +215,15 @@ def main() -> None:
     failed = [o for o in fast if not o.ok]
 
     by_row = {o.row: o for o in fast}
-    worst = max((abs(by_row[o.row].answers[c] - v) / abs(v)
-                 for o in slow for c, v in o.answers.items()
-                 if v not in (None, 0)), default=0.0)
+    worst = max(
+        (
+            abs(by_row[o.row].answers[c] - v) / abs(v)
+            for o in slow
+            for c, v in o.answers.items()
+            if v not in (None, 0)
+        ),
+        default=0.0,
+    )
 
     rpm = np.array([float(v.cells["engine.rpm"]) for v in points])
     ratio = np.array([float(v.cells["engine.rod_ratio"]) for v in points])
@@ -230,29 +260,44 @@ def main() -> None:
     print(f"notes: {'; '.join(notes)}")
     print(f"failed points: {len(failed)}")
     print(f"per point (whole pipeline, {len(sample)} points): {per_point:9.1f} points/s")
-    print(f"chunked (the sweep's key):          {chunked:9.1f} points/s   "
-          f"{chunked / per_point:6.1f}x per point;  goal >= {GOALS['points_per_s']:g}: "
-          f"{chunked / GOALS['points_per_s']:.2f} of it")
-    print(f"bare numpy (1 thread):              {numpy_rate:9.1f} points/s   "
-          f"chunked is {numpy_rate / chunked:.1f}x slower (goal <= {GOALS['of_numpy']:g}x)")
+    print(
+        f"chunked (the sweep's key):          {chunked:9.1f} points/s   "
+        f"{chunked / per_point:6.1f}x per point;  goal >= {GOALS['points_per_s']:g}: "
+        f"{chunked / GOALS['points_per_s']:.2f} of it"
+    )
+    print(
+        f"bare numpy (1 thread):              {numpy_rate:9.1f} points/s   "
+        f"chunked is {numpy_rate / chunked:.1f}x slower (goal <= {GOALS['of_numpy']:g}x)"
+    )
     if dask_rate is not None:
-        print(f"dask ({args.jobs} worker processes):          {dask_rate:9.1f} points/s   "
-              f"{dask_rate / chunked:.0%} of chunked (goal >= {GOALS['dask_share']:.0%}); "
-              f"workers warmed first in {dask_warm_s:.1f} s")
-        print(f"dask CPU time per point: workers {dask_cpu[1] / len(points) * 1e6:.0f} us, "
-              f"scheduler and client {dask_cpu[0] / len(points) * 1e6:.0f} us "
-              f"(chunked: {chunked_cpu * 1e6:.0f} us)")
-    print(f"CPU time per point (this process and its workers): chunked {chunked_cpu * 1e6:.0f} us, "
-          f"bare numpy {numpy_cpu * 1e6:.0f} us: {chunked_cpu / numpy_cpu:.1f}x (on a shared "
-          f"machine the wall-clock ratios follow the other load; these do not)")
+        print(
+            f"dask ({args.jobs} worker processes):          {dask_rate:9.1f} points/s   "
+            f"{dask_rate / chunked:.0%} of chunked (goal >= {GOALS['dask_share']:.0%}); "
+            f"workers warmed first in {dask_warm_s:.1f} s"
+        )
+        print(
+            f"dask CPU time per point: workers {dask_cpu[1] / len(points) * 1e6:.0f} us, "
+            f"scheduler and client {dask_cpu[0] / len(points) * 1e6:.0f} us "
+            f"(chunked: {chunked_cpu * 1e6:.0f} us)"
+        )
+    print(
+        f"CPU time per point (this process and its workers): chunked {chunked_cpu * 1e6:.0f} us, "
+        f"bare numpy {numpy_cpu * 1e6:.0f} us: {chunked_cpu / numpy_cpu:.1f}x (on a shared "
+        f"machine the wall-clock ratios follow the other load; these do not)"
+    )
     idle = args.jobs / chunked_cpu
-    print(f"chunked on {args.jobs} otherwise idle cores (jobs / CPU time per point): {idle:9.1f} "
-          f"points/s;  goal >= {GOALS['points_per_s']:g}: {idle / GOALS['points_per_s']:.2f} of it")
-    print(f"machine load while measured (1, 5, 15 min): "
-          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
+    print(
+        f"chunked on {args.jobs} otherwise idle cores (jobs / CPU time per point): {idle:9.1f} "
+        f"points/s;  goal >= {GOALS['points_per_s']:g}: {idle / GOALS['points_per_s']:.2f} of it"
+    )
+    print(
+        f"machine load while measured (1, 5, 15 min): "
+        f"{', '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores"
+    )
     print(f"chunked vs per point, largest relative difference over the sample's key: {worst:.2g}")
-    print("bare numpy vs the key, closed-form columns: largest relative difference "
-          f"{closed_form:.2g}")
+    print(
+        f"bare numpy vs the key, closed-form columns: largest relative difference {closed_form:.2g}"
+    )
 
 
 if __name__ == "__main__":

@@ -48,7 +48,9 @@ def pytest_collection_modifyitems(config, items):
     """Tests marked ``long`` (a PDF, a browser, a fresh virtual environment: 3-10 s each) go first,
     after pytest-randomly's shuffle: started last, one of them kept a core busy for 10 s while
     the other had nothing left to take (longest first: xdist's workers end within a short test)."""
-    items.sort(key=lambda item: item.get_closest_marker("long") is None)  # stable: the shuffle stays
+    items.sort(
+        key=lambda item: item.get_closest_marker("long") is None
+    )  # stable: the shuffle stays
 
 
 @pytest.fixture(scope="session")
@@ -128,11 +130,15 @@ def shared_run(name: str, changes: dict | None = None, stages=None):
     """The run of example ``name`` (``changes`` laid over it, as :func:`modified`; ``stages`` as
     ``run_scene``'s ``requested``), computed once per test process and shared by every test file
     that asks for the same: READ ONLY (a test that changes what it got must copy it first)."""
-    return _shared_run(name, json.dumps(changes or {}, sort_keys=True), None if stages is None else tuple(stages))
+    return _shared_run(
+        name, json.dumps(changes or {}, sort_keys=True), None if stages is None else tuple(stages)
+    )
 
 
 @functools.cache
-def _shared_html(name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None):
+def _shared_html(
+    name: str, changes_json: str, language: str | None, stages: tuple[str, ...] | None
+):
     from crankdyn.plugin.registry import default_registry
     from crankdyn.report.document import render_html
 
@@ -141,8 +147,12 @@ def _shared_html(name: str, changes_json: str, language: str | None, stages: tup
 
 def shared_html(name: str, changes: dict | None = None, language: str | None = None, stages=None):
     """``render_html`` of :func:`shared_run` in ``language``, rendered once per test process: READ ONLY."""
-    return _shared_html(name, json.dumps(changes or {}, sort_keys=True), language,
-                        None if stages is None else tuple(stages))
+    return _shared_html(
+        name,
+        json.dumps(changes or {}, sort_keys=True),
+        language,
+        None if stages is None else tuple(stages),
+    )
 
 
 _REPORTS: dict = {}
@@ -158,7 +168,15 @@ def shared_report(tmp_path_factory):
     def report(example: str, language: str | None = None) -> Path:
         if (example, language) not in _REPORTS:
             out = tmp_path_factory.mktemp("shared_report") / example
-            args = ["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html", "-q"]
+            args = [
+                "report",
+                str(examples_dir() / f"{example}.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "html",
+                "-q",
+            ]
             assert main(args + (["--lang", language] if language else [])) == 0
             _REPORTS[(example, language)] = out
         return _REPORTS[(example, language)]
@@ -168,8 +186,14 @@ def shared_report(tmp_path_factory):
 
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONWARNINGS": "ignore"}
-    return subprocess.run([sys.executable, "-m", "crankdyn", *args], capture_output=True, text=True, cwd=cwd,
-                          env=env, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "crankdyn", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        timeout=300,
+    )
 
 
 #: One part of a broken formula (crankdyn.report.formula_lines): its text, tags other than spans,
@@ -195,5 +219,11 @@ def as_read(html: str) -> str:
 
     html = html.replace("\u00a0=\u00a0", " = ").replace("\u2060", "")
     html = formula_as_read(html)
-    html = re.sub("(?<=[.\\w])\u00a0(?=[0-9]|[A-ZА-ЯІЇЄҐЁ]\\.[0-9])", " ", html)  # "рис.\u00a07.1": the number bound
-    return re.sub("\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)|(?<=[A-ZА-ЯІЇЄҐЁ]\\.)\u00a0(?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])", " ", html)
+    html = re.sub(
+        "(?<=[.\\w])\u00a0(?=[0-9]|[A-ZА-ЯІЇЄҐЁ]\\.[0-9])", " ", html
+    )  # "рис.\u00a07.1": the number bound
+    return re.sub(
+        "\u00a0(?=[A-ZА-ЯІЇЄҐЁ]\\.)|(?<=[A-ZА-ЯІЇЄҐЁ]\\.)\u00a0(?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])",
+        " ",
+        html,
+    )

@@ -44,7 +44,10 @@ def page_images(pdf: Path, folder: Path, resolution: int = 20) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     for old in folder.glob("page-*.png"):
         old.unlink()
-    subprocess.run(["pdftoppm", "-r", str(resolution), "-gray", "-png", str(pdf), str(folder / "page")], check=True)
+    subprocess.run(
+        ["pdftoppm", "-r", str(resolution), "-gray", "-png", str(pdf), str(folder / "page")],
+        check=True,
+    )
     return sorted(folder.glob("page-*.png"), key=lambda p: int(p.stem.rsplit("-", 1)[1]))
 
 
@@ -52,15 +55,23 @@ def _ink(png: Path, framed: bool = False, first_sheet: bool = False):
     ink = np.asarray(Image.open(png).convert("L")) < INK
     height, width = ink.shape
     if framed:
-        page_w, page_h, top, right, bottom, left = FRAMED_LANDSCAPE if width > height else FRAMED_PORTRAIT
+        page_w, page_h, top, right, bottom, left = (
+            FRAMED_LANDSCAPE if width > height else FRAMED_PORTRAIT
+        )
         bottom = FIRST_SHEET_BOTTOM if first_sheet and width < height else bottom
     else:
         page_w, page_h, top, right, bottom, left = LANDSCAPE if width > height else PORTRAIT
     px = height / page_h
-    return ink, px, (int(top * px), height - int(bottom * px), int(left * px), width - int(right * px))
+    return (
+        ink,
+        px,
+        (int(top * px), height - int(bottom * px), int(left * px), width - int(right * px)),
+    )
 
 
-def overflows_right(png: Path, tolerance_mm: float = 2.0, framed: bool = False, first_sheet: bool = False) -> bool:
+def overflows_right(
+    png: Path, tolerance_mm: float = 2.0, framed: bool = False, first_sheet: bool = False
+) -> bool:
     """Whether anything between the top and bottom margins reaches into the right margin (a
     table too wide for its page); in a framed note, up to 2 mm before the frame line."""
     ink, px, (top, bottom, left, right) = _ink(png, framed, first_sheet)
@@ -68,7 +79,7 @@ def overflows_right(png: Path, tolerance_mm: float = 2.0, framed: bool = False, 
     if framed:
         frame_right = (FRAME_LANDSCAPE if ink.shape[1] > ink.shape[0] else FRAME_PORTRAIT)[2]
         end = int((frame_right - 2.0) * px)
-    return bool(ink[top:bottom, right + int(tolerance_mm * px):end].any())
+    return bool(ink[top:bottom, right + int(tolerance_mm * px) : end].any())
 
 
 def under_the_block(png: Path, first_sheet: bool = False) -> bool:
@@ -80,13 +91,21 @@ def under_the_block(png: Path, first_sheet: bool = False) -> bool:
     if ink.shape[1] > ink.shape[0]:
         _, top, right, bottom = FRAME_LANDSCAPE
         page_h = FRAMED_LANDSCAPE[1]
-        band = ink[int((top + 2) * px):int((bottom - 2) * px), int((TURNED_BLOCK_RIGHT + 2) * px):int(24.5 * px)]
-        below = ink[int((page_h - FRAMED_LANDSCAPE[4] + 1.5) * px):int((bottom - 2) * px),
-                    int((TURNED_BLOCK_RIGHT + 2) * px):int((right - 2) * px)]
+        band = ink[
+            int((top + 2) * px) : int((bottom - 2) * px),
+            int((TURNED_BLOCK_RIGHT + 2) * px) : int(24.5 * px),
+        ]
+        below = ink[
+            int((page_h - FRAMED_LANDSCAPE[4] + 1.5) * px) : int((bottom - 2) * px),
+            int((TURNED_BLOCK_RIGHT + 2) * px) : int((right - 2) * px),
+        ]
         return bool(band.any() or below.any())
     left, top, right, bottom = FRAME_PORTRAIT
     block = FIRST_BLOCK_TOP if first_sheet else BLOCK_TOP
-    band = ink[int((block - 8.5) * px):int((block - 2) * px), int((left + 2) * px):int((right - 2) * px)]
+    band = ink[
+        int((block - 8.5) * px) : int((block - 2) * px),
+        int((left + 2) * px) : int((right - 2) * px),
+    ]
     return bool(band.any())
 
 
@@ -105,28 +124,44 @@ def framed(html: str) -> bool:
 
 
 def _pdftotext(pdf: Path, *args: str) -> list[str]:
-    text = subprocess.run(["pdftotext", "-layout", *args, str(pdf), "-"], capture_output=True, text=True,
-                          check=True).stdout
+    text = subprocess.run(
+        ["pdftotext", "-layout", *args, str(pdf), "-"], capture_output=True, text=True, check=True
+    ).stdout
     return text.split("\f")[:-1] if text.endswith("\f") else text.split("\f")
 
 
 def crop_texts(pdf: Path, left: float, top: float, right: float, bottom: float) -> list[str]:
     """Each page's text inside the rectangle (mm from the page's top-left corner)."""
     pt = 72 / 25.4
-    box = (round(left * pt), round(top * pt), round((right - left) * pt), round((bottom - top) * pt))
+    box = (
+        round(left * pt),
+        round(top * pt),
+        round((right - left) * pt),
+        round((bottom - top) * pt),
+    )
     return list(_crop_texts(str(pdf), Path(pdf).stat().st_mtime_ns, box))
 
 
 @functools.lru_cache(maxsize=32)
 def _crop_texts(pdf: str, mtime_ns: int, box: tuple[int, int, int, int]) -> tuple[str, ...]:
     """(one run of pdftotext per file version and rectangle: the checks ask for some twice)"""
-    return tuple(_pdftotext(Path(pdf), *(a for name, v in zip(("-x", "-y", "-W", "-H"), box, strict=True) for a in (name, str(v)))))
+    return tuple(
+        _pdftotext(
+            Path(pdf),
+            *(
+                a
+                for name, v in zip(("-x", "-y", "-W", "-H"), box, strict=True)
+                for a in (name, str(v))
+            ),
+        )
+    )
 
 
 def landscape_pages(pdf: Path) -> list[bool]:
     """Per page: whether it is wider than high."""
-    info = subprocess.run(["pdfinfo", "-f", "1", "-l", "100000", str(pdf)], capture_output=True, text=True,
-                          check=True).stdout
+    info = subprocess.run(
+        ["pdfinfo", "-f", "1", "-l", "100000", str(pdf)], capture_output=True, text=True, check=True
+    ).stdout
     sizes = re.findall(r"^Page\s+\d+ size:\s+([\d.]+) x ([\d.]+)", info, flags=re.M)
     return [float(w) > float(h) for w, h in sizes]
 
@@ -136,7 +171,10 @@ def first_sheets(pdf: Path) -> list[bool]:
     its rows "Т. контр." and "Н. контр." (17 mm × 10 mm above "Затв."), where form 2а has its two
     empty rows for changes."""
     rows = crop_texts(pdf, 21.0, 278.0, 36.0, 286.0)
-    return [bool(text.strip()) and not wide for text, wide in zip(rows, landscape_pages(pdf), strict=True)]
+    return [
+        bool(text.strip()) and not wide
+        for text, wide in zip(rows, landscape_pages(pdf), strict=True)
+    ]
 
 
 def page_texts(pdf: Path, html: str) -> list[str]:
@@ -149,8 +187,12 @@ def page_texts(pdf: Path, html: str) -> list[str]:
     first = crop_texts(pdf, left + 1, top + 1, right - 1, FIRST_BLOCK_TOP - 1)
     left, top, right, bottom = FRAME_LANDSCAPE
     landscape = crop_texts(pdf, TURNED_BLOCK_RIGHT + 1, top + 1, right - 1, bottom - 1)
-    return [w if wide else f if is_first else p
-            for p, f, w, wide, is_first in zip(portrait, first, landscape, landscape_pages(pdf), first_sheets(pdf), strict=True)]
+    return [
+        w if wide else f if is_first else p
+        for p, f, w, wide, is_first in zip(
+            portrait, first, landscape, landscape_pages(pdf), first_sheets(pdf), strict=True
+        )
+    ]
 
 
 #: characters that shape a line break and print nothing: pdftotext never gives them back
@@ -182,8 +224,12 @@ def tables(html: str) -> dict[str, tuple[list[str], list[list[str]]]]:
             continue
         head = [_plain(c) for c in re.findall(r"<th[^>]*>(.*?)</th>", body, flags=re.S)]
         body_rows = re.findall(r"<tbody>(.*?)</tbody>", body, flags=re.S)
-        rows = [[_plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", r, flags=re.S)]
-                for r in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", body_rows[0] if body_rows else "", flags=re.S)]
+        rows = [
+            [_plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", r, flags=re.S)]
+            for r in re.findall(
+                r"<tr(?:\s[^>]*)?>(.*?)</tr>", body_rows[0] if body_rows else "", flags=re.S
+            )
+        ]
         old = out.setdefault(number, (head, []))
         old[1].extend(rows)
     return out
@@ -206,13 +252,26 @@ def _starts_table_row(line: str, table_set) -> str | None:
         if any(tokens == " ".join(row).split() for row in rows if len(row) >= 2):
             return number
         head_tokens = " ".join(head).split()
-        if head and len(tokens) >= 3 and tokens[0] == head_tokens[0] and set(tokens) <= set(head_tokens):
+        if (
+            head
+            and len(tokens) >= 3
+            and tokens[0] == head_tokens[0]
+            and set(tokens) <= set(head_tokens)
+        ):
             return number
     return None
 
 
-def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, table_word: str, figure_word: str,
-                    continued: Callable[[str], str]) -> list[str]:
+def layout_problems(
+    pdf: Path,
+    pages: list[str],
+    html: str,
+    folder: Path,
+    *,
+    table_word: str,
+    figure_word: str,
+    continued: Callable[[str], str],
+) -> list[str]:
     """What a supervisor would return: short pages, a table wider than its page, table
     continuations without the label and the repeated header, captions left at a page's edge
     without their table or figure.
@@ -225,14 +284,17 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
     lines = [_lines(p) for p in pages]
 
     def starts_chapter(i: int) -> bool:
-        return bool(lines[i]) and any(h.startswith(lines[i][0].upper()) or lines[i][0].upper().startswith(h)
-                                      for h in starts)
+        return bool(lines[i]) and any(
+            h.startswith(lines[i][0].upper()) or lines[i][0].upper().startswith(h) for h in starts
+        )
 
     # 1. No page less than a third full but the title page and a chapter's last page; in a framed
     #    note nothing on its way into the title block.
     in_frame = framed(html)
     first = first_sheets(pdf) if in_frame else []
-    framed_from = first.index(True) if True in first else len(pages)  # the title page and the assignment: no frame
+    framed_from = (
+        first.index(True) if True in first else len(pages)
+    )  # the title page and the assignment: no frame
     for i, png in enumerate(page_images(pdf, folder)):
         last_of_chapter = i + 1 == len(pages) or starts_chapter(i + 1)
         fill = page_fill(png, in_frame)
@@ -253,26 +315,40 @@ def layout_problems(pdf: Path, pages: list[str], html: str, folder: Path, *, tab
             # a header of two lines (a long column title wraps) sets its one-line cells in the middle,
             # on its second line: the next two lines start with the first word of a header cell
             firsts = {cell.split()[0].rstrip(",") for cell in head if cell.split()}
-            if len(page) < 2 or not head or not any(line.split()[0].rstrip(",") in firsts for line in page[1:3]):
+            if (
+                len(page) < 2
+                or not head
+                or not any(line.split()[0].rstrip(",") in firsts for line in page[1:3])
+            ):
                 problems.append(f"page {i + 1}: {page[0]!r} is not followed by the table's header")
             # 5. ... and carries at least two of its rows ("Продовження таблиці 7.1" over the one
             #    row 720, a copy of row 0, read as a table of its own)
-            rows = [line for line in page[2:] if _starts_table_row(line, {labels[page[0]]: table_set[labels[page[0]]]})]
+            rows = [
+                line
+                for line in page[2:]
+                if _starts_table_row(line, {labels[page[0]]: table_set[labels[page[0]]]})
+            ]
             if len(rows) < 2:
                 problems.append(f"page {i + 1}: {page[0]!r} goes on with {len(rows)} row(s) only")
         elif (number := _starts_table_row(page[0], table_set)) is not None:
-            problems.append(f"page {i + 1} goes on with table {number} without {continued(number)!r}: {page[0][:60]!r}")
+            problems.append(
+                f"page {i + 1} goes on with table {number} without {continued(number)!r}: {page[0][:60]!r}"
+            )
         # 3. A table caption (above its table) never ends a page; a figure caption (below its
         #    figure) never starts one.
         for k, line in enumerate(page):
             m = re.match(rf"{re.escape(table_word)} (\S+) [–—]", line)
             if m and m.group(1) in table_set:
                 first = table_set[m.group(1)][0][0].split()[0] if table_set[m.group(1)][0] else ""
-                if not any(later.split()[0] == first for later in page[k + 1:]):
+                if not any(later.split()[0] == first for later in page[k + 1 :]):
                     problems.append(f"page {i + 1}: the caption {line[:50]!r} without its table")
         if re.match(rf"{re.escape(figure_word)} \S+ [–—]", page[0]):
-            problems.append(f"page {i + 1} starts with the caption {page[0][:50]!r} away from its figure")
+            problems.append(
+                f"page {i + 1} starts with the caption {page[0][:50]!r} away from its figure"
+            )
         # 4. A table's note ("Примітка. …", under the table) never starts a page apart from its table.
         if re.match(r"(Примітка|Примечание|Note)\. ", page[0]):
-            problems.append(f"page {i + 1} starts with a table note {page[0][:50]!r} away from its table")
+            problems.append(
+                f"page {i + 1} starts with a table note {page[0][:50]!r} away from its table"
+            )
     return problems

@@ -27,8 +27,11 @@ _PETROL_CYCLE = example_data("inline4-petrol")["cycle"]
 _DIESEL_CYCLE = example_data("diesel-1cyl")["cycle"]
 _FLYWHEEL = example_data("inline4-petrol")["flywheel"]
 #: the valve timing of a four-stroke cycle, which a two-stroke (port-scavenged) cycle has not
-_FOUR_STROKE_TIMING = ("exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
-                       "intake_closes_after_bdc_deg")
+_FOUR_STROKE_TIMING = (
+    "exhaust_closes_after_tdc_deg",
+    "intake_opens_before_tdc_deg",
+    "intake_closes_after_bdc_deg",
+)
 
 
 @dataclass(frozen=True)
@@ -39,10 +42,10 @@ class CorpusScene:
     name: str
     data: dict
     language: str
-    cranks: int                 # crank pins on the shaft (0: no crankshaft of an engine)
-    flywheel: bool              # a flywheel is designed
-    cycle: bool                 # a working cycle (gas forces) is computed
-    plugin: bool = False        # needs the example plugin registered
+    cranks: int  # crank pins on the shaft (0: no crankshaft of an engine)
+    flywheel: bool  # a flywheel is designed
+    cycle: bool  # a working cycle (gas forces) is computed
+    plugin: bool = False  # needs the example plugin registered
 
     @property
     def single_crank(self) -> bool:
@@ -66,9 +69,13 @@ def _sizes(rng: random.Random, bore_mm: tuple[float, float]) -> tuple[float, flo
 def _masses(rng: random.Random, bore_mm: float) -> dict:
     """Masses scaled from the in-line four's (82 mm bore) with the cube of the bore."""
     scale = (bore_mm / 82.0) ** 3 * rng.uniform(0.85, 1.15)
-    return {"piston_group": _kg(0.45 * scale), "rod": _kg(0.60 * scale),
-            "rod_cm_fraction": round(rng.uniform(0.24, 0.32), 3),
-            "crank_pin": _kg(0.35 * scale), "crank_web": _kg(0.25 * scale)}
+    return {
+        "piston_group": _kg(0.45 * scale),
+        "rod": _kg(0.60 * scale),
+        "rod_cm_fraction": round(rng.uniform(0.24, 0.32), 3),
+        "crank_pin": _kg(0.35 * scale),
+        "crank_web": _kg(0.25 * scale),
+    }
 
 
 def _cycle(rng: random.Random, diesel: bool, strokes: int) -> dict:
@@ -98,18 +105,36 @@ def _report(language: str, title: str) -> dict:
     return {"title": title, "year": 2026, "language": language}
 
 
-def _piston_engine(rng, language, *, layout, cylinders, bank=None, strokes=4, diesel=False,
-                   rod_type="central", flywheel=False) -> tuple[dict, int]:
+def _piston_engine(
+    rng,
+    language,
+    *,
+    layout,
+    cylinders,
+    bank=None,
+    strokes=4,
+    diesel=False,
+    rod_type="central",
+    flywheel=False,
+) -> tuple[dict, int]:
     """An evenly firing engine of ``layout`` from the in-line four's data; (data, cranks)."""
     bore, stroke, rod_ratio = _sizes(rng, (95.0, 130.0) if diesel else (70.0, 100.0))
     data = copy.deepcopy(example_data("inline4-petrol"))
     data.pop("flywheel")
     engine = data["engine"]
     engine.pop("effective_power")
-    engine.update(name=f"{layout} {cylinders}", strokes=strokes, cylinders=cylinders, layout=layout,
-                  rpm=rng.randrange(1600, 2800, 100) if diesel else rng.randrange(3000, 6200, 100),
-                  bore=_mm(bore), stroke=_mm(stroke), rod_ratio=rod_ratio, rod_type=rod_type,
-                  cylinder_spacing=_mm(bore * rng.uniform(1.15, 1.3)))
+    engine.update(
+        name=f"{layout} {cylinders}",
+        strokes=strokes,
+        cylinders=cylinders,
+        layout=layout,
+        rpm=rng.randrange(1600, 2800, 100) if diesel else rng.randrange(3000, 6200, 100),
+        bore=_mm(bore),
+        stroke=_mm(stroke),
+        rod_ratio=rod_ratio,
+        rod_type=rod_type,
+        cylinder_spacing=_mm(bore * rng.uniform(1.15, 1.3)),
+    )
     if cylinders > 1:
         engine["firing_order"] = even_firing_order(layout, cylinders, strokes, bank)
     else:
@@ -132,17 +157,37 @@ def _inline(rng, language, index):
     strokes = rng.choice([2, 4, 4])
     diesel = rng.random() < 0.4
     flywheel = cylinders > 1 and rng.random() < 0.5
-    data, cranks = _piston_engine(rng, language, layout="inline", cylinders=cylinders,
-                                  strokes=strokes, diesel=diesel, flywheel=flywheel)
+    data, cranks = _piston_engine(
+        rng,
+        language,
+        layout="inline",
+        cylinders=cylinders,
+        strokes=strokes,
+        diesel=diesel,
+        flywheel=flywheel,
+    )
     name = f"inline{cylinders}-{strokes}s-{'diesel' if diesel else 'petrol'}"
     return name, data, cranks, flywheel, True
 
 
 #: (layout, cylinders, bank angle, strokes) of engines that can fire evenly
-_BANKED = [("V", 4, 90, 2), ("V", 4, 180, 4), ("V", 6, 60, 2), ("V", 6, 120, 4), ("V", 8, 90, 4),
-           ("V", 8, 90, 2), ("V", 10, 72, 4), ("V", 12, 60, 4), ("V", 12, 60, 2), ("W", 3, 120, 4),
-           ("W", 6, 60, 2), ("W", 12, 60, 4), ("boxer", 2, None, 2), ("boxer", 4, None, 4),
-           ("boxer", 6, None, 2)]
+_BANKED = [
+    ("V", 4, 90, 2),
+    ("V", 4, 180, 4),
+    ("V", 6, 60, 2),
+    ("V", 6, 120, 4),
+    ("V", 8, 90, 4),
+    ("V", 8, 90, 2),
+    ("V", 10, 72, 4),
+    ("V", 12, 60, 4),
+    ("V", 12, 60, 2),
+    ("W", 3, 120, 4),
+    ("W", 6, 60, 2),
+    ("W", 12, 60, 4),
+    ("boxer", 2, None, 2),
+    ("boxer", 4, None, 4),
+    ("boxer", 6, None, 2),
+]
 
 
 def _banked(rng, language, index):
@@ -150,11 +195,22 @@ def _banked(rng, language, index):
     diesel = layout == "V" and rng.random() < 0.3
     rod_type = rng.choice(["central", "fork"]) if layout == "V" else "central"
     flywheel = rng.random() < 0.4
-    data, cranks = _piston_engine(rng, language, layout=layout, cylinders=cylinders, bank=bank,
-                                  strokes=strokes, diesel=diesel, rod_type=rod_type,
-                                  flywheel=flywheel)
-    name = (f"{layout}{cylinders}-{strokes}s" + (f"-{bank}" if bank else "")
-            + ("-diesel" if diesel else ""))
+    data, cranks = _piston_engine(
+        rng,
+        language,
+        layout=layout,
+        cylinders=cylinders,
+        bank=bank,
+        strokes=strokes,
+        diesel=diesel,
+        rod_type=rod_type,
+        flywheel=flywheel,
+    )
+    name = (
+        f"{layout}{cylinders}-{strokes}s"
+        + (f"-{bank}" if bank else "")
+        + ("-diesel" if diesel else "")
+    )
     return name, data, cranks, flywheel, True
 
 
@@ -164,8 +220,12 @@ _RADIAL = [(3, 4), (5, 4), (7, 4), (9, 4), (4, 2), (6, 2), (8, 2)]
 def _radial(rng, language, index):
     cylinders, strokes = _RADIAL[index]
     data = copy.deepcopy(example_data("radial9-aircraft"))
-    data["engine"].update(cylinders=cylinders, strokes=strokes, rpm=rng.randrange(1800, 2700, 100),
-                          name=f"Radial {cylinders}")
+    data["engine"].update(
+        cylinders=cylinders,
+        strokes=strokes,
+        rpm=rng.randrange(1800, 2700, 100),
+        name=f"Radial {cylinders}",
+    )
     data["articulated"]["pin_radius"] = _mm(rng.uniform(60.0, 72.0))
     if strokes == 2:
         data["cycle"] = _cycle(rng, False, 2)
@@ -201,8 +261,9 @@ def _single(rng, language, index):
 def _kinematics_only(rng, language, index):
     data = copy.deepcopy(example_data("kinematics-only"))
     data["engine"].pop("rod_length")
-    data["engine"].update(rod_ratio=round(rng.uniform(0.2, 0.35), 3),
-                          rpm=rng.randrange(1500, 7000, 500))
+    data["engine"].update(
+        rod_ratio=round(rng.uniform(0.2, 0.35), 3), rpm=rng.randrange(1500, 7000, 500)
+    )
     data["analysis"] = {**_analysis(rng), "kinematics": rng.choice(["exact", "approximate"])}
     data["report"]["language"] = language
     return f"kinematics-only-{index}", data, 1, False, False
@@ -242,10 +303,18 @@ def _vane(rng, language, index):
 def _scotch_yoke(rng, language, index):
     """The example plugin: a rod-less mechanism, for its kinematics or under a petrol cycle."""
     if index == 0:
-        data = {"engine": {"mechanism": "scotch_yoke", "strokes": 2,
-                           "rpm": rng.randrange(1000, 3000, 250),
-                           "bore": "60 mm", "stroke": "80 mm", "rod_ratio": 0.25},
-                "scotch_yoke": {"table_step_deg": 45}, "report": _report(language, "Scotch yoke")}
+        data = {
+            "engine": {
+                "mechanism": "scotch_yoke",
+                "strokes": 2,
+                "rpm": rng.randrange(1000, 3000, 250),
+                "bore": "60 mm",
+                "stroke": "80 mm",
+                "rod_ratio": 0.25,
+            },
+            "scotch_yoke": {"table_step_deg": 45},
+            "report": _report(language, "Scotch yoke"),
+        }
         return "scotch-yoke-kinematics", data, 1, False, False
     data = copy.deepcopy(example_data("petrol-1cyl"))
     data["engine"]["mechanism"] = "scotch_yoke"
@@ -255,9 +324,18 @@ def _scotch_yoke(rng, language, index):
 
 
 #: (family, how many scenes it gives); 60 in all.
-FAMILIES = ((_inline, 12), (_banked, len(_BANKED)), (_radial, len(_RADIAL)), (_trace, 3),
-            (_single, 4), (_kinematics_only, 4), (_offset, 5), (_planetary, 4), (_vane, 4),
-            (_scotch_yoke, 2))
+FAMILIES = (
+    (_inline, 12),
+    (_banked, len(_BANKED)),
+    (_radial, len(_RADIAL)),
+    (_trace, 3),
+    (_single, 4),
+    (_kinematics_only, 4),
+    (_offset, 5),
+    (_planetary, 4),
+    (_vane, 4),
+    (_scotch_yoke, 2),
+)
 
 
 def corpus(seed: int, languages=None) -> list[CorpusScene]:
@@ -271,6 +349,15 @@ def corpus(seed: int, languages=None) -> list[CorpusScene]:
             for language in languages or (LANGUAGES[len(scenes) % len(LANGUAGES)],):
                 data = copy.deepcopy(data)
                 data["report"]["language"] = language
-                scenes.append(CorpusScene(f"{seed}-{name}-{language}", data, language, cranks,
-                                          flywheel, cycle, plugin=family is _scotch_yoke))
+                scenes.append(
+                    CorpusScene(
+                        f"{seed}-{name}-{language}",
+                        data,
+                        language,
+                        cranks,
+                        flywheel,
+                        cycle,
+                        plugin=family is _scotch_yoke,
+                    )
+                )
     return scenes

@@ -37,12 +37,25 @@ def test_crank_angles_of_a_seven_cylinder_engine_carry_the_step_decimals(languag
     assert len(found) >= 8  # the worked check's seven cylinder angles at least
     # the cylinders' own angles lie between whole degrees: the check is not empty
     assert any(decimals for _, decimals in found)
-    too_fine = [f"{whole}.{decimals}" for whole, decimals in found if len(decimals) > _allowed_decimals(step)]
+    too_fine = [
+        f"{whole}.{decimals}"
+        for whole, decimals in found
+        if len(decimals) > _allowed_decimals(step)
+    ]
     assert not too_fine, too_fine
 
 
-@pytest.mark.parametrize(("angle", "step", "text"), [
-    (544.2857142857, 1.0, "544,3"), (0.857143, 0.5, "0,9"), (623.0769, 0.25, "623,1"), (623.0769, 0.05, "623,08"),
-    (180.0, 0.989011, "180"), (372.04, 0.05, "372,04"), (359.99, 1.0, "360")])
+@pytest.mark.parametrize(
+    ("angle", "step", "text"),
+    [
+        (544.2857142857, 1.0, "544,3"),
+        (0.857143, 0.5, "0,9"),
+        (623.0769, 0.25, "623,1"),
+        (623.0769, 0.05, "623,08"),
+        (180.0, 0.989011, "180"),
+        (372.04, 0.05, "372,04"),
+        (359.99, 1.0, "360"),
+    ],
+)
 def test_a_crank_angle_is_printed_to_the_step(angle, step, text):
     assert translator("uk", ()).angle(angle, step) == text

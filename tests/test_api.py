@@ -42,7 +42,9 @@ def doc_output(tmp_path_factory) -> str:
 
 def test_doc_example_prints_the_numbers_of_results_json(doc_output, tmp_path):
     # results.json of the same scene, written by the command line's pipeline.
-    write_report(load_scene(ROOT / "examples" / "petrol-1cyl.toml"), default_registry(), tmp_path, ["json"])
+    write_report(
+        load_scene(ROOT / "examples" / "petrol-1cyl.toml"), default_registry(), tmp_path, ["json"]
+    )
     document = json.loads((tmp_path / "results.json").read_text(encoding="utf-8"))
     printed = re.findall(r"^(\w+)\.(\w+) = ([-+0-9.eE]+)$", doc_output, re.M)
     assert len(printed) >= 5
@@ -51,11 +53,15 @@ def test_doc_example_prints_the_numbers_of_results_json(doc_output, tmp_path):
 
 
 def test_doc_example_prints_the_problems_and_the_sweep(doc_output):
-    assert "problem: engine.rpm = -5" in doc_output and "problem: engine.bore = '82 kg'" in doc_output
+    assert (
+        "problem: engine.rpm = -5" in doc_output and "problem: engine.bore = '82 kg'" in doc_output
+    )
     # balancing keeps its report number: 6, after input data, kinematics, the mechanism scheme, the indicator
     # diagram and the forces
     assert "<h2>6. " in doc_output or "<h2>6." in doc_output
-    sweep_lines = [line for line in doc_output.splitlines() if re.match(r"^\s+0\.(25|28|32)\s+\d+", line)]
+    sweep_lines = [
+        line for line in doc_output.splitlines() if re.match(r"^\s+0\.(25|28|32)\s+\d+", line)
+    ]
     assert len(sweep_lines) == 9
 
 
@@ -66,16 +72,26 @@ def base_scene():
 
 def test_sweep_3x3_equals_nine_separate_runs(base_scene):
     ratios, speeds = [0.24, 0.28, 0.32], [1500, 3000, 6000]
-    table = crankdyn.sweep(base_scene, {"engine.rod_ratio": ratios, "engine.rpm": speeds}, stages=["kinematics"])
+    table = crankdyn.sweep(
+        base_scene, {"engine.rod_ratio": ratios, "engine.rpm": speeds}, stages=["kinematics"]
+    )
     assert len(table) == 9
     stroke_m = 0.100
     for i, row in table.iterrows():
         ratio, rpm = ratios[i // 3], speeds[i % 3]
         assert (row["engine.rod_ratio"], row["engine.rpm"]) == (ratio, rpm)
-        single = crankdyn.run(crankdyn.load(KINEMATICS_ONLY, engine__rod_length=None, engine__rod_ratio=ratio,
-                                            engine__rpm=rpm), stages=["kinematics"])
-        for column, name in (("v_max_m_s", "v_max_m_s"), ("j_max_m_s2", "j_max_m_s2"), ("j_min_m_s2", "j_min_m_s2"),
-                             ("v_mean_m_s", "mean_piston_speed_m_s")):
+        single = crankdyn.run(
+            crankdyn.load(
+                KINEMATICS_ONLY, engine__rod_length=None, engine__rod_ratio=ratio, engine__rpm=rpm
+            ),
+            stages=["kinematics"],
+        )
+        for column, name in (
+            ("v_max_m_s", "v_max_m_s"),
+            ("j_max_m_s2", "j_max_m_s2"),
+            ("j_min_m_s2", "j_min_m_s2"),
+            ("v_mean_m_s", "mean_piston_speed_m_s"),
+        ):
             assert row[column] == single.values[f"kinematics.{name}"]
         # Independent check: mean piston speed S*n/30; j_max = R*w^2*(1 + lambda) at TDC.
         assert row["v_mean_m_s"] == pytest.approx(stroke_m * rpm / 30, rel=1e-12)
@@ -87,12 +103,21 @@ def test_sweep_3x3_equals_nine_separate_runs(base_scene):
 
 def test_overrides_validate_like_the_scene_and_print_nothing(capsys):
     with pytest.raises(crankdyn.SceneError) as caught:
-        crankdyn.load(KINEMATICS_ONLY, {"engine.rpm": 0, "engine.bore": "80 kg", "engine.colour": "red",
-                                        "analysis.stages": ["warp_drive"]})
+        crankdyn.load(
+            KINEMATICS_ONLY,
+            {
+                "engine.rpm": 0,
+                "engine.bore": "80 kg",
+                "engine.colour": "red",
+                "analysis.stages": ["warp_drive"],
+            },
+        )
     fields = {p.field for p in caught.value.problems}
     assert {"engine.rpm", "engine.bore", "engine.colour"} <= fields
     with pytest.raises(crankdyn.SceneError) as caught:
-        crankdyn.load(KINEMATICS_ONLY, {"analysis.stages": ["warp_drive"]})  # checked against the plugins too
+        crankdyn.load(
+            KINEMATICS_ONLY, {"analysis.stages": ["warp_drive"]}
+        )  # checked against the plugins too
     assert caught.value.problems[0].field == "analysis.stages"
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(KINEMATICS_ONLY, {"engine..rpm": 1, "engine": {}, "engine.rpm": 2})
@@ -103,7 +128,9 @@ def test_overrides_validate_like_the_scene_and_print_nothing(capsys):
 def test_keyword_and_dict_overrides_agree():
     a = crankdyn.load(KINEMATICS_ONLY, {"engine.rpm": 4200, "engine.bore": "84 mm"})
     b = crankdyn.load(KINEMATICS_ONLY, engine__rpm=4200, engine__bore="84 mm")
-    c = crankdyn.load(crankdyn.load(KINEMATICS_ONLY), **{"engine.rpm": 4200, "engine.bore": "84 mm"})
+    c = crankdyn.load(
+        crankdyn.load(KINEMATICS_ONLY), **{"engine.rpm": 4200, "engine.bore": "84 mm"}
+    )
     assert a.engine == b.engine == c.engine
     assert a.engine.rpm == 4200 and a.engine.bore == pytest.approx(0.084)
 
@@ -119,23 +146,36 @@ def test_result_tables_values_figures(petrol):
 
     kinematics = petrol.tables["kinematics"]
     assert isinstance(kinematics, pd.DataFrame) and "crank_angle_deg" in kinematics.columns
-    assert petrol.values["kinematics.v_max_m_s"] == pytest.approx(kinematics["piston_velocity_m_s"].max(), rel=1e-3)
+    assert petrol.values["kinematics.v_max_m_s"] == pytest.approx(
+        kinematics["piston_velocity_m_s"].max(), rel=1e-3
+    )
     assert crankdyn.api.unit_of("kinematics.v_max_m_s") == "m/s"
     assert petrol.figures._figures is None  # figures are drawn on first access only
-    kinematics_only = crankdyn.run(KINEMATICS_ONLY)  # three figures: cheaper to draw than the petrol engine's
+    kinematics_only = crankdyn.run(
+        KINEMATICS_ONLY
+    )  # three figures: cheaper to draw than the petrol engine's
     assert all(isinstance(f, matplotlib.figure.Figure) for f in kinematics_only.figures.values())
     assert len(kinematics_only.figures) >= 2 and kinematics_only.figures._figures is not None
 
 
 def test_write_gives_the_files_of_the_report_command(petrol, tmp_path):
     written = petrol.write(tmp_path / "api", formats=["json", "csv"])
-    write_report(load_scene(ROOT / "examples" / "petrol-1cyl.toml"), default_registry(), tmp_path / "cli",
-                 ["json", "csv"])
+    write_report(
+        load_scene(ROOT / "examples" / "petrol-1cyl.toml"),
+        default_registry(),
+        tmp_path / "cli",
+        ["json", "csv"],
+    )
     names = sorted(p.relative_to(tmp_path / "api").as_posix() for p in written)
-    manifest = ".crankdyn-manifest.json"  # both record what they wrote, for the next run into the folder
+    manifest = (
+        ".crankdyn-manifest.json"  # both record what they wrote, for the next run into the folder
+    )
     assert (tmp_path / "api" / manifest).is_file() and (tmp_path / "cli" / manifest).is_file()
-    assert names == sorted(p.relative_to(tmp_path / "cli").as_posix() for p in (tmp_path / "cli").rglob("*.*")
-                           if p.name != manifest)
+    assert names == sorted(
+        p.relative_to(tmp_path / "cli").as_posix()
+        for p in (tmp_path / "cli").rglob("*.*")
+        if p.name != manifest
+    )
     api_doc = json.loads((tmp_path / "api" / "results.json").read_text())
     cli_doc = json.loads((tmp_path / "cli" / "results.json").read_text())
     for doc in (api_doc, cli_doc):  # run times (and the error-vs-time study) differ from run to run
@@ -170,8 +210,12 @@ def test_example_notebook_runs_and_shows_html_first():
     nbclient = pytest.importorskip("nbclient")
     path = ROOT / "examples" / "api-notebook.ipynb"
     notebook = nbformat.read(path, as_version=4)
-    nbclient.NotebookClient(notebook, timeout=120, kernel_name="python3",
-                            resources={"metadata": {"path": str(path.parent)}}).execute()
+    nbclient.NotebookClient(
+        notebook,
+        timeout=120,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(path.parent)}},
+    ).execute()
     outputs = [cell.outputs for cell in notebook.cells if cell.cell_type == "code" and cell.outputs]
     assert outputs, "no cell produced output"
     assert "text/html" in outputs[0][0].get("data", {})

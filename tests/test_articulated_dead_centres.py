@@ -33,7 +33,9 @@ def slave_travel(a, R, L, r, g1, g, l):
 
 def dead_centre(R, L, r, g1, g, l, guess, h=1e-4):
     def slope(a):
-        return (slave_travel(a + h, R, L, r, g1, g, l) - slave_travel(a - h, R, L, r, g1, g, l)) / (2 * h)
+        return (slave_travel(a + h, R, L, r, g1, g, l) - slave_travel(a - h, R, L, r, g1, g, l)) / (
+            2 * h
+        )
 
     return optimize.brentq(slope, guess - 0.3, guess + 0.3, xtol=1e-14)
 
@@ -50,7 +52,11 @@ def test_dead_centre_shifts_against_a_direct_solve(radial):
     R, L, r = e.crank_radius_m, e.rod_length_m, bays["pin_radius_m"]
     shifts = []
     for s in bays["slaves"]:
-        g, g1, l = math.radians(s["bank_angle_deg"]), math.radians(s["pin_angle_deg"]), s["slave_rod_length_m"]
+        g, g1, l = (
+            math.radians(s["bank_angle_deg"]),
+            math.radians(s["pin_angle_deg"]),
+            s["slave_rod_length_m"],
+        )
         tdc = dead_centre(R, L, r, g1, g, l, g)
         bdc = dead_centre(R, L, r, g1, g, l, g + math.pi)
         assert abs(s["tdc_shift_deg"] - math.degrees(tdc - g)) < 1e-7, s["cylinder"]
@@ -67,20 +73,28 @@ def test_actual_firing_intervals_and_torque_period(radial):
     assert max(abs(x - 80.0) for x in intervals) > 1.0  # uneven at the true dead centres
     true = bays["firing_angles_true_deg"]
     order = bays["firing_order"]
-    for k, label in enumerate(order):  # each interval is the gap between consecutive true firing angles
+    for k, label in enumerate(
+        order
+    ):  # each interval is the gap between consecutive true firing angles
         gap = (true[order[(k + 1) % 9]] - true[label]) % 720.0
         assert intervals[k] == pytest.approx(gap, abs=1e-9)
     assert radial.outputs["torque"].results["period_deg"] == 720.0
     assert "bays.note_true_intervals" in [key for key, _ in radial.outputs["bays"].notes]
 
 
-@pytest.mark.parametrize("example, period", [("inline4-petrol", 180.0), ("v8-petrol", 90.0), ("petrol-1cyl", 720.0)])
+@pytest.mark.parametrize(
+    "example, period", [("inline4-petrol", 180.0), ("v8-petrol", 90.0), ("petrol-1cyl", 720.0)]
+)
 def test_torque_period_of_even_engines(example, period):
     data = modified(example, {"flywheel": None, "analysis": {"stages": ["torque"]}})
     result = run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
     torque = result.outputs["torque"]
     assert torque.results["period_deg"] == period
-    values = torque.tables["torque"]["output_torque_Nm"].to_numpy() if "torque" in torque.tables else None
+    values = (
+        torque.tables["torque"]["output_torque_Nm"].to_numpy()
+        if "torque" in torque.tables
+        else None
+    )
     if values is not None:  # the torque repeats after the period (and not after half of it)
         shift = round(period / result.scene.analysis.angle_step_deg)
         assert np.max(np.abs(np.roll(values, shift) - values)) < 1e-9 * np.ptp(values)

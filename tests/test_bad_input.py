@@ -11,7 +11,11 @@ from crankdyn.cli import main
 
 # (case id, changes to the petrol example, text the message must contain)
 CASES = [
-    ("rod shorter than crank", {"engine": {"rod_ratio": None, "rod_length": "30 mm"}}, "engine.rod_length"),
+    (
+        "rod shorter than crank",
+        {"engine": {"rod_ratio": None, "rod_length": "30 mm"}},
+        "engine.rod_length",
+    ),
     ("lambda >= 1", {"engine": {"rod_ratio": 1.0}}, "engine.rod_ratio"),
     ("lambda > 1", {"engine": {"rod_ratio": 1.7}}, "< 1"),
     ("negative bore", {"engine": {"bore": "-82 mm"}}, "engine.bore"),
@@ -23,32 +27,61 @@ CASES = [
     ("missing bore", {"engine": {"bore": None}}, "engine.bore"),
     ("strokes 3", {"engine": {"strokes": 3}}, "engine.strokes"),
     ("step not dividing cycle", {"analysis": {"angle_step_deg": 7}}, "analysis.angle_step_deg"),
-    ("table step not multiple", {"analysis": {"angle_step_deg": 2, "table_step_deg": 5}}, "analysis.table_step_deg"),
+    (
+        "table step not multiple",
+        {"analysis": {"angle_step_deg": 2, "table_step_deg": 5}},
+        "analysis.table_step_deg",
+    ),
     ("bare number bore", {"engine": {"bore": 82}}, "unit"),
     ("wrong dimension", {"engine": {"bore": "82 kg"}}, "not a length"),
     ("unparsable unit", {"engine": {"bore": "82 parsecz"}}, "engine.bore"),
     ("negative mass", {"masses": {"piston_group": "-0.4 kg"}}, "masses.piston_group"),
     ("both rod length and ratio", {"engine": {"rod_length": "140 mm"}}, "exactly one"),
     ("rod cm both ways", {"masses": {"rod_cm_from_big_end": "40 mm"}}, "exactly one"),
-    ("rod cm beyond rod", {"masses": {"rod_cm_fraction": None, "rod_cm_from_big_end": "400 mm"}},
-     "masses.rod_cm_from_big_end"),
+    (
+        "rod cm beyond rod",
+        {"masses": {"rod_cm_fraction": None, "rod_cm_from_big_end": "400 mm"}},
+        "masses.rod_cm_from_big_end",
+    ),
     ("pz below compression", {"cycle": {"max_pressure": "1.0 MPa"}}, "cycle.max_pressure"),
     ("spark with rho", {"cycle": {"pre_expansion_ratio": 1.4}}, "cycle.pre_expansion_ratio"),
     ("missing exhaust pressure", {"cycle": {"exhaust_pressure": None}}, "cycle.exhaust_pressure"),
     ("cycle without masses", {"masses": None}, "masses"),
     ("unknown ignition", {"cycle": {"ignition": "hot-bulb"}}, "cycle.ignition"),
-    ("compression index out of range", {"cycle": {"compression_index": 2.5}}, "cycle.compression_index"),
+    (
+        "compression index out of range",
+        {"cycle": {"compression_index": 2.5}},
+        "cycle.compression_index",
+    ),
     ("unknown mechanism", {"engine": {"mechanism": "steam_walking_beam"}}, "engine.mechanism"),
     ("unknown language", {"report": {"language": "tlh"}}, "report.language"),
-    ("unknown sheet frame", {"report": {"frame": "gost"}}, "report.frame = 'gost': allowed values: 'none' or 'eskd'"),
-    ("designation not text", {"report": {"designation": 41}}, "report.designation = 41: input should be a valid string"),
-    ("title-block letter too long", {"report": {"letter": "УНКП"}},
-     "report.letter = 'УНКП': string should have at most 3 characters"),
+    (
+        "unknown sheet frame",
+        {"report": {"frame": "gost"}},
+        "report.frame = 'gost': allowed values: 'none' or 'eskd'",
+    ),
+    (
+        "designation not text",
+        {"report": {"designation": 41}},
+        "report.designation = 41: input should be a valid string",
+    ),
+    (
+        "title-block letter too long",
+        {"report": {"letter": "УНКП"}},
+        "report.letter = 'УНКП': string should have at most 3 characters",
+    ),
     ("unknown stage", {"analysis": {"stages": ["kinematics", "telepathy"]}}, "telepathy"),
-    ("delay after TDC", {"cycle": {"rounding": {"ignition_advance_deg": 10, "combustion_delay_deg": 12}}},
-     "combustion_delay_deg"),
+    (
+        "delay after TDC",
+        {"cycle": {"rounding": {"ignition_advance_deg": 10, "combustion_delay_deg": 12}}},
+        "combustion_delay_deg",
+    ),
     ("two-stroke with valve timing", {"engine": {"strokes": 2}}, "four-stroke engines only"),
-    ("trace file missing", {"cycle": {"source": "trace", "trace_file": "nowhere.csv"}}, "cycle.trace_file"),
+    (
+        "trace file missing",
+        {"cycle": {"source": "trace", "trace_file": "nowhere.csv"}},
+        "cycle.trace_file",
+    ),
 ]
 
 
@@ -67,20 +100,34 @@ def test_bad_scene_is_refused_cleanly(tmp_path: Path, capsys, case, changes, exp
     assert expected in captured.err, captured.err
     assert captured.err.startswith("crankdyn: invalid scene")
     _no_traceback(captured.err + captured.out)
-    assert not out_dir.exists() or not any(out_dir.rglob("*")), "nothing may be written for a bad scene"
+    assert not out_dir.exists() or not any(out_dir.rglob("*")), (
+        "nothing may be written for a bad scene"
+    )
 
 
-@pytest.mark.parametrize("rounding, field, words", [
-    # the default delay 6·n·τ = 6 · 2500 · 1.5 ms = 22.5 deg outgrows the default advance 18 deg
-    ({"ignition_advance_deg": None, "combustion_delay_time": None},
-     "cycle.rounding.ignition_advance_deg = '18 (default)'", ("6·n·τ = 22.5 deg", "engine.rpm = 2500")),
-    ({"combustion_delay_time": None, "combustion_delay_deg": 30},
-     "cycle.rounding.combustion_delay_deg = 30", ("ignition_advance_deg (22 deg)",)),
-])
-def test_a_diesel_delay_past_the_advance_names_the_fields_to_change(tmp_path: Path, capsys, rounding,
-                                                                    field, words):
-    scene = write_scene(tmp_path / "scene.toml",
-                        modified("diesel-1cyl", {"engine": {"rpm": 2500}, "cycle": {"rounding": rounding}}))
+@pytest.mark.parametrize(
+    "rounding, field, words",
+    [
+        # the default delay 6·n·τ = 6 · 2500 · 1.5 ms = 22.5 deg outgrows the default advance 18 deg
+        (
+            {"ignition_advance_deg": None, "combustion_delay_time": None},
+            "cycle.rounding.ignition_advance_deg = '18 (default)'",
+            ("6·n·τ = 22.5 deg", "engine.rpm = 2500"),
+        ),
+        (
+            {"combustion_delay_time": None, "combustion_delay_deg": 30},
+            "cycle.rounding.combustion_delay_deg = 30",
+            ("ignition_advance_deg (22 deg)",),
+        ),
+    ],
+)
+def test_a_diesel_delay_past_the_advance_names_the_fields_to_change(
+    tmp_path: Path, capsys, rounding, field, words
+):
+    scene = write_scene(
+        tmp_path / "scene.toml",
+        modified("diesel-1cyl", {"engine": {"rpm": 2500}, "cycle": {"rounding": rounding}}),
+    )
     code = main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "json"])
     err = capsys.readouterr().err
     assert code == 2, err
@@ -93,18 +140,32 @@ def test_a_diesel_delay_past_the_advance_names_the_fields_to_change(tmp_path: Pa
 def _trace_scene(tmp_path: Path, trace_text: str | None, name: str = "trace.csv") -> Path:
     if trace_text is not None:
         (tmp_path / name).write_text(trace_text, encoding="utf-8")
-    changes = {"cycle": {"source": "trace", "trace_file": name, "ignition": None, "rounding": None,
-                         "mean_indicated_pressure": None}}
+    changes = {
+        "cycle": {
+            "source": "trace",
+            "trace_file": name,
+            "ignition": None,
+            "rounding": None,
+            "mean_indicated_pressure": None,
+        }
+    }
     return write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", changes))
 
 
-@pytest.mark.parametrize("label, text", [
-    ("empty", ""),
-    ("header only", "crank_angle_deg,pressure_bar\n"),
-    ("garbled", "crank_angle_deg,pressure_bar\n0,1.0\n1,abc\n2,1.2\n"),
-    ("no unit", "angle,pressure\n0,1\n360,2\n"),
-    ("partial cycle", "crank_angle_deg,pressure_bar\n" + "".join(f"{a},{1 + a / 100}\n" for a in range(0, 300))),
-])
+@pytest.mark.parametrize(
+    "label, text",
+    [
+        ("empty", ""),
+        ("header only", "crank_angle_deg,pressure_bar\n"),
+        ("garbled", "crank_angle_deg,pressure_bar\n0,1.0\n1,abc\n2,1.2\n"),
+        ("no unit", "angle,pressure\n0,1\n360,2\n"),
+        (
+            "partial cycle",
+            "crank_angle_deg,pressure_bar\n"
+            + "".join(f"{a},{1 + a / 100}\n" for a in range(0, 300)),
+        ),
+    ],
+)
 def test_bad_pressure_trace(tmp_path: Path, capsys, label, text):
     scene = _trace_scene(tmp_path, text)
     out_dir = tmp_path / "out"
@@ -126,13 +187,27 @@ def test_unreadable_scene_files(tmp_path: Path, capsys):
 
 
 def test_bad_format_option(tmp_path: Path, capsys, examples):
-    assert main(["report", str(examples / "petrol-1cyl.toml"), "-o", str(tmp_path / "o"), "--format", "doc"]) == 2
+    assert (
+        main(
+            [
+                "report",
+                str(examples / "petrol-1cyl.toml"),
+                "-o",
+                str(tmp_path / "o"),
+                "--format",
+                "doc",
+            ]
+        )
+        == 2
+    )
     assert "--format" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 
 def test_subprocess_shows_no_traceback(tmp_path: Path):
-    scene = write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", {"engine": {"rod_ratio": 1.2}}))
+    scene = write_scene(
+        tmp_path / "scene.toml", modified("petrol-1cyl", {"engine": {"rod_ratio": 1.2}})
+    )
     done = run_cli("report", str(scene), "-o", str(tmp_path / "out"))
     assert done.returncode == 2
     assert "engine.rod_ratio = 1.2: must be > 0 and < 1" in done.stderr

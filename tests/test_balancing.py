@@ -22,8 +22,17 @@ from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
 SQRT3 = math.sqrt(3.0)
-BUNDLED = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline3-petrol", "inline4-petrol",
-           "inline6-diesel-trace", "v8-petrol", "radial9-aircraft"]
+BUNDLED = [
+    "petrol-1cyl",
+    "diesel-1cyl",
+    "two-stroke-1cyl",
+    "diesel-rk-trace",
+    "inline3-petrol",
+    "inline4-petrol",
+    "inline6-diesel-trace",
+    "v8-petrol",
+    "radial9-aircraft",
+]
 INLINE8_CROSS = {"engine": {"cylinders": 8, "firing_order": [1, 6, 2, 5, 8, 3, 7, 4]}}
 # other stages' tables in the example are not ours to adapt to eight cylinders
 INLINE8_CROSS.update({"flywheel": None, "torsion": None})
@@ -33,7 +42,9 @@ RADIAL_CENTRAL = {"engine": {"rod_type": "central"}, "articulated": None}
 @functools.cache
 def _run(name: str, changes_json: str = "{}"):
     scene = scene_from_dict(modified(name, json.loads(changes_json)), base_dir=examples_dir())
-    return run_scene(scene, REGISTRY, ["balancing"])  # and its prerequisites only: keeps the tests fast
+    return run_scene(
+        scene, REGISTRY, ["balancing"]
+    )  # and its prerequisites only: keeps the tests fast
 
 
 def run(name, changes=None):
@@ -46,10 +57,15 @@ def balancing(name, changes=None) -> dict:
 
 # ----------------------------------------------------------------------------- independent time-domain sum
 
+
 def exact_acceleration(alpha, R, lam, w):
     """j = R w^2 (cos a + lam (cos 2a + lam^2 sin^4 a) / (1 - lam^2 sin^2 a)^(3/2)), written out independently."""
     s2 = np.sin(alpha) ** 2
-    return R * w**2 * (np.cos(alpha) + lam * (np.cos(2 * alpha) + lam**2 * s2**2) / (1 - lam**2 * s2) ** 1.5)
+    return (
+        R
+        * w**2
+        * (np.cos(alpha) + lam * (np.cos(2 * alpha) + lam**2 * s2**2) / (1 - lam**2 * s2) ** 1.5)
+    )
 
 
 def vertical_of(layout) -> float:
@@ -102,7 +118,14 @@ LAYOUTS = {
     "inline8-cross": ("inline", 4, 8, None, [1, 6, 2, 5, 8, 3, 7, 4], None),
     "inline6-two-stroke": ("inline", 2, 6, None, [1, 4, 2, 6, 3, 5], None),
     "V2-90-uneven": ("V", 4, 2, 90, ["1L", "1R"], [0]),
-    "V8-90-cross": ("V", 4, 8, 90, ["1L", "1R", "4L", "3L", "3R", "2L", "2R", "4R"], [0, 90, 270, 180]),
+    "V8-90-cross": (
+        "V",
+        4,
+        8,
+        90,
+        ["1L", "1R", "4L", "3L", "3R", "2L", "2R", "4R"],
+        [0, 90, 270, 180],
+    ),
     "V12-60": ("V", 4, 12, 60, None, [0, 240, 120, 120, 240, 0]),
     "W12-60": ("W", 4, 12, 60, None, [0, 180, 180, 0]),
     "Y3-120": ("Y", 2, 3, 120, ["1L", "1C", "1R"], None),
@@ -115,7 +138,9 @@ LAYOUTS = {
 
 def _layout(name):
     kind, strokes, cylinders, gamma, order, cranks = LAYOUTS[name]
-    if order is None:  # any firing order the crank arrangement fits: let the explorer-free helper find one
+    if (
+        order is None
+    ):  # any firing order the crank arrangement fits: let the explorer-free helper find one
         from crankdyn.physics.firing_explorer import explore
 
         if cranks is None:
@@ -127,8 +152,13 @@ def _layout(name):
     return build_layout(kind, strokes, cylinders, gamma, order, cranks, uneven_firing=True)
 
 
-MASSES = bal.Masses(reciprocating_kg=0.61, rotating_kg=1.17, crank_radius_m=0.043, rod_ratio=0.29,
-                    angular_velocity_rad_s=550.0)
+MASSES = bal.Masses(
+    reciprocating_kg=0.61,
+    rotating_kg=1.17,
+    crank_radius_m=0.043,
+    rod_ratio=0.29,
+    angular_velocity_rad_s=550.0,
+)
 
 
 @pytest.mark.parametrize("name", list(LAYOUTS))
@@ -140,13 +170,23 @@ def test_vector_method_equals_direct_sum_of_real_forces(name):
     m = MASSES
     theta = np.linspace(0, 2 * np.pi, 997, endpoint=False)
     a = 0.1
-    f_direct, m_direct = direct_sum(layout, m.reciprocating_kg, m.rotating_kg, m.crank_radius_m, m.rod_ratio,
-                                    m.angular_velocity_rad_s, a, theta)
+    f_direct, m_direct = direct_sum(
+        layout,
+        m.reciprocating_kg,
+        m.rotating_kg,
+        m.crank_radius_m,
+        m.rod_ratio,
+        m.angular_velocity_rad_s,
+        a,
+        theta,
+    )
     n_max = bal.orders_needed(m.rod_ratio)
     assert 12 <= n_max <= 24
     orders = [1] + list(range(2, n_max + 1, 2))
     f_vec, m_vec = bal.vector_method_sum(g, m, theta, orders, a)
-    scale = layout.cranks * m.centrifugal_N + len(layout.cylinders) * m.first_order_N * (1 + m.rod_ratio)
+    scale = layout.cranks * m.centrifugal_N + len(layout.cylinders) * m.first_order_N * (
+        1 + m.rod_ratio
+    )
     assert np.max(np.abs(f_vec - f_direct)) < 1e-9 * scale
     assert np.max(np.abs(m_vec - m_direct)) < 1e-9 * scale * a * max(layout.cranks / 2, 1)
     # the module's own time-domain sum is the same thing
@@ -179,6 +219,7 @@ def test_acceleration_series_from_fft_and_power_series():
 
 # ----------------------------------------------------------------------------- textbook closed forms
 
+
 def _small(results, keys):
     return all(results["coefficients"][k] < 1e-12 for k in keys)
 
@@ -186,7 +227,9 @@ def _small(results, keys):
 ALL = ("sum_C", "M_C", "sum_PI", "M_PI", "sum_PII", "M_PII")
 
 
-@pytest.mark.parametrize("name, changes", [("inline6-diesel-trace", None), ("inline4-petrol", INLINE8_CROSS)])
+@pytest.mark.parametrize(
+    "name, changes", [("inline6-diesel-trace", None), ("inline4-petrol", INLINE8_CROSS)]
+)
 def test_inline6_and_inline8_cross_fully_balanced(name, changes):
     r = balancing(name, changes)
     assert _small(r, ALL)
@@ -203,13 +246,17 @@ def test_inline4_flat_crank_leaves_only_second_order_force():
     assert r["absolute"]["sum_PII_N"] == pytest.approx(4 * A2 * r["first_order_N"], rel=1e-12)
     assert r["second_order_N"] == pytest.approx(0.28 * r["first_order_N"], rel=1e-12)
     second = next(o for o in r["orders"] if o["order"] == 2)
-    assert second["force_hodograph"]["sense"] == "line" and second["force_hodograph"]["major_axis_deg"] == pytest.approx(0)
+    assert second["force_hodograph"]["sense"] == "line" and second["force_hodograph"][
+        "major_axis_deg"
+    ] == pytest.approx(0)
     # Lanchester: a pair of equal shafts at +2w and -2w, each carrying 2 C_II' / (2w)^2 in all
     speeds = {s["speed_ratio"]: s for s in r["balance_shafts"]}
     assert set(speeds) == {2, -2}
     for s in speeds.values():
         total = sum(m["mass_radius_kg_m"] for m in s["masses"])
-        assert total == pytest.approx(2 * A2 * r["first_order_N"] / (2 * 2 * math.pi * 5600 / 60) ** 2, rel=1e-9)
+        assert total == pytest.approx(
+            2 * A2 * r["first_order_N"] / (2 * 2 * math.pi * 5600 / 60) ** 2, rel=1e-9
+        )
 
 
 def test_inline3_moments_sqrt3():
@@ -221,8 +268,9 @@ def test_inline3_moments_sqrt3():
     assert c["M_C"] == pytest.approx(SQRT3, abs=1e-12)
     a = 0.084
     assert r["absolute"]["M_PI_Nm"] == pytest.approx(SQRT3 * r["first_order_N"] * a, rel=1e-12)
-    assert r["absolute"]["M_PII_Nm"] == pytest.approx(SQRT3 * r["acceleration_harmonics"]["II"] * r["first_order_N"] * a,
-                                                      rel=1e-12)
+    assert r["absolute"]["M_PII_Nm"] == pytest.approx(
+        SQRT3 * r["acceleration_harmonics"]["II"] * r["first_order_N"] * a, rel=1e-12
+    )
     # an in-line engine's reciprocating moments act in the plane of the cylinder axes
     first = next(o for o in r["orders"] if o["order"] == 1)
     assert first["moment_hodograph"]["sense"] == "line"
@@ -237,7 +285,9 @@ def test_radial_central_rods_constant_rotating_first_order():
     assert first["force_backward"]["magnitude"] < 1e-12 * C_I
     h = first["force_hodograph"]
     assert h["semi_major"] == pytest.approx(h["semi_minor"]) and h["sense"] == "forward"
-    assert first["force_forward"]["angle_deg"] == pytest.approx(r["crank_directions_deg"][0], abs=1e-9)  # with the crank
+    assert first["force_forward"]["angle_deg"] == pytest.approx(
+        r["crank_directions_deg"][0], abs=1e-9
+    )  # with the crank
     # directly: sum of C_I cos(alpha_i) along each cylinder axis is (z/2) C_I along the crank
     theta = np.linspace(0, 2 * np.pi, 73)
     psi = np.radians(np.arange(9) * 40.0)
@@ -258,7 +308,11 @@ def test_textbook_six_cylinder_two_stroke_example():
     layout = build_layout("inline", 2, 6, None, [1, 4, 2, 6, 3, 5], None)
     assert layout.crank_lag_deg == (0, 120, 240, 60, 300, 180)
     g = bal.geometry_from_layout(layout)
-    rot, first, second = bal.rotating_model(g), bal.reciprocating_model(g, 1), bal.reciprocating_model(g, 2)
+    rot, first, second = (
+        bal.rotating_model(g),
+        bal.reciprocating_model(g, 1),
+        bal.reciprocating_model(g, 2),
+    )
     assert abs(rot.force_forward) < 1e-12 and abs(rot.moment_forward) == pytest.approx(2 * SQRT3)
     assert first.force_max < 1e-12 and first.moment_max == pytest.approx(2 * SQRT3)
     assert second.force_max < 1e-12 and second.moment_max < 1e-12
@@ -268,7 +322,9 @@ def test_textbook_six_cylinder_two_stroke_example():
     means = bal.design_means(g, m, bal.acceleration_harmonics(m.rod_ratio), balance_orders=[])
     assert [cw.position for cw in means.counterweights] == [-2.5, 2.5]
     for cw in means.counterweights:
-        assert cw.mass_radius_kg_m == pytest.approx(2 * SQRT3 / 5 * m.rotating_kg * m.crank_radius_m, rel=1e-12)
+        assert cw.mass_radius_kg_m == pytest.approx(
+            2 * SQRT3 / 5 * m.rotating_kg * m.crank_radius_m, rel=1e-12
+        )
 
 
 @pytest.mark.parametrize("gamma", [30.0, 60.0, 72.0, 90.0, 120.0, 135.0, 180.0])
@@ -278,11 +334,17 @@ def test_v_bay_model_matches_textbook_formulas(gamma):
     F, P = bal.bay_vectors(axes, 1)
     K, Z = bal.bay_vectors(axes, 2)
     assert F == pytest.approx(1.0) and P == pytest.approx(math.cos(g), abs=1e-12)  # eq. 64-66
-    assert K == pytest.approx(math.cos(g / 2)) and Z == pytest.approx(math.cos(1.5 * g), abs=1e-12)  # eq. 74-76
+    assert K == pytest.approx(math.cos(g / 2)) and Z == pytest.approx(
+        math.cos(1.5 * g), abs=1e-12
+    )  # eq. 74-76
     h1, h2 = bal.hodograph(F, P, 1), bal.hodograph(K, Z, 2)
-    assert h1.x_amplitude == pytest.approx(1 - math.cos(g), abs=1e-12)  # eq. 62 (semi-axes are lengths)
+    assert h1.x_amplitude == pytest.approx(
+        1 - math.cos(g), abs=1e-12
+    )  # eq. 62 (semi-axes are lengths)
     assert h1.y_amplitude == pytest.approx(1 + math.cos(g), abs=1e-12)
-    assert h2.x_amplitude == pytest.approx(abs(math.cos(g / 2) - math.cos(1.5 * g)), abs=1e-12)  # eq. 71-72
+    assert h2.x_amplitude == pytest.approx(
+        abs(math.cos(g / 2) - math.cos(1.5 * g)), abs=1e-12
+    )  # eq. 71-72
     assert h2.y_amplitude == pytest.approx(abs(math.cos(g / 2) + math.cos(1.5 * g)), abs=1e-12)
 
 
@@ -291,8 +353,12 @@ def test_w_bay_model_matches_textbook_formulas(gamma):
     g = math.radians(gamma)
     F, P = bal.bay_vectors([-g, 0.0, g], 1)
     K, Z = bal.bay_vectors([-g, 0.0, g], 2)
-    assert F == pytest.approx(1.5) and P == pytest.approx(0.5 + math.cos(2 * g), abs=1e-12)  # eq. 77-80
-    assert K == pytest.approx(0.5 + math.cos(g)) and Z == pytest.approx(0.5 + math.cos(3 * g), abs=1e-12)  # eq. 81-82
+    assert F == pytest.approx(1.5) and P == pytest.approx(
+        0.5 + math.cos(2 * g), abs=1e-12
+    )  # eq. 77-80
+    assert K == pytest.approx(0.5 + math.cos(g)) and Z == pytest.approx(
+        0.5 + math.cos(3 * g), abs=1e-12
+    )  # eq. 81-82
     h2 = bal.hodograph(K, Z, 2)
     assert h2.x_amplitude == pytest.approx(abs(math.cos(g) - math.cos(3 * g)), abs=1e-12)
     assert h2.y_amplitude == pytest.approx(abs(1 + math.cos(g) + math.cos(3 * g)), abs=1e-12)
@@ -313,6 +379,7 @@ def test_v8_stage_reports_the_bay_model_and_a_pure_rotating_couple():
 
 # ----------------------------------------------------------------------------- balancing means
 
+
 @pytest.mark.parametrize("name", BUNDLED)
 def test_means_cancel_what_they_were_sized_for(name):
     """Acceptance: with the counterweights and shafts added to the time-domain sum, the rotating forces and
@@ -322,10 +389,26 @@ def test_means_cancel_what_they_were_sized_for(name):
     assert res["force_deviation_relative"] < 1e-9 and res["moment_deviation_relative"] < 1e-9
 
 
-@pytest.mark.parametrize("name", ["inline3", "inline4", "inline5", "V2-90-uneven", "V12-60", "W12-60", "Y3-120",
-                                  "X8-90", "boxer4", "radial9", "inline6-two-stroke"])
-@pytest.mark.parametrize("counterweights, forward", [("ends", "crankshaft"), ("every_crank", "crankshaft"),
-                                                     ("ends", "shaft")])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "inline3",
+        "inline4",
+        "inline5",
+        "V2-90-uneven",
+        "V12-60",
+        "W12-60",
+        "Y3-120",
+        "X8-90",
+        "boxer4",
+        "radial9",
+        "inline6-two-stroke",
+    ],
+)
+@pytest.mark.parametrize(
+    "counterweights, forward",
+    [("ends", "crankshaft"), ("every_crank", "crankshaft"), ("ends", "shaft")],
+)
 def test_balancing_every_order_leaves_nothing(name, counterweights, forward):
     layout = _layout(name)
     g = bal.geometry_from_layout(layout)
@@ -336,8 +419,16 @@ def test_balancing_every_order_leaves_nothing(name, counterweights, forward):
     means = bal.design_means(g, m, harmonics, orders, counterweights, forward)
     theta = np.linspace(0, 2 * np.pi, 541, endpoint=False)
     a = 0.095
-    f_real, m_real = direct_sum(layout, m.reciprocating_kg, m.rotating_kg, m.crank_radius_m, m.rod_ratio,
-                                m.angular_velocity_rad_s, a, theta)
+    f_real, m_real = direct_sum(
+        layout,
+        m.reciprocating_kg,
+        m.rotating_kg,
+        m.crank_radius_m,
+        m.rod_ratio,
+        m.angular_velocity_rad_s,
+        a,
+        theta,
+    )
     f_means, m_means = means.forces(theta, m.angular_velocity_rad_s, a)
     scale = layout.cranks * m.centrifugal_N + len(layout.cylinders) * m.first_order_N
     assert np.max(np.abs(f_real + f_means)) < 1e-9 * scale
@@ -367,14 +458,25 @@ def test_inline_twin_shafts_are_a_lanchester_pair():
 
 def test_balance_orders_radii_and_spacing_options():
     base = balancing("inline3-petrol")
-    r = balancing("inline3-petrol", {"balancing": {"balance_orders": [1], "balance_shaft_spacing": "300 mm",
-                                                   "counterweight_radius": "80 mm"}})
+    r = balancing(
+        "inline3-petrol",
+        {
+            "balancing": {
+                "balance_orders": [1],
+                "balance_shaft_spacing": "300 mm",
+                "counterweight_radius": "80 mm",
+            }
+        },
+    )
     assert {s["speed_ratio"] for s in r["balance_shafts"]} == {-1}
     assert r["balance_shafts"][0]["spacing_m"] == pytest.approx(0.3)
     # a longer lever needs less mass: moment / spacing
     assert r["balance_shafts"][0]["masses"][0]["mass_radius_kg_m"] == pytest.approx(
-        base["balance_shafts"][0]["masses"][0]["mass_radius_kg_m"] * 0.168 / 0.3, rel=1e-12)
-    assert r["counterweights"][0]["mass_kg"] == pytest.approx(base["counterweights"][0]["mass_kg"] / 2, rel=1e-12)
+        base["balance_shafts"][0]["masses"][0]["mass_radius_kg_m"] * 0.168 / 0.3, rel=1e-12
+    )
+    assert r["counterweights"][0]["mass_kg"] == pytest.approx(
+        base["counterweights"][0]["mass_kg"] / 2, rel=1e-12
+    )
     assert r["residual"]["vanishes"]
     second = [s for s in r["summary"] if s["order"] == 2 and not s["balanced"]]
     assert second and all(s["remedy"] == "none" for s in second)
@@ -385,30 +487,44 @@ def test_without_cylinder_spacing_moments_are_per_unit_a():
     r = result.outputs["balancing"].results
     assert r["coefficients"]["M_PI"] == pytest.approx(SQRT3)
     assert r["absolute"]["M_PI_Nm"] is None and r["cylinder_spacing_m"] is None
-    assert r["counterweights"] and r["residual"]["vanishes"]  # sizes need no a (the lever is a multiple of a)
+    assert (
+        r["counterweights"] and r["residual"]["vanishes"]
+    )  # sizes need no a (the lever is a multiple of a)
     assert any(key == "balancing.note_no_spacing" for key, _ in result.outputs["balancing"].notes)
 
 
-@pytest.mark.parametrize("table, field", [
-    ({"include_orders": [1, 3]}, "balancing.include_orders"),
-    ({"include_orders": [2, 4]}, "balancing.include_orders"),
-    ({"balance_orders": [1, 1]}, "balancing.balance_orders"),
-    ({"counterweights": "middle"}, "balancing.counterweights"),
-    ({"counterweight_radius": 40}, "balancing.counterweight_radius"),
-    ({"explore_top": 0}, "balancing.explore_top"),
-    ({"radius": "40 mm"}, "balancing.radius"),
-])
+@pytest.mark.parametrize(
+    "table, field",
+    [
+        ({"include_orders": [1, 3]}, "balancing.include_orders"),
+        ({"include_orders": [2, 4]}, "balancing.include_orders"),
+        ({"balance_orders": [1, 1]}, "balancing.balance_orders"),
+        ({"counterweights": "middle"}, "balancing.counterweights"),
+        ({"counterweight_radius": 40}, "balancing.counterweight_radius"),
+        ({"explore_top": 0}, "balancing.explore_top"),
+        ({"radius": "40 mm"}, "balancing.radius"),
+    ],
+)
 def test_bad_balancing_table_names_the_field(table, field):
-    scene = scene_from_dict(modified("inline3-petrol", {"balancing": table}), base_dir=examples_dir())
+    scene = scene_from_dict(
+        modified("inline3-petrol", {"balancing": table}), base_dir=examples_dir()
+    )
     with pytest.raises(SceneError) as info:
         run_scene(scene, REGISTRY)
     assert field in {p.field for p in info.value.problems}
 
 
 def test_shaft_spacing_needs_cylinder_spacing():
-    scene = scene_from_dict(modified("inline3-petrol", {"engine": {"cylinder_spacing": None},
-                                                        "balancing": {"balance_shaft_spacing": "300 mm"}}),
-                            base_dir=examples_dir())
+    scene = scene_from_dict(
+        modified(
+            "inline3-petrol",
+            {
+                "engine": {"cylinder_spacing": None},
+                "balancing": {"balance_shaft_spacing": "300 mm"},
+            },
+        ),
+        base_dir=examples_dir(),
+    )
     with pytest.raises(SceneError) as info:
         run_scene(scene, REGISTRY)
     assert info.value.problems[0].field == "balancing.balance_shaft_spacing"
@@ -421,15 +537,25 @@ def test_no_masses_no_balancing():
 
 # ----------------------------------------------------------------------------- report
 
-@pytest.mark.parametrize("name, language", [("inline3-petrol", "en"), ("inline3-petrol", "uk"), ("v8-petrol", "ru"),
-                                            ("petrol-1cyl", "en")])
+
+@pytest.mark.parametrize(
+    "name, language",
+    [
+        ("inline3-petrol", "en"),
+        ("inline3-petrol", "uk"),
+        ("v8-petrol", "ru"),
+        ("petrol-1cyl", "en"),
+    ],
+)
 def test_balancing_section_renders(name, language):
     result = run(name)
     rendered = render_html(result, REGISTRY, language)
     assert not rendered.missing_translations, rendered.missing_translations
     assert 'data-stage="balancing"' in rendered.html
     figures = [f.name for f in rendered.figures]
-    assert any("crank_diagrams" in f for f in figures) and any("vector_models" in f for f in figures)
+    assert any("crank_diagrams" in f for f in figures) and any(
+        "vector_models" in f for f in figures
+    )
     if name == "inline3-petrol":  # explore = true in the example
         assert "1–3–2" in rendered.html
 
@@ -440,7 +566,14 @@ def test_results_json_ready_and_csv_table():
     text = json.dumps(out.results)  # plain floats, no numpy or complex values
     assert "NaN" not in text
     frame = out.tables["balancing"]
-    assert {"shaft_angle_deg", "force_x_N", "force_y_N", "moment_x_Nm", "moment_y_Nm", "residual_force_x_N"} <= set(frame)
+    assert {
+        "shaft_angle_deg",
+        "force_x_N",
+        "force_y_N",
+        "moment_x_Nm",
+        "moment_y_Nm",
+        "residual_force_x_N",
+    } <= set(frame)
     assert len(frame) == 720
 
 
@@ -451,7 +584,11 @@ def test_order_vectors_of_a_flat_inline4():
 
     g = bal.geometry_from_layout(_layout("inline4"))
     harmonics = bal.harmonics_for(MASSES.rod_ratio, bal.orders_needed(MASSES.rod_ratio))
-    models = {0: bal.rotating_model(g), 1: bal.reciprocating_model(g, 1), 2: bal.reciprocating_model(g, 2)}
+    models = {
+        0: bal.rotating_model(g),
+        1: bal.reciprocating_model(g, 1),
+        2: bal.reciprocating_model(g, 2),
+    }
     C, C_I = MASSES.centrifugal_N, MASSES.first_order_N
     coefficients, absolute, orders = order_vectors(g, models, (1, 2), C, C_I, harmonics, 0.1)
     assert coefficients["sum_C"] < 1e-12 and coefficients["sum_PI"] < 1e-12
@@ -460,10 +597,16 @@ def test_order_vectors_of_a_flat_inline4():
     assert [o["order"] for o in orders] == [0, 1, 2]
 
 
-@pytest.mark.parametrize("args, expected", [
-    ((0, True, False, False), "self"), ((0, False, True, False), "counterweights"),
-    ((1, False, True, True), "counterweights+shaft_backward"), ((2, False, True, True), "shaft_forward+shaft_backward"),
-    ((4, False, True, True), "none")])
+@pytest.mark.parametrize(
+    "args, expected",
+    [
+        ((0, True, False, False), "self"),
+        ((0, False, True, False), "counterweights"),
+        ((1, False, True, True), "counterweights+shaft_backward"),
+        ((2, False, True, True), "shaft_forward+shaft_backward"),
+        ((4, False, True, True), "none"),
+    ],
+)
 def test_remedy_names_the_means(args, expected):
     from crankdyn_builtin.balancing.means import remedy
 
@@ -485,11 +628,22 @@ def test_a_single_cylinder_gets_a_counterweight_and_one_first_order_shaft_by_def
     assert sorted(s["speed_ratio"] for s in four["balance_shafts"]) == [-2, 2]
 
 
-@pytest.mark.parametrize("language, one, several", [("en", "P_II remains", "P_II, P_IV remain"),
-                                                     ("uk", "незрівноваженою залишається величина P_II",
-                                                      "незрівноваженими залишаються величини P_II, P_IV"),
-                                                     ("ru", "неуравновешенной остаётся величина P_II",
-                                                      "неуравновешенными остаются величины P_II, P_IV")])
+@pytest.mark.parametrize(
+    "language, one, several",
+    [
+        ("en", "P_II remains", "P_II, P_IV remain"),
+        (
+            "uk",
+            "незрівноваженою залишається величина P_II",
+            "незрівноваженими залишаються величини P_II, P_IV",
+        ),
+        (
+            "ru",
+            "неуравновешенной остаётся величина P_II",
+            "неуравновешенными остаются величины P_II, P_IV",
+        ),
+    ],
+)
 def test_the_abstracts_finding_agrees_in_number_with_what_stays_unbalanced(language, one, several):
     """One force left unbalanced 'remains', two 'remain' (the abstract read 'P_II remain'; then
     'незрівноваженими залишається ΣP_IV', a plural adjective: the word 'величина' carries the number)."""
@@ -505,13 +659,32 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
     from crankdyn.cli import main
 
     out = tmp_path / "out"
-    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--format", "html", "-q",
-                 "--stages", "balancing"]) == 0
-    svg = "".join(p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg"))
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "petrol-1cyl.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "html",
+                "-q",
+                "--stages",
+                "balancing",
+            ]
+        )
+        == 0
+    )
+    svg = "".join(
+        p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg")
+    )
     assert r"$P_{\mathrm{II}}/C_{\mathrm{II}}$" in svg and "P_{II}" not in svg
     # one cylinder's own forces, no sums (no "ΣC/C" over a single crank), here as in its tables
-    section = re.search(r'data-stage="balancing">.*?</section>', (out / "report.html").read_text(encoding="utf-8"),
-                        flags=re.S).group(0)
+    section = re.search(
+        r'data-stage="balancing">.*?</section>',
+        (out / "report.html").read_text(encoding="utf-8"),
+        flags=re.S,
+    ).group(0)
     assert r"\Sigma" not in svg and "Σ" not in section
     # one cylinder: no moments in the summary table, nor in its caption
     html = (out / "report.html").read_text(encoding="utf-8")

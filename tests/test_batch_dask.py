@@ -27,14 +27,18 @@ BASE = examples_dir() / "kinematics-only.toml"
 @pytest.fixture(scope="module")
 def cluster():
     """One in-process Dask cluster (threads, no worker processes to start) for the module."""
-    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2,
-                                  dashboard_address=None) as local:
+    with distributed.LocalCluster(
+        processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None
+    ) as local:
         yield local
 
 
 def _variants(path):
-    path.write_text("variant,engine.rpm,engine.bore,report.student\n"
-                    "a,3000,,Ann\nb,3600,84 mm,Bob\nbad,4200,-84 mm,Cy\nd,4800,76 mm,Dee\n", encoding="utf-8")
+    path.write_text(
+        "variant,engine.rpm,engine.bore,report.student\n"
+        "a,3000,,Ann\nb,3600,84 mm,Bob\nbad,4200,-84 mm,Cy\nd,4800,76 mm,Dee\n",
+        encoding="utf-8",
+    )
     return path
 
 
@@ -45,59 +49,122 @@ def _rows(path):
 def test_a_dask_cluster_gives_the_same_answer_key_failures_and_files(tmp_path, cluster):
     variants = _variants(tmp_path / "v.csv")
     local = run_batch(variants, BASE, tmp_path / "local", ["json"], jobs=2, progress=False)
-    remote = run_batch(variants, BASE, tmp_path / "dask", ["json"], progress=False,
-                       scheduler=cluster.scheduler_address)
-    assert [(o.row, o.name, o.ok, o.error) for o in remote.outcomes] == \
-        [(o.row, o.name, o.ok, o.error) for o in local.outcomes]
-    assert [o.name for o in remote.failures] == ["bad"] and "engine.bore" in remote.failures[0].error
+    remote = run_batch(
+        variants,
+        BASE,
+        tmp_path / "dask",
+        ["json"],
+        progress=False,
+        scheduler=cluster.scheduler_address,
+    )
+    assert [(o.row, o.name, o.ok, o.error) for o in remote.outcomes] == [
+        (o.row, o.name, o.ok, o.error) for o in local.outcomes
+    ]
+    assert [o.name for o in remote.failures] == ["bad"] and "engine.bore" in remote.failures[
+        0
+    ].error
     for name in ("answer_key.csv", "failures.csv"):
-        assert (tmp_path / "dask" / name).read_bytes() == (tmp_path / "local" / name).read_bytes(), name
+        assert (tmp_path / "dask" / name).read_bytes() == (
+            tmp_path / "local" / name
+        ).read_bytes(), name
     key = _rows(tmp_path / "dask" / "answer_key.csv")
-    assert [r["variant"] for r in key] == ["a", "b", "d"] and [r["row"] for r in key] == ["1", "2", "4"]
-    for name in ("a", "b", "d"):  # the files rendered on the worker were written here, as the pool writes them
-        written = sorted(p.relative_to(tmp_path / "dask" / name) for p in (tmp_path / "dask" / name).rglob("*"))
-        assert written == sorted(p.relative_to(tmp_path / "local" / name)
-                                 for p in (tmp_path / "local" / name).rglob("*"))
-        results = json.loads((tmp_path / "dask" / name / "results.json").read_text(encoding="utf-8"))
+    assert [r["variant"] for r in key] == ["a", "b", "d"] and [r["row"] for r in key] == [
+        "1",
+        "2",
+        "4",
+    ]
+    for name in (
+        "a",
+        "b",
+        "d",
+    ):  # the files rendered on the worker were written here, as the pool writes them
+        written = sorted(
+            p.relative_to(tmp_path / "dask" / name) for p in (tmp_path / "dask" / name).rglob("*")
+        )
+        assert written == sorted(
+            p.relative_to(tmp_path / "local" / name) for p in (tmp_path / "local" / name).rglob("*")
+        )
+        results = json.loads(
+            (tmp_path / "dask" / name / "results.json").read_text(encoding="utf-8")
+        )
         assert results["kinematics"]["v_max_m_s"] == pytest.approx(
-            float(next(r for r in key if r["variant"] == name)["v_max_m_s"]), rel=1e-5)
+            float(next(r for r in key if r["variant"] == name)["v_max_m_s"]), rel=1e-5
+        )
     assert not (tmp_path / "dask" / "bad").exists()
     # Each variant got its own speed: v_mean = S*n/30 with S = 100 mm.
-    assert [float(r["v_mean_m_s"]) for r in key] == pytest.approx([0.1 * rpm / 30 for rpm in (3000, 3600, 4800)])
+    assert [float(r["v_mean_m_s"]) for r in key] == pytest.approx(
+        [0.1 * rpm / 30 for rpm in (3000, 3600, 4800)]
+    )
 
 
 def test_the_time_limit_holds_on_a_dask_worker(tmp_path, cluster, monkeypatch):
     registry = batch._registry()
-    monkeypatch.setattr(batch, "_worker_registry", replace(registry, stages={**registry.stages,
-                                                                               SLOW_STAGE.name: SLOW_STAGE}))
+    monkeypatch.setattr(
+        batch,
+        "_worker_registry",
+        replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE}),
+    )
     # Two batches, so that each limit fits its purpose whatever the load of a parallel test run
     # (a quick variant once took over 6 s here): a generous limit lets the quick variant finish
     # on the worker, a short one stops the hanging variant (which sleeps 60 s) and kills it.
     quick = tmp_path / "quick.csv"
     quick.write_text("variant,engine.rpm\nquick,3000\n", encoding="utf-8")
-    done = run_batch(quick, BASE, tmp_path / "quick", ["json"], progress=False, timeout=120.0,
-                     scheduler=cluster.scheduler_address)
+    done = run_batch(
+        quick,
+        BASE,
+        tmp_path / "quick",
+        ["json"],
+        progress=False,
+        timeout=120.0,
+        scheduler=cluster.scheduler_address,
+    )
     assert [(o.name, o.ok) for o in done.outcomes] == [("quick", True)], done.failures
     path = tmp_path / "v.csv"
     finished = tmp_path / "hanging-variant-finished"
-    path.write_text(f"variant,engine.rpm,report.subtitle\nhangs,{SLOW_RPM},{MARKER_PREFIX}{finished}\n",
-                    encoding="utf-8")
-    report = run_batch(path, BASE, tmp_path / "out", ["json"], progress=False, timeout=2.0,
-                       scheduler=cluster.scheduler_address)
+    path.write_text(
+        f"variant,engine.rpm,report.subtitle\nhangs,{SLOW_RPM},{MARKER_PREFIX}{finished}\n",
+        encoding="utf-8",
+    )
+    report = run_batch(
+        path,
+        BASE,
+        tmp_path / "out",
+        ["json"],
+        progress=False,
+        timeout=2.0,
+        scheduler=cluster.scheduler_address,
+    )
     assert [(o.name, o.ok) for o in report.outcomes] == [("hangs", False)]
     assert report.failures[0].error == "stopped after 2 s (the time limit, --timeout)"
     assert not finished.exists()  # the hanging child was killed, not waited for
     assert [r["variant"] for r in _rows(tmp_path / "out" / "failures.csv")] == ["hangs"]
 
 
-@pytest.mark.parametrize("address, message", [
-    ("tcp://127.0.0.1:9", "cannot reach a Dask scheduler there within 1 s"),
-    ("localhost", "not a scheduler address"),
-])
-def test_an_unreachable_scheduler_is_a_clear_error_and_nothing_is_written(tmp_path, address, message):
+@pytest.mark.parametrize(
+    "address, message",
+    [
+        ("tcp://127.0.0.1:9", "cannot reach a Dask scheduler there within 1 s"),
+        ("localhost", "not a scheduler address"),
+    ],
+)
+def test_an_unreachable_scheduler_is_a_clear_error_and_nothing_is_written(
+    tmp_path, address, message
+):
     variants = _variants(tmp_path / "v.csv")
-    done = run_cli("batch", str(variants), "--base", str(BASE), "-o", str(tmp_path / "out"), "--format", "json",
-                   "--scheduler", address, "--connect-timeout", "1")
+    done = run_cli(
+        "batch",
+        str(variants),
+        "--base",
+        str(BASE),
+        "-o",
+        str(tmp_path / "out"),
+        "--format",
+        "json",
+        "--scheduler",
+        address,
+        "--connect-timeout",
+        "1",
+    )
     assert done.returncode == 2, done.stderr
     assert f"--scheduler {address}" in done.stderr and message in done.stderr
     assert "Traceback" not in done.stderr and "Exception ignored" not in done.stderr
@@ -105,19 +172,42 @@ def test_an_unreachable_scheduler_is_a_clear_error_and_nothing_is_written(tmp_pa
 
 
 def test_jobs_and_scheduler_together_are_refused(tmp_path):
-    done = run_cli("batch", str(_variants(tmp_path / "v.csv")), "--base", str(BASE), "-o", str(tmp_path / "out"),
-                   "--scheduler", "tcp://127.0.0.1:9", "--jobs", "2")
+    done = run_cli(
+        "batch",
+        str(_variants(tmp_path / "v.csv")),
+        "--base",
+        str(BASE),
+        "-o",
+        str(tmp_path / "out"),
+        "--scheduler",
+        "tcp://127.0.0.1:9",
+        "--jobs",
+        "2",
+    )
     assert done.returncode == 2 and "--jobs" in done.stderr and "nthreads" in done.stderr
     assert not (tmp_path / "out").exists()
 
 
 def test_dask_is_imported_only_for_a_scheduler(tmp_path):
     """The local pool never loads dask: it stays an optional extra."""
-    code = ("import sys; from pathlib import Path; from crankdyn.batch.variants import run_batch; "
-            "r = run_batch(Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3]), ['json'], jobs=1, progress=False); "
-            "print(len(r.outcomes), sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))")
-    done = subprocess.run([sys.executable, "-c", code, str(_variants(tmp_path / "v.csv")), str(BASE),
-                           str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    code = (
+        "import sys; from pathlib import Path; from crankdyn.batch.variants import run_batch; "
+        "r = run_batch(Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3]), ['json'], jobs=1, progress=False); "
+        "print(len(r.outcomes), sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))"
+    )
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            code,
+            str(_variants(tmp_path / "v.csv")),
+            str(BASE),
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.stdout.split() == ["4", "[]"], done.stderr
 
 
@@ -127,9 +217,16 @@ def test_a_sweep_on_the_cluster_gives_the_local_answer_key(tmp_path, cluster):
 
     keys = []
     for name, scheduler in (("local", None), ("dask", cluster.scheduler_address)):
-        sweep = sweep_from_args(["engine.rpm=2000:4000:3", "engine.rod_ratio=0.25,0.3"], None, "j_max_m_s2", None)
-        options = RunOptions([], jobs=None if scheduler else 2, progress=False, stages=["kinematics"],
-                             scheduler=scheduler)
+        sweep = sweep_from_args(
+            ["engine.rpm=2000:4000:3", "engine.rod_ratio=0.25,0.3"], None, "j_max_m_s2", None
+        )
+        options = RunOptions(
+            [],
+            jobs=None if scheduler else 2,
+            progress=False,
+            stages=["kinematics"],
+            scheduler=scheduler,
+        )
         report, _ = run_sweep(SweepRequest(BASE, sweep, tmp_path / name, options, ["csv"], ["svg"]))
         assert len(report.outcomes) == 6 and not report.failures
         keys.append((tmp_path / name / "answer_key.csv").read_bytes())

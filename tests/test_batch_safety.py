@@ -74,8 +74,19 @@ def _peak_bytes(function, *args) -> tuple[BaseException | None, int]:
 
 # --------------------------------------------------------------------------- reserved ids
 
-@pytest.mark.parametrize("wanted", ["answer_key.csv", "answer_key.xlsx", "answer_key.parquet",
-                                    "failures.csv", MANIFEST, "ANSWER_KEY.CSV", "answer_key.csv."])
+
+@pytest.mark.parametrize(
+    "wanted",
+    [
+        "answer_key.csv",
+        "answer_key.xlsx",
+        "answer_key.parquet",
+        "failures.csv",
+        MANIFEST,
+        "ANSWER_KEY.CSV",
+        "answer_key.csv.",
+    ],
+)
 def test_a_reserved_variant_id_is_refused_naming_it(tmp_path, wanted):
     with pytest.raises(SceneError) as info:
         read_variants(_variants_csv(tmp_path / "v.csv", ["ok1", wanted]))
@@ -87,14 +98,16 @@ def test_a_reserved_variant_id_is_refused_naming_it(tmp_path, wanted):
 def test_the_cli_refuses_a_reserved_id_before_anything_runs(tmp_path, capsys):
     variants = _variants_csv(tmp_path / "v.csv", ["answer_key.csv", "ok1"])
     out = tmp_path / "out"
-    code = main(["batch", str(variants), "--base", str(BASE), "-o", str(out), "--format", "json",
-                 "-q"])
+    code = main(
+        ["batch", str(variants), "--base", str(BASE), "-o", str(out), "--format", "json", "-q"]
+    )
     assert code == 2 and not out.exists()
     err = capsys.readouterr().err
     assert "'answer_key.csv'" in err and "Traceback" not in err and "internal error" not in err
 
 
 # --------------------------------------------------------------------------- long ids
+
 
 def test_a_long_id_is_cut_with_the_hash_of_the_whole_id():
     wanted = "a" * 300
@@ -121,8 +134,10 @@ def test_a_batch_of_300_character_ids_writes_every_row(tmp_path):
     out = tmp_path / "out"
     variants = tmp_path / "v.csv"
     # The title page's variant given short: only the folder name is under test here.
-    variants.write_text("variant,report.variant\n" + "".join(f"{i},V{k}\n" for k, i in enumerate(ids)),
-                        encoding="utf-8")
+    variants.write_text(
+        "variant,report.variant\n" + "".join(f"{i},V{k}\n" for k, i in enumerate(ids)),
+        encoding="utf-8",
+    )
     report = run_batch(variants, BASE, out, ["json"], jobs=1, progress=False)
     assert not report.failures
     names = [folder_name(i, "01") for i in ids]
@@ -132,13 +147,19 @@ def test_a_batch_of_300_character_ids_writes_every_row(tmp_path):
 
 # --------------------------------------------------------------------------- SIGTERM
 
+
 def _start(args: list[str], cwd: Path) -> subprocess.Popen:
     # Started as the leader of its own process group: the signal goes to the whole group, as `timeout` and job
     # schedulers send it, the worker processes included.
-    return subprocess.Popen([sys.executable, "-m", "crankdyn", *args], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True,
-                            env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    return subprocess.Popen(
+        [sys.executable, "-m", "crankdyn", *args],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        env={**os.environ, "PYTHONWARNINGS": "ignore"},
+    )
 
 
 def _wait_for(path: Path, process: subprocess.Popen) -> None:
@@ -188,8 +209,9 @@ def test_an_interruption_outside_the_run_loop_still_lists_every_row(tmp_path, mo
     monkeypatch.setattr(batch, "run_all", first_then_interrupted)
     handler = signal.getsignal(signal.SIGTERM)
     out = tmp_path / "out"
-    report = run_batch(_variants_csv(tmp_path / "v.csv", ["v1", "v2", "v3"]), BASE, out, ["json"],
-                       progress=False)
+    report = run_batch(
+        _variants_csv(tmp_path / "v.csv", ["v1", "v2", "v3"]), BASE, out, ["json"], progress=False
+    )
     assert report.interrupted and report.stop_signal == signal.SIGINT
     assert [(o.name, o.ok) for o in report.outcomes] == [("v1", True), ("v2", False), ("v3", False)]
     assert [row["variant"] for row in _key_rows(out / "failures.csv")] == ["v2", "v3"]
@@ -197,6 +219,7 @@ def test_an_interruption_outside_the_run_loop_still_lists_every_row(tmp_path, mo
 
 
 # --------------------------------------------------------------------------- --jobs
+
 
 def test_jobs_are_capped_at_the_cores():
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
@@ -208,12 +231,29 @@ def test_the_cli_says_jobs_are_capped_and_runs_no_more_workers(tmp_path, capsys,
     started = []
     real = batch.run_all
     for module in (batch, grid_run):  # a batch's variants, a sweep's chunks of points
-        monkeypatch.setattr(module, "run_all", lambda items, function, args_of, jobs, *rest:
-                            started.append(jobs) or real(items, function, args_of, jobs, *rest))
+        monkeypatch.setattr(
+            module,
+            "run_all",
+            lambda items, function, args_of, jobs, *rest: (
+                started.append(jobs) or real(items, function, args_of, jobs, *rest)
+            ),
+        )
     rows = available_cores() + 1
     out = tmp_path / "out"
-    code = main(["sweep", str(BASE), f"--set=engine.rpm=1000:6000:{rows}", "--jobs", "1000",
-                 "-o", str(out), "-q", "--stages", "kinematics"])
+    code = main(
+        [
+            "sweep",
+            str(BASE),
+            f"--set=engine.rpm=1000:6000:{rows}",
+            "--jobs",
+            "1000",
+            "-o",
+            str(out),
+            "-q",
+            "--stages",
+            "kinematics",
+        ]
+    )
     err = capsys.readouterr().err
     assert code == 0 and started == [available_cores()]
     assert f"--jobs 1000: capped at {available_cores()}" in err
@@ -221,6 +261,7 @@ def test_the_cli_says_jobs_are_capped_and_runs_no_more_workers(tmp_path, capsys,
 
 
 # --------------------------------------------------------------------------- limits before building
+
 
 def test_a_range_count_beyond_the_limit_is_refused_from_the_count():
     raised, peak = _peak_bytes(parse_values, "engine.rpm", f"1000:6000:{MAX_POINTS + 1}")
@@ -230,8 +271,9 @@ def test_a_range_count_beyond_the_limit_is_refused_from_the_count():
 
 def test_the_cli_refuses_a_billion_points_and_writes_nothing(tmp_path, capsys):
     out = tmp_path / "out"
-    code = main(["sweep", str(BASE), "--set", "engine.rpm=1000:6000:1000000000", "-o", str(out),
-                 "-q"])
+    code = main(
+        ["sweep", str(BASE), "--set", "engine.rpm=1000:6000:1000000000", "-o", str(out), "-q"]
+    )
     err = capsys.readouterr().err
     assert code == 2 and not out.exists()
     assert "engine.rpm = '1000000000'" in err and f"at most {MAX_POINTS}" in err
@@ -279,14 +321,16 @@ def test_a_grid_of_too_many_points_is_refused_naming_the_limit(tmp_path, capsys)
     sets = [f"--set=f{k}.x=1,2" for k in range(17)]
     code = main(["sweep", str(BASE), *sets, "-o", str(tmp_path / "out")])
     err = capsys.readouterr().err
-    assert 2 ** 17 > MAX_POINTS and code == 2 and f"more than {MAX_POINTS} points" in err
+    assert 2**17 > MAX_POINTS and code == 2 and f"more than {MAX_POINTS} points" in err
 
 
 def test_a_batch_csv_of_too_many_columns_or_rows_is_refused(tmp_path):
     wide = tmp_path / "wide.csv"
     header = ["variant", *(f"f{k}.x" for k in range(MAX_FIELDS + 1))]
-    wide.write_text(",".join(header) + "\n" + ",".join(["v1"] + ["1"] * (MAX_FIELDS + 1)) + "\n",
-                    encoding="utf-8")
+    wide.write_text(
+        ",".join(header) + "\n" + ",".join(["v1"] + ["1"] * (MAX_FIELDS + 1)) + "\n",
+        encoding="utf-8",
+    )
     with pytest.raises(SceneError, match=f"at most {MAX_FIELDS} scene fields"):
         read_variants(wide)
     long = tmp_path / "long.csv"
@@ -297,13 +341,16 @@ def test_a_batch_csv_of_too_many_columns_or_rows_is_refused(tmp_path):
 
 def test_a_batch_csv_cell_beyond_the_csv_field_limit_is_a_clear_error(tmp_path):
     path = tmp_path / "v.csv"
-    path.write_text("variant,report.student\nv1,\"" + "x" * (csv.field_size_limit() + 1) + "\"\n",
-                    encoding="utf-8")
+    path.write_text(
+        'variant,report.student\nv1,"' + "x" * (csv.field_size_limit() + 1) + '"\n',
+        encoding="utf-8",
+    )
     with pytest.raises(SceneError, match="not a readable CSV file"):
         read_variants(path)
 
 
 # --------------------------------------------------------------------------- the Python API
+
 
 @pytest.mark.parametrize("values", [range(1, 10**9), range(10**30)])
 def test_the_api_refuses_a_huge_range_from_its_length(values):
@@ -344,15 +391,20 @@ def test_the_api_sweep_still_runs_a_small_grid_from_an_iterator():
 
 # --------------------------------------------------------------------------- time limits
 
+
 @pytest.mark.parametrize("command", ["batch", "sweep"])
 @pytest.mark.parametrize("option", ["--timeout", "--connect-timeout"])
 @pytest.mark.parametrize("value", ["inf", "nan", "-1", "0", "1e400", str(int(MAX_TIMEOUT_S) + 1)])
-def test_a_time_limit_out_of_range_is_refused_naming_the_option(tmp_path, capsys, command, option,
-                                                                 value):
+def test_a_time_limit_out_of_range_is_refused_naming_the_option(
+    tmp_path, capsys, command, option, value
+):
     out = tmp_path / "out"
     variants = _variants_csv(tmp_path / "v.csv", ["v1"])
-    head = (["batch", str(variants), "--base", str(BASE)] if command == "batch"
-            else ["sweep", str(BASE), "--set", "engine.rpm=1000:2000:2"])
+    head = (
+        ["batch", str(variants), "--base", str(BASE)]
+        if command == "batch"
+        else ["sweep", str(BASE), "--set", "engine.rpm=1000:2000:2"]
+    )
     code = main([*head, "-o", str(out), f"{option}={value}"])
     err = capsys.readouterr().err
     assert code == 2 and not out.exists()
@@ -369,8 +421,14 @@ def test_the_longest_time_limit_is_accepted():
 def test_the_api_refuses_a_bad_time_limit_before_anything_is_written(tmp_path, timeout):
     out = tmp_path / "out"
     with pytest.raises(UsageError, match="timeout"):
-        run_batch(_variants_csv(tmp_path / "v.csv", ["v1"]), BASE, out, ["json"], progress=False,
-                  timeout=timeout)
+        run_batch(
+            _variants_csv(tmp_path / "v.csv", ["v1"]),
+            BASE,
+            out,
+            ["json"],
+            progress=False,
+            timeout=timeout,
+        )
     assert not out.exists()
 
 

@@ -28,8 +28,15 @@ def _pid_and_value(value):
 
 def _run(items, jobs=1, timeout_s=30.0):
     outcomes = []
-    unfinished = run_all(items, _pid_and_value, lambda item: (item,), jobs, timeout_s, outcomes.append,
-                         lambda item, reason, seconds: ("failed", item, reason))
+    unfinished = run_all(
+        items,
+        _pid_and_value,
+        lambda item: (item,),
+        jobs,
+        timeout_s,
+        outcomes.append,
+        lambda item, reason, seconds: ("failed", item, reason),
+    )
     assert unfinished == []
     return outcomes
 
@@ -63,7 +70,9 @@ def test_a_dead_or_hung_worker_fails_its_item_only():
     assert [o[1] for o in outcomes] == ["a", "die", "b", "hang", "c"]
     assert outcomes[1][0] == "failed" and "exit code 3" in outcomes[1][2]
     assert outcomes[3][0] == "failed" and "stopped after 2 s" in outcomes[3][2]
-    assert len({outcomes[0][0], outcomes[2][0], outcomes[4][0]}) == 3  # a new worker after each lost one
+    assert (
+        len({outcomes[0][0], outcomes[2][0], outcomes[4][0]}) == 3
+    )  # a new worker after each lost one
     assert not _children()
 
 
@@ -82,8 +91,15 @@ def test_an_idle_worker_that_died_is_replaced():
 
     batch_runner._start = start_and_kill_the_idle
     try:
-        run_all(["a", "b"], _pid_and_value, lambda item: (item,), 1, 30.0, outcomes.append,
-                lambda item, reason, seconds: ("failed", item, reason))
+        run_all(
+            ["a", "b"],
+            _pid_and_value,
+            lambda item: (item,),
+            1,
+            30.0,
+            outcomes.append,
+            lambda item, reason, seconds: ("failed", item, reason),
+        )
     finally:
         batch_runner._start = start
     assert [value for _, value in outcomes] == ["a", "b"]
@@ -100,7 +116,9 @@ def test_workers_leave_when_the_batch_process_dies():
     print(worker.pid, flush=True)
     os._exit(0)
     """
-    done = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=60)
+    done = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=60
+    )
     pid = int(done.stdout.split()[0])
     deadline = time.monotonic() + 10
     while time.monotonic() < deadline and os.path.exists(f"/proc/{pid}"):

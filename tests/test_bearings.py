@@ -29,7 +29,13 @@ def test_single_cylinder_pin_diagram_is_t_and_z_plus_c_rod():
     table = result.outputs["bearings"].tables["bearings"]
     # c of the rod's rotating part, computed here from the scene independently of the stages.
     area = np.pi * s.engine.bore**2 / 4
-    c_rod = -s.masses.rod * (1 - s.masses.rod_cm_fraction) * s.engine.crank_radius_m * s.engine.angular_velocity_rad_s**2 / area
+    c_rod = (
+        -s.masses.rod
+        * (1 - s.masses.rod_cm_fraction)
+        * s.engine.crank_radius_m
+        * s.engine.angular_velocity_rad_s**2
+        / area
+    )
     np.testing.assert_allclose(table["pin1_t_Pa"], forces["tangential_Pa"], rtol=0, atol=1e-6)
     np.testing.assert_allclose(table["pin1_z_Pa"], forces["radial_Pa"] + c_rod, rtol=0, atol=1e-6)
 
@@ -45,8 +51,9 @@ def test_single_cylinder_rod_bearing_is_the_rotated_reverse():
     rotated = -(z + 1j * t) * np.exp(-1j * angle)
     np.testing.assert_allclose(table["rod_bearing1_z_Pa"], rotated.real, atol=1e-6)
     np.testing.assert_allclose(table["rod_bearing1_t_Pa"], rotated.imag, atol=1e-6)
-    np.testing.assert_allclose(np.hypot(table["rod_bearing1_t_Pa"], table["rod_bearing1_z_Pa"]), np.hypot(t, z),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        np.hypot(table["rod_bearing1_t_Pa"], table["rod_bearing1_z_Pa"]), np.hypot(t, z), rtol=1e-12
+    )
 
 
 def test_inline4_journal_loads_mirror_symmetric_and_reactions_balance():
@@ -61,14 +68,19 @@ def test_inline4_journal_loads_mirror_symmetric_and_reactions_balance():
     layout = result.outputs["bays"].data["bay_loads"].layout
     theta = np.radians(loads.crank_angle_deg)
     positions = np.array([theta - np.radians(lag) for lag in layout.crank_lag_deg])
-    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa, loads.radial_Pa, loads.centrifugal_Pa, positions)
+    fa, fn = brg.crank_force_engine_frame(
+        loads.tangential_Pa, loads.radial_Pa, loads.centrifugal_Pa, positions
+    )
     ja, jn = brg.journal_loads(fa, fn, np.full(4, 0.5), np.full(4, 0.5))
     np.testing.assert_allclose(ja.sum(axis=0), fa.sum(axis=0), atol=1e-6)
     np.testing.assert_allclose(jn.sum(axis=0), fn.sum(axis=0), atol=1e-6)
     # The stage's main-bearing loads are these journal loads in engine axes.
     table = result.outputs["bearings"].tables["bearings"]
-    np.testing.assert_allclose(np.hypot(table["main_bearing2_t_Pa"], table["main_bearing2_z_Pa"]), np.hypot(ja[2], jn[2]),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        np.hypot(table["main_bearing2_t_Pa"], table["main_bearing2_z_Pa"]),
+        np.hypot(ja[2], jn[2]),
+        rtol=1e-12,
+    )
 
 
 def test_journal_loads_match_textbook_equations_50_to_53():
@@ -111,8 +123,14 @@ def test_wear_diagram_counts_each_load_over_its_spread():
     # weights whose contact is within 60 deg.
     angles = np.radians([0.5, 90.5, 200.5])
     psi, wear = brg.wear_diagram(np.sin(angles), np.cos(angles), [1.0, 2.0, 4.0])
-    expected = [sum(w for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0), strict=True)
-                    if abs((p - a + 180.0) % 360.0 - 180.0) <= 60.0) for p in psi]
+    expected = [
+        sum(
+            w
+            for a, w in zip((0.5, 90.5, 200.5), (1.0, 2.0, 4.0), strict=True)
+            if abs((p - a + 180.0) % 360.0 - 180.0) <= 60.0
+        )
+        for p in psi
+    ]
     np.testing.assert_allclose(wear, expected)
 
 
@@ -123,7 +141,9 @@ def test_wear_diagram_equals_its_definition_on_and_off_the_surface_grid(spread, 
     # included), next to 0/360 (runs that wrap) and a spread narrower than the grid (loads that
     # cover no point); where nothing presses the wear is exactly 0.
     rng = np.random.default_rng(7)
-    degrees = np.concatenate([rng.uniform(0, 360, 300), np.arange(0.0, 360.0, 7.0), [0.0, 359.9999999, 1e-9, 300.0]])
+    degrees = np.concatenate(
+        [rng.uniform(0, 360, 300), np.arange(0.0, 360.0, 7.0), [0.0, 359.9999999, 1e-9, 300.0]]
+    )
     weight = rng.uniform(0.5, 3.0, degrees.size)
     a = np.radians(degrees)
     psi, wear = brg.wear_diagram(weight * np.sin(a), weight * np.cos(a), weight, spread, resolution)
@@ -145,21 +165,31 @@ def test_results_keys_per_pin_and_journal():
 def test_main_journals_are_named_by_the_cranks_they_lie_between_each_name_once():
     """0 is the free end, the number after the last crank the other end: a single-throw shaft has
     journals 0-1 and 1-2 ("1-0" would read as 0-1 written backwards)."""
-    assert [j["journal"] for j in run("petrol-1cyl").outputs["bearings"].results["main_journals"]] == ["0-1", "1-2"]
+    assert [
+        j["journal"] for j in run("petrol-1cyl").outputs["bearings"].results["main_journals"]
+    ] == ["0-1", "1-2"]
     v8 = run("v8-petrol").outputs
-    assert [j["journal"] for j in v8["bearings"].results["main_journals"]] == ["0-1", "1-2", "2-3", "3-4", "4-5"]
+    assert [j["journal"] for j in v8["bearings"].results["main_journals"]] == [
+        "0-1",
+        "1-2",
+        "2-3",
+        "3-4",
+        "4-5",
+    ]
     assert [j["journal"] for j in v8["torque"].results["journals"]] == ["1-2", "2-3", "3-4", "4-5"]
 
 
 @pytest.mark.parametrize("language", ["en", "uk"])
 def test_bearing_section_renders(language):
-    html = shared_html("inline4-petrol", language=language).html  # shared with other test files (read only)
+    html = shared_html(
+        "inline4-petrol", language=language
+    ).html  # shared with other test files (read only)
     assert 'data-stage="bearings"' in html
     assert html.count("data:image/svg+xml") >= 10
     # a journal's name "2–3": an en dash between the cranks' numbers ("0-1" beside the pins' "1–4"
     # would read as two conventions; the pins' range is "1…4"); the results keep "0-1"
-    section = html[html.index('data-stage="bearings"'):]
-    section = section[:section.index("</section>")]
+    section = html[html.index('data-stage="bearings"') :]
+    section = section[: section.index("</section>")]
     text = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
     assert "2\u20133" in text and not re.search(r"\b\d-\d\b", text)
 
@@ -188,7 +218,7 @@ def test_load_diagram_labels_move_to_a_free_corner():
 
 
 def test_load_diagram_labels_side_by_side_keep_a_gap():
-    """"210, 570" ending 1 pt before "30" would read as "210, 57030": the second label moves."""
+    """ "210, 570" ending 1 pt before "30" would read as "210, 57030": the second label moves."""
     from crankdyn_builtin.bearings.labels import _label_places
 
     width = len("210, 570") * 3.8
@@ -232,17 +262,24 @@ def test_load_diagram_label_is_nearer_its_own_point_than_any_other():
         y0 = points[i][1] + dy - (height if va == "top" else 0.0)
 
         def distance(p):
-            return math.hypot(max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height))  # noqa: B023 - called within this iteration
+            return math.hypot(
+                max(x0 - p[0], 0.0, p[0] - x0 - width), max(y0 - p[1], 0.0, p[1] - y0 - height)
+            )  # noqa: B023 - called within this iteration
 
-        assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), texts[i]
+        assert all(distance(points[i]) < distance(q) for j, q in enumerate(points) if j != i), (
+            texts[i]
+        )
     assert placed >= 10  # the rule leaves most labels a place
+
 
 def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
     """No "90, 330, 660" printed over the oil hole's line, no "180" over the pole's O:
     a label's box meets none of the obstacles (pole, letter O, points along the line)."""
     from crankdyn_builtin.bearings.labels import _label_places, _pole_and_oil_hole
 
-    obstacles = _pole_and_oil_hole(pole_z=0.0, radius=20.0, oil_deg=0.0, per_pt=1.0)  # the line runs up to z = 20
+    obstacles = _pole_and_oil_hole(
+        pole_z=0.0, radius=20.0, oil_deg=0.0, per_pt=1.0
+    )  # the line runs up to z = 20
     # screen y is −z: the line occupies y in [−20, 0] at x = 0
     points = [(0.0, -20.0), (0.0, 0.0), (-3.0, -10.0)]
     places = _label_places(points, ["90, 330, 660", "180", "540"], per_pt=1.0, obstacles=obstacles)
@@ -254,8 +291,9 @@ def test_load_diagram_labels_keep_clear_of_the_pole_and_the_oil_hole():
         x0 = x + dx - (width if ha == "right" else 0.0)
         y0 = y + dy - (height if va == "top" else 0.0)
         for box in obstacles:
-            assert min(x0 + width, box[2]) <= max(x0, box[0]) or min(y0 + height, box[3]) <= max(y0, box[1]), \
-                (text, place, box)
+            assert min(x0 + width, box[2]) <= max(x0, box[0]) or min(y0 + height, box[3]) <= max(
+                y0, box[1]
+            ), (text, place, box)
     # without the obstacles the first choice, up and right, would have been taken
     assert _label_places(points[1:2], ["180"], per_pt=1.0) == [(2, 2, "left", "bottom")]
     assert places[1] != (2, 2, "left", "bottom")
@@ -271,11 +309,19 @@ def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
 
     angle = np.radians(np.arange(0.0, 360.0, 1.0))
     circle = _curve_samples(50 * np.cos(angle), 50 * np.sin(angle), 1.0)
-    assert np.max(np.abs(np.hypot(*circle) - 50.0)) < 0.1 and np.max(np.hypot(*np.diff(circle, axis=1))) <= 1.0
+    assert (
+        np.max(np.abs(np.hypot(*circle) - 50.0)) < 0.1
+        and np.max(np.hypot(*np.diff(circle, axis=1))) <= 1.0
+    )
     # the circle's left and right edges: the labels outside it, left and right
     places = _label_places([(-50.0, 0.0), (50.0, 0.0)], ["210", "30"], per_pt=1.0, curve=circle)
     assert places[0][2] == "right" and places[1][2] == "left"
-    assert _label_places([(-50.0, 0.0)], ["210"], per_pt=1.0)[0] == (2, 2, "left", "bottom")  # inside, without it
+    assert _label_places([(-50.0, 0.0)], ["210"], per_pt=1.0)[0] == (
+        2,
+        2,
+        "left",
+        "bottom",
+    )  # inside, without it
 
     # a straight line through the point, up and right: the first corner would sit on it
     line = _curve_samples(np.linspace(-30, 30, 61), np.linspace(-30, 30, 61), 1.0)
@@ -283,7 +329,9 @@ def test_load_diagram_labels_keep_off_the_curve_and_face_outwards():
     width, height = len("90, 450") * 0.64 * 7.0, 1.17 * 7.0
     x0 = place[0] - (width if place[2] == "right" else 0.0)
     y0 = place[1] - (height if place[3] == "top" else 0.0)
-    assert not np.any((line[0] > x0) & (line[0] < x0 + width) & (line[1] > y0) & (line[1] < y0 + height)), place
+    assert not np.any(
+        (line[0] > x0) & (line[0] < x0 + width) & (line[1] > y0) & (line[1] < y0 + height)
+    ), place
     assert _label_places([(0.0, 0.0)], ["90, 450"], per_pt=1.0)[0] == (2, 2, "left", "bottom")
 
 
@@ -293,8 +341,11 @@ def test_counterweight_loads_in_crank_axes():
     from crankdyn.plugin.contracts import Counterweights
     from crankdyn_builtin.bearings.compute import _counterweight_loads_Pa as counterweight_loads_Pa
 
-    fitted = Counterweights(crank=np.array([0, 1, 1]), centrifugal_N=np.array([2.0, 3.0, 1.0]),
-                            angle_from_crank_rad=np.radians([180.0, 90.0, 0.0]))
+    fitted = Counterweights(
+        crank=np.array([0, 1, 1]),
+        centrifugal_N=np.array([2.0, 3.0, 1.0]),
+        angle_from_crank_rad=np.radians([180.0, 90.0, 0.0]),
+    )
     t, z = counterweight_loads_Pa(fitted, 3, area_m2=0.5)
     np.testing.assert_allclose(t, [0.0, 6.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(z, [4.0, -2.0, 0.0], atol=1e-12)
@@ -315,13 +366,22 @@ def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
     without = run_scene(scene, REGISTRY, names)
     f = with_cw.outputs["forces"].results
     e = scene.engine
-    q_Pa = (f["rotating_mass_kg"] + 0.5 * f["reciprocating_mass_kg"]) * e.crank_radius_m * e.angular_velocity_rad_s ** 2 \
+    q_Pa = (
+        (f["rotating_mass_kg"] + 0.5 * f["reciprocating_mass_kg"])
+        * e.crank_radius_m
+        * e.angular_velocity_rad_s**2
         / f["piston_area_m2"]
-    a, b = with_cw.outputs["bearings"].tables["bearings"], without.outputs["bearings"].tables["bearings"]
+    )
+    a, b = (
+        with_cw.outputs["bearings"].tables["bearings"],
+        without.outputs["bearings"].tables["bearings"],
+    )
     assert with_cw.outputs["bearings"].results["with_counterweights"]
     assert not without.outputs["bearings"].results["with_counterweights"]
     for j in (0, 1):
-        np.testing.assert_allclose(a[f"journal{j}_z_Pa"] - b[f"journal{j}_z_Pa"], -0.5 * q_Pa, rtol=1e-9)
+        np.testing.assert_allclose(
+            a[f"journal{j}_z_Pa"] - b[f"journal{j}_z_Pa"], -0.5 * q_Pa, rtol=1e-9
+        )
         np.testing.assert_allclose(a[f"journal{j}_t_Pa"], b[f"journal{j}_t_Pa"], atol=1e-6 * q_Pa)
     np.testing.assert_allclose(a["pin1_z_Pa"], b["pin1_z_Pa"], rtol=1e-12)
 
@@ -329,7 +389,14 @@ def test_main_journals_carry_half_the_counterweight_of_a_single_crank():
 def test_polar_summary_range_and_the_angles_of_its_extremes():
     """|(t, z)| = 5, 1, 2, 5 (3-4-5 triangles): the largest at the first of its equal samples."""
     t, z = np.array([3.0, 1.0, 2.0, 4.0]), np.array([4.0, 0.0, 0.0, 3.0])
-    s = brg.polar_summary(t, z, piston_area_m2=2.0, diameter_m=0.5, width_m=0.1, crank_angle_deg=[0.0, 90.0, 180.0, 270.0])
+    s = brg.polar_summary(
+        t,
+        z,
+        piston_area_m2=2.0,
+        diameter_m=0.5,
+        width_m=0.1,
+        crank_angle_deg=[0.0, 90.0, 180.0, 270.0],
+    )
     assert (s["max_N"], s["min_N"], s["mean_N"]) == (10.0, 2.0, pytest.approx(6.5))
     assert (s["max_crank_angle_deg"], s["min_crank_angle_deg"]) == (0.0, 90.0)
     assert s["max_MPa"] == pytest.approx(10.0 / 0.05 / 1e6)
@@ -342,7 +409,9 @@ def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_say
     # (the journal after crank i, before crank i+1), not the primes the other way round.
     l, l_prime = 1.0, 0.3
     force = np.array([[2.0, -1.0]])  # one crank, two angles
-    before, after = brg.journal_loads(force, 3 * force, np.array([(l - l_prime) / l]), np.array([l_prime / l]))
+    before, after = brg.journal_loads(
+        force, 3 * force, np.array([(l - l_prime) / l]), np.array([l_prime / l])
+    )
     np.testing.assert_allclose(before[0], (l - l_prime) / l * force[0])
     np.testing.assert_allclose(before[1], l_prime / l * force[0])
     np.testing.assert_allclose(after[1], l_prime / l * 3 * force[0])
@@ -350,15 +419,23 @@ def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_say
 
     with open(f"{plugin.__path__[0]}/templates/sections/bearings.html.j2", encoding="utf-8") as fh:
         text = fh.read()
-    assert ("(<i>l</i>′<sub><i>i</i></sub>/<i>l</i><sub><i>i</i></sub>) <b><i>F</i></b><sub><i>i</i></sub> + "
-            "(<i>l</i>″<sub><i>i</i>+1</sub>/<i>l</i><sub><i>i</i>+1</sub>)") in text
+    assert (
+        "(<i>l</i>′<sub><i>i</i></sub>/<i>l</i><sub><i>i</i></sub>) <b><i>F</i></b><sub><i>i</i></sub> + "
+        "(<i>l</i>″<sub><i>i</i>+1</sub>/<i>l</i><sub><i>i</i>+1</sub>)"
+    ) in text
 
 
 def test_pins_that_print_alike_take_one_row():
     """Table 9.1 of the in-line four does not repeat one row four times."""
     from crankdyn_builtin.bearings.worked import pin_rows as _pin_rows
 
-    pin = {"max_N": 16370.0, "mean_N": 9890.0, "max_MPa": 10.22, "mean_MPa": 6.17, "oil_hole_deg": 175.0}
+    pin = {
+        "max_N": 16370.0,
+        "mean_N": 9890.0,
+        "max_MPa": 10.22,
+        "mean_MPa": 6.17,
+        "oil_hole_deg": 175.0,
+    }
     same = [dict(pin, crank=k) for k in range(1, 5)]
     assert _pin_rows(same) == (same[:1], ["1…4"])
     other = same[:3] + [dict(pin, crank=4, max_N=17000.0)]
@@ -375,11 +452,19 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     from crankdyn_builtin.bearings.figures import HALF_WIDTH_CM, _polar_size
 
     html = shared_html("petrol-1cyl-uk").linked_html
-    rows = re.findall(r'<div class="figure-row-block"><p class="see">([^<]*)</p><div class="figure-row">(.*?)</div></div></div>',
-                      html, flags=re.S)
-    assert len(rows) == 2 and all(row.count("<figure ") == 2 and "class=\"see\"" not in row for _, row in rows), len(rows)
+    rows = re.findall(
+        r'<div class="figure-row-block"><p class="see">([^<]*)</p><div class="figure-row">(.*?)</div></div></div>',
+        html,
+        flags=re.S,
+    )
+    assert len(rows) == 2 and all(
+        row.count("<figure ") == 2 and 'class="see"' not in row for _, row in rows
+    ), len(rows)
     # announced together above the row, each figure by its number, before the row
-    assert all(all(f"рис.\u00a0{n}" in sentences for n in re.findall(r'data-number="([^"]+)"', row)) for sentences, row in rows)
+    assert all(
+        all(f"рис.\u00a0{n}" in sentences for n in re.findall(r'data-number="([^"]+)"', row))
+        for sentences, row in rows
+    )
     assert "рис.\u00a07.1" in html and "рис.\u00a07.2" in html
     # a tall diagram is only as wide as its plot needs; a round one keeps its 12 cm and stands alone
     t = np.cos(np.linspace(0, 2 * np.pi, 73))
@@ -401,5 +486,7 @@ def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():
     ax = fig.axes[0]
     names = {text.get_text(): text.get_position() for text in ax.texts}
     assert names["$z$"][0] == 0.0 and abs(names["$t$"][0] - np.pi / 2) < 1e-12
-    assert all(radius < 0.4 for _, radius in names.values())  # clear of the wear, laid from 0.4 inwards at most
+    assert all(
+        radius < 0.4 for _, radius in names.values()
+    )  # clear of the wear, laid from 0.4 inwards at most
     assert sum(1 for child in ax.get_children() if type(child).__name__ == "Annotation") == 2

@@ -15,13 +15,18 @@ DOCUMENT = """<html><head><title>p_z = 5 МПа</title><style>p { x: 1 }</style>
 
 
 def test_section_by_section_equals_the_whole_document_pass():
-    for transform, whole, args in ((document._typeset_part, typeset_html, ("uk", UNITS, ",")),
-                                   (document._unbreakable_part, unbreakable_html, ())):
+    for transform, whole, args in (
+        (document._typeset_part, typeset_html, ("uk", UNITS, ",")),
+        (document._unbreakable_part, unbreakable_html, ()),
+    ):
         expected = whole(DOCUMENT, *((args[0], list(args[1]), args[2]) if args else ()))
         assert document.by_sections(transform, DOCUMENT, *args) == expected
         # split where no script is open: the same text as the whole pass
-        plain = DOCUMENT.replace('<script>var a = "x = 1";\n<section class="fake">inside a script: not a place to '
-                                 'split</script>', "")
+        plain = DOCUMENT.replace(
+            '<script>var a = "x = 1";\n<section class="fake">inside a script: not a place to '
+            "split</script>",
+            "",
+        )
         expected = whole(plain, *((args[0], list(args[1]), args[2]) if args else ()))
         assert document.by_sections(transform, plain, *args) == expected
 
@@ -34,12 +39,16 @@ def test_a_document_with_a_section_start_inside_a_script_is_not_split():
     def transform(html):
         calls.append(html)
         return html
+
     assert document.by_sections(transform, DOCUMENT) == DOCUMENT and calls == [DOCUMENT]
 
 
 def test_sections_met_before_are_taken_from_the_cache():
-    plain = DOCUMENT.replace('<script>var a = "x = 1";\n<section class="fake">inside a script: not a place to split'
-                             '</script>', "")
+    plain = DOCUMENT.replace(
+        '<script>var a = "x = 1";\n<section class="fake">inside a script: not a place to split'
+        "</script>",
+        "",
+    )
     document._typeset_part.cache_clear()
     document.by_sections(document._typeset_part, plain, "uk", UNITS, ",")
     first = document._typeset_part.cache_info()

@@ -36,15 +36,19 @@ def test_a_rod_mass_change_does_not_recompute_the_indicator_diagram():
     a, b = (json.loads(json_bytes(results_document(r))) for r in (result, fresh))
     a.pop("timing_s"), b.pop("timing_s")
     assert a == b
-    assert result.outputs["forces"].results != cache.run_plan(first, plan(first, REGISTRY, STAGES)).outputs[
-        "forces"].results  # and back: the forces follow the rod mass
+    assert (
+        result.outputs["forces"].results
+        != cache.run_plan(first, plan(first, REGISTRY, STAGES)).outputs["forces"].results
+    )  # and back: the forces follow the rod mass
 
 
 def test_a_cycle_change_reruns_the_indicator():
     cache = StageCache()
     scene = _scene()
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
-    changed = load_scene(examples_dir() / "petrol-1cyl.toml", {"cycle": {"max_pressure": "5.5 MPa"}})
+    changed = load_scene(
+        examples_dir() / "petrol-1cyl.toml", {"cycle": {"max_pressure": "5.5 MPa"}}
+    )
     cache.run_plan(changed, plan(changed, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1
 
@@ -89,7 +93,10 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
     cache = StageCache()
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     trace = (tmp_path / "diesel6-1600rpm.ind").resolve()
-    assert any(read.startswith(FILE) and read.endswith(f":{trace}") for read in cache._entries["indicator"].reads)
+    assert any(
+        read.startswith(FILE) and read.endswith(f":{trace}")
+        for read in cache._entries["indicator"].reads
+    )
     assert not any(read.startswith(FILE) for read in cache._entries["kinematics"].reads)
     cache.run_plan(scene, plan(scene, REGISTRY, STAGES))
     assert cache.runs["indicator"] == 1  # the same bytes: kept
@@ -98,7 +105,9 @@ def test_a_data_file_the_stage_opened_is_a_read_keyed_by_its_contents(tmp_path):
     assert cache.runs["indicator"] == 2 and cache.runs["kinematics"] == 1
 
 
-def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_read(tmp_path, monkeypatch):
+def test_a_data_file_saved_while_its_stage_runs_is_not_taken_for_what_the_stage_read(
+    tmp_path, monkeypatch
+):
     """The preview's user saves a new trace while the indicator is computed from the old one: the
     entry keeps the digest of the bytes the stage opened, so the next run computes the new ones
     (a digest taken after the run would miss an edit made while the stage ran)."""

@@ -17,7 +17,9 @@ def test_an_edited_catalog_is_read_again_and_an_unchanged_one_is_not(tmp_path):
     assert _parsed_catalog.cache_info().hits == before.hits + 1
     path.write_text('[demo]\ntitle = "Другий, довший"\n', encoding="utf-8")
     stat = path.stat()
-    os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1_000_000))  # a new version even on a coarse clock
+    os.utime(
+        path, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1_000_000)
+    )  # a new version even on a coarse clock
     assert load_catalog_file(path) == {"demo.title": "Другий, довший"}
 
 

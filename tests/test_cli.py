@@ -9,7 +9,13 @@ from conftest import run_cli
 
 from crankdyn.cli import main
 
-EXPECTED_EXAMPLES = {"petrol-1cyl", "diesel-1cyl", "diesel-rk-trace", "two-stroke-1cyl", "kinematics-only"}
+EXPECTED_EXAMPLES = {
+    "petrol-1cyl",
+    "diesel-1cyl",
+    "diesel-rk-trace",
+    "two-stroke-1cyl",
+    "kinematics-only",
+}
 
 
 def test_example_list(capsys):
@@ -24,11 +30,25 @@ def test_example_written_with_its_data_file_and_runs(tmp_path, capsys):
     assert tomllib.loads(target.read_text(encoding="utf-8"))["engine"]["bore"] == "83 mm"
     assert (tmp_path / "diesel6-1600rpm.ind").is_file()
     assert main(["check", str(target)]) == 0
-    assert "stages: kinematics, drawing, indicator, forces, bays, torque, balancing, bearings" in capsys.readouterr().out
-    assert main(["report", str(target), "-o", str(tmp_path / "out"), "--format", "json,csv", "-q"]) == 0
+    assert (
+        "stages: kinematics, drawing, indicator, forces, bays, torque, balancing, bearings"
+        in capsys.readouterr().out
+    )
+    assert (
+        main(["report", str(target), "-o", str(tmp_path / "out"), "--format", "json,csv", "-q"])
+        == 0
+    )
     assert sorted(p.name for p in (tmp_path / "out" / "tables").iterdir()) == [
-        "balancing.csv", "bearings.csv", "bearings_wear.csv", "forces.csv", "indicator.csv", "kinematics.csv",
-        "numerics_kinematics_forms.csv", "numerics_steps.csv", "torque.csv"]
+        "balancing.csv",
+        "bearings.csv",
+        "bearings_wear.csv",
+        "forces.csv",
+        "indicator.csv",
+        "kinematics.csv",
+        "numerics_kinematics_forms.csv",
+        "numerics_steps.csv",
+        "torque.csv",
+    ]
 
 
 def test_an_example_reuses_an_identical_data_file_and_keeps_a_different_one(tmp_path, capsys):
@@ -50,7 +70,21 @@ def test_unknown_example(capsys):
 def test_stages_option_runs_prerequisites(tmp_path, capsys):
     target = tmp_path / "p.toml"
     assert main(["example", "petrol-1cyl", "-o", str(target)]) == 0
-    assert main(["report", str(target), "-o", str(tmp_path / "o"), "--format", "json", "--stages", "indicator"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(target),
+                "-o",
+                str(tmp_path / "o"),
+                "--format",
+                "json",
+                "--stages",
+                "indicator",
+            ]
+        )
+        == 0
+    )
     import json
 
     doc = json.loads((tmp_path / "o" / "results.json").read_text())
@@ -75,7 +109,9 @@ def test_the_command_tunes_the_collector_and_main_alone_does_not(monkeypatch, ca
     from crankdyn import cli
 
     calls = []
-    monkeypatch.setattr(cli.gc, "set_threshold", lambda *limits: calls.append(("threshold", limits)))
+    monkeypatch.setattr(
+        cli.gc, "set_threshold", lambda *limits: calls.append(("threshold", limits))
+    )
     monkeypatch.setattr(cli.gc, "freeze", lambda: calls.append(("freeze",)))
     assert main(["example", "--list"]) == 0
     assert calls == []
@@ -101,14 +137,17 @@ def _the_command_sets(name: str, users_value: str | None) -> str:
     import subprocess
     import sys
 
-    probe = ("import os, sys; sys.argv = ['crankdyn', 'example', '--list'];"
-             "import crankdyn.cli as c; assert 'numpy' not in sys.modules, 'numpy imported before run()';"
-             f"c.main = lambda: print(os.environ.get({name!r})) or 0; c.run()")
+    probe = (
+        "import os, sys; sys.argv = ['crankdyn', 'example', '--list'];"
+        "import crankdyn.cli as c; assert 'numpy' not in sys.modules, 'numpy imported before run()';"
+        f"c.main = lambda: print(os.environ.get({name!r})) or 0; c.run()"
+    )
     env = {k: v for k, v in os.environ.items() if k != name}
     if users_value is not None:
         env[name] = users_value
-    return subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
-                          check=True).stdout.strip()
+    return subprocess.run(
+        [sys.executable, "-c", probe], env=env, capture_output=True, text=True, check=True
+    ).stdout.strip()
 
 
 def test_the_command_documents_matplotlib_artists_briefly_unless_the_user_chose():
@@ -125,16 +164,20 @@ def test_the_command_documents_matplotlib_artists_briefly_unless_the_user_chose(
     assert _the_command_sets(cli.ARTIST_DOCSTRINGS_ENV, None) == "brief"
     assert _the_command_sets(cli.ARTIST_DOCSTRINGS_ENV, "full") == "full"
     env = {k: v for k, v in os.environ.items() if k != cli.ARTIST_DOCSTRINGS_ENV}
-    docs = ("import matplotlib.artist as a; from crankdyn.report.figures import import_matplotlib\n"
-            "full = a.kwdoc; import_matplotlib(); import matplotlib.lines as l\n"
-            "class Mine(l.Line2D): pass\n"
-            "print(a.kwdoc is full, 'markerfacecolor' in l.Line2D.set.__doc__, 'markerfacecolor' in Mine.set.__doc__)")
+    docs = (
+        "import matplotlib.artist as a; from crankdyn.report.figures import import_matplotlib\n"
+        "full = a.kwdoc; import_matplotlib(); import matplotlib.lines as l\n"
+        "class Mine(l.Line2D): pass\n"
+        "print(a.kwdoc is full, 'markerfacecolor' in l.Line2D.set.__doc__, 'markerfacecolor' in Mine.set.__doc__)"
+    )
     for value, listed in (("brief", "False"), ("full", "True"), (None, "True")):
         if value is not None:
             env[cli.ARTIST_DOCSTRINGS_ENV] = value
         else:
             env.pop(cli.ARTIST_DOCSTRINGS_ENV, None)
-        out = subprocess.run([sys.executable, "-c", docs], env=env, capture_output=True, text=True, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", docs], env=env, capture_output=True, text=True, check=True
+        )
         assert out.stdout.split() == ["True", listed, "True"], (value, out.stdout)
 
 
@@ -155,8 +198,13 @@ def test_output_piped_into_a_reader_that_stops_early_is_not_an_error():
     read_end, write_end = os.pipe()
     os.close(read_end)
     try:
-        done = subprocess.run([sys.executable, "-m", "crankdyn", "plugins"], stdout=write_end,
-                              stderr=subprocess.PIPE, text=True, timeout=120)
+        done = subprocess.run(
+            [sys.executable, "-m", "crankdyn", "plugins"],
+            stdout=write_end,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+        )
     finally:
         os.close(write_end)
     assert done.returncode == 0, done.stderr

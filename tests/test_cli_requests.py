@@ -26,9 +26,28 @@ def test_example_with_a_data_file_checks_that_file_too(tmp_path, capsys):
 def test_unknown_example_and_format_list_the_allowed_names(tmp_path, capsys):
     assert main(["example", "steam-engine"]) == 2
     err = capsys.readouterr().err
-    assert "unknown example 'steam-engine'" in err and "petrol-1cyl" in err and "invalid scene" not in err
-    assert main(["report", str(examples_dir() / "kinematics-only.toml"), "-o", str(tmp_path / "o"),
-                 "--format", "html,odt"]) == 2
+    assert (
+        "unknown example 'steam-engine'" in err
+        and "petrol-1cyl" in err
+        and "invalid scene" not in err
+    )
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "kinematics-only.toml"),
+                "-o",
+                str(tmp_path / "o"),
+                "--format",
+                "html,odt",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
-    assert "unknown --format odt" in err and "html,pdf,json,csv,xlsx" in err and "invalid scene" not in err
+    assert (
+        "unknown --format odt" in err
+        and "html,pdf,json,csv,xlsx" in err
+        and "invalid scene" not in err
+    )
     assert not (tmp_path / "o").exists()

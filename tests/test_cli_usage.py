@@ -24,6 +24,7 @@ def _help_text(capsys, *command: str) -> str:
 
 # --------------------------------------------------------------------------- what a success prints
 
+
 def test_a_report_lists_the_stages_left_out_only_when_verbose(tmp_path, capsys):
     scene = str(examples_dir() / "petrol-1cyl.toml")
     request = ["report", scene, "--format", "json", "--stages", "kinematics"]
@@ -47,6 +48,7 @@ def test_quiet_wins_over_verbose(tmp_path, capsys):
 
 
 # --------------------------------------------------------------------------- help
+
 
 @pytest.mark.parametrize("command", COMMANDS)
 def test_every_command_has_help_with_examples_that_the_command_line_accepts(command, capsys):
@@ -85,16 +87,30 @@ def test_report_help_lists_every_format_and_language(capsys):
 
 # --------------------------------------------------------------------------- --lang
 
+
 @pytest.mark.parametrize("given, code", [("UK", "uk"), ("En", "en"), (" ru ", "ru")])
 def test_lang_is_read_in_any_case(given, code):
     assert cli.report_language(given) == code
 
 
-@pytest.mark.parametrize("given, meant", [
-    ("ua", "uk"), ("UA", "uk"), ("ukr", "uk"), ("Ukrainian", "uk"), ("uk-UA", "uk"),
-    ("rus", "ru"), ("Russian", "ru"), ("ru_RU", "ru"),
-    ("eng", "en"), ("English", "en"), ("en-GB", "en"), ("en_US", "en"), ("enn", "en"),
-])
+@pytest.mark.parametrize(
+    "given, meant",
+    [
+        ("ua", "uk"),
+        ("UA", "uk"),
+        ("ukr", "uk"),
+        ("Ukrainian", "uk"),
+        ("uk-UA", "uk"),
+        ("rus", "ru"),
+        ("Russian", "ru"),
+        ("ru_RU", "ru"),
+        ("eng", "en"),
+        ("English", "en"),
+        ("en-GB", "en"),
+        ("en_US", "en"),
+        ("enn", "en"),
+    ],
+)
 def test_a_language_name_users_often_type_gets_the_code_it_means(given, meant):
     with pytest.raises(cli.UsageError) as refused:
         cli.report_language(given)
@@ -110,13 +126,19 @@ def test_a_language_nothing_resembles_gets_the_list_alone():
     assert "did you mean" not in message and "available: en, ru, uk" in message
 
 
-@pytest.mark.parametrize("command", [
-    ["report", "SCENE"], ["check", "SCENE"], ["serve", "SCENE"],
-    ["batch", "variants.csv", "--base", "SCENE"],
-    ["sweep", "SCENE", "--set", "engine.rpm=1000,2000"],
-])
-def test_a_wrong_lang_is_named_as_the_option_in_every_command(command, tmp_path, capsys,
-                                                               monkeypatch):
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["report", "SCENE"],
+        ["check", "SCENE"],
+        ["serve", "SCENE"],
+        ["batch", "variants.csv", "--base", "SCENE"],
+        ["sweep", "SCENE", "--set", "engine.rpm=1000,2000"],
+    ],
+)
+def test_a_wrong_lang_is_named_as_the_option_in_every_command(
+    command, tmp_path, capsys, monkeypatch
+):
     monkeypatch.chdir(tmp_path)
     words = [str(examples_dir() / "petrol-1cyl.toml") if w == "SCENE" else w for w in command]
     assert main([*words, "--lang", "ua"]) == 2
@@ -137,13 +159,16 @@ def test_check_takes_lang(capsys):
 
 # --------------------------------------------------------------------------- sweep problems
 
+
 def test_a_sweep_reports_a_problem_shared_by_every_value_once(tmp_path, capsys):
     scene = str(examples_dir() / "petrol-1cyl.toml")
     assert main(["sweep", scene, "--set", "engine.bore=76:88:4", "-o", str(tmp_path / "s")]) == 2
     err = capsys.readouterr().err
     lines = [line for line in err.splitlines() if "engine.bore" in line]
-    assert lines == ["  - engine.bore = 76, 80, 84, 88: a bare number has no unit; write the "
-                     "length with its unit, e.g. '82 mm'"]
+    assert lines == [
+        "  - engine.bore = 76, 80, 84, 88: a bare number has no unit; write the "
+        "length with its unit, e.g. '82 mm'"
+    ]
     assert "1 problem(s)" in err
     assert not (tmp_path / "s").exists()
 
@@ -158,14 +183,18 @@ def test_a_sweep_value_with_a_problem_of_its_own_is_named_alone(tmp_path, capsys
 
 # ------------------------------------------------------------------ programs a format needs
 
+
 @pytest.fixture
 def no_pandoc(monkeypatch):
     """A machine without pandoc: none on PATH and no pypandoc wheel."""
     from crankdyn.report import docx
 
     real = docx.shutil.which
-    monkeypatch.setattr(docx.shutil, "which",
-                        lambda name, *a, **k: None if name == "pandoc" else real(name, *a, **k))
+    monkeypatch.setattr(
+        docx.shutil,
+        "which",
+        lambda name, *a, **k: None if name == "pandoc" else real(name, *a, **k),
+    )
     monkeypatch.setitem(sys.modules, "pypandoc", None)
 
 
@@ -173,11 +202,13 @@ def _never_called(calls: list):
     def record(*args, **kwargs):
         calls.append(args)
         raise AssertionError("computed although a program the format needs is missing")
+
     return record
 
 
-def test_a_word_report_without_pandoc_stops_before_computing(no_pandoc, tmp_path, capsys,
-                                                             monkeypatch):
+def test_a_word_report_without_pandoc_stops_before_computing(
+    no_pandoc, tmp_path, capsys, monkeypatch
+):
     import crankdyn.output.pipeline
 
     calls: list = []
@@ -190,12 +221,16 @@ def test_a_word_report_without_pandoc_stops_before_computing(no_pandoc, tmp_path
     assert calls == [] and not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("command, runner", [
-    (["batch", "variants.csv", "--base", "SCENE"], "crankdyn.batch.variants.run_batch"),
-    (["sweep", "SCENE", "--set", "engine.rpm=1000,2000"], "crankdyn.batch.sweep.run_sweep"),
-])
+@pytest.mark.parametrize(
+    "command, runner",
+    [
+        (["batch", "variants.csv", "--base", "SCENE"], "crankdyn.batch.variants.run_batch"),
+        (["sweep", "SCENE", "--set", "engine.rpm=1000,2000"], "crankdyn.batch.sweep.run_sweep"),
+    ],
+)
 def test_a_batch_or_sweep_of_word_files_without_pandoc_stops_before_running(
-        command, runner, no_pandoc, tmp_path, capsys, monkeypatch):
+    command, runner, no_pandoc, tmp_path, capsys, monkeypatch
+):
     calls: list = []
     monkeypatch.setattr(runner, _never_called(calls))
     words = [str(examples_dir() / "petrol-1cyl.toml") if w == "SCENE" else w for w in command]

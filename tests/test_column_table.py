@@ -21,7 +21,9 @@ COLUMNS = {"crank_angle_deg": np.arange(0.0, 360.0, 30.0), "torque_Nm": np.linsp
 ROWS = [{"step_deg": 1.0, "error": 0.1}, {"step_deg": 0.5, "error": 0.02, "note": 3.0}]
 
 
-@pytest.mark.parametrize("stored", [COLUMNS, ROWS, pd.DataFrame(COLUMNS)], ids=["columns", "rows", "frame"])
+@pytest.mark.parametrize(
+    "stored", [COLUMNS, ROWS, pd.DataFrame(COLUMNS)], ids=["columns", "rows", "frame"]
+)
 def test_arrays_hold_what_the_dataframe_holds(stored):
     tables = Tables(t=stored)
     arrays = tables.arrays("t")
@@ -33,8 +35,9 @@ def test_arrays_hold_what_the_dataframe_holds(stored):
     taken, iloc = arrays.take(rows), frame.iloc[rows]
     for name in frame.columns:
         np.testing.assert_array_equal(taken[name], iloc[name].to_numpy())
-    assert {k: float(v) for k, v in arrays.row(1).items()} == pytest.approx(frame.iloc[1].astype(float).to_dict(),
-                                                                          nan_ok=True)
+    assert {k: float(v) for k, v in arrays.row(1).items()} == pytest.approx(
+        frame.iloc[1].astype(float).to_dict(), nan_ok=True
+    )
 
 
 def test_a_column_table_answers_membership_and_is_empty_without_columns():
@@ -49,19 +52,25 @@ def test_pickled_tables_stay_as_stored_and_read_the_same():
     output = StageOutput(tables={"a": COLUMNS, "b": ROWS})
     back = pickle.loads(pickle.dumps(output))
     assert isinstance(back.tables, Tables)
-    assert dict.__getitem__(back.tables, "b") == ROWS  # not a DataFrame: nothing was built on the way
+    assert (
+        dict.__getitem__(back.tables, "b") == ROWS
+    )  # not a DataFrame: nothing was built on the way
     assert dict.__getitem__(output.tables, "a") is COLUMNS  # nor in the original
     np.testing.assert_array_equal(back.tables["a"]["torque_Nm"].to_numpy(), COLUMNS["torque_Nm"])
 
 
 def _modules_after(code: str) -> str:
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
 
 
 def test_pickling_tables_imports_no_pandas():
-    code = ("import pickle, sys\nfrom crankdyn.plugin.types import Tables\n"
-            "pickle.loads(pickle.dumps(Tables(a={'x': [1.0, 2.0]}, b=[{'x': 1.0}])))\n"
-            "print('pandas' in sys.modules)")
+    code = (
+        "import pickle, sys\nfrom crankdyn.plugin.types import Tables\n"
+        "pickle.loads(pickle.dumps(Tables(a={'x': [1.0, 2.0]}, b=[{'x': 1.0}])))\n"
+        "print('pandas' in sys.modules)"
+    )
     assert _modules_after(code).split() == ["False"]
 
 
@@ -69,14 +78,18 @@ def test_pickling_tables_imports_no_pandas():
 @pytest.mark.parametrize("example", ["v8-petrol.toml"])
 def test_an_html_report_imports_no_pandas(tmp_path, example):
     """Every built-in section reads its tables as arrays: pandas is left to the CSV and XLSX files."""
-    report = (f"main(['report', {str(ROOT / 'examples' / example)!r}, '-o', {str(tmp_path / '{}')!r}, "
-              "'--format', '{}', '-q'])")
+    report = (
+        f"main(['report', {str(ROOT / 'examples' / example)!r}, '-o', {str(tmp_path / '{}')!r}, "
+        "'--format', '{}', '-q'])"
+    )
     # One fresh interpreter: the HTML report first (pandas not imported), then, to show that the same
     # check can fail, the example's CSV tables in the same process (a table file needs pandas).
-    code = ("import sys\nfrom crankdyn.cli import main\n"
-            f"code = {report.format('html', 'html')}\n"
-            "print('pandas' in sys.modules, code)\n"
-            f"code = {report.format('csv', 'csv')}\n"
-            "print('pandas' in sys.modules, code)")
+    code = (
+        "import sys\nfrom crankdyn.cli import main\n"
+        f"code = {report.format('html', 'html')}\n"
+        "print('pandas' in sys.modules, code)\n"
+        f"code = {report.format('csv', 'csv')}\n"
+        "print('pandas' in sys.modules, code)"
+    )
     assert _modules_after(code).split() == ["False", "0", "True", "0"]
     assert (tmp_path / "html" / "report.html").is_file()

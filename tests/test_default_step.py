@@ -27,21 +27,35 @@ from crankdyn.report.context import sample_rows
 from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
-CHEAP = {"numerics": {"steps_deg": [10], "repeats": 1, "kinematics_forms": False},
-         "analysis": {"angle_step_deg": None, "table_step_deg": None, "stages": ["numerics"]}}
+CHEAP = {
+    "numerics": {"steps_deg": [10], "repeats": 1, "kinematics_forms": False},
+    "analysis": {"angle_step_deg": None, "table_step_deg": None, "stages": ["numerics"]},
+}
 
 
 def inline(n):
-    return modified("inline4-petrol", {"flywheel": None, **CHEAP,
-                                       "engine": {"cylinders": n, "firing_order": even_firing_order("inline", n, 4)}})
+    return modified(
+        "inline4-petrol",
+        {
+            "flywheel": None,
+            **CHEAP,
+            "engine": {"cylinders": n, "firing_order": even_firing_order("inline", n, 4)},
+        },
+    )
 
 
 def radial(n):
     return modified("radial9-aircraft", {"engine": {"cylinders": n}, **CHEAP})
 
 
-ENGINES = {"inline-7": inline(7), "inline-11": inline(11), "inline-23": inline(23),
-           "radial-5": radial(5), "radial-7": radial(7), "radial-9": radial(9)}
+ENGINES = {
+    "inline-7": inline(7),
+    "inline-11": inline(11),
+    "inline-23": inline(23),
+    "radial-5": radial(5),
+    "radial-7": radial(7),
+    "radial-9": radial(9),
+}
 
 
 def divides(step, angle):
@@ -74,27 +88,50 @@ def test_default_step_and_the_numerics_study(name):
     studied = [row["angle_step_deg"] for row in numerics["steps"]]
     assert len(studied) == 2 and studied[1] == step
     layout = engine_layout(scene)
-    assert studied[0] <= 10 and all(divides(studied[0], c.firing_delay_deg) for c in layout.cylinders)
+    assert studied[0] <= 10 and all(
+        divides(studied[0], c.firing_delay_deg) for c in layout.cylinders
+    )
     at = numerics["at_scene_step"]
-    assert at["peaks_within_tolerance"] and at["peaks_error_relative"] <= 1e-3 and at["step_defaulted"]
-    assert ("numerics.note_default_step" in [key for key, _ in result.outputs["numerics"].notes])
+    assert (
+        at["peaks_within_tolerance"] and at["peaks_error_relative"] <= 1e-3 and at["step_defaulted"]
+    )
+    assert "numerics.note_default_step" in [key for key, _ in result.outputs["numerics"].notes]
 
 
 @pytest.mark.parametrize("step", [1.0, 0.7])
 def test_refusal_names_steps_that_work(step):
-    data = modified("inline4-petrol", {"flywheel": None, "analysis": {"angle_step_deg": step},
-                                       "engine": {"cylinders": 7, "firing_order": even_firing_order("inline", 7, 4)}})
+    data = modified(
+        "inline4-petrol",
+        {
+            "flywheel": None,
+            "analysis": {"angle_step_deg": step},
+            "engine": {"cylinders": 7, "firing_order": even_firing_order("inline", 7, 4)},
+        },
+    )
     with pytest.raises(SceneError) as info:
         run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
     message = str(info.value)
-    suggested = [float(x) for x in re.search(r"nearest steps that work: ([0-9., ]+)", message).group(1).strip(" .,").split(", ")]
+    suggested = [
+        float(x)
+        for x in re.search(r"nearest steps that work: ([0-9., ]+)", message)
+        .group(1)
+        .strip(" .,")
+        .split(", ")
+    ]
     assert len(suggested) == 2 and suggested[1] < step < suggested[0]
     for s in suggested:  # the scene accepts each suggestion as printed
-        accepted = modified("inline4-petrol", {"flywheel": None, "analysis": {"angle_step_deg": s, "table_step_deg": None},
-                                               "engine": {"cylinders": 7,
-                                                          "firing_order": even_firing_order("inline", 7, 4)}})
+        accepted = modified(
+            "inline4-petrol",
+            {
+                "flywheel": None,
+                "analysis": {"angle_step_deg": s, "table_step_deg": None},
+                "engine": {"cylinders": 7, "firing_order": even_firing_order("inline", 7, 4)},
+            },
+        )
         check_scene(scene_from_dict(accepted, base_dir=examples_dir()), REGISTRY)
-    for s in suggested:  # each works: 720 deg and every firing delay k*720/7 are whole multiples (to 12 digits)
+    for s in (
+        suggested
+    ):  # each works: 720 deg and every firing delay k*720/7 are whole multiples (to 12 digits)
         assert all(abs(k * 720 / 7 / s - round(k * 720 / 7 / s)) < 1e-8 for k in range(8))
 
 
@@ -103,8 +140,11 @@ def test_thirty_degree_tables_print_whole_crank_angles(name):
     data = {**ENGINES[name], "analysis": {"table_step_deg": 30}}
     scene = scene_from_dict(data, base_dir=examples_dir())
     step = scene.analysis.angle_step_deg
-    assert step <= 1 and divides(step, 30) and all(divides(step, c.firing_delay_deg)
-                                                   for c in engine_layout(scene).cylinders)
+    assert (
+        step <= 1
+        and divides(step, 30)
+        and all(divides(step, c.firing_delay_deg) for c in engine_layout(scene).cylinders)
+    )
     angle = np.arange(round(scene.engine.cycle_deg / step)) * step
     _, labels = sample_rows(angle, scene.analysis.table_step_deg)
     assert np.allclose(labels, np.arange(0, scene.engine.cycle_deg + 1, 30.0), atol=1e-9)

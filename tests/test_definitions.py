@@ -34,16 +34,26 @@ def exact_second_harmonic(lam, points=4096):
 
 
 def test_second_order_both_definitions():
-    result = run_scene(scene_from_dict(modified("inline4-petrol", {"flywheel": None,
-                                                                   "analysis": {"stages": ["balancing"]}}),
-                                       base_dir=examples_dir()), REGISTRY)
+    result = run_scene(
+        scene_from_dict(
+            modified("inline4-petrol", {"flywheel": None, "analysis": {"stages": ["balancing"]}}),
+            base_dir=examples_dir(),
+        ),
+        REGISTRY,
+    )
     r = result.outputs["balancing"].results
     lam = result.scene.engine.rod_ratio_value
     assert r["second_order_N"] == pytest.approx(lam * r["first_order_N"], rel=1e-14)
-    assert r["second_order_exact_N"] == pytest.approx(exact_second_harmonic(lam) * r["first_order_N"], rel=1e-13)
-    assert r["second_order_difference_relative"] == pytest.approx(exact_second_harmonic(lam) / lam - 1, rel=1e-10)
+    assert r["second_order_exact_N"] == pytest.approx(
+        exact_second_harmonic(lam) * r["first_order_N"], rel=1e-13
+    )
+    assert r["second_order_difference_relative"] == pytest.approx(
+        exact_second_harmonic(lam) / lam - 1, rel=1e-10
+    )
     # the exact one is what the order table calls P_II
-    assert next(o for o in r["orders"] if o["order"] == 2)["amplitude_N"] == pytest.approx(r["second_order_exact_N"])
+    assert next(o for o in r["orders"] if o["order"] == 2)["amplitude_N"] == pytest.approx(
+        r["second_order_exact_N"]
+    )
 
 
 @pytest.mark.parametrize("e", [1e-3, 0.05, 0.3])
@@ -55,16 +65,25 @@ def test_irregularity_both_ways_on_a_closed_form_speed(e):
     mean = irr.time_mean_speed_rad_s(omega)
     assert mean == pytest.approx(w0 * math.sqrt(1 - e * e), rel=1e-13)
     assert irr.irregularity_midrange(w_max, w_min) == pytest.approx(2 * e, rel=1e-13)
-    assert irr.irregularity_time_mean(w_max, w_min, mean) == pytest.approx(2 * e / math.sqrt(1 - e * e), rel=1e-12)
+    assert irr.irregularity_time_mean(w_max, w_min, mean) == pytest.approx(
+        2 * e / math.sqrt(1 - e * e), rel=1e-12
+    )
 
 
 def test_speed_fluctuation_reports_both_deltas():
-    result = run_scene(scene_from_dict(modified("inline4-petrol", {"analysis": {"stages": ["speed_fluctuation"]}}),
-                                       base_dir=examples_dir()), REGISTRY)
+    result = run_scene(
+        scene_from_dict(
+            modified("inline4-petrol", {"analysis": {"stages": ["speed_fluctuation"]}}),
+            base_dir=examples_dir(),
+        ),
+        REGISTRY,
+    )
     out = result.outputs["speed_fluctuation"]
     r = out.results
     w_max, w_min, w_mean = r["omega_max_rad_s"], r["omega_min_rad_s"], r["omega_mean_rad_s"]
     assert r["irregularity"] == pytest.approx((w_max - w_min) / (0.5 * (w_max + w_min)), rel=1e-14)
     assert r["irregularity_time_mean"] == pytest.approx((w_max - w_min) / w_mean, rel=1e-14)
-    assert w_mean == pytest.approx(result.scene.engine.angular_velocity_rad_s, rel=1e-9)  # the time mean is the scene's
+    assert w_mean == pytest.approx(
+        result.scene.engine.angular_velocity_rad_s, rel=1e-9
+    )  # the time mean is the scene's
     assert "speed_fluctuation.note_irregularity" in [key for key, _ in out.notes]

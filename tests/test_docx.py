@@ -308,7 +308,7 @@ class="eq-carry">= </span>0,046·[(1
 def sample_docx(tmp_path_factory) -> Path:
     long = ", &nbsp; ".join(
         f'<span class="eq-part"><i>x</i><sub>{k}</sub> = <i>R</i>(1 − cos {k}<i>α</i>) '
-        f'+ <i>λ</i>(1 − cos<sup>2</sup> <i>β</i>) = {k},{k}5 мм</span>'
+        f"+ <i>λ</i>(1 − cos<sup>2</sup> <i>β</i>) = {k},{k}5 мм</span>"
         for k in range(1, 4)
     )
     path = tmp_path_factory.mktemp("sample") / "report.docx"
@@ -371,7 +371,9 @@ def test_equations_are_set_at_the_body_text_size(sample_docx):
     with zipfile.ZipFile(sample_docx) as package:
         styles = package.read("word/styles.xml").decode("utf-8")
         xml = package.read("word/document.xml").decode("utf-8")
-    normal = re.search(r'<w:style [^>]*w:styleId="Normal".*?</w:style>', styles, flags=re.S).group(0)
+    normal = re.search(r'<w:style [^>]*w:styleId="Normal".*?</w:style>', styles, flags=re.S).group(
+        0
+    )
     body = int(re.search(r'<w:sz w:val="(\d+)"\s*/>', normal).group(1))
     assert body == 28  # 14 pt, DSTU 3008's text
     formulas = re.findall(r"<m:oMath>.*?</m:oMath>", xml, flags=re.S)
@@ -464,7 +466,9 @@ def test_wide_table_in_a_landscape_section(sample_docx):
         (
             "table"
             if el.tag == f"{W}tbl"
-            else "break" if el.find(f"{W}pPr/{W}sectPr") is not None else ""
+            else "break"
+            if el.find(f"{W}pPr/{W}sectPr") is not None
+            else ""
         )
         for el in body
     ]
@@ -480,7 +484,7 @@ def test_title_page_and_parts_start_new_pages(sample_docx):
         p.text
         for p in paragraphs
         if "<w:pageBreakBefore/>" in p._p.xml
-        or (p.style.name == "heading 1" and "<w:pageBreakBefore w:val=\"0\"/>" not in p._p.xml)
+        or (p.style.name == "heading 1" and '<w:pageBreakBefore w:val="0"/>' not in p._p.xml)
     ]
     assert breaks == ["Кафедра", "Реферат", "1 Кінематика", "2 Сили"]
     # the heading under the department's line stays on that line's page; unnumbered ones centred
@@ -558,17 +562,27 @@ def _equation_to_text_heights(pdf: Path) -> list[float]:
     """Per numbered equation on the pages: the height of its "=" and "+" glyphs' boxes over the
     height of its number's box ("(2.1)", body text), as pdftotext -bbox measures them. At the
     body text's size about 1; LibreOffice's default Math size (12 pt against 14) makes it 6/7."""
-    box = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True, text=True,
-                         check=True).stdout
-    word_box = r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>'
+    box = subprocess.run(
+        ["pdftotext", "-bbox", str(pdf), "-"], capture_output=True, text=True, check=True
+    ).stdout
+    word_box = (
+        r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>'
+    )
     ratios = []
     for page in box.split("<page ")[1:]:
-        words = [(float(a), float(b), float(c), float(d), t) for a, b, c, d, t in re.findall(word_box, page)]
+        words = [
+            (float(a), float(b), float(c), float(d), t)
+            for a, b, c, d, t in re.findall(word_box, page)
+        ]
         for x0, y0, _, y1, number in words:
             if not re.fullmatch(r"\(\d+\.\d+\)", number):
                 continue
             middle = (y0 + y1) / 2
-            signs = [w for w in words if w[4] in ("=", "+") and w[2] < x0 and abs((w[1] + w[3]) / 2 - middle) < 8]
+            signs = [
+                w
+                for w in words
+                if w[4] in ("=", "+") and w[2] < x0 and abs((w[1] + w[3]) / 2 - middle) < 8
+            ]
             if signs:
                 ratios.append(sorted(w[3] - w[1] for w in signs)[len(signs) // 2] / (y1 - y0))
     return ratios
@@ -584,8 +598,11 @@ def _latin_words_added(text: str, html: str) -> list[str]:
     body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", html.split("<body", 1)[-1], flags=re.S)
     body = re.sub(r"</?(?:i|b|sub|sup|span)\b[^>]*>", "", body)  # inline: no word boundary
     shown = " ".join(re.findall(r"[A-Za-z]+", unescape(re.sub(r"<[^>]+>", " ", body)))).lower()
-    return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text)
-            if w not in ALLOWED_LATIN and w.lower() not in shown]
+    return [
+        w
+        for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text)
+        if w not in ALLOWED_LATIN and w.lower() not in shown
+    ]
 
 
 def _words_broken_at_line_ends(pages: list[str], html: str) -> list[str]:
@@ -608,7 +625,9 @@ def _words_broken_at_line_ends(pages: list[str], html: str) -> list[str]:
     return broken
 
 
-def _check_typography_and_language(pages: list[str], html: str, example: str, language: str) -> None:
+def _check_typography_and_language(
+    pages: list[str], html: str, example: str, language: str
+) -> None:
     """The checks of the WeasyPrint PDF's text (tests/test_note.py) on LibreOffice's pages: no
     machine hyphenation, no decimal point inside a number, no Latin word but the allowed ones
     and the student's own texts."""
@@ -810,12 +829,18 @@ def test_contents_get_the_pages_their_headings_start_and_the_page_count_its_valu
 
     entry = '<w:p><w:pPr><w:pStyle w:val="TOC1"/></w:pPr><w:r><w:t>{}</w:t></w:r></w:p>'
     xml = (
-        entry.format("Вступ") + entry.format("1 Вихідні дані")
+        entry.format("Вступ")
+        + entry.format("1 Вихідні дані")
         + '<w:p><w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
         '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t></w:t></w:r></w:p>'
     )
-    pages = [["ЗМІСТ", "Вступ....3", "1 Вихідні дані....4"], ["Текст"], ["ВСТУП", "Текст"],
-             ["1 ВИХІДНІ ДАНІ"], ["Кінець"]]
+    pages = [
+        ["ЗМІСТ", "Вступ....3", "1 Вихідні дані....4"],
+        ["Текст"],
+        ["ВСТУП", "Текст"],
+        ["1 ВИХІДНІ ДАНІ"],
+        ["Кінець"],
+    ]
     filled = docx_pages.fill_contents(xml, pages)
     assert re.findall(r"<w:tab/></w:r><w:r><w:t>(\d+)</w:t>", filled) == ["3", "4"]
     assert "<w:r><w:t>5</w:t></w:r></w:p>" in filled  # five pages

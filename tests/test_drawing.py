@@ -36,9 +36,15 @@ def _registry():
 def _run(example: str):
     """Kinematics and the drawing only (the cheapest run that draws)."""
     scene = load_scene(examples_dir() / f"{example}.toml")
-    wanted = [s.name for s in plan(scene, _registry()).order if s.name in ("drawing", "drawing_linkage")]
+    wanted = [
+        s.name for s in plan(scene, _registry()).order if s.name in ("drawing", "drawing_linkage")
+    ]
     kin = [s.name for s in plan(scene, _registry()).order if "kinematics" in s.provides]
-    return run_scene(scene, _registry(), kin + wanted + (["vane"] if scene.engine.mechanism == "vane_crank_rocker" else []))
+    return run_scene(
+        scene,
+        _registry(),
+        kin + wanted + (["vane"] if scene.engine.mechanism == "vane_crank_rocker" else []),
+    )
 
 
 def _geometry(scene, angle_deg):
@@ -76,15 +82,21 @@ def test_scotch_yoke_plugin_geometry_is_rigid_and_matches_its_physics():
     assert _link_spread(geometry) < 1e-9
     wrist = geometry.joints["wrist_pin"]
     # The piston pin falls by s from TDC; s from the plugin's kinematics (R(1 - cos a), its table).
-    assert np.allclose(wrist[0, 1] - wrist[:, 1], physics.piston_displacement_m(alpha, 0.04), atol=1e-12)
+    assert np.allclose(
+        wrist[0, 1] - wrist[:, 1], physics.piston_displacement_m(alpha, 0.04), atol=1e-12
+    )
     # The crank pin stays in the yoke's slot: on the slot's line at every angle.
-    assert np.allclose(geometry.joints["crank_pin"][:, 1], geometry.joints["yoke_centre"][:, 1], atol=1e-12)
+    assert np.allclose(
+        geometry.joints["crank_pin"][:, 1], geometry.joints["yoke_centre"][:, 1], atol=1e-12
+    )
     manager = plugin_manager()
     manager.register(plugin)
     assert inspect.unwrap(collect(manager).mechanisms["scotch_yoke"].geometry) is plugin.geometry
 
 
-@pytest.mark.parametrize("example", ["petrol-1cyl", "v8-petrol", "offset-crank-engine", "planetary-kinematics"])
+@pytest.mark.parametrize(
+    "example", ["petrol-1cyl", "v8-petrol", "offset-crank-engine", "planetary-kinematics"]
+)
 def test_piston_pin_follows_the_kinematics_table(example):
     """Cylinder 1's piston pin in the drawing sits where the kinematics table puts it: its height
     falls by s_p from TDC, it stays on the cylinder axis, and its rod keeps its length to the pin."""
@@ -102,7 +114,14 @@ def test_piston_pin_follows_the_kinematics_table(example):
     assert np.allclose(tdc_height - along, s, rtol=0, atol=1e-12)
     across = (wrist - origin) @ np.array([direction[1], -direction[0]])
     assert np.allclose(across, 0.0, atol=1e-15)
-    assert np.ptp(np.hypot(*(wrist - geometry.joints.get("crank_pin", geometry.joints.get("crank_pin_1"))).T)) < 1e-12
+    assert (
+        np.ptp(
+            np.hypot(
+                *(wrist - geometry.joints.get("crank_pin", geometry.joints.get("crank_pin_1"))).T
+            )
+        )
+        < 1e-12
+    )
 
 
 @pytest.mark.parametrize("example", ["petrol-1cyl", "offset-crank-engine", "planetary-kinematics"])
@@ -113,8 +132,11 @@ def test_positions_are_the_kinematics_extremes(example):
     kin = result.outputs[result.stages_run[0]].results
     drawn = result.outputs["drawing"].results["crank_angles_deg"]
     assert drawn["tdc"] == 0.0
-    reported = {k: kin[f"{k}_crank_angle_deg"] for k in ("bdc", "v_max", "v_min", "j_max", "j_min")
-                if f"{k}_crank_angle_deg" in kin}
+    reported = {
+        k: kin[f"{k}_crank_angle_deg"]
+        for k in ("bdc", "v_max", "v_min", "j_max", "j_min")
+        if f"{k}_crank_angle_deg" in kin
+    }
     if example == "petrol-1cyl":
         reported.update(bdc=180.0, v_min=360.0 - kin["v_max_crank_angle_deg"], j_max=0.0)
     assert set(reported) == {"bdc", "v_max", "v_min", "j_max", "j_min"}
@@ -132,9 +154,15 @@ def test_speed_extremes_are_named_by_the_stroke_they_lie_on(example):
 
     drawn = _run(example).outputs["drawing"].results["crank_angles_deg"]
     assert drawn["tdc"] < drawn["v_max"] < drawn["bdc"] < drawn["v_min"] < 360.0
-    words = {"uk": ("до НМТ", "до ВМТ"), "ru": ("к НМТ", "к ВМТ"), "en": ("towards BDC", "towards TDC")}
+    words = {
+        "uk": ("до НМТ", "до ВМТ"),
+        "ru": ("к НМТ", "к ВМТ"),
+        "en": ("towards BDC", "towards TDC"),
+    }
     for language, (down, up) in words.items():
-        catalog = load_catalog_file(Path(crankdyn_builtin.drawing.__file__).parent / "i18n" / f"drawing.{language}.toml")
+        catalog = load_catalog_file(
+            Path(crankdyn_builtin.drawing.__file__).parent / "i18n" / f"drawing.{language}.toml"
+        )
         assert down in catalog["drawing.position_v_max"] and up in catalog["drawing.position_v_min"]
         # the return stroke's is its largest speed too, not a "v_min" (read as the slowest piston)
         assert catalog["drawing.position_v_min"].startswith("v_max")
@@ -153,6 +181,7 @@ def test_vane_engine_drawn_from_its_geometry():
 
 # ----------------------------------------------------------------------------- HTML
 
+
 @cache
 def _html(example: str, language: str = "en") -> str:
     """The report of ``example`` with the drawing's section only (the other sections are tested
@@ -164,8 +193,12 @@ def _html(example: str, language: str = "en") -> str:
 def test_report_has_scheme_positions_and_animation(example):
     html = _html(example)
     assert html.count('class="mech-animation"') == 1
-    angle = 0 if example == "radial9-aircraft" else 45  # a master rod's knuckle pins clear of the shaft at TDC
-    assert re.search(rf"Kinematic scheme of the mechanism at α = {angle}° \(scale (1:[0-9.]+|[0-9.]+:1)\)", html)
+    angle = (
+        0 if example == "radial9-aircraft" else 45
+    )  # a master rod's knuckle pins clear of the shaft at TDC
+    assert re.search(
+        rf"Kinematic scheme of the mechanism at α = {angle}° \(scale (1:[0-9.]+|[0-9.]+:1)\)", html
+    )
     assert "The mechanism at its characteristic positions" in html
     assert html.count('<img alt="') >= 2  # the scheme and the positions figure (static: they print)
     assert "@media print { .mech-animation { display: none !important; } }" in html
@@ -175,19 +208,38 @@ def test_report_has_scheme_positions_and_animation(example):
     assert "src=" not in block.split("</script>\n</div>")[0].replace('src="data:', "")
 
 
-@pytest.mark.parametrize("language, title", [("uk", "Кінематична схема механізму за кута α = 45°"),
-                                             ("ru", "Кинематическая схема механизма при угле α = 45°")])
+@pytest.mark.parametrize(
+    "language, title",
+    [
+        ("uk", "Кінематична схема механізму за кута α = 45°"),
+        ("ru", "Кинематическая схема механизма при угле α = 45°"),
+    ],
+)
 def test_drawing_texts_are_translated(language, title):
     html = _html("v8-petrol", language)
     assert title in html
-    for english in ("Kinematic scheme", "characteristic positions", "Firing order", "Crank star", "Drag the slider"):
+    for english in (
+        "Kinematic scheme",
+        "characteristic positions",
+        "Firing order",
+        "Crank star",
+        "Drag the slider",
+    ):
         assert english not in html
 
 
-@pytest.mark.parametrize("example, marked", [("petrol-1cyl", True), ("inline4-petrol", True),
-                                             ("offset-crank-engine", True), ("v8-petrol", False),
-                                             ("radial9-aircraft", False), ("vane-engine-kinematics", False),
-                                             ("planetary-kinematics", False)])
+@pytest.mark.parametrize(
+    "example, marked",
+    [
+        ("petrol-1cyl", True),
+        ("inline4-petrol", True),
+        ("offset-crank-engine", True),
+        ("v8-petrol", False),
+        ("radial9-aircraft", False),
+        ("vane-engine-kinematics", False),
+        ("planetary-kinematics", False),
+    ],
+)
 def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     """The scheme shows the crank at α = 45° (the crank pin where the geometry puts it at 45° from
     the cylinder axis, clockwise), and, where one cylinder axis is drawn, the angles α and β, the
@@ -205,9 +257,13 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     assert output.results["scheme_angle_deg"] == expected_angle
     crank = next((l for l in positions.links if l[0] in ("crank", "crank_1", "carrier")), None)
     if crank is not None and stage == "drawing":
-        pin, at_tdc = (positions.joints[crank[2]][k] - positions.joints[crank[1]][k] for k in (frame, 0))
+        pin, at_tdc = (
+            positions.joints[crank[2]][k] - positions.joints[crank[1]][k] for k in (frame, 0)
+        )
         # 45° clockwise from the crank at TDC (frame 0), which an offset cylinder's is not along +y
-        turn = np.degrees(np.arctan2(at_tdc[1] * pin[0] - at_tdc[0] * pin[1], at_tdc @ pin))  # clockwise
+        turn = np.degrees(
+            np.arctan2(at_tdc[1] * pin[0] - at_tdc[0] * pin[1], at_tdc @ pin)
+        )  # clockwise
         assert turn == pytest.approx(expected_angle, abs=1e-9)
     figure = next(f for f in _rendered(example).figures if f.key == "scheme")
     svg = figure.svg.decode("utf-8")
@@ -216,14 +272,27 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
         assert (mark in svg) is marked, mark
     assert ("α is the crank angle from the crank&#39;s position at TDC" in html) is marked
     assert ("S is the stroke" in html) is marked
-    if marked:  # the stroke between the dead centres: 2R of a central crank-slider, longer with an offset
+    if (
+        marked
+    ):  # the stroke between the dead centres: 2R of a central crank-slider, longer with an offset
         stroke = positions.dimensions["S"]
-        expected = 2 * positions.dimensions["R"] if "e" not in positions.dimensions else \
-            np.sqrt((positions.dimensions["L"] + positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2) \
-            - np.sqrt((positions.dimensions["L"] - positions.dimensions["R"]) ** 2 - positions.dimensions["e"] ** 2)
+        expected = (
+            2 * positions.dimensions["R"]
+            if "e" not in positions.dimensions
+            else np.sqrt(
+                (positions.dimensions["L"] + positions.dimensions["R"]) ** 2
+                - positions.dimensions["e"] ** 2
+            )
+            - np.sqrt(
+                (positions.dimensions["L"] - positions.dimensions["R"]) ** 2
+                - positions.dimensions["e"] ** 2
+            )
+        )
         assert stroke == pytest.approx(expected, rel=1e-12)
     assert (md.angle_mark_parts(md.front_view(positions)) is not None) is marked
-    if not marked and "L" in positions.dimensions and positions.links:  # its rod's length is drawn as before
+    if (
+        not marked and "L" in positions.dimensions and positions.links
+    ):  # its rod's length is drawn as before
         assert ">L = " in svg
 
 
@@ -234,11 +303,14 @@ def _rendered(example: str, language: str = "en"):
     from crankdyn.report.document import render_html
 
     result = _run(example)
-    drawing_only = replace(result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")])
+    drawing_only = replace(
+        result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")]
+    )
     return render_html(replace(result, plan=drawing_only), _registry(), language)
 
 
 # ----------------------------------------------------------------------------- browser
+
 
 def _png_pixels(png: bytes) -> np.ndarray:
     from PIL import Image
@@ -261,8 +333,10 @@ def test_animation_moves_in_chromium(tmp_path):
         browser.attach("file://")
         root = "document.querySelector('.mech-animation')"
         for _ in range(300):
-            if browser.evaluate(f"document.readyState === 'complete' && !!{root} && !!{root}.dataset.drawn",
-                                tolerant=True):
+            if browser.evaluate(
+                f"document.readyState === 'complete' && !!{root} && !!{root}.dataset.drawn",
+                tolerant=True,
+            ):
                 break
             time.sleep(0.1)
         else:
@@ -270,24 +344,42 @@ def test_animation_moves_in_chromium(tmp_path):
         browser.evaluate(f"{root}.scrollIntoView()")
 
         def shot(name: str) -> bytes:
-            box = browser.evaluate(f"(() => {{ const r = {root}.querySelector('svg.mech-anim').getBoundingClientRect();"
-                                   " return [r.x + scrollX, r.y + scrollY, r.width, r.height]; })()")
-            data = browser.call("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True, "clip": {
-                "x": box[0], "y": box[1], "width": box[2], "height": box[3], "scale": 1}})["data"]
+            box = browser.evaluate(
+                f"(() => {{ const r = {root}.querySelector('svg.mech-anim').getBoundingClientRect();"
+                " return [r.x + scrollX, r.y + scrollY, r.width, r.height]; })()"
+            )
+            data = browser.call(
+                "Page.captureScreenshot",
+                {
+                    "format": "png",
+                    "captureBeyondViewport": True,
+                    "clip": {
+                        "x": box[0],
+                        "y": box[1],
+                        "width": box[2],
+                        "height": box[3],
+                        "scale": 1,
+                    },
+                },
+            )["data"]
             png = base64.b64decode(data)
             (ARTIFACTS / name).write_bytes(png)
             return png
 
         before = shot("animation-v8-0deg.png")
         cursor_before = browser.evaluate(f"{root}.querySelector('.cursor').getAttribute('x1')")
-        browser.evaluate(f"(() => {{ const s = {root}.querySelector('.mech-angle'); s.value = 30;"
-                         " s.dispatchEvent(new Event('input')); })()")
+        browser.evaluate(
+            f"(() => {{ const s = {root}.querySelector('.mech-angle'); s.value = 30;"
+            " s.dispatchEvent(new Event('input')); })()"
+        )
         assert browser.evaluate(f"{root}.dataset.frame") == "30"
         assert browser.evaluate(f"{root}.querySelector('.mech-readout').textContent") == "α = 60°"
         after = shot("animation-v8-60deg.png")
         changed = np.mean(np.abs(_png_pixels(before) - _png_pixels(after)) > 32)
         assert changed > 0.002, changed
-        assert browser.evaluate(f"{root}.querySelector('.cursor').getAttribute('x1')") != cursor_before
+        assert (
+            browser.evaluate(f"{root}.querySelector('.cursor').getAttribute('x1')") != cursor_before
+        )
 
         start = browser.evaluate(f"[+{root}.dataset.drawn, performance.now()]")
         browser.evaluate(f"{root}.querySelector('.mech-play').click()")
@@ -300,7 +392,9 @@ def test_animation_moves_in_chromium(tmp_path):
         browser.evaluate(f"{root}.querySelector('.mech-play').click()")
         frames = end[0] - start[0]
         fps = frames / ((end[1] - start[1]) / 1000.0)
-        (ARTIFACTS / "animation-v8-fps.txt").write_text(f"{fps:.1f} frames per second (V8, headless Chromium)\n")
+        (ARTIFACTS / "animation-v8-fps.txt").write_text(
+            f"{fps:.1f} frames per second (V8, headless Chromium)\n"
+        )
         print(f"V8 animation: {fps:.1f} frames per second in headless Chromium")
         assert frames > 0, "pressing play did not animate"
     finally:
@@ -312,10 +406,19 @@ def test_positions_at_one_angle_share_a_panel():
     identical ones; a position 0.05° or more away keeps its own (360° is the same as 0°)."""
     from crankdyn_builtin.drawing.section import _merged_frames
 
-    frames = [(0, "ВМТ\nα = 0°", 0.0), (1, "НМТ\nα = 180°", 180.0), (2, "v_max\nα = 75,4°", 75.4),
-              (4, "j_max\nα = 0°", 359.99), (5, "j_min\nα = 158,2°", 158.2)]
-    assert _merged_frames(frames) == [(0, "ВМТ, j_max\nα = 0°"), (1, "НМТ\nα = 180°"), (2, "v_max\nα = 75,4°"),
-                                      (5, "j_min\nα = 158,2°")]
+    frames = [
+        (0, "ВМТ\nα = 0°", 0.0),
+        (1, "НМТ\nα = 180°", 180.0),
+        (2, "v_max\nα = 75,4°", 75.4),
+        (4, "j_max\nα = 0°", 359.99),
+        (5, "j_min\nα = 158,2°", 158.2),
+    ]
+    assert _merged_frames(frames) == [
+        (0, "ВМТ, j_max\nα = 0°"),
+        (1, "НМТ\nα = 180°"),
+        (2, "v_max\nα = 75,4°"),
+        (5, "j_min\nα = 158,2°"),
+    ]
 
 
 def test_positions_are_drawn_in_the_order_the_crank_reaches_them():
@@ -323,7 +426,20 @@ def test_positions_are_drawn_in_the_order_the_crank_reaches_them():
     TDC and j_max at 359,99° still share the first panel."""
     from crankdyn_builtin.drawing.section import position_frames
 
-    angles = {"tdc": 0.0, "bdc": 180.0, "v_max": 75.4, "v_min": 284.6, "j_max": 359.99, "j_min": 158.2}
+    angles = {
+        "tdc": 0.0,
+        "bdc": 180.0,
+        "v_max": 75.4,
+        "v_min": 284.6,
+        "j_max": 359.99,
+        "j_min": 158.2,
+    }
     frames = position_frames(angles, lambda k: f"{k}\nα = {angles[k]}°")
-    assert [caption.split("\n")[0] for _, caption in frames] == ["tdc, j_max", "v_max", "j_min", "bdc", "v_min"]
+    assert [caption.split("\n")[0] for _, caption in frames] == [
+        "tdc, j_max",
+        "v_max",
+        "j_min",
+        "bdc",
+        "v_min",
+    ]
     assert [i for i, _ in frames] == [0, 2, 5, 1, 3]

@@ -20,14 +20,17 @@ def symbols_in(formula: str, language: str, stage: str, symbols=SYMBOLS) -> list
     return equation_legend.symbols_in(formula, language, stage, symbols)
 
 
-def add_equation_legends(html: str, t, language: str, skip_stages=frozenset(), single=False,
-                         symbols=SYMBOLS) -> str:
+def add_equation_legends(
+    html: str, t, language: str, skip_stages=frozenset(), single=False, symbols=SYMBOLS
+) -> str:
     return equation_legend.add_equation_legends(html, t, language, skip_stages, single, symbols)
 
 
 def _equation(formula: str, number: str = "1.1") -> str:
-    return (f'<div class="equation"><span class="formula">{formula}</span>'
-            f'<span class="eqno">({number})</span></div>')
+    return (
+        f'<div class="equation"><span class="formula">{formula}</span>'
+        f'<span class="eqno">({number})</span></div>'
+    )
 
 
 def _section(stage: str, body: str) -> str:
@@ -51,28 +54,43 @@ def _legends(html: str) -> list[str]:
 def test_symbols_are_listed_in_the_order_they_stand_in_the_formula():
     # R = S/2, λ = R/L: R first, then S, λ, L (each once)
     formula = "<i>R</i> = <i>S</i>/2, <i>λ</i> = <i>R</i>/<i>L</i>"
-    assert symbols_in(formula, "uk", "kinematics") == ["crank_radius", "stroke", "rod_ratio", "rod_length"]
+    assert symbols_in(formula, "uk", "kinematics") == [
+        "crank_radius",
+        "stroke",
+        "rod_ratio",
+        "rod_length",
+    ]
 
 
 def test_a_symbol_is_explained_under_its_first_equation_only(uk):
-    html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + "<p>text</p>"
-                    + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"))
+    html = _section(
+        "kinematics",
+        _equation("<i>R</i> = <i>S</i>/2")
+        + "<p>text</p>"
+        + _equation("<i>λ</i> = <i>R</i>/<i>L</i>", "1.2"),
+    )
     legends = _legends(add_equation_legends(html, uk, "uk"))
-    assert legends == ["де R – радіус кривошипа, м; | S – хід поршня, м.",
-                       "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, м."]
+    assert legends == [
+        "де R – радіус кривошипа, м; | S – хід поршня, м.",
+        "де λ – відношення радіуса кривошипа до довжини шатуна; | L – довжина шатуна, м.",
+    ]
     # the paragraph follows its equation, before the text after it
     out = add_equation_legends(html, uk, "uk")
     assert out.index("(1.1)") < out.index("де ") < out.index("<p>text</p>")
 
 
 def test_an_equation_of_known_symbols_gets_no_legend(uk):
-    html = _section("kinematics", _equation("<i>R</i> = <i>S</i>/2") + _equation("<i>S</i> = 2<i>R</i>", "1.2"))
+    html = _section(
+        "kinematics", _equation("<i>R</i> = <i>S</i>/2") + _equation("<i>S</i> = 2<i>R</i>", "1.2")
+    )
     assert len(_legends(add_equation_legends(html, uk, "uk"))) == 1
 
 
 def test_a_primed_symbol_is_another_quantity():
     # p_i′ (the theoretical diagram's pressure) is not p_i, the mean indicated pressure
-    assert "mean_indicated_pressure" not in symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator")
+    assert "mean_indicated_pressure" not in symbols_in(
+        "<i>p</i><sub>i</sub>′ = 1", "uk", "indicator"
+    )
     assert symbols_in("<i>p</i><sub>i</sub> = 1", "uk", "indicator") == ["mean_indicated_pressure"]
 
 
@@ -86,7 +104,10 @@ def test_a_letter_with_a_second_meaning_is_read_by_its_section():
     # n: the crank speed, and the textbook's specific side force in the forces section
     assert symbols_in("<i>n</i> = 1", "uk", "kinematics") == ["crank_speed"]
     assert symbols_in("<i>n</i> = <i>p</i><sub>1</sub> tg <i>β</i>", "uk", "forces") == [
-        "side_specific", "total_pressure", "rod_angle"]
+        "side_specific",
+        "total_pressure",
+        "rod_angle",
+    ]
 
 
 def test_a_symbol_without_subscript_is_not_read_in_one_with_a_subscript():
@@ -95,7 +116,9 @@ def test_a_symbol_without_subscript_is_not_read_in_one_with_a_subscript():
 
 
 def test_the_section_note_of_a_second_meaning_is_not_repeated_in_its_section(uk):
-    legends = _legends(add_equation_legends(_section("flywheel", _equation("<i>δ</i> = 1")), uk, "uk"))
+    legends = _legends(
+        add_equation_legends(_section("flywheel", _equation("<i>δ</i> = 1")), uk, "uk")
+    )
     assert legends == ["де δ – коефіцієнт нерівномірності обертання."]
 
 
@@ -108,10 +131,16 @@ def test_every_report_language_has_its_word():
 
 def test_a_delta_or_a_prime_makes_another_quantity():
     # ΔL (the excess work) is not L (the rod's length); p_i′ is not p_i; Δα_0i is not α
-    assert symbols_in("Δ<i>L</i> = <i>W</i><sub>max</sub>", "uk", "flywheel") == ["excess_work", "accumulated_work_max"]
-    assert symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator") == ["theoretical_mean_indicated_pressure"]
-    assert symbols_in("<i>α</i><sub><i>i</i></sub> = <i>α</i> − Δ<i>α</i><sub>0<i>i</i></sub>", "uk", "torque") == [
-        "cylinder_crank_angle", "crank_angle", "cycle_delay"]
+    assert symbols_in("Δ<i>L</i> = <i>W</i><sub>max</sub>", "uk", "flywheel") == [
+        "excess_work",
+        "accumulated_work_max",
+    ]
+    assert symbols_in("<i>p</i><sub>i</sub>′ = 1", "uk", "indicator") == [
+        "theoretical_mean_indicated_pressure"
+    ]
+    assert symbols_in(
+        "<i>α</i><sub><i>i</i></sub> = <i>α</i> − Δ<i>α</i><sub>0<i>i</i></sub>", "uk", "torque"
+    ) == ["cylinder_crank_angle", "crank_angle", "cycle_delay"]
     # the bare p: the gas pressure, but the bearing pressure in the bearings section
     assert symbols_in("<i>p</i> = 1", "uk", "indicator") == ["cylinder_pressure"]
     assert symbols_in("<i>p</i> = 1", "uk", "bearings") == ["bearing_pressure"]
@@ -124,16 +153,24 @@ def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
     assert symbols_in("sin<sup>2<i>k</i></sup> <i>α</i>", "uk", "forces") == ["crank_angle"]
     assert symbols_in("<i>C</i><sub><i>n</i></sub>", "uk", "balancing") == ["order_amplitude"]
     assert symbols_in("<b><i>e</i></b><sub><i>t</i>,<i>i</i></sub>", "uk", "bearings") == []
-    assert symbols_in("<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings") == [
-        "journal_load_vector", "pin_load_vector"]
-    assert symbols_in("<i>p</i><sub>a</sub>(<i>V</i><sub>a</sub>/<i>V</i>)<sup><i>n</i><sub>1</sub></sup>", "uk",
-                      "indicator") == ["intake_end_pressure", "total_volume", "cylinder_volume", "compression_polytrope"]
+    assert symbols_in(
+        "<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings"
+    ) == ["journal_load_vector", "pin_load_vector"]
+    assert symbols_in(
+        "<i>p</i><sub>a</sub>(<i>V</i><sub>a</sub>/<i>V</i>)<sup><i>n</i><sub>1</sub></sup>",
+        "uk",
+        "indicator",
+    ) == ["intake_end_pressure", "total_volume", "cylinder_volume", "compression_polytrope"]
 
 
 def test_a_section_that_explains_its_letters_in_its_own_words_gets_no_legend():
     # Stage.legend = False: no "where" lines in that section (here a made-up one)
-    html = add_equation_legends(_section("vane", _equation("<i>β</i> = 1")), translator("uk", REGISTRY.catalogs),
-                                "uk", frozenset({"vane"}))
+    html = add_equation_legends(
+        _section("vane", _equation("<i>β</i> = 1")),
+        translator("uk", REGISTRY.catalogs),
+        "uk",
+        frozenset({"vane"}),
+    )
     assert _legends(html) == []
     assert REGISTRY.stages["forces"].legend
 
@@ -143,15 +180,27 @@ def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
     # the cranks' upper position, not from a TDC: its own symbols take over in its section
     assert REGISTRY.stages["vane"].legend and REGISTRY.stages["planetary"].legend
     uk = translator("uk", REGISTRY.catalogs)
-    line = _legends(add_equation_legends(_section("vane", _equation("<i>β</i> = −arcsin(<i>λ</i> sin <i>α</i>)")),
-                                         uk, "uk", symbols=SYMBOLS))[0]
+    line = _legends(
+        add_equation_legends(
+            _section("vane", _equation("<i>β</i> = −arcsin(<i>λ</i> sin <i>α</i>)")),
+            uk,
+            "uk",
+            symbols=SYMBOLS,
+        )
+    )[0]
     assert "β – кут відхилення хвостовика осердя від вертикалі, °;" in line
     assert "λ – відношення радіуса кривошипа до довжини хвостовика;" in line
     assert "α – кут повороту кривошипів від їхнього верхнього положення, °." in line
     assert "шатуна" not in line and "ВМТ" not in line
     # the planetary carrier's torque is M_в in uk (the Latin c is the resistance torque's M_оп there)
-    line = _legends(add_equation_legends(_section("planetary", _equation("<i>M</i><sub>в</sub> = <i>F h</i>")),
-                                         uk, "uk", symbols=SYMBOLS))[0]
+    line = _legends(
+        add_equation_legends(
+            _section("planetary", _equation("<i>M</i><sub>в</sub> = <i>F h</i>")),
+            uk,
+            "uk",
+            symbols=SYMBOLS,
+        )
+    )[0]
     assert "Mв – крутний момент на водилі, Н·м;" in line
 
 
@@ -160,30 +209,57 @@ def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
     the list of symbols says before it lists the tables' units: lines in the tables' units make
     the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм,
     F_п in см² is ten times too small; p = q F_п/(d B) a hundred times)."""
-    html = _section("forces", _equation("<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
-                                        "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"))
+    html = _section(
+        "forces",
+        _equation(
+            "<i>M</i><sub>к</sub> = <i>t</i> <i>R</i> <i>F</i><sub>п</sub>, "
+            "<i>V</i><sub>h</sub>, <i>m</i><sub>s</sub>, <i>s</i><sub>п</sub>"
+        ),
+    )
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    for part in ("Mк – крутний момент від сил одного циліндра, Н·м;", "t – питома тангенціальна сила, Па;",
-                 "R – радіус кривошипа, м;", "Fп – площа поршня, м²;", "Vh – робочий об’єм циліндра, м³;",
-                 "ms – маса частин, що рухаються зворотно-поступально, кг;", "sп – переміщення поршня, м."):
+    for part in (
+        "Mк – крутний момент від сил одного циліндра, Н·м;",
+        "t – питома тангенціальна сила, Па;",
+        "R – радіус кривошипа, м;",
+        "Fп – площа поршня, м²;",
+        "Vh – робочий об’єм циліндра, м³;",
+        "ms – маса частин, що рухаються зворотно-поступально, кг;",
+        "sп – переміщення поршня, м.",
+    ):
         assert part in line.replace("&#39;", "'"), part
-    html = _section("bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)"))
+    html = _section(
+        "bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)")
+    )
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
-    assert "d·B, Па;" in line and "d – діаметр шийки, м;" in line and "B – ширина підшипника, м." in line, line
+    assert (
+        "d·B, Па;" in line
+        and "d – діаметр шийки, м;" in line
+        and "B – ширина підшипника, м." in line
+    ), line
 
 
 def test_a_product_in_one_italic_run_is_read_letter_by_letter():
     # v = Rω sin(α + β): ω stands before α
-    assert symbols_in("<i>v</i><sub>п</sub> = <i>Rω</i> sin(<i>α</i> + <i>β</i>)", "uk", "kinematics") == [
-        "piston_velocity", "crank_radius", "crank_angular_velocity", "crank_angle", "rod_angle"]
+    assert symbols_in(
+        "<i>v</i><sub>п</sub> = <i>Rω</i> sin(<i>α</i> + <i>β</i>)", "uk", "kinematics"
+    ) == ["piston_velocity", "crank_radius", "crank_angular_velocity", "crank_angle", "rod_angle"]
     assert symbols_in("<i>M</i><sub>к</sub> = <i>t R</i> <i>F</i><sub>п</sub>", "uk", "forces") == [
-        "crank_torque", "tangential_specific", "crank_radius", "piston_area"]
+        "crank_torque",
+        "tangential_specific",
+        "crank_radius",
+        "piston_area",
+    ]
 
 
 def test_the_flywheel_equations_explain_their_own_quantities(uk):
     # ½J(ω_max² − ω_min²) = ΔL: J, ω_max and ω_min are explained under it, in that order
-    html = _section("flywheel", _equation("½<i>J</i>(<i>ω</i><sub>max</sub><sup>2</sup> − <i>ω</i><sub>min</sub>"
-                                          "<sup>2</sup>) = Δ<i>L</i>"))
+    html = _section(
+        "flywheel",
+        _equation(
+            "½<i>J</i>(<i>ω</i><sub>max</sub><sup>2</sup> − <i>ω</i><sub>min</sub>"
+            "<sup>2</sup>) = Δ<i>L</i>"
+        ),
+    )
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     assert line.startswith("де J – зведений до колінчастого вала момент інерції")
     assert line.index("ωmax –") < line.index("ωmin –") < line.index("ΔL –")
@@ -200,7 +276,10 @@ def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
     text = f"{bare} = Δ{bare}; <b>{bare}</b>, {bare}<sub>ш</sub>, {bare}′ {bare}"
     pattern = symbol_pattern("crank_angular_velocity", "uk", not_after=("<b>",), tail="(?![′″])")
     found = [m.start() for m in re.finditer(pattern, text)]
-    expected = [m.start() for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)]
+    expected = [
+        m.start()
+        for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)
+    ]
     assert found == expected == [0, len(text) - len(bare)]
 
 
@@ -208,8 +287,15 @@ def test_a_dotted_letter_is_not_the_letter():
     """The planetary note has no "z – питома радіальна сила" under a_G = z̈_A e_z + …, whose z̈
     is the second derivative of a coordinate (the italic run "z̈" is not read letter by letter)."""
     # the rod dynamics' own letters (Stage.symbols): the vectors and the dotted z̈_A, none of them z
-    assert symbols_in("<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics") == [
-        "rod_dynamics.acceleration_G", "rod_dynamics.small_end_acceleration", "rod_dynamics.cylinder_axis_vector"]
+    assert symbols_in(
+        "<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub>z</sub>", "uk", "rod_dynamics"
+    ) == [
+        "rod_dynamics.acceleration_G",
+        "rod_dynamics.small_end_acceleration",
+        "rod_dynamics.cylinder_axis_vector",
+    ]
     assert symbols_in("<i>β̈</i> (cos <i>β</i>)", "uk", "rod_dynamics") == ["rod_angle"]
-    assert symbols_in("<i>z</i> = <i>β</i>", "uk", "forces")[1:] == ["rod_angle"]  # z itself: the radial force
+    assert symbols_in("<i>z</i> = <i>β</i>", "uk", "forces")[1:] == [
+        "rod_angle"
+    ]  # z itself: the radial force
     assert symbols_in("<i>Rω</i>", "uk", "kinematics") == ["crank_radius", "crank_angular_velocity"]

@@ -29,7 +29,11 @@ I_G = "0.0035 kg m^2"
 
 
 def _run(example, inertia=I_G, apply=True, **more):
-    changes = {"masses": {"rod_moment_of_inertia": inertia}, "rod_dynamics": {"apply_to_loads": apply}, **more}
+    changes = {
+        "masses": {"rod_moment_of_inertia": inertia},
+        "rod_dynamics": {"apply_to_loads": apply},
+        **more,
+    }
     return run_scene(scene_from_dict(modified(example, changes), base_dir=examples_dir()), REGISTRY)
 
 
@@ -46,8 +50,14 @@ def newton_euler(alpha, R, L, lr, m, inertia, mp, w, gas_N):
     c = {1: 8 / 5, 2: -1 / 5, 3: 8 / 315, 4: -1 / 560}
 
     def second(fn):
-        return (sum(k * (fn(alpha + j * h) + fn(alpha - j * h)) for j, k in c.items())
-                - 2 * sum(c.values()) * fn(alpha)) / h**2 * w**2
+        return (
+            (
+                sum(k * (fn(alpha + j * h) + fn(alpha - j * h)) for j, k in c.items())
+                - 2 * sum(c.values()) * fn(alpha)
+            )
+            / h**2
+            * w**2
+        )
 
     A, B, G, b = positions(alpha)
     aA = second(lambda a: positions(a)[0])
@@ -57,12 +67,18 @@ def newton_euler(alpha, R, L, lr, m, inertia, mp, w, gas_N):
     for i, a in enumerate(alpha):
         ra, rb = A[:, i] - G[:, i], B[:, i] - G[:, i]
         #            Ax       Ay       Bx       By      N
-        M = np.array([[-1.0, 0.0, 0.0, 0.0, 1.0],
-                      [0.0, -1.0, 0.0, 0.0, 0.0],
-                      [1.0, 0.0, 1.0, 0.0, 0.0],
-                      [0.0, 1.0, 0.0, 1.0, 0.0],
-                      [-ra[1], ra[0], -rb[1], rb[0], 0.0]])
-        rhs = np.array([0.0, mp * aA[1, i] + gas_N[i], m * aG[0, i], m * aG[1, i], inertia * bdd[i]])
+        M = np.array(
+            [
+                [-1.0, 0.0, 0.0, 0.0, 1.0],
+                [0.0, -1.0, 0.0, 0.0, 0.0],
+                [1.0, 0.0, 1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0, 1.0, 0.0],
+                [-ra[1], ra[0], -rb[1], rb[0], 0.0],
+            ]
+        )
+        rhs = np.array(
+            [0.0, mp * aA[1, i] + gas_N[i], m * aG[0, i], m * aG[1, i], inertia * bdd[i]]
+        )
         ax, ay, bx, by, n = np.linalg.solve(M, rhs)
         out["T"][i] = -(bx * np.cos(a) - by * np.sin(a))
         out["Z"][i] = bx * np.sin(a) + by * np.cos(a)
@@ -81,14 +97,30 @@ def test_loads_match_a_newton_euler_solve(exact_run):
     f = exact_run.outputs["forces"].tables["forces"]
     alpha = np.radians(f["crank_angle_deg"].to_numpy())
     area = exact_run.outputs["forces"].results["piston_area_m2"]
-    ref = newton_euler(alpha, e.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m, m.rod,
-                       m.rod_moment_of_inertia, m.piston_group, e.angular_velocity_rad_s, f["gas_Pa"].to_numpy() * area)
+    ref = newton_euler(
+        alpha,
+        e.crank_radius_m,
+        e.rod_length_m,
+        scene.rod_cm_from_big_end_m,
+        m.rod,
+        m.rod_moment_of_inertia,
+        m.piston_group,
+        e.angular_velocity_rad_s,
+        f["gas_Pa"].to_numpy() * area,
+    )
     scale = np.max(np.hypot(ref["T"], ref["Z"]))
-    for column, value in (("crank_pin_tangential_N", ref["T"]), ("crank_pin_radial_N", ref["Z"]),
-                          ("wrist_pin_lateral_N", ref["Ax"]), ("wrist_pin_axial_N", -ref["Ay"]), ("side_N", ref["N"])):
+    for column, value in (
+        ("crank_pin_tangential_N", ref["T"]),
+        ("crank_pin_radial_N", ref["Z"]),
+        ("wrist_pin_lateral_N", ref["Ax"]),
+        ("wrist_pin_axial_N", -ref["Ay"]),
+        ("side_N", ref["N"]),
+    ):
         assert np.max(np.abs(f[column].to_numpy() - value)) < 1e-9 * scale, column
     # the torque and the bay loads handed on are the exact ones
-    np.testing.assert_allclose(f["torque_Nm"], ref["T"] * e.crank_radius_m, rtol=0, atol=1e-9 * scale * e.crank_radius_m)
+    np.testing.assert_allclose(
+        f["torque_Nm"], ref["T"] * e.crank_radius_m, rtol=0, atol=1e-9 * scale * e.crank_radius_m
+    )
     c_rod = exact_run.outputs["forces"].results["centrifugal_rod_Pa"]
     np.testing.assert_allclose((f["radial_Pa"] + c_rod) * area, ref["Z"], rtol=0, atol=1e-9 * scale)
     # and the difference to the two-mass loads is reported, not zero
@@ -114,7 +146,10 @@ def test_two_mass_inertia_gives_the_textbook_loads():
 def test_exact_loads_reach_the_bearings():
     only = {"analysis": {"stages": ["bearings"]}, "flywheel": None}
     plain, exact = _run("inline4-petrol", apply=False, **only), _run("inline4-petrol", **only)
-    assert "exact_rod" in exact.outputs["forces"].results and "exact_rod" not in plain.outputs["forces"].results
+    assert (
+        "exact_rod" in exact.outputs["forces"].results
+        and "exact_rod" not in plain.outputs["forces"].results
+    )
     pins = [exact.outputs["bearings"].results, plain.outputs["bearings"].results]
     assert pins[0] != pins[1]
 
@@ -134,11 +169,24 @@ def test_the_side_and_rod_forces_handed_on_are_the_reported_ones(exact_run):
     scene, e, m = exact_run.scene, exact_run.scene.engine, exact_run.scene.masses
     data = exact_run.outputs["forces"].data[FORCES]
     area, alpha = data.piston_area_m2, np.radians(data.crank_angle_deg)
-    ref = newton_euler(alpha, e.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m, m.rod,
-                       m.rod_moment_of_inertia, m.piston_group, e.angular_velocity_rad_s, data.gas_Pa * area)
+    ref = newton_euler(
+        alpha,
+        e.crank_radius_m,
+        e.rod_length_m,
+        scene.rod_cm_from_big_end_m,
+        m.rod,
+        m.rod_moment_of_inertia,
+        m.piston_group,
+        e.angular_velocity_rad_s,
+        data.gas_Pa * area,
+    )
     assert np.max(np.abs(data.side_Pa * area - ref["N"])) < 1e-9 * np.max(np.abs(ref["N"]))
     plain = _run("petrol-1cyl", apply=False)
     two = plain.outputs["forces"].data[FORCES]
     beta = plain.outputs["kinematics"].data[KINEMATICS].rod_angle_rad
-    np.testing.assert_allclose(two.side_Pa, two.total_Pa * np.tan(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa)))
-    np.testing.assert_allclose(two.rod_Pa, two.total_Pa / np.cos(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa)))
+    np.testing.assert_allclose(
+        two.side_Pa, two.total_Pa * np.tan(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa))
+    )
+    np.testing.assert_allclose(
+        two.rod_Pa, two.total_Pa / np.cos(beta), rtol=0, atol=1e-9 * np.max(np.abs(two.total_Pa))
+    )

@@ -14,10 +14,18 @@ from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics.layout import build_layout
 
 
-@pytest.mark.parametrize("cylinders, strokes, arrangements, orders", [
-    (3, 4, 2, 2), (4, 4, 3, 6), (5, 4, 24, 24), (6, 4, 30, 120), (8, 4, 630, 5040),
-    (4, 2, 6, 6), (6, 2, 120, 120),
-])
+@pytest.mark.parametrize(
+    "cylinders, strokes, arrangements, orders",
+    [
+        (3, 4, 2, 2),
+        (4, 4, 3, 6),
+        (5, 4, 24, 24),
+        (6, 4, 30, 120),
+        (8, 4, 630, 5040),
+        (4, 2, 6, 6),
+        (6, 2, 120, 120),
+    ],
+)
 def test_inline_counts(cylinders, strokes, arrangements, orders):
     """(i-1)! firing orders; for an even four-stroke count, (i-1)!/2^(i/2-1) crank arrangements."""
     result = fe.explore(cylinders, "inline", strokes, top=3)
@@ -25,10 +33,20 @@ def test_inline_counts(cylinders, strokes, arrangements, orders):
     assert orders == fe.count_firing_orders(cylinders)
 
 
-@pytest.mark.parametrize("cylinders, layout, strokes, gamma", [
-    (6, "inline", 4, None), (5, "inline", 4, None), (4, "inline", 2, None), (8, "V", 4, 90.0), (6, "V", 4, 120.0),
-    (12, "W", 4, 60.0), (8, "X", 4, 90.0), (4, "boxer", 4, None), (3, "Y", 2, 120.0),
-])
+@pytest.mark.parametrize(
+    "cylinders, layout, strokes, gamma",
+    [
+        (6, "inline", 4, None),
+        (5, "inline", 4, None),
+        (4, "inline", 2, None),
+        (8, "V", 4, 90.0),
+        (6, "V", 4, 120.0),
+        (12, "W", 4, 60.0),
+        (8, "X", 4, 90.0),
+        (4, "boxer", 4, None),
+        (3, "Y", 2, 120.0),
+    ],
+)
 def test_every_listed_order_fires_evenly_with_its_cranks(cylinders, layout, strokes, gamma):
     """Independent check through the layout builder: each row's firing order, given as the scene would give
     it, yields exactly the row's crank arrangement and even firing; rows are distinct."""
@@ -38,7 +56,9 @@ def test_every_listed_order_fires_evenly_with_its_cranks(cylinders, layout, stro
     for row in result.rows:
         built = build_layout(layout, strokes, cylinders, gamma, list(row.firing_order), None)
         assert built.even_firing
-        np.testing.assert_allclose(np.array(built.crank_lag_deg) % 360, np.array(row.crank_angles_deg) % 360, atol=1e-9)
+        np.testing.assert_allclose(
+            np.array(built.crank_lag_deg) % 360, np.array(row.crank_angles_deg) % 360, atol=1e-9
+        )
         seen.add(row.firing_order)
     assert len(seen) == len(result.rows)
 
@@ -51,16 +71,28 @@ def test_inline8_full_ranking_is_sorted_and_its_coefficients_are_right():
     for row in [result.rows[i] for i in rng.choice(5040, 25, replace=False)]:
         layout = build_layout("inline", 4, 8, None, list(row.firing_order), None)
         g = bal.geometry_from_layout(layout)
-        rot, first, second = bal.rotating_model(g), bal.reciprocating_model(g, 1), bal.reciprocating_model(g, 2)
-        expected = {"sum_C": abs(rot.force_forward), "M_C": abs(rot.moment_forward), "sum_PI": first.force_max,
-                    "M_PI": first.moment_max, "sum_PII": second.force_max, "M_PII": second.moment_max}
+        rot, first, second = (
+            bal.rotating_model(g),
+            bal.reciprocating_model(g, 1),
+            bal.reciprocating_model(g, 2),
+        )
+        expected = {
+            "sum_C": abs(rot.force_forward),
+            "M_C": abs(rot.moment_forward),
+            "sum_PI": first.force_max,
+            "M_PI": first.moment_max,
+            "sum_PII": second.force_max,
+            "M_PII": second.moment_max,
+        }
         for key, value in expected.items():
             assert row.coefficients[key] == pytest.approx(value, abs=1e-12)
     # keys never decrease down the table: in-line first key = sum_PI + M_PI, then the second order
     first = [r.coefficients["sum_PI"] + r.coefficients["M_PI"] for r in result.rows]
     assert all(b >= a - 1e-7 for a, b in zip(first, first[1:], strict=False))
     best = result.rows[0]
-    assert all(v == 0.0 for v in best.coefficients.values())  # the mirror-symmetric (cross) crankshaft
+    assert all(
+        v == 0.0 for v in best.coefficients.values()
+    )  # the mirror-symmetric (cross) crankshaft
     assert best.neighbours == 0
     # the classic 1-6-2-5-8-3-7-4 is among the fully balanced orders with no neighbours firing in turn
     classic = next(r for r in result.rows if "-".join(r.firing_order) == "1-6-2-5-8-3-7-4")
@@ -71,20 +103,26 @@ def test_tiered_ranking_equals_the_full_ranking():
     full = fe.explore(8, "inline", 4, top=None).rows
     for top in (1, 10, 60):
         part = fe.explore(8, "inline", 4, top=top)
-        assert [(r.firing_order, r.rank) for r in part.rows] == [(r.firing_order, r.rank) for r in full[:top]]
+        assert [(r.firing_order, r.rank) for r in part.rows] == [
+            (r.firing_order, r.rank) for r in full[:top]
+        ]
         assert part.scored_firing_orders < 5040
 
 
 def test_textbook_choices_rank_first():
     four = fe.explore(4, "inline", 4, top=2).rows
-    assert all(r.crank_angles_deg == (0.0, 180.0, 180.0, 0.0) for r in four)  # flat crank, only 4 C_II left
+    assert all(
+        r.crank_angles_deg == (0.0, 180.0, 180.0, 0.0) for r in four
+    )  # flat crank, only 4 C_II left
     assert four[0].coefficients["sum_PII"] == pytest.approx(4.0)
     six = fe.explore(6, "inline", 4, top=2).rows
     assert {"-".join(r.firing_order) for r in six} == {"1-5-3-6-2-4", "1-4-2-6-3-5"}
     assert all(max(r.coefficients.values()) == 0.0 and r.neighbours == 0 for r in six)
     # 90-degree V8: the cross-plane crank (a rotating couple that counterweights cure) before the flat one
     v8 = fe.explore(8, "V", 4, 90.0, top=None).rows
-    assert v8[0].coefficients["sum_PII"] == 0.0 and v8[0].coefficients["M_PI"] == pytest.approx(math.sqrt(10))
+    assert v8[0].coefficients["sum_PII"] == 0.0 and v8[0].coefficients["M_PI"] == pytest.approx(
+        math.sqrt(10)
+    )
     flat = [r for r in v8 if r.crank_angles_deg == (0.0, 180.0, 180.0, 0.0)]
     assert flat and all(r.coefficients["sum_PII"] == pytest.approx(4 * math.sqrt(2)) for r in flat)
     cross = [r for r in v8 if r.coefficients == pytest.approx(v8[0].coefficients)]
@@ -104,7 +142,9 @@ def test_locating_the_scene_order():
 
 
 def test_no_even_firing_and_single_crank_engines():
-    assert "multiples of 120" in fe.explore(6, "V", 4, 60.0).reason  # a 60-degree V6 needs split pins
+    assert (
+        "multiples of 120" in fe.explore(6, "V", 4, 60.0).reason
+    )  # a 60-degree V6 needs split pins
     radial = fe.explore(9, "radial", 4, top=5)
     assert radial.arrangements == 1 and radial.firing_orders == 1
     assert radial.rows[0].firing_order == ("1", "3", "5", "7", "9", "2", "4", "6", "8")
@@ -117,8 +157,26 @@ def test_no_even_firing_and_single_crank_engines():
 def test_cli_explore(capsys):
     assert main(["explore", "--cylinders", "4", "--top", "2"]) == 0
     out = capsys.readouterr().out
-    assert "3 crank arrangements, 6 firing orders" in out and "1-3-4-2" in out and "0,180,180,0" in out
-    assert main(["explore", "--cylinders", "8", "--layout", "V", "--bank-angle", "90", "--json", "--top", "1"]) == 0
+    assert (
+        "3 crank arrangements, 6 firing orders" in out and "1-3-4-2" in out and "0,180,180,0" in out
+    )
+    assert (
+        main(
+            [
+                "explore",
+                "--cylinders",
+                "8",
+                "--layout",
+                "V",
+                "--bank-angle",
+                "90",
+                "--json",
+                "--top",
+                "1",
+            ]
+        )
+        == 0
+    )
     data = json.loads(capsys.readouterr().out)
     assert data["firing_orders"] == 72 and len(data["rows"]) == 1
     assert main(["explore", "--cylinders", "8", "--layout", "V"]) == 2

@@ -40,10 +40,15 @@ QUICK = {"numerics": {"steps_deg": [10], "repeats": 1}}
 NO_NUMERICS = {"analysis": {"stages": ["forces", "torque"]}}
 TINY = {"piston_group": "1e-6 kg", "rod": "1e-6 kg", "crank_pin": "1e-6 kg", "crank_web": "1e-6 kg"}
 HEAVY = {"piston_group": "1e3 kg", "rod": "1e3 kg", "crank_pin": "1e3 kg", "crank_web": "1e3 kg"}
-TWO_STROKE = {"exhaust_pressure": None, "rounding": {"exhaust_closes_after_tdc_deg": None,
-                                                     "intake_opens_before_tdc_deg": None,
-                                                     "intake_closes_after_bdc_deg": None,
-                                                     "exhaust_opens_before_bdc_deg": 80}}
+TWO_STROKE = {
+    "exhaust_pressure": None,
+    "rounding": {
+        "exhaust_closes_after_tdc_deg": None,
+        "intake_opens_before_tdc_deg": None,
+        "intake_closes_after_bdc_deg": None,
+        "exhaust_opens_before_bdc_deg": 80,
+    },
+}
 
 
 def even_firing_order(layout, cylinders, strokes, bank_angle_deg=None):
@@ -62,11 +67,14 @@ def even_firing_order(layout, cylinders, strokes, bank_angle_deg=None):
         if k == len(bays):
             return True
         (first, psi0), *others = bays[k]
-        for start in ([0] if k == 0 else [s for s in range(cylinders) if s not in slots.values()]):
+        for start in [0] if k == 0 else [s for s in range(cylinders) if s not in slots.values()]:
             lag, chosen = (start * interval - psi0) % 360.0, {first: start}
             for label, psi in others:
-                free = [s for s in range(cylinders) if s not in slots.values() and s not in chosen.values()
-                        and fits(s, psi, lag)]
+                free = [
+                    s
+                    for s in range(cylinders)
+                    if s not in slots.values() and s not in chosen.values() and fits(s, psi, lag)
+                ]
                 if not free:
                     break
                 chosen[label] = free[0]
@@ -83,9 +91,18 @@ def even_firing_order(layout, cylinders, strokes, bank_angle_deg=None):
 
 
 def engine(layout, cylinders, bank=None, strokes=4, rod="central", **more):
-    changes = {"engine": {"layout": layout, "cylinders": cylinders, "strokes": strokes, "bank_angle_deg": bank,
-                          "rod_type": rod, "crank_angles_deg": None,
-                          "firing_order": even_firing_order(layout, cylinders, strokes, bank)}, **QUICK}
+    changes = {
+        "engine": {
+            "layout": layout,
+            "cylinders": cylinders,
+            "strokes": strokes,
+            "bank_angle_deg": bank,
+            "rod_type": rod,
+            "crank_angles_deg": None,
+            "firing_order": even_firing_order(layout, cylinders, strokes, bank),
+        },
+        **QUICK,
+    }
     if strokes == 2:
         changes["cycle"] = TWO_STROKE
     if rod == "articulated":
@@ -95,7 +112,11 @@ def engine(layout, cylinders, bank=None, strokes=4, rod="central", **more):
 
 
 def radial(cylinders, strokes=4, **more):
-    changes = {"engine": {"cylinders": cylinders, "strokes": strokes}, "analysis": {"table_step_deg": 30}, **QUICK}
+    changes = {
+        "engine": {"cylinders": cylinders, "strokes": strokes},
+        "analysis": {"table_step_deg": 30},
+        **QUICK,
+    }
     if strokes == 2:
         changes["cycle"] = {"exhaust_pressure": None}
     for key, value in more.items():
@@ -108,13 +129,26 @@ CASES = {
     "lambda-0.001": ("petrol-1cyl", {"engine": {"rod_ratio": 0.001}, **QUICK}),
     "lambda-0.99": ("petrol-1cyl", {"engine": {"rod_ratio": 0.99}, **QUICK}),
     "lambda-0.99-two-stroke": ("two-stroke-1cyl", {"engine": {"rod_ratio": 0.99}, **QUICK}),
-    "lambda-0.99-diesel": ("diesel-1cyl", {"engine": {"rod_ratio": 0.99, "rod_length": None}, **QUICK}),
-    "lambda-0.99-trace": ("diesel-rk-trace", {"engine": {"rod_ratio": 0.99, "rod_length": None}, **QUICK}),
-    "lambda-0.99-two-term": ("petrol-1cyl", {"engine": {"rod_ratio": 0.99}, "analysis": {"kinematics": "approximate"},
-                                             **QUICK}),
-    "lambda-0.001-two-term": ("petrol-1cyl", {"engine": {"rod_ratio": 0.001},
-                                              "analysis": {"kinematics": "approximate"}, **QUICK}),
-    "kinematics-only-lambda-0.99": ("kinematics-only", {"engine": {"rod_ratio": 0.99, "rod_length": None}}),
+    "lambda-0.99-diesel": (
+        "diesel-1cyl",
+        {"engine": {"rod_ratio": 0.99, "rod_length": None}, **QUICK},
+    ),
+    "lambda-0.99-trace": (
+        "diesel-rk-trace",
+        {"engine": {"rod_ratio": 0.99, "rod_length": None}, **QUICK},
+    ),
+    "lambda-0.99-two-term": (
+        "petrol-1cyl",
+        {"engine": {"rod_ratio": 0.99}, "analysis": {"kinematics": "approximate"}, **QUICK},
+    ),
+    "lambda-0.001-two-term": (
+        "petrol-1cyl",
+        {"engine": {"rod_ratio": 0.001}, "analysis": {"kinematics": "approximate"}, **QUICK},
+    ),
+    "kinematics-only-lambda-0.99": (
+        "kinematics-only",
+        {"engine": {"rod_ratio": 0.99, "rod_length": None}},
+    ),
     "kinematics-only-rpm-20000": ("kinematics-only", {"engine": {"rpm": 20000}}),
     # speed
     "rpm-1": ("petrol-1cyl", {"engine": {"rpm": 1}, **QUICK}),
@@ -126,30 +160,99 @@ CASES = {
     # masses and sizes
     "masses-1e-6": ("petrol-1cyl", {"masses": TINY, **QUICK}),
     "masses-1e3": ("petrol-1cyl", {"masses": HEAVY, **QUICK}),
-    "masses-mixed": ("petrol-1cyl", {"masses": {"piston_group": "1e3 kg", "rod": "1e-6 kg", "crank_pin": "0 kg",
-                                                "crank_web": "1e3 kg"}, **QUICK}),
-    "engine-1-mm": ("petrol-1cyl", {"engine": {"bore": "1 mm", "stroke": "1 mm"}, "masses": TINY, **QUICK}),
-    "engine-3-m-stroke": ("diesel-1cyl", {"engine": {"bore": "1000 mm", "stroke": "3000 mm", "rpm": 60,
-                                                     "rod_ratio": 0.3, "rod_length": None}, "masses": HEAVY, **QUICK}),
+    "masses-mixed": (
+        "petrol-1cyl",
+        {
+            "masses": {
+                "piston_group": "1e3 kg",
+                "rod": "1e-6 kg",
+                "crank_pin": "0 kg",
+                "crank_web": "1e3 kg",
+            },
+            **QUICK,
+        },
+    ),
+    "engine-1-mm": (
+        "petrol-1cyl",
+        {"engine": {"bore": "1 mm", "stroke": "1 mm"}, "masses": TINY, **QUICK},
+    ),
+    "engine-3-m-stroke": (
+        "diesel-1cyl",
+        {
+            "engine": {
+                "bore": "1000 mm",
+                "stroke": "3000 mm",
+                "rpm": 60,
+                "rod_ratio": 0.3,
+                "rod_length": None,
+            },
+            "masses": HEAVY,
+            **QUICK,
+        },
+    ),
     # steps (30 deg is refused as too coarse unless the scene accepts a larger error)
-    "step-30-error-accepted": ("petrol-1cyl", {"analysis": {"angle_step_deg": 30, "table_step_deg": 30},
-                                               "numerics": {"steps_deg": [10], "repeats": 1, "max_error_percent": 20}}),
-    "step-0.05": ("petrol-1cyl", {"analysis": {"angle_step_deg": 0.05, "table_step_deg": 30}, **QUICK}),
+    "step-30-error-accepted": (
+        "petrol-1cyl",
+        {
+            "analysis": {"angle_step_deg": 30, "table_step_deg": 30},
+            "numerics": {"steps_deg": [10], "repeats": 1, "max_error_percent": 20},
+        },
+    ),
+    "step-0.05": (
+        "petrol-1cyl",
+        {"analysis": {"angle_step_deg": 0.05, "table_step_deg": 30}, **QUICK},
+    ),
     # cylinders and layouts
     # (in-line variants without the example's flywheel; flywheels have their own cases below)
-    "inline-1": ("inline4-petrol", {"flywheel": None, "engine": {"cylinders": 1, "firing_order": None}, **QUICK}),
-    "inline-2": ("inline4-petrol", {"flywheel": None, "engine": {"cylinders": 2, "firing_order": [1, 2]}, **QUICK}),
-    "inline-3-two-stroke": ("inline4-petrol", {"flywheel": None,
-                                               "engine": {"cylinders": 3, "strokes": 2, "firing_order": [1, 3, 2]},
-                                               "cycle": TWO_STROKE, **QUICK}),
-    "inline-5": ("inline4-petrol", {"flywheel": None, "engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]},
-                                    **QUICK}),
-    "inline-12": ("inline4-petrol", {"flywheel": None, "engine": {"cylinders": 12, "firing_order": list(range(1, 13))},
-                                     **QUICK}),
-    "inline-24": ("inline4-petrol", {"flywheel": None, "engine": {"cylinders": 24, "firing_order": list(range(1, 25))},
-                                     **QUICK}),
-    "V2-uneven": ("v8-petrol", {"engine": {"cylinders": 2, "firing_order": ["1L", "1R"], "crank_angles_deg": [0],
-                                           "uneven_firing": True}, **QUICK}),
+    "inline-1": (
+        "inline4-petrol",
+        {"flywheel": None, "engine": {"cylinders": 1, "firing_order": None}, **QUICK},
+    ),
+    "inline-2": (
+        "inline4-petrol",
+        {"flywheel": None, "engine": {"cylinders": 2, "firing_order": [1, 2]}, **QUICK},
+    ),
+    "inline-3-two-stroke": (
+        "inline4-petrol",
+        {
+            "flywheel": None,
+            "engine": {"cylinders": 3, "strokes": 2, "firing_order": [1, 3, 2]},
+            "cycle": TWO_STROKE,
+            **QUICK,
+        },
+    ),
+    "inline-5": (
+        "inline4-petrol",
+        {"flywheel": None, "engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}, **QUICK},
+    ),
+    "inline-12": (
+        "inline4-petrol",
+        {
+            "flywheel": None,
+            "engine": {"cylinders": 12, "firing_order": list(range(1, 13))},
+            **QUICK,
+        },
+    ),
+    "inline-24": (
+        "inline4-petrol",
+        {
+            "flywheel": None,
+            "engine": {"cylinders": 24, "firing_order": list(range(1, 25))},
+            **QUICK,
+        },
+    ),
+    "V2-uneven": (
+        "v8-petrol",
+        {
+            "engine": {
+                "cylinders": 2,
+                "firing_order": ["1L", "1R"],
+                "crank_angles_deg": [0],
+                "uneven_firing": True,
+            },
+            **QUICK,
+        },
+    ),
     "V4-180": engine("V", 4, 180),
     "V6-120": engine("V", 6, 120),
     "V12-60": engine("V", 12, 60),
@@ -171,64 +274,159 @@ CASES = {
     "radial-lambda-0.4": radial(9, engine={"rod_ratio": 0.4, "rod_length": None}),
     "radial-rpm-1": radial(9, engine={"rpm": 1}, **NO_NUMERICS),
     "radial-rpm-20000": radial(9, engine={"rpm": 20000}, **NO_NUMERICS),
-    "radial-masses-1e-6": radial(9, masses=TINY, articulated={"slave_rod": "1e-6 kg"}, **NO_NUMERICS),
-    "radial-masses-1e3": radial(9, masses=HEAVY, articulated={"slave_rod": "1e3 kg"}, **NO_NUMERICS),
+    "radial-masses-1e-6": radial(
+        9, masses=TINY, articulated={"slave_rod": "1e-6 kg"}, **NO_NUMERICS
+    ),
+    "radial-masses-1e3": radial(
+        9, masses=HEAVY, articulated={"slave_rod": "1e3 kg"}, **NO_NUMERICS
+    ),
     # other mechanisms: an offset crank close to locking (|e| < L - R = 101 mm), planetary cusps, vane
     "offset-near-limit": ("offset-crank-engine", {"mechanism": {"offset": "100.9 mm"}, **QUICK}),
-    "offset-near-limit-other-side": ("offset-crank-engine", {"mechanism": {"offset": "-100.9 mm"}, **QUICK}),
-    "offset-at-1e-5-of-limit-fine-step": ("offset-crank-engine", {"mechanism": {"offset": "100.999 mm"},
-                                                                  "analysis": {"angle_step_deg": 0.1}, **QUICK}),
+    "offset-near-limit-other-side": (
+        "offset-crank-engine",
+        {"mechanism": {"offset": "-100.9 mm"}, **QUICK},
+    ),
+    "offset-at-1e-5-of-limit-fine-step": (
+        "offset-crank-engine",
+        {"mechanism": {"offset": "100.999 mm"}, "analysis": {"angle_step_deg": 0.1}, **QUICK},
+    ),
     "offset-rpm-20000": ("offset-crank-engine", {"engine": {"rpm": 20000}, **QUICK}),
     "offset-rpm-1": ("offset-crank-engine", {"engine": {"rpm": 1}, **QUICK}),
     "planetary-pin-on-pitch-circle-cusp": ("planetary-kinematics", {}),
-    "planetary-just-inside-cusp": ("planetary-kinematics", {"mechanism": {"pin_radius": "9.99 mm"},
-                                                            "engine": {"stroke": "93.9067 mm"}}),
-    "planetary-just-outside-cusp": ("planetary-kinematics", {"mechanism": {"pin_radius": "10.01 mm"},
-                                                             "engine": {"stroke": "93.9467 mm"}}),
+    "planetary-just-inside-cusp": (
+        "planetary-kinematics",
+        {"mechanism": {"pin_radius": "9.99 mm"}, "engine": {"stroke": "93.9067 mm"}},
+    ),
+    "planetary-just-outside-cusp": (
+        "planetary-kinematics",
+        {"mechanism": {"pin_radius": "10.01 mm"}, "engine": {"stroke": "93.9467 mm"}},
+    ),
     "vane": ("vane-engine-kinematics", {}),
     # flywheels (the in-line example asks for one)
     "flywheel-designed": ("inline4-petrol", {**QUICK}),
-    "flywheel-very-small-chosen": ("inline4-petrol", {"flywheel": {"inertia": "1e-6 kg*m^2",
-                                                                   "required_irregularity": None}, **QUICK}),
-    "flywheel-not-needed-large-engine-inertia": ("inline4-petrol", {"flywheel": {"engine_inertia": "100 kg*m^2"},
-                                                                    **QUICK}),
-    "flywheel-loose-irregularity": ("inline4-petrol", {"flywheel": {"required_irregularity": 0.2}, **QUICK}),
-    "flywheel-one-cylinder": ("inline4-petrol", {"engine": {"cylinders": 1, "firing_order": None}, **QUICK}),
+    "flywheel-very-small-chosen": (
+        "inline4-petrol",
+        {"flywheel": {"inertia": "1e-6 kg*m^2", "required_irregularity": None}, **QUICK},
+    ),
+    "flywheel-not-needed-large-engine-inertia": (
+        "inline4-petrol",
+        {"flywheel": {"engine_inertia": "100 kg*m^2"}, **QUICK},
+    ),
+    "flywheel-loose-irregularity": (
+        "inline4-petrol",
+        {"flywheel": {"required_irregularity": 0.2}, **QUICK},
+    ),
+    "flywheel-one-cylinder": (
+        "inline4-petrol",
+        {"engine": {"cylinders": 1, "firing_order": None}, **QUICK},
+    ),
 }
 
 REFUSED = {
-    "diesel-20000-rpm-ignition-delay": ("diesel-1cyl", {"engine": {"rpm": 20000}}, "cycle.rounding",
-                                        "combustion_delay_deg"),
-    "radial-lambda-0.99-slave-cannot-reach": ("radial9-aircraft", {"engine": {"rod_ratio": 0.99, "rod_length": None}},
-                                              "articulated.slave_rod_length", "cannot reach"),
-    "radial-7-no-step-divides": ("radial9-aircraft", {"engine": {"cylinders": 7}}, "analysis.angle_step_deg",
-                                 "firing delays"),
-    "radial-8-four-stroke": ("radial9-aircraft", {"engine": {"cylinders": 8}}, "engine.cylinders", "odd number"),
-    "radial-25-cylinders": ("radial9-aircraft", {"engine": {"cylinders": 25}}, "engine.cylinders", "1 to 24"),
-    "articulated-inline": ("inline4-petrol", {"engine": {"rod_type": "articulated"}}, "engine.rod_type",
-                           "several cylinders"),
-    "pin-radius-beyond-rod": ("radial9-aircraft", {"articulated": {"pin_radius": "330 mm"}}, "articulated.pin_radius",
-                              "shorter than the master rod"),
+    "diesel-20000-rpm-ignition-delay": (
+        "diesel-1cyl",
+        {"engine": {"rpm": 20000}},
+        "cycle.rounding",
+        "combustion_delay_deg",
+    ),
+    "radial-lambda-0.99-slave-cannot-reach": (
+        "radial9-aircraft",
+        {"engine": {"rod_ratio": 0.99, "rod_length": None}},
+        "articulated.slave_rod_length",
+        "cannot reach",
+    ),
+    "radial-7-no-step-divides": (
+        "radial9-aircraft",
+        {"engine": {"cylinders": 7}},
+        "analysis.angle_step_deg",
+        "firing delays",
+    ),
+    "radial-8-four-stroke": (
+        "radial9-aircraft",
+        {"engine": {"cylinders": 8}},
+        "engine.cylinders",
+        "odd number",
+    ),
+    "radial-25-cylinders": (
+        "radial9-aircraft",
+        {"engine": {"cylinders": 25}},
+        "engine.cylinders",
+        "1 to 24",
+    ),
+    "articulated-inline": (
+        "inline4-petrol",
+        {"engine": {"rod_type": "articulated"}},
+        "engine.rod_type",
+        "several cylinders",
+    ),
+    "pin-radius-beyond-rod": (
+        "radial9-aircraft",
+        {"articulated": {"pin_radius": "330 mm"}},
+        "articulated.pin_radius",
+        "shorter than the master rod",
+    ),
     "lambda-1": ("petrol-1cyl", {"engine": {"rod_ratio": 1.0}}, "engine.rod_ratio", "< 1"),
-    "rod-not-longer-than-crank": ("kinematics-only", {"engine": {"rod_length": "50 mm"}}, "engine.rod_length",
-                                  "longer than the crank radius"),
+    "rod-not-longer-than-crank": (
+        "kinematics-only",
+        {"engine": {"rod_length": "50 mm"}},
+        "engine.rod_length",
+        "longer than the crank radius",
+    ),
     "rpm-above-30000": ("petrol-1cyl", {"engine": {"rpm": 30001}}, "engine.rpm", "<= 30000"),
-    "zero-mass": ("petrol-1cyl", {"masses": {"piston_group": "0 kg"}}, "masses.piston_group", "> 0"),
-    "V2-even-firing-impossible": ("v8-petrol", {"engine": {"cylinders": 2, "firing_order": ["1L", "1R"],
-                                                           "crank_angles_deg": [0]}},
-                                  "engine.crank_angles_deg", "uneven"),
-    "step-not-dividing-banks": ("radial9-aircraft", {"analysis": {"angle_step_deg": 30, "table_step_deg": 30}},
-                                "analysis.angle_step_deg", "firing delays"),
-    "step-30-too-coarse": ("petrol-1cyl", {"analysis": {"angle_step_deg": 30, "table_step_deg": 30}},
-                           "analysis.angle_step_deg", "too coarse for this scene"),
-    "offset-at-1e-5-of-limit-1-deg-too-coarse": ("offset-crank-engine", {"mechanism": {"offset": "100.999 mm"}},
-                                                 "analysis.angle_step_deg", "too coarse for this scene"),
-    "offset-locks": ("offset-crank-engine", {"mechanism": {"offset": "101 mm"}}, "mechanism.offset", "locks"),
-    "planetary-stroke-not-the-linkage's": ("planetary-kinematics", {"mechanism": {"pin_radius": "0 mm"}},
-                                           "engine.stroke", "gives a piston stroke"),
-    "flywheel-rim-too-small": ("inline4-petrol", {"flywheel": {"rim_mean_diameter": "10 mm", "max_rim_speed": None}},
-                               "flywheel.rim_mean_diameter", "too small"),
-    "flywheel-at-1-rpm": ("inline4-petrol", {"engine": {"rpm": 1}}, "flywheel.rim_mean_diameter", "too small"),
+    "zero-mass": (
+        "petrol-1cyl",
+        {"masses": {"piston_group": "0 kg"}},
+        "masses.piston_group",
+        "> 0",
+    ),
+    "V2-even-firing-impossible": (
+        "v8-petrol",
+        {"engine": {"cylinders": 2, "firing_order": ["1L", "1R"], "crank_angles_deg": [0]}},
+        "engine.crank_angles_deg",
+        "uneven",
+    ),
+    "step-not-dividing-banks": (
+        "radial9-aircraft",
+        {"analysis": {"angle_step_deg": 30, "table_step_deg": 30}},
+        "analysis.angle_step_deg",
+        "firing delays",
+    ),
+    "step-30-too-coarse": (
+        "petrol-1cyl",
+        {"analysis": {"angle_step_deg": 30, "table_step_deg": 30}},
+        "analysis.angle_step_deg",
+        "too coarse for this scene",
+    ),
+    "offset-at-1e-5-of-limit-1-deg-too-coarse": (
+        "offset-crank-engine",
+        {"mechanism": {"offset": "100.999 mm"}},
+        "analysis.angle_step_deg",
+        "too coarse for this scene",
+    ),
+    "offset-locks": (
+        "offset-crank-engine",
+        {"mechanism": {"offset": "101 mm"}},
+        "mechanism.offset",
+        "locks",
+    ),
+    "planetary-stroke-not-the-linkage's": (
+        "planetary-kinematics",
+        {"mechanism": {"pin_radius": "0 mm"}},
+        "engine.stroke",
+        "gives a piston stroke",
+    ),
+    "flywheel-rim-too-small": (
+        "inline4-petrol",
+        {"flywheel": {"rim_mean_diameter": "10 mm", "max_rim_speed": None}},
+        "flywheel.rim_mean_diameter",
+        "too small",
+    ),
+    "flywheel-at-1-rpm": (
+        "inline4-petrol",
+        {"engine": {"rpm": 1}},
+        "flywheel.rim_mean_diameter",
+        "too small",
+    ),
 }
 
 
@@ -279,23 +477,32 @@ def test_extreme_scene_is_finite_and_keeps_its_invariants(name):
     inertia = frame["inertia_Pa"].to_numpy()
     scale = np.max(np.abs(inertia))
     n = len(inertia)
-    if scene.engine.mechanism == "crank_slider":  # an offset crank's motion is not symmetric about TDC
+    if (
+        scene.engine.mechanism == "crank_slider"
+    ):  # an offset crank's motion is not symmetric about TDC
         np.testing.assert_allclose(inertia, inertia[(-np.arange(n)) % n], rtol=0, atol=1e-9 * scale)
     if scene.engine.strokes == 4:
         np.testing.assert_allclose(inertia, np.roll(inertia, n // 2), rtol=0, atol=1e-9 * scale)
     if "numerics" in result.outputs:
         numerics = result.outputs["numerics"].results
-        errors = [s[f"{q}_error_relative"] for s in numerics["steps"] for q in ("mean_torque", "indicated_work")]
+        errors = [
+            s[f"{q}_error_relative"]
+            for s in numerics["steps"]
+            for q in ("mean_torque", "indicated_work")
+        ]
         assert errors and all(math.isfinite(e) for e in errors)
         # the reference is independent of the step: the finer step is the closer one
         by_step = {s["angle_step_deg"]: s for s in numerics["steps"]}
         fine, coarse = min(by_step), max(by_step)
         if fine < coarse:
             for q in ("mean_torque", "indicated_work"):
-                assert by_step[fine][f"{q}_error_relative"] <= by_step[coarse][f"{q}_error_relative"]
+                assert (
+                    by_step[fine][f"{q}_error_relative"] <= by_step[coarse][f"{q}_error_relative"]
+                )
         if scene.analysis.kinematics == "exact":
-            assert numerics["reference_method"] == ("quadrature" if scene.engine.mechanism == "crank_slider"
-                                                    else "mixed")
+            assert numerics["reference_method"] == (
+                "quadrature" if scene.engine.mechanism == "crank_slider" else "mixed"
+            )
 
 
 @pytest.mark.parametrize("name", list(REFUSED))
@@ -310,7 +517,9 @@ def test_impossible_scene_is_refused_with_a_reason(name):
 
 
 def test_refusal_on_the_command_line_is_a_message_not_a_traceback(tmp_path, capsys):
-    path = write_scene(tmp_path / "radial7.toml", modified("radial9-aircraft", {"engine": {"cylinders": 7}}))
+    path = write_scene(
+        tmp_path / "radial7.toml", modified("radial9-aircraft", {"engine": {"cylinders": 7}})
+    )
     out = tmp_path / "out"
     assert main(["report", str(path), "-o", str(out), "--format", "json", "-q"]) == 2
     err = capsys.readouterr().err

@@ -44,7 +44,9 @@ def test_jobs_are_shared_between_processes_and_come_back_in_order(tmp_path):
         # drawn by whichever process happens to start first
         with open(arrivals, "a", encoding="utf-8") as file:
             file.write(f"{os.getpid()}\n")
-        _wait_for(lambda: len(set(arrivals.read_text(encoding="utf-8").split())) >= 3, "three processes")
+        _wait_for(
+            lambda: len(set(arrivals.read_text(encoding="utf-8").split())) >= 3, "three processes"
+        )
         return f"{i}:{os.getpid()}".encode()
 
     results = draw_jobs([lambda i=i: job(i) for i in range(9)], workers=3, allow_threads=True)
@@ -62,7 +64,9 @@ def test_a_free_process_takes_the_next_job_while_another_draws_a_long_one(tmp_pa
 
     def job(i):
         if i == 0:  # the long figure: drawn until every other one is done
-            _wait_for(lambda: done.exists() and len(done.read_bytes()) == 7, "the other seven figures")
+            _wait_for(
+                lambda: done.exists() and len(done.read_bytes()) == 7, "the other seven figures"
+            )
         else:
             with open(done, "ab") as file:
                 file.write(b"x")
@@ -97,8 +101,13 @@ def test_a_failure_here_is_raised_and_no_child_is_left():
 
 def test_serial_when_told_or_when_too_few():
     parent = os.getpid()
-    assert draw_jobs([lambda: str(os.getpid()).encode()] * 6, workers=1) == [str(parent).encode()] * 6
-    assert draw_jobs([lambda: str(os.getpid()).encode()] * 3, workers=4, allow_threads=True) == [str(parent).encode()] * 3
+    assert (
+        draw_jobs([lambda: str(os.getpid()).encode()] * 6, workers=1) == [str(parent).encode()] * 6
+    )
+    assert (
+        draw_jobs([lambda: str(os.getpid()).encode()] * 3, workers=4, allow_threads=True)
+        == [str(parent).encode()] * 3
+    )
 
 
 def test_report_figures_drawn_in_parallel_are_the_serial_bytes(examples):
@@ -127,7 +136,11 @@ def test_a_figure_drawn_by_a_child_is_typeset_here_when_asked(examples):
     start_drawing(figures, workers=2)()
 
     def raw_labels(fig):
-        return [t.get_text() for t in fig.findobj(Text) if "_" in t.get_text() and "$" not in t.get_text()]
+        return [
+            t.get_text()
+            for t in fig.findobj(Text)
+            if "_" in t.get_text() and "$" not in t.get_text()
+        ]
 
     assert all(f.drawn for f in figures)
     assert any(raw_labels(f.figure) for f in figures)  # the children typeset their copies, not ours
@@ -163,8 +176,12 @@ def test_a_log_axis_of_everyday_numbers_is_labelled_with_plain_numbers():
     powers.loglog([1e-4, 1e-1], [1e-6, 1.0])
     typeset_figure(fig, translator("uk", default_registry().catalogs))
     fig.canvas.draw()
-    shown = [label.get_text() for axis in (plain.xaxis, plain.yaxis)
-             for label in axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True) if label.get_text()]
+    shown = [
+        label.get_text()
+        for axis in (plain.xaxis, plain.yaxis)
+        for label in axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
+        if label.get_text()
+    ]
     assert {"1", "10", "0,1", "2", "5"} <= set(shown), shown
     assert not any("10⁰" in x or "10¹" in x or "·10" in x for x in shown), shown
     svg = to_svg(fig).decode("utf-8")
@@ -197,10 +214,15 @@ def test_figures_drawn_while_the_next_sections_render_are_the_serial_bytes(examp
     draw_figures(serial, workers=1)
     drawing = IncrementalDrawing(workers=2)
     handed = []
-    rendered = render_html(result, registry, figure_sink=lambda figures: (handed.append(list(figures)),
-                                                                          drawing.add(figures)))
+    rendered = render_html(
+        result,
+        registry,
+        figure_sink=lambda figures: (handed.append(list(figures)), drawing.add(figures)),
+    )
     drawing.finish()
-    assert [f for batch in handed for f in batch] == rendered.figures  # every figure, section by section
+    assert [
+        f for batch in handed for f in batch
+    ] == rendered.figures  # every figure, section by section
     assert all(f.drawn for f in rendered.figures)
     assert [(f.name, f.svg) for f in rendered.figures] == [(f.name, f.svg) for f in serial]
     assert _no_children_left()
@@ -238,8 +260,11 @@ def test_a_report_to_pdf_draws_each_figure_once_and_leaves_no_child(examples, tm
     assert files["report.pdf"].startswith(b"%PDF")
     serial = render_html(result, registry).figures
     draw_figures(serial, workers=1)
-    assert {f.name: f.svg for f in serial} == {name.removeprefix("figures/"): data for name, data in files.items()
-                                               if name.startswith("figures/")}
+    assert {f.name: f.svg for f in serial} == {
+        name.removeprefix("figures/"): data
+        for name, data in files.items()
+        if name.startswith("figures/")
+    }
     assert _no_children_left()
 
 
@@ -275,8 +300,12 @@ def test_the_locale_formatter_gives_the_same_labels_when_asked_again_for_the_sam
     assert first == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
     first.append("changed by the caller")  # the remembered labels are not the caller's list
     assert formatter.format_ticks(small) == ["0,0", "0,5", "1,0"] and formatter.get_offset() == ""
-    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
-    assert formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
+    assert (
+        formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
+    )
+    assert (
+        formatter.format_ticks(big) == tick_labels(big, t)[0] and formatter.get_offset() == "×10⁶"
+    )
 
 
 def test_six_digit_ticks_are_written_in_full_not_with_an_offset():
@@ -322,7 +351,9 @@ def test_a_figure_given_as_its_builder_is_built_once_where_it_is_drawn():
     assert svg == to_svg(build())  # the bytes of the same figure built and drawn at once
 
 
-def test_the_report_process_renders_the_text_without_building_the_figures_given_as_builders(examples):
+def test_the_report_process_renders_the_text_without_building_the_figures_given_as_builders(
+    examples,
+):
     """The built-in stages hand ctx.figure the function that builds each figure: rendering a
     report's text creates no axes in its process (they are created in the child that draws)."""
     registry = default_registry()
@@ -396,14 +427,22 @@ def test_a_mathtext_label_is_measured_by_the_typesetting_that_draws_it(monkeypat
             measured = renderer.get_text_width_height_descent(label, prop, True)
             assert measured == (drawn.width, drawn.height, drawn.depth)
             scaled = TextToPath().get_text_width_height_descent(label, prop, True)
-            assert all(0 <= ours - theirs <= 1.0 + 1e-9 for ours, theirs in zip(measured, scaled, strict=True)), (measured, scaled)
+            assert all(
+                0 <= ours - theirs <= 1.0 + 1e-9
+                for ours, theirs in zip(measured, scaled, strict=True)
+            ), (measured, scaled)
             plain = renderer.get_text_width_height_descent("МПа", prop, False)
-            assert plain == TextToPath().get_text_width_height_descent("МПа", prop, False)  # plain text: matplotlib's
+            assert plain == TextToPath().get_text_width_height_descent(
+                "МПа", prop, False
+            )  # plain text: matplotlib's
 
     at_100_pt = []
     measure = TextToPath.get_text_width_height_descent
-    monkeypatch.setattr(TextToPath, "get_text_width_height_descent",
-                        lambda self, s, prop, ismath: at_100_pt.append(s) or measure(self, s, prop, ismath))
+    monkeypatch.setattr(
+        TextToPath,
+        "get_text_width_height_descent",
+        lambda self, s, prop, ismath: at_100_pt.append(s) or measure(self, s, prop, ismath),
+    )
     fig, ax = figures.new_figure(8, 6)
     ax.set_ylabel(label)
     ax.set_title(r"$\omega_{\rm к}$ and plain text")

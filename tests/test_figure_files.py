@@ -31,7 +31,9 @@ def test_html_refers_to_each_figure_once_and_self_contained_inlines_them(kinemat
     html = files["report.html"].decode("utf-8")
     figures = sorted(name for name in files if name.startswith("figures/"))
     assert figures and "data:image/svg+xml" not in html
-    assert sorted(re.findall(r'src="(figures/[^"]+)"', html)) == figures  # each referenced exactly once
+    assert (
+        sorted(re.findall(r'src="(figures/[^"]+)"', html)) == figures
+    )  # each referenced exactly once
     inline = render_files(kinematics_run, REGISTRY, ["html"], self_contained=True)
     assert list(inline) == ["report.html"]
     page = inline["report.html"].decode("utf-8")
@@ -49,18 +51,30 @@ def test_fetcher_serves_only_the_rendered_figures_from_memory():
     got = fetch(base + "figures/fig_1_1_a.svg")
     body = got.read() if hasattr(got, "read") else got["string"]
     assert body == svg
-    for url in (base + "figures/other.svg", base + "figures/../../../../etc/passwd", "file:///etc/hostname"):
+    for url in (
+        base + "figures/other.svg",
+        base + "figures/../../../../etc/passwd",
+        "file:///etc/hostname",
+    ):
         with pytest.raises(Exception) as caught:
             fetch(url)
-        assert caught.type is BlockedResource or "figures/other.svg" in url  # a missing asset may also fail
+        assert (
+            caught.type is BlockedResource or "figures/other.svg" in url
+        )  # a missing asset may also fail
 
 
 @pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils not installed")
 def test_pdf_draws_the_referenced_figure(tmp_path):
-    svg = (b'<svg xmlns="http://www.w3.org/2000/svg" width="300" height="40">'
-           b'<text x="5" y="20" font-size="14">FIGUREMARKER</text></svg>')
-    pdf = html_to_pdf('<html><body><p>x</p><img src="figures/fig_1_1_m.svg"></body></html>',
-                      [FigureFile("fig_1_1_m.svg", svg)])
+    svg = (
+        b'<svg xmlns="http://www.w3.org/2000/svg" width="300" height="40">'
+        b'<text x="5" y="20" font-size="14">FIGUREMARKER</text></svg>'
+    )
+    pdf = html_to_pdf(
+        '<html><body><p>x</p><img src="figures/fig_1_1_m.svg"></body></html>',
+        [FigureFile("fig_1_1_m.svg", svg)],
+    )
     (tmp_path / "r.pdf").write_bytes(pdf)
-    text = subprocess.run(["pdftotext", str(tmp_path / "r.pdf"), "-"], capture_output=True, text=True).stdout
+    text = subprocess.run(
+        ["pdftotext", str(tmp_path / "r.pdf"), "-"], capture_output=True, text=True
+    ).stdout
     assert "FIGUREMARKER" in text

@@ -24,6 +24,7 @@ def run(name, changes=None):
 
 # ----------------------------------------------------------------------------- physics
 
+
 def test_excess_work_of_a_sine_torque_is_twice_amplitude_over_order():
     # M = M0 + A sin(k a): W(a) = A (1 - cos k a)/k, so max W - min W = 2A/k exactly.
     n = 7200
@@ -41,7 +42,7 @@ def test_excess_work_of_a_sine_torque_is_twice_amplitude_over_order():
 def test_irregularity_and_required_inertia_invert_each_other():
     excess, omega = 445.0, 586.43
     inertia = fw.required_inertia_kg_m2(excess, 0.01, omega)
-    assert inertia == pytest.approx(excess / (0.01 * omega ** 2))
+    assert inertia == pytest.approx(excess / (0.01 * omega**2))
     assert fw.cyclic_irregularity(excess, inertia, omega) == pytest.approx(0.01)
     with pytest.raises(ValueError):
         fw.cyclic_irregularity(excess, 0.0, omega)
@@ -52,9 +53,9 @@ def test_rim_carries_the_inertia_of_a_hollow_cylinder(width_m):
     rim = fw.rim_design(0.12, 0.26, 7200.0, width_m)
     ro, ri = rim.outer_diameter_m / 2, rim.inner_diameter_m / 2
     # independent: J = pi/2 rho b (ro^4 - ri^4), m = pi rho b (ro^2 - ri^2)
-    assert math.pi / 2 * 7200.0 * rim.width_m * (ro ** 4 - ri ** 4) == pytest.approx(0.12, rel=1e-10)
-    assert math.pi * 7200.0 * rim.width_m * (ro ** 2 - ri ** 2) == pytest.approx(rim.mass_kg, rel=1e-10)
-    assert rim.thin_rim_mass_kg == pytest.approx(4 * 0.12 / 0.26 ** 2)
+    assert math.pi / 2 * 7200.0 * rim.width_m * (ro**4 - ri**4) == pytest.approx(0.12, rel=1e-10)
+    assert math.pi * 7200.0 * rim.width_m * (ro**2 - ri**2) == pytest.approx(rim.mass_kg, rel=1e-10)
+    assert rim.thin_rim_mass_kg == pytest.approx(4 * 0.12 / 0.26**2)
     # the exact rim is lighter than the thin-rim estimate (its outer half is further out)
     assert rim.mass_kg < rim.thin_rim_mass_kg
     if width_m is None:
@@ -82,11 +83,12 @@ def test_mean_square_torque_arm_against_two_term_closed_form(rod_ratio):
     # two-term kinematics: <s'^2> = R^2 (1/2 + lambda^2/8); the exact one differs by O(lambda^4)
     R = 0.039
     exact = sf.mean_arm_squared_m2(R, rod_ratio)
-    two_term = R ** 2 * (0.5 + rod_ratio ** 2 / 8)
-    assert abs(exact - two_term) <= 0.2 * rod_ratio ** 4 * R ** 2 + 1e-15
+    two_term = R**2 * (0.5 + rod_ratio**2 / 8)
+    assert abs(exact - two_term) <= 0.2 * rod_ratio**4 * R**2 + 1e-15
 
 
 # ----------------------------------------------------------------------------- stage
+
 
 def test_inline4_flywheel_by_the_energy_method():
     result = run("inline4-petrol")
@@ -94,16 +96,23 @@ def test_inline4_flywheel_by_the_energy_method():
     torque = result.outputs["torque"].results
     omega = r["angular_velocity_rad_s"]
     assert r["mean_torque_Nm"] == pytest.approx(torque["mean_Nm"], rel=1e-12)
-    assert r["required_total_inertia_kg_m2"] == pytest.approx(r["excess_work_J"] / (0.01 * omega ** 2))
+    assert r["required_total_inertia_kg_m2"] == pytest.approx(
+        r["excess_work_J"] / (0.01 * omega**2)
+    )
     assert r["required_flywheel_inertia_kg_m2"] == pytest.approx(
-        r["required_total_inertia_kg_m2"] - r["mechanism_inertia_mean_kg_m2"] - r["engine_inertia_kg_m2"])
+        r["required_total_inertia_kg_m2"]
+        - r["mechanism_inertia_mean_kg_m2"]
+        - r["engine_inertia_kg_m2"]
+    )
     assert r["irregularity"] == pytest.approx(0.01)
     # the mean reduced inertia: 4 cylinders' m_s <s'^2> plus 4 cranks' m_R R^2
     forces = result.outputs["forces"].results
     scene = result.scene
     R, lam = scene.engine.crank_radius_m, scene.engine.rod_ratio_value
-    expected = 4 * forces["reciprocating_mass_kg"] * sf.mean_arm_squared_m2(R, lam) \
-        + 4 * forces["rotating_mass_kg"] * R ** 2
+    expected = (
+        4 * forces["reciprocating_mass_kg"] * sf.mean_arm_squared_m2(R, lam)
+        + 4 * forces["rotating_mass_kg"] * R**2
+    )
     assert r["mechanism_inertia_mean_kg_m2"] == pytest.approx(expected, rel=1e-9)
     rim = r["rim"]
     assert rim["inertia_kg_m2"] == pytest.approx(r["flywheel_inertia_kg_m2"])
@@ -111,8 +120,12 @@ def test_inline4_flywheel_by_the_energy_method():
     assert rim["speed_ok"] is True
     # The crankshaft is fastest where the cumulative excess work peaks
     sfr = result.outputs["speed_fluctuation"].results
-    assert sfr["omega_max_crank_angle_deg"] == pytest.approx(r["excess_work_max_crank_angle_deg"], abs=2.0)
-    assert sfr["omega_min_crank_angle_deg"] == pytest.approx(r["excess_work_min_crank_angle_deg"], abs=2.0)
+    assert sfr["omega_max_crank_angle_deg"] == pytest.approx(
+        r["excess_work_max_crank_angle_deg"], abs=2.0
+    )
+    assert sfr["omega_min_crank_angle_deg"] == pytest.approx(
+        r["excess_work_min_crank_angle_deg"], abs=2.0
+    )
     # An in-line 4 has four equal speed peaks per cycle: the reported one is the first (physics/extrema.py)
     assert 0.0 <= r["excess_work_max_crank_angle_deg"] < 180.0
     assert 0.0 <= sfr["omega_max_crank_angle_deg"] < 180.0
@@ -125,18 +138,36 @@ def test_no_flywheel_table_no_flywheel_section():
 
 
 def test_chosen_flywheel_gives_its_irregularity():
-    result = run("inline4-petrol", {"flywheel": {"required_irregularity": None, "inertia": "0.2 kg*m^2",
-                                                 "rim_mean_diameter": None, "max_rim_speed": None}})
+    result = run(
+        "inline4-petrol",
+        {
+            "flywheel": {
+                "required_irregularity": None,
+                "inertia": "0.2 kg*m^2",
+                "rim_mean_diameter": None,
+                "max_rim_speed": None,
+            }
+        },
+    )
     r = result.outputs["flywheel"].results
     assert r["flywheel_given"] and r["flywheel_inertia_kg_m2"] == pytest.approx(0.2)
-    assert r["irregularity"] == pytest.approx(r["excess_work_J"] / ((0.2 + r["own_inertia_kg_m2"])
-                                                                     * r["angular_velocity_rad_s"] ** 2))
+    assert r["irregularity"] == pytest.approx(
+        r["excess_work_J"] / ((0.2 + r["own_inertia_kg_m2"]) * r["angular_velocity_rad_s"] ** 2)
+    )
     assert r["required_flywheel_inertia_kg_m2"] is None and r["rim"] is None
 
 
 def test_own_inertia_may_suffice():
-    result = run("inline4-petrol", {"flywheel": {"required_irregularity": 0.2, "rim_mean_diameter": None,
-                                                 "max_rim_speed": None}})
+    result = run(
+        "inline4-petrol",
+        {
+            "flywheel": {
+                "required_irregularity": 0.2,
+                "rim_mean_diameter": None,
+                "max_rim_speed": None,
+            }
+        },
+    )
     r = result.outputs["flywheel"].results
     assert r["required_flywheel_inertia_kg_m2"] == 0.0 and r["flywheel_inertia_kg_m2"] == 0.0
     assert r["irregularity"] < 0.2
@@ -153,11 +184,23 @@ def test_very_small_flywheel_single_cylinder_is_refused_clearly():
 
 
 def test_very_small_flywheel_multi_cylinder_stays_finite():
-    result = run("inline4-petrol", {"flywheel": {"required_irregularity": None, "inertia": "1e-9 kg*m^2",
-                                                 "rim_mean_diameter": None, "max_rim_speed": None}})
+    result = run(
+        "inline4-petrol",
+        {
+            "flywheel": {
+                "required_irregularity": None,
+                "inertia": "1e-9 kg*m^2",
+                "rim_mean_diameter": None,
+                "max_rim_speed": None,
+            }
+        },
+    )
     r = result.outputs["speed_fluctuation"].results
     assert 0.05 < r["irregularity"] < 0.5
-    assert all(math.isfinite(x) for x in (r["omega_min_rad_s"], r["omega_max_rad_s"], r["solver"]["error_relative"]))
+    assert all(
+        math.isfinite(x)
+        for x in (r["omega_min_rad_s"], r["omega_max_rad_s"], r["solver"]["error_relative"])
+    )
     assert r["omega_min_rad_s"] > 0.5 * r["omega_mean_rad_s"]
 
 
@@ -166,20 +209,46 @@ def test_flywheel_table_needs_something_to_do():
         run("petrol-1cyl", {"flywheel": {"engine_inertia": "0.01 kg*m^2"}})
     assert info.value.problems[0].field == "flywheel"
     with pytest.raises(SceneError) as info:
-        run("petrol-1cyl", {"flywheel": {"required_irregularity": 0.01, "engine_inertia": "0.01 kg"}})
+        run(
+            "petrol-1cyl",
+            {"flywheel": {"required_irregularity": 0.01, "engine_inertia": "0.01 kg"}},
+        )
     assert info.value.problems[0].field == "flywheel.engine_inertia"
 
 
-@pytest.mark.parametrize("changes, shown", [
-    ({}, False),  # sized for [δ]: its δ is [δ] again, no row of its own
-    ({"flywheel": {"required_irregularity": None, "inertia": "0.2 kg*m^2", "rim_mean_diameter": None,
-                   "max_rim_speed": None}}, True),  # a given flywheel: its δ is a result
-    ({"flywheel": {"required_irregularity": 0.2, "rim_mean_diameter": None, "max_rim_speed": None}}, True),
-])
+@pytest.mark.parametrize(
+    "changes, shown",
+    [
+        ({}, False),  # sized for [δ]: its δ is [δ] again, no row of its own
+        (
+            {
+                "flywheel": {
+                    "required_irregularity": None,
+                    "inertia": "0.2 kg*m^2",
+                    "rim_mean_diameter": None,
+                    "max_rim_speed": None,
+                }
+            },
+            True,
+        ),  # a given flywheel: its δ is a result
+        (
+            {
+                "flywheel": {
+                    "required_irregularity": 0.2,
+                    "rim_mean_diameter": None,
+                    "max_rim_speed": None,
+                }
+            },
+            True,
+        ),
+    ],
+)
 def test_the_table_lists_delta_only_where_it_is_a_result(changes, shown):
     from crankdyn.report.document import render_html
 
     result = run("inline4-petrol", changes)
     html = render_html(result, REGISTRY, "en").linked_html
-    section = html[html.index('data-stage="flywheel"'):html.index('data-stage="speed_fluctuation"')]
+    section = html[
+        html.index('data-stage="flywheel"') : html.index('data-stage="speed_fluctuation"')
+    ]
     assert ("Cyclic irregularity (energy method)" in section) is shown

@@ -29,6 +29,7 @@ def reports(shared_report):
     read only); ``--lang uk`` for the examples written in another language. The examples whose
     figure files a test reads are written by the command; the others' text is rendered without
     drawing their figures (conftest.shared_html)."""
+
     def html(example):
         language = None if example.endswith("-uk") else "uk"
         if example not in _WITH_FIGURE_FILES:
@@ -42,12 +43,20 @@ def reports(shared_report):
 
 def test_the_balancing_section_of_one_cylinder_speaks_of_one_cylinder(reports):
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    for phrase in ("поздовжніх моментів немає", "Моментів в одноциліндровому двигуні немає",
-                   "реальна сила інерції", "Векторні моделі і годографи сил"):
+    for phrase in (
+        "поздовжніх моментів немає",
+        "Моментів в одноциліндровому двигуні немає",
+        "реальна сила інерції",
+        "Векторні моделі і годографи сил",
+    ):
         assert phrase in one, phrase
         assert phrase not in four, phrase
-    for phrase in ("однакових у всіх циліндрах", "сума реальних сил усіх циліндрів", "відстань між циліндрами",
-                   "моменти внизу"):
+    for phrase in (
+        "однакових у всіх циліндрах",
+        "сума реальних сил усіх циліндрів",
+        "відстань між циліндрами",
+        "моменти внизу",
+    ):
         assert phrase not in one, phrase
         assert phrase in four, phrase
 
@@ -65,7 +74,7 @@ def test_the_forces_legend_writes_the_gas_pressure_as_the_text_does(reports):
 
     assert symbol_mathtext("gas_pressure", "uk") == "$p_{\\mathrm{г}}$"
     svg = next(_FOLDERS["petrol-1cyl-uk"].glob("figures/*_forces.svg")).read_text(encoding="utf-8")
-    legend = svg[svg.index("<!-- $p_{\\mathrm{"):][:800]
+    legend = svg[svg.index("<!-- $p_{\\mathrm{") :][:800]
     assert "<!-- $p_{\\mathrm{г}}$ -->" in svg and re.search(r">г</tspan>", legend)
 
 
@@ -82,18 +91,23 @@ def test_a_log_axis_shorter_than_a_decade_labels_its_minor_ticks():
 
 def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
     one, four = as_read(reports("petrol-1cyl-uk")), as_read(reports("inline4-petrol"))
-    for sentence in ("Кінематичну схему механізму наведено на рис. 3.1.",
-                     "Характерні положення механізму показано на рис. 3.2.",
-                     "Схему коліна наведено на рис.", "Векторні моделі і годографи наведено на рис.",
-                     "Векторну діаграму навантаження на шатунну шийку наведено на рис. 7.1.",
-                     "Векторну діаграму навантаження на шатунний підшипник наведено на рис. 7.2.",
-                     "Діаграму зношування шатунної шийки наведено на рис."):
+    for sentence in (
+        "Кінематичну схему механізму наведено на рис. 3.1.",
+        "Характерні положення механізму показано на рис. 3.2.",
+        "Схему коліна наведено на рис.",
+        "Векторні моделі і годографи наведено на рис.",
+        "Векторну діаграму навантаження на шатунну шийку наведено на рис. 7.1.",
+        "Векторну діаграму навантаження на шатунний підшипник наведено на рис. 7.2.",
+        "Діаграму зношування шатунної шийки наведено на рис.",
+    ):
         assert sentence in one, sentence
     # each diagram of a pair side by side says whose load it shows (not two "the vector diagram
     # is given in fig. 9.x" next to each other); several cranks: with their numbers
-    for sentence in ("Векторну діаграму навантаження на шатунну шийку 1 наведено на рис. 9.1.",
-                     "Векторну діаграму навантаження на корінну шийку 2–3 наведено на рис. 9.3.",
-                     "Векторну діаграму навантаження на корінний підшипник 2–3 наведено на рис. 9.4."):
+    for sentence in (
+        "Векторну діаграму навантаження на шатунну шийку 1 наведено на рис. 9.1.",
+        "Векторну діаграму навантаження на корінну шийку 2–3 наведено на рис. 9.3.",
+        "Векторну діаграму навантаження на корінний підшипник 2–3 наведено на рис. 9.4.",
+    ):
         assert sentence in four, sentence
     assert "Схеми колін наведено на рис." in four and "Схему коліна наведено" not in four
     # every figure and table says what it holds, none is announced as just "the curves" or "the results"
@@ -103,9 +117,14 @@ def test_schemes_and_diagrams_are_announced_as_what_they_are(reports):
         assert generic not in as_read(one) and generic not in four_text, generic
     # a course note times no stage (the full report's numerics chapter does)
     assert "Час обчислення кожного етапу розрахунку наведено в табл." not in four_text
-    assert ("Залежності переміщення, швидкості та прискорення поршня від кута повороту кривошипа "
-            "показано на рис. 2.1.") in one
-    assert "Кінематичні параметри поршня і питомі сили, що діють у механізмі одного циліндра, наведено в табл." in one
+    assert (
+        "Залежності переміщення, швидкості та прискорення поршня від кута повороту кривошипа "
+        "показано на рис. 2.1."
+    ) in one
+    assert (
+        "Кінематичні параметри поршня і питомі сили, що діють у механізмі одного циліндра, наведено в табл."
+        in one
+    )
 
 
 def test_the_main_journal_diagram_says_whose_force_it_shows(reports):
@@ -123,7 +142,10 @@ def test_a_single_crank_is_not_described_as_one_of_many(reports):
     pin, one crank pin in the table's caption; journals are named as in the tables (0-1)."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
     assert "розподіляється між двома корінними шийками" in one and "обох сусідніх колін" not in one
-    assert "Навантаження на шатунну шийку:" in one and "обидві корінні шийки навантажені однаково" in one
+    assert (
+        "Навантаження на шатунну шийку:" in one
+        and "обидві корінні шийки навантажені однаково" in one
+    )
     assert "діаграми побудовано для шийки 0–1" in one
     assert "обох сусідніх колін" in four and "Навантаження на шатунні шийки:" in four
     assert re.search(r"найбільш навантаженої корінної шийки \(\d–\d\)", four)
@@ -133,12 +155,12 @@ def test_table_cells_of_words_are_text_and_empty_cells_get_a_dash(reports):
     """Table 6.3's 'what balances it' column is words: centred as text, not flush right as numbers;
     an empty cell of table 6.1 (no series term for a mass) shows a dash."""
     one = reports("petrol-1cyl-uk")
-    table = one[one.index('data-number="6.3"'):]
-    table = table[:table.index("</table>")]
+    table = one[one.index('data-number="6.3"') :]
+    table = table[: table.index("</table>")]
     assert '<td class="text">незрівноважено</td>' in table
-    assert re.search(r'<td>1,0000</td>', table)  # the coefficients stay numbers
-    masses = one[one.index('data-number="6.1"'):]
-    masses = masses[:masses.index("</table>")]
+    assert re.search(r"<td>1,0000</td>", table)  # the coefficients stay numbers
+    masses = one[one.index('data-number="6.1"') :]
+    masses = masses[: masses.index("</table>")]
     assert "<td>—</td>" in masses and "<td></td>" not in masses
 
 
@@ -146,13 +168,16 @@ def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
     """ДСТУ 3008: the abstract gives the results and the counts of appendices, and cites nothing;
     the appendices' status reads "(довідковий)"; the introduction refers to every appendix."""
     one = reports("petrol-1cyl-uk")
-    abstract = one[one.index('<section class="abstract"'):]
-    abstract = abstract[:abstract.index("</section>")]
+    abstract = one[one.index('<section class="abstract"') :]
+    abstract = abstract[: abstract.index("</section>")]
     assert "[1]" not in abstract and "1 дод." in abstract  # a course note's one appendix
-    assert "Основні результати: найбільший абсолютний тиск газів у циліндрі" in abstract and "навантаження на шатунну шийку" in abstract
+    assert (
+        "Основні результати: найбільший абсолютний тиск газів у циліндрі" in abstract
+        and "навантаження на шатунну шийку" in abstract
+    )
     assert '<span class="appendix-kind">(довідковий)</span>' in one
-    intro = one[one.index('id="sec-introduction"'):]
-    intro = as_read(intro[:intro.index("</section>")])
+    intro = one[one.index('id="sec-introduction"') :]
+    intro = as_read(intro[: intro.index("</section>")])
     assert "в додатку А" in intro and "додатку Б" not in intro
 
 
@@ -160,10 +185,19 @@ def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_tex
     """m_cp, m_w, C, C_I, c, V_a, δ, d, B are used, so listed; m_cp would read as the Cyrillic
     'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ."""
     one = reports("petrol-1cyl-uk")
-    symbols = one[one.index('class="symbol-list"'):]
-    symbols = symbols[:symbols.index("</div>")]
-    for markup in ("<i>m</i><sub>ш.ш</sub>", "<i>m</i><sub>щ</sub>", "<i>C</i><sub>I</sub>", "<i>c</i><sub>r</sub>",
-                   "<i>V</i><sub>a</sub>", "<i>δ</i>", "<i>d</i>", "<i>B</i>", "<i>l</i><sub>R</sub>"):
+    symbols = one[one.index('class="symbol-list"') :]
+    symbols = symbols[: symbols.index("</div>")]
+    for markup in (
+        "<i>m</i><sub>ш.ш</sub>",
+        "<i>m</i><sub>щ</sub>",
+        "<i>C</i><sub>I</sub>",
+        "<i>c</i><sub>r</sub>",
+        "<i>V</i><sub>a</sub>",
+        "<i>δ</i>",
+        "<i>d</i>",
+        "<i>B</i>",
+        "<i>l</i><sub>R</sub>",
+    ):
         assert markup in symbols, markup
     assert "<sub>cp</sub>" not in one and "<i>m</i><sub>w</sub>" not in one
 
@@ -181,23 +215,47 @@ def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
     """The in-line four's note has none of a V engine's text: "the axis of symmetry of a bay",
     "the crank lag together with the bank angle", rods "side by side" on a common crank pin."""
     four, v8 = reports("inline4-petrol"), reports("v8-petrol")
-    for words in ("вісь симетрії відсіку", "разом із кутом розвалу", "розташовані поруч", "спільну шатунну шийку"):
+    for words in (
+        "вісь симетрії відсіку",
+        "разом із кутом розвалу",
+        "розташовані поруч",
+        "спільну шатунну шийку",
+    ):
         assert words not in four and words in v8, words
     assert "Кожен циліндр діє на власну шатунну шийку" in four
     assert "Схема двигуна і порядок роботи циліндрів" in four
     # the cycle delays of 1-3-4-2, in firing order
-    table = four[four.index("Коліна циліндрів і зсуви їхніх робочих циклів"):]
-    cells = [c for c in table[:table.index("</table>")].split("<td")[1:]]
+    table = four[four.index("Коліна циліндрів і зсуви їхніх робочих циклів") :]
+    cells = [c for c in table[: table.index("</table>")].split("<td")[1:]]
     values = [c.split(">", 1)[1].split("<", 1)[0] for c in cells]
-    assert values == ["1", "1", "0", "0", "3", "3", "180", "180", "4", "4", "0", "360", "2", "2", "180", "540"]
+    assert values == [
+        "1",
+        "1",
+        "0",
+        "0",
+        "3",
+        "3",
+        "180",
+        "180",
+        "4",
+        "4",
+        "0",
+        "360",
+        "2",
+        "2",
+        "180",
+        "540",
+    ]
 
 
 def test_the_task_sheet_lists_the_main_data_and_a_petrol_table_has_no_rho(reports):
     """The task sheet gives the main data itself (a supervisor's form has them), and the table of
     a spark-ignition engine leaves out ρ = 1, which is no datum of its task (a diesel's keeps it)."""
     one = as_read(reports("petrol-1cyl-uk"))
-    assignment = one[one.index('<section class="assignment"'):]
-    assignment = re.sub(r"</?i>", "", assignment[:assignment.index("</section>")])  # the letters in italics
+    assignment = one[one.index('<section class="assignment"') :]
+    assignment = re.sub(
+        r"</?i>", "", assignment[: assignment.index("</section>")]
+    )  # the letters in italics
     assert "D = 82" in assignment and "S = 78" in assignment and "n = 5600" in assignment
     assert "Ступінь попереднього розширення" not in one
 
@@ -207,8 +265,11 @@ def test_the_wear_diagram_is_laid_inwards_from_the_journal_circle_with_its_scale
     the radius, a relative measure ("6938 kN" would read as an impossible force; the sum
     over the grid's angles depends on the angle step)."""
     one = reports("petrol-1cyl-uk")
-    assert re.search(r"сумарні навантаження секторів відкладено всередину кола шийки \(умовна міра зношування, а не "
-                     r"сила\), найбільше – на 0,6 радіуса", one)
+    assert re.search(
+        r"сумарні навантаження секторів відкладено всередину кола шийки \(умовна міра зношування, а не "
+        r"сила\), найбільше – на 0,6 радіуса",
+        one,
+    )
     assert "Діаграма зношування шатунної шийки:" in one  # one crank pin: no number
 
 
@@ -225,8 +286,13 @@ def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(rep
     one = reports("petrol-1cyl-uk")
     text = re.sub(r"<[^>]+>", "", as_read(one)).replace("\u202f", " ")
     # without the balancing means ("unbalanced" beside "balanced with its means" reads as a contradiction)
-    assert "Без засобів зрівноваження незрівноважені сили (амплітуди): C = 17 235 Н, PI = 8248 Н, PII = 2357 Н" in text
-    assert "Інші незрівноважені сили (" in text and "сили й моменти" not in text  # one cylinder: no moments
+    assert (
+        "Без засобів зрівноваження незрівноважені сили (амплітуди): C = 17 235 Н, PI = 8248 Н, PII = 2357 Н"
+        in text
+    )
+    assert (
+        "Інші незрівноважені сили (" in text and "сили й моменти" not in text
+    )  # one cylinder: no moments
 
 
 def test_the_torque_check_gives_each_cylinders_own_angle_and_the_units_of_its_table(reports):
@@ -234,7 +300,10 @@ def test_the_torque_check_gives_each_cylinders_own_angle_and_the_units_of_its_ta
     α_i = α − Δα_0i with the delays 0, 540, 180, 360° of 1-3-4-2 (cylinders 1, 2, 3, 4)."""
     four = re.sub(r"<[^>]+>", "", as_read(reports("inline4-petrol"))).replace("\u202f", " ")
     assert "α1 = 30°, α2 = 210°, α3 = 570°, α4 = 390°" in four
-    assert re.search(r"Таблиця 7\.\d – Сили і набіжні моменти на колінах 1–4 \[1, табл\. Б\.3\], МПа \(Mд – у Н·м\)", four)
+    assert re.search(
+        r"Таблиця 7\.\d – Сили і набіжні моменти на колінах 1–4 \[1, табл\. Б\.3\], МПа \(Mд – у Н·м\)",
+        four,
+    )
     assert "набігаюч" not in four and "Набігаюч" not in four
     assert "Ni = 63,51 кВт" in four and "точно 30 000/π = 9549,3" in four
 
@@ -244,12 +313,20 @@ def test_a_displayed_equation_breaks_only_between_its_formulas():
     value: each formula is kept whole, a long one broken only after an equals sign."""
     from crankdyn.report.formula_lines import unbroken_parts
 
-    html = unbroken_parts("<i>a</i> = 1, &nbsp; <i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)")
-    assert html == ('<span class="eq-part"><i>a</i> = 1</span>, &nbsp; '
-                    '<span class="eq-part"><i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)</span>')
-    long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, 20)) + " = 108,3 Н·м"
+    html = unbroken_parts(
+        "<i>a</i> = 1, &nbsp; <i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)"
+    )
+    assert html == (
+        '<span class="eq-part"><i>a</i> = 1</span>, &nbsp; '
+        '<span class="eq-part"><i>δ</i> = Δ<i>L</i>/(<i>J</i> <i>ω</i><sup>2</sup>)</span>'
+    )
+    long = (
+        "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, 20)) + " = 108,3 Н·м"
+    )
     pieces = unbroken_parts(long).split('<span class="eq-part">')[1:]
-    assert pieces[-1].startswith("+ <i>t</i><sub>19</sub> = 108,3 Н·м") and len(pieces) == 19  # the result kept
+    assert (
+        pieces[-1].startswith("+ <i>t</i><sub>19</sub> = 108,3 Н·м") and len(pieces) == 19
+    )  # the result kept
     assert pieces[0].startswith("<i>M</i> = <i>t</i><sub>1</sub>")  # "M =" not alone on a line
     assert all(p.startswith("+ ") for p in pieces[1:-1])  # the sign opens the next line
 
@@ -258,10 +335,14 @@ def test_a_long_formula_breaks_before_a_sign_outside_parentheses_only():
     """(4.4) of the ru report stood on three lines: "p′ᵢ =" alone, the whole bracket, the value."""
     from crankdyn.report.formula_lines import unbroken_parts
 
-    formula = ("<i>p</i><sub>i</sub>′ = <i>p</i><sub>c</sub>/⁠(<i>ε</i> − 1) · [<i>λ</i>(<i>ρ</i> − 1) + "
-               "<i>λρ</i>/⁠(<i>n</i><sub>2</sub> − 1) · (1 − 1/<i>δ</i><sup>n−1</sup>) − 1/⁠(<i>n</i><sub>1</sub> − 1)"
-               " · (1 − 1/<i>ε</i><sup>n−1</sup>)] = 0,8814 МПа")
-    pieces = [p.split("</span>")[0] for p in unbroken_parts(formula).split('<span class="eq-part">')[1:]]
+    formula = (
+        "<i>p</i><sub>i</sub>′ = <i>p</i><sub>c</sub>/⁠(<i>ε</i> − 1) · [<i>λ</i>(<i>ρ</i> − 1) + "
+        "<i>λρ</i>/⁠(<i>n</i><sub>2</sub> − 1) · (1 − 1/<i>δ</i><sup>n−1</sup>) − 1/⁠(<i>n</i><sub>1</sub> − 1)"
+        " · (1 − 1/<i>ε</i><sup>n−1</sup>)] = 0,8814 МПа"
+    )
+    pieces = [
+        p.split("</span>")[0] for p in unbroken_parts(formula).split('<span class="eq-part">')[1:]
+    ]
     assert pieces[0].startswith("<i>p</i><sub>i</sub>′ = <i>p</i><sub>c</sub>")
     assert [p[:2] for p in pieces[1:3]] == ["+ ", "− "] and pieces[-1].endswith("] = 0,8814 МПа")
     for piece in pieces:  # no cut inside a pair of parentheses
@@ -280,10 +361,12 @@ def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports)
     lists the engine's layout, the cycle's rounding data and (through Stage.input_rows) the
     flywheel's given data."""
     four = as_read(reports("inline4-petrol"))
-    table = four[four.index("Таблиця 1.1"):]
+    table = four[four.index("Таблиця 1.1") :]
     rows = {}
-    for row in table[:table.index("</table>")].split("<tr")[1:]:
-        cells = [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, re.S)]
+    for row in table[: table.index("</table>")].split("<tr")[1:]:
+        cells = [
+            re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, re.S)
+        ]
         rows[cells[0]] = cells[1:]
     assert rows["Порядок роботи циліндрів"][1] == "1–3–4–2"
     assert rows["Відстань між осями сусідніх циліндрів"][1:] == ["92", "мм"]
@@ -291,19 +374,23 @@ def test_the_table_of_given_data_lists_everything_the_calculation_takes(reports)
     assert rows["Кут випередження запалювання (до ВМТ)"][1:] == ["22", "°"]
     assert rows["Закриття впускного клапана (після НМТ)"][1:] == ["50", "°"]
     assert rows["Допустимий коефіцієнт нерівномірності обертання"][:2] == ["[δ]", "0,01"]
-    assert rows["Момент інерції колінчастого вала без мас колін (корінні шийки, шків, противаги, якщо вони є)"] == ["Jв", "0,006", "кг·м²"]
+    assert rows[
+        "Момент інерції колінчастого вала без мас колін (корінні шийки, шків, противаги, якщо вони є)"
+    ] == ["Jв", "0,006", "кг·м²"]
     assert rows["Густина матеріалу маховика"][1:] == ["7850", "кг/м³"]
     assert "ρ = 1" in four  # a spark-ignition cycle: stated where the formulas with ρ begin
 
 
-def test_the_introduction_states_the_aim_and_the_tasks_and_sections_do_not_repeat_the_method(reports):
+def test_the_introduction_states_the_aim_and_the_tasks_and_sections_do_not_repeat_the_method(
+    reports,
+):
     """ДСТУ 3008: the introduction gives the aim and the tasks (one per section of the note); the
     project's method [1] is cited there once, not again at the head of every section."""
     four = reports("inline4-petrol")
-    intro = four[four.index('id="sec-introduction"'):]
-    intro = intro[:intro.index("</section>")]
+    intro = four[four.index('id="sec-introduction"') :]
+    intro = intro[: intro.index("</section>")]
     assert "Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою [1]" in intro
-    tasks = re.findall(r"<li>(.*?)</li>", intro[intro.index('class="tasks"'):])
+    tasks = re.findall(r"<li>(.*?)</li>", intro[intro.index('class="tasks"') :])
     assert tasks[0] == "кінематика кривошипно-шатунного механізму;" and tasks[-1].endswith(".")
     assert "Розрахунок виконано за методикою [1]." not in four
 
@@ -330,7 +417,7 @@ def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(repo
     # (the solvers' comparison is the full report's: ``detail = "full"``)
     rendered = shared_html("inline4-petrol", {"report": {"detail": "full"}}, language="uk")
     html = rendered.linked_html
-    section = html[html.index('data-stage="speed_fluctuation"'):]
+    section = html[html.index('data-stage="speed_fluctuation"') :]
     quoted = re.search(r"Методом (\w+) з відносним допуском 1,0·10⁻⁸ \((\d+) крок", section)
     assert quoted, "the quoted run"
     row = rf'<td class="text">{quoted[1]}</td><td class="text">10⁻⁸</td><td>{quoted[2]}</td>'
@@ -339,8 +426,8 @@ def test_the_solver_run_the_speed_section_quotes_is_in_its_table_and_figure(repo
     assert f'src="figures/{figure.name}"' in section
     assert "розрахунок, використаний у цьому розділі" in figure.draw().decode("utf-8")
     course = reports("inline4-petrol")  # a course note: the results, no solver named
-    course_section = course[course.index('data-stage="speed_fluctuation"'):]
-    course_section = course_section[:course_section.index("</section>")]
+    course_section = course[course.index('data-stage="speed_fluctuation"') :]
+    course_section = course_section[: course_section.index("</section>")]
     for word in ("RK45", "Radau", "BDF", "LSODA", "Якобі", "SciPy"):
         assert word not in course_section, word
 
@@ -351,32 +438,55 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
     or formula; a web address keeps its breaks, a tag its slash, a script its text."""
     from crankdyn.report.typeset import unbreakable_html
 
-    html = unbreakable_html("<p><i>p</i><sub>z</sub> = 6,0\u202fМПа, 156\u202fм/с² за α = −4°; a = b; "
-                            "<i>ΣM</i>/(<i>C</i>a); див. https://doi.org/10.1/x</p><script>x = 1; a/b</script>")
+    html = unbreakable_html(
+        "<p><i>p</i><sub>z</sub> = 6,0\u202fМПа, 156\u202fм/с² за α = −4°; a = b; "
+        "<i>ΣM</i>/(<i>C</i>a); див. https://doi.org/10.1/x</p><script>x = 1; a/b</script>"
+    )
     assert "</sub>\u00a0=\u00a06,0\u202fМПа" in html and "α\u00a0=\u00a0−4°" in html
     assert "a = b" in html  # no number follows: the line may break there
     assert "156\u202fм/\u2060с²" in html and "</i>/\u2060(" in html
     assert "https://doi.org/10.1/x" in html and "<script>x = 1; a/b</script>" in html
     # a surname and its initials stay on one line (the title page had "Петров В. | М.")
-    named = unbreakable_html("<p>доц. Петров В. М.; Khurmi R. S., Gupta J. K. Theory; табл. Б.1; рис. 2.1</p>")
-    assert "доц. Петров\u00a0В.\u00a0М.;" in named and "Khurmi\u00a0R.\u00a0S., Gupta\u00a0J.\u00a0K.\u00a0Theory" in named  # an initial before a capitalised word: bound too
+    named = unbreakable_html(
+        "<p>доц. Петров В. М.; Khurmi R. S., Gupta J. K. Theory; табл. Б.1; рис. 2.1</p>"
+    )
+    assert (
+        "доц. Петров\u00a0В.\u00a0М.;" in named
+        and "Khurmi\u00a0R.\u00a0S., Gupta\u00a0J.\u00a0K.\u00a0Theory" in named
+    )  # an initial before a capitalised word: bound too
     # an abbreviated reference keeps its number (not "(табл." at a line's end, "6.3)" on the next)
     assert "табл.\u00a0Б.1; рис.\u00a02.1" in named
     assert "75 с., 24 рис. Процес. 5" in unbreakable_html("<p>75 с., 24 рис. Процес. 5</p>")
     joined = unbreakable_html("<p>доц. Петров В.М.; В. М. Петров, Khurmi R.S.</p>")
-    assert "Петров\u00a0В.М.;" in joined and "В.\u00a0М.\u00a0Петров," in joined and "Khurmi\u00a0R.S." in joined
+    assert (
+        "Петров\u00a0В.М.;" in joined
+        and "В.\u00a0М.\u00a0Петров," in joined
+        and "Khurmi\u00a0R.S." in joined
+    )
     assert "</i>" in html and "</sub>" in html and unbreakable_html(html) == html  # once is enough
     # an absolute value's opening bar keeps its contents (the ru note ended a line with "C_n = |")
-    bars = unbreakable_html("<p><i>C</i><sub>n</sub> = |<i>A</i><sub>n</sub>|·<i>C</i><sub>I</sub>, (|<i>x</i>|), a | b</p>")
-    assert "</sub>\u00a0=\u00a0|\u2060<i>A</i>" in bars and "(|\u2060<i>x</i>" in bars and "a | b" in bars
+    bars = unbreakable_html(
+        "<p><i>C</i><sub>n</sub> = |<i>A</i><sub>n</sub>|·<i>C</i><sub>I</sub>, (|<i>x</i>|), a | b</p>"
+    )
+    assert (
+        "</sub>\u00a0=\u00a0|\u2060<i>A</i>" in bars
+        and "(|\u2060<i>x</i>" in bars
+        and "a | b" in bars
+    )
     # after a product's dot too (not "(4,000·|" at a line's end, "A₄|C_I)" on the next)
-    assert "4,000·|\u2060<i>A</i>" in unbreakable_html("<p>(4,000·|<i>A</i><sub>4</sub>|<i>C</i><sub>I</sub>)</p>")
+    assert "4,000·|\u2060<i>A</i>" in unbreakable_html(
+        "<p>(4,000·|<i>A</i><sub>4</sub>|<i>C</i><sub>I</sub>)</p>"
+    )
     assert unbreakable_html(bars) == bars
 
     # the whole report: in running text every "X = <number>" is bound (a displayed equation
     # breaks after an "=" on purpose, between its parts), and no tag is broken
     four = reports("inline4-petrol")
-    body = re.sub(r'<span class="eq-part">.*?</span>', "", re.sub(r"<script.*?</script>", "", four, flags=re.S))
+    body = re.sub(
+        r'<span class="eq-part">.*?</span>',
+        "",
+        re.sub(r"<script.*?</script>", "", four, flags=re.S),
+    )
     assert not re.search(r"[^ \u00a0] = [−-]?\d", re.sub(r"<[^>]+>", "", body))
     assert "м/\u2060с" in four and not re.search(r"</\u2060|<\u2060", four)
 
@@ -384,8 +494,12 @@ def test_a_value_is_not_parted_from_its_quantity_nor_a_unit_at_its_slash(reports
 #: Symbols of the in-line four's Ukrainian note that need an explanation,
 #: as the typeset report writes them, with the number of the equation that first shows them.
 _ONCE_UNEXPLAINED = {
-    "7.2": ["<i>t</i><sub>w<i>i</i></sub>", "<i>t</i><sub><i>i</i></sub>", "<i>t</i><sub>k<i>i</i></sub>",
-            "<i>t</i><sub>k<i>N</i></sub>"],
+    "7.2": [
+        "<i>t</i><sub>w<i>i</i></sub>",
+        "<i>t</i><sub><i>i</i></sub>",
+        "<i>t</i><sub>k<i>i</i></sub>",
+        "<i>t</i><sub>k<i>N</i></sub>",
+    ],
     "8.2": ["<i>j</i><sub>п</sub>", "<i>P</i><sub><i>n</i></sub>"],
     "10.3": ["Φ", "<i>s</i>′"],
     "11.2": ["<i>J</i>′"],
@@ -396,8 +510,8 @@ _ONCE_UNEXPLAINED = {
 
 def _where_lines(html: str, number: str) -> list[str]:
     """The symbols explained under equation ``number`` and under every equation before it."""
-    before = html[:html.index(f'<span class="eqno">({number})</span>')]
-    after = html[len(before):]
+    before = html[: html.index(f'<span class="eqno">({number})</span>')]
+    after = html[len(before) :]
     own = re.match(r'.*?</div>\s*(<p class="where">.*?</p>)?', after, flags=re.S).group(1) or ""
     lines = re.findall(r'<span class="where-line">(.*?) – ', before + own)
     return lines
@@ -421,22 +535,38 @@ def test_a_given_value_is_printed_as_given_wherever_it_appears(reports):
     """[δ] = 0,01 from the scene: 0,01 in the data, the flywheel's table, its text and worked line
     (not 0,0100 in one place and 0,01000 in another)."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
-    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
+    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(
+        r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text
+    )
     assert shown and set(shown) == {"0,01"}, shown
 
 
 def test_the_conclusions_name_the_most_loaded_main_journal_as_its_table_gives_it(reports):
     html = reports("inline4-petrol")
-    table = re.search(r'<table class="data" data-number="(\d+\.\d+)"><caption>Таблиця \1 – Навантаження на корінні'
-                      r'.*?<tbody>(.*?)</tbody>', html, flags=re.S)
-    rows = [re.findall(r"<td[^>]*>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", table.group(2))]
+    table = re.search(
+        r'<table class="data" data-number="(\d+\.\d+)"><caption>Таблиця \1 – Навантаження на корінні'
+        r".*?<tbody>(.*?)</tbody>",
+        html,
+        flags=re.S,
+    )
+    rows = [
+        re.findall(r"<td[^>]*>(.*?)</td>", row)
+        for row in re.findall(r"<tr>(.*?)</tr>", table.group(2))
+    ]
     label, r_max, _, _, p_mean, oil = max(rows, key=lambda row: float(row[1].replace(",", ".")))
-    conclusions = as_read(re.sub(r"<[^>]+>", "", re.search(r'id="sec-conclusions".*?</section>', html,
-                                                            flags=re.S).group(0)))
+    conclusions = as_read(
+        re.sub(
+            r"<[^>]+>",
+            "",
+            re.search(r'id="sec-conclusions".*?</section>', html, flags=re.S).group(0),
+        )
+    )
     conclusions = conclusions.replace("\u202f", " ").replace("\u00a0", " ")
-    assert (f"Найбільш навантажена корінна шийка {label} сприймає до {r_max} кН за середнього тиску на "
-            f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}°, відлічуваним, як у табл. "
-            f"{table.group(1)}.") in conclusions
+    assert (
+        f"Найбільш навантажена корінна шийка {label} сприймає до {r_max} кН за середнього тиску на "
+        f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}°, відлічуваним, як у табл. "
+        f"{table.group(1)}."
+    ) in conclusions
 
 
 def test_the_worked_lines_keep_their_short_brackets_whole(reports):
@@ -449,16 +579,23 @@ def test_the_error_appendix_cites_its_source_for_what_it_takes_from_it(reports):
     """Ismailov's paper gives the series of the piston kinematics, not the error study's method: the
     appendix says what it compares as in that source, not "calculated by the method of [n]"."""
     html = shared_html("inline4-petrol", {"report": {"detail": "full"}}, language="uk").linked_html
-    appendix = "".join(re.findall(r'<section class="chapter"[^>]*data-stage="numerics".*?</section>',
-                                  html, flags=re.S))
+    appendix = "".join(
+        re.findall(
+            r'<section class="chapter"[^>]*data-stage="numerics".*?</section>', html, flags=re.S
+        )
+    )
     assert "за методикою" not in appendix
     number = re.search(r"порівняно з її рядами за степенями λ, як у \[(\d+)\]", appendix).group(1)
-    references = re.findall(r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html,
-                                                          flags=re.S).group(1))
+    references = re.findall(
+        r"<li>(.*?)</li>",
+        re.search(r'<ol class="references">(.*?)</ol>', html, flags=re.S).group(1),
+    )
     assert references[int(number) - 1].startswith("Ismailov")
 
 
-def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_said_to_be_equal(reports):
+def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_said_to_be_equal(
+    reports,
+):
     """A single cylinder's note has no "the most loaded crank pin (1)" of one pin, no "the most
     loaded main journal 0-1" of two equally loaded ones, and one oil-hole angle in the table and
     the conclusions (not 192 and 192,5°)."""
@@ -468,8 +605,11 @@ def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_sai
     assert "Найбільший тиск на підшипник шатунної шийки – найбільша сила" in text
     assert "(0–1; усі корінні шийки навантажені однаково)" in text
     assert "Найбільш навантажена корінна шийка" not in text
-    journals = re.search(r'<caption>Таблиця (\d+\.\d+) – Навантаження на корінні.*?<tbody>(.*?)</tbody>', html,
-                         flags=re.S)
+    journals = re.search(
+        r"<caption>Таблиця (\d+\.\d+) – Навантаження на корінні.*?<tbody>(.*?)</tbody>",
+        html,
+        flags=re.S,
+    )
     assert "Корінні шийки навантажені однаково: до " in text
     assert f"кути отворів для мастила наведено в табл. {journals.group(1)}." in text
 
@@ -479,8 +619,12 @@ def test_journals_tied_by_round_off_are_named_together_not_one_picked_by_its_las
     the conclusion names them together, not one of them "the most loaded"."""
     from crankdyn_builtin.bearings.worked import loads_equal, most_loaded
 
-    records = [{"journal": "0-1", "max_N": 1.0e4}, {"journal": "1-2", "max_N": 58141.70445238453},
-               {"journal": "2-3", "max_N": 58141.70445238454}, {"journal": "3-4", "max_N": 4.0e4}]
+    records = [
+        {"journal": "0-1", "max_N": 1.0e4},
+        {"journal": "1-2", "max_N": 58141.70445238453},
+        {"journal": "2-3", "max_N": 58141.70445238454},
+        {"journal": "3-4", "max_N": 4.0e4},
+    ]
     assert [r["journal"] for r in most_loaded(records)] == ["1-2", "2-3"]
     assert not loads_equal(records) and loads_equal(records[1:3])
 
@@ -490,10 +634,16 @@ def test_the_balancing_conclusion_prints_the_forces_as_the_table_of_orders_does(
     single cylinder): one value, one precision."""
     for example in ("inline4-petrol", "petrol-1cyl-uk"):
         html = reports(example)
-        conclusions = re.sub(r"<[^>]+>", "", re.search(r'id="sec-conclusions".*?</section>', html, flags=re.S).group(0))
+        conclusions = re.sub(
+            r"<[^>]+>",
+            "",
+            re.search(r'id="sec-conclusions".*?</section>', html, flags=re.S).group(0),
+        )
         forces = re.findall(r"P[IVX]+\u00a0=\u00a0([\d\u202f]+(?:,\d+)?)\u202fН", conclusions)
         assert forces, example
-        table = re.search(r"<th>(?:Сила|Найбільша сила), Н</th>.*?</table>", html, flags=re.S).group(0)
+        table = re.search(
+            r"<th>(?:Сила|Найбільша сила), Н</th>.*?</table>", html, flags=re.S
+        ).group(0)
         cells = set(re.findall(r"<td[^>]*>([^<]*)</td>", table))
         assert all(force in cells for force in forces), (example, forces)
 
@@ -510,9 +660,17 @@ def test_the_balancing_conclusion_multiplies_out(reports):
     assert [i[0] for i in items] == ["II", "IV"], conclusion
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
     for roman, force, coefficient, order in items:
-        cell = re.search(rf"<td[^>]*><i>A</i><sub>{order}</sub></td><td>([^<]+)</td>", html).group(1)
-        expected = float(coefficient.replace(",", ".")) * abs(float(cell.replace("−", "-").replace(",", "."))) * c_first
-        assert float(force.replace(" ", "").replace(",", ".")) == pytest.approx(expected, rel=2e-3, abs=0.06), (roman, force, expected)
+        cell = re.search(rf"<td[^>]*><i>A</i><sub>{order}</sub></td><td>([^<]+)</td>", html).group(
+            1
+        )
+        expected = (
+            float(coefficient.replace(",", "."))
+            * abs(float(cell.replace("−", "-").replace(",", ".")))
+            * c_first
+        )
+        assert float(force.replace(" ", "").replace(",", ".")) == pytest.approx(
+            expected, rel=2e-3, abs=0.06
+        ), (roman, force, expected)
         assert expected >= 0.01 * c_first  # listed: not negligible
 
 
@@ -520,25 +678,40 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     """Not "ΣP_VI = 4,4 Н" listed as unbalanced beside ΣP_II = 9426 Н. A resultant under
     1 % of one cylinder's C_I (a moment: of C_I·a) is said to be negligible, after the others; an
     engine with only such is not called unbalanced."""
-    text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol"))).replace("\u202f", " ").replace("\u00a0", " ")
+    text = (
+        as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+        .replace("\u202f", " ")
+        .replace("\u00a0", " ")
+    )
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
     # forces only: what is left is ΣP_VI, no moment (no "сили й моменти" where there are none)
-    rest = re.search(r"Інші незрівноважені сили \((.*?)\) становлять менше ніж 1 % амплітуди сили інерції "
-                     r"першого порядку одного циліндра CI, тому ними можна знехтувати\.", text).group(1)
+    rest = re.search(
+        r"Інші незрівноважені сили \((.*?)\) становлять менше ніж 1 % амплітуди сили інерції "
+        r"першого порядку одного циліндра CI, тому ними можна знехтувати\.",
+        text,
+    ).group(1)
     value = re.fullmatch(r"ΣPVI = ([\d,]+) Н", rest).group(1)
     assert 0 < float(value.replace(",", ".")) < 0.01 * c_first
     html = reports("inline4-petrol")
-    abstract = re.sub(r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0))
+    abstract = re.sub(
+        r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0)
+    )
     assert "ΣPIV" in abstract and "ΣPVI" not in abstract  # nor is it called unbalanced there
     from crankdyn_builtin.balancing.section import _negligible
 
-    r = {"absolute": {"sum_PVI_N": 1.5, "M_PIV_Nm": 9.5}, "first_order_N": 1000.0, "cylinder_spacing_m": 0.5}
+    r = {
+        "absolute": {"sum_PVI_N": 1.5, "M_PIV_Nm": 9.5},
+        "first_order_N": 1000.0,
+        "cylinder_spacing_m": 0.5,
+    }
     assert _negligible(r, {"quantity": "sum_PVI"})  # 1.5 < 10 N
     assert not _negligible(r, {"quantity": "M_PIV"})  # 9.5 > 0.01 * 1000 * 0.5 = 5 N·m
 
 
 def test_a_single_cylinder_has_no_total_torque_to_react_to(reports):
-    one, four = (as_read(re.sub(r"<[^>]+>", "", reports(e))) for e in ("petrol-1cyl-uk", "inline4-petrol"))
+    one, four = (
+        as_read(re.sub(r"<[^>]+>", "", reports(e))) for e in ("petrol-1cyl-uk", "inline4-petrol")
+    )
     assert "реакції індикаторного крутного моменту" in one and "реакції сумарного" not in one
     assert "реакції сумарного індикаторного крутного моменту" in four
 
@@ -548,7 +721,10 @@ def test_a_defaulted_ignition_delay_says_where_it_comes_from(reports):
     textbook's 0,11 of the advance (spark) or 6nτ (diesel), and the note says so."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl-uk")))
     assert "через 2,42°" in text
-    assert "Затримку займання взято за посібником [1, підрозд. 3.1]: 0,11 кута випередження запалювання" in text
+    assert (
+        "Затримку займання взято за посібником [1, підрозд. 3.1]: 0,11 кута випередження запалювання"
+        in text
+    )
 
 
 def test_a_small_unbalanced_force_is_not_printed_as_zero():
@@ -558,7 +734,13 @@ def test_a_small_unbalanced_force_is_not_printed_as_zero():
     from crankdyn_builtin.balancing.notation import newtons
 
     t = translator("uk", default_registry().catalogs)
-    assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == ["17\u202f235", "192", "10", "4,4", "0,19"]
+    assert [newtons(t, f) for f in (17235.4, 192.4, 10.2, 4.416, 0.1904)] == [
+        "17\u202f235",
+        "192",
+        "10",
+        "4,4",
+        "0,19",
+    ]
 
 
 def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
@@ -568,11 +750,35 @@ def test_a_given_delta_of_more_digits_is_printed_alike_everywhere(tmp_path):
 
     from crankdyn.cli import main
 
-    scene = write_scene(tmp_path / "d.toml", modified("inline4-petrol", {"flywheel": {"required_irregularity": 0.0066667},
-                                                                         "report": {"language": "uk"}}))
-    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q", "--stages", "flywheel"]) == 0
-    text = as_read(re.sub(r"<[^>]+>", "", (tmp_path / "out" / "report.html").read_text(encoding="utf-8")))
-    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text)
+    scene = write_scene(
+        tmp_path / "d.toml",
+        modified(
+            "inline4-petrol",
+            {"flywheel": {"required_irregularity": 0.0066667}, "report": {"language": "uk"}},
+        ),
+    )
+    assert (
+        main(
+            [
+                "report",
+                str(scene),
+                "-o",
+                str(tmp_path / "out"),
+                "--format",
+                "html",
+                "-q",
+                "--stages",
+                "flywheel",
+            ]
+        )
+        == 0
+    )
+    text = as_read(
+        re.sub(r"<[^>]+>", "", (tmp_path / "out" / "report.html").read_text(encoding="utf-8"))
+    )
+    shown = re.findall(r"\[δ\](?:\s*=)?\s*(?:—\s*)?(\d+,\d+)", text) + re.findall(
+        r"ΔL/\(\[δ\][^=]*=\s*[\d\s,]+/\((\d+,\d+)·", text
+    )
     assert len(shown) >= 3 and set(shown) == {"0,0066667"}, shown
 
 
@@ -581,17 +787,30 @@ def test_subsections_are_numbered_and_listed_in_the_contents(tmp_path, examples)
     3008: subsections are numbered within their section and listed in the contents)."""
     from crankdyn.cli import main
 
-    assert main(["report", str(examples / "vane-engine-kinematics.toml"), "-o", str(tmp_path), "--format", "html",
-                 "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples / "vane-engine-kinematics.toml"),
+                "-o",
+                str(tmp_path),
+                "--format",
+                "html",
+                "-q",
+            ]
+        )
+        == 0
+    )
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert "<h3>" not in page
     headings = re.findall(r'<h3 class="subsection" id="sec-(\d+)\.(\d+)">(\d+)\.(\d+) ', page)
     assert len(headings) >= 3
     assert all(a == c and b == d for a, b, c, d in headings)
     section = headings[0][0]
-    assert [int(b) for a, b, _, _ in headings if a == section] == list(range(1, 1 + sum(
-        1 for a, *_ in headings if a == section)))
-    contents = page[page.index('<nav class="contents">'):page.index("</nav>")]
+    assert [int(b) for a, b, _, _ in headings if a == section] == list(
+        range(1, 1 + sum(1 for a, *_ in headings if a == section))
+    )
+    contents = page[page.index('<nav class="contents">') : page.index("</nav>")]
     for a, b, _, _ in headings:
         assert f'href="#sec-{a}.{b}"' in contents
 
@@ -603,11 +822,16 @@ def test_the_closing_row_of_the_theoretical_diagram_is_point_r():
     from conftest import shared_html
 
     html = shared_html("petrol-1cyl-ru").linked_html
-    assert "<i>r</i> – конец выпуска (ВМТ, α = 720°)" in as_read(html)  # the point's letter in italics
-    table = html[html.index("Таблица 4.1"):]
-    rows = re.findall(r"<tr[^>]*>(.*?)</tr>", table[:table.index("</table>")])
-    cells = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)] for row in rows[1:]]
-    given = html[html.index("Давление остаточных газов"):][:400]
+    assert "<i>r</i> – конец выпуска (ВМТ, α = 720°)" in as_read(
+        html
+    )  # the point's letter in italics
+    table = html[html.index("Таблица 4.1") :]
+    rows = re.findall(r"<tr[^>]*>(.*?)</tr>", table[: table.index("</table>")])
+    cells = [
+        [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+        for row in rows[1:]
+    ]
+    given = html[html.index("Давление остаточных газов") :][:400]
     p_r = re.search(r"<td[^>]*>(0,\d+)</td>", given)[1]  # as the data table gives it: 0,118
     assert cells[0][0] == "0" and cells[-1][0] == "720"
     assert float(cells[-1][2].replace(",", ".")) == pytest.approx(float(p_r.replace(",", ".")))
@@ -625,8 +849,9 @@ def test_the_two_term_acceleration_is_shown_by_its_difference_from_the_exact_one
     assert len(figure.axes) == 4
     difference = figure.axes[3].get_lines()[0].get_ydata()
     results = shared_run("petrol-1cyl").outputs["kinematics"].results
-    assert float(np.max(np.abs(difference))) == pytest.approx(results["two_term_acceleration_error_max_m_s2"],
-                                                              rel=1e-12)
+    assert float(np.max(np.abs(difference))) == pytest.approx(
+        results["two_term_acceleration_error_max_m_s2"], rel=1e-12
+    )
 
 
 def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
@@ -638,12 +863,17 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
     r = shared_run("petrol-1cyl").outputs["indicator"].results
     swept = r["indicated_work_J"] / r["mean_indicated_pressure_Pa"]
     assert r["pumping_work_J"] < 0  # p_r > p_a: the piston works on the gas in exchange
-    assert r["gross_mean_indicated_pressure_Pa"] == pytest.approx((r["indicated_work_J"] - r["pumping_work_J"]) / swept)
+    assert r["gross_mean_indicated_pressure_Pa"] == pytest.approx(
+        (r["indicated_work_J"] - r["pumping_work_J"]) / swept
+    )
     assert r["mean_indicated_pressure_deviation_percent"] == pytest.approx(
-        100 * (r["gross_mean_indicated_pressure_Pa"] / r["thermal_mean_indicated_pressure_Pa"] - 1))
+        100 * (r["gross_mean_indicated_pressure_Pa"] / r["thermal_mean_indicated_pressure_Pa"] - 1)
+    )
     text = as_read(shared_html("petrol-1cyl-ru").linked_html)
     assert "по диаграмме без насосных ходов – 0,8598\u202fМПа; отклонение 1,2\u202f%" in text
-    assert "<i>L</i><sub>нас</sub> = ∫<sub>540°</sub><sup>720°</sup>" in text  # the equation, with the Russian subscript
+    assert (
+        "<i>L</i><sub>нас</sub> = ∫<sub>540°</sub><sup>720°</sup>" in text
+    )  # the equation, with the Russian subscript
 
 
 def test_the_imaginary_unit_is_upright_and_said_to_be_one():
@@ -653,7 +883,10 @@ def test_the_imaginary_unit_is_upright_and_said_to_be_one():
     the engineering textbooks, i numbering the cylinders."""
     from conftest import shared_html
 
-    for name, language, words in (("inline4-petrol", "uk", "уявна одиниця"), ("petrol-1cyl-ru", "ru", "мнимая единица")):
+    for name, language, words in (
+        ("inline4-petrol", "uk", "уявна одиниця"),
+        ("petrol-1cyl-ru", "ru", "мнимая единица"),
+    ):
         html = shared_html(name, language=language).linked_html
         assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html and "e<sup>i" not in html
         assert "e<sup>j<i>nθ</i></sup>" in html and words in html
@@ -667,14 +900,21 @@ def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line()
     from crankdyn.report.docx_math import omml
     from crankdyn.report.formula_lines import _printed_length, unbroken_parts
 
-    long = "<i>M</i> = " + " + ".join(f"<i>t</i><sub>{k}</sub> · <i>R</i>" for k in range(1, 16)) + " − <i>c</i> = 108,3 Н·м"
+    long = (
+        "<i>M</i> = "
+        + " + ".join(f"<i>t</i><sub>{k}</sub> · <i>R</i>" for k in range(1, 16))
+        + " − <i>c</i> = 108,3 Н·м"
+    )
     lines = unbroken_parts(long).split('<br class="eq-break">')
     assert len(lines) >= 3
     for before, after in zip(lines, lines[1:], strict=False):
         carried = re.search(r'<span class="eq-carry">\s*([=+−])\s*</span></span>$', before)
         opening = re.sub(r"<[^>]+>", "", after).lstrip()[:1]
         assert carried and carried.group(1) == opening, (before[-80:], after[:80])
-    assert all(_printed_length(re.sub(r'<span class="eq-carry">[^<]*</span>', "", line)) <= 66 for line in lines)
+    assert all(
+        _printed_length(re.sub(r'<span class="eq-carry">[^<]*</span>', "", line)) <= 66
+        for line in lines
+    )
     math = omml(parse_html(f'<span class="formula">{unbroken_parts(long)}</span>').children[0], 28)
     signs = re.findall(r"<m:t[^>]*>\s*([=+−])\s*</m:t>", math)
     assert signs.count("+") == 14 and signs.count("=") == 2 and signs.count("−") == 1
@@ -684,8 +924,11 @@ def test_an_equals_sign_inside_a_group_or_bracket_is_no_break_point():
     """A long worked line split at every " = " would cut "(a = 1)" in its group span."""
     from crankdyn.report.formula_lines import unbroken_parts
 
-    long = '<i>x</i> = <span class="group">(<i>a</i> = 1)</span> + ' + " + ".join(
-        f"<i>b</i><sub>{k}</sub>" for k in range(30)) + " = 5"
+    long = (
+        '<i>x</i> = <span class="group">(<i>a</i> = 1)</span> + '
+        + " + ".join(f"<i>b</i><sub>{k}</sub>" for k in range(30))
+        + " = 5"
+    )
     html = unbroken_parts(long, 84)
     assert '<span class="group">(<i>a</i> = 1)</span>' in html
     opened = re.findall(r"<(/?)(span|i|sub)\b", html)
@@ -701,7 +944,10 @@ def test_the_inertia_torque_of_several_cylinders_sums_over_them(reports):
     its cylinders (each at its own cycle angle α_i, as the reduced moment of inertia sums them)."""
     four = reports("inline4-petrol")
     equation = re.search(r"<i>M</i><sub>j</sub> = −.*?</div>", four, flags=re.S).group(0)
-    assert "Σ<sub><i>i</i></sub> <i>s</i>″(<i>α</i><sub><i>i</i></sub>)<i>s</i>′(<i>α</i><sub><i>i</i></sub>)" in equation
+    assert (
+        "Σ<sub><i>i</i></sub> <i>s</i>″(<i>α</i><sub><i>i</i></sub>)<i>s</i>′(<i>α</i><sub><i>i</i></sub>)"
+        in equation
+    )
 
 
 def test_the_crank_radius_is_printed_without_padding_zeros(reports):
@@ -747,16 +993,27 @@ def test_the_introductions_aim_is_what_the_sections_do(reports):
     and the balance; a note of the kinematics alone claims no forces and no balance.
     The aim lists each section's own aim, in the note's order."""
     four = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
-    aim = re.search(r"Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою \[1\]: (.*?)\.\n", four)
+    aim = re.search(
+        r"Мета роботи – виконати динамічний розрахунок заданого двигуна за методикою \[1\]: (.*?)\.\n",
+        four,
+    )
     assert aim, "the aim"
-    for part in ("визначити кінематичні параметри механізму", "побудувати індикаторну діаграму",
-                 "оцінити зрівноваженість двигуна", "визначити навантаження на шийки й підшипники колінчастого вала",
-                 "підібрати маховик"):
+    for part in (
+        "визначити кінематичні параметри механізму",
+        "побудувати індикаторну діаграму",
+        "оцінити зрівноваженість двигуна",
+        "визначити навантаження на шийки й підшипники колінчастого вала",
+        "підібрати маховик",
+    ):
         assert part in aim.group(1), part
     assert aim.group(1).index("побудувати індикаторну") < aim.group(1).index("підібрати маховик")
     kinematics = as_read(re.sub(r"<[^>]+>", "", reports("kinematics-only")))
     aim = re.search(r"Мета роботи – виконати[^\n]*", kinematics).group(0)
-    assert "визначити кінематичні параметри механізму" in aim and "сили" not in aim and "зрівноваж" not in aim
+    assert (
+        "визначити кінематичні параметри механізму" in aim
+        and "сили" not in aim
+        and "зрівноваж" not in aim
+    )
 
 
 def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
@@ -764,8 +1021,12 @@ def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
     centrifugal force's circle: a circle has no major axis, the cell says "—"."""
     from crankdyn_builtin.balancing.notation import circular
 
-    assert circular({"semi_major": 1.0, "semi_minor": 1.0}) and circular({"semi_major": 0.0, "semi_minor": 0.0})
-    assert not circular({"semi_major": 1.0, "semi_minor": 0.0}) and not circular({"semi_major": 1.0, "semi_minor": 0.99})
+    assert circular({"semi_major": 1.0, "semi_minor": 1.0}) and circular(
+        {"semi_major": 0.0, "semi_minor": 0.0}
+    )
+    assert not circular({"semi_major": 1.0, "semi_minor": 0.0}) and not circular(
+        {"semi_major": 1.0, "semi_minor": 0.99}
+    )
     html = reports("petrol-1cyl-uk")
     row = re.search(r"<tr><td[^>]*><i>C</i></td>(.*?)</tr>", html).group(1)
     assert re.findall(r"<td[^>]*>([^<]*)</td>", row)[2:4] == ["1,000 / 1,000", "—"], row
@@ -774,18 +1035,26 @@ def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
 def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(reports):
     """Headers like "Швидкість, ×ω" and "m r, кг·мм" read as a program's output."""
     one = reports("petrol-1cyl-uk")
-    table = one[one.index("Противага (центр мас на радіусі"):]
-    head = as_read(re.sub(r"<[^>]+>", "", table[:table.index("</thead>")]))
-    assert "Кутова швидкість у частках ω" in head and "Статичний момент, кг·мм" in head and "Маса, кг" in head
+    table = one[one.index("Противага (центр мас на радіусі") :]
+    head = as_read(re.sub(r"<[^>]+>", "", table[: table.index("</thead>")]))
+    assert (
+        "Кутова швидкість у частках ω" in head
+        and "Статичний момент, кг·мм" in head
+        and "Маса, кг" in head
+    )
     assert "×ω" not in head and "mr" not in head  # m and r named no symbol of the list
 
 
-@pytest.mark.parametrize("language, present, absent", [
-    ("uk", "з розділу 2.", "в розділі «Аналіз зрівноваженості двигуна»:"),
-    ("ru", "(см. раздел 2)", "в разделе «Анализ уравновешенности двигателя»:"),
-    ("en", "in section 2.", "in section “Balancing of the engine”:")])
+@pytest.mark.parametrize(
+    "language, present, absent",
+    [
+        ("uk", "з розділу 2.", "в розділі «Аналіз зрівноваженості двигуна»:"),
+        ("ru", "(см. раздел 2)", "в разделе «Анализ уравновешенности двигателя»:"),
+        ("en", "in section 2.", "in section “Balancing of the engine”:"),
+    ],
+)
 def test_a_section_is_referred_to_by_its_number(language, present, absent):
-    """"(см. раздел кинематики)" names no section. A catalog text writes
+    """ "(см. раздел кинематики)" names no section. A catalog text writes
     @@SECTION:stage@@ for the number that stage's section has in this report; a stage without a
     section there is named by its section's title in quotes."""
     from crankdyn.plugin.registry import default_registry
@@ -793,15 +1062,21 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     from crankdyn.report.i18n import translator
 
     t = translator(language, default_registry().catalogs)
-    page = ('<section class="chapter" id="sec-1" data-stage="input">\n<h2 id="h-1">1 X</h2>'
-            '<section class="chapter" id="sec-2" data-stage="kinematics">\n<h2 id="h-2">2 Y</h2>'
-            '<section class="chapter appendix" id="sec-a" data-stage="numerics">\n<h2 id="h-a">Додаток<br>А</h2>')
-    words = {"uk": ("з розділу @@SECTION:kinematics@@.", "в розділі @@SECTION:balancing@@:"),
-             "ru": ("(см. раздел @@SECTION:kinematics@@)", "в разделе @@SECTION:balancing@@:"),
-             "en": ("in section @@SECTION:kinematics@@.", "in section @@SECTION:balancing@@:")}[language]
+    page = (
+        '<section class="chapter" id="sec-1" data-stage="input">\n<h2 id="h-1">1 X</h2>'
+        '<section class="chapter" id="sec-2" data-stage="kinematics">\n<h2 id="h-2">2 Y</h2>'
+        '<section class="chapter appendix" id="sec-a" data-stage="numerics">\n<h2 id="h-a">Додаток<br>А</h2>'
+    )
+    words = {
+        "uk": ("з розділу @@SECTION:kinematics@@.", "в розділі @@SECTION:balancing@@:"),
+        "ru": ("(см. раздел @@SECTION:kinematics@@)", "в разделе @@SECTION:balancing@@:"),
+        "en": ("in section @@SECTION:kinematics@@.", "in section @@SECTION:balancing@@:"),
+    }[language]
     from crankdyn.report.document import _stage_title
 
-    filled = fill_section_numbers(page + " ".join(words), lambda stage: _stage_title(t, default_registry(), stage), t)
+    filled = fill_section_numbers(
+        page + " ".join(words), lambda stage: _stage_title(t, default_registry(), stage), t
+    )
     assert present in filled and absent in filled and "@@" not in filled
     # the bundled reports: every mark filled
     html = shared_html("petrol-1cyl-ru", language=language).linked_html

@@ -23,7 +23,11 @@ def test_a_cubic_is_reproduced_exactly():
 
 
 def test_values_and_slopes_at_the_knots():
-    knots, values, slopes = [-10.0, 0.0, 12.0, 40.0], [1.0e6, 3.0e6, 5.5e6, 2.0e6], [1e5, 2.5e5, 0.0, -2e5]
+    knots, values, slopes = (
+        [-10.0, 0.0, 12.0, 40.0],
+        [1.0e6, 3.0e6, 5.5e6, 2.0e6],
+        [1e5, 2.5e5, 0.0, -2e5],
+    )
     curve = hermite_cubic(knots, values, slopes)
     assert np.allclose(curve(np.array(knots)), values, rtol=1e-14)
     h = 1e-6
@@ -38,14 +42,19 @@ def test_same_curve_as_scipy():
         values, slopes = rng.normal(0, 1e6, knots.size), rng.normal(0, 1e5, knots.size)
         x = np.linspace(knots[0] - 20.0, knots[-1] + 20.0, 777)
         expected = CubicHermiteSpline(knots, values, slopes)(x)
-        assert np.allclose(hermite_cubic(knots, values, slopes)(x), expected, rtol=1e-12, atol=1e-12 * 1e6)
+        assert np.allclose(
+            hermite_cubic(knots, values, slopes)(x), expected, rtol=1e-12, atol=1e-12 * 1e6
+        )
 
 
-@pytest.mark.parametrize("knots, values, slopes", [
-    ([0.0, 0.0, 1.0], [1, 2, 3], [0, 0, 0]),   # not strictly increasing
-    ([0.0], [1.0], [0.0]),                     # one point
-    ([0.0, 1.0], [1.0, 2.0, 3.0], [0.0, 0.0]),  # lengths differ
-])
+@pytest.mark.parametrize(
+    "knots, values, slopes",
+    [
+        ([0.0, 0.0, 1.0], [1, 2, 3], [0, 0, 0]),  # not strictly increasing
+        ([0.0], [1.0], [0.0]),  # one point
+        ([0.0, 1.0], [1.0, 2.0, 3.0], [0.0, 0.0]),  # lengths differ
+    ],
+)
 def test_bad_knots_are_refused(knots, values, slopes):
     with pytest.raises(ValueError):
         hermite_cubic(knots, values, slopes)

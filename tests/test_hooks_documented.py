@@ -10,7 +10,11 @@ import pytest
 from crankdyn.plugin import hooks as hookspecs
 
 DOCS = Path(__file__).resolve().parent.parent / "docs" / "plugins.md"
-HOOKS = [name for name, obj in inspect.getmembers(hookspecs, inspect.isfunction) if name.startswith("crankdyn_")]
+HOOKS = [
+    name
+    for name, obj in inspect.getmembers(hookspecs, inspect.isfunction)
+    if name.startswith("crankdyn_")
+]
 
 
 def test_there_are_hooks():

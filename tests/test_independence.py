@@ -37,22 +37,31 @@ CORE = ROOT / "src" / "crankdyn"
 #: (the core's contract between plugins: "kinematics" is the key of a PistonMotion and the name of
 #: the stage providing it) and the values the core scene model itself offers (engine.rod_type =
 #: "articulated", also the name of the bay stage's table).
-SHARED = ({value for name, value in vars(contracts).items() if name.isupper() and isinstance(value, str)}
-          | {choice for info in Engine.model_fields.values()
-             for choice in typing.get_args(info.annotation) if isinstance(choice, str)})
+SHARED = {
+    value for name, value in vars(contracts).items() if name.isupper() and isinstance(value, str)
+} | {
+    choice
+    for info in Engine.model_fields.values()
+    for choice in typing.get_args(info.annotation)
+    if isinstance(choice, str)
+}
 #: What the core still names, with the reason: (file, name) -> why.
 KNOWN = {
     ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
     ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
-                              "scene is loaded, before any registry is read",
+    "scene is loaded, before any registry is read",
 }
 
 
 def built_in_names(registry) -> set[str]:
     """The names a built-in plugin owns: its stages, mechanisms, error probes and scene tables."""
     stages = registry.stages.values()
-    return ({s.name for s in stages} | set(registry.mechanisms) | set(registry.error_probes)
-            | {s.options_table for s in stages if s.options_table})
+    return (
+        {s.name for s in stages}
+        | set(registry.mechanisms)
+        | set(registry.error_probes)
+        | {s.options_table for s in stages if s.options_table}
+    )
 
 
 def result_keys(registry) -> set[str]:
@@ -66,27 +75,38 @@ def named_in(source: str, names: set[str]) -> set[str]:
     found = set()
     for node in ast.walk(ast.parse(source)):
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
-            found |= {name for name in names if node.value == name or node.value.startswith(name + ".")}
+            found |= {
+                name for name in names if node.value == name or node.value.startswith(name + ".")
+            }
     return found
 
 
 def test_the_scan_finds_a_built_in_name():
     """The scan itself can fail: a core listing the crank-sliders by name is caught."""
-    assert named_in('_CRANK_SLIDERS = ("crank_slider", "offset_crank")\n',
-                    built_in_names(default_registry())) == {"crank_slider", "offset_crank"}
+    assert named_in(
+        '_CRANK_SLIDERS = ("crank_slider", "offset_crank")\n', built_in_names(default_registry())
+    ) == {"crank_slider", "offset_crank"}
 
 
 def test_the_core_names_no_built_in_stage_mechanism_table_or_result():
     registry = default_registry()
     names = built_in_names(registry) - SHARED
     results = result_keys(registry) - SHARED
-    assert {"indicator", "numerics", "offset_crank_slider"} <= names and "max_pressure_Pa" in results
+    assert {
+        "indicator",
+        "numerics",
+        "offset_crank_slider",
+    } <= names and "max_pressure_Pa" in results
     found = set()
     for path in sorted(CORE.rglob("*.py")):
         source = path.read_text(encoding="utf-8")
         physics = path.parent.name == "physics"
-        found |= {(path.name, name) for name in named_in(source, names if physics else names | results)}
-    assert found - set(KNOWN) == set(), "the core names built-ins: " + repr(sorted(found - set(KNOWN)))
+        found |= {
+            (path.name, name) for name in named_in(source, names if physics else names | results)
+        }
+    assert found - set(KNOWN) == set(), "the core names built-ins: " + repr(
+        sorted(found - set(KNOWN))
+    )
 
 
 PLUGIN = '''
@@ -160,7 +180,7 @@ def crankdyn_catalogs():
 '''
 
 TEMPLATE = "<p class=\"throwaway\">{{ _('throwaway_slider.body') }}</p>\n{{ eq('<i>h</i><sub>t</sub> = 2<i>R</i>') }}\n"
-CATALOG = '''[throwaway_slider]
+CATALOG = """[throwaway_slider]
 title = "Stroke of the throw-away slider"
 body = "The stroke follows from the crank radius."
 
@@ -169,13 +189,15 @@ travel = "stroke of the throw-away slider"
 
 [plausibility]
 throwaway_slow = "The engine turns slowly ({rpm} rpm)."
-'''
+"""
 
 
 def _tree_digest(*folders: Path) -> str:
     digest = hashlib.sha256()
     for folder in folders:
-        for path in sorted(p for p in folder.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+        for path in sorted(
+            p for p in folder.rglob("*") if p.is_file() and "__pycache__" not in p.parts
+        ):
             digest.update(str(path.relative_to(ROOT)).encode() + path.read_bytes())
     return digest.hexdigest()
 
@@ -187,21 +209,29 @@ def throwaway_registry(tmp_path, monkeypatch):
     (package / "i18n").mkdir()
     (package / "__init__.py").write_text("", encoding="utf-8")
     (package / "plugin.py").write_text(textwrap.dedent(PLUGIN), encoding="utf-8")
-    (package / "templates" / "sections" / "throwaway_slider.html.j2").write_text(TEMPLATE, encoding="utf-8")
+    (package / "templates" / "sections" / "throwaway_slider.html.j2").write_text(
+        TEMPLATE, encoding="utf-8"
+    )
     for language in ("en", "uk", "ru"):  # English texts in every language: enough for this test
-        (package / "i18n" / f"throwaway_slider.{language}.toml").write_text(CATALOG, encoding="utf-8")
+        (package / "i18n" / f"throwaway_slider.{language}.toml").write_text(
+            CATALOG, encoding="utf-8"
+        )
     monkeypatch.syspath_prepend(str(tmp_path))
     plugin = importlib.import_module("throwaway_mechanism_plugin.plugin")
     return collect(plugin_manager(extra_plugins=[plugin]))
 
 
 def _scene(changes: dict):
-    data = modified("kinematics-only", {"engine": {"mechanism": "throwaway_slider", **changes},
-                                        "report": {"language": "en"}})
+    data = modified(
+        "kinematics-only",
+        {"engine": {"mechanism": "throwaway_slider", **changes}, "report": {"language": "en"}},
+    )
     return scene_from_dict(data, base_dir=examples_dir())
 
 
-def test_a_throw_away_mechanism_is_drawn_with_its_symbols_rules_and_answer_column(throwaway_registry):
+def test_a_throw_away_mechanism_is_drawn_with_its_symbols_rules_and_answer_column(
+    throwaway_registry,
+):
     before = _tree_digest(ROOT / "src", ROOT / "templates")
     registry = throwaway_registry
     # λ = 0.6 (above the crank-slider's 0.45) at 800 rpm: the core's rule and the plugin's own
@@ -216,10 +246,15 @@ def test_a_throw_away_mechanism_is_drawn_with_its_symbols_rules_and_answer_colum
     assert any(name.startswith("figures/") and name.endswith("_scheme.svg") for name in files)
     html = files["report.html"].decode("utf-8")
     # its letter h_t in the list of symbols with its meaning from the plugin's catalog
-    assert ('<span class="symbol"><i>h</i><sub>t</sub></span> – <span class="meaning">'
-            'stroke of the throw-away slider') in html
+    assert (
+        '<span class="symbol"><i>h</i><sub>t</sub></span> – <span class="meaning">'
+        "stroke of the throw-away slider"
+    ) in html
     # its rule's warning in its own words, from its own catalog
-    assert console_lines(warnings(scene, registry, result), registry)[1] == "The engine turns slowly (800 rpm)."
+    assert (
+        console_lines(warnings(scene, registry, result), registry)[1]
+        == "The engine turns slowly (800 rpm)."
+    )
 
     # its answer column, read from results.json: the scene's stroke, 100 mm
     columns = answer_key.answer_columns(registry)

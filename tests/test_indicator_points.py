@@ -24,13 +24,20 @@ def marked(request):
     scene = load_scene(examples_dir() / f"{request.param}.toml")
     output = run_scene(scene, REGISTRY, ["indicator"]).outputs["indicator"]
     frame, r = output.tables.arrays("indicator"), output.results
-    points = {label: (v, p) for label, v, p, _ in _characteristic_points(SimpleNamespace(scene=scene), frame, r)}
+    points = {
+        label: (v, p)
+        for label, v, p, _ in _characteristic_points(SimpleNamespace(scene=scene), frame, r)
+    }
     return scene, frame, r, points
 
 
 def _at(frame, angle_deg):
     i = int(np.argmin(np.abs(frame["crank_angle_deg"] - angle_deg % 720.0)))
-    return frame["cylinder_volume_m3"][i] * 1e3, frame["pressure_Pa"][i] / 1e6, frame["pressure_theoretical_Pa"][i] / 1e6
+    return (
+        frame["cylinder_volume_m3"][i] * 1e3,
+        frame["pressure_Pa"][i] / 1e6,
+        frame["pressure_theoretical_Pa"][i] / 1e6,
+    )
 
 
 def test_every_point_is_where_its_event_is(marked):
@@ -43,12 +50,16 @@ def test_every_point_is_where_its_event_is(marked):
     assert points["a"][0] == pytest.approx(v_a) and points["b"][0] == pytest.approx(v_a)
     assert points["c"] == pytest.approx((v_c, r["compression_end_pressure_Pa"] / 1e6))
     assert points["c″"][1] == pytest.approx(_at(frame, 360.0)[1])
-    assert points["c′"] == pytest.approx(_at(frame, 360.0 - rounding.ignition_advance_deg)[:2], rel=1e-9)
+    assert points["c′"] == pytest.approx(
+        _at(frame, 360.0 - rounding.ignition_advance_deg)[:2], rel=1e-9
+    )
     visible = 360.0 - rounding.ignition_advance_deg + rounding.combustion_delay_deg
     assert points["f"] == pytest.approx(_at(frame, visible)[:2], rel=1e-9)
     assert points["z′"][1] == pytest.approx(frame["pressure_Pa"].max() / 1e6)
     assert points["z"][1] == pytest.approx(scene.cycle.max_pressure / 1e6)
-    assert points["b′"] == pytest.approx(_at(frame, 540.0 - rounding.exhaust_opens_before_bdc_deg)[:2], rel=1e-9)
+    assert points["b′"] == pytest.approx(
+        _at(frame, 540.0 - rounding.exhaust_opens_before_bdc_deg)[:2], rel=1e-9
+    )
     assert points["b"][1] == pytest.approx(r["expansion_end_pressure_Pa"] / 1e6, rel=1e-6)
     assert points["b″"][1] == pytest.approx(_at(frame, 540.0)[1])
 
@@ -62,7 +73,9 @@ def test_a_diesel_z_ends_the_heat_addition_at_rho_times_v_c(marked):
 def test_the_pumping_loop_is_enlarged_in_an_inset_with_locale_ticks(shared_report):
     """At the scale of a 5 MPa peak the intake and exhaust lines (0,1 MPa) are one line: an inset
     shows them, its ticks written as the report writes numbers (decimal comma in uk)."""
-    out = shared_report("petrol-1cyl-uk")  # the HTML report, shared with other test files (read only)
+    out = shared_report(
+        "petrol-1cyl-uk"
+    )  # the HTML report, shared with other test files (read only)
     svg = next((out / "figures").glob("fig_*_pV.svg")).read_text(encoding="utf-8")
     assert "впуск і випуск (збільшено)" in svg
     assert ">0,05<" in svg and ">0.05<" not in svg

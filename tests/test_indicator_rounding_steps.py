@@ -22,7 +22,9 @@ def _setup():
     def volume(a_deg):
         return clearance + PISTON_AREA_M2 * exact_displacement_m(np.asarray(a_deg))
 
-    lines = ind._Lines(ind._function_volume(volume, 720.0), ind._firing_tdc_deg(params), clearance, params)
+    lines = ind._Lines(
+        ind._function_volume(volume, 720.0), ind._firing_tdc_deg(params), clearance, params
+    )
     return params, rounding, lines, volume, clearance
 
 
@@ -32,7 +34,9 @@ def test_gas_exchange_step_is_halfway_at_the_exhaust_tdc():
     alpha = np.array([0.0, 699.0, 21.0])
     before = np.full(3, -1.0)
     p = ind._gas_exchange_step(alpha, before, params, rounding, ind._firing_tdc_deg(params), 720.0)
-    assert p[0] == pytest.approx(0.5 * (params.exhaust_pressure_Pa + params.intake_pressure_Pa), rel=1e-15)
+    assert p[0] == pytest.approx(
+        0.5 * (params.exhaust_pressure_Pa + params.intake_pressure_Pa), rel=1e-15
+    )
     assert p[1] == -1.0 and p[2] == -1.0  # outside the window the diagram is left as it was
 
 
@@ -54,4 +58,7 @@ def test_combustion_rounding_peaks_at_the_prescribed_fraction_of_p_z():
     peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
     at_peak = np.argmin(np.abs(alpha - (tdc + rounding.peak_angle_after_tdc_deg)))
     assert p[at_peak] == pytest.approx(peak, rel=1e-12)
-    assert p.max() == pytest.approx(peak, rel=1e-12) and rounding.peak_angle_after_tdc_deg < psi_j < 180.0
+    assert (
+        p.max() == pytest.approx(peak, rel=1e-12)
+        and rounding.peak_angle_after_tdc_deg < psi_j < 180.0
+    )

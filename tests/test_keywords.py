@@ -19,8 +19,18 @@ def _keywords(html: str) -> list[str]:
 def test_the_key_words_follow_the_sections():
     full = _keywords(shared_html("inline4-petrol", language="uk").linked_html)
     alone = _keywords(shared_html("kinematics-only", language="uk").linked_html)
-    assert full[:3] == ["ДИНАМІЧНИЙ РОЗРАХУНОК", "ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ", "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ МЕХАНІЗМ"]
-    for word in ("КІНЕМАТИКА", "ІНДИКАТОРНА ДІАГРАМА", "КРУТНИЙ МОМЕНТ", "ЗРІВНОВАЖЕННЯ", "МАХОВИК"):
+    assert full[:3] == [
+        "ДИНАМІЧНИЙ РОЗРАХУНОК",
+        "ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ",
+        "ЦЕНТРАЛЬНИЙ КРИВОШИПНО-ШАТУННИЙ МЕХАНІЗМ",
+    ]
+    for word in (
+        "КІНЕМАТИКА",
+        "ІНДИКАТОРНА ДІАГРАМА",
+        "КРУТНИЙ МОМЕНТ",
+        "ЗРІВНОВАЖЕННЯ",
+        "МАХОВИК",
+    ):
         assert word in full, (word, full)
     assert "КІНЕМАТИКА" in alone and "МАХОВИК" not in alone and "ЗРІВНОВАЖЕННЯ" not in alone
     # DSTU 3008: five to fifteen, also for the smallest reports; the vane engine's scheme is drawn by
@@ -43,7 +53,10 @@ def test_key_words_in_every_language_come_from_the_catalogs():
     # a stage without key words of its own (a third party's) adds none; a mechanism without a
     # description in the catalog none either
     t = translator("uk", registry.catalogs)
-    assert keywords(t, "no_such_mechanism", ["no_such_stage"]) == "ДИНАМІЧНИЙ РОЗРАХУНОК, ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ"
+    assert (
+        keywords(t, "no_such_mechanism", ["no_such_stage"])
+        == "ДИНАМІЧНИЙ РОЗРАХУНОК, ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ"
+    )
 
 
 def test_the_abstract_names_the_balancing_and_the_flywheel():
@@ -55,8 +68,17 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     from crankdyn.report.i18n import translator
 
     rendered = shared_html("inline4-petrol", language="uk").linked_html
-    abstract = html_lib.unescape(re.sub(r"<[^>]+>", "", as_read(
-        re.search(r'<section class="abstract">(.*?)</section>', rendered, flags=re.S).group(1))))
+    abstract = html_lib.unescape(
+        re.sub(
+            r"<[^>]+>",
+            "",
+            as_read(
+                re.search(r'<section class="abstract">(.*?)</section>', rendered, flags=re.S).group(
+                    1
+                )
+            ),
+        )
+    )
     results = shared_run("inline4-petrol").outputs
     t = translator("uk", default_registry().catalogs)
     flywheel = t.number(results["flywheel"].results["flywheel_inertia_kg_m2"], 4)
@@ -68,7 +90,11 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     # supervisor: "C and P_I unbalanced" in the abstract of an engine the section balances)
     assert 2 in balancing["residual"]["balanced_orders"] and balancing["balance_shafts"]
     # and not what the conclusions call negligible (ΣP_VI = 4,4 Н, under 1 % of C_I)
-    assert "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV" in abstract and "ΣPVI" not in abstract, abstract
+    assert (
+        "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV"
+        in abstract
+        and "ΣPVI" not in abstract
+    ), abstract
 
 
 def test_the_abstract_aim_lists_the_sections_the_note_holds():
@@ -76,11 +102,16 @@ def test_the_abstract_aim_lists_the_sections_the_note_holds():
     note's own sections (the input data aside), each title as it heads its section."""
     full = shared_html("inline4-petrol", language="uk").linked_html
     alone = shared_html("kinematics-only", language="uk").linked_html
-    for html, present, absent, kind in ((full, ("маховик", "аналіз зрівноваженості двигуна"), (),
-                                         "динамічний розрахунок двигуна"),
-                                        (alone, ("кінематика кривошипно-шатунного механізму",), ("маховик", "сили тиску"),
-                                         "кінематичний аналіз механізму")):
+    for html, present, absent, kind in (
+        (full, ("маховик", "аналіз зрівноваженості двигуна"), (), "динамічний розрахунок двигуна"),
+        (
+            alone,
+            ("кінематика кривошипно-шатунного механізму",),
+            ("маховик", "сили тиску"),
+            "кінематичний аналіз механізму",
+        ),
+    ):
         aim = re.search(rf"Мета роботи – {kind}: (.*?)\.</p>", html).group(1)
-        titles = re.findall(r'<h2>\d+ ([^<]+)</h2>', html)
+        titles = re.findall(r"<h2>\d+ ([^<]+)</h2>", html)
         assert aim.split("; ") == [t[0].lower() + t[1:] for t in titles[1:]], (aim, titles)
         assert all(p in aim for p in present) and not any(a in aim for a in absent), aim

@@ -53,7 +53,8 @@ def test_the_layer_contract_can_fail(tmp_path, monkeypatch):
     (tmp_path / "pyproject.toml").write_text(
         '[tool.importlinter]\nroot_packages = ["crankdyn"]\n\n[[tool.importlinter.contracts]]\n'
         'name = "upside down"\ntype = "layers"\nlayers = ["crankdyn.plugin.types", "crankdyn.report"]\n',
-        encoding="utf-8")
+        encoding="utf-8",
+    )
     monkeypatch.chdir(tmp_path)
     out = io.StringIO()
     with redirect_stdout(out):
@@ -71,7 +72,9 @@ def test_function_local_imports_are_documented_lazy_imports():
             for node in ast.walk(function):
                 if not isinstance(node, (ast.Import, ast.ImportFrom)):
                     continue
-                if LAZY_MARK not in "\n".join(lines[node.lineno - 1:node.end_lineno]):  # any line of it
+                if LAZY_MARK not in "\n".join(
+                    lines[node.lineno - 1 : node.end_lineno]
+                ):  # any line of it
                     unmarked.append(f"{_rel(path)}:{node.lineno} in {function.name}")
     assert not unmarked, "function-local imports without the lazy mark: " + ", ".join(unmarked)
 
@@ -89,17 +92,30 @@ def test_no_function_over_80_lines():
 
 def test_a_json_only_report_imports_no_rendering_library(tmp_path):
     """Start-up: the JSON-only path imports what it uses, nothing of the rendering stack."""
-    heavy = ["pandas", "matplotlib", "jinja2", "babel", "pint", "weasyprint", "openpyxl", "pypandoc", "docx"]
-    code = ("import sys\nfrom crankdyn.cli import main\n"
-            f"code = main(['report', {str(ROOT / 'examples' / 'petrol-1cyl.toml')!r}, '-o', {str(tmp_path)!r}, "
-            "'--format', 'json', '-q'])\n"
-            f"print(sorted(m for m in {heavy!r} if m in sys.modules), code)\n"
-            # the same check can fail: a table read builds a DataFrame and so imports pandas (in the
-            # same fresh interpreter, after the report's modules were listed)
-            "import crankdyn.plugin.types as t; t.Tables(a={'x': [1]})['a']\n"
-            f"print(sorted(m for m in {heavy!r} if m in sys.modules))")
-    first, then = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                                 check=True).stdout.splitlines()
+    heavy = [
+        "pandas",
+        "matplotlib",
+        "jinja2",
+        "babel",
+        "pint",
+        "weasyprint",
+        "openpyxl",
+        "pypandoc",
+        "docx",
+    ]
+    code = (
+        "import sys\nfrom crankdyn.cli import main\n"
+        f"code = main(['report', {str(ROOT / 'examples' / 'petrol-1cyl.toml')!r}, '-o', {str(tmp_path)!r}, "
+        "'--format', 'json', '-q'])\n"
+        f"print(sorted(m for m in {heavy!r} if m in sys.modules), code)\n"
+        # the same check can fail: a table read builds a DataFrame and so imports pandas (in the
+        # same fresh interpreter, after the report's modules were listed)
+        "import crankdyn.plugin.types as t; t.Tables(a={'x': [1]})['a']\n"
+        f"print(sorted(m for m in {heavy!r} if m in sys.modules))"
+    )
+    first, then = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.splitlines()
     assert first.split() == ["[]", "0"] and (tmp_path / "results.json").is_file()
     assert "'pandas'" in then
 
@@ -115,14 +131,17 @@ def _layered_names() -> set[str]:
 
     config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
     contract = next(c for c in config["tool"]["importlinter"]["contracts"] if c["type"] == "layers")
-    return {name.strip() for layer in contract["layers"] for name in layer.replace("|", ":").split(":")}
+    return {
+        name.strip() for layer in contract["layers"] for name in layer.replace("|", ":").split(":")
+    }
 
 
 def _is_shim(path: Path) -> bool:
     tree = ast.parse(path.read_text(encoding="utf-8"))
     body = [node for node in tree.body if not isinstance(node, ast.Expr)]  # the docstring aside
     return all(isinstance(node, (ast.Import, ast.ImportFrom, ast.Assign)) for node in body) and any(
-        isinstance(node, ast.ImportFrom) and node.names[0].name == "*" for node in body)
+        isinstance(node, ast.ImportFrom) and node.names[0].name == "*" for node in body
+    )
 
 
 def test_every_core_module_belongs_to_a_layer():
@@ -130,7 +149,9 @@ def test_every_core_module_belongs_to_a_layer():
     layered = _layered_names()
     outside = []
     for path in sorted((ROOT / "src" / "crankdyn").rglob("*.py")):
-        module = ".".join(("crankdyn", *path.relative_to(ROOT / "src" / "crankdyn").with_suffix("").parts))
+        module = ".".join(
+            ("crankdyn", *path.relative_to(ROOT / "src" / "crankdyn").with_suffix("").parts)
+        )
         covered = any(module == name or module.startswith(name + ".") for name in layered)
         if not covered and path.stem not in UNLAYERED and not _is_shim(path):
             outside.append(module)

@@ -21,7 +21,8 @@ def test_an_in_line_four_firing_1_3_4_2_is_the_textbooks_table():
         ["intake", "compression", "expansion", "exhaust"],
         ["compression", "expansion", "exhaust", "intake"],
         ["exhaust", "intake", "compression", "expansion"],
-        ["expansion", "exhaust", "intake", "compression"]]
+        ["expansion", "exhaust", "intake", "compression"],
+    ]
     for column in zip(*(_expanded(r) for r in rows), strict=True):
         assert sorted(column) == sorted(["intake", "compression", "expansion", "exhaust"])
 
@@ -34,10 +35,16 @@ def test_a_v8_firing_every_90_degrees_has_90_degree_columns_and_strokes_spanning
         strokes = _expanded(runs)
         assert len(strokes) == 8
         # cylinder i is in stroke floor(((a - delay) mod 720) / 180) at the column's start a
-        assert strokes == [("intake", "compression", "expansion", "exhaust")[int(((c * 90 - delay) % 720) // 180)]
-                           for c in range(8)]
-        assert sum(span for _, span in runs) == 8 and all(a[0] != b[0] for a, b in zip(runs, runs[1:], strict=False))
-    for column in zip(*(_expanded(r) for r in rows), strict=True):  # two cylinders in each stroke at any moment
+        assert strokes == [
+            ("intake", "compression", "expansion", "exhaust")[int(((c * 90 - delay) % 720) // 180)]
+            for c in range(8)
+        ]
+        assert sum(span for _, span in runs) == 8 and all(
+            a[0] != b[0] for a, b in zip(runs, runs[1:], strict=False)
+        )
+    for column in zip(
+        *(_expanded(r) for r in rows), strict=True
+    ):  # two cylinders in each stroke at any moment
         assert all(column.count(s) == 2 for s in set(column))
 
 
@@ -52,7 +59,10 @@ def test_the_bays_section_prints_the_table_with_strokes_spanning_their_columns()
     html = shared_html("v8-petrol", language="uk").linked_html
     import re
 
-    assert re.search(r"Таблиця \d+\.2 – Чергування тактів у циліндрах за кутом повороту колінчастого вала, °", html)
-    table = html[html.index("Чергування тактів у циліндрах за кутом"):]
-    table = table[:table.index("</table>")]
+    assert re.search(
+        r"Таблиця \d+\.2 – Чергування тактів у циліндрах за кутом повороту колінчастого вала, °",
+        html,
+    )
+    table = html[html.index("Чергування тактів у циліндрах за кутом") :]
+    table = table[: table.index("</table>")]
     assert "<th>630–720</th>" in table and table.count('colspan="2">робочий хід<') >= 6

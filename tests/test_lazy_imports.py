@@ -35,15 +35,24 @@ def test_the_physics_and_the_plugins_import_without_scipy_and_import_it_when_cal
 
 
 def test_a_stage_is_timed_without_the_import_its_first_call_makes(tmp_path, monkeypatch):
-    (tmp_path / "slow_to_import.py").write_text("import time\ntime.sleep(0.3)\nVALUE = 7\n", encoding="utf-8")
+    (tmp_path / "slow_to_import.py").write_text(
+        "import time\ntime.sleep(0.3)\nVALUE = 7\n", encoding="utf-8"
+    )
     monkeypatch.syspath_prepend(str(tmp_path))
     slow = lazy.LazyModule("slow_to_import")
 
     def run(scene, inputs):
         return StageOutput(results={"value": slow.VALUE})
 
-    stage = Stage(name="uses_slow", title_key="x", requires=(), provides=(), applies=lambda scene: None,
-                  run=run, render=lambda output, ctx: "")
+    stage = Stage(
+        name="uses_slow",
+        title_key="x",
+        requires=(),
+        provides=(),
+        applies=lambda scene: None,
+        run=run,
+        render=lambda output, ctx: "",
+    )
     before = lazy.import_seconds()
     start = time.perf_counter()
     output, elapsed = run_stage(stage, None, {})

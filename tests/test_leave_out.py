@@ -27,43 +27,88 @@ FLYWHEEL = {"flywheel", "speed_fluctuation"}  # only with a [flywheel] table
 MATRIX = {
     # name: (example, changes, sections present, sections absent, json present, json absent,
     #        numerics parts present, numerics parts absent)
-    "kinematics-only": ("kinematics-only", {},
-                        {"kinematics", "numerics_kinematics"},
-                        {"indicator", "forces", "bays", "torque", "numerics"},
-                        {"kinematics", "numerics_kinematics"}, {"indicator", "forces", "bays", "torque", "numerics"},
-                        {"kinematics-forms"}, {"steps", "solvers"}),
-    "single-cylinder": ("petrol-1cyl", {},
-                        ENGINE, {"bays", "torque", "numerics_kinematics"},  # bays/torque run for data only
-                        ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
-                        {"steps", "kinematics-forms", "theoretical"}, {"solvers"}),
-    "two-stroke": ("two-stroke-1cyl", {},
-                   ENGINE, {"bays", "torque", "numerics_kinematics"},
-                   ENGINE | {"torque"}, {"numerics_kinematics"},
-                   {"steps", "kinematics-forms", "theoretical"}, set()),
-    "in-line-with-flywheel": ("inline4-petrol", {},
-                              ENGINE | {"bays", "torque"} | FLYWHEEL, {"numerics_kinematics"},
-                              ENGINE | {"bays", "torque"} | FLYWHEEL, {"numerics_kinematics"},
-                              {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
-    "in-line-no-flywheel-request": ("inline4-petrol", {"flywheel": None},
-                                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"} | FLYWHEEL,
-                                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"} | FLYWHEEL,
-                                    {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
-    "articulated": ("radial9-aircraft", {},
-                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
-                    ENGINE | {"bays", "torque"}, {"numerics_kinematics"},
-                    # its numerics study moves every step onto the engine's grid: nothing refused
-                    {"steps", "kinematics-forms", "theoretical"}, {"refused-steps"}),
+    "kinematics-only": (
+        "kinematics-only",
+        {},
+        {"kinematics", "numerics_kinematics"},
+        {"indicator", "forces", "bays", "torque", "numerics"},
+        {"kinematics", "numerics_kinematics"},
+        {"indicator", "forces", "bays", "torque", "numerics"},
+        {"kinematics-forms"},
+        {"steps", "solvers"},
+    ),
+    "single-cylinder": (
+        "petrol-1cyl",
+        {},
+        ENGINE,
+        {"bays", "torque", "numerics_kinematics"},  # bays/torque run for data only
+        ENGINE | {"bays", "torque"},
+        {"numerics_kinematics"},
+        {"steps", "kinematics-forms", "theoretical"},
+        {"solvers"},
+    ),
+    "two-stroke": (
+        "two-stroke-1cyl",
+        {},
+        ENGINE,
+        {"bays", "torque", "numerics_kinematics"},
+        ENGINE | {"torque"},
+        {"numerics_kinematics"},
+        {"steps", "kinematics-forms", "theoretical"},
+        set(),
+    ),
+    "in-line-with-flywheel": (
+        "inline4-petrol",
+        {},
+        ENGINE | {"bays", "torque"} | FLYWHEEL,
+        {"numerics_kinematics"},
+        ENGINE | {"bays", "torque"} | FLYWHEEL,
+        {"numerics_kinematics"},
+        {"steps", "kinematics-forms", "theoretical"},
+        {"refused-steps"},
+    ),
+    "in-line-no-flywheel-request": (
+        "inline4-petrol",
+        {"flywheel": None},
+        ENGINE | {"bays", "torque"},
+        {"numerics_kinematics"} | FLYWHEEL,
+        ENGINE | {"bays", "torque"},
+        {"numerics_kinematics"} | FLYWHEEL,
+        {"steps", "kinematics-forms", "theoretical"},
+        {"refused-steps"},
+    ),
+    "articulated": (
+        "radial9-aircraft",
+        {},
+        ENGINE | {"bays", "torque"},
+        {"numerics_kinematics"},
+        ENGINE | {"bays", "torque"},
+        {"numerics_kinematics"},
+        # its numerics study moves every step onto the engine's grid: nothing refused
+        {"steps", "kinematics-forms", "theoretical"},
+        {"refused-steps"},
+    ),
     # A balancing exercise: geometry, masses and layout, no working cycle.
-    "balancing-only": ("v8-petrol", {"cycle": None},
-                       {"kinematics", "balancing", "numerics_kinematics"},
-                       {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
-                       {"kinematics", "balancing", "numerics_kinematics"},
-                       {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
-                       {"kinematics-forms"}, {"steps", "solvers"}),
-    "pressure-trace": ("diesel-rk-trace", {},
-                       ENGINE, {"bays", "torque", "numerics_kinematics"},
-                       ENGINE, {"numerics_kinematics"},
-                       {"steps", "kinematics-forms"}, {"theoretical", "refused-steps"}),
+    "balancing-only": (
+        "v8-petrol",
+        {"cycle": None},
+        {"kinematics", "balancing", "numerics_kinematics"},
+        {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
+        {"kinematics", "balancing", "numerics_kinematics"},
+        {"indicator", "forces", "bays", "torque", "bearings", "numerics"},
+        {"kinematics-forms"},
+        {"steps", "solvers"},
+    ),
+    "pressure-trace": (
+        "diesel-rk-trace",
+        {},
+        ENGINE,
+        {"bays", "torque", "numerics_kinematics"},
+        ENGINE,
+        {"numerics_kinematics"},
+        {"steps", "kinematics-forms"},
+        {"theoretical", "refused-steps"},
+    ),
 }
 _CACHE: dict = {}
 
@@ -97,7 +142,10 @@ def build(name):
 def numbered_sections(html: str) -> list[str]:
     """The stage sections of the report, in order (the fixed closing sections are not numbered by stage)."""
     # numbered chapters, and the stages' appendices (lettered) that detail = "course" moves there
-    return re.findall(r'<section class="chapter(?: appendix)?" id="sec-(?:\d+|[A-ZА-Я])" data-stage="([^"]+)"', html)
+    return re.findall(
+        r'<section class="chapter(?: appendix)?" id="sec-(?:\d+|[A-ZА-Я])" data-stage="([^"]+)"',
+        html,
+    )
 
 
 def numerics_parts(html: str) -> set[str]:
@@ -132,8 +180,11 @@ def check_sections_in_html(name, result, html):
         assert (line in html) == (_skip_key(reason) not in UNLISTED_SKIPS), (stage, reason)
     # the error-against-run-time section follows every section whose numbers it judges
     if "numerics" in sections:
-        assert all(sections.index(s) < sections.index("numerics") for s in ("kinematics", "indicator", "forces",
-                                                                           "bays", "torque") if s in sections)
+        assert all(
+            sections.index(s) < sections.index("numerics")
+            for s in ("kinematics", "indicator", "forces", "bays", "torque")
+            if s in sections
+        )
 
 
 def check_keys_in_results_json(name, document):
@@ -148,7 +199,7 @@ def check_keys_in_results_json(name, document):
 def check_parts_of_the_numerics_section(name, document, html):
     parts_present, parts_absent = MATRIX[name][6], MATRIX[name][7]
     parts = numerics_parts(html)
-    assert parts_present <= parts, (parts_present - parts)
+    assert parts_present <= parts, parts_present - parts
     assert not parts_absent & parts, parts & parts_absent
     numerics = document.get("numerics") or document.get("numerics_kinematics")
     assert ("steps" in numerics) == ("steps" in parts_present)
@@ -167,7 +218,10 @@ def test_balancing_needs_no_cycle():
     skipped = document["stages_skipped"]
     assert "[cycle]" in skipped["indicator"]
     for stage in ("forces", "bays", "torque", "bearings"):
-        assert "gas_pressure" in skipped[stage] and "[cycle]" in skipped[stage], (stage, skipped[stage])
+        assert "gas_pressure" in skipped[stage] and "[cycle]" in skipped[stage], (
+            stage,
+            skipped[stage],
+        )
     assert "[cycle]" in skipped["numerics"] and "[masses]" not in skipped["numerics"]
     with_cycle = shared_run("v8-petrol")
     full = with_cycle.outputs["balancing"].results
@@ -176,8 +230,11 @@ def test_balancing_needs_no_cycle():
     assert set(alone) == set(full)
     for key in ("rotating_mass_kg", "reciprocating_mass_kg", "centrifugal_N", "first_order_N"):
         assert alone[key] == pytest.approx(full[key], rel=1e-13)
-    assert alone["summary"] == full["summary"] and alone["absolute"] == pytest.approx(full["absolute"], rel=1e-12)
+    assert alone["summary"] == full["summary"] and alone["absolute"] == pytest.approx(
+        full["absolute"], rel=1e-12
+    )
     assert [c["mass_kg"] for c in alone["counterweights"]] == pytest.approx(
-        [c["mass_kg"] for c in full["counterweights"]], rel=1e-12)
+        [c["mass_kg"] for c in full["counterweights"]], rel=1e-12
+    )
     assert ("balancing.note_no_torque", {}) in result.outputs["balancing"].notes
     assert "no output torque" in html

@@ -42,10 +42,17 @@ def _check_refused(tmp_path: Path, capsys, changes: dict, *expected: str) -> str
 
 # --------------------------------------------------------------------------- scene values
 
+
 def test_title_longer_than_the_limit_is_refused(tmp_path, capsys):
     title = "T" * 1001
-    err = _check_refused(tmp_path, capsys, {"report": {"title": title}}, "report.title = 'TTTT",
-                         "at most 1000 characters", "(it has 1001)")
+    err = _check_refused(
+        tmp_path,
+        capsys,
+        {"report": {"title": title}},
+        "report.title = 'TTTT",
+        "at most 1000 characters",
+        "(it has 1001)",
+    )
     assert title not in err  # the value is shortened in the message
 
 
@@ -75,19 +82,25 @@ def test_integer_of_400_digits_is_refused_naming_the_field(tmp_path, capsys):
     head, tail = text.split("\nrpm = ", 1)
     rest = tail.split("\n", 1)[1]
     scene.write_text(head + "\nrpm = " + "9" * 400 + "\n" + rest, encoding="utf-8")
-    _refused(capsys, ["check", str(scene)], "engine.rpm = 99999999999999999999... (400 digits)",
-             str(INT64_MAX))
+    _refused(
+        capsys,
+        ["check", str(scene)],
+        "engine.rpm = 99999999999999999999... (400 digits)",
+        str(INT64_MAX),
+    )
 
 
 def test_integer_beyond_pythons_text_conversion_is_refused(tmp_path, capsys):
     scene = tmp_path / "scene.toml"
-    scene.write_text("x = " + "7" * 5000 + "\n" + KINEMATICS_ONLY.read_text(encoding="utf-8"),
-                     encoding="utf-8")
+    scene.write_text(
+        "x = " + "7" * 5000 + "\n" + KINEMATICS_ONLY.read_text(encoding="utf-8"), encoding="utf-8"
+    )
     _refused(capsys, ["check", str(scene)], "scene = ", "2^63 - 1")
 
 
-@pytest.mark.parametrize("value, shown", [(2**63, "9223372036854775808"),
-                                          (-2**63 - 1, "-9223372036854775809")])
+@pytest.mark.parametrize(
+    "value, shown", [(2**63, "9223372036854775808"), (-(2**63) - 1, "-9223372036854775809")]
+)
 def test_integers_just_outside_64_bits_are_refused(value, shown):
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(KINEMATICS_ONLY, {"engine.cylinders": value})
@@ -98,8 +111,9 @@ def test_integers_just_outside_64_bits_are_refused(value, shown):
 def test_array_longer_than_the_limit_is_refused(kind):
     with pytest.raises(crankdyn.SceneError) as caught:
         crankdyn.load(KINEMATICS_ONLY, {"engine.crank_angles_deg": kind([0] * 10_001)})
-    expected = ("engine.crank_angles_deg = '(an array of 10001 items)': "
-                "an array may hold at most 10000")
+    expected = (
+        "engine.crank_angles_deg = '(an array of 10001 items)': an array may hold at most 10000"
+    )
     assert expected in str(caught.value)
 
 
@@ -119,14 +133,21 @@ def test_key_longer_than_the_limit_is_refused():
 
 # --------------------------------------------------------------------------- meaningless values
 
+
 def test_subnormal_rpm_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"rpm": 5e-324}}, "engine.rpm = 5e-324",
-                   "too close to zero to compute with (below 2.23e-308)")
+    _check_refused(
+        tmp_path,
+        capsys,
+        {"engine": {"rpm": 5e-324}},
+        "engine.rpm = 5e-324",
+        "too close to zero to compute with (below 2.23e-308)",
+    )
 
 
 def test_rpm_below_one_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"rpm": 0.5}},
-                   "engine.rpm = 0.5: must be >= 1 and <= 30000")
+    _check_refused(
+        tmp_path, capsys, {"engine": {"rpm": 0.5}}, "engine.rpm = 0.5: must be >= 1 and <= 30000"
+    )
 
 
 def test_float_literal_that_underflows_to_zero_is_refused(tmp_path, capsys):
@@ -139,18 +160,27 @@ def test_float_literal_that_underflows_to_zero_is_refused(tmp_path, capsys):
 
 @pytest.mark.parametrize("bore", ["1e-320 mm", "1e-310 um", "1e-400 mm"])
 def test_quantity_that_underflows_in_si_is_refused(tmp_path, capsys, bore):
-    _check_refused(tmp_path, capsys, {"engine": {"bore": bore}}, f"engine.bore = '{bore}'",
-                   "too close to zero")
+    _check_refused(
+        tmp_path, capsys, {"engine": {"bore": bore}}, f"engine.bore = '{bore}'", "too close to zero"
+    )
 
 
 def test_bore_below_a_tenth_of_a_millimetre_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"bore": "0.09 mm"}},
-                   "engine.bore = '0.09 mm': must be >= 0.1 mm")
+    _check_refused(
+        tmp_path,
+        capsys,
+        {"engine": {"bore": "0.09 mm"}},
+        "engine.bore = '0.09 mm': must be >= 0.1 mm",
+    )
 
 
 def test_tiny_rod_ratio_is_refused(tmp_path, capsys):
-    _check_refused(tmp_path, capsys, {"engine": {"rod_ratio": 1e-300, "rod_length": None}},
-                   "engine.rod_ratio = 1e-300: must be >= 1e-06")
+    _check_refused(
+        tmp_path,
+        capsys,
+        {"engine": {"rod_ratio": 1e-300, "rod_length": None}},
+        "engine.rod_ratio = 1e-300: must be >= 1e-06",
+    )
 
 
 def test_subnormal_in_a_plugin_table_is_refused():
@@ -163,20 +193,37 @@ def test_subnormal_in_a_plugin_table_is_refused():
 def test_smallest_engine_accepted_computes_without_numeric_warnings(tmp_path):
     """The lower limits together (0.1 mm, 1 rpm, lambda 1e-6, 1 mg): every stage runs and numpy
     warns of nothing (a RuntimeWarning is turned into an error here)."""
-    scene = write_scene(tmp_path / "tiny.toml", modified("petrol-1cyl", {
-        "engine": {"bore": "0.1 mm", "stroke": "0.1 mm", "rpm": 1, "rod_ratio": 1e-6},
-        "masses": {"piston_group": "1e-6 kg", "rod": "1e-6 kg", "crank_pin": "0 kg",
-                   "crank_web": "0 kg"}}))
+    scene = write_scene(
+        tmp_path / "tiny.toml",
+        modified(
+            "petrol-1cyl",
+            {
+                "engine": {"bore": "0.1 mm", "stroke": "0.1 mm", "rpm": 1, "rod_ratio": 1e-6},
+                "masses": {
+                    "piston_group": "1e-6 kg",
+                    "rod": "1e-6 kg",
+                    "crank_pin": "0 kg",
+                    "crank_web": "0 kg",
+                },
+            },
+        ),
+    )
     env = {**os.environ, "PYTHONWARNINGS": "error::RuntimeWarning"}
-    done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene)],
-                          capture_output=True, text=True, env=env, timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-m", "crankdyn", "check", str(scene)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     assert "Warning" not in done.stderr and 'File "' not in done.stderr
 
 
 def test_refusal_in_a_separate_process_shows_no_warning_or_path(tmp_path):
-    scene = write_scene(tmp_path / "scene.toml",
-                        modified("petrol-1cyl", {"engine": {"rpm": 5e-324}}))
+    scene = write_scene(
+        tmp_path / "scene.toml", modified("petrol-1cyl", {"engine": {"rpm": 5e-324}})
+    )
     argv = [sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(tmp_path / "out")]
     done = subprocess.run(argv, capture_output=True, text=True, timeout=300)
     assert done.returncode == 2
@@ -188,9 +235,17 @@ def test_refusal_in_a_separate_process_shows_no_warning_or_path(tmp_path):
 
 # --------------------------------------------------------------------------- pressure traces
 
+
 def _trace_scene(tmp_path: Path, name: str = "trace.csv") -> Path:
-    changes = {"cycle": {"source": "trace", "trace_file": name, "ignition": None, "rounding": None,
-                         "mean_indicated_pressure": None}}
+    changes = {
+        "cycle": {
+            "source": "trace",
+            "trace_file": name,
+            "ignition": None,
+            "rounding": None,
+            "mean_indicated_pressure": None,
+        }
+    }
     return write_scene(tmp_path / "scene.toml", modified("petrol-1cyl", changes))
 
 
@@ -200,29 +255,41 @@ def _write_trace(path: Path, rows: int) -> None:
         handle.write("crank_angle_deg,pressure_bar\n")
         for k in range(rows):
             angle = k * step
-            handle.write(f"{angle!r},{1.0 + 40.0 * math.exp(-((angle - 370.0) / 20.0) ** 2)!r}\n")
+            handle.write(f"{angle!r},{1.0 + 40.0 * math.exp(-(((angle - 370.0) / 20.0) ** 2))!r}\n")
 
 
 def test_trace_with_more_rows_than_the_limit_is_refused(tmp_path, capsys):
     _write_trace(tmp_path / "trace.csv", 100_001)
-    _refused(capsys, ["check", str(_trace_scene(tmp_path))], "cycle.trace_file = 'trace.csv'",
-             "more than 100000 data rows")
+    _refused(
+        capsys,
+        ["check", str(_trace_scene(tmp_path))],
+        "cycle.trace_file = 'trace.csv'",
+        "more than 100000 data rows",
+    )
 
 
 def test_trace_larger_than_the_byte_limit_is_refused_before_reading(tmp_path, capsys):
     path = tmp_path / "trace.csv"
     with path.open("wb") as handle:  # sparse: no disk is used for the hole
         handle.truncate(32 * 1024 * 1024 + 1)
-    _refused(capsys, ["check", str(_trace_scene(tmp_path))], "cycle.trace_file = 'trace.csv'",
-             "the file has 33554433 bytes", "at most 33554432 bytes")
+    _refused(
+        capsys,
+        ["check", str(_trace_scene(tmp_path))],
+        "cycle.trace_file = 'trace.csv'",
+        "the file has 33554433 bytes",
+        "at most 33554432 bytes",
+    )
 
 
 @pytest.mark.parametrize("cell", ["1" * 200_000, '"' + "1" * 200_000 + '"'])
 def test_trace_cell_over_128_kb_is_refused_naming_the_line(tmp_path, capsys, cell):
     text = f"crank_angle_deg,pressure_bar\n0,{cell}\n1,2\n"
     (tmp_path / "trace.csv").write_text(text, encoding="utf-8")
-    _refused(capsys, ["check", str(_trace_scene(tmp_path))],
-             "trace.csv, line 2: longer than 10000 characters")
+    _refused(
+        capsys,
+        ["check", str(_trace_scene(tmp_path))],
+        "trace.csv, line 2: longer than 10000 characters",
+    )
 
 
 def test_diesel_rk_file_with_too_many_columns_is_refused(tmp_path):
@@ -253,7 +320,7 @@ def test_trace_is_parsed_once_per_run_and_again_after_an_edit(tmp_path, monkeypa
 
 def test_trace_values_read_through_the_stream(tmp_path):
     path = tmp_path / "trace.csv"
-    path.write_text("angle [deg], p [MPa]\n\n0,0.1\n\"90\",\"2.5\"\n180,0.2\n", encoding="utf-8")
+    path.write_text('angle [deg], p [MPa]\n\n0,0.1\n"90","2.5"\n180,0.2\n', encoding="utf-8")
     angle, pressure = trace.read_pressure_csv(path)
     assert angle.tolist() == [0.0, 90.0, 180.0]
     assert pressure.tolist() == [0.1e6, 2.5e6, 0.2e6]
@@ -264,8 +331,9 @@ def test_trace_values_read_through_the_stream(tmp_path):
 def test_trace_errors_keep_their_line_numbers(tmp_path):
     path = tmp_path / "trace.csv"
     path.write_text("angle,p_bar\n0,1\n\n10,1\n10,2\n", encoding="utf-8")
-    with pytest.raises(trace.PressureTraceError,
-                       match=r"line 5: crank angle 10 deg does not exceed"):
+    with pytest.raises(
+        trace.PressureTraceError, match=r"line 5: crank angle 10 deg does not exceed"
+    ):
         trace.read_pressure_csv(path)
     path.write_text("angle,p_bar\n0,1\n10,-1\n", encoding="utf-8")
     with pytest.raises(trace.PressureTraceError, match=r"line 3: pressure \[bar\] -1 is negative"):
@@ -274,16 +342,27 @@ def test_trace_errors_keep_their_line_numbers(tmp_path):
 
 # --------------------------------------------------------------------------- explore
 
+
 def test_explore_all_above_the_limit_is_refused(capsys):
     orders = math.factorial(10 - 1)  # an in-line 10, four-stroke: (i - 1)! even-firing orders
     assert orders > firing_explorer.MAX_RANKED_ORDERS == 50_000
-    _refused(capsys, ["explore", "--cylinders", "10", "--all"], "--all = ",
-             f"{orders:,} even-firing orders", "at most 50,000", "--top N")
+    _refused(
+        capsys,
+        ["explore", "--cylinders", "10", "--all"],
+        "--all = ",
+        f"{orders:,} even-firing orders",
+        "at most 50,000",
+        "--top N",
+    )
 
 
 def test_explore_top_above_the_limit_is_refused_for_a_w24(capsys):
-    _refused(capsys, ["explore", "--cylinders", "24", "--layout", "W", "--bank-angle", "30",
-                      "--top", "50001"], "--top = 50001", "at most 50,000")
+    _refused(
+        capsys,
+        ["explore", "--cylinders", "24", "--layout", "W", "--bank-angle", "30", "--top", "50001"],
+        "--top = 50001",
+        "at most 50,000",
+    )
 
 
 def test_explore_all_within_the_limit_lists_every_order(capsys):
@@ -295,11 +374,16 @@ def test_explore_all_within_the_limit_lists_every_order(capsys):
 
 @pytest.mark.parametrize("angle", ["nan", "inf", "5e-324", "360", "-5"])
 def test_explore_bank_angle_out_of_range_is_refused(capsys, angle):
-    _refused(capsys, ["explore", "--cylinders", "8", "--layout", "V", "--bank-angle", angle],
-             "--bank-angle = ", "> 0 and < 360")
+    _refused(
+        capsys,
+        ["explore", "--cylinders", "8", "--layout", "V", "--bank-angle", angle],
+        "--bank-angle = ",
+        "> 0 and < 360",
+    )
 
 
 # --------------------------------------------------------------------------- the Python API
+
 
 def test_api_reads_a_bom_as_the_command_line_does(tmp_path, capsys):
     scene = tmp_path / "bom.toml"
@@ -382,7 +466,6 @@ def test_api_refuses_overrides_that_are_not_a_mapping(overrides):
         crankdyn.load(KINEMATICS_ONLY, overrides)
 
 
-
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
 def test_a_pipe_as_scene_is_refused_without_waiting(tmp_path, capsys):
     pipe = tmp_path / "scene.toml"
@@ -415,16 +498,24 @@ def test_a_message_lists_at_most_50_problems_each_cut_to_1000_characters():
 
 def test_trace_file_name_too_long_for_the_file_system_is_refused(tmp_path, capsys):
     name = "t" * 300 + ".csv"  # longer than a file name may be (255 bytes on common file systems)
-    _refused(capsys, ["check", str(_trace_scene(tmp_path, name))], "cycle.trace_file = 'tttt",
-             "cannot be looked up")
+    _refused(
+        capsys,
+        ["check", str(_trace_scene(tmp_path, name))],
+        "cycle.trace_file = 'tttt",
+        "cannot be looked up",
+    )
 
 
 @pytest.mark.skipif(not hasattr(os, "symlink"), reason="symbolic links")
 def test_trace_file_in_a_loop_of_links_is_refused(tmp_path, capsys):
     os.symlink(tmp_path / "b.csv", tmp_path / "a.csv")
     os.symlink(tmp_path / "a.csv", tmp_path / "b.csv")
-    _refused(capsys, ["check", str(_trace_scene(tmp_path, "a.csv"))], "cycle.trace_file = 'a.csv'",
-             "cannot be looked up")
+    _refused(
+        capsys,
+        ["check", str(_trace_scene(tmp_path, "a.csv"))],
+        "cycle.trace_file = 'a.csv'",
+        "cannot be looked up",
+    )
 
 
 def test_trace_of_blank_lines_is_refused_by_its_line_count(tmp_path, capsys):

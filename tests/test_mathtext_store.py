@@ -68,9 +68,15 @@ def test_a_label_read_back_is_the_label_typeset(tmp_path):
     for label in LABELS:
         fresh, stored = _typeset(label), reader.get(_key(reader, label))
         assert stored is not None, label
-        assert (stored.width, stored.height, stored.depth, stored.rects) == \
-            (fresh.width, fresh.height, fresh.depth, fresh.rects)
-        assert [(g[0].fname, *g[1:]) for g in stored.glyphs] == [(g[0].fname, *g[1:]) for g in fresh.glyphs]
+        assert (stored.width, stored.height, stored.depth, stored.rects) == (
+            fresh.width,
+            fresh.height,
+            fresh.depth,
+            fresh.rects,
+        )
+        assert [(g[0].fname, *g[1:]) for g in stored.glyphs] == [
+            (g[0].fname, *g[1:]) for g in fresh.glyphs
+        ]
         assert [type(v) for v in stored[:3]] == [type(v) for v in fresh[:3]]
     # another size, another string: not in the store
     assert reader.get(_key(reader, LABELS[0], size=10.0)) is None
@@ -99,8 +105,15 @@ def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
     assert reader.get(key) is None
 
 
-@pytest.mark.parametrize("damage", ['[1, 2', '[1.0, 2.0, 3.0, [], [], {}, 7]', '{"a": 1}',
-                                    '[1.0, 1.0, 1.0, [["/no/font", 9.0, 65, 1, 0.0, 0.0]], [], {}]'])
+@pytest.mark.parametrize(
+    "damage",
+    [
+        "[1, 2",
+        "[1.0, 2.0, 3.0, [], [], {}, 7]",
+        '{"a": 1}',
+        '[1.0, 1.0, 1.0, [["/no/font", 9.0, 65, 1, 0.0, 0.0]], [], {}]',
+    ],
+)
 def test_a_damaged_record_is_dropped_and_the_others_read(tmp_path, damage):
     """Records are checked when a label asks for one, not when the file is read: a damaged
     record costs its own label's typesetting, the rest of the store still serves."""
@@ -171,7 +184,9 @@ def test_a_figure_drawn_from_the_store_is_byte_for_byte_the_typeset_one(tmp_path
     env = {**__import__("os").environ, mathtext_store.STORE_ENV: str(tmp_path / "store.json")}
 
     def draw():
-        done = subprocess.run([sys.executable, "-c", FIGURE], env=env, capture_output=True, text=True, timeout=120)
+        done = subprocess.run(
+            [sys.executable, "-c", FIGURE], env=env, capture_output=True, text=True, timeout=120
+        )
         assert done.returncode == 0, done.stderr
         digest, typeset = done.stdout.split()
         return digest, int(typeset)
@@ -192,7 +207,9 @@ def test_the_store_keys_on_the_matplotlib_settings(tmp_path, label):
     assert _key(store, label) == key
 
 
-@pytest.mark.parametrize("damage", ["rect of three", "huge code", "float code", "no stamps", "nan width"])
+@pytest.mark.parametrize(
+    "damage", ["rect of three", "huge code", "float code", "no stamps", "nan width"]
+)
 def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, damage):
     """A record with a rect of three numbers or a glyph code of 10**12 would pass the font check
     and fail while drawing, in every later report (save() would merge it back)."""
@@ -202,7 +219,7 @@ def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, 
     if damage == "rect of three":
         record[4][0] = record[4][0][:3]
     elif damage == "huge code":
-        record[3][0][2] = 10 ** 12
+        record[3][0][2] = 10**12
     elif damage == "float code":
         record[3][0][2] = 65.5
     elif damage == "no stamps":
@@ -231,14 +248,20 @@ def test_a_font_file_changed_in_place_is_a_miss(tmp_path):
 
 
 def test_a_glyph_of_another_matplotlib_is_not_stored_and_a_failing_store_does_not_stop_a_figure(
-        tmp_path, monkeypatch):
+    tmp_path, monkeypatch
+):
     """matplotlib before 3.11 gives five fields a glyph (no glyph index): such a parse is not
     stored; and whatever the store raises, the label is typeset and the figure drawn."""
     from types import SimpleNamespace
 
     fresh = _typeset(LABELS[0])
-    older = SimpleNamespace(width=fresh.width, height=fresh.height, depth=fresh.depth, rects=fresh.rects,
-                            glyphs=[g[:3] + g[4:] for g in fresh.glyphs])
+    older = SimpleNamespace(
+        width=fresh.width,
+        height=fresh.height,
+        depth=fresh.depth,
+        rects=fresh.rects,
+        glyphs=[g[:3] + g[4:] for g in fresh.glyphs],
+    )
     assert mathtext_store._record_of(older) is None
 
     from crankdyn.report import figures

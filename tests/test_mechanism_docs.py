@@ -20,7 +20,20 @@ EXAMPLES = ["offset-crank-engine", "planetary-kinematics", "vane-engine-kinemati
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_results_keys_of_the_mechanism_examples_are_documented(tmp_path, example):
     out = tmp_path / example
-    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "json", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / f"{example}.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "json",
+                "-q",
+            ]
+        )
+        == 0
+    )
     document = json.loads((out / "results.json").read_text(encoding="utf-8"))
     for stage in ("offset_crank", "planetary", "vane", "rod_dynamics"):
         for key, value in document.get(stage, {}).items():

@@ -26,24 +26,34 @@ LAM, K = R / L, E / L
 
 # ----------------------------------------------------------------------------- a numerical linkage
 
+
 def _pin_height(phi, e=E):
     """Piston-pin height by root finding on the loop closure |A - B| = L, A = (e, z)."""
     bx, bz = R * np.sin(phi), R * np.cos(phi)
-    return optimize.brentq(lambda z: (e - bx) ** 2 + (z - bz) ** 2 - L * L, bz, bz + L + R, xtol=1e-16, rtol=1e-15)
+    return optimize.brentq(
+        lambda z: (e - bx) ** 2 + (z - bz) ** 2 - L * L, bz, bz + L + R, xtol=1e-16, rtol=1e-15
+    )
 
 
 def _numerical_dead_centres(e=E):
-    top = optimize.minimize_scalar(lambda p: -_pin_height(p, e), bounds=(-0.5, 0.5), method="bounded",
-                                   options={"xatol": 1e-12})
-    bottom = optimize.minimize_scalar(lambda p: _pin_height(p, e), bounds=(np.pi - 0.5, np.pi + 0.5),
-                                      method="bounded", options={"xatol": 1e-12})
+    top = optimize.minimize_scalar(
+        lambda p: -_pin_height(p, e), bounds=(-0.5, 0.5), method="bounded", options={"xatol": 1e-12}
+    )
+    bottom = optimize.minimize_scalar(
+        lambda p: _pin_height(p, e),
+        bounds=(np.pi - 0.5, np.pi + 0.5),
+        method="bounded",
+        options={"xatol": 1e-12},
+    )
     return top.x, bottom.x, -top.fun, bottom.fun
 
 
 def test_dead_centres_and_stroke_match_the_numerical_linkage():
     g = oc.dead_centres(R, L, E)
     tdc, bdc, z_top, z_bottom = _numerical_dead_centres()
-    assert g.tdc_angle_rad == pytest.approx(tdc, abs=2e-6)  # flat maximum: the angle is found to ~sqrt(eps)
+    assert g.tdc_angle_rad == pytest.approx(
+        tdc, abs=2e-6
+    )  # flat maximum: the angle is found to ~sqrt(eps)
     assert g.bdc_angle_rad == pytest.approx(bdc, abs=2e-6)
     assert g.tdc_height_m == pytest.approx(z_top, abs=1e-12)
     assert g.stroke_m == pytest.approx(z_top - z_bottom, abs=1e-9)
@@ -55,8 +65,12 @@ def test_displacement_matches_root_finding_to_a_nanometre():
     g = oc.dead_centres(R, L, E)
     alpha = np.linspace(0.0, 2.0 * np.pi, 73)
     numerical = np.array([g.tdc_height_m - _pin_height(a + g.tdc_angle_rad) for a in alpha])
-    np.testing.assert_allclose(oc.piston_displacement_m(alpha, R, LAM, K), numerical, atol=1e-9, rtol=0)
-    assert oc.piston_displacement_m(g.bdc_after_tdc_rad, R, LAM, K) == pytest.approx(g.stroke_m, abs=1e-12)
+    np.testing.assert_allclose(
+        oc.piston_displacement_m(alpha, R, LAM, K), numerical, atol=1e-9, rtol=0
+    )
+    assert oc.piston_displacement_m(g.bdc_after_tdc_rad, R, LAM, K) == pytest.approx(
+        g.stroke_m, abs=1e-12
+    )
 
 
 def test_velocity_and_acceleration_match_differentiation_of_the_root_found_position():
@@ -70,11 +84,19 @@ def test_velocity_and_acceleration_match_differentiation_of_the_root_found_posit
     h1, h2 = 1e-5, 1e-3
     ds = np.array([(s(a + h1) - s(a - h1)) / (2 * h1) for a in alpha])
     # Fourth-order stencil for the second derivative: truncation ~h^4, round-off ~eps z/h^2.
-    d2s = np.array([(-s(a + 2 * h2) + 16 * s(a + h2) - 30 * s(a) + 16 * s(a - h2) - s(a - 2 * h2)) / (12 * h2 * h2)
-                    for a in alpha])
-    np.testing.assert_allclose(oc.piston_velocity_m_s(alpha, R, LAM, K, omega), ds * omega, atol=1e-9 * omega)
-    np.testing.assert_allclose(oc.piston_acceleration_m_s2(alpha, R, LAM, K, omega), d2s * omega**2,
-                               atol=1e-7 * omega**2)
+    d2s = np.array(
+        [
+            (-s(a + 2 * h2) + 16 * s(a + h2) - 30 * s(a) + 16 * s(a - h2) - s(a - 2 * h2))
+            / (12 * h2 * h2)
+            for a in alpha
+        ]
+    )
+    np.testing.assert_allclose(
+        oc.piston_velocity_m_s(alpha, R, LAM, K, omega), ds * omega, atol=1e-9 * omega
+    )
+    np.testing.assert_allclose(
+        oc.piston_acceleration_m_s2(alpha, R, LAM, K, omega), d2s * omega**2, atol=1e-7 * omega**2
+    )
 
 
 def test_rod_angular_motion_matches_finite_differences():
@@ -86,10 +108,16 @@ def test_rod_angular_motion_matches_finite_differences():
         return oc.rod_angle_rad(a + g.tdc_angle_rad, LAM, K)
 
     rate = (beta(alpha + h) - beta(alpha - h)) / (2 * h) * omega
-    np.testing.assert_allclose(oc.rod_angular_velocity_rad_s(alpha, R, LAM, K, omega), rate, rtol=1e-7, atol=1e-6)
+    np.testing.assert_allclose(
+        oc.rod_angular_velocity_rad_s(alpha, R, LAM, K, omega), rate, rtol=1e-7, atol=1e-6
+    )
     accel = (beta(alpha + h) - 2 * beta(alpha) + beta(alpha - h)) / h**2 * omega**2
-    np.testing.assert_allclose(oc.rod_angular_acceleration_rad_s2(alpha, R, LAM, K, omega), accel, rtol=1e-4,
-                               atol=1e-3 * omega**2)
+    np.testing.assert_allclose(
+        oc.rod_angular_acceleration_rad_s2(alpha, R, LAM, K, omega),
+        accel,
+        rtol=1e-4,
+        atol=1e-3 * omega**2,
+    )
     # sin(beta) is the lateral distance of the pins over L
     phi = alpha + g.tdc_angle_rad
     np.testing.assert_allclose(np.sin(beta(alpha)) * L, R * np.sin(phi) - E, atol=1e-15)
@@ -99,16 +127,35 @@ def test_zero_offset_is_the_central_crank_slider():
     alpha = np.linspace(0.0, 4.0 * np.pi, 181)
     omega = 400.0
     g = oc.dead_centres(R, L, 0.0)
-    assert (g.tdc_angle_rad, g.bdc_angle_rad, g.stroke_m, g.stroke_time_ratio) == pytest.approx((0, np.pi, 2 * R, 1))
-    np.testing.assert_allclose(oc.piston_displacement_m(alpha, R, LAM, 0.0),
-                               central.piston_displacement_exact_m(alpha, R, LAM), atol=1e-15)
-    np.testing.assert_allclose(oc.piston_velocity_m_s(alpha, R, LAM, 0.0, omega),
-                               central.piston_velocity_exact_m_s(alpha, R, LAM, omega), rtol=1e-13, atol=1e-12)
-    np.testing.assert_allclose(oc.piston_acceleration_m_s2(alpha, R, LAM, 0.0, omega),
-                               central.piston_acceleration_exact_m_s2(alpha, R, LAM, omega), rtol=1e-13, atol=1e-8)
-    np.testing.assert_allclose(oc.rod_angle_rad(alpha, LAM, 0.0), central.rod_angle_rad(alpha, LAM), atol=1e-15)
-    np.testing.assert_allclose(oc.rod_angular_acceleration_rad_s2(alpha, R, LAM, 0.0, omega),
-                               central.rod_angular_acceleration_rad_s2(alpha, LAM, omega), rtol=1e-12, atol=1e-8)
+    assert (g.tdc_angle_rad, g.bdc_angle_rad, g.stroke_m, g.stroke_time_ratio) == pytest.approx(
+        (0, np.pi, 2 * R, 1)
+    )
+    np.testing.assert_allclose(
+        oc.piston_displacement_m(alpha, R, LAM, 0.0),
+        central.piston_displacement_exact_m(alpha, R, LAM),
+        atol=1e-15,
+    )
+    np.testing.assert_allclose(
+        oc.piston_velocity_m_s(alpha, R, LAM, 0.0, omega),
+        central.piston_velocity_exact_m_s(alpha, R, LAM, omega),
+        rtol=1e-13,
+        atol=1e-12,
+    )
+    np.testing.assert_allclose(
+        oc.piston_acceleration_m_s2(alpha, R, LAM, 0.0, omega),
+        central.piston_acceleration_exact_m_s2(alpha, R, LAM, omega),
+        rtol=1e-13,
+        atol=1e-8,
+    )
+    np.testing.assert_allclose(
+        oc.rod_angle_rad(alpha, LAM, 0.0), central.rod_angle_rad(alpha, LAM), atol=1e-15
+    )
+    np.testing.assert_allclose(
+        oc.rod_angular_acceleration_rad_s2(alpha, R, LAM, 0.0, omega),
+        central.rod_angular_acceleration_rad_s2(alpha, LAM, omega),
+        rtol=1e-12,
+        atol=1e-8,
+    )
 
 
 def test_negative_offset_mirrors_the_quick_return():
@@ -124,6 +171,7 @@ def test_offset_beyond_l_minus_r_is_refused_by_the_physics():
 
 
 # ----------------------------------------------------------------------------- through the stages
+
 
 def _run(name="offset-crank-engine", changes=None):
     scene = scene_from_dict(modified(name, changes or {}), base_dir=examples_dir())
@@ -154,11 +202,18 @@ def test_force_stage_resolves_the_rod_force_at_the_angle_from_the_axis(offset_ru
     f = offset_run.outputs["forces"].tables["forces"]
     total = f["total_Pa"].to_numpy()
     # Virtual work: t R = p1 ds/dalpha at every angle (would fail with sin(alpha + beta)).
-    np.testing.assert_allclose(f["tangential_Pa"].to_numpy() * R, total * motion.torque_arm_m,
-                               atol=1e-9 * np.max(np.abs(total)) * R)
+    np.testing.assert_allclose(
+        f["tangential_Pa"].to_numpy() * R,
+        total * motion.torque_arm_m,
+        atol=1e-9 * np.max(np.abs(total)) * R,
+    )
     # t^2 + z^2 = k^2 and n = p1 tan(beta)
-    np.testing.assert_allclose(np.hypot(f["tangential_Pa"], f["radial_Pa"]), np.abs(f["rod_Pa"]), rtol=1e-12)
-    np.testing.assert_allclose(f["side_Pa"], total * np.tan(motion.rod_angle_rad), rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(
+        np.hypot(f["tangential_Pa"], f["radial_Pa"]), np.abs(f["rod_Pa"]), rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        f["side_Pa"], total * np.tan(motion.rod_angle_rad), rtol=1e-12, atol=1e-6
+    )
     forces = offset_run.outputs["forces"].results
     assert abs(forces["inertia_work_relative"]) < 1e-12
     assert abs(forces["mean_torque_deviation_percent"]) < 0.05
@@ -168,20 +223,41 @@ def test_central_crank_forces_are_unchanged_by_the_angle_shift():
     result = _run("petrol-1cyl")
     motion = result.outputs["kinematics"].data["kinematics"]
     f = result.outputs["forces"].tables["forces"]
-    textbook = phys_forces.rod_force_components(f["total_Pa"].to_numpy(), motion.crank_angle_rad, motion.rod_angle_rad)
+    textbook = phys_forces.rod_force_components(
+        f["total_Pa"].to_numpy(), motion.crank_angle_rad, motion.rod_angle_rad
+    )
     np.testing.assert_array_equal(f["tangential_Pa"].to_numpy(), textbook.tangential_Pa)
     np.testing.assert_array_equal(f["radial_Pa"].to_numpy(), textbook.radial_Pa)
 
 
 def test_zero_offset_scene_reproduces_the_central_crank_slider():
-    offset = _run(changes={"mechanism": {"offset": "0 mm"}, "rod_dynamics": None,
-                           "masses": {"rod_moment_of_inertia": None}})
-    central_run = _run(changes={"engine": {"mechanism": "crank_slider"}, "mechanism": None, "rod_dynamics": None,
-                                "masses": {"rod_moment_of_inertia": None}})
+    offset = _run(
+        changes={
+            "mechanism": {"offset": "0 mm"},
+            "rod_dynamics": None,
+            "masses": {"rod_moment_of_inertia": None},
+        }
+    )
+    central_run = _run(
+        changes={
+            "engine": {"mechanism": "crank_slider"},
+            "mechanism": None,
+            "rod_dynamics": None,
+            "masses": {"rod_moment_of_inertia": None},
+        }
+    )
     a, b = offset.outputs["forces"].tables["forces"], central_run.outputs["forces"].tables["forces"]
-    for column in ("piston_displacement_m", "piston_acceleration_m_s2", "total_Pa", "tangential_Pa", "radial_Pa",
-                   "torque_Nm"):
-        np.testing.assert_allclose(a[column], b[column], rtol=1e-10, atol=1e-9 * np.max(np.abs(b[column])))
+    for column in (
+        "piston_displacement_m",
+        "piston_acceleration_m_s2",
+        "total_Pa",
+        "tangential_Pa",
+        "radial_Pa",
+        "torque_Nm",
+    ):
+        np.testing.assert_allclose(
+            a[column], b[column], rtol=1e-10, atol=1e-9 * np.max(np.abs(b[column]))
+        )
 
 
 def test_approximate_kinematics_request_is_noted_and_exact_is_used():
@@ -191,15 +267,21 @@ def test_approximate_kinematics_request_is_noted_and_exact_is_used():
     assert ("offset_crank.note_exact_only", {}) in out.notes
 
 
-@pytest.mark.parametrize("changes, field, text", [
-    ({"mechanism": {"offset": "101 mm"}}, "mechanism.offset", "L - R"),
-    ({"mechanism": {"offset": "-101.5 mm"}}, "mechanism.offset", "full revolution"),
-    ({"mechanism": None}, "mechanism.offset", "missing"),
-    ({"mechanism": {"offset": 8}}, "mechanism.offset", "unit"),
-    ({"mechanism": {"offset": "8 mm", "ofset": "1 mm"}}, "mechanism.ofset", "unknown key"),
-    ({"engine": {"cylinders": 5, "layout": "radial", "rod_type": "articulated"}}, "engine.rod_type",
-     "articulated rods need the central crank-slider"),
-])
+@pytest.mark.parametrize(
+    "changes, field, text",
+    [
+        ({"mechanism": {"offset": "101 mm"}}, "mechanism.offset", "L - R"),
+        ({"mechanism": {"offset": "-101.5 mm"}}, "mechanism.offset", "full revolution"),
+        ({"mechanism": None}, "mechanism.offset", "missing"),
+        ({"mechanism": {"offset": 8}}, "mechanism.offset", "unit"),
+        ({"mechanism": {"offset": "8 mm", "ofset": "1 mm"}}, "mechanism.ofset", "unknown key"),
+        (
+            {"engine": {"cylinders": 5, "layout": "radial", "rod_type": "articulated"}},
+            "engine.rod_type",
+            "articulated rods need the central crank-slider",
+        ),
+    ],
+)
 def test_bad_offset_scenes_are_refused(tmp_path, capsys, changes, field, text):
     scene = write_scene(tmp_path / "scene.toml", modified("offset-crank-engine", changes))
     out = tmp_path / "out"
@@ -221,8 +303,20 @@ def test_offset_report_renders(offset_run):
 
 def test_offset_example_through_the_cli(tmp_path):
     out = tmp_path / "out"
-    assert main(["report", str(examples_dir() / "offset-crank-engine.toml"), "-o", str(out),
-                 "--format", "json,csv", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "offset-crank-engine.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "json,csv",
+                "-q",
+            ]
+        )
+        == 0
+    )
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert doc["mechanism"] == "offset_crank_slider"
     assert doc["offset_crank"]["stroke_m"] > 0.078
@@ -233,5 +327,10 @@ def test_kinematics_only_offset_scene_leaves_the_cycle_stages_out_with_reasons()
     result = _run(changes={"cycle": None, "masses": None, "rod_dynamics": None})
     assert result.stages_run == ["offset_crank", "drawing"]
     assert "no [cycle]" in result.plan.skipped["indicator"]
-    assert "[masses]" in result.plan.skipped["forces"] and "[masses]" in result.plan.skipped["rod_dynamics"]
-    assert not any(key == "offset_crank.note_indicator" for key, _ in result.outputs["offset_crank"].notes)
+    assert (
+        "[masses]" in result.plan.skipped["forces"]
+        and "[masses]" in result.plan.skipped["rod_dynamics"]
+    )
+    assert not any(
+        key == "offset_crank.note_indicator" for key, _ in result.outputs["offset_crank"].notes
+    )

@@ -37,8 +37,15 @@ def test_check_value_zeros_of_the_slider_vertical_acceleration():
     j = vn.slider_vertical_acceleration_m_s2(ALPHA, 1.0, 0.8, 1.0)
     crossings = np.flatnonzero(np.signbit(j[:-1]) != np.signbit(j[1:]))
     assert len(crossings) == 4
-    found = [optimize.brentq(lambda a: float(vn.slider_vertical_acceleration_m_s2(a, 1.0, 0.8, 1.0)),
-                             ALPHA[i], ALPHA[i + 1], xtol=1e-15) for i in crossings]
+    found = [
+        optimize.brentq(
+            lambda a: float(vn.slider_vertical_acceleration_m_s2(a, 1.0, 0.8, 1.0)),
+            ALPHA[i],
+            ALPHA[i + 1],
+            xtol=1e-15,
+        )
+        for i in crossings
+    ]
     np.testing.assert_allclose(np.degrees(found), zeros, atol=1e-9)
 
 
@@ -50,9 +57,14 @@ def test_eq5_and_the_zeros_are_the_vertical_velocity_extremes(lam):
     other = (1 + math.sqrt(1 - lam**2)) / lam**2
     assert other > 1  # the second root of eq. (5) gives no real angle
     v = vn.slider_vertical_velocity_m_s(ALPHA, 1.0, lam, 1.0)
-    extremes = np.flatnonzero((np.abs(v[1:-1]) > np.abs(v[:-2])) & (np.abs(v[1:-1]) >= np.abs(v[2:]))) + 1
-    np.testing.assert_allclose(np.sort(np.degrees(ALPHA[extremes])),
-                               np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam)), atol=0.5)
+    extremes = (
+        np.flatnonzero((np.abs(v[1:-1]) > np.abs(v[:-2])) & (np.abs(v[1:-1]) >= np.abs(v[2:]))) + 1
+    )
+    np.testing.assert_allclose(
+        np.sort(np.degrees(ALPHA[extremes])),
+        np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam)),
+        atol=0.5,
+    )
 
 
 @pytest.mark.parametrize("lam", [0.2, 0.6, 0.8])
@@ -61,12 +73,17 @@ def test_y_max(lam):
     expected = (r / lam) * (1 - math.sqrt(1 - lam**2))
     assert vn.slider_vertical_travel_max_m(r, lam) == pytest.approx(expected, rel=1e-14)
     travel = vn.slider_vertical_travel_m(np.linspace(0, 2 * np.pi, 3601), r, lam)
-    assert travel.max() == pytest.approx(expected, rel=1e-12) and travel.min() == pytest.approx(0.0, abs=1e-16)
+    assert travel.max() == pytest.approx(expected, rel=1e-12) and travel.min() == pytest.approx(
+        0.0, abs=1e-16
+    )
     if lam == 0.8:
         assert expected / (r / lam) == pytest.approx(0.4)  # "0.4 l" in the source
     # the vertical travel is l - y_p, the slider's rise above B'
-    np.testing.assert_allclose(travel, r / lam - vn.slider_height_below_core_m(np.linspace(0, 2 * np.pi, 3601), r, lam),
-                               atol=1e-16)
+    np.testing.assert_allclose(
+        travel,
+        r / lam - vn.slider_height_below_core_m(np.linspace(0, 2 * np.pi, 3601), r, lam),
+        atol=1e-16,
+    )
 
 
 def test_y_max_for_small_lambda_has_no_cancellation():
@@ -82,7 +99,9 @@ def test_core_and_vane_angles(lam):
     assert np.max(np.abs(beta)) == pytest.approx(math.asin(lam), rel=1e-9)  # eq. (2)
     # gamma from the extreme left position: 0 at 90°, max at 270°, = beta - beta_min
     np.testing.assert_allclose(gamma, beta + math.asin(lam), atol=1e-15)
-    assert gamma.min() == pytest.approx(0.0, abs=1e-15) and gamma[ALPHA.searchsorted(np.pi / 2)] == pytest.approx(0, abs=1e-12)
+    assert gamma.min() == pytest.approx(0.0, abs=1e-15) and gamma[
+        ALPHA.searchsorted(np.pi / 2)
+    ] == pytest.approx(0, abs=1e-12)
     assert gamma.max() == pytest.approx(vn.vane_angle_max_rad(lam), rel=1e-12)
     assert vn.rod_ratio_from_vane_angle(vn.vane_angle_max_rad(lam)) == pytest.approx(lam, rel=1e-14)
 
@@ -90,13 +109,22 @@ def test_core_and_vane_angles(lam):
 @pytest.mark.parametrize("lam", [0.3, 0.8])
 def test_core_angular_velocity_and_acceleration(lam):
     omega = 2.5
-    np.testing.assert_allclose(vn.core_angular_velocity_rad_s(ALPHA, lam, omega),
-                               omega * _d(lambda a: vn.core_angle_rad(a, lam)), atol=1e-8)
-    np.testing.assert_allclose(vn.core_angular_acceleration_rad_s2(ALPHA, lam, omega),
-                               omega * _d(lambda a: vn.core_angular_velocity_rad_s(a, lam, omega)), atol=1e-7)
+    np.testing.assert_allclose(
+        vn.core_angular_velocity_rad_s(ALPHA, lam, omega),
+        omega * _d(lambda a: vn.core_angle_rad(a, lam)),
+        atol=1e-8,
+    )
+    np.testing.assert_allclose(
+        vn.core_angular_acceleration_rad_s2(ALPHA, lam, omega),
+        omega * _d(lambda a: vn.core_angular_velocity_rad_s(a, lam, omega)),
+        atol=1e-7,
+    )
     # the source's form of epsilon_c is the same function
-    np.testing.assert_allclose(vn.core_angular_acceleration_source_form_rad_s2(ALPHA, lam, omega),
-                               vn.core_angular_acceleration_rad_s2(ALPHA, lam, omega), atol=1e-12)
+    np.testing.assert_allclose(
+        vn.core_angular_acceleration_source_form_rad_s2(ALPHA, lam, omega),
+        vn.core_angular_acceleration_rad_s2(ALPHA, lam, omega),
+        atol=1e-12,
+    )
 
 
 def test_rocker_motion():
@@ -106,8 +134,12 @@ def test_rocker_motion():
     jx, jy = vn.rocker_acceleration_m_s2(ALPHA, r, omega)
     np.testing.assert_allclose(vx, omega * _d(lambda a: vn.rocker_position_m(a, r)[0]), atol=1e-10)
     np.testing.assert_allclose(vy, omega * _d(lambda a: vn.rocker_position_m(a, r)[1]), atol=1e-10)
-    np.testing.assert_allclose(jx, omega * _d(lambda a: vn.rocker_velocity_m_s(a, r, omega)[0]), atol=1e-9)
-    np.testing.assert_allclose(jy, omega * _d(lambda a: vn.rocker_velocity_m_s(a, r, omega)[1]), atol=1e-9)
+    np.testing.assert_allclose(
+        jx, omega * _d(lambda a: vn.rocker_velocity_m_s(a, r, omega)[0]), atol=1e-9
+    )
+    np.testing.assert_allclose(
+        jy, omega * _d(lambda a: vn.rocker_velocity_m_s(a, r, omega)[1]), atol=1e-9
+    )
     # the coupler of the parallelogram moves like the crank pin: a circle of radius r
     np.testing.assert_allclose(np.hypot(x, r - y), r, rtol=1e-14)
 
@@ -115,13 +147,21 @@ def test_rocker_motion():
 @pytest.mark.parametrize("lam", [0.6, 0.8])
 def test_slider_vertical_motion(lam):
     r, omega = 0.05, 3.0
-    np.testing.assert_allclose(vn.slider_vertical_velocity_m_s(ALPHA, r, lam, omega),
-                               omega * _d(lambda a: vn.slider_height_below_core_m(a, r, lam)), atol=1e-10)
-    np.testing.assert_allclose(vn.slider_vertical_acceleration_m_s2(ALPHA, r, lam, omega),
-                               omega * _d(lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega)), atol=1e-9)
+    np.testing.assert_allclose(
+        vn.slider_vertical_velocity_m_s(ALPHA, r, lam, omega),
+        omega * _d(lambda a: vn.slider_height_below_core_m(a, r, lam)),
+        atol=1e-10,
+    )
+    np.testing.assert_allclose(
+        vn.slider_vertical_acceleration_m_s2(ALPHA, r, lam, omega),
+        omega * _d(lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega)),
+        atol=1e-9,
+    )
     # y_p = l chi = l cos(beta): the tail end lies on a circle of radius l about O3
     beta = vn.core_angle_rad(ALPHA, lam)
-    np.testing.assert_allclose(vn.slider_height_below_core_m(ALPHA, r, lam), (r / lam) * np.cos(beta), atol=1e-16)
+    np.testing.assert_allclose(
+        vn.slider_height_below_core_m(ALPHA, r, lam), (r / lam) * np.cos(beta), atol=1e-16
+    )
 
 
 @pytest.mark.parametrize("lam", [0.6, 0.8])
@@ -129,15 +169,24 @@ def test_slider_motion_relative_to_the_rocker(lam):
     r, omega = 0.05, 3.0
     y = vn.slider_relative_position_m(ALPHA, r, lam)
     # sum of the rocker's downward motion and the slider's rise, from 0 to 2r
-    np.testing.assert_allclose(y, vn.rocker_position_m(ALPHA, r)[1] + vn.slider_vertical_travel_m(ALPHA, r, lam),
-                               atol=1e-16)
+    np.testing.assert_allclose(
+        y,
+        vn.rocker_position_m(ALPHA, r)[1] + vn.slider_vertical_travel_m(ALPHA, r, lam),
+        atol=1e-16,
+    )
     assert y.min() == pytest.approx(0.0, abs=1e-16) and y.max() == pytest.approx(2 * r, rel=1e-12)
     # ... which is the central crank-slider's piston displacement
     np.testing.assert_allclose(y, central.piston_displacement_exact_m(ALPHA, r, lam), atol=1e-15)
-    np.testing.assert_allclose(vn.slider_relative_velocity_m_s(ALPHA, r, lam, omega),
-                               omega * _d(lambda a: vn.slider_relative_position_m(a, r, lam)), atol=1e-10)
-    np.testing.assert_allclose(vn.slider_relative_acceleration_m_s2(ALPHA, r, lam, omega),
-                               omega * _d(lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega)), atol=1e-9)
+    np.testing.assert_allclose(
+        vn.slider_relative_velocity_m_s(ALPHA, r, lam, omega),
+        omega * _d(lambda a: vn.slider_relative_position_m(a, r, lam)),
+        atol=1e-10,
+    )
+    np.testing.assert_allclose(
+        vn.slider_relative_acceleration_m_s2(ALPHA, r, lam, omega),
+        omega * _d(lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega)),
+        atol=1e-9,
+    )
 
 
 def test_limits_of_lambda():
@@ -149,9 +198,12 @@ def test_limits_of_lambda():
 
 # ----------------------------------------------------------------------------- the stage
 
+
 @pytest.fixture(scope="module")
 def vane_run():
-    return run_scene(scene_from_dict(modified("vane-engine-kinematics", {}), base_dir=examples_dir()), REGISTRY)
+    return run_scene(
+        scene_from_dict(modified("vane-engine-kinematics", {}), base_dir=examples_dir()), REGISTRY
+    )
 
 
 def test_vane_example_is_kinematics_only_with_reasons(vane_run):
@@ -160,8 +212,10 @@ def test_vane_example_is_kinematics_only_with_reasons(vane_run):
     assert "no [cycle]" in skipped["indicator"] and "[masses]" in skipped["forces"]
     r = vane_run.outputs["vane"].results
     assert r["rod_ratio"] == pytest.approx(0.8)
-    np.testing.assert_allclose(np.round(r["slider_vertical_acceleration_zeros_deg"], 3),
-                               [52.239, 127.761, 232.239, 307.761])
+    np.testing.assert_allclose(
+        np.round(r["slider_vertical_acceleration_zeros_deg"], 3),
+        [52.239, 127.761, 232.239, 307.761],
+    )
     assert r["slider_vertical_acceleration_zeros_check_deg"] < 1e-9
     assert r["slider_vertical_travel_max_m"] == pytest.approx(0.0625 * 0.4, rel=1e-12)
     assert r["core_angle_max_deg"] == pytest.approx(math.degrees(math.asin(0.8)))
@@ -169,12 +223,15 @@ def test_vane_example_is_kinematics_only_with_reasons(vane_run):
     assert r["slider_relative_travel_m"] == pytest.approx(0.1, rel=1e-9)
 
 
-@pytest.mark.parametrize("changes, field", [
-    ({"masses": {"piston_group": "0.4 kg", "rod": "0.5 kg", "rod_cm_fraction": 0.3}}, "masses"),
-    ({"engine": {"cylinders": 2}}, "engine.cylinders"),
-    ({"mechanism": {"compare_rod_ratios": [1.2]}}, "mechanism.compare_rod_ratios"),
-    ({"mechanism": {"core_ofset": "20 mm"}}, "mechanism.core_ofset"),
-])
+@pytest.mark.parametrize(
+    "changes, field",
+    [
+        ({"masses": {"piston_group": "0.4 kg", "rod": "0.5 kg", "rod_cm_fraction": 0.3}}, "masses"),
+        ({"engine": {"cylinders": 2}}, "engine.cylinders"),
+        ({"mechanism": {"compare_rod_ratios": [1.2]}}, "mechanism.compare_rod_ratios"),
+        ({"mechanism": {"core_ofset": "20 mm"}}, "mechanism.core_ofset"),
+    ],
+)
 def test_bad_vane_scenes_are_refused(tmp_path, capsys, changes, field):
     scene = write_scene(tmp_path / "scene.toml", modified("vane-engine-kinematics", changes))
     out = tmp_path / "out"
@@ -198,18 +255,41 @@ def test_vane_report_has_the_source_plots(vane_run):
     rendered = render_html(vane_run, REGISTRY, "en")
     assert not rendered.missing_translations, rendered.missing_translations
     names = [f.name for f in rendered.figures]
-    for plot in ("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"):
+    for plot in (
+        "vane_angles",
+        "vane_core",
+        "vane_rocker",
+        "vane_slider",
+        "vane_relative",
+        "vane_lambda",
+    ):
         assert any(n.endswith(f"_{plot}.svg") for n in names), plot
     assert "52" in rendered.html
 
 
 def test_vane_example_through_the_cli(tmp_path):
     out = tmp_path / "out"
-    assert main(["report", str(examples_dir() / "vane-engine-kinematics.toml"), "-o", str(out), "--format",
-                 "json,csv", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "vane-engine-kinematics.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "json,csv",
+                "-q",
+            ]
+        )
+        == 0
+    )
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert doc["stages_run"] == ["vane", "drawing_linkage"]
-    assert sorted(p.name for p in (out / "tables").iterdir()) == ["vane.csv", "vane_by_lambda.csv", "vane_compare.csv"]
+    assert sorted(p.name for p in (out / "tables").iterdir()) == [
+        "vane.csv",
+        "vane_by_lambda.csv",
+        "vane_compare.csv",
+    ]
 
 
 def test_lambda_to_one_limit_disagrees_with_the_source_conclusion():
@@ -217,10 +297,16 @@ def test_lambda_to_one_limit_disagrees_with_the_source_conclusion():
     y_p -> r|cos alpha|, so j_yp -> -r omega^2 |cos alpha| (half the period) away from 90° and 270°."""
     alpha = np.radians([0.0, 30.0, 150.0, 180.0, 210.0, 330.0])
     lam = 1.0 - 1e-9
-    np.testing.assert_allclose(vn.slider_vertical_acceleration_m_s2(alpha, 1.0, lam, 1.0), -np.abs(np.cos(alpha)),
-                               atol=1e-6)
+    np.testing.assert_allclose(
+        vn.slider_vertical_acceleration_m_s2(alpha, 1.0, lam, 1.0),
+        -np.abs(np.cos(alpha)),
+        atol=1e-6,
+    )
     jy_rocker = vn.rocker_acceleration_m_s2(alpha, 1.0, 1.0)[1]
-    assert jy_rocker[0] == pytest.approx(1.0) and vn.slider_vertical_acceleration_m_s2(0.0, 1.0, lam, 1.0) < 0
+    assert (
+        jy_rocker[0] == pytest.approx(1.0)
+        and vn.slider_vertical_acceleration_m_s2(0.0, 1.0, lam, 1.0) < 0
+    )
 
 
 def _root(fn, lo_deg, hi_deg):
@@ -253,17 +339,23 @@ def test_extremes_by_root_finding_against_an_independent_solve():
     assert abs(math.radians(v["min_crank_angle_deg"]) - a0) < 1e-9
     assert abs(math.radians(v["max_crank_angle_deg"]) - (math.pi - a0)) < 1e-9
     v_at = -w * r * lam * math.sin(a0) * math.cos(a0) / chi(a0)
-    assert v["min"] == pytest.approx(v_at, rel=1e-13) and v["max"] == pytest.approx(-v_at, rel=1e-13)
+    assert v["min"] == pytest.approx(v_at, rel=1e-13) and v["max"] == pytest.approx(
+        -v_at, rel=1e-13
+    )
     eps = ext["core_angular_acceleration_rad_s2"]
     assert abs(math.radians(eps["max_crank_angle_deg"]) - math.pi / 2) < 1e-9
     assert eps["max"] == pytest.approx(lam * w**2 / math.sqrt(1 - lam**2), rel=1e-13)
     a1 = _root(lambda a: math.cos(a) + lam * bracket(a) / chi(a) ** 3, 50, 80)
     rel = ext["slider_relative_velocity_m_s"]
     assert abs(math.radians(rel["max_crank_angle_deg"]) - a1) < 1e-9
-    assert rel["max"] == pytest.approx(w * r * math.sin(a1) * (1 + lam * math.cos(a1) / chi(a1)), rel=1e-13)
+    assert rel["max"] == pytest.approx(
+        w * r * math.sin(a1) * (1 + lam * math.cos(a1) / chi(a1)), rel=1e-13
+    )
     # y_p (below the core axis) is largest with the tail vertical (alpha = 0), smallest at 90 deg
     y = ext["slider_y_below_core_m"]
     assert y["max_crank_angle_deg"] == 0.0 and y["max"] == pytest.approx(r / lam, rel=1e-15)
-    assert abs(y["min_crank_angle_deg"] - 90) < 1e-7 and y["min"] == pytest.approx(r / lam * math.sqrt(1 - lam**2))
+    assert abs(y["min_crank_angle_deg"] - 90) < 1e-7 and y["min"] == pytest.approx(
+        r / lam * math.sqrt(1 - lam**2)
+    )
     j = ext["slider_jy_below_core_m_s2"]
     assert j["min_crank_angle_deg"] == 0.0  # of the equal minima at 0 and 180 deg, the first

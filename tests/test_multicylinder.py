@@ -28,9 +28,17 @@ def run(name, changes=None):
 
 # ----------------------------------------------------------------------------- layouts
 
+
 def test_inline_crank_arrangements_from_firing_order():
     assert build_layout("inline", 4, 4, None, [1, 3, 4, 2], None).crank_lag_deg == (0, 180, 180, 0)
-    assert build_layout("inline", 4, 6, None, [1, 5, 3, 6, 2, 4], None).crank_lag_deg == (0, 120, 240, 240, 120, 0)
+    assert build_layout("inline", 4, 6, None, [1, 5, 3, 6, 2, 4], None).crank_lag_deg == (
+        0,
+        120,
+        240,
+        240,
+        120,
+        0,
+    )
     assert build_layout("inline", 2, 3, None, [1, 3, 2], None).crank_lag_deg == (0, 240, 120)
 
 
@@ -51,18 +59,29 @@ def test_a_firing_order_written_from_another_cylinder_is_the_same_cycle():
     assert np.allclose(other.firing_intervals_deg(), 90.0)
 
 
-@pytest.mark.parametrize("args, field, text", [
-    (("inline", 4, 4, None, [1, 3, 3, 2], None), "engine.firing_order", "repeated: 3"),
-    (("inline", 4, 4, None, [1, 3, 2], None), "engine.firing_order", "missing: 4"),
-    (("inline", 4, 4, None, [1, 3, 4, 5], None), "engine.firing_order", "do not exist"),
-    (("V", 4, 8, 90, [1, 2, 3, 4, 5, 6, 7, 8], None), "engine.firing_order", "do not exist"),
-    (("V", 4, 6, 90, ["1L", "1R", "2L", "2R", "3L", "3R"], None), "engine.firing_order", "share a crank"),
-    (("inline", 4, 4, None, [1, 3, 4, 2], [0, 180, 180]), "engine.crank_angles_deg", "one angle per crank"),
-    (("inline", 4, 2, None, [1, 2], [0, 180]), "engine.crank_angles_deg", "uneven"),
-    (("V", 4, 8, None, ["1L"], None), "engine.bank_angle_deg", "required"),
-    (("inline", 4, 4, 60, [1, 3, 4, 2], None), "engine.bank_angle_deg", "does not apply"),
-    (("V", 4, 7, 90, None, None), "engine.cylinders", "multiple of 2"),
-])
+@pytest.mark.parametrize(
+    "args, field, text",
+    [
+        (("inline", 4, 4, None, [1, 3, 3, 2], None), "engine.firing_order", "repeated: 3"),
+        (("inline", 4, 4, None, [1, 3, 2], None), "engine.firing_order", "missing: 4"),
+        (("inline", 4, 4, None, [1, 3, 4, 5], None), "engine.firing_order", "do not exist"),
+        (("V", 4, 8, 90, [1, 2, 3, 4, 5, 6, 7, 8], None), "engine.firing_order", "do not exist"),
+        (
+            ("V", 4, 6, 90, ["1L", "1R", "2L", "2R", "3L", "3R"], None),
+            "engine.firing_order",
+            "share a crank",
+        ),
+        (
+            ("inline", 4, 4, None, [1, 3, 4, 2], [0, 180, 180]),
+            "engine.crank_angles_deg",
+            "one angle per crank",
+        ),
+        (("inline", 4, 2, None, [1, 2], [0, 180]), "engine.crank_angles_deg", "uneven"),
+        (("V", 4, 8, None, ["1L"], None), "engine.bank_angle_deg", "required"),
+        (("inline", 4, 4, 60, [1, 3, 4, 2], None), "engine.bank_angle_deg", "does not apply"),
+        (("V", 4, 7, 90, None, None), "engine.cylinders", "multiple of 2"),
+    ],
+)
 def test_layout_errors_name_the_field(args, field, text):
     with pytest.raises(LayoutError) as info:
         build_layout(*args)
@@ -75,13 +94,16 @@ def test_uneven_firing_allowed_when_declared():
     assert list(layout.firing_intervals_deg()) == [180.0, 540.0]
 
 
-@pytest.mark.parametrize("changes, field", [
-    ({"engine": {"firing_order": [1, 3, 3, 2]}}, "engine.firing_order"),
-    ({"engine": {"firing_order": ["1L", "2L", "3L", "4L"]}}, "engine.firing_order"),
-    ({"engine": {"crank_angles_deg": [0, 180]}}, "engine.crank_angles_deg"),
-    ({"engine": {"layout": "V", "bank_angle_deg": 90}}, "engine.firing_order"),
-    ({"analysis": {"angle_step_deg": 0.7, "table_step_deg": 2.1}}, "analysis.angle_step_deg"),
-])
+@pytest.mark.parametrize(
+    "changes, field",
+    [
+        ({"engine": {"firing_order": [1, 3, 3, 2]}}, "engine.firing_order"),
+        ({"engine": {"firing_order": ["1L", "2L", "3L", "4L"]}}, "engine.firing_order"),
+        ({"engine": {"crank_angles_deg": [0, 180]}}, "engine.crank_angles_deg"),
+        ({"engine": {"layout": "V", "bank_angle_deg": 90}}, "engine.firing_order"),
+        ({"analysis": {"angle_step_deg": 0.7, "table_step_deg": 2.1}}, "analysis.angle_step_deg"),
+    ],
+)
 def test_bad_multicylinder_scenes_exit_2(tmp_path, capsys, changes, field):
     scene = write_scene(tmp_path / "s.toml", modified("inline4-petrol", changes))
     out = tmp_path / "out"
@@ -92,25 +114,38 @@ def test_bad_multicylinder_scenes_exit_2(tmp_path, capsys, changes, field):
 
 
 def test_articulated_slave_that_cannot_reach(tmp_path, capsys):
-    scene = write_scene(tmp_path / "s.toml", modified("radial9-aircraft",
-                                                      {"articulated": {"slave_rod_length": "20 mm"}}))
+    scene = write_scene(
+        tmp_path / "s.toml",
+        modified("radial9-aircraft", {"articulated": {"slave_rod_length": "20 mm"}}),
+    )
     assert main(["report", str(scene), "-o", str(tmp_path / "o"), "--format", "json"]) == 2
     assert "articulated.slave_rod_length" in capsys.readouterr().err
 
 
 # ----------------------------------------------------------------------------- articulated rods
 
-GEOMETRY = art.SlaveGeometry(crank_radius_m=0.0625, rod_length_m=0.25, pin_radius_m=0.06,
-                             pin_angle_rad=math.radians(64.0), bank_angle_rad=math.radians(60.0),
-                             slave_rod_length_m=0.19)
+GEOMETRY = art.SlaveGeometry(
+    crank_radius_m=0.0625,
+    rod_length_m=0.25,
+    pin_radius_m=0.06,
+    pin_angle_rad=math.radians(64.0),
+    bank_angle_rad=math.radians(60.0),
+    slave_rod_length_m=0.19,
+)
 
 
 def _linkage_by_root_finding(alpha, g: art.SlaveGeometry):
     """Independent solution: master piston from |A - B| = L, pin from the rigid master rod,
     slave piston from |A_s - C| = l, each by a numerical root finder (global x-y frame)."""
-    B = np.array([g.crank_radius_m * math.sin(alpha), g.crank_radius_m * math.cos(alpha)])  # x lateral, y = master axis
-    y_a = brentq(lambda y: B[0] ** 2 + (y - B[1]) ** 2 - g.rod_length_m**2, B[1], B[1] + g.rod_length_m * 1.01,
-                 xtol=1e-15)
+    B = np.array(
+        [g.crank_radius_m * math.sin(alpha), g.crank_radius_m * math.cos(alpha)]
+    )  # x lateral, y = master axis
+    y_a = brentq(
+        lambda y: B[0] ** 2 + (y - B[1]) ** 2 - g.rod_length_m**2,
+        B[1],
+        B[1] + g.rod_length_m * 1.01,
+        xtol=1e-15,
+    )
     A = np.array([0.0, y_a])
     rod = (A - B) / g.rod_length_m
     c, s = math.cos(g.pin_angle_rad), math.sin(g.pin_angle_rad)
@@ -118,8 +153,12 @@ def _linkage_by_root_finding(alpha, g: art.SlaveGeometry):
     pin_dir = np.array([rod[0] * c + rod[1] * s, -rod[0] * s + rod[1] * c])
     C = B + g.pin_radius_m * pin_dir
     axis = np.array([math.sin(g.bank_angle_rad), math.cos(g.bank_angle_rad)])
-    return brentq(lambda x: np.sum((x * axis - C) ** 2) - g.slave_rod_length_m**2,
-                  float(C @ axis), float(C @ axis) + 2 * g.slave_rod_length_m, xtol=1e-15)
+    return brentq(
+        lambda x: np.sum((x * axis - C) ** 2) - g.slave_rod_length_m**2,
+        float(C @ axis),
+        float(C @ axis) + 2 * g.slave_rod_length_m,
+        xtol=1e-15,
+    )
 
 
 def test_slave_piston_position_against_numerical_linkage():
@@ -136,15 +175,27 @@ def test_slave_velocity_and_acceleration_by_finite_differences():
     h = 1e-6
     plus = art.slave_motion(a + w * h, GEOMETRY, w).piston_position_m
     minus = art.slave_motion(a - w * h, GEOMETRY, w).piston_position_m
-    scale_v, scale_j = np.max(np.abs(m.piston_velocity_m_s)), np.max(np.abs(m.piston_acceleration_m_s2))
+    scale_v, scale_j = (
+        np.max(np.abs(m.piston_velocity_m_s)),
+        np.max(np.abs(m.piston_acceleration_m_s2)),
+    )
     assert np.max(np.abs((plus - minus) / (2 * h) - m.piston_velocity_m_s)) < 1e-6 * scale_v
-    assert np.max(np.abs((plus - 2 * m.piston_position_m + minus) / h**2 - m.piston_acceleration_m_s2)) < 1e-4 * scale_j
+    assert (
+        np.max(np.abs((plus - 2 * m.piston_position_m + minus) / h**2 - m.piston_acceleration_m_s2))
+        < 1e-4 * scale_j
+    )
 
 
 def test_slave_stroke_is_longer_with_textbook_pin_angle():
     """Textbook §1.1: with l = L - r and gamma_1 from eq. (5), the slave stroke is 3-4 % longer."""
-    g = art.SlaveGeometry(0.05, 0.2, 0.05, art.pin_angle_textbook_rad(9.5, 0.25, math.radians(60)),
-                          math.radians(60), 0.15)
+    g = art.SlaveGeometry(
+        0.05,
+        0.2,
+        0.05,
+        art.pin_angle_textbook_rad(9.5, 0.25, math.radians(60)),
+        math.radians(60),
+        0.15,
+    )
     x_tdc, _, x_bdc, _ = art.slave_dead_centres(g)
     assert 1.03 < (x_tdc - x_bdc) / 0.1 < 1.04
 
@@ -158,7 +209,9 @@ def test_equal_compression_slave_rod_length():
     deck = 0.05 + 0.2 + 0.1 / (eps - 1)
     assert (deck - x_bdc) / (deck - x_tdc) == pytest.approx(eps, rel=1e-10)
     # The textbook's closed form (eq. 3) is a close approximation of it.
-    assert art.slave_rod_length_textbook_m(0.2, 0.05, 0.25, math.radians(60)) == pytest.approx(length, rel=1e-3)
+    assert art.slave_rod_length_textbook_m(0.2, 0.05, 0.25, math.radians(60)) == pytest.approx(
+        length, rel=1e-3
+    )
 
 
 def test_bay_statics_reproduce_textbook_equations_27_to_30():
@@ -169,13 +222,24 @@ def test_bay_statics_reproduce_textbook_equations_27_to_30():
     rng = np.random.default_rng(1)
     p1, p1_l = rng.normal(0, 3e6, alpha.size), rng.normal(0, 3e6, alpha.size)
     sm = art.slave_motion(alpha, g)
-    t, z, n_sum = art.bay_crank_pin_forces(alpha, beta, p1, g.crank_radius_m, g.rod_length_m,
-                                           [(sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_l, g.bank_angle_rad)])
+    t, z, n_sum = art.bay_crank_pin_forces(
+        alpha,
+        beta,
+        p1,
+        g.crank_radius_m,
+        g.rod_length_m,
+        [(sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_l, g.bank_angle_rad)],
+    )
     beta_l = sm.slave_rod_angle_rad
     phi = g.pin_angle_rad - g.bank_angle_rad
     alpha_l = alpha - g.bank_angle_rad
     k_l = p1_l / np.cos(beta_l)
-    n_l = p1_l * (g.pin_radius_m / g.rod_length_m) * np.sin(beta - beta_l - phi) / (np.cos(beta) * np.cos(beta_l))  # (27)
+    n_l = (
+        p1_l
+        * (g.pin_radius_m / g.rod_length_m)
+        * np.sin(beta - beta_l - phi)
+        / (np.cos(beta) * np.cos(beta_l))
+    )  # (27)
     t_l = k_l * np.sin(alpha_l + beta_l) + n_l * np.cos(alpha_l + g.bank_angle_rad)  # (29)
     z_l = k_l * np.cos(alpha_l + beta_l) - n_l * np.sin(alpha_l + g.bank_angle_rad)  # (30)
     t_master = p1 * np.sin(alpha + beta) / np.cos(beta)  # (24)
@@ -187,6 +251,7 @@ def test_bay_statics_reproduce_textbook_equations_27_to_30():
 
 
 # ----------------------------------------------------------------------------- torques
+
 
 @pytest.mark.parametrize("name", MULTI)
 def test_mean_output_torque_equals_indicated_work(name):
@@ -215,23 +280,40 @@ def test_last_journal_carries_the_output_torque(name):
     result = run(name)
     loads = result.outputs["torque"].data["crank_loads"]
     engine = result.outputs["torque"].data["engine_torque"]
-    np.testing.assert_allclose(loads.journal_torque_Pa[-1] * loads.crank_radius_m * loads.piston_area_m2,
-                               engine.torque_Nm, rtol=0, atol=1e-9 * np.max(np.abs(engine.torque_Nm)))
+    np.testing.assert_allclose(
+        loads.journal_torque_Pa[-1] * loads.crank_radius_m * loads.piston_area_m2,
+        engine.torque_Nm,
+        rtol=0,
+        atol=1e-9 * np.max(np.abs(engine.torque_Nm)),
+    )
     # and it is the sum of all crank torques
-    np.testing.assert_allclose(loads.journal_torque_Pa[-1], loads.tangential_Pa.sum(axis=0), rtol=1e-12)
+    np.testing.assert_allclose(
+        loads.journal_torque_Pa[-1], loads.tangential_Pa.sum(axis=0), rtol=1e-12
+    )
 
 
-@pytest.mark.parametrize("name, pattern", [
-    ("inline4-petrol", {2: 180, 3: 540, 4: 360}),             # textbook table B.3: z_180, z_540, z_360 at alpha = 0
-    ("inline6-diesel-trace", {5: 600, 3: 480, 6: 360, 2: 240, 4: 120}),  # 1-5-3-6-2-4: crank i is 720 - delay_i into its cycle
-])
+@pytest.mark.parametrize(
+    "name, pattern",
+    [
+        (
+            "inline4-petrol",
+            {2: 180, 3: 540, 4: 360},
+        ),  # textbook table B.3: z_180, z_540, z_360 at alpha = 0
+        (
+            "inline6-diesel-trace",
+            {5: 600, 3: 480, 6: 360, 2: 240, 4: 120},
+        ),  # 1-5-3-6-2-4: crank i is 720 - delay_i into its cycle
+    ],
+)
 def test_b3_phase_pattern(name, pattern):
     result = run(name)
     single = result.outputs["forces"].tables["forces"]["tangential_Pa"].to_numpy()
     loads = result.outputs["torque"].data["crank_loads"]
     step = result.scene.analysis.angle_step_deg
     for crank, cycle_angle in pattern.items():
-        assert loads.tangential_Pa[crank - 1][0] == pytest.approx(single[int(cycle_angle / step)], abs=1e-6)
+        assert loads.tangential_Pa[crank - 1][0] == pytest.approx(
+            single[int(cycle_angle / step)], abs=1e-6
+        )
     # the pin torque of crank 1 is half its own tangential force (free end), eq. (44)
     np.testing.assert_allclose(loads.pin_torque_Pa[0], 0.5 * loads.tangential_Pa[0])
 
@@ -240,7 +322,9 @@ def test_torque_period_and_symmetric_v8():
     result = run("v8-petrol")
     torque = result.outputs["torque"].data["engine_torque"].torque_Nm
     assert result.outputs["torque"].results["period_deg"] == 90.0
-    np.testing.assert_allclose(torque, np.roll(torque, 90), rtol=1e-9, atol=1e-9 * np.max(np.abs(torque)))
+    np.testing.assert_allclose(
+        torque, np.roll(torque, 90), rtol=1e-9, atol=1e-9 * np.max(np.abs(torque))
+    )
 
 
 @pytest.mark.parametrize("name", ["v8-petrol", "radial9-aircraft"])
@@ -248,19 +332,26 @@ def test_torque_period_and_symmetric_v8():
 def test_multibank_reports_render(name, language):
     rendered = shared_html(name, language=language)  # the text only: its figures are not drawn here
     assert not rendered.missing_translations
-    assert 'data-stage="bays"' in rendered.linked_html and 'data-stage="torque"' in rendered.linked_html
+    assert (
+        'data-stage="bays"' in rendered.linked_html
+        and 'data-stage="torque"' in rendered.linked_html
+    )
     if name.startswith("radial"):
         assert ("B.2" in rendered.linked_html) or ("Б.2" in rendered.linked_html)
 
 
 # ----------------------------------------------------------------------------- every layout
 
+
 def _even_firing_order(layout, strokes, cylinders, bank_angle, lags):
     """A firing order for the given crank lags, built from the geometry (delay = psi + lag mod 360)."""
     from crankdyn.physics.layout import bank_axes_deg, cylinder_labels
 
     axes = bank_axes_deg(layout, bank_angle, cylinders)
-    residues = sorted(((axes[bank] + lags[bay]) % 360.0, label) for label, bank, bay in cylinder_labels(layout, cylinders))
+    residues = sorted(
+        ((axes[bank] + lags[bay]) % 360.0, label)
+        for label, bank, bay in cylinder_labels(layout, cylinders)
+    )
     base = residues[[r[1] for r in residues].index(cylinder_labels(layout, cylinders)[0][0])][0]
     delays, used = {}, set()
     for residue, label in residues:
@@ -272,22 +363,39 @@ def _even_firing_order(layout, strokes, cylinders, bank_angle, lags):
     return [label for label, _ in sorted(delays.items(), key=lambda kv: kv[1])]
 
 
-@pytest.mark.parametrize("layout, strokes, cylinders, bank, lags, rod", [
-    ("X", 4, 8, 90, [0, 0], "central"),
-    ("Y", 2, 6, 120, [0, 60], "central"),
-    ("W", 2, 6, 60, [0, 180], "fork"),
-    ("boxer", 4, 4, None, [0, 180], "central"),
-    ("V", 4, 6, 120, [0, 240, 120], "articulated"),
-    ("inline", 2, 3, None, [0, 120, 240], "central"),
-])
+@pytest.mark.parametrize(
+    "layout, strokes, cylinders, bank, lags, rod",
+    [
+        ("X", 4, 8, 90, [0, 0], "central"),
+        ("Y", 2, 6, 120, [0, 60], "central"),
+        ("W", 2, 6, 60, [0, 180], "fork"),
+        ("boxer", 4, 4, None, [0, 180], "central"),
+        ("V", 4, 6, 120, [0, 240, 120], "articulated"),
+        ("inline", 2, 3, None, [0, 120, 240], "central"),
+    ],
+)
 def test_every_layout_keeps_the_invariants(layout, strokes, cylinders, bank, lags, rod):
     order = _even_firing_order(layout, strokes, cylinders, bank, lags)
-    changes = {"engine": {"layout": layout, "strokes": strokes, "cylinders": cylinders, "bank_angle_deg": bank,
-                          "firing_order": order, "crank_angles_deg": lags, "rod_type": rod}}
+    changes = {
+        "engine": {
+            "layout": layout,
+            "strokes": strokes,
+            "cylinders": cylinders,
+            "bank_angle_deg": bank,
+            "firing_order": order,
+            "crank_angles_deg": lags,
+            "rod_type": rod,
+        }
+    }
     if strokes == 2:
-        changes["cycle"] = {"exhaust_pressure": None, "rounding": {"exhaust_closes_after_tdc_deg": None,
-                                                                   "intake_opens_before_tdc_deg": None,
-                                                                   "intake_closes_after_bdc_deg": None}}
+        changes["cycle"] = {
+            "exhaust_pressure": None,
+            "rounding": {
+                "exhaust_closes_after_tdc_deg": None,
+                "intake_opens_before_tdc_deg": None,
+                "intake_closes_after_bdc_deg": None,
+            },
+        }
     if rod == "articulated":
         changes["articulated"] = {"pin_radius": "40 mm"}
     data = modified("inline4-petrol", changes)
@@ -312,14 +420,34 @@ def test_v8_pdf_in_ukrainian(tmp_path):
 
     out = tmp_path / "v8"
     # The crankshaft chapter and what it needs (the full Ukrainian note is tests/test_note.py's PDF)
-    assert main(["report", str(examples_dir() / "v8-petrol.toml"), "-o", str(out), "--lang", "uk", "--format", "pdf",
-                 "--stages", "torque", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "v8-petrol.toml"),
+                "-o",
+                str(out),
+                "--lang",
+                "uk",
+                "--format",
+                "pdf",
+                "--stages",
+                "torque",
+                "-q",
+            ]
+        )
+        == 0
+    )
     if shutil.which("pdftotext"):
-        text = subprocess.run(["pdftotext", str(out / "report.pdf"), "-"], capture_output=True, text=True).stdout
+        text = subprocess.run(
+            ["pdftotext", str(out / "report.pdf"), "-"], capture_output=True, text=True
+        ).stdout
         assert "Навантаження на колінчастий вал" in text and "Б.3" in text and "Б.4" in text
 
 
-@pytest.mark.parametrize("cylinders, layout, bank", [(4, "inline", None), (6, "inline", None), (8, "V", 90)])
+@pytest.mark.parametrize(
+    "cylinders, layout, bank", [(4, "inline", None), (6, "inline", None), (8, "V", 90)]
+)
 def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
     """No firing_order -> the explorer's top-ranked order and crank arrangement, said in the report.
     Checked against invariants: even firing, and the free first-order forces and moments of an in-line 4,
@@ -327,9 +455,14 @@ def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
     co-rotating first-order couple, which counterweights cure (no balance shaft)."""
     from crankdyn.physics import firing_explorer as fe
 
-    data = modified("v8-petrol" if layout == "V" else "inline4-petrol",
-                    {"flywheel": None, "analysis": {"stages": ["bays", "balancing"]},
-                     "engine": {"cylinders": cylinders, "firing_order": None, "crank_angles_deg": None}})
+    data = modified(
+        "v8-petrol" if layout == "V" else "inline4-petrol",
+        {
+            "flywheel": None,
+            "analysis": {"stages": ["bays", "balancing"]},
+            "engine": {"cylinders": cylinders, "firing_order": None, "crank_angles_deg": None},
+        },
+    )
     result = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry())
     assert result.scene.firing_order_chosen
     best = fe.explore(cylinders, layout, 4, bank, top=1).rows[0]
@@ -341,6 +474,8 @@ def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
     coefficients = balancing["coefficients"]
     first = next(o for o in balancing["orders"] if o["order"] == 1)
     assert coefficients["sum_PI"] == 0 and first["force_backward"]["magnitude"] == 0
-    assert first["moment_backward"]["magnitude"] == 0 and (layout == "V" or coefficients["M_PI"] == 0)
+    assert first["moment_backward"]["magnitude"] == 0 and (
+        layout == "V" or coefficients["M_PI"] == 0
+    )
     if cylinders == 6:
         assert coefficients["sum_PII"] == 0 and coefficients["M_PII"] == 0

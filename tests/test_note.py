@@ -30,37 +30,123 @@ from crankdyn.scene.model import load_scene, scene_from_dict
 
 REGISTRY = default_registry()
 
-needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
-                                   reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+needs_poppler = pytest.mark.skipif(
+    shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+    reason="poppler-utils not installed (bash .ci/setup.sh installs it)",
+)
 
 #: Per language: scene, extra CLI arguments, caption words, the words a reference to them uses,
 #: the continuation label, the abstract and conclusions headings (as printed, upper case).
 LANGUAGES = {
-    "uk": ("petrol-1cyl-uk", [], "Таблиця", "Рисунок", "табл.", "рис.", "Продовження таблиці", "РЕФЕРАТ",
-           "ВИСНОВКИ", "ПЕРЕЛІК ДЖЕРЕЛ ПОСИЛАННЯ"),
-    "ru": ("petrol-1cyl-ru", [], "Таблица", "Рисунок", "табл.", "рис.", "Продолжение таблицы", "РЕФЕРАТ",
-           "ЗАКЛЮЧЕНИЕ", "СПИСОК ИСПОЛЬЗОВАННЫХ ИСТОЧНИКОВ"),
+    "uk": (
+        "petrol-1cyl-uk",
+        [],
+        "Таблиця",
+        "Рисунок",
+        "табл.",
+        "рис.",
+        "Продовження таблиці",
+        "РЕФЕРАТ",
+        "ВИСНОВКИ",
+        "ПЕРЕЛІК ДЖЕРЕЛ ПОСИЛАННЯ",
+    ),
+    "ru": (
+        "petrol-1cyl-ru",
+        [],
+        "Таблица",
+        "Рисунок",
+        "табл.",
+        "рис.",
+        "Продолжение таблицы",
+        "РЕФЕРАТ",
+        "ЗАКЛЮЧЕНИЕ",
+        "СПИСОК ИСПОЛЬЗОВАННЫХ ИСТОЧНИКОВ",
+    ),
     # --lang overrides the scene's language, as a student would do it on the command line
-    "en": ("petrol-1cyl-ru", ["--lang", "en"], "Table", "Figure", "table", "figure", "Table", "ABSTRACT",
-           "CONCLUSIONS", "REFERENCES"),
+    "en": (
+        "petrol-1cyl-ru",
+        ["--lang", "en"],
+        "Table",
+        "Figure",
+        "table",
+        "figure",
+        "Table",
+        "ABSTRACT",
+        "CONCLUSIONS",
+        "REFERENCES",
+    ),
 }
 
 #: Words each note must show (headings, captions, the input table), besides those above.
 WORDS = {
-    "uk": ("ПОЯСНЮВАЛЬНА ЗАПИСКА", "ЗМІСТ", "ВСТУП", "Вихідні дані", "Таблиця 4.1 –", "Рисунок 2.1 –", "Кінематика",
-           "(2.1)", "Міністерство освіти і науки України", "Варіант 7", "Іваненко О. П.",
-           "ПЕРЕЛІК УМОВНИХ ПОЗНАЧЕНЬ І СКОРОЧЕНЬ"),
-    "ru": ("ПОЯСНИТЕЛЬНАЯ ЗАПИСКА", "СОДЕРЖАНИЕ", "ВВЕДЕНИЕ", "Исходные данные", "Таблица 4.1 –", "Рисунок 2.1 –",
-           "Частота вращения коленчатого вала", "(2.1)", "Вариант 12", "Иванов А. П.",
-           "ПЕРЕЧЕНЬ УСЛОВНЫХ ОБОЗНАЧЕНИЙ И СОКРАЩЕНИЙ"),
-    "en": ("EXPLANATORY NOTE", "CONTENTS", "INTRODUCTION", "Table 4.1 —", "Figure 2.1 —", "(2.1)", "Variant 12",
-           "LIST OF SYMBOLS AND ABBREVIATIONS"),
+    "uk": (
+        "ПОЯСНЮВАЛЬНА ЗАПИСКА",
+        "ЗМІСТ",
+        "ВСТУП",
+        "Вихідні дані",
+        "Таблиця 4.1 –",
+        "Рисунок 2.1 –",
+        "Кінематика",
+        "(2.1)",
+        "Міністерство освіти і науки України",
+        "Варіант 7",
+        "Іваненко О. П.",
+        "ПЕРЕЛІК УМОВНИХ ПОЗНАЧЕНЬ І СКОРОЧЕНЬ",
+    ),
+    "ru": (
+        "ПОЯСНИТЕЛЬНАЯ ЗАПИСКА",
+        "СОДЕРЖАНИЕ",
+        "ВВЕДЕНИЕ",
+        "Исходные данные",
+        "Таблица 4.1 –",
+        "Рисунок 2.1 –",
+        "Частота вращения коленчатого вала",
+        "(2.1)",
+        "Вариант 12",
+        "Иванов А. П.",
+        "ПЕРЕЧЕНЬ УСЛОВНЫХ ОБОЗНАЧЕНИЙ И СОКРАЩЕНИЙ",
+    ),
+    "en": (
+        "EXPLANATORY NOTE",
+        "CONTENTS",
+        "INTRODUCTION",
+        "Table 4.1 —",
+        "Figure 2.1 —",
+        "(2.1)",
+        "Variant 12",
+        "LIST OF SYMBOLS AND ABBREVIATIONS",
+    ),
 }
 
 #: Latin words a Ukrainian or Russian report may contain: function names, solver names, proper names.
-ALLOWED_LATIN = {"cos", "sin", "tg", "arccos", "arcsin", "max", "min", "crankdyn", "Radau", "RK", "BDF", "LSODA",
-                 "IIA", "rtol", "CSV", "Diesel", "ind", "scipy", "SciPy", "LU", "mod", "ds", "dV", "dJ", "diag",
-                 "MN"}  # MN: a segment between the points M and N of the source's drawing
+ALLOWED_LATIN = {
+    "cos",
+    "sin",
+    "tg",
+    "arccos",
+    "arcsin",
+    "max",
+    "min",
+    "crankdyn",
+    "Radau",
+    "RK",
+    "BDF",
+    "LSODA",
+    "IIA",
+    "rtol",
+    "CSV",
+    "Diesel",
+    "ind",
+    "scipy",
+    "SciPy",
+    "LU",
+    "mod",
+    "ds",
+    "dV",
+    "dJ",
+    "diag",
+    "MN",
+}  # MN: a segment between the points M and N of the source's drawing
 
 
 #: A table or figure number: chapter (or appendix letter) and position, "2.1", "А.1".
@@ -73,12 +159,19 @@ def _decimal_points(text: str) -> list[str]:
     found = []
     for m in re.finditer(r"(\S*\s?\S*\s?)(?<![\d.,])(\d+\.\d+)(?![\d.])", text):
         before = m.group(1)
-        line = text[text.rfind("\n", 0, m.start(2)) + 1:m.start(2)]
-        if not line.strip() and re.match(r" [^\W\d_]", text[m.end(2):]) and text[m.end(2) + 1].isupper():
+        line = text[text.rfind("\n", 0, m.start(2)) + 1 : m.start(2)]
+        if (
+            not line.strip()
+            and re.match(r" [^\W\d_]", text[m.end(2) :])
+            and text[m.end(2) + 1].isupper()
+        ):
             continue  # a numbered subsection's heading ("2.1 Передавання сили на водило"), in the contents too
-        if re.search(r"(табл|рис|Таблиц|Рисун|таблиц|розд|подразд|підрозд|додат|прилож|Продовження|Продолжение|"
-                     r"ГОСТ|ДСТУ|"
-                     r"crankdyn)[^\s]*\s*[А-ЯA-Z]?\.?\s*$|\($|[–-]$", before):
+        if re.search(
+            r"(табл|рис|Таблиц|Рисун|таблиц|розд|подразд|підрозд|додат|прилож|Продовження|Продолжение|"
+            r"ГОСТ|ДСТУ|"
+            r"crankdyn)[^\s]*\s*[А-ЯA-Z]?\.?\s*$|\($|[–-]$",
+            before,
+        ):
             continue
         found.append(before + m.group(2))
     return found
@@ -87,12 +180,19 @@ def _decimal_points(text: str) -> list[str]:
 def _latin_words(document: str, scene_texts=()) -> list[str]:
     """Latin-letter words outside the allowed set; the scene's own texts (title-page fields,
     engine name: the student's data, in whatever language the student wrote them) left out."""
-    body = as_read(document.split("<body", 1)[1])  # the word joiner after "8.2/", the no-break space before initials
+    body = as_read(
+        document.split("<body", 1)[1]
+    )  # the word joiner after "8.2/", the no-break space before initials
     for value in sorted(scene_texts, key=len, reverse=True):
         if len(value) > 3:  # not the language code
-            for shown in (html_lib.escape(value, quote=False), str(markupsafe.escape(value))):  # "'" as &#39;
+            for shown in (
+                html_lib.escape(value, quote=False),
+                str(markupsafe.escape(value)),
+            ):  # "'" as &#39;
                 body = body.replace(shown, " ")
-    body = re.sub(r'<ol class="references">.*?</ol>', " ", body, flags=re.S)  # the sources keep their language
+    body = re.sub(
+        r'<ol class="references">.*?</ol>', " ", body, flags=re.S
+    )  # the sources keep their language
     body = re.sub(r"<img[^>]*>", " ", body)
     # code and drawing markup a reader never sees as text: scripts, styles, inline SVG
     body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", body, flags=re.S)
@@ -106,11 +206,19 @@ def _check_hyphenation(text: str, title_page: str, language: str) -> None:
     """None made by the machine in Ukrainian (pyphen's uk_UA patterns break between any two
     consonants: "та-нгенціальна"), and no name parted on the title page and the assignment in any
     language (not "доц. Пет-/ров" on the assignment)."""
-    hyphenated = [ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)]
+    hyphenated = [
+        ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)
+    ]
     if language == "uk":
-        assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), hyphenated  # a compound's own hyphen
-    parted = [ln for ln in title_page.splitlines() if re.search(r"[-\u2010]\s*$", ln)
-              and not ln.rstrip().endswith(("кривошипно-", "зворотно-"))]  # a compound's own hyphen may end a line
+        assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), (
+            hyphenated
+        )  # a compound's own hyphen
+    parted = [
+        ln
+        for ln in title_page.splitlines()
+        if re.search(r"[-\u2010]\s*$", ln)
+        and not ln.rstrip().endswith(("кривошипно-", "зворотно-"))
+    ]  # a compound's own hyphen may end a line
     assert not parted, parted
 
 
@@ -118,25 +226,47 @@ def _check_hyphenation(text: str, title_page: str, language: str) -> None:
 @needs_poppler
 # the English note under -m slow: the suite's time (the uk and ru notes, which students hand in,
 # are checked on every run; every bundled example's PDF is a slow test too)
-@pytest.mark.parametrize("language", [pytest.param(lang, marks=pytest.mark.slow) if lang == "en" else lang
-                                      for lang in LANGUAGES])
+@pytest.mark.parametrize(
+    "language",
+    [pytest.param(lang, marks=pytest.mark.slow) if lang == "en" else lang for lang in LANGUAGES],
+)
 def test_explanatory_note_pdf(tmp_path, language):
-    example, extra, table_word, figure_word, table_ref, figure_ref, continued, abstract, conclusions, sources = \
-        LANGUAGES[language]
+    (
+        example,
+        extra,
+        table_word,
+        figure_word,
+        table_ref,
+        figure_ref,
+        continued,
+        abstract,
+        conclusions,
+        sources,
+    ) = LANGUAGES[language]
     out = tmp_path / language
     # the example at a 15° table step: its long tables (gas pressure, forces, torque) continue on a second page
-    scene_file = write_scene(tmp_path / f"{example}.toml", modified(example, {"analysis": {"table_step_deg": 15}}))
-    assert main(["report", str(scene_file), "-o", str(out), "--format", "html,pdf", "-q", *extra]) == 0
+    scene_file = write_scene(
+        tmp_path / f"{example}.toml", modified(example, {"analysis": {"table_step_deg": 15}})
+    )
+    assert (
+        main(["report", str(scene_file), "-o", str(out), "--format", "html,pdf", "-q", *extra]) == 0
+    )
     assert not list(out.rglob("*.tmp"))
     html = (out / "report.html").read_text(encoding="utf-8")
-    pages = page_texts(out / "report.pdf", html)  # (uk: the example's ESKD frame; what is inside it)
+    pages = page_texts(
+        out / "report.pdf", html
+    )  # (uk: the example's ESKD frame; what is inside it)
     text = "\f".join(pages)
-    if language != "en":  # F_p and M_k take the textbook's Cyrillic subscripts in text and equations alike
+    if (
+        language != "en"
+    ):  # F_p and M_k take the textbook's Cyrillic subscripts in text and equations alike
         assert not re.findall(r".{30}[FM]</i><sub>[pk]</sub>", html)
 
     _check_hyphenation(text, pages[0] + "\n" + pages[1], language)
     # Typography: nothing a reader sees is written the programmer's way.
-    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert "^" not in text and "_" not in text, [
+        ln for ln in text.splitlines() if "^" in ln or "_" in ln
+    ][:5]
     assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
     assert "�" not in text  # every glyph came through
     for words in WORDS[language]:
@@ -155,7 +285,10 @@ def test_explanatory_note_pdf(tmp_path, language):
     numbers = [int(n) for n in re.findall(r"(\d+)\s", abstract_page.split(":", 1)[1])[:5]]
     appendices = html.count('<section class="chapter appendix"')
     assert appendices == 1  # a course note's one appendix: the numerics and the error study
-    assert numbers == [len(pages), len(figures), len(tables), appendices, references], (numbers, abstract_page[:300])
+    assert numbers == [len(pages), len(figures), len(tables), appendices, references], (
+        numbers,
+        abstract_page[:300],
+    )
 
     # Every table and figure is referred to in the text before its caption.
     for word, ref, found in ((table_word, table_ref, tables), (figure_word, figure_ref, figures)):
@@ -173,8 +306,12 @@ def test_explanatory_note_pdf(tmp_path, language):
     assert cited == set(range(1, references + 1)), (cited, references)
 
     # Long tables continue on the next page under the label and the repeated header.
-    continued_pages = [p for p in pages if re.search(rf"^\s*{continued} \d+\.\d+", p, flags=re.M)
-                       and not re.search(rf"{continued} \d+\.\d+ [–—]", p)]
+    continued_pages = [
+        p
+        for p in pages
+        if re.search(rf"^\s*{continued} \d+\.\d+", p, flags=re.M)
+        and not re.search(rf"{continued} \d+\.\d+ [–—]", p)
+    ]
     assert continued_pages, "the tables at a 15° step span two pages"
     for page in continued_pages:
         first = next(line for line in page.splitlines() if line.strip())
@@ -183,40 +320,82 @@ def test_explanatory_note_pdf(tmp_path, language):
     # Pages as a supervisor leafs through them: none short but a chapter's last, every
     # continued table under its label and header, no caption apart from its table or figure.
     t = translator(language, REGISTRY.catalogs)
-    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
-                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    problems = layout_problems(
+        out / "report.pdf",
+        pages,
+        html,
+        tmp_path / "pages",
+        table_word=table_word,
+        figure_word=figure_word,
+        continued=lambda number: t("doc.continued", number=number),
+    )
     assert not problems, problems
 
     # Contents with page numbers, and the fonts: Times metrics with Cyrillic, embedded.
     contents = next(p for p in pages if re.search(r"\.{5,}\s*\d+\s*$", p, flags=re.M))
     assert len(re.findall(r"^\s*\d+ .*?\.{3,}\s*(\d+)\s*$", contents, flags=re.M)) >= 4, contents
-    fonts = subprocess.run(["pdffonts", str(out / "report.pdf")], capture_output=True, text=True, check=True).stdout
+    fonts = subprocess.run(
+        ["pdffonts", str(out / "report.pdf")], capture_output=True, text=True, check=True
+    ).stdout
     assert any("Liberation-Serif" in line for line in fonts.splitlines()[2:]), fonts
     assert all(line.split()[-5] == "yes" for line in fonts.splitlines()[2:] if line.strip()), fonts
 
     # Five pages for a person to look at: title, abstract, a continued table, a figure, conclusions.
     ARTIFACTS.mkdir(exist_ok=True)
-    chosen = {"1-title": 1, "2-abstract": pages.index(abstract_page) + 1,
-              "3-continued-table": pages.index(continued_pages[0]) + 1,
-              "4-figure": next(i for i, p in enumerate(pages, 1) if re.search(rf"{figure_word} \d+\.\d+ [–—]", p)),
-              "5-conclusions": max(i for i, p in enumerate(pages, 1) if re.search(rf"^\s*{conclusions}\s*$", p,
-                                                                                     flags=re.M))}
+    chosen = {
+        "1-title": 1,
+        "2-abstract": pages.index(abstract_page) + 1,
+        "3-continued-table": pages.index(continued_pages[0]) + 1,
+        "4-figure": next(
+            i for i, p in enumerate(pages, 1) if re.search(rf"{figure_word} \d+\.\d+ [–—]", p)
+        ),
+        "5-conclusions": max(
+            i for i, p in enumerate(pages, 1) if re.search(rf"^\s*{conclusions}\s*$", p, flags=re.M)
+        ),
+    }
     for name, page in chosen.items():
-        subprocess.run(["pdftoppm", "-r", "60", "-png", "-singlefile", "-f", str(page), "-l", str(page),
-                        str(out / "report.pdf"), str(ARTIFACTS / f"note-{language}-{name}")], check=True)
+        subprocess.run(
+            [
+                "pdftoppm",
+                "-r",
+                "60",
+                "-png",
+                "-singlefile",
+                "-f",
+                str(page),
+                "-l",
+                str(page),
+                str(out / "report.pdf"),
+                str(ARTIFACTS / f"note-{language}-{name}"),
+            ],
+            check=True,
+        )
         assert (ARTIFACTS / f"note-{language}-{name}.png").is_file()
 
 
 @pytest.mark.parametrize("example, language", [("inline4-petrol", "uk")])  # ru: the PDF test above
 def test_multicylinder_note_has_no_english_words(example, language):
     scene = load_scene(examples_dir() / f"{example}.toml")
-    rendered = shared_html(example, language=language)  # the example's full run, shared with other files
+    rendered = shared_html(
+        example, language=language
+    )  # the example's full run, shared with other files
     assert not rendered.missing_translations, rendered.missing_translations
-    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
-    words = _latin_words(rendered.linked_html, scene_texts)  # the text: its figures are not drawn here
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [
+        scene.engine.name
+    ]
+    words = _latin_words(
+        rendered.linked_html, scene_texts
+    )  # the text: its figures are not drawn here
     assert not words, sorted(set(words))
-    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", re.sub(r"<img[^>]*>|<(script|style|svg)\b.*?</\1>", " ",
-                                                           rendered.linked_html, flags=re.S)))
+    text = html_lib.unescape(
+        re.sub(
+            r"<[^>]+>",
+            " ",
+            re.sub(
+                r"<img[^>]*>|<(script|style|svg)\b.*?</\1>", " ", rendered.linked_html, flags=re.S
+            ),
+        )
+    )
     assert "^" not in text and not re.search(r"[A-Za-zА-Яа-я]_", text)
     # numeral agreement by the CLDR plural rules: 4 циліндри / 4 цилиндра, not "4 циліндрів"
     assert ("4 циліндри" if language == "uk" else "4 цилиндра") in text
@@ -231,8 +410,11 @@ def _evaluate(step) -> float:
     if step.quantity == "piston_velocity":
         return x["R_m"] * x["omega"] * math.sin(a + b) / math.cos(b)
     if step.quantity == "piston_acceleration":
-        return x["R_m"] * x["omega"] ** 2 * (math.cos(a + b) / math.cos(b)
-                                             + x["lambda"] * math.cos(a) ** 2 / math.cos(b) ** 3)
+        return (
+            x["R_m"]
+            * x["omega"] ** 2
+            * (math.cos(a + b) / math.cos(b) + x["lambda"] * math.cos(a) ** 2 / math.cos(b) ** 3)
+        )
     if step.quantity == "inertia_pressure":
         return -x["m_s"] * x["j"] / x["F_p"] / 1e6
     if step.quantity == "total_pressure":
@@ -242,46 +424,65 @@ def _evaluate(step) -> float:
 
 @pytest.mark.parametrize("angle", [60.0])  # not the default 30°: the scene chooses
 def test_worked_substitutions_equal_their_table_rows(angle):
-    scene = scene_from_dict(modified("petrol-1cyl", {"report": {"worked_angle_deg": angle}}), base_dir=examples_dir())
+    scene = scene_from_dict(
+        modified("petrol-1cyl", {"report": {"worked_angle_deg": angle}}), base_dir=examples_dir()
+    )
     result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces"])
     rendered = render_html(result, REGISTRY, "en")
     t = translator("en", REGISTRY.catalogs)
     assert {b.stage for b in rendered.worked} >= {"kinematics", "forces"}
-    assert check_worked(rendered.linked_html, rendered.worked, "en") == {"indicator", "forces_torque"}  # the other stages
+    assert check_worked(rendered.linked_html, rendered.worked, "en") == {
+        "indicator",
+        "forces_torque",
+    }  # the other stages
     for block in (b for b in rendered.worked if b.stage in ("kinematics", "forces")):
         assert block.angle_deg == angle
-        table = re.search(rf'<table class="[^"]*" data-number="{re.escape(block.table_number)}">(.*?)</div>',
-                          rendered.linked_html, flags=re.S).group(1)
+        table = re.search(
+            rf'<table class="[^"]*" data-number="{re.escape(block.table_number)}">(.*?)</div>',
+            rendered.linked_html,
+            flags=re.S,
+        ).group(1)
         row = re.search(rf"<tr(?:\s[^>]*)?><td>{t.fixed(angle, 0)}</td>(.*?)</tr>", table).group(1)
         cells = re.findall(r"<td>([^<]*)</td>", row)
         for step in block.steps:
             assert t.fixed(step.value, step.decimals) in cells, (step.quantity, cells)
             # the substituted numbers give the result to the precision they are printed with
-            assert _evaluate(step) == pytest.approx(step.value, rel=2e-3, abs=2 * 10 ** -step.decimals), step.quantity
+            assert _evaluate(step) == pytest.approx(
+                step.value, rel=2e-3, abs=2 * 10**-step.decimals
+            ), step.quantity
 
 
 @pytest.mark.parametrize("language", ["uk", "ru"])
 def test_numerics_refusals_in_the_report_language(language):
     """The numerics study's rare texts (steps left out for the time budget or as not allowed) come
     from the catalogs: no English sentence in a uk/ru note, the step written with a decimal comma."""
-    scene = scene_from_dict(modified("petrol-1cyl-uk", {"numerics": {"time_budget_s": 1e-9},
-                                                        "report": {"detail": "full"}}), base_dir=examples_dir())
+    scene = scene_from_dict(
+        modified(
+            "petrol-1cyl-uk", {"numerics": {"time_budget_s": 1e-9}, "report": {"detail": "full"}}
+        ),
+        base_dir=examples_dir(),
+    )
     result = run_scene(scene, REGISTRY, ["kinematics", "indicator", "forces", "numerics"])
     rendered = render_html(result, REGISTRY, language)
     html = rendered.linked_html  # the text: the figures are not drawn here
     assert 'data-part="refused-steps"' in html
-    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [
+        scene.engine.name
+    ]
     assert not _latin_words(html, scene_texts), sorted(set(_latin_words(html, scene_texts)))
     t = translator(language, REGISTRY.catalogs)
     # (the unit bound to its number by a narrow no-break space: "1,00·10⁻⁹ с" as one)
-    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in \
-        html_lib.unescape(html).replace("\u202f", " ")
+    assert t("numerics.refused_time_budget", budget=t.number_g(1e-9, 3)) in html_lib.unescape(
+        html
+    ).replace("\u202f", " ")
 
     from crankdyn_builtin.numerics.section import refused_steps
 
     # a step the scene's rules refuse: results.json keeps the rule, the note says so in its language
     ctx = types.SimpleNamespace(t=t, scene=scene)
-    rows = refused_steps({"steps_refused": {"0.5": "angle_step_deg: must divide the firing interval"}}, ctx)
+    rows = refused_steps(
+        {"steps_refused": {"0.5": "angle_step_deg: must divide the firing interval"}}, ctx
+    )
     assert rows == [("0,5", t("numerics.refused_not_allowed"))]
 
 
@@ -302,19 +503,30 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     scenes = {"kinematics-only": None, "petrol-1cyl": ["kinematics", "indicator", "forces"]}
     shown = {}
     for name, stages in scenes.items():
-        html = shared_html(name, language=language, stages=stages).linked_html  # shared with other files (read only)
+        html = shared_html(
+            name, language=language, stages=stages
+        ).linked_html  # shared with other files (read only)
         listed = _symbol_list(html)
         rest = html.replace(listed, "")
-        rows = re.findall(r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed)
+        rows = re.findall(
+            r'<span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>', listed
+        )
         keys = symbols_used(rest, language, table)
         assert [markup for markup, _ in rows] == [symbol_html(k, language, table) for k in keys]
-        where = re.compile(" \\((?:{}) [^)]*\\)".format("|".join(
-            t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
-            for kind in ("section", "sections", "appendix", "appendices"))))
+        where = re.compile(
+            " \\((?:{}) [^)]*\\)".format(
+                "|".join(
+                    t(f"doc.symbol_in_{kind}", number="", numbers="", letter="", letters="").strip()
+                    for kind in ("section", "sections", "appendix", "appendices")
+                )
+            )
+        )
         markups = [markup for markup, _ in rows]
         for (markup, meaning), key in zip(rows, keys, strict=True):
             unit = symbol_unit(key, t, table)
-            text = as_read(html_lib.unescape(re.sub(r"</?i>", "", meaning)))  # its letters in italics
+            text = as_read(
+                html_lib.unescape(re.sub(r"</?i>", "", meaning))
+            )  # its letters in italics
             # a letter with several meanings says where a sectioned one holds (tests/test_symbol_list.py)
             assert not where.search(text) or markups.count(markup) > 1
             assert where.sub("", text) == t(f"symbol.{key}") + (f", {unit}" if unit else "")
@@ -342,28 +554,57 @@ def test_every_bundled_example_pdf_reads_as_typeset(example, language, tmp_path)
     ``^``, no ``_``, no ``e-03`` number; in uk/ru no decimal point inside a number and no Latin
     word outside the allowed set; and the pages pass the supervisor's layout check."""
     out = tmp_path / "out"
-    assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "html,pdf", "-q",
-                 "--lang", language]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / f"{example}.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "html,pdf",
+                "-q",
+                "--lang",
+                language,
+            ]
+        )
+        == 0
+    )
     html = (out / "report.html").read_text(encoding="utf-8")
     pages = page_texts(out / "report.pdf", html)
     text = "\f".join(pages)
-    assert "^" not in text and "_" not in text, [ln for ln in text.splitlines() if "^" in ln or "_" in ln][:5]
+    assert "^" not in text and "_" not in text, [
+        ln for ln in text.splitlines() if "^" in ln or "_" in ln
+    ][:5]
     assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
     if language != "en":
         scene = load_scene(examples_dir() / f"{example}.toml")
-        scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [scene.engine.name]
+        scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)] + [
+            scene.engine.name
+        ]
         # the student's own texts (an engine named "75 × 84.8 mm" in English) are theirs to write, the
         # sources keep their own titles ("SciPy 1.0")
         sources = re.findall(r'<ol class="references">(.*?)</ol>', html, flags=re.S)
-        own = scene_texts + [html_lib.unescape(re.sub(r"<[^>]+>", " ", sources[0]))] if sources else scene_texts
+        own = (
+            scene_texts + [html_lib.unescape(re.sub(r"<[^>]+>", " ", sources[0]))]
+            if sources
+            else scene_texts
+        )
         points = [p for p in _decimal_points(text) if not any(p.split()[-1] in v for v in own)]
         assert not points, points[:10]
         words = _latin_words(html, scene_texts)
         assert not words, sorted(set(words))
     table_word, figure_word = LANGUAGES[language][2:4]
     t = translator(language, REGISTRY.catalogs)
-    problems = layout_problems(out / "report.pdf", pages, html, tmp_path / "pages", table_word=table_word,
-                               figure_word=figure_word, continued=lambda number: t("doc.continued", number=number))
+    problems = layout_problems(
+        out / "report.pdf",
+        pages,
+        html,
+        tmp_path / "pages",
+        table_word=table_word,
+        figure_word=figure_word,
+        continued=lambda number: t("doc.continued", number=number),
+    )
     assert not problems, problems
 
 
@@ -377,11 +618,16 @@ def test_landscape_tables_go_after_the_portrait_material_that_follows_them():
     # the wide table and the one right after it move past the figure and the text, before table 7.3
     # (the text after the last figure leads them onto their landscape page, not alone on a portrait one)
     lead = '<div class="landscape-lead"><p>text</p></div>'
-    assert landscape_tables_later("<p>a</p>" + wide + "\n" + narrow + figure + after) == \
-        "<p>a</p>" + figure.replace("<p>text</p>", lead) + wide + "\n" + narrow + after
+    assert (
+        landscape_tables_later("<p>a</p>" + wide + "\n" + narrow + figure + after)
+        == "<p>a</p>" + figure.replace("<p>text</p>", lead) + wide + "\n" + narrow + after
+    )
     # a row of figures is closed before the lead; text alone (no figure) moves as before
     row = '<div class="figure-row">' + figure.replace("<p>text</p>", "") * 2 + "</div>"
-    assert landscape_tables_later(wide + row + "<p>t</p>" + after) == row + lead.replace("text", "t") + wide + after
+    assert (
+        landscape_tables_later(wide + row + "<p>t</p>" + after)
+        == row + lead.replace("text", "t") + wide + after
+    )
     assert landscape_tables_later(wide + "<p>t</p>" + after) == "<p>t</p>" + wide + after
     # another landscape table next: the text between shares their landscape pages, nothing moves
     second = wide.replace("7.1", "7.2")
@@ -397,11 +643,14 @@ def test_double_primed_symbols_are_typeset_as_the_primed_ones():
 
     html = typeset_text_html("l′_i + l″_i = l_i", "uk", [])
     # the index in italics, as formula 7.3 sets it
-    assert html == "<i>l</i>′<sub><i>i</i></sub> + <i>l</i>″<sub><i>i</i></sub> = <i>l</i><sub><i>i</i></sub>"
+    assert (
+        html
+        == "<i>l</i>′<sub><i>i</i></sub> + <i>l</i>″<sub><i>i</i></sub> = <i>l</i><sub><i>i</i></sub>"
+    )
 
 
 def test_a_number_with_a_power_of_ten_keeps_its_unit_on_its_line():
-    """"±4,3·10⁻⁵ МПа" is not parted at a line's end (the narrow no-break space follows a
+    """ "±4,3·10⁻⁵ МПа" is not parted at a line's end (the narrow no-break space follows a
     superscript digit too, not only a plain one)."""
     from crankdyn.report.typeset import typeset_text_html
 

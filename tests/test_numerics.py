@@ -23,8 +23,17 @@ from crankdyn.scene.model import scene_from_dict
 from crankdyn_builtin.numerics import compute, options, reference, steps
 
 REGISTRY = default_registry()
-ENGINE_EXAMPLES = ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace", "inline4-petrol",
-                   "inline6-diesel-trace", "v8-petrol", "radial9-aircraft", "offset-crank-engine"]
+ENGINE_EXAMPLES = [
+    "petrol-1cyl",
+    "diesel-1cyl",
+    "two-stroke-1cyl",
+    "diesel-rk-trace",
+    "inline4-petrol",
+    "inline6-diesel-trace",
+    "v8-petrol",
+    "radial9-aircraft",
+    "offset-crank-engine",
+]
 FAST = {"numerics": {"steps_deg": [10], "repeats": 1}}
 # The examples as they are, but with no time budget: which steps run must not depend on the load
 # of the machine (the budget itself is tested below).
@@ -42,8 +51,13 @@ def render_section(result, stage="numerics", language="en", detail="full"):
     t = translator(language, REGISTRY.catalogs)
     report = result.scene.report.model_copy(update={"detail": detail})
     scene = result.scene.model_copy(update={"report": report})
-    ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
-                        cycle_deg=result.scene.engine.cycle_deg, scene=scene)
+    ctx = RenderContext(
+        t=t,
+        env=_environment(REGISTRY, result),
+        table_step_deg=result.scene.analysis.table_step_deg,
+        cycle_deg=result.scene.engine.cycle_deg,
+        scene=scene,
+    )
     ctx.start_section(7, stage)
     html = next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
     return html, ctx, t
@@ -57,29 +71,48 @@ def test_every_engine_example_measures_its_error_against_run_time(name):
     r = result.outputs["numerics"].results
     # independent of the method under test; a mechanism known only by its displacement gets
     # the integrals and t from the pointwise model and q_max from a 0.05-deg run ("mixed")
-    assert r["reference_method"] == ("quadrature" if result.scene.engine.mechanism == "crank_slider" else "mixed")
+    assert r["reference_method"] == (
+        "quadrature" if result.scene.engine.mechanism == "crank_slider" else "mixed"
+    )
     scene_step = result.scene.analysis.angle_step_deg
     steps = {s["angle_step_deg"]: s for s in r["steps"]}
     assert scene_step in steps and 0.1 in steps and len(steps) >= 6
     for s in r["steps"]:
-        assert s["time_s"] > 0 and s["points"] == round(result.scene.engine.cycle_deg / s["angle_step_deg"])
+        assert s["time_s"] > 0 and s["points"] == round(
+            result.scene.engine.cycle_deg / s["angle_step_deg"]
+        )
         for q in compute.QUANTITIES:
             assert math.isfinite(s[f"{q}_error_relative"])
     # The re-run at the scene's step reproduces the numbers the other sections print.
     forces = result.outputs["forces"].results
-    mean = (result.outputs["torque"].results["mean_Nm"] if "torque" in result.outputs
-            else result.scene.engine.cylinders * forces["mean_torque_Nm"])
-    shown = {"mean_torque_Nm": mean, "indicated_work_J": result.outputs["indicator"].results["indicated_work_J"],
-             "tangential_max_Pa": forces["tangential_max_Pa"], "tangential_min_Pa": forces["tangential_min_Pa"],
-             "resultant_max_Pa": forces["resultant_max_Pa"]}
+    mean = (
+        result.outputs["torque"].results["mean_Nm"]
+        if "torque" in result.outputs
+        else result.scene.engine.cylinders * forces["mean_torque_Nm"]
+    )
+    shown = {
+        "mean_torque_Nm": mean,
+        "indicated_work_J": result.outputs["indicator"].results["indicated_work_J"],
+        "tangential_max_Pa": forces["tangential_max_Pa"],
+        "tangential_min_Pa": forces["tangential_min_Pa"],
+        "resultant_max_Pa": forces["resultant_max_Pa"],
+    }
     for key, value in shown.items():
         assert r["at_scene_step"][key] == pytest.approx(value, rel=1e-12, abs=1e-9)
         assert steps[scene_step][key] == r["at_scene_step"][key]
     # Converges to the reference: at 0.1 deg the integrals agree to 1e-5, the extremes to 1e-4,
     # and the finest step is better than the coarsest.
     fine, coarse = steps[0.1], steps[max(steps)]
-    assert fine["mean_torque_error_relative"] < 1e-5 and fine["indicated_work_error_relative"] < 1e-5
-    assert max(fine[f"{q}_error_relative"] for q in ("tangential_max", "tangential_min", "resultant_max")) < 1e-4
+    assert (
+        fine["mean_torque_error_relative"] < 1e-5 and fine["indicated_work_error_relative"] < 1e-5
+    )
+    assert (
+        max(
+            fine[f"{q}_error_relative"]
+            for q in ("tangential_max", "tangential_min", "resultant_max")
+        )
+        < 1e-4
+    )
     for q in ("mean_torque", "indicated_work"):
         assert fine[f"{q}_error_relative"] < coarse[f"{q}_error_relative"]
     # the reference is far more accurate than anything it judges
@@ -87,7 +120,9 @@ def test_every_engine_example_measures_its_error_against_run_time(name):
     # the section states the error of the printed numbers, with its measured figures
     html, ctx, t = render_section(result)
     assert not t.missing
-    assert html.count('src="figures/') == (2 if result.scene.engine.mechanism == "crank_slider" else 1)
+    assert html.count('src="figures/') == (
+        2 if result.scene.engine.mechanism == "crank_slider" else 1
+    )
     assert 'data-part="steps"' in html
     assert f"Δα = {scene_step:g}°, the printed numbers carry these errors" in html
     assert ctx.conclusions and "mean torque ±" in ctx.conclusions[0]
@@ -98,13 +133,21 @@ def test_reference_quadrature_matches_the_closed_form_of_the_theoretical_diagram
     scene = run("petrol-1cyl").scene
     model = reference.PointwiseModel(scene)
     params = model._params
-    model.pressure = lambda a: ind.theoretical_pressure_Pa(a, model.volume(a), model.clearance, params)
+    model.pressure = lambda a: ind.theoretical_pressure_Pa(
+        a, model.volume(a), model.clearance, params
+    )
     work, _ = model.integrals()
-    closed = (ind.theoretical_mean_indicated_pressure_Pa(params) + params.intake_pressure_Pa
-              - params.exhaust_pressure_Pa) * model.swept
+    closed = (
+        ind.theoretical_mean_indicated_pressure_Pa(params)
+        + params.intake_pressure_Pa
+        - params.exhaust_pressure_Pa
+    ) * model.swept
     assert work == pytest.approx(closed, rel=1e-10)
     # ...while the trapezoidal rule of the pipeline at 1 deg is off by ~1e-4: the reference is not it
-    steps = {s["angle_step_deg"]: s for s in run("petrol-1cyl", UNLIMITED).outputs["numerics"].results["steps"]}
+    steps = {
+        s["angle_step_deg"]: s
+        for s in run("petrol-1cyl", UNLIMITED).outputs["numerics"].results["steps"]
+    }
     assert 1e-5 < steps[1.0]["theoretical_work_error_relative"] < 1e-3
 
 
@@ -120,17 +163,33 @@ def test_pointwise_model_from_displacement_alone_matches_the_analytic_one():
     crank-slider formulas: the reference for other mechanisms is as good as the analytic one."""
     result = run("petrol-1cyl")
     analytic = reference.PointwiseModel(result.scene)
-    generic = reference.PointwiseModel(result.scene.model_copy(update={"engine": result.scene.engine.model_copy(
-        update={"mechanism": "offset_crank_slider"})}), result.outputs["kinematics"].data["kinematics"])
+    generic = reference.PointwiseModel(
+        result.scene.model_copy(
+            update={
+                "engine": result.scene.engine.model_copy(
+                    update={"mechanism": "offset_crank_slider"}
+                )
+            }
+        ),
+        result.outputs["kinematics"].data["kinematics"],
+    )
     assert generic.analytic is False
     a = np.linspace(0.0, 720.0, 2001)
-    np.testing.assert_allclose(generic.arm(a), analytic.arm(a), rtol=0, atol=1e-10 * analytic.radius)
-    np.testing.assert_allclose(generic.acceleration(a), analytic.acceleration(a), rtol=0,
-                               atol=1e-7 * analytic.radius * analytic.omega**2)
+    np.testing.assert_allclose(
+        generic.arm(a), analytic.arm(a), rtol=0, atol=1e-10 * analytic.radius
+    )
+    np.testing.assert_allclose(
+        generic.acceleration(a),
+        analytic.acceleration(a),
+        rtol=0,
+        atol=1e-7 * analytic.radius * analytic.omega**2,
+    )
     t_generic, q_generic, _ = generic.forces(a)
     t_analytic, _, _ = analytic.forces(a)
     assert q_generic is None
-    np.testing.assert_allclose(t_generic, t_analytic, rtol=0, atol=1e-6 * np.max(np.abs(t_analytic)))
+    np.testing.assert_allclose(
+        t_generic, t_analytic, rtol=0, atol=1e-6 * np.max(np.abs(t_analytic))
+    )
     for g, h in zip(generic.integrals(), analytic.integrals(), strict=True):
         assert g == pytest.approx(h, rel=1e-9)
 
@@ -155,7 +214,9 @@ def test_scene_copy_at_another_step_is_faithful():
     assert copy.engine == scene.engine and copy.cycle == scene.cycle and copy.masses == scene.masses
     with pytest.raises(SceneError, match="must divide the cycle"):
         steps.scene_with_step(scene, 7.0)
-    with pytest.raises(SceneError, match="firing delays"):  # 30 deg does not divide the 40-deg banks
+    with pytest.raises(
+        SceneError, match="firing delays"
+    ):  # 30 deg does not divide the 40-deg banks
         steps.run_at_step(scene, 30.0, repeats=1, runner=Runner(REGISTRY))
     # The study moves 30 and 15 deg onto the engine's 40-deg grid: 20 and 40/3 deg, none refused.
     results = run("radial9-aircraft", UNLIMITED).outputs["numerics"].results
@@ -167,19 +228,25 @@ def test_scene_copy_at_another_step_is_faithful():
 @pytest.mark.parametrize("ratio", [0.001, 0.28, 0.99])
 def test_kinematics_forms_against_independent_errors(ratio):
     radius = 0.04
-    rows = {(r["form"], r["terms"]): r for r in reference.kinematics_forms(radius, ratio, repeats=1)}
+    rows = {
+        (r["form"], r["terms"]): r for r in reference.kinematics_forms(radius, ratio, repeats=1)
+    }
     # the grid holds 90 deg, where every truncated form has its largest displacement error
     for terms in (3, 4, 5):
         expected = series.displacement_truncation_error_max_m(radius, ratio, terms)
         for form in ("series", "harmonic"):
-            assert rows[(form, terms)]["displacement_error_max_m"] == pytest.approx(expected, rel=1e-9,
-                                                                                    abs=1e-15 * radius)
+            assert rows[(form, terms)]["displacement_error_max_m"] == pytest.approx(
+                expected, rel=1e-9, abs=1e-15 * radius
+            )
     assert rows[("two_term", 2)]["displacement_error_max_m"] == pytest.approx(
-        series.displacement_truncation_error_max_m(radius, ratio, 2), rel=1e-9, abs=1e-15 * radius)
+        series.displacement_truncation_error_max_m(radius, ratio, 2), rel=1e-9, abs=1e-15 * radius
+    )
     assert rows[("exact", None)]["displacement_error_max_m"] < 1e-14 * radius  # a few ulp of 2R
     assert rows[("exact", None)]["acceleration_error_max_m_s2"] < 1e-12 * radius
-    errors = [rows[k]["displacement_error_max_m"] for k in (("two_term", 2), ("series", 3), ("series", 4),
-                                                            ("series", 5))]
+    errors = [
+        rows[k]["displacement_error_max_m"]
+        for k in (("two_term", 2), ("series", 3), ("series", 4), ("series", 5))
+    ]
     assert all(b < a or a < 1e-15 * radius for a, b in zip(errors, errors[1:], strict=False))
     assert all(r["time_per_evaluation_s"] > 0 for r in rows.values())
 
@@ -189,7 +256,8 @@ def test_two_term_error_agrees_with_the_kinematics_stage():
     rows = result.outputs["numerics"].results["kinematics_forms"]
     two_term = next(r for r in rows if r["form"] == "two_term")
     assert two_term["displacement_error_max_m"] == pytest.approx(
-        result.outputs["kinematics"].results["two_term_displacement_error_max_m"], rel=1e-9)
+        result.outputs["kinematics"].results["two_term_displacement_error_max_m"], rel=1e-9
+    )
 
 
 def test_kinematics_only_scene_gets_the_kinematics_part():
@@ -197,9 +265,16 @@ def test_kinematics_only_scene_gets_the_kinematics_part():
     assert result.stages_run == ["kinematics", "drawing", "numerics_kinematics"]
     assert "numerics" in result.plan.skipped and "no [cycle]" in result.plan.skipped["numerics"]
     r = result.outputs["numerics_kinematics"].results
-    assert {row["form"] for row in r["kinematics_forms"]} == {"two_term", "series", "harmonic", "exact"}
+    assert {row["form"] for row in r["kinematics_forms"]} == {
+        "two_term",
+        "series",
+        "harmonic",
+        "exact",
+    }
     html, _, t = render_section(result, "numerics_kinematics", "uk")
-    assert not t.missing and 'data-part="kinematics-forms"' in html and 'data-part="steps"' not in html
+    assert (
+        not t.missing and 'data-part="kinematics-forms"' in html and 'data-part="steps"' not in html
+    )
 
 
 class FakeClock:
@@ -216,6 +291,7 @@ class FakeClock:
 
         def fn():
             self.now += next(costs)
+
         return fn
 
 
@@ -224,9 +300,13 @@ def test_best_times_autoranges_and_keeps_the_best_repeat_per_call():
     # f costs 1 ms per call, but 5 ms in its first (autorange) call, as under load; g costs 0.3 ms.
     f_costs = [5e-3] + [1e-3] * 10  # autorange: 1 call (>= 1 ms) per repeat; then 3 more repeats
     g_costs = [3e-4] * 100
-    timings = steps.best_times([clock.function(f_costs), clock.function(g_costs)], 4, min_time_s=1e-3, clock=clock)
+    timings = steps.best_times(
+        [clock.function(f_costs), clock.function(g_costs)], 4, min_time_s=1e-3, clock=clock
+    )
     assert [t.repeats for t in timings] == [4, 4]
-    assert timings[0].loops == 1 and timings[0].best_s == pytest.approx(1e-3)  # the slow repeat is not kept
+    assert timings[0].loops == 1 and timings[0].best_s == pytest.approx(
+        1e-3
+    )  # the slow repeat is not kept
     # g: 1 call (0.3 ms) and 2 calls (0.6 ms) are too short, 5 calls (1.5 ms) are enough (timeit's 1, 2, 5, 10 ...)
     assert timings[1].loops == 5 and timings[1].best_s == pytest.approx(3e-4)
 
@@ -238,7 +318,9 @@ def test_best_times_takes_the_repeats_in_turns():
         def fn():
             order.append(name)
             clock.now += 1e-3
+
         return fn
+
     steps.best_times([timed("a"), timed("b")], 3, min_time_s=1e-3, clock=clock)
     # autorange of each, then two rounds over both (backwards, forwards), each timed repeat after one
     # untimed call
@@ -254,12 +336,15 @@ def test_best_times_stops_once_the_minima_have_settled():
     assert timings[0].repeats == 4 and timings[0].best_s == pytest.approx(1e-3)
     # a machine under load: the time keeps falling by more than 1 % a round for 8 rounds, so the
     # timing goes on until three rounds in a row lower nothing
-    falling = [2e-3 * 0.9 ** k for k in range(8)]
+    falling = [2e-3 * 0.9**k for k in range(8)]
     loaded = clock.function([c for c in falling for _ in (0, 1)] + [falling[-1]] * 100)
     timings = steps.best_times([loaded], 15, min_time_s=1e-3, clock=clock, settled_rounds=3)
     assert timings[0].repeats == 11 and timings[0].best_s == pytest.approx(falling[-1])
     # without settled_rounds every repeat is taken
-    assert steps.best_times([clock.function([1e-3] * 100)], 6, min_time_s=1e-3, clock=clock)[0].repeats == 6
+    assert (
+        steps.best_times([clock.function([1e-3] * 100)], 6, min_time_s=1e-3, clock=clock)[0].repeats
+        == 6
+    )
 
 
 def test_step_times_are_the_formulas_with_the_overhead_apart():
@@ -275,17 +360,28 @@ def test_step_times_are_the_formulas_with_the_overhead_apart():
     for language in ("en", "uk", "ru"):
         html, ctx, t = render_section(result, "numerics", language)
         assert not t.missing and f" {r['steps_timing_repeats']} " in html
-        assert "timeit" not in html  # how the time is measured, in words: no software names in the note
+        assert (
+            "timeit" not in html
+        )  # how the time is measured, in words: no software names in the note
         assert ctx.num(r["per_call_overhead_s"] * 1e3, 2) in html
 
 
 def test_options_table_steps_repeats_and_budget():
-    r = run("petrol-1cyl", {"numerics": {"steps_deg": [10, 5], "repeats": 1}}).outputs["numerics"].results
+    r = (
+        run("petrol-1cyl", {"numerics": {"steps_deg": [10, 5], "repeats": 1}})
+        .outputs["numerics"]
+        .results
+    )
     assert [s["angle_step_deg"] for s in r["steps"]] == [10.0, 5.0, 1.0]
     r = run("petrol-1cyl", {"numerics": {"time_budget_s": 1e-9}}).outputs["numerics"].results
     assert [s["angle_step_deg"] for s in r["steps"]] == [1.0]
-    assert all("time budget" in why for why in r["steps_refused"].values()) and len(r["steps_refused"]) == 8
-    scene = scene_from_dict(modified("petrol-1cyl", {"numerics": {"repeats": 0, "step": 1}}), base_dir=examples_dir())
+    assert (
+        all("time budget" in why for why in r["steps_refused"].values())
+        and len(r["steps_refused"]) == 8
+    )
+    scene = scene_from_dict(
+        modified("petrol-1cyl", {"numerics": {"repeats": 0, "step": 1}}), base_dir=examples_dir()
+    )
     with pytest.raises(SceneError) as info:
         check_scene(scene, REGISTRY)
     assert {p.field for p in info.value.problems} == {"numerics.repeats", "numerics.step"}
@@ -298,7 +394,12 @@ def test_solver_probes_add_rows():
     def study(scene, runner):
         assert isinstance(runner, Runner) and "forces" in runner.stages
         calls.append(scene.engine.rpm)
-        return [plugin_types.ProbePoint("RK45", f"rtol = 1e-{k}", 10.0 ** -k, "rad/s", 1e-3 * k, "analytic") for k in (3, 6, 9)]
+        return [
+            plugin_types.ProbePoint(
+                "RK45", f"rtol = 1e-{k}", 10.0**-k, "rad/s", 1e-3 * k, "analytic"
+            )
+            for k in (3, 6, 9)
+        ]
 
     def refused(scene, runner):
         raise SceneError([])
@@ -306,21 +407,31 @@ def test_solver_probes_add_rows():
     class ProbePlugin:
         @hookimpl
         def crankdyn_error_probes(self):
-            return [plugin_types.ErrorProbe("test-solver", "Test solver", lambda s: True, study),
-                    plugin_types.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused),
-                    plugin_types.ErrorProbe("test-not-here", "Other", lambda s: False, study)]
+            return [
+                plugin_types.ErrorProbe("test-solver", "Test solver", lambda s: True, study),
+                plugin_types.ErrorProbe("test-refused", "Refusing solver", lambda s: True, refused),
+                plugin_types.ErrorProbe("test-not-here", "Other", lambda s: False, study),
+            ]
 
     registry = collect(plugin_manager(extra_plugins=[ProbePlugin()]))
     assert set(registry.error_probes) == {"test-solver", "test-refused", "test-not-here"}
-    result = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), registry)
+    result = run_scene(
+        scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), registry
+    )
     solvers = result.outputs["numerics"].results["solvers"]
     assert set(solvers) == {"test-solver", "test-refused"} and calls == [5600]
-    assert [p["setting"] for p in solvers["test-solver"]["points"]] == ["rtol = 1e-3", "rtol = 1e-6", "rtol = 1e-9"]
+    assert [p["setting"] for p in solvers["test-solver"]["points"]] == [
+        "rtol = 1e-3",
+        "rtol = 1e-6",
+        "rtol = 1e-9",
+    ]
     html, _, t = render_section(result)
     assert not t.missing and "Test solver: error against run time" in html
     assert "Refusing solver: not studied" in html
     # without the plugin, no solver rows
-    plain = run_scene(scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), REGISTRY)
+    plain = run_scene(
+        scene_from_dict(modified("petrol-1cyl", FAST), base_dir=examples_dir()), REGISTRY
+    )
     assert "solvers" not in plain.outputs["numerics"].results
 
 
@@ -331,12 +442,28 @@ def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
     from crankdyn.plugin.types import Stage, StageOutput
 
     def stage(name, requires=(), provides=(), last=False):
-        return Stage(name=name, title_key="x", requires=requires, provides=provides, applies=lambda s: None,
-                     run=lambda s, i: StageOutput(), render=lambda o, c: None, last=last)
+        return Stage(
+            name=name,
+            title_key="x",
+            requires=requires,
+            provides=provides,
+            applies=lambda s: None,
+            run=lambda s, i: StageOutput(),
+            render=lambda o, c: None,
+            last=last,
+        )
 
-    registry = Registry(stages={s.name: s for s in (
-        stage("aaa_summary", requires=("a",), last=True), stage("bbb", provides=("a",)),
-        stage("ccc", requires=("a",), provides=("c",)), stage("zzz", requires=("c",)))})
+    registry = Registry(
+        stages={
+            s.name: s
+            for s in (
+                stage("aaa_summary", requires=("a",), last=True),
+                stage("bbb", provides=("a",)),
+                stage("ccc", requires=("a",), provides=("c",)),
+                stage("zzz", requires=("c",)),
+            )
+        }
+    )
     scene = run("kinematics-only").scene
     assert [s.name for s in plan(scene, registry).order] == ["bbb", "ccc", "zzz", "aaa_summary"]
     # without the hint the name decides, as before

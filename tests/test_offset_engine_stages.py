@@ -48,11 +48,14 @@ def test_torque_by_virtual_work(offset_run):
     torque = offset_run.outputs["torque"].data[ENGINE_TORQUE]
     area = np.pi * 0.082**2 / 4
     h = 1e-3  # deg
-    ds = (motion.displacement_at(motion.crank_angle_deg + h)
-          - motion.displacement_at(motion.crank_angle_deg - h)) / np.radians(2 * h)
+    ds = (
+        motion.displacement_at(motion.crank_angle_deg + h)
+        - motion.displacement_at(motion.crank_angle_deg - h)
+    ) / np.radians(2 * h)
     piston_force = forces["total_Pa"].to_numpy() * area
-    np.testing.assert_allclose(torque.torque_Nm, piston_force * ds,
-                               atol=1e-6 * np.max(np.abs(piston_force)) * R)
+    np.testing.assert_allclose(
+        torque.torque_Nm, piston_force * ds, atol=1e-6 * np.max(np.abs(piston_force)) * R
+    )
 
 
 def test_rod_bearing_is_loaded_along_the_rod(offset_run):
@@ -63,8 +66,9 @@ def test_rod_bearing_is_loaded_along_the_rod(offset_run):
     alpha = np.radians(table["crank_angle_deg"].to_numpy())
     phi = alpha + oc.dead_centres(R, L, E).tdc_angle_rad
     beta = oc.rod_angle_rad(phi, LAM, K)
-    np.testing.assert_allclose(table["rod_bearing1_t_Pa"], c_rod * np.sin(phi + beta),
-                               atol=1e-9 * abs(c_rod))
+    np.testing.assert_allclose(
+        table["rod_bearing1_t_Pa"], c_rod * np.sin(phi + beta), atol=1e-9 * abs(c_rod)
+    )
 
 
 def test_main_bearings_carry_the_rod_force_and_the_rotating_masses(offset_run):
@@ -95,8 +99,10 @@ def test_offset_harmonics_by_quadrature():
     """A_n = a_n - i b_n with a_n, b_n the Fourier integrals of the exact offset acceleration."""
     harmonics = bal.harmonics_for(LAM, 12, K)
     for n in (1, 2, 3, 4):
+
         def j(a):
             return oc.piston_acceleration_m_s2(a, 1.0, LAM, K, 1.0)
+
         a_n = integrate.quad(lambda a: j(a) * np.cos(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi  # noqa: B023 - called within this iteration
         b_n = integrate.quad(lambda a: j(a) * np.sin(n * a), 0, 2 * np.pi, limit=200)[0] / np.pi  # noqa: B023 - called within this iteration
         assert harmonics[n] == pytest.approx(complex(a_n, -b_n), abs=1e-12)
@@ -119,24 +125,39 @@ def test_offset_balancing_checks_against_the_exact_force(offset_run):
     harmonics = bal.harmonics_for(LAM, 12, K)
     for o in r["orders"]:
         if o["order"]:
-            assert o["force_max_N"] == pytest.approx(abs(harmonics[o["order"]]) * r["first_order_N"], rel=1e-9)
+            assert o["force_max_N"] == pytest.approx(
+                abs(harmonics[o["order"]]) * r["first_order_N"], rel=1e-9
+            )
 
 
 def test_zero_offset_balancing_is_the_central_one():
     offset = _run({"mechanism": {"offset": "0 mm"}})
     central = _run({"engine": {"mechanism": "crank_slider"}, "mechanism": None})
     a, b = offset.outputs["balancing"].results, central.outputs["balancing"].results
-    assert a["counterweights"][0]["mass_kg"] == pytest.approx(b["counterweights"][0]["mass_kg"], rel=1e-12)
+    assert a["counterweights"][0]["mass_kg"] == pytest.approx(
+        b["counterweights"][0]["mass_kg"], rel=1e-12
+    )
     assert a["absolute"]["sum_PII_N"] == pytest.approx(b["absolute"]["sum_PII_N"], rel=1e-12)
-    ta, tb = offset.outputs["bearings"].tables["bearings"], central.outputs["bearings"].tables["bearings"]
-    for column in ("rod_bearing1_t_Pa", "rod_bearing1_z_Pa", "main_bearing0_t_Pa", "main_bearing1_z_Pa"):
+    ta, tb = (
+        offset.outputs["bearings"].tables["bearings"],
+        central.outputs["bearings"].tables["bearings"],
+    )
+    for column in (
+        "rod_bearing1_t_Pa",
+        "rod_bearing1_z_Pa",
+        "main_bearing0_t_Pa",
+        "main_bearing1_z_Pa",
+    ):
         np.testing.assert_allclose(ta[column], tb[column], atol=1e-6 * np.max(np.abs(tb[column])))
 
 
-@pytest.mark.parametrize("engine", [
-    {"cylinders": 4, "firing_order": [1, 3, 4, 2], "cylinder_spacing": "90 mm"},
-    {"cylinders": 8, "layout": "V", "bank_angle_deg": 90, "cylinder_spacing": "90 mm"},
-])
+@pytest.mark.parametrize(
+    "engine",
+    [
+        {"cylinders": 4, "firing_order": [1, 3, 4, 2], "cylinder_spacing": "90 mm"},
+        {"cylinders": 8, "layout": "V", "bank_angle_deg": 90, "cylinder_spacing": "90 mm"},
+    ],
+)
 def test_multi_cylinder_offset_engine(engine):
     """Every cylinder an offset crank-slider at its own phase: the vector models reproduce the sum of
     the cylinders' exact inertia forces, and the torque's mean is the indicated work per cycle."""
@@ -149,11 +170,11 @@ def test_multi_cylinder_offset_engine(engine):
     if engine["cylinders"] == 4:  # in line: the first orders cancel, the second add up
         assert balancing["coefficients"]["sum_PI"] == 0.0
         assert balancing["absolute"]["sum_PII_N"] == pytest.approx(
-            4 * abs(harmonics[2]) * balancing["first_order_N"], rel=1e-9)
+            4 * abs(harmonics[2]) * balancing["first_order_N"], rel=1e-9
+        )
     torque = result.outputs["torque"].data[ENGINE_TORQUE]
     work = result.outputs["bays"].results["indicated_work_J"]
     assert torque.mean_torque_Nm == pytest.approx(work / (4 * np.pi), rel=2e-3)
-
 
 
 def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
@@ -162,18 +183,35 @@ def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
     a yoke), by virtual work."""
     from test_scene_corpus import _plugin_registry  # the example plugin, registered once
 
-    data = tomllib.loads((examples_dir() / "plugin-example" / "scotch-yoke.toml").read_text(encoding="utf-8"))
+    data = tomllib.loads(
+        (examples_dir() / "plugin-example" / "scotch-yoke.toml").read_text(encoding="utf-8")
+    )
     data["analysis"] = {"angle_step_deg": 2}
-    data["masses"] = {"piston_group": "0.4 kg", "rod": "0.3 kg", "rod_cm_fraction": 0.3,
-                      "crank_pin": "0.2 kg", "crank_web": "0.1 kg"}
-    data["cycle"] = {"source": "theoretical", "ignition": "spark", "compression_ratio": 9,
-                     "intake_pressure": "0.09 MPa", "compression_index": 1.36, "max_pressure": "5 MPa",
-                     "expansion_index": 1.25}
-    result = run_scene(scene_from_dict(data, base_dir=examples_dir() / "plugin-example"), _plugin_registry())
+    data["masses"] = {
+        "piston_group": "0.4 kg",
+        "rod": "0.3 kg",
+        "rod_cm_fraction": 0.3,
+        "crank_pin": "0.2 kg",
+        "crank_web": "0.1 kg",
+    }
+    data["cycle"] = {
+        "source": "theoretical",
+        "ignition": "spark",
+        "compression_ratio": 9,
+        "intake_pressure": "0.09 MPa",
+        "compression_index": 1.36,
+        "max_pressure": "5 MPa",
+        "expansion_index": 1.25,
+    }
+    result = run_scene(
+        scene_from_dict(data, base_dir=examples_dir() / "plugin-example"), _plugin_registry()
+    )
     for stage in ("bays", "torque", "bearings"):
         assert stage in result.stages_run, result.plan.skipped.get(stage)
     forces = result.outputs["forces"].tables["forces"]
     alpha = np.radians(forces["crank_angle_deg"].to_numpy())
     piston_force = forces["total_Pa"].to_numpy() * np.pi * 0.06**2 / 4
     torque = result.outputs["torque"].data[ENGINE_TORQUE].torque_Nm
-    np.testing.assert_allclose(torque, piston_force * 0.04 * np.sin(alpha), atol=1e-9 * np.max(np.abs(piston_force)))
+    np.testing.assert_allclose(
+        torque, piston_force * 0.04 * np.sin(alpha), atol=1e-9 * np.max(np.abs(piston_force))
+    )

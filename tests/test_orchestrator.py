@@ -16,10 +16,18 @@ from crankdyn.scene.model import scene_from_dict
 
 
 def _stage(name, requires=(), provides=(), applies=None, default=True):
-    return Stage(name=name, title_key=name, requires=tuple(requires), provides=tuple(provides),
-                 applies=applies or (lambda scene: None),
-                 run=lambda scene, inputs, p=tuple(provides): StageOutput(data={k: (name, dict(inputs)) for k in p}),
-                 render=lambda output, ctx: "", default=default)
+    return Stage(
+        name=name,
+        title_key=name,
+        requires=tuple(requires),
+        provides=tuple(provides),
+        applies=applies or (lambda scene: None),
+        run=lambda scene, inputs, p=tuple(provides): StageOutput(
+            data={k: (name, dict(inputs)) for k in p}
+        ),
+        render=lambda output, ctx: "",
+        default=default,
+    )
 
 
 @pytest.fixture
@@ -35,8 +43,12 @@ def _registry(stages):
 
 
 def test_order_follows_requires_not_registration(scene):
-    stages = [_stage("c", requires=["b_out"], provides=["c_out"]), _stage("a", provides=["a_out"]),
-              _stage("b", requires=["a_out"], provides=["b_out"]), _stage("d", requires=["a_out", "c_out"])]
+    stages = [
+        _stage("c", requires=["b_out"], provides=["c_out"]),
+        _stage("a", provides=["a_out"]),
+        _stage("b", requires=["a_out"], provides=["b_out"]),
+        _stage("d", requires=["a_out", "c_out"]),
+    ]
     for seed in range(5):
         random.Random(seed).shuffle(stages)
         order = [s.name for s in plan(scene, _registry(stages)).order]
@@ -51,8 +63,11 @@ def test_requested_stage_pulls_prerequisites_and_leaves_rest_out(scene):
 
 
 def test_inapplicable_stage_and_its_dependants_are_left_out_with_reasons(scene):
-    stages = [_stage("gas", provides=["p"], applies=lambda s: "no cycle data"),
-              _stage("force", requires=["p"], provides=["f"]), _stage("kin", provides=["k"])]
+    stages = [
+        _stage("gas", provides=["p"], applies=lambda s: "no cycle data"),
+        _stage("force", requires=["p"], provides=["f"]),
+        _stage("kin", provides=["k"]),
+    ]
     p = plan(scene, _registry(stages))
     assert [s.name for s in p.order] == ["kin"]
     assert p.skipped["gas"] == "no cycle data"
@@ -62,7 +77,10 @@ def test_inapplicable_stage_and_its_dependants_are_left_out_with_reasons(scene):
 def test_optional_stage_runs_only_on_request(scene):
     stages = [_stage("base", provides=["b"]), _stage("extra", requires=["b"], default=False)]
     assert [s.name for s in plan(scene, _registry(stages)).order] == ["base"]
-    assert [s.name for s in plan(scene, _registry(stages), requested=["extra"]).order] == ["base", "extra"]
+    assert [s.name for s in plan(scene, _registry(stages), requested=["extra"]).order] == [
+        "base",
+        "extra",
+    ]
 
 
 def test_two_providers_of_one_key_is_an_error(scene):
@@ -72,7 +90,10 @@ def test_two_providers_of_one_key_is_an_error(scene):
 
 
 def test_cycle_is_an_error(scene):
-    stages = [_stage("a", requires=["y"], provides=["x"]), _stage("b", requires=["x"], provides=["y"])]
+    stages = [
+        _stage("a", requires=["y"], provides=["x"]),
+        _stage("b", requires=["x"], provides=["y"]),
+    ]
     with pytest.raises(PluginError, match="cycle"):
         plan(scene, _registry(stages))
 
@@ -83,8 +104,15 @@ def test_unknown_requested_stage(scene):
 
 
 def test_stage_must_return_what_it_provides(scene):
-    bad = Stage(name="bad", title_key="bad", requires=(), provides=("x",), applies=lambda s: None,
-                run=lambda scene, inputs: StageOutput(data={}), render=lambda o, c: "")
+    bad = Stage(
+        name="bad",
+        title_key="bad",
+        requires=(),
+        provides=("x",),
+        applies=lambda s: None,
+        run=lambda scene, inputs: StageOutput(data={}),
+        render=lambda o, c: "",
+    )
     with pytest.raises(PluginError, match="declared provides"):
         run_plan(scene, plan(scene, _registry([bad])))
 
@@ -116,7 +144,10 @@ class _WrongTypePlugin:
 def test_hook_must_return_typed_objects():
     registry = collect(plugin_manager(extra_plugins=[_WrongTypePlugin()]))
     (message,) = registry.broken.values()  # left out and named, the other plugins kept
-    assert "(hook crankdyn_mechanisms): the hook returned 'not a mechanism'; expected Mechanism" in message
+    assert (
+        "(hook crankdyn_mechanisms): the hook returned 'not a mechanism'; expected Mechanism"
+        in message
+    )
     assert message.startswith("plugin 'test_orchestrator._WrongTypePlugin' ")
     assert "crank_slider" in registry.mechanisms
 
@@ -133,8 +164,17 @@ def test_builtins_register_through_entry_points():
 def test_real_pipeline_orders_and_skips(scene):
     registry = default_registry()
     result = run_scene(scene, registry)
-    assert result.stages_run == ["kinematics", "drawing", "indicator", "forces", "bays", "torque", "balancing", "bearings",
-                                 "numerics"]
+    assert result.stages_run == [
+        "kinematics",
+        "drawing",
+        "indicator",
+        "forces",
+        "bays",
+        "torque",
+        "balancing",
+        "bearings",
+        "numerics",
+    ]
     kin_only = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(kin_only, registry)
     assert result.stages_run == ["kinematics", "drawing", "numerics_kinematics"]

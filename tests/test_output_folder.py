@@ -23,14 +23,31 @@ def umask_022():
     os.umask(old)
 
 
-def test_second_run_with_other_stages_leaves_only_its_files_and_foreign_ones(tmp_path, capsys, umask_022):
+def test_second_run_with_other_stages_leaves_only_its_files_and_foreign_ones(
+    tmp_path, capsys, umask_022
+):
     scene, out = examples_dir() / "petrol-1cyl.toml", tmp_path / "out"
     assert main(["report", str(scene), "-o", str(out), "--format", "json,csv", "-q"]) == 0
     first = _files(out)
     assert "tables/torque.csv" in first and "tables/forces.csv" in first
     (out / "my notes.txt").write_text("mine", encoding="utf-8")
     (out / "tables" / "hand-made.csv").write_text("a,b\n", encoding="utf-8")
-    assert main(["report", str(scene), "-o", str(out), "--format", "json,csv", "--stages", "kinematics", "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(scene),
+                "-o",
+                str(out),
+                "--format",
+                "json,csv",
+                "--stages",
+                "kinematics",
+                "-q",
+            ]
+        )
+        == 0
+    )
     manifest = json.loads((out / MANIFEST).read_text(encoding="utf-8"))
     second = sorted(manifest["files"])
     assert "tables/torque.csv" not in second and "tables/kinematics.csv" in second
@@ -46,6 +63,8 @@ def test_a_bad_scene_leaves_an_earlier_report_alone(tmp_path, capsys):
     assert main(["report", str(scene), "-o", str(out), "--format", "json", "-q"]) == 0
     before = _files(out)
     bad = tmp_path / "bad.toml"
-    bad.write_text(scene.read_text(encoding="utf-8").replace('"80 mm"', '"2*40 mm"'), encoding="utf-8")
+    bad.write_text(
+        scene.read_text(encoding="utf-8").replace('"80 mm"', '"2*40 mm"'), encoding="utf-8"
+    )
     assert main(["report", str(bad), "-o", str(out), "--format", "json", "-q"]) == 2
     assert _files(out) == before

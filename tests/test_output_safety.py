@@ -49,8 +49,15 @@ def test_an_edited_output_survives_a_rerun_that_no_longer_writes_it(tmp_path, ca
     assert _report(out, "--format", "json") == 0
     assert edited.read_text(encoding="utf-8") == "my corrected table\n"
     err = capsys.readouterr().err
-    assert "warning: kept" in err and "kinematics.csv" in err and "changed since crankdyn wrote it" in err
-    assert "tables/kinematics.csv" not in json.loads((out / MANIFEST).read_text(encoding="utf-8"))["files"]
+    assert (
+        "warning: kept" in err
+        and "kinematics.csv" in err
+        and "changed since crankdyn wrote it" in err
+    )
+    assert (
+        "tables/kinematics.csv"
+        not in json.loads((out / MANIFEST).read_text(encoding="utf-8"))["files"]
+    )
 
 
 def test_an_edited_output_is_not_overwritten_without_force(tmp_path, capsys):
@@ -88,8 +95,10 @@ def test_a_manifest_without_the_marker_is_ignored(tmp_path):
     out = tmp_path / "out"
     (out / "data").mkdir(parents=True)
     (out / "data" / "measurements.csv").write_text("1,2\n", encoding="utf-8")
-    (out / MANIFEST).write_text(json.dumps({"crankdyn_version": "0.1.0",
-                                            "files": ["data/measurements.csv"]}), encoding="utf-8")
+    (out / MANIFEST).write_text(
+        json.dumps({"crankdyn_version": "0.1.0", "files": ["data/measurements.csv"]}),
+        encoding="utf-8",
+    )
     write_outputs(out, {"results.json": b"{}\n"})
     assert (out / "data" / "measurements.csv").read_text(encoding="utf-8") == "1,2\n"
 
@@ -109,7 +118,9 @@ def test_nothing_is_written_through_a_linked_folder(tmp_path, capsys):
         assert sorted(p.name for p in out.iterdir()) == ["tables"]
 
 
-def test_a_linked_file_is_refused_and_with_force_the_link_is_replaced_not_followed(tmp_path, capsys):
+def test_a_linked_file_is_refused_and_with_force_the_link_is_replaced_not_followed(
+    tmp_path, capsys
+):
     target = tmp_path / "precious.json"
     target.write_text("keep", encoding="utf-8")
     out = tmp_path / "out"
@@ -180,20 +191,41 @@ def test_a_run_stopped_half_way_leaves_its_files_recognised(tmp_path, monkeypatc
 
 # ------------------------------------------------------------------ random folder histories
 
-NAMES = ["report.html", "results.json", "tables/a.csv", "tables/b.csv", "figures/f1.svg", "figures/deep/f2.svg"]
+NAMES = [
+    "report.html",
+    "results.json",
+    "tables/a.csv",
+    "tables/b.csv",
+    "figures/f1.svg",
+    "figures/deep/f2.svg",
+]
 _output_sets = st.lists(st.sampled_from(NAMES), unique=True, min_size=1, max_size=len(NAMES))
-_steps = st.lists(st.one_of(
-    st.tuples(st.just("run"), _output_sets, st.integers(0, 3)),
-    st.tuples(st.just("edit"), st.sampled_from(NAMES), st.integers(0, 3)),
-    st.tuples(st.just("delete"), st.sampled_from(NAMES), st.just(0)),
-    st.tuples(st.just("add"), st.sampled_from(NAMES + ["mine.txt", "tables/mine.csv"]), st.integers(0, 3)),
-    st.tuples(st.just("link_file"), st.sampled_from(NAMES), st.just(0)),
-    st.tuples(st.just("link_folder"), st.sampled_from(["tables", "figures", "figures/deep"]), st.just(0)),
-    st.tuples(st.just("foreign_manifest"), st.just(""), st.just(0)),
-), min_size=1, max_size=12)
+_steps = st.lists(
+    st.one_of(
+        st.tuples(st.just("run"), _output_sets, st.integers(0, 3)),
+        st.tuples(st.just("edit"), st.sampled_from(NAMES), st.integers(0, 3)),
+        st.tuples(st.just("delete"), st.sampled_from(NAMES), st.just(0)),
+        st.tuples(
+            st.just("add"),
+            st.sampled_from(NAMES + ["mine.txt", "tables/mine.csv"]),
+            st.integers(0, 3),
+        ),
+        st.tuples(st.just("link_file"), st.sampled_from(NAMES), st.just(0)),
+        st.tuples(
+            st.just("link_folder"),
+            st.sampled_from(["tables", "figures", "figures/deep"]),
+            st.just(0),
+        ),
+        st.tuples(st.just("foreign_manifest"), st.just(""), st.just(0)),
+    ),
+    min_size=1,
+    max_size=12,
+)
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
 @given(steps=_steps)
 def test_random_histories_never_touch_a_file_crankdyn_did_not_write(tmp_path_factory, steps):
     root = tmp_path_factory.mktemp("history")
@@ -211,7 +243,9 @@ def test_random_histories_never_touch_a_file_crankdyn_did_not_write(tmp_path_fac
                     warnings.simplefilter("ignore", KeptFileWarning)
                     write_outputs(out, payloads)
             except OutputError:
-                assert (_snapshot(out) if out.exists() else None) == before  # a refusal writes nothing
+                assert (
+                    _snapshot(out) if out.exists() else None
+                ) == before  # a refusal writes nothing
             else:
                 for name, payload in payloads.items():
                     assert (out / name).read_bytes() == payload
@@ -242,9 +276,17 @@ def test_random_histories_never_touch_a_file_crankdyn_did_not_write(tmp_path_fac
         elif action == "foreign_manifest":
             out.mkdir(exist_ok=True)
             listed = {name: [{"size": 1, "sha256": "0" * 64}] for name in NAMES + ["mine.txt"]}
-            (out / MANIFEST).write_text(json.dumps({"format": "crankdyn output manifest", "format_version": 2,
-                                                    "folder": str(root / "elsewhere"), "files": listed}),
-                                        encoding="utf-8")
+            (out / MANIFEST).write_text(
+                json.dumps(
+                    {
+                        "format": "crankdyn output manifest",
+                        "format_version": 2,
+                        "folder": str(root / "elsewhere"),
+                        "files": listed,
+                    }
+                ),
+                encoding="utf-8",
+            )
         for name, content in user_files.items():
             assert (out / name).read_bytes() == content, (name, steps[: step + 1])
         assert _snapshot(outside) == {"a.csv": b"outside"}
@@ -257,8 +299,19 @@ def _below_link(out: Path, name: str) -> bool:
 
 def test_a_sweep_keeps_an_edited_answer_key_and_refuses_before_computing(tmp_path, capsys):
     out = tmp_path / "study"
-    args = ["sweep", str(SCENE), "--set", "engine.rpm=1000:2000:2", "-o", str(out), "--key", "csv", "-q",
-            "--stages", "kinematics"]
+    args = [
+        "sweep",
+        str(SCENE),
+        "--set",
+        "engine.rpm=1000:2000:2",
+        "-o",
+        str(out),
+        "--key",
+        "csv",
+        "-q",
+        "--stages",
+        "kinematics",
+    ]
     assert main(args) == 0
     key = out / "answer_key.csv"
     key.write_text("marked by hand\n", encoding="utf-8")

@@ -30,7 +30,7 @@ BORE_M = 0.083
 CRANK_RADIUS_M = 0.046
 ROD_RATIO = 0.3
 ROD_LENGTH_M = CRANK_RADIUS_M / ROD_RATIO
-PISTON_AREA_M2 = math.pi * BORE_M ** 2 / 4.0
+PISTON_AREA_M2 = math.pi * BORE_M**2 / 4.0
 SWEPT_VOLUME_M3 = PISTON_AREA_M2 * 2.0 * CRANK_RADIUS_M
 
 
@@ -42,7 +42,7 @@ def exact_displacement_m(angle_deg, radius=CRANK_RADIUS_M, lam=ROD_RATIO):
     """
     a = np.radians(angle_deg)
     rod = radius / lam
-    x = lam ** 2 * np.sin(a) ** 2
+    x = lam**2 * np.sin(a) ** 2
     return radius * 2.0 * np.sin(0.5 * a) ** 2 + rod * x / (1.0 + np.sqrt(1.0 - x))
 
 
@@ -56,7 +56,7 @@ def test_displacement_helpers_match_the_textbook_forms():
     a = np.linspace(0.0, 180.0, 37)
     r, lam = CRANK_RADIUS_M, ROD_RATIO
     ar = np.radians(a)
-    plain = r * (1 - np.cos(ar)) + r / lam * (1 - np.sqrt(1 - lam ** 2 * np.sin(ar) ** 2))
+    plain = r * (1 - np.cos(ar)) + r / lam * (1 - np.sqrt(1 - lam**2 * np.sin(ar) ** 2))
     eq9 = r * ((1 + lam / 4) - (np.cos(ar) + lam / 4 * np.cos(2 * ar)))
     np.testing.assert_allclose(exact_displacement_m(a), plain, rtol=0, atol=1e-15)
     np.testing.assert_allclose(two_term_displacement_m(a), eq9, rtol=0, atol=1e-15)
@@ -67,30 +67,49 @@ def volume_of(angle_deg, clearance):
 
 
 def spark(strokes=4):
-    return CycleParameters(strokes=strokes, ignition="spark", compression_ratio=9.5,
-                           intake_pressure_Pa=0.085e6, compression_index=1.37,
-                           max_pressure_Pa=6.5e6, pre_expansion_ratio=1.0,
-                           expansion_index=1.25, exhaust_pressure_Pa=0.11e6)
+    return CycleParameters(
+        strokes=strokes,
+        ignition="spark",
+        compression_ratio=9.5,
+        intake_pressure_Pa=0.085e6,
+        compression_index=1.37,
+        max_pressure_Pa=6.5e6,
+        pre_expansion_ratio=1.0,
+        expansion_index=1.25,
+        exhaust_pressure_Pa=0.11e6,
+    )
 
 
 def diesel(strokes=4):
-    return CycleParameters(strokes=strokes, ignition="diesel", compression_ratio=17.0,
-                           intake_pressure_Pa=0.09e6, compression_index=1.37,
-                           max_pressure_Pa=9.0e6, pre_expansion_ratio=1.4,
-                           expansion_index=1.25, exhaust_pressure_Pa=0.11e6)
+    return CycleParameters(
+        strokes=strokes,
+        ignition="diesel",
+        compression_ratio=17.0,
+        intake_pressure_Pa=0.09e6,
+        compression_index=1.37,
+        max_pressure_Pa=9.0e6,
+        pre_expansion_ratio=1.4,
+        expansion_index=1.25,
+        exhaust_pressure_Pa=0.11e6,
+    )
 
 
 def rounding_for(params, rpm=2000.0):
     advance = 22.0 if params.ignition == "spark" else 20.0
     delay = default_combustion_delay_deg(params.ignition, advance, rpm)
     if params.strokes == 4:
-        return RoundingParameters(advance, delay, 0.5e6, 0.85, 12.0,
-                                  exhaust_opens_before_bdc_deg=50.0,
-                                  exhaust_closes_after_tdc_deg=20.0,
-                                  intake_opens_before_tdc_deg=20.0,
-                                  intake_closes_after_bdc_deg=60.0)
-    return RoundingParameters(advance, delay, 0.5e6, 0.85, 12.0,
-                              exhaust_opens_before_bdc_deg=30.0)
+        return RoundingParameters(
+            advance,
+            delay,
+            0.5e6,
+            0.85,
+            12.0,
+            exhaust_opens_before_bdc_deg=50.0,
+            exhaust_closes_after_tdc_deg=20.0,
+            intake_opens_before_tdc_deg=20.0,
+            intake_closes_after_bdc_deg=60.0,
+        )
+    return RoundingParameters(advance, delay, 0.5e6, 0.85, 12.0, exhaust_opens_before_bdc_deg=30.0)
 
 
 def cycle_of(params):
@@ -127,27 +146,38 @@ def test_cylinder_volume():
 
 def test_derived_pressures():
     p = diesel()
-    p_c = 0.09e6 * 17.0 ** 1.37
+    p_c = 0.09e6 * 17.0**1.37
     assert compression_end_pressure_Pa(p) == pytest.approx(p_c, rel=1e-14)
     assert expansion_end_pressure_Pa(p) == pytest.approx(9e6 * (1.4 / 17.0) ** 1.25, rel=1e-14)
     assert pressure_ratio(p) == pytest.approx(9e6 / p_c, rel=1e-14)
     # spark: p_b = p_z / eps^n2
-    assert expansion_end_pressure_Pa(spark()) == pytest.approx(6.5e6 / 9.5 ** 1.25, rel=1e-14)
+    assert expansion_end_pressure_Pa(spark()) == pytest.approx(6.5e6 / 9.5**1.25, rel=1e-14)
 
 
-@pytest.mark.parametrize("changes, name", [
-    (dict(strokes=3), "strokes"),
-    (dict(ignition="hcci"), "ignition"),
-    (dict(compression_ratio=1.0), "compression_ratio"),
-    (dict(pre_expansion_ratio=1.2), "pre_expansion_ratio"),
-    (dict(max_pressure_Pa=1.0e6), "max_pressure_Pa"),
-    (dict(compression_index=1.0), "compression_index"),
-    (dict(exhaust_pressure_Pa=None), "exhaust_pressure_Pa"),
-])
+@pytest.mark.parametrize(
+    "changes, name",
+    [
+        (dict(strokes=3), "strokes"),
+        (dict(ignition="hcci"), "ignition"),
+        (dict(compression_ratio=1.0), "compression_ratio"),
+        (dict(pre_expansion_ratio=1.2), "pre_expansion_ratio"),
+        (dict(max_pressure_Pa=1.0e6), "max_pressure_Pa"),
+        (dict(compression_index=1.0), "compression_index"),
+        (dict(exhaust_pressure_Pa=None), "exhaust_pressure_Pa"),
+    ],
+)
 def test_cycle_parameters_validation(changes, name):
-    fields = dict(strokes=4, ignition="spark", compression_ratio=9.5,
-                  intake_pressure_Pa=0.085e6, compression_index=1.37, max_pressure_Pa=6.5e6,
-                  pre_expansion_ratio=1.0, expansion_index=1.25, exhaust_pressure_Pa=0.11e6)
+    fields = dict(
+        strokes=4,
+        ignition="spark",
+        compression_ratio=9.5,
+        intake_pressure_Pa=0.085e6,
+        compression_index=1.37,
+        max_pressure_Pa=6.5e6,
+        pre_expansion_ratio=1.0,
+        expansion_index=1.25,
+        exhaust_pressure_Pa=0.11e6,
+    )
     fields.update(changes)
     with pytest.raises(ValueError, match=name):
         CycleParameters(**fields)
@@ -167,10 +197,11 @@ def test_closed_form_by_hand_derivation():
     eps, rho, n1, n2 = 17.0, 1.4, 1.37, 1.25
     v_c = 1.0
     v_h = (eps - 1.0) * v_c
-    p_c = 0.09e6 * eps ** n1
+    p_c = 0.09e6 * eps**n1
     w_isobar = 9e6 * (rho - 1.0) * v_c
-    w_exp = quad(lambda v: 9e6 * (rho * v_c / v) ** n2, rho * v_c, eps * v_c,
-                 epsabs=0, epsrel=1e-13)[0]
+    w_exp = quad(
+        lambda v: 9e6 * (rho * v_c / v) ** n2, rho * v_c, eps * v_c, epsabs=0, epsrel=1e-13
+    )[0]
     w_comp = quad(lambda v: p_c * (v_c / v) ** n1, v_c, eps * v_c, epsabs=0, epsrel=1e-13)[0]
     expected = (w_isobar + w_exp - w_comp) / v_h
     assert theoretical_mean_indicated_pressure_Pa(p) == pytest.approx(expected, rel=1e-11)
@@ -213,14 +244,18 @@ def test_pumping_work_of_the_theoretical_diagram_is_its_closed_form(make, step_d
     assert pumping == pytest.approx(closed, rel=1e-3 if step_deg > 0.5 else 1e-6)
     gross = indicated_work_J(pressure, volume) - pumping
     rel = 5e-3 if step_deg > 0.5 else 1e-4
-    assert gross == pytest.approx(theoretical_mean_indicated_pressure_Pa(params) * SWEPT_VOLUME_M3, rel=rel)
+    assert gross == pytest.approx(
+        theoretical_mean_indicated_pressure_Pa(params) * SWEPT_VOLUME_M3, rel=rel
+    )
 
 
 def test_a_two_stroke_cycle_has_no_pumping_strokes_and_a_bad_grid_is_refused():
     alpha = np.arange(0.0, 360.0, 1.0)
     assert pumping_work_J(np.ones_like(alpha), np.ones_like(alpha), alpha, 2) == 0.0
     with pytest.raises(ValueError, match="crank_angle_deg"):
-        pumping_work_J(np.ones_like(alpha), np.ones_like(alpha), alpha, 4)  # a 360° grid for a four-stroke
+        pumping_work_J(
+            np.ones_like(alpha), np.ones_like(alpha), alpha, 4
+        )  # a 360° grid for a four-stroke
 
 
 @pytest.mark.parametrize("make", PARAM_SETS, ids=PARAM_IDS)
@@ -228,16 +263,29 @@ def test_four_stroke_values_at_corners(make):
     params = make(4)
     v_c = clearance_volume_m3(SWEPT_VOLUME_M3, params.compression_ratio)
     eps = 1e-7
-    alpha = np.array([0.0, 90.0, 180.0, 180.0 + eps, 360.0 - eps, 360.0, 360.0 + eps,
-                      540.0 - eps, 540.0, 540.0 + eps, 719.0])
+    alpha = np.array(
+        [
+            0.0,
+            90.0,
+            180.0,
+            180.0 + eps,
+            360.0 - eps,
+            360.0,
+            360.0 + eps,
+            540.0 - eps,
+            540.0,
+            540.0 + eps,
+            719.0,
+        ]
+    )
     p = theoretical_pressure_Pa(alpha, volume_of(alpha, v_c), v_c, params)
     p_a, p_r, p_z = params.intake_pressure_Pa, params.exhaust_pressure_Pa, params.max_pressure_Pa
     p_c = compression_end_pressure_Pa(params)
     p_b = expansion_end_pressure_Pa(params)
     assert p[0] == p_a and p[1] == p_a
     assert p[2] == pytest.approx(p_a, rel=1e-12)
-    assert p[3] == pytest.approx(p_a, rel=1e-9)          # compression starts at p_a
-    assert p[4] == pytest.approx(p_c, rel=1e-9)          # compression ends at p_c
+    assert p[3] == pytest.approx(p_a, rel=1e-9)  # compression starts at p_a
+    assert p[4] == pytest.approx(p_c, rel=1e-9)  # compression ends at p_c
     assert p[5] == p_z and p[6] == pytest.approx(p_z, rel=1e-9)
     assert p[7] == pytest.approx(p_b, rel=1e-9)
     assert p[8] == pytest.approx(p_b, rel=1e-12)
@@ -338,10 +386,16 @@ def test_rounded_one_sided_slopes_match_at_named_points(make):
     params = make(4)
     r = rounding_for(params)
     c1 = 360.0 - r.ignition_advance_deg + r.combustion_delay_deg
-    points = [c1, 360.0, 360.0 + r.peak_angle_after_tdc_deg,
-              540.0 - r.exhaust_opens_before_bdc_deg, 540.0,
-              540.0 + 0.5 * r.exhaust_opens_before_bdc_deg,
-              720.0 - r.intake_opens_before_tdc_deg, r.exhaust_closes_after_tdc_deg]
+    points = [
+        c1,
+        360.0,
+        360.0 + r.peak_angle_after_tdc_deg,
+        540.0 - r.exhaust_opens_before_bdc_deg,
+        540.0,
+        540.0 + 0.5 * r.exhaust_opens_before_bdc_deg,
+        720.0 - r.intake_opens_before_tdc_deg,
+        r.exhaust_closes_after_tdc_deg,
+    ]
     h = 1e-4
     for x in points:
         p_left, p_mid, p_right = _rounded(params, np.array([x - h, x, x + h]) % 720.0)
@@ -357,7 +411,7 @@ def test_rounded_one_sided_slopes_match_at_named_points(make):
 def test_rounded_peak_is_requested_and_not_exceeded(make, strokes):
     params = make(strokes)
     r = rounding_for(params)
-    alpha = np.arange(int(cycle_of(params)) * 10) / 10.0   # hits the peak angle exactly
+    alpha = np.arange(int(cycle_of(params)) * 10) / 10.0  # hits the peak angle exactly
     p = _rounded(params, alpha, r)
     peak = r.peak_pressure_fraction * params.max_pressure_Pa
     tdc = 360.0 if strokes == 4 else 0.0
@@ -386,11 +440,13 @@ def test_rounded_starts_and_ends_on_theoretical_lines(make):
     c1 = 360.0 - r.ignition_advance_deg + r.combustion_delay_deg
     untouched = ((alpha >= 0.0 + r.exhaust_closes_after_tdc_deg) & (alpha <= c1)) | (
         (alpha >= 540.0 + 0.5 * r.exhaust_opens_before_bdc_deg)
-        & (alpha <= 720.0 - r.intake_opens_before_tdc_deg))
+        & (alpha <= 720.0 - r.intake_opens_before_tdc_deg)
+    )
     np.testing.assert_allclose(p[untouched], th[untouched], rtol=1e-14)
     # gas exchange: the window 700..20 deg is symmetric about TDC, so 0 deg is its midpoint
-    assert p[0] == pytest.approx(0.5 * (params.intake_pressure_Pa + params.exhaust_pressure_Pa),
-                                 rel=1e-12)
+    assert p[0] == pytest.approx(
+        0.5 * (params.intake_pressure_Pa + params.exhaust_pressure_Pa), rel=1e-12
+    )
     assert p[200] == pytest.approx(params.intake_pressure_Pa, rel=1e-12)
     assert p[7000] == pytest.approx(params.exhaust_pressure_Pa, rel=1e-12)
     # C'' : p_c + rise at firing TDC
@@ -417,8 +473,9 @@ def test_rounded_is_grid_independent(make, strokes):
     p_coarse = _rounded(params, coarse, exact_volume=False)
     p_fine = _rounded(params, fine, exact_volume=False)[::10]
     np.testing.assert_allclose(p_coarse, p_fine, rtol=1e-7, atol=1e-7 * params.max_pressure_Pa)
-    np.testing.assert_allclose(p_coarse, _rounded(params, coarse), rtol=1e-7,
-                               atol=1e-7 * params.max_pressure_Pa)
+    np.testing.assert_allclose(
+        p_coarse, _rounded(params, coarse), rtol=1e-7, atol=1e-7 * params.max_pressure_Pa
+    )
 
 
 @pytest.mark.parametrize("make", PARAM_SETS, ids=PARAM_IDS)
@@ -430,9 +487,11 @@ def test_rounded_mean_pressure_is_plausibly_smaller(make, strokes):
     volume = volume_of(alpha, v_c)
     theoretical = mean_indicated_pressure_Pa(
         indicated_work_J(theoretical_pressure_Pa(alpha, volume, v_c, params), volume),
-        SWEPT_VOLUME_M3)
-    rounded = mean_indicated_pressure_Pa(indicated_work_J(_rounded(params, alpha), volume),
-                                         SWEPT_VOLUME_M3)
+        SWEPT_VOLUME_M3,
+    )
+    rounded = mean_indicated_pressure_Pa(
+        indicated_work_J(_rounded(params, alpha), volume), SWEPT_VOLUME_M3
+    )
     loss = 1.0 - rounded / theoretical
     assert 0.0 < loss < 0.15
 
@@ -445,21 +504,33 @@ def test_rounded_returns_the_shape_of_the_grid():
     assert p.shape == alpha.shape
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(combustion_delay_deg=25.0), "combustion_delay_deg"),       # C' after TDC
-    (dict(peak_pressure_fraction=0.3), "pressure_rise_to_tdc_Pa"),   # p_z' below p_c + rise
-    (dict(exhaust_opens_before_bdc_deg=170.0), "exhaust_opens_before_bdc_deg"),  # b' before J
-    (dict(intake_opens_before_tdc_deg=170.0), "intake_opens_before_tdc_deg"),  # overlaps exhaust
-    (dict(peak_angle_after_tdc_deg=-5.0), "peak_angle_after_tdc_deg"),
-    (dict(ignition_advance_deg=0.0), "ignition_advance_deg"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(combustion_delay_deg=25.0), "combustion_delay_deg"),  # C' after TDC
+        (dict(peak_pressure_fraction=0.3), "pressure_rise_to_tdc_Pa"),  # p_z' below p_c + rise
+        (dict(exhaust_opens_before_bdc_deg=170.0), "exhaust_opens_before_bdc_deg"),  # b' before J
+        (
+            dict(intake_opens_before_tdc_deg=170.0),
+            "intake_opens_before_tdc_deg",
+        ),  # overlaps exhaust
+        (dict(peak_angle_after_tdc_deg=-5.0), "peak_angle_after_tdc_deg"),
+        (dict(ignition_advance_deg=0.0), "ignition_advance_deg"),
+    ],
+)
 def test_invalid_rounding_raises(kwargs, name):
     params = spark()
-    fields = dict(ignition_advance_deg=22.0, combustion_delay_deg=2.4,
-                  pressure_rise_to_tdc_Pa=0.5e6, peak_pressure_fraction=0.85,
-                  peak_angle_after_tdc_deg=12.0, exhaust_opens_before_bdc_deg=50.0,
-                  exhaust_closes_after_tdc_deg=20.0, intake_opens_before_tdc_deg=20.0,
-                  intake_closes_after_bdc_deg=60.0)
+    fields = dict(
+        ignition_advance_deg=22.0,
+        combustion_delay_deg=2.4,
+        pressure_rise_to_tdc_Pa=0.5e6,
+        peak_pressure_fraction=0.85,
+        peak_angle_after_tdc_deg=12.0,
+        exhaust_opens_before_bdc_deg=50.0,
+        exhaust_closes_after_tdc_deg=20.0,
+        intake_opens_before_tdc_deg=20.0,
+        intake_closes_after_bdc_deg=60.0,
+    )
     fields.update(kwargs)
     alpha = np.arange(720.0)
     with pytest.raises(ValueError, match=name):
@@ -477,8 +548,15 @@ def test_exhaust_opening_between_peak_and_junction_raises():
 
 def test_two_stroke_rejects_valve_angles():
     params = diesel(2)
-    r = RoundingParameters(20.0, 5.0, 0.5e6, 0.85, 12.0, exhaust_opens_before_bdc_deg=30.0,
-                           intake_opens_before_tdc_deg=10.0)
+    r = RoundingParameters(
+        20.0,
+        5.0,
+        0.5e6,
+        0.85,
+        12.0,
+        exhaust_opens_before_bdc_deg=30.0,
+        intake_opens_before_tdc_deg=10.0,
+    )
     with pytest.raises(ValueError, match="intake_opens_before_tdc_deg"):
         _rounded(params, np.arange(360.0), r)
 
@@ -496,8 +574,9 @@ def test_rounding_without_volume_function_needs_a_covering_grid():
 # ---------------------------------------------------------------------------
 # Below ~1e-3 deg from a dead centre the cylinder volume itself (V_c + F s in double
 # precision) no longer resolves the angle to 1e-10 deg, so the round trips stop there.
-ANGLES_DEG = np.concatenate([[0.0, 1e-3, 0.01, 0.5], np.linspace(1.0, 179.0, 357),
-                             [179.5, 179.9, 180.0]])
+ANGLES_DEG = np.concatenate(
+    [[0.0, 1e-3, 0.01, 0.5], np.linspace(1.0, 179.0, 357), [179.5, 179.9, 180.0]]
+)
 
 
 @pytest.mark.parametrize("lam", [0.2, 0.3105, 0.45])
@@ -516,9 +595,10 @@ def test_approx_inversion_round_trips_two_term_displacement(lam):
     np.testing.assert_allclose(back, ANGLES_DEG, rtol=0, atol=1e-9)
     # the textbook's printed eq. (16) gives the same angles away from the dead centres
     mid = (ANGLES_DEG > 5.0) & (ANGLES_DEG < 175.0)
-    s_over_r = (volume[mid] - v_c) / (0.25 * math.pi * BORE_M ** 2 * CRANK_RADIUS_M)
-    eq16 = np.degrees(np.arccos((np.sqrt(1.0 - 2.0 * lam * (s_over_r - 1.0 - lam / 2.0)) - 1.0)
-                                / lam))
+    s_over_r = (volume[mid] - v_c) / (0.25 * math.pi * BORE_M**2 * CRANK_RADIUS_M)
+    eq16 = np.degrees(
+        np.arccos((np.sqrt(1.0 - 2.0 * lam * (s_over_r - 1.0 - lam / 2.0)) - 1.0) / lam)
+    )
     np.testing.assert_allclose(back[mid], eq16, atol=1e-8)
 
 
@@ -534,7 +614,7 @@ def test_approx_differs_from_exact_by_a_small_high_order_amount():
     # the neglected displacement term is O(lambda^3): halving lambda divides by ~8
     ratio = errors[0.3] / errors[0.15]
     assert 6.0 < ratio < 10.0
-    assert errors[0.3] < math.degrees(0.3 ** 2)
+    assert errors[0.3] < math.degrees(0.3**2)
 
 
 def test_inversion_rejects_impossible_volume():

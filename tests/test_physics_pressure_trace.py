@@ -15,8 +15,9 @@ from crankdyn.physics.pressure_trace import (
 )
 
 DIESEL_RK_FILE = Path("/work/shared/data/diesel6-1600rpm.ind")
-needs_real_file = pytest.mark.skipif(not DIESEL_RK_FILE.is_file(),
-                                     reason="Diesel-RK sample trace not available")
+needs_real_file = pytest.mark.skipif(
+    not DIESEL_RK_FILE.is_file(), reason="Diesel-RK sample trace not available"
+)
 
 
 def write(tmp_path, name, text):
@@ -42,7 +43,7 @@ def test_real_diesel_rk_table():
     assert table["P_pist"].max() == pytest.approx(92.0)
     # swept volume matches bore 83 mm x stroke 92 mm
     swept = table["V"].max() - table["V"].min()
-    assert swept == pytest.approx(np.pi / 4 * 0.083 ** 2 * 0.092, rel=1e-4)
+    assert swept == pytest.approx(np.pi / 4 * 0.083**2 * 0.092, rel=1e-4)
 
 
 @needs_real_file
@@ -85,13 +86,16 @@ def test_real_trace_onto_four_stroke_grid():
 # ---------------------------------------------------------------------------
 # CSV reader
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("header, factor", [
-    ("crank_angle_deg,pressure_bar", 1e5),
-    ("angle [deg], p [MPa]", 1e6),
-    ("angle (deg),p (kPa)", 1e3),
-    ("angle,pressure_Pa", 1.0),
-    ("angle_deg,P [mpa]", 1e6),
-])
+@pytest.mark.parametrize(
+    "header, factor",
+    [
+        ("crank_angle_deg,pressure_bar", 1e5),
+        ("angle [deg], p [MPa]", 1e6),
+        ("angle (deg),p (kPa)", 1e3),
+        ("angle,pressure_Pa", 1.0),
+        ("angle_deg,P [mpa]", 1e6),
+    ],
+)
 def test_csv_units(tmp_path, header, factor):
     path = write(tmp_path, "trace.csv", f"{header}\n0,1.5\n1,2.0\n\n2.5,3.25,extra\n")
     angle, pressure = read_pressure_csv(path)
@@ -99,21 +103,24 @@ def test_csv_units(tmp_path, header, factor):
     np.testing.assert_allclose(pressure, np.array([1.5, 2.0, 3.25]) * factor, rtol=1e-15)
 
 
-@pytest.mark.parametrize("text, fragment", [
-    ("angle_deg,pressure\n0,1\n1,2\n", "allowed units"),              # no unit
-    ("angle_deg,pressure [psi]\n0,1\n1,2\n", "allowed units"),        # unsupported unit
-    ("angle [rad],p [bar]\n0,1\n1,2\n", "deg"),                       # angle in radians
-    ("angle_deg,p_bar\n0,1\n1,2x\n", "line 3"),                       # garbled value
-    ("angle_deg,p_bar\n0,1\n1\n", "line 3"),                          # one column
-    ("angle_deg\n0\n1\n", "line 1"),                                  # one header column
-    ("angle_deg,p_bar\n0,1\n1,nan\n", "line 3"),                      # NaN
-    ("angle_deg,p_bar\n5,1\n4,2\n", "strictly increasing"),           # descending angles
-    ("angle_deg,p_bar\n0,1\n0,2\n", "strictly increasing"),           # repeated angle
-    ("angle_deg,p_bar\n0,1\n1,-2\n", "negative"),                     # negative pressure
-    ("angle_deg,p_bar\n0,1\n", "at least 2"),                         # one data row
-    ("", "empty"),                                                    # empty file
-    ("\n  \n", "empty"),                                              # blank lines only
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        ("angle_deg,pressure\n0,1\n1,2\n", "allowed units"),  # no unit
+        ("angle_deg,pressure [psi]\n0,1\n1,2\n", "allowed units"),  # unsupported unit
+        ("angle [rad],p [bar]\n0,1\n1,2\n", "deg"),  # angle in radians
+        ("angle_deg,p_bar\n0,1\n1,2x\n", "line 3"),  # garbled value
+        ("angle_deg,p_bar\n0,1\n1\n", "line 3"),  # one column
+        ("angle_deg\n0\n1\n", "line 1"),  # one header column
+        ("angle_deg,p_bar\n0,1\n1,nan\n", "line 3"),  # NaN
+        ("angle_deg,p_bar\n5,1\n4,2\n", "strictly increasing"),  # descending angles
+        ("angle_deg,p_bar\n0,1\n0,2\n", "strictly increasing"),  # repeated angle
+        ("angle_deg,p_bar\n0,1\n1,-2\n", "negative"),  # negative pressure
+        ("angle_deg,p_bar\n0,1\n", "at least 2"),  # one data row
+        ("", "empty"),  # empty file
+        ("\n  \n", "empty"),  # blank lines only
+    ],
+)
 def test_csv_errors_name_the_file(tmp_path, text, fragment):
     path = write(tmp_path, "bad_trace.csv", text)
     with pytest.raises(PressureTraceError) as info:
@@ -137,8 +144,9 @@ IND_HEADER = "Fi        Pc        Tc        V\nArrays\n"
 
 
 def test_ind_synthetic(tmp_path):
-    path = write(tmp_path, "t.ind", IND_HEADER + " 0.0  1.5  300.0  0.5E-03\n"
-                 " 1.0  2.0  301.0  0.49E-03\n \n")
+    path = write(
+        tmp_path, "t.ind", IND_HEADER + " 0.0  1.5  300.0  0.5E-03\n 1.0  2.0  301.0  0.49E-03\n \n"
+    )
     angle, pressure = read_diesel_rk_ind(path)
     np.testing.assert_array_equal(angle, [0.0, 1.0])
     np.testing.assert_allclose(pressure, [1.5e5, 2.0e5])
@@ -146,16 +154,19 @@ def test_ind_synthetic(tmp_path):
     np.testing.assert_allclose(table["V"], [0.5e-3, 0.49e-3])
 
 
-@pytest.mark.parametrize("text, fragment", [
-    ("Fi Pc\n0 1\n1 2\n", "Arrays"),
-    (IND_HEADER + "0 1 300\n1 2 300 0.5\n", "line 3"),
-    (IND_HEADER + "0 1 300 0.5\n1 ? 300 0.5\n", "line 4"),
-    (IND_HEADER + "1 1 300 0.5\n0 2 300 0.5\n", "strictly increasing"),
-    (IND_HEADER + "0 1 300 0.5\n1 -2 300 0.5\n", "negative"),
-    (IND_HEADER, "no data rows"),
-    ("Fi\nArrays\n0\n1\n", "at least 2"),
-    ("", "empty"),
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        ("Fi Pc\n0 1\n1 2\n", "Arrays"),
+        (IND_HEADER + "0 1 300\n1 2 300 0.5\n", "line 3"),
+        (IND_HEADER + "0 1 300 0.5\n1 ? 300 0.5\n", "line 4"),
+        (IND_HEADER + "1 1 300 0.5\n0 2 300 0.5\n", "strictly increasing"),
+        (IND_HEADER + "0 1 300 0.5\n1 -2 300 0.5\n", "negative"),
+        (IND_HEADER, "no data rows"),
+        ("Fi\nArrays\n0\n1\n", "at least 2"),
+        ("", "empty"),
+    ],
+)
 def test_ind_errors_name_the_file(tmp_path, text, fragment):
     path = write(tmp_path, "bad.ind", text)
     with pytest.raises(PressureTraceError) as info:
@@ -197,8 +208,7 @@ def test_to_cycle_grid_accepts_gaps_up_to_5_deg():
     pressure = np.full(angle.shape, 2e5)
     np.testing.assert_allclose(to_cycle_grid(angle, pressure, 720.0, np.arange(720.0), 0, 0), 2e5)
     with pytest.raises(PressureTraceError, match="largest gap"):
-        to_cycle_grid(np.arange(0.0, 720.0, 6.0), np.full(120, 2e5), 720.0,
-                      np.arange(720.0), 0, 0)
+        to_cycle_grid(np.arange(0.0, 720.0, 6.0), np.full(120, 2e5), 720.0, np.arange(720.0), 0, 0)
 
 
 def test_to_cycle_grid_rejects_more_than_a_cycle():
@@ -208,7 +218,7 @@ def test_to_cycle_grid_rejects_more_than_a_cycle():
 
 
 def test_to_cycle_grid_averages_the_two_ends_of_a_closed_trace():
-    angle = np.arange(0.0, 721.0, 1.0)           # 0 and 720 are the same point
+    angle = np.arange(0.0, 721.0, 1.0)  # 0 and 720 are the same point
     pressure = np.full(angle.shape, 1e5)
     pressure[0], pressure[-1] = 1.0e5, 1.2e5
     out = to_cycle_grid(angle, pressure, 720.0, np.array([0.0, 1.0, 719.5]), 0.0, 0.0)

@@ -30,7 +30,9 @@ def run(name: str, changes: dict | None = None, base_dir: Path | None = None):
     return run_scene(scene, REGISTRY)
 
 
-@pytest.mark.parametrize("name", ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace"])
+@pytest.mark.parametrize(
+    "name", ["petrol-1cyl", "diesel-1cyl", "two-stroke-1cyl", "diesel-rk-trace"]
+)
 def test_mean_torque_equals_indicated_work_over_cycle_angle(name):
     """Mean crank torque = indicated work per cycle / (2*pi * strokes/2).
 
@@ -42,7 +44,9 @@ def test_mean_torque_equals_indicated_work_over_cycle_angle(name):
     forces = result.outputs["forces"].results
     work = result.outputs["indicator"].results["indicated_work_J"]
     strokes = result.scene.engine.strokes
-    assert forces["mean_torque_from_work_Nm"] == pytest.approx(work / (2 * math.pi * strokes / 2), rel=1e-12)
+    assert forces["mean_torque_from_work_Nm"] == pytest.approx(
+        work / (2 * math.pi * strokes / 2), rel=1e-12
+    )
     assert forces["mean_torque_Nm"] == pytest.approx(forces["mean_torque_from_work_Nm"], rel=2e-4)
 
 
@@ -56,7 +60,11 @@ def test_dead_centre_values_through_the_pipeline():
     result = run("petrol-1cyl")
     f = result.outputs["forces"].tables["forces"]
     motion = result.outputs["kinematics"].data["kinematics"]
-    R, w, lam = motion.crank_radius_m, motion.angular_velocity_rad_s, result.scene.engine.rod_ratio_value
+    R, w, lam = (
+        motion.crank_radius_m,
+        motion.angular_velocity_rad_s,
+        result.scene.engine.rod_ratio_value,
+    )
     for angle in (0, 180, 360, 540):
         row = f[f.crank_angle_deg == angle].iloc[0]
         assert row.piston_velocity_m_s == pytest.approx(0, abs=1e-9)
@@ -67,7 +75,9 @@ def test_dead_centre_values_through_the_pipeline():
         assert row.piston_acceleration_m_s2 == pytest.approx(expected_j, rel=1e-12)
     r = result.outputs["kinematics"].results
     assert r["j_max_m_s2"] == pytest.approx(R * w**2 * (1 + lam), rel=1e-12)
-    assert r["mean_piston_speed_m_s"] == pytest.approx(result.scene.engine.stroke * result.scene.engine.rpm / 30)
+    assert r["mean_piston_speed_m_s"] == pytest.approx(
+        result.scene.engine.stroke * result.scene.engine.rpm / 30
+    )
 
 
 def test_inertia_force_at_tdc_closed_form():
@@ -76,10 +86,24 @@ def test_inertia_force_at_tdc_closed_form():
     s = result.scene
     area = math.pi * s.engine.bore**2 / 4
     m_s = s.masses.piston_group + s.masses.rod * s.masses.rod_cm_fraction
-    expected = -m_s * s.engine.crank_radius_m * s.engine.angular_velocity_rad_s**2 * (1 + s.engine.rod_ratio_value) / area
+    expected = (
+        -m_s
+        * s.engine.crank_radius_m
+        * s.engine.angular_velocity_rad_s**2
+        * (1 + s.engine.rod_ratio_value)
+        / area
+    )
     assert f["inertia_tdc_Pa"] == pytest.approx(expected, rel=1e-12)
-    c_expected = -(s.masses.rod * (1 - s.masses.rod_cm_fraction) + s.masses.crank_pin + 2 * s.masses.crank_web) \
-        * s.engine.crank_radius_m * s.engine.angular_velocity_rad_s**2 / area
+    c_expected = (
+        -(
+            s.masses.rod * (1 - s.masses.rod_cm_fraction)
+            + s.masses.crank_pin
+            + 2 * s.masses.crank_web
+        )
+        * s.engine.crank_radius_m
+        * s.engine.angular_velocity_rad_s**2
+        / area
+    )
     assert f["centrifugal_Pa"] == pytest.approx(c_expected, rel=1e-12)
 
 
@@ -93,7 +117,10 @@ def test_published_example_khurmi_gupta_15_3():
     v_75 = kin.piston_velocity_approx_m_s(math.radians(75), 0.3, 0.3, w)
     assert round(float(v_75), 2) == 6.54
     grid = np.radians(np.linspace(0, 180, 18001))
-    assert round(float(np.degrees(grid[np.argmax(kin.piston_velocity_approx_m_s(grid, 0.3, 0.3, w))]))) == 75
+    assert (
+        round(float(np.degrees(grid[np.argmax(kin.piston_velocity_approx_m_s(grid, 0.3, 0.3, w))])))
+        == 75
+    )
     v_exact, angle = kin.max_piston_velocity_exact(0.3, 0.3, w)
     assert v_exact == pytest.approx(6.54, abs=0.03)  # the exact peak lies within the two-term error
 
@@ -119,8 +146,12 @@ def test_diesel_rk_trace_matches_its_own_volume_column():
 def test_rounded_diagram_does_not_depend_on_angle_step():
     fine = run("petrol-1cyl", {"analysis": {"angle_step_deg": 0.5, "table_step_deg": 30}})
     coarse = run("petrol-1cyl", {"analysis": {"angle_step_deg": 2, "table_step_deg": 30}})
-    p_fine = fine.outputs["indicator"].tables["indicator"].set_index("crank_angle_deg")["pressure_Pa"]
-    p_coarse = coarse.outputs["indicator"].tables["indicator"].set_index("crank_angle_deg")["pressure_Pa"]
+    p_fine = (
+        fine.outputs["indicator"].tables["indicator"].set_index("crank_angle_deg")["pressure_Pa"]
+    )
+    p_coarse = (
+        coarse.outputs["indicator"].tables["indicator"].set_index("crank_angle_deg")["pressure_Pa"]
+    )
     common = p_coarse.index
     np.testing.assert_allclose(p_coarse.to_numpy(), p_fine.loc[common].to_numpy(), rtol=1e-12)
     # Work integrals converge with the step (trapezoid rule in V: second order).
@@ -159,7 +190,11 @@ def test_inertia_beyond_the_textbook_two_terms_is_of_order_lambda_cubed(kinemati
     scale = forces["reciprocating_mass_kg"] * radius * omega**2 / forces["piston_area_m2"]
     rest = forces["inertia_higher_orders_max_Pa"]
     table = result.outputs["forces"].tables["forces"]
-    direct = np.max(np.abs(table["inertia_Pa"] - table["inertia_first_order_Pa"] - table["inertia_second_order_Pa"]))
+    direct = np.max(
+        np.abs(
+            table["inertia_Pa"] - table["inertia_first_order_Pa"] - table["inertia_second_order_Pa"]
+        )
+    )
     assert rest == pytest.approx(direct, rel=1e-12, abs=1e-9)
     if kinematics == "exact":
         assert abs(rest / scale - ratio**3 / 2) <= ratio**5

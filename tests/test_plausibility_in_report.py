@@ -37,12 +37,12 @@ class Note:
 
     def section(self, stage: str) -> str:
         start = self.html.index(f'data-stage="{stage}"')
-        return _plain(self.html[start:self.html.index("</section>", start)])
+        return _plain(self.html[start : self.html.index("</section>", start)])
 
     @property
     def conclusions(self) -> str:
         start = self.html.index('<ol class="conclusions">')
-        return _plain(self.html[start:self.html.index("</ol>", start)])
+        return _plain(self.html[start : self.html.index("</ol>", start)])
 
     @property
     def references(self) -> list[str]:
@@ -63,7 +63,7 @@ def test_a_mechanical_efficiency_above_0_95_is_said_in_the_torque_section_and_th
     section = high.section("torque")
     assert f"Механічний ККД η м = {eta:.3f}".replace(".", ",") in section
     assert "перевищує 0,95" in section and "η м = 0,7–0,9 [" in section
-    cited = high.cited(section[section.index("перевищує 0,95"):])
+    cited = high.cited(section[section.index("перевищує 0,95") :])
     assert cited.startswith("Колчин А. И., Демидов В. П.")
     assert high.t("plausibility.mechanical_efficiency_conclusion") in high.conclusions
     usual = Note("inline4-petrol", {}, ("torque",), "uk")
@@ -91,10 +91,11 @@ def test_a_crank_pin_pressure_above_the_allowable_one_is_compared_with_the_textb
     p_mean = max(pin["mean_MPa"] for pin in pins)
     assert p_mean == pytest.approx(6.175 * 30.996 / 12, rel=1e-3)
     section = narrow.section("bearings")
-    sentence = section[section.index("Наиболее нагруженный шатунный подшипник"):]
+    sentence = section[section.index("Наиболее нагруженный шатунный подшипник") :]
     assert f"среднее давление {p_mean:.3g}".replace(".", ",") in sentence
-    assert ("для бензиновых двигателей допустимы среднее давление до 12 МПа "
-            "и наибольшее до 20 МПа [") in sentence
+    assert (
+        "для бензиновых двигателей допустимы среднее давление до 12 МПа и наибольшее до 20 МПа ["
+    ) in sentence
     assert narrow.cited(sentence).startswith("Колчин А. И., Демидов В. П.")
     key = "bearings.plausibility_pin_pressure_spark_conclusion"
     assert narrow.t(key) in narrow.conclusions
@@ -125,14 +126,24 @@ def test_a_diesels_peak_pressure_outside_its_usual_range_is_said_in_the_indicato
     assert "usual range of diesels" not in usual.section("indicator") + usual.conclusions
 
 
-@pytest.mark.parametrize("changes, phrase, conclusion", [
-    ({"engine": {"rpm": 20000}}, "Середня швидкість поршня 52 м/с перевищує 25 м/с",
-     "plausibility.piston_speed_conclusion"),  # c_m = S n / 30 = 0.078 * 20000 / 30
-    ({"engine": {"rod_ratio": 0.6}}, "λ = 0,6 лежить поза межами 0,15–0,45",
-     "plausibility.rod_ratio_conclusion"),
-])
+@pytest.mark.parametrize(
+    "changes, phrase, conclusion",
+    [
+        (
+            {"engine": {"rpm": 20000}},
+            "Середня швидкість поршня 52 м/с перевищує 25 м/с",
+            "plausibility.piston_speed_conclusion",
+        ),  # c_m = S n / 30 = 0.078 * 20000 / 30
+        (
+            {"engine": {"rod_ratio": 0.6}},
+            "λ = 0,6 лежить поза межами 0,15–0,45",
+            "plausibility.rod_ratio_conclusion",
+        ),
+    ],
+)
 def test_a_piston_speed_or_rod_ratio_outside_the_usual_range_is_said_with_the_given_data(
-        changes, phrase, conclusion):
+    changes, phrase, conclusion
+):
     odd = Note("petrol-1cyl", changes, ("kinematics",), "uk")
     given = odd.section("input")
     assert phrase in given and odd.t(conclusion) in odd.conclusions

@@ -29,10 +29,18 @@ def _clean_venv_seeing_this_one(venv: Path, env: dict) -> Path:
     dependencies, pip and setuptools): not the machine's system site-packages, which a fresh
     machine does not have. A ``.pth`` line runs ``site.addsitedir`` so that this environment's own
     ``.pth`` files (an editable crankdyn) work there too."""
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, env=env, timeout=120)
+    subprocess.run(
+        [sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, env=env, timeout=120
+    )
     python = venv / "bin" / "python"
-    inner = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-                           check=True, capture_output=True, text=True, env=env, timeout=60).stdout.strip()
+    inner = subprocess.run(
+        [str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        check=True,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    ).stdout.strip()
     outer = [p for p in site.getsitepackages() if Path(p).is_dir()]
     lines = [f"import site; site.addsitedir({p!r})" for p in outer]
     (Path(inner) / "_outer_environment.pth").write_text("\n".join(lines) + "\n", encoding="utf-8")
@@ -43,27 +51,74 @@ def _clean_venv_seeing_this_one(venv: Path, env: dict) -> Path:
 def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path):
     source = tmp_path / "plugin-example"
     # Build from a copy, so that setuptools' build/ and *.egg-info never land in the repository.
-    shutil.copytree(PLUGIN_DIR, source, ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    shutil.copytree(
+        PLUGIN_DIR, source, ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__")
+    )
     venv = tmp_path / "venv"
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "PIP_"))}
     env["PYTHONWARNINGS"] = "ignore"
     python = _clean_venv_seeing_this_one(venv, env)
-    pip = subprocess.run([str(python), "-m", "pip", "install", "--no-deps", "--no-build-isolation", "--no-index",
-                          "--quiet", str(source)], check=False, capture_output=True, text=True, env=env, timeout=300)
+    pip = subprocess.run(
+        [
+            str(python),
+            "-m",
+            "pip",
+            "install",
+            "--no-deps",
+            "--no-build-isolation",
+            "--no-index",
+            "--quiet",
+            str(source),
+        ],
+        check=False,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert pip.returncode == 0, pip.stdout + pip.stderr
 
     # The crankdyn command of the new environment (the package itself is this environment's, reused).
-    listing = subprocess.run([str(python), "-m", "crankdyn", "plugins"], check=False, capture_output=True, text=True, env=env,
-                             timeout=120)
+    listing = subprocess.run(
+        [str(python), "-m", "crankdyn", "plugins"],
+        check=False,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert listing.returncode == 0, listing.stderr
     lines = listing.stdout.splitlines()
-    assert any(line.split()[:2] == ["scotch_yoke", "[scotch_yoke]"] for line in lines), listing.stdout
-    assert any("requires=- provides=kinematics" in line and line.split()[0] == "scotch_yoke" for line in lines)
+    assert any(line.split()[:2] == ["scotch_yoke", "[scotch_yoke]"] for line in lines), (
+        listing.stdout
+    )
+    assert any(
+        "requires=- provides=kinematics" in line and line.split()[0] == "scotch_yoke"
+        for line in lines
+    )
 
     out = tmp_path / "report"
-    done = subprocess.run([str(python), "-m", "crankdyn", "report", str(source / "scotch-yoke.toml"), "-o", str(out),
-                           "--format", "html,json,csv", "--lang", "uk", "-q"], check=False, capture_output=True, text=True,
-                          env=env, timeout=300)
+    done = subprocess.run(
+        [
+            str(python),
+            "-m",
+            "crankdyn",
+            "report",
+            str(source / "scotch-yoke.toml"),
+            "-o",
+            str(out),
+            "--format",
+            "html,json,csv",
+            "--lang",
+            "uk",
+            "-q",
+        ],
+        check=False,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert doc["mechanism"] == "scotch_yoke" and doc["stages_run"] == ["scotch_yoke", "drawing"]
@@ -80,6 +135,7 @@ def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path)
 
 
 # ----------------------------------------------------------------------------- in-process
+
 
 @pytest.fixture(scope="module")
 def yoke_registry():
@@ -110,22 +166,36 @@ def test_rodless_mechanism_goes_through_the_force_stage(yoke_registry):
     # no rod: no side force, the whole axial force on the pin; t R = p1 ds/dalpha (virtual work)
     assert np.all(f["side_Pa"].to_numpy() == 0.0)
     np.testing.assert_allclose(f["rod_Pa"], total, rtol=0, atol=0)
-    np.testing.assert_allclose(f["tangential_Pa"] * motion.crank_radius_m, total * motion.torque_arm_m,
-                               atol=1e-9 * np.max(np.abs(total)) * motion.crank_radius_m)
+    np.testing.assert_allclose(
+        f["tangential_Pa"] * motion.crank_radius_m,
+        total * motion.torque_arm_m,
+        atol=1e-9 * np.max(np.abs(total)) * motion.crank_radius_m,
+    )
     forces = result.outputs["forces"].results
     assert abs(forces["inertia_work_relative"]) < 1e-12
     assert abs(forces["mean_torque_deviation_percent"]) < 0.05
 
 
 def test_plugin_report_in_process_uses_only_its_catalogs(yoke_registry):
-    data = {"engine": {"mechanism": "scotch_yoke", "strokes": 2, "rpm": 1500, "bore": "60 mm", "stroke": "80 mm",
-                       "rod_ratio": 0.25}, "scotch_yoke": {"table_step_deg": 45}}
+    data = {
+        "engine": {
+            "mechanism": "scotch_yoke",
+            "strokes": 2,
+            "rpm": 1500,
+            "bore": "60 mm",
+            "stroke": "80 mm",
+            "rod_ratio": 0.25,
+        },
+        "scotch_yoke": {"table_step_deg": 45},
+    }
     result = run_scene(scene_from_dict(data), yoke_registry)
     for language in ("en", "uk", "ru"):
         rendered = render_html(result, yoke_registry, language)
         assert not rendered.missing_translations, (language, rendered.missing_translations)
         # its own letters s, v, j (Stage.symbols) explained under its first equation, from its catalogs
-        meaning = {"en": "piston velocity", "uk": "швидкість поршня", "ru": "скорость поршня"}[language]
+        meaning = {"en": "piston velocity", "uk": "швидкість поршня", "ru": "скорость поршня"}[
+            language
+        ]
         assert f'<span class="where-line"><i>v</i> – {meaning}, ' in rendered.linked_html
     with pytest.raises(Exception, match="scotch_yoke.table_step"):
         run_scene(scene_from_dict({**data, "scotch_yoke": {"table_step": 45}}), yoke_registry)

@@ -47,9 +47,15 @@ def _stroke(scene, inputs) -> StageOutput:
 
 def _stage(name: str = "extra", **changes) -> Stage:
     """A stage after the kinematics that works; ``changes`` replace its parts with broken ones."""
-    fields = dict(name=name, title_key="extra.title", requires=(KINEMATICS,), provides=(),
-                  applies=lambda scene: None, run=_stroke,
-                  render=lambda output, ctx: "<p>extra</p>")
+    fields = dict(
+        name=name,
+        title_key="extra.title",
+        requires=(KINEMATICS,),
+        provides=(),
+        applies=lambda scene: None,
+        run=_stroke,
+        render=lambda output, ctx: "<p>extra</p>",
+    )
     fields.update(changes)
     return Stage(**fields)
 
@@ -86,24 +92,43 @@ def test_a_working_throwaway_stage_runs_so_the_failures_below_are_its_breakages(
     assert "results.json" in files
 
 
-@pytest.mark.parametrize(("changes", "expected"), [
-    (dict(applies=lambda scene: 1 / 0), "applies raised ZeroDivisionError: division by zero"),
-    (dict(applies=lambda scene: 42), "applies returned 42; expected None"),
-    (dict(applies=lambda scene: False), "applies returned False; expected None"),
-    (dict(run=lambda scene, inputs: {}["missing"]), "run raised KeyError: 'missing'"),
-    (dict(run=lambda scene, inputs: None), "run returned None; expected a StageOutput"),
-    (dict(run=lambda scene, inputs: StageOutput(data={"stray": 1})),
-     "run returned data with the keys ['stray']; the stage declares provides=[]"),
-    (dict(run=lambda scene, inputs: StageOutput(results={"x": object()})),
-     "results['x']: <object object"),
-    (dict(run=lambda scene, inputs: StageOutput(results={1: 2.0})),
-     "results: the key 1 is not a str"),
-    (dict(run=lambda scene, inputs: StageOutput(tables={"extra": {"a": [1, 2], "b": [1]}}),
-          tables=("extra",)), "tables['extra']: columns of different lengths [1, 2]"),
-    (dict(run=lambda scene, inputs: StageOutput(tables={"other": {"a": [1]}})),
-     "tables['other']: not declared in Stage.tables"),
-    (dict(run=lambda scene, inputs: StageOutput(notes=["extra.note"])), "notes = ['extra.note']"),
-])
+@pytest.mark.parametrize(
+    ("changes", "expected"),
+    [
+        (dict(applies=lambda scene: 1 / 0), "applies raised ZeroDivisionError: division by zero"),
+        (dict(applies=lambda scene: 42), "applies returned 42; expected None"),
+        (dict(applies=lambda scene: False), "applies returned False; expected None"),
+        (dict(run=lambda scene, inputs: {}["missing"]), "run raised KeyError: 'missing'"),
+        (dict(run=lambda scene, inputs: None), "run returned None; expected a StageOutput"),
+        (
+            dict(run=lambda scene, inputs: StageOutput(data={"stray": 1})),
+            "run returned data with the keys ['stray']; the stage declares provides=[]",
+        ),
+        (
+            dict(run=lambda scene, inputs: StageOutput(results={"x": object()})),
+            "results['x']: <object object",
+        ),
+        (
+            dict(run=lambda scene, inputs: StageOutput(results={1: 2.0})),
+            "results: the key 1 is not a str",
+        ),
+        (
+            dict(
+                run=lambda scene, inputs: StageOutput(tables={"extra": {"a": [1, 2], "b": [1]}}),
+                tables=("extra",),
+            ),
+            "tables['extra']: columns of different lengths [1, 2]",
+        ),
+        (
+            dict(run=lambda scene, inputs: StageOutput(tables={"other": {"a": [1]}})),
+            "tables['other']: not declared in Stage.tables",
+        ),
+        (
+            dict(run=lambda scene, inputs: StageOutput(notes=["extra.note"])),
+            "notes = ['extra.note']",
+        ),
+    ],
+)
 def test_a_stage_that_raises_or_returns_garbage_is_named(changes, expected):
     failure = _failure(_registry(_plugin("bad_plugin", [_stage(**changes)])))
     assert str(failure).startswith("plugin 'bad_plugin' (stage 'extra'): ")
@@ -111,10 +136,13 @@ def test_a_stage_that_raises_or_returns_garbage_is_named(changes, expected):
     assert (failure.plugin, failure.where) == ("bad_plugin", "stage 'extra'")
 
 
-@pytest.mark.parametrize(("render", "expected"), [
-    (lambda output, ctx: output.results["absent"], "render raised KeyError: 'absent'"),
-    (lambda output, ctx: 5, "render returned 5; expected the section's HTML as a str, or None"),
-])
+@pytest.mark.parametrize(
+    ("render", "expected"),
+    [
+        (lambda output, ctx: output.results["absent"], "render raised KeyError: 'absent'"),
+        (lambda output, ctx: 5, "render returned 5; expected the section's HTML as a str, or None"),
+    ],
+)
 def test_a_section_that_fails_to_render_is_named(render, expected):
     failure = _failure(_registry(_plugin("bad_render", [_stage(render=render)])), formats=["html"])
     assert str(failure) == f"plugin 'bad_render' (stage 'extra'): {expected}"
@@ -143,20 +171,31 @@ def _yoke_plugin(run) -> types.ModuleType:
     def applies(scene):
         return None if scene.engine.mechanism == "nan_yoke" else "not a yoke"
 
-    stage = Stage(name="yoke_kinematics", title_key="yoke.title", requires=(),
-                  provides=(KINEMATICS,), applies=applies, run=run, render=lambda output, ctx: None)
+    stage = Stage(
+        name="yoke_kinematics",
+        title_key="yoke.title",
+        requires=(),
+        provides=(KINEMATICS,),
+        applies=applies,
+        run=run,
+        render=lambda output, ctx: None,
+    )
     return _plugin("yoke_plugin", [stage], [Mechanism(name="nan_yoke", summary="a yoke")])
 
 
 def test_contract_data_holding_nan_or_of_the_wrong_type_is_named():
     scene = _scene({"engine": {"mechanism": "nan_yoke"}})
     failure = _failure(_registry(_yoke_plugin(_nan_motion)), ["yoke_kinematics"], scene=scene)
-    assert str(failure).startswith("plugin 'yoke_plugin' (stage 'yoke_kinematics'): run returned "
-                                   "data['kinematics']: piston_velocity_m_s = ")
+    assert str(failure).startswith(
+        "plugin 'yoke_plugin' (stage 'yoke_kinematics'): run returned "
+        "data['kinematics']: piston_velocity_m_s = "
+    )
     assert "2 value(s) not finite (NaN or infinite)" in str(failure)
     listed = _yoke_plugin(lambda scene, inputs: StageOutput(data={KINEMATICS: [1.0]}))
     failure = _failure(_registry(listed), ["yoke_kinematics"], scene=scene)
-    assert "data['kinematics']: [1.0] is not a crankdyn.plugin.contracts.PistonMotion" in str(failure)
+    assert "data['kinematics']: [1.0] is not a crankdyn.plugin.contracts.PistonMotion" in str(
+        failure
+    )
 
 
 @pytest.mark.parametrize("name", ["petrol-1cyl", "kinematics-only"])
@@ -181,20 +220,28 @@ def _scene_error():
     raise SceneError(Problem("x", 1, "none"))
 
 
-@pytest.mark.parametrize(("hook", "expected"), [
-    (lambda: 1 / 0, "the hook raised ZeroDivisionError: division by zero"),
-    (lambda: 5, "the hook returned 5; expected a list"),
-    (lambda: sys.exit(3), "the hook raised SystemExit: 3"),
-    (_scene_error, "the hook raised SceneError: invalid scene: 1 problem(s) - x = 1: none"),
-    (lambda: [object()], "the hook returned <object object"),
-    (lambda: [_stage(requires="kinematics")],
-     "stage 'extra': requires = 'kinematics'; expected a tuple of str"),
-    (lambda: [_stage(run="not a function")],
-     "stage 'extra': run = 'not a function'; expected a function"),
-])
+@pytest.mark.parametrize(
+    ("hook", "expected"),
+    [
+        (lambda: 1 / 0, "the hook raised ZeroDivisionError: division by zero"),
+        (lambda: 5, "the hook returned 5; expected a list"),
+        (lambda: sys.exit(3), "the hook raised SystemExit: 3"),
+        (_scene_error, "the hook raised SceneError: invalid scene: 1 problem(s) - x = 1: none"),
+        (lambda: [object()], "the hook returned <object object"),
+        (
+            lambda: [_stage(requires="kinematics")],
+            "stage 'extra': requires = 'kinematics'; expected a tuple of str",
+        ),
+        (
+            lambda: [_stage(run="not a function")],
+            "stage 'extra': run = 'not a function'; expected a function",
+        ),
+    ],
+)
 def test_a_plugin_whose_hook_fails_is_left_out_and_listed_as_broken(hook, expected):
-    registry = _registry(_plugin("hooked", stages_hook=hook),
-                         _plugin("fine_plugin", [_stage("fine")]))
+    registry = _registry(
+        _plugin("hooked", stages_hook=hook), _plugin("fine_plugin", [_stage("fine")])
+    )
     assert registry.broken["hooked"].startswith("plugin 'hooked' (hook crankdyn_stages): ")
     assert expected in registry.broken["hooked"]
     assert "fine" in registry.stages and "kinematics" in registry.stages  # the others work
@@ -209,9 +256,11 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
     bad_toml = tmp_path / "extra.en.toml"
     bad_toml.write_text('[extra]\ntitle = "Extra\n', encoding="utf-8")
     not_texts = tmp_path / "other.en.toml"
-    not_texts.write_text('[other]\ntitle = 5\n', encoding="utf-8")
+    not_texts.write_text("[other]\ntitle = 5\n", encoding="utf-8")
     cataloged = [types.ModuleType(name) for name in ("bad_toml", "not_texts", "missing")]
-    for module, path in zip(cataloged, (bad_toml, not_texts, tmp_path / "absent.toml"), strict=True):
+    for module, path in zip(
+        cataloged, (bad_toml, not_texts, tmp_path / "absent.toml"), strict=True
+    ):
         module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
     mechanism = Mechanism(name="m", summary="m", params_model=_Options)
     modelled = _plugin("modelled", mechanisms=[mechanism])
@@ -219,8 +268,10 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
     assert "not a readable TOML file (TOMLDecodeError: " in registry.broken["bad_toml"]
     assert "other.title = 5 is not a text" in registry.broken["not_texts"]
     assert "absent.toml' is not a file" in registry.broken["missing"]
-    assert ("params_model = <class 'test_plugin_failures._Options'>; expected a pydantic"
-            in registry.broken["modelled"])
+    assert (
+        "params_model = <class 'test_plugin_failures._Options'>; expected a pydantic"
+        in registry.broken["modelled"]
+    )
     assert all(str(c.path) not in {str(bad_toml), str(not_texts)} for c in registry.catalogs)
     assert registry.catalogs  # the built-in ones
 
@@ -249,12 +300,16 @@ def broken_install(tmp_path, monkeypatch):
     return site
 
 
-def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_install, tmp_path,
-                                                                     capsys):
+def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(
+    broken_install, tmp_path, capsys
+):
     registry = crankdyn.plugin.registry.default_registry()
-    assert registry.broken == {"friction_plugin": (
-        "plugin 'friction_plugin' (import): import raised ModuleNotFoundError: "
-        "No module named 'crankdyn_friction_dependency_not_installed'")}
+    assert registry.broken == {
+        "friction_plugin": (
+            "plugin 'friction_plugin' (import): import raised ModuleNotFoundError: "
+            "No module named 'crankdyn_friction_dependency_not_installed'"
+        )
+    }
     assert "kinematics" in registry.stages
 
     assert cli.main(["plugins"]) == 0
@@ -271,16 +326,21 @@ def test_a_plugin_that_fails_to_import_is_listed_and_the_others_work(broken_inst
 
     # a stage it might have provided: refused, naming the broken plugin; nothing written
     refused = tmp_path / "refused"
-    assert cli.main(["report", str(scene), "-o", str(refused), "--format", "json",
-                     "--stages", "friction"]) == 2
+    assert (
+        cli.main(
+            ["report", str(scene), "-o", str(refused), "--format", "json", "--stages", "friction"]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "stages = 'friction': unknown stage" in err
     assert "installed but not loaded: plugin 'friction_plugin' (import)" in err
     assert "Traceback" not in err
     assert not refused.exists()
     # a mechanism it might have provided: the same
-    yoke = write_scene(tmp_path / "yoke.toml",
-                       modified(SCENE, {"engine": {"mechanism": "friction_yoke"}}))
+    yoke = write_scene(
+        tmp_path / "yoke.toml", modified(SCENE, {"engine": {"mechanism": "friction_yoke"}})
+    )
     assert cli.main(["check", str(yoke)]) == 2
     err = capsys.readouterr().err
     assert "engine.mechanism = 'friction_yoke': unknown mechanism" in err
@@ -297,32 +357,39 @@ def test_an_entry_point_that_raises_at_import_through_importlib_metadata(monkeyp
             raise RuntimeError("configuration file missing")
 
     real = importlib.metadata.entry_points
+
     def entry_points(**selection):
         found = real(**selection)
         return [*found, Failing()] if selection.get("group") == "crankdyn" else found
 
     monkeypatch.setattr(importlib.metadata, "entry_points", entry_points)
     registry = crankdyn.plugin.registry.default_registry()
-    assert registry.broken == {"exploding": "plugin 'exploding' (import): import raised "
-                               "RuntimeError: configuration file missing"}
+    assert registry.broken == {
+        "exploding": "plugin 'exploding' (import): import raised "
+        "RuntimeError: configuration file missing"
+    }
     assert "kinematics" in registry.stages
 
 
 # ---------------------------------------------------------------- the command line and the API
-def test_the_command_line_names_the_plugin_with_exit_2_and_writes_nothing(tmp_path, monkeypatch,
-                                                                          capsys):
+def test_the_command_line_names_the_plugin_with_exit_2_and_writes_nothing(
+    tmp_path, monkeypatch, capsys
+):
     registry = _registry(_plugin("bad_render", [_stage(render=lambda output, ctx: 1 / 0)]))
     monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: registry)
     scene = write_scene(tmp_path / "s.toml", example_data(SCENE))
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.txt").write_text("mine", encoding="utf-8")
-    code = cli.main(["report", str(scene), "-o", str(out), "--format", "html,json",
-                     "--stages", "extra"])
+    code = cli.main(
+        ["report", str(scene), "-o", str(out), "--format", "html,json", "--stages", "extra"]
+    )
     err = capsys.readouterr().err
     assert code == 2
-    assert err == ("crankdyn: plugin 'bad_render' (stage 'extra'): render raised "
-                   "ZeroDivisionError: division by zero\n")
+    assert err == (
+        "crankdyn: plugin 'bad_render' (stage 'extra'): render raised "
+        "ZeroDivisionError: division by zero\n"
+    )
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
 
 
@@ -333,8 +400,9 @@ def test_the_python_api_raises_the_documented_error_naming_the_plugin(monkeypatc
     with pytest.raises(PluginError) as caught:
         crankdyn.api.run(scene, stages=["extra"])
     assert isinstance(caught.value, PluginFailure)
-    assert str(caught.value) == ("plugin 'bad_run' (stage 'extra'): run raised "
-                                 "ZeroDivisionError: division by zero")
+    assert str(caught.value) == (
+        "plugin 'bad_run' (stage 'extra'): run raised ZeroDivisionError: division by zero"
+    )
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "1e400", str(MAX_STAGE_TIMEOUT_S * 2)])
@@ -399,28 +467,52 @@ def _environment(site: Path) -> dict:
     return env
 
 
-@pytest.mark.parametrize(("stage", "step", "formats"), [
-    ("slow", "run", "json"),  # the stages run in the command's process
-    ("slow", "run", "html,json"),  # in a forked child while the rendering gets ready
-    ("slow_study", "run", "html,json"),  # a study, in a forked child while the report is rendered
-    ("slow_render", "render", "html"),
-])
-def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(stage, step, formats,
-                                                                     tmp_path):
+@pytest.mark.parametrize(
+    ("stage", "step", "formats"),
+    [
+        ("slow", "run", "json"),  # the stages run in the command's process
+        ("slow", "run", "html,json"),  # in a forked child while the rendering gets ready
+        (
+            "slow_study",
+            "run",
+            "html,json",
+        ),  # a study, in a forked child while the report is rendered
+        ("slow_render", "render", "html"),
+    ],
+)
+def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(
+    stage, step, formats, tmp_path
+):
     site = tmp_path / "site"
     site.mkdir()
     _install(site, "slow_plugin", HANGING)
     scene = write_scene(tmp_path / "s.toml", example_data(SCENE))
     out = tmp_path / "out"
     # the subprocess's own timeout only keeps a failing test from hanging the suite
-    command = [sys.executable, "-m", "crankdyn", "report", str(scene), "-o", str(out),
-               "--format", formats, "--stages", stage, "--timeout", "1"]
-    done = subprocess.run(command, capture_output=True, text=True, env=_environment(site),
-                          timeout=300)
+    command = [
+        sys.executable,
+        "-m",
+        "crankdyn",
+        "report",
+        str(scene),
+        "-o",
+        str(out),
+        "--format",
+        formats,
+        "--stages",
+        stage,
+        "--timeout",
+        "1",
+    ]
+    done = subprocess.run(
+        command, capture_output=True, text=True, env=_environment(site), timeout=300
+    )
     assert done.returncode == 2, done.stderr
-    assert done.stderr == (f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not "
-                           "finish within the limit of 1 s a stage may take "
-                           "(crankdyn report --timeout SECONDS)\n")
+    assert done.stderr == (
+        f"crankdyn: plugin 'slow_plugin' (stage '{stage}'): {step} did not "
+        "finish within the limit of 1 s a stage may take "
+        "(crankdyn report --timeout SECONDS)\n"
+    )
     assert not out.exists()
 
 
@@ -437,12 +529,19 @@ def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_pa
         print(registry.broken["stuck_plugin"])
         print("kinematics" in registry.stages)
     """)
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          env=_environment(site), timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        env=_environment(site),
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
-    assert done.stdout == ("plugin 'stuck_plugin' (import): import did not finish within the "
-                           "limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n"
-                           "True\n")
+    assert done.stdout == (
+        "plugin 'stuck_plugin' (import): import did not finish within the "
+        "limit of 1 s a stage may take (crankdyn report --timeout SECONDS)\n"
+        "True\n"
+    )
 
 
 def test_check_applies_the_same_limit(tmp_path):
@@ -450,11 +549,18 @@ def test_check_applies_the_same_limit(tmp_path):
     site.mkdir()
     _install(site, "slow_plugin", HANGING)
     scene = write_scene(tmp_path / "s.toml", modified(SCENE, {"analysis": {"stages": ["slow"]}}))
-    done = subprocess.run([sys.executable, "-m", "crankdyn", "check", str(scene), "--timeout", "1"],
-                          capture_output=True, text=True, env=_environment(site), timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-m", "crankdyn", "check", str(scene), "--timeout", "1"],
+        capture_output=True,
+        text=True,
+        env=_environment(site),
+        timeout=300,
+    )
     assert done.returncode == 2, done.stderr
-    assert ("plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit of 1 s"
-            in done.stderr)
+    assert (
+        "plugin 'slow_plugin' (stage 'slow'): run did not finish within the limit of 1 s"
+        in done.stderr
+    )
 
 
 def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_path):
@@ -466,7 +572,7 @@ def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_pa
         from crankdyn.errors import StageTimeLimit
         from crankdyn.plugin.guard import stage_time_limit
 
-        scene = crankdyn.load({str(tmp_path / 's.toml')!r})
+        scene = crankdyn.load({str(tmp_path / "s.toml")!r})
         try:
             with stage_time_limit(1):
                 crankdyn.run(scene, stages=["slow"])
@@ -474,8 +580,13 @@ def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_pa
             print(exc.plugin, exc.where)
     """)
     write_scene(tmp_path / "s.toml", example_data(SCENE))
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          env=_environment(site), timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        env=_environment(site),
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     assert done.stdout == "slow_plugin stage 'slow'\n"
 

@@ -24,12 +24,21 @@ REGISTRY = default_registry()
 
 
 def _stage(requires, applies=lambda scene: None, name="friction"):
-    return Stage(name=name, title_key="friction.title", requires=tuple(requires), provides=(), applies=applies,
-                 run=lambda scene, inputs: StageOutput(results={"x": 1.0}), render=lambda output, ctx: "")
+    return Stage(
+        name=name,
+        title_key="friction.title",
+        requires=tuple(requires),
+        provides=(),
+        applies=applies,
+        run=lambda scene, inputs: StageOutput(results={"x": 1.0}),
+        render=lambda output, ctx: "",
+    )
 
 
 def _with(*stages: Stage) -> Registry:
-    registry = dataclasses.replace(REGISTRY, stages=dict(REGISTRY.stages), owner=dict(REGISTRY.owner))
+    registry = dataclasses.replace(
+        REGISTRY, stages=dict(REGISTRY.stages), owner=dict(REGISTRY.owner)
+    )
     for stage in stages:
         registry.stages[stage.name] = stage
         registry.owner["stage:" + stage.name] = "test"
@@ -41,7 +50,10 @@ def test_a_requirement_no_registered_stage_provides_refuses_the_plan():
     with pytest.raises(PluginError) as caught:
         plan(scene, _with(_stage(["kinematics", "force"])))
     message = str(caught.value)
-    assert "stage 'friction' requires 'force', which no registered stage provides; did you mean 'forces'?" in message
+    assert (
+        "stage 'friction' requires 'force', which no registered stage provides; did you mean 'forces'?"
+        in message
+    )
     assert "Known keys" in message and "forces" in message.split("Known keys")[1]
     assert "'kinematics'" not in message  # a key that is provided is not named as unknown
     with pytest.raises(PluginError, match="Stage.services, not Stage.requires"):
@@ -58,7 +70,9 @@ def test_a_requirement_provided_by_a_stage_that_does_not_apply_still_leaves_the_
 
 def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypatch, capsys):
     scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
-    monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["force"])))
+    monkeypatch.setattr(
+        crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["force"]))
+    )
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "json", "-q"]) == 2
     err = capsys.readouterr().err
     assert "stage 'friction' requires 'force'" in err and "Traceback" not in err
@@ -67,19 +81,41 @@ def test_the_command_line_says_so_in_one_message_with_exit_2(tmp_path, monkeypat
 
 # ------------------------------------------------------------------ missing translations (crankdyn report)
 
-def test_the_report_command_warns_once_about_keys_missing_in_its_language(tmp_path, monkeypatch, capsys):
+
+def test_the_report_command_warns_once_about_keys_missing_in_its_language(
+    tmp_path, monkeypatch, capsys
+):
     # the stage's title_key is in no catalog: the report is written, with a warning naming it
     scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
-    monkeypatch.setattr(crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["kinematics"])))
+    monkeypatch.setattr(
+        crankdyn.plugin.registry, "default_registry", lambda: _with(_stage(["kinematics"]))
+    )
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "no translation" in line]
-    assert warnings == ["crankdyn: warning: the report in 'en' has no translation for 1 key(s): friction.title"]
+    assert warnings == [
+        "crankdyn: warning: the report in 'en' has no translation for 1 key(s): friction.title"
+    ]
     assert (tmp_path / "out" / "report.html").is_file()
 
 
 def test_a_report_without_missing_keys_gives_no_warning(tmp_path, capsys):
     scene = write_scene(tmp_path / "s.toml", example_data("kinematics-only"))
-    assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q", "--lang", "uk"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(scene),
+                "-o",
+                str(tmp_path / "out"),
+                "--format",
+                "html",
+                "-q",
+                "--lang",
+                "uk",
+            ]
+        )
+        == 0
+    )
     assert "no translation" not in capsys.readouterr().err
 
 
@@ -91,33 +127,67 @@ def test_the_missing_keys_line_names_ten_and_counts_the_rest():
 
 # ------------------------------------------------------------------ answer-key columns whose key is absent
 
-def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_per_batch(tmp_path, monkeypatch,
-                                                                                          capsys):
+
+def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_per_batch(
+    tmp_path, monkeypatch, capsys
+):
     kinematics = REGISTRY.stages["kinematics"]
-    typo = dataclasses.replace(kinematics, answer_columns=(*kinematics.answer_columns,
-                                                           AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")))
-    monkeypatch.setattr(crankdyn.batch.variants, "_worker_registry", _with(typo))  # forked workers inherit it
+    typo = dataclasses.replace(
+        kinematics,
+        answer_columns=(*kinematics.answer_columns, AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")),
+    )
+    monkeypatch.setattr(
+        crankdyn.batch.variants, "_worker_registry", _with(typo)
+    )  # forked workers inherit it
     variants = tmp_path / "v.csv"
     variants.write_text("variant,engine.rpm\na,4000\nb,5000\n", encoding="utf-8")
     out = tmp_path / "out"
-    assert main(["batch", str(variants), "--base", str(examples_dir() / "kinematics-only.toml"), "-o", str(out),
-                 "--format", "json", "--jobs", "1", "-q"]) == 0
+    assert (
+        main(
+            [
+                "batch",
+                str(variants),
+                "--base",
+                str(examples_dir() / "kinematics-only.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "json",
+                "--jobs",
+                "1",
+                "-q",
+            ]
+        )
+        == 0
+    )
     warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
     assert len(warnings) == 1 and warnings[0].startswith(
         "crankdyn batch: warning: answer-key column 'v_top_m_s' left out: no variant's 'kinematics' results hold "
-        "'v_top_m_s' (a typo in AnswerColumn.key")
+        "'v_top_m_s' (a typo in AnswerColumn.key"
+    )
     header = (out / "answer_key.csv").read_text(encoding="utf-8").splitlines()[0]
     assert "v_max_m_s" in header and "v_top_m_s" not in header
 
 
 def test_a_key_absent_in_some_variants_only_or_of_a_stage_that_did_not_run_is_not_warned_about():
-    columns = [KeyColumn("forces", AnswerColumn("p_MPa", "peak.p_Pa")), KeyColumn("kinematics", AnswerColumn("v", "v"))]
-    ran = {"stages_run": ["forces", "kinematics"], "forces": {"peak": {"p_Pa": None}}, "kinematics": {}}
+    columns = [
+        KeyColumn("forces", AnswerColumn("p_MPa", "peak.p_Pa")),
+        KeyColumn("kinematics", AnswerColumn("v", "v")),
+    ]
+    ran = {
+        "stages_run": ["forces", "kinematics"],
+        "forces": {"peak": {"p_Pa": None}},
+        "kinematics": {},
+    }
     assert absent(ran, columns) == ["v"]  # a key present with no number is not absent
-    assert absent({"stages_run": ["kinematics"], "kinematics": {"v": 1.0}}, columns) == []  # forces did not run
+    assert (
+        absent({"stages_run": ["kinematics"], "kinematics": {"v": 1.0}}, columns) == []
+    )  # forces did not run
     assert unanswered(columns, [(["kinematics"], ["v"]), (["kinematics"], [])]) == []
     [warning] = unanswered(columns, [(["kinematics"], ["v"]), (["forces"], [])])
-    assert warning.startswith("answer-key column 'v' left out: no variant's 'kinematics' results hold 'v'")
+    assert warning.startswith(
+        "answer-key column 'v' left out: no variant's 'kinematics' results hold 'v'"
+    )
 
 
 @pytest.mark.parametrize("example", ["diesel-rk-trace.toml", "petrol-1cyl.toml"])

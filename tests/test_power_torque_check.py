@@ -16,8 +16,12 @@ def test_indicated_power_of_a_four_stroke_four_cylinder():
     assert cs.indicated_power_kW(340.0, 4, 4, 6000.0) == pytest.approx(340.0 * 4 * 50 / 1000)
 
 
-@pytest.mark.parametrize(("work_J", "cylinders", "strokes", "rpm"), [(340.0, 1, 4, 5600.0), (1200.0, 6, 2, 1600.0)])
-def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(work_J, cylinders, strokes, rpm):
+@pytest.mark.parametrize(
+    ("work_J", "cylinders", "strokes", "rpm"), [(340.0, 1, 4, 5600.0), (1200.0, 6, 2, 1600.0)]
+)
+def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(
+    work_J, cylinders, strokes, rpm
+):
     from_work = work_J * cylinders / (2 * math.pi * strokes / 2)
     from_power = cs.torque_from_power_Nm(work_J, cylinders, strokes, rpm)
     assert from_power / from_work == pytest.approx(9555.0 / (30000.0 / math.pi), rel=1e-12)
@@ -32,7 +36,10 @@ def test_effective_output_against_the_indicated_one():
     assert cs.effective_output(-1.0, 50000.0, 100.0)["mechanical_efficiency"] is None
 
 
-@pytest.mark.parametrize(("example", "stage", "n_e_W"), [("inline4-petrol", "torque", 55e3), ("petrol-1cyl-uk", "forces", 13.5e3)])
+@pytest.mark.parametrize(
+    ("example", "stage", "n_e_W"),
+    [("inline4-petrol", "torque", 55e3), ("petrol-1cyl-uk", "forces", 13.5e3)],
+)
 def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example, stage, n_e_W):
     """The scene's N_e (engine.effective_power) against N_i from the indicator work: η_m = N_e/N_i
     with N_i = W_i·i·n/(60·τ/2), and M_e = η_m·M_i with M_i = W/(2π·τ/2), the mean torque from
@@ -46,8 +53,9 @@ def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example
     n_i = work_all * e.rpm / 60 / (e.strokes / 2)
     assert r["effective_power_W"] == n_e_W
     assert r["mechanical_efficiency"] == pytest.approx(n_e_W / n_i, rel=1e-12)
-    assert r["mean_effective_torque_Nm"] == pytest.approx(r["mechanical_efficiency"] * work_all / (2 * math.pi * e.strokes / 2),
-                                                         rel=1e-12)
+    assert r["mean_effective_torque_Nm"] == pytest.approx(
+        r["mechanical_efficiency"] * work_all / (2 * math.pi * e.strokes / 2), rel=1e-12
+    )
     html = shared_html(example, language="uk").html
     assert "механічний ККД <i>η</i><sub>м</sub>" in html
     assert "<i>N</i><sub>e</sub></td>" in html  # the given data's row
@@ -64,7 +72,9 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
 
     text = (examples_dir() / "inline4-petrol.toml").read_text(encoding="utf-8")
     scene_file = tmp_path / "scene.toml"
-    scene_file.write_text(text.replace('effective_power = "55 kW"', 'effective_power = "0.08 MW"'), encoding="utf-8")
+    scene_file.write_text(
+        text.replace('effective_power = "55 kW"', 'effective_power = "0.08 MW"'), encoding="utf-8"
+    )
     registry = default_registry()
     scene = load_scene(scene_file)
     assert scene.engine.effective_power == pytest.approx(80e3)
@@ -84,21 +94,31 @@ def test_each_main_journals_torque_range_and_amplitude():
     result = shared_run("inline4-petrol")
     out = result.outputs["torque"]
     f = out.tables.arrays("torque")
-    area = math.pi * result.scene.engine.bore ** 2 / 4
+    area = math.pi * result.scene.engine.bore**2 / 4
     radius = result.scene.engine.stroke / 2
     for k, journal in enumerate(out.results["journals"], start=1):
         torque = np.asarray(f[f"journal{k}_torque_Pa"]) * radius * area
         assert journal["max_Nm"] == pytest.approx(torque.max(), rel=1e-12)
         assert journal["min_Nm"] == pytest.approx(torque.min(), rel=1e-12)
-        assert journal["amplitude_Nm"] == pytest.approx((torque.max() - torque.min()) / 2, rel=1e-12)
+        assert journal["amplitude_Nm"] == pytest.approx(
+            (torque.max() - torque.min()) / 2, rel=1e-12
+        )
         assert journal["max_abs_Nm"] == pytest.approx(np.abs(torque).max(), rel=1e-12)
     last = out.results["journals"][-1]
     assert last["max_Nm"] == pytest.approx(out.results["max_Nm"], rel=1e-12)
     assert last["min_Nm"] == pytest.approx(out.results["min_Nm"], rel=1e-12)
     html = shared_html("inline4-petrol", language="uk").html
-    assert "Набіжні крутні моменти на корінних шийках: найбільший і найменший за цикл та амплітуда" in html
+    assert (
+        "Набіжні крутні моменти на корінних шийках: найбільший і найменший за цикл та амплітуда"
+        in html
+    )
     # the journals' names explained where they first appear (the bearings section explained them
     # four pages later), and μ named where the section states it (the conclusions name it μ)
-    assert "(шийку названо номерами колін, між якими вона лежить: 1–2 – між колінами 1 і 2; 0 – вільний кінець вала, номер після останнього коліна – кінець з боку маховика)" in html
-    assert "коефіцієнт нерівномірності крутного моменту <i>μ</i>" in html or \
-        "коефіцієнт нерівномірності крутного моменту μ" in html
+    assert (
+        "(шийку названо номерами колін, між якими вона лежить: 1–2 – між колінами 1 і 2; 0 – вільний кінець вала, номер після останнього коліна – кінець з боку маховика)"
+        in html
+    )
+    assert (
+        "коефіцієнт нерівномірності крутного моменту <i>μ</i>" in html
+        or "коефіцієнт нерівномірності крутного моменту μ" in html
+    )

@@ -33,18 +33,34 @@ def log_uniform(low, high):
 @st.composite
 def scenes(draw):
     two_stroke = draw(st.booleans())
-    cylinders = draw(st.sampled_from([1, 2, 3, 4, 5, 6, 8]))  # the 1-deg step must divide the firing interval
+    cylinders = draw(
+        st.sampled_from([1, 2, 3, 4, 5, 6, 8])
+    )  # the 1-deg step must divide the firing interval
     masses = {k: f"{draw(log_uniform(1e-6, 1e3)):.6g} kg" for k in ("piston_group", "rod")}
-    masses.update({k: f"{draw(st.one_of(st.just(0.0), log_uniform(1e-6, 1e3))):.6g} kg"
-                   for k in ("crank_pin", "crank_web")})
+    masses.update(
+        {
+            k: f"{draw(st.one_of(st.just(0.0), log_uniform(1e-6, 1e3))):.6g} kg"
+            for k in ("crank_pin", "crank_web")
+        }
+    )
     masses["rod_cm_fraction"] = draw(st.floats(0.05, 0.95))
-    engine = {"rod_ratio": draw(st.floats(0.001, 0.99)), "rpm": draw(log_uniform(1.0, 20000.0)),
-              "bore": f"{draw(st.floats(5.0, 500.0)):.4g} mm", "stroke": f"{draw(st.floats(5.0, 800.0)):.4g} mm",
-              "cylinders": cylinders, "firing_order": list(range(1, cylinders + 1)) if cylinders > 1 else None}
+    engine = {
+        "rod_ratio": draw(st.floats(0.001, 0.99)),
+        "rpm": draw(log_uniform(1.0, 20000.0)),
+        "bore": f"{draw(st.floats(5.0, 500.0)):.4g} mm",
+        "stroke": f"{draw(st.floats(5.0, 800.0)):.4g} mm",
+        "cylinders": cylinders,
+        "firing_order": list(range(1, cylinders + 1)) if cylinders > 1 else None,
+    }
     kinematics = draw(st.sampled_from(["exact", "approximate"]))
-    data = modified("two-stroke-1cyl" if two_stroke else "petrol-1cyl",
-                    {"engine": engine, "masses": masses,
-                     "analysis": {"kinematics": kinematics, "stages": ["forces", "torque"]}})
+    data = modified(
+        "two-stroke-1cyl" if two_stroke else "petrol-1cyl",
+        {
+            "engine": engine,
+            "masses": masses,
+            "analysis": {"kinematics": kinematics, "stages": ["forces", "torque"]},
+        },
+    )
     return scene_from_dict(data, base_dir=examples_dir())
 
 
@@ -83,8 +99,12 @@ def test_mean_torque_is_indicated_work_over_the_cycle_angle(scene):
     assert abs(forces["mean_torque_deviation_percent"]) < tol
     assert abs(torque["mean_deviation_percent"]) < tol
     # the engine's mean torque is the cylinders' sum (central rods, every cylinder alike)
-    assert math.isclose(torque["mean_Nm"], scene.engine.cylinders * forces["mean_torque_Nm"], rel_tol=1e-9,
-                        abs_tol=1e-12 * abs(forces["torque_max_Nm"]))
+    assert math.isclose(
+        torque["mean_Nm"],
+        scene.engine.cylinders * forces["mean_torque_Nm"],
+        rel_tol=1e-9,
+        abs_tol=1e-12 * abs(forces["torque_max_Nm"]),
+    )
 
 
 @SETTINGS
@@ -101,15 +121,26 @@ def test_reciprocating_forces_are_symmetric(scene):
     per_rev = int(round(360.0 / scene.analysis.angle_step_deg))
     half = per_rev // 2
     k = np.arange(per_rev)
-    np.testing.assert_allclose(inertia[(half + k) % n], inertia[(half - k) % n], rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(
+        inertia[(half + k) % n], inertia[(half - k) % n], rtol=0, atol=1e-9 * scale
+    )
     if scene.engine.strokes == 4:  # the motion repeats every revolution
         np.testing.assert_allclose(inertia, np.roll(inertia, per_rev), rtol=0, atol=1e-9 * scale)
     if scene.analysis.kinematics == "approximate":  # eq. (18) = (19) + (20) for the two-term form
-        np.testing.assert_allclose(inertia, frame["inertia_first_order_Pa"] + frame["inertia_second_order_Pa"],
-                                   rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(
+            inertia,
+            frame["inertia_first_order_Pa"] + frame["inertia_second_order_Pa"],
+            rtol=0,
+            atol=1e-9 * scale,
+        )
     # at TDC p_j = -m_s R w^2 (1 + lambda) / F (both forms agree there)
     r = result.outputs["forces"].results
     e = scene.engine
-    expected = -r["reciprocating_mass_kg"] * e.crank_radius_m * e.angular_velocity_rad_s**2 * (1 + e.rod_ratio_value) \
+    expected = (
+        -r["reciprocating_mass_kg"]
+        * e.crank_radius_m
+        * e.angular_velocity_rad_s**2
+        * (1 + e.rod_ratio_value)
         / r["piston_area_m2"]
+    )
     assert math.isclose(inertia[0], expected, rel_tol=1e-12)

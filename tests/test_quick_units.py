@@ -9,8 +9,11 @@ import pytest
 from crankdyn.scene import units
 from crankdyn.scene.units import FACTORS, quick_quantity
 
-MAGNITUDES = ["82", "0.085", "1e5", "1.2e5", "7850", "0.45", ".5", "0.006", "1E-3", "-3", "+2.5", "100"] + \
-    [repr(random.Random(7).uniform(0, 1000)) for _ in range(5)] + [str(n) for n in random.Random(8).sample(range(1, 10**6), 5)]
+MAGNITUDES = (
+    ["82", "0.085", "1e5", "1.2e5", "7850", "0.45", ".5", "0.006", "1E-3", "-3", "+2.5", "100"]
+    + [repr(random.Random(7).uniform(0, 1000)) for _ in range(5)]
+    + [str(n) for n in random.Random(8).sample(range(1, 10**6), 5)]
+)
 
 
 def _pint(text: str, kind: str) -> float:
@@ -25,9 +28,20 @@ def test_every_tabled_unit_gives_pints_value_exactly(kind):
                 assert quick_quantity(text, kind) == _pint(text, kind), text
 
 
-@pytest.mark.parametrize("text, kind", [("82 kg", "length"), ("82 inch", "length"), ("82", "length"),
-                                        ("mm", "length"), ("82 mm mm", "length"), ("1.2.3 mm", "length"),
-                                        ("82 MPA", "pressure"), ("0.45 lb", "mass"), ("1e999 mm", "length")])
+@pytest.mark.parametrize(
+    "text, kind",
+    [
+        ("82 kg", "length"),
+        ("82 inch", "length"),
+        ("82", "length"),
+        ("mm", "length"),
+        ("82 mm mm", "length"),
+        ("1.2.3 mm", "length"),
+        ("82 MPA", "pressure"),
+        ("0.45 lb", "mass"),
+        ("1e999 mm", "length"),
+    ],
+)
 def test_anything_else_is_left_to_pint(text, kind):
     assert quick_quantity(text, kind) is None
 

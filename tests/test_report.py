@@ -24,8 +24,10 @@ def _render(name="petrol-1cyl", language="en", changes=None):
     return shared_run(name, changes), shared_html(name, changes, language)
 
 
-@pytest.mark.parametrize("language, table, figure, sep", [("en", "Table 2.1 —", "Figure 2.1 —", "."),
-                                                           ("uk", "Таблиця 2.1 –", "Рисунок 2.1 –", ",")])
+@pytest.mark.parametrize(
+    "language, table, figure, sep",
+    [("en", "Table 2.1 —", "Figure 2.1 —", "."), ("uk", "Таблиця 2.1 –", "Рисунок 2.1 –", ",")],
+)
 def test_html_structure_and_language(language, table, figure, sep):
     result, rendered = _render(language=language)
     html = rendered.html
@@ -43,7 +45,9 @@ def test_html_structure_and_language(language, table, figure, sep):
     assert html.count('href="#sec-') >= 6
     assert html.count("data:image/svg+xml;base64,") >= 6
     assert f"0{sep}28<" in html  # lambda in the input table, with the language's decimal separator
-    assert f"82{sep}000" not in html and f"0{sep}2800</td>" not in html  # the given data without padding zeros
+    assert (
+        f"82{sep}000" not in html and f"0{sep}2800</td>" not in html
+    )  # the given data without padding zeros
     assert "−" in html  # typographic minus in numbers
 
 
@@ -69,7 +73,9 @@ def test_kinematics_only_report_leaves_sections_out():
 
 
 def test_scene_text_is_escaped():
-    _, rendered = _render(changes={"report": {"title": "<script>alert('x')</script>", "student": "A & B"}})
+    _, rendered = _render(
+        changes={"report": {"title": "<script>alert('x')</script>", "student": "A & B"}}
+    )
     html = rendered.linked_html  # the text (the figures, inlined as data: URIs, hold no scene text)
     assert "<script>alert" not in html
     assert "&lt;script&gt;alert" in html
@@ -84,17 +90,20 @@ def test_url_fetcher_only_reaches_package_assets(tmp_path):
     assert not is_allowed((tmp_path / "x.png").as_uri())
     fetcher = _fetcher()
     with pytest.raises(BlockedResource):
-        fetcher.fetch("file:///etc/hostname") if hasattr(fetcher, "fetch") else fetcher("file:///etc/hostname")
+        fetcher.fetch("file:///etc/hostname") if hasattr(fetcher, "fetch") else fetcher(
+            "file:///etc/hostname"
+        )
 
 
 def test_pdf_with_hostile_scene_text_does_not_fetch(tmp_path):
     from crankdyn.report.pdf import html_to_pdf
 
-    html = ('<html><body><p>x</p><img src="file:///etc/passwd"><img src="http://127.0.0.1:9/a.png">'
-            '<link rel="stylesheet" href="file:///etc/ssl/openssl.cnf"></body></html>')
+    html = (
+        '<html><body><p>x</p><img src="file:///etc/passwd"><img src="http://127.0.0.1:9/a.png">'
+        '<link rel="stylesheet" href="file:///etc/ssl/openssl.cnf"></body></html>'
+    )
     pdf = html_to_pdf(html)
     assert pdf.startswith(b"%PDF") and b"root:" not in pdf
-
 
 
 # The PDF itself (structure, typography, fonts, page images): tests/test_note.py renders one per language.
@@ -106,17 +115,41 @@ def test_results_json_keys_are_documented(tmp_path):
     readme = documentation_text()
     for example in ("petrol-1cyl", "diesel-rk-trace", "kinematics-only"):
         out = tmp_path / example
-        assert main(["report", str(examples_dir() / f"{example}.toml"), "-o", str(out), "--format", "json", "-q"]) == 0
+        assert (
+            main(
+                [
+                    "report",
+                    str(examples_dir() / f"{example}.toml"),
+                    "-o",
+                    str(out),
+                    "--format",
+                    "json",
+                    "-q",
+                ]
+            )
+            == 0
+        )
         document = json.loads((out / "results.json").read_text(encoding="utf-8"))
-        assert [p for p in out.iterdir() if p.name != ".crankdyn-manifest.json"] == [out / "results.json"]
+        assert [p for p in out.iterdir() if p.name != ".crankdyn-manifest.json"] == [
+            out / "results.json"
+        ]
         for key, value in document.items():
             assert f"`{key}`" in readme, f"{key} not in the results.json reference"
             if isinstance(value, dict) and key not in ("stages_skipped", "timing_s"):
                 for sub in value:
-                    generic = re.sub(r"^(total|side|rod|tangential|radial|resultant|torque)_(max|min)_",
-                                     r"<force>_\2_", sub)
-                    generic = re.sub(r"_(Pa|Nm)$", "_<unit>", generic) if generic.startswith("<force>") else generic
-                    assert f"`{sub}`" in readme or f"`{generic}`" in readme, f"{key}.{sub} not in the results.json reference"
+                    generic = re.sub(
+                        r"^(total|side|rod|tangential|radial|resultant|torque)_(max|min)_",
+                        r"<force>_\2_",
+                        sub,
+                    )
+                    generic = (
+                        re.sub(r"_(Pa|Nm)$", "_<unit>", generic)
+                        if generic.startswith("<force>")
+                        else generic
+                    )
+                    assert f"`{sub}`" in readme or f"`{generic}`" in readme, (
+                        f"{key}.{sub} not in the results.json reference"
+                    )
 
 
 def test_captions_side_by_side_keep_a_gutter():
@@ -130,7 +163,9 @@ def test_captions_side_by_side_keep_a_gutter():
     assert rule and re.search(r"padding: 0 (0\.[5-9]|1(\.\d)?)em", rule.group(1))
 
 
-@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext (poppler) is not installed")
+@pytest.mark.skipif(
+    shutil.which("pdftotext") is None, reason="pdftotext (poppler) is not installed"
+)
 def test_a_line_breaks_before_an_italic_symbol_where_it_should():
     """A paragraph's first line does not hold the one word "Амплітуду" and go on on the next.
     WeasyPrint cannot break a line just before an italic element there; the PDF's HTML has the word
@@ -140,14 +175,21 @@ def test_a_line_breaks_before_an_italic_symbol_where_it_should():
     from crankdyn.report.document import report_css
     from crankdyn.report.pdf import html_to_pdf, spaces_into_inline
 
-    assert spaces_into_inline("за посібником <i>C</i> і <b><i>θ</i></b>, (<i>α</i>)") == \
-        "за посібником<i> C</i> і<b><i> θ</i></b>, (<i>α</i>)"
-    paragraph = ("Амплітуду сили другого порядку можна обчислити двома способами: за посібником "
-                 "<i>C</i><sub>II</sub> = λ<i>C</i><sub>I</sub> і точно – як другу гармоніку точної сили інерції.")
-    html = (f'<html lang="uk"><head><meta charset="utf-8"><style>{report_css("uk")}</style></head>'
-            f'<body><section class="chapter"><p>{paragraph}</p></section></body></html>')
-    text = subprocess.run(["pdftotext", "-layout", "-", "-"], input=html_to_pdf(html), capture_output=True,
-                          check=True).stdout.decode("utf-8")
+    assert (
+        spaces_into_inline("за посібником <i>C</i> і <b><i>θ</i></b>, (<i>α</i>)")
+        == "за посібником<i> C</i> і<b><i> θ</i></b>, (<i>α</i>)"
+    )
+    paragraph = (
+        "Амплітуду сили другого порядку можна обчислити двома способами: за посібником "
+        "<i>C</i><sub>II</sub> = λ<i>C</i><sub>I</sub> і точно – як другу гармоніку точної сили інерції."
+    )
+    html = (
+        f'<html lang="uk"><head><meta charset="utf-8"><style>{report_css("uk")}</style></head>'
+        f'<body><section class="chapter"><p>{paragraph}</p></section></body></html>'
+    )
+    text = subprocess.run(
+        ["pdftotext", "-layout", "-", "-"], input=html_to_pdf(html), capture_output=True, check=True
+    ).stdout.decode("utf-8")
     first = text.strip().splitlines()[0].split()
     assert len(first) > 5, first
 
@@ -179,7 +221,7 @@ def test_a_radials_conclusions_give_the_crank_pins_load_of_all_its_cylinders():
     html = shared_html("radial9-aircraft", language="en", stages=("bays",)).html
     bay = run.outputs["bays"].tables.arrays("bay")["bay_resultant_Pa"]
     single = run.outputs["forces"].results["resultant_max_Pa"]
-    conclusions = html[html.index('<ol class="conclusions">'):]
+    conclusions = html[html.index('<ol class="conclusions">') :]
     plain = re.sub(r"<[^>]+>", "", conclusions).replace("\xa0", " ").replace("\u202f", " ")
     said = re.search(r"takes the largest resultant load q = ([\d.]+)", plain)
     assert said and float(said.group(1)) == pytest.approx(bay.max() / 1e6, rel=1e-3)

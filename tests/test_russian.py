@@ -22,7 +22,9 @@ RUSSIAN_ONLY = set("ыэъёЫЭЪЁ")  # letters Ukrainian does not have
 
 @pytest.fixture(scope="module")
 def petrol():
-    scene = scene_from_dict(modified("petrol-1cyl", {"report": {"language": "ru"}}), base_dir=examples_dir())
+    scene = scene_from_dict(
+        modified("petrol-1cyl", {"report": {"language": "ru"}}), base_dir=examples_dir()
+    )
     return run_scene(scene, REGISTRY, languages=available_languages())
 
 
@@ -39,8 +41,15 @@ def test_russian_html_captions_numbers_and_decimal_comma(russian):
     html = russian.html
     assert not russian.missing_translations, russian.missing_translations
     assert '<html lang="ru">' in html
-    for text in ("Содержание", "Исходные данные", "Кинематика кривошипно-шатунного механизма",
-                 "Таблица 2.1 – ", "Рисунок 2.1 – ", "Заключение", "Список использованных источников"):
+    for text in (
+        "Содержание",
+        "Исходные данные",
+        "Кинематика кривошипно-шатунного механизма",
+        "Таблица 2.1 – ",
+        "Рисунок 2.1 – ",
+        "Заключение",
+        "Список использованных источников",
+    ):
         assert text in html, text
     assert not re.search(r"(Table|Figure) \d+\.\d+", html)  # no English caption left
     assert "0,2800" in html and "0.2800" not in html  # lambda, with the decimal comma
@@ -48,7 +57,9 @@ def test_russian_html_captions_numbers_and_decimal_comma(russian):
 
 def _chapters(html: str) -> dict[int, str]:
     parts = re.split(r'<section class="chapter" id="sec-(\w+)"', html)
-    return {int(key): body for key, body in zip(parts[1::2], parts[2::2], strict=True) if key.isdigit()}
+    return {
+        int(key): body for key, body in zip(parts[1::2], parts[2::2], strict=True) if key.isdigit()
+    }
 
 
 def test_tables_figures_equations_numbered_within_their_section(russian):
@@ -59,14 +70,21 @@ def test_tables_figures_equations_numbered_within_their_section(russian):
     assert len(chapters) >= 4
     counted = {"table": 0, "figure": 0, "equation": 0}
     for number, body in chapters.items():
-        for kind, pattern in (("table", rf"{table_word} (\d+)\.(\d+) – "),
-                              ("figure", rf"{figure_word} (\d+)\.(\d+) – "),
-                              ("equation", r'class="eqno">\((\d+)\.(\d+)\)')):
+        for kind, pattern in (
+            ("table", rf"{table_word} (\d+)\.(\d+) – "),
+            ("figure", rf"{figure_word} (\d+)\.(\d+) – "),
+            ("equation", r'class="eqno">\((\d+)\.(\d+)\)'),
+        ):
             found = [(int(a), int(b)) for a, b in re.findall(pattern, body)]
             counted[kind] += len(found)
             assert all(section == number for section, _ in found), (language, kind, number, found)
             # 1, 2, 3 ... within the section, in order
-            assert [k for _, k in found] == list(range(1, len(found) + 1)), (language, kind, number, found)
+            assert [k for _, k in found] == list(range(1, len(found) + 1)), (
+                language,
+                kind,
+                number,
+                found,
+            )
     assert counted["table"] >= 4 and counted["figure"] >= 4 and counted["equation"] >= 10, counted
 
 
@@ -86,8 +104,14 @@ def test_russian_catalog_is_russian_not_ukrainian():
     assert not leaks, leaks
     uk = _catalogs("uk")
     english = _catalogs("en")
-    untranslated = [k for k, v in texts.items() if v == english.get(k) and re.search(r"[A-Za-z]{4,}", v)
-                    and not k.startswith("ref.") and "{" not in v]
+    untranslated = [
+        k
+        for k, v in texts.items()
+        if v == english.get(k)
+        and re.search(r"[A-Za-z]{4,}", v)
+        and not k.startswith("ref.")
+        and "{" not in v
+    ]
     assert not untranslated, untranslated
     ukrainian_words = [k for k, v in texts.items() if v == uk.get(k) and (set(v) & UKRAINIAN_ONLY)]
     assert not ukrainian_words or all(k.startswith("ref.") for k in ukrainian_words)
@@ -102,7 +126,6 @@ def test_caption_style_of_the_cyrillic_reports():
     assert ru["report.table_caption"] == "Таблица {number} – {caption}"
     assert ru["report.figure_caption"] == "Рисунок {number} – {caption}"
     assert uk["_meta.decimal_separator"] == ru["_meta.decimal_separator"] == ","
-
 
 
 # The Russian PDF (Cyrillic text, captions, a Times-metric font): tests/test_note.py::test_explanatory_note_pdf[ru].

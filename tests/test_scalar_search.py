@@ -13,12 +13,16 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics.scalar_search import brentq, minimize_bounded
 
 ROOTS = [  # (function, bracket, keyword arguments)
-    (lambda x: x ** 3 - 2 * x - 5, (2.0, 3.0), {}),
+    (lambda x: x**3 - 2 * x - 5, (2.0, 3.0), {}),
     (math.cos, (0.0, 3.0), {"xtol": 1e-15, "rtol": 4 * np.finfo(float).eps, "maxiter": 200}),
     (lambda x: math.exp(x) - 10.0, (-5.0, 10.0), {"xtol": 1e-13}),
     (lambda x: (x - 1e-3) ** 3, (-1.0, 2.0), {"maxiter": 200}),  # a flat root: many bisections
     (lambda x: math.atan(1e4 * (x - 0.3)), (-10.0, 10.0), {"xtol": 1e-14}),
-    (lambda a: float(kin.piston_acceleration_exact_m_s2(a, 1.0, 0.28, 1.0)), (0.0, math.pi / 2), {}),
+    (
+        lambda a: float(kin.piston_acceleration_exact_m_s2(a, 1.0, 0.28, 1.0)),
+        (0.0, math.pi / 2),
+        {},
+    ),
     (lambda x: x, (0.0, 1.0), {}),  # a root at an end of the bracket
     (lambda x: 1e-170 * (x - 0.3), (0.0, 1.0), {}),  # values whose product underflows
 ]
@@ -51,7 +55,11 @@ MINIMA = [
     (lambda x: math.cosh(x - 1e-3), (-2.0, 5.0), {"xatol": 1e-13}),
     (lambda x: abs(x - 0.25), (0.0, 1.0), {"xatol": 1e-9}),  # a kink: golden sections
     (lambda x: x, (0.0, 1.0), {"xatol": 1e-12}),  # the least value at the bound
-    (lambda a: -float(kin.piston_velocity_exact_m_s(a, 0.04, 0.28, 600.0)), (1.2, 1.5), {"xatol": 1e-12}),
+    (
+        lambda a: -float(kin.piston_velocity_exact_m_s(a, 0.04, 0.28, 600.0)),
+        (1.2, 1.5),
+        {"xatol": 1e-12},
+    ),
     (lambda x: (x - 0.3) ** 4, (0.0, 1.0), {"xatol": 1e-14, "maxiter": 7}),  # stopped by maxiter
 ]
 

@@ -60,40 +60,68 @@ SECOND_SEED = 2026
 PLUGIN_DIR = Path(__file__).resolve().parent.parent / "examples" / "plugin-example"
 
 #: Per language: the caption words and the words a reference to a table or a figure uses.
-WORDS = {"en": ("Table", "Figure", "table", "figure"),
-         "uk": (
-         "Таблиця", "Рисунок", "табл.", "рис."),
-         "ru": (
-         "Таблица", "Рисунок", "табл.", "рис.")}
+WORDS = {
+    "en": ("Table", "Figure", "table", "figure"),
+    "uk": ("Таблиця", "Рисунок", "табл.", "рис."),
+    "ru": ("Таблица", "Рисунок", "табл.", "рис."),
+}
 
 #: What is said of a shaft of several cranks only.
 SEVERAL_CRANKS = {
-    "en": (r"between cranks \d", r"cranks 1–1\b", r"numbered from the free end", r"crank star",
-           r"towards the flywheel", r"both neighbouring cranks", r"all the cranks between"),
-    "uk": (r"між колінами \d", r"колінах 1–1\b", r"від вільного кінця колінчастого",
-           r"зірк\w+ кривошипів", r"до маховика", r"обох сусідніх колін", r"усіх колін між"),
-    "ru": (r"между коленами \d", r"коленах 1–1\b", r"от свободного конца коленчатого",
-           r"звезд\w+ кривошипов", r"к маховику", r"обоих соседних колен", r"всех колен между"),
+    "en": (
+        r"between cranks \d",
+        r"cranks 1–1\b",
+        r"numbered from the free end",
+        r"crank star",
+        r"towards the flywheel",
+        r"both neighbouring cranks",
+        r"all the cranks between",
+    ),
+    "uk": (
+        r"між колінами \d",
+        r"колінах 1–1\b",
+        r"від вільного кінця колінчастого",
+        r"зірк\w+ кривошипів",
+        r"до маховика",
+        r"обох сусідніх колін",
+        r"усіх колін між",
+    ),
+    "ru": (
+        r"между коленами \d",
+        r"коленах 1–1\b",
+        r"от свободного конца коленчатого",
+        r"звезд\w+ кривошипов",
+        r"к маховику",
+        r"обоих соседних колен",
+        r"всех колен между",
+    ),
 }
 #: One crank's torque, said where a crank carries several cylinders (it is one cylinder's).
-ONE_CRANKS_TORQUE = {"en": r"torque of one crank", "uk": r"момент\w* одного коліна",
-                     "ru": r"момент\w* одного колена"}
+ONE_CRANKS_TORQUE = {
+    "en": r"torque of one crank",
+    "uk": r"момент\w* одного коліна",
+    "ru": r"момент\w* одного колена",
+}
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
 #: Words of the program, not of the engine: the input file, its format, its keys, the tests.
-_KEY_NAMES = (r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
-              # the solvers and libraries a full report's numerics chapter compares
-              r"\bRK45\b|\bRadau\b|\bBDF\b|\bLSODA\b|\bSciPy\b|\bPython\b")
-SOFTWARE = {"en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
-            "uk": r"\bсцен[аиіуоюе]\w*|\bтест\w*|" + _KEY_NAMES,
-            "ru": r"\bсцен[аыуеой]\w*|\bтест\w*|" + _KEY_NAMES}
+_KEY_NAMES = (
+    r"\bTOML\b|\bCSV\b|\[[a-z_.]+\]|\b[a-z]+(?:_[a-z]+)+\b|\b[a-z]+\.[a-z_]{2,}\b|"
+    # the solvers and libraries a full report's numerics chapter compares
+    r"\bRK45\b|\bRadau\b|\bBDF\b|\bLSODA\b|\bSciPy\b|\bPython\b"
+)
+SOFTWARE = {
+    "en": r"\bscenes?\b|\btest(?:s|ed)?\b|" + _KEY_NAMES,
+    "uk": r"\bсцен[аиіуоюе]\w*|\bтест\w*|" + _KEY_NAMES,
+    "ru": r"\bсцен[аыуеой]\w*|\bтест\w*|" + _KEY_NAMES,
+}
 
 #: (scene name of SEED, check) of the defects the corpus finds and the report still has, each with
 #: what fails; under -m slow each is a strict xfail (a fixed one fails it, to be taken off here).
 KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {}
-KNOWN: dict[tuple[str, str], str] = {(name, check): why
-                                     for check, (why, names) in KNOWN_DEFECTS.items()
-                                     for name in names}
+KNOWN: dict[tuple[str, str], str] = {
+    (name, check): why for check, (why, names) in KNOWN_DEFECTS.items() for name in names
+}
 
 
 @functools.cache
@@ -134,8 +162,9 @@ class Note:
 
     def part(self, pattern: str) -> str:
         """The text of the parts of the body whose start tag matches ``pattern``, to its end tag."""
-        found = re.findall(rf"<(section|ol|div|p)\b[^>]*{pattern}[^>]*>(.*?)</\1>", self.body,
-                           flags=re.S)
+        found = re.findall(
+            rf"<(section|ol|div|p)\b[^>]*{pattern}[^>]*>(.*?)</\1>", self.body, flags=re.S
+        )
         return " ".join(self.plain(inner) for _, inner in found)
 
     @functools.cached_property
@@ -149,22 +178,36 @@ class Note:
     @functools.cached_property
     def chapters(self) -> str:
         """The numbered chapters and the conclusions: what the note says of this engine."""
-        parts = re.findall(r'<section class="chapter" id="sec-(?:\d+|conclusions)"[^>]*>'
-                           r'(.*?)</section>', self.body, flags=re.S)
+        parts = re.findall(
+            r'<section class="chapter" id="sec-(?:\d+|conclusions)"[^>]*>'
+            r"(.*?)</section>",
+            self.body,
+            flags=re.S,
+        )
         return " ".join(self.plain(p) for p in parts)
 
     @functools.cached_property
     def tables(self) -> list[dict]:
         tables = []
-        for m in re.finditer(r'<table class="data[^"]*" data-number="([^"]+)">(.*?)</table>',
-                             self.body, flags=re.S):
+        for m in re.finditer(
+            r'<table class="data[^"]*" data-number="([^"]+)">(.*?)</table>', self.body, flags=re.S
+        ):
             head = re.findall(r"<th\b[^>]*>(.*?)</th>", m.group(2), flags=re.S)
-            rows = [(bool(re.search(r'class="[^"]*extremum', attrs)),
-                     [self.plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", inner, flags=re.S)])
-                    for attrs, inner in re.findall(r"<tr([^>]*)>(.*?)</tr>", m.group(2),
-                                                   flags=re.S)]
-            tables.append({"number": m.group(1), "start": m.start(), "head": head,
-                           "rows": [r for r in rows if r[1]]})
+            rows = [
+                (
+                    bool(re.search(r'class="[^"]*extremum', attrs)),
+                    [self.plain(c) for c in re.findall(r"<td[^>]*>(.*?)</td>", inner, flags=re.S)],
+                )
+                for attrs, inner in re.findall(r"<tr([^>]*)>(.*?)</tr>", m.group(2), flags=re.S)
+            ]
+            tables.append(
+                {
+                    "number": m.group(1),
+                    "start": m.start(),
+                    "head": head,
+                    "rows": [r for r in rows if r[1]],
+                }
+            )
         return tables
 
 
@@ -178,11 +221,14 @@ def number_value(text: str) -> float | None:
 
 # ----------------------------------------------------------------------------- the checks
 
+
 def check_language(note: Note) -> list[str]:
     problems = [f"missing translation {key}" for key in sorted(note.rendered.missing_translations)]
     if "^" in note.text or re.search(r"[A-Za-zА-Яа-я]_", note.text):
-        problems += [f"programmer's notation: {m!r}"
-                     for m in re.findall(r".{20}(?:\^|[A-Za-zА-Яа-я]_).{10}", note.text)]
+        problems += [
+            f"programmer's notation: {m!r}"
+            for m in re.findall(r".{20}(?:\^|[A-Za-zА-Яа-я]_).{10}", note.text)
+        ]
     problems += [f"exponent: {m!r}" for m in re.findall(r".{20}\de[-+−]?0\d.{5}", note.text)]
     if note.language != "en":
         problems += [f"decimal point: {p!r}" for p in _decimal_points(note.lines)]
@@ -197,17 +243,21 @@ def check_symbols(note: Note) -> list[str]:
     language, missing = note.language, set()
     for stage, formula in _equations(note.html):
         for token in _tokens(formula):
-            if not (symbols_in(token, language, stage, note.symbols)
-                    or _indexed_symbol(token, language, stage)):
+            if not (
+                symbols_in(token, language, stage, note.symbols)
+                or _indexed_symbol(token, language, stage)
+            ):
                 missing.add((stage, token))
     starts = [(m.start(), m.group(1)) for m in _SECTION_START.finditer(note.html)]
     heads = r"<th\b[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>"
     for m in re.finditer(heads, note.html, flags=re.S):
         stage = next((name for start, name in reversed(starts) if start < m.start()), "")
         for token in _tokens(m.group(1) or m.group(2)):
-            if not (symbols_in(token, language, stage, note.symbols)
-                    or _indexed_symbol(token, language, stage)
-                    or _instance_of_an_indexed_symbol(token, language, stage)):
+            if not (
+                symbols_in(token, language, stage, note.symbols)
+                or _indexed_symbol(token, language, stage)
+                or _instance_of_an_indexed_symbol(token, language, stage)
+            ):
                 missing.add((stage, token))
     return [f"undefined symbol {token} in {stage}" for stage, token in sorted(missing)]
 
@@ -216,32 +266,44 @@ def check_structure(note: Note) -> list[str]:
     case, language, problems = note.case, note.language, []
     if case.single_crank:
         for pattern in SEVERAL_CRANKS[language]:
-            problems += [f"one crank, said of several: {m!r}"
-                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)]
+            problems += [
+                f"one crank, said of several: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)
+            ]
     scene = note.result.scene
     if case.cycle and case.cranks and scene.engine.cylinders > case.cranks:
-        problems += [f"one cylinder's torque called the crank's: {m!r}"
-                     for m in re.findall(rf".{{0,30}}{ONE_CRANKS_TORQUE[language]}.{{0,10}}",
-                                         note.chapters)]
+        problems += [
+            f"one cylinder's torque called the crank's: {m!r}"
+            for m in re.findall(rf".{{0,30}}{ONE_CRANKS_TORQUE[language]}.{{0,10}}", note.chapters)
+        ]
     # a radial (a propeller) or a mechanism has no flywheel end either
     if not case.flywheel and (scene.engine.layout == "radial" or not case.cycle):
-        problems += [f"a flywheel where none is designed: {m!r}"
-                     for m in re.findall(rf".{{0,40}}{FLYWHEEL[language]}.{{0,20}}", note.chapters,
-                                         flags=re.I)]
+        problems += [
+            f"a flywheel where none is designed: {m!r}"
+            for m in re.findall(
+                rf".{{0,40}}{FLYWHEEL[language]}.{{0,20}}", note.chapters, flags=re.I
+            )
+        ]
     if not case.cycle:  # a mechanism studied for its kinematics: no engine to balance
         opening = note.part(r'id="sec-(?:abstract|introduction)"')
         for pattern in (FLYWHEEL[language], BALANCING[language]):
-            problems += [f"an engine's aim for a mechanism: {m!r}"
-                         for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", opening, flags=re.I)]
+            problems += [
+                f"an engine's aim for a mechanism: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", opening, flags=re.I)
+            ]
     return problems
 
 
 _REFERENCED = r"\s+[0-9A-ZА-Я]+(?:\.\d+)?(?:[–-]\d+)?"
-_REFERENCE = {"en": r"(?:[Tt]ables?|[Ff]igures?|[Ss]ections?|[Aa]ppendi\w+)" + _REFERENCED,
-              "uk": r"(?:табл|рис|розд|підрозд|додат\w*)\.?" + _REFERENCED,
-              "ru": r"(?:табл|рис|разд|подразд|прилож\w*)\.?" + _REFERENCED}
-_NUMBER = re.compile(r"(?<![\w.,])[−-]?\d{1,3}(?:[\u00a0\u2009\u202f ]\d{3})+(?:[.,]\d+)?(?![\d])"
-                     r"|(?<![\w.,])[−-]?\d+(?:[.,]\d+)?(?![\d\w])")
+_REFERENCE = {
+    "en": r"(?:[Tt]ables?|[Ff]igures?|[Ss]ections?|[Aa]ppendi\w+)" + _REFERENCED,
+    "uk": r"(?:табл|рис|розд|підрозд|додат\w*)\.?" + _REFERENCED,
+    "ru": r"(?:табл|рис|разд|подразд|прилож\w*)\.?" + _REFERENCED,
+}
+_NUMBER = re.compile(
+    r"(?<![\w.,])[−-]?\d{1,3}(?:[\u00a0\u2009\u202f ]\d{3})+(?:[.,]\d+)?(?![\d])"
+    r"|(?<![\w.,])[−-]?\d+(?:[.,]\d+)?(?![\d\w])"
+)
 
 
 def _json_numbers(value) -> list[float]:
@@ -261,8 +323,13 @@ def check_conclusions(note: Note) -> list[str]:
     text = note.part(r'class="conclusions"')
     text = re.sub(_REFERENCE[note.language], " ", text)
     text = re.sub(r"\[[\d,–\s]+\]|[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+|<sub>.*?</sub>", " ", text)
-    cells = [v for t in note.tables for _, row in t["rows"] for c in row
-             if (v := number_value(c)) is not None]
+    cells = [
+        v
+        for t in note.tables
+        for _, row in t["rows"]
+        for c in row
+        if (v := number_value(c)) is not None
+    ]
     results = _json_numbers({k: v for k, v in note.results.items() if k != "timing_s"})
     scales = (1.0, 1e-3, 1e-6, 1e3, 1e6, 100.0, 0.01)
     problems = []
@@ -273,13 +340,15 @@ def check_conclusions(note: Note) -> list[str]:
         if float(x).is_integer() and abs(x) <= 12:
             continue  # a count or an order
         decimals = len(printed.split(".")[1]) if "." in printed else 0
-        tolerance = 0.5 * 10.0 ** -decimals * (1 + 1e-9) + 1e-12
+        tolerance = 0.5 * 10.0**-decimals * (1 + 1e-9) + 1e-12
         if any(abs(abs(c) - abs(x)) <= tolerance for c in cells):
             continue
         if any(abs(abs(v * s) - abs(x)) <= tolerance for v in results for s in scales):
             continue
-        problems.append(f"conclusion number {m.group(0)!r} in no table and no result: "
-                        f"{text[max(0, m.start() - 60):m.end() + 20]!r}")
+        problems.append(
+            f"conclusion number {m.group(0)!r} in no table and no result: "
+            f"{text[max(0, m.start() - 60) : m.end() + 20]!r}"
+        )
     return problems
 
 
@@ -289,16 +358,21 @@ def check_order(note: Note) -> list[str]:
     table_word, figure_word, table_ref, figure_ref = WORDS[note.language]
     text, problems = note.text, []
     for word, ref in ((table_word, table_ref), (figure_word, figure_ref)):
-        captions = [(m.group(1), int(m.group(2)), m.start())
-                    for m in re.finditer(rf"{word} ([0-9A-ZА-Я]+)\.(\d+) [–—]", text)]
+        captions = [
+            (m.group(1), int(m.group(2)), m.start())
+            for m in re.finditer(rf"{word} ([0-9A-ZА-Я]+)\.(\d+) [–—]", text)
+        ]
         by_chapter: dict[str, list[int]] = {}
         for chapter, k, start in captions:
             by_chapter.setdefault(chapter, []).append(k)
             mention = re.search(rf"{re.escape(ref)}\s+{chapter}\.{k}(?![\d])", text, flags=re.I)
             if not mention or mention.start() > start:
                 problems.append(f"{word} {chapter}.{k} not referred to before it appears")
-        problems += [f"{word}s of {chapter} in the order {ks}" for chapter, ks in by_chapter.items()
-                     if ks != list(range(1, len(ks) + 1))]
+        problems += [
+            f"{word}s of {chapter} in the order {ks}"
+            for chapter, ks in by_chapter.items()
+            if ks != list(range(1, len(ks) + 1))
+        ]
     for m in re.finditer(r'<div class="worked">(.*?)</div>', note.body, flags=re.S):
         referred = rf"(?:{table_ref}|{table_word})\s+([0-9A-ZА-Я]+\.\d+)"
         for number in re.findall(referred, note.plain(m.group(1)), flags=re.I):
@@ -321,8 +395,9 @@ def check_angles(note: Note) -> list[str]:
         for extremum, row in table["rows"]:
             value = number_value(row[0])
             if not extremum and (value is None or not value.is_integer()):
-                problems.append(f"table {table['number']}: row angle {row[0]!r} "
-                                "is not a whole degree")
+                problems.append(
+                    f"table {table['number']}: row angle {row[0]!r} is not a whole degree"
+                )
     table_ref = WORDS[note.language][2]
     for m in re.finditer(r'<div class="worked">(.*?)</div>', note.body, flags=re.S):
         text = note.plain(m.group(1))
@@ -337,14 +412,22 @@ def check_software_words(note: Note) -> list[str]:
     text = re.sub(r'<ol class="references">.*?</ol>', " ", note.body, flags=re.S)
     text = note.plain(text)
     allowed = {"e.g", "i.e"}
-    return [f"software word {m.group(0)!r}: {text[max(0, m.start() - 50):m.end() + 20]!r}"
-            for m in re.finditer(SOFTWARE[note.language], text, flags=re.I)
-            if m.group(0) not in allowed]
+    return [
+        f"software word {m.group(0)!r}: {text[max(0, m.start() - 50) : m.end() + 20]!r}"
+        for m in re.finditer(SOFTWARE[note.language], text, flags=re.I)
+        if m.group(0) not in allowed
+    ]
 
 
-CHECKS = {"language": check_language, "symbols": check_symbols, "structure": check_structure,
-          "conclusions": check_conclusions, "order": check_order, "angles": check_angles,
-          "software": check_software_words}
+CHECKS = {
+    "language": check_language,
+    "symbols": check_symbols,
+    "structure": check_structure,
+    "conclusions": check_conclusions,
+    "order": check_order,
+    "angles": check_angles,
+    "software": check_software_words,
+}
 
 
 @functools.cache
@@ -363,9 +446,25 @@ SCENES = corpus(SEED)
 def test_the_corpus_covers_every_kind_of_engine_in_every_language():
     names = [c.name for c in SCENES]
     assert len(names) >= 60 and len(set(names)) == len(names)
-    for kind in ("inline1-", "inline12-", "-2s", "-4s", "diesel", "petrol", "V", "W", "boxer",
-                 "radial3-", "radial9-", "trace", "kinematics-only", "offset", "planetary", "vane",
-                 "scotch-yoke"):
+    for kind in (
+        "inline1-",
+        "inline12-",
+        "-2s",
+        "-4s",
+        "diesel",
+        "petrol",
+        "V",
+        "W",
+        "boxer",
+        "radial3-",
+        "radial9-",
+        "trace",
+        "kinematics-only",
+        "offset",
+        "planetary",
+        "vane",
+        "scotch-yoke",
+    ):
         assert any(kind in name for name in names), kind
     counts = [sum(c.language == language for c in SCENES) for language in LANGUAGES]
     assert max(counts) - min(counts) <= 1, counts
@@ -379,9 +478,13 @@ def test_a_generated_scenes_note_reads_as_a_supervisor_expects(name):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name, check", [
-    pytest.param(name, check, marks=pytest.mark.xfail(strict=True, reason=why))
-    for (name, check), why in KNOWN.items()])
+@pytest.mark.parametrize(
+    "name, check",
+    [
+        pytest.param(name, check, marks=pytest.mark.xfail(strict=True, reason=why))
+        for (name, check), why in KNOWN.items()
+    ],
+)
 def test_a_known_defect_is_still_there(name, check):
     assert not CHECKS[check](_note(SEED, name))
 
@@ -409,8 +512,10 @@ PDF_SAMPLE = ("inline7-", "radial5-", "planetary-")
 
 @pytest.mark.slow
 @pytest.mark.long
-@pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
-                    reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+@pytest.mark.skipif(
+    shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+    reason="poppler-utils not installed (bash .ci/setup.sh installs it)",
+)
 @pytest.mark.parametrize("kind", PDF_SAMPLE)
 def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_path):
     from page_layout import layout_problems, page_texts
@@ -427,9 +532,15 @@ def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_pa
     pages = page_texts(tmp_path / "report.pdf", html)
     table_word, figure_word = WORDS[case.language][:2]
     t = translator(case.language, registry.catalogs)
-    problems = layout_problems(tmp_path / "report.pdf", pages, html, tmp_path / "pages",
-                               table_word=table_word, figure_word=figure_word,
-                               continued=lambda number: t("doc.continued", number=number))
+    problems = layout_problems(
+        tmp_path / "report.pdf",
+        pages,
+        html,
+        tmp_path / "pages",
+        table_word=table_word,
+        figure_word=figure_word,
+        continued=lambda number: t("doc.continued", number=number),
+    )
     assert not problems, problems
 
 

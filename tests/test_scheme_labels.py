@@ -20,7 +20,11 @@ from crankdyn.scene.model import load_scene
 def _positions(example: str):
     scene = load_scene(examples_dir() / f"{example}.toml")
     registry = default_registry()
-    wanted = [s.name for s in plan(scene, registry).order if s.name == "drawing" or "kinematics" in s.provides]
+    wanted = [
+        s.name
+        for s in plan(scene, registry).order
+        if s.name == "drawing" or "kinematics" in s.provides
+    ]
     return run_scene(scene, registry, wanted).outputs["drawing"].artifacts["positions"]
 
 
@@ -62,8 +66,10 @@ def _crossed_lines(ax, text, renderer) -> list:
     return crossed
 
 
-@pytest.mark.parametrize("example", ["v8-petrol", "radial9-aircraft", "inline6-diesel-trace", "inline4-petrol",
-                                     "petrol-1cyl"])
+@pytest.mark.parametrize(
+    "example",
+    ["v8-petrol", "radial9-aircraft", "inline6-diesel-trace", "inline4-petrol", "petrol-1cyl"],
+)
 def test_the_scheme_texts_cross_no_member_of_the_mechanism(example):
     fig = _scheme(example)
     renderer = fig.canvas.get_renderer()
@@ -72,7 +78,9 @@ def test_the_scheme_texts_cross_no_member_of_the_mechanism(example):
     wanted = [t for t in ax.texts if t.get_text().startswith("R =") or t.get_text() in cylinders]
     assert any(t.get_text().startswith("R =") for t in wanted)
     for text in wanted:
-        assert not _crossed_lines(ax, text, renderer), f"{example}: {text.get_text()!r} crosses the drawing"
+        assert not _crossed_lines(ax, text, renderer), (
+            f"{example}: {text.get_text()!r} crosses the drawing"
+        )
 
 
 def test_a_v_engines_bank_labels_grow_away_from_their_liners():
@@ -85,14 +93,20 @@ def test_a_v_engines_bank_labels_grow_away_from_their_liners():
 def test_cranks_in_one_direction_share_one_label_in_the_star():
     star = _scheme("inline4-petrol").axes[1]
     labels = sorted(t.get_text() for t in star.texts if "," in t.get_text())
-    assert labels == ["1, 4", "2, 3"]  # an in-line engine's cylinders are its cranks' numbers: no brackets
+    assert labels == [
+        "1, 4",
+        "2, 3",
+    ]  # an in-line engine's cylinders are its cranks' numbers: no brackets
     star8 = _scheme("v8-petrol").axes[1]
     assert sorted(t.get_text() for t in star8.texts if "(" in t.get_text()) == [
-        "1\n(1L, 1R)", "2\n(2L, 2R)", "3\n(3L, 3R)", "4\n(4L, 4R)"]
+        "1\n(1L, 1R)",
+        "2\n(2L, 2R)",
+        "3\n(3L, 3R)",
+        "4\n(4L, 4R)",
+    ]
 
 
 def test_outward_alignment_follows_the_direction():
     assert md.outward_alignment((0.0, 1.0)) == {"ha": "center", "va": "bottom"}
     assert md.outward_alignment((-0.7, 0.7)) == {"ha": "right", "va": "bottom"}
     assert md.outward_alignment((0.7, -0.7)) == {"ha": "left", "va": "top"}
-

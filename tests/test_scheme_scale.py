@@ -13,33 +13,43 @@ from crankdyn.report.figures import FIXED_LAYOUT, to_svg
 MM_PER_INCH = 25.4
 
 
-@pytest.mark.parametrize(("extent", "room", "scale"), [
-    ((100.0, 100.0), (150.0, 150.0), 1.0),
-    ((300.0, 100.0), (150.0, 150.0), 0.5),
-    ((340.0, 100.0), (150.0, 150.0), 0.4),   # 1:2 gives 170 mm: 1:2,5
-    ((10.0, 5.0), (150.0, 150.0), 10.0),     # 20:1 would give 200 mm
-    ((2.0, 2.0), (150.0, 150.0), 50.0),
-    ((14_000.0, 100.0), (150.0, 150.0), 1 / 100),
-    ((16_000.0, 100.0), (150.0, 150.0), 1 / 200),
-    ((50_000.0, 100.0), (150.0, 150.0), 1 / 500),
-    ((80_000.0, 100.0), (150.0, 150.0), 1 / 1000),
-])
+@pytest.mark.parametrize(
+    ("extent", "room", "scale"),
+    [
+        ((100.0, 100.0), (150.0, 150.0), 1.0),
+        ((300.0, 100.0), (150.0, 150.0), 0.5),
+        ((340.0, 100.0), (150.0, 150.0), 0.4),  # 1:2 gives 170 mm: 1:2,5
+        ((10.0, 5.0), (150.0, 150.0), 10.0),  # 20:1 would give 200 mm
+        ((2.0, 2.0), (150.0, 150.0), 50.0),
+        ((14_000.0, 100.0), (150.0, 150.0), 1 / 100),
+        ((16_000.0, 100.0), (150.0, 150.0), 1 / 200),
+        ((50_000.0, 100.0), (150.0, 150.0), 1 / 500),
+        ((80_000.0, 100.0), (150.0, 150.0), 1 / 1000),
+    ],
+)
 def test_drawing_scale_is_the_largest_standard_one_that_fits(extent, room, scale):
     assert md.drawing_scale(extent, room) == pytest.approx(scale)
 
 
-@pytest.mark.parametrize("example", ["petrol-1cyl", "inline4-petrol", "v8-petrol", "radial9-aircraft",
-                                     "offset-crank-engine"])
+@pytest.mark.parametrize(
+    "example",
+    ["petrol-1cyl", "inline4-petrol", "v8-petrol", "radial9-aircraft", "offset-crank-engine"],
+)
 def test_scheme_is_drawn_at_its_scale_and_fits_the_page(example):
     positions = _positions(example)
     labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
-    fig, scale = md.scheme_figure(positions, 0, labels, "Crank star (at the TDC of cylinder 1)", "Firing order: 1")
+    fig, scale = md.scheme_figure(
+        positions, 0, labels, "Crank star (at the TDC of cylinder 1)", "Firing order: 1"
+    )
     assert any(abs(scale - s) < 1e-12 for s in md.DRAWING_SCALES)
     assert getattr(fig, FIXED_LAYOUT)
     to_svg(fig)  # drawn as the report draws it: the layout must not have moved the drawing
     ax = fig.axes[0]
     width_in, height_in = fig.get_size_inches()
-    paper_mm = (ax.get_position().width * width_in * MM_PER_INCH, ax.get_position().height * height_in * MM_PER_INCH)
+    paper_mm = (
+        ax.get_position().width * width_in * MM_PER_INCH,
+        ax.get_position().height * height_in * MM_PER_INCH,
+    )
     real_mm = (ax.get_xlim()[1] - ax.get_xlim()[0], ax.get_ylim()[1] - ax.get_ylim()[0])
     assert paper_mm[0] == pytest.approx(real_mm[0] * scale, rel=1e-9)
     assert paper_mm[1] == pytest.approx(real_mm[1] * scale, rel=1e-9)
@@ -55,20 +65,29 @@ def test_the_bore_is_drawn_at_scale():
     to_svg(fig)
     bore_mm = positions.dimensions["D"] * 1e3
     # the liner's two walls: the long vertical lines of at least 1 pt
-    walls = sorted({round(float(line.get_xdata()[0]), 6) for line in ax.lines
-                    if line.get_linewidth() >= 1.0 and len(line.get_xdata()) == 2
-                    and line.get_xdata()[0] == line.get_xdata()[1]
-                    and abs(line.get_ydata()[1] - line.get_ydata()[0]) > bore_mm})
+    walls = sorted(
+        {
+            round(float(line.get_xdata()[0]), 6)
+            for line in ax.lines
+            if line.get_linewidth() >= 1.0
+            and len(line.get_xdata()) == 2
+            and line.get_xdata()[0] == line.get_xdata()[1]
+            and abs(line.get_ydata()[1] - line.get_ydata()[0]) > bore_mm
+        }
+    )
     left, right = ax.transData.transform([(walls[0], 0.0), (walls[-1], 0.0)])[:, 0]
     on_paper_mm = (right - left) / fig.dpi * MM_PER_INCH
     assert on_paper_mm == pytest.approx(bore_mm * scale, rel=0.02)
 
 
-@pytest.mark.parametrize(("example", "cylinders", "links"), [
-    ("inline4-petrol", ["1"], {"crank_1", "rod_1"}),
-    ("inline6-diesel-trace", ["1"], {"crank_1", "rod_1"}),
-    ("v8-petrol", ["1L", "1R"], {"crank_1", "rod_1L", "rod_1R"}),
-])
+@pytest.mark.parametrize(
+    ("example", "cylinders", "links"),
+    [
+        ("inline4-petrol", ["1"], {"crank_1", "rod_1"}),
+        ("inline6-diesel-trace", ["1"], {"crank_1", "rod_1"}),
+        ("v8-petrol", ["1L", "1R"], {"crank_1", "rod_1L", "rod_1R"}),
+    ],
+)
 def test_front_view_shows_the_first_cylinder_of_each_row(example, cylinders, links):
     """In front view an in-line engine's cylinders hide one another: one piston, its rod and its
     crank, not four rods meeting on one piston pin; a V shows both banks' first cylinders."""

@@ -13,8 +13,14 @@ from crankdyn.report import mechanism_drawing as md
 MM_PER_INCH = 25.4
 #: Radials of 5, 7 and 9 cylinders (the default step of each), a V8 and in-line and offset engines.
 ENGINES = {
-    "radial5": ("radial9-aircraft", {"engine": {"cylinders": 5}, "analysis": {"angle_step_deg": None}}),
-    "radial7": ("radial9-aircraft", {"engine": {"cylinders": 7}, "analysis": {"angle_step_deg": None}}),
+    "radial5": (
+        "radial9-aircraft",
+        {"engine": {"cylinders": 5}, "analysis": {"angle_step_deg": None}},
+    ),
+    "radial7": (
+        "radial9-aircraft",
+        {"engine": {"cylinders": 7}, "analysis": {"angle_step_deg": None}},
+    ),
     "radial9": ("radial9-aircraft", {}),
     "v8": ("v8-petrol", {}),
     "inline4": ("inline4-petrol", {}),
@@ -32,8 +38,14 @@ def _positions(engine: str):
 
 
 def _outline(o, d, n, low, high, half) -> np.ndarray:
-    return np.array([o + d * low - n * half, o + d * high - n * half, o + d * high + n * half,
-                     o + d * low + n * half])
+    return np.array(
+        [
+            o + d * low - n * half,
+            o + d * high - n * half,
+            o + d * high + n * half,
+            o + d * low + n * half,
+        ]
+    )
 
 
 def _liners_mm(geometry) -> list[np.ndarray]:
@@ -50,8 +62,16 @@ def _pistons_mm(geometry, i: int) -> list[np.ndarray]:
     for guide in md._one_per_axis(geometry.guides):
         o, d, n = md._guide_frame(geometry, guide, i)
         at = float(np.dot(geometry.joints[guide.joint][i] * 1e3 - o, d))
-        pistons.append(_outline(o, d, n, at - md.piston_skirt_mm(guide, geometry),
-                                at + md.CROWN * guide.bore_m * 1e3, 0.97 * guide.bore_m * 1e3 / 2))
+        pistons.append(
+            _outline(
+                o,
+                d,
+                n,
+                at - md.piston_skirt_mm(guide, geometry),
+                at + md.CROWN * guide.bore_m * 1e3,
+                0.97 * guide.bore_m * 1e3 / 2,
+            )
+        )
     return pistons
 
 
@@ -61,7 +81,10 @@ def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
         for p, q in zip(polygon, np.roll(polygon, -1, axis=0), strict=False):
             normal = np.array([q[1] - p[1], p[0] - q[0]])
             pa, pb = a @ normal, b @ normal
-            if pa.max() <= pb.min() + 1e-6 * np.abs(normal).sum() or pb.max() <= pa.min() + 1e-6 * np.abs(normal).sum():
+            if (
+                pa.max() <= pb.min() + 1e-6 * np.abs(normal).sum()
+                or pb.max() <= pa.min() + 1e-6 * np.abs(normal).sum()
+            ):
                 return False
     return True
 
@@ -71,7 +94,12 @@ def test_no_two_cylinders_cross(engine):
     geometry = _positions(engine)
     liners = _liners_mm(geometry)
     assert len(liners) > 1
-    crossing = [(i, k) for i in range(len(liners)) for k in range(i + 1, len(liners)) if _overlap(liners[i], liners[k])]
+    crossing = [
+        (i, k)
+        for i in range(len(liners))
+        for k in range(i + 1, len(liners))
+        if _overlap(liners[i], liners[k])
+    ]
     assert not crossing
 
 
@@ -79,8 +107,15 @@ def test_the_overlap_check_finds_crossing_cylinders():
     """The check above can fail: two liners of a nine-cylinder radial, were they drawn down to
     their pistons' full skirts at BDC, would cross."""
     geometry = _positions("radial9")
-    full = [_outline(*md._guide_frame(geometry, g, 0), g.travel_m[0] * 1e3 - md.SKIRT * g.bore_m * 1e3,
-                     md.liner_ends_mm(g)[1], g.bore_m * 1e3 / 2) for g in geometry.guides]
+    full = [
+        _outline(
+            *md._guide_frame(geometry, g, 0),
+            g.travel_m[0] * 1e3 - md.SKIRT * g.bore_m * 1e3,
+            md.liner_ends_mm(g)[1],
+            g.bore_m * 1e3 / 2,
+        )
+        for g in geometry.guides
+    ]
     assert _overlap(full[0], full[1])
 
 
@@ -90,15 +125,21 @@ def test_the_pistons_of_a_radial_never_overlap(engine):
     frames = len(next(iter(geometry.joints.values())))
     for i in range(frames):
         pistons = _pistons_mm(geometry, i)
-        assert not [(a, b) for a in range(len(pistons)) for b in range(a + 1, len(pistons))
-                    if _overlap(pistons[a], pistons[b])], i
+        assert not [
+            (a, b)
+            for a in range(len(pistons))
+            for b in range(a + 1, len(pistons))
+            if _overlap(pistons[a], pistons[b])
+        ], i
 
 
 def test_the_master_rod_is_one_body_with_its_knuckle_pins():
     geometry = _positions("radial9")
     bodies = md.master_rod_bodies(geometry, 0)
     assert len(bodies) == 1 and len(bodies[0]) == 8  # the eight slave rods' pins
-    knuckles = {tuple(np.round(geometry.joints[f"slave_pin_{k}"][0] * 1e3, 6)) for k in range(2, 10)}
+    knuckles = {
+        tuple(np.round(geometry.joints[f"slave_pin_{k}"][0] * 1e3, 6)) for k in range(2, 10)
+    }
     assert {tuple(np.round(p, 6)) for p in bodies[0]} == knuckles
     assert not [name for name, _, _ in md.drawn_links(geometry) if name.startswith("master_")]
 
@@ -117,8 +158,14 @@ def _scheme(engine: str):
     positions = output.artifacts["positions"]
     labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
     marks = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": "TDC", "bdc": "BDC"}
-    fig, _ = md.scheme_figure(positions, len(output.results["crank_angles_deg"]), labels, "Crank star",
-                              "Firing order: 1", marks)
+    fig, _ = md.scheme_figure(
+        positions,
+        len(output.results["crank_angles_deg"]),
+        labels,
+        "Crank star",
+        "Firing order: 1",
+        marks,
+    )
     fig.canvas.draw()
     return fig, md.upright(md.front_view(positions)), len(output.results["crank_angles_deg"])
 
@@ -128,13 +175,19 @@ def test_no_dimension_text_crosses_a_link(engine):
     fig, geometry, frame = _scheme(engine)
     ax = fig.axes[0]
     renderer = fig.canvas.get_renderer()
-    links = np.array([(geometry.joints[a][frame] * 1e3, geometry.joints[b][frame] * 1e3)
-                      for _, a, b in md.drawn_links(geometry)])
+    links = np.array(
+        [
+            (geometry.joints[a][frame] * 1e3, geometry.joints[b][frame] * 1e3)
+            for _, a, b in md.drawn_links(geometry)
+        ]
+    )
     links = ax.transData.transform(links.reshape(-1, 2)).reshape(-1, 2, 2)
     texts = [t for t in ax.texts if t.get_text()[:4] in ("R = ", "L = ", "D = ", "S = ", "e = ")]
     assert {t.get_text()[0] for t in texts} >= {"R", "L", "D"}
     for text in texts:
-        assert not md.text_crosses(text.get_window_extent(renderer).padded(-1.0), links), text.get_text()
+        assert not md.text_crosses(text.get_window_extent(renderer).padded(-1.0), links), (
+            text.get_text()
+        )
 
 
 def test_the_text_check_finds_a_text_on_a_link():
@@ -157,7 +210,9 @@ def test_each_position_of_a_radial_or_v_is_half_the_text_width(engine):
     needs, none taller (the printed page would shrink it)."""
     output = _drawing(engine)
     positions = output.artifacts["positions"]
-    frames = [(k, f"position {k}\nα = {k}°") for k in range(len(output.results["crank_angles_deg"]))]
+    frames = [
+        (k, f"position {k}\nα = {k}°") for k in range(len(output.results["crank_angles_deg"]))
+    ]
     sheets = md.positions_sheets(positions, frames)
     assert sum(len(sheet) for sheet in sheets) == len(frames)
     for sheet in sheets:

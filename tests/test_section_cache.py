@@ -15,12 +15,16 @@ from crankdyn.report.section_cache import SectionCache
 from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
-STAGES = ["forces"]  # kinematics, indicator, forces; no timed section, so two renderings can be equal
+STAGES = [
+    "forces"
+]  # kinematics, indicator, forces; no timed section, so two renderings can be equal
 
 
 def _without_run_times(html: str) -> str:
     """The page with the stages' run times (a table of measured milliseconds) blanked."""
-    return re.sub(r'(<td class="text" style="text-align:left">[^<]*</td><td>)[^<]*(</td>)', r"\1…\2", html)
+    return re.sub(
+        r'(<td class="text" style="text-align:left">[^<]*</td><td>)[^<]*(</td>)', r"\1…\2", html
+    )
 
 
 def _scene(**overrides):
@@ -83,7 +87,13 @@ def test_the_preview_builds_each_sections_figures_as_the_section_is_rendered(exa
     from crankdyn.scene.model import load_scene
 
     registry = default_registry()
-    _, rendered, _ = run_for_preview(load_scene(examples / "kinematics-only.toml"), registry, None,
-                                     available_languages(), StageCache(), SectionCache())
+    _, rendered, _ = run_for_preview(
+        load_scene(examples / "kinematics-only.toml"),
+        registry,
+        None,
+        available_languages(),
+        StageCache(),
+        SectionCache(),
+    )
     assert rendered.figures and all(f._figure is not None for f in rendered.figures)
     assert not any(f.drawn for f in rendered.figures)  # built, not drawn: the page is shown first

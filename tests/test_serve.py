@@ -89,15 +89,26 @@ def _trace_scene(tmp_path: Path) -> Path:
 
 # --------------------------------------------------------------------------- pieces
 
+
 def test_error_page_escapes_scene_text_and_lists_every_problem(tmp_path):
-    exc = SceneError([Problem("report.title", "<script>alert(1)</script>", "a title"),
-                      Problem("engine.bore", "-82 mm", "must be > 0 mm & <= 2000 mm")])
+    exc = SceneError(
+        [
+            Problem("report.title", "<script>alert(1)</script>", "a title"),
+            Problem("engine.bore", "-82 mm", "must be > 0 mm & <= 2000 mm"),
+        ]
+    )
     state, page, problems = error_page(exc, tmp_path / "a<b>.toml")
     assert state == "scene-error" and len(problems) == 2
     assert "<script>alert" not in page and "&lt;script&gt;alert(1)&lt;/script&gt;" in page
-    assert "engine.bore" in page and "&gt; 0 mm &amp; &lt;= 2000 mm" in page and "a&lt;b&gt;.toml" in page
+    assert (
+        "engine.bore" in page
+        and "&gt; 0 mm &amp; &lt;= 2000 mm" in page
+        and "a&lt;b&gt;.toml" in page
+    )
     state, page, _ = error_page(ZeroDivisionError("<x>"), tmp_path / "s.toml")
-    assert state == "error" and "internal error" in page and "&lt;x&gt;" in page and "<x>" not in page
+    assert (
+        state == "error" and "internal error" in page and "&lt;x&gt;" in page and "<x>" not in page
+    )
 
 
 def test_reload_script_goes_before_body_end():
@@ -116,13 +127,16 @@ def test_referenced_files_include_the_trace(tmp_path):
 
 # --------------------------------------------------------------------------- the server over HTTP
 
+
 @pytest.fixture
 def preview_server(tmp_path):
     """An in-process preview of the trace example (kinematics and indicator only, to stay quick)."""
     scene = _trace_scene(tmp_path)
     preview = Preview(scene, stages=["kinematics", "indicator"], debounce_ms=100)
     server = PreviewServer(preview, port=0)
-    thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True)
+    thread = threading.Thread(
+        target=server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True
+    )
     preview.start()
     thread.start()
     try:
@@ -136,26 +150,40 @@ def preview_server(tmp_path):
 
 def test_preview_rerenders_on_save_and_shows_errors_as_a_page(preview_server):
     scene, base, _ = preview_server
-    first = _wait(lambda: (s := _status(base))["state"] == "report" and s, 60, "the first rendering")
+    first = _wait(
+        lambda: (s := _status(base))["state"] == "report" and s, 60, "the first rendering"
+    )
     assert set(first["watched"]) == {str(scene), str(scene.parent / "diesel6-1600rpm.ind")}
     status, headers, page = _get(base)
-    assert status == 200 and headers["Content-Type"].startswith("text/html") and headers["Cache-Control"] == "no-store"
+    assert (
+        status == 200
+        and headers["Content-Type"].startswith("text/html")
+        and headers["Cache-Control"] == "no-store"
+    )
     nonce = re.search(r"script-src 'nonce-([^']+)'", headers["Content-Security-Policy"])[1]
     assert f'<script nonce="{nonce}">' in page.decode()
     assert _get(base + "version")[2].decode() == first["version"]
 
     # A save re-renders: a new version with the new value.
     _edit(scene, title='"Preview check <2>"')
-    second = _wait(lambda: (s := _status(base))["version"] != first["version"] and s, 30, "a new version")
+    second = _wait(
+        lambda: (s := _status(base))["version"] != first["version"] and s, 30, "a new version"
+    )
     assert second["state"] == "report"
     assert "Preview check &lt;2&gt;" in _get(base)[2].decode()
 
     # An invalid save shows the problems instead of the old report; no PDF of a broken scene.
     _edit(scene, bore='"-83 mm"')
-    broken = _wait(lambda: (s := _status(base))["state"] == "scene-error" and s, 30, "the error page")
+    broken = _wait(
+        lambda: (s := _status(base))["state"] == "scene-error" and s, 30, "the error page"
+    )
     assert any(p.startswith("engine.bore") for p in broken["problems"])
     page = _get(base)[2].decode()
-    assert 'data-crankdyn="scene-error"' in page and "engine.bore" in page and "Preview check" not in page
+    assert (
+        'data-crankdyn="scene-error"' in page
+        and "engine.bore" in page
+        and "Preview check" not in page
+    )
     assert _get(base + "report.pdf")[0] == 409
 
     # Fixed again; then a save of the pressure trace alone re-renders too.
@@ -163,42 +191,63 @@ def test_preview_rerenders_on_save_and_shows_errors_as_a_page(preview_server):
     fixed = _wait(lambda: (s := _status(base))["state"] == "report" and s, 30, "the report again")
     trace = scene.parent / "diesel6-1600rpm.ind"
     trace.write_bytes(trace.read_bytes())
-    _wait(lambda: _status(base)["version"] != fixed["version"], 30, "a re-rendering after the trace was saved")
+    _wait(
+        lambda: _status(base)["version"] != fixed["version"],
+        30,
+        "a re-rendering after the trace was saved",
+    )
 
     status, headers, pdf = _get(base + "report.pdf", timeout=120)
-    assert status == 200 and headers["Content-Type"] == "application/pdf" and pdf.startswith(b"%PDF")
+    assert (
+        status == 200 and headers["Content-Type"] == "application/pdf" and pdf.startswith(b"%PDF")
+    )
 
 
 def test_figures_are_served_by_url_and_a_kept_figure_keeps_its_url(preview_server):
     scene, base, preview = preview_server
-    first = _wait(lambda: (s := _status(base))["state"] == "report" and not s["building"] and s, 60,
-                  "the first rendering")
+    first = _wait(
+        lambda: (s := _status(base))["state"] == "report" and not s["building"] and s,
+        60,
+        "the first rendering",
+    )
     page = _get(base)[2].decode()
     # figures are linked, each drawn once; one not drawn when the page went out waits behind a
     # blank image and its URL, which the page's script swaps in once /figures-ready answers
     urls = re.findall(r'(?:src|data-figure)="(figures/[^"]+)"', page)
-    assert urls and len(re.findall(r'<img ', page)) == len(urls)
+    assert urls and len(re.findall(r"<img ", page)) == len(urls)
     assert _get(base + "figures-ready?version=" + first["version"], timeout=60)[2] == b"ready\n"
     status, headers, svg = _get(base + urls[0])
-    assert status == 200 and headers["Content-Type"] == "image/svg+xml" and svg.lstrip().startswith(b"<?xml")
+    assert (
+        status == 200
+        and headers["Content-Type"] == "image/svg+xml"
+        and svg.lstrip().startswith(b"<?xml")
+    )
     assert "immutable" in headers["Cache-Control"]
     assert _get(base + "figures/nothing/fig_1.svg")[0] == 404
     # The long poll: answered at once for an old version, held back for the current one until a
     # new build is published (held back, it answers with the new version, not the one it was given).
     assert _get(base + "version?after=old")[2].decode() == first["version"]
     answered = []
-    poll = threading.Thread(target=lambda: answered.append(preview.version_after(first["version"], timeout=120)))
+    poll = threading.Thread(
+        target=lambda: answered.append(preview.version_after(first["version"], timeout=120))
+    )
     poll.start()
 
     # A change of the cycle re-renders the indicator section, not the kinematics one: the
     # kinematics figures keep their URLs (the browser shows them from its cache), the rest change.
     _edit(scene, compression_ratio="17.6")
-    _wait(lambda: (s := _status(base))["version"] != first["version"] and not s["building"], 60, "a new build")
+    _wait(
+        lambda: (s := _status(base))["version"] != first["version"] and not s["building"],
+        60,
+        "a new build",
+    )
     poll.join(120)
     assert len(answered) == 1 and answered[0] != first["version"]
     new_page = _get(base)[2].decode()
     new_urls = re.findall(r'(?:src|data-figure)="(figures/[^"]+)"', new_page)
-    assert all(f'src="{u}"' in new_page for u in urls if "/fig_2_" in u)  # kept: drawn, shown at once
+    assert all(
+        f'src="{u}"' in new_page for u in urls if "/fig_2_" in u
+    )  # kept: drawn, shown at once
     kinematics = [u for u in urls if "/fig_2_" in u]
     assert kinematics and all(u in new_urls for u in kinematics)
     assert all(u not in new_urls for u in urls if "/fig_2_" not in u)
@@ -214,6 +263,7 @@ def test_preview_refuses_foreign_host_names_and_unknown_paths(preview_server):
 
 # --------------------------------------------------------------------------- the browser
 
+
 class DevTools:
     """Chromium's DevTools protocol over ``--remote-debugging-pipe`` (fd 3 in, fd 4 out)."""
 
@@ -228,13 +278,31 @@ class DevTools:
         os.close(to_chromium_r)
         os.close(from_chromium_w)
         self.proc = subprocess.Popen(
-            [BASH, "-c", f'exec "$0" "$@" 3<&{child_r} 4>&{child_w} {child_r}<&- {child_w}>&-', CHROMIUM,
-             "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
-             "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
-             "--hide-scrollbars", f"--user-data-dir={profile}", "--window-size=1200,1600",
-             "--remote-debugging-pipe", url],
-            pass_fds=(child_r, child_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL)
+            [
+                BASH,
+                "-c",
+                f'exec "$0" "$@" 3<&{child_r} 4>&{child_w} {child_r}<&- {child_w}>&-',
+                CHROMIUM,
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-dev-shm-usage",
+                "--disable-quic",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--hide-scrollbars",
+                f"--user-data-dir={profile}",
+                "--window-size=1200,1600",
+                "--remote-debugging-pipe",
+                url,
+            ],
+            pass_fds=(child_r, child_w),
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         os.close(child_r)
         os.close(child_w)
         self._out, self._in = to_chromium_w, from_chromium_r
@@ -258,7 +326,9 @@ class DevTools:
                 message, buffer = buffer.split(b"\0", 1)
                 self._messages.put(json.loads(message))
 
-    def call(self, method: str, params: dict | None = None, timeout: float = 30.0, page: bool = True) -> dict:
+    def call(
+        self, method: str, params: dict | None = None, timeout: float = 30.0, page: bool = True
+    ) -> dict:
         self._next += 1
         message = {"id": self._next, "method": method, "params": params or {}}
         if page and self.session:
@@ -277,16 +347,21 @@ class DevTools:
     def attach(self, url_prefix: str) -> None:
         def page_target():
             infos = self.call("Target.getTargets", page=False)["targetInfos"]
-            return next((t for t in infos if t["type"] == "page" and t["url"].startswith(url_prefix)), None)
+            return next(
+                (t for t in infos if t["type"] == "page" and t["url"].startswith(url_prefix)), None
+            )
 
         target = _wait(page_target, 30, "the preview tab", interval=0.2)
-        self.session = self.call("Target.attachToTarget", {"targetId": target["targetId"], "flatten": True},
-                                 page=False)["sessionId"]
+        self.session = self.call(
+            "Target.attachToTarget", {"targetId": target["targetId"], "flatten": True}, page=False
+        )["sessionId"]
 
     def evaluate(self, expression: str, tolerant: bool = False):
         """``expression``'s value in the tab; with ``tolerant``, None while the tab is between pages."""
         try:
-            result = self.call("Runtime.evaluate", {"expression": expression, "returnByValue": True})
+            result = self.call(
+                "Runtime.evaluate", {"expression": expression, "returnByValue": True}
+            )
         except AssertionError:
             if tolerant:  # "Execution context was destroyed" and the like, mid-reload
                 return None
@@ -294,8 +369,10 @@ class DevTools:
         return result["result"].get("value")
 
     def screenshot(self, path: Path) -> None:
-        self.call("Emulation.setDeviceMetricsOverride", {"width": 1200, "height": 1600, "deviceScaleFactor": 1,
-                                                         "mobile": False})
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": 1200, "height": 1600, "deviceScaleFactor": 1, "mobile": False},
+        )
         data = self.call("Page.captureScreenshot", {"format": "png"})["data"]
         path.write_bytes(base64.b64decode(data))
 
@@ -317,9 +394,13 @@ class DevTools:
 
 
 def _start_serve(scene: Path, *extra: str) -> tuple[subprocess.Popen, str]:
-    proc = subprocess.Popen([sys.executable, "-m", "crankdyn", "serve", str(scene), "--port", "0", *extra],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "crankdyn", "serve", str(scene), "--port", "0", *extra],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONWARNINGS": "ignore"},
+    )
     lines: queue.Queue = queue.Queue()
     threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
     try:
@@ -332,29 +413,53 @@ def _start_serve(scene: Path, *extra: str) -> tuple[subprocess.Popen, str]:
     return proc, match[0]
 
 
-@pytest.mark.skipif(CHROMIUM is None or BASH is None,
-                    reason="Debian's chromium package is not installed (.ci/setup.sh installs it)")
+@pytest.mark.skipif(
+    CHROMIUM is None or BASH is None,
+    reason="Debian's chromium package is not installed (.ci/setup.sh installs it)",
+)
 @pytest.mark.long
 def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path):
-    scene = write_scene(tmp_path / "engine.toml", modified("petrol-1cyl", {"report": {"title": "Preview one"}}))
+    scene = write_scene(
+        tmp_path / "engine.toml", modified("petrol-1cyl", {"report": {"title": "Preview one"}})
+    )
     server, base = _start_serve(scene, "--stages", "kinematics,indicator")
     browser = None
     try:
         _wait(lambda: _status(base)["state"] == "report", 60, "the first rendering")
         browser = DevTools(base, tmp_path / "profile")
         browser.attach(base)
-        _wait(lambda: browser.evaluate("document.readyState === 'complete' && document.title", tolerant=True) == "Preview one",
-              30, "the report in the tab")
+        _wait(
+            lambda: (
+                browser.evaluate(
+                    "document.readyState === 'complete' && document.title", tolerant=True
+                )
+                == "Preview one"
+            ),
+            30,
+            "the report in the tab",
+        )
         # Mark this page's JavaScript state: a reload wipes it, a DOM patch or a cached page would not.
         browser.evaluate("window.__crankdyn_mark = 1")
-        assert "\t5600\t" in browser.evaluate("document.body.innerText")  # n in the input table (the name says 5600 too)
+        assert "\t5600\t" in browser.evaluate(
+            "document.body.innerText"
+        )  # n in the input table (the name says 5600 too)
 
         start = time.monotonic()
         _edit(scene, title='"Preview two"', rpm="6000")
-        _wait(lambda: browser.evaluate("document.readyState === 'complete' && document.title", tolerant=True) == "Preview two",
-              30, "the open tab to show the edited scene")
+        _wait(
+            lambda: (
+                browser.evaluate(
+                    "document.readyState === 'complete' && document.title", tolerant=True
+                )
+                == "Preview two"
+            ),
+            30,
+            "the open tab to show the edited scene",
+        )
         latency = time.monotonic() - start
-        assert browser.evaluate("window.__crankdyn_mark === undefined"), "the tab did not reload itself"
+        assert browser.evaluate("window.__crankdyn_mark === undefined"), (
+            "the tab did not reload itself"
+        )
         text = browser.evaluate("document.body.innerText")
         assert "\t6000\t" in text and "\t5600\t" not in text
         ARTIFACTS.mkdir(exist_ok=True)
@@ -365,24 +470,55 @@ def test_open_tab_reloads_itself_after_a_save_and_shows_the_error_page(tmp_path)
         # An invalid edit: the same tab turns into the error page, naming the field.
         browser.evaluate("window.__crankdyn_mark = 2")
         _edit(scene, bore='"-82 mm"')
-        _wait(lambda: browser.evaluate("document.body && document.body.dataset.crankdyn", tolerant=True) == "scene-error",
-              30, "the error page in the open tab")
+        _wait(
+            lambda: (
+                browser.evaluate("document.body && document.body.dataset.crankdyn", tolerant=True)
+                == "scene-error"
+            ),
+            30,
+            "the error page in the open tab",
+        )
         assert browser.evaluate("window.__crankdyn_mark === undefined")
         assert "engine.bore" in browser.evaluate("document.body.innerText")
         browser.screenshot(ARTIFACTS / "serve-error.png")
 
         # A fresh page load (what a new tab gets) shows the same error page.
         with tempfile.TemporaryDirectory() as profile:
-            dom = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                                  "--disable-quic", "--no-first-run", "--disable-background-networking",
-                                  "--disable-component-update", "--disable-sync", f"--user-data-dir={profile}",
-                                  "--dump-dom", base], capture_output=True, text=True, timeout=60, check=False).stdout
+            dom = subprocess.run(
+                [
+                    CHROMIUM,
+                    "--headless",
+                    "--no-sandbox",
+                    "--disable-gpu",
+                    "--disable-dev-shm-usage",
+                    "--disable-quic",
+                    "--no-first-run",
+                    "--disable-background-networking",
+                    "--disable-component-update",
+                    "--disable-sync",
+                    f"--user-data-dir={profile}",
+                    "--dump-dom",
+                    base,
+                ],
+                capture_output=True,
+                text=True,
+                timeout=60,
+                check=False,
+            ).stdout
         assert 'data-crankdyn="scene-error"' in dom and "engine.bore" in dom
 
         # Fixed: the tab comes back to the report by itself.
         _edit(scene, bore='"82 mm"')
-        _wait(lambda: browser.evaluate("document.readyState === 'complete' && document.title", tolerant=True) == "Preview two",
-              30, "the report again")
+        _wait(
+            lambda: (
+                browser.evaluate(
+                    "document.readyState === 'complete' && document.title", tolerant=True
+                )
+                == "Preview two"
+            ),
+            30,
+            "the report again",
+        )
     finally:
         if browser is not None:
             browser.close()
@@ -401,7 +537,9 @@ def test_a_study_that_must_run_again_follows_the_page(tmp_path):
     """The error study (last, providing nothing) runs after the page is out: the first snapshot
     says its section follows, the next one has it; the figures are drawn meanwhile."""
     scene = tmp_path / "kinematics.toml"
-    scene.write_text((examples_dir() / "kinematics-only.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    scene.write_text(
+        (examples_dir() / "kinematics-only.toml").read_text(encoding="utf-8"), encoding="utf-8"
+    )
     preview = Preview(scene)
     published = []
     publish = preview._publish
@@ -411,7 +549,9 @@ def test_a_study_that_must_run_again_follows_the_page(tmp_path):
     assert published[0].pending and published[1].pending == () and final is published[1]
     assert b'class="pending"' in published[0].page and b'class="pending"' not in published[1].page
     assert final.figures and all(f.drawn for f in final.figures)
-    assert set(published[0].figures) <= set(final.figures)  # the first page's figures, kept and drawn
+    assert set(published[0].figures) <= set(
+        final.figures
+    )  # the first page's figures, kept and drawn
 
 
 def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
@@ -420,7 +560,9 @@ def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
     # that the children of the next saves start warm; a save meanwhile stops the warming
     preview = Preview(_trace_scene(tmp_path), stages=["kinematics", "indicator"])
     snapshot = preview.build()
-    assert snapshot.state == "report" and snapshot.figures and all(f.drawn for f in snapshot.figures)
+    assert (
+        snapshot.state == "report" and snapshot.figures and all(f.drawn for f in snapshot.figures)
+    )
     preview._dirty.set()  # a save came: nothing drawn
     preview._warm(snapshot)
     assert preview._warmed == set()
@@ -448,8 +590,12 @@ def test_a_changed_data_file_is_computed_again(tmp_path):
     trace = tmp_path / "diesel6-1600rpm.ind"
     lines = trace.read_text(encoding="utf-8").splitlines(keepends=True)
     # every pressure (second column) 10 % higher
-    scaled = [line if not line.strip() or not line.split()[0].replace(".", "", 1).isdigit() else
-              line.replace(line.split()[1], f"{float(line.split()[1]) * 1.1:.2f}", 1) for line in lines]
+    scaled = [
+        line
+        if not line.strip() or not line.split()[0].replace(".", "", 1).isdigit()
+        else line.replace(line.split()[1], f"{float(line.split()[1]) * 1.1:.2f}", 1)
+        for line in lines
+    ]
     trace.write_text("".join(scaled), encoding="utf-8")
     preview.build()
     again = preview.stage_cache._entries["indicator"].output.results

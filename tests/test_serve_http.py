@@ -11,7 +11,9 @@ import pytest
 from crankdyn.preview.server import Preview, PreviewServer, content_disposition
 
 
-@pytest.mark.parametrize("name", ["report.pdf", "Сцена двигуна.pdf", 'a"b\\c.pdf', "ДВЗ №1 – варіант 7.pdf"])
+@pytest.mark.parametrize(
+    "name", ["report.pdf", "Сцена двигуна.pdf", 'a"b\\c.pdf', "ДВЗ №1 – варіант 7.pdf"]
+)
 def test_content_disposition_is_latin1_and_carries_the_utf8_name(name):
     header = content_disposition(name)
     header.encode("latin-1")  # what http.server does with every header: a Cyrillic name must pass
@@ -21,7 +23,9 @@ def test_content_disposition_is_latin1_and_carries_the_utf8_name(name):
         assert "filename*" not in header
     else:
         encoded = header.split("filename*=UTF-8''", 1)[1]
-        assert unquote(encoded, encoding="utf-8") == name and encoded.isascii() and " " not in encoded
+        assert (
+            unquote(encoded, encoding="utf-8") == name and encoded.isascii() and " " not in encoded
+        )
 
 
 @pytest.fixture
@@ -30,7 +34,9 @@ def idle_server(tmp_path):
     scene = tmp_path / "сцена.toml"
     scene.write_text("", encoding="utf-8")
     server = PreviewServer(Preview(scene), port=0)
-    thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True)
+    thread = threading.Thread(
+        target=server.serve_forever, kwargs={"poll_interval": 0.1}, daemon=True
+    )
     thread.start()
     try:
         yield server

@@ -39,13 +39,21 @@ def problem():
 
 # ----------------------------------------------------------------------------- reduced inertia
 
+
 def test_inertia_series_matches_direct_evaluation_and_its_derivative():
     _, train, inertia, _, _, _ = problem()
     alpha = np.linspace(0, 4 * np.pi, 997)
-    direct, direct_derivative = sf.reciprocating_inertia_kg_m2(alpha[:, None], train.phase_rad, train.reciprocating_kg,
-                                                               train.crank_radius_m, train.rod_ratio)
+    direct, direct_derivative = sf.reciprocating_inertia_kg_m2(
+        alpha[:, None],
+        train.phase_rad,
+        train.reciprocating_kg,
+        train.crank_radius_m,
+        train.rod_ratio,
+    )
     j, dj = inertia(alpha)
-    recip_mean = train.reciprocating_kg.sum() * sf.mean_arm_squared_m2(train.crank_radius_m, train.rod_ratio)
+    recip_mean = train.reciprocating_kg.sum() * sf.mean_arm_squared_m2(
+        train.crank_radius_m, train.rod_ratio
+    )
     constant = inertia.mean_kg_m2 - recip_mean
     np.testing.assert_allclose(j, constant + direct.sum(axis=1), rtol=1e-12)
     np.testing.assert_allclose(dj, direct_derivative.sum(axis=1), atol=1e-12 * np.max(np.abs(dj)))
@@ -67,11 +75,14 @@ def test_gas_torque_recovered_from_output_torque_equals_direct_gas_torque():
     arm, _ = sf.arm_derivatives(alpha, train.crank_radius_m, train.rod_ratio)
     single = forces.gas_Pa * forces.piston_area_m2 * arm
     step = result.scene.analysis.angle_step_deg
-    direct = sum(np.roll(single, lay.grid_shift(c.firing_delay_deg, step)) for c in layout.cylinders)
+    direct = sum(
+        np.roll(single, lay.grid_shift(c.firing_delay_deg, step)) for c in layout.cylinders
+    )
     np.testing.assert_allclose(series(alpha), direct, atol=1e-9 * np.max(np.abs(direct)))
 
 
 # ----------------------------------------------------------------------------- exact solution
+
 
 def test_periodic_series_interpolates_and_integrates():
     rng = np.random.default_rng(1)
@@ -87,7 +98,6 @@ def test_periodic_series_interpolates_and_integrates():
     assert abs(series.integral(2 * np.pi)) < 1e-12  # closes after a period
 
 
-
 def test_long_series_on_the_grid_and_in_blocks_match_the_closed_form(monkeypatch):
     # f = 2 cos(3a) - sin(1000a) + 0.5 cos(2048a) sampled on 4096 points: the grid evaluation
     # (inverse FFT, taken above _GRID_MIN_WORK) and the blockwise direct sum (small blocks
@@ -96,16 +106,25 @@ def test_long_series_on_the_grid_and_in_blocks_match_the_closed_form(monkeypatch
     n = 4096
     grid = np.arange(n) * (2 * np.pi / n)
     f = lambda a: 2 * np.cos(3 * a) - np.sin(1000 * a) + 0.5 * np.cos(2048 * a)  # noqa: E731
-    w = lambda a: 2 * np.sin(3 * a) / 3 + (np.cos(1000 * a) - 1) / 1000 + 0.5 * np.sin(2048 * a) / 2048  # noqa: E731
+    w = lambda a: (
+        2 * np.sin(3 * a) / 3 + (np.cos(1000 * a) - 1) / 1000 + 0.5 * np.sin(2048 * a) / 2048
+    )  # noqa: E731
     series = sf.PeriodicSeries.from_samples(f(grid), 2 * np.pi)
-    assert grid.size * series.wavenumbers.size >= sf._GRID_MIN_WORK  # the FFT path is the one tested
+    assert (
+        grid.size * series.wavenumbers.size >= sf._GRID_MIN_WORK
+    )  # the FFT path is the one tested
     np.testing.assert_allclose(series(grid), f(grid), atol=1e-12)
     np.testing.assert_allclose(series.integral(grid), w(grid), atol=1e-12)
-    monkeypatch.setattr(sf, "_BLOCK_ELEMENTS", 3 * series.wavenumbers.size)  # three angles per block
+    monkeypatch.setattr(
+        sf, "_BLOCK_ELEMENTS", 3 * series.wavenumbers.size
+    )  # three angles per block
     x = np.random.default_rng(2).uniform(0, 2 * np.pi, 10)
     np.testing.assert_allclose(series(x), f(x), atol=1e-9)
     np.testing.assert_allclose(series.integral(x), w(x), atol=1e-11)
-    np.testing.assert_allclose([series.integral(v) for v in x], w(x), atol=1e-11)  # one angle at a time
+    np.testing.assert_allclose(
+        [series.integral(v) for v in x], w(x), atol=1e-11
+    )  # one angle at a time
+
 
 def test_exact_solution_satisfies_the_equation_of_motion():
     # J omega d(omega)/d(alpha) + J'/2 omega^2 = M_g - M_c, checked by central differences
@@ -115,13 +134,15 @@ def test_exact_solution_satisfies_the_equation_of_motion():
     omega = exact.omega_at(alpha)
     domega = (exact.omega_at(alpha + h) - exact.omega_at(alpha - h)) / (2 * h)
     j, dj = inertia(alpha)
-    lhs = j * omega * domega + 0.5 * dj * omega ** 2
+    lhs = j * omega * domega + 0.5 * dj * omega**2
     rhs = series(alpha) - exact.load_torque_Nm
     np.testing.assert_allclose(lhs, rhs, atol=1e-6 * np.max(np.abs(rhs)))
     # periodic, and its time mean is the nominal speed
     assert exact.omega_at(4 * np.pi + 0.3) == pytest.approx(exact.omega_at(0.3), rel=1e-13)
     assert exact.omega_mean_rad_s == pytest.approx(torque.angular_velocity_rad_s, rel=1e-12)
-    cycle_time = np.trapezoid(1 / exact.omega_at(np.linspace(0, 4 * np.pi, 20001)), dx=4 * np.pi / 20000)
+    cycle_time = np.trapezoid(
+        1 / exact.omega_at(np.linspace(0, 4 * np.pi, 20001)), dx=4 * np.pi / 20000
+    )
     assert cycle_time == pytest.approx(exact.cycle_time_s, rel=1e-9)
 
 
@@ -129,7 +150,9 @@ def test_energy_method_and_periodic_ode_agree_on_inline4():
     # Acceptance: the flywheel from the energy method and from the periodic solution within 1 %.
     r = inline4().outputs["speed_fluctuation"].results
     assert abs(r["flywheel_inertia_deviation_percent"]) < 1.0
-    assert r["flywheel_inertia_ode_kg_m2"] == pytest.approx(r["flywheel_inertia_energy_kg_m2"], rel=0.01)
+    assert r["flywheel_inertia_ode_kg_m2"] == pytest.approx(
+        r["flywheel_inertia_energy_kg_m2"], rel=0.01
+    )
     assert abs(r["irregularity_deviation_percent"]) < 1.0
     # and the time-stepping solver reproduces the periodic solution
     solver = r["solver"]
@@ -145,7 +168,9 @@ def test_every_solver_converges_to_the_exact_solution():
         runs = sorted((r for r in records if r["method"] == method), key=lambda r: -r["rtol"])
         assert all(r["success"] and r["error_relative"] is not None for r in runs)
         assert runs[-1]["error_relative"] < 1e-5  # rtol 1e-7
-        assert runs[-1]["error_relative"] < runs[0]["error_relative"]  # tighter tolerance, smaller error
+        assert (
+            runs[-1]["error_relative"] < runs[0]["error_relative"]
+        )  # tighter tolerance, smaller error
         assert runs[-1]["nfev"] > runs[0]["nfev"]
         assert all(r["time_s"] > 0 for r in runs)
 
@@ -158,8 +183,11 @@ def test_the_run_the_section_quotes_is_a_row_of_its_table():
     assert len(used) == 1
     record = r["solvers"][used[0]]
     assert record["method"] == r["solver"]["method"] and record["rtol"] == r["solver"]["rtol"]
-    assert record["steps"] == r["solver"]["steps"] and record["error_relative"] == r["solver"]["error_relative"]
-    following = r["solvers"][used[0] + 1:]
+    assert (
+        record["steps"] == r["solver"]["steps"]
+        and record["error_relative"] == r["solver"]["error_relative"]
+    )
+    following = r["solvers"][used[0] + 1 :]
     assert all(rec["method"] != record["method"] for rec in following)
 
 
@@ -177,7 +205,9 @@ def test_time_stepping_reproduces_the_exact_solution_directly():
         run = sf.run_solver(rhs, (0, exact.cycle_time_s), y0, method, 1e-9, [1e-12, 1e-9])
         assert run.success
         assert sf.phase_error(run, exact) < 1e-6  # global error of a whole cycle at rtol 1e-9
-        assert run.y[0, -1] == pytest.approx(4 * np.pi, abs=1e-6)  # one cycle in the exact cycle time
+        assert run.y[0, -1] == pytest.approx(
+            4 * np.pi, abs=1e-6
+        )  # one cycle in the exact cycle time
 
 
 def test_stability_polynomial_of_rk45():
@@ -194,8 +224,15 @@ def test_stability_polynomial_of_rk45():
 def test_a_run_stopped_by_its_budget_reports_its_progress():
     _, _, inertia, series, exact, _ = problem()
     rhs = sf.single_mass_rhs(series, exact.load_torque_Nm, inertia)
-    run = sf.run_solver(rhs, (0, exact.cycle_time_s), [0.0, float(exact.omega_at(0.0))], "RK45", 1e-12,
-                        [1e-15, 1e-12], max_nfev=200)
+    run = sf.run_solver(
+        rhs,
+        (0, exact.cycle_time_s),
+        [0.0, float(exact.omega_at(0.0))],
+        "RK45",
+        1e-12,
+        [1e-15, 1e-12],
+        max_nfev=200,
+    )
     assert not run.success and 0 < run.progress < 1 and run.nfev >= 200
     assert run.steps_needed > run.steps
 
@@ -226,4 +263,6 @@ def test_long_single_disc_series_gives_what_the_short_path_gives(monkeypatch):
     for alpha in np.random.default_rng(3).uniform(0, 4 * np.pi, 20):
         m, j, dj = short.scalar(alpha)
         np.testing.assert_allclose(long.scalar(alpha), (m, j, dj), rtol=1e-12, atol=1e-12 * abs(m))
-        assert long_series(float(alpha)) == pytest.approx(series(float(alpha)), rel=1e-12, abs=1e-12 * abs(m))
+        assert long_series(float(alpha)) == pytest.approx(
+            series(float(alpha)), rel=1e-12, abs=1e-12 * abs(m)
+        )

@@ -25,8 +25,11 @@ EXAMPLES = sorted(p.stem for p in examples_dir().glob("*.toml"))
 # A 5° grid, one timed repeat over two angle steps in the numerics study, one tolerance in the torsional
 # solver comparison: the same sections, figures and tables (which of them appear does not depend on
 # the grid or the repeats), in a fraction of the time.
-LIGHTER = {"analysis": {"angle_step_deg": 5.0}, "numerics": {"repeats": 1, "steps_deg": [10.0, 5.0]},
-           "torsion": {"compare_rtols": [1e-3], "reference_rtol": 1e-5, "compare_fraction": 0.1}}
+LIGHTER = {
+    "analysis": {"angle_step_deg": 5.0},
+    "numerics": {"repeats": 1, "steps_deg": [10.0, 5.0]},
+    "torsion": {"compare_rtols": [1e-3], "reference_rtol": 1e-5, "compare_fraction": 0.1},
+}
 
 
 def test_declared_names_and_patterns():
@@ -44,8 +47,17 @@ def _throwaway(figures=(), tables=(), draw="plot", table="main"):
         ax.plot([0, 1], [0, 1])
         return ctx.figure(fig, "a figure", draw)
 
-    return Stage(name="throwaway", title_key="throwaway.title", requires=(), provides=(), applies=lambda s: None,
-                 run=run, render=render, figures=figures, tables=tables)
+    return Stage(
+        name="throwaway",
+        title_key="throwaway.title",
+        requires=(),
+        provides=(),
+        applies=lambda s: None,
+        run=run,
+        render=render,
+        figures=figures,
+        tables=tables,
+    )
 
 
 def _registry(stage: Stage) -> Registry:
@@ -57,15 +69,23 @@ def _registry(stage: Stage) -> Registry:
 def test_a_table_not_declared_is_refused_naming_the_stage_and_the_table():
     scene = scene_from_dict(example_data("kinematics-only"))
     stage = _throwaway(tables=("other",))
-    with pytest.raises(PluginError, match=r"stage 'throwaway' returned the tables \['main'\].*Stage.tables"):
+    with pytest.raises(
+        PluginError, match=r"stage 'throwaway' returned the tables \['main'\].*Stage.tables"
+    ):
         run_plan(scene, plan(scene, _registry(stage)))
-    assert run_plan(scene, plan(scene, _registry(_throwaway(tables=("ma*",))))).outputs["throwaway"].tables
+    assert (
+        run_plan(scene, plan(scene, _registry(_throwaway(tables=("ma*",)))))
+        .outputs["throwaway"]
+        .tables
+    )
 
 
 def test_a_figure_not_declared_is_refused_naming_the_stage_and_the_figure():
     scene = scene_from_dict(example_data("kinematics-only"))
     result = run_scene(scene, _registry(_throwaway(figures=("scheme",), tables=("main",))))
-    with pytest.raises(PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*StagePresentation.figures"):
+    with pytest.raises(
+        PluginError, match=r"stage 'throwaway' drew the figure 'plot'.*StagePresentation.figures"
+    ):
         render_html(result, _registry(result.plan.order[0]))
     result = run_scene(scene, _registry(_throwaway(figures=("plot",), tables=("main",))))
     report = render_html(result, _registry(result.plan.order[0]))
@@ -77,22 +97,34 @@ class _Recording(RenderContext):
 
     drawn: list
 
-    def figure(self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
+    def figure(
+        self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None
+    ) -> Markup:
         self.check_figure_declared(name)
         self.drawn.append((self.stage_name, name))
-        plt.close(fig() if callable(fig) else fig)  # a builder is called: every example's figures are built
+        plt.close(
+            fig() if callable(fig) else fig
+        )  # a builder is called: every example's figures are built
         return Markup("")
 
 
 def _example(example: str):
     """Every stage of the example run, and each section rendered with the figures recorded."""
     data = example_data(example)
-    lighter = {table: changes for table, changes in LIGHTER.items()
-               if table in data or (table == "numerics" and "cycle" in data)}
+    lighter = {
+        table: changes
+        for table, changes in LIGHTER.items()
+        if table in data or (table == "numerics" and "cycle" in data)
+    }
     scene = scene_from_dict(modified(example, lighter), base_dir=examples_dir())
     result = run_scene(scene, REGISTRY, None, available_languages())
-    ctx = _Recording(t=translator(scene.report.language, REGISTRY.catalogs), env=_environment(REGISTRY, result),
-                     table_step_deg=scene.analysis.table_step_deg, cycle_deg=scene.engine.cycle_deg, scene=scene)
+    ctx = _Recording(
+        t=translator(scene.report.language, REGISTRY.catalogs),
+        env=_environment(REGISTRY, result),
+        table_step_deg=scene.analysis.table_step_deg,
+        cycle_deg=scene.engine.cycle_deg,
+        scene=scene,
+    )
     ctx.drawn = []
     for number, stage in enumerate(result.plan.order, start=2):
         ctx.start_section(number, stage.name, stage.presentation.figures)
@@ -106,9 +138,15 @@ def test_every_example_draws_and_writes_only_what_its_stages_declare(example):
     result, drawn = _example(example)
     stages = {s.name: s for s in result.plan.order}
     assert drawn, "no figure drawn"
-    undeclared = [(stage, name) for stage, name in drawn if not declared(name, stages[stage].presentation.figures)]
+    undeclared = [
+        (stage, name)
+        for stage, name in drawn
+        if not declared(name, stages[stage].presentation.figures)
+    ]
     assert not undeclared, undeclared
-    tables = [(stage, name) for stage, output in result.outputs.items() for name in output.tables.keys()]
+    tables = [
+        (stage, name) for stage, output in result.outputs.items() for name in output.tables.keys()
+    ]
     assert not [(stage, name) for stage, name in tables if not declared(name, stages[stage].tables)]
 
 
@@ -116,5 +154,7 @@ def test_every_built_in_stage_declares_its_figures_and_tables():
     """A section that draws declares its figures; the declarations are names (or patterns), not empty."""
     for stage in REGISTRY.stages.values():
         assert stage.presentation.figures, f"{stage.name} declares no figure"
-        assert all(isinstance(n, str) and n for n in (*stage.presentation.figures, *stage.tables)), stage.name
+        assert all(
+            isinstance(n, str) and n for n in (*stage.presentation.figures, *stage.tables)
+        ), stage.name
         assert stage.tables or stage.name.startswith("drawing"), f"{stage.name} declares no table"

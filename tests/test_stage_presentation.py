@@ -29,8 +29,9 @@ def _render(output, ctx):
 
 
 def _stage(**fields) -> Stage:
-    return Stage(name="quiet", requires=(), provides=(), applies=lambda scene: None, run=_run,
-                 **fields)
+    return Stage(
+        name="quiet", requires=(), provides=(), applies=lambda scene: None, run=_run, **fields
+    )
 
 
 def _titles(html: str) -> list[str]:
@@ -39,14 +40,18 @@ def _titles(html: str) -> list[str]:
 
 def test_a_stage_without_presentation_gives_its_results_and_no_section():
     scene = scene_from_dict(example_data("kinematics-only"))
-    plain = Registry(mechanisms=REGISTRY.mechanisms, catalogs=REGISTRY.catalogs,
-                     stages={"kinematics": REGISTRY.stages["kinematics"]})
+    plain = Registry(
+        mechanisms=REGISTRY.mechanisms,
+        catalogs=REGISTRY.catalogs,
+        stages={"kinematics": REGISTRY.stages["kinematics"]},
+    )
     quiet = dataclasses.replace(plain, stages={**plain.stages, "quiet": _stage()})
     result = run_scene(scene, quiet)
     assert "quiet" in [s.name for s in result.plan.order]
     # the stroke S = 2R, from the scene's own crank radius
     assert result.outputs["quiet"].results["stroke_m"] == pytest.approx(
-        2.0 * scene.engine.crank_radius_m)
+        2.0 * scene.engine.crank_radius_m
+    )
     report = render_html(result, quiet)
     assert "quiet section" not in report.html
     assert _titles(report.html) == _titles(render_html(run_scene(scene, plain), plain).html)
@@ -55,8 +60,9 @@ def test_a_stage_without_presentation_gives_its_results_and_no_section():
 def test_the_flat_form_is_folded_into_a_presentation_with_a_warning():
     with pytest.warns(DeprecationWarning, match="presentation=StagePresentation"):
         flat = _stage(title_key="quiet.title", render=_render, figures=["a"], appendix=True)
-    assert flat.presentation == StagePresentation(title_key="quiet.title", render=_render,
-                                                  figures=["a"], appendix=True)
+    assert flat.presentation == StagePresentation(
+        title_key="quiet.title", render=_render, figures=["a"], appendix=True
+    )
     new = _stage(presentation=StagePresentation(title_key="quiet.title", render=_render))
     assert new.presentation.figures == () and new.presentation.legend
     with pytest.warns(DeprecationWarning, match="Stage.title_key"):

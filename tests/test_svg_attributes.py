@@ -39,14 +39,18 @@ def test_styles_become_attributes_and_the_stylesheet_the_root_defaults():
     assert re.search(r'<svg [^>]*stroke-linejoin="round" stroke-linecap="butt"', lean)
     assert 'stroke-linecap="square"' in lean  # the grid's own cap outranks the root's
     assert 'stroke-dasharray="' in lean and 'font-family="' in lean
-    assert len(re.findall(r"<(?:path|use|text|tspan)\b", lean)) == len(re.findall(r"<(?:path|use|text|tspan)\b", raw))
+    assert len(re.findall(r"<(?:path|use|text|tspan)\b", lean)) == len(
+        re.findall(r"<(?:path|use|text|tspan)\b", raw)
+    )
 
 
 def test_other_properties_stay_in_style_and_other_stylesheets_are_left_alone():
     sheet = '<style type="text/css">*{stroke-linejoin: round; stroke-linecap: butt}</style>'
     svg = f'<svg width="1pt"><defs>{sheet}</defs><text style="white-space: pre; fill: #000">a b</text></svg>'
-    assert presentation_attributes(svg) == ('<svg stroke-linejoin="round" stroke-linecap="butt" width="1pt"><defs>'
-                                            '</defs><text fill="#000" style="white-space: pre">a b</text></svg>')
+    assert presentation_attributes(svg) == (
+        '<svg stroke-linejoin="round" stroke-linecap="butt" width="1pt"><defs>'
+        '</defs><text fill="#000" style="white-space: pre">a b</text></svg>'
+    )
     other = svg.replace("</defs>", "<style>path{fill: red}</style></defs>")
     assert presentation_attributes(other) == other
 
@@ -58,7 +62,10 @@ def test_the_report_figures_are_written_with_attributes():
     assert "<style" not in svg and ' style="' not in svg
 
 
-@pytest.mark.skipif(shutil.which("pdftoppm") is None, reason="poppler-utils not installed (bash .ci/setup.sh installs it)")
+@pytest.mark.skipif(
+    shutil.which("pdftoppm") is None,
+    reason="poppler-utils not installed (bash .ci/setup.sh installs it)",
+)
 def test_the_same_pixels_before_and_after(tmp_path):
     from PIL import Image
 
@@ -69,8 +76,19 @@ def test_the_same_pixels_before_and_after(tmp_path):
     for name, svg in (("raw", raw), ("lean", presentation_attributes(raw))):
         html = f'<img src="data:image/svg+xml;base64,{__import__("base64").b64encode(svg.encode()).decode()}">'
         (tmp_path / f"{name}.pdf").write_bytes(html_to_pdf(html))
-        subprocess.run(["pdftoppm", "-r", "150", "-gray", "-png", "-singlefile", str(tmp_path / f"{name}.pdf"),
-                        str(tmp_path / name)], check=True)
+        subprocess.run(
+            [
+                "pdftoppm",
+                "-r",
+                "150",
+                "-gray",
+                "-png",
+                "-singlefile",
+                str(tmp_path / f"{name}.pdf"),
+                str(tmp_path / name),
+            ],
+            check=True,
+        )
         pixels.append(np.asarray(Image.open(tmp_path / f"{name}.png"), dtype=int))
     assert pixels[0].shape == pixels[1].shape and pixels[0].min() < 128  # something was drawn
     assert np.array_equal(pixels[0], pixels[1])

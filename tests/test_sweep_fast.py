@@ -62,8 +62,11 @@ def _assert_same_keys(fast, slow):
 
 # Three fields each stage of the key reads: the speed (kinematics, forces, torque), the rod ratio
 # (the extremes' root searches) and the peak pressure (the indicator's rounding).
-TWELVE = ["engine.rpm=3000:6000:3", "engine.rod_ratio=0.25,0.3",
-          "cycle.max_pressure=5.5 MPa,6.5 MPa"]
+TWELVE = [
+    "engine.rpm=3000:6000:3",
+    "engine.rod_ratio=0.25,0.3",
+    "cycle.max_pressure=5.5 MPa,6.5 MPa",
+]
 
 
 def test_twelve_points_in_chunks_equal_the_points_run_alone():
@@ -88,8 +91,9 @@ def test_the_chunked_sweep_on_worker_processes_equals_the_points_run_alone():
 
 def test_a_failing_point_fails_alone_and_the_others_of_its_chunk_keep_their_answers():
     # a peak 170° after TDC is past the exhaust opening: the indicator refuses those points
-    base, base_dir, points = _grid(["engine.rod_ratio=0.28,0.3",
-                                    "cycle.rounding.peak_angle_after_tdc_deg=12,170"])
+    base, base_dir, points = _grid(
+        ["engine.rod_ratio=0.28,0.3", "cycle.rounding.peak_angle_after_tdc_deg=12,170"]
+    )
     fast = run_chunk(base, base_dir, points, None, None)
     slow = _per_point(base, base_dir, points)
     assert [o.ok for o in fast] == [o.ok for o in slow] == [True, False, True, False]
@@ -111,7 +115,8 @@ def test_the_key_plan_keeps_the_key_stages_their_prerequisites_and_no_study():
     provided = {key for s in kept.order for key in s.provides}
     for stage in kept.order:  # every stage kept fills the key or feeds one kept
         assert stage.answer_columns or any(
-            key in (*other.requires, *other.uses) for other in kept.order for key in stage.provides)
+            key in (*other.requires, *other.uses) for other in kept.order for key in stage.provides
+        )
         assert set(stage.requires) <= provided
     left_out = [s for s in full.order if s.name not in names and not is_study(s)]
     assert left_out and not any(s.answer_columns for s in left_out)
@@ -122,8 +127,9 @@ def test_the_key_plan_keeps_the_key_stages_their_prerequisites_and_no_study():
 def _same(got, expected, what):
     if isinstance(expected, np.ndarray):
         scale = float(np.max(np.abs(expected))) if expected.size else 1.0
-        np.testing.assert_allclose(got, expected, rtol=RELATIVE, atol=1e-12 * (scale or 1.0),
-                                   err_msg=what)
+        np.testing.assert_allclose(
+            got, expected, rtol=RELATIVE, atol=1e-12 * (scale or 1.0), err_msg=what
+        )
     elif isinstance(expected, (float, int, np.floating)) and not isinstance(expected, bool):
         assert got == pytest.approx(expected, rel=RELATIVE, abs=1e-300), what
     elif isinstance(expected, dict):
@@ -140,10 +146,12 @@ def _same(got, expected, what):
 
 # Other cycles and engines: a diesel's rounding, a two-stroke diagram, four cylinders (the torque
 # repeats every 180°), a measured pressure trace (the indicator runs point by point).
-OTHER_SCENES = [("diesel-1cyl.toml", ["engine.rpm=1800,2600", "engine.rod_ratio=0.26,0.3"]),
-                ("two-stroke-1cyl.toml", ["engine.rpm=3000,5000"]),
-                ("inline4-petrol.toml", ["engine.rpm=3000,5500"]),
-                ("inline6-diesel-trace.toml", ["engine.rpm=1500,1700"])]
+OTHER_SCENES = [
+    ("diesel-1cyl.toml", ["engine.rpm=1800,2600", "engine.rod_ratio=0.26,0.3"]),
+    ("two-stroke-1cyl.toml", ["engine.rpm=3000,5000"]),
+    ("inline4-petrol.toml", ["engine.rpm=3000,5500"]),
+    ("inline6-diesel-trace.toml", ["engine.rpm=1500,1700"]),
+]
 
 
 def test_run_many_gives_the_data_and_results_of_run_point_by_point():
@@ -168,7 +176,9 @@ def _check_run_many(sets, scene_path) -> set[str]:
     checked = set()
     for stage in the_plan.order:
         inputs = [stage_inputs(stage, d, registry) for d in data]
-        singles = [run_stage(stage, scene, given)[0] for scene, given in zip(scenes, inputs, strict=True)]
+        singles = [
+            run_stage(stage, scene, given)[0] for scene, given in zip(scenes, inputs, strict=True)
+        ]
         if stage.run_many is not None:
             checked.add(stage.name)
             for output, single in zip(stage.run_many(scenes, inputs), singles, strict=False):
@@ -178,8 +188,11 @@ def _check_run_many(sets, scene_path) -> set[str]:
                 for key, value in single.data.items():
                     if getattr(value, "displacement_at", None) is not None:
                         angles = np.array([0.0, 33.3, 181.0])
-                        _same(output.data[key].displacement_at(angles),
-                              value.displacement_at(angles), key)
+                        _same(
+                            output.data[key].displacement_at(angles),
+                            value.displacement_at(angles),
+                            key,
+                        )
         for d, single in zip(data, singles, strict=True):
             d.update(single.data)
     return checked
@@ -237,9 +250,14 @@ def test_the_sweep_runs_the_study_once_and_says_so(tmp_path):
 
 @pytest.mark.slow
 def test_a_larger_grid_in_chunks_equals_the_points_run_alone():
-    base, base_dir, points = _grid(["engine.rpm=2000:7000:6", "engine.rod_ratio=0.24:0.32:5",
-                                    "cycle.max_pressure=4.5 MPa,6 MPa,7.5 MPa",
-                                    "engine.bore=76 mm,88 mm"])
+    base, base_dir, points = _grid(
+        [
+            "engine.rpm=2000:7000:6",
+            "engine.rod_ratio=0.24:0.32:5",
+            "cycle.max_pressure=4.5 MPa,6 MPa,7.5 MPa",
+            "engine.bore=76 mm,88 mm",
+        ]
+    )
     assert len(points) == 180
     outcomes, _ = execute_key(points, base, base_dir, RunOptions([], jobs=2, progress=False))
     _assert_same_keys(outcomes, _per_point(base, base_dir, points))
@@ -259,8 +277,9 @@ def test_on_dask_the_points_go_in_chunks_and_give_the_local_key(monkeypatch):
     monkeypatch.setattr(grid_run, "run_all_dask", counting)
     base, base_dir, points = _grid(TWELVE)
     local, _ = execute_key(points, base, base_dir, RunOptions([], jobs=1, progress=False))
-    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None
+    ) as cluster:
         options = RunOptions([], progress=False, scheduler=cluster.scheduler_address)
         remote, stop = execute_key(points, base, base_dir, options)
     assert stop == 0
@@ -279,15 +298,24 @@ def _hang_at(scene, inputs):
 
 
 def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_fails(monkeypatch):
-    hanging = Stage(name="hang_for_test", title_key="kinematics.title", requires=(), provides=(),
-                    applies=lambda scene: None, run=_hang_at, render=lambda output, ctx: None,
-                    answer_columns=(AnswerColumn("hang_x", "x"),))
+    hanging = Stage(
+        name="hang_for_test",
+        title_key="kinematics.title",
+        requires=(),
+        provides=(),
+        applies=lambda scene: None,
+        run=_hang_at,
+        render=lambda output, ctx: None,
+        answer_columns=(AnswerColumn("hang_x", "x"),),
+    )
     registry = default_registry()
     stages = {**registry.stages, hanging.name: hanging}
     monkeypatch.setattr(batch, "_worker_registry", dataclasses.replace(registry, stages=stages))
     base, base_dir = load_base(examples_dir() / "kinematics-only.toml")
-    points = [Variant(k, f"p{k}", {"engine": {"rpm": rpm}}, {"variant": f"p{k}"})
-              for k, rpm in enumerate([3000, HANG_RPM, 3500, 4000], start=1)]
+    points = [
+        Variant(k, f"p{k}", {"engine": {"rpm": rpm}}, {"variant": f"p{k}"})
+        for k, rpm in enumerate([3000, HANG_RPM, 3500, 4000], start=1)
+    ]
     options = RunOptions([], jobs=1, progress=False, timeout=1.0)
     outcomes, stop = execute_key(points, base, base_dir, options)
     assert stop == 0
@@ -303,9 +331,16 @@ def test_a_chunk_given_no_time_stops_before_its_first_stage():
         ran.append(scene.engine.rpm)
         return StageOutput(results={"x": 1.0})
 
-    counted = Stage(name="count_for_test", title_key="kinematics.title", requires=(), provides=(),
-                    applies=lambda scene: None, run=counting, render=lambda output, ctx: None,
-                    answer_columns=(AnswerColumn("count_x", "x"),))
+    counted = Stage(
+        name="count_for_test",
+        title_key="kinematics.title",
+        requires=(),
+        provides=(),
+        applies=lambda scene: None,
+        run=counting,
+        render=lambda output, ctx: None,
+        answer_columns=(AnswerColumn("count_x", "x"),),
+    )
     registry = default_registry()
     registry = dataclasses.replace(registry, stages={**registry.stages, counted.name: counted})
     base, base_dir, points = _grid(TWELVE[:1])
@@ -318,7 +353,8 @@ def test_a_chunk_given_no_time_stops_before_its_first_stage():
 
 
 def test_on_dask_a_chunk_runs_in_the_worker_and_one_out_of_time_runs_again_point_by_point(
-        monkeypatch):
+    monkeypatch,
+):
     distributed = pytest.importorskip("distributed")
     import crankdyn.batch.grid_run as grid_run
 
@@ -332,8 +368,9 @@ def test_on_dask_a_chunk_runs_in_the_worker_and_one_out_of_time_runs_again_point
     monkeypatch.setattr(grid_run, "_check_time", out_of_time)
     base, base_dir, points = _grid(TWELVE[:2])
     local, _ = execute_key(points, base, base_dir, RunOptions([], jobs=1, progress=False))
-    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=1,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None
+    ) as cluster:
         options = RunOptions([], progress=False, scheduler=cluster.scheduler_address)
         remote, stop = execute_key(points, base, base_dir, options)
     assert stop == 0
@@ -346,12 +383,18 @@ def test_a_chunk_builds_each_point_scene_as_a_batch_builds_it():
     from crankdyn.batch.grid_run import _PointScenes
 
     base, base_dir = load_base(PETROL)
-    points = [Variant(1, "a", {"engine": {"rpm": 4100.0}}, {"variant": "a"}),
-              Variant(2, "b", {"report": {"variant": "own"}, "cycle": {"max_pressure": "5 MPa"}},
-                      {"variant": "b"}),
-              Variant(3, "c", {"engine": {"rpm": -5.0}}, {"variant": "c"}),  # refused by the model
-              Variant(4, "d", {"engine": {"name": "x\ty"}}, {"variant": "d"}),  # a control char
-              Variant(5, "e", {"engine": {"bore": "1e-400 mm"}}, {"variant": "e"})]
+    points = [
+        Variant(1, "a", {"engine": {"rpm": 4100.0}}, {"variant": "a"}),
+        Variant(
+            2,
+            "b",
+            {"report": {"variant": "own"}, "cycle": {"max_pressure": "5 MPa"}},
+            {"variant": "b"},
+        ),
+        Variant(3, "c", {"engine": {"rpm": -5.0}}, {"variant": "c"}),  # refused by the model
+        Variant(4, "d", {"engine": {"name": "x\ty"}}, {"variant": "d"}),  # a control char
+        Variant(5, "e", {"engine": {"bore": "1e-400 mm"}}, {"variant": "e"}),
+    ]
     for language in (None, "uk"):
         built = _PointScenes(base, str(base_dir), language, ())
         for variant in points:

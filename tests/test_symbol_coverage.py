@@ -28,19 +28,28 @@ def symbols_in(formula: str, language: str, stage: str) -> list[str]:
 def symbol_html(key: str, language: str) -> str:
     return typeset.symbol_html(key, language, SYMBOLS)
 
+
 EXAMPLES = ("inline4-petrol", "v8-petrol", "petrol-1cyl-uk")
 #: The stages whose letters are their own (Stage.symbols): the rod dynamics (offset crank), the
 #: articulated rods (radial), the torsional model, the offset crank, the kinematics study, the vane
 #: engine and the planetary mechanism (the only examples of these two stages); read in the textbook's
 #: Cyrillic subscripts and in the Latin ones (ru writes its subscripts as uk does).
-STAGE_EXAMPLES = ("offset-crank-engine", "radial9-aircraft", "inline4-torsion", "kinematics-only",
-                  "vane-engine-kinematics", "planetary-kinematics")
+STAGE_EXAMPLES = (
+    "offset-crank-engine",
+    "radial9-aircraft",
+    "inline4-torsion",
+    "kinematics-only",
+    "vane-engine-kinematics",
+    "planetary-kinematics",
+)
 LANGUAGES = ("uk", "ru", "en")
 
 #: A symbol as an equation writes it: an italic (or bold) letter, its primes and subscript; an
 #: upright bold letter (the rotation matrix Π, the unit vectors e).
-_TOKEN = re.compile(r"(?:<b>)?Δ?<i>[^<]+</i>(?:</b>)?[′″]?(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?[′″]?"
-                    r"|<b>[^<]+</b>(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?")
+_TOKEN = re.compile(
+    r"(?:<b>)?Δ?<i>[^<]+</i>(?:</b>)?[′″]?(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?[′″]?"
+    r"|<b>[^<]+</b>(?:<sub>(?:[^<]|<i>[^<]*</i>)*</sub>)?"
+)
 _RUN = re.compile(r"<i>([^<]{2,})</i>")
 _SCRIPT = re.compile(r"<(sub|sup)>(?:[^<]|<i>[^<]*</i>|<sub>[^<]*</sub>)*?</\1>")
 #: an instance of an indexed symbol (A_2 of A_n, H_1 of H_k)
@@ -60,29 +69,42 @@ def _equations(html: str):
 def _tokens(formula: str) -> list[str]:
     """The symbols ``formula`` shows, a product in one italic run read letter by letter; a bare
     letter inside a sub- or superscript is an index or exponent, not a symbol."""
-    formula = _RUN.sub(lambda m: "".join(f"<i>{c}</i>" for c in re.findall(r"\S[\u0300-\u036f]*", m.group(1))),
-                       formula)
+    formula = _RUN.sub(
+        lambda m: "".join(f"<i>{c}</i>" for c in re.findall(r"\S[\u0300-\u036f]*", m.group(1))),
+        formula,
+    )
     scripts = [m.span() for m in _SCRIPT.finditer(formula)]
-    return [t.group(0) for t in _TOKEN.finditer(formula)
-            if "<sub>" in t.group(0) or not any(a < t.start() < b for a, b in scripts)]
+    return [
+        t.group(0)
+        for t in _TOKEN.finditer(formula)
+        if "<sub>" in t.group(0) or not any(a < t.start() < b for a, b in scripts)
+    ]
 
 
 def _indexed_symbol(token: str, language: str, stage: str) -> bool:
     m = _NUMBERED.match(token)
     if not m:
         return False
-    return any(symbols_in(symbol_html(key, language), language, stage) == [key]
-               for key, symbol in SYMBOLS.items()
-               if symbol.base == m.group(1) and re.search(r"<sub><i>\w</i></sub>$", symbol_html(key, language)))
+    return any(
+        symbols_in(symbol_html(key, language), language, stage) == [key]
+        for key, symbol in SYMBOLS.items()
+        if symbol.base == m.group(1)
+        and re.search(r"<sub><i>\w</i></sub>$", symbol_html(key, language))
+    )
 
 
-@pytest.mark.parametrize("example, language", [(e, lang) for e in EXAMPLES for lang in LANGUAGES]
-                         + [(e, lang) for e in STAGE_EXAMPLES for lang in ("uk", "en")])
+@pytest.mark.parametrize(
+    "example, language",
+    [(e, lang) for e in EXAMPLES for lang in LANGUAGES]
+    + [(e, lang) for e in STAGE_EXAMPLES for lang in ("uk", "en")],
+)
 def test_every_symbol_of_an_equation_is_in_the_symbol_table(example, language):
     missing = set()
     for stage, formula in _equations(shared_html(example, language=language).linked_html):
         for token in _tokens(formula):
-            if not symbols_in(token, language, stage) and not _indexed_symbol(token, language, stage):
+            if not symbols_in(token, language, stage) and not _indexed_symbol(
+                token, language, stage
+            ):
                 missing.add((stage, token))
     assert not missing, sorted(missing)
 
@@ -125,12 +147,25 @@ def test_the_new_symbols_are_explained_under_their_first_equation():
     ru = translator("ru", default_registry().catalogs)
     # the full report: the error study's relative error ε_X is a symbol of its numerics chapter
     html = shared_html("inline4-petrol", {"report": {"detail": "full"}}, language="ru").linked_html
-    for key in ("shaft_angle", "crank_lag", "cylinder_axis_angle", "cylinder_position", "pin_load_vector",
-                "rod_bearing_load_vector", "rotation_matrix", "journal_load_vector", "span_after", "rim_width",
-                "relative_error", "hodograph_semi_axis_x"):
+    for key in (
+        "shaft_angle",
+        "crank_lag",
+        "cylinder_axis_angle",
+        "cylinder_position",
+        "pin_load_vector",
+        "rod_bearing_load_vector",
+        "rotation_matrix",
+        "journal_load_vector",
+        "span_after",
+        "rim_width",
+        "relative_error",
+        "hodograph_semi_axis_x",
+    ):
         line = f'<span class="where-line">{symbol_html(key, "ru")} – '
         assert line in html, key
-        assert ru(f"symbol.{key}").split(" (")[0] in re.sub(r"</?i>", "", html)  # (its letters in italics)
+        assert ru(f"symbol.{key}").split(" (")[0] in re.sub(
+            r"</?i>", "", html
+        )  # (its letters in italics)
 
 
 def test_the_symbols_paragraphs_say_no_meaning_twice():
@@ -157,8 +192,8 @@ def test_a_sections_own_letters_keep_their_meaning_there():
     assert "відстань між осями сусідніх циліндрів" not in planetary
     assert "кут повороту колінчастого вала від ВМТ першого циліндра" not in planetary
     offset = shared_html("offset-crank-engine", language="uk").linked_html
-    rod = offset[offset.find('data-stage="rod_dynamics"'):]
-    rod = rod[:rod.find("</section>")]
+    rod = offset[offset.find('data-stage="rod_dynamics"') :]
+    rod = rod[: rod.find("</section>")]
     assert not re.search(r"<i>M</i> – сумарний індикаторний крутний момент", rod)
     four = shared_html("inline4-petrol", language="uk").linked_html
     assert "відстань між осями сусідніх циліндрів" in four and "від ВМТ першого циліндра" in four
@@ -177,7 +212,9 @@ def test_every_stage_symbol_has_a_meaning_in_every_language():
     ``symbol.<stage>.<key>``, in each report language; a meaning is plain text (no "_" the list
     would print as it is)."""
     registry = default_registry()
-    declared = [f"{stage.name}.{key}" for stage in registry.stages.values() for key in stage.symbols]
+    declared = [
+        f"{stage.name}.{key}" for stage in registry.stages.values() for key in stage.symbols
+    ]
     assert len(declared) >= 58 and all(key in SYMBOLS for key in declared)
     for language in LANGUAGES:
         t = translator(language, registry.catalogs)
@@ -191,11 +228,16 @@ def test_a_stage_symbol_key_must_be_an_identifier():
     from crankdyn.plugin.types import Stage, StagePresentation, Symbol
 
     def stage(symbols):
-        return Stage(name="odd", requires=(), provides=(), applies=lambda scene: None,
-                     run=lambda scene, inputs: None,
-                     presentation=StagePresentation(title_key="odd.title",
-                                                    render=lambda output, ctx: None,
-                                                    symbols=symbols))
+        return Stage(
+            name="odd",
+            requires=(),
+            provides=(),
+            applies=lambda scene: None,
+            run=lambda scene, inputs: None,
+            presentation=StagePresentation(
+                title_key="odd.title", render=lambda output, ctx: None, symbols=symbols
+            ),
+        )
 
     with pytest.raises(PluginError, match="'bad key'"):
         typeset.symbol_table([stage({"bad key": Symbol("x", {}, "")})])
@@ -208,13 +250,15 @@ def test_a_stage_letter_listed_with_another_meaning_says_where_it_holds(language
     """The offset crank's k = e/L beside the force along the rod k: the list of symbols says in
     which section the stage's own k holds."""
     html = shared_html("offset-crank-engine", language=language).linked_html
-    listed = html[html.index('<div class="symbol-list">'):]
-    listed = listed[:listed.index("</div>")]
+    listed = html[html.index('<div class="symbol-list">') :]
+    listed = listed[: listed.index("</div>")]
     t = translator(language, default_registry().catalogs)
-    rows = re.findall(r'<span class="symbol"><i>k</i></span> – <span class="meaning">([^<]*)</span>', listed)
+    rows = re.findall(
+        r'<span class="symbol"><i>k</i></span> – <span class="meaning">([^<]*)</span>', listed
+    )
     assert f"{t('symbol.offset_crank.offset_ratio')} ({note})" in rows and len(rows) == 2
     # a letter the list shows once keeps its meaning as it is
-    assert f"<i>e</i></span> – <span class=\"meaning\">{t('symbol.offset_crank.offset')}," in listed
+    assert f'<i>e</i></span> – <span class="meaning">{t("symbol.offset_crank.offset")},' in listed
 
 
 def test_the_list_of_symbols_gives_a_taken_over_letter_only_the_meaning_it_has():
@@ -223,14 +267,14 @@ def test_the_list_of_symbols_gives_a_taken_over_letter_only_the_meaning_it_has()
     only if it stands in one of them (the rod dynamics' M is not the error study's total torque).
     The vane's points (O₃, P, B′) are names, upright, not quantities."""
     vane = shared_html("vane-engine-kinematics", language="uk").linked_html
-    listed = vane[vane.index('id="sec-symbols"'):]
-    listed = listed[:listed.index("</section>")]
+    listed = vane[vane.index('id="sec-symbols"') :]
+    listed = listed[: listed.index("</section>")]
     assert "коефіцієнт нерівномірності крутного моменту" not in listed
     assert "відношення кутової швидкості осердя до кутової швидкості кривошипів" in listed
     assert "<i>y</i><sub>p</sub> = O<sub>3</sub>P = " in vane and "<i>O</i>" not in vane
     planetary = shared_html("planetary-kinematics", language="uk").linked_html
-    listed = planetary[planetary.index('id="sec-symbols"'):]
-    assert "сумарний індикаторний крутний момент" not in listed[:listed.index("</section>")]
+    listed = planetary[planetary.index('id="sec-symbols"') :]
+    assert "сумарний індикаторний крутний момент" not in listed[: listed.index("</section>")]
 
 
 def test_a_mechanism_names_the_given_data_its_own_way():
@@ -238,14 +282,18 @@ def test_a_mechanism_names_the_given_data_its_own_way():
     connecting rod L, and its list of symbols gives S, λ, ω one meaning each. The mechanism
     names those rows (Mechanism.input_rows) as its section does, and its letters hold there too."""
     html = shared_html("vane-engine-kinematics", language="uk").linked_html
-    given = html[html.index('data-stage="input"'):]
-    given = given[:given.index("</table>")]
-    for row in ("Хід повзуна вздовж паза куліси", "Радіус кривошипів", "Довжина хвостовика осердя",
-                "<i>r</i> = <i>S</i>/"):
+    given = html[html.index('data-stage="input"') :]
+    given = given[: given.index("</table>")]
+    for row in (
+        "Хід повзуна вздовж паза куліси",
+        "Радіус кривошипів",
+        "Довжина хвостовика осердя",
+        "<i>r</i> = <i>S</i>/",
+    ):
         assert row in given, row
     assert "Довжина шатуна" not in given and "<i>R</i> = " not in given
-    listed = html[html.index('<div class="symbol-list">'):]
-    listed = listed[:listed.index("</div>")]
+    listed = html[html.index('<div class="symbol-list">') :]
+    listed = listed[: listed.index("</div>")]
     for letter in ("S", "λ", "ω", "l", "r"):
         assert listed.count(f'<span class="symbol"><i>{letter}</i></span>') == 1, letter
     # a piston engine's list keeps the crank-slider's meanings (the vane's letters are not in its report)
@@ -260,7 +308,9 @@ _SECTION_START = re.compile(r'<section class="chapter[^"]*" id="[^"]*" data-stag
 
 def _instance_of_an_indexed_symbol(token: str, language: str, stage: str) -> bool:
     m = _NUMBERED_INSTANCE.match(token)
-    return bool(m) and bool(symbols_in(f"<i>{m.group(1)}</i><sub>{m.group(2)}<i>i</i></sub>", language, stage))
+    return bool(m) and bool(
+        symbols_in(f"<i>{m.group(1)}</i><sub>{m.group(2)}<i>i</i></sub>", language, stage)
+    )
 
 
 @pytest.mark.parametrize("example, language", [(e, lang) for e in EXAMPLES for lang in LANGUAGES])
@@ -275,7 +325,10 @@ def test_every_symbol_of_a_table_header_or_caption_is_in_the_symbol_table(exampl
     for m in re.finditer(r"<th[^>]*>(.*?)</th>|<caption[^>]*>(.*?)</caption>", html, flags=re.S):
         stage = next((name for start, name in reversed(starts) if start < m.start()), "")
         for token in _tokens(m.group(1) or m.group(2)):
-            if not (symbols_in(token, language, stage) or _indexed_symbol(token, language, stage)
-                    or _instance_of_an_indexed_symbol(token, language, stage)):
+            if not (
+                symbols_in(token, language, stage)
+                or _indexed_symbol(token, language, stage)
+                or _instance_of_an_indexed_symbol(token, language, stage)
+            ):
                 missing.add((stage, token))
     assert not missing, sorted(missing)

@@ -20,39 +20,69 @@ def symbol_list_html(keys, t, language, abbreviations=True, places=None, single=
 
 
 def _rows(html: str) -> list[str]:
-    return [re.sub(r"<[^>]+>", "", row) for row in re.findall(r'<p class="symbol-row">(.*?)</p>', html)]
+    return [
+        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'<p class="symbol-row">(.*?)</p>', html)
+    ]
 
 
 def test_a_letter_with_several_meanings_names_the_sections_of_each_sectioned_meaning():
     t = translator("uk")
     shows = "<i>n</i> <i>δ</i>"  # each section shows both letters
-    places = {"forces": [("section", "5", shows)], "bays": [("section", "9", shows)],
-              "balancing": [("section", "6", shows)], "flywheel": [("section", "8", shows)]}
-    rows = _rows(symbol_list_html(["crank_speed", "side_specific", "harmonic_order", "irregularity"], t, "uk",
-                                  places=places))
+    places = {
+        "forces": [("section", "5", shows)],
+        "bays": [("section", "9", shows)],
+        "balancing": [("section", "6", shows)],
+        "flywheel": [("section", "8", shows)],
+    }
+    rows = _rows(
+        symbol_list_html(
+            ["crank_speed", "side_specific", "harmonic_order", "irregularity"],
+            t,
+            "uk",
+            places=places,
+        )
+    )
     assert rows[0] == "n – частота обертання колінчастого вала, хв⁻¹"  # holds throughout: no place
-    assert rows[1] == "n – питома бокова сила, що притискає поршень до стінки циліндра (у розділах 5 і 9), МПа"
+    assert (
+        rows[1]
+        == "n – питома бокова сила, що притискає поршень до стінки циліндра (у розділах 5 і 9), МПа"
+    )
     assert rows[2] == "n – порядок гармоніки сили чи моменту (у розділі 6)"
-    assert rows[3] == "δ – коефіцієнт нерівномірності обертання"  # the only δ of this list: no place
+    assert (
+        rows[3] == "δ – коефіцієнт нерівномірності обертання"
+    )  # the only δ of this list: no place
 
 
 def test_a_meaning_of_the_appendices_and_a_stage_absent_from_the_report():
     t = translator("en")
-    places = {"numerics": [("appendix", "A", "<i>k</i><sub>2</sub>"), ("appendix", "B", "<i>k</i> = 1")]}
-    rows = _rows(symbol_list_html(["series_term", "side_specific", "rod_specific", "shaft_angle"], t, "en",
-                                  places=places))
-    assert rows[0] == "k – number of a term of a series (in appendix B)"  # appendix A shows k₂, not k
-    assert rows[1].startswith("n – specific side force pressing the piston against the cylinder wall, ")
+    places = {
+        "numerics": [("appendix", "A", "<i>k</i><sub>2</sub>"), ("appendix", "B", "<i>k</i> = 1")]
+    }
+    rows = _rows(
+        symbol_list_html(
+            ["series_term", "side_specific", "rod_specific", "shaft_angle"], t, "en", places=places
+        )
+    )
+    assert (
+        rows[0] == "k – number of a term of a series (in appendix B)"
+    )  # appendix A shows k₂, not k
+    assert rows[1].startswith(
+        "n – specific side force pressing the piston against the cylinder wall, "
+    )
     assert "(" not in rows[2]  # forces and bays are not in this report: nothing to point to
 
 
 def test_the_places_are_read_from_the_report_headings():
-    html = ('<section class="chapter" id="sec-forces" data-stage="forces">\n  <h2 id="x">5 Сили</h2>'
-            '<section class="chapter appendix" id="sec-numerics" data-stage="numerics">\n'
-            '  <h2 class="unnumbered">Додаток А<br><span>(довідковий)</span><br>Похибка</h2>')
+    html = (
+        '<section class="chapter" id="sec-forces" data-stage="forces">\n  <h2 id="x">5 Сили</h2>'
+        '<section class="chapter appendix" id="sec-numerics" data-stage="numerics">\n'
+        '  <h2 class="unnumbered">Додаток А<br><span>(довідковий)</span><br>Похибка</h2>'
+    )
     places = _places(html)
     assert {stage: [where[:2] for where in found] for stage, found in places.items()} == {
-        "forces": [("section", "5")], "numerics": [("appendix", "А")]}
+        "forces": [("section", "5")],
+        "numerics": [("appendix", "А")],
+    }
     assert places["forces"][0][2].endswith("5 Сили</h2>") and "Похибка" in places["numerics"][0][2]
 
 
@@ -60,14 +90,16 @@ def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_lette
     """Not "k – питома сила, що діє вздовж шатуна (у розділах 5 і 6)" in the in-line four,
     where section 6 (the bays) shows no k."""
     t = translator("uk")
-    places = {"forces": [("section", "5", "<i>k</i> = <i>p</i><sub>1</sub>/cos <i>β</i>")],
-              "bays": [("section", "6", "<i>k</i><sub>2</sub> <i>N</i><sub>i</sub>")]}
+    places = {
+        "forces": [("section", "5", "<i>k</i> = <i>p</i><sub>1</sub>/cos <i>β</i>")],
+        "bays": [("section", "6", "<i>k</i><sub>2</sub> <i>N</i><sub>i</sub>")],
+    }
     rows = _rows(symbol_list_html(["rod_specific", "series_term"], t, "uk", places=places))
     assert rows[0] == "k – питома сила, що діє вздовж шатуна (у розділі 5), МПа"
 
 
 def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
-    """"[5, 6, 7]" is written "[5–7]"."""
+    """ "[5, 6, 7]" is written "[5–7]"."""
     from crankdyn.report.document import cite
 
     assert cite([1]) == "[1]" and cite([2, 1, 2]) == "[1, 2]"
@@ -76,7 +108,7 @@ def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
 
 
 def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equations():
-    """"координату x", "вектори F і P", "n-го порядку" in italics in the text, as the formulas
+    """ "координату x", "вектори F і P", "n-го порядку" in italics in the text, as the formulas
     set the same letters. Not an initial, a Roman numeral, the imaginary unit
     j, Euler's e, a letter of a formula's markup or of an English title quoted in the note."""
     from crankdyn.report.typeset import typeset_html
@@ -85,37 +117,57 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
         return typeset_html(f"<p>{text}</p>", language, [])[3:-4]
 
     assert typeset("координату x кожного циліндра") == "координату <i>x</i> кожного циліндра"
-    assert typeset("вектори F і P посібника, осей t–z, як") == \
-        "вектори <i>F</i> і <i>P</i> посібника, осей <i>t</i>–<i>z</i>, як"
+    assert (
+        typeset("вектори F і P посібника, осей t–z, як")
+        == "вектори <i>F</i> і <i>P</i> посібника, осей <i>t</i>–<i>z</i>, як"
+    )
     assert typeset("сила n-го порядку") == "сила <i>n</i>-го порядку"
-    assert typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."  # (a capital before "." is an initial)
+    assert (
+        typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."
+    )  # (a capital before "." is an initial)
     # an index subscript in italics as the equations set it, a numeral or a word's one upright
-    assert typeset("сила P_I і l′_i, C_n, Δα_{0i}, p_i тут") == ("сила <i>P</i><sub>I</sub> і <i>l</i>′<sub><i>i</i></sub>, "
-                                                          "<i>C</i><sub><i>n</i></sub>, Δ<i>α</i><sub>0<i>i</i></sub>, "
-                                                          "<i>p</i><sub>i</sub> тут")
+    assert typeset("сила P_I і l′_i, C_n, Δα_{0i}, p_i тут") == (
+        "сила <i>P</i><sub>I</sub> і <i>l</i>′<sub><i>i</i></sub>, "
+        "<i>C</i><sub><i>n</i></sub>, Δ<i>α</i><sub>0<i>i</i></sub>, "
+        "<i>p</i><sub>i</sub> тут"
+    )
     # left upright
     assert "<i>" not in typeset("Khurmi R. S. і порядок I.")
     # V and X are the volume and a studied value, at a sentence's end too; an initial follows a name
-    assert typeset("координатах p–V, величини X. Тут") == "координатах <i>p</i>–<i>V</i>, величини <i>X</i>. Тут"
-    assert typeset("маса, зведена до радіуса R, а в частках Rω², M = 9555 N/n тут") == \
-        "маса, зведена до радіуса <i>R</i>, а в частках <i>R</i>ω², <i>M</i> = 9555 <i>N</i>/<i>n</i> тут"
+    assert (
+        typeset("координатах p–V, величини X. Тут")
+        == "координатах <i>p</i>–<i>V</i>, величини <i>X</i>. Тут"
+    )
+    assert (
+        typeset("маса, зведена до радіуса R, а в частках Rω², M = 9555 N/n тут")
+        == "маса, зведена до радіуса <i>R</i>, а в частках <i>R</i>ω², <i>M</i> = 9555 <i>N</i>/<i>n</i> тут"
+    )
     assert "<i>j</i>" not in typeset("де j (прямим шрифтом) – уявна одиниця, cos α + j sin α")
     assert "<i>e</i>" not in typeset("вектор e^{jα} тут")
-    assert typeset("тема: «Dynamic calculation of a four-cylinder engine»") == \
-        "тема: «Dynamic calculation of a four-cylinder engine»"
-    assert typeset("d<i>V</i> і <i>p</i>") == "d<i>V</i> і <i>p</i>"  # a formula's letters keep their markup
+    assert (
+        typeset("тема: «Dynamic calculation of a four-cylinder engine»")
+        == "тема: «Dynamic calculation of a four-cylinder engine»"
+    )
+    assert (
+        typeset("d<i>V</i> і <i>p</i>") == "d<i>V</i> і <i>p</i>"
+    )  # a formula's letters keep their markup
     assert typeset("координату x", "en") == "координату x"  # English prose: "a" and "I" are words
 
 
 def test_a_meaning_ending_with_its_letter_and_a_one_letter_table_cell_are_in_italics():
-    """"зведена до радіуса R, кг" sets R in italics (the unit is put after the meaning), and the
+    """ "зведена до радіуса R, кг" sets R in italics (the unit is put after the meaning), and the
     criteria column's cells z, t, q are in italics as their headers are."""
     from crankdyn.report.typeset import italic_letters, typeset_html
 
     assert italic_letters("маса, зведена до радіуса R", "ru") == "маса, зведена до радіуса <i>R</i>"
-    assert typeset_html('<tr><td class="text">z</td><td>1,5</td></tr>', "uk", []) == \
-        '<tr><td class="text"><i>z</i></td><td>1,5</td></tr>'
-    assert typeset_html('<tr><td class="text">z</td></tr>', "en", []) == '<tr><td class="text">z</td></tr>'
+    assert (
+        typeset_html('<tr><td class="text">z</td><td>1,5</td></tr>', "uk", [])
+        == '<tr><td class="text"><i>z</i></td><td>1,5</td></tr>'
+    )
+    assert (
+        typeset_html('<tr><td class="text">z</td></tr>', "en", [])
+        == '<tr><td class="text">z</td></tr>'
+    )
 
 
 def test_a_letter_of_the_prose_only_is_in_the_list_too():
@@ -124,9 +176,12 @@ def test_a_letter_of_the_prose_only_is_in_the_list_too():
     from conftest import shared_html
 
     html = shared_html("inline4-petrol", language="uk").linked_html
-    listed = html[html.index('<div class="symbol-list">'):]
+    listed = html[html.index('<div class="symbol-list">') :]
     assert "Φ/<i>T</i>" in html
-    assert '<span class="symbol"><i>T</i></span> – <span class="meaning">тривалість одного циклу, с</span>' in listed
+    assert (
+        '<span class="symbol"><i>T</i></span> – <span class="meaning">тривалість одного циклу, с</span>'
+        in listed
+    )
 
 
 def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
@@ -136,8 +191,12 @@ def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
     from conftest import shared_html
 
     t = translator("uk")
-    assert _rows(symbol_list_html(["shaft_angle"], t, "uk", single=True)) == ["θ – кут повороту колінчастого вала від ВМТ циліндра, °"]
-    assert _rows(symbol_list_html(["shaft_angle"], t, "uk")) == ["θ – кут повороту колінчастого вала від ВМТ першого циліндра, °"]
+    assert _rows(symbol_list_html(["shaft_angle"], t, "uk", single=True)) == [
+        "θ – кут повороту колінчастого вала від ВМТ циліндра, °"
+    ]
+    assert _rows(symbol_list_html(["shaft_angle"], t, "uk")) == [
+        "θ – кут повороту колінчастого вала від ВМТ першого циліндра, °"
+    ]
     one = shared_html("petrol-1cyl-uk", language="uk").linked_html
     four = shared_html("inline4-petrol", language="uk").linked_html
     assert "від ВМТ першого циліндра" not in one and "від ВМТ першого циліндра" in four

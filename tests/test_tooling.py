@@ -36,8 +36,9 @@ length(3)
 def _tool(module: str, *args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
     if importlib.util.find_spec(module) is None:
         pytest.skip(f"{module} is not importable (requirements/lock.txt's test extra has it)")
-    return subprocess.run([sys.executable, "-m", module, *args], cwd=cwd, capture_output=True,
-                          text=True, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", module, *args], cwd=cwd, capture_output=True, text=True, timeout=600
+    )
 
 
 def test_ruff_finds_nothing():
@@ -47,8 +48,16 @@ def test_ruff_finds_nothing():
 
 def test_ruff_with_the_repositorys_rules_refuses_a_bad_file(tmp_path):
     (tmp_path / "bad.py").write_text(BAD_LINT, encoding="utf-8")
-    done = _tool("ruff", "check", "--no-cache", "--config", str(ROOT / "pyproject.toml"),
-                 "--output-format", "concise", str(tmp_path / "bad.py"))
+    done = _tool(
+        "ruff",
+        "check",
+        "--no-cache",
+        "--config",
+        str(ROOT / "pyproject.toml"),
+        "--output-format",
+        "concise",
+        str(tmp_path / "bad.py"),
+    )
     assert done.returncode == 1
     codes = set(re.findall(r": ([A-Z]+[0-9]+) ", done.stdout))
     assert {"I001", "F401", "B905", "UP006"} <= codes, done.stdout
@@ -65,8 +74,14 @@ def test_mypy_finds_nothing():
 
 def test_mypy_refuses_a_bad_file(tmp_path):
     (tmp_path / "bad.py").write_text(BAD_TYPES, encoding="utf-8")
-    done = _tool("mypy", "--config-file", str(ROOT / "pyproject.toml"),
-                 "--cache-dir", str(ROOT / ".mypy_cache" / "refused"), str(tmp_path / "bad.py"))
+    done = _tool(
+        "mypy",
+        "--config-file",
+        str(ROOT / "pyproject.toml"),
+        "--cache-dir",
+        str(ROOT / ".mypy_cache" / "refused"),
+        str(tmp_path / "bad.py"),
+    )
     assert done.returncode == 1
     assert "bad.py:2: error: Incompatible return value type" in done.stdout, done.stdout
     wrong_argument = 'bad.py:5: error: Argument 1 to "length" has incompatible type'

@@ -29,6 +29,7 @@ def run(name, changes=None):
 
 # ----------------------------------------------------------------------------- modes
 
+
 def test_two_disc_natural_frequency_closed_form():
     J1, J2, k = 0.004, 0.12, 4e5
     modes = tor.natural_modes([J1, J2], [k])
@@ -47,11 +48,16 @@ def test_chain_modes_are_mass_orthogonal_and_damped_as_asked():
     K = tor.stiffness_matrix(k)
     Phi = modes.mass_normalised
     np.testing.assert_allclose(Phi.T @ M @ Phi, np.eye(J.size), atol=1e-10)
-    np.testing.assert_allclose(Phi.T @ K @ Phi, np.diag(modes.omega_rad_s ** 2), atol=1e-6 * modes.omega_rad_s.max() ** 2)
+    np.testing.assert_allclose(
+        Phi.T @ K @ Phi, np.diag(modes.omega_rad_s**2), atol=1e-6 * modes.omega_rad_s.max() ** 2
+    )
     C = tor.modal_damping_matrix(J, k, 0.05)
-    np.testing.assert_allclose(Phi.T @ C @ Phi, np.diag(2 * 0.05 * modes.omega_rad_s),
-                               atol=1e-9 * modes.omega_rad_s.max())
-    np.testing.assert_allclose(C @ np.ones(J.size), 0.0, atol=1e-9 * np.abs(C).max())  # rigid rotation undamped
+    np.testing.assert_allclose(
+        Phi.T @ C @ Phi, np.diag(2 * 0.05 * modes.omega_rad_s), atol=1e-9 * modes.omega_rad_s.max()
+    )
+    np.testing.assert_allclose(
+        C @ np.ones(J.size), 0.0, atol=1e-9 * np.abs(C).max()
+    )  # rigid rotation undamped
     # the eigenvalues of the first-order system are the damped modal ones
     full = np.sort_complex(tor.linear_eigenvalues(J, K, C))
     modal = np.sort_complex(tor.modal_eigenvalues(modes.omega_rad_s, 0.05))
@@ -86,12 +92,15 @@ def test_forced_response_satisfies_the_linear_equations():
     dx, ddx = x.derivative(), x.derivative().derivative()
     a = np.linspace(0, period, 37)
     # M x'' + C x' + K x = T with d/dt = omega d/dalpha
-    lhs = (ddx(a) * omega ** 2) * J + (dx(a) * omega) @ C.T + x(a) @ K.T
-    np.testing.assert_allclose(lhs, sf.PeriodicSeries.from_samples(torque, period)(a), atol=1e-8 * 400)
+    lhs = (ddx(a) * omega**2) * J + (dx(a) * omega) @ C.T + x(a) @ K.T
+    np.testing.assert_allclose(
+        lhs, sf.PeriodicSeries.from_samples(torque, period)(a), atol=1e-8 * 400
+    )
     assert x.mean[2] == 0.0  # the reference disc's mean twist
 
 
 # ----------------------------------------------------------------------------- the stage
+
 
 def test_torsion_example_is_stiff_and_radau_beats_rk45():
     # Acceptance: a stiff torsional case is solved by the implicit solver, while the explicit one
@@ -104,16 +113,25 @@ def test_torsion_example_is_stiff_and_radau_beats_rk45():
     for rtol in {r["rtol"] for r in runs}:
         by = {r["method"]: r for r in runs if r["rtol"] == rtol}
         assert by["Radau"]["success"]
-        assert by["RK45"]["steps_needed"] > 5 * by["Radau"]["steps"], (rtol, by["RK45"], by["Radau"])
+        assert by["RK45"]["steps_needed"] > 5 * by["Radau"]["steps"], (
+            rtol,
+            by["RK45"],
+            by["Radau"],
+        )
         # a run is either a success with its error measured, or a failure with its reason
         for record in by.values():
             assert (record["success"] and record["error_relative"] is not None) or (
-                not record["success"] and record["error_relative"] is None and record["message"]), record
-        assert not by["RK45"]["success"] or by["Radau"]["error_relative"] < by["RK45"]["error_relative"]
+                not record["success"] and record["error_relative"] is None and record["message"]
+            ), record
+        assert (
+            not by["RK45"]["success"]
+            or by["Radau"]["error_relative"] < by["RK45"]["error_relative"]
+        )
     # the flywheel of the elastic shaft still moves close to the rigid shaft
     assert t["flywheel_speed_deviation_from_rigid_relative"] < 5e-3
     assert t["flywheel_irregularity"] == pytest.approx(
-        run("inline4-torsion").outputs["speed_fluctuation"].results["irregularity"], rel=0.2)
+        run("inline4-torsion").outputs["speed_fluctuation"].results["irregularity"], rel=0.2
+    )
 
 
 def test_stiff_chain_implicit_needs_far_fewer_steps_than_explicit():
@@ -143,8 +161,15 @@ def test_stiff_chain_implicit_needs_far_fewer_steps_than_explicit():
 
 
 def test_rigid_shaft_limit_reproduces_the_single_mass_solution():
-    changes = {"torsion": {"span_stiffness": "1e8 N*m/rad", "flywheel_stiffness": "1e8 N*m/rad",
-                           "free_end_inertia": None, "free_end_stiffness": None, "compare_solvers": False}}
+    changes = {
+        "torsion": {
+            "span_stiffness": "1e8 N*m/rad",
+            "flywheel_stiffness": "1e8 N*m/rad",
+            "free_end_inertia": None,
+            "free_end_stiffness": None,
+            "compare_solvers": False,
+        }
+    }
     result = run("inline4-torsion", changes)
     r = result.outputs["speed_fluctuation"].results
     t = r["torsion"]
@@ -159,12 +184,19 @@ def _sections(result, language, detail="full"):
     t = translator(language, REGISTRY.catalogs)
     report = result.scene.report.model_copy(update={"detail": detail})
     scene = result.scene.model_copy(update={"report": report})
-    ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
-                        cycle_deg=result.scene.engine.cycle_deg, scene=scene)
+    ctx = RenderContext(
+        t=t,
+        env=_environment(REGISTRY, result),
+        table_step_deg=result.scene.analysis.table_step_deg,
+        cycle_deg=result.scene.engine.cycle_deg,
+        scene=scene,
+    )
     html = []
     for number, stage in enumerate(("flywheel", "speed_fluctuation"), start=9):
         ctx.start_section(number, stage)
-        html.append(next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx))
+        html.append(
+            next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+        )
     return "".join(html), t, ctx
 
 
@@ -172,12 +204,19 @@ def _sections(result, language, detail="full"):
 def test_torsion_sections_render(language):
     html, t, ctx = _sections(run("inline4-torsion"), language)
     assert not t.missing, t.missing
-    assert "Radau" in html and html.count('src="figures/') == 7  # each figure referenced once, with the Campbell diagram
+    assert (
+        "Radau" in html and html.count('src="figures/') == 7
+    )  # each figure referenced once, with the Campbell diagram
     # tables and figures numbered in the order they appear
-    for word in (t("report.table_caption", number="X", caption="").split("X")[0],
-                 t("report.figure_caption", number="X", caption="").split("X")[0]):
+    for word in (
+        t("report.table_caption", number="X", caption="").split("X")[0],
+        t("report.figure_caption", number="X", caption="").split("X")[0],
+    ):
         # (a table's continuation label, "Table 10.1 continued" in its rows' data-continued, is no new table)
-        numbers = [int(n) for n in re.findall(r'(?<!data-continued=")' + re.escape(word) + r"10\.(\d+)", html)]
+        numbers = [
+            int(n)
+            for n in re.findall(r'(?<!data-continued=")' + re.escape(word) + r"10\.(\d+)", html)
+        ]
         assert numbers == list(range(1, len(numbers) + 1)), (word, numbers)
     assert len(ctx.conclusions) == 4  # flywheel, critical speeds, torsion, speed fluctuation
     course, _, course_ctx = _sections(run("inline4-torsion"), language, detail="course")
@@ -187,31 +226,51 @@ def test_torsion_sections_render(language):
 
 
 def test_torsion_without_a_flywheel_uses_the_last_crank():
-    result = run("inline4-torsion", {"flywheel": {"required_irregularity": 0.2, "rim_mean_diameter": None,
-                                                  "max_rim_speed": None},
-                                     "torsion": {"compare_solvers": False}})
+    result = run(
+        "inline4-torsion",
+        {
+            "flywheel": {
+                "required_irregularity": 0.2,
+                "rim_mean_diameter": None,
+                "max_rim_speed": None,
+            },
+            "torsion": {"compare_solvers": False},
+        },
+    )
     t = result.outputs["speed_fluctuation"].results["torsion"]
-    assert [n["name"] for n in t["nodes"]] == ["free end", "crank 1", "crank 2", "crank 3", "crank 4"]
+    assert [n["name"] for n in t["nodes"]] == [
+        "free end",
+        "crank 1",
+        "crank 2",
+        "crank 3",
+        "crank 4",
+    ]
     assert t["reference_node"] == 4
 
 
 # ----------------------------------------------------------------------------- input
 
+
 def test_torsional_stiffness_units():
     assert parse_quantity("1.2e5 N*m/rad", "torsional_stiffness") == pytest.approx(1.2e5)
-    assert parse_quantity("3 kN*m/deg", "torsional_stiffness") == pytest.approx(3000 * 180 / math.pi)
+    assert parse_quantity("3 kN*m/deg", "torsional_stiffness") == pytest.approx(
+        3000 * 180 / math.pi
+    )
     assert parse_quantity("1200 kg*cm^2", "moment_of_inertia") == pytest.approx(0.12)
     with pytest.raises(ValueError, match="not a torsional_stiffness"):
         parse_quantity("5 kg", "torsional_stiffness")
 
 
-@pytest.mark.parametrize("changes, field", [
-    ({"torsion": {"load_inertia": "1 kg*m^2"}}, "torsion"),
-    ({"torsion": {"span_stiffness": ["4e5 N*m/rad", "4e5 N*m/rad"]}}, "torsion.span_stiffness"),
-    ({"torsion": {"span_stiffness": "4e5"}}, "torsion.span_stiffness"),
-    ({"torsion": {"damping_ratio": 1.5}}, "torsion.damping_ratio"),
-    ({"torsion": {"solver": "Euler"}}, "torsion.solver"),
-])
+@pytest.mark.parametrize(
+    "changes, field",
+    [
+        ({"torsion": {"load_inertia": "1 kg*m^2"}}, "torsion"),
+        ({"torsion": {"span_stiffness": ["4e5 N*m/rad", "4e5 N*m/rad"]}}, "torsion.span_stiffness"),
+        ({"torsion": {"span_stiffness": "4e5"}}, "torsion.span_stiffness"),
+        ({"torsion": {"damping_ratio": 1.5}}, "torsion.damping_ratio"),
+        ({"torsion": {"solver": "Euler"}}, "torsion.solver"),
+    ],
+)
 def test_bad_torsion_tables_are_refused(changes, field):
     with pytest.raises(SceneError) as info:
         run("inline4-torsion", changes)
@@ -224,14 +283,25 @@ def test_results_keys_are_documented():
     readme = documentation_text()
     outputs = run("inline4-torsion").outputs
     r = outputs["speed_fluctuation"].results
-    keys = set(outputs["flywheel"].results) | set(outputs["flywheel"].results["rim"]) | set(r) | set(r["solver"])
+    keys = (
+        set(outputs["flywheel"].results)
+        | set(outputs["flywheel"].results["rim"])
+        | set(r)
+        | set(r["solver"])
+    )
     keys |= set(r["solvers"][0]) | set(r["torsion"]) | set(r["torsion"]["steady_state"])
-    keys |= set(r["torsion"]["modes"][0]) | set(r["torsion"]["harmonics"][0]) | set(r["torsion"]["solvers"][0])
+    keys |= (
+        set(r["torsion"]["modes"][0])
+        | set(r["torsion"]["harmonics"][0])
+        | set(r["torsion"]["solvers"][0])
+    )
     keys |= set(r["torsion"]["nodes"][0])
     missing = sorted(k for k in keys if f"`{k}`" not in readme)
     assert not missing, missing
     # the whole document is JSON: no NaN or infinity anywhere
-    text = json.dumps({"flywheel": outputs["flywheel"].results, "speed_fluctuation": r}, allow_nan=False)
+    text = json.dumps(
+        {"flywheel": outputs["flywheel"].results, "speed_fluctuation": r}, allow_nan=False
+    )
     assert "torsion" in text
 
 
@@ -242,22 +312,40 @@ def test_critical_speeds_near_the_operating_speed_are_flagged():
     t = run("inline4-torsion").outputs["speed_fluctuation"].results["torsion"]
     f1 = t["modes"][0]["natural_frequency_Hz"]
     largest = max(h["amplitude_Nm"] for h in t["harmonics"])
-    expected = {h["order"] for h in t["harmonics"]
-                if h["amplitude_Nm"] >= 0.01 * largest and abs(60 * f1 / h["order"] / 5600 - 1) <= 0.10}
+    expected = {
+        h["order"]
+        for h in t["harmonics"]
+        if h["amplitude_Nm"] >= 0.01 * largest and abs(60 * f1 / h["order"] / 5600 - 1) <= 0.10
+    }
     near = t["critical_speeds_near_operating"]
     assert {c["order"] for c in near if c["mode"] == 1} == expected and {6.5, 7.0} <= expected
     by_order = {c["order"]: c for c in near if c["mode"] == 1}
     assert by_order[7.0]["critical_rpm"] == pytest.approx(60 * f1 / 7, rel=1e-12)
-    assert by_order[7.0]["deviation_percent"] == pytest.approx(100 * (60 * f1 / 7 / 5600 - 1), rel=1e-12)
-    assert round(by_order[7.0]["critical_rpm"]) == 5427 and round(by_order[6.5]["critical_rpm"]) == 5845
+    assert by_order[7.0]["deviation_percent"] == pytest.approx(
+        100 * (60 * f1 / 7 / 5600 - 1), rel=1e-12
+    )
+    assert (
+        round(by_order[7.0]["critical_rpm"]) == 5427
+        and round(by_order[6.5]["critical_rpm"]) == 5845
+    )
     # the table reaches the order the text names as the last significant one
-    assert max(h["order"] for h in t["harmonics"]) == pytest.approx(max(12.0, t["significant_order"]))
+    assert max(h["order"] for h in t["harmonics"]) == pytest.approx(
+        max(12.0, t["significant_order"])
+    )
     # RK45 stopped by its budget is named so, not as a failure. Whether the default budget (10 x the
     # implicit solvers' evaluations) stops it depends on the machine's floating point (3530 of 3740
     # evaluations on one, over on another); a budget of 1000, below the ~3500 it needs, always does.
-    assert all(r["outcome"] == "budget" for r in t["solvers"] if r["method"] == "RK45" and not r["success"])
+    assert all(
+        r["outcome"] == "budget" for r in t["solvers"] if r["method"] == "RK45" and not r["success"]
+    )
     tight = run("inline4-torsion", {"torsion": {"explicit_budget": 1000, "compare_rtols": [1e-3]}})
-    rk45 = [r for r in tight.outputs["speed_fluctuation"].results["torsion"]["solvers"] if r["method"] == "RK45"]
-    assert rk45 and all(not r["success"] and r["outcome"] == "budget" and "budget" in r["message"] for r in rk45)
+    rk45 = [
+        r
+        for r in tight.outputs["speed_fluctuation"].results["torsion"]["solvers"]
+        if r["method"] == "RK45"
+    ]
+    assert rk45 and all(
+        not r["success"] and r["outcome"] == "budget" and "budget" in r["message"] for r in rk45
+    )
     html, catalog, ctx = _sections(run("inline4-torsion"), "en")
     assert any("5427" in c and "5845" in c for c in ctx.conclusions)

@@ -8,7 +8,9 @@ import textwrap
 
 import pytest
 
-pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the quick import is Linux-only")
+pytestmark = pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="the quick import is Linux-only"
+)
 
 COUNT_SEARCHES = """
 import ctypes.util, sys
@@ -31,7 +33,9 @@ print("searched:", ",".join(n for n in searched if any(k in n for k in ("pango",
 
 
 def run(code: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120
+    )
 
 
 def test_weasyprint_loads_without_searching_for_its_libraries():

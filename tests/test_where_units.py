@@ -22,17 +22,33 @@ def _text(html: str) -> str:
     return html_lib.unescape(re.sub(r"<[^>]+>", "", html)).replace("\u2060", "").strip()
 
 
-@pytest.mark.parametrize("example, language", [
-    ("petrol-1cyl", "uk"), ("inline4-petrol", "uk"), ("offset-crank-engine", "uk"),
-    ("petrol-1cyl", "en"), ("petrol-1cyl-ru", None)])
+@pytest.mark.parametrize(
+    "example, language",
+    [
+        ("petrol-1cyl", "uk"),
+        ("inline4-petrol", "uk"),
+        ("offset-crank-engine", "uk"),
+        ("petrol-1cyl", "en"),
+        ("petrol-1cyl-ru", None),
+    ],
+)
 def test_a_where_line_gives_the_si_unit(example, language):
-    html = shared_html(example, language=language).linked_html  # the text without drawing its figures
+    html = shared_html(
+        example, language=language
+    ).linked_html  # the text without drawing its figures
     lines = [_text(m.group(1)) for m in _WHERE.finditer(html)]
     assert len(lines) > 40
     units = [re.search(r", ([^,]+)[;.]$", line) for line in lines]
-    wrong = [line for line, unit in zip(lines, units, strict=True) if unit and unit.group(1) in _TABLE_ONLY]
+    wrong = [
+        line
+        for line, unit in zip(lines, units, strict=True)
+        if unit and unit.group(1) in _TABLE_ONLY
+    ]
     assert not wrong, wrong[:5]
-    assert sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"}) >= 10
+    assert (
+        sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"})
+        >= 10
+    )
 
 
 def test_the_worked_lines_substitute_si_numbers_and_the_list_says_so():
@@ -47,4 +63,8 @@ def test_the_worked_lines_substitute_si_numbers_and_the_list_says_so():
     assert re.search(r"·103/\([\d,]+·10−3·[\d,]+·10−3\)·10−6 = [\d,]+ МПа$", pressure), pressure
     assert "одиниці СІ (у підстановках із числами довжини подано в метрах" in html
     where = {(_text(m.group(1)).split(" – ")[0]): _text(m.group(1)) for m in _WHERE.finditer(html)}
-    assert where["sп"].endswith(", м.") and where["d"].endswith(", м;") and where["Va"].endswith(", м³;")
+    assert (
+        where["sп"].endswith(", м.")
+        and where["d"].endswith(", м;")
+        and where["Va"].endswith(", м³;")
+    )

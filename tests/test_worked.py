@@ -46,8 +46,11 @@ def _chi(x):
 
 
 def _offset_displacement(x):
-    return (math.sqrt((x["L_mm"] + x["R_mm"]) ** 2 - x["e_mm"] ** 2) - x["R_mm"] * math.cos(_rad(x, "phi_deg"))
-            - x["L_mm"] * math.cos(_rad(x, "beta_deg")))
+    return (
+        math.sqrt((x["L_mm"] + x["R_mm"]) ** 2 - x["e_mm"] ** 2)
+        - x["R_mm"] * math.cos(_rad(x, "phi_deg"))
+        - x["L_mm"] * math.cos(_rad(x, "beta_deg"))
+    )
 
 
 def _planet_theta(x):
@@ -60,7 +63,9 @@ FORMULAS = {
     "journal_torque_sum": lambda x: math.fsum(v for k, v in x.items() if re.fullmatch(r"t\d+", k)),
     "output_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
     "crank_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
-    "speed_irregularity": lambda x: 2 * (x["omega_max"] - x["omega_min"]) / (x["omega_max"] + x["omega_min"]),
+    "speed_irregularity": lambda x: (
+        2 * (x["omega_max"] - x["omega_min"]) / (x["omega_max"] + x["omega_min"])
+    ),
     "centrifugal_amplitude": lambda x: x["m_R"] * x["R"] * x["omega"] ** 2,
     "first_order_amplitude": lambda x: x["m_s"] * x["R"] * x["omega"] ** 2,
     "second_order_amplitude": lambda x: x["lambda"] * x["C_I"],
@@ -69,27 +74,58 @@ FORMULAS = {
     "irregularity": lambda x: x["dL"] / (x["J"] * x["omega"] ** 2),
     "pin_pressure_max": lambda x: x["Q"] * 1e3 / (x["d_mm"] * x["B_mm"]),
     "journal_pressure_max": lambda x: x["Q"] * 1e3 / (x["d_mm"] * x["B_mm"]),
-    "rod_cm_acceleration_x": lambda x: x["arm_mm"] * 1e-3 * (x["epsilon_r"] * math.cos(math.radians(x["beta_deg"]))
-                                                           - x["omega_r"] ** 2 * math.sin(math.radians(x["beta_deg"]))),
+    "rod_cm_acceleration_x": lambda x: (
+        x["arm_mm"]
+        * 1e-3
+        * (
+            x["epsilon_r"] * math.cos(math.radians(x["beta_deg"]))
+            - x["omega_r"] ** 2 * math.sin(math.radians(x["beta_deg"]))
+        )
+    ),
     "rod_inertia_couple": lambda x: -x["I_G"] * x["epsilon_r"],
-    "offset_rod_angle": lambda x: math.degrees(math.asin(x["lambda"] * math.sin(_rad(x, "phi_deg")) - x["k"])),
+    "offset_rod_angle": lambda x: math.degrees(
+        math.asin(x["lambda"] * math.sin(_rad(x, "phi_deg")) - x["k"])
+    ),
     "offset_piston_displacement": _offset_displacement,
-    "offset_piston_velocity": lambda x: (x["R_mm"] * 1e-3 * x["omega"] * math.sin(_rad(x, "phi_deg") + _rad(x, "beta_deg"))
-                                         / math.cos(_rad(x, "beta_deg"))),
-    "offset_rod_angular_velocity": lambda x: (x["omega"] * x["lambda"] * math.cos(_rad(x, "phi_deg"))
-                                              / math.cos(_rad(x, "beta_deg"))),
-    "planetary_big_end_x": lambda x: x["a_mm"] * math.sin(_rad(x, "phi_deg")) + x["e_mm"] * math.sin(_planet_theta(x)),
-    "planetary_big_end_z": lambda x: x["a_mm"] * math.cos(_rad(x, "phi_deg")) + x["e_mm"] * math.cos(_planet_theta(x)),
+    "offset_piston_velocity": lambda x: (
+        x["R_mm"]
+        * 1e-3
+        * x["omega"]
+        * math.sin(_rad(x, "phi_deg") + _rad(x, "beta_deg"))
+        / math.cos(_rad(x, "beta_deg"))
+    ),
+    "offset_rod_angular_velocity": lambda x: (
+        x["omega"] * x["lambda"] * math.cos(_rad(x, "phi_deg")) / math.cos(_rad(x, "beta_deg"))
+    ),
+    "planetary_big_end_x": lambda x: (
+        x["a_mm"] * math.sin(_rad(x, "phi_deg")) + x["e_mm"] * math.sin(_planet_theta(x))
+    ),
+    "planetary_big_end_z": lambda x: (
+        x["a_mm"] * math.cos(_rad(x, "phi_deg")) + x["e_mm"] * math.cos(_planet_theta(x))
+    ),
     "planetary_rod_angle": lambda x: math.degrees(math.asin(x["x_B"] / x["L_mm"])),
-    "vane_core_angle": lambda x: -math.degrees(math.asin(x["lambda"] * math.sin(_rad(x, "alpha_deg")))),
-    "vane_core_angular_velocity": lambda x: -x["lambda"] * x["omega"] * math.cos(_rad(x, "alpha_deg")) / _chi(x),
+    "vane_core_angle": lambda x: (
+        -math.degrees(math.asin(x["lambda"] * math.sin(_rad(x, "alpha_deg"))))
+    ),
+    "vane_core_angular_velocity": lambda x: (
+        -x["lambda"] * x["omega"] * math.cos(_rad(x, "alpha_deg")) / _chi(x)
+    ),
     "vane_slider_height": lambda x: x["l_mm"] * _chi(x),
-    "vane_slider_velocity": lambda x: (-x["omega"] * x["r_mm"] * 1e-3 * x["lambda"] * math.sin(_rad(x, "alpha_deg"))
-                                       * math.cos(_rad(x, "alpha_deg")) / _chi(x)),
+    "vane_slider_velocity": lambda x: (
+        -x["omega"]
+        * x["r_mm"]
+        * 1e-3
+        * x["lambda"]
+        * math.sin(_rad(x, "alpha_deg"))
+        * math.cos(_rad(x, "alpha_deg"))
+        / _chi(x)
+    ),
 }
 
 
-def _no_figure(fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
+def _no_figure(
+    fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None
+) -> Markup:
     if callable(fig):  # the function that would build it: nothing to release
         return Markup("")
     import matplotlib.pyplot as plt  # lazy: heavy optional import
@@ -107,22 +143,36 @@ def _sections(example: str, stages: tuple[str, ...], language: str):
     """Only the stages' own sections (the whole report: the in-line 4 test): HTML and worked blocks."""
     result = _stages_run(example, stages)
     t = translator(language, REGISTRY.catalogs)
-    ctx = RenderContext(t=t, env=_environment(REGISTRY, result), table_step_deg=result.scene.analysis.table_step_deg,
-                        cycle_deg=result.scene.engine.cycle_deg, scene=result.scene)
-    ctx.figure = _no_figure  # the figures are tested elsewhere; here only tables and worked lines count
+    ctx = RenderContext(
+        t=t,
+        env=_environment(REGISTRY, result),
+        table_step_deg=result.scene.analysis.table_step_deg,
+        cycle_deg=result.scene.engine.cycle_deg,
+        scene=result.scene,
+    )
+    ctx.figure = (
+        _no_figure  # the figures are tested elsewhere; here only tables and worked lines count
+    )
     html = []
     for number, stage in enumerate(stages, start=2):
         ctx.start_section(number, stage)
-        html.append(next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx))
+        html.append(
+            next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+        )
     assert not t.missing, t.missing
     return "".join(html), ctx.worked
 
 
 def _table_rows(html: str, number: str) -> list[list[str]]:
     """Every row of table ``number`` (all its continued parts), as lists of cell texts."""
-    block = re.search(rf'<table class="[^"]*" data-number="{re.escape(number)}">(.*?)</div>', html, flags=re.S)
+    block = re.search(
+        rf'<table class="[^"]*" data-number="{re.escape(number)}">(.*?)</div>', html, flags=re.S
+    )
     assert block, number
-    return [re.findall(r"<td(?:\s[^>]*)?>(.*?)</td>", row) for row in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", block.group(1), flags=re.S)]
+    return [
+        re.findall(r"<td(?:\s[^>]*)?>(.*?)</td>", row)
+        for row in re.findall(r"<tr(?:\s[^>]*)?>(.*?)</tr>", block.group(1), flags=re.S)
+    ]
 
 
 def worked_html(html: str, block) -> str:
@@ -131,22 +181,30 @@ def worked_html(html: str, block) -> str:
     from crankdyn.report.worked import groups_unbroken
 
     # the line as printed: its short bracketed groups held together (groups_unbroken)
-    mine = [b for b in blocks
-            if all(f"= {groups_unbroken(s.substituted_html)} =" in formula_as_read(b) for s in block.steps)]
+    mine = [
+        b
+        for b in blocks
+        if all(
+            f"= {groups_unbroken(s.substituted_html)} =" in formula_as_read(b) for s in block.steps
+        )
+    ]
     assert len(mine) == 1, block.stage
     return mine[0]
 
 
 def _shows(cell: str, text: str) -> bool:
     """The cell is the number ``text``, alone or followed by its unit ("17 235 Н", not "17 2350")."""
-    return cell == text or (cell.startswith(text) and cell[len(text)] in "\u202f\u00a0 "
-                            and not cell[len(text) + 1:][:1].isdigit())
+    return cell == text or (
+        cell.startswith(text)
+        and cell[len(text)] in "\u202f\u00a0 "
+        and not cell[len(text) + 1 :][:1].isdigit()
+    )
 
 
 def _tolerance(step) -> float:
     """What rounding the substituted numbers (4–5 significant digits) can move the result by."""
     terms = sum(1 for k in step.inputs if re.fullmatch(r"t\d+", k))
-    printed = 10.0 ** -step.decimals if step.significant is None else 0.0
+    printed = 10.0**-step.decimals if step.significant is None else 0.0
     return 2e-3 * abs(step.value) + (terms + 1) * 0.5 * printed
 
 
@@ -155,7 +213,9 @@ def check_worked(html: str, worked, language: str) -> set[str]:
     t = translator(language, REGISTRY.catalogs)
     checked = set()
     for block in worked:
-        if not block.table_number:  # results the text states: each stated outside the worked block too
+        if (
+            not block.table_number
+        ):  # results the text states: each stated outside the worked block too
             outside = html.replace(worked_html(html, block), "")
             for step in block.steps:
                 assert re.search(rf"= {re.escape(step.result_text(t))}\b", outside), step.quantity
@@ -173,38 +233,68 @@ def check_worked(html: str, worked, language: str) -> set[str]:
             shown = [row for row in rows if any(_shows(cell, text) for cell in row)]
             assert shown or not block.table_number, (block.stage, step.quantity, text, rows)
             if step.row_key:  # a table of results, one row per crank or journal: that one's row
-                assert any(row[0] == step.row_key for row in shown), (step.quantity, step.row_key, shown)
-            elif block.table_number and block.angle_deg is None:  # a table of results: the row of its symbol
-                assert any(cell.startswith(step.lhs_html) for row in shown for cell in row), (step.quantity, shown)
+                assert any(row[0] == step.row_key for row in shown), (
+                    step.quantity,
+                    step.row_key,
+                    shown,
+                )
+            elif (
+                block.table_number and block.angle_deg is None
+            ):  # a table of results: the row of its symbol
+                assert any(cell.startswith(step.lhs_html) for row in shown for cell in row), (
+                    step.quantity,
+                    shown,
+                )
             # the result is written in the worked line itself
             assert f"= {text}" in as_read(html)
             formula = FORMULAS[step.quantity]
-            assert formula(step.inputs) == pytest.approx(step.value, abs=_tolerance(step)), step.quantity
+            assert formula(step.inputs) == pytest.approx(step.value, abs=_tolerance(step)), (
+                step.quantity
+            )
             assert step.exact, step.quantity
-            assert formula(step.exact) == pytest.approx(step.value, rel=1e-12, abs=1e-12), step.quantity
+            assert formula(step.exact) == pytest.approx(step.value, rel=1e-12, abs=1e-12), (
+                step.quantity
+            )
     return checked
 
 
-INLINE4_STAGES = ("indicator", "forces", "torque", "balancing", "bearings", "flywheel", "speed_fluctuation")
+INLINE4_STAGES = (
+    "indicator",
+    "forces",
+    "torque",
+    "balancing",
+    "bearings",
+    "flywheel",
+    "speed_fluctuation",
+)
 
 
 @pytest.mark.parametrize("language", ["uk", "ru", "en"])
 def test_inline4_worked_results_equal_their_tables(language):
     html, worked = _sections("inline4-petrol", INLINE4_STAGES, language)
-    assert check_worked(html, worked, language) == set(INLINE4_STAGES) - {"forces"} | {"forces_torque"}
+    assert check_worked(html, worked, language) == set(INLINE4_STAGES) - {"forces"} | {
+        "forces_torque"
+    }
 
 
 @pytest.mark.parametrize("language", ["uk", "ru", "en"])
-@pytest.mark.parametrize("example, stages", [
-    ("offset-crank-engine", ("offset_crank", "indicator", "forces", "rod_dynamics")),
-    ("planetary-kinematics", ("planetary", "rod_dynamics")),
-    ("vane-engine-kinematics", ("vane",)),
-    ("inline6-diesel-trace", ("forces", "torque")),  # a measured trace: small tangential forces at 30°
-])
+@pytest.mark.parametrize(
+    "example, stages",
+    [
+        ("offset-crank-engine", ("offset_crank", "indicator", "forces", "rod_dynamics")),
+        ("planetary-kinematics", ("planetary", "rod_dynamics")),
+        ("vane-engine-kinematics", ("vane",)),
+        (
+            "inline6-diesel-trace",
+            ("forces", "torque"),
+        ),  # a measured trace: small tangential forces at 30°
+    ],
+)
 def test_other_mechanisms_worked_results_equal_their_tables(example, stages, language):
     html, worked = _sections(example, stages, language)
-    assert check_worked(html, worked, language) == set(stages) - {"forces"} | ({"forces_torque"} if "forces" in stages
-                                                                              else set())
+    assert check_worked(html, worked, language) == set(stages) - {"forces"} | (
+        {"forces_torque"} if "forces" in stages else set()
+    )
 
 
 def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
@@ -218,19 +308,26 @@ def test_a_worked_line_keeps_its_short_innermost_brackets_on_one_line():
     assert out.count('<span class="group">') == 3
     assert '<span class="group">(1 − cos\u00a08,048°)</span>' in out
     # nothing else changed but the function bound to its argument
-    assert re.sub(r'</?span[^>]*>', "", out).replace("cos\u00a0", "cos ") == line
+    assert re.sub(r"</?span[^>]*>", "", out).replace("cos\u00a0", "cos ") == line
     long_group = "(" + "1 + " * GROUP_CHARS + "1)"
     assert groups_unbroken(long_group) == long_group
     across = "<sub>k(<i>i</i></sub>−1)"
     assert groups_unbroken(across) == across
 
 
-
 def test_a_function_stays_with_its_argument_and_a_slash_with_its_bracket():
     """Not "…/cos | 8,048°" nor "…583,396)/ | (589,260 + …" broken at a line's end in the uk PDF."""
     from crankdyn.report.worked import groups_unbroken
 
-    out = groups_unbroken("cos(30° + 8,048°)/cos 8,048° + 0,2800·cos<sup>2</sup> 30°/cos<sup>3</sup> 8,048°")
-    assert "/cos\u00a08,048°" in out and "cos<sup>2</sup>\u00a030°" in out and "cos<sup>3</sup>\u00a08,048°" in out
-    assert ")</span>/\u2060<span class=\"group\">(589,260" in groups_unbroken("2·(589,260 − 583,396)/(589,260 + 583,396)")
+    out = groups_unbroken(
+        "cos(30° + 8,048°)/cos 8,048° + 0,2800·cos<sup>2</sup> 30°/cos<sup>3</sup> 8,048°"
+    )
+    assert (
+        "/cos\u00a08,048°" in out
+        and "cos<sup>2</sup>\u00a030°" in out
+        and "cos<sup>3</sup>\u00a08,048°" in out
+    )
+    assert ')</span>/\u2060<span class="group">(589,260' in groups_unbroken(
+        "2·(589,260 − 583,396)/(589,260 + 583,396)"
+    )
     assert groups_unbroken("cosine 3") == "cosine 3"  # a word, not the function

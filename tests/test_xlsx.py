@@ -15,8 +15,20 @@ from crankdyn.output.writers import _sheet_name, xlsx_bytes
 
 def test_xlsx_round_trips_with_pandas_and_matches_csv(tmp_path):
     out = tmp_path / "out"
-    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(out), "--format", "csv,xlsx",
-                 "-q"]) == 0
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "petrol-1cyl.toml"),
+                "-o",
+                str(out),
+                "--format",
+                "csv,xlsx",
+                "-q",
+            ]
+        )
+        == 0
+    )
     workbook = out / "tables.xlsx"
     assert workbook.is_file() and not (out / "report.html").exists()
     sheets = pd.read_excel(workbook, sheet_name=None, engine="openpyxl")
@@ -29,10 +41,19 @@ def test_xlsx_round_trips_with_pandas_and_matches_csv(tmp_path):
         for column in expected.columns:
             if pd.api.types.is_numeric_dtype(expected[column]):
                 # CSV keeps 10 significant digits, the workbook the full double.
-                np.testing.assert_allclose(frame[column].to_numpy(float), expected[column].to_numpy(float),
-                                           rtol=1e-9, atol=1e-12, equal_nan=True, err_msg=f"{name}.{column}")
+                np.testing.assert_allclose(
+                    frame[column].to_numpy(float),
+                    expected[column].to_numpy(float),
+                    rtol=1e-9,
+                    atol=1e-12,
+                    equal_nan=True,
+                    err_msg=f"{name}.{column}",
+                )
             else:
-                assert frame[column].fillna("").astype(str).tolist() == expected[column].fillna("").astype(str).tolist()
+                assert (
+                    frame[column].fillna("").astype(str).tolist()
+                    == expected[column].fillna("").astype(str).tolist()
+                )
     # Numbers are stored as numbers (the reader's spreadsheet applies its own decimal separator),
     # the header is frozen and bold.
     book = openpyxl.load_workbook(workbook)
@@ -56,7 +77,18 @@ def test_xlsx_sheet_names_are_valid_and_unique():
 
 
 def test_unknown_format_is_refused(tmp_path, capsys):
-    assert main(["report", str(examples_dir() / "petrol-1cyl.toml"), "-o", str(tmp_path / "o"),
-                 "--format", "xls"]) == 2
+    assert (
+        main(
+            [
+                "report",
+                str(examples_dir() / "petrol-1cyl.toml"),
+                "-o",
+                str(tmp_path / "o"),
+                "--format",
+                "xls",
+            ]
+        )
+        == 2
+    )
     assert "xlsx" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()

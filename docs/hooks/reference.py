@@ -166,7 +166,9 @@ def _model_tables() -> list[tuple[str, type, str]]:
             tables.append((name, model, "crankdyn.scene.model." + model.__name__))
             if model is Cycle:
                 rounding = Cycle.model_fields["rounding"].annotation
-                tables.append(("cycle.rounding", rounding, "crankdyn.scene.model." + rounding.__name__))
+                tables.append(
+                    ("cycle.rounding", rounding, "crankdyn.scene.model." + rounding.__name__)
+                )
     registry = default_registry()
     for stage in sorted(registry.stages.values(), key=lambda s: s.name):
         if stage.options_table and stage.options_model is not None:

@@ -70,19 +70,24 @@ def _languages() -> list[str]:
 
 # --------------------------------------------------------------------------- loading
 
+
 def _source_data(source: Any) -> tuple[dict, str, str]:
     """(raw data, base folder, name for messages) of a path, a dict or a scene from :func:`load`."""
     if isinstance(source, Scene):
         entry = _SOURCES.get(id(source))
         if entry is None or entry[0]() is not source:
-            raise TypeError("pass a scene made by crankdyn.load (or a path or dict) to lay overrides over it")
+            raise TypeError(
+                "pass a scene made by crankdyn.load (or a path or dict) to lay overrides over it"
+            )
         return entry[1], entry[2], "scene"
     if isinstance(source, Mapping):
         return dict(source), str(Path.cwd()), "scene"
     if isinstance(source, (str, Path)):
         path = Path(source)
         return read_scene_data(path), str(path.parent.resolve()), str(path)
-    raise TypeError(f"expected a scene file path, a dict or a scene from crankdyn.load, not {type(source).__name__}")
+    raise TypeError(
+        f"expected a scene file path, a dict or a scene from crankdyn.load, not {type(source).__name__}"
+    )
 
 
 def _checked(data: Any, source: str) -> None:
@@ -102,11 +107,23 @@ def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
     names = {str(k).replace("__", "."): v for k, v in overrides.items()}
     for name in names:
         if any(not part for part in name.split(".")) or not re.fullmatch(r"[A-Za-z_][\w.]*", name):
-            problems.append(Problem(name, names[name], "not a dotted scene path such as engine.bore or "
-                                    "cycle.rounding.ignition_advance_deg"))
+            problems.append(
+                Problem(
+                    name,
+                    names[name],
+                    "not a dotted scene path such as engine.bore or "
+                    "cycle.rounding.ignition_advance_deg",
+                )
+            )
         for other in names:
             if other.startswith(name + "."):
-                problems.append(Problem(other, names[other], f"conflicts with override {name}: give one or the other"))
+                problems.append(
+                    Problem(
+                        other,
+                        names[other],
+                        f"conflicts with override {name}: give one or the other",
+                    )
+                )
     if problems:
         raise SceneError(problems, "overrides")
     nested: dict = {}
@@ -117,11 +134,14 @@ def _nested_overrides(overrides: Mapping[str, Any]) -> dict:
 
 def _without_none(data: dict) -> dict:
     """``data`` without the keys an override set to None (None removes a key, e.g. ``engine.rod_length``)."""
-    return {k: _without_none(v) if isinstance(v, dict) else v for k, v in data.items() if v is not None}
+    return {
+        k: _without_none(v) if isinstance(v, dict) else v for k, v in data.items() if v is not None
+    }
 
 
-def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | None = None, /,
-         **more: Any) -> Scene:
+def load(
+    source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | None = None, /, **more: Any
+) -> Scene:
     """Load and validate a scene; lay ``overrides`` over it first.
 
     ``source`` is a TOML scene file, a dict of the same tables, or a scene returned by
@@ -134,8 +154,10 @@ def load(source: str | Path | Mapping | Scene, overrides: Mapping[str, Any] | No
     :class:`SceneError` listing them all; nothing is printed.
     """
     if overrides is not None and not isinstance(overrides, Mapping):
-        raise TypeError(f"overrides must be a mapping of dotted scene paths to values, not "
-                        f"{type(overrides).__name__}")
+        raise TypeError(
+            f"overrides must be a mapping of dotted scene paths to values, not "
+            f"{type(overrides).__name__}"
+        )
     data, base_dir, name = _source_data(source)
     _checked(data, name)
     changes = {**(overrides or {}), **more}
@@ -172,21 +194,31 @@ def _stage_names(stages: Iterable[str] | str | None) -> list[str] | None:
     if isinstance(stages, str):
         return [stages]
     if isinstance(stages, Mapping) or not isinstance(stages, Iterable):
-        raise TypeError("stages must be a stage name or a list of stage names, not "
-                        f"{type(stages).__name__}")
+        raise TypeError(
+            f"stages must be a stage name or a list of stage names, not {type(stages).__name__}"
+        )
     names = list(itertools.islice(stages, MAX_STAGE_NAMES + 1))
     if len(names) > MAX_STAGE_NAMES:
-        raise SceneError(Problem("stages", f"(more than {MAX_STAGE_NAMES} names)",
-                                 f"at most {MAX_STAGE_NAMES} stage names"))
+        raise SceneError(
+            Problem(
+                "stages",
+                f"(more than {MAX_STAGE_NAMES} names)",
+                f"at most {MAX_STAGE_NAMES} stage names",
+            )
+        )
     wrong = [n for n in names if not isinstance(n, str)]
     if wrong:
-        raise TypeError(f"stages must be stage names (strings), not {type(wrong[0]).__name__}: "
-                        f"{wrong[0]!r}")
+        raise TypeError(
+            f"stages must be stage names (strings), not {type(wrong[0]).__name__}: {wrong[0]!r}"
+        )
     return names
 
 
-def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]],
-          stages: Iterable[str] | None = None) -> pd.DataFrame:
+def sweep(
+    scene: Scene | str | Path | Mapping,
+    grid: Mapping[str, Iterable[Any]],
+    stages: Iterable[str] | None = None,
+) -> pd.DataFrame:
     """Run every combination of ``grid`` (dotted name -> values) and return the answer key.
 
     The combinations are computed as ``crankdyn sweep`` computes them: in chunks, only the stages
@@ -209,10 +241,11 @@ def sweep(scene: Scene | str | Path | Mapping, grid: Mapping[str, Iterable[Any]]
     combinations = list(itertools.product(*values))
     rows = []
     for start in range(0, len(combinations), CHUNK_POINTS):  # the points at array speed, in chunks
-        part = combinations[start:start + CHUNK_POINTS]
+        part = combinations[start : start + CHUNK_POINTS]
         scenes = [load(scene, dict(zip(names, combination, strict=True))) for combination in part]
         for combination, point, (run_names, results, error) in zip(
-                part, scenes, evaluate(scenes, _registry(), stages, _languages()), strict=True):
+            part, scenes, evaluate(scenes, _registry(), stages, _languages()), strict=True
+        ):
             if error:  # the point's own exception, as a run of it alone raises it
                 run_scene(point, _registry(), stages, _languages())
                 raise SceneError(Problem("sweep", str(combination), error), "sweep")
@@ -232,8 +265,10 @@ def _studies(scene: Scene | str | Path | Mapping, stages: list[str] | None) -> l
     try:
         base = load(scene)
     except SceneError as exc:
-        return [f"the studies (error against run time) did not run: the base scene alone is not "
-                f"valid ({'; '.join(str(p) for p in exc.problems)})"]
+        return [
+            f"the studies (error against run time) did not run: the base scene alone is not "
+            f"valid ({'; '.join(str(p) for p in exc.problems)})"
+        ]
     return study_once(base, _registry(), stages)
 
 
@@ -246,17 +281,21 @@ def _grid_values(grid: Mapping[str, Iterable[Any]]) -> tuple[list[str], list[lis
     keys.
     """
     if not isinstance(grid, Mapping):
-        raise TypeError("grid must map dotted scene fields to lists of values, "
-                        f"not {type(grid).__name__}")
+        raise TypeError(
+            f"grid must map dotted scene fields to lists of values, not {type(grid).__name__}"
+        )
     if len(grid) > MAX_FIELDS:
-        raise SceneError(Problem("grid", f"{len(grid)} fields", f"at most {MAX_FIELDS} fields"),
-                         "sweep")
+        raise SceneError(
+            Problem("grid", f"{len(grid)} fields", f"at most {MAX_FIELDS} fields"), "sweep"
+        )
     names = list(grid)
     for name in names:
         given = grid[name]
         if isinstance(given, (str, bytes, Mapping)) or not isinstance(given, Iterable):
-            raise TypeError(f"grid[{name!r}] must be a list of values, not {type(given).__name__} "
-                            f"(one value is a list of one: [{given!r}])")
+            raise TypeError(
+                f"grid[{name!r}] must be a list of values, not {type(given).__name__} "
+                f"(one value is a list of one: [{given!r}])"
+            )
     _check_points({name: _size(grid[name]) for name in names})
     values = [list(itertools.islice(grid[name], MAX_VARIANTS + 1)) for name in names]
     _check_points(dict(zip(names, map(len, values), strict=True)))
@@ -275,16 +314,23 @@ def _size(values: Iterable[Any]) -> int | None:
 
 def _check_points(sizes: dict[str, int | None]) -> None:
     """At most MAX_VARIANTS values per field and combinations in all (None: a size not known)."""
-    problems = [Problem(name, f"{size} values", f"at most {MAX_VARIANTS} values")
-                for name, size in sizes.items() if size is not None and size > MAX_VARIANTS]
+    problems = [
+        Problem(name, f"{size} values", f"at most {MAX_VARIANTS} values")
+        for name, size in sizes.items()
+        if size is not None and size > MAX_VARIANTS
+    ]
     if not problems:
         points = 1
         for size in sizes.values():
             points *= size if size is not None else 1
             if points > MAX_VARIANTS:
-                problems.append(Problem(
-                    "grid", f"more than {MAX_VARIANTS} combinations",
-                    f"at most {MAX_VARIANTS} (the product of the numbers of values)"))
+                problems.append(
+                    Problem(
+                        "grid",
+                        f"more than {MAX_VARIANTS} combinations",
+                        f"at most {MAX_VARIANTS} (the product of the numbers of values)",
+                    )
+                )
                 break
     if problems:
         raise SceneError(problems, "sweep")
@@ -293,11 +339,34 @@ def _check_points(sizes: dict[str, int | None]) -> None:
 # --------------------------------------------------------------------------- the result
 
 # Unit suffixes of result names (longest first), for display.
-_UNITS = (("_kg_m2", "kg·m²"), ("_m_s2", "m/s²"), ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_m_s", "m/s"),
-          ("_Nm", "N·m"), ("_MPa", "MPa"), ("_kPa", "kPa"), ("_Pa", "Pa"), ("_kW", "kW"), ("_W", "W"),
-          ("_kN", "kN"), ("_N", "N"), ("_J", "J"), ("_deg", "°"), ("_rad", "rad"), ("_kg", "kg"), ("_mm", "mm"),
-          ("_m2", "m²"), ("_m3", "m³"), ("_m", "m"), ("_ms", "ms"), ("_s", "s"), ("_Hz", "Hz"), ("_rpm", "rpm"),
-          ("_percent", "%"))
+_UNITS = (
+    ("_kg_m2", "kg·m²"),
+    ("_m_s2", "m/s²"),
+    ("_rad_s2", "rad/s²"),
+    ("_rad_s", "rad/s"),
+    ("_m_s", "m/s"),
+    ("_Nm", "N·m"),
+    ("_MPa", "MPa"),
+    ("_kPa", "kPa"),
+    ("_Pa", "Pa"),
+    ("_kW", "kW"),
+    ("_W", "W"),
+    ("_kN", "kN"),
+    ("_N", "N"),
+    ("_J", "J"),
+    ("_deg", "°"),
+    ("_rad", "rad"),
+    ("_kg", "kg"),
+    ("_mm", "mm"),
+    ("_m2", "m²"),
+    ("_m3", "m³"),
+    ("_m", "m"),
+    ("_ms", "ms"),
+    ("_s", "s"),
+    ("_Hz", "Hz"),
+    ("_rpm", "rpm"),
+    ("_percent", "%"),
+)
 
 
 def unit_of(name: str) -> str:
@@ -311,7 +380,6 @@ def unit_of(name: str) -> str:
 def _release(fig) -> None:
     """Lay a report figure out as the report does and drop it from pyplot's list (the object stays usable)."""
     import matplotlib.pyplot as plt  # lazy: heavy optional import (matplotlib: only when figures are released)
-
 
     with plt.rc_context(STYLE):
         tight_layout(fig)
@@ -389,8 +457,13 @@ class Result:
         """The main results, as the batch answer key has them (units in the names)."""
         return answers(self.document)
 
-    def write(self, out_dir: str | Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
-              *, force: bool = False) -> list[Path]:
+    def write(
+        self,
+        out_dir: str | Path,
+        formats: Iterable[str] = ("html", "pdf", "json", "csv"),
+        *,
+        force: bool = False,
+    ) -> list[Path]:
         """Write the files ``crankdyn report`` writes (same pipeline, nothing recomputed); return their paths.
 
         As the command line, it replaces only files crankdyn wrote there and left unchanged; a file in
@@ -398,12 +471,17 @@ class Result:
         formats = [formats] if isinstance(formats, str) else list(formats)  # a string is one format
         bad = [f for f in formats if f not in FORMATS]
         if bad or not formats:
-            raise SceneError(Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS)))
-        return write_outputs(Path(out_dir), render_files(self.run_result, _registry(), formats), force=force)
+            raise SceneError(
+                Problem("formats", formats, "a non-empty subset of " + ", ".join(FORMATS))
+            )
+        return write_outputs(
+            Path(out_dir), render_files(self.run_result, _registry(), formats), force=force
+        )
 
     # ----------------------------------------------------------------- report sections
-    def _render(self, figures_only: bool = False, language: str | None = None,
-                only: str | None = None) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
+    def _render(
+        self, figures_only: bool = False, language: str | None = None, only: str | None = None
+    ) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
         from .report.document import (
             _environment,  # lazy: heavy optional import (jinja2: only when a section is rendered)
@@ -416,8 +494,14 @@ class Result:
         figures: dict[str, Any] = {}
 
         class Capture(RenderContext):
-            def figure(self, fig, caption: str, name: str, see: str | None = None,
-                       see_params: dict | None = None) -> Markup:
+            def figure(
+                self,
+                fig,
+                caption: str,
+                name: str,
+                see: str | None = None,
+                see_params: dict | None = None,
+            ) -> Markup:
                 self.check_figure_declared(name)  # also for the sections not shown
                 key = name if name not in figures else f"{self.stage_name}.{name}"
                 if callable(fig):  # given as the function that builds it: the API hands out Figures
@@ -431,8 +515,13 @@ class Result:
 
         t = translator(language, registry.catalogs)
         scene = self.scene
-        ctx = Capture(t=t, env=_environment(registry, self.run_result), table_step_deg=scene.analysis.table_step_deg,  # type: ignore[arg-type]  # the scene set it
-                      cycle_deg=scene.engine.cycle_deg, scene=scene)
+        ctx = Capture(
+            t=t,
+            env=_environment(registry, self.run_result),
+            table_step_deg=scene.analysis.table_step_deg,  # type: ignore[arg-type]  # the scene set it
+            cycle_deg=scene.engine.cycle_deg,
+            scene=scene,
+        )
         sections: dict[str, SectionHTML] = {}
         number = 1  # section 1 is the input data
         for stage in self.run_result.plan.order:
@@ -451,28 +540,39 @@ class Result:
                 continue
             number += 1
             title = html.escape(f"{number}. {t(look.title_key)}")
-            sections[stage.name] = SectionHTML(f'<section class="crankdyn-section"><h2>{title}</h2>{body}</section>')
+            sections[stage.name] = SectionHTML(
+                f'<section class="crankdyn-section"><h2>{title}</h2>{body}</section>'
+            )
         return sections, figures
 
     def section(self, name: str, language: str | None = None) -> SectionHTML:
         """Section ``name`` (a stage name) rendered with the report's own templates, in ``language``
         (default: the scene's ``report.language``), numbered as in the report."""
         if name not in self.stages_run:
-            raise KeyError(f"no section {name!r}; sections of this run: {', '.join(self.stages_run)}")
+            raise KeyError(
+                f"no section {name!r}; sections of this run: {', '.join(self.stages_run)}"
+            )
         sections, _ = self._render(language=language, only=name)
         if name not in sections:
-            raise KeyError(f"stage {name!r} ran for its data only and has no section for this scene")
+            raise KeyError(
+                f"stage {name!r} ran for its data only and has no section for this scene"
+            )
         return sections[name]
 
     # ----------------------------------------------------------------- display
     def _repr_html_(self) -> str:
         t = translator(self.scene.report.language, _registry().catalogs)
         esc = html.escape
-        rows = "".join(f"<tr><td>{esc(name)}</td><td style='text-align:right'>{value:.6g}</td>"
-                       f"<td>{esc(unit_of(name))}</td></tr>"
-                       for name, value in self.answers.items() if value is not None)
-        parts = [f"<div class='crankdyn-result'><b>{esc(self.scene.report.title)}</b>",
-                 f"<p>{esc(self.scene.engine.mechanism)} · {esc(', '.join(self.stages_run))}</p>"]
+        rows = "".join(
+            f"<tr><td>{esc(name)}</td><td style='text-align:right'>{value:.6g}</td>"
+            f"<td>{esc(unit_of(name))}</td></tr>"
+            for name, value in self.answers.items()
+            if value is not None
+        )
+        parts = [
+            f"<div class='crankdyn-result'><b>{esc(self.scene.report.title)}</b>",
+            f"<p>{esc(self.scene.engine.mechanism)} · {esc(', '.join(self.stages_run))}</p>",
+        ]
         if rows:
             parts.append(f"<table>{rows}</table>")
         if self.skipped:

@@ -47,9 +47,19 @@ ARTIST_DOCSTRINGS_ENV = "CRANKDYN_MATPLOTLIB_DOCSTRINGS"
 REPORT_FORMATS = ("html", "pdf", "json", "csv", "xlsx", "docx")
 #: What users type for a report language, with the code they mean.
 LANGUAGE_ALIASES = {
-    "ua": "uk", "ukr": "uk", "ukrainian": "uk", "українська": "uk", "укр": "uk",
-    "rus": "ru", "russian": "ru", "русский": "ru", "рус": "ru",
-    "eng": "en", "english": "en", "gb": "en", "us": "en",
+    "ua": "uk",
+    "ukr": "uk",
+    "ukrainian": "uk",
+    "українська": "uk",
+    "укр": "uk",
+    "rus": "ru",
+    "russian": "ru",
+    "русский": "ru",
+    "рус": "ru",
+    "eng": "en",
+    "english": "en",
+    "gb": "en",
+    "us": "en",
 }
 
 
@@ -70,27 +80,37 @@ def report_language(text: str) -> str:
     if code in languages:
         return code
     meant = LANGUAGE_ALIASES.get(code) or next(
-        (part for part in code.replace("_", "-").split("-") if part in languages), None)
+        (part for part in code.replace("_", "-").split("-") if part in languages), None
+    )
     if meant is None:
         close = difflib.get_close_matches(code, languages, n=1, cutoff=0.6)  # "enn", not "de"
         meant = close[0] if close else None
     hint = f"; did you mean {meant!r}?" if meant else ""
-    raise UsageError(f"--lang {text!r}: not a report language{hint} "
-                     f"(available: {', '.join(languages)})")
+    raise UsageError(
+        f"--lang {text!r}: not a report language{hint} (available: {', '.join(languages)})"
+    )
 
 
 def _command(sub, name: str, help_text: str, epilog: str) -> argparse.ArgumentParser:
     """A subcommand whose ``--help`` ends with its examples, laid out as written."""
     description = help_text[:1].upper() + help_text[1:] + "."
-    return sub.add_parser(name, help=help_text, description=description,
-                          epilog="examples:\n" + epilog,
-                          formatter_class=argparse.RawDescriptionHelpFormatter)
+    return sub.add_parser(
+        name,
+        help=help_text,
+        description=description,
+        epilog="examples:\n" + epilog,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
 
 
 def _lang_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--lang", metavar="CODE",
-                        help="report language, any case: " + ", ".join(report_languages())
-                        + " (default: the scene's report.language)")
+    parser.add_argument(
+        "--lang",
+        metavar="CODE",
+        help="report language, any case: "
+        + ", ".join(report_languages())
+        + " (default: the scene's report.language)",
+    )
 
 
 MAIN_EPILOG = """\
@@ -144,10 +164,13 @@ SWEEP_EPILOG = """\
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="crankdyn", description="Dynamic calculation of crank mechanisms and "
-                                     "piston engines,\nwritten up as a course-project report.",
-                                     epilog=MAIN_EPILOG,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        prog="crankdyn",
+        description="Dynamic calculation of crank mechanisms and "
+        "piston engines,\nwritten up as a course-project report.",
+        epilog=MAIN_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"crankdyn {__version__}")
     parser.add_argument("--debug", action="store_true", help="show a traceback on internal errors")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -161,27 +184,48 @@ def _parser() -> argparse.ArgumentParser:
 def _report_parser(sub) -> None:
     report = _command(sub, "report", "compute a scene and write the report and data", REPORT_EPILOG)
     report.add_argument("scene", type=Path, help="the scene file (TOML)")
-    report.add_argument("-o", "--output", type=Path, default=Path("report"), help="output folder (default: report)")
-    report.add_argument("--format", default="html,pdf,json,csv",
-                        help="comma-separated subset of " + ",".join(REPORT_FORMATS)
-                        + " (default: html,pdf,json,csv; docx needs pandoc)")
+    report.add_argument(
+        "-o", "--output", type=Path, default=Path("report"), help="output folder (default: report)"
+    )
+    report.add_argument(
+        "--format",
+        default="html,pdf,json,csv",
+        help="comma-separated subset of "
+        + ",".join(REPORT_FORMATS)
+        + " (default: html,pdf,json,csv; docx needs pandoc)",
+    )
     _lang_option(report)
-    report.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
-    report.add_argument("--self-contained", action="store_true",
-                        help="inline the figures in report.html instead of referring to figures/*.svg")
-    report.add_argument("--force", action="store_true",
-                        help="replace files in the output folder that crankdyn did not write or that were "
-                        "edited since (otherwise the run is refused and nothing is written)")
-    report.add_argument("-q", "--quiet", action="store_true", help="no summary line (warnings still shown)")
-    report.add_argument("-v", "--verbose", action="store_true",
-                        help="also list the stages left out and why (as 'check' does)")
+    report.add_argument(
+        "--stages", help="comma-separated stages to run (their prerequisites are added)"
+    )
+    report.add_argument(
+        "--self-contained",
+        action="store_true",
+        help="inline the figures in report.html instead of referring to figures/*.svg",
+    )
+    report.add_argument(
+        "--force",
+        action="store_true",
+        help="replace files in the output folder that crankdyn did not write or that were "
+        "edited since (otherwise the run is refused and nothing is written)",
+    )
+    report.add_argument(
+        "-q", "--quiet", action="store_true", help="no summary line (warnings still shown)"
+    )
+    report.add_argument(
+        "-v",
+        "--verbose",
+        action="store_true",
+        help="also list the stages left out and why (as 'check' does)",
+    )
     _stage_timeout_option(report)
     _data_dir_option(report)
 
 
 def _other_parsers(sub) -> None:
-    check = _command(sub, "check", "validate a scene as 'report' does (computed, nothing written)",
-                     CHECK_EPILOG)
+    check = _command(
+        sub, "check", "validate a scene as 'report' does (computed, nothing written)", CHECK_EPILOG
+    )
     check.add_argument("scene", type=Path, help="the scene file (TOML)")
     _lang_option(check)
     _stage_timeout_option(check)
@@ -193,96 +237,194 @@ def _other_parsers(sub) -> None:
     example.add_argument("-o", "--output", type=Path, help="file to write the example scene to")
     example.add_argument("--force", action="store_true", help="overwrite an existing file")
 
-    _command(sub, "plugins", "list installed plugins, mechanisms, stages and report languages",
-             PLUGINS_EPILOG)
+    _command(
+        sub,
+        "plugins",
+        "list installed plugins, mechanisms, stages and report languages",
+        PLUGINS_EPILOG,
+    )
 
-    explore = _command(sub, "explore", "rank the even-firing crank arrangements and firing orders "
-                       "of an engine by balance and firing rules", EXPLORE_EPILOG)
+    explore = _command(
+        sub,
+        "explore",
+        "rank the even-firing crank arrangements and firing orders "
+        "of an engine by balance and firing rules",
+        EXPLORE_EPILOG,
+    )
     explore.add_argument("--cylinders", type=int, required=True, help="number of cylinders (1-24)")
-    explore.add_argument("--layout", default="inline",
-                         choices=["inline", "V", "W", "Y", "X", "boxer", "radial"],
-                         help="cylinder layout (default inline)")
-    explore.add_argument("--strokes", type=int, default=4, choices=[2, 4],
-                         help="strokes per cycle (default 4)")
-    explore.add_argument("--bank-angle", type=float, help="angle between adjacent banks, deg (V, W, Y, X)")
+    explore.add_argument(
+        "--layout",
+        default="inline",
+        choices=["inline", "V", "W", "Y", "X", "boxer", "radial"],
+        help="cylinder layout (default inline)",
+    )
+    explore.add_argument(
+        "--strokes", type=int, default=4, choices=[2, 4], help="strokes per cycle (default 4)"
+    )
+    explore.add_argument(
+        "--bank-angle", type=float, help="angle between adjacent banks, deg (V, W, Y, X)"
+    )
     explore.add_argument("--top", type=int, default=10, help="rows to show (default 10)")
     explore.add_argument("--all", action="store_true", help="rank and show every firing order")
     explore.add_argument("--json", action="store_true", help="print the ranking as JSON")
 
-    serve = _command(sub, "serve", "live HTML preview on 127.0.0.1 that re-renders when the scene "
-                     "is saved", SERVE_EPILOG)
+    serve = _command(
+        sub,
+        "serve",
+        "live HTML preview on 127.0.0.1 that re-renders when the scene is saved",
+        SERVE_EPILOG,
+    )
     serve.add_argument("scene", type=Path, help="the scene file (TOML)")
-    serve.add_argument("--port", type=int, default=8765,
-                       help="port on 127.0.0.1 (default 8765; 0 picks a free one)")
+    serve.add_argument(
+        "--port",
+        type=int,
+        default=8765,
+        help="port on 127.0.0.1 (default 8765; 0 picks a free one)",
+    )
     _lang_option(serve)
-    serve.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
-    serve.add_argument("--open", action="store_true", help="open the preview in the default browser")
-    serve.add_argument("-q", "--quiet", action="store_true", help="no log lines on stderr, only the URL")
+    serve.add_argument(
+        "--stages", help="comma-separated stages to run (their prerequisites are added)"
+    )
+    serve.add_argument(
+        "--open", action="store_true", help="open the preview in the default browser"
+    )
+    serve.add_argument(
+        "-q", "--quiet", action="store_true", help="no log lines on stderr, only the URL"
+    )
 
 
 def _batch_parser(sub) -> None:
-    batch = _command(sub, "batch", "one report per row of a CSV of student variants, plus an "
-                     "answer key", BATCH_EPILOG)
-    batch.add_argument("variants", type=Path, help="CSV: a header of dotted scene paths (engine.bore, ...) "
-                       "and an optional 'variant' column; one row per student")
+    batch = _command(
+        sub,
+        "batch",
+        "one report per row of a CSV of student variants, plus an answer key",
+        BATCH_EPILOG,
+    )
+    batch.add_argument(
+        "variants",
+        type=Path,
+        help="CSV: a header of dotted scene paths (engine.bore, ...) "
+        "and an optional 'variant' column; one row per student",
+    )
     batch.add_argument("--base", type=Path, required=True, help="the scene every row starts from")
-    batch.add_argument("-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)")
-    batch.add_argument("--format", default="html,pdf,json,csv",
-                       help="formats of each report, as for 'report' (default: html,pdf,json,csv)")
-    batch.add_argument("-j", "--jobs", type=int,
-                       help="worker processes (default and most: the available cores)")
+    batch.add_argument(
+        "-o", "--output", type=Path, default=Path("batch"), help="output folder (default: batch)"
+    )
+    batch.add_argument(
+        "--format",
+        default="html,pdf,json,csv",
+        help="formats of each report, as for 'report' (default: html,pdf,json,csv)",
+    )
+    batch.add_argument(
+        "-j", "--jobs", type=int, help="worker processes (default and most: the available cores)"
+    )
     _lang_option(batch)
-    batch.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added)")
+    batch.add_argument(
+        "--stages", help="comma-separated stages to run (their prerequisites are added)"
+    )
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    batch.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one variant may take before it is stopped and listed as "
-                       "failed "
-                       "(default 120, at most 86400)")
+    batch.add_argument(
+        "--timeout",
+        type=float,
+        default=120.0,
+        help="seconds one variant may take before it is stopped and listed as "
+        "failed "
+        "(default 120, at most 86400)",
+    )
     _scheduler_options(batch)
     _data_dir_option(batch)
 
 
 def _sweep_parser(sub) -> None:
-    sweep = _command(sub, "sweep", "a design study: every combination of ranges of scene fields, "
-                     "the answer key as a table and a plot of one result over the grid",
-                     SWEEP_EPILOG)
+    sweep = _command(
+        sub,
+        "sweep",
+        "a design study: every combination of ranges of scene fields, "
+        "the answer key as a table and a plot of one result over the grid",
+        SWEEP_EPILOG,
+    )
     sweep.add_argument("scene", type=Path, help="the scene every point starts from")
-    sweep.add_argument("--set", action="append", default=[], metavar="NAME=VALUES",
-                       help="a swept field: START:STOP:COUNT (2000:6000:5), START:STOP:step=STEP, A,B,C "
-                       "(0.26,0.28,0.3), with a unit where the field has one (76mm:88mm:4); one value sets the "
-                       "field for every point; repeat for more fields (the first varies slowest)")
-    sweep.add_argument("--grid", type=Path, metavar="FILE", help="a sweep file (TOML: [sweep], [fixed], [plot]); "
-                       "--set adds to it or replaces its fields")
-    sweep.add_argument("-o", "--output", type=Path, default=Path("sweep"), help="output folder (default: sweep)")
-    sweep.add_argument("--key", default="csv,xlsx", help="answer-key formats: a subset of csv,xlsx,parquet "
-                       "(default csv,xlsx; parquet needs crankdyn[parquet])")
-    sweep.add_argument("--plot", metavar="COLUMN", help="plot this answer-key column (e.g. j_max_m_s2) over the grid")
-    sweep.add_argument("--plot-x", metavar="NAME", help="the swept field on the plot's x axis (default: the first)")
+    sweep.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUES",
+        help="a swept field: START:STOP:COUNT (2000:6000:5), START:STOP:step=STEP, A,B,C "
+        "(0.26,0.28,0.3), with a unit where the field has one (76mm:88mm:4); one value sets the "
+        "field for every point; repeat for more fields (the first varies slowest)",
+    )
+    sweep.add_argument(
+        "--grid",
+        type=Path,
+        metavar="FILE",
+        help="a sweep file (TOML: [sweep], [fixed], [plot]); "
+        "--set adds to it or replaces its fields",
+    )
+    sweep.add_argument(
+        "-o", "--output", type=Path, default=Path("sweep"), help="output folder (default: sweep)"
+    )
+    sweep.add_argument(
+        "--key",
+        default="csv,xlsx",
+        help="answer-key formats: a subset of csv,xlsx,parquet "
+        "(default csv,xlsx; parquet needs crankdyn[parquet])",
+    )
+    sweep.add_argument(
+        "--plot",
+        metavar="COLUMN",
+        help="plot this answer-key column (e.g. j_max_m_s2) over the grid",
+    )
+    sweep.add_argument(
+        "--plot-x", metavar="NAME", help="the swept field on the plot's x axis (default: the first)"
+    )
     sweep.add_argument("--plot-format", default="svg", help="svg, png or svg,png (default svg)")
-    sweep.add_argument("--format", default="none", help="files of each point in DIR/<point>/, as for 'report' "
-                       "(default none: only the answer key and the plot)")
-    sweep.add_argument("-j", "--jobs", type=int,
-                       help="worker processes (default and most: the available cores)")
+    sweep.add_argument(
+        "--format",
+        default="none",
+        help="files of each point in DIR/<point>/, as for 'report' "
+        "(default none: only the answer key and the plot)",
+    )
+    sweep.add_argument(
+        "-j", "--jobs", type=int, help="worker processes (default and most: the available cores)"
+    )
     _lang_option(sweep)
-    sweep.add_argument("--stages", help="comma-separated stages to run (their prerequisites are added); "
-                       "fewer stages, faster points")
+    sweep.add_argument(
+        "--stages",
+        help="comma-separated stages to run (their prerequisites are added); "
+        "fewer stages, faster points",
+    )
     sweep.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    sweep.add_argument("--timeout", type=float, default=120.0,
-                       help="seconds one point may take before it is stopped and listed as failed "
-                       "(default 120, at most 86400)")
+    sweep.add_argument(
+        "--timeout",
+        type=float,
+        default=120.0,
+        help="seconds one point may take before it is stopped and listed as failed "
+        "(default 120, at most 86400)",
+    )
     _scheduler_options(sweep)
     _data_dir_option(sweep)
 
 
 def _scheduler_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
-                        "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes")
-    parser.add_argument("--connect-timeout", type=float, default=10.0, metavar="SECONDS",
-                        help="seconds to wait for the --scheduler (default 10, at most 86400)")
-    parser.add_argument("--force", action="store_true",
-                        help="replace files in the output folder that crankdyn did not write or that were "
-                        "edited since (otherwise they are kept and the run is refused)")
+    parser.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run the variants on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786, "
+        "started with 'dask scheduler'; needs crankdyn[dask]) instead of local worker processes",
+    )
+    parser.add_argument(
+        "--connect-timeout",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="seconds to wait for the --scheduler (default 10, at most 86400)",
+    )
+    parser.add_argument(
+        "--force",
+        action="store_true",
+        help="replace files in the output folder that crankdyn did not write or that were "
+        "edited since (otherwise they are kept and the run is refused)",
+    )
 
 
 def _run_options(args, formats: list[str]):
@@ -298,18 +440,33 @@ def _run_options(args, formats: list[str]):
     if args.jobs is not None and args.jobs < 1:
         raise SceneError(Problem("--jobs", args.jobs, "a whole number >= 1"))
     if args.jobs is not None and args.scheduler:
-        raise UsageError("--jobs applies to the local worker processes; on a Dask cluster the workers set how "
-                         "many variants run at once (dask worker --nthreads N): give one or the other")
+        raise UsageError(
+            "--jobs applies to the local worker processes; on a Dask cluster the workers set how "
+            "many variants run at once (dask worker --nthreads N): give one or the other"
+        )
     check_seconds("--timeout", args.timeout)
     check_seconds("--connect-timeout", args.connect_timeout)
     jobs = args.jobs
     if jobs is not None and jobs > available_cores():
         jobs = available_cores()
-        print(f"crankdyn {args.command}: --jobs {args.jobs}: capped at {jobs}, the cores available "
-              "(more worker processes only share them)", file=sys.stderr)
-    return RunOptions(formats, jobs, args.lang, _stage_list(args.stages), not args.quiet, None,
-                      args.timeout, tuple(str(d) for d in args.data_dir), args.scheduler,
-                      args.connect_timeout, args.force)
+        print(
+            f"crankdyn {args.command}: --jobs {args.jobs}: capped at {jobs}, the cores available "
+            "(more worker processes only share them)",
+            file=sys.stderr,
+        )
+    return RunOptions(
+        formats,
+        jobs,
+        args.lang,
+        _stage_list(args.stages),
+        not args.quiet,
+        None,
+        args.timeout,
+        tuple(str(d) for d in args.data_dir),
+        args.scheduler,
+        args.connect_timeout,
+        args.force,
+    )
 
 
 #: seconds one stage may take in 'report' and 'check' (crankdyn.plugin.guard's, without its import)
@@ -318,9 +475,14 @@ MAX_STAGE_TIMEOUT_S = 3600.0
 
 
 def _stage_timeout_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--timeout", type=float, default=DEFAULT_STAGE_TIMEOUT_S, metavar="SECONDS",
-                        help="seconds one stage may take before the command stops with its name "
-                        f"(default {DEFAULT_STAGE_TIMEOUT_S:g}, at most {MAX_STAGE_TIMEOUT_S:g})")
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        default=DEFAULT_STAGE_TIMEOUT_S,
+        metavar="SECONDS",
+        help="seconds one stage may take before the command stops with its name "
+        f"(default {DEFAULT_STAGE_TIMEOUT_S:g}, at most {MAX_STAGE_TIMEOUT_S:g})",
+    )
 
 
 def _stage_time_limit(seconds: float):
@@ -328,15 +490,23 @@ def _stage_time_limit(seconds: float):
     from .plugin.guard import stage_time_limit  # lazy: heavy optional import (numpy)
 
     if not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
-        raise UsageError(f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 "
-                         f"and at most {MAX_STAGE_TIMEOUT_S:g}")
+        raise UsageError(
+            f"--timeout {seconds:g}: give the seconds one stage may take, a number > 0 "
+            f"and at most {MAX_STAGE_TIMEOUT_S:g}"
+        )
     return stage_time_limit(seconds)
 
 
 def _data_dir_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--data-dir", action="append", type=Path, default=[], metavar="DIR",
-                        help="a folder data files (cycle.trace_file ...) may also be read from; by default only "
-                        "the scene's folder and below")
+    parser.add_argument(
+        "--data-dir",
+        action="append",
+        type=Path,
+        default=[],
+        metavar="DIR",
+        help="a folder data files (cycle.trace_file ...) may also be read from; by default only "
+        "the scene's folder and below",
+    )
 
 
 def run() -> None:
@@ -362,9 +532,16 @@ def _quiet_stdout() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    handler = {"report": _report, "check": _check, "example": _example, "plugins": _plugins, "serve": _serve,
-               "batch": _batch, "explore": _explore,
-               "sweep": _sweep}[args.command]
+    handler = {
+        "report": _report,
+        "check": _check,
+        "example": _example,
+        "plugins": _plugins,
+        "serve": _serve,
+        "batch": _batch,
+        "explore": _explore,
+        "sweep": _sweep,
+    }[args.command]
     try:
         if getattr(args, "lang", None) is not None:
             args.lang = report_language(args.lang)
@@ -380,8 +557,11 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # noqa: BLE001 - the last line of defence for the user
         if args.debug:
             raise
-        print(f"crankdyn: internal error: {exc.__class__.__name__}: {exc}\n"
-              "(run again with --debug for the traceback, and please report it)", file=sys.stderr)
+        print(
+            f"crankdyn: internal error: {exc.__class__.__name__}: {exc}\n"
+            "(run again with --debug for the traceback, and please report it)",
+            file=sys.stderr,
+        )
         return EXIT_INTERNAL
 
 
@@ -406,8 +586,10 @@ def _formats(text: str) -> list[str]:
     chosen = [f.strip() for f in text.split(",") if f.strip()]
     bad = [f for f in chosen if f not in FORMATS]
     if bad or not chosen:
-        raise UsageError(f"unknown --format {', '.join(bad) or repr(text)}; allowed: a comma-separated subset of "
-                         + ",".join(FORMATS))
+        raise UsageError(
+            f"unknown --format {', '.join(bad) or repr(text)}; allowed: a comma-separated subset of "
+            + ",".join(FORMATS)
+        )
     _require_tools(chosen)
     return chosen
 
@@ -460,17 +642,29 @@ def _write_report(args) -> int:
     scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
     _print_broken(registry)
-    run = write_report(scene, registry, args.output, formats, stages, languages, self_contained=args.self_contained,
-                       force=args.force)
+    run = write_report(
+        scene,
+        registry,
+        args.output,
+        formats,
+        stages,
+        languages,
+        self_contained=args.self_contained,
+        force=args.force,
+    )
     result, written = run.result, run.written
     _print_warnings(result, registry)
     if run.missing_translations:
-        print(f"crankdyn: {missing_translations_line(result.scene.report.language, run.missing_translations)}",
-              file=sys.stderr)
+        print(
+            f"crankdyn: {missing_translations_line(result.scene.report.language, run.missing_translations)}",
+            file=sys.stderr,
+        )
     if not args.quiet:
         main_files = [p for p in written if p.parent == args.output]
-        print(f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
-              + ", ".join(p.name for p in main_files))
+        print(
+            f"crankdyn: {len(written)} files in {args.output} ({time.perf_counter() - start:.2f} s): "
+            + ", ".join(p.name for p in main_files)
+        )
     if args.verbose and not args.quiet:
         _print_left_out(result.plan)
     return 0
@@ -488,8 +682,11 @@ def missing_translations_line(language: str, keys: set[str], shown: int = 10) ->
     ``shown`` by name, then how many more): the report is written anyway, with the keys in it."""
     names = sorted(keys)
     more = f" and {len(names) - shown} more" if len(names) > shown else ""
-    return (f"warning: the report in {language!r} has no translation for {len(names)} key(s): "
-            + ", ".join(names[:shown]) + more)
+    return (
+        f"warning: the report in {language!r} has no translation for {len(names)} key(s): "
+        + ", ".join(names[:shown])
+        + more
+    )
 
 
 def _stage_list(text: str | None) -> list[str] | None:
@@ -500,31 +697,57 @@ def _serve(args) -> int:
     from .preview.server import serve  # lazy: heavy optional import (numpy, scipy: per command)
 
     if not 0 <= args.port <= 65535:
-        raise SceneError(Problem("--port", args.port, "a port number from 1 to 65535, or 0 for any free port"))
-    return serve(args.scene, port=args.port, language=args.lang, stages=_stage_list(args.stages),
-                 open_browser=args.open, quiet=args.quiet)
+        raise SceneError(
+            Problem("--port", args.port, "a port number from 1 to 65535, or 0 for any free port")
+        )
+    return serve(
+        args.scene,
+        port=args.port,
+        language=args.lang,
+        stages=_stage_list(args.stages),
+        open_browser=args.open,
+        quiet=args.quiet,
+    )
 
 
 def _batch(args) -> int:
     from .batch.variants import run_batch  # lazy: heavy optional import (numpy, scipy: per command)
 
     o = _run_options(args, _formats(args.format))
-    report = run_batch(args.variants, args.base, args.output, o.formats, jobs=o.jobs, language=o.language,
-                       stages=o.stages, progress=o.progress, timeout=o.timeout, data_dirs=o.data_dirs,
-                       scheduler=o.scheduler, connect_timeout=o.connect_timeout)
+    report = run_batch(
+        args.variants,
+        args.base,
+        args.output,
+        o.formats,
+        jobs=o.jobs,
+        language=o.language,
+        stages=o.stages,
+        progress=o.progress,
+        timeout=o.timeout,
+        data_dirs=o.data_dirs,
+        scheduler=o.scheduler,
+        connect_timeout=o.connect_timeout,
+    )
     for warning in report.warnings:
         print(f"crankdyn batch: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
-    print(f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
-          f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)")
+    print(
+        f"crankdyn batch: {done} of {len(report.outcomes)} variants written to {args.output} "
+        f"in {report.seconds:.1f} s; answer key: {args.output / 'answer_key.csv'} (and .xlsx)"
+    )
     if report.failures:
-        lines = [f"crankdyn batch: {len(report.failures)} variant(s) failed "
-                 f"(listed in {args.output / 'failures.csv'}):"]
+        lines = [
+            f"crankdyn batch: {len(report.failures)} variant(s) failed "
+            f"(listed in {args.output / 'failures.csv'}):"
+        ]
         lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print(f"crankdyn batch: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
-              "failures.csv cover what finished", file=sys.stderr)
+        print(
+            f"crankdyn batch: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+            "failures.csv cover what finished",
+            file=sys.stderr,
+        )
         return 128 + report.stop_signal
     if report.failures:
         return EXIT_BAD_INPUT
@@ -539,23 +762,36 @@ def _sweep(args) -> int:
     )
 
     formats = [] if args.format.strip().lower() == "none" else _formats(args.format)
-    request = SweepRequest(args.scene, sweep_from_args(args.set, args.grid, args.plot, args.plot_x), args.output,
-                           _run_options(args, formats), _csv_list(args.key), _csv_list(args.plot_format))
+    request = SweepRequest(
+        args.scene,
+        sweep_from_args(args.set, args.grid, args.plot, args.plot_x),
+        args.output,
+        _run_options(args, formats),
+        _csv_list(args.key),
+        _csv_list(args.plot_format),
+    )
     report, notes = run_sweep(request)
     for note in notes:
         print(f"crankdyn sweep: {note}", file=sys.stderr)
     for warning in report.warnings:
         print(f"crankdyn sweep: warning: {warning}", file=sys.stderr)
     done = len(report.outcomes) - len(report.failures)
-    print(f"crankdyn sweep: {done} of {len(report.outcomes)} points computed in {report.seconds:.1f} s; "
-          f"written to {args.output}: " + ", ".join(p.name for p in report.written))
+    print(
+        f"crankdyn sweep: {done} of {len(report.outcomes)} points computed in {report.seconds:.1f} s; "
+        f"written to {args.output}: " + ", ".join(p.name for p in report.written)
+    )
     if report.failures:
-        lines = [f"crankdyn sweep: {len(report.failures)} point(s) failed (listed in {args.output / 'failures.csv'}):"]
+        lines = [
+            f"crankdyn sweep: {len(report.failures)} point(s) failed (listed in {args.output / 'failures.csv'}):"
+        ]
         lines += _failure_lines(report.failures)
         print("\n".join(lines), file=sys.stderr)
     if report.interrupted:
-        print(f"crankdyn sweep: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
-              "failures.csv cover what finished", file=sys.stderr)
+        print(
+            f"crankdyn sweep: interrupted ({_stop_name(report.stop_signal)}); the answer key and "
+            "failures.csv cover what finished",
+            file=sys.stderr,
+        )
         return 128 + report.stop_signal
     return EXIT_BAD_INPUT if report.failures or any(n.startswith("no point") for n in notes) else 0
 
@@ -591,45 +827,81 @@ def _explore(args) -> int:
         raise SceneError(Problem("--top", args.top, "a whole number >= 1"))
     needs_angle = args.layout in ("V", "W", "Y", "X")
     if needs_angle != (args.bank_angle is not None):
-        raise SceneError(Problem("--bank-angle", args.bank_angle,
-                                 f"required for a {args.layout} engine" if needs_angle
-                                 else f"does not apply to a {args.layout} engine"))
-    if args.bank_angle is not None and not (0 < args.bank_angle < 360
-                                            and args.bank_angle >= sys.float_info.min):
-        raise SceneError(Problem("--bank-angle", args.bank_angle,
-                                 "an angle in degrees, > 0 and < 360 (as engine.bank_angle_deg)"))
+        raise SceneError(
+            Problem(
+                "--bank-angle",
+                args.bank_angle,
+                f"required for a {args.layout} engine"
+                if needs_angle
+                else f"does not apply to a {args.layout} engine",
+            )
+        )
+    if args.bank_angle is not None and not (
+        0 < args.bank_angle < 360 and args.bank_angle >= sys.float_info.min
+    ):
+        raise SceneError(
+            Problem(
+                "--bank-angle",
+                args.bank_angle,
+                "an angle in degrees, > 0 and < 360 (as engine.bank_angle_deg)",
+            )
+        )
     start = time.perf_counter()
     try:
-        result = firing_explorer.explore(args.cylinders, args.layout, args.strokes, args.bank_angle,
-                                         top=None if args.all else args.top)
+        result = firing_explorer.explore(
+            args.cylinders,
+            args.layout,
+            args.strokes,
+            args.bank_angle,
+            top=None if args.all else args.top,
+        )
     except LayoutError as exc:
-        raise SceneError(Problem("--" + exc.field.split(".")[-1].replace("_", "-"), exc.value, str(exc))) from None
+        raise SceneError(
+            Problem("--" + exc.field.split(".")[-1].replace("_", "-"), exc.value, str(exc))
+        ) from None
     except firing_explorer.TooManyFiringOrders as exc:
         option = ("--all", "(every firing order)") if args.all else ("--top", args.top)
-        raise SceneError(Problem(option[0], option[1], f"{exc}; list the best ones with --top N, "
-                                 f"N <= {firing_explorer.MAX_RANKED_ORDERS}")) from None
+        raise SceneError(
+            Problem(
+                option[0],
+                option[1],
+                f"{exc}; list the best ones with --top N, N <= {firing_explorer.MAX_RANKED_ORDERS}",
+            )
+        ) from None
     seconds = time.perf_counter() - start
     if args.json:
-        print(json.dumps({**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False))
+        print(
+            json.dumps(
+                {**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False
+            )
+        )
         return 0
-    print(f"crankdyn explore: {args.cylinders}-cylinder {args.layout} {args.strokes}-stroke"
-          + (f", bank angle {args.bank_angle:g} deg" if args.bank_angle is not None else "")
-          + f": firing every {result.interval_deg:g} deg; {result.arrangements} crank arrangements, "
-          f"{result.firing_orders} firing orders ({result.scored_firing_orders} scored in detail, {seconds:.3f} s)")
+    print(
+        f"crankdyn explore: {args.cylinders}-cylinder {args.layout} {args.strokes}-stroke"
+        + (f", bank angle {args.bank_angle:g} deg" if args.bank_angle is not None else "")
+        + f": firing every {result.interval_deg:g} deg; {result.arrangements} crank arrangements, "
+        f"{result.firing_orders} firing orders ({result.scored_firing_orders} scored in detail, {seconds:.3f} s)"
+    )
     if result.reason:
         print(f"  no even-firing arrangement: {result.reason}")
         return 0
-    print("  ranked by: first-order parts needing balance shafts, second order, what counterweights cure, then "
-          "consecutive firings of neighbours / on one pin / on one half of the shaft")
-    head = f"{'#':>4}  {'crank angles, deg':<34} {'firing order':<30} {'sum_C':>6} {'M_C':>6} {'sum_PI':>6} " \
-           f"{'M_PI':>6} {'sum_PII':>7} {'M_PII':>6} {'nb':>3} {'pin':>3} {'half':>4}"
+    print(
+        "  ranked by: first-order parts needing balance shafts, second order, what counterweights cure, then "
+        "consecutive firings of neighbours / on one pin / on one half of the shaft"
+    )
+    head = (
+        f"{'#':>4}  {'crank angles, deg':<34} {'firing order':<30} {'sum_C':>6} {'M_C':>6} {'sum_PI':>6} "
+        f"{'M_PI':>6} {'sum_PII':>7} {'M_PII':>6} {'nb':>3} {'pin':>3} {'half':>4}"
+    )
     print(head)
     for row in result.rows:
         c = row.coefficients
-        print(f"{row.rank:>4}  {','.join(f'{x:g}' for x in row.crank_angles_deg):<34} "
-              f"{'-'.join(row.firing_order):<30} {c['sum_C']:6.3f} {c['M_C']:6.3f} {c['sum_PI']:6.3f} "
-              f"{c['M_PI']:6.3f} {c['sum_PII']:7.3f} {c['M_PII']:6.3f} {row.neighbours:>3} {row.same_pin:>3} "
-              f"{row.same_half:>4}")
+        print(
+            f"{row.rank:>4}  {','.join(f'{x:g}' for x in row.crank_angles_deg):<34} "
+            f"{'-'.join(row.firing_order):<30} {c['sum_C']:6.3f} {c['M_C']:6.3f} {c['sum_PI']:6.3f} "
+            f"{c['M_PI']:6.3f} {c['sum_PII']:7.3f} {c['M_PII']:6.3f} {row.neighbours:>3} {row.same_pin:>3} "
+            f"{row.same_half:>4}"
+        )
     return 0
 
 
@@ -683,7 +955,9 @@ def _print_warnings(result, registry) -> None:
         warnings,
     )
 
-    for line in console_lines(warnings(result.scene, registry, result) + language_warnings(result.scene), registry):
+    for line in console_lines(
+        warnings(result.scene, registry, result) + language_warnings(result.scene), registry
+    ):
         print(f"crankdyn: {line}", file=sys.stderr)
 
 
@@ -699,7 +973,9 @@ def _example(args) -> int:
     names = _example_names()
     if args.list or not args.name:
         for name, path in names.items():
-            title = tomllib.loads(path.read_text(encoding="utf-8")).get("report", {}).get("title", "")
+            title = (
+                tomllib.loads(path.read_text(encoding="utf-8")).get("report", {}).get("title", "")
+            )
             print(f"{name:28s} {title}")
         return 0
     if args.name not in names:
@@ -718,11 +994,18 @@ def _example(args) -> int:
         files[data] = (source.parent / data).read_bytes()
     folder = target.parent if str(target.parent) else Path(".")
     # A file already there with exactly these bytes (the data file two examples share) is reused.
-    existing = [folder / name for name in files if (folder / name).exists() or (folder / name).is_symlink()]
-    existing = [path for path in existing if path.is_symlink() or not path.is_file()
-                or path.read_bytes() != files[path.name]]
+    existing = [
+        folder / name for name in files if (folder / name).exists() or (folder / name).is_symlink()
+    ]
+    existing = [
+        path
+        for path in existing
+        if path.is_symlink() or not path.is_file() or path.read_bytes() != files[path.name]
+    ]
     if existing and not args.force:
-        raise UsageError(f"{existing[0]} exists; not overwritten (give --force to replace it, or another -o FILE)")
+        raise UsageError(
+            f"{existing[0]} exists; not overwritten (give --force to replace it, or another -o FILE)"
+        )
     write_atomically(target.parent if str(target.parent) else Path("."), files)
     print(f"crankdyn: wrote {target}" + (f" and {target.parent / data}" if data else ""))
     return 0
@@ -740,9 +1023,11 @@ def _plugins(args) -> int:
         print(f"  {name:24s} [{registry.owner['mechanism:' + name]}] {mech.summary}")
     print("stages:")
     for name, stage in sorted(registry.stages.items()):
-        print(f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
-              f"provides={','.join(stage.provides) or '-'}"
-              f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}")
+        print(
+            f"  {name:24s} [{registry.owner['stage:' + name]}] requires={','.join(stage.requires) or '-'} "
+            f"provides={','.join(stage.provides) or '-'}"
+            f"{' uses=' + ','.join(stage.uses) if stage.uses else ''}{'' if stage.default else ' (optional)'}"
+        )
     if registry.broken:
         print("broken (failed to load, left out):")
         for name, message in sorted(registry.broken.items()):

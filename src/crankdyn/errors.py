@@ -23,14 +23,14 @@ class Problem:
         shown = "(missing)" if self.value is _MISSING else shorten(self.value)
         allowed = self.allowed
         if len(allowed) > MAX_MESSAGE:
-            allowed = allowed[:MAX_MESSAGE - 3] + "..."
+            allowed = allowed[: MAX_MESSAGE - 3] + "..."
         return f"{self.field} = {shown}: {allowed}"
 
 
 def shorten(value: object, limit: int = 100) -> str:
     """``repr(value)`` (so control characters are escaped) cut to about ``limit`` characters."""
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 class _Missing:

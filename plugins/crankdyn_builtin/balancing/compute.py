@@ -62,7 +62,9 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
         table.update({"moment_x_Nm": m_td.imag, "moment_y_Nm": m_td.real})
     table.update({"residual_force_x_N": residual_F.imag, "residual_force_y_N": residual_F.real})
     if a is not None:
-        table.update({"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real})
+        table.update(
+            {"residual_moment_x_Nm": residual_M.imag, "residual_moment_y_Nm": residual_M.real}
+        )
     return table
 
 
@@ -74,8 +76,11 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
     m_s = m.piston_group + rod_rec
-    articulated = (options(scene, ARTICULATED, ArticulatedOptions)
-                   if scene.engine.rod_type == "articulated" else None)
+    articulated = (
+        options(scene, ARTICULATED, ArticulatedOptions)
+        if scene.engine.rod_type == "articulated"
+        else None
+    )
     m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
     return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
 
@@ -85,8 +90,13 @@ def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
     a balance-shaft spacing without the cylinder spacing is refused."""
     notes: list[tuple[str, dict]] = []
     if opts.balance_shaft_spacing is not None and spacing_m is None and g.cranks > 1:
-        raise SceneError(Problem("balancing.balance_shaft_spacing", opts.balance_shaft_spacing,
-                                 "needs engine.cylinder_spacing (the crank positions along the shaft)"))
+        raise SceneError(
+            Problem(
+                "balancing.balance_shaft_spacing",
+                opts.balance_shaft_spacing,
+                "needs engine.cylinder_spacing (the crank positions along the shaft)",
+            )
+        )
     if spacing_m is None and g.cranks > 1:
         notes.append(("balancing.note_no_spacing", {}))
     if rod_type == "articulated":
@@ -120,9 +130,12 @@ def _harmonics_json(harmonics, orders) -> dict:
     amplitude |A_n| and the phase psi_n (a_n cos n alpha + b_n sin n alpha = |A_n| cos(n alpha + psi_n))."""
     if not np.iscomplexobj(harmonics):
         return {"acceleration_harmonics": {bal.roman(n): float(harmonics[n]) for n in orders}}
-    return {"acceleration_harmonics": {bal.roman(n): float(abs(harmonics[n])) for n in orders},
-            "acceleration_harmonic_phases_deg": {bal.roman(n): math.degrees(np.angle(harmonics[n]))
-                                                 for n in orders}}
+    return {
+        "acceleration_harmonics": {bal.roman(n): float(abs(harmonics[n])) for n in orders},
+        "acceleration_harmonic_phases_deg": {
+            bal.roman(n): math.degrees(np.angle(harmonics[n])) for n in orders
+        },
+    }
 
 
 def run(scene, inputs) -> StageOutput:
@@ -131,7 +144,9 @@ def run(scene, inputs) -> StageOutput:
     e = scene.engine
     layout = engine_layout(scene)
     g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
-    opts = _offset_orders(opts, k).model_copy(update={"balance_orders": balance_orders_for(scene, opts)})
+    opts = _offset_orders(opts, k).model_copy(
+        update={"balance_orders": balance_orders_for(scene, opts)}
+    )
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     a = e.cylinder_spacing  # None: moments in units of a only
     masses = inertia_masses(scene, layout, k)
@@ -144,25 +159,49 @@ def run(scene, inputs) -> StageOutput:
     models = {0: bal.rotating_model(g)}
     for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
         models[n] = bal.reciprocating_model(g, n)
-    coefficients, absolute, orders = order_vectors(g, models, opts.include_orders, C, C_I, harmonics, a)
+    coefficients, absolute, orders = order_vectors(
+        g, models, opts.include_orders, C, C_I, harmonics, a
+    )
 
     theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
     spacing = a if a is not None else 1.0
     all_orders = bal.inertia_orders(n_max, k)
-    f_td, m_td, scale_F, scale_M, check = time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a)
+    f_td, m_td, scale_F, scale_M, check = time_domain_check(
+        g, masses, harmonics, all_orders, theta, spacing, a
+    )
 
     shaft_positions = None
     if opts.balance_shaft_spacing is not None and g.cranks > 1:
         half = 0.5 * opts.balance_shaft_spacing / a
         shaft_positions = (-half, half)
-    means = bal.design_means(g, masses, harmonics, opts.balance_orders, opts.counterweights,
-                             opts.first_order_forward, shaft_positions)
+    means = bal.design_means(
+        g,
+        masses,
+        harmonics,
+        opts.balance_orders,
+        opts.counterweights,
+        opts.first_order_forward,
+        shaft_positions,
+    )
     r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
     r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
     counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
     residual_F, residual_M, residual = residual_after_means(
-        g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, opts.balance_orders,
-        scale_F, scale_M, a)
+        g,
+        masses,
+        harmonics,
+        means,
+        theta,
+        w,
+        spacing,
+        f_td,
+        m_td,
+        all_orders,
+        opts.balance_orders,
+        scale_F,
+        scale_M,
+        a,
+    )
 
     torque_range = float(np.ptp(torque.torque_Nm)) if torque is not None else None
     results = {
@@ -173,7 +212,10 @@ def run(scene, inputs) -> StageOutput:
         "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
         # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
         "second_order_exact_N": float(abs(harmonics[2])) * C_I,
-        "second_order_difference_relative": float(abs(harmonics[2])) * C_I / masses.second_order_textbook_N - 1.0,
+        "second_order_difference_relative": float(abs(harmonics[2]))
+        * C_I
+        / masses.second_order_textbook_N
+        - 1.0,
         **_harmonics_json(harmonics, all_orders),
         "offset_ratio": k,
         "acceleration_series": {bal.roman(n): v for n, v in bal.acceleration_series(lam).items()},
@@ -200,29 +242,58 @@ def run(scene, inputs) -> StageOutput:
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
-    notes.append(("balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
-                  {"orders": n_max, "samples": CHECK_SAMPLES}))
+    notes.append(
+        (
+            "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
+            {"orders": n_max, "samples": CHECK_SAMPLES},
+        )
+    )
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
-    return StageOutput(data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)}, results=results,
-                       tables={"balancing": table}, notes=notes)
+    return StageOutput(
+        data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)},
+        results=results,
+        tables={"balancing": table},
+        notes=notes,
+    )
 
 
 def _explore(e, layout, top: int) -> dict:
-    result = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=top,
-                        locate=(tuple(layout.crank_lag_deg), tuple(layout.firing_order)))
+    result = fe.explore(
+        e.cylinders,
+        e.layout,
+        e.strokes,
+        e.bank_angle_deg,
+        top=top,
+        locate=(tuple(layout.crank_lag_deg), tuple(layout.firing_order)),
+    )
     return explorer_json(result)
 
 
 def explorer_json(result: fe.Exploration) -> dict:
     """An explorer result as JSON (also used by ``crankdyn explore --json``)."""
-    def row(c: fe.Candidate) -> dict:
-        return {"rank": c.rank, "crank_angles_deg": list(c.crank_angles_deg), "firing_order": list(c.firing_order),
-                "coefficients": c.coefficients, "neighbours": c.neighbours, "same_pin": c.same_pin,
-                "same_half": c.same_half}
 
-    return {"cylinders": result.cylinders, "layout": result.layout, "strokes": result.strokes,
-            "bank_angle_deg": result.bank_angle_deg, "interval_deg": result.interval_deg,
-            "arrangements": result.arrangements, "firing_orders": result.firing_orders,
-            "scored_firing_orders": result.scored_firing_orders, "reason": result.reason,
-            "rows": [row(c) for c in result.rows],
-            "scene_rank": result.located_rank, "scene": row(result.located) if result.located else None}
+    def row(c: fe.Candidate) -> dict:
+        return {
+            "rank": c.rank,
+            "crank_angles_deg": list(c.crank_angles_deg),
+            "firing_order": list(c.firing_order),
+            "coefficients": c.coefficients,
+            "neighbours": c.neighbours,
+            "same_pin": c.same_pin,
+            "same_half": c.same_half,
+        }
+
+    return {
+        "cylinders": result.cylinders,
+        "layout": result.layout,
+        "strokes": result.strokes,
+        "bank_angle_deg": result.bank_angle_deg,
+        "interval_deg": result.interval_deg,
+        "arrangements": result.arrangements,
+        "firing_orders": result.firing_orders,
+        "scored_firing_orders": result.scored_firing_orders,
+        "reason": result.reason,
+        "rows": [row(c) for c in result.rows],
+        "scene_rank": result.located_rank,
+        "scene": row(result.located) if result.located else None,
+    }

@@ -13,20 +13,32 @@ from .vectors import NEGLIGIBLE
 
 
 def _arrow(ax, x0, y0, x1, y1, **kw):
-    ax.annotate("", xy=(x1, y1), xytext=(x0, y0), arrowprops=dict(arrowstyle="-|>", lw=kw.pop("lw", 1.2), **kw))
+    ax.annotate(
+        "",
+        xy=(x1, y1),
+        xytext=(x0, y0),
+        arrowprops=dict(arrowstyle="-|>", lw=kw.pop("lw", 1.2), **kw),
+    )
 
 
 def star_figure(ctx, r):
     """Crank diagrams seen from the free end: cranks (first order) and doubled angles (second order)."""
-    single = len(r["cylinder_labels"]) == 1  # one crank and one cylinder: a vector of each order, not a "star"
+    single = (
+        len(r["cylinder_labels"]) == 1
+    )  # one crank and one cylinder: a vector of each order, not a "star"
     caption = ctx.t("balancing.star_caption_single") if single else ctx.t("balancing.star_caption")
-    return ctx.figure(partial(_star_drawing, ctx.t, r), caption, "crank_diagrams",
-                      see="balancing.see_star_single" if single else "balancing.see_star")
+    return ctx.figure(
+        partial(_star_drawing, ctx.t, r),
+        caption,
+        "crank_diagrams",
+        see="balancing.see_star_single" if single else "balancing.see_star",
+    )
 
 
 def _star_drawing(t, r):
     """The crank diagrams' figure (:func:`star_figure`)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
+
     fig, axes = new_figure(16, 8.2, ncols=2)
     crank_dirs = np.radians(r["crank_directions_deg"])
     labels = r["cylinder_labels"]
@@ -37,13 +49,21 @@ def _star_drawing(t, r):
         hide_axes(ax)
         ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.5"))
         for axis in sorted(set(np.round(axes_rad, 9))):
-            ax.plot([0, 1.25 * math.sin(axis)], [0, 1.25 * math.cos(axis)], color="0.6", lw=0.8, ls="--")
+            ax.plot(
+                [0, 1.25 * math.sin(axis)], [0, 1.25 * math.cos(axis)], color="0.6", lw=0.8, ls="--"
+            )
         single = len(labels) == 1  # one crank: its vectors are named, not numbered
         if order == 1:  # cranks, numbered from the free end
-            vectors = [(d, r"$C$, $C_{\mathrm{I}}$" if single else str(k + 1)) for k, d in enumerate(crank_dirs)]
+            vectors = [
+                (d, r"$C$, $C_{\mathrm{I}}$" if single else str(k + 1))
+                for k, d in enumerate(crank_dirs)
+            ]
             color, title = "C0", t("balancing.star_first")
         else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
-            vectors = [(axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label) for i, label in enumerate(labels)]
+            vectors = [
+                (axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label)
+                for i, label in enumerate(labels)
+            ]
             color, title = "C1", t("balancing.star_second")
         groups: dict[int, list[str]] = {}
         for d, label in vectors:
@@ -52,8 +72,16 @@ def _star_drawing(t, r):
             d = math.radians(key / 100)
             _arrow(ax, 0, 0, math.sin(d), math.cos(d), color=color)
             # on a white ground: the dashed cylinder axis behind a label along it does not cut it
-            ax.text(1.17 * math.sin(d), 1.17 * math.cos(d), ", ".join(members), ha="center", va="center", fontsize=7,
-                    zorder=5, bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6})
+            ax.text(
+                1.17 * math.sin(d),
+                1.17 * math.cos(d),
+                ", ".join(members),
+                ha="center",
+                va="center",
+                fontsize=7,
+                zorder=5,
+                bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.6},
+            )
         # the title inside the axes' limits: above them, an equal-aspect panel's title is cut
         ax.text(0, 1.62, title, ha="center", va="center", fontsize=8)
         ax.set_xlim(-1.4, 1.4)
@@ -63,9 +91,15 @@ def _star_drawing(t, r):
 
 def _models_shown(r) -> tuple[list, bool]:
     """The orders the vector models show, and whether a row of moments is drawn."""
-    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + \
-        [o for o in r["orders"] if o["order"] >= 4 and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)][:1]
-    moments = r["cylinder_spacing_m"] is not None or any(o["moment_coefficient"] > NEGLIGIBLE for o in shown)
+    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + [
+        o
+        for o in r["orders"]
+        if o["order"] >= 4
+        and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)
+    ][:1]
+    moments = r["cylinder_spacing_m"] is not None or any(
+        o["moment_coefficient"] > NEGLIGIBLE for o in shown
+    )
     return shown, moments
 
 
@@ -75,24 +109,38 @@ def _name_arrow(ax, name: str, start: complex, vector: complex, side: float) -> 
     length = abs(vector)
     normal = (-vector.real / length * side, vector.imag / length * side)  # the arrow turned by 90°
     middle = start + 0.5 * vector
-    ax.annotate(name, (middle.imag, middle.real), xytext=(5 * normal[0], 5 * normal[1]), textcoords="offset points",
-                fontsize=7, style="italic", ha="center", va="center")
+    ax.annotate(
+        name,
+        (middle.imag, middle.real),
+        xytext=(5 * normal[0], 5 * normal[1]),
+        textcoords="offset points",
+        fontsize=7,
+        style="italic",
+        ha="center",
+        va="center",
+    )
 
 
 def _models_figure(ctx, r):
     """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
     moments = _models_shown(r)[1]
-    return ctx.figure(partial(_models_drawing, ctx.t, r),
-                      ctx.t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
-                      "vector_models", see="balancing.see_models")
+    return ctx.figure(
+        partial(_models_drawing, ctx.t, r),
+        ctx.t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
+        "vector_models",
+        see="balancing.see_models",
+    )
 
 
 def _models_drawing(t, r):
     """The vector models' figure (:func:`_models_figure`)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
+
     shown, moments = _models_shown(r)
     rows = 2 if moments else 1
-    fig, axes = new_figure(16, rows * (16.0 / len(shown) + 0.9), nrows=rows, ncols=len(shown), squeeze=False)
+    fig, axes = new_figure(
+        16, rows * (16.0 / len(shown) + 0.9), nrows=rows, ncols=len(shown), squeeze=False
+    )
     for col, o in enumerate(shown):
         for row, kind in enumerate(("force", "moment")[: 2 if moments else 1]):
             ax = axes[row][col]
@@ -103,7 +151,9 @@ def _models_drawing(t, r):
                 ax.spines[side].set_visible(False)
             # the dotted circle is one amplitude C_n (one C_n * a for moments): the scale of the panel
             ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.55"))
-            norm = o["amplitude_N"] * ((r["cylinder_spacing_m"] or 1.0) if kind == "moment" else 1.0)
+            norm = o["amplitude_N"] * (
+                (r["cylinder_spacing_m"] or 1.0) if kind == "moment" else 1.0
+            )
             fwd, bwd = o[f"{kind}_forward"], o[f"{kind}_backward"]
             f = complex(fwd["y"], fwd["x"]) / norm if norm else 0j
             b = complex(bwd["y"], bwd["x"]) / norm if norm else 0j
@@ -125,14 +175,25 @@ def _models_drawing(t, r):
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
             if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
                 # under the panel, clear of its dotted circle (over it the label is unreadable)
-                ax.text(0.5, 0.0, t("balancing.balanced_label"), ha="center", va="top", fontsize=7, color="C2",
-                        transform=ax.transAxes)
+                ax.text(
+                    0.5,
+                    0.0,
+                    t("balancing.balanced_label"),
+                    ha="center",
+                    va="top",
+                    fontsize=7,
+                    color="C2",
+                    transform=ax.transAxes,
+                )
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
             sub = "C" if o["order"] == 0 else f"\\mathrm{{{o['name'][1:]}}}"
             amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
             # one cylinder's own force, without the sum sign, as its tables and text write it
             sigma = "" if len(r["cylinder_labels"]) == 1 else "\\Sigma "
-            title = (f"${sigma}P_{{{sub}}}/{amp}$" if o["order"] else f"${sigma}C/C$") if kind == "force" \
+            title = (
+                (f"${sigma}P_{{{sub}}}/{amp}$" if o["order"] else f"${sigma}C/C$")
+                if kind == "force"
                 else f"${sigma}M_{{{sub}}}/({amp}a)$"
+            )
             ax.set_title(title, fontsize=8)
     return fig

@@ -26,25 +26,61 @@ def means_records(g, means, r_cw: float, r_sh: float, a):
     for cw in means.counterweights:
         k = int(round(cw.position + centre))
         crank_dir = math.degrees(g.crank_direction_rad[k]) % 360.0
-        counterweights.append({"crank": k + 1, "mass_radius_kg_m": cw.mass_radius_kg_m,
-                               "mass_kg": cw.mass_radius_kg_m / r_cw, "mass_per_web_kg": 0.5 * cw.mass_radius_kg_m / r_cw,
-                               "angle_deg": cw.phase_deg, "angle_from_crank_deg": (cw.phase_deg - crank_dir) % 360.0,
-                               "position_m": position_m(cw.position)})
+        counterweights.append(
+            {
+                "crank": k + 1,
+                "mass_radius_kg_m": cw.mass_radius_kg_m,
+                "mass_kg": cw.mass_radius_kg_m / r_cw,
+                "mass_per_web_kg": 0.5 * cw.mass_radius_kg_m / r_cw,
+                "angle_deg": cw.phase_deg,
+                "angle_from_crank_deg": (cw.phase_deg - crank_dir) % 360.0,
+                "position_m": position_m(cw.position),
+            }
+        )
     shafts = []
     for speed, shaft_masses in sorted(means.shafts.items(), key=lambda kv: (abs(kv[0]), -kv[0])):
-        shafts.append({"speed_ratio": speed, "order": abs(speed),
-                       "spacing_m": (abs(shaft_masses[-1].position - shaft_masses[0].position) * a
-                                     if a is not None and len(shaft_masses) > 1 else None),
-                       "masses": [{"mass_radius_kg_m": sm.mass_radius_kg_m, "mass_kg": sm.mass_radius_kg_m / r_sh,
-                                   "phase_deg": sm.phase_deg,
-                                   "position_m": position_m(sm.position),
-                                   "end": "free" if sm.position < -1e-12 else ("power" if sm.position > 1e-12 else "middle")}
-                                  for sm in shaft_masses]})
+        shafts.append(
+            {
+                "speed_ratio": speed,
+                "order": abs(speed),
+                "spacing_m": (
+                    abs(shaft_masses[-1].position - shaft_masses[0].position) * a
+                    if a is not None and len(shaft_masses) > 1
+                    else None
+                ),
+                "masses": [
+                    {
+                        "mass_radius_kg_m": sm.mass_radius_kg_m,
+                        "mass_kg": sm.mass_radius_kg_m / r_sh,
+                        "phase_deg": sm.phase_deg,
+                        "position_m": position_m(sm.position),
+                        "end": "free"
+                        if sm.position < -1e-12
+                        else ("power" if sm.position > 1e-12 else "middle"),
+                    }
+                    for sm in shaft_masses
+                ],
+            }
+        )
     return counterweights, shafts
 
 
-def residual_after_means(g, masses, harmonics, means, theta, w, spacing, f_td, m_td, all_orders, balance_orders,
-                         scale_F, scale_M, a):
+def residual_after_means(
+    g,
+    masses,
+    harmonics,
+    means,
+    theta,
+    w,
+    spacing,
+    f_td,
+    m_td,
+    all_orders,
+    balance_orders,
+    scale_F,
+    scale_M,
+    a,
+):
     """What is left with the balancing means fitted, against the orders left unbalanced.
 
     Returns (residual force N, residual moment N·m as complex arrays, the record); it "vanishes"
@@ -52,7 +88,9 @@ def residual_after_means(g, masses, harmonics, means, theta, w, spacing, f_td, m
     """
     f_means, m_means = means.forces(theta, w, spacing)
     unbalanced_orders = [n for n in all_orders if n not in balance_orders]
-    f_left, m_left = bal.vector_method_sum(g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False)
+    f_left, m_left = bal.vector_method_sum(
+        g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False
+    )
     residual_F, residual_M = f_td + f_means, m_td + m_means
     residual = {
         "balanced_orders": sorted(balance_orders),
@@ -61,12 +99,21 @@ def residual_after_means(g, masses, harmonics, means, theta, w, spacing, f_td, m
         "force_deviation_relative": float(np.max(np.abs(residual_F - f_left)) / scale_F),
         "moment_deviation_relative": float(np.max(np.abs(residual_M - m_left)) / scale_M),
     }
-    residual["vanishes"] = bool(max(residual["force_deviation_relative"], residual["moment_deviation_relative"])
-                                < CHECK_TOLERANCE)
+    residual["vanishes"] = bool(
+        max(residual["force_deviation_relative"], residual["moment_deviation_relative"])
+        < CHECK_TOLERANCE
+    )
     return residual_F, residual_M, residual
 
 
-def remedy(order: int, balanced: bool, forward: bool, backward: bool, balance_orders, first_order_forward: str) -> str:
+def remedy(
+    order: int,
+    balanced: bool,
+    forward: bool,
+    backward: bool,
+    balance_orders,
+    first_order_forward: str,
+) -> str:
     """How an order's force or moment is dealt with: self, counterweights, shaft_forward/backward or none."""
     if balanced:
         return "self"
@@ -75,7 +122,11 @@ def remedy(order: int, balanced: bool, forward: bool, backward: bool, balance_or
     if order in balance_orders:
         parts = []
         if forward:
-            parts.append("counterweights" if order == 1 and first_order_forward == "crankshaft" else "shaft_forward")
+            parts.append(
+                "counterweights"
+                if order == 1 and first_order_forward == "crankshaft"
+                else "shaft_forward"
+            )
         if backward:
             parts.append("shaft_backward")
         return "+".join(parts)
@@ -93,8 +144,20 @@ def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
             balanced = coef < NEGLIGIBLE * g.cylinders
             forward = entry[f"{kind}_forward"]["magnitude"] > limit
             backward = entry[f"{kind}_backward"]["magnitude"] > limit
-            summary.append({"quantity": ("sum_" if kind == "force" else "M_") + entry["name"], "order": n,
-                            "coefficient": coef, "balanced": bool(balanced),
-                            "remedy": remedy(n, balanced, forward, backward, opts.balance_orders,
-                                             opts.first_order_forward)})
+            summary.append(
+                {
+                    "quantity": ("sum_" if kind == "force" else "M_") + entry["name"],
+                    "order": n,
+                    "coefficient": coef,
+                    "balanced": bool(balanced),
+                    "remedy": remedy(
+                        n,
+                        balanced,
+                        forward,
+                        backward,
+                        opts.balance_orders,
+                        opts.first_order_forward,
+                    ),
+                }
+            )
     return summary

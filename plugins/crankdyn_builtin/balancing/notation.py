@@ -10,8 +10,10 @@ from crankdyn.plugin.types import Symbol
 def circular(hodograph: dict) -> bool:
     """Whether a hodograph is a circle to the table's three decimals: it has no major axis (an
     angle "0,0°" beside the semi-axes 1,000 / 1,000 would mean nothing)."""
-    return round(hodograph["semi_major"], 9) == 0 or \
-        abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
+    return (
+        round(hodograph["semi_major"], 9) == 0
+        or abs(hodograph["semi_major"] - hodograph["semi_minor"]) <= 5e-4 * hodograph["semi_major"]
+    )
 
 
 def newtons(t, force_N: float) -> str:
@@ -30,7 +32,11 @@ def summary_symbol(s, sum_sign: str = "Σ") -> Markup:
     as its table of orders and its text write them."""
     kind, base = s["quantity"].split("_", 1)
     if kind == "sum":
-        return Markup(f"{sum_sign}<i>C</i>" if base == "C" else f"{sum_sign}<i>P</i><sub>" + base[1:] + "</sub>")
+        return Markup(
+            f"{sum_sign}<i>C</i>"
+            if base == "C"
+            else f"{sum_sign}<i>P</i><sub>" + base[1:] + "</sub>"
+        )
     return Markup(f"{sum_sign}<i>M</i><sub>" + ("C" if base == "C" else base[1:]) + "</sub>")
 
 

@@ -14,8 +14,10 @@ ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
 def _orders(values: list[int]) -> list[int]:
     bad = [v for v in values if v not in ALLOWED_ORDERS]
     if bad:
-        raise ValueError(f"orders {bad} are not allowed: the exact piston acceleration has the first order and the "
-                         f"even orders only; allowed: {', '.join(map(str, ALLOWED_ORDERS))}")
+        raise ValueError(
+            f"orders {bad} are not allowed: the exact piston acceleration has the first order and the "
+            f"even orders only; allowed: {', '.join(map(str, ALLOWED_ORDERS))}"
+        )
     if len(set(values)) != len(values):
         raise ValueError("each order once")
     return sorted(values)

@@ -41,11 +41,22 @@ BALANCING_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("harmonic_order", "shaft_angle", "crank_lag", "cylinder_axis_angle",
-                         "cylinder_position", "bay_forward_first", "bay_backward_first",
-                         "bay_forward_second", "bay_backward_second", "bay_semi_axis_x_first",
-                         "bay_semi_axis_y_first", "bay_semi_axis_x_second", "bay_semi_axis_y_second",
-                         "cylinder_spacing"),
+        section_symbols=(
+            "harmonic_order",
+            "shaft_angle",
+            "crank_lag",
+            "cylinder_axis_angle",
+            "cylinder_position",
+            "bay_forward_first",
+            "bay_backward_first",
+            "bay_forward_second",
+            "bay_backward_second",
+            "bay_semi_axis_x_first",
+            "bay_semi_axis_y_first",
+            "bay_semi_axis_x_second",
+            "bay_semi_axis_y_second",
+            "cylinder_spacing",
+        ),
         title_key="balancing.title",
         render=render,
         figures=("crank_diagrams", "vector_models"),
@@ -64,4 +75,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -27,22 +27,39 @@ def _conclude(ctx, r) -> None:
     # symbols ("ΣP_II, ΣP_IV"), or none
     left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
     means = bool(r["counterweights"] or r["balance_shafts"])
-    ctx.find(t("balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
-               count=len(left), items=", ".join(plain_symbol(s, "" if single else "Σ") for s in left))
-             if left else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced"))
+    ctx.find(
+        t(
+            "balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
+            count=len(left),
+            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in left),
+        )
+        if left
+        else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced")
+    )
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
     if significant and single:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
-        ctx.conclude(t("balancing.conclusion_unbalanced_single", items=", ".join(
-            f"{plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"
-            for s in significant if s["quantity"].startswith("sum_"))))
+        ctx.conclude(
+            t(
+                "balancing.conclusion_unbalanced_single",
+                items=", ".join(
+                    f"{plain_symbol(s, '')} = {newtons(t, amplitudes[s['quantity'].split('_', 1)[1]])} {t('balancing.unit_N')}"
+                    for s in significant
+                    if s["quantity"].startswith("sum_")
+                ),
+            )
+        )
     elif significant:
         # the amplitude, and the textbook's coefficient times the scale it divides by (C_n = |A_n|·C_I,
         # table 8.2): "ΣP_II = 9426 Н (4,000·|A_2|C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
         # the textbook's C_II = λC_I did not
-        ctx.conclude(t("balancing.conclusion_unbalanced", items=", ".join(_unbalanced_item(ctx, r, s)
-                                                                         for s in significant)))
+        ctx.conclude(
+            t(
+                "balancing.conclusion_unbalanced",
+                items=", ".join(_unbalanced_item(ctx, r, s) for s in significant),
+            )
+        )
     elif not negligible:
         ctx.conclude(t("balancing.conclusion_balanced"))
     if negligible:
@@ -72,20 +89,30 @@ def _negligible(r, item) -> bool:
 
 
 def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
-    """"ΣP_VI = 4,4 Н is under 1 % of C_I, negligible": after the unbalanced ones, or alone."""
+    """ "ΣP_VI = 4,4 Н is under 1 % of C_I, negligible": after the unbalanced ones, or alone."""
     t = ctx.t
     items = []
     for item in negligible:
         value, force = _summary_amplitude(r, item)
         amplitude = newtons(t, value) if force else t.number_g(value, 2)
-        items.append(f"{plain_symbol(item, '' if single else 'Σ')} = {amplitude} "
-                     f"{t('balancing.unit_N') if force else t('unit.Nm')}")
+        items.append(
+            f"{plain_symbol(item, '' if single else 'Σ')} = {amplitude} "
+            f"{t('balancing.unit_N') if force else t('unit.Nm')}"
+        )
     moments = any(not item["quantity"].startswith("sum_") for item in negligible)
-    reference = t("balancing.negligible_reference") + (" " + t("balancing.negligible_reference_moment") if moments else "")
+    reference = t("balancing.negligible_reference") + (
+        " " + t("balancing.negligible_reference_moment") if moments else ""
+    )
     what = t("balancing.negligible_forces_moments" if moments else "balancing.negligible_forces")
-    ctx.conclude(t("balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
-                   items=", ".join(items), percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2), reference=reference,
-                   what=what))
+    ctx.conclude(
+        t(
+            "balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
+            items=", ".join(items),
+            percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2),
+            reference=reference,
+            what=what,
+        )
+    )
 
 
 def _left_unbalanced(r, unbalanced) -> list:
@@ -99,7 +126,7 @@ def _left_unbalanced(r, unbalanced) -> list:
 
 
 def _unbalanced_item(ctx, r, item) -> str:
-    """"ΣP_II = 9426 Н (4,000·|A_2|C_I)", "ΣM_I = 12,5 Н·м (0,5000·C_I·a)": an unbalanced sum's
+    """ "ΣP_II = 9426 Н (4,000·|A_2|C_I)", "ΣM_I = 12,5 Н·м (0,5000·C_I·a)": an unbalanced sum's
     amplitude with the coefficient and the one-cylinder amplitude it multiplies (as table 8.2
     divides); "ΣP_II/C_II = 4,000" without an amplitude to print."""
     value, force = _summary_amplitude(r, item)
@@ -108,7 +135,9 @@ def _unbalanced_item(ctx, r, item) -> str:
         return f"{plain_symbol(item)}/{scale_symbol(item)} = {coefficient}"
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
     amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
-    order = item["order"]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
+    order = item[
+        "order"
+    ]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself
     # a word joiner after the bar: "(4,000·|A4|" is not parted from "CI)" at a line's end
     scale = "C" if order == 0 else "C_I" if order == 1 else f"|A_{order}|\u2060C_I"
     return f"{plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
@@ -128,25 +157,47 @@ def _means_sentence(t, r) -> str:
     shaft_orders = sorted({shaft["order"] for shaft in r["balance_shafts"]})
     means = []
     if r["counterweights"]:
-        means.append(t("balancing.means_counterweights", n=len(r["counterweights"]), **_in_words(t, len(r["counterweights"]))))
+        means.append(
+            t(
+                "balancing.means_counterweights",
+                n=len(r["counterweights"]),
+                **_in_words(t, len(r["counterweights"])),
+            )
+        )
     if r["balance_shafts"]:
-        means.append(t("balancing.means_shafts", n=len(r["balance_shafts"]), k=len(shaft_orders),
-                       orders=", ".join(map(str, shaft_orders)), **_in_words(t, len(r["balance_shafts"]))))
+        means.append(
+            t(
+                "balancing.means_shafts",
+                n=len(r["balance_shafts"]),
+                k=len(shaft_orders),
+                orders=", ".join(map(str, shaft_orders)),
+                **_in_words(t, len(r["balance_shafts"])),
+            )
+        )
     balanced = r["residual"]["balanced_orders"]
     by_means = set(shaft_orders) | ({1} if r["counterweights"] else set())
     with_scheme = not r["counterweights"] or any(order not in by_means for order in balanced)
     single = len(r["cylinder_labels"]) == 1
-    return t("balancing.conclusion_means_single" if single else "balancing.conclusion_means", means=t("balancing.means_and").join(means),
-             with_them=t("balancing.with_means_and_scheme" if with_scheme else "balancing.with_means"),
-             orders=", ".join(map(str, balanced)), orders_words=orders_in_words(t, balanced), count=len(balanced))
+    return t(
+        "balancing.conclusion_means_single" if single else "balancing.conclusion_means",
+        means=t("balancing.means_and").join(means),
+        with_them=t("balancing.with_means_and_scheme" if with_scheme else "balancing.with_means"),
+        orders=", ".join(map(str, balanced)),
+        orders_words=orders_in_words(t, balanced),
+        count=len(balanced),
+    )
 
 
 def orders_in_words(t, orders) -> str:
-    """"першого і другого": the orders as ordinal words (a text writes "сили першого порядку", not
+    """ "першого і другого": the orders as ordinal words (a text writes "сили першого порядку", not
     "сили порядку 1"), the last joined by "and"; an order above ten in digits."""
     words = t("balancing.ordinals").split("|")
     named = [words[n - 1] if 1 <= n <= len(words) else str(n) for n in orders]
-    return named[0] if len(named) == 1 else ", ".join(named[:-1]) + t("balancing.ordinals_and") + named[-1]
+    return (
+        named[0]
+        if len(named) == 1
+        else ", ".join(named[:-1]) + t("balancing.ordinals_and") + named[-1]
+    )
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -160,7 +211,17 @@ def render(output: StageOutput, ctx) -> str | None:
     means_table = _means_table(ctx, r)
     explorer_table = _explorer_table(ctx, r)
     _conclude(ctx, r)
-    return ctx.render_template("sections/balancing.html.j2", r=r, star=star, masses_table=masses_table,
-                               models_figure=models_figure, coef_table=coef_table, bay_table=bay_table,
-                               summary_table=summary_table, means_table=means_table, explorer_table=explorer_table,
-                               spacing=r["cylinder_spacing_m"], orders_in_words=partial(orders_in_words, ctx.t))
+    return ctx.render_template(
+        "sections/balancing.html.j2",
+        r=r,
+        star=star,
+        masses_table=masses_table,
+        models_figure=models_figure,
+        coef_table=coef_table,
+        bay_table=bay_table,
+        summary_table=summary_table,
+        means_table=means_table,
+        explorer_table=explorer_table,
+        spacing=r["cylinder_spacing_m"],
+        orders_in_words=partial(orders_in_words, ctx.t),
+    )

@@ -21,19 +21,33 @@ def _offset_masses_table(ctx, r):
     t = ctx.t
     unit_n = " " + t("balancing.unit_N")
     orders = [n for n in OFFSET_TABLE_ORDERS if n in r["acceleration_harmonics"]]
-    names = [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
-        "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
-        "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
-        "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>")]
+    names = [t("balancing.m_s"), t("balancing.m_R")] + [
+        Markup(x)
+        for x in (
+            "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
+            "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+            "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>",
+        )
+    ]
     names += [Markup(f"|<i>A</i><sub>{bal_order(n)}</sub>|") for n in orders]
-    values = [ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"), ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
-              ctx.num(r["centrifugal_N"]) + unit_n, ctx.num(r["first_order_N"]) + unit_n,
-              ctx.num(r["second_order_N"]) + unit_n]
+    values = [
+        ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
+        ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+        ctx.num(r["centrifugal_N"]) + unit_n,
+        ctx.num(r["first_order_N"]) + unit_n,
+        ctx.num(r["second_order_N"]) + unit_n,
+    ]
     values += [ctx.num(r["acceleration_harmonics"][n], 6) for n in orders]
     phases = [""] * 5 + [t.fixed(r["acceleration_harmonic_phases_deg"][n], 2) for n in orders]
-    table = ctx.table([(t("balancing.quantity"), names, None), (t("balancing.value"), values, None),
-                       (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>n</i></sub>, °"), phases, None)],
-                      caption=t("balancing.masses_caption"), see="balancing.see_masses")
+    table = ctx.table(
+        [
+            (t("balancing.quantity"), names, None),
+            (t("balancing.value"), values, None),
+            (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>n</i></sub>, °"), phases, None),
+        ],
+        caption=t("balancing.masses_caption"),
+        see="balancing.see_masses",
+    )
     return table + worked_balancing(ctx, r)
 
 
@@ -47,28 +61,63 @@ def _masses_table(ctx, r):
     if r.get("offset_ratio"):
         return _offset_masses_table(ctx, r)
     t = ctx.t
-    masses_table = ctx.table([
-        (t("balancing.quantity"), [t("balancing.m_s"), t("balancing.m_R")] + [Markup(x) for x in (
-            "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>", "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
-            "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>", "<i>A</i><sub>2</sub>", "<i>A</i><sub>4</sub>",
-            "<i>A</i><sub>6</sub>")], None),
-        (t("balancing.value"), [ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
-                                ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
-                                ctx.num(r["centrifugal_N"]) + " " + t("balancing.unit_N"),
-                                ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
-                                ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),
-                                ctx.num(r["acceleration_harmonics"]["II"], 6),
-                                ctx.num(r["acceleration_harmonics"]["IV"], 4),
-                                ctx.num(r["acceleration_harmonics"]["VI"], 4)], None),
-        (t("balancing.series"), ["", "", "", "", "", ctx.num(r["acceleration_series"]["II"], 6),
-                                 ctx.num(r["acceleration_series"]["IV"], 4), ctx.num(r["acceleration_series"]["VI"], 4)], None),
-    ], caption=t("balancing.masses_caption"), see="balancing.see_masses")
+    masses_table = ctx.table(
+        [
+            (
+                t("balancing.quantity"),
+                [t("balancing.m_s"), t("balancing.m_R")]
+                + [
+                    Markup(x)
+                    for x in (
+                        "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
+                        "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+                        "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>",
+                        "<i>A</i><sub>2</sub>",
+                        "<i>A</i><sub>4</sub>",
+                        "<i>A</i><sub>6</sub>",
+                    )
+                ],
+                None,
+            ),
+            (
+                t("balancing.value"),
+                [
+                    ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
+                    ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+                    ctx.num(r["centrifugal_N"]) + " " + t("balancing.unit_N"),
+                    ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
+                    ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),
+                    ctx.num(r["acceleration_harmonics"]["II"], 6),
+                    ctx.num(r["acceleration_harmonics"]["IV"], 4),
+                    ctx.num(r["acceleration_harmonics"]["VI"], 4),
+                ],
+                None,
+            ),
+            (
+                t("balancing.series"),
+                [
+                    "",
+                    "",
+                    "",
+                    "",
+                    "",
+                    ctx.num(r["acceleration_series"]["II"], 6),
+                    ctx.num(r["acceleration_series"]["IV"], 4),
+                    ctx.num(r["acceleration_series"]["VI"], 4),
+                ],
+                None,
+            ),
+        ],
+        caption=t("balancing.masses_caption"),
+        see="balancing.see_masses",
+    )
     return masses_table + worked_balancing(ctx, r)
 
 
 def coefficients_table(ctx, r):
     """Force and moment coefficients of every order with their hodographs."""
     t = ctx.t
+
     def order_name(o):
         return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
 
@@ -80,32 +129,87 @@ def coefficients_table(ctx, r):
     columns = [
         (t("balancing.order"), [order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
-        (t("balancing.head_force_max_ratio" if single else "balancing.head_resultant_force_ratio", scale=C_N),
-         [o["force_coefficient"] for o in orders], 4),
-        (t("balancing.head_force_max" if single else "balancing.head_resultant_force") + ", " + t("balancing.unit_N"),
-         [newtons(ctx.t, o["force_max_N"]) for o in orders], None),
-        (t("balancing.hodograph_axes", scale=C_N), ["—" if zero(o, "force") else
-                                         f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
-                                         f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
-                                         for o in orders], None),
-        (t("balancing.major_axis"), ["—" if zero(o, "force") or circular(o["force_hodograph"])
-                                     else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1) for o in orders], None),
-        (t("balancing.sense"), ["—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
-                                for o in orders], None),
+        (
+            t(
+                "balancing.head_force_max_ratio"
+                if single
+                else "balancing.head_resultant_force_ratio",
+                scale=C_N,
+            ),
+            [o["force_coefficient"] for o in orders],
+            4,
+        ),
+        (
+            t("balancing.head_force_max" if single else "balancing.head_resultant_force")
+            + ", "
+            + t("balancing.unit_N"),
+            [newtons(ctx.t, o["force_max_N"]) for o in orders],
+            None,
+        ),
+        (
+            t("balancing.hodograph_axes", scale=C_N),
+            [
+                "—"
+                if zero(o, "force")
+                else f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
+                f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
+                for o in orders
+            ],
+            None,
+        ),
+        (
+            t("balancing.major_axis"),
+            [
+                "—"
+                if zero(o, "force") or circular(o["force_hodograph"])
+                else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
+                for o in orders
+            ],
+            None,
+        ),
+        (
+            t("balancing.sense"),
+            [
+                "—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
+                for o in orders
+            ],
+            None,
+        ),
     ]
     if not single:
         columns += [
-            (t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
-             [o["moment_coefficient"] for o in orders], 4),
-            (t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
-             ["—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
-                                          for o in orders], None),
-            (t("balancing.moment_plane"), ["—" if zero(o, "moment") else
-                                           ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1) for o in orders], None),
+            (
+                t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
+                [o["moment_coefficient"] for o in orders],
+                4,
+            ),
+            (
+                t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
+                [
+                    "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                    for o in orders
+                ],
+                None,
+            ),
+            (
+                t("balancing.moment_plane"),
+                [
+                    "—"
+                    if zero(o, "moment")
+                    else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
+                    for o in orders
+                ],
+                None,
+            ),
         ]
-    return ctx.table(columns, caption=t("balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"),
-                     css_class="data wide",
-                     see="balancing.see_coefficients_single" if single else "balancing.see_coefficients")
+    return ctx.table(
+        columns,
+        caption=t(
+            "balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"
+        ),
+        css_class="data wide",
+        see="balancing.see_coefficients_single" if single else "balancing.see_coefficients",
+    )
 
 
 def _bay_table(ctx, r):
@@ -116,14 +220,28 @@ def _bay_table(ctx, r):
         bm = r["bay_model"]
 
         def show(v):
-            return ctx.num(v, 4) if not isinstance(v, dict) else f"{ctx.num(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
+            return (
+                ctx.num(v, 4)
+                if not isinstance(v, dict)
+                else f"{ctx.num(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
+            )
 
-        heads = ("<i>F</i>/<i>C</i><sub>I</sub>", "<i>P</i>/<i>C</i><sub>I</sub>", "<i>a</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
-                 "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>", "<i>K</i>/<i>C</i><sub>II</sub>", "<i>Z</i>/<i>C</i><sub>II</sub>",
-                 "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>", "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>")
+        heads = (
+            "<i>F</i>/<i>C</i><sub>I</sub>",
+            "<i>P</i>/<i>C</i><sub>I</sub>",
+            "<i>a</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
+            "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
+            "<i>K</i>/<i>C</i><sub>II</sub>",
+            "<i>Z</i>/<i>C</i><sub>II</sub>",
+            "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>",
+            "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>",
+        )
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
-        bay_table = ctx.table([(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
-                              caption=t("balancing.bay_caption"), see="balancing.see_bay")
+        bay_table = ctx.table(
+            [(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
+            caption=t("balancing.bay_caption"),
+            see="balancing.see_bay",
+        )
 
     return bay_table
 
@@ -133,16 +251,31 @@ def _summary_table(ctx, r):
     t = ctx.t
     rows = r["summary"]
     single = len(r["cylinder_labels"]) == 1
-    if single:  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
+    if (
+        single
+    ):  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
-    summary_table = ctx.table([
-        (t("balancing.quantity"), [summary_symbol(s, "" if single else "Σ") for s in rows], None),
-        (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
-        (t("balancing.state"), [t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
-                                for s in rows], None),
-        (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
-    ], caption=t("balancing.summary_caption_forces" if single else "balancing.summary_caption"),
-        see="balancing.see_summary")
+    summary_table = ctx.table(
+        [
+            (
+                t("balancing.quantity"),
+                [summary_symbol(s, "" if single else "Σ") for s in rows],
+                None,
+            ),
+            (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
+            (
+                t("balancing.state"),
+                [
+                    t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
+                    for s in rows
+                ],
+                None,
+            ),
+            (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
+        ],
+        caption=t("balancing.summary_caption_forces" if single else "balancing.summary_caption"),
+        see="balancing.see_summary",
+    )
 
     return summary_table
 
@@ -151,46 +284,96 @@ def _remedy_text(t, remedy: str) -> str:
     """The means of one order in words: a Lanchester pair named as such, several means joined by "і"."""
     if remedy == "shaft_forward+shaft_backward":
         return t("balancing.remedy_shaft_pair")
-    return t("balancing.means_and").join(t("balancing.remedy_" + part) for part in remedy.split("+"))
+    return t("balancing.means_and").join(
+        t("balancing.remedy_" + part) for part in remedy.split("+")
+    )
 
 
 def _means_table(ctx, r):
     """Counterweights and balance-shaft masses; None when there are none."""
     t = ctx.t
-    single = len(r["cylinder_labels"]) == 1  # one crank: no crank numbers, ends or positions along the shaft
+    single = (
+        len(r["cylinder_labels"]) == 1
+    )  # one crank: no crank numbers, ends or positions along the shaft
     means_rows = []
     for cw in r["counterweights"]:
-        label = t("balancing.counterweight_single") if single else t("balancing.counterweight", crank=cw["crank"])
-        means_rows.append((label, "+1", ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
-                           ctx.num(cw["mass_kg"], 4) + f" ({ctx.num(cw['mass_per_web_kg'], 4)}\u00a0×\u00a02)",  # one unit in a narrow cell
-                           ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
-                           ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—"))
+        label = (
+            t("balancing.counterweight_single")
+            if single
+            else t("balancing.counterweight", crank=cw["crank"])
+        )
+        means_rows.append(
+            (
+                label,
+                "+1",
+                ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
+                ctx.num(cw["mass_kg"], 4)
+                + f" ({ctx.num(cw['mass_per_web_kg'], 4)}\u00a0×\u00a02)",  # one unit in a narrow cell
+                ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
+                ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—",
+            )
+        )
     for shaft in r["balance_shafts"]:
         for sm in shaft["masses"]:
             sense = t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward"))
-            means_rows.append((t("balancing.shaft_single", order=shaft["order"], sense=sense) if single else
-                               t("balancing.shaft", order=shaft["order"], sense=sense, end=t("balancing.end_" + sm["end"])),
-                               f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"), ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
-                               ctx.num(sm["mass_kg"], 4), ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
-                               ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—"))
+            means_rows.append(
+                (
+                    t("balancing.shaft_single", order=shaft["order"], sense=sense)
+                    if single
+                    else t(
+                        "balancing.shaft",
+                        order=shaft["order"],
+                        sense=sense,
+                        end=t("balancing.end_" + sm["end"]),
+                    ),
+                    f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"),
+                    ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
+                    ctx.num(sm["mass_kg"], 4),
+                    ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
+                    ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—",
+                )
+            )
     if not means_rows:
         return None
     columns = [
         (t("balancing.means"), [x[0] for x in means_rows], None),
         (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-        (t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"), [x[2] for x in means_rows], None),
+        (
+            t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
+            [x[2] for x in means_rows],
+            None,
+        ),
         (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
         (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + ([] if single else [(t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
-                             [x[5] for x in means_rows], None)])
-    radii = {"r_cw": ctx.num(r["counterweight_radius_m"] * 1e3), "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3)}
+    ] + (
+        []
+        if single
+        else [
+            (
+                t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
+                [x[5] for x in means_rows],
+                None,
+            )
+        ]
+    )
+    radii = {
+        "r_cw": ctx.num(r["counterweight_radius_m"] * 1e3),
+        "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3),
+    }
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)
-        see = "balancing.see_means_counterweight" if len(r["counterweights"]) == 1 \
+        see = (
+            "balancing.see_means_counterweight"
+            if len(r["counterweights"]) == 1
             else "balancing.see_means_counterweights"
+        )
     elif not r["counterweights"]:
         caption = t("balancing.means_caption_shafts", **radii)
-        see = "balancing.see_means_shaft" if len(r["balance_shafts"]) == 1 else "balancing.see_means_shafts"
+        see = (
+            "balancing.see_means_shaft"
+            if len(r["balance_shafts"]) == 1
+            else "balancing.see_means_shafts"
+        )
     elif single:
         caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
         see = "balancing.see_means_single"  # one counterweight and one or more shafts
@@ -207,21 +390,28 @@ def _explorer_table(ctx, r):
     if "explorer" in r and r["explorer"]["rows"]:
         x = r["explorer"]
         rows = x["rows"]
-        explorer_table = ctx.table([
-            ("№", [str(c["rank"]) for c in rows], None),
-            (t("balancing.cranks"), ["; ".join(ctx.angle_text(v) for v in c["crank_angles_deg"])
-                                     for c in rows], None),
-            (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
-            ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
-            ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
-            ("Σ<i>P</i><sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),
-            ("Σ<i>M</i><sub>I</sub>", [c["coefficients"]["M_PI"] for c in rows], 3),
-            ("Σ<i>P</i><sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
-            ("Σ<i>M</i><sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
-            (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
-            (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
-            (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
-        ], caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]), css_class="data wide",
-            see="balancing.see_explorer")
+        explorer_table = ctx.table(
+            [
+                ("№", [str(c["rank"]) for c in rows], None),
+                (
+                    t("balancing.cranks"),
+                    ["; ".join(ctx.angle_text(v) for v in c["crank_angles_deg"]) for c in rows],
+                    None,
+                ),
+                (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
+                ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
+                ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
+                ("Σ<i>P</i><sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),
+                ("Σ<i>M</i><sub>I</sub>", [c["coefficients"]["M_PI"] for c in rows], 3),
+                ("Σ<i>P</i><sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
+                ("Σ<i>M</i><sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
+                (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
+                (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
+                (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
+            ],
+            caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]),
+            css_class="data wide",
+            see="balancing.see_explorer",
+        )
 
     return explorer_table

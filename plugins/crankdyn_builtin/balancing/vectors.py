@@ -15,7 +15,9 @@ from crankdyn.plugin.contracts import (
 CHECK_SAMPLES = 720  # shaft angles per revolution in the time-domain check
 
 
-CHECK_TOLERANCE = 1e-9  # relative agreement required between the vector method and the time-domain sum
+CHECK_TOLERANCE = (
+    1e-9  # relative agreement required between the vector method and the time-domain sum
+)
 
 
 NEGLIGIBLE = 1e-9  # a coefficient below this counts as balanced
@@ -28,7 +30,10 @@ def _c(value, scale: float = 1.0) -> complex:
     """A complex amplitude with round-off (below ROUND_OFF * scale) set to zero, part by part."""
     value = complex(value)
     limit = ROUND_OFF * scale
-    return complex(0.0 if abs(value.real) < limit else value.real, 0.0 if abs(value.imag) < limit else value.imag)
+    return complex(
+        0.0 if abs(value.real) < limit else value.real,
+        0.0 if abs(value.imag) < limit else value.imag,
+    )
 
 
 def _r(value: float, scale: float = 1.0) -> float:
@@ -42,8 +47,12 @@ def _deg(value: complex) -> float:
 
 def _vector(value: complex, scale: float) -> dict:
     """A planar vector as JSON: magnitude (times ``scale``), direction from the vertical, x, y."""
-    return {"magnitude": abs(value) * scale, "angle_deg": _deg(value) if abs(value) > 1e-12 else 0.0,
-            "x": value.imag * scale, "y": value.real * scale}
+    return {
+        "magnitude": abs(value) * scale,
+        "angle_deg": _deg(value) if abs(value) > 1e-12 else 0.0,
+        "x": value.imag * scale,
+        "y": value.real * scale,
+    }
 
 
 def _amplitude(n: int, C: float, C_I: float, harmonics) -> float:
@@ -66,8 +75,13 @@ def order_vectors(g, models: dict, include_orders, C: float, C_I: float, harmoni
         amplitude = _amplitude(n, C, C_I, harmonics)
         name = "C" if n == 0 else "P" + bal.roman(n)
         z = g.cylinders
-        model = bal.OrderModel(model.order, _c(model.force_forward, z), _c(model.force_backward, z),
-                               _c(model.moment_forward, z), _c(model.moment_backward, z))
+        model = bal.OrderModel(
+            model.order,
+            _c(model.force_forward, z),
+            _c(model.force_backward, z),
+            _c(model.moment_forward, z),
+            _c(model.moment_backward, z),
+        )
         force_coef, moment_coef = _r(model.force_max, z), _r(model.moment_max, z)
         coefficients["sum_" + name] = force_coef
         coefficients["M_" + name] = moment_coef
@@ -76,23 +90,37 @@ def order_vectors(g, models: dict, include_orders, C: float, C_I: float, harmoni
         s = C if n == 0 else harmonics[n] * C_I
         # a complex harmonic (an offset crank-slider) turns its counter-rotating part back
         s_back = np.conj(s)
-        hf = bal.hodograph(_c(model.force_forward) * s, _c(model.force_backward) * s_back, model.speed,
-                           tolerance=NEGLIGIBLE * amplitude * g.cylinders)
-        hm = bal.hodograph(_c(model.moment_forward) * s, _c(model.moment_backward) * s_back, model.speed,
-                           tolerance=NEGLIGIBLE * amplitude * g.cylinders)
+        hf = bal.hodograph(
+            _c(model.force_forward) * s,
+            _c(model.force_backward) * s_back,
+            model.speed,
+            tolerance=NEGLIGIBLE * amplitude * g.cylinders,
+        )
+        hm = bal.hodograph(
+            _c(model.moment_forward) * s,
+            _c(model.moment_backward) * s_back,
+            model.speed,
+            tolerance=NEGLIGIBLE * amplitude * g.cylinders,
+        )
         unit_m = a if a is not None else 1.0
-        orders.append({
-            "order": n, "name": name, "speed": model.speed, "amplitude_N": amplitude,
-            "force_coefficient": force_coef, "moment_coefficient": moment_coef,
-            "force_max_N": force_coef * amplitude,
-            "moment_max_Nm": moment_coef * amplitude * a if a is not None else None,
-            "force_forward": _vector(_c(model.force_forward) * s, 1.0),
-            "force_backward": _vector(_c(model.force_backward) * s_back, 1.0),
-            "moment_forward": _vector(_c(model.moment_forward) * s, unit_m),
-            "moment_backward": _vector(_c(model.moment_backward) * s_back, unit_m),
-            "force_hodograph": _hodograph_json(hf, 1.0),
-            "moment_hodograph": _hodograph_json(hm, unit_m),
-        })
+        orders.append(
+            {
+                "order": n,
+                "name": name,
+                "speed": model.speed,
+                "amplitude_N": amplitude,
+                "force_coefficient": force_coef,
+                "moment_coefficient": moment_coef,
+                "force_max_N": force_coef * amplitude,
+                "moment_max_Nm": moment_coef * amplitude * a if a is not None else None,
+                "force_forward": _vector(_c(model.force_forward) * s, 1.0),
+                "force_backward": _vector(_c(model.force_backward) * s_back, 1.0),
+                "moment_forward": _vector(_c(model.moment_forward) * s, unit_m),
+                "moment_backward": _vector(_c(model.moment_backward) * s_back, unit_m),
+                "force_hodograph": _hodograph_json(hf, 1.0),
+                "moment_hodograph": _hodograph_json(hm, unit_m),
+            }
+        )
     return coefficients, absolute, orders
 
 
@@ -103,13 +131,22 @@ def bay_model_of(layout, g) -> dict | None:
     axes = g.cylinder_axis_rad[g.cylinder_bay == 0]
     f1, p1 = bal.bay_vectors(axes, 1)
     k2, z2 = bal.bay_vectors(axes, 2)
-    hod1 = bal.hodograph(f1, p1, 1)  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical
+    hod1 = bal.hodograph(
+        f1, p1, 1
+    )  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical
     hod2 = bal.hodograph(k2, z2, 2)
     nb = len(axes)
-    return {"F": _signed(_c(f1, nb)), "P": _signed(_c(p1, nb)), "K": _signed(_c(k2, nb)),
-            "Z": _signed(_c(z2, nb)), "A_I": _r(hod1.x_amplitude, nb), "B_I": _r(hod1.y_amplitude, nb),
-            "A_II": _r(hod2.x_amplitude, nb), "B_II": _r(hod2.y_amplitude, nb),
-            "bank_axes_deg": [round(math.degrees(x), 9) for x in axes]}
+    return {
+        "F": _signed(_c(f1, nb)),
+        "P": _signed(_c(p1, nb)),
+        "K": _signed(_c(k2, nb)),
+        "Z": _signed(_c(z2, nb)),
+        "A_I": _r(hod1.x_amplitude, nb),
+        "B_I": _r(hod1.y_amplitude, nb),
+        "A_II": _r(hod2.x_amplitude, nb),
+        "B_II": _r(hod2.y_amplitude, nb),
+        "bank_axes_deg": [round(math.degrees(x), 9) for x in axes],
+    }
 
 
 def time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a):
@@ -123,19 +160,27 @@ def time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a):
     f_vec, m_vec = bal.vector_method_sum(g, masses, theta, all_orders, spacing, harmonics)
     scale_F = g.cranks * C + g.cylinders * C_I * float(np.sum(np.abs(harmonics[all_orders])))
     scale_M = scale_F * spacing * max(float(np.max(np.abs(g.cylinder_position))), 0.5)
-    check = {"orders": all_orders, "samples": CHECK_SAMPLES,
-             "force_deviation_relative": float(np.max(np.abs(f_td - f_vec)) / scale_F),
-             "moment_deviation_relative": float(np.max(np.abs(m_td - m_vec)) / scale_M),
-             "force_scale_N": scale_F, "moment_scale_Nm": scale_M if a is not None else None}
-    check["agrees"] = bool(max(check["force_deviation_relative"], check["moment_deviation_relative"]) < CHECK_TOLERANCE)
+    check = {
+        "orders": all_orders,
+        "samples": CHECK_SAMPLES,
+        "force_deviation_relative": float(np.max(np.abs(f_td - f_vec)) / scale_F),
+        "moment_deviation_relative": float(np.max(np.abs(m_td - m_vec)) / scale_M),
+        "force_scale_N": scale_F,
+        "moment_scale_Nm": scale_M if a is not None else None,
+    }
+    check["agrees"] = bool(
+        max(check["force_deviation_relative"], check["moment_deviation_relative"]) < CHECK_TOLERANCE
+    )
     return f_td, m_td, scale_F, scale_M, check
 
 
 def _fitted(counterweights: list[dict], omega_rad_s: float) -> Counterweights:
     """The counterweights of results.json as the bearings stage takes them (forces at the speed)."""
-    return Counterweights(crank=np.array([cw["crank"] - 1 for cw in counterweights], dtype=int),
-                          centrifugal_N=np.array([cw["mass_radius_kg_m"] * omega_rad_s ** 2 for cw in counterweights]),
-                          angle_from_crank_rad=np.radians([cw["angle_from_crank_deg"] for cw in counterweights]))
+    return Counterweights(
+        crank=np.array([cw["crank"] - 1 for cw in counterweights], dtype=int),
+        centrifugal_N=np.array([cw["mass_radius_kg_m"] * omega_rad_s**2 for cw in counterweights]),
+        angle_from_crank_rad=np.radians([cw["angle_from_crank_deg"] for cw in counterweights]),
+    )
 
 
 def _signed(value: complex) -> float | dict:
@@ -147,6 +192,12 @@ def _signed(value: complex) -> float | dict:
 
 def _hodograph_json(h: bal.Hodograph, scale: float) -> dict:
     size = max(h.semi_major, 1e-300)
-    return {"semi_major": h.semi_major * scale, "semi_minor": _r(h.semi_minor, size) * scale,
-            "major_axis_deg": h.major_axis_deg, "x_amplitude": _r(h.x_amplitude, size) * scale,
-            "y_amplitude": _r(h.y_amplitude, size) * scale, "sense": h.sense, "theta_at_max_deg": h.theta_at_max_deg}
+    return {
+        "semi_major": h.semi_major * scale,
+        "semi_minor": _r(h.semi_minor, size) * scale,
+        "major_axis_deg": h.major_axis_deg,
+        "x_amplitude": _r(h.x_amplitude, size) * scale,
+        "y_amplitude": _r(h.y_amplitude, size) * scale,
+        "sense": h.sense,
+        "theta_at_max_deg": h.theta_at_max_deg,
+    }

@@ -11,7 +11,11 @@ from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_mark
 def worked_balancing(ctx, r) -> Markup:
     """The three amplitudes with the numbers substituted, each equal to its row of the masses table."""
     t, engine = ctx.t, ctx.scene.engine
-    radius, omega, ratio = engine.crank_radius_m, engine.angular_velocity_rad_s, engine.rod_ratio_value
+    radius, omega, ratio = (
+        engine.crank_radius_m,
+        engine.angular_velocity_rad_s,
+        engine.rod_ratio_value,
+    )
     m_r_txt, m_r = printed(t, r["rotating_mass_kg"])  # as the masses table prints it
     m_s_txt, m_s = printed(t, r["reciprocating_mass_kg"])
     r_txt, r_m = printed(t, radius)
@@ -19,17 +23,51 @@ def worked_balancing(ctx, r) -> Markup:
     l_txt, lam = printed(t, ratio)
     c1_txt, c1 = printed(t, r["first_order_N"])
     inputs = {"m_R": m_r, "m_s": m_s, "R": r_m, "omega": w, "lambda": lam, "C_I": c1}
-    exact = {"m_R": r["rotating_mass_kg"], "m_s": r["reciprocating_mass_kg"], "R": radius, "omega": omega,
-             "lambda": ratio, "C_I": r["first_order_N"]}
+    exact = {
+        "m_R": r["rotating_mass_kg"],
+        "m_s": r["reciprocating_mass_kg"],
+        "R": radius,
+        "omega": omega,
+        "lambda": ratio,
+        "C_I": r["first_order_N"],
+    }
     unit = t("balancing.unit_N")
     steps = [
-        WorkedStep("centrifugal_amplitude", "<i>C</i>", "<i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
-                   f"{m_r_txt}·{r_txt}·{w_txt}<sup>2</sup>", r["centrifugal_N"], 0, unit, inputs,
-                   significant=4, exact=exact),
-        WorkedStep("first_order_amplitude", "<i>C</i><sub>I</sub>", "<i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
-                   f"{m_s_txt}·{r_txt}·{w_txt}<sup>2</sup>", r["first_order_N"], 0, unit, inputs,
-                   significant=4, exact=exact),
-        WorkedStep("second_order_amplitude", "<i>C</i><sub>II</sub>", "<i>λC</i><sub>I</sub>",
-                   f"{l_txt}·{c1_txt}", r["second_order_N"], 0, unit, inputs, significant=4, exact=exact),
+        WorkedStep(
+            "centrifugal_amplitude",
+            "<i>C</i>",
+            "<i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
+            f"{m_r_txt}·{r_txt}·{w_txt}<sup>2</sup>",
+            r["centrifugal_N"],
+            0,
+            unit,
+            inputs,
+            significant=4,
+            exact=exact,
+        ),
+        WorkedStep(
+            "first_order_amplitude",
+            "<i>C</i><sub>I</sub>",
+            "<i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+            f"{m_s_txt}·{r_txt}·{w_txt}<sup>2</sup>",
+            r["first_order_N"],
+            0,
+            unit,
+            inputs,
+            significant=4,
+            exact=exact,
+        ),
+        WorkedStep(
+            "second_order_amplitude",
+            "<i>C</i><sub>II</sub>",
+            "<i>λC</i><sub>I</sub>",
+            f"{l_txt}·{c1_txt}",
+            r["second_order_N"],
+            0,
+            unit,
+            inputs,
+            significant=4,
+            exact=exact,
+        ),
     ]
     return worked_markup(ctx, WorkedBlock("balancing", ctx.last_table_number, None, steps))

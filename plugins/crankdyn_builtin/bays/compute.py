@@ -54,24 +54,50 @@ def _true_firing(layout, slaves, slave_info) -> dict:
             true_delay[c.label] = c.firing_delay_deg + shift_of.get(j, 0.0)
     delays = np.array([true_delay[label] for label in layout.firing_order])
     intervals = np.diff(np.append(delays, delays[0] + layout.cycle_deg))
-    return {"firing_intervals_nominal_deg": layout.firing_intervals_deg().tolist(),
-            "firing_intervals_deg": [float(x) for x in intervals],
-            "firing_angles_true_deg": {label: float(v % layout.cycle_deg) for label, v in true_delay.items()}}
+    return {
+        "firing_intervals_nominal_deg": layout.firing_intervals_deg().tolist(),
+        "firing_intervals_deg": [float(x) for x in intervals],
+        "firing_angles_true_deg": {
+            label: float(v % layout.cycle_deg) for label, v in true_delay.items()
+        },
+    }
 
 
 def _firing_notes(layout, firing_order_chosen: bool) -> list:
     """Notes on a firing order the explorer chose and on uneven firing intervals."""
     notes = []
     if firing_order_chosen:
-        notes.append(("bays.note_firing_chosen", {"order": "–".join(layout.firing_order),
-                                                  "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg)}))
+        notes.append(
+            (
+                "bays.note_firing_chosen",
+                {
+                    "order": "–".join(layout.firing_order),
+                    "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg),
+                },
+            )
+        )
     if not layout.even_firing:
-        notes.append(("bays.note_uneven", {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())}))
+        notes.append(
+            (
+                "bays.note_uneven",
+                {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())},
+            )
+        )
     return notes
 
 
-def _slave_cylinder(scene, layout, slave, g, alpha_local, angle, gas, clearance_m3: float,
-                    reciprocating_kg: float, area: float) -> tuple[tuple, dict, dict, float]:
+def _slave_cylinder(
+    scene,
+    layout,
+    slave,
+    g,
+    alpha_local,
+    angle,
+    gas,
+    clearance_m3: float,
+    reciprocating_kg: float,
+    area: float,
+) -> tuple[tuple, dict, dict, float]:
     """One slave cylinder of an articulated bay: (its row for the bay's pin forces, its summary,
     its table, its indicated work in J). Its pressure is taken at its own cycle angle, timed from
     its true TDC (the linkage moves it from the bank angle)."""
@@ -84,37 +110,63 @@ def _slave_cylinder(scene, layout, slave, g, alpha_local, angle, gas, clearance_
     delta += math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)
     slave_angle = (angle - delta) % layout.cycle_deg
     p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
-    p1_slave = p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(reciprocating_kg, accel, area)
+    p1_slave = (
+        p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(reciprocating_kg, accel, area)
+    )
     slave_volume = clearance_m3 + area * (x_tdc - sm.piston_position_m)
     row = (sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_slave, g.bank_angle_rad)
     stroke = x_tdc - x_bdc
-    info = {"cylinder": slave.label, "bank_angle_deg": math.degrees(g.bank_angle_rad),
-            "pin_angle_deg": math.degrees(g.pin_angle_rad),
-            "slave_rod_length_m": g.slave_rod_length_m,
-            "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(L, g.pin_radius_m, R / L, g.bank_angle_rad),
-            "stroke_m": stroke, "stroke_ratio": stroke / e.stroke,
-            "tdc_master_angle_deg": math.degrees(a_tdc),
-            # true dead centres: how far the linkage moves them from the bank angle
-            "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
-            "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0)}
-    table = {"crank_angle_deg": angle, "slave_displacement_m": x_tdc - sm.piston_position_m,
-             "slave_velocity_m_s": -sm.piston_velocity_m_s, "slave_acceleration_m_s2": accel,
-             "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad), "slave_total_Pa": p1_slave}
+    info = {
+        "cylinder": slave.label,
+        "bank_angle_deg": math.degrees(g.bank_angle_rad),
+        "pin_angle_deg": math.degrees(g.pin_angle_rad),
+        "slave_rod_length_m": g.slave_rod_length_m,
+        "slave_rod_length_textbook_m": art.slave_rod_length_textbook_m(
+            L, g.pin_radius_m, R / L, g.bank_angle_rad
+        ),
+        "stroke_m": stroke,
+        "stroke_ratio": stroke / e.stroke,
+        "tdc_master_angle_deg": math.degrees(a_tdc),
+        # true dead centres: how far the linkage moves them from the bank angle
+        "tdc_shift_deg": _wrapped_deg(math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)),
+        "bdc_shift_deg": _wrapped_deg(math.degrees(a_bdc) - math.degrees(g.bank_angle_rad) - 180.0),
+    }
+    table = {
+        "crank_angle_deg": angle,
+        "slave_displacement_m": x_tdc - sm.piston_position_m,
+        "slave_velocity_m_s": -sm.piston_velocity_m_s,
+        "slave_acceleration_m_s2": accel,
+        "slave_rod_angle_deg": np.degrees(sm.slave_rod_angle_rad),
+        "slave_total_Pa": p1_slave,
+    }
     return row, info, table, indicated_work_J(p_slave, slave_volume)
 
 
-def _articulated_masses(opts, master_rod_kg: float, slaves, rod_length_m: float, rod_reciprocating_kg: float,
-                        rod_rotating_kg: float) -> tuple[float, float, float]:
+def _articulated_masses(
+    opts,
+    master_rod_kg: float,
+    slaves,
+    rod_length_m: float,
+    rod_reciprocating_kg: float,
+    rod_rotating_kg: float,
+) -> tuple[float, float, float]:
     """(slave rod's reciprocating part, reduced master rod's reciprocating and rotating masses), kg.
     Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at its pin; a
     slave rod not given weighs the master rod's mass scaled by its length."""
-    slave_rod = (opts.slave_rod if opts.slave_rod is not None
-                 else master_rod_kg * slaves[0][1].slave_rod_length_m / rod_length_m)
-    s_rec, s_rot = slave_rod * opts.slave_rod_cm_fraction, slave_rod * (1 - opts.slave_rod_cm_fraction)
+    slave_rod = (
+        opts.slave_rod
+        if opts.slave_rod is not None
+        else master_rod_kg * slaves[0][1].slave_rod_length_m / rod_length_m
+    )
+    s_rec, s_rot = (
+        slave_rod * opts.slave_rod_cm_fraction,
+        slave_rod * (1 - opts.slave_rod_cm_fraction),
+    )
     recip_master, rot_master = rod_reciprocating_kg, rod_rotating_kg
     for _, g in slaves:
-        dr, dq = art.reduced_master_rod_masses(0.0, 0.0, rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m,
-                                               g.pin_angle_rad)
+        dr, dq = art.reduced_master_rod_masses(
+            0.0, 0.0, rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad
+        )
         recip_master += dr
         rot_master += dq
     return s_rec, recip_master, rot_master
@@ -128,12 +180,21 @@ def run(scene, inputs) -> StageOutput:
     n = len(angle)
     area = forces.piston_area_m2
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
-    results: dict = {"layout": e.layout, "cylinders": e.cylinders, "cranks": layout.cranks, "strokes": e.strokes,
-                     "rod_type": e.rod_type, "firing_order": list(layout.firing_order),
-                     "crank_angles_deg": list(layout.crank_lag_deg), "even_firing": layout.even_firing,
-                     "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
-                     "cylinder_phases": lay.cylinder_phases(layout)}
-    results["stroke_sequence"] = _stroke_sequence(e.strokes, results["cylinder_phases"])  # the table of strokes
+    results: dict = {
+        "layout": e.layout,
+        "cylinders": e.cylinders,
+        "cranks": layout.cranks,
+        "strokes": e.strokes,
+        "rod_type": e.rod_type,
+        "firing_order": list(layout.firing_order),
+        "crank_angles_deg": list(layout.crank_lag_deg),
+        "even_firing": layout.even_firing,
+        "firing_intervals_deg": layout.firing_intervals_deg().tolist(),
+        "cylinder_phases": lay.cylinder_phases(layout),
+    }
+    results["stroke_sequence"] = _stroke_sequence(
+        e.strokes, results["cylinder_phases"]
+    )  # the table of strokes
     tables: dict = {}
     notes = _firing_notes(layout, scene.firing_order_chosen)
     if scene.firing_order_chosen:
@@ -159,7 +220,9 @@ def run(scene, inputs) -> StageOutput:
     else:
         opts = options(scene, ARTICULATED, ArticulatedOptions)
         slaves = slave_geometries(scene, layout, opts, ARTICULATED)
-        s_rec, recip_master, rot_master = _articulated_masses(opts, m.rod, slaves, L, rod_rec, rod_rot)
+        s_rec, recip_master, rot_master = _articulated_masses(
+            opts, m.rod, slaves, L, rod_rec, rod_rot
+        )
         alpha_local = np.radians(angle % 360.0)
         master_j = motion.piston_acceleration_m_s2
         p1_master = gas_Pa + phys.inertia_pressure_Pa(m.piston_group + recip_master, master_j, area)
@@ -168,16 +231,31 @@ def run(scene, inputs) -> StageOutput:
         clearance = float(gas.volume_m3.min())
         work_bay = gas.indicated_work_J
         for slave, g in slaves:
-            row, info, table, work = _slave_cylinder(scene, layout, slave, g, alpha_local, angle, gas, clearance,
-                                                     m.piston_group + s_rec, area)
+            row, info, table, work = _slave_cylinder(
+                scene,
+                layout,
+                slave,
+                g,
+                alpha_local,
+                angle,
+                gas,
+                clearance,
+                m.piston_group + s_rec,
+                area,
+            )
             work_bay += work
             slave_rows.append(row)
             slave_info.append(info)
             tables[f"slave_{slave.label}"] = table
-        t_bay, z_bay, n_bay = art.bay_crank_pin_forces(alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows)
+        t_bay, z_bay, n_bay = art.bay_crank_pin_forces(
+            alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows
+        )
         master = layout.bay(0)[0]
         for k in range(layout.cranks):
-            shift = lay.grid_shift((layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg, step)
+            shift = lay.grid_shift(
+                (layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg,
+                step,
+            )
             tangential[k] = np.roll(t_bay, shift)
             radial[k] = np.roll(z_bay, shift)
         centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)
@@ -185,20 +263,42 @@ def run(scene, inputs) -> StageOutput:
         work_all = work_bay * layout.cranks
         results.update(_true_firing(layout, slaves, slave_info))
         if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
-            notes.append(("bays.note_true_intervals", {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)}))
-        results.update({"pin_radius_m": opts.pin_radius, "slaves": slave_info,
-                        "master_reciprocating_mass_kg": m.piston_group + recip_master,
-                        "master_rod_rotating_mass_kg": rot_master})
-        tables["bay"] = {"crank_angle_deg": angle, "master_side_Pa": n_bay,
-                                      "bay_tangential_Pa": t_bay, "bay_radial_Pa": z_bay,
-                                      "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay)}
+            notes.append(
+                (
+                    "bays.note_true_intervals",
+                    {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)},
+                )
+            )
+        results.update(
+            {
+                "pin_radius_m": opts.pin_radius,
+                "slaves": slave_info,
+                "master_reciprocating_mass_kg": m.piston_group + recip_master,
+                "master_rod_rotating_mass_kg": rot_master,
+            }
+        )
+        tables["bay"] = {
+            "crank_angle_deg": angle,
+            "master_side_Pa": n_bay,
+            "bay_tangential_Pa": t_bay,
+            "bay_radial_Pa": z_bay,
+            "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay),
+        }
         notes.append(("bays.note_articulated", {}))
 
     results["centrifugal_Pa"] = centrifugal
     results["indicated_work_J"] = work_all
-    loads = BayLoads(crank_angle_deg=angle, tangential_Pa=tangential, radial_Pa=radial, centrifugal_Pa=centrifugal,
-                     centrifugal_rod_Pa=centrifugal_rod, piston_area_m2=area, crank_radius_m=R, layout=layout,
-                     indicated_work_J=work_all)
+    loads = BayLoads(
+        crank_angle_deg=angle,
+        tangential_Pa=tangential,
+        radial_Pa=radial,
+        centrifugal_Pa=centrifugal,
+        centrifugal_rod_Pa=centrifugal_rod,
+        piston_area_m2=area,
+        crank_radius_m=R,
+        layout=layout,
+        indicated_work_J=work_all,
+    )
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
 
 

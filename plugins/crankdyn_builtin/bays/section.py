@@ -18,13 +18,20 @@ def _phase_table(r: dict, ctx):
     """Table of :func:`cylinder_phases` in firing order (the cycle delays then rise)."""
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
-    columns = [(escape(t("bays.cylinder")), [p["cylinder"] for p in phases], None),
-               (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
-               (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0)]
+    columns = [
+        (escape(t("bays.cylinder")), [p["cylinder"] for p in phases], None),
+        (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
+        (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
+    ]
     if any(p["axis_deg"] for p in phases):
         columns.append((escape(t("bays.axis_angle")), [p["axis_deg"] for p in phases], 0))
-    columns.append((escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
-                    [p["cycle_delay_deg"] for p in phases], 0))
+    columns.append(
+        (
+            escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
+            [p["cycle_delay_deg"] for p in phases],
+            0,
+        )
+    )
     return ctx.table(columns, caption=t("bays.phases_caption"), see="bays.see_phases")
 
 
@@ -35,25 +42,42 @@ def _stroke_table(r: dict, ctx):
         return None
     step, rows = sequence["step_deg"], sequence["rows"]
     t = ctx.t
-    headers = [t("bays.cylinder")] + [f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
-                                      for c in range(int(720 // step))]
-    body = [[p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
-            for p, runs in zip(phases, rows, strict=True)]
-    return ctx.table_html(headers, body, caption=t("bays.strokes_caption"), text_columns=range(1, 13),
-                          see="bays.see_strokes")
+    headers = [t("bays.cylinder")] + [
+        f"{t.number_g(c * step, 4)}–{t.number_g((c + 1) * step, 4)}"
+        for c in range(int(720 // step))
+    ]
+    body = [
+        [p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
+        for p, runs in zip(phases, rows, strict=True)
+    ]
+    return ctx.table_html(
+        headers,
+        body,
+        caption=t("bays.strokes_caption"),
+        text_columns=range(1, 13),
+        see="bays.see_strokes",
+    )
 
 
 def _slave_table(r: dict, ctx):
     """Table of the articulated (slave) rods' geometry."""
     t = ctx.t
-    return ctx.table([
-        (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
-        ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
-        ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
-        ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
-        ("<i>l</i> " + t("bays.by_source") + ", " + t("unit.mm"), [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]], 3),
-        ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
-    ], caption=t("bays.slave_caption"), see="bays.see_slaves")
+    return ctx.table(
+        [
+            (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
+            ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
+            ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
+            ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
+            (
+                "<i>l</i> " + t("bays.by_source") + ", " + t("unit.mm"),
+                [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]],
+                3,
+            ),
+            ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
+        ],
+        caption=t("bays.slave_caption"),
+        see="bays.see_slaves",
+    )
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -73,26 +97,50 @@ def render(output: StageOutput, ctx) -> str | None:
         first_key = [k for k in output.tables if k.startswith("slave_")][0]
         first = output.tables.arrays(first_key)
         slave_table = _slave_table(r, ctx)
-        bay_table = ctx.table([
-            ("<i>α</i>, °", labels, 0),
-            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
-            ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
-            ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
-            ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
-            ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
-            ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
-        ], caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")), see="bays.see_table_b2")
-        figure = ctx.figure(partial(bay_figure, f, ctx.cycle_deg, t), t("bays.figure_caption"), "bay",
-                            see="bays.see_figure")
+        bay_table = ctx.table(
+            [
+                ("<i>α</i>, °", labels, 0),
+                ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
+                ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
+                ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
+                ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
+                ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
+                ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
+            ],
+            caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")),
+            see="bays.see_table_b2",
+        )
+        figure = ctx.figure(
+            partial(bay_figure, f, ctx.cycle_deg, t),
+            t("bays.figure_caption"),
+            "bay",
+            see="bays.see_figure",
+        )
         peak = first_argmax(f["bay_resultant_Pa"])  # the crank pin's load of all its cylinders
-        ctx.conclude(t("bays.conclusion_bay_load", q_max=ctx.num(f["bay_resultant_Pa"][peak] / 1e6),
-                       q_angle=ctx.angle_text(float(angle[peak])), table=ctx.last_table_number))
-    own_pins = r["cranks"] == r["cylinders"]  # an in-line engine: a crank pin per cylinder, no bays to sum
+        ctx.conclude(
+            t(
+                "bays.conclusion_bay_load",
+                q_max=ctx.num(f["bay_resultant_Pa"][peak] / 1e6),
+                q_angle=ctx.angle_text(float(angle[peak])),
+                table=ctx.last_table_number,
+            )
+        )
+    own_pins = (
+        r["cranks"] == r["cylinders"]
+    )  # an in-line engine: a crank pin per cylinder, no bays to sum
     if own_pins:
         ctx.title = t("bays.title_own_pins")
-    return ctx.render_template("sections/bays.html.j2", r=r, bay_table=bay_table, slave_table=slave_table,
-                               figure=figure, phase_table=phase_table, stroke_table=stroke_table, own_pins=own_pins,
-                               scheme_figure=ctx.figure_number("scheme"))
+    return ctx.render_template(
+        "sections/bays.html.j2",
+        r=r,
+        bay_table=bay_table,
+        slave_table=slave_table,
+        figure=figure,
+        phase_table=phase_table,
+        stroke_table=stroke_table,
+        own_pins=own_pins,
+        scheme_figure=ctx.figure_number("scheme"),
+    )
 
 
 #: The articulated rods' letters (textbook §3.3, eq. (27)-(33); meanings: symbol.bays.<key> in

@@ -52,9 +52,18 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     p_max = max(pin["max_MPa"] for pin in pins)
     if p_mean <= mean_limit and p_max <= max_limit:
         return []
-    return [(f"bearings.plausibility_pin_pressure_{kind}", {
-        "p_mean": float(p_mean), "p_max": float(p_max), "mean_limit": mean_limit,
-        "max_limit": max_limit, "source": ALLOWABLE_PRESSURE_SOURCE})]
+    return [
+        (
+            f"bearings.plausibility_pin_pressure_{kind}",
+            {
+                "p_mean": float(p_mean),
+                "p_max": float(p_max),
+                "mean_limit": mean_limit,
+                "max_limit": max_limit,
+                "source": ALLOWABLE_PRESSURE_SOURCE,
+            },
+        )
+    ]
 
 
 def applies(scene) -> str | None:
@@ -69,8 +78,16 @@ def _dimensions(scene, opts):
     w_pin = opts.crank_pin_width or DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin
     d_main = opts.main_journal_diameter or DEFAULT_MAIN_DIAMETER_PER_BORE * bore
     w_main = opts.main_journal_width or DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main
-    defaulted = [name for name in ("crank_pin_diameter", "crank_pin_width", "main_journal_diameter",
-                                   "main_journal_width") if getattr(opts, name) is None]
+    defaulted = [
+        name
+        for name in (
+            "crank_pin_diameter",
+            "crank_pin_width",
+            "main_journal_diameter",
+            "main_journal_width",
+        )
+        if getattr(opts, name) is None
+    ]
     return d_pin, w_pin, d_main, w_main, defaulted
 
 
@@ -80,11 +97,23 @@ def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict
     cranks = len(pin[0])
     table = {"crank_angle_deg": angle}
     for k in range(cranks):
-        table.update({f"pin{k + 1}_t_Pa": pin[0][k], f"pin{k + 1}_z_Pa": pin[1][k],
-                      f"rod_bearing{k + 1}_t_Pa": rod[0][k], f"rod_bearing{k + 1}_z_Pa": rod[1][k]})
+        table.update(
+            {
+                f"pin{k + 1}_t_Pa": pin[0][k],
+                f"pin{k + 1}_z_Pa": pin[1][k],
+                f"rod_bearing{k + 1}_t_Pa": rod[0][k],
+                f"rod_bearing{k + 1}_z_Pa": rod[1][k],
+            }
+        )
     for j in range(cranks + 1):
-        table.update({f"journal{j}_t_Pa": journal[0][j], f"journal{j}_z_Pa": journal[1][j],
-                      f"main_bearing{j}_t_Pa": bearing[0][j], f"main_bearing{j}_z_Pa": bearing[1][j]})
+        table.update(
+            {
+                f"journal{j}_t_Pa": journal[0][j],
+                f"journal{j}_z_Pa": journal[1][j],
+                f"main_bearing{j}_t_Pa": bearing[0][j],
+                f"main_bearing{j}_z_Pa": bearing[1][j],
+            }
+        )
     wear = {"surface_angle_deg": wear_pins[0][0]}
     for k in range(cranks):
         wear[f"pin{k + 1}_wear_N"] = wear_pins[k][1]
@@ -98,8 +127,12 @@ def _counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.nda
     per piston area [Pa]; zeros without counterweights (none fitted, or no balancing in the plan)."""
     if fitted is None:
         return np.zeros(cranks), np.zeros(cranks)
-    return brg.counterweight_crank_load_Pa(fitted.crank, np.asarray(fitted.centrifugal_N) / area_m2,
-                                           fitted.angle_from_crank_rad, cranks)
+    return brg.counterweight_crank_load_Pa(
+        fitted.crank,
+        np.asarray(fitted.centrifugal_N) / area_m2,
+        fitted.angle_from_crank_rad,
+        cranks,
+    )
 
 
 def _pin_and_rod_loads(loads, bays, motion, layout):
@@ -117,9 +150,16 @@ def _pin_and_rod_loads(loads, bays, motion, layout):
         delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
         local = np.radians((angle - delay) % 360.0)
         # without a rod (a Scotch yoke) the pin's bearing is the slider's, along the cylinder axis
-        beta = (0.0 if motion.rod_angle_rad is None else
-                np.interp(np.degrees(local), motion.crank_angle_deg[:revolution],
-                          motion.rod_angle_rad[:revolution], period=360.0))
+        beta = (
+            0.0
+            if motion.rod_angle_rad is None
+            else np.interp(
+                np.degrees(local),
+                motion.crank_angle_deg[:revolution],
+                motion.rod_angle_rad[:revolution],
+                period=360.0,
+            )
+        )
         rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local + tdc, beta)
     return pin_t, pin_z, rod_t, rod_z
 
@@ -133,7 +173,10 @@ def run(scene, inputs) -> StageOutput:
     theta = np.radians(angle)
     area = loads.piston_area_m2
     d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
-    for key, values, limit in (("bearings.pins", opts.pins, cranks), ("bearings.journals", opts.journals, cranks + 1)):
+    for key, values, limit in (
+        ("bearings.pins", opts.pins, cranks),
+        ("bearings.journals", opts.journals, cranks + 1),
+    ):
         if values is not None and any(not 1 <= v <= limit for v in values):
             raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
 
@@ -145,8 +188,12 @@ def run(scene, inputs) -> StageOutput:
     positions = np.array([theta + tdc - np.radians(lag) for lag in layout.crank_lag_deg])
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
-    fa, fn = brg.crank_force_engine_frame(loads.tangential_Pa + cw_t[:, None], loads.radial_Pa + cw_z[:, None],
-                                          loads.centrifugal_Pa, positions)
+    fa, fn = brg.crank_force_engine_frame(
+        loads.tangential_Pa + cw_t[:, None],
+        loads.radial_Pa + cw_z[:, None],
+        loads.centrifugal_Pa,
+        positions,
+    )
     share_after = np.full(cranks, opts.span_ratio)
     ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
     # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
@@ -166,8 +213,13 @@ def run(scene, inputs) -> StageOutput:
         s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
         return s, (psi, wear)
 
-    pins, wear_pins = zip(*[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True)
-    journals, wear_journals = zip(*[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)], strict=True)
+    pins, wear_pins = zip(
+        *[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True
+    )
+    journals, wear_journals = zip(
+        *[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)],
+        strict=True,
+    )
     most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
     most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
     drawn_pins = opts.pins or [most_loaded_pin]
@@ -176,22 +228,47 @@ def run(scene, inputs) -> StageOutput:
     results = {
         # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
         "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
-        "dimensions": {"crank_pin_diameter_m": d_pin, "crank_pin_width_m": w_pin, "main_journal_diameter_m": d_main,
-                       "main_journal_width_m": w_main, "defaulted": defaulted},
+        "dimensions": {
+            "crank_pin_diameter_m": d_pin,
+            "crank_pin_width_m": w_pin,
+            "main_journal_diameter_m": d_main,
+            "main_journal_width_m": w_main,
+            "defaulted": defaulted,
+        },
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
-        "main_journals": [{"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)],
-        "rod_bearings": [{"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
-                         for k in range(cranks)],
-        "main_bearings": [{"journal": lay.journal_label(j), **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main)}
-                          for j in range(cranks + 1)],
+        "main_journals": [
+            {"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)
+        ],
+        "rod_bearings": [
+            {"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
+            for k in range(cranks)
+        ],
+        "main_bearings": [
+            {
+                "journal": lay.journal_label(j),
+                **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main),
+            }
+            for j in range(cranks + 1)
+        ],
         "drawn_pins": drawn_pins,
         "drawn_journals": drawn_journals,
         "span_ratio": opts.span_ratio,  # l'/l of every crank
         "chosen_by_default": opts.pins is None and opts.journals is None,
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
     }
-    tables = _tables(angle, (pin_t, pin_z), (rod_t, rod_z), (journal_t, journal_z), (bearing_t, bearing_z),
-                     wear_pins, wear_journals)
-    return StageOutput(data={}, results=results, tables=tables,
-                       notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [])
+    tables = _tables(
+        angle,
+        (pin_t, pin_z),
+        (rod_t, rod_z),
+        (journal_t, journal_z),
+        (bearing_t, bearing_z),
+        wear_pins,
+        wear_journals,
+    )
+    return StageOutput(
+        data={},
+        results=results,
+        tables=tables,
+        notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [],
+    )

@@ -17,17 +17,46 @@ from crankdyn_builtin.bearings.worked import (
 from .labels import LABEL_PT, _coinciding, _curve_samples, _label_places, _pole_and_oil_hole
 
 
-def _polar(ctx, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, name, caption,
-           axes=("t", "z"), see=("bearings.see_polar", {})):
+def _polar(
+    ctx,
+    t_Pa,
+    z_Pa,
+    angle,
+    pole_z,
+    title,
+    oil_deg,
+    diameter_scale,
+    labels_every,
+    name,
+    caption,
+    axes=("t", "z"),
+    see=("bearings.see_polar", {}),
+):
     """A polar load diagram's markup, and whether it is narrow enough to stand beside another;
     ``axes``: the names of its horizontal and vertical components (crank axes t, z unless the
     diagram is drawn in the rod's or the engine's axes); ``see``: the key and placeholders of
     the sentence announcing it, which names the journal or bearing (two diagrams side by side
     are not each announced as just "the vector diagram")."""
     width_cm = _polar_size(t_Pa / 1e6, z_Pa / 1e6, pole_z, diameter_scale)[0]
-    return ctx.figure(partial(_polar_drawing, ctx.t, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale,
-                              labels_every, axes), caption, name, see=see[0], see_params=see[1]), \
-        width_cm <= HALF_WIDTH_CM
+    return ctx.figure(
+        partial(
+            _polar_drawing,
+            ctx.t,
+            t_Pa,
+            z_Pa,
+            angle,
+            pole_z,
+            title,
+            oil_deg,
+            diameter_scale,
+            labels_every,
+            axes,
+        ),
+        caption,
+        name,
+        see=see[0],
+        see_params=see[1],
+    ), width_cm <= HALF_WIDTH_CM
 
 
 #: A diagram at most this wide (cm) stands beside the next one: two tall, narrow diagrams on a
@@ -62,7 +91,9 @@ def _size_for(shown_t: float, shown_z: float) -> tuple[float, float]:
     return min(12.0, max(7.0, 1.1 * (height - 2.2) / aspect + 2.4)), height
 
 
-def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, axes):
+def _polar_drawing(
+    translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diameter_scale, labels_every, axes
+):
     """The polar load diagram's figure (:func:`_polar`)."""
     t, z = t_Pa / 1e6, z_Pa / 1e6
     span, radius, shown_t, shown_z = _polar_extent(t, z, pole_z, diameter_scale)
@@ -71,14 +102,17 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     ax.plot(np.append(t, t[0]), np.append(z, z[0]), color="C0", lw=1.2)  # the closed curve
     step = angle[1] - angle[0]
     every = max(int(round(labels_every / step)), 1)
-    ax.plot(t[::every], z[::every], "o", ms=2.5, color="C3", linestyle="none")  # one artist for all marks
+    ax.plot(
+        t[::every], z[::every], "o", ms=2.5, color="C3", linestyle="none"
+    )  # one artist for all marks
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
-    texts = [", ".join(translator.angle(angle[k * every], step) for k in same)
-             for _, same in groups]
+    texts = [
+        ", ".join(translator.angle(angle[k * every], step) for k in same) for _, same in groups
+    ]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
     # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
     # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
@@ -88,30 +122,51 @@ def _polar_drawing(translator, t_Pa, z_Pa, angle, pole_z, title, oil_deg, diamet
     screen = [(x, -y) for x, y in anchors]
     low_t, high_t = min(np.min(t), -radius), max(np.max(t), radius)
     low_z, high_z = min(np.min(z), pole_z - radius), max(np.max(z), pole_z + radius)
-    margin_t, margin_z = 0.05 * (high_t - low_t), 0.05 * (high_z - low_z)  # matplotlib's own margins
+    margin_t, margin_z = (
+        0.05 * (high_t - low_t),
+        0.05 * (high_z - low_z),
+    )  # matplotlib's own margins
     bounds = (low_t - margin_t, -(high_z + margin_z), high_t + margin_t, -(low_z - margin_z))
     # the largest load's label first, then the dead centres' (multiples of 90 deg), then the rest
     q = np.hypot([a[0] for a in anchors], [a[1] - pole_z for a in anchors])
     peak = int(np.argmax(q)) if len(q) else 0
+
     def rank(g: int):
         angles = [angle[k * every] for k in groups[g][1]]
         return (g != peak, not any(abs(a % 90.0) < 1e-9 for a in angles), g)
+
     order = sorted(range(len(groups)), key=rank)
     obstacles = _pole_and_oil_hole(pole_z, radius, oil_deg, per_pt)
     curve = _curve_samples(t, -z, 2.0 * per_pt)  # screen coordinates, as the labels'
-    for (x, y), text, place in zip(anchors, texts, _label_places(screen, texts, per_pt, bounds, order, obstacles,
-                                                                 curve), strict=True):
+    for (x, y), text, place in zip(
+        anchors,
+        texts,
+        _label_places(screen, texts, per_pt, bounds, order, obstacles, curve),
+        strict=True,
+    ):
         if place is not None:
             dx, dy, ha, va = place
-            ax.annotate(text, (x, y), fontsize=LABEL_PT, xytext=(dx, dy), textcoords="offset points", ha=ha, va=va)
+            ax.annotate(
+                text,
+                (x, y),
+                fontsize=LABEL_PT,
+                xytext=(dx, dy),
+                textcoords="offset points",
+                ha=ha,
+                va=va,
+            )
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
     ax.plot([0], [pole_z], "k+", ms=8)
-    ax.annotate("O", (0, pole_z), xytext=(-9, -9), textcoords="offset points", fontsize=8, style="italic")
+    ax.annotate(
+        "O", (0, pole_z), xytext=(-9, -9), textcoords="offset points", fontsize=8, style="italic"
+    )
     if oil_deg is not None:
         psi = np.radians(oil_deg)
-        ax.plot([0, radius * np.sin(psi)], [pole_z, pole_z + radius * np.cos(psi)], color="C2", lw=2)
+        ax.plot(
+            [0, radius * np.sin(psi)], [pole_z, pole_z + radius * np.cos(psi)], color="C2", lw=2
+        )
         ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
     ax.set_aspect("equal")
     ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
@@ -128,7 +183,7 @@ def _side_by_side(pairs: list) -> list:
     for k in range(0, len(pairs) - 1, 2):
         (first, narrow_first), (second, narrow_second) = pairs[k], pairs[k + 1]
         out += [_figure_row(first, second)] if narrow_first and narrow_second else [first, second]
-    return out + [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2:]]
+    return out + [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2 :]]
 
 
 _SEE = re.compile(r'<p class="see">(.*?)</p>', flags=re.S)
@@ -138,10 +193,14 @@ def _figure_row(first, second) -> Markup:
     """Two figures side by side, announced together in one paragraph above the row (each one's
     sentence in its own half-width column takes two lines, and the row then does not fit under
     a chapter's text: a 27 %-full page, and the captions at different heights)."""
-    sentences = " ".join(m.group(1) for block in (first, second) for m in [_SEE.search(str(block))] if m)
+    sentences = " ".join(
+        m.group(1) for block in (first, second) for m in [_SEE.search(str(block))] if m
+    )
     blocks = "".join(_SEE.sub("", str(block), count=1) for block in (first, second))
-    return Markup(f'<div class="figure-row-block"><p class="see">{sentences}</p>'
-                  f'<div class="figure-row">{blocks}</div></div>')
+    return Markup(
+        f'<div class="figure-row-block"><p class="see">{sentences}</p>'
+        f'<div class="figure-row">{blocks}</div></div>'
+    )
 
 
 def _wear_figure(ctx, wear, r):
@@ -149,14 +208,21 @@ def _wear_figure(ctx, wear, r):
     k = r["drawn_pins"][0]
     single = len(r["crank_pins"]) == 1
     caption = _one_of(ctx.t, "bearings.wear_caption", k, single)
-    return ctx.figure(partial(_wear_drawing, wear, r, k), caption, f"wear_pin{k}", see="bearings.see_wear_pin",
-                      see_params=_crank_number(k, single))
+    return ctx.figure(
+        partial(_wear_drawing, wear, r, k),
+        caption,
+        f"wear_pin{k}",
+        see="bearings.see_wear_pin",
+        see_params=_crank_number(k, single),
+    )
 
 
 def _wear_drawing(wear, r, k):
     """The wear diagram's figure (:func:`_wear_figure`)."""
     fig, ax = new_figure(10, 10, subplot_kw={"projection": "polar"})
-    ax.set_theta_zero_location("S")  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
+    ax.set_theta_zero_location(
+        "S"
+    )  # +z (towards the shaft axis) drawn downwards, as the polar diagrams
     ax.set_theta_direction(1)
     psi = np.radians(wear["surface_angle_deg"])
     load = wear[f"pin{k}_wear_N"]
@@ -171,9 +237,15 @@ def _wear_drawing(wear, r, k):
     # the crank's axes the angles are counted in, as the polar diagrams draw them (without them
     # 0° and +z are nowhere): z towards the shaft axis, t in the direction of rotation
     for angle, name in ((0.0, "$z$"), (np.pi / 2, "$t$")):
-        ax.annotate("", xy=(angle, 0.25), xytext=(0.0, 0.0),
-                    arrowprops={"arrowstyle": "-|>", "color": "0.25", "lw": 1.0})
-        ax.text(angle, 0.33, name, ha="center", va="center", fontsize=10)  # inside the wear (from 0.4 in)
+        ax.annotate(
+            "",
+            xy=(angle, 0.25),
+            xytext=(0.0, 0.0),
+            arrowprops={"arrowstyle": "-|>", "color": "0.25", "lw": 1.0},
+        )
+        ax.text(
+            angle, 0.33, name, ha="center", va="center", fontsize=10
+        )  # inside the wear (from 0.4 in)
     ax.set_ylim(0, 1.15)
     ax.set_yticks([])
     ax.grid(False, axis="y")
@@ -189,25 +261,37 @@ def _crank_number(k, single: bool) -> dict:
 
 def _one_of(t, key: str, k, single: bool) -> str:
     """The catalog text ``key`` for crank (pin) ``k``, without the number when there is one crank."""
-    return re.sub(r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k))).strip()
+    return re.sub(
+        r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k))
+    ).strip()
 
 
 def _unrolled_figure(ctx, f, r, angle, single: bool):
     """The unrolled diagrams: the load's magnitude on the drawn crank pins and main journals."""
-    return ctx.figure(partial(_unrolled_drawing, ctx.t, ctx.cycle_deg, f, r, angle, single),
-                      ctx.t("bearings.unrolled_caption"), "unrolled", see="bearings.see_unrolled")
+    return ctx.figure(
+        partial(_unrolled_drawing, ctx.t, ctx.cycle_deg, f, r, angle, single),
+        ctx.t("bearings.unrolled_caption"),
+        "unrolled",
+        see="bearings.see_unrolled",
+    )
 
 
 def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
     """The unrolled diagrams' figure (:func:`_unrolled_figure`)."""
     fig, ax = new_figure(16, 8)
     for k in r["drawn_pins"]:
-        ax.plot(angle, np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
-                label=_one_of(t, "bearings.pin_label", k, single))
+        ax.plot(
+            angle,
+            np.hypot(f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"]) / 1e6,
+            label=_one_of(t, "bearings.pin_label", k, single),
+        )
     for j in r["drawn_journals"]:
         label = journal_name(r["main_journals"][j - 1])
-        ax.plot(angle, np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
-                label=t("bearings.journal_label", label=label))
+        ax.plot(
+            angle,
+            np.hypot(f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"]) / 1e6,
+            label=t("bearings.journal_label", label=label),
+        )
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
     ax.legend(loc="upper right", fontsize=8)
@@ -229,25 +313,72 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
     polar = []
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
-        polar.append(_polar(ctx, f[f"pin{k}_t_Pa"], f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
-                              angle, -c_rod, _one_of(t, "bearings.pin_title", k, single), pin["oil_hole_deg"], 0.12, labels_every,
-                              f"pin{k}", _one_of(t, pin_caption, k, single),
-                              see=("bearings.see_polar_pin", _crank_number(k, single))))
-        polar.append(_polar(ctx, f[f"rod_bearing{k}_t_Pa"], f[f"rod_bearing{k}_z_Pa"], angle,
-                              0.0, _one_of(t, "bearings.rod_title", k, single), None, 0.12, labels_every, f"rod_bearing{k}",
-                              _one_of(t, "bearings.rod_caption", k, single), axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z")),
-                              see=("bearings.see_polar_rod", _crank_number(k, single))))
+        polar.append(
+            _polar(
+                ctx,
+                f[f"pin{k}_t_Pa"],
+                f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
+                angle,
+                -c_rod,
+                _one_of(t, "bearings.pin_title", k, single),
+                pin["oil_hole_deg"],
+                0.12,
+                labels_every,
+                f"pin{k}",
+                _one_of(t, pin_caption, k, single),
+                see=("bearings.see_polar_pin", _crank_number(k, single)),
+            )
+        )
+        polar.append(
+            _polar(
+                ctx,
+                f[f"rod_bearing{k}_t_Pa"],
+                f[f"rod_bearing{k}_z_Pa"],
+                angle,
+                0.0,
+                _one_of(t, "bearings.rod_title", k, single),
+                None,
+                0.12,
+                labels_every,
+                f"rod_bearing{k}",
+                _one_of(t, "bearings.rod_caption", k, single),
+                axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z")),
+                see=("bearings.see_polar_rod", _crank_number(k, single)),
+            )
+        )
     for j in r["drawn_journals"]:
         journal = r["main_journals"][j - 1]
-        polar.append(_polar(ctx, f[f"journal{j - 1}_t_Pa"], f[f"journal{j - 1}_z_Pa"], angle,
-                              0.0, t("bearings.journal_title", label=journal_name(journal)), journal["oil_hole_deg"], 0.12,
-                              labels_every, f"journal{j - 1}", t("bearings.journal_caption", label=journal_name(journal),
-                                                                          crank=max(j - 1, 1)),
-                              see=("bearings.see_polar_journal", {"label": journal_name(journal)})))
-        polar.append(_polar(ctx, f[f"main_bearing{j - 1}_t_Pa"], f[f"main_bearing{j - 1}_z_Pa"],
-                              angle, 0.0, t("bearings.main_bearing_title", label=journal_name(journal)), None, 0.12,
-                              labels_every, f"main_bearing{j - 1}",
-                              t("bearings.main_bearing_caption", label=journal_name(journal)),
-                              axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
-                              see=("bearings.see_polar_main_bearing", {"label": journal_name(journal)})))
+        polar.append(
+            _polar(
+                ctx,
+                f[f"journal{j - 1}_t_Pa"],
+                f[f"journal{j - 1}_z_Pa"],
+                angle,
+                0.0,
+                t("bearings.journal_title", label=journal_name(journal)),
+                journal["oil_hole_deg"],
+                0.12,
+                labels_every,
+                f"journal{j - 1}",
+                t("bearings.journal_caption", label=journal_name(journal), crank=max(j - 1, 1)),
+                see=("bearings.see_polar_journal", {"label": journal_name(journal)}),
+            )
+        )
+        polar.append(
+            _polar(
+                ctx,
+                f[f"main_bearing{j - 1}_t_Pa"],
+                f[f"main_bearing{j - 1}_z_Pa"],
+                angle,
+                0.0,
+                t("bearings.main_bearing_title", label=journal_name(journal)),
+                None,
+                0.12,
+                labels_every,
+                f"main_bearing{j - 1}",
+                t("bearings.main_bearing_caption", label=journal_name(journal)),
+                axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
+                see=("bearings.see_polar_main_bearing", {"label": journal_name(journal)}),
+            )
+        )
     return polar

@@ -22,18 +22,32 @@ def _coinciding(x, y, tolerance) -> list[tuple[int, list[int]]]:
     return groups
 
 
-_PLACES = ((2, 2, "left", "bottom"), (-2, 2, "right", "bottom"), (2, -2, "left", "top"), (-2, -2, "right", "top"),
-           (7, 7, "left", "bottom"), (-7, 7, "right", "bottom"), (7, -7, "left", "top"), (-7, -7, "right", "top"))
+_PLACES = (
+    (2, 2, "left", "bottom"),
+    (-2, 2, "right", "bottom"),
+    (2, -2, "left", "top"),
+    (-2, -2, "right", "top"),
+    (7, 7, "left", "bottom"),
+    (-7, 7, "right", "bottom"),
+    (7, -7, "left", "top"),
+    (-7, -7, "right", "top"),
+)
 
 #: Further out, tried only where a label nearer would sit on the curve.
-_FAR_PLACES = ((12, 12, "left", "bottom"), (-12, 12, "right", "bottom"), (12, -12, "left", "top"),
-               (-12, -12, "right", "top"))
+_FAR_PLACES = (
+    (12, 12, "left", "bottom"),
+    (-12, 12, "right", "bottom"),
+    (12, -12, "left", "top"),
+    (-12, -12, "right", "top"),
+)
 
 #: The polar diagrams' angle labels, pt (6 pt is too small to read in print).
 LABEL_PT = 7.0
 
 
-def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), curve=None) -> list[tuple | None]:
+def _label_places(
+    points, texts, per_pt, bounds=None, order=None, obstacles=(), curve=None
+) -> list[tuple | None]:
     """(dx, dy in points, ha, va) for a :data:`LABEL_PT` label at each point (x right, y up, data units;
     ``per_pt`` data units per point), or None where no label fits: up and right of the point, or
     the first other corner, near or a little further out, whose box meets no label placed
@@ -58,9 +72,14 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
     centre = None if curve is None else (float(np.mean(curve[0])), float(np.mean(curve[1])))
 
     def free(box) -> bool:
-        if bounds is not None and (box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2] or box[3] > bounds[3]):
+        if bounds is not None and (
+            box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2] or box[3] > bounds[3]
+        ):
             return False
-        return all(min(box[2], c[2]) <= max(box[0], c[0]) or min(box[3], c[3]) <= max(box[1], c[1]) for c in placed)
+        return all(
+            min(box[2], c[2]) <= max(box[0], c[0]) or min(box[3], c[3]) <= max(box[1], c[1])
+            for c in placed
+        )
 
     xy = np.asarray(points, dtype=float).reshape(-1, 2)
 
@@ -74,10 +93,20 @@ def _label_places(points, texts, per_pt, bounds=None, order=None, obstacles=(), 
         return not len(others) or bool(np.min(others) > distance[i] + 0.5 * per_pt)
 
     def crossings(inner) -> int:
-        return 0 if curve is None else int(np.count_nonzero((curve[0] > inner[0]) & (curve[0] < inner[2]) &
-                                                             (curve[1] > inner[1]) & (curve[1] < inner[3])))
+        return (
+            0
+            if curve is None
+            else int(
+                np.count_nonzero(
+                    (curve[0] > inner[0])
+                    & (curve[0] < inner[2])
+                    & (curve[1] > inner[1])
+                    & (curve[1] < inner[3])
+                )
+            )
+        )
 
-    for i in (range(len(points)) if order is None else order):
+    for i in range(len(points)) if order is None else order:
         (x, y), text = points[i], texts[i]
         # DejaVu Sans digits: 0.64 em wide; a line 1.17 em high
         width, height = len(text) * 0.64 * LABEL_PT * per_pt, 1.17 * LABEL_PT * per_pt
@@ -111,7 +140,11 @@ def _candidates(x, y, centre, width, height, per_pt) -> list[tuple]:
         cy = place[1] * per_pt + (-height / 2 if place[3] == "top" else height / 2)
         return -(cx * away[0] + cy * away[1]) / (math.hypot(cx, cy) * max(math.hypot(*away), 1e-12))
 
-    return sorted(_PLACES[:4], key=facing) + sorted(_PLACES[4:], key=facing) + sorted(_FAR_PLACES, key=facing)
+    return (
+        sorted(_PLACES[:4], key=facing)
+        + sorted(_PLACES[4:], key=facing)
+        + sorted(_FAR_PLACES, key=facing)
+    )
 
 
 def _curve_samples(x, y, spacing: float, most: int = 1500) -> tuple[np.ndarray, np.ndarray]:
@@ -119,14 +152,20 @@ def _curve_samples(x, y, spacing: float, most: int = 1500) -> tuple[np.ndarray, 
     segment crosses between two samples still holds one), from at most ``most`` of its points."""
     keep = max(1, int(math.ceil(len(x) / most)))
     xs, ys = np.append(x[::keep], x[0]), np.append(y[::keep], y[0])
-    pieces = np.maximum(1, np.ceil(np.hypot(np.diff(xs), np.diff(ys)) / max(spacing, 1e-12)).astype(int))
+    pieces = np.maximum(
+        1, np.ceil(np.hypot(np.diff(xs), np.diff(ys)) / max(spacing, 1e-12)).astype(int)
+    )
     pieces = np.minimum(pieces, 50)
     share = np.concatenate([np.arange(n) / n for n in pieces])
     start = np.repeat(np.arange(len(pieces)), pieces)
-    return xs[start] + share * (xs[start + 1] - xs[start]), ys[start] + share * (ys[start + 1] - ys[start])
+    return xs[start] + share * (xs[start + 1] - xs[start]), ys[start] + share * (
+        ys[start + 1] - ys[start]
+    )
 
 
-def _pole_and_oil_hole(pole_z: float, radius: float, oil_deg: float | None, per_pt: float) -> list[tuple]:
+def _pole_and_oil_hole(
+    pole_z: float, radius: float, oil_deg: float | None, per_pt: float
+) -> list[tuple]:
     """Boxes (screen data units: x right, y up = −z) that a polar diagram's labels keep clear of:
     the pole's cross and its letter O (8 pt, 9 pt down and left of it), and points along the oil
     hole's line (not "90, 330, 660" printed over the line, "180" over the O)."""

@@ -36,9 +36,16 @@ BEARINGS_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("bearing_width", "bearing_pressure", "pin_load_max", "pin_load_mean",
-                         "bearing_pressure_max", "bearing_pressure_mean", "journal_load_max",
-                         "journal_load_mean"),
+        section_symbols=(
+            "bearing_width",
+            "bearing_pressure",
+            "pin_load_max",
+            "pin_load_mean",
+            "bearing_pressure_max",
+            "bearing_pressure_mean",
+            "journal_load_max",
+            "journal_load_mean",
+        ),
         title_key="bearings.title",
         render=render,
         figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
@@ -58,4 +65,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

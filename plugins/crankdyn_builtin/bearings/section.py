@@ -19,10 +19,15 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
     if "min_crank_angle_deg" not in load:
         return ""
     t = ctx.t
-    return t(f"bearings.range_{kind}", name=name, min=t.fixed(load["min_N"] / 1e3, 2),
-             max=t.fixed(load["max_N"] / 1e3, 2), mean=t.fixed(load["mean_N"] / 1e3, 2),
-             min_angle=ctx.angle_text(load["min_crank_angle_deg"]),
-             max_angle=ctx.angle_text(load["max_crank_angle_deg"]))
+    return t(
+        f"bearings.range_{kind}",
+        name=name,
+        min=t.fixed(load["min_N"] / 1e3, 2),
+        max=t.fixed(load["max_N"] / 1e3, 2),
+        mean=t.fixed(load["mean_N"] / 1e3, 2),
+        min_angle=ctx.angle_text(load["min_crank_angle_deg"]),
+        max_angle=ctx.angle_text(load["max_crank_angle_deg"]),
+    )
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -36,24 +41,48 @@ def render(output: StageOutput, ctx) -> str | None:
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
 
     pins, pin_labels = pin_rows(r["crank_pins"])
-    table_pins = ctx.table([
-        (t("bearings.crank"), pin_labels, None),
-        ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
-        ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
-        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
-        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
-        (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in pins], 0),
-    ], caption=t("bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"),
-        see="bearings.see_pins_single" if single else "bearings.see_pins") + \
-        worked_bearing(ctx, r, "pin")
-    table_journals = ctx.table([
-        (t("bearings.journal"), [journal_name(j) for j in r["main_journals"]], None),
-        ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in r["main_journals"]], 2),
-        ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in r["main_journals"]], 2),
-        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in r["main_journals"]], 2),
-        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in r["main_journals"]], 2),
-        (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
-    ], caption=t("bearings.journals_table_caption"), see="bearings.see_journals")
+    table_pins = ctx.table(
+        [
+            (t("bearings.crank"), pin_labels, None),
+            ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
+            ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
+            ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
+            ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
+            (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in pins], 0),
+        ],
+        caption=t(
+            "bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"
+        ),
+        see="bearings.see_pins_single" if single else "bearings.see_pins",
+    ) + worked_bearing(ctx, r, "pin")
+    table_journals = ctx.table(
+        [
+            (t("bearings.journal"), [journal_name(j) for j in r["main_journals"]], None),
+            (
+                "<i>R</i><sub>max</sub>, " + t("unit.kN"),
+                [j["max_N"] / 1e3 for j in r["main_journals"]],
+                2,
+            ),
+            (
+                "<i>R</i><sub>mean</sub>, " + t("unit.kN"),
+                [j["mean_N"] / 1e3 for j in r["main_journals"]],
+                2,
+            ),
+            (
+                "<i>p</i><sub>max</sub>, " + t("unit.MPa"),
+                [j["max_MPa"] for j in r["main_journals"]],
+                2,
+            ),
+            (
+                "<i>p</i><sub>mean</sub>, " + t("unit.MPa"),
+                [j["mean_MPa"] for j in r["main_journals"]],
+                2,
+            ),
+            (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
+        ],
+        caption=t("bearings.journals_table_caption"),
+        see="bearings.see_journals",
+    )
     journals_table_number = ctx.last_table_number
     table_journals += worked_bearing(ctx, r, "journal")
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
@@ -61,26 +90,66 @@ def render(output: StageOutput, ctx) -> str | None:
     # the digits of table 7.1, which the conclusion repeats
     # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
     pins_equal = loads_equal(r["crank_pins"])
-    conclusion = "bearings.conclusion_single" if single else "bearings.conclusion_equal" if pins_equal else "bearings.conclusion"
+    conclusion = (
+        "bearings.conclusion_single"
+        if single
+        else "bearings.conclusion_equal"
+        if pins_equal
+        else "bearings.conclusion"
+    )
     tied = most_loaded(r["main_journals"])
     journal = tied[0]
-    journal_key = ("bearings.conclusion_journal_equal" if loads_equal(r["main_journals"]) else
-                   "bearings.conclusion_journal_tied" if len(tied) > 1 else "bearings.conclusion_journal")
-    ctx.conclude(t(conclusion, k=pin["crank"], q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
-                   p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
-                   oil=ctx.t.fixed(pin["oil_hole_deg"], 0))  # as the tables print it
-                 + " " + t(journal_key, label=journal_name(journal), labels=", ".join(journal_name(j) for j in tied),
-                           r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2), p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
-                           oil=ctx.t.fixed(journal["oil_hole_deg"], 0), table=journals_table_number))
+    journal_key = (
+        "bearings.conclusion_journal_equal"
+        if loads_equal(r["main_journals"])
+        else "bearings.conclusion_journal_tied"
+        if len(tied) > 1
+        else "bearings.conclusion_journal"
+    )
+    ctx.conclude(
+        t(
+            conclusion,
+            k=pin["crank"],
+            q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
+            p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
+            oil=ctx.t.fixed(pin["oil_hole_deg"], 0),
+        )  # as the tables print it
+        + " "
+        + t(
+            journal_key,
+            label=journal_name(journal),
+            labels=", ".join(journal_name(j) for j in tied),
+            r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2),
+            p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
+            oil=ctx.t.fixed(journal["oil_hole_deg"], 0),
+            table=journals_table_number,
+        )
+    )
     d = r["dimensions"]
     journal_names = ", ".join(journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"])
-    analysis = [_load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k) for k in r["drawn_pins"]]
-    analysis += [_load_range(ctx, "journal", r["main_journals"][j - 1], journal_name(r["main_journals"][j - 1]))
-                 for j in r["drawn_journals"]]
-    return ctx.render_template("sections/bearings.html.j2", r=r, figures=figures, table_pins=table_pins,
-                               analysis=" ".join(a for a in analysis if a),
-                               table_journals=table_journals, dims=d, shared_pins=_shared_pins(ctx, r), single=single,
-                               journal_names=journal_names, pins_equal=pins_equal)
+    analysis = [
+        _load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k)
+        for k in r["drawn_pins"]
+    ]
+    analysis += [
+        _load_range(
+            ctx, "journal", r["main_journals"][j - 1], journal_name(r["main_journals"][j - 1])
+        )
+        for j in r["drawn_journals"]
+    ]
+    return ctx.render_template(
+        "sections/bearings.html.j2",
+        r=r,
+        figures=figures,
+        table_pins=table_pins,
+        analysis=" ".join(a for a in analysis if a),
+        table_journals=table_journals,
+        dims=d,
+        shared_pins=_shared_pins(ctx, r),
+        single=single,
+        journal_names=journal_names,
+        pins_equal=pins_equal,
+    )
 
 
 #: The crank's angle from the cylinder axis of an offset crank-slider (symbol.bearings.<key>).

@@ -16,11 +16,18 @@ def _pressure_step(ctx, quantity, load_html, record, key, diameter_m, width_m) -
     q_txt, q = printed_fixed(t, record["max_N"] / 1e3, 2)
     d_txt, d = printed(t, diameter_m * 1e3)
     b_txt, b = printed(t, width_m * 1e3)
-    return WorkedStep(quantity, "<i>p</i><sub>max</sub>", f"{load_html}/(<i>d B</i>)",
-                      f"{q_txt}·10<sup>3</sup>/({d_txt}·10<sup>−3</sup>·{b_txt}·10<sup>−3</sup>)·10<sup>−6</sup>", record["max_MPa"], 2, t("unit.MPa"),
-                      {"Q": q, "d_mm": d, "B_mm": b},
-                      exact={"Q": record["max_N"] / 1e3, "d_mm": diameter_m * 1e3, "B_mm": width_m * 1e3},
-                      row_key=key)
+    return WorkedStep(
+        quantity,
+        "<i>p</i><sub>max</sub>",
+        f"{load_html}/(<i>d B</i>)",
+        f"{q_txt}·10<sup>3</sup>/({d_txt}·10<sup>−3</sup>·{b_txt}·10<sup>−3</sup>)·10<sup>−6</sup>",
+        record["max_MPa"],
+        2,
+        t("unit.MPa"),
+        {"Q": q, "d_mm": d, "B_mm": b},
+        exact={"Q": record["max_N"] / 1e3, "d_mm": diameter_m * 1e3, "B_mm": width_m * 1e3},
+        row_key=key,
+    )
 
 
 def most_loaded(records) -> list:
@@ -45,8 +52,16 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
     (identical cylinders, each on a crank of its own: the same loads shifted in phase), which the
     table repeated four times; an ellipsis, not the en dash of a main journal's name "1–2" (the
     journal between cranks 1 and 2), which reads the same."""
-    printed = {(round(p["max_N"] / 1e3, 2), round(p["mean_N"] / 1e3, 2), round(p["max_MPa"], 2),
-                round(p["mean_MPa"], 2), round(p["oil_hole_deg"])) for p in pins}
+    printed = {
+        (
+            round(p["max_N"] / 1e3, 2),
+            round(p["mean_N"] / 1e3, 2),
+            round(p["max_MPa"], 2),
+            round(p["mean_MPa"], 2),
+            round(p["oil_hole_deg"]),
+        )
+        for p in pins
+    }
     if len(pins) > 1 and len(printed) == 1:
         return pins[:1], [f"{pins[0]['crank']}…{pins[-1]['crank']}"]
     return pins, [str(p["crank"]) for p in pins]
@@ -70,7 +85,17 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
     step = _pressure_step(ctx, f"{kind}_pressure_max", load_html, record, key, *size)
     # "the most loaded" only where one is: a single crank pin has no rival, equal loads have no first
-    variant = "_single" if len(records) == 1 else "_equal" if loads_equal(records) else "_tied" if len(tied) > 1 else ""
+    variant = (
+        "_single"
+        if len(records) == 1
+        else "_equal"
+        if loads_equal(records)
+        else "_tied"
+        if len(tied) > 1
+        else ""
+    )
     others = ", ".join(str(x["crank"]) if kind == "pin" else journal_name(x) for x in tied[1:])
     note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
-    return worked_markup(ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note))
+    return worked_markup(
+        ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note)
+    )

@@ -30,8 +30,11 @@ def single_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     R, L = e.crank_radius_m, e.rod_length_m
     alpha = np.asarray(crank_angle_rad, dtype=float)
     s = kin.piston_displacement_exact_m(alpha, R, R / L)
-    joints = {"crank_centre": np.zeros((len(alpha), 2)), "crank_pin": polar(R, alpha),
-              "wrist_pin": along(0.0, R + L - s)}
+    joints = {
+        "crank_centre": np.zeros((len(alpha), 2)),
+        "crank_pin": polar(R, alpha),
+        "wrist_pin": along(0.0, R + L - s),
+    }
     return MechanismGeometry(
         joints=joints,
         links=[("crank", "crank_centre", "crank_pin"), ("rod", "crank_pin", "wrist_pin")],
@@ -84,23 +87,43 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
                 motion = art.slave_motion(shaft - psi_m, g)
                 slave_pin = f"slave_pin_{c.label}"
                 # Master frame (a along the master axis, n clockwise from it) to the drawing frame.
-                joints[slave_pin] = (motion.pin_a_m[:, None] * unit(psi_m)[None, :]
-                                     + motion.pin_n_m[:, None] * unit(psi_m + math.pi / 2)[None, :])
+                joints[slave_pin] = (
+                    motion.pin_a_m[:, None] * unit(psi_m)[None, :]
+                    + motion.pin_n_m[:, None] * unit(psi_m + math.pi / 2)[None, :]
+                )
                 joints[wrist] = along(psi, motion.piston_position_m)
                 master_wrist = f"wrist_pin_{master.label}"
-                links += [(f"master_{c.label}", pin, slave_pin), (f"master_web_{c.label}", slave_pin, master_wrist),
-                          (f"rod_{c.label}", slave_pin, wrist)]
+                links += [
+                    (f"master_{c.label}", pin, slave_pin),
+                    (f"master_web_{c.label}", slave_pin, master_wrist),
+                    (f"rod_{c.label}", slave_pin, wrist),
+                ]
                 x_tdc, _, x_bdc, _ = art.slave_dead_centres(g)
                 low, high = x_bdc, x_tdc
-            guides.append(Guide(wrist, direction=tuple(unit(psi)), travel_m=(low, high), bore_m=e.bore,
-                                label=c.label))
-    return MechanismGeometry(joints=joints, links=links, guides=guides,
-                             dimensions={"R": R, "L": L, "D": e.bore, "S": 2 * R}, travel_m=travel,
-                             cranks=cranks, firing_order=tuple(layout.firing_order))
+            guides.append(
+                Guide(
+                    wrist,
+                    direction=tuple(unit(psi)),
+                    travel_m=(low, high),
+                    bore_m=e.bore,
+                    label=c.label,
+                )
+            )
+    return MechanismGeometry(
+        joints=joints,
+        links=links,
+        guides=guides,
+        dimensions={"R": R, "L": L, "D": e.bore, "S": 2 * R},
+        travel_m=travel,
+        cranks=cranks,
+        firing_order=tuple(layout.firing_order),
+    )
 
 
 def _slaves(scene, layout) -> dict[float, art.SlaveGeometry]:
     """Slave-rod geometry by the slave's bank angle from its master (deg)."""
     opts = options(scene, ARTICULATED, ArticulatedOptions)
-    return {round(math.degrees(g.bank_angle_rad), 9): g
-            for _, g in slave_geometries(scene, layout, opts, ARTICULATED)}
+    return {
+        round(math.degrees(g.bank_angle_rad), 9): g
+        for _, g in slave_geometries(scene, layout, opts, ARTICULATED)
+    }

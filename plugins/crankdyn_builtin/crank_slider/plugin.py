@@ -26,8 +26,14 @@ def _check_crank_slider(scene):
     except lay.LayoutError as exc:
         return [Problem(exc.field, exc.value, str(exc))]
     if scene.engine.rod_type == "articulated" and ARTICULATED not in scene.plugin_tables():
-        return [Problem(ARTICULATED, "(missing)", "articulated rods need an [articulated] table with "
-                        "pin_radius (distance from the big-end centre to the slave pins)")]
+        return [
+            Problem(
+                ARTICULATED,
+                "(missing)",
+                "articulated rods need an [articulated] table with "
+                "pin_radius (distance from the big-end centre to the slave pins)",
+            )
+        ]
     return []
 
 

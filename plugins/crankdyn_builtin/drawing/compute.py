@@ -45,7 +45,10 @@ def mechanism_geometry(scene, services):
 
 def _has_piston_motion(scene, services) -> bool:
     runner = services[SERVICE_RUNNER]
-    return any(KINEMATICS in s.provides and runner.applies(s, scene) is None for s in runner.stages.values())
+    return any(
+        KINEMATICS in s.provides and runner.applies(s, scene) is None
+        for s in runner.stages.values()
+    )
 
 
 def applies(scene, services) -> str | None:
@@ -86,15 +89,22 @@ def _refined(travel_at, angle_deg, values, order: int, kind: str) -> float:
         return float((4 * derivative(a, h) - derivative(a, 2 * h)) / 3)
 
     step = angle_deg[1] - angle_deg[0]
-    res = minimize_bounded(lambda a: -sign * f(a), angle_deg[i] - step, angle_deg[i] + step, xatol=1e-9)
+    res = minimize_bounded(
+        lambda a: -sign * f(a), angle_deg[i] - step, angle_deg[i] + step, xatol=1e-9
+    )
     return float(res.x) if -res.fun >= sign * f(angle_deg[i]) else float(angle_deg[i])
 
 
 def characteristic_angles(angle_deg, s, v, j, travel_at=None) -> dict[str, float]:
     """Crank angles (deg, in [0, 360)) of TDC, BDC and the velocity and acceleration extremes."""
-    found = {"tdc": _refined(travel_at, angle_deg, s, 0, "min"), "bdc": _refined(travel_at, angle_deg, s, 0, "max"),
-             "v_max": _refined(travel_at, angle_deg, v, 1, "max"), "v_min": _refined(travel_at, angle_deg, v, 1, "min"),
-             "j_max": _refined(travel_at, angle_deg, j, 2, "max"), "j_min": _refined(travel_at, angle_deg, j, 2, "min")}
+    found = {
+        "tdc": _refined(travel_at, angle_deg, s, 0, "min"),
+        "bdc": _refined(travel_at, angle_deg, s, 0, "max"),
+        "v_max": _refined(travel_at, angle_deg, v, 1, "max"),
+        "v_min": _refined(travel_at, angle_deg, v, 1, "min"),
+        "j_max": _refined(travel_at, angle_deg, j, 2, "max"),
+        "j_min": _refined(travel_at, angle_deg, j, 2, "min"),
+    }
     wrapped = {k: float(a % 360.0) for k, a in found.items()}
     return {k: 0.0 if min(a, 360.0 - a) < 1e-6 else a for k, a in wrapped.items()}
 
@@ -104,7 +114,9 @@ def _period_deg(angle_deg, s) -> float:
     step = angle_deg[1] - angle_deg[0]
     span = step * len(angle_deg)
     shift = int(round(360.0 / step))
-    if span > 360.0 + 1e-9 and np.allclose(s[:len(s) - shift], s[shift:], rtol=0, atol=1e-9 * np.ptp(s)):
+    if span > 360.0 + 1e-9 and np.allclose(
+        s[: len(s) - shift], s[shift:], rtol=0, atol=1e-9 * np.ptp(s)
+    ):
         return 360.0
     return float(min(span, 360.0)) if span <= 360.0 + 1e-9 else float(span)
 
@@ -113,8 +125,13 @@ def _motion(scene, inputs):
     """(angle deg, s, v, j, travel_at) from the kinematics, or from the geometry's travel."""
     motion = inputs.get(KINEMATICS)
     if motion is not None:
-        return (motion.crank_angle_deg, motion.piston_displacement_m, motion.piston_velocity_m_s,
-                motion.piston_acceleration_m_s2, motion.displacement_at)
+        return (
+            motion.crank_angle_deg,
+            motion.piston_displacement_m,
+            motion.piston_velocity_m_s,
+            motion.piston_acceleration_m_s2,
+            motion.displacement_at,
+        )
     geometry = mechanism_geometry(scene, inputs)
     angle = scene.crank_angles_deg
     angle = angle[angle < 360.0]
@@ -144,8 +161,11 @@ def run(scene, inputs) -> StageOutput:
     angles = characteristic_angles(angle, s, v, j, travel_at)
     period = _period_deg(angle, s)
     step = angle[1] - angle[0]
-    every = max(1, int(round(period / FRAMES_PER_REVOLUTION / step))) if period <= 360.0 else \
-        max(1, int(round(period / (2 * FRAMES_PER_REVOLUTION) / step)))
+    every = (
+        max(1, int(round(period / FRAMES_PER_REVOLUTION / step)))
+        if period <= 360.0
+        else max(1, int(round(period / (2 * FRAMES_PER_REVOLUTION) / step)))
+    )
     frames_deg = np.arange(0.0, period - 1e-9, step * every)
     # the characteristic positions, then the scheme's
     scheme_angle = scheme_angle_deg(geometry_of(scene, np.zeros(1)))
@@ -154,9 +174,15 @@ def run(scene, inputs) -> StageOutput:
     animation = geometry_of(scene, np.radians(frames_deg))
     grid = np.rint(np.interp(frames_deg, angle, np.arange(len(angle)))).astype(int)
     curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
-    results = {"crank_angles_deg": {k: angles[k] for k in POSITIONS}, "animation_frames": int(len(frames_deg)),
-               "animation_step_deg": float(step * every), "motion_period_deg": period,
-               "scheme_angle_deg": scheme_angle}
+    results = {
+        "crank_angles_deg": {k: angles[k] for k in POSITIONS},
+        "animation_frames": int(len(frames_deg)),
+        "animation_step_deg": float(step * every),
+        "motion_period_deg": period,
+        "scheme_angle_deg": scheme_angle,
+    }
     # No tables: the joint positions are drawing data (kept for render only), the angles are in results.
-    return StageOutput(results=results,
-                       artifacts={"positions": positions, "animation": animation, "curves": curves})
+    return StageOutput(
+        results=results,
+        artifacts={"positions": positions, "animation": animation, "curves": curves},
+    )

@@ -21,16 +21,34 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
 #: The two stages' one section, drawn from what their one ``run`` computed.
-_PRESENTATION = StagePresentation(title_key="drawing.title", render=render, template_dir=TEMPLATES,
-                                  references=("poda2007",),
-                                  figures=("scheme", "positions", "positions_*"))
+_PRESENTATION = StagePresentation(
+    title_key="drawing.title",
+    render=render,
+    template_dir=TEMPLATES,
+    references=("poda2007",),
+    figures=("scheme", "positions", "positions_*"),
+)
 
-DRAWING_STAGE = Stage(name="drawing", requires=(KINEMATICS,), provides=(), applies=applies,
-                      run=run, services=(SERVICE_RUNNER,), presentation=_PRESENTATION)
+DRAWING_STAGE = Stage(
+    name="drawing",
+    requires=(KINEMATICS,),
+    provides=(),
+    applies=applies,
+    run=run,
+    services=(SERVICE_RUNNER,),
+    presentation=_PRESENTATION,
+)
 # After the mechanism's own section (nothing orders it: it requires no data).
-LINKAGE_DRAWING_STAGE = Stage(name="drawing_linkage", requires=(), provides=(),
-                              applies=applies_linkage, run=run, services=(SERVICE_RUNNER,),
-                              last=True, presentation=_PRESENTATION)
+LINKAGE_DRAWING_STAGE = Stage(
+    name="drawing_linkage",
+    requires=(),
+    provides=(),
+    applies=applies_linkage,
+    run=run,
+    services=(SERVICE_RUNNER,),
+    last=True,
+    presentation=_PRESENTATION,
+)
 
 HERE = Path(__file__).resolve().parent
 
@@ -42,4 +60,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -15,7 +15,10 @@ from .compute import POSITIONS
 
 def _labels(geometry, ctx) -> dict[str, str]:
     mm = ctx.t("unit.mm")
-    return {k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}" for k, value in geometry.dimensions.items()}
+    return {
+        k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}"
+        for k, value in geometry.dimensions.items()
+    }
 
 
 def position_frames(angles: dict[str, float], caption) -> list[tuple[int, str]]:
@@ -42,7 +45,7 @@ def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]
 
 
 def _front_view_kind(positions) -> str:
-    """"row": the scheme shows one cylinder of an in-line row; "rows": one of each bank; "": all."""
+    """ "row": the scheme shows one cylinder of an in-line row; "rows": one of each bank; "": all."""
     shown = md.front_view(positions).guides
     if len(shown) == len(positions.guides):
         return ""
@@ -60,29 +63,57 @@ def render(output: StageOutput, ctx) -> str:
     positions, animation = output.artifacts["positions"], output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]
     order = " – ".join(positions.firing_order)
-    marks = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": t("drawing.mark_tdc"), "bdc": t("drawing.mark_bdc")}
-    fig, scale = md.scheme_figure(positions, len(POSITIONS), _labels(positions, ctx), t("drawing.crank_star"),
-                                 t("drawing.firing_order", order=order) if order else "", marks)
+    marks = {
+        "alpha": "α",
+        "beta": "β",
+        "omega": "ω",
+        "tdc": t("drawing.mark_tdc"),
+        "bdc": t("drawing.mark_bdc"),
+    }
+    fig, scale = md.scheme_figure(
+        positions,
+        len(POSITIONS),
+        _labels(positions, ctx),
+        t("drawing.crank_star"),
+        t("drawing.firing_order", order=order) if order else "",
+        marks,
+    )
     scale = scale_text(scale, t)
     scheme_angle = ctx.angle_text(output.results["scheme_angle_deg"])
-    figure_scheme = ctx.figure(fig, t("drawing.scheme_caption", scale=scale, angle=scheme_angle), "scheme",
-                               see="drawing.see_scheme")
+    figure_scheme = ctx.figure(
+        fig,
+        t("drawing.scheme_caption", scale=scale, angle=scheme_angle),
+        "scheme",
+        see="drawing.see_scheme",
+    )
     # none for a whole degree, the step's resolution otherwise: "0°", "75,4°", "180°", "284,6°"
-    frames = position_frames(angles, lambda k: t("drawing.position_" + k, angle=ctx.angle_text(angles[k])))
+    frames = position_frames(
+        angles, lambda k: t("drawing.position_" + k, angle=ctx.angle_text(angles[k]))
+    )
     figure_positions = _positions_figures(ctx, positions, frames)
     svg, payload = md.animation_svg(animation)
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
     marked = md.angle_mark_parts(md.front_view(positions)) is not None  # the text names each mark
-    return ctx.render_template("sections/drawing.html.j2", figure_scheme=figure_scheme, scale=scale,
-                               scheme_angle=scheme_angle, marks=marked, stroke="S" in positions.dimensions,
-                               front_view=_front_view_kind(positions),
-                               master_rod=bool(md.master_rod_bodies(positions, 0)),
-                               counterweight=bool(md.counterweights(positions, 0)),
-                               figure_positions=figure_positions, svg=Markup(svg), plot=Markup(plot),
-                               payload=Markup(payload.replace("</", "<\\/")),
-                               step=output.results["animation_step_deg"], angles=angles, positions=POSITIONS)
+    return ctx.render_template(
+        "sections/drawing.html.j2",
+        figure_scheme=figure_scheme,
+        scale=scale,
+        scheme_angle=scheme_angle,
+        marks=marked,
+        stroke="S" in positions.dimensions,
+        front_view=_front_view_kind(positions),
+        master_rod=bool(md.master_rod_bodies(positions, 0)),
+        counterweight=bool(md.counterweights(positions, 0)),
+        figure_positions=figure_positions,
+        svg=Markup(svg),
+        plot=Markup(plot),
+        payload=Markup(payload.replace("</", "<\\/")),
+        step=output.results["animation_step_deg"],
+        angles=angles,
+        positions=POSITIONS,
+    )
 
 
 def _positions_figures(ctx, positions, frames) -> Markup:
@@ -90,10 +121,21 @@ def _positions_figures(ctx, positions, frames) -> Markup:
     the second and later ones captioned as the continuation."""
     t = ctx.t
     sheets = md.positions_sheets(positions, frames)
-    parts = [ctx.figure(partial(md.positions_figure, positions, sheets[0]), t("drawing.positions_caption"),
-                        "positions", see="drawing.see_positions")]
+    parts = [
+        ctx.figure(
+            partial(md.positions_figure, positions, sheets[0]),
+            t("drawing.positions_caption"),
+            "positions",
+            see="drawing.see_positions",
+        )
+    ]
     for k, sheet in enumerate(sheets[1:], start=2):
-        parts.append(ctx.figure(partial(md.positions_figure, positions, sheet),
-                                t("drawing.positions_caption_continued"), f"positions_{k}",
-                                see="drawing.see_positions_continued"))
+        parts.append(
+            ctx.figure(
+                partial(md.positions_figure, positions, sheet),
+                t("drawing.positions_caption_continued"),
+                f"positions_{k}",
+                see="drawing.see_positions_continued",
+            )
+        )
     return Markup("\n").join(parts)

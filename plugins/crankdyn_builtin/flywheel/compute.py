@@ -38,8 +38,13 @@ def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
     try:
         rim = fw.rim_design(rim_inertia, opts.rim_mean_diameter, opts.rim_density, opts.rim_width)
     except ValueError as exc:
-        raise SceneError(Problem("flywheel.rim_mean_diameter", f"{opts.rim_mean_diameter * 1e3:g} mm",
-                                 f"too small for the flywheel: {exc}; choose a larger mean diameter")) from None
+        raise SceneError(
+            Problem(
+                "flywheel.rim_mean_diameter",
+                f"{opts.rim_mean_diameter * 1e3:g} mm",
+                f"too small for the flywheel: {exc}; choose a larger mean diameter",
+            )
+        ) from None
     speed = omega_rad_s * rim.outer_diameter_m / 2
     return {
         "inertia_kg_m2": rim.inertia_kg_m2,
@@ -72,19 +77,29 @@ def run(scene, inputs) -> StageOutput:
 
     required_total = required_flywheel = None
     if opts.required_irregularity is not None:
-        required_total = fw.required_inertia_kg_m2(excess.excess_work_J, opts.required_irregularity, omega)
+        required_total = fw.required_inertia_kg_m2(
+            excess.excess_work_J, opts.required_irregularity, omega
+        )
         required_flywheel = max(required_total - own, 0.0)
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
     if irregularity > MAX_ENERGY_METHOD_IRREGULARITY:
-        needed = max(fw.required_inertia_kg_m2(excess.excess_work_J, SUGGESTED_IRREGULARITY, omega) - own, 0.0)
-        raise SceneError(Problem("flywheel.inertia", f"{flywheel:.4g} kg*m^2",
-                                 f"too small: with the engine's own {own:.4g} kg*m^2 the speed would swing by "
-                                 f"delta = {irregularity:.3g} of its mean every cycle (the crankshaft nearly stops), "
-                                 f"where neither the energy method nor the torque diagram computed at constant speed "
-                                 f"holds; a flywheel of at least {needed:.3g} kg*m^2 gives delta = "
-                                 f"{SUGGESTED_IRREGULARITY:g}"))
+        needed = max(
+            fw.required_inertia_kg_m2(excess.excess_work_J, SUGGESTED_IRREGULARITY, omega) - own,
+            0.0,
+        )
+        raise SceneError(
+            Problem(
+                "flywheel.inertia",
+                f"{flywheel:.4g} kg*m^2",
+                f"too small: with the engine's own {own:.4g} kg*m^2 the speed would swing by "
+                f"delta = {irregularity:.3g} of its mean every cycle (the crankshaft nearly stops), "
+                f"where neither the energy method nor the torque diagram computed at constant speed "
+                f"holds; a flywheel of at least {needed:.3g} kg*m^2 gives delta = "
+                f"{SUGGESTED_IRREGULARITY:g}",
+            )
+        )
 
     results: dict = {
         "angular_velocity_rad_s": omega,
@@ -92,8 +107,10 @@ def run(scene, inputs) -> StageOutput:
         "excess_work_J": excess.excess_work_J,
         "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]),
         "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]),
-        "excess_work_relative": excess.excess_work_J / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
-        if excess.mean_torque_Nm > 0 else None,
+        "excess_work_relative": excess.excess_work_J
+        / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
+        if excess.mean_torque_Nm > 0
+        else None,
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "own_inertia_kg_m2": own,
@@ -116,10 +133,20 @@ def run(scene, inputs) -> StageOutput:
     if opts.rim_mean_diameter is not None and flywheel > 0:
         results["rim"] = _rim(opts, flywheel, omega)
 
-    frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm,
-                          "excess_work_J": excess.cumulative_J}
-    design = FlywheelDesign(flywheel_inertia_kg_m2=flywheel, engine_inertia_kg_m2=opts.engine_inertia,
-                            mechanism_inertia_mean_kg_m2=mechanism, excess_work_J=excess.excess_work_J,
-                            irregularity=irregularity, required_irregularity=opts.required_irregularity,
-                            required_flywheel_inertia_kg_m2=required_flywheel)
-    return StageOutput(data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes)
+    frame = {
+        "crank_angle_deg": torque.crank_angle_deg,
+        "torque_Nm": torque.torque_Nm,
+        "excess_work_J": excess.cumulative_J,
+    }
+    design = FlywheelDesign(
+        flywheel_inertia_kg_m2=flywheel,
+        engine_inertia_kg_m2=opts.engine_inertia,
+        mechanism_inertia_mean_kg_m2=mechanism,
+        excess_work_J=excess.excess_work_J,
+        irregularity=irregularity,
+        required_irregularity=opts.required_irregularity,
+        required_flywheel_inertia_kg_m2=required_flywheel,
+    )
+    return StageOutput(
+        data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes
+    )

@@ -20,8 +20,12 @@ def work_figure(f, mean_torque_Nm, cycle_deg, t):
     axes[1].plot(angle, work, color="C2", label=t("flywheel.cumulative_work"))
     axes[1].plot([angle[i_max]], [work[i_max]], "o", color="C3")
     axes[1].plot([angle[i_min]], [work[i_min]], "o", color="C3")
-    axes[1].annotate("", xy=(angle[i_max], work[i_max]), xytext=(angle[i_max], work[i_min]),
-                     arrowprops={"arrowstyle": "<->", "color": "C3"})
+    axes[1].annotate(
+        "",
+        xy=(angle[i_max], work[i_max]),
+        xytext=(angle[i_max], work[i_min]),
+        arrowprops={"arrowstyle": "<->", "color": "C3"},
+    )
     axes[1].axhline(work[i_min], color="C3", lw=0.6, ls=":")
     axes[1].text(angle[i_max], 0.5 * (work[i_max] + work[i_min]), "  ΔL", color="C3", va="center")
     axes[1].set_ylabel(t("flywheel.axis_work"))

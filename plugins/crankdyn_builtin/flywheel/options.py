@@ -25,8 +25,10 @@ class FlywheelOptions(BaseModel):
     @model_validator(mode="after")
     def _something_to_do(self) -> FlywheelOptions:
         if self.required_irregularity is None and self.inertia is None:
-            raise ValueError("give required_irregularity (delta, e.g. 0.01, to design the flywheel) "
-                             "and/or inertia (a chosen flywheel, e.g. '0.12 kg*m^2')")
+            raise ValueError(
+                "give required_irregularity (delta, e.g. 0.01, to design the flywheel) "
+                "and/or inertia (a chosen flywheel, e.g. '0.12 kg*m^2')"
+            )
         if self.rim_width is not None and self.rim_mean_diameter is None:
             raise ValueError("rim_width needs rim_mean_diameter")
         return self

@@ -18,48 +18,128 @@ def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     r = output.results
     f = output.tables.arrays("flywheel")
-    figure_work = ctx.figure(partial(work_figure, f, r["mean_torque_Nm"], ctx.cycle_deg, t),
-                             t("flywheel.work_caption"), "excess_work", see="flywheel.see_work")
+    figure_work = ctx.figure(
+        partial(work_figure, f, r["mean_torque_Nm"], ctx.cycle_deg, t),
+        t("flywheel.work_caption"),
+        "excess_work",
+        see="flywheel.see_work",
+    )
 
-    rows = [(t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
-            (t("flywheel.row_mechanism"), "<i>J</i><sub>m</sub>", r["mechanism_inertia_mean_kg_m2"],
-             t("flywheel.unit_kg_m2")),
-            (t("flywheel.row_engine"), "<i>J</i><sub>e</sub>", r["engine_inertia_kg_m2"], t("flywheel.unit_kg_m2"))]
+    rows = [
+        (t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
+        (
+            t("flywheel.row_mechanism"),
+            "<i>J</i><sub>m</sub>",
+            r["mechanism_inertia_mean_kg_m2"],
+            t("flywheel.unit_kg_m2"),
+        ),
+        (
+            t("flywheel.row_engine"),
+            "<i>J</i><sub>e</sub>",
+            r["engine_inertia_kg_m2"],
+            t("flywheel.unit_kg_m2"),
+        ),
+    ]
     if r["required_irregularity"] is not None:
         # a given value, as the task's data table prints it (0,01, not 0,01000)
-        rows += [(t("flywheel.row_required_delta"), "[<i>δ</i>]", t.number_g(r["required_irregularity"], 6), "—"),
-                 (t("flywheel.row_required_total"), "<i>J</i><sub>0</sub>", r["required_total_inertia_kg_m2"],
-                  t("flywheel.unit_kg_m2")),
-                 (t("flywheel.row_required_flywheel"), "<i>J</i><sub>f</sub>", r["required_flywheel_inertia_kg_m2"],
-                  t("flywheel.unit_kg_m2"))]
+        rows += [
+            (
+                t("flywheel.row_required_delta"),
+                "[<i>δ</i>]",
+                t.number_g(r["required_irregularity"], 6),
+                "—",
+            ),
+            (
+                t("flywheel.row_required_total"),
+                "<i>J</i><sub>0</sub>",
+                r["required_total_inertia_kg_m2"],
+                t("flywheel.unit_kg_m2"),
+            ),
+            (
+                t("flywheel.row_required_flywheel"),
+                "<i>J</i><sub>f</sub>",
+                r["required_flywheel_inertia_kg_m2"],
+                t("flywheel.unit_kg_m2"),
+            ),
+        ]
     if r["flywheel_given"]:
-        rows.append((t("flywheel.row_given_flywheel"), "<i>J</i><sub>f</sub>", r["flywheel_inertia_kg_m2"],
-                     t("flywheel.unit_kg_m2")))
+        rows.append(
+            (
+                t("flywheel.row_given_flywheel"),
+                "<i>J</i><sub>f</sub>",
+                r["flywheel_inertia_kg_m2"],
+                t("flywheel.unit_kg_m2"),
+            )
+        )
     if irregularity_is_a_result(r):
         rows.append((t("flywheel.row_delta"), "<i>δ</i>", r["irregularity"], "—"))
     rim = r["rim"]
     if rim is not None:
-        rows += [(t("flywheel.row_rim_mean_diameter"), "<i>D</i><sub>m</sub>", rim["mean_diameter_m"] * 1e3,
-                  t("unit.mm")),
-                 (t("flywheel.row_rim_thin_mass"), "<i>m</i><sub>rim</sub> = 4<i>J</i><sub>rim</sub>/<i>D</i><sub>m</sub><sup>2</sup>",
-                  rim["thin_rim_mass_kg"], t("unit.kg")),
-                 (t("flywheel.row_rim_thickness"), "<i>h</i>", rim["thickness_m"] * 1e3, t("unit.mm")),
-                 (t("flywheel.row_rim_width"), "<i>b</i>", rim["width_m"] * 1e3, t("unit.mm")),
-                 (t("flywheel.row_rim_outer"), "<i>D</i><sub>o</sub>", rim["outer_diameter_m"] * 1e3, t("unit.mm")),
-                 (t("flywheel.row_rim_mass"), "<i>m</i>", rim["mass_kg"], t("unit.kg")),
-                 (t("flywheel.row_rim_speed"), "<i>v</i><sub>o</sub>", rim["speed_m_s"], t("unit.m_s")),
-                 (t("flywheel.row_rim_stress"), "<i>σ</i> = <i>ρ</i><sub>mat</sub> <i>v</i><sub>o</sub><sup>2</sup>", rim["hoop_stress_Pa"] / 1e6,
-                  t("unit.MPa"))]
-    table = ctx.table([(t("input.quantity"), [x[0] for x in rows], None),
-                       (t("input.symbol"), [Markup(x[1]) for x in rows], None),
-                       (t("input.value"), [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows], None),
-                       (t("input.unit"), [x[3] for x in rows], None)],
-                      caption=t("flywheel.table_caption"), see="flywheel.see_table") + worked_flywheel(ctx, r)
-    ctx.find(t("flywheel.finding", flywheel=ctx.num(r["flywheel_inertia_kg_m2"]), delta=ctx.num(r["irregularity"], 3)))
-    ctx.conclude(t("flywheel.conclusion", excess=ctx.num(r["excess_work_J"]), flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
-                   delta=ctx.num(r["irregularity"], 3), own=ctx.num(r["own_inertia_kg_m2"]),
-                   mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]), shaft=ctx.num(r["engine_inertia_kg_m2"])))
-    return ctx.render_template("sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table)
+        rows += [
+            (
+                t("flywheel.row_rim_mean_diameter"),
+                "<i>D</i><sub>m</sub>",
+                rim["mean_diameter_m"] * 1e3,
+                t("unit.mm"),
+            ),
+            (
+                t("flywheel.row_rim_thin_mass"),
+                "<i>m</i><sub>rim</sub> = 4<i>J</i><sub>rim</sub>/<i>D</i><sub>m</sub><sup>2</sup>",
+                rim["thin_rim_mass_kg"],
+                t("unit.kg"),
+            ),
+            (t("flywheel.row_rim_thickness"), "<i>h</i>", rim["thickness_m"] * 1e3, t("unit.mm")),
+            (t("flywheel.row_rim_width"), "<i>b</i>", rim["width_m"] * 1e3, t("unit.mm")),
+            (
+                t("flywheel.row_rim_outer"),
+                "<i>D</i><sub>o</sub>",
+                rim["outer_diameter_m"] * 1e3,
+                t("unit.mm"),
+            ),
+            (t("flywheel.row_rim_mass"), "<i>m</i>", rim["mass_kg"], t("unit.kg")),
+            (t("flywheel.row_rim_speed"), "<i>v</i><sub>o</sub>", rim["speed_m_s"], t("unit.m_s")),
+            (
+                t("flywheel.row_rim_stress"),
+                "<i>σ</i> = <i>ρ</i><sub>mat</sub> <i>v</i><sub>o</sub><sup>2</sup>",
+                rim["hoop_stress_Pa"] / 1e6,
+                t("unit.MPa"),
+            ),
+        ]
+    table = ctx.table(
+        [
+            (t("input.quantity"), [x[0] for x in rows], None),
+            (t("input.symbol"), [Markup(x[1]) for x in rows], None),
+            (
+                t("input.value"),
+                [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows],
+                None,
+            ),
+            (t("input.unit"), [x[3] for x in rows], None),
+        ],
+        caption=t("flywheel.table_caption"),
+        see="flywheel.see_table",
+    ) + worked_flywheel(ctx, r)
+    ctx.find(
+        t(
+            "flywheel.finding",
+            flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
+            delta=ctx.num(r["irregularity"], 3),
+        )
+    )
+    ctx.conclude(
+        t(
+            "flywheel.conclusion",
+            excess=ctx.num(r["excess_work_J"]),
+            flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
+            delta=ctx.num(r["irregularity"], 3),
+            own=ctx.num(r["own_inertia_kg_m2"]),
+            mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),
+            shaft=ctx.num(r["engine_inertia_kg_m2"]),
+        )
+    )
+    return ctx.render_template(
+        "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+    )
 
 
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
@@ -69,17 +149,50 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     inertia = t("unit.kg_m2")
     rows = []
     if opts.required_irregularity is not None:
-        rows.append((t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 6), ""))
+        rows.append(
+            (t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 6), "")
+        )
     if opts.inertia is not None:
-        rows.append((t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia))
+        rows.append(
+            (t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia)
+        )
     if opts.engine_inertia:
-        rows.append((t("flywheel.input_engine_inertia"), "<i>J</i><sub>e</sub>", num(opts.engine_inertia, 4), inertia))
+        rows.append(
+            (
+                t("flywheel.input_engine_inertia"),
+                "<i>J</i><sub>e</sub>",
+                num(opts.engine_inertia, 4),
+                inertia,
+            )
+        )
     if opts.rim_mean_diameter is not None:
-        rows.append((t("flywheel.input_rim_diameter"), "<i>D</i><sub>m</sub>", num(opts.rim_mean_diameter * 1e3, 4),
-                     t("unit.mm")))
+        rows.append(
+            (
+                t("flywheel.input_rim_diameter"),
+                "<i>D</i><sub>m</sub>",
+                num(opts.rim_mean_diameter * 1e3, 4),
+                t("unit.mm"),
+            )
+        )
     if opts.rim_width is not None:
-        rows.append((t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm")))
-    rows.append((t("flywheel.input_rim_density"), "<i>ρ</i><sub>mat</sub>", num(opts.rim_density, 4), t("unit.kg_m3")))
+        rows.append(
+            (t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm"))
+        )
+    rows.append(
+        (
+            t("flywheel.input_rim_density"),
+            "<i>ρ</i><sub>mat</sub>",
+            num(opts.rim_density, 4),
+            t("unit.kg_m3"),
+        )
+    )
     if opts.max_rim_speed is not None:
-        rows.append((t("flywheel.input_rim_speed"), "[<i>v</i><sub>o</sub>]", num(opts.max_rim_speed, 4), t("unit.m_s")))
+        rows.append(
+            (
+                t("flywheel.input_rim_speed"),
+                "[<i>v</i><sub>o</sub>]",
+                num(opts.max_rim_speed, 4),
+                t("unit.m_s"),
+            )
+        )
     return rows

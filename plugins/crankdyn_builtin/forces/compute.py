@@ -92,7 +92,9 @@ def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
     if engine.cylinders != 1 or engine.effective_power is None:
         return {}
     omega = engine.angular_velocity_rad_s
-    return phys_crankshaft.effective_output(mean_torque_from_work_Nm * omega, engine.effective_power, omega)
+    return phys_crankshaft.effective_output(
+        mean_torque_from_work_Nm * omega, engine.effective_power, omega
+    )
 
 
 def run(scene, inputs) -> StageOutput:
@@ -108,7 +110,9 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     if not all(np.array_equal(given[KINEMATICS].crank_angle_deg, angle) for given in inputs):
         return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     curves = _curves_many(scenes, inputs)
-    parts = [_forces(scene, given, c) for scene, given, c in zip(scenes, inputs, curves, strict=False)]
+    parts = [
+        _forces(scene, given, c) for scene, given, c in zip(scenes, inputs, curves, strict=False)
+    ]
     extremes = _extremes_many(angle, [series for series, _ in parts])
     return [finish(found) for (_, finish), found in zip(parts, extremes, strict=False)]
 
@@ -117,14 +121,29 @@ def _masses(scene) -> tuple[float, float, float, float]:
     """(reciprocating, rotating, the rod's reciprocating, the rod's rotating) mass of ``scene``,
     kg."""
     engine, masses = scene.engine, scene.masses
-    rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(masses.rod, engine.rod_length_m, scene.rod_cm_from_big_end_m)
+    rod_reciprocating, rod_rotating = phys.rod_mass_split_kg(
+        masses.rod, engine.rod_length_m, scene.rod_cm_from_big_end_m
+    )
     reciprocating = masses.piston_group + rod_reciprocating
     rotating = rod_rotating + masses.crank_pin + 2.0 * masses.crank_web
     return reciprocating, rotating, rod_reciprocating, rod_rotating
 
 
-def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankcase_Pa, radius,
-            omega, ratio, area, reciprocating, rotating, rod_rotating) -> dict:
+def _curves(
+    alpha,
+    crank_from_axis,
+    beta,
+    pressure_Pa,
+    acceleration_m_s2,
+    crankcase_Pa,
+    radius,
+    omega,
+    ratio,
+    area,
+    reciprocating,
+    rotating,
+    rod_rotating,
+) -> dict:
     """The specific forces (Pa) over the crank angles ``alpha`` (rad): one mechanism's numbers as
     scalars and its curves as 1-D arrays, or many mechanisms' numbers as columns (points, 1) and
     their curves as rows (points x angles); ``rod`` holds the rod's components."""
@@ -134,20 +153,25 @@ def _curves(alpha, crank_from_axis, beta, pressure_Pa, acceleration_m_s2, crankc
     rod = phys.rod_force_components(total_Pa, crank_from_axis, beta)
     centrifugal_Pa = phys.centrifugal_pressure_Pa(rotating, radius, omega, area)
     return {
-        "gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "total_Pa": total_Pa, "rod": rod,
+        "gas_Pa": gas_Pa,
+        "inertia_Pa": inertia_Pa,
+        "total_Pa": total_Pa,
+        "rod": rod,
         "first_Pa": phys.inertia_pressure_first_order_Pa(reciprocating, alpha, radius, omega, area),
-        "second_Pa": phys.inertia_pressure_second_order_Pa(reciprocating, alpha, radius, ratio,
-                                                           omega, area),
+        "second_Pa": phys.inertia_pressure_second_order_Pa(
+            reciprocating, alpha, radius, ratio, omega, area
+        ),
         "centrifugal_Pa": centrifugal_Pa,
         "centrifugal_rod_Pa": phys.centrifugal_pressure_Pa(rod_rotating, radius, omega, area),
-        "resultant_Pa": phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa,
-                                                             centrifugal_Pa),
+        "resultant_Pa": phys.resultant_crank_pin_pressure_Pa(
+            rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa
+        ),
         "torque_Nm": phys.crank_torque_Nm(rod.tangential_Pa, radius, area),
         # the inertia force's own torque: its cycle integral is the inertia work, zero for a
         # consistent kinematic model (a check of the kinematics the report prints)
         "inertia_torque_Nm": phys.crank_torque_Nm(
-            phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa, radius,
-            area),
+            phys.rod_force_components(inertia_Pa, crank_from_axis, beta).tangential_Pa, radius, area
+        ),
     }
 
 
@@ -170,15 +194,19 @@ def _curves_many(scenes, inputs) -> list[dict]:
         return np.asarray(values, dtype=float)[:, None]
 
     masses = [_masses(scene) for scene in scenes]
-    many = _curves(alpha, np.stack([a for a, _ in angles]), np.stack([b for _, b in angles]),
-                   np.stack([given[GAS_PRESSURE].pressure_Pa for given in inputs]),
-                   np.stack([m.piston_acceleration_m_s2 for m in motions]),
-                   column([s.engine.crankcase_pressure for s in scenes]),
-                   column([m.crank_radius_m for m in motions]),
-                   column([m.angular_velocity_rad_s for m in motions]),
-                   column([s.engine.rod_ratio_value for s in scenes]),
-                   column([phys.piston_area_m2(s.engine.bore) for s in scenes]),
-                   *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses], strict=False)))
+    many = _curves(
+        alpha,
+        np.stack([a for a, _ in angles]),
+        np.stack([b for _, b in angles]),
+        np.stack([given[GAS_PRESSURE].pressure_Pa for given in inputs]),
+        np.stack([m.piston_acceleration_m_s2 for m in motions]),
+        column([s.engine.crankcase_pressure for s in scenes]),
+        column([m.crank_radius_m for m in motions]),
+        column([m.angular_velocity_rad_s for m in motions]),
+        column([s.engine.rod_ratio_value for s in scenes]),
+        column([phys.piston_area_m2(s.engine.bore) for s in scenes]),
+        *(column(values) for values in zip(*[m[:2] + m[3:] for m in masses], strict=False)),
+    )
     out = []
     for k in range(len(scenes)):
         curves = {key: value[k] for key, value in many.items() if key != "rod"}
@@ -202,9 +230,21 @@ def _forces(scene, inputs, curves: dict | None = None):
     reciprocating, rotating, rod_reciprocating, rod_rotating = _masses(scene)
     if curves is None:
         crank_from_axis, beta = _beta(motion, alpha)
-        curves = _curves(alpha, crank_from_axis, beta, gas.pressure_Pa,
-                         motion.piston_acceleration_m_s2, engine.crankcase_pressure, radius, omega,
-                         ratio, area, reciprocating, rotating, rod_rotating)
+        curves = _curves(
+            alpha,
+            crank_from_axis,
+            beta,
+            gas.pressure_Pa,
+            motion.piston_acceleration_m_s2,
+            engine.crankcase_pressure,
+            radius,
+            omega,
+            ratio,
+            area,
+            reciprocating,
+            rotating,
+            rod_rotating,
+        )
     gas_Pa, inertia_Pa, total_Pa = curves["gas_Pa"], curves["inertia_Pa"], curves["total_Pa"]
     first_Pa, second_Pa, rod = curves["first_Pa"], curves["second_Pa"], curves["rod"]
     centrifugal_Pa, centrifugal_rod_Pa = curves["centrifugal_Pa"], curves["centrifugal_rod_Pa"]
@@ -213,7 +253,9 @@ def _forces(scene, inputs, curves: dict | None = None):
     exact = _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa)
     if exact is not None:
         rod = exact["rod"]
-        resultant_Pa = phys.resultant_crank_pin_pressure_Pa(rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa)
+        resultant_Pa = phys.resultant_crank_pin_pressure_Pa(
+            rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa
+        )
         torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
     revolutions_per_cycle = engine.strokes / 2
     mean_torque = float(np.mean(torque))
@@ -229,50 +271,83 @@ def _forces(scene, inputs, curves: dict | None = None):
         "centrifugal_Pa": centrifugal_Pa,
         "centrifugal_rod_Pa": centrifugal_rod_Pa,
         "centrifugal_N": centrifugal_Pa * area,
-        "inertia_tdc_Pa": float(phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)),
+        "inertia_tdc_Pa": float(
+            phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)
+        ),
         "inertia_higher_orders_max_Pa": _higher_orders_max_Pa(inertia_Pa, first_Pa, second_Pa),
         "mean_torque_Nm": mean_torque,
         "mean_torque_from_work_Nm": mean_from_work,
         "mean_torque_deviation_percent": 100.0 * (mean_torque - mean_from_work) / mean_from_work
-        if mean_from_work != 0 else None,
+        if mean_from_work != 0
+        else None,
         "inertia_work_J": float(np.mean(inertia_torque) * cycle_rad),
         "inertia_work_relative": float(np.mean(inertia_torque) / np.max(np.abs(inertia_torque)))
-        if np.max(np.abs(inertia_torque)) > 0 else 0.0,
+        if np.max(np.abs(inertia_torque)) > 0
+        else 0.0,
     }
     results.update(_effective(engine, mean_from_work))
     series = (
-        ("total", "Pa", total_Pa), ("side", "Pa", rod.side_Pa), ("rod", "Pa", rod.rod_Pa),
-        ("tangential", "Pa", rod.tangential_Pa), ("radial", "Pa", rod.radial_Pa),
-        ("resultant", "Pa", resultant_Pa), ("torque", "Nm", torque))
+        ("total", "Pa", total_Pa),
+        ("side", "Pa", rod.side_Pa),
+        ("rod", "Pa", rod.rod_Pa),
+        ("tangential", "Pa", rod.tangential_Pa),
+        ("radial", "Pa", rod.radial_Pa),
+        ("resultant", "Pa", resultant_Pa),
+        ("torque", "Nm", torque),
+    )
 
     def finish(extremes: dict) -> StageOutput:
         results.update(extremes)
-        pressures = {"gas_Pa": gas_Pa, "inertia_Pa": inertia_Pa, "inertia_first_order_Pa": first_Pa,
-                     "inertia_second_order_Pa": second_Pa, "total_Pa": total_Pa}
+        pressures = {
+            "gas_Pa": gas_Pa,
+            "inertia_Pa": inertia_Pa,
+            "inertia_first_order_Pa": first_Pa,
+            "inertia_second_order_Pa": second_Pa,
+            "total_Pa": total_Pa,
+        }
         frame = _forces_table(motion, pressures, rod, resultant_Pa, torque)
         notes = []
         if exact is not None:
             results["rod_model"] = "exact"
             results["exact_rod"] = exact["results"]
             frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
-            notes.append(("forces.note_exact_rod",
-                          {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS}))
-        data = CrankForces(crank_angle_deg=motion.crank_angle_deg, gas_Pa=gas_Pa,
-                           inertia_Pa=inertia_Pa, total_Pa=total_Pa,
-                           tangential_Pa=rod.tangential_Pa, radial_Pa=rod.radial_Pa,
-                           centrifugal_Pa=centrifugal_Pa, piston_area_m2=area, torque_Nm=torque,
-                           side_Pa=rod.side_Pa, rod_Pa=rod.rod_Pa)
-        notes = [("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
-                 ("forces.note_inertia_work",
-                  {"relative": abs(results["inertia_work_relative"])})] + notes
-        return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame},
-                           notes=notes)
+            notes.append(
+                (
+                    "forces.note_exact_rod",
+                    {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS},
+                )
+            )
+        data = CrankForces(
+            crank_angle_deg=motion.crank_angle_deg,
+            gas_Pa=gas_Pa,
+            inertia_Pa=inertia_Pa,
+            total_Pa=total_Pa,
+            tangential_Pa=rod.tangential_Pa,
+            radial_Pa=rod.radial_Pa,
+            centrifugal_Pa=centrifugal_Pa,
+            piston_area_m2=area,
+            torque_Nm=torque,
+            side_Pa=rod.side_Pa,
+            rod_Pa=rod.rod_Pa,
+        )
+        notes = [
+            ("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
+            ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])}),
+        ] + notes
+        return StageOutput(
+            data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes
+        )
 
     return series, finish
 
 
-_NOTE_KEYS = ("crank_pin_difference_max_N", "crank_pin_two_mass_max_N", "side_exact_max_N", "side_two_mass_max_N",
-              "wrist_pin_difference_max_N")
+_NOTE_KEYS = (
+    "crank_pin_difference_max_N",
+    "crank_pin_two_mass_max_N",
+    "side_exact_max_N",
+    "side_two_mass_max_N",
+    "wrist_pin_difference_max_N",
+)
 
 
 def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> dict | None:
@@ -286,38 +361,72 @@ def _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa) -> di
         return None
     e, m = scene.engine, scene.masses
     if m.rod_moment_of_inertia is None:
-        raise SceneError(Problem("rod_dynamics.apply_to_loads", True, "needs masses.rod_moment_of_inertia (I_G)"))
+        raise SceneError(
+            Problem("rod_dynamics.apply_to_loads", True, "needs masses.rod_moment_of_inertia (I_G)")
+        )
     if e.mechanism != "crank_slider" or e.rod_type == "articulated":
-        raise SceneError(Problem("rod_dynamics.apply_to_loads", True, "is built for the central crank-slider "
-                                 "with central or fork rods"))
+        raise SceneError(
+            Problem(
+                "rod_dynamics.apply_to_loads",
+                True,
+                "is built for the central crank-slider with central or fork rods",
+            )
+        )
     alpha, omega = motion.crank_angle_rad, motion.angular_velocity_rad_s
     accel = kin.rod_angular_acceleration_rad_s2(alpha, e.rod_ratio_value, omega)
-    loads = rod_loads.exact_rod_loads_N(alpha, motion.crank_radius_m, e.rod_length_m, scene.rod_cm_from_big_end_m,
-                                        m.rod, m.rod_moment_of_inertia, m.piston_group, omega, gas_Pa * area,
-                                        motion.rod_angle_rad, accel, motion.piston_acceleration_m_s2)
+    loads = rod_loads.exact_rod_loads_N(
+        alpha,
+        motion.crank_radius_m,
+        e.rod_length_m,
+        scene.rod_cm_from_big_end_m,
+        m.rod,
+        m.rod_moment_of_inertia,
+        m.piston_group,
+        omega,
+        gas_Pa * area,
+        motion.rod_angle_rad,
+        accel,
+        motion.piston_acceleration_m_s2,
+    )
     c_rod = centrifugal_rod_Pa * area
     pin_two = np.hypot(rod.tangential_Pa * area, (rod.radial_Pa + centrifugal_rod_Pa) * area)
     pin_exact = np.hypot(loads.crank_pin_tangential_N, loads.crank_pin_radial_N)
-    pin_diff = np.hypot(loads.crank_pin_tangential_N - rod.tangential_Pa * area,
-                        loads.crank_pin_radial_N - (rod.radial_Pa * area + c_rod))
+    pin_diff = np.hypot(
+        loads.crank_pin_tangential_N - rod.tangential_Pa * area,
+        loads.crank_pin_radial_N - (rod.radial_Pa * area + c_rod),
+    )
     side_two = rod.side_Pa * area
     # two-mass wrist pin: the piston's axial force (same in both models) and the side force p1 tan b
     wrist_diff = np.abs(loads.wrist_pin_lateral_N - side_two)
-    exact_rod = phys.RodForces(side_Pa=loads.side_N / area, rod_Pa=loads.rod_axial_N / area,
-                               tangential_Pa=loads.crank_pin_tangential_N / area,
-                               radial_Pa=loads.crank_pin_radial_N / area - centrifugal_rod_Pa)
+    exact_rod = phys.RodForces(
+        side_Pa=loads.side_N / area,
+        rod_Pa=loads.rod_axial_N / area,
+        tangential_Pa=loads.crank_pin_tangential_N / area,
+        radial_Pa=loads.crank_pin_radial_N / area - centrifugal_rod_Pa,
+    )
     results = {
-        "crank_pin_exact_max_N": float(np.max(pin_exact)), "crank_pin_two_mass_max_N": float(np.max(pin_two)),
+        "crank_pin_exact_max_N": float(np.max(pin_exact)),
+        "crank_pin_two_mass_max_N": float(np.max(pin_two)),
         "crank_pin_difference_max_N": float(np.max(pin_diff)),
-        "crank_pin_difference_max_crank_angle_deg": float(motion.crank_angle_deg[first_argmax(pin_diff)]),
-        "side_exact_max_N": float(np.max(np.abs(loads.side_N))), "side_two_mass_max_N": float(np.max(np.abs(side_two))),
+        "crank_pin_difference_max_crank_angle_deg": float(
+            motion.crank_angle_deg[first_argmax(pin_diff)]
+        ),
+        "side_exact_max_N": float(np.max(np.abs(loads.side_N))),
+        "side_two_mass_max_N": float(np.max(np.abs(side_two))),
         "wrist_pin_difference_max_N": float(np.max(wrist_diff)),
-        "torque_difference_max_Nm": float(np.max(np.abs(loads.crank_pin_tangential_N - rod.tangential_Pa * area))
-                                          * motion.crank_radius_m),
+        "torque_difference_max_Nm": float(
+            np.max(np.abs(loads.crank_pin_tangential_N - rod.tangential_Pa * area))
+            * motion.crank_radius_m
+        ),
     }
-    columns = {"crank_pin_tangential_N": loads.crank_pin_tangential_N, "crank_pin_radial_N": loads.crank_pin_radial_N,
-               "crank_pin_tangential_two_mass_N": rod.tangential_Pa * area,
-               "crank_pin_radial_two_mass_N": rod.radial_Pa * area + c_rod,
-               "wrist_pin_axial_N": loads.wrist_pin_axial_N, "wrist_pin_lateral_N": loads.wrist_pin_lateral_N,
-               "side_N": loads.side_N, "side_two_mass_N": side_two}
+    columns = {
+        "crank_pin_tangential_N": loads.crank_pin_tangential_N,
+        "crank_pin_radial_N": loads.crank_pin_radial_N,
+        "crank_pin_tangential_two_mass_N": rod.tangential_Pa * area,
+        "crank_pin_radial_two_mass_N": rod.radial_Pa * area + c_rod,
+        "wrist_pin_axial_N": loads.wrist_pin_axial_N,
+        "wrist_pin_lateral_N": loads.wrist_pin_lateral_N,
+        "side_N": loads.side_N,
+        "side_two_mass_N": side_two,
+    }
     return {"rod": exact_rod, "results": results, "columns": columns}

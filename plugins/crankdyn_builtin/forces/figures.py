@@ -9,10 +9,15 @@ from crankdyn.report.typeset import symbol_mathtext
 def _forces_figure(t, cycle_deg, angle, mpa):
     """The specific gas, inertia and total forces, n and k, z and t over the cycle (MPa)."""
     fig, axes = new_figure(16, 13.5, nrows=3, sharex=True)
-    panels = ([("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
-               ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
-               ("total_Pa", symbol_mathtext("total_pressure", t.language))],
-              [("side_Pa", "$n$"), ("rod_Pa", "$k$")], [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")])
+    panels = (
+        [
+            ("gas_Pa", symbol_mathtext("gas_pressure", t.language)),  # p_г in uk/ru, as in the text
+            ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
+            ("total_Pa", symbol_mathtext("total_pressure", t.language)),
+        ],
+        [("side_Pa", "$n$"), ("rod_Pa", "$k$")],
+        [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")],
+    )
     for ax, curves in zip(axes, panels, strict=True):
         # solid, dashed, dash-dotted: the curves stay apart in a black-and-white print too
         for (key, label), style in zip(curves, ("-", "--", "-."), strict=False):

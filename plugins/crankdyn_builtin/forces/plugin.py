@@ -31,13 +31,42 @@ FORCES_STAGE = Stage(
     tables=("forces",),
     plausibility=(mechanical_efficiency("mechanical_efficiency"),),
     answer_columns=(
-        AnswerColumn("p_j_tdc_MPa", "inertia_tdc_Pa", "MPa", factor=1e-06, label_key="forces.answer.p_j_tdc_MPa"),
-        AnswerColumn("c_MPa", "centrifugal_Pa", "MPa", factor=1e-06, label_key="forces.answer.c_MPa"),
-        AnswerColumn("t_max_MPa", "tangential_max_Pa", "MPa", factor=1e-06, label_key="forces.answer.t_max_MPa"),
-        AnswerColumn("z_min_MPa", "radial_min_Pa", "MPa", factor=1e-06, label_key="forces.answer.z_min_MPa"),
-        AnswerColumn("q_max_MPa", "resultant_max_Pa", "MPa", factor=1e-06, label_key="forces.answer.q_max_MPa"),
-        AnswerColumn("M_cylinder_mean_Nm", "mean_torque_Nm", "N·m", label_key="forces.answer.M_cylinder_mean_Nm"),
-        AnswerColumn("M_cylinder_max_Nm", "torque_max_Nm", "N·m", label_key="forces.answer.M_cylinder_max_Nm"),
+        AnswerColumn(
+            "p_j_tdc_MPa",
+            "inertia_tdc_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="forces.answer.p_j_tdc_MPa",
+        ),
+        AnswerColumn(
+            "c_MPa", "centrifugal_Pa", "MPa", factor=1e-06, label_key="forces.answer.c_MPa"
+        ),
+        AnswerColumn(
+            "t_max_MPa",
+            "tangential_max_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="forces.answer.t_max_MPa",
+        ),
+        AnswerColumn(
+            "z_min_MPa", "radial_min_Pa", "MPa", factor=1e-06, label_key="forces.answer.z_min_MPa"
+        ),
+        AnswerColumn(
+            "q_max_MPa",
+            "resultant_max_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="forces.answer.q_max_MPa",
+        ),
+        AnswerColumn(
+            "M_cylinder_mean_Nm",
+            "mean_torque_Nm",
+            "N·m",
+            label_key="forces.answer.M_cylinder_mean_Nm",
+        ),
+        AnswerColumn(
+            "M_cylinder_max_Nm", "torque_max_Nm", "N·m", label_key="forces.answer.M_cylinder_max_Nm"
+        ),
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
@@ -61,4 +90,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

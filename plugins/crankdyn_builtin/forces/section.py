@@ -41,61 +41,126 @@ def render(output: StageOutput, ctx) -> str:
     whose = _whose_torque(ctx.scene)
     grid_rows, grid_labels = sample_rows(angle, ctx.table_step_deg)
     # every extreme the conclusions name gets its row, even one a hair above a table row's value
-    t_extremes = [(f["tangential_Pa"], "max", t("forces.extreme_t_max")),
-                  (f["tangential_Pa"], "min", t("forces.extreme_t_min"))]
-    rows, labels, extremes = add_extreme_rows(angle, grid_rows, grid_labels, [
-        (f["gas_Pa"], "max", t("forces.extreme_gas_max")),
-        (np.abs(f["side_Pa"]), "max", t("forces.extreme_n_max")), *t_extremes], resolution=0.0)
-    table_b1 = ctx.table([
-        ("<i>α</i>, °", ctx.angle_labels(labels), None),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"][rows] * 1e3, 2),  # mm, as table 2.1
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
-        ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
-        ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
-        ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
-        ("<i>p</i><sub>jII</sub>", mpa["inertia_second_order_Pa"][rows], 3),
-        ("<i>p</i><sub>1</sub>", mpa["total_Pa"][rows], 3),
-        ("<i>n</i>", mpa["side_Pa"][rows], 3),
-        ("<i>k</i>", mpa["rod_Pa"][rows], 3),
-        ("<i>z</i>", mpa["radial_Pa"][rows], 3),
-        ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
-    ], caption=t("forces.table_b1_caption"), css_class="data wide", extremes=extremes,
-        see="forces.see_table_b1")
+    t_extremes = [
+        (f["tangential_Pa"], "max", t("forces.extreme_t_max")),
+        (f["tangential_Pa"], "min", t("forces.extreme_t_min")),
+    ]
+    rows, labels, extremes = add_extreme_rows(
+        angle,
+        grid_rows,
+        grid_labels,
+        [
+            (f["gas_Pa"], "max", t("forces.extreme_gas_max")),
+            (np.abs(f["side_Pa"]), "max", t("forces.extreme_n_max")),
+            *t_extremes,
+        ],
+        resolution=0.0,
+    )
+    table_b1 = ctx.table(
+        [
+            ("<i>α</i>, °", ctx.angle_labels(labels), None),
+            (
+                "<i>s</i><sub>p</sub>, " + t("unit.mm"),
+                f["piston_displacement_m"][rows] * 1e3,
+                2,
+            ),  # mm, as table 2.1
+            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
+            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
+            ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
+            ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
+            ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
+            ("<i>p</i><sub>jII</sub>", mpa["inertia_second_order_Pa"][rows], 3),
+            ("<i>p</i><sub>1</sub>", mpa["total_Pa"][rows], 3),
+            ("<i>n</i>", mpa["side_Pa"][rows], 3),
+            ("<i>k</i>", mpa["rod_Pa"][rows], 3),
+            ("<i>z</i>", mpa["radial_Pa"][rows], 3),
+            ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
+        ],
+        caption=t("forces.table_b1_caption"),
+        css_class="data wide",
+        extremes=extremes,
+        see="forces.see_table_b1",
+    )
     worked = _worked(ctx, f.take(rows), labels, r)
-    rows, labels, extremes = add_extreme_rows(angle, grid_rows, grid_labels, [
-        (f["resultant_Pa"], "max", t("forces.extreme_q_max")), *t_extremes], resolution=0.0)
-    table_q = ctx.table([
-        ("<i>α</i>, °", ctx.angle_labels(labels), None),
-        ("<i>z</i> + <i>c</i>, " + t("unit.MPa"), mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6, 3),
-        ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
-        ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
-        ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
-    ], caption=t("forces.table_q_caption" + whose), extremes=extremes,
-        see="forces.see_table_q" + whose) + worked_crank_torque(ctx, f.take(rows), labels, r)
+    rows, labels, extremes = add_extreme_rows(
+        angle,
+        grid_rows,
+        grid_labels,
+        [(f["resultant_Pa"], "max", t("forces.extreme_q_max")), *t_extremes],
+        resolution=0.0,
+    )
+    table_q = ctx.table(
+        [
+            ("<i>α</i>, °", ctx.angle_labels(labels), None),
+            (
+                "<i>z</i> + <i>c</i>, " + t("unit.MPa"),
+                mpa["radial_Pa"][rows] + r["centrifugal_Pa"] / 1e6,
+                3,
+            ),
+            ("<i>t</i>, " + t("unit.MPa"), mpa["tangential_Pa"][rows], 3),
+            ("<i>q</i>, " + t("unit.MPa"), mpa["resultant_Pa"][rows], 3),
+            ("<i>M</i><sub>k</sub>, " + t("unit.Nm"), f["torque_Nm"][rows], 1),
+        ],
+        caption=t("forces.table_q_caption" + whose),
+        extremes=extremes,
+        see="forces.see_table_q" + whose,
+    ) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
-    figure_forces = ctx.figure(partial(_forces_figure, t, ctx.cycle_deg, angle, mpa), t("forces.figure_caption"),
-                               "forces", see="forces.see_figure")
-    figure_torque = ctx.figure(partial(_torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"],
-                                       r["mean_torque_Nm"], whose),
-                               t("forces.torque_caption" + whose), "torque",
-                               see="forces.see_torque" + whose)
+    figure_forces = ctx.figure(
+        partial(_forces_figure, t, ctx.cycle_deg, angle, mpa),
+        t("forces.figure_caption"),
+        "forces",
+        see="forces.see_figure",
+    )
+    figure_torque = ctx.figure(
+        partial(
+            _torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"], whose
+        ),
+        t("forces.torque_caption" + whose),
+        "torque",
+        see="forces.see_torque" + whose,
+    )
 
-    if ctx.scene is not None and ctx.scene.engine.cylinders == 1:  # else the engine's torque: torque stage
+    if (
+        ctx.scene is not None and ctx.scene.engine.cylinders == 1
+    ):  # else the engine's torque: torque stage
         ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))
-    ctx.conclude(t("forces.conclusion_torque" + whose, mean=ctx.num(r["mean_torque_Nm"]),
-                   from_work=ctx.num(r["mean_torque_from_work_Nm"]),
-                   deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
-                   t_max=ctx.num(r["torque_max_Nm"]), t_angle=ctx.angle_text(r["torque_max_crank_angle_deg"])))
+    ctx.conclude(
+        t(
+            "forces.conclusion_torque" + whose,
+            mean=ctx.num(r["mean_torque_Nm"]),
+            from_work=ctx.num(r["mean_torque_from_work_Nm"]),
+            deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
+            t_max=ctx.num(r["torque_max_Nm"]),
+            t_angle=ctx.angle_text(r["torque_max_crank_angle_deg"]),
+        )
+    )
     if r.get("mechanical_efficiency") is not None:  # a single cylinder given its N_e
-        ctx.conclude(t("forces.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
-                       eta=ctx.num(r["mechanical_efficiency"], 3)))
-    ctx.conclude(t("forces.conclusion_loads" + whose, q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
-                   q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
-                   n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
-                   n_angle=ctx.angle_text(float(angle[first_argmax(np.abs(f["side_Pa"]))]))))
-    return ctx.render_template("sections/forces.html.j2", r=r, table_b1=table_b1, table_q=table_q,
-                               figure_forces=figure_forces, figure_torque=figure_torque, worked=worked)
+        ctx.conclude(
+            t(
+                "forces.conclusion_effective",
+                me=ctx.num(r["mean_effective_torque_Nm"]),
+                eta=ctx.num(r["mechanical_efficiency"], 3),
+            )
+        )
+    ctx.conclude(
+        t(
+            "forces.conclusion_loads" + whose,
+            q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
+            q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
+            n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
+            n_angle=ctx.angle_text(float(angle[first_argmax(np.abs(f["side_Pa"]))])),
+        )
+    )
+    return ctx.render_template(
+        "sections/forces.html.j2",
+        r=r,
+        table_b1=table_b1,
+        table_q=table_q,
+        figure_forces=figure_forces,
+        figure_torque=figure_torque,
+        worked=worked,
+    )
 
 
 def _worked(ctx, rows, labels, r):
@@ -113,10 +178,27 @@ def _worked(ctx, rows, labels, r):
     inputs = {"m_s": m_s, "F_p": area, "j": j, "p_g": p_g, "p_j": p_j_printed, "alpha_deg": alpha}
     lhs_j, lhs_1 = "<i>p</i><sub>j</sub>", "<i>p</i><sub>1</sub>"
     steps = [
-        WorkedStep("inertia_pressure", lhs_j, "−<i>m</i><sub>s</sub> " + symbol_html("piston_acceleration", lang)
-                   + "/<i>F</i><sub>p</sub>", f"(−{m_txt}·({j_txt})/{f_txt})·10<sup>−6</sup>", p_j, 3,
-                   t("unit.MPa"), inputs),
-        WorkedStep("total_pressure", lhs_1, symbol_html("gas_pressure", lang) + " + " + lhs_j,
-                   f"{g_txt} + ({pj_txt})", float(row["total_Pa"]) / 1e6, 3, t("unit.MPa"), inputs),
+        WorkedStep(
+            "inertia_pressure",
+            lhs_j,
+            "−<i>m</i><sub>s</sub> "
+            + symbol_html("piston_acceleration", lang)
+            + "/<i>F</i><sub>p</sub>",
+            f"(−{m_txt}·({j_txt})/{f_txt})·10<sup>−6</sup>",
+            p_j,
+            3,
+            t("unit.MPa"),
+            inputs,
+        ),
+        WorkedStep(
+            "total_pressure",
+            lhs_1,
+            symbol_html("gas_pressure", lang) + " + " + lhs_j,
+            f"{g_txt} + ({pj_txt})",
+            float(row["total_Pa"]) / 1e6,
+            3,
+            t("unit.MPa"),
+            inputs,
+        ),
     ]
     return worked_markup(ctx, WorkedBlock("forces", ctx.last_table_number, alpha, steps))

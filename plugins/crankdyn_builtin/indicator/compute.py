@@ -27,8 +27,9 @@ def applies(scene) -> str | None:
     return None
 
 
-def run(scene, inputs, *, junction_deg: float | None = None,
-        volumes: dict | None = None) -> StageOutput:
+def run(
+    scene, inputs, *, junction_deg: float | None = None, volumes: dict | None = None
+) -> StageOutput:
     """The diagram of ``scene``; ``junction_deg`` is its rounding's junction J and ``volumes`` the
     cylinder volume (m³) at the angles the rounding reads it off (deg: m³) when ``run_many`` has
     computed them for many scenes at once."""
@@ -55,29 +56,58 @@ def run(scene, inputs, *, junction_deg: float | None = None,
         volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
         theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
         try:
-            pressure = ind.rounded_pressure_Pa(angle, volume, clearance, params, rounding,
-                                               volume_function=_volume_function(motion, area, clearance,
-                                                                                volumes),
-                                               junction_deg=junction_deg, theoretical_Pa=theoretical)
+            pressure = ind.rounded_pressure_Pa(
+                angle,
+                volume,
+                clearance,
+                params,
+                rounding,
+                volume_function=_volume_function(motion, area, clearance, volumes),
+                junction_deg=junction_deg,
+                theoretical_Pa=theoretical,
+            )
         except ValueError as exc:
             raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
         work_theoretical = ind.indicated_work_J(theoretical, volume)
         p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
-        table.update({"cylinder_volume_m3": volume, "pressure_theoretical_Pa": theoretical, "pressure_Pa": pressure})
-        results.update({
-            "clearance_volume_m3": clearance,
-            "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
-            "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
-            "theoretical_mean_indicated_pressure_Pa": p_i_closed,
-            "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(work_theoretical, swept),
-            "ignition_advance_deg": rounding.ignition_advance_deg,
-            "combustion_delay_deg": rounding.combustion_delay_deg,
-            "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
-        })
-        note_key = "indicator.note_rounding_diesel" if scene.cycle.ignition == "diesel" else "indicator.note_rounding"
-        notes.append((note_key, {"advance": rounding.ignition_advance_deg, "delay": rounding.combustion_delay_deg,
-                                 "fraction": rounding.peak_pressure_fraction,
-                                 "angle": rounding.peak_angle_after_tdc_deg}))
+        table.update(
+            {
+                "cylinder_volume_m3": volume,
+                "pressure_theoretical_Pa": theoretical,
+                "pressure_Pa": pressure,
+            }
+        )
+        results.update(
+            {
+                "clearance_volume_m3": clearance,
+                "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
+                "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
+                "theoretical_mean_indicated_pressure_Pa": p_i_closed,
+                "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(
+                    work_theoretical, swept
+                ),
+                "ignition_advance_deg": rounding.ignition_advance_deg,
+                "combustion_delay_deg": rounding.combustion_delay_deg,
+                "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction
+                * params.max_pressure_Pa,
+            }
+        )
+        note_key = (
+            "indicator.note_rounding_diesel"
+            if scene.cycle.ignition == "diesel"
+            else "indicator.note_rounding"
+        )
+        notes.append(
+            (
+                note_key,
+                {
+                    "advance": rounding.ignition_advance_deg,
+                    "delay": rounding.combustion_delay_deg,
+                    "fraction": rounding.peak_pressure_fraction,
+                    "angle": rounding.peak_angle_after_tdc_deg,
+                },
+            )
+        )
 
     work = ind.indicated_work_J(pressure, volume)
     p_i = ind.mean_indicated_pressure_Pa(work, swept)
@@ -85,15 +115,17 @@ def run(scene, inputs, *, junction_deg: float | None = None,
     pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
     p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
     peak = first_argmax(pressure)
-    results.update({
-        "indicated_work_J": work,
-        "pumping_work_J": pumping,
-        "gross_mean_indicated_pressure_Pa": p_i_gross,
-        "mean_indicated_pressure_Pa": p_i,
-        "max_pressure_Pa": float(pressure[peak]),
-        "max_pressure_crank_angle_deg": float(angle[peak]),
-        "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
-    })
+    results.update(
+        {
+            "indicated_work_J": work,
+            "pumping_work_J": pumping,
+            "gross_mean_indicated_pressure_Pa": p_i_gross,
+            "mean_indicated_pressure_Pa": p_i,
+            "max_pressure_Pa": float(pressure[peak]),
+            "max_pressure_crank_angle_deg": float(angle[peak]),
+            "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
+        }
+    )
     if scene.cycle.mean_indicated_pressure is not None:
         target = scene.cycle.mean_indicated_pressure
         results["thermal_mean_indicated_pressure_Pa"] = target
@@ -101,10 +133,17 @@ def run(scene, inputs, *, junction_deg: float | None = None,
     elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
         results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
 
-    gas = GasPressure(crank_angle_deg=angle, pressure_Pa=pressure, volume_m3=volume, source=scene.cycle.source,
-                      indicated_work_J=work, swept_volume_m3=swept)
-    return StageOutput(data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table},
-                       notes=notes)
+    gas = GasPressure(
+        crank_angle_deg=angle,
+        pressure_Pa=pressure,
+        volume_m3=volume,
+        source=scene.cycle.source,
+        indicated_work_J=work,
+        swept_volume_m3=swept,
+    )
+    return StageOutput(
+        data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table}, notes=notes
+    )
 
 
 def _volume_function(motion, area: float, clearance: float, volumes: dict | None):
@@ -140,16 +179,26 @@ def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> lis
     step = 1e-4  # deg: the rounding's central difference
     cycle = np.array([720.0 if s.engine.strokes == 4 else 360.0 for s in scenes])[:, None]
     tdc = np.array([360.0 if s.engine.strokes == 4 else 0.0 for s in scenes])[:, None]
-    psi = np.array([[-(r.ignition_advance_deg - r.combustion_delay_deg), j,
-                     180.0 - r.exhaust_opens_before_bdc_deg] for r, j in zip(rounding, junctions, strict=False)])
+    psi = np.array(
+        [
+            [
+                -(r.ignition_advance_deg - r.combustion_delay_deg),
+                j,
+                180.0 - r.exhaust_opens_before_bdc_deg,
+            ]
+            for r, j in zip(rounding, junctions, strict=False)
+        ]
+    )
     at = np.mod(tdc + psi, cycle)
     angles = np.concatenate([at, at + step, at - step], axis=1)
     rows = np.arange(len(scenes))
     found = np.isfinite(angles)
     values = volume_at(np.where(found, angles, 0.0), rows)
     found &= values >= np.asarray(clearances, dtype=float)[:, None]
-    return [{float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k], strict=False) if ok}
-            for k in rows]
+    return [
+        {float(a): float(v) for a, v, ok in zip(angles[k], values[k], found[k], strict=False) if ok}
+        for k in rows
+    ]
 
 
 def _stacked_displacement(motions):
@@ -158,8 +207,13 @@ def _stacked_displacement(motions):
     function, each number a column); None otherwise."""
     first = motions[0].displacement_at
     partials = [m.displacement_at for m in motions]
-    if not all(isinstance(d, functools.partial) and d.func is first.func and not d.keywords
-               and len(d.args) == len(first.args) for d in partials):
+    if not all(
+        isinstance(d, functools.partial)
+        and d.func is first.func
+        and not d.keywords
+        and len(d.args) == len(first.args)
+        for d in partials
+    ):
         return None
     columns = []
     for position, shared in enumerate(first.args):
@@ -186,13 +240,21 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     one."""
     motions = [given[KINEMATICS] for given in inputs]
     displacement = _stacked_displacement(motions)
-    if (displacement is None or any(s.cycle.source != "theoretical" for s in scenes)
-            or len({s.engine.strokes for s in scenes}) > 1):
+    if (
+        displacement is None
+        or any(s.cycle.source != "theoretical" for s in scenes)
+        or len({s.engine.strokes for s in scenes}) > 1
+    ):
         return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     params = [cycle_parameters(scene) for scene in scenes]
     areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
-    clearances = np.asarray([ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
-                             for area, s, p in zip(areas, scenes, params, strict=False)], dtype=float)
+    clearances = np.asarray(
+        [
+            ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
+            for area, s, p in zip(areas, scenes, params, strict=False)
+        ],
+        dtype=float,
+    )
     area_column, clearance_column = areas[:, None], clearances[:, None]
 
     def volume_at(angle_deg, rows):
@@ -201,8 +263,10 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     rounding = [rounding_parameters(s) for s in scenes]
     junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
     volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
-    return [run(scene, given, junction_deg=float(j), volumes=v)
-            for scene, given, j, v in zip(scenes, inputs, junctions, volumes, strict=False)]
+    return [
+        run(scene, given, junction_deg=float(j), volumes=v)
+        for scene, given, j, v in zip(scenes, inputs, junctions, volumes, strict=False)
+    ]
 
 
 def _trace_pressure(scene, motion, area, swept):
@@ -215,8 +279,14 @@ def _trace_pressure(scene, motion, area, swept):
         else:
             angle_file, pressure_file = trace.read_pressure_csv(path)
         target_tdc = 360.0 if scene.engine.strokes == 4 else 0.0
-        pressure = trace.to_cycle_grid(angle_file, pressure_file, scene.engine.cycle_deg, motion.crank_angle_deg,
-                                       c.trace_firing_tdc_deg, target_tdc)
+        pressure = trace.to_cycle_grid(
+            angle_file,
+            pressure_file,
+            scene.engine.cycle_deg,
+            motion.crank_angle_deg,
+            c.trace_firing_tdc_deg,
+            target_tdc,
+        )
     except (trace.PressureTraceError, OSError) as exc:
         raise SceneError(Problem("cycle.trace_file", c.trace_file, str(exc))) from None
     clearance = ind.clearance_volume_m3(swept, c.compression_ratio)
@@ -240,5 +310,6 @@ def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
     low, high = DIESEL_PEAK_RANGE_MPA
     if low <= peak / 1e6 <= high:
         return []
-    return [("indicator.plausibility_diesel_peak",
-             {"pressure": peak / 1e6, "low": low, "high": high})]
+    return [
+        ("indicator.plausibility_diesel_peak", {"pressure": peak / 1e6, "low": low, "high": high})
+    ]

@@ -26,17 +26,40 @@ def _pv_figure(volume_l, pressure, theory, points, t):
     """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
     fig, ax = new_figure(16, 9.5)
     if theory is not None:
-        ax.plot(np.append(volume_l, volume_l[0]), np.append(theory, theory[0]), color="0.45", lw=1, ls="--",
-                label=t("indicator.theoretical"))
-    ax.plot(np.append(volume_l, volume_l[0]), np.append(pressure, pressure[0]), color="C3",
-            label=t("indicator.actual") if theory is not None else t("indicator.trace"))
+        ax.plot(
+            np.append(volume_l, volume_l[0]),
+            np.append(theory, theory[0]),
+            color="0.45",
+            lw=1,
+            ls="--",
+            label=t("indicator.theoretical"),
+        )
+    ax.plot(
+        np.append(volume_l, volume_l[0]),
+        np.append(pressure, pressure[0]),
+        color="C3",
+        label=t("indicator.actual") if theory is not None else t("indicator.trace"),
+    )
     if theory is not None:
-        _pumping_inset(ax, np.append(volume_l, volume_l[0]), np.append(theory, theory[0]),
-                       np.append(pressure, pressure[0]), t)
+        _pumping_inset(
+            ax,
+            np.append(volume_l, volume_l[0]),
+            np.append(theory, theory[0]),
+            np.append(pressure, pressure[0]),
+            t,
+        )
     for label, volume, p, (dx, dy) in points:
         ax.plot([volume], [p], "o", ms=3, color="k")
-        ax.annotate(label, (volume, p), xytext=(dx, dy), textcoords="offset points", fontsize=8, style="italic",
-                    ha="left" if dx >= 0 else "right", va="center" if dy == 0 else "bottom" if dy > 0 else "top")
+        ax.annotate(
+            label,
+            (volume, p),
+            xytext=(dx, dy),
+            textcoords="offset points",
+            fontsize=8,
+            style="italic",
+            ha="left" if dx >= 0 else "right",
+            va="center" if dy == 0 else "bottom" if dy > 0 else "top",
+        )
     ax.set_xlabel(t("indicator.axis_volume"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)
@@ -48,7 +71,12 @@ def _palpha_figure(angle, pressure, theory, cycle_deg, t):
     fig, ax = new_figure(16, 8)
     if theory is not None:
         ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
-    ax.plot(angle, pressure, color="C3", label=t("indicator.actual") if theory is not None else t("indicator.trace"))
+    ax.plot(
+        angle,
+        pressure,
+        color="C3",
+        label=t("indicator.actual") if theory is not None else t("indicator.trace"),
+    )
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel(t("indicator.axis_pressure"))
     ax.legend(loc="upper right", fontsize=8)

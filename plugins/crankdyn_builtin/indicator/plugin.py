@@ -37,12 +37,41 @@ INDICATOR_STAGE = Stage(
     run_many=run_many,
     tables=("indicator",),
     answer_columns=(
-        AnswerColumn("p_c_MPa", "compression_end_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_c_MPa"),
-        AnswerColumn("p_max_MPa", "max_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_max_MPa"),
-        AnswerColumn("p_max_crank_angle_deg", "max_pressure_crank_angle_deg", "°", label_key="indicator.answer.p_max_crank_angle_deg"),
-        AnswerColumn("p_i_MPa", "mean_indicated_pressure_Pa", "MPa", factor=1e-06, label_key="indicator.answer.p_i_MPa"),
+        AnswerColumn(
+            "p_c_MPa",
+            "compression_end_pressure_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="indicator.answer.p_c_MPa",
+        ),
+        AnswerColumn(
+            "p_max_MPa",
+            "max_pressure_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="indicator.answer.p_max_MPa",
+        ),
+        AnswerColumn(
+            "p_max_crank_angle_deg",
+            "max_pressure_crank_angle_deg",
+            "°",
+            label_key="indicator.answer.p_max_crank_angle_deg",
+        ),
+        AnswerColumn(
+            "p_i_MPa",
+            "mean_indicated_pressure_Pa",
+            "MPa",
+            factor=1e-06,
+            label_key="indicator.answer.p_i_MPa",
+        ),
         AnswerColumn("L_i_J", "indicated_work_J", "J", label_key="indicator.answer.L_i_J"),
-        AnswerColumn("N_i_cylinder_kW", "indicated_power_W", "kW", factor=0.001, label_key="indicator.answer.N_i_cylinder_kW"),
+        AnswerColumn(
+            "N_i_cylinder_kW",
+            "indicated_power_W",
+            "kW",
+            factor=0.001,
+            label_key="indicator.answer.N_i_cylinder_kW",
+        ),
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
@@ -67,4 +96,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

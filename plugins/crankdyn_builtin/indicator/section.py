@@ -19,34 +19,57 @@ from .figures import _palpha_figure, _pv_figure
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
 #: A vertical offset of 0 centres the label on its point's height: b″ stands between b and a at
 #: BDC, and a label under it would read as a's.
-_POINTS = (("r", 0.0, "actual", (4, 3)), ("a", 180.0, "actual", (-4, -3)),
-           ("c", 360.0, "compression_end", (-4, 2)), ("c′", "advance", "actual", (4, -3)),
-           ("f", "visible", "actual", (-5, 3)), ("c″", 360.0, "actual", (4, -2)),
-           ("z", "theory_peak", "theory", (4, 2)), ("z′", "peak", "actual", (4, 2)),
-           ("b′", "exhaust", "actual", (3, 3)), ("b", 540.0, "theory", (4, 3)), ("b″", 540.0, "actual", (5, 0)))
+_POINTS = (
+    ("r", 0.0, "actual", (4, 3)),
+    ("a", 180.0, "actual", (-4, -3)),
+    ("c", 360.0, "compression_end", (-4, 2)),
+    ("c′", "advance", "actual", (4, -3)),
+    ("f", "visible", "actual", (-5, 3)),
+    ("c″", 360.0, "actual", (4, -2)),
+    ("z", "theory_peak", "theory", (4, 2)),
+    ("z′", "peak", "actual", (4, 2)),
+    ("b′", "exhaust", "actual", (3, 3)),
+    ("b", 540.0, "theory", (4, 3)),
+    ("b″", 540.0, "actual", (5, 0)),
+)
 
 
 def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
     """(label, volume in l, pressure in MPa, label offset) of each characteristic point of a
     four-stroke diagram computed from cycle data; none for other cycles."""
-    if ctx.scene is None or ctx.scene.engine.strokes != 4 or getattr(ctx.scene, "cycle", None) is None:
+    if (
+        ctx.scene is None
+        or ctx.scene.engine.strokes != 4
+        or getattr(ctx.scene, "cycle", None) is None
+    ):
         return []
     angle = frame["crank_angle_deg"]
     theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
     # the rounding's angles as run() used them (its results), the valve timing as the scene gives it
-    where = {"advance": 360.0 - r["ignition_advance_deg"],
-             "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
-             "peak": r["max_pressure_crank_angle_deg"], # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
-             "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
-             "exhaust": 540.0 - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg}
+    where = {
+        "advance": 360.0 - r["ignition_advance_deg"],
+        "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
+        "peak": r[
+            "max_pressure_crank_angle_deg"
+        ],  # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
+        "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
+        "exhaust": 540.0 - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg,
+    }
     step = float(angle[1] - angle[0])
     points = []
     for label, at, curve, offset in _POINTS:
-        i = int(round(where.get(at, at) / step)) % len(angle)  # a named event's angle, or the angle given
+        i = int(round(where.get(at, at) / step)) % len(
+            angle
+        )  # a named event's angle, or the angle given
         # c: the end of the compression line, p_c; at TDC itself the theoretical spark-ignition cycle
         # is already at p_z (heat added at constant volume)
-        p = (r["compression_end_pressure_Pa"] / 1e6 if curve == "compression_end"
-             else theory[i] if curve == "theory" else actual[i])
+        p = (
+            r["compression_end_pressure_Pa"] / 1e6
+            if curve == "compression_end"
+            else theory[i]
+            if curve == "theory"
+            else actual[i]
+        )
         points.append((label, float(frame["cylinder_volume_m3"][i] * 1e3), float(p), offset))
     return points
 
@@ -62,37 +85,75 @@ def render(output: StageOutput, ctx) -> str:
 
     theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
     points = _characteristic_points(ctx, frame, r) if has_theory else []
-    figure_pv = ctx.figure(partial(_pv_figure, volume_l, pressure, theory, points, t),
-                           t("indicator.pv_caption_points" if points else "indicator.pv_caption"), "pV",
-                           see="indicator.see_pv")
+    figure_pv = ctx.figure(
+        partial(_pv_figure, volume_l, pressure, theory, points, t),
+        t("indicator.pv_caption_points" if points else "indicator.pv_caption"),
+        "pV",
+        see="indicator.see_pv",
+    )
     pv_number = ctx.last_figure_number
-    figure_pa = ctx.figure(partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t),
-                           t("indicator.palpha_caption"), "p_alpha", see="indicator.see_palpha")
+    figure_pa = ctx.figure(
+        partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t),
+        t("indicator.palpha_caption"),
+        "p_alpha",
+        see="indicator.see_palpha",
+    )
 
     rows, labels = sample_rows(angle, ctx.table_step_deg)
-    rows, labels, extremes = add_extreme_rows(angle, rows, labels,
-                                              [(pressure, "max", t("indicator.extreme_p_max"))])
-    columns = [("<i>α</i>, °", ctx.angle_labels(labels), None), ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4)]
+    rows, labels, extremes = add_extreme_rows(
+        angle, rows, labels, [(pressure, "max", t("indicator.extreme_p_max"))]
+    )
+    columns = [
+        ("<i>α</i>, °", ctx.angle_labels(labels), None),
+        ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4),
+    ]
     if has_theory:
-        columns.append(("<i>p</i><sub>theor</sub>, " + t("unit.MPa"), _closing_row_theory(theory, rows, labels,
-                                                                                         ctx.cycle_deg), 4))
+        columns.append(
+            (
+                "<i>p</i><sub>theor</sub>, " + t("unit.MPa"),
+                _closing_row_theory(theory, rows, labels, ctx.cycle_deg),
+                4,
+            )
+        )
     columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
-    table = ctx.table(columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table")
+    table = ctx.table(
+        columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table"
+    )
     table += worked_indicator(ctx, frame, rows, labels, r)
 
-    ctx.find(t("indicator.finding", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                angle=ctx.angle_text(r["max_pressure_crank_angle_deg"])))
+    ctx.find(
+        t(
+            "indicator.finding",
+            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
+        )
+    )
     deviation = r.get("mean_indicated_pressure_deviation_percent")
-    ctx.conclude(t("indicator.conclusion", p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-                   angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
-                   p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6), work=ctx.num(r["indicated_work_J"])))
+    ctx.conclude(
+        t(
+            "indicator.conclusion",
+            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
+            p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6),
+            work=ctx.num(r["indicated_work_J"]),
+        )
+    )
     if deviation is not None:
         key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
         ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
     diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
-    return ctx.render_template("sections/indicator.html.j2", r=r, figure_pv=figure_pv, figure_pa=figure_pa, diesel=diesel,
-                               points=bool(points), pv_number=pv_number,
-                               table=table, deviation=deviation, has_theory=has_theory)
+    return ctx.render_template(
+        "sections/indicator.html.j2",
+        r=r,
+        figure_pv=figure_pv,
+        figure_pa=figure_pa,
+        diesel=diesel,
+        points=bool(points),
+        pv_number=pv_number,
+        table=table,
+        deviation=deviation,
+        has_theory=has_theory,
+    )
 
 
 def _closing_row_theory(theory, rows, labels, cycle_deg: float):
@@ -101,7 +162,12 @@ def _closing_row_theory(theory, rows, labels, cycle_deg: float):
     that line's value, not the intake's p_a that the periodic grid has at 0° (the theoretical
     diagram steps from p_r to p_a at TDC; a table with p_a at 720° contradicts point r)."""
     shown = np.array(theory[rows], dtype=float)
-    if len(labels) and abs(float(labels[-1]) - cycle_deg) < 1e-9 and len(theory) > 2 and theory[-1] == theory[-2]:
+    if (
+        len(labels)
+        and abs(float(labels[-1]) - cycle_deg) < 1e-9
+        and len(theory) > 2
+        and theory[-1] == theory[-2]
+    ):
         shown[-1] = theory[-1]
     return shown
 

@@ -20,7 +20,7 @@ from crankdyn.report.worked import (
 
 
 def polytrope_of(crank_angle_deg: float, strokes: int) -> str | None:
-    """"compression", "expansion" or None (gas exchange), as the theoretical diagram has it."""
+    """ "compression", "expansion" or None (gas exchange), as the theoretical diagram has it."""
     cycle = 180.0 * strokes
     a = crank_angle_deg % cycle
     if strokes == 4:
@@ -55,21 +55,39 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
     volume_l = float(frame["cylinder_volume_m3"][rows][i]) * 1e3
     v_a_l = c.compression_ratio * r["clearance_volume_m3"] * 1e3
     if line == "compression":
-        start, start_html, index, index_html = c.intake_pressure / 1e6, "<i>p</i><sub>a</sub>", \
-            c.compression_index, "<i>n</i><sub>1</sub>"
+        start, start_html, index, index_html = (
+            c.intake_pressure / 1e6,
+            "<i>p</i><sub>a</sub>",
+            c.compression_index,
+            "<i>n</i><sub>1</sub>",
+        )
     else:
-        start, start_html, index, index_html = r["expansion_end_pressure_Pa"] / 1e6, "<i>p</i><sub>b</sub>", \
-            c.expansion_index, "<i>n</i><sub>2</sub>"
+        start, start_html, index, index_html = (
+            r["expansion_end_pressure_Pa"] / 1e6,
+            "<i>p</i><sub>b</sub>",
+            c.expansion_index,
+            "<i>n</i><sub>2</sub>",
+        )
     p_txt, p0 = printed(t, start, 5) if line == "expansion" else printed_g(t, start)
     n_txt, n = printed_g(t, index)
     va_txt, v_a = printed(t, v_a_l, 5)
-    v_txt, v = printed(t, volume_l, 5)  # one digit more than the table: the power magnifies round-off
+    v_txt, v = printed(
+        t, volume_l, 5
+    )  # one digit more than the table: the power magnifies round-off
     inputs = {"p0": p0, "n": n, "V_a": v_a, "V": v, "alpha_deg": alpha}
     exact = {"p0": start, "n": index, "V_a": v_a_l, "V": volume_l, "alpha_deg": alpha}
-    step = WorkedStep("polytrope_pressure", "<i>p</i><sub>theor</sub>",
-                      f"{start_html}(<i>V</i><sub>a</sub>/<i>V</i>)<sup>{index_html}</sup>",
-                      f"{p_txt}·({va_txt}/{v_txt})<sup>{n_txt}</sup>",
-                      float(frame["pressure_theoretical_Pa"][rows][i]) / 1e6, 4, t("unit.MPa"),
-                      inputs, exact=exact)
+    step = WorkedStep(
+        "polytrope_pressure",
+        "<i>p</i><sub>theor</sub>",
+        f"{start_html}(<i>V</i><sub>a</sub>/<i>V</i>)<sup>{index_html}</sup>",
+        f"{p_txt}·({va_txt}/{v_txt})<sup>{n_txt}</sup>",
+        float(frame["pressure_theoretical_Pa"][rows][i]) / 1e6,
+        4,
+        t("unit.MPa"),
+        inputs,
+        exact=exact,
+    )
     note = t(f"indicator.worked_{line}", angle=ctx.angle_text(alpha))
-    return worked_markup(ctx, WorkedBlock("indicator", ctx.last_table_number, alpha, [step], note=note))
+    return worked_markup(
+        ctx, WorkedBlock("indicator", ctx.last_table_number, alpha, [step], note=note)
+    )

@@ -43,10 +43,18 @@ def _rod_centre_of_mass(alpha, radius, ratio, omega, distance_m) -> tuple[dict, 
     x, z = kin.rod_point_position_m(alpha, radius, ratio, distance_m)
     vx, vz = kin.rod_point_velocity_m_s(alpha, radius, ratio, distance_m, omega)
     ax, az = kin.rod_point_acceleration_m_s2(alpha, radius, ratio, distance_m, omega)
-    columns = {"rod_cm_x_m": x, "rod_cm_z_m": z, "rod_cm_velocity_x_m_s": vx, "rod_cm_velocity_z_m_s": vz,
-               "rod_cm_acceleration_x_m_s2": ax, "rod_cm_acceleration_z_m_s2": az}
-    return columns, {"rod_cm_from_big_end_m": distance_m,
-                     "rod_cm_acceleration_max_m_s2": float(np.max(np.hypot(ax, az)))}
+    columns = {
+        "rod_cm_x_m": x,
+        "rod_cm_z_m": z,
+        "rod_cm_velocity_x_m_s": vx,
+        "rod_cm_velocity_z_m_s": vz,
+        "rod_cm_acceleration_x_m_s2": ax,
+        "rod_cm_acceleration_z_m_s2": az,
+    }
+    return columns, {
+        "rod_cm_from_big_end_m": distance_m,
+        "rod_cm_acceleration_max_m_s2": float(np.max(np.hypot(ax, az))),
+    }
 
 
 def _displacement_at_deg(displacement, radius_m: float, ratio: float, crank_angle_deg):
@@ -59,12 +67,19 @@ def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     angle_deg = scene.crank_angles_deg
     alpha = np.radians(angle_deg)
-    radius, ratio, omega = engine.crank_radius_m, engine.rod_ratio_value, engine.angular_velocity_rad_s
+    radius, ratio, omega = (
+        engine.crank_radius_m,
+        engine.rod_ratio_value,
+        engine.angular_velocity_rad_s,
+    )
 
     exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
     chosen = exact if scene.analysis.kinematics == "exact" else approx
-    displacement = (kin.piston_displacement_exact_m if scene.analysis.kinematics == "exact"
-                    else kin.piston_displacement_approx_m)
+    displacement = (
+        kin.piston_displacement_exact_m
+        if scene.analysis.kinematics == "exact"
+        else kin.piston_displacement_approx_m
+    )
     beta = kin.rod_angle_rad(alpha, ratio)
     rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
     rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
@@ -108,7 +123,9 @@ def run(scene, inputs) -> StageOutput:
         "two_term_acceleration_error_max_m_s2": float(np.max(np.abs(approx["j"] - exact["j"]))),
     }
     if scene.masses is not None:
-        columns, rod_cm = _rod_centre_of_mass(alpha, radius, ratio, omega, scene.rod_cm_from_big_end_m)
+        columns, rod_cm = _rod_centre_of_mass(
+            alpha, radius, ratio, omega, scene.rod_cm_from_big_end_m
+        )
         table.update(columns)
         results.update(rod_cm)
 
@@ -122,15 +139,27 @@ def run(scene, inputs) -> StageOutput:
         angular_velocity_rad_s=omega,
         method=scene.analysis.kinematics,
         # the rod's rates in closed form (rod_dynamics would otherwise differentiate the angle spectrally)
-        extra={"rod_ratio": ratio, "rod_length_m": engine.rod_length_m,
-               "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
+        extra={
+            "rod_ratio": ratio,
+            "rod_length_m": engine.rod_length_m,
+            "rod_angular_velocity_rad_s": rod_omega,
+            "rod_angular_acceleration_rad_s2": rod_epsilon,
+        },
         displacement_at=functools.partial(_displacement_at_deg, displacement, radius, ratio),
     )
-    notes = [("kinematics.note_method_" + scene.analysis.kinematics, {}),
-             ("kinematics.note_two_term_error", {"ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
-                                                  "dj": results["two_term_acceleration_error_max_m_s2"]})]
-    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"kinematics": table},
-                       notes=notes)
+    notes = [
+        ("kinematics.note_method_" + scene.analysis.kinematics, {}),
+        (
+            "kinematics.note_two_term_error",
+            {
+                "ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
+                "dj": results["two_term_acceleration_error_max_m_s2"],
+            },
+        ),
+    ]
+    return StageOutput(
+        data={KINEMATICS: motion}, results=results, tables={"kinematics": table}, notes=notes
+    )
 
 
 @functools.lru_cache(maxsize=4096)
@@ -145,9 +174,12 @@ def _extreme_shapes(ratio: float) -> tuple[float, float, float]:
 def _uniform(scenes) -> bool:
     """Whether ``scenes`` share the angle grid, the kinematics form and having masses or not."""
     first = scenes[0]
-    return all(s.analysis.kinematics == first.analysis.kinematics
-               and (s.masses is None) == (first.masses is None)
-               and np.array_equal(s.crank_angles_deg, first.crank_angles_deg) for s in scenes)
+    return all(
+        s.analysis.kinematics == first.analysis.kinematics
+        and (s.masses is None) == (first.masses is None)
+        and np.array_equal(s.crank_angles_deg, first.crank_angles_deg)
+        for s in scenes
+    )
 
 
 def run_many(scenes, inputs) -> list[StageOutput]:
@@ -166,8 +198,9 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
     method = first.analysis.kinematics
     chosen = exact if method == "exact" else approx
-    displacement = (kin.piston_displacement_exact_m if method == "exact"
-                    else kin.piston_displacement_approx_m)
+    displacement = (
+        kin.piston_displacement_exact_m if method == "exact" else kin.piston_displacement_approx_m
+    )
     beta = kin.rod_angle_rad(alpha, ratio)
     rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
     rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
@@ -191,10 +224,14 @@ def run_many(scenes, inputs) -> list[StageOutput]:
         v_angle, j_shape, j_angle = shapes[k]
         j_min_tb, j_min_tb_angle = kin.min_piston_acceleration_approx(r, lam, w)
         results = {
-            "crank_radius_m": r, "rod_length_m": engine.rod_length_m, "rod_ratio": lam,
-            "angular_velocity_rad_s": w, "method": method,
+            "crank_radius_m": r,
+            "rod_length_m": engine.rod_length_m,
+            "rod_ratio": lam,
+            "angular_velocity_rad_s": w,
+            "method": method,
             "mean_piston_speed_m_s": kin.mean_piston_speed_m_s(r, w),
-            "v_max_m_s": float(v_max[k]), "v_max_crank_angle_deg": float(np.degrees(v_angle)),
+            "v_max_m_s": float(v_max[k]),
+            "v_max_crank_angle_deg": float(np.degrees(v_angle)),
             "v_max_approx_m_s": kin.max_piston_velocity_approx_m_s(r, lam, w),
             "j_max_m_s2": kin.max_piston_acceleration_m_s2(r, lam, w),
             "j_min_m_s2": float(r) * float(w) ** 2 * j_shape,
@@ -205,13 +242,20 @@ def run_many(scenes, inputs) -> list[StageOutput]:
             **{name: float(values[k]) for name, values in rows.items()},
         }
         motion = PistonMotion(
-            crank_angle_deg=angle_deg, piston_displacement_m=chosen["s"][k],
-            piston_velocity_m_s=chosen["v"][k], piston_acceleration_m_s2=chosen["j"][k],
-            rod_angle_rad=beta[k], crank_radius_m=r,
-            angular_velocity_rad_s=w, method=method,
-            extra={"rod_ratio": lam, "rod_length_m": engine.rod_length_m,
-                   "rod_angular_velocity_rad_s": rod_omega[k],
-                   "rod_angular_acceleration_rad_s2": rod_epsilon[k]},
+            crank_angle_deg=angle_deg,
+            piston_displacement_m=chosen["s"][k],
+            piston_velocity_m_s=chosen["v"][k],
+            piston_acceleration_m_s2=chosen["j"][k],
+            rod_angle_rad=beta[k],
+            crank_radius_m=r,
+            angular_velocity_rad_s=w,
+            method=method,
+            extra={
+                "rod_ratio": lam,
+                "rod_length_m": engine.rod_length_m,
+                "rod_angular_velocity_rad_s": rod_omega[k],
+                "rod_angular_acceleration_rad_s2": rod_epsilon[k],
+            },
             displacement_at=functools.partial(_displacement_at_deg, displacement, r, lam),
         )
         outputs.append(StageOutput(data={KINEMATICS: motion}, results=results))

@@ -8,7 +8,9 @@ from crankdyn.report.figures import crank_angle_axis, new_figure, twin_axes
 def _piston_figure(frame, t):
     """The piston's s, v, j over one revolution, and the two-term j's difference from the exact."""
     angle = frame["crank_angle_deg"]
-    fig, axes = new_figure(16, 19, nrows=4, sharex=True, gridspec_kw={"height_ratios": [1, 1, 1, 0.6]})
+    fig, axes = new_figure(
+        16, 19, nrows=4, sharex=True, gridspec_kw={"height_ratios": [1, 1, 1, 0.6]}
+    )
     # one colour for the report's curves in every panel, the two-term acceleration dashed; one
     # legend above the top panel for all; the bottom panel shows the two-term acceleration's
     # difference from the exact one (on the scale of j itself the two curves cannot be told apart)
@@ -17,13 +19,28 @@ def _piston_figure(frame, t):
     axes[1].plot(angle, frame["piston_velocity_m_s"], color="C0")
     axes[1].set_ylabel(t("kinematics.axis_v"))
     exact = axes[2].plot(angle, frame["piston_acceleration_m_s2"], color="C0")[0]
-    two_term = axes[2].plot(angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1)[0]
+    two_term = axes[2].plot(
+        angle, frame["piston_acceleration_two_term_m_s2"], color="C3", ls="--", lw=1
+    )[0]
     axes[2].set_ylabel(t("kinematics.axis_j"))
-    axes[3].plot(angle, frame["piston_acceleration_two_term_m_s2"] - frame["piston_acceleration_m_s2"],
-                 color="C3", ls="--", lw=1)
+    axes[3].plot(
+        angle,
+        frame["piston_acceleration_two_term_m_s2"] - frame["piston_acceleration_m_s2"],
+        color="C3",
+        ls="--",
+        lw=1,
+    )
     axes[3].set_ylabel(t("kinematics.axis_dj"))
-    axes[0].legend([exact, two_term], [t("kinematics.exact"), t("kinematics.two_term_j")], loc="lower right",
-                   bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False, fontsize=8, borderaxespad=0.2)
+    axes[0].legend(
+        [exact, two_term],
+        [t("kinematics.exact"), t("kinematics.two_term_j")],
+        loc="lower right",
+        bbox_to_anchor=(1.0, 1.0),
+        ncol=2,
+        frameon=False,
+        fontsize=8,
+        borderaxespad=0.2,
+    )
     # The motion repeats every revolution; one revolution is the textbook's fig. 3.
     crank_angle_axis(axes[3], 360.0, t("axis.crank_angle"))
     for ax in axes:

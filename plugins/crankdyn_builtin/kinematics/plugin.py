@@ -30,11 +30,23 @@ KINEMATICS_STAGE = Stage(
     tables=("kinematics",),
     answer_columns=(
         AnswerColumn("v_max_m_s", "v_max_m_s", "m/s", label_key="kinematics.answer.v_max_m_s"),
-        AnswerColumn("v_max_crank_angle_deg", "v_max_crank_angle_deg", "°", label_key="kinematics.answer.v_max_crank_angle_deg"),
-        AnswerColumn("v_mean_m_s", "mean_piston_speed_m_s", "m/s", label_key="kinematics.answer.v_mean_m_s"),
+        AnswerColumn(
+            "v_max_crank_angle_deg",
+            "v_max_crank_angle_deg",
+            "°",
+            label_key="kinematics.answer.v_max_crank_angle_deg",
+        ),
+        AnswerColumn(
+            "v_mean_m_s", "mean_piston_speed_m_s", "m/s", label_key="kinematics.answer.v_mean_m_s"
+        ),
         AnswerColumn("j_max_m_s2", "j_max_m_s2", "m/s²", label_key="kinematics.answer.j_max_m_s2"),
         AnswerColumn("j_min_m_s2", "j_min_m_s2", "m/s²", label_key="kinematics.answer.j_min_m_s2"),
-        AnswerColumn("j_min_crank_angle_deg", "j_min_crank_angle_deg", "°", label_key="kinematics.answer.j_min_crank_angle_deg"),
+        AnswerColumn(
+            "j_min_crank_angle_deg",
+            "j_min_crank_angle_deg",
+            "°",
+            label_key="kinematics.answer.j_min_crank_angle_deg",
+        ),
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
@@ -56,4 +68,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -19,31 +19,62 @@ def render(output: StageOutput, ctx) -> str:
     # The motion repeats every revolution, so one revolution is tabulated.
     rows, labels = sample_rows(frame["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
     f = frame.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"], 0),
-        ("<i>β</i>, °", f["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("kinematics.table_caption"), see="kinematics.see_table")
+    table = ctx.table(
+        [
+            ("<i>α</i>, °", labels, 0),
+            ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
+            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
+            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"], 0),
+            ("<i>β</i>, °", f["rod_angle_deg"], 2),
+            ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
+            ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
+        ],
+        caption=t("kinematics.table_caption"),
+        see="kinematics.see_table",
+    )
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
-    figure_main = ctx.figure(partial(_piston_figure, frame, t), t("kinematics.figure_caption"), "piston",
-                             see="kinematics.see_figure")
-    figure_rod = ctx.figure(partial(_rod_figure, frame, t), t("kinematics.rod_figure_caption"), "rod",
-                            see="kinematics.see_rod_figure")
+    figure_main = ctx.figure(
+        partial(_piston_figure, frame, t),
+        t("kinematics.figure_caption"),
+        "piston",
+        see="kinematics.see_figure",
+    )
+    figure_rod = ctx.figure(
+        partial(_rod_figure, frame, t),
+        t("kinematics.rod_figure_caption"),
+        "rod",
+        see="kinematics.see_rod_figure",
+    )
     figure_cm = None
     if "rod_cm_x_m" in frame:
-        figure_cm = ctx.figure(partial(_rod_cm_figure, frame, t), t("kinematics.cm_figure_caption"), "rod_cm",
-                               see="kinematics.see_cm")
+        figure_cm = ctx.figure(
+            partial(_rod_cm_figure, frame, t),
+            t("kinematics.cm_figure_caption"),
+            "rod_cm",
+            see="kinematics.see_cm",
+        )
 
-    ctx.conclude(t("kinematics.conclusion", v_max=ctx.num(r["v_max_m_s"]), v_angle=ctx.angle_text(r["v_max_crank_angle_deg"]),
-                   v_mean=ctx.num(r["mean_piston_speed_m_s"]), j_max=ctx.num(r["j_max_m_s2"]),
-                   j_min=ctx.num(r["j_min_m_s2"]), j_angle=ctx.angle_text(r["j_min_crank_angle_deg"])))
-    return ctx.render_template("sections/kinematics.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod, figure_cm=figure_cm, worked=worked)
+    ctx.conclude(
+        t(
+            "kinematics.conclusion",
+            v_max=ctx.num(r["v_max_m_s"]),
+            v_angle=ctx.angle_text(r["v_max_crank_angle_deg"]),
+            v_mean=ctx.num(r["mean_piston_speed_m_s"]),
+            j_max=ctx.num(r["j_max_m_s2"]),
+            j_min=ctx.num(r["j_min_m_s2"]),
+            j_angle=ctx.angle_text(r["j_min_crank_angle_deg"]),
+        )
+    )
+    return ctx.render_template(
+        "sections/kinematics.html.j2",
+        r=r,
+        table=table,
+        figure_main=figure_main,
+        figure_rod=figure_rod,
+        figure_cm=figure_cm,
+        worked=worked,
+    )
 
 
 def _worked(ctx, rows, labels, r):
@@ -58,17 +89,35 @@ def _worked(ctx, rows, labels, r):
     b_txt, beta = printed(t, float(row["rod_angle_deg"]))
     inputs = {"R_m": r_m, "lambda": lam, "omega": omega, "alpha_deg": alpha, "beta_deg": beta}
     steps = [
-        WorkedStep("piston_displacement", symbol_html("piston_displacement", lang),
-                   "<i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>]",
-                   f"{r_txt}·[(1 − cos {a}°) + (1 − cos {b_txt}°)/{l_txt}]·10³",
-                   float(row["piston_displacement_m"]) * 1e3, 2, t("unit.mm"), inputs),
-        WorkedStep("piston_velocity", symbol_html("piston_velocity", lang),
-                   "<i>Rω</i> sin(<i>α</i> + <i>β</i>)/cos <i>β</i>",
-                   f"{r_txt}·{w_txt}·sin({a}° + {b_txt}°)/cos {b_txt}°",
-                   float(row["piston_velocity_m_s"]), 2, t("unit.m_s"), inputs),
-        WorkedStep("piston_acceleration", symbol_html("piston_acceleration", lang),
-                   "<i>Rω</i><sup>2</sup>[cos(<i>α</i> + <i>β</i>)/cos <i>β</i> + <i>λ</i> cos<sup>2</sup><i>α</i>/cos<sup>3</sup><i>β</i>]",
-                   f"{r_txt}·{w_txt}<sup>2</sup>·[cos({a}° + {b_txt}°)/cos {b_txt}° + {l_txt}·cos<sup>2</sup> {a}°/cos<sup>3</sup> {b_txt}°]",
-                   float(row["piston_acceleration_m_s2"]), 0, t("unit.m_s2"), inputs),
+        WorkedStep(
+            "piston_displacement",
+            symbol_html("piston_displacement", lang),
+            "<i>R</i>[(1 − cos <i>α</i>) + (1 − cos <i>β</i>)/<i>λ</i>]",
+            f"{r_txt}·[(1 − cos {a}°) + (1 − cos {b_txt}°)/{l_txt}]·10³",
+            float(row["piston_displacement_m"]) * 1e3,
+            2,
+            t("unit.mm"),
+            inputs,
+        ),
+        WorkedStep(
+            "piston_velocity",
+            symbol_html("piston_velocity", lang),
+            "<i>Rω</i> sin(<i>α</i> + <i>β</i>)/cos <i>β</i>",
+            f"{r_txt}·{w_txt}·sin({a}° + {b_txt}°)/cos {b_txt}°",
+            float(row["piston_velocity_m_s"]),
+            2,
+            t("unit.m_s"),
+            inputs,
+        ),
+        WorkedStep(
+            "piston_acceleration",
+            symbol_html("piston_acceleration", lang),
+            "<i>Rω</i><sup>2</sup>[cos(<i>α</i> + <i>β</i>)/cos <i>β</i> + <i>λ</i> cos<sup>2</sup><i>α</i>/cos<sup>3</sup><i>β</i>]",
+            f"{r_txt}·{w_txt}<sup>2</sup>·[cos({a}° + {b_txt}°)/cos {b_txt}° + {l_txt}·cos<sup>2</sup> {a}°/cos<sup>3</sup> {b_txt}°]",
+            float(row["piston_acceleration_m_s2"]),
+            0,
+            t("unit.m_s2"),
+            inputs,
+        ),
     ]
     return worked_markup(ctx, WorkedBlock("kinematics", ctx.last_table_number, alpha, steps))

@@ -69,25 +69,44 @@ _SETTLED_ROUNDS = 3
 QUANTITIES = ("mean_torque", "indicated_work", "tangential_max", "tangential_min", "resultant_max")
 
 
-QUANTITY_UNITS = {"mean_torque": "Nm", "indicated_work": "J", "tangential_max": "Pa", "tangential_min": "Pa",
-                  "resultant_max": "Pa"}
+QUANTITY_UNITS = {
+    "mean_torque": "Nm",
+    "indicated_work": "J",
+    "tangential_max": "Pa",
+    "tangential_min": "Pa",
+    "resultant_max": "Pa",
+}
 
 
 def _step_formulas(model: PointwiseModel, run: StepRun) -> Callable[[], tuple]:
     """The formulas of a step on its N angles: piston acceleration, rod angle, forces, torque, and the
     judged values (mean torque, t_max, t_min, q_max), from the step's pressure curve."""
     gas = next(o.data[GAS_PRESSURE] for o in run.outputs.values() if GAS_PRESSURE in o.data)
-    angles, pressure = np.asarray(gas.crank_angle_deg, dtype=float), np.asarray(gas.pressure_Pa, dtype=float)
+    angles, pressure = (
+        np.asarray(gas.crank_angle_deg, dtype=float),
+        np.asarray(gas.pressure_Pa, dtype=float),
+    )
 
     def formulas():
         tangential, resultant, torque = model.forces(angles, pressure)
-        return (np.mean(torque), np.max(tangential), np.min(tangential),
-                None if resultant is None else np.max(resultant))
+        return (
+            np.mean(torque),
+            np.max(tangential),
+            np.min(tangential),
+            None if resultant is None else np.max(resultant),
+        )
+
     return formulas
 
 
-def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
-               clock: Callable[[], float] = time.perf_counter) -> tuple[str, list[Timing], float | None]:
+def time_steps(
+    scene: Scene,
+    runs: list[StepRun],
+    repeats: int,
+    runner,
+    *,
+    clock: Callable[[], float] = time.perf_counter,
+) -> tuple[str, list[Timing], float | None]:
     """(what was timed, a :class:`Timing` per run, the fixed per-call overhead in s or None).
 
     ``formulas``: each step's formulas (:func:`_step_formulas`) on its own angles; the re-run
@@ -105,10 +124,21 @@ def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
         plans = []
         for r in runs:
             copy = scene_with_step(scene, r.step_deg)
-            plans.append(functools.partial(runner.run, copy, runner.plan(copy, needed_stages(copy, runner))))
-        return "rerun", best_times(plans, min(repeats, _RERUN_REPEATS), min_time_s=MIN_REPEAT_S, clock=clock), None
-    timings = best_times([_step_formulas(model, r) for r in runs], repeats, min_time_s=MIN_REPEAT_S, clock=clock,
-                         settled_rounds=_SETTLED_ROUNDS)
+            plans.append(
+                functools.partial(runner.run, copy, runner.plan(copy, needed_stages(copy, runner)))
+            )
+        return (
+            "rerun",
+            best_times(plans, min(repeats, _RERUN_REPEATS), min_time_s=MIN_REPEAT_S, clock=clock),
+            None,
+        )
+    timings = best_times(
+        [_step_formulas(model, r) for r in runs],
+        repeats,
+        min_time_s=MIN_REPEAT_S,
+        clock=clock,
+        settled_rounds=_SETTLED_ROUNDS,
+    )
     overhead = max(0.0, min(r.time_s - t.best_s for r, t in zip(runs, timings, strict=True)))
     return "formulas", timings, overhead
 
@@ -116,9 +146,13 @@ def time_steps(scene: Scene, runs: list[StepRun], repeats: int, runner, *,
 # ------------------------------------------------------------------ the stage
 def applies(scene) -> str | None:
     if scene.cycle is None or scene.masses is None:
-        missing = " and ".join(t for t, v in (("[cycle]", scene.cycle), ("[masses]", scene.masses)) if v is None)
-        return (f"the scene has no {missing}: there is no cycle to integrate "
-                "(the kinematics part is in numerics_kinematics)")
+        missing = " and ".join(
+            t for t, v in (("[cycle]", scene.cycle), ("[masses]", scene.masses)) if v is None
+        )
+        return (
+            f"the scene has no {missing}: there is no cycle to integrate "
+            "(the kinematics part is in numerics_kinematics)"
+        )
     return None
 
 
@@ -145,9 +179,13 @@ def _kinematics_part(scene, opts, results, tables) -> None:
     results["kinematics_forms"] = rows
     results["kinematics_method"] = scene.analysis.kinematics
     # CSV: one text column names the form ("series-3"); no empty cells for the exact form's terms
-    tables["kinematics_forms"] = (
-        [{"form": row["form"] + (f"-{row['terms']}" if row["terms"] else ""),
-          **{k: v for k, v in row.items() if k not in ("form", "terms")}} for row in rows])
+    tables["kinematics_forms"] = [
+        {
+            "form": row["form"] + (f"-{row['terms']}" if row["terms"] else ""),
+            **{k: v for k, v in row.items() if k not in ("form", "terms")},
+        }
+        for row in rows
+    ]
 
 
 def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference) -> list[dict]:
@@ -155,19 +193,30 @@ def _step_rows(runs: list[StepRun], timings: list[Timing], reference: Reference)
     ref = reference.values
     step_rows = []
     for r, timing in zip(runs, timings, strict=True):
-        row = {"angle_step_deg": r.step_deg, "points": r.points, "time_s": timing.best_s, "timing_loops": timing.loops,
-               "rerun_time_s": r.time_s}
+        row = {
+            "angle_step_deg": r.step_deg,
+            "points": r.points,
+            "time_s": timing.best_s,
+            "timing_loops": timing.loops,
+            "rerun_time_s": r.time_s,
+        }
         for q in QUANTITIES:
             row[f"{q}_{QUANTITY_UNITS[q]}"] = r.values[q]
             row[f"{q}_error_relative"] = _relative(r.values[q], ref[q])
         if reference.theoretical_work_J is not None and r.theoretical_work_J is not None:
-            row["theoretical_work_error_relative"] = _relative(r.theoretical_work_J, reference.theoretical_work_J)
+            row["theoretical_work_error_relative"] = _relative(
+                r.theoretical_work_J, reference.theoretical_work_J
+            )
         step_rows.append(row)
     return step_rows
 
 
 def run(scene, inputs) -> StageOutput:
-    runner, probes, aside = inputs[SERVICE_RUNNER], inputs[SERVICE_ERROR_PROBES], inputs[SERVICE_ASIDE]
+    runner, probes, aside = (
+        inputs[SERVICE_RUNNER],
+        inputs[SERVICE_ERROR_PROBES],
+        inputs[SERVICE_ASIDE],
+    )
     opts = options(scene, "numerics", NumericsOptions)
     results: dict[str, Any] = {}
     tables: dict[str, Any] = {}
@@ -185,7 +234,9 @@ def run(scene, inputs) -> StageOutput:
     if sample is None:
         # The pipeline cannot be re-run from the installed plugins (e.g. a mechanism registered
         # only in a custom registry): no step study, said so in results.json and the report.
-        results["steps_unavailable"] = refused.get(f"{scene_step:g}", "the scene's pipeline cannot be re-run")
+        results["steps_unavailable"] = refused.get(
+            f"{scene_step:g}", "the scene's pipeline cannot be re-run"
+        )
         _merge(results, tables, _side_studies(scene, opts, None, runner, probes))
         return StageOutput(data={}, results=results, tables=tables, notes=notes)
     # the reference, the kinematics forms and the solvers need none of the other steps' re-runs:
@@ -194,8 +245,10 @@ def run(scene, inputs) -> StageOutput:
         runs = [sample]
         for step in others:
             if time.perf_counter() - start > opts.time_budget_s:
-                refused[f"{step:g}"] = (f"{BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
-                                        "([numerics] time_budget_s)")
+                refused[f"{step:g}"] = (
+                    f"{BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
+                    "([numerics] time_budget_s)"
+                )
                 continue
             run = _run_or_refuse(scene, step, opts, runner, refused)
             if run is not None:
@@ -217,21 +270,25 @@ def run(scene, inputs) -> StageOutput:
     _refuse_if_too_coarse(scene, opts, at_scene, step_rows)
     notes += _peaks_against_tolerance(scene, opts, at_scene, step_rows)
 
-    results.update({
-        "reference_method": reference.method,
-        "reference_step_deg": FALLBACK_REFERENCE_STEP_DEG if reference.method != "quadrature" else None,
-        "reference_time_s": reference.time_s,
-        "reference": {f"{q}_{QUANTITY_UNITS[q]}": ref[q] for q in QUANTITIES},
-        "reference_uncertainty_relative": reference.uncertainty,
-        "theoretical_work_closed_form_J": reference.theoretical_work_J,
-        "steps": step_rows,
-        "steps_timed": timed,
-        "steps_timing_repeats": timings[0].repeats,
-        "steps_timing_min_repeat_s": MIN_REPEAT_S,
-        "per_call_overhead_s": overhead,
-        "steps_refused": refused,
-        "at_scene_step": at_scene,
-    })
+    results.update(
+        {
+            "reference_method": reference.method,
+            "reference_step_deg": FALLBACK_REFERENCE_STEP_DEG
+            if reference.method != "quadrature"
+            else None,
+            "reference_time_s": reference.time_s,
+            "reference": {f"{q}_{QUANTITY_UNITS[q]}": ref[q] for q in QUANTITIES},
+            "reference_uncertainty_relative": reference.uncertainty,
+            "theoretical_work_closed_form_J": reference.theoretical_work_J,
+            "steps": step_rows,
+            "steps_timed": timed,
+            "steps_timing_repeats": timings[0].repeats,
+            "steps_timing_min_repeat_s": MIN_REPEAT_S,
+            "per_call_overhead_s": overhead,
+            "steps_refused": refused,
+            "at_scene_step": at_scene,
+        }
+    )
     tables["steps"] = step_rows
     _merge(results, tables, studies)
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
@@ -242,7 +299,9 @@ def _run_or_refuse(scene, step: float, opts, runner, refused: dict[str, str]) ->
     try:
         return run_at_step(scene, step, opts.repeats, runner=runner)
     except (CrankdynError, ValueError) as exc:
-        refused[f"{step:g}"] = "; ".join(p.allowed for p in getattr(exc, "problems", [])) or str(exc)
+        refused[f"{step:g}"] = "; ".join(p.allowed for p in getattr(exc, "problems", [])) or str(
+            exc
+        )
         return None
 
 
@@ -281,21 +340,45 @@ def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
     Records it in ``at_scene`` and returns the method notes: how a defaulted step was chosen, and,
     when the peaks are off by more than the tolerance, the coarsest measured step that keeps them.
     """
+
     def worst(row):
         return max(row[f"{q}_error_relative"] for q in PEAKS)
 
     error = worst(at_scene)
-    at_scene.update({"peaks_error_relative": error, "tolerance_relative": opts.tolerance,
-                     "peaks_within_tolerance": bool(error <= opts.tolerance),
-                     "step_defaulted": scene.angle_step_defaulted, "grid_deg": scene.engine_grid_deg})
+    at_scene.update(
+        {
+            "peaks_error_relative": error,
+            "tolerance_relative": opts.tolerance,
+            "peaks_within_tolerance": bool(error <= opts.tolerance),
+            "step_defaulted": scene.angle_step_defaulted,
+            "grid_deg": scene.engine_grid_deg,
+        }
+    )
     notes = []
     if scene.angle_step_defaulted:
-        notes.append(("numerics.note_default_step", {"step": scene.analysis.angle_step_deg, "grid": scene.engine_grid_deg,
-                                                     "tolerance": 100 * opts.tolerance, "error": 100 * error}))
+        notes.append(
+            (
+                "numerics.note_default_step",
+                {
+                    "step": scene.analysis.angle_step_deg,
+                    "grid": scene.engine_grid_deg,
+                    "tolerance": 100 * opts.tolerance,
+                    "error": 100 * error,
+                },
+            )
+        )
     if error > opts.tolerance:
         good = [row["angle_step_deg"] for row in step_rows if worst(row) <= opts.tolerance]
-        notes.append(("numerics.note_peaks_beyond", {"error": 100 * error, "tolerance": 100 * opts.tolerance,
-                                                     "step": f"{max(good):.6g}" if good else "—"}))
+        notes.append(
+            (
+                "numerics.note_peaks_beyond",
+                {
+                    "error": 100 * error,
+                    "tolerance": 100 * opts.tolerance,
+                    "step": f"{max(good):.6g}" if good else "—",
+                },
+            )
+        )
     return notes
 
 
@@ -319,12 +402,16 @@ def _refuse_if_too_coarse(scene, opts, at_scene, step_rows) -> None:
         hint = f"Δα = {row['angle_step_deg']:g}° keeps both within it ({100 * worst(row):.2g} %)"
     else:
         hint = "choose a finer step"
-    raise SceneError(Problem(
-        "analysis.angle_step_deg", scene.analysis.angle_step_deg,
-        f"too coarse for this scene: at {scene.analysis.angle_step_deg:g}° the mean torque is "
-        f"{100 * at_scene['mean_torque_error_relative']:.3g} % and the indicated work "
-        f"{100 * at_scene['indicated_work_error_relative']:.3g} % off a reference that does not depend on the step "
-        f"(at most {opts.max_error_percent:g} % allowed, [numerics] max_error_percent); {hint}"))
+    raise SceneError(
+        Problem(
+            "analysis.angle_step_deg",
+            scene.analysis.angle_step_deg,
+            f"too coarse for this scene: at {scene.analysis.angle_step_deg:g}° the mean torque is "
+            f"{100 * at_scene['mean_torque_error_relative']:.3g} % and the indicated work "
+            f"{100 * at_scene['indicated_work_error_relative']:.3g} % off a reference that does not depend on the step "
+            f"(at most {opts.max_error_percent:g} % allowed, [numerics] max_error_percent); {hint}",
+        )
+    )
 
 
 def _probes(scene, results, probes, runner) -> None:
@@ -334,8 +421,7 @@ def _probes(scene, results, probes, runner) -> None:
             if not probe.applies(scene):
                 continue
             points = probe.run(scene, runner)
-            studies[probe.name] = {"title": probe.title,
-                                   "points": [p.__dict__ for p in points]}
+            studies[probe.name] = {"title": probe.title, "points": [p.__dict__ for p in points]}
         except CrankdynError as exc:
             studies[probe.name] = {"title": probe.title, "refused": str(exc), "points": []}
     if studies:

@@ -23,5 +23,7 @@ class NumericsOptions(BaseModel):
     repeats: Annotated[int, Field(ge=1, le=100)] = 15
     time_budget_s: Annotated[float, Field(gt=0, le=3600)] = 10.0
     max_error_percent: Annotated[float, Field(gt=0)] = 1.0
-    tolerance: Annotated[float, Field(gt=0, lt=0.1)] = 1e-3  # relative error allowed in the reported peaks
+    tolerance: Annotated[float, Field(gt=0, lt=0.1)] = (
+        1e-3  # relative error allowed in the reported peaks
+    )
     kinematics_forms: bool = True

@@ -45,9 +45,17 @@ NUMERICS_STAGE = Stage(
         template_dir=TEMPLATES,
         appendix=True,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
-                         "tangential_max", "tangential_min", "crank_load_max",
-                         "displacement_difference", "acceleration_difference"),
+        section_symbols=(
+            "studied_value",
+            "angle_step",
+            "total_torque",
+            "series_term",
+            "tangential_max",
+            "tangential_min",
+            "crank_load_max",
+            "displacement_difference",
+            "acceleration_difference",
+        ),
         title_key="numerics.title",
         render=render,
         figures=("error_vs_time", "kinematics_forms"),
@@ -70,9 +78,17 @@ NUMERICS_KINEMATICS_STAGE = Stage(
         template_dir=TEMPLATES,
         appendix=True,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("studied_value", "angle_step", "total_torque", "series_term",
-                         "tangential_max", "tangential_min", "crank_load_max",
-                         "displacement_difference", "acceleration_difference"),
+        section_symbols=(
+            "studied_value",
+            "angle_step",
+            "total_torque",
+            "series_term",
+            "tangential_max",
+            "tangential_min",
+            "crank_load_max",
+            "displacement_difference",
+            "acceleration_difference",
+        ),
         title_key="numerics.title",
         render=render_kinematics,
         figures=("kinematics_forms",),
@@ -91,4 +107,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -84,16 +84,25 @@ class PointwiseModel:
         if not self.analytic and (motion is None or motion.displacement_at is None):
             raise ValueError(f"the {e.mechanism!r} kinematics give no displacement at any angle")
         self._displacement_at = None if self.analytic else motion.displacement_at
-        self.radius, self.ratio, self.omega = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
+        self.radius, self.ratio, self.omega = (
+            e.crank_radius_m,
+            e.rod_ratio_value,
+            e.angular_velocity_rad_s,
+        )
         self.cycle_deg = e.cycle_deg
         self.exact = scene.analysis.kinematics == "exact"
         self.area = float(phys.piston_area_m2(e.bore))
         self.swept = self.area * e.stroke
         self.p0 = e.crankcase_pressure
-        rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+        rod_rec, rod_rot = phys.rod_mass_split_kg(
+            m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m
+        )
         self.reciprocating = float(m.piston_group + rod_rec)
-        self.centrifugal = float(phys.centrifugal_pressure_Pa(rod_rot + m.crank_pin + 2.0 * m.crank_web,
-                                                              self.radius, self.omega, self.area))
+        self.centrifugal = float(
+            phys.centrifugal_pressure_Pa(
+                rod_rot + m.crank_pin + 2.0 * m.crank_web, self.radius, self.omega, self.area
+            )
+        )
         self.clearance = float(ind.clearance_volume_m3(self.swept, c.compression_ratio))
         if c.source == "trace":
             path = scene.resolve(c.trace_file)
@@ -101,7 +110,9 @@ class PointwiseModel:
             reader = trace.read_diesel_rk_ind if fmt == "diesel-rk" else trace.read_pressure_csv
             self._trace = reader(path)
             self._target_tdc = 360.0 if e.strokes == 4 else 0.0
-            shifted = np.mod(self._trace[0] + self._target_tdc - c.trace_firing_tdc_deg, self.cycle_deg)
+            shifted = np.mod(
+                self._trace[0] + self._target_tdc - c.trace_firing_tdc_deg, self.cycle_deg
+            )
             self.knots_deg = np.unique(shifted)
         else:
             self._trace = None
@@ -122,7 +133,9 @@ class PointwiseModel:
         if not self.analytic:
             a, h = np.asarray(a_deg, dtype=float), self._FD_STEP_ARM_DEG
             s = self.displacement
-            return (-s(a + 2 * h) + 8 * s(a + h) - 8 * s(a - h) + s(a - 2 * h)) / (12 * math.radians(h))
+            return (-s(a + 2 * h) + 8 * s(a + h) - 8 * s(a - h) + s(a - 2 * h)) / (
+                12 * math.radians(h)
+            )
         a = np.radians(a_deg)
         f = kin.piston_velocity_exact_m_s if self.exact else kin.piston_velocity_approx_m_s
         return f(a, self.radius, self.ratio, 1.0)
@@ -132,10 +145,15 @@ class PointwiseModel:
         if not self.analytic:
             a, h = np.asarray(a_deg, dtype=float), self._FD_STEP_ACCEL_DEG
             s = self.displacement
-            d2 = ((-s(a + 2 * h) + 16 * s(a + h) - 30 * s(a) + 16 * s(a - h) - s(a - 2 * h))
-                  / (12 * math.radians(h) ** 2))
+            d2 = (-s(a + 2 * h) + 16 * s(a + h) - 30 * s(a) + 16 * s(a - h) - s(a - 2 * h)) / (
+                12 * math.radians(h) ** 2
+            )
             return self.omega**2 * d2
-        f = kin.piston_acceleration_exact_m_s2 if self.exact else kin.piston_acceleration_approx_m_s2
+        f = (
+            kin.piston_acceleration_exact_m_s2
+            if self.exact
+            else kin.piston_acceleration_approx_m_s2
+        )
         return f(np.radians(a_deg), self.radius, self.ratio, self.omega)
 
     def volume(self, a_deg):
@@ -145,16 +163,32 @@ class PointwiseModel:
         a_deg = np.asarray(a_deg, dtype=float)
         if self._trace is not None:
             c = self.scene.cycle
-            return trace.to_cycle_grid(self._trace[0], self._trace[1], self.cycle_deg, a_deg,
-                                       c.trace_firing_tdc_deg, self._target_tdc)
-        return ind.rounded_pressure_Pa(a_deg, self.volume(a_deg), self.clearance, self._params, self._rounding,
-                                       volume_function=self.volume)
+            return trace.to_cycle_grid(
+                self._trace[0],
+                self._trace[1],
+                self.cycle_deg,
+                a_deg,
+                c.trace_firing_tdc_deg,
+                self._target_tdc,
+            )
+        return ind.rounded_pressure_Pa(
+            a_deg,
+            self.volume(a_deg),
+            self.clearance,
+            self._params,
+            self._rounding,
+            volume_function=self.volume,
+        )
 
     def forces(self, a_deg, pressure=None):
         """(tangential_Pa, resultant_Pa or None, torque_Nm) at the angles ``a_deg``."""
         a = np.radians(a_deg)
         p = self.pressure(a_deg) if pressure is None else pressure
-        total = p - self.p0 + phys.inertia_pressure_Pa(self.reciprocating, self.acceleration(a_deg), self.area)
+        total = (
+            p
+            - self.p0
+            + phys.inertia_pressure_Pa(self.reciprocating, self.acceleration(a_deg), self.area)
+        )
         if not self.analytic:  # virtual work: t R F = p1 F ds/dalpha
             tangential = total * self.arm(a_deg) / self.radius
             return tangential, None, phys.crank_torque_Nm(tangential, self.radius, self.area)
@@ -193,7 +227,7 @@ class PointwiseModel:
             local = np.concatenate([c + step * offsets for c in centres])
             lt, lq, _ = self.forces(np.mod(local, self.cycle_deg))
             for k, (_, which, sign) in enumerate(kinds):
-                part = sign * (lt, lq)[which][k * offsets.size:(k + 1) * offsets.size]
+                part = sign * (lt, lq)[which][k * offsets.size : (k + 1) * offsets.size]
                 i = first_argmax(part)
                 centres[k] = float(local[k * offsets.size + i])
                 best[k] = max(best[k], float(part[i]))
@@ -212,11 +246,18 @@ def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) 
     a_deg = np.degrees(nodes)
     total = 0.0
     for slave in bays_results["slaves"]:
-        g = art.SlaveGeometry(e.crank_radius_m, e.rod_length_m, bays_results["pin_radius_m"],
-                              math.radians(slave["pin_angle_deg"]), math.radians(slave["bank_angle_deg"]),
-                              slave["slave_rod_length_m"])
+        g = art.SlaveGeometry(
+            e.crank_radius_m,
+            e.rod_length_m,
+            bays_results["pin_radius_m"],
+            math.radians(slave["pin_angle_deg"]),
+            math.radians(slave["bank_angle_deg"]),
+            slave["slave_rod_length_m"],
+        )
         motion = art.slave_motion(nodes, g, 1.0)  # velocity = dx/dalpha, m/rad
-        delta = (by_label[slave["cylinder"]].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg
+        delta = (
+            by_label[slave["cylinder"]].firing_delay_deg - master.firing_delay_deg
+        ) % layout.cycle_deg
         delta += slave["tdc_master_angle_deg"] - slave["bank_angle_deg"]
         p = model.pressure(np.mod(a_deg - delta, layout.cycle_deg))
         total += float(np.sum(weights * p * model.area * (-motion.piston_velocity_m_s)))
@@ -245,11 +286,19 @@ def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
     articulated = e.rod_type == "articulated"
     analytic = e.mechanism == "crank_slider"
     motion = _motion(sample)
-    if articulated and scene.analysis.kinematics != "exact" or (
-            not analytic and (articulated or motion is None or motion.displacement_at is None)):
+    if (
+        articulated
+        and scene.analysis.kinematics != "exact"
+        or (not analytic and (articulated or motion is None or motion.displacement_at is None))
+    ):
         run = run_at_step(scene, FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner)
-        return Reference("fine_step", run.values, {}, time.perf_counter() - start,
-                         note=f"{FALLBACK_REFERENCE_STEP_DEG:g}")
+        return Reference(
+            "fine_step",
+            run.values,
+            {},
+            time.perf_counter() - start,
+            note=f"{FALLBACK_REFERENCE_STEP_DEG:g}",
+        )
     model = PointwiseModel(scene, motion)
     work, mean = model.integrals(PANEL_DEG)
     work_coarse, mean_coarse = model.integrals(2 * PANEL_DEG)
@@ -266,19 +315,26 @@ def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
     values = {"mean_torque": engine_mean, "indicated_work": work, **model.extremes()}
     method = "quadrature"
     if "resultant_max" not in values:
-        values["resultant_max"] = run_at_step(scene, FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner).values["resultant_max"]
+        values["resultant_max"] = run_at_step(
+            scene, FALLBACK_REFERENCE_STEP_DEG, repeats=1, runner=runner
+        ).values["resultant_max"]
         method = "mixed"
 
     def rel(a, b):
         return abs(a - b) / abs(b) if b else abs(a - b)
 
-    uncertainty = {"mean_torque": rel(engine_mean_coarse, engine_mean), "indicated_work": rel(work_coarse, work)}
+    uncertainty = {
+        "mean_torque": rel(engine_mean_coarse, engine_mean),
+        "indicated_work": rel(work_coarse, work),
+    }
     theoretical = None
     # The closed form assumes dead centres at 0/180 deg and a swept volume F*S: true of the central
     # crank-slider, not of an offset or planetary linkage (their strokes and phases differ).
     if scene.cycle.source == "theoretical" and analytic:
         params = model._params
-        pumping = (params.intake_pressure_Pa - params.exhaust_pressure_Pa) if e.strokes == 4 else 0.0
+        pumping = (
+            (params.intake_pressure_Pa - params.exhaust_pressure_Pa) if e.strokes == 4 else 0.0
+        )
         theoretical = (ind.theoretical_mean_indicated_pressure_Pa(params) + pumping) * model.swept
     return Reference(method, values, uncertainty, time.perf_counter() - start, theoretical)
 
@@ -297,8 +353,9 @@ def _exact_extended(alpha_deg: np.ndarray, radius: float, ratio: float):
     return s, j
 
 
-def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POINTS,
-                     repeats: int = 3) -> list[dict]:
+def kinematics_forms(
+    radius: float, ratio: float, points: int = _KINEMATICS_POINTS, repeats: int = 3
+) -> list[dict]:
     """Largest errors of s and j and time per evaluation of s, v, j for every form.
 
     The errors are against the exact form evaluated in extended precision; ``exact`` itself is
@@ -309,34 +366,77 @@ def kinematics_forms(radius: float, ratio: float, points: int = _KINEMATICS_POIN
     a = np.radians(a_deg)
     s_ref, j_ref = _exact_extended(a_deg, radius, ratio)
     forms: list[tuple[str, int | None, Callable]] = [
-        ("two_term", 2, lambda: (kin.piston_displacement_approx_m(a, radius, ratio),
-                                 kin.piston_velocity_approx_m_s(a, radius, ratio, 1.0),
-                                 kin.piston_acceleration_approx_m_s2(a, radius, ratio, 1.0)))]
+        (
+            "two_term",
+            2,
+            lambda: (
+                kin.piston_displacement_approx_m(a, radius, ratio),
+                kin.piston_velocity_approx_m_s(a, radius, ratio, 1.0),
+                kin.piston_acceleration_approx_m_s2(a, radius, ratio, 1.0),
+            ),
+        )
+    ]
     for terms in (3, 4, 5):
-        forms.append(("series", terms, functools.partial(
-            lambda n: (series.piston_displacement_series_m(a, radius, ratio, n),
-                       series.piston_velocity_series_m_s(a, radius, ratio, 1.0, n),
-                       series.piston_acceleration_series_m_s2(a, radius, ratio, 1.0, n)), terms)))
+        forms.append(
+            (
+                "series",
+                terms,
+                functools.partial(
+                    lambda n: (
+                        series.piston_displacement_series_m(a, radius, ratio, n),
+                        series.piston_velocity_series_m_s(a, radius, ratio, 1.0, n),
+                        series.piston_acceleration_series_m_s2(a, radius, ratio, 1.0, n),
+                    ),
+                    terms,
+                ),
+            )
+        )
     for terms in (3, 4, 5):
-        forms.append(("harmonic", terms, functools.partial(
-            lambda n: (series.piston_displacement_harmonic_m(a, radius, ratio, n),
-                       series.piston_velocity_harmonic_m_s(a, radius, ratio, 1.0, n),
-                       series.piston_acceleration_harmonic_m_s2(a, radius, ratio, 1.0, n)), terms)))
-    forms.append(("exact", None, lambda: (kin.piston_displacement_exact_m(a, radius, ratio),
-                                          kin.piston_velocity_exact_m_s(a, radius, ratio, 1.0),
-                                          kin.piston_acceleration_exact_m_s2(a, radius, ratio, 1.0))))
+        forms.append(
+            (
+                "harmonic",
+                terms,
+                functools.partial(
+                    lambda n: (
+                        series.piston_displacement_harmonic_m(a, radius, ratio, n),
+                        series.piston_velocity_harmonic_m_s(a, radius, ratio, 1.0, n),
+                        series.piston_acceleration_harmonic_m_s2(a, radius, ratio, 1.0, n),
+                    ),
+                    terms,
+                ),
+            )
+        )
+    forms.append(
+        (
+            "exact",
+            None,
+            lambda: (
+                kin.piston_displacement_exact_m(a, radius, ratio),
+                kin.piston_velocity_exact_m_s(a, radius, ratio, 1.0),
+                kin.piston_acceleration_exact_m_s2(a, radius, ratio, 1.0),
+            ),
+        )
+    )
     rows = []
     timings = best_times([fn for _, _, fn in forms], repeats)
     for (name, terms, fn), timing in zip(forms, timings, strict=True):
         s, _, j = fn()
-        rows.append({"form": name, "terms": terms,
-                     "displacement_error_max_m": float(np.max(np.abs(s - s_ref))),
-                     "acceleration_error_max_m_s2": float(np.max(np.abs(j - j_ref))),
-                     "time_per_evaluation_s": timing.best_s, "points": points})
+        rows.append(
+            {
+                "form": name,
+                "terms": terms,
+                "displacement_error_max_m": float(np.max(np.abs(s - s_ref))),
+                "acceleration_error_max_m_s2": float(np.max(np.abs(j - j_ref))),
+                "time_per_evaluation_s": timing.best_s,
+                "points": points,
+            }
+        )
     return rows
 
 
-def labelled_points(points, width_cm: float = 13.0, height_cm: float = 7.5, gap_cm: float = 0.45) -> list[int]:
+def labelled_points(
+    points, width_cm: float = 13.0, height_cm: float = 7.5, gap_cm: float = 0.45
+) -> list[int]:
     """Indices of the (x, y) points of a log-log plot that get a label: the coarse steps cost
     about the same time (the fixed overhead), so their labels piled up at the left; a point is
     labelled when it lies at least ``gap_cm`` from every labelled one, the plot's decades
@@ -348,6 +448,8 @@ def labelled_points(points, width_cm: float = 13.0, height_cm: float = 7.5, gap_
     for k in [0, len(points) - 1] + list(range(1, len(points) - 1)):
         if k in placed:
             continue
-        if k in (0, len(points) - 1) or all(np.hypot(*((logs[k] - logs[j]) * scale)) >= gap_cm for j in placed):
+        if k in (0, len(points) - 1) or all(
+            np.hypot(*((logs[k] - logs[j]) * scale)) >= gap_cm for j in placed
+        ):
             placed.append(k)
     return sorted(placed)

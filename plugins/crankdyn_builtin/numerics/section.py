@@ -23,15 +23,34 @@ def _render_kinematics(r, ctx):
     rows = r.get("kinematics_forms")
     if not rows:
         return None, None
-    table = ctx.table([
-        (t("numerics.form"), [form_label(t, row) for row in rows], None),
-        ("max |Δ<i>s</i>|, " + t("unit.m"), [ctx.num(row["displacement_error_max_m"], 2) for row in rows], None),
-        ("max |Δ<i>j</i>|/<i>ω</i><sup>2</sup>, " + t("unit.m"),
-         [ctx.num(row["acceleration_error_max_m_s2"], 2) for row in rows], None),
-        (t("numerics.time_per_evaluation"), [ctx.num(row["time_per_evaluation_s"] * 1e6, 3) for row in rows], None),
-    ], caption=t("numerics.forms_caption", points=rows[0]["points"]), see="numerics.see_forms_table")
-    figure = ctx.figure(functools.partial(_forms_figure, rows, t), t("numerics.forms_figure_caption"),
-                        "kinematics_forms", see="numerics.see_forms_figure")
+    table = ctx.table(
+        [
+            (t("numerics.form"), [form_label(t, row) for row in rows], None),
+            (
+                "max |Δ<i>s</i>|, " + t("unit.m"),
+                [ctx.num(row["displacement_error_max_m"], 2) for row in rows],
+                None,
+            ),
+            (
+                "max |Δ<i>j</i>|/<i>ω</i><sup>2</sup>, " + t("unit.m"),
+                [ctx.num(row["acceleration_error_max_m_s2"], 2) for row in rows],
+                None,
+            ),
+            (
+                t("numerics.time_per_evaluation"),
+                [ctx.num(row["time_per_evaluation_s"] * 1e6, 3) for row in rows],
+                None,
+            ),
+        ],
+        caption=t("numerics.forms_caption", points=rows[0]["points"]),
+        see="numerics.see_forms_table",
+    )
+    figure = ctx.figure(
+        functools.partial(_forms_figure, rows, t),
+        t("numerics.forms_figure_caption"),
+        "kinematics_forms",
+        see="numerics.see_forms_figure",
+    )
     return table, figure
 
 
@@ -43,12 +62,20 @@ def _render_probes(r, ctx):
         if not points:
             out.append((study["title"], None, study.get("refused", "")))
             continue
-        table = ctx.table([
-            (t("numerics.method"), [p["method"] for p in points], None),
-            (t("numerics.setting"), [p["setting"] for p in points], None),
-            (t("numerics.error"), [ctx.num(p["error"], 2) + " " + p["error_unit"] for p in points], None),
-            (t("numerics.time_ms"), [ctx.num(p["time_s"] * 1e3, 3) for p in points], None),
-        ], caption=t("numerics.solver_caption", title=study["title"]), see="numerics.see_solver")
+        table = ctx.table(
+            [
+                (t("numerics.method"), [p["method"] for p in points], None),
+                (t("numerics.setting"), [p["setting"] for p in points], None),
+                (
+                    t("numerics.error"),
+                    [ctx.num(p["error"], 2) + " " + p["error_unit"] for p in points],
+                    None,
+                ),
+                (t("numerics.time_ms"), [ctx.num(p["time_s"] * 1e3, 3) for p in points], None),
+            ],
+            caption=t("numerics.solver_caption", title=study["title"]),
+            see="numerics.see_solver",
+        )
         out.append((study["title"], table, ""))
     return out
 
@@ -57,39 +84,78 @@ def _render_steps(r, ctx):
     """Table, figure, the printed-error statement and the reference text of the step study."""
     t = ctx.t
     steps = r["steps"]
-    labels = {"mean_torque": t("numerics.q_mean_torque"), "indicated_work": t("numerics.q_indicated_work"),
-              "tangential_max": t("numerics.q_tangential_max"), "tangential_min": t("numerics.q_tangential_min"),
-              "resultant_max": t("numerics.q_resultant_max")}
+    labels = {
+        "mean_torque": t("numerics.q_mean_torque"),
+        "indicated_work": t("numerics.q_indicated_work"),
+        "tangential_max": t("numerics.q_tangential_max"),
+        "tangential_min": t("numerics.q_tangential_min"),
+        "resultant_max": t("numerics.q_resultant_max"),
+    }
     has_theory = any("theoretical_work_error_relative" in s for s in steps)
-    columns = [("Δ<i>α</i>, °", [plain(ctx, s["angle_step_deg"]) for s in steps], None),
-               (t("numerics.angles_count"), [str(s["points"]) for s in steps], None),  # N is the series' terms
-               (t("numerics.time_ms"), [ctx.num(s["time_s"] * 1e3, 3) for s in steps], None)]
+    columns = [
+        ("Δ<i>α</i>, °", [plain(ctx, s["angle_step_deg"]) for s in steps], None),
+        (
+            t("numerics.angles_count"),
+            [str(s["points"]) for s in steps],
+            None,
+        ),  # N is the series' terms
+        (t("numerics.time_ms"), [ctx.num(s["time_s"] * 1e3, 3) for s in steps], None),
+    ]
     for q in QUANTITIES:
-        columns.append((labels[q] + ", %", [ctx.num(100 * s[f"{q}_error_relative"], 2) for s in steps], None))
+        columns.append(
+            (labels[q] + ", %", [ctx.num(100 * s[f"{q}_error_relative"], 2) for s in steps], None)
+        )
     if has_theory:
-        columns.append((t("numerics.q_theoretical_work") + ", %",
-                        [ctx.num(100 * s["theoretical_work_error_relative"], 2)
-                         if "theoretical_work_error_relative" in s else "—" for s in steps], None))
-    table = ctx.table(columns, caption=t("numerics.steps_caption"), css_class="data wide",
-                      see="numerics.see_steps_table")
+        columns.append(
+            (
+                t("numerics.q_theoretical_work") + ", %",
+                [
+                    ctx.num(100 * s["theoretical_work_error_relative"], 2)
+                    if "theoretical_work_error_relative" in s
+                    else "—"
+                    for s in steps
+                ],
+                None,
+            )
+        )
+    table = ctx.table(
+        columns,
+        caption=t("numerics.steps_caption"),
+        css_class="data wide",
+        see="numerics.see_steps_table",
+    )
 
-    figure = ctx.figure(functools.partial(steps_figure, steps, labels, has_theory, t),
-                        t("numerics.steps_figure_caption"), "error_vs_time", see="numerics.see_steps_figure")
+    figure = ctx.figure(
+        functools.partial(steps_figure, steps, labels, has_theory, t),
+        t("numerics.steps_figure_caption"),
+        "error_vs_time",
+        see="numerics.see_steps_figure",
+    )
 
     a = r["at_scene_step"]
-    statement = t("numerics.printed_errors", step=plain(ctx, a["angle_step_deg"]),
-                  torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
-                  work=ctx.num(100 * a["indicated_work_error_relative"], 2),
-                  t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
-                  t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
-                  q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2))
+    statement = t(
+        "numerics.printed_errors",
+        step=plain(ctx, a["angle_step_deg"]),
+        torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
+        work=ctx.num(100 * a["indicated_work_error_relative"], 2),
+        t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
+        t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
+        q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2),
+    )
     if r["reference_method"] in ("quadrature", "mixed"):
         uncertainty = max(r["reference_uncertainty_relative"].values(), default=0.0)
-        reference_text = t("numerics.reference_quadrature", panel=plain(ctx, PANEL_DEG), order=GAUSS_ORDER,
-                           search=plain(ctx, SEARCH_STEP_DEG), uncertainty=ctx.num(100 * uncertainty, 2),
-                           ms=ctx.num(r["reference_time_s"] * 1e3, 3))
+        reference_text = t(
+            "numerics.reference_quadrature",
+            panel=plain(ctx, PANEL_DEG),
+            order=GAUSS_ORDER,
+            search=plain(ctx, SEARCH_STEP_DEG),
+            uncertainty=ctx.num(100 * uncertainty, 2),
+            ms=ctx.num(r["reference_time_s"] * 1e3, 3),
+        )
         if r["reference_method"] == "mixed":
-            reference_text += " " + t("numerics.reference_mixed", step=plain(ctx, FALLBACK_REFERENCE_STEP_DEG))
+            reference_text += " " + t(
+                "numerics.reference_mixed", step=plain(ctx, FALLBACK_REFERENCE_STEP_DEG)
+            )
     else:
         reference_text = t("numerics.reference_fine_step", step=plain(ctx, r["reference_step_deg"]))
     return table, figure, statement, reference_text + " " + _timing_text(r, ctx)
@@ -97,9 +163,16 @@ def _render_steps(r, ctx):
 
 def _timing_text(r, ctx) -> str:
     """How the step times were measured and the fixed per-call overhead they leave out."""
-    common = {"repeats": r["steps_timing_repeats"], "min_ms": ctx.num(r["steps_timing_min_repeat_s"] * 1e3, 2)}
+    common = {
+        "repeats": r["steps_timing_repeats"],
+        "min_ms": ctx.num(r["steps_timing_min_repeat_s"] * 1e3, 2),
+    }
     if r["steps_timed"] == "formulas":
-        return ctx.t("numerics.timing_formulas", overhead=ctx.num(r["per_call_overhead_s"] * 1e3, 2), **common)
+        return ctx.t(
+            "numerics.timing_formulas",
+            overhead=ctx.num(r["per_call_overhead_s"] * 1e3, 2),
+            **common,
+        )
     return ctx.t("numerics.timing_rerun", **common)
 
 
@@ -116,23 +189,32 @@ def render_course(r, ctx) -> str | None:
         return None
     t = ctx.t
     a = r["at_scene_step"]
-    statement = t("numerics.printed_errors", step=plain(ctx, a["angle_step_deg"]),
-                  torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
-                  work=ctx.num(100 * a["indicated_work_error_relative"], 2),
-                  t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
-                  t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
-                  q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2))
+    statement = t(
+        "numerics.printed_errors",
+        step=plain(ctx, a["angle_step_deg"]),
+        torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
+        work=ctx.num(100 * a["indicated_work_error_relative"], 2),
+        t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
+        t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
+        q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2),
+    )
     ctx.conclude(statement)
     own = min(r["steps"], key=lambda s: abs(s["angle_step_deg"] - a["angle_step_deg"]))
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     text = [statement]
     if coarse is not own:
-        text.append(t("numerics.course_time", step=plain(ctx, own["angle_step_deg"]),
-                      time=ctx.num(own["time_s"] * 1e3, 2),
-                      coarse=plain(ctx, coarse["angle_step_deg"]),
-                      coarse_time=ctx.num(coarse["time_s"] * 1e3, 2),
-                      coarse_error=ctx.num(100 * max(coarse[f"{q}_error_relative"]
-                                                     for q in QUANTITIES), 2)))
+        text.append(
+            t(
+                "numerics.course_time",
+                step=plain(ctx, own["angle_step_deg"]),
+                time=ctx.num(own["time_s"] * 1e3, 2),
+                coarse=plain(ctx, coarse["angle_step_deg"]),
+                coarse_time=ctx.num(coarse["time_s"] * 1e3, 2),
+                coarse_error=ctx.num(
+                    100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2
+                ),
+            )
+        )
     return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
 
 
@@ -145,12 +227,20 @@ def render(output: StageOutput, ctx) -> str:
         step_table, step_figure, statement, reference_text = _render_steps(r, ctx)
         ctx.conclude(statement)
     forms_table, forms_figure = _render_kinematics(r, ctx)
-    return ctx.render_template("sections/numerics.html.j2", r=r, step_table=step_table, step_figure=step_figure,
-                               statement=statement, reference_text=reference_text,
-                               refused=refused_steps(r, ctx),
-                               unavailable=ctx.t("numerics.unavailable_pipeline") if r.get("steps_unavailable") else None,
-                               forms_table=forms_table, forms_figure=forms_figure,
-                               kinematics_statement=_kinematics_statement(r, ctx), probes=_render_probes(r, ctx))
+    return ctx.render_template(
+        "sections/numerics.html.j2",
+        r=r,
+        step_table=step_table,
+        step_figure=step_figure,
+        statement=statement,
+        reference_text=reference_text,
+        refused=refused_steps(r, ctx),
+        unavailable=ctx.t("numerics.unavailable_pipeline") if r.get("steps_unavailable") else None,
+        forms_table=forms_table,
+        forms_figure=forms_figure,
+        kinematics_statement=_kinematics_statement(r, ctx),
+        probes=_render_probes(r, ctx),
+    )
 
 
 def refused_steps(r, ctx) -> list[tuple[str, str]]:
@@ -158,7 +248,11 @@ def refused_steps(r, ctx) -> list[tuple[str, str]]:
     the reasons as the code words them (the rule a step broke, in English); the report says
     which of the two cases it is."""
     t = ctx.t
-    budget = options(ctx.scene, "numerics", NumericsOptions).time_budget_s if ctx.scene is not None else None
+    budget = (
+        options(ctx.scene, "numerics", NumericsOptions).time_budget_s
+        if ctx.scene is not None
+        else None
+    )
     out = []
     for step, reason in r.get("steps_refused", {}).items():
         if reason.startswith(BUDGET_REASON) and budget is not None:
@@ -174,10 +268,16 @@ def _kinematics_statement(r, ctx) -> str | None:
     if not rows:
         return None
     t = ctx.t
-    chosen = next(row for row in rows if row["form"] == ("exact" if r["kinematics_method"] == "exact" else "two_term"))
-    return t("numerics.kinematics_printed_" + r["kinematics_method"],
-             ds=ctx.num(chosen["displacement_error_max_m"] * 1e3, 2),
-             dj=ctx.num(chosen["acceleration_error_max_m_s2"], 2))
+    chosen = next(
+        row
+        for row in rows
+        if row["form"] == ("exact" if r["kinematics_method"] == "exact" else "two_term")
+    )
+    return t(
+        "numerics.kinematics_printed_" + r["kinematics_method"],
+        ds=ctx.num(chosen["displacement_error_max_m"] * 1e3, 2),
+        dj=ctx.num(chosen["acceleration_error_max_m_s2"], 2),
+    )
 
 
 def render_kinematics(output: StageOutput, ctx) -> str | None:
@@ -187,7 +287,17 @@ def render_kinematics(output: StageOutput, ctx) -> str | None:
     forms_table, forms_figure = _render_kinematics(r, ctx)
     if forms_table is None and not r.get("solvers"):
         return None
-    return ctx.render_template("sections/numerics.html.j2", r=r, step_table=None, step_figure=None,
-                               statement=None, reference_text=None, refused=[], unavailable=None,
-                               forms_table=forms_table, forms_figure=forms_figure,
-                               kinematics_statement=_kinematics_statement(r, ctx), probes=_render_probes(r, ctx))
+    return ctx.render_template(
+        "sections/numerics.html.j2",
+        r=r,
+        step_table=None,
+        step_figure=None,
+        statement=None,
+        reference_text=None,
+        refused=[],
+        unavailable=None,
+        forms_table=forms_table,
+        forms_figure=forms_figure,
+        kinematics_statement=_kinematics_statement(r, ctx),
+        probes=_render_probes(r, ctx),
+    )

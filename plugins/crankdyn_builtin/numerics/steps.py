@@ -40,8 +40,14 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
     The copy keeps every table, the plugin tables and ``base_dir``; the scene-level checks
     (the step divides the cycle) run again and raise SceneError when they fail.
     """
-    analysis = Analysis.model_validate({"angle_step_deg": step_deg, "table_step_deg": step_deg,
-                                        "kinematics": scene.analysis.kinematics, "stages": None})
+    analysis = Analysis.model_validate(
+        {
+            "angle_step_deg": step_deg,
+            "table_step_deg": step_deg,
+            "kinematics": scene.analysis.kinematics,
+            "stages": None,
+        }
+    )
     try:
         return Scene.model_validate({**dict(scene), "analysis": analysis})
     except ValidationError as exc:
@@ -49,8 +55,12 @@ def scene_with_step(scene: Scene, step_deg: float) -> Scene:
 
 
 def needed_stages(scene, runner) -> list[str]:
-    return [s.name for s in runner.stages.values()
-            if (FORCES in s.provides or ENGINE_TORQUE in s.provides) and runner.applies(s, scene) is None]
+    return [
+        s.name
+        for s in runner.stages.values()
+        if (FORCES in s.provides or ENGINE_TORQUE in s.provides)
+        and runner.applies(s, scene) is None
+    ]
 
 
 @dataclass
@@ -67,11 +77,19 @@ def _values(data, cylinders: int) -> dict[str, float]:
     """The judged numbers: the engine's mean torque (the cylinder's times ``cylinders`` when no
     stage gives the engine torque), the cylinder's indicated work, t_max, t_min and q_max."""
     forces, gas = data[FORCES], data[GAS_PRESSURE]
-    torque = data[ENGINE_TORQUE].torque_Nm if ENGINE_TORQUE in data else cylinders * forces.torque_Nm
-    q = phys.resultant_crank_pin_pressure_Pa(forces.tangential_Pa, forces.radial_Pa, forces.centrifugal_Pa)
-    return {"mean_torque": float(np.mean(torque)), "indicated_work": float(gas.indicated_work_J),
-            "tangential_max": float(np.max(forces.tangential_Pa)),
-            "tangential_min": float(np.min(forces.tangential_Pa)), "resultant_max": float(np.max(q))}
+    torque = (
+        data[ENGINE_TORQUE].torque_Nm if ENGINE_TORQUE in data else cylinders * forces.torque_Nm
+    )
+    q = phys.resultant_crank_pin_pressure_Pa(
+        forces.tangential_Pa, forces.radial_Pa, forces.centrifugal_Pa
+    )
+    return {
+        "mean_torque": float(np.mean(torque)),
+        "indicated_work": float(gas.indicated_work_J),
+        "tangential_max": float(np.max(forces.tangential_Pa)),
+        "tangential_min": float(np.min(forces.tangential_Pa)),
+        "resultant_max": float(np.max(q)),
+    }
 
 
 def run_at_step(scene: Scene, step_deg: float, repeats: int = 1, *, runner) -> StepRun:
@@ -94,10 +112,18 @@ def run_at_step(scene: Scene, step_deg: float, repeats: int = 1, *, runner) -> S
     indicator = result.outputs.get("indicator")
     theoretical = None
     if indicator is not None and "theoretical_diagram_mean_pressure_Pa" in indicator.results:
-        theoretical = indicator.results["theoretical_diagram_mean_pressure_Pa"] * indicator.results["swept_volume_m3"]
-    return StepRun(step_deg=step_deg, points=len(copy.crank_angles_deg), time_s=elapsed,
-                   values=_values(data, scene.engine.cylinders),
-                   outputs=result.outputs, theoretical_work_J=theoretical)
+        theoretical = (
+            indicator.results["theoretical_diagram_mean_pressure_Pa"]
+            * indicator.results["swept_volume_m3"]
+        )
+    return StepRun(
+        step_deg=step_deg,
+        points=len(copy.crank_angles_deg),
+        time_s=elapsed,
+        values=_values(data, scene.engine.cylinders),
+        outputs=result.outputs,
+        theoretical_work_J=theoretical,
+    )
 
 
 # ------------------------------------------------------------------ timing (timeit-style)
@@ -110,7 +136,9 @@ class Timing:
     repeats: int
 
 
-def _autorange(fn: Callable[[], Any], min_time_s: float, clock: Callable[[], float]) -> tuple[int, float]:
+def _autorange(
+    fn: Callable[[], Any], min_time_s: float, clock: Callable[[], float]
+) -> tuple[int, float]:
     """(loops, seconds per call): loops 1, 2, 5, 10, 20, 50, ... until one repeat takes ``min_time_s``
     (as :meth:`timeit.Timer.autorange`)."""
     base = 1
@@ -125,8 +153,14 @@ def _autorange(fn: Callable[[], Any], min_time_s: float, clock: Callable[[], flo
         base *= 10
 
 
-def best_times(functions: list[Callable[[], Any]], repeats: int, *, min_time_s: float = MIN_REPEAT_S,
-               clock: Callable[[], float] = time.perf_counter, settled_rounds: int = 0) -> list[Timing]:
+def best_times(
+    functions: list[Callable[[], Any]],
+    repeats: int,
+    *,
+    min_time_s: float = MIN_REPEAT_S,
+    clock: Callable[[], float] = time.perf_counter,
+    settled_rounds: int = 0,
+) -> list[Timing]:
     """timeit-style best time per call of each function, the repeats taken in turns.
 
     Each function's loop count is found as :meth:`timeit.Timer.autorange` does (that first

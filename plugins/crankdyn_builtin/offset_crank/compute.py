@@ -35,12 +35,23 @@ def _layout_problems(scene) -> list[Problem]:
     on its crank pin (in line, V, boxer); articulated rods are built on a central master rod."""
     problems = []
     if scene.engine.rod_type == "articulated":
-        problems.append(Problem("engine.rod_type", "articulated", "the offset crank-slider's rods are its own: "
-                                "central or fork_and_blade (articulated rods need the central crank-slider)"))
+        problems.append(
+            Problem(
+                "engine.rod_type",
+                "articulated",
+                "the offset crank-slider's rods are its own: "
+                "central or fork_and_blade (articulated rods need the central crank-slider)",
+            )
+        )
     for table in MULTI_CYLINDER_TABLES:
         if table in scene.plugin_tables():
-            problems.append(Problem(table, f"[{table}]", "applies to articulated rods, which the offset "
-                                                         "crank-slider does not have"))
+            problems.append(
+                Problem(
+                    table,
+                    f"[{table}]",
+                    "applies to articulated rods, which the offset crank-slider does not have",
+                )
+            )
     return problems
 
 
@@ -51,10 +62,15 @@ def check(scene) -> list[Problem]:
     try:
         oc.check_offset(R, L, params.offset)
     except ValueError:
-        problems.append(Problem("mechanism.offset", scene.mechanism.get("offset"),
-                                f"|e| must be < L - R = {(L - R) * 1e3:g} mm: with a larger offset the rod cannot "
-                                "reach the crank pin at every angle (the crank cannot turn a full revolution), "
-                                "and at |e| = L - R the linkage locks at BDC"))
+        problems.append(
+            Problem(
+                "mechanism.offset",
+                scene.mechanism.get("offset"),
+                f"|e| must be < L - R = {(L - R) * 1e3:g} mm: with a larger offset the rod cannot "
+                "reach the crank pin at every angle (the crank cannot turn a full revolution), "
+                "and at |e| = L - R the linkage locks at BDC",
+            )
+        )
     return problems
 
 
@@ -69,7 +85,9 @@ def _extreme(fn, angle_deg, values, sign):
     i = first_argmax(sign * values)
     step = np.radians(angle_deg[1] - angle_deg[0]) if len(angle_deg) > 1 else 0.1
     centre = np.radians(angle_deg[i])
-    res = minimize_bounded(lambda a: -sign * float(fn(a)), centre - step, centre + step, xatol=1e-12)
+    res = minimize_bounded(
+        lambda a: -sign * float(fn(a)), centre - step, centre + step, xatol=1e-12
+    )
     best = float(res.x) if -res.fun >= sign * values[i] else centre
     return float(fn(best)), float(np.degrees(best) % 360.0)
 
@@ -92,9 +110,16 @@ def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list
     if scene.analysis.kinematics == "approximate":
         notes.append(("offset_crank.note_exact_only", {}))
     if scene.cycle is not None:
-        notes.append(("offset_crank.note_indicator", {
-            "stroke_mm": stroke_m * 1e3, "throw_mm": 2e3 * crank_radius_m,
-            "bdc": results["bdc_crank_angle_deg"]}))
+        notes.append(
+            (
+                "offset_crank.note_indicator",
+                {
+                    "stroke_mm": stroke_m * 1e3,
+                    "throw_mm": 2e3 * crank_radius_m,
+                    "bdc": results["bdc_crank_angle_deg"],
+                },
+            )
+        )
     return notes
 
 
@@ -176,10 +201,19 @@ def run(scene, inputs) -> StageOutput:
         crank_radius_m=R,
         angular_velocity_rad_s=omega,
         method="exact",
-        extra={"rod_ratio": lam, "rod_length_m": L, "offset_m": e,
-               "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
-               "rod_angular_velocity_rad_s": rod_omega, "rod_angular_acceleration_rad_s2": rod_epsilon},
+        extra={
+            "rod_ratio": lam,
+            "rod_length_m": L,
+            "offset_m": e,
+            "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
+            "rod_angular_velocity_rad_s": rod_omega,
+            "rod_angular_acceleration_rad_s2": rod_epsilon,
+        },
         displacement_at=functools.partial(_displacement_at_deg, R, lam, k),
     )
-    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"offset_crank": table},
-                       notes=_notes(scene, results, geometry.stroke_m, R))
+    return StageOutput(
+        data={KINEMATICS: motion},
+        results=results,
+        tables={"offset_crank": table},
+        notes=_notes(scene, results, geometry.stroke_m, R),
+    )

@@ -10,14 +10,28 @@ def _piston_figure(f, bdc_crank_angle_deg, t):
     angle = f["crank_angle_deg"]
     one = angle < 360.0
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
-    for ax, key, label in ((axes[0], "piston_displacement", "offset_crank.axis_s"),
-                           (axes[1], "piston_velocity", "offset_crank.axis_v"),
-                           (axes[2], "piston_acceleration", "offset_crank.axis_j")):
+    for ax, key, label in (
+        (axes[0], "piston_displacement", "offset_crank.axis_s"),
+        (axes[1], "piston_velocity", "offset_crank.axis_v"),
+        (axes[2], "piston_acceleration", "offset_crank.axis_j"),
+    ):
         scale = 1e3 if key == "piston_displacement" else 1.0
-        unit = "_m" if key == "piston_displacement" else ("_m_s" if key == "piston_velocity" else "_m_s2")
-        ax.plot(angle[one], f[key + unit][one] * scale, color="C0", label=t("offset_crank.offset_label"))
-        ax.plot(angle[one], f["central_" + key + unit][one] * scale, color="0.45", ls="--", lw=1,
-                label=t("offset_crank.central_label"))
+        unit = (
+            "_m"
+            if key == "piston_displacement"
+            else ("_m_s" if key == "piston_velocity" else "_m_s2")
+        )
+        ax.plot(
+            angle[one], f[key + unit][one] * scale, color="C0", label=t("offset_crank.offset_label")
+        )
+        ax.plot(
+            angle[one],
+            f["central_" + key + unit][one] * scale,
+            color="0.45",
+            ls="--",
+            lw=1,
+            label=t("offset_crank.central_label"),
+        )
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
     axes[0].axvline(bdc_crank_angle_deg, color="C3", lw=0.8, ls=":")

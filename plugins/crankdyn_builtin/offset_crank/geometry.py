@@ -19,18 +19,38 @@ from .options import OffsetParams
 def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     """Crank O-B at phi = alpha + phi_TDC, rod B-A, piston pin A = (e, z_A) on the offset axis."""
     e = scene.engine
-    R, L, offset = e.crank_radius_m, e.rod_length_m, options(scene, "mechanism", OffsetParams).offset
+    R, L, offset = (
+        e.crank_radius_m,
+        e.rod_length_m,
+        options(scene, "mechanism", OffsetParams).offset,
+    )
     dc = oc.dead_centres(R, L, offset)
     alpha = np.asarray(crank_angle_rad, dtype=float)
     phi = alpha + dc.tdc_angle_rad
     z = oc.piston_pin_height_m(phi, R, R / L, offset / L)
-    joints = {"crank_centre": np.zeros((len(alpha), 2)), "crank_pin": polar(R, phi),
-              "wrist_pin": np.stack([np.full_like(z, offset), z], axis=-1)}
+    joints = {
+        "crank_centre": np.zeros((len(alpha), 2)),
+        "crank_pin": polar(R, phi),
+        "wrist_pin": np.stack([np.full_like(z, offset), z], axis=-1),
+    }
     return MechanismGeometry(
         joints=joints,
         links=[("crank", "crank_centre", "crank_pin"), ("rod", "crank_pin", "wrist_pin")],
-        guides=[Guide("wrist_pin", origin_m=(offset, 0.0), travel_m=(dc.bdc_height_m, dc.tdc_height_m),
-                      bore_m=e.bore, label="1")],
-        dimensions={"R": R, "L": L, "e": offset, "D": e.bore, "S": dc.tdc_height_m - dc.bdc_height_m},
+        guides=[
+            Guide(
+                "wrist_pin",
+                origin_m=(offset, 0.0),
+                travel_m=(dc.bdc_height_m, dc.tdc_height_m),
+                bore_m=e.bore,
+                label="1",
+            )
+        ],
+        dimensions={
+            "R": R,
+            "L": L,
+            "e": offset,
+            "D": e.bore,
+            "S": dc.tdc_height_m - dc.bdc_height_m,
+        },
         travel_m=oc.piston_displacement_m(alpha, R, R / L, offset / L),
     )

@@ -28,7 +28,7 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 OFFSET_CRANK_MECHANISM = Mechanism(
     name=MECHANISM,
     summary="offset (desaxial) crank-slider mechanism: the cylinder axis passes the crankshaft axis at a "
-            "distance e (the pin offset)",
+    "distance e (the pin offset)",
     check=check,
     params_model=OffsetParams,
     # λ = R/L and the rod's centre of mass hold as for the central crank-slider
@@ -69,4 +69,7 @@ def crankdyn_mechanisms():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -17,29 +17,52 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     rows, labels = sample_rows(f["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
     g = f.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>φ</i>, °", g["crank_angle_from_axis_deg"] % 360.0, 2),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * 1e3, 3),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
-        ("<i>β</i>, °", g["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
-    ], caption=t("offset_crank.table_caption"), see="offset_crank.see_table") + worked_offset_crank(ctx, g, labels, r)
+    table = ctx.table(
+        [
+            ("<i>α</i>, °", labels, 0),
+            ("<i>φ</i>, °", g["crank_angle_from_axis_deg"] % 360.0, 2),
+            ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * 1e3, 3),
+            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
+            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
+            ("<i>β</i>, °", g["rod_angle_deg"], 2),
+            ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
+            ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
+        ],
+        caption=t("offset_crank.table_caption"),
+        see="offset_crank.see_table",
+    ) + worked_offset_crank(ctx, g, labels, r)
 
-    figure_main = ctx.figure(functools.partial(_piston_figure, f, r["bdc_crank_angle_deg"], t),
-                             t("offset_crank.figure_caption"), "offset_piston", see="offset_crank.see_figure")
-    figure_rod = ctx.figure(functools.partial(_rod_figure, f, t), t("offset_crank.rod_figure_caption"), "offset_rod",
-                            see="offset_crank.see_rod_figure")
+    figure_main = ctx.figure(
+        functools.partial(_piston_figure, f, r["bdc_crank_angle_deg"], t),
+        t("offset_crank.figure_caption"),
+        "offset_piston",
+        see="offset_crank.see_figure",
+    )
+    figure_rod = ctx.figure(
+        functools.partial(_rod_figure, f, t),
+        t("offset_crank.rod_figure_caption"),
+        "offset_rod",
+        see="offset_crank.see_rod_figure",
+    )
 
-    ctx.conclude(t("offset_crank.conclusion", e=ctx.num(r["offset_m"] * 1e3, 3),
-                   tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
-                   bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
-                   stroke=ctx.num(r["stroke_m"] * 1e3, 6), excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
-                   ratio=ctx.num(r["stroke_time_ratio"], 5)))
-    return ctx.render_template("sections/offset_crank.html.j2", r=r, table=table, figure_main=figure_main,
-                               figure_rod=figure_rod)
+    ctx.conclude(
+        t(
+            "offset_crank.conclusion",
+            e=ctx.num(r["offset_m"] * 1e3, 3),
+            tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
+            bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
+            stroke=ctx.num(r["stroke_m"] * 1e3, 6),
+            excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
+            ratio=ctx.num(r["stroke_time_ratio"], 5),
+        )
+    )
+    return ctx.render_template(
+        "sections/offset_crank.html.j2",
+        r=r,
+        table=table,
+        figure_main=figure_main,
+        figure_rod=figure_rod,
+    )
 
 
 #: The offset's letters (meanings: symbol.offset_crank.<key> in i18n/).

@@ -36,60 +36,102 @@ MECHANISM = "planetary"
 
 MAX_ROD_ANGLE_DEG = 80.0  # beyond this the linkage is locked or about to lock
 
-STROKE_TOLERANCE = 5e-4  # relative agreement required between engine.stroke and the linkage's stroke
+STROKE_TOLERANCE = (
+    5e-4  # relative agreement required between engine.stroke and the linkage's stroke
+)
 
-FAMILY_RATIOS = (3.0, 2.0, 1.5)  # fixed/planet pitch diameters of the source's fig. 2: d1 = 20, 30, 40 with d2 = 60
+FAMILY_RATIOS = (
+    3.0,
+    2.0,
+    1.5,
+)  # fixed/planet pitch diameters of the source's fig. 2: d1 = 20, 30, 40 with d2 = 60
 
 
 def geometry_of(scene) -> tuple[PlanetaryParams, pl.PlanetaryGeometry]:
     params = options(scene, "mechanism", PlanetaryParams)
     r_f, r_p = params.radii_m()
-    geometry = pl.PlanetaryGeometry(params.gear, r_f, r_p, params.pin_radius, math.radians(params.pin_phase_deg),
-                                    scene.engine.rod_length_m)
+    geometry = pl.PlanetaryGeometry(
+        params.gear,
+        r_f,
+        r_p,
+        params.pin_radius,
+        math.radians(params.pin_phase_deg),
+        scene.engine.rod_length_m,
+    )
     return params, geometry
 
 
 def check(scene) -> list[Problem]:
     problems = single_mechanism_problems(scene, "planetary crank mechanism", MULTI_CYLINDER_TABLES)
     if scene.cycle is not None:
-        problems.append(Problem("cycle", "[cycle]", "the planetary mechanism is computed for its kinematics and the "
-                                "force transmission per unit piston force; the gas- and inertia-force stages put the "
-                                "rod's rotating mass on the crank circle, which the big end here leaves, so remove "
-                                "[cycle]"))
+        problems.append(
+            Problem(
+                "cycle",
+                "[cycle]",
+                "the planetary mechanism is computed for its kinematics and the "
+                "force transmission per unit piston force; the gas- and inertia-force stages put the "
+                "rod's rotating mass on the crank circle, which the big end here leaves, so remove "
+                "[cycle]",
+            )
+        )
     params, geometry = geometry_of(scene)
     revolutions = pl.motion_period_revolutions(params.ratio())
     cycle_revolutions = scene.engine.strokes // 2
     if revolutions is None or cycle_revolutions % revolutions:
         ratio = float(params.ratio())
-        repeat = "never repeats exactly" if revolutions is None else f"repeats every {revolutions} carrier revolutions"
-        problems.append(Problem("mechanism", f"gear ratio {ratio:g}",
-                                f"with this gear ratio the motion {repeat}, but the scene's cycle is "
-                                f"{cycle_revolutions} revolution(s) (strokes = {scene.engine.strokes}); use a ratio "
-                                "fixed/planet that is a whole number (or a half for strokes = 4), e.g. tooth counts "
-                                "60/20 or 60/40"))
+        repeat = (
+            "never repeats exactly"
+            if revolutions is None
+            else f"repeats every {revolutions} carrier revolutions"
+        )
+        problems.append(
+            Problem(
+                "mechanism",
+                f"gear ratio {ratio:g}",
+                f"with this gear ratio the motion {repeat}, but the scene's cycle is "
+                f"{cycle_revolutions} revolution(s) (strokes = {scene.engine.strokes}); use a ratio "
+                "fixed/planet that is a whole number (or a half for strokes = 4), e.g. tooth counts "
+                "60/20 or 60/40",
+            )
+        )
         return problems
     reach = pl.lateral_reach_m(geometry, revolutions)
     L = geometry.rod_length_m
     if reach >= L:
-        problems.append(Problem("engine.rod_length", f"{L * 1e3:g} mm",
-                                f"the rod cannot reach: the big end swings up to {reach * 1e3:.4g} mm off the "
-                                f"cylinder axis; the rod must be longer than that (a + e = "
-                                f"{(geometry.carrier_radius_m + geometry.pin_radius_m) * 1e3:.4g} mm always suffices)"))
+        problems.append(
+            Problem(
+                "engine.rod_length",
+                f"{L * 1e3:g} mm",
+                f"the rod cannot reach: the big end swings up to {reach * 1e3:.4g} mm off the "
+                f"cylinder axis; the rod must be longer than that (a + e = "
+                f"{(geometry.carrier_radius_m + geometry.pin_radius_m) * 1e3:.4g} mm always suffices)",
+            )
+        )
         return problems
     beta_max = math.degrees(math.asin(reach / L))
     if beta_max >= MAX_ROD_ANGLE_DEG:
-        problems.append(Problem("engine.rod_length", f"{L * 1e3:g} mm",
-                                f"the linkage locks: the rod swings up to {beta_max:.3g} deg from the cylinder axis "
-                                f"(the piston side force would reach {math.tan(math.radians(beta_max)):.3g} times the "
-                                f"axial force); keep it below {MAX_ROD_ANGLE_DEG:g} deg with a longer rod "
-                                f"(> {reach / math.sin(math.radians(MAX_ROD_ANGLE_DEG)) * 1e3:.4g} mm)"))
+        problems.append(
+            Problem(
+                "engine.rod_length",
+                f"{L * 1e3:g} mm",
+                f"the linkage locks: the rod swings up to {beta_max:.3g} deg from the cylinder axis "
+                f"(the piston side force would reach {math.tan(math.radians(beta_max)):.3g} times the "
+                f"axial force); keep it below {MAX_ROD_ANGLE_DEG:g} deg with a longer rod "
+                f"(> {reach / math.sin(math.radians(MAX_ROD_ANGLE_DEG)) * 1e3:.4g} mm)",
+            )
+        )
         return problems
     stroke = pl.dead_centres(geometry, revolutions).stroke_m
     if abs(scene.engine.stroke - stroke) > STROKE_TOLERANCE * stroke:
-        problems.append(Problem("engine.stroke", f"{scene.engine.stroke * 1e3:g} mm",
-                                f"the planetary linkage gives a piston stroke of {stroke * 1e3:.6g} mm; write "
-                                f"stroke = \"{stroke * 1e3:.6g} mm\" (the stroke is a result of the gear sizes, the "
-                                "pin radius and the rod length, and sets the displayed R = S/2 and lambda)"))
+        problems.append(
+            Problem(
+                "engine.stroke",
+                f"{scene.engine.stroke * 1e3:g} mm",
+                f"the planetary linkage gives a piston stroke of {stroke * 1e3:.6g} mm; write "
+                f'stroke = "{stroke * 1e3:.6g} mm" (the stroke is a result of the gear sizes, the '
+                "pin radius and the rod length, and sets the displayed R = S/2 and lambda)",
+            )
+        )
     return problems
 
 
@@ -105,7 +147,9 @@ def _family(geometry: pl.PlanetaryGeometry) -> dict:
     columns = {"carrier_angle_deg": np.degrees(phi)}
     for ratio in FAMILY_RATIOS:
         r_p = geometry.fixed_pitch_radius_m / ratio
-        case = pl.PlanetaryGeometry(geometry.gear, geometry.fixed_pitch_radius_m, r_p, r_p, 0.0, geometry.rod_length_m)
+        case = pl.PlanetaryGeometry(
+            geometry.gear, geometry.fixed_pitch_radius_m, r_p, r_p, 0.0, geometry.rod_length_m
+        )
         x, z, *_ = pl.big_end_path(phi, case)
         columns[f"ratio_{ratio:g}_x_m"] = x
         columns[f"ratio_{ratio:g}_z_m"] = z
@@ -118,22 +162,31 @@ def piston_extremes(alpha, v, j, omega, geometry, dc, revolutions) -> dict:
     The grid's best point is refined by a bounded scalar search within one step on each side
     (the exact slider motion at any angle), kept only when it beats the grid value.
     """
+
     def speed(a):
         return float(-omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d1_m)
 
     def accel(a):
-        return float(-omega * omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m)
+        return float(
+            -omega * omega * pl.slider_motion(a + dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m
+        )
 
     def extreme(fn, values, sign):
         i = first_argmax(sign * values)
         step = alpha[1] - alpha[0]
-        res = minimize_bounded(lambda a: -sign * fn(a), alpha[i] - step, alpha[i] + step, xatol=1e-12)
+        res = minimize_bounded(
+            lambda a: -sign * fn(a), alpha[i] - step, alpha[i] + step, xatol=1e-12
+        )
         best = float(res.x) if -res.fun >= sign * values[i] else float(alpha[i])
         return fn(best), float(np.degrees(best) % (360.0 * revolutions))
 
     out = {}
-    for name, fn, values, sign in (("v_max", speed, v, +1.0), ("v_min", speed, v, -1.0),
-                                   ("j_max", accel, j, +1.0), ("j_min", accel, j, -1.0)):
+    for name, fn, values, sign in (
+        ("v_max", speed, v, +1.0),
+        ("v_min", speed, v, -1.0),
+        ("j_max", accel, j, +1.0),
+        ("j_min", accel, j, -1.0),
+    ):
         out[name] = extreme(fn, values, sign)
     return out
 
@@ -174,7 +227,9 @@ def run(scene, inputs) -> StageOutput:
     j = -omega * omega * slider.pin_z_d2_m
     beta = slider.rod_angle_rad
     transmission = pl.force_transmission(phi, geometry, math.radians(params.pressure_angle_deg))
-    at_tdc = pl.force_transmission(dc.tdc_carrier_angle_rad, geometry, math.radians(params.pressure_angle_deg))
+    at_tdc = pl.force_transmission(
+        dc.tdc_carrier_angle_rad, geometry, math.radians(params.pressure_angle_deg)
+    )
     L = geometry.rod_length_m
 
     # A conventional central crank-slider with the same stroke and rod, for comparison (source, fig. 3a).
@@ -188,54 +243,108 @@ def run(scene, inputs) -> StageOutput:
         "planet_pitch_diameter_m": 2.0 * geometry.planet_pitch_radius_m,
     }
     if params.module is not None:
-        results.update({"fixed_gear_teeth": params.fixed_gear_teeth, "planet_teeth": params.planet_teeth,
-                        "module_m": params.module})
+        results.update(
+            {
+                "fixed_gear_teeth": params.fixed_gear_teeth,
+                "planet_teeth": params.planet_teeth,
+                "module_m": params.module,
+            }
+        )
     extremes = piston_extremes(alpha, v, j, omega, geometry, dc, revolutions)
-    results.update({
-        "gear_ratio": float(params.ratio()),
-        "planet_speed_ratio": geometry.planet_speed_ratio,
-        "carrier_radius_m": geometry.carrier_radius_m,
-        "pin_radius_m": geometry.pin_radius_m,
-        "pin_phase_deg": params.pin_phase_deg,
-        "pressure_angle_deg": params.pressure_angle_deg,
-        "rod_length_m": L,
-        "angular_velocity_rad_s": omega,
-        "period_revolutions": revolutions,
-        "tdc_carrier_angle_deg": math.degrees(dc.tdc_carrier_angle_rad),
-        "bdc_crank_angle_deg": math.degrees(dc.bdc_carrier_angle_rad - dc.tdc_carrier_angle_rad) % (360.0 * revolutions),
-        "stroke_m": dc.stroke_m,
-        "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
-        "rod_angle_max_deg": float(np.degrees(np.max(np.abs(beta)))),
-        "v_max_m_s": extremes["v_max"][0], "v_max_crank_angle_deg": extremes["v_max"][1],
-        "v_min_m_s": extremes["v_min"][0], "v_min_crank_angle_deg": extremes["v_min"][1],
-        "j_max_m_s2": extremes["j_max"][0], "j_max_crank_angle_deg": extremes["j_max"][1],
-        "j_min_m_s2": extremes["j_min"][0], "j_min_crank_angle_deg": extremes["j_min"][1],
-        "torque_arm_tdc_m": float(at_tdc.rod_line_arm_m),
-        "effective_torque_arm_tdc_m": float(at_tdc.carrier_torque_arm_m),
-        "tooth_force_tdc": float(at_tdc.tooth_tangential),
-        "carrier_torque_arm_max_m": float(np.max(transmission.carrier_torque_arm_m)),
-        "conventional_torque_arm_max_m": float(np.max(conventional_arm)),
-        "tdc_snapshot_m": tdc_snapshot_m(geometry, dc),
-    })
-    if params.gear == "internal" and float(params.ratio()) == 2.0 and geometry.pin_radius_m == geometry.planet_pitch_radius_m:
+    results.update(
+        {
+            "gear_ratio": float(params.ratio()),
+            "planet_speed_ratio": geometry.planet_speed_ratio,
+            "carrier_radius_m": geometry.carrier_radius_m,
+            "pin_radius_m": geometry.pin_radius_m,
+            "pin_phase_deg": params.pin_phase_deg,
+            "pressure_angle_deg": params.pressure_angle_deg,
+            "rod_length_m": L,
+            "angular_velocity_rad_s": omega,
+            "period_revolutions": revolutions,
+            "tdc_carrier_angle_deg": math.degrees(dc.tdc_carrier_angle_rad),
+            "bdc_crank_angle_deg": math.degrees(dc.bdc_carrier_angle_rad - dc.tdc_carrier_angle_rad)
+            % (360.0 * revolutions),
+            "stroke_m": dc.stroke_m,
+            "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
+            "rod_angle_max_deg": float(np.degrees(np.max(np.abs(beta)))),
+            "v_max_m_s": extremes["v_max"][0],
+            "v_max_crank_angle_deg": extremes["v_max"][1],
+            "v_min_m_s": extremes["v_min"][0],
+            "v_min_crank_angle_deg": extremes["v_min"][1],
+            "j_max_m_s2": extremes["j_max"][0],
+            "j_max_crank_angle_deg": extremes["j_max"][1],
+            "j_min_m_s2": extremes["j_min"][0],
+            "j_min_crank_angle_deg": extremes["j_min"][1],
+            "torque_arm_tdc_m": float(at_tdc.rod_line_arm_m),
+            "effective_torque_arm_tdc_m": float(at_tdc.carrier_torque_arm_m),
+            "tooth_force_tdc": float(at_tdc.tooth_tangential),
+            "carrier_torque_arm_max_m": float(np.max(transmission.carrier_torque_arm_m)),
+            "conventional_torque_arm_max_m": float(np.max(conventional_arm)),
+            "tdc_snapshot_m": tdc_snapshot_m(geometry, dc),
+        }
+    )
+    if (
+        params.gear == "internal"
+        and float(params.ratio()) == 2.0
+        and geometry.pin_radius_m == geometry.planet_pitch_radius_m
+    ):
         # Cardan's circles: the path is the diameter at psi0/2 from the cylinder axis.
         half = 0.5 * geometry.pin_phase_rad
-        results["straight_line_deviation_m"] = float(np.max(np.abs(x * math.cos(half) - z * math.sin(half))))
+        results["straight_line_deviation_m"] = float(
+            np.max(np.abs(x * math.cos(half) - z * math.sin(half)))
+        )
 
-    table = _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission,
-                              conventional_arm, alpha, R_eq, lam_eq)
+    table = _kinematics_table(
+        angle_deg,
+        phi,
+        x,
+        z,
+        s,
+        v,
+        j,
+        beta,
+        omega,
+        slider,
+        transmission,
+        conventional_arm,
+        alpha,
+        R_eq,
+        lam_eq,
+    )
     motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions)
     if scene.masses is not None:
         results.update(_piston_inertia(scene, j, angle_deg, table))
-    notes = [("planetary.note_derived", {}),
-             ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
-             ("planetary.note_family", {})]
-    return StageOutput(data={KINEMATICS: motion}, results=results,
-                       tables={"planetary": table, "family": _family(geometry)}, notes=notes)
+    notes = [
+        ("planetary.note_derived", {}),
+        ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
+        ("planetary.note_family", {}),
+    ]
+    return StageOutput(
+        data={KINEMATICS: motion},
+        results=results,
+        tables={"planetary": table, "family": _family(geometry)},
+        notes=notes,
+    )
 
 
-def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transmission, conventional_arm,
-                      alpha, R_eq, lam_eq) -> dict:
+def _kinematics_table(
+    angle_deg,
+    phi,
+    x,
+    z,
+    s,
+    v,
+    j,
+    beta,
+    omega,
+    slider,
+    transmission,
+    conventional_arm,
+    alpha,
+    R_eq,
+    lam_eq,
+) -> dict:
     """The stage's table: the linkage's motion and force ratios, and the equivalent crank-slider's."""
     return {
         "crank_angle_deg": angle_deg,
@@ -256,9 +365,15 @@ def _kinematics_table(angle_deg, phi, x, z, s, v, j, beta, omega, slider, transm
         "carrier_tangential_per_piston_force": transmission.carrier_tangential,
         "carrier_radial_per_piston_force": transmission.carrier_radial,
         "conventional_torque_arm_m": conventional_arm,
-        "conventional_piston_displacement_m": central.piston_displacement_exact_m(alpha, R_eq, lam_eq),
-        "conventional_piston_velocity_m_s": central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, omega),
-        "conventional_piston_acceleration_m_s2": central.piston_acceleration_exact_m_s2(alpha, R_eq, lam_eq, omega),
+        "conventional_piston_displacement_m": central.piston_displacement_exact_m(
+            alpha, R_eq, lam_eq
+        ),
+        "conventional_piston_velocity_m_s": central.piston_velocity_exact_m_s(
+            alpha, R_eq, lam_eq, omega
+        ),
+        "conventional_piston_acceleration_m_s2": central.piston_acceleration_exact_m_s2(
+            alpha, R_eq, lam_eq, omega
+        ),
     }
 
 
@@ -267,7 +382,9 @@ def _displacement_at_deg(z_tdc_m: float, tdc_phi_rad: float, geometry, crank_ang
     return z_tdc_m - pl.slider_motion(np.radians(crank_angle_deg) + tdc_phi_rad, geometry).pin_z_m
 
 
-def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions: int) -> PistonMotion:
+def _piston_motion(
+    angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions: int
+) -> PistonMotion:
     """The ``kinematics`` this stage provides (exact; displacement at any angle from the linkage)."""
     tdc_phi, z_tdc = dc.tdc_carrier_angle_rad, dc.tdc_height_m
     return PistonMotion(
@@ -279,10 +396,13 @@ def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolu
         crank_radius_m=geometry.carrier_radius_m,
         angular_velocity_rad_s=omega,
         method="exact",
-        extra={"rod_length_m": geometry.rod_length_m, "carrier_radius_m": geometry.carrier_radius_m,
-               "rod_angular_velocity_rad_s": omega * slider.rod_angle_d1,
-               "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2,
-               "period_deg": 360.0 * revolutions},
+        extra={
+            "rod_length_m": geometry.rod_length_m,
+            "carrier_radius_m": geometry.carrier_radius_m,
+            "rod_angular_velocity_rad_s": omega * slider.rod_angle_d1,
+            "rod_angular_acceleration_rad_s2": omega * omega * slider.rod_angle_d2,
+            "period_deg": 360.0 * revolutions,
+        },
         displacement_at=functools.partial(_displacement_at_deg, z_tdc, tdc_phi, geometry),
     )
 
@@ -290,12 +410,18 @@ def _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolu
 def _piston_inertia(scene, j, angle_deg, table: dict) -> dict:
     """The inertia force of the reciprocating masses, P_j = −m_j j_p (N): the piston group and the
     rod's share at the piston pin (two-mass split), added to ``table``; its extremes (N, deg)."""
-    rod_reciprocating, _ = phys.rod_mass_split_kg(scene.masses.rod, scene.engine.rod_length_m,
-                                                  scene.rod_cm_from_big_end_m)
+    rod_reciprocating, _ = phys.rod_mass_split_kg(
+        scene.masses.rod, scene.engine.rod_length_m, scene.rod_cm_from_big_end_m
+    )
     mass = scene.masses.piston_group + rod_reciprocating
     force = -mass * j
     table["inertia_force_N"] = force
     low, high = first_argmin(force), first_argmax(force)
-    return {"reciprocating_mass_kg": mass, "rod_reciprocating_mass_kg": rod_reciprocating,
-            "inertia_force_max_N": float(force[high]), "inertia_force_max_crank_angle_deg": float(angle_deg[high]),
-            "inertia_force_min_N": float(force[low]), "inertia_force_min_crank_angle_deg": float(angle_deg[low])}
+    return {
+        "reciprocating_mass_kg": mass,
+        "rod_reciprocating_mass_kg": rod_reciprocating,
+        "inertia_force_max_N": float(force[high]),
+        "inertia_force_max_crank_angle_deg": float(angle_deg[high]),
+        "inertia_force_min_N": float(force[low]),
+        "inertia_force_min_crank_angle_deg": float(angle_deg[low]),
+    }

@@ -25,20 +25,38 @@ def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     phi = alpha + dc.tdc_carrier_angle_rad
     x, z, *_ = pl.big_end_path(phi, geometry)
     slider = pl.slider_motion(phi, geometry)
-    joints = {"crank_centre": np.zeros((len(alpha), 2)), "planet_centre": polar(geometry.carrier_radius_m, phi),
-              "crank_pin": np.stack([x, z], axis=-1),
-              "wrist_pin": np.stack([np.zeros_like(z), slider.pin_z_m], axis=-1)}
+    joints = {
+        "crank_centre": np.zeros((len(alpha), 2)),
+        "planet_centre": polar(geometry.carrier_radius_m, phi),
+        "crank_pin": np.stack([x, z], axis=-1),
+        "wrist_pin": np.stack([np.zeros_like(z), slider.pin_z_m], axis=-1),
+    }
     path = np.linspace(0.0, 2 * np.pi * revolutions, 721 * revolutions)
     px, pz, *_ = pl.big_end_path(path, geometry)
     return MechanismGeometry(
         joints=joints,
-        links=[("carrier", "crank_centre", "planet_centre"), ("planet", "planet_centre", "crank_pin"),
-               ("rod", "crank_pin", "wrist_pin")],
-        guides=[Guide("wrist_pin", travel_m=(dc.bdc_height_m, dc.tdc_height_m), bore_m=scene.engine.bore,
-                      label="1")],
-        circles=[("crank_centre", geometry.fixed_pitch_radius_m, "fixed"),
-                 ("planet_centre", geometry.planet_pitch_radius_m, "moving")],
+        links=[
+            ("carrier", "crank_centre", "planet_centre"),
+            ("planet", "planet_centre", "crank_pin"),
+            ("rod", "crank_pin", "wrist_pin"),
+        ],
+        guides=[
+            Guide(
+                "wrist_pin",
+                travel_m=(dc.bdc_height_m, dc.tdc_height_m),
+                bore_m=scene.engine.bore,
+                label="1",
+            )
+        ],
+        circles=[
+            ("crank_centre", geometry.fixed_pitch_radius_m, "fixed"),
+            ("planet_centre", geometry.planet_pitch_radius_m, "moving"),
+        ],
         traces={"big_end_path": np.stack([px, pz], axis=-1)},
-        dimensions={"R": geometry.carrier_radius_m, "L": geometry.rod_length_m, "D": scene.engine.bore},
+        dimensions={
+            "R": geometry.carrier_radius_m,
+            "L": geometry.rod_length_m,
+            "D": scene.engine.bore,
+        },
         travel_m=dc.tdc_height_m - slider.pin_z_m,
     )

@@ -40,17 +40,27 @@ class PlanetaryParams(BaseModel):
         diameters = (self.fixed_gear_pitch_diameter, self.planet_pitch_diameter)
         by_teeth = all(v is not None for v in teeth)
         by_diameters = all(v is not None for v in diameters)
-        if by_teeth == by_diameters or (by_teeth and any(v is not None for v in diameters)) or (
-                by_diameters and any(v is not None for v in teeth)):
-            raise ValueError("give either fixed_gear_teeth, planet_teeth and module, or fixed_gear_pitch_diameter "
-                             "and planet_pitch_diameter (the fixed gear is the sun for gear = 'external', the "
-                             "ring for gear = 'internal')")
+        if (
+            by_teeth == by_diameters
+            or (by_teeth and any(v is not None for v in diameters))
+            or (by_diameters and any(v is not None for v in teeth))
+        ):
+            raise ValueError(
+                "give either fixed_gear_teeth, planet_teeth and module, or fixed_gear_pitch_diameter "
+                "and planet_pitch_diameter (the fixed gear is the sun for gear = 'external', the "
+                "ring for gear = 'internal')"
+            )
         if self.gear == "internal":
-            planet, fixed = ((self.planet_teeth, self.fixed_gear_teeth) if by_teeth
-                             else (self.planet_pitch_diameter, self.fixed_gear_pitch_diameter))
+            planet, fixed = (
+                (self.planet_teeth, self.fixed_gear_teeth)
+                if by_teeth
+                else (self.planet_pitch_diameter, self.fixed_gear_pitch_diameter)
+            )
             if planet >= fixed:
-                raise ValueError("a planet inside a ring gear must be smaller than the ring "
-                                 f"(planet {planet:g} >= ring {fixed:g})")
+                raise ValueError(
+                    "a planet inside a ring gear must be smaller than the ring "
+                    f"(planet {planet:g} >= ring {fixed:g})"
+                )
         return self
 
     def radii_m(self) -> tuple[float, float]:

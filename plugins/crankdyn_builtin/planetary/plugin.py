@@ -27,7 +27,7 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 PLANETARY_MECHANISM = Mechanism(
     name=MECHANISM,
     summary="planetary crank mechanism: the carrier is the crank, the rod's big end is on a planet gear rolling "
-            "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
+    "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
     check=check,
     params_model=PlanetaryParams,
     # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)
@@ -68,4 +68,7 @@ def crankdyn_mechanisms():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

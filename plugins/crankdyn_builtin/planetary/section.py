@@ -16,19 +16,27 @@ def _sampled_table(f, r, span, ctx) -> str:
     angle = f["crank_angle_deg"]
     rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=span)
     g = f.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>x</i><sub>B</sub>, " + t("unit.mm"), g["big_end_x_m"] * mm, 3),
-        ("<i>z</i><sub>B</sub>, " + t("unit.mm"), g["big_end_z_m"] * mm, 3),
-        ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * mm, 3),
-        ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
-        ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
-        ("<i>β</i>, °", g["rod_angle_deg"], 2),
-        ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"] * mm, 3),
-        ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"] * mm, 3),
-        ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"], 3),
-    ] + ([("<i>P</i><sub>j</sub>, " + t("unit.kN"), g["inertia_force_N"] / 1e3, 3)] if "inertia_force_N" in g else []),
-        caption=t("planetary.table_caption"), see="planetary.see_table")
+    table = ctx.table(
+        [
+            ("<i>α</i>, °", labels, 0),
+            ("<i>x</i><sub>B</sub>, " + t("unit.mm"), g["big_end_x_m"] * mm, 3),
+            ("<i>z</i><sub>B</sub>, " + t("unit.mm"), g["big_end_z_m"] * mm, 3),
+            ("<i>s</i><sub>p</sub>, " + t("unit.mm"), g["piston_displacement_m"] * mm, 3),
+            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), g["piston_velocity_m_s"], 2),
+            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), g["piston_acceleration_m_s2"], 0),
+            ("<i>β</i>, °", g["rod_angle_deg"], 2),
+            ("<i>h</i>, " + t("unit.mm"), g["carrier_torque_arm_m"] * mm, 3),
+            ("<i>MN</i>, " + t("unit.mm"), g["rod_line_arm_m"] * mm, 3),
+            ("<i>F</i><sub>t</sub>/<i>F</i>", g["tooth_tangential_per_piston_force"], 3),
+        ]
+        + (
+            [("<i>P</i><sub>j</sub>, " + t("unit.kN"), g["inertia_force_N"] / 1e3, 3)]
+            if "inertia_force_N" in g
+            else []
+        ),
+        caption=t("planetary.table_caption"),
+        see="planetary.see_table",
+    )
     return table + worked_planetary(ctx, g, labels, r)
 
 
@@ -48,15 +56,33 @@ def render(output: StageOutput, ctx) -> str:
     figure_motion = _motion_figure(f, angle, inside, span, ctx)
     figure_arms = _arms_figure(f, angle, inside, span, ctx)
 
-    ctx.conclude(t("planetary.conclusion", gear=t("planetary.gear_" + r["gear"]), ratio=ctx.num(r["gear_ratio"], 4),
-                   stroke=ctx.num(r["stroke_m"] * mm, 5), arm=ctx.num(r["torque_arm_tdc_m"] * mm, 4),
-                   arm_max=ctx.num(r["carrier_torque_arm_max_m"] * mm, 4),
-                   conventional=ctx.num(r["conventional_torque_arm_max_m"] * mm, 4)))
+    ctx.conclude(
+        t(
+            "planetary.conclusion",
+            gear=t("planetary.gear_" + r["gear"]),
+            ratio=ctx.num(r["gear_ratio"], 4),
+            stroke=ctx.num(r["stroke_m"] * mm, 5),
+            arm=ctx.num(r["torque_arm_tdc_m"] * mm, 4),
+            arm_max=ctx.num(r["carrier_torque_arm_max_m"] * mm, 4),
+            conventional=ctx.num(r["conventional_torque_arm_max_m"] * mm, 4),
+        )
+    )
     # The effective arm at TDC is zero; show round-off (~1e-17 m) as 0.
-    effective_tdc = r["effective_torque_arm_tdc_m"] if abs(r["effective_torque_arm_tdc_m"]) > 1e-9 * r["stroke_m"] else 0.0
-    return ctx.render_template("sections/planetary.html.j2", r=r, effective_tdc=effective_tdc, table=table,
-                               figure_path=figure_path,
-                               figure_family=figure_family, figure_motion=figure_motion, figure_arms=figure_arms)
+    effective_tdc = (
+        r["effective_torque_arm_tdc_m"]
+        if abs(r["effective_torque_arm_tdc_m"]) > 1e-9 * r["stroke_m"]
+        else 0.0
+    )
+    return ctx.render_template(
+        "sections/planetary.html.j2",
+        r=r,
+        effective_tdc=effective_tdc,
+        table=table,
+        figure_path=figure_path,
+        figure_family=figure_family,
+        figure_motion=figure_motion,
+        figure_arms=figure_arms,
+    )
 
 
 #: The letters of the section's equations (meanings: symbol.planetary.<key> in i18n/); the crank angle,
@@ -84,8 +110,12 @@ SYMBOLS = {
     "pin_phase": Symbol("ψ", {"en": "0"}, "°"),
     "piston_pin_z": Symbol("z", {"en": "A"}, "unit.mm"),
     "piston_pin_z_tdc": Symbol("z", {"en": "A,TDC", "uk": "A,ВМТ", "ru": "A,ВМТ"}, "unit.mm"),
-    "big_end_x_derivative": Symbol("x", {"en": "B"}, "unit.m_rad", html="<i>x</i>′<sub>{sub}</sub>"),
-    "big_end_z_derivative": Symbol("z", {"en": "B"}, "unit.m_rad", html="<i>z</i>′<sub>{sub}</sub>"),
+    "big_end_x_derivative": Symbol(
+        "x", {"en": "B"}, "unit.m_rad", html="<i>x</i>′<sub>{sub}</sub>"
+    ),
+    "big_end_z_derivative": Symbol(
+        "z", {"en": "B"}, "unit.m_rad", html="<i>z</i>′<sub>{sub}</sub>"
+    ),
     "rod_force_vector": Symbol("F", {"en": "P"}, "unit.N", html="<b>F</b><sub>{sub}</sub>"),
     "piston_force": Symbol("F", {}, "unit.N"),
     "tooth_tangential": Symbol("F", {"en": "t"}, "unit.N"),

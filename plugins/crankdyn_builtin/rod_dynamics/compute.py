@@ -26,13 +26,17 @@ def applies(scene) -> str | None:
     if scene.masses is None:
         return "the scene has no [masses]"
     if scene.engine.mechanism not in ROD_MECHANISMS:
-        return (f"the {scene.engine.mechanism!r} mechanism has no connecting rod of the kind this stage treats "
-                f"(a rod from a big end to a piston pin on the cylinder axis: {', '.join(ROD_MECHANISMS)})")
+        return (
+            f"the {scene.engine.mechanism!r} mechanism has no connecting rod of the kind this stage treats "
+            f"(a rod from a big end to a piston pin on the cylinder axis: {', '.join(ROD_MECHANISMS)})"
+        )
     if scene.engine.rod_type == "articulated":
         return "articulated rods: the master rod also carries the slave rods, which this stage does not model"
     if scene.engine.mechanism == "crank_slider" and scene.masses.rod_moment_of_inertia is None:
-        return ("the scene gives no masses.rod_moment_of_inertia; the kinematics section already shows the "
-                "central rod's motion, and without I_G its inertia couple cannot be computed")
+        return (
+            "the scene gives no masses.rod_moment_of_inertia; the kinematics section already shows the "
+            "central rod's motion, and without I_G its inertia couple cannot be computed"
+        )
     return None
 
 
@@ -49,7 +53,9 @@ def _rod_rates(motion) -> tuple[np.ndarray, np.ndarray, str]:
     return rate, omega * rd.periodic_derivative(rate, period_rad), "spectral"
 
 
-def _exact_models(model: str, m, L, l_r, inertia, rate, accel, omega, points: dict, torque_two, inertia_two):
+def _exact_models(
+    model: str, m, L, l_r, inertia, rate, accel, omega, points: dict, torque_two, inertia_two
+):
     """(results, table columns, notes) of the models that need the rod's moment of inertia: the
     three-mass model, the correction couple and the exact rigid-body torque, against two masses.
     ``points``: velocity and acceleration (x, z) of the small end "a", big end "b", centre "g"."""
@@ -58,11 +64,16 @@ def _exact_models(model: str, m, L, l_r, inertia, rate, accel, omega, points: di
     m3_small, m3_big, m3_centre = rd.three_mass_split_kg(m, L, l_r, inertia)
     couple = -inertia * accel
     correction = rd.correction_couple_Nm(accel, m, L, l_r, inertia)
-    torque_three = rd.point_masses_inertia_torque_Nm([m3_small, m3_big, m3_centre], [v_a, v_b, v_g],
-                                                     [a_a, a_b, a_g], omega)
+    torque_three = rd.point_masses_inertia_torque_Nm(
+        [m3_small, m3_big, m3_centre], [v_a, v_b, v_g], [a_a, a_b, a_g], omega
+    )
     torque_couple = torque_two + correction * rate / omega
     torque_exact = rd.rod_inertia_torque_Nm(m, inertia, v_g, a_g, rate, accel, omega)
-    chosen = {"two_mass": torque_two, "three_mass": torque_three, "correction_couple": torque_couple}[model]
+    chosen = {
+        "two_mass": torque_two,
+        "three_mass": torque_three,
+        "correction_couple": torque_couple,
+    }[model]
     difference = torque_exact - torque_two
     results = {
         "rod_moment_of_inertia_kg_m2": inertia,
@@ -75,14 +86,27 @@ def _exact_models(model: str, m, L, l_r, inertia, rate, accel, omega, points: di
         "torque_max_abs_Nm": float(np.max(np.abs(chosen))),
         "torque_exact_max_abs_Nm": float(np.max(np.abs(torque_exact))),
         "torque_difference_max_abs_Nm": float(np.max(np.abs(difference))),
-        "torque_difference_relative": float(np.max(np.abs(difference)) / two_max) if two_max > 0 else 0.0,
+        "torque_difference_relative": float(np.max(np.abs(difference)) / two_max)
+        if two_max > 0
+        else 0.0,
         "torque_exact_mean_Nm": float(np.mean(torque_exact)),
     }
-    columns = {"inertia_couple_Nm": couple, "correction_couple_Nm": correction,
-               "torque_exact_Nm": torque_exact, "torque_difference_Nm": difference,
-               "torque_model_Nm": chosen}
-    notes = [("rod_dynamics.note_models", {"ratio": results["moment_of_inertia_ratio"],
-                                           "difference": results["torque_difference_relative"] * 100.0})]
+    columns = {
+        "inertia_couple_Nm": couple,
+        "correction_couple_Nm": correction,
+        "torque_exact_Nm": torque_exact,
+        "torque_difference_Nm": difference,
+        "torque_model_Nm": chosen,
+    }
+    notes = [
+        (
+            "rod_dynamics.note_models",
+            {
+                "ratio": results["moment_of_inertia_ratio"],
+                "difference": results["torque_difference_relative"] * 100.0,
+            },
+        )
+    ]
     if m3_centre < 0:
         notes.append(("rod_dynamics.note_negative_mass", {"mass": m3_centre}))
     return results, columns, notes
@@ -113,9 +137,14 @@ def run(scene, inputs) -> StageOutput:
     torque_two = rd.point_masses_inertia_torque_Nm([m_small, m_big], [v_a, v_b], [a_a, a_b], omega)
     force_x, force_z = -m * a_g[0], -m * a_g[1]
     if inertia is None and opts.model != "two_mass":
-        raise SceneError(Problem("rod_dynamics.model", opts.model,
-                                 "the exact models need the rod's moment of inertia, masses.rod_moment_of_inertia; "
-                                 "without it only two_mass is possible"))
+        raise SceneError(
+            Problem(
+                "rod_dynamics.model",
+                opts.model,
+                "the exact models need the rod's moment of inertia, masses.rod_moment_of_inertia; "
+                "without it only two_mass is possible",
+            )
+        )
 
     two_max = float(np.max(np.abs(torque_two)))
     results = {
@@ -151,9 +180,19 @@ def run(scene, inputs) -> StageOutput:
     if inertia is None:
         notes.append(("rod_dynamics.note_no_inertia", {}))
     else:
-        more, more_columns, more_notes = _exact_models(opts.model, m, L, l_r, inertia, rate, accel, omega,
-                                                       {"a": (v_a, a_a), "b": (v_b, a_b), "g": (v_g, a_g)},
-                                                       torque_two, inertia_two)
+        more, more_columns, more_notes = _exact_models(
+            opts.model,
+            m,
+            L,
+            l_r,
+            inertia,
+            rate,
+            accel,
+            omega,
+            {"a": (v_a, a_a), "b": (v_b, a_b), "g": (v_g, a_g)},
+            torque_two,
+            inertia_two,
+        )
         results.update(more)
         columns.update(more_columns)
         notes += more_notes
@@ -163,5 +202,7 @@ def run(scene, inputs) -> StageOutput:
     if source == "spectral":
         notes.append(("rod_dynamics.note_spectral", {}))
     if motion.method == "approximate":
-        notes.append(("rod_dynamics.note_approximate", {"mean": float(np.mean(columns["torque_model_Nm"]))}))
+        notes.append(
+            ("rod_dynamics.note_approximate", {"mean": float(np.mean(columns["torque_model_Nm"]))})
+        )
     return StageOutput(data={}, results=results, tables={"rod_dynamics": table}, notes=notes)

@@ -30,19 +30,35 @@ def _torque_figure(f, period, exact, t):
     inside = angle < period
     fig, axes = new_figure(16, 11 if exact else 6, nrows=2 if exact else 1, sharex=True)
     top = axes[0] if exact else axes
-    top.plot(angle[inside], f["torque_two_mass_Nm"][inside], color="0.45" if exact else "C0",
-             ls="--" if exact else "-", label=t("rod_dynamics.two_mass"))
+    top.plot(
+        angle[inside],
+        f["torque_two_mass_Nm"][inside],
+        color="0.45" if exact else "C0",
+        ls="--" if exact else "-",
+        label=t("rod_dynamics.two_mass"),
+    )
     if exact:
-        top.plot(angle[inside], f["torque_exact_Nm"][inside], color="C0", label=t("rod_dynamics.exact"))
-        axes[1].plot(angle[inside], f["torque_difference_Nm"][inside], color="C3",
-                     label=t("rod_dynamics.difference"))
-        axes[1].plot(angle[inside], f["inertia_couple_Nm"][inside], color="C4", ls=":",
-                     label=t("rod_dynamics.couple"))
+        top.plot(
+            angle[inside], f["torque_exact_Nm"][inside], color="C0", label=t("rod_dynamics.exact")
+        )
+        axes[1].plot(
+            angle[inside],
+            f["torque_difference_Nm"][inside],
+            color="C3",
+            label=t("rod_dynamics.difference"),
+        )
+        axes[1].plot(
+            angle[inside],
+            f["inertia_couple_Nm"][inside],
+            color="C4",
+            ls=":",
+            label=t("rod_dynamics.couple"),
+        )
         axes[1].set_ylabel(t("rod_dynamics.axis_torque"))
         axes[1].legend(loc="upper right", fontsize=8)
     top.set_ylabel(t("rod_dynamics.axis_torque"))
     top.legend(loc="upper right", fontsize=8)
-    for ax in (axes if exact else [axes]):
+    for ax in axes if exact else [axes]:
         ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(axes[1] if exact else axes, period, t("axis.crank_angle"))
     return fig

@@ -32,28 +32,60 @@ def render(output: StageOutput, ctx) -> str:
     ]
     if exact:
         columns[6:6] = [("<i>M</i><sub>G</sub>, " + t("unit.Nm"), g["inertia_couple_Nm"], 2)]
-        columns += [("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
-                    ("<i>M</i><sub>exact</sub> − <i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_difference_Nm"], 3)]
-    table = ctx.table(columns, caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
-                      css_class="data wide", see="rod_dynamics.see_table" if exact else "rod_dynamics.see_table_two") \
-        + worked_rod_dynamics(ctx, g, labels, r)
+        columns += [
+            ("<i>M</i><sub>exact</sub>, " + t("unit.Nm"), g["torque_exact_Nm"], 2),
+            (
+                "<i>M</i><sub>exact</sub> − <i>M</i><sub>2</sub>, " + t("unit.Nm"),
+                g["torque_difference_Nm"],
+                3,
+            ),
+        ]
+    table = ctx.table(
+        columns,
+        caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),
+        css_class="data wide",
+        see="rod_dynamics.see_table" if exact else "rod_dynamics.see_table_two",
+    ) + worked_rod_dynamics(ctx, g, labels, r)
 
-    figure_motion = ctx.figure(partial(_motion_figure, f, period, t), t("rod_dynamics.motion_caption"), "rod_motion",
-                               see="rod_dynamics.see_motion")
-    figure_torque = ctx.figure(partial(_torque_figure, f, period, exact, t),
-                               t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
-                               "rod_torque", see="rod_dynamics.see_torque" if exact else "rod_dynamics.see_torque_two")
+    figure_motion = ctx.figure(
+        partial(_motion_figure, f, period, t),
+        t("rod_dynamics.motion_caption"),
+        "rod_motion",
+        see="rod_dynamics.see_motion",
+    )
+    figure_torque = ctx.figure(
+        partial(_torque_figure, f, period, exact, t),
+        t("rod_dynamics.torque_caption" if exact else "rod_dynamics.torque_caption_two"),
+        "rod_torque",
+        see="rod_dynamics.see_torque" if exact else "rod_dynamics.see_torque_two",
+    )
 
     if exact:
-        ctx.conclude(t("rod_dynamics.conclusion", couple=ctx.num(r["inertia_couple_max_Nm"]),
-                       difference=ctx.num(r["torque_difference_max_abs_Nm"]),
-                       relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
-                       model=t("rod_dynamics.model_" + r["model"])))
+        ctx.conclude(
+            t(
+                "rod_dynamics.conclusion",
+                couple=ctx.num(r["inertia_couple_max_Nm"]),
+                difference=ctx.num(r["torque_difference_max_abs_Nm"]),
+                relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
+                model=t("rod_dynamics.model_" + r["model"]),
+            )
+        )
     else:
-        ctx.conclude(t("rod_dynamics.conclusion_two", cm=ctx.num(r["cm_acceleration_max_m_s2"]),
-                       torque=ctx.num(r["torque_two_mass_max_abs_Nm"])))
-    return ctx.render_template("sections/rod_dynamics.html.j2", r=r, exact=exact, table=table,
-                               figure_motion=figure_motion, figure_torque=figure_torque)
+        ctx.conclude(
+            t(
+                "rod_dynamics.conclusion_two",
+                cm=ctx.num(r["cm_acceleration_max_m_s2"]),
+                torque=ctx.num(r["torque_two_mass_max_abs_Nm"]),
+            )
+        )
+    return ctx.render_template(
+        "sections/rod_dynamics.html.j2",
+        r=r,
+        exact=exact,
+        table=table,
+        figure_motion=figure_motion,
+        figure_torque=figure_torque,
+    )
 
 
 #: The letters of this section's equations (meanings: symbol.rod_dynamics.<key> in i18n/).

@@ -48,10 +48,15 @@ def _single_mass(scene, torque, bays, design, train):
     except ValueError:
         exact = None
     if exact is None or exact.omega_min_rad_s < MIN_SPEED_FRACTION * exact.omega_mean_rad_s:
-        raise SceneError(Problem("flywheel.inertia", f"{design.flywheel_inertia_kg_m2:.4g} kg*m^2",
-                                 "too small: with the variable inertia of the crank mechanisms the crankshaft would "
-                                 "slow to less than half its mean speed once per cycle (or stop); give a larger "
-                                 "flywheel or a smaller required_irregularity"))
+        raise SceneError(
+            Problem(
+                "flywheel.inertia",
+                f"{design.flywheel_inertia_kg_m2:.4g} kg*m^2",
+                "too small: with the variable inertia of the crank mechanisms the crankshaft would "
+                "slow to less than half its mean speed once per cycle (or stop); give a larger "
+                "flywheel or a smaller required_irregularity",
+            )
+        )
     return inertia, gas, gas_series, exact
 
 
@@ -80,7 +85,11 @@ def _energy_curve(torque, design, omega_n):
     step = alpha[1] - alpha[0]
     excess = torque.torque_Nm - np.mean(torque.torque_Nm)
     work = np.concatenate([[0.0], np.cumsum(0.5 * (excess[:-1] + excess[1:]) * step)])
-    total = design.flywheel_inertia_kg_m2 + design.engine_inertia_kg_m2 + design.mechanism_inertia_mean_kg_m2
+    total = (
+        design.flywheel_inertia_kg_m2
+        + design.engine_inertia_kg_m2
+        + design.mechanism_inertia_mean_kg_m2
+    )
     return omega_n + (work - 0.5 * (work.max() + work.min())) / (total * omega_n)
 
 
@@ -104,7 +113,9 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
         for rtol in SINGLE_MASS_RTOLS:
             run = sf.run_solver(rhs, span, y0, method, rtol, atol(rtol))
             records.append(_run_record(run, sf.phase_error(run, exact)))
-    chosen = sf.run_solver(rhs, span, y0, choice.method, SINGLE_MASS_RTOL, atol(SINGLE_MASS_RTOL), dense_output=True)
+    chosen = sf.run_solver(
+        rhs, span, y0, choice.method, SINGLE_MASS_RTOL, atol(SINGLE_MASS_RTOL), dense_output=True
+    )
     times = np.linspace(0.0, exact.cycle_time_s, 4097)
     dense = chosen.sol(times)
     omega_solver = dense[1]
@@ -114,23 +125,39 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
     # the run the section quotes is in the table and the figure too, after its method's other runs
     last_of_method = max(i for i, r in enumerate(records) if r["method"] == choice.method)
     records.insert(last_of_method + 1, {**_run_record(chosen, chosen_error), "used": True})
-    summary.update({"rtol": SINGLE_MASS_RTOL, "steps": chosen.steps, "nfev": chosen.nfev, "time_s": chosen.time_s,
-                    "error_relative": chosen_error if math.isfinite(chosen_error) else None,
-                    "irregularity": (w_max - w_min) / (0.5 * (w_max + w_min)),
-                    "periodicity_error": float(abs(chosen.y[1, -1] - y0[1]) / omega_n),
-                    "end_angle_error_rad": float(chosen.y[0, -1] - gas_series.period_rad)})
+    summary.update(
+        {
+            "rtol": SINGLE_MASS_RTOL,
+            "steps": chosen.steps,
+            "nfev": chosen.nfev,
+            "time_s": chosen.time_s,
+            "error_relative": chosen_error if math.isfinite(chosen_error) else None,
+            "irregularity": (w_max - w_min) / (0.5 * (w_max + w_min)),
+            "periodicity_error": float(abs(chosen.y[1, -1] - y0[1]) / omega_n),
+            "end_angle_error_rad": float(chosen.y[0, -1] - gas_series.period_rad),
+        }
+    )
     return summary, records, (dense[0], omega_solver)
 
 
 def run(scene, inputs) -> StageOutput:
-    torque, bays, crank_loads, design = inputs[ENGINE_TORQUE], inputs[BAY_LOADS], inputs[CRANK_LOADS], inputs[FLYWHEEL]
-    torsion_opts = options(scene, "torsion", TorsionOptions) if "torsion" in scene.plugin_tables() else None
+    torque, bays, crank_loads, design = (
+        inputs[ENGINE_TORQUE],
+        inputs[BAY_LOADS],
+        inputs[CRANK_LOADS],
+        inputs[FLYWHEEL],
+    )
+    torsion_opts = (
+        options(scene, "torsion", TorsionOptions) if "torsion" in scene.plugin_tables() else None
+    )
     omega_n = torque.angular_velocity_rad_s
     train = crank_train(scene, bays)
     inertia, gas, gas_series, exact = _single_mass(scene, torque, bays, design, train)
     alpha = np.radians(torque.crank_angle_deg)
     j_grid, dj_grid = inertia(alpha)
-    summary, records, (solver_alpha, solver_omega) = _single_mass_solvers(gas_series, inertia, exact, omega_n)
+    summary, records, (solver_alpha, solver_omega) = _single_mass_solvers(
+        gas_series, inertia, exact, omega_n
+    )
 
     energy_delta = design.irregularity
     results = {
@@ -147,10 +174,13 @@ def run(scene, inputs) -> StageOutput:
         "cycle_time_s": exact.cycle_time_s,
         "irregularity": exact.irregularity,
         "irregularity_definition": "(omega_max - omega_min) / ((omega_max + omega_min) / 2)",
-        "irregularity_time_mean": irr.irregularity_time_mean(exact.omega_max_rad_s, exact.omega_min_rad_s,
-                                                             exact.omega_mean_rad_s),
+        "irregularity_time_mean": irr.irregularity_time_mean(
+            exact.omega_max_rad_s, exact.omega_min_rad_s, exact.omega_mean_rad_s
+        ),
         "irregularity_energy": energy_delta,
-        "irregularity_deviation_percent": 100.0 * (exact.irregularity - energy_delta) / energy_delta,
+        "irregularity_deviation_percent": 100.0
+        * (exact.irregularity - energy_delta)
+        / energy_delta,
         "flywheel_inertia_energy_kg_m2": design.required_flywheel_inertia_kg_m2,
         "flywheel_inertia_ode_kg_m2": None,
         "flywheel_inertia_deviation_percent": None,
@@ -161,28 +191,47 @@ def run(scene, inputs) -> StageOutput:
     if design.required_irregularity is not None and design.required_flywheel_inertia_kg_m2:
         ode = _flywheel_for(design.required_irregularity, design, gas_series, train, omega_n)
         results["flywheel_inertia_ode_kg_m2"] = ode
-        results["flywheel_inertia_deviation_percent"] = 100.0 * (ode - design.required_flywheel_inertia_kg_m2) \
+        results["flywheel_inertia_deviation_percent"] = (
+            100.0
+            * (ode - design.required_flywheel_inertia_kg_m2)
             / design.required_flywheel_inertia_kg_m2
-    tables = {"speed_fluctuation": {
-        "crank_angle_deg": torque.crank_angle_deg,
-        "inertia_kg_m2": j_grid,
-        "inertia_derivative_kg_m2": dj_grid,
-        "gas_torque_Nm": gas,
-        "omega_rad_s": exact.omega_at(alpha),
-        "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
-        "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
-    }}
+        )
+    tables = {
+        "speed_fluctuation": {
+            "crank_angle_deg": torque.crank_angle_deg,
+            "inertia_kg_m2": j_grid,
+            "inertia_derivative_kg_m2": dj_grid,
+            "gas_torque_Nm": gas,
+            "omega_rad_s": exact.omega_at(alpha),
+            "omega_energy_method_rad_s": _energy_curve(torque, design, omega_n),
+            "omega_solver_rad_s": np.interp(alpha, solver_alpha, solver_omega),
+        }
+    }
     # the solvers' check against the exact solution is a full report's (``detail = "full"``)
     full = scene.report.detail == "full"
     notes = [("speed_fluctuation.note_reference", {})] if full else []
-    notes += [("speed_fluctuation.note_irregularity", {
-                 "midrange": results["irregularity"], "time_mean": results["irregularity_time_mean"],
-                 "omega_mid": 0.5 * (exact.omega_max_rad_s + exact.omega_min_rad_s),
-                 "omega_mean": exact.omega_mean_rad_s})]
+    notes += [
+        (
+            "speed_fluctuation.note_irregularity",
+            {
+                "midrange": results["irregularity"],
+                "time_mean": results["irregularity_time_mean"],
+                "omega_mid": 0.5 * (exact.omega_max_rad_s + exact.omega_min_rad_s),
+                "omega_mean": exact.omega_mean_rad_s,
+            },
+        )
+    ]
     if torsion_opts is not None:
-        torsion, torsion_tables = _torsion(scene, torque, crank_loads, design, train, exact, torsion_opts)
+        torsion, torsion_tables = _torsion(
+            scene, torque, crank_loads, design, train, exact, torsion_opts
+        )
         results["torsion"] = torsion
         tables.update(torsion_tables)
         if full and not torsion["steady_state"]["converged"]:  # a course note's section says it
-            notes.append(("speed_fluctuation.note_not_converged", {"cycles": torsion["steady_state"]["cycles"]}))
+            notes.append(
+                (
+                    "speed_fluctuation.note_not_converged",
+                    {"cycles": torsion["steady_state"]["cycles"]},
+                )
+            )
     return StageOutput(data={}, results=results, tables=tables, notes=notes)

@@ -21,18 +21,43 @@ def _error_plot(records, key, t):
     """The error of each solver's runs against their time, the tolerances marked, the run quoted ringed."""
     fig, ax = new_figure(16, 9)
     for i, method in enumerate(METHODS):
-        rows = [r for r in records if r["method"] == method and not r.get("reference") and r[key] is not None
-                and r[key] > 0]
+        rows = [
+            r
+            for r in records
+            if r["method"] == method
+            and not r.get("reference")
+            and r[key] is not None
+            and r[key] > 0
+        ]
         if rows:
             # milliseconds, as the table of the runs beside it
-            ax.loglog([r["time_s"] * 1e3 for r in rows], [r[key] for r in rows], "o-", color=f"C{i}", label=method)
+            ax.loglog(
+                [r["time_s"] * 1e3 for r in rows],
+                [r[key] for r in rows],
+                "o-",
+                color=f"C{i}",
+                label=method,
+            )
             for r in rows:
-                ax.annotate(_power_of_ten(r["rtol"], t), (r["time_s"] * 1e3, r[key]), fontsize=7, xytext=(3, 3),
-                            textcoords="offset points")
+                ax.annotate(
+                    _power_of_ten(r["rtol"], t),
+                    (r["time_s"] * 1e3, r[key]),
+                    fontsize=7,
+                    xytext=(3, 3),
+                    textcoords="offset points",
+                )
     used = [r for r in records if r.get("used") and r[key] is not None and r[key] > 0]
     if used:  # the run the section quotes, ringed (a shape, not a colour: black-and-white print)
-        ax.loglog([r["time_s"] * 1e3 for r in used], [r[key] for r in used], "o", ms=11, mfc="none", mec="black",
-                  mew=0.9, label=t("speed_fluctuation.used_run"))
+        ax.loglog(
+            [r["time_s"] * 1e3 for r in used],
+            [r[key] for r in used],
+            "o",
+            ms=11,
+            mfc="none",
+            mec="black",
+            mew=0.9,
+            label=t("speed_fluctuation.used_run"),
+        )
     ax.set_xlabel(t("speed_fluctuation.axis_time"))
     ax.set_ylabel(t("speed_fluctuation.axis_error"))
     ax.legend(loc="best", fontsize=8)
@@ -41,8 +66,12 @@ def _error_plot(records, key, t):
 
 def _speed_figure(f, r, ctx) -> str:
     """The crankshaft speed over the cycle (exact, the solver's, the energy method's) above the variable inertia."""
-    return ctx.figure(partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
-                      ctx.t("speed_fluctuation.speed_caption"), "speed", see="speed_fluctuation.see_speed")
+    return ctx.figure(
+        partial(_speed_plot, f, r["solver"]["method"], ctx.cycle_deg, ctx.t),
+        ctx.t("speed_fluctuation.speed_caption"),
+        "speed",
+        see="speed_fluctuation.see_speed",
+    )
 
 
 def _speed_plot(f, method, cycle_deg, t):
@@ -50,9 +79,21 @@ def _speed_plot(f, method, cycle_deg, t):
     angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     axes[0].plot(angle, f["omega_rad_s"], color="C0", label=t("speed_fluctuation.exact"))
-    axes[0].plot(angle, f["omega_solver_rad_s"], color="C1", ls="--", lw=1,
-                 label=t("speed_fluctuation.solver_curve", method=method))
-    axes[0].plot(angle, f["omega_energy_method_rad_s"], color="C2", ls=":", label=t("speed_fluctuation.energy_curve"))
+    axes[0].plot(
+        angle,
+        f["omega_solver_rad_s"],
+        color="C1",
+        ls="--",
+        lw=1,
+        label=t("speed_fluctuation.solver_curve", method=method),
+    )
+    axes[0].plot(
+        angle,
+        f["omega_energy_method_rad_s"],
+        color="C2",
+        ls=":",
+        label=t("speed_fluctuation.energy_curve"),
+    )
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
     axes[0].legend(loc="upper right", fontsize=8)
     axes[1].plot(angle, f["inertia_kg_m2"], color="C4")
@@ -65,11 +106,16 @@ def _modes_figure(ctx, torsion, parts) -> None:
     """The shapes of the first (at most three) elastic modes along the shaft."""
     t = ctx.t
     modes = torsion["modes"]
-    labels = [t("speed_fluctuation.mode_label", mode=m["mode"], f=ctx.num(m["natural_frequency_Hz"], 4))
-              for m in modes[: min(3, len(modes))]]
-    parts["figure_modes"] = ctx.figure(partial(_modes_plot, len(torsion["nodes"]), modes, labels, t),
-                                       t("speed_fluctuation.modes_figure_caption"), "modes",
-                                       see="speed_fluctuation.see_modes_figure")
+    labels = [
+        t("speed_fluctuation.mode_label", mode=m["mode"], f=ctx.num(m["natural_frequency_Hz"], 4))
+        for m in modes[: min(3, len(modes))]
+    ]
+    parts["figure_modes"] = ctx.figure(
+        partial(_modes_plot, len(torsion["nodes"]), modes, labels, t),
+        t("speed_fluctuation.modes_figure_caption"),
+        "modes",
+        see="speed_fluctuation.see_modes_figure",
+    )
 
 
 def _modes_plot(node_count, modes, labels, t):
@@ -88,9 +134,12 @@ def _modes_plot(node_count, modes, labels, t):
 def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     """The periodic state: the flywheel's and the first crank's speed against the rigid shaft's, and the
     torque in every span, over the shaft angle."""
-    parts["figure_torsion"] = ctx.figure(partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
-                                         ctx.t("speed_fluctuation.torsion_caption"), "torsion",
-                                         see="speed_fluctuation.see_torsion")
+    parts["figure_torsion"] = ctx.figure(
+        partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
+        ctx.t("speed_fluctuation.torsion_caption"),
+        "torsion",
+        see="speed_fluctuation.see_torsion",
+    )
 
 
 def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
@@ -101,14 +150,28 @@ def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
     speed_columns = [c for c in tf.columns if c.startswith("speed_")]
     reference = torsion["reference_node"]
     axes[0].plot(shaft, tf[speed_columns[reference]], color="C0", label=node_names[reference])
-    axes[0].plot(shaft, tf["rigid_speed_rad_s"], color="C3", ls="--", lw=1, label=t("speed_fluctuation.rigid_speed"))
+    axes[0].plot(
+        shaft,
+        tf["rigid_speed_rad_s"],
+        color="C3",
+        ls="--",
+        lw=1,
+        label=t("speed_fluctuation.rigid_speed"),
+    )
     first_crank = next(i for i, node in enumerate(nodes) if node["name"].startswith("crank "))
-    axes[0].plot(shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank])
+    axes[0].plot(
+        shaft, tf[speed_columns[first_crank]], color="C1", lw=0.8, label=node_names[first_crank]
+    )
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
     axes[0].legend(loc="upper right", fontsize=8)
     spans = [c for c in tf.columns if c.startswith("span_torque_")]
     for j, column in enumerate(spans):
-        axes[1].plot(shaft, tf[column], lw=0.9, label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2))
+        axes[1].plot(
+            shaft,
+            tf[column],
+            lw=0.9,
+            label=t("speed_fluctuation.span_label", first=j + 1, second=j + 2),
+        )
     axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
     axes[1].legend(loc="upper right", fontsize=8, ncol=3)
     crank_angle_axis(axes[1], cycle_deg, t("speed_fluctuation.axis_shaft_angle"))

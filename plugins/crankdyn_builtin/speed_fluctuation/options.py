@@ -54,11 +54,15 @@ class TorsionOptions(BaseModel):
     @model_validator(mode="after")
     def _consistent(self) -> TorsionOptions:
         if (self.free_end_inertia is None) != (self.free_end_stiffness is None):
-            raise ValueError("give free_end_inertia and free_end_stiffness together (a disc ahead of crank 1: "
-                             "timing gear, pulley or damper, and the stiffness of the crank nose), or neither")
+            raise ValueError(
+                "give free_end_inertia and free_end_stiffness together (a disc ahead of crank 1: "
+                "timing gear, pulley or damper, and the stiffness of the crank nose), or neither"
+            )
         if (self.load_inertia is None) != (self.coupling_stiffness is None):
-            raise ValueError("give load_inertia and coupling_stiffness together (the load disc and the coupling "
-                             "between the flywheel and it), or neither (the load torque then acts on the flywheel)")
+            raise ValueError(
+                "give load_inertia and coupling_stiffness together (the load disc and the coupling "
+                "between the flywheel and it), or neither (the load torque then acts on the flywheel)"
+            )
         if self.reference_rtol >= min(self.compare_rtols, default=1.0):
             raise ValueError("reference_rtol must be smaller than every compare_rtols value")
         return self

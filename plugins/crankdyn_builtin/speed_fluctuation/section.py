@@ -20,26 +20,48 @@ def render(output: StageOutput, ctx) -> str:
     figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
     table_single = figure_single = None
     if not course:
-        table_single = _solver_table(ctx, r["solvers"], t("speed_fluctuation.single_table_caption"),
-                                     "speed_fluctuation.see_single_table")
-        figure_single = _error_figure(ctx, r["solvers"],
-                                      t("speed_fluctuation.single_figure_caption"),
-                                      "solvers_single", "speed_fluctuation.see_single_figure")
+        table_single = _solver_table(
+            ctx,
+            r["solvers"],
+            t("speed_fluctuation.single_table_caption"),
+            "speed_fluctuation.see_single_table",
+        )
+        figure_single = _error_figure(
+            ctx,
+            r["solvers"],
+            t("speed_fluctuation.single_figure_caption"),
+            "solvers_single",
+            "speed_fluctuation.see_single_figure",
+        )
 
     torsion = r["torsion"]
     if torsion is None:  # no torsional model in the scene: the title does not promise one
         ctx.title = t("speed_fluctuation.title_rigid")
     parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
-    ctx.conclude(t("speed_fluctuation.conclusion" + ("_course" if course else ""),
-                   delta=ctx.num(r["irregularity"], digits),
-                   energy=ctx.num(r["irregularity_energy"], digits),
-                   deviation=ctx.num(r["irregularity_deviation_percent"], 2), method=r["solver"]["method"]))
-    return ctx.render_template("sections/speed_fluctuation.html.j2", r=r, torsion=torsion, delta_digits=digits,
-                               cylinders=ctx.scene.engine.cylinders, course=course,
-                               sci=lambda value: _sci(value, t.decimal_separator),
-                               figure_speed=figure_speed, table_single=table_single, figure_single=figure_single,
-                               worked=worked_speed_fluctuation(ctx, r), **parts)
+    ctx.conclude(
+        t(
+            "speed_fluctuation.conclusion" + ("_course" if course else ""),
+            delta=ctx.num(r["irregularity"], digits),
+            energy=ctx.num(r["irregularity_energy"], digits),
+            deviation=ctx.num(r["irregularity_deviation_percent"], 2),
+            method=r["solver"]["method"],
+        )
+    )
+    return ctx.render_template(
+        "sections/speed_fluctuation.html.j2",
+        r=r,
+        torsion=torsion,
+        delta_digits=digits,
+        cylinders=ctx.scene.engine.cylinders,
+        course=course,
+        sci=lambda value: _sci(value, t.decimal_separator),
+        figure_speed=figure_speed,
+        table_single=table_single,
+        figure_single=figure_single,
+        worked=worked_speed_fluctuation(ctx, r),
+        **parts,
+    )
 
 
 #: The torsional model's letters (meanings: symbol.speed_fluctuation.<key> in i18n/): i numbers
@@ -48,21 +70,31 @@ _I = {"en": "i"}
 
 SYMBOLS = {
     "disc_inertia": Symbol("J", _I, "unit.kg_m2", html="<i>J</i><sub><i>i</i></sub>"),
-    "disc_inertia_derivative": Symbol("J", _I, "unit.kg_m2_rad", html="<i>J</i>′<sub><i>i</i></sub>"),
+    "disc_inertia_derivative": Symbol(
+        "J", _I, "unit.kg_m2_rad", html="<i>J</i>′<sub><i>i</i></sub>"
+    ),
     "disc_angle": Symbol("θ", _I, "speed_fluctuation.unit_rad", html="<i>θ</i><sub><i>i</i></sub>"),
     "disc_speed": Symbol("θ\u0307", _I, "unit.rad_s", html="<i>θ\u0307</i><sub><i>i</i></sub>"),
-    "disc_acceleration": Symbol("θ\u0308", _I, "unit.rad_s2", html="<i>θ\u0308</i><sub><i>i</i></sub>"),
+    "disc_acceleration": Symbol(
+        "θ\u0308", _I, "unit.rad_s2", html="<i>θ\u0308</i><sub><i>i</i></sub>"
+    ),
     "disc_angles": Symbol("θ", {}, "speed_fluctuation.unit_rad", html="<b><i>θ</i></b>"),
     "disc_speeds": Symbol("θ\u0307", {}, "unit.rad_s", html="<b><i>θ\u0307</i></b>"),
-    "disc_gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", html="<i>M</i><sub>{sub},<i>i</i></sub>"),
+    "disc_gas_torque": Symbol(
+        "M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", html="<i>M</i><sub>{sub},<i>i</i></sub>"
+    ),
     "stiffness_matrix": Symbol("K", {}, "speed_fluctuation.unit_N_m_rad", html="<b>K</b>"),
     "damping_matrix": Symbol("C", {}, "speed_fluctuation.unit_N_m_s_rad", html="<b>C</b>"),
     "inertia_matrix": Symbol("M", {}, "unit.kg_m2", html="<b>M</b>"),
     "mode_matrix": Symbol("Φ", {}, "", html="<b>Φ</b>"),
     "kronecker": Symbol("δ", {}, "", html="<i>δ</i><sub><i>i</i><i>N</i></sub>"),
     "mode_shape": Symbol("v", {"en": "s"}, "", html="<b><i>v</i></b><sub><i>s</i></sub>"),
-    "span_stiffness": Symbol("c", _I, "speed_fluctuation.unit_N_m_rad", html="<i>c</i><sub><i>i</i></sub>"),
-    "natural_frequency_Hz": Symbol("f", {"en": "s"}, "speed_fluctuation.unit_Hz", html="<i>f</i><sub><i>s</i></sub>"),
+    "span_stiffness": Symbol(
+        "c", _I, "speed_fluctuation.unit_N_m_rad", html="<i>c</i><sub><i>i</i></sub>"
+    ),
+    "natural_frequency_Hz": Symbol(
+        "f", {"en": "s"}, "speed_fluctuation.unit_Hz", html="<i>f</i><sub><i>s</i></sub>"
+    ),
     "natural_frequency": Symbol("ω", {"en": "s"}, "unit.rad_s", html="<i>ω</i><sub><i>s</i></sub>"),
     "damping_ratio": Symbol("ζ", {}, ""),
 }

@@ -13,16 +13,32 @@ def _solver_table(ctx, records, caption, see, twist=False):
     rows = [r for r in records if not r.get("reference")]
     columns = [
         (t("speed_fluctuation.col_method"), [r["method"] for r in rows], None),
-        (t("speed_fluctuation.col_rtol"), [_sci(r["rtol"], t.decimal_separator).replace("1,0·", "").replace("1.0·", "") for r in rows], None),
+        (
+            t("speed_fluctuation.col_rtol"),
+            [
+                _sci(r["rtol"], t.decimal_separator).replace("1,0·", "").replace("1.0·", "")
+                for r in rows
+            ],
+            None,
+        ),
         (t("speed_fluctuation.col_steps"), [_steps_text(ctx, r) for r in rows], None),
         (t("speed_fluctuation.col_nfev"), [str(r["nfev"]) for r in rows], None),
         (t("speed_fluctuation.col_njev"), [f"{r['njev']}/{r['nlu']}" for r in rows], None),
         (t("speed_fluctuation.col_time"), [r["time_s"] * 1e3 for r in rows], 1),
-        (t("speed_fluctuation.col_error"), [_error_text(ctx, r["error_relative"]) for r in rows], None),
+        (
+            t("speed_fluctuation.col_error"),
+            [_error_text(ctx, r["error_relative"]) for r in rows],
+            None,
+        ),
     ]
     if twist:
-        columns.append((t("speed_fluctuation.col_error_twist"),
-                        [_error_text(ctx, r.get("error_twist_relative")) for r in rows], None))
+        columns.append(
+            (
+                t("speed_fluctuation.col_error_twist"),
+                [_error_text(ctx, r.get("error_twist_relative")) for r in rows],
+                None,
+            )
+        )
     return ctx.table(columns, caption=caption, see=see)
 
 
@@ -31,8 +47,12 @@ def _steps_text(ctx, r):
         return str(r["steps"])
     if r["steps_needed"] is None:
         return "—"
-    return ctx.t("speed_fluctuation.steps_stopped", steps=r["steps"], percent=ctx.num(100 * r["progress"], 2),
-                 needed=ctx.num(r["steps_needed"], 2))
+    return ctx.t(
+        "speed_fluctuation.steps_stopped",
+        steps=r["steps"],
+        percent=ctx.num(100 * r["progress"], 2),
+        needed=ctx.num(r["steps_needed"], 2),
+    )
 
 
 def _error_text(ctx, value):

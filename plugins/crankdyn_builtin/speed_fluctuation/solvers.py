@@ -29,14 +29,26 @@ def _run_record(run, error, extra=None):
         message = "finished, but its error could not be measured (no steps or non-finite values)"
         extra = {k: (None if k == "error_twist_relative" else v) for k, v in extra.items()}
     # a run stopped by the evaluation budget is not a failure of the method: named as such
-    outcome = "finished" if success else ("budget" if message.startswith("stopped after") else "failed")
+    outcome = (
+        "finished" if success else ("budget" if message.startswith("stopped after") else "failed")
+    )
     if outcome == "budget":
         message = f"stopped by the evaluation budget, not a failure: {message}"
-    record = {"method": run.method, "rtol": run.rtol, "success": success, "outcome": outcome, "message": message,
-              "steps": run.steps,
-              "steps_needed": run.steps_needed if math.isfinite(run.steps_needed) else None,
-              "nfev": run.nfev, "njev": run.njev, "nlu": run.nlu, "time_s": run.time_s,
-              "progress": run.progress, "error_relative": error if success else None}
+    record = {
+        "method": run.method,
+        "rtol": run.rtol,
+        "success": success,
+        "outcome": outcome,
+        "message": message,
+        "steps": run.steps,
+        "steps_needed": run.steps_needed if math.isfinite(run.steps_needed) else None,
+        "nfev": run.nfev,
+        "njev": run.njev,
+        "nlu": run.nlu,
+        "time_s": run.time_s,
+        "progress": run.progress,
+        "error_relative": error if success else None,
+    }
     record.update(extra)
     return record
 
@@ -44,26 +56,38 @@ def _run_record(run, error, extra=None):
 def _choice_record(choice: sf.SolverChoice, kind: str, forced: str | None = None) -> dict:
     method = forced or choice.method
     if forced:
-        reason = f"{forced} as the scene asks (solver = \"{forced}\")"
+        reason = f'{forced} as the scene asks (solver = "{forced}")'
     elif kind == "single":
-        reason = (f"{choice.method}: one degree of freedom whose only eigenvalue, |J' omega / J| <= "
-                  f"{choice.fastest_rad_s:.3g} 1/s, lets RK45 take {choice.stability_steps:.3g} steps per cycle "
-                  f"for stability while following the torque needs about {choice.resolution_steps:.3g}: not stiff, "
-                  f"the explicit solver is the cheapest")
+        reason = (
+            f"{choice.method}: one degree of freedom whose only eigenvalue, |J' omega / J| <= "
+            f"{choice.fastest_rad_s:.3g} 1/s, lets RK45 take {choice.stability_steps:.3g} steps per cycle "
+            f"for stability while following the torque needs about {choice.resolution_steps:.3g}: not stiff, "
+            f"the explicit solver is the cheapest"
+        )
     elif choice.stiff:
-        reason = (f"Radau: stiff - the fastest shaft mode (|lambda| = {choice.fastest_rad_s:.3g} 1/s) limits RK45 to "
-                  f"steps below {choice.stable_step_s:.3g} s, {choice.stability_steps:.3g} steps per cycle, while the "
-                  f"solution only needs about {choice.resolution_steps:.3g} to follow the torque harmonics up to "
-                  f"{choice.resolved_frequency_rad_s:.3g} rad/s (ratio {choice.ratio:.3g} > "
-                  f"{sf.STIFFNESS_THRESHOLD:g}); Radau IIA is A- and L-stable, BDF of order 3-5 is not A-stable for "
-                  f"lightly damped modes")
+        reason = (
+            f"Radau: stiff - the fastest shaft mode (|lambda| = {choice.fastest_rad_s:.3g} 1/s) limits RK45 to "
+            f"steps below {choice.stable_step_s:.3g} s, {choice.stability_steps:.3g} steps per cycle, while the "
+            f"solution only needs about {choice.resolution_steps:.3g} to follow the torque harmonics up to "
+            f"{choice.resolved_frequency_rad_s:.3g} rad/s (ratio {choice.ratio:.3g} > "
+            f"{sf.STIFFNESS_THRESHOLD:g}); Radau IIA is A- and L-stable, BDF of order 3-5 is not A-stable for "
+            f"lightly damped modes"
+        )
     else:
-        reason = (f"RK45: not stiff - RK45 needs {choice.stability_steps:.3g} steps per cycle for stability and about "
-                  f"{choice.resolution_steps:.3g} to follow the solution (ratio {choice.ratio:.3g} <= "
-                  f"{sf.STIFFNESS_THRESHOLD:g}), and an explicit step is cheaper than an implicit one")
-    return {"method": method, "automatic": forced is None, "stiff": choice.stiff, "reason": reason,
-            "fastest_eigenvalue_rad_s": choice.fastest_rad_s,
-            "stable_step_s": choice.stable_step_s if math.isfinite(choice.stable_step_s) else None,
-            "stability_steps_per_cycle": choice.stability_steps,
-            "resolved_frequency_rad_s": choice.resolved_frequency_rad_s,
-            "resolution_steps_per_cycle": choice.resolution_steps, "stiffness_ratio": choice.ratio}
+        reason = (
+            f"RK45: not stiff - RK45 needs {choice.stability_steps:.3g} steps per cycle for stability and about "
+            f"{choice.resolution_steps:.3g} to follow the solution (ratio {choice.ratio:.3g} <= "
+            f"{sf.STIFFNESS_THRESHOLD:g}), and an explicit step is cheaper than an implicit one"
+        )
+    return {
+        "method": method,
+        "automatic": forced is None,
+        "stiff": choice.stiff,
+        "reason": reason,
+        "fastest_eigenvalue_rad_s": choice.fastest_rad_s,
+        "stable_step_s": choice.stable_step_s if math.isfinite(choice.stable_step_s) else None,
+        "stability_steps_per_cycle": choice.stability_steps,
+        "resolved_frequency_rad_s": choice.resolved_frequency_rad_s,
+        "resolution_steps_per_cycle": choice.resolution_steps,
+        "stiffness_ratio": choice.ratio,
+    }

@@ -39,9 +39,16 @@ def critical_near(harmonic_rows, mode_rows, rpm: float) -> list[dict]:
         for k, mode in enumerate(mode_rows):
             deviation = h["critical_rpm"][k] / rpm - 1.0
             if abs(deviation) <= CRITICAL_BAND:
-                near.append({"mode": mode["mode"], "order": h["order"], "critical_rpm": h["critical_rpm"][k],
-                             "deviation_percent": 100.0 * deviation, "amplitude_Nm": h["amplitude_Nm"],
-                             "vector_sum": h["vector_sum"][k]})
+                near.append(
+                    {
+                        "mode": mode["mode"],
+                        "order": h["order"],
+                        "critical_rpm": h["critical_rpm"][k],
+                        "deviation_percent": 100.0 * deviation,
+                        "amplitude_Nm": h["amplitude_Nm"],
+                        "vector_sum": h["vector_sum"][k],
+                    }
+                )
     return sorted(near, key=lambda c: abs(c["deviation_percent"]))
 
 
@@ -49,9 +56,14 @@ def _spans(opts: TorsionOptions, cranks: int, has_flywheel: bool = True) -> list
     given = opts.span_stiffness
     if isinstance(given, list):
         if len(given) != cranks - 1 and not (cranks == 1 and len(given) == 0):
-            raise SceneError(Problem("torsion.span_stiffness", f"{len(given)} values",
-                                     f"needs one stiffness per span between adjacent cranks ({cranks - 1}), "
-                                     "or one value for all"))
+            raise SceneError(
+                Problem(
+                    "torsion.span_stiffness",
+                    f"{len(given)} values",
+                    f"needs one stiffness per span between adjacent cranks ({cranks - 1}), "
+                    "or one value for all",
+                )
+            )
         spans = list(given)
     else:
         spans = [given] * (cranks - 1)
@@ -59,8 +71,13 @@ def _spans(opts: TorsionOptions, cranks: int, has_flywheel: bool = True) -> list
     fly = opts.flywheel_stiffness if opts.flywheel_stiffness is not None else first
     if has_flywheel:
         if fly is None:
-            raise SceneError(Problem("torsion.flywheel_stiffness", "(missing)",
-                                     "a one-crank engine needs the stiffness between its crank and the flywheel"))
+            raise SceneError(
+                Problem(
+                    "torsion.flywheel_stiffness",
+                    "(missing)",
+                    "a one-crank engine needs the stiffness between its crank and the flywheel",
+                )
+            )
         spans.append(fly)
     if opts.load_inertia is not None:
         spans.append(opts.coupling_stiffness)
@@ -75,14 +92,18 @@ class _Shaft:
     spans: list[float]
     mean_inertias: np.ndarray
     crank_nodes: np.ndarray
-    reference: int  # the disc whose absolute angle the model keeps (the flywheel, else the last crank)
+    reference: (
+        int  # the disc whose absolute angle the model keeps (the flywheel, else the last crank)
+    )
     K: np.ndarray
     C: np.ndarray
     modes: tor.Modes
     eigen: np.ndarray
     load: float
     model: tor.ShaftModel
-    total_torque: np.ndarray  # (cranks, N): each crank's torque (gas + inertia) at the nominal speed
+    total_torque: (
+        np.ndarray
+    )  # (cranks, N): each crank's torque (gas + inertia) at the nominal speed
 
     @property
     def n(self) -> int:
@@ -99,28 +120,63 @@ def _shaft(torque, crank_loads, design, train, opts: TorsionOptions) -> _Shaft:
     period = math.pi * torque.strokes
     shaft_share = design.engine_inertia_kg_m2 / cranks
     crank_series = [train.series(shaft_share, crank=k) for k in range(cranks)]
-    total_torque = crank_loads.tangential_Pa * crank_loads.crank_radius_m * crank_loads.piston_area_m2  # (cranks, N)
-    gas = np.array([sf.gas_torque_Nm(total_torque[k], crank_series[k](alpha)[1], omega_n) for k in range(cranks)])
+    total_torque = (
+        crank_loads.tangential_Pa * crank_loads.crank_radius_m * crank_loads.piston_area_m2
+    )  # (cranks, N)
+    gas = np.array(
+        [
+            sf.gas_torque_Nm(total_torque[k], crank_series[k](alpha)[1], omega_n)
+            for k in range(cranks)
+        ]
+    )
     gas_series = sf.PeriodicSeries.from_samples(gas.T, period)
     front = 1 if opts.free_end_inertia is not None else 0
     spans = ([opts.free_end_stiffness] if front else []) + _spans(opts, cranks, has_flywheel)
-    names = (["free end"] if front else []) + [f"crank {k + 1}" for k in range(cranks)] \
-        + (["flywheel"] if has_flywheel else []) + (["load"] if opts.load_inertia else [])
-    mean_inertias = np.array(([opts.free_end_inertia] if front else []) + [s.mean_kg_m2 for s in crank_series]
-                             + ([design.flywheel_inertia_kg_m2] if has_flywheel else [])
-                             + ([opts.load_inertia] if opts.load_inertia else []))
+    names = (
+        (["free end"] if front else [])
+        + [f"crank {k + 1}" for k in range(cranks)]
+        + (["flywheel"] if has_flywheel else [])
+        + (["load"] if opts.load_inertia else [])
+    )
+    mean_inertias = np.array(
+        ([opts.free_end_inertia] if front else [])
+        + [s.mean_kg_m2 for s in crank_series]
+        + ([design.flywheel_inertia_kg_m2] if has_flywheel else [])
+        + ([opts.load_inertia] if opts.load_inertia else [])
+    )
     crank_nodes = np.arange(front, front + cranks)
     if mean_inertias.size < 2:
-        raise SceneError(Problem("torsion", "[torsion]", "a torsional model needs at least two discs: this engine has "
-                                 "one crank and needs no flywheel; give flywheel.inertia or a load disc"))
+        raise SceneError(
+            Problem(
+                "torsion",
+                "[torsion]",
+                "a torsional model needs at least two discs: this engine has "
+                "one crank and needs no flywheel; give flywheel.inertia or a load disc",
+            )
+        )
     reference = front + cranks if has_flywheel else front + cranks - 1  # keeps the absolute angle
     K = tor.stiffness_matrix(spans)
     modes = tor.natural_modes(mean_inertias, spans)
     C = tor.modal_damping_matrix(mean_inertias, spans, opts.damping_ratio)
     eigen = tor.modal_eigenvalues(modes.omega_rad_s, opts.damping_ratio)
     load = float(gas_series.mean.sum())
-    model = tor.ShaftModel(gas_series, crank_series, crank_nodes, mean_inertias, K, C, load, reference)
-    return _Shaft(names, spans, mean_inertias, crank_nodes, reference, K, C, modes, eigen, load, model, total_torque)
+    model = tor.ShaftModel(
+        gas_series, crank_series, crank_nodes, mean_inertias, K, C, load, reference
+    )
+    return _Shaft(
+        names,
+        spans,
+        mean_inertias,
+        crank_nodes,
+        reference,
+        K,
+        C,
+        modes,
+        eigen,
+        load,
+        model,
+        total_torque,
+    )
 
 
 def _periodic_state(shaft: _Shaft, torque, exact, opts: TorsionOptions, method: str):
@@ -137,8 +193,14 @@ def _periodic_state(shaft: _Shaft, torque, exact, opts: TorsionOptions, method: 
     node_torque = np.zeros((alpha.size, n))
     node_torque[:, shaft.crank_nodes] = total_torque.T
     node_torque[:, -1] -= total_torque.sum(axis=0).mean()
-    linear = tor.forced_response(shaft.mean_inertias, shaft.K, shaft.C,
-                                 sf.PeriodicSeries.from_samples(node_torque, period), omega_n, reference)
+    linear = tor.forced_response(
+        shaft.mean_inertias,
+        shaft.K,
+        shaft.C,
+        sf.PeriodicSeries.from_samples(node_torque, period),
+        omega_n,
+        reference,
+    )
     x0 = linear(0.0)
     v0 = omega_n * (1.0 + linear.derivative()(0.0))
     v0 += float(exact.omega_at(0.0)) - v0[reference]
@@ -147,22 +209,51 @@ def _periodic_state(shaft: _Shaft, torque, exact, opts: TorsionOptions, method: 
     speed_scale = max(exact.omega_max_rad_s - exact.omega_min_rad_s, 1e-9 * omega_n)
 
     def atol(rtol):
-        return np.concatenate([[rtol * 1e-3], np.full(n - 1, rtol * 1e-3 * twist_scale), np.full(n, rtol * 1e-3 * omega_n)])
+        return np.concatenate(
+            [
+                [rtol * 1e-3],
+                np.full(n - 1, rtol * 1e-3 * twist_scale),
+                np.full(n, rtol * 1e-3 * omega_n),
+            ]
+        )
 
-    steady = tor.periodic_steady_state(shaft.model, z0, period, period / omega_n, method, opts.rtol, atol(opts.rtol),
-                                       twist_scale, speed_scale, opts.steady_tolerance, int(opts.max_cycles))
+    steady = tor.periodic_steady_state(
+        shaft.model,
+        z0,
+        period,
+        period / omega_n,
+        method,
+        opts.rtol,
+        atol(opts.rtol),
+        twist_scale,
+        speed_scale,
+        opts.steady_tolerance,
+        int(opts.max_cycles),
+    )
     final = steady.runs[-1]
     if not final.success or final.sol is None:
-        raise SceneError(Problem("torsion.solver", method, f"the solver failed on the torsional model ({final.message}); "
-                                 "try solver = \"auto\" or \"Radau\""))
+        raise SceneError(
+            Problem(
+                "torsion.solver",
+                method,
+                f"the solver failed on the torsional model ({final.message}); "
+                'try solver = "auto" or "Radau"',
+            )
+        )
     return steady, final, atol, twist_scale
 
 
 def _mode_rows(modes: tor.Modes, n: int) -> list[dict]:
     """The elastic modes (the rigid-body mode 0 left out): natural frequency and shape."""
-    return [{"mode": s, "natural_frequency_rad_s": float(modes.omega_rad_s[s]),
-             "natural_frequency_Hz": float(modes.omega_rad_s[s] / (2 * math.pi)),
-             "shape": [float(a) for a in modes.shapes[:, s]]} for s in range(1, n)]
+    return [
+        {
+            "mode": s,
+            "natural_frequency_rad_s": float(modes.omega_rad_s[s]),
+            "natural_frequency_Hz": float(modes.omega_rad_s[s] / (2 * math.pi)),
+            "shape": [float(a) for a in modes.shapes[:, s]],
+        }
+        for s in range(1, n)
+    ]
 
 
 def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, train) -> list[dict]:
@@ -173,11 +264,23 @@ def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, trai
     for order, c in zip(orders, coefficients, strict=True):
         if order > max(MAX_ORDER, significant) + 1e-9:
             break
-        rows.append({
-            "order": float(order), "amplitude_Nm": float(abs(c)),
-            "vector_sum": [tor.relative_vector_sum(modes.shapes[shaft.crank_nodes[train.crank_of_cylinder], s],
-                                                   train.phase_rad, order) for s in range(1, n)],
-            "critical_rpm": [float(tor.critical_speed_rpm(modes.omega_rad_s[s], order)) for s in range(1, n)]})
+        rows.append(
+            {
+                "order": float(order),
+                "amplitude_Nm": float(abs(c)),
+                "vector_sum": [
+                    tor.relative_vector_sum(
+                        modes.shapes[shaft.crank_nodes[train.crank_of_cylinder], s],
+                        train.phase_rad,
+                        order,
+                    )
+                    for s in range(1, n)
+                ],
+                "critical_rpm": [
+                    float(tor.critical_speed_rpm(modes.omega_rad_s[s], order)) for s in range(1, n)
+                ],
+            }
+        )
     return rows
 
 
@@ -192,9 +295,13 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     # Harmonic orders of one crank's torque (gas + inertia at the nominal speed).
     orders, coefficients = sf.harmonic_amplitudes(shaft.total_torque[0], torque.strokes / 2, 1e9)
     significant = sf.significant_order(orders, np.abs(coefficients))
-    choice = sf.choose_solver(shaft.eigen, math.pi * torque.strokes / omega_n, significant * omega_n)
+    choice = sf.choose_solver(
+        shaft.eigen, math.pi * torque.strokes / omega_n, significant * omega_n
+    )
     forced = None if opts.solver == "auto" else opts.solver
-    steady, final, atol, twist_scale = _periodic_state(shaft, torque, exact, opts, forced or choice.method)
+    steady, final, atol, twist_scale = _periodic_state(
+        shaft, torque, exact, opts, forced or choice.method
+    )
 
     z = final.sol(np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1])
     theta = shaft.model.P @ z[:n]
@@ -210,7 +317,10 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
 
     results = {
-        "nodes": [{"name": name, "inertia_mean_kg_m2": float(j)} for name, j in zip(shaft.names, shaft.mean_inertias, strict=True)],
+        "nodes": [
+            {"name": name, "inertia_mean_kg_m2": float(j)}
+            for name, j in zip(shaft.names, shaft.mean_inertias, strict=True)
+        ],
         "reference_node": int(reference),
         "span_stiffness_N_m_rad": [float(k) for k in spans],
         "damping_ratio": opts.damping_ratio,
@@ -221,28 +331,43 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         "critical_band_relative": CRITICAL_BAND,
         "operating_rpm": scene.engine.rpm,
         "solver": {**_choice_record(choice, "torsion", forced), "rtol": opts.rtol},
-        "steady_state": {"cycles": steady.cycles, "converged": steady.converged,
-                         "change": steady.change if math.isfinite(steady.change) else None,
-                         "tolerance": opts.steady_tolerance, "load_torque_Nm": steady.load_torque_Nm,
-                         "damping_loss_W": (shaft.load - steady.load_torque_Nm) * omega_n,
-                         "steps_per_cycle": final.steps, "nfev_per_cycle": final.nfev,
-                         "time_s": sum(r.time_s for r in steady.runs)},
+        "steady_state": {
+            "cycles": steady.cycles,
+            "converged": steady.converged,
+            "change": steady.change if math.isfinite(steady.change) else None,
+            "tolerance": opts.steady_tolerance,
+            "load_torque_Nm": steady.load_torque_Nm,
+            "damping_loss_W": (shaft.load - steady.load_torque_Nm) * omega_n,
+            "steps_per_cycle": final.steps,
+            "nfev_per_cycle": final.nfev,
+            "time_s": sum(r.time_s for r in steady.runs),
+        },
         "twist_max_rad": [float(np.max(np.abs(t))) for t in twist],
         "span_torque_max_Nm": [float(np.max(np.abs(t))) for t in span_torque],
         "flywheel_irregularity": (f_max - f_min) / (0.5 * (f_max + f_min)),
-        "flywheel_speed_deviation_from_rigid_relative": float(np.max(np.abs(fly_speed - rigid)) / omega_n),
+        "flywheel_speed_deviation_from_rigid_relative": float(
+            np.max(np.abs(fly_speed - rigid)) / omega_n
+        ),
         "compare_fraction": opts.compare_fraction,
         "reference_rtol": opts.reference_rtol,
         "solvers": [],
     }
     if opts.compare_solvers:
-        results["solvers"] = _torsion_solvers(shaft.model, steady, atol, opts, n, twist_scale, omega_n)
-    tables = {"torsion": {"shaft_angle_deg": flywheel_angle,
-                          **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
-                          **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
-                          **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in
-                             enumerate(shaft.names)},
-                          "rigid_speed_rad_s": rigid}}
+        results["solvers"] = _torsion_solvers(
+            shaft.model, steady, atol, opts, n, twist_scale, omega_n
+        )
+    tables = {
+        "torsion": {
+            "shaft_angle_deg": flywheel_angle,
+            **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
+            **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
+            **{
+                f"speed_{name.replace(' ', '')}_rad_s": speeds[i]
+                for i, name in enumerate(shaft.names)
+            },
+            "rigid_speed_rad_s": rigid,
+        }
+    }
     return results, tables
 
 
@@ -252,8 +377,16 @@ def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):
     and no more than 10 times what the costliest implicit solver used at the same rtol."""
     span = (0.0, steady.cycle_time_s * opts.compare_fraction)
     z = steady.state
-    reference = sf.run_solver(model, span, z, "Radau", opts.reference_rtol, atol(opts.reference_rtol),
-                              jac=model.jacobian, dense_output=True)
+    reference = sf.run_solver(
+        model,
+        span,
+        z,
+        "Radau",
+        opts.reference_rtol,
+        atol(opts.reference_rtol),
+        jac=model.jacobian,
+        dense_output=True,
+    )
     records = [_run_record(reference, 0.0, {"reference": True, "error_twist_relative": 0.0})]
     if not reference.success:
         return records
@@ -263,7 +396,9 @@ def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):
             budget = None
             if method == "RK45":
                 budget = int(min(opts.explicit_budget, 10 * max(implicit + [100])))
-            run = sf.run_solver(model, span, z, method, rtol, atol(rtol), jac=model.jacobian, max_nfev=budget)
+            run = sf.run_solver(
+                model, span, z, method, rtol, atol(rtol), jac=model.jacobian, max_nfev=budget
+            )
             if run.success and run.steps > 0:
                 exact = reference.sol(run.t)
                 with np.errstate(all="ignore"):
@@ -273,5 +408,7 @@ def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):
                 error = error_twist = None
             if method != "RK45":
                 implicit.append(run.nfev)
-            records.append(_run_record(run, error, {"reference": False, "error_twist_relative": error_twist}))
+            records.append(
+                _run_record(run, error, {"reference": False, "error_twist_relative": error_twist})
+            )
     return records

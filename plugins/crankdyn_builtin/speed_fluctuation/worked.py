@@ -13,9 +13,16 @@ def worked_speed_fluctuation(ctx, r) -> Markup:
     t = ctx.t
     hi_txt, hi = printed(t, r["omega_max_rad_s"], 6)
     lo_txt, lo = printed(t, r["omega_min_rad_s"], 6)
-    step = WorkedStep("speed_irregularity", "<i>δ</i>",
-                      "2(<i>ω</i><sub>max</sub> − <i>ω</i><sub>min</sub>)/(<i>ω</i><sub>max</sub> + <i>ω</i><sub>min</sub>)",
-                      f"2·({hi_txt} − {lo_txt})/({hi_txt} + {lo_txt})", r["irregularity"], 0, "",
-                      {"omega_max": hi, "omega_min": lo},
-                      significant=4, exact={"omega_max": r["omega_max_rad_s"], "omega_min": r["omega_min_rad_s"]})
+    step = WorkedStep(
+        "speed_irregularity",
+        "<i>δ</i>",
+        "2(<i>ω</i><sub>max</sub> − <i>ω</i><sub>min</sub>)/(<i>ω</i><sub>max</sub> + <i>ω</i><sub>min</sub>)",
+        f"2·({hi_txt} − {lo_txt})/({hi_txt} + {lo_txt})",
+        r["irregularity"],
+        0,
+        "",
+        {"omega_max": hi, "omega_min": lo},
+        significant=4,
+        exact={"omega_max": r["omega_max_rad_s"], "omega_min": r["omega_min_rad_s"]},
+    )
     return worked_markup(ctx, WorkedBlock("speed_fluctuation", "", None, [step]))

@@ -48,34 +48,58 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         "mean_from_work_Nm": from_work,
         "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
         "mean_from_power_Nm": from_power,
-        "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power if from_power else None,
+        "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power
+        if from_power
+        else None,
         "max_Nm": float(torque[i_max]),
         "max_crank_angle_deg": float(angle[i_max]),
         "min_Nm": float(torque[i_min]),
         "min_crank_angle_deg": float(angle[i_min]),
         # measured on the torque itself: cycle/cylinders for even firing of identical cylinders, longer
         # when the firing is uneven or the cylinders differ (articulated slave rods)
-        "period_deg": (lay.sampled_period_deg(torque, scene.analysis.angle_step_deg,
-                                              layout.cycle_deg)
-                       if period_deg is None else period_deg),
+        "period_deg": (
+            lay.sampled_period_deg(torque, scene.analysis.angle_step_deg, layout.cycle_deg)
+            if period_deg is None
+            else period_deg
+        ),
         "period_even_firing_deg": layout.torque_period_deg,
         "non_uniformity": cs.torque_non_uniformity(torque),
         # each cylinder's cycle delay: its own crank angle alpha_i = alpha - delay (mod the cycle)
-        "cylinder_cycle_delays_deg": [{k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
-                                      for p in lay.cylinder_phases(layout)],
-        "indicated_power_W": 1e3 * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
-        "journals": [_journal_range(lay.journal_label(k + 1), journal[k] * R * area)  # as the bearings' journals
-                     for k in range(layout.cranks)],
-        "dangerous": [{"crank": k + 1, **{kind: {"shaft_angle_deg": float(angle[i]),
-                                                 "z_Pa": float(bays.radial_Pa[k, i]),
-                                                 "t_Pa": float(bays.tangential_Pa[k, i]),
-                                                 "q_Pa": float(q[k, i]),
-                                                 "journal_t_Pa": float(journal[k, i])}
-                                          for kind, i in combo.items()}}
-                      for k, combo in enumerate(combos)],
+        "cylinder_cycle_delays_deg": [
+            {k: p[k] for k in ("cylinder", "crank", "cycle_delay_deg")}
+            for p in lay.cylinder_phases(layout)
+        ],
+        "indicated_power_W": 1e3
+        * cs.indicated_power_kW(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm),
+        "journals": [
+            _journal_range(
+                lay.journal_label(k + 1), journal[k] * R * area
+            )  # as the bearings' journals
+            for k in range(layout.cranks)
+        ],
+        "dangerous": [
+            {
+                "crank": k + 1,
+                **{
+                    kind: {
+                        "shaft_angle_deg": float(angle[i]),
+                        "z_Pa": float(bays.radial_Pa[k, i]),
+                        "t_Pa": float(bays.tangential_Pa[k, i]),
+                        "q_Pa": float(q[k, i]),
+                        "journal_t_Pa": float(journal[k, i]),
+                    }
+                    for kind, i in combo.items()
+                },
+            }
+            for k, combo in enumerate(combos)
+        ],
     }
     if e.effective_power is not None:
-        results.update(cs.effective_output(results["indicated_power_W"], e.effective_power, e.angular_velocity_rad_s))
+        results.update(
+            cs.effective_output(
+                results["indicated_power_W"], e.effective_power, e.angular_velocity_rad_s
+            )
+        )
     columns = {"crank_angle_deg": angle}
     for k in range(layout.cranks):
         columns[f"crank{k + 1}_radial_Pa"] = bays.radial_Pa[k]
@@ -85,11 +109,25 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         columns[f"journal{k + 1}_torque_Pa"] = journal[k]
     columns["output_torque_Nm"] = torque
     data = {
-        ENGINE_TORQUE: EngineTorque(crank_angle_deg=angle, torque_Nm=torque, cylinders=e.cylinders, strokes=e.strokes,
-                                    indicated_work_J=work_all, angular_velocity_rad_s=e.angular_velocity_rad_s),
-        CRANK_LOADS: CrankLoads(crank_angle_deg=angle, tangential_Pa=bays.tangential_Pa, radial_Pa=bays.radial_Pa,
-                                resultant_Pa=q, pin_torque_Pa=pin, journal_torque_Pa=journal,
-                                centrifugal_Pa=bays.centrifugal_Pa, piston_area_m2=area, crank_radius_m=R),
+        ENGINE_TORQUE: EngineTorque(
+            crank_angle_deg=angle,
+            torque_Nm=torque,
+            cylinders=e.cylinders,
+            strokes=e.strokes,
+            indicated_work_J=work_all,
+            angular_velocity_rad_s=e.angular_velocity_rad_s,
+        ),
+        CRANK_LOADS: CrankLoads(
+            crank_angle_deg=angle,
+            tangential_Pa=bays.tangential_Pa,
+            radial_Pa=bays.radial_Pa,
+            resultant_Pa=q,
+            pin_torque_Pa=pin,
+            journal_torque_Pa=journal,
+            centrifugal_Pa=bays.centrifugal_Pa,
+            piston_area_m2=area,
+            crank_radius_m=R,
+        ),
     }
     return StageOutput(data=data, results=results, tables={"torque": columns})
 
@@ -127,18 +165,28 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     then as ``run`` gives them. Scenes on other grids or cycles: ``run`` one by one."""
     bays = [given[BAY_LOADS] for given in inputs]
     first = bays[0]
-    if not all(b.layout.cycle_deg == first.layout.cycle_deg
-               and np.array_equal(b.crank_angle_deg, first.crank_angle_deg) for b in bays):
+    if not all(
+        b.layout.cycle_deg == first.layout.cycle_deg
+        and np.array_equal(b.crank_angle_deg, first.crank_angle_deg)
+        for b in bays
+    ):
         return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
     torques = np.stack([_output_torque_Nm(b) for b in bays])
     periods = sampled_periods_deg(torques, first.layout.cycle_deg)
-    return [run(scene, given, period_deg=float(period))
-            for scene, given, period in zip(scenes, inputs, periods, strict=False)]
+    return [
+        run(scene, given, period_deg=float(period))
+        for scene, given, period in zip(scenes, inputs, periods, strict=False)
+    ]
 
 
 def _journal_range(name: str, torque_Nm) -> dict:
     """A main journal's running torque over the cycle: its largest magnitude, its largest and
     smallest values and the amplitude (M_max − M_min)/2 a fatigue check of the journal takes."""
     high, low = float(np.max(torque_Nm)), float(np.min(torque_Nm))
-    return {"journal": name, "max_abs_Nm": float(np.max(np.abs(torque_Nm))), "max_Nm": high, "min_Nm": low,
-            "amplitude_Nm": (high - low) / 2}
+    return {
+        "journal": name,
+        "max_abs_Nm": float(np.max(np.abs(torque_Nm))),
+        "max_Nm": high,
+        "min_Nm": low,
+        "amplitude_Nm": (high - low) / 2,
+    }

@@ -7,8 +7,15 @@ from crankdyn.report.figures import crank_angle_axis, curve_with_mean_figure, ne
 
 def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
     """The engine's output torque over the cycle, with its mean."""
-    return curve_with_mean_figure(angle, torque_Nm, mean_Nm, cycle_deg, t,
-                                  (t("torque.output"), t("torque.mean"), t("torque.axis_torque")), height_cm=8.5)
+    return curve_with_mean_figure(
+        angle,
+        torque_Nm,
+        mean_Nm,
+        cycle_deg,
+        t,
+        (t("torque.output"), t("torque.mean"), t("torque.axis_torque")),
+        height_cm=8.5,
+    )
 
 
 def _journals_figure(f, cranks, cycle_deg, t):
@@ -18,6 +25,8 @@ def _journals_figure(f, cranks, cycle_deg, t):
     for k in range(1, cranks + 1):
         ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel("t_k, " + t("unit.MPa"))  # the running torque as a specific tangential force (table B.3)
+    ax.set_ylabel(
+        "t_k, " + t("unit.MPa")
+    )  # the running torque as a specific tangential force (table B.3)
     ax.legend(loc="upper right", fontsize=8, ncol=3)
     return fig

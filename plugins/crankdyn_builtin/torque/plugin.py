@@ -34,8 +34,19 @@ TORQUE_STAGE = Stage(
         AnswerColumn("M_mean_Nm", "mean_Nm", "N·m", label_key="torque.answer.M_mean_Nm"),
         AnswerColumn("M_max_Nm", "max_Nm", "N·m", label_key="torque.answer.M_max_Nm"),
         AnswerColumn("M_min_Nm", "min_Nm", "N·m", label_key="torque.answer.M_min_Nm"),
-        AnswerColumn("torque_non_uniformity", "non_uniformity", "", label_key="torque.answer.torque_non_uniformity"),
-        AnswerColumn("N_i_engine_kW", "indicated_power_W", "kW", factor=0.001, label_key="torque.answer.N_i_engine_kW"),
+        AnswerColumn(
+            "torque_non_uniformity",
+            "non_uniformity",
+            "",
+            label_key="torque.answer.torque_non_uniformity",
+        ),
+        AnswerColumn(
+            "N_i_engine_kW",
+            "indicated_power_W",
+            "kW",
+            factor=0.001,
+            label_key="torque.answer.N_i_engine_kW",
+        ),
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
@@ -59,4 +70,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -15,12 +15,20 @@ from .figures import _journals_figure, _output_figure
 def _journals_table(ctx, journals) -> str:
     """The running torques' range on each main journal (after the figure of them)."""
     t = ctx.t
-    return ctx.table([
-        (t("torque.journal"), [journal_name(j["journal"]) for j in journals], None),
-        (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
-        (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
-        (t("torque.journal_amplitude") + ", " + t("unit.Nm"), [j["amplitude_Nm"] for j in journals], 1),  # words: M_max is the engine's
-    ], caption=t("torque.journals_table_caption"), see="torque.see_journals_table")
+    return ctx.table(
+        [
+            (t("torque.journal"), [journal_name(j["journal"]) for j in journals], None),
+            (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
+            (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
+            (
+                t("torque.journal_amplitude") + ", " + t("unit.Nm"),
+                [j["amplitude_Nm"] for j in journals],
+                1,
+            ),  # words: M_max is the engine's
+        ],
+        caption=t("torque.journals_table_caption"),
+        see="torque.see_journals_table",
+    )
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -32,60 +40,124 @@ def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     angle = f["crank_angle_deg"]
     rows, labels = sample_rows(angle, ctx.table_step_deg)
-    rows, labels, extremes = add_extreme_rows(angle, rows, labels, [
-        (f["output_torque_Nm"], "max", t("torque.extreme_max")),
-        (f["output_torque_Nm"], "min", t("torque.extreme_min"))])
+    rows, labels, extremes = add_extreme_rows(
+        angle,
+        rows,
+        labels,
+        [
+            (f["output_torque_Nm"], "max", t("torque.extreme_max")),
+            (f["output_torque_Nm"], "min", t("torque.extreme_min")),
+        ],
+    )
     columns = [("<i>α</i>, °", ctx.angle_labels(labels), None)]
     for k in range(1, cranks + 1):
-        columns += [(f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
-                    (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
-                    (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
-                    (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"][rows] / 1e6, 3)]
+        columns += [
+            (f"<i>z</i><sub>{k}</sub>", f[f"crank{k}_radial_Pa"][rows] / 1e6, 3),
+            (f"<i>t</i><sub>{k}</sub>", f[f"crank{k}_tangential_Pa"][rows] / 1e6, 3),
+            (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
+            (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"][rows] / 1e6, 3),
+        ]
     columns.append(("<i>M</i><sub>d</sub>, " + t("unit.Nm"), f["output_torque_Nm"][rows], 1))
     # Wide engines: split the B.3 table into chunks of cranks so it fits the page.
     tables = []
     per_table = 4
     for start in range(0, cranks, per_table):
-        chunk = [columns[0]] + columns[1 + 4 * start: 1 + 4 * min(start + per_table, cranks)]
+        chunk = [columns[0]] + columns[1 + 4 * start : 1 + 4 * min(start + per_table, cranks)]
         if start + per_table >= cranks:
             chunk.append(columns[-1])
         with_torque = chunk[-1] is columns[-1]
         caption = "torque.table_b3_caption_torque" if with_torque else "torque.table_b3_caption"
         if cranks == 1:  # one crank carries every cylinder: no running torques between cranks
             caption = "torque.table_b3_caption_single"
-        see = ("torque.see_table_b3_single" if cranks == 1 else "torque.see_table_b3_torque") if with_torque \
+        see = (
+            ("torque.see_table_b3_single" if cranks == 1 else "torque.see_table_b3_torque")
+            if with_torque
             else "torque.see_table_b3"
-        tables.append(ctx.table(chunk, caption=t(caption, first=start + 1,
-                                                   last=min(start + per_table, cranks)), css_class="data wide",
-                                  extremes=extremes, see=see))
-    tables[-1] += worked_torque(ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"])
+        )
+        tables.append(
+            ctx.table(
+                chunk,
+                caption=t(caption, first=start + 1, last=min(start + per_table, cranks)),
+                css_class="data wide",
+                extremes=extremes,
+                see=see,
+            )
+        )
+    tables[-1] += worked_torque(
+        ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"]
+    )
 
-    figure_output = ctx.figure(partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
-                               t("torque.output_caption"), "output_torque", see="torque.see_output")
+    figure_output = ctx.figure(
+        partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
+        t("torque.output_caption"),
+        "output_torque",
+        see="torque.see_output",
+    )
     # one crank: its one journal behind it carries the output torque, shown above
-    figure_journals = None if cranks == 1 else ctx.figure(
-        partial(_journals_figure, f, cranks, ctx.cycle_deg, t), t("torque.journals_caption"),
-        "journal_torques", see="torque.see_journals")
+    figure_journals = (
+        None
+        if cranks == 1
+        else ctx.figure(
+            partial(_journals_figure, f, cranks, ctx.cycle_deg, t),
+            t("torque.journals_caption"),
+            "journal_torques",
+            see="torque.see_journals",
+        )
+    )
     journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
-    danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")]
-    danger = ctx.table([
-        (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
-        (t("torque.criterion"), [t("torque.criterion_" + kind) for _, kind, _ in danger_rows], None),
-        ("<i>α</i>, °", [v["shaft_angle_deg"] for _, _, v in danger_rows], 0),
-        ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-        ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-        ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-        ("<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"), [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-    ], caption=t("torque.table_b4_caption"),
-        see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4")
+    danger_rows = [
+        (d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")
+    ]
+    danger = ctx.table(
+        [
+            (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
+            (
+                t("torque.criterion"),
+                [t("torque.criterion_" + kind) for _, kind, _ in danger_rows],
+                None,
+            ),
+            ("<i>α</i>, °", [v["shaft_angle_deg"] for _, _, v in danger_rows], 0),
+            ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+            ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+            ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
+            (
+                "<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"),
+                [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows],
+                3,
+            ),
+        ],
+        caption=t("torque.table_b4_caption"),
+        see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4",
+    )
 
     ctx.find(t("torque.finding", mean=ctx.num(r["mean_Nm"])))
-    ctx.conclude(t("torque.conclusion", mean=ctx.num(r["mean_Nm"]), from_work=ctx.num(r["mean_from_work_Nm"]),
-                   deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2), max=ctx.num(r["max_Nm"]),
-                   max_angle=ctx.angle_text(r["max_crank_angle_deg"]), min=ctx.num(r["min_Nm"]),
-                   period=ctx.angle_text(r["period_deg"]), mu=ctx.num(r["non_uniformity"], 3)))
+    ctx.conclude(
+        t(
+            "torque.conclusion",
+            mean=ctx.num(r["mean_Nm"]),
+            from_work=ctx.num(r["mean_from_work_Nm"]),
+            deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2),
+            max=ctx.num(r["max_Nm"]),
+            max_angle=ctx.angle_text(r["max_crank_angle_deg"]),
+            min=ctx.num(r["min_Nm"]),
+            period=ctx.angle_text(r["period_deg"]),
+            mu=ctx.num(r["non_uniformity"], 3),
+        )
+    )
     if r.get("mechanical_efficiency") is not None:
-        ctx.conclude(t("torque.conclusion_effective", me=ctx.num(r["mean_effective_torque_Nm"]),
-                       eta=ctx.num(r["mechanical_efficiency"], 3)))
-    return ctx.render_template("sections/torque.html.j2", r=r, tables=tables, figure_output=figure_output,
-                               figure_journals=figure_journals, journals_table=journals_table, danger=danger)
+        ctx.conclude(
+            t(
+                "torque.conclusion_effective",
+                me=ctx.num(r["mean_effective_torque_Nm"]),
+                eta=ctx.num(r["mechanical_efficiency"], 3),
+            )
+        )
+    return ctx.render_template(
+        "sections/torque.html.j2",
+        r=r,
+        tables=tables,
+        figure_output=figure_output,
+        figure_journals=figure_journals,
+        journals_table=journals_table,
+        danger=danger,
+    )

@@ -26,28 +26,48 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
     t = ctx.t
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), f.row(rows[i])
-    own = ", ".join(f"α_{{{d['cylinder']}}} = {ctx.angle_text((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
-                    for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"])))
+    own = ", ".join(
+        f"α_{{{d['cylinder']}}} = {ctx.angle_text((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
+        for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"]))
+    )
     engine = ctx.scene.engine
     radius, area = engine.crank_radius_m, piston_area_m2(engine.bore)
-    terms = [printed_fixed(t, float(row[f"crank{k}_tangential_Pa"]) / 1e6, 3) for k in range(1, cranks + 1)]
+    terms = [
+        printed_fixed(t, float(row[f"crank{k}_tangential_Pa"]) / 1e6, 3)
+        for k in range(1, cranks + 1)
+    ]
     journal = float(row[f"journal{cranks}_torque_Pa"]) / 1e6
-    tk_txt, tk = printed(t, journal)  # four digits, not the table's three decimals: M_d to its 0,1 N·m
+    tk_txt, tk = printed(
+        t, journal
+    )  # four digits, not the table's three decimals: M_d to its 0,1 N·m
     r_txt, r_m = printed(t, radius)
     f_txt, f_m2 = printed(t, area)
     inputs = {f"t{k}": v for k, (_, v) in enumerate(terms, start=1)}
     exact = {f"t{k}": float(row[f"crank{k}_tangential_Pa"]) / 1e6 for k in range(1, cranks + 1)}
     total_html = f"<i>t</i><sub>k{cranks}</sub>"
     steps = [
-        WorkedStep("journal_torque_sum", total_html,
-                   " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, cranks + 1)),
-                   " + ".join(bracketed(text, value) for text, value in terms), journal, 3,
-                   t("unit.MPa"), inputs, exact=exact),
-        WorkedStep("output_torque", "<i>M</i><sub>d</sub>", total_html + " <i>R</i> <i>F</i><sub>p</sub>",
-                   f"{bracketed(tk_txt, tk)}·10<sup>6</sup>·{r_txt}·{f_txt}",
-                   float(row["output_torque_Nm"]), 1, t("unit.Nm"),
-                   {"t_k": tk, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
-                   exact={"t_k": journal, "R": radius, "F_p": area, "alpha_deg": alpha}),
+        WorkedStep(
+            "journal_torque_sum",
+            total_html,
+            " + ".join(f"<i>t</i><sub>{k}</sub>" for k in range(1, cranks + 1)),
+            " + ".join(bracketed(text, value) for text, value in terms),
+            journal,
+            3,
+            t("unit.MPa"),
+            inputs,
+            exact=exact,
+        ),
+        WorkedStep(
+            "output_torque",
+            "<i>M</i><sub>d</sub>",
+            total_html + " <i>R</i> <i>F</i><sub>p</sub>",
+            f"{bracketed(tk_txt, tk)}·10<sup>6</sup>·{r_txt}·{f_txt}",
+            float(row["output_torque_Nm"]),
+            1,
+            t("unit.Nm"),
+            {"t_k": tk, "R": r_m, "F_p": f_m2, "alpha_deg": alpha},
+            exact={"t_k": journal, "R": radius, "F_p": area, "alpha_deg": alpha},
+        ),
     ]
     note = t("torque.worked_own_angles", angles=own) if own else ""
     return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))

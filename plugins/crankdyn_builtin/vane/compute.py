@@ -35,12 +35,24 @@ WORKING_CYCLE_DEG = (90.0, 810.0)  # one side of the vane: alpha = 90...450...81
 def check(scene) -> list[Problem]:
     problems = single_mechanism_problems(scene, "vane engine", MULTI_CYLINDER_TABLES)
     if scene.cycle is not None:
-        problems.append(Problem("cycle", "[cycle]", "the vane engine is studied for its kinematics only: its "
-                                "working volumes follow the vane angle, not a piston, so the indicator-diagram and "
-                                "force stages do not apply; remove [cycle]"))
+        problems.append(
+            Problem(
+                "cycle",
+                "[cycle]",
+                "the vane engine is studied for its kinematics only: its "
+                "working volumes follow the vane angle, not a piston, so the indicator-diagram and "
+                "force stages do not apply; remove [cycle]",
+            )
+        )
     if scene.masses is not None:
-        problems.append(Problem("masses", "[masses]", "the vane engine is studied for its kinematics only (the "
-                                "source gives no dynamics); remove [masses]"))
+        problems.append(
+            Problem(
+                "masses",
+                "[masses]",
+                "the vane engine is studied for its kinematics only (the "
+                "source gives no dynamics); remove [masses]",
+            )
+        )
     options(scene, "mechanism", VaneParams)
     return problems
 
@@ -56,37 +68,66 @@ def _curves(alpha, r, lam, omega, suffix=""):
         "core_angle_deg" + suffix: np.degrees(vn.core_angle_rad(alpha, lam)),
         "vane_angle_deg" + suffix: np.degrees(vn.vane_angle_rad(alpha, lam)),
         "core_angular_velocity_rad_s" + suffix: vn.core_angular_velocity_rad_s(alpha, lam, omega),
-        "core_angular_acceleration_rad_s2" + suffix: vn.core_angular_acceleration_rad_s2(alpha, lam, omega),
+        "core_angular_acceleration_rad_s2" + suffix: vn.core_angular_acceleration_rad_s2(
+            alpha, lam, omega
+        ),
         "slider_y_below_core_m" + suffix: vn.slider_height_below_core_m(alpha, r, lam),
         # one coordinate for the value and its derivatives: y_p = O3P, below the core axis (the source's)
         "slider_vy_below_core_m_s" + suffix: vn.slider_vertical_velocity_m_s(alpha, r, lam, omega),
-        "slider_jy_below_core_m_s2" + suffix: vn.slider_vertical_acceleration_m_s2(alpha, r, lam, omega),
+        "slider_jy_below_core_m_s2" + suffix: vn.slider_vertical_acceleration_m_s2(
+            alpha, r, lam, omega
+        ),
         # B'P = l - y_p, the rise above the lowest position (its derivatives are -v_yp, -j_yp)
         "slider_rise_above_lowest_m" + suffix: vn.slider_vertical_travel_m(alpha, r, lam),
         "slider_relative_m" + suffix: vn.slider_relative_position_m(alpha, r, lam),
-        "slider_relative_velocity_m_s" + suffix: vn.slider_relative_velocity_m_s(alpha, r, lam, omega),
-        "slider_relative_acceleration_m_s2" + suffix: vn.slider_relative_acceleration_m_s2(alpha, r, lam, omega),
+        "slider_relative_velocity_m_s" + suffix: vn.slider_relative_velocity_m_s(
+            alpha, r, lam, omega
+        ),
+        "slider_relative_acceleration_m_s2" + suffix: vn.slider_relative_acceleration_m_s2(
+            alpha, r, lam, omega
+        ),
     }
 
 
 def _quantities(r, lam, omega) -> dict:
     """CSV column -> (value of alpha in rad, its derivative d/dalpha or None for a numerical one)."""
     return {
-        "vane_angle_deg": (lambda a: np.degrees(vn.vane_angle_rad(a, lam)),
-                           lambda a: np.degrees(vn.core_angular_velocity_rad_s(a, lam, omega)) / omega),
-        "core_angular_velocity_rad_s": (lambda a: vn.core_angular_velocity_rad_s(a, lam, omega),
-                                        lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega) / omega),
-        "core_angular_acceleration_rad_s2": (lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega), None),
-        "slider_y_below_core_m": (lambda a: vn.slider_height_below_core_m(a, r, lam),
-                                  lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega) / omega),
-        "slider_vy_below_core_m_s": (lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega),
-                                     lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega) / omega),
-        "slider_jy_below_core_m_s2": (lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega), None),
-        "slider_relative_m": (lambda a: vn.slider_relative_position_m(a, r, lam),
-                              lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega) / omega),
-        "slider_relative_velocity_m_s": (lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega),
-                                         lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega) / omega),
-        "slider_relative_acceleration_m_s2": (lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega), None),
+        "vane_angle_deg": (
+            lambda a: np.degrees(vn.vane_angle_rad(a, lam)),
+            lambda a: np.degrees(vn.core_angular_velocity_rad_s(a, lam, omega)) / omega,
+        ),
+        "core_angular_velocity_rad_s": (
+            lambda a: vn.core_angular_velocity_rad_s(a, lam, omega),
+            lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega) / omega,
+        ),
+        "core_angular_acceleration_rad_s2": (
+            lambda a: vn.core_angular_acceleration_rad_s2(a, lam, omega),
+            None,
+        ),
+        "slider_y_below_core_m": (
+            lambda a: vn.slider_height_below_core_m(a, r, lam),
+            lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega) / omega,
+        ),
+        "slider_vy_below_core_m_s": (
+            lambda a: vn.slider_vertical_velocity_m_s(a, r, lam, omega),
+            lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega) / omega,
+        ),
+        "slider_jy_below_core_m_s2": (
+            lambda a: vn.slider_vertical_acceleration_m_s2(a, r, lam, omega),
+            None,
+        ),
+        "slider_relative_m": (
+            lambda a: vn.slider_relative_position_m(a, r, lam),
+            lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega) / omega,
+        ),
+        "slider_relative_velocity_m_s": (
+            lambda a: vn.slider_relative_velocity_m_s(a, r, lam, omega),
+            lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega) / omega,
+        ),
+        "slider_relative_acceleration_m_s2": (
+            lambda a: vn.slider_relative_acceleration_m_s2(a, r, lam, omega),
+            None,
+        ),
     }
 
 
@@ -121,12 +162,22 @@ def run(scene, inputs) -> StageOutput:
     xk, yk = vn.rocker_position_m(alpha, r)
     vxk, vyk = vn.rocker_velocity_m_s(alpha, r, omega)
     jxk, jyk = vn.rocker_acceleration_m_s2(alpha, r, omega)
-    table = {"crank_angle_deg": angle_deg,
-             "rocker_x_m": xk, "rocker_y_m": yk, "rocker_vx_m_s": vxk, "rocker_vy_m_s": vyk,
-             "rocker_jx_m_s2": jxk, "rocker_jy_m_s2": jyk,
-             "slider_x_m": xk, "slider_vx_m_s": vxk, "slider_jx_m_s2": jxk}
+    table = {
+        "crank_angle_deg": angle_deg,
+        "rocker_x_m": xk,
+        "rocker_y_m": yk,
+        "rocker_vx_m_s": vxk,
+        "rocker_vy_m_s": vyk,
+        "rocker_jx_m_s2": jxk,
+        "rocker_jy_m_s2": jyk,
+        "slider_x_m": xk,
+        "slider_vx_m_s": vxk,
+        "slider_jx_m_s2": jxk,
+    }
     table.update(_curves(alpha, r, lam, omega))
-    table["slider_rotation_deg"] = -table["core_angle_deg"]  # relative to the tail: the mirror of beta
+    table["slider_rotation_deg"] = -table[
+        "core_angle_deg"
+    ]  # relative to the tail: the mirror of beta
     compare = {"crank_angle_deg": angle_deg}
     for other in params.compare_rod_ratios:
         compare.update(_curves(alpha, r, other, omega, suffix=f"_lambda_{other:g}"))
@@ -135,15 +186,28 @@ def run(scene, inputs) -> StageOutput:
     by_lambda = {
         "rod_ratio": lam_grid,
         "core_angle_max_deg": np.degrees(np.arcsin(lam_grid)),
-        "slider_vertical_travel_max_over_tail": [vn.slider_vertical_travel_max_m(1.0, x) / (1.0 / x) for x in lam_grid],
-        "slider_vertical_travel_max_over_crank": [vn.slider_vertical_travel_max_m(1.0, x) for x in lam_grid],
-        "acceleration_zero_deg": [float(np.degrees(vn.slider_vertical_acceleration_zeros_rad(x)[0])) for x in lam_grid],
+        "slider_vertical_travel_max_over_tail": [
+            vn.slider_vertical_travel_max_m(1.0, x) / (1.0 / x) for x in lam_grid
+        ],
+        "slider_vertical_travel_max_over_crank": [
+            vn.slider_vertical_travel_max_m(1.0, x) for x in lam_grid
+        ],
+        "acceleration_zero_deg": [
+            float(np.degrees(vn.slider_vertical_acceleration_zeros_rad(x)[0])) for x in lam_grid
+        ],
     }
 
     zeros = np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam))
     # Independent check of the closed form: a root search on j_yp itself around each zero.
-    found = [brentq(lambda a: float(vn.slider_vertical_acceleration_m_s2(a, r, lam, omega)),
-                             np.radians(z) - 0.2, np.radians(z) + 0.2, xtol=1e-14) for z in zeros]
+    found = [
+        brentq(
+            lambda a: float(vn.slider_vertical_acceleration_m_s2(a, r, lam, omega)),
+            np.radians(z) - 0.2,
+            np.radians(z) + 0.2,
+            xtol=1e-14,
+        )
+        for z in zeros
+    ]
     zeros_check = float(np.max(np.abs(np.degrees(found) - zeros)))
     y_max = vn.slider_vertical_travel_max_m(r, lam)
     ext = extremes(r, lam, omega)
@@ -167,14 +231,18 @@ def run(scene, inputs) -> StageOutput:
         "slider_vertical_velocity_max_m_s": _largest(ext["slider_vy_below_core_m_s"]),
         "slider_vertical_acceleration_max_m_s2": ext["slider_jy_below_core_m_s2"]["max"],
         "slider_vertical_acceleration_min_m_s2": ext["slider_jy_below_core_m_s2"]["min"],
-        "slider_relative_travel_m": ext["slider_relative_m"]["max"] - ext["slider_relative_m"]["min"],
+        "slider_relative_travel_m": ext["slider_relative_m"]["max"]
+        - ext["slider_relative_m"]["min"],
         "slider_relative_velocity_max_m_s": _largest(ext["slider_relative_velocity_m_s"]),
         "slider_relative_acceleration_max_m_s2": ext["slider_relative_acceleration_m_s2"]["max"],
         "slider_relative_acceleration_min_m_s2": ext["slider_relative_acceleration_m_s2"]["min"],
         "compare_rod_ratios": list(params.compare_rod_ratios),
         "working_cycle_deg": list(WORKING_CYCLE_DEG),
     }
-    notes = [("vane.note_corrected", {}), ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check})]
+    notes = [
+        ("vane.note_corrected", {}),
+        ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check}),
+    ]
     tables = {"vane": table, "by_lambda": by_lambda}
     if params.compare_rod_ratios:
         tables["compare"] = compare

@@ -13,14 +13,22 @@ def _plot_compared(f, compare, lam, others, t, ax, key, scale=1.0, **style):
     angle = f["crank_angle_deg"]
     ax.plot(angle, f[key] * scale, color="C0", label=f"λ = {t.number_g(lam, 4)}", **style)
     for i, other in enumerate(others):
-        ax.plot(angle, compare[f"{key}_lambda_{other:g}"] * scale, color=f"C{i + 1}", ls="--", lw=1,
-                label=f"λ = {t.number_g(other, 4)}")
+        ax.plot(
+            angle,
+            compare[f"{key}_lambda_{other:g}"] * scale,
+            color=f"C{i + 1}",
+            ls="--",
+            lw=1,
+            label=f"λ = {t.number_g(other, 4)}",
+        )
     ax.axhline(0, color="0.3", lw=0.6)
 
 
 def _two_panels(plot, ctx, keys, axis_labels, caption_key, name, see) -> str:
     """An angle and its rate (or a rate and its derivative) over the crank angle, with the comparison rod ratios."""
-    return ctx.figure(partial(_two_panels_plot, plot, keys, axis_labels, ctx.t), ctx.t(caption_key), name, see=see)
+    return ctx.figure(
+        partial(_two_panels_plot, plot, keys, axis_labels, ctx.t), ctx.t(caption_key), name, see=see
+    )
 
 
 def _two_panels_plot(plot, keys, axis_labels, t):
@@ -37,8 +45,12 @@ def _two_panels_plot(plot, keys, axis_labels, t):
 
 def _rocker_figure(f, ctx) -> str:
     """The rocker joint's x and y position, velocity and acceleration over the crank angle."""
-    return ctx.figure(partial(_rocker_plot, f, ctx.t), ctx.t("vane.rocker_caption"), "vane_rocker",
-                      see="vane.see_rocker")
+    return ctx.figure(
+        partial(_rocker_plot, f, ctx.t),
+        ctx.t("vane.rocker_caption"),
+        "vane_rocker",
+        see="vane.see_rocker",
+    )
 
 
 def _rocker_plot(f, t):
@@ -46,9 +58,11 @@ def _rocker_plot(f, t):
     mm = 1e3
     angle = f["crank_angle_deg"]
     fig, axes = new_figure(16, 15, nrows=3, sharex=True)
-    for ax, (kx, ky), label in ((axes[0], ("rocker_x_m", "rocker_y_m"), "vane.axis_rocker_s"),
-                                (axes[1], ("rocker_vx_m_s", "rocker_vy_m_s"), "vane.axis_rocker_v"),
-                                (axes[2], ("rocker_jx_m_s2", "rocker_jy_m_s2"), "vane.axis_rocker_j")):
+    for ax, (kx, ky), label in (
+        (axes[0], ("rocker_x_m", "rocker_y_m"), "vane.axis_rocker_s"),
+        (axes[1], ("rocker_vx_m_s", "rocker_vy_m_s"), "vane.axis_rocker_v"),
+        (axes[2], ("rocker_jx_m_s2", "rocker_jy_m_s2"), "vane.axis_rocker_j"),
+    ):
         scale = mm if kx.endswith("_m") else 1.0
         ax.plot(angle, f[kx] * scale, color="C0", label="x")
         ax.plot(angle, f[ky] * scale, color="C1", ls="--", label="y")
@@ -59,11 +73,17 @@ def _rocker_plot(f, t):
     return fig
 
 
-def _three_panels(plot, ctx, keys, axis_labels, legend_loc, caption_key, name, see, zeros=()) -> str:
+def _three_panels(
+    plot, ctx, keys, axis_labels, legend_loc, caption_key, name, see, zeros=()
+) -> str:
     """Value, velocity and acceleration of one coordinate over the crank angle, with the
     comparison rod ratios; vertical marks at ``zeros`` on the two derivatives."""
-    return ctx.figure(partial(_three_panels_plot, plot, keys, axis_labels, legend_loc, zeros, ctx.t),
-                      ctx.t(caption_key), name, see=see)
+    return ctx.figure(
+        partial(_three_panels_plot, plot, keys, axis_labels, legend_loc, zeros, ctx.t),
+        ctx.t(caption_key),
+        name,
+        see=see,
+    )
 
 
 def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
@@ -84,8 +104,12 @@ def _three_panels_plot(plot, keys, axis_labels, legend_loc, zeros, t):
 def _lambda_figure(by_lambda, lam, ctx) -> str:
     """How the rod ratio λ sets the largest core angle, the slider's largest travel and the angle where
     its acceleration vanishes; the scene's λ marked."""
-    return ctx.figure(partial(_lambda_plot, by_lambda, lam, ctx.t), ctx.t("vane.lambda_caption"), "vane_lambda",
-                      see="vane.see_lambda")
+    return ctx.figure(
+        partial(_lambda_plot, by_lambda, lam, ctx.t),
+        ctx.t("vane.lambda_caption"),
+        "vane_lambda",
+        see="vane.see_lambda",
+    )
 
 
 def _lambda_plot(by_lambda, lam, t):
@@ -95,7 +119,9 @@ def _lambda_plot(by_lambda, lam, t):
     axes[0].plot(x, by_lambda["core_angle_max_deg"], color="C0")
     axes[0].set_ylabel(t("vane.axis_beta_max"))
     axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_tail"], color="C0", label="l = 1")
-    axes[1].plot(x, by_lambda["slider_vertical_travel_max_over_crank"], color="C1", ls="--", label="r = 1")
+    axes[1].plot(
+        x, by_lambda["slider_vertical_travel_max_over_crank"], color="C1", ls="--", label="r = 1"
+    )
     axes[1].set_ylabel(t("vane.axis_y_max"))
     axes[1].legend(loc="upper left", fontsize=8)
     axes[2].plot(x, by_lambda["acceleration_zero_deg"], color="C0")

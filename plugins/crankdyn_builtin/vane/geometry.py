@@ -29,18 +29,31 @@ def vane_geometry(scene, crank_angle_rad) -> MechanismGeometry:
     base = -l_tail - 1.4 * r  # height of the cranks' centres
     o1, o2 = np.array([-1.5 * r, base]), np.array([1.5 * r, base])
     slot_base = np.array([0.0, base]) + polar(r, alpha)
-    joints = {"crank_centre": np.zeros((n, 2)) + o1, "pivot_crank_2": np.zeros((n, 2)) + o2,
-              "crank_pin": o1 + polar(r, alpha), "rocker_pin_2": o2 + polar(r, alpha),
-              "slot_base": slot_base, "slot_top": slot_base + [0.0, 2.6 * r],
-              "pivot_core": np.zeros((n, 2)), "slider": slider, "vane_tip": -0.6 * slider}
+    joints = {
+        "crank_centre": np.zeros((n, 2)) + o1,
+        "pivot_crank_2": np.zeros((n, 2)) + o2,
+        "crank_pin": o1 + polar(r, alpha),
+        "rocker_pin_2": o2 + polar(r, alpha),
+        "slot_base": slot_base,
+        "slot_top": slot_base + [0.0, 2.6 * r],
+        "pivot_core": np.zeros((n, 2)),
+        "slider": slider,
+        "vane_tip": -0.6 * slider,
+    }
     return MechanismGeometry(
         joints=joints,
-        links=[("crank", "crank_centre", "crank_pin"), ("crank_2", "pivot_crank_2", "rocker_pin_2"),
-               ("rocker", "crank_pin", "rocker_pin_2"), ("rocker_slot", "slot_base", "slot_top"),
-               ("core", "pivot_core", "slider"),
-               ("vane", "pivot_core", "vane_tip")],
+        links=[
+            ("crank", "crank_centre", "crank_pin"),
+            ("crank_2", "pivot_crank_2", "rocker_pin_2"),
+            ("rocker", "crank_pin", "rocker_pin_2"),
+            ("rocker_slot", "slot_base", "slot_top"),
+            ("core", "pivot_core", "slider"),
+            ("vane", "pivot_core", "vane_tip"),
+        ],
         fixed=("crank_centre", "pivot_crank_2", "pivot_core"),
-        guides=[Guide("slider", moving=("slot_base", "slot_top"), travel_m=(0.4 * r, 2.4 * r), label="")],
+        guides=[
+            Guide("slider", moving=("slot_base", "slot_top"), travel_m=(0.4 * r, 2.4 * r), label="")
+        ],
         dimensions={"R": r, "L": l_tail},
         travel_m=vn.slider_relative_position_m(alpha, r, lam),
     )

@@ -29,8 +29,12 @@ VANE_MECHANISM = Mechanism(
     check=check,
     params_model=VaneParams,
     # the task's stroke is the slider's travel, its rod the core's tail (the section's own S, r, l, λ)
-    input_rows={"stroke": ("vane.input_stroke", "<i>S</i>"), "crank_radius": ("vane.input_radius", "<i>r</i> = <i>S</i>/2"),
-                "rod_length": ("vane.input_tail", "<i>l</i>"), "rod_ratio": ("vane.input_ratio", "<i>λ</i> = <i>r</i>/<i>l</i>")},
+    input_rows={
+        "stroke": ("vane.input_stroke", "<i>S</i>"),
+        "crank_radius": ("vane.input_radius", "<i>r</i> = <i>S</i>/2"),
+        "rod_length": ("vane.input_tail", "<i>l</i>"),
+        "rod_ratio": ("vane.input_ratio", "<i>λ</i> = <i>r</i>/<i>l</i>"),
+    },
 )
 
 VANE_STAGE = Stage(
@@ -44,7 +48,14 @@ VANE_STAGE = Stage(
         template_dir=TEMPLATES,
         title_key="vane.title",
         render=render,
-        figures=("vane_angles", "vane_core", "vane_rocker", "vane_slider", "vane_relative", "vane_lambda"),
+        figures=(
+            "vane_angles",
+            "vane_core",
+            "vane_rocker",
+            "vane_slider",
+            "vane_relative",
+            "vane_lambda",
+        ),
         references=("klementev2023",),
         symbols=SYMBOLS,
     ),
@@ -67,4 +78,7 @@ def crankdyn_mechanisms():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]

@@ -17,19 +17,28 @@ def _vane_table(f, r, ctx) -> str:
     mm = 1e3
     rows, labels = sample_rows(f["crank_angle_deg"], ctx.table_step_deg)
     g = f.take(rows)
-    table = ctx.table([
-        ("<i>α</i>, °", labels, 0),
-        ("<i>β</i>, °", g["core_angle_deg"], 2),
-        ("<i>γ</i>, °", g["vane_angle_deg"], 2),
-        ("<i>ω</i><sub>c</sub>, " + t("unit.rad_s"), g["core_angular_velocity_rad_s"], 2),
-        ("<i>ε</i><sub>c</sub>, " + t("unit.rad_s2"), g["core_angular_acceleration_rad_s2"], 0),
-        ("<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"), g["rocker_x_m"] * mm, 2),
-        ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"] * mm, 2),
-        ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"] * mm, 2),
-        ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"], 3),
-        ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"], 0),
-        ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"] * mm, 2),
-    ], caption=t("vane.table_caption"), css_class="data wide", see="vane.see_table")
+    table = ctx.table(
+        [
+            ("<i>α</i>, °", labels, 0),
+            ("<i>β</i>, °", g["core_angle_deg"], 2),
+            ("<i>γ</i>, °", g["vane_angle_deg"], 2),
+            ("<i>ω</i><sub>c</sub>, " + t("unit.rad_s"), g["core_angular_velocity_rad_s"], 2),
+            ("<i>ε</i><sub>c</sub>, " + t("unit.rad_s2"), g["core_angular_acceleration_rad_s2"], 0),
+            (
+                "<i>x</i><sub>k</sub> = <i>x</i><sub>p</sub>, " + t("unit.mm"),
+                g["rocker_x_m"] * mm,
+                2,
+            ),
+            ("<i>y</i><sub>k</sub>, " + t("unit.mm"), g["rocker_y_m"] * mm, 2),
+            ("<i>y</i><sub>p</sub>, " + t("unit.mm"), g["slider_y_below_core_m"] * mm, 2),
+            ("<i>v</i><sub>yp</sub>, " + t("unit.m_s"), g["slider_vy_below_core_m_s"], 3),
+            ("<i>j</i><sub>yp</sub>, " + t("unit.m_s2"), g["slider_jy_below_core_m_s2"], 0),
+            ("<i>y</i><sub>po</sub>, " + t("unit.mm"), g["slider_relative_m"] * mm, 2),
+        ],
+        caption=t("vane.table_caption"),
+        css_class="data wide",
+        see="vane.see_table",
+    )
     return table + worked_vane(ctx, g, labels, r)
 
 
@@ -41,34 +50,82 @@ def render(output: StageOutput, ctx) -> str:
     r = output.results
     lam = r["rod_ratio"]
     mm = 1e3
-    plot = partial(_plot_compared, f, (output.tables.arrays("compare") if "compare" in output.tables else None), lam,
-                   r["compare_rod_ratios"], t)
+    plot = partial(
+        _plot_compared,
+        f,
+        (output.tables.arrays("compare") if "compare" in output.tables else None),
+        lam,
+        r["compare_rod_ratios"],
+        t,
+    )
 
     table = _vane_table(f, r, ctx)
-    figure_angles = _two_panels(plot, ctx, ("core_angle_deg", "vane_angle_deg"), ("vane.axis_beta", "vane.axis_gamma"),
-                                "vane.angles_caption", "vane_angles", "vane.see_angles")
-    figure_core = _two_panels(plot, ctx, ("core_angular_velocity_rad_s", "core_angular_acceleration_rad_s2"),
-                              ("vane.axis_omega_c", "vane.axis_epsilon_c"), "vane.core_caption", "vane_core",
-                              "vane.see_core")
+    figure_angles = _two_panels(
+        plot,
+        ctx,
+        ("core_angle_deg", "vane_angle_deg"),
+        ("vane.axis_beta", "vane.axis_gamma"),
+        "vane.angles_caption",
+        "vane_angles",
+        "vane.see_angles",
+    )
+    figure_core = _two_panels(
+        plot,
+        ctx,
+        ("core_angular_velocity_rad_s", "core_angular_acceleration_rad_s2"),
+        ("vane.axis_omega_c", "vane.axis_epsilon_c"),
+        "vane.core_caption",
+        "vane_core",
+        "vane.see_core",
+    )
     figure_rocker = _rocker_figure(f, ctx)
     figure_slider = _three_panels(
-        plot, ctx, ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
-        ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"), "upper right", "vane.slider_caption",
-        "vane_slider", "vane.see_slider", r["slider_vertical_acceleration_zeros_deg"])
+        plot,
+        ctx,
+        ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
+        ("vane.axis_slider_y", "vane.axis_slider_v", "vane.axis_slider_j"),
+        "upper right",
+        "vane.slider_caption",
+        "vane_slider",
+        "vane.see_slider",
+        r["slider_vertical_acceleration_zeros_deg"],
+    )
     figure_relative = _three_panels(
-        plot, ctx, ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
-        ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"), "upper left",
-        "vane.relative_caption", "vane_relative", "vane.see_relative")
+        plot,
+        ctx,
+        ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
+        ("vane.axis_relative_y", "vane.axis_relative_v", "vane.axis_relative_j"),
+        "upper left",
+        "vane.relative_caption",
+        "vane_relative",
+        "vane.see_relative",
+    )
     figure_lambda = _lambda_figure(output.tables.arrays("by_lambda"), lam, ctx)
 
     zeros = r["slider_vertical_acceleration_zeros_deg"]
-    ctx.conclude(t("vane.conclusion", lam=ctx.num(lam, 4), beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),
-                   gamma_max=ctx.t.number_g(r["vane_angle_max_deg"], 4), zero=ctx.num(zeros[0], 5),
-                   y_max=ctx.num(r["slider_vertical_travel_max_m"] * mm, 5),
-                   y_rel=ctx.num(r["slider_vertical_travel_max_over_tail"], 4)))
-    return ctx.render_template("sections/vane.html.j2", r=r, zeros=zeros, table=table, figure_angles=figure_angles,
-                               figure_core=figure_core, figure_rocker=figure_rocker, figure_slider=figure_slider,
-                               figure_relative=figure_relative, figure_lambda=figure_lambda)
+    ctx.conclude(
+        t(
+            "vane.conclusion",
+            lam=ctx.num(lam, 4),
+            beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),
+            gamma_max=ctx.t.number_g(r["vane_angle_max_deg"], 4),
+            zero=ctx.num(zeros[0], 5),
+            y_max=ctx.num(r["slider_vertical_travel_max_m"] * mm, 5),
+            y_rel=ctx.num(r["slider_vertical_travel_max_over_tail"], 4),
+        )
+    )
+    return ctx.render_template(
+        "sections/vane.html.j2",
+        r=r,
+        zeros=zeros,
+        table=table,
+        figure_angles=figure_angles,
+        figure_core=figure_core,
+        figure_rocker=figure_rocker,
+        figure_slider=figure_slider,
+        figure_relative=figure_relative,
+        figure_lambda=figure_lambda,
+    )
 
 
 #: The letters of the section's equations (meanings: symbol.vane.<key> in i18n/). The crank angle,

@@ -37,8 +37,10 @@ def dependency_order(stages: dict[str, Stage]) -> list[str]:
     for stage in stages.values():
         for key in stage.provides:
             providers.setdefault(key, set()).add(stage.name)
-    before = {name: {p for key in stage.requires for p in providers.get(key, ()) if p != name}
-              for name, stage in stages.items()}
+    before = {
+        name: {p for key in stage.requires for p in providers.get(key, ()) if p != name}
+        for name, stage in stages.items()
+    }
     order: list[str] = []
     placed: set[str] = set()
     while len(order) < len(stages):
@@ -52,13 +54,18 @@ def dependency_order(stages: dict[str, Stage]) -> list[str]:
 
 def answer_columns(registry: Registry) -> list[KeyColumn]:
     """Every answer-key column the installed stages declare, in key order."""
-    columns = [KeyColumn(name, column) for name in dependency_order(registry.stages)
-               for column in registry.stages[name].answer_columns]
+    columns = [
+        KeyColumn(name, column)
+        for name in dependency_order(registry.stages)
+        for column in registry.stages[name].answer_columns
+    ]
     seen: dict[str, str] = {}
     for column in columns:
         if column.name in seen:
-            raise PluginError(f"answer-key column {column.name!r} declared by both {seen[column.name]!r} "
-                              f"and {column.stage!r}")
+            raise PluginError(
+                f"answer-key column {column.name!r} declared by both {seen[column.name]!r} "
+                f"and {column.stage!r}"
+            )
         seen[column.name] = column.stage
     return columns
 
@@ -79,7 +86,11 @@ def absent(document: dict, columns: list[KeyColumn]) -> list[str]:
     results (a typo in ``AnswerColumn.key``, or a result renamed): their cells stay empty, and the
     batch warns (:func:`unanswered`) rather than leave the column out without a word."""
     ran = set(document.get("stages_run") or ())
-    return [c.name for c in columns if c.stage in ran and _lookup(document.get(c.stage), c.declared.key, _ABSENT) is _ABSENT]
+    return [
+        c.name
+        for c in columns
+        if c.stage in ran and _lookup(document.get(c.stage), c.declared.key, _ABSENT) is _ABSENT
+    ]
 
 
 def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[str]]]) -> list[str]:
@@ -91,9 +102,11 @@ def unanswered(columns: list[KeyColumn], outcomes: list[tuple[list[str], list[st
         if ran and all(column.name in missing for missing in ran):
             # a stage states a result its scene does not give as None (not absent), so absent in
             # every variant is most likely a typo; a third-party stage may not, so both are named
-            warnings.append(f"answer-key column {column.name!r} left out: no variant's {column.stage!r} results "
-                            f"hold {column.declared.key!r} (a typo in AnswerColumn.key, or a result these "
-                            f"scenes do not give)")
+            warnings.append(
+                f"answer-key column {column.name!r} left out: no variant's {column.stage!r} results "
+                f"hold {column.declared.key!r} (a typo in AnswerColumn.key, or a result these "
+                f"scenes do not give)"
+            )
     return warnings
 
 

@@ -117,8 +117,9 @@ def _check_time(deadline: float | None) -> None:
         raise OutOfTime
 
 
-def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry,
-                   deadline: float | None = None) -> None:
+def _stage_outputs(
+    stage: Stage, points: list[_Point], registry: Registry, deadline: float | None = None
+) -> None:
     """Run ``stage`` for ``points``: all at once through ``run_many`` when the stage has one, else
     (or when that raised: every point then gets its own error) point by point, the time checked
     against ``deadline`` before each point."""
@@ -127,8 +128,10 @@ def _stage_outputs(stage: Stage, points: list[_Point], registry: Registry,
         try:
             outputs = list(stage.run_many([p.scene for p in points], inputs))
             if len(outputs) != len(points):
-                raise PluginError(f"stage {stage.name!r}: run_many returned {len(outputs)} outputs "
-                                  f"for {len(points)} scenes")
+                raise PluginError(
+                    f"stage {stage.name!r}: run_many returned {len(outputs)} outputs "
+                    f"for {len(points)} scenes"
+                )
             for point, output in zip(points, outputs, strict=True):
                 check_output(stage, output)
                 _take(stage, point, output)
@@ -150,8 +153,9 @@ def _take(stage: Stage, point: _Point, output: StageOutput) -> None:
     point.results[stage.name] = output.results
 
 
-def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
-             languages: Iterable[str]) -> dict[tuple[str, ...], tuple[Plan, list[_Point]]]:
+def _planned(
+    scenes: list[_Point], registry: Registry, stages: list[str] | None, languages: Iterable[str]
+) -> dict[tuple[str, ...], tuple[Plan, list[_Point]]]:
     """The points grouped by their key plan (almost always one group: the grid's points differ in
     values, seldom in the stages that apply)."""
     groups: dict[tuple[str, ...], tuple[Plan, list[_Point]]] = {}
@@ -160,9 +164,11 @@ def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
         try:
             check_scene(point.scene, registry, languages)
             # a plan follows from what each stage's applies says and the stages asked for alone
-            said = (tuple(stage_applies(s, point.scene, registry) for s in registry.stages.values()),
-                    tuple(stages if stages is not None else point.scene.analysis.stages or ()),
-                    stages is None and point.scene.analysis.stages is None)
+            said = (
+                tuple(stage_applies(s, point.scene, registry) for s in registry.stages.values()),
+                tuple(stages if stages is not None else point.scene.analysis.stages or ()),
+                stages is None and point.scene.analysis.stages is None,
+            )
             if said not in plans:
                 plans[said] = key_plan(plan(point.scene, registry, stages), registry)
             the_plan = plans[said]
@@ -174,9 +180,13 @@ def _planned(scenes: list[_Point], registry: Registry, stages: list[str] | None,
     return groups
 
 
-def evaluate(scenes: Sequence[Scene], registry: Registry, stages: list[str] | None = None,
-             languages: Iterable[str] = (), deadline: float | None = None,
-             ) -> list[tuple[list[str], dict[str, dict], str]]:
+def evaluate(
+    scenes: Sequence[Scene],
+    registry: Registry,
+    stages: list[str] | None = None,
+    languages: Iterable[str] = (),
+    deadline: float | None = None,
+) -> list[tuple[list[str], dict[str, dict], str]]:
     """(stages run, stage -> its results, error text or "") of each scene, in order: the key
     plan's stages run over all the scenes together. Past ``deadline`` (``time.monotonic``) it
     raises :class:`~crankdyn.parallel.pool.OutOfTime` before the next stage."""
@@ -196,9 +206,15 @@ def evaluate(scenes: Sequence[Scene], registry: Registry, stages: list[str] | No
     return out
 
 
-def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str | None,
-              stages: list[str] | None, data_dirs: tuple[str, ...] = (),
-              limit_s: float | None = None) -> list[Outcome]:
+def run_chunk(
+    base: dict,
+    base_dir: str,
+    variants: list[Variant],
+    language: str | None,
+    stages: list[str] | None,
+    data_dirs: tuple[str, ...] = (),
+    limit_s: float | None = None,
+) -> list[Outcome]:
     """The outcomes of a chunk of a sweep's points (answers only, nothing rendered or written);
     an error is part of its point's outcome. With ``limit_s`` the chunk keeps its own time limit:
     past it, it raises :class:`~crankdyn.parallel.pool.OutOfTime` before its next stage or point
@@ -228,9 +244,14 @@ def run_chunk(base: dict, base_dir: str, variants: list[Variant], language: str 
             continue
         document = {"stages_run": run, **results}
         outcomes[variant.row] = Outcome(
-            variant.row, variant.name, True, seconds, stages_run=run,
+            variant.row,
+            variant.name,
+            True,
+            seconds,
+            stages_run=run,
             answers={c: number(v) for c, v in answer_key.answers(document, columns).items()},
-            absent=answer_key.absent(document, columns))
+            absent=answer_key.absent(document, columns),
+        )
     return [outcomes[v.row] for v in variants]
 
 
@@ -243,14 +264,18 @@ class _PointScenes:
     not validate, or anything out of the ordinary, goes through ``_variant_scene`` itself, so a
     bad point's error reads as a batch states it."""
 
-    def __init__(self, base: dict, base_dir: str, language: str | None,
-                 data_dirs: tuple[str, ...]):
+    def __init__(self, base: dict, base_dir: str, language: str | None, data_dirs: tuple[str, ...]):
         self.base, self.base_dir = base, base_dir
         self.language, self.data_dirs = language, data_dirs
-        self.fixed = {"base_dir": str(base_dir),
-                      "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs)}
-        self.base_clean = (isinstance(base, dict) and not {"base_dir", "data_dirs"} & set(base)
-                           and not structure_problems(base))
+        self.fixed = {
+            "base_dir": str(base_dir),
+            "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs),
+        }
+        self.base_clean = (
+            isinstance(base, dict)
+            and not {"base_dir", "data_dirs"} & set(base)
+            and not structure_problems(base)
+        )
 
     def scene(self, variant: Variant) -> Scene:
         changes = [variant.overrides]  # laid over the base in _variant_scene's order
@@ -281,8 +306,11 @@ def _changes_clean(data: dict, changes: dict) -> bool:
         table, changed = stack.pop()
         if len(table) > MAX_ARRAY_LENGTH:
             return False
-        stack += [(table[key], value) for key, value in changed.items()
-                  if isinstance(value, dict) and isinstance(table.get(key), dict)]
+        stack += [
+            (table[key], value)
+            for key, value in changed.items()
+            if isinstance(value, dict) and isinstance(table.get(key), dict)
+        ]
     return True
 
 
@@ -306,7 +334,7 @@ def chunks(variants: list[Variant], workers: int, size: int = CHUNK_POINTS) -> l
     """``variants`` in chunks of at most ``size`` points, and at least two chunks per worker when
     there are enough points (so that no worker waits for the last long one)."""
     size = max(1, min(size, len(variants) // max(1, 2 * workers)))
-    return [variants[k:k + size] for k in range(0, len(variants), size)]
+    return [variants[k : k + size] for k in range(0, len(variants), size)]
 
 
 def study_once(scene: Scene, registry: Registry, stages: list[str] | None) -> list[str]:
@@ -320,22 +348,26 @@ def study_once(scene: Scene, registry: Registry, stages: list[str] | None) -> li
         check_scene(scene, registry)
         run_plan(scene, the_plan)
     except Exception as exc:  # noqa: BLE001 - the points' answers do not depend on it
-        return [f"the study {name!r} failed for the base scene: {error_text(exc)}"
-                for name in studies]
-    return [f"the study {name!r} (error against run time) ran once, for the base scene, "
-            "not per point"
-            for name in studies]
+        return [
+            f"the study {name!r} failed for the base scene: {error_text(exc)}" for name in studies
+        ]
+    return [
+        f"the study {name!r} (error against run time) ran once, for the base scene, not per point"
+        for name in studies
+    ]
 
 
 # --------------------------------------------------------------------------- running the chunks
+
 
 class _Rerun(list):
     """A chunk that timed out or whose worker died: its points run again one by one, each with
     its own time limit, so that only the point at fault fails."""
 
 
-def execute_key(variants: list[Variant], base: dict, base_dir: str,
-                options: RunOptions) -> tuple[list[Outcome], int]:
+def execute_key(
+    variants: list[Variant], base: dict, base_dir: str, options: RunOptions
+) -> tuple[list[Outcome], int]:
     """The answers of ``variants`` (a sweep's points, nothing rendered), in chunks: local worker
     processes, or the Dask cluster of ``options.scheduler``. Returns the outcomes in row order and
     the signal that interrupted the run (0 when it ran through), as :func:`crankdyn.batch.execute`.
@@ -377,8 +409,9 @@ def execute_key(variants: list[Variant], base: dict, base_dir: str,
                 _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun)
             else:
                 try:
-                    _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
-                              rerun)
+                    _run_dask(
+                        variants, base, base_dir, tail, client, timeout, finished, failed, rerun
+                    )
                 finally:
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
@@ -391,8 +424,15 @@ def _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, 
         return (base, base_dir, chunk, *tail)
 
     items = chunks(variants, jobs)
-    if run_all(items, run_chunk, args_of, jobs, timeout * len(items[0]) if items else timeout,
-               finished, failed):
+    if run_all(
+        items,
+        run_chunk,
+        args_of,
+        jobs,
+        timeout * len(items[0]) if items else timeout,
+        finished,
+        failed,
+    ):
         return  # interrupted
     if rerun:
         single = [[v] for v in rerun]
@@ -412,8 +452,17 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
     def chunk_args(chunk):  # a chunk runs in the worker's own process and keeps its own limit
         return (*args_of(chunk), limit)
 
-    if run_all_dask(items, run_chunk, chunk_args, client, limit,
-                    finished, failed, prepare=prepare, in_process=True):
+    if run_all_dask(
+        items,
+        run_chunk,
+        chunk_args,
+        client,
+        limit,
+        finished,
+        failed,
+        prepare=prepare,
+        in_process=True,
+    ):
         return
     if rerun:
         single = [[v] for v in rerun]
@@ -437,15 +486,15 @@ def _prepare_dask_worker() -> None:
 _frozen = False
 
 
-def _with_unfinished(variants: list[Variant], outcomes: list[Outcome],
-                     received: list[int]) -> tuple[list[Outcome], int]:
+def _with_unfinished(
+    variants: list[Variant], outcomes: list[Outcome], received: list[int]
+) -> tuple[list[Outcome], int]:
     """The outcomes in row order, a failure row for each point without one (an interruption)."""
     done = {o.row for o in outcomes}
     unfinished = [v for v in variants if v.row not in done]
     stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
     what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
     reason = f"not finished: the sweep was interrupted ({what})"
-    outcomes += [Outcome(v.row, v.name, False, 0.0, reason)
-                 for v in unfinished]
+    outcomes += [Outcome(v.row, v.name, False, 0.0, reason) for v in unfinished]
     outcomes.sort(key=lambda o: o.row)
     return outcomes, int(stop_signal)

@@ -107,6 +107,7 @@ class Sweep:
 
 # --------------------------------------------------------------------------- reading ranges
 
+
 def _number_text(value: float) -> str:
     return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else f"{value:.12g}"
 
@@ -114,52 +115,94 @@ def _number_text(value: float) -> str:
 def _split_quantity(name: str, text: Any, what: str) -> tuple[float, str]:
     """(number, unit text) of one range end such as ``76 mm``, ``0.28`` or ``-5``."""
     if isinstance(text, bool) or not isinstance(text, (int, float, str)):
-        raise SceneError(Problem(name, text, f"{what} must be a number, with a unit where the field has one"))
+        raise SceneError(
+            Problem(name, text, f"{what} must be a number, with a unit where the field has one")
+        )
     if isinstance(text, (int, float)):
         return float(text), ""
-    match = _QUANTITY.match(text.replace(",", ".", 1) if re.fullmatch(r"\s*[-+]?\d+,\d+.*", text) else text)
+    match = _QUANTITY.match(
+        text.replace(",", ".", 1) if re.fullmatch(r"\s*[-+]?\d+,\d+.*", text) else text
+    )
     if not match:
-        raise SceneError(Problem(name, text, f"{what} must be a number, with a unit where the field has one "
-                                 "(e.g. 76 mm)"))
+        raise SceneError(
+            Problem(
+                name,
+                text,
+                f"{what} must be a number, with a unit where the field has one (e.g. 76 mm)",
+            )
+        )
     return float(match[1]), match[2]
 
 
-def _range_axis(name: str, start: Any, stop: Any, count: Any = None, step: Any = None, unit: str = "") -> Axis:
+def _range_axis(
+    name: str, start: Any, stop: Any, count: Any = None, step: Any = None, unit: str = ""
+) -> Axis:
     """The values from ``start`` to ``stop``: ``count`` of them evenly spaced, or every ``step``."""
     a, unit_a = _split_quantity(name, start, "the range's start")
     b, unit_b = _split_quantity(name, stop, "the range's stop")
     units = {u for u in (unit_a, unit_b, unit) if u}
     if len(units) > 1:
-        raise SceneError(Problem(name, f"{start}:{stop}", f"the range's ends must be in one unit, not "
-                                 f"{' and '.join(sorted(units))}"))
+        raise SceneError(
+            Problem(
+                name,
+                f"{start}:{stop}",
+                f"the range's ends must be in one unit, not {' and '.join(sorted(units))}",
+            )
+        )
     unit = units.pop() if units else ""
     if not (math.isfinite(a) and math.isfinite(b)):
-        raise SceneError(Problem(name, f"{start}:{stop}", "the range's ends must be finite numbers"))
+        raise SceneError(
+            Problem(name, f"{start}:{stop}", "the range's ends must be finite numbers")
+        )
     if step is None:
         if isinstance(count, bool) or not isinstance(count, int) or count < 2:
-            raise SceneError(Problem(name, count, "the number of values must be a whole number >= 2 "
-                                     "(START:STOP:COUNT; for one value give it alone)"))
+            raise SceneError(
+                Problem(
+                    name,
+                    count,
+                    "the number of values must be a whole number >= 2 "
+                    "(START:STOP:COUNT; for one value give it alone)",
+                )
+            )
         if count > MAX_POINTS:
-            raise SceneError(Problem(name, count,
-                                     f"the number of values must be at most {MAX_POINTS}"))
+            raise SceneError(
+                Problem(name, count, f"the number of values must be at most {MAX_POINTS}")
+            )
         numbers = [a + (b - a) * k / (count - 1) for k in range(count)]
     else:
         s, unit_s = _split_quantity(name, step, "the step")
         if unit_s and unit_s != unit:
-            raise SceneError(Problem(name, step, f"the step must be in the range's unit ({unit or 'none'})"))
+            raise SceneError(
+                Problem(name, step, f"the step must be in the range's unit ({unit or 'none'})")
+            )
         if not (math.isfinite(s) and s != 0 and (b - a) * s >= 0):
-            raise SceneError(Problem(name, step, f"the step must be non-zero and lead from {start} to {stop}"))
+            raise SceneError(
+                Problem(name, step, f"the step must be non-zero and lead from {start} to {stop}")
+            )
         steps = (b - a) / s * (1 + 1e-12) + 1e-9
         if not steps < MAX_POINTS:  # infinite too, for a step far smaller than the range
-            raise SceneError(Problem(name, step,
-                                     f"gives more than {MAX_POINTS} values; at most {MAX_POINTS}"))
+            raise SceneError(
+                Problem(name, step, f"gives more than {MAX_POINTS} values; at most {MAX_POINTS}")
+            )
         count = int(math.floor(steps)) + 1
         numbers = [a + s * k for k in range(count)]
     if a == b:
-        raise SceneError(Problem(name, f"{start}:{stop}", "the range's start and stop are equal; give one value alone"))
+        raise SceneError(
+            Problem(
+                name,
+                f"{start}:{stop}",
+                "the range's start and stop are equal; give one value alone",
+            )
+        )
     numbers = [float(f"{x:.12g}") for x in numbers]  # 0.30000000000000004 -> 0.3
-    whole = all(float(x).is_integer() for x in numbers) and not unit and all(
-        isinstance(v, int) or (isinstance(v, str) and re.fullmatch(r"\s*[-+]?\d+\s*", v)) for v in (start, stop))
+    whole = (
+        all(float(x).is_integer() for x in numbers)
+        and not unit
+        and all(
+            isinstance(v, int) or (isinstance(v, str) and re.fullmatch(r"\s*[-+]?\d+\s*", v))
+            for v in (start, stop)
+        )
+    )
     values = [int(x) if whole else (f"{_number_text(x)} {unit}" if unit else x) for x in numbers]
     return Axis(name, values, numbers, unit)
 
@@ -189,25 +232,41 @@ def parse_values(name: str, text: str) -> Axis:
     """The values of ``--set NAME=TEXT``: ``START:STOP:COUNT``, ``START:STOP:step=STEP`` or ``A,B,C``."""
     text = text.strip()
     if not text:
-        raise SceneError(Problem(name, text, "give values: START:STOP:COUNT, START:STOP:step=STEP or A,B,C"))
+        raise SceneError(
+            Problem(name, text, "give values: START:STOP:COUNT, START:STOP:step=STEP or A,B,C")
+        )
     if ":" in text and not text.startswith(("[", '"', "'")):
         parts = [p.strip() for p in text.split(":")]
         if len(parts) != 3 or not all(parts):
-            raise SceneError(Problem(name, text, "a range is START:STOP:COUNT or START:STOP:step=STEP "
-                                     "(e.g. 2000:6000:5, 76 mm:88 mm:4, 0.25:0.31:step=0.02)"))
+            raise SceneError(
+                Problem(
+                    name,
+                    text,
+                    "a range is START:STOP:COUNT or START:STOP:step=STEP "
+                    "(e.g. 2000:6000:5, 76 mm:88 mm:4, 0.25:0.31:step=0.02)",
+                )
+            )
         start, stop, last = parts
         unit = ""
         match = re.fullmatch(rf"(step\s*=\s*)?({_NUMBER})\s*(.*)", last)
         if not match:
-            raise SceneError(Problem(name, text, "the third part is a COUNT or step=STEP (e.g. 5 or step=500)"))
+            raise SceneError(
+                Problem(name, text, "the third part is a COUNT or step=STEP (e.g. 5 or step=500)")
+            )
         if match[1]:
             return _range_axis(name, start, stop, step=f"{match[2]} {match[3]}".strip())
-        count_text, unit = match[2], match[3]  # "76:88:4 mm": the unit after the count applies to both ends
+        count_text, unit = (
+            match[2],
+            match[3],
+        )  # "76:88:4 mm": the unit after the count applies to both ends
         if not re.fullmatch(r"\d+", count_text):
-            raise SceneError(Problem(name, count_text, "the number of values must be a whole number >= 2"))
+            raise SceneError(
+                Problem(name, count_text, "the number of values must be a whole number >= 2")
+            )
         if len(count_text.lstrip("0")) > len(str(MAX_POINTS)):  # not read as a number at all
-            raise SceneError(Problem(name, count_text,
-                                     f"the number of values must be at most {MAX_POINTS}"))
+            raise SceneError(
+                Problem(name, count_text, f"the number of values must be at most {MAX_POINTS}")
+            )
         return _range_axis(name, start, stop, count=int(count_text), unit=unit)
     return _list_axis(name, [parse_cell(v) for v in _split_list(text)])
 
@@ -238,9 +297,20 @@ def axis_from_toml(name: str, value: Any) -> Axis:
         return _list_axis(name, value)
     if isinstance(value, dict):
         unknown = sorted(set(value) - {"from", "to", "count", "step"})
-        if unknown or "from" not in value or "to" not in value or ("count" in value) == ("step" in value):
-            raise SceneError(Problem(name, value, "a range table is { from = ..., to = ..., count = N } or "
-                                     "{ from = ..., to = ..., step = ... }"))
+        if (
+            unknown
+            or "from" not in value
+            or "to" not in value
+            or ("count" in value) == ("step" in value)
+        ):
+            raise SceneError(
+                Problem(
+                    name,
+                    value,
+                    "a range table is { from = ..., to = ..., count = N } or "
+                    "{ from = ..., to = ..., step = ... }",
+                )
+            )
         return _range_axis(name, value["from"], value["to"], value.get("count"), value.get("step"))
     if isinstance(value, str):
         return parse_values(name, value)
@@ -268,12 +338,19 @@ def read_sweep_file(path: Path) -> Sweep:
     except FileNotFoundError:
         raise SceneError(Problem("--grid", source, "file not found"), source) from None
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError) as exc:
-        raise SceneError(Problem("--grid", source, f"not a readable TOML sweep file: {exc}"), source) from None
-    problems = [Problem(key, "", "unknown table; a sweep file has [sweep], [fixed] and [plot]")
-                for key in data if key not in ("sweep", "fixed", "plot")]
+        raise SceneError(
+            Problem("--grid", source, f"not a readable TOML sweep file: {exc}"), source
+        ) from None
+    problems = [
+        Problem(key, "", "unknown table; a sweep file has [sweep], [fixed] and [plot]")
+        for key in data
+        if key not in ("sweep", "fixed", "plot")
+    ]
     plot = data.get("plot", {})
     if not isinstance(plot, dict) or set(plot) - {"x", "y"}:
-        problems.append(Problem("plot", plot, "a table with y = \"<result column>\" and optionally x = \"<field>\""))
+        problems.append(
+            Problem("plot", plot, 'a table with y = "<result column>" and optionally x = "<field>"')
+        )
         plot = {}
     for table in ("sweep", "fixed"):
         if not isinstance(data.get(table, {}), dict):
@@ -293,8 +370,10 @@ def check_field_count(count: int, source: str = "sweep") -> None:
     """At most :data:`~crankdyn.batch.MAX_FIELDS` swept and fixed fields, counted before any is
     read."""
     if count > MAX_FIELDS:
-        raise SceneError(Problem("sweep", f"{count} fields",
-                                 f"at most {MAX_FIELDS} swept and fixed fields"), source)
+        raise SceneError(
+            Problem("sweep", f"{count} fields", f"at most {MAX_FIELDS} swept and fixed fields"),
+            source,
+        )
 
 
 def grid_points(sizes: Iterable[int]) -> int:
@@ -310,25 +389,43 @@ def grid_points(sizes: Iterable[int]) -> int:
 
 # --------------------------------------------------------------------------- the grid
 
+
 def check_sweep(sweep: Sweep) -> None:
     """The field names by the batch/API rules, no field twice, something swept, a bounded grid."""
     check_field_count(len(sweep.axes) + len(sweep.fixed))
     names = [a.name for a in sweep.axes]
     counts = collections.Counter(names)
-    problems = [Problem(n, "", "swept twice")
-                for n in sorted(n for n, k in counts.items() if k > 1)]
-    problems += [Problem(n, sweep.fixed[n], "both swept and fixed: give one or the other")
-                 for n in names if n in sweep.fixed]
+    problems = [
+        Problem(n, "", "swept twice") for n in sorted(n for n, k in counts.items() if k > 1)
+    ]
+    problems += [
+        Problem(n, sweep.fixed[n], "both swept and fixed: give one or the other")
+        for n in names
+        if n in sweep.fixed
+    ]
     if not sweep.axes:
-        problems.append(Problem("--set", "", "nothing to sweep: give a field with several values, "
-                                "e.g. --set engine.rpm=2000:6000:5"))
+        problems.append(
+            Problem(
+                "--set",
+                "",
+                "nothing to sweep: give a field with several values, "
+                "e.g. --set engine.rpm=2000:6000:5",
+            )
+        )
     if sweep.points > MAX_POINTS:
-        problems.append(Problem("sweep", f"more than {MAX_POINTS} points",
-                                f"at most {MAX_POINTS} points in the grid (the product of the "
-                                "numbers of values of the swept fields)"))
+        problems.append(
+            Problem(
+                "sweep",
+                f"more than {MAX_POINTS} points",
+                f"at most {MAX_POINTS} points in the grid (the product of the "
+                "numbers of values of the swept fields)",
+            )
+        )
     if problems:
         raise SceneError(problems, "sweep")
-    _nested_overrides({**{a.name: a.values[0] for a in sweep.axes}, **sweep.fixed})  # the batch/API name rules
+    _nested_overrides(
+        {**{a.name: a.values[0] for a in sweep.axes}, **sweep.fixed}
+    )  # the batch/API name rules
 
 
 def variants(sweep: Sweep) -> tuple[list[str], list[Variant]]:
@@ -363,7 +460,9 @@ def base_for(base: dict, sweep: Sweep) -> tuple[dict, list[str]]:
     return base, notes
 
 
-def value_problems(base: dict, base_dir: str, sweep: Sweep, data_dirs: tuple[str, ...]) -> list[Problem]:
+def value_problems(
+    base: dict, base_dir: str, sweep: Sweep, data_dirs: tuple[str, ...]
+) -> list[Problem]:
     """Each value of each swept field tried against the base scene: a value the scene refuses whatever
     the other fields are is refused before anything runs.
 
@@ -377,10 +476,14 @@ def value_problems(base: dict, base_dir: str, sweep: Sweep, data_dirs: tuple[str
     last = {a.name: a.values[-1] for a in sweep.axes}
     for axis in sweep.axes:
         for value in axis.values:
-            found = _scene_problems(base, base_dir, {**sweep.fixed, **first, axis.name: value}, data_dirs)
+            found = _scene_problems(
+                base, base_dir, {**sweep.fixed, **first, axis.name: value}, data_dirs
+            )
             own = [p for p in found if p.field == axis.name]
             if own:
-                again = _scene_problems(base, base_dir, {**sweep.fixed, **last, axis.name: value}, data_dirs)
+                again = _scene_problems(
+                    base, base_dir, {**sweep.fixed, **last, axis.name: value}, data_dirs
+                )
                 own = [p for p in own if str(p) in {str(q) for q in again}]
             for problem in own + [p for p in found if p.field not in first]:
                 problems.setdefault(str(problem), problem)
@@ -400,22 +503,29 @@ def _merged(problems: list[Problem]) -> list[Problem]:
     values: dict[tuple[str, str], list[Any]] = {}
     for problem in problems:
         values.setdefault((problem.field, problem.allowed), []).append(problem.value)
-    return [Problem(name, found[0] if len(found) == 1 else _Values(found), allowed)
-            for (name, allowed), found in values.items()]
+    return [
+        Problem(name, found[0] if len(found) == 1 else _Values(found), allowed)
+        for (name, allowed), found in values.items()
+    ]
 
 
-def _scene_problems(base: dict, base_dir: str, values: dict[str, Any], data_dirs: tuple[str, ...]) -> list[Problem]:
+def _scene_problems(
+    base: dict, base_dir: str, values: dict[str, Any], data_dirs: tuple[str, ...]
+) -> list[Problem]:
     overrides: dict = {}
     for name, value in values.items():
         overrides = merge(overrides, _nest(name, value))
     try:
-        scene_from_dict(merge(base, overrides), base_dir=base_dir, source="sweep", data_dirs=data_dirs)
+        scene_from_dict(
+            merge(base, overrides), base_dir=base_dir, source="sweep", data_dirs=data_dirs
+        )
     except SceneError as exc:
         return list(exc.problems)
     return []
 
 
 # --------------------------------------------------------------------------- running it
+
 
 @dataclass
 class SweepRequest:
@@ -436,26 +546,45 @@ def check_request(request: SweepRequest) -> None:
     check_options(request.options)
     bad = [f for f in request.key_formats if f not in KEY_FORMATS]
     if bad or not request.key_formats:
-        raise UsageError(f"unknown --key {','.join(bad) or '(none)'}; allowed: a subset of {','.join(KEY_FORMATS)}")
+        raise UsageError(
+            f"unknown --key {','.join(bad) or '(none)'}; allowed: a subset of {','.join(KEY_FORMATS)}"
+        )
     bad = [f for f in request.plot_formats if f not in PLOT_FORMATS]
     if bad or not request.plot_formats:
-        raise UsageError(f"unknown --plot-format {','.join(bad)}; allowed: a subset of {','.join(PLOT_FORMATS)}")
+        raise UsageError(
+            f"unknown --plot-format {','.join(bad)}; allowed: a subset of {','.join(PLOT_FORMATS)}"
+        )
     if "parquet" in request.key_formats:
         if importlib.util.find_spec("pyarrow") is None:
-            raise UsageError("--key parquet needs pyarrow; install it with: pip install 'crankdyn[parquet]'")
+            raise UsageError(
+                "--key parquet needs pyarrow; install it with: pip install 'crankdyn[parquet]'"
+            )
     if sweep.plot_y is not None:
         columns = [c.name for c in answer_columns(_registry())]
         if sweep.plot_y not in columns:
-            raise SceneError(Problem("--plot", sweep.plot_y, "a result column of the answer key: "
-                                     + ", ".join(columns)))
+            raise SceneError(
+                Problem(
+                    "--plot",
+                    sweep.plot_y,
+                    "a result column of the answer key: " + ", ".join(columns),
+                )
+            )
         names = [a.name for a in sweep.axes]
         if sweep.plot_x is not None and sweep.plot_x not in names:
-            raise SceneError(Problem("--plot-x", sweep.plot_x, "a swept field: " + ", ".join(names)))
+            raise SceneError(
+                Problem("--plot-x", sweep.plot_x, "a swept field: " + ", ".join(names))
+            )
         lines = math.prod(len(a.values) for a in sweep.axes if a.name != (sweep.plot_x or names[0]))
         if lines > MAX_PLOT_LINES:
-            raise SceneError(Problem("--plot", sweep.plot_y, f"would draw {lines} lines (one per combination of "
-                                     f"the other swept fields); at most {MAX_PLOT_LINES}: sweep fewer values, "
-                                     "or leave --plot out and plot the answer key yourself"))
+            raise SceneError(
+                Problem(
+                    "--plot",
+                    sweep.plot_y,
+                    f"would draw {lines} lines (one per combination of "
+                    f"the other swept fields); at most {MAX_PLOT_LINES}: sweep fewer values, "
+                    "or leave --plot out and plot the answer key yourself",
+                )
+            )
 
 
 def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
@@ -485,8 +614,18 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
         notes += [note] if note else []
     written = write_outputs(Path(request.out_dir), files, force=request.options.force)
     seconds = time.perf_counter() - start
-    return (BatchReport(Path(request.out_dir), outcomes, seconds, written, bool(stop_signal),
-                        key_warnings(outcomes), stop_signal), notes)
+    return (
+        BatchReport(
+            Path(request.out_dir),
+            outcomes,
+            seconds,
+            written,
+            bool(stop_signal),
+            key_warnings(outcomes),
+            stop_signal,
+        ),
+        notes,
+    )
 
 
 def base_studies(base: dict, base_dir: str, options: RunOptions) -> list[str]:
@@ -498,12 +637,16 @@ def base_studies(base: dict, base_dir: str, options: RunOptions) -> list[str]:
     try:
         scene = _variant_scene(base, base_dir, variant, options.language, data_dirs)
     except SceneError as exc:
-        return [f"the studies (error against run time) did not run: the base scene alone is not "
-                f"valid ({'; '.join(str(p) for p in exc.problems)})"]
+        return [
+            f"the studies (error against run time) did not run: the base scene alone is not "
+            f"valid ({'; '.join(str(p) for p in exc.problems)})"
+        ]
     return study_once(scene, _registry(), options.stages)
 
 
-def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, plot_x: str | None) -> Sweep:
+def sweep_from_args(
+    sets: Iterable[str], grid: Path | None, plot_y: str | None, plot_x: str | None
+) -> Sweep:
     """The sweep of ``--grid FILE`` with ``--set NAME=VALUES`` laid over it (a --set replaces the file's field)."""
     sweep = read_sweep_file(grid) if grid else Sweep([])
     sets = list(sets)
@@ -514,8 +657,13 @@ def sweep_from_args(sets: Iterable[str], grid: Path | None, plot_y: str | None, 
         name, equals, values = text.partition("=")
         name = name.strip()
         if not equals or not name:
-            raise SceneError(Problem("--set", text, "NAME=VALUES, e.g. engine.rpm=2000:6000:5 or "
-                                     "engine.rod_ratio=0.26,0.28,0.3"))
+            raise SceneError(
+                Problem(
+                    "--set",
+                    text,
+                    "NAME=VALUES, e.g. engine.rpm=2000:6000:5 or engine.rod_ratio=0.26,0.28,0.3",
+                )
+            )
         axis = parse_values(name, values)
         sweep.axes = [a for a in sweep.axes if a.name != name]
         sweep.fixed.pop(name, None)

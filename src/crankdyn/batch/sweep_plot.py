@@ -52,8 +52,10 @@ def draw(sweep, outcomes: list[Outcome]):
     fig, ax = new_figure(16.0, 9.0)
     for combination in itertools.product(*(range(len(a.values)) for a in others)):
         ys = moved[combination] if combination else moved
-        label = ", ".join(f"{a.name} = {a.cell(k)}{' ' + a.unit if a.unit else ''}"
-                          for a, k in zip(others, combination, strict=True))
+        label = ", ".join(
+            f"{a.name} = {a.cell(k)}{' ' + a.unit if a.unit else ''}"
+            for a, k in zip(others, combination, strict=True)
+        )
         ax.plot(xs, ys, marker="o", markersize=3.5, label=label or None)
     if not numeric:
         ax.set_xticks(xs, [str(v) for v in x_axis.values])
@@ -71,8 +73,10 @@ def plot_files(sweep, outcomes: list[Outcome], formats: list[str]) -> tuple[dict
 
     fig = draw(sweep, outcomes)
     if fig is None:
-        return {}, (f"no point has a value of {sweep.plot_y} (its stage did not run for this scene): "
-                    "no plot written")
+        return {}, (
+            f"no point has a value of {sweep.plot_y} (its stage did not run for this scene): "
+            "no plot written"
+        )
     stem = f"sweep-{sweep.plot_y}"
     files = {}
     if "png" in formats:

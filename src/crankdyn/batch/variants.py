@@ -71,8 +71,10 @@ MAX_VARIANT_NAME_BYTES = 160
 #: one of them, or its folder would take the place of the answer key, failure list or manifest.
 KEY_FILE_NAMES = ("answer_key.csv", "answer_key.xlsx", "failures.csv")
 """The files a batch writes in its output folder besides one folder per variant."""
-RESERVED_NAMES = frozenset(n.casefold() for n in (
-    "answer_key.csv", "answer_key.xlsx", "answer_key.parquet", "failures.csv", MANIFEST))
+RESERVED_NAMES = frozenset(
+    n.casefold()
+    for n in ("answer_key.csv", "answer_key.xlsx", "answer_key.parquet", "failures.csv", MANIFEST)
+)
 
 # The answer key's columns are declared by the stages (``Stage.answer_columns``) and
 # collected from the registry by :mod:`crankdyn.answer_key`; this module names no result key.
@@ -96,7 +98,9 @@ class Outcome:
     error: str = ""
     answers: dict[str, Any] = field(default_factory=dict)
     stages_run: list[str] = field(default_factory=list)
-    absent: list[str] = field(default_factory=list)  # answer-key columns whose key its stage's results lack
+    absent: list[str] = field(
+        default_factory=list
+    )  # answer-key columns whose key its stage's results lack
     files: int = 0
     rendered: dict[str, bytes] | None = None  # files rendered on a Dask worker, until written here
 
@@ -108,7 +112,9 @@ class BatchReport:
     seconds: float
     written: list[Path]
     interrupted: bool = False  # Ctrl-C or SIGTERM ended the run; unfinished variants failed
-    warnings: list[str] = field(default_factory=list)  # for the user, once per batch (answer_key.unanswered)
+    warnings: list[str] = field(
+        default_factory=list
+    )  # for the user, once per batch (answer_key.unanswered)
     stop_signal: int = 0  # the signal that ended it (signal.SIGINT, signal.SIGTERM), 0 if none
 
     @property
@@ -117,6 +123,7 @@ class BatchReport:
 
 
 # --------------------------------------------------------------------------- reading the CSV
+
 
 def parse_cell(text: str) -> Any:
     """A CSV cell as a TOML value: ``82`` -> 82, ``0.28`` -> 0.28, ``true``, ``[1, 3, 4, 2]``;
@@ -155,15 +162,26 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
             if csv_path.exists():
                 raise SceneError(Problem("variants", source, "not a regular file"), source)
         elif csv_path.stat().st_size > MAX_VARIANTS_FILE_BYTES:
-            raise SceneError(Problem("variants", source, f"a variants file may be at most "
-                                     f"{MAX_VARIANTS_FILE_BYTES} bytes (it has "
-                                     f"{csv_path.stat().st_size})"), source)
+            raise SceneError(
+                Problem(
+                    "variants",
+                    source,
+                    f"a variants file may be at most "
+                    f"{MAX_VARIANTS_FILE_BYTES} bytes (it has "
+                    f"{csv_path.stat().st_size})",
+                ),
+                source,
+            )
         text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
     except FileNotFoundError:
         raise SceneError(Problem("variants", source, "file not found"), source) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(Problem("variants", source, f"cannot read the file as UTF-8 CSV ({exc.__class__.__name__})"),
-                         source) from None
+        raise SceneError(
+            Problem(
+                "variants", source, f"cannot read the file as UTF-8 CSV ({exc.__class__.__name__})"
+            ),
+            source,
+        ) from None
     sample = text[:4096]
     try:
         dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
@@ -172,8 +190,9 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     try:
         rows = list(csv.reader(io.StringIO(text), dialect))
     except csv.Error as exc:  # a cell beyond the csv module's field size limit, a NUL byte
-        raise SceneError(Problem("variants", source, f"not a readable CSV file: {exc}"),
-                         source) from None
+        raise SceneError(
+            Problem("variants", source, f"not a readable CSV file: {exc}"), source
+        ) from None
     # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
     # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
     decimal_comma = dialect.delimiter != ","
@@ -181,8 +200,15 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     numbered = [(k, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
     rows = [r for _, r in numbered]
     if not rows:
-        raise SceneError(Problem("variants", source, "empty file; the first row names the scene fields, "
-                                 "e.g. variant,report.student,engine.bore"), source)
+        raise SceneError(
+            Problem(
+                "variants",
+                source,
+                "empty file; the first row names the scene fields, "
+                "e.g. variant,report.student,engine.bore",
+            ),
+            source,
+        )
     header = [h.strip() for h in rows[0]]
     _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(rows) - 1)
     fields = _header_fields(source, header)
@@ -195,10 +221,16 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     for record, cells in numbered[1:]:
         row_number = record - header_index
         error = None
-        if len(cells) > len(header) and any(c.strip() for c in cells[len(header):]):
+        if len(cells) > len(header) and any(c.strip() for c in cells[len(header) :]):
             error = f"row has {len(cells)} cells but the header names {len(header)} columns"
-        cells = (cells + [""] * len(header))[:len(header)]
-        row = dict(zip(header, (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells), strict=True))
+        cells = (cells + [""] * len(header))[: len(header)]
+        row = dict(
+            zip(
+                header,
+                (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells),
+                strict=True,
+            )
+        )
         overrides: dict = {}
         for name in fields:
             if row[name] != "":  # an empty cell keeps the base scene's value
@@ -207,11 +239,18 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         name = folder_name(wanted, f"{row_number:0{width}d}")
         if wanted.casefold() in RESERVED_NAMES or name.casefold() in RESERVED_NAMES:
             own = ", ".join(sorted(RESERVED_NAMES))
-            reserved.append(Problem(f"row {row_number}, column {VARIANT_COLUMN}", wanted,
-                                    f"a name of the batch's own files ({own}); "
-                                    "give the variant another id"))
+            reserved.append(
+                Problem(
+                    f"row {row_number}, column {VARIANT_COLUMN}",
+                    wanted,
+                    f"a name of the batch's own files ({own}); give the variant another id",
+                )
+            )
         if name in names:
-            error = error or f"variant id {wanted!r} is used by row {names[name]} too; ids must be unique"
+            error = (
+                error
+                or f"variant id {wanted!r} is used by row {names[name]} too; ids must be unique"
+            )
             name = f"{name}__row{row_number}"
         names.setdefault(name, row_number)
         variants.append(Variant(row_number, name, overrides, row, error))
@@ -226,19 +265,32 @@ def _header_fields(source: str, header: list[str]) -> list[str]:
     seen: set[str] = set()
     for i, name in enumerate(header, start=1):
         if not name:
-            problems.append(Problem(f"column {i}", name, "empty column name; name a scene field such as engine.bore"))
+            problems.append(
+                Problem(
+                    f"column {i}", name, "empty column name; name a scene field such as engine.bore"
+                )
+            )
         elif name in seen:
             problems.append(Problem(f"column {i}", name, "named twice"))
-        elif name != VARIANT_COLUMN and (any(not part for part in name.split("."))
-                                          or not re.fullmatch(r"[A-Za-z_][\w.]*", name)):
-            problems.append(Problem(f"column {i}", name, "not a dotted scene path such as engine.bore or "
-                                    "cycle.rounding.ignition_advance_deg"))
+        elif name != VARIANT_COLUMN and (
+            any(not part for part in name.split(".")) or not re.fullmatch(r"[A-Za-z_][\w.]*", name)
+        ):
+            problems.append(
+                Problem(
+                    f"column {i}",
+                    name,
+                    "not a dotted scene path such as engine.bore or "
+                    "cycle.rounding.ignition_advance_deg",
+                )
+            )
         seen.add(name)
     fields = [h for h in header if h != VARIANT_COLUMN]
     for a in fields:
         for b in fields:
             if b.startswith(a + "."):
-                problems.append(Problem(f"column {b}", b, f"conflicts with column {a}: give one or the other"))
+                problems.append(
+                    Problem(f"column {b}", b, f"conflicts with column {a}: give one or the other")
+                )
     if not fields:
         problems.append(Problem("variants", ",".join(header), "no column overrides a scene field"))
     if problems:
@@ -250,12 +302,17 @@ def _check_size(source: str, fields: int, rows: int) -> None:
     """At most :data:`MAX_FIELDS` override columns and :data:`MAX_VARIANTS` rows (not blank)."""
     problems = []
     if fields > MAX_FIELDS:
-        problems.append(Problem("variants", f"{fields} scene field columns",
-                                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} "
-                                "column)"))
+        problems.append(
+            Problem(
+                "variants",
+                f"{fields} scene field columns",
+                f"at most {MAX_FIELDS} scene fields (besides the {VARIANT_COLUMN} column)",
+            )
+        )
     if rows > MAX_VARIANTS:
-        problems.append(Problem("variants", f"{rows} rows",
-                                f"at most {MAX_VARIANTS} variants in one batch"))
+        problems.append(
+            Problem("variants", f"{rows} rows", f"at most {MAX_VARIANTS} variants in one batch")
+        )
     if problems:
         raise SceneError(problems, source)
 
@@ -268,7 +325,7 @@ def folder_name(wanted: str, fallback: str) -> str:
     if len(name) <= MAX_VARIANT_NAME_CHARS and len(name.encode("utf-8")) <= MAX_VARIANT_NAME_BYTES:
         return name
     suffix = "-" + hashlib.sha256(wanted.encode("utf-8", "surrogatepass")).hexdigest()[:8]
-    head = name[:MAX_VARIANT_NAME_CHARS - len(suffix)]
+    head = name[: MAX_VARIANT_NAME_CHARS - len(suffix)]
     while len(head.encode("utf-8")) > MAX_VARIANT_NAME_BYTES - len(suffix):
         head = head[:-1]
     head = head.rstrip("._-")
@@ -283,14 +340,22 @@ _worker_registry = None
 def _registry():
     global _worker_registry
     if _worker_registry is None:
-
         _worker_registry = default_registry()
     return _worker_registry
 
 
-def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, formats: list[str],
-                language: str | None, stages: list[str] | None, data_dirs: tuple[str, ...] = (),
-                return_files: bool = False, force: bool = False) -> Outcome:
+def run_variant(
+    base: dict,
+    base_dir: str,
+    variant: Variant,
+    out_dir: str,
+    formats: list[str],
+    language: str | None,
+    stages: list[str] | None,
+    data_dirs: tuple[str, ...] = (),
+    return_files: bool = False,
+    force: bool = False,
+) -> Outcome:
     """Compute and write one variant; never raises (an error is part of the outcome).
 
     With ``return_files`` the files are rendered in memory and returned in ``Outcome.rendered``
@@ -307,19 +372,27 @@ def run_variant(base: dict, base_dir: str, variant: Variant, out_dir: str, forma
         if return_files:
             rendered, count = files, len(files)
         elif formats:
-
             count = len(write_outputs(Path(out_dir) / variant.name, files, force=force))
         else:
             count = 0
 
         document = outputs.results_document(result)
         columns = answer_key.answer_columns(_registry())
-        return Outcome(variant.row, variant.name, True, time.perf_counter() - start,
-                       answers=answer_key.answers(document, columns), stages_run=list(result.stages_run), files=count,
-                       rendered=rendered, absent=answer_key.absent(document, columns))
+        return Outcome(
+            variant.row,
+            variant.name,
+            True,
+            time.perf_counter() - start,
+            answers=answer_key.answers(document, columns),
+            stages_run=list(result.stages_run),
+            files=count,
+            rendered=rendered,
+            absent=answer_key.absent(document, columns),
+        )
     except Exception as exc:  # noqa: BLE001 - one bad row must not stop the batch
-        return Outcome(variant.row, variant.name, False, time.perf_counter() - start,
-                       error_text(exc))
+        return Outcome(
+            variant.row, variant.name, False, time.perf_counter() - start, error_text(exc)
+        )
 
 
 def error_text(exc: Exception) -> str:
@@ -331,22 +404,30 @@ def error_text(exc: Exception) -> str:
     return f"internal error: {exc.__class__.__name__}: {exc}"
 
 
-def _variant_scene(base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]):
+def _variant_scene(
+    base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]
+):
     """The base scene with the variant's overrides, its id on the title page and the batch's language."""
 
     data = merge(base, variant.overrides)
     if "variant" not in variant.overrides.get("report", {}):  # the title page names its own variant
-        data = merge(data, {"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}})
+        data = merge(
+            data, {"report": {"variant": variant.cells.get(VARIANT_COLUMN) or variant.name}}
+        )
     if language:
         data = merge(data, {"report": {"language": language}})
-    return scene_from_dict(data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs)
+    return scene_from_dict(
+        data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs
+    )
 
 
 def _compute(scene, formats: list[str], stages: list[str] | None):
     """(run result, rendered files) through the one path of ``crankdyn report``; one process per
     variant (the batch's ``--jobs`` share the CPUs between variants, not between figures)."""
 
-    return run_and_render(scene, _registry(), formats, stages, available_languages(), figure_workers=1)
+    return run_and_render(
+        scene, _registry(), formats, stages, available_languages(), figure_workers=1
+    )
 
 
 _warmed: set[str] = set()
@@ -361,7 +442,9 @@ def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
     variant's worker process would pay for each of them again.
     """
     formats, languages = set(formats), tuple(languages)
-    wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {f"language:{x}" for x in languages}
+    wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {
+        f"language:{x}" for x in languages
+    }
     if _warmed and wanted <= _warmed:  # a Dask worker calls this before every task: once is enough
         return
     _warmed.update(wanted | {"plugins"})
@@ -391,6 +474,7 @@ def answers(document: dict) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------------------- the batch
+
 
 def available_cores() -> int:
     """The cores this process may run on (a container's CPU set, not the host's count)."""
@@ -448,11 +532,22 @@ class RunOptions:
     force: bool = False  # replace files in the output folder that crankdyn did not write
 
 
-def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[str] = ("html", "pdf", "json", "csv"),
-              jobs: int | None = None, language: str | None = None, stages: list[str] | None = None,
-              progress: bool = True, on_outcome: Callable[[Outcome], None] | None = None,
-              timeout: float | None = None, data_dirs: tuple[str, ...] = (), scheduler: str | None = None,
-              connect_timeout: float = 10.0, force: bool = False) -> BatchReport:
+def run_batch(
+    csv_path: Path,
+    base_path: Path,
+    out_dir: Path,
+    formats: Iterable[str] = ("html", "pdf", "json", "csv"),
+    jobs: int | None = None,
+    language: str | None = None,
+    stages: list[str] | None = None,
+    progress: bool = True,
+    on_outcome: Callable[[Outcome], None] | None = None,
+    timeout: float | None = None,
+    data_dirs: tuple[str, ...] = (),
+    scheduler: str | None = None,
+    connect_timeout: float = 10.0,
+    force: bool = False,
+) -> BatchReport:
     """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
 
     Each row runs in a worker process limited to ``timeout`` seconds (default 120) — on this
@@ -461,18 +556,39 @@ def run_batch(csv_path: Path, base_path: Path, out_dir: Path, formats: Iterable[
     """
 
     start = time.perf_counter()
-    options = RunOptions(list(formats), jobs, language, stages, progress, on_outcome, timeout, data_dirs,
-                         scheduler, connect_timeout, force)
+    options = RunOptions(
+        list(formats),
+        jobs,
+        language,
+        stages,
+        progress,
+        on_outcome,
+        timeout,
+        data_dirs,
+        scheduler,
+        connect_timeout,
+        force,
+    )
     check_options(options)
     base, base_dir = load_base(base_path)
     fields, variants = read_variants(Path(csv_path))
     check_outputs(Path(out_dir), KEY_FILE_NAMES, force=force)  # refused before hours of computing
     outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
-    written = write_outputs(Path(out_dir), key_files(fields, outcomes, variants, language=batch_language(base, options)),
-                            force=force)
-    return BatchReport(Path(out_dir), outcomes, time.perf_counter() - start, written,
-                       bool(stop_signal), key_warnings(outcomes), stop_signal)
+    written = write_outputs(
+        Path(out_dir),
+        key_files(fields, outcomes, variants, language=batch_language(base, options)),
+        force=force,
+    )
+    return BatchReport(
+        Path(out_dir),
+        outcomes,
+        time.perf_counter() - start,
+        written,
+        bool(stop_signal),
+        key_warnings(outcomes),
+        stop_signal,
+    )
 
 
 def check_options(options: RunOptions) -> None:
@@ -485,8 +601,9 @@ def check_options(options: RunOptions) -> None:
 def key_warnings(outcomes: list[Outcome]) -> list[str]:
     """The answer key's warnings, once per batch (not per variant): columns whose key no variant's
     stage results held (:func:`crankdyn.answer_key.unanswered`)."""
-    return answer_key.unanswered(answer_key.answer_columns(_registry()),
-                                 [(o.stages_run, o.absent) for o in outcomes if o.ok])
+    return answer_key.unanswered(
+        answer_key.answer_columns(_registry()), [(o.stages_run, o.absent) for o in outcomes if o.ok]
+    )
 
 
 def load_base(base_path: Path) -> tuple[dict, str]:
@@ -497,12 +614,15 @@ def load_base(base_path: Path) -> tuple[dict, str]:
     except FileNotFoundError:
         raise SceneError(Problem("--base", base_source, "file not found"), base_source) from None
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError) as exc:
-        raise SceneError(Problem("--base", base_source, f"not a readable TOML scene: {exc}"), base_source) from None
+        raise SceneError(
+            Problem("--base", base_source, f"not a readable TOML scene: {exc}"), base_source
+        ) from None
     return base, str(Path(base_path).parent.resolve())
 
 
-def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
-            options: RunOptions) -> tuple[list[Outcome], int]:
+def execute(
+    variants: list[Variant], base: dict, base_dir: str, out_dir: Path, options: RunOptions
+) -> tuple[list[Outcome], int]:
     """Run the variants (local worker processes, or the Dask cluster of ``options.scheduler``).
 
     Returns the outcomes in row order and the signal that interrupted the run (SIGINT for
@@ -532,17 +652,38 @@ def execute(variants: list[Variant], base: dict, base_dir: str, out_dir: Path,
             if client is None:
                 warm(formats, languages)  # forked workers inherit the loaded plugins and libraries
                 jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
-                tail = (str(out_dir), formats, options.language, options.stages, data_dirs, False,
-                        options.force)
-                run_all(variants, run_variant, lambda v: (base, base_dir, v, *tail), jobs, timeout,
-                        finished, failed)
+                tail = (
+                    str(out_dir),
+                    formats,
+                    options.language,
+                    options.stages,
+                    data_dirs,
+                    False,
+                    options.force,
+                )
+                run_all(
+                    variants,
+                    run_variant,
+                    lambda v: (base, base_dir, v, *tail),
+                    jobs,
+                    timeout,
+                    finished,
+                    failed,
+                )
             else:
                 tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
                 try:
-                    run_all_dask(variants, run_variant, lambda v: (base, base_dir, v, *tail), client,
-                                 timeout, finished, failed,
-                                 prepare=partial(warm, tuple(formats), languages),
-                                 collect=partial(_write_rendered, Path(out_dir), force=options.force))
+                    run_all_dask(
+                        variants,
+                        run_variant,
+                        lambda v: (base, base_dir, v, *tail),
+                        client,
+                        timeout,
+                        finished,
+                        failed,
+                        prepare=partial(warm, tuple(formats), languages),
+                        collect=partial(_write_rendered, Path(out_dir), force=options.force),
+                    )
                 finally:
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
@@ -587,22 +728,27 @@ def _client(options: RunOptions):
     try:
         return connect(address, options.connect_timeout)
     except ImportError:
-        raise UsageError(f"--scheduler {address}: running on a Dask cluster needs dask and distributed; "
-                         "install them with: pip install 'crankdyn[dask]'") from None
+        raise UsageError(
+            f"--scheduler {address}: running on a Dask cluster needs dask and distributed; "
+            "install them with: pip install 'crankdyn[dask]'"
+        ) from None
     except ValueError as exc:
-        raise UsageError(f"--scheduler {address}: not a scheduler address ({exc}); give what 'dask scheduler' "
-                         "prints, e.g. tcp://192.168.1.10:8786") from None
+        raise UsageError(
+            f"--scheduler {address}: not a scheduler address ({exc}); give what 'dask scheduler' "
+            "prints, e.g. tcp://192.168.1.10:8786"
+        ) from None
     except ConnectionError as exc:
-        raise UsageError(f"--scheduler {address}: cannot reach a Dask scheduler there within "
-                         f"{options.connect_timeout:g} s ({exc}); start one with 'dask scheduler' and give the "
-                         "address it prints (tcp://HOST:8786)") from None
+        raise UsageError(
+            f"--scheduler {address}: cannot reach a Dask scheduler there within "
+            f"{options.connect_timeout:g} s ({exc}); start one with 'dask scheduler' and give the "
+            "address it prints (tcp://HOST:8786)"
+        ) from None
 
 
 def _write_rendered(out_dir: Path, outcome: Outcome, force: bool = False) -> Outcome:
     """Write the files a Dask worker rendered for one variant below ``out_dir/<variant>/``."""
     files, outcome.rendered = outcome.rendered, None
     if outcome.ok and files:
-
         try:
             outcome.files = len(write_outputs(out_dir / outcome.name, files, force=force))
         except (OSError, CrankdynError) as exc:
@@ -610,9 +756,14 @@ def _write_rendered(out_dir: Path, outcome: Outcome, force: bool = False) -> Out
     return outcome
 
 
-def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant],
-              formats: Iterable[str] = ("csv", "xlsx"), language: str = i18n.FALLBACK,
-              notes: Iterable[str] = ()) -> dict[str, bytes]:
+def key_files(
+    fields: list[str],
+    outcomes: list[Outcome],
+    variants: list[Variant],
+    formats: Iterable[str] = ("csv", "xlsx"),
+    language: str = i18n.FALLBACK,
+    notes: Iterable[str] = (),
+) -> dict[str, bytes]:
     """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv.
 
     The workbook shows each result column's label (``AnswerColumn.label_key``) in ``language``
@@ -620,9 +771,11 @@ def key_files(fields: list[str], outcomes: list[Outcome], variants: list[Variant
     CSV and Parquet keys carry the column names only.
     """
     by_row = {v.row: v for v in variants}
-    makers = {"csv": _answer_key_csv,
-              "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
-              "parquet": _answer_key_parquet}
+    makers = {
+        "csv": _answer_key_csv,
+        "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
+        "parquet": _answer_key_parquet,
+    }
     files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
     if any(not o.ok for o in outcomes):
         files["failures.csv"] = _failures_csv(outcomes, by_row)
@@ -635,11 +788,17 @@ def answer_labels(language: str = i18n.FALLBACK) -> dict[str, str]:
     registry = _registry()
     t = i18n.translator(language, registry.catalogs)
     key_columns = answer_key.answer_columns(registry)
-    return {c.name: t(c.declared.label_key) if c.declared.label_key and t.has(c.declared.label_key) else c.name
-            for c in key_columns}
+    return {
+        c.name: t(c.declared.label_key)
+        if c.declared.label_key and t.has(c.declared.label_key)
+        else c.name
+        for c in key_columns
+    }
 
 
-def _answer_rows(fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
+def _answer_rows(
+    fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]
+) -> tuple[list[str], list[list]]:
     """Successful variants only: id, row, the variant's own inputs as given, then the results."""
     answer_names = [c.name for c in answer_key.answer_columns(_registry())]
     ran = [o for o in outcomes if o.ok]
@@ -689,16 +848,21 @@ def _answer_key_csv(fields, outcomes, by_row) -> bytes:
     return _csv_bytes(*_answer_rows(fields, outcomes, by_row))
 
 
-def _failure_rows(outcomes: list[Outcome], by_row: dict[int, Variant]) -> tuple[list[str], list[list]]:
-    return [VARIANT_COLUMN, "row", "error"], [[o.name, o.row, o.error] for o in outcomes if not o.ok]
+def _failure_rows(
+    outcomes: list[Outcome], by_row: dict[int, Variant]
+) -> tuple[list[str], list[list]]:
+    return [VARIANT_COLUMN, "row", "error"], [
+        [o.name, o.row, o.error] for o in outcomes if not o.ok
+    ]
 
 
 def _failures_csv(outcomes, by_row) -> bytes:
     return _csv_bytes(*_failure_rows(outcomes, by_row))
 
 
-def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK,
-                     notes: list[str] = ()) -> bytes:
+def _answer_key_xlsx(
+    fields, outcomes, by_row, language: str = i18n.FALLBACK, notes: list[str] = ()
+) -> bytes:
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
     header, rows = _answer_rows(fields, outcomes, by_row)
@@ -706,7 +870,13 @@ def _answer_key_xlsx(fields, outcomes, by_row, language: str = i18n.FALLBACK,
     labels = answer_labels(language)
     # The labels row above the column names: a result column's translated label, any other column
     # (variant, row, the variant's inputs) its own name.
-    sheets = [("answer key", pd.DataFrame(rows, columns=header), [neutralised(labels.get(c, c)) for c in header])]
+    sheets = [
+        (
+            "answer key",
+            pd.DataFrame(rows, columns=header),
+            [neutralised(labels.get(c, c)) for c in header],
+        )
+    ]
     failed_header, failed_rows = _failure_rows(outcomes, by_row)
     failed_rows = [[neutralised(v) for v in row] for row in failed_rows]
     if failed_rows:
@@ -726,7 +896,9 @@ def _answer_key_parquet(fields, outcomes, by_row) -> bytes:
         # A column Parquet can type: empty cells missing, mixed numbers and text all as text.
         values = frame[name].map(lambda v: None if v == "" else v)
         kinds = {type(v) for v in values if v is not None}
-        frame[name] = values if len(kinds) <= 1 else values.map(lambda v: None if v is None else str(v))
+        frame[name] = (
+            values if len(kinds) <= 1 else values.map(lambda v: None if v is None else str(v))
+        )
     buffer = io.BytesIO()
     frame.to_parquet(buffer, engine="pyarrow", index=False)
     return buffer.getvalue()

@@ -31,7 +31,9 @@ from ..scene.model import Scene, options
 class Plan:
     order: list[Stage]
     skipped: dict[str, str]  # stage name -> reason
-    registry: Registry | None = field(default=None, repr=False, compare=False)  # for stages' services
+    registry: Registry | None = field(
+        default=None, repr=False, compare=False
+    )  # for stages' services
 
 
 def is_study(stage: Stage) -> bool:
@@ -60,7 +62,9 @@ class RunResult:
             return self.outputs.get(name)
         stage = next(s for s in self.plan.order if s.name == name)
         taken = self.background.take(name) if self.background is not None else None
-        output, elapsed = taken if taken is not None else run_stage(stage, self.scene, self.deferred[name])
+        output, elapsed = (
+            taken if taken is not None else run_stage(stage, self.scene, self.deferred[name])
+        )
         del self.deferred[name]
         self.outputs[name] = output
         self.timing_s[name] = elapsed
@@ -96,9 +100,13 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
     broken = broken_note(registry)
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
     if mechanism is None:
-        problems.append(Problem("engine.mechanism", scene.engine.mechanism,
-                                "unknown mechanism; installed: "
-                                + ", ".join(sorted(registry.mechanisms)) + broken))
+        problems.append(
+            Problem(
+                "engine.mechanism",
+                scene.engine.mechanism,
+                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms)) + broken,
+            )
+        )
     else:
         if mechanism.params_model is not None:
             try:
@@ -106,20 +114,37 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
             except SceneError as exc:
                 problems += exc.problems
         elif scene.mechanism:
-            problems.append(Problem("mechanism", scene.mechanism,
-                                    f"the {mechanism.name!r} mechanism takes no [mechanism] table"))
+            problems.append(
+                Problem(
+                    "mechanism",
+                    scene.mechanism,
+                    f"the {mechanism.name!r} mechanism takes no [mechanism] table",
+                )
+            )
         if not problems:
             problems += list(mechanism.check(scene))
     claimed = {s.options_table: s for s in registry.stages.values() if s.options_table}
     for table in scene.plugin_tables():
         stage = claimed.get(table)
         if stage is None:
-            known = ["report", "engine", "masses", "cycle", "analysis", "mechanism", *sorted(claimed)]
+            known = [
+                "report",
+                "engine",
+                "masses",
+                "cycle",
+                "analysis",
+                "mechanism",
+                *sorted(claimed),
+            ]
             close = difflib.get_close_matches(table, known, n=1)
             hint = f"did you mean [{close[0]}]? " if close else ""
-            problems.append(Problem(table, "[" + table + "]",
-                                    f"unknown table; {hint}known tables: " + ", ".join(known)
-                                    + broken))
+            problems.append(
+                Problem(
+                    table,
+                    "[" + table + "]",
+                    f"unknown table; {hint}known tables: " + ", ".join(known) + broken,
+                )
+            )
         elif stage.options_model is not None:
             try:
                 options(scene, table, stage.options_model)
@@ -127,12 +152,22 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
                 problems += exc.problems
     languages = sorted(set(languages))
     if languages and scene.report.language not in languages:
-        problems.append(Problem("report.language", scene.report.language,
-                                "allowed: " + ", ".join(languages) + broken))
+        problems.append(
+            Problem(
+                "report.language",
+                scene.report.language,
+                "allowed: " + ", ".join(languages) + broken,
+            )
+        )
     for name in scene.analysis.stages or ():
         if name not in registry.stages:
-            problems.append(Problem("analysis.stages", name, "unknown stage; installed: "
-                                    + ", ".join(sorted(registry.stages)) + broken))
+            problems.append(
+                Problem(
+                    "analysis.stages",
+                    name,
+                    "unknown stage; installed: " + ", ".join(sorted(registry.stages)) + broken,
+                )
+            )
     if problems:
         raise SceneError(problems)
 
@@ -151,8 +186,9 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         unknown = [n for n in requested if n not in registry.stages]
         if unknown:
             installed = ", ".join(sorted(registry.stages)) + broken_note(registry)
-            raise SceneError([Problem("stages", n, "unknown stage; installed: " + installed)
-                              for n in unknown])
+            raise SceneError(
+                [Problem("stages", n, "unknown stage; installed: " + installed) for n in unknown]
+            )
     _check_requirements(registry)
     skipped: dict[str, str] = {}
     applicable: dict[str, Stage] = {}
@@ -167,7 +203,9 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     for stage in applicable.values():
         for key in stage.provides:
             if key in providers:
-                raise PluginError(f"both {providers[key].name!r} and {stage.name!r} provide {key!r} for this scene")
+                raise PluginError(
+                    f"both {providers[key].name!r} and {stage.name!r} provide {key!r} for this scene"
+                )
             providers[key] = stage
 
     if requested is None:
@@ -188,14 +226,21 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         if name in chosen:
             return None
         if name in chain:
-            raise PluginError("stages require each other in a cycle: " + " -> ".join(chain + (name,)))
+            raise PluginError(
+                "stages require each other in a cycle: " + " -> ".join(chain + (name,))
+            )
         stage = applicable[name]
         for key in stage.requires:
             provider = providers.get(key)
             if provider is None:
-                why = [f"{s.name}: {skipped[s.name]}" for s in registry.stages.values()
-                       if key in s.provides and s.name in skipped]
-                return f"needs {key!r}, which no applicable stage provides" + (f" ({'; '.join(why)})" if why else "")
+                why = [
+                    f"{s.name}: {skipped[s.name]}"
+                    for s in registry.stages.values()
+                    if key in s.provides and s.name in skipped
+                ]
+                return f"needs {key!r}, which no applicable stage provides" + (
+                    f" ({'; '.join(why)})" if why else ""
+                )
             reason = add(provider.name, chain + (name,))
             if reason is not None:
                 return f"needs {key!r} from {provider.name!r}, which cannot run: {reason}"
@@ -207,7 +252,9 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         reason = add(name, ())
         if reason is not None:
             skipped[name] = reason
-    return Plan(order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry)
+    return Plan(
+        order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry
+    )
 
 
 def _check_requirements(registry: Registry) -> None:
@@ -227,16 +274,24 @@ def _check_requirements(registry: Registry) -> None:
             else:
                 close = difflib.get_close_matches(key, known, n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
-            problems.append(f"stage {name!r} requires {key!r}, which no registered stage provides{hint}")
+            problems.append(
+                f"stage {name!r} requires {key!r}, which no registered stage provides{hint}"
+            )
     if problems:
-        raise PluginError("; ".join(problems) + ". Known keys (provided by the registered stages): "
-                          + (", ".join(known) or "none"))
+        raise PluginError(
+            "; ".join(problems)
+            + ". Known keys (provided by the registered stages): "
+            + (", ".join(known) or "none")
+        )
 
 
 def _topological(stages: dict[str, Stage]) -> list[Stage]:
     provider_of = {key: s.name for s in stages.values() for key in s.provides}
-    depends = {name: {provider_of[k] for k in s.requires}
-               | {provider_of[k] for k in s.uses if k in provider_of} for name, s in stages.items()}
+    depends = {
+        name: {provider_of[k] for k in s.requires}
+        | {provider_of[k] for k in s.uses if k in provider_of}
+        for name, s in stages.items()
+    }
     # Ties are broken by name, so the order is reproducible; stages marked ``last`` (summaries
     # such as the error study) wait until nothing else is ready.
     ready = [(stages[n].last, n) for n, d in depends.items() if not d]
@@ -248,10 +303,17 @@ def _topological(stages: dict[str, Stage]) -> list[Stage]:
         for other, deps in depends.items():
             if name in deps:
                 deps.discard(name)
-                if not deps and other not in [s.name for s in order] and (stages[other].last, other) not in ready:
+                if (
+                    not deps
+                    and other not in [s.name for s in order]
+                    and (stages[other].last, other) not in ready
+                ):
                     heapq.heappush(ready, (stages[other].last, other))
     if len(order) != len(stages):
-        raise PluginError("stages require each other in a cycle: " + ", ".join(sorted(set(stages) - {s.name for s in order})))
+        raise PluginError(
+            "stages require each other in a cycle: "
+            + ", ".join(sorted(set(stages) - {s.name for s in order}))
+        )
     return order
 
 
@@ -309,13 +371,19 @@ def _services(stage: Stage, registry: Registry | None) -> dict[str, Any]:
     if not stage.services:
         return {}
     if registry is None:
-        raise PluginError(f"stage {stage.name!r} needs {list(stage.services)}, but the plan has no registry")
-    known = {SERVICE_RUNNER: lambda: Runner(registry),
-             SERVICE_ERROR_PROBES: lambda: list(registry.error_probes.values()),
-             SERVICE_ASIDE: lambda: aside}
+        raise PluginError(
+            f"stage {stage.name!r} needs {list(stage.services)}, but the plan has no registry"
+        )
+    known = {
+        SERVICE_RUNNER: lambda: Runner(registry),
+        SERVICE_ERROR_PROBES: lambda: list(registry.error_probes.values()),
+        SERVICE_ASIDE: lambda: aside,
+    }
     unknown = [s for s in stage.services if s not in known]
     if unknown:
-        raise PluginError(f"stage {stage.name!r} asks for unknown services {unknown}; known: {sorted(known)}")
+        raise PluginError(
+            f"stage {stage.name!r} asks for unknown services {unknown}; known: {sorted(known)}"
+        )
     return {name: known[name]() for name in stage.services}
 
 
@@ -332,12 +400,16 @@ def check_output(stage: Stage, output: StageOutput) -> None:
     """What ``run`` returned matches the stage's declarations: ``data`` holds exactly the keys of
     ``provides``, and every table in ``tables`` is one of ``Stage.tables``."""
     if set(output.data) != set(stage.provides):
-        raise PluginError(f"stage {stage.name!r} declared provides={list(stage.provides)} "
-                          f"but returned {sorted(output.data)}")
+        raise PluginError(
+            f"stage {stage.name!r} declared provides={list(stage.provides)} "
+            f"but returned {sorted(output.data)}"
+        )
     undeclared = [name for name in output.tables.keys() if not declared(name, stage.tables)]
     if undeclared:
-        raise PluginError(f"stage {stage.name!r} returned the tables {undeclared}, which it does not declare "
-                          f"in Stage.tables (declared: {list(stage.tables)})")
+        raise PluginError(
+            f"stage {stage.name!r} returned the tables {undeclared}, which it does not declare "
+            f"in Stage.tables (declared: {list(stage.tables)})"
+        )
 
 
 def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, float]:
@@ -350,8 +422,12 @@ def run_stage(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[Stage
     return output, elapsed
 
 
-def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False,
-             computed: tuple[dict[str, StageOutput], dict[str, float]] | None = None) -> RunResult:
+def run_plan(
+    scene: Scene,
+    the_plan: Plan,
+    defer_studies: bool = False,
+    computed: tuple[dict[str, StageOutput], dict[str, float]] | None = None,
+) -> RunResult:
     """Run the stages of ``the_plan`` in order. With ``defer_studies`` the studies
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
     :meth:`RunResult.study_output` computes (or receives) each when it is wanted. ``computed``:
@@ -371,18 +447,27 @@ def run_plan(scene: Scene, the_plan: Plan, defer_studies: bool = False,
             output, timing[stage.name] = run_stage(stage, scene, inputs)
         data.update(output.data)
         outputs[stage.name] = output
-    return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred)
+    return RunResult(
+        scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=deferred
+    )
 
 
-def resume_plan(scene: Scene, the_plan: Plan, outputs: dict[str, StageOutput],
-                timing_s: dict[str, float]) -> RunResult:
+def resume_plan(
+    scene: Scene, the_plan: Plan, outputs: dict[str, StageOutput], timing_s: dict[str, float]
+) -> RunResult:
     """The result ``run_plan(scene, the_plan, defer_studies=True)`` gives, from the outputs and
     timings of its stages computed elsewhere (a forked child): the studies' inputs are built here."""
     return run_plan(scene, the_plan, defer_studies=True, computed=(outputs, timing_s))
 
 
-def run_scene(scene: Scene, registry: Registry, requested: Iterable[str] | None = None,
-              languages: Iterable[str] = (), cache=None, defer_studies: bool = False) -> RunResult:
+def run_scene(
+    scene: Scene,
+    registry: Registry,
+    requested: Iterable[str] | None = None,
+    languages: Iterable[str] = (),
+    cache=None,
+    defer_studies: bool = False,
+) -> RunResult:
     """Validate against the plugins, plan and run: the whole computation of one scene.
 
     With ``cache`` (a :class:`crankdyn.engine.stage_cache.StageCache`) only stages whose inputs

@@ -43,7 +43,14 @@ EVERYTHING = "*"
 _ALL = frozenset({EVERYTHING})
 #: The plugin tables (``[flywheel]``, ``[torsion]``, ...), kept as pydantic extras.
 EXTRA = "__extra__"
-_WHOLE = {"__dict__", "model_dump", "model_dump_json", "model_copy", "__getstate__", "__reduce_ex__"}
+_WHOLE = {
+    "__dict__",
+    "model_dump",
+    "model_dump_json",
+    "model_copy",
+    "__getstate__",
+    "__reduce_ex__",
+}
 _EXTRA_NAMES = {"__pydantic_extra__", "model_extra"}
 #: A read of a data file: this prefix, the file's digest when read, ":" and its resolved path
 #: (``Scene.resolve``); :func:`_file_read` makes one, :func:`_file_parts` takes it apart.
@@ -97,8 +104,11 @@ def _tracking_class(cls: type) -> type:
             reads.add(prefix.rstrip(".") if prefix else EVERYTHING)
         return value
 
-    tracked = type(f"Tracked{cls.__name__}", (cls,), {"__getattribute__": __getattribute__,
-                                                       "__slots__": (_RECORDING,), "__module__": __name__})
+    tracked = type(
+        f"Tracked{cls.__name__}",
+        (cls,),
+        {"__getattribute__": __getattribute__, "__slots__": (_RECORDING,), "__module__": __name__},
+    )
     return tracked
 
 
@@ -117,7 +127,7 @@ def _file_read(path) -> str:
 
 def _file_parts(read: str) -> tuple[str, str]:
     """(digest when read, path) of a :data:`FILE` read."""
-    digest, path = read[len(FILE):].split(":", 1)
+    digest, path = read[len(FILE) :].split(":", 1)
     return digest, path
 
 
@@ -130,7 +140,9 @@ def _file_digest(path) -> str:
 
 def _construct(cls: type, model: BaseModel):
     values = {name: model.__dict__[name] for name in type(model).model_fields}
-    return cls.model_construct(_fields_set=set(model.model_fields_set), **values, **(model.model_extra or {}))
+    return cls.model_construct(
+        _fields_set=set(model.model_fields_set), **values, **(model.model_extra or {})
+    )
 
 
 def _tracked_table(table: BaseModel, scene_record: _Recording, name: str):
@@ -182,12 +194,21 @@ def _digest(value: Any, depth: int = 0) -> str:
         parts += [_digest(getattr(value, f.name), depth + 1) for f in dataclasses.fields(value)]
     elif isinstance(value, types.FunctionType):
         code = value.__code__
-        parts += [code.co_code.hex(), repr(code.co_consts), repr(code.co_names), _digest(value.__defaults__, depth + 1)]
+        parts += [
+            code.co_code.hex(),
+            repr(code.co_consts),
+            repr(code.co_names),
+            _digest(value.__defaults__, depth + 1),
+        ]
         parts += [_digest(cell.cell_contents, depth + 1) for cell in value.__closure__ or ()]
     elif isinstance(value, types.MethodType):
         parts += [_digest(value.__func__, depth + 1), _digest(value.__self__, depth + 1)]
     elif isinstance(value, functools.partial):
-        parts += [_digest(value.func, depth + 1), _digest(value.args, depth + 1), _digest(value.keywords, depth + 1)]
+        parts += [
+            _digest(value.func, depth + 1),
+            _digest(value.args, depth + 1),
+            _digest(value.keywords, depth + 1),
+        ]
     elif isinstance(value, (tuple, list)):
         parts += [_digest(v, depth + 1) for v in value]
     elif isinstance(value, dict):
@@ -213,12 +234,16 @@ def _field_value(scene: Scene, name: str) -> Any:
     return value.__dict__.get(rest)
 
 
-def field_digests(scene: Scene, names: frozenset[str], as_read: bool = False) -> tuple[tuple[str, str], ...]:
+def field_digests(
+    scene: Scene, names: frozenset[str], as_read: bool = False
+) -> tuple[tuple[str, str], ...]:
     """Digests of the read fields of ``scene``, top-level (``engine``) or in a table (``masses.rod``);
     see :data:`EVERYTHING`, :data:`EXTRA`. A data file's digest is its contents' now, or with
     ``as_read`` (when an entry is made) the one it had when the stage opened it."""
     if EVERYTHING in names:
-        names = frozenset(type(scene).model_fields) | {EXTRA} | {n for n in names if n.startswith(FILE)}
+        names = (
+            frozenset(type(scene).model_fields) | {EXTRA} | {n for n in names if n.startswith(FILE)}
+        )
 
     def value(name: str):
         if as_read and name.startswith(FILE):
@@ -249,14 +274,22 @@ class StageCache:
         self.runs: Counter[str] = Counter()  # real runs per stage (cache hits not counted)
 
     def _valid(self, entry: _Entry | None, stage: Stage, scene: Scene, upstream: tuple) -> bool:
-        return (entry is not None and entry.stage is stage and entry.upstream == upstream
-                and entry.fields == field_digests(scene, entry.reads))
+        return (
+            entry is not None
+            and entry.stage is stage
+            and entry.upstream == upstream
+            and entry.fields == field_digests(scene, entry.reads)
+        )
 
     def _everything(self) -> frozenset[str]:
         """What a study computed elsewhere counts as having read: every scene field, and every data
         file a stage of this cache has opened, as it is now (the worker's own reads do not come back)."""
-        paths = {_file_parts(name)[1] for entry in self._entries.values() for name in entry.reads
-                 if name.startswith(FILE)}
+        paths = {
+            _file_parts(name)[1]
+            for entry in self._entries.values()
+            for name in entry.reads
+            if name.startswith(FILE)
+        }
         return _ALL | {_file_read(path) for path in paths}
 
     def deferred_study(self, name: str) -> bool:
@@ -271,12 +304,20 @@ class StageCache:
         if kept is not None and kept.output is output:
             return  # kept already (it ran here, or was taken from the worker by run_plan)
         stage, upstream, fields = self._deferred_keys[name]
-        self._entries[name] = _Entry(stage, self._deferred_reads[name], fields, upstream, output,
-                                     {key: _digest(value) for key, value in output.data.items()})
+        self._entries[name] = _Entry(
+            stage,
+            self._deferred_reads[name],
+            fields,
+            upstream,
+            output,
+            {key: _digest(value) for key, value in output.data.items()},
+        )
         self.runs[name] += 1
 
     @staticmethod
-    def _run(stage: Stage, scene: Scene, inputs: dict[str, Any]) -> tuple[StageOutput, frozenset[str]]:
+    def _run(
+        stage: Stage, scene: Scene, inputs: dict[str, Any]
+    ) -> tuple[StageOutput, frozenset[str]]:
         """(output, the scene fields it read) of ``stage`` run on a read-tracking copy of ``scene``."""
         tracked = _tracked_copy(scene)
         try:
@@ -286,8 +327,13 @@ class StageCache:
         check_output(stage, output)
         return output, reads
 
-    def run_plan(self, scene: Scene, the_plan: Plan, defer_studies: bool = False,
-                 deferred: RunResult | None = None) -> RunResult:
+    def run_plan(
+        self,
+        scene: Scene,
+        the_plan: Plan,
+        defer_studies: bool = False,
+        deferred: RunResult | None = None,
+    ) -> RunResult:
         """:func:`crankdyn.engine.orchestrator.run_plan`, re-running only stages whose inputs
         changed.
 
@@ -306,7 +352,9 @@ class StageCache:
         timing: dict[str, float] = {}
         kept: dict[str, dict[str, Any]] = {}
         for stage in the_plan.order:
-            upstream = tuple((key, digests[key]) for key in (*stage.requires, *stage.uses) if key in digests)
+            upstream = tuple(
+                (key, digests[key]) for key in (*stage.requires, *stage.uses) if key in digests
+            )
             entry = self._entries.get(stage.name)
             start, taken, imported = time.perf_counter(), None, lazy.import_seconds()
             if not self._valid(entry, stage, scene, upstream):
@@ -319,20 +367,39 @@ class StageCache:
                     self._deferred_keys[stage.name] = study
                     self._deferred_reads[stage.name] = everything
                     continue
-                if study is not None and deferred is not None and stage.name in deferred.deferred \
-                        and self._deferred_keys.get(stage.name) == study:
+                if (
+                    study is not None
+                    and deferred is not None
+                    and stage.name in deferred.deferred
+                    and self._deferred_keys.get(stage.name) == study
+                ):
                     output, reads = deferred.study_output(stage.name), everything
-                    taken = deferred.timing_s[stage.name]  # its run (in the worker), not the wait for it
+                    taken = deferred.timing_s[
+                        stage.name
+                    ]  # its run (in the worker), not the wait for it
                 else:
-                    output, reads = self._run(stage, scene, stage_inputs(stage, data, the_plan.registry))
-                entry = _Entry(stage, reads, field_digests(scene, reads, as_read=True), upstream, output,
-                               {key: _digest(value) for key, value in output.data.items()})
+                    output, reads = self._run(
+                        stage, scene, stage_inputs(stage, data, the_plan.registry)
+                    )
+                entry = _Entry(
+                    stage,
+                    reads,
+                    field_digests(scene, reads, as_read=True),
+                    upstream,
+                    output,
+                    {key: _digest(value) for key, value in output.data.items()},
+                )
                 self._entries[stage.name] = entry
                 self.runs[stage.name] += 1
             # as orchestrator.run_stage times it: without scipy's import on the stage's first call
-            timing[stage.name] = (max(0.0, time.perf_counter() - start - (lazy.import_seconds() - imported))
-                                  if taken is None else taken)
+            timing[stage.name] = (
+                max(0.0, time.perf_counter() - start - (lazy.import_seconds() - imported))
+                if taken is None
+                else taken
+            )
             data.update(entry.output.data)
             digests.update(entry.data_digests)
             outputs[stage.name] = entry.output
-        return RunResult(scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=kept)
+        return RunResult(
+            scene=scene, plan=the_plan, outputs=outputs, timing_s=timing, deferred=kept
+        )

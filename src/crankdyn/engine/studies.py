@@ -38,7 +38,9 @@ class ForkedStudies:
     @classmethod
     def start(cls, result: RunResult) -> ForkedStudies | None:
         """Fork the child for ``result.deferred`` (None: nothing deferred, or no safe fork)."""
-        jobs = [(s, result.deferred[s.name]) for s in result.plan.order if s.name in result.deferred]
+        jobs = [
+            (s, result.deferred[s.name]) for s in result.plan.order if s.name in result.deferred
+        ]
         if not jobs:
             return None
         child = _fork_sending(lambda out: _compute(result.scene, jobs, out))
@@ -159,7 +161,11 @@ def _run_and_send(scene, the_plan: Plan, out) -> None:
         return
     out.write(message)
     out.flush()
-    _compute(scene, [(s, result.deferred[s.name]) for s in the_plan.order if s.name in result.deferred], out)
+    _compute(
+        scene,
+        [(s, result.deferred[s.name]) for s in the_plan.order if s.name in result.deferred],
+        out,
+    )
 
 
 def start_studies(result: RunResult) -> RunResult:
@@ -228,8 +234,9 @@ class StudyWorker:
         if self._unread is not None:  # still computing a study nobody waits for
             return None
         try:
-            message = pickle.dumps((self._jobs + 1, scene, stages, studies),
-                                   protocol=pickle.HIGHEST_PROTOCOL)
+            message = pickle.dumps(
+                (self._jobs + 1, scene, stages, studies), protocol=pickle.HIGHEST_PROTOCOL
+            )
         except Exception:  # noqa: BLE001 - this scene cannot be sent: computed in the server, this time
             return None
         try:
@@ -342,13 +349,18 @@ def _serve_jobs(sock, registry=None) -> None:
         try:
             result = cache.run_plan(scene, plan(scene, registry, stages))
             outputs: list[tuple[str, StageOutput | None, float]] = [
-                (name, result.outputs[name], result.timing_s[name]) for name in studies]
+                (name, result.outputs[name], result.timing_s[name]) for name in studies
+            ]
         except Exception:  # noqa: BLE001 - computed again in the server's process, which then raises it
             outputs = [(name, None, 0.0) for name in studies]
         for name, output, elapsed in outputs:
             try:
-                message = pickle.dumps((number, (name, output, elapsed)), protocol=pickle.HIGHEST_PROTOCOL)
+                message = pickle.dumps(
+                    (number, (name, output, elapsed)), protocol=pickle.HIGHEST_PROTOCOL
+                )
             except Exception:  # noqa: BLE001 - an output that cannot be pickled: computed in the server
-                message = pickle.dumps((number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL)
+                message = pickle.dumps(
+                    (number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL
+                )
             _send(sock, message)
         _send(sock, pickle.dumps((number, (None,)), protocol=pickle.HIGHEST_PROTOCOL))

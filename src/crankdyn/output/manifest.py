@@ -104,7 +104,9 @@ def write_outputs(out_dir: Path, files: dict[str, bytes], *, force: bool = False
     return [out_dir / name for name in files]
 
 
-def check_outputs(out_dir: Path, names: list[str] | tuple[str, ...], *, force: bool = False) -> None:
+def check_outputs(
+    out_dir: Path, names: list[str] | tuple[str, ...], *, force: bool = False
+) -> None:
     """Raise :class:`crankdyn.errors.OutputError` when :func:`write_outputs` would refuse to write
     ``names`` into ``out_dir`` whatever their content (a user's file, an edited output, a link):
     a batch checks its answer key's place before it computes its variants. Writes nothing."""
@@ -119,8 +121,9 @@ def check_outputs(out_dir: Path, names: list[str] | tuple[str, ...], *, force: b
             raise OutputError(_conflict_message(out_dir, plan.conflicts))
 
 
-def _plan(folder: _Folder, files: dict[str, bytes], previous: dict[str, list[Version]],
-          force: bool) -> _Plan:
+def _plan(
+    folder: _Folder, files: dict[str, bytes], previous: dict[str, list[Version]], force: bool
+) -> _Plan:
     plan = _Plan()
     for name, payload in {MANIFEST: b"", **files}.items():
         state = folder.inspect(name)
@@ -130,9 +133,13 @@ def _plan(folder: _Folder, files: dict[str, bytes], previous: dict[str, list[Ver
             plan.conflicts.append(f"{name}: {state.detail}")
         elif state.kind == "link":
             if force:
-                plan.to_write[name] = payload  # the link itself is replaced; its target is untouched
+                plan.to_write[name] = (
+                    payload  # the link itself is replaced; its target is untouched
+                )
             else:
-                plan.conflicts.append(f"{name}: a symbolic link (crankdyn writes nothing through links)")
+                plan.conflicts.append(
+                    f"{name}: a symbolic link (crankdyn writes nothing through links)"
+                )
         elif name == MANIFEST:
             if not (force or _is_a_manifest(state.content)):
                 plan.conflicts.append(f"{name}: not a crankdyn manifest")
@@ -141,8 +148,14 @@ def _plan(folder: _Folder, files: dict[str, bytes], previous: dict[str, list[Ver
         elif force or Version.of(state.content) in previous.get(name, ()):
             plan.to_write[name] = payload
         else:
-            plan.conflicts.append(f"{name}: " + ("changed since crankdyn wrote it" if name in previous
-                                                 else "not written by crankdyn"))
+            plan.conflicts.append(
+                f"{name}: "
+                + (
+                    "changed since crankdyn wrote it"
+                    if name in previous
+                    else "not written by crankdyn"
+                )
+            )
     plan.to_write.pop(MANIFEST, None)  # written twice by write_outputs itself
     return plan
 
@@ -154,12 +167,16 @@ def _conflict_message(out_dir: Path, conflicts: list[str]) -> str:
     lines += [f"  - {line}" for line in shown]
     if more:
         lines.append(f"  - and {more} more")
-    lines.append("move them away, choose another folder with -o, or give --force to replace "
-                 "files that are in the way (links are replaced, never followed)")
+    lines.append(
+        "move them away, choose another folder with -o, or give --force to replace "
+        "files that are in the way (links are replaced, never followed)"
+    )
     return "\n".join(lines)
 
 
-def _remove_if_unchanged(folder: _Folder, out_dir: Path, name: str, versions: list[Version]) -> None:
+def _remove_if_unchanged(
+    folder: _Folder, out_dir: Path, name: str, versions: list[Version]
+) -> None:
     state = folder.inspect(name)
     if state.kind == "missing":
         return
@@ -167,8 +184,10 @@ def _remove_if_unchanged(folder: _Folder, out_dir: Path, name: str, versions: li
         folder.remove(name)
         return
     what = "changed since crankdyn wrote it" if state.kind == "file" else "no longer a plain file"
-    warnings.warn(KeptFileWarning(f"kept {out_dir / name}: {what}; this run no longer writes it"),
-                  stacklevel=3)
+    warnings.warn(
+        KeptFileWarning(f"kept {out_dir / name}: {what}; this run no longer writes it"),
+        stacklevel=3,
+    )
 
 
 def _manifest_bytes(out_dir: Path, entries: dict[str, list[Version]]) -> bytes:
@@ -177,7 +196,9 @@ def _manifest_bytes(out_dir: Path, entries: dict[str, list[Version]]) -> bytes:
         "format_version": FORMAT_VERSION,
         "folder": _folder_key(out_dir),
         "crankdyn_version": __version__,
-        "files": {name: [v.as_json() for v in versions] for name, versions in sorted(entries.items())},
+        "files": {
+            name: [v.as_json() for v in versions] for name, versions in sorted(entries.items())
+        },
     }
     return (json.dumps(document, indent=2, ensure_ascii=False) + "\n").encode("utf-8")
 
@@ -196,10 +217,13 @@ def read_manifest(folder: _Folder, out_dir: Path) -> dict[str, list[Version]]:
         document = json.loads(state.content.decode("utf-8"))
     except (UnicodeDecodeError, ValueError, RecursionError):
         return {}
-    if not (isinstance(document, dict) and document.get("format") == FORMAT_MARKER
-            and document.get("format_version") == FORMAT_VERSION
-            and document.get("folder") == _folder_key(out_dir)
-            and isinstance(document.get("files"), dict)):
+    if not (
+        isinstance(document, dict)
+        and document.get("format") == FORMAT_MARKER
+        and document.get("format_version") == FORMAT_VERSION
+        and document.get("folder") == _folder_key(out_dir)
+        and isinstance(document.get("files"), dict)
+    ):
         return {}
     entries: dict[str, list[Version]] = {}
     for name, versions in document["files"].items():
@@ -214,8 +238,14 @@ def _version(entry: object) -> Version | None:
     if not isinstance(entry, dict):
         return None
     size, digest = entry.get("size"), entry.get("sha256")
-    if (isinstance(size, int) and not isinstance(size, bool) and size >= 0 and isinstance(digest, str)
-            and len(digest) == 64 and all(c in "0123456789abcdef" for c in digest)):
+    if (
+        isinstance(size, int)
+        and not isinstance(size, bool)
+        and size >= 0
+        and isinstance(digest, str)
+        and len(digest) == 64
+        and all(c in "0123456789abcdef" for c in digest)
+    ):
         return Version(size, digest)
     return None
 
@@ -226,15 +256,20 @@ def _is_a_manifest(content: bytes) -> bool:
         document = json.loads(content.decode("utf-8"))
     except (UnicodeDecodeError, ValueError, RecursionError):
         return False
-    return isinstance(document, dict) and ("crankdyn_version" in document or document.get("format") == FORMAT_MARKER)
+    return isinstance(document, dict) and (
+        "crankdyn_version" in document or document.get("format") == FORMAT_MARKER
+    )
 
 
 def _valid_name(name: object) -> bool:
     if not isinstance(name, str) or not name or "\\" in name or "\x00" in name:
         return False
     path = PurePosixPath(name)
-    return not path.is_absolute() and all(part not in ("", ".", "..") for part in path.parts) \
+    return (
+        not path.is_absolute()
+        and all(part not in ("", ".", "..") for part in path.parts)
         and str(path) == name
+    )
 
 
 def _check_name(name: str) -> None:
@@ -260,18 +295,24 @@ class _Folder:
     def open(cls, out_dir: Path) -> _Folder:
         try:
             if out_dir.exists() and not out_dir.is_dir():
-                raise OutputError(f"output folder {out_dir}: exists and is not a folder; give -o a folder")
+                raise OutputError(
+                    f"output folder {out_dir}: exists and is not a folder; give -o a folder"
+                )
             out_dir.mkdir(parents=True, exist_ok=True)
             fd = os.open(out_dir, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
         except OutputError:
             raise
         except OSError as exc:
-            raise OutputError(f"output folder {out_dir}: cannot be made or opened ({exc.strerror}); "
-                              "give -o a folder you may write to") from None
+            raise OutputError(
+                f"output folder {out_dir}: cannot be made or opened ({exc.strerror}); "
+                "give -o a folder you may write to"
+            ) from None
         folder = cls(out_dir, fd)
         if not os.access(out_dir, os.W_OK):
             folder.close()
-            raise OutputError(f"output folder {out_dir}: not writable; give -o a folder you may write to")
+            raise OutputError(
+                f"output folder {out_dir}: not writable; give -o a folder you may write to"
+            )
         return folder
 
     def __enter__(self) -> _Folder:
@@ -302,15 +343,20 @@ class _Folder:
                     next_fd = os.open(part, _DIR_FLAGS, dir_fd=fd)
                 except OSError as exc:
                     os.close(fd)
-                    raise OutputError(f"output folder {self.out_dir}: cannot make "
-                                      f"{'/'.join(parts[:index + 1])} ({exc.strerror})") from None
+                    raise OutputError(
+                        f"output folder {self.out_dir}: cannot make "
+                        f"{'/'.join(parts[: index + 1])} ({exc.strerror})"
+                    ) from None
             except OSError as exc:
                 os.close(fd)
-                where = "/".join(parts[:index + 1])
+                where = "/".join(parts[: index + 1])
                 if exc.errno in (errno.ELOOP, errno.ENOTDIR, errno.EMLINK):
-                    raise _Blocked(f"{where} is a link or not a folder (crankdyn writes nothing "
-                                   "through links)") from None
-                raise OutputError(f"output folder {self.out_dir}: cannot open {where} ({exc.strerror})") from None
+                    raise _Blocked(
+                        f"{where} is a link or not a folder (crankdyn writes nothing through links)"
+                    ) from None
+                raise OutputError(
+                    f"output folder {self.out_dir}: cannot open {where} ({exc.strerror})"
+                ) from None
             os.close(fd)
             fd = next_fd
         return fd
@@ -329,7 +375,9 @@ class _Folder:
             if stat.S_ISLNK(info.st_mode):
                 return _State("link")
             if not stat.S_ISREG(info.st_mode):
-                return _State("blocked", detail="a folder or special file where crankdyn writes a file")
+                return _State(
+                    "blocked", detail="a folder or special file where crankdyn writes a file"
+                )
             fd = os.open(leaf, _FILE_FLAGS, dir_fd=parent)
             with os.fdopen(fd, "rb") as handle:
                 return _State("file", content=handle.read())
@@ -351,8 +399,12 @@ class _Folder:
         leaf = PurePosixPath(name).name
         temporary = f".{leaf}.{secrets.token_hex(6)}.tmp"
         try:
-            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0),
-                         0o666, dir_fd=parent)
+            fd = os.open(
+                temporary,
+                os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0),
+                0o666,
+                dir_fd=parent,
+            )
             try:
                 with os.fdopen(fd, "wb") as handle:
                     handle.write(payload)
@@ -364,7 +416,9 @@ class _Folder:
                     pass
                 raise
         except OSError as exc:
-            raise OutputError(f"output folder {self.out_dir}: cannot write {name} ({exc.strerror})") from None
+            raise OutputError(
+                f"output folder {self.out_dir}: cannot write {name} ({exc.strerror})"
+            ) from None
         finally:
             os.close(parent)
 

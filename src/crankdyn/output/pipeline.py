@@ -32,8 +32,9 @@ class ReportRun:
     missing_translations: set[str] = field(default_factory=set)
 
 
-def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
-               languages: Iterable[str]) -> RunResult | None:
+def _run_aside(
+    scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str]
+) -> RunResult | None:
     """The scene computed by a forked child (studies included, as they come) while this process
     imports and prepares what rendering needs; None if no child could (then run it here).
     A bad scene is refused here, before anything is forked."""
@@ -53,9 +54,14 @@ def _run_aside(scene: Scene, registry: Registry, stages: Iterable[str] | None,
     return forked.result()
 
 
-def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
-                 self_contained: bool = False, figure_workers: int | None = None,
-                 missing: set[str] | None = None) -> dict[str, bytes]:
+def render_files(
+    result: RunResult,
+    registry: Registry,
+    formats: Iterable[str],
+    self_contained: bool = False,
+    figure_workers: int | None = None,
+    missing: set[str] | None = None,
+) -> dict[str, bytes]:
     """The output files of ``result`` in ``formats`` as relative name -> bytes (nothing written).
 
     report.html refers to the figures in ``figures/``, each stored once; with ``self_contained``
@@ -65,11 +71,19 @@ def render_files(result: RunResult, registry: Registry, formats: Iterable[str],
     ``missing``, if given (``crankdyn report`` warns about them).
     """
     with frozen_heap():  # the collector skips the imported modules (crankdyn.engine.frozen_heap)
-        return _render_files(result, registry, list(formats), self_contained, figure_workers, missing)
+        return _render_files(
+            result, registry, list(formats), self_contained, figure_workers, missing
+        )
 
 
-def _render_files(result: RunResult, registry: Registry, formats: list[str], self_contained: bool,
-                  figure_workers: int | None, missing: set[str] | None = None) -> dict[str, bytes]:
+def _render_files(
+    result: RunResult,
+    registry: Registry,
+    formats: list[str],
+    self_contained: bool,
+    figure_workers: int | None,
+    missing: set[str] | None = None,
+) -> dict[str, bytes]:
     files: dict[str, bytes] = {}
     if "html" in formats or "pdf" in formats or "docx" in formats:
         from ..report import mathtext_store  # lazy: heavy optional import (with the figures)
@@ -137,9 +151,16 @@ def _pdf(rendered) -> bytes:
     return pdf if pdf is not None else html_to_pdf(rendered.linked_html, rendered.figures)
 
 
-def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Iterable[str],
-                 stages: Iterable[str] | None = None, languages: Iterable[str] = (),
-                 self_contained: bool = False, force: bool = False) -> ReportRun:
+def write_report(
+    scene: Scene,
+    registry: Registry,
+    out_dir: Path,
+    formats: Iterable[str],
+    stages: Iterable[str] | None = None,
+    languages: Iterable[str] = (),
+    self_contained: bool = False,
+    force: bool = False,
+) -> ReportRun:
     """Compute ``scene`` and write its outputs below ``out_dir``, as ``crankdyn report`` does.
 
     Files of an earlier run into ``out_dir`` that this one does not write again are removed (only
@@ -148,15 +169,28 @@ def write_report(scene: Scene, registry: Registry, out_dir: Path, formats: Itera
     file in ``out_dir`` is in the way and ``force`` is false.
     """
     missing: set[str] = set()
-    result, files = run_and_render(scene, registry, formats, stages, languages, self_contained=self_contained,
-                                   missing=missing)
-    return ReportRun(result=result, written=write_outputs(Path(out_dir), files, force=force), missing_translations=missing)
+    result, files = run_and_render(
+        scene, registry, formats, stages, languages, self_contained=self_contained, missing=missing
+    )
+    return ReportRun(
+        result=result,
+        written=write_outputs(Path(out_dir), files, force=force),
+        missing_translations=missing,
+    )
 
 
-def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], stages: Iterable[str] | None = None,
-                   languages: Iterable[str] = (), *, self_contained: bool = False,
-                   cache=None, figure_workers: int | None = None,
-                   missing: set[str] | None = None) -> tuple[RunResult, dict[str, bytes]]:
+def run_and_render(
+    scene: Scene,
+    registry: Registry,
+    formats: Iterable[str],
+    stages: Iterable[str] | None = None,
+    languages: Iterable[str] = (),
+    *,
+    self_contained: bool = False,
+    cache=None,
+    figure_workers: int | None = None,
+    missing: set[str] | None = None,
+) -> tuple[RunResult, dict[str, bytes]]:
     """Compute ``scene`` and render its files in memory: the one path of ``report``, ``batch`` and ``serve``.
 
     ``crankdyn report`` and ``batch`` write the files (:func:`write_report`); ``serve`` shows
@@ -180,7 +214,9 @@ def run_and_render(scene: Scene, registry: Registry, formats: Iterable[str], sta
             if aside:
                 start_studies(result)
         try:
-            return result, render_files(result, registry, formats, self_contained, figure_workers, missing)
+            return result, render_files(
+                result, registry, formats, self_contained, figure_workers, missing
+            )
         finally:
             result.close_background()  # also when rendering failed: no child is left behind
 
@@ -192,9 +228,18 @@ def _build_figures(figures) -> None:
             figure.figure  # noqa: B018 - built for its side effect
 
 
-def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str],
-                    stage_cache, sections_cache, defer_studies: bool = False, studies: RunResult | None = None,
-                    worker=None, inline_studies: bool = False):
+def run_for_preview(
+    scene: Scene,
+    registry: Registry,
+    stages: Iterable[str] | None,
+    languages: Iterable[str],
+    stage_cache,
+    sections_cache,
+    defer_studies: bool = False,
+    studies: RunResult | None = None,
+    worker=None,
+    inline_studies: bool = False,
+):
     """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
     inputs changed) and render the report (re-rendering only the sections whose stage output or
     scene reads changed); the figures are left undrawn, so that the page can be shown first. With
@@ -212,23 +257,37 @@ def run_for_preview(scene: Scene, registry: Registry, stages: Iterable[str] | No
 
     check_scene(scene, registry, languages)
     with frozen_heap():  # the collector skips the imported modules and cached results
-        result = stage_cache.run_plan(scene, plan(scene, registry, stages), defer_studies=defer_studies,
-                                      deferred=studies)
+        result = stage_cache.run_plan(
+            scene, plan(scene, registry, stages), defer_studies=defer_studies, deferred=studies
+        )
         deferred = None
         if result.deferred:  # computed by the worker meanwhile, if there is one
-            job = None if worker is None else worker.submit(
-                scene, None if stages is None else list(stages), [s.name for s in result.plan.order
-                                                                 if s.name in result.deferred])
+            job = (
+                None
+                if worker is None
+                else worker.submit(
+                    scene,
+                    None if stages is None else list(stages),
+                    [s.name for s in result.plan.order if s.name in result.deferred],
+                )
+            )
             if inline_studies and job is not None:  # taken when their sections come
                 result.background = job
             else:  # shown as pending in this rendering, taken (or computed) by the next
-                deferred = RunResult(scene=scene, plan=result.plan, outputs={}, deferred=result.deferred,
-                                     background=job)
+                deferred = RunResult(
+                    scene=scene,
+                    plan=result.plan,
+                    outputs={},
+                    deferred=result.deferred,
+                    background=job,
+                )
                 result.deferred = {}
         try:
             # each section's figures built as it comes (the page's placeholders need their sizes):
             # meanwhile the worker computes the study whose section comes last
-            rendered = render_html(result, registry, sections_cache=sections_cache, figure_sink=_build_figures)
+            rendered = render_html(
+                result, registry, sections_cache=sections_cache, figure_sink=_build_figures
+            )
         finally:
             result.close_background()
         for name in [name for name in result.outputs if stage_cache.deferred_study(name)]:

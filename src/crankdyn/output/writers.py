@@ -131,11 +131,11 @@ def _cell(value: Any) -> Any:
 
 
 def _sheet_name(name: str, used: set[str]) -> str:
-    clean = "".join("_" if c in '[]:*?/\\' else c for c in name)[:31] or "sheet"
+    clean = "".join("_" if c in "[]:*?/\\" else c for c in name)[:31] or "sheet"
     candidate, k = clean, 2
     while candidate.lower() in used:
         suffix = f"~{k}"
-        candidate, k = clean[:31 - len(suffix)] + suffix, k + 1
+        candidate, k = clean[: 31 - len(suffix)] + suffix, k + 1
     used.add(candidate.lower())
     return candidate
 
@@ -151,7 +151,9 @@ def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
         try:
             with os.fdopen(fd, "wb") as fh:
                 fh.write(payload)
-            os.chmod(tmp, manifest.file_mode())  # mkstemp makes 0600; a report is shared like any file
+            os.chmod(
+                tmp, manifest.file_mode()
+            )  # mkstemp makes 0600; a report is shared like any file
             os.replace(tmp, target)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
@@ -161,4 +163,6 @@ def write_atomically(out_dir: Path, files: dict[str, bytes]) -> list[Path]:
 
 
 def json_bytes(document: dict) -> bytes:
-    return (json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n").encode("utf-8")
+    return (json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n").encode(
+        "utf-8"
+    )

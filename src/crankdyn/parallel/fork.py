@@ -53,7 +53,9 @@ def _cpus() -> int:
 class Handle:
     """``fn(*args)``, being computed in a child (``pid``) or not yet computed at all."""
 
-    def __init__(self, fn: Callable[..., Any], args: tuple, pid: int | None = None, reader=None) -> None:
+    def __init__(
+        self, fn: Callable[..., Any], args: tuple, pid: int | None = None, reader=None
+    ) -> None:
         self._fn, self._args = fn, args
         self._pid, self._reader = pid, reader
 

@@ -40,10 +40,17 @@ def check_seconds(option: str, value: object) -> float:
 
     number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
     if number is None or not 0 < number <= MAX_TIMEOUT_S:  # False for NaN too
-        shown = (repr(value) if number is None
-                 else f"{number:g}" if isinstance(number, float) else str(number))
-        raise UsageError(f"{option} {shown}: give a number of seconds above 0 and at most "
-                         f"{MAX_TIMEOUT_S:g} (one day)")
+        shown = (
+            repr(value)
+            if number is None
+            else f"{number:g}"
+            if isinstance(number, float)
+            else str(number)
+        )
+        raise UsageError(
+            f"{option} {shown}: give a number of seconds above 0 and at most "
+            f"{MAX_TIMEOUT_S:g} (one day)"
+        )
     return float(number)
 
 
@@ -179,8 +186,15 @@ def _start(function: Callable, idle: list, args: tuple) -> _Worker:
     return worker
 
 
-def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, timeout_s: float,
-            finished: Callable, failed: Callable[[object, str, float], object]) -> list:
+def run_all(
+    items: Sequence,
+    function: Callable,
+    args_of: Callable,
+    jobs: int,
+    timeout_s: float,
+    finished: Callable,
+    failed: Callable[[object, str, float], object],
+) -> list:
     """Run ``function(*args_of(item))`` for every item in worker processes, ``jobs`` at a time.
 
     Each worker runs up to :data:`VARIANTS_PER_WORKER` items one after the other; one that
@@ -208,8 +222,11 @@ def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, t
                     outcome = connection.recv()
                 except (EOFError, OSError):
                     code = worker.ended()
-                    outcome = failed(item, f"the worker ended without a result (exit code {code})",
-                                     time.monotonic() - start)
+                    outcome = failed(
+                        item,
+                        f"the worker ended without a result (exit code {code})",
+                        time.monotonic() - start,
+                    )
                 else:
                     worker.variants += 1
                     if worker.variants < VARIANTS_PER_WORKER:
@@ -222,7 +239,13 @@ def run_all(items: Sequence, function: Callable, args_of: Callable, jobs: int, t
                 if now - start >= timeout_s:
                     worker.kill()
                     del running[connection]
-                    finished(failed(item, f"stopped after {timeout_s:g} s (the time limit, --timeout)", now - start))
+                    finished(
+                        failed(
+                            item,
+                            f"stopped after {timeout_s:g} s (the time limit, --timeout)",
+                            now - start,
+                        )
+                    )
     except KeyboardInterrupt:
         unfinished = [item for _, item, _ in running.values()] + list(queue)
         for worker, _, _ in running.values():
@@ -256,8 +279,9 @@ def _run_here(items: Sequence, function: Callable, args_of: Callable, finished: 
 _FORK_LOCK = threading.Lock()
 
 
-def run_limited(function: Callable, args: tuple, timeout_s: float,
-                prepare: Callable | None = None) -> tuple[str, object, float]:
+def run_limited(
+    function: Callable, args: tuple, timeout_s: float, prepare: Callable | None = None
+) -> tuple[str, object, float]:
     """``function(*args)`` in a forked child stopped after ``timeout_s``; used on Dask workers.
 
     Returns ``("ok", result, seconds)``, ``("timeout", None, seconds)`` or ``("died", exit code,
@@ -275,7 +299,9 @@ def run_limited(function: Callable, args: tuple, timeout_s: float,
             return "ok", function(*args), time.monotonic() - start
         read_end, write_end = os.pipe()
         pid = os.fork()
-    if pid == 0:  # the child: compute, send the pickled answer, leave without running the worker's exit hooks
+    if (
+        pid == 0
+    ):  # the child: compute, send the pickled answer, leave without running the worker's exit hooks
         code = 0
         try:
             os.close(read_end)
@@ -356,10 +382,18 @@ def connect(address: str, timeout_s: float):
         raise ConnectionError(reason) from None
 
 
-def run_all_dask(items: Sequence, function: Callable, args_of: Callable, client, timeout_s: float,
-                 finished: Callable, failed: Callable[[object, str, float], object],
-                 prepare: Callable | None = None, collect: Callable | None = None,
-                 in_process: bool = False) -> list:
+def run_all_dask(
+    items: Sequence,
+    function: Callable,
+    args_of: Callable,
+    client,
+    timeout_s: float,
+    finished: Callable,
+    failed: Callable[[object, str, float], object],
+    prepare: Callable | None = None,
+    collect: Callable | None = None,
+    in_process: bool = False,
+) -> list:
     """:func:`run_all` on a Dask cluster: every item a task, each limited to ``timeout_s`` on its worker.
 
     ``collect(outcome)`` runs on this machine as each answer arrives (it writes the files the
@@ -372,8 +406,15 @@ def run_all_dask(items: Sequence, function: Callable, args_of: Callable, client,
     task = _dask_task_here if in_process else _dask_task
     futures = {}
     for number, item in enumerate(items):
-        future = client.submit(task, prepare, function, args_of(item), timeout_s, pure=False,
-                               key=f"crankdyn-{number}-{time.time_ns()}")
+        future = client.submit(
+            task,
+            prepare,
+            function,
+            args_of(item),
+            timeout_s,
+            pure=False,
+            key=f"crankdyn-{number}-{time.time_ns()}",
+        )
         futures[future] = item
     pending = set(futures)
     try:
@@ -383,12 +424,22 @@ def run_all_dask(items: Sequence, function: Callable, args_of: Callable, client,
             try:
                 status, value, seconds = future.result()
             except Exception as exc:  # noqa: BLE001 - a lost worker or task fails its item only
-                finished(failed(item, f"the Dask cluster returned no result ({exc.__class__.__name__}: {exc})", 0.0))
+                finished(
+                    failed(
+                        item,
+                        f"the Dask cluster returned no result ({exc.__class__.__name__}: {exc})",
+                        0.0,
+                    )
+                )
                 continue
             if status == "timeout":
-                outcome = failed(item, f"stopped after {timeout_s:g} s (the time limit, --timeout)", seconds)
+                outcome = failed(
+                    item, f"stopped after {timeout_s:g} s (the time limit, --timeout)", seconds
+                )
             elif status == "died":
-                outcome = failed(item, f"the worker ended without a result (exit code {value})", seconds)
+                outcome = failed(
+                    item, f"the worker ended without a result (exit code {value})", seconds
+                )
             else:
                 outcome = collect(value) if collect else value
             finished(outcome)

@@ -41,7 +41,9 @@ class SlaveMotion:
     pin_n_m: np.ndarray
     pin_velocity_a_m_s: np.ndarray
     pin_velocity_n_m_s: np.ndarray
-    piston_position_m: np.ndarray  # slave piston pin distance from the shaft axis along the slave axis
+    piston_position_m: (
+        np.ndarray
+    )  # slave piston pin distance from the shaft axis along the slave axis
     piston_velocity_m_s: np.ndarray  # d(position)/dt
     piston_acceleration_m_s2: np.ndarray
     slave_rod_angle_rad: np.ndarray  # beta_l, textbook eq. (33)
@@ -53,11 +55,13 @@ def _master(alpha, R, L, w):
     beta = np.arcsin(sin_b)
     cos_b = np.cos(beta)
     beta_dot = w * lam * np.cos(alpha) / cos_b
-    beta_ddot = -w**2 * lam * (1 - lam**2) * np.sin(alpha) / cos_b**3
+    beta_ddot = -(w**2) * lam * (1 - lam**2) * np.sin(alpha) / cos_b**3
     return beta, beta_dot, beta_ddot
 
 
-def slave_motion(master_crank_angle_rad, geometry: SlaveGeometry, angular_velocity_rad_s: float = 1.0) -> SlaveMotion:
+def slave_motion(
+    master_crank_angle_rad, geometry: SlaveGeometry, angular_velocity_rad_s: float = 1.0
+) -> SlaveMotion:
     """Exact slave-piston kinematics from the linkage geometry (derived; eq. (33) for the rod angle).
 
     The pin is C = B + r (cos(gamma_1 - beta), sin(gamma_1 - beta)); the slave piston pin lies
@@ -86,14 +90,23 @@ def slave_motion(master_crank_angle_rad, geometry: SlaveGeometry, angular_veloci
     ca_dd, cn_dd = Ca_dd * cg + Cn_dd * sg, -Ca_dd * sg + Cn_dd * cg
     l = g.slave_rod_length_m
     if np.any(np.abs(cn) >= l):
-        raise ValueError("the slave rod cannot reach its cylinder axis: slave_rod_length is too short for this pin")
+        raise ValueError(
+            "the slave rod cannot reach its cylinder axis: slave_rod_length is too short for this pin"
+        )
     root = np.sqrt(l**2 - cn**2)
     x = ca + root
     x_d = ca_d - cn * cn_d / root
     x_dd = ca_dd - (cn_d**2 + cn * cn_dd) / root - (cn * cn_d) ** 2 / root**3
-    return SlaveMotion(pin_a_m=Ca, pin_n_m=Cn, pin_velocity_a_m_s=Ca_d, pin_velocity_n_m_s=Cn_d,
-                       piston_position_m=x, piston_velocity_m_s=x_d, piston_acceleration_m_s2=x_dd,
-                       slave_rod_angle_rad=np.arcsin(cn / l))
+    return SlaveMotion(
+        pin_a_m=Ca,
+        pin_n_m=Cn,
+        pin_velocity_a_m_s=Ca_d,
+        pin_velocity_n_m_s=Cn_d,
+        piston_position_m=x,
+        piston_velocity_m_s=x_d,
+        piston_acceleration_m_s2=x_dd,
+        slave_rod_angle_rad=np.arcsin(cn / l),
+    )
 
 
 @functools.lru_cache(maxsize=4096)
@@ -122,29 +135,45 @@ def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, fl
         if velocity(lo) * velocity(hi) < 0:
             a = brentq(velocity, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
         else:  # no sign change across the bracket (not expected): the bounded search on the position
-            a = minimize_bounded(lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),  # noqa: B023 - called within this iteration
-                                 lo, hi, xatol=1e-12).x
-        out += [float(slave_motion(np.array([a]), geometry).piston_position_m[0]), float(a) % (2 * np.pi)]
+            a = minimize_bounded(
+                lambda t: sign * float(slave_motion(np.array([t]), geometry).piston_position_m[0]),  # noqa: B023 - called within this iteration
+                lo,
+                hi,
+                xatol=1e-12,
+            ).x
+        out += [
+            float(slave_motion(np.array([a]), geometry).piston_position_m[0]),
+            float(a) % (2 * np.pi),
+        ]
     return out[0], out[1], out[2], out[3]
 
 
-def slave_rod_length_textbook_m(rod_length_m: float, pin_radius_m: float, rod_ratio: float,
-                                bank_angle_rad: float) -> float:
+def slave_rod_length_textbook_m(
+    rod_length_m: float, pin_radius_m: float, rod_ratio: float, bank_angle_rad: float
+) -> float:
     """Poda (2007) eq. (3), with gamma_1 = gamma: l = (L - r)/cos(phi),
     phi = arctan(2 sqrt(L r) sin(beta_1/2)/(L - r)), beta_1 = arcsin(lambda sin gamma)."""
     beta1 = np.arcsin(rod_ratio * np.sin(bank_angle_rad))
-    phi = np.arctan(2 * np.sqrt(rod_length_m * pin_radius_m) * np.sin(beta1 / 2) / (rod_length_m - pin_radius_m))
+    phi = np.arctan(
+        2 * np.sqrt(rod_length_m * pin_radius_m) * np.sin(beta1 / 2) / (rod_length_m - pin_radius_m)
+    )
     return float((rod_length_m - pin_radius_m) / np.cos(phi))
 
 
-def pin_angle_textbook_rad(compression_ratio: float, rod_ratio: float, bank_angle_rad: float) -> float:
+def pin_angle_textbook_rad(
+    compression_ratio: float, rod_ratio: float, bank_angle_rad: float
+) -> float:
     """Poda (2007) eq. (5): gamma_1 = gamma + arcsin((eps-1) lambda sin gamma / ((eps+1) + 2 sqrt(eps (1 - lambda^2 sin^2 gamma))))."""
     s = rod_ratio * np.sin(bank_angle_rad)
     eps = compression_ratio
-    return float(bank_angle_rad + np.arcsin((eps - 1) * s / ((eps + 1) + 2 * np.sqrt(eps * (1 - s**2)))))
+    return float(
+        bank_angle_rad + np.arcsin((eps - 1) * s / ((eps + 1) + 2 * np.sqrt(eps * (1 - s**2))))
+    )
 
 
-def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ratio: float) -> float:
+def slave_rod_length_equal_compression_m(
+    geometry: SlaveGeometry, compression_ratio: float
+) -> float:
     """Slave rod length giving the slave cylinder the master's compression ratio exactly.
 
     All cylinders share the deck height H = R + L + S/(eps - 1) above the shaft axis (S = 2R);
@@ -155,14 +184,18 @@ def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ra
 
     def mismatch(length):
         # ratio of the slave cylinder minus the target
-        g = SlaveGeometry(R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, length)
+        g = SlaveGeometry(
+            R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, length
+        )
         x_tdc, _, x_bdc, _ = slave_dead_centres(g)
         return (deck - x_bdc) / (deck - x_tdc) - compression_ratio
 
     # The slave TDC rises almost one-for-one with l: the ratio grows from small values
     # (long clearance) to infinity as the clearance closes. Bracket that branch.
     start = L - geometry.pin_radius_m
-    g0 = SlaveGeometry(R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, start)
+    g0 = SlaveGeometry(
+        R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, start
+    )
     gap = deck - slave_dead_centres(g0)[0]
     hi = start + 0.9 * gap
     lo = start + 0.9 * gap - 2 * R
@@ -173,22 +206,32 @@ def slave_rod_length_equal_compression_m(geometry: SlaveGeometry, compression_ra
     else:
         raise ValueError("no slave rod length gives the master's compression ratio")
     # The rod must reach the slave axis at every crank angle: l > max |C . n_s| (independent of l).
-    probe = SlaveGeometry(R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, 10 * (L + R))
+    probe = SlaveGeometry(
+        R, L, geometry.pin_radius_m, geometry.pin_angle_rad, geometry.bank_angle_rad, 10 * (L + R)
+    )
     motion = slave_motion(np.linspace(0, 2 * np.pi, 7201), probe)
     cg, sg = np.cos(geometry.bank_angle_rad), np.sin(geometry.bank_angle_rad)
     shortest = float(np.max(np.abs(-motion.pin_a_m * sg + motion.pin_n_m * cg))) * (1 + 1e-6)
     lo = max(lo, shortest)
     while mismatch(lo) > 0:
         if lo <= shortest:
-            raise ValueError("no slave rod length gives the master's compression ratio with this pin "
-                             "(the rod would have to be shorter than its reach to the slave axis)")
+            raise ValueError(
+                "no slave rod length gives the master's compression ratio with this pin "
+                "(the rod would have to be shorter than its reach to the slave axis)"
+            )
         lo = max(lo - 2 * R, shortest)
     return float(brentq(mismatch, lo, hi, xtol=1e-13))
 
 
-def reduced_master_rod_masses(master_rod_kg: float, master_cm_from_big_end_m: float, rod_length_m: float,
-                              slave_rotating_kg: float, slave_pin_kg: float, pin_radius_m: float,
-                              pin_angle_rad: float) -> tuple[float, float]:
+def reduced_master_rod_masses(
+    master_rod_kg: float,
+    master_cm_from_big_end_m: float,
+    rod_length_m: float,
+    slave_rotating_kg: float,
+    slave_pin_kg: float,
+    pin_radius_m: float,
+    pin_angle_rad: float,
+) -> tuple[float, float]:
     """(reciprocating, rotating) masses of the reduced master rod, Poda (2007) §3.2 (fig. 9).
 
     The slave rod's rotating part and its pin sit at C; b_2 = r cos gamma_1 is their distance
@@ -203,8 +246,14 @@ def reduced_master_rod_masses(master_rod_kg: float, master_cm_from_big_end_m: fl
     return float(reciprocating), float(rotating)
 
 
-def bay_crank_pin_forces(master_crank_angle_rad, master_rod_angle_rad, master_total_Pa, crank_radius_m,
-                         rod_length_m, slaves: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]]):
+def bay_crank_pin_forces(
+    master_crank_angle_rad,
+    master_rod_angle_rad,
+    master_total_Pa,
+    crank_radius_m,
+    rod_length_m,
+    slaves: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]],
+):
     """Forces of a whole bay on the crank pin by statics of the master rod (specific, Pa).
 
     ``slaves``: for every slave cylinder (pin_a_m, pin_n_m, slave_rod_angle_rad, total_Pa,

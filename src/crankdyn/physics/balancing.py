@@ -62,7 +62,19 @@ from . import kinematics as kin
 from . import offset_crank as oc
 from .layout import EngineLayout
 
-ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 8: "VIII", 10: "X", 12: "XII", 14: "XIV", 16: "XVI"}
+ROMAN = {
+    1: "I",
+    2: "II",
+    3: "III",
+    4: "IV",
+    5: "V",
+    6: "VI",
+    8: "VIII",
+    10: "X",
+    12: "XII",
+    14: "XIV",
+    16: "XVI",
+}
 
 
 def roman(order: int) -> str:
@@ -72,8 +84,10 @@ def roman(order: int) -> str:
 
 # --------------------------------------------------------------------------- piston acceleration series
 
-def acceleration_harmonics(rod_ratio: float, max_order: int = 64, samples: int = 1024,
-                           offset_ratio: float = 0.0) -> np.ndarray:
+
+def acceleration_harmonics(
+    rod_ratio: float, max_order: int = 64, samples: int = 1024, offset_ratio: float = 0.0
+) -> np.ndarray:
     """Fourier coefficients A_n of the exact piston acceleration, n = 0 .. max_order.
 
     ``j(alpha) = R w^2 sum_n A_n cos(n alpha)`` for the central crank-slider (derived here;
@@ -130,15 +144,18 @@ def acceleration_series(rod_ratio: float) -> dict[int, float]:
     }
 
 
-def orders_needed(rod_ratio: float, tolerance: float = 1e-15, max_order: int = 512,
-                  offset_ratio: float = 0.0) -> int:
+def orders_needed(
+    rod_ratio: float, tolerance: float = 1e-15, max_order: int = 512, offset_ratio: float = 0.0
+) -> int:
     """Highest order whose A_n still exceeds ``tolerance`` (the series is truncated after it): an
     even order for the central crank-slider, any order with an offset (``offset_ratio`` k = e/L).
 
     The coefficients fall roughly like (lambda / (1 + sqrt(1 - lambda^2)))^n: order 18 for
     lambda = 0.28, about 250 for lambda = 0.99.
     """
-    a = acceleration_harmonics(rod_ratio, max_order, samples=4 * max_order, offset_ratio=offset_ratio)
+    a = acceleration_harmonics(
+        rod_ratio, max_order, samples=4 * max_order, offset_ratio=offset_ratio
+    )
     orders = range(2, max_order + 1, 1 if offset_ratio else 2)
     significant = [n for n in orders if abs(a[n]) > tolerance]
     return max(significant) if significant else 2
@@ -162,6 +179,7 @@ def harmonics_for(rod_ratio: float, highest_order: int, offset_ratio: float = 0.
 
 
 # --------------------------------------------------------------------------- geometry
+
 
 @dataclass(frozen=True)
 class BalanceGeometry:
@@ -234,11 +252,17 @@ def geometry_from_layout(layout: EngineLayout) -> BalanceGeometry:
     """The balancing geometry of an engine layout (textbook §6 assumptions 2-3: the banks of a
     bay lie in one plane, adjacent bays are one cylinder spacing apart)."""
     cylinders = layout.cylinders
-    return geometry([c.axis_deg for c in cylinders], [c.bay for c in cylinders], list(layout.crank_lag_deg),
-                    vertical_axis_deg(layout.layout, layout.bank_angle_deg), [c.label for c in cylinders])
+    return geometry(
+        [c.axis_deg for c in cylinders],
+        [c.bay for c in cylinders],
+        list(layout.crank_lag_deg),
+        vertical_axis_deg(layout.layout, layout.bank_angle_deg),
+        [c.label for c in cylinders],
+    )
 
 
 # --------------------------------------------------------------------------- vector models
+
 
 @dataclass(frozen=True)
 class OrderModel:
@@ -297,8 +321,13 @@ def scaled(model: OrderModel, amplitude) -> OrderModel:
     counter-rotating ones times its conjugate (``Re(A e^{i n alpha}) = (A e^{i n alpha} +
     conj(A) e^{-i n alpha}) / 2``); a real amplitude scales both alike."""
     back = np.conj(amplitude)
-    return OrderModel(model.order, model.force_forward * amplitude, model.force_backward * back,
-                      model.moment_forward * amplitude, model.moment_backward * back)
+    return OrderModel(
+        model.order,
+        model.force_forward * amplitude,
+        model.force_backward * back,
+        model.moment_forward * amplitude,
+        model.moment_backward * back,
+    )
 
 
 def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
@@ -311,8 +340,13 @@ def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
     forward = 0.5 * np.exp(1j * (g.cylinder_axis_rad - order * g.cylinder_phase_rad))
     backward = 0.5 * np.exp(1j * (g.cylinder_axis_rad + order * g.cylinder_phase_rad))
     z = g.cylinder_position
-    return OrderModel(order, forward.sum(axis=-1), backward.sum(axis=-1), (forward * z).sum(axis=-1),
-                      (backward * z).sum(axis=-1))
+    return OrderModel(
+        order,
+        forward.sum(axis=-1),
+        backward.sum(axis=-1),
+        (forward * z).sum(axis=-1),
+        (backward * z).sum(axis=-1),
+    )
 
 
 @dataclass(frozen=True)
@@ -328,7 +362,9 @@ class Hodograph:
     theta_at_max_deg: float  # first shaft angle in [0, 180/n) at which the length is largest (it repeats every 180/n)
 
 
-def hodograph(forward: complex, backward: complex, speed: int, tolerance: float = 1e-12) -> Hodograph:
+def hodograph(
+    forward: complex, backward: complex, speed: int, tolerance: float = 1e-12
+) -> Hodograph:
     """Semi-axes, orientation and sense of the elliptic hodograph (textbook eq. 60-63, 70-73)."""
     f, b = abs(forward), abs(backward)
     scale = max(f + b, 1e-300)
@@ -351,10 +387,15 @@ def hodograph(forward: complex, backward: complex, speed: int, tolerance: float 
         sense = "line"
     else:
         sense = "forward" if f > b else "backward"
-    return Hodograph(semi_major=f + b, semi_minor=abs(f - b), major_axis_deg=math.degrees(direction) % 180.0,
-                     x_amplitude=float(abs(forward - np.conj(backward))),
-                     y_amplitude=float(abs(forward + np.conj(backward))),
-                     sense=sense, theta_at_max_deg=math.degrees(theta) % (360.0 / speed))
+    return Hodograph(
+        semi_major=f + b,
+        semi_minor=abs(f - b),
+        major_axis_deg=math.degrees(direction) % 180.0,
+        x_amplitude=float(abs(forward - np.conj(backward))),
+        y_amplitude=float(abs(forward + np.conj(backward))),
+        sense=sense,
+        theta_at_max_deg=math.degrees(theta) % (360.0 / speed),
+    )
 
 
 def bay_vectors(axes_rad, order: int) -> tuple[complex, complex]:
@@ -373,6 +414,7 @@ def bay_vectors(axes_rad, order: int) -> tuple[complex, complex]:
 
 
 # --------------------------------------------------------------------------- the real forces, cylinder by cylinder
+
 
 @dataclass(frozen=True)
 class Masses:
@@ -429,8 +471,15 @@ def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: fl
     return force, moment * spacing_m
 
 
-def vector_method_sum(g: BalanceGeometry, masses: Masses, theta_rad, orders, spacing_m: float = 1.0,
-                      harmonics: np.ndarray | None = None, rotating: bool = True):
+def vector_method_sum(
+    g: BalanceGeometry,
+    masses: Masses,
+    theta_rad,
+    orders,
+    spacing_m: float = 1.0,
+    harmonics: np.ndarray | None = None,
+    rotating: bool = True,
+):
     """The same resultants from the vector models: rotating masses plus the given orders (N, N*m)."""
     if harmonics is None:
         harmonics = harmonics_for(masses.rod_ratio, max(orders, default=2), masses.offset_ratio)
@@ -450,6 +499,7 @@ def vector_method_sum(g: BalanceGeometry, masses: Masses, theta_rad, orders, spa
 
 # --------------------------------------------------------------------------- balancing means
 
+
 @dataclass(frozen=True)
 class RotatingMass:
     """A balancing mass: ``mass_radius_kg_m`` (m*r) at ``position`` along the shaft (units of a,
@@ -463,12 +513,24 @@ class RotatingMass:
 
     def force_N(self, theta_rad, angular_velocity_rad_s: float):
         w = self.speed * angular_velocity_rad_s
-        return self.mass_radius_kg_m * w**2 * np.exp(1j * (math.radians(self.phase_deg)
-                                                           + self.speed * np.asarray(theta_rad, dtype=float)))
+        return (
+            self.mass_radius_kg_m
+            * w**2
+            * np.exp(
+                1j
+                * (math.radians(self.phase_deg) + self.speed * np.asarray(theta_rad, dtype=float))
+            )
+        )
 
 
-def masses_for(force_N: complex, moment_N_units: complex, speed: int, angular_velocity_rad_s: float,
-               positions: tuple[float, float], tolerance: float) -> list[RotatingMass]:
+def masses_for(
+    force_N: complex,
+    moment_N_units: complex,
+    speed: int,
+    angular_velocity_rad_s: float,
+    positions: tuple[float, float],
+    tolerance: float,
+) -> list[RotatingMass]:
     """Two masses at ``positions`` (units of a) turning at ``speed`` w whose forces cancel a
     rotating force amplitude ``force_N`` and moment amplitude ``moment_N_units`` (N * a).
 
@@ -489,8 +551,14 @@ def masses_for(force_N: complex, moment_N_units: complex, speed: int, angular_ve
     for target, z in targets:
         if abs(target) <= tolerance:
             continue
-        out.append(RotatingMass(mass_radius_kg_m=float(abs(target)) / w2, position=float(z), speed=speed,
-                                phase_deg=math.degrees(math.atan2(target.imag, target.real)) % 360.0))
+        out.append(
+            RotatingMass(
+                mass_radius_kg_m=float(abs(target)) / w2,
+                position=float(z),
+                speed=speed,
+                phase_deg=math.degrees(math.atan2(target.imag, target.real)) % 360.0,
+            )
+        )
     return out
 
 
@@ -516,9 +584,16 @@ class BalancingMeans:
         return force, moment * spacing_m
 
 
-def design_means(g: BalanceGeometry, masses: Masses, harmonics: np.ndarray, balance_orders,
-                 counterweights: str = "ends", first_order_forward: str = "crankshaft",
-                 shaft_positions: tuple[float, float] | None = None, relative_tolerance: float = 1e-9) -> BalancingMeans:
+def design_means(
+    g: BalanceGeometry,
+    masses: Masses,
+    harmonics: np.ndarray,
+    balance_orders,
+    counterweights: str = "ends",
+    first_order_forward: str = "crankshaft",
+    shaft_positions: tuple[float, float] | None = None,
+    relative_tolerance: float = 1e-9,
+) -> BalancingMeans:
     """Counterweights and balance shafts that cancel the rotating forces and the given orders.
 
     * Crankshaft counterweights take the centrifugal resultant and its moment and, with
@@ -548,9 +623,17 @@ def design_means(g: BalanceGeometry, masses: Masses, harmonics: np.ndarray, bala
             target = masses.centrifugal_N * np.exp(1j * g.crank_direction_rad[k])
             if forward_on_crank:
                 members = g.cylinder_bay == k
-                target = target + c1 * 0.5 * np.exp(1j * (g.cylinder_axis_rad[members]
-                                                          - g.cylinder_phase_rad[members])).sum()
-            means.counterweights += masses_for(complex(target), 0.0, 1, w, (float(g.crank_position[k]),) * 2, tol)
+                target = (
+                    target
+                    + c1
+                    * 0.5
+                    * np.exp(
+                        1j * (g.cylinder_axis_rad[members] - g.cylinder_phase_rad[members])
+                    ).sum()
+                )
+            means.counterweights += masses_for(
+                complex(target), 0.0, 1, w, (float(g.crank_position[k]),) * 2, tol
+            )
     else:
         force = masses.centrifugal_N * complex(rot.force_forward)
         moment = masses.centrifugal_N * complex(rot.moment_forward)

@@ -48,7 +48,9 @@ def counterweight_crank_load_Pa(crank, specific_force_Pa, angle_from_crank_rad, 
 
 def crank_pin_load(tangential_Pa, radial_Pa, centrifugal_rod_Pa):
     """Load of the rod(s) on the crank pin in crank axes: (t, z + c_rod), textbook §5.1, fig. 17."""
-    return np.asarray(tangential_Pa, dtype=float), np.asarray(radial_Pa, dtype=float) + centrifugal_rod_Pa
+    return np.asarray(tangential_Pa, dtype=float), np.asarray(
+        radial_Pa, dtype=float
+    ) + centrifugal_rod_Pa
 
 
 def rod_bearing_load(pin_t_Pa, pin_z_Pa, crank_angle_rad, rod_angle_rad):
@@ -113,8 +115,13 @@ def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m, crank_angle_d
     the smallest load (the first of equal ones, :mod:`crankdyn.physics.extrema`)."""
     magnitude = np.hypot(t_Pa, z_Pa) * piston_area_m2
     area = diameter_m * width_m
-    out = {"max_N": float(magnitude.max()), "mean_N": float(magnitude.mean()), "min_N": float(magnitude.min()),
-           "max_MPa": float(magnitude.max() / area / 1e6), "mean_MPa": float(magnitude.mean() / area / 1e6)}
+    out = {
+        "max_N": float(magnitude.max()),
+        "mean_N": float(magnitude.mean()),
+        "min_N": float(magnitude.min()),
+        "max_MPa": float(magnitude.max() / area / 1e6),
+        "mean_MPa": float(magnitude.mean() / area / 1e6),
+    }
     if crank_angle_deg is not None:
         angle = np.asarray(crank_angle_deg, dtype=float)
         out["max_crank_angle_deg"] = float(angle[first_argmax(magnitude)])
@@ -166,7 +173,9 @@ def _run_bounds(contact, spread_deg: float, resolution_deg: float, points: int):
     return first, last, hit
 
 
-def wear_diagram(contact_t, contact_z, weight, spread_deg: float = 60.0, resolution_deg: float = 1.0):
+def wear_diagram(
+    contact_t, contact_z, weight, spread_deg: float = 60.0, resolution_deg: float = 1.0
+):
     """Wear (load-intensity) diagram around a journal or bearing surface.
 
     Each load presses the surface evenly over +-``spread_deg`` around its contact point

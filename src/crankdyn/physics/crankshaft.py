@@ -47,21 +47,30 @@ def indicated_power_kW(indicated_work_J: float, cylinders: int, strokes: int, rp
     return indicated_work_J * cylinders * rpm / 60.0 / (strokes / 2) / 1000.0
 
 
-def torque_from_power_Nm(indicated_work_J: float, cylinders: int, strokes: int, rpm: float) -> float:
+def torque_from_power_Nm(
+    indicated_work_J: float, cylinders: int, strokes: int, rpm: float
+) -> float:
     """Textbook eq. (47): M_i = 9555 N_i / n [N·m] with N_i in kW and n in rpm. The exact constant
     is 30000/pi = 9549.3 (M = N/omega); the textbook's 9555 gives 0.06 % more, which is all the
     difference from the torque's mean when the torque itself is right."""
     return 9555.0 * indicated_power_kW(indicated_work_J, cylinders, strokes, rpm) / rpm
 
 
-def effective_output(indicated_power_W: float, effective_power_W: float, angular_velocity_rad_s: float) -> dict:
+def effective_output(
+    indicated_power_W: float, effective_power_W: float, angular_velocity_rad_s: float
+) -> dict:
     """The rated effective power N_e [W] (the thermal calculation's) against the indicated power
     N_i [W] the indicator diagram gives: the mechanical efficiency η_m = N_e/N_i (None for an
     N_i ≤ 0, a motored trace) and the mean effective torque M_e = N_e/ω = η_m M_i [N·m]
     (M_i = N_i/ω, the mean indicated torque)."""
-    return {"effective_power_W": effective_power_W, "indicated_power_W": indicated_power_W,
-            "mechanical_efficiency": effective_power_W / indicated_power_W if indicated_power_W > 0 else None,
-            "mean_effective_torque_Nm": effective_power_W / angular_velocity_rad_s}
+    return {
+        "effective_power_W": effective_power_W,
+        "indicated_power_W": indicated_power_W,
+        "mechanical_efficiency": effective_power_W / indicated_power_W
+        if indicated_power_W > 0
+        else None,
+        "mean_effective_torque_Nm": effective_power_W / angular_velocity_rad_s,
+    }
 
 
 def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_Pa):
@@ -73,6 +82,12 @@ def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_P
     """
     out = []
     for k in range(np.shape(radial_Pa)[0]):
-        out.append({"Z": first_argmax(radial_Pa[k]), "T": first_argmax(tangential_Pa[k]),
-                    "Q": first_argmax(resultant[k]), "M": first_argmax(np.abs(journal_torque_Pa[k]))})
+        out.append(
+            {
+                "Z": first_argmax(radial_Pa[k]),
+                "T": first_argmax(tangential_Pa[k]),
+                "Q": first_argmax(resultant[k]),
+                "M": first_argmax(np.abs(journal_torque_Pa[k])),
+            }
+        )
     return out

@@ -77,8 +77,14 @@ def central_derivative(fn, step: float = 1e-3):
     return lambda x: (-fn(x + 2 * h) + 8 * fn(x + h) - 8 * fn(x - h) + fn(x - 2 * h)) / (12 * h)
 
 
-def periodic_extreme(fn, derivative, period: float, kind: str = "max", samples: int = 720,
-                     rtol: float = EXTREMUM_RTOL) -> tuple[float, float]:
+def periodic_extreme(
+    fn,
+    derivative,
+    period: float,
+    kind: str = "max",
+    samples: int = 720,
+    rtol: float = EXTREMUM_RTOL,
+) -> tuple[float, float]:
     """The extreme of a smooth periodic function by root finding: (argument, value).
 
     ``fn`` is sampled at ``samples`` points of one period; every sampled local extreme within 1e-3 of
@@ -102,8 +108,14 @@ def periodic_extreme(fn, derivative, period: float, kind: str = "max", samples: 
         if d_lo == 0.0 or d_hi == 0.0 or d_lo * d_hi > 0:
             root = lo if d_lo == 0.0 else (hi if d_hi == 0.0 else float(x[i]))
         else:
-            root = brentq(lambda a: float(derivative(a)), lo, hi, xtol=1e-15 * period,
-                                   rtol=4 * np.finfo(float).eps, maxiter=200)
+            root = brentq(
+                lambda a: float(derivative(a)),
+                lo,
+                hi,
+                xtol=1e-15 * period,
+                rtol=4 * np.finfo(float).eps,
+                maxiter=200,
+            )
         root = root % period
         if period - root < 1e-12 * period:  # a root just below 0, e.g. -1e-17: it is angle 0
             root = 0.0

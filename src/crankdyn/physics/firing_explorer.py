@@ -56,8 +56,10 @@ class TooManyFiringOrders(ValueError):
     """More firing orders were asked for than :data:`MAX_RANKED_ORDERS`."""
 
     def __init__(self, firing_orders: int, wanted: int):
-        super().__init__(f"this engine has {firing_orders:,} even-firing orders; at most "
-                         f"{MAX_RANKED_ORDERS:,} are ranked and listed at once")
+        super().__init__(
+            f"this engine has {firing_orders:,} even-firing orders; at most "
+            f"{MAX_RANKED_ORDERS:,} are ranked and listed at once"
+        )
         self.firing_orders = firing_orders
         self.wanted = wanted
 
@@ -111,8 +113,13 @@ def _phase_unit(cylinders: int, strokes: int) -> tuple[int, Fraction]:
     return count, Fraction(360, count)
 
 
-def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle_deg: float | None = None,
-                           limit: int = 3_000_000):
+def enumerate_arrangements(
+    cylinders: int,
+    layout: str,
+    strokes: int,
+    bank_angle_deg: float | None = None,
+    limit: int = 3_000_000,
+):
     """All even-firing crank arrangements as integer phase indices.
 
     Returns ``(lags, unit_deg, multiplicity, bank_offsets, reason)``: ``lags`` has shape
@@ -128,9 +135,14 @@ def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle
     for i, angle in enumerate(psi.tolist()):
         ratio = Fraction(angle).limit_denominator(10**6) / unit
         if ratio.denominator != 1:
-            return (np.zeros((0, int(bays.max()) + 1), dtype=np.int16), float(unit), multiplicity, None,
-                    f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
-                    f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg")
+            return (
+                np.zeros((0, int(bays.max()) + 1), dtype=np.int16),
+                float(unit),
+                multiplicity,
+                None,
+                f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
+                f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg",
+            )
         bank_offset[i] = int(ratio) % count
     n_bays = int(bays.max()) + 1
     bay_offsets = bank_offset[bays == 0]  # every bay has the same banks
@@ -139,12 +151,22 @@ def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle
         for o in bay_offsets:
             increments[lag, (lag + o) % count] += 1
     if np.any(increments[0] > multiplicity):
-        return (np.zeros((0, n_bays), dtype=np.int16), float(unit), multiplicity, bank_offset,
-                "cylinders on one crank pin would fire at the same phase")
+        return (
+            np.zeros((0, n_bays), dtype=np.int16),
+            float(unit),
+            multiplicity,
+            bank_offset,
+            "cylinders on one crank pin would fire at the same phase",
+        )
     lags = np.zeros((1, 1), dtype=np.int16)
     counts = increments[0][None, :].copy()
-    too_many = (np.zeros((0, n_bays), dtype=np.int16), float(unit), multiplicity, bank_offset,
-                f"more than {limit:,} crank arrangements: beyond an exhaustive search (see the README)")
+    too_many = (
+        np.zeros((0, n_bays), dtype=np.int16),
+        float(unit),
+        multiplicity,
+        bank_offset,
+        f"more than {limit:,} crank arrangements: beyond an exhaustive search (see the README)",
+    )
     for _ in range(1, n_bays):
         # Every prefix completes to at least one arrangement, so counting the next level's prefixes
         # before building them bounds the memory by ``limit`` rows.
@@ -154,7 +176,9 @@ def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle
         new_lags, new_counts = [], []
         for lag, ok in enumerate(fits):
             if np.any(ok):
-                new_lags.append(np.hstack([lags[ok], np.full((int(ok.sum()), 1), lag, dtype=np.int16)]))
+                new_lags.append(
+                    np.hstack([lags[ok], np.full((int(ok.sum()), 1), lag, dtype=np.int16)])
+                )
                 new_counts.append(counts[ok] + increments[lag])
         if not new_lags:
             lags = np.zeros((0, lags.shape[1] + 1), dtype=np.int16)
@@ -164,12 +188,17 @@ def enumerate_arrangements(cylinders: int, layout: str, strokes: int, bank_angle
     return lags, float(unit), multiplicity, bank_offset, reason
 
 
-def balance_coefficients(lags_deg: np.ndarray, psi_deg: np.ndarray, bays: np.ndarray, vertical_deg: float,
-                         chunk: int = 100_000) -> dict[str, np.ndarray]:
+def balance_coefficients(
+    lags_deg: np.ndarray,
+    psi_deg: np.ndarray,
+    bays: np.ndarray,
+    vertical_deg: float,
+    chunk: int = 100_000,
+) -> dict[str, np.ndarray]:
     """Textbook balance coefficients of many crank arrangements at once (rows of ``lags_deg``)."""
     out = {k: np.empty(len(lags_deg)) for k in COEFFICIENT_KEYS}
     for start in range(0, len(lags_deg), chunk):
-        g = bal.geometry(psi_deg, bays, lags_deg[start:start + chunk], vertical_deg)
+        g = bal.geometry(psi_deg, bays, lags_deg[start : start + chunk], vertical_deg)
         part = slice(start, start + chunk)
         rot = bal.rotating_model(g)
         out["sum_C"][part] = np.abs(rot.force_forward)
@@ -179,22 +208,35 @@ def balance_coefficients(lags_deg: np.ndarray, psi_deg: np.ndarray, bays: np.nda
             out[f"sum_P{name}"][part] = model.force_max
             out[f"M_P{name}"][part] = model.moment_max
             if n == 1:
-                for key, value in (("PI_forward", model.force_forward), ("PI_backward", model.force_backward),
-                                   ("M_PI_forward", model.moment_forward), ("M_PI_backward", model.moment_backward)):
+                for key, value in (
+                    ("PI_forward", model.force_forward),
+                    ("PI_backward", model.force_backward),
+                    ("M_PI_forward", model.moment_forward),
+                    ("M_PI_backward", model.moment_backward),
+                ):
                     out.setdefault(key, np.empty(len(lags_deg)))[part] = np.abs(value)
     return out
 
 
-def _balance_coefficients_indexed(lags: np.ndarray, phase: np.ndarray, unit_deg: float, count: int,
-                                  psi_deg: np.ndarray, bays: np.ndarray, vertical_deg: float,
-                                  chunk: int = 200_000) -> dict[str, np.ndarray]:
+def _balance_coefficients_indexed(
+    lags: np.ndarray,
+    phase: np.ndarray,
+    unit_deg: float,
+    count: int,
+    psi_deg: np.ndarray,
+    bays: np.ndarray,
+    vertical_deg: float,
+    chunk: int = 200_000,
+) -> dict[str, np.ndarray]:
     """:func:`balance_coefficients` for phases that are whole multiples of ``unit_deg``: the unit
     vectors come from small tables instead of complex exponentials (same numbers, ~5x faster)."""
     g = bal.geometry(psi_deg, bays, np.zeros(int(bays.max()) + 1), vertical_deg)
     steps = np.radians(np.arange(count) * unit_deg)
     crank_table = np.exp(1j * (-steps - np.radians(vertical_deg)))  # crank direction by lag index
-    out = {k: np.empty(len(lags)) for k in COEFFICIENT_KEYS + ("PI_forward", "PI_backward", "M_PI_forward",
-                                                                "M_PI_backward")}
+    out = {
+        k: np.empty(len(lags))
+        for k in COEFFICIENT_KEYS + ("PI_forward", "PI_backward", "M_PI_forward", "M_PI_backward")
+    }
     for start in range(0, len(lags), chunk):
         part = slice(start, start + chunk)
         unit = crank_table[lags[part]]
@@ -243,7 +285,9 @@ def _tiers(values: np.ndarray) -> np.ndarray:
     return tiers
 
 
-def _firing_sequences(phase: np.ndarray, multiplicity: int, count: int, cylinders: int, strokes: int) -> np.ndarray:
+def _firing_sequences(
+    phase: np.ndarray, multiplicity: int, count: int, cylinders: int, strokes: int
+) -> np.ndarray:
     """All firing sequences (cylinder indices in firing order) of arrangements with the given
     cylinder phase indices; shape (arrangements, orders_per_arrangement, cylinders)."""
     a = len(phase)
@@ -253,10 +297,17 @@ def _firing_sequences(phase: np.ndarray, multiplicity: int, count: int, cylinder
         else:  # four-stroke, odd count: the phase p*u is fired at p*u or p*u + 360, whichever is a multiple of 720/i
             slot = (phase + cylinders * (phase % 2)) // 2
         seq = np.empty((a, cylinders), dtype=np.int16)
-        np.put_along_axis(seq, slot.astype(np.int64), np.broadcast_to(np.arange(cylinders), (a, cylinders)), axis=1)
+        np.put_along_axis(
+            seq,
+            slot.astype(np.int64),
+            np.broadcast_to(np.arange(cylinders), (a, cylinders)),
+            axis=1,
+        )
         return seq[:, None, :]
     order = np.argsort(phase, axis=1, kind="stable").reshape(a, count, 2)
-    bits = ((np.arange(2 ** (count - 1))[:, None] >> np.arange(count - 1)[None, :]) & 1).astype(bool)
+    bits = ((np.arange(2 ** (count - 1))[:, None] >> np.arange(count - 1)[None, :]) & 1).astype(
+        bool
+    )
     bits = np.hstack([np.zeros((len(bits), 1), dtype=bool), bits])  # phase 0: cylinder 1 first
     first = np.where(bits[None, :, :], order[:, None, :, 1], order[:, None, :, 0])
     second = np.where(bits[None, :, :], order[:, None, :, 0], order[:, None, :, 1])
@@ -269,14 +320,24 @@ def _rules(seq: np.ndarray, banks: np.ndarray, bays: np.ndarray) -> dict[str, np
     bay_a, bay_b = bays[seq], bays[nxt]
     middle = 0.5 * (bays.max())
     neighbours = ((bank_a == bank_b) & (np.abs(bay_a - bay_b) == 1)).sum(axis=-1)
-    same_pin = ((bay_a == bay_b) & (seq != nxt)).sum(axis=-1) if bays.max() < len(bays) - 1 else np.zeros(seq.shape[:-1], int)
+    same_pin = (
+        ((bay_a == bay_b) & (seq != nxt)).sum(axis=-1)
+        if bays.max() < len(bays) - 1
+        else np.zeros(seq.shape[:-1], int)
+    )
     side_a, side_b = np.sign(bay_a - middle), np.sign(bay_b - middle)
     same_half = ((side_a == side_b) & (side_a != 0)).sum(axis=-1)
     return {"neighbours": neighbours, "same_pin": same_pin, "same_half": same_half}
 
 
-def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle_deg: float | None = None,
-            top: int | None = 10, locate: tuple[tuple[float, ...], tuple[str, ...]] | None = None) -> Exploration:
+def explore(
+    cylinders: int,
+    layout: str = "inline",
+    strokes: int = 4,
+    bank_angle_deg: float | None = None,
+    top: int | None = 10,
+    locate: tuple[tuple[float, ...], tuple[str, ...]] | None = None,
+) -> Exploration:
     """Enumerate and rank the even-firing crank arrangements and firing orders.
 
     Parameters
@@ -295,12 +356,15 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
     """
     labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
     result = Exploration(cylinders, layout, strokes, bank_angle_deg, 180.0 * strokes / cylinders)
-    lags, unit, multiplicity, bank_offset, reason = enumerate_arrangements(cylinders, layout, strokes, bank_angle_deg)
+    lags, unit, multiplicity, bank_offset, reason = enumerate_arrangements(
+        cylinders, layout, strokes, bank_angle_deg
+    )
     if reason:
         result.reason = reason
         return result
-    count, per_arrangement = _count_orders(result, len(lags), cylinders // multiplicity,
-                                           multiplicity, top)
+    count, per_arrangement = _count_orders(
+        result, len(lags), cylinders // multiplicity, multiplicity, top
+    )
     vertical = bal.vertical_axis_deg(layout, bank_angle_deg)
     # The phase of a cylinder (its TDC, mod 360) is its crank lag plus its bank angle: both whole
     # multiples of the unit, so the vector models work from small tables of unit vectors.
@@ -348,7 +412,11 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
             rank += 1
             result.rows.append(candidate(rank, rows, i))
 
-    found = _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, evaluate) if locate is not None else None
+    found = (
+        _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, evaluate)
+        if locate is not None
+        else None
+    )
     if found is not None:
         rows, i, own_tier = found
         result.located_rank = int(np.sum(tier < own_tier)) * per_arrangement + i + 1
@@ -356,8 +424,9 @@ def explore(cylinders: int, layout: str = "inline", strokes: int = 4, bank_angle
     return result
 
 
-def _count_orders(result: Exploration, arrangements: int, count: int, multiplicity: int,
-                  top: int | None) -> tuple[int, int]:
+def _count_orders(
+    result: Exploration, arrangements: int, count: int, multiplicity: int, top: int | None
+) -> tuple[int, int]:
     """(count, firing orders per arrangement); the counts set on ``result``. TooManyFiringOrders
     when more than :data:`MAX_RANKED_ORDERS` rows would be ranked and listed."""
     per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
@@ -369,14 +438,20 @@ def _count_orders(result: Exploration, arrangements: int, count: int, multiplici
     return count, per_arrangement
 
 
-def _candidate(rank: int, rows: dict[str, np.ndarray], i: int, lags, unit: float, labels, coefficients) -> Candidate:
+def _candidate(
+    rank: int, rows: dict[str, np.ndarray], i: int, lags, unit: float, labels, coefficients
+) -> Candidate:
     """Row ``i`` of the evaluated ``rows`` as a ranked :class:`Candidate` (crank angles in deg)."""
     a = int(rows["arrangement"][i])
-    return Candidate(rank=rank, crank_angles_deg=tuple(float(x) * unit for x in lags[a]),
-                     firing_order=tuple(labels[int(c)] for c in rows["sequence"][i]),
-                     coefficients={k: _clean(coefficients[k][a]) for k in COEFFICIENT_KEYS},
-                     neighbours=int(rows["neighbours"][i]), same_pin=int(rows["same_pin"][i]),
-                     same_half=int(rows["same_half"][i]))
+    return Candidate(
+        rank=rank,
+        crank_angles_deg=tuple(float(x) * unit for x in lags[a]),
+        firing_order=tuple(labels[int(c)] for c in rows["sequence"][i]),
+        coefficients={k: _clean(coefficients[k][a]) for k in COEFFICIENT_KEYS},
+        neighbours=int(rows["neighbours"][i]),
+        same_pin=int(rows["same_pin"][i]),
+        same_half=int(rows["same_half"][i]),
+    )
 
 
 def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluated_tiers, evaluate):
@@ -384,7 +459,11 @@ def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluat
     (crank lags in deg, firing order labels), or None when it is not an even-firing arrangement
     of this engine."""
     want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
-    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else np.array([], dtype=int)
+    match = (
+        np.nonzero(np.all(lags == want[None, :], axis=1))[0]
+        if len(want) == lags.shape[1]
+        else np.array([], dtype=int)
+    )
     index = {label: i for i, label in enumerate(labels)}
     if not len(match) or not all(x in index for x in locate[1]):
         return None
@@ -394,7 +473,9 @@ def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluat
     if rows is None:
         rows = evaluate(groups[[int(tier[g[0]]) for g in groups].index(own_tier)])
     sequence = np.array([index[x] for x in locate[1]])
-    hit = np.nonzero((rows["arrangement"] == a) & np.all(rows["sequence"] == sequence[None, :], axis=1))[0]
+    hit = np.nonzero(
+        (rows["arrangement"] == a) & np.all(rows["sequence"] == sequence[None, :], axis=1)
+    )[0]
     return (rows, int(hit[0]), own_tier) if len(hit) else None
 
 

@@ -93,7 +93,9 @@ def excess_work(crank_angle_rad, torque_Nm) -> ExcessWork:
     angle = np.asarray(crank_angle_rad, dtype=float)
     torque = np.asarray(torque_Nm, dtype=float)
     if angle.ndim != 1 or angle.shape != torque.shape or angle.size < 3:
-        raise ValueError("crank_angle_rad and torque_Nm must be 1-D arrays of the same length (>= 3)")
+        raise ValueError(
+            "crank_angle_rad and torque_Nm must be 1-D arrays of the same length (>= 3)"
+        )
     step = float(np.mean(np.diff(angle)))
     mean = float(np.mean(torque))
     excess = torque - mean
@@ -122,14 +124,14 @@ def cyclic_irregularity(excess_work_J, inertia_kg_m2, angular_velocity_rad_s):
     """
     if inertia_kg_m2 <= 0:
         raise ValueError("inertia_kg_m2 must be positive")
-    return excess_work_J / (inertia_kg_m2 * angular_velocity_rad_s ** 2)
+    return excess_work_J / (inertia_kg_m2 * angular_velocity_rad_s**2)
 
 
 def required_inertia_kg_m2(excess_work_J, irregularity, angular_velocity_rad_s):
     r"""Total inertia for a required irregularity: :math:`J=\Delta L/(\delta\omega_m^2)` [kg m^2]."""
     if irregularity <= 0:
         raise ValueError("irregularity must be positive")
-    return excess_work_J / (irregularity * angular_velocity_rad_s ** 2)
+    return excess_work_J / (irregularity * angular_velocity_rad_s**2)
 
 
 class RimDesign(NamedTuple):
@@ -153,7 +155,7 @@ def thin_rim_mass_kg(inertia_kg_m2, mean_diameter_m):
     A thin ring of radius :math:`D_m/2` has :math:`J = m D_m^2/4` (Khurmi & Gupta 2005,
     ch. 16: the rim carries the flywheel's inertia, hub and arms neglected).
     """
-    return 4.0 * inertia_kg_m2 / mean_diameter_m ** 2
+    return 4.0 * inertia_kg_m2 / mean_diameter_m**2
 
 
 def rim_design(inertia_kg_m2, mean_diameter_m, density_kg_m3, width_m=None) -> RimDesign:
@@ -195,8 +197,10 @@ def rim_design(inertia_kg_m2, mean_diameter_m, density_kg_m3, width_m=None) -> R
         return math.pi * rho * b * D * h * (D * D + h * h) / 4.0
 
     if inertia_of(D) < inertia_kg_m2:
-        raise ValueError(f"no rim of mean diameter {D:g} m reaches {inertia_kg_m2:g} kg m^2 "
-                         f"(even a rim as thick as its mean diameter has {inertia_of(D):.3g} kg m^2)")
+        raise ValueError(
+            f"no rim of mean diameter {D:g} m reaches {inertia_kg_m2:g} kg m^2 "
+            f"(even a rim as thick as its mean diameter has {inertia_of(D):.3g} kg m^2)"
+        )
     h = brentq(lambda x: inertia_of(x) - inertia_kg_m2, 0.0, D, xtol=1e-15, rtol=1e-13)
     b = h if width_m is None else float(width_m)
     mass = math.pi * rho * b * D * h
@@ -211,4 +215,4 @@ def rim_hoop_stress_Pa(density_kg_m3, rim_speed_m_s):
     Timoshenko (1956), part II, rotating rings; v is the peripheral speed of the ring (at the mean
     diameter for the mean stress, at the outer diameter for an upper bound).
     """
-    return density_kg_m3 * rim_speed_m_s ** 2
+    return density_kg_m3 * rim_speed_m_s**2

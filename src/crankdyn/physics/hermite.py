@@ -30,7 +30,9 @@ def hermite_cubic(knots, values, slopes) -> Callable[[np.ndarray], np.ndarray]:
     y = np.asarray(values, dtype=float)
     m = np.asarray(slopes, dtype=float)
     if x.ndim != 1 or x.size < 2 or y.shape != x.shape or m.shape != x.shape:
-        raise ValueError(f"knots, values and slopes: equal 1-D lengths >= 2, got {x.shape}, {y.shape}, {m.shape}")
+        raise ValueError(
+            f"knots, values and slopes: equal 1-D lengths >= 2, got {x.shape}, {y.shape}, {m.shape}"
+        )
     if not np.all(np.diff(x) > 0):
         raise ValueError(f"knots must increase strictly, got {x.tolist()}")
 
@@ -41,7 +43,11 @@ def hermite_cubic(knots, values, slopes) -> Callable[[np.ndarray], np.ndarray]:
         t = (at - x[k]) / h
         t2 = t * t
         t3 = t2 * t
-        return ((2.0 * t3 - 3.0 * t2 + 1.0) * y[k] + (t3 - 2.0 * t2 + t) * h * m[k]
-                + (3.0 * t2 - 2.0 * t3) * y[k + 1] + (t3 - t2) * h * m[k + 1])
+        return (
+            (2.0 * t3 - 3.0 * t2 + 1.0) * y[k]
+            + (t3 - 2.0 * t2 + t) * h * m[k]
+            + (3.0 * t2 - 2.0 * t3) * y[k + 1]
+            + (t3 - t2) * h * m[k + 1]
+        )
 
     return curve

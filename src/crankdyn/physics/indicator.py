@@ -131,8 +131,12 @@ def cylinder_volume_m3(piston_displacement_m, piston_area_m2, clearance_volume_m
     displacement = np.asarray(piston_displacement_m, dtype=float)
     _require(piston_area_m2 > 0, "piston_area_m2", piston_area_m2, "> 0")
     _require(clearance_volume_m3 > 0, "clearance_volume_m3", clearance_volume_m3, "> 0")
-    _require(np.all(displacement >= 0), "piston_displacement_m",
-             _worst(displacement, displacement < 0), ">= 0")
+    _require(
+        np.all(displacement >= 0),
+        "piston_displacement_m",
+        _worst(displacement, displacement < 0),
+        ">= 0",
+    )
     return clearance_volume_m3 + piston_area_m2 * displacement
 
 
@@ -182,33 +186,63 @@ class CycleParameters:
 
     def __post_init__(self):
         _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
-        _require(self.ignition in ("spark", "diesel"), "ignition", self.ignition,
-                 "'spark' or 'diesel'")
-        _require(np.isfinite(self.compression_ratio) and self.compression_ratio > 1,
-                 "compression_ratio", self.compression_ratio, "> 1")
-        _require(np.isfinite(self.intake_pressure_Pa) and self.intake_pressure_Pa > 0,
-                 "intake_pressure_Pa", self.intake_pressure_Pa, "> 0 (absolute)")
-        _require(np.isfinite(self.compression_index) and self.compression_index > 1,
-                 "compression_index", self.compression_index, "> 1")
-        _require(np.isfinite(self.expansion_index) and self.expansion_index > 1,
-                 "expansion_index", self.expansion_index, "> 1")
+        _require(
+            self.ignition in ("spark", "diesel"), "ignition", self.ignition, "'spark' or 'diesel'"
+        )
+        _require(
+            np.isfinite(self.compression_ratio) and self.compression_ratio > 1,
+            "compression_ratio",
+            self.compression_ratio,
+            "> 1",
+        )
+        _require(
+            np.isfinite(self.intake_pressure_Pa) and self.intake_pressure_Pa > 0,
+            "intake_pressure_Pa",
+            self.intake_pressure_Pa,
+            "> 0 (absolute)",
+        )
+        _require(
+            np.isfinite(self.compression_index) and self.compression_index > 1,
+            "compression_index",
+            self.compression_index,
+            "> 1",
+        )
+        _require(
+            np.isfinite(self.expansion_index) and self.expansion_index > 1,
+            "expansion_index",
+            self.expansion_index,
+            "> 1",
+        )
         if self.ignition == "spark":
-            _require(self.pre_expansion_ratio == 1.0, "pre_expansion_ratio",
-                     self.pre_expansion_ratio, "exactly 1.0 for spark ignition")
+            _require(
+                self.pre_expansion_ratio == 1.0,
+                "pre_expansion_ratio",
+                self.pre_expansion_ratio,
+                "exactly 1.0 for spark ignition",
+            )
         else:
-            _require(1.0 <= self.pre_expansion_ratio < self.compression_ratio,
-                     "pre_expansion_ratio", self.pre_expansion_ratio,
-                     f"[1, compression_ratio={self.compression_ratio}) for a diesel")
-        p_c = self.intake_pressure_Pa * self.compression_ratio ** self.compression_index
-        _require(np.isfinite(self.max_pressure_Pa) and self.max_pressure_Pa > p_c,
-                 "max_pressure_Pa", self.max_pressure_Pa,
-                 f"> compression-end pressure p_a*eps^n1 = {p_c:.6g} Pa")
+            _require(
+                1.0 <= self.pre_expansion_ratio < self.compression_ratio,
+                "pre_expansion_ratio",
+                self.pre_expansion_ratio,
+                f"[1, compression_ratio={self.compression_ratio}) for a diesel",
+            )
+        p_c = self.intake_pressure_Pa * self.compression_ratio**self.compression_index
+        _require(
+            np.isfinite(self.max_pressure_Pa) and self.max_pressure_Pa > p_c,
+            "max_pressure_Pa",
+            self.max_pressure_Pa,
+            f"> compression-end pressure p_a*eps^n1 = {p_c:.6g} Pa",
+        )
         if self.strokes == 4:
-            _require(self.exhaust_pressure_Pa is not None
-                     and np.isfinite(self.exhaust_pressure_Pa)
-                     and self.exhaust_pressure_Pa > 0,
-                     "exhaust_pressure_Pa", self.exhaust_pressure_Pa,
-                     "> 0 (absolute) for a four-stroke cycle")
+            _require(
+                self.exhaust_pressure_Pa is not None
+                and np.isfinite(self.exhaust_pressure_Pa)
+                and self.exhaust_pressure_Pa > 0,
+                "exhaust_pressure_Pa",
+                self.exhaust_pressure_Pa,
+                "> 0 (absolute) for a four-stroke cycle",
+            )
 
 
 def compression_end_pressure_Pa(params):
@@ -227,7 +261,7 @@ def compression_end_pressure_Pa(params):
     -----
     Poda (2007) eq. (12) evaluated at V = V_c.
     """
-    return params.intake_pressure_Pa * params.compression_ratio ** params.compression_index
+    return params.intake_pressure_Pa * params.compression_ratio**params.compression_index
 
 
 def expansion_end_pressure_Pa(params):
@@ -248,8 +282,10 @@ def expansion_end_pressure_Pa(params):
     V_z = rho V_c with p_z and ended at V_a = epsilon V_c; consistent with
     Poda (2007) eq. (13).
     """
-    return params.max_pressure_Pa * (
-        params.pre_expansion_ratio / params.compression_ratio) ** params.expansion_index
+    return (
+        params.max_pressure_Pa
+        * (params.pre_expansion_ratio / params.compression_ratio) ** params.expansion_index
+    )
 
 
 def pressure_ratio(params):
@@ -316,13 +352,20 @@ def _firing_tdc_deg(params):
 
 
 def _check_volumes(volume, clearance_volume_m3, params):
-    _require(np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
-             "clearance_volume_m3", clearance_volume_m3, "> 0")
-    _require(np.all(np.isfinite(volume)), "volume_m3", "non-finite values",
-             "finite values")
+    _require(
+        np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
+        "clearance_volume_m3",
+        clearance_volume_m3,
+        "> 0",
+    )
+    _require(np.all(np.isfinite(volume)), "volume_m3", "non-finite values", "finite values")
     low = clearance_volume_m3 * (1.0 - _VOLUME_RTOL)
-    _require(np.all(volume >= low), "volume_m3", _worst(volume, volume < low),
-             f">= clearance_volume_m3 = {clearance_volume_m3:.6g} m^3")
+    _require(
+        np.all(volume >= low),
+        "volume_m3",
+        _worst(volume, volume < low),
+        f">= clearance_volume_m3 = {clearance_volume_m3:.6g} m^3",
+    )
 
 
 def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params):
@@ -370,10 +413,13 @@ def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, par
     """
     alpha = np.asarray(crank_angle_deg, dtype=float)
     volume = np.asarray(volume_m3, dtype=float)
-    _require(alpha.shape == volume.shape, "volume_m3", f"shape {volume.shape}",
-             f"the shape of crank_angle_deg {alpha.shape}")
-    _require(np.all(np.isfinite(alpha)), "crank_angle_deg", "non-finite values",
-             "finite values")
+    _require(
+        alpha.shape == volume.shape,
+        "volume_m3",
+        f"shape {volume.shape}",
+        f"the shape of crank_angle_deg {alpha.shape}",
+    )
+    _require(np.all(np.isfinite(alpha)), "crank_angle_deg", "non-finite values", "finite values")
     _check_volumes(volume, clearance_volume_m3, params)
 
     cycle = _cycle_deg(params)
@@ -423,9 +469,11 @@ def theoretical_mean_indicated_pressure_Pa(params):
     lam = pressure_ratio(params)
     delta = eps / rho
     p_c = compression_end_pressure_Pa(params)
-    bracket = (lam * (rho - 1.0)
-               + lam * rho / (n2 - 1.0) * (1.0 - delta ** (1.0 - n2))
-               - 1.0 / (n1 - 1.0) * (1.0 - eps ** (1.0 - n1)))
+    bracket = (
+        lam * (rho - 1.0)
+        + lam * rho / (n2 - 1.0) * (1.0 - delta ** (1.0 - n2))
+        - 1.0 / (n1 - 1.0) * (1.0 - eps ** (1.0 - n1))
+    )
     return p_c / (eps - 1.0) * bracket
 
 
@@ -485,21 +533,38 @@ class RoundingParameters:
 
     def __post_init__(self):
         adv = self.ignition_advance_deg
-        _require(np.isfinite(adv) and 0 < adv < 90, "ignition_advance_deg", adv,
-                 "(0, 90) deg")
+        _require(np.isfinite(adv) and 0 < adv < 90, "ignition_advance_deg", adv, "(0, 90) deg")
         delay = self.combustion_delay_deg
-        _require(np.isfinite(delay) and 0 <= delay < adv, "combustion_delay_deg",
-                 delay, f"[0, ignition_advance_deg={adv}) deg so that C' lies "
-                 "before firing TDC")
-        _require(np.isfinite(self.pressure_rise_to_tdc_Pa)
-                 and self.pressure_rise_to_tdc_Pa >= 0,
-                 "pressure_rise_to_tdc_Pa", self.pressure_rise_to_tdc_Pa, ">= 0 Pa")
-        _require(0 < self.peak_pressure_fraction <= 1, "peak_pressure_fraction",
-                 self.peak_pressure_fraction, "(0, 1]")
-        _require(0 < self.peak_angle_after_tdc_deg < 90, "peak_angle_after_tdc_deg",
-                 self.peak_angle_after_tdc_deg, "(0, 90) deg")
-        for name in ("exhaust_opens_before_bdc_deg", "exhaust_closes_after_tdc_deg",
-                     "intake_opens_before_tdc_deg", "intake_closes_after_bdc_deg"):
+        _require(
+            np.isfinite(delay) and 0 <= delay < adv,
+            "combustion_delay_deg",
+            delay,
+            f"[0, ignition_advance_deg={adv}) deg so that C' lies before firing TDC",
+        )
+        _require(
+            np.isfinite(self.pressure_rise_to_tdc_Pa) and self.pressure_rise_to_tdc_Pa >= 0,
+            "pressure_rise_to_tdc_Pa",
+            self.pressure_rise_to_tdc_Pa,
+            ">= 0 Pa",
+        )
+        _require(
+            0 < self.peak_pressure_fraction <= 1,
+            "peak_pressure_fraction",
+            self.peak_pressure_fraction,
+            "(0, 1]",
+        )
+        _require(
+            0 < self.peak_angle_after_tdc_deg < 90,
+            "peak_angle_after_tdc_deg",
+            self.peak_angle_after_tdc_deg,
+            "(0, 90) deg",
+        )
+        for name in (
+            "exhaust_opens_before_bdc_deg",
+            "exhaust_closes_after_tdc_deg",
+            "intake_opens_before_tdc_deg",
+            "intake_closes_after_bdc_deg",
+        ):
             value = getattr(self, name)
             _require(np.isfinite(value) and 0 <= value < 180, name, value, "[0, 180) deg")
 
@@ -532,8 +597,7 @@ def default_combustion_delay_deg(ignition, advance_deg, rpm, delay_time_s=1.5e-3
     _require(ignition in ("spark", "diesel"), "ignition", ignition, "'spark' or 'diesel'")
     _require(np.isfinite(advance_deg) and advance_deg > 0, "advance_deg", advance_deg, "> 0 deg")
     _require(np.isfinite(rpm) and rpm > 0, "rpm", rpm, "> 0 rev/min")
-    _require(np.isfinite(delay_time_s) and delay_time_s > 0, "delay_time_s", delay_time_s,
-             "> 0 s")
+    _require(np.isfinite(delay_time_s) and delay_time_s > 0, "delay_time_s", delay_time_s, "> 0 s")
     if ignition == "spark":
         return 0.11 * advance_deg
     return 6.0 * rpm * delay_time_s
@@ -569,23 +633,32 @@ def _pchip_interior_slope(h1, m1, h2, m2):
 
 def _volume_interpolant(alpha, volume, cycle):
     """Periodic cubic spline V(alpha) and dV/dalpha from the caller's samples."""
-    _require(alpha.ndim == 1 and alpha.size >= 4, "crank_angle_deg",
-             f"array of shape {alpha.shape}",
-             "a 1-D grid of >= 4 points when volume_function is not given")
-    _require(np.all(np.diff(alpha) > 0) and alpha[0] >= 0 and alpha[-1] < cycle,
-             "crank_angle_deg", f"[{alpha[0]}, ..., {alpha[-1]}]",
-             f"strictly increasing values in [0, {cycle:g}) when volume_function "
-             "is not given")
+    _require(
+        alpha.ndim == 1 and alpha.size >= 4,
+        "crank_angle_deg",
+        f"array of shape {alpha.shape}",
+        "a 1-D grid of >= 4 points when volume_function is not given",
+    )
+    _require(
+        np.all(np.diff(alpha) > 0) and alpha[0] >= 0 and alpha[-1] < cycle,
+        "crank_angle_deg",
+        f"[{alpha[0]}, ..., {alpha[-1]}]",
+        f"strictly increasing values in [0, {cycle:g}) when volume_function is not given",
+    )
     gaps = np.diff(np.append(alpha, alpha[0] + cycle))
-    _require(gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG, "crank_angle_deg",
-             f"largest step {gaps.max():g} deg",
-             f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)")
+    _require(
+        gaps.max() <= _MAX_VOLUME_GRID_STEP_DEG,
+        "crank_angle_deg",
+        f"largest step {gaps.max():g} deg",
+        f"steps <= {_MAX_VOLUME_GRID_STEP_DEG:g} deg (or pass volume_function)",
+    )
     from scipy.interpolate import (
         CubicSpline,  # lazy: heavy optional import (~25 ms; sampled volumes only)
     )
 
-    spline = CubicSpline(np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]),
-                         bc_type="periodic")
+    spline = CubicSpline(
+        np.append(alpha, alpha[0] + cycle), np.append(volume, volume[0]), bc_type="periodic"
+    )
     derivative = spline.derivative()
     start = alpha[0]
 
@@ -603,8 +676,10 @@ def _function_volume(volume_function, cycle):
     def volume_and_slope(angle_deg):
         a = np.mod(np.asarray(angle_deg, dtype=float), cycle)
         v = np.asarray(volume_function(a), dtype=float)
-        dv = (np.asarray(volume_function(a + step), dtype=float)
-              - np.asarray(volume_function(a - step), dtype=float)) / (2.0 * step)
+        dv = (
+            np.asarray(volume_function(a + step), dtype=float)
+            - np.asarray(volume_function(a - step), dtype=float)
+        ) / (2.0 * step)
         return v, dv
 
     return volume_and_slope
@@ -697,18 +772,36 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     :func:`rounded_pressure_Pa` as ``junction_deg``.
     """
     count = len(params)
-    _require(count == len(rounding) and count > 0, "rounding", f"{len(rounding)} entries",
-             f"one per diagram ({count}), at least one")
+    _require(
+        count == len(rounding) and count > 0,
+        "rounding",
+        f"{len(rounding)} entries",
+        f"one per diagram ({count}), at least one",
+    )
     cycle = _cycle_deg(params[0])
-    _require(all(_cycle_deg(p) == cycle for p in params), "params", "mixed strokes",
-             "diagrams of one number of strokes")
+    _require(
+        all(_cycle_deg(p) == cycle for p in params),
+        "params",
+        "mixed strokes",
+        "diagrams of one number of strokes",
+    )
     tdc = _firing_tdc_deg(params[0])
-    lines = _ColumnLines(np.asarray(clearance_volume_m3, dtype=float).reshape(count, 1), params,
-                         volume_function, tdc, cycle)
+    lines = _ColumnLines(
+        np.asarray(clearance_volume_m3, dtype=float).reshape(count, 1),
+        params,
+        volume_function,
+        tdc,
+        cycle,
+    )
     psi_peak = np.array([r.peak_angle_after_tdc_deg for r in rounding], dtype=float)
     psi_limit = 180.0 - np.array([r.exhaust_opens_before_bdc_deg for r in rounding], dtype=float)
-    peak = np.array([r.peak_pressure_fraction * p.max_pressure_Pa
-                     for r, p in zip(rounding, params, strict=False)], dtype=float)
+    peak = np.array(
+        [
+            r.peak_pressure_fraction * p.max_pressure_Pa
+            for r, p in zip(rounding, params, strict=False)
+        ],
+        dtype=float,
+    )
     first = _first_passing_steps(psi_peak, psi_limit, peak, lines)
     found = np.flatnonzero(first > 0)
     junction = np.full(count, np.nan)
@@ -718,9 +811,16 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     hi = psi_peak[found] + step * first[found]
     lo = np.where(first[found] == 1, psi_peak[found], psi_peak[found] + step * (first[found] - 1))
     p, slope = lines.expansion_at(hi[:, None], found)
-    sure = np.array([bool(p[k, 0] < peak[row]) and _hermite_is_monotone(
-        0.0, float(slope[k, 0]), float((p[k, 0] - peak[row]) / (hi[k] - psi_peak[row])))
-        for k, row in enumerate(found)], dtype=bool)
+    sure = np.array(
+        [
+            bool(p[k, 0] < peak[row])
+            and _hermite_is_monotone(
+                0.0, float(slope[k, 0]), float((p[k, 0] - peak[row]) / (hi[k] - psi_peak[row]))
+            )
+            for k, row in enumerate(found)
+        ],
+        dtype=bool,
+    )
     found, hi, lo = found[sure], hi[sure], lo[sure]
     junction[found] = _refined_junctions(found, lo, hi, psi_peak, peak, lines)
     return junction
@@ -767,11 +867,16 @@ def _refined_junctions(rows, lo, hi, psi_peak, peak, lines):
     while active.size:
         a_lo, a_hi = lo[active, None], hi[active, None]
         # as _find_junction_deg writes it, operation for operation: the same numbers
-        inner = (a_lo + (a_hi - a_lo) * np.arange(1, _JUNCTION_REFINE_POINTS)
-                 / _JUNCTION_REFINE_POINTS)
+        inner = (
+            a_lo + (a_hi - a_lo) * np.arange(1, _JUNCTION_REFINE_POINTS) / _JUNCTION_REFINE_POINTS
+        )
         valid = (inner > a_lo) & (inner < a_hi)
-        ok = _passing_many(inner, psi_peak[rows[active], None], peak[rows[active], None], lines,
-                           rows[active]) & valid
+        ok = (
+            _passing_many(
+                inner, psi_peak[rows[active], None], peak[rows[active], None], lines, rows[active]
+            )
+            & valid
+        )
         any_ok = ok.any(axis=1)
         first_ok = np.argmax(ok, axis=1)
         columns = np.arange(inner.shape[1])
@@ -798,8 +903,15 @@ class _ColumnLines:
             return np.array([getattr(p, name) for p in params], dtype=float)[:, None]
 
         self.clearance_m3 = clearance_m3
-        self.columns = {name: column(name) for name in (
-            "compression_ratio", "pre_expansion_ratio", "max_pressure_Pa", "expansion_index")}
+        self.columns = {
+            name: column(name)
+            for name in (
+                "compression_ratio",
+                "pre_expansion_ratio",
+                "max_pressure_Pa",
+                "expansion_index",
+            )
+        }
         self.volume_function = volume_function
         self.tdc_deg = tdc_deg
         self.cycle_deg = cycle_deg
@@ -810,12 +922,16 @@ class _ColumnLines:
         step = 1e-4
         a = np.mod(np.asarray(self.tdc_deg + psi, dtype=float), self.cycle_deg)
         v = np.asarray(self.volume_function(a, rows), dtype=float)
-        dv = (np.asarray(self.volume_function(a + step, rows), dtype=float)
-              - np.asarray(self.volume_function(a - step, rows), dtype=float)) / (2.0 * step)
+        dv = (
+            np.asarray(self.volume_function(a + step, rows), dtype=float)
+            - np.asarray(self.volume_function(a - step, rows), dtype=float)
+        ) / (2.0 * step)
         params = _Columns({name: c[rows] for name, c in self.columns.items()})
         clearance = self.clearance_m3[rows]
-        return (_expansion_line_Pa(v, clearance, params),
-                _expansion_slope_Pa_per_deg(v, dv, clearance, params))
+        return (
+            _expansion_line_Pa(v, clearance, params),
+            _expansion_slope_Pa_per_deg(v, dv, clearance, params),
+        )
 
 
 class _Columns:
@@ -830,9 +946,17 @@ def _local_offset_deg(alpha, start_deg, cycle):
     return np.mod(alpha - start_deg, cycle)
 
 
-def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding,
-                        *, volume_function: Callable | None = None,
-                        junction_deg: float | None = None, theoretical_Pa=None):
+def rounded_pressure_Pa(
+    crank_angle_deg,
+    volume_m3,
+    clearance_volume_m3,
+    params,
+    rounding,
+    *,
+    volume_function: Callable | None = None,
+    junction_deg: float | None = None,
+    theoretical_Pa=None,
+):
     """Actual-cycle indicator diagram: the theoretical diagram with rounded corners.
 
     Parameters
@@ -914,15 +1038,30 @@ def rounded_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, params,
 
 def _check_rounding_inputs(params, rounding) -> None:
     """The types of ``params`` and ``rounding``; a two-stroke cycle has no valve timing near TDC."""
-    _require(isinstance(params, CycleParameters), "params", type(params).__name__,
-             "a CycleParameters instance")
-    _require(isinstance(rounding, RoundingParameters), "rounding", type(rounding).__name__,
-             "a RoundingParameters instance")
+    _require(
+        isinstance(params, CycleParameters),
+        "params",
+        type(params).__name__,
+        "a CycleParameters instance",
+    )
+    _require(
+        isinstance(rounding, RoundingParameters),
+        "rounding",
+        type(rounding).__name__,
+        "a RoundingParameters instance",
+    )
     if params.strokes != 4:
-        for name in ("exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
-                     "intake_closes_after_bdc_deg"):
-            _require(getattr(rounding, name) == 0, name, getattr(rounding, name),
-                     "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)")
+        for name in (
+            "exhaust_closes_after_tdc_deg",
+            "intake_opens_before_tdc_deg",
+            "intake_closes_after_bdc_deg",
+        ):
+            _require(
+                getattr(rounding, name) == 0,
+                name,
+                getattr(rounding, name),
+                "0 for a two-stroke cycle (only exhaust_opens_before_bdc_deg applies)",
+            )
 
 
 @dataclass(frozen=True)
@@ -937,14 +1076,18 @@ class _Lines:
     def compression_at(self, psi):
         """(p, dp/dpsi) of the compression line, Pa and Pa/deg."""
         v, dv = self.volume_at(self.tdc_deg + psi)
-        return (_compression_line_Pa(v, self.clearance_volume_m3, self.params),
-                _compression_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params))
+        return (
+            _compression_line_Pa(v, self.clearance_volume_m3, self.params),
+            _compression_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params),
+        )
 
     def expansion_at(self, psi):
         """(p, dp/dpsi) of the expansion line, Pa and Pa/deg."""
         v, dv = self.volume_at(self.tdc_deg + psi)
-        return (_expansion_line_Pa(v, self.clearance_volume_m3, self.params),
-                _expansion_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params))
+        return (
+            _expansion_line_Pa(v, self.clearance_volume_m3, self.params),
+            _expansion_slope_Pa_per_deg(v, dv, self.clearance_volume_m3, self.params),
+        )
 
 
 def _drop_end_psi_deg(rounding) -> float:
@@ -978,39 +1121,62 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     psi_b1 = 180.0 - eo
     if not four:
         # the drop end (after BDC) must precede C' (before the next firing TDC)
-        _require(_drop_end_psi_deg(rounding) - 360.0 < psi_c1, "exhaust_opens_before_bdc_deg", eo,
-                 f"< {2.0 * (psi_c1 + 180.0):.6g} deg so that the drop at BDC ends "
-                 "before the combustion point C'")
-    _require(psi_peak < psi_b1, "exhaust_opens_before_bdc_deg", eo,
-             f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
-             f"(peak_angle_after_tdc_deg = {psi_peak:g})")
+        _require(
+            _drop_end_psi_deg(rounding) - 360.0 < psi_c1,
+            "exhaust_opens_before_bdc_deg",
+            eo,
+            f"< {2.0 * (psi_c1 + 180.0):.6g} deg so that the drop at BDC ends "
+            "before the combustion point C'",
+        )
+    _require(
+        psi_peak < psi_b1,
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
+        f"(peak_angle_after_tdc_deg = {psi_peak:g})",
+    )
     p_c1, s_c1 = (float(x[0]) for x in lines.compression_at(np.asarray([psi_c1])))
     p_c2 = p_c + rounding.pressure_rise_to_tdc_Pa
-    _require(p_c2 < peak, "pressure_rise_to_tdc_Pa", rounding.pressure_rise_to_tdc_Pa,
-             f"< p_z' - p_c = {peak - p_c:.6g} Pa (peak_pressure_fraction * p_z "
-             "must exceed the pressure at TDC)")
+    _require(
+        p_c2 < peak,
+        "pressure_rise_to_tdc_Pa",
+        rounding.pressure_rise_to_tdc_Pa,
+        f"< p_z' - p_c = {peak - p_c:.6g} Pa (peak_pressure_fraction * p_z "
+        "must exceed the pressure at TDC)",
+    )
     h1, h2 = -psi_c1, psi_peak
     m1 = (p_c2 - p_c1) / h1
     m2 = (peak - p_c2) / h2
     d_c2 = _pchip_interior_slope(h1, m1, h2, m2)
-    _require(_hermite_is_monotone(s_c1, d_c2, m1), "combustion_delay_deg",
-             rounding.combustion_delay_deg,
-             "a value for which the C'-C'' rounding is monotone (C' too close to TDC "
-             "for this pressure_rise_to_tdc_Pa)")
-    _require(_hermite_is_monotone(d_c2, 0.0, m2), "peak_angle_after_tdc_deg", psi_peak,
-             "a value for which the C''-Z' rounding is monotone")
+    _require(
+        _hermite_is_monotone(s_c1, d_c2, m1),
+        "combustion_delay_deg",
+        rounding.combustion_delay_deg,
+        "a value for which the C'-C'' rounding is monotone (C' too close to TDC "
+        "for this pressure_rise_to_tdc_Pa)",
+    )
+    _require(
+        _hermite_is_monotone(d_c2, 0.0, m2),
+        "peak_angle_after_tdc_deg",
+        psi_peak,
+        "a value for which the C''-Z' rounding is monotone",
+    )
     if junction_deg is None:
         psi_j = _find_junction_deg(psi_peak, psi_b1, peak, lines.expansion_at)
     else:
         psi_j = None if np.isnan(junction_deg) else float(junction_deg)
-    _require(psi_j is not None,
-             "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
-             f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
-             "values for which the rounding from Z' joins the expansion line "
-             f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
-             "firing TDC)")
+    _require(
+        psi_j is not None,
+        "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
+        f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
+        "values for which the rounding from Z' joins the expansion line "
+        f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
+        "firing TDC)",
+    )
     p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
-    combustion = hermite_cubic([psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j])
+    combustion = hermite_cubic(
+        [psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j]
+    )
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
     return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
@@ -1036,12 +1202,18 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
     psi_b1 = 180.0 - eo
     drop_end_psi = _drop_end_psi_deg(rounding)
-    _require(p_b > p_low, "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
-             p_low, f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust "
-             "rounding")
-    _require(psi_j < psi_b1, "exhaust_opens_before_bdc_deg", eo,
-             f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion "
-             "rounding junction J")
+    _require(
+        p_b > p_low,
+        "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
+        p_low,
+        f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust rounding",
+    )
+    _require(
+        psi_j < psi_b1,
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion rounding junction J",
+    )
     p_b1, s_b1 = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_b1])))
     p_mid = 0.5 * (p_b + p_low)
     if four:
@@ -1052,11 +1224,19 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     m1 = (p_mid - p_b1) / h1
     m2 = (p_end - p_mid) / h2
     d_mid = _pchip_interior_slope(h1, m1, h2, m2)
-    _require(_hermite_is_monotone(s_b1, d_mid, m1), "exhaust_opens_before_bdc_deg", eo,
-             "a value for which the b'-BDC rounding is monotone")
+    _require(
+        _hermite_is_monotone(s_b1, d_mid, m1),
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        "a value for which the b'-BDC rounding is monotone",
+    )
     if four:
-        _require(_hermite_is_monotone(d_mid, s_end, m2), "exhaust_opens_before_bdc_deg",
-                 eo, "a value for which the BDC-exhaust rounding is monotone")
+        _require(
+            _hermite_is_monotone(d_mid, s_end, m2),
+            "exhaust_opens_before_bdc_deg",
+            eo,
+            "a value for which the BDC-exhaust rounding is monotone",
+        )
     drop = hermite_cubic([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
@@ -1084,17 +1264,22 @@ def _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle):
     io = rounding.intake_opens_before_tdc_deg
     ec = rounding.exhaust_closes_after_tdc_deg
     drop_end_psi = _drop_end_psi_deg(rounding)
-    _require(720.0 - io > tdc + drop_end_psi, "intake_opens_before_tdc_deg", io,
-             f"< {720.0 - (tdc + drop_end_psi):.6g} deg so that the intake "
-             "opening follows the end of the exhaust rounding "
-             "(540 + exhaust_opens_before_bdc_deg/2)")
+    _require(
+        720.0 - io > tdc + drop_end_psi,
+        "intake_opens_before_tdc_deg",
+        io,
+        f"< {720.0 - (tdc + drop_end_psi):.6g} deg so that the intake "
+        "opening follows the end of the exhaust rounding "
+        "(540 + exhaust_opens_before_bdc_deg/2)",
+    )
     width = io + ec
     if width > 0:
         offset = _local_offset_deg(alpha, 720.0 - io, cycle)
         in_window = offset <= width
         t = np.clip(offset / width, 0.0, 1.0)
         smooth = params.exhaust_pressure_Pa + (
-            params.intake_pressure_Pa - params.exhaust_pressure_Pa) * t * t * (3.0 - 2.0 * t)
+            params.intake_pressure_Pa - params.exhaust_pressure_Pa
+        ) * t * t * (3.0 - 2.0 * t)
         pressure = np.where(in_window, smooth, pressure)
     return pressure
 
@@ -1128,12 +1313,21 @@ def indicated_work_J(pressure_Pa, volume_m3):
     """
     p = np.asarray(pressure_Pa, dtype=float)
     v = np.asarray(volume_m3, dtype=float)
-    _require(p.ndim == 1 and p.size >= 3, "pressure_Pa", f"array of shape {p.shape}",
-             "a 1-D array of >= 3 samples")
-    _require(v.shape == p.shape, "volume_m3", f"shape {v.shape}",
-             f"the shape of pressure_Pa {p.shape}")
-    _require(np.all(np.isfinite(p)) and np.all(np.isfinite(v)), "pressure_Pa/volume_m3",
-             "non-finite values", "finite values")
+    _require(
+        p.ndim == 1 and p.size >= 3,
+        "pressure_Pa",
+        f"array of shape {p.shape}",
+        "a 1-D array of >= 3 samples",
+    )
+    _require(
+        v.shape == p.shape, "volume_m3", f"shape {v.shape}", f"the shape of pressure_Pa {p.shape}"
+    )
+    _require(
+        np.all(np.isfinite(p)) and np.all(np.isfinite(v)),
+        "pressure_Pa/volume_m3",
+        "non-finite values",
+        "finite values",
+    )
     p_closed = np.append(p, p[0])
     v_closed = np.append(v, v[0])
     return float(np.sum(0.5 * (p_closed[1:] + p_closed[:-1]) * np.diff(v_closed)))
@@ -1179,11 +1373,19 @@ def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int):
     p = np.asarray(pressure_Pa, dtype=float)
     v = np.asarray(volume_m3, dtype=float)
     a = np.asarray(crank_angle_deg, dtype=float)
-    _require(a.shape == p.shape == v.shape and a.size >= 3, "crank_angle_deg",
-             f"shape {a.shape}", f"the shape of pressure_Pa {p.shape}")
+    _require(
+        a.shape == p.shape == v.shape and a.size >= 3,
+        "crank_angle_deg",
+        f"shape {a.shape}",
+        f"the shape of pressure_Pa {p.shape}",
+    )
     step = a[1] - a[0]
-    _require(abs(a[0]) < 1e-9 * step and abs(a[-1] + step - 720.0) < 1e-6 * step, "crank_angle_deg",
-             f"{a[0]:g} .. {a[-1]:g}", "a uniform grid from 0 to 720 deg less one step")
+    _require(
+        abs(a[0]) < 1e-9 * step and abs(a[-1] + step - 720.0) < 1e-6 * step,
+        "crank_angle_deg",
+        f"{a[0]:g} .. {a[-1]:g}",
+        "a uniform grid from 0 to 720 deg less one step",
+    )
     # the closed cycle: the first sample again at 720°
     a, p, v = np.append(a, 720.0), np.append(p, p[0]), np.append(v, v[0])
     work = 0.0
@@ -1214,8 +1416,12 @@ def mean_indicated_pressure_Pa(work_J, swept_volume_m3):
     -----
     Poda (2007) section 3.1 (p_i' = L_i / V_h).
     """
-    _require(np.isfinite(swept_volume_m3) and swept_volume_m3 > 0, "swept_volume_m3",
-             swept_volume_m3, "> 0")
+    _require(
+        np.isfinite(swept_volume_m3) and swept_volume_m3 > 0,
+        "swept_volume_m3",
+        swept_volume_m3,
+        "> 0",
+    )
     if np.ndim(work_J):
         return np.asarray(work_J, dtype=float) / swept_volume_m3
     return float(work_J) / swept_volume_m3
@@ -1227,28 +1433,42 @@ def mean_indicated_pressure_Pa(work_J, swept_volume_m3):
 def _displacement_ratio(volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio):
     """Validated s/R and (2R - s)/R from the cylinder volume."""
     volume = np.asarray(volume_m3, dtype=float)
-    _require(np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
-             "clearance_volume_m3", clearance_volume_m3, "> 0")
+    _require(
+        np.isfinite(clearance_volume_m3) and clearance_volume_m3 > 0,
+        "clearance_volume_m3",
+        clearance_volume_m3,
+        "> 0",
+    )
     _require(np.isfinite(bore_m) and bore_m > 0, "bore_m", bore_m, "> 0")
-    _require(np.isfinite(crank_radius_m) and crank_radius_m > 0, "crank_radius_m",
-             crank_radius_m, "> 0")
-    _require(np.isfinite(rod_ratio) and 0 < rod_ratio < 1, "rod_ratio", rod_ratio,
-             "(0, 1) (lambda = R/L)")
-    area = 0.25 * np.pi * bore_m ** 2
+    _require(
+        np.isfinite(crank_radius_m) and crank_radius_m > 0, "crank_radius_m", crank_radius_m, "> 0"
+    )
+    _require(
+        np.isfinite(rod_ratio) and 0 < rod_ratio < 1,
+        "rod_ratio",
+        rod_ratio,
+        "(0, 1) (lambda = R/L)",
+    )
+    area = 0.25 * np.pi * bore_m**2
     s_over_r = (volume - clearance_volume_m3) / (area * crank_radius_m)
     tol = 1e-9
     bad = ~np.isfinite(s_over_r) | (s_over_r < -tol) | (s_over_r > 2.0 + tol)
     v_max = clearance_volume_m3 + 2.0 * area * crank_radius_m
-    _require(not np.any(bad), "volume_m3", _worst(volume, bad),
-             f"[{clearance_volume_m3:.6g}, {v_max:.6g}] m^3 (V_c ... V_c + pi D^2/4 * 2R)")
+    _require(
+        not np.any(bad),
+        "volume_m3",
+        _worst(volume, bad),
+        f"[{clearance_volume_m3:.6g}, {v_max:.6g}] m^3 (V_c ... V_c + pi D^2/4 * 2R)",
+    )
     s_over_r = np.clip(s_over_r, 0.0, 2.0)
     # distance from BDC computed from the volume directly (no cancellation)
     w_over_r = np.clip((v_max - volume) / (area * crank_radius_m), 0.0, 2.0)
     return s_over_r, w_over_r
 
 
-def crank_angle_from_volume_approx_deg(volume_m3, clearance_volume_m3, bore_m,
-                                       crank_radius_m, rod_ratio):
+def crank_angle_from_volume_approx_deg(
+    volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio
+):
     """Crank angle from cylinder volume, inverting the two-term displacement.
 
     Parameters
@@ -1280,8 +1500,9 @@ def crank_angle_from_volume_approx_deg(volume_m3, clearance_volume_m3, bore_m,
     1 + c = 2 omega / [(1-lambda) + sqrt((1-lambda)^2 + 2 lambda omega)],
     sigma = s/R, omega = 2 - sigma, a = 2 atan2(sqrt(1-c), sqrt(1+c)).
     """
-    sigma, omega = _displacement_ratio(volume_m3, clearance_volume_m3, bore_m,
-                                       crank_radius_m, rod_ratio)
+    sigma, omega = _displacement_ratio(
+        volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio
+    )
     lam = rod_ratio
     one_minus_c = 2.0 * sigma / ((1.0 + lam) + np.sqrt((1.0 + lam) ** 2 - 2.0 * lam * sigma))
     one_plus_c = 2.0 * omega / ((1.0 - lam) + np.sqrt((1.0 - lam) ** 2 + 2.0 * lam * omega))
@@ -1289,8 +1510,9 @@ def crank_angle_from_volume_approx_deg(volume_m3, clearance_volume_m3, bore_m,
     return angle if np.ndim(volume_m3) else float(angle)
 
 
-def crank_angle_from_volume_exact_deg(volume_m3, clearance_volume_m3, bore_m,
-                                      crank_radius_m, rod_ratio):
+def crank_angle_from_volume_exact_deg(
+    volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio
+):
     """Crank angle from cylinder volume for the exact crank-slider kinematics.
 
     Parameters
@@ -1324,8 +1546,9 @@ def crank_angle_from_volume_exact_deg(volume_m3, clearance_volume_m3, bore_m,
     1 - cos a = sigma (2/lambda - sigma) / (2x), 1 + cos a = omega (2/lambda + omega) / (2x),
     a = 2 atan2(sqrt(1 - cos a), sqrt(1 + cos a)), with sigma = s/R, omega = 2 - sigma.
     """
-    sigma, omega = _displacement_ratio(volume_m3, clearance_volume_m3, bore_m,
-                                       crank_radius_m, rod_ratio)
+    sigma, omega = _displacement_ratio(
+        volume_m3, clearance_volume_m3, bore_m, crank_radius_m, rod_ratio
+    )
     inv = 1.0 / rod_ratio
     one_minus_c = sigma * (2.0 * inv - sigma)
     one_plus_c = omega * (2.0 * inv + omega)

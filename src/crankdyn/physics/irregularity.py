@@ -26,6 +26,8 @@ def irregularity_midrange(omega_max_rad_s: float, omega_min_rad_s: float) -> flo
     return (omega_max_rad_s - omega_min_rad_s) / (0.5 * (omega_max_rad_s + omega_min_rad_s))
 
 
-def irregularity_time_mean(omega_max_rad_s: float, omega_min_rad_s: float, omega_mean_rad_s: float) -> float:
+def irregularity_time_mean(
+    omega_max_rad_s: float, omega_min_rad_s: float, omega_mean_rad_s: float
+) -> float:
     """delta = (w_max - w_min) / w_mean with the time-mean speed w_mean = Phi/T (dimensionless)."""
     return (omega_max_rad_s - omega_min_rad_s) / omega_mean_rad_s

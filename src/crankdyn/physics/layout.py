@@ -115,8 +115,11 @@ def cylinder_labels(layout: str, cylinders: int) -> list[tuple[str, int, int]]:
         return [(str(k + 1), k, 0) for k in range(cylinders)]
     banks = LAYOUT_BANKS[layout]
     if cylinders % banks:
-        raise LayoutError("engine.cylinders", cylinders,
-                          f"a {layout} engine has {banks} banks, so the cylinder count must be a multiple of {banks}")
+        raise LayoutError(
+            "engine.cylinders",
+            cylinders,
+            f"a {layout} engine has {banks} banks, so the cylinder count must be a multiple of {banks}",
+        )
     bays = cylinders // banks
     if banks == 1:
         return [(str(k + 1), 0, k) for k in range(bays)]
@@ -128,29 +131,50 @@ def _normalise_label(label) -> str:
     return str(label).strip().upper().replace(" ", "")
 
 
-def _check_layout_fields(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
-                         rod_type: str) -> None:
+def _check_layout_fields(
+    layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None, rod_type: str
+) -> None:
     """Refuse (LayoutError naming the field) a bank angle that is missing, out of range or not
     applicable, an uneven-firing radial, and articulated rods on an in-line engine."""
     if layout in ("V", "W", "Y", "X"):
         if bank_angle_deg is None:
-            raise LayoutError("engine.bank_angle_deg", None, f"required for a {layout} engine (angle between banks)")
+            raise LayoutError(
+                "engine.bank_angle_deg",
+                None,
+                f"required for a {layout} engine (angle between banks)",
+            )
         if layout in ("W", "Y") and not 0 < 2 * bank_angle_deg < 360:
-            raise LayoutError("engine.bank_angle_deg", bank_angle_deg, "must be < 180 for three banks")
+            raise LayoutError(
+                "engine.bank_angle_deg", bank_angle_deg, "must be < 180 for three banks"
+            )
         if layout == "X" and not 0 < bank_angle_deg < 180:
-            raise LayoutError("engine.bank_angle_deg", bank_angle_deg, "must be > 0 and < 180 for an X engine")
+            raise LayoutError(
+                "engine.bank_angle_deg", bank_angle_deg, "must be > 0 and < 180 for an X engine"
+            )
     elif bank_angle_deg is not None and layout in ("inline", "radial", "boxer"):
-        raise LayoutError("engine.bank_angle_deg", bank_angle_deg,
-                          f"does not apply to a {layout} engine (remove it)")
+        raise LayoutError(
+            "engine.bank_angle_deg",
+            bank_angle_deg,
+            f"does not apply to a {layout} engine (remove it)",
+        )
     if layout == "radial" and (cylinders < 3 or cylinders % 2 == 0 and strokes == 4):
-        raise LayoutError("engine.cylinders", cylinders, "a four-stroke radial (one row) needs an odd number "
-                          "of cylinders, at least 3, for even firing")
+        raise LayoutError(
+            "engine.cylinders",
+            cylinders,
+            "a four-stroke radial (one row) needs an odd number "
+            "of cylinders, at least 3, for even firing",
+        )
     if rod_type == "articulated" and layout == "inline":
-        raise LayoutError("engine.rod_type", rod_type, "articulated rods need several cylinders on one crank "
-                          "(V, W, Y, X, boxer or radial)")
+        raise LayoutError(
+            "engine.rod_type",
+            rod_type,
+            "articulated rods need several cylinders on one crank (V, W, Y, X, boxer or radial)",
+        )
 
 
-def _firing_order(firing_order: list | None, labels: list[str], layout: str, strokes: int) -> list[str]:
+def _firing_order(
+    firing_order: list | None, labels: list[str], layout: str, strokes: int
+) -> list[str]:
     """The firing order as normalised cylinder labels: a permutation of ``labels`` read as a cycle
     from the reference cylinder ``labels[0]`` (an order written from another cylinder is the same
     cycle); default for one cylinder and for a radial: every second cylinder."""
@@ -162,28 +186,45 @@ def _firing_order(firing_order: list | None, labels: list[str], layout: str, str
             step = 2 if strokes == 4 else 1
             firing_order = [labels[(step * k) % cylinders] for k in range(cylinders)]
         else:
-            raise LayoutError("engine.firing_order", None, f"required for a {cylinders}-cylinder engine; "
-                              f"cylinder labels: {', '.join(labels)}")
+            raise LayoutError(
+                "engine.firing_order",
+                None,
+                f"required for a {cylinders}-cylinder engine; cylinder labels: {', '.join(labels)}",
+            )
     order = [_normalise_label(x) for x in firing_order]
     unknown = [x for x in order if x not in labels]
     if unknown:
-        raise LayoutError("engine.firing_order", firing_order,
-                          f"labels {', '.join(unknown)} do not exist in this layout; labels: {', '.join(labels)}")
+        raise LayoutError(
+            "engine.firing_order",
+            firing_order,
+            f"labels {', '.join(unknown)} do not exist in this layout; labels: {', '.join(labels)}",
+        )
     repeated = sorted({x for x in order if order.count(x) > 1})
     missing = [x for x in labels if x not in order]
     if repeated or missing or len(order) != cylinders:
-        raise LayoutError("engine.firing_order", firing_order,
-                          "must name every cylinder exactly once" + (f"; repeated: {', '.join(repeated)}" if repeated else "")
-                          + (f"; missing: {', '.join(missing)}" if missing else ""))
+        raise LayoutError(
+            "engine.firing_order",
+            firing_order,
+            "must name every cylinder exactly once"
+            + (f"; repeated: {', '.join(repeated)}" if repeated else "")
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
+        )
     # The order is a cycle: written from any cylinder it is the same engine; the calculation
     # counts from the reference cylinder, so the cycle is read from there.
     start = order.index(labels[0])
     return order[start:] + order[:start]
 
 
-def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: float | None,
-                 firing_order: list | None, crank_angles_deg: list[float] | None,
-                 rod_type: str = "central", uneven_firing: bool = False) -> EngineLayout:
+def build_layout(
+    layout: str,
+    strokes: int,
+    cylinders: int,
+    bank_angle_deg: float | None,
+    firing_order: list | None,
+    crank_angles_deg: list[float] | None,
+    rod_type: str = "central",
+    uneven_firing: bool = False,
+) -> EngineLayout:
     """Validate a layout description and derive every cylinder's bank, bay and firing delay.
 
     Raises LayoutError naming the scene field at fault.
@@ -209,20 +250,32 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
             members = [lab for lab in labels if bay_of[lab] == bay]
             candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
             if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
-                first, other = members[0], next(m for m, c in zip(members, candidates, strict=True)
-                                                 if _angle_distance(c, candidates[0]) > _TOL)
-                raise LayoutError("engine.firing_order", firing_order,
-                                  f"cylinders {first} and {other} share a crank, so they fire "
-                                  f"{(psi[other] - psi[first]) % 360:g} deg apart (mod 360) by the bank angle, but "
-                                  f"even firing every {interval:g} deg puts them "
-                                  f"{(delay[other] - delay[first]) % 360:g} deg apart; choose another firing order, "
-                                  "or give crank_angles_deg with uneven_firing = true")
+                first, other = (
+                    members[0],
+                    next(
+                        m
+                        for m, c in zip(members, candidates, strict=True)
+                        if _angle_distance(c, candidates[0]) > _TOL
+                    ),
+                )
+                raise LayoutError(
+                    "engine.firing_order",
+                    firing_order,
+                    f"cylinders {first} and {other} share a crank, so they fire "
+                    f"{(psi[other] - psi[first]) % 360:g} deg apart (mod 360) by the bank angle, but "
+                    f"even firing every {interval:g} deg puts them "
+                    f"{(delay[other] - delay[first]) % 360:g} deg apart; choose another firing order, "
+                    "or give crank_angles_deg with uneven_firing = true",
+                )
             lags.append(candidates[0])
         even = True
     else:
         if len(crank_angles_deg) != bays:
-            raise LayoutError("engine.crank_angles_deg", crank_angles_deg,
-                              f"must have one angle per crank: {bays} values, crank 1 first")
+            raise LayoutError(
+                "engine.crank_angles_deg",
+                crank_angles_deg,
+                f"must have one angle per crank: {bays} values, crank 1 first",
+            )
         lags = [float(a) % 360.0 for a in crank_angles_deg]
         base = (psi[labels[0]] + lags[0]) % 360.0
         geometric = {lab: (psi[lab] + lags[bay_of[lab]] - base) % 360.0 for lab in labels}
@@ -232,25 +285,51 @@ def build_layout(layout: str, strokes: int, cylinders: int, bank_angle_deg: floa
             step = step if step > _TOL else 360.0
             delay[nxt] = delay[prev] + step
         closing = cycle - delay[order[-1]]
-        if cylinders > 1 and (closing <= _TOL or _angle_distance(closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0) > _TOL):
-            raise LayoutError("engine.firing_order", firing_order,
-                              f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
-                              f"{cycle:g}-deg cycle")
+        if cylinders > 1 and (
+            closing <= _TOL
+            or _angle_distance(
+                closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0
+            )
+            > _TOL
+        ):
+            raise LayoutError(
+                "engine.firing_order",
+                firing_order,
+                f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
+                f"{cycle:g}-deg cycle",
+            )
         intervals = np.diff([delay[lab] for lab in order] + [cycle])
         even = bool(np.all(np.abs(intervals - cycle / cylinders) < _TOL))
         lags = [(lag - lags[0]) % 360.0 for lag in lags]
         if not even and not uneven_firing:
-            raise LayoutError("engine.crank_angles_deg", crank_angles_deg,
-                              "gives uneven firing intervals (" + ", ".join(f"{x:g}" for x in intervals)
-                              + " deg); set engine.uneven_firing = true if that is intended")
+            raise LayoutError(
+                "engine.crank_angles_deg",
+                crank_angles_deg,
+                "gives uneven firing intervals ("
+                + ", ".join(f"{x:g}" for x in intervals)
+                + " deg); set engine.uneven_firing = true if that is intended",
+            )
 
     cylinders_list = tuple(
-        Cylinder(label=lab, bank=bank_of[lab], bay=bay_of[lab], axis_deg=psi[lab],
-                 firing_delay_deg=delay[lab] % cycle,
-                 master=(rod_type != "articulated") or bank_of[lab] == 0)
-        for lab in labels)
-    return EngineLayout(layout=layout, strokes=strokes, bank_angle_deg=bank_angle_deg, cylinders=cylinders_list,
-                        crank_lag_deg=tuple(lags), firing_order=tuple(order), even_firing=even)
+        Cylinder(
+            label=lab,
+            bank=bank_of[lab],
+            bay=bay_of[lab],
+            axis_deg=psi[lab],
+            firing_delay_deg=delay[lab] % cycle,
+            master=(rod_type != "articulated") or bank_of[lab] == 0,
+        )
+        for lab in labels
+    )
+    return EngineLayout(
+        layout=layout,
+        strokes=strokes,
+        bank_angle_deg=bank_angle_deg,
+        cylinders=cylinders_list,
+        crank_lag_deg=tuple(lags),
+        firing_order=tuple(order),
+        even_firing=even,
+    )
 
 
 def _angle_distance(a: float, b: float) -> float:
@@ -258,7 +337,9 @@ def _angle_distance(a: float, b: float) -> float:
     return min(d, 360.0 - d)
 
 
-def cycle_angle_deg(shaft_angle_deg: np.ndarray, firing_delay_deg: float, cycle_deg: float) -> np.ndarray:
+def cycle_angle_deg(
+    shaft_angle_deg: np.ndarray, firing_delay_deg: float, cycle_deg: float
+) -> np.ndarray:
     """Cycle angle of a cylinder at the given shaft angles (textbook eq. 42-43), deg in [0, cycle)."""
     return np.mod(np.asarray(shaft_angle_deg) - firing_delay_deg, cycle_deg)
 
@@ -273,10 +354,15 @@ def grid_shift(firing_delay_deg: float, step_deg: float, grid_deg: float | None 
     if abs(shift - round(shift)) > 1e-6:
         hint = ""
         if grid_deg is not None:
-            hint = "; the nearest steps that work: " + ", ".join(f"{x:.12g}" for x in nearest_steps_deg(grid_deg, step_deg))
-        raise LayoutError("analysis.angle_step_deg", step_deg,
-                          f"must divide the firing delays and bank angles (a delay of {firing_delay_deg:g} deg occurs)"
-                          + hint)
+            hint = "; the nearest steps that work: " + ", ".join(
+                f"{x:.12g}" for x in nearest_steps_deg(grid_deg, step_deg)
+            )
+        raise LayoutError(
+            "analysis.angle_step_deg",
+            step_deg,
+            f"must divide the firing delays and bank angles (a delay of {firing_delay_deg:g} deg occurs)"
+            + hint,
+        )
     return int(round(shift))
 
 
@@ -324,7 +410,11 @@ def nearest_steps_deg(grid: float, step_deg: float) -> list[float]:
 def uneven_warning(layout: EngineLayout) -> str | None:
     if layout.even_firing:
         return None
-    return "uneven firing: intervals " + ", ".join(f"{x:g}" for x in layout.firing_intervals_deg()) + " deg"
+    return (
+        "uneven firing: intervals "
+        + ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())
+        + " deg"
+    )
 
 
 def sampled_period_deg(values, step_deg: float, cycle_deg: float, rtol: float = 1e-9) -> float:
@@ -351,8 +441,16 @@ def cylinder_phases(layout: EngineLayout) -> list[dict]:
     its axis angle from bank 0 (deg), and the delay of its working cycle after cylinder 1's (deg):
     the shift by which its forces enter the sums on the crank pins and the shaft (its own crank
     angle is alpha - delay, mod the cycle)."""
-    return [{"cylinder": c.label, "crank": c.bay + 1, "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
-             "axis_deg": float(c.axis_deg), "cycle_delay_deg": float(c.firing_delay_deg)} for c in layout.cylinders]
+    return [
+        {
+            "cylinder": c.label,
+            "crank": c.bay + 1,
+            "crank_lag_deg": float(layout.crank_lag_deg[c.bay]),
+            "axis_deg": float(c.axis_deg),
+            "cycle_delay_deg": float(c.firing_delay_deg),
+        }
+        for c in layout.cylinders
+    ]
 
 
 #: A four-stroke cylinder's strokes in the order its own crank angle passes them from the TDC at
@@ -360,7 +458,9 @@ def cylinder_phases(layout: EngineLayout) -> list[dict]:
 FOUR_STROKES = ("intake", "compression", "expansion", "exhaust")
 
 
-def stroke_sequence(cycle_delays_deg: list[float], max_columns: int = 12) -> tuple[float, list[list[tuple[str, int]]]] | None:
+def stroke_sequence(
+    cycle_delays_deg: list[float], max_columns: int = 12
+) -> tuple[float, list[list[tuple[str, int]]]] | None:
     """The table of strokes of a four-stroke engine: for each cylinder (its working cycle delayed
     by ``cycle_delays_deg`` after cylinder 1's), its strokes over cylinder 1's crank angle 0…720°
     as runs of (stroke, columns), a column being ``step`` degrees: the largest step every
@@ -378,7 +478,9 @@ def stroke_sequence(cycle_delays_deg: list[float], max_columns: int = 12) -> tup
         return None
     rows = []
     for d in delays:
-        strokes = [FOUR_STROKES[int(((c * step - round(d)) % 720) // 180)] for c in range(720 // step)]
+        strokes = [
+            FOUR_STROKES[int(((c * step - round(d)) % 720) // 180)] for c in range(720 // step)
+        ]
         runs: list[tuple[str, int]] = []
         for stroke in strokes:
             if runs and runs[-1][0] == stroke:

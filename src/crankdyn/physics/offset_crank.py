@@ -62,8 +62,10 @@ def check_offset(crank_radius_m, rod_length_m, offset_m):
     if not (0.0 < crank_radius_m < rod_length_m):
         raise ValueError("need 0 < R < L")
     if abs(offset_m) >= rod_length_m - crank_radius_m:
-        raise ValueError(f"|e| must be < L - R = {(rod_length_m - crank_radius_m) * 1e3:g} mm "
-                         "for the crank to turn a full revolution")
+        raise ValueError(
+            f"|e| must be < L - R = {(rod_length_m - crank_radius_m) * 1e3:g} mm "
+            "for the crank to turn a full revolution"
+        )
 
 
 class OffsetGeometry(NamedTuple):
@@ -157,7 +159,9 @@ def rod_angle_rad(crank_angle_from_axis_rad, rod_ratio, offset_ratio):
     Derived: the lateral distance between crank pin and piston pin is
     R sin phi - e = L sin beta. With k = 0 this is Poda eq. (26).
     """
-    return np.arcsin(float(rod_ratio) * np.sin(_as_float_array(crank_angle_from_axis_rad)) - float(offset_ratio))
+    return np.arcsin(
+        float(rod_ratio) * np.sin(_as_float_array(crank_angle_from_axis_rad)) - float(offset_ratio)
+    )
 
 
 def piston_pin_height_m(crank_angle_from_axis_rad, crank_radius_m, rod_ratio, offset_ratio):
@@ -205,7 +209,9 @@ def piston_displacement_m(crank_angle_rad, crank_radius_m, rod_ratio, offset_rat
     return np.maximum(geometry.tdc_height_m - piston_pin_height_m(phi, R, lam, k), 0.0)
 
 
-def piston_velocity_m_s(crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s):
+def piston_velocity_m_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s
+):
     r"""Exact piston velocity (positive away from TDC).
 
     Returns
@@ -227,7 +233,9 @@ def piston_velocity_m_s(crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio
     return R * float(angular_velocity_rad_s) * (np.sin(phi) + np.cos(phi) * sin_beta / cos_beta)
 
 
-def piston_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s):
+def piston_acceleration_m_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s
+):
     r"""Exact piston acceleration at constant crank speed (positive towards the shaft).
 
     Returns
@@ -250,7 +258,9 @@ def piston_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, offset_
     return R * omega * omega * shape
 
 
-def rod_angular_velocity_rad_s(crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s):
+def rod_angular_velocity_rad_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s
+):
     r"""Rod angular velocity :math:`\dot\beta = \omega\lambda\cos\varphi/\cos\beta` [rad/s]."""
     R, lam, k = float(crank_radius_m), float(rod_ratio), float(offset_ratio)
     phi = _as_float_array(crank_angle_rad) + dead_centres(R, R / lam, k * R / lam).tdc_angle_rad
@@ -258,8 +268,9 @@ def rod_angular_velocity_rad_s(crank_angle_rad, crank_radius_m, rod_ratio, offse
     return float(angular_velocity_rad_s) * lam * np.cos(phi) / cos_beta
 
 
-def rod_angular_acceleration_rad_s2(crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio,
-                                    angular_velocity_rad_s):
+def rod_angular_acceleration_rad_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, offset_ratio, angular_velocity_rad_s
+):
     r"""Rod angular acceleration at constant crank speed [rad/s^2].
 
     Notes
@@ -277,4 +288,10 @@ def rod_angular_acceleration_rad_s2(crank_angle_rad, crank_radius_m, rod_ratio, 
     phi = _as_float_array(crank_angle_rad) + dead_centres(R, R / lam, k * R / lam).tdc_angle_rad
     sin_beta, cos_beta = _sin_cos_beta(phi, lam, k)
     omega = float(angular_velocity_rad_s)
-    return omega * omega * lam * (lam * np.cos(phi) ** 2 * sin_beta - np.sin(phi) * cos_beta**2) / cos_beta**3
+    return (
+        omega
+        * omega
+        * lam
+        * (lam * np.cos(phi) ** 2 * sin_beta - np.sin(phi) * cos_beta**2)
+        / cos_beta**3
+    )

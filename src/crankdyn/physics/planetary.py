@@ -193,9 +193,14 @@ def big_end_path(carrier_angle_rad, geometry: PlanetaryGeometry):
     a, e, k = geometry.carrier_radius_m, geometry.pin_radius_m, geometry.planet_speed_ratio
     theta = geometry.pin_phase_rad + k * phi
     sp, cp, st, ct = np.sin(phi), np.cos(phi), np.sin(theta), np.cos(theta)
-    return (a * sp + e * st, a * cp + e * ct,
-            a * cp + e * k * ct, -a * sp - e * k * st,
-            -a * sp - e * k * k * st, -a * cp - e * k * k * ct)
+    return (
+        a * sp + e * st,
+        a * cp + e * ct,
+        a * cp + e * k * ct,
+        -a * sp - e * k * st,
+        -a * sp - e * k * k * st,
+        -a * cp - e * k * k * ct,
+    )
 
 
 def slider_motion(carrier_angle_rad, geometry: PlanetaryGeometry) -> SliderMotion:
@@ -216,8 +221,12 @@ def lateral_reach_m(geometry: PlanetaryGeometry, revolutions: int = 1) -> float:
     x = np.abs(big_end_path(phi, geometry)[0])
     i = first_argmax(x)
     step = phi[1] - phi[0]
-    best = minimize_bounded(lambda p: -abs(float(big_end_path(p, geometry)[0])), phi[i] - step, phi[i] + step,
-                            xatol=1e-13)
+    best = minimize_bounded(
+        lambda p: -abs(float(big_end_path(p, geometry)[0])),
+        phi[i] - step,
+        phi[i] + step,
+        xatol=1e-13,
+    )
     return float(max(x[i], -best.fun))
 
 
@@ -243,7 +252,9 @@ def _refine_extreme(phi_i, step, geometry, sign):
         return hi
     if np.sign(f_lo) != np.sign(f_hi):
         return brentq(slope, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
-    result = minimize_bounded(lambda p: -sign * float(slider_motion(p, geometry).pin_z_m), lo, hi, xatol=1e-13)
+    result = minimize_bounded(
+        lambda p: -sign * float(slider_motion(p, geometry).pin_z_m), lo, hi, xatol=1e-13
+    )
     return float(result.x)
 
 
@@ -328,7 +339,9 @@ def rod_line_distance_m(point_x_m, point_z_m, big_end_x_m, big_end_z_m, rod_angl
     return dz * np.sin(beta) + dx * np.cos(beta)
 
 
-def force_transmission(carrier_angle_rad, geometry: PlanetaryGeometry, pressure_angle_rad=0.3490658503988659):
+def force_transmission(
+    carrier_angle_rad, geometry: PlanetaryGeometry, pressure_angle_rad=0.3490658503988659
+):
     r"""How a unit axial piston force reaches the carrier.
 
     Parameters

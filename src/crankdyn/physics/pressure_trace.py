@@ -81,13 +81,15 @@ def _read_once(path, kind, parse):
             if status.st_size > MAX_TRACE_BYTES:
                 raise PressureTraceError(
                     f"{name}: the file has {status.st_size} bytes; a pressure trace may have at "
-                    f"most {MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
+                    f"most {MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows"
+                )
             value = parse(name, _numbered_lines(handle, name))
     except UnicodeDecodeError as exc:
         raise PressureTraceError(f"{name}: cannot read the file as UTF-8 text ({exc})") from None
     except OSError as exc:
         raise PressureTraceError(
-            f"{name}: cannot read the file ({exc.__class__.__name__})") from None
+            f"{name}: cannot read the file ({exc.__class__.__name__})"
+        ) from None
     with _CACHE_LOCK:  # stages of a batch may run in threads
         while len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
@@ -108,17 +110,20 @@ def _numbered_lines(handle, name):
         if number > MAX_TRACE_LINES:
             raise PressureTraceError(
                 f"{name}: more than {MAX_TRACE_LINES} lines; a pressure trace may have at most "
-                f"{MAX_TRACE_LINES} lines (blank ones included) and {MAX_TRACE_ROWS} data rows")
+                f"{MAX_TRACE_LINES} lines (blank ones included) and {MAX_TRACE_ROWS} data rows"
+            )
         read += len(line)
         text = line.rstrip("\r\n")
         if len(text) > MAX_LINE_LENGTH:
             raise PressureTraceError(
                 f"{name}, line {number}: longer than {MAX_LINE_LENGTH} characters; a row of a "
-                "pressure trace holds a few numbers")
+                "pressure trace holds a few numbers"
+            )
         if read > MAX_TRACE_BYTES:
             raise PressureTraceError(
                 f"{name}: more than {MAX_TRACE_BYTES} bytes; a pressure trace may have at most "
-                f"{MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows")
+                f"{MAX_TRACE_BYTES} bytes and {MAX_TRACE_ROWS} data rows"
+            )
         if text.strip():
             yield number, text
 
@@ -126,13 +131,14 @@ def _numbered_lines(handle, name):
 def _too_many_rows(name):
     return PressureTraceError(
         f"{name}: more than {MAX_TRACE_ROWS} data rows; a pressure trace may have at most "
-        f"{MAX_TRACE_ROWS} rows (one cycle sampled every {720 / MAX_TRACE_ROWS:g} deg or coarser)")
+        f"{MAX_TRACE_ROWS} rows (one cycle sampled every {720 / MAX_TRACE_ROWS:g} deg or coarser)"
+    )
 
 
 def _cell(text, limit=30):
     """One cell of a data file for a message: escaped (repr) and cut to ``limit`` characters."""
     text = str(text)
-    return repr(text if len(text) <= limit else text[:limit - 3] + "...")
+    return repr(text if len(text) <= limit else text[: limit - 3] + "...")
 
 
 def _to_float(text, name, line_number, column):
@@ -141,11 +147,13 @@ def _to_float(text, name, line_number, column):
     except ValueError:
         raise PressureTraceError(
             f"{name}, line {line_number}: column {column} value {_cell(text.strip())} is not a "
-            "number (only numeric data rows are allowed after the header)") from None
+            "number (only numeric data rows are allowed after the header)"
+        ) from None
     if not math.isfinite(value):
         raise PressureTraceError(
             f"{name}, line {line_number}: column {column} value {_cell(text.strip())} is not "
-            "finite (NaN and infinity are not allowed)")
+            "finite (NaN and infinity are not allowed)"
+        )
     return value
 
 
@@ -162,21 +170,22 @@ def _csv_fields(text, name, line_number):
 def _check_trace(name, angle_deg, pressure, line_numbers, pressure_label):
     """Common checks: enough rows, strictly increasing angles, positive pressure (arrays)."""
     if len(angle_deg) < 2:
-        raise PressureTraceError(
-            f"{name}: {len(angle_deg)} data row(s); at least 2 are required")
+        raise PressureTraceError(f"{name}: {len(angle_deg)} data row(s); at least 2 are required")
     falling = np.flatnonzero(~(angle_deg[1:] > angle_deg[:-1]))
     if falling.size:
         k = int(falling[0]) + 1
         raise PressureTraceError(
             f"{name}, line {line_numbers[k]}: crank angle {angle_deg[k]:g} deg does not "
             f"exceed the previous {angle_deg[k - 1]:g} deg (angles must be strictly "
-            "increasing)")
+            "increasing)"
+        )
     negative = np.flatnonzero(pressure < 0)
     if negative.size:
         k = int(negative[0])
         raise PressureTraceError(
             f"{name}, line {line_numbers[k]}: {pressure_label} {pressure[k]:g} is negative "
-            "(absolute pressure >= 0 is required)")
+            "(absolute pressure >= 0 is required)"
+        )
 
 
 def _header_unit(header):
@@ -234,25 +243,29 @@ def _parse_csv(name, lines):
     first = next(lines, None)
     if first is None:
         raise PressureTraceError(
-            f"{name}: the file is empty (a header row and at least 2 data rows are required)")
+            f"{name}: the file is empty (a header row and at least 2 data rows are required)"
+        )
     header_line, header_text = first
     header = _csv_fields(header_text, name, header_line)
     if len(header) < 2:
         raise PressureTraceError(
             f"{name}, line {header_line}: header has {len(header)} column(s); at least 2 "
-            "(crank angle, pressure) are required")
+            "(crank angle, pressure) are required"
+        )
     angle_unit = _header_unit(header[0])
     if angle_unit is not None and angle_unit.strip().lower() not in _ANGLE_UNITS:
         raise PressureTraceError(
             f"{name}, line {header_line}: angle column header {_cell(header[0].strip())} has "
-            f"unit {_cell(angle_unit)}; allowed: deg (or no unit)")
+            f"unit {_cell(angle_unit)}; allowed: deg (or no unit)"
+        )
     unit = _header_unit(header[1])
     if unit is None or unit.strip().lower() not in _PRESSURE_UNITS_TO_PA:
         found = "no unit" if unit is None else f"unit {_cell(unit)}"
         raise PressureTraceError(
             f"{name}, line {header_line}: pressure column header {_cell(header[1].strip())} has "
             f"{found}; allowed units: {_ALLOWED_PRESSURE_UNITS}, written as "
-            "'p [MPa]', 'p (MPa)' or 'pressure_MPa'")
+            "'p [MPa]', 'p (MPa)' or 'pressure_MPa'"
+        )
     factor = _PRESSURE_UNITS_TO_PA[unit.strip().lower()]
 
     angles, pressures, line_numbers = array("d"), array("d"), array("q")
@@ -263,7 +276,8 @@ def _parse_csv(name, lines):
         if len(fields) < 2:
             raise PressureTraceError(
                 f"{name}, line {line_number}: {len(fields)} column(s); at least 2 (crank "
-                "angle, pressure) are required")
+                "angle, pressure) are required"
+            )
         try:
             angle, pressure = float(fields[0]), float(fields[1])
         except ValueError:
@@ -325,26 +339,30 @@ def _parse_diesel_rk(name, lines):
     if first is None:
         raise PressureTraceError(
             f"{name}: the file is empty (a Diesel-RK .ind file starts with a line of column "
-            "names and a line 'Arrays')")
+            "names and a line 'Arrays')"
+        )
     header_line, header_text = first
     names = header_text.split()
     if len(names) < 2:
         raise PressureTraceError(
             f"{name}, line {header_line}: {len(names)} column name(s); at least 2 (angle, "
-            "pressure) are required")
+            "pressure) are required"
+        )
     if len(names) > MAX_COLUMNS:
         raise PressureTraceError(
             f"{name}, line {header_line}: {len(names)} column names; at most {MAX_COLUMNS} are "
-            "allowed")
+            "allowed"
+        )
     if len(set(names)) != len(names):
         raise PressureTraceError(
-            f"{name}, line {header_line}: duplicate column names {names}; names must be "
-            "unique")
+            f"{name}, line {header_line}: duplicate column names {names}; names must be unique"
+        )
     second = next(lines, None)
     if second is None or second[1].strip().lower() != "arrays":
         where = second[0] if second is not None else header_line + 1
         raise PressureTraceError(
-            f"{name}, line {where}: expected the line 'Arrays' after the column names")
+            f"{name}, line {where}: expected the line 'Arrays' after the column names"
+        )
     values, line_numbers = array("d"), array("q")
     for line_number, text in lines:
         if len(line_numbers) >= MAX_TRACE_ROWS:
@@ -353,7 +371,8 @@ def _parse_diesel_rk(name, lines):
         if len(fields) != len(names):
             raise PressureTraceError(
                 f"{name}, line {line_number}: {len(fields)} column(s); exactly "
-                f"{len(names)} are required ({' '.join(names)})")
+                f"{len(names)} are required ({' '.join(names)})"
+            )
         values.extend(_to_float(f, name, line_number, c + 1) for c, f in enumerate(fields))
         line_numbers.append(line_number)
     if not line_numbers:
@@ -404,20 +423,25 @@ def _check_trace_arrays(angle, pressure, grid, cycle_deg) -> None:
     if angle.ndim != 1 or angle.shape != pressure.shape or angle.size < 2:
         raise PressureTraceError(
             f"crank_angle_deg shape {angle.shape} and pressure_Pa shape {pressure.shape}: "
-            "equal 1-D shapes with at least 2 samples are required")
-    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(pressure))
-            and np.all(np.isfinite(grid))):
-        raise PressureTraceError("trace or grid contains NaN or infinity; finite values "
-                                 "are required")
+            "equal 1-D shapes with at least 2 samples are required"
+        )
+    if not (
+        np.all(np.isfinite(angle)) and np.all(np.isfinite(pressure)) and np.all(np.isfinite(grid))
+    ):
+        raise PressureTraceError(
+            "trace or grid contains NaN or infinity; finite values are required"
+        )
     if not (math.isfinite(cycle_deg) and cycle_deg > 0):
-        raise PressureTraceError(f"cycle_deg = {cycle_deg!r}; a positive angle (720 or 360) "
-                                 "is required")
+        raise PressureTraceError(
+            f"cycle_deg = {cycle_deg!r}; a positive angle (720 or 360) is required"
+        )
     if not np.all(np.diff(angle) > 0):
         raise PressureTraceError("crank_angle_deg must be strictly increasing")
 
 
-def to_cycle_grid(crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_deg_in_file,
-                  firing_tdc_deg_target):
+def to_cycle_grid(
+    crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_deg_in_file, firing_tdc_deg_target
+):
     """Shift, wrap and interpolate a one-cycle pressure trace onto a cycle grid.
 
     Parameters
@@ -465,7 +489,8 @@ def to_cycle_grid(crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_
     if span > cycle_deg + tol:
         raise PressureTraceError(
             f"the trace spans {span:g} deg, more than one cycle of {cycle_deg:g} deg; "
-            "pass exactly one cycle")
+            "pass exactly one cycle"
+        )
     if span >= cycle_deg - tol:
         # first and last samples are the same point of the cycle: average them
         last = pressure[-1]
@@ -484,5 +509,6 @@ def to_cycle_grid(crank_angle_deg, pressure_Pa, cycle_deg, grid_deg, firing_tdc_
         raise PressureTraceError(
             f"the trace covers {covered:g} of {cycle_deg:g} deg ({100.0 * covered / cycle_deg:.1f} "
             f"%) of the cycle; its largest gap is {largest:g} deg after {start:g} deg "
-            f"(target angles), at most {_MAX_CYCLE_GAP_DEG:g} deg is allowed")
+            f"(target angles), at most {_MAX_CYCLE_GAP_DEG:g} deg is allowed"
+        )
     return np.interp(np.mod(grid, cycle_deg), wrapped, values, period=cycle_deg)

@@ -71,8 +71,16 @@ class SliderMotion(NamedTuple):
     rod_angle_d2: np.ndarray
 
 
-def slider_from_big_end(big_end_x_m, big_end_z_m, big_end_x_d1, big_end_z_d1, big_end_x_d2, big_end_z_d2,
-                        rod_length_m, axis_x_m=0.0):
+def slider_from_big_end(
+    big_end_x_m,
+    big_end_z_m,
+    big_end_x_d1,
+    big_end_z_d1,
+    big_end_x_d2,
+    big_end_z_d2,
+    rod_length_m,
+    axis_x_m=0.0,
+):
     r"""Piston-pin motion and rod angle for a rod whose big end follows a given path.
 
     Parameters
@@ -114,7 +122,9 @@ def slider_from_big_end(big_end_x_m, big_end_z_m, big_end_x_d1, big_end_z_d1, bi
     ddu = _as_float_array(big_end_x_d2)
     length = float(rod_length_m)
     if np.any(np.abs(u) >= length):
-        raise ValueError("the big end comes a rod length or more off the cylinder axis: the rod cannot reach")
+        raise ValueError(
+            "the big end comes a rod length or more off the cylinder axis: the rod cannot reach"
+        )
     w = np.sqrt((length - u) * (length + u))  # L cos(beta), without cancellation near |u| = L
     dw = -u * du / w
     ddw = -(du * du + u * ddu) / w - u * u * du * du / w**3
@@ -128,7 +138,9 @@ def slider_from_big_end(big_end_x_m, big_end_z_m, big_end_x_d1, big_end_z_d1, bi
     )
 
 
-def rod_point_velocity_m_s(pin_velocity_z_m_s, rod_angle_rad, rod_angular_velocity_rad_s, distance_from_pin_m):
+def rod_point_velocity_m_s(
+    pin_velocity_z_m_s, rod_angle_rad, rod_angular_velocity_rad_s, distance_from_pin_m
+):
     r"""Velocity of a point of the rod axis.
 
     Parameters
@@ -157,8 +169,13 @@ def rod_point_velocity_m_s(pin_velocity_z_m_s, rod_angle_rad, rod_angular_veloci
     return d * rate * np.cos(beta), _as_float_array(pin_velocity_z_m_s) + d * rate * np.sin(beta)
 
 
-def rod_point_acceleration_m_s2(pin_acceleration_z_m_s2, rod_angle_rad, rod_angular_velocity_rad_s,
-                                rod_angular_acceleration_rad_s2, distance_from_pin_m):
+def rod_point_acceleration_m_s2(
+    pin_acceleration_z_m_s2,
+    rod_angle_rad,
+    rod_angular_velocity_rad_s,
+    rod_angular_acceleration_rad_s2,
+    distance_from_pin_m,
+):
     r"""Acceleration of a point of the rod axis.
 
     Parameters
@@ -210,7 +227,11 @@ def two_mass_moment_of_inertia_kg_m2(rod_mass_kg, rod_length_m, cm_from_big_end_
     The textbook split (Poda eq. 17) keeps the mass and the centre of mass but not the
     moment of inertia; the real rod's I_G is usually smaller.
     """
-    return float(rod_mass_kg) * float(cm_from_big_end_m) * (float(rod_length_m) - float(cm_from_big_end_m))
+    return (
+        float(rod_mass_kg)
+        * float(cm_from_big_end_m)
+        * (float(rod_length_m) - float(cm_from_big_end_m))
+    )
 
 
 def three_mass_split_kg(rod_mass_kg, rod_length_m, cm_from_big_end_m, moment_of_inertia_kg_m2):
@@ -241,15 +262,24 @@ def three_mass_split_kg(rod_mass_kg, rod_length_m, cm_from_big_end_m, moment_of_
     value m l_R (L - l_R); the model stays exact, but the mass at G loses its physical
     meaning.
     """
-    m, length, l_r, inertia = (float(rod_mass_kg), float(rod_length_m), float(cm_from_big_end_m),
-                               float(moment_of_inertia_kg_m2))
+    m, length, l_r, inertia = (
+        float(rod_mass_kg),
+        float(rod_length_m),
+        float(cm_from_big_end_m),
+        float(moment_of_inertia_kg_m2),
+    )
     small_end = inertia / (length * (length - l_r))
     big_end = inertia / (length * l_r)
     return small_end, big_end, m - small_end - big_end
 
 
-def correction_couple_Nm(rod_angular_acceleration_rad_s2, rod_mass_kg, rod_length_m, cm_from_big_end_m,
-                         moment_of_inertia_kg_m2):
+def correction_couple_Nm(
+    rod_angular_acceleration_rad_s2,
+    rod_mass_kg,
+    rod_length_m,
+    cm_from_big_end_m,
+    moment_of_inertia_kg_m2,
+):
     r"""Couple to add to the two-mass model so that it becomes dynamically exact.
 
     Parameters
@@ -272,12 +302,20 @@ def correction_couple_Nm(rod_angular_acceleration_rad_s2, rod_mass_kg, rod_lengt
     :math:`-I_2\ddot\beta` about G; the real rod's is :math:`-I_G\ddot\beta`.
     """
     delta = float(moment_of_inertia_kg_m2) - two_mass_moment_of_inertia_kg_m2(
-        rod_mass_kg, rod_length_m, cm_from_big_end_m)
+        rod_mass_kg, rod_length_m, cm_from_big_end_m
+    )
     return -delta * _as_float_array(rod_angular_acceleration_rad_s2)
 
 
-def rod_inertia_torque_Nm(rod_mass_kg, moment_of_inertia_kg_m2, cm_velocity, cm_acceleration,
-                          rod_angular_velocity_rad_s, rod_angular_acceleration_rad_s2, angular_velocity_rad_s):
+def rod_inertia_torque_Nm(
+    rod_mass_kg,
+    moment_of_inertia_kg_m2,
+    cm_velocity,
+    cm_acceleration,
+    rod_angular_velocity_rad_s,
+    rod_angular_acceleration_rad_s2,
+    angular_velocity_rad_s,
+):
     r"""Torque that the inertia of a rigid rod puts on the crankshaft.
 
     Parameters
@@ -307,9 +345,11 @@ def rod_inertia_torque_Nm(rod_mass_kg, moment_of_inertia_kg_m2, cm_velocity, cm_
     """
     vx, vz = cm_velocity
     ax, az = cm_acceleration
-    power = (float(rod_mass_kg) * (_as_float_array(ax) * vx + _as_float_array(az) * vz)
-             + float(moment_of_inertia_kg_m2) * _as_float_array(rod_angular_velocity_rad_s)
-             * _as_float_array(rod_angular_acceleration_rad_s2))
+    power = float(rod_mass_kg) * (_as_float_array(ax) * vx + _as_float_array(az) * vz) + float(
+        moment_of_inertia_kg_m2
+    ) * _as_float_array(rod_angular_velocity_rad_s) * _as_float_array(
+        rod_angular_acceleration_rad_s2
+    )
     return -power / float(angular_velocity_rad_s)
 
 

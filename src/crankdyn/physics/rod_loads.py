@@ -35,16 +35,37 @@ class RodLoads(NamedTuple):
     """Exact loads [N] over the crank angle (arrays)."""
 
     crank_pin_tangential_N: np.ndarray  # T of the rod's force on the crank pin, + with the rotation
-    crank_pin_radial_N: np.ndarray  # Z of it, + towards the shaft axis (the rod's whole inertia included)
-    wrist_pin_axial_N: np.ndarray  # force of the piston on the rod at the piston pin along the axis, + towards the crank
-    wrist_pin_lateral_N: np.ndarray  # ... across the axis, + along x (equal to the wall force on the piston)
-    side_N: np.ndarray  # N, the cylinder wall's force on the piston (+ along x: the sign of p1 tan b)
-    rod_axial_N: np.ndarray  # K, the crank pin's force along the rod at the big end, + compressing the rod
+    crank_pin_radial_N: (
+        np.ndarray
+    )  # Z of it, + towards the shaft axis (the rod's whole inertia included)
+    wrist_pin_axial_N: (
+        np.ndarray
+    )  # force of the piston on the rod at the piston pin along the axis, + towards the crank
+    wrist_pin_lateral_N: (
+        np.ndarray
+    )  # ... across the axis, + along x (equal to the wall force on the piston)
+    side_N: (
+        np.ndarray
+    )  # N, the cylinder wall's force on the piston (+ along x: the sign of p1 tan b)
+    rod_axial_N: (
+        np.ndarray
+    )  # K, the crank pin's force along the rod at the big end, + compressing the rod
 
 
-def exact_rod_loads_N(crank_angle_rad, crank_radius_m, rod_length_m, rod_cm_from_big_end_m, rod_mass_kg,
-                      rod_moment_of_inertia_kg_m2, piston_mass_kg, angular_velocity_rad_s, gas_force_N,
-                      rod_angle_rad, rod_angular_acceleration_rad_s2, piston_acceleration_m_s2) -> RodLoads:
+def exact_rod_loads_N(
+    crank_angle_rad,
+    crank_radius_m,
+    rod_length_m,
+    rod_cm_from_big_end_m,
+    rod_mass_kg,
+    rod_moment_of_inertia_kg_m2,
+    piston_mass_kg,
+    angular_velocity_rad_s,
+    gas_force_N,
+    rod_angle_rad,
+    rod_angular_acceleration_rad_s2,
+    piston_acceleration_m_s2,
+) -> RodLoads:
     """Loads of a central crank-slider with a rigid rod (mass m, centre l_R from the big end, I_G).
 
     Parameters are SI: crank angle a [rad] from TDC, R, L, l_R [m], masses [kg], I_G [kg m^2],
@@ -55,7 +76,12 @@ def exact_rod_loads_N(crank_angle_rad, crank_radius_m, rod_length_m, rod_cm_from
     """
     a = np.asarray(crank_angle_rad, dtype=float)
     b = np.asarray(rod_angle_rad, dtype=float)
-    R, L, lr, w = float(crank_radius_m), float(rod_length_m), float(rod_cm_from_big_end_m), float(angular_velocity_rad_s)
+    R, L, lr, w = (
+        float(crank_radius_m),
+        float(rod_length_m),
+        float(rod_cm_from_big_end_m),
+        float(angular_velocity_rad_s),
+    )
     m, inertia, mp = float(rod_mass_kg), float(rod_moment_of_inertia_kg_m2), float(piston_mass_kg)
     bx, by = R * np.sin(a), R * np.cos(a)
     dx, dy = -L * np.sin(b), L * np.cos(b)  # A - B
@@ -66,11 +92,18 @@ def exact_rod_loads_N(crank_angle_rad, crank_radius_m, rod_length_m, rod_cm_from
     gbx, gby = -f * dx, -f * dy  # B - G
     a_y = -np.asarray(gas_force_N, dtype=float) - mp * ya_dd
     moment = gbx * m * agy - gby * m * agx  # (B - G) x m a_G
-    a_x = (dx * a_y + moment - inertia * np.asarray(rod_angular_acceleration_rad_s2, dtype=float)) / dy
+    a_x = (
+        dx * a_y + moment - inertia * np.asarray(rod_angular_acceleration_rad_s2, dtype=float)
+    ) / dy
     fbx, fby = m * agx - a_x, m * agy - a_y  # F_B on the rod; the crank pin carries -F_B
     tangential = -(fbx * np.cos(a) - fby * np.sin(a))
     radial = fbx * np.sin(a) + fby * np.cos(a)
     ux, uy = dx / L, dy / L
-    return RodLoads(crank_pin_tangential_N=tangential, crank_pin_radial_N=radial,
-                    wrist_pin_axial_N=-a_y, wrist_pin_lateral_N=a_x, side_N=a_x,
-                    rod_axial_N=fbx * ux + fby * uy)
+    return RodLoads(
+        crank_pin_tangential_N=tangential,
+        crank_pin_radial_N=radial,
+        wrist_pin_axial_N=-a_y,
+        wrist_pin_lateral_N=a_x,
+        side_N=a_x,
+        rod_axial_N=fbx * ux + fby * uy,
+    )

@@ -37,8 +37,14 @@ def _negative(value: float) -> bool:
     return math.copysign(1.0, value) < 0
 
 
-def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, rtol: float = RTOL,
-           maxiter: int = MAXITER) -> float:
+def brentq(
+    f: Callable[[float], float],
+    a: float,
+    b: float,
+    xtol: float = XTOL,
+    rtol: float = RTOL,
+    maxiter: int = MAXITER,
+) -> float:
     """A root of ``f`` in [a, b], where f(a) and f(b) differ in sign, to within
     ``xtol + rtol·|x|``. Raises ValueError (no sign change, a NaN, a bad tolerance) or
     RuntimeError (not converged in ``maxiter`` steps), as scipy's ``brentq`` does."""
@@ -66,15 +72,29 @@ def brentq(f: Callable[[float], float], a: float, b: float, xtol: float = XTOL, 
         bisection = (block - current) / 2
         if f_current == 0 or abs(bisection) < delta:
             return current
-        step_before, step = _next_steps(previous, current, block, f_previous, f_current, f_block,
-                                        step_before, step, bisection, delta)
+        step_before, step = _next_steps(
+            previous,
+            current,
+            block,
+            f_previous,
+            f_current,
+            f_block,
+            step_before,
+            step,
+            bisection,
+            delta,
+        )
         previous, f_previous = current, f_current
         current += step if abs(step) > delta else (delta if bisection > 0 else -delta)
         f_current = _value(f, current)
-    raise RuntimeError(f"no root to the tolerance within {maxiter} iterations (last estimate {current!r})")
+    raise RuntimeError(
+        f"no root to the tolerance within {maxiter} iterations (last estimate {current!r})"
+    )
 
 
-def _next_steps(previous, current, block, f_previous, f_current, f_block, step_before, step, bisection, delta):
+def _next_steps(
+    previous, current, block, f_previous, f_current, f_block, step_before, step, bisection, delta
+):
     """(the step before, the step): an interpolated step when it is short enough, else bisection."""
     if abs(step_before) > delta and abs(f_current) < abs(f_previous):
         if previous == block:  # linear interpolation (secant)
@@ -82,8 +102,11 @@ def _next_steps(previous, current, block, f_previous, f_current, f_block, step_b
         else:  # inverse quadratic extrapolation through the three points
             slope_previous = (f_previous - f_current) / (previous - current)
             slope_block = (f_block - f_current) / (block - current)
-            trial = -f_current * (f_block * slope_block - f_previous * slope_previous) \
+            trial = (
+                -f_current
+                * (f_block * slope_block - f_previous * slope_previous)
                 / (slope_block * slope_previous * (f_block - f_previous))
+            )
         if 2 * abs(trial) < min(abs(step_before), 3 * abs(bisection) - delta):
             return step, trial
     return bisection, bisection
@@ -100,8 +123,9 @@ _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 _SQRT_EPS = math.sqrt(2.2e-16)  # scipy's fminbound uses this rounded epsilon
 
 
-def minimize_bounded(f: Callable[[float], float], low: float, high: float, xatol: float = 1e-5,
-                     maxiter: int = 500) -> BoundedMinimum:
+def minimize_bounded(
+    f: Callable[[float], float], low: float, high: float, xatol: float = 1e-5, maxiter: int = 500
+) -> BoundedMinimum:
     """The least value of ``f`` on [low, high], to within ``xatol`` in x (Brent's method: golden
     sections and parabolic steps; stops after ``maxiter`` evaluations, as scipy does)."""
     if not (math.isfinite(low) and math.isfinite(high)) or low > high:

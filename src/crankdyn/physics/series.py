@@ -131,7 +131,14 @@ def harmonic_coefficients(rod_ratio, terms: int) -> np.ndarray:
     for j in range(1, terms):
         total = 0.0
         for k in range(j, terms):
-            total += (-1) ** (j + 1) * 2.0 * series_coefficient(k) / 4**k * math.comb(2 * k, k - j) * lam ** (2 * k - 1)
+            total += (
+                (-1) ** (j + 1)
+                * 2.0
+                * series_coefficient(k)
+                / 4**k
+                * math.comb(2 * k, k - j)
+                * lam ** (2 * k - 1)
+            )
         out[j - 1] = total
     return out
 
@@ -186,7 +193,9 @@ def piston_displacement_series_m(crank_angle_rad, crank_radius_m, rod_ratio, ter
     return crank_radius_m * (2.0 * half * half + value)
 
 
-def piston_velocity_series_m_s(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms):
+def piston_velocity_series_m_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms
+):
     r"""Piston velocity: the time derivative of :func:`piston_displacement_series_m`.
 
     Parameters
@@ -217,7 +226,9 @@ def piston_velocity_series_m_s(crank_angle_rad, crank_radius_m, rod_ratio, angul
     return crank_radius_m * angular_velocity_rad_s * (sin_a + first)
 
 
-def piston_acceleration_series_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms):
+def piston_acceleration_series_m_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms
+):
     r"""Piston acceleration: the second time derivative of :func:`piston_displacement_series_m`.
 
     Parameters
@@ -288,7 +299,9 @@ def piston_displacement_harmonic_m(crank_angle_rad, crank_radius_m, rod_ratio, t
     return crank_radius_m * total
 
 
-def piston_velocity_harmonic_m_s(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms):
+def piston_velocity_harmonic_m_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms
+):
     r"""Velocity of the harmonic form: :math:`R\omega[\sin\alpha + \sum_j 2jH_j\sin2j\alpha]`.
 
     Parameters
@@ -312,7 +325,9 @@ def piston_velocity_harmonic_m_s(crank_angle_rad, crank_radius_m, rod_ratio, ang
     return crank_radius_m * angular_velocity_rad_s * total
 
 
-def piston_acceleration_harmonic_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms):
+def piston_acceleration_harmonic_m_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s, terms
+):
     r"""Acceleration of the harmonic form: :math:`R\omega^2[\cos\alpha + \sum_j 4j^2H_j\cos2j\alpha]`.
 
     Parameters
@@ -395,5 +410,7 @@ def displacement_truncation_error_bounds_m(crank_angle_rad, crank_radius_m, rod_
     """
     terms, lam = _check(terms, rod_ratio)
     sin_a = np.sin(np.asarray(crank_angle_rad, dtype=float))
-    first_omitted = series_coefficient(terms) * lam ** (2 * terms - 1) * sin_a ** (2 * terms) * crank_radius_m
+    first_omitted = (
+        series_coefficient(terms) * lam ** (2 * terms - 1) * sin_a ** (2 * terms) * crank_radius_m
+    )
     return first_omitted, first_omitted / (1.0 - (lam * sin_a) ** 2)

@@ -93,6 +93,7 @@ __all__ = [
 
 # --------------------------------------------------------------------------- reduced inertia
 
+
 def arm_derivatives(crank_angle_rad, crank_radius_m, rod_ratio):
     r"""First and second derivatives of the exact piston displacement w.r.t. the crank angle.
 
@@ -115,7 +116,9 @@ def arm_derivatives(crank_angle_rad, crank_radius_m, rod_ratio):
     return first, second
 
 
-def reciprocating_inertia_kg_m2(crank_angle_rad, phase_rad, reciprocating_kg, crank_radius_m, rod_ratio):
+def reciprocating_inertia_kg_m2(
+    crank_angle_rad, phase_rad, reciprocating_kg, crank_radius_m, rod_ratio
+):
     r"""Reduced inertia of reciprocating masses and its derivative, per cylinder.
 
     Parameters
@@ -141,7 +144,9 @@ def reciprocating_inertia_kg_m2(crank_angle_rad, phase_rad, reciprocating_kg, cr
     Derived: kinetic energy :math:`\tfrac12 m_s v^2 = \tfrac12 m_s s'^2\omega^2` of a mass
     moving with the piston (Den Hartog 1956).
     """
-    first, second = arm_derivatives(np.asarray(crank_angle_rad) - np.asarray(phase_rad), crank_radius_m, rod_ratio)
+    first, second = arm_derivatives(
+        np.asarray(crank_angle_rad) - np.asarray(phase_rad), crank_radius_m, rod_ratio
+    )
     mass = np.asarray(reciprocating_kg, dtype=float)
     return mass * first * first, 2.0 * mass * first * second
 
@@ -179,7 +184,10 @@ def gas_torque_Nm(total_torque_Nm, reciprocating_inertia_derivative_kg_m2, angul
     numpy.ndarray
         :math:`M_g` [N m] (module docstring: the inertia torque is :math:`-\tfrac12 J'\omega_n^2`).
     """
-    return np.asarray(total_torque_Nm) + 0.5 * np.asarray(reciprocating_inertia_derivative_kg_m2) * angular_velocity_rad_s ** 2
+    return (
+        np.asarray(total_torque_Nm)
+        + 0.5 * np.asarray(reciprocating_inertia_derivative_kg_m2) * angular_velocity_rad_s**2
+    )
 
 
 #: Complex elements of one block of powers (16 MiB): bounds the memory of evaluating a series
@@ -251,11 +259,15 @@ class PeriodicSeries:
         self.mean = np.atleast_1d(np.asarray(mean, dtype=float))
         self.coefficients = np.asarray(coefficients, dtype=complex).reshape(-1, self.mean.size)
         self.period_rad = float(period_rad)
-        self.wavenumbers = np.arange(1, self.coefficients.shape[0] + 1) * (2.0 * np.pi / self.period_rad)
+        self.wavenumbers = np.arange(1, self.coefficients.shape[0] + 1) * (
+            2.0 * np.pi / self.period_rad
+        )
         self.columns = self.mean.size
         self._scratch = None
         self._first_column = np.ascontiguousarray(self.coefficients[:, 0])
-        self._first_sum = PowerSum(self._first_column) if self._first_column.size >= _BLAS_MAX_WIDTH else None
+        self._first_sum = (
+            PowerSum(self._first_column) if self._first_column.size >= _BLAS_MAX_WIDTH else None
+        )
 
     @classmethod
     def from_samples(cls, values, period_rad: float) -> PeriodicSeries:
@@ -297,7 +309,9 @@ class PeriodicSeries:
         if abs(alpha[0]) > _GRID_TOLERANCE * self.period_rad:
             return None
         grid = np.arange(m) * (self.period_rad / m)
-        return m if float(np.max(np.abs(alpha - grid))) <= _GRID_TOLERANCE * self.period_rad else None
+        return (
+            m if float(np.max(np.abs(alpha - grid))) <= _GRID_TOLERANCE * self.period_rad else None
+        )
 
     def _on_grid(self, coefficients, m: int):
         r""":math:`\sum_k c_k e^{2\pi i k j/M}` for j = 0..M-1 by one inverse FFT (harmonics folded mod M)."""
@@ -317,7 +331,9 @@ class PeriodicSeries:
             phase = self._phase(alpha)
             if shift:
                 phase -= 1.0
-            if phase.size >= _BLAS_MAX_WIDTH:  # one long vector product: elementwise (see _BLAS_MAX_WIDTH)
+            if (
+                phase.size >= _BLAS_MAX_WIDTH
+            ):  # one long vector product: elementwise (see _BLAS_MAX_WIDTH)
                 return (phase[:, None] * coefficients).sum(axis=0)
             return phase @ coefficients
         m = self._grid_points(alpha)
@@ -328,8 +344,8 @@ class PeriodicSeries:
         out = np.empty((flat.size, coefficients.shape[1]), dtype=complex)
         rows = max(1, _BLOCK_ELEMENTS // max(self.wavenumbers.size, 1))
         for start in range(0, flat.size, rows):
-            phase = self._phase(flat[start:start + rows])
-            out[start:start + rows] = ((phase - 1.0) if shift else phase) @ coefficients
+            phase = self._phase(flat[start : start + rows])
+            out[start : start + rows] = ((phase - 1.0) if shift else phase) @ coefficients
         return out.reshape(alpha.shape + (coefficients.shape[1],))
 
     def diagonal(self, angles):
@@ -350,8 +366,11 @@ class PeriodicSeries:
 
     def derivative(self) -> PeriodicSeries:
         """d/dalpha of the series (zero mean)."""
-        return PeriodicSeries(np.zeros(self.columns), self.coefficients * (1j * self.wavenumbers[:, None]),
-                              self.period_rad)
+        return PeriodicSeries(
+            np.zeros(self.columns),
+            self.coefficients * (1j * self.wavenumbers[:, None]),
+            self.period_rad,
+        )
 
     def integral(self, alpha):
         r""":math:`\int_0^\alpha (f-\bar f)\,d\alpha` (periodic, exact)."""
@@ -385,7 +404,9 @@ class InertiaSeries:
         return self.constant_kg_m2
 
     def __call__(self, alpha):
-        if np.ndim(alpha) == 0:  # the single-mass ODE's hot path: Horner's scheme in plain complex arithmetic
+        if (
+            np.ndim(alpha) == 0
+        ):  # the single-mass ODE's hot path: Horner's scheme in plain complex arithmetic
             z = cmath.exp(1j * float(alpha))
             value = derivative = 0j
             for c, d in zip(self._reversed, self._reversed_derivative, strict=True):
@@ -395,7 +416,10 @@ class InertiaSeries:
         alpha = np.asarray(alpha, dtype=float)
         base = np.exp(1j * alpha)[..., None]
         phase = np.cumprod(np.broadcast_to(base, alpha.shape + (self.orders.size,)), axis=-1)
-        return (self.constant_kg_m2 + (phase @ self.coefficients).real, (phase @ self._derivative).real)
+        return (
+            self.constant_kg_m2 + (phase @ self.coefficients).real,
+            (phase @ self._derivative).real,
+        )
 
 
 class DiscSeries:
@@ -434,7 +458,9 @@ class DiscSeries:
             self._inertia_index = np.flatnonzero(np.any(coef[:, 0, 1:] != 0, axis=1))
             self._inertia_rows = np.ascontiguousarray(coef[self._inertia_index, 0, 1:])
         self.by_disc = np.ascontiguousarray(coef.transpose(1, 0, 2))  # (m, K, 3)
-        self.mean = np.stack([torque.mean, [s.constant_kg_m2 for s in inertia], np.zeros(m)], axis=1)
+        self.mean = np.stack(
+            [torque.mean, [s.constant_kg_m2 for s in inertia], np.zeros(m)], axis=1
+        )
         self.w1 = 2 * np.pi / torque.period_rad
         self.m = m
         self._ones = np.ones((m, width), dtype=complex)
@@ -458,13 +484,21 @@ class DiscSeries:
 
     def __call__(self, angles) -> np.ndarray:
         powers = self._powers
-        np.multiply(self._ones, np.exp(1j * self.w1 * np.asarray(angles, dtype=float))[:, None], out=powers)
+        np.multiply(
+            self._ones, np.exp(1j * self.w1 * np.asarray(angles, dtype=float))[:, None], out=powers
+        )
         np.cumprod(powers, axis=1, out=powers)
         return self.mean + np.matmul(powers[:, None, :], self.by_disc)[:, 0, :].real
 
 
-def inertia_series(phase_rad, reciprocating_kg, crank_radius_m, rod_ratio, constant_kg_m2: float = 0.0,
-                   points: int = 512) -> InertiaSeries:
+def inertia_series(
+    phase_rad,
+    reciprocating_kg,
+    crank_radius_m,
+    rod_ratio,
+    constant_kg_m2: float = 0.0,
+    points: int = 512,
+) -> InertiaSeries:
     r"""Fourier series of :math:`J_0+\sum_i m_{s,i}\,s'(\alpha-\varphi_i)^2`.
 
     Parameters
@@ -496,7 +530,7 @@ def inertia_series(phase_rad, reciprocating_kg, crank_radius_m, rod_ratio, const
     first, _ = arm_derivatives(alpha, crank_radius_m, rod_ratio)
     spectrum = np.fft.rfft(first * first) / points
     mean_unit = float(spectrum[0].real)
-    unit = 2.0 * spectrum[1: points // 2]  # C_k for one unit mass at phase 0
+    unit = 2.0 * spectrum[1 : points // 2]  # C_k for one unit mass at phase 0
     keep = np.nonzero(np.abs(unit) > 1e-15 * mean_unit)[0]
     unit = unit[: keep[-1] + 1] if keep.size else unit[:0]
     k = np.arange(1, unit.size + 1)
@@ -505,6 +539,7 @@ def inertia_series(phase_rad, reciprocating_kg, crank_radius_m, rod_ratio, const
 
 
 # --------------------------------------------------------------------------- exact periodic solution
+
 
 class PeriodicSpeed(NamedTuple):
     """The exact periodic solution of eq. (motion) (:func:`periodic_speed`)."""
@@ -525,8 +560,12 @@ class PeriodicSpeed(NamedTuple):
     omega_at: Callable  # omega(alpha) for any alpha (periodic)
 
 
-def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_velocity_rad_s: float,
-                   samples: int = 8192) -> PeriodicSpeed:
+def periodic_speed(
+    gas_torque: PeriodicSeries,
+    inertia: Callable,
+    mean_angular_velocity_rad_s: float,
+    samples: int = 8192,
+) -> PeriodicSpeed:
     r"""Exact periodic solution of :math:`J\dot\omega+\tfrac12J'\omega^2=M_g-M_{load}` by quadrature.
 
     Parameters
@@ -563,7 +602,7 @@ def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_v
     w = cache[samples]
     j, _ = inertia(angle)
     floor = -float(np.min(w))
-    scale = 0.5 * float(np.mean(j)) * mean_angular_velocity_rad_s ** 2
+    scale = 0.5 * float(np.mean(j)) * mean_angular_velocity_rad_s**2
 
     def mean_speed_error(e0):
         omega = np.sqrt(np.maximum(2.0 * (e0 + w) / j, 0.0))
@@ -594,11 +633,26 @@ def periodic_speed(gas_torque: PeriodicSeries, inertia: Callable, mean_angular_v
 
     a_max, w_max = refine(first_argmax(omega), +1)
     a_min, w_min = refine(first_argmin(omega), -1)
-    return PeriodicSpeed(e0, load, period_rad, cycle_time, angle, omega, j, w_max, w_min, a_max, a_min,
-                         period_rad / cycle_time, (w_max - w_min) / (0.5 * (w_max + w_min)), omega_at)
+    return PeriodicSpeed(
+        e0,
+        load,
+        period_rad,
+        cycle_time,
+        angle,
+        omega,
+        j,
+        w_max,
+        w_min,
+        a_max,
+        a_min,
+        period_rad / cycle_time,
+        (w_max - w_min) / (0.5 * (w_max + w_min)),
+        omega_at,
+    )
 
 
 # --------------------------------------------------------------------------- time stepping
+
 
 def single_mass_rhs(gas_torque: PeriodicSeries, load_torque_Nm: float, inertia: Callable):
     r"""Right-hand side of eq. (motion) in time, state ``y = (alpha, omega)``.
@@ -619,7 +673,9 @@ def single_mass_rhs(gas_torque: PeriodicSeries, load_torque_Nm: float, inertia: 
     def rhs(t, y):
         alpha, omega = y[0], y[1]
         j, dj = inertia(alpha)
-        return np.array([omega, (gas_torque(alpha) - load_torque_Nm - 0.5 * dj * omega * omega) / j])
+        return np.array(
+            [omega, (gas_torque(alpha) - load_torque_Nm - 0.5 * dj * omega * omega) / j]
+        )
 
     return rhs
 
@@ -655,8 +711,18 @@ class SolverRun(NamedTuple):
 _METHODS = ("RK45", "Radau", "BDF", "LSODA")
 
 
-def run_solver(fun, t_span, y0, method: str, rtol: float, atol, jac=None, max_nfev: int | None = None,
-               dense_output: bool = False, events=None) -> SolverRun:
+def run_solver(
+    fun,
+    t_span,
+    y0,
+    method: str,
+    rtol: float,
+    atol,
+    jac=None,
+    max_nfev: int | None = None,
+    dense_output: bool = False,
+    events=None,
+) -> SolverRun:
     """Run one of scipy's solvers once, timing it and counting its work.
 
     Without ``max_nfev`` this is :func:`scipy.integrate.solve_ivp`. With it the solver is
@@ -671,18 +737,42 @@ def run_solver(fun, t_span, y0, method: str, rtol: float, atol, jac=None, max_nf
     integrate.load()  # scipy imported (on first use) before the clock starts: the solver's time only
     if max_nfev is None:
         start = time.perf_counter()
-        sol = integrate.solve_ivp(fun, t_span, y0, method=method, rtol=rtol, atol=atol,
-                                  dense_output=dense_output, events=events, **options)
+        sol = integrate.solve_ivp(
+            fun,
+            t_span,
+            y0,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            dense_output=dense_output,
+            events=events,
+            **options,
+        )
         elapsed = time.perf_counter() - start
         progress = (sol.t[-1] - t_span[0]) / (t_span[1] - t_span[0]) if sol.t.size else 0.0
-        return SolverRun(method, rtol, bool(sol.status >= 0), str(sol.message), int(sol.nfev), int(sol.njev),
-                         int(sol.nlu), int(sol.t.size - 1), elapsed, float(progress), sol.t, sol.y,
-                         sol.sol if dense_output else None, sol.t_events, sol.y_events)
+        return SolverRun(
+            method,
+            rtol,
+            bool(sol.status >= 0),
+            str(sol.message),
+            int(sol.nfev),
+            int(sol.njev),
+            int(sol.nlu),
+            int(sol.t.size - 1),
+            elapsed,
+            float(progress),
+            sol.t,
+            sol.y,
+            sol.sol if dense_output else None,
+            sol.t_events,
+            sol.y_events,
+        )
     start = time.perf_counter()
     if method not in _METHODS:
         raise ValueError(f"unknown solver {method!r}; allowed: {', '.join(_METHODS)}")
-    solver = getattr(integrate, method)(fun, t_span[0], np.asarray(y0, dtype=float), t_span[1], rtol=rtol, atol=atol,
-                              **options)
+    solver = getattr(integrate, method)(
+        fun, t_span[0], np.asarray(y0, dtype=float), t_span[1], rtol=rtol, atol=atol, **options
+    )
     ts, ys = [solver.t], [solver.y.copy()]
     message = "finished"
     success = True
@@ -698,8 +788,21 @@ def run_solver(fun, t_span, y0, method: str, rtol: float, atol, jac=None, max_nf
         ys.append(solver.y.copy())
     elapsed = time.perf_counter() - start
     progress = (solver.t - t_span[0]) / (t_span[1] - t_span[0])
-    return SolverRun(method, rtol, success, message, int(solver.nfev), int(solver.njev), int(solver.nlu),
-                     len(ts) - 1, elapsed, float(progress), np.array(ts), np.array(ys).T, None)
+    return SolverRun(
+        method,
+        rtol,
+        success,
+        message,
+        int(solver.nfev),
+        int(solver.njev),
+        int(solver.nlu),
+        len(ts) - 1,
+        elapsed,
+        float(progress),
+        np.array(ts),
+        np.array(ys).T,
+        None,
+    )
 
 
 def phase_error(run: SolverRun, reference: PeriodicSpeed) -> float:
@@ -715,6 +818,7 @@ def phase_error(run: SolverRun, reference: PeriodicSpeed) -> float:
 
 
 # --------------------------------------------------------------------------- stiffness
+
 
 def _rk45_stability(z):
     """Stability function R(z) = 1 + z b^T (I - zA)^-1 1 of scipy's RK45 (Dormand-Prince)."""
@@ -772,8 +876,11 @@ def stable_step_s(eigenvalues) -> float:
         if first == 0:
             radius = 0.0  # unstable from the start (e.g. a purely imaginary eigenvalue)
         else:
-            radius = brentq(lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,  # noqa: B023 - called within this iteration
-                                     radii[first - 1], radii[first])
+            radius = brentq(
+                lambda r: abs(_rk45_stability(r * direction)) - 1.0 - 1e-12,  # noqa: B023 - called within this iteration
+                radii[first - 1],
+                radii[first],
+            )
         limit = min(limit, radius / size)
     return limit
 
@@ -830,8 +937,16 @@ def choose_solver(eigenvalues, interval_s: float, resolved_frequency_rad_s: floa
     resolution = max(STEPS_PER_PERIOD * resolved_frequency_rad_s * interval_s / (2 * math.pi), 1.0)
     ratio = stability / resolution
     stiff = ratio > STIFFNESS_THRESHOLD
-    return SolverChoice("Radau" if stiff else "RK45", bool(stiff), fastest, h, stability,
-                        resolved_frequency_rad_s, resolution, ratio)
+    return SolverChoice(
+        "Radau" if stiff else "RK45",
+        bool(stiff),
+        fastest,
+        h,
+        stability,
+        resolved_frequency_rad_s,
+        resolution,
+        ratio,
+    )
 
 
 def significant_order(orders, coefficients, fraction: float = 0.01) -> float:
@@ -888,8 +1003,15 @@ class CrankTrain:
 
     def series(self, constant_kg_m2: float = 0.0, crank: int | None = None) -> InertiaSeries:
         """J(alpha) of the whole engine (or of one crank) plus ``constant_kg_m2``."""
-        pick = np.ones(self.phase_rad.size, bool) if crank is None else self.crank_of_cylinder == crank
+        pick = (
+            np.ones(self.phase_rad.size, bool) if crank is None else self.crank_of_cylinder == crank
+        )
         cranks = self.cranks if crank is None else 1
-        rotating = self.rotating_kg * self.crank_radius_m ** 2 * cranks
-        return inertia_series(self.phase_rad[pick], self.reciprocating_kg[pick], self.crank_radius_m,
-                              self.rod_ratio, constant_kg_m2 + rotating)
+        rotating = self.rotating_kg * self.crank_radius_m**2 * cranks
+        return inertia_series(
+            self.phase_rad[pick],
+            self.reciprocating_kg[pick],
+            self.crank_radius_m,
+            self.rod_ratio,
+            constant_kg_m2 + rotating,
+        )

@@ -90,7 +90,9 @@ class Modes(NamedTuple):
     """Natural modes of a disc chain (ascending; mode 0 is the rigid rotation)."""
 
     omega_rad_s: np.ndarray  # (n,)
-    shapes: np.ndarray  # (n, n), column s: mode s scaled to max |amplitude| = 1, largest entry positive
+    shapes: (
+        np.ndarray
+    )  # (n, n), column s: mode s scaled to max |amplitude| = 1, largest entry positive
     mass_normalised: np.ndarray  # (n, n), Phi^T M Phi = I
 
 
@@ -121,7 +123,9 @@ def natural_modes(inertias_kg_m2, span_stiffness_N_m_rad) -> Modes:
     return Modes(omega, shapes * signs, vectors * signs)
 
 
-def modal_damping_matrix(inertias_kg_m2, span_stiffness_N_m_rad, damping_ratio: float) -> np.ndarray:
+def modal_damping_matrix(
+    inertias_kg_m2, span_stiffness_N_m_rad, damping_ratio: float
+) -> np.ndarray:
     r"""Damping matrix with the ratio :math:`\zeta` in every elastic mode [N m s/rad].
 
     Notes
@@ -132,7 +136,13 @@ def modal_damping_matrix(inertias_kg_m2, span_stiffness_N_m_rad, damping_ratio: 
     J = np.asarray(inertias_kg_m2, dtype=float)
     modes = natural_modes(J, span_stiffness_N_m_rad)
     M = np.diag(J)
-    return M @ modes.mass_normalised @ np.diag(2.0 * damping_ratio * modes.omega_rad_s) @ modes.mass_normalised.T @ M
+    return (
+        M
+        @ modes.mass_normalised
+        @ np.diag(2.0 * damping_ratio * modes.omega_rad_s)
+        @ modes.mass_normalised.T
+        @ M
+    )
 
 
 def modal_eigenvalues(natural_frequencies_rad_s, damping_ratio: float) -> np.ndarray:
@@ -143,7 +153,7 @@ def modal_eigenvalues(natural_frequencies_rad_s, damping_ratio: float) -> np.nda
     """
     omega = np.asarray(natural_frequencies_rad_s, dtype=float)
     omega = omega[omega > 0]
-    damped = omega * np.sqrt(max(1.0 - damping_ratio ** 2, 0.0))
+    damped = omega * np.sqrt(max(1.0 - damping_ratio**2, 0.0))
     real = -damping_ratio * omega
     return np.concatenate([real + 1j * damped, real - 1j * damped])
 
@@ -159,8 +169,14 @@ def linear_eigenvalues(inertias_kg_m2, stiffness: np.ndarray, damping: np.ndarra
     return np.linalg.eigvals(A)
 
 
-def forced_response(inertias_kg_m2, stiffness: np.ndarray, damping: np.ndarray, node_torque: PeriodicSeries,
-                    angular_velocity_rad_s: float, reference_node: int) -> PeriodicSeries:
+def forced_response(
+    inertias_kg_m2,
+    stiffness: np.ndarray,
+    damping: np.ndarray,
+    node_torque: PeriodicSeries,
+    angular_velocity_rad_s: float,
+    reference_node: int,
+) -> PeriodicSeries:
     r"""Periodic steady response of the linear chain to periodic torques (frequency domain).
 
     Parameters
@@ -198,9 +214,12 @@ def forced_response(inertias_kg_m2, stiffness: np.ndarray, damping: np.ndarray, 
     n = J.size
     M = np.diag(J)
     coefficients = np.empty_like(node_torque.coefficients)
-    for k, (omega_k, torque_k) in enumerate(zip(node_torque.wavenumbers * angular_velocity_rad_s,
-                                                 node_torque.coefficients, strict=True)):
-        coefficients[k] = np.linalg.solve(stiffness - omega_k ** 2 * M + 1j * omega_k * damping, torque_k)
+    for k, (omega_k, torque_k) in enumerate(
+        zip(node_torque.wavenumbers * angular_velocity_rad_s, node_torque.coefficients, strict=True)
+    ):
+        coefficients[k] = np.linalg.solve(
+            stiffness - omega_k**2 * M + 1j * omega_k * damping, torque_k
+        )
     keep = np.array([i for i in range(n) if i != reference_node])
     mean = np.zeros(n)
     mean[keep] = np.linalg.solve(stiffness[np.ix_(keep, keep)], node_torque.mean[keep])
@@ -267,8 +286,17 @@ class ShaftModel:
         Index of the disc whose absolute angle is kept (the flywheel).
     """
 
-    def __init__(self, crank_gas_torque: PeriodicSeries, crank_inertia: list[InertiaSeries], crank_nodes,
-                 inertias_kg_m2, stiffness, damping, load_torque_Nm: float, reference_node: int):
+    def __init__(
+        self,
+        crank_gas_torque: PeriodicSeries,
+        crank_inertia: list[InertiaSeries],
+        crank_nodes,
+        inertias_kg_m2,
+        stiffness,
+        damping,
+        load_torque_Nm: float,
+        reference_node: int,
+    ):
         self.torque = crank_gas_torque
         self.crank_nodes = np.asarray(crank_nodes, dtype=int)
         self.cranks = self.crank_nodes.size
@@ -375,9 +403,9 @@ class ShaftModel:
     def energy(self, z) -> float:
         """Kinetic energy of the discs plus the strain energy of the spans [J]."""
         theta = self.P @ z[: self.n]
-        omega = z[self.n:]
+        omega = z[self.n :]
         _, inertia, _ = self.forces(theta, omega)
-        return float(0.5 * np.sum(inertia * omega ** 2) + 0.5 * theta @ self.K @ theta)
+        return float(0.5 * np.sum(inertia * omega**2) + 0.5 * theta @ self.K @ theta)
 
 
 class SteadyState(NamedTuple):
@@ -393,9 +421,19 @@ class SteadyState(NamedTuple):
     load_torque_Nm: float  # the load torque of the steady state
 
 
-def periodic_steady_state(model: ShaftModel, z0, period_rad: float, cycle_time_guess_s: float, method: str,
-                          rtol: float, atol, twist_scale_rad: float, speed_scale_rad_s: float,
-                          tolerance: float = 1e-6, max_cycles: int = 30) -> SteadyState:
+def periodic_steady_state(
+    model: ShaftModel,
+    z0,
+    period_rad: float,
+    cycle_time_guess_s: float,
+    method: str,
+    rtol: float,
+    atol,
+    twist_scale_rad: float,
+    speed_scale_rad_s: float,
+    tolerance: float = 1e-6,
+    max_cycles: int = 30,
+) -> SteadyState:
     r"""Integrate cycle after cycle until the state returns to itself (a periodic steady state).
 
     Each cycle ends when the reference (flywheel) angle has advanced by the cycle angle
@@ -427,8 +465,17 @@ def periodic_steady_state(model: ShaftModel, z0, period_rad: float, cycle_time_g
     one_cycle.direction = 1  # type: ignore[attr-defined]
     change = np.inf
     for cycle in range(1, max_cycles + 1):
-        run = run_solver(model, (0.0, 2.0 * cycle_time), z, method, rtol, atol, jac=model.jacobian,
-                         events=one_cycle, dense_output=True)
+        run = run_solver(
+            model,
+            (0.0, 2.0 * cycle_time),
+            z,
+            method,
+            rtol,
+            atol,
+            jac=model.jacobian,
+            events=one_cycle,
+            dense_output=True,
+        )
         runs.append(run)
         if not run.success or not run.t_events or run.t_events[0].size == 0 or run.y_events is None:
             return SteadyState(z, cycle_time, cycle, False, float("nan"), history, runs, model.load)
@@ -437,8 +484,10 @@ def periodic_steady_state(model: ShaftModel, z0, period_rad: float, cycle_time_g
         z_end[0] -= period_rad
         gained = model.energy(z_end) - model.energy(z)
         model.load += gained / period_rad
-        change = max(float(np.max(np.abs(z_end[1:n] - z[1:n]))) / twist_scale_rad,
-                     float(np.max(np.abs(z_end[n:] - z[n:]))) / speed_scale_rad_s)
+        change = max(
+            float(np.max(np.abs(z_end[1:n] - z[1:n]))) / twist_scale_rad,
+            float(np.max(np.abs(z_end[n:] - z[n:]))) / speed_scale_rad_s,
+        )
         history.append(change)
         # Keep the starting speed level: the speed the rigid rotation gained or lost in this
         # cycle (inertia-weighted mean) is given back before the next one; with the corrected

@@ -66,7 +66,9 @@ def _as_float_array(value):
 def _checked(rod_ratio):
     rod_ratio = float(rod_ratio)
     if not 0.0 < rod_ratio < 1.0:
-        raise ValueError("lambda = r/l must satisfy 0 < lambda < 1 (r > l makes the mechanism inoperable)")
+        raise ValueError(
+            "lambda = r/l must satisfy 0 < lambda < 1 (r > l makes the mechanism inoperable)"
+        )
     return rod_ratio
 
 
@@ -154,7 +156,9 @@ def core_angular_acceleration_rad_s2(crank_angle_rad, rod_ratio, angular_velocit
     return lam * (1.0 - lam * lam) * omega * omega * np.sin(alpha) / chi(alpha, lam) ** 3
 
 
-def core_angular_acceleration_source_form_rad_s2(crank_angle_rad, rod_ratio, angular_velocity_rad_s):
+def core_angular_acceleration_source_form_rad_s2(
+    crank_angle_rad, rod_ratio, angular_velocity_rad_s
+):
     r"""The source's expression for epsilon_c, kept to check it against the simplified one."""
     lam = _checked(rod_ratio)
     alpha = _as_float_array(crank_angle_rad)
@@ -224,18 +228,28 @@ def slider_vertical_travel_max_m(crank_radius_m, rod_ratio):
     return float(crank_radius_m) * lam / (1.0 + np.sqrt((1.0 - lam) * (1.0 + lam)))
 
 
-def slider_vertical_velocity_m_s(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s):
+def slider_vertical_velocity_m_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s
+):
     r""":math:`v_{yp} = d(l\chi)/dt = -\omega r\lambda\sin\alpha\cos\alpha/\chi` [m/s] (source).
 
     Positive downwards (the y_p axis from O3).
     """
     lam = _checked(rod_ratio)
     alpha = _as_float_array(crank_angle_rad)
-    return (-float(angular_velocity_rad_s) * float(crank_radius_m) * lam * np.sin(alpha) * np.cos(alpha)
-            / chi(alpha, lam))
+    return (
+        -float(angular_velocity_rad_s)
+        * float(crank_radius_m)
+        * lam
+        * np.sin(alpha)
+        * np.cos(alpha)
+        / chi(alpha, lam)
+    )
 
 
-def slider_vertical_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s):
+def slider_vertical_acceleration_m_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s
+):
     r"""Vertical slider acceleration, eq. (4) [m/s^2].
 
     Returns
@@ -252,7 +266,8 @@ def slider_vertical_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio
     c = chi(alpha, lam)
     omega = float(angular_velocity_rad_s)
     return -(float(crank_radius_m) * lam * omega * omega / c**2) * (
-        c * np.cos(2.0 * alpha) + lam * lam * np.sin(2.0 * alpha) ** 2 / (4.0 * c))
+        c * np.cos(2.0 * alpha) + lam * lam * np.sin(2.0 * alpha) ** 2 / (4.0 * c)
+    )
 
 
 def slider_vertical_acceleration_zeros_rad(rod_ratio):
@@ -298,15 +313,23 @@ def slider_relative_position_m(crank_angle_rad, crank_radius_m, rod_ratio):
     return r * ((1.0 - np.cos(alpha)) + (1.0 - chi(alpha, lam)) / lam)
 
 
-def slider_relative_velocity_m_s(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s):
+def slider_relative_velocity_m_s(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s
+):
     r""":math:`v_{po} = \omega r\sin\alpha\,(1 + \lambda\cos\alpha/\chi)` [m/s] (source)."""
     lam = _checked(rod_ratio)
     alpha = _as_float_array(crank_angle_rad)
-    return (float(angular_velocity_rad_s) * float(crank_radius_m) * np.sin(alpha)
-            * (1.0 + lam * np.cos(alpha) / chi(alpha, lam)))
+    return (
+        float(angular_velocity_rad_s)
+        * float(crank_radius_m)
+        * np.sin(alpha)
+        * (1.0 + lam * np.cos(alpha) / chi(alpha, lam))
+    )
 
 
-def slider_relative_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s):
+def slider_relative_acceleration_m_s2(
+    crank_angle_rad, crank_radius_m, rod_ratio, angular_velocity_rad_s
+):
     r"""Relative slider acceleration along the slot [m/s^2].
 
     Returns
@@ -324,5 +347,8 @@ def slider_relative_acceleration_m_s2(crank_angle_rad, crank_radius_m, rod_ratio
     alpha = _as_float_array(crank_angle_rad)
     c = chi(alpha, lam)
     mu = lam * np.cos(alpha) / c
-    return (float(crank_radius_m) * float(angular_velocity_rad_s) ** 2
-            * ((1.0 + mu) * np.cos(alpha) - (lam / c) * (1.0 - mu * mu) * np.sin(alpha) ** 2))
+    return (
+        float(crank_radius_m)
+        * float(angular_velocity_rad_s) ** 2
+        * ((1.0 + mu) * np.cos(alpha) - (lam / c) * (1.0 - mu * mu) * np.sin(alpha) ** 2)
+    )

@@ -91,8 +91,11 @@ def _on_alarm(signum, frame) -> None:
 
 
 def _can_limit() -> bool:
-    return (_limit_s is not None and threading.current_thread() is threading.main_thread()
-            and signal.getsignal(signal.SIGALRM) is _on_alarm)
+    return (
+        _limit_s is not None
+        and threading.current_thread() is threading.main_thread()
+        and signal.getsignal(signal.SIGALRM) is _on_alarm
+    )
 
 
 @contextlib.contextmanager
@@ -103,11 +106,15 @@ def stage_time_limit(seconds: float | None) -> Iterator[None]:
     program has its own ``SIGALRM`` handler)."""
     global _limit_s
     if seconds is not None and not 0 < seconds <= MAX_STAGE_TIMEOUT_S:
-        raise ValueError(f"a stage time limit is > 0 and at most {MAX_STAGE_TIMEOUT_S:g} s, "
-                         f"not {seconds!r}")
-    usable = (seconds is not None and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread()
-              and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None, _on_alarm))
+        raise ValueError(
+            f"a stage time limit is > 0 and at most {MAX_STAGE_TIMEOUT_S:g} s, not {seconds!r}"
+        )
+    usable = (
+        seconds is not None
+        and hasattr(signal, "setitimer")
+        and threading.current_thread() is threading.main_thread()
+        and signal.getsignal(signal.SIGALRM) in (signal.SIG_DFL, None, _on_alarm)
+    )
     if not usable:
         yield
         return
@@ -147,8 +154,10 @@ def call_limited(label: tuple[str, str, str], fn: Callable[..., Any], *args: Any
         _disarm()
         del _running[depth:]
         plugin, where, step = exc.args[0] if exc.args else label
-        what = (f"{step} did not finish within the limit of {_limit_s:g} s a stage may take "
-                "(crankdyn report --timeout SECONDS)")
+        what = (
+            f"{step} did not finish within the limit of {_limit_s:g} s a stage may take "
+            "(crankdyn report --timeout SECONDS)"
+        )
         raise StageTimeLimit(plugin, where, what) from None
 
 
@@ -172,12 +181,13 @@ def describe(exc: BaseException) -> str:
     """``Type: message`` of an exception, on one line and cut to a readable length."""
     text = " ".join(str(exc).split())
     if len(text) > _QUOTED_CHARS:
-        text = text[:_QUOTED_CHARS - 3] + "..."
+        text = text[: _QUOTED_CHARS - 3] + "..."
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
-def call(plugin: str, where: str, step: str, foreign: bool, fn: Callable[..., Any],
-         *args: Any) -> Any:
+def call(
+    plugin: str, where: str, step: str, foreign: bool, fn: Callable[..., Any], *args: Any
+) -> Any:
     """``fn(*args)`` for ``plugin``'s ``where`` within the time limit; a third-party (``foreign``)
     plugin's error raised as a :class:`PluginFailure` that names it."""
     try:
@@ -201,8 +211,9 @@ _NAME_TUPLES = ("requires", "provides", "uses", "services", "tables")
 _PRESENTATION_NAME_TUPLES = ("references", "references_full", "figures")
 
 
-def _name_tuples(owner: object, names: tuple[str, ...], plugin: str, where: str,
-                 stage: str) -> dict[str, Any]:
+def _name_tuples(
+    owner: object, names: tuple[str, ...], plugin: str, where: str, stage: str
+) -> dict[str, Any]:
     """The fields ``names`` of ``owner`` given as lists, as tuples; a value that is not a tuple of
     str is a :class:`PluginFailure`."""
     fixed: dict[str, Any] = {}
@@ -211,26 +222,39 @@ def _name_tuples(owner: object, names: tuple[str, ...], plugin: str, where: str,
         if isinstance(value, list):
             value = fixed[name] = tuple(value)
         if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
-            raise PluginFailure(plugin, where, f"stage {stage!r}: {name} = {shorten(value)}; "
-                                "expected a tuple of str")
+            raise PluginFailure(
+                plugin,
+                where,
+                f"stage {stage!r}: {name} = {shorten(value)}; expected a tuple of str",
+            )
     return fixed
 
 
-def _checked_presentation(look: object, plugin: str, where: str,
-                          stage: str) -> StagePresentation | None:
+def _checked_presentation(
+    look: object, plugin: str, where: str, stage: str
+) -> StagePresentation | None:
     """A stage's presentation checked field by field as :func:`checked_stage` checks the stage."""
     if look is None:
         return None
     if not isinstance(look, StagePresentation):
-        raise PluginFailure(plugin, where, f"stage {stage!r}: presentation = {shorten(look)}; "
-                            "expected a StagePresentation or None")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"stage {stage!r}: presentation = {shorten(look)}; "
+            "expected a StagePresentation or None",
+        )
     fixed = _name_tuples(look, _PRESENTATION_NAME_TUPLES, plugin, where, stage)
     if not callable(look.render):
-        raise PluginFailure(plugin, where, f"stage {stage!r}: render = {shorten(look.render)}; "
-                            "expected a function")
+        raise PluginFailure(
+            plugin, where, f"stage {stage!r}: render = {shorten(look.render)}; expected a function"
+        )
     if look.input_rows is not None and not callable(look.input_rows):
-        raise PluginFailure(plugin, where, f"stage {stage!r}: input_rows = "
-                            f"{shorten(look.input_rows)}; expected a function or None")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"stage {stage!r}: input_rows = "
+            f"{shorten(look.input_rows)}; expected a function or None",
+        )
     if not isinstance(look.title_key, str):
         raise PluginFailure(plugin, where, f"stage {stage!r}: title_key and options_table are str")
     return dataclasses.replace(look, **fixed) if fixed else look
@@ -243,22 +267,32 @@ def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -
     if not isinstance(stage, Stage):
         raise _garbage(plugin, where, "the hook", stage, "Stage objects")
     if not isinstance(stage.name, str) or not stage.name.strip():
-        raise PluginFailure(plugin, where, f"a Stage's name is {shorten(stage.name)}; "
-                            "expected a non-empty str")
+        raise PluginFailure(
+            plugin, where, f"a Stage's name is {shorten(stage.name)}; expected a non-empty str"
+        )
     fixed: dict[str, Any] = dict(_name_tuples(stage, _NAME_TUPLES, plugin, where, stage.name))
     for name in ("applies", "run"):
         if not callable(getattr(stage, name)):
-            raise PluginFailure(plugin, where, f"stage {stage.name!r}: {name} = "
-                                f"{shorten(getattr(stage, name))}; expected a function")
+            raise PluginFailure(
+                plugin,
+                where,
+                f"stage {stage.name!r}: {name} = "
+                f"{shorten(getattr(stage, name))}; expected a function",
+            )
     look = _checked_presentation(stage.presentation, plugin, where, stage.name)
     if look is not stage.presentation:
         fixed["presentation"] = look
     if stage.options_table is not None and not isinstance(stage.options_table, str):
-        raise PluginFailure(plugin, where,
-                            f"stage {stage.name!r}: title_key and options_table are str")
+        raise PluginFailure(
+            plugin, where, f"stage {stage.name!r}: title_key and options_table are str"
+        )
     if not _is_model(stage.options_model):
-        raise PluginFailure(plugin, where, f"stage {stage.name!r}: options_model = "
-                            f"{shorten(stage.options_model)}; expected a pydantic model or None")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"stage {stage.name!r}: options_model = "
+            f"{shorten(stage.options_model)}; expected a pydantic model or None",
+        )
     return dataclasses.replace(stage, **fixed) if fixed else stage
 
 
@@ -267,22 +301,33 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool =
     if not isinstance(mechanism, Mechanism):
         raise _garbage(plugin, where, "the hook", mechanism, "Mechanism objects")
     if not isinstance(mechanism.name, str) or not mechanism.name.strip():
-        raise PluginFailure(plugin, where, f"a Mechanism's name is {shorten(mechanism.name)}; "
-                            "expected a non-empty str")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"a Mechanism's name is {shorten(mechanism.name)}; expected a non-empty str",
+        )
     geometry = mechanism.geometry
     if not callable(mechanism.check) or not (geometry is None or callable(geometry)):
-        raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: check (and geometry, "
-                            "if given) must be functions")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"mechanism {mechanism.name!r}: check (and geometry, if given) must be functions",
+        )
     if not _is_model(mechanism.params_model):
-        raise PluginFailure(plugin, where, f"mechanism {mechanism.name!r}: params_model = "
-                            f"{shorten(mechanism.params_model)}; expected a pydantic model or None")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"mechanism {mechanism.name!r}: params_model = "
+            f"{shorten(mechanism.params_model)}; expected a pydantic model or None",
+        )
     return mechanism
 
 
 def _is_model(model: object) -> bool:
     """None, or a class that validates a table as a pydantic model does."""
-    return model is None or (isinstance(model, type)
-                             and callable(getattr(model, "model_validate", None)))
+    return model is None or (
+        isinstance(model, type) and callable(getattr(model, "model_validate", None))
+    )
 
 
 def checked_probe(probe: object, plugin: str, hook: str, foreign: bool = True) -> ErrorProbe:
@@ -290,8 +335,12 @@ def checked_probe(probe: object, plugin: str, hook: str, foreign: bool = True) -
     if not isinstance(probe, ErrorProbe):
         raise _garbage(plugin, where, "the hook", probe, "ErrorProbe objects")
     if not isinstance(probe.name, str) or not callable(probe.applies) or not callable(probe.run):
-        raise PluginFailure(plugin, where, f"error probe {shorten(probe.name)}: a str name and the "
-                            "functions applies and run are required")
+        raise PluginFailure(
+            plugin,
+            where,
+            f"error probe {shorten(probe.name)}: a str name and the "
+            "functions applies and run are required",
+        )
     return probe
 
 
@@ -300,14 +349,21 @@ def checked_catalog(catalog: object, plugin: str, hook: str, foreign: bool = Tru
     where = f"hook {hook}"
     if not isinstance(catalog, Catalog):
         raise _garbage(plugin, where, "the hook", catalog, "Catalog objects")
-    if not isinstance(catalog.language, str) or not isinstance(catalog.path, (str, os.PathLike)) \
-            or not os.path.isfile(catalog.path):
-        raise PluginFailure(plugin, where, f"catalog {shorten(catalog.language)}: path "
-                            f"{shorten(str(catalog.path))} is not a file")
+    if (
+        not isinstance(catalog.language, str)
+        or not isinstance(catalog.path, (str, os.PathLike))
+        or not os.path.isfile(catalog.path)
+    ):
+        raise PluginFailure(
+            plugin,
+            where,
+            f"catalog {shorten(catalog.language)}: path {shorten(str(catalog.path))} is not a file",
+        )
     problem = _catalog_problem(catalog.path) if foreign else None
     if problem:
-        raise PluginFailure(plugin, where,
-                            f"catalog {catalog.language!r} ({catalog.path}): {problem}")
+        raise PluginFailure(
+            plugin, where, f"catalog {catalog.language!r} ({catalog.path}): {problem}"
+        )
     return catalog
 
 
@@ -343,8 +399,13 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
     def applies(scene, *services):  # services: as the orchestrator passes them (Stage.services)
         reason = call(plugin, where, "applies", foreign, stage.applies, scene, *services)
         if reason is not None and not isinstance(reason, str):
-            raise _garbage(plugin, where, "applies", reason,
-                           "None (the stage applies) or a str (the reason it does not)")
+            raise _garbage(
+                plugin,
+                where,
+                "applies",
+                reason,
+                "None (the stage applies) or a str (the reason it does not)",
+            )
         return reason
 
     @functools.wraps(stage.run)
@@ -369,19 +430,26 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
     def input_rows(scene, ctx):
         rows = call(plugin, where, "input_rows", foreign, look.input_rows, scene, ctx)
         if foreign and not _is_rows(rows):
-            raise _garbage(plugin, where, "input_rows", rows,
-                           "a list of (quantity, symbol, value, unit) tuples of str")
+            raise _garbage(
+                plugin,
+                where,
+                "input_rows",
+                rows,
+                "a list of (quantity, symbol, value, unit) tuples of str",
+            )
         return rows
 
-    guarded = dataclasses.replace(look, render=render,
-                                  input_rows=None if look.input_rows is None else input_rows)
+    guarded = dataclasses.replace(
+        look, render=render, input_rows=None if look.input_rows is None else input_rows
+    )
     return dataclasses.replace(stage, applies=applies, run=run, presentation=guarded)
 
 
 def _is_rows(rows: object) -> bool:
     return isinstance(rows, (list, tuple)) and all(
         isinstance(row, (list, tuple)) and len(row) == 4 and all(isinstance(v, str) for v in row)
-        for row in rows)
+        for row in rows
+    )
 
 
 def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mechanism:
@@ -390,8 +458,9 @@ def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mecha
     @functools.wraps(mechanism.check)
     def check(scene):
         problems = call(plugin, where, "check", foreign, mechanism.check, scene)
-        if foreign and not (isinstance(problems, (list, tuple))
-                            and all(isinstance(p, Problem) for p in problems)):
+        if foreign and not (
+            isinstance(problems, (list, tuple)) and all(isinstance(p, Problem) for p in problems)
+        ):
             raise _garbage(plugin, where, "check", problems, "a list of crankdyn.errors.Problem")
         return problems
 
@@ -402,8 +471,9 @@ def guarded_mechanism(mechanism: Mechanism, plugin: str, foreign: bool) -> Mecha
             raise _garbage(plugin, where, "geometry", shape, "a MechanismGeometry")
         return shape
 
-    return dataclasses.replace(mechanism, check=check,
-                               geometry=None if mechanism.geometry is None else geometry)
+    return dataclasses.replace(
+        mechanism, check=check, geometry=None if mechanism.geometry is None else geometry
+    )
 
 
 def guarded_probe(probe: ErrorProbe, plugin: str, foreign: bool) -> ErrorProbe:
@@ -416,8 +486,9 @@ def guarded_probe(probe: ErrorProbe, plugin: str, foreign: bool) -> ErrorProbe:
     @functools.wraps(probe.run)
     def run(scene, runner):
         points = call(plugin, where, "run", foreign, probe.run, scene, runner)
-        if foreign and not (isinstance(points, (list, tuple))
-                            and all(isinstance(p, ProbePoint) for p in points)):
+        if foreign and not (
+            isinstance(points, (list, tuple)) and all(isinstance(p, ProbePoint) for p in points)
+        ):
             raise _garbage(plugin, where, "run", points, "a list of ProbePoint")
         return points
 
@@ -440,8 +511,10 @@ def _output_problem(stage: Stage, output: StageOutput) -> str | None:
         if not isinstance(getattr(output, name), Mapping):
             return f"{name} = {shorten(getattr(output, name))}; expected a dict"
     if set(output.data) != set(stage.provides):
-        return f"data with the keys {sorted(map(str, output.data))}; the stage declares " \
-               f"provides={list(stage.provides)}"
+        return (
+            f"data with the keys {sorted(map(str, output.data))}; the stage declares "
+            f"provides={list(stage.provides)}"
+        )
     for key in stage.provides:
         problem = _contract_problem(key, output.data[key])
         if problem:
@@ -459,8 +532,12 @@ def _output_problem(stage: Stage, output: StageOutput) -> str | None:
 
 
 def _is_note(note: object) -> bool:
-    return (isinstance(note, (list, tuple)) and len(note) == 2 and isinstance(note[0], str)
-            and isinstance(note[1], Mapping))
+    return (
+        isinstance(note, (list, tuple))
+        and len(note) == 2
+        and isinstance(note[0], str)
+        and isinstance(note[1], Mapping)
+    )
 
 
 def _contract_problem(key: str, value: object) -> str | None:
@@ -508,8 +585,11 @@ def _json_problem(value: object, path: str, depth: int) -> str | None:
     if value is None or isinstance(value, (str, bool, numbers.Real, np.bool_)):
         return None
     if isinstance(value, np.ndarray):
-        return None if value.dtype.kind in "biuf" and value.size <= 10**7 else \
-            f"{path}: an array of {value.dtype} (size {value.size}), not a JSON list of numbers"
+        return (
+            None
+            if value.dtype.kind in "biuf" and value.size <= 10**7
+            else f"{path}: an array of {value.dtype} (size {value.size}), not a JSON list of numbers"
+        )
     if isinstance(value, Mapping):
         for key, item in value.items():
             if not isinstance(key, str):
@@ -524,8 +604,9 @@ def _json_problem(value: object, path: str, depth: int) -> str | None:
             if problem:
                 return problem
         return None
-    return (f"{path}: {shorten(value, 60)} ({type(value).__name__}) cannot be written to "
-            "results.json")
+    return (
+        f"{path}: {shorten(value, 60)} ({type(value).__name__}) cannot be written to results.json"
+    )
 
 
 def _table_problem(stage: Stage, name: object, table: object) -> str | None:
@@ -537,8 +618,10 @@ def _table_problem(stage: Stage, name: object, table: object) -> str | None:
         lengths = set()
         for column, values in table.items():
             if not isinstance(values, (list, tuple, np.ndarray)) or np.ndim(values) != 1:
-                return (f"column {shorten(column)} is {shorten(values, 60)}; "
-                        "expected a list or 1-D array")
+                return (
+                    f"column {shorten(column)} is {shorten(values, 60)}; "
+                    "expected a list or 1-D array"
+                )
             lengths.add(len(values))
         return None if len(lengths) <= 1 else f"columns of different lengths {sorted(lengths)}"
     if isinstance(table, list) and all(isinstance(row, Mapping) for row in table):

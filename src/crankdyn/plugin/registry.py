@@ -40,7 +40,9 @@ class Registry:
     broken: dict[str, str] = field(default_factory=dict)
 
 
-def plugin_manager(extra_plugins: Iterable[object] = (), entry_points: bool = True) -> pluggy.PluginManager:
+def plugin_manager(
+    extra_plugins: Iterable[object] = (), entry_points: bool = True
+) -> pluggy.PluginManager:
     """A plugin manager with the crankdyn hooks, the entry-point plugins and ``extra_plugins``.
 
     An entry point that cannot be imported or registered is not an error here: it is kept as
@@ -110,12 +112,17 @@ def is_builtin(plugin: object) -> bool:
     return str(module).split(".")[0] == BUILTIN_PACKAGE
 
 
-_HOOKS = (("mechanism", "crankdyn_mechanisms", plugin_guard.checked_mechanism),
-          ("stage", "crankdyn_stages", plugin_guard.checked_stage),
-          ("error probe", "crankdyn_error_probes", plugin_guard.checked_probe),
-          ("catalog", "crankdyn_catalogs", plugin_guard.checked_catalog))
-_GUARDS = {"mechanism": plugin_guard.guarded_mechanism, "stage": plugin_guard.guarded_stage,
-           "error probe": plugin_guard.guarded_probe}
+_HOOKS = (
+    ("mechanism", "crankdyn_mechanisms", plugin_guard.checked_mechanism),
+    ("stage", "crankdyn_stages", plugin_guard.checked_stage),
+    ("error probe", "crankdyn_error_probes", plugin_guard.checked_probe),
+    ("catalog", "crankdyn_catalogs", plugin_guard.checked_catalog),
+)
+_GUARDS = {
+    "mechanism": plugin_guard.guarded_mechanism,
+    "stage": plugin_guard.guarded_stage,
+    "error probe": plugin_guard.guarded_probe,
+}
 
 
 def collect(manager: pluggy.PluginManager) -> Registry:
@@ -139,8 +146,11 @@ def collect(manager: pluggy.PluginManager) -> Registry:
                 continue
             returned[kind].append((name, foreign, items))
     registry = Registry(broken=broken)
-    targets = {"mechanism": registry.mechanisms, "stage": registry.stages,
-               "error probe": registry.error_probes}
+    targets = {
+        "mechanism": registry.mechanisms,
+        "stage": registry.stages,
+        "error probe": registry.error_probes,
+    }
     for kind, target in targets.items():
         for name, foreign, items in returned[kind]:
             if name in broken:
@@ -148,12 +158,15 @@ def collect(manager: pluggy.PluginManager) -> Registry:
             for item in items:
                 key = f"{kind}:{item.name}"
                 if item.name in target:
-                    raise PluginError(f"duplicate {kind} name {item.name!r}: registered by "
-                                      f"{registry.owner[key]!r} and by {name!r}")
+                    raise PluginError(
+                        f"duplicate {kind} name {item.name!r}: registered by "
+                        f"{registry.owner[key]!r} and by {name!r}"
+                    )
                 target[item.name] = _GUARDS[kind](item, name, foreign)
                 registry.owner[key] = name
-    registry.catalogs = [c for name, _, items in returned["catalog"] if name not in broken
-                         for c in items]
+    registry.catalogs = [
+        c for name, _, items in returned["catalog"] if name not in broken for c in items
+    ]
     return registry
 
 
@@ -169,8 +182,9 @@ def _hook_items(impl, name: str, hook_name: str, check, foreign: bool) -> list:
     try:
         items = list(returned)
     except TypeError:
-        raise PluginFailure(name, f"hook {hook_name}", f"the hook returned {shorten(returned)}; "
-                            "expected a list") from None
+        raise PluginFailure(
+            name, f"hook {hook_name}", f"the hook returned {shorten(returned)}; expected a list"
+        ) from None
     return [check(item, name, hook_name, foreign) for item in items]
 
 

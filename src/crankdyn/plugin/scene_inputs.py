@@ -25,8 +25,16 @@ def engine_layout(scene) -> lay.EngineLayout:
     """The scene's engine layout; a :class:`SceneError` naming the field it cannot be built from."""
     e = scene.engine
     try:
-        return lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
-                                e.crank_angles_deg, e.rod_type, e.uneven_firing)
+        return lay.build_layout(
+            e.layout,
+            e.strokes,
+            e.cylinders,
+            e.bank_angle_deg,
+            e.firing_order,
+            e.crank_angles_deg,
+            e.rod_type,
+            e.uneven_firing,
+        )
     except lay.LayoutError as exc:
         raise SceneError(Problem(exc.field, exc.value, str(exc))) from None
 
@@ -39,8 +47,9 @@ def _pin_angle_rad(opts: ArticulatedOptions, j: int, gamma_rad: float) -> float:
     return gamma_rad
 
 
-def slave_geometries(scene, layout, opts: ArticulatedOptions,
-                     table: str) -> list[tuple[lay.Cylinder, art.SlaveGeometry]]:
+def slave_geometries(
+    scene, layout, opts: ArticulatedOptions, table: str
+) -> list[tuple[lay.Cylinder, art.SlaveGeometry]]:
     """(slave cylinder, geometry) for the slave rods of bay 0 (their length given, or for equal
     compression ratios when the scene gives one, else the textbook's L - pin radius, eq. (4)).
     ``opts`` is the scene table ``table``, which the problems name."""
@@ -50,33 +59,46 @@ def slave_geometries(scene, layout, opts: ArticulatedOptions,
     master = bay[0]
     slaves = [c for c in bay if not c.master]
     if opts.pin_angles_deg is not None and len(opts.pin_angles_deg) != len(slaves):
-        raise SceneError(Problem(f"{table}.pin_angles_deg", opts.pin_angles_deg,
-                                 f"needs one angle per slave rod ({len(slaves)})"))
+        raise SceneError(
+            Problem(
+                f"{table}.pin_angles_deg",
+                opts.pin_angles_deg,
+                f"needs one angle per slave rod ({len(slaves)})",
+            )
+        )
     out = []
     for j, slave in enumerate(slaves):
         gamma = math.radians(slave.axis_deg - master.axis_deg)
         pin_angle = _pin_angle_rad(opts, j, gamma)
         if opts.pin_radius >= L:
-            raise SceneError(Problem(f"{table}.pin_radius", opts.pin_radius,
-                                     "must be shorter than the master rod"))
+            raise SceneError(
+                Problem(
+                    f"{table}.pin_radius", opts.pin_radius, "must be shorter than the master rod"
+                )
+            )
         geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, L - opts.pin_radius)
         try:
             if opts.slave_rod_length is not None:
                 length = opts.slave_rod_length
             elif scene.cycle is not None and scene.cycle.compression_ratio is not None:
-                length = art.slave_rod_length_equal_compression_m(geometry, scene.cycle.compression_ratio)
+                length = art.slave_rod_length_equal_compression_m(
+                    geometry, scene.cycle.compression_ratio
+                )
             else:
                 length = L - opts.pin_radius  # textbook eq. (4)
             geometry = art.SlaveGeometry(R, L, opts.pin_radius, pin_angle, gamma, length)
             art.slave_motion(np.linspace(0, 2 * np.pi, 721), geometry)
         except ValueError as exc:
-            raise SceneError(Problem(f"{table}.slave_rod_length", opts.slave_rod_length,
-                                     str(exc))) from None
+            raise SceneError(
+                Problem(f"{table}.slave_rod_length", opts.slave_rod_length, str(exc))
+            ) from None
         out.append((slave, geometry))
     return out
 
 
-def rotating_mass_per_crank_kg(scene, layout, opts: ArticulatedOptions | None, table: str = "") -> float:
+def rotating_mass_per_crank_kg(
+    scene, layout, opts: ArticulatedOptions | None, table: str = ""
+) -> float:
     """Mass rotating with one crank pin, reduced to the crank radius (kg): the rods' rotating
     shares (an articulated bay: the reduced master rod, textbook fig. 9) plus pin and webs.
 
@@ -90,13 +112,17 @@ def rotating_mass_per_crank_kg(scene, layout, opts: ArticulatedOptions | None, t
     if e.rod_type != "articulated":
         return rod_rot * layout.cylinders_per_bay + crank_rotating
     slaves = slave_geometries(scene, layout, opts, table)
-    slave_rod = (opts.slave_rod if opts.slave_rod is not None
-                 else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m)
+    slave_rod = (
+        opts.slave_rod
+        if opts.slave_rod is not None
+        else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m
+    )
     s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
     rot_master = rod_rot
     for _, g in slaves:
-        rot_master += art.reduced_master_rod_masses(0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin,
-                                                    g.pin_radius_m, g.pin_angle_rad)[1]
+        rot_master += art.reduced_master_rod_masses(
+            0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad
+        )[1]
     return rot_master + crank_rotating
 
 
@@ -112,7 +138,7 @@ def crank_train(scene, bays: BayLoads) -> CrankTrain:
     layout = bays.layout
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
     omega = e.angular_velocity_rad_s
-    rotating = -bays.centrifugal_Pa * bays.piston_area_m2 / (bays.crank_radius_m * omega ** 2)
+    rotating = -bays.centrifugal_Pa * bays.piston_area_m2 / (bays.crank_radius_m * omega**2)
     cylinders = layout.cylinders
     return CrankTrain(
         phase_rad=np.radians([c.firing_delay_deg for c in cylinders]),
@@ -138,7 +164,9 @@ def cycle_parameters(scene) -> ind.CycleParameters:
         max_pressure_Pa=c.max_pressure,
         pre_expansion_ratio=c.pre_expansion_ratio,
         expansion_index=c.expansion_index,
-        exhaust_pressure_Pa=c.exhaust_pressure if c.exhaust_pressure is not None else c.intake_pressure,
+        exhaust_pressure_Pa=c.exhaust_pressure
+        if c.exhaust_pressure is not None
+        else c.intake_pressure,
     )
 
 
@@ -146,12 +174,16 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
     """The rounding of the theoretical diagram, ``[cycle.rounding]`` with the textbook's defaults."""
     r, c = scene.cycle.rounding, scene.cycle
     # Textbook mid-range defaults: spark advance 20-25 deg, diesel injection advance 10-40 deg.
-    advance = (r.ignition_advance_deg if r.ignition_advance_deg is not None
-               else (22.0 if c.ignition == "spark" else 18.0))
+    advance = (
+        r.ignition_advance_deg
+        if r.ignition_advance_deg is not None
+        else (22.0 if c.ignition == "spark" else 18.0)
+    )
     delay = r.combustion_delay_deg
     if delay is None:
-        delay = ind.default_combustion_delay_deg(c.ignition, advance, scene.engine.rpm,
-                                                 r.combustion_delay_time)
+        delay = ind.default_combustion_delay_deg(
+            c.ignition, advance, scene.engine.rpm, r.combustion_delay_time
+        )
     if 0 <= delay < 90 and 0 < advance < 90 and delay >= advance:
         raise SceneError(_delay_problem(scene, advance, delay))
     four_stroke = scene.engine.strokes == 4
@@ -176,38 +208,64 @@ def _delay_problem(scene, advance: float, delay: float) -> Problem:
     """The ignition delay reaching past the advance, named by the fields the user can change
     (either value may be a default: the delay of a diesel grows with the speed, 6·n·τ)."""
     r = scene.cycle.rounding
-    advance_text = (f"{advance:g} deg" if r.ignition_advance_deg is not None
-                    else f"{advance:g} deg by default")
+    advance_text = (
+        f"{advance:g} deg" if r.ignition_advance_deg is not None else f"{advance:g} deg by default"
+    )
     if r.combustion_delay_deg is not None:
-        return Problem("cycle.rounding.combustion_delay_deg", delay,
-                       f"less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
-                       " so that combustion starts before top dead centre")
+        return Problem(
+            "cycle.rounding.combustion_delay_deg",
+            delay,
+            f"less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
+            " so that combustion starts before top dead centre",
+        )
     time_ms = (r.combustion_delay_time if r.combustion_delay_time is not None else 1.5e-3) * 1e3
-    return Problem("cycle.rounding.ignition_advance_deg",
-                   advance if r.ignition_advance_deg is not None else f"{advance:g} (default)",
-                   f"more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
-                   f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_ms:g} ms):"
-                   " give a larger advance or a shorter delay time")
+    return Problem(
+        "cycle.rounding.ignition_advance_deg",
+        advance if r.ignition_advance_deg is not None else f"{advance:g} (default)",
+        f"more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
+        f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_ms:g} ms):"
+        " give a larger advance or a shorter delay time",
+    )
 
 
-def single_mechanism_problems(scene, what: str, multi_cylinder_tables: tuple[str, ...] = ()) -> list[Problem]:
+def single_mechanism_problems(
+    scene, what: str, multi_cylinder_tables: tuple[str, ...] = ()
+) -> list[Problem]:
     """Problems of a scene that gives multi-cylinder keys to a one-cylinder mechanism (``what``
     names it in the messages), or one of the plugin tables ``multi_cylinder_tables`` that only a
     multi-cylinder engine reads."""
     e = scene.engine
     problems = []
     if e.cylinders != 1:
-        problems.append(Problem("engine.cylinders", e.cylinders, f"the {what} is computed for one cylinder: 1"))
+        problems.append(
+            Problem("engine.cylinders", e.cylinders, f"the {what} is computed for one cylinder: 1")
+        )
     if e.layout != "inline":
-        problems.append(Problem("engine.layout", e.layout, f"the {what} has one cylinder; leave layout out"))
+        problems.append(
+            Problem("engine.layout", e.layout, f"the {what} has one cylinder; leave layout out")
+        )
     if e.rod_type != "central":
-        problems.append(Problem("engine.rod_type", e.rod_type, f"the {what} has a single rod; leave rod_type out"))
+        problems.append(
+            Problem(
+                "engine.rod_type", e.rod_type, f"the {what} has a single rod; leave rod_type out"
+            )
+        )
     for name in ("bank_angle_deg", "firing_order", "crank_angles_deg", "cylinder_spacing"):
         if getattr(e, name) is not None:
-            problems.append(Problem(f"engine.{name}", getattr(e, name),
-                                    f"applies to multi-cylinder engines only; the {what} has one cylinder"))
+            problems.append(
+                Problem(
+                    f"engine.{name}",
+                    getattr(e, name),
+                    f"applies to multi-cylinder engines only; the {what} has one cylinder",
+                )
+            )
     for table in multi_cylinder_tables:
         if table in scene.plugin_tables():
-            problems.append(Problem(table, f"[{table}]", f"applies to multi-cylinder engines only; "
-                                                         f"the {what} has one cylinder"))
+            problems.append(
+                Problem(
+                    table,
+                    f"[{table}]",
+                    f"applies to multi-cylinder engines only; the {what} has one cylinder",
+                )
+            )
     return problems

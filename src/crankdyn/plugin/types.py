@@ -189,7 +189,10 @@ class Tables(dict):
         return ColumnTable({name: table[name].to_numpy() for name in table.columns})  # a DataFrame
 
     def __reduce__(self):
-        return (Tables, ({name: super(Tables, self).__getitem__(name) for name in dict.keys(self)},))
+        return (
+            Tables,
+            ({name: super(Tables, self).__getitem__(name) for name in dict.keys(self)},),
+        )
 
     def __getitem__(self, name: str) -> pd.DataFrame:
         table = super().__getitem__(name)
@@ -230,10 +233,14 @@ class StageOutput:
     notes: list[tuple[str, dict]]
     artifacts: dict[str, Any]
 
-    def __init__(self, data: dict[str, Any] | None = None, results: dict[str, Any] | None = None,
-                 tables: Mapping[str, Any] | None = None,
-                 notes: list[tuple[str, dict]] | None = None,
-                 artifacts: dict[str, Any] | None = None) -> None:
+    def __init__(
+        self,
+        data: dict[str, Any] | None = None,
+        results: dict[str, Any] | None = None,
+        tables: Mapping[str, Any] | None = None,
+        notes: list[tuple[str, dict]] | None = None,
+        artifacts: dict[str, Any] | None = None,
+    ) -> None:
         self.data = {} if data is None else data
         self.results = {} if results is None else results
         # a Tables given stays the same object (a stage may fill it after returning it)
@@ -363,9 +370,20 @@ class StagePresentation:
 
 
 #: the fields of :class:`StagePresentation`, which ``Stage`` also takes as keywords (the flat form)
-PRESENTATION_FIELDS = ("title_key", "render", "template_dir", "references", "references_full",
-                       "references_sentence", "figures", "input_rows", "legend", "symbols",
-                       "section_symbols", "appendix")
+PRESENTATION_FIELDS = (
+    "title_key",
+    "render",
+    "template_dir",
+    "references",
+    "references_full",
+    "references_sentence",
+    "figures",
+    "input_rows",
+    "legend",
+    "symbols",
+    "section_symbols",
+    "appendix",
+)
 
 
 @dataclass(frozen=True)
@@ -425,8 +443,9 @@ class Stage:
     applies: Callable[..., str | None]
     run: Callable[[Scene, Mapping[str, Any]], StageOutput]
     uses: tuple[str, ...] = ()
-    run_many: (Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]], Sequence[StageOutput]]
-               | None) = None
+    run_many: (
+        Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]], Sequence[StageOutput]] | None
+    ) = None
     options_table: str | None = None
     options_model: type | None = None
     services: tuple[str, ...] = ()
@@ -437,46 +456,76 @@ class Stage:
     plausibility: tuple[PlausibilityRule, ...] = ()
     presentation: StagePresentation | None = None
 
-    def __init__(self, *, name: str, requires: tuple[str, ...], provides: tuple[str, ...],
-                 applies: Callable[..., str | None],
-                 run: Callable[[Scene, Mapping[str, Any]], StageOutput],
-                 uses: tuple[str, ...] = (),
-                 run_many: (Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]],
-                                     Sequence[StageOutput]] | None) = None,
-                 options_table: str | None = None, options_model: type | None = None,
-                 services: tuple[str, ...] = (), tables: tuple[str, ...] = (),
-                 default: bool = True, last: bool = False,
-                 answer_columns: tuple[AnswerColumn, ...] = (),
-                 plausibility: tuple[PlausibilityRule, ...] = (),
-                 presentation: StagePresentation | None = None, **flat: Any) -> None:
+    def __init__(
+        self,
+        *,
+        name: str,
+        requires: tuple[str, ...],
+        provides: tuple[str, ...],
+        applies: Callable[..., str | None],
+        run: Callable[[Scene, Mapping[str, Any]], StageOutput],
+        uses: tuple[str, ...] = (),
+        run_many: (
+            Callable[[Sequence[Scene], Sequence[Mapping[str, Any]]], Sequence[StageOutput]] | None
+        ) = None,
+        options_table: str | None = None,
+        options_model: type | None = None,
+        services: tuple[str, ...] = (),
+        tables: tuple[str, ...] = (),
+        default: bool = True,
+        last: bool = False,
+        answer_columns: tuple[AnswerColumn, ...] = (),
+        plausibility: tuple[PlausibilityRule, ...] = (),
+        presentation: StagePresentation | None = None,
+        **flat: Any,
+    ) -> None:
         if flat:
             presentation = _folded_presentation(name, presentation, flat)
-        given = dict(name=name, requires=requires, provides=provides, applies=applies, run=run,
-                     uses=uses, run_many=run_many, options_table=options_table,
-                     options_model=options_model, services=services, tables=tables,
-                     default=default, last=last, answer_columns=answer_columns,
-                     plausibility=plausibility, presentation=presentation)
+        given = dict(
+            name=name,
+            requires=requires,
+            provides=provides,
+            applies=applies,
+            run=run,
+            uses=uses,
+            run_many=run_many,
+            options_table=options_table,
+            options_model=options_model,
+            services=services,
+            tables=tables,
+            default=default,
+            last=last,
+            answer_columns=answer_columns,
+            plausibility=plausibility,
+            presentation=presentation,
+        )
         for key, value in given.items():
             object.__setattr__(self, key, value)
 
 
-def _folded_presentation(name: str, presentation: StagePresentation | None,
-                         flat: dict[str, Any]) -> StagePresentation:
+def _folded_presentation(
+    name: str, presentation: StagePresentation | None, flat: dict[str, Any]
+) -> StagePresentation:
     """The flat form's presentation keywords as a :class:`StagePresentation` (over
     ``presentation`` when one is given too, as ``dataclasses.replace(stage, title_key=...)``)."""
     unknown = sorted(set(flat) - set(PRESENTATION_FIELDS))
     if unknown:
         raise TypeError(f"Stage() got an unexpected keyword argument {unknown[0]!r}")
-    warnings.warn(f"stage {name!r}: give {', '.join(sorted(flat))} in "
-                  "Stage(presentation=StagePresentation(...)); the flat form "
-                  "Stage(title_key=..., render=...) is kept for one release",
-                  DeprecationWarning, stacklevel=3)
+    warnings.warn(
+        f"stage {name!r}: give {', '.join(sorted(flat))} in "
+        "Stage(presentation=StagePresentation(...)); the flat form "
+        "Stage(title_key=..., render=...) is kept for one release",
+        DeprecationWarning,
+        stacklevel=3,
+    )
     if presentation is not None:
         return replace(presentation, **flat)
     missing = [key for key in ("title_key", "render") if key not in flat]
     if missing:
-        raise TypeError(f"stage {name!r}: the flat form needs {' and '.join(missing)} "
-                        "(or give presentation=StagePresentation(...))")
+        raise TypeError(
+            f"stage {name!r}: the flat form needs {' and '.join(missing)} "
+            "(or give presentation=StagePresentation(...))"
+        )
     return StagePresentation(**flat)
 
 
@@ -484,8 +533,12 @@ def _presentation_property(key: str) -> property:
     default = {f.name: f.default for f in fields(StagePresentation)}.get(key)
 
     def read(stage: Stage) -> Any:
-        warnings.warn(f"Stage.{key} is read as Stage.presentation.{key}; the flat attribute is "
-                      "kept for one release", DeprecationWarning, stacklevel=2)
+        warnings.warn(
+            f"Stage.{key} is read as Stage.presentation.{key}; the flat attribute is "
+            "kept for one release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
         if stage.presentation is None:
             return {} if key == "symbols" else (None if default is MISSING else default)
         return getattr(stage.presentation, key)

@@ -66,12 +66,16 @@ class Snapshot:
     version: str
     page: bytes  # the HTML served at /, with the reload script
     state: str  # "report", "scene-error", "error" or "starting"
-    report_html: str | None = None  # the report without the script, as figures/NAME.svg links it: the PDF
+    report_html: str | None = (
+        None  # the report without the script, as figures/NAME.svg links it: the PDF
+    )
     problems: tuple[str, ...] = ()
     render_s: float = 0.0
     built_at: float = field(default_factory=time.time)
     figures: tuple = ()  # the report's FigureFiles, as report_html refers to them
-    pending: tuple[str, ...] = ()  # stages whose sections say they follow (the next snapshot has them)
+    pending: tuple[
+        str, ...
+    ] = ()  # stages whose sections say they follow (the next snapshot has them)
     figures_s: float | None = None  # when every figure was drawn, seconds after the build started
 
     @property
@@ -81,20 +85,23 @@ class Snapshot:
 
 # --------------------------------------------------------------------------- pages
 
+
 def reload_script(version: str, nonce: str) -> str:
     """The inline script that reloads the tab when the server's version changes."""
-    return (f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
-            # figures still being drawn wait behind a blank image: one request asks when they are
-            # done (a browser holds only six connections to a host: six held image requests would
-            # stall the next reload)
-            "var w=document.querySelectorAll('img[data-figure]');"
-            "if(w.length){fetch('/figures-ready?version='+encodeURIComponent(v),{cache:'no-store'})"
-            ".then(function(){w.forEach(function(i){i.src=i.dataset.figure;});});}"
-            "function poll(){fetch('/version?after='+encodeURIComponent(v),{cache:'no-store'})"
-            ".then(function(r){return r.text();})"
-            ".then(function(t){if(t.trim()!==v){location.reload();}else{poll();}})"
-            f".catch(function(){{setTimeout(poll,{POLL_MS});}});}}"
-            "poll();})();</script>")
+    return (
+        f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
+        # figures still being drawn wait behind a blank image: one request asks when they are
+        # done (a browser holds only six connections to a host: six held image requests would
+        # stall the next reload)
+        "var w=document.querySelectorAll('img[data-figure]');"
+        "if(w.length){fetch('/figures-ready?version='+encodeURIComponent(v),{cache:'no-store'})"
+        ".then(function(){w.forEach(function(i){i.src=i.dataset.figure;});});}"
+        "function poll(){fetch('/version?after='+encodeURIComponent(v),{cache:'no-store'})"
+        ".then(function(r){return r.text();})"
+        ".then(function(t){if(t.trim()!==v){location.reload();}else{poll();}})"
+        f".catch(function(){{setTimeout(poll,{POLL_MS});}});}}"
+        "poll();})();</script>"
+    )
 
 
 def with_reload(page: str, version: str, nonce: str) -> str:
@@ -103,11 +110,13 @@ def with_reload(page: str, version: str, nonce: str) -> str:
     return page + script if at < 0 else page[:at] + script + page[at:]
 
 
-_ERROR_CSS = ("body{font-family:'Liberation Serif','DejaVu Serif',serif;max-width:54em;margin:2em auto;"
-              "padding:0 1em;color:#111}h1{color:#8a1010;font-size:1.4em}table{border-collapse:collapse;width:100%}"
-              "th,td{border:1px solid #bbb;padding:.3em .5em;text-align:left;vertical-align:top}"
-              "td.field,td.value{font-family:'DejaVu Sans Mono',monospace;white-space:pre-wrap}"
-              "pre{background:#f4f4f4;padding:.6em;overflow:auto}.hint{color:#555}")
+_ERROR_CSS = (
+    "body{font-family:'Liberation Serif','DejaVu Serif',serif;max-width:54em;margin:2em auto;"
+    "padding:0 1em;color:#111}h1{color:#8a1010;font-size:1.4em}table{border-collapse:collapse;width:100%}"
+    "th,td{border:1px solid #bbb;padding:.3em .5em;text-align:left;vertical-align:top}"
+    "td.field,td.value{font-family:'DejaVu Sans Mono',monospace;white-space:pre-wrap}"
+    "pre{background:#f4f4f4;padding:.6em;overflow:auto}.hint{color:#555}"
+)
 
 
 def _shown(value) -> str:
@@ -122,10 +131,14 @@ def error_page(exc: BaseException, scene_path: Path) -> tuple[str, str, tuple[st
         problems = tuple(str(p) for p in exc.problems)
         rows = "".join(
             f'<tr><td class="field">{e(p.field)}</td><td class="value">{e(_shown(p.value))}</td>'
-            f"<td>{e(p.allowed)}</td></tr>" for p in exc.problems)
+            f"<td>{e(p.allowed)}</td></tr>"
+            for p in exc.problems
+        )
         head = f"The scene has {len(exc.problems)} problem{'s' if len(exc.problems) != 1 else ''}"
-        body = (f"<table><thead><tr><th>field</th><th>value</th><th>allowed</th></tr></thead>"
-                f"<tbody>{rows}</tbody></table>")
+        body = (
+            f"<table><thead><tr><th>field</th><th>value</th><th>allowed</th></tr></thead>"
+            f"<tbody>{rows}</tbody></table>"
+        )
     elif isinstance(exc, CrankdynError):
         state, problems = "error", (str(exc),)
         head = "crankdyn cannot build this report"
@@ -134,18 +147,24 @@ def error_page(exc: BaseException, scene_path: Path) -> tuple[str, str, tuple[st
         state, problems = "error", (f"internal error: {exc.__class__.__name__}: {exc}",)
         head = "crankdyn failed while building the report (internal error)"
         trace = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
-        body = f"<p>{e(problems[0])}</p><pre>{e(trace)}</pre><p class=\"hint\">Please report this.</p>"
-    page = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: {e(head)}</title>'
-            f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="{state}"><h1>{e(head)}</h1>'
-            f'<p class="hint">{e(str(scene_path))}</p>{body}'
-            "<p class=\"hint\">The preview updates by itself when you save the file.</p></body></html>")
+        body = (
+            f'<p>{e(problems[0])}</p><pre>{e(trace)}</pre><p class="hint">Please report this.</p>'
+        )
+    page = (
+        f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: {e(head)}</title>'
+        f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="{state}"><h1>{e(head)}</h1>'
+        f'<p class="hint">{e(str(scene_path))}</p>{body}'
+        '<p class="hint">The preview updates by itself when you save the file.</p></body></html>'
+    )
     return state, page, problems
 
 
 def _starting_page() -> str:
-    return ('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: rendering…</title>'
-            f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="starting"><p>Rendering the report…</p>'
-            "</body></html>")
+    return (
+        '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crankdyn: rendering…</title>'
+        f'<style>{_ERROR_CSS}</style></head><body data-crankdyn="starting"><p>Rendering the report…</p>'
+        "</body></html>"
+    )
 
 
 def _url(figure) -> str:
@@ -156,12 +175,15 @@ def _url(figure) -> str:
 def _placeholder(figure, url: str) -> str:
     """``src`` and ``data-figure`` of a figure not drawn yet: a blank image of the figure's size."""
     width_in, height_in = figure.figure.get_size_inches()
-    blank = (f"<svg xmlns='http://www.w3.org/2000/svg' width='{width_in * 72:.0f}pt' height='{height_in * 72:.0f}pt' "
-             f"viewBox='0 0 {width_in * 72:.0f} {height_in * 72:.0f}'/>")
+    blank = (
+        f"<svg xmlns='http://www.w3.org/2000/svg' width='{width_in * 72:.0f}pt' height='{height_in * 72:.0f}pt' "
+        f"viewBox='0 0 {width_in * 72:.0f} {height_in * 72:.0f}'/>"
+    )
     return f'src="data:image/svg+xml,{quote(blank)}" data-figure="{FIGURE_DIR}/{url}"'
 
 
 # --------------------------------------------------------------------------- files
+
 
 def referenced_files(scene_path: Path) -> set[Path]:
     """Files a scene names: every string under a key ending in ``_file`` (e.g. cycle.trace_file).
@@ -209,8 +231,15 @@ WORKER_STAGES_S = 0.1
 class Preview:
     """Builds snapshots of one scene; watches its files; renders the PDF on request."""
 
-    def __init__(self, scene_path: Path | str, language: str | None = None, stages: list[str] | None = None,
-                 registry=None, log: Callable[[str], None] | None = None, debounce_ms: int = 80):
+    def __init__(
+        self,
+        scene_path: Path | str,
+        language: str | None = None,
+        stages: list[str] | None = None,
+        registry=None,
+        log: Callable[[str], None] | None = None,
+        debounce_ms: int = 80,
+    ):
         self.scene_path = Path(os.path.abspath(scene_path))
         self.language = language
         self.stages = stages
@@ -232,15 +261,18 @@ class Preview:
         self._recent: tuple = ()  # the snapshots before the current one
         self._tokens = 0
         self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
-        self._worker: StudyWorker | None = None  # computes the studies while the page is rendered (start)
+        self._worker: StudyWorker | None = (
+            None  # computes the studies while the page is rendered (start)
+        )
         self._studies = None  # the studies the shown page says follow, being computed there
         self._study_s: float | None = None  # how long the last save's study took
         self._stages_s: float | None = None  # ... and the stages it ran again before it
         self._threads: list[threading.Thread] = []
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
-        self.snapshot = Snapshot(version, with_reload(_starting_page(), version, self.nonce).encode("utf-8"),
-                                 "starting")
+        self.snapshot = Snapshot(
+            version, with_reload(_starting_page(), version, self.nonce).encode("utf-8"), "starting"
+        )
 
     # ------------------------------------------------------------- building
     @property
@@ -255,12 +287,16 @@ class Preview:
         start = time.perf_counter()
         try:
             snapshot = self._publish(*self._render(defer_studies=True), start)
-            if snapshot.pending:  # the study, and nothing else, runs now (its figures drawn meanwhile)
+            if (
+                snapshot.pending
+            ):  # the study, and nothing else, runs now (its figures drawn meanwhile)
                 in_children = {id(f) for f in snapshot.figures if not f.drawn}
                 finish = start_drawing(snapshot.figures)
                 try:
                     snapshot = self._publish(*self._render(defer_studies=False), start)
-                    if finish is not None:  # the study's figures: drawn here while the children draw
+                    if (
+                        finish is not None
+                    ):  # the study's figures: drawn here while the children draw
                         self._draw_here([f for f in snapshot.figures if id(f) not in in_children])
                 finally:
                     if finish is not None:
@@ -271,20 +307,39 @@ class Preview:
         finally:
             self._building.clear()
         if snapshot.state == "report":
-            self._log(f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s, figures by "
-                      f"{snapshot.figures_s:.2f} s (version {self._count})")
+            self._log(
+                f"rendered {self.scene_path.name} in {snapshot.render_s:.2f} s, figures by "
+                f"{snapshot.figures_s:.2f} s (version {self._count})"
+            )
         else:
-            self._log(f"{self.scene_path.name}: {len(snapshot.problems)} problem(s); showing them instead of the "
-                      "report\n" + "\n".join(f"  - {p}" for p in snapshot.problems))
+            self._log(
+                f"{self.scene_path.name}: {len(snapshot.problems)} problem(s); showing them instead of the "
+                "report\n" + "\n".join(f"  - {p}" for p in snapshot.problems)
+            )
         return snapshot
 
-    def _publish(self, state: str, page: str, problems: tuple[str, ...], report_html: str | None, figures: list,
-                 pending: tuple[str, ...], start: float) -> Snapshot:
+    def _publish(
+        self,
+        state: str,
+        page: str,
+        problems: tuple[str, ...],
+        report_html: str | None,
+        figures: list,
+        pending: tuple[str, ...],
+        start: float,
+    ) -> Snapshot:
         self._count += 1
         version = f"{self._boot}-{self._count}"
-        snapshot = Snapshot(version, with_reload(page, version, self.nonce).encode("utf-8"), state,
-                            report_html, problems, time.perf_counter() - start, figures=tuple(figures),
-                            pending=pending)
+        snapshot = Snapshot(
+            version,
+            with_reload(page, version, self.nonce).encode("utf-8"),
+            state,
+            report_html,
+            problems,
+            time.perf_counter() - start,
+            figures=tuple(figures),
+            pending=pending,
+        )
         with self._drawn:
             self._recent = (self.snapshot, *self._recent)[:2]  # a tab may still show one of these
         self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
@@ -292,7 +347,9 @@ class Preview:
             self._published.notify_all()
         return snapshot
 
-    def _render(self, defer_studies: bool = False) -> tuple[str, str, tuple[str, ...], str | None, list, tuple]:
+    def _render(
+        self, defer_studies: bool = False
+    ) -> tuple[str, str, tuple[str, ...], str | None, list, tuple]:
         try:
             if self._registry is None:
                 self._registry = default_registry()
@@ -304,12 +361,24 @@ class Preview:
                 # a quick study: computed by the worker while the page is rendered, and waited for;
                 # a slow one follows the page, computed here (the worker would compute the changed
                 # stages a second time, on the cores the figures need)
-                quick = (self._study_s is not None and self._study_s < STUDY_INLINE_S
-                         and self._stages_s is not None and self._stages_s < WORKER_STAGES_S)
+                quick = (
+                    self._study_s is not None
+                    and self._study_s < STUDY_INLINE_S
+                    and self._stages_s is not None
+                    and self._stages_s < WORKER_STAGES_S
+                )
                 result, rendered, self._studies = run_for_preview(
-                    scene, self._registry, self.stages, available_languages(), self.stage_cache,
-                    self.sections_cache, defer_studies, studies, self._worker if quick else None,
-                    inline_studies=quick)
+                    scene,
+                    self._registry,
+                    self.stages,
+                    available_languages(),
+                    self.stage_cache,
+                    self.sections_cache,
+                    defer_studies,
+                    studies,
+                    self._worker if quick else None,
+                    inline_studies=quick,
+                )
                 self._note_times(result, runs)
             finally:
                 if studies is not None:  # taken from, or not wanted (the scene changed meanwhile)
@@ -324,16 +393,28 @@ class Preview:
                 figure.preview_token = f"{self._boot}{self._tokens}"
             url = _url(figure)
             # a figure still to draw: a blank image of its size until the page's script swaps it in
-            page = page.replace(f'src="{FIGURE_DIR}/{figure.name}"',
-                                f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url))
-        return "report", page, (), rendered.linked_html, list(rendered.figures), tuple(result.pending)
+            page = page.replace(
+                f'src="{FIGURE_DIR}/{figure.name}"',
+                f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url),
+            )
+        return (
+            "report",
+            page,
+            (),
+            rendered.linked_html,
+            list(rendered.figures),
+            tuple(result.pending),
+        )
 
     def _note_times(self, result, runs: dict) -> None:
         """How long the studies this rendering ran took (the worker's or the server's run), and
         the other stages it ran again, for the next save's choice. A save's first pass runs the
         stages, its second the study; what did not run keeps its last time."""
-        ran = [s for s in result.plan.order if s.name in result.timing_s
-               and self.stage_cache.runs[s.name] > runs.get(s.name, 0)]
+        ran = [
+            s
+            for s in result.plan.order
+            if s.name in result.timing_s and self.stage_cache.runs[s.name] > runs.get(s.name, 0)
+        ]
         studies = [result.timing_s[s.name] for s in ran if is_study(s)]
         stages = [result.timing_s[s.name] for s in ran if not is_study(s)]
         if studies:
@@ -369,7 +450,9 @@ class Preview:
         with self._drawn:
             while True:
                 snapshot = self.snapshot
-                if snapshot.version != version and not any(s.version == version for s in self._recent):
+                if snapshot.version != version and not any(
+                    s.version == version for s in self._recent
+                ):
                     return False
                 if all(f.drawn for f in self._figures_of(version)):
                     return True
@@ -383,7 +466,9 @@ class Preview:
     def version_after(self, version: str, timeout: float = LONG_POLL_S) -> str:
         """The current version, as soon as it is not ``version`` (or after ``timeout`` seconds)."""
         with self._published:
-            self._published.wait_for(lambda: self.snapshot.version != version or self._stop.is_set(), timeout)
+            self._published.wait_for(
+                lambda: self.snapshot.version != version or self._stop.is_set(), timeout
+            )
         return self.snapshot.version
 
     def figure(self, url: str, timeout: float = 120.0) -> bytes | None:
@@ -392,14 +477,23 @@ class Preview:
         with self._drawn:
             while True:
                 # this build's figures or a recent one's: a tab may still show an earlier page
-                figure = next((f for snap in (self.snapshot, *self._recent) for f in snap.figures
-                               if _url(f) == url), None)
+                figure = next(
+                    (
+                        f
+                        for snap in (self.snapshot, *self._recent)
+                        for f in snap.figures
+                        if _url(f) == url
+                    ),
+                    None,
+                )
                 if figure is None:
                     return None
                 if figure.drawn:
                     return figure.svg
-                if not self._drawn.wait(max(0.0, min(0.5, deadline - time.monotonic()))) \
-                        and time.monotonic() >= deadline:
+                if (
+                    not self._drawn.wait(max(0.0, min(0.5, deadline - time.monotonic())))
+                    and time.monotonic() >= deadline
+                ):
                     return None
 
     def pdf(self, snapshot: Snapshot) -> bytes:
@@ -411,12 +505,17 @@ class Preview:
                 # drawn by the builder, never here (matplotlib is not thread-safe)
                 if not self.figures_ready(snapshot.version):
                     raise CrankdynError("the report's figures were not drawn in time")
-                self._pdf_cache = (snapshot.version, html_to_pdf(snapshot.report_html, snapshot.figures))
+                self._pdf_cache = (
+                    snapshot.version,
+                    html_to_pdf(snapshot.report_html, snapshot.figures),
+                )
             return self._pdf_cache[1]
 
     # ------------------------------------------------------------- threads
     def watched(self) -> set[Path]:
-        return {self.scene_path} | {Path(os.path.abspath(p)) for p in referenced_files(self.scene_path)}
+        return {self.scene_path} | {
+            Path(os.path.abspath(p)) for p in referenced_files(self.scene_path)
+        }
 
     def start(self) -> None:
         """Start the study worker, then the builder and watcher threads; the first build begins
@@ -424,7 +523,10 @@ class Preview:
         if self._worker is None:
             self._worker = StudyWorker.start(self._registry)
         self._dirty.set()
-        for target, name in ((self._builder, "crankdyn-builder"), (self._watcher, "crankdyn-watcher")):
+        for target, name in (
+            (self._builder, "crankdyn-builder"),
+            (self._watcher, "crankdyn-watcher"),
+        ):
             thread = threading.Thread(target=target, name=name, daemon=True)
             thread.start()
             self._threads.append(thread)
@@ -481,9 +583,17 @@ class Preview:
             def relevant(change, path: str, names=names) -> bool:
                 return Path(path) in names
 
-            for changes in watchfiles.watch(*folders, watch_filter=relevant, debounce=self._debounce_ms, step=50,
-                                            stop_event=self._stop, rust_timeout=1000, yield_on_timeout=True,
-                                            recursive=False, raise_interrupt=False):
+            for changes in watchfiles.watch(
+                *folders,
+                watch_filter=relevant,
+                debounce=self._debounce_ms,
+                step=50,
+                stop_event=self._stop,
+                rust_timeout=1000,
+                yield_on_timeout=True,
+                recursive=False,
+                raise_interrupt=False,
+            ):
                 if changes:
                     self._dirty.set()
                 if self.watched() != files:  # the scene now names another data file: watch anew
@@ -491,6 +601,7 @@ class Preview:
 
 
 # --------------------------------------------------------------------------- HTTP
+
 
 class _Handler(BaseHTTPRequestHandler):
     server_version = "crankdyn-serve"
@@ -513,12 +624,21 @@ class _Handler(BaseHTTPRequestHandler):
             version = self.preview.version_after(after[0]) if after else snapshot.version
             self._send(HTTPStatus.OK, "text/plain; charset=utf-8", version.encode("ascii"))
         elif path == "/status":
-            status = {"version": snapshot.version, "state": snapshot.state, "problems": list(snapshot.problems),
-                      "render_s": round(snapshot.render_s, 3), "building": self.preview.building,
-                      "pending": list(snapshot.pending),
-                      "scene": str(self.preview.scene_path),
-                      "watched": sorted(str(p) for p in self.preview.watched())}
-            self._send(HTTPStatus.OK, "application/json", json.dumps(status, ensure_ascii=False).encode("utf-8"))
+            status = {
+                "version": snapshot.version,
+                "state": snapshot.state,
+                "problems": list(snapshot.problems),
+                "render_s": round(snapshot.render_s, 3),
+                "building": self.preview.building,
+                "pending": list(snapshot.pending),
+                "scene": str(self.preview.scene_path),
+                "watched": sorted(str(p) for p in self.preview.watched()),
+            }
+            self._send(
+                HTTPStatus.OK,
+                "application/json",
+                json.dumps(status, ensure_ascii=False).encode("utf-8"),
+            )
         elif path == "/report.pdf":
             if snapshot.state != "report":
                 self._send(HTTPStatus.CONFLICT, "text/html; charset=utf-8", snapshot.page, csp=True)
@@ -527,20 +647,37 @@ class _Handler(BaseHTTPRequestHandler):
                 pdf = self.preview.pdf(snapshot)
             except Exception as exc:  # noqa: BLE001
                 _, page, _ = error_page(exc, self.preview.scene_path)
-                self._send(HTTPStatus.INTERNAL_SERVER_ERROR, "text/html; charset=utf-8", page.encode("utf-8"), csp=True)
+                self._send(
+                    HTTPStatus.INTERNAL_SERVER_ERROR,
+                    "text/html; charset=utf-8",
+                    page.encode("utf-8"),
+                    csp=True,
+                )
                 return
-            self._send(HTTPStatus.OK, "application/pdf", pdf,
-                       extra={"Content-Disposition": content_disposition(self.preview.scene_path.stem + ".pdf")})
+            self._send(
+                HTTPStatus.OK,
+                "application/pdf",
+                pdf,
+                extra={
+                    "Content-Disposition": content_disposition(
+                        self.preview.scene_path.stem + ".pdf"
+                    )
+                },
+            )
         elif path == "/figures-ready":
             version = (parse_qs(urlsplit(self.path).query).get("version") or [""])[0]
             ready = self.preview.figures_ready(version)
-            self._send(HTTPStatus.OK, "text/plain; charset=utf-8", b"ready\n" if ready else b"gone\n")
+            self._send(
+                HTTPStatus.OK, "text/plain; charset=utf-8", b"ready\n" if ready else b"gone\n"
+            )
         elif path.startswith(f"/{FIGURE_DIR}/"):
-            svg = self.preview.figure(path[len(FIGURE_DIR) + 2:])
+            svg = self.preview.figure(path[len(FIGURE_DIR) + 2 :])
             if svg is None:
                 self._send(HTTPStatus.NOT_FOUND, "text/plain; charset=utf-8", b"not found\n")
             else:  # a figure's URL names one drawing: the browser may keep it
-                self._send(HTTPStatus.OK, "image/svg+xml", svg, cache="public, max-age=31536000, immutable")
+                self._send(
+                    HTTPStatus.OK, "image/svg+xml", svg, cache="public, max-age=31536000, immutable"
+                )
         elif path == "/favicon.ico":
             self._send(HTTPStatus.NO_CONTENT, "text/plain", b"")
         else:
@@ -559,8 +696,15 @@ class _Handler(BaseHTTPRequestHandler):
         host = (self.headers.get("Host") or "").rsplit(":", 1)[0].strip("[]").lower()
         return host in ("127.0.0.1", "localhost", "")
 
-    def _send(self, status: HTTPStatus, content_type: str, body: bytes, csp: bool = False,
-              extra: dict[str, str] | None = None, cache: str = "no-store") -> None:
+    def _send(
+        self,
+        status: HTTPStatus,
+        content_type: str,
+        body: bytes,
+        csp: bool = False,
+        extra: dict[str, str] | None = None,
+        cache: str = "no-store",
+    ) -> None:
         self.send_response(status)
         self.send_header("Content-Type", content_type)
         self.send_header("Content-Length", str(len(body)))
@@ -569,10 +713,12 @@ class _Handler(BaseHTTPRequestHandler):
         if csp:
             # Figures come from this server (or are data: images), the style is inline; the only
             # script is ours (nonce).
-            self.send_header("Content-Security-Policy",
-                             f"default-src 'none'; img-src 'self' data:; style-src 'unsafe-inline'; "
-                             f"script-src 'nonce-{self.preview.nonce}'; connect-src 'self'; base-uri 'none'; "
-                             "form-action 'none'")
+            self.send_header(
+                "Content-Security-Policy",
+                f"default-src 'none'; img-src 'self' data:; style-src 'unsafe-inline'; "
+                f"script-src 'nonce-{self.preview.nonce}'; connect-src 'self'; base-uri 'none'; "
+                "form-action 'none'",
+            )
         for key, value in (extra or {}).items():
             self.send_header(key, value)
         self.end_headers()
@@ -612,8 +758,14 @@ class PreviewServer(ThreadingHTTPServer):
         return f"http://{HOST}:{self.server_address[1]}/"
 
 
-def serve(scene_path: Path, port: int = DEFAULT_PORT, language: str | None = None, stages: list[str] | None = None,
-          open_browser: bool = False, quiet: bool = False) -> int:
+def serve(
+    scene_path: Path,
+    port: int = DEFAULT_PORT,
+    language: str | None = None,
+    stages: list[str] | None = None,
+    open_browser: bool = False,
+    quiet: bool = False,
+) -> int:
     """Run the preview until Ctrl-C or SIGTERM; returns the exit code."""
     if not Path(scene_path).is_file():
         raise SceneError(Problem("scene", str(scene_path), "file not found"), str(scene_path))
@@ -626,22 +778,30 @@ def serve(scene_path: Path, port: int = DEFAULT_PORT, language: str | None = Non
     try:
         server = PreviewServer(preview, port)
     except OSError as exc:
-        raise CrankdynError(f"cannot listen on {HOST}:{port} ({exc.strerror or exc}); "
-                            "choose another port with --port, or --port 0 for any free one") from None
+        raise CrankdynError(
+            f"cannot listen on {HOST}:{port} ({exc.strerror or exc}); "
+            "choose another port with --port, or --port 0 for any free one"
+        ) from None
     stop = threading.Event()
     previous = {}
     if threading.current_thread() is threading.main_thread():
         for signum in (signal.SIGINT, signal.SIGTERM):
             previous[signum] = signal.signal(signum, lambda *_: stop.set())
-    server_thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.2},
-                                     name="crankdyn-http", daemon=True)
+    server_thread = threading.Thread(
+        target=server.serve_forever,
+        kwargs={"poll_interval": 0.2},
+        name="crankdyn-http",
+        daemon=True,
+    )
     try:
         preview.start()
         server_thread.start()
-        print(f"crankdyn: live preview of {scene_path} at {server.url} (PDF: {server.url}report.pdf); "
-              "Ctrl-C stops", flush=True)
+        print(
+            f"crankdyn: live preview of {scene_path} at {server.url} (PDF: {server.url}report.pdf); "
+            "Ctrl-C stops",
+            flush=True,
+        )
         if open_browser:
-
             webbrowser.open(server.url)
         while not stop.wait(0.25):
             pass

@@ -33,18 +33,30 @@ class FigureFile:
     only writes text (creating a figure's axes costs as much as a third of drawing it).
     """
 
-    def __init__(self, name: str, svg: bytes | None = None, figure: Any = None, t: Translator | None = None,
-                 number: str = "", key: str = "", build: Callable[[], Any] | None = None,
-                 symbols: SymbolTable = SYMBOLS):
+    def __init__(
+        self,
+        name: str,
+        svg: bytes | None = None,
+        figure: Any = None,
+        t: Translator | None = None,
+        number: str = "",
+        key: str = "",
+        build: Callable[[], Any] | None = None,
+        symbols: SymbolTable = SYMBOLS,
+    ):
         self.name = name
-        self.number = number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
+        self.number = (
+            number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
+        )
         self.key = key  # the name its stage declares (``StagePresentation.figures``)
         self._figure = figure
         self._build = build
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
         self._symbols = symbols  # the report's symbol table (its subscripts per language)
-        self._typeset_in = None  # the process that typeset the figure (a forked drawer's is not this one)
+        self._typeset_in = (
+            None  # the process that typeset the figure (a forked drawer's is not this one)
+        )
         # Set while a forked child draws this figure: called (once) to wait for that child's SVG
         # instead of drawing the figure a second time here.
         self.awaiting: Callable[[FigureFile], None] | None = None
@@ -106,21 +118,28 @@ def start_drawing(figures: Sequence[FigureFile], workers: int | None = None):
     workers = default_workers() if workers is None else workers
     if not pending or workers <= 1 or not can_fork(allow_threads=True):
         return None
-    drawing = ForkedDrawing([f.draw for f in pending], [list(range(k, len(pending), workers)) for k in range(workers)])
+    drawing = ForkedDrawing(
+        [f.draw for f in pending], [list(range(k, len(pending), workers)) for k in range(workers)]
+    )
 
     def finish() -> None:
         for figure, svg in zip(pending, drawing.finish(), strict=True):
             figure._svg = svg
+
     return finish
 
 
-def draw_figures(figures: Sequence[FigureFile], workers: int | None = None, allow_threads: bool = False) -> None:
+def draw_figures(
+    figures: Sequence[FigureFile], workers: int | None = None, allow_threads: bool = False
+) -> None:
     """Draw every figure not drawn yet, shared by ``workers`` processes (default: the CPUs;
     see :func:`crankdyn.report.figures.draw_jobs` for when it stays serial)."""
     from .figures import default_workers, draw_jobs  # lazy: heavy optional import (matplotlib)
 
     pending = [f for f in figures if not f.drawn]
-    drawn = draw_jobs([f.draw for f in pending], default_workers() if workers is None else workers, allow_threads)
+    drawn = draw_jobs(
+        [f.draw for f in pending], default_workers() if workers is None else workers, allow_threads
+    )
     for figure, svg in zip(pending, drawn, strict=True):
         figure._svg = svg
 
@@ -133,7 +152,9 @@ def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
     """``html`` with every ``src="figures/NAME.svg"`` replaced by the figure as a data: URI."""
     for figure in figures:
         data = base64.b64encode(figure.svg).decode("ascii")
-        html = html.replace(f'src="{FIGURE_DIR}/{figure.name}"', f'src="data:image/svg+xml;base64,{data}"')
+        html = html.replace(
+            f'src="{FIGURE_DIR}/{figure.name}"', f'src="data:image/svg+xml;base64,{data}"'
+        )
     return html
 
 
@@ -195,7 +216,9 @@ class RenderContext:
     def last_figure_number(self) -> str:
         return f"{self.section_number}.{self._figure}"
 
-    def start_section(self, number: int, stage_name: str, figures: tuple[str, ...] | None = None) -> None:
+    def start_section(
+        self, number: int, stage_name: str, figures: tuple[str, ...] | None = None
+    ) -> None:
         """Start numbering a section; ``figures``: the names its stage declares (``StagePresentation.figures``)."""
         self.section_number = number
         self.stage_name = stage_name
@@ -208,8 +231,10 @@ class RenderContext:
         the figure otherwise (the report's figure files are what ``StagePresentation.figures``
         announces)."""
         if self.declared_figures is not None and not declared(name, self.declared_figures):
-            raise PluginError(f"stage {self.stage_name!r} drew the figure {name!r}, which it does not declare in "
-                              f"StagePresentation.figures (declared: {list(self.declared_figures)})")
+            raise PluginError(
+                f"stage {self.stage_name!r} drew the figure {name!r}, which it does not declare in "
+                f"StagePresentation.figures (declared: {list(self.declared_figures)})"
+            )
 
     # ----------------------------------------------------------------- numbering
     def equation(self, formula_html: str, label: str = "") -> Markup:
@@ -217,8 +242,10 @@ class RenderContext:
         self._equation += 1
         number = f"{self.section_number}.{self._equation}"
         anchor = f' id="eq-{escape(label)}"' if label else ""
-        return Markup(f'<div class="equation"{anchor}><span class="formula">{unbroken_parts(formula_html)}</span>'
-                      f'<span class="eqno">({number})</span></div>')
+        return Markup(
+            f'<div class="equation"{anchor}><span class="formula">{unbroken_parts(formula_html)}</span>'
+            f'<span class="eqno">({number})</span></div>'
+        )
 
     #: Body rows of a table that fit one page at the report's table type size (9.5 pt), after
     #: the caption and the header: a shorter table is kept on one page; a longer one breaks
@@ -230,9 +257,15 @@ class RenderContext:
     #: of the page empty: a 29-row table kept whole left page 24 of the in-line four's note 72 % blank.
     BREAKABLE_ROWS = 12
 
-    def table(self, columns: Sequence[tuple[str, Sequence[float] | Sequence[str], int | None]],
-              caption: str, header_html: bool = True, css_class: str = "data",
-              extremes: Sequence[TableExtreme] = (), see: bool | str = True) -> Markup:
+    def table(
+        self,
+        columns: Sequence[tuple[str, Sequence[float] | Sequence[str], int | None]],
+        caption: str,
+        header_html: bool = True,
+        css_class: str = "data",
+        extremes: Sequence[TableExtreme] = (),
+        see: bool | str = True,
+    ) -> Markup:
         """A numbered table, referred to in a sentence before it. ``columns`` are (header
         markup, values, decimals or None for text). A long table continues on the next pages
         with the continuation label and the repeated header; a wide one goes on landscape pages.
@@ -244,8 +277,11 @@ class RenderContext:
         n_rows = len(columns[0][1]) if columns else 0
         marked = {e.position for e in extremes}
         # a column of words is centred as a text column, not set flush right as numbers are
-        wordy = [decimals is None and not all(_NUMBER_TEXT.fullmatch(str(v)) or str(v) == "" for v in values)
-                 for _, values, decimals in columns]
+        wordy = [
+            decimals is None
+            and not all(_NUMBER_TEXT.fullmatch(str(v)) or str(v) == "" for v in values)
+            for _, values, decimals in columns
+        ]
         rows = []
         for i in range(n_rows):
             cells = []
@@ -255,11 +291,23 @@ class RenderContext:
                 text = text or "—"  # an empty cell gets a dash, as the standard asks
                 css = ' class="text"' if words else ""
                 # bold in the cells, not by a class: the Word export keeps it
-                cells.append(f"<td{css}><b>{text}</b></td>" if i in marked else f"<td{css}>{text}</td>")
-            rows.append(('<tr class="extremum">' if i in marked else "<tr>") + "".join(cells) + "</tr>")
+                cells.append(
+                    f"<td{css}><b>{text}</b></td>" if i in marked else f"<td{css}>{text}</td>"
+                )
+            rows.append(
+                ('<tr class="extremum">' if i in marked else "<tr>") + "".join(cells) + "</tr>"
+            )
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
-        return table_markup(self.t, number, caption_text, head, rows, css_class, see=see,
-                            note=self.extremes_note(extremes))
+        return table_markup(
+            self.t,
+            number,
+            caption_text,
+            head,
+            rows,
+            css_class,
+            see=see,
+            note=self.extremes_note(extremes),
+        )
 
     def angle_labels(self, labels: Sequence[float]) -> list[str]:
         """Crank angles as a table's first column: whole degrees without a decimal, an added
@@ -270,7 +318,9 @@ class RenderContext:
         """A crank angle as printed: whole degrees as they are; an angle between whole degrees with
         one decimal per decade the computation step is finer than 1 deg (at least one), since the
         step is the resolution an angle read off the grid has."""
-        return self.t.angle(angle_deg, self.scene.analysis.angle_step_deg if self.scene is not None else None)
+        return self.t.angle(
+            angle_deg, self.scene.analysis.angle_step_deg if self.scene is not None else None
+        )
 
     def extremes_note(self, extremes: Sequence[TableExtreme]) -> str:
         """The note under a table that names its added extremum rows ("" without any)."""
@@ -278,12 +328,22 @@ class RenderContext:
             return ""
         items = self.t("doc.table_extremes_separator").join(
             self.t("doc.table_extreme_item", angle=self.angle_text(e.crank_angle_deg), what=e.what)
-            for e in extremes)
-        return self.t("doc.table_extremes_note", step=self.t.number_g(self.table_step_deg, 6), items=items)
+            for e in extremes
+        )
+        return self.t(
+            "doc.table_extremes_note", step=self.t.number_g(self.table_step_deg, 6), items=items
+        )
 
-    def table_html(self, headers: Sequence[str], rows: Sequence[Sequence[str]], caption: str,
-                   css_class: str = "data", markup_columns: Sequence[int] = (),
-                   text_columns: Sequence[int] = (), see: bool | str = True) -> Markup:
+    def table_html(
+        self,
+        headers: Sequence[str],
+        rows: Sequence[Sequence[str]],
+        caption: str,
+        css_class: str = "data",
+        markup_columns: Sequence[int] = (),
+        text_columns: Sequence[int] = (),
+        see: bool | str = True,
+    ) -> Markup:
         """A numbered table from text cells; ``markup_columns`` hold template-authored markup
         (symbols), every other cell is escaped; ``text_columns`` are set as text, not numbers. A
         cell given as (text, n) spans n columns (a stroke over several intervals); the column
@@ -297,13 +357,17 @@ class RenderContext:
             for i, cell in enumerate(row):
                 cell, span = cell if isinstance(cell, tuple) else (cell, 1)
                 content = Markup(cell) if i in markup_columns else escape(cell)
-                css = (' class="text"' if i in text_columns else "") + (f' colspan="{span}"' if span > 1 else "")
+                css = (' class="text"' if i in text_columns else "") + (
+                    f' colspan="{span}"' if span > 1 else ""
+                )
                 cells.append(f"<td{css}>{content}</td>")
             body.append("<tr>" + "".join(cells) + "</tr>")
         caption_text = escape(self.t("report.table_caption", number=number, caption=caption))
         return table_markup(self.t, number, caption_text, head, body, css_class, see=see)
 
-    def figure(self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None) -> Markup:
+    def figure(
+        self, fig, caption: str, name: str, see: str | None = None, see_params: dict | None = None
+    ) -> Markup:
         """Number a matplotlib figure and return its markup (with the sentence that refers to it
         before it); its SVG is drawn afterwards (:func:`draw_figures`, or on first use).
 
@@ -316,7 +380,9 @@ class RenderContext:
         which speaks of curves): a scheme or a vector diagram is announced as what it is;
         ``see_params``: its other placeholders ("the load on crank pin {k}")."""
         self.check_figure_declared(name)
-        for earlier in self.figures:  # the same Figure again (changed since?): draw the earlier state now
+        for (
+            earlier
+        ) in self.figures:  # the same Figure again (changed since?): draw the earlier state now
             if earlier.made_from(fig) and not earlier.drawn:
                 earlier.svg  # noqa: B018 - drawn for its side effect
         self._figure += 1
@@ -325,24 +391,41 @@ class RenderContext:
         ascii_number = "".join(c if c.isascii() else f"u{ord(c):x}" for c in number)
         file_name = f"fig_{ascii_number.replace('.', '_')}_{name}.svg"
         built = None if callable(fig) else fig
-        self.figures.append(FigureFile(file_name, figure=built, t=self.t, number=number, key=name, symbols=self.symbols,
-                                       build=fig if built is None else None))
+        self.figures.append(
+            FigureFile(
+                file_name,
+                figure=built,
+                t=self.t,
+                number=number,
+                key=name,
+                symbols=self.symbols,
+                build=fig if built is None else None,
+            )
+        )
         caption_text = escape(self.t("report.figure_caption", number=number, caption=caption))
         # the number bound to the word before it ("рис. 7.1" never parted at a line's end)
-        see = escape(bound_number(self.t(see or "doc.see_figure", number=number, **(see_params or {})), number))
+        see = escape(
+            bound_number(
+                self.t(see or "doc.see_figure", number=number, **(see_params or {})), number
+            )
+        )
         # Referenced, not inlined: the SVG is stored once, as figures/<name>; a self-contained
         # page (RenderedReport.html) swaps the reference for a data: URI afterwards.
         # one block, so that the sentence never ends a page without the figure it announces
-        return Markup(f'<div class="figure-block"><p class="see">{see}</p>'
-                      f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
-                      f"<figcaption>{caption_text}</figcaption></figure></div>")
+        return Markup(
+            f'<div class="figure-block"><p class="see">{see}</p>'
+            f'<figure data-number="{number}"><img alt="{escape(caption)}" src="{FIGURE_DIR}/{file_name}">'
+            f"<figcaption>{caption_text}</figcaption></figure></div>"
+        )
 
     def subsection(self, title: str) -> Markup:
         """A numbered subsection's heading ("4.2 Title", DSTU 3008:2015, 6.2: subsections are numbered
         within their section), listed in the table of contents."""
         self._subsection += 1
         number = f"{self.section_number}.{self._subsection}"
-        return Markup(f'<h3 class="subsection" id="sec-{escape(number)}">{escape(number)} {escape(title)}</h3>')
+        return Markup(
+            f'<h3 class="subsection" id="sec-{escape(number)}">{escape(number)} {escape(title)}</h3>'
+        )
 
     def figure_number(self, key: str) -> str | None:
         """The printed number of a figure an earlier section drew under ``key`` (a stage's declared
@@ -376,14 +459,24 @@ class RenderContext:
 
     def render_template(self, name: str, **values: Any) -> str:
         if "numg" not in self.env.filters:  # "372°", "7,5°": a number without padding zeros
-            self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
+            self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(
+                value, significant
+            )
         self.env.filters["angle"] = self.angle_text  # this report's step
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
 
 
-def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequence[str],
-                 css_class: str = "data", see: bool | str = True, note: str = "") -> Markup:
+def table_markup(
+    t,
+    number: str,
+    caption_html: str,
+    head_html: str,
+    rows: Sequence[str],
+    css_class: str = "data",
+    see: bool | str = True,
+    note: str = "",
+) -> Markup:
     """A numbered table's markup: the sentence referring to it, the caption, the header and the rows.
 
     ``see``: the catalog key of the sentence referring to the table, with ``{number}`` (True: the
@@ -400,14 +493,24 @@ def table_markup(t, number: str, caption_html: str, head_html: str, rows: Sequen
     long = len(rows) > limit
     if long:
         label = escape(t("doc.continued", number=number))
-        rows = [f'<tr data-continued="{label}"' + r[len("<tr"):] if r.startswith("<tr") else r for r in rows]
+        rows = [
+            f'<tr data-continued="{label}"' + r[len("<tr") :] if r.startswith("<tr") else r
+            for r in rows
+        ]
     head = f"<thead><tr>{head_html}</tr></thead>"
     see_key = see if isinstance(see, str) else "doc.see_table"
-    return Markup(f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
-                  + (f'<p class="see">{escape(bound_number(t(see_key, number=number), number))}</p>' if see else "")
-                  + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
-                  f"{head}<tbody>{''.join(rows)}</tbody></table>"
-                  + (f'<p class="table-note">{escape(note)}</p>' if note else "") + "</div>")
+    return Markup(
+        f'<div class="table-block{" long" if long else ""}{" landscape" if wide else ""}">'
+        + (
+            f'<p class="see">{escape(bound_number(t(see_key, number=number), number))}</p>'
+            if see
+            else ""
+        )
+        + f'<table class="{css_class}" data-number="{number}"><caption>{caption_html}</caption>'
+        f"{head}<tbody>{''.join(rows)}</tbody></table>"
+        + (f'<p class="table-note">{escape(note)}</p>' if note else "")
+        + "</div>"
+    )
 
 
 @dataclass(frozen=True)
@@ -419,9 +522,13 @@ class TableExtreme:
     what: str  # what is largest or least there, in the report's language
 
 
-def add_extreme_rows(crank_angle_deg: np.ndarray, rows: np.ndarray, labels: np.ndarray,
-                     extremes: Sequence[tuple[np.ndarray, str, str]],
-                     resolution: float = 0.01) -> tuple[np.ndarray, np.ndarray, list[TableExtreme]]:
+def add_extreme_rows(
+    crank_angle_deg: np.ndarray,
+    rows: np.ndarray,
+    labels: np.ndarray,
+    extremes: Sequence[tuple[np.ndarray, str, str]],
+    resolution: float = 0.01,
+) -> tuple[np.ndarray, np.ndarray, list[TableExtreme]]:
     """A printed table's rows (:func:`sample_rows`) with a row added at each extremum that the
     table step misses: a 30° table would otherwise miss the peak combustion pressure and the
     largest forces, which are what a strength calculation takes.
@@ -448,8 +555,11 @@ def add_extreme_rows(crank_angle_deg: np.ndarray, rows: np.ndarray, labels: np.n
         rows_list.insert(at, index)
         labels_list.insert(at, angle)
     # an added index is not on the table step's grid, so it is in the table once
-    marks = [TableExtreme(position=i, crank_angle_deg=labels_list[i], what=", ".join(added[r]))
-             for i, r in enumerate(rows_list) if r in added]
+    marks = [
+        TableExtreme(position=i, crank_angle_deg=labels_list[i], what=", ".join(added[r]))
+        for i, r in enumerate(rows_list)
+        if r in added
+    ]
     return np.asarray(rows_list, dtype=int), np.asarray(labels_list), marks
 
 
@@ -463,8 +573,10 @@ WRAP_CHARS = 20
 
 _CELL = re.compile(r"<t[hd][^>]*>(.*?)</t[hd]>", re.S)
 #: A cell that is a number as printed ("−1 234,5", "372,5", "1,2·10⁻³", "0,6150 кг"), not words.
-_NUMBER_TEXT = re.compile(r"[−\-+]?[\d\s\u00a0\u202f,.]*\d(?:·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"
-                          r"(?:[\s\u00a0\u202f][^\d\s]{1,8})?(?:\s\([^()]*\))?")
+_NUMBER_TEXT = re.compile(
+    r"[−\-+]?[\d\s\u00a0\u202f,.]*\d(?:·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"
+    r"(?:[\s\u00a0\u202f][^\d\s]{1,8})?(?:\s\([^()]*\))?"
+)
 
 
 def _text(markup: str) -> str:
@@ -479,14 +591,15 @@ def fits_portrait(head_html: str, rows: Sequence[str]) -> bool:
     headers = [_text(h) for h in _CELL.findall(head_html)]
     widths = [max((len(w) for w in h.split()), default=1) for h in headers]
     for row in rows:
-        for i, cell in enumerate(_CELL.findall(row)[:len(widths)]):
+        for i, cell in enumerate(_CELL.findall(row)[: len(widths)]):
             text = _text(cell).strip()
             widths[i] = max(widths[i], len(text) if len(text) <= WRAP_CHARS else WRAP_CHARS)
     return sum(widths) * CHAR_MM + len(widths) * CELL_PADDING_MM <= PORTRAIT_TABLE_MM
 
 
-def sample_rows(crank_angle_deg: np.ndarray, table_step_deg: float,
-                span_deg: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+def sample_rows(
+    crank_angle_deg: np.ndarray, table_step_deg: float, span_deg: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Rows shown in printed tables: grid indices and their angle labels.
 
     Every ``table_step_deg`` from 0 up to and including ``span_deg`` (default: the

@@ -43,14 +43,18 @@ def field_names(t, value):
     """Scene keys in a note's parameter (``crank_pin_diameter``) by their names in the catalog."""
     if not isinstance(value, str):
         return value
-    return _IDENTIFIER.sub(lambda m: t(f"field.{m.group(0)}") if f"field.{m.group(0)}" in t.fallback
-                           else m.group(0), value)
+    return _IDENTIFIER.sub(
+        lambda m: t(f"field.{m.group(0)}") if f"field.{m.group(0)}" in t.fallback else m.group(0),
+        value,
+    )
 
 
 def report_units(t) -> list[str]:
     """The unit symbols of the report's language, kept on the line of their number."""
     units = {text for key, text in {**t.fallback, **t.texts}.items() if key.startswith("unit.")}
-    return sorted(units | {"%", "°C", "K", "Н", "кН", "Вт", "кВт", "N", "kN", "W", "kW", "с", "s", "мс", "ms"})
+    return sorted(
+        units | {"%", "°C", "K", "Н", "кН", "Вт", "кВт", "N", "kN", "W", "kW", "с", "s", "мс", "ms"}
+    )
 
 
 #: A numbered subsection's heading as :meth:`RenderContext.subsection` writes it.
@@ -68,7 +72,10 @@ class SectionView:
     @property
     def subsections(self) -> list[tuple[str, str]]:
         """(number, heading) of each numbered subsection, for the table of contents."""
-        return [(m[1], html_lib.unescape(re.sub(r"<[^>]+>", "", m[2]))) for m in _SUBSECTION.finditer(self.html)]
+        return [
+            (m[1], html_lib.unescape(re.sub(r"<[^>]+>", "", m[2])))
+            for m in _SUBSECTION.finditer(self.html)
+        ]
 
 
 @dataclass
@@ -79,7 +86,9 @@ class RenderedReport:
     figures: list[FigureFile]
     language: str
     missing_translations: set[str]
-    worked: list = field(default_factory=list)  # the worked substitutions shown (report.worked.WorkedBlock)
+    worked: list = field(
+        default_factory=list
+    )  # the worked substitutions shown (report.worked.WorkedBlock)
 
     @functools.cached_property
     def html(self) -> str:
@@ -89,8 +98,11 @@ class RenderedReport:
 
 def _environment(registry: Registry, result: RunResult) -> jinja2.Environment:
     """The templates of the plan's stages."""
-    extra = [s.presentation.template_dir for s in result.plan.order
-             if s.presentation is not None and s.presentation.template_dir is not None]
+    extra = [
+        s.presentation.template_dir
+        for s in result.plan.order
+        if s.presentation is not None and s.presentation.template_dir is not None
+    ]
     return _cached_environment(tuple(str(p) for p in template_search_path(extra)))
 
 
@@ -99,8 +111,12 @@ def _cached_environment(search_path: tuple[str, ...]) -> jinja2.Environment:
     """One environment per template search path: its compiled templates are kept for the next
     report of the process (a batch's variants, the preview's saves; jinja2 checks the files'
     modification times, so an edited template is compiled again)."""
-    return jinja2.Environment(loader=jinja2.FileSystemLoader(list(search_path)), undefined=jinja2.StrictUndefined,
-                              bytecode_cache=_bytecode_cache(), **TEMPLATE_OPTIONS)
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(list(search_path)),
+        undefined=jinja2.StrictUndefined,
+        bytecode_cache=_bytecode_cache(),
+        **TEMPLATE_OPTIONS,
+    )
 
 
 #: How the section templates are compiled (and so part of the key of their compiled code).
@@ -119,7 +135,13 @@ class _QuietBytecodeCache(jinja2.FileSystemBytecodeCache):
     def load_bytecode(self, bucket) -> None:
         try:
             super().load_bytecode(bucket)
-        except (OSError, EOFError, ValueError, TypeError, pickle.UnpicklingError):  # unreadable or damaged
+        except (
+            OSError,
+            EOFError,
+            ValueError,
+            TypeError,
+            pickle.UnpicklingError,
+        ):  # unreadable or damaged
             bucket.reset()
 
     def dump_bytecode(self, bucket) -> None:
@@ -148,8 +170,12 @@ _SKIP_REASONS = (  # the stages' own (English) reasons, as results.json keeps th
     (re.compile(r"no \[flywheel\]"), "skip.no_flywheel"),
     (re.compile(r"no \[cycle\]"), "skip.no_cycle"),
     (re.compile(r"rod_moment_of_inertia"), "skip.no_rod_inertia"),
-    (re.compile(r"mechanism is '[^']*', not|central crank-slider|mechanism has no|articulated rods"),
-     "skip.other_mechanism"),
+    (
+        re.compile(
+            r"mechanism is '[^']*', not|central crank-slider|mechanism has no|articulated rods"
+        ),
+        "skip.other_mechanism",
+    ),
     (re.compile(r"covers|already|drawn by the"), "skip.covered"),
 )
 
@@ -183,8 +209,13 @@ def cite(numbers) -> str:
             runs[-1].append(n)
         else:
             runs.append([n])
-    return "[" + ", ".join(f"{run[0]}–{run[-1]}" if len(run) >= 3 else ", ".join(map(str, run))
-                           for run in runs) + "]"
+    return (
+        "["
+        + ", ".join(
+            f"{run[0]}–{run[-1]}" if len(run) >= 3 else ", ".join(map(str, run)) for run in runs
+        )
+        + "]"
+    )
 
 
 #: A source cited in a catalog's text by its key, "[@ismailov, fig. 3b]": the number the source
@@ -194,8 +225,12 @@ _CITED_KEY = re.compile(r"\[@([A-Za-z0-9_]+)")
 
 def cite_sources(text: str, references: list[str]) -> str:
     """``text`` with each "[@key" of a listed source replaced by "[n" of its number."""
-    return _CITED_KEY.sub(lambda m: f"[{references.index(m.group(1)) + 1}" if m.group(1) in references
-                          else m.group(0), text)
+    return _CITED_KEY.sub(
+        lambda m: (
+            f"[{references.index(m.group(1)) + 1}" if m.group(1) in references else m.group(0)
+        ),
+        text,
+    )
 
 
 def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
@@ -233,16 +268,22 @@ def _inputs_used(result) -> dict[str, bool]:
     forces on the crank pin and the balancing, the crankcase pressure the piston force; a report
     that computes neither does not list them (a kinematics-only mechanism's)."""
     provided = {key for stage in result.plan.order for key in stage.provides}
-    return {"uses_crank_masses": bool(provided & {FORCES, COUNTERWEIGHTS}),
-            "uses_crankcase_pressure": FORCES in provided}
+    return {
+        "uses_crank_masses": bool(provided & {FORCES, COUNTERWEIGHTS}),
+        "uses_crankcase_pressure": FORCES in provided,
+    }
 
 
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``StagePresentation.input_rows``), in plan
     order."""
     shown = [stage.presentation for stage in result.plan.order if stage.presentation is not None]
-    return [tuple(row) for look in shown if look.input_rows is not None
-            for row in look.input_rows(result.scene, ctx)]
+    return [
+        tuple(row)
+        for look in shown
+        if look.input_rows is not None
+        for row in look.input_rows(result.scene, ctx)
+    ]
 
 
 def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None:
@@ -265,11 +306,20 @@ def _input_view(result, registry, ctx) -> SectionView:
     scene = result.scene
     ctx.start_section(1, "input")
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
-    return SectionView(1, "input", ctx.t("report.input_title"),
-                       Markup(ctx.render_template("sections/input.html.j2", scene=scene,
-                                                  mechanism=mechanism,
-                                                  stage_rows=_stage_input_rows(result, ctx),
-                                                  **_inputs_used(result))))
+    return SectionView(
+        1,
+        "input",
+        ctx.t("report.input_title"),
+        Markup(
+            ctx.render_template(
+                "sections/input.html.j2",
+                scene=scene,
+                mechanism=mechanism,
+                stage_rows=_stage_input_rows(result, ctx),
+                **_inputs_used(result),
+            )
+        ),
+    )
 
 
 def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
@@ -290,13 +340,23 @@ def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
 def _unshown_warnings(result, registry, shown_stages) -> list:
     """The warnings of the stages without a section in the note (left out, or run for their data
     only): said with the given data."""
-    return [w for name, stage in registry.stages.items() if name not in shown_stages
-            for w in stage_warnings(stage, result.scene, result.outputs[name].results
-                                    if name in result.outputs else None)]
+    return [
+        w
+        for name, stage in registry.stages.items()
+        if name not in shown_stages
+        for w in stage_warnings(
+            stage, result.scene, result.outputs[name].results if name in result.outputs else None
+        )
+    ]
 
 
-def render_html(result: RunResult, registry: Registry, language: str | None = None,
-                sections_cache=None, figure_sink=None) -> RenderedReport:
+def render_html(
+    result: RunResult,
+    registry: Registry,
+    language: str | None = None,
+    sections_cache=None,
+    figure_sink=None,
+) -> RenderedReport:
     """The report of ``result``; with a :class:`crankdyn.report.section_cache.SectionCache`
     (the live preview's), sections whose stage output and scene reads did not change are reused.
     ``figure_sink(figures)``, if given, receives each section's figures as soon as the section is
@@ -306,8 +366,14 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     t = translator(language, registry.catalogs)
     env = _environment(registry, result)
     symbols = symbol_table(registry.stages.values())  # the core's letters and the stages' own
-    ctx = RenderContext(t=t, env=env, table_step_deg=scene.analysis.table_step_deg,
-                        cycle_deg=scene.engine.cycle_deg, scene=scene, symbols=symbols)
+    ctx = RenderContext(
+        t=t,
+        env=env,
+        table_step_deg=scene.analysis.table_step_deg,
+        cycle_deg=scene.engine.cycle_deg,
+        scene=scene,
+        symbols=symbols,
+    )
     course = scene.report.detail == "course"
 
     sections: list[SectionView] = []
@@ -315,7 +381,9 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
     core_letter = appendix_letter(t, 0) if course else ""
     input_view = _input_view(result, registry, ctx)
     sections.append(input_view)
-    references: list[str] = [PROJECT_METHOD]  # the method of the whole project, cited in the introduction
+    references: list[str] = [
+        PROJECT_METHOD
+    ]  # the method of the whole project, cited in the introduction
     references += [key for key in t("doc.standards").split() if key not in references]
     said: set = set()  # the warnings the note has said
     given_warnings = plausibility_text(t, scene_warnings(scene, registry), references, said)
@@ -337,57 +405,119 @@ def render_html(result: RunResult, registry: Registry, language: str | None = No
         body = _cited_sources(t, stage, course, references) + landscape_tables_later(body)
         shown_stages.add(stage.name)
         results = output.results if output is not None else None
-        found, concluded = plausibility_text(t, stage_warnings(stage, scene, results), references, said)
-        view = SectionView(number, stage.name, ctx.title or t(stage.presentation.title_key),
-                           Markup(cite_sources(body + found, references)), list(ctx.conclusions) + concluded)
+        found, concluded = plausibility_text(
+            t, stage_warnings(stage, scene, results), references, said
+        )
+        view = SectionView(
+            number,
+            stage.name,
+            ctx.title or t(stage.presentation.title_key),
+            Markup(cite_sources(body + found, references)),
+            list(ctx.conclusions) + concluded,
+        )
         (appendices if to_appendix else sections).append(view)
-        for key, params in (output.notes if output is not None else ()):
-            notes.append(cite_sources(t(key, **{k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
-                                                 for k, v in params.items()}), references))
+        for key, params in output.notes if output is not None else ():
+            notes.append(
+                cite_sources(
+                    t(
+                        key,
+                        **{
+                            k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                            for k, v in params.items()
+                        },
+                    ),
+                    references,
+                )
+            )
 
-    found, concluded = plausibility_text(t, _unshown_warnings(result, registry, shown_stages),
-                                         references, said)
+    found, concluded = plausibility_text(
+        t, _unshown_warnings(result, registry, shown_stages), references, said
+    )
     input_view.html = Markup(input_view.html + given_warnings[0] + found)
     input_view.conclusions += given_warnings[1] + concluded
     numerics_number = core_letter or len(sections) + 1
-    skipped = [(_stage_title(t, registry, name), skipped_reason(t, reason))
-               for name, reason in result.plan.skipped.items() if _skip_key(reason) not in UNLISTED_SKIPS]
+    skipped = [
+        (_stage_title(t, registry, name), skipped_reason(t, reason))
+        for name, reason in result.plan.skipped.items()
+        if _skip_key(reason) not in UNLISTED_SKIPS
+    ]
     # each stage under its section's title as printed (a stage may retitle its section for the scene)
     shown = {v.key: v.title for v in (*sections, *appendices)}
     timing = _timing_rows(result, shown, t)
     css = report_css(language, scene.report.frame)
     title = _title(scene, t)
     html = env.get_template("report.html.j2").render(
-        _=t, num=ctx.num, scene=scene, meta=scene.report, title=title, sections=sections, notes=notes,
-        timing=timing, skipped=skipped, appendices=appendices, course=course,
-        numerics_number=numerics_number, references=references, css=Markup(css),
+        _=t,
+        num=ctx.num,
+        scene=scene,
+        meta=scene.report,
+        title=title,
+        sections=sections,
+        notes=notes,
+        timing=timing,
+        skipped=skipped,
+        appendices=appendices,
+        course=course,
+        numerics_number=numerics_number,
+        references=references,
+        css=Markup(css),
         standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
-        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1), appendix_letter=lambda i: appendix_letter(t, i),
-        version=__version__, generated=datetime.date.today().isoformat(), language=language,
-        findings=ctx.findings, frame=frame_html(env, t, scene.report, title),
+        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
+        appendix_letter=lambda i: appendix_letter(t, i),
+        version=__version__,
+        generated=datetime.date.today().isoformat(),
+        language=language,
+        findings=ctx.findings,
+        frame=frame_html(env, t, scene.report, title),
         **_abstract_parts(t, registry, scene, sections),
     )
-    html = _finish(fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t), t, language,
-                   len(references), frozenset(s.name for s in result.plan.order
-                                       if s.presentation is None or not s.presentation.legend),
-                   single=scene.engine.cylinders == 1, symbols=symbols)
-    return RenderedReport(linked_html=html, figures=ctx.figures, language=language, missing_translations=set(t.missing),
-                          worked=list(ctx.worked))
+    html = _finish(
+        fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t),
+        t,
+        language,
+        len(references),
+        frozenset(
+            s.name for s in result.plan.order if s.presentation is None or not s.presentation.legend
+        ),
+        single=scene.engine.cylinders == 1,
+        symbols=symbols,
+    )
+    return RenderedReport(
+        linked_html=html,
+        figures=ctx.figures,
+        language=language,
+        missing_translations=set(t.missing),
+        worked=list(ctx.worked),
+    )
 
 
 def report_css(language: str, frame: str = "none") -> str:
     """The page frame (report.css), a language's own print rules where its standard differs
     (report.ru.css) and, with ``[report] frame = "eskd"``, the sheet frame (frame-eskd.css)."""
-    names = ("report.css", f"report.{language}.css", *(("frame-eskd.css",) if frame == "eskd" else ()))
-    return "\n".join((Path(p) / name).read_text(encoding="utf-8") for p in template_search_path([])[:1]
-                     for name in names if (Path(p) / name).is_file())
+    names = (
+        "report.css",
+        f"report.{language}.css",
+        *(("frame-eskd.css",) if frame == "eskd" else ()),
+    )
+    return "\n".join(
+        (Path(p) / name).read_text(encoding="utf-8")
+        for p in template_search_path([])[:1]
+        for name in names
+        if (Path(p) / name).is_file()
+    )
 
 
 def _timing_rows(result, shown: dict, t) -> list[tuple[str, float]]:
     """(title, seconds) of each stage that ran; one that ran without a section (one cylinder's
     engine scheme, its torque) says so (a timing row needs a section to refer to)."""
-    return [(shown.get(s.name) or t("report.timing_no_section", title=_section_title(t, s)),
-             result.timing_s[s.name]) for s in result.plan.order if s.name in result.timing_s]
+    return [
+        (
+            shown.get(s.name) or t("report.timing_no_section", title=_section_title(t, s)),
+            result.timing_s[s.name],
+        )
+        for s in result.plan.order
+        if s.name in result.timing_s
+    ]
 
 
 def _abstract_parts(t, registry, scene, sections) -> dict:
@@ -395,9 +525,11 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     as it heads its section ("; " between them: a title may hold a comma); the introduction's aim
     from what the sections do (:func:`introduction_aim`)."""
     catalogs = [_catalog_section(registry, v.key) for v in sections]
-    return {"keywords": keywords(t, scene.engine.mechanism, catalogs),
-            "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
-            "introduction_aim": introduction_aim(t, catalogs)}
+    return {
+        "keywords": keywords(t, scene.engine.mechanism, catalogs),
+        "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
+        "introduction_aim": introduction_aim(t, catalogs),
+    }
 
 
 def introduction_aim(t, stages: list[str]) -> str:
@@ -448,15 +580,26 @@ def _lower_first(title: str) -> str:
 
 def _title(scene, t) -> str:
     """The scene's title; a scene without one gets the report language's (the model's default is English)."""
-    return scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
+    return (
+        scene.report.title if "title" in scene.report.model_fields_set else t("doc.default_title")
+    )
 
 
-def _finish(html: str, t, language: str, sources: int, without_legend: frozenset[str], single: bool = False,
-            symbols: SymbolTable = SYMBOLS) -> str:
+def _finish(
+    html: str,
+    t,
+    language: str,
+    sources: int,
+    without_legend: frozenset[str],
+    single: bool = False,
+    symbols: SymbolTable = SYMBOLS,
+) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
     "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings)."""
     html = _fill_counts(html, t, sources)
-    html = by_sections(_typeset_part, html, language, tuple(report_units(t)), t.decimal_separator, symbols)
+    html = by_sections(
+        _typeset_part, html, language, tuple(report_units(t)), t.decimal_separator, symbols
+    )
     html = add_equation_legends(html, t, language, without_legend, single, symbols)
     return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, single, symbols))
 
@@ -494,8 +637,9 @@ _TYPESET_PARTS = 128
 
 
 @functools.lru_cache(maxsize=_TYPESET_PARTS)
-def _typeset_part(part: str, language: str, units: tuple[str, ...], decimal: str,
-                  symbols: SymbolTable = SYMBOLS) -> str:
+def _typeset_part(
+    part: str, language: str, units: tuple[str, ...], decimal: str, symbols: SymbolTable = SYMBOLS
+) -> str:
     return typeset_html(part, language, list(units), decimal, symbols)
 
 
@@ -535,16 +679,19 @@ def landscape_tables_later(body: str) -> str:
         group_end = m.end()
         while True:  # the tables (numbers in order) and worked checks right after it go with it
             gap = len(body) - group_end - len(body[group_end:].lstrip())
-            more = (_TABLE_BLOCK_WHOLE.match(body, group_end + gap)
-                    or _WORKED_BLOCK_WHOLE.match(body, group_end + gap))
+            more = _TABLE_BLOCK_WHOLE.match(body, group_end + gap) or _WORKED_BLOCK_WHOLE.match(
+                body, group_end + gap
+            )
             if more is None:
                 break
             group_end = more.end()
-        group, rest = body[m.start():group_end], body[group_end:]
+        group, rest = body[m.start() : group_end], body[group_end:]
         following = _TABLE_BLOCK.search(rest)
-        between = rest[:following.start() if following else len(rest)]
+        between = rest[: following.start() if following else len(rest)]
         # before another landscape table it stays: the text between them shares their landscape pages
-        next_landscape = following is not None and _LANDSCAPE_BLOCK.match(rest, following.start()) is not None
+        next_landscape = (
+            following is not None and _LANDSCAPE_BLOCK.match(rest, following.start()) is not None
+        )
         if not between.strip() or not _same_level(between) or next_landscape:
             position = group_end
             continue
@@ -555,7 +702,7 @@ def landscape_tables_later(body: str) -> str:
             moved = between[:split] + f'<div class="landscape-lead">{between[split:]}</div>' + group
         else:
             moved = between + group
-        body = body[:m.start()] + moved + rest[len(between):]
+        body = body[: m.start()] + moved + rest[len(between) :]
         position = m.start() + len(moved)
     return body
 
@@ -594,14 +741,26 @@ def _fill_counts(html: str, t, sources: int) -> str:
     figures = len(set(re.findall(r'<figure data-number="([^"]+)"', html)))
     tables = len(set(re.findall(r'<table class="[^"]*" data-number="([^"]+)"', html)))
     appendices = len(re.findall(r'<section class="chapter appendix"', html))
-    counts = t("doc.abstract_counts", pages='<a class="pagecount" href="#document-end"></a>',
-               figures=figures, tables=tables, sources=sources,
-               appendices=t("doc.abstract_appendices", count=appendices) if appendices else "")
+    counts = t(
+        "doc.abstract_counts",
+        pages='<a class="pagecount" href="#document-end"></a>',
+        figures=figures,
+        tables=tables,
+        sources=sources,
+        appendices=t("doc.abstract_appendices", count=appendices) if appendices else "",
+    )
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
 
 
-def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places: dict | None = None,
-                     single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
+def symbol_list_html(
+    keys,
+    t,
+    language: str,
+    abbreviations: bool = True,
+    places: dict | None = None,
+    single: bool = False,
+    symbols: SymbolTable = SYMBOLS,
+) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
     (paragraphs, not a table: the Word export gives every table a repeated header row). A letter
     whose markup the list shows with another meaning too, and which holds in some sections only (a
@@ -613,12 +772,20 @@ def symbol_list_html(keys, t, language: str, abbreviations: bool = True, places:
     for key, markup in zip(keys, markups, strict=True):
         unit = symbol_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
-        where = _where(_symbol_stages(key, symbols), places or {}, t, markup) if markups.count(markup) > 1 else ""
+        where = (
+            _where(_symbol_stages(key, symbols), places or {}, t, markup)
+            if markups.count(markup) > 1
+            else ""
+        )
         if where:
             meaning += f" ({where})"
-        meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
-        rows.append(f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
-                    f'<span class="meaning">{meaning}</span></p>')
+        meaning = italic_letters(str(escape(meaning)), language) + (
+            f", {escape(unit)}" if unit else ""
+        )
+        rows.append(
+            f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
+            f'<span class="meaning">{meaning}</span></p>'
+        )
     html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
@@ -635,26 +802,39 @@ def _symbol_stages(key: str, symbols: SymbolTable) -> tuple[str, ...]:
 
 
 def _where(stages, places: dict, t, markup: str) -> str:
-    """"у розділах 5 і 8, у додатку А": the sections and appendices of ``stages`` in this report
+    """ "у розділах 5 і 8, у додатку А": the sections and appendices of ``stages`` in this report
     that show ``markup`` (a meaning declared for a section that does not use the letter is not
     said to hold there)."""
     shown = re.compile(re.escape(markup) + r"(?!<sub>|<sup>[′″]|[′″])")
-    found = [(kind, value) for stage in stages for kind, value, body in places.get(stage, ()) if shown.search(body)]
+    found = [
+        (kind, value)
+        for stage in stages
+        for kind, value, body in places.get(stage, ())
+        if shown.search(body)
+    ]
     numbers = sorted({value for kind, value in found if kind == "section"}, key=int)
     letters = sorted({value for kind, value in found if kind == "appendix"})
     parts = []
     if numbers:
-        parts.append(t("doc.symbol_in_section", number=numbers[0]) if len(numbers) == 1
-                     else t("doc.symbol_in_sections", numbers=t.join_and(numbers)))
+        parts.append(
+            t("doc.symbol_in_section", number=numbers[0])
+            if len(numbers) == 1
+            else t("doc.symbol_in_sections", numbers=t.join_and(numbers))
+        )
     if letters:
-        parts.append(t("doc.symbol_in_appendix", letter=letters[0]) if len(letters) == 1
-                     else t("doc.symbol_in_appendices", letters=t.join_and(letters)))
+        parts.append(
+            t("doc.symbol_in_appendix", letter=letters[0])
+            if len(letters) == 1
+            else t("doc.symbol_in_appendices", letters=t.join_and(letters))
+        )
     return ", ".join(parts)
 
 
 #: A numbered chapter or an appendix of the document, with the stage it shows.
-_CHAPTER = re.compile(r'<section class="chapter( appendix)?" id="sec-[^"]*" data-stage="([^"]+)">\s*'
-                      r'<h2[^>]*>(?:(\d+) |[^<]*?(\w+)<br>)')
+_CHAPTER = re.compile(
+    r'<section class="chapter( appendix)?" id="sec-[^"]*" data-stage="([^"]+)">\s*'
+    r"<h2[^>]*>(?:(\d+) |[^<]*?(\w+)<br>)"
+)
 
 
 #: ``@@SECTION:kinematics@@`` in a catalog text: the number of that stage's section in this report
@@ -667,11 +847,16 @@ def fill_section_numbers(html: str, title, t) -> str:
     in this report by its section's title (``title(stage)``) in quotes (the sentence then still reads)."""
     if "@@SECTION:" not in html:
         return html
-    numbers = {stage: number for appendix, stage, number, _ in _CHAPTER.findall(html) if number and not appendix}
+    numbers = {
+        stage: number
+        for appendix, stage, number, _ in _CHAPTER.findall(html)
+        if number and not appendix
+    }
 
     def number(m: re.Match) -> str:
         stage = m.group(1)
         return numbers.get(stage) or t("doc.quoted", text=title(stage))
+
     return SECTION_MARK.sub(number, html)
 
 
@@ -682,7 +867,7 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
     chapters = list(_CHAPTER.finditer(html))
     for m, following in zip(chapters, [*chapters[1:], None], strict=True):
         appendix, stage, number, letter = m.groups()
-        body = html[m.start():following.start() if following else len(html)]
+        body = html[m.start() : following.start() if following else len(html)]
         if number and not appendix:
             found.setdefault(stage, []).append(("section", number, body))
         elif appendix and letter:
@@ -693,12 +878,25 @@ def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:
 _ASSIGNMENT = re.compile(r'<section class="assignment">.*?</section>', re.S)
 
 
-def _fill_symbol_list(html: str, t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
+def _fill_symbol_list(
+    html: str, t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS
+) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
     # the assignment sheet repeats the given data with the core's letters (S = 100 мм); the given
     # data's section names them as the mechanism does (a vane engine's S is its slider's travel)
     body = _ASSIGNMENT.sub("", head.split("<body", 1)[-1]) + rest
     abbreviation = t("doc.symbols_abbreviations").split(",", 1)[0]
-    return head + symbol_list_html(symbols_used(body, language, symbols), t, language, abbreviation in body,
-                                   _places(rest), single, symbols) + rest
+    return (
+        head
+        + symbol_list_html(
+            symbols_used(body, language, symbols),
+            t,
+            language,
+            abbreviation in body,
+            _places(rest),
+            single,
+            symbols,
+        )
+        + rest
+    )

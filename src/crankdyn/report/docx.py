@@ -49,17 +49,43 @@ from . import docx_blocks, docx_pages
 from .figures import STYLE, tight_layout
 
 PNG_DPI = 220
-VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr",
-        "mspace"}
+VOID = {
+    "area",
+    "base",
+    "br",
+    "col",
+    "embed",
+    "hr",
+    "img",
+    "input",
+    "link",
+    "meta",
+    "source",
+    "track",
+    "wbr",
+    "mspace",
+}
 
 # Page set-up in twentieths of a point (DSTU 3008: left 30 mm, right 15 mm, top and bottom 20 mm; A4).
 MM = 1440 / 25.4
-PAGE = {"w": 11906, "h": 16838, "top": round(20 * MM), "bottom": round(20 * MM), "left": round(30 * MM),
-        "right": round(15 * MM)}
+PAGE = {
+    "w": 11906,
+    "h": 16838,
+    "top": round(20 * MM),
+    "bottom": round(20 * MM),
+    "left": round(30 * MM),
+    "right": round(15 * MM),
+}
 TEXT_WIDTH = PAGE["w"] - PAGE["left"] - PAGE["right"]
 # A landscape page (a wide table): left and right 20 mm, top 20 mm, bottom 15 mm, as in the PDF.
-LANDSCAPE = {"w": PAGE["h"], "h": PAGE["w"], "top": round(20 * MM), "bottom": round(15 * MM),
-             "left": round(20 * MM), "right": round(20 * MM)}
+LANDSCAPE = {
+    "w": PAGE["h"],
+    "h": PAGE["w"],
+    "top": round(20 * MM),
+    "bottom": round(15 * MM),
+    "left": round(20 * MM),
+    "right": round(20 * MM),
+}
 LANDSCAPE_TEXT_WIDTH = LANDSCAPE["w"] - LANDSCAPE["left"] - LANDSCAPE["right"]
 
 
@@ -68,6 +94,7 @@ class DocxError(CrankdynError):
 
 
 # --------------------------------------------------------------------------- a small HTML tree
+
 
 @dataclass
 class Node:
@@ -122,6 +149,7 @@ def parse_html(text: str) -> Node:
 
 # --------------------------------------------------------------------------- HTML for pandoc
 
+
 def _custom(style: str, *children: Node) -> Node:
     return Node("div", {"data-custom-style": style}, list(children))
 
@@ -142,8 +170,9 @@ class _Blocks:
         number = table.attrs.get("data-number", "")
         if not number:
             return ""
-        carried = next((n.attrs["data-continued"] for n in table.walk()
-                        if "data-continued" in n.attrs), "")
+        carried = next(
+            (n.attrs["data-continued"] for n in table.walk() if "data-continued" in n.attrs), ""
+        )
         return carried or _continued_label(self.language).format(number=number)
 
     def block(self, xml: str) -> Node:
@@ -196,21 +225,30 @@ def _figure_size(png: Path) -> dict[str, str]:
 
 def _section_end(placeholder: str) -> str:
     """An empty paragraph of no height that ends a section (its sectPr, filled in later)."""
-    return ('<w:p><w:pPr><w:spacing w:before="0" w:after="0" w:line="20" w:lineRule="exact"/>'
-            f'<w:ind w:firstLine="0"/><w:rPr><w:sz w:val="2"/></w:rPr>{placeholder}</w:pPr></w:p>')
+    return (
+        '<w:p><w:pPr><w:spacing w:before="0" w:after="0" w:line="20" w:lineRule="exact"/>'
+        f'<w:ind w:firstLine="0"/><w:rPr><w:sz w:val="2"/></w:rPr>{placeholder}</w:pPr></w:p>'
+    )
 
 
 def _equation(node: Node, blocks: _Blocks) -> Node:
     formula = next((n for n in node.walk() if "formula" in n.classes()), None)
     number = next((n for n in node.walk() if "eqno" in n.classes()), None)
     number_text = number.plain().strip() if number is not None else ""
-    return blocks.block(docx_blocks.equation(formula if formula is not None else node, number_text,
-                                             blocks.text_width))
+    return blocks.block(
+        docx_blocks.equation(
+            formula if formula is not None else node, number_text, blocks.text_width
+        )
+    )
 
 
 def _contents(node: Node) -> list[Node]:
     heading = next((n for n in node.walk() if n.tag in ("h1", "h2", "h3", "h4")), None)
-    out = [_custom("TOC Heading", Node("p", children=[Node("", text=heading.plain().strip())]))] if heading else []
+    out = (
+        [_custom("TOC Heading", Node("p", children=[Node("", text=heading.plain().strip())]))]
+        if heading
+        else []
+    )
 
     def entries(list_node: Node, level: int) -> None:
         for item in (c for c in list_node.children if c.tag == "li"):
@@ -239,8 +277,9 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
                 paragraph = docx_blocks.paragraph("TableCaption", docx_blocks.runs(caption))
                 out.append(blocks.block(paragraph))
             note = any("table-note" in c.classes() for c in node.children)
-            xml, _ = docx_blocks.table(child, width, "wide" in child.classes(),
-                                       blocks.continued(child), note)
+            xml, _ = docx_blocks.table(
+                child, width, "wide" in child.classes(), blocks.continued(child), note
+            )
             out.append(blocks.block(xml))
         elif child.tag:
             holder = Node("div", children=[child])
@@ -252,10 +291,16 @@ def _table_block(node: Node, blocks: _Blocks, images: dict[str, str]) -> list[No
 
 
 #: Blocks of the title page and the assignment in a style of their own (as the PDF's CSS sets them).
-_CLASS_STYLES = {"university": "Title Page University", "doc-kind": "Title Page Kind",
-                 "doc-title": "Title Page Subject", "city-year": "Title Page Year",
-                 "ministry": "Centred", "department": "Centred", "centered": "Centred",
-                 "keywords": "Keywords"}
+_CLASS_STYLES = {
+    "university": "Title Page University",
+    "doc-kind": "Title Page Kind",
+    "doc-title": "Title Page Subject",
+    "city-year": "Title Page Year",
+    "ministry": "Centred",
+    "department": "Centred",
+    "centered": "Centred",
+    "keywords": "Keywords",
+}
 _BLOCKS = {"p", "div", "table", "ul", "ol", "section", "figure", "h2", "h3", "h4"}
 
 
@@ -269,7 +314,9 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
         classes = child.classes()
         if "mech-animation" in classes:  # interactive, screen only (hidden in print as well)
             continue
-        if "eskd-block" in classes:  # the sheet frame's title blocks: the PDF's page furniture, not text
+        if (
+            "eskd-block" in classes
+        ):  # the sheet frame's title blocks: the PDF's page furniture, not text
             continue
         if top and child.tag in ("section", "nav"):
             if sections:  # every part after the title page starts on a new page, as in the PDF
@@ -291,8 +338,9 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
             new_children += _table_block(child, blocks, images)
             continue
         if child.tag == "table":
-            xml, _ = docx_blocks.table(child, blocks.text_width, "wide" in classes,
-                                       blocks.continued(child))
+            xml, _ = docx_blocks.table(
+                child, blocks.text_width, "wide" in classes, blocks.continued(child)
+            )
             new_children.append(blocks.block(xml))
             continue
         if child.tag == "span" and "blank" in classes:  # a line to sign on: underlined spaces
@@ -313,7 +361,11 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
         if child.tag == "h2" and not first_block:  # under a line: the line starts the page
             new_children.append(blocks.mark("samepage"))
         style = next((s for c, s in _CLASS_STYLES.items() if c in classes), None)
-        if child.tag in ("div", "p") and style and not any(c.tag in _BLOCKS for c in child.children):
+        if (
+            child.tag in ("div", "p")
+            and style
+            and not any(c.tag in _BLOCKS for c in child.children)
+        ):
             new_children.append(_custom(style, Node("p", children=child.children)))
             continue
         if child.tag == "img" and child.attrs.get("src", "") in images:
@@ -351,11 +403,14 @@ def pandoc_html(report_html: str, images: dict[str, str], blocks: _Blocks | None
     lang = next((n.attrs.get("lang", "") for n in root.walk() if n.tag == "html"), "")
     blocks.language = lang or blocks.language
     _transform(body, images, blocks, top=True)
-    return f'<!DOCTYPE html><html lang="{htmlmod.escape(lang)}"><head><meta charset="utf-8"><title></title></head>' \
-           f"<body>{''.join(_serialise(c) for c in body.children)}</body></html>"
+    return (
+        f'<!DOCTYPE html><html lang="{htmlmod.escape(lang)}"><head><meta charset="utf-8"><title></title></head>'
+        f"<body>{''.join(_serialise(c) for c in body.children)}</body></html>"
+    )
 
 
 # --------------------------------------------------------------------------- pandoc and the reference document
+
 
 def pandoc_path() -> str:
     """The pandoc program: on PATH (Debian's ``pandoc``) or the one the ``pypandoc-binary`` wheel carries."""
@@ -367,13 +422,17 @@ def pandoc_path() -> str:
 
         return pypandoc.get_pandoc_path()
     except Exception:  # noqa: BLE001 - not installed, or installed without its binary
-        raise DocxError("--format docx needs pandoc: install the Debian package 'pandoc' "
-                        "(apt-get install pandoc) or the wheel 'pypandoc-binary' (pip install pypandoc-binary)") from None
+        raise DocxError(
+            "--format docx needs pandoc: install the Debian package 'pandoc' "
+            "(apt-get install pandoc) or the wheel 'pypandoc-binary' (pip install pypandoc-binary)"
+        ) from None
 
 
 def _pandoc(args: list[str], stdin: bytes | None = None) -> bytes:
     try:
-        done = subprocess.run([pandoc_path(), *args], input=stdin, capture_output=True, timeout=600, check=False)
+        done = subprocess.run(
+            [pandoc_path(), *args], input=stdin, capture_output=True, timeout=600, check=False
+        )
     except OSError as exc:
         raise DocxError(f"cannot run pandoc: {exc}") from None
     if done.returncode != 0:
@@ -385,74 +444,210 @@ TNR = '<w:rFonts w:ascii="Times New Roman" w:hAnsi="Times New Roman" w:eastAsia=
 
 # Our styles: (styleId, name, basedOn, pPr, rPr). Paragraph properties in twips, sizes in half-points.
 _STYLES = (
-    ("Normal", "Normal", None, '<w:spacing w:before="0" w:after="0" w:line="360" w:lineRule="auto"/><w:jc w:val="both"/>',
-     TNR + '<w:sz w:val="28"/><w:szCs w:val="28"/>'),
-    ("BodyText", "Body Text", "Normal", '<w:spacing w:before="0" w:after="0"/><w:ind w:firstLine="709"/>', ""),
+    (
+        "Normal",
+        "Normal",
+        None,
+        '<w:spacing w:before="0" w:after="0" w:line="360" w:lineRule="auto"/><w:jc w:val="both"/>',
+        TNR + '<w:sz w:val="28"/><w:szCs w:val="28"/>',
+    ),
+    (
+        "BodyText",
+        "Body Text",
+        "Normal",
+        '<w:spacing w:before="0" w:after="0"/><w:ind w:firstLine="709"/>',
+        "",
+    ),
     ("FirstParagraph", "First Paragraph", "BodyText", "", ""),
-    ("Compact", "Compact", "Normal", '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>',
-     ""),
-    ("TableCell", "Table Cell", "Normal",
-     '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', '<w:sz w:val="22"/><w:szCs w:val="22"/>'),
-    ("TitlePageUniversity", "Title Page University", "TitlePage", "", '<w:b/><w:bCs/><w:caps/>'),
-    ("TitlePageKind", "Title Page Kind", "TitlePage", '<w:spacing w:before="1440" w:after="0"/>',
-     '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>'),
-    ("TitlePageSubject", "Title Page Subject", "TitlePage",
-     '<w:spacing w:before="60" w:after="720"/><w:ind w:left="567" w:right="567" w:firstLine="0"/>',
-     '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
-    ("TitlePageYear", "Title Page Year", "TitlePage", '<w:spacing w:before="720" w:after="0"/>',
-     ""),
+    (
+        "Compact",
+        "Compact",
+        "Normal",
+        '<w:spacing w:before="0" w:after="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "TableCell",
+        "Table Cell",
+        "Normal",
+        '<w:spacing w:before="0" w:after="0" w:line="240" w:lineRule="auto"/>'
+        '<w:ind w:firstLine="0"/><w:jc w:val="center"/>',
+        '<w:sz w:val="22"/><w:szCs w:val="22"/>',
+    ),
+    ("TitlePageUniversity", "Title Page University", "TitlePage", "", "<w:b/><w:bCs/><w:caps/>"),
+    (
+        "TitlePageKind",
+        "Title Page Kind",
+        "TitlePage",
+        '<w:spacing w:before="1440" w:after="0"/>',
+        '<w:b/><w:bCs/><w:caps/><w:spacing w:val="20"/><w:sz w:val="36"/><w:szCs w:val="36"/>',
+    ),
+    (
+        "TitlePageSubject",
+        "Title Page Subject",
+        "TitlePage",
+        '<w:spacing w:before="60" w:after="720"/><w:ind w:left="567" w:right="567" w:firstLine="0"/>',
+        '<w:b/><w:bCs/><w:sz w:val="32"/><w:szCs w:val="32"/>',
+    ),
+    (
+        "TitlePageYear",
+        "Title Page Year",
+        "TitlePage",
+        '<w:spacing w:before="720" w:after="0"/>',
+        "",
+    ),
     ("Keywords", "Keywords", "BodyText", '<w:jc w:val="left"/>', "<w:caps/>"),
     ("Centred", "Centred", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
-    ("Title", "Title", "Normal", '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
-     '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>'),
+    (
+        "Title",
+        "Title",
+        "Normal",
+        '<w:keepNext/><w:spacing w:before="480" w:after="240"/><w:jc w:val="center"/>',
+        '<w:b/><w:bCs/><w:caps/><w:sz w:val="32"/><w:szCs w:val="32"/>',
+    ),
     ("TitlePage", "Title Page", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
-    ("Heading1", "heading 1", "Normal", '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
-     'w:after="240"/><w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="0"/>',
-     '<w:b/><w:bCs/><w:caps/><w:sz w:val="28"/><w:szCs w:val="28"/>'),
-    ("Heading2", "heading 2", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
-     '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="1"/>', '<w:b/><w:bCs/>'),
-    ("Heading3", "heading 3", "Normal", '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
-     '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="2"/>', '<w:b/><w:bCs/><w:i/>'),
-    ("Caption", "caption", "Normal", '<w:spacing w:before="60" w:after="120"/><w:ind w:firstLine="0"/>', ""),
+    (
+        "Heading1",
+        "heading 1",
+        "Normal",
+        '<w:keepNext/><w:keepLines/><w:pageBreakBefore/><w:spacing w:before="0" '
+        'w:after="240"/><w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="0"/>',
+        '<w:b/><w:bCs/><w:caps/><w:sz w:val="28"/><w:szCs w:val="28"/>',
+    ),
+    (
+        "Heading2",
+        "heading 2",
+        "Normal",
+        '<w:keepNext/><w:keepLines/><w:spacing w:before="240" w:after="120"/>'
+        '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="1"/>',
+        "<w:b/><w:bCs/>",
+    ),
+    (
+        "Heading3",
+        "heading 3",
+        "Normal",
+        '<w:keepNext/><w:keepLines/><w:spacing w:before="120" w:after="60"/>'
+        '<w:ind w:firstLine="709"/><w:jc w:val="left"/><w:outlineLvl w:val="2"/>',
+        "<w:b/><w:bCs/><w:i/>",
+    ),
+    (
+        "Caption",
+        "caption",
+        "Normal",
+        '<w:spacing w:before="60" w:after="120"/><w:ind w:firstLine="0"/>',
+        "",
+    ),
     ("TableCaption", "Table Caption", "Caption", '<w:keepNext/><w:jc w:val="left"/>', ""),
     ("ImageCaption", "Image Caption", "Caption", '<w:jc w:val="center"/>', ""),
-    ("CaptionedFigure", "Captioned Figure", "Normal", '<w:keepNext/><w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
+    (
+        "CaptionedFigure",
+        "Captioned Figure",
+        "Normal",
+        '<w:keepNext/><w:ind w:firstLine="0"/><w:jc w:val="center"/>',
+        "",
+    ),
     ("Figure", "Figure", "Normal", '<w:ind w:firstLine="0"/><w:jc w:val="center"/>', ""),
-    ("Equation", "Equation", "Normal", f'<w:tabs><w:tab w:val="center" w:pos="{TEXT_WIDTH // 2}"/>'
-     f'<w:tab w:val="right" w:pos="{TEXT_WIDTH}"/></w:tabs><w:spacing w:before="120" w:after="120"/>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', ""),
-    ("WorkedLine", "Worked Line", "Normal", '<w:spacing w:before="60" w:after="60"/>'
-     f'<w:ind w:left="{2 * 280}" w:firstLine="0"/><w:jc w:val="left"/>', ""),
-    ("Where", "Where", "Normal", f'<w:ind w:left="{docx_blocks.PARAGRAPH_INDENT}" w:firstLine="0"/>'
-     '<w:jc w:val="left"/>', ""),
-    ("Signature", "Signature", "Normal", '<w:spacing w:before="0" w:after="0"/>'
-     '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>', ""),
-    ("TableContinued", "Table Continued", "Normal",
-     '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', '<w:sz w:val="24"/><w:szCs w:val="24"/>'),
-    ("TOCHeading", "TOC Heading", "Normal", '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
-     '<w:jc w:val="center"/>', '<w:b/><w:bCs/><w:caps/>'),
-    ("TOC1", "toc 1", "Normal", f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
-     '<w:ind w:firstLine="0"/><w:jc w:val="left"/>', ""),
-    ("TOC2", "toc 2", "Normal", f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
-     '<w:ind w:left="280" w:firstLine="0"/><w:jc w:val="left"/>', ""),
+    (
+        "Equation",
+        "Equation",
+        "Normal",
+        f'<w:tabs><w:tab w:val="center" w:pos="{TEXT_WIDTH // 2}"/>'
+        f'<w:tab w:val="right" w:pos="{TEXT_WIDTH}"/></w:tabs><w:spacing w:before="120" w:after="120"/>'
+        '<w:ind w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "WorkedLine",
+        "Worked Line",
+        "Normal",
+        '<w:spacing w:before="60" w:after="60"/>'
+        f'<w:ind w:left="{2 * 280}" w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "Where",
+        "Where",
+        "Normal",
+        f'<w:ind w:left="{docx_blocks.PARAGRAPH_INDENT}" w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "Signature",
+        "Signature",
+        "Normal",
+        '<w:spacing w:before="0" w:after="0"/>'
+        '<w:ind w:left="4536" w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "TableContinued",
+        "Table Continued",
+        "Normal",
+        '<w:keepNext/><w:spacing w:before="0" w:after="60"/>'
+        '<w:ind w:firstLine="0"/><w:jc w:val="left"/>',
+        '<w:sz w:val="24"/><w:szCs w:val="24"/>',
+    ),
+    (
+        "TOCHeading",
+        "TOC Heading",
+        "Normal",
+        '<w:pageBreakBefore/><w:spacing w:after="240"/><w:ind w:firstLine="0"/>'
+        '<w:jc w:val="center"/>',
+        "<w:b/><w:bCs/><w:caps/>",
+    ),
+    (
+        "TOC1",
+        "toc 1",
+        "Normal",
+        f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
+        '<w:ind w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
+    (
+        "TOC2",
+        "toc 2",
+        "Normal",
+        f'<w:tabs><w:tab w:val="right" w:leader="dot" w:pos="{TEXT_WIDTH}"/></w:tabs>'
+        '<w:ind w:left="280" w:firstLine="0"/><w:jc w:val="left"/>',
+        "",
+    ),
 )
 
-_TABLE_STYLE = ('<w:style w:type="table" w:default="1" w:styleId="Table"><w:name w:val="Table"/>'
-                '<w:basedOn w:val="TableNormal"/><w:qFormat/><w:pPr><w:ind w:firstLine="0"/></w:pPr><w:tblPr>'
-                '<w:jc w:val="center"/><w:tblBorders>' + "".join(
-                    f'<w:{side} w:val="single" w:sz="4" w:space="0" w:color="000000"/>'
-                    for side in ("top", "left", "bottom", "right", "insideH", "insideV")) +
-                '</w:tblBorders><w:tblCellMar><w:left w:w="57" w:type="dxa"/><w:right w:w="57" w:type="dxa"/>'
-                '</w:tblCellMar></w:tblPr></w:style>')
+_TABLE_STYLE = (
+    '<w:style w:type="table" w:default="1" w:styleId="Table"><w:name w:val="Table"/>'
+    '<w:basedOn w:val="TableNormal"/><w:qFormat/><w:pPr><w:ind w:firstLine="0"/></w:pPr><w:tblPr>'
+    '<w:jc w:val="center"/><w:tblBorders>'
+    + "".join(
+        f'<w:{side} w:val="single" w:sz="4" w:space="0" w:color="000000"/>'
+        for side in ("top", "left", "bottom", "right", "insideH", "insideV")
+    )
+    + '</w:tblBorders><w:tblCellMar><w:left w:w="57" w:type="dxa"/><w:right w:w="57" w:type="dxa"/>'
+    "</w:tblCellMar></w:tblPr></w:style>"
+)
 
 
 def _style_xml(style_id: str, name: str, based_on: str | None, ppr: str, rpr: str) -> str:
-    custom = "" if style_id in ("Normal", "BodyText", "Title", "Heading1", "Heading2", "Heading3", "Caption",
-                                "TOCHeading", "TOC1", "TOC2") else ' w:customStyle="1"'
+    custom = (
+        ""
+        if style_id
+        in (
+            "Normal",
+            "BodyText",
+            "Title",
+            "Heading1",
+            "Heading2",
+            "Heading3",
+            "Caption",
+            "TOCHeading",
+            "TOC1",
+            "TOC2",
+        )
+        else ' w:customStyle="1"'
+    )
     default = ' w:default="1"' if style_id == "Normal" else ""
-    parts = [f'<w:style w:type="paragraph"{default}{custom} w:styleId="{style_id}"><w:name w:val="{name}"/>']
+    parts = [
+        f'<w:style w:type="paragraph"{default}{custom} w:styleId="{style_id}"><w:name w:val="{name}"/>'
+    ]
     if based_on:
         parts.append(f'<w:basedOn w:val="{based_on}"/>')
     parts.append(f"<w:qFormat/><w:pPr>{ppr}</w:pPr><w:rPr>{rpr}</w:rPr></w:style>")
@@ -472,7 +667,11 @@ def _restyle(styles: str) -> str:
     # Theme fonts and accent colours (pandoc's blue headings) give way to Times New Roman in black.
     styles = re.sub(r"<w:rFonts [^>]*Theme[^>]*/>", TNR, styles)
     styles = re.sub(r"<w:color [^>]*/>", "", styles)
-    styles = re.sub(r"<w:sz w:val=\"24\" />\s*<w:szCs w:val=\"24\" />", '<w:sz w:val="28"/><w:szCs w:val="28"/>', styles)
+    styles = re.sub(
+        r"<w:sz w:val=\"24\" />\s*<w:szCs w:val=\"24\" />",
+        '<w:sz w:val="28"/><w:szCs w:val="28"/>',
+        styles,
+    )
     return styles.replace("</w:styles>", "".join(ours.values()) + "</w:styles>")
 
 
@@ -481,7 +680,10 @@ def reference_docx() -> bytes:
     """The reference document carrying the styles: pandoc's default reference.docx, restyled."""
     default = _pandoc(["--print-default-data-file", "reference.docx"])
     out = io.BytesIO()
-    with zipfile.ZipFile(io.BytesIO(default)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
+    with (
+        zipfile.ZipFile(io.BytesIO(default)) as source,
+        zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target,
+    ):
         for item in source.infolist():
             data = source.read(item.filename)
             if item.filename == "word/styles.xml":
@@ -492,12 +694,14 @@ def reference_docx() -> bytes:
 
 # --------------------------------------------------------------------------- after pandoc
 
-_HEADER = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
-           '<w:hdr xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
-           '<w:p><w:pPr><w:jc w:val="right"/><w:ind w:firstLine="0"/></w:pPr>'
-           '<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> PAGE </w:instrText></w:r>'
-           '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>1</w:t></w:r>'
-           '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>')
+_HEADER = (
+    '<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
+    '<w:hdr xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
+    '<w:p><w:pPr><w:jc w:val="right"/><w:ind w:firstLine="0"/></w:pPr>'
+    '<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> PAGE </w:instrText></w:r>'
+    '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>1</w:t></w:r>'
+    '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>'
+)
 # DSTU 3008:2015: the page number in the top right corner (a header, as the PDF has it)
 _HEADER_ID = "rIdCrankdynHeader"
 
@@ -506,50 +710,67 @@ def _section(page: dict, first: bool) -> str:
     """A section's properties: its page, the header with the page number (none on the document's
     first page: the title page)."""
     orient = ' w:orient="landscape"' if page["w"] > page["h"] else ""
-    return (f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
-            f'<w:pgSz w:w="{page["w"]}" w:h="{page["h"]}"{orient}/>'
-            f'<w:pgMar w:top="{page["top"]}" w:right="{page["right"]}" w:bottom="{page["bottom"]}" '
-            f'w:left="{page["left"]}" w:header="709" w:footer="567" w:gutter="0"/>'
-            + ("<w:titlePg/>" if first else "") + "</w:sectPr>")
+    return (
+        f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
+        f'<w:pgSz w:w="{page["w"]}" w:h="{page["h"]}"{orient}/>'
+        f'<w:pgMar w:top="{page["top"]}" w:right="{page["right"]}" w:bottom="{page["bottom"]}" '
+        f'w:left="{page["left"]}" w:header="709" w:footer="567" w:gutter="0"/>'
+        + ("<w:titlePg/>" if first else "")
+        + "</w:sectPr>"
+    )
 
 
-_TOC_BEGIN = ('<w:r><w:fldChar w:fldCharType="begin" w:dirty="true"/></w:r>'
-              '<w:r><w:instrText xml:space="preserve"> TOC \\o "1-3" \\h \\z \\u </w:instrText></w:r>'
-              '<w:r><w:fldChar w:fldCharType="separate"/></w:r>')
+_TOC_BEGIN = (
+    '<w:r><w:fldChar w:fldCharType="begin" w:dirty="true"/></w:r>'
+    '<w:r><w:instrText xml:space="preserve"> TOC \\o "1-3" \\h \\z \\u </w:instrText></w:r>'
+    '<w:r><w:fldChar w:fldCharType="separate"/></w:r>'
+)
 _TOC_END = '<w:r><w:fldChar w:fldCharType="end"/></w:r>'
 _PARAGRAPH = re.compile(r"<w:p>(?:(?!</w:p>).)*?</w:p>|<w:p [^>]*>(?:(?!</w:p>).)*?</w:p>", re.S)
 
 
 def _styled(paragraph: str, style_id: str) -> bool:
-    return f'<w:pStyle w:val="{style_id}" />' in paragraph or f'<w:pStyle w:val="{style_id}"/>' in paragraph
+    return (
+        f'<w:pStyle w:val="{style_id}" />' in paragraph
+        or f'<w:pStyle w:val="{style_id}"/>' in paragraph
+    )
 
 
 def _numpages(count: str) -> str:
     """The NUMPAGES field (the abstract's page count), its result ``count`` until it is updated."""
-    return ('<w:r><w:fldChar w:fldCharType="begin"/></w:r>'
-            '<w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
-            '<w:r><w:fldChar w:fldCharType="separate"/></w:r>'
-            f'<w:r><w:t>{count}</w:t></w:r><w:r><w:fldChar w:fldCharType="end"/></w:r>')
+    return (
+        '<w:r><w:fldChar w:fldCharType="begin"/></w:r>'
+        '<w:r><w:instrText xml:space="preserve"> NUMPAGES </w:instrText></w:r>'
+        '<w:r><w:fldChar w:fldCharType="separate"/></w:r>'
+        f'<w:r><w:t>{count}</w:t></w:r><w:r><w:fldChar w:fldCharType="end"/></w:r>'
+    )
 
 
 def _with_property(paragraph: str, prop: str) -> str:
     """``paragraph`` with the paragraph property ``prop`` (after its style, in schema order)."""
     if "<w:pPr>" in paragraph or "<w:pPr " in paragraph:
         m = re.search(r"<w:pPr\s*>(\s*<w:pStyle [^>]*/>)?", paragraph)
-        return paragraph[:m.end()] + prop + paragraph[m.end():]
-    return re.sub(r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph,
-                  count=1)
+        return paragraph[: m.end()] + prop + paragraph[m.end() :]
+    return re.sub(
+        r"^<w:p(\s[^>]*)?>", lambda m: m.group(0) + f"<w:pPr>{prop}</w:pPr>", paragraph, count=1
+    )
 
 
 def _page_count_field(m: re.Match) -> str:
     """A run holding the page count's placeholder: the text before it, the field, the text after."""
     run = m.group(1)
-    return (f'{run}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>' + _numpages("")
-            + f'{run}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>')
+    return (
+        f'{run}<w:t xml:space="preserve">{m.group(2)}</w:t></w:r>'
+        + _numpages("")
+        + f'{run}<w:t xml:space="preserve">{m.group(3)}</w:t></w:r>'
+    )
 
 
-_MARK_PROPERTIES = {"break": "<w:pageBreakBefore/>", "samepage": '<w:pageBreakBefore w:val="0"/>',
-                    "centre": '<w:ind w:firstLine="0"/><w:jc w:val="center"/>'}
+_MARK_PROPERTIES = {
+    "break": "<w:pageBreakBefore/>",
+    "samepage": '<w:pageBreakBefore w:val="0"/>',
+    "centre": '<w:ind w:firstLine="0"/><w:jc w:val="center"/>',
+}
 
 
 def _document(xml: str, raw: list[str] | None = None) -> str:
@@ -573,7 +794,7 @@ def _document(xml: str, raw: list[str] | None = None) -> str:
                 changed = first.group(0)
                 for prop in pending:
                     changed = _with_property(changed, prop)
-                text = text[:first.start()] + changed + text[first.end():]
+                text = text[: first.start()] + changed + text[first.end() :]
             pending = []
         if text != m.group(0):
             edits[m.start()] = text
@@ -582,45 +803,75 @@ def _document(xml: str, raw: list[str] | None = None) -> str:
         text = edits.get(first.start(), first.group(0))
         edits[first.start()] = text.replace("</w:pPr>", "</w:pPr>" + _TOC_BEGIN, 1)
         text = edits.get(last.start(), last.group(0))
-        edits[last.start()] = text[:-len("</w:p>")] + _TOC_END + "</w:p>"
+        edits[last.start()] = text[: -len("</w:p>")] + _TOC_END + "</w:p>"
     out, position = [], 0
     for m in paragraphs:
         if m.start() in edits:
-            out += [xml[position:m.start()], edits[m.start()]]
+            out += [xml[position : m.start()], edits[m.start()]]
             position = m.end()
     xml = "".join(out) + xml[position:]
-    xml = re.sub(rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>'
-                 rf'([^<]*?){_NUMPAGES}([^<]*)</w:t></w:r>', _page_count_field, xml, flags=re.S)
-    xml = re.sub(r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)", _SECTION_PORTRAIT, xml,
-                 count=1, flags=re.S)
-    sections = iter(range(10 ** 6))
-    xml = re.sub(f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
-                 lambda m: _section(PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE,
-                                    next(sections) == 0), xml)
+    xml = re.sub(
+        rf'(<w:r>(?:<w:rPr>(?:(?!</w:r>).)*?</w:rPr>)?)<w:t(?: xml:space="preserve")?>'
+        rf"([^<]*?){_NUMPAGES}([^<]*)</w:t></w:r>",
+        _page_count_field,
+        xml,
+        flags=re.S,
+    )
+    xml = re.sub(
+        r"<w:sectPr\s*/>|<w:sectPr>.*?</w:sectPr>(?=\s*</w:body>)",
+        _SECTION_PORTRAIT,
+        xml,
+        count=1,
+        flags=re.S,
+    )
+    sections = iter(range(10**6))
+    xml = re.sub(
+        f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
+        lambda m: _section(
+            PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE, next(sections) == 0
+        ),
+        xml,
+    )
     if 'xmlns:r="' not in xml[:2000]:
-        xml = xml.replace("<w:document ", '<w:document xmlns:r="http://schemas.openxmlformats.org/officeDocument/'
-                          '2006/relationships" ', 1)
+        xml = xml.replace(
+            "<w:document ",
+            '<w:document xmlns:r="http://schemas.openxmlformats.org/officeDocument/'
+            '2006/relationships" ',
+            1,
+        )
     return xml
 
 
 def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
     """pandoc's output with the page set-up, the header with page numbers, the TOC field and equation tabs."""
     out = io.BytesIO()
-    with zipfile.ZipFile(io.BytesIO(docx)) as source, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target:
+    with (
+        zipfile.ZipFile(io.BytesIO(docx)) as source,
+        zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as target,
+    ):
         for item in source.infolist():
             data = source.read(item.filename)
             name = item.filename
             if name == "word/document.xml":
                 data = _document(data.decode("utf-8"), raw).encode("utf-8")
             elif name == "word/_rels/document.xml.rels":
-                data = data.replace(b"</Relationships>", (
-                    f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
-                    f'relationships/header" Target="header_crankdyn.xml"/></Relationships>').encode())
+                data = data.replace(
+                    b"</Relationships>",
+                    (
+                        f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
+                        f'relationships/header" Target="header_crankdyn.xml"/></Relationships>'
+                    ).encode(),
+                )
             elif name == "[Content_Types].xml":
-                data = data.replace(b"</Types>", b'<Override PartName="/word/header_crankdyn.xml" ContentType='
-                                    b'"application/vnd.openxmlformats-officedocument.wordprocessingml.header+xml"/></Types>')
+                data = data.replace(
+                    b"</Types>",
+                    b'<Override PartName="/word/header_crankdyn.xml" ContentType='
+                    b'"application/vnd.openxmlformats-officedocument.wordprocessingml.header+xml"/></Types>',
+                )
             elif name == "word/settings.xml" and b"updateFields" not in data:
-                data = re.sub(rb"(<w:settings[^>]*>)", rb'\1<w:updateFields w:val="true"/>', data, count=1)
+                data = re.sub(
+                    rb"(<w:settings[^>]*>)", rb'\1<w:updateFields w:val="true"/>', data, count=1
+                )
             target.writestr(item, data)
         target.writestr("word/header_crankdyn.xml", _HEADER)
     return out.getvalue()
@@ -628,9 +879,9 @@ def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
 
 # --------------------------------------------------------------------------- the whole conversion
 
+
 def _figure_png(figure: Any) -> bytes:
     import matplotlib.pyplot as plt  # lazy: heavy optional import (matplotlib: only for a Word file's PNG figures)
-
 
     buffer = io.BytesIO()
     with plt.rc_context(STYLE):
@@ -648,17 +899,36 @@ def report_docx(html: str, figures: list, language: str, layout: bool = True) ->
         folder = Path(tmp)
         images: dict[str, str] = {}
         for i, figure in enumerate(figures, start=1):
-            source = figure.typeset() if hasattr(figure, "typeset") else getattr(figure, "figure", None)
+            source = (
+                figure.typeset() if hasattr(figure, "typeset") else getattr(figure, "figure", None)
+            )
             if source is None:
                 continue
             name = f"figure_{i:03d}.png"
             (folder / name).write_bytes(_figure_png(source))
-            images["data:image/svg+xml;base64," + base64.b64encode(figure.svg).decode("ascii")] = name
+            images["data:image/svg+xml;base64," + base64.b64encode(figure.svg).decode("ascii")] = (
+                name
+            )
         blocks = _Blocks(text_width=TEXT_WIDTH, folder=folder)
         (folder / "report.html").write_text(pandoc_html(html, images, blocks), encoding="utf-8")
         (folder / "reference.docx").write_bytes(reference_docx())
-        _pandoc(["--from", "html", "--to", "docx", "--shift-heading-level-by=-1", "--metadata", f"lang={language}",
-                 "--reference-doc", str(folder / "reference.docx"), "--resource-path", str(folder),
-                 "--output", str(folder / "report.docx"), str(folder / "report.html")])
+        _pandoc(
+            [
+                "--from",
+                "html",
+                "--to",
+                "docx",
+                "--shift-heading-level-by=-1",
+                "--metadata",
+                f"lang={language}",
+                "--reference-doc",
+                str(folder / "reference.docx"),
+                "--resource-path",
+                str(folder),
+                "--output",
+                str(folder / "report.docx"),
+                str(folder / "report.html"),
+            ]
+        )
         document = _finish((folder / "report.docx").read_bytes(), blocks.raw)
     return docx_pages.lay_out(document) if layout else document

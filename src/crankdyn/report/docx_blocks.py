@@ -227,13 +227,13 @@ def _cell_line(cell) -> str:
             length = 14 if "wide" in classes else 9
             out.append(
                 f'<w:r><w:rPr><w:u w:val="single"/></w:rPr><w:t xml:space="preserve">'
-                f'{chr(0xa0) * length}</w:t></w:r>'
+                f"{chr(0xA0) * length}</w:t></w:r>"
             )
         elif "hint" in classes:
             out.append(
                 '<w:r><w:rPr><w:sz w:val="20"/><w:szCs w:val="20"/></w:rPr>'
                 f'<w:t xml:space="preserve">'
-                f'{escape(child.plain())}</w:t></w:r>'
+                f"{escape(child.plain())}</w:t></w:r>"
             )
         elif not child.tag:
             out.append(_run(child.text.replace("\n", " "), False, False, "", None))
@@ -301,7 +301,10 @@ def column_widths(rows: list[list], header_rows: int, size: int, text_width: int
         if sum(candidate) <= text_width:
             return [round(w) for w in candidate]
     natural, least = widths[1], widths[2]
-    spare, excess = sum(n - m for n, m in zip(natural, least, strict=False)), sum(natural) - text_width
+    spare, excess = (
+        sum(n - m for n, m in zip(natural, least, strict=False)),
+        sum(natural) - text_width,
+    )
     if spare >= excess:  # wrap the longer cells' text
         return [round(n - (n - m) * excess / spare) for n, m in zip(natural, least, strict=False)]
     return [round(m * text_width / sum(least)) for m in least]
@@ -369,7 +372,7 @@ def table(
     out = [
         f'<w:tbl><w:tblPr><w:tblStyle w:val="Table"/><w:tblW w:w="{sum(widths)}" w:type="dxa"/>'
         f'<w:jc w:val="center"/><w:tblLayout w:type="fixed"/>{_identity(node, continued)}</w:tblPr>'
-        f'<w:tblGrid>{grid}</w:tblGrid>'
+        f"<w:tblGrid>{grid}</w:tblGrid>"
     ]
     keep = set(range(len(head) + min(2, len(body))))  # the first three rows under the header
     keep |= set(

@@ -102,8 +102,12 @@ class _Builder:
         last = self.items[-1] if self.items else None
         if item.kind == "space" and (last is None or last.kind == "space"):
             return
-        if (item.kind == "space" and last is not None and last.kind == "operator"
-                and not last.script.endswith(" ")):
+        if (
+            item.kind == "space"
+            and last is not None
+            and last.kind == "operator"
+            and not last.script.endswith(" ")
+        ):
             self.items[-1] = self.operator(last.script + " ")
             return
         if item.kind == "operator" and last is not None and last.kind == "space":

@@ -230,7 +230,7 @@ def split_tables(xml: str, pages: list[list[str]], section_breaks: bool = True) 
         label = (
             '<w:p><w:pPr><w:pStyle w:val="TableContinued"/><w:pageBreakBefore/><w:keepNext/>'
             '</w:pPr><w:r><w:t xml:space="preserve">'
-            f'{htmlmod.escape(part.label, quote=False)}</w:t></w:r></w:p>'
+            f"{htmlmod.escape(part.label, quote=False)}</w:t></w:r></w:p>"
         )
         first = props + "".join(part.head + part.body[:k]) + "</w:tbl>"
         rest = props + "".join(part.head + part.body[k:]) + "</w:tbl>"
@@ -258,8 +258,14 @@ def fill_contents(xml: str, pages: list[list[str]]) -> str:
     first = _heading_key(_text(entries[0].group(0))) if entries else None
     # the contents' page: its first entry, alone or followed by its dots and page number
     listed = re.compile(rf"{re.escape(first)}[\s.]*\d*") if first else None
-    contents_page = next((i for i, page in enumerate(pages)
-                          if listed and any(listed.fullmatch(_heading_key(line)) for line in page)), 0)
+    contents_page = next(
+        (
+            i
+            for i, page in enumerate(pages)
+            if listed and any(listed.fullmatch(_heading_key(line)) for line in page)
+        ),
+        0,
+    )
     out, position, page_index = [], 0, contents_page + 1
     for m in entries:
         key = _heading_key(_text(m.group(0)))
@@ -282,7 +288,7 @@ def fill_contents(xml: str, pages: list[list[str]]) -> str:
         paragraph = m.group(0)
         if found is not None:
             page_index = found
-            number = f'<w:r><w:tab/></w:r><w:r><w:t>{found + 1}</w:t></w:r>'
+            number = f"<w:r><w:tab/></w:r><w:r><w:t>{found + 1}</w:t></w:r>"
             # before the field's end when the entry is the last one, else at the paragraph's end
             end = paragraph.rfind('<w:r><w:fldChar w:fldCharType="end"/></w:r>')
             end = end if end > 0 else paragraph.rfind("</w:p>")

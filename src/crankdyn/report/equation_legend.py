@@ -35,13 +35,16 @@ _SECTION_OR_EQUATION = re.compile(
     r'<section\b[^>]*\bdata-stage="(?P<stage>[^"]*)"'
     r'|<div class="equation"[^>]*><span class="formula">(?P<formula>.*?)</span>'
     r'<span class="eqno">[^<]*</span></div>',
-    re.S)
+    re.S,
+)
 
 _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 
 
 @functools.lru_cache(maxsize=8)
-def _patterns(language: str, symbols: SymbolTable) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
+def _patterns(
+    language: str, symbols: SymbolTable
+) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
     """(key, markup, bare, only in sections, not in sections) per symbol; its pattern is
     :func:`_pattern`'s (compiled when a formula shows the markup: a report shows a third of the
     symbols, and compiling them all took 40 ms). The pattern is the symbol
@@ -53,14 +56,23 @@ def _patterns(language: str, symbols: SymbolTable) -> tuple[tuple[str, str, bool
     out = []
     for key, symbol in symbols.items():
         markup = symbol_html(key, language, symbols)
-        out.append((key, markup, "<sub>" not in markup and not symbol.in_scripts, symbol.sections,
-                    () if symbol.sections else tuple(sorted(taken_over.get(markup, ())))))
+        out.append(
+            (
+                key,
+                markup,
+                "<sub>" not in markup and not symbol.in_scripts,
+                symbol.sections,
+                () if symbol.sections else tuple(sorted(taken_over.get(markup, ()))),
+            )
+        )
     return tuple(out)
 
 
 @functools.lru_cache(maxsize=4096)
 def _pattern(key: str, language: str, symbols: SymbolTable) -> re.Pattern:
-    return re.compile(symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])", symbols=symbols))
+    return re.compile(
+        symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])", symbols=symbols)
+    )
 
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
@@ -69,7 +81,9 @@ _ITALIC_RUN = re.compile(r"<i>([^<]{2,})</i>")
 _LETTER = re.compile(r"\S[\u0300-\u036f]*")
 
 
-def symbols_in(formula_html: str, language: str, stage: str, symbols: SymbolTable = SYMBOLS) -> list[str]:
+def symbols_in(
+    formula_html: str, language: str, stage: str, symbols: SymbolTable = SYMBOLS
+) -> list[str]:
     """The keys of the symbols ``formula_html`` shows in section ``stage``, in order of appearance.
     A bare letter inside a sub- or superscript is an index or an exponent (sin^{2k}, C_n, e_{t,i}),
     not the quantity; a symbol with its own subscript there is one (the exponent n_1), and so is one
@@ -77,7 +91,9 @@ def symbols_in(formula_html: str, language: str, stage: str, symbols: SymbolTabl
     formula_html = unshifted_indices(formula_html)
     # a product set in one italic run (<i>Rω</i>, <i>t R</i>) is read letter by letter, a letter
     # keeping its dots (<i>z̈</i> is not z)
-    formula_html = _ITALIC_RUN.sub(lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html)
+    formula_html = _ITALIC_RUN.sub(
+        lambda m: _LETTER.sub(lambda c: f"<i>{c.group(0)}</i>", m.group(1)), formula_html
+    )
     scripts = [m.span() for m in _SCRIPT.finditer(formula_html)]
     found = []
     for key, markup, bare, only_in, not_in in _patterns(language, symbols):
@@ -92,8 +108,14 @@ def symbols_in(formula_html: str, language: str, stage: str, symbols: SymbolTabl
 
 #: The tables' units and the SI units a formula is evaluated in (M_к = t R F_п holds in Pa, m and m²,
 #: not in MPa, mm and cm²; a litre is a cubic metre, a kilonewton a newton there).
-_SI_UNITS = {"unit.mm": "unit.m", "unit.cm2": "unit.m2", "unit.l": "unit.m3", "unit.MPa": "unit.Pa",
-             "unit.kN": "unit.N", "unit.kW": "unit.W"}
+_SI_UNITS = {
+    "unit.mm": "unit.m",
+    "unit.cm2": "unit.m2",
+    "unit.l": "unit.m3",
+    "unit.MPa": "unit.Pa",
+    "unit.kN": "unit.N",
+    "unit.kW": "unit.W",
+}
 
 
 def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
@@ -111,10 +133,16 @@ def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
 def symbol_meaning(t, key: str, single: bool = False) -> str:
     """A symbol's meaning from the catalogs; for a one-cylinder engine its ``_single`` form where
     the catalog gives one (θ "від ВМТ циліндра", not "першого циліндра"; M not "сумарний")."""
-    return t(f"symbol.{key}_single") if single and t.has(f"symbol.{key}_single") else t(f"symbol.{key}")
+    return (
+        t(f"symbol.{key}_single")
+        if single and t.has(f"symbol.{key}_single")
+        else t(f"symbol.{key}")
+    )
 
 
-def legend_html(keys: list[str], t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
+def legend_html(
+    keys: list[str], t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS
+) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
     stop after the last; the unit as :func:`line_unit` says."""
     lines = []
@@ -125,16 +153,28 @@ def legend_html(keys: list[str], t, language: str, single: bool = False, symbols
         # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
         if symbols[key].sections and "." not in key:
             meaning = _SECTIONS_NOTE.sub("", meaning)
-        meaning = italic_letters(str(escape(meaning)), language) + (f", {escape(unit)}" if unit else "")
+        meaning = italic_letters(str(escape(meaning)), language) + (
+            f", {escape(unit)}" if unit else ""
+        )
         end = "." if k == len(keys) - 1 else ";"
-        lines.append(f'<span class="where-line">{symbol_html(key, language, symbols)} – {meaning}{end}</span>')
+        lines.append(
+            f'<span class="where-line">{symbol_html(key, language, symbols)} – {meaning}{end}</span>'
+        )
     # the word in a box of its own: the lines after the first stand under the first symbol
-    return (f'<p class="where"><span class="where-word">{escape(t("doc.equation_where"))} </span>'
-            f'<span class="where-lines">{"<br>".join(lines)}</span></p>')
+    return (
+        f'<p class="where"><span class="where-word">{escape(t("doc.equation_where"))} </span>'
+        f'<span class="where-lines">{"<br>".join(lines)}</span></p>'
+    )
 
 
-def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str] = frozenset(),
-                         single: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
+def add_equation_legends(
+    html: str,
+    t,
+    language: str,
+    skip_stages: frozenset[str] = frozenset(),
+    single: bool = False,
+    symbols: SymbolTable = SYMBOLS,
+) -> str:
     """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
     none in the sections of ``skip_stages`` (``StagePresentation.legend`` False)."""
     explained: set[str] = set()
@@ -147,11 +187,15 @@ def add_equation_legends(html: str, t, language: str, skip_stages: frozenset[str
             continue
         if stage in skip_stages:
             continue
-        new = [key for key in symbols_in(match.group("formula"), language, stage, symbols) if key not in explained]
+        new = [
+            key
+            for key in symbols_in(match.group("formula"), language, stage, symbols)
+            if key not in explained
+        ]
         if not new:
             continue
         explained.update(new)
-        parts += [html[position:match.end()], legend_html(new, t, language, single, symbols)]
+        parts += [html[position : match.end()], legend_html(new, t, language, single, symbols)]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)

@@ -46,8 +46,8 @@ STYLE: dict[RcKeyType, Any] = {
     # (two solid lines, blue and orange, read as one on a grey copy)
     # (matplotlib reads the cycle from this text as from its matplotlibrc)
     "axes.prop_cycle": "cycler(color=['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2',"
-                       " '#7f7f7f']) + cycler(linestyle=['-', '--', '-.', ':', (0, (6, 2, 1, 2, 1, 2)), (0, (8, 3)),"
-                       " (0, (1, 3)), (0, (4, 1, 1, 1))])",
+    " '#7f7f7f']) + cycler(linestyle=['-', '--', '-.', ':', (0, (6, 2, 1, 2, 1, 2)), (0, (8, 3)),"
+    " (0, (1, 3)), (0, (4, 1, 1, 1))])",
     # 72 = the SVG's own resolution: the layout pass (Agg) and the SVG pass then share
     # matplotlib's mathtext cache (keyed by dpi) instead of typesetting every label twice
     "figure.dpi": 72,
@@ -103,8 +103,10 @@ def _keep_more_mathtext() -> None:
 
 #: The font tables :meth:`matplotlib.text.Text._get_layout` reads for a text's line height,
 #: in order (its own list: the first table the font has gives ascent, descent and line gap).
-_HEIGHT_TABLES = (("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
-                  ("hhea", "lineGap", "ascent", "descent"))
+_HEIGHT_TABLES = (
+    ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
+    ("hhea", "lineGap", "ascent", "descent"),
+)
 
 
 @functools.lru_cache(maxsize=256)
@@ -134,11 +136,15 @@ def _remember_font_heights() -> None:
     from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
     from matplotlib.font_manager import fontManager  # lazy: heavy optional import
 
-    if hasattr(RendererSVG, "_get_font_height_metrics") or not hasattr(fontManager, "_find_fonts_by_props"):
+    if hasattr(RendererSVG, "_get_font_height_metrics") or not hasattr(
+        fontManager, "_find_fonts_by_props"
+    ):
         return  # matplotlib's own, or ours already; or a matplotlib that finds fonts otherwise
 
     def _get_font_height_metrics(self, prop):
-        return _font_height_metrics(tuple(fontManager._find_fonts_by_props(prop)), prop.get_size_in_points(), 72.0)
+        return _font_height_metrics(
+            tuple(fontManager._find_fonts_by_props(prop)), prop.get_size_in_points(), 72.0
+        )
 
     RendererSVG._get_font_height_metrics = _get_font_height_metrics  # type: ignore[attr-defined]  # private
 
@@ -255,8 +261,17 @@ def drawn_box(axes, renderer):
                 continue
             if hasattr(artist, "get_text") and not artist.get_text():
                 continue  # the axes' empty title slots
-            box = _collection_box(ax, artist) if isinstance(artist, Collection) else artist.get_tightbbox(renderer)
-            if box is not None and box.width >= 0 and box.height >= 0 and np.isfinite(box.bounds).all():
+            box = (
+                _collection_box(ax, artist)
+                if isinstance(artist, Collection)
+                else artist.get_tightbbox(renderer)
+            )
+            if (
+                box is not None
+                and box.width >= 0
+                and box.height >= 0
+                and np.isfinite(box.bounds).all()
+            ):
                 boxes.append(box)
     return Bbox.union(boxes) if boxes else None
 
@@ -278,7 +293,9 @@ def fit_to_content(fig, margin_mm: float) -> None:
 
     renderer = fig.canvas.get_renderer()
     with matplotlib.rc_context(STYLE):
-        box = (drawn_box(fig.axes, renderer) or fig.bbox).transformed(fig.dpi_scale_trans.inverted())  # inches
+        box = (drawn_box(fig.axes, renderer) or fig.bbox).transformed(
+            fig.dpi_scale_trans.inverted()
+        )  # inches
     margin = margin_mm / _MM_PER_INCH
     old_w, old_h = fig.get_size_inches()
     new_w, new_h = box.width + 2 * margin, box.height + 2 * margin
@@ -286,8 +303,14 @@ def fit_to_content(fig, margin_mm: float) -> None:
     placed = [(ax, ax.get_position()) for ax in fig.axes]
     fig.set_size_inches(new_w, new_h)
     for ax, pos in placed:
-        ax.set_position(((pos.x0 * old_w + dx) / new_w, (pos.y0 * old_h + dy) / new_h,
-                         pos.width * old_w / new_w, pos.height * old_h / new_h))
+        ax.set_position(
+            (
+                (pos.x0 * old_w + dx) / new_w,
+                (pos.y0 * old_h + dy) / new_h,
+                pos.width * old_w / new_w,
+                pos.height * old_h / new_h,
+            )
+        )
 
 
 def tight_layout(fig) -> None:
@@ -326,8 +349,15 @@ def crank_angle_axis(ax, cycle_deg: float, label: str) -> None:
             close_cycle(line, cycle_deg)
 
 
-def curve_with_mean_figure(angle_deg, values, mean, cycle_deg: float, t, labels: tuple[str, str, str],
-                           height_cm: float = 8.0):
+def curve_with_mean_figure(
+    angle_deg,
+    values,
+    mean,
+    cycle_deg: float,
+    t,
+    labels: tuple[str, str, str],
+    height_cm: float = 8.0,
+):
     """A quantity over the cycle with its mean dashed (a torque and its mean torque): ``labels``
     are the curve's, the mean's and the vertical axis's."""
     fig, ax = new_figure(16, height_cm)
@@ -345,7 +375,11 @@ def close_cycle(line, cycle_deg: float) -> None:
     the cycle's end with its first value, where a periodic quantity returns: a torque curve that
     stops at 719° short of the table's 720° row reads as a cycle that does not close."""
     x, y = line.get_xdata(), line.get_ydata()
-    if not (isinstance(x, np.ndarray) and isinstance(y, np.ndarray)) or len(x) < 3 or len(y) != len(x):
+    if (
+        not (isinstance(x, np.ndarray) and isinstance(y, np.ndarray))
+        or len(x) < 3
+        or len(y) != len(x)
+    ):
         return
     step = x[1] - x[0]
     if x[0] != 0.0 or step <= 0 or abs(x[-1] + step - cycle_deg) > 1e-9 * cycle_deg:
@@ -371,7 +405,9 @@ def _measure_math_as_drawn() -> None:
     measure = RendererSVG.get_text_width_height_descent
 
     def get_text_width_height_descent(self, s, prop, ismath):
-        if ismath is True or ismath == "mathtext":  # not "TeX", which the SVG renderer measures its way
+        if (
+            ismath is True or ismath == "mathtext"
+        ):  # not "TeX", which the SVG renderer measures its way
             width, height, descent, *_ = self._text2path.mathtext_parser.parse(s, 72, prop)
             return width, height, descent
         return measure(self, s, prop, ismath)
@@ -405,13 +441,18 @@ def to_svg(fig) -> bytes:
         fig.set_layout_engine(None)  # laid out here, once
         fig.dpi = 72  # the SVG's own unit, as print_svg sets it (and gives back after)
         width, height = fig.get_size_inches()
-        renderer = MixedModeRenderer(fig, width, height, 72,
-                                     RendererSVG(width * 72, height * 72, buffer, image_dpi=72,
-                                                 metadata={"Date": None}))
+        renderer = MixedModeRenderer(
+            fig,
+            width,
+            height,
+            72,
+            RendererSVG(width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}),
+        )
         if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
             with renderer._draw_disabled():
-                adjust = get_tight_layout_figure(fig, fig.axes, get_subplotspec_list(fig.axes), renderer,
-                                                 pad=1.08)
+                adjust = get_tight_layout_figure(
+                    fig, fig.axes, get_subplotspec_list(fig.axes), renderer, pad=1.08
+                )
             if adjust:
                 fig.subplots_adjust(**adjust)
         try:
@@ -430,11 +471,28 @@ _MATPLOTLIB_SHEET = '<style type="text/css">*{stroke-linejoin: round; stroke-lin
 _STYLE_ATTRIBUTE = re.compile(r' style="([^"]*)"')
 #: SVG presentation attributes matplotlib puts into ``style`` (SVG 1.1, section 6.4; any other
 #: property stays in a ``style`` attribute).
-_PRESENTATION = frozenset({
-    "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity", "stroke-linecap",
-    "stroke-linejoin", "stroke-dasharray", "stroke-dashoffset", "stroke-miterlimit", "opacity",
-    "font-family", "font-size", "font-style", "font-weight", "text-anchor", "clip-rule",
-})
+_PRESENTATION = frozenset(
+    {
+        "fill",
+        "fill-opacity",
+        "fill-rule",
+        "stroke",
+        "stroke-width",
+        "stroke-opacity",
+        "stroke-linecap",
+        "stroke-linejoin",
+        "stroke-dasharray",
+        "stroke-dashoffset",
+        "stroke-miterlimit",
+        "opacity",
+        "font-family",
+        "font-size",
+        "font-style",
+        "font-weight",
+        "text-anchor",
+        "clip-rule",
+    }
+)
 
 
 def presentation_attributes(svg: str) -> str:
@@ -450,14 +508,21 @@ def presentation_attributes(svg: str) -> str:
     if svg.count("<style") != 1 or _MATPLOTLIB_SHEET not in svg:
         return svg
     svg = svg.replace(_MATPLOTLIB_SHEET, "").replace(
-        "<svg ", '<svg stroke-linejoin="round" stroke-linecap="butt" ', 1)
+        "<svg ", '<svg stroke-linejoin="round" stroke-linecap="butt" ', 1
+    )
 
     def attributes(match: re.Match) -> str:
         declarations = [d.split(":", 1) for d in match.group(1).split(";") if ":" in d]
-        plain = "".join(f' {name.strip()}="{value.strip()}"' for name, value in declarations
-                        if name.strip() in _PRESENTATION)
-        rest = "; ".join(f"{name.strip()}: {value.strip()}" for name, value in declarations
-                         if name.strip() not in _PRESENTATION)
+        plain = "".join(
+            f' {name.strip()}="{value.strip()}"'
+            for name, value in declarations
+            if name.strip() in _PRESENTATION
+        )
+        rest = "; ".join(
+            f"{name.strip()}: {value.strip()}"
+            for name, value in declarations
+            if name.strip() not in _PRESENTATION
+        )
         return plain + (f' style="{rest}"' if rest else "")
 
     return _STYLE_ATTRIBUTE.sub(attributes, svg)
@@ -485,7 +550,9 @@ def can_fork(allow_threads: bool = False) -> bool:
     return hasattr(os, "fork") if allow_threads else _no_other_thread()
 
 
-def draw_jobs(jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threads: bool = False) -> list[bytes]:
+def draw_jobs(
+    jobs: Sequence[Callable[[], bytes]], workers: int = 1, allow_threads: bool = False
+) -> list[bytes]:
     """``[job() for job in jobs]``, the work shared by ``workers`` processes.
 
     matplotlib draws in Python, one core per process; a report's figures are independent, so
@@ -526,7 +593,9 @@ class ForkedDrawing:
             os.close(read_end)
             code = 1
             try:
-                payload = pickle.dumps([self.jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL)
+                payload = pickle.dumps(
+                    [self.jobs[i]() for i in mine], protocol=pickle.HIGHEST_PROTOCOL
+                )
                 with os.fdopen(write_end, "wb") as pipe:
                     pipe.write(payload)
                 code = 0
@@ -538,7 +607,10 @@ class ForkedDrawing:
 
     def done(self) -> bool:
         """Whether every child has finished drawing (its answer is waiting in its pipe)."""
-        return all(read_end is None or select.select([read_end], [], [], 0)[0] for _, read_end, _ in self._children)
+        return all(
+            read_end is None or select.select([read_end], [], [], 0)[0]
+            for _, read_end, _ in self._children
+        )
 
     def collect(self) -> None:
         """Wait for every child and keep what it drew."""
@@ -559,7 +631,10 @@ class ForkedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
+        return [
+            job() if result is None else result
+            for job, result in zip(self.jobs, self.results, strict=True)
+        ]
 
 
 #: A job's number as written to :class:`SharedDrawing`'s pipe (two bytes: up to 65 535 jobs).
@@ -585,7 +660,9 @@ class SharedDrawing:
     def __init__(self, jobs: Sequence[Callable[[], bytes]], children: int):
         self.jobs = list(jobs)
         if len(self.jobs) > SHARED_JOBS_MAX:
-            raise ValueError(f"{len(self.jobs)} jobs; a shared drawing takes at most {SHARED_JOBS_MAX}")
+            raise ValueError(
+                f"{len(self.jobs)} jobs; a shared drawing takes at most {SHARED_JOBS_MAX}"
+            )
         self.results: list[bytes | None] = [None] * len(self.jobs)
         self._claims, numbers = os.pipe()
         os.write(numbers, b"".join(_TOKEN.pack(i) for i in range(len(self.jobs))))
@@ -609,7 +686,9 @@ class SharedDrawing:
         if forked is None:
             return None
         pid, read_end, write_end = forked
-        if pid == 0:  # the child: take, draw, send, leave without running the parent's exit handlers
+        if (
+            pid == 0
+        ):  # the child: take, draw, send, leave without running the parent's exit handlers
             os.close(read_end)
             code = 1
             try:
@@ -650,7 +729,10 @@ class SharedDrawing:
     def finish(self) -> list[bytes]:
         """Every job's result: the children's, and here what they did not deliver."""
         self.collect()
-        return [job() if result is None else result for job, result in zip(self.jobs, self.results, strict=True)]
+        return [
+            job() if result is None else result
+            for job, result in zip(self.jobs, self.results, strict=True)
+        ]
 
 
 class IncrementalDrawing:
@@ -678,7 +760,7 @@ class IncrementalDrawing:
         self._waiting += [f for f in figures if not f.drawn]
         self._store(finished_only=True)
         if self._waiting and len(self._running) < self.children:
-            batch, self._waiting = self._waiting[:self.BATCH], self._waiting[self.BATCH:]
+            batch, self._waiting = self._waiting[: self.BATCH], self._waiting[self.BATCH :]
             self._fork(batch)
 
     def _fork(self, batch: list) -> None:
@@ -721,7 +803,7 @@ class IncrementalDrawing:
         # consecutive figures per child: the PDF asks for them in document order, so the first
         # ones are ready first
         for k in range(0, len(waiting), size):
-            self._fork(waiting[k:k + size])
+            self._fork(waiting[k : k + size])
 
     def finish(self) -> None:
         self._store(finished_only=True)

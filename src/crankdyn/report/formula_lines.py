@@ -32,8 +32,11 @@ def unbroken_parts(formula_html: str, line_chars: int | None = None) -> str:
             chunks = _outside(formula, " = ")
             sides = [c + " =" for c in chunks[:-1]] + [chunks[-1]]
             pieces = [sub for side in sides for sub in _at_operators(side)]
-            if len(sides) > 1 and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS \
-                    and _visible_length(pieces[0] + pieces[1]) <= _LONG_FORMULA_CHARS:
+            if (
+                len(sides) > 1
+                and _visible_length(sides[0]) <= _SHORT_SIDE_CHARS
+                and _visible_length(pieces[0] + pieces[1]) <= _LONG_FORMULA_CHARS
+            ):
                 pieces[:2] = [pieces[0] + " " + pieces[1]]
             if len(pieces) > 2 and _printed_length(pieces[-1]) <= _SHORT_SIDE_CHARS:
                 pieces[-2:] = [pieces[-2] + " " + pieces[-1]]  # nor a short result ("14,24 м/с")
@@ -50,8 +53,9 @@ def _joined(pieces: list[str]) -> str:
     (the value stays with its quantity unless :func:`_broken_lines` carries it over)."""
     out = ""
     for k, piece in enumerate(pieces):
-        out += ("" if k == 0 else "\u00a0" if pieces[k - 1].endswith(" =") else " ") \
-            + f'<span class="eq-part">{piece}</span>'
+        out += (
+            "" if k == 0 else "\u00a0" if pieces[k - 1].endswith(" =") else " "
+        ) + f'<span class="eq-part">{piece}</span>'
     return out
 
 
@@ -103,7 +107,7 @@ def _depths(text: str):
             continue
         if char == "<":
             in_tag = True
-            tag = text[i:text.find(">", i) + 1]
+            tag = text[i : text.find(">", i) + 1]
             if tag.startswith("</"):
                 open_elements -= 1
             elif not tag.endswith("/>") and not re.match(r"<(br|wbr|img)\b", tag):
@@ -117,8 +121,11 @@ def _depths(text: str):
 def _outside(text: str, separator: str) -> list[str]:
     """``text`` split at each ``separator`` that stands outside brackets and elements (a worked
     line's "(x = 1)" in a group span stays whole)."""
-    cuts = [i for i, char, round_depth, square_depth, open_elements in _depths(text)
-            if not (round_depth or square_depth or open_elements) and text.startswith(separator, i)]
+    cuts = [
+        i
+        for i, char, round_depth, square_depth, open_elements in _depths(text)
+        if not (round_depth or square_depth or open_elements) and text.startswith(separator, i)
+    ]
     chunks, start = [], 0
     for cut in cuts:
         if cut >= start:
@@ -133,9 +140,16 @@ def _at_operators(side: str) -> list[str]:
     "n − 1" stays in its <sup>); a short side is returned whole."""
     if _visible_length(side) <= _LONG_FORMULA_CHARS:
         return [side]
-    cuts = [i for i, char, round_depth, square_depth, open_elements in _depths(side)
-            if char == " " and side[i + 1:i + 3] in ("+ ", "− ") and round_depth == 0 and square_depth <= 1
-            and not open_elements and i]  # not inside <sub>, <sup>, <i> ...
+    cuts = [
+        i
+        for i, char, round_depth, square_depth, open_elements in _depths(side)
+        if char == " "
+        and side[i + 1 : i + 3] in ("+ ", "− ")
+        and round_depth == 0
+        and square_depth <= 1
+        and not open_elements
+        and i
+    ]  # not inside <sub>, <sup>, <i> ...
     pieces, start = [], 0
     for cut in cuts:
         pieces.append(side[start:cut])

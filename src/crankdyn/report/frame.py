@@ -50,8 +50,15 @@ def text_width_em(text: str) -> float:
     cell's size by, a few per cent on the generous side."""
     width = 0.0
     for c in text:
-        width += (0.25 if c.isspace() or c in ".,:;" else 0.69 if c.isupper()
-                  else 0.51 if c.isalpha() or c.isdigit() else 0.41)
+        width += (
+            0.25
+            if c.isspace() or c in ".,:;"
+            else 0.69
+            if c.isupper()
+            else 0.51
+            if c.isalpha() or c.isdigit()
+            else 0.41
+        )
     return width
 
 
@@ -70,7 +77,9 @@ def _lines_needed(text: str, width_em: float) -> int:
     return lines
 
 
-def fitting_size(text: str, width_mm: float, height_mm: float, largest: float = 14.0, lines: int = 0) -> float:
+def fitting_size(
+    text: str, width_mm: float, height_mm: float, largest: float = 14.0, lines: int = 0
+) -> float:
     """The largest font size (pt, at most ``largest``) at which ``text`` fits a cell of
     ``width_mm`` × ``height_mm`` (each ``\\n`` starts a line; with ``lines`` = 1 it must stay on
     one line, a word wider than the cell never does)."""
@@ -78,7 +87,11 @@ def fitting_size(text: str, width_mm: float, height_mm: float, largest: float = 
         em = size * _PT
         needed = _lines_needed(text, width_mm / em)
         widest = max((text_width_em(word) for word in text.split()), default=0.0)
-        if widest * em > width_mm or (lines and needed > lines) or needed * em * _LEADING > height_mm:
+        if (
+            widest * em > width_mm
+            or (lines and needed > lines)
+            or needed * em * _LEADING > height_mm
+        ):
             continue
         return size
     return _SIZES[-1]
@@ -111,11 +124,20 @@ def title_block(t, meta, title: str) -> dict:
     standards controller and the approver, the letter (Літ., a character a cell), the document's
     name (the report's title and "Пояснювальна записка") and the organisation (university,
     department, group), each in the largest size that fits its cell."""
-    organisation = "\n".join(part for part in (meta.university, meta.department,
-                                              t("frame.group", group=meta.group) if meta.group else "") if part)
+    organisation = "\n".join(
+        part
+        for part in (
+            meta.university,
+            meta.department,
+            t("frame.group", group=meta.group) if meta.group else "",
+        )
+        if part
+    )
     name = f"{title}\n{t('doc.explanatory_note')}"
-    people = {role: person_in_block(getattr(meta, role))
-              for role in ("student", "supervisor", "standards_controller", "approver")}
+    people = {
+        role: person_in_block(getattr(meta, role))
+        for role in ("student", "supervisor", "standards_controller", "approver")
+    }
     # the column's names in one size (a longer name set smaller than the one above it looked odd)
     names = min(fitting_size(person, 21, 4.5, 8.0, lines=1) for person in people.values())
     return {
@@ -133,4 +155,6 @@ def frame_html(env, t, meta, title: str) -> Markup:
     the body: form 2 for the first sheet, form 2а for the others, form 2а turned for landscape pages."""
     if meta.frame != "eskd":
         return Markup("")
-    return Markup(env.get_template("frame-eskd.html.j2").render(_=t, block=title_block(t, meta, title)))
+    return Markup(
+        env.get_template("frame-eskd.html.j2").render(_=t, block=title_block(t, meta, title))
+    )

@@ -204,7 +204,9 @@ def _format_fixed(rounded: float, decimals: int, locale) -> str:
         get_group_symbol,
     )
 
-    pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + ("." + "0" * decimals if decimals > 0 else "")
+    pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + (
+        "." + "0" * decimals if decimals > 0 else ""
+    )
     text = format_decimal(rounded, format=pattern, locale=locale)
     return text.replace(get_group_symbol(locale), NARROW_NBSP).replace("-", MINUS)
 
@@ -236,7 +238,9 @@ def translator(language: str, plugin_catalogs: Iterable[Catalog] = ()) -> Transl
         texts = per_language.setdefault(lang, {})
         for key, text in load_catalog_file(path).items():
             if key in texts and not key.startswith("_meta."):
-                raise PluginError(f"translation key {key!r} ({lang}) defined twice: in {origin[(lang, key)]} and {path}")
+                raise PluginError(
+                    f"translation key {key!r} ({lang}) defined twice: in {origin[(lang, key)]} and {path}"
+                )
             texts[key] = text
             origin[(lang, key)] = str(path)
     return Translator(language, per_language.get(language, {}), per_language.get(FALLBACK, {}))

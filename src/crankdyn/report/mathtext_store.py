@@ -53,8 +53,10 @@ class MathtextStore:
 
     # -------------------------------------------------------------- lookup
     def key(self, s: str, dpi: float, prop, load_glyph_flags) -> str:
-        return json.dumps([self._context_digest(), s, float(dpi), _font_key(prop), str(load_glyph_flags)],
-                          ensure_ascii=False)
+        return json.dumps(
+            [self._context_digest(), s, float(dpi), _font_key(prop), str(load_glyph_flags)],
+            ensure_ascii=False,
+        )
 
     def get(self, key: str):
         """The stored ``VectorParse`` for ``key``, or None."""
@@ -107,7 +109,9 @@ class MathtextStore:
         temporary = None
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            handle, temporary = tempfile.mkstemp(dir=self.path.parent, prefix=self.path.name, suffix=".tmp")
+            handle, temporary = tempfile.mkstemp(
+                dir=self.path.parent, prefix=self.path.name, suffix=".tmp"
+            )
             with os.fdopen(handle, "w", encoding="utf-8") as out:
                 json.dump({"format": _FORMAT, "records": kept}, out, ensure_ascii=False)
             os.replace(temporary, self.path)
@@ -121,10 +125,15 @@ class MathtextStore:
 
         rc = matplotlib.rcParams
         if self._rc_keys is None:
-            self._rc_keys = tuple(k for k in rc if k.startswith(("mathtext.", "font.", "text.kerning_factor")))
+            self._rc_keys = tuple(
+                k for k in rc if k.startswith(("mathtext.", "font.", "text.kerning_factor"))
+            )
         # read as stored: RcParams.items() checks every one of its ~320 keys for deprecation, 1.7 ms
         # a label
-        state = (matplotlib.__version__, tuple((k, repr(dict.__getitem__(rc, k))) for k in self._rc_keys))
+        state = (
+            matplotlib.__version__,
+            tuple((k, repr(dict.__getitem__(rc, k))) for k in self._rc_keys),
+        )
         if self._context is None or self._context[0] != state:
             fonts = sorted(self._fonts())
             digest = hashlib.sha256(repr((state, fonts)).encode("utf-8")).hexdigest()[:16]
@@ -141,9 +150,16 @@ class MathtextStore:
 
 
 def _font_key(prop) -> list:
-    return [list(prop.get_family()), prop.get_style(), prop.get_variant(), str(prop.get_weight()),
-            str(prop.get_stretch()), float(prop.get_size_in_points()), str(prop.get_file()),
-            prop.get_math_fontfamily()]
+    return [
+        list(prop.get_family()),
+        prop.get_style(),
+        prop.get_variant(),
+        str(prop.get_weight()),
+        str(prop.get_stretch()),
+        float(prop.get_size_in_points()),
+        str(prop.get_file()),
+        prop.get_math_fontfamily(),
+    ]
 
 
 def _record_of(parse) -> list | None:
@@ -163,8 +179,14 @@ def _record_of(parse) -> list | None:
             if stamps[path] is None:
                 return None
         glyphs.append([path, float(size), int(code), int(index), float(x), float(y)])
-    return [float(parse.width), float(parse.height), float(parse.depth), glyphs,
-            [[float(v) for v in rect] for rect in parse.rects], stamps]
+    return [
+        float(parse.width),
+        float(parse.height),
+        float(parse.depth),
+        glyphs,
+        [[float(v) for v in rect] for rect in parse.rects],
+        stamps,
+    ]
 
 
 @functools.cache
@@ -179,7 +201,9 @@ def _stamp(path: str) -> list | None:
 
 
 def _finite(*values) -> bool:
-    return all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values)
+    return all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values
+    )
 
 
 def _valid(record) -> bool:
@@ -191,12 +215,22 @@ def _valid(record) -> bool:
     if not (isinstance(glyphs, list) and isinstance(rects, list) and isinstance(stamps, dict)):
         return False
     for glyph in glyphs:
-        if not (isinstance(glyph, list) and len(glyph) == 6 and isinstance(glyph[0], str) and glyph[0] in stamps
-                and _finite(*glyph[1:]) and isinstance(glyph[2], int) and isinstance(glyph[3], int)
-                and 0 <= glyph[2] <= 0x10FFFF and 0 <= glyph[3] < 1 << 32):
+        if not (
+            isinstance(glyph, list)
+            and len(glyph) == 6
+            and isinstance(glyph[0], str)
+            and glyph[0] in stamps
+            and _finite(*glyph[1:])
+            and isinstance(glyph[2], int)
+            and isinstance(glyph[3], int)
+            and 0 <= glyph[2] <= 0x10FFFF
+            and 0 <= glyph[3] < 1 << 32
+        ):
             return False
-    return all(isinstance(r, list) and len(r) == 4 and _finite(*r) for r in rects) and \
-        all(isinstance(v, list) and len(v) == 2 and all(isinstance(n, int) for n in v) for v in stamps.values())
+    return all(isinstance(r, list) and len(r) == 4 and _finite(*r) for r in rects) and all(
+        isinstance(v, list) and len(v) == 2 and all(isinstance(n, int) for n in v)
+        for v in stamps.values()
+    )
 
 
 def _parse_from_record(record: list, known_fonts: frozenset[str]):
@@ -210,10 +244,16 @@ def _parse_from_record(record: list, known_fonts: frozenset[str]):
         if path not in known_fonts or _stamp(path) != stamp:
             raise ValueError("a font matplotlib does not know, or one changed since")
     # matplotlib gives the box and each glyph's height as numpy floats: the same values back
-    return VectorParse(np.float64(width), np.float64(height), np.float64(depth),
-                       [(get_font(path), float(size), int(code), int(index), float(x), np.float64(y))
-                        for path, size, code, index, x, y in glyphs],
-                       [tuple(float(v) for v in rect) for rect in rects])
+    return VectorParse(
+        np.float64(width),
+        np.float64(height),
+        np.float64(depth),
+        [
+            (get_font(path), float(size), int(code), int(index), float(x), np.float64(y))
+            for path, size, code, index, x, y in glyphs
+        ],
+        [tuple(float(v) for v in rect) for rect in rects],
+    )
 
 
 def _load(path: Path | None) -> dict:
@@ -224,7 +264,11 @@ def _load(path: Path | None) -> dict:
             data = json.load(handle)
     except (OSError, ValueError):
         return {}
-    if not isinstance(data, dict) or data.get("format") != _FORMAT or not isinstance(data.get("records"), dict):
+    if (
+        not isinstance(data, dict)
+        or data.get("format") != _FORMAT
+        or not isinstance(data.get("records"), dict)
+    ):
         return {}
     # each record is checked when it is read back (get): most of a large store is never asked for
     return {k: v for k, v in data["records"].items() if isinstance(k, str) and isinstance(v, str)}

@@ -24,13 +24,19 @@ JOINT_R = 0.012  # joint circle radius, fraction of the drawing's extent
 INK = "0.1"
 LABEL_GAP = 0.2  # room for the cylinder label beyond the liner, fraction of the extent
 LABEL_OFFSET = 0.05  # where the cylinder label starts beyond the liner, fraction of the extent
-LABEL_BOX = {"facecolor": "white", "edgecolor": "none", "pad": 0.5}  # a dimension's text over the lines it crosses
+LABEL_BOX = {
+    "facecolor": "white",
+    "edgecolor": "none",
+    "pad": 0.5,
+}  # a dimension's text over the lines it crosses
 
 
 def view_rotation_rad(geometry) -> float:
     """Clockwise turn of the view that sets a V (W, X ...) symmetric about the vertical: minus the
     mean of the cylinder axes' angles, when they lie within a half turn (never for a radial)."""
-    axes = sorted({round(float(np.arctan2(*g.direction)), 9) for g in geometry.guides if g.moving is None})
+    axes = sorted(
+        {round(float(np.arctan2(*g.direction)), 9) for g in geometry.guides if g.moving is None}
+    )
     if len(axes) < 2 or axes[-1] - axes[0] >= np.pi - 1e-9:
         return 0.0
     return -0.5 * (axes[0] + axes[-1])
@@ -48,15 +54,27 @@ def upright(geometry):
     def r(points):
         return np.asarray(points, dtype=float) @ rot.T
 
-    guides = [replace(g, origin_m=tuple(r(g.origin_m)), direction=tuple(r(g.direction))) for g in geometry.guides]
-    return replace(geometry, joints={k: r(v) for k, v in geometry.joints.items()},
-                   traces={k: r(v) for k, v in geometry.traces.items()}, guides=guides,
-                   cranks=[(label, lag - np.degrees(turn), cyl) for label, lag, cyl in geometry.cranks])
+    guides = [
+        replace(g, origin_m=tuple(r(g.origin_m)), direction=tuple(r(g.direction)))
+        for g in geometry.guides
+    ]
+    return replace(
+        geometry,
+        joints={k: r(v) for k, v in geometry.joints.items()},
+        traces={k: r(v) for k, v in geometry.traces.items()},
+        guides=guides,
+        cranks=[(label, lag - np.degrees(turn), cyl) for label, lag, cyl in geometry.cranks],
+    )
 
 
 def _axis_key(g):
-    return (round(g.origin_m[0], 9), round(g.origin_m[1], 9), round(g.direction[0], 6), round(g.direction[1], 6),
-            g.moving)
+    return (
+        round(g.origin_m[0], 9),
+        round(g.origin_m[1], 9),
+        round(g.direction[0], 6),
+        round(g.direction[1], 6),
+        g.moving,
+    )
 
 
 def front_view(geometry):
@@ -75,13 +93,22 @@ def front_view(geometry):
     wrists = {g.joint for g in kept}
     labels = {g.label for g in kept}
     # a cylinder's own links: its rod (the slave's master link and web too), then its crank
-    own = [l for l in geometry.links if l[0].startswith(("rod_", "master_", "master_web_"))
-           and (l[2] in wrists or l[0].split("_")[-1] in labels)]
+    own = [
+        l
+        for l in geometry.links
+        if l[0].startswith(("rod_", "master_", "master_web_"))
+        and (l[2] in wrists or l[0].split("_")[-1] in labels)
+    ]
     pins = {l[1] for l in own}
     cranks = [l for l in geometry.links if l[0].startswith("crank") and l[2] in pins]
     links = cranks + own
     used = {j for _, a, b in links for j in (a, b)} | set(geometry.fixed)
-    return replace(geometry, links=links, guides=kept, joints={k: v for k, v in geometry.joints.items() if k in used})
+    return replace(
+        geometry,
+        links=links,
+        guides=kept,
+        joints={k: v for k, v in geometry.joints.items() if k in used},
+    )
 
 
 def _extent_mm(geometry) -> float:
@@ -127,7 +154,11 @@ def liner_floor_mm(geometry, guide) -> float:
     gap = _extent_mm(geometry) * 0.02 * 0.4  # part of the hatching's depth between the liners
     floor = -np.inf
     for other in geometry.guides:
-        if other.moving is not None or other.bore_m <= 0 or not np.allclose(other.origin_m, guide.origin_m):
+        if (
+            other.moving is not None
+            or other.bore_m <= 0
+            or not np.allclose(other.origin_m, guide.origin_m)
+        ):
             continue
         cos_theta = float(np.clip(np.dot(d, np.asarray(other.direction, dtype=float)), -1.0, 1.0))
         theta = float(np.arccos(cos_theta))
@@ -163,7 +194,9 @@ def _hatch(ax, start, end, normal, size, color, alpha):
     count = max(int(length / size), 2)
     p = start + np.outer(np.linspace(0.0, length, count + 1), d)
     q = p + (normal - d) * size * 0.7
-    ax.add_collection(LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha))
+    ax.add_collection(
+        LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha)
+    )
 
 
 def draw_ground(ax, centre, size, color=INK, alpha=1.0):
@@ -171,8 +204,15 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
     c = np.asarray(centre)
     tri = np.array([c, c + [-size, -1.6 * size], c + [size, -1.6 * size], c])
     ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha)
-    _hatch(ax, c + [-1.6 * size, -1.6 * size], c + [1.6 * size, -1.6 * size], np.array([0.0, -1.0]),
-           size * 0.8, color, alpha)
+    _hatch(
+        ax,
+        c + [-1.6 * size, -1.6 * size],
+        c + [1.6 * size, -1.6 * size],
+        np.array([0.0, -1.0]),
+        size * 0.8,
+        color,
+        alpha,
+    )
 
 
 def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
@@ -192,19 +232,52 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
         ax.plot(axis[:, 0], axis[:, 1], color="0.45", lw=0.5, ls="-.", alpha=alpha, zorder=1)
         pos = float(np.dot(pin - o, d))
         corners = [pos - skirt, pos + crown]
-        rect = np.array([o + d * corners[0] - n * half * 0.97, o + d * corners[1] - n * half * 0.97,
-                         o + d * corners[1] + n * half * 0.97, o + d * corners[0] + n * half * 0.97])
-        ax.fill(rect[:, 0], rect[:, 1], facecolor="white", edgecolor=color, lw=1.2, ls="-", alpha=alpha, zorder=3)
+        rect = np.array(
+            [
+                o + d * corners[0] - n * half * 0.97,
+                o + d * corners[1] - n * half * 0.97,
+                o + d * corners[1] + n * half * 0.97,
+                o + d * corners[0] + n * half * 0.97,
+            ]
+        )
+        ax.fill(
+            rect[:, 0],
+            rect[:, 1],
+            facecolor="white",
+            edgecolor=color,
+            lw=1.2,
+            ls="-",
+            alpha=alpha,
+            zorder=3,
+        )
         if guide.label:
             _guide_label(ax, o, d, n, top, half, guide.label, extent, color=color, alpha=alpha)
     else:
         width = extent * 0.035
         for side in (-1, 1):
-            a, b = o + d * (low - width) + n * side * width, o + d * (high + width) + n * side * width
+            a, b = (
+                o + d * (low - width) + n * side * width,
+                o + d * (high + width) + n * side * width,
+            )
             ax.plot(*np.c_[a, b], color=color, lw=1.0, ls="-", alpha=alpha)
-        block = np.array([pin - d * width * 1.2 - n * width, pin + d * width * 1.2 - n * width,
-                          pin + d * width * 1.2 + n * width, pin - d * width * 1.2 + n * width])
-        ax.fill(block[:, 0], block[:, 1], facecolor="white", edgecolor=color, lw=1.2, ls="-", alpha=alpha, zorder=3)
+        block = np.array(
+            [
+                pin - d * width * 1.2 - n * width,
+                pin + d * width * 1.2 - n * width,
+                pin + d * width * 1.2 + n * width,
+                pin - d * width * 1.2 + n * width,
+            ]
+        )
+        ax.fill(
+            block[:, 0],
+            block[:, 1],
+            facecolor="white",
+            edgecolor=color,
+            lw=1.2,
+            ls="-",
+            alpha=alpha,
+            zorder=3,
+        )
 
 
 def _guide_label(ax, o, d, n, top, half, label: str, extent: float, **style) -> None:
@@ -216,7 +289,13 @@ def _guide_label(ax, o, d, n, top, half, label: str, extent: float, **style) -> 
         at = o + d * top + outer * (half + LABEL_OFFSET * extent)
         ax.text(*at, label, fontsize=8, **style, **outward_alignment(outer))
     else:
-        ax.text(*(o + d * (top + LABEL_OFFSET * extent)), label, fontsize=8, **style, **outward_alignment(d))
+        ax.text(
+            *(o + d * (top + LABEL_OFFSET * extent)),
+            label,
+            fontsize=8,
+            **style,
+            **outward_alignment(d),
+        )
 
 
 def outward_alignment(direction) -> dict[str, str]:
@@ -224,11 +303,15 @@ def outward_alignment(direction) -> dict[str, str]:
     tilted cylinder (a V or radial bank) then starts beyond the liner's end instead of being
     centred on it, where a long label ("1L, 2L, 3L, 4L") would cross the liner."""
     dx, dy = float(direction[0]), float(direction[1])
-    return {"ha": "left" if dx > 0.3 else "right" if dx < -0.3 else "center",
-            "va": "bottom" if dy > 0.3 else "top" if dy < -0.3 else "center"}
+    return {
+        "ha": "left" if dx > 0.3 else "right" if dx < -0.3 else "center",
+        "va": "bottom" if dy > 0.3 else "top" if dy < -0.3 else "center",
+    }
 
 
-def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: bool = True) -> None:
+def draw_mechanism(
+    ax, geometry, i: int, color=INK, alpha: float = 1.0, static: bool = True
+) -> None:
     """The mechanism at frame ``i``; ``static=False`` leaves out ground, guides and traces."""
     extent = _extent_mm(geometry)
     r_joint = extent * JOINT_R
@@ -241,7 +324,9 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
                 ax.add_patch(_circle(c, radius * MM, color, alpha, ls="-."))
     for centre, radius, kind in geometry.circles:
         if kind != "fixed":
-            ax.add_patch(_circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-."))
+            ax.add_patch(
+                _circle(geometry.joints[centre][i] * MM, radius * MM, color, alpha, ls="-.")
+            )
     for guide in _one_per_axis(geometry.guides):
         draw_guide(ax, geometry, guide, i, extent, color, alpha)
     from matplotlib.collections import (  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
@@ -254,19 +339,48 @@ def draw_mechanism(ax, geometry, i: int, color=INK, alpha: float = 1.0, static: 
 
     bodies = master_rod_bodies(geometry, i)
     for outline in bodies:
-        ax.fill(outline[:, 0], outline[:, 1], facecolor="0.86", edgecolor=color, lw=1.6, ls="-", alpha=alpha,
-                zorder=3.5, joinstyle="round")
+        ax.fill(
+            outline[:, 0],
+            outline[:, 1],
+            facecolor="0.86",
+            edgecolor=color,
+            lw=1.6,
+            ls="-",
+            alpha=alpha,
+            zorder=3.5,
+            joinstyle="round",
+        )
     for outline in counterweights(geometry, i):
-        ax.fill(outline[:, 0], outline[:, 1], facecolor="0.93", edgecolor=color, lw=1.0, ls="-", alpha=alpha,
-                zorder=1.5)
-    bars = [[geometry.joints[a][i] * MM, geometry.joints[b][i] * MM] for _, a, b in drawn_links(geometry)]
-    ax.add_collection(LineCollection(bars, colors=[color], linewidths=2.0, alpha=alpha, capstyle="round", zorder=4))
+        ax.fill(
+            outline[:, 0],
+            outline[:, 1],
+            facecolor="0.93",
+            edgecolor=color,
+            lw=1.0,
+            ls="-",
+            alpha=alpha,
+            zorder=1.5,
+        )
+    bars = [
+        [geometry.joints[a][i] * MM, geometry.joints[b][i] * MM]
+        for _, a, b in drawn_links(geometry)
+    ]
+    ax.add_collection(
+        LineCollection(
+            bars, colors=[color], linewidths=2.0, alpha=alpha, capstyle="round", zorder=4
+        )
+    )
     if static:
         for name in geometry.fixed:
             draw_ground(ax, geometry.joints[name][i] * MM, r_joint * 1.6, color, alpha)
-    circles = [Circle(p[i] * MM, r_joint) for name, p in geometry.joints.items() if name != "vane_tip"]
-    ax.add_collection(PatchCollection(circles, facecolor="white", edgecolor=color, linewidths=1.1, alpha=alpha,
-                                      zorder=5))
+    circles = [
+        Circle(p[i] * MM, r_joint) for name, p in geometry.joints.items() if name != "vane_tip"
+    ]
+    ax.add_collection(
+        PatchCollection(
+            circles, facecolor="white", edgecolor=color, linewidths=1.1, alpha=alpha, zorder=5
+        )
+    )
     ax.autoscale_view()
     ax.set_aspect("equal")
     hide_axes(ax)
@@ -298,7 +412,10 @@ def master_rod_bodies(geometry, i: int) -> list:
     """The big end of each master rod at frame ``i`` (mm): the polygon through its knuckle pins
     (:func:`master_rod_joints`), drawn filled as one rigid member (ГОСТ 2.770: a link with more
     than two joints), the master's shank leaving it as a bar."""
-    return [np.array([geometry.joints[k][i] * MM for k in names]) for names in master_rod_joints(geometry)]
+    return [
+        np.array([geometry.joints[k][i] * MM for k in names])
+        for names in master_rod_joints(geometry)
+    ]
 
 
 #: A crank's counterweight as drawn: a segment of a disc opposite the crank pin (radius and
@@ -336,7 +453,9 @@ def _one_per_axis(guides):
         key = _axis_key(g)
         if key in merged:
             first = merged[key]
-            merged[key] = replace(first, label=f"{first.label}, {g.label}" if g.label else first.label)
+            merged[key] = replace(
+                first, label=f"{first.label}, {g.label}" if g.label else first.label
+            )
         else:
             merged[key] = g
     return list(merged.values())
@@ -347,14 +466,33 @@ def _circle(centre, radius, color, alpha, ls="-", fill=False):
         Circle,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
-    return Circle(centre, radius, facecolor="white" if fill else "none", edgecolor=color, lw=1.0 if not fill else 1.1,
-                  ls=ls, alpha=alpha, zorder=5 if fill else 2)
+    return Circle(
+        centre,
+        radius,
+        facecolor="white" if fill else "none",
+        edgecolor=color,
+        lw=1.0 if not fill else 1.1,
+        ls=ls,
+        alpha=alpha,
+        zorder=5 if fill else 2,
+    )
 
 
 def _dimension_arrow(ax, a, b) -> None:
     """A dimension line's arrow from ``a`` to ``b`` (mm), heads at both ends."""
-    ax.annotate("", xy=b, xytext=a, arrowprops={"arrowstyle": "<|-|>", "color": "0.35", "lw": 0.6,
-                                               "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+    ax.annotate(
+        "",
+        xy=b,
+        xytext=a,
+        arrowprops={
+            "arrowstyle": "<|-|>",
+            "color": "0.35",
+            "lw": 0.6,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "mutation_scale": 7,
+        },
+    )
 
 
 def _dimension(ax, p, q, text, offset, extent):
@@ -364,8 +502,15 @@ def _dimension(ax, p, q, text, offset, extent):
     n = np.array([-d[1], d[0]])
     a, b = p + n * offset, q + n * offset
     for end, base in ((a, p), (b, q)):
-        ax.plot(*np.c_[base + n * np.sign(offset) * extent * 0.01, end + n * np.sign(offset) * extent * 0.02],
-                color="0.35", lw=0.5, ls="-")
+        ax.plot(
+            *np.c_[
+                base + n * np.sign(offset) * extent * 0.01,
+                end + n * np.sign(offset) * extent * 0.02,
+            ],
+            color="0.35",
+            lw=0.5,
+            ls="-",
+        )
     _dimension_arrow(ax, a, b)
     # The text starts just outside the dimension line and grows away from the drawing, so that it
     # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
@@ -373,8 +518,7 @@ def _dimension(ax, p, q, text, offset, extent):
     ha = "left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center"
     va = "bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center"
     mid = (a + b) / 2 + side * extent * 0.015
-    ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15",
-            bbox=LABEL_BOX)
+    ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15", bbox=LABEL_BOX)
 
 
 def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
@@ -383,19 +527,29 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     labels = {k: v for k, v in labels.items() if k in geometry.dimensions}
     j = geometry.joints
     crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1", "carrier")), None)
-    rod = next((l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None)
+    rod = next(
+        (l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None
+    )
     if crank and "R" in labels and len(_one_per_axis(geometry.guides)) > 1:
         _crank_radius_below(ax, geometry, i, crank, labels["R"], extent)
-    elif crank and "R" in labels and len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2:
+    elif (
+        crank
+        and "R" in labels
+        and len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2
+    ):
         _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
     elif crank and "R" in labels:
-        _dimension(ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent)
+        _dimension(
+            ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent
+        )
     if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 2:
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
     elif rod and "L" in labels:
         # Outside the liner, so the text stays clear of the hatching.
         clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
-        _dimension(ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent)
+        _dimension(
+            ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent
+        )
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         # Between the vertical through the crank axis and the cylinder axis, below the liner.
@@ -406,8 +560,16 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         ends = sorted([0.0, guide.origin_m[0] * MM])
         rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
         left = rod_x is not None and rod_x > ends[1]
-        ax.text(ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03, y, labels["e"],
-                ha="right" if left else "left", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX)
+        ax.text(
+            ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
+            y,
+            labels["e"],
+            ha="right" if left else "left",
+            va="center",
+            fontsize=8,
+            color="0.15",
+            bbox=LABEL_BOX,
+        )
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
@@ -437,10 +599,17 @@ def member_segments_mm(geometry, i: int) -> np.ndarray:
         o, d, n = _guide_frame(geometry, guide, i)
         half = guide.bore_m * MM / 2
         bottom, top = liner_ends_mm(guide, geometry)
-        segments += [(o + d * bottom + n * side * half, o + d * top + n * side * half) for side in (-1, 1)]
+        segments += [
+            (o + d * bottom + n * side * half, o + d * top + n * side * half) for side in (-1, 1)
+        ]
         pos = float(np.dot(j[guide.joint][i] * MM - o, d))
         low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
-        corners = [o + d * low - n * half, o + d * high - n * half, o + d * high + n * half, o + d * low + n * half]
+        corners = [
+            o + d * low - n * half,
+            o + d * high - n * half,
+            o + d * high + n * half,
+            o + d * low + n * half,
+        ]
         segments += list(zip(corners, corners[1:] + corners[:1], strict=False))
     return np.array(segments, dtype=float).reshape(-1, 2, 2)
 
@@ -450,9 +619,15 @@ def text_crosses(box, segments_display) -> bool:
     if len(segments_display) == 0:
         return False
     t = np.linspace(0.0, 1.0, 60)[None, :, None]
-    points = segments_display[:, :1, :] + (segments_display[:, 1:, :] - segments_display[:, :1, :]) * t
-    inside = ((points[..., 0] > box.x0) & (points[..., 0] < box.x1) & (points[..., 1] > box.y0)
-              & (points[..., 1] < box.y1))
+    points = (
+        segments_display[:, :1, :] + (segments_display[:, 1:, :] - segments_display[:, :1, :]) * t
+    )
+    inside = (
+        (points[..., 0] > box.x0)
+        & (points[..., 0] < box.x1)
+        & (points[..., 1] > box.y0)
+        & (points[..., 1] < box.y1)
+    )
     return bool(inside.any())
 
 
@@ -465,15 +640,33 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     n = np.array([-d[1], d[0]])
     rotation = float(np.degrees(np.arctan2(d[1], d[0])))
-    rotation = rotation - 180.0 if rotation > 90.0 else rotation + 180.0 if rotation <= -90.0 else rotation
+    rotation = (
+        rotation - 180.0 if rotation > 90.0 else rotation + 180.0 if rotation <= -90.0 else rotation
+    )
     up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
-    segments = ax.transData.transform(member_segments_mm(geometry, i).reshape(-1, 2)).reshape(-1, 2, 2)
+    segments = ax.transData.transform(member_segments_mm(geometry, i).reshape(-1, 2)).reshape(
+        -1, 2, 2
+    )
     renderer = ax.figure.canvas.get_renderer()
-    label = ax.text(0.0, 0.0, text, fontsize=8, color="0.15", rotation=rotation, rotation_mode="anchor",
-                    ha="center", bbox=LABEL_BOX, zorder=7)
+    label = ax.text(
+        0.0,
+        0.0,
+        text,
+        fontsize=8,
+        color="0.15",
+        rotation=rotation,
+        rotation_mode="anchor",
+        ha="center",
+        bbox=LABEL_BOX,
+        zorder=7,
+    )
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
-    candidates = [(sign * (clear + k * extent * 0.04), share) for k in range(4) for sign in (-1.0, 1.0)
-                  for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)]
+    candidates = [
+        (sign * (clear + k * extent * 0.04), share)
+        for k in range(4)
+        for sign in (-1.0, 1.0)
+        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)
+    ]
     for offset, share in candidates + [candidates[0]]:
         side = n * np.sign(offset)
         label.set_position(p + (q - p) * share + n * offset + side * extent * 0.008)
@@ -498,11 +691,23 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
     a, b = _direction_deg(start), _direction_deg(end)
     if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
         a, b = b, a
-    ax.add_patch(Arc(centre, 2 * radius, 2 * radius, theta1=a, theta2=b if b > a else b + 360.0,
-                     color="0.2", lw=0.6, zorder=6))
+    ax.add_patch(
+        Arc(
+            centre,
+            2 * radius,
+            2 * radius,
+            theta1=a,
+            theta2=b if b > a else b + 360.0,
+            color="0.2",
+            lw=0.6,
+            zorder=6,
+        )
+    )
     middle = np.radians(a + ((b - a) % 360.0) / 2)
     at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
-    ax.text(*at, text, ha="center", va="center", fontsize=9, fontstyle="italic", color="0.1", zorder=7)
+    ax.text(
+        *at, text, ha="center", va="center", fontsize=9, fontstyle="italic", color="0.1", zorder=7
+    )
 
 
 def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
@@ -513,12 +718,33 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
     )
 
     c = np.asarray(centre, dtype=float)
-    start, end = (c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))]) for t in (165.0, 105.0))
-    ax.add_patch(FancyArrowPatch(start, end, connectionstyle="arc3,rad=-0.35", arrowstyle="-|>",
-                                 mutation_scale=7, color="0.2", lw=0.6, zorder=6))
+    start, end = (
+        c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))])
+        for t in (165.0, 105.0)
+    )
+    ax.add_patch(
+        FancyArrowPatch(
+            start,
+            end,
+            connectionstyle="arc3,rad=-0.35",
+            arrowstyle="-|>",
+            mutation_scale=7,
+            color="0.2",
+            lw=0.6,
+            zorder=6,
+        )
+    )
     middle = np.array([np.cos(np.radians(140.0)), np.sin(np.radians(140.0))])
-    ax.text(*(c + (radius + extent * 0.03) * middle), text, ha="right", va="bottom", fontsize=9,
-            fontstyle="italic", color="0.1", zorder=7)
+    ax.text(
+        *(c + (radius + extent * 0.03) * middle),
+        text,
+        ha="right",
+        va="bottom",
+        fontsize=9,
+        fontstyle="italic",
+        color="0.1",
+        zorder=7,
+    )
 
 
 def angle_mark_parts(geometry):
@@ -528,18 +754,33 @@ def angle_mark_parts(geometry):
     guide is no cylinder liner, or when the
     drawing shows more than one cylinder axis (a V's or a radial's marks would cross the other
     banks' liners and rods)."""
-    if len(geometry.guides) != 1 or geometry.guides[0].moving is not None or geometry.guides[0].bore_m <= 0:
+    if (
+        len(geometry.guides) != 1
+        or geometry.guides[0].moving is not None
+        or geometry.guides[0].bore_m <= 0
+    ):
         return None
     guide = geometry.guides[0]
-    crank = next((l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None)
-    rod = None if crank is None else next((l for l in geometry.links if l[1] == crank[2] and l[2] == guide.joint),
-                                          None)
+    crank = next(
+        (l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None
+    )
+    rod = (
+        None
+        if crank is None
+        else next((l for l in geometry.links if l[1] == crank[2] and l[2] == guide.joint), None)
+    )
     # all or nothing: the section's text names every mark (a planetary gear's carrier is no crank)
     return None if crank is None or rod is None else (guide, crank, rod)
 
 
-def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[str, str] | None = None,
-                     tdc_frame: int = 0) -> None:
+def draw_angle_marks(
+    ax,
+    geometry,
+    i: int,
+    marks: dict[str, str],
+    labels: dict[str, str] | None = None,
+    tdc_frame: int = 0,
+) -> None:
     """What a textbook's kinematic scheme marks, at frame ``i``, where the geometry has what it
     names (:func:`angle_mark_parts`): the joints O (shaft axis), B (crank pin), A (piston pin); the
     crank angle α from the crank's direction at TDC (frame ``tdc_frame``: the cylinder's axis, or
@@ -565,13 +806,25 @@ def draw_angle_marks(ax, geometry, i: int, marks: dict[str, str], labels: dict[s
     # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
     # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
     bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
-    collinear = abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+    collinear = (
+        abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+    )
     top = max(radius * 1.35, bottom) if collinear else radius * 1.35
-    ax.plot(*np.c_[centre - zero * radius * 0.5, centre + zero * top], color="0.45", lw=0.5, ls="-.", zorder=1)
+    ax.plot(
+        *np.c_[centre - zero * radius * 0.5, centre + zero * top],
+        color="0.45",
+        lw=0.5,
+        ls="-.",
+        zorder=1,
+    )
     # right of the shaft's axis: the counterweight lies opposite the crank, below on the left
-    ax.text(*(centre + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter)
+    ax.text(
+        *(centre + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter
+    )
     if radius > 0:
-        ax.text(*(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter)
+        ax.text(
+            *(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter
+        )
         _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
         _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
     length = float(np.linalg.norm(pin - wrist))
@@ -587,15 +840,26 @@ def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) 
     that the leader crosses neither the liner's wall nor the piston."""
     below = liner_ends_mm(guide)[0] - 0.09 * extent  # under the liner and the offset e
     rise = float(np.dot(wrist - pin, d))
-    share = 1.0 / 3.0 if rise <= 0 else min(1.0 / 3.0, max(0.0, (below - float(np.dot(pin - o, d))) / rise))
+    share = (
+        1.0 / 3.0
+        if rise <= 0
+        else min(1.0 / 3.0, max(0.0, (below - float(np.dot(pin - o, d))) / rise))
+    )
     anchor = pin + (wrist - pin) * share
     side = -1.0 if float(np.dot(pin - wrist, n)) > 0 else 1.0  # away from the crank pin
     half = guide.bore_m * MM / 2
     along = float(np.dot(anchor - o, d))
     at = o + d * along + n * side * (half + extent * 0.06)
     ax.plot(*np.c_[anchor, at], color="0.35", lw=0.5, ls="-")
-    ax.text(*(at + n * side * extent * 0.01), text, fontsize=8, color="0.15", va="center",
-            ha="left" if float((n * side)[0]) > 0 else "right", bbox=LABEL_BOX)
+    ax.text(
+        *(at + n * side * extent * 0.01),
+        text,
+        fontsize=8,
+        color="0.15",
+        va="center",
+        ha="left" if float((n * side)[0]) > 0 else "right",
+        bbox=LABEL_BOX,
+    )
 
 
 def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
@@ -612,8 +876,16 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
     if text:
         _dimension_arrow(ax, ends[0], ends[1])
         middle = (ends[0] + ends[1]) / 2 + n * extent * 0.015
-        ax.text(*middle, text, fontsize=8, color="0.15", rotation=90 if abs(float(d[1])) > 0.7 else 0,
-                ha="left", va="center", bbox=LABEL_BOX)
+        ax.text(
+            *middle,
+            text,
+            fontsize=8,
+            color="0.15",
+            rotation=90 if abs(float(d[1])) > 0.7 else 0,
+            ha="left",
+            va="center",
+            bbox=LABEL_BOX,
+        )
 
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -623,18 +895,25 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     _dimension(ax, p, q, "", -extent * 0.04, extent)
     lowest = min(float(points[i][1]) * MM for points in j.values())
-    for guide in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
+    for (
+        guide
+    ) in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
         if guide.bore_m > 0 and guide.moving is None:
             go, gd, gn = _guide_frame(geometry, guide, i)
             ends = liner_ends_mm(guide, geometry)
-            lowest = min([lowest] + [float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
-                                     for e in ends for s in (-1, 1)])
+            lowest = min(
+                [lowest]
+                + [
+                    float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
+                    for e in ends
+                    for s in (-1, 1)
+                ]
+            )
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
     at = np.array([float(p[0]), lowest - extent * 0.08])
     ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
-    ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15",
-            bbox=LABEL_BOX)
+    ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15", bbox=LABEL_BOX)
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -650,8 +929,15 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
     edge = (max if right else min)(float(points[i][0]) * MM for points in j.values())
     at = np.array([edge + (1 if right else -1) * extent * 0.05, mid[1]])
     ax.plot([mid[0], at[0]], [mid[1], at[1]], color="0.35", lw=0.5, ls="-")
-    ax.text(*at, text, ha="left" if right else "right", va="center", fontsize=8, color="0.15",
-            bbox=LABEL_BOX)
+    ax.text(
+        *at,
+        text,
+        ha="left" if right else "right",
+        va="center",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+    )
 
 
 def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
@@ -667,7 +953,11 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
         ax.plot([0, u[0]], [0, u[1]], color=INK, lw=2, ls="-")
         ax.add_patch(_circle(u, 0.06, INK, 1.0, fill=True))
         # the cylinders in brackets only where they are not the cranks' own numbers (a V's 1L, 1R)
-        text = ", ".join(cranks) if list(cylinders) == list(cranks) else f"{', '.join(cranks)}\n({', '.join(cylinders)})"
+        text = (
+            ", ".join(cranks)
+            if list(cylinders) == list(cranks)
+            else f"{', '.join(cranks)}\n({', '.join(cylinders)})"
+        )
         ax.text(*(u * 1.15), text, fontsize=7, **outward_alignment(u))
     ax.add_patch(_circle((0, 0), 0.07, INK, 1.0, fill=True))
     ax.set_xlim(-1.7, 1.7)
@@ -695,8 +985,28 @@ def _wrapped_order(label: str, width: int = 30) -> str:
 
 #: Scales of a drawing, paper length : real length (ДСТУ ISO 5455, ГОСТ 2.302): enlargements,
 #: full size, reductions; a larger or smaller mechanism continues the 1-2-5 steps.
-DRAWING_SCALES = (50.0, 20.0, 10.0, 5.0, 4.0, 2.5, 2.0, 1.0, 1 / 2, 1 / 2.5, 1 / 4, 1 / 5, 1 / 10, 1 / 15,
-                  1 / 20, 1 / 25, 1 / 40, 1 / 50, 1 / 75, 1 / 100)
+DRAWING_SCALES = (
+    50.0,
+    20.0,
+    10.0,
+    5.0,
+    4.0,
+    2.5,
+    2.0,
+    1.0,
+    1 / 2,
+    1 / 2.5,
+    1 / 4,
+    1 / 5,
+    1 / 10,
+    1 / 15,
+    1 / 20,
+    1 / 25,
+    1 / 40,
+    1 / 50,
+    1 / 75,
+    1 / 100,
+)
 #: Room for the mechanism on the page (mm, width x height), beside the crank star when there is
 #: one, and the most a figure may take: the A4 text width (210 mm less margins of 30 and 15 mm),
 #: so that the page shows it at its own size and so at its scale.
@@ -712,7 +1022,11 @@ _MARGIN_MM = 2.0
 def drawing_scale(extent_mm: tuple[float, float], room_mm: tuple[float, float]) -> float:
     """The largest standard scale (paper : real) at which a drawing of ``extent_mm`` (width,
     height) fits into ``room_mm``: 1/2.5 for "М 1:2,5"."""
-    fits = [s for s in DRAWING_SCALES if extent_mm[0] * s <= room_mm[0] and extent_mm[1] * s <= room_mm[1]]
+    fits = [
+        s
+        for s in DRAWING_SCALES
+        if extent_mm[0] * s <= room_mm[0] and extent_mm[1] * s <= room_mm[1]
+    ]
     if fits:
         return fits[0]
     denominator = 1 / DRAWING_SCALES[-1]
@@ -726,8 +1040,14 @@ def _smaller_scale(scale: float) -> float:
     return drawing_scale((1.0, 1.0), (scale * (1 - 1e-9), scale * (1 - 1e-9)))
 
 
-def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = "", firing_label: str = "",
-                  marks: dict[str, str] | None = None):
+def scheme_figure(
+    geometry,
+    i: int,
+    labels: dict[str, str],
+    star_title: str = "",
+    firing_label: str = "",
+    marks: dict[str, str] | None = None,
+):
     """(figure, scale): the scheme at frame ``i`` with its dimension lines, and the crank star when
     there are cranks, drawn to a standard scale (paper : real, 0.25 for "М 1:4"); ``marks``: the
     texts of :func:`draw_angle_marks` (the angles, the sense of rotation, the dead centres).
@@ -749,8 +1069,15 @@ def scheme_figure(geometry, i: int, labels: dict[str, str], star_title: str = ""
         scale = _smaller_scale(scale)
 
 
-def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing_label: str, scale: float,
-               marks: dict[str, str]):
+def _scheme_at(
+    geometry,
+    i: int,
+    labels: dict[str, str],
+    star_title: str,
+    firing_label: str,
+    scale: float,
+    marks: dict[str, str],
+):
     from .figures import (  # lazy: heavy optional import (matplotlib)
         add_axes_mm,
         drawn_box,
@@ -761,7 +1088,10 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
     (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1
     width_mm, height_mm = (x1 - x0) * scale, (y1 - y0) * scale
-    fig = new_drawing(width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm, max(height_mm, STAR_SIZE_MM))
+    fig = new_drawing(
+        width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm,
+        max(height_mm, STAR_SIZE_MM),
+    )
     ax = add_axes_mm(fig, 0.0, 0.0, width_mm, height_mm)
     draw_mechanism(ax, geometry, i)
     ax.set_xlim(x0, x1)
@@ -774,8 +1104,13 @@ def _scheme_at(geometry, i: int, labels: dict[str, str], star_title: str, firing
         # beside what the mechanism draws, not beside its limits' unused room
         box = drawn_box([ax], fig.canvas.get_renderer())
         right_mm = box.x1 / fig.dpi * 25.4 if box is not None else width_mm
-        star = add_axes_mm(fig, right_mm + _STAR_GAP_MM, max(height_mm - STAR_SIZE_MM, 0.0) / 2,
-                           STAR_SIZE_MM, STAR_SIZE_MM)
+        star = add_axes_mm(
+            fig,
+            right_mm + _STAR_GAP_MM,
+            max(height_mm - STAR_SIZE_MM, 0.0) / 2,
+            STAR_SIZE_MM,
+            STAR_SIZE_MM,
+        )
         draw_crank_star(star, geometry, star_title, firing_label)
     fit_to_content(fig, _MARGIN_MM)
     return fig
@@ -820,7 +1155,7 @@ def positions_sheets(geometry, frames: list) -> list[list]:
     sheets = -(-len(frames) // per_sheet)
     size = -(-len(frames) // sheets)
     size = -(-size // cols) * cols if size > cols else size  # whole rows first
-    return [frames[k:k + size] for k in range(0, len(frames), size)]
+    return [frames[k : k + size] for k in range(0, len(frames), size)]
 
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
@@ -843,7 +1178,9 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
-        ax.set_title(caption.replace("\n", " — ") if aspect <= SQUARE_ASPECT else caption, fontsize=8, pad=2)
+        ax.set_title(
+            caption.replace("\n", " — ") if aspect <= SQUARE_ASPECT else caption, fontsize=8, pad=2
+        )
     return fig
 
 
@@ -864,8 +1201,16 @@ def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
         low = g.travel_m[0] - 0.35 * g.bore_m
         high = g.travel_m[1] + CROWN * g.bore_m + label_gap * span / MM
         half = g.bore_m / 2 + 0.02 * span / MM
-        parts.append(np.array([o + d * low + n * half, o + d * low - n * half, o + d * high + n * half,
-                               o + d * high - n * half]))
+        parts.append(
+            np.array(
+                [
+                    o + d * low + n * half,
+                    o + d * low - n * half,
+                    o + d * high + n * half,
+                    o + d * high - n * half,
+                ]
+            )
+        )
     pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = pad_share * np.ptp(pts, axis=0).max()
@@ -873,6 +1218,7 @@ def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
 
 
 # --------------------------------------------------------------------------- animation
+
 
 def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     """(inline SVG, JSON frames) for the HTML animation: the static part drawn by matplotlib
@@ -886,19 +1232,35 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
     names = list(geometry.joints)
     frames = {n: np.round(geometry.joints[n] * MM, 2).tolist() for n in names}
     extent = _extent_mm(geometry)
-    pistons = [{"joint": g.joint, "o": [v * MM for v in g.origin_m], "d": list(g.direction),
-                "half": g.bore_m * MM / 2 * 0.97, "skirt": piston_skirt_mm(g, geometry), "crown": CROWN * g.bore_m * MM}
-               for g in geometry.guides if g.bore_m > 0 and g.moving is None]
-    payload = {"joints": frames, "links": [[a, b, 1.0] for _, a, b in drawn_links(geometry)],
-               "bodies": master_rod_joints(geometry), "pistons": pistons, "r": extent * JOINT_R,
-               "fixed": list(geometry.fixed)}
+    pistons = [
+        {
+            "joint": g.joint,
+            "o": [v * MM for v in g.origin_m],
+            "d": list(g.direction),
+            "half": g.bore_m * MM / 2 * 0.97,
+            "skirt": piston_skirt_mm(g, geometry),
+            "crown": CROWN * g.bore_m * MM,
+        }
+        for g in geometry.guides
+        if g.bore_m > 0 and g.moving is None
+    ]
+    payload = {
+        "joints": frames,
+        "links": [[a, b, 1.0] for _, a, b in drawn_links(geometry)],
+        "bodies": master_rod_joints(geometry),
+        "pistons": pistons,
+        "r": extent * JOINT_R,
+        "fixed": list(geometry.fixed),
+    }
     static = _static_svg(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
-    svg = (f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
-           f'xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet">'
-           f'<image href="data:image/svg+xml;base64,{static}" x="{x0:.2f}" y="{-y1:.2f}" '
-           f'width="{w:.2f}" height="{h:.2f}" preserveAspectRatio="none"/>'
-           f'<g class="moving" stroke="#1a1a1a" stroke-linecap="round"></g></svg>')
+    svg = (
+        f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
+        f'xmlns="http://www.w3.org/2000/svg" preserveAspectRatio="xMidYMid meet">'
+        f'<image href="data:image/svg+xml;base64,{static}" x="{x0:.2f}" y="{-y1:.2f}" '
+        f'width="{w:.2f}" height="{h:.2f}" preserveAspectRatio="none"/>'
+        f'<g class="moving" stroke="#1a1a1a" stroke-linecap="round"></g></svg>'
+    )
     return svg, json.dumps(payload, separators=(",", ":"))
 
 
@@ -919,15 +1281,24 @@ def _static_svg(geometry, xlim, ylim) -> str:
             ax.plot(path[:, 0] * MM, path[:, 1] * MM, color="0.55", lw=0.7, ls=(0, (4, 2)))
         for centre, radius, kind in geometry.circles:
             if kind == "fixed":
-                ax.add_patch(_circle(geometry.joints[centre][0] * MM, radius * MM, INK, 1.0, ls="-."))
+                ax.add_patch(
+                    _circle(geometry.joints[centre][0] * MM, radius * MM, INK, 1.0, ls="-.")
+                )
         for guide in _one_per_axis(geometry.guides):
             if guide.bore_m > 0 and guide.moving is None:
                 o, d, n = _guide_frame(geometry, guide, 0)
                 half = guide.bore_m * MM / 2
                 bottom, top = liner_ends_mm(guide, geometry)
                 for side in (-1, 1):
-                    _hatch(ax, o + d * bottom + n * side * half, o + d * top + n * side * half, n * side,
-                           extent * 0.02, INK, 1.0)
+                    _hatch(
+                        ax,
+                        o + d * bottom + n * side * half,
+                        o + d * top + n * side * half,
+                        n * side,
+                        extent * 0.02,
+                        INK,
+                        1.0,
+                    )
                 if guide.label:
                     _guide_label(ax, o, d, n, top, half, guide.label, extent)
         for name in geometry.fixed:
@@ -952,14 +1323,18 @@ def cursor_plot_svg(v, j, label_v: str, label_j: str) -> str:
         ys = pad + (height - 2 * pad) * (1 - (y - y.min()) / span)
         xs = np.linspace(0.0, width, n, endpoint=False)
         points = " ".join(f"{x:.1f},{yy:.1f}" for x, yy in zip(xs, ys, strict=True))
-        return (f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
-                f'{" stroke-dasharray=" + chr(34) + dash + chr(34) if dash else ""}/>')
+        return (
+            f'<polyline points="{points}" fill="none" stroke="{color}" stroke-width="1.5"'
+            f"{' stroke-dasharray=' + chr(34) + dash + chr(34) if dash else ''}/>"
+        )
 
-
-    return (f'<svg class="mech-curves" viewBox="0 0 {width:.0f} {height + 16:.0f}" xmlns="http://www.w3.org/2000/svg">'
-            f'<rect x="0" y="0" width="{width:.0f}" height="{height:.0f}" fill="none" stroke="#999" stroke-width="0.5"/>'
-            + polyline(v, "#ff7f0e") + polyline(j, "#2ca02c", "5 3")
-            + f'<line class="cursor" x1="0" x2="0" y1="0" y2="{height:.0f}" stroke="#d62728" stroke-width="1.5"/>'
-            f'<text x="4" y="{height + 13:.0f}" font-size="11" fill="#ff7f0e">— {escape(label_v)}</text>'
-            f'<text x="{width / 2:.0f}" y="{height + 13:.0f}" font-size="11" fill="#2ca02c">- - {escape(label_j)}</text>'
-            "</svg>")
+    return (
+        f'<svg class="mech-curves" viewBox="0 0 {width:.0f} {height + 16:.0f}" xmlns="http://www.w3.org/2000/svg">'
+        f'<rect x="0" y="0" width="{width:.0f}" height="{height:.0f}" fill="none" stroke="#999" stroke-width="0.5"/>'
+        + polyline(v, "#ff7f0e")
+        + polyline(j, "#2ca02c", "5 3")
+        + f'<line class="cursor" x1="0" x2="0" y1="0" y2="{height:.0f}" stroke="#d62728" stroke-width="1.5"/>'
+        f'<text x="4" y="{height + 13:.0f}" font-size="11" fill="#ff7f0e">— {escape(label_v)}</text>'
+        f'<text x="{width / 2:.0f}" y="{height + 13:.0f}" font-size="11" fill="#2ca02c">- - {escape(label_j)}</text>'
+        "</svg>"
+    )

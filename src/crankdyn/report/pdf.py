@@ -54,11 +54,13 @@ def _fetcher(in_memory: dict | None = None):
     weasyprint = load_weasyprint()
     in_memory = dict(in_memory or {})
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
+
         class SafeURLFetcher(weasyprint.URLFetcher):  # type: ignore[name-defined]  # loaded at run time
             def fetch(self, url, headers=None):
                 if unquote(url) in in_memory:
-                    return weasyprint.urls.URLFetcherResponse(url, in_memory[unquote(url)].svg,
-                                                              headers={"Content-Type": "image/svg+xml"})
+                    return weasyprint.urls.URLFetcherResponse(
+                        url, in_memory[unquote(url)].svg, headers={"Content-Type": "image/svg+xml"}
+                    )
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
                 return super().fetch(url, headers)
@@ -67,7 +69,11 @@ def _fetcher(in_memory: dict | None = None):
 
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
         if unquote(url) in in_memory:
-            return {"string": in_memory[unquote(url)].svg, "mime_type": "image/svg+xml", "redirected_url": url}
+            return {
+                "string": in_memory[unquote(url)].svg,
+                "mime_type": "image/svg+xml",
+                "redirected_url": url,
+            }
         if not is_allowed(url):
             raise BlockedResource(f"crankdyn does not load {url!r} into a report")
         return weasyprint.default_url_fetcher(url, *args, **kwargs)
@@ -97,4 +103,6 @@ def html_to_pdf(html: str, figures=()) -> bytes:
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    return HTML(string=html, base_url=base, url_fetcher=_fetcher(figure_urls(figures, base))).write_pdf()
+    return HTML(
+        string=html, base_url=base, url_fetcher=_fetcher(figure_urls(figures, base))
+    ).write_pdf()

@@ -54,25 +54,41 @@ def _piston_speed(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     speed = mean_piston_speed_m_s(engine.stroke, engine.rpm)
     if speed <= MAX_MEAN_PISTON_SPEED_M_S:
         return []
-    return [("plausibility.piston_speed", {
-        "speed": speed, "limit": MAX_MEAN_PISTON_SPEED_M_S, "rpm": engine.rpm,
-        "rpm_limit": rpm_for_piston_speed(engine.stroke, MAX_MEAN_PISTON_SPEED_M_S)})]
+    return [
+        (
+            "plausibility.piston_speed",
+            {
+                "speed": speed,
+                "limit": MAX_MEAN_PISTON_SPEED_M_S,
+                "rpm": engine.rpm,
+                "rpm_limit": rpm_for_piston_speed(engine.stroke, MAX_MEAN_PISTON_SPEED_M_S),
+            },
+        )
+    ]
 
 
 def _stroke_bore(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     ratio = scene.engine.stroke / scene.engine.bore
     if STROKE_BORE_RANGE[0] <= ratio <= STROKE_BORE_RANGE[1]:
         return []
-    return [("plausibility.stroke_bore", {"ratio": ratio, "low": STROKE_BORE_RANGE[0],
-                                          "high": STROKE_BORE_RANGE[1]})]
+    return [
+        (
+            "plausibility.stroke_bore",
+            {"ratio": ratio, "low": STROKE_BORE_RANGE[0], "high": STROKE_BORE_RANGE[1]},
+        )
+    ]
 
 
 def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     ratio = scene.engine.rod_ratio_value
     if ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
         return []
-    return [("plausibility.rod_ratio", {"ratio": ratio, "low": ROD_RATIO_RANGE[0],
-                                        "high": ROD_RATIO_RANGE[1]})]
+    return [
+        (
+            "plausibility.rod_ratio",
+            {"ratio": ratio, "low": ROD_RATIO_RANGE[0], "high": ROD_RATIO_RANGE[1]},
+        )
+    ]
 
 
 def _rod_cm(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
@@ -81,13 +97,23 @@ def _rod_cm(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     fraction = scene.rod_cm_from_big_end_m / scene.engine.rod_length_m
     if ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:
         return []
-    return [("plausibility.rod_cm", {"fraction": fraction, "low": ROD_CM_FRACTION_RANGE[0],
-                                     "high": ROD_CM_FRACTION_RANGE[1]})]
+    return [
+        (
+            "plausibility.rod_cm",
+            {
+                "fraction": fraction,
+                "low": ROD_CM_FRACTION_RANGE[0],
+                "high": ROD_CM_FRACTION_RANGE[1],
+            },
+        )
+    ]
 
 
 #: What every engine is checked for, whatever its mechanism: the mean piston speed and S/D.
-CORE_RULES = (PlausibilityRule("piston_speed", _piston_speed),
-              PlausibilityRule("stroke_bore", _stroke_bore))
+CORE_RULES = (
+    PlausibilityRule("piston_speed", _piston_speed),
+    PlausibilityRule("stroke_bore", _stroke_bore),
+)
 #: λ = R/L of a connecting rod from a crank pin to a piston pin, for a mechanism to declare
 #: (``Mechanism.plausibility``) whose λ is the crank-slider's ratio.
 ROD_RATIO = PlausibilityRule("rod_ratio", _rod_ratio)
@@ -99,11 +125,17 @@ ROD_CENTRE_OF_MASS = PlausibilityRule("rod_cm", _rod_cm)
 def peak_pressure(result_key: str) -> PlausibilityRule:
     """The peak cylinder pressure against the boosted diesels' 25 MPa, for a stage to declare:
     its result ``result_key`` (Pa) when it ran, else the scene's ``cycle.max_pressure``."""
+
     def check(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
         peak = _peak_pressure_Pa(scene, results, result_key)
         if peak is None or peak <= MAX_PEAK_PRESSURE_PA:
             return []
-        return [("plausibility.peak_pressure", {"pressure": peak / 1e6, "limit": MAX_PEAK_PRESSURE_PA / 1e6})]
+        return [
+            (
+                "plausibility.peak_pressure",
+                {"pressure": peak / 1e6, "limit": MAX_PEAK_PRESSURE_PA / 1e6},
+            )
+        ]
 
     return PlausibilityRule("peak_pressure", check)
 
@@ -112,15 +144,28 @@ def mechanical_efficiency(result_key: str) -> PlausibilityRule:
     """The mechanical efficiency N_e/N_i a stage computed (its result ``result_key``) against the
     0.95 no real engine reaches and the 0.60 below which the given powers do not belong together,
     for the stages that compute it to declare."""
+
     def check(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
         eta = (results or {}).get(result_key)
-        if not isinstance(eta, (int, float)) or MIN_MECHANICAL_EFFICIENCY <= eta <= MAX_MECHANICAL_EFFICIENCY:
+        if (
+            not isinstance(eta, (int, float))
+            or MIN_MECHANICAL_EFFICIENCY <= eta <= MAX_MECHANICAL_EFFICIENCY
+        ):
             return []
         low, high = MECHANICAL_EFFICIENCY_RANGE
         above = eta > MAX_MECHANICAL_EFFICIENCY
-        return [("plausibility.mechanical_efficiency" + ("" if above else "_low"), {
-            "eta": float(eta), "limit": MAX_MECHANICAL_EFFICIENCY if above else MIN_MECHANICAL_EFFICIENCY,
-            "low": low, "high": high, "source": MECHANICAL_EFFICIENCY_SOURCE})]
+        return [
+            (
+                "plausibility.mechanical_efficiency" + ("" if above else "_low"),
+                {
+                    "eta": float(eta),
+                    "limit": MAX_MECHANICAL_EFFICIENCY if above else MIN_MECHANICAL_EFFICIENCY,
+                    "low": low,
+                    "high": high,
+                    "source": MECHANICAL_EFFICIENCY_SOURCE,
+                },
+            )
+        ]
 
     return PlausibilityRule("mechanical_efficiency", check)
 
@@ -154,7 +199,7 @@ def scene_warnings(scene, registry) -> list[tuple[str, dict[str, Any]]]:
     for rule in CORE_RULES:
         found += rule.check(scene, None)
     mechanism = registry.mechanisms.get(scene.engine.mechanism)
-    for rule in (mechanism.plausibility if mechanism is not None else ()):
+    for rule in mechanism.plausibility if mechanism is not None else ():
         found += rule.check(scene, None)
     return found
 
@@ -177,8 +222,18 @@ def report_key(t, key: str, kind: str) -> str:
 _LATIN = re.compile(r"[A-Za-z]")
 _CYRILLIC = re.compile(r"[\u0400-\u04FF]")
 #: The scene's own texts that a report prints as they are (title page, assignment, abstract).
-_PRINTED_TEXTS = ("report.title", "report.subtitle", "report.ministry", "report.university", "report.department",
-                  "report.discipline", "report.student", "report.supervisor", "report.city", "engine.name")
+_PRINTED_TEXTS = (
+    "report.title",
+    "report.subtitle",
+    "report.ministry",
+    "report.university",
+    "report.department",
+    "report.discipline",
+    "report.student",
+    "report.supervisor",
+    "report.city",
+    "engine.name",
+)
 
 
 def language_warnings(scene) -> list[tuple[str, dict[str, Any]]]:
@@ -193,10 +248,18 @@ def language_warnings(scene) -> list[tuple[str, dict[str, Any]]]:
         table, field = name.split(".")
         owner = getattr(scene, table)
         value = getattr(owner, field, None)
-        if field in owner.model_fields_set and isinstance(value, str) and _LATIN.search(value) \
-                and not _CYRILLIC.search(value):
+        if (
+            field in owner.model_fields_set
+            and isinstance(value, str)
+            and _LATIN.search(value)
+            and not _CYRILLIC.search(value)
+        ):
             latin.append(name)
-    return [("plausibility.latin_texts", {"fields": ", ".join(latin), "language": language})] if latin else []
+    return (
+        [("plausibility.latin_texts", {"fields": ", ".join(latin), "language": language})]
+        if latin
+        else []
+    )
 
 
 def defaults_applied(scene) -> list[tuple[str, Any]]:
@@ -213,7 +276,11 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
             value = getattr(model, name)
             if isinstance(value, BaseModel):
                 walk(value, f"{prefix}{name}.")
-            elif name not in model.model_fields_set and info.default not in (None, "") and not info.is_required():
+            elif (
+                name not in model.model_fields_set
+                and info.default not in (None, "")
+                and not info.is_required()
+            ):
                 out.append((prefix + name, info.default))
 
     walk(scene, "")
@@ -222,6 +289,7 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
 
 def format_params(params: dict[str, Any], decimal_separator: str = ".") -> dict[str, Any]:
     """Numbers to 3 significant digits without exponents (``4690``, ``0.15``, ``149``)."""
+
     def shown(value: Any) -> Any:
         if not isinstance(value, float):
             return value

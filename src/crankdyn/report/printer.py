@@ -34,8 +34,12 @@ def prestart() -> bool:
     """Fork the printer if the process may (POSIX, no other thread, none started yet, WeasyPrint
     not imported here already). Returns whether a printer runs."""
     global _printer
-    if _printer is not None or not hasattr(os, "fork") or threading.active_count() != 1 \
-            or "weasyprint" in sys.modules:
+    if (
+        _printer is not None
+        or not hasattr(os, "fork")
+        or threading.active_count() != 1
+        or "weasyprint" in sys.modules
+    ):
         return _printer is not None
     ours, theirs = socket.socketpair()
     pid = os.fork()
@@ -80,7 +84,9 @@ def _serve(sock: socket.socket) -> int:
         load_weasyprint()  # the point of this process
         from .pdf import html_to_pdf  # lazy: heavy optional import (the report's context: numpy)
 
-        html_to_pdf("<p>crankdyn</p>")  # fontconfig and the first page's set-up, as a batch warms up
+        html_to_pdf(
+            "<p>crankdyn</p>"
+        )  # fontconfig and the first page's set-up, as a batch warms up
         html, names = pickle.load(reader)
     except BaseException:  # noqa: BLE001 - no page will come (EOF) or WeasyPrint cannot load: the report prints
         return 0

@@ -49,15 +49,25 @@ class SectionCache:
         key = (ctx.section_number, ctx.t.language, ctx.table_step_deg, ctx.cycle_deg)
         kept = self._sections.get(stage.name)
         scene = ctx.scene
-        if (kept is not None and kept.stage is stage and kept.output is output and kept.key == key
-                and scene is not None and kept.fields == field_digests(scene, kept.reads)):
+        if (
+            kept is not None
+            and kept.stage is stage
+            and kept.output is output
+            and kept.key == key
+            and scene is not None
+            and kept.fields == field_digests(scene, kept.reads)
+        ):
             ctx.figures.extend(kept.figures)
             ctx.worked.extend(kept.worked)
             ctx.conclusions.extend(kept.conclusions)
             ctx.findings.extend(kept.findings)
             ctx.title = kept.title
             return kept.body
-        figures_before, worked_before, findings_before = len(ctx.figures), len(ctx.worked), len(ctx.findings)
+        figures_before, worked_before, findings_before = (
+            len(ctx.figures),
+            len(ctx.worked),
+            len(ctx.findings),
+        )
         tracked = tracked_copy(scene) if scene is not None else None
         ctx.scene = tracked
         try:
@@ -67,10 +77,19 @@ class SectionCache:
             reads = reads_of(tracked) if tracked is not None else frozenset()
         self.renders[stage.name] = self.renders.get(stage.name, 0) + 1
         if scene is not None:
-            self._sections[stage.name] = _Section(stage, output, key, reads, field_digests(scene, reads, as_read=True), body,
-                                                  ctx.title, list(ctx.conclusions), ctx.findings[findings_before:],
-                                                  ctx.worked[worked_before:],
-                                                  ctx.figures[figures_before:])
+            self._sections[stage.name] = _Section(
+                stage,
+                output,
+                key,
+                reads,
+                field_digests(scene, reads, as_read=True),
+                body,
+                ctx.title,
+                list(ctx.conclusions),
+                ctx.findings[findings_before:],
+                ctx.worked[worked_before:],
+                ctx.figures[figures_before:],
+            )
         return body
 
     def forget(self) -> None:

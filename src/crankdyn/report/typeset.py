@@ -46,41 +46,67 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "rod_ratio": Symbol("λ", {}, "", "symbol.rod_ratio"),
     "crank_speed": Symbol("n", {}, "unit.rpm", "symbol.crank_speed"),
     "crank_angular_velocity": Symbol("ω", {}, "unit.rad_s", "symbol.crank_angular_velocity"),
-    "piston_displacement": Symbol("s", {"en": "p", "uk": "п", "ru": "п"}, "unit.mm", "symbol.piston_displacement"),
-    "piston_velocity": Symbol("v", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s", "symbol.piston_velocity"),
-    "piston_acceleration": Symbol("j", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s2", "symbol.piston_acceleration"),
-    "rod_angular_velocity": Symbol("ω", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s", "symbol.rod_angular_velocity"),
-    "rod_angular_acceleration": Symbol("ε", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s2",
-                                       "symbol.rod_angular_acceleration"),
+    "piston_displacement": Symbol(
+        "s", {"en": "p", "uk": "п", "ru": "п"}, "unit.mm", "symbol.piston_displacement"
+    ),
+    "piston_velocity": Symbol(
+        "v", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s", "symbol.piston_velocity"
+    ),
+    "piston_acceleration": Symbol(
+        "j", {"en": "p", "uk": "п", "ru": "п"}, "unit.m_s2", "symbol.piston_acceleration"
+    ),
+    "rod_angular_velocity": Symbol(
+        "ω", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s", "symbol.rod_angular_velocity"
+    ),
+    "rod_angular_acceleration": Symbol(
+        "ε", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.rad_s2", "symbol.rod_angular_acceleration"
+    ),
     "rod_mass": Symbol("m", {"en": "r", "uk": "ш", "ru": "ш"}, "unit.kg", "symbol.rod_mass"),
-    "piston_group_mass": Symbol("m", {"en": "pg", "uk": "п", "ru": "п"}, "unit.kg", "symbol.piston_group_mass"),
+    "piston_group_mass": Symbol(
+        "m", {"en": "pg", "uk": "п", "ru": "п"}, "unit.kg", "symbol.piston_group_mass"
+    ),
     "reciprocating_mass": Symbol("m", {"en": "s"}, "unit.kg", "symbol.reciprocating_mass"),
     "rod_rotating_mass": Symbol("m", {"en": "rR"}, "unit.kg", "symbol.rod_rotating_mass"),
     "piston_area": Symbol("F", {"en": "p", "uk": "п", "ru": "п"}, "unit.cm2", "symbol.piston_area"),
     "swept_volume": Symbol("V", {"en": "h"}, "unit.l", "symbol.swept_volume"),
     "clearance_volume": Symbol("V", {"en": "c"}, "unit.l", "symbol.clearance_volume"),
     "max_pressure": Symbol("p", {"en": "z"}, "unit.MPa", "symbol.max_pressure"),
-    "mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.mean_indicated_pressure"),
+    "mean_indicated_pressure": Symbol(
+        "p", {"en": "i"}, "unit.MPa", "symbol.mean_indicated_pressure"
+    ),
     "indicated_work": Symbol("L", {"en": "i"}, "unit.J", "symbol.indicated_work"),
-    "pumping_work": Symbol("L", {"en": "pump", "uk": "нас", "ru": "нас"}, "unit.J", "symbol.pumping_work"),
-    "pumping_mean_pressure": Symbol("p", {"en": "pump", "uk": "нас", "ru": "нас"}, "unit.MPa",
-                                    "symbol.pumping_mean_pressure"),
+    "pumping_work": Symbol(
+        "L", {"en": "pump", "uk": "нас", "ru": "нас"}, "unit.J", "symbol.pumping_work"
+    ),
+    "pumping_mean_pressure": Symbol(
+        "p", {"en": "pump", "uk": "нас", "ru": "нас"}, "unit.MPa", "symbol.pumping_mean_pressure"
+    ),
     "crankcase_pressure": Symbol("p", {"en": "0"}, "unit.MPa", "symbol.crankcase_pressure"),
-    "gas_pressure": Symbol("p", {"en": "g", "uk": "г", "ru": "г"}, "unit.MPa", "symbol.gas_pressure"),
+    "gas_pressure": Symbol(
+        "p", {"en": "g", "uk": "г", "ru": "г"}, "unit.MPa", "symbol.gas_pressure"
+    ),
     "inertia_pressure": Symbol("p", {"en": "j"}, "unit.MPa", "symbol.inertia_pressure"),
     "inertia_first_order": Symbol("p", {"en": "jI"}, "unit.MPa", "symbol.inertia_first_order"),
     "inertia_second_order": Symbol("p", {"en": "jII"}, "unit.MPa", "symbol.inertia_second_order"),
     "total_pressure": Symbol("p", {"en": "1"}, "unit.MPa", "symbol.total_pressure"),
-    "crank_torque": Symbol("M", {"en": "k", "uk": "к", "ru": "к"}, "unit.Nm", "symbol.crank_torque"),
-    "driving_torque": Symbol("M", {"en": "d", "uk": "д", "ru": "д"}, "unit.Nm", "symbol.driving_torque"),
-    "mean_speed": Symbol("v", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.m_s", "symbol.mean_speed"),
+    "crank_torque": Symbol(
+        "M", {"en": "k", "uk": "к", "ru": "к"}, "unit.Nm", "symbol.crank_torque"
+    ),
+    "driving_torque": Symbol(
+        "M", {"en": "d", "uk": "д", "ru": "д"}, "unit.Nm", "symbol.driving_torque"
+    ),
+    "mean_speed": Symbol(
+        "v", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.m_s", "symbol.mean_speed"
+    ),
     "compression_ratio": Symbol("ε", {}, "", "symbol.compression_ratio"),
     "compression_polytrope": Symbol("n", {"en": "1"}, "", "symbol.compression_polytrope"),
     "expansion_polytrope": Symbol("n", {"en": "2"}, "", "symbol.expansion_polytrope"),
     "pre_expansion_ratio": Symbol("ρ", {}, "", "symbol.pre_expansion_ratio"),
     "pressure_rise_ratio": Symbol("λ", {"en": "p"}, "", "symbol.pressure_rise_ratio"),
     "intake_end_pressure": Symbol("p", {"en": "a"}, "unit.MPa", "symbol.intake_end_pressure"),
-    "compression_end_pressure": Symbol("p", {"en": "c"}, "unit.MPa", "symbol.compression_end_pressure"),
+    "compression_end_pressure": Symbol(
+        "p", {"en": "c"}, "unit.MPa", "symbol.compression_end_pressure"
+    ),
     "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
     "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
@@ -89,37 +115,64 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
-    "crank_pin_mass": Symbol("m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"),
-    "crank_web_mass": Symbol("m", {"en": "w", "uk": "щ", "ru": "щ"}, "unit.kg", "symbol.crank_web_mass"),
+    "crank_pin_mass": Symbol(
+        "m", {"en": "cp", "uk": "ш.ш", "ru": "ш.ш"}, "unit.kg", "symbol.crank_pin_mass"
+    ),
+    "crank_web_mass": Symbol(
+        "m", {"en": "w", "uk": "щ", "ru": "щ"}, "unit.kg", "symbol.crank_web_mass"
+    ),
     "crank_rotating_mass": Symbol("m", {"en": "R"}, "unit.kg", "symbol.crank_rotating_mass"),
     "centrifugal_specific": Symbol("c", {}, "unit.MPa", "symbol.centrifugal_specific"),
-    "rod_centrifugal_specific": Symbol("c", {"en": "r"}, "unit.MPa", "symbol.rod_centrifugal_specific"),
+    "rod_centrifugal_specific": Symbol(
+        "c", {"en": "r"}, "unit.MPa", "symbol.rod_centrifugal_specific"
+    ),
     "centrifugal_force": Symbol("C", {}, "unit.N", "symbol.centrifugal_force"),
     "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
     "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
-    "order_amplitude": Symbol("C", {"en": "n"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>n</i></sub>"),
-    "acceleration_harmonic": Symbol("A", {"en": "n"}, "", "symbol.acceleration_harmonic",
-                                    html="<i>A</i><sub><i>n</i></sub>"),
+    "order_amplitude": Symbol(
+        "C", {"en": "n"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>n</i></sub>"
+    ),
+    "acceleration_harmonic": Symbol(
+        "A", {"en": "n"}, "", "symbol.acceleration_harmonic", html="<i>A</i><sub><i>n</i></sub>"
+    ),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
-    "post_expansion_ratio": Symbol("δ", {}, "", "symbol.post_expansion_ratio", sections=SECTION_BOUND),
+    "post_expansion_ratio": Symbol(
+        "δ", {}, "", "symbol.post_expansion_ratio", sections=SECTION_BOUND
+    ),
     "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
     # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
     "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=SECTION_BOUND),
     # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
-    "mechanism_mean_inertia": Symbol("J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2",
-                                     "symbol.mechanism_mean_inertia"),
-    "shaft_inertia": Symbol("J", {"en": "e", "uk": "в", "ru": "в"}, "unit.kg_m2", "symbol.shaft_inertia"),
-    "flywheel_inertia": Symbol("J", {"en": "f", "uk": "мах", "ru": "мах"}, "unit.kg_m2", "symbol.flywheel_inertia"),
+    "mechanism_mean_inertia": Symbol(
+        "J", {"en": "m", "uk": "мех", "ru": "мех"}, "unit.kg_m2", "symbol.mechanism_mean_inertia"
+    ),
+    "shaft_inertia": Symbol(
+        "J", {"en": "e", "uk": "в", "ru": "в"}, "unit.kg_m2", "symbol.shaft_inertia"
+    ),
+    "flywheel_inertia": Symbol(
+        "J", {"en": "f", "uk": "мах", "ru": "мах"}, "unit.kg_m2", "symbol.flywheel_inertia"
+    ),
     "required_inertia": Symbol("J", {"en": "0"}, "unit.kg_m2", "symbol.required_inertia"),
-    "rim_inertia": Symbol("J", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg_m2", "symbol.rim_inertia"),
-    "rim_thin_mass": Symbol("m", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg", "symbol.rim_thin_mass"),
-    "rim_mean_diameter": Symbol("D", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.mm", "symbol.rim_mean_diameter"),
-    "rim_outer_diameter": Symbol("D", {"en": "o", "uk": "з", "ru": "н"}, "unit.mm", "symbol.rim_outer_diameter"),
+    "rim_inertia": Symbol(
+        "J", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg_m2", "symbol.rim_inertia"
+    ),
+    "rim_thin_mass": Symbol(
+        "m", {"en": "rim", "uk": "об", "ru": "об"}, "unit.kg", "symbol.rim_thin_mass"
+    ),
+    "rim_mean_diameter": Symbol(
+        "D", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.mm", "symbol.rim_mean_diameter"
+    ),
+    "rim_outer_diameter": Symbol(
+        "D", {"en": "o", "uk": "з", "ru": "н"}, "unit.mm", "symbol.rim_outer_diameter"
+    ),
     "rim_speed": Symbol("v", {"en": "o", "uk": "з", "ru": "н"}, "unit.m_s", "symbol.rim_speed"),
-    "mean_angular_velocity": Symbol("ω", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.rad_s",
-                                    "symbol.mean_angular_velocity"),
-    "mean_torque": Symbol("M", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.Nm", "symbol.mean_torque"),
+    "mean_angular_velocity": Symbol(
+        "ω", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.rad_s", "symbol.mean_angular_velocity"
+    ),
+    "mean_torque": Symbol(
+        "M", {"en": "m", "uk": "сер", "ru": "ср"}, "unit.Nm", "symbol.mean_torque"
+    ),
     "torque_max": Symbol("M", {"en": "max"}, "unit.Nm", "symbol.torque_max"),
     "torque_min": Symbol("M", {"en": "min"}, "unit.Nm", "symbol.torque_min"),
     "torque_non_uniformity": Symbol("μ", {}, "", "symbol.torque_non_uniformity"),
@@ -127,29 +180,58 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "cycle_period": Symbol("T", {}, "unit.s", "symbol.cycle_period"),
     "indicated_power": Symbol("N", {"en": "i"}, "unit.kW", "symbol.indicated_power"),
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
-    "mechanical_efficiency": Symbol("η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"),
+    "mechanical_efficiency": Symbol(
+        "η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"
+    ),
     "effective_torque": Symbol("M", {"en": "e"}, "unit.Nm", "symbol.effective_torque"),
-    "indicated_torque": Symbol("M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=SECTION_BOUND),
+    "indicated_torque": Symbol(
+        "M", {"en": "i"}, "unit.Nm", "symbol.indicated_torque", sections=SECTION_BOUND
+    ),
     "gas_torque": Symbol("M", {"en": "g", "uk": "г", "ru": "г"}, "unit.Nm", "symbol.gas_torque"),
-    "resistance_torque": Symbol("M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"),
+    "resistance_torque": Symbol(
+        "M", {"en": "c", "uk": "оп", "ru": "с"}, "unit.Nm", "symbol.resistance_torque"
+    ),
     "cranks_count": Symbol("i", {"en": "k", "uk": "к", "ru": "к"}, "", "symbol.cranks_count"),
-    "reference_value": Symbol("X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"),
-    "material_density": Symbol("ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"),
+    "reference_value": Symbol(
+        "X", {"en": "ref", "uk": "ет", "ru": "эт"}, "", "symbol.reference_value"
+    ),
+    "material_density": Symbol(
+        "ρ", {"en": "mat", "uk": "м", "ru": "м"}, "unit.kg_m3", "symbol.material_density"
+    ),
     "irregularity": Symbol("δ", {}, "", "symbol.irregularity", sections=SECTION_BOUND),
     # the quantities of the equations that the "де …" lines explain (crankdyn.report.equation_legend)
     "cylinder_pressure": Symbol("p", {}, "unit.MPa", "symbol.cylinder_pressure"),
-    "bearing_pressure": Symbol("p", {}, "unit.MPa", "symbol.bearing_pressure", sections=SECTION_BOUND),
+    "bearing_pressure": Symbol(
+        "p", {}, "unit.MPa", "symbol.bearing_pressure", sections=SECTION_BOUND
+    ),
     "cylinder_volume": Symbol("V", {}, "unit.l", "symbol.cylinder_volume"),
-    "theoretical_mean_indicated_pressure": Symbol("p", {"en": "i"}, "unit.MPa", "symbol.theoretical_mean_indicated_pressure",
-                                                  html="<i>p</i><sub>i</sub>′"),
-    "theoretical_indicated_work": Symbol("L", {"en": "i"}, "unit.J", "symbol.theoretical_indicated_work",
-                                         html="<i>L</i><sub>i</sub>′"),
+    "theoretical_mean_indicated_pressure": Symbol(
+        "p",
+        {"en": "i"},
+        "unit.MPa",
+        "symbol.theoretical_mean_indicated_pressure",
+        html="<i>p</i><sub>i</sub>′",
+    ),
+    "theoretical_indicated_work": Symbol(
+        "L",
+        {"en": "i"},
+        "unit.J",
+        "symbol.theoretical_indicated_work",
+        html="<i>L</i><sub>i</sub>′",
+    ),
     "piston_velocity_max": Symbol("v", {"en": "max"}, "unit.m_s", "symbol.piston_velocity_max"),
-    "piston_acceleration_max": Symbol("j", {"en": "max"}, "unit.m_s2", "symbol.piston_acceleration_max"),
-    "piston_acceleration_min": Symbol("j", {"en": "min"}, "unit.m_s2", "symbol.piston_acceleration_min"),
-    "cylinder_crank_angle": Symbol("α", {"en": "i"}, "°", "symbol.cylinder_crank_angle",
-                                   html="<i>α</i><sub><i>i</i></sub>"),
-    "cycle_delay": Symbol("α", {"en": "0i"}, "°", "symbol.cycle_delay", html="Δ<i>α</i><sub>0<i>i</i></sub>"),
+    "piston_acceleration_max": Symbol(
+        "j", {"en": "max"}, "unit.m_s2", "symbol.piston_acceleration_max"
+    ),
+    "piston_acceleration_min": Symbol(
+        "j", {"en": "min"}, "unit.m_s2", "symbol.piston_acceleration_min"
+    ),
+    "cylinder_crank_angle": Symbol(
+        "α", {"en": "i"}, "°", "symbol.cylinder_crank_angle", html="<i>α</i><sub><i>i</i></sub>"
+    ),
+    "cycle_delay": Symbol(
+        "α", {"en": "0i"}, "°", "symbol.cycle_delay", html="Δ<i>α</i><sub>0<i>i</i></sub>"
+    ),
     "accumulated_work": Symbol("W", {}, "unit.J", "symbol.accumulated_work"),
     "excess_work": Symbol("L", {}, "unit.J", "symbol.excess_work", html="Δ<i>L</i>"),
     "reduced_inertia": Symbol("J", {}, "unit.kg_m2", "symbol.reduced_inertia"),
@@ -160,84 +242,230 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "initial_energy": Symbol("E", {"en": "0"}, "unit.J", "symbol.initial_energy"),
     "cycle_angle": Symbol("Φ", {}, "", "symbol.cycle_angle", html="Φ"),
     "piston_transfer": Symbol("s", {}, "unit.m_rad", "symbol.piston_transfer", html="<i>s</i>′"),
-    "piston_transfer_derivative": Symbol("s", {}, "unit.m_rad2", "symbol.piston_transfer_derivative", html="<i>s</i>″"),
-    "inertia_derivative": Symbol("J", {}, "unit.kg_m2_rad", "symbol.inertia_derivative", html="<i>J</i>′"),
+    "piston_transfer_derivative": Symbol(
+        "s", {}, "unit.m_rad2", "symbol.piston_transfer_derivative", html="<i>s</i>″"
+    ),
+    "inertia_derivative": Symbol(
+        "J", {}, "unit.kg_m2_rad", "symbol.inertia_derivative", html="<i>J</i>′"
+    ),
     "inertia_torque": Symbol("M", {"en": "j"}, "unit.Nm", "symbol.inertia_torque"),
-    "nominal_angular_velocity": Symbol("ω", {"en": "n"}, "unit.rad_s", "symbol.nominal_angular_velocity"),
-    "gas_excess_work": Symbol("W", {"en": "g", "uk": "г", "ru": "г"}, "unit.J", "symbol.gas_excess_work"),
+    "nominal_angular_velocity": Symbol(
+        "ω", {"en": "n"}, "unit.rad_s", "symbol.nominal_angular_velocity"
+    ),
+    "gas_excess_work": Symbol(
+        "W", {"en": "g", "uk": "г", "ru": "г"}, "unit.J", "symbol.gas_excess_work"
+    ),
     # the running torques of the torque section, as specific tangential forces
-    "cylinder_tangential": Symbol("t", {"en": "i"}, "unit.MPa", "symbol.cylinder_tangential",
-                                  html="<i>t</i><sub><i>i</i></sub>"),
-    "pin_running_tangential": Symbol("t", {"en": "wi"}, "unit.MPa", "symbol.pin_running_tangential",
-                                     html="<i>t</i><sub>w<i>i</i></sub>"),
-    "journal_running_tangential": Symbol("t", {"en": "ki"}, "unit.MPa", "symbol.journal_running_tangential",
-                                         html="<i>t</i><sub>k<i>i</i></sub>"),
-    "last_journal_tangential": Symbol("t", {"en": "kN"}, "unit.MPa", "symbol.last_journal_tangential",
-                                      html="<i>t</i><sub>k<i>N</i></sub>"),
-    "order_force": Symbol("P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"),
+    "cylinder_tangential": Symbol(
+        "t",
+        {"en": "i"},
+        "unit.MPa",
+        "symbol.cylinder_tangential",
+        html="<i>t</i><sub><i>i</i></sub>",
+    ),
+    "pin_running_tangential": Symbol(
+        "t",
+        {"en": "wi"},
+        "unit.MPa",
+        "symbol.pin_running_tangential",
+        html="<i>t</i><sub>w<i>i</i></sub>",
+    ),
+    "journal_running_tangential": Symbol(
+        "t",
+        {"en": "ki"},
+        "unit.MPa",
+        "symbol.journal_running_tangential",
+        html="<i>t</i><sub>k<i>i</i></sub>",
+    ),
+    "last_journal_tangential": Symbol(
+        "t",
+        {"en": "kN"},
+        "unit.MPa",
+        "symbol.last_journal_tangential",
+        html="<i>t</i><sub>k<i>N</i></sub>",
+    ),
+    "order_force": Symbol(
+        "P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"
+    ),
     # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
-    "pin_load_max": Symbol("Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=SECTION_BOUND),
-    "pin_load_mean": Symbol("Q", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.pin_load_mean",
-                            sections=SECTION_BOUND),
-    "bearing_pressure_max": Symbol("p", {"en": "max"}, "unit.MPa", "symbol.bearing_pressure_max",
-                                   sections=SECTION_BOUND),
-    "bearing_pressure_mean": Symbol("p", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.MPa",
-                                    "symbol.bearing_pressure_mean", sections=SECTION_BOUND),
-    "journal_load_max": Symbol("R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=SECTION_BOUND),
-    "journal_load_mean": Symbol("R", {"en": "mean", "uk": "сер", "ru": "ср"}, "unit.kN", "symbol.journal_load_mean",
-                                sections=SECTION_BOUND),
+    "pin_load_max": Symbol(
+        "Q", {"en": "max"}, "unit.kN", "symbol.pin_load_max", sections=SECTION_BOUND
+    ),
+    "pin_load_mean": Symbol(
+        "Q",
+        {"en": "mean", "uk": "сер", "ru": "ср"},
+        "unit.kN",
+        "symbol.pin_load_mean",
+        sections=SECTION_BOUND,
+    ),
+    "bearing_pressure_max": Symbol(
+        "p", {"en": "max"}, "unit.MPa", "symbol.bearing_pressure_max", sections=SECTION_BOUND
+    ),
+    "bearing_pressure_mean": Symbol(
+        "p",
+        {"en": "mean", "uk": "сер", "ru": "ср"},
+        "unit.MPa",
+        "symbol.bearing_pressure_mean",
+        sections=SECTION_BOUND,
+    ),
+    "journal_load_max": Symbol(
+        "R", {"en": "max"}, "unit.kN", "symbol.journal_load_max", sections=SECTION_BOUND
+    ),
+    "journal_load_mean": Symbol(
+        "R",
+        {"en": "mean", "uk": "сер", "ru": "ср"},
+        "unit.kN",
+        "symbol.journal_load_mean",
+        sections=SECTION_BOUND,
+    ),
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
     # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
     "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
-    "shaft_angle": Symbol("θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND),
-    "forward_vector": Symbol("f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"),
-    "backward_vector": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"),
-    "backward_conjugate": Symbol("b", {"en": "n"}, "unit.N", "symbol.backward_conjugate",
-                                 html="<i>b</i><sub><i>n</i></sub><sup>*</sup>"),  # (b̄: the bar crossed the ascender)
-    "crank_lag": Symbol("ξ", {"en": "i"}, "°", "symbol.crank_lag", html="<i>ξ</i><sub><i>i</i></sub>",
-                        sections=SECTION_BOUND),
-    "cylinder_axis_angle": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_axis_angle",
-                                  html="<i>φ</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
-    "cylinder_phase": Symbol("φ", {"en": "i"}, "°", "symbol.cylinder_phase", html="<i>φ</i><sub><i>i</i></sub>",
-                             sections=SECTION_BOUND),
-    "cylinder_position": Symbol("x", {"en": "i"}, "unit.mm", "symbol.cylinder_position",
-                                html="<i>x</i><sub><i>i</i></sub>", sections=SECTION_BOUND),
-    "cylinder_order_force": Symbol("P", {"en": "ni"}, "unit.N", "symbol.cylinder_order_force",
-                                   html="<i>P</i><sub><i>n</i><i>i</i></sub>"),
-    "order_moment": Symbol("M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"),
+    "shaft_angle": Symbol(
+        "θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND
+    ),
+    "forward_vector": Symbol(
+        "f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"
+    ),
+    "backward_vector": Symbol(
+        "b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"
+    ),
+    "backward_conjugate": Symbol(
+        "b",
+        {"en": "n"},
+        "unit.N",
+        "symbol.backward_conjugate",
+        html="<i>b</i><sub><i>n</i></sub><sup>*</sup>",
+    ),  # (b̄: the bar crossed the ascender)
+    "crank_lag": Symbol(
+        "ξ",
+        {"en": "i"},
+        "°",
+        "symbol.crank_lag",
+        html="<i>ξ</i><sub><i>i</i></sub>",
+        sections=SECTION_BOUND,
+    ),
+    "cylinder_axis_angle": Symbol(
+        "φ",
+        {"en": "i"},
+        "°",
+        "symbol.cylinder_axis_angle",
+        html="<i>φ</i><sub><i>i</i></sub>",
+        sections=SECTION_BOUND,
+    ),
+    "cylinder_phase": Symbol(
+        "φ",
+        {"en": "i"},
+        "°",
+        "symbol.cylinder_phase",
+        html="<i>φ</i><sub><i>i</i></sub>",
+        sections=SECTION_BOUND,
+    ),
+    "cylinder_position": Symbol(
+        "x",
+        {"en": "i"},
+        "unit.mm",
+        "symbol.cylinder_position",
+        html="<i>x</i><sub><i>i</i></sub>",
+        sections=SECTION_BOUND,
+    ),
+    "cylinder_order_force": Symbol(
+        "P",
+        {"en": "ni"},
+        "unit.N",
+        "symbol.cylinder_order_force",
+        html="<i>P</i><sub><i>n</i><i>i</i></sub>",
+    ),
+    "order_moment": Symbol(
+        "M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"
+    ),
     # a bay's dynamically equivalent model (the textbook's figures 29-33): its rotating vectors and
     # the semi-axes of its hodographs, first and second order
-    "bay_forward_first": Symbol("F", {}, "unit.N", "symbol.bay_forward_first", sections=SECTION_BOUND),
-    "bay_backward_first": Symbol("P", {}, "unit.N", "symbol.bay_backward_first", sections=SECTION_BOUND),
-    "bay_forward_second": Symbol("K", {}, "unit.N", "symbol.bay_forward_second", sections=SECTION_BOUND),
-    "bay_backward_second": Symbol("Z", {}, "unit.N", "symbol.bay_backward_second", sections=SECTION_BOUND),
-    "bay_semi_axis_x_first": Symbol("a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=SECTION_BOUND),
-    "bay_semi_axis_y_first": Symbol("b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=SECTION_BOUND),
-    "bay_semi_axis_x_second": Symbol("a", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_x_second",
-                                     sections=SECTION_BOUND),
-    "bay_semi_axis_y_second": Symbol("b", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_y_second",
-                                     sections=SECTION_BOUND),
+    "bay_forward_first": Symbol(
+        "F", {}, "unit.N", "symbol.bay_forward_first", sections=SECTION_BOUND
+    ),
+    "bay_backward_first": Symbol(
+        "P", {}, "unit.N", "symbol.bay_backward_first", sections=SECTION_BOUND
+    ),
+    "bay_forward_second": Symbol(
+        "K", {}, "unit.N", "symbol.bay_forward_second", sections=SECTION_BOUND
+    ),
+    "bay_backward_second": Symbol(
+        "Z", {}, "unit.N", "symbol.bay_backward_second", sections=SECTION_BOUND
+    ),
+    "bay_semi_axis_x_first": Symbol(
+        "a", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_x_first", sections=SECTION_BOUND
+    ),
+    "bay_semi_axis_y_first": Symbol(
+        "b", {"en": "e,I"}, "unit.N", "symbol.bay_semi_axis_y_first", sections=SECTION_BOUND
+    ),
+    "bay_semi_axis_x_second": Symbol(
+        "a", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_x_second", sections=SECTION_BOUND
+    ),
+    "bay_semi_axis_y_second": Symbol(
+        "b", {"en": "e,II"}, "unit.N", "symbol.bay_semi_axis_y_second", sections=SECTION_BOUND
+    ),
     "hodograph_semi_axis_x": Symbol("a", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_x"),
     "hodograph_semi_axis_y": Symbol("b", {"en": "e"}, "unit.N", "symbol.hodograph_semi_axis_y"),
-    "cylinder_spacing": Symbol("a", {}, "unit.mm", "symbol.cylinder_spacing", sections=SECTION_BOUND),
+    "cylinder_spacing": Symbol(
+        "a", {}, "unit.mm", "symbol.cylinder_spacing", sections=SECTION_BOUND
+    ),
     # the bearings section's vectors (bold) and spans
-    "pin_load_vector": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa", "symbol.pin_load_vector",
-                              html="<b><i>q</i></b><sub>{sub}</sub>"),
-    "rod_bearing_load_vector": Symbol("q", {"en": "bearing", "uk": "ш.п", "ru": "ш.п"}, "unit.MPa",
-                                      "symbol.rod_bearing_load_vector", html="<b><i>q</i></b><sub>{sub}</sub>"),
+    "pin_load_vector": Symbol(
+        "q",
+        {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"},
+        "unit.MPa",
+        "symbol.pin_load_vector",
+        html="<b><i>q</i></b><sub>{sub}</sub>",
+    ),
+    "rod_bearing_load_vector": Symbol(
+        "q",
+        {"en": "bearing", "uk": "ш.п", "ru": "ш.п"},
+        "unit.MPa",
+        "symbol.rod_bearing_load_vector",
+        html="<b><i>q</i></b><sub>{sub}</sub>",
+    ),
     "rotation_matrix": Symbol("Π", {}, "", "symbol.rotation_matrix", html="<b>Π</b>"),
-    "journal_load_vector": Symbol("R", {"en": "j"}, "unit.MPa", "symbol.journal_load_vector",
-                                  html="<b><i>R</i></b><sub><i>j</i></sub>"),
-    "crank_force_vector": Symbol("F", {"en": "i"}, "unit.MPa", "symbol.crank_force_vector",
-                                 html="<b><i>F</i></b><sub><i>i</i></sub>"),
-    "crank_t_unit_vector": Symbol("e", {"en": "t,i"}, "", "symbol.crank_t_unit_vector",
-                                  html="<b>e</b><sub><i>t</i>,<i>i</i></sub>"),
-    "crank_z_unit_vector": Symbol("e", {"en": "z,i"}, "", "symbol.crank_z_unit_vector",
-                                  html="<b>e</b><sub><i>z</i>,<i>i</i></sub>"),
-    "cylinder_radial": Symbol("z", {"en": "i"}, "unit.MPa", "symbol.cylinder_radial", html="<i>z</i><sub><i>i</i></sub>"),
-    "crank_span": Symbol("l", {"en": "i"}, "unit.mm", "symbol.crank_span", html="<i>l</i><sub><i>i</i></sub>"),
-    "span_before": Symbol("l", {"en": "i"}, "unit.mm", "symbol.span_before", html="<i>l</i>′<sub><i>i</i></sub>"),
-    "span_after": Symbol("l", {"en": "i"}, "unit.mm", "symbol.span_after", html="<i>l</i>″<sub><i>i</i></sub>"),
+    "journal_load_vector": Symbol(
+        "R",
+        {"en": "j"},
+        "unit.MPa",
+        "symbol.journal_load_vector",
+        html="<b><i>R</i></b><sub><i>j</i></sub>",
+    ),
+    "crank_force_vector": Symbol(
+        "F",
+        {"en": "i"},
+        "unit.MPa",
+        "symbol.crank_force_vector",
+        html="<b><i>F</i></b><sub><i>i</i></sub>",
+    ),
+    "crank_t_unit_vector": Symbol(
+        "e",
+        {"en": "t,i"},
+        "",
+        "symbol.crank_t_unit_vector",
+        html="<b>e</b><sub><i>t</i>,<i>i</i></sub>",
+    ),
+    "crank_z_unit_vector": Symbol(
+        "e",
+        {"en": "z,i"},
+        "",
+        "symbol.crank_z_unit_vector",
+        html="<b>e</b><sub><i>z</i>,<i>i</i></sub>",
+    ),
+    "cylinder_radial": Symbol(
+        "z", {"en": "i"}, "unit.MPa", "symbol.cylinder_radial", html="<i>z</i><sub><i>i</i></sub>"
+    ),
+    "crank_span": Symbol(
+        "l", {"en": "i"}, "unit.mm", "symbol.crank_span", html="<i>l</i><sub><i>i</i></sub>"
+    ),
+    "span_before": Symbol(
+        "l", {"en": "i"}, "unit.mm", "symbol.span_before", html="<i>l</i>′<sub><i>i</i></sub>"
+    ),
+    "span_after": Symbol(
+        "l", {"en": "i"}, "unit.mm", "symbol.span_after", html="<i>l</i>″<sub><i>i</i></sub>"
+    ),
     # the flywheel's rim and the accumulated work's extremes
     "accumulated_work_max": Symbol("W", {"en": "max"}, "unit.J", "symbol.accumulated_work_max"),
     "accumulated_work_min": Symbol("W", {"en": "min"}, "unit.J", "symbol.accumulated_work_min"),
@@ -245,27 +473,64 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "rim_width": Symbol("b", {}, "unit.mm", "symbol.rim_width", sections=SECTION_BOUND),
     "rim_height": Symbol("h", {}, "unit.mm", "symbol.rim_height", sections=SECTION_BOUND),
     # the error study (numerics)
-    "relative_error": Symbol("ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"),
+    "relative_error": Symbol(
+        "ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"
+    ),
     "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=SECTION_BOUND),
-    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=SECTION_BOUND),
+    "angle_step": Symbol(
+        "α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=SECTION_BOUND
+    ),
     "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=SECTION_BOUND),
-    "reference_torque": Symbol("M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"),
-    "reference_work": Symbol("L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"),
-    "series_displacement": Symbol("s", {"en": "N"}, "unit.mm", "symbol.series_displacement",
-                                  html="<i>s</i><sub><i>N</i></sub>"),
+    "reference_torque": Symbol(
+        "M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"
+    ),
+    "reference_work": Symbol(
+        "L", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.J", "symbol.reference_work"
+    ),
+    "series_displacement": Symbol(
+        "s",
+        {"en": "N"},
+        "unit.mm",
+        "symbol.series_displacement",
+        html="<i>s</i><sub><i>N</i></sub>",
+    ),
     "series_term": Symbol("k", {}, "", "symbol.series_term", sections=SECTION_BOUND),
     # the error table's columns (the relative error of each) and the kinematics forms' differences
-    "tangential_max": Symbol("t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=SECTION_BOUND),
-    "tangential_min": Symbol("t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=SECTION_BOUND),
-    "crank_load_max": Symbol("q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=SECTION_BOUND),
-    "displacement_difference": Symbol("s", {}, "unit.m", "symbol.displacement_difference", html="Δ<i>s</i>",
-                                      sections=SECTION_BOUND),
-    "acceleration_difference": Symbol("j", {}, "unit.m_s2", "symbol.acceleration_difference", html="Δ<i>j</i>",
-                                      sections=SECTION_BOUND),
-    "power_series_coefficient": Symbol("c", {"en": "k"}, "", "symbol.power_series_coefficient",
-                                       html="<i>c</i><sub><i>k</i></sub>"),
-    "fourier_series_coefficient": Symbol("H", {"en": "k"}, "", "symbol.fourier_series_coefficient",
-                                         html="<i>H</i><sub><i>k</i></sub>"),
+    "tangential_max": Symbol(
+        "t", {"en": "max"}, "unit.MPa", "symbol.tangential_max", sections=SECTION_BOUND
+    ),
+    "tangential_min": Symbol(
+        "t", {"en": "min"}, "unit.MPa", "symbol.tangential_min", sections=SECTION_BOUND
+    ),
+    "crank_load_max": Symbol(
+        "q", {"en": "max"}, "unit.MPa", "symbol.crank_load_max", sections=SECTION_BOUND
+    ),
+    "displacement_difference": Symbol(
+        "s",
+        {},
+        "unit.m",
+        "symbol.displacement_difference",
+        html="Δ<i>s</i>",
+        sections=SECTION_BOUND,
+    ),
+    "acceleration_difference": Symbol(
+        "j",
+        {},
+        "unit.m_s2",
+        "symbol.acceleration_difference",
+        html="Δ<i>j</i>",
+        sections=SECTION_BOUND,
+    ),
+    "power_series_coefficient": Symbol(
+        "c", {"en": "k"}, "", "symbol.power_series_coefficient", html="<i>c</i><sub><i>k</i></sub>"
+    ),
+    "fourier_series_coefficient": Symbol(
+        "H",
+        {"en": "k"},
+        "",
+        "symbol.fourier_series_coefficient",
+        html="<i>H</i><sub><i>k</i></sub>",
+    ),
     # the given data and the indicator diagram's tables
     "strokes": Symbol("τ", {}, "", "symbol.strokes"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
@@ -324,10 +589,16 @@ def symbol_table(stages: Iterable) -> SymbolTable:
         look = stage.presentation
         for key, symbol in (look.symbols if look is not None else {}).items():
             if not _STAGE_SYMBOL_KEY.fullmatch(key) or not isinstance(symbol, Symbol):
-                raise PluginError(f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
-                                  "to a crankdyn.plugin.types.Symbol")
-            table[f"{stage.name}.{key}"] = symbol if symbol.sections else replace(symbol, sections=(stage.name,))
-    return SymbolTable({key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND})
+                raise PluginError(
+                    f"stage {stage.name!r}: symbol {key!r} must be an identifier mapped "
+                    "to a crankdyn.plugin.types.Symbol"
+                )
+            table[f"{stage.name}.{key}"] = (
+                symbol if symbol.sections else replace(symbol, sections=(stage.name,))
+            )
+    return SymbolTable(
+        {key: symbol for key, symbol in table.items() if symbol.sections != SECTION_BOUND}
+    )
 
 
 def _section_bound(stages: list) -> dict[str, Symbol]:
@@ -335,13 +606,17 @@ def _section_bound(stages: list) -> dict[str, Symbol]:
     (``StagePresentation.section_symbols``); one that is not such a symbol is a :class:`PluginError`."""
     declaring: dict[str, list[str]] = {}
     for stage in stages:
-        for key in (stage.presentation.section_symbols if stage.presentation is not None else ()):
+        for key in stage.presentation.section_symbols if stage.presentation is not None else ():
             symbol = _CORE_SYMBOLS.get(key)
             if symbol is None or symbol.sections != SECTION_BOUND:
-                raise PluginError(f"stage {stage.name!r}: {key!r} in section_symbols is not one of the core's "
-                                  "section-bound symbols (typeset.SECTION_BOUND)")
+                raise PluginError(
+                    f"stage {stage.name!r}: {key!r} in section_symbols is not one of the core's "
+                    "section-bound symbols (typeset.SECTION_BOUND)"
+                )
             declaring.setdefault(key, []).append(stage.name)
-    return {key: replace(_CORE_SYMBOLS[key], sections=tuple(names)) for key, names in declaring.items()}
+    return {
+        key: replace(_CORE_SYMBOLS[key], sections=tuple(names)) for key, names in declaring.items()
+    }
 
 
 #: Subscript words written in English in the code, for any base letter (``p_mean``, ``M_exact``).
@@ -370,8 +645,13 @@ def symbol_html(key: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
 
-def symbol_pattern(key: str, language: str, not_after: tuple[str, ...] = (), tail: str = "",
-                   symbols: SymbolTable = SYMBOLS) -> str:
+def symbol_pattern(
+    key: str,
+    language: str,
+    not_after: tuple[str, ...] = (),
+    tail: str = "",
+    symbols: SymbolTable = SYMBOLS,
+) -> str:
     """The regular expression of symbol ``key``'s markup: not after a Δ (ΔL is not L, unless the
     symbol is the Δ one) nor after any of ``not_after``, and a symbol without a subscript not
     followed by one (ω is not ω_ш); ``tail``: a further look-ahead condition.
@@ -394,7 +674,11 @@ _SHIFTED_INDEX = re.compile(r"<sub>([^<(]*)\(?<i>([a-z])</i>[+−]1\)?</sub>")
 def unshifted_indices(html: str) -> str:
     """``html`` with each subscript index shifted by one written as the index itself (``l″_{i+1}``
     read as ``l″_i``, ``t_{k(i−1)}`` as ``t_{ki}``): the symbol the table defines at index i."""
-    return _SHIFTED_INDEX.sub(r"<sub>\1<i>\2</i></sub>", html) if "1</sub>" in html or "1)</sub>" in html else html
+    return (
+        _SHIFTED_INDEX.sub(r"<sub>\1<i>\2</i></sub>", html)
+        if "1</sub>" in html or "1)</sub>" in html
+        else html
+    )
 
 
 _STAGE_START = re.compile(r'<section\b[^>]*\bdata-stage="([^"]*)"')
@@ -404,9 +688,9 @@ def _stage_parts(html: str) -> list[tuple[str, str]]:
     """(stage, text) of ``html`` in order: a part runs from a section's start to the next section's
     start (as the "where" lines read a report, equation_legend); the part before the first is ""."""
     starts = list(_STAGE_START.finditer(html))
-    parts = [("", html[:starts[0].start()] if starts else html)]
+    parts = [("", html[: starts[0].start()] if starts else html)]
     for m, after in zip(starts, starts[1:] + [None], strict=True):
-        parts.append((m.group(1), html[m.start():after.start() if after else len(html)]))
+        parts.append((m.group(1), html[m.start() : after.start() if after else len(html)]))
     return parts
 
 
@@ -416,7 +700,9 @@ def sections_taking_over(symbols: SymbolTable, language: str) -> dict[str, set[s
     taken_over: dict[str, set[str]] = {}
     for key, symbol in symbols.items():
         if symbol.sections:
-            taken_over.setdefault(symbol_html(key, language, symbols), set()).update(symbol.sections)
+            taken_over.setdefault(symbol_html(key, language, symbols), set()).update(
+                symbol.sections
+            )
     return taken_over
 
 
@@ -431,15 +717,23 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
     stage's section (the vane engine's S of the input table is not a piston engine's)."""
     parts = _stage_parts(unshifted_indices(html))
     present = {stage for stage, _ in parts}
-    table = SymbolTable({key: symbol for key, symbol in symbols.items()
-                         if "." not in key or key.split(".", 1)[0] in present})
+    table = SymbolTable(
+        {
+            key: symbol
+            for key, symbol in symbols.items()
+            if "." not in key or key.split(".", 1)[0] in present
+        }
+    )
     taken_over = sections_taking_over(table, language)
     texts: dict[tuple[bool, frozenset[str]], str] = {}
     used = []
     for key, symbol in table.items():
         # (True, sections): the text of those sections; (False, sections): the text outside them
-        scope = ((True, frozenset(symbol.sections)) if symbol.sections
-                 else (False, frozenset(taken_over.get(symbol_html(key, language, table), ()))))
+        scope = (
+            (True, frozenset(symbol.sections))
+            if symbol.sections
+            else (False, frozenset(taken_over.get(symbol_html(key, language, table), ())))
+        )
         if scope not in texts:
             texts[scope] = "".join(text for stage, text in parts if (stage in scope[1]) == scope[0])
         if texts[scope] and re.search(symbol_pattern(key, language, symbols=table), texts[scope]):
@@ -495,7 +789,9 @@ _LETTER = r"A-Za-zΑ-Ωα-ωА-Яа-яІіЇїЄєҐґ"
 #: ``s_п``, ``p_z′``, ``l″_i``, ``C_II``, ``λ_p``, ``z̈_A``, ``{..}`` braces for a longer subscript: one base
 #: letter (not the tail of a word or an identifier; a combining dot or two above it allowed), its
 #: subscript of letters or digits.
-_SUB = re.compile(rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}][\u0300-\u036f]?)([′″]?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)([′″]?)")
+_SUB = re.compile(
+    rf"(?<![A-Za-zА-Яа-яІіЇїЄєҐґ0-9_])([{_LETTER}][\u0300-\u036f]?)([′″]?)_(\{{[^{{}}]*\}}|[{_LETTER}0-9]+)([′″]?)"
+)
 #: ``10^−16``, ``cos^2``, ``ω^{2}``: a superscript of an optional sign and digits or letters.
 _SUP = re.compile(rf"\^(\{{[^{{}}]*\}}|[−\-]?[0-9{_LETTER}]+)")
 _SUB_HTML = re.compile(r"<i>([^<]{1,2})</i>((?:</b>)?)<sub>([^<]+)</sub>")
@@ -536,7 +832,9 @@ def _index_subscripts(symbols: SymbolTable = SYMBOLS) -> dict[tuple[str, str], s
     indexed: dict[tuple[str, str], str] = {}
     upright: set[tuple[str, str]] = set()
     for symbol in symbols.values():
-        m = re.fullmatch(r"(?:Δ)?(?:<b>)?<i>(.)</i>(?:</b>)?[′″]?<sub>(.*?)</sub>[′″]?", symbol.html or "")
+        m = re.fullmatch(
+            r"(?:Δ)?(?:<b>)?<i>(.)</i>(?:</b>)?[′″]?<sub>(.*?)</sub>[′″]?", symbol.html or ""
+        )
         if m and "<i>" in m.group(2):
             indexed[(m.group(1), re.sub(r"<[^>]+>", "", m.group(2)))] = m.group(2)
         elif not symbol.html:
@@ -546,8 +844,10 @@ def _index_subscripts(symbols: SymbolTable = SYMBOLS) -> dict[tuple[str, str], s
 
 def _prose_letter(m: re.Match) -> str:
     letter, text, end = m.group(1), m.string, m.end()
-    following = text[end:end + 12]
-    preceding = text[max(0, m.start() - 40):m.start()]  # (the words around it: a window, not the whole node)
+    following = text[end : end + 12]
+    preceding = text[
+        max(0, m.start() - 40) : m.start()
+    ]  # (the words around it: a window, not the whole node)
     if _SCRIPT_NEXT.match(following):
         return letter  # a symbol with a subscript, which _SUB sets whole
     if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(preceding):
@@ -555,8 +855,10 @@ def _prose_letter(m: re.Match) -> str:
     if letter == "j" and (following.startswith(" (") or following.startswith(" sin")):
         return letter  # the imaginary unit, upright
     before = _LAST_WORD.search(preceding)
-    after = _FIRST_WORD.match(following + text[end + 12:end + 40])
-    if (before and _LATIN_WORD.fullmatch(before.group(1))) or (after and _LATIN_WORD.fullmatch(after.group(1))):
+    after = _FIRST_WORD.match(following + text[end + 12 : end + 40])
+    if (before and _LATIN_WORD.fullmatch(before.group(1))) or (
+        after and _LATIN_WORD.fullmatch(after.group(1))
+    ):
         return letter  # an article amid Latin words: the student's English title quoted in the note
     return f"<i>{letter}</i>"
 
@@ -577,8 +879,14 @@ def italic_letters(text: str, language: str, whole: bool = True) -> str:
     return text
 
 
-def typeset_text_html(text: str, language: str, units: list[str], decimal: str = ",",
-                      prose: bool = False, symbols: SymbolTable = SYMBOLS) -> str:
+def typeset_text_html(
+    text: str,
+    language: str,
+    units: list[str],
+    decimal: str = ",",
+    prose: bool = False,
+    symbols: SymbolTable = SYMBOLS,
+) -> str:
     """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing;
     ``prose`` (a node outside any italic, bold, sub- or superscript), in Cyrillic prose a lone Latin
     letter (a symbol) in italics."""
@@ -597,7 +905,9 @@ def typeset_text_html(text: str, language: str, units: list[str], decimal: str =
         return f"{mantissa}·10{sign}{digits}"
 
     text = _E_NUMBER.sub(e_number, text)
-    if prose:  # (a text in Latin letters only, as an English title a student typed, is no Cyrillic prose)
+    if (
+        prose
+    ):  # (a text in Latin letters only, as an English title a student typed, is no Cyrillic prose)
         text = italic_letters(text, language, whole=False)
     text = _SUB.sub(sub, text)
     text = _SUP.sub(lambda m: f"<sup>{_braces(m.group(1)).replace('-', MINUS)}</sup>", text)
@@ -621,13 +931,17 @@ _OPENING_BAR = re.compile(r"(?:(?<=[\s(\u00a0=·])|^)\|(?=[^\s|\u2060]|$)")
 #: "Петров В. М.", "Khurmi R. S.", "Петров В.М.": a surname and its initials stay on one line (the
 #: title page would otherwise break "Петров В. /М."): a no-break space before a capital
 #: initial after a word or an initial, and ("В. М. Петров") after an initial before a capitalised word.
-_BEFORE_INITIAL = re.compile(r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-ZА-ЯІЇЄҐЁ]\.)*(?:[\s,;:)]|$))"
-                             r"|(?<=\b[A-ZА-ЯІЇЄҐЁ]\.) (?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])")
+_BEFORE_INITIAL = re.compile(
+    r"(?<=[^\W\d_]|\.) (?=[A-ZА-ЯІЇЄҐЁ]\.(?:[A-ZА-ЯІЇЄҐЁ]\.)*(?:[\s,;:)]|$))"
+    r"|(?<=\b[A-ZА-ЯІЇЄҐЁ]\.) (?=[A-ZА-ЯІЇЄҐЁ][a-zа-яіїєґё'’])"
+)
 
 #: "табл. 2.1", "рис. Б.3", "с. 45", "розд. 6": an abbreviated reference and its number stay on one
 #: line (ДСТУ 3008 binds them; a line starting with the bare "6.3)" reads as a decimal fraction).
-_REFERENCE_NUMBER = re.compile(r"(?<![^\W\d_])(табл|рис|розд|підрозд|разд|подразд|дод|прил|с|ст|п)\. "
-                               r"(?=\d|[A-ZА-ЯІЇЄҐ]\.\d)")
+_REFERENCE_NUMBER = re.compile(
+    r"(?<![^\W\d_])(табл|рис|розд|підрозд|разд|подразд|дод|прил|с|ст|п)\. "
+    r"(?=\d|[A-ZА-ЯІЇЄҐ]\.\d)"
+)
 
 
 def _unbreakable(text: str) -> str:
@@ -692,8 +1006,9 @@ def _skip_depth(tag: str, skip: int) -> int:
     return skip
 
 
-def typeset_html(html: str, language: str, units: list[str], decimal: str = ",",
-                 symbols: SymbolTable = SYMBOLS) -> str:
+def typeset_html(
+    html: str, language: str, units: list[str], decimal: str = ",", symbols: SymbolTable = SYMBOLS
+) -> str:
     """Apply :func:`typeset_text_html` to every text node of a document (not to tags,
     attribute values, ``<style>``, ``<script>`` or ``<title>``) and give the table headers'
     and equations' ``<i>X</i><sub>Y</sub>`` the language's subscript."""
@@ -708,14 +1023,25 @@ def typeset_html(html: str, language: str, units: list[str], decimal: str = ",",
             continue
         if skip or not part.strip():
             continue
-        if not inline and language in _ITALIC_PROSE_LANGUAGES and _ONE_LETTER.fullmatch(part) \
-                and parts[i - 1].startswith("<td"):
+        if (
+            not inline
+            and language in _ITALIC_PROSE_LANGUAGES
+            and _ONE_LETTER.fullmatch(part)
+            and parts[i - 1].startswith("<td")
+        ):
             parts[i] = f"<i>{part}</i>"  # a table cell that is a symbol (the criteria z, t, q)
             continue
-        parts[i] = typeset_text_html(part, language, units, decimal, prose=not inline, symbols=symbols)
+        parts[i] = typeset_text_html(
+            part, language, units, decimal, prose=not inline, symbols=symbols
+        )
     out = "".join(parts)
-    return _SUB_HTML.sub(lambda m: f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
-                                   f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>", out)
+    return _SUB_HTML.sub(
+        lambda m: (
+            f"<i>{m.group(1)}</i>{m.group(2)}<sub>"
+            f"{subs.get((m.group(1), m.group(3)), m.group(3))}</sub>"
+        ),
+        out,
+    )
 
 
 # ----------------------------------------------------------------------------- figures
@@ -766,8 +1092,16 @@ def _legend_outside(ax) -> None:
     if len(labels) != len(legend.get_texts()) or not labels:
         return  # a legend built from its own handles: leave it as its author placed it
     size = legend.get_texts()[0].get_fontsize()
-    ax.legend(handles, labels, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=_legend_columns(ax, labels, size),
-              frameon=False, fontsize=size, borderaxespad=0.2)
+    ax.legend(
+        handles,
+        labels,
+        loc="lower right",
+        bbox_to_anchor=(1.0, 1.0),
+        ncol=_legend_columns(ax, labels, size),
+        frameon=False,
+        fontsize=size,
+        borderaxespad=0.2,
+    )
 
 
 def _legend_columns(ax, labels, size_pt: float) -> int:
@@ -794,9 +1128,15 @@ def _locale_ticks(axis, t) -> None:
     major = axis.get_major_formatter()
     if type(major) is ScalarFormatter:  # leave custom formatters
         axis.set_major_formatter(locale_formatter(t))
-    elif isinstance(major, LogFormatter):  # 10⁻³ typeset; minor labels only where no power of ten shows
-        axis.set_major_formatter(FuncFormatter(lambda x, pos: _log_label(x, t, axis.get_view_interval())))
-        axis.set_minor_formatter(FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t)))
+    elif isinstance(
+        major, LogFormatter
+    ):  # 10⁻³ typeset; minor labels only where no power of ten shows
+        axis.set_major_formatter(
+            FuncFormatter(lambda x, pos: _log_label(x, t, axis.get_view_interval()))
+        )
+        axis.set_minor_formatter(
+            FuncFormatter(lambda x, pos: _log_minor_label(x, axis.get_view_interval(), t))
+        )
         if _decades(axis.get_view_interval()) > _MINOR_TICKS_MAX_DECADES:
             from matplotlib.ticker import (
                 NullLocator,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
@@ -824,11 +1164,15 @@ def _log_minor_label(x: float, view, t) -> str:
     if low <= 0 or not math.isfinite(high) or high / low >= 100.0 or x <= 0:
         return ""
     exponent = math.floor(math.log10(x) + 1e-9)
-    mantissa = x / 10.0 ** exponent
+    mantissa = x / 10.0**exponent
     if high / low < 10.0:
         return t.number_g(x, 3) if any(abs(mantissa - m) < 1e-6 for m in (2.0, 3.0, 5.0)) else ""
     if any(abs(mantissa - m) < 1e-6 for m in (2.0, 5.0)):
-        return t.number_g(x, 3) if _plain_numbers(view) else f"{int(round(mantissa))}·10{superscript(exponent)}"
+        return (
+            t.number_g(x, 3)
+            if _plain_numbers(view)
+            else f"{int(round(mantissa))}·10{superscript(exponent)}"
+        )
     return ""
 
 
@@ -865,7 +1209,7 @@ def tick_labels(values, t) -> tuple[list[str], int]:
     finite = values[np.isfinite(values)]
     big = float(np.max(np.abs(finite))) if finite.size else 0.0
     scale = int(np.floor(np.log10(big))) if big and (big >= 1e6 or big < 1e-2) else 0
-    scaled = values / 10.0 ** scale
+    scaled = values / 10.0**scale
     steps = np.diff(np.unique(scaled[np.isfinite(scaled)]))
     step = float(np.min(steps)) if steps.size else 1.0
     decimals = 0

@@ -34,8 +34,12 @@ class WorkedStep:
     unit: str
     inputs: dict[str, float] = field(default_factory=dict)  # the substituted numbers, as printed
     significant: int | None = None  # a result table printing significant digits, not decimals
-    exact: dict[str, float] = field(default_factory=dict)  # the same inputs unrounded (tests: to 1e-12)
-    row_key: str = ""  # in a table of results: the first cell of the row holding this result ("1", a journal)
+    exact: dict[str, float] = field(
+        default_factory=dict
+    )  # the same inputs unrounded (tests: to 1e-12)
+    row_key: str = (
+        ""  # in a table of results: the first cell of the row holding this result ("1", a journal)
+    )
 
     def result_text(self, t) -> str:
         """The result as its table prints it."""
@@ -92,7 +96,9 @@ def _parse(text: str) -> float:
     """The value of a number as printed: "−1,2·10⁻³", "12 345,6"."""
     text = text.replace(NARROW_NBSP, "").replace("\u00a0", "").replace(MINUS, "-").replace(",", ".")
     mantissa, _, exponent = text.partition("·10")
-    return float(f"{mantissa}e{int(exponent.translate(_FROM_SUPERSCRIPT))}" if exponent else mantissa)
+    return float(
+        f"{mantissa}e{int(exponent.translate(_FROM_SUPERSCRIPT))}" if exponent else mantissa
+    )
 
 
 #: The longest innermost bracketed group of a worked line (visible characters) kept on one line: the
@@ -117,7 +123,9 @@ def _tags_balanced(html: str) -> bool:
 
 
 #: A function's name and its argument ("cos 8,048°", "cos<sup>3</sup> 8,048°"): bound by a no-break space.
-_FUNCTION_ARGUMENT = re.compile(r"\b(cos|sin|tg|ctg|arcsin|arccos|arctg|ln|exp)((?:<sup>[^<]*</sup>)?) (?=\S)")
+_FUNCTION_ARGUMENT = re.compile(
+    r"\b(cos|sin|tg|ctg|arcsin|arccos|arctg|ln|exp)((?:<sup>[^<]*</sup>)?) (?=\S)"
+)
 #: A slash before a bracket ("…)/(589,260 + …"): a word joiner after it, as the equations have.
 _SLASH_BRACKET = re.compile(r"/(?=[(\[])")
 
@@ -126,6 +134,7 @@ def groups_unbroken(line_html: str) -> str:
     """``line_html`` with each short innermost "( … )" group in a span that the page does not
     break, a function bound to its argument and no break after a slash before a bracket (not
     "…/cos | 8,048°", "…583,396)/ | (589,260 + …" across a line's end)."""
+
     def keep(match: re.Match) -> str:
         group = match.group(0)
         if len(_TAG_RE.sub("", group)) > GROUP_CHARS or not _tags_balanced(group):
@@ -144,20 +153,25 @@ def worked_markup(ctx, block: WorkedBlock) -> Markup:
     of the note (ДСТУ 3008), and the sentence already says what follows and for which row."""
     t = ctx.t
     if block.angle_deg is None:
-        intro = t("doc.worked_intro_results", table=block.table_number) if block.table_number else \
-            t("doc.worked_intro_text")
+        intro = (
+            t("doc.worked_intro_results", table=block.table_number)
+            if block.table_number
+            else t("doc.worked_intro_text")
+        )
     else:
         angle = ctx.angle_text(block.angle_deg)
         intro = t("doc.worked_intro", angle=angle, table=block.table_number)
-    parts = ['<div class="worked">', f'<p>{escape(intro)}</p>']
+    parts = ['<div class="worked">', f"<p>{escape(intro)}</p>"]
     if block.note:
-        parts.append(f'<p>{escape(block.note)}</p>')
+        parts.append(f"<p>{escape(block.note)}</p>")
     for step in block.steps:
         result = step.result_text(t)
         unit = "°" if step.unit == "°" else f" {escape(step.unit)}" if step.unit else ""
         line = f"{step.lhs_html} = {step.formula_html} = {step.substituted_html} = {escape(result)}{unit}"
         # carried over as an equation is: after "=" or at a sign outside brackets, the sign repeated
-        parts.append(f'<p class="worked-line">{unbroken_parts(groups_unbroken(line), WORKED_LINE_CHARS)}</p>')
+        parts.append(
+            f'<p class="worked-line">{unbroken_parts(groups_unbroken(line), WORKED_LINE_CHARS)}</p>'
+        )
     parts.append("</div>")
     ctx.worked.append(block)
     return Markup("".join(parts))

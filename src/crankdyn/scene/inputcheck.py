@@ -20,15 +20,17 @@ MAX_DEPTH = 16
 #: a text of megabytes would make the page layout run for minutes.
 MAX_TEXT_LENGTH = 1000
 #: A nonzero number below the smallest normal float (2.2e-308) is subnormal: its square is 0.
-TOO_CLOSE_TO_ZERO = (f"is too close to zero to compute with (below {sys.float_info.min:.3g}); "
-                     "give 0 or a value of a physical size")
+TOO_CLOSE_TO_ZERO = (
+    f"is too close to zero to compute with (below {sys.float_info.min:.3g}); "
+    "give 0 or a value of a physical size"
+)
 #: Characters in one key (the longest name of the scene's tables has 30).
 MAX_KEY_LENGTH = 100
 #: Items in one array (firing orders, crank angles, lists of steps hold a few dozen), and keys
 #: in one table.
 MAX_ARRAY_LENGTH = 10_000
 #: TOML integers are 64-bit signed; a longer one cannot be computed with as a float either.
-MIN_INTEGER, MAX_INTEGER = -2**63, 2**63 - 1
+MIN_INTEGER, MAX_INTEGER = -(2**63), 2**63 - 1
 # C0 controls except none, DEL and the C1 controls: nothing a scene's text needs.
 _CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
 CORE_TABLES = ("report", "engine", "masses", "cycle", "analysis", "mechanism")
@@ -62,29 +64,51 @@ def structure_problems(data: Any) -> list[Problem]:
     while stack:  # iterative, so no depth can exhaust the interpreter's stack
         path, value, depth = stack.pop()
         if depth > MAX_DEPTH:
-            problems.append(Problem(path or "scene", "(nested too deeply)",
-                                    f"tables and arrays may be nested at most {MAX_DEPTH} levels deep"))
+            problems.append(
+                Problem(
+                    path or "scene",
+                    "(nested too deeply)",
+                    f"tables and arrays may be nested at most {MAX_DEPTH} levels deep",
+                )
+            )
             continue
         if isinstance(value, dict):
             if len(value) > MAX_ARRAY_LENGTH:
-                problems.append(Problem(path or "scene", f"(a table of {len(value)} keys)",
-                                        f"a table may hold at most {MAX_ARRAY_LENGTH} keys"))
+                problems.append(
+                    Problem(
+                        path or "scene",
+                        f"(a table of {len(value)} keys)",
+                        f"a table may hold at most {MAX_ARRAY_LENGTH} keys",
+                    )
+                )
                 continue
             for key, item in value.items():
                 if len(str(key)) > MAX_KEY_LENGTH:
-                    cut = str(key)[:MAX_KEY_LENGTH // 2] + "..."
+                    cut = str(key)[: MAX_KEY_LENGTH // 2] + "..."
                     allowed = f"a key may be at most {MAX_KEY_LENGTH} characters long"
-                    problems.append(Problem(f"{path}.{cut}" if path else cut,
-                                            f"(a key of {len(str(key))} characters)", allowed))
+                    problems.append(
+                        Problem(
+                            f"{path}.{cut}" if path else cut,
+                            f"(a key of {len(str(key))} characters)",
+                            allowed,
+                        )
+                    )
                     continue
                 child = f"{path}.{key}" if path else str(key)
                 if _CONTROL.search(str(key)):
-                    problems.append(Problem(child, str(key), "a key may not contain control characters"))
+                    problems.append(
+                        Problem(child, str(key), "a key may not contain control characters")
+                    )
                 stack.append((child, item, depth + 1))
         elif isinstance(value, (list, tuple, set, frozenset)):  # the API may be given any of them
             if len(value) > MAX_ARRAY_LENGTH:
-                problems.append(Problem(path or "scene", f"(an array of {len(value)} items)",
-                                        f"an array may hold at most {MAX_ARRAY_LENGTH} items"))
+                problems.append(
+                    Problem(
+                        path or "scene",
+                        f"(an array of {len(value)} items)",
+                        f"an array may hold at most {MAX_ARRAY_LENGTH} items",
+                    )
+                )
                 continue
             stack.extend((f"{path}.{k}", item, depth + 1) for k, item in enumerate(value))
         else:
@@ -97,19 +121,33 @@ def structure_problems(data: Any) -> list[Problem]:
 def value_problem(path: str, value: Any) -> Problem | None:
     """Why one plain value (text, integer, float) may not stand in a scene, or None."""
     if isinstance(value, (bytes, bytearray)) and len(value) > MAX_TEXT_LENGTH:  # read as text
-        return Problem(path, value, f"text may be at most {MAX_TEXT_LENGTH} characters long "
-                       f"(it has {len(value)})")
+        return Problem(
+            path,
+            value,
+            f"text may be at most {MAX_TEXT_LENGTH} characters long (it has {len(value)})",
+        )
     if isinstance(value, str):
         if len(value) > MAX_TEXT_LENGTH:
-            return Problem(path, value, f"text may be at most {MAX_TEXT_LENGTH} characters long "
-                           f"(it has {len(value)})")
+            return Problem(
+                path,
+                value,
+                f"text may be at most {MAX_TEXT_LENGTH} characters long (it has {len(value)})",
+            )
         if _CONTROL.search(value):
-            return Problem(path, value, "text may not contain control characters (tabs, line "
-                           "breaks, escape codes); write it on one line")
+            return Problem(
+                path,
+                value,
+                "text may not contain control characters (tabs, line "
+                "breaks, escape codes); write it on one line",
+            )
     elif isinstance(value, int) and not isinstance(value, bool):
         if not MIN_INTEGER <= value <= MAX_INTEGER:
-            return Problem(path, _LongInteger(value), f"an integer must lie between {MIN_INTEGER} "
-                           f"and {MAX_INTEGER} (64 bits, as TOML defines integers)")
+            return Problem(
+                path,
+                _LongInteger(value),
+                f"an integer must lie between {MIN_INTEGER} "
+                f"and {MAX_INTEGER} (64 bits, as TOML defines integers)",
+            )
     elif isinstance(value, UnderflowedFloat):
         return Problem(path, value.text, TOO_CLOSE_TO_ZERO)
     elif isinstance(value, float) and value != 0.0 and abs(value) < sys.float_info.min:
@@ -123,7 +161,7 @@ class _LongInteger:
 
     def __init__(self, value: int):
         digits = max(1, int(value.bit_length() * 0.30102999566398120))
-        if 10 ** digits <= abs(value):
+        if 10**digits <= abs(value):
             digits += 1
         self.digits = digits
         self.leading = abs(value) // 10 ** max(0, digits - 20)
@@ -135,7 +173,9 @@ class _LongInteger:
         return f"{self.sign}{self.leading}... ({self.digits} digits)"
 
 
-def table_problems(data: dict, plugin_tables: set[str] | frozenset[str] = frozenset()) -> list[Problem]:
+def table_problems(
+    data: dict, plugin_tables: set[str] | frozenset[str] = frozenset()
+) -> list[Problem]:
     """Top-level tables whose name is close to a missing core table: "did you mean [engine]?"."""
     problems = []
     for name in data:
@@ -144,6 +184,12 @@ def table_problems(data: dict, plugin_tables: set[str] | frozenset[str] = frozen
         missing = [t for t in CORE_TABLES if t not in data]
         close = difflib.get_close_matches(name, missing, n=1, cutoff=0.75)
         if close:
-            problems.append(Problem(name, f"[{name}]", f"unknown table; did you mean [{close[0]}]? "
-                                    "core tables: " + ", ".join(CORE_TABLES)))
+            problems.append(
+                Problem(
+                    name,
+                    f"[{name}]",
+                    f"unknown table; did you mean [{close[0]}]? "
+                    "core tables: " + ", ".join(CORE_TABLES),
+                )
+            )
     return problems

@@ -41,8 +41,16 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
 
-def _quantity(kind: str, *, gt: float | None = None, ge: float | None = None,
-              lt: float | None = None, le: float | None = None, unit: str = "", scale: float = 1.0):
+def _quantity(
+    kind: str,
+    *,
+    gt: float | None = None,
+    ge: float | None = None,
+    lt: float | None = None,
+    le: float | None = None,
+    unit: str = "",
+    scale: float = 1.0,
+):
     """An SI float read from a unit string, with a range stated in ``unit`` (SI value = shown * scale)."""
 
     def check(value: float) -> float:
@@ -67,11 +75,18 @@ def _quantity(kind: str, *, gt: float | None = None, ge: float | None = None,
             raise ValueError("must be " + " and ".join(parts))
         return value
 
-    return Annotated[float, BeforeValidator(lambda v: parse_quantity(v, kind)), AfterValidator(check)]
+    return Annotated[
+        float, BeforeValidator(lambda v: parse_quantity(v, kind)), AfterValidator(check)
+    ]
 
 
-def _number(*, gt: float | None = None, ge: float | None = None, lt: float | None = None,
-            le: float | None = None):
+def _number(
+    *,
+    gt: float | None = None,
+    ge: float | None = None,
+    lt: float | None = None,
+    le: float | None = None,
+):
     """A plain finite number with a stated range."""
 
     def check(value: Any) -> float:
@@ -80,14 +95,19 @@ def _number(*, gt: float | None = None, ge: float | None = None, lt: float | Non
         try:
             value = float(value)
         except OverflowError:
-            raise ValueError("must be a finite number (this integer is too large for a float)") \
-                from None
+            raise ValueError(
+                "must be a finite number (this integer is too large for a float)"
+            ) from None
         if not math.isfinite(value):
             raise ValueError("must be a finite number")
         _check_representable(value)
         parts, ok = [], True
-        for symbol, bound, test in ((">", gt, lambda a, b: a > b), (">=", ge, lambda a, b: a >= b),
-                                    ("<", lt, lambda a, b: a < b), ("<=", le, lambda a, b: a <= b)):
+        for symbol, bound, test in (
+            (">", gt, lambda a, b: a > b),
+            (">=", ge, lambda a, b: a >= b),
+            ("<", lt, lambda a, b: a < b),
+            ("<=", le, lambda a, b: a <= b),
+        ):
             if bound is not None:
                 parts.append(f"{symbol} {bound:g}")
                 ok &= test(value, bound)
@@ -185,13 +205,21 @@ class Engine(_Strict):
     @model_validator(mode="after")
     def _rod(self) -> Engine:
         if (self.rod_length is None) == (self.rod_ratio is None):
-            raise ValueError("give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)")
+            raise ValueError(
+                "give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)"
+            )
         if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
-            raise _FieldError("rod_ratio", f"must be >= {MIN_ROD_RATIO:g}: a longer rod than "
-                              f"{1 / MIN_ROD_RATIO:g} crank radii moves the piston as a pure sine")
+            raise _FieldError(
+                "rod_ratio",
+                f"must be >= {MIN_ROD_RATIO:g}: a longer rod than "
+                f"{1 / MIN_ROD_RATIO:g} crank radii moves the piston as a pure sine",
+            )
         if self.rod_length is not None and self.rod_length <= self.stroke / 2:
-            raise _FieldError("rod_length", f"the rod must be longer than the crank radius "
-                              f"(stroke/2 = {self.stroke / 2 * 1e3:g} mm), i.e. lambda = R/L < 1")
+            raise _FieldError(
+                "rod_length",
+                f"the rod must be longer than the crank radius "
+                f"(stroke/2 = {self.stroke / 2 * 1e3:g} mm), i.e. lambda = R/L < 1",
+            )
         return self
 
     @property
@@ -200,11 +228,15 @@ class Engine(_Strict):
 
     @property
     def rod_ratio_value(self) -> float:
-        return self.rod_ratio if self.rod_ratio is not None else self.crank_radius_m / self.rod_length
+        return (
+            self.rod_ratio if self.rod_ratio is not None else self.crank_radius_m / self.rod_length
+        )
 
     @property
     def rod_length_m(self) -> float:
-        return self.rod_length if self.rod_length is not None else self.crank_radius_m / self.rod_ratio
+        return (
+            self.rod_length if self.rod_length is not None else self.crank_radius_m / self.rod_ratio
+        )
 
     @property
     def angular_velocity_rad_s(self) -> float:
@@ -239,13 +271,17 @@ class Masses(_Strict):
     crank_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
     crank_web: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
     # Moment of inertia of the rod about its centre of mass (rod_dynamics stage).
-    rod_moment_of_inertia: _quantity("moment_of_inertia", gt=0, le=1000, unit="kg m^2") | None = None
+    rod_moment_of_inertia: _quantity("moment_of_inertia", gt=0, le=1000, unit="kg m^2") | None = (
+        None
+    )
 
     @model_validator(mode="after")
     def _cm(self) -> Masses:
         if (self.rod_cm_from_big_end is None) == (self.rod_cm_fraction is None):
-            raise ValueError("give exactly one of rod_cm_from_big_end (e.g. '38 mm') or rod_cm_fraction "
-                             "(l_R/L, textbook 0.18-0.32 for car engines)")
+            raise ValueError(
+                "give exactly one of rod_cm_from_big_end (e.g. '38 mm') or rod_cm_fraction "
+                "(l_R/L, textbook 0.18-0.32 for car engines)"
+            )
         return self
 
 
@@ -276,7 +312,9 @@ class Cycle(_Strict):
     pre_expansion_ratio: _number(ge=1.0, le=5.0) = 1.0
     expansion_index: _number(ge=1.0, le=1.67) | None = None
     exhaust_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = None
-    mean_indicated_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = None
+    mean_indicated_pressure: _quantity("pressure", gt=0, le=1e7, unit="MPa", scale=1e6) | None = (
+        None
+    )
     rounding: Rounding = Rounding()
     trace_file: str | None = None
     trace_format: Literal["csv", "diesel-rk"] | None = None
@@ -286,25 +324,50 @@ class Cycle(_Strict):
     def _complete(self) -> Cycle:
         if self.source == "trace":
             if not self.trace_file:
-                raise _FieldError("trace_file", "a trace cycle needs trace_file (CSV or Diesel-RK .ind)")
+                raise _FieldError(
+                    "trace_file", "a trace cycle needs trace_file (CSV or Diesel-RK .ind)"
+                )
             if self.compression_ratio is None:
-                raise _FieldError("compression_ratio", "missing: with a pressure trace the cylinder volume "
-                                  "V = V_c + F*s needs the clearance volume V_c = V_h/(eps - 1)")
+                raise _FieldError(
+                    "compression_ratio",
+                    "missing: with a pressure trace the cylinder volume "
+                    "V = V_c + F*s needs the clearance volume V_c = V_h/(eps - 1)",
+                )
             return self
-        needed = ["ignition", "compression_ratio", "intake_pressure", "compression_index", "max_pressure",
-                  "expansion_index"]
+        needed = [
+            "ignition",
+            "compression_ratio",
+            "intake_pressure",
+            "compression_index",
+            "max_pressure",
+            "expansion_index",
+        ]
         for name in needed:
             if getattr(self, name) is None:
-                raise _FieldError(name, "missing; the theoretical indicator diagram needs "
-                                  + ", ".join(needed) + " (and exhaust_pressure for four-stroke engines)")
+                raise _FieldError(
+                    name,
+                    "missing; the theoretical indicator diagram needs "
+                    + ", ".join(needed)
+                    + " (and exhaust_pressure for four-stroke engines)",
+                )
         if self.ignition == "spark" and self.pre_expansion_ratio != 1.0:
-            raise _FieldError("pre_expansion_ratio", "must be 1 for spark ignition (combustion at constant volume)")
+            raise _FieldError(
+                "pre_expansion_ratio",
+                "must be 1 for spark ignition (combustion at constant volume)",
+            )
         if self.pre_expansion_ratio >= self.compression_ratio:
-            raise _FieldError("pre_expansion_ratio", f"must be < compression_ratio ({self.compression_ratio:g})")
-        if self.max_pressure <= self.intake_pressure * self.compression_ratio ** self.compression_index:
-            pc = self.intake_pressure * self.compression_ratio ** self.compression_index
-            raise _FieldError("max_pressure", f"must exceed the compression-end pressure "
-                              f"p_c = p_a*eps^n1 = {pc / 1e6:.3g} MPa")
+            raise _FieldError(
+                "pre_expansion_ratio", f"must be < compression_ratio ({self.compression_ratio:g})"
+            )
+        if (
+            self.max_pressure
+            <= self.intake_pressure * self.compression_ratio**self.compression_index
+        ):
+            pc = self.intake_pressure * self.compression_ratio**self.compression_index
+            raise _FieldError(
+                "max_pressure",
+                f"must exceed the compression-end pressure p_c = p_a*eps^n1 = {pc / 1e6:.3g} MPa",
+            )
         return self
 
 
@@ -352,42 +415,67 @@ class Scene(_Strict):
         cycle = self.engine.cycle_deg
         n = cycle / step
         if abs(n - round(n)) > 1e-6:
-
             near = ", ".join(f"{x:.12g}" for x in nearest_steps_deg(self.engine_grid_deg, step))
-            raise _FieldError("analysis.angle_step_deg",
-                              f"must divide the cycle ({cycle:g} deg for a {self.engine.strokes}-stroke engine) "
-                              f"and the firing intervals a whole number of times; the nearest steps that work: {near} "
-                              f"(or leave it out: the default is chosen from [numerics] tolerance)")
+            raise _FieldError(
+                "analysis.angle_step_deg",
+                f"must divide the cycle ({cycle:g} deg for a {self.engine.strokes}-stroke engine) "
+                f"and the firing intervals a whole number of times; the nearest steps that work: {near} "
+                f"(or leave it out: the default is chosen from [numerics] tolerance)",
+            )
         ratio = self.analysis.table_step_deg / step
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
             k = max(1, int(ratio))
             near = ", ".join(f"{x:.6g}" for x in sorted({k * step, (k + 1) * step}))
-            raise _FieldError("analysis.table_step_deg", f"must be a whole multiple of angle_step_deg "
-                              f"({step:.6g} deg); it is {self.analysis.table_step_deg:g} deg; the nearest that work: {near}")
+            raise _FieldError(
+                "analysis.table_step_deg",
+                f"must be a whole multiple of angle_step_deg "
+                f"({step:.6g} deg); it is {self.analysis.table_step_deg:g} deg; the nearest that work: {near}",
+            )
         if self.cycle is not None and self.engine.strokes == 2:
-            four_stroke_only = {"exhaust_closes_after_tdc_deg", "intake_opens_before_tdc_deg",
-                                "intake_closes_after_bdc_deg", "exhaust_pressure"}
-            given = (self.cycle.rounding.model_fields_set | self.cycle.model_fields_set) & four_stroke_only
+            four_stroke_only = {
+                "exhaust_closes_after_tdc_deg",
+                "intake_opens_before_tdc_deg",
+                "intake_closes_after_bdc_deg",
+                "exhaust_pressure",
+            }
+            given = (
+                self.cycle.rounding.model_fields_set | self.cycle.model_fields_set
+            ) & four_stroke_only
             if given:
                 name = sorted(given)[0]
                 where = "cycle." if name == "exhaust_pressure" else "cycle.rounding."
-                raise _FieldError(where + name, "applies to four-stroke engines only (valve timing near TDC and "
-                                  "the exhaust stroke); remove it for a two-stroke engine")
+                raise _FieldError(
+                    where + name,
+                    "applies to four-stroke engines only (valve timing near TDC and "
+                    "the exhaust stroke); remove it for a two-stroke engine",
+                )
         if self.cycle is not None and self.masses is None:
-            raise _FieldError("masses", "missing: a scene with cycle data needs [masses] "
-                              "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)")
+            raise _FieldError(
+                "masses",
+                "missing: a scene with cycle data needs [masses] "
+                "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)",
+            )
         if self.masses is not None and self.masses.rod_cm_from_big_end is not None:
             if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
-                raise _FieldError("masses.rod_cm_from_big_end",
-                                  f"must be < the rod length ({self.engine.rod_length_m * 1e3:g} mm)")
+                raise _FieldError(
+                    "masses.rod_cm_from_big_end",
+                    f"must be < the rod length ({self.engine.rod_length_m * 1e3:g} mm)",
+                )
         if self.cycle is not None and self.cycle.trace_file:
             reason = self.data_file_problem(self.cycle.trace_file)
             if reason:
                 raise _FieldError("cycle.trace_file", reason)
-        if (self.cycle is not None and self.cycle.source == "theoretical" and self.engine.strokes == 4
-                and self.cycle.exhaust_pressure is None):
-            raise _FieldError("cycle.exhaust_pressure", "missing: a four-stroke theoretical diagram needs "
-                              "the exhaust pressure p_r (e.g. '0.11 MPa')")
+        if (
+            self.cycle is not None
+            and self.cycle.source == "theoretical"
+            and self.engine.strokes == 4
+            and self.cycle.exhaust_pressure is None
+        ):
+            raise _FieldError(
+                "cycle.exhaust_pressure",
+                "missing: a four-stroke theoretical diagram needs "
+                "the exhaust pressure p_r (e.g. '0.11 MPa')",
+            )
         return self
 
     def _default_firing_order(self) -> None:
@@ -420,8 +508,12 @@ class Scene(_Strict):
     @property
     def firing_order_chosen(self) -> bool:
         """True when the scene named no firing order and the explorer's top-ranked one was taken."""
-        return self.engine.cylinders > 1 and "firing_order" not in self.engine.model_fields_set \
-            and self.engine.layout != "radial" and self.engine.firing_order is not None
+        return (
+            self.engine.cylinders > 1
+            and "firing_order" not in self.engine.model_fields_set
+            and self.engine.layout != "radial"
+            and self.engine.firing_order is not None
+        )
 
     def _default_steps(self) -> None:
         """Fill in the angle and table steps the scene leaves out (the scene stays frozen to the user).
@@ -452,7 +544,9 @@ class Scene(_Strict):
             # firing delays and bank angles (the gcd of the engine's grid and the table step).
             table = DEFAULT_TABLE_STEP_DEG if table is None else table
             grid = lay.grid_deg(self.engine.cycle_deg, [self.engine_grid_deg, table])
-            step = step_on_grid_deg(grid, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3))))
+            step = step_on_grid_deg(
+                grid, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3)))
+            )
         elif table is None:
             ratio = DEFAULT_TABLE_STEP_DEG / step
             if abs(ratio - round(ratio)) <= 1e-9:
@@ -475,8 +569,16 @@ class Scene(_Strict):
         when the layout is invalid (its check reports that)."""
         e = self.engine
         try:
-            layout = lay.build_layout(e.layout, e.strokes, e.cylinders, e.bank_angle_deg, e.firing_order,
-                                      e.crank_angles_deg, e.rod_type, e.uneven_firing)
+            layout = lay.build_layout(
+                e.layout,
+                e.strokes,
+                e.cylinders,
+                e.bank_angle_deg,
+                e.firing_order,
+                e.crank_angles_deg,
+                e.rod_type,
+                e.uneven_firing,
+            )
         except (lay.LayoutError, ValueError):
             return e.cycle_deg
         return lay.layout_grid_deg(layout)
@@ -511,7 +613,6 @@ class Scene(_Strict):
         """Why ``name`` may not be read as a data file, or None."""
         return data_file_problem(name, self.base_dir, self.data_dirs, must_exist)
 
-
     def plugin_tables(self) -> dict[str, Any]:
         """The top-level tables that belong to plugins (not part of the core model)."""
         return dict(self.model_extra or {})
@@ -519,15 +620,23 @@ class Scene(_Strict):
 
 def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None = None):
     """Validate the plugin table ``[table]`` of ``scene`` with ``model``; errors name ``table.<field>``."""
-    raw = data if data is not None else (scene.mechanism if table == "mechanism" else scene.plugin_tables().get(table, {}))
+    raw = (
+        data
+        if data is not None
+        else (scene.mechanism if table == "mechanism" else scene.plugin_tables().get(table, {}))
+    )
     if not isinstance(raw, dict):
         raise SceneError(Problem(table, raw, "must be a table ([" + table + "])"))
     try:
         return model.model_validate(raw)
     except ValidationError as exc:
         problems = _problems(exc, raw, model)
-        raise SceneError([Problem(f"{table}.{p.field}" if p.field != "scene" else table, p.value, p.allowed)
-                          for p in problems]) from None
+        raise SceneError(
+            [
+                Problem(f"{table}.{p.field}" if p.field != "scene" else table, p.value, p.allowed)
+                for p in problems
+            ]
+        ) from None
 
 
 # --------------------------------------------------------------------------- loading
@@ -540,18 +649,32 @@ def parse_scene_text(text: str, source: str) -> dict:
     """The tables of a scene's TOML ``text`` (a leading BOM is allowed); SceneError naming
     ``source``."""
     if len(text) > MAX_SCENE_BYTES:
-        raise SceneError(Problem("scene", source, f"a scene may be at most {MAX_SCENE_BYTES} "
-                                 f"characters long (it has {len(text)})"), source)
+        raise SceneError(
+            Problem(
+                "scene",
+                source,
+                f"a scene may be at most {MAX_SCENE_BYTES} characters long (it has {len(text)})",
+            ),
+            source,
+        )
     try:
         return tomllib.loads(text.removeprefix("\ufeff"), parse_float=toml_float)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(Problem("scene", source, f"not valid TOML: {exc}"), source) from None
     except RecursionError:
-        raise SceneError(Problem("scene", source, "tables and arrays nested too deeply"),
-                         source) from None
+        raise SceneError(
+            Problem("scene", source, "tables and arrays nested too deeply"), source
+        ) from None
     except ValueError:  # an integer of thousands of digits (Python refuses to convert it)
-        raise SceneError(Problem("scene", source, "an integer must lie between -2^63 and 2^63 - 1 "
-                                 "(64 bits, as TOML defines integers)"), source) from None
+        raise SceneError(
+            Problem(
+                "scene",
+                source,
+                "an integer must lie between -2^63 and 2^63 - 1 "
+                "(64 bits, as TOML defines integers)",
+            ),
+            source,
+        ) from None
 
 
 def read_scene_data(path: str | Path) -> dict:
@@ -567,8 +690,14 @@ def read_scene_data(path: str | Path) -> dict:
             raise SceneError(Problem("scene", source, "not a regular file"), source)
         size = status.st_size
         if size > MAX_SCENE_BYTES:
-            raise SceneError(Problem("scene", source, f"a scene file may be at most "
-                                     f"{MAX_SCENE_BYTES} bytes (it has {size})"), source)
+            raise SceneError(
+                Problem(
+                    "scene",
+                    source,
+                    f"a scene file may be at most {MAX_SCENE_BYTES} bytes (it has {size})",
+                ),
+                source,
+            )
         with path.open("rb") as handle:
             raw = handle.read(MAX_SCENE_BYTES + 1)  # a file growing meanwhile is read no further
         text = raw.decode("utf-8-sig")  # Windows Notepad saves a BOM
@@ -582,8 +711,9 @@ def read_scene_data(path: str | Path) -> dict:
     return parse_scene_text(text, source)
 
 
-def load_scene(path: str | Path, overrides: dict | None = None,
-               data_dirs: tuple[str, ...] = ()) -> Scene:
+def load_scene(
+    path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()
+) -> Scene:
     """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
     path = Path(path)
     source = str(path)
@@ -604,28 +734,47 @@ def merge(base: dict, overrides: dict) -> dict:
     return out
 
 
-def scene_from_dict(data: dict, base_dir: Path | str = ".", source: str | None = None,
-                    data_dirs: tuple[str, ...] = ()) -> Scene:
+def scene_from_dict(
+    data: dict,
+    base_dir: Path | str = ".",
+    source: str | None = None,
+    data_dirs: tuple[str, ...] = (),
+) -> Scene:
     for key in ("base_dir", "data_dirs"):
         if key in data:
-            raise SceneError(Problem(key, data[key], "unknown key (set by the loader, not the scene)"), source)
+            raise SceneError(
+                Problem(key, data[key], "unknown key (set by the loader, not the scene)"), source
+            )
 
     problems = structure_problems(data)
     if problems:
         raise SceneError(problems, source)
     hints = table_problems(data)
     try:
-        return Scene.model_validate({**data, "base_dir": str(base_dir),
-                                     "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs)})
+        return Scene.model_validate(
+            {
+                **data,
+                "base_dir": str(base_dir),
+                "data_dirs": tuple(str(Path(d).resolve()) for d in data_dirs),
+            }
+        )
     except ValidationError as exc:
         named = {h.field for h in hints}
-        raise SceneError(hints + [p for p in _problems(exc, data) if p.field not in named], source) from None
+        raise SceneError(
+            hints + [p for p in _problems(exc, data) if p.field not in named], source
+        ) from None
 
 
-def _problems(exc: ValidationError, data: dict, root: type[BaseModel] | None = None) -> list[Problem]:
+def _problems(
+    exc: ValidationError, data: dict, root: type[BaseModel] | None = None
+) -> list[Problem]:
     problems = []
     for error in exc.errors():
-        loc = [str(p) for p in error["loc"] if not str(p).startswith(("function-", "literal[", "nullable["))]
+        loc = [
+            str(p)
+            for p in error["loc"]
+            if not str(p).startswith(("function-", "literal[", "nullable["))
+        ]
         # pydantic puts union members in the location ("float", "none"...); they mean nothing to a user.
         loc = [p for p in loc if p not in {"float", "none", "int", "str", "constrained-float"}]
         ctx_error = (error.get("ctx") or {}).get("error")
@@ -641,7 +790,9 @@ def _problems(exc: ValidationError, data: dict, root: type[BaseModel] | None = N
             allowed = [a for a in allowed if a not in ("base_dir", "data_dirs")]
             close = difflib.get_close_matches(loc[-1], allowed, n=1)
             hint = f"did you mean '{close[0]}'? " if close else ""
-            problems.append(Problem(field, value, f"unknown key; {hint}allowed keys: {', '.join(allowed)}"))
+            problems.append(
+                Problem(field, value, f"unknown key; {hint}allowed keys: {', '.join(allowed)}")
+            )
         elif kind == "missing":
             problems.append(Problem(field, MISSING, "required value is missing"))
         elif kind == "literal_error":
@@ -679,5 +830,7 @@ def _model_at(loc: list[str], root: type[BaseModel]):
             return None
         annotation = field.annotation
         candidates = getattr(annotation, "__args__", (annotation,))
-        model = next((c for c in candidates if isinstance(c, type) and issubclass(c, BaseModel)), None)
+        model = next(
+            (c for c in candidates if isinstance(c, type) and issubclass(c, BaseModel)), None
+        )
     return model

@@ -52,14 +52,29 @@ SI_UNIT = {
 # A number as pint's tokenizer reads it, then optional spaces, then the unit spelling.
 _QUANTITY = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(\S.*?)\s*")
 
-_LENGTH = {"m": 1.0, "mm": 0.001, "cm": 0.01, "um": 1e-06, "km": 1000.0, "meter": 1.0, "millimeter": 0.001}
+_LENGTH = {
+    "m": 1.0,
+    "mm": 0.001,
+    "cm": 0.01,
+    "um": 1e-06,
+    "km": 1000.0,
+    "meter": 1.0,
+    "millimeter": 0.001,
+}
 _MASS = {"kg": 1.0, "g": 0.001, "kilogram": 1.0, "gram": 0.001}
 _PRESSURE = {"Pa": 1.0, "kPa": 1000.0, "MPa": 1000000.0, "GPa": 1000000000.0, "bar": 100000.0}
 _TIME = {"s": 1.0, "ms": 0.001, "second": 1.0}
 # pint defines the litre as a cubic decimetre: its factor is 0.1 ** 3, one ulp above 0.001.
-_LITRE = 0.1 ** 3
+_LITRE = 0.1**3
 _VOLUME = {"m^3": 1.0, "m**3": 1.0, "L": _LITRE, "l": _LITRE, "liter": _LITRE}
-_INERTIA = {"kg*m^2": 1.0, "kg*m**2": 1.0, "kg m^2": 1.0, "kg m**2": 1.0, "kg·m^2": 1.0, "kg·m²": 1.0}
+_INERTIA = {
+    "kg*m^2": 1.0,
+    "kg*m**2": 1.0,
+    "kg m^2": 1.0,
+    "kg m**2": 1.0,
+    "kg·m^2": 1.0,
+    "kg·m²": 1.0,
+}
 _STIFFNESS = {"N*m/rad": 1.0, "N m/rad": 1.0, "kN*m/rad": 1000.0, "N*m": 1.0}
 _DENSITY = {"kg/m^3": 1.0, "kg/m**3": 1.0}
 _VELOCITY = {"m/s": 1.0}
@@ -130,7 +145,7 @@ def parse(text: str, registry) -> tuple[float, dict[str, int]]:
         raise QuantityError("the number is out of range")
     if number == 0 and re.search(r"[1-9]", match.group(1).lower().split("e")[0]):
         raise QuantityError("the number is too close to zero to compute with")
-    rest = text[match.end():].strip()
+    rest = text[match.end() :].strip()
     if not rest:
         raise QuantityError("has no unit")
     return number, _units(rest, registry)
@@ -145,7 +160,7 @@ def _units(text: str, registry) -> dict[str, int]:
     while True:
         name_match = _NAME.match(text, position)
         if name_match is None:
-            raise QuantityError(f"expected a unit name at {text[position:position + 10]!r}")
+            raise QuantityError(f"expected a unit name at {text[position : position + 10]!r}")
         name = name_match.group(0)
         position = name_match.end()
         exponent = 1
@@ -154,9 +169,14 @@ def _units(text: str, registry) -> dict[str, int]:
         if power:
             exponent, position = int(power.group(1)), power.end()
         elif superscript:
-            exponent, position = int(superscript.group(0).translate(_SUPERSCRIPTS)), superscript.end()
+            exponent, position = (
+                int(superscript.group(0).translate(_SUPERSCRIPTS)),
+                superscript.end(),
+            )
         if exponent == 0 or abs(exponent) > MAX_EXPONENT:
-            raise QuantityError(f"unit exponents are whole numbers from -{MAX_EXPONENT} to {MAX_EXPONENT} (not 0)")
+            raise QuantityError(
+                f"unit exponents are whole numbers from -{MAX_EXPONENT} to {MAX_EXPONENT} (not 0)"
+            )
         unit = _unit_name(name, registry)
         units[unit] = units.get(unit, 0) + sign * exponent
         if abs(units[unit]) > MAX_EXPONENT:
@@ -172,7 +192,9 @@ def _units(text: str, registry) -> dict[str, int]:
         elif multiply and multiply.end() > position:
             position = multiply.end()
         else:
-            raise QuantityError(f"unexpected {text[position:position + 10]!r} after the unit {name!r}")
+            raise QuantityError(
+                f"unexpected {text[position : position + 10]!r} after the unit {name!r}"
+            )
         if position == len(text):
             raise QuantityError("the unit ends with an operator")
 
@@ -210,36 +232,45 @@ def parse_quantity(text: object, kind: str) -> float:
     if isinstance(text, bool) or not isinstance(text, (str, int, float)):
         raise ValueError(f"expected a {kind} with a unit, e.g. {_example(kind)!r}")
     if isinstance(text, (int, float)):
-        raise ValueError(f"a bare number has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}")
+        raise ValueError(
+            f"a bare number has no unit; write the {kind} with its unit, e.g. {_example(kind)!r}"
+        )
     quick = quick_quantity(text, kind)  # the common spellings without importing pint (same values)
     if quick is not None:
         return quick
     import pint  # lazy: heavy optional import
-
 
     registry = _registry()
     example = _example(kind)
     try:
         number, units = parse(text, registry)
     except QuantityError as exc:
-        raise ValueError(f"cannot read {_shown(text)} as a {kind}: {exc}; write one number and one unit, "
-                         f"e.g. {example!r}") from None
+        raise ValueError(
+            f"cannot read {_shown(text)} as a {kind}: {exc}; write one number and one unit, "
+            f"e.g. {example!r}"
+        ) from None
     unit = registry.Unit("")
     for name, exponent in units.items():
         unit = unit * registry.Unit(name) ** exponent
     if unit.dimensionless:
-        raise ValueError(f"{_shown(text)} has no unit; write the {kind} with its unit, e.g. {example!r}")
+        raise ValueError(
+            f"{_shown(text)} has no unit; write the {kind} with its unit, e.g. {example!r}"
+        )
     try:
         value = float(registry.Quantity(number, unit).to(si).magnitude)
     except pint.errors.DimensionalityError:
-        raise ValueError(f"{_shown(text)} is not a {kind} (its unit is {unit:~}); e.g. {example!r}") from None
+        raise ValueError(
+            f"{_shown(text)} is not a {kind} (its unit is {unit:~}); e.g. {example!r}"
+        ) from None
     except (OverflowError, ZeroDivisionError, ValueError):
         value = math.inf
     if not math.isfinite(value):
         raise ValueError(f"{_shown(text)} is not a finite {kind}; e.g. {example!r}")
     if number != 0 and abs(value) < sys.float_info.min:
-        raise ValueError(f"{_shown(text)} is too close to zero to compute with (below "
-                         f"{sys.float_info.min:.3g} {si}); give 0 or a {kind} of a physical size")
+        raise ValueError(
+            f"{_shown(text)} is too close to zero to compute with (below "
+            f"{sys.float_info.min:.3g} {si}); give 0 or a {kind} of a physical size"
+        )
     return value
 
 
@@ -249,9 +280,18 @@ def _shown(text: str) -> str:
 
 
 def _example(kind: str) -> str:
-    return {"length": "82 mm", "mass": "0.45 kg", "pressure": "0.085 MPa", "time": "1.5 ms",
-            "volume": "0.5 L", "moment_of_inertia": "0.12 kg*m^2", "torsional_stiffness": "1.2e5 N*m/rad",
-            "density": "7200 kg/m^3", "velocity": "50 m/s", "power": "55 kW"}[kind]
+    return {
+        "length": "82 mm",
+        "mass": "0.45 kg",
+        "pressure": "0.085 MPa",
+        "time": "1.5 ms",
+        "volume": "0.5 L",
+        "moment_of_inertia": "0.12 kg*m^2",
+        "torsional_stiffness": "1.2e5 N*m/rad",
+        "density": "7200 kg/m^3",
+        "velocity": "50 m/s",
+        "power": "55 kW",
+    }[kind]
 
 
 def format_si(value: float, kind: str, unit: str) -> str:

@@ -29,7 +29,11 @@ def piston_displacement_m(crank_angle_rad, crank_radius_m):
 
 def piston_velocity_m_s(crank_angle_rad, crank_radius_m, angular_velocity_rad_s):
     r""":math:`v = R\omega\sin\alpha` [m/s] (d/dt of the displacement)."""
-    return float(crank_radius_m) * float(angular_velocity_rad_s) * np.sin(np.asarray(crank_angle_rad, dtype=float))
+    return (
+        float(crank_radius_m)
+        * float(angular_velocity_rad_s)
+        * np.sin(np.asarray(crank_angle_rad, dtype=float))
+    )
 
 
 def piston_acceleration_m_s2(crank_angle_rad, crank_radius_m, angular_velocity_rad_s):

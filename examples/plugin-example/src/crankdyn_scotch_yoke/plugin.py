@@ -37,11 +37,16 @@ MECHANISM = "scotch_yoke"
 
 # ----------------------------------------------------------------------------- mechanism
 
+
 def check(scene) -> list[Problem]:
     """What the generic validation cannot see: this mechanism has one cylinder and no rod."""
     problems = []
     if scene.engine.cylinders != 1:
-        problems.append(Problem("engine.cylinders", scene.engine.cylinders, "the Scotch yoke has one cylinder: 1"))
+        problems.append(
+            Problem(
+                "engine.cylinders", scene.engine.cylinders, "the Scotch yoke has one cylinder: 1"
+            )
+        )
     return problems
 
 
@@ -68,10 +73,21 @@ def geometry(scene, crank_angle_rad) -> MechanismGeometry:
     }
     return MechanismGeometry(
         joints=joints,
-        links=[("crank", "crank_centre", "crank_pin"), ("yoke", "yoke_left", "yoke_right"),
-               ("piston_rod", "yoke_centre", "wrist_pin")],
-        guides=[Guide("wrist_pin", travel_m=(top - 2 * radius, top), bore_m=scene.engine.bore, label="1"),
-                Guide("crank_pin", moving=("yoke_left", "yoke_right"), travel_m=(0.3 * radius, 2.3 * radius))],
+        links=[
+            ("crank", "crank_centre", "crank_pin"),
+            ("yoke", "yoke_left", "yoke_right"),
+            ("piston_rod", "yoke_centre", "wrist_pin"),
+        ],
+        guides=[
+            Guide(
+                "wrist_pin", travel_m=(top - 2 * radius, top), bore_m=scene.engine.bore, label="1"
+            ),
+            Guide(
+                "crank_pin",
+                moving=("yoke_left", "yoke_right"),
+                travel_m=(0.3 * radius, 2.3 * radius),
+            ),
+        ],
         dimensions={"R": radius, "D": scene.engine.bore},
         travel_m=s,
     )
@@ -87,12 +103,15 @@ SCOTCH_YOKE = Mechanism(
 
 # ----------------------------------------------------------------------------- stage
 
+
 class YokeOptions(BaseModel):
     """The optional [scotch_yoke] table of a scene (validated with crankdyn.scene.options)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    table_step_deg: number(gt=0, le=90) | None = None  # rows of the printed table (default: the scene's)
+    table_step_deg: number(gt=0, le=90) | None = (
+        None  # rows of the printed table (default: the scene's)
+    )
 
 
 def applies(scene) -> str | None:
@@ -115,9 +134,14 @@ def run(scene, inputs) -> StageOutput:
     v = physics.piston_velocity_m_s(alpha, radius, omega)
     j = physics.piston_acceleration_m_s2(alpha, radius, omega)
     motion = PistonMotion(
-        crank_angle_deg=angle_deg, piston_displacement_m=s, piston_velocity_m_s=v, piston_acceleration_m_s2=j,
+        crank_angle_deg=angle_deg,
+        piston_displacement_m=s,
+        piston_velocity_m_s=v,
+        piston_acceleration_m_s2=j,
         rod_angle_rad=None,  # no connecting rod: the force stage passes the piston force along the axis
-        crank_radius_m=radius, angular_velocity_rad_s=omega, method="exact",
+        crank_radius_m=radius,
+        angular_velocity_rad_s=omega,
+        method="exact",
         # a module-level function, not a lambda: the output pickles, so a report computes it aside
         displacement_at=functools.partial(_displacement_at_deg, radius),
     )
@@ -129,10 +153,20 @@ def run(scene, inputs) -> StageOutput:
         "j_max_m_s2": radius * omega**2,
         "mean_piston_speed_m_s": 2.0 * radius * omega / np.pi,
     }
-    table = pd.DataFrame({"crank_angle_deg": angle_deg, "piston_displacement_m": s, "piston_velocity_m_s": v,
-                          "piston_acceleration_m_s2": j})
-    return StageOutput(data={KINEMATICS: motion}, results=results, tables={"scotch_yoke": table},
-                       notes=[("scotch_yoke.note", {})])
+    table = pd.DataFrame(
+        {
+            "crank_angle_deg": angle_deg,
+            "piston_displacement_m": s,
+            "piston_velocity_m_s": v,
+            "piston_acceleration_m_s2": j,
+        }
+    )
+    return StageOutput(
+        data={KINEMATICS: motion},
+        results=results,
+        tables={"scotch_yoke": table},
+        notes=[("scotch_yoke.note", {})],
+    )
 
 
 def render(output: StageOutput, ctx) -> str:
@@ -140,24 +174,36 @@ def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     frame = output.tables.arrays("scotch_yoke")
     r = output.results
-    opts = options(ctx.scene, "scotch_yoke", YokeOptions) if ctx.scene is not None else YokeOptions()
+    opts = (
+        options(ctx.scene, "scotch_yoke", YokeOptions) if ctx.scene is not None else YokeOptions()
+    )
     step = opts.table_step_deg or ctx.table_step_deg
     angle = frame["crank_angle_deg"]
     one_turn = angle < 360.0
     multiples = angle / step
     shown = one_turn & np.isclose(multiples, np.round(multiples))
-    table = ctx.table([
-        ("<i>α</i>, °", angle[shown], 0),
-        ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"][shown] * 1e3, 2),
-        ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"][shown], 2),
-        ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"][shown], 0),
-    ], caption=t("scotch_yoke.table_caption"), see="scotch_yoke.see_table")
+    table = ctx.table(
+        [
+            ("<i>α</i>, °", angle[shown], 0),
+            ("<i>s</i>, " + t("unit.mm"), frame["piston_displacement_m"][shown] * 1e3, 2),
+            ("<i>v</i>, " + t("unit.m_s"), frame["piston_velocity_m_s"][shown], 2),
+            ("<i>j</i>, " + t("unit.m_s2"), frame["piston_acceleration_m_s2"][shown], 0),
+        ],
+        caption=t("scotch_yoke.table_caption"),
+        see="scotch_yoke.see_table",
+    )
 
     # a function that builds the figure, called later by the process that draws it
-    figure = ctx.figure(functools.partial(_motion_figure, frame, t), t("scotch_yoke.figure_caption"), "scotch_yoke",
-                        see="scotch_yoke.see_figure")
+    figure = ctx.figure(
+        functools.partial(_motion_figure, frame, t),
+        t("scotch_yoke.figure_caption"),
+        "scotch_yoke",
+        see="scotch_yoke.see_figure",
+    )
 
-    ctx.conclude(t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"])))
+    ctx.conclude(
+        t("scotch_yoke.conclusion", v_max=ctx.num(r["v_max_m_s"]), j_max=ctx.num(r["j_max_m_s2"]))
+    )
     return ctx.render_template("sections/scotch_yoke.html.j2", r=r, table=table, figure=figure)
 
 
@@ -168,9 +214,11 @@ def _motion_figure(frame, t):
     angle = frame["crank_angle_deg"]
     one_turn = angle < 360.0
     fig, axes = plt.subplots(3, 1, figsize=(16 / 2.54, 14 / 2.54), sharex=True)
-    for ax, key, scale, label in ((axes[0], "piston_displacement_m", 1e3, "scotch_yoke.axis_s"),
-                                  (axes[1], "piston_velocity_m_s", 1.0, "scotch_yoke.axis_v"),
-                                  (axes[2], "piston_acceleration_m_s2", 1.0, "scotch_yoke.axis_j")):
+    for ax, key, scale, label in (
+        (axes[0], "piston_displacement_m", 1e3, "scotch_yoke.axis_s"),
+        (axes[1], "piston_velocity_m_s", 1.0, "scotch_yoke.axis_v"),
+        (axes[2], "piston_acceleration_m_s2", 1.0, "scotch_yoke.axis_j"),
+    ):
         ax.plot(angle[one_turn], frame[key][one_turn] * scale)
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
@@ -196,13 +244,17 @@ SCOTCH_YOKE_STAGE = Stage(
         references=("scotch_yoke_uicker",),
         # the letters of the section's equations that crankdyn's symbol table does not have:
         # explained in the list of symbols and under the equation, from [symbol.scotch_yoke] in i18n/
-        symbols={"displacement": Symbol("s", {}, "unit.mm"), "velocity": Symbol("v", {}, "unit.m_s"),
-                 "acceleration": Symbol("j", {}, "unit.m_s2")},
+        symbols={
+            "displacement": Symbol("s", {}, "unit.mm"),
+            "velocity": Symbol("v", {}, "unit.m_s"),
+            "acceleration": Symbol("j", {}, "unit.m_s2"),
+        },
     ),
 )
 
 
 # ----------------------------------------------------------------------------- hooks
+
 
 @hookimpl
 def crankdyn_mechanisms():
@@ -216,4 +268,7 @@ def crankdyn_stages():
 
 @hookimpl
 def crankdyn_catalogs():
-    return [Catalog(language=p.stem.rsplit(".", 1)[-1], path=p) for p in sorted((HERE / "i18n").glob("*.toml"))]
+    return [
+        Catalog(language=p.stem.rsplit(".", 1)[-1], path=p)
+        for p in sorted((HERE / "i18n").glob("*.toml"))
+    ]
