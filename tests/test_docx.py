@@ -255,6 +255,10 @@ def test_conjugate_and_powers_are_scripts_and_runs_have_the_body_size():
     assert "".join(t.text for t in powers[1].find(f"{M}sup").iter(f"{M}t")) == "−3"
     sizes = {r.find(f"{W}rPr/{W}sz").get(f"{W}val") for r in tree.iter(f"{M}r")}
     assert sizes == {"28"}  # 14 pt, the body text's size
+    # the brackets Word draws itself: the same size, the control properties last in m:dPr
+    controls = [d.find(f"{M}dPr")[-1] for d in tree.iter(f"{M}d")]
+    assert controls and all(c.tag == f"{M}ctrlPr" for c in controls)
+    assert {c.find(f"{W}rPr/{W}sz").get(f"{W}val") for c in controls} == {"28"}
 
 
 def _sample_html(long_equation: str) -> str:
@@ -312,6 +316,29 @@ def sample_docx(tmp_path_factory) -> Path:
     return path
 
 
+def test_no_break_spaces_survive_in_list_items(tmp_path):
+    """A conclusion's "(табл.\u00a06.3)" and "8,675\u202fМПа" keep their no-break spaces as the
+    characters themselves in the list item's text, so Word and LibreOffice never end a line
+    with "(табл."."""
+    html = (
+        '<html lang="uk"><body><section class="chapter" id="sec-conclusions">'
+        '<h2 class="unnumbered">Висновки</h2><ol class="conclusions">'
+        "<li>Шийка сприймає <i>q</i>\u00a0=\u00a08,675\u202fМПа (табл.\u00a06.3).</li>"
+        "<li>Див. рис.\u00a02.1 і с.\u00a045.</li></ol></section></body></html>"
+    )
+    path = tmp_path / "report.docx"
+    path.write_bytes(word.report_docx(html, [], "uk", layout=False))
+    xml = zipfile.ZipFile(path).read("word/document.xml").decode("utf-8")
+    items = re.findall(r"<w:p>(?:(?!</w:p>).)*?<w:numPr>.*?</w:p>", xml, flags=re.S)
+    assert len(items) == 2, items
+    texts = ["".join(re.findall(r"<w:t(?: [^>]*)?>([^<]*)</w:t>", item)) for item in items]
+    assert "\u00a0=\u00a08,675\u202fМПа (табл.\u00a06.3)." in texts[0], texts[0]
+    assert "рис.\u00a02.1 і с.\u00a045." in texts[1], texts[1]
+    # a run whose text starts or ends with a space keeps it (xml:space="preserve")
+    runs = re.findall(r"<w:t( xml:space=\"preserve\")?>([^<]*)</w:t>", "".join(items))
+    assert all(preserve for preserve, text in runs if text != text.strip()), runs
+
+
 def _paragraphs(path: Path):
     import docx
 
@@ -334,6 +361,28 @@ def test_equations_number_at_the_right_margin_long_ones_on_several_lines(sample_
         sizes = {int(v) for v in re.findall(r'<w:sz w:val="(\d+)"/>', x)}
         assert min(sizes) >= docx_blocks.SMALLEST_EQUATION_SIZE
     assert docx_math.CHAR_EM > 0
+
+
+def test_equations_are_set_at_the_body_text_size(sample_docx):
+    """Every run and bracket of a formula that fits its line is as large as the Normal style's
+    text (styles.xml); a long formula's parts are no smaller than the smallest equation size."""
+    from crankdyn.report import docx_blocks
+
+    with zipfile.ZipFile(sample_docx) as package:
+        styles = package.read("word/styles.xml").decode("utf-8")
+        xml = package.read("word/document.xml").decode("utf-8")
+    normal = re.search(r'<w:style [^>]*w:styleId="Normal".*?</w:style>', styles, flags=re.S).group(
+        0
+    )
+    body = int(re.search(r'<w:sz w:val="(\d+)"\s*/>', normal).group(1))
+    assert body == 28  # 14 pt, DSTU 3008's text
+    formulas = re.findall(r"<m:oMath>.*?</m:oMath>", xml, flags=re.S)
+    sizes = [[int(v) for v in re.findall(r'<w:sz w:val="(\d+)"/>', f)] for f in formulas]
+    assert sizes and all(sizes)
+    assert set(sizes[0]) == {body}  # (1.1) fits its line
+    assert all(min(s) >= docx_blocks.SMALLEST_EQUATION_SIZE for s in sizes)
+    runs = sum(f.count("<m:r>") for f in formulas)
+    assert sum(len(s) for s in sizes) >= runs  # every run carries its size
 
 
 def test_where_lines_and_worked_substitutions_are_left_aligned_lines(sample_docx):
@@ -509,6 +558,96 @@ def _figure_above(pdf: Path, page: int, png: Path) -> bool:
     return top is not None and rows.size > 10
 
 
+def _equation_to_text_heights(pdf: Path) -> list[float]:
+    """Per numbered equation on the pages: the height of its "=" and "+" glyphs' boxes over the
+    height of its number's box ("(2.1)", body text), as pdftotext -bbox measures them. At the
+    body text's size about 1; LibreOffice's default Math size (12 pt against 14) makes it 6/7."""
+    box = subprocess.run(
+        ["pdftotext", "-bbox", str(pdf), "-"], capture_output=True, text=True, check=True
+    ).stdout
+    word_box = (
+        r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>'
+    )
+    ratios = []
+    for page in box.split("<page ")[1:]:
+        words = [
+            (float(a), float(b), float(c), float(d), t)
+            for a, b, c, d, t in re.findall(word_box, page)
+        ]
+        for x0, y0, _, y1, number in words:
+            if not re.fullmatch(r"\(\d+\.\d+\)", number):
+                continue
+            middle = (y0 + y1) / 2
+            signs = [
+                w
+                for w in words
+                if w[4] in ("=", "+") and w[2] < x0 and abs((w[1] + w[3]) / 2 - middle) < 8
+            ]
+            if signs:
+                ratios.append(sorted(w[3] - w[1] for w in signs)[len(signs) // 2] / (y1 - y0))
+    return ratios
+
+
+def _latin_words_added(text: str, html: str) -> list[str]:
+    """Latin words on the pages that the report's HTML does not show: pandoc's or Word's own
+    texts ("Figure", "Contents"). A symbol and its indices ("p<sub>jII</sub>") are one word in
+    the HTML with its inline tags taken out and may be two in an equation on the pages ("p jII");
+    a title may be printed in capitals."""
+    from test_note import ALLOWED_LATIN
+
+    body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", html.split("<body", 1)[-1], flags=re.S)
+    body = re.sub(r"</?(?:i|b|sub|sup|span)\b[^>]*>", "", body)  # inline: no word boundary
+    shown = " ".join(re.findall(r"[A-Za-z]+", unescape(re.sub(r"<[^>]+>", " ", body)))).lower()
+    return [
+        w
+        for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text)
+        if w not in ALLOWED_LATIN and w.lower() not in shown
+    ]
+
+
+def _words_broken_at_line_ends(pages: list[str], html: str) -> list[str]:
+    """Lines ending with a word parted by a hyphen that is not its own: machine hyphenation
+    ("та-/нгенціальна") or a name parted on the title page ("Пет-/ров"). A compound may break at
+    its own hyphen ("кривошипно-/шатунного", the student's "three-/cylinder"): the report's text
+    has the part before it followed by the hyphen and a letter."""
+    from conftest import as_read
+
+    shown = " ".join(unescape(re.sub(r"<[^>]+>", "", as_read(html.split("<body", 1)[-1]))).split())
+    broken = []
+    for page in pages:  # (a table's line holds its other columns after the broken word)
+        for line in page.splitlines():
+            end = re.search(r"(?<![\w-])(\w+)[-\u2010]$", line.rstrip())
+            if end is None:
+                continue
+            compound = rf"(?<![\w-]){re.escape(end.group(1))}-\w"
+            if not re.search(compound, shown, flags=re.IGNORECASE):  # (a heading in capitals)
+                broken.append(line.strip()[-40:])
+    return broken
+
+
+def _check_typography_and_language(
+    pages: list[str], html: str, example: str, language: str
+) -> None:
+    """The checks of the WeasyPrint PDF's text (tests/test_note.py) on LibreOffice's pages: no
+    machine hyphenation, no decimal point inside a number, no Latin word but the allowed ones
+    and the student's own texts."""
+    from test_note import _decimal_points, _latin_words
+
+    text = "\f".join(pages)
+    broken = _words_broken_at_line_ends(pages, html)
+    assert not broken, broken
+    scene = load_scene(examples_dir() / f"{example}.toml")
+    scene_texts = [v for v in scene.report.model_dump().values() if isinstance(v, str)]
+    scene_texts.append(scene.engine.name)
+    sources = re.findall(r'<ol class="references">(.*?)</ol>', html, flags=re.S)
+    own = scene_texts + [unescape(re.sub(r"<[^>]+>", " ", sources[0]))] if sources else scene_texts
+    points = [p for p in _decimal_points(text) if not any(p.split()[-1] in v for v in own)]
+    assert not points, points[:10]
+    assert not _latin_words(html, scene_texts), sorted(set(_latin_words(html, scene_texts)))
+    added = _latin_words_added(text, html)
+    assert not added, sorted(set(added))
+
+
 def _check_libreoffice_pages(out: Path, language: str, tmp_path: Path) -> tuple[Path, list[str]]:
     """The LibreOffice PDF of report.docx passes the checks of the WeasyPrint PDF (page_layout)."""
     from page_layout import layout_problems, page_images, page_texts
@@ -525,6 +664,9 @@ def _check_libreoffice_pages(out: Path, language: str, tmp_path: Path) -> tuple[
     ][:5]
     assert not re.search(r"\de[-+−]?0\d", text), re.findall(r".{20}\de[-+−]?0\d.{5}", text)[:5]
     assert "¿" not in text and "�" not in text
+    # the layout pass's LibreOffice sets the equations at the body text's size
+    heights = sorted(_equation_to_text_heights(pdf))
+    assert heights and heights[len(heights) // 2] > 0.95, heights
     table_word, figure_word = WORDS[language]
     t = translator(language, default_registry().catalogs)
     problems = layout_problems(
@@ -611,7 +753,11 @@ def test_libreoffice_pages_of_every_bundled_example_pass_the_pdf_checks(
         ["html", "docx"],
     )
     _check_structure(out)
-    _, problems = _check_libreoffice_pages(out, language, tmp_path)
+    pdf, problems = _check_libreoffice_pages(out, language, tmp_path)
+    html = (out / "report.html").read_text(encoding="utf-8")
+    from page_layout import page_texts
+
+    _check_typography_and_language(page_texts(pdf, ""), html, example, language)
     assert not problems, problems
 
 

@@ -408,7 +408,7 @@ def test_kinematics_only_note_lists_what_it_uses_and_repeats_every_turn(planetar
     assert rod["period_deg"] == 360.0
     assert ">720<" not in html and ">390<" not in html
     # the source cited by its number in the list of references; no phrase about a forces section
-    number = re.search(r"\[(\d+), рис\. 3б\]", html)
+    number = re.search(r"\[(\d+), рис\.\s3б\]", html)
     assert number and "джерела;" not in html
     listed = re.findall(r"<li[^>]*>(.*?)</li>", html.split('class="references"')[-1], re.S)
     assert "Ismailov" in listed[int(number.group(1)) - 1]

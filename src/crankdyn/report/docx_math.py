@@ -54,27 +54,33 @@ class Item:
     script: str = ""
 
 
+def _text_properties(font: str, size: int) -> str:
+    return (
+        f'<w:rPr><w:rFonts w:ascii="{font}" w:hAnsi="{font}" w:cs="{font}"/>'
+        f'<w:sz w:val="{size}"/><w:szCs w:val="{size}"/></w:rPr>'
+    )
+
+
 def _run(text: str, style: str, size: int) -> str:
     """An m:r: ``style`` is "" (math italic), "p" (upright), "b", "bi" or "nor" (ordinary text)."""
     if style == "nor":
         rpr = '<m:rPr><m:nor/><m:sty m:val="p"/></m:rPr>'
     else:
         rpr = f'<m:rPr><m:sty m:val="{style}"/></m:rPr>' if style else ""
-    font = "Times New Roman" if style == "nor" else "Cambria Math"
-    wrpr = (
-        f'<w:rPr><w:rFonts w:ascii="{font}" w:hAnsi="{font}" w:cs="{font}"/>'
-        f'<w:sz w:val="{size}"/><w:szCs w:val="{size}"/></w:rPr>'
-    )
+    wrpr = _text_properties("Times New Roman" if style == "nor" else "Cambria Math", size)
     return (
         f'<m:r>{rpr}{wrpr}<m:t xml:space="preserve">{htmlmod.escape(text, quote=False)}</m:t></m:r>'
     )
 
 
-def delimiter(opening: str, closing: str, content: str) -> str:
-    """An m:d around ``content`` (its properties in the schema's order)."""
+def delimiter(opening: str, closing: str, content: str, size: int) -> str:
+    """An m:d around ``content`` (its properties in the schema's order); the brackets Word draws
+    itself take their size from the control properties (m:ctrlPr), the runs' size."""
     return (
         f'<m:d><m:dPr><m:begChr m:val="{htmlmod.escape(opening)}"/><m:sepChr m:val=""/>'
-        f'<m:endChr m:val="{htmlmod.escape(closing)}"/><m:grow/></m:dPr><m:e>{content}</m:e></m:d>'
+        f'<m:endChr m:val="{htmlmod.escape(closing)}"/><m:grow/>'
+        f"<m:ctrlPr>{_text_properties('Cambria Math', size)}</m:ctrlPr></m:dPr>"
+        f"<m:e>{content}</m:e></m:d>"
     )
 
 
@@ -127,7 +133,7 @@ class _Builder:
             closing = BAR if char == BAR else char
             self.add(
                 Item(
-                    delimiter(opening, closing, "".join(i.xml for i in items)),
+                    delimiter(opening, closing, "".join(i.xml for i in items), self.size),
                     sum(i.width for i in items) + 2 * CHAR_EM,
                     "d",
                 )

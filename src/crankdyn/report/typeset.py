@@ -951,6 +951,14 @@ _BEFORE_INITIAL = re.compile(
 )
 
 
+#: "табл. 2.1", "рис. Б.3", "с. 45", "розд. 6": an abbreviated reference and its number stay on one
+#: line (ДСТУ 3008 binds them; a line starting with the bare "6.3)" reads as a decimal fraction).
+_REFERENCE_NUMBER = re.compile(
+    r"(?<![^\W\d_])(табл|рис|розд|підрозд|разд|подразд|дод|прил|с|ст|п)\. "
+    r"(?=\d|[A-ZА-ЯІЇЄҐ]\.\d)"
+)
+
+
 def _unbreakable(text: str) -> str:
     text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
     if "|" in text:
@@ -959,6 +967,7 @@ def _unbreakable(text: str) -> str:
         text = _SLASH_IN_WORD.sub("/" + WORD_JOINER, text)
     if ". " in text:
         text = _BEFORE_INITIAL.sub("\u00a0", text)
+        text = _REFERENCE_NUMBER.sub("\\1.\u00a0", text)
     return text
 
 
