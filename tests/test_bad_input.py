@@ -112,7 +112,11 @@ def test_bad_scene_is_refused_cleanly(tmp_path: Path, capsys, case, changes, exp
         (
             {"ignition_advance_deg": None, "combustion_delay_time": None},
             "cycle.rounding.ignition_advance_deg = '18 (default)'",
-            ("6·n·τ = 22.5 deg", "engine.rpm = 2500"),
+            (
+                "must be more than the ignition delay 6·n·τ = 22.5 deg",
+                "engine.rpm = 2500",
+                "1.5 ms by default",
+            ),
         ),
         (
             {"combustion_delay_time": None, "combustion_delay_deg": 30},

@@ -71,6 +71,18 @@ def test_a_firing_order_written_from_another_cylinder_is_the_same_cycle():
             "engine.firing_order",
             "share a crank",
         ),
+        # 120 deg intervals and a 60 deg bank: no order fires evenly on shared pins
+        (
+            ("V", 4, 6, 60, ["1L", "2R", "3L", "1R", "2L", "3R"], None),
+            "engine.firing_order",
+            "no firing order fires evenly with this bank angle",
+        ),
+        # 90 deg intervals and a 90 deg bank: another order does (the V8's)
+        (
+            ("V", 4, 8, 90, ["1L", "2L", "1R", "2R", "3L", "4L", "3R", "4R"], None),
+            "engine.firing_order",
+            "choose another firing order",
+        ),
         (
             ("inline", 4, 4, None, [1, 3, 4, 2], [0, 180, 180]),
             "engine.crank_angles_deg",

@@ -215,6 +215,26 @@ def _firing_order(
     return order[start:] + order[:start]
 
 
+def _shared_crank_message(first: str, other: str, psi: dict, delay: dict, interval: float) -> str:
+    """Why two cylinders on one crank pin cannot fire evenly in the order given, and whether any
+    order could: the bank angle fixes their spacing, and even firing needs that spacing to be a
+    whole number of firing intervals (mod 360 deg)."""
+    apart = (psi[other] - psi[first]) % 360
+    text = (
+        f"cylinders {first} and {other} share a crank, so they fire {apart:g} deg apart "
+        f"(mod 360) by the bank angle, but even firing every {interval:g} deg puts them "
+        f"{(delay[other] - delay[first]) % 360:g} deg apart; "
+    )
+    remainder = apart % interval
+    if min(remainder, interval - remainder) > _TOL:
+        return text + (
+            f"no firing order fires evenly with this bank angle on shared crank pins (even firing "
+            f"needs the bank angle to be a multiple of {interval:g} deg, or split crank pins); give "
+            "crank_angles_deg with uneven_firing = true to compute the engine with shared pins"
+        )
+    return text + "choose another firing order, or give crank_angles_deg with uneven_firing = true"
+
+
 def build_layout(
     layout: str,
     strokes: int,
@@ -261,11 +281,7 @@ def build_layout(
                 raise LayoutError(
                     "engine.firing_order",
                     firing_order,
-                    f"cylinders {first} and {other} share a crank, so they fire "
-                    f"{(psi[other] - psi[first]) % 360:g} deg apart (mod 360) by the bank angle, but "
-                    f"even firing every {interval:g} deg puts them "
-                    f"{(delay[other] - delay[first]) % 360:g} deg apart; choose another firing order, "
-                    "or give crank_angles_deg with uneven_firing = true",
+                    _shared_crank_message(first, other, psi, delay, interval),
                 )
             lags.append(candidates[0])
         even = True

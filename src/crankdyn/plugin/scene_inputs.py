@@ -215,15 +215,17 @@ def _delay_problem(scene, advance: float, delay: float) -> Problem:
         return Problem(
             "cycle.rounding.combustion_delay_deg",
             delay,
-            f"less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
+            f"must be less than the advance cycle.rounding.ignition_advance_deg ({advance_text}),"
             " so that combustion starts before top dead centre",
         )
     time_ms = (r.combustion_delay_time if r.combustion_delay_time is not None else 1.5e-3) * 1e3
+    given = "combustion_delay_time" in r.model_fields_set
+    time_text = f"{time_ms:g} ms" if given else f"{time_ms:g} ms by default"
     return Problem(
         "cycle.rounding.ignition_advance_deg",
         advance if r.ignition_advance_deg is not None else f"{advance:g} (default)",
-        f"more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
-        f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_ms:g} ms):"
+        f"must be more than the ignition delay 6·n·τ = {delay:g} deg (engine.rpm = "
+        f"{scene.engine.rpm:g}, cycle.rounding.combustion_delay_time = {time_text}):"
         " give a larger advance or a shorter delay time",
     )
 
