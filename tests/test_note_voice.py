@@ -21,7 +21,7 @@ IMPERATIVE = {
 }
 #: entries that are written into the note: a section's or the conclusions' sentence, and the
 #: mechanism checks said in the sections themselves
-NOTE_KEYS = re.compile(r"(?:_section|_conclusion|^effective_over|^rim_speed_high)$")
+NOTE_KEYS = re.compile(r"(?:_section|_conclusion|^rim_speed_high)$")
 
 
 def _entries(path: Path):
