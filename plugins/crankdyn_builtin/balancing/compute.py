@@ -85,6 +85,17 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
     return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
 
 
+def _slave_reciprocating_mass_kg(scene) -> float | None:
+    """A slave cylinder's reciprocating mass (piston group and the slave rod's share at its piston
+    pin), kg, where the scene gives the slave rod's mass; None otherwise."""
+    if scene.engine.rod_type != "articulated":
+        return None
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    if opts.slave_rod is None:
+        return None
+    return scene.masses.piston_group + opts.slave_rod * opts.slave_rod_cm_fraction
+
+
 def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
     """The notes on what the scene leaves out (no cylinder spacing, articulated rods, no cycle);
     a balance-shaft spacing without the cylinder spacing is refused."""
@@ -239,6 +250,8 @@ def run(scene, inputs) -> StageOutput:
         "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
         "cylinder_labels": list(g.labels),
         "cylinder_bays": [int(b) for b in g.cylinder_bay],
+        "rod_type": e.rod_type,
+        "slave_reciprocating_mass_kg": _slave_reciprocating_mass_kg(scene),
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)

@@ -114,6 +114,12 @@ def _masses_table(ctx, r):
     return masses_table + worked_balancing(ctx, r)
 
 
+def one_plane(r) -> bool:
+    """All cylinders on one crank (one cylinder, a single-row radial or star): their forces act in
+    one plane, so there are no longitudinal moments to tabulate."""
+    return len(set(r["cylinder_bays"])) == 1
+
+
 def coefficients_table(ctx, r):
     """Force and moment coefficients of every order with their hodographs."""
     t = ctx.t
@@ -176,7 +182,7 @@ def coefficients_table(ctx, r):
             None,
         ),
     ]
-    if not single:
+    if not one_plane(r):
         columns += [
             (
                 t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
@@ -205,10 +211,12 @@ def coefficients_table(ctx, r):
     return ctx.table(
         columns,
         caption=t(
-            "balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"
+            "balancing.coefficients_caption_single"
+            if one_plane(r)
+            else "balancing.coefficients_caption"
         ),
         css_class="data wide",
-        see="balancing.see_coefficients_single" if single else "balancing.see_coefficients",
+        see="balancing.see_coefficients_single" if one_plane(r) else "balancing.see_coefficients",
     )
 
 
@@ -251,9 +259,7 @@ def _summary_table(ctx, r):
     t = ctx.t
     rows = r["summary"]
     single = len(r["cylinder_labels"]) == 1
-    if (
-        single
-    ):  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
+    if one_plane(r):  # forces in the plane of one crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
     summary_table = ctx.table(
         [
@@ -273,7 +279,9 @@ def _summary_table(ctx, r):
             ),
             (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
         ],
-        caption=t("balancing.summary_caption_forces" if single else "balancing.summary_caption"),
+        caption=t(
+            "balancing.summary_caption_forces" if one_plane(r) else "balancing.summary_caption"
+        ),
         see="balancing.see_summary",
     )
 

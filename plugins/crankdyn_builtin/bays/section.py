@@ -80,6 +80,19 @@ def _slave_table(r: dict, ctx):
     )
 
 
+def _true_firing_text(r: dict, ctx) -> dict | None:
+    """The arguments of the firing sentence of an articulated bay whose slave cylinders' true dead
+    centres lie off their bank angles (None when the intervals are the nominal ones)."""
+    nominal = r.get("firing_intervals_nominal_deg")
+    if nominal is None or nominal == r["firing_intervals_deg"]:
+        return None
+    steps = sorted({round(x, 6) for x in nominal})
+    return {
+        "nominal": "; ".join(ctx.t.number_g(x, 4) for x in steps),
+        "shift": ctx.t.number_g(max(abs(s["tdc_shift_deg"]) for s in r["slaves"]), 2),
+    }
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     if r["cylinders"] == 1:
@@ -87,6 +100,7 @@ def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     # tables are numbered as made: the cylinders' phases first, as the template shows them
     phase_table = _phase_table(r, ctx)
+    phase_table_number = ctx.last_table_number
     stroke_table = _stroke_table(r, ctx)
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
     bay_table = slave_table = figure = None
@@ -137,6 +151,8 @@ def render(output: StageOutput, ctx) -> str | None:
         slave_table=slave_table,
         figure=figure,
         phase_table=phase_table,
+        phase_table_number=phase_table_number,
+        true_firing=_true_firing_text(r, ctx),
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
