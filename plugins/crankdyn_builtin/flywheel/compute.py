@@ -122,6 +122,11 @@ def run(scene, inputs) -> StageOutput:
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
         "flywheel_share": flywheel / total,
+        # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
+        "flywheel_inertia_difference_kg_m2": (
+            required_total - own if required_total is not None else None
+        ),
+        "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None,
         "rim": None,
     }
     notes = []

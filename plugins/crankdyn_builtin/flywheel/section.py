@@ -58,8 +58,10 @@ def render(output: StageOutput, ctx) -> str:
             (
                 t("flywheel.row_required_flywheel"),
                 "<i>J</i><sub>f</sub>",
-                r["required_flywheel_inertia_kg_m2"],
-                t("flywheel.unit_kg_m2"),
+                t("flywheel.not_needed")
+                if r.get("own_inertia_sufficient")
+                else r["required_flywheel_inertia_kg_m2"],
+                "" if r.get("own_inertia_sufficient") else t("flywheel.unit_kg_m2"),
             ),
         ]
     if r["flywheel_given"]:
@@ -119,6 +121,11 @@ def render(output: StageOutput, ctx) -> str:
         caption=t("flywheel.table_caption"),
         see="flywheel.see_table",
     ) + worked_flywheel(ctx, r)
+    if r.get("own_inertia_sufficient"):
+        _conclude_not_needed(ctx, r)
+        return ctx.render_template(
+            "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+        )
     ctx.find(
         t(
             "flywheel.finding",
@@ -139,6 +146,24 @@ def render(output: StageOutput, ctx) -> str:
     )
     return ctx.render_template(
         "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+    )
+
+
+def _conclude_not_needed(ctx, r) -> None:
+    """The abstract's and the conclusions' words where the engine's own inertia meets [δ]: no
+    flywheel is designed, none is reported."""
+    t = ctx.t
+    ctx.find(t("flywheel.finding_not_needed", delta=ctx.num(r["irregularity"], 3)))
+    ctx.conclude(
+        t(
+            "flywheel.conclusion_not_needed",
+            excess=ctx.num(r["excess_work_J"]),
+            delta=ctx.num(r["irregularity"], 3),
+            required=t.number_g(r["required_irregularity"], 6),
+            own=ctx.num(r["own_inertia_kg_m2"]),
+            mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),
+            shaft=ctx.num(r["engine_inertia_kg_m2"]),
+        )
     )
 
 
