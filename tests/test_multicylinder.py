@@ -479,3 +479,38 @@ def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
     )
     if cylinders == 6:
         assert coefficients["sum_PII"] == 0 and coefficients["M_PII"] == 0
+
+
+def _printed_number(text: str) -> float:
+    return float(text.replace("\u2009", "").replace("\u202f", "").replace(",", "."))
+
+
+@pytest.mark.parametrize("language", ["uk", "en"])
+def test_an_articulated_bays_rotating_mass_is_given_from_its_terms_in_the_text(language):
+    """m_R of a radial with articulated rods: the task sheet lists the slave rods' data the scene
+    gives, and the printed substitution of the bay's formula multiplies out to the printed m_R,
+    the mass of the balancing section's C = m_R R ω²."""
+    import re
+
+    html = shared_html("radial9-aircraft", language=language).linked_html
+    result = shared_run("radial9-aircraft")
+    scene = result.scene
+    task = re.search(r'<table class="data[^"]*" data-number="1.1">(.*?)</table>', html, flags=re.S)
+    cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", task[1])]
+    point = "." if language == "en" else ","
+    for value in ("68", f"1{point}2", f"0{point}47"):  # r, the slave rod's mass, its share
+        assert value in cells, value
+    text = re.sub(r"<[^>]+>", "", html).replace("\u00a0", " ")
+    found = re.search(
+        r"= ([\d.,]+) \+ 2·([\d.,]+) \+ ([\d.,]+) \+ \(([\d.,]+)·\(1 − ([\d.,]+)\) \+ ([\d.,]+)\)·"
+        r"([\d.,]+) = ([\d.,]+)",
+        text,
+    )
+    assert found, "the bay's m_R with its substitution"
+    pin, web, rod, slave, share, slave_pin, levers, total = map(_printed_number, found.groups())
+    assert pin + 2 * web + rod + (slave * (1 - share) + slave_pin) * levers == pytest.approx(
+        total, rel=1e-3
+    )
+    m_R = result.outputs["balancing"].results["rotating_mass_kg"]
+    assert total == pytest.approx(m_R, rel=1e-3)
+    assert slave == pytest.approx(1.2) and pin == pytest.approx(scene.masses.crank_pin)

@@ -172,6 +172,32 @@ def _articulated_masses(
     return s_rec, recip_master, rot_master
 
 
+def _rotating_mass_terms(opts, m, slaves, rod_length_m: float, rod_rotating_kg: float) -> dict:
+    """The terms of the bay's rotating mass m_R = m_cp + 2 m_w + m_rR + (m_sr (1 − κ_s) + m_sp)
+    Σ_l (1 − r cos γ_1l / L) (textbook fig. 9: each slave's rotating part and pin at its pin,
+    split statically between the big end and the master's piston pin), kg."""
+    slave_rod = (
+        opts.slave_rod
+        if opts.slave_rod is not None
+        else m.rod * slaves[0][1].slave_rod_length_m / rod_length_m
+    )
+    lumped = slave_rod * (1 - opts.slave_rod_cm_fraction) + opts.slave_pin
+    levers = sum(1 - g.pin_radius_m * math.cos(g.pin_angle_rad) / rod_length_m for _, g in slaves)
+    rod_rotating_kg = float(rod_rotating_kg)
+    return {
+        "crank_pin_kg": m.crank_pin,
+        "crank_web_kg": m.crank_web,
+        "rod_rotating_kg": rod_rotating_kg,
+        "slave_rod_kg": slave_rod,
+        "slave_rod_cm_fraction": opts.slave_rod_cm_fraction,
+        "slave_pin_kg": opts.slave_pin,
+        "slave_lumped_kg": lumped,
+        "slave_lever_sum": float(levers),
+        "rods_kg": rod_rotating_kg + lumped * float(levers),
+        "total_kg": m.crank_pin + 2 * m.crank_web + rod_rotating_kg + lumped * float(levers),
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
     e, m = scene.engine, scene.masses
@@ -275,6 +301,7 @@ def run(scene, inputs) -> StageOutput:
                 "slaves": slave_info,
                 "master_reciprocating_mass_kg": m.piston_group + recip_master,
                 "master_rod_rotating_mass_kg": rot_master,
+                "rotating_mass_terms": _rotating_mass_terms(opts, m, slaves, L, rod_rot),
             }
         )
         tables["bay"] = {

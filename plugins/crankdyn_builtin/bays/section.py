@@ -8,9 +8,12 @@ from functools import partial
 from markupsafe import Markup, escape
 
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.plugin.contracts import ArticulatedOptions
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
+from crankdyn.scene import options
 
+from .compute import ARTICULATED
 from .figures import bay_figure
 
 
@@ -183,4 +186,50 @@ SYMBOLS = {
     "bay_tangential_force": Symbol("t", {"en": "Σ"}, "unit.MPa"),
     # the whole bay's resultant, where the forces section's q is one cylinder's
     "bay_resultant": Symbol("q", {}, "unit.MPa"),
+    "slave_rod_mass": Symbol("m", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.kg"),
+    "slave_rod_cm_fraction": Symbol("κ", {"en": "s", "uk": "п", "ru": "п"}, ""),
+    "slave_pin_mass": Symbol("m", {"en": "sp", "uk": "п.п", "ru": "п.п"}, "unit.kg"),
 }
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [articulated] table's given data for the report's table of the task's data: what the
+    scene gives (a default it leaves is no datum of the task)."""
+    if scene.engine.rod_type != "articulated":
+        return []
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    given = opts.model_fields_set
+    t, num = ctx.t, ctx.t.number_g
+    mm, kg = t("unit.mm"), t("unit.kg")
+    rows = [(t("bays.input_pin_radius"), "<i>r</i>", num(opts.pin_radius * 1e3, 4), mm)]
+    if opts.pin_angle_deg is not None:
+        rows.append(
+            (t("bays.input_pin_angle"), "<i>γ</i><sub>1</sub>", num(opts.pin_angle_deg, 4), "°")
+        )
+    if opts.slave_rod_length is not None:
+        rows.append(
+            (
+                t("bays.input_slave_rod_length"),
+                "<i>l</i>",
+                num(opts.slave_rod_length * 1e3, 4),
+                mm,
+            )
+        )
+    if opts.slave_rod is not None:
+        rows.append(
+            (t("bays.input_slave_rod"), "<i>m</i><sub>sr</sub>", num(opts.slave_rod, 4), kg)
+        )
+    if "slave_rod_cm_fraction" in given:
+        rows.append(
+            (
+                t("bays.input_slave_rod_cm"),
+                "<i>κ</i><sub>s</sub>",
+                num(opts.slave_rod_cm_fraction, 4),
+                "",
+            )
+        )
+    if "slave_pin" in given:
+        rows.append(
+            (t("bays.input_slave_pin"), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg)
+        )
+    return rows
