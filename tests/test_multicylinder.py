@@ -514,3 +514,32 @@ def test_an_articulated_bays_rotating_mass_is_given_from_its_terms_in_the_text(l
     m_R = result.outputs["balancing"].results["rotating_mass_kg"]
     assert total == pytest.approx(m_R, rel=1e-3)
     assert slave == pytest.approx(1.2) and pin == pytest.approx(scene.masses.crank_pin)
+
+
+def test_a_cylinders_bank_letter_is_printed_in_the_reports_letters():
+    """1L, 1R of a V engine are 1Л, 1П in a Cyrillic note (лівий/правий, левый/правый) and stay
+    1L, 1R in English: in the task sheet, the bays' text and tables and the scheme's
+    firing order."""
+    import re
+
+    from crankdyn.report.i18n import translator
+
+    assert translator("uk").cylinders(["1L", "1R", "4L", "3"]) == "1Л–1П–4Л–3"
+    assert translator("ru").cylinder("2R") == "2П"
+    assert translator("en").cylinders(["1L", "1R"]) == "1L–1R"
+    for language, left, right in (("ru", "Л", "П"), ("uk", "Л", "П"), ("en", "L", "R")):
+        html = shared_html("v8-petrol", language=language).linked_html
+        for stage in ("input", "bays"):
+            found = re.search(rf'data-stage="{stage}">(.*?)</section>', html, flags=re.S)
+            text = re.sub(r"<(svg|script)\b.*?</\1>|<[^>]+>", " ", found[1], flags=re.S)
+            labels = re.findall(r"(?<![\w.,])\d(L|R|Л|П)\b", text)
+            assert labels, stage
+            assert set(labels) <= {left, right}, (language, stage, set(labels))
+    # the scheme's liners, crank star and firing order (drawn, not in the text)
+    from crankdyn_builtin.drawing.section import _labelled
+
+    positions = shared_run("v8-petrol").outputs["drawing"].artifacts["positions"]
+    drawn = _labelled(positions, translator("uk"))
+    assert drawn.firing_order[:2] == ("1Л", "1П")
+    assert {g.label for g in drawn.guides if g.label} >= {"1Л", "1П", "4П"}
+    assert all("L" not in c and "R" not in c for _, _, cs in drawn.cranks for c in cs)

@@ -41,7 +41,7 @@ def _star_drawing(t, r):
 
     fig, axes = new_figure(16, 8.2, ncols=2)
     crank_dirs = np.radians(r["crank_directions_deg"])
-    labels = r["cylinder_labels"]
+    labels = [t.cylinder(label) for label in r["cylinder_labels"]]
     phases = np.radians(r["cylinder_phases_deg"])
     axes_rad = np.radians(r["cylinder_axes_deg"])
     for ax, order in zip(axes, (1, 2), strict=True):

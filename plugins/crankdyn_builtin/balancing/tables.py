@@ -406,7 +406,7 @@ def _explorer_table(ctx, r):
                     ["; ".join(ctx.angle_text(v) for v in c["crank_angles_deg"]) for c in rows],
                     None,
                 ),
-                (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
+                (t("balancing.firing_order"), [t.cylinders(c["firing_order"]) for c in rows], None),
                 ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
                 ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
                 ("Σ<i>P</i><sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),

@@ -22,7 +22,7 @@ def _phase_table(r: dict, ctx):
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
     columns = [
-        (escape(t("bays.cylinder")), [p["cylinder"] for p in phases], None),
+        (escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None),
         (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
         (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
     ]
@@ -50,7 +50,7 @@ def _stroke_table(r: dict, ctx):
         for c in range(int(720 // step))
     ]
     body = [
-        [p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
+        [t.cylinder(p["cylinder"])] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
         for p, runs in zip(phases, rows, strict=True)
     ]
     return ctx.table_html(
@@ -67,7 +67,7 @@ def _slave_table(r: dict, ctx):
     t = ctx.t
     return ctx.table(
         [
-            (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
+            (t("bays.cylinder"), [t.cylinder(s["cylinder"]) for s in r["slaves"]], None),
             ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
             ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
             ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
