@@ -105,6 +105,8 @@ SEVERAL_PLANES = {
         r"gives no cylinder spacing",
         r"moments further divided",
         r"Resultant forces and moments",
+        r"its moment",
+        r"Crank diagrams",
     ),
     "uk": (
         r"від середини ряду колін",
@@ -112,6 +114,8 @@ SEVERAL_PLANES = {
         r"не вказано відстані між циліндрами",
         r"моменти – ще й на відстань",
         r"Рівнодійні сили і моменти",
+        r"її момент",
+        r"Схеми колін",
     ),
     "ru": (
         r"от середины ряда колен",
@@ -119,6 +123,8 @@ SEVERAL_PLANES = {
         r"не указано расстояние между цилиндрами",
         r"моменты – ещё и к расстоянию",
         r"Равнодействующие силы и моменты",
+        r"её момент",
+        r"Схемы колен",
     ),
 }
 #: An articulated star's balancing: the equal reciprocating masses are the textbook's approximation.
