@@ -123,17 +123,37 @@ def one_plane(r) -> bool:
 def coefficients_table(ctx, r):
     """Force and moment coefficients of every order with their hodographs."""
     t = ctx.t
-
-    def order_name(o):
-        return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
-
-    def zero(o, kind):
-        return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
-
-    orders = r["orders"]
     single = len(r["cylinder_labels"]) == 1  # one cylinder: no moments, no sums
+    columns = _force_columns(ctx, r, single)
+    if not one_plane(r):
+        columns += _moment_columns(ctx, r)
+    return ctx.table(
+        columns,
+        caption=t(
+            "balancing.coefficients_caption_single"
+            if one_plane(r)
+            else "balancing.coefficients_caption"
+        ),
+        css_class="data wide",
+        see="balancing.see_coefficients_single" if one_plane(r) else "balancing.see_coefficients",
+    )
+
+
+def _order_name(o):
+    return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
+
+
+def _zero(r, o, kind) -> bool:
+    """Whether an order's force or moment coefficient is nil (below rounding for all cylinders)."""
+    return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
+
+
+def _force_columns(ctx, r, single: bool) -> list[tuple]:
+    """The coefficients table's force columns: coefficient, amplitude, hodograph, its axis, its
+    motion."""
+    t, orders = ctx.t, r["orders"]
     columns = [
-        (t("balancing.order"), [order_name(o) for o in orders], None),
+        (t("balancing.order"), [_order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
         (
             t(
@@ -156,7 +176,7 @@ def coefficients_table(ctx, r):
             t("balancing.hodograph_axes", scale=C_N),
             [
                 "—"
-                if zero(o, "force")
+                if _zero(r, o, "force")
                 else f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                 f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
                 for o in orders
@@ -167,7 +187,7 @@ def coefficients_table(ctx, r):
             t("balancing.major_axis"),
             [
                 "—"
-                if zero(o, "force") or circular(o["force_hodograph"])
+                if _zero(r, o, "force") or circular(o["force_hodograph"])
                 else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
                 for o in orders
             ],
@@ -176,48 +196,45 @@ def coefficients_table(ctx, r):
         (
             t("balancing.sense"),
             [
-                "—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
+                "—"
+                if _zero(r, o, "force")
+                else t("balancing.sense_" + o["force_hodograph"]["sense"])
                 for o in orders
             ],
             None,
         ),
     ]
-    if not one_plane(r):
-        columns += [
-            (
-                t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
-                [o["moment_coefficient"] for o in orders],
-                4,
-            ),
-            (
-                t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
-                [
-                    "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
-                    for o in orders
-                ],
-                None,
-            ),
-            (
-                t("balancing.moment_plane"),
-                [
-                    "—"
-                    if zero(o, "moment")
-                    else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
-                    for o in orders
-                ],
-                None,
-            ),
-        ]
-    return ctx.table(
-        columns,
-        caption=t(
-            "balancing.coefficients_caption_single"
-            if one_plane(r)
-            else "balancing.coefficients_caption"
+    return columns
+
+
+def _moment_columns(ctx, r) -> list[tuple]:
+    """The coefficients table's moment columns (cranks in several planes)."""
+    t, orders = ctx.t, r["orders"]
+    return [
+        (
+            t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
+            [o["moment_coefficient"] for o in orders],
+            4,
         ),
-        css_class="data wide",
-        see="balancing.see_coefficients_single" if one_plane(r) else "balancing.see_coefficients",
-    )
+        (
+            t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
+            [
+                "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                for o in orders
+            ],
+            None,
+        ),
+        (
+            t("balancing.moment_plane"),
+            [
+                "—"
+                if _zero(r, o, "moment")
+                else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
+                for o in orders
+            ],
+            None,
+        ),
+    ]
 
 
 def _bay_table(ctx, r):
@@ -303,6 +320,38 @@ def _means_table(ctx, r):
     single = (
         len(r["cylinder_labels"]) == 1
     )  # one crank: no crank numbers, ends or positions along the shaft
+    means_rows = _means_rows(ctx, r, single)
+    if not means_rows:
+        return None
+    columns = [
+        (t("balancing.means"), [x[0] for x in means_rows], None),
+        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
+        (
+            t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
+            [x[2] for x in means_rows],
+            None,
+        ),
+        (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
+        (t("balancing.angle"), [x[4] for x in means_rows], None),
+    ] + (
+        []
+        if single
+        else [
+            (
+                t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
+                [x[5] for x in means_rows],
+                None,
+            )
+        ]
+    )
+    caption, see = _means_caption(ctx, r, single)
+    return ctx.table(columns, caption=caption, css_class="data wide", see=see)
+
+
+def _means_rows(ctx, r, single: bool) -> list[tuple]:
+    """A row per counterweight and per balance-shaft mass: name, speed ratio, m·r, mass, angle,
+    position along the shaft."""
+    t = ctx.t
     means_rows = []
     for cw in r["counterweights"]:
         label = (
@@ -341,29 +390,12 @@ def _means_table(ctx, r):
                     ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—",
                 )
             )
-    if not means_rows:
-        return None
-    columns = [
-        (t("balancing.means"), [x[0] for x in means_rows], None),
-        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-        (
-            t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
-            [x[2] for x in means_rows],
-            None,
-        ),
-        (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
-        (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + (
-        []
-        if single
-        else [
-            (
-                t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
-                [x[5] for x in means_rows],
-                None,
-            )
-        ]
-    )
+    return means_rows
+
+
+def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
+    """The means table's caption (with the radii of the masses) and its announcing sentence."""
+    t = ctx.t
     radii = {
         "r_cw": ctx.num(r["counterweight_radius_m"] * 1e3),
         "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3),
@@ -388,7 +420,7 @@ def _means_table(ctx, r):
     else:
         caption = t("balancing.means_caption", **radii)
         see = "balancing.see_means"
-    return ctx.table(columns, caption=caption, css_class="data wide", see=see)
+    return caption, see
 
 
 def _explorer_table(ctx, r):
