@@ -165,36 +165,12 @@ def run(scene, inputs) -> StageOutput:
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
-    models = {0: bal.rotating_model(g)}
-    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
-        models[n] = bal.reciprocating_model(g, n)
-    coefficients, absolute, orders = order_vectors(
-        g, models, opts.include_orders, C, C_I, harmonics, a
-    )
-
-    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
-    spacing = a if a is not None else 1.0
+    coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
     all_orders = bal.inertia_orders(n_max, k)
-    f_td, m_td, scale_F, scale_M, check = time_domain_check(
-        g, masses, harmonics, all_orders, theta, spacing, a
-    )
     means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a)
     counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
-    residual_F, residual_M, residual = residual_after_means(
-        g,
-        masses,
-        harmonics,
-        means,
-        theta,
-        e.angular_velocity_rad_s,
-        spacing,
-        f_td,
-        m_td,
-        all_orders,
-        opts.balance_orders,
-        scale_F,
-        scale_M,
-        a,
+    theta, f_td, m_td, check, residual_F, residual_M, residual = _time_domain(
+        g, masses, harmonics, all_orders, means, opts.balance_orders, e.angular_velocity_rad_s, a
     )
 
     results = {
@@ -235,6 +211,43 @@ def run(scene, inputs) -> StageOutput:
         tables={"balancing": table},
         notes=notes,
     )
+
+
+def _order_vectors(g, opts, C: float, C_I: float, harmonics, spacing_m):
+    """(coefficients, absolute values, per-order records) of the vector models of the centrifugal
+    forces and of every inertia order included or balanced."""
+    models = {0: bal.rotating_model(g)}
+    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
+        models[n] = bal.reciprocating_model(g, n)
+    return order_vectors(g, models, opts.include_orders, C, C_I, harmonics, spacing_m)
+
+
+def _time_domain(g, masses, harmonics, all_orders, means, balance_orders, omega, spacing_m):
+    """The checks at :data:`CHECK_SAMPLES` shaft angles a revolution: the real forces summed
+    cylinder by cylinder against the vector method, and what the means leave of them. (angles,
+    force and moment sums, the check, residual force and moment, the residual's record)"""
+    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    spacing = spacing_m if spacing_m is not None else 1.0
+    f_td, m_td, scale_F, scale_M, check = time_domain_check(
+        g, masses, harmonics, all_orders, theta, spacing, spacing_m
+    )
+    residual_F, residual_M, residual = residual_after_means(
+        g,
+        masses,
+        harmonics,
+        means,
+        theta,
+        omega,
+        spacing,
+        f_td,
+        m_td,
+        all_orders,
+        balance_orders,
+        scale_F,
+        scale_M,
+        spacing_m,
+    )
+    return theta, f_td, m_td, check, residual_F, residual_M, residual
 
 
 def _design_means(opts, g, masses, harmonics, crank_radius_m: float, spacing_m):
