@@ -535,6 +535,8 @@ def test_a_cylinders_bank_letter_is_printed_in_the_reports_letters():
             labels = re.findall(r"(?<![\w.,])\d(L|R|Л|П)\b", text)
             assert labels, stage
             assert set(labels) <= {left, right}, (language, stage, set(labels))
+    # the letters are explained where the bays' section first uses them
+    assert "Л – левый ряд, П – правый ряд" in shared_html("v8-petrol", language="ru").linked_html
     # the scheme's liners, crank star and firing order (drawn, not in the text)
     from crankdyn_builtin.drawing.section import _labelled
 

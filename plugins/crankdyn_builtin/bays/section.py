@@ -96,6 +96,20 @@ def _true_firing_text(r: dict, ctx) -> dict | None:
     }
 
 
+def _bank_letters_text(r: dict, t) -> str:
+    """What the bank letters of the cylinders' labels stand for ("Л – лівий ряд, П – правий
+    ряд"); "" for labels without letters or with letters of no named bank."""
+    letters = []
+    for label in r["firing_order"]:
+        letter = str(label).lstrip("0123456789")
+        if letter and letter not in letters:
+            letters.append(letter)
+    if not letters or not all(t.has("bays.bank_" + x) for x in letters):
+        return ""
+    ordered = sorted(letters, key="LCR".index)
+    return t("bays.bank_letters", letters=", ".join(t("bays.bank_" + x) for x in ordered))
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     if r["cylinders"] == 1:
@@ -156,6 +170,7 @@ def render(output: StageOutput, ctx) -> str | None:
         phase_table=phase_table,
         phase_table_number=phase_table_number,
         true_firing=_true_firing_text(r, ctx),
+        bank_letters=_bank_letters_text(r, t),
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
