@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import html as html_lib
 import math
+import re
 
 import numpy as np
 import pytest
@@ -252,3 +254,28 @@ def test_the_table_lists_delta_only_where_it_is_a_result(changes, shown):
         html.index('data-stage="flywheel"') : html.index('data-stage="speed_fluctuation"')
     ]
     assert ("Cyclic irregularity (energy method)" in section) is shown
+
+
+def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_flywheel():
+    """J_f = J_0 − J_m − J_e < 0: the engine meets [δ] by itself; the difference is printed with its
+    sign, the table says the flywheel is not needed and the abstract and conclusions design none."""
+    from crankdyn.report.document import render_html
+
+    result = run(
+        "v8-petrol", {"flywheel": {"required_irregularity": 0.2, "engine_inertia": "5 kg*m^2"}}
+    )
+    r = result.outputs["flywheel"].results
+    difference = r["required_total_inertia_kg_m2"] - r["own_inertia_kg_m2"]
+    assert difference < 0 and r["own_inertia_sufficient"]
+    assert r["flywheel_inertia_difference_kg_m2"] == pytest.approx(difference)
+    html = render_html(result, default_registry(), "en").linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", html)).split())
+    assert "flywheel moment of inertia 0 kg" not in text
+    assert "a flywheel of 0 kg" not in text
+    assert "no flywheel is needed: the engine's own inertia suffices" in text  # the abstract
+    assert "within the required [δ] = 0.2: no flywheel is needed" in text  # the conclusions
+    plain = re.sub(r"[\u2009\u202f\u00a0]", " ", html)
+    printed = re.search(r">(−\d+[.]\d+) kg·m² &lt; 0<", plain)  # the subtraction's own result
+    assert printed and float(printed.group(1).replace("−", "-")) == pytest.approx(
+        difference, rel=1e-3
+    )

@@ -491,3 +491,69 @@ def test_missing_firing_order_gets_the_explorers_best(cylinders, layout, bank):
     )
     if cylinders == 6:
         assert coefficients["sum_PII"] == 0 and coefficients["M_PII"] == 0
+
+
+def _printed_number(text: str) -> float:
+    return float(text.replace("\u2009", "").replace("\u202f", "").replace(",", "."))
+
+
+@pytest.mark.parametrize("language", ["uk", "en"])
+def test_an_articulated_bays_rotating_mass_is_given_from_its_terms_in_the_text(language):
+    """m_R of a radial with articulated rods: the task sheet lists the slave rods' data the scene
+    gives, and the printed substitution of the bay's formula multiplies out to the printed m_R,
+    the mass of the balancing section's C = m_R R ω²."""
+    import re
+
+    html = shared_html("radial9-aircraft", language=language).linked_html
+    result = shared_run("radial9-aircraft")
+    scene = result.scene
+    task = re.search(r'<table class="data[^"]*" data-number="1.1">(.*?)</table>', html, flags=re.S)
+    cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", task[1])]
+    point = "." if language == "en" else ","
+    for value in ("68", f"1{point}2", f"0{point}47"):  # r, the slave rod's mass, its share
+        assert value in cells, value
+    text = re.sub(r"<[^>]+>", "", html).replace("\u00a0", " ")
+    found = re.search(
+        r"= ([\d.,]+) \+ 2·([\d.,]+) \+ ([\d.,]+) \+ \(([\d.,]+)·\(1 − ([\d.,]+)\) \+ ([\d.,]+)\)·"
+        r"([\d.,]+) = ([\d.,]+)",
+        text,
+    )
+    assert found, "the bay's m_R with its substitution"
+    pin, web, rod, slave, share, slave_pin, levers, total = map(_printed_number, found.groups())
+    assert pin + 2 * web + rod + (slave * (1 - share) + slave_pin) * levers == pytest.approx(
+        total, rel=1e-3
+    )
+    m_R = result.outputs["balancing"].results["rotating_mass_kg"]
+    assert total == pytest.approx(m_R, rel=1e-3)
+    assert slave == pytest.approx(1.2) and pin == pytest.approx(scene.masses.crank_pin)
+
+
+def test_a_cylinders_bank_letter_is_printed_in_the_reports_letters():
+    """1L, 1R of a V engine are 1Л, 1П in a Cyrillic note (лівий/правий, левый/правый) and stay
+    1L, 1R in English: in the task sheet, the bays' text and tables and the scheme's
+    firing order."""
+    import re
+
+    from crankdyn.report.i18n import translator
+
+    assert translator("uk").cylinders(["1L", "1R", "4L", "3"]) == "1Л–1П–4Л–3"
+    assert translator("ru").cylinder("2R") == "2П"
+    assert translator("en").cylinders(["1L", "1R"]) == "1L–1R"
+    for language, left, right in (("ru", "Л", "П"), ("uk", "Л", "П"), ("en", "L", "R")):
+        html = shared_html("v8-petrol", language=language).linked_html
+        for stage in ("input", "bays"):
+            found = re.search(rf'data-stage="{stage}">(.*?)</section>', html, flags=re.S)
+            text = re.sub(r"<(svg|script)\b.*?</\1>|<[^>]+>", " ", found[1], flags=re.S)
+            labels = re.findall(r"(?<![\w.,])\d(L|R|Л|П)\b", text)
+            assert labels, stage
+            assert set(labels) <= {left, right}, (language, stage, set(labels))
+    # the letters are explained where the bays' section first uses them
+    assert "Л – левый ряд, П – правый ряд" in shared_html("v8-petrol", language="ru").linked_html
+    # the scheme's liners, crank star and firing order (drawn, not in the text)
+    from crankdyn_builtin.drawing.section import _labelled
+
+    positions = shared_run("v8-petrol").outputs["drawing"].artifacts["positions"]
+    drawn = _labelled(positions, translator("uk"))
+    assert drawn.firing_order[:2] == ("1Л", "1П")
+    assert {g.label for g in drawn.guides if g.label} >= {"1Л", "1П", "4П"}
+    assert all("L" not in c and "R" not in c for _, _, cs in drawn.cranks for c in cs)

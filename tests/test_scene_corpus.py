@@ -101,6 +101,43 @@ SEVERAL_CRANKS = {
 }
 #: The running torques of a shaft of several cranks, as the note's text reads them (t_wi, t_k1).
 RUNNING_TORQUE = (r"\bt w i = t k", r"\bt [wk] 1\b")
+#: What is said of cylinders in several planes along the shaft only: longitudinal moments, the
+#: cylinder spacing, a bank angle, positions from the middle of the crank row.
+SEVERAL_PLANES = {
+    "en": (
+        r"middle of the crank row",
+        r"includes the bank angle",
+        r"gives no cylinder spacing",
+        r"moments further divided",
+        r"Resultant forces and moments",
+        r"its moment",
+        r"Crank diagrams",
+    ),
+    "uk": (
+        r"від середини ряду колін",
+        r"разом із кутом розвалу",
+        r"не вказано відстані між циліндрами",
+        r"моменти – ще й на відстань",
+        r"Рівнодійні сили і моменти",
+        r"її момент",
+        r"Схеми колін",
+    ),
+    "ru": (
+        r"от середины ряда колен",
+        r"вместе с углом развала",
+        r"не указано расстояние между цилиндрами",
+        r"моменты – ещё и к расстоянию",
+        r"Равнодействующие силы и моменты",
+        r"её момент",
+        r"Схемы колен",
+    ),
+}
+#: An articulated star's balancing: the equal reciprocating masses are the textbook's approximation.
+EQUAL_MASSES = {
+    "en": r"approximat",
+    "uk": r"наближен",
+    "ru": r"приближ[её]нн",
+}
 #: One crank's torque, said where a crank carries several cylinders (it is one cylinder's).
 ONE_CRANKS_TORQUE = {
     "en": r"torque of one crank",
@@ -321,6 +358,17 @@ def check_structure(note: Note) -> list[str]:
             f"one cylinder's torque called the crank's: {m!r}"
             for m in re.findall(rf".{{0,30}}{ONE_CRANKS_TORQUE[language]}.{{0,10}}", note.chapters)
         ]
+    if scene.engine.layout == "radial" and case.cranks == 1:  # a star: forces in one plane
+        for pattern in SEVERAL_PLANES[language]:
+            problems += [
+                f"a star's forces given moments: {m!r}"
+                for m in re.findall(rf".{{0,40}}{pattern}.{{0,20}}", note.chapters)
+            ]
+        balancing = note.part(r'id="sec-\d+"[^>]*data-stage="balancing"') or note.chapters
+        if scene.engine.rod_type == "articulated" and not re.search(
+            EQUAL_MASSES[language], balancing
+        ):
+            problems.append("an articulated star balanced without saying m_s is the master's")
     # a radial (a propeller) or a mechanism has no flywheel end either
     if not case.flywheel and (scene.engine.layout == "radial" or not case.cycle):
         problems += [

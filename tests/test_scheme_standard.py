@@ -22,6 +22,14 @@ ENGINES = {
         {"engine": {"cylinders": 7}, "analysis": {"angle_step_deg": None}},
     ),
     "radial9": ("radial9-aircraft", {}),
+    # a short rod and a wide bore: the liners converge steeply near the shaft
+    "radial9-wide": (
+        "radial9-aircraft",
+        {
+            "engine": {"bore": "105 mm", "stroke": "130 mm", "rod_length": "235 mm"},
+            "articulated": {"pin_radius": "52 mm"},
+        },
+    ),
     "v8": ("v8-petrol", {}),
     "inline4": ("inline4-petrol", {}),
     "offset": ("offset-crank-engine", {}),
@@ -230,3 +238,38 @@ def test_a_tall_mechanisms_positions_are_three_in_a_row():
         fig = md.positions_figure(positions, sheet)
         assert min(_panels_mm(fig)) >= md.TEXT_WIDTH_MM / 3 - 1e-9
         assert fig.get_size_inches()[1] * MM_PER_INCH <= md.FIGURE_HEIGHT_MM + 1e-9
+
+
+def _hatchings_mm(geometry) -> list[list[np.ndarray]]:
+    """Each cylinder's two hatched bands as drawn (mm): outside each wall, as deep as the hatching's
+    strokes, from the first stroke's inner end to the head."""
+    extent = md._extent_mm(geometry)
+    depth = md.HATCH * extent * md.HATCH_SLANT
+    bands = []
+    for guide in md._one_per_axis(geometry.guides):
+        o, d, n = md._guide_frame(geometry, guide, 0)
+        bottom, top = md.liner_ends_mm(guide, geometry)
+        start = max(bottom, md.hatch_start_mm(geometry, guide)) - depth
+        half = guide.bore_m * 1e3 / 2
+        bands.append(
+            [
+                _outline(o + n * side * (half + depth / 2), d, n, start, top, depth / 2)
+                for side in (-1, 1)
+            ]
+        )
+    return bands
+
+
+@pytest.mark.parametrize("engine", ["radial5", "radial7", "radial9", "radial9-wide"])
+def test_the_hatching_of_neighbouring_cylinders_does_not_cross(engine):
+    """ГОСТ 2.770: cylinders do not cross, nor do their walls' hatchings near the shaft, where the
+    liners of a radial converge (a nine-cylinder radial of a wide bore the most)."""
+    geometry = _positions(engine)
+    bands = _hatchings_mm(geometry)
+    crossing = [
+        (i, k)
+        for i in range(len(bands))
+        for k in range(i + 1, len(bands))
+        if any(_overlap(a, b) for a in bands[i] for b in bands[k])
+    ]
+    assert not crossing

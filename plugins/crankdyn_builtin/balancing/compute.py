@@ -85,6 +85,17 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
     return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
 
 
+def _slave_reciprocating_mass_kg(scene) -> float | None:
+    """A slave cylinder's reciprocating mass (piston group and the slave rod's share at its piston
+    pin), kg, where the scene gives the slave rod's mass; None otherwise."""
+    if scene.engine.rod_type != "articulated":
+        return None
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    if opts.slave_rod is None:
+        return None
+    return scene.masses.piston_group + opts.slave_rod * opts.slave_rod_cm_fraction
+
+
 def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
     """The notes on what the scene leaves out (no cylinder spacing, articulated rods, no cycle);
     a balance-shaft spacing without the cylinder spacing is refused."""
@@ -147,78 +158,23 @@ def run(scene, inputs) -> StageOutput:
     opts = _offset_orders(opts, k).model_copy(
         update={"balance_orders": balance_orders_for(scene, opts)}
     )
-    R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     a = e.cylinder_spacing  # None: moments in units of a only
     masses = inertia_masses(scene, layout, k)
-    m_s, m_R = masses.reciprocating_kg, masses.rotating_kg
-    n_max = bal.orders_needed(lam, offset_ratio=k)
-    harmonics = bal.harmonics_for(lam, n_max, k)
+    n_max = bal.orders_needed(e.rod_ratio_value, offset_ratio=k)
+    harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
-    models = {0: bal.rotating_model(g)}
-    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
-        models[n] = bal.reciprocating_model(g, n)
-    coefficients, absolute, orders = order_vectors(
-        g, models, opts.include_orders, C, C_I, harmonics, a
-    )
-
-    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
-    spacing = a if a is not None else 1.0
+    coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
     all_orders = bal.inertia_orders(n_max, k)
-    f_td, m_td, scale_F, scale_M, check = time_domain_check(
-        g, masses, harmonics, all_orders, theta, spacing, a
-    )
-
-    shaft_positions = None
-    if opts.balance_shaft_spacing is not None and g.cranks > 1:
-        half = 0.5 * opts.balance_shaft_spacing / a
-        shaft_positions = (-half, half)
-    means = bal.design_means(
-        g,
-        masses,
-        harmonics,
-        opts.balance_orders,
-        opts.counterweights,
-        opts.first_order_forward,
-        shaft_positions,
-    )
-    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else R
-    r_sh = opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * R
+    means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a)
     counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
-    residual_F, residual_M, residual = residual_after_means(
-        g,
-        masses,
-        harmonics,
-        means,
-        theta,
-        w,
-        spacing,
-        f_td,
-        m_td,
-        all_orders,
-        opts.balance_orders,
-        scale_F,
-        scale_M,
-        a,
+    theta, f_td, m_td, check, residual_F, residual_M, residual = _time_domain(
+        g, masses, harmonics, all_orders, means, opts.balance_orders, e.angular_velocity_rad_s, a
     )
 
-    torque_range = float(np.ptp(torque.torque_Nm)) if torque is not None else None
     results = {
-        "reciprocating_mass_kg": m_s,
-        "rotating_mass_kg": m_R,
-        "centrifugal_N": C,
-        "first_order_N": C_I,
-        "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
-        # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
-        "second_order_exact_N": float(abs(harmonics[2])) * C_I,
-        "second_order_difference_relative": float(abs(harmonics[2]))
-        * C_I
-        / masses.second_order_textbook_N
-        - 1.0,
-        **_harmonics_json(harmonics, all_orders),
-        "offset_ratio": k,
-        "acceleration_series": {bal.roman(n): v for n, v in bal.acceleration_series(lam).items()},
+        **_masses_results(masses, harmonics, all_orders, k, e.rod_ratio_value),
         "cylinder_spacing_m": a,
         "vertical_axis_deg": g.vertical_deg,
         "coefficients": coefficients,
@@ -232,13 +188,13 @@ def run(scene, inputs) -> StageOutput:
         "balance_shafts": shafts,
         "residual": residual,
         "summary": remedy_summary(orders, g, C, C_I, harmonics, opts),
-        "reaction_torque_range_Nm": torque_range,
+        "reaction_torque_range_Nm": (
+            float(np.ptp(torque.torque_Nm)) if torque is not None else None
+        ),
         "first_order_forward": opts.first_order_forward,
-        "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
-        "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
-        "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
-        "cylinder_labels": list(g.labels),
-        "cylinder_bays": [int(b) for b in g.cylinder_bay],
+        **_geometry_results(g),
+        "rod_type": e.rod_type,
+        "slave_reciprocating_mass_kg": _slave_reciprocating_mass_kg(scene),
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
@@ -255,6 +211,99 @@ def run(scene, inputs) -> StageOutput:
         tables={"balancing": table},
         notes=notes,
     )
+
+
+def _order_vectors(g, opts, C: float, C_I: float, harmonics, spacing_m):
+    """(coefficients, absolute values, per-order records) of the vector models of the centrifugal
+    forces and of every inertia order included or balanced."""
+    models = {0: bal.rotating_model(g)}
+    for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
+        models[n] = bal.reciprocating_model(g, n)
+    return order_vectors(g, models, opts.include_orders, C, C_I, harmonics, spacing_m)
+
+
+def _time_domain(g, masses, harmonics, all_orders, means, balance_orders, omega, spacing_m):
+    """The checks at :data:`CHECK_SAMPLES` shaft angles a revolution: the real forces summed
+    cylinder by cylinder against the vector method, and what the means leave of them. (angles,
+    force and moment sums, the check, residual force and moment, the residual's record)"""
+    theta = 2 * np.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+    spacing = spacing_m if spacing_m is not None else 1.0
+    f_td, m_td, scale_F, scale_M, check = time_domain_check(
+        g, masses, harmonics, all_orders, theta, spacing, spacing_m
+    )
+    residual_F, residual_M, residual = residual_after_means(
+        g,
+        masses,
+        harmonics,
+        means,
+        theta,
+        omega,
+        spacing,
+        f_td,
+        m_td,
+        all_orders,
+        balance_orders,
+        scale_F,
+        scale_M,
+        spacing_m,
+    )
+    return theta, f_td, m_td, check, residual_F, residual_M, residual
+
+
+def _design_means(opts, g, masses, harmonics, crank_radius_m: float, spacing_m):
+    """(the balancing means the options ask for, counterweights' and balance shafts' radii, m):
+    the shafts at ``balance_shaft_spacing`` apart about the middle of a shaft of several cranks;
+    the radii default to R and R/2."""
+    shaft_positions = None
+    if opts.balance_shaft_spacing is not None and g.cranks > 1:
+        half = 0.5 * opts.balance_shaft_spacing / spacing_m
+        shaft_positions = (-half, half)
+    means = bal.design_means(
+        g,
+        masses,
+        harmonics,
+        opts.balance_orders,
+        opts.counterweights,
+        opts.first_order_forward,
+        shaft_positions,
+    )
+    r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else crank_radius_m
+    r_sh = (
+        opts.balance_shaft_radius if opts.balance_shaft_radius is not None else 0.5 * crank_radius_m
+    )
+    return means, r_cw, r_sh
+
+
+def _masses_results(masses, harmonics, all_orders, offset_ratio: float, rod_ratio: float) -> dict:
+    """The masses, the amplitudes C, C_I, C_II (textbook and exact) and the acceleration series."""
+    C_I = masses.first_order_N
+    exact_second = float(abs(harmonics[2])) * C_I
+    return {
+        "reciprocating_mass_kg": masses.reciprocating_kg,
+        "rotating_mass_kg": masses.rotating_kg,
+        "centrifugal_N": masses.centrifugal_N,
+        "first_order_N": C_I,
+        "second_order_N": masses.second_order_textbook_N,  # textbook C_II = lambda C_I (eq. 56)
+        # exact: the second harmonic A_2 C_I of the exact inertia force (the P_II of ``orders``)
+        "second_order_exact_N": exact_second,
+        "second_order_difference_relative": exact_second / masses.second_order_textbook_N - 1.0,
+        **_harmonics_json(harmonics, all_orders),
+        "offset_ratio": offset_ratio,
+        "acceleration_series": {
+            bal.roman(n): v for n, v in bal.acceleration_series(rod_ratio).items()
+        },
+    }
+
+
+def _geometry_results(g) -> dict:
+    """The geometry of the diagrams: crank directions, cylinder axes and phases, labels, bays."""
+    return {
+        "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
+        "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
+        "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
+        "cylinder_labels": list(g.labels),
+        "cylinder_bays": [int(b) for b in g.cylinder_bay],
+    }
 
 
 def _explore(e, layout, top: int) -> dict:

@@ -26,12 +26,17 @@ def star_figure(ctx, r):
     single = (
         len(r["cylinder_labels"]) == 1
     )  # one crank and one cylinder: a vector of each order, not a "star"
-    caption = ctx.t("balancing.star_caption_single") if single else ctx.t("balancing.star_caption")
+    plane = not single and len(set(r["cylinder_bays"])) == 1  # several cylinders on one crank
+    caption = ctx.t(
+        "balancing.star_caption_single"
+        if single
+        else ("balancing.star_caption_plane" if plane else "balancing.star_caption")
+    )
     return ctx.figure(
         partial(_star_drawing, ctx.t, r),
         caption,
         "crank_diagrams",
-        see="balancing.see_star_single" if single else "balancing.see_star",
+        see="balancing.see_star_single" if single or plane else "balancing.see_star",
     )
 
 
@@ -41,7 +46,7 @@ def _star_drawing(t, r):
 
     fig, axes = new_figure(16, 8.2, ncols=2)
     crank_dirs = np.radians(r["crank_directions_deg"])
-    labels = r["cylinder_labels"]
+    labels = [t.cylinder(label) for label in r["cylinder_labels"]]
     phases = np.radians(r["cylinder_phases_deg"])
     axes_rad = np.radians(r["cylinder_axes_deg"])
     for ax, order in zip(axes, (1, 2), strict=True):

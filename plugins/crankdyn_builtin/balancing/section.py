@@ -15,6 +15,7 @@ from .tables import (
     _means_table,
     _summary_table,
     coefficients_table,
+    one_plane,
 )
 
 
@@ -27,15 +28,21 @@ def _conclude(ctx, r) -> None:
     # symbols ("ΣP_II, ΣP_IV"), or none
     left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
     means = bool(r["counterweights"] or r["balance_shafts"])
-    ctx.find(
+    plane = "_plane" if one_plane(r) and not single else ""
+    finding = (
         t(
             "balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
             count=len(left),
             items=", ".join(plain_symbol(s, "" if single else "Σ") for s in left),
         )
         if left
-        else t("balancing.finding_balanced_means" if means else "balancing.finding_balanced")
+        else t(
+            ("balancing.finding_balanced_means" if means else "balancing.finding_balanced") + plane
+        )
     )
+    if r.get("rod_type") == "articulated":  # the textbook's equal masses, not the real slaves'
+        finding = t("balancing.finding_articulated", finding=finding)
+    ctx.find(finding)
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
     if significant and single:  # one cylinder: coefficients are all 1; say the forces
@@ -61,7 +68,7 @@ def _conclude(ctx, r) -> None:
             )
         )
     elif not negligible:
-        ctx.conclude(t("balancing.conclusion_balanced"))
+        ctx.conclude(t("balancing.conclusion_balanced" + plane))
     if negligible:
         _conclude_negligible(ctx, r, negligible, single, alone=not significant)
     if r["counterweights"] or r["balance_shafts"]:
@@ -185,6 +192,11 @@ def _means_sentence(t, r) -> str:
         orders=", ".join(map(str, balanced)),
         orders_words=orders_in_words(t, balanced),
         count=len(balanced),
+        checked=t(
+            "balancing.checked_model"
+            if r.get("rod_type") == "articulated"
+            else "balancing.checked_real"
+        ),
     )
 
 

@@ -114,20 +114,46 @@ def _masses_table(ctx, r):
     return masses_table + worked_balancing(ctx, r)
 
 
+def one_plane(r) -> bool:
+    """All cylinders on one crank (one cylinder, a single-row radial or star): their forces act in
+    one plane, so there are no longitudinal moments to tabulate."""
+    return len(set(r["cylinder_bays"])) == 1
+
+
 def coefficients_table(ctx, r):
     """Force and moment coefficients of every order with their hodographs."""
     t = ctx.t
-
-    def order_name(o):
-        return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
-
-    def zero(o, kind):
-        return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
-
-    orders = r["orders"]
     single = len(r["cylinder_labels"]) == 1  # one cylinder: no moments, no sums
+    columns = _force_columns(ctx, r, single)
+    if not one_plane(r):
+        columns += _moment_columns(ctx, r)
+    return ctx.table(
+        columns,
+        caption=t(
+            "balancing.coefficients_caption_single"
+            if one_plane(r)
+            else "balancing.coefficients_caption"
+        ),
+        css_class="data wide",
+        see="balancing.see_coefficients_single" if one_plane(r) else "balancing.see_coefficients",
+    )
+
+
+def _order_name(o):
+    return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
+
+
+def _zero(r, o, kind) -> bool:
+    """Whether an order's force or moment coefficient is nil (below rounding for all cylinders)."""
+    return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
+
+
+def _force_columns(ctx, r, single: bool) -> list[tuple]:
+    """The coefficients table's force columns: coefficient, amplitude, hodograph, its axis, its
+    motion."""
+    t, orders = ctx.t, r["orders"]
     columns = [
-        (t("balancing.order"), [order_name(o) for o in orders], None),
+        (t("balancing.order"), [_order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
         (
             t(
@@ -150,7 +176,7 @@ def coefficients_table(ctx, r):
             t("balancing.hodograph_axes", scale=C_N),
             [
                 "—"
-                if zero(o, "force")
+                if _zero(r, o, "force")
                 else f"{ctx.t.fixed(o['force_hodograph']['semi_major'] / o['amplitude_N'], 3)} / "
                 f"{ctx.t.fixed(o['force_hodograph']['semi_minor'] / o['amplitude_N'], 3)}"
                 for o in orders
@@ -161,7 +187,7 @@ def coefficients_table(ctx, r):
             t("balancing.major_axis"),
             [
                 "—"
-                if zero(o, "force") or circular(o["force_hodograph"])
+                if _zero(r, o, "force") or circular(o["force_hodograph"])
                 else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
                 for o in orders
             ],
@@ -170,46 +196,45 @@ def coefficients_table(ctx, r):
         (
             t("balancing.sense"),
             [
-                "—" if zero(o, "force") else t("balancing.sense_" + o["force_hodograph"]["sense"])
+                "—"
+                if _zero(r, o, "force")
+                else t("balancing.sense_" + o["force_hodograph"]["sense"])
                 for o in orders
             ],
             None,
         ),
     ]
-    if not single:
-        columns += [
-            (
-                t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
-                [o["moment_coefficient"] for o in orders],
-                4,
-            ),
-            (
-                t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
-                [
-                    "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
-                    for o in orders
-                ],
-                None,
-            ),
-            (
-                t("balancing.moment_plane"),
-                [
-                    "—"
-                    if zero(o, "moment")
-                    else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
-                    for o in orders
-                ],
-                None,
-            ),
-        ]
-    return ctx.table(
-        columns,
-        caption=t(
-            "balancing.coefficients_caption_single" if single else "balancing.coefficients_caption"
+    return columns
+
+
+def _moment_columns(ctx, r) -> list[tuple]:
+    """The coefficients table's moment columns (cranks in several planes)."""
+    t, orders = ctx.t, r["orders"]
+    return [
+        (
+            t("balancing.head_resultant_moment_ratio", scale=f"({C_N}<i>a</i>)"),
+            [o["moment_coefficient"] for o in orders],
+            4,
         ),
-        css_class="data wide",
-        see="balancing.see_coefficients_single" if single else "balancing.see_coefficients",
-    )
+        (
+            t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
+            [
+                "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                for o in orders
+            ],
+            None,
+        ),
+        (
+            t("balancing.moment_plane"),
+            [
+                "—"
+                if _zero(r, o, "moment")
+                else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
+                for o in orders
+            ],
+            None,
+        ),
+    ]
 
 
 def _bay_table(ctx, r):
@@ -251,9 +276,7 @@ def _summary_table(ctx, r):
     t = ctx.t
     rows = r["summary"]
     single = len(r["cylinder_labels"]) == 1
-    if (
-        single
-    ):  # one cylinder's forces act in the plane of its crank: no moments (nor in the caption)
+    if one_plane(r):  # forces in the plane of one crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
     summary_table = ctx.table(
         [
@@ -273,7 +296,9 @@ def _summary_table(ctx, r):
             ),
             (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
         ],
-        caption=t("balancing.summary_caption_forces" if single else "balancing.summary_caption"),
+        caption=t(
+            "balancing.summary_caption_forces" if one_plane(r) else "balancing.summary_caption"
+        ),
         see="balancing.see_summary",
     )
 
@@ -295,6 +320,38 @@ def _means_table(ctx, r):
     single = (
         len(r["cylinder_labels"]) == 1
     )  # one crank: no crank numbers, ends or positions along the shaft
+    means_rows = _means_rows(ctx, r, single)
+    if not means_rows:
+        return None
+    columns = [
+        (t("balancing.means"), [x[0] for x in means_rows], None),
+        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
+        (
+            t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
+            [x[2] for x in means_rows],
+            None,
+        ),
+        (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
+        (t("balancing.angle"), [x[4] for x in means_rows], None),
+    ] + (
+        []
+        if single
+        else [
+            (
+                t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
+                [x[5] for x in means_rows],
+                None,
+            )
+        ]
+    )
+    caption, see = _means_caption(ctx, r, single)
+    return ctx.table(columns, caption=caption, css_class="data wide", see=see)
+
+
+def _means_rows(ctx, r, single: bool) -> list[tuple]:
+    """A row per counterweight and per balance-shaft mass: name, speed ratio, m·r, mass, angle,
+    position along the shaft."""
+    t = ctx.t
     means_rows = []
     for cw in r["counterweights"]:
         label = (
@@ -333,29 +390,12 @@ def _means_table(ctx, r):
                     ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—",
                 )
             )
-    if not means_rows:
-        return None
-    columns = [
-        (t("balancing.means"), [x[0] for x in means_rows], None),
-        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
-        (
-            t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
-            [x[2] for x in means_rows],
-            None,
-        ),
-        (t("balancing.head_mass") + ", " + t("unit.kg"), [x[3] for x in means_rows], None),
-        (t("balancing.angle"), [x[4] for x in means_rows], None),
-    ] + (
-        []
-        if single
-        else [
-            (
-                t("balancing.head_distance_from_crank_1") + ", " + t("unit.mm"),
-                [x[5] for x in means_rows],
-                None,
-            )
-        ]
-    )
+    return means_rows
+
+
+def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
+    """The means table's caption (with the radii of the masses) and its announcing sentence."""
+    t = ctx.t
     radii = {
         "r_cw": ctx.num(r["counterweight_radius_m"] * 1e3),
         "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3),
@@ -380,7 +420,7 @@ def _means_table(ctx, r):
     else:
         caption = t("balancing.means_caption", **radii)
         see = "balancing.see_means"
-    return ctx.table(columns, caption=caption, css_class="data wide", see=see)
+    return caption, see
 
 
 def _explorer_table(ctx, r):
@@ -398,7 +438,7 @@ def _explorer_table(ctx, r):
                     ["; ".join(ctx.angle_text(v) for v in c["crank_angles_deg"]) for c in rows],
                     None,
                 ),
-                (t("balancing.firing_order"), ["–".join(c["firing_order"]) for c in rows], None),
+                (t("balancing.firing_order"), [t.cylinders(c["firing_order"]) for c in rows], None),
                 ("Σ<i>C</i>", [c["coefficients"]["sum_C"] for c in rows], 3),
                 ("Σ<i>M</i><sub>C</sub>", [c["coefficients"]["M_C"] for c in rows], 3),
                 ("Σ<i>P</i><sub>I</sub>", [c["coefficients"]["sum_PI"] for c in rows], 3),

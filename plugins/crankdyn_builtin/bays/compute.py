@@ -172,15 +172,68 @@ def _articulated_masses(
     return s_rec, recip_master, rot_master
 
 
+def _rotating_mass_terms(opts, m, slaves, rod_length_m: float, rod_rotating_kg: float) -> dict:
+    """The terms of the bay's rotating mass m_R = m_cp + 2 m_w + m_rR + (m_sr (1 − κ_s) + m_sp)
+    Σ_l (1 − r cos γ_1l / L) (textbook fig. 9: each slave's rotating part and pin at its pin,
+    split statically between the big end and the master's piston pin), kg."""
+    slave_rod = (
+        opts.slave_rod
+        if opts.slave_rod is not None
+        else m.rod * slaves[0][1].slave_rod_length_m / rod_length_m
+    )
+    lumped = slave_rod * (1 - opts.slave_rod_cm_fraction) + opts.slave_pin
+    levers = sum(1 - g.pin_radius_m * math.cos(g.pin_angle_rad) / rod_length_m for _, g in slaves)
+    rod_rotating_kg = float(rod_rotating_kg)
+    return {
+        "crank_pin_kg": m.crank_pin,
+        "crank_web_kg": m.crank_web,
+        "rod_rotating_kg": rod_rotating_kg,
+        "slave_rod_kg": slave_rod,
+        "slave_rod_cm_fraction": opts.slave_rod_cm_fraction,
+        "slave_pin_kg": opts.slave_pin,
+        "slave_lumped_kg": lumped,
+        "slave_lever_sum": float(levers),
+        "rods_kg": rod_rotating_kg + lumped * float(levers),
+        "total_kg": m.crank_pin + 2 * m.crank_web + rod_rotating_kg + lumped * float(levers),
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     motion, gas, forces = inputs[KINEMATICS], inputs[GAS_PRESSURE], inputs[FORCES]
-    e, m = scene.engine, scene.masses
+    e = scene.engine
     layout = engine_layout(scene)
-    step, angle = scene.analysis.angle_step_deg, motion.crank_angle_deg
-    n = len(angle)
-    area = forces.piston_area_m2
-    R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
-    results: dict = {
+    results = _layout_results(e, layout)
+    notes = _firing_notes(layout, scene.firing_order_chosen)
+    if scene.firing_order_chosen:
+        results["firing_order_chosen"] = True
+    if e.rod_type != "articulated":
+        tables: dict = {}
+        tangential, radial, centrifugal, centrifugal_rod, work_all = _side_by_side_bays(
+            scene, layout, motion, gas, forces
+        )
+    else:
+        tangential, radial, centrifugal, centrifugal_rod, work_all, tables = _articulated_bays(
+            scene, layout, motion, gas, forces, results, notes
+        )
+    results["centrifugal_Pa"] = centrifugal
+    results["indicated_work_J"] = work_all
+    loads = BayLoads(
+        crank_angle_deg=motion.crank_angle_deg,
+        tangential_Pa=tangential,
+        radial_Pa=radial,
+        centrifugal_Pa=centrifugal,
+        centrifugal_rod_Pa=centrifugal_rod,
+        piston_area_m2=forces.piston_area_m2,
+        crank_radius_m=e.crank_radius_m,
+        layout=layout,
+        indicated_work_J=work_all,
+    )
+    return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
+
+
+def _layout_results(e, layout) -> dict:
+    """The engine's layout, firing order, crank arrangement, cylinder phases and strokes."""
+    results = {
         "layout": e.layout,
         "cylinders": e.cylinders,
         "cranks": layout.cranks,
@@ -195,111 +248,115 @@ def run(scene, inputs) -> StageOutput:
     results["stroke_sequence"] = _stroke_sequence(
         e.strokes, results["cylinder_phases"]
     )  # the table of strokes
-    tables: dict = {}
-    notes = _firing_notes(layout, scene.firing_order_chosen)
-    if scene.firing_order_chosen:
-        results["firing_order_chosen"] = True
+    return results
 
-    rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
-    crank_rotating = m.crank_pin + 2 * m.crank_web
-    gas_Pa = gas.pressure_Pa - e.crankcase_pressure
 
+def _side_by_side_bays(scene, layout, motion, gas, forces):
+    """Central or fork-and-blade rods: every cylinder acts on its pin like a single one, at its
+    own cycle angle. (tangential, radial per crank, centrifugal, its rods' part, Pa; work, J)"""
+    e, m = scene.engine, scene.masses
+    step, n = scene.analysis.angle_step_deg, len(motion.crank_angle_deg)
     tangential = np.zeros((layout.cranks, n))
     radial = np.zeros((layout.cranks, n))
+    for c in layout.cylinders:
+        shift = lay.grid_shift(c.firing_delay_deg, step)
+        tangential[c.bay] += np.roll(forces.tangential_Pa, shift)
+        radial[c.bay] += np.roll(forces.radial_Pa, shift)
+    _, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    rods_rotating = rod_rot * layout.cylinders_per_bay
+    R, w, area = e.crank_radius_m, e.angular_velocity_rad_s, forces.piston_area_m2
+    crank_rotating = m.crank_pin + 2 * m.crank_web
+    centrifugal = phys.centrifugal_pressure_Pa(rods_rotating + crank_rotating, R, w, area)
+    centrifugal_rod = phys.centrifugal_pressure_Pa(rods_rotating, R, w, area)
+    return tangential, radial, centrifugal, centrifugal_rod, gas.indicated_work_J * e.cylinders
 
-    if e.rod_type != "articulated":
-        # Central or fork-and-blade rods: every cylinder acts on the pin like a single one.
-        for c in layout.cylinders:
-            shift = lay.grid_shift(c.firing_delay_deg, step)
-            tangential[c.bay] += np.roll(forces.tangential_Pa, shift)
-            radial[c.bay] += np.roll(forces.radial_Pa, shift)
-        rods_rotating = rod_rot * layout.cylinders_per_bay
-        centrifugal = phys.centrifugal_pressure_Pa(rods_rotating + crank_rotating, R, w, area)
-        centrifugal_rod = phys.centrifugal_pressure_Pa(rods_rotating, R, w, area)
-        work_all = gas.indicated_work_J * e.cylinders
-    else:
-        opts = options(scene, ARTICULATED, ArticulatedOptions)
-        slaves = slave_geometries(scene, layout, opts, ARTICULATED)
-        s_rec, recip_master, rot_master = _articulated_masses(
-            opts, m.rod, slaves, L, rod_rec, rod_rot
-        )
-        alpha_local = np.radians(angle % 360.0)
-        master_j = motion.piston_acceleration_m_s2
-        p1_master = gas_Pa + phys.inertia_pressure_Pa(m.piston_group + recip_master, master_j, area)
-        slave_rows, slave_info = [], []
-        # Same clearance height above every piston's TDC (equal compression ratios by design).
-        clearance = float(gas.volume_m3.min())
-        work_bay = gas.indicated_work_J
-        for slave, g in slaves:
-            row, info, table, work = _slave_cylinder(
-                scene,
-                layout,
-                slave,
-                g,
-                alpha_local,
-                angle,
-                gas,
-                clearance,
-                m.piston_group + s_rec,
-                area,
-            )
-            work_bay += work
-            slave_rows.append(row)
-            slave_info.append(info)
-            tables[f"slave_{slave.label}"] = table
-        t_bay, z_bay, n_bay = art.bay_crank_pin_forces(
-            alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows
-        )
-        master = layout.bay(0)[0]
-        for k in range(layout.cranks):
-            shift = lay.grid_shift(
-                (layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg,
-                step,
-            )
-            tangential[k] = np.roll(t_bay, shift)
-            radial[k] = np.roll(z_bay, shift)
-        centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)
-        centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
-        work_all = work_bay * layout.cranks
-        results.update(_true_firing(layout, slaves, slave_info))
-        if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
-            notes.append(
-                (
-                    "bays.note_true_intervals",
-                    {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)},
-                )
-            )
-        results.update(
-            {
-                "pin_radius_m": opts.pin_radius,
-                "slaves": slave_info,
-                "master_reciprocating_mass_kg": m.piston_group + recip_master,
-                "master_rod_rotating_mass_kg": rot_master,
-            }
-        )
-        tables["bay"] = {
-            "crank_angle_deg": angle,
-            "master_side_Pa": n_bay,
-            "bay_tangential_Pa": t_bay,
-            "bay_radial_Pa": z_bay,
-            "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay),
-        }
-        notes.append(("bays.note_articulated", {}))
 
-    results["centrifugal_Pa"] = centrifugal
-    results["indicated_work_J"] = work_all
-    loads = BayLoads(
-        crank_angle_deg=angle,
-        tangential_Pa=tangential,
-        radial_Pa=radial,
-        centrifugal_Pa=centrifugal,
-        centrifugal_rod_Pa=centrifugal_rod,
-        piston_area_m2=area,
-        crank_radius_m=R,
-        layout=layout,
-        indicated_work_J=work_all,
+def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: list):
+    """A master rod and its slave rods on each pin: the bay's forces from the master rod's statics
+    (textbook table B.2), each bay shifted by its cycle delay; ``results`` and ``notes`` get the
+    slaves' data. (tangential, radial per crank, centrifugal, its rods' part, Pa; work, J; tables)"""
+    e, m = scene.engine, scene.masses
+    angle, area = motion.crank_angle_deg, forces.piston_area_m2
+    R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
+    rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    slaves = slave_geometries(scene, layout, opts, ARTICULATED)
+    s_rec, recip_master, rot_master = _articulated_masses(opts, m.rod, slaves, L, rod_rec, rod_rot)
+    alpha_local = np.radians(angle % 360.0)
+    gas_Pa = gas.pressure_Pa - e.crankcase_pressure
+    p1_master = gas_Pa + phys.inertia_pressure_Pa(
+        m.piston_group + recip_master, motion.piston_acceleration_m_s2, area
     )
-    return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
+    slave_rows, slave_info, tables = [], [], {}
+    # Same clearance height above every piston's TDC (equal compression ratios by design).
+    clearance = float(gas.volume_m3.min())
+    work_bay = gas.indicated_work_J
+    for slave, g in slaves:
+        row, info, table, work = _slave_cylinder(
+            scene,
+            layout,
+            slave,
+            g,
+            alpha_local,
+            angle,
+            gas,
+            clearance,
+            m.piston_group + s_rec,
+            area,
+        )
+        work_bay += work
+        slave_rows.append(row)
+        slave_info.append(info)
+        tables[f"slave_{slave.label}"] = table
+    t_bay, z_bay, n_bay = art.bay_crank_pin_forces(
+        alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows
+    )
+    tangential, radial = _bays_shifted(layout, t_bay, z_bay, scene.analysis.angle_step_deg)
+    crank_rotating = m.crank_pin + 2 * m.crank_web
+    centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)
+    centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
+    results.update(_true_firing(layout, slaves, slave_info))
+    if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
+        notes.append(
+            (
+                "bays.note_true_intervals",
+                {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)},
+            )
+        )
+    results.update(
+        {
+            "pin_radius_m": opts.pin_radius,
+            "slaves": slave_info,
+            "master_reciprocating_mass_kg": m.piston_group + recip_master,
+            "master_rod_rotating_mass_kg": rot_master,
+            "rotating_mass_terms": _rotating_mass_terms(opts, m, slaves, L, rod_rot),
+        }
+    )
+    tables["bay"] = {
+        "crank_angle_deg": angle,
+        "master_side_Pa": n_bay,
+        "bay_tangential_Pa": t_bay,
+        "bay_radial_Pa": z_bay,
+        "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay),
+    }
+    notes.append(("bays.note_articulated", {}))
+    work_all = work_bay * layout.cranks
+    return tangential, radial, centrifugal, centrifugal_rod, work_all, tables
+
+
+def _bays_shifted(layout, t_bay, z_bay, step_deg: float):
+    """Bay 0's forces on every crank pin, each bay shifted by its master cylinder's delay."""
+    tangential = np.zeros((layout.cranks, len(t_bay)))
+    radial = np.zeros((layout.cranks, len(t_bay)))
+    master = layout.bay(0)[0]
+    for k in range(layout.cranks):
+        shift = lay.grid_shift(
+            (layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg) % layout.cycle_deg,
+            step_deg,
+        )
+        tangential[k] = np.roll(t_bay, shift)
+        radial[k] = np.roll(z_bay, shift)
+    return tangential, radial
 
 
 def _stroke_sequence(strokes: int, phases: list[dict]) -> dict | None:

@@ -21,7 +21,7 @@ from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import ARTICULATED, applies, run
-from .section import SYMBOLS, render
+from .section import SYMBOLS, input_rows, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -42,6 +42,7 @@ BAYS_STAGE = Stage(
         section_symbols=("rod_specific", "side_specific"),
         title_key="bays.title",
         render=render,
+        input_rows=input_rows,
         figures=("bay",),
         references=("poda2007",),
         symbols=SYMBOLS,

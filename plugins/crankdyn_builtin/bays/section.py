@@ -8,9 +8,12 @@ from functools import partial
 from markupsafe import Markup, escape
 
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.plugin.contracts import ArticulatedOptions
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
+from crankdyn.scene import options
 
+from .compute import ARTICULATED
 from .figures import bay_figure
 
 
@@ -19,7 +22,7 @@ def _phase_table(r: dict, ctx):
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
     columns = [
-        (escape(t("bays.cylinder")), [p["cylinder"] for p in phases], None),
+        (escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None),
         (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
         (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
     ]
@@ -47,7 +50,7 @@ def _stroke_table(r: dict, ctx):
         for c in range(int(720 // step))
     ]
     body = [
-        [p["cylinder"]] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
+        [t.cylinder(p["cylinder"])] + [(t(f"bays.stroke_{stroke}"), span) for stroke, span in runs]
         for p, runs in zip(phases, rows, strict=True)
     ]
     return ctx.table_html(
@@ -64,7 +67,7 @@ def _slave_table(r: dict, ctx):
     t = ctx.t
     return ctx.table(
         [
-            (t("bays.cylinder"), [s["cylinder"] for s in r["slaves"]], None),
+            (t("bays.cylinder"), [t.cylinder(s["cylinder"]) for s in r["slaves"]], None),
             ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
             ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
             ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
@@ -80,6 +83,33 @@ def _slave_table(r: dict, ctx):
     )
 
 
+def _true_firing_text(r: dict, ctx) -> dict | None:
+    """The arguments of the firing sentence of an articulated bay whose slave cylinders' true dead
+    centres lie off their bank angles (None when the intervals are the nominal ones)."""
+    nominal = r.get("firing_intervals_nominal_deg")
+    if nominal is None or nominal == r["firing_intervals_deg"]:
+        return None
+    steps = sorted({round(x, 6) for x in nominal})
+    return {
+        "nominal": "; ".join(ctx.t.number_g(x, 4) for x in steps),
+        "shift": ctx.t.number_g(max(abs(s["tdc_shift_deg"]) for s in r["slaves"]), 2),
+    }
+
+
+def _bank_letters_text(r: dict, t) -> str:
+    """What the bank letters of the cylinders' labels stand for ("Л – лівий ряд, П – правий
+    ряд"); "" for labels without letters or with letters of no named bank."""
+    letters = []
+    for label in r["firing_order"]:
+        letter = str(label).lstrip("0123456789")
+        if letter and letter not in letters:
+            letters.append(letter)
+    if not letters or not all(t.has("bays.bank_" + x) for x in letters):
+        return ""
+    ordered = sorted(letters, key="LCR".index)
+    return t("bays.bank_letters", letters=", ".join(t("bays.bank_" + x) for x in ordered))
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     if r["cylinders"] == 1:
@@ -87,6 +117,7 @@ def render(output: StageOutput, ctx) -> str | None:
     t = ctx.t
     # tables are numbered as made: the cylinders' phases first, as the template shows them
     phase_table = _phase_table(r, ctx)
+    phase_table_number = ctx.last_table_number
     stroke_table = _stroke_table(r, ctx)
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
     bay_table = slave_table = figure = None
@@ -137,6 +168,9 @@ def render(output: StageOutput, ctx) -> str | None:
         slave_table=slave_table,
         figure=figure,
         phase_table=phase_table,
+        phase_table_number=phase_table_number,
+        true_firing=_true_firing_text(r, ctx),
+        bank_letters=_bank_letters_text(r, t),
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
@@ -167,4 +201,50 @@ SYMBOLS = {
     "bay_tangential_force": Symbol("t", {"en": "Σ"}, "unit.MPa"),
     # the whole bay's resultant, where the forces section's q is one cylinder's
     "bay_resultant": Symbol("q", {}, "unit.MPa"),
+    "slave_rod_mass": Symbol("m", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.kg"),
+    "slave_rod_cm_fraction": Symbol("κ", {"en": "s", "uk": "п", "ru": "п"}, ""),
+    "slave_pin_mass": Symbol("m", {"en": "sp", "uk": "п.п", "ru": "п.п"}, "unit.kg"),
 }
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [articulated] table's given data for the report's table of the task's data: what the
+    scene gives (a default it leaves is no datum of the task)."""
+    if scene.engine.rod_type != "articulated":
+        return []
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    given = opts.model_fields_set
+    t, num = ctx.t, ctx.t.number_g
+    mm, kg = t("unit.mm"), t("unit.kg")
+    rows = [(t("bays.input_pin_radius"), "<i>r</i>", num(opts.pin_radius * 1e3, 4), mm)]
+    if opts.pin_angle_deg is not None:
+        rows.append(
+            (t("bays.input_pin_angle"), "<i>γ</i><sub>1</sub>", num(opts.pin_angle_deg, 4), "°")
+        )
+    if opts.slave_rod_length is not None:
+        rows.append(
+            (
+                t("bays.input_slave_rod_length"),
+                "<i>l</i>",
+                num(opts.slave_rod_length * 1e3, 4),
+                mm,
+            )
+        )
+    if opts.slave_rod is not None:
+        rows.append(
+            (t("bays.input_slave_rod"), "<i>m</i><sub>sr</sub>", num(opts.slave_rod, 4), kg)
+        )
+    if "slave_rod_cm_fraction" in given:
+        rows.append(
+            (
+                t("bays.input_slave_rod_cm"),
+                "<i>κ</i><sub>s</sub>",
+                num(opts.slave_rod_cm_fraction, 4),
+                "",
+            )
+        )
+    if "slave_pin" in given:
+        rows.append(
+            (t("bays.input_slave_pin"), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg)
+        )
+    return rows

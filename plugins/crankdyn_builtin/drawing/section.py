@@ -3,6 +3,7 @@ mechanism's motion, drawn by :mod:`crankdyn.report.mechanism_drawing`."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import partial
 
 from markupsafe import Markup
@@ -11,6 +12,19 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.report import mechanism_drawing as md
 
 from .compute import POSITIONS
+
+
+def _labelled(geometry, t):
+    """``geometry`` with its cylinders' labels as the report's language prints them (1L → 1Л)."""
+    return replace(
+        geometry,
+        guides=[replace(g, label=t.cylinder(g.label)) if g.label else g for g in geometry.guides],
+        cranks=[
+            (label, lag, tuple(t.cylinder(c) for c in cylinders))
+            for label, lag, cylinders in geometry.cranks
+        ],
+        firing_order=tuple(t.cylinder(c) for c in geometry.firing_order),
+    )
 
 
 def _labels(geometry, ctx) -> dict[str, str]:
@@ -60,9 +74,10 @@ def scale_text(scale: float, t) -> str:
 def render(output: StageOutput, ctx) -> str:
     """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
-    positions, animation = output.artifacts["positions"], output.artifacts["animation"]
+    positions = _labelled(output.artifacts["positions"], t)
+    animation = output.artifacts["animation"]
     angles = output.results["crank_angles_deg"]
-    order = " – ".join(positions.firing_order)
+    order = t.cylinders(positions.firing_order, " – ")
     marks = {
         "alpha": "α",
         "beta": "β",

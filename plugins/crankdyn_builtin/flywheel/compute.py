@@ -65,6 +65,43 @@ def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
     }
 
 
+def _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess_work_J, omega) -> None:
+    """A flywheel so light that the speed would swing by more than the energy method holds for
+    (the crankshaft nearly stops) is refused, with the flywheel that would do."""
+    if irregularity <= MAX_ENERGY_METHOD_IRREGULARITY:
+        return
+    needed = max(
+        fw.required_inertia_kg_m2(excess_work_J, SUGGESTED_IRREGULARITY, omega) - own,
+        0.0,
+    )
+    raise SceneError(
+        Problem(
+            "flywheel.inertia",
+            f"{flywheel:.4g} kg*m^2",
+            f"too small: with the engine's own {own:.4g} kg*m^2 the speed would swing by "
+            f"delta = {irregularity:.3g} of its mean every cycle (the crankshaft nearly stops), "
+            f"where neither the energy method nor the torque diagram computed at constant speed "
+            f"holds; a flywheel of at least {needed:.3g} kg*m^2 gives delta = "
+            f"{SUGGESTED_IRREGULARITY:g}",
+        )
+    )
+
+
+def _excess_results(excess, torque) -> dict:
+    """The mean torque, the excess work ΔL, where the work is largest and least, and ΔL per
+    cycle's work."""
+    return {
+        "mean_torque_Nm": excess.mean_torque_Nm,
+        "excess_work_J": excess.excess_work_J,
+        "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]),
+        "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]),
+        "excess_work_relative": excess.excess_work_J
+        / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
+        if excess.mean_torque_Nm > 0
+        else None,
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -84,33 +121,11 @@ def run(scene, inputs) -> StageOutput:
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
-    if irregularity > MAX_ENERGY_METHOD_IRREGULARITY:
-        needed = max(
-            fw.required_inertia_kg_m2(excess.excess_work_J, SUGGESTED_IRREGULARITY, omega) - own,
-            0.0,
-        )
-        raise SceneError(
-            Problem(
-                "flywheel.inertia",
-                f"{flywheel:.4g} kg*m^2",
-                f"too small: with the engine's own {own:.4g} kg*m^2 the speed would swing by "
-                f"delta = {irregularity:.3g} of its mean every cycle (the crankshaft nearly stops), "
-                f"where neither the energy method nor the torque diagram computed at constant speed "
-                f"holds; a flywheel of at least {needed:.3g} kg*m^2 gives delta = "
-                f"{SUGGESTED_IRREGULARITY:g}",
-            )
-        )
+    _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess.excess_work_J, omega)
 
     results: dict = {
         "angular_velocity_rad_s": omega,
-        "mean_torque_Nm": excess.mean_torque_Nm,
-        "excess_work_J": excess.excess_work_J,
-        "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]),
-        "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]),
-        "excess_work_relative": excess.excess_work_J
-        / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
-        if excess.mean_torque_Nm > 0
-        else None,
+        **_excess_results(excess, torque),
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "own_inertia_kg_m2": own,
@@ -122,6 +137,11 @@ def run(scene, inputs) -> StageOutput:
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
         "flywheel_share": flywheel / total,
+        # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
+        "flywheel_inertia_difference_kg_m2": (
+            required_total - own if required_total is not None else None
+        ),
+        "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None,
         "rim": None,
     }
     notes = []

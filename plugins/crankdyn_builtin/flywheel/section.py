@@ -24,7 +24,33 @@ def render(output: StageOutput, ctx) -> str:
         "excess_work",
         see="flywheel.see_work",
     )
+    rim = r["rim"]
+    rows = _energy_rows(r, t) + _rim_rows(rim, t)
+    table = ctx.table(
+        [
+            (t("input.quantity"), [x[0] for x in rows], None),
+            (t("input.symbol"), [Markup(x[1]) for x in rows], None),
+            (
+                t("input.value"),
+                [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows],
+                None,
+            ),
+            (t("input.unit"), [x[3] for x in rows], None),
+        ],
+        caption=t("flywheel.table_caption"),
+        see="flywheel.see_table",
+    ) + worked_flywheel(ctx, r)
+    if r.get("own_inertia_sufficient"):
+        _conclude_not_needed(ctx, r)
+    else:
+        _conclude(ctx, r)
+    return ctx.render_template(
+        "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+    )
 
+
+def _energy_rows(r: dict, t) -> list[tuple]:
+    """The table's rows of the energy method: ΔL, the inertias, [δ], J_0, the flywheel, δ."""
     rows = [
         (t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
         (
@@ -58,8 +84,10 @@ def render(output: StageOutput, ctx) -> str:
             (
                 t("flywheel.row_required_flywheel"),
                 "<i>J</i><sub>f</sub>",
-                r["required_flywheel_inertia_kg_m2"],
-                t("flywheel.unit_kg_m2"),
+                t("flywheel.not_needed")
+                if r.get("own_inertia_sufficient")
+                else r["required_flywheel_inertia_kg_m2"],
+                "" if r.get("own_inertia_sufficient") else t("flywheel.unit_kg_m2"),
             ),
         ]
     if r["flywheel_given"]:
@@ -73,52 +101,48 @@ def render(output: StageOutput, ctx) -> str:
         )
     if irregularity_is_a_result(r):
         rows.append((t("flywheel.row_delta"), "<i>δ</i>", r["irregularity"], "—"))
-    rim = r["rim"]
-    if rim is not None:
-        rows += [
-            (
-                t("flywheel.row_rim_mean_diameter"),
-                "<i>D</i><sub>m</sub>",
-                rim["mean_diameter_m"] * 1e3,
-                t("unit.mm"),
-            ),
-            (
-                t("flywheel.row_rim_thin_mass"),
-                "<i>m</i><sub>rim</sub> = 4<i>J</i><sub>rim</sub>/<i>D</i><sub>m</sub><sup>2</sup>",
-                rim["thin_rim_mass_kg"],
-                t("unit.kg"),
-            ),
-            (t("flywheel.row_rim_thickness"), "<i>h</i>", rim["thickness_m"] * 1e3, t("unit.mm")),
-            (t("flywheel.row_rim_width"), "<i>b</i>", rim["width_m"] * 1e3, t("unit.mm")),
-            (
-                t("flywheel.row_rim_outer"),
-                "<i>D</i><sub>o</sub>",
-                rim["outer_diameter_m"] * 1e3,
-                t("unit.mm"),
-            ),
-            (t("flywheel.row_rim_mass"), "<i>m</i>", rim["mass_kg"], t("unit.kg")),
-            (t("flywheel.row_rim_speed"), "<i>v</i><sub>o</sub>", rim["speed_m_s"], t("unit.m_s")),
-            (
-                t("flywheel.row_rim_stress"),
-                "<i>σ</i> = <i>ρ</i><sub>mat</sub> <i>v</i><sub>o</sub><sup>2</sup>",
-                rim["hoop_stress_Pa"] / 1e6,
-                t("unit.MPa"),
-            ),
-        ]
-    table = ctx.table(
-        [
-            (t("input.quantity"), [x[0] for x in rows], None),
-            (t("input.symbol"), [Markup(x[1]) for x in rows], None),
-            (
-                t("input.value"),
-                [x[2] if isinstance(x[2], str) else ctx.num(x[2]) for x in rows],
-                None,
-            ),
-            (t("input.unit"), [x[3] for x in rows], None),
-        ],
-        caption=t("flywheel.table_caption"),
-        see="flywheel.see_table",
-    ) + worked_flywheel(ctx, r)
+    return rows
+
+
+def _rim_rows(rim: dict | None, t) -> list[tuple]:
+    """The table's rows of the flywheel's rim (none when no rim is sized)."""
+    if rim is None:
+        return []
+    return [
+        (
+            t("flywheel.row_rim_mean_diameter"),
+            "<i>D</i><sub>m</sub>",
+            rim["mean_diameter_m"] * 1e3,
+            t("unit.mm"),
+        ),
+        (
+            t("flywheel.row_rim_thin_mass"),
+            "<i>m</i><sub>rim</sub> = 4<i>J</i><sub>rim</sub>/<i>D</i><sub>m</sub><sup>2</sup>",
+            rim["thin_rim_mass_kg"],
+            t("unit.kg"),
+        ),
+        (t("flywheel.row_rim_thickness"), "<i>h</i>", rim["thickness_m"] * 1e3, t("unit.mm")),
+        (t("flywheel.row_rim_width"), "<i>b</i>", rim["width_m"] * 1e3, t("unit.mm")),
+        (
+            t("flywheel.row_rim_outer"),
+            "<i>D</i><sub>o</sub>",
+            rim["outer_diameter_m"] * 1e3,
+            t("unit.mm"),
+        ),
+        (t("flywheel.row_rim_mass"), "<i>m</i>", rim["mass_kg"], t("unit.kg")),
+        (t("flywheel.row_rim_speed"), "<i>v</i><sub>o</sub>", rim["speed_m_s"], t("unit.m_s")),
+        (
+            t("flywheel.row_rim_stress"),
+            "<i>σ</i> = <i>ρ</i><sub>mat</sub> <i>v</i><sub>o</sub><sup>2</sup>",
+            rim["hoop_stress_Pa"] / 1e6,
+            t("unit.MPa"),
+        ),
+    ]
+
+
+def _conclude(ctx, r: dict) -> None:
+    """The abstract's and the conclusions' words on the flywheel designed or given."""
+    t = ctx.t
     ctx.find(
         t(
             "flywheel.finding",
@@ -137,8 +161,23 @@ def render(output: StageOutput, ctx) -> str:
             shaft=ctx.num(r["engine_inertia_kg_m2"]),
         )
     )
-    return ctx.render_template(
-        "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+
+
+def _conclude_not_needed(ctx, r) -> None:
+    """The abstract's and the conclusions' words where the engine's own inertia meets [δ]: no
+    flywheel is designed, none is reported."""
+    t = ctx.t
+    ctx.find(t("flywheel.finding_not_needed", delta=ctx.num(r["irregularity"], 3)))
+    ctx.conclude(
+        t(
+            "flywheel.conclusion_not_needed",
+            excess=ctx.num(r["excess_work_J"]),
+            delta=ctx.num(r["irregularity"], 3),
+            required=t.number_g(r["required_irregularity"], 6),
+            own=ctx.num(r["own_inertia_kg_m2"]),
+            mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),
+            shaft=ctx.num(r["engine_inertia_kg_m2"]),
+        )
     )
 
 

@@ -242,17 +242,7 @@ def run(scene, inputs) -> StageOutput:
     # the reference, the kinematics forms and the solvers need none of the other steps' re-runs:
     # computed beside them when the report's process has a core to spare (crankdyn.aside)
     with aside(_side_studies, scene, opts, sample, runner, probes) as side:
-        runs = [sample]
-        for step in others:
-            if time.perf_counter() - start > opts.time_budget_s:
-                refused[f"{step:g}"] = (
-                    f"{BUDGET_REASON} of {opts.time_budget_s:g} s was spent "
-                    "([numerics] time_budget_s)"
-                )
-                continue
-            run = _run_or_refuse(scene, step, opts, runner, refused)
-            if run is not None:
-                runs.append(run)
+        runs = [sample] + _runs_within_budget(scene, others, opts, runner, refused, start)
         runs.sort(key=lambda r: -r.step_deg)
         timed, timings, overhead = time_steps(scene, runs, opts.repeats, runner)
         studies = side.result()
@@ -261,37 +251,62 @@ def run(scene, inputs) -> StageOutput:
     step_rows = _step_rows(runs, timings, reference)
     printed = sample.values  # the re-run at the scene's own step: the numbers this report prints
 
+    at_scene = _at_scene_step(scene_step, printed, ref)
+
+    _refuse_if_too_coarse(scene, opts, at_scene, step_rows)
+    notes += _peaks_against_tolerance(scene, opts, at_scene, step_rows)
+
+    results.update(_study_results(reference, step_rows, timed, timings, overhead, refused))
+    results["at_scene_step"] = at_scene
+    tables["steps"] = step_rows
+    _merge(results, tables, studies)
+    return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+def _runs_within_budget(scene, steps, opts, runner, refused: dict[str, str], start: float) -> list:
+    """The re-runs at ``steps`` (coarse to fine) while the time budget since ``start`` lasts; the
+    steps left out, and why, in ``refused``."""
+    runs = []
+    for step in steps:
+        if time.perf_counter() - start > opts.time_budget_s:
+            refused[f"{step:g}"] = (
+                f"{BUDGET_REASON} of {opts.time_budget_s:g} s was spent ([numerics] time_budget_s)"
+            )
+            continue
+        run = _run_or_refuse(scene, step, opts, runner, refused)
+        if run is not None:
+            runs.append(run)
+    return runs
+
+
+def _at_scene_step(scene_step: float, printed, ref) -> dict:
+    """The printed values at the scene's own step and their errors against the reference."""
     at_scene = {"angle_step_deg": scene_step}
     for q in QUANTITIES:
         at_scene[f"{q}_{QUANTITY_UNITS[q]}"] = printed[q]
         at_scene[f"{q}_error_{QUANTITY_UNITS[q]}"] = abs(printed[q] - ref[q])
         at_scene[f"{q}_error_relative"] = _relative(printed[q], ref[q])
+    return at_scene
 
-    _refuse_if_too_coarse(scene, opts, at_scene, step_rows)
-    notes += _peaks_against_tolerance(scene, opts, at_scene, step_rows)
 
-    results.update(
-        {
-            "reference_method": reference.method,
-            "reference_step_deg": FALLBACK_REFERENCE_STEP_DEG
-            if reference.method != "quadrature"
-            else None,
-            "reference_time_s": reference.time_s,
-            "reference": {f"{q}_{QUANTITY_UNITS[q]}": ref[q] for q in QUANTITIES},
-            "reference_uncertainty_relative": reference.uncertainty,
-            "theoretical_work_closed_form_J": reference.theoretical_work_J,
-            "steps": step_rows,
-            "steps_timed": timed,
-            "steps_timing_repeats": timings[0].repeats,
-            "steps_timing_min_repeat_s": MIN_REPEAT_S,
-            "per_call_overhead_s": overhead,
-            "steps_refused": refused,
-            "at_scene_step": at_scene,
-        }
-    )
-    tables["steps"] = step_rows
-    _merge(results, tables, studies)
-    return StageOutput(data={}, results=results, tables=tables, notes=notes)
+def _study_results(reference, step_rows, timed, timings, overhead, refused) -> dict:
+    """The step study's results: the reference, the steps with their errors and timings."""
+    return {
+        "reference_method": reference.method,
+        "reference_step_deg": FALLBACK_REFERENCE_STEP_DEG
+        if reference.method != "quadrature"
+        else None,
+        "reference_time_s": reference.time_s,
+        "reference": {f"{q}_{QUANTITY_UNITS[q]}": reference.values[q] for q in QUANTITIES},
+        "reference_uncertainty_relative": reference.uncertainty,
+        "theoretical_work_closed_form_J": reference.theoretical_work_J,
+        "steps": step_rows,
+        "steps_timed": timed,
+        "steps_timing_repeats": timings[0].repeats,
+        "steps_timing_min_repeat_s": MIN_REPEAT_S,
+        "per_call_overhead_s": overhead,
+        "steps_refused": refused,
+    }
 
 
 def _run_or_refuse(scene, step: float, opts, runner, refused: dict[str, str]) -> StepRun | None:

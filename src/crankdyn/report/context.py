@@ -201,6 +201,7 @@ class RenderContext:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,
         # whoever built the environment (the report, the API's single sections, the tests).
         self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
+        self.env.filters["cyl"] = self.t.cylinder  # "1L" as this language prints it
         self.env.filters["angle"] = self.angle_text  # a crank angle: "372°", "75,4°"
 
     @property
@@ -462,6 +463,8 @@ class RenderContext:
             self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(
                 value, significant
             )
+        if "cyl" not in self.env.filters:
+            self.env.filters["cyl"] = self.t.cylinder
         self.env.filters["angle"] = self.angle_text  # this report's step
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)

@@ -89,6 +89,10 @@ def _babel_locale(name: str):
         return Locale.parse(FALLBACK)
 
 
+#: A V, W or X engine's cylinder label: its number and its bank's letter ("1L", "4R").
+_BANKED_LABEL = re.compile(r"(\d+)([A-Z])")
+
+
 @dataclass
 class Translator:
     """Looks texts up in one language, falling back to English; records misses."""
@@ -110,6 +114,20 @@ class Translator:
         if params and "@" in text:
             text = _PLURAL.sub(lambda m: self.plural_word(params.get(m.group(1)), m.group(2)), text)
         return text.format(**params) if params else text
+
+    def cylinder(self, label) -> str:
+        """A cylinder's label as printed: its bank letter in this language's letters (``bank.L``:
+        "1L" → "1Л" in a Cyrillic text); a label without a bank letter as it is."""
+        text = str(label)
+        found = _BANKED_LABEL.fullmatch(text)
+        if found is None:
+            return text
+        letter = self.texts.get("bank." + found.group(2)) or found.group(2)
+        return found.group(1) + letter
+
+    def cylinders(self, labels, separator: str = "–") -> str:
+        """Cylinder labels as printed (:meth:`cylinder`), joined: a firing order "1Л–1П–4Л"."""
+        return separator.join(self.cylinder(label) for label in labels)
 
     def has(self, key: str) -> bool:
         """True if ``key`` has a text in this language or in English."""

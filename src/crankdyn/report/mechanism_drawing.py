@@ -130,6 +130,8 @@ def _guide_frame(geometry, guide, i):
 SKIRT = 0.35  # the piston below its pin, fraction of the bore
 CROWN = 0.45  # the piston above its pin, fraction of the bore
 SHORT_SKIRT = 0.12  # the least skirt drawn, where the neighbouring cylinders leave no room
+HATCH = 0.02  # the spacing of a wall's hatching strokes, fraction of the extent
+HATCH_SLANT = 0.7  # a stroke's reach out of the wall and back along it, fraction of the spacing
 
 
 def liner_ends_mm(guide, geometry=None) -> tuple[float, float]:
@@ -170,6 +172,38 @@ def liner_floor_mm(geometry, guide) -> float:
     return floor if floor <= travel[0] + 0.5 * (travel[1] - travel[0]) else -np.inf
 
 
+def hatch_start_mm(geometry, guide) -> float:
+    """The distance from the guide's origin (mm) where its walls' hatching may start: the strokes,
+    reaching ``HATCH_SLANT`` of their spacing out of the wall and back towards the shaft, clear
+    those of every cylinder whose axis leaves the same origin at another angle (two walls at an
+    angle θ, meeting at h / tan(θ/2), part by 2 sin(θ/2) per unit of length). -inf when nothing
+    is near."""
+    if guide.moving is not None or guide.bore_m <= 0:
+        return -np.inf
+    depth = HATCH * HATCH_SLANT * _extent_mm(geometry)
+    start = -np.inf
+    for theta, half in _neighbour_angles(geometry, guide):
+        start = max(start, half / np.tan(theta / 2) + depth + depth / np.sin(theta / 2))
+    return start
+
+
+def _neighbour_angles(geometry, guide):
+    """(angle between the axes, rad; the wider half-bore, mm) of every other cylinder whose axis
+    leaves the guide's origin."""
+    d = np.asarray(guide.direction, dtype=float)
+    for other in geometry.guides:
+        if (
+            other.moving is not None
+            or other.bore_m <= 0
+            or not np.allclose(other.origin_m, guide.origin_m)
+        ):
+            continue
+        cos_theta = float(np.clip(np.dot(d, np.asarray(other.direction, dtype=float)), -1.0, 1.0))
+        theta = float(np.arccos(cos_theta))
+        if 1e-6 <= theta <= np.pi - 1e-6:
+            yield theta, max(guide.bore_m, other.bore_m) * MM / 2
+
+
 def piston_skirt_mm(guide, geometry=None) -> float:
     """The piston's length below its pin (mm): 0.35 bore, shortened (to 0.12 bore at least) where
     the liner is cut short by its neighbours (:func:`liner_floor_mm`), as a radial engine's
@@ -182,8 +216,9 @@ def piston_skirt_mm(guide, geometry=None) -> float:
     return float(np.clip(room, SHORT_SKIRT * guide.bore_m * MM, full))
 
 
-def _hatch(ax, start, end, normal, size, color, alpha):
-    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist)."""
+def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
+    """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist);
+    the strokes begin ``skip`` (mm) along the wall from ``start``."""
     from matplotlib.collections import (
         LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
@@ -191,9 +226,10 @@ def _hatch(ax, start, end, normal, size, color, alpha):
     ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
     length = np.linalg.norm(end - start)
     d = (end - start) / length
-    count = max(int(length / size), 2)
-    p = start + np.outer(np.linspace(0.0, length, count + 1), d)
-    q = p + (normal - d) * size * 0.7
+    skip = min(max(skip, 0.0), 0.5 * length)
+    count = max(int((length - skip) / size), 2)
+    p = start + np.outer(np.linspace(skip, length, count + 1), d)
+    q = p + (normal - d) * size * HATCH_SLANT
     ax.add_collection(
         LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha)
     )
@@ -225,9 +261,10 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
         skirt = piston_skirt_mm(guide, geometry)
         crown = CROWN * guide.bore_m * MM
         bottom, top = liner_ends_mm(guide, geometry)
+        skip = hatch_start_mm(geometry, guide) - bottom  # clear of the neighbours' hatching
         for side in (-1, 1):
             a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
-            _hatch(ax, a, b, n * side, extent * 0.02, color, alpha)
+            _hatch(ax, a, b, n * side, extent * HATCH, color, alpha, skip)
         axis = np.array([o + d * (bottom - 0.04 * extent), o + d * (top + 0.04 * extent)])
         ax.plot(axis[:, 0], axis[:, 1], color="0.45", lw=0.5, ls="-.", alpha=alpha, zorder=1)
         pos = float(np.dot(pin - o, d))
