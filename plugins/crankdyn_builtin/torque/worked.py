@@ -27,7 +27,7 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), f.row(rows[i])
     own = ", ".join(
-        f"α_{{{d['cylinder']}}} = {ctx.angle_text((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
+        f"α_{{{t.cylinder(d['cylinder'])}}} = {ctx.angle_text((alpha - d['cycle_delay_deg']) % ctx.cycle_deg)}°"
         for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"]))
     )
     engine = ctx.scene.engine
