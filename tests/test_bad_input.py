@@ -37,6 +37,16 @@ CASES = [
     ("unparsable unit", {"engine": {"bore": "82 parsecz"}}, "engine.bore"),
     ("negative mass", {"masses": {"piston_group": "-0.4 kg"}}, "masses.piston_group"),
     ("both rod length and ratio", {"engine": {"rod_length": "140 mm"}}, "exactly one"),
+    (
+        "missing rod",
+        {"engine": {"rod_ratio": None}},
+        "engine.rod_length = (missing): give exactly one of rod_length",
+    ),
+    (
+        "missing rod of an offset crank",
+        {"engine": {"rod_ratio": None, "mechanism": "offset_crank_slider"}},
+        "the 'offset_crank_slider' mechanism has a connecting rod",
+    ),
     ("rod cm both ways", {"masses": {"rod_cm_from_big_end": "40 mm"}}, "exactly one"),
     (
         "rod cm beyond rod",

@@ -11,7 +11,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import PluginError, Problem, SceneError
+from ..errors import MISSING, PluginError, Problem, SceneError
 from ..parallel.fork import aside
 from ..physics import lazy
 from ..plugin.registry import Registry, broken_note
@@ -24,7 +24,7 @@ from ..plugin.types import (
     StageOutput,
     declared,
 )
-from ..scene.model import Scene, options
+from ..scene.model import ROD_CHOICE, Scene, options
 
 
 @dataclass
@@ -119,6 +119,14 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
                     "mechanism",
                     scene.mechanism,
                     f"the {mechanism.name!r} mechanism takes no [mechanism] table",
+                )
+            )
+        if mechanism.needs_rod and not scene.engine.has_rod:
+            problems.append(
+                Problem(
+                    "engine.rod_length",
+                    MISSING,
+                    f"{ROD_CHOICE}: the {mechanism.name!r} mechanism has a connecting rod",
                 )
             )
         if not problems:

@@ -320,6 +320,13 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool =
             f"mechanism {mechanism.name!r}: params_model = "
             f"{shorten(mechanism.params_model)}; expected a pydantic model or None",
         )
+    if not isinstance(mechanism.needs_rod, bool):
+        raise PluginFailure(
+            plugin,
+            where,
+            f"mechanism {mechanism.name!r}: needs_rod = {shorten(mechanism.needs_rod)}; "
+            "expected True or False",
+        )
     return mechanism
 
 

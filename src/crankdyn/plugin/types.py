@@ -59,6 +59,11 @@ class Mechanism:
 
     ``plausibility``: the :class:`PlausibilityRule` s of this mechanism's scenes (a crank-slider's
     λ = R/L and its rod's centre of mass), besides the core's rules that hold for every engine.
+
+    ``needs_rod``: whether the mechanism has a connecting rod (or a member sized as one, a vane
+    engine's tail), so that its scenes give exactly one of ``engine.rod_length`` or
+    ``engine.rod_ratio``; a mechanism without one (a Scotch yoke) declares False and its scenes
+    give neither.
     """
 
     name: str
@@ -69,6 +74,7 @@ class Mechanism:
     # compare=False: a Mechanism stays hashable with a mapping here
     input_rows: Mapping[str, tuple[str, str] | None] = field(default_factory=dict, compare=False)
     plausibility: tuple[PlausibilityRule, ...] = ()
+    needs_rod: bool = True
 
 
 @dataclass

@@ -80,6 +80,8 @@ def _stroke_bore(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+    if not scene.engine.has_rod:
+        return []
     ratio = scene.engine.rod_ratio_value
     if ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
         return []
@@ -92,7 +94,7 @@ def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _rod_cm(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
-    if scene.masses is None:
+    if scene.masses is None or not scene.engine.has_rod:
         return []
     fraction = scene.rod_cm_from_big_end_m / scene.engine.rod_length_m
     if ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:

@@ -169,6 +169,10 @@ def _year(year: int) -> int:
 
 #: The smallest bore and stroke, m (0.1 mm).
 MIN_SIZE_M = 1e-4
+#: What a scene of a mechanism with a connecting rod gives of it.
+ROD_CHOICE = (
+    "give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)"
+)
 #: The smallest rod ratio lambda = R/L (the search for the piston's extremes needs lambda^2 > 0).
 MIN_ROD_RATIO = 1e-6
 
@@ -204,10 +208,10 @@ class Engine(_Strict):
 
     @model_validator(mode="after")
     def _rod(self) -> Engine:
-        if (self.rod_length is None) == (self.rod_ratio is None):
-            raise ValueError(
-                "give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)"
-            )
+        # Neither is a scene of a mechanism without a rod; whether the mechanism has one is
+        # the mechanism's declaration (``Mechanism.needs_rod``), checked with the plugins.
+        if self.rod_length is not None and self.rod_ratio is not None:
+            raise ValueError(ROD_CHOICE)
         if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
             raise _FieldError(
                 "rod_ratio",
@@ -227,16 +231,32 @@ class Engine(_Strict):
         return self.stroke / 2
 
     @property
+    def has_rod(self) -> bool:
+        """Whether the scene gives a connecting rod (``rod_length`` or ``rod_ratio``)."""
+        return self.rod_length is not None or self.rod_ratio is not None
+
+    @property
     def rod_ratio_value(self) -> float:
-        return (
-            self.rod_ratio if self.rod_ratio is not None else self.crank_radius_m / self.rod_length
-        )
+        """λ = R/L; a SceneError naming ``engine.rod_ratio`` when the scene gives no rod."""
+        if self.rod_ratio is not None:
+            return self.rod_ratio
+        return self.crank_radius_m / self._given_rod_length("rod_ratio")
 
     @property
     def rod_length_m(self) -> float:
-        return (
-            self.rod_length if self.rod_length is not None else self.crank_radius_m / self.rod_ratio
-        )
+        """L; a SceneError naming ``engine.rod_length`` when the scene gives no rod."""
+        if self.rod_length is not None:
+            return self.rod_length
+        if self.rod_ratio is not None:
+            return self.crank_radius_m / self.rod_ratio
+        return self._given_rod_length("rod_length")
+
+    def _given_rod_length(self, field: str) -> float:
+        if self.rod_length is None:
+            raise SceneError(
+                Problem(f"engine.{field}", MISSING, ROD_CHOICE + "; a part of the report uses it")
+            )
+        return self.rod_length
 
     @property
     def angular_velocity_rad_s(self) -> float:
@@ -455,7 +475,11 @@ class Scene(_Strict):
                 "missing: a scene with cycle data needs [masses] "
                 "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)",
             )
-        if self.masses is not None and self.masses.rod_cm_from_big_end is not None:
+        if (
+            self.masses is not None
+            and self.masses.rod_cm_from_big_end is not None
+            and self.engine.has_rod
+        ):
             if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
                 raise _FieldError(
                     "masses.rod_cm_from_big_end",
