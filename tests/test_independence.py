@@ -47,7 +47,6 @@ SHARED = {
 }
 #: What the core still names, with the reason: (file, name) -> why.
 KNOWN = {
-    ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
     ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
     "scene is loaded, before any registry is read",
 }

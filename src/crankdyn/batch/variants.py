@@ -417,7 +417,11 @@ def _variant_scene(
     if language:
         data = merge(data, {"report": {"language": language}})
     return scene_from_dict(
-        data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs
+        data,
+        base_dir=base_dir,
+        source=f"row {variant.row}",
+        data_dirs=data_dirs,
+        registry=_registry(),
     )
 
 

@@ -98,8 +98,20 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
     problems: list[Problem] = []
     # a plugin that failed to load may be the one that would have known the name
     broken = broken_note(registry)
-    mechanism = registry.mechanisms.get(scene.engine.mechanism)
-    if mechanism is None:
+    scene = scene.with_default_mechanism(registry)
+    name = scene.engine.mechanism
+    mechanism = None if name is None else registry.mechanisms.get(name)
+    if name is None:
+        problems.append(
+            Problem(
+                "engine.mechanism",
+                MISSING,
+                "required: no installed mechanism is the default; installed: "
+                + ", ".join(sorted(registry.mechanisms))
+                + broken,
+            )
+        )
+    elif mechanism is None:
         problems.append(
             Problem(
                 "engine.mechanism",
@@ -189,6 +201,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     left out with the reason. A requirement no registered stage provides at all is a
     :class:`PluginError` (a mistake in the plugin, whatever the scene).
     """
+    scene = scene.with_default_mechanism(registry)
     requested = list(requested) if requested is not None else scene.analysis.stages
     if requested is not None:
         unknown = [n for n in requested if n not in registry.stages]
@@ -440,6 +453,7 @@ def run_plan(
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
     :meth:`RunResult.study_output` computes (or receives) each when it is wanted. ``computed``:
     (outputs, seconds) of the stages already run elsewhere (a forked child), taken instead of running them."""
+    scene = scene.with_default_mechanism(the_plan.registry)
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
@@ -481,7 +495,8 @@ def run_scene(
     With ``cache`` (a :class:`crankdyn.engine.stage_cache.StageCache`) only stages whose inputs
     changed since
     the cache's last run are run again (the live preview). ``defer_studies``: see :func:`run_plan`
-    (not with a cache)."""
+    (not with a cache). A scene naming no mechanism gets the registry's default one."""
+    scene = scene.with_default_mechanism(registry)
     check_scene(scene, registry, languages)
     the_plan = plan(scene, registry, requested)
     if cache is not None:

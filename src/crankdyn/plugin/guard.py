@@ -320,13 +320,14 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool =
             f"mechanism {mechanism.name!r}: params_model = "
             f"{shorten(mechanism.params_model)}; expected a pydantic model or None",
         )
-    if not isinstance(mechanism.needs_rod, bool):
-        raise PluginFailure(
-            plugin,
-            where,
-            f"mechanism {mechanism.name!r}: needs_rod = {shorten(mechanism.needs_rod)}; "
-            "expected True or False",
-        )
+    for flag in ("needs_rod", "default"):
+        value = getattr(mechanism, flag)
+        if not isinstance(value, bool):
+            raise PluginFailure(
+                plugin,
+                where,
+                f"mechanism {mechanism.name!r}: {flag} = {shorten(value)}; expected True or False",
+            )
     return mechanism
 
 

@@ -39,6 +39,13 @@ class Registry:
     #: plugins left out: plugin name -> why (``plugin 'x' (import): ModuleNotFoundError: ...``)
     broken: dict[str, str] = field(default_factory=dict)
 
+    @property
+    def default_mechanism(self) -> str | None:
+        """The name of the mechanism declared ``default`` (a scene naming none gets it), or None.
+
+        :func:`collect` allows at most one."""
+        return next((m.name for m in self.mechanisms.values() if m.default), None)
+
 
 def plugin_manager(
     extra_plugins: Iterable[object] = (), entry_points: bool = True
@@ -167,7 +174,21 @@ def collect(manager: pluggy.PluginManager) -> Registry:
     registry.catalogs = [
         c for name, _, items in returned["catalog"] if name not in broken for c in items
     ]
+    _one_default(registry)
     return registry
+
+
+def _one_default(registry: Registry) -> None:
+    """A :class:`PluginError` when more than one mechanism declares itself the default."""
+    defaults = [name for name, mechanism in registry.mechanisms.items() if mechanism.default]
+    if len(defaults) > 1:
+        owners = ", ".join(
+            f"{name!r} ({registry.owner['mechanism:' + name]!r})" for name in defaults
+        )
+        raise PluginError(
+            f"more than one mechanism declares itself the default (Mechanism.default): {owners}; "
+            "a scene that names no engine.mechanism gets one default"
+        )
 
 
 def _hook_items(impl, name: str, hook_name: str, check, foreign: bool) -> list:

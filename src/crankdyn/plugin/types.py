@@ -64,6 +64,10 @@ class Mechanism:
     engine's tail), so that its scenes give exactly one of ``engine.rod_length`` or
     ``engine.rod_ratio``; a mechanism without one (a Scotch yoke) declares False and its scenes
     give neither.
+
+    ``default``: the mechanism of a scene that names none (``engine.mechanism`` left out); at
+    most one mechanism of a registry declares it (two are a :class:`crankdyn.errors.PluginError`).
+    The built-in central crank-slider does.
     """
 
     name: str
@@ -75,6 +79,7 @@ class Mechanism:
     input_rows: Mapping[str, tuple[str, str] | None] = field(default_factory=dict, compare=False)
     plausibility: tuple[PlausibilityRule, ...] = ()
     needs_rod: bool = True
+    default: bool = False
 
 
 @dataclass

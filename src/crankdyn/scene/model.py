@@ -177,11 +177,18 @@ ROD_CHOICE = (
 MIN_ROD_RATIO = 1e-6
 
 
+#: The core scene values whose default the plugins declare, read from the registry when a scene
+#: is read with one (:meth:`Scene.with_default_mechanism`).
+REGISTRY_DEFAULTS = frozenset({"engine.mechanism"})
+
+
 class Engine(_Strict):
     """Engine and mechanism geometry (SI after loading)."""
 
     name: str = ""
-    mechanism: str = "crank_slider"
+    #: None: the registry's default mechanism (``Mechanism.default``), filled in when the scene is
+    #: loaded with a registry (``scene_from_dict(..., registry=)``) or planned
+    mechanism: str | None = None
     strokes: Literal[2, 4] = 4
     cylinders: Annotated[int, AfterValidator(lambda n: _cylinders(n))] = 1
     #: at least 1 rpm: the inertia forces go as the square of the speed, and far below it they
@@ -641,6 +648,18 @@ class Scene(_Strict):
         """The top-level tables that belong to plugins (not part of the core model)."""
         return dict(self.model_extra or {})
 
+    def with_default_mechanism(self, registry: Any) -> Scene:
+        """This scene, ``engine.mechanism`` filled in with the registry's default mechanism
+        (``registry.default_mechanism``) when the scene names none; the field stays "not given"
+        (``crankdyn check`` lists it among the defaults applied). The scene itself when it names a
+        mechanism or the registry has no default."""
+        default = getattr(registry, "default_mechanism", None)
+        if self.engine.mechanism is not None or default is None:
+            return self
+        engine = self.engine.model_copy(update={"mechanism": default})
+        object.__setattr__(engine, "__pydantic_fields_set__", set(self.engine.model_fields_set))
+        return self.model_copy(update={"engine": engine})
+
 
 def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None = None):
     """Validate the plugin table ``[table]`` of ``scene`` with ``model``; errors name ``table.<field>``."""
@@ -736,15 +755,27 @@ def read_scene_data(path: str | Path) -> dict:
 
 
 def load_scene(
-    path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()
+    path: str | Path,
+    overrides: dict | None = None,
+    data_dirs: tuple[str, ...] = (),
+    registry: Any = None,
 ) -> Scene:
-    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
+    """Read, validate and return the scene at ``path``; raise SceneError listing every problem.
+
+    ``registry`` (a :class:`crankdyn.plugin.registry.Registry`): the plugins the scene is read
+    for; its default mechanism is the scene's when the scene names none."""
     path = Path(path)
     source = str(path)
     data = read_scene_data(path)
     if overrides:
         data = merge(data, overrides)
-    return scene_from_dict(data, base_dir=path.parent.resolve(), source=source, data_dirs=data_dirs)
+    return scene_from_dict(
+        data,
+        base_dir=path.parent.resolve(),
+        source=source,
+        data_dirs=data_dirs,
+        registry=registry,
+    )
 
 
 def merge(base: dict, overrides: dict) -> dict:
@@ -763,7 +794,10 @@ def scene_from_dict(
     base_dir: Path | str = ".",
     source: str | None = None,
     data_dirs: tuple[str, ...] = (),
+    registry: Any = None,
 ) -> Scene:
+    """The scene of the tables ``data``; SceneError listing every problem. ``registry``: as for
+    :func:`load_scene`."""
     for key in ("base_dir", "data_dirs"):
         if key in data:
             raise SceneError(
@@ -775,7 +809,7 @@ def scene_from_dict(
         raise SceneError(problems, source)
     hints = table_problems(data)
     try:
-        return Scene.model_validate(
+        scene = Scene.model_validate(
             {
                 **data,
                 "base_dir": str(base_dir),
@@ -787,6 +821,7 @@ def scene_from_dict(
         raise SceneError(
             hints + [p for p in _problems(exc, data) if p.field not in named], source
         ) from None
+    return scene.with_default_mechanism(registry)
 
 
 def _problems(
