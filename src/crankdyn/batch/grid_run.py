@@ -190,7 +190,7 @@ def evaluate(
     """(stages run, stage -> its results, error text or "") of each scene, in order: the key
     plan's stages run over all the scenes together. Past ``deadline`` (``time.monotonic``) it
     raises :class:`~crankdyn.parallel.pool.OutOfTime` before the next stage."""
-    points = [_Point(k, scene) for k, scene in enumerate(scenes)]
+    points = [_Point(k, scene.with_plugin_defaults(registry)) for k, scene in enumerate(scenes)]
     out: list[tuple[list[str], dict[str, dict], str]] = [([], {}, "")] * len(points)
     for names, (the_plan, group) in _planned(points, registry, stages, languages).items():
         alive = group

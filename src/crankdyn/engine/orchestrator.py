@@ -98,7 +98,7 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
     problems: list[Problem] = []
     # a plugin that failed to load may be the one that would have known the name
     broken = broken_note(registry)
-    scene = scene.with_default_mechanism(registry)
+    scene = scene.with_plugin_defaults(registry)
     name = scene.engine.mechanism
     mechanism = None if name is None else registry.mechanisms.get(name)
     if name is None:
@@ -201,7 +201,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     left out with the reason. A requirement no registered stage provides at all is a
     :class:`PluginError` (a mistake in the plugin, whatever the scene).
     """
-    scene = scene.with_default_mechanism(registry)
+    scene = scene.with_plugin_defaults(registry)
     requested = list(requested) if requested is not None else scene.analysis.stages
     if requested is not None:
         unknown = [n for n in requested if n not in registry.stages]
@@ -453,7 +453,7 @@ def run_plan(
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
     :meth:`RunResult.study_output` computes (or receives) each when it is wanted. ``computed``:
     (outputs, seconds) of the stages already run elsewhere (a forked child), taken instead of running them."""
-    scene = scene.with_default_mechanism(the_plan.registry)
+    scene = scene.with_plugin_defaults(the_plan.registry)
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
@@ -496,7 +496,7 @@ def run_scene(
     changed since
     the cache's last run are run again (the live preview). ``defer_studies``: see :func:`run_plan`
     (not with a cache). A scene naming no mechanism gets the registry's default one."""
-    scene = scene.with_default_mechanism(registry)
+    scene = scene.with_plugin_defaults(registry)
     check_scene(scene, registry, languages)
     the_plan = plan(scene, registry, requested)
     if cache is not None:

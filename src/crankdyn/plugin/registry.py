@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import pluggy
 
-from ..errors import CrankdynError, PluginError, PluginFailure, shorten
+from ..errors import CrankdynError, PluginError, PluginFailure, SceneError, shorten
 from . import guard as plugin_guard
 from . import hooks as hookspecs
 from .types import Catalog, ErrorProbe, Mechanism, Stage
@@ -45,6 +45,22 @@ class Registry:
 
         :func:`collect` allows at most one."""
         return next((m.name for m in self.mechanisms.values() if m.default), None)
+
+    def default_angle_step_deg(self, scene) -> float | None:
+        """The smallest crank-angle step [deg] the stages ask for ``scene`` when it gives none
+        (``Stage.default_angle_step``), or None when none asks. A stage whose scene table is
+        invalid asks nothing here: :func:`crankdyn.engine.orchestrator.check_scene` reports it."""
+        wishes = []
+        for stage in self.stages.values():
+            if stage.default_angle_step is None:
+                continue
+            try:
+                step = stage.default_angle_step(scene)
+            except SceneError:
+                continue
+            if step is not None:
+                wishes.append(float(step))
+        return min(wishes) if wishes else None
 
 
 def plugin_manager(

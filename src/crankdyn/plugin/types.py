@@ -441,6 +441,11 @@ class Stage:
                 (the indicator's peak pressure).
     presentation: the stage's section (:class:`StagePresentation`); None: the stage shows
                 nothing (it runs for the data it provides and its results).
+    default_angle_step: optional ``default_angle_step(scene) -> float | None``: the crank-angle
+                step [deg] the stage's accuracy asks for when the scene gives no
+                ``analysis.angle_step_deg`` (the numerics stage: 1 deg x sqrt(tolerance / 0.1 %)
+                from its ``[numerics] tolerance``); None: no wish. The smallest wish of the
+                registered stages is the target the default step is chosen for, else 1 deg.
 
     The presentation's fields given to ``Stage`` itself (``Stage(name=..., title_key=...,
     render=..., figures=...)``, the flat form) are folded into a :class:`StagePresentation`
@@ -466,6 +471,7 @@ class Stage:
     answer_columns: tuple[AnswerColumn, ...] = ()
     plausibility: tuple[PlausibilityRule, ...] = ()
     presentation: StagePresentation | None = None
+    default_angle_step: Callable[[Scene], float | None] | None = None
 
     def __init__(
         self,
@@ -488,6 +494,7 @@ class Stage:
         answer_columns: tuple[AnswerColumn, ...] = (),
         plausibility: tuple[PlausibilityRule, ...] = (),
         presentation: StagePresentation | None = None,
+        default_angle_step: Callable[[Scene], float | None] | None = None,
         **flat: Any,
     ) -> None:
         if flat:
@@ -509,6 +516,7 @@ class Stage:
             answer_columns=answer_columns,
             plausibility=plausibility,
             presentation=presentation,
+            default_angle_step=default_angle_step,
         )
         for key, value in given.items():
             object.__setattr__(self, key, value)

@@ -201,7 +201,7 @@ def scene_warnings(scene, registry) -> list[tuple[str, dict[str, Any]]]:
     found: list[tuple[str, dict[str, Any]]] = []
     for rule in CORE_RULES:
         found += rule.check(scene, None)
-    mechanism = registry.mechanisms.get(scene.with_default_mechanism(registry).engine.mechanism)
+    mechanism = registry.mechanisms.get(scene.with_plugin_defaults(registry).engine.mechanism)
     for rule in mechanism.plausibility if mechanism is not None else ():
         found += rule.check(scene, None)
     return found
