@@ -222,3 +222,9 @@ def test_a_scene_without_a_rod_is_valid_for_the_yoke_only(yoke_registry):
     # a part of a run that needs the rod all the same names the field, never a TypeError
     with pytest.raises(SceneError, match="engine.rod_ratio"):
         _ = yoke.engine.rod_ratio_value
+    # [masses] describes a connecting rod (its mass split by its length): it asks for one
+    masses = {"piston_group": "0.4 kg", "rod": "0.3 kg", "rod_cm_fraction": 0.3}
+    with pytest.raises(SceneError) as refused:
+        scene_from_dict({"engine": {**engine, "mechanism": "scotch_yoke"}, "masses": masses})
+    (problem,) = refused.value.problems
+    assert problem.field == "engine.rod_length" and "[masses]" in problem.allowed

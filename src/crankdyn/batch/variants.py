@@ -794,14 +794,22 @@ def execute(
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
             pass
-    # The variants without an outcome, found from the outcomes: an interruption can come while
-    # one outcome is between its worker and the list.
+    return _with_unfinished_rows(variants, outcomes, received)
+
+
+def _with_unfinished_rows(
+    variants: list[Variant], outcomes: list[Outcome], received: list[int]
+) -> tuple[list[Outcome], int]:
+    """The outcomes in row order, a failure row for each variant without one, and the signal.
+
+    The variants without an outcome are found from the outcomes: an interruption can come while
+    one outcome is between its worker and the list."""
     done = {o.row for o in outcomes}
     unfinished = [v for v in variants if v.row not in done]
     stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
     what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
-    for variant in unfinished:
-        outcomes.append(failed(variant, f"not finished: the batch was interrupted ({what})", 0.0))
+    reason = f"not finished: the batch was interrupted ({what})"
+    outcomes += [Outcome(v.row, v.name, False, 0.0, reason) for v in unfinished]
     outcomes.sort(key=lambda o: o.row)
     return outcomes, int(stop_signal)
 

@@ -95,54 +95,10 @@ class RunResult:
 
 def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ()) -> None:
     """Checks that need the plugins: mechanism name, its own checks, language, stage names."""
-    problems: list[Problem] = []
     # a plugin that failed to load may be the one that would have known the name
     broken = broken_note(registry)
     scene = scene.with_plugin_defaults(registry)
-    name = scene.engine.mechanism
-    mechanism = None if name is None else registry.mechanisms.get(name)
-    if name is None:
-        problems.append(
-            Problem(
-                "engine.mechanism",
-                MISSING,
-                "required: no installed mechanism is the default; installed: "
-                + ", ".join(sorted(registry.mechanisms))
-                + broken,
-            )
-        )
-    elif mechanism is None:
-        problems.append(
-            Problem(
-                "engine.mechanism",
-                scene.engine.mechanism,
-                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms)) + broken,
-            )
-        )
-    else:
-        if mechanism.params_model is not None:
-            try:
-                options(scene, "mechanism", mechanism.params_model)
-            except SceneError as exc:
-                problems += exc.problems
-        elif scene.mechanism:
-            problems.append(
-                Problem(
-                    "mechanism",
-                    scene.mechanism,
-                    f"the {mechanism.name!r} mechanism takes no [mechanism] table",
-                )
-            )
-        if mechanism.needs_rod and not scene.engine.has_rod:
-            problems.append(
-                Problem(
-                    "engine.rod_length",
-                    MISSING,
-                    f"{ROD_CHOICE}: the {mechanism.name!r} mechanism has a connecting rod",
-                )
-            )
-        if not problems:
-            problems += list(mechanism.check(scene))
+    problems = _mechanism_problems(scene, registry, broken)
     claimed = {s.options_table: s for s in registry.stages.values() if s.options_table}
     for table in scene.plugin_tables():
         stage = claimed.get(table)
@@ -190,6 +146,42 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
             )
     if problems:
         raise SceneError(problems)
+
+
+def _mechanism_problems(scene: Scene, registry: Registry, broken: str) -> list[Problem]:
+    """The scene's mechanism: named or the registry's default, installed, its ``[mechanism]``
+    table, its rod (``Mechanism.needs_rod``) and, when these hold, its own ``check``."""
+    installed = ", ".join(sorted(registry.mechanisms)) + broken
+    name = scene.engine.mechanism
+    if name is None:
+        reason = "required: no installed mechanism is the default; installed: " + installed
+        return [Problem("engine.mechanism", MISSING, reason)]
+    mechanism = registry.mechanisms.get(name)
+    if mechanism is None:
+        return [Problem("engine.mechanism", name, "unknown mechanism; installed: " + installed)]
+    problems: list[Problem] = []
+    if mechanism.params_model is not None:
+        try:
+            options(scene, "mechanism", mechanism.params_model)
+        except SceneError as exc:
+            problems += exc.problems
+    elif scene.mechanism:
+        problems.append(
+            Problem(
+                "mechanism",
+                scene.mechanism,
+                f"the {mechanism.name!r} mechanism takes no [mechanism] table",
+            )
+        )
+    if mechanism.needs_rod and not scene.engine.has_rod:
+        problems.append(
+            Problem(
+                "engine.rod_length",
+                MISSING,
+                f"{ROD_CHOICE}: the {mechanism.name!r} mechanism has a connecting rod",
+            )
+        )
+    return problems or list(mechanism.check(scene))
 
 
 def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = None) -> Plan:

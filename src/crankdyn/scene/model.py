@@ -490,11 +490,13 @@ class Scene(_Strict):
                 "missing: a scene with cycle data needs [masses] "
                 "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)",
             )
-        if (
-            self.masses is not None
-            and self.masses.rod_cm_from_big_end is not None
-            and self.engine.has_rod
-        ):
+        if self.masses is not None and not self.engine.has_rod:
+            raise _FieldError(
+                "engine.rod_length",
+                "missing: [masses] gives a connecting rod's mass and centre of mass, split by the "
+                "rod's length; " + ROD_CHOICE,
+            )
+        if self.masses is not None and self.masses.rod_cm_from_big_end is not None:
             if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
                 raise _FieldError(
                     "masses.rod_cm_from_big_end",
