@@ -164,9 +164,6 @@ def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_transla
     registry = collect(plugin_manager(extra_plugins=[plugin]))
     assert registry.owner["stage:throwaway"] and "throwaway" in registry.stages
 
-    monkeypatch.setattr(
-        batch, "_registry", lambda: registry
-    )  # the batch's registry: with the plugin
     for language in ("en", "uk", "ru"):
         scene = scene_from_dict(
             modified("kinematics-only", {"report": {"language": language}}), base_dir=examples_dir()
@@ -206,7 +203,7 @@ def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_transla
         # workbook labels it in the batch's language above its name; the CSV has the name only.
         columns = answer_key.answer_columns(registry)
         assert [c.name for c in columns if c.stage == "throwaway"] == ["throwaway_stroke_mm"]
-        answers = batch.answers(outputs.results_document(result))
+        answers = batch.answers(outputs.results_document(result), registry)
         assert answers["throwaway_stroke_mm"] == pytest.approx(100.0, rel=1e-9)
         assert answers["v_max_m_s"] is None  # the built-in stages did not run: empty cells
         key = batch.key_files(
@@ -215,6 +212,7 @@ def test_a_plugin_from_a_temporary_folder_adds_section_answer_column_and_transla
             [batch.Variant(1, "v1", {}, {"variant": "v1"})],
             ("csv", "xlsx"),
             language=language,
+            registry=registry,  # the batch's registry: with the plugin
         )
         labels, names, values = [
             [c.value for c in row]

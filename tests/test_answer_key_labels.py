@@ -106,7 +106,7 @@ def test_the_csv_key_carries_the_column_names_only():
     assert len(rows) == 2 and not any("МПа" in cell for cell in header)
 
 
-def test_the_batch_language_and_a_column_without_a_label(monkeypatch):
+def test_the_batch_language_and_a_column_without_a_label():
     base = {"report": {"language": "uk"}}
     assert batch_language(base, RunOptions([])) == "uk"
     assert batch_language(base, RunOptions([], language="ru")) == "ru"
@@ -129,7 +129,6 @@ def test_the_batch_language_and_a_column_without_a_label(monkeypatch):
         ),
     )
     registry = dataclasses.replace(REGISTRY, stages={**REGISTRY.stages, "plain": plain})
-    monkeypatch.setattr(batch, "_registry", lambda: registry)
-    labels = batch.answer_labels("uk")
+    labels = batch.answer_labels("uk", registry)
     assert labels["plain_x_m"] == "plain_x_m" and labels["plain_y_m"] == "plain_y_m"
     assert labels["p_max_MPa"] == "Максимальний тиск циклу, МПа"

@@ -37,6 +37,11 @@ CASES = [
     ("unparsable unit", {"engine": {"bore": "82 parsecz"}}, "engine.bore"),
     ("negative mass", {"masses": {"piston_group": "-0.4 kg"}}, "masses.piston_group"),
     ("both rod length and ratio", {"engine": {"rod_length": "140 mm"}}, "exactly one"),
+    (
+        "missing rod with masses",
+        {"engine": {"rod_ratio": None}},
+        "engine.rod_length = (missing): missing: [masses] gives a connecting rod's mass",
+    ),
     ("rod cm both ways", {"masses": {"rod_cm_from_big_end": "40 mm"}}, "exactly one"),
     (
         "rod cm beyond rod",
@@ -83,6 +88,24 @@ CASES = [
         "cycle.trace_file",
     ),
 ]
+
+
+@pytest.mark.parametrize("mechanism", ["crank_slider", "offset_crank_slider", "vane_crank_rocker"])
+def test_a_mechanism_with_a_rod_refuses_a_scene_without_one(tmp_path: Path, capsys, mechanism):
+    """The rod is the mechanism's requirement (``Mechanism.needs_rod``), checked with the plugins."""
+    changes = {"engine": {"rod_length": None, "rod_ratio": None, "mechanism": mechanism}}
+    scene = write_scene(tmp_path / "scene.toml", modified("kinematics-only", changes))
+    out_dir = tmp_path / "out"
+    code = main(["report", str(scene), "-o", str(out_dir), "--format", "json"])
+    captured = capsys.readouterr()
+    assert code == 2, captured
+    expected = (
+        "engine.rod_length = (missing): give exactly one of rod_length (e.g. '140 mm') or "
+        f"rod_ratio (lambda = R/L, 0 < lambda < 1): the '{mechanism}' mechanism has a connecting rod"
+    )
+    assert expected in captured.err, captured.err
+    _no_traceback(captured.err + captured.out)
+    assert not out_dir.exists()
 
 
 def _no_traceback(text: str) -> None:

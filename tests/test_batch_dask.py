@@ -18,6 +18,7 @@ from test_batch_limits import MARKER_PREFIX, SLOW_RPM, SLOW_STAGE
 import crankdyn.batch.variants as batch
 from crankdyn.batch.variants import run_batch
 from crankdyn.cli import examples_dir
+from crankdyn.plugin.registry import default_registry
 
 distributed = pytest.importorskip("distributed")
 
@@ -98,12 +99,11 @@ def test_a_dask_cluster_gives_the_same_answer_key_failures_and_files(tmp_path, c
 
 
 def test_the_time_limit_holds_on_a_dask_worker(tmp_path, cluster, monkeypatch):
-    registry = batch._registry()
-    monkeypatch.setattr(
-        batch,
-        "_worker_registry",
-        replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE}),
-    )
+    registry = default_registry()
+    slow = replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE})
+    # a Dask worker builds the run's registry itself, once per run: the installed plugins' and this
+    # stage (a worker on another machine has the plugins installed there)
+    monkeypatch.setattr(batch, "default_registry", lambda: slow)
     # Two batches, so that each limit fits its purpose whatever the load of a parallel test run
     # (a quick variant once took over 6 s here): a generous limit lets the quick variant finish
     # on the worker, a short one stops the hanging variant (which sleeps 60 s) and kills it.

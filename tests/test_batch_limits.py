@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 from openpyxl import load_workbook
 
-import crankdyn.batch.variants as batch
 from crankdyn.batch.variants import neutralised, read_variants, run_batch
 from crankdyn.cli import examples_dir
 from crankdyn.plugin.registry import default_registry
@@ -49,11 +48,9 @@ SLOW_STAGE = Stage(
 
 
 @pytest.fixture()
-def slow_registry(monkeypatch):
+def slow_registry():
     registry = default_registry()
-    registry = replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE})
-    monkeypatch.setattr(batch, "_worker_registry", registry)
-    return registry
+    return replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE})
 
 
 def _csv(path, rpms, blank_after: int | None = None):
@@ -73,7 +70,9 @@ def _csv(path, rpms, blank_after: int | None = None):
 def test_a_hung_variant_is_stopped_and_listed_while_the_others_finish(tmp_path, slow_registry):
     variants = _csv(tmp_path / "v.csv", [3000, SLOW_RPM, 3500, 4000])
     out = tmp_path / "out"
-    report = run_batch(variants, BASE, out, ["json"], jobs=2, progress=False, timeout=3.0)
+    report = run_batch(
+        variants, BASE, out, ["json"], jobs=2, progress=False, timeout=3.0, registry=slow_registry
+    )
     assert report.seconds < HANG_S  # the hanging worker was killed, not waited for
     assert [(o.name, o.ok) for o in report.outcomes] == [
         ("v1", True),
@@ -106,6 +105,7 @@ def test_ctrl_c_ends_cleanly_with_an_answer_key_for_what_finished(tmp_path, slow
         progress=False,
         timeout=HANG_S,
         on_outcome=interrupt_after_first,
+        registry=slow_registry,  # forked workers inherit the run's registry
     )
     assert report.interrupted and report.seconds < HANG_S
     assert [(o.name, o.ok) for o in report.outcomes] == [("v1", True), ("v2", False), ("v3", False)]

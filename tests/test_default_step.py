@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import re
+import types
 
 import numpy as np
 import pytest
@@ -20,7 +21,7 @@ from test_extreme import even_firing_order
 
 from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import check_scene, run_scene
-from crankdyn.errors import SceneError
+from crankdyn.errors import PluginFailure, SceneError
 from crankdyn.plugin.registry import default_registry
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.report.context import sample_rows
@@ -148,3 +149,69 @@ def test_thirty_degree_tables_print_whole_crank_angles(name):
     angle = np.arange(round(scene.engine.cycle_deg / step)) * step
     _, labels = sample_rows(angle, scene.analysis.table_step_deg)
     assert np.allclose(labels, np.arange(0, scene.engine.cycle_deg + 1, 30.0), atol=1e-9)
+
+
+def _unstepped(numerics: dict | None = None) -> dict:
+    """A one-cylinder scene without steps: its grid is the 10 deg table step, so its default step
+    is the largest 10/k deg not above the target."""
+    changes = {"analysis": {"angle_step_deg": None, "table_step_deg": None}}
+    return modified("kinematics-only", {**changes, "numerics": numerics})
+
+
+def _largest_tenth_not_above(target_deg: float) -> float:
+    return 10.0 / math.ceil(10.0 / target_deg - 1e-12)
+
+
+@pytest.mark.parametrize("tolerance", [1e-2, 1e-3, 1e-4])
+def test_the_numerics_plugin_declares_the_step_its_tolerance_asks(tolerance):
+    """The step follows [numerics] tolerance as 1 deg x sqrt(tolerance / 0.1 %) through the
+    numerics stage's ``default_angle_step``; read without a registry, the core's 1 deg target."""
+    data = _unstepped({"tolerance": tolerance})
+    expected = _largest_tenth_not_above(math.sqrt(tolerance / 1e-3))
+    assert scene_from_dict(data).analysis.angle_step_deg == 1.0
+    scene = scene_from_dict(data, registry=REGISTRY)
+    assert scene.analysis.angle_step_deg == pytest.approx(expected, rel=1e-12)
+    assert scene.angle_step_defaulted and scene.analysis.table_step_deg == 10
+    assert scene.with_plugin_defaults(REGISTRY) is scene  # chosen once
+    # planned without having been read with the registry: the same step
+    result = run_scene(scene_from_dict(data), REGISTRY, ["kinematics"])
+    assert result.scene.analysis.angle_step_deg == pytest.approx(expected, rel=1e-12)
+    angles = result.outputs["kinematics"].data["kinematics"].crank_angle_deg
+    assert len(angles) == round(720 / expected)
+
+
+def test_a_given_step_is_kept_whatever_the_tolerance():
+    data = modified("kinematics-only", {"numerics": {"tolerance": 1e-2}})
+    given = scene_from_dict(data)
+    assert not given.angle_step_defaulted
+    assert scene_from_dict(data, registry=REGISTRY).analysis == given.analysis
+
+
+def test_another_stage_may_ask_for_a_finer_step_and_the_finest_wins():
+    from crankdyn.plugin.hooks import hookimpl
+    from crankdyn.plugin.registry import collect, plugin_manager
+    from crankdyn.plugin.types import Stage
+
+    def plugin(name, wish):
+        module = types.ModuleType(name)
+        stage = Stage(
+            name=name,
+            requires=(),
+            provides=(),
+            applies=lambda scene: None,
+            run=lambda scene, inputs: None,
+            default=False,
+            default_angle_step=wish,
+        )
+        module.crankdyn_stages = hookimpl(lambda: [stage])
+        return module
+
+    finer = collect(plugin_manager(extra_plugins=[plugin("fine_study", lambda scene: 0.4)]))
+    assert scene_from_dict(_unstepped(), registry=finer).analysis.angle_step_deg == (
+        _largest_tenth_not_above(0.4)
+    )
+    coarser = collect(plugin_manager(extra_plugins=[plugin("coarse_study", lambda scene: 5)]))
+    assert scene_from_dict(_unstepped(), registry=coarser).analysis.angle_step_deg == 1.0
+    broken = collect(plugin_manager(extra_plugins=[plugin("odd_study", lambda scene: "fast")]))
+    with pytest.raises(PluginFailure, match="odd_study.*default_angle_step"):
+        scene_from_dict(_unstepped(), registry=broken)

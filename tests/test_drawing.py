@@ -35,7 +35,7 @@ def _registry():
 @cache
 def _run(example: str):
     """Kinematics and the drawing only (the cheapest run that draws)."""
-    scene = load_scene(examples_dir() / f"{example}.toml")
+    scene = load_scene(examples_dir() / f"{example}.toml", registry=_registry())
     wanted = [
         s.name for s in plan(scene, _registry()).order if s.name in ("drawing", "drawing_linkage")
     ]
@@ -63,7 +63,7 @@ def _link_spread(geometry) -> float:
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_every_example_is_drawn_with_rigid_links(example):
     """Every bundled example has a geometry; over a cycle no link changes length (1e-9 m)."""
-    scene = load_scene(examples_dir() / f"{example}.toml")
+    scene = load_scene(examples_dir() / f"{example}.toml", registry=_registry())
     the_plan = plan(scene, _registry())
     assert {"drawing", "drawing_linkage"} & {s.name for s in the_plan.order}, the_plan.skipped
     geometry = _geometry(scene, np.arange(0.0, 360.0, 1.0))

@@ -454,7 +454,7 @@ def torque_tolerance_percent(scene) -> float:
 @pytest.mark.parametrize("name", list(CASES))
 def test_extreme_scene_is_finite_and_keeps_its_invariants(name):
     base, changes = CASES[name]
-    scene = scene_from_dict(modified(base, changes), base_dir=examples_dir())
+    scene = scene_from_dict(modified(base, changes), base_dir=examples_dir(), registry=REGISTRY)
     result = run_scene(scene, REGISTRY)
     for stage, output in result.outputs.items():
         assert not _finite(output.results, stage), _finite(output.results, stage)

@@ -45,12 +45,6 @@ SHARED = {
     for choice in typing.get_args(info.annotation)
     if isinstance(choice, str)
 }
-#: What the core still names, with the reason: (file, name) -> why.
-KNOWN = {
-    ("model.py", "crank_slider"): "engine.mechanism's default in the scene format",
-    ("model.py", "numerics"): "the default angle step is chosen from [numerics] tolerance when the "
-    "scene is loaded, before any registry is read",
-}
 
 
 def built_in_names(registry) -> set[str]:
@@ -104,9 +98,7 @@ def test_the_core_names_no_built_in_stage_mechanism_table_or_result():
         found |= {
             (path.name, name) for name in named_in(source, names if physics else names | results)
         }
-    assert found - set(KNOWN) == set(), "the core names built-ins: " + repr(
-        sorted(found - set(KNOWN))
-    )
+    assert found == set(), "the core names built-ins: " + repr(sorted(found))
 
 
 PLUGIN = '''

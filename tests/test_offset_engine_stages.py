@@ -187,6 +187,9 @@ def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
         (examples_dir() / "plugin-example" / "scotch-yoke.toml").read_text(encoding="utf-8")
     )
     data["analysis"] = {"angle_step_deg": 2}
+    # [masses] gives a connecting rod's mass, split by a rod's length: with masses a scene gives
+    # one, whatever the mechanism (the yoke's torque below does not depend on it)
+    data["engine"]["rod_ratio"] = 0.25
     data["masses"] = {
         "piston_group": "0.4 kg",
         "rod": "0.3 kg",

@@ -99,7 +99,8 @@ def test_catalogs_carry_every_warning_in_every_language_with_the_same_placeholde
 
 def test_defaults_applied_lists_what_the_scene_left_out():
     data = example_data("kinematics-only")
-    applied = dict(defaults_applied(scene_from_dict(data, base_dir=examples_dir())))
+    scene = scene_from_dict(data, base_dir=examples_dir(), registry=REGISTRY)
+    applied = dict(defaults_applied(scene))
     assert applied["engine.cylinders"] == 1 and applied["engine.mechanism"] == "crank_slider"
     assert applied["analysis.kinematics"] == "exact"
     assert "engine.strokes" not in applied and "engine.rpm" not in applied  # given in the scene
@@ -119,6 +120,7 @@ def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, ca
     checked = capsys.readouterr()
     assert "mean piston speed is 100 m/s" in checked.err and "engine.rpm" in checked.err
     assert "defaults applied" in checked.out and "engine.cylinders = 1" in checked.out
+    assert "engine.mechanism = 'crank_slider'" in checked.out  # the registry's default
     assert main(["report", str(scene), "-o", str(tmp_path / "out"), "--format", "html", "-q"]) == 0
     assert "mean piston speed is 100 m/s" in capsys.readouterr().err
     html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")

@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 from conftest import modified
 
-from crankdyn.engine.orchestrator import run_scene
+from crankdyn.engine.orchestrator import check_scene, run_scene
+from crankdyn.errors import MISSING, SceneError
 from crankdyn.plugin.registry import collect, plugin_manager
 from crankdyn.report.document import render_html
 from crankdyn.scene.model import scene_from_dict
@@ -184,13 +185,14 @@ def test_plugin_report_in_process_uses_only_its_catalogs(yoke_registry):
             "rpm": 1500,
             "bore": "60 mm",
             "stroke": "80 mm",
-            "rod_ratio": 0.25,
         },
         "scotch_yoke": {"table_step_deg": 45},
     }
     result = run_scene(scene_from_dict(data), yoke_registry)
+    html = {}
     for language in ("en", "uk", "ru"):
         rendered = render_html(result, yoke_registry, language)
+        html[language] = rendered.linked_html
         assert not rendered.missing_translations, (language, rendered.missing_translations)
         # its own letters s, v, j (Stage.symbols) explained under its first equation, from its catalogs
         meaning = {"en": "piston velocity", "uk": "швидкість поршня", "ru": "скорость поршня"}[
@@ -199,3 +201,30 @@ def test_plugin_report_in_process_uses_only_its_catalogs(yoke_registry):
         assert f'<span class="where-line"><i>v</i> – {meaning}, ' in rendered.linked_html
     with pytest.raises(Exception, match="scotch_yoke.table_step"):
         run_scene(scene_from_dict({**data, "scotch_yoke": {"table_step": 45}}), yoke_registry)
+    # no connecting rod: the given data and the assignment name no L and no λ
+    assert "Crank radius" in html["en"]
+    assert "Connecting-rod length" not in html["en"] and "λ = " not in html["en"]
+
+
+def test_a_scene_without_a_rod_is_valid_for_the_yoke_only(yoke_registry):
+    """The yoke declares no rod (``Mechanism(needs_rod=False)``); a crank-slider has one, so
+    the same scene naming it is refused, naming the field and what is allowed."""
+    engine = {"strokes": 2, "rpm": 1500, "bore": "60 mm", "stroke": "80 mm"}
+    yoke = scene_from_dict({"engine": {**engine, "mechanism": "scotch_yoke"}})
+    assert not yoke.engine.has_rod and not yoke_registry.mechanisms["scotch_yoke"].needs_rod
+    check_scene(yoke, yoke_registry)
+    slider = scene_from_dict({"engine": {**engine, "mechanism": "crank_slider"}})
+    with pytest.raises(SceneError) as refused:
+        check_scene(slider, yoke_registry)
+    (problem,) = refused.value.problems
+    assert problem.field == "engine.rod_length" and problem.value is MISSING
+    assert "rod_ratio" in problem.allowed and "'crank_slider' mechanism" in problem.allowed
+    # a part of a run that needs the rod all the same names the field, never a TypeError
+    with pytest.raises(SceneError, match="engine.rod_ratio"):
+        _ = yoke.engine.rod_ratio_value
+    # [masses] describes a connecting rod (its mass split by its length): it asks for one
+    masses = {"piston_group": "0.4 kg", "rod": "0.3 kg", "rod_cm_fraction": 0.3}
+    with pytest.raises(SceneError) as refused:
+        scene_from_dict({"engine": {**engine, "mechanism": "scotch_yoke"}, "masses": masses})
+    (problem,) = refused.value.problems
+    assert problem.field == "engine.rod_length" and "[masses]" in problem.allowed

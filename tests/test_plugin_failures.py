@@ -264,7 +264,9 @@ def test_a_plugin_whose_catalog_or_model_is_unusable_is_left_out(tmp_path):
         module.crankdyn_catalogs = hookimpl(lambda path=path: [Catalog("en", path)])
     mechanism = Mechanism(name="m", summary="m", params_model=_Options)
     modelled = _plugin("modelled", mechanisms=[mechanism])
-    registry = _registry(*cataloged, modelled)
+    rod = _plugin("rod", mechanisms=[Mechanism(name="r", summary="r", needs_rod="no")])
+    registry = _registry(*cataloged, modelled, rod)
+    assert "mechanism 'r': needs_rod = 'no'; expected True or False" in registry.broken["rod"]
     assert "not a readable TOML file (TOMLDecodeError: " in registry.broken["bad_toml"]
     assert "other.title = 5 is not a text" in registry.broken["not_texts"]
     assert "absent.toml' is not a file" in registry.broken["missing"]

@@ -136,9 +136,10 @@ def test_an_answer_column_whose_key_is_not_in_the_results_is_warned_about_once_p
         kinematics,
         answer_columns=(*kinematics.answer_columns, AnswerColumn("v_top_m_s", "v_top_m_s", "m/s")),
     )
-    monkeypatch.setattr(
-        crankdyn.batch.variants, "_worker_registry", _with(typo)
-    )  # forked workers inherit it
+    typo_registry = _with(typo)
+    # the batch command builds its run's registry from the installed plugins; forked workers
+    # inherit it
+    monkeypatch.setattr(crankdyn.batch.variants, "default_registry", lambda: typo_registry)
     variants = tmp_path / "v.csv"
     variants.write_text("variant,engine.rpm\na,4000\nb,5000\n", encoding="utf-8")
     out = tmp_path / "out"

@@ -14,13 +14,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import crankdyn.batch.variants as batch
-from crankdyn.batch.grid_run import chunks, evaluate, execute_key, key_plan, run_chunk
+from crankdyn.batch.grid_run import KeyRun, chunks, evaluate, execute_key, key_plan, run_chunk
 from crankdyn.batch.sweep import SweepRequest, base_for, run_sweep, sweep_from_args, variants
 from crankdyn.batch.variants import (
     RunOptions,
     Variant,
-    _registry,
     _variant_scene,
     answer_key,
     load_base,
@@ -104,7 +102,7 @@ def test_a_failing_point_fails_alone_and_the_others_of_its_chunk_keep_their_answ
 
 
 def test_the_key_plan_keeps_the_key_stages_their_prerequisites_and_no_study():
-    registry = _registry()
+    registry = default_registry()
     base, base_dir, points = _grid(TWELVE)
     scene = _variant_scene(base, base_dir, points[0], None, ())
     full = plan(scene, registry)
@@ -169,7 +167,7 @@ def test_run_many_gives_what_run_gives_for_other_engines(name, sets):
 def _check_run_many(sets, scene_path) -> set[str]:
     """Each key stage's run_many against its run, point by point, over the grid ``sets`` of
     ``scene_path``; the names of the stages checked."""
-    registry = _registry()
+    registry = default_registry()
     base, base_dir, points = _grid(sets, scene_path)
     scenes = [_variant_scene(base, base_dir, v, None, ()) for v in points]
     the_plan = key_plan(plan(scenes[0], registry), registry)
@@ -201,7 +199,7 @@ def _check_run_many(sets, scene_path) -> set[str]:
 
 def _registry_with(run_many) -> Registry:
     """The installed registry with every stage's ``run_many`` replaced by ``run_many``."""
-    registry = _registry()
+    registry = default_registry()
     stages = {n: dataclasses.replace(s, run_many=run_many) for n, s in registry.stages.items()}
     return dataclasses.replace(registry, stages=stages)
 
@@ -240,7 +238,7 @@ def test_the_sweep_runs_the_study_once_and_says_so(tmp_path):
     request = SweepRequest(PETROL, sweep, tmp_path / "out", options, ["csv", "xlsx"])
     report, notes = run_sweep(request)
     assert not report.failures and len(report.outcomes) == 3
-    studies = [s.name for s in _registry().stages.values() if is_study(s)]
+    studies = [s.name for s in default_registry().stages.values() if is_study(s)]
     said = [n for n in notes if "ran once, for the base scene" in n]
     assert said and all(any(f"'{name}'" in n for name in studies) for n in said)
     sheet = pd.read_excel(tmp_path / "out" / "answer_key.xlsx", sheet_name="notes")
@@ -311,14 +309,14 @@ def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_f
     )
     registry = default_registry()
     stages = {**registry.stages, hanging.name: hanging}
-    monkeypatch.setattr(batch, "_worker_registry", dataclasses.replace(registry, stages=stages))
     base, base_dir = load_base(examples_dir() / "kinematics-only.toml")
     points = [
         Variant(k, f"p{k}", {"engine": {"rpm": rpm}}, {"variant": f"p{k}"})
         for k, rpm in enumerate([3000, HANG_RPM, 3500, 4000], start=1)
     ]
     options = RunOptions([], jobs=1, progress=False, timeout=1.0)
-    outcomes, stop = execute_key(points, base, base_dir, options)
+    run = KeyRun(dataclasses.replace(registry, stages=stages))  # forked workers inherit it
+    outcomes, stop = execute_key(points, base, base_dir, options, run)
     assert stop == 0
     assert [o.ok for o in outcomes] == [True, False, True, True]
     assert "time limit" in outcomes[1].error
@@ -396,17 +394,61 @@ def test_a_chunk_builds_each_point_scene_as_a_batch_builds_it():
         Variant(4, "d", {"engine": {"name": "x\ty"}}, {"variant": "d"}),  # a control char
         Variant(5, "e", {"engine": {"bore": "1e-400 mm"}}, {"variant": "e"}),
     ]
+    registry = default_registry()
     for language in (None, "uk"):
-        built = _PointScenes(base, str(base_dir), language, ())
+        built = _PointScenes(base, str(base_dir), language, (), registry)
         for variant in points:
             try:
-                expected = _variant_scene(base, str(base_dir), variant, language, ())
+                expected = _variant_scene(base, str(base_dir), variant, language, (), registry)
             except Exception as exc:  # noqa: BLE001 - the same error is expected
                 with pytest.raises(type(exc)) as caught:
                     built.scene(variant)
                 assert str(caught.value) == str(exc)
                 continue
             assert built.scene(variant) == expected
+    # a base naming no mechanism: the point's scene has the registry's default, as a batch's
+    diesel, diesel_dir = load_base(examples_dir() / "diesel-1cyl.toml")
+    assert "mechanism" not in diesel["engine"]
+    point = _PointScenes(diesel, str(diesel_dir), None, (), registry).scene(points[0])
+    assert point == _variant_scene(diesel, str(diesel_dir), points[0], None, (), registry)
+    assert point.engine.mechanism == "crank_slider"
+
+
+def test_the_registry_belongs_to_the_run_and_no_batch_module_keeps_one():
+    """The run's registry is the run's (``VariantRun``/``KeyRun``): its method is the worker's
+    function, a forked worker inherits it, a pickled copy (a Dask task) carries none and builds
+    its own; no module of the batch keeps a registry after a run."""
+    import pickle
+
+    from crankdyn.batch import grid_run, sweep, sweep_plot
+    from crankdyn.batch import variants as variants_module
+
+    installed = default_registry()
+    only = Registry(  # the run's own registry: the mechanisms and the kinematics stage only
+        mechanisms=installed.mechanisms,
+        stages={"kinematics": installed.stages["kinematics"]},
+        catalogs=installed.catalogs,
+    )
+    run = KeyRun(only)
+    assert run.registry is only
+    base, base_dir = load_base(examples_dir() / "kinematics-only.toml")
+    points = [Variant(1, "p1", {"engine": {"rpm": 3000}}, {"variant": "p1"})]
+    (outcome,) = run.run_chunk(base, base_dir, points, None, None)
+    assert outcome.ok and outcome.stages_run == ["kinematics"]
+    # v_mean = S n / 30 with the scene's stroke S = 100 mm
+    assert outcome.answers["v_mean_m_s"] == pytest.approx(0.1 * 3000 / 30, rel=1e-12)
+    copy = pickle.loads(pickle.dumps(run))
+    assert copy.key == run.key and "registry" not in copy._state()
+    assert set(copy.registry.stages) == set(default_registry().stages)  # built anew, once
+    assert copy.registry is copy.registry
+    for module in (variants_module, grid_run, sweep, sweep_plot):
+        kept = [
+            name
+            for name, value in vars(module).items()
+            if isinstance(value, (Registry, variants_module.VariantRun))
+        ]
+        assert kept == [] and not hasattr(module, "_worker_registry"), module.__name__
+        assert not hasattr(module, "_registry") and not hasattr(module, "_warmed")
 
 
 def test_an_item_stuck_in_a_dask_workers_own_process_is_given_up_at_its_limit():

@@ -164,9 +164,10 @@ def load(
     if changes:
         _checked({str(k): v for k, v in changes.items()}, "overrides")
         data = _without_none(merge(data, _nested_overrides(changes)))
-    scene = scene_from_dict(data, base_dir=base_dir, source=name)
+    registry = _registry()
+    scene = scene_from_dict(data, base_dir=base_dir, source=name, registry=registry)
     try:
-        check_scene(scene, _registry(), _languages())
+        check_scene(scene, registry, _languages())
     except SceneError as exc:
         raise SceneError(exc.problems, name) from None
     key = id(scene)
@@ -571,7 +572,7 @@ class Result:
         )
         parts = [
             f"<div class='crankdyn-result'><b>{esc(self.scene.report.title)}</b>",
-            f"<p>{esc(self.scene.engine.mechanism)} · {esc(', '.join(self.stages_run))}</p>",
+            f"<p>{esc(str(self.scene.engine.mechanism))} · {esc(', '.join(self.stages_run))}</p>",
         ]
         if rows:
             parts.append(f"<table>{rows}</table>")

@@ -603,14 +603,14 @@ def _require_tools(formats: list[str]) -> None:
         pandoc_path()
 
 
-def _load(scene_path: Path, lang: str | None = None, data_dirs=()):
+def _load(scene_path: Path, lang: str | None = None, data_dirs=(), registry=None):
     from .report.i18n import (
         available_languages,  # lazy: heavy optional import (numpy, scipy: per command)
     )
     from .scene.model import load_scene  # lazy: heavy optional import (numpy, scipy: per command)
 
     overrides = {"report": {"language": lang}} if lang else None
-    scene = load_scene(scene_path, overrides, tuple(str(d) for d in data_dirs))
+    scene = load_scene(scene_path, overrides, tuple(str(d) for d in data_dirs), registry)
     return scene, available_languages()
 
 
@@ -639,8 +639,8 @@ def _write_report(args) -> int:
     formats = _formats(args.format)
     stages = [s.strip() for s in args.stages.split(",")] if args.stages else None
     start = time.perf_counter()
-    scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
+    scene, languages = _load(args.scene, args.lang, args.data_dir, registry)
     _print_broken(registry)
     run = write_report(
         scene,
@@ -918,8 +918,8 @@ def _check_scene(args) -> int:
         default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
     )
 
-    scene, languages = _load(args.scene, args.lang, args.data_dir)
     registry = default_registry()
+    scene, languages = _load(args.scene, args.lang, args.data_dir, registry)
     _print_broken(registry)
     # Exactly what 'report' does before rendering (data files read, every stage run), so a scene
     # 'check' passes is one 'report' accepts; nothing is written.

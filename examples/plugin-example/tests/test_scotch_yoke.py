@@ -20,7 +20,6 @@ SCENE = {
         "rpm": 1500,
         "bore": "60 mm",
         "stroke": "80 mm",
-        "rod_ratio": 0.25,
     },
 }
 

@@ -46,5 +46,6 @@ def crankdyn_mechanisms():
             check=_check_crank_slider,
             geometry=engine_geometry,
             plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
+            default=True,  # the mechanism of a scene that names none
         ),
     ]

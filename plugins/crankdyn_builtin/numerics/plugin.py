@@ -23,7 +23,7 @@ from crankdyn.plugin.types import (
 )
 
 from .compute import applies, applies_kinematics, run, run_kinematics
-from .options import NumericsOptions
+from .options import NumericsOptions, default_angle_step_deg
 from .section import render, render_kinematics
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -40,6 +40,8 @@ NUMERICS_STAGE = Stage(
     tables=("steps", "kinematics_forms"),
     options_table="numerics",
     options_model=NumericsOptions,
+    # the default angle step keeps the peaks within [numerics] tolerance
+    default_angle_step=default_angle_step_deg,
     services=(SERVICE_RUNNER, SERVICE_ERROR_PROBES, SERVICE_ASIDE),
     presentation=StagePresentation(
         template_dir=TEMPLATES,

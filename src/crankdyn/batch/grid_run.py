@@ -54,11 +54,11 @@ from .variants import (
     Progress,
     RunOptions,
     Variant,
+    VariantRun,
     _client,
-    _registry,
+    _registry_or_default,
     _variant_scene,
     error_text,
-    warm,
     worker_count,
 )
 
@@ -190,7 +190,7 @@ def evaluate(
     """(stages run, stage -> its results, error text or "") of each scene, in order: the key
     plan's stages run over all the scenes together. Past ``deadline`` (``time.monotonic``) it
     raises :class:`~crankdyn.parallel.pool.OutOfTime` before the next stage."""
-    points = [_Point(k, scene) for k, scene in enumerate(scenes)]
+    points = [_Point(k, scene.with_plugin_defaults(registry)) for k, scene in enumerate(scenes)]
     out: list[tuple[list[str], dict[str, dict], str]] = [([], {}, "")] * len(points)
     for names, (the_plan, group) in _planned(points, registry, stages, languages).items():
         alive = group
@@ -214,16 +214,18 @@ def run_chunk(
     stages: list[str] | None,
     data_dirs: tuple[str, ...] = (),
     limit_s: float | None = None,
+    registry: Registry | None = None,
 ) -> list[Outcome]:
     """The outcomes of a chunk of a sweep's points (answers only, nothing rendered or written);
     an error is part of its point's outcome. With ``limit_s`` the chunk keeps its own time limit:
     past it, it raises :class:`~crankdyn.parallel.pool.OutOfTime` before its next stage or point
-    (a chunk run in a Dask worker's own process, which no one else can stop)."""
+    (a chunk run in a Dask worker's own process, which no one else can stop). ``registry``: the
+    run's plugins (by default the installed ones)."""
     start = time.perf_counter()
     deadline = None if limit_s is None else time.monotonic() + limit_s
-    registry = _registry()
+    registry = _registry_or_default(registry)
     columns = answer_key.answer_columns(registry)
-    scenes = _PointScenes(base, base_dir, language, data_dirs)
+    scenes = _PointScenes(base, base_dir, language, data_dirs, registry)
     ready: list[tuple[Variant, Scene]] = []
     outcomes: dict[int, Outcome] = {}
     for variant in variants:
@@ -264,8 +266,15 @@ class _PointScenes:
     not validate, or anything out of the ordinary, goes through ``_variant_scene`` itself, so a
     bad point's error reads as a batch states it."""
 
-    def __init__(self, base: dict, base_dir: str, language: str | None, data_dirs: tuple[str, ...]):
-        self.base, self.base_dir = base, base_dir
+    def __init__(
+        self,
+        base: dict,
+        base_dir: str,
+        language: str | None,
+        data_dirs: tuple[str, ...],
+        registry: Registry,
+    ):
+        self.base, self.base_dir, self.registry = base, base_dir, registry
         self.language, self.data_dirs = language, data_dirs
         self.fixed = {
             "base_dir": str(base_dir),
@@ -289,10 +298,13 @@ class _PointScenes:
             data = merge(data, change)
         if self.base_clean and all(_changes_clean(data, change) for change in changes):
             try:
-                return Scene.model_validate({**data, **self.fixed})
+                scene = Scene.model_validate({**data, **self.fixed})
+                return scene.with_plugin_defaults(self.registry)
             except Exception:  # noqa: BLE001 - the full path states the error
                 pass
-        return _variant_scene(self.base, self.base_dir, variant, self.language, self.data_dirs)
+        return _variant_scene(
+            self.base, self.base_dir, variant, self.language, self.data_dirs, self.registry
+        )
 
 
 def _changes_clean(data: dict, changes: dict) -> bool:
@@ -365,8 +377,36 @@ class _Rerun(list):
     its own time limit, so that only the point at fault fails."""
 
 
+class KeyRun(VariantRun):
+    """A sweep's run of chunks of points for the answer key: :class:`VariantRun` whose
+    :meth:`run_chunk` is what the workers run."""
+
+    def run_chunk(
+        self,
+        base: dict,
+        base_dir: str,
+        variants: list[Variant],
+        language: str | None,
+        stages: list[str] | None,
+        data_dirs: tuple[str, ...] = (),
+        limit_s: float | None = None,
+    ) -> list[Outcome]:
+        """:func:`run_chunk` with the run's registry."""
+        return run_chunk(
+            base, base_dir, variants, language, stages, data_dirs, limit_s, self.registry
+        )
+
+    def prepare_dask_worker(self) -> None:
+        """:func:`_prepare_dask_worker` for this run."""
+        _prepare_dask_worker(self)
+
+
 def execute_key(
-    variants: list[Variant], base: dict, base_dir: str, options: RunOptions
+    variants: list[Variant],
+    base: dict,
+    base_dir: str,
+    options: RunOptions,
+    run: KeyRun | None = None,
 ) -> tuple[list[Outcome], int]:
     """The answers of ``variants`` (a sweep's points, nothing rendered), in chunks: local worker
     processes, or the Dask cluster of ``options.scheduler``. Returns the outcomes in row order and
@@ -379,6 +419,7 @@ def execute_key(
     again each in a child forked from the worker, stopped at its limit).
     """
     client = _client(options) if options.scheduler else None
+    run = run if run is not None else KeyRun()
     bar = Progress(len(variants), enabled=options.progress)
     outcomes: list[Outcome] = []
     rerun: list[Variant] = []
@@ -404,13 +445,24 @@ def execute_key(
     with stop_signals() as received:
         try:
             if client is None:
-                warm()  # forked workers inherit the loaded plugins and libraries
+                run.warm()  # forked workers inherit the registry and the loaded libraries
                 jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
-                _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun)
+                _run_local(
+                    run, variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun
+                )
             else:
                 try:
                     _run_dask(
-                        variants, base, base_dir, tail, client, timeout, finished, failed, rerun
+                        run,
+                        variants,
+                        base,
+                        base_dir,
+                        tail,
+                        client,
+                        timeout,
+                        finished,
+                        failed,
+                        rerun,
                     )
                 finally:
                     client.close()
@@ -419,14 +471,14 @@ def execute_key(
     return _with_unfinished(variants, outcomes, received)
 
 
-def _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun) -> None:
+def _run_local(run, variants, base, base_dir, tail, jobs, timeout, finished, failed, rerun) -> None:
     def args_of(chunk):
         return (base, base_dir, chunk, *tail)
 
     items = chunks(variants, jobs)
     if run_all(
         items,
-        run_chunk,
+        run.run_chunk,
         args_of,
         jobs,
         timeout * len(items[0]) if items else timeout,
@@ -437,16 +489,18 @@ def _run_local(variants, base, base_dir, tail, jobs, timeout, finished, failed, 
     if rerun:
         single = [[v] for v in rerun]
         rerun.clear()
-        run_all(single, run_chunk, args_of, jobs, timeout, finished, failed)
+        run_all(single, run.run_chunk, args_of, jobs, timeout, finished, failed)
 
 
-def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed, rerun) -> None:
+def _run_dask(
+    run, variants, base, base_dir, tail, client, timeout, finished, failed, rerun
+) -> None:
     def args_of(chunk):
         return (base, base_dir, chunk, *tail)
 
     workers = max(1, sum(client.nthreads().values()))
     items = chunks(variants, workers, DASK_CHUNK_POINTS)
-    prepare = _prepare_dask_worker
+    prepare = run.prepare_dask_worker
     limit = timeout * len(items[0]) if items else timeout
 
     def chunk_args(chunk):  # a chunk runs in the worker's own process and keeps its own limit
@@ -454,7 +508,7 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
 
     if run_all_dask(
         items,
-        run_chunk,
+        run.run_chunk,
         chunk_args,
         client,
         limit,
@@ -467,17 +521,20 @@ def _run_dask(variants, base, base_dir, tail, client, timeout, finished, failed,
     if rerun:
         single = [[v] for v in rerun]
         rerun.clear()
-        run_all_dask(single, run_chunk, args_of, client, timeout, finished, failed, prepare=prepare)
+        run_all_dask(
+            single, run.run_chunk, args_of, client, timeout, finished, failed, prepare=prepare
+        )
 
 
-def _prepare_dask_worker() -> None:
-    """Load the libraries once per Dask worker (:func:`crankdyn.batch.warm`) and move what is
+def _prepare_dask_worker(run: VariantRun) -> None:
+    """Build the run's registry and load the libraries once per Dask worker
+    (:meth:`crankdyn.batch.variants.VariantRun.warm`) and move what is
     loaded out of the garbage collector's sight (``gc.freeze``): a chunk run again point by point
     runs each point in a child forked from the worker, whose collections would otherwise walk
     every inherited object, and so copy the worker's memory page by page. Frozen once per
     process: what the worker makes later is collected as usual."""
     global _frozen
-    warm((), ())
+    run.warm((), ())
     if not _frozen:
         _frozen = True
         gc.freeze()

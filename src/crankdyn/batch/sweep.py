@@ -35,9 +35,10 @@ from typing import Any
 from ..api import _nested_overrides
 from ..errors import Problem, SceneError, UsageError
 from ..output.manifest import check_outputs, write_outputs
+from ..plugin.registry import Registry
 from ..scene.model import merge, scene_from_dict
 from .answer_key import answer_columns
-from .grid_run import execute_key, study_once
+from .grid_run import KeyRun, execute_key, study_once
 from .sweep_plot import plot_files
 from .variants import (
     MAX_FIELDS,
@@ -47,7 +48,7 @@ from .variants import (
     RunOptions,
     Variant,
     _nest,
-    _registry,
+    _registry_or_default,
     _variant_scene,
     batch_language,
     check_options,
@@ -539,8 +540,9 @@ class SweepRequest:
     plot_formats: list[str] = field(default_factory=lambda: ["svg"])
 
 
-def check_request(request: SweepRequest) -> None:
-    """Everything about the request that can be wrong before a point runs (exit 2, nothing written)."""
+def check_request(request: SweepRequest, registry: Registry | None = None) -> None:
+    """Everything about the request that can be wrong before a point runs (exit 2, nothing written);
+    ``registry``: the run's plugins (by default the installed ones)."""
     sweep = request.sweep
     check_sweep(sweep)
     check_options(request.options)
@@ -560,7 +562,7 @@ def check_request(request: SweepRequest) -> None:
                 "--key parquet needs pyarrow; install it with: pip install 'crankdyn[parquet]'"
             )
     if sweep.plot_y is not None:
-        columns = [c.name for c in answer_columns(_registry())]
+        columns = [c.name for c in answer_columns(_registry_or_default(registry))]
         if sweep.plot_y not in columns:
             raise SceneError(
                 Problem(
@@ -587,11 +589,15 @@ def check_request(request: SweepRequest) -> None:
             )
 
 
-def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
+def run_sweep(
+    request: SweepRequest, registry: Registry | None = None
+) -> tuple[BatchReport, list[str]]:
     """Run the grid; write the answer key, the failures and the plot into ``out_dir``. Returns the
-    batch report and notes for the user (a field left out of the base, a plot with no values)."""
+    batch report and notes for the user (a field left out of the base, a plot with no values).
+    ``registry``: the plugins the points are computed with (by default the installed ones)."""
     start = time.perf_counter()
-    check_request(request)
+    run = KeyRun(registry)
+    check_request(request, run.registry)
     base, base_dir = load_base(request.scene)
     base, notes = base_for(base, request.sweep)
     data_dirs = tuple(str(Path(d).resolve()) for d in request.options.data_dirs)
@@ -602,14 +608,16 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
     key_names = [f"answer_key.{f}" for f in request.key_formats] + ["failures.csv"]
     check_outputs(Path(request.out_dir), key_names, force=request.options.force)  # before computing
     if request.options.formats:  # files of each point: each point runs the whole report
-        outcomes, stop_signal = execute(points, base, base_dir, request.out_dir, request.options)
+        outcomes, stop_signal = execute(
+            points, base, base_dir, request.out_dir, request.options, run
+        )
     else:  # the answer key only: chunks of points, the studies once (crankdyn.grid_run)
-        notes += base_studies(base, base_dir, request.options)
-        outcomes, stop_signal = execute_key(points, base, base_dir, request.options)
+        notes += base_studies(base, base_dir, request.options, run.registry)
+        outcomes, stop_signal = execute_key(points, base, base_dir, request.options, run)
     language = batch_language(base, request.options)
-    files = key_files(fields, outcomes, points, request.key_formats, language, notes)
+    files = key_files(fields, outcomes, points, request.key_formats, language, notes, run.registry)
     if request.sweep.plot_y is not None:
-        plotted, note = plot_files(request.sweep, outcomes, request.plot_formats)
+        plotted, note = plot_files(request.sweep, outcomes, request.plot_formats, run.registry)
         files.update(plotted)
         notes += [note] if note else []
     written = write_outputs(Path(request.out_dir), files, force=request.options.force)
@@ -621,27 +629,30 @@ def run_sweep(request: SweepRequest) -> tuple[BatchReport, list[str]]:
             seconds,
             written,
             bool(stop_signal),
-            key_warnings(outcomes),
+            key_warnings(outcomes, run.registry),
             stop_signal,
         ),
         notes,
     )
 
 
-def base_studies(base: dict, base_dir: str, options: RunOptions) -> list[str]:
+def base_studies(
+    base: dict, base_dir: str, options: RunOptions, registry: Registry | None = None
+) -> list[str]:
     """The studies of the base scene's plan (the error against run time), run once for the sweep
     rather than per point; the notes saying so. A base scene that is not valid alone (the sweep
     supplies a field it lacks) has its studies left out, with a note."""
     variant = Variant(0, "base", {}, {VARIANT_COLUMN: "base"})
     data_dirs = tuple(str(Path(d).resolve()) for d in options.data_dirs)
     try:
-        scene = _variant_scene(base, base_dir, variant, options.language, data_dirs)
+        registry = _registry_or_default(registry)
+        scene = _variant_scene(base, base_dir, variant, options.language, data_dirs, registry)
     except SceneError as exc:
         return [
             f"the studies (error against run time) did not run: the base scene alone is not "
             f"valid ({'; '.join(str(p) for p in exc.problems)})"
         ]
-    return study_once(scene, _registry(), options.stages)
+    return study_once(scene, registry, options.stages)
 
 
 def sweep_from_args(

@@ -13,9 +13,10 @@ import math
 
 import numpy as np
 
+from ..plugin.registry import Registry
 from ..report.figures import STYLE, new_figure, to_svg
 from .answer_key import answer_columns
-from .variants import Outcome, _registry
+from .variants import Outcome, _registry_or_default
 
 
 def _series(sweep, outcomes: list[Outcome]) -> tuple[int, np.ndarray]:
@@ -35,12 +36,13 @@ def _label(axis) -> str:
     return f"{axis.name}, {axis.unit}" if axis.unit else axis.name
 
 
-def _unit_of(column: str) -> str:
-    return next((c.declared.unit for c in answer_columns(_registry()) if c.name == column), "")
+def _unit_of(column: str, registry: Registry) -> str:
+    return next((c.declared.unit for c in answer_columns(registry) if c.name == column), "")
 
 
-def draw(sweep, outcomes: list[Outcome]):
-    """The matplotlib Figure of ``sweep.plot_y`` over the grid, or None when no point has a value."""
+def draw(sweep, outcomes: list[Outcome], registry: Registry | None = None):
+    """The matplotlib Figure of ``sweep.plot_y`` over the grid, or None when no point has a value;
+    the column's unit from ``registry`` (the run's plugins; by default the installed ones)."""
     x_index, grid = _series(sweep, outcomes)
     if np.isnan(grid).all():
         return None
@@ -60,18 +62,20 @@ def draw(sweep, outcomes: list[Outcome]):
     if not numeric:
         ax.set_xticks(xs, [str(v) for v in x_axis.values])
     ax.set_xlabel(_label(x_axis))
-    unit = _unit_of(sweep.plot_y)
+    unit = _unit_of(sweep.plot_y, _registry_or_default(registry))
     ax.set_ylabel(f"{sweep.plot_y}, {unit}" if unit else sweep.plot_y)
     if others:
         ax.legend(fontsize=7, frameon=False)
     return fig
 
 
-def plot_files(sweep, outcomes: list[Outcome], formats: list[str]) -> tuple[dict[str, bytes], str]:
+def plot_files(
+    sweep, outcomes: list[Outcome], formats: list[str], registry: Registry | None = None
+) -> tuple[dict[str, bytes], str]:
     """``sweep-<column>.svg``/``.png`` and a note for the user ("" when the plot was drawn)."""
     import matplotlib  # lazy: heavy optional import
 
-    fig = draw(sweep, outcomes)
+    fig = draw(sweep, outcomes, registry)
     if fig is None:
         return {}, (
             f"no point has a value of {sweep.plot_y} (its stage did not run for this scene): "

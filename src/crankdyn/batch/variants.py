@@ -20,6 +20,7 @@ import signal
 import sys
 import time
 import tomllib
+import uuid
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import partial
@@ -40,7 +41,7 @@ from ..parallel.pool import (
     run_all_dask,
     stop_signals,
 )
-from ..plugin.registry import default_registry
+from ..plugin.registry import Registry, default_registry
 from ..report import i18n
 from ..report.i18n import available_languages
 from ..scene.model import merge, scene_from_dict
@@ -334,14 +335,134 @@ def folder_name(wanted: str, fallback: str) -> str:
 
 # --------------------------------------------------------------------------- one row
 
-_worker_registry = None
+
+def _registry_or_default(registry: Registry | None) -> Registry:
+    return registry if registry is not None else default_registry()
 
 
-def _registry():
-    global _worker_registry
-    if _worker_registry is None:
-        _worker_registry = default_registry()
-    return _worker_registry
+def _dask_worker():
+    """The Dask worker this code runs in, or None (any other process or thread)."""
+    if "distributed" not in sys.modules:  # a Dask worker has it loaded; nothing else needs it
+        return None
+    from distributed import get_worker  # lazy: heavy optional import (the dask extra)
+
+    try:
+        return get_worker()
+    except ValueError:
+        return None
+
+
+class VariantRun:
+    """One batch's or sweep's run of its variants: the plugin registry every variant is computed
+    with, built once for the run, and what :meth:`warm` loaded for it.
+
+    Its methods are what the workers run (``run.run_variant``). A local worker is forked from the
+    process that warmed the run and inherits both. A Dask task gets a pickled copy without them
+    (plugins' functions do not pickle): the worker keeps the state of the run it serves on itself
+    (the attribute ``crankdyn_run``) and builds the registry once for the run, in :meth:`warm`,
+    which runs before every task.
+    """
+
+    def __init__(self, registry: Registry | None = None):
+        self.key = uuid.uuid4().hex  # which run a Dask worker's kept state belongs to
+        self._local: dict[str, Any] = {} if registry is None else {"registry": registry}
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"key": self.key, "_local": {}}
+
+    def _state(self) -> dict[str, Any]:
+        """This run's state in this process: the run's own, or on a Dask worker the worker's
+        (each task brings a fresh copy of the run; the worker keeps one run's state)."""
+        worker = _dask_worker()
+        if worker is None:
+            return self._local
+        key, state = getattr(worker, "crankdyn_run", (None, None))
+        if key != self.key or state is None:
+            state = {}
+            worker.crankdyn_run = (self.key, state)
+        return state
+
+    @property
+    def registry(self) -> Registry:
+        state = self._state()
+        if "registry" not in state:
+            state["registry"] = default_registry()
+        return state["registry"]
+
+    def warm(self, formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
+        """Build the run's registry and load, once per process, everything a variant would
+        otherwise load for itself: forked workers inherit it.
+
+        Beyond the plugins and the report code: matplotlib with a first figure drawn to SVG (its
+        font list, text layout and mathtext parser), the translators of ``languages`` (Babel's
+        locale data) and, for PDFs, WeasyPrint with a first page laid out (fontconfig). Without
+        this, every variant's worker process would pay for each of them again.
+        """
+        formats, languages = set(formats), tuple(languages)
+        wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {
+            f"language:{x}" for x in languages
+        }
+        warmed = self._state().setdefault("warmed", set())
+        if (
+            warmed and wanted <= warmed
+        ):  # a Dask worker calls this before every task: once is enough
+            return
+        warmed.update(wanted | {"plugins"})
+        _load_for(self.registry, formats, languages)
+
+    def run_variant(
+        self,
+        base: dict,
+        base_dir: str,
+        variant: Variant,
+        out_dir: str,
+        formats: list[str],
+        language: str | None,
+        stages: list[str] | None,
+        data_dirs: tuple[str, ...] = (),
+        return_files: bool = False,
+        force: bool = False,
+    ) -> Outcome:
+        """:func:`run_variant` with the run's registry."""
+        return run_variant(
+            base,
+            base_dir,
+            variant,
+            out_dir,
+            formats,
+            language,
+            stages,
+            data_dirs,
+            return_files,
+            force,
+            self.registry,
+        )
+
+
+def warm(
+    formats: Iterable[str] = (), languages: Iterable[str] = (), registry: Registry | None = None
+) -> None:
+    """Load what a variant would load for itself (:meth:`VariantRun.warm`), for one run."""
+    VariantRun(registry).warm(formats, languages)
+
+
+def _load_for(registry: Registry, formats: set[str], languages: tuple[str, ...]) -> None:
+    for language in languages:
+        if language in i18n.available_languages():
+            i18n.translator(language, registry.catalogs).number(1.5)
+    if formats & {"html", "pdf", "docx"}:
+        from ..report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF)
+        from ..report.figures import new_figure, to_svg  # lazy: heavy optional import (matplotlib)
+
+        fig, axes = new_figure(4.0, 3.0)
+        axes.plot([0.0, 1.0], [0.0, 1.0], label="λ")
+        axes.set_xlabel(r"$\varphi$, °")
+        axes.legend()
+        to_svg(fig)
+    if "pdf" in formats:
+        from ..report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+
+        html_to_pdf("<p>crankdyn</p>")
 
 
 def run_variant(
@@ -355,19 +476,22 @@ def run_variant(
     data_dirs: tuple[str, ...] = (),
     return_files: bool = False,
     force: bool = False,
+    registry: Registry | None = None,
 ) -> Outcome:
     """Compute and write one variant; never raises (an error is part of the outcome).
 
     With ``return_files`` the files are rendered in memory and returned in ``Outcome.rendered``
     instead of written (a Dask worker on another machine: the client writes them); with no
     ``formats`` nothing is rendered, only the answers are kept (a sweep without per-point files).
+    ``registry``: the run's plugins (by default the installed ones).
     """
     start = time.perf_counter()
     if variant.error:
         return Outcome(variant.row, variant.name, False, 0.0, variant.error)
     try:
-        scene = _variant_scene(base, base_dir, variant, language, data_dirs)
-        result, files = _compute(scene, formats, stages)
+        registry = _registry_or_default(registry)
+        scene = _variant_scene(base, base_dir, variant, language, data_dirs, registry)
+        result, files = _compute(scene, formats, stages, registry)
         rendered = None
         if return_files:
             rendered, count = files, len(files)
@@ -377,7 +501,7 @@ def run_variant(
             count = 0
 
         document = outputs.results_document(result)
-        columns = answer_key.answer_columns(_registry())
+        columns = answer_key.answer_columns(registry)
         return Outcome(
             variant.row,
             variant.name,
@@ -405,7 +529,12 @@ def error_text(exc: Exception) -> str:
 
 
 def _variant_scene(
-    base: dict, base_dir: str, variant: Variant, language: str | None, data_dirs: tuple[str, ...]
+    base: dict,
+    base_dir: str,
+    variant: Variant,
+    language: str | None,
+    data_dirs: tuple[str, ...],
+    registry: Registry | None = None,
 ):
     """The base scene with the variant's overrides, its id on the title page and the batch's language."""
 
@@ -417,60 +546,24 @@ def _variant_scene(
     if language:
         data = merge(data, {"report": {"language": language}})
     return scene_from_dict(
-        data, base_dir=base_dir, source=f"row {variant.row}", data_dirs=data_dirs
+        data,
+        base_dir=base_dir,
+        source=f"row {variant.row}",
+        data_dirs=data_dirs,
+        registry=_registry_or_default(registry),
     )
 
 
-def _compute(scene, formats: list[str], stages: list[str] | None):
+def _compute(scene, formats: list[str], stages: list[str] | None, registry: Registry):
     """(run result, rendered files) through the one path of ``crankdyn report``; one process per
     variant (the batch's ``--jobs`` share the CPUs between variants, not between figures)."""
 
-    return run_and_render(
-        scene, _registry(), formats, stages, available_languages(), figure_workers=1
-    )
+    return run_and_render(scene, registry, formats, stages, available_languages(), figure_workers=1)
 
 
-_warmed: set[str] = set()
-
-
-def warm(formats: Iterable[str] = (), languages: Iterable[str] = ()) -> None:
-    """Load, once per process, everything a variant would otherwise load for itself: forked workers inherit it.
-
-    Beyond the plugins and the report code: matplotlib with a first figure drawn to SVG (its font
-    list, text layout and mathtext parser), the translators of ``languages`` (Babel's locale data)
-    and, for PDFs, WeasyPrint with a first page laid out (fontconfig). Without this, every
-    variant's worker process would pay for each of them again.
-    """
-    formats, languages = set(formats), tuple(languages)
-    wanted = {f"format:{f}" for f in formats & {"html", "pdf", "docx"}} | {
-        f"language:{x}" for x in languages
-    }
-    if _warmed and wanted <= _warmed:  # a Dask worker calls this before every task: once is enough
-        return
-    _warmed.update(wanted | {"plugins"})
-    registry = _registry()
-
-    for language in languages:
-        if language in i18n.available_languages():
-            i18n.translator(language, registry.catalogs).number(1.5)
-    if formats & {"html", "pdf", "docx"}:
-        from ..report import document  # noqa: F401  # lazy: heavy optional import (jinja2: pre-loaded only for HTML/PDF)
-        from ..report.figures import new_figure, to_svg  # lazy: heavy optional import (matplotlib)
-
-        fig, axes = new_figure(4.0, 3.0)
-        axes.plot([0.0, 1.0], [0.0, 1.0], label="λ")
-        axes.set_xlabel(r"$\varphi$, °")
-        axes.legend()
-        to_svg(fig)
-    if "pdf" in formats:
-        from ..report.pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
-
-        html_to_pdf("<p>crankdyn</p>")
-
-
-def answers(document: dict) -> dict[str, Any]:
+def answers(document: dict, registry: Registry | None = None) -> dict[str, Any]:
     """The answer-key values of one results.json document (missing stages give None)."""
-    return answer_key.answers(document, answer_key.answer_columns(_registry()))
+    return answer_key.answers(document, answer_key.answer_columns(_registry_or_default(registry)))
 
 
 # --------------------------------------------------------------------------- the batch
@@ -547,8 +640,11 @@ def run_batch(
     scheduler: str | None = None,
     connect_timeout: float = 10.0,
     force: bool = False,
+    registry: Registry | None = None,
 ) -> BatchReport:
     """Run every row of ``csv_path`` over ``base_path``; write the reports, the answer key and the failures.
+
+    ``registry``: the plugins the variants are computed with (by default the installed ones).
 
     Each row runs in a worker process limited to ``timeout`` seconds (default 120) — on this
     machine, or on the Dask cluster whose scheduler is at ``scheduler``; Ctrl-C or SIGTERM stops
@@ -573,11 +669,13 @@ def run_batch(
     base, base_dir = load_base(base_path)
     fields, variants = read_variants(Path(csv_path))
     check_outputs(Path(out_dir), KEY_FILE_NAMES, force=force)  # refused before hours of computing
-    outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options)
+    run = VariantRun(registry)
+    outcomes, stop_signal = execute(variants, base, base_dir, out_dir, options, run)
     # The manifest removes an earlier run's failures.csv when every row succeeded this time.
+    language = batch_language(base, options)
     written = write_outputs(
         Path(out_dir),
-        key_files(fields, outcomes, variants, language=batch_language(base, options)),
+        key_files(fields, outcomes, variants, language=language, registry=run.registry),
         force=force,
     )
     return BatchReport(
@@ -586,7 +684,7 @@ def run_batch(
         time.perf_counter() - start,
         written,
         bool(stop_signal),
-        key_warnings(outcomes),
+        key_warnings(outcomes, run.registry),
         stop_signal,
     )
 
@@ -598,11 +696,12 @@ def check_options(options: RunOptions) -> None:
     check_seconds("connect_timeout", options.connect_timeout)
 
 
-def key_warnings(outcomes: list[Outcome]) -> list[str]:
+def key_warnings(outcomes: list[Outcome], registry: Registry | None = None) -> list[str]:
     """The answer key's warnings, once per batch (not per variant): columns whose key no variant's
     stage results held (:func:`crankdyn.answer_key.unanswered`)."""
     return answer_key.unanswered(
-        answer_key.answer_columns(_registry()), [(o.stages_run, o.absent) for o in outcomes if o.ok]
+        answer_key.answer_columns(_registry_or_default(registry)),
+        [(o.stages_run, o.absent) for o in outcomes if o.ok],
     )
 
 
@@ -621,9 +720,15 @@ def load_base(base_path: Path) -> tuple[dict, str]:
 
 
 def execute(
-    variants: list[Variant], base: dict, base_dir: str, out_dir: Path, options: RunOptions
+    variants: list[Variant],
+    base: dict,
+    base_dir: str,
+    out_dir: Path,
+    options: RunOptions,
+    run: VariantRun | None = None,
 ) -> tuple[list[Outcome], int]:
-    """Run the variants (local worker processes, or the Dask cluster of ``options.scheduler``).
+    """Run the variants (local worker processes, or the Dask cluster of ``options.scheduler``)
+    with ``run``'s registry (by default a run of the installed plugins).
 
     Returns the outcomes in row order and the signal that interrupted the run (SIGINT for
     Ctrl-C, SIGTERM; 0 when it ran through; the unfinished variants are then failure rows).
@@ -631,6 +736,7 @@ def execute(
     """
 
     client = _client(options) if options.scheduler else None
+    run = run if run is not None else VariantRun()
     bar = Progress(len(variants), enabled=options.progress)
     outcomes: list[Outcome] = []
 
@@ -650,7 +756,7 @@ def execute(
     with stop_signals() as received:
         try:
             if client is None:
-                warm(formats, languages)  # forked workers inherit the loaded plugins and libraries
+                run.warm(formats, languages)  # forked workers inherit the registry and libraries
                 jobs = max(1, min(worker_count(options.jobs), max(len(variants), 1)))
                 tail = (
                     str(out_dir),
@@ -663,7 +769,7 @@ def execute(
                 )
                 run_all(
                     variants,
-                    run_variant,
+                    run.run_variant,
                     lambda v: (base, base_dir, v, *tail),
                     jobs,
                     timeout,
@@ -675,27 +781,35 @@ def execute(
                 try:
                     run_all_dask(
                         variants,
-                        run_variant,
+                        run.run_variant,
                         lambda v: (base, base_dir, v, *tail),
                         client,
                         timeout,
                         finished,
                         failed,
-                        prepare=partial(warm, tuple(formats), languages),
+                        prepare=partial(run.warm, tuple(formats), languages),
                         collect=partial(_write_rendered, Path(out_dir), force=options.force),
                     )
                 finally:
                     client.close()
         except KeyboardInterrupt:  # outside the loop's own handling (loading, closing): kept too
             pass
-    # The variants without an outcome, found from the outcomes: an interruption can come while
-    # one outcome is between its worker and the list.
+    return _with_unfinished_rows(variants, outcomes, received)
+
+
+def _with_unfinished_rows(
+    variants: list[Variant], outcomes: list[Outcome], received: list[int]
+) -> tuple[list[Outcome], int]:
+    """The outcomes in row order, a failure row for each variant without one, and the signal.
+
+    The variants without an outcome are found from the outcomes: an interruption can come while
+    one outcome is between its worker and the list."""
     done = {o.row for o in outcomes}
     unfinished = [v for v in variants if v.row not in done]
     stop_signal = received[0] if received else signal.SIGINT if unfinished else 0
     what = "SIGTERM" if stop_signal == signal.SIGTERM else "Ctrl-C"
-    for variant in unfinished:
-        outcomes.append(failed(variant, f"not finished: the batch was interrupted ({what})", 0.0))
+    reason = f"not finished: the batch was interrupted ({what})"
+    outcomes += [Outcome(v.row, v.name, False, 0.0, reason) for v in unfinished]
     outcomes.sort(key=lambda o: o.row)
     return outcomes, int(stop_signal)
 
@@ -763,6 +877,7 @@ def key_files(
     formats: Iterable[str] = ("csv", "xlsx"),
     language: str = i18n.FALLBACK,
     notes: Iterable[str] = (),
+    registry: Registry | None = None,
 ) -> dict[str, bytes]:
     """``answer_key.<format>`` for each of ``formats`` (csv, xlsx, parquet) and, if rows failed, failures.csv.
 
@@ -771,21 +886,24 @@ def key_files(
     CSV and Parquet keys carry the column names only.
     """
     by_row = {v.row: v for v in variants}
+    registry = _registry_or_default(registry)
     makers = {
         "csv": _answer_key_csv,
         "xlsx": partial(_answer_key_xlsx, language=language, notes=list(notes)),
         "parquet": _answer_key_parquet,
     }
-    files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row) for f in formats}
+    files = {f"answer_key.{f}": makers[f](fields, outcomes, by_row, registry) for f in formats}
     if any(not o.ok for o in outcomes):
         files["failures.csv"] = _failures_csv(outcomes, by_row)
     return files
 
 
-def answer_labels(language: str = i18n.FALLBACK) -> dict[str, str]:
+def answer_labels(
+    language: str = i18n.FALLBACK, registry: Registry | None = None
+) -> dict[str, str]:
     """Answer-key column name -> its label in ``language`` (English where the language has no text);
     a column that declares no ``label_key``, or one no catalog knows, is labelled by its name."""
-    registry = _registry()
+    registry = _registry_or_default(registry)
     t = i18n.translator(language, registry.catalogs)
     key_columns = answer_key.answer_columns(registry)
     return {
@@ -797,10 +915,10 @@ def answer_labels(language: str = i18n.FALLBACK) -> dict[str, str]:
 
 
 def _answer_rows(
-    fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant]
+    fields: list[str], outcomes: list[Outcome], by_row: dict[int, Variant], registry: Registry
 ) -> tuple[list[str], list[list]]:
     """Successful variants only: id, row, the variant's own inputs as given, then the results."""
-    answer_names = [c.name for c in answer_key.answer_columns(_registry())]
+    answer_names = [c.name for c in answer_key.answer_columns(registry)]
     ran = [o for o in outcomes if o.ok]
     # Leave out result columns no variant has (e.g. a kinematics-only batch).
     answer_names = [c for c in answer_names if any(o.answers.get(c) is not None for o in ran)]
@@ -844,8 +962,8 @@ def _csv_bytes(header: list[str], rows: list[list]) -> bytes:
     return buffer.getvalue().encode("utf-8")
 
 
-def _answer_key_csv(fields, outcomes, by_row) -> bytes:
-    return _csv_bytes(*_answer_rows(fields, outcomes, by_row))
+def _answer_key_csv(fields, outcomes, by_row, registry) -> bytes:
+    return _csv_bytes(*_answer_rows(fields, outcomes, by_row, registry))
 
 
 def _failure_rows(
@@ -861,13 +979,13 @@ def _failures_csv(outcomes, by_row) -> bytes:
 
 
 def _answer_key_xlsx(
-    fields, outcomes, by_row, language: str = i18n.FALLBACK, notes: list[str] = ()
+    fields, outcomes, by_row, registry, language: str = i18n.FALLBACK, notes: list[str] = ()
 ) -> bytes:
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
-    header, rows = _answer_rows(fields, outcomes, by_row)
+    header, rows = _answer_rows(fields, outcomes, by_row, registry)
     rows = [[neutralised(v) for v in row] for row in rows]
-    labels = answer_labels(language)
+    labels = answer_labels(language, registry)
     # The labels row above the column names: a result column's translated label, any other column
     # (variant, row, the variant's inputs) its own name.
     sheets = [
@@ -886,11 +1004,11 @@ def _answer_key_xlsx(
     return xlsx_bytes(sheets)
 
 
-def _answer_key_parquet(fields, outcomes, by_row) -> bytes:
+def _answer_key_parquet(fields, outcomes, by_row, registry) -> bytes:
     """The answer key as a Parquet table (pyarrow, the parquet extra): numbers as numbers, text as text."""
     import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
 
-    header, rows = _answer_rows(fields, outcomes, by_row)
+    header, rows = _answer_rows(fields, outcomes, by_row, registry)
     frame = pd.DataFrame(rows, columns=header)
     for name in frame.columns[frame.dtypes == object]:
         # A column Parquet can type: empty cells missing, mixed numbers and text all as text.

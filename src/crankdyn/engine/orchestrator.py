@@ -11,7 +11,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import PluginError, Problem, SceneError
+from ..errors import MISSING, PluginError, Problem, SceneError
 from ..parallel.fork import aside
 from ..physics import lazy
 from ..plugin.registry import Registry, broken_note
@@ -24,7 +24,7 @@ from ..plugin.types import (
     StageOutput,
     declared,
 )
-from ..scene.model import Scene, options
+from ..scene.model import ROD_CHOICE, Scene, options
 
 
 @dataclass
@@ -95,34 +95,10 @@ class RunResult:
 
 def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ()) -> None:
     """Checks that need the plugins: mechanism name, its own checks, language, stage names."""
-    problems: list[Problem] = []
     # a plugin that failed to load may be the one that would have known the name
     broken = broken_note(registry)
-    mechanism = registry.mechanisms.get(scene.engine.mechanism)
-    if mechanism is None:
-        problems.append(
-            Problem(
-                "engine.mechanism",
-                scene.engine.mechanism,
-                "unknown mechanism; installed: " + ", ".join(sorted(registry.mechanisms)) + broken,
-            )
-        )
-    else:
-        if mechanism.params_model is not None:
-            try:
-                options(scene, "mechanism", mechanism.params_model)
-            except SceneError as exc:
-                problems += exc.problems
-        elif scene.mechanism:
-            problems.append(
-                Problem(
-                    "mechanism",
-                    scene.mechanism,
-                    f"the {mechanism.name!r} mechanism takes no [mechanism] table",
-                )
-            )
-        if not problems:
-            problems += list(mechanism.check(scene))
+    scene = scene.with_plugin_defaults(registry)
+    problems = _mechanism_problems(scene, registry, broken)
     claimed = {s.options_table: s for s in registry.stages.values() if s.options_table}
     for table in scene.plugin_tables():
         stage = claimed.get(table)
@@ -172,6 +148,42 @@ def check_scene(scene: Scene, registry: Registry, languages: Iterable[str] = ())
         raise SceneError(problems)
 
 
+def _mechanism_problems(scene: Scene, registry: Registry, broken: str) -> list[Problem]:
+    """The scene's mechanism: named or the registry's default, installed, its ``[mechanism]``
+    table, its rod (``Mechanism.needs_rod``) and, when these hold, its own ``check``."""
+    installed = ", ".join(sorted(registry.mechanisms)) + broken
+    name = scene.engine.mechanism
+    if name is None:
+        reason = "required: no installed mechanism is the default; installed: " + installed
+        return [Problem("engine.mechanism", MISSING, reason)]
+    mechanism = registry.mechanisms.get(name)
+    if mechanism is None:
+        return [Problem("engine.mechanism", name, "unknown mechanism; installed: " + installed)]
+    problems: list[Problem] = []
+    if mechanism.params_model is not None:
+        try:
+            options(scene, "mechanism", mechanism.params_model)
+        except SceneError as exc:
+            problems += exc.problems
+    elif scene.mechanism:
+        problems.append(
+            Problem(
+                "mechanism",
+                scene.mechanism,
+                f"the {mechanism.name!r} mechanism takes no [mechanism] table",
+            )
+        )
+    if mechanism.needs_rod and not scene.engine.has_rod:
+        problems.append(
+            Problem(
+                "engine.rod_length",
+                MISSING,
+                f"{ROD_CHOICE}: the {mechanism.name!r} mechanism has a connecting rod",
+            )
+        )
+    return problems or list(mechanism.check(scene))
+
+
 def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = None) -> Plan:
     """Order the stages to run for ``scene``.
 
@@ -181,6 +193,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     left out with the reason. A requirement no registered stage provides at all is a
     :class:`PluginError` (a mistake in the plugin, whatever the scene).
     """
+    scene = scene.with_plugin_defaults(registry)
     requested = list(requested) if requested is not None else scene.analysis.stages
     if requested is not None:
         unknown = [n for n in requested if n not in registry.stages]
@@ -432,6 +445,7 @@ def run_plan(
     (:func:`is_study`) are not run: their inputs are kept in :attr:`RunResult.deferred`, and
     :meth:`RunResult.study_output` computes (or receives) each when it is wanted. ``computed``:
     (outputs, seconds) of the stages already run elsewhere (a forked child), taken instead of running them."""
+    scene = scene.with_plugin_defaults(the_plan.registry)
     data: dict[str, Any] = {}
     outputs: dict[str, StageOutput] = {}
     timing: dict[str, float] = {}
@@ -473,7 +487,8 @@ def run_scene(
     With ``cache`` (a :class:`crankdyn.engine.stage_cache.StageCache`) only stages whose inputs
     changed since
     the cache's last run are run again (the live preview). ``defer_studies``: see :func:`run_plan`
-    (not with a cache)."""
+    (not with a cache). A scene naming no mechanism gets the registry's default one."""
+    scene = scene.with_plugin_defaults(registry)
     check_scene(scene, registry, languages)
     the_plan = plan(scene, registry, requested)
     if cache is not None:

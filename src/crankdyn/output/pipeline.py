@@ -38,6 +38,7 @@ def _run_aside(
     """The scene computed by a forked child (studies included, as they come) while this process
     imports and prepares what rendering needs; None if no child could (then run it here).
     A bad scene is refused here, before anything is forked."""
+    scene = scene.with_plugin_defaults(registry)
     check_scene(scene, registry, languages)
     forked = ForkedRun.start(scene, plan(scene, registry, stages))
     if forked is None:
@@ -199,6 +200,7 @@ def run_and_render(
     :class:`crankdyn.errors.SceneError` for a bad scene.
     """
     formats = list(formats)
+    scene = scene.with_plugin_defaults(registry)
     # One report on its own (not a batch's variant, which shares the cores with the other
     # variants, nor the preview's cached run): the studies are computed in a forked child while
     # the report is rendered (crankdyn.engine.studies).
@@ -255,6 +257,7 @@ def run_for_preview(
         render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
     )
 
+    scene = scene.with_plugin_defaults(registry)
     check_scene(scene, registry, languages)
     with frozen_heap():  # the collector skips the imported modules and cached results
         result = stage_cache.run_plan(

@@ -271,7 +271,9 @@ def checked_stage(stage: object, plugin: str, hook: str, foreign: bool = True) -
             plugin, where, f"a Stage's name is {shorten(stage.name)}; expected a non-empty str"
         )
     fixed: dict[str, Any] = dict(_name_tuples(stage, _NAME_TUPLES, plugin, where, stage.name))
-    for name in ("applies", "run"):
+    for name in ("applies", "run", "default_angle_step"):
+        if name == "default_angle_step" and stage.default_angle_step is None:
+            continue
         if not callable(getattr(stage, name)):
             raise PluginFailure(
                 plugin,
@@ -320,6 +322,14 @@ def checked_mechanism(mechanism: object, plugin: str, hook: str, foreign: bool =
             f"mechanism {mechanism.name!r}: params_model = "
             f"{shorten(mechanism.params_model)}; expected a pydantic model or None",
         )
+    for flag in ("needs_rod", "default"):
+        value = getattr(mechanism, flag)
+        if not isinstance(value, bool):
+            raise PluginFailure(
+                plugin,
+                where,
+                f"mechanism {mechanism.name!r}: {flag} = {shorten(value)}; expected True or False",
+            )
     return mechanism
 
 
@@ -415,6 +425,11 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
             check_stage_output(stage, output, plugin)
         return output
 
+    if stage.default_angle_step is not None:
+        stage = dataclasses.replace(
+            stage,
+            default_angle_step=_guarded_step(stage.default_angle_step, plugin, where, foreign),
+        )
     look = stage.presentation
     if look is None:
         return dataclasses.replace(stage, applies=applies, run=run)
@@ -443,6 +458,23 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
         look, render=render, input_rows=None if look.input_rows is None else input_rows
     )
     return dataclasses.replace(stage, applies=applies, run=run, presentation=guarded)
+
+
+def _guarded_step(wish: Callable, plugin: str, where: str, foreign: bool) -> Callable:
+    """A stage's ``default_angle_step`` named and limited as its other calls; a value that is
+    not None or a positive number of degrees is the plugin's error."""
+
+    @functools.wraps(wish)
+    def default_angle_step(scene):
+        step = call(plugin, where, "default_angle_step", foreign, wish, scene)
+        number = isinstance(step, numbers.Real) and not isinstance(step, bool)
+        if step is not None and not (number and 0 < step < math.inf):
+            raise _garbage(
+                plugin, where, "default_angle_step", step, "None or a positive number of degrees"
+            )
+        return step
+
+    return default_angle_step
 
 
 def _is_rows(rows: object) -> bool:

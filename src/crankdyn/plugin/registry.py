@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import pluggy
 
-from ..errors import CrankdynError, PluginError, PluginFailure, shorten
+from ..errors import CrankdynError, PluginError, PluginFailure, SceneError, shorten
 from . import guard as plugin_guard
 from . import hooks as hookspecs
 from .types import Catalog, ErrorProbe, Mechanism, Stage
@@ -38,6 +38,29 @@ class Registry:
     owner: dict[str, str] = field(default_factory=dict)  # "stage:<name>" -> plugin name
     #: plugins left out: plugin name -> why (``plugin 'x' (import): ModuleNotFoundError: ...``)
     broken: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def default_mechanism(self) -> str | None:
+        """The name of the mechanism declared ``default`` (a scene naming none gets it), or None.
+
+        :func:`collect` allows at most one."""
+        return next((m.name for m in self.mechanisms.values() if m.default), None)
+
+    def default_angle_step_deg(self, scene) -> float | None:
+        """The smallest crank-angle step [deg] the stages ask for ``scene`` when it gives none
+        (``Stage.default_angle_step``), or None when none asks. A stage whose scene table is
+        invalid asks nothing here: :func:`crankdyn.engine.orchestrator.check_scene` reports it."""
+        wishes = []
+        for stage in self.stages.values():
+            if stage.default_angle_step is None:
+                continue
+            try:
+                step = stage.default_angle_step(scene)
+            except SceneError:
+                continue
+            if step is not None:
+                wishes.append(float(step))
+        return min(wishes) if wishes else None
 
 
 def plugin_manager(
@@ -167,7 +190,21 @@ def collect(manager: pluggy.PluginManager) -> Registry:
     registry.catalogs = [
         c for name, _, items in returned["catalog"] if name not in broken for c in items
     ]
+    _one_default(registry)
     return registry
+
+
+def _one_default(registry: Registry) -> None:
+    """A :class:`PluginError` when more than one mechanism declares itself the default."""
+    defaults = [name for name, mechanism in registry.mechanisms.items() if mechanism.default]
+    if len(defaults) > 1:
+        owners = ", ".join(
+            f"{name!r} ({registry.owner['mechanism:' + name]!r})" for name in defaults
+        )
+        raise PluginError(
+            f"more than one mechanism declares itself the default (Mechanism.default): {owners}; "
+            "a scene that names no engine.mechanism gets one default"
+        )
 
 
 def _hook_items(impl, name: str, hook_name: str, check, foreign: bool) -> list:

@@ -59,6 +59,15 @@ class Mechanism:
 
     ``plausibility``: the :class:`PlausibilityRule` s of this mechanism's scenes (a crank-slider's
     λ = R/L and its rod's centre of mass), besides the core's rules that hold for every engine.
+
+    ``needs_rod``: whether the mechanism has a connecting rod (or a member sized as one, a vane
+    engine's tail), so that its scenes give exactly one of ``engine.rod_length`` or
+    ``engine.rod_ratio``; a mechanism without one (a Scotch yoke) declares False and its scenes
+    give neither.
+
+    ``default``: the mechanism of a scene that names none (``engine.mechanism`` left out); at
+    most one mechanism of a registry declares it (two are a :class:`crankdyn.errors.PluginError`).
+    The built-in central crank-slider does.
     """
 
     name: str
@@ -69,6 +78,8 @@ class Mechanism:
     # compare=False: a Mechanism stays hashable with a mapping here
     input_rows: Mapping[str, tuple[str, str] | None] = field(default_factory=dict, compare=False)
     plausibility: tuple[PlausibilityRule, ...] = ()
+    needs_rod: bool = True
+    default: bool = False
 
 
 @dataclass
@@ -430,6 +441,11 @@ class Stage:
                 (the indicator's peak pressure).
     presentation: the stage's section (:class:`StagePresentation`); None: the stage shows
                 nothing (it runs for the data it provides and its results).
+    default_angle_step: optional ``default_angle_step(scene) -> float | None``: the crank-angle
+                step [deg] the stage's accuracy asks for when the scene gives no
+                ``analysis.angle_step_deg`` (the numerics stage: 1 deg x sqrt(tolerance / 0.1 %)
+                from its ``[numerics] tolerance``); None: no wish. The smallest wish of the
+                registered stages is the target the default step is chosen for, else 1 deg.
 
     The presentation's fields given to ``Stage`` itself (``Stage(name=..., title_key=...,
     render=..., figures=...)``, the flat form) are folded into a :class:`StagePresentation`
@@ -455,6 +471,7 @@ class Stage:
     answer_columns: tuple[AnswerColumn, ...] = ()
     plausibility: tuple[PlausibilityRule, ...] = ()
     presentation: StagePresentation | None = None
+    default_angle_step: Callable[[Scene], float | None] | None = None
 
     def __init__(
         self,
@@ -477,6 +494,7 @@ class Stage:
         answer_columns: tuple[AnswerColumn, ...] = (),
         plausibility: tuple[PlausibilityRule, ...] = (),
         presentation: StagePresentation | None = None,
+        default_angle_step: Callable[[Scene], float | None] | None = None,
         **flat: Any,
     ) -> None:
         if flat:
@@ -498,6 +516,7 @@ class Stage:
             answer_columns=answer_columns,
             plausibility=plausibility,
             presentation=presentation,
+            default_angle_step=default_angle_step,
         )
         for key, value in given.items():
             object.__setattr__(self, key, value)

@@ -354,7 +354,7 @@ class Preview:
             if self._registry is None:
                 self._registry = default_registry()
             overrides = {"report": {"language": self.language}} if self.language else None
-            scene = load_scene(self.scene_path, overrides)
+            scene = load_scene(self.scene_path, overrides, registry=self._registry)
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
             try:

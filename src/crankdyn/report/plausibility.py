@@ -22,6 +22,7 @@ from typing import Any
 from pydantic import BaseModel
 
 from ..plugin.types import PlausibilityRule
+from ..scene.model import REGISTRY_DEFAULTS
 from .i18n import translator
 
 MAX_MEAN_PISTON_SPEED_M_S = 25.0
@@ -80,6 +81,8 @@ def _stroke_bore(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
+    if not scene.engine.has_rod:
+        return []
     ratio = scene.engine.rod_ratio_value
     if ROD_RATIO_RANGE[0] <= ratio <= ROD_RATIO_RANGE[1]:
         return []
@@ -92,7 +95,7 @@ def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _rod_cm(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
-    if scene.masses is None:
+    if scene.masses is None or not scene.engine.has_rod:
         return []
     fraction = scene.rod_cm_from_big_end_m / scene.engine.rod_length_m
     if ROD_CM_FRACTION_RANGE[0] <= fraction <= ROD_CM_FRACTION_RANGE[1]:
@@ -198,7 +201,7 @@ def scene_warnings(scene, registry) -> list[tuple[str, dict[str, Any]]]:
     found: list[tuple[str, dict[str, Any]]] = []
     for rule in CORE_RULES:
         found += rule.check(scene, None)
-    mechanism = registry.mechanisms.get(scene.engine.mechanism)
+    mechanism = registry.mechanisms.get(scene.with_plugin_defaults(registry).engine.mechanism)
     for rule in mechanism.plausibility if mechanism is not None else ():
         found += rule.check(scene, None)
     return found
@@ -266,6 +269,8 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
     """``(dotted field, default as declared)`` of every core scene value the scene did not give.
 
     Optional values without a default (None) and empty texts are not listed: nothing was assumed.
+    A value whose default the plugins declare (:data:`crankdyn.scene.model.REGISTRY_DEFAULTS`,
+    the default mechanism) is listed as the scene holds it once read with a registry.
     """
     out: list[tuple[str, Any]] = []
 
@@ -276,12 +281,10 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
             value = getattr(model, name)
             if isinstance(value, BaseModel):
                 walk(value, f"{prefix}{name}.")
-            elif (
-                name not in model.model_fields_set
-                and info.default not in (None, "")
-                and not info.is_required()
-            ):
-                out.append((prefix + name, info.default))
+            elif name not in model.model_fields_set and not info.is_required():
+                default = value if prefix + name in REGISTRY_DEFAULTS else info.default
+                if default not in (None, ""):
+                    out.append((prefix + name, default))
 
     walk(scene, "")
     return out

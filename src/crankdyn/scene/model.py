@@ -24,6 +24,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    PrivateAttr,
     ValidationError,
     model_validator,
 )
@@ -169,15 +170,26 @@ def _year(year: int) -> int:
 
 #: The smallest bore and stroke, m (0.1 mm).
 MIN_SIZE_M = 1e-4
+#: What a scene of a mechanism with a connecting rod gives of it.
+ROD_CHOICE = (
+    "give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)"
+)
 #: The smallest rod ratio lambda = R/L (the search for the piston's extremes needs lambda^2 > 0).
 MIN_ROD_RATIO = 1e-6
+
+
+#: The core scene values whose default the plugins declare, read from the registry when a scene
+#: is read with one (:meth:`Scene.with_plugin_defaults`).
+REGISTRY_DEFAULTS = frozenset({"engine.mechanism"})
 
 
 class Engine(_Strict):
     """Engine and mechanism geometry (SI after loading)."""
 
     name: str = ""
-    mechanism: str = "crank_slider"
+    #: None: the registry's default mechanism (``Mechanism.default``), filled in when the scene is
+    #: loaded with a registry (``scene_from_dict(..., registry=)``) or planned
+    mechanism: str | None = None
     strokes: Literal[2, 4] = 4
     cylinders: Annotated[int, AfterValidator(lambda n: _cylinders(n))] = 1
     #: at least 1 rpm: the inertia forces go as the square of the speed, and far below it they
@@ -204,10 +216,10 @@ class Engine(_Strict):
 
     @model_validator(mode="after")
     def _rod(self) -> Engine:
-        if (self.rod_length is None) == (self.rod_ratio is None):
-            raise ValueError(
-                "give exactly one of rod_length (e.g. '140 mm') or rod_ratio (lambda = R/L, 0 < lambda < 1)"
-            )
+        # Neither is a scene of a mechanism without a rod; whether the mechanism has one is
+        # the mechanism's declaration (``Mechanism.needs_rod``), checked with the plugins.
+        if self.rod_length is not None and self.rod_ratio is not None:
+            raise ValueError(ROD_CHOICE)
         if self.rod_ratio is not None and self.rod_ratio < MIN_ROD_RATIO:
             raise _FieldError(
                 "rod_ratio",
@@ -227,16 +239,32 @@ class Engine(_Strict):
         return self.stroke / 2
 
     @property
+    def has_rod(self) -> bool:
+        """Whether the scene gives a connecting rod (``rod_length`` or ``rod_ratio``)."""
+        return self.rod_length is not None or self.rod_ratio is not None
+
+    @property
     def rod_ratio_value(self) -> float:
-        return (
-            self.rod_ratio if self.rod_ratio is not None else self.crank_radius_m / self.rod_length
-        )
+        """λ = R/L; a SceneError naming ``engine.rod_ratio`` when the scene gives no rod."""
+        if self.rod_ratio is not None:
+            return self.rod_ratio
+        return self.crank_radius_m / self._given_rod_length("rod_ratio")
 
     @property
     def rod_length_m(self) -> float:
-        return (
-            self.rod_length if self.rod_length is not None else self.crank_radius_m / self.rod_ratio
-        )
+        """L; a SceneError naming ``engine.rod_length`` when the scene gives no rod."""
+        if self.rod_length is not None:
+            return self.rod_length
+        if self.rod_ratio is not None:
+            return self.crank_radius_m / self.rod_ratio
+        return self._given_rod_length("rod_length")
+
+    def _given_rod_length(self, field: str) -> float:
+        if self.rod_length is None:
+            raise SceneError(
+                Problem(f"engine.{field}", MISSING, ROD_CHOICE + "; a part of the report uses it")
+            )
+        return self.rod_length
 
     @property
     def angular_velocity_rad_s(self) -> float:
@@ -373,13 +401,18 @@ class Cycle(_Strict):
 
 DEFAULT_TABLE_STEP_DEG = 10.0
 """Crank angle between the rows of the printed tables when the scene gives none [deg]."""
+DEFAULT_ANGLE_STEP_TARGET_DEG = 1.0
+"""The angle step [deg] the default step is chosen for (the largest step on the engine's grid not
+above it) when no plugin asks for another (``Stage.default_angle_step``): the error of a peak read
+off a grid grows as the step squared (f(x0 + h/2) = f_max - f''(x0) h^2/8), and 1 deg keeps the
+peaks of the bundled engines within 0.1 %."""
 
 
 class Analysis(_Strict):
     """Numerical options and the choice of stages."""
 
     # None: chosen by the scene (``Scene._default_steps``): the largest step on the engine's
-    # grid that keeps the reported peaks within [numerics] tolerance; the table step nearest 10 deg.
+    # grid not above the step the plugins ask for (1 deg if none); the table step nearest 10 deg.
     angle_step_deg: _number(ge=0.01, le=30) | None = None
     table_step_deg: _number(ge=0.01, le=90) | None = None
     kinematics: Literal["exact", "approximate"] = "exact"
@@ -406,6 +439,8 @@ class Scene(_Strict):
     base_dir: str = "."
     # Folders besides base_dir that data files may come from (``--data-dir``; never from the scene).
     data_dirs: tuple[str, ...] = ()
+    #: the step [deg] the default angle step was chosen for (:meth:`with_plugin_defaults`)
+    _angle_step_target_deg: float = PrivateAttr(default=DEFAULT_ANGLE_STEP_TARGET_DEG)
 
     @model_validator(mode="after")
     def _consistent(self) -> Scene:
@@ -420,7 +455,7 @@ class Scene(_Strict):
                 "analysis.angle_step_deg",
                 f"must divide the cycle ({cycle:g} deg for a {self.engine.strokes}-stroke engine) "
                 f"and the firing intervals a whole number of times; the nearest steps that work: {near} "
-                f"(or leave it out: the default is chosen from [numerics] tolerance)",
+                f"(or leave it out: a step that works is chosen)",
             )
         ratio = self.analysis.table_step_deg / step
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
@@ -454,6 +489,12 @@ class Scene(_Strict):
                 "masses",
                 "missing: a scene with cycle data needs [masses] "
                 "(piston_group, rod, rod_cm_from_big_end or rod_cm_fraction)",
+            )
+        if self.masses is not None and not self.engine.has_rod:
+            raise _FieldError(
+                "engine.rod_length",
+                "missing: [masses] gives a connecting rod's mass and centre of mass, split by the "
+                "rod's length; " + ROD_CHOICE,
             )
         if self.masses is not None and self.masses.rod_cm_from_big_end is not None:
             if self.masses.rod_cm_from_big_end >= self.engine.rod_length_m:
@@ -515,38 +556,35 @@ class Scene(_Strict):
             and self.engine.firing_order is not None
         )
 
-    def _default_steps(self) -> None:
+    def _default_steps(self, target_deg: float = DEFAULT_ANGLE_STEP_TARGET_DEG) -> None:
         """Fill in the angle and table steps the scene leaves out (the scene stays frozen to the user).
 
         Angle step: the largest step grid/k on the engine's grid (:attr:`engine_grid_deg`) not above
-        1 deg x sqrt(tolerance / 0.1 %): the error of a peak read off a grid grows as the step squared
-        (f(x0 + h/2) = f_max - f''(x0) h^2/8), and 1 deg keeps the peaks of the bundled engines within
-        0.1 % (the numerics study measures it for every scene and reports it); the grid is narrowed to
-        also divide the table step (10 deg unless given), so every table row is a whole crank angle.
+        ``target_deg`` (kept within 0.01-30 deg): 1 deg, or what the plugins ask for
+        (:meth:`with_plugin_defaults`); the grid is narrowed to also divide the table step (10 deg
+        unless given), so every table row is a whole crank angle.
         Table step for a step the scene gives: 10 deg when the step divides it, else the whole
         multiple of the step nearest 10 deg.
         """
         a = self.analysis
         given = set(a.model_fields_set)
-        step = a.angle_step_deg
+        step = a.angle_step_deg if "angle_step_deg" in given else None
         if step is not None:
             # A step printed to 12 digits (e.g. 720/714 deg, as a refusal suggests it) is snapped
             # onto the exact divisor of the cycle it stands for.
             n = self.engine.cycle_deg / step
             if abs(n - round(n)) <= 1e-6 and round(n) >= 1:
                 step = self.engine.cycle_deg / round(n)
-            if step == a.angle_step_deg and a.table_step_deg is not None:
+            if step == a.angle_step_deg and "table_step_deg" in given:
                 return
 
-        table = a.table_step_deg
+        table = a.table_step_deg if "table_step_deg" in given else None
         if step is None:
             # Tables print whole crank angles: the step divides the table step as well as the
             # firing delays and bank angles (the gcd of the engine's grid and the table step).
             table = DEFAULT_TABLE_STEP_DEG if table is None else table
             grid = lay.grid_deg(self.engine.cycle_deg, [self.engine_grid_deg, table])
-            step = step_on_grid_deg(
-                grid, min(30.0, max(0.01, math.sqrt(self.numerics_tolerance / 1e-3)))
-            )
+            step = step_on_grid_deg(grid, min(30.0, max(0.01, target_deg)))
         elif table is None:
             ratio = DEFAULT_TABLE_STEP_DEG / step
             if abs(ratio - round(ratio)) <= 1e-9:
@@ -556,12 +594,6 @@ class Scene(_Strict):
         new = a.model_copy(update={"angle_step_deg": step, "table_step_deg": table})
         object.__setattr__(new, "__pydantic_fields_set__", given)
         object.__setattr__(self, "analysis", new)
-
-    @property
-    def numerics_tolerance(self) -> float:
-        """[numerics] tolerance: the relative error allowed in the reported peaks (default 0.1 %)."""
-        value = (self.model_extra or {}).get("numerics", {}).get("tolerance", 1e-3)
-        return float(value) if isinstance(value, (int, float)) and 0 < value < 1 else 1e-3
 
     @property
     def engine_grid_deg(self) -> float:
@@ -616,6 +648,31 @@ class Scene(_Strict):
     def plugin_tables(self) -> dict[str, Any]:
         """The top-level tables that belong to plugins (not part of the core model)."""
         return dict(self.model_extra or {})
+
+    def with_plugin_defaults(self, registry: Any) -> Scene:
+        """This scene with the defaults the plugins of ``registry`` declare (a
+        :class:`crankdyn.plugin.registry.Registry`; None: none): ``engine.mechanism``, when the
+        scene names none, is ``registry.default_mechanism``; the angle step, when the scene gives
+        none, is chosen for ``registry.default_angle_step_deg(scene)`` (1 deg when no plugin asks).
+        The fields filled in stay "not given" (``crankdyn check`` lists the mechanism among the
+        defaults applied). The scene itself when there is nothing to fill in."""
+        scene = self
+        default = getattr(registry, "default_mechanism", None)
+        if scene.engine.mechanism is None and default is not None:
+            engine = scene.engine.model_copy(update={"mechanism": default})
+            object.__setattr__(
+                engine, "__pydantic_fields_set__", set(scene.engine.model_fields_set)
+            )
+            scene = scene.model_copy(update={"engine": engine})
+        wish = getattr(registry, "default_angle_step_deg", None)
+        if scene.angle_step_defaulted and wish is not None:
+            asked = wish(scene)
+            target = DEFAULT_ANGLE_STEP_TARGET_DEG if asked is None else asked
+            if target != scene._angle_step_target_deg:
+                scene = scene.model_copy()
+                scene._default_steps(target)
+                scene._angle_step_target_deg = target
+        return scene
 
 
 def options(scene: Scene, table: str, model: type[BaseModel], data: dict | None = None):
@@ -712,15 +769,27 @@ def read_scene_data(path: str | Path) -> dict:
 
 
 def load_scene(
-    path: str | Path, overrides: dict | None = None, data_dirs: tuple[str, ...] = ()
+    path: str | Path,
+    overrides: dict | None = None,
+    data_dirs: tuple[str, ...] = (),
+    registry: Any = None,
 ) -> Scene:
-    """Read, validate and return the scene at ``path``; raise SceneError listing every problem."""
+    """Read, validate and return the scene at ``path``; raise SceneError listing every problem.
+
+    ``registry`` (a :class:`crankdyn.plugin.registry.Registry`): the plugins the scene is read
+    for; its default mechanism is the scene's when the scene names none."""
     path = Path(path)
     source = str(path)
     data = read_scene_data(path)
     if overrides:
         data = merge(data, overrides)
-    return scene_from_dict(data, base_dir=path.parent.resolve(), source=source, data_dirs=data_dirs)
+    return scene_from_dict(
+        data,
+        base_dir=path.parent.resolve(),
+        source=source,
+        data_dirs=data_dirs,
+        registry=registry,
+    )
 
 
 def merge(base: dict, overrides: dict) -> dict:
@@ -739,7 +808,10 @@ def scene_from_dict(
     base_dir: Path | str = ".",
     source: str | None = None,
     data_dirs: tuple[str, ...] = (),
+    registry: Any = None,
 ) -> Scene:
+    """The scene of the tables ``data``; SceneError listing every problem. ``registry``: as for
+    :func:`load_scene`."""
     for key in ("base_dir", "data_dirs"):
         if key in data:
             raise SceneError(
@@ -751,7 +823,7 @@ def scene_from_dict(
         raise SceneError(problems, source)
     hints = table_problems(data)
     try:
-        return Scene.model_validate(
+        scene = Scene.model_validate(
             {
                 **data,
                 "base_dir": str(base_dir),
@@ -763,6 +835,7 @@ def scene_from_dict(
         raise SceneError(
             hints + [p for p in _problems(exc, data) if p.field not in named], source
         ) from None
+    return scene.with_plugin_defaults(registry)
 
 
 def _problems(

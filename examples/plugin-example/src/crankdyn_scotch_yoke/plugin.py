@@ -98,6 +98,7 @@ SCOTCH_YOKE = Mechanism(
     summary="Scotch yoke: the crank pin slides in a slotted yoke on the piston rod (harmonic motion, no connecting rod)",
     check=check,
     geometry=geometry,
+    needs_rod=False,  # no connecting rod: its scenes give neither rod_length nor rod_ratio
 )
 
 
