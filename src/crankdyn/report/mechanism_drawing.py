@@ -224,14 +224,14 @@ def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
     )
 
     ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
-    length = np.linalg.norm(end - start)
+    length = float(np.linalg.norm(end - start))
     d = (end - start) / length
-    skip = min(max(skip, 0.0), 0.5 * length)
+    skip = float(min(max(skip, 0.0), 0.5 * length))
     count = max(int((length - skip) / size), 2)
     p = start + np.outer(np.linspace(skip, length, count + 1), d)
     q = p + (normal - d) * size * HATCH_SLANT
     ax.add_collection(
-        LineCollection(np.stack([p, q], axis=1), colors=[color], linewidths=0.6, alpha=alpha)
+        LineCollection(list(np.stack([p, q], axis=1)), colors=[color], linewidths=0.6, alpha=alpha)
     )
 
 
