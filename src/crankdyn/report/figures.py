@@ -527,6 +527,65 @@ def _measure_math_as_drawn() -> None:
     RendererSVG.get_text_width_height_descent = get_text_width_height_descent  # type: ignore[method-assign]  # measured as drawn
 
 
+#: Text layouts :func:`_remember_text_layouts` keeps per process (emptied when full).
+TEXT_LAYOUTS = 4096
+_text_layouts: dict = {}
+
+
+def _is_svg_renderer(renderer) -> bool:
+    from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
+    from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
+
+    if isinstance(renderer, MixedModeRenderer):
+        renderer = renderer._renderer
+    return isinstance(renderer, RendererSVG)
+
+
+def _remember_text_layouts() -> None:
+    """Let a text laid out for an SVG keep its layout for every text that is laid out alike.
+
+    ``Text._get_layout`` (the box and the lines' places of a text, relative to its anchor) runs
+    for every text several times a figure (the tight layout, the axis labels' placing, the
+    drawing) and for the same tick labels in figure after figure: a seventh of drawing a
+    report's figures. For an SVG (always drawn at 72 dpi, its texts measured by the font files
+    alone: :func:`to_svg`) the layout depends only on what the key holds: the text, its font,
+    dpi, rotation, alignments, line spacing and whether it is parsed as mathtext. A text that
+    wraps (its lines depend on where it stands) or is set by TeX is laid out every time."""
+    from matplotlib.text import Text  # lazy: heavy optional import
+
+    layout = Text._get_layout
+    if getattr(layout, "crankdyn_remembered", False):
+        return
+
+    def _get_layout(self, renderer):
+        if self._wrap or self.get_usetex() or not _is_svg_renderer(renderer):
+            return layout(self, renderer)
+        key = (
+            self._text,
+            self._fontproperties,
+            self.get_figure(root=True).dpi,
+            self.get_rotation(),
+            self._rotation_mode,
+            self._horizontalalignment,
+            self._verticalalignment,
+            self._multialignment,
+            self._linespacing,
+            self._parse_math,
+        )
+        known = _text_layouts.get(key)
+        if known is None:
+            known = layout(self, renderer)
+            if len(_text_layouts) >= TEXT_LAYOUTS:
+                _text_layouts.clear()
+            # the key keeps a copy of the font, which matplotlib changes in place
+            _text_layouts[(key[0], key[1].copy(), *key[2:])] = known
+        box, lines, corner = known
+        return box.frozen(), list(lines), corner  # a box of its own: a caller may move it
+
+    _get_layout.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
+    Text._get_layout = _get_layout  # type: ignore[method-assign]  # layouts remembered
+
+
 def to_svg(fig) -> bytes:
     """The figure as SVG bytes, laid out (tight layout) and drawn by one SVG renderer.
 
@@ -546,6 +605,7 @@ def to_svg(fig) -> bytes:
     _copy_new_ticks()
     _remember_font_heights()
     _measure_math_as_drawn()
+    _remember_text_layouts()
     buffer = io.StringIO()
     dpi = fig.dpi
     with house_style():
