@@ -586,6 +586,61 @@ def _remember_text_layouts() -> None:
     Text._get_layout = _get_layout  # type: ignore[method-assign]  # layouts remembered
 
 
+#: While :func:`to_svg` lays out and draws a figure: each axis's last tick update, by the axis's
+#: id (None outside it).
+_tick_updates: dict | None = None
+
+
+def _tick_update_key(axis) -> tuple:
+    """What ``Axis._update_ticks`` reads: the view, the axes' place, the scale, locators,
+    formatters and tick lists (nothing else changes them while a figure is laid out and drawn)."""
+    return (
+        tuple(axis.get_view_interval()),
+        axis.axes.bbox.bounds,
+        axis.get_figure(root=True).dpi,
+        axis.get_scale(),
+        id(axis.major.locator),
+        id(axis.major.formatter),
+        id(axis.minor.locator),
+        id(axis.minor.formatter),
+        id(axis.majorTicks),
+        len(axis.majorTicks),
+        id(axis.minorTicks),
+        len(axis.minorTicks),
+    )
+
+
+def _remember_tick_updates() -> None:
+    """Let an axis update its ticks once for as long as nothing they depend on changes.
+
+    matplotlib updates an axis's ticks (locator, formatter, each tick moved and labelled) each
+    time it measures or draws the axis, its spines or a sibling's label: eight times an axis
+    while :func:`to_svg` lays out and draws a figure, where the view and the axes' place change
+    only once (the tight layout). Inside :func:`to_svg` an x or y axis updates its ticks again
+    only when :func:`_tick_update_key` changed since its last update; its ticks are still as
+    that update left them."""
+    from matplotlib.axis import Axis, XAxis, YAxis  # lazy: heavy optional import
+
+    update = Axis._update_ticks
+    if getattr(update, "crankdyn_remembered", False):
+        return
+
+    def _update_ticks(self):
+        updates = _tick_updates
+        if updates is None or type(self) not in (XAxis, YAxis):
+            return update(self)
+        key = _tick_update_key(self)
+        last = updates.get(id(self))
+        if last is not None and last[0] == key:
+            return list(last[1])
+        ticks = update(self)
+        updates[id(self)] = (_tick_update_key(self), list(ticks))
+        return ticks
+
+    _update_ticks.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
+    Axis._update_ticks = _update_ticks  # type: ignore[method-assign]  # updates remembered
+
+
 def to_svg(fig) -> bytes:
     """The figure as SVG bytes, laid out (tight layout) and drawn by one SVG renderer.
 
@@ -606,31 +661,35 @@ def to_svg(fig) -> bytes:
     _remember_font_heights()
     _measure_math_as_drawn()
     _remember_text_layouts()
+    _remember_tick_updates()
+    global _tick_updates
     buffer = io.StringIO()
     dpi = fig.dpi
-    with house_style():
-        fig.set_layout_engine(None)  # laid out here, once
-        fig.dpi = 72  # the SVG's own unit, as print_svg sets it (and gives back after)
-        width, height = fig.get_size_inches()
-        renderer = MixedModeRenderer(
-            fig,
-            width,
-            height,
-            72,
-            RendererSVG(width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}),
-        )
-        if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
-            with renderer._draw_disabled():
-                adjust = get_tight_layout_figure(
-                    fig, fig.axes, get_subplotspec_list(fig.axes), renderer, pad=1.08
-                )
-            if adjust:
-                fig.subplots_adjust(**adjust)
-        try:
+    outer_updates, _tick_updates = _tick_updates, {}
+    try:
+        with house_style():
+            fig.set_layout_engine(None)  # laid out here, once
+            fig.dpi = 72  # the SVG's own unit, as print_svg sets it (and gives back after)
+            width, height = fig.get_size_inches()
+            renderer = MixedModeRenderer(
+                fig,
+                width,
+                height,
+                72,
+                RendererSVG(width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}),
+            )
+            if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
+                with renderer._draw_disabled():
+                    adjust = get_tight_layout_figure(
+                        fig, fig.axes, get_subplotspec_list(fig.axes), renderer, pad=1.08
+                    )
+                if adjust:
+                    fig.subplots_adjust(**adjust)
             fig.draw(renderer)
             renderer.finalize()
-        finally:
-            fig.dpi = dpi
+    finally:
+        fig.dpi = dpi
+        _tick_updates = outer_updates
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
