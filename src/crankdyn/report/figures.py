@@ -259,6 +259,8 @@ def _copy_new_ticks() -> None:
     get_major_ticks.__doc__ = Axis.get_major_ticks.__doc__
     get_minor_ticks.__doc__ = Axis.get_minor_ticks.__doc__
     get_major_ticks.crankdyn_copies = True  # type: ignore[attr-defined]  # marks the replacement
+    get_major_ticks.__wrapped__ = Axis.get_major_ticks  # type: ignore[attr-defined]  # matplotlib's
+    get_minor_ticks.__wrapped__ = Axis.get_minor_ticks  # type: ignore[attr-defined]  # matplotlib's
     Axis.get_major_ticks = get_major_ticks  # type: ignore[method-assign]  # ticks copied
     Axis.get_minor_ticks = get_minor_ticks  # type: ignore[method-assign]  # ticks copied
 
@@ -583,6 +585,7 @@ def _remember_text_layouts() -> None:
         return box.frozen(), list(lines), corner  # a box of its own: a caller may move it
 
     _get_layout.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
+    _get_layout.__wrapped__ = layout  # type: ignore[attr-defined]  # matplotlib's
     Text._get_layout = _get_layout  # type: ignore[method-assign]  # layouts remembered
 
 
@@ -638,6 +641,7 @@ def _remember_tick_updates() -> None:
         return ticks
 
     _update_ticks.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
+    _update_ticks.__wrapped__ = update  # type: ignore[attr-defined]  # matplotlib's
     Axis._update_ticks = _update_ticks  # type: ignore[method-assign]  # updates remembered
 
 
