@@ -31,6 +31,8 @@ def _drawn() -> bytes:
     narrow, ax = figures.new_figure(7, 5)
     ax.plot([0.0, 1.0], [0.0, 123456.0])
     ax.set_ylabel("a long label\nof two lines")
+    ax.text(0.2, 5e4, "alike", rotation=45)  # laid out apart from the same text upright
+    ax.text(0.6, 5e4, "alike")
     return figures.to_svg(fig) + figures.to_svg(narrow)
 
 
