@@ -555,7 +555,7 @@ def _remember_text_layouts() -> None:
     wraps (its lines depend on where it stands) or is set by TeX is laid out every time."""
     from matplotlib.text import Text  # lazy: heavy optional import
 
-    layout = Text._get_layout
+    layout = Text._get_layout  # type: ignore[attr-defined]  # matplotlib's private layout
     if getattr(layout, "crankdyn_remembered", False):
         return
 
@@ -586,7 +586,7 @@ def _remember_text_layouts() -> None:
 
     _get_layout.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
     _get_layout.__wrapped__ = layout  # type: ignore[attr-defined]  # matplotlib's
-    Text._get_layout = _get_layout  # type: ignore[method-assign]  # layouts remembered
+    Text._get_layout = _get_layout  # type: ignore[attr-defined]  # layouts remembered
 
 
 #: While :func:`to_svg` lays out and draws a figure: each axis's last tick update, by the axis's
@@ -624,7 +624,7 @@ def _remember_tick_updates() -> None:
     that update left them."""
     from matplotlib.axis import Axis, XAxis, YAxis  # lazy: heavy optional import
 
-    update = Axis._update_ticks
+    update = Axis._update_ticks  # type: ignore[attr-defined]  # matplotlib's private update
     if getattr(update, "crankdyn_remembered", False):
         return
 
@@ -642,7 +642,7 @@ def _remember_tick_updates() -> None:
 
     _update_ticks.crankdyn_remembered = True  # type: ignore[attr-defined]  # marks the replacement
     _update_ticks.__wrapped__ = update  # type: ignore[attr-defined]  # matplotlib's
-    Axis._update_ticks = _update_ticks  # type: ignore[method-assign]  # updates remembered
+    Axis._update_ticks = _update_ticks  # type: ignore[attr-defined]  # updates remembered
 
 
 def to_svg(fig) -> bytes:
