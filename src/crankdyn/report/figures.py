@@ -17,6 +17,7 @@ import re
 import select
 import struct
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -589,9 +590,9 @@ def _remember_text_layouts() -> None:
     Text._get_layout = _get_layout  # type: ignore[attr-defined]  # layouts remembered
 
 
-#: While :func:`to_svg` lays out and draws a figure: each axis's last tick update, by the axis's
-#: id (None outside it).
-_tick_updates: dict | None = None
+#: ``updates``: while :func:`to_svg` lays out and draws a figure in this thread, each axis's last
+#: tick update by the axis's id (unset or None outside it; the preview may draw in two threads).
+_tick_updates = threading.local()
 
 
 def _tick_update_key(axis) -> tuple:
@@ -629,7 +630,7 @@ def _remember_tick_updates() -> None:
         return
 
     def _update_ticks(self):
-        updates = _tick_updates
+        updates = getattr(_tick_updates, "updates", None)
         if updates is None or type(self) not in (XAxis, YAxis):
             return update(self)
         key = _tick_update_key(self)
@@ -666,10 +667,10 @@ def to_svg(fig) -> bytes:
     _measure_math_as_drawn()
     _remember_text_layouts()
     _remember_tick_updates()
-    global _tick_updates
     buffer = io.StringIO()
     dpi = fig.dpi
-    outer_updates, _tick_updates = _tick_updates, {}
+    outer_updates = getattr(_tick_updates, "updates", None)
+    _tick_updates.updates = {}
     try:
         with house_style():
             fig.set_layout_engine(None)  # laid out here, once
@@ -693,7 +694,7 @@ def to_svg(fig) -> bytes:
             renderer.finalize()
     finally:
         fig.dpi = dpi
-        _tick_updates = outer_updates
+        _tick_updates.updates = outer_updates
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
