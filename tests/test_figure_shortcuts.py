@@ -1,0 +1,81 @@
+"""The shortcuts crankdyn.report.figures takes through matplotlib's drawing (further ticks copied
+from the first, text layouts and tick updates remembered, the house style set key by key) give
+the SVG bytes matplotlib's own way gives."""
+
+import matplotlib
+import numpy as np
+from matplotlib.axis import Axis
+from matplotlib.text import Text
+
+from crankdyn.report import figures
+
+
+def _drawn() -> bytes:
+    """A figure that exercises ticks: shared and twin axes, a log axis with minor ticks, tick
+    parameters changed after the first tick was made, rotated labels, mathtext, a legend."""
+    fig, (top, bottom) = figures.new_figure(12, 10, nrows=2, sharex=True)
+    angle = np.linspace(0.0, 720.0, 73)
+    top.plot(angle, np.sin(np.radians(angle)) * 3e4, label=r"$p_{\rm g}$")
+    top.plot(angle, np.cos(np.radians(angle)) * 2e4, label="second")
+    top.tick_params(axis="y", labelsize=7, length=5, colors="0.3")
+    top.legend(loc="upper right")
+    twin = figures.twin_axes(top)
+    twin.plot(angle, angle / 10.0, color="C2")
+    bottom.semilogy(angle, 1.0 + angle**2)
+    bottom.minorticks_on()
+    figures.crank_angle_axis(bottom, 720.0, "α, °")
+    for label in bottom.get_xticklabels():
+        label.set_rotation(30)
+    bottom.set_ylabel(r"$\omega^2$, с⁻²")
+    # narrow: the tight layout narrows the axes so much that the x axis has fewer ticks after it
+    narrow, ax = figures.new_figure(7, 5)
+    ax.plot([0.0, 1.0], [0.0, 123456.0])
+    ax.set_ylabel("a long label\nof two lines")
+    ax.text(0.2, 5e4, "alike", rotation=45)  # laid out apart from the same text upright
+    ax.text(0.6, 5e4, "alike")
+    return figures.to_svg(fig) + figures.to_svg(narrow)
+
+
+def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch):
+    figures._copy_new_ticks()
+    figures._remember_text_layouts()
+    figures._remember_tick_updates()
+    figures._text_layouts.clear()
+    shortcut = _drawn()
+    assert figures._text_layouts, "layouts were remembered"
+    assert _drawn() == shortcut  # and drawn again from what was remembered
+    for owner, name in (
+        (Axis, "get_major_ticks"),
+        (Axis, "get_minor_ticks"),
+        (Axis, "_update_ticks"),
+        (Text, "_get_layout"),
+    ):
+        monkeypatch.setattr(owner, name, getattr(owner, name).__wrapped__)
+    for installer in ("_copy_new_ticks", "_remember_text_layouts", "_remember_tick_updates"):
+        monkeypatch.setattr(figures, installer, lambda: None)  # to_svg would put them back
+    monkeypatch.setattr(figures, "house_style", lambda: matplotlib.rc_context(figures.STYLE))
+    assert not hasattr(Axis.get_major_ticks, "__wrapped__")
+    assert _drawn() == shortcut
+
+
+def test_a_copied_tick_shares_no_state_matplotlib_changes_in_place():
+    figures._copy_new_ticks()
+    fig, ax = figures.new_figure(8, 6)
+    first, second = ax.xaxis.get_major_ticks(2)
+    for name in ("label1", "label2", "tick1line", "gridline"):
+        ours, theirs = getattr(first, name), getattr(second, name)
+        assert ours is not theirs and ours._callbacks is not theirs._callbacks
+    second.label1.set_fontsize(20)
+    assert first.label1.get_fontsize() != 20
+    assert second.label1.get_text() == ""  # a new tick's label is empty until it is placed
+
+
+def test_the_house_style_sets_what_rc_context_sets_and_gives_back_what_was_there():
+    params = matplotlib.rcParams
+    before = dict(params)
+    with matplotlib.rc_context(figures.STYLE):
+        expected = {key: params[key] for key in figures.STYLE}
+    with figures.house_style():
+        assert {key: params[key] for key in figures.STYLE} == expected
+        assert params["font.size"] == figures.STYLE["font.size"]
+    assert dict(params) == before
