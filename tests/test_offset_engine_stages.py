@@ -218,3 +218,16 @@ def test_a_plugin_mechanism_with_a_piston_motion_gets_torque_and_bearings():
     np.testing.assert_allclose(
         torque, piston_force * 0.04 * np.sin(alpha), atol=1e-9 * np.max(np.abs(piston_force))
     )
+
+
+@pytest.mark.parametrize(
+    "example, listed",
+    [("offset-crank-engine", "1, 2, 3, … "), ("petrol-1cyl", "1, 2, 4, … ")],
+)
+def test_the_balancing_note_lists_the_orders_the_vector_method_sums(example, listed):
+    """An offset crank-slider's series has odd orders (the note said "1, 2, 4, …" for it too)."""
+    from conftest import shared_run
+
+    notes = dict(shared_run(example).outputs["balancing"].notes)
+    (orders,) = [p["orders"] for key, p in notes.items() if key.startswith("balancing.note_check")]
+    assert orders.startswith(listed), orders

@@ -201,7 +201,7 @@ def run(scene, inputs) -> StageOutput:
     notes.append(
         (
             "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
-            {"orders": n_max, "samples": CHECK_SAMPLES},
+            {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES},
         )
     )
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
@@ -220,6 +220,13 @@ def _order_vectors(g, opts, C: float, C_I: float, harmonics, spacing_m):
     for n in sorted(set(opts.include_orders) | set(opts.balance_orders)):
         models[n] = bal.reciprocating_model(g, n)
     return order_vectors(g, models, opts.include_orders, C, C_I, harmonics, spacing_m)
+
+
+def _orders_listed(orders) -> str:
+    """The orders the vector method sums, as a note lists them: "1, 2, 4, … 18" (a central
+    crank-slider's even series), "1, 2, 3, … 17" (an offset one's odd orders too)."""
+    shown = [str(n) for n in orders]
+    return ", ".join(shown) if len(shown) <= 4 else ", ".join(shown[:3]) + ", … " + shown[-1]
 
 
 def _time_domain(g, masses, harmonics, all_orders, means, balance_orders, omega, spacing_m):
