@@ -40,6 +40,14 @@ def _conclude(ctx, r) -> None:
             ("balancing.finding_balanced_means" if means else "balancing.finding_balanced") + plane
         )
     )
+    small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
+    if small:  # the abstract names them too, as the table leaves them
+        finding = t(
+            "balancing.finding_negligible",
+            finding=finding,
+            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
+            share=t.number_g(100 * NEGLIGIBLE_SHARE),
+        )
     if r.get("rod_type") == "articulated":  # the textbook's equal masses, not the real slaves'
         finding = t("balancing.finding_articulated", finding=finding)
     ctx.find(finding)
