@@ -697,7 +697,8 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
         r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0)
     )
     # nor is it called unbalanced there: the abstract names it as small, as the table leaves it
-    assert "ΣPIV" in abstract and "лише малі ΣPVI (менше 1 % від першого порядку)" in abstract
+    plain = " ".join(abstract.replace("\u202f", " ").replace("\u00a0", " ").split())
+    assert "ΣPIV" in abstract and "лише малі ΣPVI (менше 1 % від першого порядку)" in plain
     assert abstract.count("ΣPVI") == 1
     from crankdyn_builtin.balancing.section import _negligible
 
