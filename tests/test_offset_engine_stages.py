@@ -252,3 +252,16 @@ def test_the_abstract_names_every_force_the_balancing_table_leaves_unbalanced():
     roman = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}
     for order in left:
         assert f"P {roman[order]} " in text or f"P {roman[order]}," in text, (order, text)
+
+
+def test_the_indicator_refers_to_the_section_that_computed_the_offset_pistons_motion():
+    """The indicator's volume comes "from the piston displacement computed in section N": for an
+    offset crank-slider that is its own stage's section, not the central kinematics' title."""
+    import re
+
+    from conftest import shared_html
+
+    page = shared_html("offset-crank-engine").html
+    found = re.search(r"piston displacement computed in section (\S+?)\.", page)
+    assert found is not None and found.group(1).isdigit(), found
+    assert "Kinematics of the crank-slider" not in found.group(0)

@@ -473,7 +473,9 @@ def render_html(
         **_abstract_parts(t, registry, scene, sections),
     )
     html = _finish(
-        fill_section_numbers(html, lambda stage: _stage_title(t, registry, stage), t),
+        fill_section_numbers(
+            html, lambda stage: _stage_title(t, registry, stage), t, _same_data(registry)
+        ),
         t,
         language,
         len(references),
@@ -853,9 +855,23 @@ _CHAPTER = re.compile(
 SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
 
 
-def fill_section_numbers(html: str, title, t) -> str:
-    """Each :data:`SECTION_MARK` replaced by its stage's section number; a stage without a section
-    in this report by its section's title (``title(stage)``) in quotes (the sentence then still reads)."""
+def _same_data(registry):
+    """``providers(stage)``: the stages that provide what ``stage`` provides (an offset
+    crank-slider's own stage gives the piston motion the kinematics stage gives a central one)."""
+
+    def providers(stage: str) -> list[str]:
+        found = registry.stages.get(stage)
+        provides = set(found.provides) if found is not None else set()
+        return [name for name, s in registry.stages.items() if provides & set(s.provides)]
+
+    return providers
+
+
+def fill_section_numbers(html: str, title, t, providers=None) -> str:
+    """Each :data:`SECTION_MARK` replaced by its stage's section number, or, when that stage has
+    no section here, the number of a section whose stage provides the same data
+    (``providers(stage)``); else by the section's title (``title(stage)``) in quotes (the
+    sentence then still reads)."""
     if "@@SECTION:" not in html:
         return html
     numbers = {
@@ -866,7 +882,12 @@ def fill_section_numbers(html: str, title, t) -> str:
 
     def number(m: re.Match) -> str:
         stage = m.group(1)
-        return numbers.get(stage) or t("doc.quoted", text=title(stage))
+        if stage in numbers:
+            return numbers[stage]
+        for other in providers(stage) if providers is not None else ():
+            if other in numbers:
+                return numbers[other]
+        return t("doc.quoted", text=title(stage))
 
     return SECTION_MARK.sub(number, html)
 
