@@ -557,3 +557,10 @@ def test_a_cylinders_bank_letter_is_printed_in_the_reports_letters():
     assert drawn.firing_order[:2] == ("1Л", "1П")
     assert {g.label for g in drawn.guides if g.label} >= {"1Л", "1П", "4П"}
     assert all("L" not in c and "R" not in c for _, _, cs in drawn.cranks for c in cs)
+
+
+def test_a_bay_of_central_rods_is_not_also_said_to_have_fork_rods():
+    page = shared_html("v8-petrol")
+    html = page.html if hasattr(page, "html") else page
+    assert "common crank pin through central rods;" in html
+    assert "fork-and-blade" not in html
