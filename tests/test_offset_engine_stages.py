@@ -265,3 +265,18 @@ def test_the_indicator_refers_to_the_section_that_computed_the_offset_pistons_mo
     found = re.search(r"piston displacement computed in section (\S+?)\.", page)
     assert found is not None and found.group(1).isdigit(), found
     assert "Kinematics of the crank-slider" not in found.group(0)
+
+
+def test_the_offset_kinematics_gives_the_mean_piston_speed_of_its_true_stroke():
+    """v_mean = S n / 30 with the offset mechanism's own stroke S (longer than 2R)."""
+    from conftest import shared_html, shared_run
+
+    result = shared_run("offset-crank-engine")
+    r = result.outputs["offset_crank"].results
+    rpm = r["angular_velocity_rad_s"] * 30 / np.pi
+    assert r["mean_piston_speed_m_s"] == pytest.approx(r["stroke_m"] * rpm / 30, rel=1e-12)
+    assert r["stroke_m"] > 2 * r["crank_radius_m"]
+    shown = f"{r['mean_piston_speed_m_s']:.2f}"
+    page = shared_html("offset-crank-engine").html
+    plain = page.replace("/\u2060", "/").replace("\u00a0", " ")
+    assert f"<i>v</i><sub>mean</sub> = <i>Sn</i>/30 = {shown}" in plain
