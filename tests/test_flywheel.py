@@ -279,3 +279,18 @@ def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_fly
     assert printed and float(printed.group(1).replace("−", "-")) == pytest.approx(
         difference, rel=1e-3
     )
+
+
+def test_a_rim_faster_than_allowed_fails_in_the_abstract_and_the_conclusions():
+    """The section said the rim is too fast while the abstract and the conclusions presented the
+    flywheel as adequate."""
+    from conftest import shared_html, shared_run
+
+    changes = {"flywheel": {"max_rim_speed": "20 m/s"}}
+    rim = shared_run("inline4-petrol", changes).outputs["flywheel"].results["rim"]
+    assert rim["speed_ok"] is False and rim["speed_m_s"] > 20
+    page = shared_html("inline4-petrol", changes).html
+    abstract = page[page.index('class="abstract"') :]
+    abstract = abstract[: abstract.index("</section>")]
+    assert "above the allowed 20" in abstract
+    assert "does not pass the speed check" in page[page.index('class="conclusions"') :]

@@ -44,6 +44,7 @@ def render(output: StageOutput, ctx) -> str:
         _conclude_not_needed(ctx, r)
     else:
         _conclude(ctx, r)
+        _conclude_rim_too_fast(ctx, r)
     return ctx.render_template(
         "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
     )
@@ -161,6 +162,17 @@ def _conclude(ctx, r: dict) -> None:
             shaft=ctx.num(r["engine_inertia_kg_m2"]),
         )
     )
+
+
+def _conclude_rim_too_fast(ctx, r: dict) -> None:
+    """A rim faster than the allowed peripheral speed: the flywheel as sized fails its check, and
+    the abstract and the conclusions say so (not only the section)."""
+    rim = r.get("rim") or {}
+    if rim.get("speed_ok") is not False:
+        return
+    params = {"speed": ctx.num(rim["speed_m_s"], 3), "limit": ctx.t.number_g(rim["max_speed_m_s"])}
+    ctx.find(ctx.t("flywheel.finding_rim_too_fast", **params))
+    ctx.conclude(ctx.t("flywheel.conclusion_rim_too_fast", **params))
 
 
 def _conclude_not_needed(ctx, r) -> None:
