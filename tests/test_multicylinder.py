@@ -564,3 +564,17 @@ def test_a_bay_of_central_rods_is_not_also_said_to_have_fork_rods():
     html = page.html if hasattr(page, "html") else page
     assert "common crank pin through central rods;" in html
     assert "fork-and-blade" not in html
+
+
+def test_the_rods_on_one_crank_pin_are_the_centrifugal_terms_mass():
+    """c_r = −m_rR·Rω²/F_p with m_rR of every rod on the pin: the radial's is the bays' sum of the
+    master's rotating part and the articulated rods' shares (10,29 kg), not one rod's."""
+    result = shared_run("radial9-aircraft")
+    rods_kg = result.outputs["bays"].results["rotating_mass_terms"]["rods_kg"]
+    engine = result.scene.engine
+    area = math.pi * engine.bore**2 / 4
+    c_r = -rods_kg * engine.crank_radius_m * engine.angular_velocity_rad_s**2 / area
+    assert result.outputs["bearings"].results["centrifugal_rod_Pa"] == pytest.approx(c_r, rel=1e-9)
+    page = shared_html("radial9-aircraft")
+    html = page.html if hasattr(page, "html") else page
+    assert f"the rotating mass of all of them, {rods_kg:.4g}\u202fkg" in html
