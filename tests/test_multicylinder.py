@@ -578,3 +578,13 @@ def test_the_rods_on_one_crank_pin_are_the_centrifugal_terms_mass():
     page = shared_html("radial9-aircraft")
     html = page.html if hasattr(page, "html") else page
     assert f"the rotating mass of all of them, {rods_kg:.4g}\u202fkg" in html
+
+
+def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():
+    """The symbols call t_i a cylinder's force; a V's torque table gives each crank's sum."""
+    page = shared_html("v8-petrol")
+    html = page.html if hasattr(page, "html") else page
+    assert html.count("A crank here carries several cylinders") == 1
+    page = shared_html("inline4-petrol")
+    html = page.html if hasattr(page, "html") else page
+    assert "A crank here carries several cylinders" not in html

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from functools import partial
 
+from markupsafe import Markup
+
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import journal_name
@@ -92,9 +94,10 @@ def render(output: StageOutput, ctx) -> str | None:
                 see=see,
             )
         )
-    tables[-1] += worked_torque(
-        ctx, f, rows, labels, cranks, output.results["cylinder_cycle_delays_deg"]
-    )
+    delays = output.results["cylinder_cycle_delays_deg"]
+    if cranks > 1 and len(delays) > cranks:  # a V's, W's or star's crank carries several cylinders
+        tables[0] = Markup("<p>{}</p>").format(t("torque.crank_sums")) + tables[0]
+    tables[-1] += worked_torque(ctx, f, rows, labels, cranks, delays)
 
     figure_output = ctx.figure(
         partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
