@@ -59,3 +59,20 @@ def test_crank_angles_of_a_seven_cylinder_engine_carry_the_step_decimals(languag
 )
 def test_a_crank_angle_is_printed_to_the_step(angle, step, text):
     assert translator("uk", ()).angle(angle, step) == text
+
+
+@pytest.mark.parametrize(
+    "value, shown",
+    [
+        (0.0099996, "0,01000"),  # rounding carries into the next decade: four digits, not five
+        (9.99996, "10,00"),
+        (-0.00099996, "−0,001000"),
+        (0.012345, "0,01235"),
+        (123.456, "123,5"),
+    ],
+)
+def test_a_number_rounded_into_the_next_decade_keeps_its_significant_digits(value, shown):
+    t = translator("uk")
+    assert t.number(value, 4) == shown
+    digits = re.sub(r"\D", "", shown).lstrip("0")
+    assert len(digits) == 4

@@ -171,6 +171,9 @@ class Translator:
         if value == 0:
             return "0"
         magnitude = math.floor(math.log10(abs(value)))
+        # rounding may carry into the next decade (0.0099996 to 4 digits is 0.01000, not 0.010000)
+        rounded = float(f"{value:.{significant - 1}e}")
+        magnitude = math.floor(math.log10(abs(rounded))) if rounded else magnitude
         if -4 <= magnitude < significant + 2:
             decimals = max(significant - 1 - magnitude, 0)
             return self.fixed(value, decimals)
