@@ -183,24 +183,7 @@ SOFTWARE = {
 
 #: (scene name of SEED, check) of the defects the corpus finds and the report still has, each with
 #: what fails; under -m slow each is a strict xfail (a fixed one fails it, to be taken off here).
-KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {
-    "cited": (
-        "the bays section's conclusion cites its own last table for the crank pin's largest "
-        "load, which that table's rows do not hold (the torque section's table does)",
-        tuple(
-            f"{SEED}-radial{n}-{s}s-{lang}"
-            for n, s, lang in (
-                (3, 4, "en"),
-                (5, 4, "uk"),
-                (7, 4, "ru"),
-                (9, 4, "en"),
-                (4, 2, "uk"),
-                (6, 2, "ru"),
-                (8, 2, "en"),
-            )
-        ),
-    ),
-}
+KNOWN_DEFECTS: dict[str, tuple[str, tuple[str, ...]]] = {}
 KNOWN: dict[tuple[str, str], str] = {
     (name, check): why for check, (why, names) in KNOWN_DEFECTS.items() for name in names
 }

@@ -10,7 +10,7 @@ from markupsafe import Markup, escape
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.plugin.contracts import ArticulatedOptions
 from crankdyn.plugin.types import StageOutput, Symbol
-from crankdyn.report.context import sample_rows
+from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.scene import options
 
 from .compute import ARTICULATED
@@ -125,12 +125,20 @@ def render(output: StageOutput, ctx) -> str | None:
         f = output.tables.arrays("bay")
         angle = f["crank_angle_deg"]
         rows, labels = sample_rows(angle, ctx.table_step_deg)
+        # the crank pin's largest load, which the conclusions cite, is a row of the table too
+        rows, labels, extremes = add_extreme_rows(
+            angle,
+            rows,
+            labels,
+            [(f["bay_resultant_Pa"], "max", t("bays.extreme_max"))],
+            resolution=0.0,  # the conclusion quotes the peak itself, not a row near it
+        )
         first_key = [k for k in output.tables if k.startswith("slave_")][0]
         first = output.tables.arrays(first_key)
         slave_table = _slave_table(r, ctx)
         bay_table = ctx.table(
             [
-                ("<i>α</i>, °", labels, 0),
+                ("<i>α</i>, °", ctx.angle_labels(labels), None),
                 ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
                 ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
                 ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
@@ -140,7 +148,9 @@ def render(output: StageOutput, ctx) -> str | None:
             ],
             caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")),
             see="bays.see_table_b2",
+            extremes=extremes,
         )
+        bay_table_number = ctx.last_table_number
         figure = ctx.figure(
             partial(bay_figure, f, ctx.cycle_deg, t),
             t("bays.figure_caption"),
@@ -153,7 +163,7 @@ def render(output: StageOutput, ctx) -> str | None:
                 "bays.conclusion_bay_load",
                 q_max=ctx.num(f["bay_resultant_Pa"][peak] / 1e6),
                 q_angle=ctx.angle_text(float(angle[peak])),
-                table=ctx.last_table_number,
+                table=bay_table_number,
             )
         )
     own_pins = (
