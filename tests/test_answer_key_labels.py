@@ -15,7 +15,7 @@ from crankdyn.batch import variants as batch
 from crankdyn.batch.answer_key import answer_columns
 from crankdyn.batch.variants import Outcome, RunOptions, Variant, batch_language, key_files
 from crankdyn.plugin.registry import default_registry
-from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
+from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput, StagePresentation
 from crankdyn.report.i18n import load_catalog_file
 
 REGISTRY = default_registry()
@@ -25,7 +25,9 @@ LANGUAGES = ("en", "uk", "ru")
 def _own_catalog(stage: Stage, language: str) -> dict[str, str]:
     """The texts of the catalogs in the stage's own plugin folder (next to its templates)."""
     texts: dict[str, str] = {}
-    for path in sorted((stage.template_dir.parent / "i18n").glob(f"*.{language}.toml")):
+    for path in sorted(
+        (stage.presentation.template_dir.parent / "i18n").glob(f"*.{language}.toml")
+    ):
         texts.update(load_catalog_file(path))
     return texts
 
@@ -117,16 +119,15 @@ def test_the_batch_language_and_a_column_without_a_label():
     # A third-party stage declaring a column with no label_key: its name is its label.
     plain = Stage(
         name="plain",
-        title_key="plain.title",
         requires=(),
         provides=(),
         applies=lambda s: None,
         run=lambda s, i: StageOutput(),
-        render=lambda o, c: None,
         answer_columns=(
             AnswerColumn("plain_x_m", "x_m", "m"),
             AnswerColumn("plain_y_m", "y_m", "m", label_key="plain.no_such_text"),
         ),
+        presentation=StagePresentation(title_key="plain.title", render=lambda o, c: None),
     )
     registry = dataclasses.replace(REGISTRY, stages={**REGISTRY.stages, "plain": plain})
     labels = batch.answer_labels("uk", registry)

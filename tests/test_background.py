@@ -18,7 +18,7 @@ from crankdyn.engine.orchestrator import plan, run_plan
 from crankdyn.engine.studies import ForkedRun, ForkedStudies, start_studies
 from crankdyn.errors import Problem, SceneError
 from crankdyn.plugin.registry import Registry
-from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 from crankdyn.scene.model import scene_from_dict
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the studies' child is forked")
@@ -31,13 +31,12 @@ def _scene():
 def stage(name, run, provides=(), requires=(), last=False):
     return Stage(
         name=name,
-        title_key=name,
         requires=tuple(requires),
         provides=tuple(provides),
         applies=lambda scene: None,
         run=run,
-        render=lambda output, ctx: "",
         last=last,
+        presentation=StagePresentation(title_key=name, render=lambda output, ctx: ""),
     )
 
 

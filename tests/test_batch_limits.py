@@ -15,7 +15,7 @@ from openpyxl import load_workbook
 from crankdyn.batch.variants import neutralised, read_variants, run_batch
 from crankdyn.cli import examples_dir
 from crankdyn.plugin.registry import default_registry
-from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 
 BASE = examples_dir() / "kinematics-only.toml"
 HANG_S = 60.0  # far beyond the test's time limit: finishing at all proves the variant was stopped
@@ -38,12 +38,11 @@ def _maybe_hang(scene, inputs):
 
 SLOW_STAGE = Stage(
     name="slow_for_test",
-    title_key="kinematics.title",
     requires=(),
     provides=(),
     applies=lambda scene: None,
     run=_maybe_hang,
-    render=lambda output, ctx: None,
+    presentation=StagePresentation(title_key="kinematics.title", render=lambda output, ctx: None),
 )
 
 

@@ -172,13 +172,14 @@ def test_a_section_that_explains_its_letters_in_its_own_words_gets_no_legend():
         frozenset({"vane"}),
     )
     assert _legends(html) == []
-    assert REGISTRY.stages["forces"].legend
+    assert REGISTRY.stages["forces"].presentation.legend
 
 
 def test_a_mechanism_of_its_own_letters_explains_them_with_its_own_meanings():
     # the vane engine's β is its core's tail angle, not a connecting rod's, and its α is counted from
     # the cranks' upper position, not from a TDC: its own symbols take over in its section
-    assert REGISTRY.stages["vane"].legend and REGISTRY.stages["planetary"].legend
+    assert REGISTRY.stages["vane"].presentation.legend
+    assert REGISTRY.stages["planetary"].presentation.legend
     uk = translator("uk", REGISTRY.catalogs)
     line = _legends(
         add_equation_legends(

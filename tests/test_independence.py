@@ -113,7 +113,8 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics.plane import along, polar
 from crankdyn.report.plausibility import ROD_RATIO
 from crankdyn.plugin.types import (AnswerColumn, Catalog, Guide, Mechanism, MechanismGeometry,
-                                   PlausibilityRule, Stage, StageOutput, Symbol)
+                                   PlausibilityRule, Stage, StageOutput, StagePresentation,
+                                   Symbol)
 
 HERE = Path(__file__).resolve().parent
 NAME = "throwaway_slider"
@@ -149,11 +150,14 @@ def render(output, ctx):
     return ctx.render_template("sections/throwaway_slider.html.j2", r=output.results)
 
 
-STAGE = Stage(name="throwaway_slider", title_key="throwaway_slider.title", requires=(), provides=(),
+STAGE = Stage(name="throwaway_slider", requires=(), provides=(),
               applies=lambda scene: None if scene.engine.mechanism == NAME else "another mechanism",
-              run=run, render=render, template_dir=HERE / "templates",
+              run=run,
               answer_columns=(AnswerColumn("throwaway_stroke_mm", "stroke_m", "mm", factor=1e3),),
-              symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")})
+              presentation=StagePresentation(
+                  title_key="throwaway_slider.title", render=render,
+                  template_dir=HERE / "templates",
+                  symbols={"travel": Symbol("h", {"en": "t"}, "unit.mm")}))
 
 
 @hookimpl

@@ -89,11 +89,12 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     # the example fits Lanchester's shafts (second order): the abstract says what they leave (a
     # supervisor: "C and P_I unbalanced" in the abstract of an engine the section balances)
     assert 2 in balancing["residual"]["balanced_orders"] and balancing["balance_shafts"]
-    # and not what the conclusions call negligible (ΣP_VI = 4,4 Н, under 1 % of C_I)
+    # and what the conclusions call negligible (ΣP_VI = 4,4 Н, under 1 % of C_I) only as small:
+    # the table leaves it, so the abstract may not call the engine balanced without it
+    plain = " ".join(abstract.replace("\u202f", " ").replace("\u00a0", " ").split())
     assert (
-        "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV"
-        in abstract
-        and "ΣPVI" not in abstract
+        "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV; "
+        "залишаються лише малі ΣPVI (менше 1 % від першого порядку)" in plain
     ), abstract
 
 

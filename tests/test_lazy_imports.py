@@ -12,7 +12,7 @@ import time
 
 from crankdyn.engine.orchestrator import run_stage
 from crankdyn.physics import lazy
-from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 
 
 def test_the_physics_and_the_plugins_import_without_scipy_and_import_it_when_called():
@@ -46,12 +46,11 @@ def test_a_stage_is_timed_without_the_import_its_first_call_makes(tmp_path, monk
 
     stage = Stage(
         name="uses_slow",
-        title_key="x",
         requires=(),
         provides=(),
         applies=lambda scene: None,
         run=run,
-        render=lambda output, ctx: "",
+        presentation=StagePresentation(title_key="x", render=lambda output, ctx: ""),
     )
     before = lazy.import_seconds()
     start = time.perf_counter()

@@ -175,7 +175,7 @@ def check_sections_in_html(name, result, html):
     # one for another mechanism, or whose content another section gives, is not (results.json has it)
     t = translator("en", REGISTRY.catalogs)
     for stage, reason in result.plan.skipped.items():
-        title = t(REGISTRY.stages[stage].title_key)
+        title = t(REGISTRY.stages[stage].presentation.title_key)
         line = escape(t("doc.skipped_stage", stage=title, reason=skipped_reason(t, reason)))
         assert (line in html) == (_skip_key(reason) not in UNLISTED_SKIPS), (stage, reason)
     # the error-against-run-time section follows every section whose numbers it judges

@@ -59,7 +59,8 @@ def render_section(result, stage="numerics", language="en", detail="full"):
         scene=scene,
     )
     ctx.start_section(7, stage)
-    html = next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+    look = next(s for s in result.plan.order if s.name == stage).presentation
+    html = look.render(result.outputs[stage], ctx)
     return html, ctx, t
 
 
@@ -439,18 +440,17 @@ def test_a_stage_marked_last_comes_after_the_others_it_does_not_need():
     """Stage.last (used by numerics) orders a summary after every stage ready at the same time."""
     from crankdyn.engine.orchestrator import plan
     from crankdyn.plugin.registry import Registry
-    from crankdyn.plugin.types import Stage, StageOutput
+    from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 
     def stage(name, requires=(), provides=(), last=False):
         return Stage(
             name=name,
-            title_key="x",
             requires=requires,
             provides=provides,
             applies=lambda s: None,
             run=lambda s, i: StageOutput(),
-            render=lambda o, c: None,
             last=last,
+            presentation=StagePresentation(title_key="x", render=lambda o, c: None),
         )
 
     registry = Registry(

@@ -11,22 +11,21 @@ from crankdyn.engine.orchestrator import plan, run_plan, run_scene
 from crankdyn.errors import PluginError, SceneError
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.registry import Registry, collect, default_registry, plugin_manager
-from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 from crankdyn.scene.model import scene_from_dict
 
 
 def _stage(name, requires=(), provides=(), applies=None, default=True):
     return Stage(
         name=name,
-        title_key=name,
         requires=tuple(requires),
         provides=tuple(provides),
         applies=applies or (lambda scene: None),
         run=lambda scene, inputs, p=tuple(provides): StageOutput(
             data={k: (name, dict(inputs)) for k in p}
         ),
-        render=lambda output, ctx: "",
         default=default,
+        presentation=StagePresentation(title_key=name, render=lambda output, ctx: ""),
     )
 
 
@@ -106,12 +105,11 @@ def test_unknown_requested_stage(scene):
 def test_stage_must_return_what_it_provides(scene):
     bad = Stage(
         name="bad",
-        title_key="bad",
         requires=(),
         provides=("x",),
         applies=lambda s: None,
         run=lambda scene, inputs: StageOutput(data={}),
-        render=lambda o, c: "",
+        presentation=StagePresentation(title_key="bad", render=lambda o, c: ""),
     )
     with pytest.raises(PluginError, match="declared provides"):
         run_plan(scene, plan(scene, _registry([bad])))

@@ -35,7 +35,7 @@ from crankdyn.plugin.guard import (
 )
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.registry import collect, plugin_manager
-from crankdyn.plugin.types import Catalog, Mechanism, Stage, StageOutput
+from crankdyn.plugin.types import Catalog, Mechanism, Stage, StageOutput, StagePresentation
 from crankdyn.scene.model import scene_from_dict
 
 SCENE = "kinematics-only"
@@ -45,16 +45,16 @@ def _stroke(scene, inputs) -> StageOutput:
     return StageOutput(results={"stroke_m": 2 * inputs[KINEMATICS].crank_radius_m})
 
 
-def _stage(name: str = "extra", **changes) -> Stage:
-    """A stage after the kinematics that works; ``changes`` replace its parts with broken ones."""
+def _stage(name: str = "extra", render=lambda output, ctx: "<p>extra</p>", **changes) -> Stage:
+    """A stage after the kinematics that works; ``changes`` (and ``render``) replace its parts
+    with broken ones."""
     fields = dict(
         name=name,
-        title_key="extra.title",
         requires=(KINEMATICS,),
         provides=(),
         applies=lambda scene: None,
         run=_stroke,
-        render=lambda output, ctx: "<p>extra</p>",
+        presentation=StagePresentation(title_key="extra.title", render=render),
     )
     fields.update(changes)
     return Stage(**fields)
@@ -173,12 +173,11 @@ def _yoke_plugin(run) -> types.ModuleType:
 
     stage = Stage(
         name="yoke_kinematics",
-        title_key="yoke.title",
         requires=(),
         provides=(KINEMATICS,),
         applies=applies,
         run=run,
-        render=lambda output, ctx: None,
+        presentation=StagePresentation(title_key="yoke.title", render=lambda output, ctx: None),
     )
     return _plugin("yoke_plugin", [stage], [Mechanism(name="nan_yoke", summary="a yoke")])
 
@@ -435,7 +434,7 @@ HANGING = """
     import time
 
     from crankdyn.plugin.hooks import hookimpl
-    from crankdyn.plugin.types import Stage, StageOutput
+    from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 
 
     def _forever(*args):
@@ -452,8 +451,9 @@ HANGING = """
 
 
     def _stage(name, run=_quick, render=lambda output, ctx: "<p>slow</p>", last=False):
-        return Stage(name=name, title_key="slow.title", requires=("kinematics",), provides=(),
-                     applies=_applies, run=run, render=render, last=last)
+        return Stage(name=name, requires=("kinematics",), provides=(), applies=_applies,
+                     run=run, last=last,
+                     presentation=StagePresentation(title_key="slow.title", render=render))
 
 
     @hookimpl
@@ -595,6 +595,10 @@ def test_the_python_api_stops_a_stage_that_never_ends_within_a_time_limit(tmp_pa
 
 def test_dataclass_replace_keeps_the_guard_on_a_registered_stage():
     registry = _registry(_plugin("bad_plugin", [_stage(applies=lambda scene: 7)]))
-    stage = dataclasses.replace(registry.stages["extra"], title_key="other.title")
+    registered = registry.stages["extra"]
+    stage = dataclasses.replace(
+        registered,
+        presentation=dataclasses.replace(registered.presentation, title_key="other.title"),
+    )
     with pytest.raises(PluginFailure, match="applies returned 7"):
         stage.applies(_scene())

@@ -17,7 +17,13 @@ from crankdyn.cli import examples_dir, main, missing_translations_line
 from crankdyn.engine.orchestrator import plan
 from crankdyn.errors import PluginError
 from crankdyn.plugin.registry import Registry, default_registry
-from crankdyn.plugin.types import SERVICE_RUNNER, AnswerColumn, Stage, StageOutput
+from crankdyn.plugin.types import (
+    SERVICE_RUNNER,
+    AnswerColumn,
+    Stage,
+    StageOutput,
+    StagePresentation,
+)
 from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
@@ -26,12 +32,11 @@ REGISTRY = default_registry()
 def _stage(requires, applies=lambda scene: None, name="friction"):
     return Stage(
         name=name,
-        title_key="friction.title",
         requires=tuple(requires),
         provides=(),
         applies=applies,
         run=lambda scene, inputs: StageOutput(results={"x": 1.0}),
-        render=lambda output, ctx: "",
+        presentation=StagePresentation(title_key="friction.title", render=lambda output, ctx: ""),
     )
 
 

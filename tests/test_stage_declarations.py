@@ -13,7 +13,7 @@ from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import plan, run_plan, run_scene
 from crankdyn.errors import PluginError
 from crankdyn.plugin.registry import Registry, default_registry
-from crankdyn.plugin.types import Stage, StageOutput, declared
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation, declared
 from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment, render_html
 from crankdyn.report.figures import new_figure
@@ -49,14 +49,12 @@ def _throwaway(figures=(), tables=(), draw="plot", table="main"):
 
     return Stage(
         name="throwaway",
-        title_key="throwaway.title",
         requires=(),
         provides=(),
         applies=lambda s: None,
         run=run,
-        render=render,
-        figures=figures,
         tables=tables,
+        presentation=StagePresentation(title_key="throwaway.title", render=render, figures=figures),
     )
 
 

@@ -20,7 +20,7 @@ from crankdyn.cli import examples_dir
 from crankdyn.engine import studies as background
 from crankdyn.engine.studies import StudyWorker
 from crankdyn.plugin.registry import Registry
-from crankdyn.plugin.types import Stage, StageOutput
+from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
 from crankdyn.preview import server as serve
 from crankdyn.preview.server import Preview
 from crankdyn.scene.model import scene_from_dict
@@ -233,13 +233,12 @@ def test_a_quick_study_is_waited_for_and_the_page_is_shown_once_whole(scene, tak
 def _stage(name, run, provides=(), requires=(), last=False):
     return Stage(
         name=name,
-        title_key=name,
         requires=tuple(requires),
         provides=tuple(provides),
         applies=lambda scene: None,
         run=run,
-        render=lambda output, ctx: "",
         last=last,
+        presentation=StagePresentation(title_key=name, render=lambda output, ctx: ""),
     )
 
 

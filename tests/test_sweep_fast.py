@@ -28,7 +28,7 @@ from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import is_study, plan, run_stage, stage_inputs
 from crankdyn.parallel.pool import OutOfTime
 from crankdyn.plugin.registry import Registry, default_registry
-from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput
+from crankdyn.plugin.types import AnswerColumn, Stage, StageOutput, StagePresentation
 
 PETROL = examples_dir() / "petrol-1cyl.toml"
 RELATIVE = 1e-9
@@ -299,13 +299,14 @@ def _hang_at(scene, inputs):
 def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_fails(monkeypatch):
     hanging = Stage(
         name="hang_for_test",
-        title_key="kinematics.title",
         requires=(),
         provides=(),
         applies=lambda scene: None,
         run=_hang_at,
-        render=lambda output, ctx: None,
         answer_columns=(AnswerColumn("hang_x", "x"),),
+        presentation=StagePresentation(
+            title_key="kinematics.title", render=lambda output, ctx: None
+        ),
     )
     registry = default_registry()
     stages = {**registry.stages, hanging.name: hanging}
@@ -332,13 +333,14 @@ def test_a_chunk_given_no_time_stops_before_its_first_stage():
 
     counted = Stage(
         name="count_for_test",
-        title_key="kinematics.title",
         requires=(),
         provides=(),
         applies=lambda scene: None,
         run=counting,
-        render=lambda output, ctx: None,
         answer_columns=(AnswerColumn("count_x", "x"),),
+        presentation=StagePresentation(
+            title_key="kinematics.title", render=lambda output, ctx: None
+        ),
     )
     registry = default_registry()
     registry = dataclasses.replace(registry, stages={**registry.stages, counted.name: counted})

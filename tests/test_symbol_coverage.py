@@ -208,12 +208,15 @@ def test_the_error_tables_count_of_angles_is_not_the_series_n():
 
 
 def test_every_stage_symbol_has_a_meaning_in_every_language():
-    """A stage's own letters (Stage.symbols) are explained from its plugin's catalogs, as
+    """A stage's own letters (StagePresentation.symbols) are explained from its plugin's catalogs, as
     ``symbol.<stage>.<key>``, in each report language; a meaning is plain text (no "_" the list
     would print as it is)."""
     registry = default_registry()
     declared = [
-        f"{stage.name}.{key}" for stage in registry.stages.values() for key in stage.symbols
+        f"{stage.name}.{key}"
+        for stage in registry.stages.values()
+        if stage.presentation is not None
+        for key in stage.presentation.symbols
     ]
     assert len(declared) >= 58 and all(key in SYMBOLS for key in declared)
     for language in LANGUAGES:

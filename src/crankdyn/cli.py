@@ -816,11 +816,24 @@ def _csv_list(text: str) -> list[str]:
 
 
 def _explore(args) -> int:
-    from .physics import firing_explorer  # lazy: heavy optional import (numpy, scipy: per command)
-    from .physics.layout import (
-        LayoutError,  # lazy: heavy optional import (numpy, scipy: per command)
-    )
+    """The explore command: rank the firing orders asked for, print them as text or JSON."""
+    _check_explore_args(args)
+    start = time.perf_counter()
+    result = _firing_ranking(args)
+    seconds = time.perf_counter() - start
+    if args.json:
+        print(
+            json.dumps(
+                {**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False
+            )
+        )
+        return 0
+    _print_firing_ranking(args, result, seconds)
+    return 0
 
+
+def _check_explore_args(args) -> None:
+    """The explore command's numbers are in range and the bank angle is given where it applies."""
     if not 1 <= args.cylinders <= 24:
         raise SceneError(Problem("--cylinders", args.cylinders, "a whole number from 1 to 24"))
     if args.top < 1:
@@ -846,9 +859,18 @@ def _explore(args) -> int:
                 "an angle in degrees, > 0 and < 360 (as engine.bank_angle_deg)",
             )
         )
-    start = time.perf_counter()
+
+
+def _firing_ranking(args):
+    """The ranking of the firing orders the explore command asks for; a layout or a count it
+    cannot rank raises SceneError naming the option."""
+    from .physics import firing_explorer  # lazy: heavy optional import (numpy, scipy: per command)
+    from .physics.layout import (
+        LayoutError,  # lazy: heavy optional import (numpy, scipy: per command)
+    )
+
     try:
-        result = firing_explorer.explore(
+        return firing_explorer.explore(
             args.cylinders,
             args.layout,
             args.strokes,
@@ -868,14 +890,10 @@ def _explore(args) -> int:
                 f"{exc}; list the best ones with --top N, N <= {firing_explorer.MAX_RANKED_ORDERS}",
             )
         ) from None
-    seconds = time.perf_counter() - start
-    if args.json:
-        print(
-            json.dumps(
-                {**dataclasses.asdict(result), "seconds": seconds}, indent=1, ensure_ascii=False
-            )
-        )
-        return 0
+
+
+def _print_firing_ranking(args, result, seconds: float) -> None:
+    """Print the explore command's ranking as a text table."""
     print(
         f"crankdyn explore: {args.cylinders}-cylinder {args.layout} {args.strokes}-stroke"
         + (f", bank angle {args.bank_angle:g} deg" if args.bank_angle is not None else "")
@@ -884,7 +902,7 @@ def _explore(args) -> int:
     )
     if result.reason:
         print(f"  no even-firing arrangement: {result.reason}")
-        return 0
+        return
     print(
         "  ranked by: first-order parts needing balance shafts, second order, what counterweights cure, then "
         "consecutive firings of neighbours / on one pin / on one half of the shaft"
@@ -902,7 +920,6 @@ def _explore(args) -> int:
             f"{c['M_PI']:6.3f} {c['sum_PII']:7.3f} {c['M_PII']:6.3f} {row.neighbours:>3} {row.same_pin:>3} "
             f"{row.same_half:>4}"
         )
-    return 0
 
 
 def _check(args) -> int:

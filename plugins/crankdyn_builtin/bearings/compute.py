@@ -201,76 +201,32 @@ def run(scene, inputs) -> StageOutput:
     layout = bays.layout
     cranks = layout.cranks
     angle = loads.crank_angle_deg
-    theta = np.radians(angle)
     area = loads.piston_area_m2
     d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
-    for key, values, limit in (
-        ("bearings.pins", opts.pins, cranks),
-        ("bearings.journals", opts.journals, cranks + 1),
-    ):
-        if values is not None and any(not 1 <= v <= limit for v in values):
-            raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
-
+    _check_drawn_numbers(opts, cranks)
     pin_t, pin_z, rod_t, rod_z = _pin_and_rod_loads(loads, bays, motion, layout)
-
-    # Main journals: each crank a beam on two supports; forces in the engine frame.
-    # each crank's angle from the engine's vertical (the cylinder axis of a one-cylinder engine)
-    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
-    positions = np.array([theta + tdc - np.radians(lag) for lag in layout.crank_lag_deg])
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
-    fa, fn = brg.crank_force_engine_frame(
-        loads.tangential_Pa + cw_t[:, None],
-        loads.radial_Pa + cw_z[:, None],
-        loads.centrifugal_Pa,
-        positions,
-    )
-    share_after = np.full(cranks, opts.span_ratio)
-    ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
-    # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
-    # preceding crank (crank 1 for the free-end journal); bearing diagram: J in engine axes.
-    journal_t, journal_z = np.zeros_like(ja), np.zeros_like(ja)
-    for j in range(cranks + 1):
-        e_t, e_z = brg.crank_axes(positions[max(j - 1, 0)])
-        journal_t[j], journal_z[j] = brg.to_frame(-ja[j], -jn[j], e_t, e_z)
-    engine_t, engine_z = brg.crank_axes(np.zeros(1))
-    bearing_t, bearing_z = brg.to_frame(ja, jn, engine_t, engine_z)
-
-    def summary(t, z, d, w):
-        s = brg.polar_summary(t, z, area, d, w, angle)
-        # Contact point on the rotating part: opposite to the force applied to it.
-        psi, wear = brg.wear_diagram(-t, -z, np.hypot(t, z) * area, opts.wear_spread_deg)
-        start, end, centre = brg.least_loaded_arc(psi, wear)
-        s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
-        return s, (psi, wear)
-
+    journal, bearing = _main_journal_loads(loads, motion, layout, (cw_t, cw_z), opts.span_ratio)
     pins, wear_pins = zip(
-        *[summary(pin_t[k], pin_z[k], d_pin, w_pin) for k in range(cranks)], strict=True
-    )
-    journals, wear_journals = zip(
-        *[summary(journal_t[j], journal_z[j], d_main, w_main) for j in range(cranks + 1)],
+        *[
+            _diagram_summary(pin_t[k], pin_z[k], d_pin, w_pin, area, angle, opts)
+            for k in range(cranks)
+        ],
         strict=True,
     )
-    most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
-    most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
-    drawn_pins = opts.pins or [most_loaded_pin]
-    drawn_journals = opts.journals or [most_loaded_journal]
-
+    journals, wear_journals = zip(
+        *[
+            _diagram_summary(journal[0][j], journal[1][j], d_main, w_main, area, angle, opts)
+            for j in range(cranks + 1)
+        ],
+        strict=True,
+    )
     area_needed = pin_area_needed_m2(pins, _ignition_kind(scene))
     results = {
         # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
         "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
-        "dimensions": {
-            "crank_pin_diameter_m": d_pin,
-            "crank_pin_width_m": w_pin,
-            "main_journal_diameter_m": d_main,
-            "main_journal_width_m": w_main,
-            "defaulted": defaulted,
-            # the pin's d·B, and its width at its diameter, that the allowable
-            # pressures need
-            "crank_pin_area_needed_m2": area_needed,
-            "crank_pin_width_needed_m": area_needed / d_pin,
-        },
+        "dimensions": _dimension_results((d_pin, w_pin, d_main, w_main), defaulted, area_needed),
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "main_journals": [
@@ -283,24 +239,15 @@ def run(scene, inputs) -> StageOutput:
         "main_bearings": [
             {
                 "journal": lay.journal_label(j),
-                **brg.polar_summary(bearing_t[j], bearing_z[j], area, d_main, w_main),
+                **brg.polar_summary(bearing[0][j], bearing[1][j], area, d_main, w_main),
             }
             for j in range(cranks + 1)
         ],
-        "drawn_pins": drawn_pins,
-        "drawn_journals": drawn_journals,
-        "span_ratio": opts.span_ratio,  # l'/l of every crank
-        "chosen_by_default": opts.pins is None and opts.journals is None,
+        **_drawn_diagrams(opts, pins, journals),
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
     }
     tables = _tables(
-        angle,
-        (pin_t, pin_z),
-        (rod_t, rod_z),
-        (journal_t, journal_z),
-        (bearing_t, bearing_z),
-        wear_pins,
-        wear_journals,
+        angle, (pin_t, pin_z), (rod_t, rod_z), journal, bearing, wear_pins, wear_journals
     )
     return StageOutput(
         data={},
@@ -308,3 +255,82 @@ def run(scene, inputs) -> StageOutput:
         tables=tables,
         notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [],
     )
+
+
+def _dimension_results(sizes, defaulted: list[str], area_needed: float) -> dict:
+    """The journals' sizes (``sizes``: pin diameter and width, main journal diameter and width,
+    m), which of them were assumed, and the pin's area and width the allowable pressures need."""
+    d_pin, w_pin, d_main, w_main = sizes
+    return {
+        "crank_pin_diameter_m": d_pin,
+        "crank_pin_width_m": w_pin,
+        "main_journal_diameter_m": d_main,
+        "main_journal_width_m": w_main,
+        "defaulted": defaulted,
+        # the pin's d·B, and its width at its diameter, that the allowable
+        # pressures need
+        "crank_pin_area_needed_m2": area_needed,
+        "crank_pin_width_needed_m": area_needed / d_pin,
+    }
+
+
+def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:
+    """The crank pins and main journals asked to be drawn exist on this crankshaft."""
+    for key, values, limit in (
+        ("bearings.pins", opts.pins, cranks),
+        ("bearings.journals", opts.journals, cranks + 1),
+    ):
+        if values is not None and any(not 1 <= v <= limit for v in values):
+            raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
+
+
+def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: float):
+    """((t, z) of the bearings' force on each main journal in the preceding crank's axes,
+    (t, z) of the journals' force on each main bearing in the engine's axes), Pa."""
+    # Main journals: each crank a beam on two supports; forces in the engine frame.
+    # each crank's angle from the engine's vertical (the cylinder axis of a one-cylinder engine)
+    cranks = layout.cranks
+    theta = np.radians(loads.crank_angle_deg)
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    positions = np.array([theta + tdc - np.radians(lag) for lag in layout.crank_lag_deg])
+    cw_t, cw_z = counterweight_Pa
+    fa, fn = brg.crank_force_engine_frame(
+        loads.tangential_Pa + cw_t[:, None],
+        loads.radial_Pa + cw_z[:, None],
+        loads.centrifugal_Pa,
+        positions,
+    )
+    share_after = np.full(cranks, span_ratio)
+    ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
+    # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
+    # preceding crank (crank 1 for the free-end journal); bearing diagram: J in engine axes.
+    journal_t, journal_z = np.zeros_like(ja), np.zeros_like(ja)
+    for j in range(cranks + 1):
+        e_t, e_z = brg.crank_axes(positions[max(j - 1, 0)])
+        journal_t[j], journal_z[j] = brg.to_frame(-ja[j], -jn[j], e_t, e_z)
+    engine_t, engine_z = brg.crank_axes(np.zeros(1))
+    return (journal_t, journal_z), brg.to_frame(ja, jn, engine_t, engine_z)
+
+
+def _diagram_summary(t, z, d, w, area, angle, opts: BearingOptions):
+    """(summary of a polar load diagram with its oil hole and least loaded arc, its wear
+    diagram (psi, wear))."""
+    s = brg.polar_summary(t, z, area, d, w, angle)
+    # Contact point on the rotating part: opposite to the force applied to it.
+    psi, wear = brg.wear_diagram(-t, -z, np.hypot(t, z) * area, opts.wear_spread_deg)
+    start, end, centre = brg.least_loaded_arc(psi, wear)
+    s.update({"oil_hole_deg": centre, "least_loaded_arc_deg": [start, end]})
+    return s, (psi, wear)
+
+
+def _drawn_diagrams(opts: BearingOptions, pins, journals) -> dict:
+    """The pins and journals whose diagrams are drawn (the most loaded ones unless chosen), the
+    span ratio and whether the choice was the default."""
+    most_loaded_pin = first_argmax([p["max_N"] for p in pins]) + 1
+    most_loaded_journal = first_argmax([j["max_N"] for j in journals]) + 1
+    return {
+        "drawn_pins": opts.pins or [most_loaded_pin],
+        "drawn_journals": opts.journals or [most_loaded_journal],
+        "span_ratio": opts.span_ratio,  # l'/l of every crank
+        "chosen_by_default": opts.pins is None and opts.journals is None,
+    }

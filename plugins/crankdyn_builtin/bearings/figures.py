@@ -107,6 +107,27 @@ def _polar_drawing(
     )  # one artist for all marks
     ax.axhline(0, color="0.3", lw=0.6)
     ax.axvline(0, color="0.3", lw=0.6)
+    # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
+    # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
+    # z grows downwards on the page
+    box_pt = ((width_cm - 2.0) * 72 / 2.54, (height_cm - 2.2) * 72 / 2.54)
+    per_pt = 1.1 * max(shown_t / box_pt[0], shown_z / box_pt[1], 1e-12)
+    _angle_labels(ax, translator, (t, z), angle, every, span, per_pt, (pole_z, radius, oil_deg))
+    _pole_and_journal(ax, pole_z, radius, oil_deg)
+    ax.set_aspect("equal")
+    ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
+    ax.set_xlabel(f"{axes[0]}, " + translator("unit.MPa"))
+    ax.set_ylabel(f"{axes[1]}, " + translator("unit.MPa"))
+    ax.set_title(title, fontsize=9)
+    return fig
+
+
+def _angle_labels(ax, translator, curve_tz, angle, every, span, per_pt, journal) -> None:
+    """Label every marked point of the diagram with its crank angle where a label fits
+    (``journal``: the pole's z, the journal's drawn radius and the oil hole's angle)."""
+    t, z = curve_tz
+    pole_z, radius, oil_deg = journal
+    step = angle[1] - angle[0]
     # Points that (nearly) coincide, as alpha and alpha + 360 deg do where inertia dominates, get
     # one label "210, 570" instead of two printed over each other.
     groups = _coinciding(t[::every], z[::every], 0.03 * span)
@@ -114,28 +135,9 @@ def _polar_drawing(
         ", ".join(translator.angle(angle[k * every], step) for k in same) for _, same in groups
     ]
     anchors = [(t[i * every], z[i * every]) for i, _ in groups]
-    # the axes take the figure less about 2 cm for the tick labels, axis labels and title; with
-    # equal aspect the range that fills its box sets the scale (matplotlib's 5 % margins added);
-    # z grows downwards on the page
-    box_pt = ((width_cm - 2.0) * 72 / 2.54, (height_cm - 2.2) * 72 / 2.54)
-    per_pt = 1.1 * max(shown_t / box_pt[0], shown_z / box_pt[1], 1e-12)
     screen = [(x, -y) for x, y in anchors]
-    low_t, high_t = min(np.min(t), -radius), max(np.max(t), radius)
-    low_z, high_z = min(np.min(z), pole_z - radius), max(np.max(z), pole_z + radius)
-    margin_t, margin_z = (
-        0.05 * (high_t - low_t),
-        0.05 * (high_z - low_z),
-    )  # matplotlib's own margins
-    bounds = (low_t - margin_t, -(high_z + margin_z), high_t + margin_t, -(low_z - margin_z))
-    # the largest load's label first, then the dead centres' (multiples of 90 deg), then the rest
-    q = np.hypot([a[0] for a in anchors], [a[1] - pole_z for a in anchors])
-    peak = int(np.argmax(q)) if len(q) else 0
-
-    def rank(g: int):
-        angles = [angle[k * every] for k in groups[g][1]]
-        return (g != peak, not any(abs(a % 90.0) < 1e-9 for a in angles), g)
-
-    order = sorted(range(len(groups)), key=rank)
+    bounds = _screen_bounds(t, z, pole_z, radius)
+    order = _label_order(anchors, groups, angle, every, pole_z)
     obstacles = _pole_and_oil_hole(pole_z, radius, oil_deg, per_pt)
     curve = _curve_samples(t, -z, 2.0 * per_pt)  # screen coordinates, as the labels'
     for (x, y), text, place in zip(
@@ -155,6 +157,35 @@ def _polar_drawing(
                 ha=ha,
                 va=va,
             )
+
+
+def _screen_bounds(t, z, pole_z: float, radius: float) -> tuple[float, float, float, float]:
+    """The drawn area (t low, -z high, t high, -z low) in screen coordinates, with matplotlib's
+    own 5 % margins around the curve and the journal's circle."""
+    low_t, high_t = min(np.min(t), -radius), max(np.max(t), radius)
+    low_z, high_z = min(np.min(z), pole_z - radius), max(np.max(z), pole_z + radius)
+    margin_t, margin_z = (
+        0.05 * (high_t - low_t),
+        0.05 * (high_z - low_z),
+    )  # matplotlib's own margins
+    return (low_t - margin_t, -(high_z + margin_z), high_t + margin_t, -(low_z - margin_z))
+
+
+def _label_order(anchors, groups, angle, every, pole_z: float) -> list[int]:
+    """The order labels are placed in: the largest load's first, then the dead centres'
+    (multiples of 90 deg), then the rest."""
+    q = np.hypot([a[0] for a in anchors], [a[1] - pole_z for a in anchors])
+    peak = int(np.argmax(q)) if len(q) else 0
+
+    def rank(g: int):
+        angles = [angle[k * every] for k in groups[g][1]]
+        return (g != peak, not any(abs(a % 90.0) < 1e-9 for a in angles), g)
+
+    return sorted(range(len(groups)), key=rank)
+
+
+def _pole_and_journal(ax, pole_z: float, radius: float, oil_deg) -> None:
+    """Draw the journal's circle about the pole O and the oil hole's direction."""
     circle = np.linspace(0, 2 * np.pi, 200)
     # The pole O, where the journal sits (shifted from O1 by the constant centrifugal load).
     ax.plot(radius * np.sin(circle), pole_z + radius * np.cos(circle), color="0.2", lw=0.8)
@@ -168,12 +199,6 @@ def _polar_drawing(
             [0, radius * np.sin(psi)], [pole_z, pole_z + radius * np.cos(psi)], color="C2", lw=2
         )
         ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
-    ax.set_aspect("equal")
-    ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
-    ax.set_xlabel(f"{axes[0]}, " + translator("unit.MPa"))
-    ax.set_ylabel(f"{axes[1]}, " + translator("unit.MPa"))
-    ax.set_title(title, fontsize=9)
-    return fig
 
 
 def _side_by_side(pairs: list) -> list:

@@ -31,7 +31,6 @@ def _load_range(ctx, kind: str, load: dict, name) -> str:
 
 
 def render(output: StageOutput, ctx) -> str | None:
-    t = ctx.t
     r = output.results
     f = output.tables.arrays("bearings")
     angle = f["crank_angle_deg"]
@@ -39,9 +38,33 @@ def render(output: StageOutput, ctx) -> str | None:
     figures = _side_by_side(_polar_diagrams(ctx, r, f, angle, single))
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
+    table_pins = _pins_table(ctx, r, single)
+    table_journals, journals_table_number = _journals_table(ctx, r, single)
+    table_journals += worked_bearing(ctx, r, "journal")
+    # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
+    pins_equal = loads_equal(r["crank_pins"])
+    _conclude(ctx, r, single, pins_equal, journals_table_number)
+    journal_names = ", ".join(journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"])
+    return ctx.render_template(
+        "sections/bearings.html.j2",
+        r=r,
+        figures=figures,
+        table_pins=table_pins,
+        analysis=_load_ranges(ctx, r, single),
+        table_journals=table_journals,
+        dims=r["dimensions"],
+        shared_pins=_shared_pins(ctx, r),
+        single=single,
+        journal_names=journal_names,
+        pins_equal=pins_equal,
+    )
 
+
+def _pins_table(ctx, r, single: bool) -> str:
+    """The crank pins' loads, pressures and oil holes, with their worked substitutions."""
+    t = ctx.t
     pins, pin_labels = pin_rows(r["crank_pins"])
-    table_pins = ctx.table(
+    return ctx.table(
         [
             (t("bearings.crank"), pin_labels, None),
             ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
@@ -55,30 +78,20 @@ def render(output: StageOutput, ctx) -> str | None:
         ),
         see="bearings.see_pins_single" if single else "bearings.see_pins",
     ) + worked_bearing(ctx, r, "pin")
-    table_journals = ctx.table(
+
+
+def _journals_table(ctx, r, single: bool) -> tuple[str, str]:
+    """(the main journals' loads, pressures and oil holes, the table's number)."""
+    t = ctx.t
+    journals = r["main_journals"]
+    table = ctx.table(
         [
-            (t("bearings.journal"), [journal_name(j) for j in r["main_journals"]], None),
-            (
-                "<i>R</i><sub>max</sub>, " + t("unit.kN"),
-                [j["max_N"] / 1e3 for j in r["main_journals"]],
-                2,
-            ),
-            (
-                "<i>R</i><sub>mean</sub>, " + t("unit.kN"),
-                [j["mean_N"] / 1e3 for j in r["main_journals"]],
-                2,
-            ),
-            (
-                "<i>p</i><sub>max</sub>, " + t("unit.MPa"),
-                [j["max_MPa"] for j in r["main_journals"]],
-                2,
-            ),
-            (
-                "<i>p</i><sub>mean</sub>, " + t("unit.MPa"),
-                [j["mean_MPa"] for j in r["main_journals"]],
-                2,
-            ),
-            (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in r["main_journals"]], 0),
+            (t("bearings.journal"), [journal_name(j) for j in journals], None),
+            ("<i>R</i><sub>max</sub>, " + t("unit.kN"), [j["max_N"] / 1e3 for j in journals], 2),
+            ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in journals], 2),
+            ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in journals], 2),
+            ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in journals], 2),
+            (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in journals], 0),
         ],
         caption=t(
             "bearings.journals_table_caption_single"
@@ -87,13 +100,16 @@ def render(output: StageOutput, ctx) -> str | None:
         ),
         see="bearings.see_journals",
     )
-    journals_table_number = ctx.last_table_number
-    table_journals += worked_bearing(ctx, r, "journal")
+    return table, ctx.last_table_number
+
+
+def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> None:
+    """The finding and the conclusion: the drawn crank pin's and the most loaded journal's loads,
+    pressures and oil holes, with the digits the tables print."""
+    t = ctx.t
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
     # the digits of table 7.1, which the conclusion repeats
-    # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
-    pins_equal = loads_equal(r["crank_pins"])
     conclusion = (
         "bearings.conclusion_single"
         if single
@@ -129,8 +145,10 @@ def render(output: StageOutput, ctx) -> str | None:
             table=journals_table_number,
         )
     )
-    d = r["dimensions"]
-    journal_names = ", ".join(journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"])
+
+
+def _load_ranges(ctx, r, single: bool) -> str:
+    """What the drawn pins' and journals' diagrams show, a sentence each."""
     analysis = [
         _load_range(ctx, "pin_single" if single else "pin", r["crank_pins"][k - 1], k)
         for k in r["drawn_pins"]
@@ -141,19 +159,7 @@ def render(output: StageOutput, ctx) -> str | None:
         )
         for j in r["drawn_journals"]
     ]
-    return ctx.render_template(
-        "sections/bearings.html.j2",
-        r=r,
-        figures=figures,
-        table_pins=table_pins,
-        analysis=" ".join(a for a in analysis if a),
-        table_journals=table_journals,
-        dims=d,
-        shared_pins=_shared_pins(ctx, r),
-        single=single,
-        journal_names=journal_names,
-        pins_equal=pins_equal,
-    )
+    return " ".join(a for a in analysis if a)
 
 
 #: The crank's angle from the cylinder axis of an offset crank-slider (symbol.bearings.<key>).

@@ -223,45 +223,72 @@ def _forces(scene, inputs, curves: dict | None = None):
     its :func:`_curves` when ``run_many`` has computed them."""
     motion, gas = inputs[KINEMATICS], inputs[GAS_PRESSURE]
     engine = scene.engine
-    alpha = motion.crank_angle_rad
-    radius, omega = motion.crank_radius_m, motion.angular_velocity_rad_s
-    ratio = engine.rod_ratio_value
+    radius = motion.crank_radius_m
     area = phys.piston_area_m2(engine.bore)
-    reciprocating, rotating, rod_reciprocating, rod_rotating = _masses(scene)
+    masses = _masses(scene)
     if curves is None:
-        crank_from_axis, beta = _beta(motion, alpha)
-        curves = _curves(
-            alpha,
-            crank_from_axis,
-            beta,
-            gas.pressure_Pa,
-            motion.piston_acceleration_m_s2,
-            engine.crankcase_pressure,
-            radius,
-            omega,
-            ratio,
-            area,
-            reciprocating,
-            rotating,
-            rod_rotating,
-        )
-    gas_Pa, inertia_Pa, total_Pa = curves["gas_Pa"], curves["inertia_Pa"], curves["total_Pa"]
-    first_Pa, second_Pa, rod = curves["first_Pa"], curves["second_Pa"], curves["rod"]
-    centrifugal_Pa, centrifugal_rod_Pa = curves["centrifugal_Pa"], curves["centrifugal_rod_Pa"]
-    resultant_Pa, torque = curves["resultant_Pa"], curves["torque_Nm"]
-    inertia_torque = curves["inertia_torque_Nm"]
-    exact = _exact_rod_loads(scene, motion, gas_Pa, area, rod, centrifugal_rod_Pa)
+        curves = _scene_curves(scene, motion, gas, area, masses)
+    rod, resultant_Pa, torque = curves["rod"], curves["resultant_Pa"], curves["torque_Nm"]
+    exact = _exact_rod_loads(
+        scene, motion, curves["gas_Pa"], area, rod, curves["centrifugal_rod_Pa"]
+    )
     if exact is not None:
         rod = exact["rod"]
         resultant_Pa = phys.resultant_crank_pin_pressure_Pa(
-            rod.tangential_Pa, rod.radial_Pa, centrifugal_Pa
+            rod.tangential_Pa, rod.radial_Pa, curves["centrifugal_Pa"]
         )
         torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
+    results = _forces_results(engine, motion, gas, curves, masses, area, torque)
+    series = (
+        ("total", "Pa", curves["total_Pa"]),
+        ("side", "Pa", rod.side_Pa),
+        ("rod", "Pa", rod.rod_Pa),
+        ("tangential", "Pa", rod.tangential_Pa),
+        ("radial", "Pa", rod.radial_Pa),
+        ("resultant", "Pa", resultant_Pa),
+        ("torque", "Nm", torque),
+    )
+
+    def finish(extremes: dict) -> StageOutput:
+        results.update(extremes)
+        loads = (rod, resultant_Pa, torque)
+        return _forces_output(results, engine, motion, curves, loads, exact, area)
+
+    return series, finish
+
+
+def _scene_curves(scene, motion, gas, area: float, masses) -> dict:
+    """The force and torque curves of one scene (:func:`_curves`)."""
+    engine = scene.engine
+    reciprocating, rotating, _, rod_rotating = masses
+    alpha = motion.crank_angle_rad
+    crank_from_axis, beta = _beta(motion, alpha)
+    return _curves(
+        alpha,
+        crank_from_axis,
+        beta,
+        gas.pressure_Pa,
+        motion.piston_acceleration_m_s2,
+        engine.crankcase_pressure,
+        motion.crank_radius_m,
+        motion.angular_velocity_rad_s,
+        engine.rod_ratio_value,
+        area,
+        reciprocating,
+        rotating,
+        rod_rotating,
+    )
+
+
+def _forces_results(engine, motion, gas, curves: dict, masses, area: float, torque) -> dict:
+    """The stage's results but the extremes: piston area, masses, centrifugal and inertia
+    pressures, the mean torque against the indicated work's and the inertia torque's work."""
+    reciprocating, rotating, rod_reciprocating, rod_rotating = masses
+    centrifugal_Pa, inertia_torque = curves["centrifugal_Pa"], curves["inertia_torque_Nm"]
     revolutions_per_cycle = engine.strokes / 2
     mean_torque = float(np.mean(torque))
     mean_from_work = gas.indicated_work_J / (2 * np.pi * revolutions_per_cycle)
     cycle_rad = 2 * np.pi * revolutions_per_cycle
-
     results = {
         "piston_area_m2": area,
         "reciprocating_mass_kg": reciprocating,
@@ -269,12 +296,14 @@ def _forces(scene, inputs, curves: dict | None = None):
         "rod_rotating_mass_kg": rod_rotating,
         "rotating_mass_kg": rotating,
         "centrifugal_Pa": centrifugal_Pa,
-        "centrifugal_rod_Pa": centrifugal_rod_Pa,
+        "centrifugal_rod_Pa": curves["centrifugal_rod_Pa"],
         "centrifugal_N": centrifugal_Pa * area,
         "inertia_tdc_Pa": float(
             phys.inertia_pressure_Pa(reciprocating, motion.piston_acceleration_m_s2[0], area)
         ),
-        "inertia_higher_orders_max_Pa": _higher_orders_max_Pa(inertia_Pa, first_Pa, second_Pa),
+        "inertia_higher_orders_max_Pa": _higher_orders_max_Pa(
+            curves["inertia_Pa"], curves["first_Pa"], curves["second_Pa"]
+        ),
         "mean_torque_Nm": mean_torque,
         "mean_torque_from_work_Nm": mean_from_work,
         "mean_torque_deviation_percent": 100.0 * (mean_torque - mean_from_work) / mean_from_work
@@ -286,59 +315,50 @@ def _forces(scene, inputs, curves: dict | None = None):
         else 0.0,
     }
     results.update(_effective(engine, mean_from_work))
-    series = (
-        ("total", "Pa", total_Pa),
-        ("side", "Pa", rod.side_Pa),
-        ("rod", "Pa", rod.rod_Pa),
-        ("tangential", "Pa", rod.tangential_Pa),
-        ("radial", "Pa", rod.radial_Pa),
-        ("resultant", "Pa", resultant_Pa),
-        ("torque", "Nm", torque),
-    )
+    return results
 
-    def finish(extremes: dict) -> StageOutput:
-        results.update(extremes)
-        pressures = {
-            "gas_Pa": gas_Pa,
-            "inertia_Pa": inertia_Pa,
-            "inertia_first_order_Pa": first_Pa,
-            "inertia_second_order_Pa": second_Pa,
-            "total_Pa": total_Pa,
-        }
-        frame = _forces_table(motion, pressures, rod, resultant_Pa, torque)
-        notes = []
-        if exact is not None:
-            results["rod_model"] = "exact"
-            results["exact_rod"] = exact["results"]
-            frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
-            notes.append(
-                (
-                    "forces.note_exact_rod",
-                    {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS},
-                )
+
+def _forces_output(results: dict, engine, motion, curves: dict, loads, exact, area: float):
+    """The stage's output from its complete ``results``: the forces handed on, the forces table
+    (the exact rod model's columns last) and the notes."""
+    rod, resultant_Pa, torque = loads
+    pressures = {
+        "gas_Pa": curves["gas_Pa"],
+        "inertia_Pa": curves["inertia_Pa"],
+        "inertia_first_order_Pa": curves["first_Pa"],
+        "inertia_second_order_Pa": curves["second_Pa"],
+        "total_Pa": curves["total_Pa"],
+    }
+    frame = _forces_table(motion, pressures, rod, resultant_Pa, torque)
+    notes = []
+    if exact is not None:
+        results["rod_model"] = "exact"
+        results["exact_rod"] = exact["results"]
+        frame = {**frame, **exact["columns"]}  # as DataFrame.assign: new columns last
+        notes.append(
+            (
+                "forces.note_exact_rod",
+                {k: v for k, v in exact["results"].items() if k in _NOTE_KEYS},
             )
-        data = CrankForces(
-            crank_angle_deg=motion.crank_angle_deg,
-            gas_Pa=gas_Pa,
-            inertia_Pa=inertia_Pa,
-            total_Pa=total_Pa,
-            tangential_Pa=rod.tangential_Pa,
-            radial_Pa=rod.radial_Pa,
-            centrifugal_Pa=centrifugal_Pa,
-            piston_area_m2=area,
-            torque_Nm=torque,
-            side_Pa=rod.side_Pa,
-            rod_Pa=rod.rod_Pa,
         )
-        notes = [
-            ("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
-            ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])}),
-        ] + notes
-        return StageOutput(
-            data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes
-        )
-
-    return series, finish
+    data = CrankForces(
+        crank_angle_deg=motion.crank_angle_deg,
+        gas_Pa=curves["gas_Pa"],
+        inertia_Pa=curves["inertia_Pa"],
+        total_Pa=curves["total_Pa"],
+        tangential_Pa=rod.tangential_Pa,
+        radial_Pa=rod.radial_Pa,
+        centrifugal_Pa=curves["centrifugal_Pa"],
+        piston_area_m2=area,
+        torque_Nm=torque,
+        side_Pa=rod.side_Pa,
+        rod_Pa=rod.rod_Pa,
+    )
+    notes = [
+        ("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
+        ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])}),
+    ] + notes
+    return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
 
 
 _NOTE_KEYS = (

@@ -39,16 +39,48 @@ def render(output: StageOutput, ctx) -> str:
     mpa = {k: f[k] / 1e6 for k in f.columns if k.endswith("_Pa")}
 
     whose = _whose_torque(ctx.scene)
-    grid_rows, grid_labels = sample_rows(angle, ctx.table_step_deg)
+    grid = sample_rows(angle, ctx.table_step_deg)
     # every extreme the conclusions name gets its row, even one a hair above a table row's value
     t_extremes = [
         (f["tangential_Pa"], "max", t("forces.extreme_t_max")),
         (f["tangential_Pa"], "min", t("forces.extreme_t_min")),
     ]
+    table_b1, worked = _table_b1(ctx, f, mpa, r, grid, t_extremes)
+    table_q = _table_q(ctx, f, mpa, r, grid, t_extremes, whose)
+    figure_forces = ctx.figure(
+        partial(_forces_figure, t, ctx.cycle_deg, angle, mpa),
+        t("forces.figure_caption"),
+        "forces",
+        see="forces.see_figure",
+    )
+    figure_torque = ctx.figure(
+        partial(
+            _torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"], whose
+        ),
+        t("forces.torque_caption" + whose),
+        "torque",
+        see="forces.see_torque" + whose,
+    )
+    _conclude(ctx, f, r, whose)
+    return ctx.render_template(
+        "sections/forces.html.j2",
+        r=r,
+        table_b1=table_b1,
+        table_q=table_q,
+        figure_forces=figure_forces,
+        figure_torque=figure_torque,
+        worked=worked,
+    )
+
+
+def _table_b1(ctx, f, mpa: dict, r, grid, t_extremes) -> tuple[str, str]:
+    """(table B.1 of the piston's motion and the specific forces at the table's angles and their
+    extremes, the worked substitutions of its inertia and total force)."""
+    t = ctx.t
+    angle = f["crank_angle_deg"]
     rows, labels, extremes = add_extreme_rows(
         angle,
-        grid_rows,
-        grid_labels,
+        *grid,
         [
             (f["gas_Pa"], "max", t("forces.extreme_gas_max")),
             (np.abs(f["side_Pa"]), "max", t("forces.extreme_n_max")),
@@ -81,15 +113,20 @@ def render(output: StageOutput, ctx) -> str:
         extremes=extremes,
         see="forces.see_table_b1",
     )
-    worked = _worked(ctx, f.take(rows), labels, r)
+    return table_b1, _worked(ctx, f.take(rows), labels, r)
+
+
+def _table_q(ctx, f, mpa: dict, r, grid, t_extremes, whose: str) -> str:
+    """The crank pin's loads and the crank's torque at the table's angles and their extremes,
+    with the worked substitution of the torque."""
+    t = ctx.t
     rows, labels, extremes = add_extreme_rows(
-        angle,
-        grid_rows,
-        grid_labels,
+        f["crank_angle_deg"],
+        *grid,
         [(f["resultant_Pa"], "max", t("forces.extreme_q_max")), *t_extremes],
         resolution=0.0,
     )
-    table_q = ctx.table(
+    return ctx.table(
         [
             ("<i>α</i>, °", ctx.angle_labels(labels), None),
             (
@@ -106,21 +143,11 @@ def render(output: StageOutput, ctx) -> str:
         see="forces.see_table_q" + whose,
     ) + worked_crank_torque(ctx, f.take(rows), labels, r)
 
-    figure_forces = ctx.figure(
-        partial(_forces_figure, t, ctx.cycle_deg, angle, mpa),
-        t("forces.figure_caption"),
-        "forces",
-        see="forces.see_figure",
-    )
-    figure_torque = ctx.figure(
-        partial(
-            _torque_figure, t, ctx.cycle_deg, angle, f["torque_Nm"], r["mean_torque_Nm"], whose
-        ),
-        t("forces.torque_caption" + whose),
-        "torque",
-        see="forces.see_torque" + whose,
-    )
 
+def _conclude(ctx, f, r, whose: str) -> None:
+    """The finding (one cylinder's engine) and the conclusions: the mean torque against the
+    indicated work's, the effective torque when given, the largest loads."""
+    t = ctx.t
     if (
         ctx.scene is not None and ctx.scene.engine.cylinders == 1
     ):  # else the engine's torque: torque stage
@@ -149,17 +176,8 @@ def render(output: StageOutput, ctx) -> str:
             q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
             q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
             n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
-            n_angle=ctx.angle_text(float(angle[first_argmax(np.abs(f["side_Pa"]))])),
+            n_angle=ctx.angle_text(float(f["crank_angle_deg"][first_argmax(np.abs(f["side_Pa"]))])),
         )
-    )
-    return ctx.render_template(
-        "sections/forces.html.j2",
-        r=r,
-        table_b1=table_b1,
-        table_q=table_q,
-        figure_forces=figure_forces,
-        figure_torque=figure_torque,
-        worked=worked,
     )
 
 

@@ -50,26 +50,9 @@ def run(
         # the result is stated as not given, so the answer key leaves its cell empty knowingly
         results["compression_end_pressure_Pa"] = None
     else:
-        params = cycle_parameters(scene)
-        rounding = rounding_parameters(scene)
-        clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
-        volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
-        theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
-        try:
-            pressure = ind.rounded_pressure_Pa(
-                angle,
-                volume,
-                clearance,
-                params,
-                rounding,
-                volume_function=_volume_function(motion, area, clearance, volumes),
-                junction_deg=junction_deg,
-                theoretical_Pa=theoretical,
-            )
-        except ValueError as exc:
-            raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
-        work_theoretical = ind.indicated_work_J(theoretical, volume)
-        p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
+        params, rounding, clearance, volume, theoretical, pressure = _rounded_diagram(
+            scene, motion, area, swept, junction_deg, volumes
+        )
         table.update(
             {
                 "cylinder_volume_m3": volume,
@@ -78,54 +61,11 @@ def run(
             }
         )
         results.update(
-            {
-                "clearance_volume_m3": clearance,
-                "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
-                "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
-                "theoretical_mean_indicated_pressure_Pa": p_i_closed,
-                "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(
-                    work_theoretical, swept
-                ),
-                "ignition_advance_deg": rounding.ignition_advance_deg,
-                "combustion_delay_deg": rounding.combustion_delay_deg,
-                "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction
-                * params.max_pressure_Pa,
-            }
+            _theoretical_results(params, rounding, clearance, theoretical, volume, swept)
         )
-        note_key = (
-            "indicator.note_rounding_diesel"
-            if scene.cycle.ignition == "diesel"
-            else "indicator.note_rounding"
-        )
-        notes.append(
-            (
-                note_key,
-                {
-                    "advance": rounding.ignition_advance_deg,
-                    "delay": rounding.combustion_delay_deg,
-                    "fraction": rounding.peak_pressure_fraction,
-                    "angle": rounding.peak_angle_after_tdc_deg,
-                },
-            )
-        )
-
-    work = ind.indicated_work_J(pressure, volume)
-    p_i = ind.mean_indicated_pressure_Pa(work, swept)
-    # the thermal calculation's p_i leaves the gas exchange out (physics.indicator.pumping_work_J)
-    pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
-    p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
-    peak = first_argmax(pressure)
-    results.update(
-        {
-            "indicated_work_J": work,
-            "pumping_work_J": pumping,
-            "gross_mean_indicated_pressure_Pa": p_i_gross,
-            "mean_indicated_pressure_Pa": p_i,
-            "max_pressure_Pa": float(pressure[peak]),
-            "max_pressure_crank_angle_deg": float(angle[peak]),
-            "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
-        }
-    )
+        notes.append(_rounding_note(scene, rounding))
+    results.update(_work_results(pressure, volume, angle, engine, swept))
+    p_i_gross = results["gross_mean_indicated_pressure_Pa"]
     if scene.cycle.mean_indicated_pressure is not None:
         target = scene.cycle.mean_indicated_pressure
         results["thermal_mean_indicated_pressure_Pa"] = target
@@ -138,12 +78,93 @@ def run(
         pressure_Pa=pressure,
         volume_m3=volume,
         source=scene.cycle.source,
-        indicated_work_J=work,
+        indicated_work_J=results["indicated_work_J"],
         swept_volume_m3=swept,
     )
     return StageOutput(
         data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table}, notes=notes
     )
+
+
+def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, volumes):
+    """(cycle parameters, rounding parameters, clearance volume, cylinder volume, theoretical and
+    rounded pressure) of the scene's indicator diagram; a rounding that does not fit raises
+    SceneError."""
+    angle = motion.crank_angle_deg
+    params = cycle_parameters(scene)
+    rounding = rounding_parameters(scene)
+    clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
+    volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+    theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
+    try:
+        pressure = ind.rounded_pressure_Pa(
+            angle,
+            volume,
+            clearance,
+            params,
+            rounding,
+            volume_function=_volume_function(motion, area, clearance, volumes),
+            junction_deg=junction_deg,
+            theoretical_Pa=theoretical,
+        )
+    except ValueError as exc:
+        raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+    return params, rounding, clearance, volume, theoretical, pressure
+
+
+def _theoretical_results(params, rounding, clearance, theoretical, volume, swept) -> dict:
+    """The theoretical diagram's results: its points, mean pressures and the rounding's data."""
+    work_theoretical = ind.indicated_work_J(theoretical, volume)
+    p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
+    return {
+        "clearance_volume_m3": clearance,
+        "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
+        "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
+        "theoretical_mean_indicated_pressure_Pa": p_i_closed,
+        "theoretical_diagram_mean_pressure_Pa": ind.mean_indicated_pressure_Pa(
+            work_theoretical, swept
+        ),
+        "ignition_advance_deg": rounding.ignition_advance_deg,
+        "combustion_delay_deg": rounding.combustion_delay_deg,
+        "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
+    }
+
+
+def _rounding_note(scene, rounding) -> tuple[str, dict]:
+    """The note on the rounding's points (a diesel's or a spark-ignition engine's)."""
+    note_key = (
+        "indicator.note_rounding_diesel"
+        if scene.cycle.ignition == "diesel"
+        else "indicator.note_rounding"
+    )
+    return (
+        note_key,
+        {
+            "advance": rounding.ignition_advance_deg,
+            "delay": rounding.combustion_delay_deg,
+            "fraction": rounding.peak_pressure_fraction,
+            "angle": rounding.peak_angle_after_tdc_deg,
+        },
+    )
+
+
+def _work_results(pressure, volume, angle, engine, swept: float) -> dict:
+    """The diagram's indicated and pumping work, mean indicated pressures, peak and power."""
+    work = ind.indicated_work_J(pressure, volume)
+    p_i = ind.mean_indicated_pressure_Pa(work, swept)
+    # the thermal calculation's p_i leaves the gas exchange out (physics.indicator.pumping_work_J)
+    pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
+    p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
+    peak = first_argmax(pressure)
+    return {
+        "indicated_work_J": work,
+        "pumping_work_J": pumping,
+        "gross_mean_indicated_pressure_Pa": p_i_gross,
+        "mean_indicated_pressure_Pa": p_i,
+        "max_pressure_Pa": float(pressure[peak]),
+        "max_pressure_crank_angle_deg": float(angle[peak]),
+        "indicated_power_W": work * engine.rpm / 60.0 / (engine.strokes / 2),
+    }
 
 
 def _volume_function(motion, area: float, clearance: float, volumes: dict | None):

@@ -74,6 +74,63 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
     return points
 
 
+def _pressure_table(ctx, frame, theory):
+    """Table of V, p (and p_theor) at the table step with the peak pressure's row; its rows."""
+    t = ctx.t
+    angle = frame["crank_angle_deg"]
+    volume_l = frame["cylinder_volume_m3"] * 1e3
+    pressure = frame["pressure_Pa"] / 1e6
+    has_theory = theory is not None
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    rows, labels, extremes = add_extreme_rows(
+        angle, rows, labels, [(pressure, "max", t("indicator.extreme_p_max"))]
+    )
+    columns = [
+        ("<i>α</i>, °", ctx.angle_labels(labels), None),
+        ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4),
+    ]
+    if has_theory:
+        columns.append(
+            (
+                "<i>p</i><sub>theor</sub>, " + t("unit.MPa"),
+                _closing_row_theory(theory, rows, labels, ctx.cycle_deg),
+                4,
+            )
+        )
+    columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
+    table = ctx.table(
+        columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table"
+    )
+    return table, rows, labels
+
+
+def _conclude(ctx, r: dict):
+    """The abstract's finding and the conclusions on the peak pressure and the indicated work;
+    returns the mean indicated pressure's deviation from the given one (percent) or None."""
+    t = ctx.t
+    ctx.find(
+        t(
+            "indicator.finding",
+            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
+        )
+    )
+    deviation = r.get("mean_indicated_pressure_deviation_percent")
+    ctx.conclude(
+        t(
+            "indicator.conclusion",
+            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
+            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
+            p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6),
+            work=ctx.num(r["indicated_work_J"]),
+        )
+    )
+    if deviation is not None:
+        key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
+        ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
+    return deviation
+
+
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     frame = output.tables.arrays("indicator")
@@ -100,48 +157,10 @@ def render(output: StageOutput, ctx) -> str:
         see="indicator.see_palpha",
     )
 
-    rows, labels = sample_rows(angle, ctx.table_step_deg)
-    rows, labels, extremes = add_extreme_rows(
-        angle, rows, labels, [(pressure, "max", t("indicator.extreme_p_max"))]
-    )
-    columns = [
-        ("<i>α</i>, °", ctx.angle_labels(labels), None),
-        ("<i>V</i>, " + t("unit.l"), volume_l[rows], 4),
-    ]
-    if has_theory:
-        columns.append(
-            (
-                "<i>p</i><sub>theor</sub>, " + t("unit.MPa"),
-                _closing_row_theory(theory, rows, labels, ctx.cycle_deg),
-                4,
-            )
-        )
-    columns.append(("<i>p</i>, " + t("unit.MPa"), pressure[rows], 4))
-    table = ctx.table(
-        columns, caption=t("indicator.table_caption"), extremes=extremes, see="indicator.see_table"
-    )
+    table, rows, labels = _pressure_table(ctx, frame, theory)
     table += worked_indicator(ctx, frame, rows, labels, r)
 
-    ctx.find(
-        t(
-            "indicator.finding",
-            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
-        )
-    )
-    deviation = r.get("mean_indicated_pressure_deviation_percent")
-    ctx.conclude(
-        t(
-            "indicator.conclusion",
-            p_max=ctx.num(r["max_pressure_Pa"] / 1e6),
-            angle=ctx.angle_text(r["max_pressure_crank_angle_deg"]),
-            p_i=ctx.num(r["mean_indicated_pressure_Pa"] / 1e6),
-            work=ctx.num(r["indicated_work_J"]),
-        )
-    )
-    if deviation is not None:
-        key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
-        ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
+    deviation = _conclude(ctx, r)
     diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
     return ctx.render_template(
         "sections/indicator.html.j2",

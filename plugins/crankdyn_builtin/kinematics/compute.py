@@ -75,20 +75,42 @@ def run(scene, inputs) -> StageOutput:
 
     exact, approx = _piston_both_ways(alpha, radius, ratio, omega)
     chosen = exact if scene.analysis.kinematics == "exact" else approx
-    displacement = (
-        kin.piston_displacement_exact_m
-        if scene.analysis.kinematics == "exact"
-        else kin.piston_displacement_approx_m
+    rod = (
+        kin.rod_angle_rad(alpha, ratio),
+        kin.rod_angular_velocity_rad_s(alpha, ratio, omega),
+        kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega),
     )
-    beta = kin.rod_angle_rad(alpha, ratio)
-    rod_omega = kin.rod_angular_velocity_rad_s(alpha, ratio, omega)
-    rod_epsilon = kin.rod_angular_acceleration_rad_s2(alpha, ratio, omega)
+    table = _kinematics_table(angle_deg, chosen, exact, approx, rod)
+    results = _kinematics_results(scene, exact, approx, rod)
+    if scene.masses is not None:
+        columns, rod_cm = _rod_centre_of_mass(
+            alpha, radius, ratio, omega, scene.rod_cm_from_big_end_m
+        )
+        table.update(columns)
+        results.update(rod_cm)
+    notes = [
+        ("kinematics.note_method_" + scene.analysis.kinematics, {}),
+        (
+            "kinematics.note_two_term_error",
+            {
+                "ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
+                "dj": results["two_term_acceleration_error_max_m_s2"],
+            },
+        ),
+    ]
+    return StageOutput(
+        data={KINEMATICS: _piston_motion(scene, angle_deg, chosen, rod)},
+        results=results,
+        tables={"kinematics": table},
+        notes=notes,
+    )
 
-    v_max, v_max_angle = kin.max_piston_velocity_exact(radius, ratio, omega)
-    j_min, j_min_angle = kin.min_piston_acceleration_exact(radius, ratio, omega)
-    j_min_tb, j_min_tb_angle = kin.min_piston_acceleration_approx(radius, ratio, omega)
 
-    table = {
+def _kinematics_table(angle_deg, chosen: dict, exact: dict, approx: dict, rod) -> dict:
+    """The kinematics table: the chosen formula's piston motion, both formulas' displacement and
+    acceleration, the rod's angle and rates (``rod``: angle, angular velocity, acceleration)."""
+    beta, rod_omega, rod_epsilon = rod
+    return {
         "crank_angle_deg": angle_deg,
         "piston_displacement_m": chosen["s"],
         "piston_velocity_m_s": chosen["v"],
@@ -101,7 +123,22 @@ def run(scene, inputs) -> StageOutput:
         "rod_angular_velocity_rad_s": rod_omega,
         "rod_angular_acceleration_rad_s2": rod_epsilon,
     }
-    results = {
+
+
+def _kinematics_results(scene, exact: dict, approx: dict, rod) -> dict:
+    """The kinematics results: the mechanism's sizes, the piston's extremes (exact and by the
+    two-term formula), the rod's largest angle and rates, the two-term formula's errors."""
+    engine = scene.engine
+    radius, ratio, omega = (
+        engine.crank_radius_m,
+        engine.rod_ratio_value,
+        engine.angular_velocity_rad_s,
+    )
+    _, rod_omega, rod_epsilon = rod
+    v_max, v_max_angle = kin.max_piston_velocity_exact(radius, ratio, omega)
+    j_min, j_min_angle = kin.min_piston_acceleration_exact(radius, ratio, omega)
+    j_min_tb, j_min_tb_angle = kin.min_piston_acceleration_approx(radius, ratio, omega)
+    return {
         "crank_radius_m": radius,
         "rod_length_m": engine.rod_length_m,
         "rod_ratio": ratio,
@@ -122,21 +159,26 @@ def run(scene, inputs) -> StageOutput:
         "two_term_displacement_error_max_m": float(np.max(np.abs(approx["s"] - exact["s"]))),
         "two_term_acceleration_error_max_m_s2": float(np.max(np.abs(approx["j"] - exact["j"]))),
     }
-    if scene.masses is not None:
-        columns, rod_cm = _rod_centre_of_mass(
-            alpha, radius, ratio, omega, scene.rod_cm_from_big_end_m
-        )
-        table.update(columns)
-        results.update(rod_cm)
 
-    motion = PistonMotion(
+
+def _piston_motion(scene, angle_deg, chosen: dict, rod) -> PistonMotion:
+    """The motion handed on to the later stages, by the chosen formula."""
+    engine = scene.engine
+    radius, ratio = engine.crank_radius_m, engine.rod_ratio_value
+    beta, rod_omega, rod_epsilon = rod
+    displacement = (
+        kin.piston_displacement_exact_m
+        if scene.analysis.kinematics == "exact"
+        else kin.piston_displacement_approx_m
+    )
+    return PistonMotion(
         crank_angle_deg=angle_deg,
         piston_displacement_m=chosen["s"],
         piston_velocity_m_s=chosen["v"],
         piston_acceleration_m_s2=chosen["j"],
         rod_angle_rad=beta,
         crank_radius_m=radius,
-        angular_velocity_rad_s=omega,
+        angular_velocity_rad_s=engine.angular_velocity_rad_s,
         method=scene.analysis.kinematics,
         # the rod's rates in closed form (rod_dynamics would otherwise differentiate the angle spectrally)
         extra={
@@ -146,19 +188,6 @@ def run(scene, inputs) -> StageOutput:
             "rod_angular_acceleration_rad_s2": rod_epsilon,
         },
         displacement_at=functools.partial(_displacement_at_deg, displacement, radius, ratio),
-    )
-    notes = [
-        ("kinematics.note_method_" + scene.analysis.kinematics, {}),
-        (
-            "kinematics.note_two_term_error",
-            {
-                "ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
-                "dj": results["two_term_acceleration_error_max_m_s2"],
-            },
-        ),
-    ]
-    return StageOutput(
-        data={KINEMATICS: motion}, results=results, tables={"kinematics": table}, notes=notes
     )
 
 

@@ -10,6 +10,7 @@ The computation: ``applies``, ``run`` and their pure helpers.
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -128,34 +129,97 @@ def _displacement_at_deg(radius_m: float, ratio: float, offset_ratio: float, cra
     return oc.piston_displacement_m(np.radians(crank_angle_deg), radius_m, ratio, offset_ratio)
 
 
+@dataclass(frozen=True)
+class _Offset:
+    """The offset crank-slider's crank radius R, lambda = R/L, k = e/L and angular velocity, with
+    its piston's motion at any crank angle (rad from TDC)."""
+
+    R: float
+    lam: float
+    k: float
+    omega: float
+
+    def s_of(self, a):
+        """Piston displacement, m."""
+        return oc.piston_displacement_m(a, self.R, self.lam, self.k)
+
+    def v_of(self, a):
+        """Piston velocity, m/s."""
+        return oc.piston_velocity_m_s(a, self.R, self.lam, self.k, self.omega)
+
+    def j_of(self, a):
+        """Piston acceleration, m/s²."""
+        return oc.piston_acceleration_m_s2(a, self.R, self.lam, self.k, self.omega)
+
+
 def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     params = options(scene, "mechanism", OffsetParams)
     R, L, e = engine.crank_radius_m, engine.rod_length_m, params.offset
-    lam, k, omega = R / L, params.offset / L, engine.angular_velocity_rad_s
+    mechanism = _Offset(R, R / L, params.offset / L, engine.angular_velocity_rad_s)
     geometry = oc.dead_centres(R, L, e)
     angle_deg = scene.crank_angles_deg
     alpha = np.radians(angle_deg)
     phi = alpha + geometry.tdc_angle_rad
+    curves = _offset_curves(mechanism, alpha, phi)
+    results = _offset_results(mechanism, L, e, geometry, angle_deg, curves)
+    table = _offset_table(angle_deg, phi, curves, mechanism.omega)
+    return StageOutput(
+        data={KINEMATICS: _offset_motion(mechanism, L, e, geometry, angle_deg, curves)},
+        results=results,
+        tables={"offset_crank": table},
+        notes=_notes(scene, results, geometry.stroke_m, R),
+    )
 
-    def s_of(a):
-        return oc.piston_displacement_m(a, R, lam, k)
 
-    def v_of(a):
-        return oc.piston_velocity_m_s(a, R, lam, k, omega)
+def _offset_table(angle_deg, phi, curves: dict, omega: float) -> dict:
+    """The table: the piston's and the rod's motion, the torque arm v/omega and the central
+    crank-slider's piston motion."""
+    return {
+        "crank_angle_deg": angle_deg,
+        "crank_angle_from_axis_deg": np.degrees(phi),
+        "piston_displacement_m": curves["piston_displacement_m"],
+        "piston_velocity_m_s": curves["piston_velocity_m_s"],
+        "piston_acceleration_m_s2": curves["piston_acceleration_m_s2"],
+        "rod_angle_deg": curves["rod_angle_deg"],
+        "rod_angular_velocity_rad_s": curves["rod_angular_velocity_rad_s"],
+        "rod_angular_acceleration_rad_s2": curves["rod_angular_acceleration_rad_s2"],
+        "torque_arm_m": curves["piston_velocity_m_s"] / omega,
+        "central_piston_displacement_m": curves["central_piston_displacement_m"],
+        "central_piston_velocity_m_s": curves["central_piston_velocity_m_s"],
+        "central_piston_acceleration_m_s2": curves["central_piston_acceleration_m_s2"],
+    }
 
-    def j_of(a):
-        return oc.piston_acceleration_m_s2(a, R, lam, k, omega)
 
-    s, v, j = s_of(alpha), v_of(alpha), j_of(alpha)
+def _offset_curves(mechanism: _Offset, alpha, phi) -> dict:
+    """The piston's and the rod's motion over the cycle (``phi``: crank angle from the cylinder
+    axis), and the central crank-slider's piston motion of the same R and lambda."""
+    R, lam, k, omega = mechanism.R, mechanism.lam, mechanism.k, mechanism.omega
     beta = oc.rod_angle_rad(phi, lam, k)
-    rod_omega = oc.rod_angular_velocity_rad_s(alpha, R, lam, k, omega)
-    rod_epsilon = oc.rod_angular_acceleration_rad_s2(alpha, R, lam, k, omega)
-    s_central = central.piston_displacement_exact_m(alpha, R, lam)
-    v_central = central.piston_velocity_exact_m_s(alpha, R, lam, omega)
-    j_central = central.piston_acceleration_exact_m_s2(alpha, R, lam, omega)
+    return {
+        "piston_displacement_m": mechanism.s_of(alpha),
+        "piston_velocity_m_s": mechanism.v_of(alpha),
+        "piston_acceleration_m_s2": mechanism.j_of(alpha),
+        "rod_angle_rad": beta,
+        "rod_angle_deg": np.degrees(beta),
+        "rod_angular_velocity_rad_s": oc.rod_angular_velocity_rad_s(alpha, R, lam, k, omega),
+        "rod_angular_acceleration_rad_s2": oc.rod_angular_acceleration_rad_s2(
+            alpha, R, lam, k, omega
+        ),
+        "central_piston_displacement_m": central.piston_displacement_exact_m(alpha, R, lam),
+        "central_piston_velocity_m_s": central.piston_velocity_exact_m_s(alpha, R, lam, omega),
+        "central_piston_acceleration_m_s2": central.piston_acceleration_exact_m_s2(
+            alpha, R, lam, omega
+        ),
+    }
 
-    results = {
+
+def _offset_results(mechanism: _Offset, L: float, e: float, geometry, angle_deg, curves) -> dict:
+    """The results: sizes, dead centres and stroke, the piston's and the rod's extremes, and the
+    central crank-slider's largest velocity and acceleration for comparison."""
+    R, lam, k, omega = mechanism.R, mechanism.lam, mechanism.k, mechanism.omega
+    v, j = curves["piston_velocity_m_s"], curves["piston_acceleration_m_s2"]
+    return {
         "crank_radius_m": R,
         "rod_length_m": L,
         "rod_ratio": lam,
@@ -170,50 +234,40 @@ def run(scene, inputs) -> StageOutput:
         "stroke_excess_m": geometry.stroke_m - 2.0 * R,
         "stroke_time_ratio": geometry.stroke_time_ratio,
         "mean_piston_speed_m_s": geometry.stroke_m * omega / np.pi,
-        **_velocity_and_acceleration_extremes(v_of, j_of, angle_deg, v, j),
+        **_velocity_and_acceleration_extremes(mechanism.v_of, mechanism.j_of, angle_deg, v, j),
         "rod_angle_max_deg": float(np.degrees(np.arcsin(lam - k))),
         "rod_angle_min_deg": float(np.degrees(-np.arcsin(lam + k))),
-        "rod_angular_velocity_max_rad_s": float(np.max(np.abs(rod_omega))),
-        "rod_angular_acceleration_max_rad_s2": float(np.max(np.abs(rod_epsilon))),
-        "central_v_max_m_s": float(np.max(v_central)),
+        "rod_angular_velocity_max_rad_s": float(
+            np.max(np.abs(curves["rod_angular_velocity_rad_s"]))
+        ),
+        "rod_angular_acceleration_max_rad_s2": float(
+            np.max(np.abs(curves["rod_angular_acceleration_rad_s2"]))
+        ),
+        "central_v_max_m_s": float(np.max(curves["central_piston_velocity_m_s"])),
         "central_j_max_m_s2": float(central.max_piston_acceleration_m_s2(R, lam, omega)),
     }
-    table = {
-        "crank_angle_deg": angle_deg,
-        "crank_angle_from_axis_deg": np.degrees(phi),
-        "piston_displacement_m": s,
-        "piston_velocity_m_s": v,
-        "piston_acceleration_m_s2": j,
-        "rod_angle_deg": np.degrees(beta),
-        "rod_angular_velocity_rad_s": rod_omega,
-        "rod_angular_acceleration_rad_s2": rod_epsilon,
-        "torque_arm_m": v / omega,
-        "central_piston_displacement_m": s_central,
-        "central_piston_velocity_m_s": v_central,
-        "central_piston_acceleration_m_s2": j_central,
-    }
-    motion = PistonMotion(
+
+
+def _offset_motion(mechanism: _Offset, L: float, e: float, geometry, angle_deg, curves):
+    """The motion handed on to the later stages."""
+    return PistonMotion(
         crank_angle_deg=angle_deg,
-        piston_displacement_m=s,
-        piston_velocity_m_s=v,
-        piston_acceleration_m_s2=j,
-        rod_angle_rad=beta,
-        crank_radius_m=R,
-        angular_velocity_rad_s=omega,
+        piston_displacement_m=curves["piston_displacement_m"],
+        piston_velocity_m_s=curves["piston_velocity_m_s"],
+        piston_acceleration_m_s2=curves["piston_acceleration_m_s2"],
+        rod_angle_rad=curves["rod_angle_rad"],
+        crank_radius_m=mechanism.R,
+        angular_velocity_rad_s=mechanism.omega,
         method="exact",
         extra={
-            "rod_ratio": lam,
+            "rod_ratio": mechanism.lam,
             "rod_length_m": L,
             "offset_m": e,
             "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
-            "rod_angular_velocity_rad_s": rod_omega,
-            "rod_angular_acceleration_rad_s2": rod_epsilon,
+            "rod_angular_velocity_rad_s": curves["rod_angular_velocity_rad_s"],
+            "rod_angular_acceleration_rad_s2": curves["rod_angular_acceleration_rad_s2"],
         },
-        displacement_at=functools.partial(_displacement_at_deg, R, lam, k),
-    )
-    return StageOutput(
-        data={KINEMATICS: motion},
-        results=results,
-        tables={"offset_crank": table},
-        notes=_notes(scene, results, geometry.stroke_m, R),
+        displacement_at=functools.partial(
+            _displacement_at_deg, mechanism.R, mechanism.lam, mechanism.k
+        ),
     )

@@ -22,49 +22,64 @@ def worked_offset_crank(ctx, g, labels, r) -> Markup:
     i = worked_row(labels, ctx.worked_angle_deg)
     alpha, row = float(labels[i]), g.row(i)
     phi, beta = float(row["crank_angle_from_axis_deg"]) % 360.0, float(row["rod_angle_deg"])
-    radius_mm, length_mm, offset_mm = (
-        r["crank_radius_m"] * 1e3,
-        r["rod_length_m"] * 1e3,
-        r["offset_m"] * 1e3,
-    )
-    f_txt, f = printed(t, phi, 5)
-    b_txt, b = printed(t, beta, 5)
-    r_txt, r_mm = printed_g(t, radius_mm)
-    l_txt, l_mm = printed_g(t, length_mm)
-    e_txt, e_mm = printed_g(t, offset_mm)
-    lam_txt, lam = printed(t, r["rod_ratio"], 5)
-    k_txt, k = printed(t, r["offset_ratio"], 4)
-    w_txt, w = printed(t, r["angular_velocity_rad_s"], 5)
-    inputs = {
-        "phi_deg": f,
-        "beta_deg": b,
-        "R_mm": r_mm,
-        "L_mm": l_mm,
-        "e_mm": e_mm,
-        "lambda": lam,
-        "k": k,
-        "omega": w,
-        "alpha_deg": alpha,
-    }
     exact = {
         "phi_deg": phi,
         "beta_deg": beta,
-        "R_mm": radius_mm,
-        "L_mm": length_mm,
-        "e_mm": offset_mm,
+        "R_mm": r["crank_radius_m"] * 1e3,
+        "L_mm": r["rod_length_m"] * 1e3,
+        "e_mm": r["offset_m"] * 1e3,
         "lambda": r["rod_ratio"],
         "k": r["offset_ratio"],
         "omega": r["angular_velocity_rad_s"],
         "alpha_deg": alpha,
     }
-    b_s = f"{bracketed(b_txt, b)}°"
-    steps = [
+    texts, inputs = _printed_inputs(t, exact)
+    steps = _offset_steps(t, row, texts, inputs, exact)
+    note = t("offset_crank.worked_phi", alpha=ctx.angle_text(alpha), phi=texts["phi_deg"])
+    return worked_markup(
+        ctx, WorkedBlock("offset_crank", ctx.last_table_number, alpha, steps, note=note)
+    )
+
+
+#: The digits each input is printed with in the substitutions (None: significant digits).
+_PRINTED_DIGITS = {
+    "phi_deg": 5,
+    "beta_deg": 5,
+    "R_mm": None,
+    "L_mm": None,
+    "e_mm": None,
+    "lambda": 5,
+    "k": 4,
+    "omega": 5,
+}
+
+
+def _printed_inputs(t, exact: dict) -> tuple[dict, dict]:
+    """(each input as printed, each input's printed value) of the substitutions; α as it is."""
+    texts, inputs = {}, {}
+    for name, digits in _PRINTED_DIGITS.items():
+        texts[name], inputs[name] = (
+            printed_g(t, exact[name]) if digits is None else printed(t, exact[name], digits)
+        )
+    inputs["alpha_deg"] = exact["alpha_deg"]
+    return texts, inputs
+
+
+def _offset_steps(t, row, texts: dict, inputs: dict, exact: dict) -> list[WorkedStep]:
+    """The substituted formulas: the rod angle, the piston's displacement and velocity and the
+    rod's angular velocity, each with the row's value."""
+    f_txt, r_txt, l_txt, lam_txt, w_txt = (
+        texts[name] for name in ("phi_deg", "R_mm", "L_mm", "lambda", "omega")
+    )
+    b_s = f"{bracketed(texts['beta_deg'], inputs['beta_deg'])}°"
+    e_b = bracketed(texts["e_mm"], inputs["e_mm"])
+    return [
         WorkedStep(
             "offset_rod_angle",
             "<i>β</i>",
             "arcsin(<i>λ</i> sin <i>φ</i> − <i>k</i>)",
-            f"arcsin({lam_txt}·sin {f_txt}° − {bracketed(k_txt, k)})",
-            beta,
+            f"arcsin({lam_txt}·sin {f_txt}° − {bracketed(texts['k'], inputs['k'])})",
+            exact["beta_deg"],
             2,
             "°",
             inputs,
@@ -73,9 +88,10 @@ def worked_offset_crank(ctx, g, labels, r) -> Markup:
         WorkedStep(
             "offset_piston_displacement",
             "<i>s</i><sub>p</sub>",
-            "√((<i>L</i> + <i>R</i>)<sup>2</sup> − <i>e</i><sup>2</sup>) − <i>R</i> cos <i>φ</i> − <i>L</i> cos <i>β</i>",
-            f"√(({l_txt} + {r_txt})<sup>2</sup> − {bracketed(e_txt, e_mm)}<sup>2</sup>) − {r_txt}·cos {f_txt}° "
-            f"− {l_txt}·cos {b_s}",
+            "√((<i>L</i> + <i>R</i>)<sup>2</sup> − <i>e</i><sup>2</sup>) "
+            "− <i>R</i> cos <i>φ</i> − <i>L</i> cos <i>β</i>",
+            f"√(({l_txt} + {r_txt})<sup>2</sup> − {e_b}<sup>2</sup>) "
+            f"− {r_txt}·cos {f_txt}° − {l_txt}·cos {b_s}",
             float(row["piston_displacement_m"]) * 1e3,
             3,
             t("unit.mm"),
@@ -105,7 +121,3 @@ def worked_offset_crank(ctx, g, labels, r) -> Markup:
             exact=exact,
         ),
     ]
-    note = t("offset_crank.worked_phi", alpha=ctx.angle_text(alpha), phi=f_txt)
-    return worked_markup(
-        ctx, WorkedBlock("offset_crank", ctx.last_table_number, alpha, steps, note=note)
-    )

@@ -227,74 +227,18 @@ def run(scene, inputs) -> StageOutput:
     j = -omega * omega * slider.pin_z_d2_m
     beta = slider.rod_angle_rad
     transmission = pl.force_transmission(phi, geometry, math.radians(params.pressure_angle_deg))
-    at_tdc = pl.force_transmission(
-        dc.tdc_carrier_angle_rad, geometry, math.radians(params.pressure_angle_deg)
-    )
-    L = geometry.rod_length_m
-
     # A conventional central crank-slider with the same stroke and rod, for comparison (source, fig. 3a).
     R_eq = 0.5 * dc.stroke_m
-    lam_eq = R_eq / L
+    lam_eq = R_eq / geometry.rod_length_m
     conventional_arm = central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, 1.0)
-
-    results = {
-        "gear": params.gear,
-        "fixed_pitch_diameter_m": 2.0 * geometry.fixed_pitch_radius_m,
-        "planet_pitch_diameter_m": 2.0 * geometry.planet_pitch_radius_m,
-    }
-    if params.module is not None:
-        results.update(
-            {
-                "fixed_gear_teeth": params.fixed_gear_teeth,
-                "planet_teeth": params.planet_teeth,
-                "module_m": params.module,
-            }
-        )
     extremes = piston_extremes(alpha, v, j, omega, geometry, dc, revolutions)
-    results.update(
-        {
-            "gear_ratio": float(params.ratio()),
-            "planet_speed_ratio": geometry.planet_speed_ratio,
-            "carrier_radius_m": geometry.carrier_radius_m,
-            "pin_radius_m": geometry.pin_radius_m,
-            "pin_phase_deg": params.pin_phase_deg,
-            "pressure_angle_deg": params.pressure_angle_deg,
-            "rod_length_m": L,
-            "angular_velocity_rad_s": omega,
-            "period_revolutions": revolutions,
-            "tdc_carrier_angle_deg": math.degrees(dc.tdc_carrier_angle_rad),
-            "bdc_crank_angle_deg": math.degrees(dc.bdc_carrier_angle_rad - dc.tdc_carrier_angle_rad)
-            % (360.0 * revolutions),
-            "stroke_m": dc.stroke_m,
-            "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
-            "rod_angle_max_deg": float(np.degrees(np.max(np.abs(beta)))),
-            "v_max_m_s": extremes["v_max"][0],
-            "v_max_crank_angle_deg": extremes["v_max"][1],
-            "v_min_m_s": extremes["v_min"][0],
-            "v_min_crank_angle_deg": extremes["v_min"][1],
-            "j_max_m_s2": extremes["j_max"][0],
-            "j_max_crank_angle_deg": extremes["j_max"][1],
-            "j_min_m_s2": extremes["j_min"][0],
-            "j_min_crank_angle_deg": extremes["j_min"][1],
-            "torque_arm_tdc_m": float(at_tdc.rod_line_arm_m),
-            "effective_torque_arm_tdc_m": float(at_tdc.carrier_torque_arm_m),
-            "tooth_force_tdc": float(at_tdc.tooth_tangential),
-            "carrier_torque_arm_max_m": float(np.max(transmission.carrier_torque_arm_m)),
-            "conventional_torque_arm_max_m": float(np.max(conventional_arm)),
-            "tdc_snapshot_m": tdc_snapshot_m(geometry, dc),
-        }
-    )
-    if (
-        params.gear == "internal"
-        and float(params.ratio()) == 2.0
-        and geometry.pin_radius_m == geometry.planet_pitch_radius_m
-    ):
-        # Cardan's circles: the path is the diameter at psi0/2 from the cylinder axis.
-        half = 0.5 * geometry.pin_phase_rad
-        results["straight_line_deviation_m"] = float(
-            np.max(np.abs(x * math.cos(half) - z * math.sin(half)))
-        )
-
+    results = {
+        **_gear_results(params, geometry),
+        **_mechanism_results(params, geometry, dc, revolutions, omega),
+        **_motion_extreme_results(beta, extremes),
+        **_torque_arm_results(params, geometry, dc, transmission, conventional_arm),
+        **_straight_line_deviation(params, geometry, x, z),
+    }
     table = _kinematics_table(
         angle_deg,
         phi,
@@ -326,6 +270,94 @@ def run(scene, inputs) -> StageOutput:
         tables={"planetary": table, "family": _family(geometry)},
         notes=notes,
     )
+
+
+def _gear_results(params, geometry) -> dict:
+    """The gears: their kind, pitch diameters and, with a module, tooth counts and module."""
+    results = {
+        "gear": params.gear,
+        "fixed_pitch_diameter_m": 2.0 * geometry.fixed_pitch_radius_m,
+        "planet_pitch_diameter_m": 2.0 * geometry.planet_pitch_radius_m,
+    }
+    if params.module is not None:
+        results.update(
+            {
+                "fixed_gear_teeth": params.fixed_gear_teeth,
+                "planet_teeth": params.planet_teeth,
+                "module_m": params.module,
+            }
+        )
+    return results
+
+
+def _mechanism_results(params, geometry, dc, revolutions: int, omega: float) -> dict:
+    """The mechanism's sizes, its period, dead centres, stroke and the path's lateral reach."""
+    return {
+        "gear_ratio": float(params.ratio()),
+        "planet_speed_ratio": geometry.planet_speed_ratio,
+        "carrier_radius_m": geometry.carrier_radius_m,
+        "pin_radius_m": geometry.pin_radius_m,
+        "pin_phase_deg": params.pin_phase_deg,
+        "pressure_angle_deg": params.pressure_angle_deg,
+        "rod_length_m": geometry.rod_length_m,
+        "angular_velocity_rad_s": omega,
+        "period_revolutions": revolutions,
+        "tdc_carrier_angle_deg": math.degrees(dc.tdc_carrier_angle_rad),
+        "bdc_crank_angle_deg": math.degrees(dc.bdc_carrier_angle_rad - dc.tdc_carrier_angle_rad)
+        % (360.0 * revolutions),
+        "stroke_m": dc.stroke_m,
+        "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
+    }
+
+
+def _motion_extreme_results(beta, extremes: dict) -> dict:
+    """The rod's largest angle and the piston's extreme velocities and accelerations with their
+    crank angles (:func:`piston_extremes`)."""
+    return {
+        "rod_angle_max_deg": float(np.degrees(np.max(np.abs(beta)))),
+        "v_max_m_s": extremes["v_max"][0],
+        "v_max_crank_angle_deg": extremes["v_max"][1],
+        "v_min_m_s": extremes["v_min"][0],
+        "v_min_crank_angle_deg": extremes["v_min"][1],
+        "j_max_m_s2": extremes["j_max"][0],
+        "j_max_crank_angle_deg": extremes["j_max"][1],
+        "j_min_m_s2": extremes["j_min"][0],
+        "j_min_crank_angle_deg": extremes["j_min"][1],
+    }
+
+
+def _torque_arm_results(params, geometry, dc, transmission, conventional_arm) -> dict:
+    """The torque arms at TDC and their largest values against the conventional mechanism's, and
+    where the parts are at TDC."""
+    at_tdc = pl.force_transmission(
+        dc.tdc_carrier_angle_rad, geometry, math.radians(params.pressure_angle_deg)
+    )
+    return {
+        "torque_arm_tdc_m": float(at_tdc.rod_line_arm_m),
+        "effective_torque_arm_tdc_m": float(at_tdc.carrier_torque_arm_m),
+        "tooth_force_tdc": float(at_tdc.tooth_tangential),
+        "carrier_torque_arm_max_m": float(np.max(transmission.carrier_torque_arm_m)),
+        "conventional_torque_arm_max_m": float(np.max(conventional_arm)),
+        "tdc_snapshot_m": tdc_snapshot_m(geometry, dc),
+    }
+
+
+def _straight_line_deviation(params, geometry, x, z) -> dict:
+    """Cardan's circles (an internal gear of ratio 2, the pin on the planet's pitch circle): how
+    far the big end's path strays from its straight line; nothing for another mechanism."""
+    if (
+        params.gear == "internal"
+        and float(params.ratio()) == 2.0
+        and geometry.pin_radius_m == geometry.planet_pitch_radius_m
+    ):
+        # Cardan's circles: the path is the diameter at psi0/2 from the cylinder axis.
+        half = 0.5 * geometry.pin_phase_rad
+        return {
+            "straight_line_deviation_m": float(
+                np.max(np.abs(x * math.cos(half) - z * math.sin(half)))
+            )
+        }
+    return {}
 
 
 def _kinematics_table(

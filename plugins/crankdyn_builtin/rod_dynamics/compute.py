@@ -120,32 +120,14 @@ def run(scene, inputs) -> StageOutput:
     L = motion.extra.get("rod_length_m", scene.engine.rod_length_m)
     l_r = scene.rod_cm_from_big_end_m
     omega = motion.angular_velocity_rad_s
-    angle = motion.crank_angle_deg
-    beta = motion.rod_angle_rad
     rate, accel, source = _rod_rates(motion)
-
-    pin_v, pin_a = -motion.piston_velocity_m_s, -motion.piston_acceleration_m_s2
-    zero = np.zeros_like(pin_v)
-    v_g = rd.rod_point_velocity_m_s(pin_v, beta, rate, L - l_r)
-    a_g = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L - l_r)
-    v_b = rd.rod_point_velocity_m_s(pin_v, beta, rate, L)
-    a_b = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L)
-    v_a, a_a = (zero, pin_v), (zero, pin_a)
-
+    points = _rod_point_motions(motion, rate, accel, L, l_r)
+    (v_a, a_a), (v_b, a_b), a_g = points["a"], points["b"], points["g"][1]
     m_small, m_big = (float(x) for x in rod_mass_split_kg(m, L, l_r))
     inertia_two = rd.two_mass_moment_of_inertia_kg_m2(m, L, l_r)
     torque_two = rd.point_masses_inertia_torque_Nm([m_small, m_big], [v_a, v_b], [a_a, a_b], omega)
     force_x, force_z = -m * a_g[0], -m * a_g[1]
-    if inertia is None and opts.model != "two_mass":
-        raise SceneError(
-            Problem(
-                "rod_dynamics.model",
-                opts.model,
-                "the exact models need the rod's moment of inertia, masses.rod_moment_of_inertia; "
-                "without it only two_mass is possible",
-            )
-        )
-
+    _check_model(opts.model, inertia)
     two_max = float(np.max(np.abs(torque_two)))
     results = {
         "model": opts.model,
@@ -163,18 +145,7 @@ def run(scene, inputs) -> StageOutput:
         "torque_max_abs_Nm": two_max,
         "torque_two_mass_max_abs_Nm": two_max,
     }
-    columns = {
-        "crank_angle_deg": angle,
-        "rod_angle_deg": np.degrees(beta),
-        "rod_angular_velocity_rad_s": rate,
-        "rod_angular_acceleration_rad_s2": accel,
-        "cm_acceleration_x_m_s2": a_g[0],
-        "cm_acceleration_z_m_s2": a_g[1],
-        "inertia_force_x_N": force_x,
-        "inertia_force_z_N": force_z,
-        "torque_two_mass_Nm": torque_two,
-        "torque_model_Nm": torque_two,
-    }
+    columns = _two_mass_columns(motion, rate, accel, a_g, (force_x, force_z), torque_two)
     results["period_deg"] = float(motion.extra.get("period_deg", 360.0))
     notes = []
     if inertia is None:
@@ -189,7 +160,7 @@ def run(scene, inputs) -> StageOutput:
             rate,
             accel,
             omega,
-            {"a": (v_a, a_a), "b": (v_b, a_b), "g": (v_g, a_g)},
+            points,
             torque_two,
             inertia_two,
         )
@@ -206,3 +177,46 @@ def run(scene, inputs) -> StageOutput:
             ("rod_dynamics.note_approximate", {"mean": float(np.mean(columns["torque_model_Nm"]))})
         )
     return StageOutput(data={}, results=results, tables={"rod_dynamics": table}, notes=notes)
+
+
+def _two_mass_columns(motion, rate, accel, a_g, force, torque_two) -> dict:
+    """The table's columns of the rod's motion, its inertia force and the two-mass model's
+    torque (the model's torque until an exact model replaces it)."""
+    return {
+        "crank_angle_deg": motion.crank_angle_deg,
+        "rod_angle_deg": np.degrees(motion.rod_angle_rad),
+        "rod_angular_velocity_rad_s": rate,
+        "rod_angular_acceleration_rad_s2": accel,
+        "cm_acceleration_x_m_s2": a_g[0],
+        "cm_acceleration_z_m_s2": a_g[1],
+        "inertia_force_x_N": force[0],
+        "inertia_force_z_N": force[1],
+        "torque_two_mass_Nm": torque_two,
+        "torque_model_Nm": torque_two,
+    }
+
+
+def _rod_point_motions(motion, rate, accel, L: float, l_r: float) -> dict:
+    """(velocity, acceleration) (x, z components, m/s and m/s²) of the rod's small end "a", big
+    end "b" and centre of mass "g" (``l_r`` from the big end)."""
+    beta = motion.rod_angle_rad
+    pin_v, pin_a = -motion.piston_velocity_m_s, -motion.piston_acceleration_m_s2
+    zero = np.zeros_like(pin_v)
+    v_g = rd.rod_point_velocity_m_s(pin_v, beta, rate, L - l_r)
+    a_g = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L - l_r)
+    v_b = rd.rod_point_velocity_m_s(pin_v, beta, rate, L)
+    a_b = rd.rod_point_acceleration_m_s2(pin_a, beta, rate, accel, L)
+    return {"a": ((zero, pin_v), (zero, pin_a)), "b": (v_b, a_b), "g": (v_g, a_g)}
+
+
+def _check_model(model: str, inertia) -> None:
+    """The exact models need the rod's moment of inertia."""
+    if inertia is None and model != "two_mass":
+        raise SceneError(
+            Problem(
+                "rod_dynamics.model",
+                model,
+                "the exact models need the rod's moment of inertia, masses.rod_moment_of_inertia; "
+                "without it only two_mass is possible",
+            )
+        )

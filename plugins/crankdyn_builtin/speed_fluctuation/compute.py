@@ -140,27 +140,11 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
     return summary, records, (dense[0], omega_solver)
 
 
-def run(scene, inputs) -> StageOutput:
-    torque, bays, crank_loads, design = (
-        inputs[ENGINE_TORQUE],
-        inputs[BAY_LOADS],
-        inputs[CRANK_LOADS],
-        inputs[FLYWHEEL],
-    )
-    torsion_opts = (
-        options(scene, "torsion", TorsionOptions) if "torsion" in scene.plugin_tables() else None
-    )
-    omega_n = torque.angular_velocity_rad_s
-    train = crank_train(scene, bays)
-    inertia, gas, gas_series, exact = _single_mass(scene, torque, bays, design, train)
-    alpha = np.radians(torque.crank_angle_deg)
-    j_grid, dj_grid = inertia(alpha)
-    summary, records, (solver_alpha, solver_omega) = _single_mass_solvers(
-        gas_series, inertia, exact, omega_n
-    )
-
+def _speed_results(inertia, exact, design, summary: dict, records: list) -> dict:
+    """The results of the exact periodic speed against the energy method's irregularity and
+    flywheel, with the solvers' runs; the flywheel by the ODE and the torsion left to fill."""
     energy_delta = design.irregularity
-    results = {
+    return {
         "reference": "quadrature",
         "inertia_mean_kg_m2": inertia.mean_kg_m2,
         "inertia_min_kg_m2": float(np.min(exact.inertia_kg_m2)),
@@ -188,14 +172,44 @@ def run(scene, inputs) -> StageOutput:
         "solvers": records,
         "torsion": None,
     }
-    if design.required_irregularity is not None and design.required_flywheel_inertia_kg_m2:
-        ode = _flywheel_for(design.required_irregularity, design, gas_series, train, omega_n)
-        results["flywheel_inertia_ode_kg_m2"] = ode
-        results["flywheel_inertia_deviation_percent"] = (
+
+
+def _flywheel_by_ode(design, gas_series, train, omega_n: float) -> dict:
+    """The flywheel that gives the required irregularity by the equation of motion, and its
+    deviation from the energy method's."""
+    ode = _flywheel_for(design.required_irregularity, design, gas_series, train, omega_n)
+    return {
+        "flywheel_inertia_ode_kg_m2": ode,
+        "flywheel_inertia_deviation_percent": (
             100.0
             * (ode - design.required_flywheel_inertia_kg_m2)
             / design.required_flywheel_inertia_kg_m2
-        )
+        ),
+    }
+
+
+def run(scene, inputs) -> StageOutput:
+    torque, bays, crank_loads, design = (
+        inputs[ENGINE_TORQUE],
+        inputs[BAY_LOADS],
+        inputs[CRANK_LOADS],
+        inputs[FLYWHEEL],
+    )
+    torsion_opts = (
+        options(scene, "torsion", TorsionOptions) if "torsion" in scene.plugin_tables() else None
+    )
+    omega_n = torque.angular_velocity_rad_s
+    train = crank_train(scene, bays)
+    inertia, gas, gas_series, exact = _single_mass(scene, torque, bays, design, train)
+    alpha = np.radians(torque.crank_angle_deg)
+    j_grid, dj_grid = inertia(alpha)
+    summary, records, (solver_alpha, solver_omega) = _single_mass_solvers(
+        gas_series, inertia, exact, omega_n
+    )
+
+    results = _speed_results(inertia, exact, design, summary, records)
+    if design.required_irregularity is not None and design.required_flywheel_inertia_kg_m2:
+        results.update(_flywheel_by_ode(design, gas_series, train, omega_n))
     tables = {
         "speed_fluctuation": {
             "crank_angle_deg": torque.crank_angle_deg,

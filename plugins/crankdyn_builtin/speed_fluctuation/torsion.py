@@ -288,7 +288,6 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     """The torsional section's results and table: the shaft model, its modes and the harmonics of the
     crank torque, the solver chosen by stiffness, the periodic state and its twists and span torques."""
     omega_n = torque.angular_velocity_rad_s
-    alpha = np.radians(torque.crank_angle_deg)
     shaft = _shaft(torque, crank_loads, design, train, opts)
     n, reference, spans = shaft.n, shaft.reference, shaft.spans
 
@@ -302,16 +301,8 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     steady, final, atol, twist_scale = _periodic_state(
         shaft, torque, exact, opts, forced or choice.method
     )
-
-    z = final.sol(np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1])
-    theta = shaft.model.P @ z[:n]
-    speeds = z[n:]
-    flywheel_angle = np.degrees(theta[reference] - theta[reference][0])
-    twist = theta[1:] - theta[:-1]  # span j: disc j+1 minus disc j
-    span_torque = np.asarray(spans)[:, None] * twist
-    # The rigid-shaft (single-mass) flywheel speed at the same flywheel angles, for comparison.
-    rigid = exact.omega_at(np.radians(flywheel_angle))
-    fly_speed = speeds[reference]
+    curves = _periodic_curves(shaft, steady, final, torque, exact)
+    twist, span_torque, fly_speed = curves["twist"], curves["span_torque"], curves["fly_speed"]
     f_max, f_min = float(fly_speed.max()), float(fly_speed.min())
     mode_rows = _mode_rows(shaft.modes, n)
     harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
@@ -331,22 +322,12 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         "critical_band_relative": CRITICAL_BAND,
         "operating_rpm": scene.engine.rpm,
         "solver": {**_choice_record(choice, "torsion", forced), "rtol": opts.rtol},
-        "steady_state": {
-            "cycles": steady.cycles,
-            "converged": steady.converged,
-            "change": steady.change if math.isfinite(steady.change) else None,
-            "tolerance": opts.steady_tolerance,
-            "load_torque_Nm": steady.load_torque_Nm,
-            "damping_loss_W": (shaft.load - steady.load_torque_Nm) * omega_n,
-            "steps_per_cycle": final.steps,
-            "nfev_per_cycle": final.nfev,
-            "time_s": sum(r.time_s for r in steady.runs),
-        },
+        "steady_state": _steady_state_record(steady, final, shaft, opts, omega_n),
         "twist_max_rad": [float(np.max(np.abs(t))) for t in twist],
         "span_torque_max_Nm": [float(np.max(np.abs(t))) for t in span_torque],
         "flywheel_irregularity": (f_max - f_min) / (0.5 * (f_max + f_min)),
         "flywheel_speed_deviation_from_rigid_relative": float(
-            np.max(np.abs(fly_speed - rigid)) / omega_n
+            np.max(np.abs(fly_speed - curves["rigid"])) / omega_n
         ),
         "compare_fraction": opts.compare_fraction,
         "reference_rtol": opts.reference_rtol,
@@ -356,19 +337,61 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
         results["solvers"] = _torsion_solvers(
             shaft.model, steady, atol, opts, n, twist_scale, omega_n
         )
-    tables = {
-        "torsion": {
-            "shaft_angle_deg": flywheel_angle,
-            **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
-            **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
-            **{
-                f"speed_{name.replace(' ', '')}_rad_s": speeds[i]
-                for i, name in enumerate(shaft.names)
-            },
-            "rigid_speed_rad_s": rigid,
-        }
+    return results, {"torsion": _torsion_table(shaft, curves)}
+
+
+def _periodic_curves(shaft, steady, final, torque, exact) -> dict:
+    """Over one cycle of the periodic state, at the table's steps: the flywheel's angle, each
+    span's twist and torque, each disc's speed and the rigid shaft's flywheel speed."""
+    n, reference = shaft.n, shaft.reference
+    alpha = np.radians(torque.crank_angle_deg)
+    z = final.sol(np.linspace(0.0, steady.cycle_time_s, alpha.size + 1)[:-1])
+    theta = shaft.model.P @ z[:n]
+    speeds = z[n:]
+    flywheel_angle = np.degrees(theta[reference] - theta[reference][0])
+    twist = theta[1:] - theta[:-1]  # span j: disc j+1 minus disc j
+    return {
+        "flywheel_angle": flywheel_angle,
+        "twist": twist,
+        "span_torque": np.asarray(shaft.spans)[:, None] * twist,
+        "speeds": speeds,
+        "fly_speed": speeds[reference],
+        # The rigid-shaft (single-mass) flywheel speed at the same flywheel angles, for comparison.
+        "rigid": exact.omega_at(np.radians(flywheel_angle)),
     }
-    return results, tables
+
+
+def _steady_state_record(steady, final, shaft, opts: TorsionOptions, omega_n: float) -> dict:
+    """How the periodic state was reached: cycles, convergence, load, damping loss and cost."""
+    return {
+        "cycles": steady.cycles,
+        "converged": steady.converged,
+        "change": steady.change if math.isfinite(steady.change) else None,
+        "tolerance": opts.steady_tolerance,
+        "load_torque_Nm": steady.load_torque_Nm,
+        "damping_loss_W": (shaft.load - steady.load_torque_Nm) * omega_n,
+        "steps_per_cycle": final.steps,
+        "nfev_per_cycle": final.nfev,
+        "time_s": sum(r.time_s for r in steady.runs),
+    }
+
+
+def _torsion_table(shaft, curves: dict) -> dict:
+    """The torsion table: the flywheel's angle, each span's twist and torque, each disc's speed
+    and the rigid shaft's."""
+    n, twist, span_torque, speeds = (
+        shaft.n,
+        curves["twist"],
+        curves["span_torque"],
+        curves["speeds"],
+    )
+    return {
+        "shaft_angle_deg": curves["flywheel_angle"],
+        **{f"twist_{j + 1}_rad": twist[j] for j in range(n - 1)},
+        **{f"span_torque_{j + 1}_Nm": span_torque[j] for j in range(n - 1)},
+        **{f"speed_{name.replace(' ', '')}_rad_s": speeds[i] for i, name in enumerate(shaft.names)},
+        "rigid_speed_rad_s": curves["rigid"],
+    }
 
 
 def _torsion_solvers(model, steady, atol, opts, n, twist_scale, omega_n):

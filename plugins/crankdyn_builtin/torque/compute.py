@@ -37,24 +37,9 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
     q = cs.resultant_Pa(bays.tangential_Pa, bays.radial_Pa, bays.centrifugal_Pa)
     torque = journal[-1] * R * area
     work_all = bays.indicated_work_J
-    revolutions = e.strokes / 2
-    mean = float(np.mean(torque))
-    from_work = work_all / (2 * np.pi * revolutions)
-    from_power = cs.torque_from_power_Nm(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm)
-    i_max, i_min = first_argmax(torque), first_argmin(torque)
-    combos = cs.dangerous_combinations(bays.radial_Pa, bays.tangential_Pa, q, journal)
     results = {
-        "mean_Nm": mean,
-        "mean_from_work_Nm": from_work,
-        "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
-        "mean_from_power_Nm": from_power,
-        "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power
-        if from_power
-        else None,
-        "max_Nm": float(torque[i_max]),
-        "max_crank_angle_deg": float(angle[i_max]),
-        "min_Nm": float(torque[i_min]),
-        "min_crank_angle_deg": float(angle[i_min]),
+        **_mean_torque_results(e, torque, work_all),
+        **_torque_extremes(torque, angle),
         # measured on the torque itself: cycle/cylinders for even firing of identical cylinders, longer
         # when the firing is uneven or the cylinders differ (articulated slave rods)
         "period_deg": (
@@ -77,22 +62,7 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
             )  # as the bearings' journals
             for k in range(layout.cranks)
         ],
-        "dangerous": [
-            {
-                "crank": k + 1,
-                **{
-                    kind: {
-                        "shaft_angle_deg": float(angle[i]),
-                        "z_Pa": float(bays.radial_Pa[k, i]),
-                        "t_Pa": float(bays.tangential_Pa[k, i]),
-                        "q_Pa": float(q[k, i]),
-                        "journal_t_Pa": float(journal[k, i]),
-                    }
-                    for kind, i in combo.items()
-                },
-            }
-            for k, combo in enumerate(combos)
-        ],
+        "dangerous": _dangerous_loads(bays, q, journal, angle),
     }
     if e.effective_power is not None:
         results.update(
@@ -100,14 +70,7 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
                 results["indicated_power_W"], e.effective_power, e.angular_velocity_rad_s
             )
         )
-    columns = {"crank_angle_deg": angle}
-    for k in range(layout.cranks):
-        columns[f"crank{k + 1}_radial_Pa"] = bays.radial_Pa[k]
-        columns[f"crank{k + 1}_tangential_Pa"] = bays.tangential_Pa[k]
-        columns[f"crank{k + 1}_resultant_Pa"] = q[k]
-        columns[f"crank{k + 1}_pin_torque_Pa"] = pin[k]
-        columns[f"journal{k + 1}_torque_Pa"] = journal[k]
-    columns["output_torque_Nm"] = torque
+    columns = _torque_columns(angle, bays, q, pin, journal, torque)
     data = {
         ENGINE_TORQUE: EngineTorque(
             crank_angle_deg=angle,
@@ -130,6 +93,69 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         ),
     }
     return StageOutput(data=data, results=results, tables={"torque": columns})
+
+
+def _mean_torque_results(e, torque, work_all: float) -> dict:
+    """The mean output torque against the one from the indicated work and from the power."""
+    revolutions = e.strokes / 2
+    mean = float(np.mean(torque))
+    from_work = work_all / (2 * np.pi * revolutions)
+    from_power = cs.torque_from_power_Nm(work_all / e.cylinders, e.cylinders, e.strokes, e.rpm)
+    return {
+        "mean_Nm": mean,
+        "mean_from_work_Nm": from_work,
+        "mean_deviation_percent": 100 * (mean - from_work) / from_work if from_work else None,
+        "mean_from_power_Nm": from_power,
+        "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power
+        if from_power
+        else None,
+    }
+
+
+def _torque_extremes(torque, angle) -> dict:
+    """The largest and smallest output torque with their crank angles."""
+    i_max, i_min = first_argmax(torque), first_argmin(torque)
+    return {
+        "max_Nm": float(torque[i_max]),
+        "max_crank_angle_deg": float(angle[i_max]),
+        "min_Nm": float(torque[i_min]),
+        "min_crank_angle_deg": float(angle[i_min]),
+    }
+
+
+def _dangerous_loads(bays, q, journal, angle) -> list[dict]:
+    """Each crank's dangerous combinations of loads (:func:`crankdyn.physics.crankshaft.
+    dangerous_combinations`) with the loads at their shaft angles."""
+    combos = cs.dangerous_combinations(bays.radial_Pa, bays.tangential_Pa, q, journal)
+    return [
+        {
+            "crank": k + 1,
+            **{
+                kind: {
+                    "shaft_angle_deg": float(angle[i]),
+                    "z_Pa": float(bays.radial_Pa[k, i]),
+                    "t_Pa": float(bays.tangential_Pa[k, i]),
+                    "q_Pa": float(q[k, i]),
+                    "journal_t_Pa": float(journal[k, i]),
+                }
+                for kind, i in combo.items()
+            },
+        }
+        for k, combo in enumerate(combos)
+    ]
+
+
+def _torque_columns(angle, bays, q, pin, journal, torque) -> dict:
+    """The torque table: each crank's loads and running torques, then the output torque."""
+    columns = {"crank_angle_deg": angle}
+    for k in range(bays.layout.cranks):
+        columns[f"crank{k + 1}_radial_Pa"] = bays.radial_Pa[k]
+        columns[f"crank{k + 1}_tangential_Pa"] = bays.tangential_Pa[k]
+        columns[f"crank{k + 1}_resultant_Pa"] = q[k]
+        columns[f"crank{k + 1}_pin_torque_Pa"] = pin[k]
+        columns[f"journal{k + 1}_torque_Pa"] = journal[k]
+    columns["output_torque_Nm"] = torque
+    return columns
 
 
 def sampled_periods_deg(values, cycle_deg: float, rtol: float = 1e-9) -> np.ndarray:

@@ -51,6 +51,47 @@ def render(output: StageOutput, ctx) -> str | None:
             (f["output_torque_Nm"], "min", t("torque.extreme_min")),
         ],
     )
+    columns = _b3_columns(ctx, f, rows, labels, cranks)
+    tables = _b3_tables(ctx, columns, cranks, extremes)
+    delays = output.results["cylinder_cycle_delays_deg"]
+    if cranks > 1 and len(delays) > cranks:  # a V's, W's or star's crank carries several cylinders
+        tables[0] = Markup("<p>{}</p>").format(t("torque.crank_sums")) + tables[0]
+    tables[-1] += worked_torque(ctx, f, rows, labels, cranks, delays)
+
+    figure_output = ctx.figure(
+        partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
+        t("torque.output_caption"),
+        "output_torque",
+        see="torque.see_output",
+    )
+    # one crank: its one journal behind it carries the output torque, shown above
+    figure_journals = (
+        None
+        if cranks == 1
+        else ctx.figure(
+            partial(_journals_figure, f, cranks, ctx.cycle_deg, t),
+            t("torque.journals_caption"),
+            "journal_torques",
+            see="torque.see_journals",
+        )
+    )
+    journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
+    danger = _danger_table(ctx, r, cranks)
+    _conclude(ctx, r)
+    return ctx.render_template(
+        "sections/torque.html.j2",
+        r=r,
+        tables=tables,
+        figure_output=figure_output,
+        figure_journals=figure_journals,
+        journals_table=journals_table,
+        danger=danger,
+    )
+
+
+def _b3_columns(ctx, f, rows, labels, cranks: int) -> list:
+    """Table B.3's columns: each crank's loads and running torques (one crank's sums over its
+    cylinders), then the output torque."""
     columns = [("<i>α</i>, °", ctx.angle_labels(labels), None)]
     if cranks == 1:  # one crank: the sums over its cylinders, no running torque between cranks
         columns += [
@@ -64,8 +105,14 @@ def render(output: StageOutput, ctx) -> str | None:
             (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
             (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"][rows] / 1e6, 3),
         ]
-    columns.append(("<i>M</i><sub>d</sub>, " + t("unit.Nm"), f["output_torque_Nm"][rows], 1))
-    # Wide engines: split the B.3 table into chunks of cranks so it fits the page.
+    columns.append(("<i>M</i><sub>d</sub>, " + ctx.t("unit.Nm"), f["output_torque_Nm"][rows], 1))
+    return columns
+
+
+def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
+    """Table B.3 in chunks of four cranks, so that a wide engine's fits the page; the output
+    torque in the last."""
+    t = ctx.t
     tables = []
     per_table = 4
     for start in range(0, cranks, per_table):
@@ -94,33 +141,16 @@ def render(output: StageOutput, ctx) -> str | None:
                 see=see,
             )
         )
-    delays = output.results["cylinder_cycle_delays_deg"]
-    if cranks > 1 and len(delays) > cranks:  # a V's, W's or star's crank carries several cylinders
-        tables[0] = Markup("<p>{}</p>").format(t("torque.crank_sums")) + tables[0]
-    tables[-1] += worked_torque(ctx, f, rows, labels, cranks, delays)
+    return tables
 
-    figure_output = ctx.figure(
-        partial(_output_figure, angle, f["output_torque_Nm"], r["mean_Nm"], ctx.cycle_deg, t),
-        t("torque.output_caption"),
-        "output_torque",
-        see="torque.see_output",
-    )
-    # one crank: its one journal behind it carries the output torque, shown above
-    figure_journals = (
-        None
-        if cranks == 1
-        else ctx.figure(
-            partial(_journals_figure, f, cranks, ctx.cycle_deg, t),
-            t("torque.journals_caption"),
-            "journal_torques",
-            see="torque.see_journals",
-        )
-    )
-    journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
+
+def _danger_table(ctx, r, cranks: int) -> str:
+    """Table B.4: each crank's dangerous combinations of loads."""
+    t = ctx.t
     danger_rows = [
         (d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")
     ]
-    danger = ctx.table(
+    return ctx.table(
         [
             (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
             (
@@ -143,6 +173,11 @@ def render(output: StageOutput, ctx) -> str | None:
         see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4",
     )
 
+
+def _conclude(ctx, r) -> None:
+    """The finding and the conclusions: the mean output torque against the indicated work's, its
+    range, period and non-uniformity, the effective torque when given."""
+    t = ctx.t
     ctx.find(t("torque.finding", mean=ctx.num(r["mean_Nm"])))
     ctx.conclude(
         t(
@@ -165,12 +200,3 @@ def render(output: StageOutput, ctx) -> str | None:
                 eta=ctx.num(r["mechanical_efficiency"], 3),
             )
         )
-    return ctx.render_template(
-        "sections/torque.html.j2",
-        r=r,
-        tables=tables,
-        figure_output=figure_output,
-        figure_journals=figure_journals,
-        journals_table=journals_table,
-        danger=danger,
-    )

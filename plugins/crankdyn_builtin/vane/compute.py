@@ -158,7 +158,26 @@ def run(scene, inputs) -> StageOutput:
     angle_deg = scene.crank_angles_deg
     angle_deg = angle_deg[angle_deg < 360.0]  # the motion repeats every revolution
     alpha = np.radians(angle_deg)
+    table = _vane_table(angle_deg, alpha, r, lam, omega)
+    compare = {"crank_angle_deg": angle_deg}
+    for other in params.compare_rod_ratios:
+        compare.update(_curves(alpha, r, other, omega, suffix=f"_lambda_{other:g}"))
+    by_lambda = _by_lambda_table()
+    zeros, zeros_check = _acceleration_zeros(r, lam, omega)
+    results = _vane_results(params, r, l_tail, omega, zeros, zeros_check)
+    notes = [
+        ("vane.note_corrected", {}),
+        ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check}),
+    ]
+    tables = {"vane": table, "by_lambda": by_lambda}
+    if params.compare_rod_ratios:
+        tables["compare"] = compare
+    return StageOutput(data={}, results=results, tables=tables, notes=notes)
 
+
+def _vane_table(angle_deg, alpha, r: float, lam: float, omega: float) -> dict:
+    """The motion table over one revolution: the rocker's (and the slider's horizontal) motion,
+    the mechanism's curves (:func:`_curves`) and the slider's rotation relative to the tail."""
     xk, yk = vn.rocker_position_m(alpha, r)
     vxk, vyk = vn.rocker_velocity_m_s(alpha, r, omega)
     jxk, jyk = vn.rocker_acceleration_m_s2(alpha, r, omega)
@@ -178,12 +197,14 @@ def run(scene, inputs) -> StageOutput:
     table["slider_rotation_deg"] = -table[
         "core_angle_deg"
     ]  # relative to the tail: the mirror of beta
-    compare = {"crank_angle_deg": angle_deg}
-    for other in params.compare_rod_ratios:
-        compare.update(_curves(alpha, r, other, omega, suffix=f"_lambda_{other:g}"))
+    return table
 
+
+def _by_lambda_table() -> dict:
+    """The mechanism's largest angles and travels and the acceleration's first zero over the rod
+    ratios 0.01-0.99."""
     lam_grid = np.linspace(0.01, 0.99, 99)
-    by_lambda = {
+    return {
         "rod_ratio": lam_grid,
         "core_angle_max_deg": np.degrees(np.arcsin(lam_grid)),
         "slider_vertical_travel_max_over_tail": [
@@ -197,6 +218,10 @@ def run(scene, inputs) -> StageOutput:
         ],
     }
 
+
+def _acceleration_zeros(r: float, lam: float, omega: float):
+    """(the crank angles where the slider's vertical acceleration is zero, in closed form, deg;
+    the largest difference from a root search on the acceleration itself, deg)."""
     zeros = np.degrees(vn.slider_vertical_acceleration_zeros_rad(lam))
     # Independent check of the closed form: a root search on j_yp itself around each zero.
     found = [
@@ -208,10 +233,16 @@ def run(scene, inputs) -> StageOutput:
         )
         for z in zeros
     ]
-    zeros_check = float(np.max(np.abs(np.degrees(found) - zeros)))
+    return zeros, float(np.max(np.abs(np.degrees(found) - zeros)))
+
+
+def _vane_results(params, r: float, l_tail: float, omega: float, zeros, zeros_check) -> dict:
+    """The results: sizes, the largest angles and travel, the acceleration's zeros and the
+    extremes of the motion found by root finding on the derivative."""
+    lam = r / l_tail
     y_max = vn.slider_vertical_travel_max_m(r, lam)
     ext = extremes(r, lam, omega)
-    results = {
+    return {
         "crank_radius_m": r,
         "tail_length_m": l_tail,
         "rod_ratio": lam,
@@ -239,11 +270,3 @@ def run(scene, inputs) -> StageOutput:
         "compare_rod_ratios": list(params.compare_rod_ratios),
         "working_cycle_deg": list(WORKING_CYCLE_DEG),
     }
-    notes = [
-        ("vane.note_corrected", {}),
-        ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check}),
-    ]
-    tables = {"vane": table, "by_lambda": by_lambda}
-    if params.compare_rod_ratios:
-        tables["compare"] = compare
-    return StageOutput(data={}, results=results, tables=tables, notes=notes)

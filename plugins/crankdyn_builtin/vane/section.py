@@ -45,22 +45,37 @@ def _vane_table(f, r, ctx) -> str:
 def render(output: StageOutput, ctx) -> str:
     """The section: the sampled table, the angle, core, rocker, slider and relative-slider figures,
     the rod-ratio study and the conclusion."""
-    t = ctx.t
     f = output.tables.arrays("vane")
     r = output.results
     lam = r["rod_ratio"]
-    mm = 1e3
     plot = partial(
         _plot_compared,
         f,
         (output.tables.arrays("compare") if "compare" in output.tables else None),
         lam,
         r["compare_rod_ratios"],
-        t,
+        ctx.t,
     )
 
     table = _vane_table(f, r, ctx)
-    figure_angles = _two_panels(
+    figures = _motion_figures(plot, f, r, ctx)
+    figure_lambda = _lambda_figure(output.tables.arrays("by_lambda"), lam, ctx)
+    _conclude(r, ctx)
+    return ctx.render_template(
+        "sections/vane.html.j2",
+        r=r,
+        zeros=r["slider_vertical_acceleration_zeros_deg"],
+        table=table,
+        **figures,
+        figure_lambda=figure_lambda,
+    )
+
+
+def _motion_figures(plot, f, r, ctx) -> dict:
+    """The figures of the angles, the core's rates, the rocker, the slider and the slider
+    relative to the rocker, in that order, by their template names."""
+    figures = {}
+    figures["figure_angles"] = _two_panels(
         plot,
         ctx,
         ("core_angle_deg", "vane_angle_deg"),
@@ -69,7 +84,7 @@ def render(output: StageOutput, ctx) -> str:
         "vane_angles",
         "vane.see_angles",
     )
-    figure_core = _two_panels(
+    figures["figure_core"] = _two_panels(
         plot,
         ctx,
         ("core_angular_velocity_rad_s", "core_angular_acceleration_rad_s2"),
@@ -78,8 +93,8 @@ def render(output: StageOutput, ctx) -> str:
         "vane_core",
         "vane.see_core",
     )
-    figure_rocker = _rocker_figure(f, ctx)
-    figure_slider = _three_panels(
+    figures["figure_rocker"] = _rocker_figure(f, ctx)
+    figures["figure_slider"] = _three_panels(
         plot,
         ctx,
         ("slider_y_below_core_m", "slider_vy_below_core_m_s", "slider_jy_below_core_m_s2"),
@@ -90,7 +105,7 @@ def render(output: StageOutput, ctx) -> str:
         "vane.see_slider",
         r["slider_vertical_acceleration_zeros_deg"],
     )
-    figure_relative = _three_panels(
+    figures["figure_relative"] = _three_panels(
         plot,
         ctx,
         ("slider_relative_m", "slider_relative_velocity_m_s", "slider_relative_acceleration_m_s2"),
@@ -100,31 +115,23 @@ def render(output: StageOutput, ctx) -> str:
         "vane_relative",
         "vane.see_relative",
     )
-    figure_lambda = _lambda_figure(output.tables.arrays("by_lambda"), lam, ctx)
+    return figures
 
+
+def _conclude(r, ctx) -> None:
+    """The section's conclusion: the mechanism's largest angles, the acceleration's zero and the
+    slider's travel."""
     zeros = r["slider_vertical_acceleration_zeros_deg"]
     ctx.conclude(
-        t(
+        ctx.t(
             "vane.conclusion",
-            lam=ctx.num(lam, 4),
+            lam=ctx.num(r["rod_ratio"], 4),
             beta_max=ctx.t.number_g(r["core_angle_max_deg"], 4),
             gamma_max=ctx.t.number_g(r["vane_angle_max_deg"], 4),
             zero=ctx.num(zeros[0], 5),
-            y_max=ctx.num(r["slider_vertical_travel_max_m"] * mm, 5),
+            y_max=ctx.num(r["slider_vertical_travel_max_m"] * 1e3, 5),
             y_rel=ctx.num(r["slider_vertical_travel_max_over_tail"], 4),
         )
-    )
-    return ctx.render_template(
-        "sections/vane.html.j2",
-        r=r,
-        zeros=zeros,
-        table=table,
-        figure_angles=figure_angles,
-        figure_core=figure_core,
-        figure_rocker=figure_rocker,
-        figure_slider=figure_slider,
-        figure_relative=figure_relative,
-        figure_lambda=figure_lambda,
     )
 
 

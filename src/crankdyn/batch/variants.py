@@ -158,6 +158,27 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     """The override columns and the rows of ``csv_path``; a malformed file raises SceneError."""
 
     source = str(csv_path)
+    rows, decimal_comma = _csv_rows(_read_variants_text(csv_path, source), source)
+    # Blank rows are skipped but still counted, so row numbers match the spreadsheet's.
+    numbered = [(k, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not numbered:
+        raise SceneError(
+            Problem(
+                "variants",
+                source,
+                "empty file; the first row names the scene fields, "
+                "e.g. variant,report.student,engine.bore",
+            ),
+            source,
+        )
+    header = [h.strip() for h in numbered[0][1]]
+    _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(numbered) - 1)
+    fields = _header_fields(source, header)
+    return fields, _variants(numbered, header, fields, decimal_comma, source)
+
+
+def _read_variants_text(csv_path: Path, source: str) -> str:
+    """The text of the variants file; a missing, oversized or unreadable file raises SceneError."""
     try:
         if not csv_path.is_file():
             if csv_path.exists():
@@ -173,7 +194,7 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
                 ),
                 source,
             )
-        text = csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
+        return csv_path.read_text(encoding="utf-8-sig")  # Excel writes a BOM
     except FileNotFoundError:
         raise SceneError(Problem("variants", source, "file not found"), source) from None
     except (OSError, UnicodeDecodeError) as exc:
@@ -183,6 +204,11 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
             ),
             source,
         ) from None
+
+
+def _csv_rows(text: str, source: str) -> tuple[list[list[str]], bool]:
+    """The rows of the CSV text in its sniffed dialect, and whether its numbers take the decimal
+    comma."""
     sample = text[:4096]
     try:
         dialect = csv.Sniffer().sniff(sample, delimiters=",;\t")
@@ -196,24 +222,12 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
         ) from None
     # A semicolon- or tab-separated file usually comes from a spreadsheet in a locale with the
     # decimal comma: read "0,28" and "82,5 mm" as 0.28 and "82.5 mm" there.
-    decimal_comma = dialect.delimiter != ","
-    # Blank rows are skipped but still counted, so row numbers match the spreadsheet's.
-    numbered = [(k, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
-    rows = [r for _, r in numbered]
-    if not rows:
-        raise SceneError(
-            Problem(
-                "variants",
-                source,
-                "empty file; the first row names the scene fields, "
-                "e.g. variant,report.student,engine.bore",
-            ),
-            source,
-        )
-    header = [h.strip() for h in rows[0]]
-    _check_size(source, sum(h != VARIANT_COLUMN for h in header), len(rows) - 1)
-    fields = _header_fields(source, header)
+    return rows, dialect.delimiter != ","
 
+
+def _variants(numbered, header, fields, decimal_comma: bool, source: str) -> list[Variant]:
+    """The variants of the file's non-blank rows after the header (``numbered``: (record, cells));
+    a variant id that names one of the batch's own files raises SceneError."""
     variants: list[Variant] = []
     names: dict[str, int] = {}
     reserved: list[Problem] = []
@@ -221,32 +235,11 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
     width = max(2, len(str(numbered[-1][0] - header_index)))
     for record, cells in numbered[1:]:
         row_number = record - header_index
-        error = None
-        if len(cells) > len(header) and any(c.strip() for c in cells[len(header) :]):
-            error = f"row has {len(cells)} cells but the header names {len(header)} columns"
-        cells = (cells + [""] * len(header))[: len(header)]
-        row = dict(
-            zip(
-                header,
-                (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells),
-                strict=True,
-            )
-        )
-        overrides: dict = {}
-        for name in fields:
-            if row[name] != "":  # an empty cell keeps the base scene's value
-                overrides = merge(overrides, _nest(name, parse_cell(row[name])))
+        row, error = _row_cells(cells, header, decimal_comma)
         wanted = row.get(VARIANT_COLUMN, "") or f"{row_number:0{width}d}"
         name = folder_name(wanted, f"{row_number:0{width}d}")
         if wanted.casefold() in RESERVED_NAMES or name.casefold() in RESERVED_NAMES:
-            own = ", ".join(sorted(RESERVED_NAMES))
-            reserved.append(
-                Problem(
-                    f"row {row_number}, column {VARIANT_COLUMN}",
-                    wanted,
-                    f"a name of the batch's own files ({own}); give the variant another id",
-                )
-            )
+            reserved.append(_reserved_name_problem(row_number, wanted))
         if name in names:
             error = (
                 error
@@ -254,10 +247,46 @@ def read_variants(csv_path: Path) -> tuple[list[str], list[Variant]]:
             )
             name = f"{name}__row{row_number}"
         names.setdefault(name, row_number)
-        variants.append(Variant(row_number, name, overrides, row, error))
+        variants.append(Variant(row_number, name, _row_overrides(row, fields), row, error))
     if reserved:
         raise SceneError(reserved, source)
-    return fields, variants
+    return variants
+
+
+def _row_cells(cells: list[str], header: list[str], decimal_comma: bool) -> tuple[dict, str | None]:
+    """A row's cells by column name (a short row padded with empty cells), and the error of a row
+    with more filled cells than the header names."""
+    error = None
+    if len(cells) > len(header) and any(c.strip() for c in cells[len(header) :]):
+        error = f"row has {len(cells)} cells but the header names {len(header)} columns"
+    cells = (cells + [""] * len(header))[: len(header)]
+    row = dict(
+        zip(
+            header,
+            (_decimal_point(c.strip()) if decimal_comma else c.strip() for c in cells),
+            strict=True,
+        )
+    )
+    return row, error
+
+
+def _row_overrides(row: dict, fields: list[str]) -> dict:
+    """The scene overrides of a row's filled cells."""
+    overrides: dict = {}
+    for name in fields:
+        if row[name] != "":  # an empty cell keeps the base scene's value
+            overrides = merge(overrides, _nest(name, parse_cell(row[name])))
+    return overrides
+
+
+def _reserved_name_problem(row_number: int, wanted: str) -> Problem:
+    """The problem of a variant id that names one of the batch's own files."""
+    own = ", ".join(sorted(RESERVED_NAMES))
+    return Problem(
+        f"row {row_number}, column {VARIANT_COLUMN}",
+        wanted,
+        f"a name of the batch's own files ({own}); give the variant another id",
+    )
 
 
 def _header_fields(source: str, header: list[str]) -> list[str]:

@@ -196,14 +196,30 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
     scene = scene.with_plugin_defaults(registry)
     requested = list(requested) if requested is not None else scene.analysis.stages
     if requested is not None:
-        unknown = [n for n in requested if n not in registry.stages]
-        if unknown:
-            installed = ", ".join(sorted(registry.stages)) + broken_note(registry)
-            raise SceneError(
-                [Problem("stages", n, "unknown stage; installed: " + installed) for n in unknown]
-            )
+        _check_requested(requested, registry)
     _check_requirements(registry)
     skipped: dict[str, str] = {}
+    applicable = _applicable_stages(scene, registry, skipped)
+    providers = _providers(applicable)
+    wanted = _wanted_stages(applicable, requested, skipped)
+    chosen = _choose_stages(wanted, applicable, providers, skipped, registry)
+    return Plan(
+        order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry
+    )
+
+
+def _check_requested(requested: list[str], registry: Registry) -> None:
+    """Every requested stage is registered."""
+    unknown = [n for n in requested if n not in registry.stages]
+    if unknown:
+        installed = ", ".join(sorted(registry.stages)) + broken_note(registry)
+        raise SceneError(
+            [Problem("stages", n, "unknown stage; installed: " + installed) for n in unknown]
+        )
+
+
+def _applicable_stages(scene: Scene, registry: Registry, skipped: dict[str, str]) -> dict:
+    """The stages that apply to ``scene``; the others go to ``skipped`` with the reason."""
     applicable: dict[str, Stage] = {}
     for name, stage in sorted(registry.stages.items()):
         reason = stage_applies(stage, scene, registry)
@@ -211,7 +227,11 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
             applicable[name] = stage
         else:
             skipped[name] = reason
+    return applicable
 
+
+def _providers(applicable: dict[str, Stage]) -> dict[str, Stage]:
+    """The applicable stage that provides each result key (two providers of a key: PluginError)."""
     providers: dict[str, Stage] = {}
     for stage in applicable.values():
         for key in stage.provides:
@@ -220,7 +240,12 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
                     f"both {providers[key].name!r} and {stage.name!r} provide {key!r} for this scene"
                 )
             providers[key] = stage
+    return providers
 
+
+def _wanted_stages(applicable: dict, requested: list[str] | None, skipped: dict) -> list[str]:
+    """The applicable stages asked for (the default ones when none are requested); the others go
+    to ``skipped``."""
     if requested is None:
         wanted = [n for n, s in applicable.items() if s.default]
         for n, s in applicable.items():
@@ -231,7 +256,11 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         for n in applicable:
             if n not in requested:
                 skipped[n] = "not requested"
+    return wanted
 
+
+def _choose_stages(wanted, applicable, providers, skipped: dict, registry) -> dict[str, Stage]:
+    """The wanted stages and their prerequisites that can run; the others go to ``skipped``."""
     chosen: dict[str, Stage] = {}
 
     def add(name: str, chain: tuple[str, ...]) -> str | None:
@@ -265,9 +294,7 @@ def plan(scene: Scene, registry: Registry, requested: Iterable[str] | None = Non
         reason = add(name, ())
         if reason is not None:
             skipped[name] = reason
-    return Plan(
-        order=_topological(chosen), skipped=dict(sorted(skipped.items())), registry=registry
-    )
+    return chosen
 
 
 def _check_requirements(registry: Registry) -> None:

@@ -370,50 +370,21 @@ def explore(
     # multiples of the unit, so the vector models work from small tables of unit vectors.
     phase = (lags[:, bays] + bank_offset[None, :]) % count
     coefficients = _balance_coefficients_indexed(lags, phase, unit, count, psi, bays, vertical)
-    shafts, second, counterweights = balance_scores(coefficients)
-    t1, t2, t3 = _tiers(shafts), _tiers(second), _tiers(counterweights)
-    tier = (t1 * (int(t2.max()) + 1) + t2) * (int(t3.max()) + 1) + t3  # lexicographic
-
-    def evaluate(members: np.ndarray) -> dict[str, np.ndarray]:
-        """Every firing order of the given arrangements, with its rule scores, sorted best first."""
-        seqs = _firing_sequences(phase[members], multiplicity, count, cylinders, strokes)
-        rules = _rules(seqs, banks, bays)
-        result.scored_firing_orders += seqs.shape[0] * seqs.shape[1]
-        flat: dict[str, np.ndarray] = {k: v.reshape(-1) for k, v in rules.items()}
-        flat["arrangement"] = np.repeat(members, seqs.shape[1])
-        flat["tier"] = tier[flat["arrangement"]]
-        flat["sequence"] = seqs.reshape(-1, cylinders)
-        keys = [flat["sequence"][:, c] for c in range(cylinders - 1, -1, -1)]
-        keys += [flat["same_half"], flat["same_pin"], flat["neighbours"], flat["tier"]]
-        order = np.lexsort(keys)
-        return {k: v[order] for k, v in flat.items()}
-
+    tier = _balance_tier(coefficients)
+    scorer = _FiringScorer(
+        result, phase, multiplicity, count, cylinders, strokes, banks, bays, tier
+    )
     by_tier = np.argsort(tier, kind="stable")
     groups = np.split(by_tier, np.flatnonzero(np.diff(tier[by_tier])) + 1)
-    evaluated: list[dict[str, np.ndarray]] = []
-    evaluated_tiers: dict[int, dict[str, np.ndarray]] = {}
-    total = 0
-    for members in groups:
-        if top is not None and total >= top:
-            break
-        rows = evaluate(members)
-        evaluated.append(rows)
-        evaluated_tiers[int(tier[members[0]])] = rows
-        total += len(rows["tier"])
+    evaluated, evaluated_tiers = _evaluate_best_tiers(groups, top, scorer)
 
     def candidate(rank: int, rows: dict[str, np.ndarray], i: int) -> Candidate:
+        """Row ``i`` of the evaluated ``rows`` as the candidate of this engine ranked ``rank``."""
         return _candidate(rank, rows, i, lags, unit, labels, coefficients)
 
-    rank = 0
-    for rows in evaluated:
-        for i in range(len(rows["tier"])):
-            if top is not None and rank >= top:
-                break
-            rank += 1
-            result.rows.append(candidate(rank, rows, i))
-
+    result.rows += _ranked_rows(evaluated, top, candidate)
     found = (
-        _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, evaluate)
+        _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, scorer.evaluate)
         if locate is not None
         else None
     )
@@ -422,6 +393,75 @@ def explore(
         result.located_rank = int(np.sum(tier < own_tier)) * per_arrangement + i + 1
         result.located = candidate(result.located_rank, rows, i)
     return result
+
+
+def _balance_tier(coefficients: dict[str, np.ndarray]) -> np.ndarray:
+    """Each arrangement's balance tier: lexicographic over the balance-shaft, second-order and
+    counterweight scores (:func:`balance_scores`), lower is better."""
+    shafts, second, counterweights = balance_scores(coefficients)
+    t1, t2, t3 = _tiers(shafts), _tiers(second), _tiers(counterweights)
+    return (t1 * (int(t2.max()) + 1) + t2) * (int(t3.max()) + 1) + t3  # lexicographic
+
+
+@dataclass
+class _FiringScorer:
+    """What scoring the firing orders of a set of arrangements needs; counts them on ``result``."""
+
+    result: Exploration
+    phase: np.ndarray
+    multiplicity: int
+    count: int
+    cylinders: int
+    strokes: int
+    banks: np.ndarray
+    bays: np.ndarray
+    tier: np.ndarray
+
+    def evaluate(self, members: np.ndarray) -> dict[str, np.ndarray]:
+        """Every firing order of the given arrangements, with its rule scores, sorted best first."""
+        cylinders = self.cylinders
+        seqs = _firing_sequences(
+            self.phase[members], self.multiplicity, self.count, cylinders, self.strokes
+        )
+        rules = _rules(seqs, self.banks, self.bays)
+        self.result.scored_firing_orders += seqs.shape[0] * seqs.shape[1]
+        flat: dict[str, np.ndarray] = {k: v.reshape(-1) for k, v in rules.items()}
+        flat["arrangement"] = np.repeat(members, seqs.shape[1])
+        flat["tier"] = self.tier[flat["arrangement"]]
+        flat["sequence"] = seqs.reshape(-1, cylinders)
+        keys = [flat["sequence"][:, c] for c in range(cylinders - 1, -1, -1)]
+        keys += [flat["same_half"], flat["same_pin"], flat["neighbours"], flat["tier"]]
+        order = np.lexsort(keys)
+        return {k: v[order] for k, v in flat.items()}
+
+
+def _evaluate_best_tiers(groups, top: int | None, scorer: _FiringScorer):
+    """(evaluated rows of each tier, best first; the same by tier) of the best balance tiers,
+    until they hold ``top`` firing orders (all of them for None)."""
+    evaluated: list[dict[str, np.ndarray]] = []
+    evaluated_tiers: dict[int, dict[str, np.ndarray]] = {}
+    total = 0
+    for members in groups:
+        if top is not None and total >= top:
+            break
+        rows = scorer.evaluate(members)
+        evaluated.append(rows)
+        evaluated_tiers[int(scorer.tier[members[0]])] = rows
+        total += len(rows["tier"])
+    return evaluated, evaluated_tiers
+
+
+def _ranked_rows(evaluated, top: int | None, candidate) -> list[Candidate]:
+    """The first ``top`` (all for None) evaluated firing orders as ranked candidates."""
+    ranked: list[Candidate] = []
+    rank = 0
+    for rows in evaluated:
+        for i in range(len(rows["tier"])):
+            if top is not None and rank >= top:
+                break
+            rank += 1
+            ranked.append(candidate(rank, rows, i))
+    return ranked
 
 
 def _count_orders(

@@ -772,27 +772,7 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     :func:`rounded_pressure_Pa` as ``junction_deg``.
     """
     count = len(params)
-    _require(
-        count == len(rounding) and count > 0,
-        "rounding",
-        f"{len(rounding)} entries",
-        f"one per diagram ({count}), at least one",
-    )
-    cycle = _cycle_deg(params[0])
-    _require(
-        all(_cycle_deg(p) == cycle for p in params),
-        "params",
-        "mixed strokes",
-        "diagrams of one number of strokes",
-    )
-    tdc = _firing_tdc_deg(params[0])
-    lines = _ColumnLines(
-        np.asarray(clearance_volume_m3, dtype=float).reshape(count, 1),
-        params,
-        volume_function,
-        tdc,
-        cycle,
-    )
+    lines = _many_diagram_lines(params, rounding, clearance_volume_m3, volume_function)
     psi_peak = np.array([r.peak_angle_after_tdc_deg for r in rounding], dtype=float)
     psi_limit = 180.0 - np.array([r.exhaust_opens_before_bdc_deg for r in rounding], dtype=float)
     peak = np.array(
@@ -807,6 +787,41 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     junction = np.full(count, np.nan)
     if found.size == 0:
         return junction
+    found, lo, hi = _junction_brackets(found, first, psi_peak, peak, lines)
+    junction[found] = _refined_junctions(found, lo, hi, psi_peak, peak, lines)
+    return junction
+
+
+def _many_diagram_lines(params, rounding, clearance_volume_m3, volume_function) -> _ColumnLines:
+    """The compression and expansion lines of many diagrams, one per row; diagrams of mixed
+    strokes or a rounding count that does not match raise ValueError."""
+    count = len(params)
+    _require(
+        count == len(rounding) and count > 0,
+        "rounding",
+        f"{len(rounding)} entries",
+        f"one per diagram ({count}), at least one",
+    )
+    cycle = _cycle_deg(params[0])
+    _require(
+        all(_cycle_deg(p) == cycle for p in params),
+        "params",
+        "mixed strokes",
+        "diagrams of one number of strokes",
+    )
+    tdc = _firing_tdc_deg(params[0])
+    return _ColumnLines(
+        np.asarray(clearance_volume_m3, dtype=float).reshape(count, 1),
+        params,
+        volume_function,
+        tdc,
+        cycle,
+    )
+
+
+def _junction_brackets(found, first, psi_peak, peak, lines):
+    """(rows, lo, hi): the rows ``found`` whose first passing grid step ``first`` surely holds
+    the junction (below the peak, a monotone segment at its end), with that step's bracket."""
     step = _JUNCTION_SEARCH_STEP_DEG
     hi = psi_peak[found] + step * first[found]
     lo = np.where(first[found] == 1, psi_peak[found], psi_peak[found] + step * (first[found] - 1))
@@ -821,9 +836,7 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
         ],
         dtype=bool,
     )
-    found, hi, lo = found[sure], hi[sure], lo[sure]
-    junction[found] = _refined_junctions(found, lo, hi, psi_peak, peak, lines)
-    return junction
+    return found[sure], lo[sure], hi[sure]
 
 
 def _passing_many(psi, psi_peak, peak_Pa, lines, rows):
@@ -1017,23 +1030,33 @@ def rounded_pressure_Pa(
     alpha = np.asarray(crank_angle_deg, dtype=float)
     volume = np.asarray(volume_m3, dtype=float)
     _check_rounding_inputs(params, rounding)
+    pressure = _theoretical_or_given(alpha, volume, clearance_volume_m3, params, theoretical_Pa)
+    cycle = _cycle_deg(params)
+    lines = _one_diagram_lines(alpha, volume, clearance_volume_m3, params, volume_function)
+    pressure, psi_j = _combustion_rounding(alpha, pressure, lines, rounding, cycle, junction_deg)
+    pressure = _exhaust_drop(alpha, pressure, lines, rounding, cycle, psi_j)
+    if params.strokes == 4:
+        pressure = _gas_exchange_step(alpha, pressure, params, rounding, lines.tdc_deg, cycle)
+    return pressure
+
+
+def _theoretical_or_given(alpha, volume, clearance_volume_m3, params, theoretical_Pa):
+    """The theoretical pressure at the angles ``alpha``, Pa: the caller's, or computed."""
     if theoretical_Pa is None:
-        pressure = theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
-    else:
-        pressure = np.asarray(theoretical_Pa, dtype=float)
+        return theoretical_pressure_Pa(alpha, volume, clearance_volume_m3, params)
+    return np.asarray(theoretical_Pa, dtype=float)
+
+
+def _one_diagram_lines(alpha, volume, clearance_volume_m3, params, volume_function) -> _Lines:
+    """The compression and expansion lines of one diagram, its volume from ``volume_function``
+    or, without one, from a periodic spline through the caller's (angle, volume) points."""
     cycle = _cycle_deg(params)
     tdc = _firing_tdc_deg(params)
-    four = params.strokes == 4
     if volume_function is None:
         volume_at = _volume_interpolant(alpha, volume, cycle)
     else:
         volume_at = _function_volume(volume_function, cycle)
-    lines = _Lines(volume_at, tdc, clearance_volume_m3, params)
-    pressure, psi_j = _combustion_rounding(alpha, pressure, lines, rounding, cycle, junction_deg)
-    pressure = _exhaust_drop(alpha, pressure, lines, rounding, cycle, psi_j)
-    if four:
-        pressure = _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle)
-    return pressure
+    return _Lines(volume_at, tdc, clearance_volume_m3, params)
 
 
 def _check_rounding_inputs(params, rounding) -> None:
@@ -1112,13 +1135,27 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     it: NaN for none).
     """
     params = lines.params
-    four = params.strokes == 4
-    p_c = compression_end_pressure_Pa(params)
     peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
-    eo = rounding.exhaust_opens_before_bdc_deg
     psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
     psi_peak = rounding.peak_angle_after_tdc_deg
-    psi_b1 = 180.0 - eo
+    psi_b1 = 180.0 - rounding.exhaust_opens_before_bdc_deg
+    _check_combustion_window(rounding, params.strokes == 4, psi_c1)
+    p_c1, s_c1, p_c2, d_c2 = _combustion_rise(lines, rounding, psi_c1, peak)
+    psi_j = _combustion_junction(lines, rounding, peak, psi_b1, junction_deg)
+    p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
+    combustion = hermite_cubic(
+        [psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j]
+    )
+    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
+    in_window = offset <= psi_j - psi_c1
+    return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
+
+
+def _check_combustion_window(rounding, four: bool, psi_c1: float) -> None:
+    """The combustion window fits the cycle: a two-stroke's drop at BDC ends before C', and the
+    exhaust opening point b' follows the peak Z'."""
+    eo = rounding.exhaust_opens_before_bdc_deg
+    psi_peak = rounding.peak_angle_after_tdc_deg
     if not four:
         # the drop end (after BDC) must precede C' (before the next firing TDC)
         _require(
@@ -1129,12 +1166,19 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
             "before the combustion point C'",
         )
     _require(
-        psi_peak < psi_b1,
+        psi_peak < 180.0 - eo,
         "exhaust_opens_before_bdc_deg",
         eo,
         f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
         f"(peak_angle_after_tdc_deg = {psi_peak:g})",
     )
+
+
+def _combustion_rise(lines: _Lines, rounding, psi_c1: float, peak: float):
+    """(p_C', slope at C', p_C'', slope at C''), Pa and Pa/deg, of a monotone rise from C' on the
+    compression line through C'' to the peak Z'."""
+    p_c = compression_end_pressure_Pa(lines.params)
+    psi_peak = rounding.peak_angle_after_tdc_deg
     p_c1, s_c1 = (float(x[0]) for x in lines.compression_at(np.asarray([psi_c1])))
     p_c2 = p_c + rounding.pressure_rise_to_tdc_Pa
     _require(
@@ -1161,6 +1205,13 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
         psi_peak,
         "a value for which the C''-Z' rounding is monotone",
     )
+    return p_c1, s_c1, p_c2, d_c2
+
+
+def _combustion_junction(lines: _Lines, rounding, peak: float, psi_b1: float, junction_deg):
+    """psi_J, deg after firing TDC: the caller's ``junction_deg`` or searched; none before b'
+    raises ValueError."""
+    psi_peak = rounding.peak_angle_after_tdc_deg
     if junction_deg is None:
         psi_j = _find_junction_deg(psi_peak, psi_b1, peak, lines.expansion_at)
     else:
@@ -1168,18 +1219,13 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     _require(
         psi_j is not None,
         "peak_angle_after_tdc_deg / peak_pressure_fraction / exhaust_opens_before_bdc_deg",
-        f"{psi_peak} deg / {rounding.peak_pressure_fraction} / {eo} deg",
+        f"{psi_peak} deg / {rounding.peak_pressure_fraction} / "
+        f"{rounding.exhaust_opens_before_bdc_deg} deg",
         "values for which the rounding from Z' joins the expansion line "
         f"monotonically before the exhaust opening point b' ({psi_b1:g} deg after "
         "firing TDC)",
     )
-    p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
-    combustion = hermite_cubic(
-        [psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j]
-    )
-    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
-    in_window = offset <= psi_j - psi_c1
-    return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
+    return psi_j
 
 
 def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):

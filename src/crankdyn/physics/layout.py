@@ -254,84 +254,29 @@ def build_layout(
     axes = bank_axes_deg(layout, bank_angle_deg, cylinders)
     entries = cylinder_labels(layout, cylinders)
     labels = [e[0] for e in entries]
-    bays = max(e[2] for e in entries) + 1
-
+    bank_of = {e[0]: e[1] for e in entries}
+    places = _CylinderPlaces(
+        labels=labels,
+        bank_of=bank_of,
+        bay_of={e[0]: e[2] for e in entries},
+        psi={label: axes[bank_of[label]] for label in labels},
+        bays=max(e[2] for e in entries) + 1,
+    )
     order = _firing_order(firing_order, labels, layout, strokes)
     firing_order = order if firing_order is None else firing_order  # the messages below quote it
-    bank_of = {e[0]: e[1] for e in entries}
-    bay_of = {e[0]: e[2] for e in entries}
-    psi = {label: axes[bank_of[label]] for label in labels}
-
     if crank_angles_deg is None:
-        interval = cycle / cylinders
-        delay = {label: k * interval for k, label in enumerate(order)}
-        lags = []
-        for bay in range(bays):
-            members = [lab for lab in labels if bay_of[lab] == bay]
-            candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
-            if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
-                first, other = (
-                    members[0],
-                    next(
-                        m
-                        for m, c in zip(members, candidates, strict=True)
-                        if _angle_distance(c, candidates[0]) > _TOL
-                    ),
-                )
-                raise LayoutError(
-                    "engine.firing_order",
-                    firing_order,
-                    _shared_crank_message(first, other, psi, delay, interval),
-                )
-            lags.append(candidates[0])
+        delay, lags = _even_firing_cranks(places, order, cycle / cylinders, firing_order)
         even = True
     else:
-        if len(crank_angles_deg) != bays:
-            raise LayoutError(
-                "engine.crank_angles_deg",
-                crank_angles_deg,
-                f"must have one angle per crank: {bays} values, crank 1 first",
-            )
-        lags = [float(a) % 360.0 for a in crank_angles_deg]
-        base = (psi[labels[0]] + lags[0]) % 360.0
-        geometric = {lab: (psi[lab] + lags[bay_of[lab]] - base) % 360.0 for lab in labels}
-        delay = {order[0]: 0.0}
-        for prev, nxt in zip(order[:-1], order[1:], strict=True):
-            step = (geometric[nxt] - geometric[prev]) % 360.0
-            step = step if step > _TOL else 360.0
-            delay[nxt] = delay[prev] + step
-        closing = cycle - delay[order[-1]]
-        if cylinders > 1 and (
-            closing <= _TOL
-            or _angle_distance(
-                closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0
-            )
-            > _TOL
-        ):
-            raise LayoutError(
-                "engine.firing_order",
-                firing_order,
-                f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
-                f"{cycle:g}-deg cycle",
-            )
-        intervals = np.diff([delay[lab] for lab in order] + [cycle])
-        even = bool(np.all(np.abs(intervals - cycle / cylinders) < _TOL))
-        lags = [(lag - lags[0]) % 360.0 for lag in lags]
-        if not even and not uneven_firing:
-            raise LayoutError(
-                "engine.crank_angles_deg",
-                crank_angles_deg,
-                "gives uneven firing intervals ("
-                + ", ".join(f"{x:g}" for x in intervals)
-                + " deg); set engine.uneven_firing = true if that is intended",
-            )
-
+        delay, lags, even = _given_cranks_firing(
+            places, order, cycle, crank_angles_deg, firing_order, uneven_firing
+        )
     cylinders_list = tuple(
         Cylinder(
             label=lab,
             bank=bank_of[lab],
-            bay=bay_of[lab],
-            axis_deg=psi[lab],
+            bay=places.bay_of[lab],
+            axis_deg=places.psi[lab],
             firing_delay_deg=delay[lab] % cycle,
             master=(rod_type != "articulated") or bank_of[lab] == 0,
         )
@@ -346,6 +291,108 @@ def build_layout(
         firing_order=tuple(order),
         even_firing=even,
     )
+
+
+@dataclass(frozen=True)
+class _CylinderPlaces:
+    """Where each cylinder (by label) sits: its bank, its bay (crank) and its axis angle psi."""
+
+    labels: list[str]
+    bank_of: dict[str, int]
+    bay_of: dict[str, int]
+    psi: dict[str, float]
+    bays: int
+
+
+def _even_firing_cranks(
+    places: _CylinderPlaces, order: list[str], interval: float, firing_order
+) -> tuple[dict[str, float], list[float]]:
+    """(firing delay of each cylinder, crank lags) of even firing every ``interval`` deg in
+    ``order``; cylinders on one crank that cannot fire so raise LayoutError."""
+    psi = places.psi
+    delay = {label: k * interval for k, label in enumerate(order)}
+    lags = []
+    for bay in range(places.bays):
+        members = [lab for lab in places.labels if places.bay_of[lab] == bay]
+        candidates = [(delay[lab] - psi[lab]) % 360.0 for lab in members]
+        if any(_angle_distance(c, candidates[0]) > _TOL for c in candidates):
+            first, other = (
+                members[0],
+                next(
+                    m
+                    for m, c in zip(members, candidates, strict=True)
+                    if _angle_distance(c, candidates[0]) > _TOL
+                ),
+            )
+            raise LayoutError(
+                "engine.firing_order",
+                firing_order,
+                _shared_crank_message(first, other, psi, delay, interval),
+            )
+        lags.append(candidates[0])
+    return delay, lags
+
+
+def _given_cranks_firing(
+    places: _CylinderPlaces,
+    order: list[str],
+    cycle: float,
+    crank_angles_deg: list[float],
+    firing_order,
+    uneven_firing: bool,
+) -> tuple[dict[str, float], list[float], bool]:
+    """(firing delay of each cylinder, crank lags from crank 1, even firing) of the given crank
+    angles fired in ``order``; an order that does not fit the cranks, or uneven firing not
+    declared, raises LayoutError."""
+    if len(crank_angles_deg) != places.bays:
+        raise LayoutError(
+            "engine.crank_angles_deg",
+            crank_angles_deg,
+            f"must have one angle per crank: {places.bays} values, crank 1 first",
+        )
+    labels, psi = places.labels, places.psi
+    lags = [float(a) % 360.0 for a in crank_angles_deg]
+    base = (psi[labels[0]] + lags[0]) % 360.0
+    geometric = {lab: (psi[lab] + lags[places.bay_of[lab]] - base) % 360.0 for lab in labels}
+    delay = _crank_firing_delays(order, geometric, cycle, crank_angles_deg, firing_order)
+    intervals = np.diff([delay[lab] for lab in order] + [cycle])
+    even = bool(np.all(np.abs(intervals - cycle / len(labels)) < _TOL))
+    lags = [(lag - lags[0]) % 360.0 for lag in lags]
+    if not even and not uneven_firing:
+        raise LayoutError(
+            "engine.crank_angles_deg",
+            crank_angles_deg,
+            "gives uneven firing intervals ("
+            + ", ".join(f"{x:g}" for x in intervals)
+            + " deg); set engine.uneven_firing = true if that is intended",
+        )
+    return delay, lags, even
+
+
+def _crank_firing_delays(
+    order: list[str], geometric: dict[str, float], cycle: float, crank_angles_deg, firing_order
+) -> dict[str, float]:
+    """The firing delay of each cylinder: the next in ``order`` fires when its crank comes round
+    (``geometric``: its TDC angle after the first's); an order that does not close within one
+    cycle raises LayoutError."""
+    delay = {order[0]: 0.0}
+    for prev, nxt in zip(order[:-1], order[1:], strict=True):
+        step = (geometric[nxt] - geometric[prev]) % 360.0
+        step = step if step > _TOL else 360.0
+        delay[nxt] = delay[prev] + step
+    closing = cycle - delay[order[-1]]
+    if len(order) > 1 and (
+        closing <= _TOL
+        or _angle_distance(closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0)
+        > _TOL
+    ):
+        raise LayoutError(
+            "engine.firing_order",
+            firing_order,
+            f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
+            f"{cycle:g}-deg cycle",
+        )
+    return delay
 
 
 def _angle_distance(a: float, b: float) -> float:

@@ -601,22 +601,7 @@ def periodic_speed(
         cache[samples] = gas_torque.integral(angle)
     w = cache[samples]
     j, _ = inertia(angle)
-    floor = -float(np.min(w))
-    scale = 0.5 * float(np.mean(j)) * mean_angular_velocity_rad_s**2
-
-    def mean_speed_error(e0):
-        omega = np.sqrt(np.maximum(2.0 * (e0 + w) / j, 0.0))
-        with np.errstate(divide="ignore"):
-            cycle_time = float(np.mean(1.0 / omega)) * period_rad
-        return period_rad / cycle_time - mean_angular_velocity_rad_s
-
-    low = floor + 1e-12 * max(scale, abs(floor), 1e-30)
-    high = max(floor, 0.0) + 4.0 * scale + 1.0
-    while mean_speed_error(high) < 0:
-        high *= 4.0
-    if mean_speed_error(low) >= 0:
-        raise ValueError("no periodic solution with a positive speed")
-    e0 = brentq(mean_speed_error, low, high, xtol=1e-14 * high, rtol=1e-15, maxiter=200)
+    e0 = _energy_constant(w, j, period_rad, mean_angular_velocity_rad_s)
 
     def omega_at(alpha):
         jj, _ = inertia(np.asarray(alpha, dtype=float))
@@ -624,15 +609,7 @@ def periodic_speed(
 
     omega = np.sqrt(2.0 * (e0 + w) / j)
     cycle_time = float(np.mean(1.0 / omega)) * period_rad
-    h = period_rad / samples
-
-    def refine(index, sign):
-        a0 = angle[index]
-        res = minimize_bounded(lambda x: -sign * float(omega_at(x)), a0 - h, a0 + h, xatol=1e-12)
-        return float(res.x) % period_rad, float(omega_at(res.x))
-
-    a_max, w_max = refine(first_argmax(omega), +1)
-    a_min, w_min = refine(first_argmin(omega), -1)
+    (a_max, w_max), (a_min, w_min) = _speed_extremes(angle, omega, omega_at, period_rad)
     return PeriodicSpeed(
         e0,
         load,
@@ -649,6 +626,40 @@ def periodic_speed(
         (w_max - w_min) / (0.5 * (w_max + w_min)),
         omega_at,
     )
+
+
+def _energy_constant(w, j, period_rad: float, mean_angular_velocity_rad_s: float) -> float:
+    """The energy constant E0 whose periodic speed has the required mean (Brent's method); no
+    periodic solution with a positive speed raises ValueError."""
+    floor = -float(np.min(w))
+    scale = 0.5 * float(np.mean(j)) * mean_angular_velocity_rad_s**2
+
+    def mean_speed_error(e0):
+        omega = np.sqrt(np.maximum(2.0 * (e0 + w) / j, 0.0))
+        with np.errstate(divide="ignore"):
+            cycle_time = float(np.mean(1.0 / omega)) * period_rad
+        return period_rad / cycle_time - mean_angular_velocity_rad_s
+
+    low = floor + 1e-12 * max(scale, abs(floor), 1e-30)
+    high = max(floor, 0.0) + 4.0 * scale + 1.0
+    while mean_speed_error(high) < 0:
+        high *= 4.0
+    if mean_speed_error(low) >= 0:
+        raise ValueError("no periodic solution with a positive speed")
+    return brentq(mean_speed_error, low, high, xtol=1e-14 * high, rtol=1e-15, maxiter=200)
+
+
+def _speed_extremes(angle, omega, omega_at, period_rad: float):
+    """((angle, speed) of the largest speed, the same of the smallest), refined from the fine
+    sampling by a bounded scalar search within one sample of each."""
+    h = period_rad / len(angle)
+
+    def refine(index, sign):
+        a0 = angle[index]
+        res = minimize_bounded(lambda x: -sign * float(omega_at(x)), a0 - h, a0 + h, xatol=1e-12)
+        return float(res.x) % period_rad, float(omega_at(res.x))
+
+    return refine(first_argmax(omega), +1), refine(first_argmin(omega), -1)
 
 
 # --------------------------------------------------------------------------- time stepping
@@ -736,37 +747,51 @@ def run_solver(
         options["jac"] = jac
     integrate.load()  # scipy imported (on first use) before the clock starts: the solver's time only
     if max_nfev is None:
-        start = time.perf_counter()
-        sol = integrate.solve_ivp(
-            fun,
-            t_span,
-            y0,
-            method=method,
-            rtol=rtol,
-            atol=atol,
-            dense_output=dense_output,
-            events=events,
-            **options,
-        )
-        elapsed = time.perf_counter() - start
-        progress = (sol.t[-1] - t_span[0]) / (t_span[1] - t_span[0]) if sol.t.size else 0.0
-        return SolverRun(
-            method,
-            rtol,
-            bool(sol.status >= 0),
-            str(sol.message),
-            int(sol.nfev),
-            int(sol.njev),
-            int(sol.nlu),
-            int(sol.t.size - 1),
-            elapsed,
-            float(progress),
-            sol.t,
-            sol.y,
-            sol.sol if dense_output else None,
-            sol.t_events,
-            sol.y_events,
-        )
+        return _solve_ivp_run(fun, t_span, y0, method, rtol, atol, options, dense_output, events)
+    return _limited_run(fun, t_span, y0, method, rtol, atol, options, max_nfev)
+
+
+def _solve_ivp_run(
+    fun, t_span, y0, method: str, rtol: float, atol, options: dict, dense_output: bool, events
+) -> SolverRun:
+    """One timed :func:`scipy.integrate.solve_ivp` run."""
+    start = time.perf_counter()
+    sol = integrate.solve_ivp(
+        fun,
+        t_span,
+        y0,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        dense_output=dense_output,
+        events=events,
+        **options,
+    )
+    elapsed = time.perf_counter() - start
+    progress = (sol.t[-1] - t_span[0]) / (t_span[1] - t_span[0]) if sol.t.size else 0.0
+    return SolverRun(
+        method,
+        rtol,
+        bool(sol.status >= 0),
+        str(sol.message),
+        int(sol.nfev),
+        int(sol.njev),
+        int(sol.nlu),
+        int(sol.t.size - 1),
+        elapsed,
+        float(progress),
+        sol.t,
+        sol.y,
+        sol.sol if dense_output else None,
+        sol.t_events,
+        sol.y_events,
+    )
+
+
+def _limited_run(
+    fun, t_span, y0, method: str, rtol: float, atol, options: dict, max_nfev: int
+) -> SolverRun:
+    """One timed run of the solver stepped directly, stopped after ``max_nfev`` evaluations."""
     start = time.perf_counter()
     if method not in _METHODS:
         raise ValueError(f"unknown solver {method!r}; allowed: {', '.join(_METHODS)}")

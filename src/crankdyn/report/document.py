@@ -351,6 +351,128 @@ def _unshown_warnings(result, registry, shown_stages) -> list:
     ]
 
 
+@dataclass
+class _NoteParts:
+    """The parts of the note gathered while its stages' sections are rendered."""
+
+    sections: list[SectionView]
+    references: list[str]
+    appendices: list[SectionView] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    said: set = field(default_factory=set)  # the warnings the note has said
+    shown_stages: set[str] = field(default_factory=set)
+
+
+def _render_context(result, registry, language: str) -> RenderContext:
+    """The rendering state of the report of ``result`` in ``language``."""
+    scene = result.scene
+    return RenderContext(
+        t=translator(language, registry.catalogs),
+        env=_environment(registry, result),
+        table_step_deg=scene.analysis.table_step_deg,
+        cycle_deg=scene.engine.cycle_deg,
+        scene=scene,
+        symbols=symbol_table(registry.stages.values()),  # the core's letters and the stages' own
+    )
+
+
+def _first_references(t) -> list[str]:
+    """The sources cited before any section: the method of the whole project (cited in the
+    introduction) and the standards the document follows."""
+    references: list[str] = [PROJECT_METHOD]
+    references += [key for key in t("doc.standards").split() if key not in references]
+    return references
+
+
+def _stage_section(stage, result, ctx, parts: _NoteParts, sections_cache, figure_sink) -> None:
+    """Render one stage's section (in the appendix for a course note's study) and its notes."""
+    t, scene = ctx.t, result.scene
+    course = scene.report.detail == "course"
+    # a study of the numerics (StagePresentation.appendix)
+    to_appendix = course and stage.presentation.appendix
+    # a course note has one appendix: the studies' short statements go into the core's
+    number = appendix_letter(t, 0) if to_appendix else len(parts.sections) + 1
+    ctx.start_section(number, stage.name, stage.presentation.figures)
+    ctx.conclusions = []
+    output = result.study_output(stage.name)  # a deferred study's: received or computed now
+    body = _section_body(stage, output, ctx, sections_cache, figure_sink)
+    if body is None:  # the stage ran for its data but has nothing to show for this scene
+        return
+    body = _cited_sources(t, stage, course, parts.references) + landscape_tables_later(body)
+    parts.shown_stages.add(stage.name)
+    results = output.results if output is not None else None
+    found, concluded = plausibility_text(
+        t, stage_warnings(stage, scene, results), parts.references, parts.said
+    )
+    view = SectionView(
+        number,
+        stage.name,
+        ctx.title or t(stage.presentation.title_key),
+        Markup(cite_sources(body + found, parts.references)),
+        list(ctx.conclusions) + concluded,
+    )
+    (parts.appendices if to_appendix else parts.sections).append(view)
+    parts.notes += _stage_notes(output, ctx, parts.references)
+
+
+def _stage_notes(output, ctx, references: list[str]) -> list[str]:
+    """The notes a stage's output asks for, their numbers in the report's locale."""
+    t = ctx.t
+    return [
+        cite_sources(
+            t(
+                key,
+                **{
+                    k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                    for k, v in params.items()
+                },
+            ),
+            references,
+        )
+        for key, params in (output.notes if output is not None else ())
+    ]
+
+
+def _page_html(result, registry, ctx, parts: _NoteParts, language: str) -> str:
+    """The report's page from its template, before the whole-document finishing."""
+    t, env, scene = ctx.t, ctx.env, result.scene
+    course = scene.report.detail == "course"
+    skipped = [
+        (_stage_title(t, registry, name), skipped_reason(t, reason))
+        for name, reason in result.plan.skipped.items()
+        if _skip_key(reason) not in UNLISTED_SKIPS
+    ]
+    sections, appendices, references = parts.sections, parts.appendices, parts.references
+    # each stage under its section's title as printed (a stage may retitle its section for the scene)
+    shown = {v.key: v.title for v in (*sections, *appendices)}
+    title = _title(scene, t)
+    return env.get_template("report.html.j2").render(
+        _=t,
+        num=ctx.num,
+        scene=scene,
+        meta=scene.report,
+        title=title,
+        sections=sections,
+        notes=parts.notes,
+        timing=_timing_rows(result, shown, t),
+        skipped=skipped,
+        appendices=appendices,
+        course=course,
+        numerics_number=(appendix_letter(t, 0) if course else "") or len(sections) + 1,
+        references=references,
+        css=Markup(report_css(language, scene.report.frame)),
+        standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
+        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
+        appendix_letter=lambda i: appendix_letter(t, i),
+        version=__version__,
+        generated=datetime.date.today().isoformat(),
+        language=language,
+        findings=ctx.findings,
+        frame=frame_html(env, t, scene.report, title),
+        **_abstract_parts(t, registry, scene, sections),
+    )
+
+
 def render_html(
     result: RunResult,
     registry: Registry,
@@ -364,126 +486,36 @@ def render_html(
     rendered (e.g. :class:`crankdyn.report.figures.IncrementalDrawing`, drawing them meanwhile)."""
     scene = result.scene
     language = language or scene.report.language
-    t = translator(language, registry.catalogs)
-    env = _environment(registry, result)
-    symbols = symbol_table(registry.stages.values())  # the core's letters and the stages' own
-    ctx = RenderContext(
-        t=t,
-        env=env,
-        table_step_deg=scene.analysis.table_step_deg,
-        cycle_deg=scene.engine.cycle_deg,
-        scene=scene,
-        symbols=symbols,
-    )
-    course = scene.report.detail == "course"
-
-    sections: list[SectionView] = []
-    appendices: list[SectionView] = []
-    core_letter = appendix_letter(t, 0) if course else ""
+    ctx = _render_context(result, registry, language)
+    t = ctx.t
     input_view = _input_view(result, registry, ctx)
-    sections.append(input_view)
-    references: list[str] = [
-        PROJECT_METHOD
-    ]  # the method of the whole project, cited in the introduction
-    references += [key for key in t("doc.standards").split() if key not in references]
-    said: set = set()  # the warnings the note has said
-    given_warnings = plausibility_text(t, scene_warnings(scene, registry), references, said)
-    notes: list[str] = []
-    shown_stages: set[str] = set()
+    parts = _NoteParts(sections=[input_view], references=_first_references(t))
+    given_warnings = plausibility_text(
+        t, scene_warnings(scene, registry), parts.references, parts.said
+    )
     for stage in result.plan.order:
-        if stage.presentation is None:  # a stage without a section: run for its data alone
-            continue
-        # a study of the numerics (StagePresentation.appendix)
-        to_appendix = course and stage.presentation.appendix
-        # a course note has one appendix: the studies' short statements go into the core's
-        number = core_letter if to_appendix else len(sections) + 1
-        ctx.start_section(number, stage.name, stage.presentation.figures)
-        ctx.conclusions = []
-        output = result.study_output(stage.name)  # a deferred study's: received or computed now
-        body = _section_body(stage, output, ctx, sections_cache, figure_sink)
-        if body is None:  # the stage ran for its data but has nothing to show for this scene
-            continue
-        body = _cited_sources(t, stage, course, references) + landscape_tables_later(body)
-        shown_stages.add(stage.name)
-        results = output.results if output is not None else None
-        found, concluded = plausibility_text(
-            t, stage_warnings(stage, scene, results), references, said
-        )
-        view = SectionView(
-            number,
-            stage.name,
-            ctx.title or t(stage.presentation.title_key),
-            Markup(cite_sources(body + found, references)),
-            list(ctx.conclusions) + concluded,
-        )
-        (appendices if to_appendix else sections).append(view)
-        for key, params in output.notes if output is not None else ():
-            notes.append(
-                cite_sources(
-                    t(
-                        key,
-                        **{
-                            k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
-                            for k, v in params.items()
-                        },
-                    ),
-                    references,
-                )
-            )
-
+        if stage.presentation is not None:  # a stage without a section: run for its data alone
+            _stage_section(stage, result, ctx, parts, sections_cache, figure_sink)
     found, concluded = plausibility_text(
-        t, _unshown_warnings(result, registry, shown_stages), references, said
+        t, _unshown_warnings(result, registry, parts.shown_stages), parts.references, parts.said
     )
     input_view.html = Markup(input_view.html + given_warnings[0] + found)
     input_view.conclusions += given_warnings[1] + concluded
-    numerics_number = core_letter or len(sections) + 1
-    skipped = [
-        (_stage_title(t, registry, name), skipped_reason(t, reason))
-        for name, reason in result.plan.skipped.items()
-        if _skip_key(reason) not in UNLISTED_SKIPS
-    ]
-    # each stage under its section's title as printed (a stage may retitle its section for the scene)
-    shown = {v.key: v.title for v in (*sections, *appendices)}
-    timing = _timing_rows(result, shown, t)
-    css = report_css(language, scene.report.frame)
-    title = _title(scene, t)
-    html = env.get_template("report.html.j2").render(
-        _=t,
-        num=ctx.num,
-        scene=scene,
-        meta=scene.report,
-        title=title,
-        sections=sections,
-        notes=notes,
-        timing=timing,
-        skipped=skipped,
-        appendices=appendices,
-        course=course,
-        numerics_number=numerics_number,
-        references=references,
-        css=Markup(css),
-        standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
-        extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
-        appendix_letter=lambda i: appendix_letter(t, i),
-        version=__version__,
-        generated=datetime.date.today().isoformat(),
-        language=language,
-        findings=ctx.findings,
-        frame=frame_html(env, t, scene.report, title),
-        **_abstract_parts(t, registry, scene, sections),
-    )
     html = _finish(
         fill_section_numbers(
-            html, lambda stage: _stage_title(t, registry, stage), t, _same_data(registry)
+            _page_html(result, registry, ctx, parts, language),
+            lambda stage: _stage_title(t, registry, stage),
+            t,
+            _same_data(registry),
         ),
         t,
         language,
-        len(references),
+        len(parts.references),
         frozenset(
             s.name for s in result.plan.order if s.presentation is None or not s.presentation.legend
         ),
         single=scene.engine.cylinders == 1,
-        symbols=symbols,
+        symbols=ctx.symbols,
     )
     return RenderedReport(
         linked_html=html,
