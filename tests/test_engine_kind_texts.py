@@ -178,3 +178,18 @@ def test_assumed_journal_sizes_are_printed_to_a_tenth_of_a_millimetre():
     assert len(values) == 4 and all(len(v.partition(",")[2]) <= 1 for v in values), sizes
     # the worked substitution takes the sizes as printed
     assert re.search(rf"\({values[0]}·10\s*−\s*3\s*·\s*{values[1]}·10", text), values
+
+
+def test_a_diesels_ignition_delay_time_is_among_the_given_data():
+    """The indicator section uses τ_з = 1,2 мс (6·n·τ_з); table 1.1 gives it."""
+    import re
+
+    from conftest import shared_html
+
+    page = shared_html("diesel-1cyl", language="uk").html
+    row = next(
+        r for r in re.findall(r"<tr[^>]*>.*?</tr>", page, flags=re.S) if "затримки займання" in r
+    )
+    cells = [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+    assert cells[0] == "Тривалість затримки займання" and cells[1] == "τз", cells
+    assert cells[2] == "1,2" and cells[3] == "мс", cells
