@@ -48,7 +48,7 @@ def render(output: StageOutput, ctx) -> str:
     ctx.conclude(
         t(
             "offset_crank.conclusion",
-            e=ctx.num(r["offset_m"] * 1e3, 3),
+            e=ctx.t.number_g(r["offset_m"] * 1e3, 4),
             tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
             bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
             stroke=ctx.num(r["stroke_m"] * 1e3, 6),
