@@ -37,7 +37,7 @@ def _offset_masses_table(ctx, r):
         ctx.num(r["first_order_N"]) + unit_n,
         ctx.num(r["second_order_N"]) + unit_n,
     ]
-    values += [ctx.num(r["acceleration_harmonics"][n], 6) for n in orders]
+    values += [ctx.num(r["acceleration_harmonics"][n], 4) for n in orders]
     phases = [""] * 5 + [t.fixed(r["acceleration_harmonic_phases_deg"][n], 2) for n in orders]
     table = ctx.table(
         [
