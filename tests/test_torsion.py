@@ -195,7 +195,9 @@ def _sections(result, language, detail="full"):
     for number, stage in enumerate(("flywheel", "speed_fluctuation"), start=9):
         ctx.start_section(number, stage)
         html.append(
-            next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+            next(s for s in result.plan.order if s.name == stage).presentation.render(
+                result.outputs[stage], ctx
+            )
         )
     return "".join(html), t, ctx
 

@@ -157,7 +157,9 @@ def _sections(example: str, stages: tuple[str, ...], language: str):
     for number, stage in enumerate(stages, start=2):
         ctx.start_section(number, stage)
         html.append(
-            next(s for s in result.plan.order if s.name == stage).render(result.outputs[stage], ctx)
+            next(s for s in result.plan.order if s.name == stage).presentation.render(
+                result.outputs[stage], ctx
+            )
         )
     assert not t.missing, t.missing
     return "".join(html), ctx.worked

@@ -287,7 +287,9 @@ def results_reference() -> str:
         if meanings is None:
             problems.append(f"results-keys.toml: stage {stage.name!r} has no section")
             continue
-        lines = ["", f"### `{stage.name}` — {english(stage.title_key)}", ""]
+        look = stage.presentation
+        title = english(look.title_key) if look is not None else stage.name
+        lines = ["", f"### `{stage.name}` — {title}", ""]
         if meanings.get("_about"):
             lines += [meanings["_about"], ""]
         declared = [
@@ -308,8 +310,8 @@ def results_reference() -> str:
             declared.append(("options", f"`[{stage.options_table}]`"))
         if stage.tables:
             declared.append(("tables", ", ".join(_csv_name(stage.name, t) for t in stage.tables)))
-        if stage.figures:
-            declared.append(("figures", ", ".join(f"`{f}`" for f in stage.figures)))
+        if look is not None and look.figures:
+            declared.append(("figures", ", ".join(f"`{f}`" for f in look.figures)))
         if stage.answer_columns:
             declared.append(
                 ("answer-key columns", ", ".join(f"`{c.column}`" for c in stage.answer_columns))
