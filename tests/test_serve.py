@@ -309,7 +309,8 @@ class DevTools:
         self._messages: queue.Queue = queue.Queue()
         self._next = 0
         threading.Thread(target=self._reader, daemon=True).start()
-        self.session = None
+        # the DevTools protocol's id of the channel to the attached page (its "sessionId")
+        self.page_channel = None
 
     def _reader(self) -> None:
         buffer = b""
@@ -331,8 +332,8 @@ class DevTools:
     ) -> dict:
         self._next += 1
         message = {"id": self._next, "method": method, "params": params or {}}
-        if page and self.session:
-            message["sessionId"] = self.session
+        if page and self.page_channel:
+            message["sessionId"] = self.page_channel
         os.write(self._out, json.dumps(message).encode() + b"\0")
         end = time.monotonic() + timeout
         while True:
@@ -352,7 +353,7 @@ class DevTools:
             )
 
         target = _wait(page_target, 30, "the preview tab", interval=0.2)
-        self.session = self.call(
+        self.page_channel = self.call(
             "Target.attachToTarget", {"targetId": target["targetId"], "flatten": True}, page=False
         )["sessionId"]
 

@@ -30,6 +30,20 @@ from .section import render, render_kinematics
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
+#: the core's letters that hold with their meaning in the numerics sections only (both stages)
+SECTION_SYMBOLS = (
+    "studied_value",
+    "angle_step",
+    "total_torque",
+    "series_term",
+    "tangential_max",
+    "tangential_min",
+    "crank_load_max",
+    "displacement_difference",
+    "acceleration_difference",
+)
+
+
 NUMERICS_STAGE = Stage(
     name="numerics",
     requires=(KINEMATICS, GAS_PRESSURE, FORCES),
@@ -46,18 +60,7 @@ NUMERICS_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         appendix=True,
-        # the core's letters that hold with their meaning in this section only
-        section_symbols=(
-            "studied_value",
-            "angle_step",
-            "total_torque",
-            "series_term",
-            "tangential_max",
-            "tangential_min",
-            "crank_load_max",
-            "displacement_difference",
-            "acceleration_difference",
-        ),
+        section_symbols=SECTION_SYMBOLS,
         title_key="numerics.title",
         render=render,
         figures=("error_vs_time", "kinematics_forms"),
@@ -79,18 +82,7 @@ NUMERICS_KINEMATICS_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         appendix=True,
-        # the core's letters that hold with their meaning in this section only
-        section_symbols=(
-            "studied_value",
-            "angle_step",
-            "total_torque",
-            "series_term",
-            "tangential_max",
-            "tangential_min",
-            "crank_load_max",
-            "displacement_difference",
-            "acceleration_difference",
-        ),
+        section_symbols=SECTION_SYMBOLS,
         title_key="numerics.title",
         render=render_kinematics,
         figures=("kinematics_forms",),
