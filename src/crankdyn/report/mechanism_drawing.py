@@ -152,21 +152,9 @@ def liner_floor_mm(geometry, guide) -> float:
     when the angle is too narrow for the liners to part within the piston's travel."""
     if guide.moving is not None or guide.bore_m <= 0:
         return -np.inf
-    d = np.asarray(guide.direction, dtype=float)
     gap = _extent_mm(geometry) * 0.02 * 0.4  # part of the hatching's depth between the liners
     floor = -np.inf
-    for other in geometry.guides:
-        if (
-            other.moving is not None
-            or other.bore_m <= 0
-            or not np.allclose(other.origin_m, guide.origin_m)
-        ):
-            continue
-        cos_theta = float(np.clip(np.dot(d, np.asarray(other.direction, dtype=float)), -1.0, 1.0))
-        theta = float(np.arccos(cos_theta))
-        if theta < 1e-6 or theta > np.pi - 1e-6:
-            continue
-        half = max(guide.bore_m, other.bore_m) * MM / 2
+    for theta, half in _neighbour_angles(geometry, guide):
         floor = max(floor, (half + gap) / np.tan(theta / 2))
     travel = [v * MM for v in guide.travel_m]
     return floor if floor <= travel[0] + 0.5 * (travel[1] - travel[0]) else -np.inf
