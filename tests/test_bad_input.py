@@ -131,10 +131,10 @@ def test_bad_scene_is_refused_cleanly(tmp_path: Path, capsys, case, changes, exp
 @pytest.mark.parametrize(
     "rounding, field, words",
     [
-        # the default delay 6·n·τ = 6 · 2500 · 1.5 ms = 22.5 deg outgrows the default advance 18 deg
+        # the default delay 6·n·τ = 6 · 2500 · 1.5 ms = 22.5 deg outgrows a given advance of 20 deg
         (
-            {"ignition_advance_deg": None, "combustion_delay_time": None},
-            "cycle.rounding.ignition_advance_deg = '18 (default)'",
+            {"ignition_advance_deg": 20, "combustion_delay_time": None},
+            "cycle.rounding.ignition_advance_deg = 20",
             (
                 "must be more than the ignition delay 6·n·τ = 22.5 deg",
                 "engine.rpm = 2500",
@@ -162,6 +162,27 @@ def test_a_diesel_delay_past_the_advance_names_the_fields_to_change(
     assert "(see message)" not in err
     _no_traceback(err)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "rpm, delay_deg, advance_deg",
+    # 6·n·τ with τ = 1.5 ms: 1200 rpm gives 10.8 deg, 4 deg and more under the 18 deg default;
+    # from 1800 rpm on (16.2 deg) the advance becomes ⌈delay + 4⌉: 21, 27 and 37 deg.
+    [(1200, 10.8, 18.0), (1800, 16.2, 21.0), (2500, 22.5, 27.0), (3600, 32.4, 37.0)],
+)
+def test_a_diesel_without_an_advance_gets_one_that_outruns_its_delay(rpm, delay_deg, advance_deg):
+    from crankdyn import api
+
+    data = modified(
+        "diesel-1cyl",
+        {
+            "engine": {"rpm": rpm},
+            "cycle": {"rounding": {"ignition_advance_deg": None, "combustion_delay_time": None}},
+        },
+    )
+    rounding = api.run(data, stages=["indicator"]).run_result.outputs["indicator"].results
+    assert rounding["combustion_delay_deg"] == pytest.approx(delay_deg)
+    assert rounding["ignition_advance_deg"] == advance_deg
 
 
 def _trace_scene(tmp_path: Path, trace_text: str | None, name: str = "trace.csv") -> Path:

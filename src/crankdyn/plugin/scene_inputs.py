@@ -177,13 +177,17 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
     advance = (
         r.ignition_advance_deg
         if r.ignition_advance_deg is not None
-        else (22.0 if c.ignition == "spark" else 18.0)
+        else (22.0 if c.ignition == "spark" else DIESEL_ADVANCE_DEG)
     )
     delay = r.combustion_delay_deg
     if delay is None:
         delay = ind.default_combustion_delay_deg(
             c.ignition, advance, scene.engine.rpm, r.combustion_delay_time
         )
+    if r.ignition_advance_deg is None and c.ignition == "diesel":
+        # A diesel's delay 6·n·τ grows with the speed; the advance taken by default leaves
+        # combustion starting before top dead centre at any speed the scene gives.
+        advance = default_diesel_advance_deg(delay)
     if 0 <= delay < 90 and 0 < advance < 90 and delay >= advance:
         raise SceneError(_delay_problem(scene, advance, delay))
     four_stroke = scene.engine.strokes == 4
@@ -202,6 +206,19 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
         )
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+
+
+#: The diesel injection advance taken when none is given, deg (textbook 10-40 deg).
+DIESEL_ADVANCE_DEG = 18.0
+#: Crank degrees between the start of combustion and top dead centre that the default diesel
+#: advance keeps at least, deg.
+DIESEL_COMBUSTION_LEAD_DEG = 4.0
+
+
+def default_diesel_advance_deg(delay_deg: float) -> float:
+    """The injection advance taken when a diesel's scene gives none, deg: 18° or, when the
+    ignition delay reaches that far, the delay plus 4° rounded up to a whole degree."""
+    return max(DIESEL_ADVANCE_DEG, float(math.ceil(delay_deg + DIESEL_COMBUSTION_LEAD_DEG)))
 
 
 def _delay_problem(scene, advance: float, delay: float) -> Problem:
