@@ -210,7 +210,7 @@ def _check_hyphenation(text: str, title_page: str, language: str) -> None:
         ln.strip()[-20:] for ln in text.splitlines() if re.search(r"[а-яіїєґё][-\u2010]\s*$", ln)
     ]
     if language == "uk":
-        assert all(ln.endswith(("кривошипно-", "зворотно-")) for ln in hyphenated), (
+        assert all(ln.endswith(("кривошипно-", "зворотно-", "будь-")) for ln in hyphenated), (
             hyphenated
         )  # a compound's own hyphen
     parted = [

@@ -15,9 +15,12 @@ import jinja2
 from markupsafe import Markup, escape
 
 from ..engine.orchestrator import RunResult
+from ..errors import SceneError
 from ..physics.extrema import EXTREMUM_RTOL
+from ..physics.indicator import RoundingParameters
 from ..plugin.contracts import COUNTERWEIGHTS, FORCES
 from ..plugin.registry import Registry
+from ..plugin.scene_inputs import rounding_parameters
 from ..version import __version__
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .equation_legend import add_equation_legends, symbol_meaning
@@ -274,6 +277,18 @@ def _inputs_used(result) -> dict[str, bool]:
     }
 
 
+def _rounding_used(scene) -> RoundingParameters | None:
+    """The indicator diagram's rounding as the run takes it (the defaults filled in, a diesel's
+    advance past its delay), for the given-data table; None without a rounded cycle."""
+    cycle = getattr(scene, "cycle", None)
+    if cycle is None or cycle.rounding is None or cycle.ignition is None:
+        return None  # a measured trace is not rounded
+    try:
+        return rounding_parameters(scene)
+    except SceneError:
+        return None
+
+
 def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``StagePresentation.input_rows``), in plan
     order."""
@@ -317,6 +332,7 @@ def _input_view(result, registry, ctx) -> SectionView:
                 mechanism=mechanism,
                 mechanism_key=mechanism_key,
                 stage_rows=_stage_input_rows(result, ctx),
+                rounding_used=_rounding_used(scene),
                 **_inputs_used(result),
             )
         ),
@@ -416,14 +432,15 @@ def _stage_section(stage, result, ctx, parts: _NoteParts, sections_cache, figure
 
 
 def _stage_notes(output, ctx, references: list[str]) -> list[str]:
-    """The notes a stage's output asks for, their numbers in the report's locale."""
+    """The notes a stage's output asks for, their numbers in the report's locale to four
+    digits without padding zeros (a given advance of 22° is not "22,00°")."""
     t = ctx.t
     return [
         cite_sources(
             t(
                 key,
                 **{
-                    k: (ctx.num(v) if isinstance(v, float) else field_names(t, v))
+                    k: (t.number_g(v, 4) if isinstance(v, float) else field_names(t, v))
                     for k, v in params.items()
                 },
             ),
