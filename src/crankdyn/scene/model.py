@@ -136,6 +136,8 @@ class ReportMeta(_Strict):
     title: str = "Dynamic calculation of a piston engine"
     subtitle: str = ""
     student: str = ""
+    #: the grammatical form of the title page's "performed by: student" ("Виконала: студентка")
+    student_gender: Literal["male", "female"] = "male"
     group: str = ""
     supervisor: str = ""
     university: str = ""

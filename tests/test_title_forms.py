@@ -1,0 +1,27 @@
+"""The title page's "performed by" line takes the student's grammatical gender."""
+
+from __future__ import annotations
+
+import pytest
+from conftest import modified
+
+from crankdyn import api
+
+
+@pytest.mark.parametrize(
+    "language, gender, expected, absent",
+    [
+        ("uk", "female", "Виконала: студентка групи МТ-31", "Виконав:"),
+        ("ru", "female", "Выполнила: студентка группы МТ-31", "Выполнил:"),
+        ("uk", "male", "Виконав: студент групи МТ-31", "Виконала:"),
+        ("ru", "male", "Выполнил: студент группы МТ-31", "Выполнила:"),
+    ],
+)
+def test_performed_by_follows_the_students_gender(tmp_path, language, gender, expected, absent):
+    data = modified(
+        "kinematics-only",
+        {"report": {"language": language, "group": "МТ-31", "student_gender": gender}},
+    )
+    api.run(data).write(tmp_path, formats=["html"])
+    html = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert expected in html and absent not in html
