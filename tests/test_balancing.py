@@ -690,3 +690,30 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Balance of the forces, and the balancing means" in html
     assert "Balance of the forces and moments" not in html
+
+
+@pytest.mark.parametrize(
+    "name, changes, language, expected",
+    [
+        # no [balancing]: the note says that it chose the means, and names the radii it took
+        ("v8-petrol", None, "ru", "Средства уравновешивания заданием не определены"),
+        ("petrol-1cyl", None, "uk", "Засобів зрівноваження завдання не задає"),
+        # the example's [balancing] gives the radii: the means are the assignment's
+        ("inline3-petrol", None, "uk", None),
+        ("v8-petrol", {"balancing": {"balance_orders": [1]}}, "en", None),
+    ],
+)
+def test_the_note_says_when_it_chose_the_balancing_means(name, changes, language, expected):
+    result = run(name, changes)
+    r = result.outputs["balancing"].results
+    html = render_html(result, REGISTRY, language).html
+    chosen = ("заданием не определены", "завдання не задає", "assignment names no balancing")
+    if expected is None:
+        assert r["means_given"] and not any(c in html for c in chosen)
+        return
+    assert not r["means_given"] and expected in html
+    radius_mm = r["counterweight_radius_m"] * 1e3
+    crank_radius_mm = result.scene.engine.stroke * 1e3 / 2  # R, the default centre of mass
+    assert radius_mm == pytest.approx(crank_radius_mm)
+    shown = f"{crank_radius_mm:g}".replace(".", ",")
+    assert f"{shown} мм" in html.replace("\u00a0", " ").replace("\u202f", " ")

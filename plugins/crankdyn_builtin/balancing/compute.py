@@ -152,6 +152,10 @@ def _harmonics_json(harmonics, orders) -> dict:
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
+    means_given = bool(
+        opts.model_fields_set
+        & {"balance_orders", "counterweight_radius", "balance_shaft_radius", "counterweights"}
+    )
     e = scene.engine
     layout = engine_layout(scene)
     g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
@@ -183,6 +187,8 @@ def run(scene, inputs) -> StageOutput:
         "bay_model": bay_model_of(layout, g),
         "time_domain_check": check,
         "counterweight_radius_m": r_cw,
+        #: whether the scene chose the balancing means; otherwise the note says it chose them
+        "means_given": means_given,
         "balance_shaft_radius_m": r_sh,
         "counterweights": counterweights,
         "balance_shafts": shafts,

@@ -397,8 +397,8 @@ def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
     """The means table's caption (with the radii of the masses) and its announcing sentence."""
     t = ctx.t
     radii = {
-        "r_cw": ctx.num(r["counterweight_radius_m"] * 1e3),
-        "r_sh": ctx.num(r["balance_shaft_radius_m"] * 1e3),
+        "r_cw": ctx.t.number_g(r["counterweight_radius_m"] * 1e3, 4),
+        "r_sh": ctx.t.number_g(r["balance_shaft_radius_m"] * 1e3, 4),
     }
     if not r["balance_shafts"]:
         caption = t("balancing.means_caption_counterweights", **radii)
