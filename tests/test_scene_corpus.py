@@ -584,6 +584,16 @@ def check_one_delta(note: Note) -> list[str]:
     return problems
 
 
+def check_subsections(note: Note) -> list[str]:
+    """A section is divided into two numbered subsections or more, or not at all (DSTU 3008)."""
+    problems = []
+    for chapter in re.split(r"<h2\b", note.body)[1:]:
+        numbered = re.findall(r'<h3 class="subsection" id="sec-([^"]+)"', chapter)
+        if len(numbered) == 1:
+            problems.append(f"a section with one numbered subsection: {numbered[0]}")
+    return problems
+
+
 CHECKS = {
     "language": check_language,
     "symbols": check_symbols,
@@ -595,6 +605,7 @@ CHECKS = {
     "delta": check_one_delta,
     "cited": check_cited_tables,
     "ranges": check_ranges,
+    "subsections": check_subsections,
 }
 
 
@@ -727,6 +738,7 @@ def test_the_checks_find_a_planted_defect():
     body = note.body.replace(conclusions, planted)
     body = re.sub(r"(<tbody><tr[^>]*><td>)0(</td>)", r"\g<1>0,5\2", body, count=1)
     body = re.sub(r"табл\.\s+2\.1", "табл. 9.9", body)
+    body = body.replace("<h2>1 ", '<h2>1 <h3 class="subsection" id="sec-1.1">1.1 …</h3>', 1)
     note.body = body
     for attribute in ("text", "lines", "chapters", "tables"):
         note.__dict__.pop(attribute, None)
@@ -736,3 +748,4 @@ def test_the_checks_find_a_planted_defect():
     assert any("2.1 not referred to" in p for p in found["order"]), found
     assert any("сцена" in p for p in found["software"]), found
     assert any("зірка кривошипів" in p for p in found["structure"]), found
+    assert any("1.1" in p for p in found["subsections"]), found

@@ -64,6 +64,23 @@ def report_units(t) -> list[str]:
 _SUBSECTION = re.compile(r'<h3 class="subsection" id="sec-([^"]+)">(.*?)</h3>', re.S)
 
 
+def lone_subsection_unnumbered(html: str) -> str:
+    """A section's only subsection heading without its number and out of the contents: a section
+    is divided into two subsections or more, or not at all (DSTU 3008:2015, 6.2), so a lone
+    heading stays a plain heading within the section."""
+    found = list(_SUBSECTION.finditer(html))
+    if len(found) != 1:
+        return html
+    match = found[0]
+    number = match[1]
+    title = match[2].removeprefix(escape(number) + " ")
+    return (
+        html[: match.start()]
+        + f'<h3 class="subsection-lone" id="sec-{number}">{title}</h3>'
+        + html[match.end() :]
+    )
+
+
 @dataclass
 class SectionView:
     number: int
@@ -424,7 +441,7 @@ def _stage_section(stage, result, ctx, parts: _NoteParts, sections_cache, figure
         number,
         stage.name,
         ctx.title or t(stage.presentation.title_key),
-        Markup(cite_sources(body + found, parts.references)),
+        Markup(lone_subsection_unnumbered(cite_sources(body + found, parts.references))),
         list(ctx.conclusions) + concluded,
     )
     (parts.appendices if to_appendix else parts.sections).append(view)
