@@ -1,5 +1,5 @@
 """The units of the "де …" lines are the SI units the formulas hold in and the worked substitutions
-put the numbers in; the tables, figures and results show handier units (мм, МПа, см², л), as the
+put the numbers in (except where an equation prints a value itself: "R = S/2 = 39 мм", R in мм); the tables, figures and results show handier units (мм, МПа, см², л), as the
 list of symbols says first. "s_п, м" beside a table in мм is no contradiction: lines in the
 tables' units would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм and F_п
 in см² is ten times too small)."""
@@ -15,6 +15,11 @@ from conftest import shared_html
 #: Units of the tables that no formula holds in as printed.
 _TABLE_ONLY = {"мм", "МПа", "см²", "л", "кН", "кВт", "mm", "MPa", "cm²", "l", "kN", "kW"}
 _WHERE = re.compile(r'<span class="where-line">(.*?)</span>(?=<br>|</span>)', re.S)
+_EQUATION_AND_WHERE = re.compile(
+    r'<span class="formula">(.*?)</span><span class="eqno">[^<]*</span></div>'
+    r'<p class="where">(.*?)</p>',
+    re.S,
+)
 _WORKED = re.compile(r'<p class="worked-line">(.*?)</p>', re.S)
 
 
@@ -36,15 +41,30 @@ def test_a_where_line_gives_the_si_unit(example, language):
     html = shared_html(
         example, language=language
     ).linked_html  # the text without drawing its figures
-    lines = [_text(m.group(1)) for m in _WHERE.finditer(html)]
+    pairs = [
+        (_text(m.group(1)), [_text(line) for line in _WHERE.findall(m.group(2))])
+        for m in _EQUATION_AND_WHERE.finditer(html)
+    ]
+    lines = [line for _, where in pairs for line in where]
     assert len(lines) > 40
     units = [re.search(r", ([^,]+)[;.]$", line) for line in lines]
+    # a table's unit only where the equation itself prints a value in it ("R = S/2 = 39 мм")
     wrong = [
         line
-        for line, unit in zip(lines, units, strict=True)
-        if unit and unit.group(1) in _TABLE_ONLY
+        for formula, where in pairs
+        for line in where
+        if (unit := re.search(r", ([^,]+)[;.]$", line))
+        and unit.group(1) in _TABLE_ONLY
+        and not re.search(rf"\d\s*{re.escape(unit.group(1))}(?![\w²³])", formula)
     ]
     assert not wrong, wrong[:5]
+    printed = [
+        line
+        for formula, where in pairs
+        for line in where
+        if (unit := re.search(r", ([^,]+)[;.]$", line)) and unit.group(1) in _TABLE_ONLY
+    ]
+    assert printed, "R = S/2 = … мм: its where-line gives R in мм as the line prints it"
     assert (
         sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"})
         >= 10

@@ -118,7 +118,20 @@ _SI_UNITS = {
 }
 
 
-def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
+def printed_table_units(formula_html: str, t) -> frozenset[str]:
+    """The tables' units (``unit.mm``…) in which ``formula_html`` prints a value itself
+    ("R = S/2 = 90 мм"): its where-lines give those quantities in the unit the line shows."""
+    text = re.sub(r"<[^>]+>", "", formula_html).replace("\u00a0", " ").replace("\u202f", " ")
+    return frozenset(
+        key
+        for key in _SI_UNITS
+        if re.search(rf"\d\s*{re.escape(unit_text(key, t))}(?![\w²³])", text)
+    )
+
+
+def line_unit(
+    key: str, t, symbols: SymbolTable = SYMBOLS, printed: frozenset[str] = frozenset()
+) -> str:
     """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio):
     the SI unit the formulas are evaluated in and the worked substitutions put the numbers in
     (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
@@ -127,6 +140,8 @@ def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
     would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in
     мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
     unit = symbols[key].unit
+    if unit in printed:  # the equation shows this quantity's value in the table's unit
+        return unit_text(unit, t)
     return unit_text(_SI_UNITS.get(unit, unit), t)
 
 
@@ -141,13 +156,19 @@ def symbol_meaning(t, key: str, single: bool = False) -> str:
 
 
 def legend_html(
-    keys: list[str], t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS
+    keys: list[str],
+    t,
+    language: str,
+    single: bool = False,
+    symbols: SymbolTable = SYMBOLS,
+    printed: frozenset[str] = frozenset(),
 ) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit as :func:`line_unit` says."""
+    stop after the last; the unit as :func:`line_unit` says (``printed``: the tables' units the
+    equation shows values in)."""
     lines = []
     for k, key in enumerate(keys):
-        unit = line_unit(key, t, symbols)
+        unit = line_unit(key, t, symbols, printed)
         meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
@@ -195,7 +216,11 @@ def add_equation_legends(
         if not new:
             continue
         explained.update(new)
-        parts += [html[position : match.end()], legend_html(new, t, language, single, symbols)]
+        printed = printed_table_units(match.group("formula"), t)
+        parts += [
+            html[position : match.end()],
+            legend_html(new, t, language, single, symbols, printed),
+        ]
         position = match.end()
     parts.append(html[position:])
     return "".join(parts)
