@@ -42,6 +42,7 @@ BALANCING_STAGE = Stage(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
         section_symbols=(
+            "centrifugal_force",
             "harmonic_order",
             "shaft_angle",
             "crank_lag",

@@ -37,6 +37,9 @@ BEARINGS_STAGE = Stage(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
         section_symbols=(
+            "radial_specific",
+            "centrifugal_force",
+            "journal_diameter",
             "bearing_width",
             "bearing_pressure",
             "pin_load_max",

@@ -71,7 +71,13 @@ FORCES_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("rod_specific", "side_specific", "indicated_torque"),
+        section_symbols=(
+            "radial_specific",
+            "centrifugal_force",
+            "rod_specific",
+            "side_specific",
+            "indicated_torque",
+        ),
         title_key="forces.title",
         render=render,
         figures=("forces", "torque"),

@@ -51,7 +51,12 @@ TORQUE_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("indicated_torque", "crank_tangential_total", "crank_radial_total"),
+        section_symbols=(
+            "radial_specific",
+            "indicated_torque",
+            "crank_tangential_total",
+            "crank_radial_total",
+        ),
         title_key="torque.title",
         render=render,
         figures=("output_torque", "journal_torques"),

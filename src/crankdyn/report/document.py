@@ -594,23 +594,25 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     as it heads its section ("; " between them: a title may hold a comma); the introduction's aim
     from what the sections do (:func:`introduction_aim`)."""
     catalogs = [_catalog_section(registry, v.key) for v in sections]
+    motion = "" if getattr(scene, "cycle", None) is not None else "_kinematics"
     return {
-        "keywords": keywords(t, mechanism_key(scene.engine, t), catalogs),
+        "keywords": keywords(t, mechanism_key(scene.engine, t), catalogs, motion),
         "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
-        "introduction_aim": introduction_aim(t, catalogs),
+        "introduction_aim": introduction_aim(t, catalogs, motion),
     }
 
 
-def introduction_aim(t, stages: list[str]) -> str:
+def introduction_aim(t, stages: list[str], motion: str = "") -> str:
     """The introduction's aim: "… by the method of [1]: to determine …, assess … and size the
     flywheel", each section's ``<section>.aim`` (its plugin's catalog) once, in the note's order; a
     note whose sections have none says the aim without them (a kinematics note does not claim to
-    determine forces and torques and the engine's balance)."""
+    determine forces and torques and the engine's balance). ``motion`` "_kinematics": a
+    mechanism studied without a working cycle, whose aim is its kinematic analysis."""
     aims = list(dict.fromkeys(t(f"{stage}.aim") for stage in stages if t.has(f"{stage}.aim")))
     if not aims:
-        return t("doc.introduction_aim_plain")
+        return t(f"doc.introduction_aim{motion}_plain" if motion else "doc.introduction_aim_plain")
     listed = aims[0] if len(aims) == 1 else ", ".join(aims[:-1]) + t("doc.aim_last") + aims[-1]
-    return t("doc.introduction_aim", aims=listed)
+    return t(f"doc.introduction_aim{motion}", aims=listed)
 
 
 #: The abstract's key words: DSTU 3008:2015 and GOST 7.32-2017 ask for five to fifteen.
@@ -635,13 +637,14 @@ def mechanism_key(engine, t) -> str:
     return engine.mechanism
 
 
-def keywords(t, mechanism: str, stages: list[str]) -> str:
+def keywords(t, mechanism: str, stages: list[str], motion: str = "") -> str:
     """The abstract's key words, upper case, for what this report holds: the calculation and the
     engine (``doc.keyword_general``, comma-separated), the mechanism (its description in the
     catalog, up to the colon) and each section's own words (``<section>.keywords`` in its
     plugin's catalog, comma-separated; a stage without them adds none). A report of the
-    kinematics alone has five."""
-    words = [w.strip() for w in t("doc.keyword_general").split(",")]
+    kinematics alone has five; a mechanism without a working cycle is named by its kinematic
+    analysis (``motion`` "_kinematics"), not by an engine's dynamic calculation."""
+    words = [w.strip() for w in t(f"doc.keyword_general{motion}").split(",")]
     if t.has(f"mechanism.{mechanism}"):
         words.append(t(f"mechanism.{mechanism}").split(":", 1)[0])
     for stage in stages:
@@ -865,7 +868,12 @@ def symbol_list_html(
             f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
             f'<span class="meaning">{meaning}</span></p>'
         )
-    html = f'<p>{escape(t("doc.symbols_intro"))}</p><div class="symbol-list">{"".join(rows)}</div>'
+    # the handier units the list itself uses (a kinematics note has no МПа, см² or л)
+    handy = ("unit.mm", "unit.MPa", "unit.cm2", "unit.l")
+    used = {symbols[key].unit for key in keys}
+    units = ", ".join(t(unit) for unit in handy if unit in used) or t("unit.mm")
+    intro = t("doc.symbols_intro", units=units)
+    html = f'<p>{escape(intro)}</p><div class="symbol-list">{"".join(rows)}</div>'
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html

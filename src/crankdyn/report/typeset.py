@@ -109,7 +109,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     "expansion_end_pressure": Symbol("p", {"en": "b"}, "unit.MPa", "symbol.expansion_end_pressure"),
     "tangential_specific": Symbol("t", {}, "unit.MPa", "symbol.tangential_specific"),
-    "radial_specific": Symbol("z", {}, "unit.MPa", "symbol.radial_specific"),
+    "radial_specific": Symbol(
+        "z", {}, "unit.MPa", "symbol.radial_specific", sections=SECTION_BOUND
+    ),
     "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=SECTION_BOUND),
     # the textbook's n is also the crank speed: in the forces section it is the side force
     "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
@@ -126,7 +128,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "rod_centrifugal_specific": Symbol(
         "c", {"en": "r"}, "unit.MPa", "symbol.rod_centrifugal_specific"
     ),
-    "centrifugal_force": Symbol("C", {}, "unit.N", "symbol.centrifugal_force"),
+    "centrifugal_force": Symbol(
+        "C", {}, "unit.N", "symbol.centrifugal_force", sections=SECTION_BOUND
+    ),
     "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
     "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
     "order_amplitude": Symbol(
@@ -140,7 +144,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "post_expansion_ratio": Symbol(
         "δ", {}, "", "symbol.post_expansion_ratio", sections=SECTION_BOUND
     ),
-    "journal_diameter": Symbol("d", {}, "unit.mm", "symbol.journal_diameter"),
+    "journal_diameter": Symbol(
+        "d", {}, "unit.mm", "symbol.journal_diameter", sections=SECTION_BOUND
+    ),
     # B is also a semi-axis of the balancing section's ellipses: the bearing width belongs to its section
     "bearing_width": Symbol("B", {}, "unit.mm", "symbol.bearing_width", sections=SECTION_BOUND),
     # flywheel and speed fluctuation: the textbook's Cyrillic subscripts in uk/ru
@@ -750,7 +756,9 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
         )
         if scope not in texts:
             texts[scope] = "".join(text for stage, text in parts if (stage in scope[1]) == scope[0])
-        if texts[scope] and re.search(symbol_pattern(key, language, symbols=table), texts[scope]):
+        # a primed letter (z′_B, p_i′) is another quantity, as the where-lines read it
+        pattern = symbol_pattern(key, language, tail="(?![′″])", symbols=table)
+        if texts[scope] and re.search(pattern, texts[scope]):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language, table))
 
