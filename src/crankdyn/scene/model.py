@@ -145,7 +145,7 @@ class ReportMeta(_Strict):
     city: str = ""
     year: Annotated[int, AfterValidator(lambda y: _year(y))] = datetime.date.today().year
     language: str = "en"
-    ministry: str = ""  # default: the language's "Ministry of Education and Science of Ukraine"
+    ministry: str = ""  # default: the Ukrainian ministry in a uk note, none in ru and en
     discipline: str = ""  # the course the project belongs to
     variant: str = ""  # the student's variant number (batch sets it from the variants file)
     #: ``course``: what a course brief asks, the numerics study in an appendix; ``full``: all in the body
