@@ -756,11 +756,22 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
         )
         if scope not in texts:
             texts[scope] = "".join(text for stage, text in parts if (stage in scope[1]) == scope[0])
+        text = texts[scope]
+        # most symbols are not in a report: a plain search for the markup spares their patterns
+        if not text or symbol_html(key, language, table) not in text:
+            continue
         # a primed letter (z′_B, p_i′) is another quantity, as the where-lines read it
         pattern = symbol_pattern(key, language, tail="(?![′″])", symbols=table)
-        if texts[scope] and re.search(pattern, texts[scope]):
+        if _compiled(pattern).search(text):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language, table))
+
+
+@functools.lru_cache(maxsize=4096)
+def _compiled(pattern: str) -> re.Pattern:
+    """A symbol's pattern compiled once a process (a report has some 200 of them, more than the
+    ``re`` module's own cache keeps across reports of a batch)."""
+    return re.compile(pattern)
 
 
 def _alphabetical(key: str, language: str, symbols: SymbolTable) -> tuple:
