@@ -104,3 +104,41 @@ def test_each_label_at_bdc_is_nearest_its_own_point():
         centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
         nearest = min(where, key=lambda label: np.hypot(*(centre - where[label])))
         assert nearest == text.get_text(), (text.get_text(), nearest)
+
+
+def test_labels_on_one_side_of_close_points_stand_apart():
+    """c, f and c″ of a diesel lie within a few tenths of a megapascal at TDC: their labels are
+    moved apart to the gap between centres, the others keep their places."""
+    from crankdyn_builtin.indicator.figures import (
+        LABEL_GAP_PT,
+        LABEL_HALF_HEIGHT_PT,
+        separated_labels,
+    )
+
+    points = [
+        ("c", 0.23, 5.57, (-4, 2)),
+        ("f", 0.23, 5.60, (-5, 3)),
+        ("c″", 0.23, 5.40, (4, -2)),
+        ("z", 0.25, 10.5, (4, 2)),
+        ("a", 3.4, 0.14, (-4, -3)),
+        ("r", 0.23, 0.14, (4, 3)),
+        ("b″", 3.4, 0.3, (5, 0)),
+    ]
+    height_pt, pressures = 200.0, [0.14, 10.5]
+    out = {
+        label: (p, dy) for label, _, p, (_, dy) in separated_labels(points, pressures, height_pt)
+    }
+    scale = height_pt / (10.5 - 0.14)
+
+    def centre(label):
+        p, dy = out[label]
+        return (p - 0.14) * scale + dy
+
+    # on the left: c (5.57 MPa, 2 pt up) and f (5.60, 3 pt up) were 0.3·scale + 1 ≈ 6.8 pt apart
+    assert centre("f") - centre("c") == pytest.approx(LABEL_GAP_PT)
+    assert out["c"][1] == 2 + LABEL_HALF_HEIGHT_PT  # the lower one keeps its place
+    assert out["a"][1] == -3 - LABEL_HALF_HEIGHT_PT
+    assert out["c″"][1] == -2 - LABEL_HALF_HEIGHT_PT  # alone on its side near TDC
+    assert out["z"][1] == 2 + LABEL_HALF_HEIGHT_PT
+    # r and b″ are close in height but at opposite ends of the stroke: both keep their places
+    assert out["r"][1] == 3 + LABEL_HALF_HEIGHT_PT and out["b″"][1] == 0

@@ -25,6 +25,46 @@ def _pumping_inset(ax, volume_l, theory_MPa, actual_MPa, t, two_stroke=False) ->
     )
 
 
+#: The least vertical distance between the centres of two labels on one side of their points, pt
+#: (8-pt type), and the distance from a point to the centre of a label above or under it.
+LABEL_GAP_PT = 9.0
+LABEL_HALF_HEIGHT_PT = 4.0
+#: Points closer than this fraction of the volume range have their labels kept apart.
+NEAR_FRACTION = 0.08
+
+
+def separated_labels(points, pressures, axes_height_pt: float, gap_pt: float = LABEL_GAP_PT):
+    """``points`` (label, volume, pressure, (dx, dy) in points, dy to the label's near edge: up,
+    down or 0 for beside) as (label, volume, pressure, (dx, dy to the label's centre)), with the
+    labels that stand on the same side of their points moved apart to at least ``gap_pt``
+    between centres: near TDC a diesel's c, f and c″ lie within a few tenths of a megapascal and
+    their labels would print over one another. The height scale is the axes'
+    (``axes_height_pt`` over the range of ``pressures``)."""
+    span = float(np.ptp(pressures)) or 1.0
+    low = float(np.min(pressures))
+    out = [
+        (label, volume, p, (dx, dy + float(np.sign(dy)) * LABEL_HALF_HEIGHT_PT))
+        for label, volume, p, (dx, dy) in points
+    ]
+    volumes = [volume for _, volume, _, _ in out]
+    near = NEAR_FRACTION * (max(volumes) - min(volumes) or 1.0)
+    for side in (True, False):  # labels right of their points, then left of them
+        placed: list[tuple[float, float]] = []  # (centre, volume) of the labels placed so far
+        for y, k in sorted(
+            (axes_height_pt * (p - low) / span + dy, k)
+            for k, (_, _, p, (dx, dy)) in enumerate(out)
+            if (dx >= 0) == side
+        ):
+            label, volume, p, (dx, dy) = out[k]
+            below = [c for c, v in placed if abs(v - volume) < near and y - c < gap_pt]
+            if below:  # over a label of a point nearby: moved up to stand clear of it
+                shift = max(below) + gap_pt - y
+                out[k] = (label, volume, p, (dx, dy + shift))
+                y += shift
+            placed.append((y, volume))
+    return out
+
+
 def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
     """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
     fig, ax = new_figure(16, 9.5)
@@ -52,7 +92,8 @@ def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
             t,
             two_stroke,
         )
-    for label, volume, p, (dx, dy) in points:
+    pressures = np.append(pressure, theory if theory is not None else pressure)
+    for label, volume, p, (dx, dy) in separated_labels(points, pressures, 9.5 * 0.8 * 72 / 2.54):
         ax.plot([volume], [p], "o", ms=3, color="k")
         ax.annotate(
             label,
@@ -62,7 +103,7 @@ def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
             fontsize=8,
             style="italic",
             ha="left" if dx >= 0 else "right",
-            va="center" if dy == 0 else "bottom" if dy > 0 else "top",
+            va="center",
         )
     ax.set_xlabel(t("indicator.axis_volume"))
     ax.set_ylabel(t("indicator.axis_pressure"))
