@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import shutil
 import statistics
@@ -31,17 +32,14 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from test_serve import CHROMIUM, DevTools, _start_serve, _wait  # noqa: E402 - the tests' own browser driver
 
-# the text is on screen once the document is parsed ("interactive"), of a build after the save: the
-# first one (its study to follow) or, when the whole page was ready before the tab reloaded, the
-# second (waiting for the first build's marker then waited for a page the tab never shows)
-PAGE_IS = (
-    "document.readyState !== 'loading' && Array.from(document.scripts).some("
-    "s => {markers}.some(m => s.text.indexOf(m) >= 0))"
-)
+# the text is on screen once the tab shows a build after the save (the version its script keeps in
+# the root element's data-version, set when a page is parsed or parts of it are swapped in): the
+# first one (its study to follow) or, when the whole page was ready before the tab asked, the second
+PAGE_IS = "{markers}.indexOf(document.documentElement.dataset.version) >= 0"
 # the whole page: no section waits for its study (p.pending), and not the page before the save
 COMPLETE = (
-    "document.readyState !== 'loading' && !document.querySelector('p.pending') && "
-    "!Array.from(document.scripts).some(s => s.text.indexOf({old}) >= 0)"
+    "!!document.documentElement.dataset.version && "
+    "document.documentElement.dataset.version !== {old} && !document.querySelector('p.pending')"
 )
 FIGURES_LOADED = (
     "document.readyState === 'complete' && !document.querySelector('p.pending') && "
@@ -98,7 +96,7 @@ def main() -> None:
                 text = new
                 start = time.monotonic()
                 scene.write_text(text, encoding="utf-8")
-                markers = json.dumps([json.dumps(m) for m in expected])
+                markers = json.dumps(expected)
                 _wait(
                     lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True),  # noqa: B023 - called within this iteration
                     60,
@@ -143,9 +141,17 @@ def main() -> None:
         ("server: build until the page is out", server_s),
     ):
         print(f"{what:38s} {statistics.median(values):8.2f} {max(values):8.2f}")
-    ratio = statistics.median(page_s) / 1.0
+    goal_s = 0.3
+    measured = statistics.median(page_s)
+    ratio = measured / goal_s
     print(
-        f"goal: save -> updated page <= 1 s (median): ratio {ratio:.2f} {'ok' if ratio <= 1 else 'NOT MET'}"
+        f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}\n"
+        f"{'preview: save -> the tab shows the new page, median (s)':62s} {measured:10.3f} "
+        f"{goal_s:10.3f} {ratio:7.2f}  {'ok' if ratio <= 1 else 'NOT MET'}"
+    )
+    print(
+        f"({os.cpu_count()} cores; load {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
+        "over 1, 5, 15 min at the end)"
     )
 
 
