@@ -347,8 +347,7 @@ def _watch_names(paths: Iterable[Path]) -> set[Path]:
 # --------------------------------------------------------------------------- the preview
 
 #: A study that took less than this (s) on the last save is computed by the study worker on the
-#: next and waited for: the page is then shown once, whole, instead of first without the study
-#: and again with it (each showing a reload of the tab, on the cores that draw the figures) ...
+#: next, while the page is rendered and shown without it (its section follows, swapped in) ...
 STUDY_INLINE_S = 0.5
 #: ... if the stages the save ran again took less than this (s): the worker runs them a second
 #: time (the in-line four's 0.4 s cost the figures' cores more than the worker saved).
@@ -494,9 +493,9 @@ class Preview:
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
             try:
-                # a quick study: computed by the worker while the page is rendered, and waited for;
-                # a slow one follows the page, computed here (the worker would compute the changed
-                # stages a second time, on the cores the figures need)
+                # the page never waits for a study: a quick one is computed by the worker
+                # meanwhile; a slow one is computed here after the page (the worker would compute
+                # the changed stages a second time, on the cores the figures need)
                 quick = (
                     self._study_s is not None
                     and self._study_s < STUDY_INLINE_S
@@ -513,7 +512,6 @@ class Preview:
                     defer_studies,
                     studies,
                     self._worker if quick else None,
-                    inline_studies=quick,
                     figure_sink=self._build_unsized,
                 )
                 self._note_times(result, runs)
