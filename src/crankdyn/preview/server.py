@@ -198,6 +198,7 @@ def page_parts(page: str) -> PageParts | None:
         part = text[: text.rfind(f"</{match[1]}>") + len(match[1]) + 3]
         if not _closed(part, match[1]):
             return None
+        frame.append(text[len(part) :])
         found = _ID.search(match[2])
         if found is not None:
             key = found[1]
@@ -214,7 +215,6 @@ def page_parts(page: str) -> PageParts | None:
         taken.add(key)
         ids.append(key)
         parts.append(part)
-        frame.append(text[len(part) :])
     frame[-1] += page[body_end:]
     drawn = tuple(_BLANK_IMAGE.sub(r'src="\1"', part) for part in parts)
     return PageParts(tuple(frame), tuple(ids), tuple(parts), drawn)
