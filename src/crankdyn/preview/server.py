@@ -65,8 +65,9 @@ LONG_POLL_S = 20.0  # the longest /version?after=V and /update?after=V hold thei
 #: A save is built once no further change to the watched files came for this long (ms): an
 #: editor's save (write, or a temporary file and a rename) comes as one burst of changes.
 WATCH_STEP_MS = 20
-#: The nice value added to the processes the builder forks to draw figures: they draw in the
-#: background of the page, which the open tab swaps in meanwhile on the same cores.
+#: The nice value added to the processes the builder forks to draw figures and to the study
+#: worker: they work in the background of the page, which the open tab swaps in meanwhile on the
+#: same cores.
 DRAWING_NICE = 10
 BUILDER_THREAD = "crankdyn-builder"
 #: The versions whose parts are kept to answer /update: a tab shows one of the last few pages
@@ -171,7 +172,9 @@ class PageParts:
             return None
         return {
             key: part
-            for key, part, now, before in zip(self.ids, self.parts, self.drawn, old.drawn, strict=True)
+            for key, part, now, before in zip(
+                self.ids, self.parts, self.drawn, old.drawn, strict=True
+            )
             if now != before
         }
 
@@ -352,6 +355,9 @@ STUDY_INLINE_S = 0.5
 #: ... if the stages the save ran again took less than this (s): the worker runs them a second
 #: time (the in-line four's 0.4 s cost the figures' cores more than the worker saved).
 WORKER_STAGES_S = 0.1
+#: The longest the builder stays idle waiting for the worker's study before rendering the page
+#: with it (s); it then waits in that rendering, when the study's section comes.
+STUDY_WAIT_S = 30.0
 
 
 class Preview:
@@ -421,6 +427,7 @@ class Preview:
                 in_children = {id(f) for f in snapshot.figures if not f.drawn}
                 finish = start_drawing(snapshot.figures)
                 try:
+                    self._await_worker()
                     snapshot = self._publish(*self._render(defer_studies=False), start)
                     if (
                         finish is not None
@@ -445,6 +452,13 @@ class Preview:
                 "report\n" + "\n".join(f"  - {p}" for p in snapshot.problems)
             )
         return snapshot
+
+    def _await_worker(self) -> None:
+        """Stay idle until the study worker has this save's study: the page just published is
+        being taken by the tab meanwhile, and rendering the whole page cannot end sooner."""
+        wait = getattr(getattr(self._studies, "background", None), "wait", None)
+        if wait is not None:
+            wait(STUDY_WAIT_S)
 
     def _publish(
         self,
@@ -691,6 +705,8 @@ class Preview:
         at once. The worker is forked first: forking beside running threads is not safe."""
         if self._worker is None:
             self._worker = StudyWorker.start(self._registry)
+            if self._worker is not None:  # its study follows the page, as the figures do
+                _lower_priority(self._worker.pid)
         self._dirty.set()
         for target, name in (
             (self._builder, BUILDER_THREAD),
@@ -769,13 +785,18 @@ class Preview:
                     break
 
 
+def _lower_priority(pid: int = 0) -> None:
+    """Run process ``pid`` (0: this one) :data:`DRAWING_NICE` below the server."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, pid, os.getpriority(os.PRIO_PROCESS, 0) + DRAWING_NICE)
+    except OSError:  # not allowed here: it runs at the server's priority
+        pass
+
+
 def _lower_drawing_priority() -> None:
     """In a process forked by a preview's builder (a figure's drawer): run below the server."""
     if threading.current_thread().name == BUILDER_THREAD:
-        try:
-            os.nice(DRAWING_NICE)
-        except OSError:  # not allowed here: the drawer runs at the server's priority
-            pass
+        _lower_priority()
 
 
 if hasattr(os, "register_at_fork"):
