@@ -5,6 +5,7 @@ saved scene gives."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import threading
@@ -13,7 +14,13 @@ import pytest
 from test_serve import BASH, CHROMIUM, DevTools, _wait
 
 from crankdyn.cli import examples_dir
-from crankdyn.preview.server import Preview, PreviewServer, page_parts
+from crankdyn.preview.server import (
+    BUILDER_THREAD,
+    DRAWING_NICE,
+    Preview,
+    PreviewServer,
+    page_parts,
+)
 
 STAGES = ["forces"]  # kinematics, indicator, forces: a mass changes the forces only
 
@@ -225,3 +232,27 @@ def test_the_open_tab_swaps_in_the_changed_sections_in_place(tmp_path):
         server.server_close()
         preview.stop()
         thread.join(10)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="the drawers are forked")
+def test_a_process_the_builder_forks_runs_below_the_server():
+    # the figures' drawers and the study worker work behind the page the tab takes meanwhile
+    def fork_and_read() -> int:
+        read_end, write_end = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: its priority, then leave at once
+            os.write(write_end, str(os.getpriority(os.PRIO_PROCESS, 0)).encode())
+            os._exit(0)
+        os.close(write_end)
+        with os.fdopen(read_end) as pipe:
+            told = int(pipe.read())
+        os.waitpid(pid, 0)
+        return told
+
+    here = os.getpriority(os.PRIO_PROCESS, 0)
+    assert fork_and_read() == here  # forked by any other thread: as this process
+    found = []
+    builder = threading.Thread(target=lambda: found.append(fork_and_read()), name=BUILDER_THREAD)
+    builder.start()
+    builder.join(30)
+    assert found == [min(here + DRAWING_NICE, 19)]
