@@ -402,6 +402,9 @@ class Preview:
         self._study_s: float | None = None  # how long the last save's study took
         self._stages_s: float | None = None  # ... and the stages it ran again before it
         self._threads: list[threading.Thread] = []
+        self._seen_at: float | None = None  # when the watcher last saw a save (epoch s)
+        #: the last build's moments (epoch s): the save seen, the build started, its page out
+        self.times: dict[str, float | None] = {}
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
         self.snapshot = Snapshot(
@@ -419,8 +422,10 @@ class Preview:
         section says it follows —, then the whole page, then its figures (see the module docstring)."""
         self._building.set()
         start = time.perf_counter()
+        seen, started = self._seen_at, time.time()
         try:
             snapshot = self._publish(*self._render(defer_studies=True), start)
+            self.times = {"seen": seen, "started": started, "page": time.time()}
             if (
                 snapshot.pending
             ):  # the study, and nothing else, runs now (its figures drawn meanwhile)
@@ -576,8 +581,8 @@ class Preview:
     def _build_unsized(self, figures) -> None:
         """Build, as its section is rendered, each new figure of a name not drawn before: the
         page's blank image needs its size. A figure drawn before under its name takes that
-        drawing's size, and is built by the process that draws it (building a figure's axes
-        costs about as much as the rest of the page's text)."""
+        drawing's size, and is built by the process that draws it (building the figures' axes
+        of a mass's edit takes longer than rendering the page's text)."""
         for figure in figures:
             if not figure.drawn and figure.name not in self._sizes:
                 figure.figure  # noqa: B018 - built for its size
@@ -780,6 +785,7 @@ class Preview:
                 raise_interrupt=False,
             ):
                 if changes:
+                    self._seen_at = time.time()
                     self._dirty.set()
                 if self.watched() != files:  # the scene now names another data file: watch anew
                     break
@@ -842,6 +848,7 @@ class _Handler(BaseHTTPRequestHandler):
                 "render_s": round(snapshot.render_s, 3),
                 "building": self.preview.building,
                 "pending": list(snapshot.pending),
+                "times": self.preview.times,
                 "scene": str(self.preview.scene_path),
                 "watched": sorted(str(p) for p in self.preview.watched()),
             }
