@@ -90,6 +90,11 @@ def _as_drawn(html: str) -> str:
     )
 
 
+def ids_of(snapshot, stage: str) -> int:
+    """The index of ``stage``'s section among the snapshot's parts."""
+    return snapshot.parts.ids.index(_stage_id(snapshot.parts, stage))
+
+
 def _stage_id(parts, stage: str) -> str:
     return next(
         k for k, p in zip(parts.ids, parts.parts, strict=True) if f'data-stage="{stage}"' in p
@@ -102,7 +107,25 @@ def test_a_mass_edit_sends_only_the_changed_sections_and_gives_the_fresh_page(tm
     first = preview.build()
     kept = {f.name: f for f in first.figures}
     _edit_rod(scene, 1.05)
+    built_before_page = []
+    publish = preview._publish
+
+    def publish_noting_built(*args):
+        built_before_page.extend(f.name for f in args[4] if f._figure is not None)
+        return publish(*args)
+
+    preview._publish = publish_noting_built
     edited = preview.build()
+    # the new figures of the edited section were not built before the page went out: each has
+    # its last drawing's size (pt, as its SVG says) on its blank image meanwhile
+    assert not [name for name in built_before_page if name.startswith("fig_4_")]
+    for figure in edited.figures:
+        if figure.name.startswith("fig_4_"):
+            width, height = re.search(
+                rb'width="([0-9.]+)pt" height="([0-9.]+)pt"', figure.svg
+            ).groups()
+            blank = f"width%3D%27{float(width):.0f}pt%27%20height%3D%27{float(height):.0f}pt%27"
+            assert blank in edited.parts.parts[ids_of(edited, "forces")]
     # rendered again: the forces section alone; the others' figures are the drawn ones, shown
     # by their URLs at once
     assert preview.sections_cache.renders == {"kinematics": 1, "indicator": 1, "forces": 2}
