@@ -7,16 +7,20 @@ Run from the repository root (needs Debian's chromium, as the tests do; about a 
 
 ``crankdyn serve`` runs on a copy of the scene; a headless Chromium (DevTools over a pipe, as in
 tests/test_serve.py) keeps the preview open. Each edit changes the rod's mass by 1 % and saves;
-the clock runs from just before the write until (a) the tab has reloaded itself and shows the
-page of the new build (its version is in the page's reload script; a study that has to run again,
-the error against run time, says there that it follows), (b) the tab shows the whole page, that
-study too, and (c) every figure of it has loaded. Medians and the worst of the edits are printed. Not part of the test suite.
+the clock runs from just before the write until (a) the tab shows the page of the new build
+(the changed sections swapped in, or the page loaded anew; the version the tab shows is in its
+root element's data-version; a study that has to run again, the error against run time, says
+there that it follows), (b) the tab shows the whole page, that study too, and (c) every figure
+of it has loaded. Medians and the worst of the edits are printed, with where (a)'s time goes (the
+server's moments from /status: when its watcher saw the save, when the page went out), and (a)'s
+median as a ratio to its goal. Not part of the test suite.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import shutil
 import statistics
@@ -31,17 +35,14 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from test_serve import CHROMIUM, DevTools, _start_serve, _wait  # noqa: E402 - the tests' own browser driver
 
-# the text is on screen once the document is parsed ("interactive"), of a build after the save: the
-# first one (its study to follow) or, when the whole page was ready before the tab reloaded, the
-# second (waiting for the first build's marker then waited for a page the tab never shows)
-PAGE_IS = (
-    "document.readyState !== 'loading' && Array.from(document.scripts).some("
-    "s => {markers}.some(m => s.text.indexOf(m) >= 0))"
-)
+# the text is on screen once the tab shows a build after the save (the version its script keeps in
+# the root element's data-version, set when a page is parsed or parts of it are swapped in): the
+# first one (its study to follow) or, when the whole page was ready before the tab asked, the second
+PAGE_IS = "{markers}.indexOf(document.documentElement.dataset.version) >= 0"
 # the whole page: no section waits for its study (p.pending), and not the page before the save
 COMPLETE = (
-    "document.readyState !== 'loading' && !document.querySelector('p.pending') && "
-    "!Array.from(document.scripts).some(s => s.text.indexOf({old}) >= 0)"
+    "!!document.documentElement.dataset.version && "
+    "document.documentElement.dataset.version !== {old} && !document.querySelector('p.pending')"
 )
 FIGURES_LOADED = (
     "document.readyState === 'complete' && !document.querySelector('p.pending') && "
@@ -73,6 +74,7 @@ def main() -> None:
         server, base = _start_serve(scene)
         browser = None
         page_s, complete_s, figures_s, server_s = [], [], [], []
+        watch_s, render_s, tab_s = [], [], []  # where the first of these goes
         try:
             _wait(lambda: _status(base)["state"] == "report", 120, "the first rendering")
             browser = DevTools(base, tmp / "profile")
@@ -96,9 +98,9 @@ def main() -> None:
                 )
                 assert new != text, "the scene has no masses.rod to edit"
                 text = new
-                start = time.monotonic()
+                start, saved = time.monotonic(), time.time()
                 scene.write_text(text, encoding="utf-8")
-                markers = json.dumps([json.dumps(m) for m in expected])
+                markers = json.dumps(expected)
                 _wait(
                     lambda: browser.evaluate(PAGE_IS.format(markers=markers), tolerant=True),  # noqa: B023 - called within this iteration
                     60,
@@ -106,6 +108,7 @@ def main() -> None:
                     interval=0.01,
                 )
                 page_s.append(time.monotonic() - start)
+                shown = time.time()
                 _wait(
                     lambda: browser.evaluate(COMPLETE.format(old=old), tolerant=True),  # noqa: B023 - called within this iteration
                     60,
@@ -121,7 +124,12 @@ def main() -> None:
                 )
                 figures_s.append(time.monotonic() - start)
                 _wait(lambda: not _status(base)["building"], 60, "the build to end", interval=0.05)
-                server_s.append(_status(base)["render_s"])
+                status = _status(base)
+                server_s.append(status["render_s"])
+                times = status["times"]
+                watch_s.append(times["seen"] - saved)
+                render_s.append(times["page"] - times["started"])
+                tab_s.append(shown - times["page"])
                 if args.each:
                     print(
                         f"edit {len(page_s):3d}: page {page_s[-1]:.2f}  whole {complete_s[-1]:.2f}  "
@@ -140,12 +148,23 @@ def main() -> None:
         ("save -> the tab shows the new page", page_s),
         ("save -> ... with the error study too", complete_s),
         ("save -> all its figures loaded", figures_s),
-        ("server: build until the page is out", server_s),
+        ("server: build until the whole page out", server_s),
+        ("  of the first: save -> the watcher", watch_s),
+        ("  ... -> the page out (the build)", render_s),
+        ("  ... -> the tab shows it (update)", tab_s),
     ):
         print(f"{what:38s} {statistics.median(values):8.2f} {max(values):8.2f}")
-    ratio = statistics.median(page_s) / 1.0
+    goal_s = 0.3
+    measured = statistics.median(page_s)
+    ratio = measured / goal_s
     print(
-        f"goal: save -> updated page <= 1 s (median): ratio {ratio:.2f} {'ok' if ratio <= 1 else 'NOT MET'}"
+        f"{'figure':62s} {'measured':>10s} {'goal':>10s} {'ratio':>7s}\n"
+        f"{'preview: save -> the tab shows the new page, median (s)':62s} {measured:10.3f} "
+        f"{goal_s:10.3f} {ratio:7.2f}  {'ok' if ratio <= 1 else 'NOT MET'}"
+    )
+    print(
+        f"({os.cpu_count()} cores; load {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
+        "over 1, 5, 15 min at the end)"
     )
 
 

@@ -114,8 +114,8 @@ def test_error_page_escapes_scene_text_and_lists_every_problem(tmp_path):
 def test_reload_script_goes_before_body_end():
     page = with_reload("<html><body><p>x</p></body></html>", "abc-3", "NONCE")
     assert page.endswith("</script></body></html>")
-    assert '<script nonce="NONCE">' in page and '"abc-3"' in page and "/version" in page
-    assert "location.reload()" in page
+    assert '<script nonce="NONCE">' in page and '"abc-3"' in page and "/update?after=" in page
+    assert "location.reload()" in page and ".outerHTML=" in page
 
 
 def test_referenced_files_include_the_trace(tmp_path):

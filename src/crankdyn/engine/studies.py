@@ -325,6 +325,18 @@ class WorkerJob:
             raise taken[0]  # computed again here, it would only take as long again
         return taken
 
+    def wait(self, timeout: float) -> None:
+        """Until the worker has an answer waiting (or ``timeout`` s have passed), reading nothing:
+        the caller stays idle while the worker computes."""
+        import select  # lazy: heavy optional import (only the live preview has a study worker)
+
+        if self._received or self._ended or not self._worker.alive:
+            return
+        try:
+            select.select([self._worker._sock], [], [], timeout)
+        except (OSError, ValueError):  # the worker's socket is closed: take() says so
+            pass
+
     def close(self) -> None:
         """Nothing to stop: the worker's remaining answers are read before its next job."""
         self._ended = True

@@ -241,6 +241,7 @@ def run_for_preview(
     studies: RunResult | None = None,
     worker=None,
     inline_studies: bool = False,
+    figure_sink=None,
 ):
     """The live preview's step of the same path: compute ``scene`` (re-running only the stages whose
     inputs changed) and render the report (re-rendering only the sections whose stage output or
@@ -251,6 +252,8 @@ def run_for_preview(
     the returned ``studies``, takes it from there (or computes it, if the scene changed since).
     With ``inline_studies`` as well (a study the worker computes quickly), this rendering waits
     for the worker's study when its section comes, so that the page is shown once, whole.
+    ``figure_sink(figures)`` receives each section's new figures as the section is rendered
+    (default: each is built, for its size).
     Returns (run result, :class:`crankdyn.report.document.RenderedReport`, the deferred studies
     as a :class:`RunResult` to pass as ``studies``, or None)."""
     from ..report.document import (
@@ -289,7 +292,10 @@ def run_for_preview(
             # each section's figures built as it comes (the page's placeholders need their sizes):
             # meanwhile the worker computes the study whose section comes last
             rendered = render_html(
-                result, registry, sections_cache=sections_cache, figure_sink=_build_figures
+                result,
+                registry,
+                sections_cache=sections_cache,
+                figure_sink=figure_sink or _build_figures,
             )
         finally:
             result.close_background()

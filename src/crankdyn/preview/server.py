@@ -8,10 +8,14 @@ rule: the snapshot is replaced in one assignment, and only by a complete result 
 a full report, or for a scene that does not validate an error page listing its
 problems — so a half-built report is never served.
 
-The open browser tab reloads itself: every page carries a small inline script that asks
-``/version?after=V`` — an answer the server holds back until the version is no longer V (a
-long poll: the tab learns of a new build at once) — and reloads when the version changes. ``/report.pdf`` renders the
-current report to PDF on request (cached per version).
+The open browser tab follows the builds: every page carries a small inline script that asks
+``/update?after=V`` — an answer the server holds back until the version is no longer V (a long
+poll: the tab learns of a new build at once). The answer holds the HTML of the page's parts (its
+top-level sections, :func:`page_parts`) that differ from version V's, and the script puts them in
+place of the old ones by id: the tab keeps its scroll position and every other section, figures
+included, as it is. A page whose frame changed (its head, its list of sections) or an error page
+is loaded anew instead. ``/report.pdf`` renders the current report to PDF on request (cached per
+version).
 
 Fast saves: a build re-runs only the stages whose inputs changed
 (:class:`crankdyn.engine.stage_cache.StageCache`)
@@ -26,6 +30,7 @@ from __future__ import annotations
 import html
 import json
 import os
+import re
 import secrets
 import signal
 import sys
@@ -55,8 +60,19 @@ from ..scene.model import load_scene, read_scene_data
 
 HOST = "127.0.0.1"
 DEFAULT_PORT = 8765
-POLL_MS = 600  # how long an open tab waits before asking /version again after a failed request
-LONG_POLL_S = 20.0  # the longest /version?after=V holds its answer back
+POLL_MS = 600  # how long an open tab waits before asking /update again after a failed request
+LONG_POLL_S = 20.0  # the longest /version?after=V and /update?after=V hold their answers back
+#: A save is built once no further change to the watched files came for this long (ms): an
+#: editor's save (write, or a temporary file and a rename) comes as one burst of changes.
+WATCH_STEP_MS = 20
+#: The nice value added to the processes the builder forks to draw figures and to the study
+#: worker: they work in the background of the page, which the open tab swaps in meanwhile on the
+#: same cores.
+DRAWING_NICE = 10
+BUILDER_THREAD = "crankdyn-builder"
+#: The versions whose parts are kept to answer /update: a tab shows one of the last few pages
+#: (a tab further behind loads the page anew).
+KEPT_PAGES = 8
 
 
 @dataclass(frozen=True)
@@ -77,6 +93,7 @@ class Snapshot:
         str, ...
     ] = ()  # stages whose sections say they follow (the next snapshot has them)
     figures_s: float | None = None  # when every figure was drawn, seconds after the build started
+    parts: PageParts | None = None  # the page's swappable parts (None: an error page)
 
     @property
     def figures_drawn(self) -> bool:
@@ -87,20 +104,31 @@ class Snapshot:
 
 
 def reload_script(version: str, nonce: str) -> str:
-    """The inline script that reloads the tab when the server's version changes."""
+    """The inline script that keeps the tab on the server's current version: it swaps in the
+    parts that changed (``/update``), or reloads the page when the server says so. The version
+    the tab shows is in ``data-version`` of the page's root element."""
     return (
-        f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)};'
+        f'<script nonce="{nonce}">(function(){{var v={json.dumps(version)},'
+        "d=document.documentElement;d.dataset.version=v;"
         # figures still being drawn wait behind a blank image: one request asks when they are
         # done (a browser holds only six connections to a host: six held image requests would
-        # stall the next reload)
-        "var w=document.querySelectorAll('img[data-figure]');"
+        # stall the next update)
+        "function figures(){var w=Array.prototype.filter.call("
+        "document.querySelectorAll('img[data-figure]'),function(i){"
+        "return i.src.slice(0,5)==='data:';});"
         "if(w.length){fetch('/figures-ready?version='+encodeURIComponent(v),{cache:'no-store'})"
-        ".then(function(){w.forEach(function(i){i.src=i.dataset.figure;});});}"
-        "function poll(){fetch('/version?after='+encodeURIComponent(v),{cache:'no-store'})"
-        ".then(function(r){return r.text();})"
-        ".then(function(t){if(t.trim()!==v){location.reload();}else{poll();}})"
+        ".then(function(){w.forEach(function(i){i.src=i.dataset.figure;});});}}"
+        # every part named must be there before any is replaced: else the whole page anew
+        "function swap(u){var ids=Object.keys(u.parts);"
+        "if(!ids.every(function(k){return document.getElementById(k);})){return false;}"
+        "ids.forEach(function(k){document.getElementById(k).outerHTML=u.parts[k];});"
+        "v=u.version;d.dataset.version=v;figures();return true;}"
+        "function poll(){fetch('/update?after='+encodeURIComponent(v),{cache:'no-store'})"
+        ".then(function(r){return r.json();})"
+        ".then(function(u){if(u.version===v){poll();}"
+        "else if(u.parts&&swap(u)){poll();}else{location.reload();}})"
         f".catch(function(){{setTimeout(poll,{POLL_MS});}});}}"
-        "poll();})();</script>"
+        "figures();poll();})();</script>"
     )
 
 
@@ -108,6 +136,91 @@ def with_reload(page: str, version: str, nonce: str) -> str:
     script = reload_script(version, nonce)
     at = page.rfind("</body>")
     return page + script if at < 0 else page[:at] + script + page[at:]
+
+
+#: Where a part of the page starts: a top-level section (or the contents' nav), at the start of a
+#: line, as the report's template writes each.
+_PART_START = re.compile(r"(?m)^<(section|nav)\b([^>]*)>")
+_ID = re.compile(r'\sid="([^"]*)"')
+_CLASS = re.compile(r'\sclass="([^"]*)"')
+
+
+@dataclass(frozen=True)
+class PageParts:
+    """A page as the parts the tab can swap one by one: ``frame[0] + parts[0] + frame[1] + …
+    + parts[-1] + frame[-1]`` is the page. Each part is one top-level element with an ``id``
+    (its own, or ``preview-`` and its class where it has none)."""
+
+    frame: tuple[str, ...]
+    ids: tuple[str, ...]
+    parts: tuple[str, ...]
+    #: each part as the tab shows it once its figures are drawn (a blank image's place taken by
+    #: the figure's URL): a part that differs from the last page's only there is not sent again
+    drawn: tuple[str, ...] = ()
+
+    @property
+    def html(self) -> str:
+        pieces = [self.frame[0]]
+        for part, between in zip(self.parts, self.frame[1:], strict=True):
+            pieces += [part, between]
+        return "".join(pieces)
+
+    def changed_since(self, old: PageParts) -> dict[str, str] | None:
+        """The parts that differ from ``old``'s, by id; None when the frame differs (the page is
+        to be loaded anew)."""
+        if old.frame != self.frame or old.ids != self.ids:
+            return None
+        return {
+            key: part
+            for key, part, now, before in zip(
+                self.ids, self.parts, self.drawn, old.drawn, strict=True
+            )
+            if now != before
+        }
+
+
+def _closed(part: str, tag: str) -> bool:
+    """Whether ``part`` is one ``tag`` element, closed at its end, with its own sections nested."""
+    opened = len(re.findall(rf"<{tag}\b", part))
+    return part.endswith(f"</{tag}>") and opened == part.count(f"</{tag}>")
+
+
+def page_parts(page: str) -> PageParts | None:
+    """The page's top-level sections as :class:`PageParts`; None when it cannot be parted (no
+    section, or one that is not a single closed element: the page is then loaded anew)."""
+    starts = list(_PART_START.finditer(page))
+    body_end = page.rfind("</body>")
+    if not starts or body_end < starts[-1].start():
+        return None
+    ends = [m.start() for m in starts[1:]] + [body_end]
+    frame, ids, parts, taken = [page[: starts[0].start()]], [], [], set()
+    for match, end in zip(starts, ends, strict=True):
+        text = page[match.start() : end]
+        # the element ends at its tag's last close; what follows it (space, the colophon after
+        # the last section) is the frame's
+        part = text[: text.rfind(f"</{match[1]}>") + len(match[1]) + 3]
+        if not _closed(part, match[1]):
+            return None
+        frame.append(text[len(part) :])
+        found = _ID.search(match[2])
+        if found is not None:
+            key = found[1]
+        else:
+            name = (_CLASS.search(match[2]) or [None, match[1]])[1].split()
+            key = base = f"preview-{name[0] if name else match[1]}"
+            number = 1
+            while key in taken:
+                number += 1
+                key = f"{base}-{number}"
+            part = f'<{match[1]} id="{key}"{match[2]}>' + part[match.end() - match.start() :]
+        if key in taken or not key:
+            return None
+        taken.add(key)
+        ids.append(key)
+        parts.append(part)
+    frame[-1] += page[body_end:]
+    drawn = tuple(_BLANK_IMAGE.sub(r'src="\1"', part) for part in parts)
+    return PageParts(tuple(frame), tuple(ids), tuple(parts), drawn)
 
 
 _ERROR_CSS = (
@@ -172,14 +285,31 @@ def _url(figure) -> str:
     return f"{figure.preview_token}/{figure.name}"
 
 
-def _placeholder(figure, url: str) -> str:
-    """``src`` and ``data-figure`` of a figure not drawn yet: a blank image of the figure's size."""
-    width_in, height_in = figure.figure.get_size_inches()
+def _placeholder(url: str, size_pt: tuple[float, float]) -> str:
+    """``src`` and ``data-figure`` of a figure not drawn yet: a blank image of its size."""
+    width, height = size_pt
     blank = (
-        f"<svg xmlns='http://www.w3.org/2000/svg' width='{width_in * 72:.0f}pt' height='{height_in * 72:.0f}pt' "
-        f"viewBox='0 0 {width_in * 72:.0f} {height_in * 72:.0f}'/>"
+        f"<svg xmlns='http://www.w3.org/2000/svg' width='{width:.0f}pt' height='{height:.0f}pt' "
+        f"viewBox='0 0 {width:.0f} {height:.0f}'/>"
     )
     return f'src="data:image/svg+xml,{quote(blank)}" data-figure="{FIGURE_DIR}/{url}"'
+
+
+#: A figure's blank image and its URL (:func:`_placeholder`), as a part of the page holds it.
+_BLANK_IMAGE = re.compile(r'src="data:image/svg\+xml,[^"]*" data-figure="([^"]*)"')
+_SVG_SIZE = re.compile(rb'<svg\b[^>]*?\swidth="([0-9.]+)pt"\s+height="([0-9.]+)pt"')
+
+
+def svg_size(svg: bytes) -> tuple[float, float] | None:
+    """(width, height) in pt of a figure as drawn (matplotlib writes them on its ``svg``)."""
+    found = _SVG_SIZE.search(svg, 0, 4096)
+    return None if found is None else (float(found[1]), float(found[2]))
+
+
+def figure_size(figure) -> tuple[float, float]:
+    """(width, height) in pt of a figure's matplotlib figure (built now if it is not yet)."""
+    width_in, height_in = figure.figure.get_size_inches()
+    return width_in * 72, height_in * 72
 
 
 # --------------------------------------------------------------------------- files
@@ -220,12 +350,14 @@ def _watch_names(paths: Iterable[Path]) -> set[Path]:
 # --------------------------------------------------------------------------- the preview
 
 #: A study that took less than this (s) on the last save is computed by the study worker on the
-#: next and waited for: the page is then shown once, whole, instead of first without the study
-#: and again with it (each showing a reload of the tab, on the cores that draw the figures) ...
+#: next, while the page is rendered and shown without it (its section follows, swapped in) ...
 STUDY_INLINE_S = 0.5
 #: ... if the stages the save ran again took less than this (s): the worker runs them a second
 #: time (the in-line four's 0.4 s cost the figures' cores more than the worker saved).
 WORKER_STAGES_S = 0.1
+#: The longest the builder stays idle waiting for the worker's study before rendering the page
+#: with it (s); it then waits in that rendering, when the study's section comes.
+STUDY_WAIT_S = 30.0
 
 
 class Preview:
@@ -259,6 +391,8 @@ class Preview:
         self.sections_cache = SectionCache()  # ... and re-renders only their sections
         self._drawn = threading.Condition()  # notified after each figure the builder draws
         self._recent: tuple = ()  # the snapshots before the current one
+        self._pages: dict[str, PageParts | None] = {}  # the last pages' parts, by version
+        self._sizes: dict[str, tuple[float, float]] = {}  # the last drawing's size (pt), by name
         self._tokens = 0
         self._warmed: set[str] = set()  # the figures this process has drawn itself (_warm)
         self._worker: StudyWorker | None = (
@@ -268,6 +402,9 @@ class Preview:
         self._study_s: float | None = None  # how long the last save's study took
         self._stages_s: float | None = None  # ... and the stages it ran again before it
         self._threads: list[threading.Thread] = []
+        self._seen_at: float | None = None  # when the watcher last saw a save (epoch s)
+        #: the last build's moments (epoch s): the save seen, the build started, its page out
+        self.times: dict[str, float | None] = {}
         version = f"{self._boot}-0"
         self._published = threading.Condition()  # notified when a new snapshot is shown
         self.snapshot = Snapshot(
@@ -285,14 +422,17 @@ class Preview:
         section says it follows —, then the whole page, then its figures (see the module docstring)."""
         self._building.set()
         start = time.perf_counter()
+        seen, started = self._seen_at, time.time()
         try:
             snapshot = self._publish(*self._render(defer_studies=True), start)
+            self.times = {"seen": seen, "started": started, "page": time.time()}
             if (
                 snapshot.pending
             ):  # the study, and nothing else, runs now (its figures drawn meanwhile)
                 in_children = {id(f) for f in snapshot.figures if not f.drawn}
                 finish = start_drawing(snapshot.figures)
                 try:
+                    self._await_worker()
                     snapshot = self._publish(*self._render(defer_studies=False), start)
                     if (
                         finish is not None
@@ -318,6 +458,13 @@ class Preview:
             )
         return snapshot
 
+    def _await_worker(self) -> None:
+        """Stay idle until the study worker has this save's study: the page just published is
+        being taken by the tab meanwhile, and rendering the whole page cannot end sooner."""
+        wait = getattr(getattr(self._studies, "background", None), "wait", None)
+        if wait is not None:
+            wait(STUDY_WAIT_S)
+
     def _publish(
         self,
         state: str,
@@ -330,6 +477,9 @@ class Preview:
     ) -> Snapshot:
         self._count += 1
         version = f"{self._boot}-{self._count}"
+        parts = page_parts(page) if state == "report" else None
+        if parts is not None:
+            page = parts.html  # with the ids the tab finds the parts by
         snapshot = Snapshot(
             version,
             with_reload(page, version, self.nonce).encode("utf-8"),
@@ -339,9 +489,13 @@ class Preview:
             time.perf_counter() - start,
             figures=tuple(figures),
             pending=pending,
+            parts=parts,
         )
         with self._drawn:
             self._recent = (self.snapshot, *self._recent)[:2]  # a tab may still show one of these
+            self._pages[version] = parts
+            while len(self._pages) > KEPT_PAGES:
+                del self._pages[next(iter(self._pages))]
         self.snapshot = snapshot  # the one swap: readers see the old or the new snapshot, whole
         with self._published:
             self._published.notify_all()
@@ -358,9 +512,9 @@ class Preview:
             studies, self._studies = self._studies, None
             runs = dict(self.stage_cache.runs)
             try:
-                # a quick study: computed by the worker while the page is rendered, and waited for;
-                # a slow one follows the page, computed here (the worker would compute the changed
-                # stages a second time, on the cores the figures need)
+                # the page never waits for a study: a quick one is computed by the worker
+                # meanwhile; a slow one is computed here after the page (the worker would compute
+                # the changed stages a second time, on the cores the figures need)
                 quick = (
                     self._study_s is not None
                     and self._study_s < STUDY_INLINE_S
@@ -377,7 +531,7 @@ class Preview:
                     defer_studies,
                     studies,
                     self._worker if quick else None,
-                    inline_studies=quick,
+                    figure_sink=self._build_unsized,
                 )
                 self._note_times(result, runs)
             finally:
@@ -395,7 +549,9 @@ class Preview:
             # a figure still to draw: a blank image of its size until the page's script swaps it in
             page = page.replace(
                 f'src="{FIGURE_DIR}/{figure.name}"',
-                f'src="{FIGURE_DIR}/{url}"' if figure.drawn else _placeholder(figure, url),
+                f'src="{FIGURE_DIR}/{url}"'
+                if figure.drawn
+                else _placeholder(url, self._sizes.get(figure.name) or figure_size(figure)),
             )
         return (
             "report",
@@ -422,6 +578,20 @@ class Preview:
         if stages:
             self._stages_s = sum(stages)
 
+    def _build_unsized(self, figures) -> None:
+        """Build, as its section is rendered, each new figure of a name not drawn before: the
+        page's blank image needs its size. A figure drawn before under its name takes that
+        drawing's size, and is built by the process that draws it (building the figures' axes
+        of a mass's edit takes longer than rendering the page's text)."""
+        for figure in figures:
+            if not figure.drawn and figure.name not in self._sizes:
+                figure.figure  # noqa: B018 - built for its size
+
+    def _note_sizes(self, figures) -> None:
+        for figure in figures:
+            if figure.drawn and (size := svg_size(figure.svg)) is not None:
+                self._sizes[figure.name] = size
+
     def _draw(self, snapshot: Snapshot, start: float) -> None:
         """Draw the snapshot's new figures, shared by forked processes, and wake the requests
         that wait for them. The server's other threads only wait or send bytes and the children
@@ -431,6 +601,7 @@ class Preview:
             draw_figures(pending, allow_threads=True)
             with self._drawn:
                 self._drawn.notify_all()
+        self._note_sizes(snapshot.figures)
         object.__setattr__(snapshot, "figures_s", time.perf_counter() - start)
 
     def _draw_here(self, figures) -> None:
@@ -462,6 +633,23 @@ class Preview:
 
     def _figures_of(self, version: str) -> tuple:
         return next((s.figures for s in (self.snapshot, *self._recent) if s.version == version), ())
+
+    def changes_after(self, version: str, timeout: float = LONG_POLL_S) -> dict:
+        """What a tab showing ``version`` needs, as soon as the version is not ``version`` (or
+        after ``timeout`` seconds): ``{"version": V}`` alone when nothing changed, with
+        ``"parts"`` (id: HTML) the parts that differ from ``version``'s page, or with
+        ``"reload": true`` when the page is to be loaded anew."""
+        if self.version_after(version, timeout) == version:
+            return {"version": version}
+        snapshot = self.snapshot  # the newest: a tab skips the versions built meanwhile
+        with self._drawn:
+            old = self._pages.get(version)
+        changed = (
+            None if old is None or snapshot.parts is None else snapshot.parts.changed_since(old)
+        )
+        if changed is None:
+            return {"version": snapshot.version, "reload": True}
+        return {"version": snapshot.version, "parts": changed}
 
     def version_after(self, version: str, timeout: float = LONG_POLL_S) -> str:
         """The current version, as soon as it is not ``version`` (or after ``timeout`` seconds)."""
@@ -522,9 +710,11 @@ class Preview:
         at once. The worker is forked first: forking beside running threads is not safe."""
         if self._worker is None:
             self._worker = StudyWorker.start(self._registry)
+            if self._worker is not None:  # its study follows the page, as the figures do
+                _lower_priority(self._worker.pid)
         self._dirty.set()
         for target, name in (
-            (self._builder, "crankdyn-builder"),
+            (self._builder, BUILDER_THREAD),
             (self._watcher, "crankdyn-watcher"),
         ):
             thread = threading.Thread(target=target, name=name, daemon=True)
@@ -587,7 +777,7 @@ class Preview:
                 *folders,
                 watch_filter=relevant,
                 debounce=self._debounce_ms,
-                step=50,
+                step=WATCH_STEP_MS,
                 stop_event=self._stop,
                 rust_timeout=1000,
                 yield_on_timeout=True,
@@ -595,9 +785,28 @@ class Preview:
                 raise_interrupt=False,
             ):
                 if changes:
+                    self._seen_at = time.time()
                     self._dirty.set()
                 if self.watched() != files:  # the scene now names another data file: watch anew
                     break
+
+
+def _lower_priority(pid: int = 0) -> None:
+    """Run process ``pid`` (0: this one) :data:`DRAWING_NICE` below the server."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, pid, os.getpriority(os.PRIO_PROCESS, 0) + DRAWING_NICE)
+    except OSError:  # not allowed here: it runs at the server's priority
+        pass
+
+
+def _lower_drawing_priority() -> None:
+    """In a process forked by a preview's builder (a figure's drawer): run below the server."""
+    if threading.current_thread().name == BUILDER_THREAD:
+        _lower_priority()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_lower_drawing_priority)
 
 
 # --------------------------------------------------------------------------- HTTP
@@ -623,6 +832,14 @@ class _Handler(BaseHTTPRequestHandler):
             after = parse_qs(urlsplit(self.path).query).get("after")
             version = self.preview.version_after(after[0]) if after else snapshot.version
             self._send(HTTPStatus.OK, "text/plain; charset=utf-8", version.encode("ascii"))
+        elif path == "/update":
+            after = (parse_qs(urlsplit(self.path).query).get("after") or [""])[0]
+            changes = self.preview.changes_after(after)
+            self._send(
+                HTTPStatus.OK,
+                "application/json",
+                json.dumps(changes, ensure_ascii=False).encode("utf-8"),
+            )
         elif path == "/status":
             status = {
                 "version": snapshot.version,
@@ -631,6 +848,7 @@ class _Handler(BaseHTTPRequestHandler):
                 "render_s": round(snapshot.render_s, 3),
                 "building": self.preview.building,
                 "pending": list(snapshot.pending),
+                "times": self.preview.times,
                 "scene": str(self.preview.scene_path),
                 "watched": sorted(str(p) for p in self.preview.watched()),
             }
