@@ -142,3 +142,9 @@ def test_labels_on_one_side_of_close_points_stand_apart():
     assert out["z"][1] == 2 + LABEL_HALF_HEIGHT_PT
     # r and b″ are close in height but at opposite ends of the stroke: both keep their places
     assert out["r"][1] == 3 + LABEL_HALF_HEIGHT_PT and out["b″"][1] == 0
+
+
+def test_a_trace_without_points_has_no_labels_to_separate():
+    from crankdyn_builtin.indicator.figures import separated_labels
+
+    assert separated_labels([], [0.1, 5.0], 200.0) == []

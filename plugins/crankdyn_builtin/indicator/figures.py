@@ -46,6 +46,8 @@ def separated_labels(points, pressures, axes_height_pt: float, gap_pt: float = L
         (label, volume, p, (dx, dy + float(np.sign(dy)) * LABEL_HALF_HEIGHT_PT))
         for label, volume, p, (dx, dy) in points
     ]
+    if not out:  # a measured trace has no characteristic points
+        return out
     volumes = [volume for _, volume, _, _ in out]
     near = NEAR_FRACTION * (max(volumes) - min(volumes) or 1.0)
     for side in (True, False):  # labels right of their points, then left of them
