@@ -33,6 +33,9 @@ def test_the_key_words_follow_the_sections():
     ):
         assert word in full, (word, full)
     assert "КІНЕМАТИКА" in alone and "МАХОВИК" not in alone and "ЗРІВНОВАЖЕННЯ" not in alone
+    # a mechanism without a working cycle is analysed, not an engine calculated
+    assert alone[:2] == ["КІНЕМАТИЧНИЙ АНАЛІЗ", "ТЕОРІЯ МЕХАНІЗМІВ І МАШИН"], alone
+    assert "ДИНАМІЧНИЙ РОЗРАХУНОК" not in alone and "ДВИГУН ВНУТРІШНЬОГО ЗГОРЯННЯ" not in alone
     # DSTU 3008: five to fifteen, also for the smallest reports; the vane engine's scheme is drawn by
     # drawing_linkage, which writes with the drawing stage's catalog
     vane = _keywords(shared_html("vane-engine-kinematics", language="uk").linked_html)
