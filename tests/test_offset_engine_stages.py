@@ -280,3 +280,33 @@ def test_the_offset_kinematics_gives_the_mean_piston_speed_of_its_true_stroke():
     page = shared_html("offset-crank-engine").html
     plain = page.replace("/\u2060", "/").replace("\u00a0", " ")
     assert f"<i>v</i><sub>mean</sub> = <i>Sn</i>/30 = {shown}" in plain
+
+
+@pytest.mark.parametrize("offset_mm", [8.0, -8.0, 95.0, -100.9])  # |e| < L - R = 101 mm
+def test_the_indicator_diagram_takes_the_pistons_own_stroke_and_dead_centres(offset_mm):
+    """V_h = F S with the piston's stroke S = √((L+R)² − e²) − √((L−R)² − e²) (not 2R), so
+    V(BDC) = V_a at the real BDC α = 180° + arcsin(e/(L−R)) − arcsin(e/(L+R)), where the intake
+    line ends at p_a; the diagram's work equals the mean torque × 4π (virtual work)."""
+    e = offset_mm * 1e-3
+    result = _run({"mechanism": {"offset": f"{offset_mm} mm"}})
+    motion = result.outputs["offset_crank"].data[KINEMATICS]
+    indicator = result.outputs["indicator"]
+    r = indicator.results
+    stroke = np.sqrt((L + R) ** 2 - e**2) - np.sqrt((L - R) ** 2 - e**2)
+    bdc = 180.0 + np.degrees(np.arcsin(e / (L - R)) - np.arcsin(e / (L + R)))
+    area = np.pi * 0.082**2 / 4
+    assert r["swept_volume_m3"] == pytest.approx(area * stroke, rel=1e-12)
+    assert r["bdc_crank_angle_deg"] == pytest.approx(bdc, rel=1e-12)
+    clearance = r["clearance_volume_m3"]
+    v_a = 9.5 * clearance  # epsilon V_c
+    for at in (bdc, 360.0 + bdc):
+        volume = clearance + area * float(motion.displacement_at(np.array([at]))[0])
+        assert volume == pytest.approx(v_a, rel=1e-12), at
+    # the intake line runs at p_a up to the real BDC, past the nominal 180°
+    table = indicator.tables["indicator"]
+    angle = np.asarray(table["crank_angle_deg"])
+    theory = np.asarray(table["pressure_theoretical_Pa"])
+    before_bdc = (angle > 90.0) & (angle <= bdc)
+    assert np.all(theory[before_bdc] == 0.085e6)
+    torque = result.outputs["forces"].tables["forces"]["torque_Nm"].to_numpy()
+    assert np.mean(torque) * 4 * np.pi == pytest.approx(r["indicated_work_J"], rel=2e-3)
