@@ -310,3 +310,51 @@ def test_the_indicator_diagram_takes_the_pistons_own_stroke_and_dead_centres(off
     assert np.all(theory[before_bdc] == 0.085e6)
     torque = result.outputs["forces"].tables["forces"]["torque_Nm"].to_numpy()
     assert np.mean(torque) * 4 * np.pi == pytest.approx(r["indicated_work_J"], rel=2e-3)
+
+
+def test_the_inertia_remainder_is_split_into_its_lambda_cubed_and_offset_terms(offset_run):
+    """p_j - (p_jI + p_jII) of an offset crank-slider = (the central crank-slider's p_j of the
+    same R, lambda - p_jI - p_jII: the terms of order lambda^3 and up) + (the offset mechanism's
+    p_j - the central one's: the offset's terms); both parts against the central closed form."""
+    forces = offset_run.outputs["forces"]
+    r, f = forces.results, forces.tables["forces"]
+    omega = 5600 * np.pi / 30
+    alpha = np.radians(f["crank_angle_deg"].to_numpy())
+    sin_beta = LAM * np.sin(alpha)
+    cos_beta = np.sqrt(1 - sin_beta**2)
+    j_central = R * omega**2 * (
+        np.cos(alpha + np.arcsin(sin_beta)) / cos_beta + LAM * np.cos(alpha) ** 2 / cos_beta**3
+    )
+    area = np.pi * 0.082**2 / 4
+    p_central = -r["reciprocating_mass_kg"] * j_central / area
+    harmonics = f["inertia_first_order_Pa"].to_numpy() + f["inertia_second_order_Pa"].to_numpy()
+    central_part = np.max(np.abs(p_central - harmonics))
+    offset_part = np.max(np.abs(f["inertia_Pa"].to_numpy() - p_central))
+    assert r["inertia_higher_orders_central_max_Pa"] == pytest.approx(central_part, rel=1e-9)
+    assert r["inertia_offset_terms_max_Pa"] == pytest.approx(offset_part, rel=1e-9)
+    assert offset_part > 0.1 * central_part  # the offset's share is no round-off
+    assert r["inertia_higher_orders_max_Pa"] <= central_part + offset_part
+    assert r["crank_angle_at_tdc_deg"] == pytest.approx(np.degrees(np.arcsin(E / (L + R))))
+
+
+def test_the_printed_rod_force_formula_is_the_one_computed():
+    """t = p1 sin(φ + β)/cos β with φ = α + φ_TDC, the crank's angle from the cylinder axis:
+    the forces section prints φ, and the table's t is that formula (t = 0 at TDC)."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    page = shared_html("offset-crank-engine").html.replace("/\u2060", "/")
+    assert "<i>t</i> = <i>p</i><sub>1</sub> sin(<i>φ</i> + <i>β</i>)/cos <i>β</i>" in page
+    assert not re.search(r"<i>t</i> = <i>p</i><sub>1</sub> sin\(<i>α</i>", page)
+    result = shared_run("offset-crank-engine")
+    f = result.outputs["forces"].tables["forces"]
+    phi = np.radians(f["crank_angle_deg"].to_numpy()) + np.arcsin(E / (L + R))
+    beta = np.arcsin(LAM * np.sin(phi) - K)
+    p1 = f["total_Pa"].to_numpy()
+    np.testing.assert_allclose(
+        f["tangential_Pa"].to_numpy(),
+        p1 * np.sin(phi + beta) / np.cos(beta),
+        atol=1e-9 * np.max(np.abs(p1)),
+    )
+    assert f["tangential_Pa"].to_numpy()[0] == pytest.approx(0.0, abs=1e-9 * np.max(np.abs(p1)))

@@ -111,13 +111,15 @@ def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list
     if scene.analysis.kinematics == "approximate":
         notes.append(("offset_crank.note_exact_only", {}))
     if scene.cycle is not None:
+        four = scene.engine.strokes == 4
         notes.append(
             (
-                "offset_crank.note_indicator",
+                "offset_crank.note_indicator" if four else "offset_crank.note_indicator_two",
                 {
                     "stroke_mm": stroke_m * 1e3,
                     "throw_mm": 2e3 * crank_radius_m,
                     "bdc": results["bdc_crank_angle_deg"],
+                    "bdc_expansion": 360.0 + results["bdc_crank_angle_deg"],
                 },
             )
         )
