@@ -199,4 +199,6 @@ def _closing_row_theory(theory, rows, labels, cycle_deg: float):
 #: The indicator's own letters (Stage.symbols): the theoretical (unrounded) diagram's pressure of its table.
 SYMBOLS = {
     "theoretical_pressure": Symbol("p", {"en": "theor", "uk": "теор", "ru": "теор"}, "unit.MPa"),
+    # the textbook's φ_п, not the crank angle φ of an offset crank-slider
+    "fullness": Symbol("φ", {"en": "f", "uk": "п", "ru": "п"}, ""),
 }

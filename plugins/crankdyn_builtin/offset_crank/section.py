@@ -100,7 +100,8 @@ def render(output: StageOutput, ctx) -> str:
 SYMBOLS = {
     "offset": Symbol("e", {}, "unit.mm"),
     "offset_ratio": Symbol("k", {}, ""),
-    "axis_crank_angle": Symbol("φ", {}, "°"),
+    # the forces section resolves the rod force at this angle (its t and z formulas)
+    "axis_crank_angle": Symbol("φ", {}, "°", sections=("offset_crank", "forces")),
     "tdc_angle": Symbol("φ", {"en": "TDC", "uk": "ВМТ", "ru": "ВМТ"}, "°"),
     "bdc_angle": Symbol("φ", {"en": "BDC", "uk": "НМТ", "ru": "НМТ"}, "°"),
     "time_ratio": Symbol("K", {}, ""),

@@ -470,11 +470,25 @@ def _stage_section(stage, result, ctx, parts: _NoteParts, sections_cache, figure
         number,
         stage.name,
         ctx.title or t(stage.presentation.title_key),
-        Markup(lone_subsection_unnumbered(cite_sources(body + found, parts.references))),
+        Markup(
+            lone_subsection_unnumbered(cite_sources(_with_warnings(body, found), parts.references))
+        ),
         list(ctx.conclusions) + concluded,
     )
     (parts.appendices if to_appendix else parts.sections).append(view)
     parts.notes += _stage_notes(output, ctx, parts.references)
+
+
+#: Where a section puts its plausibility sentences, when they judge one of its tables (a bearing
+#: pressure beside the table of that bearing); without it they close the section.
+PLAUSIBILITY_MARK = "<!-- plausibility -->"
+
+
+def _with_warnings(body: str, found: str) -> str:
+    """The section's ``body`` with its plausibility sentences ``found`` at its mark or at its end."""
+    if PLAUSIBILITY_MARK in body:
+        return body.replace(PLAUSIBILITY_MARK, found, 1)
+    return body + found
 
 
 def _stage_notes(output, ctx, references: list[str]) -> list[str]:
