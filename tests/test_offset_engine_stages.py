@@ -322,8 +322,10 @@ def test_the_inertia_remainder_is_split_into_its_lambda_cubed_and_offset_terms(o
     alpha = np.radians(f["crank_angle_deg"].to_numpy())
     sin_beta = LAM * np.sin(alpha)
     cos_beta = np.sqrt(1 - sin_beta**2)
-    j_central = R * omega**2 * (
-        np.cos(alpha + np.arcsin(sin_beta)) / cos_beta + LAM * np.cos(alpha) ** 2 / cos_beta**3
+    j_central = (
+        R
+        * omega**2
+        * (np.cos(alpha + np.arcsin(sin_beta)) / cos_beta + LAM * np.cos(alpha) ** 2 / cos_beta**3)
     )
     area = np.pi * 0.082**2 / 4
     p_central = -r["reciprocating_mass_kg"] * j_central / area
