@@ -360,3 +360,79 @@ def test_the_printed_rod_force_formula_is_the_one_computed():
         atol=1e-9 * np.max(np.abs(p1)),
     )
     assert f["tangential_Pa"].to_numpy()[0] == pytest.approx(0.0, abs=1e-9 * np.max(np.abs(p1)))
+
+
+#: The example made a twin with its cranks at 0°/180° (uneven firing), on a coarse grid, and the
+#: stages its tests read (the run and the report shared by them).
+TWIN = {
+    **COARSE,
+    "engine": {
+        "cylinders": 2,
+        "crank_angles_deg": [0, 180],
+        "firing_order": [1, 2],
+        "uneven_firing": True,
+        "cylinder_spacing": "100 mm",
+    },
+}
+TWIN_STAGES = ("offset_crank", "bays", "balancing")
+
+
+def _plain(html: str) -> str:
+    import html as html_lib
+    import re
+
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", html)).replace("\u2060", "")
+    return " ".join(text.split())
+
+
+def test_the_given_data_name_the_throw_the_offset_and_the_crank_angles():
+    """Table 1.1 and the assignment call the scene's stroke what it is for an offset crank-slider,
+    the crank throw 2R, and give the offset e; Table 1.1 adds the piston's own stroke S (the
+    closed form) and the cranks' angles the scene gives."""
+    from conftest import shared_html
+
+    page = shared_html("offset-crank-engine", TWIN, stages=TWIN_STAGES).html
+    start = page.index('class="assignment"')
+    assignment = _plain(page[start : page.index("</section>", start)])
+    assert "2R = 78 mm" in assignment and "e = 8 mm" in assignment
+    assert "S = 78 mm" not in assignment
+    text = _plain(page)
+    stroke = np.sqrt((L + R) ** 2 - E**2) - np.sqrt((L - R) ** 2 - E**2)
+    assert "Crank throw (twice the crank radius) 2 R 78 mm" in text  # 2<i>R</i>
+    assert "Pin offset (of the cylinder axis from the crankshaft axis) e 8 mm" in text
+    assert f"Piston stroke (computed in section 2) S {stroke * 1e3:.5g} mm" in text
+    assert "Crank angles of the cylinders (from the first cylinder's crank) 0; 180 °" in text
+
+
+def test_a_small_offset_is_not_called_a_quick_return_mechanism():
+    """K = 1.022 for e = 8 mm: the strokes differ by 2.2 %, below the 5 % of a quick return;
+    e = 95 mm (K = 1.46) is one."""
+    from conftest import shared_html
+
+    small = _plain(shared_html("offset-crank-engine", COARSE, stages=["offset_crank"]).html)
+    k = (180 + np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))) / (
+        180 - np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))
+    )
+    assert f"differ by only {100 * (k - 1):.1f} %" in small
+    assert "practically no quick return" in small and "(a quick-return mechanism)" not in small
+    wide = {**COARSE, "mechanism": {"offset": "95 mm"}}
+    large = _plain(shared_html("offset-crank-engine", wide, stages=["offset_crank"]).html)
+    assert "(a quick-return mechanism)" in large
+
+
+def test_the_twins_scheme_has_its_crank_star_and_the_balancing_figure_its_odd_orders():
+    """The bays section refers to the scheme's crank star: the offset twin's scheme has one (both
+    cranks); the balancing figure draws the third order an offset leaves unbalanced."""
+    from conftest import shared_run
+
+    from crankdyn_builtin.balancing.figures import _models_shown, models_left_out
+    from crankdyn_builtin.offset_crank.geometry import offset_geometry
+
+    result = shared_run("offset-crank-engine", TWIN, stages=TWIN_STAGES)
+    geometry = offset_geometry(result.scene, np.zeros(1))
+    assert [lag for _, lag, _ in geometry.cranks] == [0.0, 180.0]
+    r = result.outputs["balancing"].results
+    third = next(o for o in r["orders"] if o["order"] == 3)
+    assert third["moment_coefficient"] > 1e-6  # unbalanced: the offset's odd order
+    assert 3 in [o["order"] for o in _models_shown(r)[0]]
+    assert "PIII" not in models_left_out(r)
