@@ -436,3 +436,16 @@ def test_the_twins_scheme_has_its_crank_star_and_the_balancing_figure_its_odd_or
     assert third["moment_coefficient"] > 1e-6  # unbalanced: the offset's odd order
     assert 3 in [o["order"] for o in _models_shown(r)[0]]
     assert "PIII" not in models_left_out(r)
+
+
+def test_the_crank_pins_warning_stands_with_their_table_not_after_the_journals():
+    """A crank pin too narrow for its load (10 mm): the sentence judging its pressure follows the
+    crank pins' table and comes before the main journals' table."""
+    from conftest import shared_html
+
+    narrow = {**TWIN, "bearings": {"crank_pin_width": "10 mm"}}
+    page = _plain(shared_html("offset-crank-engine", narrow, stages=["bearings"]).html)
+    start = page.index("Loads on the crank pins: largest and mean force")
+    warning = page.index("The crank pin's sizes are not given in the assignment", start)
+    journals = page.index("Loads on the main journals: largest and mean force", start)
+    assert start < warning < journals
