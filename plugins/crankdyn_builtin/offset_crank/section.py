@@ -87,6 +87,7 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/offset_crank.html.j2",
         r=r,
+        indicator_key=_indicator_key(ctx.scene),
         quick_return=ratio > QUICK_RETURN_RATIO,
         quick_return_ratio=QUICK_RETURN_RATIO,
         return_percent=100.0 * (ratio - 1.0),
@@ -94,6 +95,16 @@ def render(output: StageOutput, ctx) -> str:
         figure_main=figure_main,
         figure_rod=figure_rod,
     )
+
+
+def _indicator_key(scene) -> str | None:
+    """The item saying what the indicator diagram takes from this section (its stroke and BDC),
+    when the scene has a cycle to draw one from."""
+    if scene is None or scene.cycle is None:
+        return None
+    if scene.engine.strokes == 4:
+        return "offset_crank.replaced_indicator"
+    return "offset_crank.replaced_indicator_two"
 
 
 #: The offset's letters (meanings: symbol.offset_crank.<key> in i18n/).
