@@ -334,3 +334,59 @@ def test_kinematics_only_offset_scene_leaves_the_cycle_stages_out_with_reasons()
     assert not any(
         key == "offset_crank.note_indicator" for key, _ in result.outputs["offset_crank"].notes
     )
+
+
+# ------------------------------------------------------- the diagram's dead centres off 180°
+
+
+def _cycle(bdc_deg=180.0):
+    from crankdyn.physics import indicator as ind
+
+    return ind.CycleParameters(
+        strokes=4,
+        ignition="spark",
+        compression_ratio=9.5,
+        intake_pressure_Pa=0.085e6,
+        compression_index=1.37,
+        max_pressure_Pa=6.0e6,
+        pre_expansion_ratio=1.0,
+        expansion_index=1.25,
+        exhaust_pressure_Pa=0.118e6,
+        bdc_deg=bdc_deg,
+    )
+
+
+def test_the_theoretical_diagram_turns_at_the_given_bdc():
+    """With BDC at 190° (an offset crank-slider's, say) intake runs at p_a to 190°, compression
+    starts there from V_a, expansion ends at 550° and the exhaust runs at p_r from there; the
+    pumping work is taken over 550…720° and 0…190°: (p_a − p_r) V_h for the theoretical cycle."""
+    from crankdyn.physics import indicator as ind
+
+    bdc = 190.0
+    params = _cycle(bdc)
+    angle = np.arange(0.0, 720.0, 0.5)
+    # a piston at BDC at 190° and 550°: V = V_c + V_h (1 − cos(π a/bdc))/2 on the outward stroke
+    clearance, swept = 1e-4 / 8.5, 1e-4
+    a = np.mod(angle, 360.0)
+    phase = np.where(a <= bdc, np.pi * a / bdc, np.pi + np.pi * (a - bdc) / (360.0 - bdc))
+    volume = clearance + swept * (1 - np.cos(phase)) / 2
+    p = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
+    v_a = 9.5 * clearance
+    assert np.all(p[(angle > 0) & (angle <= bdc)] == 0.085e6)
+    after = (angle > bdc) & (angle < 360.0)
+    np.testing.assert_allclose(p[after], 0.085e6 * (v_a / volume[after]) ** 1.37, rtol=1e-12)
+    assert np.all(p[angle > 360.0 + bdc] == 0.118e6)
+    assert p[angle == 360.0 + bdc][0] == pytest.approx(6.0e6 / 9.5**1.25, rel=1e-12)  # p_b at V_a
+    # the trapezoid across the step p_r -> p_a at TDC costs ~2e-4; BDC taken at 180° costs 6 %
+    pumping = ind.pumping_work_J(p, volume, angle, 4, bdc_deg=bdc)
+    assert pumping == pytest.approx((0.085e6 - 0.118e6) * swept, rel=1e-3)
+    assert ind.pumping_work_J(p, volume, angle, 4) != pytest.approx(pumping, rel=1e-2)
+
+
+def test_a_bdc_outside_the_turn_is_refused():
+    from crankdyn.physics import indicator as ind
+
+    for bdc in (0.0, 360.0, float("nan")):
+        with pytest.raises(ValueError, match="bdc_deg"):
+            _cycle(bdc)
+    assert ind.CycleParameters.__dataclass_fields__["bdc_deg"].default == 180.0

@@ -280,3 +280,172 @@ def test_the_offset_kinematics_gives_the_mean_piston_speed_of_its_true_stroke():
     page = shared_html("offset-crank-engine").html
     plain = page.replace("/\u2060", "/").replace("\u00a0", " ")
     assert f"<i>v</i><sub>mean</sub> = <i>Sn</i>/30 = {shown}" in plain
+
+
+@pytest.mark.parametrize("offset_mm", [8.0, -8.0, 95.0, -100.9])  # |e| < L - R = 101 mm
+def test_the_indicator_diagram_takes_the_pistons_own_stroke_and_dead_centres(offset_mm):
+    """V_h = F S with the piston's stroke S = √((L+R)² − e²) − √((L−R)² − e²) (not 2R), so
+    V(BDC) = V_a at the real BDC α = 180° + arcsin(e/(L−R)) − arcsin(e/(L+R)), where the intake
+    line ends at p_a; the diagram's work equals the mean torque × 4π (virtual work)."""
+    e = offset_mm * 1e-3
+    result = _run({"mechanism": {"offset": f"{offset_mm} mm"}})
+    motion = result.outputs["offset_crank"].data[KINEMATICS]
+    indicator = result.outputs["indicator"]
+    r = indicator.results
+    stroke = np.sqrt((L + R) ** 2 - e**2) - np.sqrt((L - R) ** 2 - e**2)
+    bdc = 180.0 + np.degrees(np.arcsin(e / (L - R)) - np.arcsin(e / (L + R)))
+    area = np.pi * 0.082**2 / 4
+    assert r["swept_volume_m3"] == pytest.approx(area * stroke, rel=1e-12)
+    assert r["bdc_crank_angle_deg"] == pytest.approx(bdc, rel=1e-12)
+    clearance = r["clearance_volume_m3"]
+    v_a = 9.5 * clearance  # epsilon V_c
+    for at in (bdc, 360.0 + bdc):
+        volume = clearance + area * float(motion.displacement_at(np.array([at]))[0])
+        assert volume == pytest.approx(v_a, rel=1e-12), at
+    # the intake line runs at p_a up to the real BDC, past the nominal 180°
+    table = indicator.tables["indicator"]
+    angle = np.asarray(table["crank_angle_deg"])
+    theory = np.asarray(table["pressure_theoretical_Pa"])
+    before_bdc = (angle > 90.0) & (angle <= bdc)
+    assert np.all(theory[before_bdc] == 0.085e6)
+    torque = result.outputs["forces"].tables["forces"]["torque_Nm"].to_numpy()
+    assert np.mean(torque) * 4 * np.pi == pytest.approx(r["indicated_work_J"], rel=2e-3)
+
+
+def test_the_inertia_remainder_is_split_into_its_lambda_cubed_and_offset_terms(offset_run):
+    """p_j - (p_jI + p_jII) of an offset crank-slider = (the central crank-slider's p_j of the
+    same R, lambda - p_jI - p_jII: the terms of order lambda^3 and up) + (the offset mechanism's
+    p_j - the central one's: the offset's terms); both parts against the central closed form."""
+    forces = offset_run.outputs["forces"]
+    r, f = forces.results, forces.tables["forces"]
+    omega = 5600 * np.pi / 30
+    alpha = np.radians(f["crank_angle_deg"].to_numpy())
+    sin_beta = LAM * np.sin(alpha)
+    cos_beta = np.sqrt(1 - sin_beta**2)
+    j_central = (
+        R
+        * omega**2
+        * (np.cos(alpha + np.arcsin(sin_beta)) / cos_beta + LAM * np.cos(alpha) ** 2 / cos_beta**3)
+    )
+    area = np.pi * 0.082**2 / 4
+    p_central = -r["reciprocating_mass_kg"] * j_central / area
+    harmonics = f["inertia_first_order_Pa"].to_numpy() + f["inertia_second_order_Pa"].to_numpy()
+    central_part = np.max(np.abs(p_central - harmonics))
+    offset_part = np.max(np.abs(f["inertia_Pa"].to_numpy() - p_central))
+    assert r["inertia_higher_orders_central_max_Pa"] == pytest.approx(central_part, rel=1e-9)
+    assert r["inertia_offset_terms_max_Pa"] == pytest.approx(offset_part, rel=1e-9)
+    assert offset_part > 0.1 * central_part  # the offset's share is no round-off
+    assert r["inertia_higher_orders_max_Pa"] <= central_part + offset_part
+    assert r["crank_angle_at_tdc_deg"] == pytest.approx(np.degrees(np.arcsin(E / (L + R))))
+
+
+def test_the_printed_rod_force_formula_is_the_one_computed():
+    """t = p1 sin(φ + β)/cos β with φ = α + φ_TDC, the crank's angle from the cylinder axis:
+    the forces section prints φ, and the table's t is that formula (t = 0 at TDC)."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    page = shared_html("offset-crank-engine").html.replace("/\u2060", "/")
+    assert "<i>t</i> = <i>p</i><sub>1</sub> sin(<i>φ</i> + <i>β</i>)/cos <i>β</i>" in page
+    assert not re.search(r"<i>t</i> = <i>p</i><sub>1</sub> sin\(<i>α</i>", page)
+    result = shared_run("offset-crank-engine")
+    f = result.outputs["forces"].tables["forces"]
+    phi = np.radians(f["crank_angle_deg"].to_numpy()) + np.arcsin(E / (L + R))
+    beta = np.arcsin(LAM * np.sin(phi) - K)
+    p1 = f["total_Pa"].to_numpy()
+    np.testing.assert_allclose(
+        f["tangential_Pa"].to_numpy(),
+        p1 * np.sin(phi + beta) / np.cos(beta),
+        atol=1e-9 * np.max(np.abs(p1)),
+    )
+    assert f["tangential_Pa"].to_numpy()[0] == pytest.approx(0.0, abs=1e-9 * np.max(np.abs(p1)))
+
+
+#: The example made a twin with its cranks at 0°/180° (uneven firing), on a coarse grid, and the
+#: stages its tests read (the run and the report shared by them).
+TWIN = {
+    **COARSE,
+    "engine": {
+        "cylinders": 2,
+        "crank_angles_deg": [0, 180],
+        "firing_order": [1, 2],
+        "uneven_firing": True,
+        "cylinder_spacing": "100 mm",
+    },
+}
+TWIN_STAGES = ("offset_crank", "bays", "balancing")
+
+
+def _plain(html: str) -> str:
+    import html as html_lib
+    import re
+
+    text = html_lib.unescape(re.sub(r"<[^>]+>", " ", html)).replace("\u2060", "")
+    return " ".join(text.split())
+
+
+def test_the_given_data_name_the_throw_the_offset_and_the_crank_angles():
+    """Table 1.1 and the assignment call the scene's stroke what it is for an offset crank-slider,
+    the crank throw 2R, and give the offset e; Table 1.1 adds the piston's own stroke S (the
+    closed form) and the cranks' angles the scene gives."""
+    from conftest import shared_html
+
+    page = shared_html("offset-crank-engine", TWIN, stages=TWIN_STAGES).html
+    start = page.index('class="assignment"')
+    assignment = _plain(page[start : page.index("</section>", start)])
+    assert "2R = 78 mm" in assignment and "e = 8 mm" in assignment
+    assert "S = 78 mm" not in assignment
+    text = _plain(page)
+    stroke = np.sqrt((L + R) ** 2 - E**2) - np.sqrt((L - R) ** 2 - E**2)
+    assert "Crank throw (twice the crank radius) 2 R 78 mm" in text  # 2<i>R</i>
+    assert "Pin offset (of the cylinder axis from the crankshaft axis) e 8 mm" in text
+    assert f"Piston stroke (computed in section 2) S {stroke * 1e3:.5g} mm" in text
+    assert "Crank angles of the cylinders (from the first cylinder's crank) 0; 180 °" in text
+
+
+def test_a_small_offset_is_not_called_a_quick_return_mechanism():
+    """K = 1.022 for e = 8 mm: the strokes differ by 2.2 %, below the 5 % of a quick return;
+    e = 95 mm (K = 1.46) is one."""
+    from conftest import shared_html
+
+    small = _plain(shared_html("offset-crank-engine", COARSE, stages=["offset_crank"]).html)
+    k = (180 + np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))) / (
+        180 - np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))
+    )
+    assert f"differ by only {100 * (k - 1):.1f} %" in small
+    assert "practically no quick return" in small and "(a quick-return mechanism)" not in small
+    wide = {**COARSE, "mechanism": {"offset": "95 mm"}}
+    large = _plain(shared_html("offset-crank-engine", wide, stages=["offset_crank"]).html)
+    assert "(a quick-return mechanism)" in large
+
+
+def test_the_twins_scheme_has_its_crank_star_and_the_balancing_figure_its_odd_orders():
+    """The bays section refers to the scheme's crank star: the offset twin's scheme has one (both
+    cranks); the balancing figure draws the third order an offset leaves unbalanced."""
+    from conftest import shared_run
+
+    from crankdyn_builtin.balancing.figures import _models_shown, models_left_out
+    from crankdyn_builtin.offset_crank.geometry import offset_geometry
+
+    result = shared_run("offset-crank-engine", TWIN, stages=TWIN_STAGES)
+    geometry = offset_geometry(result.scene, np.zeros(1))
+    assert [lag for _, lag, _ in geometry.cranks] == [0.0, 180.0]
+    r = result.outputs["balancing"].results
+    third = next(o for o in r["orders"] if o["order"] == 3)
+    assert third["moment_coefficient"] > 1e-6  # unbalanced: the offset's odd order
+    assert 3 in [o["order"] for o in _models_shown(r)[0]]
+    assert "PIII" not in models_left_out(r)
+
+
+def test_the_crank_pins_warning_stands_with_their_table_not_after_the_journals():
+    """A crank pin too narrow for its load (10 mm): the sentence judging its pressure follows the
+    crank pins' table and comes before the main journals' table."""
+    from conftest import shared_html
+
+    narrow = {**TWIN, "bearings": {"crank_pin_width": "10 mm"}}
+    page = _plain(shared_html("offset-crank-engine", narrow, stages=["bearings"]).html)
+    start = page.index("Loads on the crank pins: largest and mean force")
+    warning = page.index("The crank pin's sizes are not given in the assignment", start)
+    journals = page.index("Loads on the main journals: largest and mean force", start)
+    assert start < warning < journals

@@ -94,14 +94,32 @@ def _star_drawing(t, r):
     return fig
 
 
-def _models_shown(r) -> tuple[list, bool]:
-    """The orders the vector models show, and whether a row of moments is drawn."""
-    shown = [o for o in r["orders"] if o["order"] in (0, 1, 2)] + [
+#: The most panels a row of the vector models' figure holds and stays readable on a page's width.
+MAX_MODEL_PANELS = 6
+
+
+def _higher_unbalanced(r) -> list:
+    """The orders above the second whose force or moment the engine leaves unbalanced (an offset
+    crank-slider's odd orders among them), in the order of the table."""
+    return [
         o
         for o in r["orders"]
-        if o["order"] >= 4
+        if o["order"] >= 3
         and (o["force_coefficient"] > NEGLIGIBLE or o["moment_coefficient"] > NEGLIGIBLE)
-    ][:1]
+    ]
+
+
+def models_left_out(r) -> list[str]:
+    """The names of the unbalanced orders the vector models' figure has no room for."""
+    shown = {o["order"] for o in _models_shown(r)[0]}
+    return [o["name"] for o in _higher_unbalanced(r) if o["order"] not in shown]
+
+
+def _models_shown(r) -> tuple[list, bool]:
+    """The orders the vector models show, and whether a row of moments is drawn: the orders up
+    to the second and every unbalanced higher one, as many as the figure holds."""
+    low = [o for o in r["orders"] if o["order"] in (0, 1, 2)]
+    shown = low + _higher_unbalanced(r)[: MAX_MODEL_PANELS - len(low)]
     moments = r["cylinder_spacing_m"] is not None or any(
         o["moment_coefficient"] > NEGLIGIBLE for o in shown
     )

@@ -6,7 +6,7 @@ from functools import partial
 
 from crankdyn.plugin.types import StageOutput
 
-from .figures import _models_figure, star_figure
+from .figures import _models_figure, models_left_out, star_figure
 from .notation import newtons, plain_symbol, scale_symbol
 from .tables import (
     _bay_table,
@@ -237,6 +237,7 @@ def render(output: StageOutput, ctx) -> str | None:
         star=star,
         masses_table=masses_table,
         models_figure=models_figure,
+        models_left_out=", ".join(name[1:] for name in models_left_out(r)),
         coef_table=coef_table,
         bay_table=bay_table,
         summary_table=summary_table,

@@ -218,10 +218,27 @@ SYMBOLS = {
 
 
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
-    """The [articulated] table's given data for the report's table of the task's data: what the
-    scene gives (a default it leaves is no datum of the task)."""
+    """The cranks' angles the scene gives and the [articulated] table's given data for the
+    report's table of the task's data: what the scene gives (a default it leaves is no datum of
+    the task)."""
+    rows = _crank_angle_rows(scene, ctx)
     if scene.engine.rod_type != "articulated":
+        return rows
+    return rows + _articulated_rows(scene, ctx)
+
+
+def _crank_angle_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The angles of the cranks of the cylinders, when the scene gives them (the engine's layout
+    otherwise chooses them)."""
+    engine = scene.engine
+    if engine.cylinders < 2 or "crank_angles_deg" not in engine.model_fields_set:
         return []
+    angles = "; ".join(ctx.t.number_g(float(a), 4) for a in engine.crank_angles_deg)
+    return [(ctx.t("bays.input_crank_angles"), "", angles, "°")]
+
+
+def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [articulated] table's given data."""
     opts = options(scene, ARTICULATED, ArticulatedOptions)
     given = opts.model_fields_set
     t, num = ctx.t, ctx.t.number_g

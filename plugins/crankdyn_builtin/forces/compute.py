@@ -86,6 +86,35 @@ def _higher_orders_max_Pa(inertia_Pa, first_order_Pa, second_order_Pa) -> float:
     return float(np.max(np.abs(inertia_Pa - first_order_Pa - second_order_Pa)))
 
 
+def _offset_remainder(motion, curves: dict, reciprocating: float, area: float) -> dict:
+    """An offset crank-slider's p_j - (p_jI + p_jII) in its two parts, Pa: the terms of order
+    lambda^3 and up (the central crank-slider's of the same R and lambda) and the terms the
+    offset adds (its p_j against that central one's), each its largest over the cycle, with the
+    crank's angle from the cylinder axis at TDC (deg), the angle the rod force is resolved at."""
+    offset = motion.extra.get("offset_m", 0.0)
+    if not offset:
+        return {}
+    alpha, radius, omega = (
+        motion.crank_angle_rad,
+        motion.crank_radius_m,
+        motion.angular_velocity_rad_s,
+    )
+    central_Pa = phys.inertia_pressure_Pa(
+        reciprocating,
+        kin.piston_acceleration_exact_m_s2(alpha, radius, motion.extra["rod_ratio"], omega),
+        area,
+    )
+    return {
+        "crank_angle_at_tdc_deg": float(
+            np.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0))
+        ),
+        "inertia_higher_orders_central_max_Pa": float(
+            np.max(np.abs(central_Pa - curves["first_Pa"] - curves["second_Pa"]))
+        ),
+        "inertia_offset_terms_max_Pa": float(np.max(np.abs(curves["inertia_Pa"] - central_Pa))),
+    }
+
+
 def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
     """A single cylinder's N_e against its N_i (η_m, M_e), when the scene gives N_e; an engine of
     more cylinders has them in the torque section."""
@@ -315,6 +344,7 @@ def _forces_results(engine, motion, gas, curves: dict, masses, area: float, torq
         else 0.0,
     }
     results.update(_effective(engine, mean_from_work))
+    results.update(_offset_remainder(motion, curves, reciprocating, area))
     return results
 
 

@@ -175,7 +175,8 @@ def _conclude(ctx, f, r, whose: str) -> None:
             "forces.conclusion_loads" + whose,
             q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
             q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
-            n_max=ctx.num(max(abs(r["side_max_Pa"]), abs(r["side_min_Pa"])) / 1e6),
+            # signed and with the digits the section's text and table print it with
+            n_max=ctx.num(float(f["side_Pa"][first_argmax(np.abs(f["side_Pa"]))]) / 1e6, 3),
             n_angle=ctx.angle_text(float(f["crank_angle_deg"][first_argmax(np.abs(f["side_Pa"]))])),
         )
     )

@@ -6,6 +6,7 @@ The computation: ``applies``, ``run``, ``run_many`` and their pure helpers.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
@@ -27,6 +28,23 @@ def applies(scene) -> str | None:
     return None
 
 
+def piston_stroke_m(scene, motion) -> float:
+    """The piston's stroke between its dead centres, m: the mechanism's own when its kinematics
+    give one (an offset crank-slider's exceeds 2R), else the scene's stroke."""
+    return float(motion.extra.get("stroke_m", scene.engine.stroke))
+
+
+def bdc_crank_angle_deg(motion) -> float:
+    """The crank angle of BDC after TDC, deg: the mechanism's own when its kinematics give one,
+    else 180."""
+    return float(motion.extra.get("bdc_crank_angle_deg", 180.0))
+
+
+def diagram_parameters(scene, motion):
+    """The scene's cycle parameters with the mechanism's BDC (points a and b)."""
+    return dataclasses.replace(cycle_parameters(scene), bdc_deg=bdc_crank_angle_deg(motion))
+
+
 def run(
     scene, inputs, *, junction_deg: float | None = None, volumes: dict | None = None
 ) -> StageOutput:
@@ -36,9 +54,13 @@ def run(
     motion = inputs[KINEMATICS]
     engine = scene.engine
     area = piston_area_m2(engine.bore)
-    swept = area * engine.stroke
+    swept = area * piston_stroke_m(scene, motion)
     angle = motion.crank_angle_deg
-    results: dict = {"source": scene.cycle.source, "swept_volume_m3": swept}
+    results: dict = {
+        "source": scene.cycle.source,
+        "swept_volume_m3": swept,
+        "bdc_crank_angle_deg": bdc_crank_angle_deg(motion),
+    }
     table: dict = {"crank_angle_deg": angle}
     notes: list = []
 
@@ -64,7 +86,7 @@ def run(
             _theoretical_results(params, rounding, clearance, theoretical, volume, swept)
         )
         notes.append(_rounding_note(scene, rounding))
-    results.update(_work_results(pressure, volume, angle, engine, swept))
+    results.update(_work_results(pressure, volume, angle, engine, swept, motion))
     p_i_gross = results["gross_mean_indicated_pressure_Pa"]
     if scene.cycle.mean_indicated_pressure is not None:
         target = scene.cycle.mean_indicated_pressure
@@ -91,7 +113,7 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
     rounded pressure) of the scene's indicator diagram; a rounding that does not fit raises
     SceneError."""
     angle = motion.crank_angle_deg
-    params = cycle_parameters(scene)
+    params = diagram_parameters(scene, motion)
     rounding = rounding_parameters(scene)
     clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
     volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
@@ -148,12 +170,14 @@ def _rounding_note(scene, rounding) -> tuple[str, dict]:
     )
 
 
-def _work_results(pressure, volume, angle, engine, swept: float) -> dict:
+def _work_results(pressure, volume, angle, engine, swept: float, motion) -> dict:
     """The diagram's indicated and pumping work, mean indicated pressures, peak and power."""
     work = ind.indicated_work_J(pressure, volume)
     p_i = ind.mean_indicated_pressure_Pa(work, swept)
     # the thermal calculation's p_i leaves the gas exchange out (physics.indicator.pumping_work_J)
-    pumping = ind.pumping_work_J(pressure, volume, angle, engine.strokes)
+    pumping = ind.pumping_work_J(
+        pressure, volume, angle, engine.strokes, bdc_deg=bdc_crank_angle_deg(motion)
+    )
     p_i_gross = ind.mean_indicated_pressure_Pa(work - pumping, swept)
     peak = first_argmax(pressure)
     return {
@@ -191,7 +215,7 @@ def _known_volume(volumes: dict | None, angle_deg):
     return None if known is None else np.full(np.shape(angle_deg), known)
 
 
-def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> list[dict]:
+def _rounding_volumes(scenes, params, rounding, junctions, clearances, volume_at) -> list[dict]:
     """For each scene, the cylinder volume (m³) at the angles of its rounding's points C', J and
     b' and 1e-4° either side (the central difference of the lines' slopes), computed over points
     x angles: {angle in deg: volume}. The angles are the numbers ``physics.indicator`` asks for.
@@ -205,9 +229,9 @@ def _rounding_volumes(scenes, rounding, junctions, clearances, volume_at) -> lis
             [
                 -(r.ignition_advance_deg - r.combustion_delay_deg),
                 j,
-                180.0 - r.exhaust_opens_before_bdc_deg,
+                p.bdc_deg - r.exhaust_opens_before_bdc_deg,
             ]
-            for r, j in zip(rounding, junctions, strict=False)
+            for r, j, p in zip(rounding, junctions, params, strict=False)
         ]
     )
     at = np.mod(tdc + psi, cycle)
@@ -267,12 +291,14 @@ def run_many(scenes, inputs) -> list[StageOutput]:
         or len({s.engine.strokes for s in scenes}) > 1
     ):
         return [run(scene, given) for scene, given in zip(scenes, inputs, strict=False)]
-    params = [cycle_parameters(scene) for scene in scenes]
+    params = [
+        diagram_parameters(scene, motion) for scene, motion in zip(scenes, motions, strict=False)
+    ]
     areas = np.asarray([piston_area_m2(scene.engine.bore) for scene in scenes], dtype=float)
     clearances = np.asarray(
         [
-            ind.clearance_volume_m3(area * s.engine.stroke, p.compression_ratio)
-            for area, s, p in zip(areas, scenes, params, strict=False)
+            ind.clearance_volume_m3(area * piston_stroke_m(s, m), p.compression_ratio)
+            for area, s, m, p in zip(areas, scenes, motions, params, strict=False)
         ],
         dtype=float,
     )
@@ -283,7 +309,7 @@ def run_many(scenes, inputs) -> list[StageOutput]:
 
     rounding = [rounding_parameters(s) for s in scenes]
     junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
-    volumes = _rounding_volumes(scenes, rounding, junctions, clearances, volume_at)
+    volumes = _rounding_volumes(scenes, params, rounding, junctions, clearances, volume_at)
     return [
         run(scene, given, junction_deg=float(j), volumes=v)
         for scene, given, j, v in zip(scenes, inputs, junctions, volumes, strict=False)

@@ -13,7 +13,7 @@ from crankdyn_builtin.indicator.worked import worked_indicator
 from .figures import _palpha_figure, _pv_figure
 
 #: The textbook's characteristic points of a four-stroke diagram: (label, crank angle of cylinder 1 in
-#: degrees or a rounding parameter's name, which curve, label offset in points). 0° is the TDC at
+#: degrees or an event's name, which curve, label offset in points). 0° is the TDC at
 #: the start of intake; "advance" is the ignition (injection), "visible" the start of visible
 #: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
@@ -21,7 +21,7 @@ from .figures import _palpha_figure, _pv_figure
 #: BDC, and a label under it would read as a's.
 _POINTS = (
     ("r", 0.0, "actual", (4, 3)),
-    ("a", 180.0, "actual", (-4, -3)),
+    ("a", "bdc", "actual", (-4, -3)),
     ("c", 360.0, "compression_end", (-4, 2)),
     ("c′", "advance", "actual", (4, -3)),
     ("f", "visible", "actual", (-5, 3)),
@@ -29,8 +29,8 @@ _POINTS = (
     ("z", "theory_peak", "theory", (4, 2)),
     ("z′", "peak", "actual", (4, 2)),
     ("b′", "exhaust", "actual", (3, 3)),
-    ("b", 540.0, "theory", (4, 3)),
-    ("b″", 540.0, "actual", (5, 0)),
+    ("b", "expansion_bdc", "theory", (4, 3)),
+    ("b″", "expansion_bdc", "actual", (5, 0)),
 )
 
 
@@ -45,6 +45,7 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
         return []
     angle = frame["crank_angle_deg"]
     theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
+    bdc = r.get("bdc_crank_angle_deg", 180.0)  # the mechanism's BDC (points a and b)
     # the rounding's angles as run() used them (its results), the valve timing as the scene gives it
     where = {
         "advance": 360.0 - r["ignition_advance_deg"],
@@ -53,7 +54,9 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
             "max_pressure_crank_angle_deg"
         ],  # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
         "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
-        "exhaust": 540.0 - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg,
+        "exhaust": 360.0 + bdc - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg,
+        "bdc": bdc,
+        "expansion_bdc": 360.0 + bdc,
     }
     step = float(angle[1] - angle[0])
     points = []
@@ -196,4 +199,6 @@ def _closing_row_theory(theory, rows, labels, cycle_deg: float):
 #: The indicator's own letters (Stage.symbols): the theoretical (unrounded) diagram's pressure of its table.
 SYMBOLS = {
     "theoretical_pressure": Symbol("p", {"en": "theor", "uk": "теор", "ru": "теор"}, "unit.MPa"),
+    # the textbook's φ_п, not the crank angle φ of an offset crank-slider
+    "fullness": Symbol("φ", {"en": "f", "uk": "п", "ru": "п"}, ""),
 }

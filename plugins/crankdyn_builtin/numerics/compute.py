@@ -373,7 +373,10 @@ def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
     if scene.angle_step_defaulted:
         notes.append(
             (
-                "numerics.note_default_step",
+                # an in-line engine's grid has no bank angle to divide
+                "numerics.note_default_step_inline"
+                if scene.engine.layout == "inline"
+                else "numerics.note_default_step",
                 {
                     "step": scene.analysis.angle_step_deg,
                     "grid": scene.engine_grid_deg,

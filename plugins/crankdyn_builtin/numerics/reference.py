@@ -10,6 +10,7 @@ extended-precision evaluation of the exact form."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -92,7 +93,11 @@ class PointwiseModel:
         self.cycle_deg = e.cycle_deg
         self.exact = scene.analysis.kinematics == "exact"
         self.area = float(phys.piston_area_m2(e.bore))
-        self.swept = self.area * e.stroke
+        # the piston's own stroke and BDC, as the indicator diagram takes them: an offset
+        # crank-slider's stroke exceeds 2R and its BDC is not at 180 deg
+        extra = {} if motion is None else motion.extra
+        self.swept = self.area * float(extra.get("stroke_m", e.stroke))
+        self._bdc_deg = float(extra.get("bdc_crank_angle_deg", 180.0))
         self.p0 = e.crankcase_pressure
         rod_rec, rod_rot = phys.rod_mass_split_kg(
             m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m
@@ -116,7 +121,7 @@ class PointwiseModel:
             self.knots_deg = np.unique(shifted)
         else:
             self._trace = None
-            self._params = cycle_parameters(scene)
+            self._params = dataclasses.replace(cycle_parameters(scene), bdc_deg=self._bdc_deg)
             self._rounding = rounding_parameters(scene)
             self.knots_deg = np.array([])
 

@@ -111,13 +111,15 @@ def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list
     if scene.analysis.kinematics == "approximate":
         notes.append(("offset_crank.note_exact_only", {}))
     if scene.cycle is not None:
+        four = scene.engine.strokes == 4
         notes.append(
             (
-                "offset_crank.note_indicator",
+                "offset_crank.note_indicator" if four else "offset_crank.note_indicator_two",
                 {
                     "stroke_mm": stroke_m * 1e3,
                     "throw_mm": 2e3 * crank_radius_m,
                     "bdc": results["bdc_crank_angle_deg"],
+                    "bdc_expansion": 360.0 + results["bdc_crank_angle_deg"],
                 },
             )
         )
@@ -264,6 +266,9 @@ def _offset_motion(mechanism: _Offset, L: float, e: float, geometry, angle_deg, 
             "rod_length_m": L,
             "offset_m": e,
             "crank_angle_at_tdc_rad": geometry.tdc_angle_rad,
+            # the piston's stroke and BDC: the indicator diagram's V_h and its points a, b
+            "stroke_m": geometry.stroke_m,
+            "bdc_crank_angle_deg": float(np.degrees(geometry.bdc_after_tdc_rad)),
             "rod_angular_velocity_rad_s": curves["rod_angular_velocity_rad_s"],
             "rod_angular_acceleration_rad_s2": curves["rod_angular_acceleration_rad_s2"],
         },

@@ -10,6 +10,7 @@ import numpy as np
 
 from crankdyn.physics import offset_crank as oc
 from crankdyn.physics.plane import polar
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import Guide, MechanismGeometry
 from crankdyn.scene import options
 
@@ -53,4 +54,18 @@ def offset_geometry(scene, crank_angle_rad) -> MechanismGeometry:
             "S": dc.tdc_height_m - dc.bdc_height_m,
         },
         travel_m=oc.piston_displacement_m(alpha, R, R / L, offset / L),
+        **_crank_star(scene),
     )
+
+
+def _crank_star(scene) -> dict:
+    """A multi-cylinder engine's cranks (the scheme's crank star) and firing order: the scheme
+    draws the first cylinder's mechanism, the star the directions of all the cranks."""
+    if scene.engine.cylinders < 2:
+        return {}
+    layout = engine_layout(scene)
+    cranks = [
+        (str(k + 1), float(lag), tuple(c.label for c in layout.bay(k)))
+        for k, lag in enumerate(layout.crank_lag_deg)
+    ]
+    return {"cranks": cranks, "firing_order": tuple(layout.firing_order)}

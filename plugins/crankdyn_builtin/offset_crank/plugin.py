@@ -20,7 +20,7 @@ from crankdyn.report.plausibility import ROD_CENTRE_OF_MASS, ROD_RATIO
 from .compute import MECHANISM, applies, check, run
 from .geometry import offset_geometry
 from .options import OffsetParams
-from .section import SYMBOLS, render
+from .section import MECHANISM_INPUT_ROWS, SYMBOLS, input_rows, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -31,6 +31,7 @@ OFFSET_CRANK_MECHANISM = Mechanism(
     "distance e (the pin offset)",
     check=check,
     params_model=OffsetParams,
+    input_rows=MECHANISM_INPUT_ROWS,
     # λ = R/L and the rod's centre of mass hold as for the central crank-slider
     plausibility=(ROD_RATIO, ROD_CENTRE_OF_MASS),
 )
@@ -46,6 +47,7 @@ OFFSET_CRANK_STAGE = Stage(
         template_dir=TEMPLATES,
         title_key="offset_crank.title",
         render=render,
+        input_rows=input_rows,
         figures=("offset_piston", "offset_rod"),
         references=("poda2007",),
         symbols=SYMBOLS,

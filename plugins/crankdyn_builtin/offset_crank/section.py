@@ -4,11 +4,38 @@ from __future__ import annotations
 
 import functools
 
+from crankdyn.physics import offset_crank as oc
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
+from crankdyn.scene import options
 from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
 from .figures import _piston_figure, _rod_figure
+from .options import OffsetParams
+
+#: The time ratio K of the two strokes above which the mechanism is a quick-return one: below
+#: it the strokes last within 5 % of each other, as in any engine's offset of a few millimetres.
+QUICK_RETURN_RATIO = 1.05
+
+#: The table of given data names the scene's stroke as what it is, the crank throw 2R: the
+#: offset piston's own stroke S is longer (listed by :func:`input_rows`).
+MECHANISM_INPUT_ROWS = {
+    "stroke": ("offset_crank.input_throw", "2<i>R</i>"),
+    "crank_radius": ("input.crank_radius", "<i>R</i>"),
+}
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The offset e (given) and the piston's stroke S it gives (computed in this section), for
+    the table of the task's data."""
+    t, num = ctx.t, ctx.t.number_g
+    engine = scene.engine
+    offset = options(scene, "mechanism", OffsetParams).offset
+    stroke = oc.dead_centres(engine.crank_radius_m, engine.rod_length_m, offset).stroke_m
+    return [
+        (t("offset_crank.input_offset"), "<i>e</i>", num(offset * 1e3, 4), t("unit.mm")),
+        (t("offset_crank.input_stroke"), "<i>S</i>", num(stroke * 1e3, 5), t("unit.mm")),
+    ]
 
 
 def render(output: StageOutput, ctx) -> str:
@@ -56,20 +83,36 @@ def render(output: StageOutput, ctx) -> str:
             ratio=ctx.num(r["stroke_time_ratio"], 5),
         )
     )
+    ratio = max(r["stroke_time_ratio"], 1.0 / r["stroke_time_ratio"])
     return ctx.render_template(
         "sections/offset_crank.html.j2",
         r=r,
+        indicator_key=_indicator_key(ctx.scene),
+        quick_return=ratio > QUICK_RETURN_RATIO,
+        quick_return_ratio=QUICK_RETURN_RATIO,
+        return_percent=100.0 * (ratio - 1.0),
         table=table,
         figure_main=figure_main,
         figure_rod=figure_rod,
     )
 
 
+def _indicator_key(scene) -> str | None:
+    """The item saying what the indicator diagram takes from this section (its stroke and BDC),
+    when the scene has a cycle to draw one from."""
+    if scene is None or scene.cycle is None:
+        return None
+    if scene.engine.strokes == 4:
+        return "offset_crank.replaced_indicator"
+    return "offset_crank.replaced_indicator_two"
+
+
 #: The offset's letters (meanings: symbol.offset_crank.<key> in i18n/).
 SYMBOLS = {
     "offset": Symbol("e", {}, "unit.mm"),
     "offset_ratio": Symbol("k", {}, ""),
-    "axis_crank_angle": Symbol("φ", {}, "°"),
+    # the forces section resolves the rod force at this angle (its t and z formulas)
+    "axis_crank_angle": Symbol("φ", {}, "°", sections=("offset_crank", "forces")),
     "tdc_angle": Symbol("φ", {"en": "TDC", "uk": "ВМТ", "ru": "ВМТ"}, "°"),
     "bdc_angle": Symbol("φ", {"en": "BDC", "uk": "НМТ", "ru": "НМТ"}, "°"),
     "time_ratio": Symbol("K", {}, ""),

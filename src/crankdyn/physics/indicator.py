@@ -172,6 +172,11 @@ class CycleParameters:
     exhaust_pressure_Pa : float or None
         p_r, absolute pressure of the exhaust stroke, Pa, > 0.  Required for
         a four-stroke cycle, ignored (may be None) for a two-stroke cycle.
+    bdc_deg : float, default 180
+        Crank angle of BDC after each TDC, deg, in (0, 360): the points a and
+        b of the diagram and the exhaust drop lie there.  180 for the central
+        crank-slider; an offset crank-slider reaches BDC later (its stroke
+        from TDC to BDC takes more than half a turn).
     """
 
     strokes: int
@@ -183,9 +188,16 @@ class CycleParameters:
     pre_expansion_ratio: float
     expansion_index: float
     exhaust_pressure_Pa: float | None = None
+    bdc_deg: float = 180.0
 
     def __post_init__(self):
         _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
+        _require(
+            np.isfinite(self.bdc_deg) and 0.0 < self.bdc_deg < 360.0,
+            "bdc_deg",
+            self.bdc_deg,
+            "(0, 360) deg after TDC",
+        )
         _require(
             self.ignition in ("spark", "diesel"), "ignition", self.ignition, "'spark' or 'diesel'"
         )
@@ -426,11 +438,12 @@ def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, par
     a = np.mod(alpha, cycle)
     p_comp = _compression_line_Pa(volume, clearance_volume_m3, params)
     p_exp = _expansion_line_Pa(volume, clearance_volume_m3, params)
+    bdc = params.bdc_deg
     if params.strokes == 4:
-        conditions = [a <= 180.0, a < 360.0, a <= 540.0]
+        conditions = [a <= bdc, a < 360.0, a <= 360.0 + bdc]
         choices = [np.full_like(a, params.intake_pressure_Pa), p_comp, p_exp]
         return np.select(conditions, choices, default=params.exhaust_pressure_Pa)
-    return np.where(a <= 180.0, p_exp, p_comp)
+    return np.where(a <= bdc, p_exp, p_comp)
 
 
 def theoretical_mean_indicated_pressure_Pa(params):
@@ -774,7 +787,13 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
     count = len(params)
     lines = _many_diagram_lines(params, rounding, clearance_volume_m3, volume_function)
     psi_peak = np.array([r.peak_angle_after_tdc_deg for r in rounding], dtype=float)
-    psi_limit = 180.0 - np.array([r.exhaust_opens_before_bdc_deg for r in rounding], dtype=float)
+    psi_limit = np.array(
+        [
+            p.bdc_deg - r.exhaust_opens_before_bdc_deg
+            for r, p in zip(rounding, params, strict=False)
+        ],
+        dtype=float,
+    )
     peak = np.array(
         [
             r.peak_pressure_fraction * p.max_pressure_Pa
@@ -1113,9 +1132,9 @@ class _Lines:
         )
 
 
-def _drop_end_psi_deg(rounding) -> float:
-    """End of the exhaust drop, deg after firing TDC: 180 + exhaust_opens_before_bdc / 2."""
-    return 180.0 + 0.5 * rounding.exhaust_opens_before_bdc_deg
+def _drop_end_psi_deg(rounding, bdc_deg: float = 180.0) -> float:
+    """End of the exhaust drop, deg after firing TDC: BDC + exhaust_opens_before_bdc / 2."""
+    return bdc_deg + 0.5 * rounding.exhaust_opens_before_bdc_deg
 
 
 def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, junction_deg=None):
@@ -1138,8 +1157,8 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
     psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
     psi_peak = rounding.peak_angle_after_tdc_deg
-    psi_b1 = 180.0 - rounding.exhaust_opens_before_bdc_deg
-    _check_combustion_window(rounding, params.strokes == 4, psi_c1)
+    psi_b1 = params.bdc_deg - rounding.exhaust_opens_before_bdc_deg
+    _check_combustion_window(rounding, params, psi_c1)
     p_c1, s_c1, p_c2, d_c2 = _combustion_rise(lines, rounding, psi_c1, peak)
     psi_j = _combustion_junction(lines, rounding, peak, psi_b1, junction_deg)
     p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
@@ -1151,25 +1170,26 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
 
 
-def _check_combustion_window(rounding, four: bool, psi_c1: float) -> None:
+def _check_combustion_window(rounding, params, psi_c1: float) -> None:
     """The combustion window fits the cycle: a two-stroke's drop at BDC ends before C', and the
     exhaust opening point b' follows the peak Z'."""
     eo = rounding.exhaust_opens_before_bdc_deg
     psi_peak = rounding.peak_angle_after_tdc_deg
-    if not four:
+    bdc = params.bdc_deg
+    if params.strokes != 4:
         # the drop end (after BDC) must precede C' (before the next firing TDC)
         _require(
-            _drop_end_psi_deg(rounding) - 360.0 < psi_c1,
+            _drop_end_psi_deg(rounding, bdc) - 360.0 < psi_c1,
             "exhaust_opens_before_bdc_deg",
             eo,
-            f"< {2.0 * (psi_c1 + 180.0):.6g} deg so that the drop at BDC ends "
+            f"< {2.0 * (psi_c1 + 360.0 - bdc):.6g} deg so that the drop at BDC ends "
             "before the combustion point C'",
         )
     _require(
-        psi_peak < 180.0 - eo,
+        psi_peak < bdc - eo,
         "exhaust_opens_before_bdc_deg",
         eo,
-        f"< {180.0 - psi_peak:g} deg so that b' follows the peak Z' "
+        f"< {bdc - psi_peak:g} deg so that b' follows the peak Z' "
         f"(peak_angle_after_tdc_deg = {psi_peak:g})",
     )
 
@@ -1246,8 +1266,9 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
         return pressure
     p_b = expansion_end_pressure_Pa(params)
     p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
-    psi_b1 = 180.0 - eo
-    drop_end_psi = _drop_end_psi_deg(rounding)
+    bdc = params.bdc_deg
+    psi_b1 = bdc - eo
+    drop_end_psi = _drop_end_psi_deg(rounding, bdc)
     _require(
         p_b > p_low,
         "exhaust_pressure_Pa" if four else "intake_pressure_Pa",
@@ -1258,7 +1279,7 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
         psi_j < psi_b1,
         "exhaust_opens_before_bdc_deg",
         eo,
-        f"< {180.0 - psi_j:.6g} deg so that b' follows the combustion rounding junction J",
+        f"< {bdc - psi_j:.6g} deg so that b' follows the combustion rounding junction J",
     )
     p_b1, s_b1 = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_b1])))
     p_mid = 0.5 * (p_b + p_low)
@@ -1283,7 +1304,7 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
             eo,
             "a value for which the BDC-exhaust rounding is monotone",
         )
-    drop = hermite_cubic([psi_b1, 180.0, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
+    drop = hermite_cubic([psi_b1, bdc, drop_end_psi], [p_b1, p_mid, p_end], [s_b1, d_mid, s_end])
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
     return _laid_over(pressure, in_window, drop, psi_b1 + offset)
@@ -1309,7 +1330,7 @@ def _gas_exchange_step(alpha, pressure, params, rounding, tdc, cycle):
     """
     io = rounding.intake_opens_before_tdc_deg
     ec = rounding.exhaust_closes_after_tdc_deg
-    drop_end_psi = _drop_end_psi_deg(rounding)
+    drop_end_psi = _drop_end_psi_deg(rounding, params.bdc_deg)
     _require(
         720.0 - io > tdc + drop_end_psi,
         "intake_opens_before_tdc_deg",
@@ -1384,7 +1405,7 @@ def indicated_work_J(pressure_Pa, volume_m3):
 PUMPING_STROKES_DEG = ((540.0, 720.0), (0.0, 180.0))
 
 
-def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int):
+def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int, bdc_deg=180.0):
     """Work of the gas-exchange (pumping) strokes of one cycle, J: the part of the indicated work
     done during exhaust and intake; zero for a two-stroke cycle, which has no such strokes.
 
@@ -1396,11 +1417,14 @@ def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int):
         Their crank angles, deg: a uniform grid 0, h, ..., 720 − h (α = 0 at the TDC before intake).
     strokes : int
         2 or 4.
+    bdc_deg : float, default 180
+        BDC after each TDC, deg (:class:`CycleParameters`): the strokes run
+        360° + BDC…720° and 0°…BDC.
 
     Returns
     -------
     float
-        W_pump = integral of p dV over 540°…720° and 0°…180°, J; negative when the cylinder exhausts
+        W_pump = integral of p dV over 540°…720° and 0°…180°, J (central crank-slider); negative when the cylinder exhausts
         at a higher pressure than it takes in (p_r > p_a).
 
     Notes
@@ -1435,7 +1459,9 @@ def pumping_work_J(pressure_Pa, volume_m3, crank_angle_deg, strokes: int):
     # the closed cycle: the first sample again at 720°
     a, p, v = np.append(a, 720.0), np.append(p, p[0]), np.append(v, v[0])
     work = 0.0
-    for start, end in PUMPING_STROKES_DEG:
+    exhaust, intake = PUMPING_STROKES_DEG
+    strokes_deg = ((exhaust[0] + bdc_deg - 180.0, exhaust[1]), (intake[0], bdc_deg))
+    for start, end in strokes_deg:
         inside = (a > start) & (a < end)
         ap = np.concatenate(([start], a[inside], [end]))
         pp, vp = np.interp(ap, a, p), np.interp(ap, a, v)

@@ -18,7 +18,7 @@ from ..engine.orchestrator import RunResult
 from ..errors import SceneError
 from ..physics.extrema import EXTREMUM_RTOL
 from ..physics.indicator import RoundingParameters
-from ..plugin.contracts import COUNTERWEIGHTS, FORCES
+from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
 from ..plugin.registry import Registry
 from ..plugin.scene_inputs import rounding_parameters
 from ..version import __version__
@@ -318,6 +318,35 @@ def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
     ]
 
 
+#: A row of the given data that a section computes names that section ("computed in section N"):
+#: the assignment, which lists the task's data only, leaves it out.
+_COMPUTED_ROW_MARK = "@@SECTION:"
+
+
+def _assignment_given(result, registry, ctx) -> dict:
+    """What the assignment's list of the main data takes from the mechanism: the symbol of the
+    scene's stroke (an offset crank-slider's is the crank throw 2R, not its piston's stroke) and
+    the given data of the stage computing its kinematics ("e = 5 mm")."""
+    mechanism = registry.mechanisms.get(result.scene.engine.mechanism)
+    own = (mechanism.input_rows if mechanism else {}).get("stroke")
+    shown = [
+        stage.presentation
+        for stage in result.plan.order
+        if stage.presentation is not None and KINEMATICS in stage.provides
+    ]
+    given = [
+        f"{Markup(symbol).striptags()} = {value} {unit}".rstrip()
+        for look in shown
+        if look.input_rows is not None
+        for quantity, symbol, value, unit in look.input_rows(result.scene, ctx)
+        if symbol and _COMPUTED_ROW_MARK not in quantity
+    ]
+    return {
+        "assignment_stroke": Markup(own[1]).striptags() if own else "S",
+        "assignment_given": given,
+    }
+
+
 def _section_body(stage, output, ctx, sections_cache, figure_sink) -> str | None:
     """``stage``'s section as rendered (or kept by the preview's cache); its figures go to
     ``figure_sink`` as soon as it is rendered."""
@@ -441,11 +470,25 @@ def _stage_section(stage, result, ctx, parts: _NoteParts, sections_cache, figure
         number,
         stage.name,
         ctx.title or t(stage.presentation.title_key),
-        Markup(lone_subsection_unnumbered(cite_sources(body + found, parts.references))),
+        Markup(
+            lone_subsection_unnumbered(cite_sources(_with_warnings(body, found), parts.references))
+        ),
         list(ctx.conclusions) + concluded,
     )
     (parts.appendices if to_appendix else parts.sections).append(view)
     parts.notes += _stage_notes(output, ctx, parts.references)
+
+
+#: Where a section puts its plausibility sentences, when they judge one of its tables (a bearing
+#: pressure beside the table of that bearing); without it they close the section.
+PLAUSIBILITY_MARK = "<!-- plausibility -->"
+
+
+def _with_warnings(body: str, found: str) -> str:
+    """The section's ``body`` with its plausibility sentences ``found`` at its mark or at its end."""
+    if PLAUSIBILITY_MARK in body:
+        return body.replace(PLAUSIBILITY_MARK, found, 1)
+    return body + found
 
 
 def _stage_notes(output, ctx, references: list[str]) -> list[str]:
@@ -504,6 +547,7 @@ def _page_html(result, registry, ctx, parts: _NoteParts, language: str) -> str:
         findings=ctx.findings,
         frame=frame_html(env, t, scene.report, title),
         **_abstract_parts(t, registry, scene, sections),
+        **_assignment_given(result, registry, ctx),
     )
 
 
