@@ -35,7 +35,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
     p_txt, psi = printed_g(t, r["pin_phase_deg"])
     k_txt, k = printed_g(t, r["planet_speed_ratio"])
     x_mm = float(row["big_end_x_m"]) * 1e3
-    x_txt, x = printed_fixed(t, x_mm, 3)  # as the table prints it
+    x_txt, x = printed_fixed(t, x_mm, 2)  # as the table prints it
     inputs = {
         "phi_deg": f,
         "a_mm": a,
@@ -65,7 +65,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
             "<i>a</i> sin <i>φ</i> + <i>e</i> sin <i>θ</i>",
             f"{a_txt}·sin {phi_s} + {e_txt}·sin {theta}",
             x_mm,
-            3,
+            2,
             t("unit.mm"),
             inputs,
             exact=exact,
@@ -76,7 +76,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
             "<i>a</i> cos <i>φ</i> + <i>e</i> cos <i>θ</i>",
             f"{a_txt}·cos {phi_s} + {e_txt}·cos {theta}",
             float(row["big_end_z_m"]) * 1e3,
-            3,
+            2,
             t("unit.mm"),
             inputs,
             exact=exact,
