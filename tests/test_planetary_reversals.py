@@ -1,0 +1,231 @@
+"""Planetary crank mechanism with a fixed ring gear of ratio 3 (72/24 teeth, module 1.25 mm, pin
+radius 8 mm, psi0 = 0): every reversal of the piston, the secondary stroke, the mean speeds, the
+acceleration at TDC, the tooth flank changes and what the note says about them, each against a
+closed form written here: a = 30 mm, k = -2, so x_B = a sin(phi) - e sin(2 phi),
+z_B = a cos(phi) + e cos(2 phi) and z_A = z_B + sqrt(L^2 - x_B^2)."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from crankdyn.engine.orchestrator import run_scene
+from crankdyn.physics import planetary as pl
+from crankdyn.plugin.registry import default_registry
+from crankdyn.report.document import render_html
+from crankdyn.scene.model import scene_from_dict
+from crankdyn_builtin.planetary.compute import curve_name, secondary_strokes
+
+REGISTRY = default_registry()
+A, E, L = 0.030, 0.008, 0.140  # carrier radius, pin radius, rod [m]
+RPM = 2400.0
+
+
+def _closed_form_pin_height(phi):
+    x = A * np.sin(phi) - E * np.sin(2 * phi)
+    z = A * np.cos(phi) + E * np.cos(2 * phi)
+    return z + np.sqrt(L * L - x * x)
+
+
+def _ring_geometry(pin=E):
+    return pl.PlanetaryGeometry("internal", 0.045, 0.015, pin, 0.0, L)
+
+
+def _ring_scene(language="uk"):
+    return scene_from_dict(
+        {
+            "report": {"title": "Planetary", "language": language, "year": 2026},
+            "engine": {
+                "name": "ring 72 / planet 24",
+                "mechanism": "planetary",
+                "strokes": 4,
+                "rpm": RPM,
+                "bore": "76 mm",
+                "stroke": "62.3033 mm",
+                "rod_length": "140 mm",
+            },
+            "mechanism": {
+                "gear": "internal",
+                "fixed_gear_teeth": 72,
+                "planet_teeth": 24,
+                "module": "1.25 mm",
+                "pin_radius": "8 mm",
+                "pin_phase_deg": 0,
+                "pressure_angle_deg": 20,
+            },
+            "masses": {"piston_group": "0.38 kg", "rod": "0.50 kg", "rod_cm_fraction": 0.28},
+        }
+    )
+
+
+@pytest.fixture(scope="module")
+def ring_run():
+    return run_scene(_ring_scene(), REGISTRY)
+
+
+def _grid_extrema():
+    """Local extremes of the closed form on a 0.0001 deg grid: (angle deg, height m, kind)."""
+    phi = np.radians(np.arange(0.0, 360.0, 1e-4))
+    z = _closed_form_pin_height(phi)
+    before, after = np.roll(z, 1), np.roll(z, -1)
+    found = []
+    for i in np.flatnonzero((z > before) & (z >= after)):
+        found.append((math.degrees(phi[i]), z[i], "tdc"))
+    for i in np.flatnonzero((z < before) & (z <= after)):
+        found.append((math.degrees(phi[i]), z[i], "bdc"))
+    return sorted(found)
+
+
+def test_every_reversal_of_the_piston_matches_the_closed_form():
+    reversals = pl.piston_reversals(_ring_geometry())
+    expected = _grid_extrema()
+    assert [r.kind for r in reversals] == [kind for _, _, kind in expected]
+    assert len(reversals) == 4
+    for reversal, (angle, height, _) in zip(reversals, expected, strict=True):
+        assert math.degrees(reversal.carrier_angle_rad) == pytest.approx(angle, abs=2e-4)
+        assert reversal.height_m == pytest.approx(height, abs=1e-12)
+    # the closed form's own values: TDC 178 mm at 0, the secondary TDC a - ... at 180 deg
+    assert reversals[0].height_m == pytest.approx(A + E + L, abs=1e-15)
+    assert math.degrees(reversals[2].carrier_angle_rad) == pytest.approx(180.0, abs=1e-9)
+    assert reversals[2].height_m == pytest.approx(-A + E + L, abs=1e-15)
+    # the two BDCs are mirror images about 180 deg
+    first, second = (math.degrees(reversals[i].carrier_angle_rad) for i in (1, 3))
+    assert first + second == pytest.approx(360.0, abs=1e-9)
+    assert first == pytest.approx(136.4, abs=0.05)
+
+
+def test_a_conventional_reversal_count_for_the_cardan_straight_line():
+    """Ring gear 2:1 with the pin on the pitch circle: harmonic motion, two reversals."""
+    g = pl.PlanetaryGeometry("internal", 0.04, 0.02, 0.02, 0.0, L)
+    reversals = pl.piston_reversals(g)
+    assert [(round(math.degrees(r.carrier_angle_rad), 9), r.kind) for r in reversals] == [
+        (0.0, "tdc"),
+        (180.0, "bdc"),
+    ]
+
+
+def test_sign_changes_skip_a_touching_zero():
+    """cos(phi) + 1 only touches zero at pi; sin(2 phi) changes sign four times."""
+    assert pl.sign_changes(lambda p: np.cos(p) + 1.0, 2 * np.pi) == []
+    roots = pl.sign_changes(lambda p: np.sin(2 * p), 2 * np.pi)
+    assert roots == pytest.approx([0.0, np.pi / 2, np.pi, 3 * np.pi / 2], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "gear, pin, name",
+    [
+        ("internal", 0.015, "hypocycloid"),
+        ("internal", 0.008, "hypotrochoid_curtate"),
+        ("internal", 0.020, "hypotrochoid_prolate"),
+        ("external", 0.015, "epicycloid"),
+        ("external", 0.008, "epitrochoid_curtate"),
+        ("external", 0.020, "epitrochoid_prolate"),
+    ],
+)
+def test_curve_is_named_by_where_the_pin_lies(gear, pin, name):
+    g = pl.PlanetaryGeometry(gear, 0.045, 0.015, pin, 0.0, L)
+    assert curve_name(g) == name
+
+
+def test_stage_results_secondary_stroke_speeds_and_tdc_acceleration(ring_run):
+    r = ring_run.outputs["planetary"].results
+    expected = _grid_extrema()
+    z_tdc = A + E + L
+    stroke = z_tdc - min(height for _, height, _ in expected)
+    assert r["stroke_m"] == pytest.approx(stroke, abs=1e-11)
+    assert [item["kind"] for item in r["reversals"]] == ["tdc", "bdc", "tdc", "bdc"]
+    assert [item["main"] for item in r["reversals"]] == [True, True, False, True]
+    assert r["bdc_crank_angles_deg"] == pytest.approx([expected[1][0], expected[3][0]], abs=2e-4)
+    # the secondary stroke: from BDC up to the secondary TDC at 180 deg, z_A = L + e - a
+    secondary = (L + E - A) - (z_tdc - stroke)
+    (only,) = secondary_strokes(r["reversals"])
+    assert only["depth_m"] == pytest.approx(secondary, abs=1e-11)
+    assert only["depth_m"] * 1e3 == pytest.approx(2.303, abs=5e-4)
+    assert r["piston_path_m"] == pytest.approx(2 * stroke + 2 * secondary, abs=1e-10)
+    assert r["mean_piston_speed_m_s"] == pytest.approx(stroke * RPM / 30.0, rel=1e-12)
+    assert r["mean_piston_speed_path_m_s"] == pytest.approx(
+        (2 * stroke + 2 * secondary) * RPM / 60.0, rel=1e-9
+    )
+    # TDC: z_A'' = z_B'' - x_B'^2 / L with z_B'' = -(a + 4e), x_B' = a - 2e
+    omega = math.pi * RPM / 30.0
+    j_tdc = omega**2 * ((A + 4 * E) + (A - 2 * E) ** 2 / L)
+    assert r["j_tdc_m_s2"] == pytest.approx(j_tdc, rel=1e-12)
+    radius = stroke / 2
+    conventional = radius * omega**2 * (1 + radius / L)
+    assert r["conventional_j_tdc_m_s2"] == pytest.approx(conventional, rel=1e-12)
+    assert r["j_tdc_m_s2"] / conventional - 1 == pytest.approx(0.665, abs=0.005)
+
+
+def test_tooth_force_changes_sign_where_the_rod_line_passes_the_planet_centre(ring_run):
+    """F_t is the moment of the rod force about the planet centre C over r_p: it vanishes where the
+    rod's line passes through C, here found from the closed-form positions."""
+    angles = ring_run.outputs["planetary"].results["tooth_force_sign_changes_deg"]
+    assert len(angles) == 4
+    assert angles[0] == pytest.approx(0.0, abs=1e-9) and angles[2] == pytest.approx(180.0, abs=1e-9)
+    assert angles[1] + angles[3] == pytest.approx(360.0, abs=1e-7)
+    for angle in angles:
+        phi = math.radians(angle)
+        centre = np.array([A * math.sin(phi), A * math.cos(phi)])
+        pin = centre + E * np.array([math.sin(-2 * phi), math.cos(-2 * phi)])
+        piston = np.array([0.0, float(_closed_form_pin_height(phi))])
+        along, off = piston - pin, centre - pin
+        distance = abs(along[0] * off[1] - along[1] * off[0]) / np.hypot(*along)
+        assert distance < 1e-12
+
+
+def _plain(html: str) -> str:
+    """The text without tags, its no-break and narrow spaces as plain ones."""
+    text = re.sub(r"<[^>]+>", "", html)
+    return text.replace("\xa0", " ").replace("\u202f", " ").replace("\u2060", "")
+
+
+def _section(html: str) -> str:
+    return html.split('data-stage="planetary"', 1)[1].split("data-stage=", 1)[0]
+
+
+def test_note_describes_both_bdcs_the_secondary_stroke_and_the_curve(ring_run):
+    html = render_html(ring_run, REGISTRY, "uk").html
+    section = _section(html)
+    text = _plain(section)
+    assert "136,4 і 223,6°" in text and "вторинна ВМТ за α = 180° (sп = 60 мм)" in text
+    assert "піднімається на 2,303 мм" in text
+    assert "гіпотрохоїді (укороченій гіпоциклоїді)" in text
+    assert "епіциклоїд" not in text.lower()
+    for absent in ("шийк", "колінчаст", "розпірн", "кочене", "3,0000", "−2,0000", "90,000"):
+        assert absent not in text, absent
+    assert "(Ft = 0 F)" not in text and "– нуль" not in text
+    # MN = 0 at TDC here: no paragraph explaining a nonzero arm
+    assert "MN = 0, як у звичайного" in text
+    # 2.303 mm of 62.303 mm: the double generation sentence names 30 and 60 mm planets
+    assert "90 − 30 = 60 мм" in text
+    # the given data of the mechanism in table 1.1, as given
+    given = _plain(html.split("Таблиця 1.1", 1)[1].split("</table>", 1)[0])
+    for row in ("Число зубів нерухомого колеса", "Модуль зачеплення"):
+        assert row in given
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", html.split("Таблиця 1.1", 1)[1].split("</table>")[0])
+    for value in ("72", "24", "1,25", "8", "20"):
+        assert value in cells, value
+
+
+def test_conclusions_come_from_the_numbers(ring_run):
+    html = render_html(ring_run, REGISTRY, "uk").html
+    conclusions = _plain(html.split('id="sec-conclusions"', 1)[1].split("</section>", 1)[0])
+    r = ring_run.outputs["planetary"].results
+    fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
+    assert f"|vп|max = {fastest:.2f}".replace(".", ",") in conclusions
+    assert "на 66 % більше" in conclusions or "на 67 % більше" in conclusions
+    assert "4,98 м/с" in conclusions and "5,17 м/с" in conclusions
+    assert "змінює знак 4 рази" in conclusions
+    assert "але ефективне плече" not in conclusions
+    assert "13,79°" in conclusions
+
+
+def test_sources_are_textbooks_with_their_numbers(ring_run):
+    html = render_html(ring_run, REGISTRY, "uk").html
+    listed = re.findall(r"<li[^>]*>(.*?)</li>", html.split('class="references"')[-1], re.S)
+    text = " ".join(listed)
+    assert "Артоболевский" in text and "Планетарные передачи" in text
+    assert "за методикою" not in _section(html)
