@@ -216,7 +216,9 @@ def test_conclusions_come_from_the_numbers(ring_run):
     r = ring_run.outputs["planetary"].results
     fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
     assert f"|vп|max = {fastest:.2f}".replace(".", ",") in conclusions
-    assert "на 66 % більше" in conclusions or "на 67 % більше" in conclusions
+    excess = r["j_tdc_m_s2"] / r["conventional_j_tdc_m_s2"] - 1
+    assert f"на {excess * 100:.1f} % більше".replace(".", ",") in conclusions
+    assert "66,5 %" in conclusions  # 4004,7 against 2405,5 m/s²
     assert "4,98 м/с" in conclusions and "5,17 м/с" in conclusions
     assert "змінює знак 4 рази" in conclusions
     assert "але ефективне плече" not in conclusions

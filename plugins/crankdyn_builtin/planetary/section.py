@@ -228,7 +228,8 @@ def _conclusions(r, ctx) -> list[str]:
     """The section's conclusions, from its numbers."""
     t = ctx.t
     mm = 1e3
-    curve = t("planetary.curve_" + r["curve"])
+    # the curve's name alone: its synonym in brackets would nest brackets in the sentence
+    curve = t("planetary.curve_" + r["curve"]).split(" (")[0]
     common = {
         "gear": t("planetary.gear_" + r["gear"]),
         "ratio": t.number_g(r["gear_ratio"], 5),
@@ -283,7 +284,7 @@ def _conclusions(r, ctx) -> list[str]:
             j=t.fixed(r["j_tdc_m_s2"], 0),
             compare=t(
                 "planetary.compare_" + ("more" if excess >= 0 else "less"),
-                percent=t.fixed(abs(excess) * 100, 0),
+                percent=t.fixed(abs(excess) * 100, 1),
             ),
             conventional=t.fixed(r["conventional_j_tdc_m_s2"], 0),
             radius=t.number_g(r["stroke_m"] / 2 * mm, 5),

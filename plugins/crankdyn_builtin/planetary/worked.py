@@ -9,7 +9,6 @@ from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
     bracketed,
-    printed,
     printed_fixed,
     printed_g,
     worked_markup,
@@ -28,7 +27,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
         r["pin_radius_m"] * 1e3,
         r["rod_length_m"] * 1e3,
     )
-    f_txt, f = printed(t, phi, 6)
+    f_txt, f = printed_g(t, phi)
     a_txt, a = printed_g(t, a_mm)
     e_txt, e = printed_g(t, e_mm)
     l_txt, l_mm = printed_g(t, length_mm)
