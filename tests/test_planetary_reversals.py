@@ -231,3 +231,42 @@ def test_sources_are_textbooks_with_their_numbers(ring_run):
     text = " ".join(listed)
     assert "Артоболевский" in text and "Планетарные передачи" in text
     assert "за методикою" not in _section(html)
+
+
+@pytest.mark.parametrize("gear, outward", [("internal", True), ("external", False)])
+def test_fixed_gear_is_hatched_on_the_side_away_from_the_planet(gear, outward):
+    """ГОСТ 2.770: the fixed ring is hatched outside its pitch circle, a fixed sun inside."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib import pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from crankdyn.plugin.types import MechanismGeometry
+    from crankdyn.report import mechanism_drawing as md
+    from crankdyn_builtin.planetary.geometry import planetary_geometry
+
+    if gear == "internal":
+        geometry = planetary_geometry(_ring_scene(), np.radians([45.0]))
+        fixed_mm = 45.0
+    else:
+        geometry = MechanismGeometry(
+            joints={
+                "crank_centre": np.zeros((1, 2)),
+                "planet_centre": np.array([[0.04 * math.sin(0.5), 0.04 * math.cos(0.5)]]),
+            },
+            circles=[("crank_centre", 0.03, "fixed"), ("planet_centre", 0.01, "moving")],
+        )
+        fixed_mm = 30.0
+    fig, ax = plt.subplots()
+    md.draw_mechanism(ax, geometry, 0)
+    strokes = []
+    for collection in ax.collections:
+        if isinstance(collection, LineCollection):
+            for segment in collection.get_segments():
+                start, end = np.hypot(*segment[0]), np.hypot(*segment[1])
+                if abs(start - fixed_mm) < 1e-9:
+                    strokes.append(end - start)
+    plt.close(fig)
+    assert len(strokes) >= 12
+    assert all(bool(d > 0) == outward for d in strokes)
