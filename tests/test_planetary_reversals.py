@@ -143,6 +143,8 @@ def test_stage_results_secondary_stroke_speeds_and_tdc_acceleration(ring_run):
     secondary = (L + E - A) - (z_tdc - stroke)
     (only,) = secondary_strokes(r["reversals"])
     assert only["depth_m"] == pytest.approx(secondary, abs=1e-11)
+    assert only["from_deg"] == pytest.approx(expected[1][0], abs=2e-4)
+    assert only["to_deg"] == pytest.approx(180.0, abs=1e-9) and only["direction"] == "rise"
     assert only["depth_m"] * 1e3 == pytest.approx(2.303, abs=5e-4)
     assert r["piston_path_m"] == pytest.approx(2 * stroke + 2 * secondary, abs=1e-10)
     assert r["mean_piston_speed_m_s"] == pytest.approx(stroke * RPM / 30.0, rel=1e-12)
@@ -191,7 +193,7 @@ def test_note_describes_both_bdcs_the_secondary_stroke_and_the_curve(ring_run):
     section = _section(html)
     text = _plain(section)
     assert "136,4 і 223,6°" in text and "вторинна ВМТ за α = 180° (sп = 60 мм)" in text
-    assert "піднімається на 2,303 мм" in text
+    assert "від α = 136,4° до 180° поршень повертається вгору на 2,303 мм" in text
     assert "гіпотрохоїді (укороченій гіпоциклоїді)" in text
     assert "епіциклоїд" not in text.lower()
     for absent in ("шийк", "колінчаст", "розпірн", "кочене", "3,0000", "−2,0000", "90,000"):
@@ -270,3 +272,32 @@ def test_fixed_gear_is_hatched_on_the_side_away_from_the_planet(gear, outward):
     plt.close(fig)
     assert len(strokes) >= 12
     assert all(bool(d > 0) == outward for d in strokes)
+
+
+def test_sun_gear_example_path_and_secondary_strokes_from_the_closed_form():
+    """The bundled example (sun 60, planet 20, module 1 mm, e = 10 mm, psi0 = 30 deg, L = 150 mm):
+    a = 40 mm, k = 4; the extremes and the path per turn of z_A = a cos(phi) + e cos(psi0 + 4 phi)
+    + sqrt(L^2 - x_B^2) on a 0.0001 deg grid."""
+    from crankdyn.cli import examples_dir
+
+    a, e, rod, psi0 = 0.040, 0.010, 0.150, math.radians(30.0)
+    phi = np.radians(np.arange(0.0, 360.0, 1e-4))
+    x = a * np.sin(phi) + e * np.sin(psi0 + 4 * phi)
+    z = a * np.cos(phi) + e * np.cos(psi0 + 4 * phi) + np.sqrt(rod * rod - x * x)
+    before, after = np.roll(z, 1), np.roll(z, -1)
+    extremes = np.flatnonzero(((z > before) & (z >= after)) | ((z < before) & (z <= after)))
+    heights = z[extremes]
+    path = float(np.sum(np.abs(np.diff(np.append(heights, heights[0])))))
+    import tomllib
+
+    with open(examples_dir() / "planetary-kinematics.toml", "rb") as handle:
+        scene = scene_from_dict(tomllib.load(handle), base_dir=examples_dir())
+    r = run_scene(scene, REGISTRY).outputs["planetary"].results
+    assert r["reversal_count"] == len(extremes) == 8
+    assert r["piston_path_m"] == pytest.approx(path, abs=1e-9)
+    strokes = secondary_strokes(r["reversals"])
+    assert len(strokes) == (len(extremes) - 2) // 2 == 3
+    # the main stroke twice and every secondary stroke there and back make up the path
+    total = 2 * r["stroke_m"] + 2 * sum(s["depth_m"] for s in strokes)
+    assert total == pytest.approx(path, abs=1e-9)
+    assert [s["direction"] for s in strokes] == ["rise", "rise", "fall"]

@@ -327,27 +327,34 @@ def _reversal_results(geometry, dc, revolutions: int) -> dict:
 
 
 def secondary_strokes(reversals: list[dict]) -> list[dict]:
-    """The strokes besides the main one: each local extreme that is not a global dead centre, with
-    its depth from the dead centre its neighbours reach (m) and the crank angles of those
-    neighbours (deg). A conventional mechanism has none."""
-    strokes = []
+    """The strokes besides the main one: each travel between two reversals against the direction
+    of the half-stroke it lies in (back up on the way down to BDC, back down on the way up, away
+    from a dead centre reached twice), with its depth (m), its crank angles (deg) and whether the
+    piston rises or falls in it. A conventional mechanism has none."""
     n = len(reversals)
-    for i, item in enumerate(reversals):
-        if item["main"]:
-            continue
-        before, after = reversals[i - 1], reversals[(i + 1) % n]
-        strokes.append(
-            {
-                "crank_angle_deg": item["crank_angle_deg"],
-                "kind": item["kind"],
-                "depth_m": min(
-                    abs(item["displacement_m"] - before["displacement_m"]),
-                    abs(item["displacement_m"] - after["displacement_m"]),
-                ),
-                "from_deg": before["crank_angle_deg"],
-                "to_deg": after["crank_angle_deg"],
-            }
+    strokes = []
+    for i in range(n):
+        first, second = reversals[i], reversals[(i + 1) % n]
+        before = next(reversals[(i - k) % n] for k in range(n) if reversals[(i - k) % n]["main"])
+        after = next(
+            reversals[(i + 1 + k) % n] for k in range(n) if reversals[(i + 1 + k) % n]["main"]
         )
+        travel = second["displacement_m"] - first["displacement_m"]  # s grows downwards
+        if (before["kind"], after["kind"]) == ("tdc", "bdc"):
+            back = travel < 0
+        elif (before["kind"], after["kind"]) == ("bdc", "tdc"):
+            back = travel > 0
+        else:  # between two equal dead centres: the travel away from them
+            back = travel < 0 if before["kind"] == "bdc" else travel > 0
+        if back:
+            strokes.append(
+                {
+                    "from_deg": first["crank_angle_deg"],
+                    "to_deg": second["crank_angle_deg"],
+                    "depth_m": abs(travel),
+                    "direction": "rise" if travel < 0 else "fall",
+                }
+            )
     return strokes
 
 

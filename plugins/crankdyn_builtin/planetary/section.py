@@ -137,10 +137,9 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
             count=len(strokes),
             items="; ".join(
                 t(
-                    "planetary.secondary_" + s["kind"],
+                    "planetary.secondary_" + s["direction"],
                     start=ctx.angle_text(s["from_deg"]),
                     end=ctx.angle_text(s["to_deg"]),
-                    angle=ctx.angle_text(s["crank_angle_deg"]),
                     depth=_mm(ctx, s["depth_m"]),
                 )
                 for s in strokes
@@ -315,6 +314,24 @@ def _conclusions(r, ctx) -> list[str]:
     return out
 
 
+def _findings(r, ctx) -> None:
+    """The main results for the abstract."""
+    t = ctx.t
+    ctx.find(t("planetary.finding_stroke", stroke=t.fixed(r["stroke_m"] * 1e3, 3)))
+    if r["reversal_count"] > 2:
+        depths = [s["depth_m"] for s in secondary_strokes(r["reversals"])]
+        ctx.find(
+            t(
+                "planetary.finding_reversals",
+                count=r["reversal_count"],
+                secondary=_mm(ctx, max(depths)),
+            )
+        )
+    fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
+    ctx.find(t("planetary.finding_speed", v=t.fixed(fastest, 2)))
+    ctx.find(t("planetary.finding_acceleration", j=t.fixed(r["j_tdc_m_s2"], 0)))
+
+
 def render(output: StageOutput, ctx) -> str:
     """The section: the sampled table, the four figures (path, family, motion, arms) and the
     conclusions."""
@@ -333,6 +350,7 @@ def render(output: StageOutput, ctx) -> str:
 
     for sentence in _conclusions(r, ctx):
         ctx.conclude(sentence)
+    _findings(r, ctx)
     return ctx.render_template(
         "sections/planetary.html.j2",
         r=r,
