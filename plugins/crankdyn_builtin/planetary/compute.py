@@ -321,8 +321,14 @@ def _reversal_results(geometry, dc, revolutions: int) -> dict:
     return {
         "reversals": items,
         "reversal_count": len(items),
-        "bdc_crank_angles_deg": [i["crank_angle_deg"] for i in items if i["kind"] == "bdc" and i["main"]],
+        "bdc_crank_angles_deg": [
+            i["crank_angle_deg"] for i in items if i["kind"] == "bdc" and i["main"]
+        ],
         "piston_path_m": float(sum(travels)),
+        "conventional_path_m": 2.0 * dc.stroke_m,
+        "secondary_stroke_max_m": max(
+            (s["depth_m"] for s in secondary_strokes(items)), default=0.0
+        ),
     }
 
 
@@ -376,6 +382,8 @@ def _tdc_acceleration_results(geometry, dc, omega, R_eq, lam_eq) -> dict:
     return {
         "j_tdc_m_s2": j_tdc,
         "conventional_j_tdc_m_s2": conventional,
+        "j_tdc_excess": j_tdc / conventional - 1.0,
+        "conventional_crank_radius_m": R_eq,
         "conventional_rod_ratio": lam_eq,
     }
 

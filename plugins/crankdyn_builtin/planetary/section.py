@@ -145,7 +145,7 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
                 for s in strokes
             ),
             path=t.fixed(r["piston_path_m"] * 1e3, 2),
-            two_s=t.fixed(2 * r["stroke_m"] * 1e3, 2),
+            two_s=t.fixed(r["conventional_path_m"] * 1e3, 2),
         )
     )
     meaning = t("planetary.meaning", strokes=ctx.scene.engine.strokes)
@@ -244,14 +244,13 @@ def _conclusions(r, ctx) -> list[str]:
             **common,
         )
     else:
-        depths = [s["depth_m"] for s in secondary_strokes(r["reversals"])]
         first = t(
             "planetary.conclusion_stroke_reversals",
             count=r["reversal_count"],
             bdcs=_angles(ctx, r["bdc_crank_angles_deg"]),
-            secondary=_mm(ctx, max(depths)),
+            secondary=_mm(ctx, r["secondary_stroke_max_m"]),
             path=t.fixed(r["piston_path_m"] * mm, 2),
-            two_s=t.fixed(2 * r["stroke_m"] * mm, 2),
+            two_s=t.fixed(r["conventional_path_m"] * mm, 2),
             **common,
         )
     out = [first]
@@ -276,7 +275,7 @@ def _conclusions(r, ctx) -> list[str]:
                 **speed,
             )
         )
-    excess = r["j_tdc_m_s2"] / r["conventional_j_tdc_m_s2"] - 1.0
+    excess = r["j_tdc_excess"]
     out.append(
         t(
             "planetary.conclusion_tdc_acceleration",
@@ -286,7 +285,7 @@ def _conclusions(r, ctx) -> list[str]:
                 percent=t.fixed(abs(excess) * 100, 1),
             ),
             conventional=t.fixed(r["conventional_j_tdc_m_s2"], 0),
-            radius=t.number_g(r["stroke_m"] / 2 * mm, 5),
+            radius=t.number_g(r["conventional_crank_radius_m"] * mm, 5),
             lam=t.fixed(r["conventional_rod_ratio"], 4),
         )
     )
@@ -319,12 +318,11 @@ def _findings(r, ctx) -> None:
     t = ctx.t
     ctx.find(t("planetary.finding_stroke", stroke=t.fixed(r["stroke_m"] * 1e3, 3)))
     if r["reversal_count"] > 2:
-        depths = [s["depth_m"] for s in secondary_strokes(r["reversals"])]
         ctx.find(
             t(
                 "planetary.finding_reversals",
                 count=r["reversal_count"],
-                secondary=_mm(ctx, max(depths)),
+                secondary=_mm(ctx, r["secondary_stroke_max_m"]),
             )
         )
     fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
