@@ -294,9 +294,10 @@ def run(scene, inputs) -> StageOutput:
 
 
 def _reversal_results(geometry, dc, revolutions: int) -> dict:
-    """Every place the piston stops and reverses (:func:`crankdyn.physics.planetary.piston_reversals`)
-    as crank angles from TDC, with the displacement there and whether it is a global dead centre,
-    and the piston's path over the period (the sum of the travels between reversals)."""
+    """Every place the piston stops and reverses
+    (:func:`crankdyn.physics.planetary.piston_reversals`) as crank angles from TDC, with the
+    displacement there and whether it is a global dead centre, and the piston's path over the
+    period (the sum of the travels between reversals)."""
     period = 360.0 * revolutions
     tie = 1e-9 * dc.stroke_m
     items = []
@@ -308,7 +309,7 @@ def _reversal_results(geometry, dc, revolutions: int) -> dict:
         items.append(
             {
                 "crank_angle_deg": angle,
-                "displacement_m": max(displacement, 0.0) if abs(displacement) < tie else displacement,
+                "displacement_m": 0.0 if abs(displacement) < tie else displacement,
                 "kind": reversal.kind,
                 "main": abs(displacement - extreme) <= tie,
             }
@@ -365,7 +366,7 @@ def secondary_strokes(reversals: list[dict]) -> list[dict]:
 
 
 def _speed_results(dc, reversals: dict, rpm: float, revolutions: int) -> dict:
-    """The mean piston speed S·n/30 and, from the path over the period, the true mean speed (m/s)."""
+    """The mean piston speed S·n/30 and, from the path over the period, the true one (m/s)."""
     return {
         "mean_piston_speed_m_s": dc.stroke_m * rpm / 30.0,
         "mean_piston_speed_path_m_s": reversals["piston_path_m"] * rpm / 60.0 / revolutions,

@@ -27,7 +27,8 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 PLANETARY_MECHANISM = Mechanism(
     name=MECHANISM,
     summary="planetary crank mechanism: the carrier is the crank, the rod's big end is on a planet gear rolling "
-    "on a fixed sun gear (an epicycloid or epitrochoid) or inside a fixed ring gear (a hypocycloid or hypotrochoid)",
+    "on a fixed sun gear (an epicycloid or epitrochoid) or inside a fixed ring gear "
+    "(a hypocycloid or hypotrochoid)",
     check=check,
     params_model=PlanetaryParams,
     # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)

@@ -37,8 +37,8 @@ def _with_reversal_rows(f, reversals, rows, labels):
 
 
 def _sampled_table(f, r, span, ctx, reversals) -> str:
-    """The sampled table of the linkage's motion and force ratios, with a row at each reversal of the
-    piston and its worked substitutions."""
+    """The sampled table of the linkage's motion and force ratios, with a row at each reversal of
+    the piston, and its worked substitutions."""
     t = ctx.t
     mm = 1e3
     angle = f["crank_angle_deg"]
@@ -75,7 +75,7 @@ def _sampled_table(f, r, span, ctx, reversals) -> str:
 
 
 def _angles(ctx, angles) -> str:
-    """Crank angles as a list in the report's language: "136,4° і 223,6" (the last ° is the text's)."""
+    """Crank angles as a list in the report's language: "136,4 і 223,6" (the text adds the °)."""
     texts = [ctx.angle_text(float(a)) for a in angles]
     if len(texts) == 1:
         return texts[0]
@@ -129,7 +129,10 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
                 s=_mm(ctx, item["displacement_m"]),
             )
         )
-    paragraphs = [first, t("planetary.reversals", count=r["reversal_count"], items="; ".join(items))]
+    paragraphs = [
+        first,
+        t("planetary.reversals", count=r["reversal_count"], items="; ".join(items)),
+    ]
     strokes = secondary_strokes(r["reversals"])
     paragraphs.append(
         t(
@@ -373,8 +376,18 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     rows = [(t("planetary.input_gear"), "", t("planetary.input_gear_" + params.gear), "")]
     if params.module is not None:
         rows += [
-            (t("planetary.input_fixed_teeth"), "<i>z</i><sub>f</sub>", str(params.fixed_gear_teeth), ""),
-            (t("planetary.input_planet_teeth"), "<i>z</i><sub>p</sub>", str(params.planet_teeth), ""),
+            (
+                t("planetary.input_fixed_teeth"),
+                "<i>z</i><sub>f</sub>",
+                str(params.fixed_gear_teeth),
+                "",
+            ),
+            (
+                t("planetary.input_planet_teeth"),
+                "<i>z</i><sub>p</sub>",
+                str(params.planet_teeth),
+                "",
+            ),
             (t("planetary.input_module"), "<i>m</i>", num(params.module * 1e3, 6), mm),
         ]
     else:
