@@ -158,7 +158,7 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
             "planetary.meaning_dwell",
             start=ctx.angle_text(dwell[0]),
             end=ctx.angle_text(dwell[1]),
-            span=t.number_g(dwell[1] - dwell[0], 4),
+            span=ctx.angle_text(dwell[1] - dwell[0]),
             depth=_mm(ctx, dwell[2]),
         )
     paragraphs.append(meaning)
