@@ -301,3 +301,33 @@ def test_sun_gear_example_path_and_secondary_strokes_from_the_closed_form():
     total = 2 * r["stroke_m"] + 2 * sum(s["depth_m"] for s in strokes)
     assert total == pytest.approx(path, abs=1e-9)
     assert [s["direction"] for s in strokes] == ["rise", "rise", "fall"]
+
+
+def test_the_positions_figure_shows_every_dead_centre(ring_run):
+    """Both BDCs and the secondary TDC at 180 deg are drawn among the characteristic positions."""
+    drawn = ring_run.outputs["drawing"].results["crank_angles_deg"]
+    expected = _grid_extrema()
+    assert drawn["bdc"] == pytest.approx(expected[1][0], abs=1e-3)
+    assert drawn["bdc_2"] == pytest.approx(expected[3][0], abs=2e-4)
+    assert drawn["secondary_tdc_1"] == pytest.approx(180.0, abs=1e-9)
+    figures = render_html(ring_run, REGISTRY, "uk").figures
+    svg = "".join(f.svg.decode("utf-8") for f in figures if "positions" in f.name)
+    assert "вторинна ВМТ" in svg and "α = 136,4°" in svg and "α = 223,6°" in svg
+
+
+def test_shallow_secondary_strokes_are_described_but_not_drawn():
+    from crankdyn_builtin.planetary.compute import extra_dead_centres
+
+    reversals = [
+        {"crank_angle_deg": 0.0, "displacement_m": 0.0, "kind": "tdc", "main": True},
+        {"crank_angle_deg": 50.0, "displacement_m": 0.030, "kind": "bdc", "main": False},
+        {"crank_angle_deg": 60.0, "displacement_m": 0.0299, "kind": "tdc", "main": False},
+        {"crank_angle_deg": 140.0, "displacement_m": 0.080, "kind": "bdc", "main": False},
+        {"crank_angle_deg": 170.0, "displacement_m": 0.070, "kind": "tdc", "main": False},
+        {"crank_angle_deg": 220.0, "displacement_m": 0.100, "kind": "bdc", "main": True},
+    ]
+    # 0.1 mm back (0.1 % of S) is not drawn, 10 mm back (10 %) is
+    assert extra_dead_centres(reversals, 0.100) == {
+        "secondary_bdc_1": 140.0,
+        "secondary_tdc_1": 170.0,
+    }

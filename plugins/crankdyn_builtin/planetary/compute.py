@@ -275,6 +275,7 @@ def run(scene, inputs) -> StageOutput:
         **_straight_line_deviation(params, geometry, x, z),
     }
     motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions)
+    motion.extra["dead_centres_extra_deg"] = extra_dead_centres(reversals["reversals"], dc.stroke_m)
     if scene.masses is not None:
         results.update(_piston_inertia(scene, j, angle_deg, table))
         reversal_table["inertia_force_N"] = -results["reciprocating_mass_kg"] * np.asarray(
@@ -363,6 +364,33 @@ def secondary_strokes(reversals: list[dict]) -> list[dict]:
                 }
             )
     return strokes
+
+
+#: A secondary stroke shallower than this share of the stroke is described, not drawn.
+DRAWN_SECONDARY_STROKE = 0.01
+
+
+def extra_dead_centres(reversals: list[dict], stroke_m: float) -> dict[str, float]:
+    """Crank angles (deg) of the dead centres the drawing shows besides the first TDC and BDC:
+    a repeated one (``bdc_2`` ...) and a secondary one at the end of a secondary stroke at least
+    :data:`DRAWN_SECONDARY_STROKE` of the stroke deep (``secondary_tdc_1`` ...)."""
+    deep = set()
+    for stroke in secondary_strokes(reversals):
+        if stroke["depth_m"] >= DRAWN_SECONDARY_STROKE * stroke_m:
+            deep.update((stroke["from_deg"], stroke["to_deg"]))
+    found: dict[str, float] = {}
+    seen = {"tdc": 0, "bdc": 0}
+    secondary = {"tdc": 0, "bdc": 0}
+    for item in reversals:
+        kind, angle = item["kind"], item["crank_angle_deg"]
+        if item["main"]:
+            seen[kind] += 1
+            if seen[kind] > 1:
+                found[f"{kind}_{seen[kind]}"] = angle
+        elif angle in deep:
+            secondary[kind] += 1
+            found[f"secondary_{kind}_{secondary[kind]}"] = angle
+    return found
 
 
 def _speed_results(dc, reversals: dict, rpm: float, revolutions: int) -> dict:
