@@ -331,3 +331,10 @@ def test_shallow_secondary_strokes_are_described_but_not_drawn():
         "secondary_bdc_1": 140.0,
         "secondary_tdc_1": 170.0,
     }
+
+
+def test_the_task_gives_no_rod_ratio_for_a_carrier(ring_run):
+    """The assignment's data list λ = R/L only for a mechanism with a crank radius."""
+    html = render_html(ring_run, REGISTRY, "uk").html
+    assignment = _plain(html.split('class="assignment"', 1)[1].split("</section>", 1)[0])
+    assert "D = 76 мм, S = 62,303 мм, n = 2400" in assignment and "λ" not in assignment
