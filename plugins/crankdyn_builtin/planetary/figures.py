@@ -189,11 +189,14 @@ def _motion_plot(f, angle, inside, span, reversals, t):
         axes[0].annotate(
             t.number_g(round(item["crank_angle_deg"], 1), 4) + "°",
             (item["crank_angle_deg"], item["displacement_m"] * mm),
-            xytext=(0, -12 if item["kind"] == "bdc" else 5),
+            # s grows towards BDC: a BDC is a peak of the curve, a TDC a dip
+            xytext=(0, 5 if item["kind"] == "bdc" else -12),
             textcoords="offset points",
             ha="center",
             fontsize=7,
         )
+    low, high = axes[0].get_ylim()
+    axes[0].set_ylim(low, high + 0.12 * (high - low))  # room for the labels above the BDCs
     axes[0].legend(loc="lower center", fontsize=8)
     crank_angle_axis(axes[2], span, t("planetary.axis_carrier_angle"))
     return fig
