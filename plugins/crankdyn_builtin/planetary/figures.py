@@ -92,20 +92,7 @@ def _path_plot(f, r, inside, t):
         ax.plot([0, foot[0]], [0, foot[1]], color="k", lw=1.0, label="MN")
     ax.plot([0], [0], "k+", ms=8)
     ax.plot([pitch[0]], [pitch[1]], "ko", ms=3)
-    for point, text, offset in (
-        ((0.0, 0.0), "O", (4, -10)),
-        (centre, "C", (4, -4)),
-        (pin, "B", (4, -4)),
-        (pitch, "K", (-10, 3)),
-    ):
-        ax.annotate(
-            text,
-            point,
-            xytext=offset,
-            textcoords="offset points",
-            fontsize=9,
-            fontstyle="italic",
-        )
+    _point_letters(ax, centre, pin, pitch)
     ax.axvline(0, color="0.3", lw=0.5)
     ax.set_xlim(-extent, extent)
     ax.set_ylim(-extent, top)
@@ -114,6 +101,19 @@ def _path_plot(f, r, inside, t):
     ax.set_ylabel(t("planetary.axis_z"))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     return fig
+
+
+def _point_letters(ax, centre, pin, pitch) -> None:
+    """The letters of the shaft axis O, the planet centre C, its pin B and the pitch point K."""
+    for point, text, offset in (
+        ((0.0, 0.0), "O", (4, -10)),
+        (centre, "C", (4, -4)),
+        (pin, "B", (4, -4)),
+        (pitch, "K", (-10, 3)),
+    ):
+        ax.annotate(
+            text, point, xytext=offset, textcoords="offset points", fontsize=9, fontstyle="italic"
+        )
 
 
 def _family_figure(family, r, ctx) -> str:

@@ -226,37 +226,39 @@ def _speed_sentence(r, ctx) -> str:
     )
 
 
-def _conclusions(r, ctx) -> list[str]:
-    """The section's conclusions, from its numbers."""
+def _conclusion_stroke(r, ctx) -> str:
+    """The stroke, where the piston reverses and, with more reversals, its path."""
     t = ctx.t
     mm = 1e3
-    # the curve's name alone: its synonym in brackets would nest brackets in the sentence
-    curve = t("planetary.curve_" + r["curve"]).split(" (")[0]
     common = {
         "gear": t("planetary.gear_" + r["gear"]),
         "ratio": t.number_g(r["gear_ratio"], 5),
         "e": t.number_g(r["pin_radius_m"] * mm, 6),
-        "curve": curve,
+        # the curve's name alone: its synonym in brackets would nest brackets in the sentence
+        "curve": t("planetary.curve_" + r["curve"]).split(" (")[0],
         "stroke": t.fixed(r["stroke_m"] * mm, 3),
     }
     if r["reversal_count"] <= 2:
-        first = t(
+        return t(
             "planetary.conclusion_stroke",
             tdc=ctx.angle_text(0.0),
             bdc=ctx.angle_text(r["bdc_crank_angles_deg"][0]),
             **common,
         )
-    else:
-        first = t(
-            "planetary.conclusion_stroke_reversals",
-            count=r["reversal_count"],
-            bdcs=_angles(ctx, r["bdc_crank_angles_deg"]),
-            secondary=_mm(ctx, r["secondary_stroke_max_m"]),
-            path=t.fixed(r["piston_path_m"] * mm, 2),
-            two_s=t.fixed(r["conventional_path_m"] * mm, 2),
-            **common,
-        )
-    out = [first]
+    return t(
+        "planetary.conclusion_stroke_reversals",
+        count=r["reversal_count"],
+        bdcs=_angles(ctx, r["bdc_crank_angles_deg"]),
+        secondary=_mm(ctx, r["secondary_stroke_max_m"]),
+        path=t.fixed(r["piston_path_m"] * mm, 2),
+        two_s=t.fixed(r["conventional_path_m"] * mm, 2),
+        **common,
+    )
+
+
+def _conclusion_speed(r, ctx) -> str:
+    """|v|max where it is reached, and the mean speeds."""
+    t = ctx.t
     fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
     at = [
         r[k + "_crank_angle_deg"]
@@ -269,36 +271,45 @@ def _conclusions(r, ctx) -> list[str]:
         "mean": t.fixed(r["mean_piston_speed_m_s"], 2),
     }
     if r["reversal_count"] <= 2:
-        out.append(t("planetary.conclusion_speed", **speed))
-    else:
-        out.append(
-            t(
-                "planetary.conclusion_speed_path",
-                path_mean=t.fixed(r["mean_piston_speed_path_m_s"], 2),
-                **speed,
-            )
-        )
-    excess = r["j_tdc_excess"]
-    out.append(
-        t(
-            "planetary.conclusion_tdc_acceleration",
-            j=t.fixed(r["j_tdc_m_s2"], 0),
-            compare=t(
-                "planetary.compare_" + ("more" if excess >= 0 else "less"),
-                percent=t.fixed(abs(excess) * 100, 1),
-            ),
-            conventional=t.fixed(r["conventional_j_tdc_m_s2"], 0),
-            radius=t.number_g(r["conventional_crank_radius_m"] * mm, 5),
-            lam=t.fixed(r["conventional_rod_ratio"], 4),
-        )
+        return t("planetary.conclusion_speed", **speed)
+    return t(
+        "planetary.conclusion_speed_path",
+        path_mean=t.fixed(r["mean_piston_speed_path_m_s"], 2),
+        **speed,
     )
-    out.append(
+
+
+def _conclusion_acceleration(r, ctx) -> str:
+    """The acceleration at TDC against the central crank-slider's R ω² (1 + λ)."""
+    t = ctx.t
+    excess = r["j_tdc_excess"]
+    return t(
+        "planetary.conclusion_tdc_acceleration",
+        j=t.fixed(r["j_tdc_m_s2"], 0),
+        compare=t(
+            "planetary.compare_" + ("more" if excess >= 0 else "less"),
+            percent=t.fixed(abs(excess) * 100, 1),
+        ),
+        conventional=t.fixed(r["conventional_j_tdc_m_s2"], 0),
+        radius=t.number_g(r["conventional_crank_radius_m"] * 1e3, 5),
+        lam=t.fixed(r["conventional_rod_ratio"], 4),
+    )
+
+
+def _conclusions(r, ctx) -> list[str]:
+    """The section's conclusions, from its numbers."""
+    t = ctx.t
+    mm = 1e3
+    out = [
+        _conclusion_stroke(r, ctx),
+        _conclusion_speed(r, ctx),
+        _conclusion_acceleration(r, ctx),
         t(
             "planetary.conclusion_rod",
             beta=t.number_g(r["rod_angle_max_deg"], 4),
             reach=t.fixed(r["path_lateral_max_m"] * mm, 2),
-        )
-    )
+        ),
+    ]
     if r["tooth_force_sign_changes_deg"]:
         out.append(
             t("planetary.conclusion_flanks", count=len(r["tooth_force_sign_changes_deg"]))
