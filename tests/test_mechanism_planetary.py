@@ -139,7 +139,7 @@ def test_source_family_is_drawn_in_the_report():
         "rod_torque",
     ):
         assert any(n.endswith(f"_{figure}.svg") for n in names), figure
-    assert "Епіциклоїди для передатних відношень d₂/d₁ = 3, 2 і 1,5" in rendered.html
+    assert "Епіциклоїди для передатних відношень d_f/d_p = 3, 2 і 1,5" in rendered.html
 
 
 # ----------------------------------------------------------------------------- derivatives and statics

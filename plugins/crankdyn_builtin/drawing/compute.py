@@ -159,6 +159,10 @@ def run(scene, inputs) -> StageOutput:
     geometry_of = mechanism_geometry(scene, inputs)
     angle, s, v, j, travel_at = _motion(scene, inputs)
     angles = characteristic_angles(angle, s, v, j, travel_at)
+    # dead centres a mechanism reaches more than twice a turn (a planetary one), after the six
+    motion = inputs.get(KINEMATICS)
+    extra = motion.extra.get("dead_centres_extra_deg", {}) if motion is not None else {}
+    angles.update({k: float(a) for k, a in extra.items()})
     period = _period_deg(angle, s)
     step = angle[1] - angle[0]
     every = (
@@ -169,13 +173,13 @@ def run(scene, inputs) -> StageOutput:
     frames_deg = np.arange(0.0, period - 1e-9, step * every)
     # the characteristic positions, then the scheme's
     scheme_angle = scheme_angle_deg(geometry_of(scene, np.zeros(1)))
-    at = np.radians([angles[k] for k in POSITIONS] + [scheme_angle])
+    at = np.radians(list(angles.values()) + [scheme_angle])
     positions = geometry_of(scene, at)
     animation = geometry_of(scene, np.radians(frames_deg))
     grid = np.rint(np.interp(frames_deg, angle, np.arange(len(angle)))).astype(int)
     curves = {"v": np.asarray(v)[grid], "j": np.asarray(j)[grid]}
     results = {
-        "crank_angles_deg": {k: angles[k] for k in POSITIONS},
+        "crank_angles_deg": dict(angles),
         "animation_frames": int(len(frames_deg)),
         "animation_step_deg": float(step * every),
         "motion_period_deg": period,

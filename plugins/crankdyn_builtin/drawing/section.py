@@ -3,6 +3,8 @@ mechanism's motion, drawn by :mod:`crankdyn.report.mechanism_drawing`."""
 
 from __future__ import annotations
 
+import re
+
 from dataclasses import replace
 from functools import partial
 
@@ -36,11 +38,13 @@ def _labels(geometry, ctx) -> dict[str, str]:
 
 
 def position_frames(angles: dict[str, float], caption) -> list[tuple[int, str]]:
-    """The positions figure's panels (index into :data:`POSITIONS`, caption) in the order the crank
-    reaches them (a supervisor: j_min at 158,2° came after v_min at 284,6°), those at one angle
-    merged (:func:`_merged_frames`); ``caption(key)`` writes a panel's caption."""
-    order = sorted(range(len(POSITIONS)), key=lambda i: angles[POSITIONS[i]] % 360.0)
-    return _merged_frames([(i, caption(POSITIONS[i]), angles[POSITIONS[i]]) for i in order])
+    """The positions figure's panels (index into ``angles``' keys, :data:`POSITIONS` and any
+    further dead centres after them, caption) in the order the crank reaches them (a supervisor:
+    j_min at 158,2° came after v_min at 284,6°), those at one angle merged
+    (:func:`_merged_frames`); ``caption(key)`` writes a panel's caption."""
+    keys = list(angles)
+    order = sorted(range(len(keys)), key=lambda i: angles[keys[i]] % 360.0)
+    return _merged_frames([(i, caption(keys[i]), angles[keys[i]]) for i in order])
 
 
 def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]]:
@@ -87,7 +91,7 @@ def render(output: StageOutput, ctx) -> str:
     }
     fig, scale = md.scheme_figure(
         positions,
-        len(POSITIONS),
+        len(output.results["crank_angles_deg"]),
         _labels(positions, ctx),
         t("drawing.crank_star"),
         t("drawing.firing_order", order=order) if order else "",
@@ -103,7 +107,9 @@ def render(output: StageOutput, ctx) -> str:
     )
     # none for a whole degree, the step's resolution otherwise: "0°", "75,4°", "180°", "284,6°"
     frames = position_frames(
-        angles, lambda k: t("drawing.position_" + k, angle=ctx.angle_text(angles[k]))
+        angles,
+        # a repeated or secondary dead centre (bdc_2, secondary_tdc_1) is named as its kind
+        lambda k: t("drawing.position_" + re.sub(r"_\d+$", "", k), angle=ctx.angle_text(angles[k])),
     )
     figure_positions = _positions_figures(ctx, positions, frames)
     svg, payload = md.animation_svg(animation)

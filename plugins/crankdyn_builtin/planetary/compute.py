@@ -211,6 +211,33 @@ def tdc_snapshot_m(geometry, dc) -> dict:
     return snapshot
 
 
+def _table_at(angle_deg, geometry, params, dc, omega, R_eq, lam_eq) -> dict:
+    """The stage's table columns at the crank angles ``angle_deg`` (the grid, or any angles)."""
+    angle_deg = np.asarray(angle_deg, dtype=float)
+    alpha = np.radians(angle_deg)
+    phi = alpha + dc.tdc_carrier_angle_rad
+    x, z, *_ = pl.big_end_path(phi, geometry)
+    slider = pl.slider_motion(phi, geometry)
+    transmission = pl.force_transmission(phi, geometry, math.radians(params.pressure_angle_deg))
+    return _kinematics_table(
+        angle_deg,
+        phi,
+        x,
+        z,
+        dc.tdc_height_m - slider.pin_z_m,
+        -omega * slider.pin_z_d1_m,
+        -omega * omega * slider.pin_z_d2_m,
+        slider.rod_angle_rad,
+        omega,
+        slider,
+        transmission,
+        central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, 1.0),
+        alpha,
+        R_eq,
+        lam_eq,
+    )
+
+
 def run(scene, inputs) -> StageOutput:
     engine = scene.engine
     params, geometry = geometry_of(scene)
@@ -222,54 +249,188 @@ def run(scene, inputs) -> StageOutput:
     phi = alpha + dc.tdc_carrier_angle_rad
     x, z, *_ = pl.big_end_path(phi, geometry)
     slider = pl.slider_motion(phi, geometry)
-    s = dc.tdc_height_m - slider.pin_z_m
-    v = -omega * slider.pin_z_d1_m
-    j = -omega * omega * slider.pin_z_d2_m
-    beta = slider.rod_angle_rad
-    transmission = pl.force_transmission(phi, geometry, math.radians(params.pressure_angle_deg))
     # A conventional central crank-slider with the same stroke and rod, for comparison (source, fig. 3a).
     R_eq = 0.5 * dc.stroke_m
     lam_eq = R_eq / geometry.rod_length_m
-    conventional_arm = central.piston_velocity_exact_m_s(alpha, R_eq, lam_eq, 1.0)
+    table = _table_at(angle_deg, geometry, params, dc, omega, R_eq, lam_eq)
+    s = table["piston_displacement_m"]
+    v = table["piston_velocity_m_s"]
+    j = table["piston_acceleration_m_s2"]
+    beta = slider.rod_angle_rad
+    transmission = pl.force_transmission(phi, geometry, math.radians(params.pressure_angle_deg))
+    conventional_arm = table["conventional_torque_arm_m"]
     extremes = piston_extremes(alpha, v, j, omega, geometry, dc, revolutions)
+    reversals = _reversal_results(geometry, dc, revolutions)
+    reversal_angles = [item["crank_angle_deg"] for item in reversals["reversals"]]
+    reversal_table = _table_at(reversal_angles, geometry, params, dc, omega, R_eq, lam_eq)
     results = {
         **_gear_results(params, geometry),
         **_mechanism_results(params, geometry, dc, revolutions, omega),
+        **reversals,
         **_motion_extreme_results(beta, extremes),
+        **_speed_results(dc, reversals, engine.rpm, revolutions),
+        **_tdc_acceleration_results(geometry, dc, omega, R_eq, lam_eq),
         **_torque_arm_results(params, geometry, dc, transmission, conventional_arm),
+        **_tooth_flank_results(params, geometry, dc, revolutions),
         **_straight_line_deviation(params, geometry, x, z),
     }
-    table = _kinematics_table(
-        angle_deg,
-        phi,
-        x,
-        z,
-        s,
-        v,
-        j,
-        beta,
-        omega,
-        slider,
-        transmission,
-        conventional_arm,
-        alpha,
-        R_eq,
-        lam_eq,
-    )
     motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions)
+    motion.extra["dead_centres_extra_deg"] = extra_dead_centres(reversals["reversals"], dc.stroke_m)
     if scene.masses is not None:
         results.update(_piston_inertia(scene, j, angle_deg, table))
+        reversal_table["inertia_force_N"] = -results["reciprocating_mass_kg"] * np.asarray(
+            reversal_table["piston_acceleration_m_s2"]
+        )
     notes = [
         ("planetary.note_derived", {}),
         ("planetary.note_torque_arm", {"arm_mm": results["torque_arm_tdc_m"] * 1e3}),
-        ("planetary.note_family", {}),
+        ("planetary.note_family_" + params.gear, {}),
     ]
     return StageOutput(
         data={KINEMATICS: motion},
         results=results,
-        tables={"planetary": table, "family": _family(geometry)},
+        tables={"planetary": table, "family": _family(geometry), "reversals": reversal_table},
         notes=notes,
     )
+
+
+def _reversal_results(geometry, dc, revolutions: int) -> dict:
+    """Every place the piston stops and reverses
+    (:func:`crankdyn.physics.planetary.piston_reversals`) as crank angles from TDC, with the
+    displacement there and whether it is a global dead centre, and the piston's path over the
+    period (the sum of the travels between reversals)."""
+    period = 360.0 * revolutions
+    tie = 1e-9 * dc.stroke_m
+    items = []
+    for reversal in pl.piston_reversals(geometry, revolutions):
+        angle = math.degrees(reversal.carrier_angle_rad - dc.tdc_carrier_angle_rad) % period
+        angle = 0.0 if min(angle, period - angle) < 1e-7 else angle
+        displacement = dc.tdc_height_m - reversal.height_m
+        extreme = dc.stroke_m if reversal.kind == "bdc" else 0.0
+        items.append(
+            {
+                "crank_angle_deg": angle,
+                "displacement_m": 0.0 if abs(displacement) < tie else displacement,
+                "kind": reversal.kind,
+                "main": abs(displacement - extreme) <= tie,
+            }
+        )
+    items.sort(key=lambda item: item["crank_angle_deg"])
+    travels = [
+        abs(items[(i + 1) % len(items)]["displacement_m"] - items[i]["displacement_m"])
+        for i in range(len(items))
+    ]
+    return {
+        "reversals": items,
+        "reversal_count": len(items),
+        "bdc_crank_angles_deg": [
+            i["crank_angle_deg"] for i in items if i["kind"] == "bdc" and i["main"]
+        ],
+        "piston_path_m": float(sum(travels)),
+        "conventional_path_m": 2.0 * dc.stroke_m,
+        "secondary_stroke_max_m": max(
+            (s["depth_m"] for s in secondary_strokes(items)), default=0.0
+        ),
+    }
+
+
+def secondary_strokes(reversals: list[dict]) -> list[dict]:
+    """The strokes besides the main one: each travel between two reversals against the direction
+    of the half-stroke it lies in (back up on the way down to BDC, back down on the way up, away
+    from a dead centre reached twice), with its depth (m), its crank angles (deg) and whether the
+    piston rises or falls in it. A conventional mechanism has none."""
+    n = len(reversals)
+    strokes = []
+    for i in range(n):
+        first, second = reversals[i], reversals[(i + 1) % n]
+        before = next(reversals[(i - k) % n] for k in range(n) if reversals[(i - k) % n]["main"])
+        after = next(
+            reversals[(i + 1 + k) % n] for k in range(n) if reversals[(i + 1 + k) % n]["main"]
+        )
+        travel = second["displacement_m"] - first["displacement_m"]  # s grows downwards
+        if (before["kind"], after["kind"]) == ("tdc", "bdc"):
+            back = travel < 0
+        elif (before["kind"], after["kind"]) == ("bdc", "tdc"):
+            back = travel > 0
+        else:  # between two equal dead centres: the travel away from them
+            back = travel < 0 if before["kind"] == "bdc" else travel > 0
+        if back:
+            strokes.append(
+                {
+                    "from_deg": first["crank_angle_deg"],
+                    "to_deg": second["crank_angle_deg"],
+                    "depth_m": abs(travel),
+                    "direction": "rise" if travel < 0 else "fall",
+                }
+            )
+    return strokes
+
+
+#: A secondary stroke shallower than this share of the stroke is described, not drawn.
+DRAWN_SECONDARY_STROKE = 0.01
+
+
+def extra_dead_centres(reversals: list[dict], stroke_m: float) -> dict[str, float]:
+    """Crank angles (deg) of the dead centres the drawing shows besides the first TDC and BDC:
+    a repeated one (``bdc_2`` ...) and a secondary one at the end of a secondary stroke at least
+    :data:`DRAWN_SECONDARY_STROKE` of the stroke deep (``secondary_tdc_1`` ...)."""
+    deep = set()
+    for stroke in secondary_strokes(reversals):
+        if stroke["depth_m"] >= DRAWN_SECONDARY_STROKE * stroke_m:
+            deep.update((stroke["from_deg"], stroke["to_deg"]))
+    found: dict[str, float] = {}
+    seen = {"tdc": 0, "bdc": 0}
+    secondary = {"tdc": 0, "bdc": 0}
+    for item in reversals:
+        kind, angle = item["kind"], item["crank_angle_deg"]
+        if item["main"]:
+            seen[kind] += 1
+            if seen[kind] > 1:
+                found[f"{kind}_{seen[kind]}"] = angle
+        elif angle in deep:
+            secondary[kind] += 1
+            found[f"secondary_{kind}_{secondary[kind]}"] = angle
+    return found
+
+
+def _speed_results(dc, reversals: dict, rpm: float, revolutions: int) -> dict:
+    """The mean piston speed S·n/30 and, from the path over the period, the true one (m/s)."""
+    return {
+        "mean_piston_speed_m_s": dc.stroke_m * rpm / 30.0,
+        "mean_piston_speed_path_m_s": reversals["piston_path_m"] * rpm / 60.0 / revolutions,
+    }
+
+
+def _tdc_acceleration_results(geometry, dc, omega, R_eq, lam_eq) -> dict:
+    """The piston's acceleration at TDC against the central crank-slider's with the same stroke and
+    rod, R ω² (1 + λ) with R = S/2, λ = R/L."""
+    j_tdc = float(
+        -omega * omega * pl.slider_motion(dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m
+    )
+    conventional = R_eq * omega * omega * (1.0 + lam_eq)
+    return {
+        "j_tdc_m_s2": j_tdc,
+        "conventional_j_tdc_m_s2": conventional,
+        "j_tdc_excess": j_tdc / conventional - 1.0,
+        "conventional_crank_radius_m": R_eq,
+        "conventional_rod_ratio": lam_eq,
+    }
+
+
+def _tooth_flank_results(params, geometry, dc, revolutions: int) -> dict:
+    """The crank angles (deg) where the tangential tooth force changes sign: the planet's teeth
+    then bear on their other flanks and the backlash closes with an impact."""
+    period = 2.0 * math.pi * revolutions
+    pressure = math.radians(params.pressure_angle_deg)
+
+    def tooth(p):
+        return pl.force_transmission(p, geometry, pressure).tooth_tangential
+
+    angles = [
+        math.degrees(root - dc.tdc_carrier_angle_rad) % (360.0 * revolutions)
+        for root in pl.sign_changes(tooth, period, 4096 * revolutions)
+    ]
+    return {"tooth_force_sign_changes_deg": sorted(angles)}
 
 
 def _gear_results(params, geometry) -> dict:
@@ -306,8 +467,19 @@ def _mechanism_results(params, geometry, dc, revolutions: int, omega: float) -> 
         "bdc_crank_angle_deg": math.degrees(dc.bdc_carrier_angle_rad - dc.tdc_carrier_angle_rad)
         % (360.0 * revolutions),
         "stroke_m": dc.stroke_m,
+        "curve": curve_name(geometry),
         "path_lateral_max_m": pl.lateral_reach_m(geometry, revolutions),
     }
+
+
+def curve_name(geometry) -> str:
+    """The big end's path: a hypocycloid (ring gear) or an epicycloid (sun gear) with the pin on the
+    planet's pitch circle; a curtate (pin inside it) or prolate (outside) hypo- or epitrochoid."""
+    family = "hypo" if geometry.gear == "internal" else "epi"
+    e, r_p = geometry.pin_radius_m, geometry.planet_pitch_radius_m
+    if abs(e - r_p) <= 1e-12 * r_p:
+        return family + "cycloid"
+    return family + ("trochoid_curtate" if e < r_p else "trochoid_prolate")
 
 
 def _motion_extreme_results(beta, extremes: dict) -> dict:

@@ -67,11 +67,18 @@ def _path_plot(f, r, inside, t):
     pin, piston, pitch, foot = (
         np.array(snap[k]) * mm for k in ("pin", "piston_pin", "pitch_point", "arm_foot")
     )
-    extent = (r["carrier_radius_m"] + r["pin_radius_m"]) * mm * 1.15
+    # the frame holds the ring's or sun's pitch circle, the planet and the path with a margin
+    reach = max(
+        r["fixed_pitch_diameter_m"] / 2,
+        r["carrier_radius_m"] + r["planet_pitch_diameter_m"] / 2,
+        r["carrier_radius_m"] + r["pin_radius_m"],
+    )
+    extent = reach * mm * 1.12
+    top = extent + 0.3 * r["rod_length_m"] * mm  # room for a part of the rod above the path
     ax.plot([0, centre[0]], [0, centre[1]], color="C2", lw=2)
     ax.plot([centre[0], pin[0]], [centre[1], pin[1]], color="C2", lw=1.2)
-    # The rod towards the piston pin (clipped by the axes), its line extended through the pitch point,
-    # and the source's arm MN from the shaft axis to that line.
+    # The rod towards the piston pin (cut at the frame's top), and its line of action down to the
+    # foot N of the perpendicular from the shaft axis, the source's arm MN when it is not zero.
     ax.plot(
         [pin[0], piston[0]],
         [pin[1], piston[1]],
@@ -79,24 +86,34 @@ def _path_plot(f, r, inside, t):
         lw=1.6,
         label=t("planetary.rod_at_tdc"),
     )
-    ax.plot(
-        [pin[0], 2 * pin[0] - piston[0]],
-        [pin[1], 2 * pin[1] - piston[1]],
-        color="C3",
-        lw=0.7,
-        ls="--",
-    )
-    ax.plot([0, foot[0]], [0, foot[1]], color="k", lw=1.0, label="MN")
+    ax.plot([pin[0], foot[0]], [pin[1], foot[1]], color="C3", lw=0.7, ls="--")
+    arm = float(np.hypot(*foot))
+    if arm > 1e-6 * r["stroke_m"] * mm:
+        ax.plot([0, foot[0]], [0, foot[1]], color="k", lw=1.0, label="MN")
     ax.plot([0], [0], "k+", ms=8)
     ax.plot([pitch[0]], [pitch[1]], "ko", ms=3)
+    _point_letters(ax, centre, pin, pitch)
     ax.axvline(0, color="0.3", lw=0.5)
     ax.set_xlim(-extent, extent)
-    ax.set_ylim(-extent, extent)
+    ax.set_ylim(-extent, top)
     ax.set_aspect("equal")
     ax.set_xlabel(t("planetary.axis_x"))
     ax.set_ylabel(t("planetary.axis_z"))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     return fig
+
+
+def _point_letters(ax, centre, pin, pitch) -> None:
+    """The letters of the shaft axis O, the planet centre C, its pin B and the pitch point K."""
+    for point, text, offset in (
+        ((0.0, 0.0), "O", (4, -10)),
+        (centre, "C", (4, -4)),
+        (pin, "B", (4, -4)),
+        (pitch, "K", (-10, 3)),
+    ):
+        ax.annotate(
+            text, point, xytext=offset, textcoords="offset points", fontsize=9, fontstyle="italic"
+        )
 
 
 def _family_figure(family, r, ctx) -> str:
@@ -120,23 +137,26 @@ def _family_plot(family, fixed_pitch_diameter_m, t):
             family[f"ratio_{ratio:g}_x_m"] * mm, family[f"ratio_{ratio:g}_z_m"] * mm, color="C0"
         )
         ax.set_aspect("equal")
-        ax.set_title(f"d₁ = {d_fixed / ratio:.4g}, d₂ = {d_fixed:.4g} " + t("unit.mm"), fontsize=8)
+        ax.set_title(
+            f"d_p = {d_fixed / ratio:.4g}, d_f = {d_fixed:.4g} " + t("unit.mm"), fontsize=8
+        )
         ax.tick_params(labelsize=7)
     return fig
 
 
-def _motion_figure(f, angle, inside, span, ctx) -> str:
+def _motion_figure(f, angle, inside, span, r, ctx) -> str:
     """Piston displacement, velocity and acceleration against the equivalent crank-slider's (source, fig. 3a)."""
     return ctx.figure(
-        functools.partial(_motion_plot, f, angle, inside, span, ctx.t),
+        functools.partial(_motion_plot, f, angle, inside, span, r["reversals"], ctx.t),
         ctx.t("planetary.motion_caption"),
         "planetary_motion",
         see="planetary.see_motion",
     )
 
 
-def _motion_plot(f, angle, inside, span, t):
-    """The piston's s, v, j over the period, the equivalent crank-slider's dashed beside them."""
+def _motion_plot(f, angle, inside, span, reversals, t):
+    """The piston's s, v, j over the period, the equivalent crank-slider's dashed beside them; the
+    piston's reversals marked on its displacement."""
     mm = 1e3
     fig, axes = new_figure(16, 16, nrows=3, sharex=True)
     for ax, key, unit, scale, label in (
@@ -157,8 +177,28 @@ def _motion_plot(f, angle, inside, span, t):
         )
         ax.axhline(0, color="0.3", lw=0.6)
         ax.set_ylabel(t(label))
-    axes[0].legend(loc="upper right", fontsize=8)
-    crank_angle_axis(axes[2], span, t("axis.crank_angle"))
+    for item in reversals:
+        axes[0].plot(
+            [item["crank_angle_deg"]],
+            [item["displacement_m"] * mm],
+            "o",
+            color="C3" if item["main"] else "C1",
+            ms=4,
+            zorder=5,
+        )
+        axes[0].annotate(
+            t.number_g(round(item["crank_angle_deg"], 1), 4) + "°",
+            (item["crank_angle_deg"], item["displacement_m"] * mm),
+            # s grows towards BDC: a BDC is a peak of the curve, a TDC a dip
+            xytext=(0, 5 if item["kind"] == "bdc" else -12),
+            textcoords="offset points",
+            ha="center",
+            fontsize=7,
+        )
+    low, high = axes[0].get_ylim()
+    axes[0].set_ylim(low, high + 0.12 * (high - low))  # room for the labels above the BDCs
+    axes[0].legend(loc="lower center", fontsize=8)
+    crank_angle_axis(axes[2], span, t("planetary.axis_carrier_angle"))
     return fig
 
 
@@ -216,5 +256,5 @@ def _arms_plot(f, angle, inside, span, t):
     axes[1].legend(loc="upper right", fontsize=8)
     for ax in axes:
         ax.axhline(0, color="0.3", lw=0.6)
-    crank_angle_axis(axes[1], span, t("axis.crank_angle"))
+    crank_angle_axis(axes[1], span, t("planetary.axis_carrier_angle"))
     return fig

@@ -54,7 +54,7 @@ def planetary_geometry(scene, crank_angle_rad) -> MechanismGeometry:
         ],
         traces={"big_end_path": np.stack([px, pz], axis=-1)},
         dimensions={
-            "R": geometry.carrier_radius_m,
+            "a": geometry.carrier_radius_m,  # the carrier's radius, not a crank's R
             "L": geometry.rod_length_m,
             "D": scene.engine.bore,
         },

@@ -19,7 +19,7 @@ from crankdyn.plugin.types import Catalog, Mechanism, Stage, StagePresentation
 from .compute import MECHANISM, applies, check, run
 from .geometry import planetary_geometry
 from .options import PlanetaryParams
-from .section import SYMBOLS, render
+from .section import SYMBOLS, input_rows, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -27,7 +27,8 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 PLANETARY_MECHANISM = Mechanism(
     name=MECHANISM,
     summary="planetary crank mechanism: the carrier is the crank, the rod's big end is on a planet gear rolling "
-    "on a fixed sun gear (epicycloid) or inside a fixed ring gear (hypocycloid)",
+    "on a fixed sun gear (an epicycloid or epitrochoid) or inside a fixed ring gear "
+    "(a hypocycloid or hypotrochoid)",
     check=check,
     params_model=PlanetaryParams,
     # the carrier is the crank: no R = S/2 nor λ = R/L (its radius a is in the section's data)
@@ -40,13 +41,15 @@ PLANETARY_STAGE = Stage(
     provides=(KINEMATICS,),
     applies=applies,
     run=run,
-    tables=("planetary", "family"),
+    tables=("planetary", "family", "reversals"),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         title_key="planetary.title",
         render=render,
         figures=("planetary_path", "planetary_family", "planetary_motion", "planetary_arms"),
-        references=("ismailov",),
+        references=("artobolevsky1988", "kudryavtsev1977", "ismailov"),
+        references_sentence="planetary.sources",
+        input_rows=input_rows,
         symbols=SYMBOLS,
     ),
 )

@@ -9,7 +9,6 @@ from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
     bracketed,
-    printed,
     printed_fixed,
     printed_g,
     worked_markup,
@@ -28,14 +27,14 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
         r["pin_radius_m"] * 1e3,
         r["rod_length_m"] * 1e3,
     )
-    f_txt, f = printed(t, phi, 6)
+    f_txt, f = printed_g(t, phi)
     a_txt, a = printed_g(t, a_mm)
     e_txt, e = printed_g(t, e_mm)
     l_txt, l_mm = printed_g(t, length_mm)
     p_txt, psi = printed_g(t, r["pin_phase_deg"])
     k_txt, k = printed_g(t, r["planet_speed_ratio"])
     x_mm = float(row["big_end_x_m"]) * 1e3
-    x_txt, x = printed_fixed(t, x_mm, 3)  # as the table prints it
+    x_txt, x = printed_fixed(t, x_mm, 2)  # as the table prints it
     inputs = {
         "phi_deg": f,
         "a_mm": a,
@@ -65,7 +64,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
             "<i>a</i> sin <i>φ</i> + <i>e</i> sin <i>θ</i>",
             f"{a_txt}·sin {phi_s} + {e_txt}·sin {theta}",
             x_mm,
-            3,
+            2,
             t("unit.mm"),
             inputs,
             exact=exact,
@@ -76,7 +75,7 @@ def worked_planetary(ctx, g, labels, r) -> Markup:
             "<i>a</i> cos <i>φ</i> + <i>e</i> cos <i>θ</i>",
             f"{a_txt}·cos {phi_s} + {e_txt}·cos {theta}",
             float(row["big_end_z_m"]) * 1e3,
-            3,
+            2,
             t("unit.mm"),
             inputs,
             exact=exact,

@@ -14,8 +14,10 @@ def _motion_figure(f, period, t):
     axes[0].set_ylabel(t("rod_dynamics.axis_omega"))
     axes[1].plot(angle[inside], f["rod_angular_acceleration_rad_s2"][inside], color="C1")
     axes[1].set_ylabel(t("rod_dynamics.axis_epsilon"))
-    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"][inside], color="C2", label="x")
-    axes[2].plot(angle[inside], f["cm_acceleration_z_m_s2"][inside], color="C3", ls="--", label="z")
+    axes[2].plot(angle[inside], f["cm_acceleration_x_m_s2"][inside], color="C2", label=r"$a_{Gx}$")
+    axes[2].plot(
+        angle[inside], f["cm_acceleration_z_m_s2"][inside], color="C3", ls="--", label=r"$a_{Gz}$"
+    )
     axes[2].set_ylabel(t("rod_dynamics.axis_cm"))
     axes[2].legend(loc="upper right", fontsize=8)
     for ax in axes:

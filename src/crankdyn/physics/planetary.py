@@ -47,6 +47,9 @@ __all__ = [
     "slider_motion",
     "DeadCentres",
     "dead_centres",
+    "Reversal",
+    "piston_reversals",
+    "sign_changes",
     "lateral_reach_m",
     "ForceTransmission",
     "force_transmission",
@@ -296,6 +299,78 @@ def dead_centres(geometry: PlanetaryGeometry, revolutions: int = 1) -> DeadCentr
     z_tdc = float(slider_motion(tdc, geometry).pin_z_m)
     z_bdc = float(slider_motion(bdc, geometry).pin_z_m)
     return DeadCentres(float(tdc), float(bdc), z_tdc, z_bdc, z_tdc - z_bdc)
+
+
+def sign_changes(function, period_rad: float, samples: int = 4096) -> list[float]:
+    r"""Angles in [0, period) where a smooth periodic function of the carrier angle changes sign.
+
+    Parameters
+    ----------
+    function : callable
+        f(phi) for an array or a float phi [rad].
+    period_rad : float
+    samples : int
+        Points of the scan; a pair of roots closer than the step may be missed.
+
+    Returns
+    -------
+    list of float
+        The roots, ascending, each refined with Brent's method. A root where the function only
+        touches zero (an even-order root) is not a sign change and is not returned.
+
+    Notes
+    -----
+    The scan is offset by half a step, so that a root on a round angle (0, pi) falls between two
+    samples rather than on one, where its sign would be ambiguous.
+    """
+    step = period_rad / samples
+    phi = (np.arange(samples) + 0.5) * step
+    values = _as_float_array(function(phi))
+    following = np.roll(values, -1)
+    found = []
+    for i in np.flatnonzero(np.sign(values) * np.sign(following) < 0):
+        lo = phi[i]
+        hi = lo + step
+
+        def scalar(p):
+            return float(function(p))
+
+        root = brentq(scalar, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+        found.append(float(root % period_rad))
+    return sorted(found)
+
+
+class Reversal(NamedTuple):
+    """A local extreme of the piston-pin height: the piston stops and reverses there."""
+
+    carrier_angle_rad: float
+    height_m: float
+    kind: str  # "tdc" (a local maximum of the height) or "bdc" (a local minimum)
+
+
+def piston_reversals(geometry: PlanetaryGeometry, revolutions: int = 1) -> list[Reversal]:
+    r"""Every local extreme of the piston-pin height over one period, ascending in carrier angle.
+
+    Returns
+    -------
+    list of Reversal
+        The roots of dz_A/d(phi) where it changes sign: a maximum (+ to −) is a top dead
+        centre, a minimum a bottom one. A conventional crank-slider has two per revolution; a
+        planetary mechanism may have more (a secondary stroke between two bottom dead centres,
+        e.g. z_B = a cos phi + e cos 2phi for a ring gear of ratio 3 with psi0 = 0).
+    """
+    period = 2.0 * np.pi * max(int(revolutions), 1)
+
+    def slope(p):
+        return slider_motion(p, geometry).pin_z_d1_m
+
+    found = []
+    for root in sign_changes(slope, period, 4096 * max(int(revolutions), 1)):
+        root = 0.0 if min(root, period - root) < 1e-9 else root
+        before, after = float(slope(root - 1e-4)), float(slope(root + 1e-4))
+        kind = "tdc" if before > 0 > after else "bdc"
+        found.append(Reversal(root, float(slider_motion(root, geometry).pin_z_m), kind))
+    return sorted(found)
 
 
 class ForceTransmission(NamedTuple):

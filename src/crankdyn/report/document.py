@@ -523,10 +523,14 @@ def _page_html(result, registry, ctx, parts: _NoteParts, language: str) -> str:
     # each stage under its section's title as printed (a stage may retitle its section for the scene)
     shown = {v.key: v.title for v in (*sections, *appendices)}
     title = _title(scene, t)
+    mechanism = registry.mechanisms.get(scene.engine.mechanism)
     return env.get_template("report.html.j2").render(
         _=t,
         num=ctx.num,
         scene=scene,
+        # λ = R/L only for a mechanism that has a crank radius (not a planetary carrier's a)
+        rod_ratio_shown=scene.engine.has_rod
+        and not (mechanism is not None and mechanism.input_rows.get("rod_ratio", ()) is None),
         meta=scene.report,
         title=title,
         sections=sections,

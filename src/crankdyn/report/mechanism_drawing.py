@@ -223,6 +223,63 @@ def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
     )
 
 
+def _hatch_fixed_gear(ax, geometry, i: int, centre, radius_mm: float, extent, color, alpha):
+    """A fixed gear (a planetary mechanism's ring or sun) hatched as ground (ГОСТ 2.770): short
+    strokes on the side away from the planet that rolls on it, outside a ring, inside a sun."""
+    from matplotlib.collections import (
+        LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
+
+    planets = [
+        geometry.joints[c][i] * MM for c, _, kind in geometry.circles if kind != "fixed"
+    ]
+    inside = bool(planets) and float(np.linalg.norm(planets[0] - centre)) < radius_mm
+    side = 1.0 if inside else -1.0
+    size = extent * HATCH
+    angles = np.radians(np.arange(0.0, 360.0, 360.0 / max(int(2 * np.pi * radius_mm / size), 12)))
+    radial = np.stack([np.sin(angles), np.cos(angles)], axis=1)
+    tangent = np.stack([np.cos(angles), -np.sin(angles)], axis=1)
+    start = np.asarray(centre) + radius_mm * radial
+    end = start + (side * radial - tangent) * size * HATCH_SLANT
+    ax.add_collection(
+        LineCollection(list(np.stack([start, end], axis=1)), colors=[color], linewidths=0.5,
+                       alpha=alpha)
+    )
+
+
+def draw_planetary_marks(ax, geometry, i: int, marks: dict[str, str]) -> None:
+    """A planetary mechanism's letters at frame ``i``: O (shaft axis), C (planet centre), B (the
+    planet's pin, the rod's big end), A (piston pin), K (pitch point on the fixed gear), the
+    carrier angle α from the cylinder axis and the sense of rotation ω; nothing for another
+    mechanism (its marks are :func:`draw_angle_marks`')."""
+    j = geometry.joints
+    names = ("crank_centre", "planet_centre", "crank_pin", "wrist_pin")
+    if not all(name in j for name in names) or not geometry.guides:
+        return
+    extent = _extent_mm(geometry)
+    o, c, b, a = (j[name][i] * MM for name in names)
+    letter = {"fontsize": 9, "color": "0.1", "zorder": 7, "fontstyle": "italic"}
+    carrier = float(np.linalg.norm(c - o))
+    u = (c - o) / max(carrier, 1e-12)
+    normal = np.array([u[1], -u[0]])
+    ax.text(*(o + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter)
+    ax.text(*(c + normal * extent * 0.03), "C", ha="left", va="center", **letter)
+    pin = b - c
+    away = pin / max(float(np.linalg.norm(pin)), 1e-12)
+    ax.text(*(b + away * extent * 0.035), "B", ha="center", va="center", **letter)
+    _, d, n = _guide_frame(geometry, geometry.guides[0], i)
+    ax.text(*(a - n * extent * 0.03), "A", ha="right", va="center", **letter)
+    fixed = next((r for name, r, kind in geometry.circles if kind == "fixed"), None)
+    if fixed is not None:
+        k = o + u * fixed * MM
+        ax.plot(*k, "o", color="0.1", ms=2.5, zorder=7)
+        ax.text(*(k + u * extent * 0.035), "K", ha="center", va="center", **letter)
+    if marks and carrier > 0:
+        ax.plot(*np.c_[o, o + d * carrier * 1.35], color="0.45", lw=0.5, ls="-.", zorder=1)
+        _angle_arc(ax, o, d, u, carrier * 0.3, marks["alpha"], extent)
+        _rotation_arrow(ax, o, carrier * 0.45, marks["omega"], extent)
+
+
 def draw_ground(ax, centre, size, color=INK, alpha=1.0):
     """A fixed revolute joint: a small triangle on a hatched base below ``centre``."""
     c = np.asarray(centre)
@@ -347,6 +404,7 @@ def draw_mechanism(
             if kind == "fixed":
                 c = geometry.joints[centre][i] * MM
                 ax.add_patch(_circle(c, radius * MM, color, alpha, ls="-."))
+                _hatch_fixed_gear(ax, geometry, i, c, radius * MM, extent, color, alpha)
     for centre, radius, kind in geometry.circles:
         if kind != "fixed":
             ax.add_patch(
@@ -555,6 +613,8 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     rod = next(
         (l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None
     )
+    if "a" in labels and "R" not in labels:  # a planetary carrier's radius a, drawn as a crank's
+        labels = {**labels, "R": labels["a"]}
     if crank and "R" in labels and len(_one_per_axis(geometry.guides)) > 1:
         _crank_radius_below(ax, geometry, i, crank, labels["R"], extent)
     elif (
@@ -1125,6 +1185,7 @@ def _scheme_at(
     # a marked scheme writes L beside the liner (draw_angle_marks); S only there
     draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
     draw_angle_marks(ax, geometry, i, marks, labels)
+    draw_planetary_marks(ax, geometry, i, marks)
     if with_star:
         # beside what the mechanism draws, not beside its limits' unused room
         box = drawn_box([ax], fig.canvas.get_renderer())
