@@ -337,4 +337,6 @@ def test_the_task_gives_no_rod_ratio_for_a_carrier(ring_run):
     """The assignment's data list λ = R/L only for a mechanism with a crank radius."""
     html = render_html(ring_run, REGISTRY, "uk").html
     assignment = _plain(html.split('class="assignment"', 1)[1].split("</section>", 1)[0])
-    assert "D = 76 мм, S = 62,303 мм, n = 2400" in assignment and "λ" not in assignment
+    assert "D = 76 мм, S = 62,303 мм, " in assignment and "λ" not in assignment
+    # the mechanism's own data follow, angles with the degree sign at the number
+    assert "zf = 72, zp = 24, m = 1,25 мм, e = 8 мм, ψ0 = 0°, αw = 20°, n = 2400" in assignment

@@ -4,7 +4,6 @@ mechanism's motion, drawn by :mod:`crankdyn.report.mechanism_drawing`."""
 from __future__ import annotations
 
 import re
-
 from dataclasses import replace
 from functools import partial
 

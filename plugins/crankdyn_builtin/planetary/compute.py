@@ -404,9 +404,7 @@ def _speed_results(dc, reversals: dict, rpm: float, revolutions: int) -> dict:
 def _tdc_acceleration_results(geometry, dc, omega, R_eq, lam_eq) -> dict:
     """The piston's acceleration at TDC against the central crank-slider's with the same stroke and
     rod, R ω² (1 + λ) with R = S/2, λ = R/L."""
-    j_tdc = float(
-        -omega * omega * pl.slider_motion(dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m
-    )
+    j_tdc = float(-omega * omega * pl.slider_motion(dc.tdc_carrier_angle_rad, geometry).pin_z_d2_m)
     conventional = R_eq * omega * omega * (1.0 + lam_eq)
     return {
         "j_tdc_m_s2": j_tdc,

@@ -13,7 +13,6 @@ from .compute import secondary_strokes
 from .figures import _arms_figure, _family_figure, _motion_figure, _path_figure
 from .options import PlanetaryParams
 
-
 #: A displacement within this share of the stroke of its dead centre's is that dead centre (ties).
 TIE = 1e-9
 
@@ -171,11 +170,7 @@ def _bdc_dwell(r):
     bdcs = r["bdc_crank_angles_deg"]
     if len(bdcs) != 2:
         return None
-    between = [
-        item
-        for item in r["reversals"]
-        if bdcs[0] < item["crank_angle_deg"] < bdcs[1]
-    ]
+    between = [item for item in r["reversals"] if bdcs[0] < item["crank_angle_deg"] < bdcs[1]]
     if not between or any(item["main"] for item in between):
         return None
     depth = max(r["stroke_m"] - item["displacement_m"] for item in between)
@@ -311,9 +306,7 @@ def _conclusions(r, ctx) -> list[str]:
         ),
     ]
     if r["tooth_force_sign_changes_deg"]:
-        out.append(
-            t("planetary.conclusion_flanks", count=len(r["tooth_force_sign_changes_deg"]))
-        )
+        out.append(t("planetary.conclusion_flanks", count=len(r["tooth_force_sign_changes_deg"])))
     arm = {
         "arm_max": ctx.num(r["carrier_torque_arm_max_m"] * mm, 4),
         "conventional": ctx.num(r["conventional_torque_arm_max_m"] * mm, 4),

@@ -335,7 +335,7 @@ def _assignment_given(result, registry, ctx) -> dict:
         if stage.presentation is not None and KINEMATICS in stage.provides
     ]
     given = [
-        f"{Markup(symbol).striptags()} = {value} {unit}".rstrip()
+        f"{Markup(symbol).striptags()} = {value}{'' if unit in ('°', '') else ' '}{unit}"
         for look in shown
         if look.input_rows is not None
         for quantity, symbol, value, unit in look.input_rows(result.scene, ctx)

@@ -230,9 +230,7 @@ def _hatch_fixed_gear(ax, geometry, i: int, centre, radius_mm: float, extent, co
         LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
-    planets = [
-        geometry.joints[c][i] * MM for c, _, kind in geometry.circles if kind != "fixed"
-    ]
+    planets = [geometry.joints[c][i] * MM for c, _, kind in geometry.circles if kind != "fixed"]
     inside = bool(planets) and float(np.linalg.norm(planets[0] - centre)) < radius_mm
     side = 1.0 if inside else -1.0
     size = extent * HATCH
@@ -242,8 +240,9 @@ def _hatch_fixed_gear(ax, geometry, i: int, centre, radius_mm: float, extent, co
     start = np.asarray(centre) + radius_mm * radial
     end = start + (side * radial - tangent) * size * HATCH_SLANT
     ax.add_collection(
-        LineCollection(list(np.stack([start, end], axis=1)), colors=[color], linewidths=0.5,
-                       alpha=alpha)
+        LineCollection(
+            list(np.stack([start, end], axis=1)), colors=[color], linewidths=0.5, alpha=alpha
+        )
     )
 
 
