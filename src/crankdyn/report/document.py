@@ -326,7 +326,8 @@ _COMPUTED_ROW_MARK = "@@SECTION:"
 def _assignment_given(result, registry, ctx) -> dict:
     """What the assignment's list of the main data takes from the mechanism: the symbol of the
     scene's stroke (an offset crank-slider's is the crank throw 2R, not its piston's stroke) and
-    the given data of the stage computing its kinematics ("e = 5 mm")."""
+    the given data of the stage computing its kinematics ("e = 5 mm"), as markup (z<sub>f</sub>
+    keeps its subscript)."""
     mechanism = registry.mechanisms.get(result.scene.engine.mechanism)
     own = (mechanism.input_rows if mechanism else {}).get("stroke")
     shown = [
@@ -335,7 +336,7 @@ def _assignment_given(result, registry, ctx) -> dict:
         if stage.presentation is not None and KINEMATICS in stage.provides
     ]
     given = [
-        f"{Markup(symbol).striptags()} = {value}{'' if unit in ('°', '') else ' '}{unit}"
+        Markup(f"{symbol} = ") + escape(value) + ("" if unit in ("°", "") else " ") + escape(unit)
         for look in shown
         if look.input_rows is not None
         for quantity, symbol, value, unit in look.input_rows(result.scene, ctx)
