@@ -238,7 +238,8 @@ SYMBOLS = {
     "slave_rod_mass": Symbol("m", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.kg"),
     "slave_rod_cm_fraction": Symbol("κ", {"en": "s", "uk": "п", "ru": "п"}, ""),
     "slave_pin_mass": Symbol("m", {"en": "sp", "uk": "п.п", "ru": "п.п"}, "unit.kg"),
-    "throw_centrifugal": Symbol("c", {"en": "Σ"}, "unit.MPa"),
+    # defined here, used in the main journals' loads too
+    "throw_centrifugal": Symbol("c", {"en": "Σ"}, "unit.MPa", sections=("bays", "bearings")),
 }
 
 
