@@ -113,9 +113,7 @@ def _negligible(r, item) -> bool:
 
 def _share(r, item) -> float:
     """``item``'s amplitude as a share of C_I (a moment: of C_I·a)."""
-    value, force = _summary_amplitude(r, item)
-    scale = r["first_order_N"] * (1.0 if force else r["cylinder_spacing_m"] or 0.0)
-    return abs(value) / scale
+    return r["first_order_shares"][item["quantity"]]
 
 
 def _percent_text(t, items, r) -> str:
