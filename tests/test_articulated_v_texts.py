@@ -234,3 +234,11 @@ def test_the_negligible_remainder_gives_its_share_and_the_approximation():
     assert found and number(found.group(1)) == pytest.approx(share, rel=0.05)
     assert "менее 1 %" not in said
     assert "в приближении учебного пособия" in said and "6,260 кг" in said
+
+
+def test_a_chosen_firing_order_is_noted_in_the_reports_bank_letters():
+    text = v12_text()
+    order = v12_run().outputs["bays"].results["firing_order"]
+    assert "–".join(order) not in text  # Latin "1L–6R–…"
+    printed = "–".join(label.replace("L", "Л").replace("R", "П") for label in order)
+    assert f"порядков работы, {printed}, с расположением" in text

@@ -71,7 +71,7 @@ def _firing_notes(layout, firing_order_chosen: bool) -> list:
             (
                 "bays.note_firing_chosen",
                 {
-                    "order": "–".join(layout.firing_order),
+                    "order": list(layout.firing_order),  # printed in the report's bank letters
                     "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg),
                 },
             )
