@@ -80,7 +80,8 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(t("balancing.conclusion_balanced" + plane))
     if negligible:
         _conclude_negligible(ctx, r, negligible, single, alone=not significant)
-    if r.get("rod_type") == "articulated" and len(ctx.conclusions) > first:
+    means = bool(r["counterweights"] or r["balance_shafts"])  # their sentence says it itself
+    if r.get("rod_type") == "articulated" and len(ctx.conclusions) > first and not means:
         # what the balance stated rests on: the master cylinder's masses in every cylinder
         ctx.conclusions[-1] += " " + t(
             "balancing.conclusion_articulated",
