@@ -128,7 +128,9 @@ def test_the_throws_centrifugal_force_has_its_own_symbol_and_value():
     found = re.search(r"cΣ = −mR Rω²/Fп = (−[\d,]+) МПа", text)
     assert found and number(found.group(1)) == pytest.approx(c_throw, abs=6e-4)
     forces_kg = re.search(r"а не масса ([\d,]+) кг одного цилиндра", text)
-    assert forces_kg and number(forces_kg.group(1)) == pytest.approx(THROW_KG - 2.64 * 0.903125, abs=6e-3)
+    assert forces_kg and number(forces_kg.group(1)) == pytest.approx(
+        THROW_KG - 2.64 * 0.903125, abs=6e-3
+    )
 
 
 def test_only_the_master_rod_is_said_to_bear_on_the_crank_pin():
@@ -161,7 +163,6 @@ def test_bank_letters_are_the_reports_in_the_slave_table_caption():
 
 
 def test_the_slave_rod_table_prints_no_padding_zeros():
-    text = v12_text()
     html = v12_html()
     table = html[html.index("Прицепные шатуны</caption>") :]
     cells = re.findall(r"<td[^>]*>([^<]*)</td>", table[: table.index("</table>")])

@@ -75,7 +75,11 @@ def _slave_table(r: dict, ctx):
             (t("bays.cylinder"), [t.cylinder(s["cylinder"]) for s in r["slaves"]], None),
             # angles and lengths to the digits a drawing gives (0,1°, 0,01 mm), no padding zeros
             ("<i>γ</i>, °", [_digits(t, s["bank_angle_deg"], 1) for s in r["slaves"]], None),
-            ("<i>γ</i><sub>1</sub>, °", [_digits(t, s["pin_angle_deg"], 1) for s in r["slaves"]], None),
+            (
+                "<i>γ</i><sub>1</sub>, °",
+                [_digits(t, s["pin_angle_deg"], 1) for s in r["slaves"]],
+                None,
+            ),
             (
                 "<i>l</i>, " + t("unit.mm"),
                 [_digits(t, s["slave_rod_length_m"] * 1e3, 2) for s in r["slaves"]],
@@ -156,7 +160,9 @@ def render(output: StageOutput, ctx) -> str | None:
                 ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
                 ("<i>q</i><sub>pin</sub>", f["pin_load_Pa"][rows] / 1e6, 3),
             ],
-            caption=t("bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))),
+            caption=t(
+                "bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))
+            ),
             see="bays.see_table_b2",
             extremes=extremes,
         )
