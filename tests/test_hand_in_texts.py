@@ -685,20 +685,25 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     )
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
     # forces only: what is left is ΣP_VI, no moment (no "сили й моменти" where there are none)
-    rest = re.search(
-        r"Інші незрівноважені сили \((.*?)\) становлять менше ніж 1 % амплітуди сили інерції "
-        r"першого порядку одного циліндра CI, тому ними можна знехтувати\.",
+    found = re.search(
+        r"Інші незрівноважені сили \((.*?)\) становлять не більше ніж ([\d,]+) % амплітуди сили "
+        r"інерції першого порядку одного циліндра CI, тому ними можна знехтувати\.",
         text,
-    ).group(1)
-    value = re.fullmatch(r"ΣPVI = ([\d,]+) Н", rest).group(1)
-    assert 0 < float(value.replace(",", ".")) < 0.01 * c_first
+    )
+    value = float(re.fullmatch(r"ΣPVI = ([\d,]+) Н", found.group(1)).group(1).replace(",", "."))
+    assert 0 < value < 0.01 * c_first
+    # the share itself, not the 1 % bound: ΣP_VI/C_I in per cent to two significant digits
+    share = float(found.group(2).replace(",", "."))
+    assert share == pytest.approx(100 * value / c_first, rel=0.06) and share < 1
     html = reports("inline4-petrol")
     abstract = re.sub(
         r"<[^>]+>", "", re.search(r'<section class="abstract".*?</section>', html, re.S).group(0)
     )
     # nor is it called unbalanced there: the abstract names it as small, as the table leaves it
     plain = " ".join(abstract.replace("\u202f", " ").replace("\u00a0", " ").split())
-    assert "ΣPIV" in abstract and "лише малі ΣPVI (менше 1 % від першого порядку)" in plain
+    assert (
+        "ΣPIV" in abstract and f"лише малі ΣPVI (не більше {found.group(2)} % від першого" in plain
+    )
     assert abstract.count("ΣPVI") == 1
     from crankdyn_builtin.balancing.section import _negligible
 

@@ -577,7 +577,11 @@ def test_the_rods_on_one_crank_pin_are_the_centrifugal_terms_mass():
     assert result.outputs["bearings"].results["centrifugal_rod_Pa"] == pytest.approx(c_r, rel=1e-9)
     page = shared_html("radial9-aircraft")
     html = page.html if hasattr(page, "html") else page
-    assert f"the rotating mass of all of them, {rods_kg:.4g}\u202fkg" in html
+    assert (
+        "Only the master rod bears on the crank pin: <i>m</i><sub>rR</sub> is here the rotating part"
+        in html
+    )
+    assert f"with the shares of the slave rods and their pins, {rods_kg:.4g}\u202fkg" in html
 
 
 def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():

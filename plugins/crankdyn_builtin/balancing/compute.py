@@ -149,6 +149,18 @@ def _harmonics_json(harmonics, orders) -> dict:
     }
 
 
+def _first_order_shares(absolute: dict, first_order_N: float, spacing_m) -> dict:
+    """Each resultant's amplitude as a share of one cylinder's C_I (a moment's: of C_I·a; none
+    without a spacing), keyed as ``absolute`` without its unit: what "negligible" is measured by."""
+    shares = {}
+    for key, value in absolute.items():
+        force = key.endswith("_N")
+        scale = first_order_N * (1.0 if force else spacing_m or 0.0)
+        if scale > 0:
+            shares[key.rsplit("_", 1)[0]] = float(abs(value) / scale)
+    return shares
+
+
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
@@ -183,6 +195,7 @@ def run(scene, inputs) -> StageOutput:
         "vertical_axis_deg": g.vertical_deg,
         "coefficients": coefficients,
         "absolute": absolute,
+        "first_order_shares": _first_order_shares(absolute, C_I, a),
         "orders": orders,
         "bay_model": bay_model_of(layout, g),
         "time_domain_check": check,

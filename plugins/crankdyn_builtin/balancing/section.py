@@ -46,13 +46,14 @@ def _conclude(ctx, r) -> None:
             "balancing.finding_negligible",
             finding=finding,
             items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
-            share=t.number_g(100 * NEGLIGIBLE_SHARE),
+            share=_percent_text(t, small, r),
         )
     if r.get("rod_type") == "articulated":  # the textbook's equal masses, not the real slaves'
         finding = t("balancing.finding_articulated", finding=finding)
     ctx.find(finding)
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
+    first = len(ctx.conclusions)
     if significant and single:  # one cylinder: coefficients are all 1; say the forces
         amplitudes = {o["name"]: o["force_max_N"] for o in r["orders"]}
         ctx.conclude(
@@ -79,6 +80,14 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(t("balancing.conclusion_balanced" + plane))
     if negligible:
         _conclude_negligible(ctx, r, negligible, single, alone=not significant)
+    means = bool(r["counterweights"] or r["balance_shafts"])  # their sentence says it itself
+    if r.get("rod_type") == "articulated" and len(ctx.conclusions) > first and not means:
+        # what the balance stated rests on: the master cylinder's masses in every cylinder
+        ctx.conclusions[-1] += " " + t(
+            "balancing.conclusion_articulated",
+            master=ctx.num(r["reciprocating_mass_kg"]),
+            slave=ctx.num(r["slave_reciprocating_mass_kg"] or r["reciprocating_mass_kg"]),
+        )
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
 
@@ -103,6 +112,17 @@ def _negligible(r, item) -> bool:
     return value is not None and scale > 0 and abs(value) < NEGLIGIBLE_SHARE * scale
 
 
+def _share(r, item) -> float:
+    """``item``'s amplitude as a share of C_I (a moment: of C_I·a)."""
+    return r["first_order_shares"][item["quantity"]]
+
+
+def _percent_text(t, items, r) -> str:
+    """The largest share of C_I among negligible ``items`` in per cent, two significant digits
+    ("0,14"): the real figure, not the 1 % bound they fall under."""
+    return t.number_g(100 * max(_share(r, item) for item in items), 2)
+
+
 def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     """ "ΣP_VI = 4,4 Н is under 1 % of C_I, negligible": after the unbalanced ones, or alone."""
     t = ctx.t
@@ -123,7 +143,7 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
         t(
             "balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
             items=", ".join(items),
-            percent=t.number_g(100 * NEGLIGIBLE_SHARE, 2),
+            percent=_percent_text(t, negligible, r),
             reference=reference,
             what=what,
         )

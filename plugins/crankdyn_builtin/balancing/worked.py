@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup
+from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup
 
 
 def worked_balancing(ctx, r) -> Markup:
@@ -18,9 +18,11 @@ def worked_balancing(ctx, r) -> Markup:
     )
     m_r_txt, m_r = printed(t, r["rotating_mass_kg"])  # as the masses table prints it
     m_s_txt, m_s = printed(t, r["reciprocating_mass_kg"])
-    r_txt, r_m = printed(t, radius)
+    # the crank radius and λ = R/L as the data give them (0,09; 0,28125), no padding or rounding:
+    # λ rounded to 0,2812 would not give the C_II printed beside it
+    r_txt, r_m = printed_g(t, radius)
     w_txt, w = printed(t, omega, 5)
-    l_txt, lam = printed(t, ratio)
+    l_txt, lam = printed_g(t, ratio)
     c1_txt, c1 = printed(t, r["first_order_N"])
     inputs = {"m_R": m_r, "m_s": m_s, "R": r_m, "omega": w, "lambda": lam, "C_I": c1}
     exact = {

@@ -71,7 +71,7 @@ def _firing_notes(layout, firing_order_chosen: bool) -> list:
             (
                 "bays.note_firing_chosen",
                 {
-                    "order": "–".join(layout.firing_order),
+                    "order": list(layout.firing_order),  # printed in the report's bank letters
                     "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg),
                 },
             )
@@ -191,6 +191,7 @@ def _rotating_mass_terms(opts, m, slaves, rod_length_m: float, rod_rotating_kg: 
         "slave_rod_kg": slave_rod,
         "slave_rod_cm_fraction": opts.slave_rod_cm_fraction,
         "slave_pin_kg": opts.slave_pin,
+        "slave_pin_given": "slave_pin" in opts.model_fields_set,
         "slave_lumped_kg": lumped,
         "slave_lever_sum": float(levers),
         "rods_kg": rod_rotating_kg + lumped * float(levers),
@@ -216,6 +217,10 @@ def run(scene, inputs) -> StageOutput:
             scene, layout, motion, gas, forces, results, notes
         )
     results["centrifugal_Pa"] = centrifugal
+    results["centrifugal_rod_Pa"] = centrifugal_rod
+    # one cylinder's c of the forces section, which the bay's c_Σ is set against
+    results["forces_centrifugal_Pa"] = forces.centrifugal_Pa
+    results["piston_area_m2"] = forces.piston_area_m2
     results["indicated_work_J"] = work_all
     loads = BayLoads(
         crank_angle_deg=motion.crank_angle_deg,
@@ -317,11 +322,16 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
     centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
     results.update(_true_firing(layout, slaves, slave_info))
     if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
+        # every bay is bay 0 shifted by its master's delay: the torque may still repeat within
+        # the cycle though the firing is uneven
+        period = lay.sampled_period_deg(
+            tangential.sum(axis=0), scene.analysis.angle_step_deg, layout.cycle_deg
+        )
+        shift = max(abs(x["tdc_shift_deg"]) for x in slave_info)
         notes.append(
-            (
-                "bays.note_true_intervals",
-                {"shift": max(abs(x["tdc_shift_deg"]) for x in slave_info)},
-            )
+            ("bays.note_true_intervals", {"shift": shift})
+            if period >= layout.cycle_deg
+            else ("bays.note_true_intervals_period", {"shift": shift, "period": float(period)})
         )
     results.update(
         {
@@ -337,7 +347,8 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
         "master_side_Pa": n_bay,
         "bay_tangential_Pa": t_bay,
         "bay_radial_Pa": z_bay,
-        "bay_resultant_Pa": np.hypot(z_bay + centrifugal, t_bay),
+        # only the master rod bears on the pin: the bay's forces and its reduced rotating part
+        "pin_load_Pa": np.hypot(z_bay + centrifugal_rod, t_bay),
     }
     notes.append(("bays.note_articulated", {}))
     work_all = work_bay * layout.cranks

@@ -62,19 +62,33 @@ def _stroke_table(r: dict, ctx):
     )
 
 
+def _digits(t, value: float, decimals: int) -> str:
+    """``value`` rounded to ``decimals`` places, without trailing zeros (60° not 60,00°)."""
+    return t.number_g(round(value, decimals), 12)
+
+
 def _slave_table(r: dict, ctx):
     """Table of the articulated (slave) rods' geometry."""
     t = ctx.t
     return ctx.table(
         [
             (t("bays.cylinder"), [t.cylinder(s["cylinder"]) for s in r["slaves"]], None),
-            ("<i>γ</i>, °", [s["bank_angle_deg"] for s in r["slaves"]], 1),
-            ("<i>γ</i><sub>1</sub>, °", [s["pin_angle_deg"] for s in r["slaves"]], 2),
-            ("<i>l</i>, " + t("unit.mm"), [s["slave_rod_length_m"] * 1e3 for s in r["slaves"]], 3),
+            # angles and lengths to the digits a drawing gives (0,1°, 0,01 mm), no padding zeros
+            ("<i>γ</i>, °", [_digits(t, s["bank_angle_deg"], 1) for s in r["slaves"]], None),
+            (
+                "<i>γ</i><sub>1</sub>, °",
+                [_digits(t, s["pin_angle_deg"], 1) for s in r["slaves"]],
+                None,
+            ),
+            (
+                "<i>l</i>, " + t("unit.mm"),
+                [_digits(t, s["slave_rod_length_m"] * 1e3, 2) for s in r["slaves"]],
+                None,
+            ),
             (
                 "<i>l</i> " + t("bays.by_source") + ", " + t("unit.mm"),
-                [s["slave_rod_length_textbook_m"] * 1e3 for s in r["slaves"]],
-                3,
+                [_digits(t, s["slave_rod_length_textbook_m"] * 1e3, 2) for s in r["slaves"]],
+                None,
             ),
             ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
         ],
@@ -120,7 +134,7 @@ def render(output: StageOutput, ctx) -> str | None:
     phase_table_number = ctx.last_table_number
     stroke_table = _stroke_table(r, ctx)
     # Only engines with several cylinders per crank have a bay table (textbook B.2).
-    bay_table = slave_table = figure = None
+    bay_table = slave_table = figure = masses = None
     if "bay" in output.tables:
         f = output.tables.arrays("bay")
         angle = f["crank_angle_deg"]
@@ -130,7 +144,7 @@ def render(output: StageOutput, ctx) -> str | None:
             angle,
             rows,
             labels,
-            [(f["bay_resultant_Pa"], "max", t("bays.extreme_max"))],
+            [(f["pin_load_Pa"], "max", t("bays.extreme_max"))],
             resolution=0.0,  # the conclusion quotes the peak itself, not a row near it
         )
         first_key = [k for k in output.tables if k.startswith("slave_")][0]
@@ -144,24 +158,28 @@ def render(output: StageOutput, ctx) -> str | None:
                 ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
                 ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
                 ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
-                ("<i>q</i>", f["bay_resultant_Pa"][rows] / 1e6, 3),
+                ("<i>q</i><sub>pin</sub>", f["pin_load_Pa"][rows] / 1e6, 3),
             ],
-            caption=t("bays.table_b2_caption", cylinder=first_key.removeprefix("slave_")),
+            caption=t(
+                "bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))
+            ),
             see="bays.see_table_b2",
             extremes=extremes,
         )
         bay_table_number = ctx.last_table_number
+        masses = _pin_masses(r, ctx.scene)
         figure = ctx.figure(
             partial(bay_figure, f, ctx.cycle_deg, t),
             t("bays.figure_caption"),
             "bay",
             see="bays.see_figure",
         )
-        peak = first_argmax(f["bay_resultant_Pa"])  # the crank pin's load of all its cylinders
+        peak = first_argmax(f["pin_load_Pa"])  # the crank pin's load of all its cylinders
         ctx.conclude(
             t(
                 "bays.conclusion_bay_load",
-                q_max=ctx.num(f["bay_resultant_Pa"][peak] / 1e6),
+                q_max=ctx.num(f["pin_load_Pa"][peak] / 1e6),
+                force=ctx.t.fixed(f["pin_load_Pa"][peak] * r["piston_area_m2"] / 1e3, 2),
                 q_angle=ctx.angle_text(float(angle[peak])),
                 table=bay_table_number,
             )
@@ -184,7 +202,19 @@ def render(output: StageOutput, ctx) -> str | None:
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
+        masses=masses,
     )
+
+
+def _pin_masses(r: dict, scene) -> dict:
+    """The rotating masses behind the bay's centrifugal forces, kg: the rods' part on the crank pin
+    (c_r) and one cylinder's of the forces section (c), each m = −c F_p / (R ω²)."""
+    e = scene.engine
+    per_pa = r["piston_area_m2"] / (e.crank_radius_m * e.angular_velocity_rad_s**2)
+    return {
+        "rods_kg": -r["centrifugal_rod_Pa"] * per_pa,
+        "forces_kg": -r["forces_centrifugal_Pa"] * per_pa,
+    }
 
 
 #: The articulated rods' letters (textbook §3.3, eq. (27)-(33); meanings: symbol.bays.<key> in
@@ -209,11 +239,13 @@ SYMBOLS = {
     "slave_stroke": Symbol("S", _L, "unit.mm", html="<i>S</i><sub><i>l</i></sub>"),
     "bay_radial_force": Symbol("z", {"en": "Σ"}, "unit.MPa"),
     "bay_tangential_force": Symbol("t", {"en": "Σ"}, "unit.MPa"),
-    # the whole bay's resultant, where the forces section's q is one cylinder's
-    "bay_resultant": Symbol("q", {}, "unit.MPa"),
+    # the load on the crank pin, where the forces section's q is one cylinder's load on the throw
+    "pin_load": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa"),
     "slave_rod_mass": Symbol("m", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.kg"),
     "slave_rod_cm_fraction": Symbol("κ", {"en": "s", "uk": "п", "ru": "п"}, ""),
     "slave_pin_mass": Symbol("m", {"en": "sp", "uk": "п.п", "ru": "п.п"}, "unit.kg"),
+    # defined here, used in the main journals' loads too
+    "throw_centrifugal": Symbol("c", {"en": "Σ"}, "unit.MPa", sections=("bays", "bearings")),
 }
 
 
@@ -270,8 +302,7 @@ def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
                 "",
             )
         )
-    if "slave_pin" in given:
-        rows.append(
-            (t("bays.input_slave_pin"), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg)
-        )
+    # the pin's mass enters m_R: a pin not given is shown as the zero the calculation takes
+    pin_name = "bays.input_slave_pin" if "slave_pin" in given else "bays.input_slave_pin_zero"
+    rows.append((t(pin_name), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg))
     return rows

@@ -245,6 +245,7 @@ def run(scene, inputs) -> StageOutput:
         ],
         **_drawn_diagrams(opts, pins, journals),
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
+        "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
     }
     tables = _tables(
         angle, (pin_t, pin_z), (rod_t, rod_z), journal, bearing, wear_pins, wear_journals

@@ -13,6 +13,7 @@ from crankdyn.plugin.contracts import (
     BAY_LOADS,
     CRANK_LOADS,
     ENGINE_TORQUE,
+    GAS_PRESSURE,
     CrankLoads,
     EngineTorque,
 )
@@ -64,6 +65,9 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         ],
         "dangerous": _dangerous_loads(bays, q, journal, angle),
     }
+    slaves = _slave_work(e, layout, work_all, inputs.get(GAS_PRESSURE))
+    if slaves is not None:
+        results["slave_work"] = slaves
     if e.effective_power is not None:
         results.update(
             cs.effective_output(
@@ -109,6 +113,26 @@ def _mean_torque_results(e, torque, work_all: float) -> dict:
         "mean_vs_power_deviation_percent": 100 * (mean - from_power) / from_power
         if from_power
         else None,
+    }
+
+
+def _slave_work(e, layout, work_all: float, gas) -> dict | None:
+    """Articulated rods: the master cylinder's indicated work per cycle and the slave cylinders'
+    mean one (J), and one cylinder's mean torque (N·m) from the master's, when the slaves' work
+    differs: the same indicator diagram over a slave's own volume curve gives another work, so
+    the engine's mean torque is not the cylinders' count times one cylinder's."""
+    if gas is None or e.rod_type != "articulated" or e.cylinders == layout.cranks:
+        return None
+    master = float(gas.indicated_work_J)
+    slave = (work_all - layout.cranks * master) / (e.cylinders - layout.cranks)
+    if master <= 0 or abs(slave - master) <= 1e-6 * master:
+        return None
+    revolutions = e.strokes / 2
+    return {
+        "master_J": master,
+        "slave_J": slave,
+        "master_torque_Nm": master / (2 * np.pi * revolutions),
+        "difference_percent": 100 * (slave - master) / master,
     }
 
 

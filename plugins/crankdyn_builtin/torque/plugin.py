@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE
+from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, GAS_PRESSURE
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentation
 from crankdyn.report.plausibility import mechanical_efficiency
@@ -24,6 +24,8 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 TORQUE_STAGE = Stage(
     name="torque",
     requires=(BAY_LOADS,),
+    # one cylinder's indicated work: the slave cylinders' differs from it (articulated rods)
+    uses=(GAS_PRESSURE,),
     provides=(ENGINE_TORQUE, CRANK_LOADS),
     applies=applies,
     run=run,

@@ -501,7 +501,14 @@ def _stage_notes(output, ctx, references: list[str]) -> list[str]:
             t(
                 key,
                 **{
-                    k: (t.number_g(v, 4) if isinstance(v, float) else field_names(t, v))
+                    k: (
+                        t.number_g(v, 4)
+                        if isinstance(v, float)
+                        # a list of cylinder labels: in the report's bank letters ("1Л–6П")
+                        else t.cylinders(v)
+                        if isinstance(v, (list, tuple))
+                        else field_names(t, v)
+                    )
                     for k, v in params.items()
                 },
             ),
