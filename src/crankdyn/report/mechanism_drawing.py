@@ -503,9 +503,9 @@ def _circle(centre, radius, color, alpha, ls="-", fill=False):
     )
 
 
-def _dimension_arrow(ax, a, b) -> None:
+def _dimension_arrow(ax, a, b, gid: str = "") -> None:
     """A dimension line's arrow from ``a`` to ``b`` (mm), heads at both ends."""
-    ax.annotate(
+    arrow = ax.annotate(
         "",
         xy=b,
         xytext=a,
@@ -518,32 +518,67 @@ def _dimension_arrow(ax, a, b) -> None:
             "mutation_scale": 7,
         },
     )
+    if gid:
+        arrow.set_gid(gid)
 
 
-def _dimension(ax, p, q, text, offset, extent):
-    """A dimension line from p to q (mm), shifted by ``offset`` along its normal, with its text."""
+def _dimension(ax, p, q, text, offset, extent, key: str = "", from_feature: bool = False):
+    """A dimension (ГОСТ 2.307) of the feature p-q (mm): two extension lines from the feature's
+    points along the normal, the dimension line with its arrows between them shifted by
+    ``offset``, the extension lines running past it, and the text parallel to the dimension line,
+    above it (on the side its letters stand up to), near its middle. ``from_feature``: the
+    extension lines start at the feature's points (a liner's wall ends), else just clear of them
+    (a joint's circle). ``key`` names the artists (``gid``: ``dimension-<key>-...``)."""
     p, q = np.asarray(p, float), np.asarray(q, float)
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     n = np.array([-d[1], d[0]])
     a, b = p + n * offset, q + n * offset
-    for end, base in ((a, p), (b, q)):
-        ax.plot(
+    out = n * np.sign(offset)
+    for k, (end, base) in enumerate(((a, p), (b, q)), start=1):
+        (line,) = ax.plot(
             *np.c_[
-                base + n * np.sign(offset) * extent * 0.01,
-                end + n * np.sign(offset) * extent * 0.02,
+                base + (0.0 if from_feature else 0.01 * extent) * out,
+                end + out * extent * 0.02,
             ],
             color="0.35",
             lw=0.5,
             ls="-",
         )
-    _dimension_arrow(ax, a, b)
-    # The text starts just outside the dimension line and grows away from the drawing, so that it
-    # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
-    side = n * np.sign(offset)
-    ha = "left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center"
-    va = "bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center"
-    mid = (a + b) / 2 + side * extent * 0.015
-    ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15", bbox=LABEL_BOX)
+        line.set_gid(f"dimension-{key}-extension-{k}")
+    _dimension_arrow(ax, a, b, f"dimension-{key}-line")
+    if text:
+        _dimension_text(ax, a, b, text, extent, f"dimension-{key}-text")
+
+
+def _readable_rotation_deg(d) -> float:
+    """The text angle (deg) along the direction ``d`` that reads left to right or bottom to top."""
+    rotation = float(np.degrees(np.arctan2(d[1], d[0])))
+    if rotation > 90.0 + 1e-9:
+        return rotation - 180.0
+    if rotation <= -90.0 + 1e-9:
+        return rotation + 180.0
+    return rotation
+
+
+def _dimension_text(ax, a, b, text: str, extent: float, gid: str):
+    """A dimension's text over the middle of the dimension line a-b (mm), parallel to it, on the
+    side its letters stand up to (ГОСТ 2.307: above a horizontal line, left of a vertical one)."""
+    rotation = _readable_rotation_deg(np.asarray(b, float) - np.asarray(a, float))
+    up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
+    label = ax.text(
+        *((np.asarray(a) + np.asarray(b)) / 2 + up * extent * 0.006),
+        text,
+        rotation=rotation,
+        rotation_mode="anchor",
+        ha="center",
+        va="bottom",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        zorder=7,
+    )
+    label.set_gid(gid)
+    return label
 
 
 def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
@@ -564,8 +599,9 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     ):
         _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
     elif crank and "R" in labels:
+        # far enough from the crank for its text between them to clear the letter O
         _dimension(
-            ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent
+            ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.09, extent, "R"
         )
     if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 2:
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
@@ -573,22 +609,33 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         # Outside the liner, so the text stays clear of the hatching.
         clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
         _dimension(
-            ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent
+            ax,
+            j[rod[1]][i] * MM,
+            j[rod[2]][i] * MM,
+            labels["L"],
+            max(extent * 0.09, clear),
+            extent,
+            "L",
         )
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         # Between the vertical through the crank axis and the cylinder axis, below the liner.
-        y = liner_ends_mm(guide, geometry)[0] - extent * 0.03
+        feature = liner_ends_mm(guide, geometry)[0]
+        y = feature - extent * 0.03
         ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
-        _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), "", 0.0, extent)
+        # the extension lines from the two axes down past the dimension line
+        x_e = guide.origin_m[0] * MM
+        _dimension(ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e")
         # on the side the rod does not cross at that height
         ends = sorted([0.0, guide.origin_m[0] * MM])
         rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
         left = rod_x is not None and rod_x > ends[1]
+        # too short for its text between the arrows: the text on the dimension line's extension
         ax.text(
             ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
             y,
             labels["e"],
+            gid="dimension-e-text",
             ha="right" if left else "left",
             va="center",
             fontsize=8,
@@ -599,9 +646,12 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
         clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * (liner_ends_mm(guide, geometry)[1] + clear)
+        top = o + d * liner_ends_mm(guide, geometry)[1]
         half = guide.bore_m * MM / 2
-        _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
+        # the extension lines from the liner's wall ends, past the label, to the dimension line
+        _dimension(
+            ax, top - n * half, top + n * half, labels["D"], clear, extent, "D", from_feature=True
+        )
 
 
 def _x_at(a, b, y: float) -> float | None:
@@ -698,7 +748,8 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         label.set_va("bottom" if float(np.dot(up, side)) > 0 else "top")
         if not text_crosses(label.get_window_extent(renderer), segments):
             break
-    _dimension(ax, p, q, "", offset, extent)
+    label.set_gid("dimension-L-text")
+    _dimension(ax, p, q, "", offset, extent, "L")
 
 
 def _direction_deg(v) -> float:
@@ -892,25 +943,17 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
     and the stroke S between them as a dimension line with its text."""
     half = guide.bore_m * MM / 2
     ends = []
-    for distance, name in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
+    dead_centres = ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"]))
+    for k, (distance, name) in enumerate(dead_centres, start=1):
         at = o + d * distance * MM
         start, end = at + n * (half + extent * 0.035), at + n * (half + extent * 0.11)
-        ax.plot(*np.c_[start, end], color="0.2", lw=0.6, ls="-")
+        # the dead centre's line is the stroke's extension line: past the dimension line
+        ax.plot(*np.c_[start, end], color="0.2", lw=0.6, ls="-", gid=f"dimension-S-extension-{k}")
         ax.text(*(end + n * extent * 0.01), name, fontsize=8, color="0.15", **outward_alignment(n))
         ends.append(at + n * (half + extent * 0.09))
     if text:
-        _dimension_arrow(ax, ends[0], ends[1])
-        middle = (ends[0] + ends[1]) / 2 + n * extent * 0.015
-        ax.text(
-            *middle,
-            text,
-            fontsize=8,
-            color="0.15",
-            rotation=90 if abs(float(d[1])) > 0.7 else 0,
-            ha="left",
-            va="center",
-            bbox=LABEL_BOX,
-        )
+        _dimension_arrow(ax, ends[0], ends[1], "dimension-S-line")
+        _dimension_text(ax, ends[1], ends[0], text, extent, "dimension-S-text")
 
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -918,7 +961,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-    _dimension(ax, p, q, "", -extent * 0.04, extent)
+    _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
     lowest = min(float(points[i][1]) * MM for points in j.values())
     for (
         guide
@@ -938,7 +981,10 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
     at = np.array([float(p[0]), lowest - extent * 0.08])
     ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
-    ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15", bbox=LABEL_BOX)
+    ax.text(
+        *at, text, ha="center", va="top", fontsize=8, color="0.15", bbox=LABEL_BOX,
+        gid="dimension-R-text",
+    )
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -947,7 +993,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     offset = -extent * 0.06
-    _dimension(ax, p, q, "", offset, extent)
+    _dimension(ax, p, q, "", offset, extent, "R")
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
     right = mid[0] >= float(p[0])
@@ -962,6 +1008,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
         fontsize=8,
         color="0.15",
         bbox=LABEL_BOX,
+        gid="dimension-R-text",
     )
 
 
