@@ -603,7 +603,7 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         _dimension(
             ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.09, extent, "R"
         )
-    if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 2:
+    if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 1:
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
     elif rod and "L" in labels:
         # Outside the liner, so the text stays clear of the hatching.
@@ -708,8 +708,9 @@ def text_crosses(box, segments_display) -> bool:
 
 def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> None:
     """L of an engine whose rods and liners surround the master rod (a radial, a V): the dimension
-    line beside the rod, clear of its liner, with the text along it (ГОСТ 2.307) at the first
-    offset and place whose box crosses no bar, body, liner or piston (the nearest when none is)."""
+    line beside the rod, clear of its liner, with the text along it and above it (ГОСТ 2.307) at
+    the first offset and place whose box, with the depth of a wall's hatching round it, crosses no
+    bar, body, liner or piston (the nearest when none is)."""
     j = geometry.joints
     p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
@@ -736,17 +737,26 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         zorder=7,
     )
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
+    # of two banks, on the outer side of the rod, where no other bank's liner is
+    axes = _one_per_axis(geometry.guides)
+    signs = (-1.0, 1.0)
+    if len(axes) == 2:
+        others = sum(np.asarray(g.direction, float) for g in axes if g.joint != rod[2])
+        signs = (-1.0,) if float(np.dot(n, others)) > 0 else (1.0,)
     candidates = [
         (sign * (clear + k * extent * 0.04), share)
         for k in range(4)
-        for sign in (-1.0, 1.0)
-        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)
+        for sign in signs
+        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9, 0.2)
     ]
+    label.set_va("bottom")
+    hatching = float(
+        np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
+    )
     for offset, share in candidates + [candidates[0]]:
-        side = n * np.sign(offset)
-        label.set_position(p + (q - p) * share + n * offset + side * extent * 0.008)
-        label.set_va("bottom" if float(np.dot(up, side)) > 0 else "top")
-        if not text_crosses(label.get_window_extent(renderer), segments):
+        label.set_position(p + (q - p) * share + n * offset + up * extent * 0.006)
+        box = label.get_window_extent(renderer).padded(hatching)
+        if not text_crosses(box, segments):
             break
     label.set_gid("dimension-L-text")
     _dimension(ax, p, q, "", offset, extent, "L")
@@ -757,9 +767,9 @@ def _direction_deg(v) -> float:
     return float(np.degrees(np.arctan2(v[1], v[0])))
 
 
-def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None:
+def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: str = "") -> None:
     """An arc from direction ``start`` to ``end`` (unit vectors) around ``centre`` (mm), the
-    shorter way, with its symbol just outside the middle of the arc."""
+    shorter way, with its symbol (and its subscript ``sub``) just outside the middle of the arc."""
     from matplotlib.patches import (
         Arc,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
@@ -781,22 +791,47 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
     )
     middle = np.radians(a + ((b - a) % 360.0) / 2)
     at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
-    ax.text(
-        *at, text, ha="center", va="center", fontsize=9, fontstyle="italic", color="0.1", zorder=7
-    )
+    if text:
+        _lettered(ax, at, text, sub, ha="center", va="center", fontstyle="italic")
 
 
-def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
-    """A curved arrow clockwise (the crank's sense of rotation) on the upper left of ``centre``,
-    named ``text`` (ω): clear of the counterweight below the shaft of a crank at 45 deg."""
+def _lettered(ax, at, letter: str, sub: str = "", **style):
+    """A letter of the scheme (O, A, B, α, β) at ``at`` (mm) with its subscript (a bank's letter:
+    A with L for the left bank's piston pin) set smaller at the letter's lower right."""
+    text = ax.text(*at, letter, fontsize=9, color="0.1", zorder=7, **style)
+    text.set_gid(f"mark-{letter}")
+    if sub:
+        ax.annotate(
+            sub,
+            xy=(1.0, 0.1),
+            xycoords=text,
+            xytext=(0.4, 0.0),
+            textcoords="offset points",
+            ha="left",
+            va="center",
+            fontsize=6.5,
+            color="0.1",
+            zorder=7,
+            fontstyle=style.get("fontstyle", "normal"),
+        ).set_gid(f"mark-{letter}-{sub}")
+    return text
+
+
+def _rotation_arrow(
+    ax, centre, radius, text: str, extent: float, middle_deg: float | None = None
+) -> None:
+    """A curved arrow clockwise (the crank's sense of rotation) around ``centre``, named ``text``
+    (ω): by default on the upper left, clear of the counterweight below the shaft of a crank at
+    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x)."""
     from matplotlib.patches import (
         FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
     c = np.asarray(centre, dtype=float)
+    middle_deg = 135.0 if middle_deg is None else middle_deg
     start, end = (
         c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))])
-        for t in (165.0, 105.0)
+        for t in (middle_deg + 30.0, middle_deg - 30.0)
     )
     ax.add_patch(
         FancyArrowPatch(
@@ -810,16 +845,9 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
             zorder=6,
         )
     )
-    middle = np.array([np.cos(np.radians(140.0)), np.sin(np.radians(140.0))])
-    ax.text(
-        *(c + (radius + extent * 0.03) * middle),
-        text,
-        ha="right",
-        va="bottom",
-        fontsize=9,
-        fontstyle="italic",
-        color="0.1",
-        zorder=7,
+    middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
+    _lettered(
+        ax, c + (radius + extent * 0.03) * middle, text, fontstyle="italic", **outward_alignment(middle)
     )
 
 
@@ -849,6 +877,152 @@ def angle_mark_parts(geometry):
     return None if crank is None or rod is None else (guide, crank, rod)
 
 
+#: The most cylinder axes a scheme marks each of (a V, a boxer): the hub of a W, an X or a radial
+#: has no room for three or more piston pins' and rods' letters beside α and ω.
+MOST_MARKED_BANKS = 2
+
+
+def bank_mark_parts(geometry):
+    """(crank, [(liner, rod), ...]) of an engine whose front view shows two to
+    :data:`MOST_MARKED_BANKS` cylinder axes (a V or a boxer: each bank's first cylinder), the
+    rods of all of them on the one crank pin of a crank ``crank`` or ``crank_1`` from
+    ``crank_centre``, in the order of the guides (cylinder 1's bank first); None otherwise (one
+    axis: :func:`angle_mark_parts`; a master rod's slaves, which have no rod on the crank pin)."""
+    guides = geometry.guides
+    if not 2 <= len(guides) <= MOST_MARKED_BANKS or any(
+        g.moving is not None or g.bore_m <= 0 for g in guides
+    ):
+        return None
+    crank = next(
+        (l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None
+    )
+    if crank is None:
+        return None
+    rods = [
+        next((l for l in geometry.links if l[1] == crank[2] and l[2] == g.joint), None)
+        for g in guides
+    ]
+    if any(rod is None for rod in rods):
+        return None
+    return crank, list(zip(guides, rods, strict=True))
+
+
+def bank_letter(label: str) -> str:
+    """The index a bank's marks carry: a cylinder label's bank letter ("1L" → "L", "1Л" → "Л"),
+    the label itself when it has none."""
+    letter = str(label).lstrip("0123456789")
+    return letter or str(label)
+
+
+def _free_directions(occupied, least: float = 20.0) -> list[float]:
+    """The middles (deg from +x) of the gaps between the ``occupied`` intervals of direction
+    ((from, to) deg, counter-clockwise), the widest first; gaps narrower than ``least`` left out."""
+    step = 2.0
+    grid = np.arange(0.0, 360.0, step)
+    taken = np.zeros(grid.size, dtype=bool)
+    for start, end in occupied:
+        taken |= ((grid - start) % 360.0) <= ((end - start) % 360.0)
+    if taken.all():
+        return []
+    if not taken.any():
+        return [90.0]
+    first = int(np.argmax(taken))  # walk the circle from an occupied direction
+    runs, run = [], []
+    for k in range(1, grid.size + 1):
+        index = (first + k) % grid.size
+        if taken[index]:
+            if run:
+                runs.append(run)
+            run = []
+        else:
+            run.append(grid[index])
+    if run:
+        runs.append(run)
+    runs.sort(key=len, reverse=True)
+    return [
+        float((r[0] + (len(r) - 1) * step / 2) % 360.0) for r in runs if len(r) * step >= least
+    ]
+
+
+def _around(direction, half_deg: float) -> tuple[float, float]:
+    middle = _direction_deg(direction)
+    return middle - half_deg, middle + half_deg
+
+
+def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
+    """The line the crank angle is measured from: the crank at TDC, through the crank centre; up to
+    the liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken."""
+    o, d, n = _guide_frame(geometry, guide, i)
+    bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
+    collinear = (
+        abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+    )
+    top = max(radius * 1.35, bottom) if collinear else radius * 1.35
+    ax.plot(
+        *np.c_[centre - zero * radius * 0.5, centre + zero * top],
+        color="0.45",
+        lw=0.5,
+        ls="-.",
+        zorder=1,
+    )
+
+
+def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int) -> None:
+    """The marks of :func:`draw_angle_marks` on an engine of several banks: O, B, each bank's
+    piston pin A and rod angle β with the bank's letter as index, the crank angle α from cylinder
+    1's TDC (its axis), ω; each letter in a direction no member, arc or axis takes."""
+    crank, pairs = banks
+    extent = _extent_mm(geometry)
+    j = geometry.joints
+    centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+    radius = float(np.linalg.norm(pin - centre))
+    if radius <= 0:
+        return
+    at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
+    zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
+    along = (pin - centre) / radius
+    _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
+    _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
+    # round the shaft: the crank, the angle α, its zero line, the counterweight, the ground
+    a, b = _direction_deg(zero), _direction_deg(along)
+    sector = (a, b) if (b - a) % 360.0 <= 180.0 else (b, a)
+    half = COUNTERWEIGHT_HALF_ANGLE_DEG + 10.0
+    taken = [_around(along, 15.0), _around(zero, 12.0), _around(-zero, 12.0), sector]
+    taken += [_around(-along, half), (225.0, 315.0)]
+    # the crank's dimension line R beside it, on its clockwise side (draw_dimensions)
+    taken.append((_direction_deg(along) - 110.0, _direction_deg(along)))
+    for guide, _ in pairs:  # an axis that reaches the shaft (a liner cut short near it)
+        taken.append(_around(np.asarray(guide.direction, float), 10.0))
+    free = _free_directions(taken) or [135.0]
+    _rotation_arrow(
+        ax, centre, max(radius * 0.4, extent * 0.06), marks["omega"], extent, free[0] - 5.0
+    )
+    # O inside the arrow's arc, in the same free direction
+    o_way = np.array([np.cos(np.radians(free[0])), np.sin(np.radians(free[0]))])
+    _lettered(ax, centre + o_way * extent * 0.03, "O", ha="center", va="center")
+    # round the crank pin: the crank, the rods and the angle α's symbol
+    middle = np.radians(a + ((b - a) % 360.0) / 2 if sector == (a, b) else b + ((a - b) % 360.0) / 2)
+    alpha_at = centre + (radius * 0.55 + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
+    taken = [_around(-along, 18.0), _around(alpha_at - pin, 35.0)]
+    for guide, _ in pairs:
+        rod = j[guide.joint][i] * MM - pin
+        taken.append(_around(rod, 18.0))
+    free = _free_directions(taken) or [_direction_deg(along)]
+    b_way = np.array([np.cos(np.radians(free[0])), np.sin(np.radians(free[0]))])
+    _lettered(ax, pin + b_way * extent * 0.03, "B", **outward_alignment(b_way))
+    for guide, _ in pairs:
+        o, d, n = _guide_frame(geometry, guide, i)
+        wrist = j[guide.joint][i] * MM
+        sub = bank_letter(guide.label)
+        away = n if float(np.dot(pin - wrist, n)) < 0 else -n  # the side the rod leaves
+        _lettered(ax, wrist + away * extent * 0.03, "A", sub, **outward_alignment(away))
+        length = float(np.linalg.norm(pin - wrist))
+        # the rod's small angle leaves no room inside the arc: its symbol beside the axis's end
+        _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
+        at = wrist - d * length * 0.3 + away * extent * 0.012
+        _lettered(ax, at, marks["beta"], sub, fontstyle="italic", **outward_alignment(away))
+
+
 def draw_angle_marks(
     ax,
     geometry,
@@ -866,6 +1040,9 @@ def draw_angle_marks(
     dimension line, which would cross the liner and the piston of a rod at an angle."""
     parts = angle_mark_parts(geometry) if marks else None
     if parts is None:
+        banks = bank_mark_parts(geometry) if marks else None
+        if banks is not None:
+            _bank_marks(ax, geometry, i, marks, banks, tdc_frame)
         return
     labels = labels or {}
     guide, crank, _ = parts
@@ -873,34 +1050,16 @@ def draw_angle_marks(
     j = geometry.joints
     o, d, n = _guide_frame(geometry, guide, i)
     wrist = j[guide.joint][i] * MM
-    letter = {"fontsize": 9, "color": "0.1", "zorder": 7}
-    ax.text(*(wrist - n * extent * 0.03), "A", ha="right", va="center", **letter)
+    _lettered(ax, wrist - n * extent * 0.03, "A", ha="right", va="center")
     centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     radius = float(np.linalg.norm(pin - centre))
     at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
-    # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
-    # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
-    bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
-    collinear = (
-        abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
-    )
-    top = max(radius * 1.35, bottom) if collinear else radius * 1.35
-    ax.plot(
-        *np.c_[centre - zero * radius * 0.5, centre + zero * top],
-        color="0.45",
-        lw=0.5,
-        ls="-.",
-        zorder=1,
-    )
+    _zero_line(ax, geometry, guide, i, centre, zero, radius, extent)
     # right of the shaft's axis: the counterweight lies opposite the crank, below on the left
-    ax.text(
-        *(centre + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter
-    )
+    _lettered(ax, centre + np.array([1.0, -0.15]) * extent * 0.035, "O", ha="left", va="center")
     if radius > 0:
-        ax.text(
-            *(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter
-        )
+        _lettered(ax, pin + (pin - centre) / radius * extent * 0.03, "B", ha="left", va="center")
         _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
         _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
     length = float(np.linalg.norm(pin - wrist))
@@ -1169,7 +1328,7 @@ def _scheme_at(
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     marked = bool(marks) and angle_mark_parts(geometry) is not None
-    # a marked scheme writes L beside the liner (draw_angle_marks); S only there
+    # a marked scheme of one cylinder axis writes L beside the liner (draw_angle_marks); S only there
     draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
     draw_angle_marks(ax, geometry, i, marks, labels)
     if with_star:
