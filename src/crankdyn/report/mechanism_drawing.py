@@ -599,9 +599,22 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     ):
         _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
     elif crank and "R" in labels:
-        # far enough from the crank for its text between them to clear the letter O
-        _dimension(
-            ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.09, extent, "R"
+        p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+        _dimension(ax, p, q, "", -extent * 0.06, extent, "R")
+        # a crank at an angle: its text level, just beyond the middle of the dimension line, away
+        # from the crank, which a text along the line would reach with its corners
+        d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+        side = -np.array([-d[1], d[0]])
+        mid = (p + q) / 2 + side * extent * 0.075
+        ax.text(
+            *mid,
+            labels["R"],
+            fontsize=8,
+            color="0.15",
+            bbox=LABEL_BOX,
+            gid="dimension-R-text",
+            ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
+            va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
         )
     if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 1:
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
@@ -753,10 +766,11 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     hatching = float(
         np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
     )
-    for offset, share in candidates + [candidates[0]]:
+    # clear of the hatching where there is room, else of the walls only, else the first place
+    tries = [(c, hatching) for c in candidates] + [(c, 0.0) for c in candidates]
+    for (offset, share), pad in tries + [(candidates[0], 0.0)]:
         label.set_position(p + (q - p) * share + n * offset + up * extent * 0.006)
-        box = label.get_window_extent(renderer).padded(hatching)
-        if not text_crosses(box, segments):
+        if not text_crosses(label.get_window_extent(renderer).padded(pad), segments):
             break
     label.set_gid("dimension-L-text")
     _dimension(ax, p, q, "", offset, extent, "L")
