@@ -1366,8 +1366,8 @@ def _scheme_at(
 TEXT_WIDTH_MM = 165.0
 FIGURE_HEIGHT_MM = 175.0
 _PANEL_TITLE_MM = 5.0
-#: Panels no higher than this times their width are drawn two in a row (half the text width
-#: each); taller ones (a cylinder above its crank) three in a row.
+#: Panels no higher than this times their width are drawn two in a row, half the text width
+#: each; taller ones (a cylinder above its crank) two in a row as high as the figure may be.
 SQUARE_ASPECT = 1.3
 
 
@@ -1377,20 +1377,29 @@ def _title_mm(aspect: float) -> float:
 
 
 def positions_layout(geometry, count: int) -> tuple[int, int]:
-    """(panels in a row, panels on one figure) of the positions figure: two in a row when a panel
-    is about as high as wide (a radial, a V), so that each is half the text width; three in a
-    row when it is tall; as many rows as the page's figure height holds."""
+    """(panels in a row, panels on one figure) of the positions figure: two in a row, each half the
+    text width when a panel is about as high as wide (a radial, a V), as high as the page's
+    figure height allows when it is tall (a cylinder above its crank); as many rows as that
+    height holds."""
     (x0, x1), (y0, y1) = _panel_limits(upright(front_view(geometry)))
     aspect = (y1 - y0) / (x1 - x0)
-    cols = min(count, 2 if aspect <= SQUARE_ASPECT else 3)
-    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    cols = max(min(count, 2), 1)
+    width = _panel_width_mm(aspect)
     rows = max(1, int(FIGURE_HEIGHT_MM // (width * aspect + _title_mm(aspect))))
-    return max(cols, 1), max(cols, 1) * rows
+    return cols, cols * rows
+
+
+def _panel_width_mm(aspect: float) -> float:
+    """A positions panel's width (mm): half the text width, or less for a panel so tall that
+    one row of them would be higher than a figure may be."""
+    return min(TEXT_WIDTH_MM / 2, (FIGURE_HEIGHT_MM - _title_mm(aspect)) / aspect)
 
 
 def _panel_limits(geometry):
-    """A positions panel's limits: room for the cylinders' numbers only (no dimension lines)."""
-    return _limits(geometry, label_gap=0.1, pad_share=0.04)
+    """A positions panel's limits: room for the cylinders' numbers only (no dimension lines),
+    none when the cylinders have none (a single cylinder)."""
+    labelled = any(g.label for g in geometry.guides)
+    return _limits(geometry, label_gap=0.1 if labelled else 0.0, pad_share=0.04)
 
 
 def positions_sheets(geometry, frames: list) -> list[list]:
@@ -1412,7 +1421,7 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     limits = _panel_limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols, _ = positions_layout(geometry, len(frames))
-    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    width = _panel_width_mm(aspect)
     height = width * aspect
     rows = -(-len(frames) // cols)
     row_mm = height + _title_mm(aspect)
