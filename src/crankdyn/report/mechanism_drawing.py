@@ -1361,19 +1361,18 @@ def _scheme_at(
     return fig
 
 
-#: The positions figure: the A4 text width and the most a figure is shown high (the printed
-#: page's limit for a figure), mm; each panel's title takes one line above it.
+#: The positions figure: the A4 text width and the most it is shown high, mm: the page's text
+#: height (247 mm inside the frame) less the sentence of three lines before it, its caption and
+#: their margins (the print style lets this figure, and no other, be that high), so that a
+#: cylinder above its crank is drawn half the text width wide; each panel's title takes one line.
 TEXT_WIDTH_MM = 165.0
-FIGURE_HEIGHT_MM = 175.0
+FIGURE_HEIGHT_MM = 205.0
 _PANEL_TITLE_MM = 5.0
-#: Panels no higher than this times their width are drawn two in a row, half the text width
-#: each; taller ones (a cylinder above its crank) two in a row as high as the figure may be.
-SQUARE_ASPECT = 1.3
 
 
 def _title_mm(aspect: float) -> float:
-    """Room above a panel for its title: one line beside a square panel, two above a narrow one."""
-    return _PANEL_TITLE_MM if aspect <= SQUARE_ASPECT else 2 * _PANEL_TITLE_MM
+    """Room above a panel for its one-line title."""
+    return _PANEL_TITLE_MM
 
 
 def positions_layout(geometry, count: int) -> tuple[int, int]:
@@ -1397,9 +1396,12 @@ def _panel_width_mm(aspect: float) -> float:
 
 def _panel_limits(geometry):
     """A positions panel's limits: room for the cylinders' numbers only (no dimension lines),
-    none when the cylinders have none (a single cylinder)."""
+    none when the cylinders have none (a single cylinder); a narrow margin above and below, where
+    only a joint's circle reaches past the limits' points."""
     labelled = any(g.label for g in geometry.guides)
-    return _limits(geometry, label_gap=0.1 if labelled else 0.0, pad_share=0.04)
+    return _limits(
+        geometry, label_gap=0.035 if labelled else 0.0, pad_share=0.04, pad_share_y=0.015
+    )
 
 
 def positions_sheets(geometry, frames: list) -> list[list]:
@@ -1432,15 +1434,16 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
-        ax.set_title(
-            caption.replace("\n", " — ") if aspect <= SQUARE_ASPECT else caption, fontsize=8, pad=2
-        )
+        ax.set_title(caption.replace("\n", " — "), fontsize=8, pad=2)
     return fig
 
 
-def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
+def _limits(
+    geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06, pad_share_y: float | None = None
+):
     """Axis limits (mm) holding every joint over the frames, every liner with its piston and label
-    (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``."""
+    (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``
+    (``pad_share_y`` above and below, when given)."""
     parts = [p.reshape(-1, 2) for p in geometry.joints.values()]
     parts += [t.reshape(-1, 2) for t in geometry.traces.values()]
     for c, radius, _ in geometry.circles:
@@ -1468,7 +1471,8 @@ def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
     pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = pad_share * np.ptp(pts, axis=0).max()
-    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
+    pad_y = pad if pad_share_y is None else pad_share_y * np.ptp(pts, axis=0).max()
+    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad_y, hi[1] + pad_y)
 
 
 # --------------------------------------------------------------------------- animation
