@@ -811,10 +811,14 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: st
 
 def _lettered(ax, at, letter: str, sub: str = "", **style):
     """A letter of the scheme (O, A, B, α, β) at ``at`` (mm) with its subscript (a bank's letter:
-    A with L for the left bank's piston pin) set smaller at the letter's lower right."""
+    A with L for the left bank's piston pin) set smaller at the letter's lower right; the
+    artists drawn."""
     text = ax.text(*at, letter, fontsize=9, color="0.1", zorder=7, **style)
     text.set_gid(f"mark-{letter}")
-    if sub:
+    if not sub:
+        return [text]
+    return [
+        text,
         ax.annotate(
             sub,
             xy=(1.0, 0.1),
@@ -827,16 +831,15 @@ def _lettered(ax, at, letter: str, sub: str = "", **style):
             color="0.1",
             zorder=7,
             fontstyle=style.get("fontstyle", "normal"),
-        ).set_gid(f"mark-{letter}-{sub}")
-    return text
+            gid=f"mark-{letter}-{sub}",
+        ),
+    ]
 
 
-def _rotation_arrow(
-    ax, centre, radius, text: str, extent: float, middle_deg: float | None = None
-) -> None:
+def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: float | None = None):
     """A curved arrow clockwise (the crank's sense of rotation) around ``centre``, named ``text``
     (ω): by default on the upper left, clear of the counterweight below the shaft of a crank at
-    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x)."""
+    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x); the arrow and its text drawn."""
     from matplotlib.patches import (
         FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
@@ -847,7 +850,7 @@ def _rotation_arrow(
         c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))])
         for t in (middle_deg + 30.0, middle_deg - 30.0)
     )
-    ax.add_patch(
+    arrow = ax.add_patch(
         FancyArrowPatch(
             start,
             end,
@@ -860,9 +863,10 @@ def _rotation_arrow(
         )
     )
     middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
-    _lettered(
+    (label,) = _lettered(
         ax, c + (radius + extent * 0.03) * middle, text, fontstyle="italic", **outward_alignment(middle)
     )
+    return arrow, label
 
 
 def angle_mark_parts(geometry):
@@ -928,41 +932,6 @@ def bank_letter(label: str) -> str:
     return letter or str(label)
 
 
-def _free_directions(occupied, least: float = 20.0) -> list[float]:
-    """The middles (deg from +x) of the gaps between the ``occupied`` intervals of direction
-    ((from, to) deg, counter-clockwise), the widest first; gaps narrower than ``least`` left out."""
-    step = 2.0
-    grid = np.arange(0.0, 360.0, step)
-    taken = np.zeros(grid.size, dtype=bool)
-    for start, end in occupied:
-        taken |= ((grid - start) % 360.0) <= ((end - start) % 360.0)
-    if taken.all():
-        return []
-    if not taken.any():
-        return [90.0]
-    first = int(np.argmax(taken))  # walk the circle from an occupied direction
-    runs, run = [], []
-    for k in range(1, grid.size + 1):
-        index = (first + k) % grid.size
-        if taken[index]:
-            if run:
-                runs.append(run)
-            run = []
-        else:
-            run.append(grid[index])
-    if run:
-        runs.append(run)
-    runs.sort(key=len, reverse=True)
-    return [
-        float((r[0] + (len(r) - 1) * step / 2) % 360.0) for r in runs if len(r) * step >= least
-    ]
-
-
-def _around(direction, half_deg: float) -> tuple[float, float]:
-    middle = _direction_deg(direction)
-    return middle - half_deg, middle + half_deg
-
-
 def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
     """The line the crank angle is measured from: the crank at TDC, through the crank centre; up to
     the liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken."""
@@ -982,9 +951,11 @@ def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
 
 
 def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int) -> None:
-    """The marks of :func:`draw_angle_marks` on an engine of several banks: O, B, each bank's
-    piston pin A and rod angle β with the bank's letter as index, the crank angle α from cylinder
-    1's TDC (its axis), ω; each letter in a direction no member, arc or axis takes."""
+    """The marks of :func:`draw_angle_marks` on an engine of two banks: O, B, each bank's piston
+    pin A and rod angle β with the bank's letter as index, the crank angle α from cylinder 1's
+    TDC (its axis), ω; each letter, and the arrow ω, where it stands clearest of everything drawn
+    before it (:class:`_Clearance`): round a V's shaft the crank, both rods, the dimensions R and
+    L and the counterweight leave little room."""
     crank, pairs = banks
     extent = _extent_mm(geometry)
     j = geometry.joints
@@ -996,45 +967,136 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
     along = (pin - centre) / radius
     _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
-    _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
-    # round the shaft: the crank, the angle α, its zero line, the counterweight, the ground
-    a, b = _direction_deg(zero), _direction_deg(along)
-    sector = (a, b) if (b - a) % 360.0 <= 180.0 else (b, a)
-    half = COUNTERWEIGHT_HALF_ANGLE_DEG + 10.0
-    taken = [_around(along, 15.0), _around(zero, 12.0), _around(-zero, 12.0), sector]
-    taken += [_around(-along, half), (225.0, 315.0)]
-    # the crank's dimension line R beside it, on its clockwise side (draw_dimensions)
-    taken.append((_direction_deg(along) - 110.0, _direction_deg(along)))
-    for guide, _ in pairs:  # an axis that reaches the shaft (a liner cut short near it)
-        taken.append(_around(np.asarray(guide.direction, float), 10.0))
-    free = _free_directions(taken) or [135.0]
-    _rotation_arrow(
-        ax, centre, max(radius * 0.4, extent * 0.06), marks["omega"], extent, free[0] - 5.0
-    )
-    # O inside the arrow's arc, in the same free direction
-    o_way = np.array([np.cos(np.radians(free[0])), np.sin(np.radians(free[0]))])
-    _lettered(ax, centre + o_way * extent * 0.03, "O", ha="center", va="center")
-    # round the crank pin: the crank, the rods and the angle α's symbol
-    middle = np.radians(a + ((b - a) % 360.0) / 2 if sector == (a, b) else b + ((a - b) % 360.0) / 2)
-    alpha_at = centre + (radius * 0.55 + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
-    taken = [_around(-along, 18.0), _around(alpha_at - pin, 35.0)]
     for guide, _ in pairs:
-        rod = j[guide.joint][i] * MM - pin
-        taken.append(_around(rod, 18.0))
-    free = _free_directions(taken) or [_direction_deg(along)]
-    b_way = np.array([np.cos(np.radians(free[0])), np.sin(np.radians(free[0]))])
-    _lettered(ax, pin + b_way * extent * 0.03, "B", **outward_alignment(b_way))
+        wrist = j[guide.joint][i] * MM
+        length = float(np.linalg.norm(pin - wrist))
+        o, d, n = _guide_frame(geometry, guide, i)
+        _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
+    _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
+    clearance = _Clearance(ax, geometry, i, extent)
+    # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
+    candidates = [
+        (float(middle), max(radius * 0.4, extent * share))
+        for share in (0.09, 0.07, 0.11)
+        for middle in np.arange(0.0, 360.0, 15.0)
+    ]
+    best, best_clear = candidates[0], -np.inf
+    for middle, arrow_radius in candidates:
+        arrow, text = _rotation_arrow(ax, centre, arrow_radius, marks["omega"], extent, middle)
+        arc = _arc_points(centre, arrow_radius, middle - 30.0, middle + 30.0)
+        clear = min(clearance.of_points(arc), clearance.of_box(text))
+        arrow.remove()
+        text.remove()
+        if clear > best_clear + 1e-9:
+            best, best_clear = (middle, arrow_radius), clear
+    _rotation_arrow(ax, centre, best[1], marks["omega"], extent, best[0])
+    clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
+    clearance.add_last_text()
+    clearance.place(_ring(centre, extent * np.array([0.035, 0.05])), "O")
+    clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
     for guide, _ in pairs:
         o, d, n = _guide_frame(geometry, guide, i)
         wrist = j[guide.joint][i] * MM
         sub = bank_letter(guide.label)
-        away = n if float(np.dot(pin - wrist, n)) < 0 else -n  # the side the rod leaves
-        _lettered(ax, wrist + away * extent * 0.03, "A", sub, **outward_alignment(away))
+        clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
         length = float(np.linalg.norm(pin - wrist))
-        # the rod's small angle leaves no room inside the arc: its symbol beside the axis's end
-        _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
-        at = wrist - d * length * 0.3 + away * extent * 0.012
-        _lettered(ax, at, marks["beta"], sub, fontstyle="italic", **outward_alignment(away))
+        end = wrist - d * length * 0.3  # the arc's end on the cylinder's axis
+        beside = [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
+        clearance.place(beside, marks["beta"], sub, fontstyle="italic")
+
+
+def _arc_points(centre, radius: float, start_deg: float, end_deg: float) -> np.ndarray:
+    t = np.radians(np.linspace(start_deg, end_deg, 24))
+    return np.asarray(centre, float) + radius * np.c_[np.cos(t), np.sin(t)]
+
+
+def _ring(centre, distances) -> list:
+    """Places round ``centre`` (mm) at each of ``distances``, every 30 deg."""
+    t = np.radians(np.arange(0.0, 360.0, 30.0))
+    return [np.asarray(centre, float) + r * np.array([np.cos(a), np.sin(a)]) for r in distances for a in t]
+
+
+class _Clearance:
+    """How far a new mark would stand from everything drawn on the scheme's axes (mm): points
+    along its lines, bars, hatching, outlines, arcs, dimension arrows and texts' boxes."""
+
+    def __init__(self, ax, geometry, i: int, extent: float):
+        self.ax, self.extent = ax, extent
+        self.renderer = ax.figure.canvas.get_renderer()
+        self.step = extent * 0.004
+        points = [self._along(np.column_stack(line.get_data()).astype(float)) for line in ax.lines]
+        for collection in ax.collections:
+            for segment in getattr(collection, "get_segments", lambda: [])():
+                points.append(self._along(np.asarray(segment, float)))
+        from matplotlib.patches import Arc  # lazy: heavy optional import
+
+        to_data = ax.transData.inverted()
+        for patch in ax.patches:
+            if isinstance(patch, Arc):  # the arc drawn, not its whole ellipse
+                arc = _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
+                points.append(self._along(arc))
+            else:
+                points.append(self._along(to_data.transform(patch.get_verts())))
+        for text in ax.texts:
+            points.append(self._text_points(text))
+        points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
+        self.points = np.concatenate([p.reshape(-1, 2) for p in points if len(p)])
+
+    def _along(self, polyline) -> np.ndarray:
+        """Points every ``step`` along a polyline (mm)."""
+        if len(polyline) < 2:
+            return polyline.reshape(-1, 2)
+        out = []
+        for a, b in zip(polyline[:-1], polyline[1:], strict=True):
+            count = max(int(np.linalg.norm(b - a) / self.step), 1)
+            out.append(a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None])
+        return np.concatenate(out)
+
+    def _text_points(self, text) -> np.ndarray:
+        """The outline of a text's box (a dimension's arrow: its line), mm."""
+        if not text.get_text():
+            if hasattr(text, "xyann"):
+                return self._along(np.array([text.xyann, text.xy], dtype=float))
+            return np.empty((0, 2))
+        box = text.get_window_extent(self.renderer)
+        corners = self.ax.transData.inverted().transform(
+            [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+        )
+        return self._along(corners)
+
+    def of_points(self, points) -> float:
+        from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+        distances, _ = cKDTree(self.points).query(np.asarray(points, float))
+        return float(np.min(distances))
+
+    def add_points(self, points) -> None:
+        self.points = np.concatenate([self.points, np.asarray(points, float).reshape(-1, 2)])
+
+    def add_last_text(self) -> None:
+        self.add_points(self._text_points(self.ax.texts[-1]))
+
+    def of_box(self, artist) -> float:
+        """The distance (mm) from a text's box to the nearest thing drawn; minus the number of
+        points of it inside the box when something crosses it."""
+        outline = self._text_points(artist)
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        inside = np.all((self.points > low) & (self.points < high), axis=1)
+        return -float(np.count_nonzero(inside)) if inside.any() else self.of_points(outline)
+
+    def place(self, candidates, letter: str, sub: str = "", **style) -> None:
+        """The letter (with its subscript) centred at the candidate place whose box stands
+        clearest of everything drawn; then itself an obstacle to the next."""
+        best, best_clear = candidates[0], -np.inf
+        for at in candidates:
+            artists = _lettered(self.ax, at, letter, sub, ha="center", va="center", **style)
+            clear = min(self.of_box(a) for a in artists)
+            for artist in artists:
+                artist.remove()
+            if clear > best_clear + 1e-9:
+                best, best_clear = at, clear
+        for artist in _lettered(self.ax, best, letter, sub, ha="center", va="center", **style):
+            self.add_points(self._text_points(artist))
 
 
 def draw_angle_marks(
