@@ -92,8 +92,8 @@ def test_the_bore_is_dimensioned_from_the_liners_wall_ends(engine):
         assert np.allclose(line[0], wall, atol=1e-9)
         assert float((line[1] - line[0]) @ d) > 0  # away from the cylinder's head
     box = text.get_window_extent(fig.canvas.get_renderer())
-    centre = fig.axes[0].transData.inverted().transform(
-        [(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2]
+    centre = (
+        fig.axes[0].transData.inverted().transform([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
     )
     assert float((centre - ends.mean(axis=0)) @ d) > 0  # beyond the dimension line
 

@@ -638,7 +638,9 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
         # the extension lines from the two axes down past the dimension line
         x_e = guide.origin_m[0] * MM
-        _dimension(ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e")
+        _dimension(
+            ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e"
+        )
         # on the side the rod does not cross at that height
         ends = sorted([0.0, guide.origin_m[0] * MM])
         rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
@@ -864,7 +866,11 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: fl
     )
     middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
     (label,) = _lettered(
-        ax, c + (radius + extent * 0.03) * middle, text, fontstyle="italic", **outward_alignment(middle)
+        ax,
+        c + (radius + extent * 0.03) * middle,
+        text,
+        fontstyle="italic",
+        **outward_alignment(middle),
     )
     return arrow, label
 
@@ -1013,7 +1019,11 @@ def _arc_points(centre, radius: float, start_deg: float, end_deg: float) -> np.n
 def _ring(centre, distances) -> list:
     """Places round ``centre`` (mm) at each of ``distances``, every 30 deg."""
     t = np.radians(np.arange(0.0, 360.0, 30.0))
-    return [np.asarray(centre, float) + r * np.array([np.cos(a), np.sin(a)]) for r in distances for a in t]
+    return [
+        np.asarray(centre, float) + r * np.array([np.cos(a), np.sin(a)])
+        for r in distances
+        for a in t
+    ]
 
 
 class _Clearance:
@@ -1060,7 +1070,13 @@ class _Clearance:
             return np.empty((0, 2))
         box = text.get_window_extent(self.renderer)
         corners = self.ax.transData.inverted().transform(
-            [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+            [
+                [box.x0, box.y0],
+                [box.x1, box.y0],
+                [box.x1, box.y1],
+                [box.x0, box.y1],
+                [box.x0, box.y0],
+            ]
         )
         return self._along(corners)
 
@@ -1217,7 +1233,13 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     at = np.array([float(p[0]), lowest - extent * 0.08])
     ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
     ax.text(
-        *at, text, ha="center", va="top", fontsize=8, color="0.15", bbox=LABEL_BOX,
+        *at,
+        text,
+        ha="center",
+        va="top",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
         gid="dimension-R-text",
     )
 
@@ -1501,7 +1523,10 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
 
 
 def _limits(
-    geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06, pad_share_y: float | None = None
+    geometry,
+    label_gap: float = LABEL_GAP,
+    pad_share: float = 0.06,
+    pad_share_y: float | None = None,
 ):
     """Axis limits (mm) holding every joint over the frames, every liner with its piston and label
     (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``
