@@ -745,12 +745,16 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         text,
         fontsize=8,
         color="0.15",
-        rotation=rotation,
         rotation_mode="anchor",
         ha="center",
+        va="bottom",
         bbox=LABEL_BOX,
         zorder=7,
     )
+    # the text's own box, level (display units): a slanted text's upright box would take in
+    # the walls beside it
+    size = label.get_window_extent(renderer)
+    label.set_rotation(rotation)
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
     # of two banks, on the outer side of the rod, where no other bank's liner is
     axes = _one_per_axis(geometry.guides)
@@ -764,18 +768,37 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         for sign in signs
         for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9, 0.2)
     ]
-    label.set_va("bottom")
     hatching = float(
         np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
     )
     # clear of the hatching where there is room, else of the walls only, else the first place
     tries = [(c, hatching) for c in candidates] + [(c, 0.0) for c in candidates]
     for (offset, share), pad in tries + [(candidates[0], 0.0)]:
-        label.set_position(p + (q - p) * share + n * offset + up * extent * 0.006)
-        if not text_crosses(label.get_window_extent(renderer).padded(pad), segments):
+        anchor = p + (q - p) * share + n * offset + up * extent * 0.006
+        label.set_position(anchor)
+        at = ax.transData.transform(anchor)
+        if not _slanted_text_crosses(at, rotation, size.width, size.height, pad, segments):
             break
     label.set_gid("dimension-L-text")
     _dimension(ax, p, q, "", offset, extent, "L")
+
+
+def _slanted_text_crosses(anchor, rotation_deg, width, height, pad, segments) -> bool:
+    """Whether any segment (display coordinates, (n, 2, 2)) passes through the box of a text
+    ``width`` x ``height`` turned by ``rotation_deg`` about the middle of its foot ``anchor``
+    (ha center, va bottom), widened by ``pad`` on every side."""
+    if len(segments) == 0:
+        return False
+    t = np.linspace(0.0, 1.0, 60)[None, :, None]
+    points = (segments[:, :1, :] + (segments[:, 1:, :] - segments[:, :1, :]) * t).reshape(-1, 2)
+    c, s_ = np.cos(np.radians(rotation_deg)), np.sin(np.radians(rotation_deg))
+    local = (points - np.asarray(anchor, float)) @ np.array([[c, -s_], [s_, c]])
+    inside = (
+        (np.abs(local[:, 0]) < width / 2 + pad)
+        & (local[:, 1] > -pad)
+        & (local[:, 1] < height + pad)
+    )
+    return bool(inside.any())
 
 
 def _direction_deg(v) -> float:
@@ -1450,7 +1473,7 @@ def _scheme_at(
 #: their margins (the print style lets this figure, and no other, be that high), so that a
 #: cylinder above its crank is drawn half the text width wide; each panel's title takes one line.
 TEXT_WIDTH_MM = 165.0
-FIGURE_HEIGHT_MM = 205.0
+FIGURE_HEIGHT_MM = 207.0
 _PANEL_TITLE_MM = 5.0
 
 
@@ -1464,7 +1487,7 @@ def positions_layout(geometry, count: int) -> tuple[int, int]:
     text width when a panel is about as high as wide (a radial, a V), as high as the page's
     figure height allows when it is tall (a cylinder above its crank); as many rows as that
     height holds."""
-    (x0, x1), (y0, y1) = _panel_limits(upright(front_view(geometry)))
+    (x0, x1), (y0, y1) = _panel_limits(_panel_geometry(geometry))
     aspect = (y1 - y0) / (x1 - x0)
     cols = max(min(count, 2), 1)
     width = _panel_width_mm(aspect)
@@ -1479,13 +1502,22 @@ def _panel_width_mm(aspect: float) -> float:
 
 
 def _panel_limits(geometry):
-    """A positions panel's limits: room for the cylinders' numbers only (no dimension lines),
-    none when the cylinders have none (a single cylinder); a narrow margin above and below, where
-    only a joint's circle reaches past the limits' points."""
+    """A positions panel's limits (:func:`_panel_geometry`): room for the cylinders' numbers
+    only (no dimension lines), else for the cylinder's axis past its liner; a narrow margin
+    above and below, where only a joint's circle reaches past the limits' points."""
     labelled = any(g.label for g in geometry.guides)
     return _limits(
-        geometry, label_gap=0.035 if labelled else 0.0, pad_share=0.04, pad_share_y=0.015
+        geometry, label_gap=0.1 if labelled else 0.045, pad_share=0.04, pad_share_y=0.015
     )
+
+
+def _panel_geometry(geometry):
+    """What a positions panel draws: the front view, upright; a lone cylinder without its
+    number, which tells nothing there and would take the height of a line."""
+    geometry = upright(front_view(geometry))
+    if len(geometry.guides) == 1:
+        geometry = replace(geometry, guides=[replace(geometry.guides[0], label="")])
+    return geometry
 
 
 def positions_sheets(geometry, frames: list) -> list[list]:
@@ -1503,7 +1535,7 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     millimetres (:func:`positions_layout`): each panel is a fixed share of the text width."""
     from .figures import add_axes_mm, new_drawing  # lazy: heavy optional import (matplotlib)
 
-    geometry = upright(front_view(geometry))
+    geometry = _panel_geometry(geometry)
     limits = _panel_limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols, _ = positions_layout(geometry, len(frames))
