@@ -146,3 +146,52 @@ def test_a_w_engine_and_a_radial_carry_no_bank_marks():
     fig, geometry, _ = _scheme("radial9")
     assert md.bank_mark_parts(geometry) is None
     assert not any(t.get_text() == "α" for t in fig.axes[0].texts)
+
+
+@pytest.mark.parametrize("engine", ["single", "offset", "inline4"])
+def test_a_tall_mechanisms_positions_are_half_the_text_width(engine):
+    """A cylinder above its crank: two panels in a row, each half the text width (the figure as
+    high as the print style lets it be), the page filled by one row."""
+    name, changes = ENGINES[engine]
+    output = shared_run(name, changes, stages=("drawing",)).outputs["drawing"]
+    positions = output.artifacts["positions"]
+    frames = [(k, f"position {k}\nα = {k}°") for k in range(5)]
+    sheets = md.positions_sheets(positions, frames)
+    assert [len(sheet) for sheet in sheets] == [2, 2, 1]
+    fig = md.positions_figure(positions, sheets[0])
+    width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
+    assert height_mm <= md.FIGURE_HEIGHT_MM + 1e-9
+    assert width_mm == pytest.approx(md.TEXT_WIDTH_MM, abs=1e-6)
+    for ax in fig.axes:
+        assert ax.get_position().width * width_mm == pytest.approx(md.TEXT_WIDTH_MM / 2, abs=1e-6)
+        # a lone cylinder's number tells nothing beside its position: not written
+        assert [t.get_text() for t in ax.texts] == []
+
+
+def test_the_print_style_lets_the_positions_figure_be_as_high_as_it_is_drawn():
+    """The page's style shrinks a figure higher than 175 mm, but not the positions figure, drawn
+    up to FIGURE_HEIGHT_MM high so that its panels are half the text width."""
+    import re
+
+    from crankdyn.report.document import report_css
+
+    css = report_css("en")
+    rule = re.search(r'img\[src\$="_positions\.svg"\][^{]*\{\s*max-height:\s*([\d.]+)mm', css)
+    assert rule is not None
+    assert float(rule.group(1)) == md.FIGURE_HEIGHT_MM
+
+
+def test_a_slanted_text_is_checked_in_its_own_frame():
+    """A segment below the foot of a text at 45°, inside the text's upright box but clear of the
+    text itself, does not count (the upright box would); one across the text does."""
+    from matplotlib.transforms import Bbox
+
+    width, height = 40.0, 10.0
+    beside = np.array([[[10.0, -5.0], [14.0, -2.0]]])
+    through = np.array([[[-5.0, 12.0], [5.0, 2.0]]])  # across the text's middle
+    assert not md._slanted_text_crosses((0.0, 0.0), 45.0, width, height, 0.0, beside)
+    assert md._slanted_text_crosses((0.0, 0.0), 45.0, width, height, 0.0, through)
+    # the upright box of that text: its corners at ±20 along the slant and 10 up from its foot
+    half, rise = width / 2 / np.sqrt(2), height / np.sqrt(2)
+    upright = Bbox.from_extents(-half - rise, -half, half, half + rise)
+    assert md.text_crosses(upright, beside)
