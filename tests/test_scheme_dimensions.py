@@ -110,10 +110,11 @@ def test_a_v_engines_scheme_names_its_points_and_angles():
     assert texts["mark-α"] == ["α"] and texts["mark-ω"] == ["ω"]
     banks = sorted(md.bank_letter(g.label) for g in geometry.guides)
     assert banks == ["L", "R"]
-    assert texts["mark-A"] == ["A", "A"] and texts["mark-β"] == ["β", "β"]
     for letter in banks:  # each bank's piston pin and rod angle indexed with its letter
-        assert texts[f"mark-A-{letter}"] == [letter]
-        assert texts[f"mark-β-{letter}"] == [letter]
+        assert texts[f"mark-A_{letter}"] == ["A"] and texts[f"mark-A_{letter}-index"] == [letter]
+        assert texts[f"mark-β_{letter}"] == ["β"] and texts[f"mark-β_{letter}-index"] == [letter]
+    # one id per mark in the drawing's SVG
+    assert all(len(artists) == 1 for gid, artists in found.items() if gid.startswith("mark-"))
     # no dead centres beside one bank's liner
     assert not any(t.get_text() in ("TDC", "BDC") for t in fig.axes[0].texts)
 
@@ -125,7 +126,7 @@ def test_each_piston_pin_letter_is_by_its_own_pin():
     found = _by_gid(ax)
     renderer = fig.canvas.get_renderer()
     for letter in ("L", "R"):
-        (sub,) = found[f"mark-A-{letter}"]
+        (sub,) = found[f"mark-A_{letter}-index"]
         box = sub.get_window_extent(renderer)
         at = ax.transData.inverted().transform([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
         pins = {

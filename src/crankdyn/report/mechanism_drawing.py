@@ -839,7 +839,8 @@ def _lettered(ax, at, letter: str, sub: str = "", **style):
     A with L for the left bank's piston pin) set smaller at the letter's lower right; the
     artists drawn."""
     text = ax.text(*at, letter, fontsize=9, color="0.1", zorder=7, **style)
-    text.set_gid(f"mark-{letter}")
+    name = f"mark-{letter}_{sub}" if sub else f"mark-{letter}"  # an SVG id: one per mark
+    text.set_gid(name)
     if not sub:
         return [text]
     return [
@@ -856,7 +857,7 @@ def _lettered(ax, at, letter: str, sub: str = "", **style):
             color="0.1",
             zorder=7,
             fontstyle=style.get("fontstyle", "normal"),
-            gid=f"mark-{letter}-{sub}",
+            gid=f"{name}-index",
         ),
     ]
 
