@@ -758,7 +758,7 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
     # of two banks, on the outer side of the rod, where no other bank's liner is
     axes = _one_per_axis(geometry.guides)
-    signs = (-1.0, 1.0)
+    signs: tuple[float, ...] = (-1.0, 1.0)
     if len(axes) == 2:
         others = sum(np.asarray(g.direction, float) for g in axes if g.joint != rod[2])
         signs = (-1.0,) if float(np.dot(n, others)) > 0 else (1.0,)
