@@ -739,6 +739,12 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         -1, 2, 2
     )
     renderer = ax.figure.canvas.get_renderer()
+    # and the texts written before it (R below a W's or a radial's crank)
+    for written in [t for t in ax.texts if t.get_text()]:
+        box = written.get_window_extent(renderer)
+        corners = np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1]])
+        edges = np.stack([corners, np.roll(corners, -1, axis=0)], axis=1)
+        segments = np.concatenate([segments, edges])
     label = ax.text(
         0.0,
         0.0,
