@@ -196,3 +196,27 @@ def test_a_slanted_text_is_checked_in_its_own_frame():
     half, rise = width / 2 / np.sqrt(2), height / np.sqrt(2)
     upright = Bbox.from_extents(-half - rise, -half, half, half + rise)
     assert md.text_crosses(upright, beside)
+
+
+@pytest.mark.parametrize(
+    "direction_deg, text_deg",
+    [
+        (0, 0),
+        (45, 45),
+        (90, 90),
+        (100, 100),
+        (120, 120),
+        (150, -30),
+        (180, 0),
+        (-45, -45),
+        (-60, 120),
+        (-80, 100),
+        (-90, 90),
+        (-135, 45),
+    ],
+)
+def test_a_dimension_text_reads_from_the_bottom_or_the_right(direction_deg, text_deg):
+    """ГОСТ 2.307 / ISO 129-1: a text along a steep line reads upwards (from the right), never
+    downwards; along a shallower one, from the bottom."""
+    d = (np.cos(np.radians(direction_deg)), np.sin(np.radians(direction_deg)))
+    assert md._readable_rotation_deg(d) == pytest.approx(text_deg, abs=1e-9)

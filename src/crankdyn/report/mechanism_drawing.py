@@ -551,11 +551,12 @@ def _dimension(ax, p, q, text, offset, extent, key: str = "", from_feature: bool
 
 
 def _readable_rotation_deg(d) -> float:
-    """The text angle (deg) along the direction ``d`` that reads left to right or bottom to top."""
+    """The text angle (deg) along the direction ``d``, read from the bottom or from the right of
+    the sheet (ГОСТ 2.307, ISO 129-1): in (-60, 120], a line steeper than 60 deg read upwards."""
     rotation = float(np.degrees(np.arctan2(d[1], d[0])))
-    if rotation > 90.0 + 1e-9:
+    if rotation > 120.0 + 1e-9:
         return rotation - 180.0
-    if rotation <= -90.0 + 1e-9:
+    if rotation <= -60.0 + 1e-9:
         return rotation + 180.0
     return rotation
 
@@ -616,10 +617,12 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
             ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
             va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
         )
-    if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 1:
+    liners = any(g.bore_m > 0 and g.moving is None for g in geometry.guides)
+    if rod and "L" in labels and liners:
+        # its text over the dimension line, where that crosses no liner, piston or other bank
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
     elif rod and "L" in labels:
-        # Outside the liner, so the text stays clear of the hatching.
+        # Outside the slot, so the text stays clear of it.
         clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
         _dimension(
             ax,
@@ -722,7 +725,7 @@ def text_crosses(box, segments_display) -> bool:
 
 
 def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> None:
-    """L of an engine whose rods and liners surround the master rod (a radial, a V): the dimension
+    """L of a mechanism with cylinders (a radial, a V, one whose scheme has no marks): the dimension
     line beside the rod, clear of its liner, with the text along it and above it (ГОСТ 2.307) at
     the first offset and place whose box, with the depth of a wall's hatching round it, crosses no
     bar, body, liner or piston (the nearest when none is)."""
@@ -730,10 +733,7 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     n = np.array([-d[1], d[0]])
-    rotation = float(np.degrees(np.arctan2(d[1], d[0])))
-    rotation = (
-        rotation - 180.0 if rotation > 90.0 else rotation + 180.0 if rotation <= -90.0 else rotation
-    )
+    rotation = _readable_rotation_deg(d)
     up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
     segments = ax.transData.transform(member_segments_mm(geometry, i).reshape(-1, 2)).reshape(
         -1, 2, 2
