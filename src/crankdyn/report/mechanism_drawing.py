@@ -1258,6 +1258,9 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
                     for s in (-1, 1)
                 ]
             )
+            if guide.label:  # a label beyond a liner's end that points down (a boxer's)
+                beyond = go + gd * (ends[1] + (LABEL_OFFSET + 0.05) * extent)
+                lowest = min(lowest, float(beyond[1]))
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
     at = np.array([float(p[0]), lowest - extent * 0.08])
