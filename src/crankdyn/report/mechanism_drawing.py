@@ -871,7 +871,8 @@ def _lettered(ax, at, letter: str, sub: str = "", **style):
 def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: float | None = None):
     """A curved arrow clockwise (the crank's sense of rotation) around ``centre``, named ``text``
     (ω): by default on the upper left, clear of the counterweight below the shaft of a crank at
-    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x); the arrow and its text drawn."""
+    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x). Returns the
+    arrow and its text."""
     from matplotlib.patches import (
         FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
@@ -969,8 +970,8 @@ def bank_letter(label: str) -> str:
 
 
 def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
-    """The line the crank angle is measured from: the crank at TDC, through the crank centre; up to
-    the liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken."""
+    """The line the crank angle is measured from: the crank at TDC, through the crank centre; up
+    to the liner's own axis when it is that axis (a central cylinder), so that it runs unbroken."""
     o, d, n = _guide_frame(geometry, guide, i)
     bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
     collinear = (
@@ -1003,10 +1004,10 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
     along = (pin - centre) / radius
     _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
-    for guide, _ in pairs:
+    for guide, _ in pairs:  # the arcs β first: the letters keep clear of them
         wrist = j[guide.joint][i] * MM
         length = float(np.linalg.norm(pin - wrist))
-        o, d, n = _guide_frame(geometry, guide, i)
+        _, d, _ = _guide_frame(geometry, guide, i)
         _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
     _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
     clearance = _Clearance(ax, geometry, i, extent)
@@ -1031,7 +1032,7 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     clearance.place(_ring(centre, extent * np.array([0.035, 0.05])), "O")
     clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
     for guide, _ in pairs:
-        o, d, n = _guide_frame(geometry, guide, i)
+        _, d, n = _guide_frame(geometry, guide, i)
         wrist = j[guide.joint][i] * MM
         sub = bank_letter(guide.label)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
@@ -1111,6 +1112,7 @@ class _Clearance:
         return self._along(corners)
 
     def of_points(self, points) -> float:
+        """The least distance (mm) from ``points`` to anything drawn."""
         from scipy.spatial import cKDTree  # lazy: heavy optional import
 
         distances, _ = cKDTree(self.points).query(np.asarray(points, float))
@@ -1459,7 +1461,7 @@ def _scheme_at(
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     marked = bool(marks) and angle_mark_parts(geometry) is not None
-    # a marked scheme of one cylinder axis writes L beside the liner (draw_angle_marks); S only there
+    # a marked scheme of one axis writes L beside the liner (draw_angle_marks); S only there
     draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
     draw_angle_marks(ax, geometry, i, marks, labels)
     if with_star:
