@@ -591,32 +591,8 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     rod = next(
         (l for l in geometry.links if l[0] in ("rod", "core") or l[0].startswith("rod_")), None
     )
-    if crank and "R" in labels and len(_one_per_axis(geometry.guides)) > 1:
-        _crank_radius_below(ax, geometry, i, crank, labels["R"], extent)
-    elif (
-        crank
-        and "R" in labels
-        and len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2
-    ):
-        _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
-    elif crank and "R" in labels:
-        p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-        _dimension(ax, p, q, "", -extent * 0.06, extent, "R")
-        # a crank at an angle: its text level, just beyond the middle of the dimension line, away
-        # from the crank, which a text along the line would reach with its corners
-        d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
-        side = -np.array([-d[1], d[0]])
-        mid = (p + q) / 2 + side * extent * 0.075
-        ax.text(
-            *mid,
-            labels["R"],
-            fontsize=8,
-            color="0.15",
-            bbox=LABEL_BOX,
-            gid="dimension-R-text",
-            ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
-            va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
-        )
+    if crank and "R" in labels:
+        _crank_radius(ax, geometry, i, crank, labels["R"], extent)
     liners = any(g.bore_m > 0 and g.moving is None for g in geometry.guides)
     if rod and "L" in labels and liners:
         # its text over the dimension line, where that crosses no liner, piston or other bank
@@ -635,31 +611,7 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         )
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
-        # Between the vertical through the crank axis and the cylinder axis, below the liner.
-        feature = liner_ends_mm(guide, geometry)[0]
-        y = feature - extent * 0.03
-        ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
-        # the extension lines from the two axes down past the dimension line
-        x_e = guide.origin_m[0] * MM
-        _dimension(
-            ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e"
-        )
-        # on the side the rod does not cross at that height
-        ends = sorted([0.0, guide.origin_m[0] * MM])
-        rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
-        left = rod_x is not None and rod_x > ends[1]
-        # too short for its text between the arrows: the text on the dimension line's extension
-        ax.text(
-            ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
-            y,
-            labels["e"],
-            gid="dimension-e-text",
-            ha="right" if left else "left",
-            va="center",
-            fontsize=8,
-            color="0.15",
-            bbox=LABEL_BOX,
-        )
+        _offset_dimension(ax, geometry, i, guide, rod, labels["e"], extent)
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
@@ -670,6 +622,60 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         _dimension(
             ax, top - n * half, top + n * half, labels["D"], clear, extent, "D", from_feature=True
         )
+
+
+def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
+    """R: below the whole mechanism when several cylinder axes meet at the crank pin, beside it
+    when an in-line engine's rods fan out, else beside the crank itself."""
+    if len(_one_per_axis(geometry.guides)) > 1:
+        _crank_radius_below(ax, geometry, i, crank, text, extent)
+        return
+    if len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2:
+        _crank_radius_aside(ax, geometry, i, crank, text, extent)
+        return
+    p, q = (geometry.joints[name][i] * MM for name in crank[1:])
+    _dimension(ax, p, q, "", -extent * 0.06, extent, "R")
+    # a crank at an angle: its text level, just beyond the middle of the dimension line, away
+    # from the crank, which a text along the line would reach with its corners
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    side = -np.array([-d[1], d[0]])
+    ax.text(
+        *((p + q) / 2 + side * extent * 0.075),
+        text,
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        gid="dimension-R-text",
+        ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
+        va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
+    )
+
+
+def _offset_dimension(ax, geometry, i: int, guide, rod, text: str, extent: float) -> None:
+    """e: between the vertical through the crank axis and the cylinder axis, below the liner."""
+    j = geometry.joints
+    feature = liner_ends_mm(guide, geometry)[0]
+    y = feature - extent * 0.03
+    ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
+    # the extension lines from the two axes down past the dimension line
+    x_e = guide.origin_m[0] * MM
+    _dimension(ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e")
+    # on the side the rod does not cross at that height
+    ends = sorted([0.0, x_e])
+    rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
+    left = rod_x is not None and rod_x > ends[1]
+    # too short for its text between the arrows: the text on the dimension line's extension
+    ax.text(
+        ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
+        y,
+        text,
+        gid="dimension-e-text",
+        ha="right" if left else "left",
+        va="center",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+    )
 
 
 def _x_at(a, b, y: float) -> float | None:
