@@ -115,13 +115,26 @@ def render(output: StageOutput, ctx) -> str:
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
-    marked = md.angle_mark_parts(md.front_view(positions)) is not None  # the text names each mark
+    # the text names each mark
+    front = md.front_view(positions)
+    marked = md.angle_mark_parts(front) is not None
+    banks = None if marked else md.bank_mark_parts(front)
+    bank_marks = (
+        t(
+            "drawing.marks_banks",
+            banks=", ".join(md.bank_letter(guide.label) for guide, _ in banks[1]),
+            first=front.guides[0].label,
+        )
+        if banks
+        else ""
+    )
     return ctx.render_template(
         "sections/drawing.html.j2",
         figure_scheme=figure_scheme,
         scale=scale,
         scheme_angle=scheme_angle,
         marks=marked,
+        bank_marks=bank_marks,
         stroke="S" in positions.dimensions,
         front_view=_front_view_kind(positions),
         master_rod=bool(md.master_rod_bodies(positions, 0)),

@@ -560,9 +560,9 @@ def _circle(centre, radius, color, alpha, ls="-", fill=False):
     )
 
 
-def _dimension_arrow(ax, a, b) -> None:
+def _dimension_arrow(ax, a, b, gid: str = "") -> None:
     """A dimension line's arrow from ``a`` to ``b`` (mm), heads at both ends."""
-    ax.annotate(
+    arrow = ax.annotate(
         "",
         xy=b,
         xytext=a,
@@ -575,32 +575,68 @@ def _dimension_arrow(ax, a, b) -> None:
             "mutation_scale": 7,
         },
     )
+    if gid:
+        arrow.set_gid(gid)
 
 
-def _dimension(ax, p, q, text, offset, extent):
-    """A dimension line from p to q (mm), shifted by ``offset`` along its normal, with its text."""
+def _dimension(ax, p, q, text, offset, extent, key: str = "", from_feature: bool = False):
+    """A dimension (ГОСТ 2.307) of the feature p-q (mm): two extension lines from the feature's
+    points along the normal, the dimension line with its arrows between them shifted by
+    ``offset``, the extension lines running past it, and the text parallel to the dimension line,
+    above it (on the side its letters stand up to), near its middle. ``from_feature``: the
+    extension lines start at the feature's points (a liner's wall ends), else just clear of them
+    (a joint's circle). ``key`` names the artists (``gid``: ``dimension-<key>-...``)."""
     p, q = np.asarray(p, float), np.asarray(q, float)
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     n = np.array([-d[1], d[0]])
     a, b = p + n * offset, q + n * offset
-    for end, base in ((a, p), (b, q)):
-        ax.plot(
+    out = n * np.sign(offset)
+    for k, (end, base) in enumerate(((a, p), (b, q)), start=1):
+        (line,) = ax.plot(
             *np.c_[
-                base + n * np.sign(offset) * extent * 0.01,
-                end + n * np.sign(offset) * extent * 0.02,
+                base + (0.0 if from_feature else 0.01 * extent) * out,
+                end + out * extent * 0.02,
             ],
             color="0.35",
             lw=0.5,
             ls="-",
         )
-    _dimension_arrow(ax, a, b)
-    # The text starts just outside the dimension line and grows away from the drawing, so that it
-    # crosses no line of the mechanism (a centred text spans the liner or the crank beside it).
-    side = n * np.sign(offset)
-    ha = "left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center"
-    va = "bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center"
-    mid = (a + b) / 2 + side * extent * 0.015
-    ax.text(*mid, text, ha=ha, va=va, fontsize=8, color="0.15", bbox=LABEL_BOX)
+        line.set_gid(f"dimension-{key}-extension-{k}")
+    _dimension_arrow(ax, a, b, f"dimension-{key}-line")
+    if text:
+        _dimension_text(ax, a, b, text, extent, f"dimension-{key}-text")
+
+
+def _readable_rotation_deg(d) -> float:
+    """The text angle (deg) along the direction ``d``, read from the bottom or from the right of
+    the sheet (ГОСТ 2.307, ISO 129-1): in (-60, 120], a line steeper than 60 deg read upwards."""
+    rotation = float(np.degrees(np.arctan2(d[1], d[0])))
+    if rotation > 120.0 + 1e-9:
+        return rotation - 180.0
+    if rotation <= -60.0 + 1e-9:
+        return rotation + 180.0
+    return rotation
+
+
+def _dimension_text(ax, a, b, text: str, extent: float, gid: str):
+    """A dimension's text over the middle of the dimension line a-b (mm), parallel to it, on the
+    side its letters stand up to (ГОСТ 2.307: above a horizontal line, left of a vertical one)."""
+    rotation = _readable_rotation_deg(np.asarray(b, float) - np.asarray(a, float))
+    up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
+    label = ax.text(
+        *((np.asarray(a) + np.asarray(b)) / 2 + up * extent * 0.006),
+        text,
+        rotation=rotation,
+        rotation_mode="anchor",
+        ha="center",
+        va="bottom",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        zorder=7,
+    )
+    label.set_gid(gid)
+    return label
 
 
 def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
@@ -614,53 +650,91 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     )
     if "a" in labels and "R" not in labels:  # a planetary carrier's radius a, drawn as a crank's
         labels = {**labels, "R": labels["a"]}
-    if crank and "R" in labels and len(_one_per_axis(geometry.guides)) > 1:
-        _crank_radius_below(ax, geometry, i, crank, labels["R"], extent)
-    elif (
-        crank
-        and "R" in labels
-        and len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2
-    ):
-        _crank_radius_aside(ax, geometry, i, crank, labels["R"], extent)
-    elif crank and "R" in labels:
-        _dimension(
-            ax, j[crank[1]][i] * MM, j[crank[2]][i] * MM, labels["R"], -extent * 0.06, extent
-        )
-    if rod and "L" in labels and len(_one_per_axis(geometry.guides)) > 2:
+    if crank and "R" in labels:
+        _crank_radius(ax, geometry, i, crank, labels["R"], extent)
+    liners = any(g.bore_m > 0 and g.moving is None for g in geometry.guides)
+    if rod and "L" in labels and liners:
+        # its text over the dimension line, where that crosses no liner, piston or other bank
         _rod_length_clear(ax, geometry, i, rod, labels["L"], extent)
     elif rod and "L" in labels:
-        # Outside the liner, so the text stays clear of the hatching.
+        # Outside the slot, so the text stays clear of it.
         clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.06
         _dimension(
-            ax, j[rod[1]][i] * MM, j[rod[2]][i] * MM, labels["L"], max(extent * 0.09, clear), extent
+            ax,
+            j[rod[1]][i] * MM,
+            j[rod[2]][i] * MM,
+            labels["L"],
+            max(extent * 0.09, clear),
+            extent,
+            "L",
         )
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
-        # Between the vertical through the crank axis and the cylinder axis, below the liner.
-        y = liner_ends_mm(guide, geometry)[0] - extent * 0.03
-        ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
-        _dimension(ax, (0.0, y), (guide.origin_m[0] * MM, y), "", 0.0, extent)
-        # on the side the rod does not cross at that height
-        ends = sorted([0.0, guide.origin_m[0] * MM])
-        rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
-        left = rod_x is not None and rod_x > ends[1]
-        ax.text(
-            ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
-            y,
-            labels["e"],
-            ha="right" if left else "left",
-            va="center",
-            fontsize=8,
-            color="0.15",
-            bbox=LABEL_BOX,
-        )
+        _offset_dimension(ax, geometry, i, guide, rod, labels["e"], extent)
     if "D" in labels and guide is not None and guide.bore_m > 0:
         o, d, n = _guide_frame(geometry, guide, i)
         # above the cylinder's label (its number), which would otherwise sit in the text
         clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * (liner_ends_mm(guide, geometry)[1] + clear)
+        top = o + d * liner_ends_mm(guide, geometry)[1]
         half = guide.bore_m * MM / 2
-        _dimension(ax, top - n * half, top + n * half, labels["D"], extent * 0.02, extent)
+        # the extension lines from the liner's wall ends, past the label, to the dimension line
+        _dimension(
+            ax, top - n * half, top + n * half, labels["D"], clear, extent, "D", from_feature=True
+        )
+
+
+def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
+    """R: below the whole mechanism when several cylinder axes meet at the crank pin, beside it
+    when an in-line engine's rods fan out, else beside the crank itself."""
+    if len(_one_per_axis(geometry.guides)) > 1:
+        _crank_radius_below(ax, geometry, i, crank, text, extent)
+        return
+    if len({round(float(lag) % 360.0, 6) for _, lag, _ in geometry.cranks}) > 2:
+        _crank_radius_aside(ax, geometry, i, crank, text, extent)
+        return
+    p, q = (geometry.joints[name][i] * MM for name in crank[1:])
+    _dimension(ax, p, q, "", -extent * 0.06, extent, "R")
+    # a crank at an angle: its text level, just beyond the middle of the dimension line, away
+    # from the crank, which a text along the line would reach with its corners
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    side = -np.array([-d[1], d[0]])
+    ax.text(
+        *((p + q) / 2 + side * extent * 0.075),
+        text,
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        gid="dimension-R-text",
+        ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
+        va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
+    )
+
+
+def _offset_dimension(ax, geometry, i: int, guide, rod, text: str, extent: float) -> None:
+    """e: between the vertical through the crank axis and the cylinder axis, below the liner."""
+    j = geometry.joints
+    feature = liner_ends_mm(guide, geometry)[0]
+    y = feature - extent * 0.03
+    ax.plot([0.0, 0.0], [0.0, y + extent * 0.04], color="0.45", lw=0.5, ls="-.")
+    # the extension lines from the two axes down past the dimension line
+    x_e = guide.origin_m[0] * MM
+    _dimension(ax, (0.0, feature), (x_e, feature), "", (y - feature) * np.sign(x_e), extent, "e")
+    # on the side the rod does not cross at that height
+    ends = sorted([0.0, x_e])
+    rod_x = _x_at(j[rod[1]][i] * MM, j[rod[2]][i] * MM, y) if rod else None
+    left = rod_x is not None and rod_x > ends[1]
+    # too short for its text between the arrows: the text on the dimension line's extension
+    ax.text(
+        ends[0] - extent * 0.03 if left else ends[1] + extent * 0.03,
+        y,
+        text,
+        gid="dimension-e-text",
+        ha="right" if left else "left",
+        va="center",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+    )
 
 
 def _x_at(a, b, y: float) -> float | None:
@@ -716,48 +790,86 @@ def text_crosses(box, segments_display) -> bool:
 
 
 def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> None:
-    """L of an engine whose rods and liners surround the master rod (a radial, a V): the dimension
-    line beside the rod, clear of its liner, with the text along it (ГОСТ 2.307) at the first
-    offset and place whose box crosses no bar, body, liner or piston (the nearest when none is)."""
+    """L of a mechanism with cylinders (a radial, a V, one whose scheme has no marks): the dimension
+    line beside the rod, clear of its liner, with the text along it and above it (ГОСТ 2.307) at
+    the first offset and place whose box, with the depth of a wall's hatching round it, crosses no
+    bar, body, liner or piston (the nearest when none is)."""
     j = geometry.joints
     p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     n = np.array([-d[1], d[0]])
-    rotation = float(np.degrees(np.arctan2(d[1], d[0])))
-    rotation = (
-        rotation - 180.0 if rotation > 90.0 else rotation + 180.0 if rotation <= -90.0 else rotation
-    )
+    rotation = _readable_rotation_deg(d)
     up = np.array([-np.sin(np.radians(rotation)), np.cos(np.radians(rotation))])
     segments = ax.transData.transform(member_segments_mm(geometry, i).reshape(-1, 2)).reshape(
         -1, 2, 2
     )
     renderer = ax.figure.canvas.get_renderer()
+    # and the texts written before it (R below a W's or a radial's crank)
+    for written in [t for t in ax.texts if t.get_text()]:
+        box = written.get_window_extent(renderer)
+        corners = np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1]])
+        edges = np.stack([corners, np.roll(corners, -1, axis=0)], axis=1)
+        segments = np.concatenate([segments, edges])
     label = ax.text(
         0.0,
         0.0,
         text,
         fontsize=8,
         color="0.15",
-        rotation=rotation,
         rotation_mode="anchor",
         ha="center",
+        va="bottom",
         bbox=LABEL_BOX,
         zorder=7,
     )
+    # the text's own box, level (display units): a slanted text's upright box would take in
+    # the walls beside it
+    size = label.get_window_extent(renderer)
+    label.set_rotation(rotation)
     clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
+    # of two banks, on the outer side of the rod, where no other bank's liner is
+    axes = _one_per_axis(geometry.guides)
+    signs: tuple[float, ...] = (-1.0, 1.0)
+    if len(axes) == 2:
+        others = sum(np.asarray(g.direction, float) for g in axes if g.joint != rod[2])
+        signs = (-1.0,) if float(np.dot(n, others)) > 0 else (1.0,)
     candidates = [
         (sign * (clear + k * extent * 0.04), share)
         for k in range(4)
-        for sign in (-1.0, 1.0)
-        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9)
+        for sign in signs
+        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9, 0.2)
     ]
-    for offset, share in candidates + [candidates[0]]:
-        side = n * np.sign(offset)
-        label.set_position(p + (q - p) * share + n * offset + side * extent * 0.008)
-        label.set_va("bottom" if float(np.dot(up, side)) > 0 else "top")
-        if not text_crosses(label.get_window_extent(renderer), segments):
+    hatching = float(
+        np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
+    )
+    # clear of the hatching where there is room, else of the walls only, else the first place
+    tries = [(c, hatching) for c in candidates] + [(c, 0.0) for c in candidates]
+    for (offset, share), pad in tries + [(candidates[0], 0.0)]:
+        anchor = p + (q - p) * share + n * offset + up * extent * 0.006
+        label.set_position(anchor)
+        at = ax.transData.transform(anchor)
+        if not _slanted_text_crosses(at, rotation, size.width, size.height, pad, segments):
             break
-    _dimension(ax, p, q, "", offset, extent)
+    label.set_gid("dimension-L-text")
+    _dimension(ax, p, q, "", offset, extent, "L")
+
+
+def _slanted_text_crosses(anchor, rotation_deg, width, height, pad, segments) -> bool:
+    """Whether any segment (display coordinates, (n, 2, 2)) passes through the box of a text
+    ``width`` x ``height`` turned by ``rotation_deg`` about the middle of its foot ``anchor``
+    (ha center, va bottom), widened by ``pad`` on every side."""
+    if len(segments) == 0:
+        return False
+    t = np.linspace(0.0, 1.0, 60)[None, :, None]
+    points = (segments[:, :1, :] + (segments[:, 1:, :] - segments[:, :1, :]) * t).reshape(-1, 2)
+    c, s_ = np.cos(np.radians(rotation_deg)), np.sin(np.radians(rotation_deg))
+    local = (points - np.asarray(anchor, float)) @ np.array([[c, -s_], [s_, c]])
+    inside = (
+        (np.abs(local[:, 0]) < width / 2 + pad)
+        & (local[:, 1] > -pad)
+        & (local[:, 1] < height + pad)
+    )
+    return bool(inside.any())
 
 
 def _direction_deg(v) -> float:
@@ -765,9 +877,9 @@ def _direction_deg(v) -> float:
     return float(np.degrees(np.arctan2(v[1], v[0])))
 
 
-def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None:
+def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: str = "") -> None:
     """An arc from direction ``start`` to ``end`` (unit vectors) around ``centre`` (mm), the
-    shorter way, with its symbol just outside the middle of the arc."""
+    shorter way, with its symbol (and its subscript ``sub``) just outside the middle of the arc."""
     from matplotlib.patches import (
         Arc,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
@@ -789,24 +901,54 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float) -> None
     )
     middle = np.radians(a + ((b - a) % 360.0) / 2)
     at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
-    ax.text(
-        *at, text, ha="center", va="center", fontsize=9, fontstyle="italic", color="0.1", zorder=7
-    )
+    if text:
+        _lettered(ax, at, text, sub, ha="center", va="center", fontstyle="italic")
 
 
-def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
-    """A curved arrow clockwise (the crank's sense of rotation) on the upper left of ``centre``,
-    named ``text`` (ω): clear of the counterweight below the shaft of a crank at 45 deg."""
+def _lettered(ax, at, letter: str, sub: str = "", **style):
+    """A letter of the scheme (O, A, B, α, β) at ``at`` (mm) with its subscript (a bank's letter:
+    A with L for the left bank's piston pin) set smaller at the letter's lower right; the
+    artists drawn."""
+    text = ax.text(*at, letter, fontsize=9, color="0.1", zorder=7, **style)
+    name = f"mark-{letter}_{sub}" if sub else f"mark-{letter}"  # an SVG id: one per mark
+    text.set_gid(name)
+    if not sub:
+        return [text]
+    return [
+        text,
+        ax.annotate(
+            sub,
+            xy=(1.0, 0.1),
+            xycoords=text,
+            xytext=(0.4, 0.0),
+            textcoords="offset points",
+            ha="left",
+            va="center",
+            fontsize=6.5,
+            color="0.1",
+            zorder=7,
+            fontstyle=style.get("fontstyle", "normal"),
+            gid=f"{name}-index",
+        ),
+    ]
+
+
+def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: float | None = None):
+    """A curved arrow clockwise (the crank's sense of rotation) around ``centre``, named ``text``
+    (ω): by default on the upper left, clear of the counterweight below the shaft of a crank at
+    45 deg; else spanning 60 deg about the direction ``middle_deg`` (deg from +x). Returns the
+    arrow and its text."""
     from matplotlib.patches import (
         FancyArrowPatch,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
     c = np.asarray(centre, dtype=float)
+    middle_deg = 135.0 if middle_deg is None else middle_deg
     start, end = (
         c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))])
-        for t in (165.0, 105.0)
+        for t in (middle_deg + 30.0, middle_deg - 30.0)
     )
-    ax.add_patch(
+    arrow = ax.add_patch(
         FancyArrowPatch(
             start,
             end,
@@ -818,17 +960,15 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float) -> None:
             zorder=6,
         )
     )
-    middle = np.array([np.cos(np.radians(140.0)), np.sin(np.radians(140.0))])
-    ax.text(
-        *(c + (radius + extent * 0.03) * middle),
+    middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
+    (label,) = _lettered(
+        ax,
+        c + (radius + extent * 0.03) * middle,
         text,
-        ha="right",
-        va="bottom",
-        fontsize=9,
         fontstyle="italic",
-        color="0.1",
-        zorder=7,
+        **outward_alignment(middle),
     )
+    return arrow, label
 
 
 def angle_mark_parts(geometry):
@@ -857,6 +997,221 @@ def angle_mark_parts(geometry):
     return None if crank is None or rod is None else (guide, crank, rod)
 
 
+#: The most cylinder axes a scheme marks each of (a V, a boxer): the hub of a W, an X or a radial
+#: has no room for three or more piston pins' and rods' letters beside α and ω.
+MOST_MARKED_BANKS = 2
+
+
+def bank_mark_parts(geometry):
+    """(crank, [(liner, rod), ...]) of an engine whose front view shows two to
+    :data:`MOST_MARKED_BANKS` cylinder axes (a V or a boxer: each bank's first cylinder), the
+    rods of all of them on the one crank pin of a crank ``crank`` or ``crank_1`` from
+    ``crank_centre``, in the order of the guides (cylinder 1's bank first); None otherwise (one
+    axis: :func:`angle_mark_parts`; a master rod's slaves, which have no rod on the crank pin)."""
+    guides = geometry.guides
+    if not 2 <= len(guides) <= MOST_MARKED_BANKS or any(
+        g.moving is not None or g.bore_m <= 0 for g in guides
+    ):
+        return None
+    crank = next(
+        (l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None
+    )
+    if crank is None:
+        return None
+    rods = [
+        next((l for l in geometry.links if l[1] == crank[2] and l[2] == g.joint), None)
+        for g in guides
+    ]
+    if any(rod is None for rod in rods):
+        return None
+    return crank, list(zip(guides, rods, strict=True))
+
+
+def bank_letter(label: str) -> str:
+    """The index a bank's marks carry: a cylinder label's bank letter ("1L" → "L", "1Л" → "Л"),
+    the label itself when it has none."""
+    letter = str(label).lstrip("0123456789")
+    return letter or str(label)
+
+
+def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
+    """The line the crank angle is measured from: the crank at TDC, through the crank centre; up
+    to the liner's own axis when it is that axis (a central cylinder), so that it runs unbroken."""
+    o, d, n = _guide_frame(geometry, guide, i)
+    bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
+    collinear = (
+        abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
+    )
+    top = max(radius * 1.35, bottom) if collinear else radius * 1.35
+    ax.plot(
+        *np.c_[centre - zero * radius * 0.5, centre + zero * top],
+        color="0.45",
+        lw=0.5,
+        ls="-.",
+        zorder=1,
+    )
+
+
+def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int) -> None:
+    """The marks of :func:`draw_angle_marks` on an engine of two banks: O, B, each bank's piston
+    pin A and rod angle β with the bank's letter as index, the crank angle α from cylinder 1's
+    TDC (its axis), ω; each letter, and the arrow ω, where it stands clearest of everything drawn
+    before it (:class:`_Clearance`): round a V's shaft the crank, both rods, the dimensions R and
+    L and the counterweight leave little room."""
+    crank, pairs = banks
+    extent = _extent_mm(geometry)
+    j = geometry.joints
+    centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
+    radius = float(np.linalg.norm(pin - centre))
+    if radius <= 0:
+        return
+    at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
+    zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
+    along = (pin - centre) / radius
+    _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
+    for guide, _ in pairs:  # the arcs β first: the letters keep clear of them
+        wrist = j[guide.joint][i] * MM
+        length = float(np.linalg.norm(pin - wrist))
+        _, d, _ = _guide_frame(geometry, guide, i)
+        _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
+    _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
+    clearance = _Clearance(ax, geometry, i, extent)
+    # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
+    candidates = [
+        (float(middle), max(radius * 0.4, extent * share))
+        for share in (0.09, 0.07, 0.11)
+        for middle in np.arange(0.0, 360.0, 15.0)
+    ]
+    best, best_clear = candidates[0], -np.inf
+    for middle, arrow_radius in candidates:
+        arrow, text = _rotation_arrow(ax, centre, arrow_radius, marks["omega"], extent, middle)
+        arc = _arc_points(centre, arrow_radius, middle - 30.0, middle + 30.0)
+        clear = min(clearance.of_points(arc), clearance.of_box(text))
+        arrow.remove()
+        text.remove()
+        if clear > best_clear + 1e-9:
+            best, best_clear = (middle, arrow_radius), clear
+    _rotation_arrow(ax, centre, best[1], marks["omega"], extent, best[0])
+    clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
+    clearance.add_last_text()
+    clearance.place(_ring(centre, extent * np.array([0.035, 0.05])), "O")
+    clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
+    for guide, _ in pairs:
+        _, d, n = _guide_frame(geometry, guide, i)
+        wrist = j[guide.joint][i] * MM
+        sub = bank_letter(guide.label)
+        clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
+        length = float(np.linalg.norm(pin - wrist))
+        end = wrist - d * length * 0.3  # the arc's end on the cylinder's axis
+        beside = [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
+        clearance.place(beside, marks["beta"], sub, fontstyle="italic")
+
+
+def _arc_points(centre, radius: float, start_deg: float, end_deg: float) -> np.ndarray:
+    t = np.radians(np.linspace(start_deg, end_deg, 24))
+    return np.asarray(centre, float) + radius * np.c_[np.cos(t), np.sin(t)]
+
+
+def _ring(centre, distances) -> list:
+    """Places round ``centre`` (mm) at each of ``distances``, every 30 deg."""
+    t = np.radians(np.arange(0.0, 360.0, 30.0))
+    return [
+        np.asarray(centre, float) + r * np.array([np.cos(a), np.sin(a)])
+        for r in distances
+        for a in t
+    ]
+
+
+class _Clearance:
+    """How far a new mark would stand from everything drawn on the scheme's axes (mm): points
+    along its lines, bars, hatching, outlines, arcs, dimension arrows and texts' boxes."""
+
+    def __init__(self, ax, geometry, i: int, extent: float):
+        self.ax, self.extent = ax, extent
+        self.renderer = ax.figure.canvas.get_renderer()
+        self.step = extent * 0.004
+        points = [self._along(np.column_stack(line.get_data()).astype(float)) for line in ax.lines]
+        for collection in ax.collections:
+            for segment in getattr(collection, "get_segments", lambda: [])():
+                points.append(self._along(np.asarray(segment, float)))
+        from matplotlib.patches import Arc  # lazy: heavy optional import
+
+        to_data = ax.transData.inverted()
+        for patch in ax.patches:
+            if isinstance(patch, Arc):  # the arc drawn, not its whole ellipse
+                arc = _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
+                points.append(self._along(arc))
+            else:
+                points.append(self._along(to_data.transform(patch.get_verts())))
+        for text in ax.texts:
+            points.append(self._text_points(text))
+        points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
+        self.points = np.concatenate([p.reshape(-1, 2) for p in points if len(p)])
+
+    def _along(self, polyline) -> np.ndarray:
+        """Points every ``step`` along a polyline (mm)."""
+        if len(polyline) < 2:
+            return polyline.reshape(-1, 2)
+        out = []
+        for a, b in zip(polyline[:-1], polyline[1:], strict=True):
+            count = max(int(np.linalg.norm(b - a) / self.step), 1)
+            out.append(a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None])
+        return np.concatenate(out)
+
+    def _text_points(self, text) -> np.ndarray:
+        """The outline of a text's box (a dimension's arrow: its line), mm."""
+        if not text.get_text():
+            if hasattr(text, "xyann"):
+                return self._along(np.array([text.xyann, text.xy], dtype=float))
+            return np.empty((0, 2))
+        box = text.get_window_extent(self.renderer)
+        corners = self.ax.transData.inverted().transform(
+            [
+                [box.x0, box.y0],
+                [box.x1, box.y0],
+                [box.x1, box.y1],
+                [box.x0, box.y1],
+                [box.x0, box.y0],
+            ]
+        )
+        return self._along(corners)
+
+    def of_points(self, points) -> float:
+        """The least distance (mm) from ``points`` to anything drawn."""
+        from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+        distances, _ = cKDTree(self.points).query(np.asarray(points, float))
+        return float(np.min(distances))
+
+    def add_points(self, points) -> None:
+        self.points = np.concatenate([self.points, np.asarray(points, float).reshape(-1, 2)])
+
+    def add_last_text(self) -> None:
+        self.add_points(self._text_points(self.ax.texts[-1]))
+
+    def of_box(self, artist) -> float:
+        """The distance (mm) from a text's box to the nearest thing drawn; minus the number of
+        points of it inside the box when something crosses it."""
+        outline = self._text_points(artist)
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        inside = np.all((self.points > low) & (self.points < high), axis=1)
+        return -float(np.count_nonzero(inside)) if inside.any() else self.of_points(outline)
+
+    def place(self, candidates, letter: str, sub: str = "", **style) -> None:
+        """The letter (with its subscript) centred at the candidate place whose box stands
+        clearest of everything drawn; then itself an obstacle to the next."""
+        best, best_clear = candidates[0], -np.inf
+        for at in candidates:
+            artists = _lettered(self.ax, at, letter, sub, ha="center", va="center", **style)
+            clear = min(self.of_box(a) for a in artists)
+            for artist in artists:
+                artist.remove()
+            if clear > best_clear + 1e-9:
+                best, best_clear = at, clear
+        for artist in _lettered(self.ax, best, letter, sub, ha="center", va="center", **style):
+            self.add_points(self._text_points(artist))
+
+
 def draw_angle_marks(
     ax,
     geometry,
@@ -874,6 +1229,9 @@ def draw_angle_marks(
     dimension line, which would cross the liner and the piston of a rod at an angle."""
     parts = angle_mark_parts(geometry) if marks else None
     if parts is None:
+        banks = bank_mark_parts(geometry) if marks else None
+        if banks is not None:
+            _bank_marks(ax, geometry, i, marks, banks, tdc_frame)
         return
     labels = labels or {}
     guide, crank, _ = parts
@@ -881,34 +1239,16 @@ def draw_angle_marks(
     j = geometry.joints
     o, d, n = _guide_frame(geometry, guide, i)
     wrist = j[guide.joint][i] * MM
-    letter = {"fontsize": 9, "color": "0.1", "zorder": 7}
-    ax.text(*(wrist - n * extent * 0.03), "A", ha="right", va="center", **letter)
+    _lettered(ax, wrist - n * extent * 0.03, "A", ha="right", va="center")
     centre, pin = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     radius = float(np.linalg.norm(pin - centre))
     at_tdc = j[crank[2]][tdc_frame] * MM - j[crank[1]][tdc_frame] * MM
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
-    # the line the angle is measured from: the crank at TDC, through the crank centre; up to the
-    # liner's own axis when it is that axis (a central cylinder), so that the axis runs unbroken
-    bottom = float(np.dot(o - centre, d)) + liner_ends_mm(guide)[0] - 0.04 * extent
-    collinear = (
-        abs(float(np.dot(o - centre, n))) < 1e-9 * extent and float(np.dot(zero, d)) > 1 - 1e-12
-    )
-    top = max(radius * 1.35, bottom) if collinear else radius * 1.35
-    ax.plot(
-        *np.c_[centre - zero * radius * 0.5, centre + zero * top],
-        color="0.45",
-        lw=0.5,
-        ls="-.",
-        zorder=1,
-    )
+    _zero_line(ax, geometry, guide, i, centre, zero, radius, extent)
     # right of the shaft's axis: the counterweight lies opposite the crank, below on the left
-    ax.text(
-        *(centre + np.array([1.0, -0.15]) * extent * 0.035), "O", ha="left", va="center", **letter
-    )
+    _lettered(ax, centre + np.array([1.0, -0.15]) * extent * 0.035, "O", ha="left", va="center")
     if radius > 0:
-        ax.text(
-            *(pin + (pin - centre) / radius * extent * 0.03), "B", ha="left", va="center", **letter
-        )
+        _lettered(ax, pin + (pin - centre) / radius * extent * 0.03, "B", ha="left", va="center")
         _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
         _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
     length = float(np.linalg.norm(pin - wrist))
@@ -951,25 +1291,17 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
     and the stroke S between them as a dimension line with its text."""
     half = guide.bore_m * MM / 2
     ends = []
-    for distance, name in ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"])):
+    dead_centres = ((guide.travel_m[1], marks["tdc"]), (guide.travel_m[0], marks["bdc"]))
+    for k, (distance, name) in enumerate(dead_centres, start=1):
         at = o + d * distance * MM
         start, end = at + n * (half + extent * 0.035), at + n * (half + extent * 0.11)
-        ax.plot(*np.c_[start, end], color="0.2", lw=0.6, ls="-")
+        # the dead centre's line is the stroke's extension line: past the dimension line
+        ax.plot(*np.c_[start, end], color="0.2", lw=0.6, ls="-", gid=f"dimension-S-extension-{k}")
         ax.text(*(end + n * extent * 0.01), name, fontsize=8, color="0.15", **outward_alignment(n))
         ends.append(at + n * (half + extent * 0.09))
     if text:
-        _dimension_arrow(ax, ends[0], ends[1])
-        middle = (ends[0] + ends[1]) / 2 + n * extent * 0.015
-        ax.text(
-            *middle,
-            text,
-            fontsize=8,
-            color="0.15",
-            rotation=90 if abs(float(d[1])) > 0.7 else 0,
-            ha="left",
-            va="center",
-            bbox=LABEL_BOX,
-        )
+        _dimension_arrow(ax, ends[0], ends[1], "dimension-S-line")
+        _dimension_text(ax, ends[1], ends[0], text, extent, "dimension-S-text")
 
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -977,7 +1309,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-    _dimension(ax, p, q, "", -extent * 0.04, extent)
+    _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
     lowest = min(float(points[i][1]) * MM for points in j.values())
     for (
         guide
@@ -993,11 +1325,23 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
                     for s in (-1, 1)
                 ]
             )
+            if guide.label:  # a label beyond a liner's end that points down (a boxer's)
+                beyond = go + gd * (ends[1] + (LABEL_OFFSET + 0.05) * extent)
+                lowest = min(lowest, float(beyond[1]))
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
     at = np.array([float(p[0]), lowest - extent * 0.08])
     ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
-    ax.text(*at, text, ha="center", va="top", fontsize=8, color="0.15", bbox=LABEL_BOX)
+    ax.text(
+        *at,
+        text,
+        ha="center",
+        va="top",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        gid="dimension-R-text",
+    )
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -1006,7 +1350,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     offset = -extent * 0.06
-    _dimension(ax, p, q, "", offset, extent)
+    _dimension(ax, p, q, "", offset, extent, "R")
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
     mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
     right = mid[0] >= float(p[0])
@@ -1021,6 +1365,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
         fontsize=8,
         color="0.15",
         bbox=LABEL_BOX,
+        gid="dimension-R-text",
     )
 
 
@@ -1181,7 +1526,7 @@ def _scheme_at(
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     marked = bool(marks) and angle_mark_parts(geometry) is not None
-    # a marked scheme writes L beside the liner (draw_angle_marks); S only there
+    # a marked scheme of one axis writes L beside the liner (draw_angle_marks); S only there
     draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
     draw_angle_marks(ax, geometry, i, marks, labels)
     draw_planetary_marks(ax, geometry, i, marks)
@@ -1201,36 +1546,56 @@ def _scheme_at(
     return fig
 
 
-#: The positions figure: the A4 text width and the most a figure is shown high (the printed
-#: page's limit for a figure), mm; each panel's title takes one line above it.
+#: The positions figure: the A4 text width and the most it is shown high, mm: the page's text
+#: height (247 mm inside the frame) less the sentence of three lines before it, its caption and
+#: their margins (the print style lets this figure, and no other, be that high), so that a
+#: cylinder above its crank is drawn half the text width wide; each panel's title takes one line.
 TEXT_WIDTH_MM = 165.0
-FIGURE_HEIGHT_MM = 175.0
+FIGURE_HEIGHT_MM = 207.0
 _PANEL_TITLE_MM = 5.0
-#: Panels no higher than this times their width are drawn two in a row (half the text width
-#: each); taller ones (a cylinder above its crank) three in a row.
-SQUARE_ASPECT = 1.3
 
 
 def _title_mm(aspect: float) -> float:
-    """Room above a panel for its title: one line beside a square panel, two above a narrow one."""
-    return _PANEL_TITLE_MM if aspect <= SQUARE_ASPECT else 2 * _PANEL_TITLE_MM
+    """Room above a panel for its one-line title."""
+    return _PANEL_TITLE_MM
 
 
 def positions_layout(geometry, count: int) -> tuple[int, int]:
-    """(panels in a row, panels on one figure) of the positions figure: two in a row when a panel
-    is about as high as wide (a radial, a V), so that each is half the text width; three in a
-    row when it is tall; as many rows as the page's figure height holds."""
-    (x0, x1), (y0, y1) = _panel_limits(upright(front_view(geometry)))
+    """(panels in a row, panels on one figure) of the positions figure: two in a row, each half the
+    text width when a panel is about as high as wide (a radial, a V), as high as the page's
+    figure height allows when it is tall (a cylinder above its crank); as many rows as that
+    height holds."""
+    (x0, x1), (y0, y1) = _panel_limits(_panel_geometry(geometry))
     aspect = (y1 - y0) / (x1 - x0)
-    cols = min(count, 2 if aspect <= SQUARE_ASPECT else 3)
-    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    cols = max(min(count, 2), 1)
+    width = _panel_width_mm(aspect)
     rows = max(1, int(FIGURE_HEIGHT_MM // (width * aspect + _title_mm(aspect))))
-    return max(cols, 1), max(cols, 1) * rows
+    return cols, cols * rows
+
+
+def _panel_width_mm(aspect: float) -> float:
+    """A positions panel's width (mm): half the text width, or less for a panel so tall that
+    one row of them would be higher than a figure may be."""
+    return min(TEXT_WIDTH_MM / 2, (FIGURE_HEIGHT_MM - _title_mm(aspect)) / aspect)
 
 
 def _panel_limits(geometry):
-    """A positions panel's limits: room for the cylinders' numbers only (no dimension lines)."""
-    return _limits(geometry, label_gap=0.1, pad_share=0.04)
+    """A positions panel's limits (:func:`_panel_geometry`): room for the cylinders' numbers
+    only (no dimension lines), else for the cylinder's axis past its liner; a narrow margin
+    above and below, where only a joint's circle reaches past the limits' points."""
+    labelled = any(g.label for g in geometry.guides)
+    return _limits(
+        geometry, label_gap=0.1 if labelled else 0.045, pad_share=0.04, pad_share_y=0.015
+    )
+
+
+def _panel_geometry(geometry):
+    """What a positions panel draws: the front view, upright; a lone cylinder without its
+    number, which tells nothing there and would take the height of a line."""
+    geometry = upright(front_view(geometry))
+    if len(geometry.guides) == 1:
+        geometry = replace(geometry, guides=[replace(geometry.guides[0], label="")])
+    return geometry
 
 
 def positions_sheets(geometry, frames: list) -> list[list]:
@@ -1248,11 +1613,11 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     millimetres (:func:`positions_layout`): each panel is a fixed share of the text width."""
     from .figures import add_axes_mm, new_drawing  # lazy: heavy optional import (matplotlib)
 
-    geometry = upright(front_view(geometry))
+    geometry = _panel_geometry(geometry)
     limits = _panel_limits(geometry)
     aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
     cols, _ = positions_layout(geometry, len(frames))
-    width = TEXT_WIDTH_MM / max(cols, 2 if aspect <= SQUARE_ASPECT else 3)
+    width = _panel_width_mm(aspect)
     height = width * aspect
     rows = -(-len(frames) // cols)
     row_mm = height + _title_mm(aspect)
@@ -1263,15 +1628,19 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
-        ax.set_title(
-            caption.replace("\n", " — ") if aspect <= SQUARE_ASPECT else caption, fontsize=8, pad=2
-        )
+        ax.set_title(caption.replace("\n", " — "), fontsize=8, pad=2)
     return fig
 
 
-def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
+def _limits(
+    geometry,
+    label_gap: float = LABEL_GAP,
+    pad_share: float = 0.06,
+    pad_share_y: float | None = None,
+):
     """Axis limits (mm) holding every joint over the frames, every liner with its piston and label
-    (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``."""
+    (``label_gap``: room beyond a liner, share of the span), with a margin of ``pad_share``
+    (``pad_share_y`` above and below, when given)."""
     parts = [p.reshape(-1, 2) for p in geometry.joints.values()]
     parts += [t.reshape(-1, 2) for t in geometry.traces.values()]
     for c, radius, _ in geometry.circles:
@@ -1299,7 +1668,8 @@ def _limits(geometry, label_gap: float = LABEL_GAP, pad_share: float = 0.06):
     pts = np.concatenate(parts) * MM
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = pad_share * np.ptp(pts, axis=0).max()
-    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
+    pad_y = pad if pad_share_y is None else pad_share_y * np.ptp(pts, axis=0).max()
+    return (lo[0] - pad, hi[0] + pad), (lo[1] - pad_y, hi[1] + pad_y)
 
 
 # --------------------------------------------------------------------------- animation
