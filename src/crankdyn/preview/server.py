@@ -206,7 +206,8 @@ def page_parts(page: str) -> PageParts | None:
         if found is not None:
             key = found[1]
         else:
-            name = (_CLASS.search(match[2]) or [None, match[1]])[1].split()
+            found_class = _CLASS.search(match[2])
+            name = (found_class[1] if found_class is not None else str(match[1])).split()
             key = base = f"preview-{name[0] if name else match[1]}"
             number = 1
             while key in taken:
@@ -833,8 +834,8 @@ class _Handler(BaseHTTPRequestHandler):
             version = self.preview.version_after(after[0]) if after else snapshot.version
             self._send(HTTPStatus.OK, "text/plain; charset=utf-8", version.encode("ascii"))
         elif path == "/update":
-            after = (parse_qs(urlsplit(self.path).query).get("after") or [""])[0]
-            changes = self.preview.changes_after(after)
+            since = (parse_qs(urlsplit(self.path).query).get("after") or [""])[0]
+            changes = self.preview.changes_after(since)
             self._send(
                 HTTPStatus.OK,
                 "application/json",
