@@ -203,19 +203,32 @@ def render_course(r, ctx) -> str | None:
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     text = [statement]
     if coarse is not own:
-        text.append(
-            t(
-                "numerics.course_time",
-                step=plain(ctx, own["angle_step_deg"]),
-                time=ctx.num(own["time_s"] * 1e3, 2),
-                coarse=plain(ctx, coarse["angle_step_deg"]),
-                coarse_time=ctx.num(coarse["time_s"] * 1e3, 2),
-                coarse_error=ctx.num(
-                    100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2
-                ),
-            )
-        )
+        text.append(_course_time(own, coarse, ctx))
     return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
+
+
+#: A calculation shorter than this is stated as "under a second": an engineer reads its length in
+#: seconds, and milliseconds measured on one computer say nothing about the method.
+_UNDER_A_SECOND_S = 1.0
+
+
+def _course_time(own, coarse, ctx) -> str:
+    """The time of the calculation at the note's step against the coarsest step studied, in the
+    words an engineer states a time in: under a second, or seconds to two digits."""
+    coarse_error = ctx.num(100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2)
+    if own["time_s"] < _UNDER_A_SECOND_S:
+        return ctx.t(
+            "numerics.course_time_short",
+            coarse=plain(ctx, coarse["angle_step_deg"]),
+            coarse_error=coarse_error,
+        )
+    return ctx.t(
+        "numerics.course_time",
+        time=ctx.t.number_g(own["time_s"], 2),
+        coarse=plain(ctx, coarse["angle_step_deg"]),
+        coarse_time=ctx.t.number_g(coarse["time_s"], 2),
+        coarse_error=coarse_error,
+    )
 
 
 def render(output: StageOutput, ctx) -> str:
