@@ -21,7 +21,7 @@ from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene.model import scene_from_dict
 from crankdyn_builtin.numerics import compute, options, reference, steps
-from crankdyn_builtin.numerics.section import _course_time
+from crankdyn_builtin.numerics.section import _course_time, _error_words
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = [
@@ -509,3 +509,13 @@ def test_a_course_note_states_a_calculation_of_seconds_in_seconds_to_two_digits(
         "At this step the calculation of the forces and torques takes 2.3 s; a step of 30° would "
         "take 0.81 s, with errors up to 1.2 %."
     ), text
+
+
+def test_a_course_note_bounds_an_error_below_a_thousandth_instead_of_printing_it():
+    """6,7·10⁻⁶ MPa reads as a program's precision: below 0,001 the note says "below 0.001"; an
+    error of 0,006 74 is "up to 0.0067" (two digits)."""
+    result = run("inline4-petrol", UNLIMITED)
+    _, ctx, _ = render_section(result, detail="course")
+    assert _error_words(ctx, 6.7e-6) == "below 0.001"
+    assert _error_words(ctx, 0.00674) == "up to 0.0067"
+    assert _error_words(ctx, 12.34) == "up to 12"

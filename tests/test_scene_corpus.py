@@ -415,11 +415,16 @@ def _json_numbers(value) -> list[float]:
     return []
 
 
+#: The bound a course note gives an error too small to state (numerics' error_below).
+_ERROR_BOUND = r"\b(?:менше|менее|below) 0[,.]001\b"
+
+
 def check_conclusions(note: Note) -> list[str]:
     """Every number of the conclusions is a table's cell or a result, as printed (rounded)."""
     text = note.part(r'class="conclusions"')
     text = re.sub(_REFERENCE[note.language], " ", text)
     text = re.sub(r"\[[\d,–\s]+\]|[⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+|<sub>.*?</sub>", " ", text)
+    text = re.sub(_ERROR_BOUND, " ", text)  # "below 0,001 %": a bound on an error, not a result
     cells = [
         v
         for t in note.tables

@@ -190,13 +190,13 @@ def render_course(r, ctx) -> str | None:
     t = ctx.t
     a = r["at_scene_step"]
     statement = t(
-        "numerics.printed_errors",
+        "numerics.printed_errors_course",
         step=plain(ctx, a["angle_step_deg"]),
-        torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
-        work=ctx.num(100 * a["indicated_work_error_relative"], 2),
-        t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
-        t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
-        q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2),
+        torque=_error_words(ctx, 100 * a["mean_torque_error_relative"]),
+        work=_error_words(ctx, 100 * a["indicated_work_error_relative"]),
+        t_max=_error_words(ctx, a["tangential_max_error_Pa"] / 1e6),
+        t_min=_error_words(ctx, a["tangential_min_error_Pa"] / 1e6),
+        q_max=_error_words(ctx, a["resultant_max_error_Pa"] / 1e6),
     )
     ctx.conclude(statement)
     own = min(r["steps"], key=lambda s: abs(s["angle_step_deg"] - a["angle_step_deg"]))
@@ -205,6 +205,18 @@ def render_course(r, ctx) -> str | None:
     if coarse is not own:
         text.append(_course_time(own, coarse, ctx))
     return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
+
+
+#: The smallest error a course note states as a number (in % of a result, or in MPa): a smaller
+#: one is "below 0,001", as an engineer bounds an error, not 6,7·10⁻⁶ of a program's precision.
+_ERROR_FLOOR = 1e-3
+
+
+def _error_words(ctx, error: float) -> str:
+    """An error of a printed result in a course note: "up to 0,0067" or "below 0,001"."""
+    if abs(error) < _ERROR_FLOOR:
+        return ctx.t("numerics.error_below", value=ctx.t.number_g(_ERROR_FLOOR, 1))
+    return ctx.t("numerics.error_up_to", value=ctx.num(abs(error), 2))
 
 
 #: A calculation shorter than this is stated as "under a second": an engineer reads its length in
