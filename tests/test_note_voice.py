@@ -218,3 +218,87 @@ def test_a_course_notes_sentence_speaks_of_the_engine_not_of_the_program(path):
         and (match := pattern.search(_PARAMETER.sub("", text)))
     ]
     assert not found, found
+
+
+def _text(html: str) -> str:
+    text = re.sub(r"<[^>]+>", "", html).replace("\u2060", "")
+    return re.sub(r"[\u00a0\u2009\u202f]", " ", text)  # the spaces kept on one line
+
+
+def test_an_uneven_firing_is_explained_by_the_cranks_in_ordinary_text():
+    """A four-stroke twin with cranks at 0 and 180°: each cylinder fires once in 720°, so the
+    firings come 180° and 720 − 180 = 540° apart instead of 360°; said as text of the section
+    (no check style), without "as the assignment states"."""
+    from conftest import shared_html
+
+    twin = {
+        "flywheel": None,
+        "engine": {
+            "cylinders": 2,
+            "crank_angles_deg": [0, 180],
+            "firing_order": [1, 2],
+            "uneven_firing": True,
+        },
+    }
+    html = shared_html("inline4-petrol", twin, language="uk", stages=["bays"]).linked_html
+    sentence = re.search(r"<p[^>]*>Чергування спалахів нерівномірне:.*?</p>", html).group(0)
+    assert sentence.startswith("<p>"), sentence  # no check-bad (red bold) paragraph
+    assert (
+        "раз за цикл (720° повороту колінчастого вала), і за схеми колін 0; 180° інтервали між "
+        "спалахами становлять 180; 540° замість рівних 360°."
+    ) in _text(sentence)
+    assert "зазначено в завданні" not in html
+
+
+def test_a_firing_order_the_calculation_chose_is_no_given_datum():
+    """An in-line four without a firing order: Table 1.1 (the task's data) has no firing-order
+    row, the section says the order is this calculation's choice, and the appendix gives the
+    order in the report's letters and the cranks with the reason, not a program's ranking."""
+    from conftest import shared_html, shared_run
+
+    changes = {
+        "flywheel": None,
+        "engine": {"firing_order": None, "crank_angles_deg": None},
+    }
+    result = shared_run("inline4-petrol", changes, stages=["bays"])
+    assert result.scene.firing_order_chosen
+    html = shared_html("inline4-petrol", changes, language="ru", stages=["bays"]).linked_html
+    given = re.search(r'<table class="data values".*?</table>', html, flags=re.S).group(0)
+    assert "Порядок работы цилиндров" not in given
+    assert "Порядок работы цилиндров выбран в этом расчёте" in html
+    order = "–".join(str(c) for c in result.scene.engine.firing_order)
+    cranks = "; ".join(f"{x:g}" for x in result.outputs["bays"].results["crank_angles_deg"])
+    assert (
+        f"Порядок работы цилиндров {order} и схема колен {cranks}° выбраны в этом расчёте"
+        in _text(html)
+    )
+    assert not software_phrases("ru").search(_text(html))
+
+
+def test_a_step_that_misses_the_required_accuracy_says_so_and_names_the_step_that_meets_it():
+    """Peaks of the forces required to 0,001 % at a given step of 1°: the note says the step misses
+    it, by the error measured, and names the coarsest studied step that meets it with the
+    decimal comma ("0,1°", never "0.1°")."""
+    from conftest import shared_html, shared_run
+
+    changes = {"flywheel": None, "numerics": {"tolerance": 1e-5, "time_budget_s": 3600}}
+    r = shared_run("inline4-petrol", changes).outputs["numerics"].results
+    at = r["at_scene_step"]
+    assert at["peaks_error_relative"] > 1e-5 and not at["peaks_within_tolerance"]
+    text = _text(shared_html("inline4-petrol", changes, language="uk").linked_html)
+
+    def worst(row):
+        return max(
+            row[f"{q}_error_relative"]
+            for q in ("tangential_max", "tangential_min", "resultant_max")
+        )
+
+    good = [s["angle_step_deg"] for s in r["steps"] if worst(s) <= 1e-5]
+    if good:
+        finer = f"{max(good):g}".replace(".", ",")
+        expected = f"тобто більше за потрібну точність 0,001 %; цю точність дає крок Δα = {finer}°"
+    else:
+        expected = "тобто більше за потрібну точність 0,001 %; жоден із перевірених кроків"
+    assert "З кроком Δα = 1° піки дотичної та сумарної сил відрізняються" in text
+    assert expected in text, re.search(r"З кроком Δα = 1° піки[^.]*\.", text).group(0)
+    assert not re.search(r"Δα = \d+\.\d", text)

@@ -246,7 +246,7 @@ def skipped_sentence(t, registry, result) -> str:
     ]
     if not skipped:
         return ""
-    titles = [titles[0] for titles in skipped]
+    titles = [title for title, _ in skipped]
     titles = [titles[0], *map(_in_sentence, titles[1:])]
     # "A and B"; "A, B and C" where the last title has its own "and" ("… і крутильні коливання")
     conjunction = t("report.skipped_what_and", first="", last="").strip()
