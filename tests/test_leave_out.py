@@ -238,3 +238,34 @@ def test_balancing_needs_no_cycle():
     )
     assert ("balancing.note_no_torque", {}) in result.outputs["balancing"].notes
     assert "no output torque" in html
+
+
+def course_html(name: str) -> str:
+    """The course note (``detail = "course"``, the default) of a matrix scene, in English."""
+    result = build(name)[0]
+    report = result.scene.report.model_copy(update={"detail": "course"})
+    course = dataclasses.replace(result, scene=result.scene.model_copy(update={"report": report}))
+    return render_html(course, REGISTRY, "en").linked_html
+
+
+def test_a_course_note_says_in_one_sentence_what_the_assignment_gives_no_data_for():
+    """A course note names the calculations left out for want of data in one sentence, titles in
+    it and each reason once, not as a list of sections; a mechanism studied for its kinematics
+    (no working cycle) says nothing of flywheels or forces left out."""
+    result = build("single-cylinder")[0]
+    html = course_html("single-cylinder")
+    t = translator("en", REGISTRY.catalogs)
+    assert t("report.skipped_intro") not in html and '<ul class="skipped' not in html
+    left_out = {
+        stage: skipped_reason(t, reason)
+        for stage, reason in result.plan.skipped.items()
+        if _skip_key(reason) not in (*UNLISTED_SKIPS, "skip.not_applicable")
+    }
+    assert {"flywheel", "speed_fluctuation"} <= set(left_out), left_out
+    sentence = re.search(r'<p class="skipped">(.*?)</p>', html).group(1)
+    first = t(REGISTRY.stages[next(iter(left_out))].presentation.title_key)
+    assert sentence.startswith(first) and " are not calculated in this note: " in sentence
+    for stage, reason in left_out.items():
+        title = t(REGISTRY.stages[stage].presentation.title_key)
+        assert title[1:] in sentence and sentence.count(str(escape(reason))) == 1, (stage, reason)
+    assert '<p class="skipped">' not in course_html("kinematics-only")

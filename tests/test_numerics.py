@@ -21,6 +21,7 @@ from crankdyn.report.document import _environment
 from crankdyn.report.i18n import translator
 from crankdyn.scene.model import scene_from_dict
 from crankdyn_builtin.numerics import compute, options, reference, steps
+from crankdyn_builtin.numerics.section import _course_time, _error_words
 
 REGISTRY = default_registry()
 ENGINE_EXAMPLES = [
@@ -481,12 +482,40 @@ def test_a_course_note_states_the_error_against_time_in_plain_words():
     own = next(s for s in r["steps"] if s["angle_step_deg"] == r["at_scene_step"]["angle_step_deg"])
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     assert "At the step of this report, Δα = 1°" in html
-    assert f"takes {ctx.num(own['time_s'] * 1e3, 2)} ms" in html
-    coarse_ms = ctx.num(coarse["time_s"] * 1e3, 2)
-    assert f"a step of {coarse['angle_step_deg']:g}° would take {coarse_ms} ms" in html
+    # the time as an engineer states it: a calculation of milliseconds takes under a second
+    assert own["time_s"] < 1.0
+    assert "the forces and torques takes under a second" in html and " ms" not in html
+    assert f"a step of {coarse['angle_step_deg']:g}° would not make it noticeably shorter" in html
     worst = max(coarse[f"{q}_error_relative"] for q in compute.QUANTITIES)
-    assert f"errors up to {ctx.num(100 * worst, 2)} %" in html
+    assert f"the errors would grow to {ctx.num(100 * worst, 2)} %" in html
     for word in ("RK45", "Radau", "BDF", "LSODA", "Jacobian", "series", "Maclaurin"):
         assert word not in html
     kinematics_only = run("kinematics-only", UNLIMITED)
     assert render_section(kinematics_only, "numerics_kinematics", detail="course")[0] is None
+
+
+def test_a_course_note_states_a_calculation_of_seconds_in_seconds_to_two_digits():
+    """A step whose calculation takes 2,345 s and a coarse one of 0,8123 s with errors of 1,234 %
+    and 0,5 %: the note says "2.3 s", "0.81 s" and "1.2 %", once each, and no milliseconds."""
+    result = run("inline4-petrol", UNLIMITED)
+    _, ctx, _ = render_section(result, detail="course")
+    errors = {f"{q}_error_relative": 0.0 for q in compute.QUANTITIES}
+    own = {"angle_step_deg": 1.0, "time_s": 2.345, **errors}
+    coarse = {**own, "angle_step_deg": 30.0, "time_s": 0.8123}
+    coarse["mean_torque_error_relative"] = 0.01234
+    coarse["tangential_max_error_relative"] = 0.005
+    text = _course_time(own, coarse, ctx)
+    assert text == (
+        "At this step the calculation of the forces and torques takes 2.3 s; a step of 30° would "
+        "take 0.81 s, with errors up to 1.2 %."
+    ), text
+
+
+def test_a_course_note_bounds_an_error_below_a_thousandth_instead_of_printing_it():
+    """6,7·10⁻⁶ MPa reads as a program's precision: below 0,001 the note says "below 0.001"; an
+    error of 0,006 74 is "up to 0.0067" (two digits)."""
+    result = run("inline4-petrol", UNLIMITED)
+    _, ctx, _ = render_section(result, detail="course")
+    assert _error_words(ctx, 6.7e-6) == "below 0.001"
+    assert _error_words(ctx, 0.00674) == "up to 0.0067"
+    assert _error_words(ctx, 12.34) == "up to 12"

@@ -63,27 +63,21 @@ def _true_firing(layout, slaves, slave_info) -> dict:
     }
 
 
-def _firing_notes(layout, firing_order_chosen: bool) -> list:
-    """Notes on a firing order the explorer chose and on uneven firing intervals."""
-    notes = []
-    if firing_order_chosen:
-        notes.append(
-            (
-                "bays.note_firing_chosen",
-                {
-                    "order": list(layout.firing_order),  # printed in the report's bank letters
-                    "cranks": ", ".join(f"{x:g}" for x in layout.crank_lag_deg),
-                },
-            )
+def _firing_notes(scene, layout) -> list:
+    """The note on a firing order (and crank arrangement) this calculation chose; an uneven firing
+    is explained in the section, from the crank arrangement."""
+    if not scene.firing_order_chosen:
+        return []
+    cranks_chosen = "crank_angles_deg" not in scene.engine.model_fields_set
+    return [
+        (
+            "bays.note_firing_chosen" if cranks_chosen else "bays.note_firing_order_chosen",
+            {
+                "order": tuple(layout.firing_order),
+                "cranks": tuple(float(x) for x in layout.crank_lag_deg),
+            },
         )
-    if not layout.even_firing:
-        notes.append(
-            (
-                "bays.note_uneven",
-                {"intervals": ", ".join(f"{x:g}" for x in layout.firing_intervals_deg())},
-            )
-        )
-    return notes
+    ]
 
 
 def _slave_cylinder(
@@ -204,7 +198,7 @@ def run(scene, inputs) -> StageOutput:
     e = scene.engine
     layout = engine_layout(scene)
     results = _layout_results(e, layout)
-    notes = _firing_notes(layout, scene.firing_order_chosen)
+    notes = _firing_notes(scene, layout)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True
     if e.rod_type != "articulated":

@@ -198,6 +198,8 @@ def render(output: StageOutput, ctx) -> str | None:
         phase_table=phase_table,
         phase_table_number=phase_table_number,
         true_firing=_true_firing_text(r, ctx),
+        uneven=_uneven_text(r, ctx),
+        slave_length_given=_slave_length_given(ctx.scene),
         bank_letters=_bank_letters_text(r, t),
         stroke_table=stroke_table,
         own_pins=own_pins,
@@ -215,6 +217,34 @@ def _pin_masses(r: dict, scene) -> dict:
         "rods_kg": -r["centrifugal_rod_Pa"] * per_pa,
         "forces_kg": -r["forces_centrifugal_Pa"] * per_pa,
     }
+
+
+def _slave_length_given(scene) -> bool:
+    """True when the assignment gives the slave rods' length (else it is chosen for equal
+    compression ratios)."""
+    if scene is None or scene.engine.rod_type != "articulated":
+        return False
+    return options(scene, ARTICULATED, ArticulatedOptions).slave_rod_length is not None
+
+
+def _uneven_text(r, ctx) -> str | None:
+    """Why the firing is uneven, as a fact of the engine: each cylinder fires once a cycle, and the
+    crank arrangement (with the bank angle of a V) spaces the firings by the intervals given, not
+    by the cycle's equal shares (a 180° crank in a four-stroke twin: 180° and 540°)."""
+    if r["even_firing"]:
+        return None
+    t = ctx.t
+    intervals = r["firing_intervals_deg"]
+    cycle = sum(intervals)
+    bank = ctx.scene.engine.bank_angle_deg if ctx.scene is not None else None
+    return t(
+        "bays.uneven_bank" if bank else "bays.uneven",
+        cycle=t.number_g(cycle, 4),
+        cranks="; ".join(t.number_g(x, 4) for x in r["crank_angles_deg"]),
+        bank=t.number_g(bank, 4) if bank else "",
+        intervals="; ".join(t.number_g(x, 4) for x in intervals),
+        even=t.number_g(cycle / len(intervals), 4),
+    )
 
 
 #: The articulated rods' letters (textbook §3.3, eq. (27)-(33); meanings: symbol.bays.<key> in

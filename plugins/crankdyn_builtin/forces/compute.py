@@ -386,9 +386,22 @@ def _forces_output(results: dict, engine, motion, curves: dict, loads, exact, ar
     )
     notes = [
         ("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
-        ("forces.note_inertia_work", {"relative": abs(results["inertia_work_relative"])}),
+        _inertia_work_note(results["inertia_work_relative"]),
     ] + notes
     return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
+
+
+#: A relative work of the inertia forces below this is rounding: the note says it is zero.
+ROUNDING_LEVEL = 1e-12
+
+
+def _inertia_work_note(relative: float) -> tuple[str, dict]:
+    """The note on the inertia forces' net work over the cycle, zero for a consistent kinematic
+    model: "zero to rounding" where it is (a number such as 1,5·10⁻¹⁷ only says two sums agree),
+    else the relative value."""
+    if abs(relative) < ROUNDING_LEVEL:
+        return ("forces.note_inertia_work_zero", {})
+    return ("forces.note_inertia_work", {"relative": abs(relative)})
 
 
 _NOTE_KEYS = (

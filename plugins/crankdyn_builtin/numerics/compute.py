@@ -37,7 +37,7 @@ from crankdyn.scene import (
     options,
 )
 
-from .options import NumericsOptions
+from .options import NumericsOptions, default_angle_step_deg
 from .reference import (
     FALLBACK_REFERENCE_STEP_DEG,
     PointwiseModel,
@@ -352,8 +352,11 @@ PEAKS = ("tangential_max", "tangential_min", "resultant_max")
 def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
     """The largest relative error of the reported peaks at the scene's step against [numerics] tolerance.
 
-    Records it in ``at_scene`` and returns the method notes: how a defaulted step was chosen, and,
-    when the peaks are off by more than the tolerance, the coarsest measured step that keeps them.
+    Records it in ``at_scene`` and returns the method notes: how a defaulted step was chosen and
+    what its peaks measure against the accuracy required, or, when the peaks are off by more than
+    the tolerance, that the step misses it and the coarsest measured step that keeps them.
+    The notes print the error to two digits, as an engineer states an accuracy (three or more
+    where two would read as the tolerance itself).
     """
 
     def worst(row):
@@ -373,31 +376,44 @@ def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
     if scene.angle_step_defaulted:
         notes.append(
             (
-                # an in-line engine's grid has no bank angle to divide
-                "numerics.note_default_step_inline"
-                if scene.engine.layout == "inline"
-                else "numerics.note_default_step",
+                "numerics.note_default_step",
                 {
                     "step": scene.analysis.angle_step_deg,
                     "grid": scene.engine_grid_deg,
+                    "limit": default_angle_step_deg(scene),
                     "tolerance": 100 * opts.tolerance,
-                    "error": 100 * error,
                 },
             )
         )
-    if error > opts.tolerance:
-        good = [row["angle_step_deg"] for row in step_rows if worst(row) <= opts.tolerance]
-        notes.append(
-            (
-                "numerics.note_peaks_beyond",
-                {
-                    "error": 100 * error,
-                    "tolerance": 100 * opts.tolerance,
-                    "step": f"{max(good):.6g}" if good else "—",
-                },
+    if error <= opts.tolerance:
+        if scene.angle_step_defaulted:
+            notes.append(
+                (
+                    "numerics.note_peaks_within",
+                    {"error": _stated(error, opts.tolerance), "tolerance": 100 * opts.tolerance},
+                )
             )
-        )
+        return notes
+    good = [row["angle_step_deg"] for row in step_rows if worst(row) <= opts.tolerance]
+    params = {
+        "step": scene.analysis.angle_step_deg,
+        "error": _stated(error, opts.tolerance),
+        "tolerance": 100 * opts.tolerance,
+    }
+    if good:  # the step as a number, printed in the report's locale
+        notes.append(("numerics.note_peaks_beyond", {**params, "finer": float(max(good))}))
+    else:
+        notes.append(("numerics.note_peaks_beyond_studied", params))
     return notes
+
+
+def _stated(error: float, tolerance: float) -> float:
+    """``error`` in percent to two significant digits, more where two equal ``tolerance``'s."""
+    for digits in (2, 3, 4, 6):
+        rounded = float(f"{100 * error:.{digits}g}")
+        if rounded != float(f"{100 * tolerance:.6g}"):
+            return rounded
+    return 100 * error
 
 
 def _refuse_if_too_coarse(scene, opts, at_scene, step_rows) -> None:

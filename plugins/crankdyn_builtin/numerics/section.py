@@ -190,32 +190,57 @@ def render_course(r, ctx) -> str | None:
     t = ctx.t
     a = r["at_scene_step"]
     statement = t(
-        "numerics.printed_errors",
+        "numerics.printed_errors_course",
         step=plain(ctx, a["angle_step_deg"]),
-        torque=ctx.num(100 * a["mean_torque_error_relative"], 2),
-        work=ctx.num(100 * a["indicated_work_error_relative"], 2),
-        t_max=ctx.num(a["tangential_max_error_Pa"] / 1e6, 2),
-        t_min=ctx.num(a["tangential_min_error_Pa"] / 1e6, 2),
-        q_max=ctx.num(a["resultant_max_error_Pa"] / 1e6, 2),
+        torque=_error_words(ctx, 100 * a["mean_torque_error_relative"]),
+        work=_error_words(ctx, 100 * a["indicated_work_error_relative"]),
+        t_max=_error_words(ctx, a["tangential_max_error_Pa"] / 1e6),
+        t_min=_error_words(ctx, a["tangential_min_error_Pa"] / 1e6),
+        q_max=_error_words(ctx, a["resultant_max_error_Pa"] / 1e6),
     )
     ctx.conclude(statement)
     own = min(r["steps"], key=lambda s: abs(s["angle_step_deg"] - a["angle_step_deg"]))
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     text = [statement]
     if coarse is not own:
-        text.append(
-            t(
-                "numerics.course_time",
-                step=plain(ctx, own["angle_step_deg"]),
-                time=ctx.num(own["time_s"] * 1e3, 2),
-                coarse=plain(ctx, coarse["angle_step_deg"]),
-                coarse_time=ctx.num(coarse["time_s"] * 1e3, 2),
-                coarse_error=ctx.num(
-                    100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2
-                ),
-            )
-        )
+        text.append(_course_time(own, coarse, ctx))
     return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
+
+
+#: The smallest error a course note states as a number (in % of a result, or in MPa): a smaller
+#: one is "below 0,001", as an engineer bounds an error, not 6,7·10⁻⁶ of a program's precision.
+_ERROR_FLOOR = 1e-3
+
+
+def _error_words(ctx, error: float) -> str:
+    """An error of a printed result in a course note: "up to 0,0067" or "below 0,001"."""
+    if abs(error) < _ERROR_FLOOR:
+        return ctx.t("numerics.error_below", value=ctx.t.number_g(_ERROR_FLOOR, 1))
+    return ctx.t("numerics.error_up_to", value=ctx.num(abs(error), 2))
+
+
+#: A calculation shorter than this is stated as "under a second": an engineer reads its length in
+#: seconds, and milliseconds measured on one computer say nothing about the method.
+_UNDER_A_SECOND_S = 1.0
+
+
+def _course_time(own, coarse, ctx) -> str:
+    """The time of the calculation at the note's step against the coarsest step studied, in the
+    words an engineer states a time in: under a second, or seconds to two digits."""
+    coarse_error = ctx.num(100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2)
+    if own["time_s"] < _UNDER_A_SECOND_S:
+        return ctx.t(
+            "numerics.course_time_short",
+            coarse=plain(ctx, coarse["angle_step_deg"]),
+            coarse_error=coarse_error,
+        )
+    return ctx.t(
+        "numerics.course_time",
+        time=ctx.t.number_g(own["time_s"], 2),
+        coarse=plain(ctx, coarse["angle_step_deg"]),
+        coarse_time=ctx.t.number_g(coarse["time_s"], 2),
+        coarse_error=coarse_error,
+    )
 
 
 def render(output: StageOutput, ctx) -> str:

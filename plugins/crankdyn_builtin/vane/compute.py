@@ -167,12 +167,24 @@ def run(scene, inputs) -> StageOutput:
     results = _vane_results(params, r, l_tail, omega, zeros, zeros_check)
     notes = [
         ("vane.note_corrected", {}),
-        ("vane.note_zeros", {"zero": float(zeros[0]), "check": zeros_check}),
+        _zeros_note(float(zeros[0]), zeros_check),
     ]
     tables = {"vane": table, "by_lambda": by_lambda}
     if params.compare_rod_ratios:
         tables["compare"] = compare
     return StageOutput(data={}, results=results, tables=tables, notes=notes)
+
+
+#: A root search agreeing with the closed form below this [deg] agrees to rounding: the note says
+#: so in words (5,7·10⁻¹⁴° only says that two calculations agree).
+ROUNDING_DEG = 1e-9
+
+
+def _zeros_note(zero_deg: float, check_deg: float) -> tuple[str, dict]:
+    """The note on the zeros of the slider's vertical acceleration and their check."""
+    if abs(check_deg) < ROUNDING_DEG:
+        return ("vane.note_zeros_rounding", {"zero": zero_deg})
+    return ("vane.note_zeros", {"zero": zero_deg, "check": check_deg})
 
 
 def _vane_table(angle_deg, alpha, r: float, lam: float, omega: float) -> dict:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
-import math
 import os
 import re
 from collections.abc import Callable, Sequence
@@ -19,7 +18,7 @@ from markupsafe import Markup, escape
 from ..errors import PluginError
 from ..plugin.types import declared
 from .formula_lines import unbroken_parts
-from .i18n import Translator, superscript
+from .i18n import Translator
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
 
 
@@ -448,14 +447,16 @@ class RenderContext:
     def num(self, value: float, significant: int = 4) -> str:
         return self.t.number(value, significant)
 
-    #: Relative differences below this are rounding: printed as "< 10⁻¹²", not as 3,9·10⁻¹⁶.
+    #: Relative differences below this are rounding: said in words ("practically zero"), not
+    #: printed as 3,9·10⁻¹⁶ or as a bound such as "< 10⁻¹²".
     ROUNDING_LEVEL = 1e-12
 
     def deviation(self, relative: float, significant: int = 2) -> str:
-        """A relative difference of a check: "< 10⁻¹²" at the level of rounding (a number such as
-        3,9·10⁻¹⁶ reads as a result where it only says that two calculations agree)."""
+        """A relative difference of a check: "practically zero" at the level of rounding (a number
+        such as 3,9·10⁻¹⁶, or a bound on it, reads as a program's precision where it only says
+        that two calculations agree)."""
         if abs(relative) < self.ROUNDING_LEVEL:
-            return "< 10" + superscript(round(math.log10(self.ROUNDING_LEVEL)))
+            return self.t("doc.rounding_difference")
         return self.t.number(relative, significant)
 
     def render_template(self, name: str, **values: Any) -> str:

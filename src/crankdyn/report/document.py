@@ -219,6 +219,44 @@ def skipped_reason(t, reason: str) -> str:
 UNLISTED_SKIPS = ("skip.other_mechanism", "skip.covered")
 
 
+def _in_sentence(title: str) -> str:
+    """A section's title inside a sentence: its first letter small, unless it opens an
+    abbreviation ("ВМТ")."""
+    if len(title) > 1 and title[1].isupper():
+        return title
+    return title[:1].lower() + title[1:]
+
+
+#: The reasons a course note's sentence on what it leaves out gives: data the assignment lacks. A
+#: calculation that does not apply to the task is no part of it and goes unsaid.
+_DATA_SKIPS = ("skip.no_masses", "skip.no_flywheel", "skip.no_cycle", "skip.no_rod_inertia")
+
+
+def skipped_sentence(t, registry, result) -> str:
+    """A course note's one sentence on the calculations it leaves out for want of data, or ""
+    where it says nothing: a mechanism studied for its kinematics (no working cycle) is not an
+    engine whose flywheel or forces the assignment left out, and a list of sections with reasons
+    reads as a program's modules, not as the student's text."""
+    if result.scene.cycle is None:
+        return ""
+    skipped = [
+        (_stage_title(t, registry, name), t(_skip_key(reason)))
+        for name, reason in result.plan.skipped.items()
+        if _skip_key(reason) in _DATA_SKIPS
+    ]
+    if not skipped:
+        return ""
+    titles = [title for title, _ in skipped]
+    titles = [titles[0], *map(_in_sentence, titles[1:])]
+    # "A and B"; "A, B and C" where the last title has its own "and" ("… і крутильні коливання")
+    conjunction = t("report.skipped_what_and", first="", last="").strip()
+    if len(titles) > 1 and f" {conjunction} " not in titles[-1]:
+        titles[-2:] = [t("report.skipped_what_and", first=titles[-2], last=titles[-1])]
+    what = ", ".join(titles)
+    why = "; ".join(dict.fromkeys(reason for _, reason in skipped))
+    return t("report.skipped_course", what=what, why=why)
+
+
 def cite(numbers) -> str:
     """``[1, 2]``, ``[5–7]``: sources cited by their numbers in the list of references, three or
     more consecutive numbers as a range (ДСТУ 8302:2015 practice, as "[5–7]" for "[5, 6, 7]")."""
@@ -492,6 +530,19 @@ def _with_warnings(body: str, found: str) -> str:
     return body + found
 
 
+def _note_value(t, value):
+    """A note's parameter as printed: a number to four digits in the report's locale; a tuple of
+    numbers as a list ("0; 120; 240", the decimal comma taken); a tuple of cylinder labels as a
+    firing order in the report's letters ("1Л–6П"); a text with its scene keys named."""
+    if isinstance(value, float):
+        return t.number_g(value, 4)
+    if isinstance(value, (list, tuple)):
+        if all(isinstance(v, float) for v in value):
+            return "; ".join(t.number_g(v, 4) for v in value)
+        return t.cylinders(value)
+    return field_names(t, value)
+
+
 def _stage_notes(output, ctx, references: list[str]) -> list[str]:
     """The notes a stage's output asks for, their numbers in the report's locale to four
     digits without padding zeros (a given advance of 22° is not "22,00°")."""
@@ -500,17 +551,7 @@ def _stage_notes(output, ctx, references: list[str]) -> list[str]:
         cite_sources(
             t(
                 key,
-                **{
-                    k: (
-                        t.number_g(v, 4)
-                        if isinstance(v, float)
-                        # a list of cylinder labels: in the report's bank letters ("1Л–6П")
-                        else t.cylinders(v)
-                        if isinstance(v, (list, tuple))
-                        else field_names(t, v)
-                    )
-                    for k, v in params.items()
-                },
+                **{k: _note_value(t, v) for k, v in params.items()},
             ),
             references,
         )
@@ -545,6 +586,7 @@ def _page_html(result, registry, ctx, parts: _NoteParts, language: str) -> str:
         notes=parts.notes,
         timing=_timing_rows(result, shown, t),
         skipped=skipped,
+        skipped_sentence=skipped_sentence(t, registry, result) if course else "",
         appendices=appendices,
         course=course,
         numerics_number=(appendix_letter(t, 0) if course else "") or len(sections) + 1,
