@@ -242,4 +242,4 @@ def test_a_chosen_firing_order_is_noted_in_the_reports_bank_letters():
     order = v12_run().outputs["bays"].results["firing_order"]
     assert "–".join(order) not in text  # Latin "1L–6R–…"
     printed = "–".join(label.replace("L", "Л").replace("R", "П") for label in order)
-    assert f"порядков работы, {printed}, с расположением" in text
+    assert f"Порядок работы цилиндров {printed} и схема колен" in text
