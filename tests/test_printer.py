@@ -114,3 +114,20 @@ def test_the_command_line_prints_through_the_printer_and_leaves_no_process(tmp_p
     assert main(["report", str(bad), "--format", "pdf", "-o", str(tmp_path / "bad"), "-q"]) == 2
     assert not children()
     assert not (tmp_path / "bad").exists()
+
+
+def test_a_pdf_is_laid_out_with_fewer_collections_and_the_settings_come_back():
+    import gc
+
+    from crankdyn.report import pdf
+
+    before = gc.get_threshold()
+    with pdf.fewer_collections():
+        assert gc.get_threshold() == pdf.LAYOUT_GC_THRESHOLDS
+    assert gc.get_threshold() == before
+    try:
+        with pdf.fewer_collections():
+            raise RuntimeError("a failed layout")
+    except RuntimeError:
+        pass
+    assert gc.get_threshold() == before

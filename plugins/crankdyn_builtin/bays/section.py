@@ -124,6 +124,63 @@ def _bank_letters_text(r: dict, t) -> str:
     return t("bays.bank_letters", letters=", ".join(t("bays.bank_" + x) for x in ordered))
 
 
+def _bay_parts(output: StageOutput, ctx) -> dict:
+    """The bay table of an engine with several cylinders per crank (textbook B.2), the slaves'
+    table, the bay's figure, the pin's masses and the conclusion on the crank pin's largest load;
+    all None for an engine with a crank pin per cylinder."""
+    r, t = output.results, ctx.t
+    parts: dict = {"bay_table": None, "slave_table": None, "figure": None, "masses": None}
+    if "bay" not in output.tables:
+        return parts
+    f = output.tables.arrays("bay")
+    angle = f["crank_angle_deg"]
+    rows, labels = sample_rows(angle, ctx.table_step_deg)
+    # the crank pin's largest load, which the conclusions cite, is a row of the table too
+    rows, labels, extremes = add_extreme_rows(
+        angle,
+        rows,
+        labels,
+        [(f["pin_load_Pa"], "max", t("bays.extreme_max"))],
+        resolution=0.0,  # the conclusion quotes the peak itself, not a row near it
+    )
+    first_key = [k for k in output.tables if k.startswith("slave_")][0]
+    first = output.tables.arrays(first_key)
+    parts["slave_table"] = _slave_table(r, ctx)
+    parts["bay_table"] = ctx.table(
+        [
+            ("<i>α</i>, °", ctx.angle_labels(labels), None),
+            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
+            ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
+            ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
+            ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
+            ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
+            ("<i>q</i><sub>pin</sub>", f["pin_load_Pa"][rows] / 1e6, 3),
+        ],
+        caption=t("bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))),
+        see="bays.see_table_b2",
+        extremes=extremes,
+    )
+    bay_table_number = ctx.last_table_number
+    parts["masses"] = _pin_masses(r, ctx.scene)
+    parts["figure"] = ctx.figure(
+        partial(bay_figure, f, ctx.cycle_deg, t),
+        t("bays.figure_caption"),
+        "bay",
+        see="bays.see_figure",
+    )
+    peak = first_argmax(f["pin_load_Pa"])  # the crank pin's load of all its cylinders
+    ctx.conclude(
+        t(
+            "bays.conclusion_bay_load",
+            q_max=ctx.num(f["pin_load_Pa"][peak] / 1e6),
+            force=ctx.t.fixed(f["pin_load_Pa"][peak] * r["piston_area_m2"] / 1e3, 2),
+            q_angle=ctx.angle_text(float(angle[peak])),
+            table=bay_table_number,
+        )
+    )
+    return parts
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     if r["cylinders"] == 1:
@@ -133,57 +190,7 @@ def render(output: StageOutput, ctx) -> str | None:
     phase_table = _phase_table(r, ctx)
     phase_table_number = ctx.last_table_number
     stroke_table = _stroke_table(r, ctx)
-    # Only engines with several cylinders per crank have a bay table (textbook B.2).
-    bay_table = slave_table = figure = masses = None
-    if "bay" in output.tables:
-        f = output.tables.arrays("bay")
-        angle = f["crank_angle_deg"]
-        rows, labels = sample_rows(angle, ctx.table_step_deg)
-        # the crank pin's largest load, which the conclusions cite, is a row of the table too
-        rows, labels, extremes = add_extreme_rows(
-            angle,
-            rows,
-            labels,
-            [(f["pin_load_Pa"], "max", t("bays.extreme_max"))],
-            resolution=0.0,  # the conclusion quotes the peak itself, not a row near it
-        )
-        first_key = [k for k in output.tables if k.startswith("slave_")][0]
-        first = output.tables.arrays(first_key)
-        slave_table = _slave_table(r, ctx)
-        bay_table = ctx.table(
-            [
-                ("<i>α</i>, °", ctx.angle_labels(labels), None),
-                ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
-                ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
-                ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
-                ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
-                ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
-                ("<i>q</i><sub>pin</sub>", f["pin_load_Pa"][rows] / 1e6, 3),
-            ],
-            caption=t(
-                "bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))
-            ),
-            see="bays.see_table_b2",
-            extremes=extremes,
-        )
-        bay_table_number = ctx.last_table_number
-        masses = _pin_masses(r, ctx.scene)
-        figure = ctx.figure(
-            partial(bay_figure, f, ctx.cycle_deg, t),
-            t("bays.figure_caption"),
-            "bay",
-            see="bays.see_figure",
-        )
-        peak = first_argmax(f["pin_load_Pa"])  # the crank pin's load of all its cylinders
-        ctx.conclude(
-            t(
-                "bays.conclusion_bay_load",
-                q_max=ctx.num(f["pin_load_Pa"][peak] / 1e6),
-                force=ctx.t.fixed(f["pin_load_Pa"][peak] * r["piston_area_m2"] / 1e3, 2),
-                q_angle=ctx.angle_text(float(angle[peak])),
-                table=bay_table_number,
-            )
-        )
+    parts = _bay_parts(output, ctx)
     own_pins = (
         r["cranks"] == r["cylinders"]
     )  # an in-line engine: a crank pin per cylinder, no bays to sum
@@ -192,9 +199,7 @@ def render(output: StageOutput, ctx) -> str | None:
     return ctx.render_template(
         "sections/bays.html.j2",
         r=r,
-        bay_table=bay_table,
-        slave_table=slave_table,
-        figure=figure,
+        **parts,
         phase_table=phase_table,
         phase_table_number=phase_table_number,
         true_firing=_true_firing_text(r, ctx),
@@ -204,7 +209,6 @@ def render(output: StageOutput, ctx) -> str | None:
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
-        masses=masses,
     )
 
 
