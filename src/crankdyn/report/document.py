@@ -254,7 +254,7 @@ def skipped_sentence(t, registry, result) -> str:
         titles[-2:] = [t("report.skipped_what_and", first=titles[-2], last=titles[-1])]
     what = ", ".join(titles)
     why = "; ".join(dict.fromkeys(reason for _, reason in skipped))
-    return t("report.skipped_course", what=what, why=why)
+    return t("report.skipped_course", what=what, why=why, count=len(skipped))
 
 
 def cite(numbers) -> str:
