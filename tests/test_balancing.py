@@ -721,3 +721,20 @@ def test_the_note_says_when_it_chose_the_balancing_means(name, changes, language
     assert radius_mm == pytest.approx(crank_radius_mm)
     shown = f"{crank_radius_mm:g}".replace(".", ",")
     assert f"{shown} мм" in html.replace("\u00a0", " ").replace("\u202f", " ")
+
+
+def test_an_engine_that_needs_no_means_names_the_internal_moments_on_its_bearings():
+    """An in-line six balances its free forces and moments by its cranks (nothing to add), but the
+    centrifugal forces' internal moments load the main bearings: the note says so."""
+    changes = {
+        "engine": {"cylinders": 6, "firing_order": [1, 5, 3, 6, 2, 4]},
+        "flywheel": None,
+        "torsion": None,
+    }
+    result = run("inline4-petrol", changes)
+    r = result.outputs["balancing"].results
+    html = render_html(result, REGISTRY, "ru").html
+    assert not r["counterweights"] and not r["balance_shafts"]
+    assert "Внутренние моменты центробежных сил при этом нагружают коренные опоры" in html
+    single = render_html(run("petrol-1cyl"), REGISTRY, "ru").html
+    assert "Внутренние моменты центробежных сил" not in single
