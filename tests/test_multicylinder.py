@@ -592,3 +592,35 @@ def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():
     page = shared_html("inline4-petrol")
     html = page.html if hasattr(page, "html") else page
     assert "A crank here carries several cylinders" not in html
+
+
+def test_a_boxer_note_says_its_pairs_share_a_crank_pin():
+    """A boxer is computed with each opposed pair on one crank pin (a 180° V): the note says so."""
+    import re as _re
+
+    from crankdyn.plugin.registry import default_registry as _registry
+    from crankdyn.report.document import render_html as _render
+
+    data = modified(
+        "v8-petrol",
+        {
+            "engine": {
+                "layout": "boxer",
+                "bank_angle_deg": None,
+                "cylinders": 4,
+                "firing_order": None,
+                "crank_angles_deg": None,
+            },
+            "report": {"language": "uk"},
+        },
+    )
+    from crankdyn.engine.orchestrator import run_scene as _run
+    from crankdyn.scene.model import scene_from_dict as _scene
+
+    registry = _registry()
+    result = _run(_scene(data), registry)
+    text = _re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
+    assert (
+        "на спільній шатунній шийці, тобто за схемою V-подібного двигуна з кутом розвалу 180°"
+        in (text)
+    )
