@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ARTIFACTS
+from conftest import ARTIFACTS, modified
 
 from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import plan, run_scene
@@ -459,3 +459,29 @@ def test_positions_are_drawn_in_the_order_the_crank_reaches_them():
         "v_min",
     ]
     assert [i for i, _ in frames] == [0, 2, 5, 1, 3]
+
+
+@pytest.mark.parametrize("language", ["ru", "en"])
+def test_an_articulated_v_scheme_hangs_the_slave_rod_on_the_master_rods_lug(tmp_path, language):
+    """A V's master rod with one slave is drawn as one plate through its big end, the slave's pin
+    and its own piston pin (ГОСТ 2.770: a link of three joints), in any language: the slave rod's
+    big end is a corner of that plate, not a free end of a bar."""
+    from crankdyn import api
+    from crankdyn.report import mechanism_drawing as md
+
+    data = modified(
+        "v8-petrol",
+        {
+            "engine": {"rod_type": "articulated"},
+            "articulated": {"pin_radius": "45 mm", "slave_rod": "0.7 kg"},
+            "report": {"language": language},
+        },
+    )
+    result = api.run(data)
+    positions = result.run_result.outputs["drawing"].artifacts["positions"]
+    bodies = md.master_rod_joints(md.front_view(positions))
+    assert bodies and all(len(b) == 3 and b[1].startswith("slave_pin_") for b in bodies)
+    result.write(tmp_path, formats=["html"])
+    scheme = next((tmp_path / "figures").glob("fig_3_1_scheme.svg")).read_text(encoding="utf-8")
+    # the plate's fill (0.86 grey), as the radial's master rod has it
+    assert "#dbdbdb" in scheme

@@ -92,12 +92,19 @@ def front_view(geometry):
     kept = list(first.values())
     wrists = {g.joint for g in kept}
     labels = {g.label for g in kept}
-    # a cylinder's own links: its rod (the slave's master link and web too), then its crank
+    # a cylinder's own links: its rod (the slave's master link and web too, found by the slave
+    # rod's big-end pin: the labels may be the report's, "1П" for the links' "1R"), then its crank
+    big_ends = {l[1] for l in geometry.links if l[0].startswith("rod_") and l[2] in wrists}
     own = [
         l
         for l in geometry.links
-        if l[0].startswith(("rod_", "master_", "master_web_"))
-        and (l[2] in wrists or l[0].split("_")[-1] in labels)
+        if (l[0].startswith("rod_") and l[2] in wrists)
+        or (l[0].startswith("master_web_") and l[1] in big_ends)
+        or (
+            l[0].startswith("master_")
+            and not l[0].startswith("master_web_")
+            and (l[2] in big_ends or l[0].split("_")[-1] in labels)
+        )
     ]
     pins = {l[1] for l in own}
     cranks = [l for l in geometry.links if l[0].startswith("crank") and l[2] in pins]
@@ -481,11 +488,16 @@ def master_rod_joints(geometry) -> list[list[str]]:
     for name, a, b in geometry.links:
         if name.startswith("master_") and not name.startswith("master_web_"):
             pins.setdefault(a, []).append(b)
+    webs = {a: b for name, a, b in geometry.links if name.startswith("master_web_")}
     bodies = []
     for centre, knuckles in pins.items():
         c = geometry.joints[centre][0]
         angles = [np.arctan2(*(geometry.joints[k][0] - c)[::-1]) for k in knuckles]
         names = [k for _, k in sorted(zip(angles, knuckles, strict=False))]
+        if len(names) == 1 and names[0] in webs:
+            # a V's master rod with one slave: the plate through its big end, the slave's pin on
+            # its lug and its own piston pin, so the slave rod hangs on the master, not in the air
+            names = [centre, names[0], webs[names[0]]]
         bodies.append(names + [centre] if len(names) == 2 else names)
     return [b for b in bodies if len(b) >= 3]
 
