@@ -1159,6 +1159,7 @@ class _Clearance:
             points.append(self._text_points(text))
         points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
         self.points = np.concatenate([p.reshape(-1, 2) for p in points if len(p)])
+        self._tree = None  # the points' k-d tree, built once for all queries until points change
 
     def _along(self, polyline) -> np.ndarray:
         """Points every ``step`` along a polyline (mm)."""
@@ -1190,13 +1191,16 @@ class _Clearance:
 
     def of_points(self, points) -> float:
         """The least distance (mm) from ``points`` to anything drawn."""
-        from scipy.spatial import cKDTree  # lazy: heavy optional import
+        if self._tree is None:
+            from scipy.spatial import cKDTree  # lazy: heavy optional import
 
-        distances, _ = cKDTree(self.points).query(np.asarray(points, float))
+            self._tree = cKDTree(self.points)
+        distances, _ = self._tree.query(np.asarray(points, float))
         return float(np.min(distances))
 
     def add_points(self, points) -> None:
         self.points = np.concatenate([self.points, np.asarray(points, float).reshape(-1, 2)])
+        self._tree = None
 
     def add_last_text(self) -> None:
         self.add_points(self._text_points(self.ax.texts[-1]))
@@ -1502,11 +1506,18 @@ def scheme_figure(
     room = SCHEME_ROOM_WITH_STAR_MM if with_star else SCHEME_ROOM_MM
     # the limits keep room for labels the drawing may not have: start a step or two larger
     scale = drawing_scale((x1 - x0, y1 - y0), (room[0] * _LIMITS_SLACK, room[1] * _LIMITS_SLACK))
-    while True:
-        fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale, marks or {})
+
+    def fits(fig) -> bool:
         width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
-        if width_mm <= PAGE_ROOM_MM[0] and height_mm <= room[1] or scale < 1e-9:
-            return fig, scale
+        return width_mm <= PAGE_ROOM_MM[0] and height_mm <= room[1] or scale < 1e-9
+
+    while True:
+        # the scale is found without the angle marks (placing them tries many spots), and the
+        # drawing with them is kept where it fits too
+        if not marks or fits(_scheme_at(geometry, i, labels, star_title, firing_label, scale, {})):
+            fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale, marks or {})
+            if fits(fig):
+                return fig, scale
         scale = _smaller_scale(scale)
 
 
