@@ -13,6 +13,7 @@ import base64
 import io
 import json
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from markupsafe import escape
@@ -1159,7 +1160,9 @@ class _Clearance:
             points.append(self._text_points(text))
         points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
         self.points = np.concatenate([p.reshape(-1, 2) for p in points if len(p)])
-        self._tree = None  # the points' k-d tree, built once for all queries until points change
+        self._tree: Any = (
+            None  # the points' k-d tree, built once for all queries until points change
+        )
 
     def _along(self, polyline) -> np.ndarray:
         """Points every ``step`` along a polyline (mm)."""
