@@ -327,7 +327,7 @@ def test_shallow_secondary_strokes_are_described_but_not_drawn():
         {"crank_angle_deg": 220.0, "displacement_m": 0.100, "kind": "bdc", "main": True},
     ]
     # 0.1 mm back (0.1 % of S) is not drawn, 10 mm back (10 %) is
-    assert extra_dead_centres(reversals, 0.100) == {
+    assert extra_dead_centres(reversals, secondary_strokes(reversals), 0.100) == {
         "secondary_bdc_1": 140.0,
         "secondary_tdc_1": 170.0,
     }

@@ -275,7 +275,9 @@ def run(scene, inputs) -> StageOutput:
         **_straight_line_deviation(params, geometry, x, z),
     }
     motion = _piston_motion(angle_deg, s, v, j, beta, geometry, omega, slider, dc, revolutions)
-    motion.extra["dead_centres_extra_deg"] = extra_dead_centres(reversals["reversals"], dc.stroke_m)
+    motion.extra["dead_centres_extra_deg"] = extra_dead_centres(
+        reversals["reversals"], reversals["secondary_strokes"], dc.stroke_m
+    )
     if scene.masses is not None:
         results.update(_piston_inertia(scene, j, angle_deg, table))
         reversal_table["inertia_force_N"] = -results["reciprocating_mass_kg"] * np.asarray(
@@ -320,17 +322,17 @@ def _reversal_results(geometry, dc, revolutions: int) -> dict:
         abs(items[(i + 1) % len(items)]["displacement_m"] - items[i]["displacement_m"])
         for i in range(len(items))
     ]
+    strokes = secondary_strokes(items)
     return {
         "reversals": items,
         "reversal_count": len(items),
+        "secondary_strokes": strokes,
         "bdc_crank_angles_deg": [
             i["crank_angle_deg"] for i in items if i["kind"] == "bdc" and i["main"]
         ],
         "piston_path_m": float(sum(travels)),
         "conventional_path_m": 2.0 * dc.stroke_m,
-        "secondary_stroke_max_m": max(
-            (s["depth_m"] for s in secondary_strokes(items)), default=0.0
-        ),
+        "secondary_stroke_max_m": max((s["depth_m"] for s in strokes), default=0.0),
     }
 
 
@@ -370,12 +372,14 @@ def secondary_strokes(reversals: list[dict]) -> list[dict]:
 DRAWN_SECONDARY_STROKE = 0.01
 
 
-def extra_dead_centres(reversals: list[dict], stroke_m: float) -> dict[str, float]:
+def extra_dead_centres(
+    reversals: list[dict], strokes: list[dict], stroke_m: float
+) -> dict[str, float]:
     """Crank angles (deg) of the dead centres the drawing shows besides the first TDC and BDC:
     a repeated one (``bdc_2`` ...) and a secondary one at the end of a secondary stroke at least
     :data:`DRAWN_SECONDARY_STROKE` of the stroke deep (``secondary_tdc_1`` ...)."""
     deep = set()
-    for stroke in secondary_strokes(reversals):
+    for stroke in strokes:  # the secondary strokes (:func:`secondary_strokes`)
         if stroke["depth_m"] >= DRAWN_SECONDARY_STROKE * stroke_m:
             deep.update((stroke["from_deg"], stroke["to_deg"]))
     found: dict[str, float] = {}

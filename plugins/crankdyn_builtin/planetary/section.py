@@ -9,7 +9,6 @@ from crankdyn.report.context import TableExtreme, sample_rows
 from crankdyn.scene import options
 from crankdyn_builtin.planetary.worked import worked_planetary
 
-from .compute import secondary_strokes
 from .figures import _arms_figure, _family_figure, _motion_figure, _path_figure
 from .options import PlanetaryParams
 
@@ -132,7 +131,7 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
         first,
         t("planetary.reversals", count=r["reversal_count"], items="; ".join(items)),
     ]
-    strokes = secondary_strokes(r["reversals"])
+    strokes = r["secondary_strokes"]
     paragraphs.append(
         t(
             "planetary.secondary_intro",
