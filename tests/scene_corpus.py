@@ -148,8 +148,8 @@ def _piston_engine(
     data["report"] = _report(language, f"Dynamic calculation of a {layout} engine")
     if flywheel:
         data["flywheel"] = copy.deepcopy(_FLYWHEEL)
-    banks = {"inline": 1, "V": 2, "boxer": 2, "W": 3}[layout]
-    return data, cylinders // banks
+    pins_per_crank = {"inline": 1, "V": 2, "boxer": 1, "W": 3}[layout]  # a boxer: a pin each
+    return data, cylinders // pins_per_crank
 
 
 def _inline(rng, language, index):
@@ -186,7 +186,7 @@ _BANKED = [
     ("W", 12, 60, 4),
     ("boxer", 2, None, 2),
     ("boxer", 4, None, 4),
-    ("boxer", 6, None, 2),
+    ("boxer", 6, None, 4),
 ]
 
 

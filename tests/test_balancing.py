@@ -130,7 +130,8 @@ LAYOUTS = {
     "W12-60": ("W", 4, 12, 60, None, [0, 180, 180, 0]),
     "Y3-120": ("Y", 2, 3, 120, ["1L", "1C", "1R"], None),
     "X8-90": ("X", 4, 8, 90, None, [0, 180]),
-    "boxer4": ("boxer", 4, 4, None, None, [0, 180]),
+    "boxer4": ("boxer", 4, 4, None, None, [0, 180, 180, 0]),
+    "boxer6": ("boxer", 4, 6, None, None, [0, 180, 120, 300, 240, 60]),
     "radial9": ("radial", 4, 9, None, None, None),
     "radial5-two-stroke": ("radial", 2, 5, None, None, None),
 }

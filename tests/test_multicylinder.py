@@ -381,7 +381,7 @@ def _even_firing_order(layout, strokes, cylinders, bank_angle, lags):
         ("X", 4, 8, 90, [0, 0], "central"),
         ("Y", 2, 6, 120, [0, 60], "central"),
         ("W", 2, 6, 60, [0, 180], "fork"),
-        ("boxer", 4, 4, None, [0, 180], "central"),
+        ("boxer", 4, 4, None, [0, 180, 180, 0], "central"),
         ("V", 4, 6, 120, [0, 240, 120], "articulated"),
         ("inline", 2, 3, None, [0, 120, 240], "central"),
     ],
@@ -594,33 +594,87 @@ def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():
     assert "A crank here carries several cylinders" not in html
 
 
-def test_a_boxer_note_says_its_pairs_share_a_crank_pin():
-    """A boxer is computed with each opposed pair on one crank pin (a 180° V): the note says so."""
+def _boxer_data(**engine) -> dict:
+    """A four-cylinder boxer built on the V8 example's masses and cycle (uk note)."""
+    changes = {
+        "layout": "boxer",
+        "bank_angle_deg": None,
+        "cylinders": 4,
+        "firing_order": None,
+        "crank_angles_deg": None,
+        "cylinder_spacing": "100 mm",
+    }
+    changes.update(engine)
+    return modified("v8-petrol", {"engine": changes, "report": {"language": "uk"}})
+
+
+def test_a_boxer_gives_every_cylinder_its_own_crank_and_balances_as_a_flat_four():
+    """A boxer has a crank pin per cylinder, opposed cylinders in neighbouring bays: with the
+    cranks 0-180-180-0 every force and the first-order and centrifugal couples cancel, and only
+    the second-order couple 2 A_2 C_I b is left (A_2 the exact second harmonic of the piston's
+    acceleration, here found by a discrete Fourier transform of the exact kinematics)."""
     import re as _re
 
-    from crankdyn.plugin.registry import default_registry as _registry
     from crankdyn.report.document import render_html as _render
 
-    data = modified(
-        "v8-petrol",
-        {
-            "engine": {
-                "layout": "boxer",
-                "bank_angle_deg": None,
-                "cylinders": 4,
-                "firing_order": None,
-                "crank_angles_deg": None,
-            },
-            "report": {"language": "uk"},
-        },
-    )
-    from crankdyn.engine.orchestrator import run_scene as _run
-    from crankdyn.scene.model import scene_from_dict as _scene
-
-    registry = _registry()
-    result = _run(_scene(data), registry)
+    registry = default_registry()
+    scene = scene_from_dict(_boxer_data())
+    result = run_scene(scene, registry)
+    bays = result.outputs["bays"].results
+    assert bays["cranks"] == 4
+    assert [c % 360 for c in bays["crank_angles_deg"]] == [0.0, 180.0, 180.0, 0.0]
+    assert list(bays["firing_order"]) == ["1", "3", "2", "4"]
+    balancing = result.outputs["balancing"].results
+    absolute = balancing["absolute"]
+    e = scene.engine
+    lam = e.rod_ratio_value
+    theta = np.linspace(0.0, 2 * np.pi, 4096, endpoint=False)
+    # the piston's displacement from TDC over R (exact) and its acceleration over R omega^2
+    x = 1 - np.cos(theta) + (1 - np.sqrt(1 - (lam * np.sin(theta)) ** 2)) / lam
+    spectrum = np.fft.rfft(x)
+    harmonic_2 = 4 * 2 * np.abs(spectrum[2]) / len(theta)  # (2 omega)^2 times x's 2nd harmonic
+    c_one = balancing["reciprocating_mass_kg"] * e.crank_radius_m * e.angular_velocity_rad_s**2
+    assert balancing["first_order_N"] == pytest.approx(c_one, rel=1e-12)
+    for key in ("sum_C_N", "sum_PI_N", "sum_PII_N", "M_C_Nm", "M_PI_Nm"):
+        assert abs(absolute[key]) < 1e-9 * c_one
+    assert absolute["M_PII_Nm"] == pytest.approx(2 * harmonic_2 * c_one * 0.1, rel=1e-9)
     text = _re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
-    assert (
-        "на спільній шатунній шийці, тобто за схемою V-подібного двигуна з кутом розвалу 180°"
-        in (text)
+    assert "Кожен циліндр має власну шатунну шийку" in text
+    assert "спільній шатунній шийці" not in text
+
+
+def test_a_boxer_refuses_articulated_rods():
+    """Articulated rods need cylinders sharing a crank pin; a boxer's have a pin each."""
+    with pytest.raises(LayoutError, match="articulated rods"):
+        build_layout("boxer", 4, 4, None, ["1", "3", "2", "4"], None, rod_type="articulated")
+
+
+def test_a_boxer_scheme_lies_flat_and_marks_each_cylinders_crank_pin():
+    """The scheme of a boxer lays its opposed banks horizontal, the first bank on the left, and
+    marks the crank pin B and the piston pin A of each drawn cylinder with its number: the two
+    cylinders in front have crank pins of their own, 180° apart."""
+    import re
+    from dataclasses import replace
+
+    from crankdyn.report import mechanism_drawing as md
+    from crankdyn.report.document import render_html as _render
+
+    registry = default_registry()
+    result = run_scene(scene_from_dict(_boxer_data()), registry)
+    positions = result.outputs["drawing"].artifacts["positions"]
+    front = md.upright(md.front_view(positions))
+    directions = [np.asarray(g.direction, dtype=float) for g in front.guides]
+    assert [g.label for g in front.guides] == ["1", "2"]
+    np.testing.assert_allclose(directions, [[-1.0, 0.0], [1.0, 0.0]], atol=1e-12)
+    crank, pairs = md.bank_mark_parts(md.front_view(positions))
+    pins = [rod[1] for _, rod in pairs]
+    assert crank[2] == pins[0] and len(set(pins)) == 2
+    drawing_only = replace(
+        result.plan, order=[s for s in result.plan.order if s.name.startswith("drawing")]
     )
+    page = _render(replace(result, plan=drawing_only), registry, "uk")
+    svg = next(f for f in page.figures if f.key == "scheme").svg.decode("utf-8")
+    assert svg.count(">B<") == 2 and svg.count(">A<") == 2 and svg.count(">O<") == 1
+    text = re.sub(r"<[^>]+>", "", page.html)
+    assert "B – вісь шатунної шийки і A – вісь поршневого пальця" in text
+    assert "з номером циліндра в індексі (1, 2)" in text

@@ -14,6 +14,11 @@ from crankdyn_builtin.bearings.worked import (
 from .figures import _polar_diagrams, _shared_pins, _side_by_side, _unrolled_figure, _wear_figure
 
 
+def oil_hole_printed(diagram: dict) -> float:
+    """The oil hole's angle as the note prints it, in whole degrees of [0, 360): 359,7° is 0°."""
+    return float(round(diagram["oil_hole_deg"]) % 360)
+
+
 def _load_range(ctx, kind: str, load: dict, name) -> str:
     """What a load diagram shows, in a sentence: the load's range over the cycle and its mean."""
     if "min_crank_angle_deg" not in load:
@@ -71,7 +76,7 @@ def _pins_table(ctx, r, single: bool) -> str:
             ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
             ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
             ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
-            (t("bearings.oil_hole"), [p["oil_hole_deg"] for p in pins], 0),
+            (t("bearings.oil_hole"), [oil_hole_printed(p) for p in pins], 0),
         ],
         caption=t(
             "bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"
@@ -91,7 +96,7 @@ def _journals_table(ctx, r, single: bool) -> tuple[str, str]:
             ("<i>R</i><sub>mean</sub>, " + t("unit.kN"), [j["mean_N"] / 1e3 for j in journals], 2),
             ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [j["max_MPa"] for j in journals], 2),
             ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [j["mean_MPa"] for j in journals], 2),
-            (t("bearings.oil_hole"), [j["oil_hole_deg"] for j in journals], 0),
+            (t("bearings.oil_hole"), [oil_hole_printed(j) for j in journals], 0),
         ],
         caption=t(
             "bearings.journals_table_caption_single"
@@ -132,7 +137,7 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
             k=pin["crank"],
             q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
             p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
-            oil=ctx.t.fixed(pin["oil_hole_deg"], 0),
+            oil=ctx.t.fixed(oil_hole_printed(pin), 0),
         )  # as the tables print it
         + " "
         + t(
@@ -141,7 +146,7 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
             labels=", ".join(journal_name(j) for j in tied),
             r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2),
             p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
-            oil=ctx.t.fixed(journal["oil_hole_deg"], 0),
+            oil=ctx.t.fixed(oil_hole_printed(journal), 0),
             table=journals_table_number,
         )
     )

@@ -64,7 +64,7 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
             round(p["mean_N"] / 1e3, 2),
             round(p["max_MPa"], 2),
             round(p["mean_MPa"], 2),
-            round(p["oil_hole_deg"]),
+            round(p["oil_hole_deg"]) % 360,
         )
         for p in pins
     }

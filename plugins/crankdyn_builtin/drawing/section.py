@@ -119,9 +119,10 @@ def render(output: StageOutput, ctx) -> str:
     front = md.front_view(positions)
     marked = md.angle_mark_parts(front) is not None
     banks = None if marked else md.bank_mark_parts(front)
+    own_pins = banks is not None and len({rod[1] for _, rod in banks[1]}) > 1
     bank_marks = (
         t(
-            "drawing.marks_banks",
+            "drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks",
             banks=", ".join(md.bank_letter(guide.label) for guide, _ in banks[1]),
             first=front.guides[0].label,
         )

@@ -7,6 +7,7 @@ from functools import partial
 import numpy as np
 
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.layout import cylinder_labels
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html
@@ -25,10 +26,16 @@ from .figures import _forces_figure, _torque_figure
 
 def _whose_torque(scene) -> str:
     """The catalog keys' suffix for whose torque the section gives: one crank's where each crank
-    carries one cylinder (an in-line engine), one cylinder's where a crank carries several (V, W,
-    boxer, a radial's one crank)."""
-    several = scene is not None and scene.engine.cylinders > 1 and scene.engine.layout != "inline"
-    return "_cylinder" if several else ""
+    carries one cylinder (an in-line engine, a boxer), one cylinder's where a crank carries
+    several (V, W, X, a radial's one crank)."""
+    if scene is None or scene.engine.cylinders <= 1:
+        return ""
+    try:
+        places = cylinder_labels(scene.engine.layout, scene.engine.cylinders)
+    except ValueError:  # a layout the physics does not know: say the cylinder's, never wrong
+        return "_cylinder"
+    cranks = len({bay for _, _, bay in places})
+    return "_cylinder" if cranks < len(places) else ""
 
 
 def render(output: StageOutput, ctx) -> str:

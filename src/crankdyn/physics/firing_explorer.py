@@ -131,26 +131,34 @@ def enumerate_arrangements(
     labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
     count, unit = _phase_unit(cylinders, strokes)
     multiplicity = cylinders // count
-    bank_offset = np.zeros(len(psi), dtype=np.int64)
-    for i, angle in enumerate(psi.tolist()):
-        ratio = Fraction(angle).limit_denominator(10**6) / unit
-        if ratio.denominator != 1:
-            return (
-                np.zeros((0, int(bays.max()) + 1), dtype=np.int16),
-                float(unit),
-                multiplicity,
-                None,
-                f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
-                f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg",
-            )
-        bank_offset[i] = int(ratio) % count
+    ratios = [Fraction(angle).limit_denominator(10**6) / unit for angle in psi.tolist()]
+    refine = math.lcm(*(r.denominator for r in ratios))
+    shared_pins = bool(np.any(np.bincount(bays) > 1))
+    if refine != 1 and shared_pins:
+        return (
+            np.zeros((0, int(bays.max()) + 1), dtype=np.int16),
+            float(unit),
+            multiplicity,
+            None,
+            f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
+            f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg",
+        )
+    # A cylinder with a crank pin of its own (a boxer's) may sit at a bank angle off the firing
+    # grid: its crank then turns by a fraction of the grid, so the lags are counted in the finer
+    # unit unit/refine, and only every refine-th phase can take a firing.
+    unit, count = unit / refine, count * refine
+    capacity = np.where(np.arange(count) % refine == 0, multiplicity, 0)
+    bank_offset = np.array([int(r * refine) % count for r in ratios], dtype=np.int64)
     n_bays = int(bays.max()) + 1
-    bay_offsets = bank_offset[bays == 0]  # every bay has the same banks
-    increments = np.zeros((count, count), dtype=np.int16)  # lag index -> counts added by one bay
-    for lag in range(count):
-        for o in bay_offsets:
-            increments[lag, (lag + o) % count] += 1
-    if np.any(increments[0] > multiplicity):
+    # increments[bay][lag index] -> phase counts that bay adds; bays differ in their banks when a
+    # boxer puts its odd and even cylinders on opposite sides
+    increments = np.zeros((n_bays, count, count), dtype=np.int16)
+    for bay in range(n_bays):
+        for lag in range(count):
+            for o in bank_offset[bays == bay]:
+                increments[bay, lag, (lag + o) % count] += 1
+    fits_alone = np.all(increments <= capacity, axis=2).any(axis=1)  # some lag of each bay fits
+    if not np.all(fits_alone):
         return (
             np.zeros((0, n_bays), dtype=np.int16),
             float(unit),
@@ -159,7 +167,7 @@ def enumerate_arrangements(
             "cylinders on one crank pin would fire at the same phase",
         )
     lags = np.zeros((1, 1), dtype=np.int16)
-    counts = increments[0][None, :].copy()
+    counts = increments[0, 0][None, :].copy()
     too_many = (
         np.zeros((0, n_bays), dtype=np.int16),
         float(unit),
@@ -167,10 +175,11 @@ def enumerate_arrangements(
         bank_offset,
         f"more than {limit:,} crank arrangements: beyond an exhaustive search (see the README)",
     )
-    for _ in range(1, n_bays):
+    for bay in range(1, n_bays):
         # Every prefix completes to at least one arrangement, so counting the next level's prefixes
         # before building them bounds the memory by ``limit`` rows.
-        fits = [np.all(counts + increments[lag] <= multiplicity, axis=1) for lag in range(count)]
+        step = increments[bay]
+        fits = [np.all(counts + step[lag] <= capacity, axis=1) for lag in range(count)]
         if sum(int(ok.sum()) for ok in fits) > limit:
             return too_many
         new_lags, new_counts = [], []
@@ -179,7 +188,7 @@ def enumerate_arrangements(
                 new_lags.append(
                     np.hstack([lags[ok], np.full((int(ok.sum()), 1), lag, dtype=np.int16)])
                 )
-                new_counts.append(counts[ok] + increments[lag])
+                new_counts.append(counts[ok] + step[lag])
         if not new_lags:
             lags = np.zeros((0, lags.shape[1] + 1), dtype=np.int16)
             break
@@ -367,12 +376,22 @@ def explore(
     )
     vertical = bal.vertical_axis_deg(layout, bank_angle_deg)
     # The phase of a cylinder (its TDC, mod 360) is its crank lag plus its bank angle: both whole
-    # multiples of the unit, so the vector models work from small tables of unit vectors.
-    phase = (lags[:, bays] + bank_offset[None, :]) % count
-    coefficients = _balance_coefficients_indexed(lags, phase, unit, count, psi, bays, vertical)
+    # multiples of the unit, so the vector models work from small tables of unit vectors. The
+    # unit may be a fraction of the firing grid (a boxer's); the firings sit on the grid.
+    fine_count = round(360.0 / unit)
+    phase = (lags[:, bays] + bank_offset[None, :]) % fine_count
+    coefficients = _balance_coefficients_indexed(lags, phase, unit, fine_count, psi, bays, vertical)
     tier = _balance_tier(coefficients)
     scorer = _FiringScorer(
-        result, phase, multiplicity, count, cylinders, strokes, banks, bays, tier
+        result,
+        phase // (fine_count // count),
+        multiplicity,
+        count,
+        cylinders,
+        strokes,
+        banks,
+        bays,
+        tier,
     )
     by_tier = np.argsort(tier, kind="stable")
     groups = np.split(by_tier, np.flatnonzero(np.diff(tier[by_tier])) + 1)
@@ -384,7 +403,9 @@ def explore(
 
     result.rows += _ranked_rows(evaluated, top, candidate)
     found = (
-        _locate(locate, lags, unit, count, labels, tier, groups, evaluated_tiers, scorer.evaluate)
+        _locate(
+            locate, lags, unit, fine_count, labels, tier, groups, evaluated_tiers, scorer.evaluate
+        )
         if locate is not None
         else None
     )

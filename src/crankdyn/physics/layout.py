@@ -114,6 +114,11 @@ def cylinder_labels(layout: str, cylinders: int) -> list[tuple[str, int, int]]:
     if layout == "radial":
         return [(str(k + 1), k, 0) for k in range(cylinders)]
     banks = LAYOUT_BANKS[layout]
+    if layout == "boxer" and cylinders % 2 == 0:
+        # A boxer gives every cylinder its own crank pin: numbered along the shaft from the free
+        # end, the odd cylinders in bank 0 and the even ones opposite them in bank 1, so that
+        # neighbouring opposed pistons can move out and in together (their cranks 180° apart).
+        return [(str(k + 1), k % 2, k) for k in range(cylinders)]
     if cylinders % banks:
         raise LayoutError(
             "engine.cylinders",
@@ -164,11 +169,11 @@ def _check_layout_fields(
             "a four-stroke radial (one row) needs an odd number "
             "of cylinders, at least 3, for even firing",
         )
-    if rod_type == "articulated" and layout == "inline":
+    if rod_type == "articulated" and layout in ("inline", "boxer"):
         raise LayoutError(
             "engine.rod_type",
             rod_type,
-            "articulated rods need several cylinders on one crank (V, W, Y, X, boxer or radial)",
+            "articulated rods need several cylinders on one crank (V, W, Y, X or radial)",
         )
 
 

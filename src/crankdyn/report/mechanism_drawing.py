@@ -34,10 +34,15 @@ LABEL_BOX = {
 
 def view_rotation_rad(geometry) -> float:
     """Clockwise turn of the view that sets a V (W, X ...) symmetric about the vertical: minus the
-    mean of the cylinder axes' angles, when they lie within a half turn (never for a radial)."""
+    mean of the cylinder axes' angles, when they lie within a half turn (never for a radial); two
+    opposed axes (a boxer's) are laid horizontal with the first bank on the left."""
     axes = sorted(
         {round(float(np.arctan2(*g.direction)), 9) for g in geometry.guides if g.moving is None}
     )
+    if len(axes) == 2 and abs(axes[1] - axes[0] - np.pi) < 1e-9:
+        # two opposed banks (a boxer's) lie horizontal, the first bank on the left
+        first = float(np.arctan2(*geometry.guides[0].direction))
+        return -0.5 * np.pi - first
     if len(axes) < 2 or axes[-1] - axes[0] >= np.pi - 1e-9:
         return 0.0
     return -0.5 * (axes[0] + axes[-1])
@@ -1031,11 +1036,12 @@ def bank_mark_parts(geometry):
     )
     if crank is None:
         return None
+    # each bank's rod: on the one crank pin, or (a boxer's) on its cylinder's own crank pin
+    pins = {l[2] for l in geometry.links if l[0].startswith("crank") and l[1] == "crank_centre"}
     rods = [
-        next((l for l in geometry.links if l[1] == crank[2] and l[2] == g.joint), None)
-        for g in guides
+        next((l for l in geometry.links if l[1] in pins and l[2] == g.joint), None) for g in guides
     ]
-    if any(rod is None for rod in rods):
+    if any(rod is None for rod in rods) or rods[0][1] != crank[2]:
         return None
     return crank, list(zip(guides, rods, strict=True))
 
@@ -1082,11 +1088,11 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
     along = (pin - centre) / radius
     _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
-    for guide, _ in pairs:  # the arcs β first: the letters keep clear of them
-        wrist = j[guide.joint][i] * MM
-        length = float(np.linalg.norm(pin - wrist))
+    for guide, rod in pairs:  # the arcs β first: the letters keep clear of them
+        wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
+        length = float(np.linalg.norm(big_end - wrist))
         _, d, _ = _guide_frame(geometry, guide, i)
-        _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
+        _angle_arc(ax, wrist, -d, (big_end - wrist) / length, length * 0.3, "", extent)
     _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
     clearance = _Clearance(ax, geometry, i, extent)
     # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
@@ -1108,13 +1114,17 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
     clearance.add_last_text()
     clearance.place(_ring(centre, extent * np.array([0.035, 0.05])), "O")
-    clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
-    for guide, _ in pairs:
+    own_pins = len({rod[1] for _, rod in pairs}) > 1  # a boxer's: a crank pin per cylinder
+    if not own_pins:
+        clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
+    for guide, rod in pairs:
         _, d, n = _guide_frame(geometry, guide, i)
-        wrist = j[guide.joint][i] * MM
+        wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
         sub = bank_letter(guide.label)
+        if own_pins:
+            clearance.place(_ring(big_end, extent * np.array([0.035, 0.05])), "B", sub)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
-        length = float(np.linalg.norm(pin - wrist))
+        length = float(np.linalg.norm(big_end - wrist))
         end = wrist - d * length * 0.3  # the arc's end on the cylinder's axis
         beside = [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
         clearance.place(beside, marks["beta"], sub, fontstyle="italic")
