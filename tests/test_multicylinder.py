@@ -641,6 +641,9 @@ def test_a_boxer_gives_every_cylinder_its_own_crank_and_balances_as_a_flat_four(
     text = _re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
     assert "Кожен циліндр має власну шатунну шийку" in text
     assert "спільній шатунній шийці" not in text
+    # the crank diagrams' vertical is across the flat banks, not a bay's axis of symmetry
+    assert "Циліндри лежать горизонтально один проти одного" in text
+    assert "вісь симетрії відсіку" not in text
 
 
 def test_a_boxer_refuses_articulated_rods():
