@@ -57,6 +57,7 @@ def render(output: StageOutput, ctx) -> str | None:
         single=single,
         journal_names=journal_names,
         pins_equal=pins_equal,
+        application=ctx.scene.engine.application if ctx.scene is not None else None,
     )
 
 
