@@ -92,9 +92,9 @@ def test_the_speed_extremes_are_the_first_in_the_cycle_in_both_sections():
         assert 0 <= speed[key] < period, key
     # the speed is least where W is least: the same angle, to the flywheel table's 1° grid
     step = run.scene.analysis.angle_step_deg
-    assert abs(speed["omega_min_crank_angle_deg"] - flywheel["excess_work_min_crank_angle_deg"]) <= (
-        2 * step
-    )
+    assert abs(
+        speed["omega_min_crank_angle_deg"] - flywheel["excess_work_min_crank_angle_deg"]
+    ) <= (2 * step)
     text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
     assert text.count("повторяется через каждые 180°") == 2
 
@@ -177,3 +177,32 @@ def test_a_figure_over_several_pages_is_continued_in_the_middle_and_concluded_at
     assert catalogs["uk"]["positions_caption_continued"].endswith("(закінчення)")
     assert catalogs["ru"]["positions_caption_middle"].endswith("(продолжение)")
     assert catalogs["ru"]["positions_caption_continued"].endswith("(окончание)")
+
+
+def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_named():
+    """The in-line four's cranks 2 and 3 are in phase and the shaft has no counterweights: the
+    journal between them carries their whole centrifugal force C = m_R R ω² at every angle."""
+    import math
+
+    m_r = 0.60 * (1 - 0.275) + 0.35 + 2 * 0.25  # rod's big-end share, crank pin, two webs
+    c = m_r * 0.078 / 2 * (math.pi * 5600 / 30) ** 2
+    r = shared_run("inline4-petrol").outputs["bearings"].results
+    assert not r["with_counterweights"]
+    middle = next(j for j in r["main_journals"] if j["journal"] == "2-3")
+    assert r["crank_centrifugal_N"] == pytest.approx(c, rel=1e-9)
+    assert middle["centrifugal_N"] == pytest.approx(c, rel=1e-6)
+    text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
+    kn = f"{c / 1e3:.2f}".replace(".", ",")
+    assert (
+        f"Наиболее нагруженная коренная шейка 2–3 воспринимает главным образом центробежные силы "
+        f"соседних колен: их равнодействующая {kn} кН"
+    ) in text
+    assert "Противовесы на щеках колен, прилегающих к этой шейке, сняли бы" in text
+    assert "Коренную шейку 2–3 нагружают главным образом неуравновешенные" in text
+    assert f"для одного колена C = {kn} кН" in text
+
+
+def test_a_shaft_with_counterweights_is_not_said_to_lack_them():
+    text = _text(shared_html("inline3-petrol", None, "ru").linked_html)
+    assert shared_run("inline3-petrol").outputs["bearings"].results["with_counterweights"]
+    assert "воспринимает главным образом центробежные силы" not in text
