@@ -206,3 +206,51 @@ def test_a_shaft_with_counterweights_is_not_said_to_lack_them():
     text = _text(shared_html("inline3-petrol", None, "ru").linked_html)
     assert shared_run("inline3-petrol").outputs["bearings"].results["with_counterweights"]
     assert "воспринимает главным образом центробежные силы" not in text
+
+
+def _foreign_registry(taken_rows):
+    """The built-in plugins and a third-party one whose stage takes a value the scene does not
+    give (``StagePresentation.taken_rows``)."""
+    import types
+
+    from crankdyn.plugin.contracts import KINEMATICS
+    from crankdyn.plugin.hooks import hookimpl
+    from crankdyn.plugin.registry import collect, plugin_manager
+    from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
+
+    stage = Stage(
+        name="extra",
+        requires=(KINEMATICS,),
+        provides=(),
+        applies=lambda scene: None,
+        run=lambda scene, inputs: StageOutput(results={}),
+        presentation=StagePresentation(
+            title_key="extra.title",
+            render=lambda output, ctx: "<p>extra</p>",
+            taken_rows=taken_rows,
+        ),
+    )
+    module = types.ModuleType("taking_plugin")
+    module.crankdyn_stages = hookimpl(lambda: [stage])
+    module.crankdyn_mechanisms = hookimpl(lambda: [])
+    return collect(plugin_manager(extra_plugins=[module]))
+
+
+def test_a_plugins_taken_values_stand_in_the_table_of_values_taken_and_garbage_is_named():
+    from conftest import modified
+
+    from crankdyn.errors import PluginFailure
+    from crankdyn.output.pipeline import run_and_render
+    from crankdyn.report.document import render_html
+    from crankdyn.scene.model import scene_from_dict
+
+    scene = scene_from_dict(modified("kinematics-only", {"report": {"language": "en"}}))
+    row = ("Friction coefficient", "<i>f</i>", "0.02", "")
+    registry = _foreign_registry(lambda scene, ctx: [row])
+    result, _ = run_and_render(scene, registry, ["json"], ["extra"])
+    text = _text(render_html(result, registry, "en").linked_html)
+    given, taken = _tables_1(text, "en")
+    assert "Friction coefficient f 0.02" in taken and "Friction coefficient" not in given
+    with pytest.raises(PluginFailure) as caught:
+        run_and_render(scene, _foreign_registry(lambda scene, ctx: 42), ["html"], ["extra"])
+    assert "taken_rows returned 42" in str(caught.value)
