@@ -54,6 +54,11 @@ CASES = [
     ("cycle without masses", {"masses": None}, "masses"),
     ("unknown ignition", {"cycle": {"ignition": "hot-bulb"}}, "cycle.ignition"),
     (
+        "unknown application",
+        {"engine": {"application": "airplane"}},
+        "engine.application = 'airplane': allowed values: 'automotive', 'tractor'",
+    ),
+    (
         "compression index out of range",
         {"cycle": {"compression_index": 2.5}},
         "cycle.compression_index",

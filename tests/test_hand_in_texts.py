@@ -407,10 +407,11 @@ def test_the_engine_layout_section_refers_to_the_scheme_with_the_crank_star(repo
 
 
 def test_counts_of_balancing_means_are_written_in_words(reports):
-    """ДСТУ 3008: a number without a unit up to nine in words: "одна противага і один
-    зрівноважувальний вал", "два зрівноважувальні вали", not "1 противага і 1 …"."""
+    """ДСТУ 3008: a number without a unit up to nine in words: "дві противаги і один
+    зрівноважувальний вал" (one on each web, as the means table gives m (m_web × 2)), "два
+    зрівноважувальні вали", not "2 противаги і 1 …"."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    assert "Засоби зрівноваження: одна противага і один зрівноважувальний вал (порядок 1)." in one
+    assert "Засоби зрівноваження: дві противаги і один зрівноважувальний вал (порядок 1)." in one
     assert "Засоби зрівноваження: два зрівноважувальні вали (порядок 2)." in four
 
 

@@ -186,19 +186,23 @@ def _in_words(t, n: int) -> dict[str, str]:
     return {"words_m": str(n), "words_f": str(n)}
 
 
+def counterweight_bodies(counterweights: list[dict]) -> int:
+    """How many counterweights there are: the means table gives each crank's as its mass, that
+    of one web's times the webs carrying one (m (m_web × 2)), so that many each."""
+    return sum(
+        round(cw["mass_kg"] / cw["mass_per_web_kg"]) if cw["mass_per_web_kg"] > 0 else 2
+        for cw in counterweights
+    )
+
+
 def _means_sentence(t, r) -> str:
     """What the fitted means are, and what is balanced with them: the shafts' own orders, and
     the crank arrangement's part where it balances an order (or the centrifugal forces) alone."""
     shaft_orders = sorted({shaft["order"] for shaft in r["balance_shafts"]})
     means = []
     if r["counterweights"]:
-        means.append(
-            t(
-                "balancing.means_counterweights",
-                n=len(r["counterweights"]),
-                **_in_words(t, len(r["counterweights"])),
-            )
-        )
+        bodies = counterweight_bodies(r["counterweights"])
+        means.append(t("balancing.means_counterweights", n=bodies, **_in_words(t, bodies)))
     if r["balance_shafts"]:
         means.append(
             t(

@@ -207,7 +207,9 @@ def run(scene, inputs) -> StageOutput:
     pin_t, pin_z, rod_t, rod_z = _pin_and_rod_loads(loads, bays, motion, layout)
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
-    journal, bearing = _main_journal_loads(loads, motion, layout, (cw_t, cw_z), opts.span_ratio)
+    journal, bearing, centrifugal = _main_journal_loads(
+        loads, motion, layout, (cw_t, cw_z), opts.span_ratio
+    )
     pins, wear_pins = zip(
         *[
             _diagram_summary(pin_t[k], pin_z[k], d_pin, w_pin, area, angle, opts)
@@ -230,8 +232,14 @@ def run(scene, inputs) -> StageOutput:
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "main_journals": [
-            {"journal": lay.journal_label(j), **journals[j]} for j in range(cranks + 1)
+            {
+                "journal": lay.journal_label(j),
+                **journals[j],
+                "centrifugal_N": float(centrifugal[j] * area),
+            }
+            for j in range(cranks + 1)
         ],
+        "crank_centrifugal_N": abs(loads.centrifugal_Pa) * area,
         "rod_bearings": [
             {"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
             for k in range(cranks)
@@ -287,7 +295,8 @@ def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:
 
 def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: float):
     """((t, z) of the bearings' force on each main journal in the preceding crank's axes,
-    (t, z) of the journals' force on each main bearing in the engine's axes), Pa."""
+    (t, z) of the journals' force on each main bearing in the engine's axes, the mean magnitude
+    of the part of each journal's load the cranks' centrifugal forces alone give), Pa."""
     # Main journals: each crank a beam on two supports; forces in the engine frame.
     # each crank's angle from the engine's vertical (the cylinder axis of a one-cylinder engine)
     cranks = layout.cranks
@@ -310,7 +319,11 @@ def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: flo
         e_t, e_z = brg.crank_axes(positions[max(j - 1, 0)])
         journal_t[j], journal_z[j] = brg.to_frame(-ja[j], -jn[j], e_t, e_z)
     engine_t, engine_z = brg.crank_axes(np.zeros(1))
-    return (journal_t, journal_z), brg.to_frame(ja, jn, engine_t, engine_z)
+    # the cranks' centrifugal forces alone (no counterweights): constant in magnitude, rotating
+    none = np.zeros_like(loads.tangential_Pa)
+    ca, cn = brg.crank_force_engine_frame(none, none, loads.centrifugal_Pa, positions)
+    centrifugal = np.hypot(*brg.journal_loads(ca, cn, 1.0 - share_after, share_after)).mean(axis=1)
+    return (journal_t, journal_z), brg.to_frame(ja, jn, engine_t, engine_z), centrifugal
 
 
 def _diagram_summary(t, z, d, w, area, angle, opts: BearingOptions):

@@ -62,6 +62,12 @@ def render(output: StageOutput, ctx) -> str | None:
         single=single,
         journal_names=journal_names,
         pins_equal=pins_equal,
+        application=ctx.scene.engine.application if ctx.scene is not None else None,
+        centrifugal=(
+            None
+            if centrifugal_journal(r) is None
+            else _centrifugal_params(ctx, r, centrifugal_journal(r))
+        ),
     )
 
 
@@ -108,6 +114,32 @@ def _journals_table(ctx, r, single: bool) -> tuple[str, str]:
     return table, ctx.last_table_number
 
 
+#: A main journal whose mean load is at least this share the cranks' unbalanced centrifugal
+#: forces is said to be loaded chiefly by them.
+CENTRIFUGAL_SHARE = 0.5
+
+
+def centrifugal_journal(r: dict) -> dict | None:
+    """The most loaded main journal when the cranks' centrifugal forces, not balanced by
+    counterweights, give at least :data:`CENTRIFUGAL_SHARE` of its mean load; else None."""
+    if r["with_counterweights"] or len(r["main_journals"]) < 3:
+        return None
+    journal = most_loaded(r["main_journals"])[0]
+    if journal.get("centrifugal_N", 0.0) < CENTRIFUGAL_SHARE * journal["mean_N"]:
+        return None
+    return journal
+
+
+def _centrifugal_params(ctx, r: dict, journal: dict) -> dict:
+    return {
+        "label": journal_name(journal),
+        "centrifugal": ctx.num(journal["centrifugal_N"] / 1e3),
+        "mean": ctx.t.fixed(journal["mean_N"] / 1e3, 2),  # as the journals' table prints it
+        "share": ctx.num(100 * journal["centrifugal_N"] / journal["mean_N"], 2),
+        "c": ctx.num(r["crank_centrifugal_N"] / 1e3),
+    }
+
+
 def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> None:
     """The finding and the conclusion: the drawn crank pin's and the most loaded journal's loads,
     pressures and oil holes, with the digits the tables print."""
@@ -150,6 +182,9 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
             table=journals_table_number,
         )
     )
+    loaded = centrifugal_journal(r)
+    if loaded is not None:
+        ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
 
 
 def _load_ranges(ctx, r, single: bool) -> str:

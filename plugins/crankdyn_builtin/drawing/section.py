@@ -152,9 +152,10 @@ def render(output: StageOutput, ctx) -> str:
 
 def _positions_figures(ctx, positions, frames) -> Markup:
     """The positions figure, on as many figures as the page needs (:func:`md.positions_sheets`):
-    the second and later ones captioned as the continuation."""
+    the middle ones captioned as its continuation, the last one as its end."""
     t = ctx.t
     sheets = md.positions_sheets(positions, frames)
+    last = len(sheets)
     parts = [
         ctx.figure(
             partial(md.positions_figure, positions, sheets[0]),
@@ -167,9 +168,9 @@ def _positions_figures(ctx, positions, frames) -> Markup:
         parts.append(
             ctx.figure(
                 partial(md.positions_figure, positions, sheet),
-                t("drawing.positions_caption_continued"),
+                t("drawing.positions_caption_" + ("continued" if k == last else "middle")),
                 f"positions_{k}",
-                see="drawing.see_positions_continued",
+                see="drawing.see_positions_" + ("continued" if k == last else "middle"),
             )
         )
     return Markup("\n").join(parts)

@@ -8,6 +8,7 @@ import numpy as np
 
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
+from crankdyn.physics import layout as lay
 from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
 from crankdyn.plugin.scene_inputs import crank_train
 from crankdyn.plugin.types import StageOutput
@@ -87,14 +88,25 @@ def _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess_work_J, omeg
     )
 
 
+def torque_period_deg(torque) -> float:
+    """The period (deg) the output torque repeats with: the firing interval for even firing of
+    identical cylinders, else up to the whole cycle."""
+    angle = torque.crank_angle_deg
+    return lay.sampled_period_deg(
+        torque.torque_Nm, float(angle[1] - angle[0]), 180.0 * torque.strokes
+    )
+
+
 def _excess_results(excess, torque) -> dict:
-    """The mean torque, the excess work ΔL, where the work is largest and least, and ΔL per
-    cycle's work."""
+    """The mean torque, the excess work ΔL, where the work is largest and least (the first
+    such angles in the cycle: W repeats with the torque), and ΔL per cycle's work."""
+    period = torque_period_deg(torque)
     return {
         "mean_torque_Nm": excess.mean_torque_Nm,
         "excess_work_J": excess.excess_work_J,
-        "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]),
-        "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]),
+        "torque_period_deg": period,
+        "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]) % period,
+        "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]) % period,
         "excess_work_relative": excess.excess_work_J
         / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
         if excess.mean_torque_Nm > 0

@@ -16,7 +16,7 @@ from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .options import FlywheelOptions
-from .section import input_rows, render
+from .section import input_rows, render, taken_rows
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -40,6 +40,7 @@ FLYWHEEL_STAGE = Stage(
         figures=("excess_work",),
         references=("poda2007", "artobolevsky1988", "khurmi2005", "timoshenko1956"),
         input_rows=input_rows,
+        taken_rows=taken_rows,
     ),
 )
 

@@ -45,8 +45,16 @@ def render(output: StageOutput, ctx) -> str:
     else:
         _conclude(ctx, r)
         _conclude_rim_too_fast(ctx, r)
+    opts = options(ctx.scene, "flywheel", FlywheelOptions)
     return ctx.render_template(
-        "sections/flywheel.html.j2", r=r, rim=rim, figure_work=figure_work, table=table
+        "sections/flywheel.html.j2",
+        r=r,
+        rim=rim,
+        figure_work=figure_work,
+        table=table,
+        shaft_inertia_given="engine_inertia" in opts.model_fields_set,
+        density_given="rim_density" in opts.model_fields_set,
+        material=rim_material(rim["density_kg_m3"]) if rim else None,
     )
 
 
@@ -207,15 +215,8 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
         rows.append(
             (t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia)
         )
-    if opts.engine_inertia:
-        rows.append(
-            (
-                t("flywheel.input_engine_inertia"),
-                "<i>J</i><sub>e</sub>",
-                num(opts.engine_inertia, 4),
-                inertia,
-            )
-        )
+    if "engine_inertia" in opts.model_fields_set:
+        rows.append(_engine_inertia_row(opts, t))
     if opts.rim_mean_diameter is not None:
         rows.append(
             (
@@ -229,14 +230,8 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
         rows.append(
             (t("flywheel.input_rim_width"), "<i>b</i>", num(opts.rim_width * 1e3, 4), t("unit.mm"))
         )
-    rows.append(
-        (
-            t("flywheel.input_rim_density"),
-            "<i>ρ</i><sub>mat</sub>",
-            num(opts.rim_density, 4),
-            t("unit.kg_m3"),
-        )
-    )
+    if "rim_density" in opts.model_fields_set:
+        rows.append(_rim_density_row(opts, t))
     if opts.max_rim_speed is not None:
         rows.append(
             (
@@ -247,3 +242,46 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             )
         )
     return rows
+
+
+def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [flywheel] values the scene leaves at their defaults and the calculation takes: the
+    shaft's own inertia J_e (zero) and, for a rim, its material's density."""
+    opts = options(scene, "flywheel", FlywheelOptions)
+    rows = []
+    if "engine_inertia" not in opts.model_fields_set:
+        rows.append(_engine_inertia_row(opts, ctx.t))
+    if "rim_density" not in opts.model_fields_set and opts.rim_mean_diameter is not None:
+        rows.append(_rim_density_row(opts, ctx.t))
+    return rows
+
+
+def _engine_inertia_row(opts: FlywheelOptions, t) -> tuple[str, str, str, str]:
+    return (
+        t("flywheel.input_engine_inertia"),
+        "<i>J</i><sub>e</sub>",
+        t.number_g(opts.engine_inertia, 4),
+        t("unit.kg_m2"),
+    )
+
+
+def _rim_density_row(opts: FlywheelOptions, t) -> tuple[str, str, str, str]:
+    return (
+        t("flywheel.input_rim_density"),
+        "<i>ρ</i><sub>mat</sub>",
+        t.number_g(opts.rim_density, 4),
+        t("unit.kg_m3"),
+    )
+
+
+#: the rim materials a density names (kg/m³): grey cast iron about 7200, steel about 7800
+_RIM_MATERIALS = (("cast_iron", 7000.0, 7400.0), ("steel", 7700.0, 7900.0))
+
+
+def rim_material(density_kg_m3: float) -> str | None:
+    """The catalog name (``flywheel.material_<name>``) of the material of a rim of this density,
+    or None for a density neither cast iron nor steel has."""
+    for name, low, high in _RIM_MATERIALS:
+        if low <= density_kg_m3 <= high:
+            return name
+    return None

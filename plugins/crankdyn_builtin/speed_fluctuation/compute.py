@@ -12,6 +12,7 @@ import numpy as np
 
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import irregularity as irr
+from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugin.contracts import BAY_LOADS, CRANK_LOADS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.plugin.scene_inputs import crank_train
@@ -140,11 +141,26 @@ def _single_mass_solvers(gas_series, inertia, exact, omega_n):
     return summary, records, (dense[0], omega_solver)
 
 
-def _speed_results(inertia, exact, design, summary: dict, records: list) -> dict:
+def speed_period_deg(torque, inertia_kg_m2) -> float:
+    """The period (deg) the speed repeats with: that of the torque and of the reduced inertia
+    together (the firing interval for even firing of identical cylinders), else the cycle."""
+    angle = torque.crank_angle_deg
+    step, cycle = float(angle[1] - angle[0]), 180.0 * torque.strokes
+    periods = sorted(
+        lay.sampled_period_deg(values, step, cycle) for values in (torque.torque_Nm, inertia_kg_m2)
+    )
+    ratio = periods[1] / periods[0]
+    return periods[1] if abs(ratio - round(ratio)) < 1e-9 else cycle
+
+
+def _speed_results(inertia, exact, design, summary: dict, records: list, period: float) -> dict:
     """The results of the exact periodic speed against the energy method's irregularity and
-    flywheel, with the solvers' runs; the flywheel by the ODE and the torsion left to fill."""
+    flywheel, with the solvers' runs; the flywheel by the ODE and the torsion left to fill. The
+    angles of the extreme speeds are the first in the cycle (the speed repeats every ``period``
+    degrees)."""
     energy_delta = design.irregularity
     return {
+        "speed_period_deg": period,
         "reference": "quadrature",
         "inertia_mean_kg_m2": inertia.mean_kg_m2,
         "inertia_min_kg_m2": float(np.min(exact.inertia_kg_m2)),
@@ -153,8 +169,8 @@ def _speed_results(inertia, exact, design, summary: dict, records: list) -> dict
         "omega_mean_rad_s": exact.omega_mean_rad_s,
         "omega_max_rad_s": exact.omega_max_rad_s,
         "omega_min_rad_s": exact.omega_min_rad_s,
-        "omega_max_crank_angle_deg": math.degrees(exact.omega_max_angle_rad),
-        "omega_min_crank_angle_deg": math.degrees(exact.omega_min_angle_rad),
+        "omega_max_crank_angle_deg": math.degrees(exact.omega_max_angle_rad) % period,
+        "omega_min_crank_angle_deg": math.degrees(exact.omega_min_angle_rad) % period,
         "cycle_time_s": exact.cycle_time_s,
         "irregularity": exact.irregularity,
         "irregularity_definition": "(omega_max - omega_min) / ((omega_max + omega_min) / 2)",
@@ -207,7 +223,8 @@ def run(scene, inputs) -> StageOutput:
         gas_series, inertia, exact, omega_n
     )
 
-    results = _speed_results(inertia, exact, design, summary, records)
+    period = speed_period_deg(torque, j_grid)
+    results = _speed_results(inertia, exact, design, summary, records, period)
     if design.required_irregularity is not None and design.required_flywheel_inertia_kg_m2:
         results.update(_flywheel_by_ode(design, gas_series, train, omega_n))
     tables = {

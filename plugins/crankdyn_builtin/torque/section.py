@@ -14,6 +14,12 @@ from crankdyn_builtin.torque.worked import worked_torque
 from .figures import _journals_figure, _output_figure
 
 
+def output_end(scene) -> str:
+    """The catalog suffix of the power take-off end: an aircraft engine's propeller, else the
+    flywheel (``engine.application``)."""
+    return "_propeller" if scene is not None and scene.engine.application == "aircraft" else ""
+
+
 def _journals_table(ctx, journals) -> str:
     """The running torques' range on each main journal (after the figure of them)."""
     t = ctx.t
@@ -29,7 +35,7 @@ def _journals_table(ctx, journals) -> str:
             ),  # words: M_max is the engine's
         ],
         caption=t("torque.journals_table_caption"),
-        see="torque.see_journals_table",
+        see="torque.see_journals_table" + output_end(ctx.scene),
     )
 
 
@@ -86,6 +92,7 @@ def render(output: StageOutput, ctx) -> str | None:
         figure_journals=figure_journals,
         journals_table=journals_table,
         danger=danger,
+        output_end=output_end(ctx.scene),
     )
 
 

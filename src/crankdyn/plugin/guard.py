@@ -2,7 +2,7 @@
 
 :func:`crankdyn.plugin.registry.collect` wraps what each plugin registers. A third-party plugin's
 stage
-whose ``applies``, ``run``, ``render`` or ``input_rows`` raises, or returns what
+whose ``applies``, ``run``, ``render``, ``input_rows`` or ``taken_rows`` raises, or returns what
 :mod:`crankdyn.plugin.types` does not allow (a reason that is not a str, an output whose data
 keys differ from ``provides``, a ``kinematics`` that is not a ``PistonMotion`` or holds NaN,
 results that JSON cannot hold, a section that is not a str), raises
@@ -248,13 +248,14 @@ def _checked_presentation(
         raise PluginFailure(
             plugin, where, f"stage {stage!r}: render = {shorten(look.render)}; expected a function"
         )
-    if look.input_rows is not None and not callable(look.input_rows):
-        raise PluginFailure(
-            plugin,
-            where,
-            f"stage {stage!r}: input_rows = "
-            f"{shorten(look.input_rows)}; expected a function or None",
-        )
+    for hook in ("input_rows", "taken_rows"):
+        rows = getattr(look, hook)
+        if rows is not None and not callable(rows):
+            raise PluginFailure(
+                plugin,
+                where,
+                f"stage {stage!r}: {hook} = {shorten(rows)}; expected a function or None",
+            )
     if not isinstance(look.title_key, str):
         raise PluginFailure(plugin, where, f"stage {stage!r}: title_key and options_table are str")
     return dataclasses.replace(look, **fixed) if fixed else look
@@ -441,21 +442,31 @@ def guarded_stage(stage: Stage, plugin: str, foreign: bool) -> Stage:
             raise _garbage(plugin, where, "render", body, "the section's HTML as a str, or None")
         return body
 
-    @functools.wraps(look.input_rows)
-    def input_rows(scene, ctx):
-        rows = call(plugin, where, "input_rows", foreign, look.input_rows, scene, ctx)
-        if foreign and not _is_rows(rows):
-            raise _garbage(
-                plugin,
-                where,
-                "input_rows",
-                rows,
-                "a list of (quantity, symbol, value, unit) tuples of str",
-            )
-        return rows
+    def guarded_rows(hook: str):
+        given = getattr(look, hook)
+        if given is None:
+            return None
+
+        @functools.wraps(given)
+        def rows_of(scene, ctx):
+            rows = call(plugin, where, hook, foreign, given, scene, ctx)
+            if foreign and not _is_rows(rows):
+                raise _garbage(
+                    plugin,
+                    where,
+                    hook,
+                    rows,
+                    "a list of (quantity, symbol, value, unit) tuples of str",
+                )
+            return rows
+
+        return rows_of
 
     guarded = dataclasses.replace(
-        look, render=render, input_rows=None if look.input_rows is None else input_rows
+        look,
+        render=render,
+        input_rows=guarded_rows("input_rows"),
+        taken_rows=guarded_rows("taken_rows"),
     )
     return dataclasses.replace(stage, applies=applies, run=run, presentation=guarded)
 

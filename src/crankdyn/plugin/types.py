@@ -347,6 +347,10 @@ class StagePresentation:
     input_rows: ``input_rows(scene, ctx) -> [(quantity, symbol markup, value, unit), ...]``: the
                 given data of this stage's own scene table that the report's first table (the
                 task's data) lists after the engine's, translated by ``ctx.t``; None: none.
+    taken_rows: ``taken_rows(scene, ctx)``, rows as ``input_rows``'s: the values of this stage's
+                scene table that the scene leaves at their defaults and the calculation takes
+                (a rim's material density): the report lists them in its table of the values
+                taken, not among the task's data; None: none.
     legend:     whether the symbol table explains this section's equations (the "де …"
                 lines, ``crankdyn.report.equation_legend``); False for a section that explains
                 its letters in its own words.
@@ -373,6 +377,7 @@ class StagePresentation:
     references_sentence: str = "doc.method_from"
     figures: tuple[str, ...] = ()
     input_rows: Callable[[Scene, Any], Sequence[tuple[str, str, str, str]]] | None = None
+    taken_rows: Callable[[Scene, Any], Sequence[tuple[str, str, str, str]]] | None = None
     legend: bool = True
     # compare=False: a StagePresentation stays hashable (tuples elsewhere) with a mapping here
     symbols: Mapping[str, Symbol] = field(default_factory=dict, compare=False)

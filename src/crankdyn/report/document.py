@@ -344,15 +344,15 @@ def _rounding_used(scene) -> RoundingParameters | None:
         return None
 
 
-def _stage_input_rows(result, ctx) -> list[tuple[str, str, str, str]]:
+def _stage_input_rows(result, ctx, hook: str = "input_rows") -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``StagePresentation.input_rows``), in plan
-    order."""
+    order; with ``hook="taken_rows"`` the values they take that the scene does not give."""
     shown = [stage.presentation for stage in result.plan.order if stage.presentation is not None]
     return [
         tuple(row)
         for look in shown
-        if look.input_rows is not None
-        for row in look.input_rows(result.scene, ctx)
+        if getattr(look, hook) is not None
+        for row in getattr(look, hook)(result.scene, ctx)
     ]
 
 
@@ -417,6 +417,7 @@ def _input_view(result, registry, ctx) -> SectionView:
                 mechanism=mechanism,
                 mechanism_key=mechanism_key,
                 stage_rows=_stage_input_rows(result, ctx),
+                stage_taken_rows=_stage_input_rows(result, ctx, "taken_rows"),
                 rounding_used=_rounding_used(scene),
                 **_inputs_used(result),
             )
@@ -1025,6 +1026,9 @@ _CHAPTER = re.compile(
 #: ``@@SECTION:kinematics@@`` in a catalog text: the number of that stage's section in this report
 #: ("див. розділ 2"; "см. раздел кинематики" names no section).
 SECTION_MARK = re.compile(r"@@SECTION:(\w+)@@")
+#: ``@@TABLE:torque:1@@``: ", табл. 7.1", that stage's k-th table in this report, or nothing when
+#: the stage has no section here (the sentence then names the section alone)
+TABLE_MARK = re.compile(r"@@TABLE:(\w+):(\d+)@@")
 
 
 def _same_data(registry):
@@ -1044,7 +1048,7 @@ def fill_section_numbers(html: str, title, t, providers=None) -> str:
     no section here, the number of a section whose stage provides the same data
     (``providers(stage)``); else by the section's title (``title(stage)``) in quotes (the
     sentence then still reads)."""
-    if "@@SECTION:" not in html:
+    if "@@SECTION:" not in html and "@@TABLE:" not in html:
         return html
     numbers = {
         stage: number
@@ -1061,7 +1065,13 @@ def fill_section_numbers(html: str, title, t, providers=None) -> str:
                 return numbers[other]
         return t("doc.quoted", text=title(stage))
 
-    return SECTION_MARK.sub(number, html)
+    def table(m: re.Match) -> str:
+        stage = m.group(1)
+        if stage not in numbers:
+            return ""
+        return t("doc.table_reference", number=f"{numbers[stage]}.{m.group(2)}")
+
+    return SECTION_MARK.sub(number, TABLE_MARK.sub(table, html))
 
 
 def _places(html: str) -> dict[str, list[tuple[str, str, str]]]:

@@ -189,6 +189,12 @@ class Engine(_Strict):
     """Engine and mechanism geometry (SI after loading)."""
 
     name: str = ""
+    #: what the engine drives: it names the power take-off end (a flywheel, an aircraft's
+    #: propeller) and says whether the textbook's journal proportions (those of automotive and
+    #: tractor engines) are the engine's kind; None: not stated
+    application: (
+        Literal["automotive", "tractor", "stationary", "marine", "aircraft", "motorcycle"] | None
+    ) = None
     #: None: the registry's default mechanism (``Mechanism.default``), filled in when the scene is
     #: loaded with a registry (``scene_from_dict(..., registry=)``) or planned
     mechanism: str | None = None

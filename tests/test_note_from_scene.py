@@ -1,0 +1,256 @@
+"""Every sentence of the note follows from its own scene: no number of another engine in the
+catalogs' fixed sentences, the values the calculation takes in the table of values taken (not
+among the task's data), the power take-off end and the journal proportions named after what the
+engine is for, the extremes of a periodic speed at the first angle of the cycle everywhere."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+import pytest
+from conftest import as_read, shared_html, shared_run
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _text(html: str) -> str:
+    return as_read(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)))
+
+
+def _tables_1(text: str, language: str) -> tuple[str, str]:
+    """The text of table 1.1 (the task's data) and of table 1.2 (the values taken)."""
+    word = {"ru": "Таблица", "uk": "Таблиця", "en": "Table"}[language]
+    given = text.index(f"{word} 1.1")
+    taken = text.index(f"{word} 1.2")
+    end = text.index(f"{word} 2.1") if f"{word} 2.1" in text else taken + 3000
+    return text[given:taken], text[taken:end]
+
+
+@pytest.mark.parametrize("language", ["en", "uk", "ru"])
+def test_the_symbol_lists_intro_holds_no_number_of_another_engine(language):
+    """The intro is the same sentence for every engine: a value in it ("R = S/2 = 39 мм") is
+    some other engine's."""
+    with open(ROOT / "templates" / "i18n" / f"{language}.toml", "rb") as fh:
+        catalog = tomllib.load(fh)
+    tables = [catalog]
+    intros = []
+    while tables:  # the key wherever its table puts it
+        table = tables.pop()
+        intros += [v for k, v in table.items() if k == "symbols_intro"]
+        tables += [v for v in table.values() if isinstance(v, dict)]
+    (intro,) = intros
+    assert not re.search(r"\d", intro), intro
+
+
+_NO_SHAFT_NOR_DENSITY = {"flywheel": {"engine_inertia": None, "rim_density": None}}
+
+
+def _flywheel_note(changes: dict, language: str = "ru") -> str:
+    return _text(shared_html("inline4-petrol", changes, language, ("flywheel",)).linked_html)
+
+
+def test_a_defaulted_shaft_inertia_and_rim_density_stand_among_the_values_taken():
+    text = _flywheel_note(_NO_SHAFT_NOR_DENSITY)
+    given, taken = _tables_1(text, "ru")
+    for quantity in ("Момент инерции коленчатого вала без масс колен", "Плотность материала"):
+        assert quantity not in given and quantity in taken, quantity
+    assert "J в 0 кг·м²" in taken and "ρ м 7200 кг/м³" in taken
+    assert "J в в задании не указан, поэтому он принят равным нулю" in text
+    assert "принят серый чугун, ρ м = 7200 кг/" in text
+
+
+def test_a_given_shaft_inertia_and_rim_density_stay_the_task_data_and_name_the_material():
+    text = _flywheel_note({})  # the example gives J_e = 0.006 kg*m^2 and a steel rim, 7850 kg/m^3
+    given, taken = _tables_1(text, "ru")
+    for quantity in ("Момент инерции коленчатого вала без масс колен", "Плотность материала"):
+        assert quantity in given and quantity not in taken, quantity
+    assert "J в в задании не указан" not in text and "Материал обода в задании" not in text
+    assert "Материал обода – сталь, ρ м = 7850 кг/" in text
+
+
+def test_a_shaft_inertia_given_as_zero_is_no_assumption():
+    text = _flywheel_note({"flywheel": {"engine_inertia": "0 kg*m^2"}})
+    given, taken = _tables_1(text, "ru")
+    assert "без масс колен" in given and "без масс колен" not in taken
+    assert "принят равным нулю" not in text
+
+
+def test_the_speed_extremes_are_the_first_in_the_cycle_in_both_sections():
+    """The in-line four's torque repeats every 720°/4 = 180°: W and the speed have a least value
+    in every period; both sections give the first one, and say why."""
+    run = shared_run("inline4-petrol")
+    flywheel = run.outputs["flywheel"].results
+    speed = run.outputs["speed_fluctuation"].results
+    period = 720 / 4
+    assert flywheel["torque_period_deg"] == pytest.approx(period)
+    assert speed["speed_period_deg"] == pytest.approx(period)
+    for key in ("excess_work_min_crank_angle_deg", "excess_work_max_crank_angle_deg"):
+        assert 0 <= flywheel[key] < period, key
+    for key in ("omega_min_crank_angle_deg", "omega_max_crank_angle_deg"):
+        assert 0 <= speed[key] < period, key
+    # the speed is least where W is least: the same angle, to the flywheel table's 1° grid
+    step = run.scene.analysis.angle_step_deg
+    assert abs(
+        speed["omega_min_crank_angle_deg"] - flywheel["excess_work_min_crank_angle_deg"]
+    ) <= (2 * step)
+    text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
+    assert text.count("повторяется через каждые 180°") == 2
+
+
+def _torque_and_bearings(application: str | None) -> str:
+    changes = {"engine": {"application": application}} if application else None
+    html = shared_html("inline4-petrol", changes, "uk", ("torque", "bearings")).linked_html
+    return _text(html)
+
+
+def test_an_aircraft_engine_has_a_propeller_end_and_its_journal_proportions_are_borrowed():
+    air = _torque_and_bearings("aircraft")
+    plain = _torque_and_bearings(None)
+    assert "в напрямку до повітряного гвинта" in air and "з боку маховика" not in air
+    assert "кінець з боку повітряного гвинта" in air
+    assert "в напрямку до маховика" in plain and "кінець з боку маховика" in plain
+    sizes = "за типовими співвідношеннями для автомобільних і тракторних двигунів – єдиними"
+    assert sizes in air and sizes in plain
+    borrowed = "Двигун у завданні – авіаційний, а не автомобільний чи тракторний"
+    assert borrowed in air and "а не автомобільний" not in plain
+
+
+@pytest.mark.parametrize("application", ["automotive", "tractor"])
+def test_a_car_or_tractor_engine_takes_the_proportions_as_its_own_kind(application):
+    text = _torque_and_bearings(application)
+    assert "а не автомобільний" not in text and "в напрямку до маховика" in text
+
+
+def _v8_uk() -> str:
+    return _text(shared_html("v8-petrol", None, "uk").linked_html)
+
+
+def test_a_conclusion_names_the_section_and_table_of_the_cranks_summed_loads():
+    text = _v8_uk()
+    found = re.search(r"їхню суму наведено в розділі (\d+), табл\. (\d+)\.1\)", text)
+    assert found and found.group(1) == found.group(2), found
+    assert f"Таблиця {found.group(1)}.1 – Сили і набіжні моменти на колінах" in text
+
+
+def test_the_conclusion_counts_the_counterweights_the_means_table_lists():
+    """Each row of the means table is a crank's pair, m (m_web × 2): four counterweights for
+    two rows, not two."""
+    text = _v8_uk()
+    pairs = len(re.findall(r"противага, коліно \d+ \+1 [\d ,]+ [\d,]+ \([\d,]+ × 2\)", text))
+    assert pairs == 2
+    numerals = "одна|дві|три|чотири|п’ять|шість|сім|вісім|дев’ять".split("|")
+    assert f"Засоби зрівноваження: {numerals[2 * pairs - 1]} противаги" in text
+
+
+def test_a_figure_over_several_pages_is_continued_in_the_middle_and_concluded_at_the_end(
+    monkeypatch,
+):
+    from crankdyn_builtin.drawing import section
+
+    monkeypatch.setattr(section.md, "positions_sheets", lambda positions, frames: [[0], [1], [2]])
+    shown = []
+
+    class Context:
+        @staticmethod
+        def t(key, **params):
+            return key
+
+        @staticmethod
+        def figure(draw, caption, name, see):
+            shown.append((caption, see))
+            return name
+
+    section._positions_figures(Context(), None, None)
+    assert shown == [
+        ("drawing.positions_caption", "drawing.see_positions"),
+        ("drawing.positions_caption_middle", "drawing.see_positions_middle"),
+        ("drawing.positions_caption_continued", "drawing.see_positions_continued"),
+    ]
+    catalogs = {}
+    for language in ("en", "uk", "ru"):
+        path = ROOT / "plugins/crankdyn_builtin/drawing/i18n" / f"drawing.{language}.toml"
+        with open(path, "rb") as fh:
+            catalogs[language] = tomllib.load(fh)["drawing"]
+    assert catalogs["uk"]["positions_caption_middle"].endswith("(продовження)")
+    assert catalogs["uk"]["positions_caption_continued"].endswith("(закінчення)")
+    assert catalogs["ru"]["positions_caption_middle"].endswith("(продолжение)")
+    assert catalogs["ru"]["positions_caption_continued"].endswith("(окончание)")
+
+
+def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_named():
+    """The in-line four's cranks 2 and 3 are in phase and the shaft has no counterweights: the
+    journal between them carries their whole centrifugal force C = m_R R ω² at every angle."""
+    import math
+
+    m_r = 0.60 * (1 - 0.275) + 0.35 + 2 * 0.25  # rod's big-end share, crank pin, two webs
+    c = m_r * 0.078 / 2 * (math.pi * 5600 / 30) ** 2
+    r = shared_run("inline4-petrol").outputs["bearings"].results
+    assert not r["with_counterweights"]
+    middle = next(j for j in r["main_journals"] if j["journal"] == "2-3")
+    assert r["crank_centrifugal_N"] == pytest.approx(c, rel=1e-9)
+    assert middle["centrifugal_N"] == pytest.approx(c, rel=1e-6)
+    text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
+    kn = f"{c / 1e3:.2f}".replace(".", ",")
+    assert (
+        f"Наиболее нагруженная коренная шейка 2–3 воспринимает главным образом центробежные силы "
+        f"соседних колен: их равнодействующая {kn} кН"
+    ) in text
+    assert "Противовесы на щеках колен, прилегающих к этой шейке, сняли бы" in text
+    assert "Коренную шейку 2–3 нагружают главным образом неуравновешенные" in text
+    assert f"для одного колена C = {kn} кН" in text
+
+
+def test_a_shaft_with_counterweights_is_not_said_to_lack_them():
+    text = _text(shared_html("inline3-petrol", None, "ru").linked_html)
+    assert shared_run("inline3-petrol").outputs["bearings"].results["with_counterweights"]
+    assert "воспринимает главным образом центробежные силы" not in text
+
+
+def _foreign_registry(taken_rows):
+    """The built-in plugins and a third-party one whose stage takes a value the scene does not
+    give (``StagePresentation.taken_rows``)."""
+    import types
+
+    from crankdyn.plugin.contracts import KINEMATICS
+    from crankdyn.plugin.hooks import hookimpl
+    from crankdyn.plugin.registry import collect, plugin_manager
+    from crankdyn.plugin.types import Stage, StageOutput, StagePresentation
+
+    stage = Stage(
+        name="extra",
+        requires=(KINEMATICS,),
+        provides=(),
+        applies=lambda scene: None,
+        run=lambda scene, inputs: StageOutput(results={}),
+        presentation=StagePresentation(
+            title_key="extra.title",
+            render=lambda output, ctx: "<p>extra</p>",
+            taken_rows=taken_rows,
+        ),
+    )
+    module = types.ModuleType("taking_plugin")
+    module.crankdyn_stages = hookimpl(lambda: [stage])
+    module.crankdyn_mechanisms = hookimpl(lambda: [])
+    return collect(plugin_manager(extra_plugins=[module]))
+
+
+def test_a_plugins_taken_values_stand_in_the_table_of_values_taken_and_garbage_is_named():
+    from conftest import modified
+
+    from crankdyn.errors import PluginFailure
+    from crankdyn.output.pipeline import run_and_render
+    from crankdyn.report.document import render_html
+    from crankdyn.scene.model import scene_from_dict
+
+    scene = scene_from_dict(modified("kinematics-only", {"report": {"language": "en"}}))
+    row = ("Friction coefficient", "<i>f</i>", "0.02", "")
+    registry = _foreign_registry(lambda scene, ctx: [row])
+    result, _ = run_and_render(scene, registry, ["json"], ["extra"])
+    text = _text(render_html(result, registry, "en").linked_html)
+    given, taken = _tables_1(text, "en")
+    assert "Friction coefficient f 0.02" in taken and "Friction coefficient" not in given
+    with pytest.raises(PluginFailure) as caught:
+        run_and_render(scene, _foreign_registry(lambda scene, ctx: 42), ["html"], ["extra"])
+    assert "taken_rows returned 42" in str(caught.value)
