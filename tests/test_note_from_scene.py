@@ -117,6 +117,18 @@ def test_an_aircraft_engine_has_a_propeller_end_and_its_journal_proportions_are_
     assert borrowed in air and "а не автомобільний" not in plain
 
 
+def test_an_aircraft_note_speaks_of_its_propeller_not_of_a_flywheel():
+    """An aircraft engine has no flywheel: the introduction names the shaft and propeller's
+    torsional calculation instead, and the calculations left out say why there is no flywheel."""
+    changes = {"engine": {"application": "aircraft"}, "flywheel": None}
+    air = _text(shared_html("inline4-petrol", changes, "uk").linked_html)
+    plain = _text(shared_html("inline4-petrol", {"flywheel": None}, "uk").linked_html)
+    assert "розрахунку вала з повітряним гвинтом на крутильні коливання" in air
+    assert "вибору маховика" not in air and "вибору маховика" in plain
+    assert "авіаційний двигун не має маховика: його роль виконує повітряний гвинт" in air
+    assert "у завданні немає даних про маховик" in plain
+
+
 @pytest.mark.parametrize("application", ["automotive", "tractor"])
 def test_a_car_or_tractor_engine_takes_the_proportions_as_its_own_kind(application):
     text = _torque_and_bearings(application)

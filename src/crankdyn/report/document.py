@@ -239,8 +239,16 @@ def skipped_sentence(t, registry, result) -> str:
     reads as a program's modules, not as the student's text."""
     if result.scene.cycle is None:
         return ""
+    # an aircraft engine has no flywheel at all: its propeller takes the flywheel's part
+    aircraft = getattr(result.scene.engine, "application", None) == "aircraft"
     skipped = [
-        (_stage_title(t, registry, name), t(_skip_key(reason)))
+        (
+            _stage_title(t, registry, name),
+            t(
+                _skip_key(reason)
+                + ("_aircraft" if aircraft and "flywheel" in _skip_key(reason) else "")
+            ),
+        )
         for name, reason in result.plan.skipped.items()
         if _skip_key(reason) in _DATA_SKIPS
     ]
