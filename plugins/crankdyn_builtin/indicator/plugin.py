@@ -80,7 +80,7 @@ INDICATOR_STAGE = Stage(
         title_key="indicator.title",
         render=render,
         figures=("pV", "p_alpha"),
-        references=("poda2007", "orlin1983", "heywood1988"),
+        references=("poda2007", "orlin1983", "heywood1988", "kolchin2002"),
         symbols=SYMBOLS,
     ),
 )
