@@ -63,9 +63,7 @@ FORMULAS = {
     "journal_torque_sum": lambda x: math.fsum(v for k, v in x.items() if re.fullmatch(r"t\d+", k)),
     "output_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
     "crank_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
-    "speed_irregularity": lambda x: (
-        2 * (x["omega_max"] - x["omega_min"]) / (x["omega_max"] + x["omega_min"])
-    ),
+    "speed_irregularity": lambda x: x["omega_range"] / x["omega_mid"],
     "centrifugal_amplitude": lambda x: x["m_R"] * x["R"] * x["omega"] ** 2,
     "first_order_amplitude": lambda x: x["m_s"] * x["R"] * x["omega"] ** 2,
     "second_order_amplitude": lambda x: x["lambda"] * x["C_I"],
