@@ -113,8 +113,8 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         "z", {}, "unit.MPa", "symbol.radial_specific", sections=SECTION_BOUND
     ),
     "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=SECTION_BOUND),
-    # the textbook's n is also the crank speed: in the forces section it is the side force
-    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
+    # N, not the textbook's n, which is the crank speed throughout the note (Kolchin's N)
+    "side_specific": Symbol("N", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol(
@@ -134,10 +134,10 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
     "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
     "order_amplitude": Symbol(
-        "C", {"en": "n"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>n</i></sub>"
+        "C", {"en": "ν"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>ν</i></sub>"
     ),
     "acceleration_harmonic": Symbol(
-        "A", {"en": "n"}, "", "symbol.acceleration_harmonic", html="<i>A</i><sub><i>n</i></sub>"
+        "A", {"en": "ν"}, "", "symbol.acceleration_harmonic", html="<i>A</i><sub><i>ν</i></sub>"
     ),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
@@ -299,7 +299,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         html="<i>t</i><sub>k<i>N</i></sub>",
     ),
     "order_force": Symbol(
-        "P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"
+        "P", {"en": "ν"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>ν</i></sub>"
     ),
     # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
     "pin_load_max": Symbol(
@@ -333,23 +333,23 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         sections=SECTION_BOUND,
     ),
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
-    # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
-    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
+    # the cylinders; ν is the order of a harmonic, as in the torsion section: n is the crank speed)
+    "harmonic_order": Symbol("ν", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
     "shaft_angle": Symbol(
         "θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND
     ),
     "forward_vector": Symbol(
-        "f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"
+        "f", {"en": "ν"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>ν</i></sub>"
     ),
     "backward_vector": Symbol(
-        "b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"
+        "b", {"en": "ν"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>ν</i></sub>"
     ),
     "backward_conjugate": Symbol(
         "b",
-        {"en": "n"},
+        {"en": "ν"},
         "unit.N",
         "symbol.backward_conjugate",
-        html="<i>b</i><sub><i>n</i></sub><sup>*</sup>",
+        html="<i>b</i><sub><i>ν</i></sub><sup>*</sup>",
     ),  # (b̄: the bar crossed the ascender)
     "crank_lag": Symbol(
         "ξ",
@@ -385,13 +385,13 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     "cylinder_order_force": Symbol(
         "P",
-        {"en": "ni"},
+        {"en": "νi"},
         "unit.N",
         "symbol.cylinder_order_force",
-        html="<i>P</i><sub><i>n</i><i>i</i></sub>",
+        html="<i>P</i><sub><i>ν</i><i>i</i></sub>",
     ),
     "order_moment": Symbol(
-        "M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"
+        "M", {"en": "ν"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>ν</i></sub>"
     ),
     # a bay's dynamically equivalent model (the textbook's figures 29-33): its rotating vectors and
     # the semi-axes of its hodographs, first and second order
