@@ -553,6 +553,22 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     # the balancing means: Q = F + ΣC
     "counterweight_force": Symbol("Q", {}, "unit.N", "symbol.counterweight_force"),
+    # the sums over all cranks and cylinders (a letter after Σ is the sum, not one crank's quantity);
+    # a sum of one order is printed with the order in Roman numerals (ΣP_VI: one ΣP_ν)
+    "sum_centrifugal": Symbol("C", {}, "unit.N", "symbol.sum_centrifugal", html="Σ<i>C</i>"),
+    "sum_centrifugal_moment": Symbol(
+        "M", {"en": "C"}, "unit.Nm", "symbol.sum_centrifugal_moment", html="Σ<i>M</i><sub>C</sub>"
+    ),
+    "sum_order_force": Symbol(
+        "P", {"en": "ν"}, "unit.N", "symbol.sum_order_force", html="Σ<i>P</i><sub><i>ν</i></sub>"
+    ),
+    "sum_order_moment": Symbol(
+        "M", {"en": "ν"}, "unit.Nm", "symbol.sum_order_moment", html="Σ<i>M</i><sub><i>ν</i></sub>"
+    ),
+    # the flywheel's given irregularity, [δ]
+    "allowed_irregularity": Symbol(
+        "δ", {}, "", "symbol.allowed_irregularity", html="[<i>δ</i>]"
+    ),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
@@ -681,7 +697,8 @@ def symbol_pattern(
     tried at every character of a report (≈ 45 ms of a report's rendering for its symbol list)."""
     markup = symbol_html(key, language, symbols)
     literal = re.escape(markup)
-    before = (*not_after, *(() if markup.startswith("Δ") else ("Δ",)))
+    # after Δ a difference, after Σ a sum, after [ an allowed value: other quantities
+    before = (*not_after, *(sign for sign in ("Δ", "Σ", "[") if not markup.startswith(sign)))
     checks = "".join(f"(?<!{re.escape(text)}{literal})" for text in before)
     tail = tail if "<sub>" in markup else "(?!<sub>)" + tail
     return literal + checks + tail
@@ -699,6 +716,20 @@ def unshifted_indices(html: str) -> str:
         if "1</sub>" in html or "1)</sub>" in html
         else html
     )
+
+
+#: A force or moment of one order, the order in Roman numerals (ΣP_VI, ΣM_II, P_IV, C_VI): the
+#: symbol of order ν (C_I and C_II, the first two orders' amplitudes, are symbols of their own).
+_ROMAN = r"(?=[IVX])X{0,3}(?:IX|IV|V?I{0,3})"
+_ORDER_INDEX = re.compile(rf"(Σ?<i>[PM]</i>|<i>C</i>(?!<sub>II?</sub>))<sub>{_ROMAN}</sub>")
+
+
+def order_indices(html: str) -> str:
+    """``html`` with each force or moment of one order written as the symbol of order ν (ΣP_VI as
+    ΣP_ν, which the list of symbols explains)."""
+    if "</i><sub>" not in html:
+        return html
+    return _ORDER_INDEX.sub(r"\1<sub><i>ν</i></sub>", html)
 
 
 _STAGE_START = re.compile(r'<section\b[^>]*\bdata-stage="([^"]*)"')
@@ -735,7 +766,7 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
     over (the vane engine's μ is not the torque non-uniformity, the rod dynamics' M not the error
     study's total torque). A stage's own symbol (``stage.key``) exists only in a report that has the
     stage's section (the vane engine's S of the input table is not a piston engine's)."""
-    parts = _stage_parts(unshifted_indices(html))
+    parts = _stage_parts(order_indices(unshifted_indices(html)))
     present = {stage for stage, _ in parts}
     table = SymbolTable(
         {
