@@ -14,7 +14,6 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
 from crankdyn.plugin.types import StageOutput
 
-
 #: Significant digits of the two-term formulas' largest differences, in the section's text and in
 #: the appendix's note alike (kinematics.html.j2): one rounding of a quantity wherever it is printed.
 TWO_TERM_DIGITS = 3

@@ -566,9 +566,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         "M", {"en": "ν"}, "unit.Nm", "symbol.sum_order_moment", html="Σ<i>M</i><sub><i>ν</i></sub>"
     ),
     # the flywheel's given irregularity, [δ]
-    "allowed_irregularity": Symbol(
-        "δ", {}, "", "symbol.allowed_irregularity", html="[<i>δ</i>]"
-    ),
+    "allowed_irregularity": Symbol("δ", {}, "", "symbol.allowed_irregularity", html="[<i>δ</i>]"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
