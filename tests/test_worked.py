@@ -185,11 +185,18 @@ def worked_html(html: str, block) -> str:
         b
         for b in blocks
         if all(
-            f"= {groups_unbroken(s.substituted_html)} =" in formula_as_read(b) for s in block.steps
+            # (the word joiner after a slash and the no-break spaces that bind a short line read away)
+            _as_text(f"= {groups_unbroken(s.substituted_html)} =") in _as_text(formula_as_read(b))
+            for s in block.steps
         )
     ]
     assert len(mine) == 1, block.stage
     return mine[0]
+
+
+def _as_text(html: str) -> str:
+    """``html`` without the binders of a line: word joiners and no-break spaces."""
+    return html.replace("\u2060", "").replace("\u00a0", " ")
 
 
 def _shows(cell: str, text: str) -> bool:
