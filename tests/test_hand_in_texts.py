@@ -1093,3 +1093,78 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     html = shared_html("petrol-1cyl-ru", language=language).linked_html
     assert "@@SECTION" not in html
     assert present.rstrip(".)") in html
+
+
+#: An in-line six with a flywheel, as a course note in Russian or Ukrainian.
+_SIX = {"engine": {"cylinders": 6, "firing_order": [1, 5, 3, 6, 2, 4]}, "torsion": None}
+
+
+def _six_html(language: str) -> str:
+    return shared_html("inline4-petrol", _SIX, language=language).linked_html
+
+
+def _plain(html: str) -> str:
+    text = re.sub(r"<[^>]+>", "", as_read(html)).replace("\u2060", "")
+    return re.sub(r"[\u00a0\u202f]", " ", text)
+
+
+def test_the_references_are_textbooks_and_the_standards_in_force():
+    """No student paper without a year among the sources; a Russian note follows ГОСТ 2.105-2019
+    and describes its sources after ГОСТ Р 7.0.100-2018, a Ukrainian one ДСТУ 3008:2015 and
+    ДСТУ 8302:2015; each listed source is cited."""
+    for language in ("ru", "uk"):
+        html = _six_html(language)
+        sources = re.findall(
+            r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html, re.S).group(1)
+        )
+        text = _plain(html[: html.index('<ol class="references">')])
+        cited = {
+            int(n) for group in re.findall(r"\[([\d, –]+)", text) for n in re.findall(r"\d+", group)
+        }
+        # a range "[5–7]" cites 6 too
+        for a, b in re.findall(r"\[[^\]]*?(\d+)–(\d+)", text):
+            cited |= set(range(int(a), int(b) + 1))
+        assert len(sources) >= 10 and set(range(1, len(sources) + 1)) <= cited, (language, cited)
+        for word in ("студ.", "[б. г.]", "Тристень"):
+            assert not any(word in source for source in sources), word
+        if language == "ru":
+            assert (
+                "оформлена в соответствии с ГОСТ 7.32-2017 [2] и ГОСТ 2.105-2019 [3], список "
+                "использованных источников – по ГОСТ Р 7.0.100-2018 [4]."
+            ) in text
+            assert sources[2].startswith("ГОСТ 2.105-2019. Единая система конструкторской")
+            assert sources[3].startswith("ГОСТ Р 7.0.100-2018. Система стандартов по информации")
+        else:
+            assert "оформлено відповідно до ДСТУ 3008:2015 [2]" in text
+            assert "перелік джерел посилання – за ДСТУ 8302:2015 [4]" in text
+
+
+def test_a_quantity_is_printed_with_one_rounding_wherever_the_note_states_it():
+    """The two-term formulas' largest differences in the kinematics section and in the appendix,
+    the output torque's range in the conclusions and in the journals' table: the same digits;
+    the speeds of the fluctuation and the flywheel of the exact solution to 4 significant digits."""
+    html = _six_html("ru")
+    text = _plain(html)
+    section = re.search(
+        r"разность между двучленными и точными формулами: ([\d,]+) мм для перемещения и "
+        r"([\d ,]+) м/с² для ускорения",
+        text,
+    )
+    appendix = re.search(
+        r"наибольшая разность перемещений ([\d,]+) мм, ускорений ([\d ,]+) м/с²", text
+    )
+    assert section and appendix and section.groups() == appendix.groups(), (section, appendix)
+    low, high = re.search(r"момент изменяется от (−?[\d ,]+) до ([\d ,]+) Н·м", text).groups()
+    journals = re.search(
+        r"<table[^>]*>(?:(?!</table>).)*Наибольший момент, Н·м.*?</table>", html, re.S
+    )
+    last = re.findall(r"<td[^>]*>([^<]*)</td>", journals.group(0).rsplit("<tr>", 1)[-1])
+    assert [_plain(cell) for cell in last[1:3]] == [high, low], (last, low, high)
+    speeds = re.search(
+        r"Угловая скорость изменяется от ([\d,]+) рад/с \(α = [\d,]+°\) до ([\d,]+) рад/с", text
+    ).groups()
+    inertia = re.search(
+        r"составляет Jмах = ([\d,]+) кг·м²; по энергетическому методу – ([\d,]+)", text
+    )
+    for number in (*speeds, *inertia.groups()):
+        assert len(number.replace(",", "").lstrip("0")) == 4, number
