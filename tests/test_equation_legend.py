@@ -158,6 +158,11 @@ def test_a_delta_or_a_prime_makes_another_quantity():
         "allowed_irregularity",
         "irregularity",
     ]
+    # a bracket that holds more than the letter is no allowed value
+    assert symbols_in("[<i>λ</i><sub>p</sub>(<i>ρ</i> − 1)]", "uk", "indicator") == [
+        "pressure_rise_ratio",
+        "pre_expansion_ratio",
+    ]
 
 
 def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
@@ -243,7 +248,8 @@ def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
     ):
         assert part in line.replace("&#39;", "'"), part
     html = _section(
-        "bearings", _equation("<i>p</i><sub>max</sub> = <i>Q</i><sub>max</sub> / (<i>d</i> <i>B</i>)")
+        "bearings",
+        _equation("<i>p</i><sub>max</sub> = <i>Q</i><sub>max</sub> / (<i>d</i> <i>B</i>)"),
     )
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     assert (

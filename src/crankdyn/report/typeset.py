@@ -695,9 +695,12 @@ def symbol_pattern(
     tried at every character of a report (≈ 45 ms of a report's rendering for its symbol list)."""
     markup = symbol_html(key, language, symbols)
     literal = re.escape(markup)
-    # after Δ a difference, after Σ a sum, after [ an allowed value: other quantities
-    before = (*not_after, *(sign for sign in ("Δ", "Σ", "[") if not markup.startswith(sign)))
+    # after Δ a difference, after Σ a sum: other quantities
+    before = (*not_after, *(sign for sign in ("Δ", "Σ") if not markup.startswith(sign)))
     checks = "".join(f"(?<!{re.escape(text)}{literal})" for text in before)
+    # in brackets of its own an allowed value ([δ]), not the quantity ("[λ_p(ρ − 1) …]" is)
+    if not markup.startswith("["):
+        checks += rf"(?!(?<=\[{literal})\])"
     tail = tail if "<sub>" in markup else "(?!<sub>)" + tail
     return literal + checks + tail
 
