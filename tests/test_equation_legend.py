@@ -95,15 +95,18 @@ def test_a_primed_symbol_is_another_quantity():
 
 
 def test_a_letter_with_a_second_meaning_is_read_by_its_section():
-    # δ: the further-expansion ratio in the indicator section, the irregularity in the flywheel's
-    assert symbols_in("<i>δ</i> = 1", "uk", "indicator") == ["post_expansion_ratio"]
+    # δ: the irregularity in the flywheel's section only; the indicator section writes ε/ρ, not the
+    # textbook's further-expansion ratio δ, so that a note gives δ one meaning
+    assert symbols_in("<i>δ</i> = 1", "uk", "indicator") == []
     assert symbols_in("<i>δ</i> = 1", "uk", "flywheel") == ["irregularity"]
     # B: the bearing width in the bearings section, not the ellipse's semi-axis in the balancing one
     assert symbols_in("<i>B</i> = 1", "uk", "bearings") == ["bearing_width"]
     assert symbols_in("<i>B</i> = 1", "uk", "balancing") == []
-    # n: the crank speed, and the textbook's specific side force in the forces section
+    # n: the crank speed everywhere; the specific side force is N (Kolchin's letter), in the
+    # forces section, where n is still the crank speed
     assert symbols_in("<i>n</i> = 1", "uk", "kinematics") == ["crank_speed"]
-    assert symbols_in("<i>n</i> = <i>p</i><sub>1</sub> tg <i>β</i>", "uk", "forces") == [
+    assert symbols_in("<i>n</i> = 1", "uk", "forces") == ["crank_speed"]
+    assert symbols_in("<i>N</i> = <i>p</i><sub>1</sub> tg <i>β</i>", "uk", "forces") == [
         "side_specific",
         "total_pressure",
         "rod_angle",
@@ -141,17 +144,33 @@ def test_a_delta_or_a_prime_makes_another_quantity():
     assert symbols_in(
         "<i>α</i><sub><i>i</i></sub> = <i>α</i> − Δ<i>α</i><sub>0<i>i</i></sub>", "uk", "torque"
     ) == ["cylinder_crank_angle", "crank_angle", "cycle_delay"]
-    # the bare p: the gas pressure, but the bearing pressure in the bearings section
+    # the bare p: the gas pressure in every section (the bearings section writes p_max, p_сер)
     assert symbols_in("<i>p</i> = 1", "uk", "indicator") == ["cylinder_pressure"]
-    assert symbols_in("<i>p</i> = 1", "uk", "bearings") == ["bearing_pressure"]
+    assert symbols_in("<i>p</i> = 1", "uk", "bearings") == ["cylinder_pressure"]
+    assert symbols_in("<i>p</i><sub>max</sub> = 1", "uk", "bearings") == ["bearing_pressure_max"]
+    # after Σ a sum, after [ an allowed value: not the quantity of the letter
+    assert symbols_in("Σ<i>C</i> = <i>C</i>", "uk", "balancing") == [
+        "sum_centrifugal",
+        "centrifugal_force",
+    ]
+    assert symbols_in("Σ<i>P</i><sub><i>ν</i></sub>", "uk", "balancing") == ["sum_order_force"]
+    assert symbols_in("[<i>δ</i>] = <i>δ</i>", "uk", "flywheel") == [
+        "allowed_irregularity",
+        "irregularity",
+    ]
+    # a bracket that holds more than the letter is no allowed value
+    assert symbols_in("[<i>λ</i><sub>p</sub>(<i>ρ</i> − 1)]", "uk", "indicator") == [
+        "pressure_rise_ratio",
+        "pre_expansion_ratio",
+    ]
 
 
 def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
-    # k in sin^{2k} and the n of C_n are indices (C_n is the amplitude, not C nor the crank speed n);
+    # k in sin^{2k} and the ν of C_ν are indices (C_ν is the amplitude, not C nor the order ν);
     # t and z in e_{t,i} name axes (an italic bold e is no symbol); R_j and q_ш.ш in bold are the
     # vectors, not the crank radius nor q; but the exponent n_1 of a polytrope is the polytropic index
     assert symbols_in("sin<sup>2<i>k</i></sup> <i>α</i>", "uk", "forces") == ["crank_angle"]
-    assert symbols_in("<i>C</i><sub><i>n</i></sub>", "uk", "balancing") == ["order_amplitude"]
+    assert symbols_in("<i>C</i><sub><i>ν</i></sub>", "uk", "balancing") == ["order_amplitude"]
     assert symbols_in("<b><i>e</i></b><sub><i>t</i>,<i>i</i></sub>", "uk", "bearings") == []
     assert symbols_in(
         "<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings"
@@ -209,7 +228,7 @@ def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
     """A line gives the SI unit the formula is evaluated in and the worked substitutions use, as
     the list of symbols says before it lists the tables' units: lines in the tables' units make
     the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм,
-    F_п in см² is ten times too small; p = q F_п/(d B) a hundred times)."""
+    F_п in см² is ten times too small; p_max = Q_max/(d B) a thousand times)."""
     html = _section(
         "forces",
         _equation(
@@ -229,11 +248,13 @@ def test_the_lines_give_the_si_units_the_formulas_hold_in(uk):
     ):
         assert part in line.replace("&#39;", "'"), part
     html = _section(
-        "bearings", _equation("<i>p</i> = <i>q</i> <i>F</i><sub>п</sub> / (<i>d</i> <i>B</i>)")
+        "bearings",
+        _equation("<i>p</i><sub>max</sub> = <i>Q</i><sub>max</sub> / (<i>d</i> <i>B</i>)"),
     )
     line = _legends(add_equation_legends(html, uk, "uk"))[0]
     assert (
-        "d·B, Па;" in line
+        "за цикл тиск на підшипник, Па;" in line
+        and "шатунну шийку, Н;" in line
         and "d – діаметр шийки, м;" in line
         and "B – ширина підшипника, м." in line
     ), line

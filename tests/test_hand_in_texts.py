@@ -184,8 +184,9 @@ def test_the_abstract_names_the_main_results_and_counts_the_appendices(reports):
 
 
 def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_text_uses(reports):
-    """m_cp, m_w, C, C_I, c, V_a, δ, d, B are used, so listed; m_cp would read as the Cyrillic
-    'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ."""
+    """m_cp, m_w, C, C_I, c, V_a, d, B are used, so listed; m_cp would read as the Cyrillic
+    'ср' (mean): in uk the crank pin's mass is m_ш.ш and a web's m_щ. Without a flywheel the note
+    has no δ: the indicator section writes ε/ρ for the further-expansion ratio."""
     one = reports("petrol-1cyl-uk")
     symbols = one[one.index('class="symbol-list"') :]
     symbols = symbols[: symbols.index("</div>")]
@@ -195,13 +196,13 @@ def test_the_list_of_symbols_defines_the_masses_forces_and_journal_sizes_the_tex
         "<i>C</i><sub>I</sub>",
         "<i>c</i><sub>r</sub>",
         "<i>V</i><sub>a</sub>",
-        "<i>δ</i>",
         "<i>d</i>",
         "<i>B</i>",
         "<i>l</i><sub>R</sub>",
     ):
         assert markup in symbols, markup
     assert "<sub>cp</sub>" not in one and "<i>m</i><sub>w</sub>" not in one
+    assert "<i>δ</i>" not in symbols
 
 
 def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(reports):
@@ -504,7 +505,7 @@ _ONCE_UNEXPLAINED = {
         "<i>t</i><sub>k<i>i</i></sub>",
         "<i>t</i><sub>k<i>N</i></sub>",
     ],
-    "8.2": ["<i>j</i><sub>п</sub>", "<i>P</i><sub><i>n</i></sub>"],
+    "8.2": ["<i>j</i><sub>п</sub>", "<i>P</i><sub><i>ν</i></sub>"],
     "10.3": ["Φ", "<i>s</i>′"],
     "11.2": ["<i>J</i>′"],
     "11.3": ["<i>M</i><sub>j</sub>", "<i>s</i>″", "<i>ω</i><sub>n</sub>"],
@@ -889,7 +890,7 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
 
 
 def test_the_imaginary_unit_is_upright_and_said_to_be_one():
-    """In (8.4) "Σ_i e^{i(φ_i − nξ_i)}" an italic i would be both the cylinder's index and the
+    """In (8.4) "Σ_i e^{i(φ_i − νξ_i)}" an italic i would be both the cylinder's index and the
     imaginary unit. The unit is upright (ISO 80000-2) and named in the text; and (an upright i
     beside the index i is still one letter for two things) it is j, as in
     the engineering textbooks, i numbering the cylinders."""
@@ -901,7 +902,7 @@ def test_the_imaginary_unit_is_upright_and_said_to_be_one():
     ):
         html = shared_html(name, language=language).linked_html
         assert "e<sup><i>i" not in html and "e<sup>−<i>i" not in html and "e<sup>i" not in html
-        assert "e<sup>j<i>nθ</i></sup>" in html and words in html
+        assert "e<sup>j<i>νθ</i></sup>" in html and words in html
 
 
 def test_a_formula_carried_over_repeats_the_sign_at_the_start_of_the_next_line():
@@ -1094,3 +1095,78 @@ def test_a_section_is_referred_to_by_its_number(language, present, absent):
     html = shared_html("petrol-1cyl-ru", language=language).linked_html
     assert "@@SECTION" not in html
     assert present.rstrip(".)") in html
+
+
+#: An in-line six with a flywheel, as a course note in Russian or Ukrainian.
+_SIX = {"engine": {"cylinders": 6, "firing_order": [1, 5, 3, 6, 2, 4]}, "torsion": None}
+
+
+def _six_html(language: str) -> str:
+    return shared_html("inline4-petrol", _SIX, language=language).linked_html
+
+
+def _plain(html: str) -> str:
+    text = re.sub(r"<[^>]+>", "", as_read(html)).replace("\u2060", "")
+    return re.sub(r"[\u00a0\u202f]", " ", text)
+
+
+def test_the_references_are_textbooks_and_the_standards_in_force():
+    """No student paper without a year among the sources; a Russian note follows ГОСТ 2.105-2019
+    and describes its sources after ГОСТ Р 7.0.100-2018, a Ukrainian one ДСТУ 3008:2015 and
+    ДСТУ 8302:2015; each listed source is cited."""
+    for language in ("ru", "uk"):
+        html = _six_html(language)
+        sources = re.findall(
+            r"<li>(.*?)</li>", re.search(r'<ol class="references">(.*?)</ol>', html, re.S).group(1)
+        )
+        text = _plain(html[: html.index('<ol class="references">')])
+        cited = {
+            int(n) for group in re.findall(r"\[([\d, –]+)", text) for n in re.findall(r"\d+", group)
+        }
+        # a range "[5–7]" cites 6 too
+        for a, b in re.findall(r"\[[^\]]*?(\d+)–(\d+)", text):
+            cited |= set(range(int(a), int(b) + 1))
+        assert len(sources) >= 10 and set(range(1, len(sources) + 1)) <= cited, (language, cited)
+        for word in ("студ.", "[б. г.]", "Тристень"):
+            assert not any(word in source for source in sources), word
+        if language == "ru":
+            assert (
+                "оформлена в соответствии с ГОСТ 7.32-2017 [2] и ГОСТ 2.105-2019 [3], список "
+                "использованных источников – по ГОСТ Р 7.0.100-2018 [4]."
+            ) in text
+            assert sources[2].startswith("ГОСТ 2.105-2019. Единая система конструкторской")
+            assert sources[3].startswith("ГОСТ Р 7.0.100-2018. Система стандартов по информации")
+        else:
+            assert "оформлено відповідно до ДСТУ 3008:2015 [2]" in text
+            assert "перелік джерел посилання – за ДСТУ 8302:2015 [4]" in text
+
+
+def test_a_quantity_is_printed_with_one_rounding_wherever_the_note_states_it():
+    """The two-term formulas' largest differences in the kinematics section and in the appendix,
+    the output torque's range in the conclusions and in the journals' table: the same digits;
+    the speeds of the fluctuation and the flywheel of the exact solution to 4 significant digits."""
+    html = _six_html("ru")
+    text = _plain(html)
+    section = re.search(
+        r"разность между двучленными и точными формулами: ([\d,]+) мм для перемещения и "
+        r"([\d ,]+) м/с² для ускорения",
+        text,
+    )
+    appendix = re.search(
+        r"наибольшая разность перемещений ([\d,]+) мм, ускорений ([\d ,]+) м/с²", text
+    )
+    assert section and appendix and section.groups() == appendix.groups(), (section, appendix)
+    low, high = re.search(r"момент изменяется от (−?[\d ,]+) до ([\d ,]+) Н·м", text).groups()
+    journals = re.search(
+        r"<table[^>]*>(?:(?!</table>).)*Наибольший момент, Н·м.*?</table>", html, re.S
+    )
+    last = re.findall(r"<td[^>]*>([^<]*)</td>", journals.group(0).rsplit("<tr>", 1)[-1])
+    assert [_plain(cell) for cell in last[1:3]] == [high, low], (last, low, high)
+    speeds = re.search(
+        r"Угловая скорость изменяется от ([\d,]+) рад/с \(α = [\d,]+°\) до ([\d,]+) рад/с", text
+    ).groups()
+    inertia = re.search(
+        r"составляет Jмах = ([\d,]+) кг·м²; по энергетическому методу – ([\d,]+)", text
+    )
+    for number in (*speeds, *inertia.groups()):
+        assert len(number.replace(",", "").lstrip("0")) == 4, number

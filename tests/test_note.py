@@ -495,6 +495,7 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
     """The run's symbol table (report.typeset.symbol_table) printed before the introduction: each symbol the
     report shows, with its subscript in the report's language, its meaning and unit from the
     catalogs; none the report does not show."""
+    from crankdyn.report.equation_legend import line_unit
     from crankdyn.report.typeset import symbol_html, symbol_table, symbol_unit, symbols_used
 
     table = symbol_table(REGISTRY.stages.values())
@@ -529,6 +530,10 @@ def test_list_of_symbols_shows_the_symbols_the_report_uses(language):
             )  # its letters in italics
             # a letter with several meanings says where a sectioned one holds (tests/test_symbol_list.py)
             assert not where.search(text) or markups.count(markup) > 1
+            # the tables' unit, and the equations' where they take the quantity in another
+            si = line_unit(key, t, table)
+            if unit and si != unit:
+                unit = t("doc.symbols_unit_in_formulas", unit=unit, si=si)
             assert where.sub("", text) == t(f"symbol.{key}") + (f", {unit}" if unit else "")
         shown[name] = set(keys)
     # the kinematics alone shows no gas pressure; the full calculation does, with its own subscript

@@ -204,7 +204,9 @@ def test_the_error_tables_count_of_angles_is_not_the_series_n():
     from conftest import shared_html
 
     html = shared_html("petrol-1cyl", {"report": {"detail": "full"}}, language="uk").linked_html
-    assert "<th>Кількість кутів</th>" in html and "<th><i>N</i></th>" not in html
+    # (N heads the side force's column of the forces section: the letter of that quantity only)
+    study = html[html.index('data-stage="numerics"') :]
+    assert "<th>Кількість кутів</th>" in study and "<th><i>N</i></th>" not in study
 
 
 def test_every_stage_symbol_has_a_meaning_in_every_language():
@@ -335,3 +337,76 @@ def test_every_symbol_of_a_table_header_or_caption_is_in_the_symbol_table(exampl
             ):
                 missing.add((stage, token))
     assert not missing, sorted(missing)
+
+
+#: An in-line six with a flywheel: the letters of every section of a course note in one report.
+_SIX = {"engine": {"cylinders": 6, "firing_order": [1, 5, 3, 6, 2, 4]}, "torsion": None}
+_ROW = re.compile(
+    r'<p class="symbol-row"><span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>'
+)
+_WHERE = re.compile(r'<span class="where-line">(.*?) – (.*?)[;.]</span>')
+_UNIT_IN_FORMULAS = {"uk": " (у формулах – {})", "ru": " (в формулах – {})"}
+
+
+def _plain(html: str) -> str:
+    return re.sub(r"<[^>]+>", "", html).replace("\u2060", "")
+
+
+@pytest.mark.parametrize("language", ["uk", "ru"])
+def test_a_note_gives_each_letter_one_meaning_and_its_where_lines_the_lists_units(language):
+    """The list of symbols of a six-cylinder note with a flywheel names each symbol once (n the
+    crank speed, N the side force, ν the order of a harmonic, δ the irregularity alone, p the gas
+    pressure alone); every "where" line's unit is the list's unit of that symbol, or the unit of the
+    equations the list gives beside it ("МПа (в формулах – Па)")."""
+    html = shared_html("inline4-petrol", _SIX, language=language).linked_html
+    listed = html[html.index('<div class="symbol-list">') :]
+    listed = listed[: listed.index("</div>")]
+    rows = _ROW.findall(listed)
+    markups = [markup for markup, _ in rows]
+    assert [m for m in set(markups) if markups.count(m) > 1] == []
+    for key in ("crank_speed", "side_specific", "harmonic_order", "irregularity"):
+        assert symbol_html(key, language) in markups, key
+    assert "post_expansion_ratio" not in typeset.symbols_used(html, language, SYMBOLS)
+    t = translator(language)
+    units = {t(key) for key in ("unit.Pa", "unit.MPa", "unit.m", "unit.mm", "unit.m2", "unit.cm2")}
+    meaning_of = dict(rows)
+    lines = _WHERE.findall(html)
+    checked = 0
+    for markup, meaning in lines:
+        unit = _plain(meaning).rsplit(", ", 1)[-1]
+        if unit not in units:
+            continue
+        # the list's unit (an equation printing a value in it: "R = S/2 = 41 мм") or its SI unit
+        row = _plain(meaning_of[markup])
+        formulas = re.escape(_UNIT_IN_FORMULAS[language]).replace(r"\{\}", "([^()]+)")
+        found = re.search(rf", ([^,()]+)(?:{formulas})?$", row)
+        assert found and unit in found.groups(), (markup, unit, row)
+        checked += 1
+    assert checked >= 20
+    pressure = _plain(meaning_of[symbol_html("cylinder_pressure", language)])
+    assert pressure.endswith(
+        f", {t('unit.MPa')}" + _UNIT_IN_FORMULAS[language].format(t("unit.Pa"))
+    )
+
+
+def test_the_sums_the_axes_and_the_allowed_irregularity_are_in_the_list():
+    """ΣC, ΣM_C and the sums of one order (ΣP_I … ΣP_VI, listed as ΣP_ν), the bearing diagrams'
+    axes z_ш, t_ш, x, y and [δ] are symbols a reader meets in the note: the list explains them."""
+    html = shared_html("inline4-petrol", _SIX, language="ru").linked_html
+    listed = html[html.index('<div class="symbol-list">') :]
+    listed = _plain(listed[: listed.index("</div>")])
+    for row in (
+        "ΣC – равнодействующая центробежных сил всех колен, Н",
+        "ΣMC – момент центробежных сил всех колен относительно середины вала, Н·м",
+        "ΣPν – равнодействующая сил инерции ν-го порядка всех цилиндров",
+        "zш – ось диаграммы шатунного подшипника вдоль оси шатуна",
+        "tш – ось диаграммы шатунного подшипника, перпендикулярная к оси шатуна",
+        "x – ось диаграммы коренного подшипника",
+        "y – ось диаграммы коренного подшипника вдоль оси цилиндра",
+        "[δ] – допускаемый коэффициент неравномерности вращения",
+    ):
+        assert row in listed, row
+    # the orders in Roman numerals are instances of the order ν
+    assert typeset.order_indices("Σ<i>P</i><sub>VI</sub> <i>C</i><sub>II</sub>") == (
+        "Σ<i>P</i><sub><i>ν</i></sub> <i>C</i><sub>II</sub>"
+    )

@@ -27,30 +27,44 @@ def _rows(html: str) -> list[str]:
 
 def test_a_letter_with_several_meanings_names_the_sections_of_each_sectioned_meaning():
     t = translator("uk")
-    shows = "<i>n</i> <i>δ</i>"  # each section shows both letters
+    shows = "<i>n</i> <i>δ</i> <i>k</i>"  # each section shows the letters
     places = {
         "forces": [("section", "5", shows)],
         "bays": [("section", "9", shows)],
         "balancing": [("section", "6", shows)],
         "flywheel": [("section", "8", shows)],
     }
+    places["numerics"] = [("appendix", "Б", shows)]
     rows = _rows(
         symbol_list_html(
-            ["crank_speed", "side_specific", "harmonic_order", "irregularity"],
+            ["crank_speed", "rod_specific", "series_term", "irregularity"],
             t,
             "uk",
             places=places,
         )
     )
     assert rows[0] == "n – частота обертання колінчастого вала, хв⁻¹"  # holds throughout: no place
-    assert (
-        rows[1]
-        == "n – питома бокова сила, що притискає поршень до стінки циліндра (у розділах 5 і 9), МПа"
+    assert rows[1] == (
+        "k – питома сила, що діє вздовж шатуна (у розділах 5 і 9), МПа (у формулах – Па)"
     )
-    assert rows[2] == "n – порядок гармоніки сили чи моменту (у розділі 6)"
+    assert rows[2] == "k – номер члена ряду (у додатку Б)"
     assert (
         rows[3] == "δ – коефіцієнт нерівномірності обертання"
     )  # the only δ of this list: no place
+
+
+def test_the_crank_speed_side_force_and_order_of_a_harmonic_are_three_letters():
+    """n is the crank speed throughout a note: the side force is N (Kolchin's), the order of a
+    harmonic ν (as the torsion section writes it), so the list gives n one meaning."""
+    letters = {key: SYMBOLS[key].base for key in ("crank_speed", "side_specific", "harmonic_order")}
+    assert letters == {"crank_speed": "n", "side_specific": "N", "harmonic_order": "ν"}
+    t = translator("ru")
+    rows = _rows(symbol_list_html(["side_specific", "crank_speed", "harmonic_order"], t, "ru"))
+    assert rows == [
+        "N – удельная боковая сила, прижимающая поршень к стенке цилиндра, МПа (в формулах – Па)",
+        "n – частота вращения коленчатого вала, мин⁻¹",
+        "ν – порядок гармоники силы или момента",
+    ]
 
 
 def test_a_meaning_of_the_appendices_and_a_stage_absent_from_the_report():
@@ -67,9 +81,10 @@ def test_a_meaning_of_the_appendices_and_a_stage_absent_from_the_report():
         rows[0] == "k – number of a term of a series (in appendix B)"
     )  # appendix A shows k₂, not k
     assert rows[1].startswith(
-        "n – specific side force pressing the piston against the cylinder wall, "
+        "N – specific side force pressing the piston against the cylinder wall, "
     )
-    assert "(" not in rows[2]  # forces and bays are not in this report: nothing to point to
+    # forces and bays are not in this report: nothing to point to, only the unit of the equations
+    assert rows[2] == "k – specific force along the connecting rod, MPa (in the equations, Pa)"
 
 
 def test_the_places_are_read_from_the_report_headings():
@@ -95,7 +110,7 @@ def test_a_meaning_is_not_said_to_hold_in_a_section_that_does_not_show_its_lette
         "bays": [("section", "6", "<i>k</i><sub>2</sub> <i>N</i><sub>i</sub>")],
     }
     rows = _rows(symbol_list_html(["rod_specific", "series_term"], t, "uk", places=places))
-    assert rows[0] == "k – питома сила, що діє вздовж шатуна (у розділі 5), МПа"
+    assert rows[0] == "k – питома сила, що діє вздовж шатуна (у розділі 5), МПа (у формулах – Па)"
 
 
 def test_sources_are_cited_with_three_or_more_consecutive_numbers_as_a_range():
@@ -126,9 +141,9 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
         typeset("площі d·B; плече s.") == "площі <i>d</i>·<i>B</i>; плече <i>s</i>."
     )  # (a capital before "." is an initial)
     # an index subscript in italics as the equations set it, a numeral or a word's one upright
-    assert typeset("сила P_I і l′_i, C_n, Δα_{0i}, p_i тут") == (
+    assert typeset("сила P_I і l′_i, C_ν, Δα_{0i}, p_i тут") == (
         "сила <i>P</i><sub>I</sub> і <i>l</i>′<sub><i>i</i></sub>, "
-        "<i>C</i><sub><i>n</i></sub>, Δ<i>α</i><sub>0<i>i</i></sub>, "
+        "<i>C</i><sub><i>ν</i></sub>, Δ<i>α</i><sub>0<i>i</i></sub>, "
         "<i>p</i><sub>i</sub> тут"
     )
     # left upright

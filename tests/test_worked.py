@@ -63,9 +63,7 @@ FORMULAS = {
     "journal_torque_sum": lambda x: math.fsum(v for k, v in x.items() if re.fullmatch(r"t\d+", k)),
     "output_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
     "crank_torque": lambda x: x["t_k"] * 1e6 * x["R"] * x["F_p"],
-    "speed_irregularity": lambda x: (
-        2 * (x["omega_max"] - x["omega_min"]) / (x["omega_max"] + x["omega_min"])
-    ),
+    "speed_irregularity": lambda x: x["omega_range"] / x["omega_mid"],
     "centrifugal_amplitude": lambda x: x["m_R"] * x["R"] * x["omega"] ** 2,
     "first_order_amplitude": lambda x: x["m_s"] * x["R"] * x["omega"] ** 2,
     "second_order_amplitude": lambda x: x["lambda"] * x["C_I"],
@@ -187,11 +185,18 @@ def worked_html(html: str, block) -> str:
         b
         for b in blocks
         if all(
-            f"= {groups_unbroken(s.substituted_html)} =" in formula_as_read(b) for s in block.steps
+            # (the word joiner after a slash and the no-break spaces that bind a short line read away)
+            _as_text(f"= {groups_unbroken(s.substituted_html)} =") in _as_text(formula_as_read(b))
+            for s in block.steps
         )
     ]
     assert len(mine) == 1, block.stage
     return mine[0]
+
+
+def _as_text(html: str) -> str:
+    """``html`` without the binders of a line: word joiners and no-break spaces."""
+    return html.replace("\u2060", "").replace("\u00a0", " ")
 
 
 def _shows(cell: str, text: str) -> bool:

@@ -24,7 +24,7 @@ def newtons(t, force_N: float) -> str:
 
 
 #: The amplitude a table of orders divides by, as its headers print it (the catalogs' ``{scale}``).
-C_N = "<i>C</i><sub><i>n</i></sub>"
+C_N = "<i>C</i><sub><i>ν</i></sub>"
 
 
 def summary_symbol(s, sum_sign: str = "Σ") -> Markup:
@@ -59,4 +59,4 @@ def plain_symbol(s, sum_sign: str = "Σ") -> str:
 
 
 #: The offset crank-slider's phase of an acceleration harmonic (meaning: symbol.balancing.<key>).
-SYMBOLS = {"harmonic_phase": Symbol("ψ", {"en": "n"}, "°", html="<i>ψ</i><sub><i>n</i></sub>")}
+SYMBOLS = {"harmonic_phase": Symbol("ψ", {"en": "ν"}, "°", html="<i>ψ</i><sub><i>ν</i></sub>")}

@@ -43,7 +43,7 @@ def _offset_masses_table(ctx, r):
         [
             (t("balancing.quantity"), names, None),
             (t("balancing.value"), values, None),
-            (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>n</i></sub>, °"), phases, None),
+            (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>ν</i></sub>, °"), phases, None),
         ],
         caption=t("balancing.masses_caption"),
         see="balancing.see_masses",

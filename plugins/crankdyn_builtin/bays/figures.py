@@ -11,7 +11,7 @@ def bay_figure(f, cycle_deg, t):
     fig, ax = new_figure(16, 8)
     ax.plot(angle, f["bay_tangential_Pa"] / 1e6, label="$t_\\Sigma$")
     ax.plot(angle, f["bay_radial_Pa"] / 1e6, label="$z_\\Sigma$")
-    ax.plot(angle, f["master_side_Pa"] / 1e6, label="$n_\\Sigma$", lw=1)
+    ax.plot(angle, f["master_side_Pa"] / 1e6, label="$N_\\Sigma$", lw=1)
     ax.axhline(0, color="0.3", lw=0.6)
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel(t("unit.MPa"))

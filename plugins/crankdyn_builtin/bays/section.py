@@ -149,7 +149,7 @@ def _bay_parts(output: StageOutput, ctx) -> dict:
     parts["bay_table"] = ctx.table(
         [
             ("<i>α</i>, °", ctx.angle_labels(labels), None),
-            ("<i>n</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
+            ("<i>N</i><sub>Σ</sub>", f["master_side_Pa"][rows] / 1e6, 3),
             ("<i>p</i><sub>1<i>l</i></sub>", first["slave_total_Pa"][rows] / 1e6, 3),
             ("<i>β</i><sub><i>l</i></sub>, °", first["slave_rod_angle_deg"][rows], 2),
             ("<i>z</i><sub>Σ</sub>", f["bay_radial_Pa"][rows] / 1e6, 3),
@@ -266,8 +266,8 @@ SYMBOLS = {
     "pin_angle_difference": Symbol("φ", {}, "°"),
     "slave_total_force": Symbol("p", _L, "unit.MPa", html="<i>p</i><sub>1<i>l</i></sub>"),
     "slave_rod_force": Symbol("k", _L, "unit.MPa", html="<i>k</i><sub><i>l</i></sub>"),
-    "slave_side_force": Symbol("n", _L, "unit.MPa", html="<i>n</i>′<sub><i>l</i></sub>"),
-    "master_side_force_total": Symbol("n", {"en": "Σ"}, "unit.MPa"),
+    "slave_side_force": Symbol("N", _L, "unit.MPa", html="<i>N</i>′<sub><i>l</i></sub>"),
+    "master_side_force_total": Symbol("N", {"en": "Σ"}, "unit.MPa"),
     "slave_tangential_force": Symbol("t", _L, "unit.MPa", html="<i>t</i><sub><i>l</i></sub>"),
     "slave_radial_force": Symbol("z", _L, "unit.MPa", html="<i>z</i><sub><i>l</i></sub>"),
     "slave_stroke": Symbol("S", _L, "unit.mm", html="<i>S</i><sub><i>l</i></sub>"),

@@ -41,7 +41,6 @@ BEARINGS_STAGE = Stage(
             "centrifugal_force",
             "journal_diameter",
             "bearing_width",
-            "bearing_pressure",
             "pin_load_max",
             "pin_load_mean",
             "bearing_pressure_max",

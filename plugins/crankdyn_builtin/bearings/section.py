@@ -202,5 +202,13 @@ def _load_ranges(ctx, r, single: bool) -> str:
     return " ".join(a for a in analysis if a)
 
 
-#: The crank's angle from the cylinder axis of an offset crank-slider (symbol.bearings.<key>).
-SYMBOLS = {"axis_crank_angle": Symbol("φ", {}, "°")}
+#: The crank's angle from the cylinder axis of an offset crank-slider and the axes of the bearing
+#: diagrams (symbol.bearings.<key>).
+_ROD = {"en": "r", "uk": "ш", "ru": "ш"}
+SYMBOLS = {
+    "axis_crank_angle": Symbol("φ", {}, "°"),
+    "rod_axis_z": Symbol("z", _ROD, ""),
+    "rod_axis_t": Symbol("t", _ROD, ""),
+    "frame_axis_y": Symbol("y", {}, ""),
+    "frame_axis_x": Symbol("x", {}, ""),
+}

@@ -15,7 +15,7 @@ def _forces_figure(t, cycle_deg, angle, mpa):
             ("inertia_Pa", symbol_mathtext("inertia_pressure", t.language)),
             ("total_Pa", symbol_mathtext("total_pressure", t.language)),
         ],
-        [("side_Pa", "$n$"), ("rod_Pa", "$k$")],
+        [("side_Pa", "$N$"), ("rod_Pa", "$k$")],
         [("radial_Pa", "$z$"), ("tangential_Pa", "$t$")],
     )
     for ax, curves in zip(axes, panels, strict=True):

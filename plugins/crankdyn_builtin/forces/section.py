@@ -110,7 +110,7 @@ def _table_b1(ctx, f, mpa: dict, r, grid, t_extremes) -> tuple[str, str]:
             ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
             ("<i>p</i><sub>jII</sub>", mpa["inertia_second_order_Pa"][rows], 3),
             ("<i>p</i><sub>1</sub>", mpa["total_Pa"][rows], 3),
-            ("<i>n</i>", mpa["side_Pa"][rows], 3),
+            ("<i>N</i>", mpa["side_Pa"][rows], 3),
             ("<i>k</i>", mpa["rod_Pa"][rows], 3),
             ("<i>z</i>", mpa["radial_Pa"][rows], 3),
             ("<i>t</i>", mpa["tangential_Pa"][rows], 3),

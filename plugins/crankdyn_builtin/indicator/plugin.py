@@ -75,12 +75,10 @@ INDICATOR_STAGE = Stage(
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
-        # the core's letters that hold with their meaning in this section only
-        section_symbols=("post_expansion_ratio",),
         title_key="indicator.title",
         render=render,
         figures=("pV", "p_alpha"),
-        references=("poda2007", "orlin1983", "heywood1988"),
+        references=("poda2007", "orlin1983", "heywood1988", "kolchin2002"),
         symbols=SYMBOLS,
     ),
 )

@@ -14,6 +14,15 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
 from crankdyn.plugin.types import StageOutput
 
+#: Significant digits of the two-term formulas' largest differences, in the section's text and in
+#: the appendix's note alike (kinematics.html.j2): one rounding of a quantity wherever it is printed.
+TWO_TERM_DIGITS = 3
+
+
+def _significant(value: float, digits: int = TWO_TERM_DIGITS) -> float:
+    """``value`` rounded to ``digits`` significant digits (a note prints its number as given)."""
+    return float(f"{value:.{digits - 1}e}")
+
 
 def applies(scene) -> str | None:
     if scene.engine.mechanism != "crank_slider":
@@ -93,8 +102,8 @@ def run(scene, inputs) -> StageOutput:
         (
             "kinematics.note_two_term_error",
             {
-                "ds_mm": results["two_term_displacement_error_max_m"] * 1e3,
-                "dj": results["two_term_acceleration_error_max_m_s2"],
+                "ds_mm": _significant(results["two_term_displacement_error_max_m"] * 1e3),
+                "dj": _significant(results["two_term_acceleration_error_max_m_s2"]),
             },
         ),
     ]

@@ -53,7 +53,7 @@ KINEMATICS_STAGE = Stage(
         title_key="kinematics.title",
         render=render,
         figures=("piston", "rod", "rod_cm"),
-        references=("poda2007", "tristen", "artobolevsky1988", "kolchin2002"),
+        references=("poda2007", "artobolevsky1988", "kolchin2002"),
     ),
 )
 

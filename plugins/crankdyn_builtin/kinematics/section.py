@@ -9,6 +9,7 @@ from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
 
+from .compute import TWO_TERM_DIGITS
 from .figures import _piston_figure, _rod_cm_figure, _rod_figure
 
 
@@ -74,6 +75,7 @@ def render(output: StageOutput, ctx) -> str:
         figure_rod=figure_rod,
         figure_cm=figure_cm,
         worked=worked,
+        two_term_digits=TWO_TERM_DIGITS,
     )
 
 

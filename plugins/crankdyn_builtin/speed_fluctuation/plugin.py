@@ -36,7 +36,7 @@ SPEED_FLUCTUATION_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("irregularity", "cylinder_phase"),
+        section_symbols=("irregularity",),
         title_key="speed_fluctuation.title",
         render=render,
         figures=("speed", "solvers_single", "modes", "campbell", "torsion", "solvers_torsion"),

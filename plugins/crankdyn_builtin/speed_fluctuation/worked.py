@@ -1,28 +1,34 @@
 """The worked substitution of the speed-fluctuation stage: the coefficient of cyclic irregularity
-from the extreme speeds the section states, δ = (ω_max − ω_min)/ω_m, ω_m = (ω_max + ω_min)/2."""
+from the speeds the section states, δ = (ω_max − ω_min)/ω_m, ω_m = (ω_max + ω_min)/2."""
 
 from __future__ import annotations
 
 from markupsafe import Markup
 
+from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup
 
 
 def worked_speed_fluctuation(ctx, r) -> Markup:
-    """δ with the speeds as the text prints them (6 significant digits), equal to the δ it states."""
+    """δ from the range of the speed and its mean as the text prints them (4 significant digits,
+    as every speed of the note): the difference of two speeds printed to 4 digits would carry
+    only two, so the text states the range itself."""
     t = ctx.t
-    hi_txt, hi = printed(t, r["omega_max_rad_s"], 6)
-    lo_txt, lo = printed(t, r["omega_min_rad_s"], 6)
+    omega_range = r["omega_max_rad_s"] - r["omega_min_rad_s"]
+    omega_mid = 0.5 * (r["omega_max_rad_s"] + r["omega_min_rad_s"])
+    range_txt, range_printed = printed(t, omega_range)
+    mid_txt, mid_printed = printed(t, omega_mid)
+    mean = symbol_html("mean_angular_velocity", t.language)
     step = WorkedStep(
         "speed_irregularity",
         "<i>δ</i>",
-        "2(<i>ω</i><sub>max</sub> − <i>ω</i><sub>min</sub>)/(<i>ω</i><sub>max</sub> + <i>ω</i><sub>min</sub>)",
-        f"2·({hi_txt} − {lo_txt})/({hi_txt} + {lo_txt})",
+        f"(<i>ω</i><sub>max</sub> − <i>ω</i><sub>min</sub>)/{mean}",
+        f"{range_txt}/{mid_txt}",
         r["irregularity"],
         0,
         "",
-        {"omega_max": hi, "omega_min": lo},
+        {"omega_range": range_printed, "omega_mid": mid_printed},
         significant=4,
-        exact={"omega_max": r["omega_max_rad_s"], "omega_min": r["omega_min_rad_s"]},
+        exact={"omega_range": omega_range, "omega_mid": omega_mid},
     )
     return worked_markup(ctx, WorkedBlock("speed_fluctuation", "", None, [step]))

@@ -13,6 +13,10 @@ from crankdyn_builtin.torque.worked import worked_torque
 
 from .figures import _journals_figure, _output_figure
 
+#: Decimals of a torque in N·m in the tables, and of the torques the conclusions take from them:
+#: one rounding of a quantity wherever it is printed.
+TORQUE_DECIMALS = 1
+
 
 def output_end(scene) -> str:
     """The catalog suffix of the power take-off end: an aircraft engine's propeller, else the
@@ -26,12 +30,20 @@ def _journals_table(ctx, journals) -> str:
     return ctx.table(
         [
             (t("torque.journal"), [journal_name(j["journal"]) for j in journals], None),
-            (t("torque.journal_max") + ", " + t("unit.Nm"), [j["max_Nm"] for j in journals], 1),
-            (t("torque.journal_min") + ", " + t("unit.Nm"), [j["min_Nm"] for j in journals], 1),
+            (
+                t("torque.journal_max") + ", " + t("unit.Nm"),
+                [j["max_Nm"] for j in journals],
+                TORQUE_DECIMALS,
+            ),
+            (
+                t("torque.journal_min") + ", " + t("unit.Nm"),
+                [j["min_Nm"] for j in journals],
+                TORQUE_DECIMALS,
+            ),
             (
                 t("torque.journal_amplitude") + ", " + t("unit.Nm"),
                 [j["amplitude_Nm"] for j in journals],
-                1,
+                TORQUE_DECIMALS,
             ),  # words: M_max is the engine's
         ],
         caption=t("torque.journals_table_caption"),
@@ -112,7 +124,9 @@ def _b3_columns(ctx, f, rows, labels, cranks: int) -> list:
             (f"<i>t</i><sub>w{k}</sub>", f[f"crank{k}_pin_torque_Pa"][rows] / 1e6, 3),
             (f"<i>t</i><sub>k{k}</sub>", f[f"journal{k}_torque_Pa"][rows] / 1e6, 3),
         ]
-    columns.append(("<i>M</i><sub>d</sub>, " + ctx.t("unit.Nm"), f["output_torque_Nm"][rows], 1))
+    columns.append(
+        ("<i>M</i><sub>d</sub>, " + ctx.t("unit.Nm"), f["output_torque_Nm"][rows], TORQUE_DECIMALS)
+    )
     return columns
 
 
@@ -192,9 +206,9 @@ def _conclude(ctx, r) -> None:
             mean=ctx.num(r["mean_Nm"]),
             from_work=ctx.num(r["mean_from_work_Nm"]),
             deviation=ctx.num(r["mean_deviation_percent"] or 0.0, 2),
-            max=ctx.num(r["max_Nm"]),
+            max=t.fixed(r["max_Nm"], TORQUE_DECIMALS),
             max_angle=ctx.angle_text(r["max_crank_angle_deg"]),
-            min=ctx.num(r["min_Nm"]),
+            min=t.fixed(r["min_Nm"], TORQUE_DECIMALS),
             period=ctx.angle_text(r["period_deg"]),
             mu=ctx.num(r["non_uniformity"], 3),
         )

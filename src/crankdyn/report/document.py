@@ -23,7 +23,7 @@ from ..plugin.registry import Registry
 from ..plugin.scene_inputs import rounding_parameters
 from ..version import __version__
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
-from .equation_legend import add_equation_legends, symbol_meaning
+from .equation_legend import add_equation_legends, line_unit, symbol_meaning
 from .frame import frame_html
 from .i18n import translator
 from .plausibility import format_params, report_key, scene_warnings, stage_warnings
@@ -959,7 +959,7 @@ def symbol_list_html(
     markups = [symbol_html(key, language, symbols) for key in keys]
     rows = []
     for key, markup in zip(keys, markups, strict=True):
-        unit = symbol_unit(key, t, symbols)
+        unit = list_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         where = (
             _where(_symbol_stages(key, symbols), places or {}, t, markup)
@@ -984,6 +984,17 @@ def symbol_list_html(
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html
+
+
+def list_unit(key: str, t, symbols: SymbolTable) -> str:
+    """A symbol's unit in the list of symbols: the tables' unit, and the SI unit the "where" lines
+    give where the equations take the quantity in another ("МПа (в формулах – Па)"), so that the
+    list and the lines under the equations never seem to disagree."""
+    unit = symbol_unit(key, t, symbols)
+    in_formulas = line_unit(key, t, symbols)
+    if not unit or in_formulas == unit:
+        return unit
+    return t("doc.symbols_unit_in_formulas", unit=unit, si=in_formulas)
 
 
 def _symbol_stages(key: str, symbols: SymbolTable) -> tuple[str, ...]:

@@ -113,8 +113,8 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         "z", {}, "unit.MPa", "symbol.radial_specific", sections=SECTION_BOUND
     ),
     "rod_specific": Symbol("k", {}, "unit.MPa", "symbol.rod_specific", sections=SECTION_BOUND),
-    # the textbook's n is also the crank speed: in the forces section it is the side force
-    "side_specific": Symbol("n", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
+    # N, not the textbook's n, which is the crank speed throughout the note (Kolchin's N)
+    "side_specific": Symbol("N", {}, "unit.MPa", "symbol.side_specific", sections=SECTION_BOUND),
     "pin_resultant_specific": Symbol("q", {}, "unit.MPa", "symbol.pin_resultant_specific"),
     "rod_cm_distance": Symbol("l", {"en": "R"}, "unit.mm", "symbol.rod_cm_distance"),
     "crank_pin_mass": Symbol(
@@ -134,10 +134,10 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "first_order_amplitude": Symbol("C", {"en": "I"}, "unit.N", "symbol.first_order_amplitude"),
     "second_order_amplitude": Symbol("C", {"en": "II"}, "unit.N", "symbol.second_order_amplitude"),
     "order_amplitude": Symbol(
-        "C", {"en": "n"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>n</i></sub>"
+        "C", {"en": "ν"}, "unit.N", "symbol.order_amplitude", html="<i>C</i><sub><i>ν</i></sub>"
     ),
     "acceleration_harmonic": Symbol(
-        "A", {"en": "n"}, "", "symbol.acceleration_harmonic", html="<i>A</i><sub><i>n</i></sub>"
+        "A", {"en": "ν"}, "", "symbol.acceleration_harmonic", html="<i>A</i><sub><i>ν</i></sub>"
     ),
     "total_volume": Symbol("V", {"en": "a"}, "unit.l", "symbol.total_volume"),
     # δ is the irregularity in the flywheel sections: both meanings scoped, so the list says where each holds
@@ -299,7 +299,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         html="<i>t</i><sub>k<i>N</i></sub>",
     ),
     "order_force": Symbol(
-        "P", {"en": "n"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>n</i></sub>"
+        "P", {"en": "ν"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>ν</i></sub>"
     ),
     # the bearing loads (R alone is the crank radius; R_max, R_mean only in the bearings section)
     "pin_load_max": Symbol(
@@ -333,23 +333,23 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         sections=SECTION_BOUND,
     ),
     # the balancing section's complex-amplitude model (j, upright, is the imaginary unit there; i numbers
-    # the cylinders; the textbook's n, the crank speed elsewhere, is the order of a harmonic there)
-    "harmonic_order": Symbol("n", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
+    # the cylinders; ν is the order of a harmonic, as in the torsion section: n is the crank speed)
+    "harmonic_order": Symbol("ν", {}, "", "symbol.harmonic_order", sections=SECTION_BOUND),
     "shaft_angle": Symbol(
         "θ", {}, "°", "symbol.shaft_angle", in_scripts=True, sections=SECTION_BOUND
     ),
     "forward_vector": Symbol(
-        "f", {"en": "n"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>n</i></sub>"
+        "f", {"en": "ν"}, "unit.N", "symbol.forward_vector", html="<i>f</i><sub><i>ν</i></sub>"
     ),
     "backward_vector": Symbol(
-        "b", {"en": "n"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>n</i></sub>"
+        "b", {"en": "ν"}, "unit.N", "symbol.backward_vector", html="<i>b</i><sub><i>ν</i></sub>"
     ),
     "backward_conjugate": Symbol(
         "b",
-        {"en": "n"},
+        {"en": "ν"},
         "unit.N",
         "symbol.backward_conjugate",
-        html="<i>b</i><sub><i>n</i></sub><sup>*</sup>",
+        html="<i>b</i><sub><i>ν</i></sub><sup>*</sup>",
     ),  # (b̄: the bar crossed the ascender)
     "crank_lag": Symbol(
         "ξ",
@@ -385,13 +385,13 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     "cylinder_order_force": Symbol(
         "P",
-        {"en": "ni"},
+        {"en": "νi"},
         "unit.N",
         "symbol.cylinder_order_force",
-        html="<i>P</i><sub><i>n</i><i>i</i></sub>",
+        html="<i>P</i><sub><i>ν</i><i>i</i></sub>",
     ),
     "order_moment": Symbol(
-        "M", {"en": "n"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>n</i></sub>"
+        "M", {"en": "ν"}, "unit.Nm", "symbol.order_moment", html="<i>M</i><sub><i>ν</i></sub>"
     ),
     # a bay's dynamically equivalent model (the textbook's figures 29-33): its rotating vectors and
     # the semi-axes of its hodographs, first and second order
@@ -553,6 +553,20 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     # the balancing means: Q = F + ΣC
     "counterweight_force": Symbol("Q", {}, "unit.N", "symbol.counterweight_force"),
+    # the sums over all cranks and cylinders (a letter after Σ is the sum, not one crank's quantity);
+    # a sum of one order is printed with the order in Roman numerals (ΣP_VI: one ΣP_ν)
+    "sum_centrifugal": Symbol("C", {}, "unit.N", "symbol.sum_centrifugal", html="Σ<i>C</i>"),
+    "sum_centrifugal_moment": Symbol(
+        "M", {"en": "C"}, "unit.Nm", "symbol.sum_centrifugal_moment", html="Σ<i>M</i><sub>C</sub>"
+    ),
+    "sum_order_force": Symbol(
+        "P", {"en": "ν"}, "unit.N", "symbol.sum_order_force", html="Σ<i>P</i><sub><i>ν</i></sub>"
+    ),
+    "sum_order_moment": Symbol(
+        "M", {"en": "ν"}, "unit.Nm", "symbol.sum_order_moment", html="Σ<i>M</i><sub><i>ν</i></sub>"
+    ),
+    # the flywheel's given irregularity, [δ]
+    "allowed_irregularity": Symbol("δ", {}, "", "symbol.allowed_irregularity", html="[<i>δ</i>]"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
@@ -681,8 +695,12 @@ def symbol_pattern(
     tried at every character of a report (≈ 45 ms of a report's rendering for its symbol list)."""
     markup = symbol_html(key, language, symbols)
     literal = re.escape(markup)
-    before = (*not_after, *(() if markup.startswith("Δ") else ("Δ",)))
+    # after Δ a difference, after Σ a sum: other quantities
+    before = (*not_after, *(sign for sign in ("Δ", "Σ") if not markup.startswith(sign)))
     checks = "".join(f"(?<!{re.escape(text)}{literal})" for text in before)
+    # in brackets of its own an allowed value ([δ]), not the quantity ("[λ_p(ρ − 1) …]" is)
+    if not markup.startswith("["):
+        checks += rf"(?!(?<=\[{literal})\])"
     tail = tail if "<sub>" in markup else "(?!<sub>)" + tail
     return literal + checks + tail
 
@@ -699,6 +717,20 @@ def unshifted_indices(html: str) -> str:
         if "1</sub>" in html or "1)</sub>" in html
         else html
     )
+
+
+#: A force or moment of one order, the order in Roman numerals (ΣP_VI, ΣM_II, P_IV, C_VI): the
+#: symbol of order ν (C_I and C_II, the first two orders' amplitudes, are symbols of their own).
+_ROMAN = r"(?=[IVX])X{0,3}(?:IX|IV|V?I{0,3})"
+_ORDER_INDEX = re.compile(rf"(Σ?<i>[PM]</i>|<i>C</i>(?!<sub>II?</sub>))<sub>{_ROMAN}</sub>")
+
+
+def order_indices(html: str) -> str:
+    """``html`` with each force or moment of one order written as the symbol of order ν (ΣP_VI as
+    ΣP_ν, which the list of symbols explains)."""
+    if "</i><sub>" not in html:
+        return html
+    return _ORDER_INDEX.sub(r"\1<sub><i>ν</i></sub>", html)
 
 
 _STAGE_START = re.compile(r'<section\b[^>]*\bdata-stage="([^"]*)"')
@@ -735,7 +767,7 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
     over (the vane engine's μ is not the torque non-uniformity, the rod dynamics' M not the error
     study's total torque). A stage's own symbol (``stage.key``) exists only in a report that has the
     stage's section (the vane engine's S of the input table is not a piston engine's)."""
-    parts = _stage_parts(unshifted_indices(html))
+    parts = _stage_parts(order_indices(unshifted_indices(html)))
     present = {stage for stage, _ in parts}
     table = SymbolTable(
         {
