@@ -269,6 +269,36 @@ def test_a_tall_mechanisms_positions_are_half_the_text_width(engine):
         assert [t.get_text() for t in ax.texts] == []
 
 
+@pytest.mark.parametrize(
+    "engine, count, expected",
+    [("radial9", 5, [3, 2]), ("radial9", 9, [4, 3, 2]), ("v8", 9, [6, 3])],
+)
+def test_no_positions_figure_holds_a_lone_panel(engine, count, expected):
+    """Panels about as high as wide (a radial: two rows of two a figure; a V: four rows) fill
+    whole rows, but the last figure takes a panel from the one before rather than hold a lone
+    one: five of a radial as three and two; each panel half the text width, a last row's
+    single panel centred under the two above it."""
+    name, changes = ENGINES[engine]
+    positions = shared_run(name, changes, stages=("drawing",)).outputs["drawing"]
+    positions = positions.artifacts["positions"]
+    frames = [(k % 5, f"position {k}\nα = {k}°") for k in range(count)]
+    cols, per_sheet = md.positions_layout(positions, count)
+    assert cols == 2 and per_sheet == {"radial9": 4, "v8": 8}[engine]
+    sheets = md.positions_sheets(positions, frames)
+    assert [len(sheet) for sheet in sheets] == expected
+    assert [f for sheet in sheets for f in sheet] == frames  # in order, each once
+    fig = md.positions_figure(positions, sheets[0])
+    width_mm = fig.get_size_inches()[0] * 25.4
+    lefts = []
+    for ax in fig.axes:
+        box = ax.get_position()
+        assert box.width * width_mm == pytest.approx(md.TEXT_WIDTH_MM / 2, abs=1e-6)
+        lefts.append(box.x0 * width_mm)
+    if len(sheets[0]) % 2:  # the last row's panel centred: a quarter of the text width in
+        assert lefts[-1] == pytest.approx(md.TEXT_WIDTH_MM / 4, abs=1e-6)
+        assert lefts[:2] == pytest.approx([0.0, md.TEXT_WIDTH_MM / 2], abs=1e-6)
+
+
 def test_the_print_style_lets_the_positions_figure_be_as_high_as_it_is_drawn():
     """The page's style shrinks a figure higher than 175 mm, but not the positions figure, drawn
     up to FIGURE_HEIGHT_MM high so that its panels are half the text width."""

@@ -1714,12 +1714,19 @@ def _panel_geometry(geometry):
 
 def positions_sheets(geometry, frames: list) -> list[list]:
     """The frames split into the figures that hold them (:func:`positions_layout`), each but the
-    last filled with whole rows: five panels of a radial as four (two rows) and one."""
+    last filled with whole rows; but a last figure of one panel takes one from the figure before
+    it when that keeps two or more: five panels of a radial (two rows of two a figure) as three
+    and two, not four and a lone one on a page of its own. Panels half the text width wide and
+    one row high a figure (a cylinder above its crank) leave an odd one alone."""
     cols, per_sheet = positions_layout(geometry, len(frames))
     sheets = -(-len(frames) // per_sheet)
     size = -(-len(frames) // sheets)
     size = -(-size // cols) * cols if size > cols else size  # whole rows first
-    return [frames[k : k + size] for k in range(0, len(frames), size)]
+    sizes = [min(size, len(frames) - k) for k in range(0, len(frames), size)]
+    if cols > 1 and len(sizes) > 1 and sizes[-1] == 1 and sizes[-2] > 2:
+        sizes[-2:] = [sizes[-2] - 1, 2]
+    starts = np.cumsum([0] + sizes)
+    return [frames[a:b] for a, b in zip(starts[:-1], starts[1:], strict=True)]
 
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
@@ -1738,7 +1745,9 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     fig = new_drawing(width * cols, row_mm * rows)
     for k, (i, caption) in enumerate(frames):
         row, col = divmod(k, cols)
-        ax = add_axes_mm(fig, col * width, (rows - 1 - row) * row_mm, width, height)
+        in_row = min(cols, len(frames) - row * cols)  # a last row's fewer panels centred
+        left = (col + (cols - in_row) / 2) * width
+        ax = add_axes_mm(fig, left, (rows - 1 - row) * row_mm, width, height)
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
