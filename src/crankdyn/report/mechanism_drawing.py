@@ -1514,6 +1514,7 @@ PAGE_ROOM_MM = (165.0, 200.0)
 _LIMITS_SLACK = 1.6
 STAR_SIZE_MM = 40.0
 _STAR_GAP_MM = 8.0
+_STAR_TITLE_MM = 8.0  # the star's title of two lines above it, when the star is under the drawing
 _MARGIN_MM = 2.0
 
 
@@ -1612,8 +1613,9 @@ def _scheme_at(
     width_mm, height_mm = (x1 - x0) * scale, (y1 - y0) * scale
     below = with_star and star_below
     if below:  # the star's room under the drawing: the star is placed there once it is drawn
-        fig = new_drawing(width_mm, height_mm + _STAR_GAP_MM + STAR_SIZE_MM)
-        ax = add_axes_mm(fig, 0.0, _STAR_GAP_MM + STAR_SIZE_MM, width_mm, height_mm)
+        below_mm = _STAR_GAP_MM + _STAR_TITLE_MM + STAR_SIZE_MM
+        fig = new_drawing(width_mm, height_mm + below_mm)
+        ax = add_axes_mm(fig, 0.0, below_mm, width_mm, height_mm)
     else:
         fig = new_drawing(
             width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm,
@@ -1634,12 +1636,12 @@ def _scheme_at(
         bottom_mm, middle_mm = (
             (box.y0 / fig.dpi * 25.4, (box.x0 + box.x1) / 2 / fig.dpi * 25.4)
             if box is not None
-            else (_STAR_GAP_MM + STAR_SIZE_MM, width_mm / 2)
+            else (_STAR_GAP_MM + _STAR_TITLE_MM + STAR_SIZE_MM, width_mm / 2)
         )
         star = add_axes_mm(
             fig,
             middle_mm - STAR_SIZE_MM / 2,
-            bottom_mm - _STAR_GAP_MM - STAR_SIZE_MM,
+            bottom_mm - _STAR_GAP_MM - _STAR_TITLE_MM - STAR_SIZE_MM,
             STAR_SIZE_MM,
             STAR_SIZE_MM,
         )
