@@ -1106,8 +1106,13 @@ def _bank_marks(
         _, d, _ = _guide_frame(geometry, guide, i)
         _angle_arc(ax, wrist, -d, (pin - wrist) / length, length * 0.3, "", extent)
     alpha_arc = float(np.dot(zero, along)) < np.cos(np.radians(1.0))  # none on the zero line
-    if alpha_arc:  # its letter placed below, clear of the rods round the crank pin
-        _angle_arc(ax, centre, zero, along, radius * 0.55, "", extent)
+    # among three or more rods round the crank pin α's letter goes where it is clearest (below);
+    # two banks' (a V's, a boxer's) stands outside the arc's middle
+    placed_alpha = alpha_arc and len(pairs) > 2
+    if alpha_arc:
+        _angle_arc(
+            ax, centre, zero, along, radius * 0.55, "" if placed_alpha else marks["alpha"], extent
+        )
     clearance = _Clearance(ax, geometry, i, extent)
     # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
     candidates = [
@@ -1127,7 +1132,7 @@ def _bank_marks(
     _rotation_arrow(ax, centre, best[1], marks["omega"], extent, best[0])
     clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
     clearance.add_last_text()
-    if alpha_arc:
+    if placed_alpha:
         clearance.place(
             _beside_arc(centre, zero, along, radius * 0.55, extent),
             marks["alpha"],
