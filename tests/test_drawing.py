@@ -235,7 +235,7 @@ def test_drawing_texts_are_translated(language, title):
         ("inline4-petrol", True),
         ("offset-crank-engine", True),
         ("v8-petrol", "banks"),
-        ("radial9-aircraft", False),
+        ("radial9-aircraft", "radial"),
         ("vane-engine-kinematics", False),
         ("planetary-kinematics", False),
     ],
@@ -245,8 +245,9 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     the cylinder axis, clockwise), and, where one cylinder axis is drawn, the angles α and β, the
     sense of rotation ω and the dead centres, named in the text; a V marks O, B, each bank's A and
     β (indexed with the bank's letter), α and ω, not the dead centres (beside one bank's liner
-    they would meet the other's); a radial is drawn without marks and its text does not speak of
-    them."""
+    they would meet the other's); a radial marks O, B, each cylinder's A (indexed with its number)
+    and ω, not β (its slave rods hang on the master rod) nor α (drawn at cylinder 1's TDC, its
+    crank lies on the line α counts from), and its text says so."""
     from crankdyn.report import mechanism_drawing as md
 
     result = _run(example)
@@ -276,6 +277,12 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
         # hatched sun gear, the carrier's radius a = (60 + 20)/2 mm
         for mark in ("α", "ω", ">O<", ">A<", ">B<", ">C<", ">K<", ">a = 40 mm<"):
             assert mark in svg, mark
+    elif marked == "radial":
+        for mark in ("ω", ">O<", ">A<", ">B<", ">1<", ">9<"):
+            assert mark in svg, mark
+        assert "α" not in svg and "β" not in svg
+        assert "indexed with the cylinder&#39;s number" in html
+        assert "counted from the TDC of cylinder 1 " in html
     else:
         for mark in ("α", "β", "ω", ">O<", ">A<", ">B<"):
             assert (mark in svg) is bool(marked), mark
@@ -306,6 +313,7 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
         assert stroke == pytest.approx(expected, rel=1e-12)
     assert (md.angle_mark_parts(md.front_view(positions)) is not None) is (marked is True)
     assert (md.bank_mark_parts(md.front_view(positions)) is not None) is banks
+    assert (md.radial_mark_parts(md.front_view(positions)) is not None) is (marked == "radial")
     if (
         marked is not True and "L" in positions.dimensions and positions.links
     ):  # its rod's length is drawn as before

@@ -17,6 +17,33 @@ ENGINES = {
     "offset": ("offset-crank-engine", {}),
     "radial9": ("radial9-aircraft", {}),
     "inline4": ("inline4-petrol", {}),
+    # the V8's cylinders in three banks at 60° and in four at 90°, firing evenly
+    "w12": (
+        "v8-petrol",
+        {
+            "engine": {
+                "layout": "W",
+                "cylinders": 12,
+                "bank_angle_deg": 60,
+                "crank_angles_deg": None,
+                "firing_order": [f"{k}{bank}" for k in range(1, 5) for bank in "LCR"],
+            }
+        },
+    ),
+    "x16": (
+        "v8-petrol",
+        {
+            "engine": {
+                "layout": "X",
+                "cylinders": 16,
+                "bank_angle_deg": 90,
+                "crank_angles_deg": None,
+                "firing_order": [
+                    f"{k}{bank}" for pair in (1, 3) for bank in "ABCD" for k in (pair, pair + 1)
+                ],
+            }
+        },
+    ),
 }
 MARKS = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": "TDC", "bdc": "BDC"}
 
@@ -142,11 +169,84 @@ def test_bank_letter():
     assert md.bank_letter("3") == "3"
 
 
-def test_a_w_engine_and_a_radial_carry_no_bank_marks():
-    """Three or more axes round one hub leave no room for every pin's letter."""
-    fig, geometry, _ = _scheme("radial9")
-    assert md.bank_mark_parts(geometry) is None
-    assert not any(t.get_text() == "α" for t in fig.axes[0].texts)
+def _centre_mm(ax, artist, renderer) -> np.ndarray:
+    box = artist.get_window_extent(renderer)
+    return ax.transData.inverted().transform([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
+
+
+@pytest.mark.parametrize(
+    "engine, indices, rod_angles",
+    [
+        ("w12", ["L", "C", "R"], True),
+        ("x16", ["A", "B", "C", "D"], True),
+        ("radial9", [str(k) for k in range(1, 10)], False),
+    ],
+)
+def test_a_w_an_x_and_a_radial_mark_every_banks_piston_pin(engine, indices, rod_angles):
+    """O, B, ω and one A per cylinder axis, indexed with its bank's letter (a radial's: the
+    cylinder's number), each A nearer its own piston pin than any other joint; β per bank where
+    the rods are on the crank pin (a radial's slave rods are on the master rod's knuckle pins);
+    no two letters overprint one another."""
+    fig, geometry, frame = _scheme(engine)
+    ax = fig.axes[0]
+    renderer = fig.canvas.get_renderer()
+    found = _by_gid(ax)
+    assert [g.label for g in geometry.guides] == [f"1{k}" for k in indices] or engine == "radial9"
+    for mark in ("mark-O", "mark-B", "mark-ω"):
+        assert len(found.get(mark, [])) == 1, mark
+    pins = {md.bank_letter(g.label): geometry.joints[g.joint][frame] * 1e3 for g in geometry.guides}
+    joints = {name: p[frame] * 1e3 for name, p in geometry.joints.items()}
+    for index in indices:
+        (letter,) = found[f"mark-A_{index}"]
+        (sub,) = found[f"mark-A_{index}-index"]
+        assert (letter.get_text(), sub.get_text()) == ("A", index)
+        at = _centre_mm(ax, letter, renderer)
+        nearest = min(joints, key=lambda k: np.linalg.norm(joints[k] - at))
+        assert np.allclose(joints[nearest], pins[index]), (index, nearest)
+        assert (f"mark-β_{index}" in found) is rod_angles
+    # B by the crank pin, O by the shaft's axis: of the points the scheme names, the nearest
+    named = {k: joints[k] for k in ("crank_pin_1", "crank_centre")}
+    named.update({g.joint: joints[g.joint] for g in geometry.guides})
+    for mark, joint in (("mark-B", "crank_pin_1"), ("mark-O", "crank_centre")):
+        at = _centre_mm(ax, found[mark][0], renderer)
+        assert min(named, key=lambda k: np.linalg.norm(named[k] - at)) == joint, mark
+    marks = [a for gid, artists in found.items() if gid.startswith("mark-") for a in artists]
+    boxes = [a.get_window_extent(renderer).padded(-0.5) for a in marks]
+    for k, box in enumerate(boxes):
+        for other in boxes[k + 1 :]:
+            assert not box.overlaps(other)
+
+
+def test_the_schemes_alpha_has_its_arc_unless_the_crank_is_on_its_zero_line():
+    """α is drawn where the crank stands at 45° from cylinder 1's TDC (W, X); a radial's scheme
+    shows cylinder 1 at TDC, where the crank lies on the line α counts from: no arc, no α."""
+    for engine, drawn in (("w12", True), ("x16", True), ("radial9", False)):
+        fig, _, _ = _scheme(engine)
+        assert any(t.get_text() == "α" for t in fig.axes[0].texts) is drawn, engine
+
+
+def test_a_wide_scheme_puts_its_crank_star_below_rather_than_halve_its_scale():
+    """A W12's banks at 60° make a drawing too wide for the crank star beside it at 1:4 (beside
+    it, at half that scale or less): it is drawn at 1:4 with the star below it; a V8 keeps its
+    star beside it at 1:5 (below, one step larger, 1:4, is not worth the height)."""
+    for engine, expected_scale, below in (("w12", 1 / 4, True), ("v8", 1 / 5, False)):
+        name, changes = ENGINES[engine]
+        output = shared_run(name, changes, stages=("drawing",)).outputs["drawing"]
+        positions = output.artifacts["positions"]
+        labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
+        frame = len(output.results["crank_angles_deg"])
+        fig, scale = md.scheme_figure(positions, frame, labels, "Crank star", "Firing order")
+        assert scale == pytest.approx(expected_scale)
+        width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
+        assert width_mm <= md.PAGE_ROOM_MM[0] and height_mm <= md.SCHEME_ROOM_MM[1]
+        drawing, star = fig.axes
+        under = bool(star.get_position().y1 <= drawing.get_position().y0)
+        assert under is below, engine
+        beside = md._scheme_at(
+            md.upright(md.front_view(positions)), frame, labels, "", "", scale, {}
+        )
+        if below:  # at this scale the star beside the drawing makes the figure too wide
+            assert beside.get_size_inches()[0] * 25.4 > md.PAGE_ROOM_MM[0]
 
 
 @pytest.mark.parametrize("engine", ["single", "offset", "inline4"])
@@ -167,6 +267,36 @@ def test_a_tall_mechanisms_positions_are_half_the_text_width(engine):
         assert ax.get_position().width * width_mm == pytest.approx(md.TEXT_WIDTH_MM / 2, abs=1e-6)
         # a lone cylinder's number tells nothing beside its position: not written
         assert [t.get_text() for t in ax.texts] == []
+
+
+@pytest.mark.parametrize(
+    "engine, count, expected",
+    [("radial9", 5, [3, 2]), ("radial9", 9, [4, 3, 2]), ("v8", 9, [6, 3])],
+)
+def test_no_positions_figure_holds_a_lone_panel(engine, count, expected):
+    """Panels about as high as wide (a radial: two rows of two a figure; a V: four rows) fill
+    whole rows, but the last figure takes a panel from the one before rather than hold a lone
+    one: five of a radial as three and two; each panel half the text width, a last row's
+    single panel centred under the two above it."""
+    name, changes = ENGINES[engine]
+    positions = shared_run(name, changes, stages=("drawing",)).outputs["drawing"]
+    positions = positions.artifacts["positions"]
+    frames = [(k % 5, f"position {k}\nα = {k}°") for k in range(count)]
+    cols, per_sheet = md.positions_layout(positions, count)
+    assert cols == 2 and per_sheet == {"radial9": 4, "v8": 8}[engine]
+    sheets = md.positions_sheets(positions, frames)
+    assert [len(sheet) for sheet in sheets] == expected
+    assert [f for sheet in sheets for f in sheet] == frames  # in order, each once
+    fig = md.positions_figure(positions, sheets[0])
+    width_mm = fig.get_size_inches()[0] * 25.4
+    lefts = []
+    for ax in fig.axes:
+        box = ax.get_position()
+        assert box.width * width_mm == pytest.approx(md.TEXT_WIDTH_MM / 2, abs=1e-6)
+        lefts.append(box.x0 * width_mm)
+    if len(sheets[0]) % 2:  # the last row's panel centred: a quarter of the text width in
+        assert lefts[-1] == pytest.approx(md.TEXT_WIDTH_MM / 4, abs=1e-6)
+        assert lefts[:2] == pytest.approx([0.0, md.TEXT_WIDTH_MM / 2], abs=1e-6)
 
 
 def test_the_print_style_lets_the_positions_figure_be_as_high_as_it_is_drawn():

@@ -129,6 +129,8 @@ def render(output: StageOutput, ctx) -> str:
         if banks
         else ""
     )
+    if not marked and not banks and md.radial_mark_parts(front) is not None:
+        bank_marks = t("drawing.marks_radial", first=front.guides[0].label)
     return ctx.render_template(
         "sections/drawing.html.j2",
         figure_scheme=figure_scheme,

@@ -1015,35 +1015,51 @@ def angle_mark_parts(geometry):
     return None if crank is None or rod is None else (guide, crank, rod)
 
 
-#: The most cylinder axes a scheme marks each of (a V, a boxer): the hub of a W, an X or a radial
-#: has no room for three or more piston pins' and rods' letters beside α and ω.
-MOST_MARKED_BANKS = 2
-
-
 def bank_mark_parts(geometry):
-    """(crank, [(liner, rod), ...]) of an engine whose front view shows two to
-    :data:`MOST_MARKED_BANKS` cylinder axes (a V or a boxer: each bank's first cylinder), the
-    rods of all of them on the one crank pin of a crank ``crank`` or ``crank_1`` from
-    ``crank_centre``, in the order of the guides (cylinder 1's bank first); None otherwise (one
-    axis: :func:`angle_mark_parts`; a master rod's slaves, which have no rod on the crank pin)."""
-    guides = geometry.guides
-    if not 2 <= len(guides) <= MOST_MARKED_BANKS or any(
-        g.moving is not None or g.bore_m <= 0 for g in guides
-    ):
-        return None
-    crank = next(
-        (l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None
-    )
+    """(crank, [(liner, rod), ...]) of an engine whose front view shows two or more cylinder axes
+    (a V, a boxer, a W, an X: each bank's first cylinder), the rods of all of them on the one
+    crank pin of a crank ``crank`` or ``crank_1`` from ``crank_centre``, in the order of the
+    guides (cylinder 1's bank first); None otherwise (one axis: :func:`angle_mark_parts`; a master
+    rod's slaves, which have no rod on the crank pin: :func:`radial_mark_parts`)."""
+    crank = _marked_crank(geometry, 2)
     if crank is None:
         return None
     # each bank's rod: on the one crank pin, or (a boxer's) on its cylinder's own crank pin
     pins = {l[2] for l in geometry.links if l[0].startswith("crank") and l[1] == "crank_centre"}
     rods = [
-        next((l for l in geometry.links if l[1] in pins and l[2] == g.joint), None) for g in guides
+        next((l for l in geometry.links if l[1] in pins and l[2] == g.joint), None)
+        for g in geometry.guides
     ]
     if any(rod is None for rod in rods) or rods[0][1] != crank[2]:
         return None
-    return crank, list(zip(guides, rods, strict=True))
+    return crank, list(zip(geometry.guides, rods, strict=True))
+
+
+def radial_mark_parts(geometry):
+    """(crank, [(liner, rod), ...]) of an engine of three or more cylinder axes round one crank
+    pin with a master rod (a radial): the master rod on the crank pin, each slave rod (``rod_*``)
+    on its knuckle pin; None otherwise (:func:`bank_mark_parts`)."""
+    crank = _marked_crank(geometry, 3)
+    if crank is None or not master_rod_joints(geometry) or bank_mark_parts(geometry) is not None:
+        return None
+    rods = [
+        next((l for l in geometry.links if l[0].startswith("rod") and l[2] == g.joint), None)
+        for g in geometry.guides
+    ]
+    if any(rod is None for rod in rods):
+        return None
+    return crank, list(zip(geometry.guides, rods, strict=True))
+
+
+def _marked_crank(geometry, least_axes: int):
+    """The crank (``crank`` or ``crank_1`` from ``crank_centre``) of an engine whose front view
+    shows at least ``least_axes`` cylinder liners; None otherwise."""
+    guides = geometry.guides
+    if len(guides) < least_axes or any(g.moving is not None or g.bore_m <= 0 for g in guides):
+        return None
+    return next(
+        (l for l in geometry.links if l[0] in ("crank", "crank_1") and l[1] == "crank_centre"), None
+    )
 
 
 def bank_letter(label: str) -> str:
@@ -1071,12 +1087,15 @@ def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
     )
 
 
-def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int) -> None:
-    """The marks of :func:`draw_angle_marks` on an engine of two banks: O, B, each bank's piston
-    pin A and rod angle β with the bank's letter as index, the crank angle α from cylinder 1's
-    TDC (its axis), ω; each letter, and the arrow ω, where it stands clearest of everything drawn
-    before it (:class:`_Clearance`): round a V's shaft the crank, both rods, the dimensions R and
-    L and the counterweight leave little room."""
+def _bank_marks(
+    ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int, rod_angles: bool = True
+) -> None:
+    """The marks of :func:`draw_angle_marks` on an engine of two or more banks: O, B, each bank's
+    piston pin A and (``rod_angles``) rod angle β with the bank's letter as index, the crank angle
+    α from cylinder 1's TDC (its axis; no arc where the crank stands on that axis), ω; each
+    letter, and the arrow ω, where it stands clearest of everything drawn before it
+    (:class:`_Clearance`): round a V's shaft the crank, the rods, the dimensions R and L and the
+    counterweight leave little room."""
     crank, pairs = banks
     extent = _extent_mm(geometry)
     j = geometry.joints
@@ -1088,12 +1107,19 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     zero = at_tdc / max(float(np.linalg.norm(at_tdc)), 1e-12)
     along = (pin - centre) / radius
     _zero_line(ax, geometry, pairs[0][0], i, centre, zero, radius, extent)
-    for guide, rod in pairs:  # the arcs β first: the letters keep clear of them
+    for guide, rod in pairs if rod_angles else []:  # the arcs β first: the letters keep clear
         wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
         length = float(np.linalg.norm(big_end - wrist))
         _, d, _ = _guide_frame(geometry, guide, i)
         _angle_arc(ax, wrist, -d, (big_end - wrist) / length, length * 0.3, "", extent)
-    _angle_arc(ax, centre, zero, along, radius * 0.55, marks["alpha"], extent)
+    alpha_arc = float(np.dot(zero, along)) < np.cos(np.radians(1.0))  # none on the zero line
+    # among three or more rods round the crank pin α's letter goes where it is clearest (below);
+    # two banks' (a V's, a boxer's) stands outside the arc's middle
+    placed_alpha = alpha_arc and len(pairs) > 2
+    if alpha_arc:
+        _angle_arc(
+            ax, centre, zero, along, radius * 0.55, "" if placed_alpha else marks["alpha"], extent
+        )
     clearance = _Clearance(ax, geometry, i, extent)
     # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
     candidates = [
@@ -1113,8 +1139,17 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
     _rotation_arrow(ax, centre, best[1], marks["omega"], extent, best[0])
     clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
     clearance.add_last_text()
-    clearance.place(_ring(centre, extent * np.array([0.035, 0.05])), "O")
-    own_pins = len({rod[1] for _, rod in pairs}) > 1  # a boxer's: a crank pin per cylinder
+    if placed_alpha:
+        clearance.place(
+            _beside_arc(centre, zero, along, radius * 0.55, extent),
+            marks["alpha"],
+            fontstyle="italic",
+        )
+    # round a radial's hub, where nine rods leave the master rod, O may stand a little farther
+    reach = extent * np.array([0.035, 0.05] if rod_angles else [0.035, 0.05, 0.065])
+    clearance.place(_ring(centre, reach), "O")
+    # a boxer's banks: a crank pin per cylinder, each B with its cylinder's index
+    own_pins = rod_angles and len({rod[1] for _, rod in pairs}) > 1
     if not own_pins:
         clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
     for guide, rod in pairs:
@@ -1124,10 +1159,29 @@ def _bank_marks(ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: i
         if own_pins:
             clearance.place(_ring(big_end, extent * np.array([0.035, 0.05])), "B", sub)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
+        if not rod_angles:
+            continue
         length = float(np.linalg.norm(big_end - wrist))
         end = wrist - d * length * 0.3  # the arc's end on the cylinder's axis
         beside = [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
         clearance.place(beside, marks["beta"], sub, fontstyle="italic")
+
+
+def _beside_arc(centre, start, end, radius: float, extent: float) -> list:
+    """Places for an arc's letter (mm): outside its middle as :func:`_angle_arc` sets it first,
+    then outside and inside it at a quarter and three quarters of the way."""
+    a = _direction_deg(start)
+    span = (_direction_deg(end) - a) % 360.0
+    if span > 180.0:  # the shorter way round, as the arc is drawn
+        a, span = a + span, 360.0 - span
+    places = []
+    for share in (0.5, 0.25, 0.75):
+        t = np.radians(a + span * share)
+        ray = np.array([np.cos(t), np.sin(t)])
+        for reach in (radius + extent * 0.025, radius + extent * 0.04, radius - extent * 0.025):
+            if reach > 0:
+                places.append(np.asarray(centre, float) + reach * ray)
+    return places
 
 
 def _arc_points(centre, radius: float, start_deg: float, end_deg: float) -> np.ndarray:
@@ -1261,6 +1315,9 @@ def draw_angle_marks(
         banks = bank_mark_parts(geometry) if marks else None
         if banks is not None:
             _bank_marks(ax, geometry, i, marks, banks, tdc_frame)
+        radial = radial_mark_parts(geometry) if marks and banks is None else None
+        if radial is not None:  # a slave rod's angle is not the β of the crank-slider
+            _bank_marks(ax, geometry, i, marks, radial, tdc_frame, rod_angles=False)
         return
     labels = labels or {}
     guide, crank, _ = parts
@@ -1474,6 +1531,7 @@ PAGE_ROOM_MM = (165.0, 200.0)
 _LIMITS_SLACK = 1.6
 STAR_SIZE_MM = 40.0
 _STAR_GAP_MM = 8.0
+_STAR_TITLE_MM = 8.0  # the star's title of two lines above it, when the star is under the drawing
 _MARGIN_MM = 2.0
 
 
@@ -1520,18 +1578,34 @@ def scheme_figure(
     # the limits keep room for labels the drawing may not have: start a step or two larger
     scale = drawing_scale((x1 - x0, y1 - y0), (room[0] * _LIMITS_SLACK, room[1] * _LIMITS_SLACK))
 
-    def fits(fig) -> bool:
-        width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
-        return width_mm <= PAGE_ROOM_MM[0] and height_mm <= room[1] or scale < 1e-9
+    def fitting(start: float, below: bool, least: float = 0.0):
+        """(figure, scale) at the largest scale from ``start`` down that fits; None below
+        ``least``. The scale is found without the angle marks (placing them tries many spots),
+        and the drawing with them is kept where it fits too."""
+        height = SCHEME_ROOM_MM[1] if below else room[1]
+        scale = start
+        while scale >= least:
+            texts = (labels, star_title, firing_label, scale)
+            if not marks or _fits(_scheme_at(geometry, i, *texts, {}, below), height, scale):
+                fig = _scheme_at(geometry, i, *texts, marks or {}, below)
+                if _fits(fig, height, scale):
+                    return fig, scale
+            scale = _smaller_scale(scale)
+        return None
 
-    while True:
-        # the scale is found without the angle marks (placing them tries many spots), and the
-        # drawing with them is kept where it fits too
-        if not marks or fits(_scheme_at(geometry, i, labels, star_title, firing_label, scale, {})):
-            fig = _scheme_at(geometry, i, labels, star_title, firing_label, scale, marks or {})
-            if fits(fig):
-                return fig, scale
-        scale = _smaller_scale(scale)
+    beside = fitting(scale, below=False)
+    assert beside is not None  # the search runs down to the least scale
+    # a wide drawing (a W) that beside its crank star would be drawn at half the scale or less is
+    # drawn with the star below it
+    below = fitting(scale, below=True, least=2 * beside[1]) if with_star else None
+    return below or beside
+
+
+def _fits(fig, height_room_mm: float, scale: float) -> bool:
+    """The figure is no wider than the page's text and no higher than ``height_room_mm`` (or the
+    scale is past any drawing's, where the search stops)."""
+    width_mm, height_mm = (size * 25.4 for size in fig.get_size_inches())
+    return width_mm <= PAGE_ROOM_MM[0] and height_mm <= height_room_mm or scale < 1e-9
 
 
 def _scheme_at(
@@ -1542,6 +1616,7 @@ def _scheme_at(
     firing_label: str,
     scale: float,
     marks: dict[str, str],
+    star_below: bool = False,
 ):
     from .figures import (  # lazy: heavy optional import (matplotlib)
         add_axes_mm,
@@ -1553,11 +1628,17 @@ def _scheme_at(
     (x0, x1), (y0, y1) = _limits(geometry)
     with_star = len(geometry.cranks) > 1
     width_mm, height_mm = (x1 - x0) * scale, (y1 - y0) * scale
-    fig = new_drawing(
-        width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm,
-        max(height_mm, STAR_SIZE_MM),
-    )
-    ax = add_axes_mm(fig, 0.0, 0.0, width_mm, height_mm)
+    below = with_star and star_below
+    if below:  # the star's room under the drawing: the star is placed there once it is drawn
+        below_mm = _STAR_GAP_MM + _STAR_TITLE_MM + STAR_SIZE_MM
+        fig = new_drawing(width_mm, height_mm + below_mm)
+        ax = add_axes_mm(fig, 0.0, below_mm, width_mm, height_mm)
+    else:
+        fig = new_drawing(
+            width_mm + _STAR_GAP_MM + STAR_SIZE_MM if with_star else width_mm,
+            max(height_mm, STAR_SIZE_MM),
+        )
+        ax = add_axes_mm(fig, 0.0, 0.0, width_mm, height_mm)
     draw_mechanism(ax, geometry, i)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
@@ -1566,7 +1647,23 @@ def _scheme_at(
     draw_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if not (marked and k == "L")})
     draw_angle_marks(ax, geometry, i, marks, labels)
     draw_planetary_marks(ax, geometry, i, marks)
-    if with_star:
+    if below:
+        # under what the mechanism draws, centred on it
+        box = drawn_box([ax], fig.canvas.get_renderer())
+        bottom_mm, middle_mm = (
+            (box.y0 / fig.dpi * 25.4, (box.x0 + box.x1) / 2 / fig.dpi * 25.4)
+            if box is not None
+            else (_STAR_GAP_MM + _STAR_TITLE_MM + STAR_SIZE_MM, width_mm / 2)
+        )
+        star = add_axes_mm(
+            fig,
+            middle_mm - STAR_SIZE_MM / 2,
+            bottom_mm - _STAR_GAP_MM - _STAR_TITLE_MM - STAR_SIZE_MM,
+            STAR_SIZE_MM,
+            STAR_SIZE_MM,
+        )
+        draw_crank_star(star, geometry, star_title, firing_label)
+    elif with_star:
         # beside what the mechanism draws, not beside its limits' unused room
         box = drawn_box([ax], fig.canvas.get_renderer())
         right_mm = box.x1 / fig.dpi * 25.4 if box is not None else width_mm
@@ -1636,12 +1733,19 @@ def _panel_geometry(geometry):
 
 def positions_sheets(geometry, frames: list) -> list[list]:
     """The frames split into the figures that hold them (:func:`positions_layout`), each but the
-    last filled with whole rows: five panels of a radial as four (two rows) and one."""
+    last filled with whole rows; but a last figure of one panel takes one from the figure before
+    it when that keeps two or more: five panels of a radial (two rows of two a figure) as three
+    and two, not four and a lone one on a page of its own. Panels half the text width wide and
+    one row high a figure (a cylinder above its crank) leave an odd one alone."""
     cols, per_sheet = positions_layout(geometry, len(frames))
     sheets = -(-len(frames) // per_sheet)
     size = -(-len(frames) // sheets)
     size = -(-size // cols) * cols if size > cols else size  # whole rows first
-    return [frames[k : k + size] for k in range(0, len(frames), size)]
+    sizes = [min(size, len(frames) - k) for k in range(0, len(frames), size)]
+    if cols > 1 and len(sizes) > 1 and sizes[-1] == 1 and sizes[-2] > 2:
+        sizes[-2:] = [sizes[-2] - 1, 2]
+    starts = np.cumsum([0] + sizes)
+    return [frames[a:b] for a, b in zip(starts[:-1], starts[1:], strict=True)]
 
 
 def positions_figure(geometry, frames: list[tuple[int, str]]):
@@ -1660,7 +1764,9 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
     fig = new_drawing(width * cols, row_mm * rows)
     for k, (i, caption) in enumerate(frames):
         row, col = divmod(k, cols)
-        ax = add_axes_mm(fig, col * width, (rows - 1 - row) * row_mm, width, height)
+        in_row = min(cols, len(frames) - row * cols)  # a last row's fewer panels centred
+        left = (col + (cols - in_row) / 2) * width
+        ax = add_axes_mm(fig, left, (rows - 1 - row) * row_mm, width, height)
         draw_mechanism(ax, geometry, i)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
