@@ -17,7 +17,6 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 from .context import FIGURE_DIR
-from .page_fit import fitting_style, smaller_figures
 from .weasy import load_weasyprint
 
 
@@ -129,11 +128,6 @@ def _html_to_pdf(html: str, figures) -> bytes:
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    fetcher = _fetcher(figure_urls(figures, base))
-    document = HTML(string=html, base_url=base, url_fetcher=fetcher).render()
-    # a figure a little smaller where that keeps a page from being left half empty before it
-    style = fitting_style(smaller_figures(document))
-    if style:
-        html = html.replace("</head>", style + "</head>", 1)
-        document = HTML(string=html, base_url=base, url_fetcher=fetcher).render()
-    return document.write_pdf()
+    return HTML(
+        string=html, base_url=base, url_fetcher=_fetcher(figure_urls(figures, base))
+    ).write_pdf()
