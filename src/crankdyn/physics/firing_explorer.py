@@ -150,13 +150,7 @@ def enumerate_arrangements(
     capacity = np.where(np.arange(count) % refine == 0, multiplicity, 0)
     bank_offset = np.array([int(r * refine) % count for r in ratios], dtype=np.int64)
     n_bays = int(bays.max()) + 1
-    # increments[bay][lag index] -> phase counts that bay adds; bays differ in their banks when a
-    # boxer puts its odd and even cylinders on opposite sides
-    increments = np.zeros((n_bays, count, count), dtype=np.int16)
-    for bay in range(n_bays):
-        for lag in range(count):
-            for o in bank_offset[bays == bay]:
-                increments[bay, lag, (lag + o) % count] += 1
+    increments = _bay_increments(bays, bank_offset, count)
     fits_alone = np.all(increments <= capacity, axis=2).any(axis=1)  # some lag of each bay fits
     if not np.all(fits_alone):
         return (
@@ -195,6 +189,19 @@ def enumerate_arrangements(
         lags, counts = np.vstack(new_lags), np.vstack(new_counts)
     reason = None if len(lags) else "no crank arrangement fires evenly"
     return lags, float(unit), multiplicity, bank_offset, reason
+
+
+def _bay_increments(bays: np.ndarray, bank_offset: np.ndarray, count: int) -> np.ndarray:
+    """increments[bay, lag index] -> the firing-phase counts that bay's cylinders add with that
+    crank lag; bays differ in their banks when a boxer puts its odd and even cylinders on
+    opposite sides."""
+    n_bays = int(bays.max()) + 1
+    increments = np.zeros((n_bays, count, count), dtype=np.int16)
+    for bay in range(n_bays):
+        for lag in range(count):
+            for o in bank_offset[bays == bay]:
+                increments[bay, lag, (lag + o) % count] += 1
+    return increments
 
 
 def balance_coefficients(
