@@ -681,3 +681,21 @@ def test_a_boxer_scheme_lies_flat_and_marks_each_cylinders_crank_pin():
     text = re.sub(r"<[^>]+>", "", page.html)
     assert "B – вісь шатунної шийки і A – вісь поршневого пальця" in text
     assert "з номером циліндра в індексі (1, 2)" in text
+
+
+def test_a_flat_six_leaves_only_negligible_moments_and_says_moments():
+    """A flat six's cranks cancel every force and the couples of orders 1, 2 and 4: what is left
+    (orders 6 and up) are couples only, and the conclusion names moments, not forces."""
+    import re
+
+    from crankdyn.report.document import render_html as _render
+
+    registry = default_registry()
+    data = _boxer_data(cylinders=6, firing_order=[1, 6, 3, 2, 5, 4])
+    result = run_scene(scene_from_dict(data), registry)
+    absolute = result.outputs["balancing"].results["absolute"]
+    c_one = result.outputs["balancing"].results["first_order_N"]
+    for key in ("sum_C_N", "M_C_Nm", "sum_PI_N", "M_PI_Nm", "sum_PII_N", "M_PII_Nm"):
+        assert abs(absolute[key]) < 1e-9 * c_one, key
+    text = re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
+    assert "незрівноважені лише моменти (ΣM" in text

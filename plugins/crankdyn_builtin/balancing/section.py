@@ -138,7 +138,9 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     reference = t("balancing.negligible_reference") + (
         " " + t("balancing.negligible_reference_moment") if moments else ""
     )
-    what = t("balancing.negligible_forces_moments" if moments else "balancing.negligible_forces")
+    forces = any(item["quantity"].startswith("sum_") for item in negligible)
+    kind = "_forces_moments" if forces and moments else ("_moments" if moments else "_forces")
+    what = t("balancing.negligible" + kind)
     ctx.conclude(
         t(
             "balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
