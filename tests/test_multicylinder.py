@@ -681,6 +681,9 @@ def test_a_boxer_scheme_lies_flat_and_marks_each_cylinders_crank_pin():
     text = re.sub(r"<[^>]+>", "", page.html)
     assert "B – вісь шатунної шийки і A – вісь поршневого пальця" in text
     assert "з номером циліндра в індексі (1, 2)" in text
+    # its cranks balance one another: no counterweight is fitted, and none is drawn
+    assert not len(result.outputs["balancing"].data["counterweights"].crank)
+    assert "противага кривошипа" not in text
 
 
 def test_a_flat_six_leaves_only_negligible_moments_and_says_moments():

@@ -97,3 +97,28 @@ def test_the_preview_builds_each_sections_figures_as_the_section_is_rendered(exa
     )
     assert rendered.figures and all(f._figure is not None for f in rendered.figures)
     assert not any(f.drawn for f in rendered.figures)  # built, not drawn: the page is shown first
+
+
+def test_a_section_that_reads_a_later_stages_data_is_rendered_again_when_it_changes():
+    """The drawing section shows the counterweights the balancing stage fits: the cache keeps the
+    section while the run's counterweights are the same objects and renders it again when the
+    balancing stage gives new ones (an edit that changes them)."""
+    from dataclasses import replace as _replace
+
+    from crankdyn.plugin.contracts import COUNTERWEIGHTS
+    from crankdyn.report.document import _render_context
+
+    result = run_scene(_scene(), REGISTRY)
+    drawing = REGISTRY.stages["drawing"]
+    sections = SectionCache()
+    ctx = _render_context(result, REGISTRY, "en")
+    fitted = ctx.run_data[COUNTERWEIGHTS]
+    assert len(fitted.crank) == 1  # a single cylinder: one counterweight, drawn on its crank
+    output = result.outputs["drawing"]
+    first = sections.render(drawing, output, ctx)
+    assert "counterweight" in first
+    sections.render(drawing, output, ctx)
+    assert sections.renders["drawing"] == 1
+    ctx.run_data[COUNTERWEIGHTS] = _replace(fitted, crank=fitted.crank[:0])
+    again = sections.render(drawing, output, ctx)
+    assert sections.renders["drawing"] == 2 and "counterweight" not in again

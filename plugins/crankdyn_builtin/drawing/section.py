@@ -9,6 +9,7 @@ from functools import partial
 
 from markupsafe import Markup
 
+from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report import mechanism_drawing as md
 
@@ -77,8 +78,12 @@ def scale_text(scale: float, t) -> str:
 def render(output: StageOutput, ctx) -> str:
     """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
-    positions = _labelled(output.artifacts["positions"], t)
-    animation = output.artifacts["animation"]
+    # the counterweights the run fits (none: a crank without one), as the balancing and bearing
+    # sections compute them
+    fitted = ctx.data(COUNTERWEIGHTS)
+    chosen = () if fitted is None else tuple(sorted({int(k) + 1 for k in fitted.crank}))
+    positions = replace(_labelled(output.artifacts["positions"], t), counterweight_cranks=chosen)
+    animation = replace(output.artifacts["animation"], counterweight_cranks=chosen)
     angles = output.results["crank_angles_deg"]
     order = t.cylinders(positions.firing_order, " – ")
     marks = {

@@ -126,6 +126,8 @@ class MechanismGeometry:
                 provides the motion.
     cranks:     (label, crank angle lag deg, cylinder labels) per crank: the crank star.
     firing_order: cylinder labels in firing order (multi-cylinder engines).
+    counterweight_cranks: the 1-based cranks drawn with a counterweight; None: every crank of a
+                piston engine (the drawing section narrows it to the ones the run fits).
     """
 
     joints: dict[str, Any]
@@ -138,6 +140,7 @@ class MechanismGeometry:
     travel_m: Any = None
     cranks: list[tuple[str, float, tuple[str, ...]]] = field(default_factory=list)
     firing_order: tuple[str, ...] = ()
+    counterweight_cranks: tuple[int, ...] | None = None
 
 
 class ColumnTable:

@@ -195,6 +195,17 @@ class RenderContext:
     declared_figures: tuple[str, ...] | None = None
     #: the report's symbol table (the core's and the registry's stages', ``typeset.symbol_table``)
     symbols: SymbolTable = SYMBOLS
+    #: the data every stage of the run provided, by contract (``StageOutput.data``): a section
+    #: may show what a later stage made of its subject (:meth:`data`)
+    run_data: dict[str, Any] = field(default_factory=dict)
+    #: the contracts the section being rendered read through :meth:`data` (the preview's
+    #: section cache renders it again when one of them changes)
+    data_reads: set[str] = field(default_factory=set)
+
+    def data(self, contract: str) -> Any:
+        """What a stage of the run provided under ``contract``; None when no stage did."""
+        self.data_reads.add(contract)
+        return self.run_data.get(contract)
 
     def __post_init__(self) -> None:
         # Templates print angles and other plain numbers through ``|numg`` in the report's locale,

@@ -483,6 +483,12 @@ def _render_context(result, registry, language: str) -> RenderContext:
         cycle_deg=scene.engine.cycle_deg,
         scene=scene,
         symbols=symbol_table(registry.stages.values()),  # the core's letters and the stages' own
+        run_data={
+            contract: value
+            for output in result.outputs.values()
+            if output is not None
+            for contract, value in output.data.items()
+        },
     )
 
 

@@ -526,12 +526,17 @@ COUNTERWEIGHT_HALF_ANGLE_DEG = 55.0
 
 def counterweights(geometry, i: int) -> list:
     """Outlines (mm) of the counterweights of a piston engine's cranks at frame ``i``: on every
-    link ``crank`` or ``crank_<k>`` from the shaft's axis, when the mechanism has a cylinder."""
+    link ``crank`` or ``crank_<k>`` from the shaft's axis, when the mechanism has a cylinder;
+    only on the cranks ``geometry.counterweight_cranks`` names, when it names them."""
     if not any(g.bore_m > 0 and g.moving is None for g in geometry.guides):
         return []
+    chosen = getattr(geometry, "counterweight_cranks", None)
     outlines = []
     for name, a, b in geometry.links:
         if a != "crank_centre" or not (name == "crank" or name.removeprefix("crank_").isdigit()):
+            continue
+        number = 1 if name == "crank" else int(name.removeprefix("crank_"))
+        if chosen is not None and number not in chosen:
             continue
         c, pin = geometry.joints[a][i] * MM, geometry.joints[b][i] * MM
         radius = float(np.linalg.norm(pin - c))

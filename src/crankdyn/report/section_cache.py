@@ -12,7 +12,7 @@ thus leaves the kinematics and indicator sections, and their figures, as they we
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..engine.stage_cache import field_digests, reads_of, tracked_copy
 from ..plugin.types import Stage, StageOutput
@@ -32,6 +32,9 @@ class _Section:
     findings: list[str]
     worked: list
     figures: list[FigureFile]
+    #: the run's data the section read (``RenderContext.data``), by contract: kept while the
+    #: same objects are the run's
+    data: dict = field(default_factory=dict)
 
 
 class SectionCache:
@@ -56,6 +59,7 @@ class SectionCache:
             and kept.key == key
             and scene is not None
             and kept.fields == field_digests(scene, kept.reads)
+            and all(ctx.run_data.get(c) is kept.data.get(c) for c in kept.data)
         ):
             ctx.figures.extend(kept.figures)
             ctx.worked.extend(kept.worked)
@@ -70,6 +74,7 @@ class SectionCache:
         )
         tracked = tracked_copy(scene) if scene is not None else None
         ctx.scene = tracked
+        ctx.data_reads = set()
         try:
             body = stage.presentation.render(output, ctx)
         finally:
@@ -89,6 +94,7 @@ class SectionCache:
                 ctx.findings[findings_before:],
                 ctx.worked[worked_before:],
                 ctx.figures[figures_before:],
+                {c: ctx.run_data.get(c) for c in ctx.data_reads},
             )
         return body
 
