@@ -266,3 +266,34 @@ def test_a_plugins_taken_values_stand_in_the_table_of_values_taken_and_garbage_i
     with pytest.raises(PluginFailure) as caught:
         run_and_render(scene, _foreign_registry(lambda scene, ctx: 42), ["html"], ["extra"])
     assert "taken_rows returned 42" in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    "changes, grade, strength_MPa",
+    [(_NO_SHAFT_NOR_DENSITY, "серого чугуна СЧ 20", 200.0), ({}, "стали 45", 600.0)],
+)
+def test_the_rims_stress_is_judged_against_its_materials_tensile_strength(
+    changes, grade, strength_MPa
+):
+    """σ = ρ v² of a thin rotating ring against the tensile strength of the material its density
+    names (ГОСТ 1412-85: СЧ 20 at least 200 MPa; ГОСТ 1050: steel 45, 600 MPa), as a factor of
+    safety σ_u/σ; the standard is cited and listed."""
+    run = shared_run("inline4-petrol", changes or None)
+    rim = run.outputs["flywheel"].results["rim"]
+    speed = run.scene.engine.angular_velocity_rad_s * rim["outer_diameter_m"] / 2
+    margin = strength_MPa * 1e6 / (rim["density_kg_m3"] * speed**2)
+    assert rim["strength_margin"] == pytest.approx(margin, rel=1e-12)
+    text = _flywheel_note(changes)
+    found = re.search(
+        rf"Для {grade} с пределом прочности при растяжении σ в = (\d+) МПа \[(\d+)\] "
+        r"запас прочности обода σ в / ?σ = ([\d,]+)",
+        text,
+    )
+    assert found, text[text.index("Обод") : text.index("Обод") + 800]
+    assert float(found.group(1)) == strength_MPa
+    assert float(found.group(3).replace(",", ".")) == pytest.approx(margin, rel=0.05)
+    standard = "ГОСТ 1412-85" if strength_MPa == 200.0 else "ГОСТ 1050-2013"
+    html = shared_html("inline4-petrol", changes or None, "ru", ("flywheel",)).linked_html
+    listed = re.search(r'<ol class="references">(.*?)</ol>', html, flags=re.S).group(1)
+    items = [_text(item) for item in re.findall(r"<li[^>]*>(.*?)</li>", listed, flags=re.S)]
+    assert items[int(found.group(2)) - 1].strip().startswith(standard)

@@ -61,9 +61,33 @@ def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
         "density_kg_m3": opts.rim_density,
         "speed_m_s": speed,
         "hoop_stress_Pa": fw.rim_hoop_stress_Pa(opts.rim_density, speed),
+        **_strength(opts.rim_density, fw.rim_hoop_stress_Pa(opts.rim_density, speed)),
         "max_speed_m_s": opts.max_rim_speed,
         "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
     }
+
+
+#: The material a rim density stands for and its tensile strength, Pa, from its standard: grey
+#: cast iron СЧ 20 (ГОСТ 1412-85: at least 200 MPa) for 7000-7400 kg/m³, steel 45 (ГОСТ 1050:
+#: 600 MPa) for 7700-7900 kg/m³; a rim of another density is not judged.
+RIM_STRENGTHS = (
+    ("cast_iron", 7000.0, 7400.0, 200e6, "gost1412"),
+    ("steel", 7700.0, 7900.0, 600e6, "gost1050"),
+)
+
+
+def _strength(density_kg_m3: float, hoop_stress_Pa: float) -> dict:
+    """The rim's material grade, its tensile strength and the margin strength/stress (the
+    factor of safety of a thin rotating ring), or {} for a density of no listed material."""
+    for material, low, high, strength_Pa, source in RIM_STRENGTHS:
+        if low <= density_kg_m3 <= high:
+            return {
+                "strength_material": material,
+                "tensile_strength_Pa": strength_Pa,
+                "strength_margin": strength_Pa / hoop_stress_Pa if hoop_stress_Pa > 0 else None,
+                "strength_source": source,
+            }
+    return {}
 
 
 def _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess_work_J, omega) -> None:

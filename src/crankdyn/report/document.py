@@ -290,13 +290,16 @@ _CITED_KEY = re.compile(r"\[@([A-Za-z0-9_]+)")
 
 
 def cite_sources(text: str, references: list[str]) -> str:
-    """``text`` with each "[@key" of a listed source replaced by "[n" of its number."""
-    return _CITED_KEY.sub(
-        lambda m: (
-            f"[{references.index(m.group(1)) + 1}" if m.group(1) in references else m.group(0)
-        ),
-        text,
-    )
+    """``text`` with each "[@key" of a source replaced by "[n" of its number; a source cited
+    here first is added to ``references`` (the list holds the sources the note cites, in the
+    order of their first citation)."""
+
+    def number(match: re.Match) -> str:
+        if match.group(1) not in references:
+            references.append(match.group(1))
+        return f"[{references.index(match.group(1)) + 1}"
+
+    return _CITED_KEY.sub(number, text)
 
 
 def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
