@@ -47,23 +47,21 @@ def in_fresh_process(test):
             if not k.startswith(("PYTEST_XDIST", "PYTEST_CURRENT_TEST")) and k != FRESH_PROCESS_ENV
         }
         env[FRESH_PROCESS_ENV] = node
-        # -n 0: no xdist workers (no execnet threads); -m "": the node runs whatever its marks;
-        # without the plugins and conftest.py the test does not use, the process starts in a third
-        # of the time (such a test takes its fixtures from pytest itself).
+        # No plugin of another package (no xdist workers, so no execnet threads; importing the
+        # plugins, anyio's among them, is a third of pytest's start) and so no addopts (its -n is
+        # xdist's); -m "": the node runs whatever its marks; without the cache and conftest.py the
+        # test does not use (such a test takes its fixtures from pytest itself).
+        env["PYTEST_DISABLE_PLUGIN_AUTOLOAD"] = "1"
         done = subprocess.run(
             [
                 sys.executable,
                 "-m",
                 "pytest",
                 "-q",
-                "-n",
-                "0",
-                "-p",
-                "no:randomly",
+                "-o",
+                "addopts=",
                 "-p",
                 "no:cacheprovider",
-                "-p",
-                "no:hypothesispytest",
                 "--noconftest",
                 "-m",
                 "",
