@@ -220,7 +220,7 @@ def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
     four, v8 = reports("inline4-petrol"), reports("v8-petrol")
     for words in (
         "вісь симетрії відсіку",
-        "разом із кутом розвалу",
+        "узято разом із кутом",
         "розташовані поруч",
         "спільну шатунну шийку",
     ):

@@ -107,7 +107,7 @@ RUNNING_TORQUE = (r"\bt w i = t k", r"\bt [wk] 1\b")
 SEVERAL_PLANES = {
     "en": (
         r"middle of the crank row",
-        r"includes the bank angle",
+        r"includes the angle φ",
         r"gives no cylinder spacing",
         r"moments further divided",
         r"Resultant forces and moments",
@@ -116,7 +116,7 @@ SEVERAL_PLANES = {
     ),
     "uk": (
         r"від середини ряду колін",
-        r"разом із кутом розвалу",
+        r"узято разом із кутом φ",
         r"не вказано відстані між циліндрами",
         r"моменти – ще й на відстань",
         r"Рівнодійні сили і моменти",
@@ -125,7 +125,7 @@ SEVERAL_PLANES = {
     ),
     "ru": (
         r"от середины ряда колен",
-        r"вместе с углом развала",
+        r"взят вместе с углом φ",
         r"не указано расстояние между цилиндрами",
         r"моменты – ещё и к расстоянию",
         r"Равнодействующие силы и моменты",
