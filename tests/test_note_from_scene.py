@@ -125,7 +125,8 @@ def test_an_aircraft_note_speaks_of_its_propeller_not_of_a_flywheel():
     plain = _text(shared_html("inline4-petrol", {"flywheel": None}, "uk").linked_html)
     assert "розрахунку вала з повітряним гвинтом на крутильні коливання" in air
     assert "вибору маховика" not in air and "вибору маховика" in plain
-    assert "авіаційний двигун не має маховика: його роль виконує повітряний гвинт" in air
+    # the reason follows the sentence's colon: its own explanation in parentheses, not a second colon
+    assert "авіаційний двигун не має маховика (його роль виконує повітряний гвинт)" in air
     assert "у завданні немає даних про маховик" in plain
 
 
@@ -295,7 +296,9 @@ def test_a_pre_expansion_ratio_the_scene_leaves_out_is_taken_and_said_to_be():
     quantity = "Ступінь попереднього розширення ρ 1"
     table_given, table_taken = _tables_1(taken, "uk")
     assert quantity not in table_given and quantity in table_taken
-    assert "завдання не задає, тому прийнято ρ = 1: усю теплоту підведено за сталого об’єму" in taken
+    assert (
+        "завдання не задає, тому прийнято ρ = 1: усю теплоту підведено за сталого об’єму" in taken
+    )
     table_given, table_taken = _tables_1(given_one, "uk")
     assert quantity in table_given and quantity not in table_taken
     assert "лише за сталого об’єму (задано ступінь попереднього розширення ρ = 1)" in given_one
@@ -320,10 +323,14 @@ def test_an_exact_irregularity_above_the_required_one_is_said_with_the_flywheel_
     excess = f"{100 * (speed['irregularity'] / 0.05 - 1):.2g}".replace(".", ",")
     growth = f"{100 * (needed / used - 1):.2g}".replace(".", ",")
     sentence = (
-        f"на {excess} % більший за допустимий [δ] = 0,05 (енергетичний метод дає 0,0500): "
-        f"маховик {used:.4g} кг·м² вимоги не виконує; щоб дотриматися [δ], його момент інерції "
-        f"слід збільшити на {growth} %, приблизно до {needed:.4g} кг·м²."
-    ).replace(".", ",").replace("кг·м²,", "кг·м².")
+        (
+            f"на {excess} % більший за допустимий [δ] = 0,05 (енергетичний метод дає 0,0500): "
+            f"маховик {used:.4g} кг·м² вимоги не виконує; щоб дотриматися [δ], його момент інерції "
+            f"слід збільшити на {growth} %, приблизно до {needed:.4g} кг·м²."
+        )
+        .replace(".", ",")
+        .replace("кг·м²,", "кг·м².")
+    )
     conclusions = text[text.rindex("Висновки") :]
     assert sentence in conclusions, sentence
     assert sentence in text[: text.rindex("Висновки")]  # said in the section too
@@ -351,9 +358,15 @@ def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only()
     text = _text(shared_html("v8-petrol", _boxer_changes(), "uk", ("balancing",)).linked_html)
     means = "вони зрівноважують момент сил інерції другого порядку (Σ M II )"
     assert means in text[text.rindex("Висновки") :]
-    assert "зрівноважувальні вали зрівноважують момент сил інерції другого порядку (Σ M II )" in text
+    assert (
+        "зрівноважувальні вали зрівноважують момент сил інерції другого порядку (Σ M II )" in text
+    )
     scheme = "Схема колін сама зрівноважує відцентрові сили та їхній момент"
     assert scheme in text
     # no counterweights fitted: none described, none of their radius taken
-    for words in ("противаги на колінчастому валу", "центр мас противаг прийнято", "сили першого і"):
+    for words in (
+        "противаги на колінчастому валу",
+        "центр мас противаг прийнято",
+        "сили першого і",
+    ):
         assert words not in text, words

@@ -147,21 +147,24 @@ ONE_CRANKS_TORQUE = {
 }
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
-#: What is said of a four-stroke cycle only: its pumping strokes, its constant-pressure exhaust and
-#: intake lines, its valve timing.
+#: What is said of a four-stroke cycle only: its pumping strokes (and a mean pressure without
+#: them), its constant-pressure exhaust and intake lines, its valve timing.
 FOUR_STROKE_ONLY = {
     "en": (
         r"already takes off the pumping strokes",
+        r"without the pumping strokes",
         r"exhaust and intake lines at constant",
         r"intake valve timing",
     ),
     "uk": (
         r"насосні ходи в ній уже враховано",
+        r"без насосних ходів",
         r"лінії випуску і впуску за сталого",
         r"фази газорозподілу",
     ),
     "ru": (
         r"насосные ходы в ней уже учтены",
+        r"без насосных ходов",
         r"линии выпуска и впуска при постоянном",
         r"фазы газораспределения",
     ),

@@ -252,17 +252,19 @@ def balanced_by_means(t, r) -> str:
     """What the fitted means balance, in words with the symbols ("момент сил інерції другого
     порядку (ΣM_II)"): only the forces and moments the crank arrangement leaves and a fitted
     counterweight or shaft takes."""
-    return _items_in_words(t, [s for s in r["summary"] if _fitted(r, s)])
+    return _items_in_words(t, r, [s for s in r["summary"] if _fitted(r, s)])
 
 
 def balanced_by_scheme(t, r) -> str:
     """What the crank arrangement balances by itself among the centrifugal forces and the orders
     the means are fitted for, in words with the symbols; "" where it balances none of them."""
     orders = {0, *r["residual"]["balanced_orders"]}
-    return _items_in_words(t, [s for s in r["summary"] if s["balanced"] and s["order"] in orders])
+    return _items_in_words(
+        t, r, [s for s in r["summary"] if s["balanced"] and s["order"] in orders]
+    )
 
 
-def _items_in_words(t, items) -> str:
+def _items_in_words(t, r, items) -> str:
     """ "відцентрові сили та їхній момент, сили інерції першого порядку і момент сил інерції
     другого порядку (ΣC, ΣM_C, ΣP_I, ΣM_II)": summary rows grouped by order and kind."""
     if not items:
@@ -300,7 +302,8 @@ def _items_in_words(t, items) -> str:
         if len(parts) == 1
         else ", ".join(parts[:-1]) + t("balancing.means_and") + parts[-1]
     )
-    return f"{joined} ({', '.join(plain_symbol(s) for s in items)})"
+    sign = "" if len(r["cylinder_labels"]) == 1 else "Σ"  # one cylinder's own forces: no sums
+    return f"{joined} ({', '.join(plain_symbol(s, sign) for s in items)})"
 
 
 def orders_in_words(t, orders) -> str:

@@ -264,9 +264,7 @@ def skipped_sentence(t, registry, result) -> str:
     why = "; ".join(dict.fromkeys(reason for _, reason in skipped))
     # a title joining two things ("… і крутильні коливання") is a plural subject by itself
     count = len(skipped) + sum(f" {conjunction} " in title for title, _ in skipped)
-    return t(
-        "report.skipped_course", what=what, what_in=_in_sentence(what), why=why, count=count
-    )
+    return t("report.skipped_course", what=what, what_in=_in_sentence(what), why=why, count=count)
 
 
 def _skipped_title(t, registry, name: str) -> str:
