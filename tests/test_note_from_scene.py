@@ -125,7 +125,8 @@ def test_an_aircraft_note_speaks_of_its_propeller_not_of_a_flywheel():
     plain = _text(shared_html("inline4-petrol", {"flywheel": None}, "uk").linked_html)
     assert "розрахунку вала з повітряним гвинтом на крутильні коливання" in air
     assert "вибору маховика" not in air and "вибору маховика" in plain
-    assert "авіаційний двигун не має маховика: його роль виконує повітряний гвинт" in air
+    # the reason follows the sentence's colon: its own explanation in parentheses, not a second colon
+    assert "авіаційний двигун не має маховика (його роль виконує повітряний гвинт)" in air
     assert "у завданні немає даних про маховик" in plain
 
 
@@ -297,3 +298,106 @@ def test_the_rims_stress_is_judged_against_its_materials_tensile_strength(
     listed = re.search(r'<ol class="references">(.*?)</ol>', html, flags=re.S).group(1)
     items = [_text(item) for item in re.findall(r"<li[^>]*>(.*?)</li>", listed, flags=re.S)]
     assert items[int(found.group(2)) - 1].strip().startswith(standard)
+
+
+def _two_stroke_diesel(cycle: dict | None = None, language: str = "uk") -> str:
+    """The indicator section of the one-cylinder diesel made a two-stroke (``cycle`` laid over its
+    cycle data), with the given data."""
+    changes = {"engine": {"strokes": 2}, "cycle": {"exhaust_pressure": None, **(cycle or {})}}
+    return _text(shared_html("diesel-1cyl", changes, language, ("indicator",)).linked_html)
+
+
+def test_a_two_stroke_note_has_no_pumping_strokes():
+    """A two-stroke cycle has no exhaust and intake strokes: no pumping work L_нас in its
+    diagram fullness, which is p_i/p_i′; the four-stroke's keeps them."""
+    two = _two_stroke_diesel()
+    four = _text(shared_html("diesel-1cyl", None, "uk", ("indicator",)).linked_html)
+    assert "L нас" in four and "без насосних ходів" in four
+    assert "L нас" not in two and "без насосних ходів" not in two
+    assert "робота насосних ходів" not in two  # nor in the list of symbols
+    assert re.search(r"φ п = p i / p i ′ = \d,\d+ \(у двотактному циклі насосних ходів немає", two)
+
+
+def test_a_pre_expansion_ratio_the_scene_leaves_out_is_taken_and_said_to_be():
+    """ρ = 1 that the scene does not give stands in table 1.2 with the sentence saying so; a
+    diesel with ρ = 1 adds no heat at constant pressure, one with ρ > 1 does."""
+    taken = _two_stroke_diesel({"pre_expansion_ratio": None})
+    given_one = _two_stroke_diesel({"pre_expansion_ratio": 1.0})
+    given = _two_stroke_diesel()  # the example's ρ = 1.45
+    quantity = "Ступінь попереднього розширення ρ 1"
+    table_given, table_taken = _tables_1(taken, "uk")
+    assert quantity not in table_given and quantity in table_taken
+    assert (
+        "завдання не задає, тому прийнято ρ = 1: усю теплоту підведено за сталого об’єму" in taken
+    )
+    table_given, table_taken = _tables_1(given_one, "uk")
+    assert quantity in table_given and quantity not in table_taken
+    assert "лише за сталого об’єму (задано ступінь попереднього розширення ρ = 1)" in given_one
+    for text in (taken, given_one):
+        assert "за сталого тиску" not in text
+    assert "за сталого тиску до об’єму ρ V c" in given
+    assert "прийнято ρ = 1" not in given
+
+
+def test_an_exact_irregularity_above_the_required_one_is_said_with_the_flywheel_it_needs():
+    """The exact periodic solution of the one-cylinder diesel with [δ] = 0,05 gives a larger δ:
+    the note does not say it confirms the energy method, it says by how much δ is exceeded and
+    the flywheel the exact solution needs."""
+    changes = {"flywheel": {"required_irregularity": 0.05}}
+    r = shared_run("diesel-1cyl", changes, ("speed_fluctuation",))
+    speed = r.outputs["speed_fluctuation"].results
+    assert speed["irregularity"] > 0.0505  # above [δ] by more than the printed digits hide
+    needed, used = speed["flywheel_inertia_ode_kg_m2"], speed["flywheel_inertia_kg_m2"]
+    assert used == r.outputs["flywheel"].results["flywheel_inertia_kg_m2"] and needed > used
+    text = _text(shared_html("diesel-1cyl", changes, "uk", ("speed_fluctuation",)).linked_html)
+    assert "підтверджує" not in text
+    excess = f"{100 * (speed['irregularity'] / 0.05 - 1):.2g}".replace(".", ",")
+    growth = f"{100 * (needed / used - 1):.2g}".replace(".", ",")
+    sentence = (
+        (
+            f"на {excess} % більший за допустимий [δ] = 0,05 (енергетичний метод дає 0,0500): "
+            f"маховик {used:.4g} кг·м² вимоги не виконує; щоб дотриматися [δ], його момент інерції "
+            f"слід збільшити на {growth} %, приблизно до {needed:.4g} кг·м²."
+        )
+        .replace(".", ",")
+        .replace("кг·м²,", "кг·м².")
+    )
+    conclusions = text[text.rindex("Висновки") :]
+    assert sentence in conclusions, sentence
+    assert sentence in text[: text.rindex("Висновки")]  # said in the section too
+
+
+def _boxer_changes() -> dict:
+    """A flat four on the V8 example's masses and cycle: its crank layout balances every force
+    and the first-order and centrifugal couples, Lanchester's shafts take the second-order one."""
+    return {
+        "engine": {
+            "layout": "boxer",
+            "bank_angle_deg": None,
+            "cylinders": 4,
+            "firing_order": None,
+            "crank_angles_deg": None,
+            "cylinder_spacing": "100 mm",
+        }
+    }
+
+
+def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only():
+    results = shared_run("v8-petrol", _boxer_changes(), ("balancing",)).outputs["balancing"]
+    r = results.results
+    assert r["counterweights"] == [] and {s["order"] for s in r["balance_shafts"]} == {2}
+    text = _text(shared_html("v8-petrol", _boxer_changes(), "uk", ("balancing",)).linked_html)
+    means = "вони зрівноважують момент сил інерції другого порядку (Σ M II )"
+    assert means in text[text.rindex("Висновки") :]
+    assert (
+        "зрівноважувальні вали зрівноважують момент сил інерції другого порядку (Σ M II )" in text
+    )
+    scheme = "Схема колін сама зрівноважує відцентрові сили та їхній момент"
+    assert scheme in text
+    # no counterweights fitted: none described, none of their radius taken
+    for words in (
+        "противаги на колінчастому валу",
+        "центр мас противаг прийнято",
+        "сили першого і",
+    ):
+        assert words not in text, words

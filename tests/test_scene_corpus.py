@@ -108,7 +108,7 @@ RUNNING_TORQUE = (r"\bt w i = t k", r"\bt [wk] 1\b")
 SEVERAL_PLANES = {
     "en": (
         r"middle of the crank row",
-        r"includes the bank angle",
+        r"includes the angle φ",
         r"gives no cylinder spacing",
         r"moments further divided",
         r"Resultant forces and moments",
@@ -117,7 +117,7 @@ SEVERAL_PLANES = {
     ),
     "uk": (
         r"від середини ряду колін",
-        r"разом із кутом розвалу",
+        r"узято разом із кутом φ",
         r"не вказано відстані між циліндрами",
         r"моменти – ще й на відстань",
         r"Рівнодійні сили і моменти",
@@ -126,7 +126,7 @@ SEVERAL_PLANES = {
     ),
     "ru": (
         r"от середины ряда колен",
-        r"вместе с углом развала",
+        r"взят вместе с углом φ",
         r"не указано расстояние между цилиндрами",
         r"моменты – ещё и к расстоянию",
         r"Равнодействующие силы и моменты",
@@ -148,21 +148,24 @@ ONE_CRANKS_TORQUE = {
 }
 FLYWHEEL = {"en": r"flywheel", "uk": r"маховик", "ru": r"маховик"}
 BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравновеш"}
-#: What is said of a four-stroke cycle only: its pumping strokes, its constant-pressure exhaust and
-#: intake lines, its valve timing.
+#: What is said of a four-stroke cycle only: its pumping strokes (and a mean pressure without
+#: them), its constant-pressure exhaust and intake lines, its valve timing.
 FOUR_STROKE_ONLY = {
     "en": (
         r"already takes off the pumping strokes",
+        r"without the pumping strokes",
         r"exhaust and intake lines at constant",
         r"intake valve timing",
     ),
     "uk": (
         r"насосні ходи в ній уже враховано",
+        r"без насосних ходів",
         r"лінії випуску і впуску за сталого",
         r"фази газорозподілу",
     ),
     "ru": (
         r"насосные ходы в ней уже учтены",
+        r"без насосных ходов",
         r"линии выпуска и впуска при постоянном",
         r"фазы газораспределения",
     ),

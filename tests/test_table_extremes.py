@@ -123,3 +123,16 @@ def test_a_curve_over_the_whole_cycle_is_drawn_to_the_cycle_end():
     x, y = whole.get_xdata(), whole.get_ydata()
     assert x[-1] == 720.0 and y[-1] == y[0] == 2.0 and len(x) == len(angle) + 1
     assert len(half.get_xdata()) == 360 and half.get_xdata()[-1] == 359.0
+
+
+def test_of_equal_peaks_in_every_period_the_first_in_the_cycle_gets_the_row():
+    """A torque repeating every 240°: its peaks differ by rounding only, and the row (as the
+    conclusions, which name the first such angle) is at the first, not at a later one a hair
+    higher."""
+    angle = _grid()
+    values = np.cos(np.radians(3 * (angle - 224.0)))  # peaks at 104°, 224°, 344°, ... (period 120°)
+    values[np.flatnonzero(angle == 464.0)] += 1e-13  # a later peak higher by rounding only
+    rows, labels = sample_rows(angle, 30.0)
+    _, _, marks = add_extreme_rows(angle, rows, labels, [(values, "max", "M_d max")])
+    (mark,) = marks
+    assert mark.crank_angle_deg == 104.0

@@ -216,13 +216,11 @@ def _means_sentence(t, r) -> str:
             )
         )
     balanced = r["residual"]["balanced_orders"]
-    by_means = set(shaft_orders) | ({1} if r["counterweights"] else set())
-    with_scheme = not r["counterweights"] or any(order not in by_means for order in balanced)
     single = len(r["cylinder_labels"]) == 1
-    return t(
+    sentence = t(
         "balancing.conclusion_means_single" if single else "balancing.conclusion_means",
         means=t("balancing.means_and").join(means),
-        with_them=t("balancing.with_means_and_scheme" if with_scheme else "balancing.with_means"),
+        what=balanced_by_means(t, r),
         orders=", ".join(map(str, balanced)),
         orders_words=orders_in_words(t, balanced),
         count=len(balanced),
@@ -232,6 +230,80 @@ def _means_sentence(t, r) -> str:
             else "balancing.checked_real"
         ),
     )
+    by_scheme = balanced_by_scheme(t, r)
+    if by_scheme and not single:
+        sentence += " " + t("balancing.scheme_balances", what=by_scheme)
+    return sentence
+
+
+def _fitted(r, item) -> bool:
+    """Whether the fitted means take ``item`` (a row of the summary) entirely: each part of its
+    remedy (counterweights, a shaft of its order) is fitted."""
+    if item["balanced"] or item["remedy"] in ("self", "none"):
+        return False
+    shaft_orders = {shaft["order"] for shaft in r["balance_shafts"]}
+    return all(
+        bool(r["counterweights"]) if part == "counterweights" else item["order"] in shaft_orders
+        for part in item["remedy"].split("+")
+    )
+
+
+def balanced_by_means(t, r) -> str:
+    """What the fitted means balance, in words with the symbols ("момент сил інерції другого
+    порядку (ΣM_II)"): only the forces and moments the crank arrangement leaves and a fitted
+    counterweight or shaft takes."""
+    return _items_in_words(t, r, [s for s in r["summary"] if _fitted(r, s)])
+
+
+def balanced_by_scheme(t, r) -> str:
+    """What the crank arrangement balances by itself among the centrifugal forces and the orders
+    the means are fitted for, in words with the symbols; "" where it balances none of them."""
+    orders = {0, *r["residual"]["balanced_orders"]}
+    return _items_in_words(
+        t, r, [s for s in r["summary"] if s["balanced"] and s["order"] in orders]
+    )
+
+
+def _items_in_words(t, r, items) -> str:
+    """ "відцентрові сили та їхній момент, сили інерції першого порядку і момент сил інерції
+    другого порядку (ΣC, ΣM_C, ΣP_I, ΣM_II)": summary rows grouped by order and kind."""
+    if not items:
+        return ""
+    parts = []
+    centrifugal = {s["quantity"] for s in items if s["order"] == 0}
+    if centrifugal:
+        kind = (
+            "both" if len(centrifugal) == 2 else ("forces" if "sum_C" in centrifugal else "moment")
+        )
+        parts.append(t("balancing.what_centrifugal_" + kind))
+    forces = sorted(
+        {s["order"] for s in items if s["order"] > 0 and s["quantity"].startswith("sum_")}
+    )
+    moments = sorted(
+        {s["order"] for s in items if s["order"] > 0 and s["quantity"].startswith("M_")}
+    )
+    both = [n for n in forces if n in moments]
+    groups = (
+        [("both", both)]
+        if both and both == forces == moments
+        else [("forces", forces), ("moments", moments)]
+    )
+    for kind, orders in groups:
+        if orders:
+            parts.append(
+                t(
+                    "balancing.what_" + kind,
+                    orders_words=orders_in_words(t, orders),
+                    count=len(orders),
+                )
+            )
+    joined = (
+        parts[0]
+        if len(parts) == 1
+        else ", ".join(parts[:-1]) + t("balancing.means_and") + parts[-1]
+    )
+    sign = "" if len(r["cylinder_labels"]) == 1 else "Σ"  # one cylinder's own forces: no sums
+    return f"{joined} ({', '.join(plain_symbol(s, sign) for s in items)})"
 
 
 def orders_in_words(t, orders) -> str:
@@ -271,4 +343,7 @@ def render(output: StageOutput, ctx) -> str | None:
         explorer_table=explorer_table,
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
+        means_what=balanced_by_means(ctx.t, r)
+        if r["counterweights"] or r["balance_shafts"]
+        else "",
     )

@@ -107,9 +107,10 @@ def _pressure_table(ctx, frame, theory):
     return table, rows, labels
 
 
-def _conclude(ctx, r: dict):
+def _conclude(ctx, r: dict, two_stroke: bool = False):
     """The abstract's finding and the conclusions on the peak pressure and the indicated work;
-    returns the mean indicated pressure's deviation from the given one (percent) or None."""
+    returns the mean indicated pressure's deviation from the given one (percent) or None. A
+    two-stroke cycle has no pumping strokes to leave out of the diagram's mean pressure."""
     t = ctx.t
     ctx.find(
         t(
@@ -130,7 +131,7 @@ def _conclude(ctx, r: dict):
     )
     if deviation is not None:
         key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
-        ctx.conclude(t(key, deviation=ctx.num(deviation, 2)))
+        ctx.conclude(t(key + ("_two" if two_stroke else ""), deviation=ctx.num(deviation, 2)))
     return deviation
 
 
@@ -163,7 +164,7 @@ def render(output: StageOutput, ctx) -> str:
     table, rows, labels = _pressure_table(ctx, frame, theory)
     table += worked_indicator(ctx, frame, rows, labels, r)
 
-    deviation = _conclude(ctx, r)
+    deviation = _conclude(ctx, r, two_stroke)
     diesel = getattr(getattr(ctx.scene, "cycle", None), "ignition", None) == "diesel"
     return ctx.render_template(
         "sections/indicator.html.j2",
@@ -177,7 +178,18 @@ def render(output: StageOutput, ctx) -> str:
         deviation=deviation,
         has_theory=has_theory,
         two_stroke=two_stroke,
+        rho_case=_pre_expansion_case(ctx.scene) if diesel else "",
     )
+
+
+def _pre_expansion_case(scene) -> str:
+    """The suffix of a diesel's intro: "" with constant-pressure heat addition (ρ > 1),
+    "_isochoric" with ρ = 1 given, "_taken" with ρ = 1 taken for want of one in the scene (then
+    all the heat is added at constant volume and the diagram reaches p_z at TDC)."""
+    cycle = scene.cycle
+    if cycle.pre_expansion_ratio > 1.0:
+        return ""
+    return "_isochoric" if "pre_expansion_ratio" in cycle.model_fields_set else "_taken"
 
 
 def _closing_row_theory(theory, rows, labels, cycle_deg: float):

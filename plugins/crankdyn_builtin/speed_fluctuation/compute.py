@@ -181,6 +181,8 @@ def _speed_results(inertia, exact, design, summary: dict, records: list, period:
         "irregularity_deviation_percent": 100.0
         * (exact.irregularity - energy_delta)
         / energy_delta,
+        "required_irregularity": design.required_irregularity,
+        "flywheel_inertia_kg_m2": design.flywheel_inertia_kg_m2,
         "flywheel_inertia_energy_kg_m2": design.required_flywheel_inertia_kg_m2,
         "flywheel_inertia_ode_kg_m2": None,
         "flywheel_inertia_deviation_percent": None,

@@ -21,6 +21,28 @@ def _course_digits(ctx, exact: float, energy: float, digits: int, most: int) -> 
     return digits if ctx.num(exact, digits) != ctx.num(energy, digits) else max(digits, most)
 
 
+def _exceeds_text(ctx, r, digits: int) -> str | None:
+    """The sentence saying that the exact periodic solution exceeds the required δ and how large
+    the flywheel would have to be (the exact solution's own, ``flywheel_inertia_ode_kg_m2``;
+    δ falls about as 1/J); None when the requirement is met or there is none."""
+    required, needed = r.get("required_irregularity"), r.get("flywheel_inertia_ode_kg_m2")
+    used = r.get("flywheel_inertia_kg_m2")
+    # an excess that the δ printed (three significant digits) does not show is none
+    shown = float(f"{r['irregularity']:.{ADOPTED_DELTA_DIGITS}g}")
+    if required is None or needed is None or not used or shown <= required or needed <= used:
+        return None
+    return ctx.t(
+        "speed_fluctuation.exceeds",
+        exact=ctx.num(r["irregularity"], digits),
+        excess=ctx.num(100.0 * (r["irregularity"] / required - 1.0), 2),
+        required=ctx.t.number_g(required, 6),
+        delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+        used=ctx.num(used),
+        growth=ctx.num(100.0 * (needed / used - 1.0), 2),
+        inertia=ctx.num(needed),
+    )
+
+
 def render(output: StageOutput, ctx) -> str:
     """The section: the speed over the cycle and the single-mass solver study, then the torsional
     model when the scene has one, and the conclusions."""
@@ -57,8 +79,10 @@ def render(output: StageOutput, ctx) -> str:
         exact_digits = _course_digits(
             ctx, r["irregularity"], r["irregularity_energy"], ADOPTED_DELTA_DIGITS, digits
         )
+        exceeds = _exceeds_text(ctx, r, exact_digits)
         ctx.conclude(
-            t(
+            exceeds
+            or t(
                 "speed_fluctuation.conclusion_course",
                 delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
                 exact=ctx.num(r["irregularity"], exact_digits),
@@ -66,6 +90,7 @@ def render(output: StageOutput, ctx) -> str:
             )
         )
     else:
+        exceeds = _exceeds_text(ctx, r, digits)
         ctx.conclude(
             t(
                 "speed_fluctuation.conclusion",
@@ -75,6 +100,8 @@ def render(output: StageOutput, ctx) -> str:
                 method=r["solver"]["method"],
             )
         )
+        if exceeds:
+            ctx.conclude(exceeds)
     return ctx.render_template(
         "sections/speed_fluctuation.html.j2",
         r=r,
@@ -89,6 +116,7 @@ def render(output: StageOutput, ctx) -> str:
         table_single=table_single,
         figure_single=figure_single,
         worked=worked_speed_fluctuation(ctx, r),
+        exceeds=exceeds,
         **parts,
     )
 

@@ -16,6 +16,7 @@ import numpy as np
 from markupsafe import Markup, escape
 
 from ..errors import PluginError
+from ..physics.extrema import first_extremum_index
 from ..plugin.types import declared
 from .formula_lines import unbroken_parts
 from .i18n import Translator
@@ -558,7 +559,8 @@ def add_extreme_rows(
     for values, kind, what in extremes:
         values = np.asarray(values, dtype=float)
         sign = 1.0 if kind == "max" else -1.0
-        index = int(np.argmax(sign * values))  # the first, as physics.extrema.first_argmax
+        # the first in the cycle of equal extremes (a periodic torque's), as the conclusions say
+        index = first_extremum_index(values, kind)
         shown = float(np.max(sign * values[np.asarray(rows, dtype=int)]))
         span = float(np.ptp(values))
         if index not in present and sign * values[index] - shown > resolution * span:

@@ -243,7 +243,7 @@ def skipped_sentence(t, registry, result) -> str:
     aircraft = getattr(result.scene.engine, "application", None) == "aircraft"
     skipped = [
         (
-            _stage_title(t, registry, name),
+            _skipped_title(t, registry, name),
             t(
                 _skip_key(reason)
                 + ("_aircraft" if aircraft and "flywheel" in _skip_key(reason) else "")
@@ -262,7 +262,20 @@ def skipped_sentence(t, registry, result) -> str:
         titles[-2:] = [t("report.skipped_what_and", first=titles[-2], last=titles[-1])]
     what = ", ".join(titles)
     why = "; ".join(dict.fromkeys(reason for _, reason in skipped))
-    return t("report.skipped_course", what=what, why=why, count=len(skipped))
+    # a title joining two things ("… і крутильні коливання") is a plural subject by itself
+    count = len(skipped) + sum(f" {conjunction} " in title for title, _ in skipped)
+    return t("report.skipped_course", what=what, what_in=_in_sentence(what), why=why, count=count)
+
+
+def _skipped_title(t, registry, name: str) -> str:
+    """A left-out stage's title as the object of the sentence saying it is not calculated: the
+    catalog's ``<title key>_accusative`` where the language declines it (Ukrainian «не
+    розраховано» takes the accusative: «динаміку шатуна»), else the title."""
+    stage = registry.stages.get(name)
+    look = stage.presentation if stage is not None else None
+    if look is not None and look.title_key and t.has(look.title_key + "_accusative"):
+        return t(look.title_key + "_accusative")
+    return _stage_title(t, registry, name)
 
 
 def cite(numbers) -> str:
