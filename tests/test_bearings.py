@@ -537,6 +537,10 @@ def test_each_rod_side_by_side_bears_its_own_cylinders_load_as_a_one_cylinder_en
         # the pin's width shared by two bearings: twice the one-cylinder engine's pressure
         assert rod["width_m"] == pytest.approx(one.results["dimensions"]["crank_pin_width_m"] / 2)
         assert rod["max_MPa"] == pytest.approx(2 * reference["max_MPa"], rel=1e-9)
+    # across its own rod a bearing feels only its rod's centrifugal force c_r sin(alpha + beta):
+    # |t_r| stays within one rod's |c_r| (the other bank's rod force would exceed it)
+    one_rod = abs(results["centrifugal_rod_Pa"]) / 2
+    assert np.abs(table["rod_bearing1_1_t_Pa"]).max() <= one_rod * (1 + 1e-12)
 
 
 def test_a_shared_pin_carries_the_sum_of_its_rods_own_loads():
@@ -577,3 +581,18 @@ def test_a_fork_rods_bearing_carries_the_whole_pin_load():
     assert r["rod_bearings"][0]["max_MPa"] == pytest.approx(
         r["crank_pins"][0]["max_MPa"], rel=1e-12
     )
+
+
+def test_a_v_engines_note_gives_each_rod_bearings_pressure_and_what_c_holds():
+    """The pins table of a V8 gives the pins' loads (both rods) without a bearing pressure; the rod
+    bearings' table gives each rod's own, over one bearing's width; the forces section says its c
+    holds one cylinder's rod, the crank section that its q holds all."""
+    import html as markup
+
+    html = markup.unescape(shared_html("v8-petrol").html)
+    section = html[html.index('data-stage="bearings"') :]
+    section = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
+    rod = run("v8-petrol").outputs["bearings"].results["rod_bearings"][0]
+    assert "each from its own rod's force only" in section
+    assert f"{rod['max_MPa']:.2f}" in section and f"{rod['width_m'] * 1e3:.2f}" in section
+    assert "of this cylinder's rod only" in html and "with the rods of all its cylinders" in html
