@@ -491,3 +491,108 @@ def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():
         radius < 0.4 for _, radius in names.values()
     )  # clear of the wear, laid from 0.4 inwards at most
     assert sum(1 for child in ax.get_children() if type(child).__name__ == "Annotation") == 2
+
+
+#: The V8 example as one cylinder: the same bore, stroke, rod, masses, cycle and speed.
+ONE_CYLINDER = {
+    "engine": {
+        "cylinders": 1,
+        "layout": "inline",
+        "bank_angle_deg": None,
+        "firing_order": None,
+        "crank_angles_deg": None,
+        "cylinder_spacing": None,
+    },
+    "balancing": None,
+}
+
+
+def test_each_rod_side_by_side_bears_its_own_cylinders_load_as_a_one_cylinder_engine():
+    """A V8's big-end bearing carries only its own rod: at shaft angle theta, the bearing of a
+    cylinder whose cycle runs delta behind equals the one-cylinder engine's rod bearing (same
+    masses, one rod's centrifugal force) at its own cycle angle theta - delta, in its own rod's
+    axes; its pressure is over the pin's width shared by the two bearings."""
+    v8 = run("v8-petrol")
+    one = run("v8-petrol", ONE_CYLINDER).outputs["bearings"]
+    single = one.tables["bearings"]
+    table, results = v8.outputs["bearings"].tables["bearings"], v8.outputs["bearings"].results
+    step = float(table["crank_angle_deg"][1] - table["crank_angle_deg"][0])
+    delays = {
+        p["cylinder"]: p["cycle_delay_deg"] for p in v8.outputs["bays"].results["cylinder_phases"]
+    }
+    rods = results["rod_bearings"]
+    assert results["rod_bearings_per_pin"] == 2 and len(rods) == 8
+    for place, rod in enumerate(rods):
+        name = f"rod_bearing{rod['crank']}_{place % 2 + 1}"
+        shift = int(round(delays[rod["cylinder"]] / step))
+        for axis in ("t", "z"):
+            np.testing.assert_allclose(
+                table[f"{name}_{axis}_Pa"].to_numpy(),
+                np.roll(single[f"rod_bearing1_{axis}_Pa"].to_numpy(), shift),
+                rtol=0,
+                atol=1e-9 * float(np.abs(single[f"rod_bearing1_{axis}_Pa"]).max()),
+            )
+        reference = one.results["rod_bearings"][0]
+        assert rod["max_N"] == pytest.approx(reference["max_N"], rel=1e-9)
+        # the pin's width shared by two bearings: twice the one-cylinder engine's pressure
+        assert rod["width_m"] == pytest.approx(one.results["dimensions"]["crank_pin_width_m"] / 2)
+        assert rod["max_MPa"] == pytest.approx(2 * reference["max_MPa"], rel=1e-9)
+    # across its own rod a bearing feels only its rod's centrifugal force c_r sin(alpha + beta):
+    # |t_r| stays within one rod's |c_r| (the other bank's rod force would exceed it)
+    one_rod = abs(results["centrifugal_rod_Pa"]) / 2
+    assert np.abs(table["rod_bearing1_1_t_Pa"]).max() <= one_rod * (1 + 1e-12)
+
+
+def test_a_shared_pin_carries_the_sum_of_its_rods_own_loads():
+    """The crank pin keeps the load of both rods: the sum of its two one-cylinder loads, each at
+    its own cycle angle."""
+    v8 = run("v8-petrol")
+    single = run("v8-petrol", ONE_CYLINDER).outputs["bearings"].tables["bearings"]
+    table = v8.outputs["bearings"].tables["bearings"]
+    step = float(table["crank_angle_deg"][1] - table["crank_angle_deg"][0])
+    phases = v8.outputs["bays"].results["cylinder_phases"]
+    for axis in ("t", "z"):
+        expected = np.zeros((4, len(table)))
+        for p in phases:
+            shift = int(round(p["cycle_delay_deg"] / step))
+            expected[p["crank"] - 1] += np.roll(single[f"pin1_{axis}_Pa"].to_numpy(), shift)
+        for k in range(4):
+            np.testing.assert_allclose(
+                table[f"pin{k + 1}_{axis}_Pa"].to_numpy(), expected[k], rtol=1e-12, atol=1e-6
+            )
+
+
+def test_a_fork_rods_bearing_carries_the_whole_pin_load():
+    """The blade rod runs on the outside of the fork rod's bearing shell: the fork rod's one
+    bearing on the pin carries both rods' load over the pin's whole width."""
+    assert brg.big_end_bearings_on_pin("central", 2) == 2
+    assert (
+        brg.big_end_bearings_on_pin("fork", 2) == brg.big_end_bearings_on_pin("articulated", 4) == 1
+    )
+    assert brg.big_end_bearing_width_m(0.036, 2) == 0.018
+    out = run("v8-petrol", {"engine": {"rod_type": "fork"}}).outputs["bearings"]
+    r, table = out.results, out.tables["bearings"]
+    assert "rod_bearings_per_pin" not in r and len(r["rod_bearings"]) == 4
+    np.testing.assert_allclose(
+        np.hypot(table["rod_bearing1_t_Pa"], table["rod_bearing1_z_Pa"]),
+        np.hypot(table["pin1_t_Pa"], table["pin1_z_Pa"]),
+        rtol=1e-12,
+    )
+    assert r["rod_bearings"][0]["max_MPa"] == pytest.approx(
+        r["crank_pins"][0]["max_MPa"], rel=1e-12
+    )
+
+
+def test_a_v_engines_note_gives_each_rod_bearings_pressure_and_what_c_holds():
+    """The pins table of a V8 gives the pins' loads (both rods) without a bearing pressure; the rod
+    bearings' table gives each rod's own, over one bearing's width; the forces section says its c
+    holds one cylinder's rod, the crank section that its q holds all."""
+    import html as markup
+
+    html = markup.unescape(shared_html("v8-petrol").html)
+    section = html[html.index('data-stage="bearings"') :]
+    section = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
+    rod = run("v8-petrol").outputs["bearings"].results["rod_bearings"][0]
+    assert "each from its own rod's force only" in section
+    assert f"{rod['max_MPa']:.2f}" in section and f"{rod['width_m'] * 1e3:.2f}" in section
+    assert "of this cylinder's rod only" in html and "with the rods of all its cylinders" in html

@@ -14,14 +14,14 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
+from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, FORCES, KINEMATICS
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .options import BearingOptions
 
 # Typical proportions (fractions of the bore / of the journal diameter) for car and tractor
-# engines, used when the scene gives no journal dimensions.
+# engines (Kolchin and Demidov), used when the scene gives no journal dimensions.
 DEFAULT_PIN_DIAMETER_PER_BORE = 0.63
 
 DEFAULT_PIN_WIDTH_PER_DIAMETER = 0.60
@@ -57,20 +57,27 @@ def pin_area_needed_m2(pins, kind: str) -> float:
 
 
 def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
-    """The most loaded crank pin's mean and largest bearing pressure against the allowable ones
-    of its kind of engine (:data:`ALLOWABLE_PIN_PRESSURE_MPA`)."""
+    """The most loaded crank pin's (with several big-end bearings side by side on it, the most
+    loaded of these bearings') mean and largest pressure against the allowable ones of its kind
+    of engine (:data:`ALLOWABLE_PIN_PRESSURE_MPA`)."""
     pins = (results or {}).get("crank_pins")
     if not pins:
         return []
+    per_pin = results.get("rod_bearings_per_pin", 1)
+    loaded = pins if per_pin == 1 else results["rod_bearings"]
     kind = _ignition_kind(scene)
     mean_limit, max_limit = ALLOWABLE_PIN_PRESSURE_MPA[kind]
-    p_mean = max(pin["mean_MPa"] for pin in pins)
-    p_max = max(pin["max_MPa"] for pin in pins)
+    p_mean = max(x["mean_MPa"] for x in loaded)
+    p_max = max(x["max_MPa"] for x in loaded)
     if p_mean <= mean_limit and p_max <= max_limit:
         return []
     sizes = results.get("dimensions") or {}
-    area_needed_m2 = sizes.get("crank_pin_area_needed_m2") or pin_area_needed_m2(pins, kind)
     diameter_m, width_m = sizes.get("crank_pin_diameter_m"), sizes.get("crank_pin_width_m")
+    if per_pin == 1:
+        area_needed_m2 = sizes.get("crank_pin_area_needed_m2") or pin_area_needed_m2(pins, kind)
+    else:  # one bearing's d·B and width, as the section gives them
+        area_needed_m2 = sizes.get("rod_bearing_area_needed_m2") or pin_area_needed_m2(loaded, kind)
+        width_m = loaded[0].get("width_m")
     params = {
         "p_mean": float(p_mean),
         "p_max": float(p_max),
@@ -122,20 +129,29 @@ def _dimensions(scene, opts):
     return d_pin, w_pin, d_main, w_main, defaulted
 
 
-def _tables(angle, pin, rod, journal, bearing, wear_pins, wear_journals) -> dict:
+def rod_bearing_name(crank: int, place: int | None) -> str:
+    """The tables' name of a big-end bearing: "rod_bearing2" of crank pin 2's one bearing,
+    "rod_bearing2_1" of the first of several side by side on it (``place`` from 1)."""
+    return f"rod_bearing{crank}" + ("" if place is None else f"_{place}")
+
+
+def _rod_columns(rods, per_pin: int) -> dict:
+    """The big-end bearings' t and z columns (Pa), by :func:`rod_bearing_name`."""
+    columns = {}
+    for i, (k, _, t, z) in enumerate(rods):
+        name = rod_bearing_name(k + 1, None if per_pin == 1 else i % per_pin + 1)
+        columns.update({f"{name}_t_Pa": t, f"{name}_z_Pa": z})
+    return columns
+
+
+def _tables(angle, pin, rod_columns, journal, bearing, wear_pins, wear_journals) -> dict:
     """The stage's tables: every pin, rod bearing, journal and main bearing load (t, z components
     in Pa, per crank angle), and the wear diagrams (N per surface angle)."""
     cranks = len(pin[0])
     table = {"crank_angle_deg": angle}
     for k in range(cranks):
-        table.update(
-            {
-                f"pin{k + 1}_t_Pa": pin[0][k],
-                f"pin{k + 1}_z_Pa": pin[1][k],
-                f"rod_bearing{k + 1}_t_Pa": rod[0][k],
-                f"rod_bearing{k + 1}_z_Pa": rod[1][k],
-            }
-        )
+        table.update({f"pin{k + 1}_t_Pa": pin[0][k], f"pin{k + 1}_z_Pa": pin[1][k]})
+    table.update(rod_columns)
     for j in range(cranks + 1):
         table.update(
             {
@@ -166,33 +182,94 @@ def _counterweight_loads_Pa(fitted, cranks: int, area_m2: float) -> tuple[np.nda
     )
 
 
-def _pin_and_rod_loads(loads, bays, motion, layout):
-    """(pin t, pin z, rod-bearing t, rod-bearing z), each (cranks, N): the rods' load on each crank
-    pin in crank axes, and the rod bearing of each bay's master rod in rod axes."""
-    angle = loads.crank_angle_deg
-    pin_t, pin_z = brg.crank_pin_load(loads.tangential_Pa, loads.radial_Pa, bays.centrifugal_rod_Pa)
+def _rod_angle(motion, local_rad, revolution: int):
+    """beta at the crank's angles ``local_rad`` from the cylinder axis (0 without a rod: a Scotch
+    yoke's pin bears on the slider, along the cylinder axis)."""
+    if motion.rod_angle_rad is None:
+        return 0.0
+    return np.interp(
+        np.degrees(local_rad),
+        motion.crank_angle_deg[:revolution],
+        motion.rod_angle_rad[:revolution],
+        period=360.0,
+    )
+
+
+def _pin_loads(loads, bays):
+    """(pin t, pin z), each (cranks, N): the rods' load on each crank pin in crank axes."""
+    return brg.crank_pin_load(loads.tangential_Pa, loads.radial_Pa, bays.centrifugal_rod_Pa)
+
+
+def _master_rod_bearings(pin_t, pin_z, angle, motion, layout) -> list[tuple]:
+    """(crank, cylinder, t, z) of the one big-end bearing of each crank pin (a single rod, a fork
+    rod or a master rod), carrying the whole pin load, in its rod's axes."""
     master = layout.bay(0)[0]
-    rod_t, rod_z = np.zeros_like(pin_t), np.zeros_like(pin_z)
     revolution = int(round(360 / (angle[1] - angle[0])))
     # the crank's angle from the cylinder axis is alpha + this (an offset crank-slider's phi_TDC)
     tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    out = []
     for k in range(layout.cranks):
         # Each bay's master rod sees its crank at its own cycle angle.
         delay = layout.bay(k)[0].firing_delay_deg - master.firing_delay_deg
         local = np.radians((angle - delay) % 360.0)
-        # without a rod (a Scotch yoke) the pin's bearing is the slider's, along the cylinder axis
-        beta = (
-            0.0
-            if motion.rod_angle_rad is None
-            else np.interp(
-                np.degrees(local),
-                motion.crank_angle_deg[:revolution],
-                motion.rod_angle_rad[:revolution],
-                period=360.0,
+        beta = _rod_angle(motion, local, revolution)
+        rod_t, rod_z = brg.rod_bearing_load(pin_t[k], pin_z[k], local + tdc, beta)
+        out.append((k, layout.bay(k)[0].label, rod_t, rod_z))
+    return out
+
+
+def _own_rod_bearings(forces, bays, motion, layout, step_deg: float) -> list[tuple]:
+    """(crank, cylinder, t, z) of every big-end bearing of central rods side by side on shared
+    pins: each from its own cylinder's forces (shifted to its cycle delay, as the bays sum them)
+    and its own rod's centrifugal force, in its own rod's axes."""
+    angle = motion.crank_angle_deg
+    revolution = int(round(360 / (angle[1] - angle[0])))
+    tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
+    c_one_rod = bays.centrifugal_rod_Pa / layout.cylinders_per_bay
+    out = []
+    for k in range(layout.cranks):
+        for c in layout.bay(k):
+            shift = lay.grid_shift(c.firing_delay_deg, step_deg)
+            local = np.radians((angle - c.firing_delay_deg) % 360.0)
+            rod_t, rod_z = brg.own_rod_bearing_load(
+                np.roll(forces.tangential_Pa, shift),
+                np.roll(forces.radial_Pa, shift),
+                c_one_rod,
+                local + tdc,
+                _rod_angle(motion, local, revolution),
             )
-        )
-        rod_t[k], rod_z[k] = brg.rod_bearing_load(pin_t[k], pin_z[k], local + tdc, beta)
-    return pin_t, pin_z, rod_t, rod_z
+            out.append((k, c.label, rod_t, rod_z))
+    return out
+
+
+def _rod_bearings(scene, inputs, pin_t, pin_z) -> tuple[list[tuple], int]:
+    """(the big-end bearings' (crank, cylinder, t, z), the number of bearings on one pin)."""
+    bays, motion = inputs[BAY_LOADS], inputs[KINEMATICS]
+    layout = bays.layout
+    per_pin = brg.big_end_bearings_on_pin(scene.engine.rod_type, layout.cylinders_per_bay)
+    if per_pin == 1:
+        return _master_rod_bearings(pin_t, pin_z, motion.crank_angle_deg, motion, layout), 1
+    rods = _own_rod_bearings(inputs[FORCES], bays, motion, layout, scene.analysis.angle_step_deg)
+    return rods, per_pin
+
+
+def _rod_bearing_results(rods, per_pin: int, area, d_pin, w_pin, angle) -> list[dict]:
+    """Each big-end bearing's summary: one per crank pin; with several side by side, one per rod
+    (its cylinder, its width B/n), with the angles of its largest and smallest loads."""
+    if per_pin == 1:
+        return [
+            {"crank": k + 1, **brg.polar_summary(t, z, area, d_pin, w_pin)} for k, _, t, z in rods
+        ]
+    width = brg.big_end_bearing_width_m(w_pin, per_pin)
+    return [
+        {
+            "crank": k + 1,
+            "cylinder": label,
+            "width_m": width,
+            **brg.polar_summary(t, z, area, d_pin, width, angle),
+        }
+        for k, label, t, z in rods
+    ]
 
 
 def run(scene, inputs) -> StageOutput:
@@ -204,7 +281,8 @@ def run(scene, inputs) -> StageOutput:
     area = loads.piston_area_m2
     d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
     _check_drawn_numbers(opts, cranks)
-    pin_t, pin_z, rod_t, rod_z = _pin_and_rod_loads(loads, bays, motion, layout)
+    pin_t, pin_z = _pin_loads(loads, bays)
+    rods, per_pin = _rod_bearings(scene, inputs, pin_t, pin_z)
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
     journal, bearing, centrifugal = _main_journal_loads(
@@ -224,11 +302,15 @@ def run(scene, inputs) -> StageOutput:
         ],
         strict=True,
     )
+    rod_results = _rod_bearing_results(rods, per_pin, area, d_pin, w_pin, angle)
     area_needed = pin_area_needed_m2(pins, _ignition_kind(scene))
     results = {
         # an offset crank-slider's crank is this far past the cylinder axis at TDC (0: central)
         "crank_angle_at_tdc_deg": math.degrees(motion.extra.get("crank_angle_at_tdc_rad", 0.0)),
-        "dimensions": _dimension_results((d_pin, w_pin, d_main, w_main), defaulted, area_needed),
+        "dimensions": {
+            **_dimension_results((d_pin, w_pin, d_main, w_main), defaulted, area_needed),
+            **_rod_bearing_needed(rod_results, per_pin, d_pin, _ignition_kind(scene)),
+        },
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "main_journals": [
@@ -240,10 +322,9 @@ def run(scene, inputs) -> StageOutput:
             for j in range(cranks + 1)
         ],
         "crank_centrifugal_N": abs(loads.centrifugal_Pa) * area,
-        "rod_bearings": [
-            {"crank": k + 1, **brg.polar_summary(rod_t[k], rod_z[k], area, d_pin, w_pin)}
-            for k in range(cranks)
-        ],
+        "rod_bearings": rod_results,
+        # big-end bearings side by side on one crank pin, each carrying its own rod only
+        **({"rod_bearings_per_pin": per_pin} if per_pin > 1 else {}),
         "main_bearings": [
             {
                 "journal": lay.journal_label(j),
@@ -256,7 +337,13 @@ def run(scene, inputs) -> StageOutput:
         "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
     }
     tables = _tables(
-        angle, (pin_t, pin_z), (rod_t, rod_z), journal, bearing, wear_pins, wear_journals
+        angle,
+        (pin_t, pin_z),
+        _rod_columns(rods, per_pin),
+        journal,
+        bearing,
+        wear_pins,
+        wear_journals,
     )
     return StageOutput(
         data={},
@@ -281,6 +368,15 @@ def _dimension_results(sizes, defaulted: list[str], area_needed: float) -> dict:
         "crank_pin_area_needed_m2": area_needed,
         "crank_pin_width_needed_m": area_needed / d_pin,
     }
+
+
+def _rod_bearing_needed(rod_results, per_pin: int, d_pin: float, kind: str) -> dict:
+    """With big-end bearings side by side on the pins: the d·B of one bearing, and its width at
+    the pin's diameter, that the allowable pressures need for the most loaded one (m², m)."""
+    if per_pin == 1:
+        return {}
+    area = pin_area_needed_m2(rod_results, kind)
+    return {"rod_bearing_area_needed_m2": area, "rod_bearing_width_needed_m": area / d_pin}
 
 
 def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:

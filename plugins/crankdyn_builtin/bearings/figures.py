@@ -10,6 +10,7 @@ import numpy as np
 from markupsafe import Markup
 
 from crankdyn.report.figures import crank_angle_axis, new_figure
+from crankdyn_builtin.bearings.compute import rod_bearing_name
 from crankdyn_builtin.bearings.worked import (
     journal_name,
 )
@@ -201,14 +202,17 @@ def _pole_and_journal(ax, pole_z: float, radius: float, oil_deg) -> None:
         ax.plot(radius * np.sin(psi), pole_z + radius * np.cos(psi), "o", color="C2", ms=5)
 
 
-def _side_by_side(pairs: list) -> list:
-    """The diagrams' markup, each two narrow ones (a crank pin and its rod bearing, a main journal
-    and its bearing) in one row."""
+def _side_by_side(groups: list) -> list:
+    """The diagrams' markup, each two narrow ones of a group (a crank pin and its rod bearing, the
+    rod bearings side by side on one pin, a main journal and its bearing) in one row."""
     out = []
-    for k in range(0, len(pairs) - 1, 2):
-        (first, narrow_first), (second, narrow_second) = pairs[k], pairs[k + 1]
-        out += [_figure_row(first, second)] if narrow_first and narrow_second else [first, second]
-    return out + [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2 :]]
+    for pairs in groups:
+        for k in range(0, len(pairs) - 1, 2):
+            (first, narrow_first), (second, narrow_second) = pairs[k], pairs[k + 1]
+            together = narrow_first and narrow_second
+            out += [_figure_row(first, second)] if together else [first, second]
+        out += [markup for markup, _ in pairs[len(pairs) - len(pairs) % 2 :]]
+    return out
 
 
 _SEE = re.compile(r'<p class="see">(.*?)</p>', flags=re.S)
@@ -329,32 +333,81 @@ def _shared_pins(ctx, r) -> bool:
 
 
 def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
-    """(markup, narrow) of each polar diagram, in pairs: a crank pin and its rod bearing, a main
-    journal and its bearing."""
+    """(markup, narrow) of each polar diagram, in groups that may share rows: a crank pin and its
+    rod bearing (the pin alone and its rod bearings side by side together when several share it),
+    a main journal and its bearing."""
     t = ctx.t
     labels_every = 30.0 if ctx.cycle_deg > 360 else 15.0
     c_rod = r["centrifugal_rod_Pa"] / 1e6
     pin_caption = "bearings.pin_caption_shared" if _shared_pins(ctx, r) else "bearings.pin_caption"
-    polar = []
+    groups = []
     for k in r["drawn_pins"]:
         pin = r["crank_pins"][k - 1]
-        polar.append(
-            _polar(
-                ctx,
-                f[f"pin{k}_t_Pa"],
-                f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
-                angle,
-                -c_rod,
-                _one_of(t, "bearings.pin_title", k, single),
-                pin["oil_hole_deg"],
-                0.12,
-                labels_every,
-                f"pin{k}",
-                _one_of(t, pin_caption, k, single),
-                see=("bearings.see_polar_pin", _crank_number(k, single)),
-            )
+        pin_diagram = _polar(
+            ctx,
+            f[f"pin{k}_t_Pa"],
+            f[f"pin{k}_z_Pa"] - r["centrifugal_rod_Pa"],
+            angle,
+            -c_rod,
+            _one_of(t, "bearings.pin_title", k, single),
+            pin["oil_hole_deg"],
+            0.12,
+            labels_every,
+            f"pin{k}",
+            _one_of(t, pin_caption, k, single),
+            see=("bearings.see_polar_pin", _crank_number(k, single)),
         )
-        polar.append(
+        rods = _rod_diagrams(ctx, r, f, angle, k, single, labels_every)
+        groups += [[pin_diagram, *rods]] if len(rods) == 1 else [[pin_diagram], rods]
+    for j in r["drawn_journals"]:
+        journal = r["main_journals"][j - 1]
+        groups.append(
+            [
+                _polar(
+                    ctx,
+                    f[f"journal{j - 1}_t_Pa"],
+                    f[f"journal{j - 1}_z_Pa"],
+                    angle,
+                    0.0,
+                    t("bearings.journal_title", label=journal_name(journal)),
+                    journal["oil_hole_deg"],
+                    0.12,
+                    labels_every,
+                    f"journal{j - 1}",
+                    t(
+                        "bearings.journal_caption",
+                        label=journal_name(journal),
+                        crank=max(j - 1, 1),
+                    ),
+                    see=("bearings.see_polar_journal", {"label": journal_name(journal)}),
+                ),
+                _polar(
+                    ctx,
+                    f[f"main_bearing{j - 1}_t_Pa"],
+                    f[f"main_bearing{j - 1}_z_Pa"],
+                    angle,
+                    0.0,
+                    t("bearings.main_bearing_title", label=journal_name(journal)),
+                    None,
+                    0.12,
+                    labels_every,
+                    f"main_bearing{j - 1}",
+                    t("bearings.main_bearing_caption", label=journal_name(journal)),
+                    axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
+                    see=("bearings.see_polar_main_bearing", {"label": journal_name(journal)}),
+                ),
+            ]
+        )
+    return groups
+
+
+def _rod_diagrams(ctx, r, f, angle, k: int, single: bool, labels_every: float) -> list:
+    """(markup, narrow) of the big-end bearing diagrams of crank pin ``k``: its one bearing, or
+    each of the bearings side by side on it, each in its own rod's axes."""
+    t = ctx.t
+    axes = (t("bearings.axis_rod_t"), t("bearings.axis_rod_z"))
+    if not r.get("rod_bearings_per_pin"):
+        return [
             _polar(
                 ctx,
                 f[f"rod_bearing{k}_t_Pa"],
@@ -367,43 +420,29 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
                 labels_every,
                 f"rod_bearing{k}",
                 _one_of(t, "bearings.rod_caption", k, single),
-                axes=(t("bearings.axis_rod_t"), t("bearings.axis_rod_z")),
+                axes=axes,
                 see=("bearings.see_polar_rod", _crank_number(k, single)),
             )
-        )
-    for j in r["drawn_journals"]:
-        journal = r["main_journals"][j - 1]
-        polar.append(
+        ]
+    rods = [rod for rod in r["rod_bearings"] if rod["crank"] == k]
+    out = []
+    for place, rod in enumerate(rods, start=1):
+        name = rod_bearing_name(k, place)
+        out.append(
             _polar(
                 ctx,
-                f[f"journal{j - 1}_t_Pa"],
-                f[f"journal{j - 1}_z_Pa"],
+                f[f"{name}_t_Pa"],
+                f[f"{name}_z_Pa"],
                 angle,
                 0.0,
-                t("bearings.journal_title", label=journal_name(journal)),
-                journal["oil_hole_deg"],
-                0.12,
-                labels_every,
-                f"journal{j - 1}",
-                t("bearings.journal_caption", label=journal_name(journal), crank=max(j - 1, 1)),
-                see=("bearings.see_polar_journal", {"label": journal_name(journal)}),
-            )
-        )
-        polar.append(
-            _polar(
-                ctx,
-                f[f"main_bearing{j - 1}_t_Pa"],
-                f[f"main_bearing{j - 1}_z_Pa"],
-                angle,
-                0.0,
-                t("bearings.main_bearing_title", label=journal_name(journal)),
+                t("bearings.rod_title_cylinder", cylinder=rod["cylinder"]),
                 None,
                 0.12,
                 labels_every,
-                f"main_bearing{j - 1}",
-                t("bearings.main_bearing_caption", label=journal_name(journal)),
-                axes=(t("bearings.axis_engine_x"), t("bearings.axis_engine_y")),
-                see=("bearings.see_polar_main_bearing", {"label": journal_name(journal)}),
+                name,
+                t("bearings.rod_caption_cylinder", cylinder=rod["cylinder"], k=k),
+                axes=axes,
+                see=("bearings.see_polar_rod_cylinder", {"cylinder": rod["cylinder"]}),
             )
         )
-    return polar
+    return out

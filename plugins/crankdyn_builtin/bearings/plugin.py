@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, KINEMATICS
+from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, FORCES, KINEMATICS
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
@@ -24,7 +24,7 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 BEARINGS_STAGE = Stage(
     name="bearings",
-    requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS),
+    requires=(CRANK_LOADS, BAY_LOADS, KINEMATICS, FORCES),
     uses=(COUNTERWEIGHTS,),
     provides=(),
     applies=applies,
@@ -51,7 +51,7 @@ BEARINGS_STAGE = Stage(
         title_key="bearings.title",
         render=render,
         figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
-        references=("poda2007", "orlin1984"),
+        references=("poda2007", "orlin1984", "kolchin2002"),
         symbols=SYMBOLS,
     ),
 )

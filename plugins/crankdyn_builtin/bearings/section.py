@@ -8,6 +8,7 @@ from crankdyn_builtin.bearings.worked import (
     loads_equal,
     most_loaded,
     pin_rows,
+    rod_rows,
     worked_bearing,
 )
 
@@ -44,6 +45,8 @@ def render(output: StageOutput, ctx) -> str | None:
     figures.append(_wear_figure(ctx, output.tables.arrays("wear"), r))
     figures.append(_unrolled_figure(ctx, f, r, angle, single))
     table_pins = _pins_table(ctx, r, single)
+    if r.get("rod_bearings_per_pin"):
+        table_pins += _rods_table(ctx, r)
     table_journals, journals_table_number = _journals_table(ctx, r, single)
     table_journals += worked_bearing(ctx, r, "journal")
     # identical cylinders on cranks of their own: the same load on every pin, shifted in phase
@@ -72,23 +75,49 @@ def render(output: StageOutput, ctx) -> str | None:
 
 
 def _pins_table(ctx, r, single: bool) -> str:
-    """The crank pins' loads, pressures and oil holes, with their worked substitutions."""
+    """The crank pins' loads, pressures and oil holes, with their worked substitutions; with
+    several big-end bearings side by side on a pin, the pins' loads and oil holes only (each
+    bearing's pressure is its own rod's: :func:`_rods_table`)."""
     t = ctx.t
     pins, pin_labels = pin_rows(r["crank_pins"])
-    return ctx.table(
+    side_by_side = bool(r.get("rod_bearings_per_pin"))
+    pressures = [
+        ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
+        ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
+    ]
+    caption = "bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"
+    table = ctx.table(
         [
             (t("bearings.crank"), pin_labels, None),
             ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
             ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
-            ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [p["max_MPa"] for p in pins], 2),
-            ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [p["mean_MPa"] for p in pins], 2),
+            *([] if side_by_side else pressures),
             (t("bearings.oil_hole"), [oil_hole_printed(p) for p in pins], 0),
         ],
-        caption=t(
-            "bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"
-        ),
-        see="bearings.see_pins_single" if single else "bearings.see_pins",
-    ) + worked_bearing(ctx, r, "pin")
+        caption=t(caption + ("_shared" if side_by_side else "")),
+        see=("bearings.see_pins_single" if single else "bearings.see_pins")
+        + ("_shared" if side_by_side else ""),
+    )
+    return table if side_by_side else table + worked_bearing(ctx, r, "pin")
+
+
+def _rods_table(ctx, r) -> str:
+    """The big-end bearings side by side on the pins: each one's own rod's load and pressure over
+    its own width, with the worked substitution of the most loaded one."""
+    t = ctx.t
+    rods, labels = rod_rows(r["rod_bearings"])
+    width_mm = r["rod_bearings"][0]["width_m"] * 1e3
+    return ctx.table(
+        [
+            (t("bearings.cylinder"), labels, None),
+            ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [x["max_N"] / 1e3 for x in rods], 2),
+            ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [x["mean_N"] / 1e3 for x in rods], 2),
+            ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [x["max_MPa"] for x in rods], 2),
+            ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [x["mean_MPa"] for x in rods], 2),
+        ],
+        caption=t("bearings.rods_table_caption", width=ctx.num(width_mm, 4)),
+        see="bearings.see_rods",
+    ) + worked_bearing(ctx, r, "rod")
 
 
 def _journals_table(ctx, r, single: bool) -> tuple[str, str]:
@@ -163,15 +192,17 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
         if len(tied) > 1
         else "bearings.conclusion_journal"
     )
+    side_by_side = bool(r.get("rod_bearings_per_pin"))
     ctx.conclude(
         t(
-            conclusion,
+            conclusion + ("_shared" if side_by_side else ""),
             k=pin["crank"],
             q_max=ctx.t.fixed(pin["max_N"] / 1e3, 2),
             p_mean=ctx.t.fixed(pin["mean_MPa"], 2),
             oil=ctx.t.fixed(oil_hole_printed(pin), 0),
         )  # as the tables print it
         + " "
+        + (_rod_conclusion(ctx, r) + " " if side_by_side else "")
         + t(
             journal_key,
             label=journal_name(journal),
@@ -185,6 +216,21 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     loaded = centrifugal_journal(r)
     if loaded is not None:
         ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
+
+
+def _rod_conclusion(ctx, r) -> str:
+    """The most loaded big-end bearing of those side by side on the pins: its own rod's largest
+    load and its mean pressure, with the digits its table prints."""
+    tied = most_loaded(r["rod_bearings"])
+    rod = tied[0]
+    return ctx.t(
+        "bearings.conclusion_rod_equal"
+        if loads_equal(r["rod_bearings"])
+        else "bearings.conclusion_rod",
+        cylinder=rod["cylinder"],
+        q_max=ctx.t.fixed(rod["max_N"] / 1e3, 2),
+        p_mean=ctx.t.fixed(rod["mean_MPa"], 2),
+    )
 
 
 def _load_ranges(ctx, r, single: bool) -> str:

@@ -73,11 +73,30 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
     return pins, [str(p["crank"]) for p in pins]
 
 
+def rod_rows(rods: list[dict]) -> tuple[list[dict], list[str]]:
+    """The rod bearings table's rows and their cylinder labels: one row "1L…4R" for bearings that
+    print alike (identical cylinders: the same loads shifted in phase), as :func:`pin_rows`."""
+    printed = {
+        (
+            round(x["max_N"] / 1e3, 2),
+            round(x["mean_N"] / 1e3, 2),
+            round(x["max_MPa"], 2),
+            round(x["mean_MPa"], 2),
+        )
+        for x in rods
+    }
+    if len(rods) > 1 and len(printed) == 1:
+        return rods[:1], [f"{rods[0]['cylinder']}…{rods[-1]['cylinder']}"]
+    return rods, [x["cylinder"] for x in rods]
+
+
 def worked_bearing(ctx, r, kind: str) -> Markup:
-    """After the pins table (``kind`` "pin") or the journals table ("journal"): p_max of the most
-    loaded one, which the polar diagrams show."""
+    """After the pins table (``kind`` "pin"), the rod bearings table ("rod": several side by side
+    on each pin) or the journals table ("journal"): p_max of the most loaded one."""
     dims = r["dimensions"]
-    records = r["crank_pins"] if kind == "pin" else r["main_journals"]
+    records = {"pin": r["crank_pins"], "rod": r.get("rod_bearings"), "journal": r["main_journals"]}[
+        kind
+    ]
     tied = most_loaded(records)
     record = tied[0]
     if kind == "pin":
@@ -86,6 +105,11 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         key = labels[0] if len(labels) == 1 else str(record["crank"])
         load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
+    elif kind == "rod":
+        labels = rod_rows(records)[1]
+        key = labels[0] if len(labels) == 1 else record["cylinder"]
+        load_html = "<i>Q</i><sub>max</sub>"
+        size = dims["crank_pin_diameter_m"], record["width_m"]
     else:
         key, load_html = journal_name(record), "<i>R</i><sub>max</sub>"
         size = dims["main_journal_diameter_m"], dims["main_journal_width_m"]
@@ -100,7 +124,8 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         if len(tied) > 1
         else ""
     )
-    others = ", ".join(str(x["crank"]) if kind == "pin" else journal_name(x) for x in tied[1:])
+    names = {"pin": lambda x: str(x["crank"]), "rod": lambda x: x["cylinder"]}
+    others = ", ".join(names.get(kind, journal_name)(x) for x in tied[1:])
     note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
     return worked_markup(
         ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note)

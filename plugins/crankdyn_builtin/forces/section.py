@@ -77,6 +77,7 @@ def render(output: StageOutput, ctx) -> str:
         figure_forces=figure_forces,
         figure_torque=figure_torque,
         worked=worked,
+        several_per_crank=whose == "_cylinder",
     )
 
 

@@ -105,6 +105,8 @@ def render(output: StageOutput, ctx) -> str | None:
         journals_table=journals_table,
         danger=danger,
         output_end=output_end(ctx.scene),
+        # a crank of several cylinders: its q holds the rods of all of them
+        several_per_crank=len(delays) > cranks,
     )
 
 

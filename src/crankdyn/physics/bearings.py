@@ -70,6 +70,59 @@ def rod_bearing_load(pin_t_Pa, pin_z_Pa, crank_angle_rad, rod_angle_rad):
     return -t_r, -z_r
 
 
+def big_end_bearings_on_pin(rod_type: str, cylinders_per_pin: int) -> int:
+    """Number of big-end bearings that share the length of one crank pin.
+
+    Parameters
+    ----------
+    rod_type : {"central", "fork", "articulated"}
+        How the rods of one crank pin sit on it.
+    cylinders_per_pin : int
+        Cylinders (rods) acting on one crank pin, 1 or more.
+
+    Returns
+    -------
+    int
+        ``cylinders_per_pin`` for central rods side by side, each with a bearing of its own;
+        1 for a fork rod (the blade rod runs on the outside of the fork rod's bearing shell)
+        and for a master rod (the slave rods hang on its big end): that one bearing carries the
+        whole pin load.
+    """
+    return cylinders_per_pin if rod_type == "central" else 1
+
+
+def big_end_bearing_width_m(pin_width_m: float, bearings_on_pin: int) -> float:
+    """Width B_r of one big-end bearing, m: the crank pin's width shared equally by the big-end
+    bearings side by side on it, ``B_r = B / n`` (n from :func:`big_end_bearings_on_pin`)."""
+    return pin_width_m / bearings_on_pin
+
+
+def own_rod_bearing_load(
+    tangential_Pa, radial_Pa, centrifugal_one_rod_Pa, crank_angle_rad, rod_angle_rad
+):
+    """Load of the crank pin on the big-end bearing of one rod among several on a shared pin.
+
+    Parameters
+    ----------
+    tangential_Pa, radial_Pa : array (N,)
+        t and z of this rod's cylinder alone (Pa per piston area), in crank axes, at the
+        shaft angles of the grid (textbook table B.2 of one cylinder).
+    centrifugal_one_rod_Pa : float
+        c_r of this rod's rotating part alone, -m_rR R omega^2 / F_p, Pa (negative).
+    crank_angle_rad, rod_angle_rad : array (N,)
+        alpha_i (the crank's angle from this cylinder's axis) and beta_i of this rod.
+
+    Returns
+    -------
+    (t_r, z_r) : arrays (N,)
+        The load in this rod's axes, Pa: ``-Pi(alpha_i + beta_i) (t_i, z_i + c_r)`` (textbook
+        §5.1, fig. 17-20, applied to one rod: the bearing carries its own rod's force only;
+        the other rods' forces reach the pin through their own bearings).
+    """
+    pin_t, pin_z = crank_pin_load(tangential_Pa, radial_Pa, centrifugal_one_rod_Pa)
+    return rod_bearing_load(pin_t, pin_z, crank_angle_rad, rod_angle_rad)
+
+
 def to_frame(vector_a, vector_n, e_t, e_z):
     """Components (t, z) of an engine-frame vector in the axes (e_t, e_z)."""
     return vector_a * e_t[0] + vector_n * e_t[1], vector_a * e_z[0] + vector_n * e_z[1]
