@@ -596,3 +596,14 @@ def test_a_v_engines_note_gives_each_rod_bearings_pressure_and_what_c_holds():
     assert "each from its own rod's force only" in section
     assert f"{rod['max_MPa']:.2f}" in section and f"{rod['width_m'] * 1e3:.2f}" in section
     assert "of this cylinder's rod only" in html and "with the rods of all its cylinders" in html
+
+
+def test_a_russian_note_names_each_rod_bearing_by_its_cylinders_russian_label():
+    """The rod bearings of a V8 are named as the note prints its cylinders: 4Л, not 4L, in the
+    figure titles, captions, references and the table of rod bearings."""
+    rendered = shared_html("v8-petrol", None, "ru", ("bearings",))
+    text = re.sub(r"<[^>]+>", " ", rendered.linked_html)
+    assert re.search(r"подшипник цилиндра \d[ЛП]\b", text)
+    assert not re.search(r"\b\d[LR]\b", text)
+    svgs = [f.svg.decode() for f in rendered.figures if "rod" in f.name]
+    assert svgs and all(not re.search(r">\d[LR]<|цилиндра \d[LR]", s) for s in svgs)

@@ -435,14 +435,14 @@ def _rod_diagrams(ctx, r, f, angle, k: int, single: bool, labels_every: float) -
                 f[f"{name}_z_Pa"],
                 angle,
                 0.0,
-                t("bearings.rod_title_cylinder", cylinder=rod["cylinder"]),
+                t("bearings.rod_title_cylinder", cylinder=t.cylinder(rod["cylinder"])),
                 None,
                 0.12,
                 labels_every,
                 name,
-                t("bearings.rod_caption_cylinder", cylinder=rod["cylinder"], k=k),
+                t("bearings.rod_caption_cylinder", cylinder=t.cylinder(rod["cylinder"]), k=k),
                 axes=axes,
-                see=("bearings.see_polar_rod_cylinder", {"cylinder": rod["cylinder"]}),
+                see=("bearings.see_polar_rod_cylinder", {"cylinder": t.cylinder(rod["cylinder"])}),
             )
         )
     return out

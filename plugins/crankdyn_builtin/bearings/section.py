@@ -105,7 +105,7 @@ def _rods_table(ctx, r) -> str:
     """The big-end bearings side by side on the pins: each one's own rod's load and pressure over
     its own width, with the worked substitution of the most loaded one."""
     t = ctx.t
-    rods, labels = rod_rows(r["rod_bearings"])
+    rods, labels = rod_rows(r["rod_bearings"], ctx.t.cylinder)
     width_mm = r["rod_bearings"][0]["width_m"] * 1e3
     return ctx.table(
         [
@@ -227,7 +227,7 @@ def _rod_conclusion(ctx, r) -> str:
         "bearings.conclusion_rod_equal"
         if loads_equal(r["rod_bearings"])
         else "bearings.conclusion_rod",
-        cylinder=rod["cylinder"],
+        cylinder=ctx.t.cylinder(rod["cylinder"]),
         q_max=ctx.t.fixed(rod["max_N"] / 1e3, 2),
         p_mean=ctx.t.fixed(rod["mean_MPa"], 2),
     )

@@ -73,9 +73,10 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
     return pins, [str(p["crank"]) for p in pins]
 
 
-def rod_rows(rods: list[dict]) -> tuple[list[dict], list[str]]:
-    """The rod bearings table's rows and their cylinder labels: one row "1L…4R" for bearings that
-    print alike (identical cylinders: the same loads shifted in phase), as :func:`pin_rows`."""
+def rod_rows(rods: list[dict], cylinder=str) -> tuple[list[dict], list[str]]:
+    """The rod bearings table's rows and their cylinder labels as ``cylinder`` prints them (the
+    translator's, "1Л"): one row "1L…4R" for bearings that print alike (identical cylinders: the
+    same loads shifted in phase), as :func:`pin_rows`."""
     printed = {
         (
             round(x["max_N"] / 1e3, 2),
@@ -86,8 +87,8 @@ def rod_rows(rods: list[dict]) -> tuple[list[dict], list[str]]:
         for x in rods
     }
     if len(rods) > 1 and len(printed) == 1:
-        return rods[:1], [f"{rods[0]['cylinder']}…{rods[-1]['cylinder']}"]
-    return rods, [x["cylinder"] for x in rods]
+        return rods[:1], [f"{cylinder(rods[0]['cylinder'])}…{cylinder(rods[-1]['cylinder'])}"]
+    return rods, [cylinder(x["cylinder"]) for x in rods]
 
 
 def worked_bearing(ctx, r, kind: str) -> Markup:
@@ -106,8 +107,8 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], dims["crank_pin_width_m"]
     elif kind == "rod":
-        labels = rod_rows(records)[1]
-        key = labels[0] if len(labels) == 1 else record["cylinder"]
+        labels = rod_rows(records, ctx.t.cylinder)[1]
+        key = labels[0] if len(labels) == 1 else ctx.t.cylinder(record["cylinder"])
         load_html = "<i>Q</i><sub>max</sub>"
         size = dims["crank_pin_diameter_m"], record["width_m"]
     else:
@@ -124,7 +125,7 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         if len(tied) > 1
         else ""
     )
-    names = {"pin": lambda x: str(x["crank"]), "rod": lambda x: x["cylinder"]}
+    names = {"pin": lambda x: str(x["crank"]), "rod": lambda x: ctx.t.cylinder(x["cylinder"])}
     others = ", ".join(names.get(kind, journal_name)(x) for x in tied[1:])
     note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
     return worked_markup(
