@@ -607,3 +607,53 @@ def test_a_russian_note_names_each_rod_bearing_by_its_cylinders_russian_label():
     assert not re.search(r"\b\d[LR]\b", text)
     svgs = [f.svg.decode() for f in rendered.figures if "rod" in f.name]
     assert svgs and all(not re.search(r">\d[LR]<|цилиндра \d[LR]", s) for s in svgs)
+
+
+#: A tractor diesel 4Ч 11/12,5 on the in-line four's layout, without counterweights: its gas
+#: forces set the peaks, the in-phase cranks 2 and 3 a steady centrifugal load on journal 2–3.
+_TRACTOR = {
+    "engine": {
+        "rpm": 2200,
+        "bore": "110 mm",
+        "stroke": "125 mm",
+        "rod_length": "230 mm",
+        "rod_ratio": None,
+        "cylinder_spacing": "130 mm",
+    },
+    "masses": {
+        "piston_group": "2.4 kg",
+        "rod": "2.9 kg",
+        "rod_cm_fraction": 0.26,
+        "crank_pin": "1.3 kg",
+        "crank_web": "1.1 kg",
+    },
+    "cycle": {
+        "ignition": "diesel",
+        "compression_ratio": 16.0,
+        "intake_pressure": "0.09 MPa",
+        "compression_index": 1.36,
+        "max_pressure": "7.6 MPa",
+        "pre_expansion_ratio": 1.5,
+        "expansion_index": 1.23,
+        "exhaust_pressure": "0.11 MPa",
+        "rounding": None,
+    },
+}
+
+
+def test_a_journal_of_the_largest_mean_load_is_named_when_the_peak_picks_others():
+    """Journals 1–2 and 3–4 carry the largest peak, journal 2–3 the largest mean (its steady
+    centrifugal load, no counterweights): the conclusions name both, and the centrifugal
+    assessment is about the journal of the largest mean."""
+    run = shared_run("inline4-petrol", _TRACTOR, ("bearings",))
+    results = run.outputs["bearings"].results
+    assert not results["with_counterweights"]
+    journals = results["main_journals"]
+    peak = max(j["max_N"] for j in journals)
+    by_mean = max(journals, key=lambda j: j["mean_N"])
+    assert by_mean["max_N"] < peak  # the mean picks a journal the peak does not
+    html = shared_html("inline4-petrol", _TRACTOR, "uk", ("bearings",)).html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    label = by_mean["journal"].replace("-", "–")
+    assert f"Найбільший середній тиск на корінний підшипник має шийка {label}" in text
+    assert f"Найбільше середнє навантаження має корінна шийка {label};" in text

@@ -207,7 +207,7 @@ def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_n
     text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
     kn = f"{c / 1e3:.2f}".replace(".", ",")
     assert (
-        f"Наиболее нагруженная коренная шейка 2–3 воспринимает главным образом центробежные силы "
+        f"Наибольшую среднюю нагрузку несёт коренная шейка 2–3; она воспринимает главным образом центробежные силы "
         f"соседних колен: их равнодействующая {kn} кН"
     ) in text
     assert "Противовесы на щеках колен, прилегающих к этой шейке, сняли бы" in text

@@ -149,14 +149,21 @@ CENTRIFUGAL_SHARE = 0.5
 
 
 def centrifugal_journal(r: dict) -> dict | None:
-    """The most loaded main journal when the cranks' centrifugal forces, not balanced by
-    counterweights, give at least :data:`CENTRIFUGAL_SHARE` of its mean load; else None."""
+    """The main journal of the largest mean load when the cranks' centrifugal forces, not
+    balanced by counterweights, give at least :data:`CENTRIFUGAL_SHARE` of it; else None (the
+    steady centrifugal load shows in the mean, not in the peak, which the gas forces set)."""
     if r["with_counterweights"] or len(r["main_journals"]) < 3:
         return None
-    journal = most_loaded(r["main_journals"])[0]
+    journal = mean_loaded(r["main_journals"])
     if journal.get("centrifugal_N", 0.0) < CENTRIFUGAL_SHARE * journal["mean_N"]:
         return None
     return journal
+
+
+def mean_loaded(journals: list[dict]) -> dict:
+    """The main journal of the largest mean load (the first of equal ones, to the printed kN)."""
+    top = max(round(j["mean_N"] / 1e3, 2) for j in journals)
+    return next(j for j in journals if round(j["mean_N"] / 1e3, 2) == top)
 
 
 def _centrifugal_params(ctx, r: dict, journal: dict) -> dict:
@@ -213,6 +220,17 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
             table=journals_table_number,
         )
     )
+    by_mean = mean_loaded(r["main_journals"])
+    if all(by_mean is not j for j in tied) and not loads_equal(r["main_journals"]):
+        # the peak and the mean pick different journals (a steady centrifugal load): both said
+        ctx.conclude(
+            t(
+                "bearings.conclusion_journal_mean",
+                label=journal_name(by_mean),
+                r_max=ctx.t.fixed(by_mean["max_N"] / 1e3, 2),
+                p_mean=ctx.t.fixed(by_mean["mean_MPa"], 2),
+            )
+        )
     loaded = centrifugal_journal(r)
     if loaded is not None:
         ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
