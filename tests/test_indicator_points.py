@@ -106,6 +106,33 @@ def test_each_label_at_bdc_is_nearest_its_own_point():
         assert nearest == text.get_text(), (text.get_text(), nearest)
 
 
+def test_the_labels_at_tdc_keep_their_points_order_from_the_top():
+    """A diesel's c″ (4,41 МПа at TDC), c (p_c = 3,91 МПа) and f (3,80 МПа, a hair before TDC)
+    stand one above the other in a 4-МПа-high diagram: their labels read in the same order from
+    the top, and each label's centre is nearer its own point than the others'."""
+    from crankdyn.report.figures import to_svg
+    from crankdyn_builtin.indicator.figures import _pv_figure
+    from crankdyn_builtin.indicator.section import _POINTS
+
+    offsets = {label: offset for label, _, _, offset in _POINTS}
+    places = {"c″": (0.0786, 4.41), "c": (0.0786, 3.907), "f": (0.0790, 3.80)}
+    points = [(label, v, p, offsets[label]) for label, (v, p) in places.items()]
+    volume = np.linspace(0.0786, 1.26, 80)
+    pressure = 0.1 + 7.0 * np.exp(-6 * (volume - 0.0786))
+    fig = _pv_figure(volume, pressure, None, points, lambda key, **kw: key)
+    to_svg(fig)
+    ax = fig.axes[0]
+    renderer = fig.canvas.get_renderer()
+    where = {label: ax.transData.transform(place) for label, place in places.items()}
+    centres = {}
+    for text in ax.texts:
+        box = text.get_window_extent(renderer)
+        centres[text.get_text()] = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
+    assert sorted(centres, key=lambda label: -centres[label][1]) == ["c″", "c", "f"]
+    for label, centre in centres.items():
+        assert min(where, key=lambda k: np.hypot(*(centre - where[k]))) == label
+
+
 def test_labels_on_one_side_of_close_points_stand_apart():
     """c, f and c″ of a diesel lie within a few tenths of a megapascal at TDC: their labels are
     moved apart to the gap between centres, the others keep their places."""

@@ -702,3 +702,17 @@ def test_a_flat_six_leaves_only_negligible_moments_and_says_moments():
         assert abs(absolute[key]) < 1e-9 * c_one, key
     text = re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
     assert "незрівноважені лише моменти (ΣM" in text
+
+
+def test_the_engine_section_is_titled_for_what_it_holds():
+    """A V8's rods side by side leave the section the cylinders' order and phases (the crank
+    section sums the pin's forces): no "forces on the crank pins" in its title; a radial's master
+    rod sums them in the section itself, which keeps that title."""
+    import re
+
+    for name, forces in (("v8-petrol", False), ("radial9-aircraft", True)):
+        html = shared_html(name)
+        html = html.html if hasattr(html, "html") else html
+        titles = re.findall(r"<h2[^>]*>\s*6\s+([^<]*)</h2>", html)
+        assert titles, name
+        assert ("crank pins" in titles[0]) is forces, (name, titles[0])

@@ -194,7 +194,8 @@ def render(output: StageOutput, ctx) -> str | None:
     own_pins = (
         r["cranks"] == r["cylinders"]
     )  # an in-line engine: a crank pin per cylinder, no bays to sum
-    if own_pins:
+    if own_pins or parts["bay_table"] is None:
+        # no table of a pin's summed forces (central or fork rods: the crank section sums them)
         ctx.title = t("bays.title_own_pins")
     return ctx.render_template(
         "sections/bays.html.j2",

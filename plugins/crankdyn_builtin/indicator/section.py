@@ -18,14 +18,15 @@ from .figures import _palpha_figure, _pv_figure
 #: combustion, "peak" the actual cycle's largest pressure, "exhaust" the exhaust valve's opening;
 #: the curve is the theoretical or the actual (rounded) one, or p_c for the end of compression.
 #: A vertical offset of 0 centres the label on its point's height: b″ stands between b and a at
-#: BDC, and a label under it would read as a's.
+#: BDC, and a label under it would read as a's. At TDC the labels keep the points' order from the
+#: top: c″ (the actual pressure at TDC) above and right, c beside on the left, f under it.
 _POINTS = (
     ("r", 0.0, "actual", (4, 3)),
     ("a", "bdc", "actual", (-4, -3)),
-    ("c", 360.0, "compression_end", (-4, 2)),
+    ("c", 360.0, "compression_end", (-4, 0)),
     ("c′", "advance", "actual", (4, -3)),
-    ("f", "visible", "actual", (-5, 3)),
-    ("c″", 360.0, "actual", (4, -2)),
+    ("f", "visible", "actual", (-5, -3)),
+    ("c″", 360.0, "actual", (4, 2)),
     ("z", "theory_peak", "theory", (4, 2)),
     ("z′", "peak", "actual", (4, 2)),
     ("b′", "exhaust", "actual", (3, 3)),
