@@ -26,6 +26,10 @@ DEFAULT_PIN_DIAMETER_PER_BORE = 0.63
 
 DEFAULT_PIN_WIDTH_PER_DIAMETER = 0.60
 
+#: A crank pin with rods side by side (a V's central rods): each big-end bearing this share of the
+#: pin's diameter, so a V's pin is 0.9·d long (one rod's 0.6·d would leave each bearing 0.3·d).
+DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER = 0.45
+
 DEFAULT_MAIN_DIAMETER_PER_BORE = 0.70
 
 DEFAULT_MAIN_WIDTH_PER_DIAMETER = 0.45
@@ -110,10 +114,17 @@ def _assumed_size_m(value_m: float) -> float:
     return round(value_m * 1e4) / 1e4 if value_m >= 0.01 else float(f"{value_m:.3g}")
 
 
-def _dimensions(scene, opts):
+def _dimensions(scene, opts, rods_per_pin: int = 1):
+    """(d_pin, w_pin, d_main, w_main, the names of those assumed): the scene's sizes, or the
+    typical proportions; a pin of ``rods_per_pin`` rods side by side gives each its own width."""
     bore = scene.engine.bore
     d_pin = opts.crank_pin_diameter or _assumed_size_m(DEFAULT_PIN_DIAMETER_PER_BORE * bore)
-    w_pin = opts.crank_pin_width or _assumed_size_m(DEFAULT_PIN_WIDTH_PER_DIAMETER * d_pin)
+    per_diameter = (
+        DEFAULT_PIN_WIDTH_PER_DIAMETER
+        if rods_per_pin == 1
+        else rods_per_pin * DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER
+    )
+    w_pin = opts.crank_pin_width or _assumed_size_m(per_diameter * d_pin)
     d_main = opts.main_journal_diameter or _assumed_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
     w_main = opts.main_journal_width or _assumed_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
     defaulted = [
@@ -279,7 +290,8 @@ def run(scene, inputs) -> StageOutput:
     cranks = layout.cranks
     angle = loads.crank_angle_deg
     area = loads.piston_area_m2
-    d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts)
+    rods_per_pin = brg.big_end_bearings_on_pin(scene.engine.rod_type, layout.cylinders_per_bay)
+    d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts, rods_per_pin)
     _check_drawn_numbers(opts, cranks)
     pin_t, pin_z = _pin_loads(loads, bays)
     rods, per_pin = _rod_bearings(scene, inputs, pin_t, pin_z)
