@@ -19,16 +19,19 @@ from crankdyn.report.document import render_html
 from crankdyn.scene.model import load_scene
 
 REGISTRY = default_registry()
-DRAWING = ("scheme", "positions")  # the drawing stage's figures: of the mechanism's geometry
+# the figures of the mechanism's geometry alone: the scheme, the positions, the rod's centre of
+# mass path, the crank diagrams
+SHARED = ("scheme", "positions", "rod_cm", "crank_diagrams")
 
 
 def _figures(monkeypatch, language: str = "en", **overrides) -> tuple[dict, list[str]]:
-    """(figure key -> SVG, the keys drawn by matplotlib) of the drawing section of petrol-1cyl."""
+    """(figure key -> SVG of the :data:`SHARED` figures, the keys drawn by matplotlib) of the
+    drawing and balancing sections of petrol-1cyl (and kinematics, which they need)."""
     scene = load_scene(examples_dir() / "petrol-1cyl.toml", overrides or None)
     scene = scene.model_copy(
         update={"report": scene.report.model_copy(update={"language": language})}
     )
-    rendered = render_html(run_scene(scene, REGISTRY, ["drawing"]), REGISTRY)
+    rendered = render_html(run_scene(scene, REGISTRY, ["drawing", "balancing"]), REGISTRY)
     drawn: list[str] = []
     to_svg = figures.to_svg
 
@@ -39,7 +42,7 @@ def _figures(monkeypatch, language: str = "en", **overrides) -> tuple[dict, list
     monkeypatch.setattr(figures, "to_svg", counted)
     draw_figures(rendered.figures, workers=1)
     monkeypatch.setattr(figures, "to_svg", to_svg)
-    return {f.key: f.svg for f in rendered.figures if f.key.startswith(DRAWING)}, drawn
+    return {f.key: f.svg for f in rendered.figures if f.key.startswith(SHARED)}, drawn
 
 
 @pytest.fixture
@@ -51,12 +54,13 @@ def empty_memo(monkeypatch):
 
 def test_a_variant_of_the_same_geometry_takes_the_drawn_svgs(monkeypatch, empty_memo):
     first, drawn_first = _figures(monkeypatch)
-    assert {"scheme", "positions"} <= set(drawn_first)
+    assert {"scheme", "positions", "rod_cm", "crank_diagrams"} <= set(drawn_first)
     # another speed and piston mass: the scheme and positions are of the geometry alone
     second, drawn_second = _figures(
         monkeypatch, engine={"rpm": 3000}, masses={"piston_group": "0.61 kg"}
     )
-    assert not [k for k in drawn_second if k.startswith(DRAWING)]
+    assert not [k for k in drawn_second if k.startswith(SHARED)]
+    assert "vector_models" in drawn_second  # its amplitudes change with the speed
     assert second == first
     figure_memo._svgs.clear()  # drawn afresh: the same bytes
     fresh, drawn_fresh = _figures(monkeypatch, engine={"rpm": 3000})

@@ -7,6 +7,7 @@ from functools import partial
 
 import numpy as np
 
+from crankdyn.report import figure_memo
 from crankdyn.report.figures import hide_axes, new_figure
 
 from .vectors import NEGLIGIBLE
@@ -33,22 +34,30 @@ def star_figure(ctx, r):
         else ("balancing.star_caption_plane" if plane else "balancing.star_caption")
     )
     return ctx.figure(
-        partial(_star_drawing, ctx.t, r),
+        figure_memo.MemoFigure(
+            _star_drawing,
+            (ctx.t("balancing.star_first"), ctx.t("balancing.star_second")),
+            [ctx.t.cylinder(label) for label in r["cylinder_labels"]],
+            r["crank_directions_deg"],
+            r["cylinder_phases_deg"],
+            r["cylinder_axes_deg"],
+        ),
         caption,
         "crank_diagrams",
         see="balancing.see_star_single" if single or plane else "balancing.see_star",
     )
 
 
-def _star_drawing(t, r):
-    """The crank diagrams' figure (:func:`star_figure`)."""
+def _star_drawing(titles, labels, crank_directions_deg, phases_deg, axes_deg):
+    """The crank diagrams' figure (:func:`star_figure`): the orders' ``titles``, the cylinders'
+    ``labels`` as printed, and the geometry alone (the same for a batch's variants of one
+    engine, built by a ``figure_memo.MemoFigure``)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
 
     fig, axes = new_figure(16, 8.2, ncols=2)
-    crank_dirs = np.radians(r["crank_directions_deg"])
-    labels = [t.cylinder(label) for label in r["cylinder_labels"]]
-    phases = np.radians(r["cylinder_phases_deg"])
-    axes_rad = np.radians(r["cylinder_axes_deg"])
+    crank_dirs = np.radians(crank_directions_deg)
+    phases = np.radians(phases_deg)
+    axes_rad = np.radians(axes_deg)
     for ax, order in zip(axes, (1, 2), strict=True):
         ax.set_aspect("equal")
         hide_axes(ax)
@@ -63,13 +72,13 @@ def _star_drawing(t, r):
                 (d, r"$C$, $C_{\mathrm{I}}$" if single else str(k + 1))
                 for k, d in enumerate(crank_dirs)
             ]
-            color, title = "C0", t("balancing.star_first")
+            color, title = "C0", titles[0]
         else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
             vectors = [
                 (axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label)
                 for i, label in enumerate(labels)
             ]
-            color, title = "C1", t("balancing.star_second")
+            color, title = "C1", titles[1]
         groups: dict[int, list[str]] = {}
         for d, label in vectors:
             groups.setdefault(int(round(math.degrees(d) * 100)) % 36000, []).append(label)

@@ -49,10 +49,10 @@ class FigureFile:
             number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
         )
         self.key = key  # the name its stage declares (``StagePresentation.figures``)
-        self._figure = figure
-        self._build = build
         # a figure of its inputs alone (figure_memo.MemoFigure): its SVG may be one drawn before
         self._inputs = getattr(build, "digest", None)
+        self._figure = figure if figure is not None else getattr(build, "built", None)
+        self._build = build
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
         self._symbols = symbols  # the report's symbol table (its subscripts per language)

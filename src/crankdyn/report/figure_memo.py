@@ -21,8 +21,10 @@ MEMO_SIZE = 64
 
 _svgs: dict[tuple, bytes] = {}
 _values: dict[bytes, Any] = {}
-#: id of a translator -> (the translator, the digest of its texts): each report builds its own
+#: id of a translator -> (the translator, the digest of its texts): each report builds its own,
+#: and the last few are kept (with their catalogs) so that their ids are not reused meanwhile
 _translators: dict[int, tuple[Any, bytes]] = {}
+TRANSLATORS_KEPT = 8
 
 
 def inputs_digest(function: Callable, *args: Any) -> bytes | None:
@@ -47,13 +49,10 @@ class MemoFigure:
     def __init__(self, function: Callable, *args: Any, built: Any = None):
         self.function, self.args = function, args
         self.digest = inputs_digest(function, *args)
-        self._built = built
+        self.built = built
 
     def __call__(self):
-        if self._built is not None:
-            built, self._built = self._built, None
-            return built
-        return self.function(*self.args)
+        return self.built if self.built is not None else self.function(*self.args)
 
 
 def _texts_digest(t: Any) -> bytes | None:
@@ -64,9 +63,9 @@ def _texts_digest(t: Any) -> bytes | None:
     kept = _translators.get(id(t))
     if kept is not None and kept[0] is t:
         return kept[1]
-    contents = repr((t.language, sorted(t.texts.items()), sorted(t.fallback.items())))
-    digest = hashlib.blake2b(contents.encode("utf-8"), digest_size=32).digest()
-    if len(_translators) >= MEMO_SIZE:
+    contents = pickle.dumps((t.language, t.texts, t.fallback), protocol=pickle.HIGHEST_PROTOCOL)
+    digest = hashlib.blake2b(contents, digest_size=32).digest()
+    if len(_translators) >= TRANSLATORS_KEPT:
         _translators.clear()
     _translators[id(t)] = (t, digest)  # the translator kept: its id is not reused meanwhile
     return digest
