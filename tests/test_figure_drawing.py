@@ -11,6 +11,7 @@ import pytest
 
 from crankdyn.engine.orchestrator import run_scene
 from crankdyn.plugin.registry import default_registry
+from crankdyn.report import figure_memo
 from crankdyn.report.context import draw_figures, start_drawing
 from crankdyn.report.document import render_html
 from crankdyn.report.figures import draw_jobs
@@ -352,16 +353,24 @@ def test_a_figure_given_as_its_builder_is_built_once_where_it_is_drawn():
 
 
 def test_the_report_process_renders_the_text_without_building_the_figures_given_as_builders(
-    examples,
+    examples, monkeypatch
 ):
     """The built-in stages hand ctx.figure the function that builds each figure: rendering a
     report's text creates no axes in its process (they are created in the child that draws)."""
+    monkeypatch.setattr(figure_memo, "_svgs", {})  # a process that drew no scheme before
+    monkeypatch.setattr(figure_memo, "_values", {})
     registry = default_registry()
     result = run_scene(load_scene(examples / "petrol-1cyl.toml"), registry, None, ())
     figures = render_html(result, registry).figures
     # every figure but the scheme, whose scale (printed in its caption) is measured on the drawing
     assert [f.name for f in figures if f._figure is not None] == ["fig_3_1_scheme.svg"]
     assert len(figures) >= 16
+    scheme = figures[[f.name for f in figures].index("fig_3_1_scheme.svg")]
+    scheme.svg  # noqa: B018 - drawn here, in this process, for its side effect
+    # a scheme this process drew already is taken with its scale: not built again
+    again = render_html(result, registry).figures
+    assert [f.name for f in again if f._figure is not None] == []
+    assert again[[f.name for f in again].index("fig_3_1_scheme.svg")].svg == scheme.svg
 
 
 def test_font_heights_remembered_by_the_svg_renderer_give_matplotlibs_own_bytes(monkeypatch):

@@ -38,6 +38,7 @@ from crankdyn.preview.server import (
     referenced_files,
     with_reload,
 )
+from crankdyn.report import figure_memo
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 BASH = shutil.which("bash")
@@ -555,10 +556,12 @@ def test_a_study_that_must_run_again_follows_the_page(tmp_path):
     )  # the first page's figures, kept and drawn
 
 
-def test_the_server_process_draws_each_figure_once_while_idle(tmp_path):
+def test_the_server_process_draws_each_figure_once_while_idle(tmp_path, monkeypatch):
     # the figures are drawn by forked children, whose matplotlib caches (typeset labels, fonts)
     # die with them: the server draws each figure once itself while nothing is to be built, so
     # that the children of the next saves start warm; a save meanwhile stops the warming
+    # (a fresh server: no figure of the geometry alone kept by an earlier report of this process)
+    monkeypatch.setattr(figure_memo, "_svgs", {})
     preview = Preview(_trace_scene(tmp_path), stages=["kinematics", "indicator"])
     snapshot = preview.build()
     assert (

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from functools import partial
 
 import numpy as np
 
+from crankdyn.report import figure_memo
 from crankdyn.report.figures import hide_axes, new_figure
 
 from .vectors import NEGLIGIBLE
@@ -33,22 +33,30 @@ def star_figure(ctx, r):
         else ("balancing.star_caption_plane" if plane else "balancing.star_caption")
     )
     return ctx.figure(
-        partial(_star_drawing, ctx.t, r),
+        figure_memo.MemoFigure(
+            _star_drawing,
+            (ctx.t("balancing.star_first"), ctx.t("balancing.star_second")),
+            [ctx.t.cylinder(label) for label in r["cylinder_labels"]],
+            r["crank_directions_deg"],
+            r["cylinder_phases_deg"],
+            r["cylinder_axes_deg"],
+        ),
         caption,
         "crank_diagrams",
         see="balancing.see_star_single" if single or plane else "balancing.see_star",
     )
 
 
-def _star_drawing(t, r):
-    """The crank diagrams' figure (:func:`star_figure`)."""
+def _star_drawing(titles, labels, crank_directions_deg, phases_deg, axes_deg):
+    """The crank diagrams' figure (:func:`star_figure`): the orders' ``titles``, the cylinders'
+    ``labels`` as printed, and the geometry alone (the same for a batch's variants of one
+    engine, built by a ``figure_memo.MemoFigure``)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
 
     fig, axes = new_figure(16, 8.2, ncols=2)
-    crank_dirs = np.radians(r["crank_directions_deg"])
-    labels = [t.cylinder(label) for label in r["cylinder_labels"]]
-    phases = np.radians(r["cylinder_phases_deg"])
-    axes_rad = np.radians(r["cylinder_axes_deg"])
+    crank_dirs = np.radians(crank_directions_deg)
+    phases = np.radians(phases_deg)
+    axes_rad = np.radians(axes_deg)
     for ax, order in zip(axes, (1, 2), strict=True):
         ax.set_aspect("equal")
         hide_axes(ax)
@@ -63,13 +71,13 @@ def _star_drawing(t, r):
                 (d, r"$C$, $C_{\mathrm{I}}$" if single else str(k + 1))
                 for k, d in enumerate(crank_dirs)
             ]
-            color, title = "C0", t("balancing.star_first")
+            color, title = "C0", titles[0]
         else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
             vectors = [
                 (axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label)
                 for i, label in enumerate(labels)
             ]
-            color, title = "C1", t("balancing.star_second")
+            color, title = "C1", titles[1]
         groups: dict[int, list[str]] = {}
         for d, label in vectors:
             groups.setdefault(int(round(math.degrees(d) * 100)) % 36000, []).append(label)
@@ -148,24 +156,50 @@ def _models_figure(ctx, r):
     """Vector models and hodographs (textbook figs. 26-33): forces (top row) and moments (bottom row)."""
     moments = _models_shown(r)[1]
     return ctx.figure(
-        partial(_models_drawing, ctx.t, r),
+        figure_memo.MemoFigure(
+            _models_drawing,
+            _model_panels(r),
+            moments,
+            len(r["cylinder_labels"]),
+            ctx.t("balancing.balanced_label"),
+        ),
         ctx.t("balancing.models_caption" if moments else "balancing.models_caption_forces"),
         "vector_models",
         see="balancing.see_models",
     )
 
 
-def _models_drawing(t, r):
-    """The vector models' figure (:func:`_models_figure`)."""
+def _model_panels(r) -> list[tuple]:
+    """What the vector models' figure draws of each order shown: (order, name, speed, a row per
+    kind: (kind, forward, backward, coefficient)), the vectors as complex numbers over one
+    amplitude C_n (C_n * a for moments), the panel's scale: the same for a batch's variants of
+    one engine at any speed (the figure is built by a ``figure_memo.MemoFigure``)."""
+    shown, moments = _models_shown(r)
+    panels = []
+    for o in shown:
+        rows = []
+        for kind in ("force", "moment")[: 2 if moments else 1]:
+            norm = o["amplitude_N"] * (
+                (r["cylinder_spacing_m"] or 1.0) if kind == "moment" else 1.0
+            )
+            fwd, bwd = o[f"{kind}_forward"], o[f"{kind}_backward"]
+            f = complex(fwd["y"], fwd["x"]) / norm if norm else 0j
+            b = complex(bwd["y"], bwd["x"]) / norm if norm else 0j
+            rows.append((kind, f, b, o[f"{kind}_coefficient"]))
+        panels.append((o["order"], o["name"], o["speed"], rows))
+    return panels
+
+
+def _models_drawing(panels, moments: bool, cylinders: int, balanced_label: str):
+    """The vector models' figure (:func:`_models_figure`) of :func:`_model_panels`."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
 
-    shown, moments = _models_shown(r)
     rows = 2 if moments else 1
     fig, axes = new_figure(
-        16, rows * (16.0 / len(shown) + 0.9), nrows=rows, ncols=len(shown), squeeze=False
+        16, rows * (16.0 / len(panels) + 0.9), nrows=rows, ncols=len(panels), squeeze=False
     )
-    for col, o in enumerate(shown):
-        for row, kind in enumerate(("force", "moment")[: 2 if moments else 1]):
+    for col, (order, name, speed, kinds) in enumerate(panels):
+        for row, (kind, f, b, coefficient) in enumerate(kinds):
             ax = axes[row][col]
             ax.set_aspect("equal")
             ax.set_xticks([])
@@ -174,14 +208,8 @@ def _models_drawing(t, r):
                 ax.spines[side].set_visible(False)
             # the dotted circle is one amplitude C_n (one C_n * a for moments): the scale of the panel
             ax.add_patch(Circle((0, 0), 1.0, fill=False, lw=0.5, ls=":", color="0.55"))
-            norm = o["amplitude_N"] * (
-                (r["cylinder_spacing_m"] or 1.0) if kind == "moment" else 1.0
-            )
-            fwd, bwd = o[f"{kind}_forward"], o[f"{kind}_backward"]
-            f = complex(fwd["y"], fwd["x"]) / norm if norm else 0j
-            b = complex(bwd["y"], bwd["x"]) / norm if norm else 0j
-            th = np.linspace(0, 2 * np.pi / o["speed"], 241)
-            wv = f * np.exp(1j * o["speed"] * th) + b * np.exp(-1j * o["speed"] * th)
+            th = np.linspace(0, 2 * np.pi / speed, 241)
+            wv = f * np.exp(1j * speed * th) + b * np.exp(-1j * speed * th)
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
             # the vectors named beside their middles (a black-and-white print still tells them apart),
             # f on the left of its arrow, b on the right, 5 pt off the line (not on the arrows)
@@ -196,12 +224,12 @@ def _models_drawing(t, r):
             ax.set_ylim(-lim, lim)
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
             ax.axvline(0, color="0.75", lw=0.5, zorder=1)
-            if o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"]):
+            if coefficient <= NEGLIGIBLE * cylinders:
                 # under the panel, clear of its dotted circle (over it the label is unreadable)
                 ax.text(
                     0.5,
                     0.0,
-                    t("balancing.balanced_label"),
+                    balanced_label,
                     ha="center",
                     va="top",
                     fontsize=7,
@@ -209,12 +237,12 @@ def _models_drawing(t, r):
                     transform=ax.transAxes,
                 )
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
-            sub = "C" if o["order"] == 0 else f"\\mathrm{{{o['name'][1:]}}}"
-            amp = "C" if o["order"] == 0 else f"C_{{{sub}}}"
+            sub = "C" if order == 0 else f"\\mathrm{{{name[1:]}}}"
+            amp = "C" if order == 0 else f"C_{{{sub}}}"
             # one cylinder's own force, without the sum sign, as its tables and text write it
-            sigma = "" if len(r["cylinder_labels"]) == 1 else "\\Sigma "
+            sigma = "" if cylinders == 1 else "\\Sigma "
             title = (
-                (f"${sigma}P_{{{sub}}}/{amp}$" if o["order"] else f"${sigma}C/C$")
+                (f"${sigma}P_{{{sub}}}/{amp}$" if order else f"${sigma}C/C$")
                 if kind == "force"
                 else f"${sigma}M_{{{sub}}}/({amp}a)$"
             )

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
-from functools import partial
 
 from markupsafe import Markup
 
 from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.types import StageOutput
+from crankdyn.report import figure_memo
 from crankdyn.report import mechanism_drawing as md
 
 from .compute import POSITIONS
@@ -93,7 +93,8 @@ def render(output: StageOutput, ctx) -> str:
         "tdc": t("drawing.mark_tdc"),
         "bdc": t("drawing.mark_bdc"),
     }
-    fig, scale = md.scheme_figure(
+    scheme, scale = _scheme(
+        ctx,
         positions,
         len(output.results["crank_angles_deg"]),
         _labels(positions, ctx),
@@ -104,7 +105,7 @@ def render(output: StageOutput, ctx) -> str:
     scale = scale_text(scale, t)
     scheme_angle = ctx.angle_text(output.results["scheme_angle_deg"])
     figure_scheme = ctx.figure(
-        fig,
+        scheme,
         t("drawing.scheme_caption", scale=scale, angle=scheme_angle),
         "scheme",
         see="drawing.see_scheme",
@@ -157,6 +158,24 @@ def render(output: StageOutput, ctx) -> str:
     )
 
 
+def _scheme_drawing(*args):
+    """The scheme's figure alone (:func:`md.scheme_figure`)."""
+    return md.scheme_figure(*args)[0]
+
+
+def _scheme(ctx, *args):
+    """(the scheme's figure builder, its scale) of :func:`md.scheme_figure` ``(*args)``: the
+    figure is built here for its scale, unless this process drew the same scheme before
+    (:mod:`crankdyn.report.figure_memo`: a batch's variants with the same dimensions)."""
+    build = figure_memo.MemoFigure(_scheme_drawing, *args)
+    scale = figure_memo.value(build.digest)
+    if scale is None or figure_memo.svg(build.digest, ctx.t, ctx.symbols) is None:
+        fig, scale = md.scheme_figure(*args)
+        figure_memo.keep_value(build.digest, scale)
+        build = figure_memo.MemoFigure(_scheme_drawing, *args, built=fig)
+    return build, scale
+
+
 def _positions_figures(ctx, positions, frames) -> Markup:
     """The positions figure, on as many figures as the page needs (:func:`md.positions_sheets`):
     the middle ones captioned as its continuation, the last one as its end."""
@@ -165,7 +184,7 @@ def _positions_figures(ctx, positions, frames) -> Markup:
     last = len(sheets)
     parts = [
         ctx.figure(
-            partial(md.positions_figure, positions, sheets[0]),
+            figure_memo.MemoFigure(md.positions_figure, positions, sheets[0]),
             t("drawing.positions_caption"),
             "positions",
             see="drawing.see_positions",
@@ -174,7 +193,7 @@ def _positions_figures(ctx, positions, frames) -> Markup:
     for k, sheet in enumerate(sheets[1:], start=2):
         parts.append(
             ctx.figure(
-                partial(md.positions_figure, positions, sheet),
+                figure_memo.MemoFigure(md.positions_figure, positions, sheet),
                 t("drawing.positions_caption_" + ("continued" if k == last else "middle")),
                 f"positions_{k}",
                 see="drawing.see_positions_" + ("continued" if k == last else "middle"),

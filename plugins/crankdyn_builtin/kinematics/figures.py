@@ -63,11 +63,12 @@ def _rod_figure(frame, t):
     return fig
 
 
-def _rod_cm_figure(frame, t):
-    """The path of the rod's centre of mass."""
+def _rod_cm_figure(x_m, z_m, label_x: str, label_z: str):
+    """The path (``x_m``, ``z_m``) of the rod's centre of mass: of the geometry alone, the same
+    for a batch's variants of one mechanism (built by a ``figure_memo.MemoFigure``)."""
     fig, ax = new_figure(9, 9)
-    ax.plot(frame["rod_cm_x_m"] * 1e3, frame["rod_cm_z_m"] * 1e3, color="C0")
+    ax.plot(x_m * 1e3, z_m * 1e3, color="C0")
     ax.set_aspect("equal")
-    ax.set_xlabel(t("kinematics.axis_cm_x"))
-    ax.set_ylabel(t("kinematics.axis_cm_z"))
+    ax.set_xlabel(label_x)
+    ax.set_ylabel(label_z)
     return fig

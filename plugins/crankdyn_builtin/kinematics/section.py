@@ -5,6 +5,7 @@ from __future__ import annotations
 from functools import partial
 
 from crankdyn.plugin.types import StageOutput
+from crankdyn.report import figure_memo
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
@@ -50,7 +51,13 @@ def render(output: StageOutput, ctx) -> str:
     figure_cm = None
     if "rod_cm_x_m" in frame:
         figure_cm = ctx.figure(
-            partial(_rod_cm_figure, frame, t),
+            figure_memo.MemoFigure(
+                _rod_cm_figure,
+                frame["rod_cm_x_m"],
+                frame["rod_cm_z_m"],
+                t("kinematics.axis_cm_x"),
+                t("kinematics.axis_cm_z"),
+            ),
             t("kinematics.cm_figure_caption"),
             "rod_cm",
             see="kinematics.see_cm",

@@ -164,6 +164,18 @@ def applies_kinematics(scene) -> str | None:
     return None
 
 
+@functools.lru_cache(maxsize=8)
+def _kinematics_forms_measured(radius: float, ratio: float, repeats: int) -> tuple:
+    return tuple(kinematics_forms(radius, ratio, repeats=repeats))
+
+
+def _kinematics_forms(radius: float, ratio: float, repeats: int) -> list[dict]:
+    """:func:`kinematics_forms`, measured once per process for a crank radius and rod ratio: the
+    forms' errors depend on nothing else, and a batch's variants of one mechanism (a worker's
+    next report) take the rows, timings included, measured for the first."""
+    return [dict(row) for row in _kinematics_forms_measured(radius, ratio, repeats)]
+
+
 def _relative(value, reference):
     if reference == 0:
         return abs(value - reference)
@@ -175,7 +187,7 @@ def _kinematics_part(scene, opts, results, tables) -> None:
         return
     e = scene.engine
     # the forms differ by factors, not by per cent as neighbouring steps do: fewer repeats suffice
-    rows = kinematics_forms(e.crank_radius_m, e.rod_ratio_value, repeats=max(3, opts.repeats // 3))
+    rows = _kinematics_forms(e.crank_radius_m, e.rod_ratio_value, max(3, opts.repeats // 3))
     results["kinematics_forms"] = rows
     results["kinematics_method"] = scene.analysis.kinematics
     # CSV: one text column names the form ("series-3"); no empty cells for the exact form's terms

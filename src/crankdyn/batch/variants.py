@@ -21,7 +21,7 @@ import sys
 import time
 import tomllib
 import uuid
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -1007,11 +1007,43 @@ def _failures_csv(outcomes, by_row) -> bytes:
     return _csv_bytes(*_failure_rows(outcomes, by_row))
 
 
+class _Sheet:
+    """A sheet's rows as :func:`xlsx_bytes` reads a DataFrame's (``columns``, ``itertuples``),
+    each column's numbers of one type as a DataFrame holds them: a column of numbers with a
+    float or an empty cell among them holds floats (an empty cell is written empty). The
+    answer key's workbook is written at the end of a batch, on its critical path: without
+    pandas's import."""
+
+    def __init__(self, rows: list[list], columns: list[str]):
+        self.columns = list(columns)
+        kinds = [_column_kind([row[k] for row in rows]) for k in range(len(self.columns))]
+        self._rows = [
+            tuple(
+                float(v) if kind is float and v is not None else v
+                for v, kind in zip(row, kinds, strict=True)
+            )
+            for row in rows
+        ]
+
+    def itertuples(self, index: bool = False, name: str | None = None) -> Iterator[tuple]:
+        return iter(self._rows)
+
+
+def _column_kind(values: list) -> type | None:
+    """``float`` for a column of numbers (no bool) with a float or an empty cell among them,
+    else None (each value as it is)."""
+    numbers = [v for v in values if v is not None]
+    if not numbers or not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in numbers
+    ):
+        return None
+    whole = len(numbers) == len(values) and not any(isinstance(v, float) for v in numbers)
+    return None if whole else float
+
+
 def _answer_key_xlsx(
     fields, outcomes, by_row, registry, language: str = i18n.FALLBACK, notes: list[str] = ()
 ) -> bytes:
-    import pandas as pd  # lazy: heavy optional import (pandas: only for the answer key's workbook)
-
     header, rows = _answer_rows(fields, outcomes, by_row, registry)
     rows = [[neutralised(v) for v in row] for row in rows]
     labels = answer_labels(language, registry)
@@ -1020,16 +1052,16 @@ def _answer_key_xlsx(
     sheets = [
         (
             "answer key",
-            pd.DataFrame(rows, columns=header),
+            _Sheet(rows, header),
             [neutralised(labels.get(c, c)) for c in header],
         )
     ]
     failed_header, failed_rows = _failure_rows(outcomes, by_row)
     failed_rows = [[neutralised(v) for v in row] for row in failed_rows]
     if failed_rows:
-        sheets.append(("failures", pd.DataFrame(failed_rows, columns=failed_header)))
+        sheets.append(("failures", _Sheet(failed_rows, failed_header)))
     if notes:
-        sheets.append(("notes", pd.DataFrame([[neutralised(n)] for n in notes], columns=["note"])))
+        sheets.append(("notes", _Sheet([[neutralised(n)] for n in notes], ["note"])))
     return xlsx_bytes(sheets)
 
 

@@ -18,6 +18,7 @@ from markupsafe import Markup, escape
 from ..errors import PluginError
 from ..physics.extrema import first_extremum_index
 from ..plugin.types import declared
+from . import figure_memo
 from .formula_lines import unbroken_parts
 from .i18n import Translator
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
@@ -49,7 +50,9 @@ class FigureFile:
             number  # as printed ("3.1", "Б.2"); "" for a figure made outside a numbered section
         )
         self.key = key  # the name its stage declares (``StagePresentation.figures``)
-        self._figure = figure
+        # a figure of its inputs alone (figure_memo.MemoFigure): its SVG may be one drawn before
+        self._inputs = getattr(build, "digest", None)
+        self._figure = figure if figure is not None else getattr(build, "built", None)
         self._build = build
         self._svg = svg
         self._t = t  # the report's translator: the figure's text is typeset on drawing
@@ -86,10 +89,15 @@ class FigureFile:
         return self.figure
 
     def draw(self) -> bytes:
-        """The SVG bytes, drawn now (labels typeset for the report's language, laid out)."""
+        """The SVG bytes, drawn now (labels typeset for the report's language, laid out), or
+        the SVG this process drew of the same inputs (:mod:`crankdyn.report.figure_memo`)."""
         from .figures import to_svg  # lazy: heavy optional import (matplotlib)
 
-        return to_svg(self.typeset())
+        drawn = figure_memo.svg(self._inputs, self._t, self._symbols)
+        if drawn is None:
+            drawn = to_svg(self.typeset())
+            figure_memo.keep(self._inputs, self._t, self._symbols, drawn)
+        return drawn
 
     @property
     def svg(self) -> bytes:
