@@ -716,3 +716,25 @@ def test_the_engine_section_is_titled_for_what_it_holds():
         titles = re.findall(r"<h2[^>]*>\s*6\s+([^<]*)</h2>", html)
         assert titles, name
         assert ("crank pins" in titles[0]) is forces, (name, titles[0])
+
+
+@pytest.mark.parametrize("bank, intervals", [(45, [405, 315]), (90, [450, 270]), (60, [420, 300])])
+def test_a_v_twin_on_one_pin_fires_as_evenly_as_its_bank_angle_allows(bank, intervals):
+    """Each cylinder of a four-stroke passes its TDC twice a cycle: the right bank's fires a turn
+    plus the bank angle after the left's (720° - that after it), not the bank angle after it,
+    which would leave 720° - γ between the left's firings and the next."""
+    layout = build_layout("V", 4, 2, bank, ["1L", "1R"], [0], uneven_firing=True)
+    np.testing.assert_allclose(layout.firing_intervals_deg(), intervals, atol=1e-9)
+
+
+def test_a_radials_star_not_a_crank_arrangement_balances_and_no_moments_are_named():
+    """All the cylinders of a radial work on one crank, in one plane across the shaft: what it
+    balances by itself is its cylinders' arrangement round the crank, and no moment is named."""
+    import re
+
+    html = shared_html("radial9-aircraft", None, "uk")
+    html = html.html if hasattr(html, "html") else html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    found = re.search(r"Розташування циліндрів навколо коліна само зрівноважує ([^.]*)\.", text)
+    assert found and "ΣM" not in found.group(1).replace(" ", ""), found
+    assert "Схема колін сама зрівноважує" not in text

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from itertools import product
 from math import gcd
 
 import numpy as np
@@ -380,10 +381,13 @@ def _crank_firing_delays(
     """The firing delay of each cylinder: the next in ``order`` fires when its crank comes round
     (``geometric``: its TDC angle after the first's); an order that does not close within one
     cycle raises LayoutError."""
-    delay = {order[0]: 0.0}
+    steps = []
     for prev, nxt in zip(order[:-1], order[1:], strict=True):
         step = (geometric[nxt] - geometric[prev]) % 360.0
-        step = step if step > _TOL else 360.0
+        steps.append(step if step > _TOL else 360.0)
+    steps = _most_even_steps(steps, cycle)
+    delay = {order[0]: 0.0}
+    for (prev, nxt), step in zip(zip(order[:-1], order[1:], strict=True), steps, strict=True):
         delay[nxt] = delay[prev] + step
     closing = cycle - delay[order[-1]]
     if len(order) > 1 and (
@@ -398,6 +402,33 @@ def _crank_firing_delays(
             f"{cycle:g}-deg cycle",
         )
     return delay
+
+
+#: Firing orders of at most this many cylinders are searched for their most even timing.
+_MOST_EVEN_SEARCH = 13
+
+
+def _most_even_steps(steps: list[float], cycle: float) -> list[float]:
+    """The shaft angles between consecutive firings: each cylinder of a four-stroke engine passes
+    its TDC twice a cycle, so each step may be one turn longer than the crank's own (a 45° V-twin
+    on one pin fires 405° and 315° apart, or 45° and 675°). Of the timings that close within the
+    cycle, the one whose intervals stray least from the even cycle/n (then the earliest) is taken;
+    a timing that can fire evenly is unchanged."""
+    n = len(steps) + 1
+    if cycle <= 360.0 + _TOL or n > _MOST_EVEN_SEARCH:
+        return steps
+    even = cycle / n
+    best, best_key = steps, None
+    for extra in product((0.0, 360.0), repeat=len(steps)):
+        trial = [s + e for s, e in zip(steps, extra, strict=True)]
+        closing = cycle - sum(trial)
+        if closing <= _TOL:
+            continue
+        intervals = np.array([*trial, closing])
+        key = (round(float(np.max(np.abs(intervals - even))), 9), sum(extra))
+        if best_key is None or key < best_key:
+            best, best_key = trial, key
+    return best
 
 
 def _angle_distance(a: float, b: float) -> float:
