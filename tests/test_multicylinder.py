@@ -738,3 +738,31 @@ def test_a_radials_star_not_a_crank_arrangement_balances_and_no_moments_are_name
     found = re.search(r"Розташування циліндрів навколо коліна само зрівноважує ([^.]*)\.", text)
     assert found and "ΣM" not in found.group(1).replace(" ", ""), found
     assert "Схема колін сама зрівноважує" not in text
+
+
+def test_a_v_twins_note_speaks_of_one_crank_and_its_side_by_side_rods():
+    """A 45° V-twin with its two rods side by side on one pin: no crank arrangement among its
+    firing data, its balance said to come from the cylinders' arrangement, and the rods' offset
+    along the pin said to be neglected rather than that there are no moments."""
+    import re
+
+    changes = {
+        "engine": {
+            "cylinders": 2,
+            "bank_angle_deg": 45,
+            "crank_angles_deg": [0],
+            "firing_order": ["1L", "1R"],
+            "uneven_firing": True,
+            "cylinder_spacing": None,
+        },
+        "report": {"language": "uk"},
+    }
+    html = shared_html("v8-petrol", changes, "uk")
+    html = html.html if hasattr(html, "html") else html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    assert "Порядок роботи циліндрів 1Л–1П; інтервали між спалахами: 405; 315°." in text
+    assert "схема колін (відставання" not in text
+    assert "зсувом шатунів уздовж шийки знехтувано" in text
+    assert "поздовжніх моментів цих сил немає" not in text
+    assert "зрівноважено схемою колін" not in text
+    assert "Циліндри пронумеровано по колу зірки" not in text

@@ -294,7 +294,11 @@ def _summary_table(ctx, r):
                 ],
                 None,
             ),
-            (t("balancing.remedy"), [_remedy_text(t, s["remedy"]) for s in rows], None),
+            (
+                t("balancing.remedy"),
+                [_remedy_text(t, s["remedy"], one_plane(r)) for s in rows],
+                None,
+            ),
         ],
         caption=t(
             "balancing.summary_caption_forces" if one_plane(r) else "balancing.summary_caption"
@@ -305,12 +309,15 @@ def _summary_table(ctx, r):
     return summary_table
 
 
-def _remedy_text(t, remedy: str) -> str:
-    """The means of one order in words: a Lanchester pair named as such, several means joined by "і"."""
+def _remedy_text(t, remedy: str, one_crank: bool = False) -> str:
+    """The means of one order in words: a Lanchester pair named as such, several means joined by
+    "і"; what balances itself is balanced by the crank arrangement, or (all cylinders on one
+    crank) by the cylinders' arrangement round it."""
     if remedy == "shaft_forward+shaft_backward":
         return t("balancing.remedy_shaft_pair")
     return t("balancing.means_and").join(
-        t("balancing.remedy_" + part) for part in remedy.split("+")
+        t("balancing.remedy_" + part + ("_plane" if one_crank and part == "self" else ""))
+        for part in remedy.split("+")
     )
 
 
