@@ -75,13 +75,17 @@ def scale_text(scale: float, t) -> str:
     return f"{t.number_g(scale, 4)}:1" if scale >= 1 else f"1:{t.number_g(1 / scale, 4)}"
 
 
+def _counterweight_cranks(ctx) -> tuple[int, ...]:
+    """The 1-based cranks the run fits a counterweight on, as the balancing and bearing sections
+    compute them (none: a crank drawn without one)."""
+    fitted = ctx.data(COUNTERWEIGHTS)
+    return () if fitted is None else tuple(sorted({int(k) + 1 for k in fitted.crank}))
+
+
 def render(output: StageOutput, ctx) -> str:
     """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
-    # the counterweights the run fits (none: a crank without one), as the balancing and bearing
-    # sections compute them
-    fitted = ctx.data(COUNTERWEIGHTS)
-    chosen = () if fitted is None else tuple(sorted({int(k) + 1 for k in fitted.crank}))
+    chosen = _counterweight_cranks(ctx)
     positions = replace(_labelled(output.artifacts["positions"], t), counterweight_cranks=chosen)
     animation = replace(output.artifacts["animation"], counterweight_cranks=chosen)
     angles = output.results["crank_angles_deg"]
