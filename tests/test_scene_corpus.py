@@ -578,12 +578,23 @@ _DELTA_STATED = {
 }
 
 
+#: The exact solution's sentence when its δ is above the permissible one: a second value the
+#: note states as the check's, beside the δ it gives.
+_DELTA_EXACT = {
+    "en": r"The exact periodic solution.*?m²\.",
+    "uk": r"Точний періодичний розв’язок.*?м²\.",
+    "ru": r"Точное периодическое решение.*?м²\.",
+}
+
+
 def check_one_delta(note: Note) -> list[str]:
     """One coefficient of cyclic irregularity, printed alike, in the abstract, the conclusions and
-    the sentence of the speed-fluctuation section stating the δ the note gives."""
+    the sentence of the speed-fluctuation section stating the δ the note gives (the exact
+    solution's own δ, said where it is above the permissible one, aside)."""
+    conclusions = re.sub(_DELTA_EXACT[note.language], " ", note.part(r'class="conclusions"'))
     parts = {
         "abstract": note.part(r'class="abstract"'),
-        "conclusions": note.part(r'class="conclusions"'),
+        "conclusions": conclusions,
         "section": " ".join(re.findall(_DELTA_STATED[note.language], note.chapters)),
     }
     printed = {(where, value) for where, text in parts.items() for value in _DELTA.findall(text)}
