@@ -97,6 +97,18 @@ def write_scene(path: Path, data: dict) -> Path:
     return path
 
 
+#: The V8 example made a flat four (a boxer: a crank pin per cylinder, cranks chosen by the
+#: calculation, 100 mm between neighbouring cylinders), laid over it with :func:`modified`.
+FLAT_FOUR_ENGINE = {
+    "layout": "boxer",
+    "bank_angle_deg": None,
+    "cylinders": 4,
+    "firing_order": None,
+    "crank_angles_deg": None,
+    "cylinder_spacing": "100 mm",
+}
+
+
 def modified(name: str, changes: dict) -> dict:
     """Example ``name`` with ``changes`` laid over it; a value of None deletes the key."""
     data = copy.deepcopy(example_data(name))

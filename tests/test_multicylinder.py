@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import modified, shared_html, shared_run, write_scene
+from conftest import FLAT_FOUR_ENGINE, modified, shared_html, shared_run, write_scene
 from scipy.optimize import brentq
 
 from crankdyn.cli import examples_dir, main
@@ -596,15 +596,7 @@ def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():
 
 def _boxer_data(**engine) -> dict:
     """A four-cylinder boxer built on the V8 example's masses and cycle (uk note)."""
-    changes = {
-        "layout": "boxer",
-        "bank_angle_deg": None,
-        "cylinders": 4,
-        "firing_order": None,
-        "crank_angles_deg": None,
-        "cylinder_spacing": "100 mm",
-    }
-    changes.update(engine)
+    changes = {**FLAT_FOUR_ENGINE, **engine}
     return modified("v8-petrol", {"engine": changes, "report": {"language": "uk"}})
 
 

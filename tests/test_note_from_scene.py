@@ -10,7 +10,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from conftest import as_read, shared_html, shared_run
+from conftest import FLAT_FOUR_ENGINE, as_read, shared_html, shared_run
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -370,16 +370,7 @@ def test_an_exact_irregularity_above_the_required_one_is_said_with_the_flywheel_
 def _boxer_changes() -> dict:
     """A flat four on the V8 example's masses and cycle: its crank layout balances every force
     and the first-order and centrifugal couples, Lanchester's shafts take the second-order one."""
-    return {
-        "engine": {
-            "layout": "boxer",
-            "bank_angle_deg": None,
-            "cylinders": 4,
-            "firing_order": None,
-            "crank_angles_deg": None,
-            "cylinder_spacing": "100 mm",
-        }
-    }
+    return {"engine": dict(FLAT_FOUR_ENGINE)}
 
 
 def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only():

@@ -232,7 +232,7 @@ def _means_sentence(t, r) -> str:
     )
     by_scheme = balanced_by_scheme(t, r)
     if by_scheme and not single:
-        key = "balancing.scheme_balances" + ("_plane" if _one_crank(r) else "")
+        key = "balancing.scheme_balances" + ("_plane" if one_plane(r) else "")
         sentence += " " + t(key, what=by_scheme)
     return sentence
 
@@ -260,7 +260,7 @@ def balanced_by_scheme(t, r) -> str:
     """What the crank arrangement balances by itself among the centrifugal forces and the orders
     the means are fitted for, in words with the symbols; "" where it balances none of them."""
     orders = {0, *r["residual"]["balanced_orders"]}
-    plane = _one_crank(r)  # cylinders in one plane across the shaft: no moments to speak of
+    plane = one_plane(r)  # cylinders in one plane across the shaft: no moments to speak of
     return _items_in_words(
         t,
         r,
@@ -272,12 +272,6 @@ def balanced_by_scheme(t, r) -> str:
             and not (plane and s["quantity"].startswith("M_"))
         ],
     )
-
-
-def _one_crank(r) -> bool:
-    """All the cylinders on one crank (a radial, a V-twin): balanced by their arrangement round
-    it, not by a crank arrangement."""
-    return len(set(r.get("cylinder_bays") or [0])) == 1
 
 
 def _items_in_words(t, r, items) -> str:

@@ -53,6 +53,7 @@ def render(output: StageOutput, ctx) -> str | None:
     pins_equal = loads_equal(r["crank_pins"])
     _conclude(ctx, r, single, pins_equal, journals_table_number)
     journal_names = ", ".join(journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"])
+    loaded = centrifugal_journal(r)
     return ctx.render_template(
         "sections/bearings.html.j2",
         r=r,
@@ -66,11 +67,7 @@ def render(output: StageOutput, ctx) -> str | None:
         journal_names=journal_names,
         pins_equal=pins_equal,
         application=ctx.scene.engine.application if ctx.scene is not None else None,
-        centrifugal=(
-            None
-            if centrifugal_journal(r) is None
-            else _centrifugal_params(ctx, r, centrifugal_journal(r))
-        ),
+        centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
     )
 
 

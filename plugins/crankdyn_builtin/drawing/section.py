@@ -129,7 +129,7 @@ def render(output: StageOutput, ctx) -> str:
     front = md.front_view(positions)
     marked = md.angle_mark_parts(front) is not None
     banks = None if marked else md.bank_mark_parts(front)
-    own_pins = banks is not None and len({rod[1] for _, rod in banks[1]}) > 1
+    own_pins = banks is not None and md.own_crank_pins(banks[1])
     bank_marks = (
         t(
             "drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks",

@@ -10,6 +10,7 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
+from .compute import RIM_STRENGTHS
 from .figures import work_figure
 from .options import FlywheelOptions
 
@@ -274,14 +275,10 @@ def _rim_density_row(opts: FlywheelOptions, t) -> tuple[str, str, str, str]:
     )
 
 
-#: the rim materials a density names (kg/m³): grey cast iron about 7200, steel about 7800
-_RIM_MATERIALS = (("cast_iron", 7000.0, 7400.0), ("steel", 7700.0, 7900.0))
-
-
 def rim_material(density_kg_m3: float) -> str | None:
-    """The catalog name (``flywheel.material_<name>``) of the material of a rim of this density,
-    or None for a density neither cast iron nor steel has."""
-    for name, low, high in _RIM_MATERIALS:
+    """The catalog name (``flywheel.material_<name>``) of the material of a rim of this density
+    (:data:`RIM_STRENGTHS`), or None for a density neither cast iron nor steel has."""
+    for name, low, high, _, _ in RIM_STRENGTHS:
         if low <= density_kg_m3 <= high:
             return name
     return None

@@ -1067,6 +1067,12 @@ def _marked_crank(geometry, least_axes: int):
     )
 
 
+def own_crank_pins(pairs) -> bool:
+    """Whether the banks' rods of :func:`bank_mark_parts` sit on crank pins of their own (a
+    boxer's), not on one pin shared by all."""
+    return len({rod[1] for _, rod in pairs}) > 1
+
+
 def bank_letter(label: str) -> str:
     """The index a bank's marks carry: a cylinder label's bank letter ("1L" → "L", "1Л" → "Л"),
     the label itself when it has none."""
@@ -1154,7 +1160,7 @@ def _bank_marks(
     reach = extent * np.array([0.035, 0.05] if rod_angles else [0.035, 0.05, 0.065])
     clearance.place(_ring(centre, reach), "O")
     # a boxer's banks: a crank pin per cylinder, each B with its cylinder's index
-    own_pins = rod_angles and len({rod[1] for _, rod in pairs}) > 1
+    own_pins = rod_angles and own_crank_pins(pairs)
     if not own_pins:
         clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
     for guide, rod in pairs:
