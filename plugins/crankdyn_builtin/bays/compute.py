@@ -19,7 +19,7 @@ from crankdyn.plugin.contracts import (
     ArticulatedOptions,
     BayLoads,
 )
-from crankdyn.plugin.scene_inputs import engine_layout, slave_geometries
+from crankdyn.plugin.scene_inputs import engine_layout, slave_cylinder_pressure, slave_geometries
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -93,8 +93,9 @@ def _slave_cylinder(
     area: float,
 ) -> tuple[tuple, dict, dict, float]:
     """One slave cylinder of an articulated bay: (its row for the bay's pin forces, its summary,
-    its table, its indicated work in J). Its pressure is taken at its own cycle angle, timed from
-    its true TDC (the linkage moves it from the bank angle)."""
+    its table, its indicated work in J). Its own cycle angle is timed from its true TDC (the
+    linkage moves it from the bank angle); its pressure follows its own volume
+    (``slave_cylinder_pressure``), a measured trace's is the master's at that angle."""
     e, w = scene.engine, scene.engine.angular_velocity_rad_s
     R, L = e.crank_radius_m, e.rod_length_m
     sm = art.slave_motion(alpha_local, g, w)
@@ -103,11 +104,14 @@ def _slave_cylinder(
     delta = (slave.firing_delay_deg - layout.bay(0)[0].firing_delay_deg) % layout.cycle_deg
     delta += math.degrees(a_tdc) - math.degrees(g.bank_angle_rad)
     slave_angle = (angle - delta) % layout.cycle_deg
-    p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
+    if gas.source == "theoretical":
+        p_slave, slave_volume = slave_cylinder_pressure(scene, g, area, slave_angle)
+    else:  # a measured trace is known by crank angle only: the master's, at the slave's own angle
+        p_slave = np.interp(slave_angle, angle, gas.pressure_Pa, period=layout.cycle_deg)
+        slave_volume = clearance_m3 + area * (x_tdc - sm.piston_position_m)
     p1_slave = (
         p_slave - e.crankcase_pressure + phys.inertia_pressure_Pa(reciprocating_kg, accel, area)
     )
-    slave_volume = clearance_m3 + area * (x_tdc - sm.piston_position_m)
     row = (sm.pin_a_m, sm.pin_n_m, sm.slave_rod_angle_rad, p1_slave, g.bank_angle_rad)
     stroke = x_tdc - x_bdc
     info = {
@@ -344,7 +348,14 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
         # only the master rod bears on the pin: the bay's forces and its reduced rotating part
         "pin_load_Pa": np.hypot(z_bay + centrifugal_rod, t_bay),
     }
-    notes.append(("bays.note_articulated", {}))
+    notes.append(
+        (
+            "bays.note_articulated"
+            if gas.source == "theoretical"
+            else "bays.note_articulated_trace",
+            {},
+        )
+    )
     work_all = work_bay * layout.cranks
     return tangential, radial, centrifugal, centrifugal_rod, work_all, tables
 

@@ -26,7 +26,12 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin.scene_inputs import cycle_parameters, engine_layout, rounding_parameters
+from crankdyn.plugin.scene_inputs import (
+    cycle_parameters,
+    engine_layout,
+    rounding_parameters,
+    slave_cylinder_pressure,
+)
 from crankdyn.scene import (
     Scene,
 )
@@ -264,7 +269,11 @@ def _slave_work_J(model: PointwiseModel, scene, bays_results, panel_deg: float) 
             by_label[slave["cylinder"]].firing_delay_deg - master.firing_delay_deg
         ) % layout.cycle_deg
         delta += slave["tdc_master_angle_deg"] - slave["bank_angle_deg"]
-        p = model.pressure(np.mod(a_deg - delta, layout.cycle_deg))
+        own_angle = np.mod(a_deg - delta, layout.cycle_deg)
+        if scene.cycle.source == "theoretical":
+            p, _ = slave_cylinder_pressure(scene, g, model.area, own_angle)
+        else:
+            p = model.pressure(own_angle)
         total += float(np.sum(weights * p * model.area * (-motion.piston_velocity_m_s)))
     return total
 

@@ -171,6 +171,29 @@ def pin_angle_textbook_rad(
     )
 
 
+def deck_height_m(crank_radius_m: float, rod_length_m: float, compression_ratio: float) -> float:
+    """Distance of every cylinder's head from the shaft axis along its own axis, m.
+
+    H = R + L + S/(eps - 1), S = 2R: the master piston pin at TDC is R + L from the axis and the
+    clearance S/(eps - 1) above it gives the master cylinder its compression ratio eps (derived from
+    V_c = F S/(eps - 1), Poda 2007 eq. (11)).
+    """
+    return crank_radius_m + rod_length_m + 2 * crank_radius_m / (compression_ratio - 1)
+
+
+def slave_cylinder_volume_m3(
+    master_crank_angle_rad, geometry: SlaveGeometry, deck_height: float, piston_area_m2: float
+):
+    """Volume of a slave cylinder at the master crank angles, m^3: V = F (H - x).
+
+    ``x`` is the slave piston pin's distance from the shaft axis along the slave axis
+    (:func:`slave_motion`) and ``H`` the head's (:func:`deck_height_m`); the piston pin stands for
+    the crown, which is a constant distance above it in every cylinder alike.
+    """
+    x = slave_motion(master_crank_angle_rad, geometry).piston_position_m
+    return piston_area_m2 * (deck_height - x)
+
+
 def slave_rod_length_equal_compression_m(
     geometry: SlaveGeometry, compression_ratio: float
 ) -> float:
@@ -180,7 +203,7 @@ def slave_rod_length_equal_compression_m(
     the slave's ratio is (H - x_bdc)/(H - x_tdc). Solved for l by Brent's method.
     """
     R, L = geometry.crank_radius_m, geometry.rod_length_m
-    deck = R + L + 2 * R / (compression_ratio - 1)
+    deck = deck_height_m(R, L, compression_ratio)
 
     def mismatch(length):
         # ratio of the slave cylinder minus the target

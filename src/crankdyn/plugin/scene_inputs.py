@@ -8,6 +8,7 @@ another (the import-linter contract ``independence`` in pyproject.toml).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -168,6 +169,41 @@ def cycle_parameters(scene) -> ind.CycleParameters:
         if c.exhaust_pressure is not None
         else c.intake_pressure,
     )
+
+
+def slave_cylinder_pressure(
+    scene, geometry: art.SlaveGeometry, piston_area_m2: float, cycle_angle_deg
+) -> tuple[np.ndarray, np.ndarray]:
+    """(absolute pressure Pa, volume m³) of an articulated rod's slave cylinder at its own cycle
+    angles (deg from its own TDC that starts the cycle, as the master's angle counts).
+
+    The slave cylinder runs the scene's cycle (p_a, p_z, n₁, n₂, ρ, p_r and the rounding) in its
+    own volumes: the clearance and the swept volume of its own dead centres under the common
+    cylinder head (:func:`crankdyn.physics.articulated.deck_height_m`), its BDC where its piston
+    turns, not 180° after TDC. Its pressure therefore follows its own volume, as a cylinder's
+    does, and the work of its cycle is that of its own p–V loop.
+    """
+    params = cycle_parameters(scene)
+    e = scene.engine
+    deck = art.deck_height_m(e.crank_radius_m, e.rod_length_m, params.compression_ratio)
+    x_tdc, a_tdc, x_bdc, a_bdc = art.slave_dead_centres(geometry)
+    clearance = piston_area_m2 * (deck - x_tdc)
+    own = dataclasses.replace(
+        params,
+        compression_ratio=(deck - x_bdc) / (deck - x_tdc),
+        bdc_deg=math.degrees((a_bdc - a_tdc) % (2 * math.pi)),
+    )
+
+    def volume_at(psi_deg):
+        master = np.radians(np.asarray(psi_deg, dtype=float)) + a_tdc
+        return art.slave_cylinder_volume_m3(master, geometry, deck, piston_area_m2)
+
+    psi = np.asarray(cycle_angle_deg, dtype=float)
+    volume = volume_at(psi)
+    pressure = ind.rounded_pressure_Pa(
+        psi, volume, clearance, own, rounding_parameters(scene), volume_function=volume_at
+    )
+    return pressure, volume
 
 
 def rounding_parameters(scene) -> ind.RoundingParameters:
