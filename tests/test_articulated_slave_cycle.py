@@ -47,7 +47,7 @@ def dead_centre(travel, guess, h=1e-4):
 
 @pytest.fixture(scope="module")
 def radial():
-    data = modified("radial9-aircraft", {"analysis": {"stages": ["torque"]}})
+    data = modified("radial9-aircraft", {"analysis": {"stages": ["torque", "balancing"]}})
     return run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY)
 
 
@@ -72,7 +72,7 @@ def test_slave_pressure_follows_the_polytropes_of_its_own_volume(radial):
     area = math.pi * e.bore**2 / 4
     head = R + L + S / (c.compression_ratio - 1)
     checked = 0
-    for s, g in _slaves(radial):
+    for _, g in _slaves(radial):
 
         def travel(a, g=g):
             return slave_travel(
@@ -119,3 +119,60 @@ def test_a_slave_cylinders_work_follows_its_stroke(radial):
     assert total == pytest.approx(master + slaves, rel=2e-4)
     mean = radial.outputs["torque"].results["mean_Nm"]
     assert mean == pytest.approx(total / (4 * math.pi), rel=1e-4)
+
+
+def _acceleration(alpha, R, L, h=1e-4):
+    """Piston acceleration over omega^2 by a central second difference of the position
+    R cos a + sqrt(L^2 - R^2 sin^2 a), m/rad^2 (positive towards the head at TDC)."""
+
+    def x(a):
+        return R * np.cos(a) + np.sqrt(L**2 - (R * np.sin(a)) ** 2)
+
+    return -(x(alpha + h) - 2 * x(alpha) + x(alpha - h)) / h**2
+
+
+def test_the_balance_takes_each_cylinders_own_mass(radial):
+    """The radial's inertia forces summed cylinder by cylinder with the master's and the slaves'
+    own masses, resolved by an FFT over a turn into parts turning with the shaft and against it:
+    the counterweight takes C and the co-rotating first order, ½·Σm_i·Rω²; the counter-rotating
+    first order ½·(m_master − m_slave)·Rω² and the second order are left, with no shaft."""
+    scene = radial.scene
+    e, m = scene.engine, scene.masses
+    R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
+    bays = radial.outputs["bays"].results
+    # the example's [masses] rod_cm_fraction and [articulated] slave_rod, slave_rod_cm_fraction
+    rod_fraction, slave_rod, kappa = 0.22, 1.2, 0.47
+    lumped = slave_rod * (1 - kappa)  # a slave rod's rotating part at its pin on the master rod
+    levers = [
+        bays["pin_radius_m"] * math.cos(math.radians(s["pin_angle_deg"])) / L
+        for s in bays["slaves"]
+    ]
+    master = m.piston_group + m.rod * rod_fraction + lumped * sum(levers)
+    slave = m.piston_group + slave_rod * kappa
+    masses = np.array([master] + [slave] * len(bays["slaves"]))
+    # cylinder i's axis (and its TDC) at 40 i degrees in the direction of rotation
+    axes = np.radians(40.0 * np.arange(9))
+    theta = 2 * np.pi * np.arange(720) / 720
+    force = (
+        masses[None, :]
+        * w**2
+        * _acceleration(theta[:, None] - axes[None, :], R, L)
+        * np.exp(1j * axes)[None, :]
+    ).sum(axis=1)
+    spectrum = np.fft.fft(force) / theta.size
+    forward_1, backward_1 = abs(spectrum[1]), abs(spectrum[-1])
+    second = abs(spectrum[2]) + abs(spectrum[-2])
+    assert forward_1 == pytest.approx(0.5 * masses.sum() * R * w**2, rel=1e-6)
+    assert backward_1 == pytest.approx(0.5 * (master - slave) * R * w**2, rel=1e-6)
+
+    b = radial.outputs["balancing"].results
+    assert b["reciprocating_mass_kg"] == pytest.approx(master, rel=1e-12)
+    assert b["slave_reciprocating_mass_kg"] == pytest.approx(slave, rel=1e-12)
+    (cw,) = b["counterweights"]
+    assert cw["mass_radius_kg_m"] * w**2 == pytest.approx(b["centrifugal_N"] + forward_1, rel=1e-6)
+    (left,) = b["parts_left"]
+    assert (left["order"], left["sense"]) == (1, "backward")
+    assert left["force_N"] == pytest.approx(backward_1, rel=1e-6)
+    assert b["orders_left_for_masses"] == [2]
+    assert b["absolute"]["sum_PII_N"] == pytest.approx(second, rel=1e-6)
+    assert b["balance_shafts"] == []

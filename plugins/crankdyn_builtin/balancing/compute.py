@@ -23,7 +23,11 @@ from crankdyn.plugin.contracts import (
     KINEMATICS,
     ArticulatedOptions,
 )
-from crankdyn.plugin.scene_inputs import engine_layout, rotating_mass_per_crank_kg
+from crankdyn.plugin.scene_inputs import (
+    articulated_reciprocating_masses_kg,
+    engine_layout,
+    rotating_mass_per_crank_kg,
+)
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -69,8 +73,9 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
 
 
 def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
-    """Reciprocating mass m_s = piston group + the rod's share at the pin (kg) and rotating mass
-    m_R per crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
+    """Reciprocating mass m_s = piston group + the rod's share at the pin (kg; articulated rods: the
+    master cylinder's, with the slave rods' shares at its piston pin) and rotating mass m_R per
+    crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
     ``offset_ratio`` k = e/L of an offset crank-slider."""
     e, m = scene.engine, scene.masses
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
@@ -81,19 +86,55 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
         if scene.engine.rod_type == "articulated"
         else None
     )
+    if articulated is not None:
+        m_s, _ = articulated_reciprocating_masses_kg(scene, layout, articulated, ARTICULATED)
     m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
     return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
 
 
-def _slave_reciprocating_mass_kg(scene) -> float | None:
+def _slave_reciprocating_mass_kg(scene, layout) -> float | None:
     """A slave cylinder's reciprocating mass (piston group and the slave rod's share at its piston
-    pin), kg, where the scene gives the slave rod's mass; None otherwise."""
+    pin), kg; None without articulated rods."""
     if scene.engine.rod_type != "articulated":
         return None
     opts = options(scene, ARTICULATED, ArticulatedOptions)
-    if opts.slave_rod is None:
-        return None
-    return scene.masses.piston_group + opts.slave_rod * opts.slave_rod_cm_fraction
+    return articulated_reciprocating_masses_kg(scene, layout, opts, ARTICULATED)[1]
+
+
+def _with_slave_masses(g, layout, masses, slave_kg: float | None):
+    """The geometry with each cylinder's reciprocating mass over m_s: a slave cylinder's lighter
+    rod makes its inertia forces smaller than the master's (none without articulated rods)."""
+    if slave_kg is None:
+        return g
+    weights = [1.0 if c.master else slave_kg / masses.reciprocating_kg for c in layout.cylinders]
+    return replace(g, cylinder_weight=np.array(weights))
+
+
+def _parts_left(g, opts, means_given: bool) -> tuple[int, ...]:
+    """The rotating parts of the balanced orders that are left unbalanced (signed speeds: +n the
+    co-rotating part of order n, -n the counter-rotating one): those only the slave cylinders'
+    lighter masses give (the cylinders' arrangement cancels them for equal masses), unless the
+    scene chose the balancing means. Balance shafts for a few per cent of one cylinder's force,
+    which the cylinders' arrangement cancels but for the rods' masses, are not what such an
+    engine has."""
+    if g.cylinder_weight is None or means_given:
+        return ()
+    scale = 1e-9 * g.cylinders
+    equal_g = replace(g, cylinder_weight=None)
+    left = []
+    for n in opts.balance_orders:
+        equal, real = bal.reciprocating_model(equal_g, n), bal.reciprocating_model(g, n)
+        for speed, part in ((n, "forward"), (-n, "backward")):
+            if _part_negligible(equal, part, scale) and not _part_negligible(real, part, scale):
+                left.append(speed)
+    return tuple(left)
+
+
+def _part_negligible(model, part: str, scale: float) -> bool:
+    """Whether the co- (``part`` "forward") or counter-rotating part of an order's force and moment
+    is nil to round-off ``scale`` (in units of the order's amplitude)."""
+    force, moment = getattr(model, f"force_{part}"), getattr(model, f"moment_{part}")
+    return abs(complex(force)) <= scale and abs(complex(moment)) <= scale
 
 
 def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
@@ -176,6 +217,16 @@ def run(scene, inputs) -> StageOutput:
     )
     a = e.cylinder_spacing  # None: moments in units of a only
     masses = inertia_masses(scene, layout, k)
+    slave_kg = _slave_reciprocating_mass_kg(scene, layout)
+    g = _with_slave_masses(g, layout, masses, slave_kg)
+    left = _parts_left(g, opts, means_given)
+    # an order whose every part only the masses' difference gives is left whole, as an order
+    # not balanced; a part of an order whose other part the means take is left on its own
+    dropped = [n for n in opts.balance_orders if n in left and -n in left]
+    if dropped:
+        kept = [n for n in opts.balance_orders if n not in dropped]
+        opts = opts.model_copy(update={"balance_orders": kept})
+        left = tuple(speed for speed in left if abs(speed) not in dropped)
     n_max = bal.orders_needed(e.rod_ratio_value, offset_ratio=k)
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     C, C_I = masses.centrifugal_N, masses.first_order_N
@@ -183,10 +234,18 @@ def run(scene, inputs) -> StageOutput:
 
     coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
     all_orders = bal.inertia_orders(n_max, k)
-    means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a)
+    means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a, left)
     counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
     theta, f_td, m_td, check, residual_F, residual_M, residual = _time_domain(
-        g, masses, harmonics, all_orders, means, opts.balance_orders, e.angular_velocity_rad_s, a
+        g,
+        masses,
+        harmonics,
+        all_orders,
+        means,
+        opts.balance_orders,
+        e.angular_velocity_rad_s,
+        a,
+        left,
     )
 
     results = {
@@ -206,14 +265,16 @@ def run(scene, inputs) -> StageOutput:
         "counterweights": counterweights,
         "balance_shafts": shafts,
         "residual": residual,
-        "summary": remedy_summary(orders, g, C, C_I, harmonics, opts),
+        "summary": remedy_summary(orders, g, C, C_I, harmonics, opts, left),
         "reaction_torque_range_Nm": (
             float(np.ptp(torque.torque_Nm)) if torque is not None else None
         ),
         "first_order_forward": opts.first_order_forward,
         **_geometry_results(g),
         "rod_type": e.rod_type,
-        "slave_reciprocating_mass_kg": _slave_reciprocating_mass_kg(scene),
+        "slave_reciprocating_mass_kg": slave_kg,
+        "parts_left": _parts_left_results(g, masses, harmonics, left, a),
+        "orders_left_for_masses": dropped,
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
@@ -248,7 +309,36 @@ def _orders_listed(orders) -> str:
     return ", ".join(shown) if len(shown) <= 4 else ", ".join(shown[:3]) + ", … " + shown[-1]
 
 
-def _time_domain(g, masses, harmonics, all_orders, means, balance_orders, omega, spacing_m):
+def _parts_left_results(g, masses, harmonics, left, spacing_m) -> list[dict]:
+    """The rotating parts left unbalanced (:func:`_parts_left`): order, sense, amplitude (N; a
+    moment's N·m, none without a spacing) and share of one cylinder's C_I."""
+    out = []
+    for speed in left:
+        n = abs(speed)
+        model = bal.scaled(bal.reciprocating_model(g, n), harmonics[n] * masses.first_order_N)
+        force, moment = (
+            (model.force_forward, model.moment_forward)
+            if speed > 0
+            else (model.force_backward, model.moment_backward)
+        )
+        out.append(
+            {
+                "order": n,
+                "name": bal.roman(n),
+                "sense": "forward" if speed > 0 else "backward",
+                "force_N": float(abs(complex(force))),
+                "moment_Nm": (
+                    float(abs(complex(moment))) * spacing_m if spacing_m is not None else None
+                ),
+                "share_of_first_order": float(abs(complex(force))) / masses.first_order_N,
+            }
+        )
+    return out
+
+
+def _time_domain(
+    g, masses, harmonics, all_orders, means, balance_orders, omega, spacing_m, left=()
+):
     """The checks at :data:`CHECK_SAMPLES` shaft angles a revolution: the real forces summed
     cylinder by cylinder against the vector method, and what the means leave of them. (angles,
     force and moment sums, the check, residual force and moment, the residual's record)"""
@@ -272,11 +362,12 @@ def _time_domain(g, masses, harmonics, all_orders, means, balance_orders, omega,
         scale_F,
         scale_M,
         spacing_m,
+        left,
     )
     return theta, f_td, m_td, check, residual_F, residual_M, residual
 
 
-def _design_means(opts, g, masses, harmonics, crank_radius_m: float, spacing_m):
+def _design_means(opts, g, masses, harmonics, crank_radius_m: float, spacing_m, left=()):
     """(the balancing means the options ask for, counterweights' and balance shafts' radii, m):
     the shafts at ``balance_shaft_spacing`` apart about the middle of a shaft of several cranks;
     the radii default to R and R/2."""
@@ -292,6 +383,7 @@ def _design_means(opts, g, masses, harmonics, crank_radius_m: float, spacing_m):
         opts.counterweights,
         opts.first_order_forward,
         shaft_positions,
+        leave=left,
     )
     r_cw = opts.counterweight_radius if opts.counterweight_radius is not None else crank_radius_m
     r_sh = (

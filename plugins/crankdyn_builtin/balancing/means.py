@@ -80,8 +80,10 @@ def residual_after_means(
     scale_F,
     scale_M,
     a,
+    left=(),
 ):
-    """What is left with the balancing means fitted, against the orders left unbalanced.
+    """What is left with the balancing means fitted, against the orders left unbalanced and the
+    rotating parts ``left`` (signed speeds, as :func:`crankdyn.physics.balancing.design_means`).
 
     Returns (residual force N, residual moment N·m as complex arrays, the record); it "vanishes"
     when the residual equals the vector sum of the unbalanced orders within CHECK_TOLERANCE.
@@ -91,6 +93,18 @@ def residual_after_means(
     f_left, m_left = bal.vector_method_sum(
         g, masses, theta, unbalanced_orders, spacing, harmonics, rotating=False
     )
+    for speed in left:
+        model = bal.scaled(
+            bal.reciprocating_model(g, abs(speed)), harmonics[abs(speed)] * masses.first_order_N
+        )
+        force, moment = (
+            (model.force_forward, model.moment_forward)
+            if speed > 0
+            else (model.force_backward, model.moment_backward)
+        )
+        turn = np.exp(1j * speed * theta)
+        f_left = f_left + force * turn
+        m_left = m_left + moment * turn * spacing
     residual_F, residual_M = f_td + f_means, m_td + m_means
     residual = {
         "balanced_orders": sorted(balance_orders),
@@ -129,12 +143,13 @@ def remedy(
             )
         if backward:
             parts.append("shaft_backward")
-        return "+".join(parts)
+        return "+".join(parts) or "none"
     return "none"
 
 
-def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
-    """One row per order and kind (force, moment): its coefficient, whether it is balanced, the remedy."""
+def remedy_summary(orders, g, C, C_I, harmonics, opts, left=()) -> list[dict]:
+    """One row per order and kind (force, moment): its coefficient, whether it is balanced, the
+    remedy (a rotating part in ``left``, a signed speed, is left, not given a means)."""
     summary = []
     for entry in orders:
         n = entry["order"]
@@ -142,8 +157,8 @@ def remedy_summary(orders, g, C, C_I, harmonics, opts) -> list[dict]:
         for kind in ("force", "moment"):
             coef = entry[f"{kind}_coefficient"]
             balanced = coef < NEGLIGIBLE * g.cylinders
-            forward = entry[f"{kind}_forward"]["magnitude"] > limit
-            backward = entry[f"{kind}_backward"]["magnitude"] > limit
+            forward = entry[f"{kind}_forward"]["magnitude"] > limit and n not in left
+            backward = entry[f"{kind}_backward"]["magnitude"] > limit and -n not in left
             summary.append(
                 {
                     "quantity": ("sum_" if kind == "force" else "M_") + entry["name"],

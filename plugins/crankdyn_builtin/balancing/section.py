@@ -48,8 +48,10 @@ def _conclude(ctx, r) -> None:
             items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
             share=_percent_text(t, small, r),
         )
-    if r.get("rod_type") == "articulated":  # the textbook's equal masses, not the real slaves'
-        finding = t("balancing.finding_articulated", finding=finding)
+    left_by_masses = mass_difference_items(t, r)
+    parts_left = mass_difference_items(t, r, whole_orders=False)
+    if parts_left:  # the abstract names the whole orders left among the unbalanced already
+        finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
     ctx.find(finding)
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
@@ -90,6 +92,53 @@ def _conclude(ctx, r) -> None:
         )
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
+    if left_by_masses:
+        ctx.conclude(mass_difference_sentence(t, left_by_masses))
+
+
+def mass_difference_items(t, r, whole_orders: bool = True) -> list[str]:
+    """What only the slave cylinders' lighter reciprocating masses leave unbalanced, as a text
+    names it: whole orders ("the second-order forces ΣP_II = 219 N (3,9 % of C_I)") and parts of
+    orders whose other part the means take ("the part of the first-order forces turning against
+    the shaft, 391 N (6,9 % of C_I)")."""
+    items = []
+    for n in (r.get("orders_left_for_masses") or ()) if whole_orders else ():
+        names = ["sum_" + o["name"] for o in r["orders"] if o["order"] == n]
+        force = r["absolute"].get(names[0] + "_N") if names else None
+        if force is None:
+            continue
+        name = names[0]
+        items.append(
+            t(
+                "balancing.order_left",
+                order_words=orders_in_words(t, [n]),
+                symbol=plain_symbol({"quantity": name}),
+                force=newtons(t, force),
+                share=t.number_g(100 * force / r["first_order_N"], 2),
+            )
+        )
+    for part in r.get("parts_left") or ():
+        items.append(
+            t(
+                "balancing.part_left",
+                order_words=orders_in_words(t, [part["order"]]),
+                sense=t("balancing.sense_" + part["sense"]),
+                force=newtons(t, part["force_N"]),
+                share=t.number_g(100 * part["share_of_first_order"], 2),
+            )
+        )
+    return items
+
+
+def mass_difference_sentence(t, items: list[str]) -> str:
+    """Why what the masses' difference leaves gets no balancing means."""
+    return t(
+        "balancing.mass_difference",
+        items=t("balancing.ordinals_and").join([", ".join(items[:-1]), items[-1]])
+        if len(items) > 1
+        else items[0],
+        them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
+    )
 
 
 #: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
@@ -338,6 +387,7 @@ def render(output: StageOutput, ctx) -> str | None:
     summary_table = _summary_table(ctx, r)
     means_table = _means_table(ctx, r)
     explorer_table = _explorer_table(ctx, r)
+    items = mass_difference_items(ctx.t, r)
     _conclude(ctx, r)
     return ctx.render_template(
         "sections/balancing.html.j2",
@@ -353,6 +403,12 @@ def render(output: StageOutput, ctx) -> str | None:
         explorer_table=explorer_table,
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
+        mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
+        masses_where=ctx.t(
+            "balancing.masses_own"
+            if r.get("rod_type") == "articulated"
+            else "balancing.masses_equal"
+        ),
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
         else "",

@@ -19,7 +19,13 @@ from crankdyn.plugin.contracts import (
     ArticulatedOptions,
     BayLoads,
 )
-from crankdyn.plugin.scene_inputs import engine_layout, slave_cylinder_pressure, slave_geometries
+from crankdyn.plugin.scene_inputs import (
+    articulated_rod_masses_kg,
+    engine_layout,
+    slave_cylinder_pressure,
+    slave_geometries,
+    slave_rod_kg,
+)
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -140,45 +146,12 @@ def _slave_cylinder(
     return row, info, table, indicated_work_J(p_slave, slave_volume)
 
 
-def _articulated_masses(
-    opts,
-    master_rod_kg: float,
-    slaves,
-    rod_length_m: float,
-    rod_reciprocating_kg: float,
-    rod_rotating_kg: float,
-) -> tuple[float, float, float]:
-    """(slave rod's reciprocating part, reduced master rod's reciprocating and rotating masses), kg.
-    Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at its pin; a
-    slave rod not given weighs the master rod's mass scaled by its length."""
-    slave_rod = (
-        opts.slave_rod
-        if opts.slave_rod is not None
-        else master_rod_kg * slaves[0][1].slave_rod_length_m / rod_length_m
-    )
-    s_rec, s_rot = (
-        slave_rod * opts.slave_rod_cm_fraction,
-        slave_rod * (1 - opts.slave_rod_cm_fraction),
-    )
-    recip_master, rot_master = rod_reciprocating_kg, rod_rotating_kg
-    for _, g in slaves:
-        dr, dq = art.reduced_master_rod_masses(
-            0.0, 0.0, rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad
-        )
-        recip_master += dr
-        rot_master += dq
-    return s_rec, recip_master, rot_master
-
-
-def _rotating_mass_terms(opts, m, slaves, rod_length_m: float, rod_rotating_kg: float) -> dict:
+def _rotating_mass_terms(scene, opts, slaves, rod_length_m: float, rod_rotating_kg: float) -> dict:
     """The terms of the bay's rotating mass m_R = m_cp + 2 m_w + m_rR + (m_sr (1 − κ_s) + m_sp)
     Σ_l (1 − r cos γ_1l / L) (textbook fig. 9: each slave's rotating part and pin at its pin,
     split statically between the big end and the master's piston pin), kg."""
-    slave_rod = (
-        opts.slave_rod
-        if opts.slave_rod is not None
-        else m.rod * slaves[0][1].slave_rod_length_m / rod_length_m
-    )
+    m = scene.masses
+    slave_rod = slave_rod_kg(scene, opts, slaves)
     lumped = slave_rod * (1 - opts.slave_rod_cm_fraction) + opts.slave_pin
     levers = sum(1 - g.pin_radius_m * math.cos(g.pin_angle_rad) / rod_length_m for _, g in slaves)
     rod_rotating_kg = float(rod_rotating_kg)
@@ -284,7 +257,7 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
     rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
     opts = options(scene, ARTICULATED, ArticulatedOptions)
     slaves = slave_geometries(scene, layout, opts, ARTICULATED)
-    s_rec, recip_master, rot_master = _articulated_masses(opts, m.rod, slaves, L, rod_rec, rod_rot)
+    s_rec, recip_master, rot_master = articulated_rod_masses_kg(scene, opts, slaves)
     alpha_local = np.radians(angle % 360.0)
     gas_Pa = gas.pressure_Pa - e.crankcase_pressure
     p1_master = gas_Pa + phys.inertia_pressure_Pa(
@@ -337,7 +310,7 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
             "slaves": slave_info,
             "master_reciprocating_mass_kg": m.piston_group + recip_master,
             "master_rod_rotating_mass_kg": rot_master,
-            "rotating_mass_terms": _rotating_mass_terms(opts, m, slaves, L, rod_rot),
+            "rotating_mass_terms": _rotating_mass_terms(scene, opts, slaves, L, rod_rot),
         }
     )
     tables["bay"] = {

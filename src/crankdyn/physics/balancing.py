@@ -188,7 +188,10 @@ class BalanceGeometry:
     ``cylinder_axis_rad`` phi_i: cylinder axis from the vertical; ``cylinder_phase_rad`` delta_i:
     shaft angle at which cylinder i is at its TDC (mod 2 pi); ``cylinder_position`` and
     ``crank_position``: along the shaft from the middle of the row, in units of the cylinder
-    spacing a; ``crank_direction_rad`` kappa_k: direction of crank k at theta = 0.
+    spacing a; ``crank_direction_rad`` kappa_k: direction of crank k at theta = 0;
+    ``cylinder_weight``: each cylinder's reciprocating mass over the reference m_s of
+    :class:`Masses` (None: all equal, as in every engine but one with articulated rods, whose
+    slave cylinders carry lighter rods).
     """
 
     cylinder_axis_rad: np.ndarray
@@ -199,10 +202,18 @@ class BalanceGeometry:
     crank_position: np.ndarray
     vertical_deg: float
     labels: tuple[str, ...] = ()
+    cylinder_weight: np.ndarray | None = None
 
     @property
     def cylinders(self) -> int:
         return int(self.cylinder_axis_rad.shape[-1])
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Each cylinder's reciprocating mass over m_s (ones unless ``cylinder_weight`` is given)."""
+        if self.cylinder_weight is None:
+            return np.ones(self.cylinders)
+        return np.asarray(self.cylinder_weight, dtype=float)
 
     @property
     def cranks(self) -> int:
@@ -333,12 +344,13 @@ def scaled(model: OrderModel, amplitude) -> OrderModel:
 def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
     """Order-n reciprocating forces as co- and counter-rotating vectors (textbook §6.1-6.2, extended to any n).
 
-    Per unit amplitude C_n of one cylinder: ``f = 1/2 sum exp(i(phi_i - n delta_i))``,
-    ``b = 1/2 sum exp(i(phi_i + n delta_i))``; moments weight each term with the cylinder's
-    position (units of a).
+    Per unit amplitude C_n of one cylinder: ``f = 1/2 sum w_i exp(i(phi_i - n delta_i))``,
+    ``b = 1/2 sum w_i exp(i(phi_i + n delta_i))`` (``w_i`` the cylinder's mass over m_s);
+    moments weight each term with the cylinder's position (units of a).
     """
-    forward = 0.5 * np.exp(1j * (g.cylinder_axis_rad - order * g.cylinder_phase_rad))
-    backward = 0.5 * np.exp(1j * (g.cylinder_axis_rad + order * g.cylinder_phase_rad))
+    w = g.weights
+    forward = 0.5 * w * np.exp(1j * (g.cylinder_axis_rad - order * g.cylinder_phase_rad))
+    backward = 0.5 * w * np.exp(1j * (g.cylinder_axis_rad + order * g.cylinder_phase_rad))
     z = g.cylinder_position
     return OrderModel(
         order,
@@ -453,7 +465,7 @@ class Masses:
 def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: float = 1.0):
     """Resultant force (N) and moment vector (N*m) of the real forces, summed cylinder by cylinder.
 
-    Each cylinder contributes its exact reciprocating inertia force ``m_s j(alpha_i)`` along its
+    Each cylinder contributes its exact reciprocating inertia force ``w_i m_s j(alpha_i)`` along its
     own axis (``j`` from the exact closed form, no series) and each crank its centrifugal force
     ``m_R R w^2`` along the crank; the moment sums position times force.
 
@@ -464,7 +476,7 @@ def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: fl
     theta = np.asarray(theta_rad, dtype=float)[:, None]
     alpha = theta - g.cylinder_phase_rad[None, :]
     j = masses.piston_acceleration_m_s2(alpha)
-    recip = masses.reciprocating_kg * j * np.exp(1j * g.cylinder_axis_rad)[None, :]
+    recip = masses.reciprocating_kg * g.weights * j * np.exp(1j * g.cylinder_axis_rad)[None, :]
     crank = masses.centrifugal_N * np.exp(1j * (theta + g.crank_direction_rad[None, :]))
     force = recip.sum(axis=1) + crank.sum(axis=1)
     moment = (recip * g.cylinder_position).sum(axis=1) + (crank * g.crank_position).sum(axis=1)
@@ -593,6 +605,7 @@ def design_means(
     first_order_forward: str = "crankshaft",
     shaft_positions: tuple[float, float] | None = None,
     relative_tolerance: float = 1e-9,
+    leave: tuple[int, ...] = (),
 ) -> BalancingMeans:
     """Counterweights and balance shafts that cancel the rotating forces and the given orders.
 
@@ -605,6 +618,9 @@ def design_means(
       ``+n w`` (co-rotating part) or ``-n w`` (counter-rotating part) with two masses at
       ``shaft_positions`` (default: the planes of the first and last cranks); a +n/-n pair of
       equal shafts is Lanchester's balancer (textbook figs. 27-28).
+
+    The rotating parts in ``leave`` get no means: they are left (signed speeds, +n the co-rotating
+    part of order n, -n its counter-rotating part).
 
     Returns masses in kg*m (mass times radius); the caller divides by the chosen radii.
     """
@@ -627,8 +643,11 @@ def design_means(
                     target
                     + c1
                     * 0.5
-                    * np.exp(
-                        1j * (g.cylinder_axis_rad[members] - g.cylinder_phase_rad[members])
+                    * (
+                        g.weights[members]
+                        * np.exp(
+                            1j * (g.cylinder_axis_rad[members] - g.cylinder_phase_rad[members])
+                        )
                     ).sum()
                 )
             means.counterweights += masses_for(
@@ -647,7 +666,7 @@ def design_means(
         if not (n == 1 and first_order_forward == "crankshaft"):
             parts.insert(0, (n, complex(model.force_forward), complex(model.moment_forward)))
         for speed, f, m in parts:
-            if abs(f) <= tol and abs(m) <= tol:
+            if speed in leave or abs(f) <= tol and abs(m) <= tol:
                 continue
             means.shafts[speed] = masses_for(f, m, speed, w, shaft_positions, tol)
     return means

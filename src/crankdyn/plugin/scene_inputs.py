@@ -97,6 +97,46 @@ def slave_geometries(
     return out
 
 
+def slave_rod_kg(scene, opts: ArticulatedOptions, slaves) -> float:
+    """A slave rod's mass, kg: the scene's, or the master rod's scaled by the slave rod's length
+    over the master's (``slaves`` from :func:`slave_geometries`)."""
+    if opts.slave_rod is not None:
+        return float(opts.slave_rod)
+    return float(scene.masses.rod * slaves[0][1].slave_rod_length_m / scene.engine.rod_length_m)
+
+
+def articulated_rod_masses_kg(
+    scene, opts: ArticulatedOptions, slaves
+) -> tuple[float, float, float]:
+    """(slave rod's share at its piston pin, reduced master rod's reciprocating and rotating
+    masses), kg. Reduced master rod (textbook fig. 9): each slave's rotating part and pin lumped at
+    its pin, split statically between the big end and the master's piston pin; ``slaves`` from
+    :func:`slave_geometries`."""
+    e, m = scene.engine, scene.masses
+    rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    slave_rod = slave_rod_kg(scene, opts, slaves)
+    s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
+    recip_master, rot_master = float(rod_rec), float(rod_rot)
+    for _, g in slaves:
+        dr, dq = art.reduced_master_rod_masses(
+            0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad
+        )
+        recip_master += dr
+        rot_master += dq
+    return slave_rod * opts.slave_rod_cm_fraction, recip_master, rot_master
+
+
+def articulated_reciprocating_masses_kg(
+    scene, layout, opts: ArticulatedOptions, table: str
+) -> tuple[float, float]:
+    """(master, slave) cylinder's reciprocating mass, kg: the piston group with the master rod's
+    reduced share, and with the slave rod's share at its piston pin."""
+    slaves = slave_geometries(scene, layout, opts, table)
+    slave_share, master_share, _ = articulated_rod_masses_kg(scene, opts, slaves)
+    piston = scene.masses.piston_group
+    return piston + master_share, piston + slave_share
+
+
 def rotating_mass_per_crank_kg(
     scene, layout, opts: ArticulatedOptions | None, table: str = ""
 ) -> float:
@@ -113,18 +153,7 @@ def rotating_mass_per_crank_kg(
     if e.rod_type != "articulated":
         return rod_rot * layout.cylinders_per_bay + crank_rotating
     slaves = slave_geometries(scene, layout, opts, table)
-    slave_rod = (
-        opts.slave_rod
-        if opts.slave_rod is not None
-        else m.rod * slaves[0][1].slave_rod_length_m / e.rod_length_m
-    )
-    s_rot = slave_rod * (1 - opts.slave_rod_cm_fraction)
-    rot_master = rod_rot
-    for _, g in slaves:
-        rot_master += art.reduced_master_rod_masses(
-            0.0, 0.0, e.rod_length_m, s_rot, opts.slave_pin, g.pin_radius_m, g.pin_angle_rad
-        )[1]
-    return rot_master + crank_rotating
+    return articulated_rod_masses_kg(scene, opts, slaves)[2] + crank_rotating
 
 
 def crank_train(scene, bays: BayLoads) -> CrankTrain:
