@@ -121,21 +121,19 @@ def test_a_slave_cylinders_work_follows_its_stroke(radial):
     assert mean == pytest.approx(total / (4 * math.pi), rel=1e-4)
 
 
-def _acceleration(alpha, R, L, h=1e-4):
-    """Piston acceleration over omega^2 by a central second difference of the position
-    R cos a + sqrt(L^2 - R^2 sin^2 a), m/rad^2 (positive towards the head at TDC)."""
-
-    def x(a):
-        return R * np.cos(a) + np.sqrt(L**2 - (R * np.sin(a)) ** 2)
-
-    return -(x(alpha + h) - 2 * x(alpha) + x(alpha - h)) / h**2
+def _second_difference(position, alpha, h=1e-4):
+    """-d2x/da2 by a central second difference, m/rad^2: the acceleration over omega^2, positive
+    towards the shaft at TDC."""
+    return -(position(alpha + h) - 2 * position(alpha) + position(alpha - h)) / h**2
 
 
-def test_the_balance_takes_each_cylinders_own_mass(radial):
-    """The radial's inertia forces summed cylinder by cylinder with the master's and the slaves'
-    own masses, resolved by an FFT over a turn into parts turning with the shaft and against it:
-    the counterweight takes C and the co-rotating first order, ½·Σm_i·Rω²; the counter-rotating
-    first order ½·(m_master − m_slave)·Rω² and the second order are left, with no shaft."""
+def test_the_balance_takes_each_cylinders_own_mass_and_motion(radial):
+    """The radial's inertia forces summed cylinder by cylinder, the master's and the slaves' own
+    masses and exact motions (the Cartesian linkage above), resolved by an FFT over a turn into
+    parts turning with the shaft and against it. The counterweight takes C and the co-rotating
+    first order ½·Σm_i·Rω²; the slaves' second harmonic leaves a large co-rotating second order,
+    which a balance shaft at 2ω takes; the counter-rotating first order ½·(m_master − m_slave)·Rω²
+    and the small counter-rotating second order are left."""
     scene = radial.scene
     e, m = scene.engine, scene.masses
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
@@ -149,30 +147,40 @@ def test_the_balance_takes_each_cylinders_own_mass(radial):
     ]
     master = m.piston_group + m.rod * rod_fraction + lumped * sum(levers)
     slave = m.piston_group + slave_rod * kappa
-    masses = np.array([master] + [slave] * len(bays["slaves"]))
-    # cylinder i's axis (and its TDC) at 40 i degrees in the direction of rotation
-    axes = np.radians(40.0 * np.arange(9))
     theta = 2 * np.pi * np.arange(720) / 720
     force = (
-        masses[None, :]
+        master
         * w**2
-        * _acceleration(theta[:, None] - axes[None, :], R, L)
-        * np.exp(1j * axes)[None, :]
-    ).sum(axis=1)
+        * _second_difference(lambda a: R * np.cos(a) + np.sqrt(L**2 - (R * np.sin(a)) ** 2), theta)
+    )
+    for s in bays["slaves"]:
+        gamma = math.radians(s["bank_angle_deg"])
+        linkage = (R, L, bays["pin_radius_m"], math.radians(s["pin_angle_deg"]), gamma)
+
+        def position(a, linkage=linkage, length=s["slave_rod_length_m"]):
+            return np.array([slave_travel(x, *linkage, length) for x in np.ravel(a)])
+
+        # the master's crank angle is theta; the slave's axis lies gamma further on
+        force = force + slave * w**2 * _second_difference(position, theta) * np.exp(1j * gamma)
     spectrum = np.fft.fft(force) / theta.size
     forward_1, backward_1 = abs(spectrum[1]), abs(spectrum[-1])
-    second = abs(spectrum[2]) + abs(spectrum[-2])
-    assert forward_1 == pytest.approx(0.5 * masses.sum() * R * w**2, rel=1e-6)
+    forward_2, backward_2 = abs(spectrum[2]), abs(spectrum[-2])
+    assert forward_1 == pytest.approx(0.5 * (master + 8 * slave) * R * w**2, rel=1e-6)
     assert backward_1 == pytest.approx(0.5 * (master - slave) * R * w**2, rel=1e-6)
 
     b = radial.outputs["balancing"].results
     assert b["reciprocating_mass_kg"] == pytest.approx(master, rel=1e-12)
     assert b["slave_reciprocating_mass_kg"] == pytest.approx(slave, rel=1e-12)
+    assert b["time_domain_check"]["agrees"]
     (cw,) = b["counterweights"]
     assert cw["mass_radius_kg_m"] * w**2 == pytest.approx(b["centrifugal_N"] + forward_1, rel=1e-6)
-    (left,) = b["parts_left"]
-    assert (left["order"], left["sense"]) == (1, "backward")
-    assert left["force_N"] == pytest.approx(backward_1, rel=1e-6)
-    assert b["orders_left_for_masses"] == [2]
-    assert b["absolute"]["sum_PII_N"] == pytest.approx(second, rel=1e-6)
-    assert b["balance_shafts"] == []
+    (shaft,) = b["balance_shafts"]
+    assert shaft["speed_ratio"] == 2
+    (mass,) = shaft["masses"]
+    assert mass["mass_radius_kg_m"] * (2 * w) ** 2 == pytest.approx(forward_2, rel=1e-5)
+    left = {(x["order"], x["sense"]): x["force_N"] for x in b["parts_left"]}
+    assert left == pytest.approx(
+        {(1, "backward"): backward_1, (2, "backward"): backward_2}, rel=1e-5
+    )
+    assert b["absolute"]["sum_PII_N"] == pytest.approx(forward_2 + backward_2, rel=1e-5)
+    assert forward_2 > 0.25 * b["first_order_N"]  # the textbook's equal cylinders give none

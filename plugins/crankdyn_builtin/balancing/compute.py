@@ -10,10 +10,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
 from crankdyn.errors import Problem, SceneError
+from crankdyn.physics import articulated as art
 from crankdyn.physics import balancing as bal
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
@@ -27,6 +29,7 @@ from crankdyn.plugin.scene_inputs import (
     articulated_reciprocating_masses_kg,
     engine_layout,
     rotating_mass_per_crank_kg,
+    slave_geometries,
 )
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
@@ -101,31 +104,82 @@ def _slave_reciprocating_mass_kg(scene, layout) -> float | None:
     return articulated_reciprocating_masses_kg(scene, layout, opts, ARTICULATED)[1]
 
 
-def _with_slave_masses(g, layout, masses, slave_kg: float | None):
-    """The geometry with each cylinder's reciprocating mass over m_s: a slave cylinder's lighter
-    rod makes its inertia forces smaller than the master's (none without articulated rods)."""
-    if slave_kg is None:
-        return g
-    weights = [1.0 if c.master else slave_kg / masses.reciprocating_kg for c in layout.cylinders]
-    return replace(g, cylinder_weight=np.array(weights))
+def _articulated_cylinders(scene, layout, g, masses, slave_kg: float, n_max: int):
+    """The geometry and masses with every slave cylinder's own mass and own piston motion: its
+    mass over the master's, its acceleration's harmonics over the master's (a slave piston's second
+    harmonic is larger and out of phase) and its exact acceleration for the direct sum; the
+    highest order raised to the one the slaves' harmonics still need. (geometry, masses, order)"""
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    slaves = [geometry for _, geometry in slave_geometries(scene, layout, opts, ARTICULATED)]
+    own = []  # each cylinder's slave geometry, by its place among its bay's slaves; None: master
+    for c in layout.cylinders:
+        bay_slaves = [x for x in layout.bay(c.bay) if not x.master]
+        own.append(None if c.master else slaves[bay_slaves.index(c)])
+    probe = [art.slave_acceleration_harmonics(x, 256, 2048) for x in slaves]
+    needed = [n for n in range(2, 257) if any(abs(h[n]) > 1e-15 for h in probe)]
+    n_max = max(n_max, max(needed, default=2))
+    reference = bal.harmonics_for(masses.rod_ratio, n_max)
+    ratio = np.ones((len(reference), len(own)), dtype=complex)
+    for i, geometry in enumerate(own):
+        if geometry is None:
+            continue
+        samples = 1024
+        while samples <= 4 * len(reference):
+            samples *= 2
+        harmonics = art.slave_acceleration_harmonics(geometry, len(reference) - 1, samples)
+        usable = np.abs(reference) > 0
+        ratio[:, i] = np.where(usable, harmonics / np.where(usable, reference, 1.0), 0.0)
+        ratio[0, i] = 1.0
+    weights = np.array([1.0 if x is None else slave_kg / masses.reciprocating_kg for x in own])
+    w = masses.angular_velocity_rad_s
+    accelerations = tuple(
+        None if x is None else partial(_slave_acceleration_m_s2, x, w) for x in own
+    )
+    g = replace(g, cylinder_weight=weights, cylinder_harmonic_ratio=ratio)
+    return g, replace(masses, cylinder_accelerations=accelerations), n_max
 
 
-def _parts_left(g, opts, means_given: bool) -> tuple[int, ...]:
+def _slave_second_harmonic_max(g, harmonics) -> float | None:
+    """The largest |A_2| of a cylinder's piston acceleration (a slave's exceeds the master's);
+    None where every cylinder moves as the reference does."""
+    if g.cylinder_harmonic_ratio is None:
+        return None
+    return float(np.max(np.abs(g.cylinder_harmonic_ratio[2]))) * abs(float(harmonics[2]))
+
+
+def _slave_acceleration_m_s2(geometry, angular_velocity_rad_s: float, alpha_rad):
+    """A slave piston's acceleration, m/s^2, positive towards the shaft at its nominal TDC, at its
+    crank angle ``alpha_rad`` from its own axis."""
+    motion = art.slave_motion(
+        np.asarray(alpha_rad) + geometry.bank_angle_rad, geometry, angular_velocity_rad_s
+    )
+    return -motion.piston_acceleration_m_s2
+
+
+#: A rotating part only the slave cylinders give (their masses and motion; the cylinders'
+#: arrangement cancels it in alike cylinders) is left unbalanced under this share of C_I: a
+#: balance shaft for a few per cent of one cylinder's force is not worth fitting.
+LEAVE_SHARE = 0.1
+
+
+def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
     """The rotating parts of the balanced orders that are left unbalanced (signed speeds: +n the
-    co-rotating part of order n, -n the counter-rotating one): those only the slave cylinders'
-    lighter masses give (the cylinders' arrangement cancels them for equal masses), unless the
-    scene chose the balancing means. Balance shafts for a few per cent of one cylinder's force,
-    which the cylinders' arrangement cancels but for the rods' masses, are not what such an
-    engine has."""
+    co-rotating part of order n, -n the counter-rotating one): those only the slave cylinders
+    give, under :data:`LEAVE_SHARE` of C_I, unless the scene chose the balancing means."""
     if g.cylinder_weight is None or means_given:
         return ()
     scale = 1e-9 * g.cylinders
-    equal_g = replace(g, cylinder_weight=None)
+    alike = replace(g, cylinder_weight=None, cylinder_harmonic_ratio=None)
     left = []
     for n in opts.balance_orders:
-        equal, real = bal.reciprocating_model(equal_g, n), bal.reciprocating_model(g, n)
+        equal, real = bal.reciprocating_model(alike, n), bal.reciprocating_model(g, n)
         for speed, part in ((n, "forward"), (-n, "backward")):
-            if _part_negligible(equal, part, scale) and not _part_negligible(real, part, scale):
+            size = abs(complex(getattr(real, f"force_{part}"))) * abs(harmonics[n])
+            if (
+                _part_negligible(equal, part, scale)
+                and not _part_negligible(real, part, scale)
+                and size < LEAVE_SHARE
+            ):
                 left.append(speed)
     return tuple(left)
 
@@ -217,9 +271,12 @@ def run(scene, inputs) -> StageOutput:
     )
     a = e.cylinder_spacing  # None: moments in units of a only
     masses = inertia_masses(scene, layout, k)
+    n_max = bal.orders_needed(e.rod_ratio_value, offset_ratio=k)
     slave_kg = _slave_reciprocating_mass_kg(scene, layout)
-    g = _with_slave_masses(g, layout, masses, slave_kg)
-    left = _parts_left(g, opts, means_given)
+    if slave_kg is not None:
+        g, masses, n_max = _articulated_cylinders(scene, layout, g, masses, slave_kg, n_max)
+    harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
+    left = _parts_left(g, opts, means_given, harmonics)
     # an order whose every part only the masses' difference gives is left whole, as an order
     # not balanced; a part of an order whose other part the means take is left on its own
     dropped = [n for n in opts.balance_orders if n in left and -n in left]
@@ -227,8 +284,6 @@ def run(scene, inputs) -> StageOutput:
         kept = [n for n in opts.balance_orders if n not in dropped]
         opts = opts.model_copy(update={"balance_orders": kept})
         left = tuple(speed for speed in left if abs(speed) not in dropped)
-    n_max = bal.orders_needed(e.rod_ratio_value, offset_ratio=k)
-    harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
@@ -273,6 +328,7 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "slave_reciprocating_mass_kg": slave_kg,
+        "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
         "parts_left": _parts_left_results(g, masses, harmonics, left, a),
         "orders_left_for_masses": dropped,
     }

@@ -138,6 +138,7 @@ def mass_difference_sentence(t, items: list[str]) -> str:
         if len(items) > 1
         else items[0],
         them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
+        them_nom=t("balancing.them_nom_many" if len(items) > 1 else "balancing.them_nom_one"),
     )
 
 
@@ -273,11 +274,7 @@ def _means_sentence(t, r) -> str:
         orders=", ".join(map(str, balanced)),
         orders_words=orders_in_words(t, balanced),
         count=len(balanced),
-        checked=t(
-            "balancing.checked_model"
-            if r.get("rod_type") == "articulated"
-            else "balancing.checked_real"
-        ),
+        checked=t("balancing.checked_real"),
     )
     by_scheme = balanced_by_scheme(t, r)
     if by_scheme and not single:

@@ -148,6 +148,30 @@ def slave_dead_centres(geometry: SlaveGeometry) -> tuple[float, float, float, fl
     return out[0], out[1], out[2], out[3]
 
 
+def slave_acceleration_harmonics(
+    geometry: SlaveGeometry, max_order: int, samples: int = 1024
+) -> np.ndarray:
+    """Fourier coefficients A_n, n = 0 .. max_order, of a slave piston's acceleration over R w^2.
+
+    ``j(alpha) = R w^2 Re(sum_n A_n exp(i n alpha))`` with ``j`` positive towards the shaft at the
+    cylinder's nominal TDC and ``alpha`` the crank angle from the slave axis (the master's angle
+    minus the bank angle gamma), the convention of
+    :func:`crankdyn.physics.balancing.acceleration_harmonics`. By the FFT of the exact
+    acceleration (:func:`slave_motion`): it is analytic and periodic, so the coefficients are exact
+    to round-off once ``samples`` exceeds twice the highest order that matters. A slave's first
+    harmonic is the master's; its second is larger and out of phase with it.
+    """
+    if samples <= 2 * max_order:
+        raise ValueError("samples must exceed twice max_order")
+    alpha = 2 * np.pi * np.arange(samples) / samples
+    motion = slave_motion(alpha + geometry.bank_angle_rad, geometry, 1.0)
+    j = -motion.piston_acceleration_m_s2 / geometry.crank_radius_m
+    spectrum = np.fft.rfft(j) / samples
+    coefficients = 2.0 * spectrum[: max_order + 1]
+    coefficients[0] = spectrum[0]
+    return coefficients
+
+
 def slave_rod_length_textbook_m(
     rod_length_m: float, pin_radius_m: float, rod_ratio: float, bank_angle_rad: float
 ) -> float:

@@ -188,10 +188,13 @@ class BalanceGeometry:
     ``cylinder_axis_rad`` phi_i: cylinder axis from the vertical; ``cylinder_phase_rad`` delta_i:
     shaft angle at which cylinder i is at its TDC (mod 2 pi); ``cylinder_position`` and
     ``crank_position``: along the shaft from the middle of the row, in units of the cylinder
-    spacing a; ``crank_direction_rad`` kappa_k: direction of crank k at theta = 0;
-    ``cylinder_weight``: each cylinder's reciprocating mass over the reference m_s of
-    :class:`Masses` (None: all equal, as in every engine but one with articulated rods, whose
-    slave cylinders carry lighter rods).
+    spacing a; ``crank_direction_rad`` kappa_k: direction of crank k at theta = 0.
+
+    An engine with articulated rods has cylinders unlike the master: ``cylinder_weight`` is each
+    cylinder's reciprocating mass over the reference m_s of :class:`Masses` and
+    ``cylinder_harmonic_ratio[n, i]`` its acceleration's harmonic of order n over the reference
+    (master) one, ``A_ni / A_n``, complex (a slave piston's second harmonic is larger and out of
+    phase); None: like the reference in every cylinder.
     """
 
     cylinder_axis_rad: np.ndarray
@@ -203,6 +206,7 @@ class BalanceGeometry:
     vertical_deg: float
     labels: tuple[str, ...] = ()
     cylinder_weight: np.ndarray | None = None
+    cylinder_harmonic_ratio: np.ndarray | None = None
 
     @property
     def cylinders(self) -> int:
@@ -214,6 +218,13 @@ class BalanceGeometry:
         if self.cylinder_weight is None:
             return np.ones(self.cylinders)
         return np.asarray(self.cylinder_weight, dtype=float)
+
+    def weights_for(self, order: int) -> np.ndarray:
+        """Each cylinder's order-``order`` force over the reference cylinder's C_n: its mass ratio
+        times its harmonic ratio (complex where a cylinder's harmonic is out of phase)."""
+        if self.cylinder_harmonic_ratio is None or order >= len(self.cylinder_harmonic_ratio):
+            return self.weights
+        return self.weights * self.cylinder_harmonic_ratio[order]
 
     @property
     def cranks(self) -> int:
@@ -345,12 +356,14 @@ def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
     """Order-n reciprocating forces as co- and counter-rotating vectors (textbook §6.1-6.2, extended to any n).
 
     Per unit amplitude C_n of one cylinder: ``f = 1/2 sum w_i exp(i(phi_i - n delta_i))``,
-    ``b = 1/2 sum w_i exp(i(phi_i + n delta_i))`` (``w_i`` the cylinder's mass over m_s);
-    moments weight each term with the cylinder's position (units of a).
+    ``b = 1/2 sum conj(w_i) exp(i(phi_i + n delta_i))`` (``w_i`` the cylinder's order-n force over
+    the reference's, :meth:`BalanceGeometry.weights_for`: its force ``Re(w_i A_n e^{i n alpha})``
+    splits into ``w_i A_n/2`` turning forward and its conjugate turning back); moments weight each
+    term with the cylinder's position (units of a).
     """
-    w = g.weights
+    w = g.weights_for(order)
     forward = 0.5 * w * np.exp(1j * (g.cylinder_axis_rad - order * g.cylinder_phase_rad))
-    backward = 0.5 * w * np.exp(1j * (g.cylinder_axis_rad + order * g.cylinder_phase_rad))
+    backward = 0.5 * np.conj(w) * np.exp(1j * (g.cylinder_axis_rad + order * g.cylinder_phase_rad))
     z = g.cylinder_position
     return OrderModel(
         order,
@@ -438,6 +451,19 @@ class Masses:
     rod_ratio: float
     angular_velocity_rad_s: float
     offset_ratio: float = 0.0  # k = e/L of an offset crank-slider
+    #: per cylinder, its own piston acceleration (m/s^2, positive towards the shaft at TDC) at its
+    #: crank angle alpha_i in rad, where it is not the reference's (a slave piston); None: all alike
+    cylinder_accelerations: tuple | None = None
+
+    def cylinder_acceleration_m_s2(self, alpha_rad) -> np.ndarray:
+        """Every cylinder's exact piston acceleration, m/s^2, at its own crank angles
+        ``alpha_rad[..., i]``: its own function where it has one, else the closed form."""
+        alpha = np.asarray(alpha_rad, dtype=float)
+        j = self.piston_acceleration_m_s2(alpha)
+        for i, own in enumerate(self.cylinder_accelerations or ()):
+            if own is not None:
+                j[..., i] = own(alpha[..., i])
+        return j
 
     def piston_acceleration_m_s2(self, alpha_rad):
         """The exact piston acceleration at the crank angle ``alpha_rad`` from TDC (closed form)."""
@@ -465,8 +491,9 @@ class Masses:
 def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: float = 1.0):
     """Resultant force (N) and moment vector (N*m) of the real forces, summed cylinder by cylinder.
 
-    Each cylinder contributes its exact reciprocating inertia force ``w_i m_s j(alpha_i)`` along its
-    own axis (``j`` from the exact closed form, no series) and each crank its centrifugal force
+    Each cylinder contributes its exact reciprocating inertia force ``w_i m_s j_i(alpha_i)`` along
+    its own axis (``j_i`` its own piston's acceleration, :meth:`Masses.cylinder_acceleration_m_s2`,
+    no series) and each crank its centrifugal force
     ``m_R R w^2`` along the crank; the moment sums position times force.
 
     Returns
@@ -475,7 +502,7 @@ def time_domain_sum(g: BalanceGeometry, masses: Masses, theta_rad, spacing_m: fl
     """
     theta = np.asarray(theta_rad, dtype=float)[:, None]
     alpha = theta - g.cylinder_phase_rad[None, :]
-    j = masses.piston_acceleration_m_s2(alpha)
+    j = masses.cylinder_acceleration_m_s2(alpha)
     recip = masses.reciprocating_kg * g.weights * j * np.exp(1j * g.cylinder_axis_rad)[None, :]
     crank = masses.centrifugal_N * np.exp(1j * (theta + g.crank_direction_rad[None, :]))
     force = recip.sum(axis=1) + crank.sum(axis=1)
@@ -535,6 +562,12 @@ class RotatingMass:
         )
 
 
+def _turn_deg(angle_deg: float) -> float:
+    """An angle in [0, 360) deg: a round-off below 0 (-1e-14) is 0, not 360."""
+    turned = angle_deg % 360.0
+    return 0.0 if turned > 360.0 - 1e-9 else turned
+
+
 def masses_for(
     force_N: complex,
     moment_N_units: complex,
@@ -568,7 +601,7 @@ def masses_for(
                 mass_radius_kg_m=float(abs(target)) / w2,
                 position=float(z),
                 speed=speed,
-                phase_deg=math.degrees(math.atan2(target.imag, target.real)) % 360.0,
+                phase_deg=_turn_deg(math.degrees(math.atan2(target.imag, target.real))),
             )
         )
     return out
@@ -644,7 +677,7 @@ def design_means(
                     + c1
                     * 0.5
                     * (
-                        g.weights[members]
+                        g.weights_for(1)[members]
                         * np.exp(
                             1j * (g.cylinder_axis_rad[members] - g.cylinder_phase_rad[members])
                         )
