@@ -43,6 +43,21 @@ def _exceeds_text(ctx, r, digits: int) -> str | None:
     )
 
 
+def _raised_conclusion(ctx, r) -> str | None:
+    """The conclusion with a flywheel raised to the exact solution's: that solution gives [δ]
+    with it; None for a flywheel of the energy method or a chosen one."""
+    if not r.get("flywheel_raised"):
+        return None
+    return ctx.t(
+        "speed_fluctuation.conclusion_course_raised",
+        flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
+        delta=ctx.num(r["irregularity"], ADOPTED_DELTA_DIGITS),
+        required=ctx.t.number_g(r["required_irregularity"], 6),
+        energy=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+        deviation=ctx.num(r["irregularity_deviation_percent"], 2),
+    )
+
+
 def render(output: StageOutput, ctx) -> str:
     """The section: the speed over the cycle and the single-mass solver study, then the torsional
     model when the scene has one, and the conclusions."""
@@ -82,6 +97,7 @@ def render(output: StageOutput, ctx) -> str:
         exceeds = _exceeds_text(ctx, r, exact_digits)
         ctx.conclude(
             exceeds
+            or _raised_conclusion(ctx, r)
             or t(
                 "speed_fluctuation.conclusion_course",
                 delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
