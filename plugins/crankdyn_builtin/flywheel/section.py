@@ -38,7 +38,11 @@ def render(output: StageOutput, ctx) -> str:
             ),
             (t("input.unit"), [x[3] for x in rows], None),
         ],
-        caption=t("flywheel.table_caption_raised" if r.get("flywheel_raised") else "flywheel.table_caption"),
+        caption=t(
+            "flywheel.table_caption_raised"
+            if r.get("flywheel_raised")
+            else "flywheel.table_caption"
+        ),
         see="flywheel.see_table_raised" if r.get("flywheel_raised") else "flywheel.see_table",
     ) + worked_flywheel(ctx, r)
     if r.get("own_inertia_sufficient"):
