@@ -344,9 +344,9 @@ def test_an_exact_irregularity_above_the_required_one_is_said_with_the_flywheel_
     the exact periodic solution gives a larger δ; the note does not say it confirms the energy
     method, it says by how much δ is exceeded and the flywheel the exact solution needs (a chosen
     flywheel is the task's, not raised)."""
-    designed = shared_run(
-        "diesel-1cyl", {"flywheel": {"required_irregularity": 0.05}}, ("speed_fluctuation",)
-    ).outputs["flywheel"].results
+    design_changes = {"flywheel": {"required_irregularity": 0.05}}
+    designed = shared_run("diesel-1cyl", design_changes, ("speed_fluctuation",))
+    designed = designed.outputs["flywheel"].results
     chosen = f"{designed['required_flywheel_inertia_kg_m2']:.6g} kg*m^2"
     changes = {"flywheel": {"required_irregularity": 0.05, "inertia": chosen}}
     r = shared_run("diesel-1cyl", changes, ("speed_fluctuation",))
