@@ -170,6 +170,18 @@ def exact_design(torque, train, engine_inertia, required_irregularity, energy_fl
     return exact, design
 
 
+def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
+    """The exact periodic solution's δ with the energy method's flywheel, and whether (and by how
+    many percent) the flywheel is raised to the one for which that solution gives [δ]."""
+    return {
+        "energy_flywheel_exact_irregularity": exact_energy,
+        "flywheel_raised": raised is not None,
+        "flywheel_raise_percent": (
+            100.0 * (raised / energy_flywheel - 1.0) if raised is not None else None
+        ),
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -192,8 +204,7 @@ def run(scene, inputs) -> StageOutput:
         exact_energy, raised = exact_design(
             torque, train, opts.engine_inertia, opts.required_irregularity, required_flywheel
         )
-        if raised is not None:
-            flywheel = raised
+    flywheel = raised if raised is not None else flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
     _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess.excess_work_J, omega)
@@ -209,13 +220,7 @@ def run(scene, inputs) -> StageOutput:
         "required_flywheel_inertia_kg_m2": required_flywheel,
         "flywheel_given": opts.inertia is not None,
         "flywheel_inertia_kg_m2": flywheel,
-        # the exact periodic solution's δ with the energy method's flywheel, and whether the
-        # flywheel is raised to the one for which that solution gives [δ]
-        "energy_flywheel_exact_irregularity": exact_energy,
-        "flywheel_raised": raised is not None,
-        "flywheel_raise_percent": (
-            100.0 * (flywheel / required_flywheel - 1.0) if raised is not None else None
-        ),
+        **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
         "flywheel_share": flywheel / total,
