@@ -208,3 +208,10 @@ def test_the_flywheel_search_finds_the_one_root_from_either_side(estimate):
     # an irregularity the inertia without a flywheel already keeps: none is needed
     loose = sf.periodic_speed(gas, inertia_with(0.0), omega).irregularity * 1.5
     assert sf.flywheel_for_irregularity(gas, inertia_with, omega, loose, estimate) == 0.0
+
+
+def test_the_flywheel_is_raised_at_the_digits_the_note_prints_delta_with():
+    from crankdyn_builtin.flywheel.compute import PRINTED_DELTA_DIGITS
+    from crankdyn_builtin.speed_fluctuation.section import ADOPTED_DELTA_DIGITS
+
+    assert PRINTED_DELTA_DIGITS == ADOPTED_DELTA_DIGITS

@@ -10,8 +10,9 @@ from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
 #: The significant digits of the coefficient of cyclic irregularity a course note states: the
-#: flywheel section's (the energy method's δ, which the flywheel is designed with and the abstract
-#: names), so that one δ is printed alike in the abstract, the sections and the conclusions.
+#: flywheel section's (the δ the flywheel is designed with and the abstract names; the flywheel
+#: stage raises its flywheel when the exact δ exceeds [δ] at these digits), so that one δ is
+#: printed alike in the abstract, the sections and the conclusions.
 ADOPTED_DELTA_DIGITS = 3
 
 
