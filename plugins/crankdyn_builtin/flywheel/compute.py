@@ -9,6 +9,7 @@ import numpy as np
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
 from crankdyn.physics import layout as lay
+from crankdyn.physics import speed_fluctuation as sf
 from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
 from crankdyn.plugin.scene_inputs import crank_train
 from crankdyn.plugin.types import StageOutput
@@ -22,6 +23,10 @@ MAX_ENERGY_METHOD_IRREGULARITY = 0.5
 
 #: The irregularity suggested when a chosen flywheel is refused as too small.
 SUGGESTED_IRREGULARITY = 0.2
+
+#: The significant digits a course note prints δ with: an exact δ above [δ] by less than these
+#: digits show is taken as meeting [δ] (the printed δ equals it).
+PRINTED_DELTA_DIGITS = 3
 
 
 def applies(scene) -> str | None:
@@ -138,6 +143,45 @@ def _excess_results(excess, torque) -> dict:
     }
 
 
+def exact_design(torque, train, engine_inertia, required_irregularity, energy_flywheel):
+    """The exact periodic solution's check of the energy method's flywheel: (the exact δ with it,
+    the flywheel for which that solution gives ``required_irregularity``, or None when the exact δ
+    meets it as printed); (None, None) when there is no periodic solution (the speed-fluctuation
+    stage says why)."""
+    omega = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+
+    def inertia_with(flywheel):
+        return train.series(flywheel + engine_inertia)
+
+    _, derivative = inertia_with(energy_flywheel)(alpha)
+    gas = sf.PeriodicSeries.from_samples(
+        sf.gas_torque_Nm(torque.torque_Nm, derivative, omega), math.pi * torque.strokes
+    )
+    try:
+        exact = sf.periodic_speed(gas, inertia_with(energy_flywheel), omega).irregularity
+        if float(f"{exact:.{PRINTED_DELTA_DIGITS}g}") <= required_irregularity:
+            return exact, None
+        design = sf.flywheel_for_irregularity(
+            gas, inertia_with, omega, required_irregularity, energy_flywheel
+        )
+    except (ValueError, RuntimeError):  # no periodic solution with a positive speed
+        return None, None
+    return exact, design
+
+
+def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
+    """The exact periodic solution's δ with the energy method's flywheel, and whether (and by how
+    many percent) the flywheel is raised to the one for which that solution gives [δ]."""
+    return {
+        "energy_flywheel_exact_irregularity": exact_energy,
+        "flywheel_raised": raised is not None,
+        "flywheel_raise_percent": (
+            100.0 * (raised / energy_flywheel - 1.0) if raised is not None else None
+        ),
+    }
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -155,6 +199,12 @@ def run(scene, inputs) -> StageOutput:
         )
         required_flywheel = max(required_total - own, 0.0)
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
+    exact_energy = raised = None
+    if opts.inertia is None and required_flywheel:
+        exact_energy, raised = exact_design(
+            torque, train, opts.engine_inertia, opts.required_irregularity, required_flywheel
+        )
+    flywheel = raised if raised is not None else flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
     _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess.excess_work_J, omega)
@@ -170,6 +220,7 @@ def run(scene, inputs) -> StageOutput:
         "required_flywheel_inertia_kg_m2": required_flywheel,
         "flywheel_given": opts.inertia is not None,
         "flywheel_inertia_kg_m2": flywheel,
+        **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
         "flywheel_share": flywheel / total,
@@ -202,6 +253,7 @@ def run(scene, inputs) -> StageOutput:
         irregularity=irregularity,
         required_irregularity=opts.required_irregularity,
         required_flywheel_inertia_kg_m2=required_flywheel,
+        energy_flywheel_exact_irregularity=exact_energy if raised is not None else None,
     )
     return StageOutput(
         data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes

@@ -38,8 +38,12 @@ def render(output: StageOutput, ctx) -> str:
             ),
             (t("input.unit"), [x[3] for x in rows], None),
         ],
-        caption=t("flywheel.table_caption"),
-        see="flywheel.see_table",
+        caption=t(
+            "flywheel.table_caption_raised"
+            if r.get("flywheel_raised")
+            else "flywheel.table_caption"
+        ),
+        see="flywheel.see_table_raised" if r.get("flywheel_raised") else "flywheel.see_table",
     ) + worked_flywheel(ctx, r)
     if r.get("own_inertia_sufficient"):
         _conclude_not_needed(ctx, r)
@@ -56,6 +60,7 @@ def render(output: StageOutput, ctx) -> str:
         shaft_inertia_given="engine_inertia" in opts.model_fields_set,
         density_given="rim_density" in opts.model_fields_set,
         material=rim_material(rim["density_kg_m3"]) if rim else None,
+        raised=raised_params(ctx, r) if r.get("flywheel_raised") else None,
     )
 
 
@@ -92,7 +97,11 @@ def _energy_rows(r: dict, t) -> list[tuple]:
                 t("flywheel.unit_kg_m2"),
             ),
             (
-                t("flywheel.row_required_flywheel"),
+                t(
+                    "flywheel.row_energy_flywheel"
+                    if r.get("flywheel_raised")
+                    else "flywheel.row_required_flywheel"
+                ),
                 "<i>J</i><sub>f</sub>",
                 t("flywheel.not_needed")
                 if r.get("own_inertia_sufficient")
@@ -100,6 +109,15 @@ def _energy_rows(r: dict, t) -> list[tuple]:
                 "" if r.get("own_inertia_sufficient") else t("flywheel.unit_kg_m2"),
             ),
         ]
+    if r.get("flywheel_raised"):
+        rows.append(
+            (
+                t("flywheel.row_adopted_flywheel"),
+                "<i>J</i><sub>f</sub>",
+                r["flywheel_inertia_kg_m2"],
+                t("flywheel.unit_kg_m2"),
+            )
+        )
     if r["flywheel_given"]:
         rows.append(
             (
@@ -150,9 +168,37 @@ def _rim_rows(rim: dict | None, t) -> list[tuple]:
     ]
 
 
+def raised_params(ctx, r: dict) -> dict:
+    """The numbers the texts on a flywheel raised to the exact solution's name: the energy
+    method's flywheel, the exact δ with it (four digits: they show its excess over [δ]), [δ], the
+    growth and the adopted flywheel with its exact δ (which is [δ], to the printed digits)."""
+    return {
+        "energy": ctx.num(r["required_flywheel_inertia_kg_m2"]),
+        "exact": ctx.num(r["energy_flywheel_exact_irregularity"], 4),
+        "required": ctx.t.number_g(r["required_irregularity"], 6),
+        "growth": ctx.num(r["flywheel_raise_percent"], 2),
+        "flywheel": ctx.num(r["flywheel_inertia_kg_m2"]),
+        "delta": ctx.num(r["required_irregularity"], 3),
+    }
+
+
 def _conclude(ctx, r: dict) -> None:
     """The abstract's and the conclusions' words on the flywheel designed or given."""
     t = ctx.t
+    if r.get("flywheel_raised"):
+        params = raised_params(ctx, r)
+        ctx.find(t("flywheel.finding_raised", **params))
+        ctx.conclude(
+            t(
+                "flywheel.conclusion_raised",
+                excess=ctx.num(r["excess_work_J"]),
+                own=ctx.num(r["own_inertia_kg_m2"]),
+                mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),
+                shaft=ctx.num(r["engine_inertia_kg_m2"]),
+                **params,
+            )
+        )
+        return
     ctx.find(
         t(
             "flywheel.finding",

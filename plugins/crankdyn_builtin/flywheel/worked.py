@@ -13,6 +13,8 @@ def irregularity_is_a_result(r) -> bool:
     """Whether δ is a result to show: a flywheel sized for [δ] gives [δ] back; δ says something for a
     given flywheel, or where the engine's own inertia already keeps it below [δ]."""
     required = r["required_irregularity"]
+    if r.get("flywheel_raised"):  # the exact solution, not ΔL/(Jω²), gives the design's δ = [δ]
+        return False
     return (
         r["flywheel_given"]
         or required is None

@@ -62,22 +62,18 @@ def _single_mass(scene, torque, bays, design, train):
 
 
 def _flywheel_for(delta_required, design, gas_series, train, omega_n):
-    """Flywheel inertia for which the exact periodic solution has the required irregularity."""
+    """Flywheel inertia for which the exact periodic solution has the required irregularity (the
+    flywheel stage's when it raised its flywheel to it: the same search on the same problem)."""
+    if design.raised_by_exact_solution:
+        return design.flywheel_inertia_kg_m2
     own = design.engine_inertia_kg_m2
-    total_mechanism = train.series(0.0).mean_kg_m2
-
-    def delta(flywheel):
-        return sf.periodic_speed(gas_series, train.series(flywheel + own), omega_n).irregularity
-
-    flywheel = design.required_flywheel_inertia_kg_m2
-    for _ in range(8):  # delta ~ 1/J: a fixed-point iteration on J_total converges in a few steps
-        total = flywheel + own + total_mechanism
-        new = max(total * delta(flywheel) / delta_required - own - total_mechanism, 0.0)
-        if abs(new - flywheel) <= 1e-12 * max(total, 1e-30):
-            flywheel = new
-            break
-        flywheel = new
-    return flywheel
+    return sf.flywheel_for_irregularity(
+        gas_series,
+        lambda flywheel: train.series(flywheel + own),
+        omega_n,
+        delta_required,
+        design.required_flywheel_inertia_kg_m2,
+    )
 
 
 def _energy_curve(torque, design, omega_n):
@@ -184,6 +180,8 @@ def _speed_results(inertia, exact, design, summary: dict, records: list, period:
         "required_irregularity": design.required_irregularity,
         "flywheel_inertia_kg_m2": design.flywheel_inertia_kg_m2,
         "flywheel_inertia_energy_kg_m2": design.required_flywheel_inertia_kg_m2,
+        "flywheel_raised": design.raised_by_exact_solution,
+        "energy_flywheel_exact_irregularity": design.energy_flywheel_exact_irregularity,
         "flywheel_inertia_ode_kg_m2": None,
         "flywheel_inertia_deviation_percent": None,
         "solver": summary,

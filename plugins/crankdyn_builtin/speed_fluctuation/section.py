@@ -10,8 +10,9 @@ from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
 #: The significant digits of the coefficient of cyclic irregularity a course note states: the
-#: flywheel section's (the energy method's δ, which the flywheel is designed with and the abstract
-#: names), so that one δ is printed alike in the abstract, the sections and the conclusions.
+#: flywheel section's (the δ the flywheel is designed with and the abstract names; the flywheel
+#: stage raises its flywheel when the exact δ exceeds [δ] at these digits), so that one δ is
+#: printed alike in the abstract, the sections and the conclusions.
 ADOPTED_DELTA_DIGITS = 3
 
 
@@ -40,6 +41,21 @@ def _exceeds_text(ctx, r, digits: int) -> str | None:
         used=ctx.num(used),
         growth=ctx.num(100.0 * (needed / used - 1.0), 2),
         inertia=ctx.num(needed),
+    )
+
+
+def _raised_conclusion(ctx, r) -> str | None:
+    """The conclusion with a flywheel raised to the exact solution's: that solution gives [δ]
+    with it; None for a flywheel of the energy method or a chosen one."""
+    if not r.get("flywheel_raised"):
+        return None
+    return ctx.t(
+        "speed_fluctuation.conclusion_course_raised",
+        flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
+        delta=ctx.num(r["irregularity"], ADOPTED_DELTA_DIGITS),
+        required=ctx.t.number_g(r["required_irregularity"], 6),
+        energy=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+        deviation=ctx.num(r["irregularity_deviation_percent"], 2),
     )
 
 
@@ -82,6 +98,7 @@ def render(output: StageOutput, ctx) -> str:
         exceeds = _exceeds_text(ctx, r, exact_digits)
         ctx.conclude(
             exceeds
+            or _raised_conclusion(ctx, r)
             or t(
                 "speed_fluctuation.conclusion_course",
                 delta=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),

@@ -79,6 +79,7 @@ __all__ = [
     "inertia_series",
     "PeriodicSpeed",
     "periodic_speed",
+    "flywheel_for_irregularity",
     "single_mass_rhs",
     "SolverRun",
     "run_solver",
@@ -660,6 +661,75 @@ def _speed_extremes(angle, omega, omega_at, period_rad: float):
         return float(res.x) % period_rad, float(omega_at(res.x))
 
     return refine(first_argmax(omega), +1), refine(first_argmin(omega), -1)
+
+
+#: Relative tolerance on the flywheel inertia of :func:`flywheel_for_irregularity`: far below
+#: the four significant digits an inertia is printed with, well above the rounding of δ(J).
+FLYWHEEL_RTOL = 1e-10
+
+
+def flywheel_for_irregularity(
+    gas_torque: PeriodicSeries,
+    inertia_with: Callable,
+    mean_angular_velocity_rad_s: float,
+    irregularity: float,
+    first_estimate_kg_m2: float,
+) -> float:
+    r"""The flywheel inertia :math:`J_f` whose exact periodic solution has the irregularity δ.
+
+    Parameters
+    ----------
+    gas_torque : PeriodicSeries
+        :math:`M_g(\alpha)` over one cycle [N m].
+    inertia_with : callable
+        ``inertia_with(J_f)`` -> the reduced inertia (as for :func:`periodic_speed`, with a
+        ``mean_kg_m2``) with the flywheel :math:`J_f` [kg m^2] added to its constant part.
+    mean_angular_velocity_rad_s : float
+        Time-mean speed [rad/s].
+    irregularity : float
+        Required δ = (ω_max − ω_min)/((ω_max + ω_min)/2) of the exact solution, > 0.
+    first_estimate_kg_m2 : float
+        A first :math:`J_f`, e.g. the energy method's, >= 0.
+
+    Returns
+    -------
+    float
+        :math:`J_f` >= 0 [kg m^2]; 0 when the inertia without a flywheel already keeps δ at or
+        below the required one.
+
+    Notes
+    -----
+    δ falls monotonically as the constant inertia grows (about as 1/J), so the root is unique. It
+    is bracketed starting from the estimate scaled by δ(estimate)/δ (that 1/J law applied to the
+    mean total inertia) and refined by Brent's method.
+    """
+    if irregularity <= 0:
+        raise ValueError("irregularity must be positive")
+
+    def excess(flywheel: float) -> float:
+        speed = periodic_speed(gas_torque, inertia_with(flywheel), mean_angular_velocity_rad_s)
+        return speed.irregularity - irregularity
+
+    start = max(float(first_estimate_kg_m2), 0.0)
+    rest = inertia_with(0.0).mean_kg_m2
+    at_start = excess(start)
+    if at_start == 0:
+        return start
+    scaled = (start + rest) * (at_start + irregularity) / irregularity - rest
+    if at_start > 0:  # too light: the root lies above
+        low, high = start, max(scaled, start) * 1.01 + 1e-12 * rest
+        for _ in range(200):  # δ -> 0 as J grows: a doubling passes the root
+            if excess(high) <= 0:
+                break
+            low, high = high, 2.0 * high + rest
+    else:  # heavier than needed: the root lies below, or no flywheel is needed
+        if excess(0.0) <= 0:
+            return 0.0
+        low, high = 0.0, start
+        guess = max(scaled, 0.0) * 0.99
+        if 0.0 < guess < start and excess(guess) > 0:
+            low = guess
+    return brentq(excess, low, high, xtol=FLYWHEEL_RTOL * rest, rtol=FLYWHEEL_RTOL, maxiter=200)
 
 
 # --------------------------------------------------------------------------- time stepping

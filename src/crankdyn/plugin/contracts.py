@@ -177,6 +177,13 @@ class FlywheelDesign:
     own inertia of the crankshaft given in the scene (beyond the crank masses);
     ``mechanism_inertia_mean_kg_m2`` the cycle mean of the reduced inertia of the crank
     mechanisms; ``excess_work_J`` Delta L of the output torque.
+
+    A flywheel designed for ``required_irregularity`` is the energy method's
+    ``required_flywheel_inertia_kg_m2`` unless the exact periodic solution with the variable
+    reduced inertia gives a larger delta with it: then ``flywheel_inertia_kg_m2`` is the one for
+    which that solution gives the required delta, and ``energy_flywheel_exact_irregularity`` the
+    delta of that solution with the energy method's flywheel (None when the flywheel is not
+    raised).
     """
 
     flywheel_inertia_kg_m2: float
@@ -186,6 +193,12 @@ class FlywheelDesign:
     irregularity: float  # delta of the energy method with this flywheel
     required_irregularity: float | None
     required_flywheel_inertia_kg_m2: float | None
+    energy_flywheel_exact_irregularity: float | None = None
+
+    @property
+    def raised_by_exact_solution(self) -> bool:
+        """Whether the flywheel is the exact solution's, larger than the energy method's."""
+        return self.energy_flywheel_exact_irregularity is not None
 
 
 # Scene tables read by more than one plugin: the table's name is the owning stage's
