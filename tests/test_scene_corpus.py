@@ -134,11 +134,11 @@ SEVERAL_PLANES = {
         r"Схемы колен",
     ),
 }
-#: An articulated star's balancing: the equal reciprocating masses are the textbook's approximation.
-EQUAL_MASSES = {
-    "en": r"approximat",
-    "uk": r"наближен",
-    "ru": r"приближ[её]нн",
+#: An articulated star's balancing: each cylinder's inertia force with its own reciprocating mass.
+OWN_MASSES = {
+    "en": r"its own mass",
+    "uk": r"власною масою",
+    "ru": r"собственной массой",
 }
 #: One crank's torque, said where a crank carries several cylinders (it is one cylinder's).
 ONE_CRANKS_TORQUE = {
@@ -359,9 +359,9 @@ def check_structure(note: Note) -> list[str]:
             ]
         balancing = note.part(r'id="sec-\d+"[^>]*data-stage="balancing"') or note.chapters
         if scene.engine.rod_type == "articulated" and not re.search(
-            EQUAL_MASSES[language], balancing
+            OWN_MASSES[language], balancing
         ):
-            problems.append("an articulated star balanced without saying m_s is the master's")
+            problems.append("an articulated star balanced without each cylinder's own mass")
     # a radial (a propeller) or a mechanism has no flywheel end either
     if not case.flywheel and (scene.engine.layout == "radial" or not case.cycle):
         problems += [

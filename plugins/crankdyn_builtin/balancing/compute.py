@@ -46,6 +46,12 @@ ARTICULATED = "articulated"
 OFFSET_ORDERS = [1, 2, 3, 4, 6]
 
 
+#: The distance between the planes of two rods side by side on one crank pin over the bore, taken
+#: when the scene gives none: one big-end bearing's width, 0.45 of a pin of 0.63 of the bore
+#: (typical proportions of car and tractor engines, Kolchin and Demidov).
+ROD_OFFSET_PER_BORE = 0.45 * 0.63
+
+
 #: The mechanisms whose piston motion is a crank-slider's (``extra``: ``rod_ratio``, with an
 #: offset ``offset_m`` and ``crank_angle_at_tdc_rad``): the vector models take their exact
 #: acceleration's Fourier series.
@@ -137,6 +143,36 @@ def _articulated_cylinders(scene, layout, g, masses, slave_kg: float, n_max: int
     )
     g = replace(g, cylinder_weight=weights, cylinder_harmonic_ratio=ratio)
     return g, replace(masses, cylinder_accelerations=accelerations), n_max
+
+
+def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | None:
+    """One crank with rods side by side on its pin (a V-twin's central rods): the cylinders' axes
+    lie one rod's width apart along the shaft, so their inertia forces give longitudinal couples
+    though all act on one crank. The couple of each order the tables show, N·m (amplitude, and its
+    parts turning with and against the shaft), with bank 0 nearest the free end; None for any
+    other engine (its rods in one plane, or its couples those of its cranks' spacing)."""
+    e = scene.engine
+    if layout.cranks != 1 or e.rod_type != "central" or layout.cylinders_per_bay < 2:
+        return None
+    given = opts.rod_offset is not None
+    offset = opts.rod_offset if given else ROD_OFFSET_PER_BORE * e.bore
+    banks = np.array([c.bank for c in layout.cylinders], dtype=float)
+    planes = replace(g, cylinder_position=banks - 0.5 * (banks.max() + banks.min()))
+    moments = []
+    for n in sorted(set(opts.include_orders)):
+        model = bal.scaled(bal.reciprocating_model(planes, n), harmonics[n] * masses.first_order_N)
+        forward = abs(complex(model.moment_forward)) * offset
+        backward = abs(complex(model.moment_backward)) * offset
+        moments.append(
+            {
+                "order": n,
+                "name": bal.roman(n),
+                "moment_Nm": forward + backward,
+                "forward_Nm": forward,
+                "backward_Nm": backward,
+            }
+        )
+    return {"offset_m": float(offset), "offset_given": given, "moments": moments}
 
 
 def _slave_second_harmonic_max(g, harmonics) -> float | None:
@@ -327,6 +363,7 @@ def run(scene, inputs) -> StageOutput:
         "first_order_forward": opts.first_order_forward,
         **_geometry_results(g),
         "rod_type": e.rod_type,
+        "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
         "slave_reciprocating_mass_kg": slave_kg,
         "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
         "parts_left": _parts_left_results(g, masses, harmonics, left, a),

@@ -94,6 +94,34 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(_means_sentence(t, r))
     if left_by_masses:
         ctx.conclude(mass_difference_sentence(t, left_by_masses))
+    couples = rod_offset_items(t, r)
+    if couples:
+        ctx.conclude(
+            t(
+                "balancing.rod_offset_conclusion",
+                offset=t.number_g(r["rod_offset_couples"]["offset_m"] * 1e3, 4),
+                items=", ".join(couples),
+            )
+        )
+
+
+def rod_offset_items(t, r) -> list[str]:
+    """ "ΣM_I = 101 Н·м (turning against the shaft)": the couples of rods side by side on one
+    crank pin that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I·b), by order."""
+    couples = r.get("rod_offset_couples")
+    if not couples:
+        return []
+    limit = NEGLIGIBLE_SHARE * r["first_order_N"] * couples["offset_m"]
+    items = []
+    for x in couples["moments"]:
+        if x["moment_Nm"] < limit:
+            continue
+        against = x["forward_Nm"] <= 1e-9 * x["moment_Nm"]
+        items.append(
+            f"ΣM_{x['name']} = {t.fixed(x['moment_Nm'], 0)} {t('unit.Nm')}"
+            + (f" ({t('balancing.rod_offset_backward')})" if against else "")
+        )
+    return items
 
 
 def mass_difference_items(t, r, whole_orders: bool = True) -> list[str]:
@@ -128,6 +156,20 @@ def mass_difference_items(t, r, whole_orders: bool = True) -> list[str]:
             )
         )
     return items
+
+
+def _rod_offset_sentence(t, r) -> str:
+    """The section's paragraph on the couples of rods side by side on one crank pin, or ""."""
+    items = rod_offset_items(t, r)
+    if not items:
+        return ""
+    couples = r["rod_offset_couples"]
+    return t(
+        "balancing.rod_offset",
+        offset=t.number_g(couples["offset_m"] * 1e3, 4),
+        taken="" if couples["offset_given"] else t("balancing.rod_offset_taken"),
+        items=", ".join(items),
+    )
 
 
 def mass_difference_sentence(t, items: list[str]) -> str:
@@ -401,6 +443,7 @@ def render(output: StageOutput, ctx) -> str | None:
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
+        rod_offset=_rod_offset_sentence(ctx.t, r),
         masses_where=ctx.t(
             "balancing.masses_own"
             if r.get("rod_type") == "articulated"

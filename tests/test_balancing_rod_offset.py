@@ -1,0 +1,72 @@
+"""A V-twin's rods side by side on its one crank pin: the couples of the rods' offset.
+
+Independent reference, written here: each cylinder's reciprocating inertia force m_s j(alpha)
+along its own axis, j by a central second difference of the exact piston position, the two
+cylinders' planes one rod's width apart along the shaft; the moment Σ z_i F_i over a turn,
+resolved by an FFT into the parts of each order turning with the shaft and against it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import shared_run
+
+V_TWIN = {
+    "engine": {
+        "cylinders": 2,
+        "bank_angle_deg": 45,
+        "crank_angles_deg": [0],
+        "firing_order": ["1L", "1R"],
+        "uneven_firing": True,
+        "cylinder_spacing": None,
+    },
+}
+
+
+def _acceleration_over_omega2(alpha, R, L, h=1e-4):
+    def x(a):
+        return R * np.cos(a) + np.sqrt(L**2 - (R * np.sin(a)) ** 2)
+
+    return -(x(alpha + h) - 2 * x(alpha) + x(alpha - h)) / h**2
+
+
+def test_the_rods_offset_couples_against_a_direct_sum():
+    run = shared_run("v8-petrol", V_TWIN, stages=["balancing"])
+    e = run.scene.engine
+    R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
+    b = run.outputs["balancing"].results
+    couples = b["rod_offset_couples"]
+    offset = 0.45 * 0.63 * e.bore  # one big-end bearing of typical proportions
+    assert couples["offset_m"] == pytest.approx(offset, rel=1e-12)
+    assert not couples["offset_given"]
+    m_s = b["reciprocating_mass_kg"]
+    gamma = math.radians(45.0)
+    theta = 2 * np.pi * np.arange(720) / 720
+    # bank 0 (axis 0) at -b/2, bank 1 (axis gamma, its TDC gamma later) at +b/2
+    moment = np.zeros(theta.size, dtype=complex)
+    for axis, z in ((0.0, -0.5 * offset), (gamma, 0.5 * offset)):
+        force = m_s * w**2 * _acceleration_over_omega2(theta - axis, R, L)
+        moment += z * force * np.exp(1j * axis)
+    spectrum = np.fft.fft(moment) / theta.size
+    by_order = {x["order"]: x for x in couples["moments"]}
+    for n in (1, 2, 4):
+        assert by_order[n]["forward_Nm"] == pytest.approx(abs(spectrum[n]), rel=1e-5, abs=1e-6)
+        assert by_order[n]["backward_Nm"] == pytest.approx(abs(spectrum[-n]), rel=1e-5, abs=1e-6)
+    # the first order's couple turns against the shaft only: a crank counterweight cannot take it
+    assert by_order[1]["forward_Nm"] == pytest.approx(0.0, abs=1e-9)
+    # C_I b/2 · |1 - e^{2iγ}|/2·... : its closed form for two cylinders γ apart
+    closed = 0.5 * m_s * R * w**2 * offset * 0.5 * abs(1 - np.exp(2j * gamma))
+    assert by_order[1]["backward_Nm"] == pytest.approx(closed, rel=1e-9)
+
+
+def test_a_given_rod_offset_is_taken_and_engines_of_several_cranks_have_none():
+    given = shared_run(
+        "v8-petrol", {**V_TWIN, "balancing": {"rod_offset": "30 mm"}}, stages=["balancing"]
+    )
+    couples = given.outputs["balancing"].results["rod_offset_couples"]
+    assert couples["offset_given"] and couples["offset_m"] == pytest.approx(0.030)
+    v8 = shared_run("v8-petrol", stages=["balancing"])
+    assert v8.outputs["balancing"].results["rod_offset_couples"] is None
