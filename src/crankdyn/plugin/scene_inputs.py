@@ -9,6 +9,7 @@ another (the import-linter contract ``independence`` in pyproject.toml).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -212,27 +213,73 @@ def slave_cylinder_pressure(
     turns, not 180° after TDC. Its pressure therefore follows its own volume, as a cylinder's
     does, and the work of its cycle is that of its own p–V loop.
     """
-    params = cycle_parameters(scene)
+    rounding = rounding_parameters(scene)
     e = scene.engine
-    deck = art.deck_height_m(e.crank_radius_m, e.rod_length_m, params.compression_ratio)
+    cycle = _slave_cycle(
+        geometry,
+        cycle_parameters(scene),
+        rounding,
+        e.crank_radius_m,
+        e.rod_length_m,
+        piston_area_m2,
+    )
+    psi = np.asarray(cycle_angle_deg, dtype=float)
+    volume = cycle.volume_at(psi)
+    pressure = ind.rounded_pressure_Pa(
+        psi,
+        volume,
+        cycle.clearance_m3,
+        cycle.params,
+        rounding,
+        volume_function=cycle.volume_at,
+        junction_deg=cycle.junction_deg,
+    )
+    return pressure, volume
+
+
+@dataclasses.dataclass(frozen=True)
+class _SlaveCycle:
+    params: ind.CycleParameters  # the slave's own compression ratio and BDC
+    clearance_m3: float
+    deck_height_m: float
+    tdc_master_rad: float
+    area_m2: float
+    geometry: art.SlaveGeometry
+    junction_deg: float
+
+    def volume_at(self, psi_deg):
+        """The slave cylinder's volume, m³, at its own cycle angles (deg)."""
+        master = np.radians(np.asarray(psi_deg, dtype=float)) + self.tdc_master_rad
+        return art.slave_cylinder_volume_m3(master, self.geometry, self.deck_height_m, self.area_m2)
+
+
+@functools.lru_cache(maxsize=256)
+def _slave_cycle(
+    geometry: art.SlaveGeometry,
+    params: ind.CycleParameters,
+    rounding: ind.RoundingParameters,
+    crank_radius_m: float,
+    rod_length_m: float,
+    area_m2: float,
+) -> _SlaveCycle:
+    """A slave cylinder's own cycle: its parameters, clearance and volume, and the junction of
+    its combustion rounding, which depend on the geometry alone (found once for every angle grid
+    and step the calculation asks for)."""
+    deck = art.deck_height_m(crank_radius_m, rod_length_m, params.compression_ratio)
     x_tdc, a_tdc, x_bdc, a_bdc = art.slave_dead_centres(geometry)
-    clearance = piston_area_m2 * (deck - x_tdc)
     own = dataclasses.replace(
         params,
         compression_ratio=(deck - x_bdc) / (deck - x_tdc),
         bdc_deg=math.degrees((a_bdc - a_tdc) % (2 * math.pi)),
     )
+    clearance = area_m2 * (deck - x_tdc)
+    cycle = _SlaveCycle(own, clearance, deck, a_tdc, area_m2, geometry, math.nan)
 
-    def volume_at(psi_deg):
-        master = np.radians(np.asarray(psi_deg, dtype=float)) + a_tdc
-        return art.slave_cylinder_volume_m3(master, geometry, deck, piston_area_m2)
+    def volumes(angle_deg, rows):
+        return cycle.volume_at(angle_deg)
 
-    psi = np.asarray(cycle_angle_deg, dtype=float)
-    volume = volume_at(psi)
-    pressure = ind.rounded_pressure_Pa(
-        psi, volume, clearance, own, rounding_parameters(scene), volume_function=volume_at
-    )
-    return pressure, volume
+    junction = ind.combustion_junctions_deg([own], [rounding], np.array([clearance]), volumes)[0]
+    return dataclasses.replace(cycle, junction_deg=float(junction))
 
 
 def rounding_parameters(scene) -> ind.RoundingParameters:
