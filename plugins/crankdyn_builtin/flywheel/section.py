@@ -176,7 +176,16 @@ def raised_params(ctx, r: dict) -> dict:
         "energy": ctx.num(r["required_flywheel_inertia_kg_m2"]),
         "exact": ctx.num(r["energy_flywheel_exact_irregularity"], 4),
         "required": ctx.t.number_g(r["required_irregularity"], 6),
-        "growth": ctx.num(r["flywheel_raise_percent"], 2),
+        # from the two flywheels as printed (four digits), so that the reader's division agrees
+        "growth": ctx.num(
+            100
+            * (
+                float(f"{r['flywheel_inertia_kg_m2']:.4g}")
+                / float(f"{r['required_flywheel_inertia_kg_m2']:.4g}")
+                - 1
+            ),
+            2,
+        ),
         "flywheel": ctx.num(r["flywheel_inertia_kg_m2"]),
         "delta": ctx.num(r["required_irregularity"], 3),
     }
