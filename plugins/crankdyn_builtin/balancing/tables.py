@@ -241,6 +241,7 @@ def _bay_table(ctx, r):
     """The bay model (F, P, A, B, K, Z) of a V/W/Y/X/radial bay; None for one cylinder a bay."""
     t = ctx.t
     bay_table = None
+    plane = "_plane" if one_plane(r) else ""
     if r["bay_model"] is not None:
         bm = r["bay_model"]
 
@@ -264,8 +265,9 @@ def _bay_table(ctx, r):
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table(
             [(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
-            caption=t("balancing.bay_caption"),
-            see="balancing.see_bay",
+            # all cylinders on one crank: the model is the crank's, no bay among several
+            caption=t("balancing.bay_caption" + plane),
+            see="balancing.see_bay" + plane,
         )
 
     return bay_table
