@@ -93,7 +93,6 @@ V_TWIN = {
         "expansion_index": 1.25,
         "exhaust_pressure": "0.115 MPa",
     },
-    "analysis": {"stages": ["bearings", "balancing"]},
 }
 
 OMEGA = 1700 * math.pi / 30
@@ -243,3 +242,25 @@ def test_the_abstract_names_what_the_means_leave_in_one_sentence():
     sixth = _number(found.group(2))
     assert _number(found.group(4)) == pytest.approx(100 * sixth / FIRST_ORDER_N, rel=0.1)
     assert "остаются лишь малые" not in abstract and "остаётся величина" not in abstract
+
+
+def test_the_v_twins_side_force_step_and_shafts_are_worded_as_an_engineer_writes():
+    text = _plain(_html("vtwin"))
+    # the side force is N (n is the crank speed)
+    assert "найбільша за модулем бокова сила N" in text and "бокова сила n" not in text
+    # a default step at its limit is not "the largest step not above 1°"
+    assert "Крок за кутом Δα = 1° вибрано в цьому розрахунку: він ціле число разів" in text
+    assert "найбільший крок, не більший за 1°" not in text
+    # the second-order shafts of a V-twin carry unequal counterweights: no Lanchester pair
+    shafts = _run("vtwin").outputs["balancing"].results["balance_shafts"]
+    second = [s["masses"][0]["mass_radius_kg_m"] for s in shafts if s["order"] == 2]
+    assert len(second) == 2 and not math.isclose(*second, rel_tol=1e-3)
+    assert "два зрівноважувальні вали з різними противагами" in text
+    assert "Ланчестера" not in _plain(_part("vtwin", "Таблиця 8.4", "</table>"))
+
+
+def test_an_equal_pair_of_shafts_is_still_lanchesters():
+    from conftest import shared_html
+
+    text = _plain(shared_html("inline4-petrol", None, "uk").linked_html)
+    assert "(механізм Ланчестера)" in text
