@@ -6,7 +6,6 @@ from __future__ import annotations
 import re
 
 import pytest
-
 from conftest import shared_html
 
 from crankdyn.plugin.registry import default_registry

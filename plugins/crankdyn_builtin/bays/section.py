@@ -29,7 +29,9 @@ def _phase_table(r: dict, ctx):
     has no columns of the crank and its lag (1 and 0 in every row)."""
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
-    columns = [(escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None)]
+    columns: list[tuple[Markup, list, int | None]] = [
+        (escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None)
+    ]
     if r["cranks"] > 1:
         columns += [
             (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
