@@ -170,6 +170,8 @@ def test_a_one_crank_note_has_no_crank_arrangement_and_no_bays(name, words):
 
 def test_the_one_crank_texts_speak_of_the_crank_and_its_cylinders():
     radial = _plain(_html("radial"))
+    assert "6 Схема двигателя и силы, действующие на шатунную шейку" in radial
+    assert "силы, действующие на шатунные шейки" not in radial
     assert "Таблица 7.2 – Наиболее опасные сочетания сил, действующих на колено вала" in radial
     assert "Силы всех цилиндров, действующие на шатунную шейку" in radial
     assert "Сдвиги рабочих циклов цилиндров (в порядке работы)" in radial

@@ -215,6 +215,8 @@ def render(output: StageOutput, ctx) -> str | None:
     if own_pins or parts["bay_table"] is None:
         # no table of a pin's summed forces (central or fork rods: the crank section sums them)
         ctx.title = t("bays.title_own_pins")
+    elif r["cranks"] == 1:  # a radial's one crank pin carries every cylinder
+        ctx.title = t("bays.title_one_crank")
     return ctx.render_template(
         "sections/bays.html.j2",
         r=r,
