@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 
+import pytest
 from conftest import shared_html
 
 from crankdyn.plugin.registry import default_registry
@@ -97,12 +98,21 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     plain = " ".join(abstract.replace("\u202f", " ").replace("\u00a0", " ").split())
     share = 100 * balancing["first_order_shares"]["sum_PVI"]
     assert share < 1
-    assert (
-        "після встановлення засобів зрівноваження незрівноваженою залишається величина ΣPIV; "
-        "залишаються лише малі ΣPVI (не більше "
-        + f"{share:.2g} % від першого порядку)".replace(".", ",")
-        in plain
-    ), abstract
+    # one sentence: each residual with its value and its share of C_I
+    found = re.search(
+        r"після встановлення засобів зрівноваження незрівноваженими залишаються лише "
+        r"ΣPIV = ([\d,]+) Н і ΣPVI = ([\d,]+) Н \(([\d,]+) % і ([\d,]+) % від CI\)",
+        plain,
+    )
+    assert found, abstract
+    values = [float(g.replace(",", ".")) for g in found.groups()]
+    absolute = balancing["absolute"]
+    assert values[0] == pytest.approx(abs(absolute["sum_PIV_N"]), abs=0.5)
+    assert values[1] == pytest.approx(abs(absolute["sum_PVI_N"]), rel=0.02)
+    shares = balancing["first_order_shares"]
+    assert values[2] == pytest.approx(100 * shares["sum_PIV"], rel=0.03)
+    assert values[3] == pytest.approx(share, rel=0.03)
+    assert "лише малі" not in plain and "залишається величина" not in plain
 
 
 def test_the_abstract_aim_lists_the_sections_the_note_holds():

@@ -142,7 +142,10 @@ def _v8_uk() -> str:
 
 def test_a_conclusion_names_the_section_and_table_of_the_cranks_summed_loads():
     text = _v8_uk()
-    found = re.search(r"їхню суму наведено в розділі (\d+), табл\. (\d+)\.1\)", text)
+    found = re.search(
+        r"сумарні навантаження від усіх циліндрів коліна – у розділі (\d+), табл\. (\d+)\.1\)",
+        text,
+    )
     assert found and found.group(1) == found.group(2), found
     assert f"Таблиця {found.group(1)}.1 – Сили і набіжні моменти на колінах" in text
 

@@ -41,7 +41,11 @@ def _conclude(ctx, r) -> None:
         )
     )
     small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
-    if small:  # the abstract names them too, as the table leaves them
+    residuals = _left_unbalanced(r, unbalanced)
+    if means and residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
+        # what the means leave, in one sentence: each residual with its value and share of C_I
+        finding = _left_after_means(t, r, residuals, "" if single else "Σ")
+    elif small:  # the abstract names them too, as the table leaves them
         finding = t(
             "balancing.finding_negligible",
             finding=finding,
@@ -241,6 +245,33 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
             reference=reference,
             what=what,
         )
+    )
+
+
+def _left_after_means(t, r, residuals, sign: str) -> str:
+    """ "after the means, only ΣP_IV = 81 Н and ΣP_VI = 1,8 Н (1,4 % and 0,03 % of C_I) stay
+    unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence."""
+    items, shares, scales = [], [], []
+    for item in residuals:
+        value, force = _summary_amplitude(r, item)
+        amplitude = newtons(t, value) if force else t.number_g(value, 2)
+        unit = t("balancing.unit_N") if force else t("unit.Nm")
+        items.append(f"{plain_symbol(item, sign)} = {amplitude} {unit}")
+        shares.append(f"{t.number_g(100 * _share(r, item), 2)} %")
+        scales.append("C_I" if force else "C_I·a")
+    if len(set(scales)) == 1:
+        listed = t.join_and(items)
+        shares_text = t("balancing.share_of", shares=t.join_and(shares), scale=scales[0])
+    else:  # forces and moments: each its own scale
+        listed = t.join_and(
+            f"{i} ({t('balancing.share_of', shares=s, scale=c)})"
+            for i, s, c in zip(items, shares, scales, strict=True)
+        )
+        shares_text = ""
+    return t(
+        "balancing.finding_left_means",
+        count=len(items),
+        items=listed + (f" ({shares_text})" if shares_text else ""),
     )
 
 

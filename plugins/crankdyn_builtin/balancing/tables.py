@@ -3,6 +3,8 @@ means and the firing-order explorer."""
 
 from __future__ import annotations
 
+import math
+
 from markupsafe import Markup
 
 from crankdyn.physics import balancing as bal
@@ -241,6 +243,7 @@ def _bay_table(ctx, r):
     """The bay model (F, P, A, B, K, Z) of a V/W/Y/X/radial bay; None for one cylinder a bay."""
     t = ctx.t
     bay_table = None
+    plane = "_plane" if one_plane(r) else ""
     if r["bay_model"] is not None:
         bm = r["bay_model"]
 
@@ -264,8 +267,9 @@ def _bay_table(ctx, r):
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table(
             [(h, [show(bm[k])], None) for h, k in zip(heads, keys, strict=True)],
-            caption=t("balancing.bay_caption"),
-            see="balancing.see_bay",
+            # all cylinders on one crank: the model is the crank's, no bay among several
+            caption=t("balancing.bay_caption" + plane),
+            see="balancing.see_bay" + plane,
         )
 
     return bay_table
@@ -296,7 +300,10 @@ def _summary_table(ctx, r):
             ),
             (
                 t("balancing.remedy"),
-                [_remedy_text(t, s["remedy"], one_plane(r)) for s in rows],
+                [
+                    _remedy_text(t, s["remedy"], one_plane(r), _equal_pair(r, s["order"]))
+                    for s in rows
+                ],
                 None,
             ),
         ],
@@ -309,12 +316,23 @@ def _summary_table(ctx, r):
     return summary_table
 
 
-def _remedy_text(t, remedy: str, one_crank: bool = False) -> str:
-    """The means of one order in words: a Lanchester pair named as such, several means joined by
-    "і"; what balances itself is balanced by the crank arrangement, or (all cylinders on one
-    crank) by the cylinders' arrangement round it."""
+def _equal_pair(r, order: int) -> bool:
+    """Whether the two balance shafts of ``order`` (one each way) carry equal static moments: a
+    Lanchester pair; a V's unequal pair is no Lanchester's mechanism."""
+    moments = [
+        sum(m["mass_radius_kg_m"] for m in shaft["masses"])
+        for shaft in r.get("balance_shafts") or ()
+        if shaft["order"] == order
+    ]
+    return len(moments) == 2 and math.isclose(moments[0], moments[1], rel_tol=1e-6)
+
+
+def _remedy_text(t, remedy: str, one_crank: bool = False, equal_pair: bool = True) -> str:
+    """The means of one order in words: a Lanchester pair (equal shafts) named as such, several
+    means joined by "і"; what balances itself is balanced by the crank arrangement, or (all
+    cylinders on one crank) by the cylinders' arrangement round it."""
     if remedy == "shaft_forward+shaft_backward":
-        return t("balancing.remedy_shaft_pair")
+        return t("balancing.remedy_shaft_pair" + ("" if equal_pair else "_unequal"))
     return t("balancing.means_and").join(
         t("balancing.remedy_" + part + ("_plane" if one_crank and part == "self" else ""))
         for part in remedy.split("+")

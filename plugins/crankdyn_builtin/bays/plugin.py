@@ -39,7 +39,15 @@ BAYS_STAGE = Stage(
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
-        section_symbols=("radial_specific", "centrifugal_force", "rod_specific", "side_specific"),
+        section_symbols=(
+            "radial_specific",
+            "centrifugal_force",
+            "rod_specific",
+            "side_specific",
+            # the sums over the crank's cylinders, one meaning with the torque section's
+            "crank_tangential_total",
+            "crank_radial_total",
+        ),
         title_key="bays.title",
         render=render,
         input_rows=input_rows,

@@ -17,15 +17,26 @@ from .compute import ARTICULATED
 from .figures import bay_figure
 
 
+def one_crank_key(key: str, r: dict, t) -> str:
+    """``key``'s wording for an engine of one crank (a radial, a V-twin), which has no crank
+    arrangement and no bays to tell apart, where the catalog gives one."""
+    variant = key + "_one_crank"
+    return variant if r["cranks"] == 1 and t.has(variant) else key
+
+
 def _phase_table(r: dict, ctx):
-    """Table of :func:`cylinder_phases` in firing order (the cycle delays then rise)."""
+    """Table of :func:`cylinder_phases` in firing order (the cycle delays then rise); one crank's
+    has no columns of the crank and its lag (1 and 0 in every row)."""
     t = ctx.t
     phases = sorted(r["cylinder_phases"], key=lambda p: p["cycle_delay_deg"])
-    columns = [
-        (escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None),
-        (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
-        (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
+    columns: list[tuple[Markup, list, int | None]] = [
+        (escape(t("bays.cylinder")), [t.cylinder(p["cylinder"]) for p in phases], None)
     ]
+    if r["cranks"] > 1:
+        columns += [
+            (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
+            (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
+        ]
     if any(p["axis_deg"] for p in phases):
         columns.append((escape(t("bays.axis_angle")), [p["axis_deg"] for p in phases], 0))
     columns.append(
@@ -35,7 +46,11 @@ def _phase_table(r: dict, ctx):
             0,
         )
     )
-    return ctx.table(columns, caption=t("bays.phases_caption"), see="bays.see_phases")
+    return ctx.table(
+        columns,
+        caption=t(one_crank_key("bays.phases_caption", r, t)),
+        see=one_crank_key("bays.see_phases", r, t),
+    )
 
 
 def _stroke_table(r: dict, ctx):
@@ -81,12 +96,12 @@ def _slave_table(r: dict, ctx):
                 None,
             ),
             (
-                "<i>l</i>, " + t("unit.mm"),
+                "<i>l</i><sub>sr</sub>, " + t("unit.mm"),
                 [_digits(t, s["slave_rod_length_m"] * 1e3, 2) for s in r["slaves"]],
                 None,
             ),
             (
-                "<i>l</i> " + t("bays.by_source") + ", " + t("unit.mm"),
+                "<i>l</i><sub>sr</sub> " + t("bays.by_source") + ", " + t("unit.mm"),
                 [_digits(t, s["slave_rod_length_textbook_m"] * 1e3, 2) for s in r["slaves"]],
                 None,
             ),
@@ -156,17 +171,20 @@ def _bay_parts(output: StageOutput, ctx) -> dict:
             ("<i>t</i><sub>Σ</sub>", f["bay_tangential_Pa"][rows] / 1e6, 3),
             ("<i>q</i><sub>pin</sub>", f["pin_load_Pa"][rows] / 1e6, 3),
         ],
-        caption=t("bays.table_b2_caption", cylinder=t.cylinder(first_key.removeprefix("slave_"))),
-        see="bays.see_table_b2",
+        caption=t(
+            one_crank_key("bays.table_b2_caption", r, t),
+            cylinder=t.cylinder(first_key.removeprefix("slave_")),
+        ),
+        see=one_crank_key("bays.see_table_b2", r, t),
         extremes=extremes,
     )
     bay_table_number = ctx.last_table_number
     parts["masses"] = _pin_masses(r, ctx.scene)
     parts["figure"] = ctx.figure(
         partial(bay_figure, f, ctx.cycle_deg, t),
-        t("bays.figure_caption"),
+        t(one_crank_key("bays.figure_caption", r, t)),
         "bay",
-        see="bays.see_figure",
+        see=one_crank_key("bays.see_figure", r, t),
     )
     peak = first_argmax(f["pin_load_Pa"])  # the crank pin's load of all its cylinders
     ctx.conclude(
@@ -197,6 +215,8 @@ def render(output: StageOutput, ctx) -> str | None:
     if own_pins or parts["bay_table"] is None:
         # no table of a pin's summed forces (central or fork rods: the crank section sums them)
         ctx.title = t("bays.title_own_pins")
+    elif r["cranks"] == 1:  # a radial's one crank pin carries every cylinder
+        ctx.title = t("bays.title_one_crank")
     return ctx.render_template(
         "sections/bays.html.j2",
         r=r,
@@ -210,6 +230,7 @@ def render(output: StageOutput, ctx) -> str | None:
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
+        one_crank=partial(one_crank_key, r=r, t=t),
     )
 
 
@@ -243,7 +264,7 @@ def _uneven_text(r, ctx) -> str | None:
     cycle = sum(intervals)
     bank = ctx.scene.engine.bank_angle_deg if ctx.scene is not None else None
     return t(
-        "bays.uneven_bank" if bank else "bays.uneven",
+        one_crank_key("bays.uneven_bank" if bank else "bays.uneven", r, t),
         cycle=t.number_g(cycle, 4),
         cranks="; ".join(t.number_g(x, 4) for x in r["crank_angles_deg"]),
         bank=t.number_g(bank, 4) if bank else "",
@@ -260,7 +281,8 @@ _L = {"en": "l"}
 SYMBOLS = {
     "slave_rod_angle": Symbol("β", _L, "°", html="<i>β</i><sub><i>l</i></sub>"),
     "slave_crank_angle": Symbol("α", _L, "°", html="<i>α</i><sub><i>l</i></sub>"),
-    "slave_rod_length": Symbol("l", {}, "unit.mm"),
+    # its own subscript: the bare l numbers the slave cylinders
+    "slave_rod_length": Symbol("l", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.mm"),
     "pin_radius": Symbol("r", {}, "unit.mm"),
     "bank_angle": Symbol("γ", {}, "°"),
     "pin_angle": Symbol("γ", {"en": "1"}, "°"),
@@ -272,8 +294,6 @@ SYMBOLS = {
     "slave_tangential_force": Symbol("t", _L, "unit.MPa", html="<i>t</i><sub><i>l</i></sub>"),
     "slave_radial_force": Symbol("z", _L, "unit.MPa", html="<i>z</i><sub><i>l</i></sub>"),
     "slave_stroke": Symbol("S", _L, "unit.mm", html="<i>S</i><sub><i>l</i></sub>"),
-    "bay_radial_force": Symbol("z", {"en": "Σ"}, "unit.MPa"),
-    "bay_tangential_force": Symbol("t", {"en": "Σ"}, "unit.MPa"),
     # the load on the crank pin, where the forces section's q is one cylinder's load on the throw
     "pin_load": Symbol("q", {"en": "pin", "uk": "ш.ш", "ru": "ш.ш"}, "unit.MPa"),
     "slave_rod_mass": Symbol("m", {"en": "sr", "uk": "п.ш", "ru": "п.ш"}, "unit.kg"),
@@ -319,7 +339,7 @@ def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
         rows.append(
             (
                 t("bays.input_slave_rod_length"),
-                "<i>l</i>",
+                "<i>l</i><sub>sr</sub>",
                 num(opts.slave_rod_length * 1e3, 4),
                 mm,
             )

@@ -386,9 +386,11 @@ def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
     )
     notes = []
     if scene.angle_step_defaulted:
+        # the step at its upper limit is no "largest step not above" itself: said plainly
+        at_limit = scene.analysis.angle_step_deg == default_angle_step_deg(scene)
         notes.append(
             (
-                "numerics.note_default_step",
+                "numerics.note_default_step" + ("_at_limit" if at_limit else ""),
                 {
                     "step": scene.analysis.angle_step_deg,
                     "grid": scene.engine_grid_deg,

@@ -183,8 +183,8 @@ def _course_note(ctx) -> bool:
 
 
 def render_course(r, ctx) -> str | None:
-    """The course note's statement: the step, the errors of the main results at it and the time
-    of the calculation, against the coarsest step studied (what a coarser step would save)."""
+    """The course note's statement: the step and the errors of the main results at it, against
+    the coarsest step studied (what a coarser step would cost)."""
     if "steps" not in r:
         return None
     t = ctx.t
@@ -203,7 +203,7 @@ def render_course(r, ctx) -> str | None:
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     text = [statement]
     if coarse is not own:
-        text.append(_course_time(own, coarse, ctx))
+        text.append(_course_coarse(coarse, ctx))
     return "".join(f'<p class="printed-errors">{escape(p)}</p>' for p in text)
 
 
@@ -219,27 +219,13 @@ def _error_words(ctx, error: float) -> str:
     return ctx.t("numerics.error_up_to", value=ctx.num(abs(error), 2))
 
 
-#: A calculation shorter than this is stated as "under a second": an engineer reads its length in
-#: seconds, and milliseconds measured on one computer say nothing about the method.
-_UNDER_A_SECOND_S = 1.0
-
-
-def _course_time(own, coarse, ctx) -> str:
-    """The time of the calculation at the note's step against the coarsest step studied, in the
-    words an engineer states a time in: under a second, or seconds to two digits."""
-    coarse_error = ctx.num(100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2)
-    if own["time_s"] < _UNDER_A_SECOND_S:
-        return ctx.t(
-            "numerics.course_time_short",
-            coarse=plain(ctx, coarse["angle_step_deg"]),
-            coarse_error=coarse_error,
-        )
+def _course_coarse(coarse, ctx) -> str:
+    """What the coarsest step studied would cost in the main results' errors (a course note
+    states the step and its errors; a computer's run time says nothing of the method)."""
     return ctx.t(
-        "numerics.course_time",
-        time=ctx.t.number_g(own["time_s"], 2),
+        "numerics.course_coarse",
         coarse=plain(ctx, coarse["angle_step_deg"]),
-        coarse_time=ctx.t.number_g(coarse["time_s"], 2),
-        coarse_error=coarse_error,
+        coarse_error=ctx.num(100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2),
     )
 
 

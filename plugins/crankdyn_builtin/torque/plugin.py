@@ -16,7 +16,7 @@ from crankdyn.plugin.types import AnswerColumn, Catalog, Stage, StagePresentatio
 from crankdyn.report.plausibility import mechanical_efficiency
 
 from .compute import applies, run, run_many
-from .section import render
+from .section import SYMBOLS, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -63,6 +63,7 @@ TORQUE_STAGE = Stage(
         render=render,
         figures=("output_torque", "journal_torques"),
         references=("poda2007", "lukanin1995"),
+        symbols=SYMBOLS,
     ),
 )
 

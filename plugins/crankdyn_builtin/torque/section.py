@@ -6,7 +6,7 @@ from functools import partial
 
 from markupsafe import Markup
 
-from crankdyn.plugin.types import StageOutput
+from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import journal_name
 from crankdyn_builtin.torque.worked import worked_torque
@@ -95,7 +95,10 @@ def render(output: StageOutput, ctx) -> str | None:
     )
     journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
     danger = _danger_table(ctx, r, cranks)
+    danger_number = ctx.last_table_number
     _conclude(ctx, r)
+    if len(delays) > cranks:  # the forces section gave one cylinder's part: the whole crank's
+        _conclude_crank_load(ctx, r, danger_number)
     return ctx.render_template(
         "sections/torque.html.j2",
         r=r,
@@ -170,6 +173,8 @@ def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
 def _danger_table(ctx, r, cranks: int) -> str:
     """Table B.4: each crank's dangerous combinations of loads."""
     t = ctx.t
+    # one crank: its journal's running torque is the sum t_Σ, there are no cranks to name
+    single = "_single" if cranks == 1 else ""
     danger_rows = [
         (d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")
     ]
@@ -178,7 +183,10 @@ def _danger_table(ctx, r, cranks: int) -> str:
             (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
             (
                 t("torque.criterion"),
-                [t("torque.criterion_" + kind) for _, kind, _ in danger_rows],
+                [
+                    t("torque.criterion_" + kind + (single if kind == "M" else ""))
+                    for _, kind, _ in danger_rows
+                ],
                 None,
             ),
             ("<i>α</i>, °", [v["shaft_angle_deg"] for _, _, v in danger_rows], 0),
@@ -192,7 +200,7 @@ def _danger_table(ctx, r, cranks: int) -> str:
                 3,
             ),
         ],
-        caption=t("torque.table_b4_caption"),
+        caption=t("torque.table_b4_caption" + single),
         see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4",
     )
 
@@ -223,3 +231,23 @@ def _conclude(ctx, r) -> None:
                 eta=ctx.num(r["mechanical_efficiency"], 3),
             )
         )
+
+
+def _conclude_crank_load(ctx, r, table_number) -> None:
+    """The largest resultant load on a crank from all the cylinders it carries (table B.4)."""
+    worst = max((d["Q"] for d in r["dangerous"]), key=lambda v: v["q_Pa"])
+    ctx.conclude(
+        ctx.t(
+            "torque.conclusion_crank_load",
+            q_max=ctx.num(worst["q_Pa"] / 1e6),
+            q_angle=ctx.angle_text(worst["shaft_angle_deg"]),
+            table=table_number,
+        )
+    )
+
+
+#: The torque section's own letters (meanings: symbol.torque.<key> in i18n/).
+SYMBOLS = {
+    # a main journal's running torque as a specific tangential force (table B.4's criterion)
+    "journal_running": Symbol("t", {"en": "k"}, "unit.MPa"),
+}
