@@ -56,6 +56,9 @@ def _conclude(ctx, r) -> None:
     parts_left = mass_difference_items(t, r, whole_orders=False)
     if parts_left:  # the abstract names the whole orders left among the unbalanced already
         finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
+    couples = rod_offset_items(t, r)
+    if couples:  # forces balanced in one plane say nothing of the rods' offset
+        finding = t("balancing.finding_rod_offset", finding=finding, items=", ".join(couples))
     ctx.find(finding)
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
@@ -98,7 +101,6 @@ def _conclude(ctx, r) -> None:
         ctx.conclude(_means_sentence(t, r))
     if left_by_masses:
         ctx.conclude(mass_difference_sentence(t, left_by_masses))
-    couples = rod_offset_items(t, r)
     if couples:
         ctx.conclude(
             t(

@@ -128,6 +128,7 @@ def render(output: StageOutput, ctx) -> str:
         course=course,
         adopted_digits=ADOPTED_DELTA_DIGITS,
         alike=alike,
+        flywheel_difference=_printed_difference_percent(r),
         sci=lambda value: _sci(value, t.decimal_separator),
         figure_speed=figure_speed,
         table_single=table_single,
@@ -172,3 +173,12 @@ SYMBOLS = {
     "natural_frequency": Symbol("ω", {"en": "s"}, "unit.rad_s", html="<i>ω</i><sub><i>s</i></sub>"),
     "damping_ratio": Symbol("ζ", {}, ""),
 }
+
+
+def _printed_difference_percent(r) -> float | None:
+    """The exact solution's flywheel over the energy method's, less one, in per cent, from the two
+    as the text prints them (four digits), so that the reader's division gives the same."""
+    ode, energy = r.get("flywheel_inertia_ode_kg_m2"), r.get("flywheel_inertia_energy_kg_m2")
+    if ode is None or not energy:
+        return None
+    return 100 * (float(f"{ode:.4g}") / float(f"{energy:.4g}") - 1)
