@@ -175,6 +175,17 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
     return {"offset_m": float(offset), "offset_given": given, "moments": moments}
 
 
+def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m) -> dict:
+    """Articulated rods: a slave cylinder's reciprocating mass, the largest |A_2| of a cylinder's
+    piston, and what only the slave cylinders leave unbalanced (parts and whole orders)."""
+    return {
+        "slave_reciprocating_mass_kg": slave_kg,
+        "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
+        "parts_left": _parts_left_results(g, masses, harmonics, left, spacing_m),
+        "orders_left_for_masses": dropped,
+    }
+
+
 def _slave_second_harmonic_max(g, harmonics) -> float | None:
     """The largest |A_2| of a cylinder's piston acceleration (a slave's exceeds the master's);
     None where every cylinder moves as the reference does."""
@@ -218,6 +229,19 @@ def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
             ):
                 left.append(speed)
     return tuple(left)
+
+
+def _orders_left(g, opts, means_given: bool, harmonics):
+    """(the options with the orders to balance, the rotating parts left, the orders left whole):
+    an order whose every part only the slave cylinders give is left whole, as an order not
+    balanced; a part of an order whose other part the means take is left on its own."""
+    left = _parts_left(g, opts, means_given, harmonics)
+    dropped = [n for n in opts.balance_orders if n in left and -n in left]
+    if dropped:
+        kept = [n for n in opts.balance_orders if n not in dropped]
+        opts = opts.model_copy(update={"balance_orders": kept})
+        left = tuple(speed for speed in left if abs(speed) not in dropped)
+    return opts, left, dropped
 
 
 def _part_negligible(model, part: str, scale: float) -> bool:
@@ -312,14 +336,7 @@ def run(scene, inputs) -> StageOutput:
     if slave_kg is not None:
         g, masses, n_max = _articulated_cylinders(scene, layout, g, masses, slave_kg, n_max)
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
-    left = _parts_left(g, opts, means_given, harmonics)
-    # an order whose every part only the masses' difference gives is left whole, as an order
-    # not balanced; a part of an order whose other part the means take is left on its own
-    dropped = [n for n in opts.balance_orders if n in left and -n in left]
-    if dropped:
-        kept = [n for n in opts.balance_orders if n not in dropped]
-        opts = opts.model_copy(update={"balance_orders": kept})
-        left = tuple(speed for speed in left if abs(speed) not in dropped)
+    opts, left, dropped = _orders_left(g, opts, means_given, harmonics)
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, e.rod_type, torque)
 
@@ -364,19 +381,12 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
-        "slave_reciprocating_mass_kg": slave_kg,
-        "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
-        "parts_left": _parts_left_results(g, masses, harmonics, left, a),
-        "orders_left_for_masses": dropped,
+        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a),
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
-    notes.append(
-        (
-            "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check",
-            {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES},
-        )
-    )
+    check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
+    notes.append((check_note, {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     return StageOutput(
         data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)},

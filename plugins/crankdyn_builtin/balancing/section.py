@@ -24,42 +24,8 @@ def _conclude(ctx, r) -> None:
     t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
     single = len(r["cylinder_labels"]) == 1
-    # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
-    # symbols ("ΣP_II, ΣP_IV"), or none
-    left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
-    means = bool(r["counterweights"] or r["balance_shafts"])
+    ctx.find(_finding(t, r, unbalanced, single))
     plane = "_plane" if one_plane(r) and not single else ""
-    finding = (
-        t(
-            "balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
-            count=len(left),
-            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in left),
-        )
-        if left
-        else t(
-            ("balancing.finding_balanced_means" if means else "balancing.finding_balanced") + plane
-        )
-    )
-    small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
-    residuals = _left_unbalanced(r, unbalanced)
-    if means and residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
-        # what the means leave, in one sentence: each residual with its value and share of C_I
-        finding = _left_after_means(t, r, residuals, "" if single else "Σ")
-    elif small:  # the abstract names them too, as the table leaves them
-        finding = t(
-            "balancing.finding_negligible",
-            finding=finding,
-            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
-            share=_percent_text(t, small, r),
-        )
-    left_by_masses = mass_difference_items(t, r)
-    parts_left = mass_difference_items(t, r, whole_orders=False)
-    if parts_left:  # the abstract names the whole orders left among the unbalanced already
-        finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
-    couples = rod_offset_items(t, r)
-    if couples:  # forces balanced in one plane say nothing of the rods' offset
-        finding = t("balancing.finding_rod_offset", finding=finding, items=", ".join(couples))
-    ctx.find(finding)
     negligible = [s for s in unbalanced if _negligible(r, s)]
     significant = [s for s in unbalanced if s not in negligible]
     first = len(ctx.conclusions)
@@ -99,8 +65,58 @@ def _conclude(ctx, r) -> None:
         )
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
+    _conclude_slaves_and_offset(ctx, r)
+
+
+def _finding(t, r, unbalanced, single: bool) -> str:
+    """The abstract's words on the balance: which resultants stay unbalanced (with the fitted
+    means, if any), by their symbols ("ΣP_II, ΣP_IV") or with their values, or none; what only
+    the slave cylinders leave; the couples of rods side by side on one pin."""
+    # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
+    # symbols ("ΣP_II, ΣP_IV"), or none
+    left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
+    means = bool(r["counterweights"] or r["balance_shafts"])
+    plane = "_plane" if one_plane(r) and not single else ""
+    finding = (
+        t(
+            "balancing.finding_unbalanced_means" if means else "balancing.finding_unbalanced",
+            count=len(left),
+            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in left),
+        )
+        if left
+        else t(
+            ("balancing.finding_balanced_means" if means else "balancing.finding_balanced") + plane
+        )
+    )
+    small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
+    residuals = _left_unbalanced(r, unbalanced)
+    if means and residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
+        # what the means leave, in one sentence: each residual with its value and share of C_I
+        finding = _left_after_means(t, r, residuals, "" if single else "Σ")
+    elif small:  # the abstract names them too, as the table leaves them
+        finding = t(
+            "balancing.finding_negligible",
+            finding=finding,
+            items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
+            share=_percent_text(t, small, r),
+        )
+    parts_left = mass_difference_items(t, r, whole_orders=False)
+    if parts_left:  # the abstract names the whole orders left among the unbalanced already
+        finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
+    couples = rod_offset_items(t, r)
+    if couples:  # forces balanced in one plane say nothing of the rods' offset
+        finding = t("balancing.finding_rod_offset", finding=finding, items=", ".join(couples))
+    return finding
+
+
+def _conclude_slaves_and_offset(ctx, r) -> None:
+    """The conclusions on what only the slave cylinders leave and on the couples of rods side by
+    side on one crank pin, where there are any."""
+    t = ctx.t
+    left_by_masses = mass_difference_items(t, r)
     if left_by_masses:
         ctx.conclude(mass_difference_sentence(t, left_by_masses))
+    couples = rod_offset_items(t, r)
     if couples:
         ctx.conclude(
             t(

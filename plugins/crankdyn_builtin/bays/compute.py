@@ -264,7 +264,7 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
         m.piston_group + recip_master, motion.piston_acceleration_m_s2, area
     )
     slave_rows, slave_info, tables = [], [], {}
-    # Same clearance height above every piston's TDC (equal compression ratios by design).
+    # a measured trace's slave volume: the master's clearance above its own TDC
     clearance = float(gas.volume_m3.min())
     work_bay = gas.indicated_work_J
     for slave, g in slaves:
@@ -293,17 +293,7 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
     centrifugal_rod = phys.centrifugal_pressure_Pa(rot_master, R, w, area)
     results.update(_true_firing(layout, slaves, slave_info))
     if results["firing_intervals_deg"] != results["firing_intervals_nominal_deg"]:
-        # every bay is bay 0 shifted by its master's delay: the torque may still repeat within
-        # the cycle though the firing is uneven
-        period = lay.sampled_period_deg(
-            tangential.sum(axis=0), scene.analysis.angle_step_deg, layout.cycle_deg
-        )
-        shift = max(abs(x["tdc_shift_deg"]) for x in slave_info)
-        notes.append(
-            ("bays.note_true_intervals", {"shift": shift})
-            if period >= layout.cycle_deg
-            else ("bays.note_true_intervals_period", {"shift": shift, "period": float(period)})
-        )
+        notes.append(_true_intervals_note(scene, layout, tangential, slave_info))
     results.update(
         {
             "pin_radius_m": opts.pin_radius,
@@ -321,16 +311,22 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
         # only the master rod bears on the pin: the bay's forces and its reduced rotating part
         "pin_load_Pa": np.hypot(z_bay + centrifugal_rod, t_bay),
     }
-    notes.append(
-        (
-            "bays.note_articulated"
-            if gas.source == "theoretical"
-            else "bays.note_articulated_trace",
-            {},
-        )
-    )
+    own_volumes = gas.source == "theoretical"
+    notes.append(("bays.note_articulated" + ("" if own_volumes else "_trace"), {}))
     work_all = work_bay * layout.cranks
     return tangential, radial, centrifugal, centrifugal_rod, work_all, tables
+
+
+def _true_intervals_note(scene, layout, tangential, slave_info) -> tuple[str, dict]:
+    """The note on the true firing intervals the slave rods make uneven: every bay is bay 0
+    shifted by its master's delay, so the torque may still repeat within the cycle."""
+    period = lay.sampled_period_deg(
+        tangential.sum(axis=0), scene.analysis.angle_step_deg, layout.cycle_deg
+    )
+    shift = max(abs(x["tdc_shift_deg"]) for x in slave_info)
+    if period >= layout.cycle_deg:
+        return ("bays.note_true_intervals", {"shift": shift})
+    return ("bays.note_true_intervals_period", {"shift": shift, "period": float(period)})
 
 
 def _bays_shifted(layout, t_bay, z_bay, step_deg: float):
