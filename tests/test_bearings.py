@@ -450,7 +450,12 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     are at most HALF_WIDTH_CM wide; "рис. 7.1" is never parted at a line's end."""
     import re
 
-    from crankdyn_builtin.bearings.figures import HALF_WIDTH_CM, _polar_size
+    from crankdyn_builtin.bearings.figures import (
+        HALF_WIDTH_CM,
+        POLAR_HEIGHT_CM,
+        POLAR_HEIGHT_MAX_CM,
+        _polar_size,
+    )
 
     html = shared_html("petrol-1cyl-uk").linked_html
     rows = re.findall(
@@ -467,10 +472,14 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
         for sentences, row in rows
     )
     assert "рис.\u00a07.1" in html and "рис.\u00a07.2" in html
-    # a tall diagram is only as wide as its plot needs; a round one keeps its 12 cm and stands alone
+    # a tall diagram is only as wide as its plot needs; a round one is as tall as two share a page
+    # and too wide to stand beside another
     t = np.cos(np.linspace(0, 2 * np.pi, 73))
     assert _polar_size(t, 3 * np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)[0] <= HALF_WIDTH_CM
-    assert _polar_size(t, np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12) == (12.0, 12.0)
+    width, height = _polar_size(t, np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)
+    assert height == POLAR_HEIGHT_CM and width > HALF_WIDTH_CM
+    # two diagrams with their captions and announcing lines (about 2.7 cm each) fit one page
+    assert 2 * (POLAR_HEIGHT_MAX_CM + 2.7) <= 25.7
 
 
 def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():

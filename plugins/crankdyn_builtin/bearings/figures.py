@@ -64,6 +64,12 @@ def _polar(
 #: page instead of one on each, with half of it empty.
 HALF_WIDTH_CM = 8.0
 
+#: A polar diagram's height, cm, and a tall one's at most: two diagrams, each with its caption
+#: and the sentence announcing it, fill one page of 257 mm of text (two of 12 cm left each
+#: alone on a half-empty page).
+POLAR_HEIGHT_CM = 9.5
+POLAR_HEIGHT_MAX_CM = 10.0
+
 
 def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, float]:
     """(span, the journal circle's radius, the t and z ranges shown) of a polar diagram (MPa)."""
@@ -77,8 +83,7 @@ def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, fl
 def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram of ``t``, ``z`` (MPa) around the pole: equal scales
     on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
-    taller figure (at most 13 cm: with its caption and the sentence above a pair it still shares a
-    page with text) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
+    taller figure (at most :data:`POLAR_HEIGHT_MAX_CM`, so that two share a page) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
     a wider figure."""
     return _size_for(*_polar_extent(t, z, pole_z, diameter_scale)[2:])
 
@@ -87,8 +92,8 @@ def _size_for(shown_t: float, shown_z: float) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram showing these t and z ranges (:func:`_polar_size`)."""
     aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
     if aspect < 1:
-        return min(16.0, 12.0 / math.sqrt(aspect)), 12.0
-    height = min(13.0, 12.0 * math.sqrt(aspect))
+        return min(16.0, POLAR_HEIGHT_CM / math.sqrt(aspect)), POLAR_HEIGHT_CM
+    height = min(POLAR_HEIGHT_MAX_CM, POLAR_HEIGHT_CM * math.sqrt(aspect))
     return min(12.0, max(7.0, 1.1 * (height - 2.2) / aspect + 2.4)), height
 
 
