@@ -117,14 +117,14 @@ def test_a_diesels_crank_pin_is_judged_by_the_diesels_allowable_pressures():
 
 
 def test_a_diesels_peak_pressure_outside_its_usual_range_is_said_in_the_indicator_section():
-    # p_z' = 0.85 p_z: 24 MPa give 20.4 MPa, above the 20 MPa of the most boosted diesels but
-    # below the 25 MPa where the peak-pressure rule of every engine speaks
-    high = Note("diesel-1cyl", {"cycle": {"max_pressure": "24 MPa"}}, ("indicator",), "en")
+    # a diesel's p_z' = p_z: 22 MPa, above the 20 MPa of the most boosted diesels but below the
+    # 25 MPa where the peak-pressure rule of every engine speaks
+    high = Note("diesel-1cyl", {"cycle": {"max_pressure": "22 MPa"}}, ("indicator",), "en")
     peak = high.result.outputs["indicator"].results["peak_pressure_rounded_Pa"] / 1e6
-    assert peak == pytest.approx(0.85 * 24, rel=1e-9)
+    assert peak == pytest.approx(22.0, rel=1e-9)
     assert f"p z ′ = {peak:.3g} MPa lies outside 5–20 MPa" in high.section("indicator")
     assert high.t("indicator.plausibility_diesel_peak_conclusion") in high.conclusions
-    usual = Note("diesel-1cyl", {}, ("indicator",), "en")  # p_z' = 0.85 * 8.5 = 7.2 MPa
+    usual = Note("diesel-1cyl", {}, ("indicator",), "en")  # p_z' = p_z = 8.5 MPa
     assert "usual range of diesels" not in usual.section("indicator") + usual.conclusions
 
 

@@ -149,6 +149,7 @@ def _theoretical_results(params, rounding, clearance, theoretical, volume, swept
         "ignition_advance_deg": rounding.ignition_advance_deg,
         "combustion_delay_deg": rounding.combustion_delay_deg,
         "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
+        "peak_pressure_fraction": rounding.peak_pressure_fraction,
     }
 
 
@@ -159,6 +160,8 @@ def _rounding_note(scene, rounding) -> tuple[str, dict]:
         if scene.cycle.ignition == "diesel"
         else "indicator.note_rounding"
     )
+    if note_key.endswith("diesel") and rounding.peak_pressure_fraction == 1.0:
+        note_key += "_full"  # p_z′ = p_z, not "1·p_z"
     return (
         note_key,
         {

@@ -308,7 +308,7 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
             ignition_advance_deg=advance,
             combustion_delay_deg=delay,
             pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
-            peak_pressure_fraction=r.peak_pressure_fraction,
+            peak_pressure_fraction=peak_pressure_fraction(scene),
             peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
             exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,
             # Valve overlap and intake closing exist only in the four-stroke cycle.
@@ -318,6 +318,19 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
         )
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
+
+
+#: The actual peak pressure over the theoretical p_z taken when the scene gives none: a spark-
+#: ignition engine's 0.85 (the method's p_z′ = (0.8…0.9)·p_z, Poda 2007 §3.1), a diesel's 1
+#: (its combustion goes on at a nearly constant pressure at the start of expansion: p_zд = p_z,
+#: Kolchin and Demidov).
+PEAK_PRESSURE_FRACTION = {"spark": 0.85, "diesel": 1.0}
+
+
+def peak_pressure_fraction(scene) -> float:
+    """p_z′/p_z of the rounded diagram: the scene's, or :data:`PEAK_PRESSURE_FRACTION`."""
+    given = scene.cycle.rounding.peak_pressure_fraction
+    return float(given) if given is not None else PEAK_PRESSURE_FRACTION[scene.cycle.ignition]
 
 
 #: The diesel injection advance taken when none is given, deg (textbook 10-40 deg).

@@ -328,7 +328,8 @@ class Rounding(_Strict):
     combustion_delay_deg: _number(ge=0, lt=60) | None = None
     combustion_delay_time: _quantity("time", gt=0, le=0.01, unit="ms", scale=1e-3) = "1.5 ms"
     pressure_rise_to_tdc: _quantity("pressure", ge=0, le=5e6, unit="MPa", scale=1e6) = "0.5 MPa"
-    peak_pressure_fraction: _number(gt=0.5, le=1.0) = 0.85
+    # None: 0.85 for spark ignition (p_z′ = (0.8…0.9)·p_z), 1 for a diesel (p_z′ = p_z, Kolchin)
+    peak_pressure_fraction: _number(gt=0.5, le=1.0) | None = None
     peak_angle_after_tdc_deg: _number(gt=0, le=40) = 12.0
     exhaust_opens_before_bdc_deg: _number(ge=0, le=90) = 50.0
     exhaust_closes_after_tdc_deg: _number(ge=0, le=60) = 20.0
