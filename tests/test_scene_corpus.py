@@ -587,11 +587,22 @@ _DELTA_EXACT = {
 }
 
 
+#: A flywheel raised to the exact solution: the energy method's flywheel's exact δ, above [δ], is
+#: the reason stated for the raise, beside the δ the note gives.
+_DELTA_ENERGY_FLYWHEEL = {
+    "en": r"With it the exact periodic solution[^;]*?above \[δ\]",
+    "uk": r"З ним точний періодичний розв’язок[^;]*?більший за \[δ\]",
+    "ru": r"С ним точное периодическое решение[^;]*?больше \[δ\]",
+}
+
+
 def check_one_delta(note: Note) -> list[str]:
     """One coefficient of cyclic irregularity, printed alike, in the abstract, the conclusions and
     the sentence of the speed-fluctuation section stating the δ the note gives (the exact
-    solution's own δ, said where it is above the permissible one, aside)."""
+    solution's own δ, said where it is above the permissible one, and the energy method's
+    flywheel's, said where the flywheel is raised for it, aside)."""
     conclusions = re.sub(_DELTA_EXACT[note.language], " ", note.part(r'class="conclusions"'))
+    conclusions = re.sub(_DELTA_ENERGY_FLYWHEEL[note.language], " ", conclusions)
     parts = {
         "abstract": note.part(r'class="abstract"'),
         "conclusions": conclusions,
