@@ -128,9 +128,11 @@ def bay_model_of(layout, g) -> dict | None:
     """The textbook's bay models (V, W, Y, X, radial): F, P and K, Z of one bay; None for one cylinder a bay."""
     if layout.cylinders_per_bay <= 1:
         return None
-    axes = g.cylinder_axis_rad[g.cylinder_bay == 0]
-    f1, p1 = bal.bay_vectors(axes, 1)
-    k2, z2 = bal.bay_vectors(axes, 2)
+    bay = g.cylinder_bay == 0
+    axes = g.cylinder_axis_rad[bay]
+    # each cylinder's own force (a slave cylinder's lighter mass and other harmonics), if unlike
+    f1, p1 = bal.bay_vectors(axes, 1, g.weights_for(1)[bay])
+    k2, z2 = bal.bay_vectors(axes, 2, g.weights_for(2)[bay])
     hod1 = bal.hodograph(
         f1, p1, 1
     )  # R = F e^{i alpha} + P e^{-i alpha}, alpha from the bay's vertical

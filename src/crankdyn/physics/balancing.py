@@ -423,7 +423,7 @@ def hodograph(
     )
 
 
-def bay_vectors(axes_rad, order: int) -> tuple[complex, complex]:
+def bay_vectors(axes_rad, order: int, weights=None) -> tuple[complex, complex]:
     """The textbook's F, P (order 1) or K, Z (order 2) of one bay, per unit C_n, signed.
 
     Taken when the bay's crank points along the vertical (the textbook's alpha = 0 on the
@@ -431,10 +431,13 @@ def bay_vectors(axes_rad, order: int) -> tuple[complex, complex]:
     over the bank axes phi_b of the bay. For a bay symmetric about the vertical both are real
     and equal the textbook's values, e.g. V: F = 1, P = cos(gamma), K = cos(gamma/2),
     Z = cos(3 gamma/2); W: F = 1.5, P = 0.5 + cos(2 gamma), K = 0.5 + cos(gamma), Z = 0.5 + cos(3 gamma).
+    ``weights``: each cylinder's order-n force over the reference's (complex; a slave cylinder's,
+    :meth:`BalanceGeometry.weights_for`), multiplying its term forward and its conjugate back.
     """
     phi = np.asarray(axes_rad, dtype=float)
-    forward = 0.5 * np.exp(1j * (1 - order) * phi).sum()
-    backward = 0.5 * np.exp(1j * (1 + order) * phi).sum()
+    w = np.ones(phi.shape) if weights is None else np.asarray(weights)
+    forward = 0.5 * (w * np.exp(1j * (1 - order) * phi)).sum()
+    backward = 0.5 * (np.conj(w) * np.exp(1j * (1 + order) * phi)).sum()
     return complex(forward), complex(backward)
 
 
