@@ -71,5 +71,9 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
     ]
     if cranks == 1:  # one crank: t_Σ is its table's own column, no sum over cranks to show
         steps = steps[1:]
-    note = t("torque.worked_own_angles", angles=own) if own else ""
+    # articulated rods: a crank's t comes from the master rod's statics (the bays section), the
+    # slave cylinders moving otherwise than the one cylinder of the forces section
+    articulated = engine.rod_type == "articulated"
+    key = "torque.worked_own_angles" + ("_articulated" if articulated else "")
+    note = t(key, angles=own) if own else ""
     return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))
