@@ -232,7 +232,7 @@ def test_the_conclusions_give_the_crank_load_of_all_its_cylinders():
 def test_the_abstract_names_what_the_means_leave_in_one_sentence():
     abstract = _plain(_part("radial", '<section class="abstract"', "</section>"))
     found = re.search(
-        r"после установки средств уравновешивания неуравновешенными остаются лишь "
+        r"после установки средств уравновешивания неуравновешенными остаются "
         r"ΣPIV = ([\d,]+) Н и ΣPVI = ([\d,]+) Н \(([\d,]+) % и ([\d,]+) % от CI\)",
         abstract,
     )
@@ -248,6 +248,9 @@ def test_the_abstract_names_what_the_means_leave_in_one_sentence():
     assert _number(found.group(2)) == pytest.approx(sixth, rel=0.05)
     assert _number(found.group(4)) == pytest.approx(100 * sixth / first_order, rel=0.1)
     assert "остаются лишь малые" not in abstract and "остаётся величина" not in abstract
+    # not "only": the slave cylinders leave the parts of the first and second orders too
+    assert "остаются лишь" not in abstract
+    assert "прицепные цилиндры оставляют также составляющую сил первого порядка" in abstract
 
 
 def test_the_v_twins_side_force_step_and_shafts_are_worded_as_an_engineer_writes():

@@ -157,22 +157,39 @@ def remedy_summary(orders, g, C, C_I, harmonics, opts, left=()) -> list[dict]:
         for kind in ("force", "moment"):
             coef = entry[f"{kind}_coefficient"]
             balanced = coef < NEGLIGIBLE * g.cylinders
-            forward = entry[f"{kind}_forward"]["magnitude"] > limit and n not in left
-            backward = entry[f"{kind}_backward"]["magnitude"] > limit and -n not in left
+            forward_part = entry[f"{kind}_forward"]["magnitude"] > limit
+            backward_part = entry[f"{kind}_backward"]["magnitude"] > limit
+            forward, backward = forward_part and n not in left, backward_part and -n not in left
             summary.append(
                 {
                     "quantity": ("sum_" if kind == "force" else "M_") + entry["name"],
                     "order": n,
                     "coefficient": coef,
                     "balanced": bool(balanced),
-                    "remedy": remedy(
-                        n,
-                        balanced,
-                        forward,
-                        backward,
-                        opts.balance_orders,
-                        opts.first_order_forward,
+                    "remedy": _with_parts_left(
+                        remedy(
+                            n,
+                            balanced,
+                            forward,
+                            backward,
+                            opts.balance_orders,
+                            opts.first_order_forward,
+                        ),
+                        forward_part and n in left,
+                        backward_part and -n in left,
                     ),
                 }
             )
     return summary
+
+
+def _with_parts_left(remedy_text: str, forward_left: bool, backward_left: bool) -> str:
+    """A remedy with the rotating parts its means leave named too ("counterweights+left_backward"):
+    the row of an order whose other part the means take does not read as balanced whole."""
+    if remedy_text == "none" or not (forward_left or backward_left):
+        return remedy_text
+    return "+".join(
+        [remedy_text]
+        + (["left_forward"] if forward_left else [])
+        + (["left_backward"] if backward_left else [])
+    )

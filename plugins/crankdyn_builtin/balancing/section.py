@@ -53,8 +53,9 @@ def _conclude(ctx, r) -> None:
         )
     elif not negligible:
         ctx.conclude(t("balancing.conclusion_balanced" + plane))
-    if negligible:
-        _conclude_negligible(ctx, r, negligible, single, alone=not significant)
+    if negligible:  # not "only these" where the slave cylinders leave parts of orders too
+        alone = not significant and not r.get("parts_left")
+        _conclude_negligible(ctx, r, negligible, single, alone=alone)
     means = bool(r["counterweights"] or r["balance_shafts"])  # their sentence says it itself
     if r.get("rod_type") == "articulated" and len(ctx.conclusions) > first and not means:
         # what the balance stated rests on: the master cylinder's masses in every cylinder
@@ -286,8 +287,10 @@ def _left_after_means(t, r, residuals, sign: str) -> str:
             for i, s, c in zip(items, shares, scales, strict=True)
         )
         shares_text = ""
+    # what the slave cylinders also leave follows: these are not the only residuals then
+    key = "balancing.finding_left_means" + ("_parts" if r.get("parts_left") else "")
     return t(
-        "balancing.finding_left_means",
+        key,
         count=len(items),
         items=listed + (f" ({shares_text})" if shares_text else ""),
     )

@@ -331,12 +331,17 @@ def _remedy_text(t, remedy: str, one_crank: bool = False, equal_pair: bool = Tru
     """The means of one order in words: a Lanchester pair (equal shafts) named as such, several
     means joined by "і"; what balances itself is balanced by the crank arrangement, or (all
     cylinders on one crank) by the cylinders' arrangement round it."""
-    if remedy == "shaft_forward+shaft_backward":
-        return t("balancing.remedy_shaft_pair" + ("" if equal_pair else "_unequal"))
-    return t("balancing.means_and").join(
-        t("balancing.remedy_" + part + ("_plane" if one_crank and part == "self" else ""))
-        for part in remedy.split("+")
-    )
+    parts = remedy.split("+")
+    left = [t("balancing.remedy_" + part) for part in parts if part.startswith("left_")]
+    means = "+".join(part for part in parts if not part.startswith("left_"))
+    if means == "shaft_forward+shaft_backward":
+        text = t("balancing.remedy_shaft_pair" + ("" if equal_pair else "_unequal"))
+    else:
+        text = t("balancing.means_and").join(
+            t("balancing.remedy_" + part + ("_plane" if one_crank and part == "self" else ""))
+            for part in means.split("+")
+        )
+    return "; ".join([text, *left])  # a part the means leave, after what they take
 
 
 def _means_table(ctx, r):
