@@ -85,7 +85,8 @@ def _pins_table(ctx, r, single: bool) -> str:
     caption = "bearings.pins_table_caption_single" if single else "bearings.pins_table_caption"
     table = ctx.table(
         [
-            (t("bearings.crank"), pin_labels, None),
+            # one crank pin: no column naming it
+            *([] if single else [(t("bearings.crank"), pin_labels, None)]),
             ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [p["max_N"] / 1e3 for p in pins], 2),
             ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [p["mean_N"] / 1e3 for p in pins], 2),
             *([] if side_by_side else pressures),
