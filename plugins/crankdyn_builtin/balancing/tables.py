@@ -347,9 +347,8 @@ def _remedy_text(t, remedy: str, one_crank: bool = False, equal_pair: bool = Tru
 def _means_table(ctx, r):
     """Counterweights and balance-shaft masses; None when there are none."""
     t = ctx.t
-    single = (
-        len(r["cylinder_labels"]) == 1
-    )  # one crank: no crank numbers, ends or positions along the shaft
+    # one crank (one cylinder, or a radial's star): no crank numbers, ends or positions along it
+    single = len(set(r["cylinder_bays"])) == 1
     means_rows = _means_rows(ctx, r, single)
     if not means_rows:
         return None

@@ -180,7 +180,12 @@ def _danger_table(ctx, r, cranks: int) -> str:
     ]
     return ctx.table(
         [
-            (t("torque.crank"), [str(c) for c, _, _ in danger_rows], None),
+            # one crank: no column naming it
+            *(
+                []
+                if cranks == 1
+                else [(t("torque.crank"), [str(c) for c, _, _ in danger_rows], None)]
+            ),
             (
                 t("torque.criterion"),
                 [
