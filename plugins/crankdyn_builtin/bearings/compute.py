@@ -102,6 +102,29 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     return [(key, params)]
 
 
+def pin_pressure_within_limits(scene, results) -> dict | None:
+    """The most loaded big-end bearing's mean and largest pressure, MPa, with the allowable ones
+    of its kind of engine (``kind``: spark or diesel), where both are within them; None where
+    they are not (the plausibility rule says so) or there are no crank pins."""
+    pins = results.get("crank_pins")
+    if not pins:
+        return None
+    loaded = pins if results.get("rod_bearings_per_pin", 1) == 1 else results["rod_bearings"]
+    kind = _ignition_kind(scene)
+    mean_limit, max_limit = ALLOWABLE_PIN_PRESSURE_MPA[kind]
+    p_mean = max(x["mean_MPa"] for x in loaded)
+    p_max = max(x["max_MPa"] for x in loaded)
+    if p_mean > mean_limit or p_max > max_limit:
+        return None
+    return {
+        "kind": kind,
+        "p_mean": p_mean,
+        "p_max": p_max,
+        "mean_limit": mean_limit,
+        "max_limit": max_limit,
+    }
+
+
 def applies(scene) -> str | None:
     if scene.masses is None:
         return "the scene has no [masses]"

@@ -12,6 +12,7 @@ from crankdyn_builtin.bearings.worked import (
     worked_bearing,
 )
 
+from .compute import pin_pressure_within_limits
 from .figures import _polar_diagrams, _shared_pins, _side_by_side, _unrolled_figure, _wear_figure
 
 
@@ -68,6 +69,24 @@ def render(output: StageOutput, ctx) -> str | None:
         pins_equal=pins_equal,
         application=ctx.scene.engine.application if ctx.scene is not None else None,
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
+        pressure_within=_pressure_within(ctx, r),
+    )
+
+
+def _pressure_within(ctx, r) -> str:
+    """The sentence that the big-end bearings' pressures are within the allowable ones of the
+    engine's kind (the plausibility rule speaks where they are not); "" otherwise."""
+    if ctx.scene is None:
+        return ""
+    within = pin_pressure_within_limits(ctx.scene, r)
+    if within is None:
+        return ""
+    return ctx.t(
+        f"bearings.pin_pressure_within_{within['kind']}",
+        p_mean=ctx.t.fixed(within["p_mean"], 1),
+        p_max=ctx.t.fixed(within["p_max"], 1),
+        mean_limit=ctx.t.number_g(within["mean_limit"], 3),
+        max_limit=ctx.t.number_g(within["max_limit"], 3),
     )
 
 
