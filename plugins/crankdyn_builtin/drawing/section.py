@@ -3,6 +3,7 @@ mechanism's motion, drawn by :mod:`crankdyn.report.mechanism_drawing`."""
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import replace
 
@@ -82,12 +83,42 @@ def _counterweight_cranks(ctx) -> tuple[int, ...]:
     return () if fitted is None else tuple(sorted({int(k) + 1 for k in fitted.crank}))
 
 
+def _counterweight_angles(ctx) -> tuple[tuple[int, float], ...]:
+    """(1-based crank, angle from its pin in the direction of rotation, rad) of every fitted
+    counterweight: the ends' counterweights of a crank row sit where the balancing puts them,
+    not opposite their pins."""
+    fitted = ctx.data(COUNTERWEIGHTS)
+    if fitted is None:
+        return ()
+    return tuple(
+        (int(k) + 1, float(a))
+        for k, a in zip(fitted.crank, fitted.angle_from_crank_rad, strict=True)
+    )
+
+
+def _counterweight_sentence(t, positions, turned) -> str:
+    """What the shaded sector is: the crank's counterweight, opposite its pin or at the angle the
+    balancing puts it; "" where none is drawn."""
+    if not md.counterweights(positions, 0):
+        return ""
+    drawn = dict(turned).get(min(positions.counterweight_cranks or (1,)))
+    if drawn is None or abs(drawn - math.pi) < 1e-6:
+        return t("drawing.counterweight")
+    return t("drawing.counterweight_turned", angle=t.fixed(math.degrees(drawn), 1))
+
+
 def render(output: StageOutput, ctx) -> str:
     """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
-    chosen = _counterweight_cranks(ctx)
-    positions = replace(_labelled(output.artifacts["positions"], t), counterweight_cranks=chosen)
-    animation = replace(output.artifacts["animation"], counterweight_cranks=chosen)
+    chosen, turned = _counterweight_cranks(ctx), _counterweight_angles(ctx)
+    positions = replace(
+        _labelled(output.artifacts["positions"], t),
+        counterweight_cranks=chosen,
+        counterweight_angles=turned,
+    )
+    animation = replace(
+        output.artifacts["animation"], counterweight_cranks=chosen, counterweight_angles=turned
+    )
     angles = output.results["crank_angles_deg"]
     order = t.cylinders(positions.firing_order, " – ")
     marks = {
@@ -151,7 +182,7 @@ def render(output: StageOutput, ctx) -> str:
         stroke="S" in positions.dimensions,
         front_view=_front_view_kind(positions),
         master_rod=bool(md.master_rod_bodies(positions, 0)),
-        counterweight=bool(md.counterweights(positions, 0)),
+        counterweight=_counterweight_sentence(t, positions, turned),
         figure_positions=figure_positions,
         svg=Markup(svg),
         plot=Markup(plot),

@@ -128,6 +128,9 @@ class MechanismGeometry:
     firing_order: cylinder labels in firing order (multi-cylinder engines).
     counterweight_cranks: the 1-based cranks drawn with a counterweight; None: every crank of a
                 piston engine (the drawing section narrows it to the ones the run fits).
+    counterweight_angles: (1-based crank, angle rad from its crank pin in the direction of
+                rotation) of the counterweights fitted elsewhere than opposite their pins;
+                a crank not named has its counterweight opposite its pin (pi).
     """
 
     joints: dict[str, Any]
@@ -141,6 +144,7 @@ class MechanismGeometry:
     cranks: list[tuple[str, float, tuple[str, ...]]] = field(default_factory=list)
     firing_order: tuple[str, ...] = ()
     counterweight_cranks: tuple[int, ...] | None = None
+    counterweight_angles: tuple[tuple[int, float], ...] = ()
 
 
 class ColumnTable:

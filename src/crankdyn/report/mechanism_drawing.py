@@ -531,6 +531,7 @@ def counterweights(geometry, i: int) -> list:
     if not any(g.bore_m > 0 and g.moving is None for g in geometry.guides):
         return []
     chosen = getattr(geometry, "counterweight_cranks", None)
+    turned = dict(getattr(geometry, "counterweight_angles", ()))
     outlines = []
     for name, a, b in geometry.links:
         if a != "crank_centre" or not (name == "crank" or name.removeprefix("crank_").isdigit()):
@@ -542,7 +543,10 @@ def counterweights(geometry, i: int) -> list:
         radius = float(np.linalg.norm(pin - c))
         if radius <= 0:
             continue
-        away = np.arctan2(c[1] - pin[1], c[0] - pin[0])
+        # the crank turns clockwise on the drawing: an angle in the direction of rotation from
+        # the pin's direction is subtracted; opposite the pin (pi) unless the balancing says
+        towards = np.arctan2(pin[1] - c[1], pin[0] - c[0])
+        away = towards - turned.get(number, np.pi)
         half = np.radians(COUNTERWEIGHT_HALF_ANGLE_DEG)
         arc = np.linspace(away - half, away + half, 24)
         rim = c + COUNTERWEIGHT_RADIUS * radius * np.c_[np.cos(arc), np.sin(arc)]
