@@ -59,4 +59,24 @@ def plain_symbol(s, sum_sign: str = "Σ") -> str:
 
 
 #: The offset crank-slider's phase of an acceleration harmonic (meaning: symbol.balancing.<key>).
-SYMBOLS = {"harmonic_phase": Symbol("ψ", {"en": "ν"}, "°", html="<i>ψ</i><sub><i>ν</i></sub>")}
+SYMBOLS = {
+    "harmonic_phase": Symbol("ψ", {"en": "ν"}, "°", html="<i>ψ</i><sub><i>ν</i></sub>"),
+    # articulated rods: the master cylinder's reciprocating mass with the slave rods' shares at its
+    # piston pin (the forces section's m_s is one cylinder's, without them)
+    "master_reciprocating_mass": Symbol("m", {"en": "s,m", "uk": "s.гол", "ru": "s.гл"}, "unit.kg"),
+}
+
+#: The master cylinder's reciprocating mass as the balancing section writes it (articulated rods).
+MASTER_MASS = {
+    "en": "<i>m</i><sub>s,m</sub>",
+    "uk": "<i>m</i><sub>s.гол</sub>",
+    "ru": "<i>m</i><sub>s.гл</sub>",
+}
+
+
+def master_mass(t, r) -> str:
+    """m_s as the balancing section writes it: the master cylinder's own letter with articulated
+    rods (its mass holds the slave rods' shares), else m_s."""
+    if r.get("slave_reciprocating_mass_kg") is None:
+        return "<i>m</i><sub>s</sub>"
+    return MASTER_MASS.get(t.language, MASTER_MASS["en"])

@@ -7,7 +7,7 @@ from functools import partial
 from crankdyn.plugin.types import StageOutput
 
 from .figures import _models_figure, models_left_out, star_figure
-from .notation import newtons, plain_symbol, scale_symbol
+from .notation import master_mass, newtons, plain_symbol, scale_symbol
 from .tables import (
     _bay_table,
     _explorer_table,
@@ -496,6 +496,7 @@ def render(output: StageOutput, ctx) -> str | None:
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
         rod_offset=_rod_offset_sentence(ctx.t, r),
+        master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(
             "balancing.masses_own"
             if r.get("rod_type") == "articulated"

@@ -10,7 +10,7 @@ from markupsafe import Markup
 from crankdyn.physics import balancing as bal
 from crankdyn_builtin.balancing.worked import worked_balancing
 
-from .notation import C_N, circular, newtons, summary_symbol
+from .notation import C_N, circular, master_mass, newtons, summary_symbol
 from .vectors import NEGLIGIBLE
 
 #: The orders whose |A_n| and psi_n the table of an offset crank-slider's masses gives.
@@ -63,16 +63,19 @@ def _masses_table(ctx, r):
     if r.get("offset_ratio"):
         return _offset_masses_table(ctx, r)
     t = ctx.t
+    # articulated rods: the master cylinder's mass, with the slave rods' shares, its own letter
+    master = r.get("slave_reciprocating_mass_kg") is not None
+    m_s = master_mass(t, r)
     masses_table = ctx.table(
         [
             (
                 t("balancing.quantity"),
-                [t("balancing.m_s"), t("balancing.m_R")]
+                [t("balancing.m_s_master" if master else "balancing.m_s"), t("balancing.m_R")]
                 + [
                     Markup(x)
                     for x in (
                         "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
-                        "<i>C</i><sub>I</sub> = <i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+                        "<i>C</i><sub>I</sub> = " + m_s + "<i>Rω</i><sup>2</sup>",
                         "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>",
                         "<i>A</i><sub>2</sub>",
                         "<i>A</i><sub>4</sub>",

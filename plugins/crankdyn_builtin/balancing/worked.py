@@ -7,6 +7,8 @@ from markupsafe import Markup
 
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup
 
+from .notation import master_mass
+
 
 def worked_balancing(ctx, r) -> Markup:
     """The three amplitudes with the numbers substituted, each equal to its row of the masses table."""
@@ -50,7 +52,7 @@ def worked_balancing(ctx, r) -> Markup:
         WorkedStep(
             "first_order_amplitude",
             "<i>C</i><sub>I</sub>",
-            "<i>m</i><sub>s</sub><i>Rω</i><sup>2</sup>",
+            master_mass(t, r) + "<i>Rω</i><sup>2</sup>",
             f"{m_s_txt}·{r_txt}·{w_txt}<sup>2</sup>",
             r["first_order_N"],
             0,
