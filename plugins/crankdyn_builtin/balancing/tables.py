@@ -262,10 +262,11 @@ def _bay_table(ctx, r):
             "<i>P</i>/<i>C</i><sub>I</sub>",
             "<i>a</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
             "<i>b</i><sub>e,I</sub>/<i>C</i><sub>I</sub>",
-            "<i>K</i>/<i>C</i><sub>II</sub>",
-            "<i>Z</i>/<i>C</i><sub>II</sub>",
-            "<i>a</i><sub>e,II</sub>/<i>C</i><sub>II</sub>",
-            "<i>b</i><sub>e,II</sub>/<i>C</i><sub>II</sub>",
+            # the exact second-order amplitude A_2 C_I (C_II is the textbook's λC_I)
+            "<i>K</i>/(<i>A</i><sub>2</sub><i>C</i><sub>I</sub>)",
+            "<i>Z</i>/(<i>A</i><sub>2</sub><i>C</i><sub>I</sub>)",
+            "<i>a</i><sub>e,II</sub>/(<i>A</i><sub>2</sub><i>C</i><sub>I</sub>)",
+            "<i>b</i><sub>e,II</sub>/(<i>A</i><sub>2</sub><i>C</i><sub>I</sub>)",
         )
         keys = ("F", "P", "A_I", "B_I", "K", "Z", "A_II", "B_II")
         bay_table = ctx.table(
