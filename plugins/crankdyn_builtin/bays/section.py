@@ -106,6 +106,17 @@ def _slave_table(r: dict, ctx):
                 None,
             ),
             ("<i>S</i><sub><i>l</i></sub>/<i>S</i>", [s["stroke_ratio"] for s in r["slaves"]], 4),
+            # the true dead centres' shifts from the cylinder's axis (BDC's about twice TDC's)
+            (
+                t("bays.tdc_shift") + ", °",
+                [t.fixed(s["tdc_shift_deg"], 2) for s in r["slaves"]],
+                None,
+            ),
+            (
+                t("bays.bdc_shift") + ", °",
+                [t.fixed(s["bdc_shift_deg"], 2) for s in r["slaves"]],
+                None,
+            ),
         ],
         caption=t("bays.slave_caption"),
         see="bays.see_slaves",

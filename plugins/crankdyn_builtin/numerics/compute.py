@@ -390,7 +390,9 @@ def _peaks_against_tolerance(scene, opts, at_scene, step_rows) -> list:
         at_limit = scene.analysis.angle_step_deg == default_angle_step_deg(scene)
         notes.append(
             (
-                "numerics.note_default_step" + ("_at_limit" if at_limit else ""),
+                "numerics.note_default_step"
+                + ("_at_limit" if at_limit else "")
+                + ("_articulated" if scene.engine.rod_type == "articulated" else ""),
                 {
                     "step": scene.analysis.angle_step_deg,
                     "grid": scene.engine_grid_deg,
