@@ -23,10 +23,12 @@ def _journals_figure(f, cranks, cycle_deg, t):
     angle = f["crank_angle_deg"]
     fig, ax = new_figure(16, 9)
     for k in range(1, cranks + 1):
-        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=t("torque.journal_label", k=k))
+        # named as the tables name it: the journal after crank k lies between cranks k and k + 1
+        ax.plot(angle, f[f"journal{k}_torque_Pa"] / 1e6, lw=1, label=f"{k}–{k + 1}")
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
     ax.set_ylabel(
         "t_k, " + t("unit.MPa")
     )  # the running torque as a specific tangential force (table B.3)
-    ax.legend(loc="upper right", fontsize=8, ncol=3)
+    # short labels under a title: "main journal after crank k" in three columns overran the axes
+    ax.legend(loc="upper right", fontsize=8, title=t("torque.journals_legend_title"))
     return fig

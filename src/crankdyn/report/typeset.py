@@ -1158,6 +1158,7 @@ def _legend_outside(ax) -> None:
     if len(labels) != len(legend.get_texts()) or not labels:
         return  # a legend built from its own handles: leave it as its author placed it
     size = legend.get_texts()[0].get_fontsize()
+    title = legend.get_title().get_text()  # kept: short labels ("1–2") may need it
     ax.legend(
         handles,
         labels,
@@ -1167,6 +1168,8 @@ def _legend_outside(ax) -> None:
         frameon=False,
         fontsize=size,
         borderaxespad=0.2,
+        title=title or None,
+        title_fontsize=size,
     )
 
 
