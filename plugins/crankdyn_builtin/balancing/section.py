@@ -383,9 +383,11 @@ def _fitted(r, item) -> bool:
     if item["balanced"] or item["remedy"] in ("self", "none"):
         return False
     shaft_orders = {shaft["order"] for shaft in r["balance_shafts"]}
+    # a part the means leave (a slave cylinders' counter-rotating one) is said on its own
+    taken = [part for part in item["remedy"].split("+") if not part.startswith("left_")]
     return all(
         bool(r["counterweights"]) if part == "counterweights" else item["order"] in shaft_orders
-        for part in item["remedy"].split("+")
+        for part in taken
     )
 
 
