@@ -119,6 +119,11 @@ def test_a_section_that_reads_a_later_stages_data_is_rendered_again_when_it_chan
     assert "counterweight" in first
     sections.render(drawing, output, ctx)
     assert sections.renders["drawing"] == 1
-    ctx.run_data[COUNTERWEIGHTS] = _replace(fitted, crank=fitted.crank[:0])
+    ctx.run_data[COUNTERWEIGHTS] = _replace(
+        fitted,
+        crank=fitted.crank[:0],
+        centrifugal_N=fitted.centrifugal_N[:0],
+        angle_from_crank_rad=fitted.angle_from_crank_rad[:0],
+    )
     again = sections.render(drawing, output, ctx)
     assert sections.renders["drawing"] == 2 and "counterweight" not in again

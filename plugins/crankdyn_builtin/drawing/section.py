@@ -107,18 +107,20 @@ def _counterweight_sentence(t, positions, turned) -> str:
     return t("drawing.counterweight_turned", angle=t.fixed(math.degrees(drawn), 1))
 
 
+def _with_counterweights(output: StageOutput, ctx, turned):
+    """(positions, animation) geometries with the counterweights the run fits, where it fits
+    them: on the cranks the balancing names, at its angles."""
+    chosen = _counterweight_cranks(ctx)
+    fitted = {"counterweight_cranks": chosen, "counterweight_angles": turned}
+    positions = replace(_labelled(output.artifacts["positions"], ctx.t), **fitted)
+    return positions, replace(output.artifacts["animation"], **fitted)
+
+
 def render(output: StageOutput, ctx) -> str:
     """The scheme (at :data:`SCHEME_ANGLE_DEG`), the positions figure and the animated block (drawing only)."""
     t = ctx.t
-    chosen, turned = _counterweight_cranks(ctx), _counterweight_angles(ctx)
-    positions = replace(
-        _labelled(output.artifacts["positions"], t),
-        counterweight_cranks=chosen,
-        counterweight_angles=turned,
-    )
-    animation = replace(
-        output.artifacts["animation"], counterweight_cranks=chosen, counterweight_angles=turned
-    )
+    turned = _counterweight_angles(ctx)
+    positions, animation = _with_counterweights(output, ctx, turned)
     angles = output.results["crank_angles_deg"]
     order = t.cylinders(positions.firing_order, " – ")
     marks = {
