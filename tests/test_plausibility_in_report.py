@@ -156,3 +156,15 @@ def test_a_piston_speed_or_rod_ratio_outside_the_usual_range_is_said_with_the_gi
     given = usual.section("input")
     assert "лежить поза межами" not in given and "перевищує" not in given
     assert usual.t(conclusion) not in usual.conclusions
+
+
+def test_a_fuller_diagram_than_the_usual_is_said_with_its_excess():
+    """A diesel's rounded diagram with p_z' = p_z keeps more of the theoretical area than the
+    actual cycle: φ_п above 0.95 is said, with the mean pressure's excess over φ_п = 0.95."""
+    note = Note("diesel-1cyl", {}, ("indicator",), "ru")
+    results = note.result.outputs["indicator"].results
+    phi = results["diagram_fullness"]
+    assert results["diagram_fullness_usual"] == [0.92, 0.95] and phi > 0.95
+    excess = f"{100 * (phi / 0.95 - 1):.2g}".replace(".", ",")
+    assert "Обычные значения для дизелей – 0,92…0,95" in note.section("indicator")
+    assert f"получены до {excess} % больше, чем при φ" in note.section("indicator")

@@ -94,6 +94,7 @@ def run(
         results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i_gross - target) / target
     elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
         results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
+        results["diagram_fullness_usual"] = list(USUAL_FULLNESS[scene.cycle.ignition])
 
     gas = GasPressure(
         crank_angle_deg=angle,
@@ -342,6 +343,11 @@ def _trace_pressure(scene, motion, area, swept):
     clearance = ind.clearance_volume_m3(swept, c.compression_ratio)
     volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
     return pressure, volume
+
+
+#: The usual diagram fullness φ_п = p_i/p_i′ of spark-ignition engines and diesels (Kolchin and
+#: Demidov): the actual cycle loses this much of the theoretical one's area.
+USUAL_FULLNESS = {"spark": (0.94, 0.97), "diesel": (0.92, 0.95)}
 
 
 #: The rounded diagram's peak p_z' of a diesel, MPa: below 5 MPa a diesel would not ignite its
