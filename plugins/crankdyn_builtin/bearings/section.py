@@ -70,7 +70,16 @@ def render(output: StageOutput, ctx) -> str | None:
         application=ctx.scene.engine.application if ctx.scene is not None else None,
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
+        master_rod_mass=MASTER_ROD_MASS.get(ctx.t.language, MASTER_ROD_MASS["en"]),
     )
+
+
+#: The master rod's rotating part (with the slave rods' shares) as the section writes it.
+MASTER_ROD_MASS = {
+    "en": "<i>m</i><sub>rR,m</sub>",
+    "uk": "<i>m</i><sub>rR.гол</sub>",
+    "ru": "<i>m</i><sub>rR.гл</sub>",
+}
 
 
 def _pressure_within(ctx, r) -> str:
@@ -292,4 +301,9 @@ SYMBOLS = {
     "rod_axis_t": Symbol("t", _ROD, ""),
     "frame_axis_y": Symbol("y", {}, ""),
     "frame_axis_x": Symbol("x", {}, ""),
+    # articulated rods: the master rod's rotating part with the slave rods' shares (the forces
+    # section's m_rR is one rod's)
+    "master_rod_rotating_mass": Symbol(
+        "m", {"en": "rR,m", "uk": "rR.гол", "ru": "rR.гл"}, "unit.kg"
+    ),
 }
