@@ -63,12 +63,12 @@ SYMBOLS = {
     "harmonic_phase": Symbol("ψ", {"en": "ν"}, "°", html="<i>ψ</i><sub><i>ν</i></sub>"),
     # articulated rods: the master cylinder's reciprocating mass with the slave rods' shares at its
     # piston pin (the forces section's m_s is one cylinder's, without them)
-    "master_reciprocating_mass": Symbol("m", {"en": "s,m", "uk": "s.гол", "ru": "s.гл"}, "unit.kg"),
+    "master_reciprocating_mass": Symbol("m", {"en": "s.m", "uk": "s.гол", "ru": "s.гл"}, "unit.kg"),
 }
 
 #: The master cylinder's reciprocating mass as the balancing section writes it (articulated rods).
 MASTER_MASS = {
-    "en": "<i>m</i><sub>s,m</sub>",
+    "en": "<i>m</i><sub>s.m</sub>",
     "uk": "<i>m</i><sub>s.гол</sub>",
     "ru": "<i>m</i><sub>s.гл</sub>",
 }

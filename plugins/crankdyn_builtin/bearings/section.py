@@ -76,7 +76,7 @@ def render(output: StageOutput, ctx) -> str | None:
 
 #: The master rod's rotating part (with the slave rods' shares) as the section writes it.
 MASTER_ROD_MASS = {
-    "en": "<i>m</i><sub>rR,m</sub>",
+    "en": "<i>m</i><sub>rR.m</sub>",
     "uk": "<i>m</i><sub>rR.гол</sub>",
     "ru": "<i>m</i><sub>rR.гл</sub>",
 }
@@ -304,6 +304,6 @@ SYMBOLS = {
     # articulated rods: the master rod's rotating part with the slave rods' shares (the forces
     # section's m_rR is one rod's)
     "master_rod_rotating_mass": Symbol(
-        "m", {"en": "rR,m", "uk": "rR.гол", "ru": "rR.гл"}, "unit.kg"
+        "m", {"en": "rR.m", "uk": "rR.гол", "ru": "rR.гл"}, "unit.kg"
     ),
 }
