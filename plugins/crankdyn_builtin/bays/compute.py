@@ -75,9 +75,12 @@ def _firing_notes(scene, layout) -> list:
     if not scene.firing_order_chosen:
         return []
     cranks_chosen = "crank_angles_deg" not in scene.engine.model_fields_set
+    key = "bays.note_firing_chosen" if cranks_chosen else "bays.note_firing_order_chosen"
+    if layout.cylinders_per_bay == 1:  # no two cylinders share a pin: no rule about them
+        key += "_own_pins"
     return [
         (
-            "bays.note_firing_chosen" if cranks_chosen else "bays.note_firing_order_chosen",
+            key,
             {
                 "order": tuple(layout.firing_order),
                 "cranks": tuple(float(x) for x in layout.crank_lag_deg),

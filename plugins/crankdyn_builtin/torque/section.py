@@ -153,6 +153,10 @@ def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
         caption = "torque.table_b3_caption_torque" if with_torque else "torque.table_b3_caption"
         if cranks == 1:  # one crank carries every cylinder: no running torques between cranks
             caption = "torque.table_b3_caption_single"
+        elif (
+            min(start + per_table, cranks) == start + 1
+        ):  # a last table of one crank: "5", not "5–5"
+            caption += "_one"
         see = (
             ("torque.see_table_b3_single" if cranks == 1 else "torque.see_table_b3_torque")
             if with_torque
