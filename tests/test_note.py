@@ -197,6 +197,7 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
     # code and drawing markup a reader never sees as text: scripts, styles, inline SVG
     body = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", body, flags=re.S)
     body = re.sub(r"<(i|sub|sup|b)>[^<]{1,4}</\1>", " ", body)  # symbols and their indices
+    body = re.sub(r"<sub>[^<\s]{1,10}</sub>", " ", body)  # a longer index: m_{rR.гол}
     text = html_lib.unescape(re.sub(r"<[^>]+>", " ", body))
     text = re.sub(r"\[[a-z_.]+\]", " ", text)  # the scene's table names, e.g. [bearings]
     return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text) if w not in ALLOWED_LATIN]
