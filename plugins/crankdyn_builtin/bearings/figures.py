@@ -64,11 +64,11 @@ def _polar(
 #: page instead of one on each, with half of it empty.
 HALF_WIDTH_CM = 8.0
 
-#: A polar diagram's height, cm, and a tall one's at most: two diagrams, each with its caption
-#: and the sentence announcing it, fill one page of 257 mm of text (two of 12 cm left each
-#: alone on a half-empty page).
-POLAR_HEIGHT_CM = 9.5
-POLAR_HEIGHT_MAX_CM = 10.0
+#: A polar diagram's height, cm, and a tall one's at most (with its caption and the sentence
+#: above a pair it still shares a page with text; the Word file's pages keep each figure with its
+#: caption at these sizes).
+POLAR_HEIGHT_CM = 12.0
+POLAR_HEIGHT_MAX_CM = 13.0
 
 
 def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, float]:
@@ -83,7 +83,7 @@ def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, fl
 def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram of ``t``, ``z`` (MPa) around the pole: equal scales
     on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
-    taller figure (at most :data:`POLAR_HEIGHT_MAX_CM`, so that two share a page) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
+    taller figure (at most :data:`POLAR_HEIGHT_MAX_CM`) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
     a wider figure."""
     return _size_for(*_polar_extent(t, z, pole_z, diameter_scale)[2:])
 
