@@ -299,7 +299,7 @@ def _grid_file(path: Path, fields: int) -> Path:
     return path
 
 
-@pytest.mark.parametrize("fields", [MAX_FIELDS + 1, 20_000, 100_000])
+@pytest.mark.parametrize("fields", [MAX_FIELDS + 1, 20_000, 50_000])
 def test_a_grid_of_too_many_fields_is_refused_naming_the_limit(tmp_path, capsys, fields):
     out = tmp_path / "out"
     grid = _grid_file(tmp_path / "g.toml", fields)
@@ -371,7 +371,7 @@ def test_the_api_has_the_cli_point_limit():
     assert f"more than {MAX_POINTS} combinations" in str(raised)
 
 
-@pytest.mark.parametrize("fields", [MAX_FIELDS + 1, 20_000, 100_000])
+@pytest.mark.parametrize("fields", [MAX_FIELDS + 1, 20_000, 50_000])
 def test_the_api_refuses_a_grid_of_too_many_fields(fields):
     with pytest.raises(SceneError, match=f"'{fields} fields': at most {MAX_FIELDS}"):
         crankdyn.sweep(BASE, {f"f{k}.x": [1, 2] for k in range(fields)})
