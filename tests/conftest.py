@@ -109,6 +109,18 @@ FLAT_FOUR_ENGINE = {
 }
 
 
+#: The V8 example made a 45° V-twin: two cylinders whose rods sit side by side on one crank pin,
+#: firing 405°/315° apart, laid over it with :func:`modified`.
+V_TWIN_ENGINE = {
+    "cylinders": 2,
+    "bank_angle_deg": 45,
+    "crank_angles_deg": [0],
+    "firing_order": ["1L", "1R"],
+    "uneven_firing": True,
+    "cylinder_spacing": None,
+}
+
+
 def modified(name: str, changes: dict) -> dict:
     """Example ``name`` with ``changes`` laid over it; a value of None deletes the key."""
     data = copy.deepcopy(example_data(name))

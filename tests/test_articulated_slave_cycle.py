@@ -1,6 +1,7 @@
 """A slave cylinder of an articulated rod runs the working cycle in its own volumes.
 
-Independent reference, written here: the slave linkage solved in Cartesian coordinates (master axis
+Independent reference: the slave linkage solved in Cartesian coordinates (tests/
+test_articulated_dead_centres.py's slave_travel: master axis
 along x, crank pin B = R (cos a, sin a), sin b = lambda sin a, slave pin C = B + r (cos(g1 - b),
 sin(g1 - b)), slave piston pin at s along the slave axis with |S - C| = l), its dead centres by
 Brent's method on ds/da, every cylinder head at H = R + L + S/(eps - 1) from the shaft axis, the
@@ -19,6 +20,7 @@ import numpy as np
 import pytest
 from conftest import modified
 from scipy import optimize
+from test_articulated_dead_centres import slave_travel
 
 from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import run_scene
@@ -29,13 +31,6 @@ from crankdyn.plugin.scene_inputs import slave_cylinder_pressure
 from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
-
-
-def slave_travel(a, R, L, r, g1, g, l):
-    b = math.asin(R / L * math.sin(a))
-    cx, cy = R * math.cos(a) + r * math.cos(g1 - b), R * math.sin(a) + r * math.sin(g1 - b)
-    p = cx * math.cos(g) + cy * math.sin(g)
-    return p + math.sqrt(p * p - (cx * cx + cy * cy) + l * l)
 
 
 def dead_centre(travel, guess, h=1e-4):

@@ -12,18 +12,9 @@ import math
 
 import numpy as np
 import pytest
-from conftest import shared_run
+from conftest import V_TWIN_ENGINE, shared_run
 
-V_TWIN = {
-    "engine": {
-        "cylinders": 2,
-        "bank_angle_deg": 45,
-        "crank_angles_deg": [0],
-        "firing_order": ["1L", "1R"],
-        "uneven_firing": True,
-        "cylinder_spacing": None,
-    },
-}
+V_TWIN = {"engine": V_TWIN_ENGINE}
 
 
 def _acceleration_over_omega2(alpha, R, L, h=1e-4):

@@ -740,20 +740,12 @@ def test_a_radials_star_not_a_crank_arrangement_balances_and_no_moments_are_name
 def test_a_v_twins_note_speaks_of_one_crank_and_its_side_by_side_rods():
     """A 45° V-twin with its two rods side by side on one pin: no crank arrangement among its
     firing data, its balance said to come from the cylinders' arrangement, and the rods' offset
-    along the pin said to be neglected rather than that there are no moments."""
+    along the pin given its couples rather than said to leave no moments."""
     import re
 
-    changes = {
-        "engine": {
-            "cylinders": 2,
-            "bank_angle_deg": 45,
-            "crank_angles_deg": [0],
-            "firing_order": ["1L", "1R"],
-            "uneven_firing": True,
-            "cylinder_spacing": None,
-        },
-        "report": {"language": "uk"},
-    }
+    from conftest import V_TWIN_ENGINE
+
+    changes = {"engine": V_TWIN_ENGINE, "report": {"language": "uk"}}
     html = shared_html("v8-petrol", changes, "uk")
     html = html.html if hasattr(html, "html") else html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))

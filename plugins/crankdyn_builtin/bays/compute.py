@@ -257,7 +257,7 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
     e, m = scene.engine, scene.masses
     angle, area = motion.crank_angle_deg, forces.piston_area_m2
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
-    rod_rec, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
+    _, rod_rot = phys.rod_mass_split_kg(m.rod, L, scene.rod_cm_from_big_end_m)
     opts = options(scene, ARTICULATED, ArticulatedOptions)
     slaves = slave_geometries(scene, layout, opts, ARTICULATED)
     s_rec, recip_master, rot_master = articulated_rod_masses_kg(scene, opts, slaves)
