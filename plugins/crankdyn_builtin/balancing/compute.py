@@ -81,33 +81,26 @@ def _time_table(theta, f_td, m_td, residual_F, residual_M, a) -> dict:
     return table
 
 
-def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> bal.Masses:
-    """Reciprocating mass m_s = piston group + the rod's share at the pin (kg; articulated rods: the
-    master cylinder's, with the slave rods' shares at its piston pin) and rotating mass m_R per
-    crank, kg (crank pin, webs and the rods' big-end shares: ``rotating_mass_per_crank_kg``);
-    ``offset_ratio`` k = e/L of an offset crank-slider."""
+def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> tuple[bal.Masses, float | None]:
+    """(masses, a slave cylinder's reciprocating mass in kg or None without articulated rods).
+    Reciprocating mass m_s = piston group + the rod's share at the pin (kg; articulated rods: the
+    master cylinder's, with the slave rods' shares at its piston pin; a slave cylinder's is its
+    piston group and the slave rod's share) and rotating mass m_R per crank, kg (crank pin, webs
+    and the rods' big-end shares: ``rotating_mass_per_crank_kg``); ``offset_ratio`` k = e/L of an
+    offset crank-slider."""
     e, m = scene.engine, scene.masses
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
     rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
-    m_s = m.piston_group + rod_rec
+    m_s, slave_kg = m.piston_group + rod_rec, None
     articulated = (
         options(scene, ARTICULATED, ArticulatedOptions)
         if scene.engine.rod_type == "articulated"
         else None
     )
     if articulated is not None:
-        m_s, _ = articulated_reciprocating_masses_kg(scene, layout, articulated, ARTICULATED)
+        m_s, slave_kg = articulated_reciprocating_masses_kg(scene, layout, articulated, ARTICULATED)
     m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
-    return bal.Masses(m_s, m_R, R, lam, w, offset_ratio)
-
-
-def _slave_reciprocating_mass_kg(scene, layout) -> float | None:
-    """A slave cylinder's reciprocating mass (piston group and the slave rod's share at its piston
-    pin), kg; None without articulated rods."""
-    if scene.engine.rod_type != "articulated":
-        return None
-    opts = options(scene, ARTICULATED, ArticulatedOptions)
-    return articulated_reciprocating_masses_kg(scene, layout, opts, ARTICULATED)[1]
+    return bal.Masses(m_s, m_R, R, lam, w, offset_ratio), slave_kg
 
 
 def _articulated_cylinders(scene, layout, g, masses, slave_kg: float, n_max: int):
@@ -330,9 +323,8 @@ def run(scene, inputs) -> StageOutput:
         update={"balance_orders": balance_orders_for(scene, opts)}
     )
     a = e.cylinder_spacing  # None: moments in units of a only
-    masses = inertia_masses(scene, layout, k)
+    masses, slave_kg = inertia_masses(scene, layout, k)
     n_max = bal.orders_needed(e.rod_ratio_value, offset_ratio=k)
-    slave_kg = _slave_reciprocating_mass_kg(scene, layout)
     if slave_kg is not None:
         g, masses, n_max = _articulated_cylinders(scene, layout, g, masses, slave_kg, n_max)
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
