@@ -17,6 +17,7 @@ import numpy as np
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import articulated as art
 from crankdyn.physics import balancing as bal
+from crankdyn.physics import bearings as brg
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.plugin.contracts import (
@@ -47,9 +48,9 @@ OFFSET_ORDERS = [1, 2, 3, 4, 6]
 
 
 #: The distance between the planes of two rods side by side on one crank pin over the bore, taken
-#: when the scene gives none: one big-end bearing's width, 0.45 of a pin of 0.63 of the bore
-#: (typical proportions of car and tractor engines, Kolchin and Demidov).
-ROD_OFFSET_PER_BORE = 0.45 * 0.63
+#: when the scene gives none: one big-end bearing's width of the typical proportions (the
+#: bearings section's sizes when the scene gives none).
+ROD_OFFSET_PER_BORE = brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * brg.TYPICAL_PIN_DIAMETER_PER_BORE
 
 
 #: The mechanisms whose piston motion is a crank-slider's (``extra``: ``rod_ratio``, with an

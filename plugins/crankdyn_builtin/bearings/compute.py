@@ -22,13 +22,13 @@ from .options import BearingOptions
 
 # Typical proportions (fractions of the bore / of the journal diameter) for car and tractor
 # engines (Kolchin and Demidov), used when the scene gives no journal dimensions.
-DEFAULT_PIN_DIAMETER_PER_BORE = 0.63
+DEFAULT_PIN_DIAMETER_PER_BORE = brg.TYPICAL_PIN_DIAMETER_PER_BORE
 
 DEFAULT_PIN_WIDTH_PER_DIAMETER = 0.60
 
 #: A crank pin with rods side by side (a V's central rods): each big-end bearing this share of the
 #: pin's diameter, so a V's pin is 0.9·d long (one rod's 0.6·d would leave each bearing 0.3·d).
-DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER = 0.45
+DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER = brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER
 
 DEFAULT_MAIN_DIAMETER_PER_BORE = 0.70
 

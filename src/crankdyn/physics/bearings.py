@@ -18,6 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Typical proportions of car and tractor engines (Kolchin and Demidov), taken where a scene gives
+#: no journal sizes: the crank pin's diameter over the bore, and the width of each big-end bearing
+#: over the pin's diameter where rods sit side by side on it (a V's pin is then 0.9·d long).
+TYPICAL_PIN_DIAMETER_PER_BORE = 0.63
+TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER = 0.45
+
 from .extrema import first_argmax, first_argmin
 
 
