@@ -218,9 +218,8 @@ def test_each_position_of_a_radial_or_v_is_half_the_text_width(engine):
     needs, none taller (the printed page would shrink it)."""
     output = _drawing(engine)
     positions = output.artifacts["positions"]
-    frames = [
-        (k, f"position {k}\nα = {k}°") for k in range(len(output.results["crank_angles_deg"]))
-    ]
+    # Five positions: a full sheet of two rows and a sheet with one left over.
+    frames = [(k, f"position {k}\nα = {k}°") for k in range(5)]
     sheets = md.positions_sheets(positions, frames)
     assert sum(len(sheet) for sheet in sheets) == len(frames)
     for sheet in sheets:
