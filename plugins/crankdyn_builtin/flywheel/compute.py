@@ -177,7 +177,9 @@ def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
         "energy_flywheel_exact_irregularity": exact_energy,
         "flywheel_raised": raised is not None,
         "flywheel_raise_percent": (
-            100.0 * (raised / energy_flywheel - 1.0) if raised is not None else None
+            100.0 * (raised / energy_flywheel - 1.0)
+            if raised is not None and energy_flywheel
+            else None
         ),
     }
 
@@ -200,7 +202,9 @@ def run(scene, inputs) -> StageOutput:
         required_flywheel = max(required_total - own, 0.0)
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
     exact_energy = raised = None
-    if opts.inertia is None and required_flywheel:
+    # also when the energy method needs no flywheel: the engine's own inertia varies over the
+    # cycle, and the exact solution may still exceed [δ] without one
+    if opts.inertia is None and required_flywheel is not None:
         exact_energy, raised = exact_design(
             torque, train, opts.engine_inertia, opts.required_irregularity, required_flywheel
         )
@@ -228,11 +232,11 @@ def run(scene, inputs) -> StageOutput:
         "flywheel_inertia_difference_kg_m2": (
             required_total - own if required_total is not None else None
         ),
-        "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None,
+        "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None and not raised,
         "rim": None,
     }
     notes = []
-    if required_flywheel == 0.0 and opts.inertia is None:
+    if results["own_inertia_sufficient"]:
         notes.append(("flywheel.note_no_flywheel", {"own": own}))
     if train.articulated:
         notes.append(("flywheel.note_articulated", {}))

@@ -43,7 +43,11 @@ def render(output: StageOutput, ctx) -> str:
             if r.get("flywheel_raised")
             else "flywheel.table_caption"
         ),
-        see="flywheel.see_table_raised" if r.get("flywheel_raised") else "flywheel.see_table",
+        see=(
+            ("flywheel.see_table_raised" if rim else "flywheel.see_table_raised_no_rim")
+            if r.get("flywheel_raised")
+            else "flywheel.see_table"
+        ),
     ) + worked_flywheel(ctx, r)
     if r.get("own_inertia_sufficient"):
         _conclude_not_needed(ctx, r)
@@ -104,9 +108,9 @@ def _energy_rows(r: dict, t) -> list[tuple]:
                 ),
                 "<i>J</i><sub>f</sub>",
                 t("flywheel.not_needed")
-                if r.get("own_inertia_sufficient")
+                if _energy_needs_none(r)
                 else r["required_flywheel_inertia_kg_m2"],
-                "" if r.get("own_inertia_sufficient") else t("flywheel.unit_kg_m2"),
+                "" if _energy_needs_none(r) else t("flywheel.unit_kg_m2"),
             ),
         ]
     if r.get("flywheel_raised"):
@@ -168,6 +172,11 @@ def _rim_rows(rim: dict | None, t) -> list[tuple]:
     ]
 
 
+def _energy_needs_none(r: dict) -> bool:
+    """Whether the energy method finds the engine's own inertia enough for [δ] (no flywheel)."""
+    return not r["flywheel_given"] and r["required_flywheel_inertia_kg_m2"] == 0.0
+
+
 def raised_params(ctx, r: dict) -> dict:
     """The numbers the texts on a flywheel raised to the exact solution's name: the energy
     method's flywheel, the exact δ with it (four digits: they show its excess over [δ]), [δ], the
@@ -185,7 +194,11 @@ def raised_params(ctx, r: dict) -> dict:
                 - 1
             ),
             2,
-        ),
+        )
+        if r["required_flywheel_inertia_kg_m2"]
+        else None,
+        "total": ctx.num(r["required_total_inertia_kg_m2"]),
+        "own_inertia": ctx.num(r["own_inertia_kg_m2"]),
         "flywheel": ctx.num(r["flywheel_inertia_kg_m2"]),
         "delta": ctx.num(r["required_irregularity"], 3),
     }
@@ -196,10 +209,12 @@ def _conclude(ctx, r: dict) -> None:
     t = ctx.t
     if r.get("flywheel_raised"):
         params = raised_params(ctx, r)
-        ctx.find(t("flywheel.finding_raised", **params))
+        # the energy method needed none: the flywheel is the exact solution's alone
+        from_none = "_from_none" if _energy_needs_none(r) else ""
+        ctx.find(t("flywheel.finding_raised" + from_none, **params))
         ctx.conclude(
             t(
-                "flywheel.conclusion_raised",
+                "flywheel.conclusion_raised" + from_none,
                 excess=ctx.num(r["excess_work_J"]),
                 own=ctx.num(r["own_inertia_kg_m2"]),
                 mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),

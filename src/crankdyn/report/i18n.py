@@ -98,8 +98,9 @@ class Translator:
     """Looks texts up in one language, falling back to English; records misses."""
 
     language: str
-    texts: dict[str, str]
-    fallback: dict[str, str]
+    # left out of the repr: an error message naming the translator stays one line
+    texts: dict[str, str] = field(repr=False)
+    fallback: dict[str, str] = field(repr=False)
     missing: set[str] = field(default_factory=set)
 
     def __call__(self, key: str, **params) -> str:
