@@ -739,3 +739,23 @@ def test_an_engine_that_needs_no_means_names_the_internal_moments_on_its_bearing
     assert "Внутренние моменты центробежных сил при этом нагружают коренные опоры" in html
     single = render_html(run("petrol-1cyl"), REGISTRY, "ru").html
     assert "Внутренние моменты центробежных сил" not in single
+
+
+def test_the_abstract_says_what_the_counterweights_alone_would_leave():
+    """An in-line three's shafts take the counter-rotating half of ΣM_I, √3/2·C_I·a, and the
+    second-order couple ΣM_II = √3·|A_2|·C_I·a (two shafts, one each way): the abstract names both
+    as what the counterweights alone would leave."""
+    from conftest import as_read, shared_html, shared_run
+
+    b = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
+    scale = b["first_order_N"] * b["cylinder_spacing_m"]
+    loads = {s["speed_ratio"]: s["moment_Nm"] for s in b["balance_shafts"]}
+    assert loads[-1] == pytest.approx(math.sqrt(3) / 2 * scale, rel=1e-9)
+    second = math.sqrt(3) * abs(b["acceleration_harmonics"]["II"]) * scale
+    assert loads[2] + loads[-2] == pytest.approx(second, rel=1e-9)
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "ru").linked_html))
+    expected = (
+        "без уравновешивающих валов (только с противовесами) неуравновешенными остались бы также "
+        f"вращающаяся навстречу валу составляющая ΣMI = {loads[-1]:.1f}\u202fН·м и ΣMII = {second:.0f}\u202fН·м"
+    ).replace(".", ",")
+    assert expected in text

@@ -35,7 +35,7 @@ from crankdyn.plugin.scene_inputs import (
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
-from .means import means_records, remedy_summary, residual_after_means
+from .means import add_shaft_loads, means_records, remedy_summary, residual_after_means
 from .options import BalancingOptions, balance_orders_for
 from .vectors import CHECK_SAMPLES, _fitted, bay_model_of, order_vectors, time_domain_check
 
@@ -337,6 +337,7 @@ def run(scene, inputs) -> StageOutput:
     all_orders = bal.inertia_orders(n_max, k)
     means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a, left)
     counterweights, shafts = means_records(g, means, r_cw, r_sh, a)
+    add_shaft_loads(shafts, e.angular_velocity_rad_s)
     theta, f_td, m_td, check, residual_F, residual_M, residual = _time_domain(
         g,
         masses,

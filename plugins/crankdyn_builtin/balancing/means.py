@@ -65,6 +65,25 @@ def means_records(g, means, r_cw: float, r_sh: float, a):
     return counterweights, shafts
 
 
+def add_shaft_loads(shafts: list[dict], angular_velocity_rad_s: float) -> None:
+    """Each balance shaft's own force (N) and moment about its middle (N·m): the rotating
+    resultant of its masses' centrifugal forces m·r·(|n|ω)², which is the part of the engine's
+    order n that the shaft cancels (what counterweights alone would leave of it)."""
+    for shaft in shafts:
+        speed = abs(shaft["speed_ratio"]) * angular_velocity_rad_s
+        vectors = [
+            m["mass_radius_kg_m"] * speed**2 * np.exp(1j * math.radians(m["phase_deg"]))
+            for m in shaft["masses"]
+        ]
+        positions = [m["position_m"] for m in shaft["masses"]]
+        shaft["force_N"] = float(abs(sum(vectors)))
+        shaft["moment_Nm"] = None
+        if None not in positions:
+            middle = float(np.mean(positions))
+            arms = [z - middle for z in positions]
+            shaft["moment_Nm"] = float(abs(sum(v * z for v, z in zip(vectors, arms, strict=True))))
+
+
 def residual_after_means(
     g,
     masses,

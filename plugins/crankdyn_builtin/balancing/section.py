@@ -101,6 +101,11 @@ def _finding(t, r, unbalanced, single: bool) -> str:
             items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
             share=_percent_text(t, small, r),
         )
+    shaft_items = _left_without_shafts(t, r, "" if single else "Σ")
+    if shaft_items:  # what the shafts take, so the counterweights alone are judged too
+        finding = t(
+            "balancing.finding_without_shafts", finding=finding, items=t.join_and(shaft_items)
+        )
     parts_left = mass_difference_items(t, r, whole_orders=False)
     if parts_left:  # the abstract names the whole orders left among the unbalanced already
         finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
@@ -265,6 +270,31 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
             what=what,
         )
     )
+
+
+def _left_without_shafts(t, r, sign: str) -> list[str]:
+    """What each order's balance shafts cancel, which counterweights alone would leave: the
+    order's resultant (``ΣM_II = 188,7 Н·м``) where shafts turn both ways, else the part turning
+    against (or with) the shaft, each with its amplitude."""
+    items = []
+    for order in sorted({shaft["order"] for shaft in r["balance_shafts"]}):
+        shafts = [shaft for shaft in r["balance_shafts"] if shaft["order"] == order]
+        moment = all(shaft["moment_Nm"] for shaft in shafts)
+        value = sum(shaft["moment_Nm"] if moment else shaft["force_N"] for shaft in shafts)
+        prefix = "M_" if moment else "sum_"
+        item = next(
+            s for s in r["summary"] if s["order"] == order and s["quantity"].startswith(prefix)
+        )
+        symbol = plain_symbol(item, sign)
+        amplitude = t.number_g(value, 4) if moment else newtons(t, value)
+        unit = t("unit.Nm") if moment else t("balancing.unit_N")
+        directions = {shaft["speed_ratio"] > 0 for shaft in shafts}
+        if len(directions) == 2:
+            items.append(f"{symbol} = {amplitude} {unit}")
+        else:
+            key = "balancing.part_forward" if directions == {True} else "balancing.part_backward"
+            items.append(t(key, symbol=symbol, value=amplitude, unit=unit))
+    return items
 
 
 def _left_after_means(t, r, residuals, sign: str) -> str:

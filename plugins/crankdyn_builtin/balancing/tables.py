@@ -305,7 +305,13 @@ def _summary_table(ctx, r):
             (
                 t("balancing.remedy"),
                 [
-                    _remedy_text(t, s["remedy"], one_plane(r), _equal_pair(r, s["order"]))
+                    _remedy_text(
+                        t,
+                        s["remedy"],
+                        one_plane(r),
+                        _equal_pair(r, s["order"]),
+                        couple=s["quantity"].startswith("M_"),
+                    )
                     for s in rows
                 ],
                 None,
@@ -331,15 +337,20 @@ def _equal_pair(r, order: int) -> bool:
     return len(moments) == 2 and math.isclose(moments[0], moments[1], rel_tol=1e-6)
 
 
-def _remedy_text(t, remedy: str, one_crank: bool = False, equal_pair: bool = True) -> str:
-    """The means of one order in words: a Lanchester pair (equal shafts) named as such, several
+def _remedy_text(
+    t, remedy: str, one_crank: bool = False, equal_pair: bool = True, couple: bool = False
+) -> str:
+    """The means of one order in words: a Lanchester pair (equal shafts against a force; against
+    a couple the shafts carry a mass at each end, which is no Lanchester's balancer) named as such,
+    several
     means joined by "і"; what balances itself is balanced by the crank arrangement, or (all
     cylinders on one crank) by the cylinders' arrangement round it."""
     parts = remedy.split("+")
     left = [t("balancing.remedy_" + part) for part in parts if part.startswith("left_")]
     means = "+".join(part for part in parts if not part.startswith("left_"))
     if means == "shaft_forward+shaft_backward":
-        text = t("balancing.remedy_shaft_pair" + ("" if equal_pair else "_unequal"))
+        pair = "_couple" if couple else ""
+        text = t("balancing.remedy_shaft_pair" + (pair if equal_pair else "_unequal"))
     else:
         text = t("balancing.means_and").join(
             t("balancing.remedy_" + part + ("_plane" if one_crank and part == "self" else ""))
