@@ -82,6 +82,9 @@ def test_an_unbalanced_inline_fours_centre_main_bearing_is_above_the_allowable_m
     area = max(j["mean_N"] for j in journals) / 12e6 * 1e6
     assert f"d · B ≥ {area:.0f} мм²" in sentence
     assert "Коренные подшипники: превышено допустимое среднее давление" in note.conclusions
+    # the journal's sizes are not given: the verdict is said to rest on the assumed ones
+    assumed = "приняты по типовым соотношениям ( d = 57,4 мм, B = 25,8 мм), поэтому следующий вывод"
+    assert assumed in section
     # the big-end bearing is within its allowable pressures, as the conclusions say
     assert "Давление на шатунные подшипники в пределах допустимого" in note.conclusions
 
@@ -98,6 +101,7 @@ def test_wider_main_journals_bring_the_main_bearings_within_the_allowable_pressu
     section = wide.section("bearings")
     assert f"корінний підшипник {after:.2f} МПа".replace(".", ",") in section
     assert "у межах допустимих для бензинових двигунів середнього 12 МПа" in section
+    assert "Розміри корінної шийки в завданні не вказано" not in section
     concluded = "Тиск на корінні підшипники в межах допустимого для бензинових двигунів: "
     assert concluded + f"середній до {after:.2f} МПа".replace(".", ",") in wide.conclusions
 

@@ -137,8 +137,21 @@ def _main_pressure(ctx, r) -> str:
     params = _main_pressure_params(ctx, verdict)
     if not verdict["exceeded"]:
         return ctx.t("bearings.main_pressure_within", **params)
-    diameter_m = r["dimensions"]["main_journal_diameter_m"]
-    return ctx.t(
+    sizes = r["dimensions"]
+    diameter_m = sizes["main_journal_diameter_m"]
+    # sizes assumed from typical ratios: the verdict is said to rest on them
+    assumed = {"main_journal_diameter", "main_journal_width"} & set(sizes.get("defaulted", ()))
+    prefix = (
+        ctx.t(
+            "bearings.main_pressure_assumed",
+            diameter=ctx.t.number_g(diameter_m * 1e3, 4),
+            width=ctx.t.number_g(sizes["main_journal_width_m"] * 1e3, 4),
+        )
+        + " "
+        if assumed
+        else ""
+    )
+    return prefix + ctx.t(
         "bearings.main_pressure_above",
         **params,
         diameter=ctx.t.number_g(diameter_m * 1e3, 4),
