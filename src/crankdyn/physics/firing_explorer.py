@@ -571,14 +571,14 @@ def second_order_moment_rank(
     )
     if reason:
         return None
-    labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
+    _labels, _banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
     moments = balance_coefficients(
         lags.astype(float) * unit, psi, bays, bal.vertical_axis_deg(layout, bank_angle_deg)
     )["M_PII"]
     want = np.array([round((a % 360.0) / unit) % round(360.0 / unit) for a in crank_angles_deg])
-    match = (
-        np.nonzero(np.all(lags == want[None, :], axis=1))[0] if len(want) == lags.shape[1] else []
-    )
+    if len(want) != lags.shape[1]:
+        return None
+    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0]
     if not len(match):
         return None
     own = float(moments[match[0]])
