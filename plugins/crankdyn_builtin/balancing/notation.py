@@ -23,6 +23,12 @@ def newtons(t, force_N: float) -> str:
     return t.fixed(force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
 
 
+def newton_metres(t, moment_Nm: float) -> str:
+    """A moment as the table of orders and the conclusions print it: to 0.1 N·m, two significant
+    digits under 1 N·m, where tenths would print a small unbalanced moment as 0,0 or 0,1."""
+    return t.fixed(moment_Nm, 1) if abs(moment_Nm) >= 1 else t.number_g(moment_Nm, 2)
+
+
 #: The amplitude a table of orders divides by, as its headers print it (the catalogs' ``{scale}``).
 C_N = "<i>C</i><sub><i>ν</i></sub>"
 

@@ -7,7 +7,7 @@ from functools import partial
 from crankdyn.plugin.types import StageOutput
 
 from .figures import _models_figure, models_left_out, star_figure
-from .notation import master_mass, newtons, plain_symbol, scale_symbol
+from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
 from .tables import (
     _bay_table,
     _explorer_table,
@@ -249,7 +249,7 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     items = []
     for item in negligible:
         value, force = _summary_amplitude(r, item)
-        amplitude = newtons(t, value) if force else t.number_g(value, 2)
+        amplitude = newtons(t, value) if force else newton_metres(t, value)
         items.append(
             f"{plain_symbol(item, '' if single else 'Σ')} = {amplitude} "
             f"{t('balancing.unit_N') if force else t('unit.Nm')}"
@@ -303,7 +303,7 @@ def _left_after_means(t, r, residuals, sign: str) -> str:
     items, shares, scales = [], [], []
     for item in residuals:
         value, force = _summary_amplitude(r, item)
-        amplitude = newtons(t, value) if force else t.number_g(value, 2)
+        amplitude = newtons(t, value) if force else newton_metres(t, value)
         unit = t("balancing.unit_N") if force else t("unit.Nm")
         items.append(f"{plain_symbol(item, sign)} = {amplitude} {unit}")
         shares.append(f"{t.number_g(100 * _share(r, item), 2)} %")
@@ -345,7 +345,7 @@ def _unbalanced_item(ctx, r, item) -> str:
     if value is None:
         return f"{plain_symbol(item)}/{scale_symbol(item)} = {coefficient}"
     unit = ctx.t("balancing.unit_N") if force else ctx.t("unit.Nm")
-    amplitude = newtons(ctx.t, value) if force else ctx.t.fixed(value, 1)
+    amplitude = newtons(ctx.t, value) if force else newton_metres(ctx.t, value)
     order = item[
         "order"
     ]  # 0: the centrifugal forces; A_1 = 1: the first order's amplitude is C_I itself

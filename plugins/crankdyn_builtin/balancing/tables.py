@@ -10,7 +10,7 @@ from markupsafe import Markup
 from crankdyn.physics import balancing as bal
 from crankdyn_builtin.balancing.worked import worked_balancing
 
-from .notation import C_N, circular, master_mass, newtons, summary_symbol
+from .notation import C_N, circular, master_mass, newton_metres, newtons, summary_symbol
 from .vectors import NEGLIGIBLE
 
 #: The orders whose |A_n| and psi_n the table of an offset crank-slider's masses gives.
@@ -224,7 +224,7 @@ def _moment_columns(ctx, r) -> list[tuple]:
         (
             t("balancing.head_resultant_moment") + ", " + t("unit.Nm"),
             [
-                "—" if o["moment_max_Nm"] is None else ctx.t.fixed(o["moment_max_Nm"], 1)
+                "—" if o["moment_max_Nm"] is None else newton_metres(ctx.t, o["moment_max_Nm"])
                 for o in orders
             ],
             None,

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from crankdyn.physics import articulated as art
+from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.physics import layout as lay
 from crankdyn.physics.indicator import indicated_work_J
@@ -181,6 +182,10 @@ def run(scene, inputs) -> StageOutput:
     notes = _firing_notes(scene, layout)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True
+        if "crank_angles_deg" not in e.model_fields_set:  # the crank arrangement chosen too
+            results["second_order_rank"] = fe.second_order_moment_rank(
+                e.cylinders, e.layout, e.strokes, e.bank_angle_deg, layout.crank_lag_deg
+            )
     if e.rod_type != "articulated":
         tables: dict = {}
         tangential, radial, centrifugal, centrifugal_rod, work_all = _side_by_side_bays(

@@ -242,6 +242,23 @@ def render(output: StageOutput, ctx) -> str | None:
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),
         one_crank=partial(one_crank_key, r=r, t=t),
+        second_order=_second_order_text(r, t),
+    )
+
+
+def _second_order_text(r: dict, t) -> str:
+    """Where the chosen crank arrangement's second-order moment is the largest of all the
+    even-firing orders (and some have a smaller one): the sentence saying so, its coefficient
+    as the balancing tables print it, and its cure; "" otherwise."""
+    rank = r.get("second_order_rank")
+    if not rank or rank["coefficient"] <= 0 or rank["larger"] or not rank["smaller"]:
+        return ""
+    tied = rank["orders"] - rank["smaller"]
+    return t(
+        "bays.second_order_largest",
+        coefficient=t.fixed(rank["coefficient"], 4),
+        orders=rank["orders"],
+        shared=t("bays.second_order_shared", tied=tied) if tied > 1 else "",
     )
 
 

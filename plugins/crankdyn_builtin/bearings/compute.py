@@ -40,6 +40,12 @@ DEFAULT_MAIN_WIDTH_PER_DIAMETER = 0.45
 #: are the limits). An engine of unknown ignition (a measured trace) is judged as a diesel.
 ALLOWABLE_PIN_PRESSURE_MPA = {"spark": (12.0, 20.0), "diesel": (16.0, 42.0)}
 
+#: Allowable specific loads of main bearings, MPa: (mean, largest) for petrol engines and for
+#: diesels (Kolchin and Demidov, the main journals: mean 4-12 MPa and largest up to 20 MPa in
+#: petrol engines, mean 6-16 MPa and largest 20-40 MPa in diesels; the upper ends are the
+#: limits). An engine of unknown ignition (a measured trace) is judged as a diesel.
+ALLOWABLE_MAIN_PRESSURE_MPA = {"spark": (12.0, 20.0), "diesel": (16.0, 40.0)}
+
 ALLOWABLE_PRESSURE_SOURCE = "kolchin2002"
 
 
@@ -123,6 +129,45 @@ def pin_pressure_within_limits(scene, results) -> dict | None:
         "mean_limit": mean_limit,
         "max_limit": max_limit,
     }
+
+
+def main_pressure_verdict(scene, results) -> dict | None:
+    """The main bearings' largest mean and largest peak pressure, MPa (each with its journal,
+    the first of equal ones to the printed 0.01 MPa: its record), against the allowable ones of the engine's
+    kind (:data:`ALLOWABLE_MAIN_PRESSURE_MPA`): ``exceeded`` is "", "mean", "max" or "both";
+    ``area_needed_m2`` the journal's d·B at which both are allowable. None without journals."""
+    journals = results.get("main_journals")
+    if not journals:
+        return None
+    kind = _ignition_kind(scene)
+    mean_limit, max_limit = ALLOWABLE_MAIN_PRESSURE_MPA[kind]
+    by_mean = _first_largest(journals, "mean_MPa")
+    by_max = _first_largest(journals, "max_MPa")
+    over_mean = by_mean["mean_MPa"] > mean_limit
+    over_max = by_max["max_MPa"] > max_limit
+    exceeded = {(False, False): "", (True, False): "mean", (False, True): "max"}.get(
+        (over_mean, over_max), "both"
+    )
+    return {
+        "kind": kind,
+        "p_mean": by_mean["mean_MPa"],
+        "mean_journal": by_mean,
+        "p_max": by_max["max_MPa"],
+        "max_journal": by_max,
+        "mean_limit": mean_limit,
+        "max_limit": max_limit,
+        "exceeded": exceeded,
+        "area_needed_m2": max(
+            max(j["mean_N"] for j in journals) / (mean_limit * 1e6),
+            max(j["max_N"] for j in journals) / (max_limit * 1e6),
+        ),
+    }
+
+
+def _first_largest(records: list[dict], key: str) -> dict:
+    """The record of the largest ``key`` value, the first of those equal to the printed 0.01."""
+    top = max(round(x[key], 2) for x in records)
+    return next(x for x in records if round(x[key], 2) == top)
 
 
 def applies(scene) -> str | None:

@@ -12,7 +12,7 @@ from crankdyn_builtin.bearings.worked import (
     worked_bearing,
 )
 
-from .compute import pin_pressure_within_limits
+from .compute import main_pressure_verdict, pin_pressure_within_limits
 from .figures import _polar_diagrams, _shared_pins, _side_by_side, _unrolled_figure, _wear_figure
 
 
@@ -70,6 +70,7 @@ def render(output: StageOutput, ctx) -> str | None:
         application=ctx.scene.engine.application if ctx.scene is not None else None,
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
+        main_pressure=_main_pressure(ctx, r),
         master_rod_mass=MASTER_ROD_MASS.get(ctx.t.language, MASTER_ROD_MASS["en"]),
     )
 
@@ -97,6 +98,94 @@ def _pressure_within(ctx, r) -> str:
         mean_limit=ctx.t.number_g(within["mean_limit"], 3),
         max_limit=ctx.t.number_g(within["max_limit"], 3),
     )
+
+
+def _main_pressure_params(ctx, verdict: dict) -> dict:
+    """The main bearings' pressures and allowable ones as the journals' table prints them."""
+    t = ctx.t
+    return {
+        "p_mean": t.fixed(verdict["p_mean"], 2),
+        "p_max": t.fixed(verdict["p_max"], 2),
+        **_journals_at(ctx, verdict),
+        "mean_limit": t.number_g(verdict["mean_limit"], 3),
+        "max_limit": t.number_g(verdict["max_limit"], 3),
+        "engines": t(f"bearings.engines_{verdict['kind']}"),
+        "exceeded": t(f"bearings.exceeded_{verdict['exceeded']}") if verdict["exceeded"] else "",
+        "area_needed": ctx.num(verdict["area_needed_m2"] * 1e6),
+    }
+
+
+def _journals_at(ctx, verdict: dict) -> dict:
+    """The journals of the largest mean and of the largest pressure, each after its pressure
+    (``mean_at``, ``max_at``, with a leading space), once after the second where they are one."""
+    mean_label = journal_name(verdict["mean_journal"])
+    max_label = journal_name(verdict["max_journal"])
+    if mean_label == max_label:
+        return {"mean_at": "", "max_at": " " + ctx.t("bearings.journal_at_both", label=max_label)}
+    return {
+        "mean_at": " " + ctx.t("bearings.journal_at", label=mean_label),
+        "max_at": " " + ctx.t("bearings.journal_at", label=max_label),
+    }
+
+
+def _main_pressure(ctx, r) -> str:
+    """The sentence comparing the main bearings' largest mean and peak pressures with the
+    allowable ones of the engine's kind, with the journal's d·B they need where they exceed."""
+    verdict = None if ctx.scene is None else main_pressure_verdict(ctx.scene, r)
+    if verdict is None:
+        return ""
+    params = _main_pressure_params(ctx, verdict)
+    if not verdict["exceeded"]:
+        return ctx.t("bearings.main_pressure_within", **params)
+    sizes = r["dimensions"]
+    diameter_m = sizes["main_journal_diameter_m"]
+    # sizes assumed from typical ratios: the verdict is said to rest on them
+    assumed = {"main_journal_diameter", "main_journal_width"} & set(sizes.get("defaulted", ()))
+    prefix = (
+        ctx.t(
+            "bearings.main_pressure_assumed",
+            diameter=ctx.t.number_g(diameter_m * 1e3, 4),
+            width=ctx.t.number_g(sizes["main_journal_width_m"] * 1e3, 4),
+        )
+        + " "
+        if assumed
+        else ""
+    )
+    return prefix + ctx.t(
+        "bearings.main_pressure_above",
+        **params,
+        diameter=ctx.t.number_g(diameter_m * 1e3, 4),
+        width_needed=ctx.num(verdict["area_needed_m2"] / diameter_m * 1e3),
+    )
+
+
+def _pressure_conclusion(ctx, r) -> str:
+    """The conclusion on the bearings' pressures: the big-end bearings' where they are within the
+    allowable ones (the plausibility rule concludes where they are not), the main bearings'
+    within or above theirs, with the digits the tables print."""
+    if ctx.scene is None:
+        return ""
+    t = ctx.t
+    sentences = []
+    pin = pin_pressure_within_limits(ctx.scene, r)
+    if pin is not None:
+        sentences.append(
+            t(
+                "bearings.conclusion_pin_pressure_within",
+                p_mean=t.fixed(pin["p_mean"], 2),
+                p_max=t.fixed(pin["p_max"], 2),
+                mean_limit=t.number_g(pin["mean_limit"], 3),
+                max_limit=t.number_g(pin["max_limit"], 3),
+                engines=t(f"bearings.engines_{pin['kind']}"),
+            )
+        )
+    verdict = main_pressure_verdict(ctx.scene, r)
+    if verdict is not None:
+        key = "above" if verdict["exceeded"] else "within"
+        sentences.append(
+            t(f"bearings.conclusion_main_pressure_{key}", **_main_pressure_params(ctx, verdict))
+        )
+    return " ".join(sentences)
 
 
 def _pins_table(ctx, r, single: bool) -> str:
@@ -260,6 +349,9 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     loaded = centrifugal_journal(r)
     if loaded is not None:
         ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
+    pressures = _pressure_conclusion(ctx, r)
+    if pressures:
+        ctx.conclude(pressures)
 
 
 def _rod_conclusion(ctx, r) -> str:

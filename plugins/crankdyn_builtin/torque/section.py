@@ -214,6 +214,15 @@ def _danger_table(ctx, r, cranks: int) -> str:
     )
 
 
+def largest_running_torque(journals: list[dict]) -> dict | None:
+    """The main journal of the largest running torque (the last of equal ones, as the section
+    names it), where the shaft has several cranks; None for one crank (its journal carries the
+    engine's torque, said already)."""
+    if len(journals) < 2:
+        return None
+    return max(reversed(journals), key=lambda j: j["max_abs_Nm"])
+
+
 def _conclude(ctx, r) -> None:
     """The finding and the conclusions: the mean output torque against the indicated work's, its
     range, period and non-uniformity, the effective torque when given."""
@@ -232,6 +241,16 @@ def _conclude(ctx, r) -> None:
             mu=ctx.num(r["non_uniformity"], 3),
         )
     )
+    journal = largest_running_torque(r.get("journals") or [])
+    if journal is not None:
+        ctx.conclude(
+            t(
+                "torque.conclusion_journal_torque",
+                label=journal_name(journal["journal"]),
+                k=next(k for k, j in enumerate(r["journals"], 1) if j is journal),
+                max=ctx.num(journal["max_abs_Nm"]),
+            )
+        )
     if r.get("mechanical_efficiency") is not None:
         ctx.conclude(
             t(

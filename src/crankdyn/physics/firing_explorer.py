@@ -550,3 +550,43 @@ def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluat
 def count_firing_orders(cylinders: int) -> int:
     """Even-firing firing orders of an in-line engine, two- or four-stroke: (i - 1)! (closed form)."""
     return math.factorial(cylinders - 1)
+
+
+def second_order_moment_rank(
+    cylinders: int,
+    layout: str,
+    strokes: int,
+    bank_angle_deg: float | None,
+    crank_angles_deg,
+    limit: int = 50_000,
+) -> dict | None:
+    """Where a crank arrangement's second-order moment coefficient ``M_PII`` stands among those
+    of every even-firing firing order of the engine (the moment depends on the cranks only, so
+    each arrangement counts with its firing orders): ``coefficient``, ``orders`` in all,
+    ``larger`` and ``smaller`` (orders of a larger and a smaller moment, to :data:`_TIER_TOL`).
+    None where the arrangement does not fire evenly or there are more than ``limit``
+    arrangements."""
+    lags, unit, multiplicity, bank_offset, reason = enumerate_arrangements(
+        cylinders, layout, strokes, bank_angle_deg, limit=limit
+    )
+    if reason:
+        return None
+    _labels, _banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
+    moments = balance_coefficients(
+        lags.astype(float) * unit, psi, bays, bal.vertical_axis_deg(layout, bank_angle_deg)
+    )["M_PII"]
+    want = np.array([round((a % 360.0) / unit) % round(360.0 / unit) for a in crank_angles_deg])
+    if len(want) != lags.shape[1]:
+        return None
+    match = np.nonzero(np.all(lags == want[None, :], axis=1))[0]
+    if not len(match):
+        return None
+    own = float(moments[match[0]])
+    count = cylinders // multiplicity
+    per_arrangement = 2 ** (count - 1) if multiplicity == 2 else 1
+    return {
+        "coefficient": _clean(own),
+        "orders": len(lags) * per_arrangement,
+        "larger": int(np.sum(moments > own + _TIER_TOL)) * per_arrangement,
+        "smaller": int(np.sum(moments < own - _TIER_TOL)) * per_arrangement,
+    }
