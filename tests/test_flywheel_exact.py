@@ -256,3 +256,19 @@ def test_the_flywheel_is_raised_at_the_digits_the_note_prints_delta_with():
     from crankdyn_builtin.speed_fluctuation.section import ADOPTED_DELTA_DIGITS
 
     assert PRINTED_DELTA_DIGITS == ADOPTED_DELTA_DIGITS
+
+
+def test_the_counterweights_turn_with_the_shaft_in_the_flywheels_inertia():
+    """The counterweights the balancing fits add Σ m ρ² (point masses at their radius) to the
+    mechanisms' mean inertia J_m, from the balancing's own masses and radius."""
+    changes = {"flywheel": {"required_irregularity": 0.01}}
+    result = shared_run("inline3-petrol", changes, (*STAGES, "balancing"))
+    fly = result.outputs["flywheel"].results
+    balancing = result.outputs["balancing"].results
+    radius = balancing["counterweight_radius_m"]
+    expected = sum(cw["mass_kg"] * radius**2 for cw in balancing["counterweights"])
+    assert expected > 0.0
+    assert fly["counterweight_inertia_kg_m2"] == pytest.approx(expected, rel=1e-12)
+    bays = result.outputs["bays"].data["bay_loads"]
+    train_mean = crank_train(result.scene, bays).series().mean_kg_m2
+    assert fly["mechanism_inertia_mean_kg_m2"] == pytest.approx(train_mean + expected, rel=1e-12)

@@ -383,7 +383,7 @@ def run(scene, inputs) -> StageOutput:
     notes.append((check_note, {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     return StageOutput(
-        data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s)},
+        data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s, r_cw)},
         results=results,
         tables={"balancing": table},
         notes=notes,

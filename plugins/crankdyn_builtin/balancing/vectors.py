@@ -176,12 +176,15 @@ def time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a):
     return f_td, m_td, scale_F, scale_M, check
 
 
-def _fitted(counterweights: list[dict], omega_rad_s: float) -> Counterweights:
-    """The counterweights of results.json as the bearings stage takes them (forces at the speed)."""
+def _fitted(counterweights: list[dict], omega_rad_s: float, radius_m: float) -> Counterweights:
+    """The counterweights of results.json as the bearings and flywheel stages take them (forces
+    at the speed; the moment of inertia of masses m at the radius r, Σ m r·r)."""
     return Counterweights(
         crank=np.array([cw["crank"] - 1 for cw in counterweights], dtype=int),
         centrifugal_N=np.array([cw["mass_radius_kg_m"] * omega_rad_s**2 for cw in counterweights]),
         angle_from_crank_rad=np.radians([cw["angle_from_crank_deg"] for cw in counterweights]),
+        moment_of_inertia_kg_m2=float(sum(cw["mass_radius_kg_m"] for cw in counterweights))
+        * radius_m,
     )
 
 

@@ -10,7 +10,13 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import flywheel as fw
 from crankdyn.physics import layout as lay
 from crankdyn.physics import speed_fluctuation as sf
-from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL, FlywheelDesign
+from crankdyn.plugin.contracts import (
+    BAY_LOADS,
+    COUNTERWEIGHTS,
+    ENGINE_TORQUE,
+    FLYWHEEL,
+    FlywheelDesign,
+)
 from crankdyn.plugin.scene_inputs import crank_train
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
@@ -191,7 +197,14 @@ def run(scene, inputs) -> StageOutput:
     alpha = np.radians(torque.crank_angle_deg)
     excess = fw.excess_work(alpha, torque.torque_Nm)
     train = crank_train(scene, bays)
-    mechanism = train.series().mean_kg_m2
+    train_mean = train.series().mean_kg_m2
+    # the shaft's constant inertia: the scene's (beyond the cranks' masses) and the
+    # counterweights the balancing fits, which turn with it
+    fitted = inputs.get(COUNTERWEIGHTS)
+    counterweights = fitted.moment_of_inertia_kg_m2 if fitted is not None else 0.0
+    # the counterweights sit on the cranks' webs: part of the mechanisms' constant inertia J_m
+    mechanism = train_mean + counterweights
+    shaft = opts.engine_inertia + counterweights  # the constant added to the crank train's J(α)
     own = mechanism + opts.engine_inertia
 
     required_total = required_flywheel = None
@@ -206,7 +219,7 @@ def run(scene, inputs) -> StageOutput:
     # cycle, and the exact solution may still exceed [δ] without one
     if opts.inertia is None and required_flywheel is not None:
         exact_energy, raised = exact_design(
-            torque, train, opts.engine_inertia, opts.required_irregularity, required_flywheel
+            torque, train, shaft, opts.required_irregularity, required_flywheel
         )
     flywheel = raised if raised is not None else flywheel
     total = own + flywheel
@@ -218,6 +231,7 @@ def run(scene, inputs) -> StageOutput:
         **_excess_results(excess, torque),
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
+        "counterweight_inertia_kg_m2": counterweights,
         "own_inertia_kg_m2": own,
         "required_irregularity": opts.required_irregularity,
         "required_total_inertia_kg_m2": required_total,
@@ -251,8 +265,9 @@ def run(scene, inputs) -> StageOutput:
     }
     design = FlywheelDesign(
         flywheel_inertia_kg_m2=flywheel,
-        engine_inertia_kg_m2=opts.engine_inertia,
-        mechanism_inertia_mean_kg_m2=mechanism,
+        engine_inertia_kg_m2=shaft,
+        # the crank train's own mean: the counterweights are in the constant part with the shaft
+        mechanism_inertia_mean_kg_m2=train_mean,
         excess_work_J=excess.excess_work_J,
         irregularity=irregularity,
         required_irregularity=opts.required_irregularity,

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crankdyn.plugin.contracts import BAY_LOADS, ENGINE_TORQUE, FLYWHEEL
+from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.plugin.hooks import hookimpl
-from crankdyn.plugin.types import Catalog, Stage, StagePresentation
+from crankdyn.plugin.types import Catalog, Stage, StagePresentation, Symbol
 
 from .compute import applies, run
 from .options import FlywheelOptions
@@ -22,9 +22,18 @@ from .section import input_rows, render, taken_rows
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
+#: The counterweights' letters (meaning: symbol.flywheel.<key>), where the balancing fits them.
+SYMBOLS = {
+    "counterweight_inertia": Symbol("J", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg_m2"),
+    "counterweight_mass": Symbol("m", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg"),
+    "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.m"),
+}
+
+
 FLYWHEEL_STAGE = Stage(
     name="flywheel",
     requires=(ENGINE_TORQUE, BAY_LOADS),
+    uses=(COUNTERWEIGHTS,),
     provides=(FLYWHEEL,),
     applies=applies,
     run=run,
@@ -39,6 +48,7 @@ FLYWHEEL_STAGE = Stage(
         render=render,
         figures=("excess_work",),
         references=("poda2007", "artobolevsky1988", "khurmi2005", "timoshenko1956"),
+        symbols=SYMBOLS,
         input_rows=input_rows,
         taken_rows=taken_rows,
     ),

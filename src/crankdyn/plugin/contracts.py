@@ -160,12 +160,15 @@ class Counterweights:
     ``crank``: the 0-based index (from the free end) of the crank each sits on (its two halves
     on that crank's webs); ``centrifugal_N``: its centrifugal force m r omega^2 at the scene's
     speed [N]; ``angle_from_crank_rad``: its direction from its crank's, in the direction of
-    rotation (pi: opposite the crank pin).
+    rotation (pi: opposite the crank pin); ``moment_of_inertia_kg_m2``: all of them together about
+    the shaft's axis, as point masses at their centres' radius [kg m^2] (a lower bound: a real
+    counterweight's radius of gyration exceeds its centre's radius).
     """
 
     crank: np.ndarray
     centrifugal_N: np.ndarray
     angle_from_crank_rad: np.ndarray
+    moment_of_inertia_kg_m2: float = 0.0
 
 
 @dataclass(frozen=True)
