@@ -1305,7 +1305,10 @@ class _Clearance:
         """The distance (mm) from a text's box to the nearest thing drawn; minus the number of
         points of it inside the box when something crosses it (``off_bodies``: or when the box
         lies on a shaded link, counted worse than any crossing)."""
-        outline = self._text_points(artist)
+        return self.of_outline(self._text_points(artist), off_bodies)
+
+    def of_outline(self, outline, off_bodies: bool = False) -> float:
+        """:meth:`of_box` of a box given by its outline's points (mm)."""
         low, high = outline.min(axis=0), outline.max(axis=0)
         bodies = self.bodies if off_bodies else []
         covered = sum(int(body.contains_points(outline).sum()) for body in bodies)
@@ -1479,14 +1482,16 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
     and crosses the fewest lines."""
     clearance = _Clearance(ax, geometry, i, extent)
     at = np.asarray(at, float)
+    # the box's outline about its centre: the same text at every place tried
+    label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
+    box = clearance._text_points(label) - at
+    label.remove()
     best, best_score = None, None
     for reach in np.arange(0.07, 0.62, 0.03):
         for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
             place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
-            label = ax.text(*place, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
-            clear = clearance.of_box(label, off_bodies=True)
-            end = _leader_end(clearance._text_points(label), at)
-            label.remove()
+            clear = clearance.of_outline(box + place, off_bodies=True)
+            end = _leader_end(box + place, at)
             # a step farther weighs as much as a step of the leader on a line
             crossings = _leader_crossings(clearance, at, end)
             score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
