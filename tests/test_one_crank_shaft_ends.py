@@ -102,3 +102,17 @@ def test_the_radials_torque_check_sums_its_cylinders_parts(language, each_pin, o
     assert abs(sum(terms) - total) <= 5 * 0.5e-4 + 0.5e-3
     # the slaves' parts matter: the master's part alone is not the total
     assert abs(terms[0] - total) > 0.01
+
+
+@pytest.mark.parametrize(
+    ("language", "of_crank_i"), [("uk", "i-го коліна"), ("ru", "i-го колена"), ("en", "crank i's")]
+)
+def test_one_cranks_journal_loads_are_written_for_that_crank(language, of_crank_i):
+    """R_0–1 = −(l″_1/l_1) F_1 and R_1–2 = −(l′_1/l_1) F_1: no crank i + 1, no list of crank i's
+    spans; an in-line engine of several cranks keeps the general formula."""
+    text = _text("radial", language)
+    assert "R0–1 = −(l″1/l1) F1" in text and "R1–2 = −(l′1/l1) F1" in text
+    assert of_crank_i not in text
+    assert "Fi+1" not in text
+    if language == "en":
+        assert "Fi+1" in _text("inline4-petrol", "en")
