@@ -313,7 +313,9 @@ SYMBOLS = {
     "crank_force_one": Symbol("F", {"en": "1"}, "unit.MPa", html="<b><i>F</i></b><sub>1</sub>"),
     "crank_t_unit_one": Symbol("e", {"en": "t"}, "", html="<b>e</b><sub><i>t</i></sub>"),
     "crank_z_unit_one": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub><i>z</i></sub>"),
-    "journal_load_first": Symbol("R", {"en": "0–1"}, "unit.MPa", html="<b><i>R</i></b><sub>0–1</sub>"),
+    "journal_load_first": Symbol(
+        "R", {"en": "0–1"}, "unit.MPa", html="<b><i>R</i></b><sub>0–1</sub>"
+    ),
     "journal_load_second": Symbol(
         "R", {"en": "1–2"}, "unit.MPa", html="<b><i>R</i></b><sub>1–2</sub>"
     ),

@@ -31,14 +31,16 @@ def _labelled(geometry, t):
 
 
 #: The slave rod's length as the scheme writes it (its index as the bays section's symbol).
-SLAVE_ROD_LENGTH = {"en": r"$l_\mathregular{sr}$", "uk": r"$l_\mathregular{п.ш}$"}
+SLAVE_ROD_LENGTH = {
+    "en": r"$l_\mathregular{sr}$",
+    "uk": r"$l_\mathregular{п.ш}$",
+    "ru": r"$l_\mathregular{п.ш}$",
+}
 
 
 def _labels(geometry, ctx) -> dict[str, str]:
     mm = ctx.t("unit.mm")
-    language = ctx.t.language
-    names = {"l_s": SLAVE_ROD_LENGTH.get(language, SLAVE_ROD_LENGTH["uk"] if language == "ru"
-                                         else SLAVE_ROD_LENGTH["en"])}
+    names = {"l_s": SLAVE_ROD_LENGTH.get(ctx.t.language, SLAVE_ROD_LENGTH["en"])}
     return {
         k: f"{names.get(k, k)} = {ctx.t.number_g(value * 1e3, 4)} {mm}"
         for k, value in geometry.dimensions.items()

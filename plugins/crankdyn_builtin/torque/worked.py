@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-
 from markupsafe import Markup
 
 from crankdyn.physics.forces import piston_area_m2
@@ -97,7 +96,9 @@ def _cylinder_sum(ctx, alpha: float, total: float, delays, total_html: str) -> W
     if abs(grid[row] - alpha) > 1e-6:
         return None
     t = ctx.t
-    order = [d["cylinder"] for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"]))]
+    order = [
+        d["cylinder"] for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"]))
+    ]
     exact = {label: float(parts[label][row]) / 1e6 for label in order if label in parts}
     if len(exact) != len(order):
         return None

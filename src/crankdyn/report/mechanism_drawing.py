@@ -1250,7 +1250,8 @@ class _Clearance:
         self.bodies = [
             Path(to_data.transform(patch.get_verts()))
             for patch in ax.patches
-            if isinstance(patch, Polygon) and patch.get_fill()
+            if isinstance(patch, Polygon)
+            and patch.get_fill()
             and to_rgba(patch.get_facecolor())[:3] != (1.0, 1.0, 1.0)
         ]
         self._tree: Any = (
