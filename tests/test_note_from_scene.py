@@ -166,6 +166,8 @@ def test_a_figure_over_several_pages_is_continued_in_the_middle_and_concluded_at
     from crankdyn_builtin.drawing import section
 
     monkeypatch.setattr(section.md, "positions_sheets", lambda positions, frames: [[0], [1], [2]])
+    monkeypatch.setattr(section.md, "positions_scale", lambda positions: 0.1)
+    monkeypatch.setattr(section, "scale_text", lambda scale, t: "1:10")
     shown = []
 
     class Context:
@@ -189,10 +191,10 @@ def test_a_figure_over_several_pages_is_continued_in_the_middle_and_concluded_at
         path = ROOT / "plugins/crankdyn_builtin/drawing/i18n" / f"drawing.{language}.toml"
         with open(path, "rb") as fh:
             catalogs[language] = tomllib.load(fh)["drawing"]
-    assert catalogs["uk"]["positions_caption_middle"].endswith("(продовження)")
-    assert catalogs["uk"]["positions_caption_continued"].endswith("(закінчення)")
-    assert catalogs["ru"]["positions_caption_middle"].endswith("(продолжение)")
-    assert catalogs["ru"]["positions_caption_continued"].endswith("(окончание)")
+    assert catalogs["uk"]["positions_caption_middle"].endswith("(продовження, М {scale})")
+    assert catalogs["uk"]["positions_caption_continued"].endswith("(закінчення, М {scale})")
+    assert catalogs["ru"]["positions_caption_middle"].endswith("(продолжение, М {scale})")
+    assert catalogs["ru"]["positions_caption_continued"].endswith("(окончание, М {scale})")
 
 
 def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_named():

@@ -201,6 +201,8 @@ def run(scene, inputs) -> StageOutput:
     results["forces_centrifugal_Pa"] = forces.centrifugal_Pa
     results["piston_area_m2"] = forces.piston_area_m2
     results["indicated_work_J"] = work_all
+    # each cylinder's part of the crank's t goes to the torque check, not to the results file
+    parts = results.pop("cylinder_tangential_Pa", None)
     loads = BayLoads(
         crank_angle_deg=motion.crank_angle_deg,
         tangential_Pa=tangential,
@@ -211,6 +213,7 @@ def run(scene, inputs) -> StageOutput:
         crank_radius_m=e.crank_radius_m,
         layout=layout,
         indicated_work_J=work_all,
+        cylinder_tangential_Pa=parts,
     )
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
 
@@ -295,6 +298,11 @@ def _articulated_bays(scene, layout, motion, gas, forces, results: dict, notes: 
     t_bay, z_bay, n_bay = art.bay_crank_pin_forces(
         alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows
     )
+    parts = art.bay_tangential_contributions(
+        alpha_local, motion.rod_angle_rad, p1_master, R, L, slave_rows
+    )
+    labels = [layout.bay(0)[0].label] + [slave.label for slave, _ in slaves]
+    results["cylinder_tangential_Pa"] = dict(zip(labels, parts, strict=True))
     tangential, radial = _bays_shifted(layout, t_bay, z_bay, scene.analysis.angle_step_deg)
     crank_rotating = m.crank_pin + 2 * m.crank_web
     centrifugal = phys.centrifugal_pressure_Pa(rot_master + crank_rotating, R, w, area)

@@ -37,6 +37,8 @@ BEARINGS_STAGE = Stage(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
         section_symbols=(
+            "crank_tangential_total",
+            "crank_radial_total",
             "radial_specific",
             "centrifugal_force",
             "journal_diameter",

@@ -398,4 +398,17 @@ SYMBOLS = {
     "master_rod_rotating_mass": Symbol(
         "m", {"en": "rR.m", "uk": "rR.гол", "ru": "rR.гл"}, "unit.kg"
     ),
+    # one crank between two journals: its load formula for crank 1, the only one
+    "crank_span_one": Symbol("l", {"en": "1"}, "unit.mm", html="<i>l</i><sub>1</sub>"),
+    "span_before_one": Symbol("l", {"en": "1"}, "unit.mm", html="<i>l</i>′<sub>1</sub>"),
+    "span_after_one": Symbol("l", {"en": "1"}, "unit.mm", html="<i>l</i>″<sub>1</sub>"),
+    "crank_force_one": Symbol("F", {"en": "1"}, "unit.MPa", html="<b><i>F</i></b><sub>1</sub>"),
+    "crank_t_unit_one": Symbol("e", {"en": "t"}, "", html="<b>e</b><sub><i>t</i></sub>"),
+    "crank_z_unit_one": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub><i>z</i></sub>"),
+    "journal_load_first": Symbol(
+        "R", {"en": "0–1"}, "unit.MPa", html="<b><i>R</i></b><sub>0–1</sub>"
+    ),
+    "journal_load_second": Symbol(
+        "R", {"en": "1–2"}, "unit.MPa", html="<b><i>R</i></b><sub>1–2</sub>"
+    ),
 }

@@ -109,11 +109,15 @@ def engine_geometry(scene, crank_angle_rad) -> MechanismGeometry:
                     label=c.label,
                 )
             )
+    dimensions = {"R": R, "L": L, "D": e.bore, "S": 2 * R}
+    if slaves:  # a radial's knuckle-pin radius r and its first slave rod's length
+        first = next(iter(slaves.values()))
+        dimensions |= {"r": first.pin_radius_m, "l_s": first.slave_rod_length_m}
     return MechanismGeometry(
         joints=joints,
         links=links,
         guides=guides,
-        dimensions={"R": R, "L": L, "D": e.bore, "S": 2 * R},
+        dimensions=dimensions,
         travel_m=travel,
         cranks=cranks,
         firing_order=tuple(layout.firing_order),

@@ -30,10 +30,19 @@ def _labelled(geometry, t):
     )
 
 
+#: The slave rod's length as the scheme writes it (its index as the bays section's symbol).
+SLAVE_ROD_LENGTH = {
+    "en": r"$l_\mathregular{sr}$",
+    "uk": r"$l_\mathregular{п.ш}$",
+    "ru": r"$l_\mathregular{п.ш}$",
+}
+
+
 def _labels(geometry, ctx) -> dict[str, str]:
     mm = ctx.t("unit.mm")
+    names = {"l_s": SLAVE_ROD_LENGTH.get(ctx.t.language, SLAVE_ROD_LENGTH["en"])}
     return {
-        k: f"{k} = {ctx.t.number_g(value * 1e3, 4)} {mm}"
+        k: f"{names.get(k, k)} = {ctx.t.number_g(value * 1e3, 4)} {mm}"
         for k, value in geometry.dimensions.items()
     }
 
@@ -218,11 +227,12 @@ def _positions_figures(ctx, positions, frames) -> Markup:
     the middle ones captioned as its continuation, the last one as its end."""
     t = ctx.t
     sheets = md.positions_sheets(positions, frames)
+    scale = scale_text(md.positions_scale(positions), t)
     last = len(sheets)
     parts = [
         ctx.figure(
             figure_memo.MemoFigure(md.positions_figure, positions, sheets[0]),
-            t("drawing.positions_caption"),
+            t("drawing.positions_caption", scale=scale),
             "positions",
             see="drawing.see_positions",
         )
@@ -231,7 +241,10 @@ def _positions_figures(ctx, positions, frames) -> Markup:
         parts.append(
             ctx.figure(
                 figure_memo.MemoFigure(md.positions_figure, positions, sheet),
-                t("drawing.positions_caption_" + ("continued" if k == last else "middle")),
+                t(
+                    "drawing.positions_caption_" + ("continued" if k == last else "middle"),
+                    scale=scale,
+                ),
                 f"positions_{k}",
                 see="drawing.see_positions_" + ("continued" if k == last else "middle"),
             )

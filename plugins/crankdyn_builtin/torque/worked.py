@@ -5,9 +5,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numpy as np
 from markupsafe import Markup
 
 from crankdyn.physics.forces import piston_area_m2
+from crankdyn.plugin.contracts import BAY_LOADS
 from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
@@ -70,10 +72,46 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
         ),
     ]
     if cranks == 1:  # one crank: t_Σ is its table's own column, no sum over cranks to show
-        steps = steps[1:]
+        cylinders = _cylinder_sum(ctx, alpha, journal, delays, total_html)
+        steps = ([cylinders] if cylinders else []) + steps[1:]
     # articulated rods: a crank's t comes from the master rod's statics (the bays section), the
     # slave cylinders moving otherwise than the one cylinder of the forces section
     articulated = engine.rod_type == "articulated"
     key = "torque.worked_own_angles" + ("_articulated" if articulated else "")
+    key += "_one" if articulated and cranks == 1 else ""
     note = t(key, angles=own) if own else ""
     return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))
+
+
+def _cylinder_sum(ctx, alpha: float, total: float, delays, total_html: str) -> WorkedStep | None:
+    """``t_Σ = t_1 + t_3 + …``: each cylinder's part of the one crank's t at the worked row (the
+    master rod's statics with that cylinder's force alone), MPa, in the order of the cylinders'
+    own angles; None where the bays give no such parts (rods side by side)."""
+    loads = ctx.data(BAY_LOADS)
+    parts = None if loads is None else loads.cylinder_tangential_Pa
+    if not parts:
+        return None
+    grid = np.asarray(loads.crank_angle_deg, dtype=float)
+    row = int(np.argmin(np.abs(grid - alpha)))
+    if abs(grid[row] - alpha) > 1e-6:
+        return None
+    t = ctx.t
+    order = [
+        d["cylinder"] for d in sorted(delays, key=lambda d: (d["crank"], d["cycle_delay_deg"]))
+    ]
+    exact = {label: float(parts[label][row]) / 1e6 for label in order if label in parts}
+    if len(exact) != len(order):
+        return None
+    terms = [printed_fixed(t, exact[label], 4) for label in order]
+    names = [f"<i>t</i><sub>{t.cylinder(label)}</sub>" for label in order]
+    return WorkedStep(
+        "journal_torque_sum",
+        total_html,
+        " + ".join(names),
+        " + ".join(bracketed(text, value) for text, value in terms),
+        total,
+        3,
+        t("unit.MPa"),
+        {f"t{k}": v for k, (_, v) in enumerate(terms, start=1)},
+        exact={f"t{k}": exact[label] for k, label in enumerate(order, start=1)},
+    )

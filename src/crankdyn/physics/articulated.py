@@ -334,3 +334,42 @@ def bay_crank_pin_forces(
     tangential = -Fa * np.sin(alpha) + Fn * np.cos(alpha)
     radial = -(Fa * np.cos(alpha) + Fn * np.sin(alpha))
     return tangential, radial, side
+
+
+def bay_tangential_contributions(
+    master_crank_angle_rad,
+    master_rod_angle_rad,
+    master_total_Pa,
+    crank_radius_m,
+    rod_length_m,
+    slaves: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]],
+) -> list[np.ndarray]:
+    """Each cylinder's part of the bay's tangential force on the crank pin (specific, Pa): the
+    master cylinder's first, then every slave's in the order of ``slaves``.
+
+    The master rod's statics (:func:`bay_crank_pin_forces`, same arguments) is linear in the
+    piston forces, so a cylinder's part is the bay's force with that cylinder's force alone; the
+    parts sum to the bay's t. By virtual work each part is that piston's force times its
+    piston's displacement per radian of the crank, divided by R (the rods massless)."""
+    alpha = np.asarray(master_crank_angle_rad, dtype=float)
+    zero = np.zeros_like(alpha)
+    master, _, _ = bay_crank_pin_forces(
+        alpha,
+        master_rod_angle_rad,
+        master_total_Pa,
+        crank_radius_m,
+        rod_length_m,
+        [(a, n, b, zero, g) for a, n, b, _, g in slaves],
+    )
+    parts = [master]
+    for pin_a, pin_n, slave_beta, slave_p1, gamma in slaves:
+        alone, _, _ = bay_crank_pin_forces(
+            alpha,
+            master_rod_angle_rad,
+            zero,
+            crank_radius_m,
+            rod_length_m,
+            [(pin_a, pin_n, slave_beta, slave_p1, gamma)],
+        )
+        parts.append(alone)
+    return parts

@@ -132,6 +132,8 @@ class BayLoads:
     crank_radius_m: float
     layout: object  # crankdyn.physics.layout.EngineLayout
     indicated_work_J: float  # per cycle, all cylinders (each with its own kinematics)
+    #: articulated rods: each cylinder's part of crank 1's t (label -> array, Pa), None otherwise
+    cylinder_tangential_Pa: dict | None = None
 
 
 @dataclass(frozen=True)

@@ -679,6 +679,8 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
         labels = {**labels, "R": labels["a"]}
     if crank and "R" in labels:
         _crank_radius(ax, geometry, i, crank, labels["R"], extent)
+    if crank and master_rod_joints(geometry):
+        _slave_dimensions(ax, geometry, i, labels, extent)
     liners = any(g.bore_m > 0 and g.moving is None for g in geometry.guides)
     if rod and "L" in labels and liners:
         # its text over the dimension line, where that crosses no liner, piston or other bank
@@ -1161,8 +1163,8 @@ def _bank_marks(
             fontstyle="italic",
         )
     # round a radial's hub, where nine rods leave the master rod, O may stand a little farther
-    reach = extent * np.array([0.035, 0.05] if rod_angles else [0.035, 0.05, 0.065])
-    clearance.place(_ring(centre, reach), "O")
+    reach = extent * np.array([0.035, 0.05] if rod_angles else [0.035, 0.05, 0.065, 0.08])
+    clearance.place(_ring(centre, reach), "O", off_bodies=True)
     # a boxer's banks: a crank pin per cylinder, each B with its cylinder's index
     own_pins = rod_angles and own_crank_pins(pairs)
     if not own_pins:
@@ -1239,6 +1241,19 @@ class _Clearance:
             points.append(self._text_points(text))
         points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
         self.points = np.concatenate([p.reshape(-1, 2) for p in points if len(p)])
+        # shaded links (a master rod's body, a counterweight): a letter inside one stands clear
+        # of its outline but reads as that link's; the shaft's axis O is no point of theirs
+        from matplotlib.colors import to_rgba  # lazy: heavy optional import
+        from matplotlib.patches import Polygon
+        from matplotlib.path import Path
+
+        self.bodies = [
+            Path(to_data.transform(patch.get_verts()))
+            for patch in ax.patches
+            if isinstance(patch, Polygon)
+            and patch.get_fill()
+            and to_rgba(patch.get_facecolor())[:3] != (1.0, 1.0, 1.0)
+        ]
         self._tree: Any = (
             None  # the points' k-d tree, built once for all queries until points change
         )
@@ -1287,21 +1302,32 @@ class _Clearance:
     def add_last_text(self) -> None:
         self.add_points(self._text_points(self.ax.texts[-1]))
 
-    def of_box(self, artist) -> float:
+    def of_box(self, artist, off_bodies: bool = False) -> float:
         """The distance (mm) from a text's box to the nearest thing drawn; minus the number of
-        points of it inside the box when something crosses it."""
-        outline = self._text_points(artist)
+        points of it inside the box when something crosses it (``off_bodies``: or when the box
+        lies on a shaded link, counted worse than any crossing)."""
+        return self.of_outline(self._text_points(artist), off_bodies)
+
+    def of_outline(self, outline, off_bodies: bool = False) -> float:
+        """:meth:`of_box` of a box given by its outline's points (mm)."""
         low, high = outline.min(axis=0), outline.max(axis=0)
+        bodies = self.bodies if off_bodies else []
+        covered = sum(int(body.contains_points(outline).sum()) for body in bodies)
+        if covered:
+            return -float(len(self.points) + covered)
         inside = np.all((self.points > low) & (self.points < high), axis=1)
         return -float(np.count_nonzero(inside)) if inside.any() else self.of_points(outline)
 
-    def place(self, candidates, letter: str, sub: str = "", **style) -> None:
+    def place(
+        self, candidates, letter: str, sub: str = "", off_bodies: bool = False, **style
+    ) -> None:
         """The letter (with its subscript) centred at the candidate place whose box stands
-        clearest of everything drawn; then itself an obstacle to the next."""
+        clearest of everything drawn (``off_bodies``: and off the shaded links); then itself an
+        obstacle to the next."""
         best, best_clear = candidates[0], -np.inf
         for at in candidates:
             artists = _lettered(self.ax, at, letter, sub, ha="center", va="center", **style)
-            clear = min(self.of_box(a) for a in artists)
+            clear = min(self.of_box(a, off_bodies) for a in artists)
             for artist in artists:
                 artist.remove()
             if clear > best_clear + 1e-9:
@@ -1411,6 +1437,11 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
+    if master_rod_joints(geometry):  # a radial: the text near its line, by a short leader
+        d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+        mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
+        _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
+        return
     lowest = min(float(points[i][1]) * MM for points in j.values())
     for (
         guide
@@ -1443,6 +1474,87 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
         bbox=LABEL_BOX,
         gid="dimension-R-text",
     )
+
+
+def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -> None:
+    """A dimension's ``text`` clear of everything drawn and off the shaded links, near ``at`` (mm,
+    the middle of its dimension line), joined to it by a leader to the nearest middle of the
+    box's sides (ГОСТ 2.307): of the places clear enough, the one whose leader is the shortest
+    and crosses the fewest lines."""
+    clearance = _Clearance(ax, geometry, i, extent)
+    at = np.asarray(at, float)
+    # the box's outline about its centre: the same text at every place tried
+    label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
+    box = clearance._text_points(label) - at
+    label.remove()
+    best, best_score = None, None
+    for reach in np.arange(0.07, 0.62, 0.03):
+        for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
+            place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
+            clear = clearance.of_outline(box + place, off_bodies=True)
+            end = _leader_end(box + place, at)
+            # a step farther weighs as much as a step of the leader on a line
+            crossings = _leader_crossings(clearance, at, end)
+            score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
+            if best_score is None or score > best_score:
+                best, best_score = place, score
+    label = ax.text(
+        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
+    )
+    end = _leader_end(clearance._text_points(label), at)
+    ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
+
+
+def _leader_end(box, at):
+    """The middle of the side of a text's box (its outline, mm) nearest ``at``."""
+    low, high = box.min(axis=0), box.max(axis=0)
+    middle = (low + high) / 2
+    sides = [
+        np.array([low[0], middle[1]]),
+        np.array([high[0], middle[1]]),
+        np.array([middle[0], low[1]]),
+        np.array([middle[0], high[1]]),
+    ]
+    return min(sides, key=lambda side: float(np.linalg.norm(side - at)))
+
+
+def _leader_crossings(clearance, start, end) -> int:
+    """How many steps of a leader from ``start`` to ``end`` (mm) run on something drawn (past
+    its first steps, on the dimension line it starts from)."""
+    length = float(np.linalg.norm(end - start))
+    count = max(int(length / clearance.step), 1)
+    points = start + (end - start) * np.linspace(0.0, 1.0, count + 1)[:, None]
+    points = points[np.linalg.norm(points - start, axis=1) > clearance.extent * 0.02]
+    if not len(points):
+        return 0
+    clearance.of_points(points[:1])  # builds the tree
+    distances, _ = clearance._tree.query(points)
+    return int(np.count_nonzero(distances < clearance.extent * 0.004))
+
+
+def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: float) -> None:
+    """A radial's knuckle-pin radius r (crank pin to the first slave's pin) and the slave rod's
+    length (its pin to its piston pin), each a dimension line beside the link with its text by a
+    short leader (:func:`_leader_text`)."""
+    j = geometry.joints
+    bodies = master_rod_joints(geometry)
+    slave = next(
+        (l for l in geometry.links if l[0].startswith("rod_") and l[1].startswith("slave_pin")),
+        None,
+    )
+    if not bodies or slave is None:
+        return
+    centre = next(a for name, a, _ in geometry.links if name.startswith("master_"))
+    pin = slave[1]
+    for key, (a, b) in (("r", (centre, pin)), ("l_s", (pin, slave[2]))):
+        if key not in labels:
+            continue
+        p, q = j[a][i] * MM, j[b][i] * MM
+        offset = extent * 0.03
+        _dimension(ax, p, q, "", offset, extent, key)
+        d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
+        mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
+        _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -1730,11 +1842,35 @@ def _panel_width_mm(aspect: float) -> float:
 def _panel_limits(geometry):
     """A positions panel's limits (:func:`_panel_geometry`): room for the cylinders' numbers
     only (no dimension lines), else for the cylinder's axis past its liner; a narrow margin
-    above and below, where only a joint's circle reaches past the limits' points."""
+    above and below, where only a joint's circle reaches past the limits' points; widened about
+    their middle to the panel's standard scale (:func:`positions_scale`)."""
+    (x0, x1), (y0, y1) = _content_limits(geometry)
+    aspect = (y1 - y0) / (x1 - x0)
+    scale = _panel_scale(geometry)
+    width = _panel_width_mm(aspect) / scale
+    height = width * aspect
+    xm, ym = (x0 + x1) / 2, (y0 + y1) / 2
+    return (xm - width / 2, xm + width / 2), (ym - height / 2, ym + height / 2)
+
+
+def _content_limits(geometry):
     labelled = any(g.label for g in geometry.guides)
     return _limits(
         geometry, label_gap=0.1 if labelled else 0.045, pad_share=0.04, pad_share_y=0.015
     )
+
+
+def positions_scale(geometry) -> float:
+    """The positions panels' standard scale (paper : real, ГОСТ 2.302): the largest at which the
+    mechanism (:func:`_panel_geometry` of ``geometry``) fits its panel."""
+    return _panel_scale(_panel_geometry(geometry))
+
+
+def _panel_scale(panel_geometry) -> float:
+    (x0, x1), (y0, y1) = _content_limits(panel_geometry)
+    aspect = (y1 - y0) / (x1 - x0)
+    width = _panel_width_mm(aspect)
+    return drawing_scale((x1 - x0, y1 - y0), (width, width * aspect))
 
 
 def _panel_geometry(geometry):
