@@ -668,3 +668,21 @@ def test_a_journal_of_the_largest_mean_load_is_named_when_the_peak_picks_others(
     label = by_mean["journal"].replace("-", "–")
     assert f"Найбільший середній тиск на корінний підшипник має шийка {label}" in text
     assert f"Найбільше середнє навантаження має корінна шийка {label};" in text
+
+
+def test_rods_side_by_side_say_how_far_their_planes_lie_off_the_pins_middle():
+    """A V8's two rods on a pin: each plane half a big-end bearing's width off the middle, which
+    over the example's crank spacing a = 112 mm shifts the journals' shares by that ratio."""
+    r = shared_run("v8-petrol", None, ("bearings",)).outputs["bearings"].results
+    width = r["rod_bearings"][0]["width_m"]
+    assert r["rod_plane_offset_m"] == pytest.approx(width / 2, rel=1e-12)
+    assert r["rod_plane_share_shift"] == pytest.approx(width / 2 / 0.112, rel=1e-12)
+    text = re.sub(
+        r"\s+", " ", re.sub(r"<[^>]+>", " ", shared_html("v8-petrol", None, "en").linked_html)
+    )
+    assert f"lies {width / 2 * 1e3:.3g} mm off the middle" in text
+    # one rod per pin: nothing to say
+    assert (
+        "rod_plane_offset_m"
+        not in shared_run("inline4-petrol", None, ("bearings",)).outputs["bearings"].results
+    )

@@ -405,6 +405,7 @@ def run(scene, inputs) -> StageOutput:
         "rod_bearings": rod_results,
         # big-end bearings side by side on one crank pin, each carrying its own rod only
         **({"rod_bearings_per_pin": per_pin} if per_pin > 1 else {}),
+        **_rod_plane_shift(rod_results, per_pin, scene.engine.cylinder_spacing, opts.span_ratio),
         "main_bearings": [
             {
                 "journal": lay.journal_label(j),
@@ -467,6 +468,16 @@ def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:
     ):
         if values is not None and any(not 1 <= v <= limit for v in values):
             raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
+
+
+def _rod_plane_shift(rod_results, per_pin: int, spacing_m, span_ratio: float) -> dict:
+    """Rods side by side on a pin are loaded in its middle plane; the outermost rod's plane lies
+    (n − 1)/2 bearing widths off it, which shifts the share of its force each neighbouring main
+    journal takes by that offset over the span (the crank spacing a): offset in m and share."""
+    if per_pin == 1 or not spacing_m or span_ratio != 0.5:
+        return {}
+    offset = 0.5 * (per_pin - 1) * rod_results[0]["width_m"]
+    return {"rod_plane_offset_m": offset, "rod_plane_share_shift": offset / spacing_m}
 
 
 def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: float):
