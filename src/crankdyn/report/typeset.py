@@ -291,13 +291,6 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "crank_radial_total": Symbol(
         "z", {"en": "Σ"}, "unit.MPa", "symbol.crank_radial_total", sections=SECTION_BOUND
     ),
-    "last_journal_tangential": Symbol(
-        "t",
-        {"en": "kN"},
-        "unit.MPa",
-        "symbol.last_journal_tangential",
-        html="<i>t</i><sub>k<i>N</i></sub>",
-    ),
     "order_force": Symbol(
         "P", {"en": "ν"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>ν</i></sub>"
     ),
