@@ -435,10 +435,10 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "rotation_matrix": Symbol("Π", {}, "", "symbol.rotation_matrix", html="<b>Π</b>"),
     "journal_load_vector": Symbol(
         "R",
-        {"en": "j"},
+        {"en": "i,i+1"},
         "unit.MPa",
         "symbol.journal_load_vector",
-        html="<b><i>R</i></b><sub><i>j</i></sub>",
+        html="<b><i>R</i></b><sub><i>i</i>,<i>i</i>+1</sub>",
     ),
     "crank_force_vector": Symbol(
         "F",
