@@ -243,9 +243,9 @@ def test_drawing_texts_are_translated(language, title):
 def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
     """The scheme shows the crank at α = 45° (the crank pin where the geometry puts it at 45° from
     the cylinder axis, clockwise), and, where one cylinder axis is drawn, the angles α and β, the
-    sense of rotation ω and the dead centres, named in the text; a V marks O, B, each bank's A and
+    sense of rotation ω and the dead centres, named in the text; a V marks O, U, each bank's A and
     β (indexed with the bank's letter), α and ω, not the dead centres (beside one bank's liner
-    they would meet the other's); a radial marks O, B, each cylinder's A (indexed with its number)
+    they would meet the other's); a radial marks O, U, each cylinder's A (indexed with its number)
     and ω, not β (its slave rods hang on the master rod) nor α (drawn at cylinder 1's TDC, its
     crank lies on the line α counts from), and its text says so."""
     from crankdyn.report import mechanism_drawing as md
@@ -278,14 +278,16 @@ def test_scheme_is_drawn_at_its_angle_with_the_angles_marked(example, marked):
         for mark in ("α", "ω", ">O<", ">A<", ">B<", ">C<", ">K<", ">a = 40 mm<"):
             assert mark in svg, mark
     elif marked == "radial":
-        for mark in ("ω", ">O<", ">A<", ">B<", ">1<", ">9<"):
+        for mark in ("ω", ">O<", ">A<", ">U<", ">1<", ">9<"):
             assert mark in svg, mark
-        assert "α" not in svg and "β" not in svg
+        assert "α" not in svg and "β" not in svg and ">B<" not in svg
         assert "indexed with the cylinder&#39;s number" in html
         assert "counted from the TDC of cylinder 1 " in html
     else:
-        for mark in ("α", "β", "ω", ">O<", ">A<", ">B<"):
+        for mark in ("α", "β", "ω", ">O<", ">A<", ">U<"):
             assert (mark in svg) is bool(marked), mark
+        # the crank pin's axis is U: B is the bearing width
+        assert ">B<" not in svg
     for mark in (">TDC<", ">BDC<", ">S = 78"):
         assert (mark in svg) is (marked is True), mark
     assert ("α is the crank angle from the crank&#39;s position at TDC" in html) is (marked is True)

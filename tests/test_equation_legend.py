@@ -167,13 +167,15 @@ def test_a_delta_or_a_prime_makes_another_quantity():
 
 def test_an_index_or_an_exponent_is_not_the_quantity_of_its_letter():
     # k in sin^{2k} and the ν of C_ν are indices (C_ν is the amplitude, not C nor the order ν);
-    # t and z in e_{t,i} name axes (an italic bold e is no symbol); R_j and q_ш.ш in bold are the
-    # vectors, not the crank radius nor q; but the exponent n_1 of a polytrope is the polytropic index
+    # t and z in e_{t,i} name axes (an italic bold e is no symbol); R_{i,i+1} and q_ш.ш in bold
+    # are the vectors, not the crank radius nor q; but the exponent n_1 of a polytrope is the polytropic index
     assert symbols_in("sin<sup>2<i>k</i></sup> <i>α</i>", "uk", "forces") == ["crank_angle"]
     assert symbols_in("<i>C</i><sub><i>ν</i></sub>", "uk", "balancing") == ["order_amplitude"]
     assert symbols_in("<b><i>e</i></b><sub><i>t</i>,<i>i</i></sub>", "uk", "bearings") == []
     assert symbols_in(
-        "<b><i>R</i></b><sub><i>j</i></sub> = <b><i>q</i></b><sub>ш.ш</sub>", "uk", "bearings"
+        "<b><i>R</i></b><sub><i>i</i>,<i>i</i>+1</sub> = <b><i>q</i></b><sub>ш.ш</sub>",
+        "uk",
+        "bearings",
     ) == ["journal_load_vector", "pin_load_vector"]
     assert symbols_in(
         "<i>p</i><sub>a</sub>(<i>V</i><sub>a</sub>/<i>V</i>)<sup><i>n</i><sub>1</sub></sup>",

@@ -503,7 +503,6 @@ _ONCE_UNEXPLAINED = {
         "<i>t</i><sub>w<i>i</i></sub>",
         "<i>t</i><sub><i>i</i></sub>",
         "<i>t</i><sub>k<i>i</i></sub>",
-        "<i>t</i><sub>k<i>N</i></sub>",
     ],
     "8.2": ["<i>j</i><sub>п</sub>", "<i>P</i><sub><i>ν</i></sub>"],
     "10.3": ["Φ", "<i>s</i>′"],

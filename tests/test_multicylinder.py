@@ -672,9 +672,9 @@ def test_a_boxer_scheme_lies_flat_and_marks_each_cylinders_crank_pin():
     )
     page = _render(replace(result, plan=drawing_only), registry, "uk")
     svg = next(f for f in page.figures if f.key == "scheme").svg.decode("utf-8")
-    assert svg.count(">B<") == 2 and svg.count(">A<") == 2 and svg.count(">O<") == 1
+    assert svg.count(">U<") == 2 and svg.count(">A<") == 2 and svg.count(">O<") == 1
     text = re.sub(r"<[^>]+>", "", page.html)
-    assert "B – вісь шатунної шийки і A – вісь поршневого пальця" in text
+    assert "U – вісь шатунної шийки і A – вісь поршневого пальця" in text
     assert "з номером циліндра в індексі (1, 2)" in text
     # its cranks balance one another: no counterweight is fitted, and none is drawn
     assert not len(result.outputs["balancing"].data["counterweights"].crank)

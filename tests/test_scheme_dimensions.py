@@ -1,7 +1,7 @@
 """The schemes' dimensions follow ГОСТ 2.307: two extension lines from the feature, square to the
 dimension line and running past it, the dimension line with its arrows between them, the text
 beside the dimension line; and a V engine's scheme names its points and angles as a single
-cylinder's does (O, B, each bank's A and β with the bank's letter, α, ω)."""
+cylinder's does (O, U, each bank's A and β with the bank's letter, α, ω)."""
 
 from __future__ import annotations
 
@@ -133,7 +133,7 @@ def test_a_v_engines_scheme_names_its_points_and_angles():
         for gid, artists in found.items()
         if gid.startswith("mark-")
     }
-    assert texts["mark-O"] == ["O"] and texts["mark-B"] == ["B"]
+    assert texts["mark-O"] == ["O"] and texts["mark-U"] == ["U"]
     assert texts["mark-α"] == ["α"] and texts["mark-ω"] == ["ω"]
     banks = sorted(md.bank_letter(g.label) for g in geometry.guides)
     assert banks == ["L", "R"]
@@ -183,7 +183,7 @@ def _centre_mm(ax, artist, renderer) -> np.ndarray:
     ],
 )
 def test_a_w_an_x_and_a_radial_mark_every_banks_piston_pin(engine, indices, rod_angles):
-    """O, B, ω and one A per cylinder axis, indexed with its bank's letter (a radial's: the
+    """O, U, ω and one A per cylinder axis, indexed with its bank's letter (a radial's: the
     cylinder's number), each A nearer its own piston pin than any other joint; β per bank where
     the rods are on the crank pin (a radial's slave rods are on the master rod's knuckle pins);
     no two letters overprint one another."""
@@ -192,7 +192,7 @@ def test_a_w_an_x_and_a_radial_mark_every_banks_piston_pin(engine, indices, rod_
     renderer = fig.canvas.get_renderer()
     found = _by_gid(ax)
     assert [g.label for g in geometry.guides] == [f"1{k}" for k in indices] or engine == "radial9"
-    for mark in ("mark-O", "mark-B", "mark-ω"):
+    for mark in ("mark-O", "mark-U", "mark-ω"):
         assert len(found.get(mark, [])) == 1, mark
     pins = {md.bank_letter(g.label): geometry.joints[g.joint][frame] * 1e3 for g in geometry.guides}
     joints = {name: p[frame] * 1e3 for name, p in geometry.joints.items()}
@@ -204,10 +204,10 @@ def test_a_w_an_x_and_a_radial_mark_every_banks_piston_pin(engine, indices, rod_
         nearest = min(joints, key=lambda k: np.linalg.norm(joints[k] - at))
         assert np.allclose(joints[nearest], pins[index]), (index, nearest)
         assert (f"mark-β_{index}" in found) is rod_angles
-    # B by the crank pin, O by the shaft's axis: of the points the scheme names, the nearest
+    # U by the crank pin, O by the shaft's axis: of the points the scheme names, the nearest
     named = {k: joints[k] for k in ("crank_pin_1", "crank_centre")}
     named.update({g.joint: joints[g.joint] for g in geometry.guides})
-    for mark, joint in (("mark-B", "crank_pin_1"), ("mark-O", "crank_centre")):
+    for mark, joint in (("mark-U", "crank_pin_1"), ("mark-O", "crank_centre")):
         at = _centre_mm(ax, found[mark][0], renderer)
         assert min(named, key=lambda k: np.linalg.norm(named[k] - at)) == joint, mark
     marks = [a for gid, artists in found.items() if gid.startswith("mark-") for a in artists]

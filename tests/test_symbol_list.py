@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from crankdyn.plugin.registry import default_registry
 from crankdyn.report import document
 from crankdyn.report.document import _places
@@ -215,3 +217,79 @@ def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
     one = shared_html("petrol-1cyl-uk", language="uk").linked_html
     four = shared_html("inline4-petrol", language="uk").linked_html
     assert "від ВМТ першого циліндра" not in one and "від ВМТ першого циліндра" in four
+
+
+_ROW = re.compile(
+    r'<p class="symbol-row"><span class="symbol">(.*?)</span> – <span class="meaning">(.*?)</span>'
+)
+#: where a meaning of a letter with several holds: "(у розділі 5)", "(в приложении Б)"
+_PLACE = re.compile(r"\((?:у|в|in) (?:розділ|раздел|додат|приложени|section|appendix)")
+
+
+def _listed(html: str) -> list[tuple[str, str]]:
+    listed = html[html.index('<div class="symbol-list">') :]
+    return _ROW.findall(listed[: listed.index("</div>")])
+
+
+@pytest.mark.parametrize(
+    "example, language",
+    [("radial9-aircraft", "uk"), ("radial9-aircraft", "ru"), ("radial9-aircraft", "en")]
+    + [("inline4-petrol", language) for language in ("uk", "ru", "en")],
+)
+def test_the_list_gives_a_letter_one_meaning(example, language):
+    """A letter the list shows twice (a vector in bold and its magnitude in light type count as one
+    letter) says where each meaning holds; a vector and its magnitude are one row. Not q_ш.ш twice,
+    t_kN "за останнім, N-м коліном" beside the side force N, R_j beside the imaginary unit j, B the
+    crank pin's axis beside the bearing width B, M_i beside M_сер, and not an imaginary unit, Δα,
+    Δj_п that the list leaves out."""
+    from conftest import shared_html
+
+    html = shared_html(example, language=language).linked_html
+    rows = _listed(html)
+    seen: dict[str, list[str]] = {}
+    for markup, meaning in rows:
+        seen.setdefault(re.sub(r"</?b>", "", markup), []).append(meaning)
+    for markup, meanings in seen.items():
+        if len(meanings) > 1:
+            assert all(_PLACE.search(m) for m in meanings), (markup, meanings)
+    plain = re.sub(r"<[^>]+>", "", html)
+    assert "<i>t</i><sub>k<i>N</i></sub>" not in html and "N-м" not in plain
+    assert not re.search(r"<i>R</i></b><sub><i>j</i>", html)
+    assert "<i>M</i><sub>i</sub>" not in html
+    assert not re.search(r"\bB (–|the) (вісь|ось|axis|crank pin)", plain)
+    symbols = [markup for markup, _ in rows]
+    if "e<sup>j" in html:  # the balancing's complex amplitudes
+        assert "j" in symbols
+    body = html[html.index('<div class="symbol-list">') :]
+    body = body[body.index("</div>") :]
+    for shown in ("Δ<i>α</i>", "Δ<i>j</i><sub>", "<i>σ</i><sub>"):
+        assert shown not in body or any(s.startswith(shown) for s in symbols), shown
+
+
+def test_the_vector_and_its_magnitude_are_one_row():
+    """q_ш.ш in bold (the vector) and in light type (its magnitude) are said in one row."""
+    t = translator("uk")
+    rows = _rows(symbol_list_html(["pin_load_vector", "bays.pin_load", "crank_speed"], t, "uk"))
+    assert rows == [
+        "qш.ш – вектор питомого навантаження на шатунну шийку в осях коліна (t, z); "
+        "qш.ш (світлим шрифтом) – його модуль, МПа (у формулах – Па)",
+        "n – частота обертання колінчастого вала, хв⁻¹",
+    ]
+
+
+def test_the_vector_models_are_divided_by_their_circles_radius():
+    """Fig. "vector models": a second-order panel is divided by |A_2| C_I, the dotted circle's
+    radius C_ν, not by C_II (the textbook's λC_I)."""
+    from crankdyn_builtin.balancing.figures import _models_drawing
+
+    panels = [
+        (1, "PI", 1, [("force", 0.5 + 0j, 0.5 + 0j, 1.0), ("moment", 0j, 0j, 0.0)]),
+        (2, "PII", 2, [("force", 0.4 + 0j, 0.1 + 0j, 0.5), ("moment", 0j, 0j, 0.0)]),
+    ]
+    fig = _models_drawing(panels, True, 4, "")
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles[:2] == [
+        r"$\Sigma P_{\mathrm{I}}/C_{\mathrm{I}}$",
+        r"$\Sigma P_{\mathrm{II}}/|A_{2}|C_{\mathrm{I}}$",
+    ]
+    assert not any("C_{\\mathrm{II}}" in title for title in titles)

@@ -238,7 +238,15 @@ def _models_drawing(panels, moments: bool, cylinders: int, balanced_label: str):
                 )
             # the order's Roman numeral upright, as in the text and tables (P_II, not P_{II} in italics)
             sub = "C" if order == 0 else f"\\mathrm{{{name[1:]}}}"
-            amp = "C" if order == 0 else f"C_{{{sub}}}"
+            # the dotted circle's radius C_ν = |A_ν| C_I, which the force is divided by (C_II is the
+            # textbook's λC_I, not the exact second-order amplitude)
+            amp = (
+                "C"
+                if order == 0
+                else "C_{\\mathrm{I}}"
+                if order == 1
+                else f"|A_{{{order}}}|C_{{\\mathrm{{I}}}}"
+            )
             # one cylinder's own force, without the sum sign, as its tables and text write it
             sigma = "" if cylinders == 1 else "\\Sigma "
             title = (

@@ -67,6 +67,9 @@ def plain_symbol(s, sum_sign: str = "Σ") -> str:
 #: The offset crank-slider's phase of an acceleration harmonic (meaning: symbol.balancing.<key>).
 SYMBOLS = {
     "harmonic_phase": Symbol("ψ", {"en": "ν"}, "°", html="<i>ψ</i><sub><i>ν</i></sub>"),
+    # upright, as in e^{jα}: the only upright j of the note (i numbers the cylinders; the italic j
+    # with a subscript is the piston's acceleration)
+    "imaginary_unit": Symbol("j", {}, "", html="j"),
     # articulated rods: the master cylinder's reciprocating mass with the slave rods' shares at its
     # piston pin (the forces section's m_s is one cylinder's, without them)
     "master_reciprocating_mass": Symbol("m", {"en": "s.m", "uk": "s.гол", "ru": "s.гл"}, "unit.kg"),

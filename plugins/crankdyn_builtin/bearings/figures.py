@@ -327,7 +327,7 @@ def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
             label=t("bearings.journal_label", label=label),
         )
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    ax.set_ylabel("|q_pin|, |R_j|, " + t("unit.MPa"))  # the symbols of equations (7.1) and (7.3)
+    ax.set_ylabel("|q_pin|, |R_{i,i+1}|, " + t("unit.MPa"))  # the equations' symbols
     ax.legend(loc="upper right", fontsize=8)
     return fig
 

@@ -33,7 +33,6 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 #: the core's letters that hold with their meaning in the numerics sections only (both stages)
 SECTION_SYMBOLS = (
     "studied_value",
-    "angle_step",
     "total_torque",
     "series_term",
     "tangential_max",

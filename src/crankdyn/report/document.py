@@ -979,8 +979,11 @@ def symbol_list_html(
     holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language, symbols) for key in keys]
+    magnitudes = _vector_magnitudes(markups)
     rows = []
     for key, markup in zip(keys, markups, strict=True):
+        if markup in magnitudes.values():
+            continue  # said in its vector's row
         unit = list_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         where = (
@@ -990,9 +993,14 @@ def symbol_list_html(
         )
         if where:
             meaning += f" ({where})"
-        meaning = italic_letters(str(escape(meaning)), language) + (
-            f", {escape(unit)}" if unit else ""
-        )
+        meaning = italic_letters(str(escape(meaning)), language)
+        if markup in magnitudes:
+            meaning = (
+                str(escape(t("doc.symbol_vector_magnitude", vector="@@V@@", plain="@@P@@")))
+                .replace("@@V@@", meaning)
+                .replace("@@P@@", magnitudes[markup])
+            )
+        meaning += f", {escape(unit)}" if unit else ""
         rows.append(
             f'<p class="symbol-row"><span class="symbol">{markup}</span> – '
             f'<span class="meaning">{meaning}</span></p>'
@@ -1006,6 +1014,18 @@ def symbol_list_html(
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html
+
+
+def _vector_magnitudes(markups: list[str]) -> dict[str, str]:
+    """A vector's bold markup -> its magnitude's, the same letters in light type, where the list
+    shows both: one row says both (q_ш.ш, the vector of the crank pin's load, and its magnitude),
+    so that one letter is not listed twice."""
+    found = {}
+    for markup in markups:
+        plain = markup.replace("<b>", "").replace("</b>", "")
+        if plain != markup and plain in markups:
+            found[markup] = plain
+    return found
 
 
 def list_unit(key: str, t, symbols: SymbolTable) -> str:

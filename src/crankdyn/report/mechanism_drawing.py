@@ -934,6 +934,11 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: st
         _lettered(ax, at, text, sub, ha="center", va="center", fontstyle="italic")
 
 
+#: The crank pin's axis on an engine's scheme: not B, the bearing width of the bearings section
+#: (nor K, the second-order vector of a bay, nor C, the centrifugal force).
+PIN_MARK = "U"
+
+
 def _lettered(ax, at, letter: str, sub: str = "", **style):
     """A letter of the scheme (O, A, B, α, β) at ``at`` (mm) with its subscript (a bank's letter:
     A with L for the left bank's piston pin) set smaller at the letter's lower right; the
@@ -1168,13 +1173,13 @@ def _bank_marks(
     # a boxer's banks: a crank pin per cylinder, each B with its cylinder's index
     own_pins = rod_angles and own_crank_pins(pairs)
     if not own_pins:
-        clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), "B")
+        clearance.place(_ring(pin, extent * np.array([0.035, 0.05])), PIN_MARK)
     for guide, rod in pairs:
         _, d, n = _guide_frame(geometry, guide, i)
         wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
         sub = bank_letter(guide.label)
         if own_pins:
-            clearance.place(_ring(big_end, extent * np.array([0.035, 0.05])), "B", sub)
+            clearance.place(_ring(big_end, extent * np.array([0.035, 0.05])), PIN_MARK, sub)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
         if not rod_angles:
             continue
@@ -1375,7 +1380,8 @@ def draw_angle_marks(
     # right of the shaft's axis: the counterweight lies opposite the crank, below on the left
     _lettered(ax, centre + np.array([1.0, -0.15]) * extent * 0.035, "O", ha="left", va="center")
     if radius > 0:
-        _lettered(ax, pin + (pin - centre) / radius * extent * 0.03, "B", ha="left", va="center")
+        at = pin + (pin - centre) / radius * extent * 0.03
+        _lettered(ax, at, PIN_MARK, ha="left", va="center")
         _angle_arc(ax, centre, zero, (pin - centre) / radius, radius * 0.55, marks["alpha"], extent)
         _rotation_arrow(ax, centre, radius * 0.4, marks["omega"], extent)
     length = float(np.linalg.norm(pin - wrist))

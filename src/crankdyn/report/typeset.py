@@ -229,6 +229,14 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "piston_acceleration_max": Symbol(
         "j", {"en": "max"}, "unit.m_s2", "symbol.piston_acceleration_max"
     ),
+    # the two-term formula's acceleration less the exact one (the kinematics figure's lowest graph)
+    "piston_acceleration_error": Symbol(
+        "j",
+        {"en": "p", "uk": "п", "ru": "п"},
+        "unit.m_s2",
+        "symbol.piston_acceleration_error",
+        html="Δ<i>j</i><sub>{sub}</sub>",
+    ),
     "piston_acceleration_min": Symbol(
         "j", {"en": "min"}, "unit.m_s2", "symbol.piston_acceleration_min"
     ),
@@ -244,6 +252,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "angular_velocity_max": Symbol("ω", {"en": "max"}, "unit.rad_s", "symbol.angular_velocity_max"),
     "angular_velocity_min": Symbol("ω", {"en": "min"}, "unit.rad_s", "symbol.angular_velocity_min"),
     "rim_stress": Symbol("σ", {}, "unit.MPa", "symbol.rim_stress"),
+    "tensile_strength": Symbol(
+        "σ", {"en": "u", "uk": "в", "ru": "в"}, "unit.MPa", "symbol.tensile_strength"
+    ),
     "kinetic_energy": Symbol("E", {}, "unit.J", "symbol.kinetic_energy"),
     "initial_energy": Symbol("E", {"en": "0"}, "unit.J", "symbol.initial_energy"),
     "cycle_angle": Symbol("Φ", {}, "", "symbol.cycle_angle", html="Φ"),
@@ -290,13 +301,6 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     ),
     "crank_radial_total": Symbol(
         "z", {"en": "Σ"}, "unit.MPa", "symbol.crank_radial_total", sections=SECTION_BOUND
-    ),
-    "last_journal_tangential": Symbol(
-        "t",
-        {"en": "kN"},
-        "unit.MPa",
-        "symbol.last_journal_tangential",
-        html="<i>t</i><sub>k<i>N</i></sub>",
     ),
     "order_force": Symbol(
         "P", {"en": "ν"}, "unit.N", "symbol.order_force", html="<i>P</i><sub><i>ν</i></sub>"
@@ -442,10 +446,10 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "rotation_matrix": Symbol("Π", {}, "", "symbol.rotation_matrix", html="<b>Π</b>"),
     "journal_load_vector": Symbol(
         "R",
-        {"en": "j"},
+        {"en": "i,i+1"},
         "unit.MPa",
         "symbol.journal_load_vector",
-        html="<b><i>R</i></b><sub><i>j</i></sub>",
+        html="<b><i>R</i></b><sub><i>i</i>,<i>i</i>+1</sub>",
     ),
     "crank_force_vector": Symbol(
         "F",
@@ -491,9 +495,8 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
         "ε", {"en": "X"}, "", "symbol.relative_error", html="<i>ε</i><sub><i>X</i></sub>"
     ),
     "studied_value": Symbol("X", {}, "", "symbol.studied_value", sections=SECTION_BOUND),
-    "angle_step": Symbol(
-        "α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>", sections=SECTION_BOUND
-    ),
+    # the grid's step: the given data's table and the error study write it (Δα has no other meaning)
+    "angle_step": Symbol("α", {}, "°", "symbol.angle_step", html="Δ<i>α</i>"),
     "total_torque": Symbol("M", {}, "unit.Nm", "symbol.total_torque", sections=SECTION_BOUND),
     "reference_torque": Symbol(
         "M", {"en": "ref", "uk": "ет", "ru": "эт"}, "unit.Nm", "symbol.reference_torque"
