@@ -232,8 +232,9 @@ def _moment_columns(ctx, r) -> list[tuple]:
         (
             t("balancing.moment_plane"),
             [
+                # a moment turning with or against the shaft at constant size has no plane
                 "—"
-                if _zero(r, o, "moment")
+                if _zero(r, o, "moment") or circular(o["moment_hodograph"])
                 else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
                 for o in orders
             ],
