@@ -279,8 +279,15 @@ def _left_without_shafts(t, r, sign: str) -> list[str]:
     items = []
     for order in sorted({shaft["order"] for shaft in r["balance_shafts"]}):
         shafts = [shaft for shaft in r["balance_shafts"] if shaft["order"] == order]
-        moment = all(shaft["moment_Nm"] for shaft in shafts)
+        # shafts against a couple carry opposite masses: their force is a rounding error
+        moment = all(
+            shaft["moment_Nm"] is not None and shaft["force_N"] <= 1e-9 * r["first_order_N"]
+            for shaft in shafts
+        )
         value = sum(shaft["moment_Nm"] if moment else shaft["force_N"] for shaft in shafts)
+        scale = r["first_order_N"] * ((r["cylinder_spacing_m"] or 1.0) if moment else 1.0)
+        if value <= 1e-9 * scale:  # shafts sized for a rounding error leave nothing to say
+            continue
         prefix = "M_" if moment else "sum_"
         item = next(
             s for s in r["summary"] if s["order"] == order and s["quantity"].startswith(prefix)

@@ -393,26 +393,12 @@ def run(scene, inputs) -> StageOutput:
         },
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
-        "main_journals": [
-            {
-                "journal": lay.journal_label(j),
-                **journals[j],
-                "centrifugal_N": float(centrifugal[j] * area),
-            }
-            for j in range(cranks + 1)
-        ],
+        **_journal_results(journals, bearing, centrifugal * area, d_main, w_main, area),
         "crank_centrifugal_N": abs(loads.centrifugal_Pa) * area,
         "rod_bearings": rod_results,
         # big-end bearings side by side on one crank pin, each carrying its own rod only
         **({"rod_bearings_per_pin": per_pin} if per_pin > 1 else {}),
         **_rod_plane_shift(rod_results, per_pin, scene.engine.cylinder_spacing, opts.span_ratio),
-        "main_bearings": [
-            {
-                "journal": lay.journal_label(j),
-                **brg.polar_summary(bearing[0][j], bearing[1][j], area, d_main, w_main),
-            }
-            for j in range(cranks + 1)
-        ],
         **_drawn_diagrams(opts, pins, journals),
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
         "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
@@ -432,6 +418,24 @@ def run(scene, inputs) -> StageOutput:
         tables=tables,
         notes=[("bearings.note_dimensions", {"names": ", ".join(defaulted)})] if defaulted else [],
     )
+
+
+def _journal_results(journals, bearing, centrifugal_N, d_main, w_main, area) -> dict:
+    """Each main journal's load summary (with the part the cranks' centrifugal forces alone
+    give, N) and each main bearing's, from the free end's journal 0-1 on."""
+    return {
+        "main_journals": [
+            {"journal": lay.journal_label(j), **summary, "centrifugal_N": float(centrifugal_N[j])}
+            for j, summary in enumerate(journals)
+        ],
+        "main_bearings": [
+            {
+                "journal": lay.journal_label(j),
+                **brg.polar_summary(bearing[0][j], bearing[1][j], area, d_main, w_main),
+            }
+            for j in range(len(journals))
+        ],
+    }
 
 
 def _dimension_results(sizes, defaulted: list[str], area_needed: float) -> dict:

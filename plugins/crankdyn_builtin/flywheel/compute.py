@@ -190,6 +190,21 @@ def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
     }
 
 
+def _counterweight_inertia(inputs) -> float:
+    """Σ m ρ² of the counterweights the balancing fits, which turn with the shaft (0 without
+    them), kg m²."""
+    fitted = inputs.get(COUNTERWEIGHTS)
+    return fitted.moment_of_inertia_kg_m2 if fitted is not None else 0.0
+
+
+def _required(opts, excess_work_J: float, omega: float, own: float):
+    """(J_0 for [δ], the flywheel J_0 − own, at least 0), kg m²; (None, None) without [δ]."""
+    if opts.required_irregularity is None:
+        return None, None
+    total = fw.required_inertia_kg_m2(excess_work_J, opts.required_irregularity, omega)
+    return total, max(total - own, 0.0)
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -198,21 +213,12 @@ def run(scene, inputs) -> StageOutput:
     excess = fw.excess_work(alpha, torque.torque_Nm)
     train = crank_train(scene, bays)
     train_mean = train.series().mean_kg_m2
-    # the shaft's constant inertia: the scene's (beyond the cranks' masses) and the
-    # counterweights the balancing fits, which turn with it
-    fitted = inputs.get(COUNTERWEIGHTS)
-    counterweights = fitted.moment_of_inertia_kg_m2 if fitted is not None else 0.0
+    counterweights = _counterweight_inertia(inputs)
     # the counterweights sit on the cranks' webs: part of the mechanisms' constant inertia J_m
     mechanism = train_mean + counterweights
     shaft = opts.engine_inertia + counterweights  # the constant added to the crank train's J(α)
     own = mechanism + opts.engine_inertia
-
-    required_total = required_flywheel = None
-    if opts.required_irregularity is not None:
-        required_total = fw.required_inertia_kg_m2(
-            excess.excess_work_J, opts.required_irregularity, omega
-        )
-        required_flywheel = max(required_total - own, 0.0)
+    required_total, required_flywheel = _required(opts, excess.excess_work_J, omega, own)
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
     exact_energy = raised = None
     # also when the energy method needs no flywheel: the engine's own inertia varies over the

@@ -1249,8 +1249,8 @@ class _Clearance:
         # shaded links (a master rod's body, a counterweight): a letter inside one stands clear
         # of its outline but reads as that link's; the shaft's axis O is no point of theirs
         from matplotlib.colors import to_rgba  # lazy: heavy optional import
-        from matplotlib.patches import Polygon
-        from matplotlib.path import Path
+        from matplotlib.patches import Polygon  # lazy: heavy optional import
+        from matplotlib.path import Path  # lazy: heavy optional import
 
         self.bodies = [
             Path(to_data.transform(patch.get_verts()))
@@ -1504,6 +1504,7 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
             score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
             if best_score is None or score > best_score:
                 best, best_score = place, score
+    assert best is not None  # the loops above try at least one place
     label = ax.text(
         *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
     )
