@@ -100,7 +100,7 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     assert share < 1
     # one sentence: each residual with its value and its share of C_I
     found = re.search(
-        r"після встановлення засобів зрівноваження незрівноваженими залишаються лише "
+        r"після встановлення засобів зрівноваження з сил інерції та їхніх моментів незрівноваженими залишаються лише "
         r"ΣPIV = ([\d,]+) Н і ΣPVI = ([\d,]+) Н \(([\d,]+) % і ([\d,]+) % від CI\)",
         plain,
     )

@@ -401,7 +401,7 @@ def test_the_given_data_name_the_throw_the_offset_and_the_crank_angles():
     assert "Crank throw (twice the crank radius) 2 R 78 mm" in text  # 2<i>R</i>
     assert "Pin offset (of the cylinder axis from the crankshaft axis) e 8 mm" in text
     assert f"Piston stroke (computed in section 2) S {stroke * 1e3:.5g} mm" in text
-    assert "Crank angles of the cylinders (from the first cylinder's crank) 0; 180 °" in text
+    assert "Angles of the cranks (lag behind crank 1) 0; 180 °" in text
 
 
 def test_a_small_offset_is_not_called_a_quick_return_mechanism():
