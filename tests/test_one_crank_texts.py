@@ -273,3 +273,14 @@ def test_an_equal_pair_of_shafts_is_still_lanchesters():
 
     text = _plain(shared_html("inline4-petrol", None, "uk").linked_html)
     assert "(механізм Ланчестера)" in text
+
+
+def test_a_radials_conclusions_give_the_master_cylinders_side_force_with_the_slave_rods():
+    """The side force a conclusion names is the master cylinder's N_Σ with the slave rods'
+    thrust (the bay table's extreme, a row of it), not one cylinder's N without them."""
+    bay = _run("radial").outputs["bays"].tables.arrays("bay")
+    side = bay["master_side_Pa"]
+    peak = side[np.argmax(np.abs(side))] / 1e6
+    text = _plain(_html("radial"))
+    assert f"с учётом прицепных шатунов NΣ = {peak:.3f}".replace(".", ",").replace("-", "−") in text
+    assert "боковая сила на стенку цилиндра N =" not in text

@@ -104,7 +104,10 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     shaft_items = _left_without_shafts(t, r, "" if single else "Σ")
     if shaft_items:  # what the shafts take, so the counterweights alone are judged too
         finding = t(
-            "balancing.finding_without_shafts", finding=finding, items=t.join_and(shaft_items)
+            "balancing.finding_without_shafts",
+            finding=finding,
+            items=t.join_and(shaft_items),
+            count=len(r["balance_shafts"]),
         )
     parts_left = mass_difference_items(t, r, whole_orders=False)
     if parts_left:  # the abstract names the whole orders left among the unbalanced already
@@ -432,7 +435,16 @@ def balanced_by_means(t, r) -> str:
     """What the fitted means balance, in words with the symbols ("момент сил інерції другого
     порядку (ΣM_II)"): only the forces and moments the crank arrangement leaves and a fitted
     counterweight or shaft takes."""
-    return _items_in_words(t, r, [s for s in r["summary"] if _fitted(r, s)])
+    fitted = [s for s in r["summary"] if _fitted(r, s)]
+    # an order whose other rotating part the means leave (a slave cylinders' part): only the part
+    # the means take is balanced, named as such
+    phrases = [_items_in_words(t, r, [s for s in fitted if "left_" not in s["remedy"]])]
+    for left, key in (("left_backward", "forward"), ("left_forward", "backward")):
+        parts = [s for s in fitted if left in s["remedy"]]
+        if parts:
+            symbols = ", ".join(plain_symbol(s, "Σ") for s in parts)
+            phrases.append(t("balancing.what_parts_" + key, symbols=symbols, count=len(parts)))
+    return t("balancing.means_and").join(phrase for phrase in phrases if phrase)
 
 
 def balanced_by_scheme(t, r) -> str:

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from functools import partial
 
+import numpy as np
 from markupsafe import Markup, escape
 
-from crankdyn.physics.extrema import first_argmax
+from crankdyn.physics.extrema import first_argmax, first_extremum_index
 from crankdyn.plugin.contracts import ArticulatedOptions
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
@@ -166,7 +167,10 @@ def _bay_parts(output: StageOutput, ctx) -> dict:
         angle,
         rows,
         labels,
-        [(f["pin_load_Pa"], "max", t("bays.extreme_max"))],
+        [
+            (f["pin_load_Pa"], "max", t("bays.extreme_max")),
+            (f["master_side_Pa"], _side_kind(f["master_side_Pa"]), t("bays.extreme_side")),
+        ],
         resolution=0.0,  # the conclusion quotes the peak itself, not a row near it
     )
     first_key = [k for k in output.tables if k.startswith("slave_")][0]
@@ -207,7 +211,22 @@ def _bay_parts(output: StageOutput, ctx) -> dict:
             table=bay_table_number,
         )
     )
+    # the slave rods' thrust included; the row the table adds for it (the first such extreme)
+    side = first_extremum_index(f["master_side_Pa"], _side_kind(f["master_side_Pa"]))
+    ctx.conclude(
+        t(
+            "bays.conclusion_master_side",
+            n_max=ctx.num(f["master_side_Pa"][side] / 1e6, 3),
+            n_angle=ctx.angle_text(float(angle[side])),
+            table=bay_table_number,
+        )
+    )
     return parts
+
+
+def _side_kind(side_Pa) -> str:
+    """Whether the side force is largest in magnitude as its maximum or as its minimum."""
+    return "max" if np.max(side_Pa) >= -np.min(side_Pa) else "min"
 
 
 def render(output: StageOutput, ctx) -> str | None:

@@ -178,6 +178,8 @@ def _conclude(ctx, f, r, whose: str) -> None:
                 eta=ctx.num(r["mechanical_efficiency"], 3),
             )
         )
+    if whose == "_cylinder" and ctx.scene.engine.rod_type == "articulated":
+        return  # the master cylinder's side force with the slave rods: the bays section says it
     ctx.conclude(
         t(
             "forces.conclusion_loads" + whose,
