@@ -117,6 +117,10 @@ def run(
             )
         )
         notes.append(_rounding_note(scene, rounding))
+        if "lost_stroke_fraction" in results:  # the piston's travel s_b = (1 − ψ)S to the ports
+            stroke = piston_stroke_m(scene, motion)
+            results["piston_stroke_m"] = stroke
+            results["port_opening_travel_m"] = (1.0 - results["lost_stroke_fraction"]) * stroke
     results.update(_work_results(pressure, volume, angle, engine, swept, motion))
     p_i_gross = results["gross_mean_indicated_pressure_Pa"]
     if scene.cycle.mean_indicated_pressure is not None:
@@ -208,6 +212,11 @@ def _port_results(params, rounding, clearance: float, volume_function) -> dict:
     return {
         "exhaust_ports_open_deg": float(opening),
         "exhaust_ports_close_deg": float(closing),
+        # the rounding's blowdown after b and its compression rounding after a′, deg
+        "blowdown_deg": ind.BLOWDOWN_FRACTION * rounding.exhaust_opens_before_bdc_deg,
+        "port_closing_rounding_deg": (
+            ind.PORT_CLOSING_ROUNDING_FRACTION * rounding.exhaust_opens_before_bdc_deg
+        ),
         "lost_stroke_fraction": params.lost_stroke_fraction,
         "actual_compression_ratio": float(ind.actual_compression_ratio(params)),
         "port_closing_volume_m3": float(ind.port_closing_volume_m3(clearance, params)),

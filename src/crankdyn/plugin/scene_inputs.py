@@ -198,6 +198,18 @@ def cycle_parameters(scene) -> ind.CycleParameters:
         exhaust_pressure_Pa=c.exhaust_pressure
         if c.exhaust_pressure is not None
         else c.intake_pressure,
+        lost_stroke_fraction=_lost_stroke_fraction(scene),
+    )
+
+
+def _lost_stroke_fraction(scene) -> float:
+    """A two-stroke's exhaust ports' lost stroke fraction ψ by the central crank-slider (the
+    indicator takes the mechanism's own displacement); 0 for a four-stroke cycle."""
+    c = scene.cycle
+    if scene.engine.strokes != 2 or c.source != "theoretical" or c.rounding is None:
+        return 0.0
+    return ind.lost_stroke_fraction(
+        c.rounding.exhaust_opens_before_bdc_deg, scene.engine.rod_ratio_value
     )
 
 
