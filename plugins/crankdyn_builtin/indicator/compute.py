@@ -206,9 +206,7 @@ def _port_results(params, rounding, clearance: float, volume_function) -> dict:
     if volume_function is None:
         closing = params.bdc_deg + rounding.exhaust_opens_before_bdc_deg
     else:
-        closing = ind.port_closing_deg(
-            lambda a: (volume_function(a), None), clearance, params
-        )
+        closing = ind.port_closing_deg(lambda a: (volume_function(a), None), clearance, params)
     return {
         "exhaust_ports_open_deg": float(opening),
         "exhaust_ports_close_deg": float(closing),

@@ -66,7 +66,12 @@ def _port_points(frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
     for label, at, curve, offset in _PORT_POINTS:
         if at == "ports_open":  # the end of the expansion polytrope, at V_a′
             points.append(
-                (label, r["port_closing_volume_m3"] * 1e3, r["expansion_end_pressure_Pa"] / 1e6, offset)
+                (
+                    label,
+                    r["port_closing_volume_m3"] * 1e3,
+                    r["expansion_end_pressure_Pa"] / 1e6,
+                    offset,
+                )
             )
             continue
         if at == "ports_close":  # the start of compression: p_a at V_a′

@@ -131,7 +131,9 @@ class PointwiseModel:
             opening = self._rounding.exhaust_opens_before_bdc_deg
             if e.strokes == 2 and opening > 0:
                 # the exhaust ports' lost stroke fraction, as the indicator diagram takes it
-                travel = float(np.ravel(self.displacement(np.asarray([self._bdc_deg - opening])))[0])
+                travel = float(
+                    np.ravel(self.displacement(np.asarray([self._bdc_deg - opening])))[0]
+                )
                 psi = min(max(1.0 - travel * self.area / self.swept, 0.0), 1.0 - 1e-12)
                 self._params = dataclasses.replace(self._params, lost_stroke_fraction=psi)
             self.knots_deg = np.array([])

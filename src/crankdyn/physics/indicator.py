@@ -313,7 +313,11 @@ class CycleParameters:
                 "pre_expansion_ratio",
                 self.pre_expansion_ratio,
                 f"[1, compression_ratio={eps:.6g}) for a diesel"
-                + (" (the actual ratio from the port closing)" if eps != self.compression_ratio else ""),
+                + (
+                    " (the actual ratio from the port closing)"
+                    if eps != self.compression_ratio
+                    else ""
+                ),
             )
         p_c = compression_end_pressure_Pa(self)
         _require(
@@ -430,8 +434,7 @@ def expansion_end_pressure_Pa(params):
     """
     return (
         params.max_pressure_Pa
-        * (params.pre_expansion_ratio / actual_compression_ratio(params))
-        ** params.expansion_index
+        * (params.pre_expansion_ratio / actual_compression_ratio(params)) ** params.expansion_index
     )
 
 
