@@ -17,6 +17,7 @@ from scipy.integrate import quad
 from tests.conftest import shared_html
 
 from crankdyn import api
+from crankdyn.errors import SceneError
 from crankdyn.physics import indicator as ind
 
 BORE, STROKE, ROD = 0.070, 0.066, 0.122  # m, the outboard motor's cylinder
@@ -278,3 +279,15 @@ def test_a_two_strokes_note_speaks_of_ports_and_the_actual_compression_ratio(
     assert shown is not None
     assert float(shown.group(1).replace(",", ".")) == pytest.approx(actual, abs=6e-4)
     assert "Blair" in html
+
+
+def test_a_diesel_whose_pre_expansion_outgrows_the_actual_compression_is_refused():
+    # ε = 7 with the ports open 80° before BDC (λ = 0.25): ε_д = 4.38 < ρ = 4.9
+    scene = _outboard_scene(
+        ignition="diesel", pre_expansion_ratio=4.9, compression_ratio=7.0, max_pressure="9 MPa"
+    )
+    scene["cycle"]["rounding"]["exhaust_opens_before_bdc_deg"] = 90.0
+    with pytest.raises(SceneError) as refused:
+        api.run(scene, stages=("indicator",))
+    assert "cycle.pre_expansion_ratio = 4.9" in str(refused.value)
+    assert "actual compression ratio from the exhaust ports' closing" in str(refused.value)

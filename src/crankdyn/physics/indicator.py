@@ -313,11 +313,10 @@ class CycleParameters:
                 "pre_expansion_ratio",
                 self.pre_expansion_ratio,
                 f"[1, compression_ratio={eps:.6g}) for a diesel"
-                + (
-                    " (the actual ratio from the port closing)"
-                    if eps != self.compression_ratio
-                    else ""
-                ),
+                if eps == self.compression_ratio
+                else f"[1, {eps:.6g}) for a diesel: the actual compression ratio from the "
+                "exhaust ports' closing (lost_stroke_fraction = "
+                f"{self.lost_stroke_fraction:.4g})",
             )
         p_c = compression_end_pressure_Pa(self)
         _require(
