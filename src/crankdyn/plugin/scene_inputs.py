@@ -198,7 +198,7 @@ def _ported_cycle_problem(c, message: str) -> Problem:
     """The refusal of a cycle whose ρ or p_z do not fit the actual compression ratio."""
     if message.startswith("pre_expansion_ratio"):
         return Problem("cycle.pre_expansion_ratio", c.pre_expansion_ratio, message)
-    if message.startswith("max_pressure_Pa"):
+    if message.startswith("max_pressure_"):
         return Problem("cycle.max_pressure", c.max_pressure, message)
     return Problem("cycle.rounding.exhaust_opens_before_bdc_deg", "(see message)", message)
 
