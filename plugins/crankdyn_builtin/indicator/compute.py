@@ -40,6 +40,10 @@ def bdc_crank_angle_deg(motion) -> float:
     return float(motion.extra.get("bdc_crank_angle_deg", 180.0))
 
 
+#: The mechanism whose exact displacement has a closed form (:func:`ind.lost_stroke_fraction`).
+CENTRAL_CRANK_SLIDER = "crank_slider"
+
+
 def diagram_parameters(scene, motion):
     """The scene's cycle parameters with the mechanism's BDC (points a and b) and, for a
     two-stroke, the lost stroke fraction of its exhaust ports."""
@@ -62,12 +66,14 @@ def diagram_parameters(scene, motion):
 
 def lost_stroke_fraction(scene, motion) -> float:
     """ψ = 1 − s_b/S of a two-stroke's exhaust ports: s_b the piston's travel from TDC when the
-    ports open, ``exhaust_opens_before_bdc_deg`` before BDC, by the mechanism's own displacement
-    (an offset crank-slider's too), or by the central crank-slider's exact one without it."""
+    ports open, ``exhaust_opens_before_bdc_deg`` before BDC. The ports' edge is where the piston
+    stands, so the central crank-slider's is its exact displacement (also when the analysis takes
+    the two-term kinematics); another mechanism's is its own displacement (an offset
+    crank-slider's)."""
     opening = scene.cycle.rounding.exhaust_opens_before_bdc_deg
     if opening <= 0.0:
         return 0.0
-    if motion.displacement_at is None:
+    if scene.engine.mechanism in (None, CENTRAL_CRANK_SLIDER) or motion.displacement_at is None:
         return ind.lost_stroke_fraction(opening, scene.engine.rod_ratio_value)
     at = np.asarray([bdc_crank_angle_deg(motion) - opening])
     travel = float(np.ravel(motion.displacement_at(at))[0])
