@@ -40,9 +40,44 @@ def bdc_crank_angle_deg(motion) -> float:
     return float(motion.extra.get("bdc_crank_angle_deg", 180.0))
 
 
+#: The mechanism whose exact displacement has a closed form (:func:`ind.lost_stroke_fraction`).
+CENTRAL_CRANK_SLIDER = "crank_slider"
+
+
 def diagram_parameters(scene, motion):
-    """The scene's cycle parameters with the mechanism's BDC (points a and b)."""
-    return dataclasses.replace(cycle_parameters(scene), bdc_deg=bdc_crank_angle_deg(motion))
+    """The scene's cycle parameters with the mechanism's BDC (points a and b) and, for a
+    two-stroke, the lost stroke fraction of its exhaust ports."""
+    bdc = bdc_crank_angle_deg(motion)
+    params = dataclasses.replace(cycle_parameters(scene), bdc_deg=bdc)
+    if scene.engine.strokes != 2 or scene.cycle.source != "theoretical":
+        return params
+    psi = lost_stroke_fraction(scene, motion)
+    try:
+        return dataclasses.replace(params, lost_stroke_fraction=psi)
+    except ValueError as exc:
+        raise SceneError(
+            Problem(
+                "cycle.rounding.exhaust_opens_before_bdc_deg",
+                scene.cycle.rounding.exhaust_opens_before_bdc_deg,
+                str(exc),
+            )
+        ) from None
+
+
+def lost_stroke_fraction(scene, motion) -> float:
+    """ψ = 1 − s_b/S of a two-stroke's exhaust ports: s_b the piston's travel from TDC when the
+    ports open, ``exhaust_opens_before_bdc_deg`` before BDC. The ports' edge is where the piston
+    stands, so the central crank-slider's is its exact displacement (also when the analysis takes
+    the two-term kinematics); another mechanism's is its own displacement (an offset
+    crank-slider's)."""
+    opening = scene.cycle.rounding.exhaust_opens_before_bdc_deg
+    if opening <= 0.0:
+        return 0.0
+    if scene.engine.mechanism in (None, CENTRAL_CRANK_SLIDER) or motion.displacement_at is None:
+        return ind.lost_stroke_fraction(opening, scene.engine.rod_ratio_value)
+    at = np.asarray([bdc_crank_angle_deg(motion) - opening])
+    travel = float(np.ravel(motion.displacement_at(at))[0])
+    return min(max(1.0 - travel / piston_stroke_m(scene, motion), 0.0), 1.0 - 1e-12)
 
 
 def run(
@@ -72,8 +107,8 @@ def run(
         # the result is stated as not given, so the answer key leaves its cell empty knowingly
         results["compression_end_pressure_Pa"] = None
     else:
-        params, rounding, clearance, volume, theoretical, pressure = _rounded_diagram(
-            scene, motion, area, swept, junction_deg, volumes
+        params, rounding, clearance, volume, theoretical, pressure, volume_function = (
+            _rounded_diagram(scene, motion, area, swept, junction_deg, volumes)
         )
         table.update(
             {
@@ -83,9 +118,15 @@ def run(
             }
         )
         results.update(
-            _theoretical_results(params, rounding, clearance, theoretical, volume, swept)
+            _theoretical_results(
+                params, rounding, clearance, theoretical, volume, swept, volume_function
+            )
         )
         notes.append(_rounding_note(scene, rounding))
+        if "lost_stroke_fraction" in results:  # the piston's travel s_b = (1 − ψ)S to the ports
+            stroke = piston_stroke_m(scene, motion)
+            results["piston_stroke_m"] = stroke
+            results["port_opening_travel_m"] = (1.0 - results["lost_stroke_fraction"]) * stroke
     results.update(_work_results(pressure, volume, angle, engine, swept, motion))
     p_i_gross = results["gross_mean_indicated_pressure_Pa"]
     if scene.cycle.mean_indicated_pressure is not None:
@@ -119,6 +160,7 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
     clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
     volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
     theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
+    volume_function = _volume_function(motion, area, clearance, volumes)
     try:
         pressure = ind.rounded_pressure_Pa(
             angle,
@@ -126,20 +168,28 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
             clearance,
             params,
             rounding,
-            volume_function=_volume_function(motion, area, clearance, volumes),
+            volume_function=volume_function,
             junction_deg=junction_deg,
             theoretical_Pa=theoretical,
         )
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
-    return params, rounding, clearance, volume, theoretical, pressure
+    return params, rounding, clearance, volume, theoretical, pressure, volume_function
 
 
-def _theoretical_results(params, rounding, clearance, theoretical, volume, swept) -> dict:
+def _theoretical_results(
+    params, rounding, clearance, theoretical, volume, swept, volume_function=None
+) -> dict:
     """The theoretical diagram's results: its points, mean pressures and the rounding's data."""
     work_theoretical = ind.indicated_work_J(theoretical, volume)
     p_i_closed = ind.theoretical_mean_indicated_pressure_Pa(params)
+    ports = (
+        _port_results(params, rounding, clearance, volume_function)
+        if params.lost_stroke_fraction > 0.0
+        else {}
+    )
     return {
+        **ports,
         "clearance_volume_m3": clearance,
         "compression_end_pressure_Pa": ind.compression_end_pressure_Pa(params),
         "expansion_end_pressure_Pa": ind.expansion_end_pressure_Pa(params),
@@ -151,6 +201,29 @@ def _theoretical_results(params, rounding, clearance, theoretical, volume, swept
         "combustion_delay_deg": rounding.combustion_delay_deg,
         "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
         "peak_pressure_fraction": rounding.peak_pressure_fraction,
+    }
+
+
+def _port_results(params, rounding, clearance: float, volume_function) -> dict:
+    """A port-scavenged two-stroke's lost stroke fraction ψ, actual compression ratio ε_д, the
+    volume V_a′ at the port closing a′ (and opening b) and the crank angles of b and a′ (deg after
+    firing TDC; a′ symmetric to b about BDC without the mechanism's displacement)."""
+    opening = params.bdc_deg - rounding.exhaust_opens_before_bdc_deg
+    if volume_function is None:
+        closing = params.bdc_deg + rounding.exhaust_opens_before_bdc_deg
+    else:
+        closing = ind.port_closing_deg(lambda a: (volume_function(a), None), clearance, params)
+    return {
+        "exhaust_ports_open_deg": float(opening),
+        "exhaust_ports_close_deg": float(closing),
+        # the rounding's blowdown after b and its compression rounding after a′, deg
+        "blowdown_deg": ind.BLOWDOWN_FRACTION * rounding.exhaust_opens_before_bdc_deg,
+        "port_closing_rounding_deg": (
+            ind.PORT_CLOSING_ROUNDING_FRACTION * rounding.exhaust_opens_before_bdc_deg
+        ),
+        "lost_stroke_fraction": params.lost_stroke_fraction,
+        "actual_compression_ratio": float(ind.actual_compression_ratio(params)),
+        "port_closing_volume_m3": float(ind.port_closing_volume_m3(clearance, params)),
     }
 
 

@@ -67,9 +67,23 @@ def separated_labels(points, pressures, axes_height_pt: float, gap_pt: float = L
     return out
 
 
-def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
-    """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic points."""
+def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False, ports=None):
+    """The p–V diagram: the actual (or measured) cycle, the theoretical one and its characteristic
+    points; with ``ports`` (:func:`section._port_marks`) the volume V_a′ of the exhaust ports'
+    edge, where they open (b) and close (a′)."""
     fig, ax = new_figure(16, 9.5)
+    if ports is not None:
+        ax.axvline(ports["volume_l"], color="0.6", lw=0.7, ls=":")
+        ax.annotate(
+            r"$V_{\mathrm{a}\prime}$",
+            (ports["volume_l"], 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(-3, -10),
+            textcoords="offset points",
+            fontsize=8,
+            style="italic",
+            ha="right",
+        )
     if theory is not None:
         ax.plot(
             np.append(volume_l, volume_l[0]),
@@ -113,9 +127,24 @@ def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False):
     return fig
 
 
-def _palpha_figure(angle, pressure, theory, cycle_deg, t):
-    """The pressure against the crank angle over the cycle (with the theoretical one, if any)."""
+def _palpha_figure(angle, pressure, theory, cycle_deg, t, ports=None):
+    """The pressure against the crank angle over the cycle (with the theoretical one, if any);
+    with ``ports`` the exhaust ports' opening b and closing a′ marked."""
     fig, ax = new_figure(16, 8)
+    if ports is not None:
+        for label, at, name in ports["angles"]:
+            ax.axvline(at, color="0.6", lw=0.7, ls=":")
+            ax.annotate(
+                f"{label} – {name}",
+                (at, 0.97),
+                xycoords=("data", "axes fraction"),
+                xytext=(3, 0),
+                textcoords="offset points",
+                fontsize=7,
+                rotation=90,
+                ha="left",
+                va="top",
+            )
     if theory is not None:
         ax.plot(angle, theory, color="0.45", lw=1, ls="--", label=t("indicator.theoretical"))
     ax.plot(

@@ -35,14 +35,69 @@ _POINTS = (
 )
 
 
+#: The characteristic points of a port-scavenged two-stroke diagram (0° is firing TDC): b the
+#: exhaust port opening (the theoretical expansion's end), a′ their closing (the start of
+#: compression), and the points of combustion as in a four-stroke diagram.
+_PORT_POINTS = (
+    ("b", "ports_open", "theory", (4, 3)),
+    ("a′", "ports_close", "actual", (-4, -3)),
+    ("c", 0.0, "compression_end", (-4, 0)),
+    ("c′", "advance", "actual", (4, -3)),
+    ("f", "visible", "actual", (-5, -3)),
+    ("c″", 0.0, "actual", (4, 2)),
+    ("z", "theory_peak", "theory", (4, 2)),
+    ("z′", "peak", "actual", (4, 2)),
+)
+
+
+def _port_points(frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
+    """The characteristic points of a two-stroke diagram with exhaust ports (as
+    :func:`_characteristic_points`)."""
+    angle = frame["crank_angle_deg"]
+    theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
+    where = {
+        "advance": 360.0 - r["ignition_advance_deg"],
+        "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
+        "peak": r["max_pressure_crank_angle_deg"],
+        "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
+    }
+    points = []
+    volume_l = frame["cylinder_volume_m3"] * 1e3
+    for label, at, curve, offset in _PORT_POINTS:
+        if at == "ports_open":  # the end of the expansion polytrope, at V_a′
+            points.append(
+                (
+                    label,
+                    r["port_closing_volume_m3"] * 1e3,
+                    r["expansion_end_pressure_Pa"] / 1e6,
+                    offset,
+                )
+            )
+            continue
+        if at == "ports_close":  # the start of compression: p_a at V_a′
+            points.append((label, r["port_closing_volume_m3"] * 1e3, float(theory.min()), offset))
+            continue
+        i = int(np.argmin(np.abs((angle - where.get(at, at) + 180.0) % 360.0 - 180.0)))
+        p = (
+            r["compression_end_pressure_Pa"] / 1e6
+            if curve == "compression_end"
+            else theory[i]
+            if curve == "theory"
+            else actual[i]
+        )
+        points.append((label, float(volume_l[i]), float(p), offset))
+    return points
+
+
 def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
     """(label, volume in l, pressure in MPa, label offset) of each characteristic point of a
-    four-stroke diagram computed from cycle data; none for other cycles."""
-    if (
-        ctx.scene is None
-        or ctx.scene.engine.strokes != 4
-        or getattr(ctx.scene, "cycle", None) is None
-    ):
+    four-stroke diagram, or a two-stroke one with exhaust ports, computed from cycle data; none
+    for other cycles."""
+    if ctx.scene is None or getattr(ctx.scene, "cycle", None) is None:
+        return []
+    if ctx.scene.engine.strokes == 2 and "lost_stroke_fraction" in r:
+        return _port_points(frame, r)
+    if ctx.scene.engine.strokes != 4:
         return []
     angle = frame["crank_angle_deg"]
     theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
@@ -148,15 +203,18 @@ def render(output: StageOutput, ctx) -> str:
     theory = frame["pressure_theoretical_Pa"] / 1e6 if has_theory else None
     points = _characteristic_points(ctx, frame, r) if has_theory else []
     two_stroke = ctx.scene is not None and ctx.scene.engine.strokes == 2
+    ports = _port_marks(r, t)
     figure_pv = ctx.figure(
-        partial(_pv_figure, volume_l, pressure, theory, points, t, two_stroke=two_stroke),
+        partial(
+            _pv_figure, volume_l, pressure, theory, points, t, two_stroke=two_stroke, ports=ports
+        ),
         t("indicator.pv_caption_points" if points else "indicator.pv_caption"),
         "pV",
         see="indicator.see_pv",
     )
     pv_number = ctx.last_figure_number
     figure_pa = ctx.figure(
-        partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t),
+        partial(_palpha_figure, angle, pressure, theory, ctx.cycle_deg, t, ports=ports),
         t("indicator.palpha_caption"),
         "p_alpha",
         see="indicator.see_palpha",
@@ -181,6 +239,20 @@ def render(output: StageOutput, ctx) -> str:
         two_stroke=two_stroke,
         rho_case=_pre_expansion_case(ctx.scene) if diesel else "",
     )
+
+
+def _port_marks(r: dict, t) -> dict | None:
+    """A port-scavenged two-stroke's marks on the figures: the volume V_a′ (l) and the crank
+    angles (deg) of the exhaust port opening b and closing a′ with their names; None otherwise."""
+    if "lost_stroke_fraction" not in r:
+        return None
+    return {
+        "volume_l": r["port_closing_volume_m3"] * 1e3,
+        "angles": (
+            ("b", r["exhaust_ports_open_deg"], t("indicator.ports_open_label")),
+            ("a′", r["exhaust_ports_close_deg"], t("indicator.ports_close_label")),
+        ),
+    }
 
 
 def _pre_expansion_case(scene) -> str:
@@ -214,4 +286,9 @@ SYMBOLS = {
     "theoretical_pressure": Symbol("p", {"en": "theor", "uk": "теор", "ru": "теор"}, "unit.MPa"),
     # the textbook's φ_п, not the crank angle φ of an offset crank-slider
     "fullness": Symbol("φ", {"en": "f", "uk": "п", "ru": "п"}, ""),
+    # a port-scavenged two-stroke's exhaust ports (Kolchin and Demidov)
+    "lost_stroke_fraction": Symbol("ψ", {}, ""),
+    "port_travel": Symbol("s", {"en": "b"}, "unit.mm"),
+    "port_volume": Symbol("V", {"en": "a′"}, "unit.l"),
+    "actual_compression_ratio": Symbol("ε", {"en": "t", "uk": "д", "ru": "д"}, ""),
 }

@@ -32,13 +32,21 @@ def _worked_row(frame, rows, labels, r, scene, wanted_deg):
     """The printed row nearest the worked angle (moved by whole strokes) on a polytrope, or None."""
     volume = frame["cylinder_volume_m3"][rows]
     v_z = scene.cycle.pre_expansion_ratio * r["clearance_volume_m3"]
-    v_a = scene.cycle.compression_ratio * r["clearance_volume_m3"]
+    v_a = _start_volume_m3(r, scene)
     for shift in (0.0, 360.0, 180.0, 540.0):
         i = worked_row(labels, (wanted_deg + shift) % (180.0 * scene.engine.strokes))
         line = polytrope_of(float(labels[i]), scene.engine.strokes)
         if line is not None and v_z < volume[i] < v_a:
             return i, line
     return None
+
+
+def _start_volume_m3(r, scene) -> float:
+    """The volume the polytropes start from, m³: V_a′ at a two-stroke's exhaust port closing and
+    opening, else V_a = ε·V_c."""
+    if "port_closing_volume_m3" in r:
+        return r["port_closing_volume_m3"]
+    return scene.cycle.compression_ratio * r["clearance_volume_m3"]
 
 
 def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
@@ -53,7 +61,8 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
     t, c = ctx.t, scene.cycle
     alpha = float(labels[i])
     volume_l = float(frame["cylinder_volume_m3"][rows][i]) * 1e3
-    v_a_l = c.compression_ratio * r["clearance_volume_m3"] * 1e3
+    v_a_l = _start_volume_m3(r, scene) * 1e3
+    v_a_html = "<i>V</i><sub>a′</sub>" if "port_closing_volume_m3" in r else "<i>V</i><sub>a</sub>"
     if line == "compression":
         start, start_html, index, index_html = (
             c.intake_pressure / 1e6,
@@ -79,7 +88,7 @@ def worked_indicator(ctx, frame, rows, labels, r) -> Markup:
     step = WorkedStep(
         "polytrope_pressure",
         "<i>p</i><sub>theor</sub>",
-        f"{start_html}(<i>V</i><sub>a</sub>/<i>V</i>)<sup>{index_html}</sup>",
+        f"{start_html}({v_a_html}/<i>V</i>)<sup>{index_html}</sup>",
         f"{p_txt}·({va_txt}/{v_txt})<sup>{n_txt}</sup>",
         float(frame["pressure_theoretical_Pa"][rows][i]) / 1e6,
         4,

@@ -128,6 +128,16 @@ class PointwiseModel:
             self._trace = None
             self._params = dataclasses.replace(cycle_parameters(scene), bdc_deg=self._bdc_deg)
             self._rounding = rounding_parameters(scene)
+            opening = self._rounding.exhaust_opens_before_bdc_deg
+            if e.strokes == 2 and opening > 0 and not self.analytic:
+                # the exhaust ports' lost stroke fraction, as the indicator diagram takes it: by
+                # the mechanism's own displacement (the central crank-slider's exact one is the
+                # scene's cycle parameters')
+                travel = float(
+                    np.ravel(self._displacement_at(np.asarray([self._bdc_deg - opening])))[0]
+                )
+                psi = min(max(1.0 - travel * self.area / self.swept, 0.0), 1.0 - 1e-12)
+                self._params = dataclasses.replace(self._params, lost_stroke_fraction=psi)
             self.knots_deg = np.array([])
 
     # kinematics of the chosen method

@@ -12,8 +12,12 @@ compression), 360 = firing TDC, 540 = BDC (end of expansion), 720 = TDC at
 the end of exhaust.
 
 Two-stroke cycle, ``crank_angle_deg`` in [0, 360):
-0 = firing TDC, 180 = BDC (ports open), 360 = TDC.  The textbook starts the
-two-stroke table at BDC; here zero is TDC for both cycles.
+0 = firing TDC, 180 = BDC, 360 = TDC.  The textbook starts the two-stroke
+table at BDC; here zero is TDC for both cycles.  A port-scavenged two-stroke
+opens its exhaust ports phi_b before BDC (point b) and closes them as
+far after it (point a'): the lost stroke fraction psi of the stroke is spent
+on gas exchange, compression starts at a' and expansion ends at b
+(Kolchin and Demidov; Blair 1996, ch. 1).
 
 Method source: V.B. Poda, *Dynamic calculation and balancing of piston
 ICEs*, KhAI 2007, section 3.1 (equations 12-16) and Appendix V (valve
@@ -32,7 +36,13 @@ from .hermite import hermite_cubic
 __all__ = [
     "clearance_volume_m3",
     "cylinder_volume_m3",
+    "lost_stroke_fraction",
     "CycleParameters",
+    "actual_compression_ratio",
+    "port_closing_volume_m3",
+    "port_closing_deg",
+    "BLOWDOWN_FRACTION",
+    "PORT_CLOSING_ROUNDING_FRACTION",
     "compression_end_pressure_Pa",
     "expansion_end_pressure_Pa",
     "pressure_ratio",
@@ -73,11 +83,12 @@ def clearance_volume_m3(swept_volume_m3, compression_ratio):
     Parameters
     ----------
     swept_volume_m3 : float or array_like
-        Swept (displacement) volume of one cylinder V_h, m^3, > 0.  For a
-        two-stroke engine the textbook uses the volume swept from the top edge
-        of the exhaust ports to TDC, with the matching (effective) ratio.
+        Swept (displacement) volume of one cylinder V_h, m^3, > 0: the full
+        stroke's, also for a port-scavenged two-stroke.
     compression_ratio : float or array_like
-        Compression ratio epsilon, > 1.
+        Geometric compression ratio epsilon = (V_c + V_h)/V_c, > 1 (for a
+        two-stroke the actual ratio from the port closing is
+        :func:`actual_compression_ratio`).
 
     Returns
     -------
@@ -140,6 +151,54 @@ def cylinder_volume_m3(piston_displacement_m, piston_area_m2, clearance_volume_m
     return clearance_volume_m3 + piston_area_m2 * displacement
 
 
+def lost_stroke_fraction(exhaust_opens_before_bdc_deg, rod_ratio):
+    """Lost stroke fraction psi of a port-scavenged two-stroke engine.
+
+    Parameters
+    ----------
+    exhaust_opens_before_bdc_deg : float or array_like
+        Exhaust port opening phi_b before BDC, deg, in [0, 180).
+    rod_ratio : float
+        lambda = R / L of the central crank-slider, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        psi = 1 - s_b / S, dimensionless, in [0, 1): the part of the stroke
+        during which the exhaust ports are open.  s_b is the piston travel
+        from TDC to the port edge, at alpha_b = 180 - phi_b, S = 2R.
+
+    Raises
+    ------
+    ValueError
+        If the angle is outside [0, 180) or the rod ratio outside (0, 1).
+
+    Notes
+    -----
+    Kolchin and Demidov (two-stroke thermal calculation: psi is the stroke
+    lost to the exhaust ports); Blair (1996), ch. 1 (port timing).  The
+    displacement is the exact crank-slider one,
+    s = R[(1 - cos alpha) + (1 - cos beta)/lambda], sin beta = lambda sin alpha,
+    evaluated as R[2 sin^2(alpha/2) + lambda sin^2 alpha / (1 + cos beta)].
+    The ports close where the piston covers them again, symmetrically at
+    180 + phi_b.
+    """
+    phi = np.asarray(exhaust_opens_before_bdc_deg, dtype=float)
+    _require(
+        np.all(np.isfinite(phi) & (phi >= 0) & (phi < 180)),
+        "exhaust_opens_before_bdc_deg",
+        exhaust_opens_before_bdc_deg,
+        "[0, 180) deg",
+    )
+    _require(np.isfinite(rod_ratio) and 0 < rod_ratio < 1, "rod_ratio", rod_ratio, "(0, 1)")
+    alpha = np.radians(180.0 - phi)
+    sin_a = np.sin(alpha)
+    cos_b = np.sqrt(1.0 - (rod_ratio * sin_a) ** 2)
+    s_over_r = 2.0 * np.sin(0.5 * alpha) ** 2 + rod_ratio * sin_a**2 / (1.0 + cos_b)
+    psi = 1.0 - 0.5 * s_over_r
+    return psi if np.ndim(psi) else float(psi)
+
+
 # ---------------------------------------------------------------------------
 # Cycle parameters
 # ---------------------------------------------------------------------------
@@ -155,10 +214,11 @@ class CycleParameters:
         ``"spark"`` (constant-volume heat addition) or ``"diesel"`` (mixed
         cycle: constant volume, then constant pressure).
     compression_ratio : float
-        epsilon = V_a / V_c, > 1.
+        Geometric compression ratio epsilon = V_a / V_c = (V_c + V_h)/V_c, > 1.
     intake_pressure_Pa : float
         p_a, absolute pressure at the start of compression, Pa, > 0.  Also
-        the intake-line pressure of a four-stroke diagram.
+        the intake-line pressure of a four-stroke diagram and the scavenging
+        pressure of a two-stroke one while its ports are open.
     compression_index : float
         Polytropic index of compression n1, > 1.
     max_pressure_Pa : float
@@ -177,6 +237,12 @@ class CycleParameters:
         b of the diagram and the exhaust drop lie there.  180 for the central
         crank-slider; an offset crank-slider reaches BDC later (its stroke
         from TDC to BDC takes more than half a turn).
+    lost_stroke_fraction : float, default 0
+        Two-stroke only: psi, the part of the stroke during which the
+        exhaust ports are open (:func:`lost_stroke_fraction`), in [0, 1).
+        Compression starts at the port closing a' and expansion ends at the
+        port opening b, both at V_a' = V_c + (1 - psi) V_h; 0 keeps the
+        whole stroke (gas exchange at BDC).
     """
 
     strokes: int
@@ -189,9 +255,17 @@ class CycleParameters:
     expansion_index: float
     exhaust_pressure_Pa: float | None = None
     bdc_deg: float = 180.0
+    lost_stroke_fraction: float = 0.0
 
     def __post_init__(self):
         _require(self.strokes in (2, 4), "strokes", self.strokes, "2 or 4")
+        psi = self.lost_stroke_fraction
+        _require(
+            np.isfinite(psi) and 0.0 <= psi < 1.0 and (psi == 0.0 or self.strokes == 2),
+            "lost_stroke_fraction",
+            psi,
+            "[0, 1) for a two-stroke cycle, 0 for a four-stroke one",
+        )
         _require(
             np.isfinite(self.bdc_deg) and 0.0 < self.bdc_deg < 360.0,
             "bdc_deg",
@@ -233,13 +307,18 @@ class CycleParameters:
                 "exactly 1.0 for spark ignition",
             )
         else:
+            eps = actual_compression_ratio(self)
             _require(
-                1.0 <= self.pre_expansion_ratio < self.compression_ratio,
+                1.0 <= self.pre_expansion_ratio < eps,
                 "pre_expansion_ratio",
                 self.pre_expansion_ratio,
-                f"[1, compression_ratio={self.compression_ratio}) for a diesel",
+                f"[1, compression_ratio={eps:.6g}) for a diesel"
+                if eps == self.compression_ratio
+                else f"[1, {eps:.6g}) for a diesel: the actual compression ratio from the "
+                "exhaust ports' closing (lost_stroke_fraction = "
+                f"{self.lost_stroke_fraction:.4g})",
             )
-        p_c = self.intake_pressure_Pa * self.compression_ratio**self.compression_index
+        p_c = compression_end_pressure_Pa(self)
         _require(
             np.isfinite(self.max_pressure_Pa) and self.max_pressure_Pa > p_c,
             "max_pressure_Pa",
@@ -257,6 +336,59 @@ class CycleParameters:
             )
 
 
+def actual_compression_ratio(params):
+    """Compression ratio from the start of compression.
+
+    Parameters
+    ----------
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        epsilon_d = V_a' / V_c = 1 + (1 - psi)(epsilon - 1), dimensionless:
+        the geometric epsilon itself when psi = 0 (a four-stroke cycle, or a
+        two-stroke one without ports).
+
+    Notes
+    -----
+    Kolchin and Demidov (two-stroke engines: the actual compression ratio
+    from the closing of the exhaust ports); V_a' = V_c + (1 - psi) V_h with
+    V_h = (epsilon - 1) V_c.
+    """
+    psi = params.lost_stroke_fraction
+    return _actual_ratio(params.compression_ratio, psi)
+
+
+def _actual_ratio(eps, psi):
+    """1 + (1 - psi)(eps - 1), exactly eps where psi = 0 (scalars or columns)."""
+    if np.ndim(psi) == 0 and psi == 0.0:
+        return eps
+    return np.where(psi == 0.0, eps, 1.0 + (1.0 - psi) * (eps - 1.0))
+
+
+def port_closing_volume_m3(clearance_volume_m3, params):
+    """Cylinder volume at the start of compression and the end of expansion.
+
+    Parameters
+    ----------
+    clearance_volume_m3 : float
+        V_c, m^3, > 0.
+    params : CycleParameters
+
+    Returns
+    -------
+    float
+        V_a' = epsilon_d V_c = V_c + (1 - psi) V_h, m^3: the port closing a'
+        and opening b of a two-stroke, V_a = V_c + V_h otherwise.
+
+    Notes
+    -----
+    Kolchin and Demidov; :func:`actual_compression_ratio`.
+    """
+    return actual_compression_ratio(params) * clearance_volume_m3
+
+
 def compression_end_pressure_Pa(params):
     """Pressure at the end of polytropic compression.
 
@@ -267,13 +399,16 @@ def compression_end_pressure_Pa(params):
     Returns
     -------
     float
-        p_c = p_a epsilon^n1, Pa.
+        p_c = p_a epsilon_d^n1, Pa; epsilon_d = epsilon unless a two-stroke's
+        ports take the lost stroke fraction psi
+        (:func:`actual_compression_ratio`).
 
     Notes
     -----
-    Poda (2007) eq. (12) evaluated at V = V_c.
+    Poda (2007) eq. (12) evaluated at V = V_c; Kolchin and Demidov for the
+    compression from the port closing a'.
     """
-    return params.intake_pressure_Pa * params.compression_ratio**params.compression_index
+    return params.intake_pressure_Pa * actual_compression_ratio(params) ** params.compression_index
 
 
 def expansion_end_pressure_Pa(params):
@@ -286,17 +421,19 @@ def expansion_end_pressure_Pa(params):
     Returns
     -------
     float
-        p_b = p_z (rho / epsilon)^n2, Pa (rho = 1 for spark ignition).
+        p_b = p_z (rho / epsilon_d)^n2, Pa (rho = 1 for spark ignition;
+        epsilon_d = epsilon unless a two-stroke's ports open at V_a').
 
     Notes
     -----
     Derived from the expansion polytrope p V^n2 = const started at
-    V_z = rho V_c with p_z and ended at V_a = epsilon V_c; consistent with
-    Poda (2007) eq. (13).
+    V_z = rho V_c with p_z and ended at V_a = epsilon V_c (a two-stroke's at
+    the exhaust port opening b, V_b = V_a' for symmetric ports); consistent
+    with Poda (2007) eq. (13) and Kolchin and Demidov.
     """
     return (
         params.max_pressure_Pa
-        * (params.pre_expansion_ratio / params.compression_ratio) ** params.expansion_index
+        * (params.pre_expansion_ratio / actual_compression_ratio(params)) ** params.expansion_index
     )
 
 
@@ -322,24 +459,30 @@ def pressure_ratio(params):
 # ---------------------------------------------------------------------------
 # Theoretical diagram
 # ---------------------------------------------------------------------------
+def _start_volume_m3(clearance_m3, params):
+    """V_a' = epsilon_d V_c (V_a where psi = 0); params may hold columns."""
+    psi = getattr(params, "lost_stroke_fraction", 0.0)
+    return _actual_ratio(params.compression_ratio, psi) * clearance_m3
+
+
 def _compression_line_Pa(volume_m3, clearance_m3, params):
-    """p_a (V_a / V)^n1 with V capped at V_a (eq. 12)."""
-    v_a = params.compression_ratio * clearance_m3
+    """p_a (V_a' / V)^n1 with V capped at V_a' (eq. 12)."""
+    v_a = _start_volume_m3(clearance_m3, params)
     v = np.minimum(volume_m3, v_a)
     return params.intake_pressure_Pa * (v_a / v) ** params.compression_index
 
 
 def _compression_slope_Pa_per_deg(volume_m3, dvolume_m3_per_deg, clearance_m3, params):
     """d/dalpha of the compression line, Pa/deg."""
-    v_a = params.compression_ratio * clearance_m3
+    v_a = _start_volume_m3(clearance_m3, params)
     p = _compression_line_Pa(volume_m3, clearance_m3, params)
     dp_dv = np.where(volume_m3 < v_a, -params.compression_index * p / volume_m3, 0.0)
     return dp_dv * dvolume_m3_per_deg
 
 
 def _expansion_line_Pa(volume_m3, clearance_m3, params):
-    """min(p_z, p_z (rho V_c / V)^n2) with V capped at V_a (eq. 13)."""
-    v_a = params.compression_ratio * clearance_m3
+    """min(p_z, p_z (rho V_c / V)^n2) with V capped at V_a' (eq. 13)."""
+    v_a = _start_volume_m3(clearance_m3, params)
     v = np.minimum(volume_m3, v_a)
     ratio = params.pre_expansion_ratio * clearance_m3 / v
     return params.max_pressure_Pa * np.minimum(1.0, ratio) ** params.expansion_index
@@ -347,7 +490,7 @@ def _expansion_line_Pa(volume_m3, clearance_m3, params):
 
 def _expansion_slope_Pa_per_deg(volume_m3, dvolume_m3_per_deg, clearance_m3, params):
     """d/dalpha of the expansion line (zero on the isobar), Pa/deg."""
-    v_a = params.compression_ratio * clearance_m3
+    v_a = _start_volume_m3(clearance_m3, params)
     v_z = params.pre_expansion_ratio * clearance_m3
     p = _expansion_line_Pa(volume_m3, clearance_m3, params)
     on_polytrope = (volume_m3 > v_z) & (volume_m3 < v_a)
@@ -415,12 +558,17 @@ def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, par
 
     Two-stroke: expansion on [0, 180] (p_z at 0, with the diesel isobar),
     compression on (180, 360) from p_a; the isochoric jump back to p_z
-    happens at 360 = 0.
+    happens at 360 = 0.  With ports (psi > 0) expansion ends at the exhaust
+    port opening b, V = V_a' = V_c + (1 - psi) V_h, at p_b = p_z (rho V_c /
+    V_a')^n2; there the pressure drops at constant volume to the scavenging
+    pressure p_a and stays at p_a while V > V_a' (ports open, b -> BDC ->
+    a'); compression p_a (V_a'/V)^n1 starts at the port closing a'
+    (Kolchin and Demidov; Blair 1996, ch. 1).
 
-    Volumes above V_a (possible only when epsilon is a two-stroke effective
-    ratio, or the geometry is inconsistent) are treated as V_a, i.e. the
-    polytropes are held at p_a / p_b there.  With consistent geometry the
-    pressure at BDC equals p_a (after intake) and p_b (after expansion).
+    Volumes above V_a' (V_a without ports; otherwise possible only with
+    inconsistent geometry) hold the polytropes at p_a / p_b.  With
+    consistent geometry the pressure at BDC equals p_a (after intake or with
+    ports open) and p_b (after a four-stroke's expansion).
     Poda (2007) eqs. (12)-(15).
     """
     alpha = np.asarray(crank_angle_deg, dtype=float)
@@ -443,6 +591,10 @@ def theoretical_pressure_Pa(crank_angle_deg, volume_m3, clearance_volume_m3, par
         conditions = [a <= bdc, a < 360.0, a <= 360.0 + bdc]
         choices = [np.full_like(a, params.intake_pressure_Pa), p_comp, p_exp]
         return np.select(conditions, choices, default=params.exhaust_pressure_Pa)
+    if params.lost_stroke_fraction > 0.0:
+        # ports open from b to a' (the volume above V_a'): the scavenging pressure p_a
+        v_port = port_closing_volume_m3(clearance_volume_m3, params) * (1.0 + _VOLUME_RTOL)
+        p_exp = np.where(volume > v_port, params.intake_pressure_Pa, p_exp)
     return np.where(a <= bdc, p_exp, p_comp)
 
 
@@ -456,26 +608,32 @@ def theoretical_mean_indicated_pressure_Pa(params):
     Returns
     -------
     float
-        p_i' = p_c/(eps-1) [lambda_p (rho-1) + lambda_p rho/(n2-1)
-        (1 - 1/delta^(n2-1)) - 1/(n1-1) (1 - 1/eps^(n1-1))], Pa,
-        with delta = eps/rho.
+        p_i' = (1 - psi) p_c/(eps_d-1) [lambda_p (rho-1) + lambda_p rho/(n2-1)
+        (1 - 1/delta^(n2-1)) - 1/(n1-1) (1 - 1/eps_d^(n1-1))], Pa,
+        with delta = eps_d/rho; eps_d = eps and psi = 0 unless a two-stroke's
+        ports take the lost stroke fraction psi (:func:`actual_compression_ratio`).
 
     Notes
     -----
     Derived: the work of the closed part of the cycle per unit swept volume,
 
     * isobar V_c -> rho V_c: p_z (rho - 1) V_c,
-    * expansion polytrope rho V_c -> V_a:
+    * expansion polytrope rho V_c -> V_a':
       p_z rho V_c / (n2 - 1) [1 - delta^(1-n2)],
-    * compression polytrope V_a -> V_c (negative work):
-      p_c V_c / (n1 - 1) [1 - eps^(1-n1)],
+    * compression polytrope V_a' -> V_c (negative work):
+      p_c V_c / (n1 - 1) [1 - eps_d^(1-n1)],
 
-    divided by V_h = (eps - 1) V_c.  For spark ignition rho = 1 and the first
+    divided by the useful stroke's volume V_a' - V_c = (eps_d - 1) V_c gives
+    the bracket; Kolchin and Demidov refer the two-stroke's p_i' computed over
+    the useful stroke to the whole stroke by the factor (1 - psi), so that
+    p_i' = (work of the polytropes) / V_h (V_a' = V_a, psi = 0, in a
+    four-stroke cycle).  For spark ignition rho = 1 and the first
     term vanishes.  The gas-exchange (pumping) loop is excluded: the
     four-stroke diagram of :func:`theoretical_pressure_Pa` has, in addition,
-    the work (p_a - p_r) V_h of its intake and exhaust lines.
+    the work (p_a - p_r) V_h of its intake and exhaust lines; the two-stroke's
+    scavenging at p_a between b and a' does no net work.
     """
-    eps = params.compression_ratio
+    eps = actual_compression_ratio(params)
     rho = params.pre_expansion_ratio
     n1 = params.compression_index
     n2 = params.expansion_index
@@ -487,7 +645,10 @@ def theoretical_mean_indicated_pressure_Pa(params):
         + lam * rho / (n2 - 1.0) * (1.0 - delta ** (1.0 - n2))
         - 1.0 / (n1 - 1.0) * (1.0 - eps ** (1.0 - n1))
     )
-    return p_c / (eps - 1.0) * bracket
+    mean = p_c / (eps - 1.0) * bracket
+    if params.lost_stroke_fraction > 0.0:
+        mean *= 1.0 - params.lost_stroke_fraction
+    return mean
 
 
 # ---------------------------------------------------------------------------
@@ -939,6 +1100,7 @@ class _ColumnLines:
             name: column(name)
             for name in (
                 "compression_ratio",
+                "lost_stroke_fraction",
                 "pre_expansion_ratio",
                 "max_pressure_Pa",
                 "expansion_index",
@@ -1176,8 +1338,9 @@ def _check_combustion_window(rounding, params, psi_c1: float) -> None:
     eo = rounding.exhaust_opens_before_bdc_deg
     psi_peak = rounding.peak_angle_after_tdc_deg
     bdc = params.bdc_deg
-    if params.strokes != 4:
-        # the drop end (after BDC) must precede C' (before the next firing TDC)
+    if params.strokes != 4 and params.lost_stroke_fraction == 0.0:
+        # the drop end (after BDC) must precede C' (before the next firing TDC); with ports,
+        # the rounding after their closing is checked where it is built (_port_rounding)
         _require(
             _drop_end_psi_deg(rounding, bdc) - 360.0 < psi_c1,
             "exhaust_opens_before_bdc_deg",
@@ -1264,6 +1427,8 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     eo = rounding.exhaust_opens_before_bdc_deg
     if not eo > 0:
         return pressure
+    if params.lost_stroke_fraction > 0.0:
+        return _port_rounding(alpha, pressure, lines, rounding, cycle, psi_j)
     p_b = expansion_end_pressure_Pa(params)
     p_low = params.exhaust_pressure_Pa if four else params.intake_pressure_Pa
     bdc = params.bdc_deg
@@ -1308,6 +1473,98 @@ def _exhaust_drop(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b1, cycle)
     in_window = offset <= 1.5 * eo
     return _laid_over(pressure, in_window, drop, psi_b1 + offset)
+
+
+#: Length of the blowdown after the exhaust port opening b, as a fraction of the port opening
+#: angle before BDC: the cylinder is down at the scavenging pressure about when the transfer ports
+#: open, some 15-25 deg after the exhaust ports (Blair 1996, ch. 1).
+BLOWDOWN_FRACTION = 0.25
+#: Length of the compression rounding after the port closing a', the same fraction: the ports
+#: are covered gradually, and the charge is trapped a little after the geometric closing.
+PORT_CLOSING_ROUNDING_FRACTION = 0.25
+
+
+def port_closing_deg(lines_or_volume_at, clearance_volume_m3, params):
+    """The port closing a', deg after firing TDC: where the volume falls back to V_a' after BDC.
+
+    ``lines_or_volume_at`` is ``volume_at(angle_deg) -> (V, dV/dalpha)`` over the cycle's
+    angles.  Bisection on [BDC, BDC + 180): the volume decreases monotonically there.
+    """
+    volume_at = getattr(lines_or_volume_at, "volume_at", lines_or_volume_at)
+    tdc = _firing_tdc_deg(params)
+    target = port_closing_volume_m3(clearance_volume_m3, params)
+    lo, hi = params.bdc_deg, params.bdc_deg + 180.0
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        v = float(np.ravel(volume_at(np.asarray([tdc + mid]))[0])[0])
+        if v > target:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-12:
+            break
+    return 0.5 * (lo + hi)
+
+
+def _port_rounding(alpha, pressure, lines: _Lines, rounding, cycle, psi_j):
+    """A port-scavenged two-stroke's gas exchange laid over ``pressure`` (Pa).
+
+    Blowdown: from the exhaust port opening b (bdc - phi_b, the expansion
+    line's value p_b and slope) down to the scavenging pressure p_a with zero
+    slope BLOWDOWN_FRACTION * phi_b later, well before BDC; the cylinder then stays at p_a
+    (the theoretical diagram) until the port closing a'; compression rounding:
+    from a' (p_a, zero slope) onto the compression line (its value and slope)
+    PORT_CLOSING_ROUNDING_FRACTION * phi_b later.  Both cubic Hermite segments
+    must pass the Fritsch-Carlson test, so the pressure between b and a' never
+    falls below p_a.  Derived construction; the phases after Blair (1996), ch. 1.
+    """
+    params = lines.params
+    eo = rounding.exhaust_opens_before_bdc_deg
+    p_low = params.intake_pressure_Pa
+    psi_b = params.bdc_deg - eo
+    _require(
+        psi_j < psi_b,
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        f"< {params.bdc_deg - psi_j:.6g} deg so that b follows the combustion rounding junction J",
+    )
+    p_b, s_b = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_b])))
+    _require(
+        p_b > p_low,
+        "intake_pressure_Pa",
+        p_low,
+        f"< expansion-end pressure p_b = {p_b:.6g} Pa for the exhaust blowdown",
+    )
+    blowdown = BLOWDOWN_FRACTION * eo
+    _require(
+        _hermite_is_monotone(s_b, 0.0, (p_low - p_b) / blowdown),
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        "a value for which the blowdown from the port opening b is monotone",
+    )
+    drop = hermite_cubic([psi_b, psi_b + blowdown], [p_b, p_low], [s_b, 0.0])
+    psi_a = port_closing_deg(lines, lines.clearance_volume_m3, params)
+    psi_end = psi_a + PORT_CLOSING_ROUNDING_FRACTION * eo
+    psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
+    _require(
+        psi_end - 360.0 < psi_c1,
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        "a smaller value, so that the compression rounding after the port closing a' "
+        f"({psi_a:.6g} deg) ends before the combustion point C' ({psi_c1 + 360.0:.6g} deg)",
+    )
+    p_end, s_end = (float(x[0]) for x in lines.compression_at(np.asarray([psi_end])))
+    _require(
+        _hermite_is_monotone(0.0, s_end, (p_end - p_low) / (psi_end - psi_a)),
+        "exhaust_opens_before_bdc_deg",
+        eo,
+        "a value for which the compression rounding after the port closing a' is monotone",
+    )
+    closing = hermite_cubic([psi_a, psi_end], [p_low, p_end], [0.0, s_end])
+    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_b, cycle)
+    pressure = _laid_over(pressure, offset <= blowdown, drop, psi_b + offset)
+    offset = _local_offset_deg(alpha, lines.tdc_deg + psi_a, cycle)
+    return _laid_over(pressure, offset <= psi_end - psi_a, closing, psi_a + offset)
 
 
 def _laid_over(pressure, in_window, curve, at):

@@ -186,6 +186,24 @@ def crank_train(scene, bays: BayLoads) -> CrankTrain:
 def cycle_parameters(scene) -> ind.CycleParameters:
     """The theoretical cycle's parameters of the scene's ``[cycle]``."""
     c = scene.cycle
+    try:
+        return _cycle_parameters(scene, c)
+    except ValueError as exc:
+        # a two-stroke's exhaust ports shorten its compression: ρ and p_z are checked against
+        # the actual compression ratio from the port closing, which the scene's fields do not see
+        raise SceneError(_ported_cycle_problem(c, str(exc))) from None
+
+
+def _ported_cycle_problem(c, message: str) -> Problem:
+    """The refusal of a cycle whose ρ or p_z do not fit the actual compression ratio."""
+    if message.startswith("pre_expansion_ratio"):
+        return Problem("cycle.pre_expansion_ratio", c.pre_expansion_ratio, message)
+    if message.startswith("max_pressure_"):
+        return Problem("cycle.max_pressure", c.max_pressure, message)
+    return Problem("cycle.rounding.exhaust_opens_before_bdc_deg", "(see message)", message)
+
+
+def _cycle_parameters(scene, c) -> ind.CycleParameters:
     return ind.CycleParameters(
         strokes=scene.engine.strokes,
         ignition=c.ignition,
@@ -198,6 +216,18 @@ def cycle_parameters(scene) -> ind.CycleParameters:
         exhaust_pressure_Pa=c.exhaust_pressure
         if c.exhaust_pressure is not None
         else c.intake_pressure,
+        lost_stroke_fraction=_lost_stroke_fraction(scene),
+    )
+
+
+def _lost_stroke_fraction(scene) -> float:
+    """A two-stroke's exhaust ports' lost stroke fraction ψ by the central crank-slider (the
+    indicator takes the mechanism's own displacement); 0 for a four-stroke cycle."""
+    c = scene.cycle
+    if scene.engine.strokes != 2 or c.source != "theoretical" or c.rounding is None:
+        return 0.0
+    return ind.lost_stroke_fraction(
+        c.rounding.exhaust_opens_before_bdc_deg, scene.engine.rod_ratio_value
     )
 
 

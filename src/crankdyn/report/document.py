@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import functools
 import hashlib
@@ -679,6 +680,7 @@ def render_html(
         ),
         single=scene.engine.cylinders == 1,
         symbols=ctx.symbols,
+        strokes=scene.engine.strokes,
     )
     return RenderedReport(
         linked_html=html,
@@ -804,9 +806,12 @@ def _finish(
     without_legend: frozenset[str],
     single: bool = False,
     symbols: SymbolTable = SYMBOLS,
+    strokes: int = 4,
 ) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
-    "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings)."""
+    "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings;
+    ``strokes``: a two-stroke engine's meanings of the cycle, :func:`_cycle_meanings`)."""
+    t = _cycle_meanings(t, strokes)
     html = _fill_counts(html, t, sources)
     html = by_sections(
         _typeset_part, html, language, tuple(report_units(t)), t.decimal_separator, symbols
@@ -961,6 +966,30 @@ def _fill_counts(html: str, t, sources: int) -> str:
         appendices=t("doc.abstract_appendices", count=appendices) if appendices else "",
     )
     return html.replace("@@ABSTRACT_COUNTS@@", counts)
+
+
+#: The suffix of a symbol's meaning for a two-stroke engine ("symbol.cycle_angle_two_stroke"):
+#: it takes the place of the plain meaning, which states the four-stroke cycle.
+_TWO_STROKE_SUFFIX = "_two_stroke"
+
+
+def _cycle_meanings(t, strokes: int):
+    """``t`` with the symbols' meanings of the engine's own cycle: for a two-stroke engine each
+    "symbol.<key>_two_stroke" in place of "symbol.<key>"; ``t`` itself for a four-stroke one."""
+    if strokes != 2:
+        return t
+
+    def own(texts: dict) -> dict:
+        return {
+            **texts,
+            **{
+                key[: -len(_TWO_STROKE_SUFFIX)]: text
+                for key, text in texts.items()
+                if key.startswith("symbol.") and key.endswith(_TWO_STROKE_SUFFIX)
+            },
+        }
+
+    return dataclasses.replace(t, texts=own(t.texts), fallback=own(t.fallback))
 
 
 def symbol_list_html(
