@@ -334,12 +334,12 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                 o + d * corners[0] + n * half * 0.97,
             ]
         )
-        ax.fill(
+        ax.fill(  # a link: the thick solid line of ГОСТ 2.770, the walls being thin
             rect[:, 0],
             rect[:, 1],
             facecolor="white",
             edgecolor=color,
-            lw=1.2,
+            lw=2.0,
             ls="-",
             alpha=alpha,
             zorder=3,
