@@ -98,27 +98,28 @@ def plan_figure(data: dict, texts: PlanTexts):
     sides = row_sides(data["bank_axes_deg"])
     throw = 0.22 * a  # the throw drawn up from the axis
     row = throw + 0.25 * a + 0.5 * bore  # a row's centre from the axis
-    length = (cranks + 1.6) * a
-    height = 2 * row + bore + 0.9 * a
+    start, end = -0.5 * a - 0.45 * a, (cranks - 0.5) * a + 0.6 * a
+    bottom = -max(row + 0.5 * bore if -1.0 in sides.values() else 0.0, 0.3 * a)
+    top = row + 0.5 * bore if 1.0 in sides.values() else throw
+    xlim = (start - 1.25 * a, end + 0.35 * a)
+    ylim = (bottom - 0.55 * a, top + (0.4 * a if texts.offset else 0.2 * a))
     width_cm = 16.0
-    fig, ax = new_figure(width_cm, min(max(width_cm * height / length, 5.0), 11.0))
+    aspect = (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
+    fig, ax = new_figure(width_cm, min(width_cm * aspect + 0.6, 14.0))
     ax.set_aspect("equal")
     ax.axis("off")
-    start, end = -0.5 * a - 0.45 * a, (cranks - 0.5) * a + 0.6 * a
     _shaft(ax, a, cranks, throw, start, end)
     _supports(ax, a, cranks)
     _cylinders(ax, data, sides, row, bore)
     _row_names(ax, texts.banks, sides, row, bore, start)
     _crank_numbers(ax, a, cranks, texts.crank)
-    bottom = -max(row + 0.5 * bore if -1.0 in sides.values() else 0.0, 0.3 * a)
     _spacing_dimension(ax, a, throw, bottom - 0.25 * a, texts.spacing)
     if texts.offset:
         _offset_dimension(ax, data, sides, row, bore, texts.offset)
     _ends(ax, start, end, a, texts)
-    top = row + 0.5 * bore if 1.0 in sides.values() else throw
     _rotation(ax, start - 0.75 * a, 0.0, 0.22 * a, texts.rotation)
-    ax.set_xlim(start - 1.25 * a, end + 0.35 * a)
-    ax.set_ylim(bottom - 0.55 * a, top + 0.35 * a)
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
     return fig
 
 
@@ -184,7 +185,7 @@ def _row_names(ax, names, sides, row, bore, start) -> None:
 def _crank_numbers(ax, a, cranks, word) -> None:
     """The cranks' numbers from the free end, under the axis between the supports."""
     for k in range(cranks):
-        ax.text(k * a, -0.12 * a, f"{word} {k + 1}".strip(), ha="center", va="top", fontsize=8,
+        ax.text(k * a, -0.2 * a, f"{word} {k + 1}".strip(), ha="center", va="top", fontsize=8,
                 gid="plan-crank")
 
 
