@@ -1433,47 +1433,22 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
     """R of an engine with several cylinders: the rods of every bank meet at the crank pin, so the
-    text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
+    text goes where nothing drawn is, joined to the crank's dimension line by a leader."""
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-    _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
     if master_rod_joints(geometry):  # a radial: the text near its line, by a short leader
+        _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
         _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
         return
-    lowest = min(float(points[i][1]) * MM for points in j.values())
-    for (
-        guide
-    ) in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
-        if guide.bore_m > 0 and guide.moving is None:
-            go, gd, gn = _guide_frame(geometry, guide, i)
-            ends = liner_ends_mm(guide, geometry)
-            lowest = min(
-                [lowest]
-                + [
-                    float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
-                    for e in ends
-                    for s in (-1, 1)
-                ]
-            )
-            if guide.label:  # a label beyond a liner's end that points down (a boxer's)
-                beyond = go + gd * (ends[1] + (LABEL_OFFSET + 0.05) * extent)
-                lowest = min(lowest, float(beyond[1]))
+    # a bank's rods meet at the pin: the line clear of the crank by the room of its arrows, the
+    # text where nothing drawn is, by a leader to the line's middle (ГОСТ 2.307)
+    offset = -extent * 0.065
+    _dimension(ax, p, q, "", offset, extent, "R")
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
-    mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
-    at = np.array([float(p[0]), lowest - extent * 0.08])
-    ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
-    ax.text(
-        *at,
-        text,
-        ha="center",
-        va="top",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
-        gid="dimension-R-text",
-    )
+    mid = (p + q) / 2 + np.array([d[1], -d[0]]) * -offset
+    _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
 
 
 def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -> None:
