@@ -37,7 +37,9 @@ def _t(language: str):
 def _drawn(example: str, language: str):
     plan = shared_run(example).outputs["bays"].results["plan"]
     t = _t(language)
-    printed = dict(plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]])
+    printed = dict(
+        plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]]
+    )
     fig = plan_figure(printed, plan_texts(plan, t))
     fig.canvas.draw()
     return plan, fig.axes[0]
@@ -74,8 +76,12 @@ def test_a_vs_banks_lie_either_side_and_one_rod_width_apart_along_the_shaft():
     bore = _mm(scene["engine"]["bore"]) / 1e3
     assert plan["rod_offset_m"] == pytest.approx(0.45 * 0.63 * bore)
     places = {c["label"]: c["position_m"] for c in plan["cylinders"]}
-    assert places["1R"] - places["1L"] == pytest.approx(plan["rod_offset_m"])  # L nearer the free end
-    assert places["2L"] - places["1L"] == pytest.approx(_mm(scene["engine"]["cylinder_spacing"]) / 1e3)
+    assert places["1R"] - places["1L"] == pytest.approx(
+        plan["rod_offset_m"]
+    )  # L nearer the free end
+    assert places["2L"] - places["1L"] == pytest.approx(
+        _mm(scene["engine"]["cylinder_spacing"]) / 1e3
+    )
 
 
 def test_a_boxers_banks_are_opposite_and_an_inline_row_above_the_shaft():

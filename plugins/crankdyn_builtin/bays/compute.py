@@ -184,7 +184,9 @@ def run(scene, inputs) -> StageOutput:
     layout = engine_layout(scene)
     results = _layout_results(e, layout)
     if layout.cranks > 1:  # a one-crank engine's front-view scheme shows all it has
-        results["plan"] = plan_data(layout, e.bore, e.cylinder_spacing, _rod_offset_m(scene, layout))
+        results["plan"] = plan_data(
+            layout, e.bore, e.cylinder_spacing, _rod_offset_m(scene, layout)
+        )
     notes = _firing_notes(scene, layout)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True

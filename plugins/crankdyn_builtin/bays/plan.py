@@ -84,8 +84,10 @@ def row_sides(bank_axes_deg: dict[str, float]) -> dict[int, float]:
     if len(angles) == 2 and abs(abs(np.diff(list(angles.values()))[0]) - math.pi) < 1e-9:
         middle = sum(angles.values()) / 2  # opposed banks (a boxer): their mean is straight up
     sides = {b: -math.sin(a - middle) for b, a in angles.items()}
-    return {b: 0.0 if abs(s) < 1e-6 else s / max(abs(x) for x in sides.values()) for b, s in
-            sides.items()}
+    return {
+        b: 0.0 if abs(s) < 1e-6 else s / max(abs(x) for x in sides.values())
+        for b, s in sides.items()
+    }
 
 
 def plan_figure(data: dict, texts: PlanTexts):
@@ -148,8 +150,9 @@ def _supports(ax, a, cranks) -> None:
     for j in range(cranks + 1):
         x = (j - 0.5) * a
         ax.add_patch(
-            Rectangle((x - half, -0.5 * depth), 2 * half, depth, fill=False, ec=INK, lw=1.0,
-                      zorder=4)
+            Rectangle(
+                (x - half, -0.5 * depth), 2 * half, depth, fill=False, ec=INK, lw=1.0, zorder=4
+            )
         )
         base = -0.5 * depth - 0.08 * a
         ax.plot([x, x], [-0.5 * depth, base], color=INK, lw=1.0)
@@ -166,10 +169,17 @@ def _cylinders(ax, data, sides, row, bore) -> None:
     for c in data["cylinders"]:
         x, y = c["position_m"] * 1e3, sides[c["bank"]] * row
         ax.add_patch(Circle((x, y), 0.5 * bore, fill=False, ec=INK, lw=1.4, zorder=5))
-        ax.plot([x, x], [y - 0.6 * bore, y + 0.6 * bore], color=INK, lw=0.4,
-                ls=(0, (8, 2, 1, 2)))
-        text = ax.text(x, y, c["label"], ha="center", va="center", fontsize=9, zorder=6,
-                       bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none"})
+        ax.plot([x, x], [y - 0.6 * bore, y + 0.6 * bore], color=INK, lw=0.4, ls=(0, (8, 2, 1, 2)))
+        text = ax.text(
+            x,
+            y,
+            c["label"],
+            ha="center",
+            va="center",
+            fontsize=9,
+            zorder=6,
+            bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none"},
+        )
         text.set_gid("plan-cylinder")
 
 
@@ -177,16 +187,29 @@ def _row_names(ax, names, sides, row, bore, start) -> None:
     """A bank's name ("Л – левый ряд") left of its row."""
     for bank, name in enumerate(names):
         if name and bank in sides:
-            ax.text(start, sides[bank] * row + 0.5 * bore * (1 if sides[bank] >= 0 else -1),
-                    name, ha="left", va="bottom" if sides[bank] >= 0 else "top", fontsize=8,
-                    color="0.15")
+            ax.text(
+                start,
+                sides[bank] * row + 0.5 * bore * (1 if sides[bank] >= 0 else -1),
+                name,
+                ha="left",
+                va="bottom" if sides[bank] >= 0 else "top",
+                fontsize=8,
+                color="0.15",
+            )
 
 
 def _crank_numbers(ax, a, cranks, word) -> None:
     """The cranks' numbers from the free end, under the axis between the supports."""
     for k in range(cranks):
-        ax.text(k * a, -0.2 * a, f"{word} {k + 1}".strip(), ha="center", va="top", fontsize=8,
-                gid="plan-crank")
+        ax.text(
+            k * a,
+            -0.2 * a,
+            f"{word} {k + 1}".strip(),
+            ha="center",
+            va="top",
+            fontsize=8,
+            gid="plan-crank",
+        )
 
 
 def _spacing_dimension(ax, a, throw, y, text) -> None:
@@ -195,13 +218,29 @@ def _spacing_dimension(ax, a, throw, y, text) -> None:
     for x in (0.0, a):
         ax.plot([x, x], [throw, y - 0.05 * a], color=DIMENSION, lw=0.5, ls=(0, (8, 2, 1, 2)))
     arrow = ax.annotate(
-        "", xy=(a, y), xytext=(0.0, y),
-        arrowprops={"arrowstyle": "<|-|>", "color": DIMENSION, "lw": 0.6, "shrinkA": 0,
-                    "shrinkB": 0, "mutation_scale": 7},
+        "",
+        xy=(a, y),
+        xytext=(0.0, y),
+        arrowprops={
+            "arrowstyle": "<|-|>",
+            "color": DIMENSION,
+            "lw": 0.6,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "mutation_scale": 7,
+        },
     )
     arrow.set_gid("plan-spacing")
-    ax.text(0.5 * a, y + 0.02 * a, text, ha="center", va="bottom", fontsize=8, color="0.15",
-            gid="plan-spacing-text")
+    ax.text(
+        0.5 * a,
+        y + 0.02 * a,
+        text,
+        ha="center",
+        va="bottom",
+        fontsize=8,
+        color="0.15",
+        gid="plan-spacing-text",
+    )
 
 
 def _offset_dimension(ax, data, sides, row, bore, text) -> None:
@@ -218,12 +257,21 @@ def _offset_dimension(ax, data, sides, row, bore, text) -> None:
     gap = xs[1] - xs[0]
     reach = 0.35 * bore
     for x, sign in ((xs[0], -1), (xs[1], 1)):  # arrows outside: the offset is small
-        ax.annotate("", xy=(x, y), xytext=(x + sign * reach, y),
-                    arrowprops={"arrowstyle": "-|>", "color": DIMENSION, "lw": 0.6,
-                                "shrinkA": 0, "shrinkB": 0, "mutation_scale": 7})
+        ax.annotate(
+            "",
+            xy=(x, y),
+            xytext=(x + sign * reach, y),
+            arrowprops={
+                "arrowstyle": "-|>",
+                "color": DIMENSION,
+                "lw": 0.6,
+                "shrinkA": 0,
+                "shrinkB": 0,
+                "mutation_scale": 7,
+            },
+        )
     ax.plot([xs[0], xs[1]], [y, y], color=DIMENSION, lw=0.6, gid="plan-offset")
-    ax.text(xs[1] + reach + 0.02 * gap, y, text, ha="left", va="center", fontsize=8,
-            color="0.15")
+    ax.text(xs[1] + reach + 0.02 * gap, y, text, ha="left", va="center", fontsize=8, color="0.15")
 
 
 def _ends(ax, start, end, a, texts) -> None:
@@ -232,10 +280,19 @@ def _ends(ax, start, end, a, texts) -> None:
 
     ax.text(start, 0.06 * a, texts.free_end, ha="left", va="bottom", fontsize=8)
     rim = 0.55 * a
-    ax.add_patch(Rectangle((end - 0.12 * a, -rim), 0.12 * a, 2 * rim, fill=False, ec=INK,
-                           lw=1.4, hatch="////", zorder=4))
-    ax.text(end - 0.06 * a, -rim - 0.05 * a, texts.take_off_end, ha="center", va="top",
-            fontsize=8)
+    ax.add_patch(
+        Rectangle(
+            (end - 0.12 * a, -rim),
+            0.12 * a,
+            2 * rim,
+            fill=False,
+            ec=INK,
+            lw=1.4,
+            hatch="////",
+            zorder=4,
+        )
+    )
+    ax.text(end - 0.06 * a, -rim - 0.05 * a, texts.take_off_end, ha="center", va="top", fontsize=8)
 
 
 def _rotation(ax, x, y, radius, text) -> None:
@@ -247,9 +304,17 @@ def _rotation(ax, x, y, radius, text) -> None:
     ax.plot([x, x], [y - 0.5 * radius, y + 0.5 * radius], color=INK, lw=0.4)
     begin = (x + radius * math.cos(math.radians(150)), y + radius * math.sin(math.radians(150)))
     finish = (x + radius * math.cos(math.radians(-30)), y + radius * math.sin(math.radians(-30)))
-    ax.add_patch(FancyArrowPatch(begin, finish, connectionstyle="arc3,rad=-0.55",
-                                 arrowstyle="-|>", mutation_scale=8, color=INK, lw=0.8,
-                                 gid="plan-rotation"))
+    ax.add_patch(
+        FancyArrowPatch(
+            begin,
+            finish,
+            connectionstyle="arc3,rad=-0.55",
+            arrowstyle="-|>",
+            mutation_scale=8,
+            color=INK,
+            lw=0.8,
+            gid="plan-rotation",
+        )
+    )
     ax.text(x, y + 1.3 * radius, "ω", ha="center", va="bottom", fontsize=9, style="italic")
-    ax.text(x, y - 1.4 * radius, text, ha="center", va="top", fontsize=7, color="0.15",
-            wrap=True)
+    ax.text(x, y - 1.4 * radius, text, ha="center", va="top", fontsize=7, color="0.15", wrap=True)

@@ -284,7 +284,9 @@ def _plan_parts(r: dict, ctx) -> dict | None:
     if not plan:
         return None
     t, propeller = ctx.t, _propeller(ctx)
-    printed = dict(plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]])
+    printed = dict(
+        plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]]
+    )
     figure = ctx.figure(
         partial(plan_figure, printed, plan_texts(plan, t, propeller)),
         t("bays.plan_caption"),

@@ -153,7 +153,9 @@ def render(output: StageOutput, ctx) -> str:
     figure_scheme = ctx.figure(
         scheme,
         t(
-            "drawing.scheme_caption_free_end" if _has_cylinders(positions) else "drawing.scheme_caption",
+            "drawing.scheme_caption_free_end"
+            if _has_cylinders(positions)
+            else "drawing.scheme_caption",
             scale=scale,
             angle=scheme_angle,
         ),
