@@ -17,7 +17,7 @@ from conftest import shared_html, shared_run
 from crankdyn.cli import examples_dir
 from crankdyn.plugin.registry import default_registry
 from crankdyn.report.i18n import translator
-from crankdyn_builtin.bays.plan import plan_figure, row_sides
+from crankdyn_builtin.bays.plan import plan_figure, row_centres, row_sides
 from crankdyn_builtin.bays.section import plan_texts
 from crankdyn_builtin.drawing.section import _first_cylinder, _labelled
 
@@ -87,6 +87,11 @@ def test_a_vs_banks_lie_either_side_and_one_rod_width_apart_along_the_shaft():
 def test_a_boxers_banks_are_opposite_and_an_inline_row_above_the_shaft():
     assert row_sides({"0": 0.0, "1": 180.0}) == pytest.approx({0: 1.0, 1: -1.0})
     assert row_sides({"0": 0.0}) == {0: 1.0}
+
+
+def test_a_ws_middle_bank_is_stacked_above_the_shaft_under_its_left_bank():
+    centres = row_centres({"0": 0.0, "1": 60.0, "2": 120.0}, 100.0, 50.0)
+    assert centres == pytest.approx({1: 100.0, 0: 150.0, 2: -100.0})
 
 
 def test_a_one_crank_engine_has_no_plan():

@@ -72,22 +72,31 @@ def plan_data(layout, bore_m: float, spacing_m: float | None, rod_offset_m: floa
 
 
 def row_sides(bank_axes_deg: dict[str, float]) -> dict[int, float]:
-    """Each bank's row across the sheet (+1: above the shaft, -1: below, 0: over it), the plan
-    seen from above with the free end on the left: a bank leaning left when seen from the free
-    end lies above the shaft. A single bank is drawn above the shaft."""
+    """Each bank's side of the shaft (+: above it on the sheet, -: below, 0: straight over it,
+    as its axis leans), the plan seen from above with the free end on the left: a bank leaning
+    left when seen from the free end lies above the shaft. A single bank is above the shaft."""
     if len(bank_axes_deg) == 1:
         return {int(b): 1.0 for b in bank_axes_deg}
     angles = {int(b): math.radians(a) for b, a in bank_axes_deg.items()}
-    middle = math.atan2(
-        sum(math.sin(a) for a in angles.values()), sum(math.cos(a) for a in angles.values())
-    )
-    if len(angles) == 2 and abs(abs(np.diff(list(angles.values()))[0]) - math.pi) < 1e-9:
-        middle = sum(angles.values()) / 2  # opposed banks (a boxer): their mean is straight up
+    x = sum(math.cos(a) for a in angles.values())
+    y = sum(math.sin(a) for a in angles.values())
+    # "up": the banks' mean direction; of opposed banks (a boxer, an X) the first two's bisector
+    middle = math.atan2(y, x) if math.hypot(x, y) > 1e-6 else (angles[0] + angles[1]) / 2
     sides = {b: -math.sin(a - middle) for b, a in angles.items()}
-    return {
-        b: 0.0 if abs(s) < 1e-6 else s / max(abs(x) for x in sides.values())
-        for b, s in sides.items()
-    }
+    largest = max(abs(s) for s in sides.values())
+    return {b: 0.0 if abs(s) < 1e-6 else s / largest for b, s in sides.items()}
+
+
+def row_centres(bank_axes_deg: dict[str, float], row: float, pitch: float) -> dict[int, float]:
+    """Each bank's row's centre across the sheet (mm from the shaft's axis): the banks above the
+    shaft (:func:`row_sides`; one straight over it with them) stacked up from ``row``, the
+    nearest-to-vertical first, ``pitch`` apart; those below it stacked down alike."""
+    sides = row_sides(bank_axes_deg)
+    above = sorted((b for b, s in sides.items() if s >= 0), key=lambda b: (sides[b], b))
+    below = sorted((b for b, s in sides.items() if s < 0), key=lambda b: (-sides[b], b))
+    centres = {b: row + k * pitch for k, b in enumerate(above)}
+    centres.update({b: -row - k * pitch for k, b in enumerate(below)})
+    return centres
 
 
 def plan_figure(data: dict, texts: PlanTexts):
@@ -97,12 +106,12 @@ def plan_figure(data: dict, texts: PlanTexts):
     bore = data["bore_m"] * 1e3
     a = (data["spacing_m"] or SPACING_PER_BORE * data["bore_m"]) * 1e3
     cranks = data["cranks"]
-    sides = row_sides(data["bank_axes_deg"])
     throw = 0.22 * a  # the throw drawn up from the axis
     row = throw + 0.25 * a + 0.5 * bore  # a row's centre from the axis
+    rows = row_centres(data["bank_axes_deg"], row, bore + 0.25 * a)
     start, end = -0.5 * a - 0.45 * a, (cranks - 0.5) * a + 0.6 * a
-    bottom = -max(row + 0.5 * bore if -1.0 in sides.values() else 0.0, 0.3 * a)
-    top = row + 0.5 * bore if 1.0 in sides.values() else throw
+    bottom = min(min(rows.values()) - 0.5 * bore, -0.3 * a)
+    top = max(rows.values()) + 0.5 * bore
     xlim = (start - 1.25 * a, end + 0.35 * a)
     ylim = (bottom - 0.55 * a, top + (0.4 * a if texts.offset else 0.2 * a))
     width_cm = 16.0
@@ -112,12 +121,12 @@ def plan_figure(data: dict, texts: PlanTexts):
     ax.axis("off")
     _shaft(ax, a, cranks, throw, start, end)
     _supports(ax, a, cranks)
-    _cylinders(ax, data, sides, row, bore)
-    _row_names(ax, texts.banks, sides, row, bore, start)
+    _cylinders(ax, data, rows, bore)
+    _row_names(ax, data, texts.banks, rows, bore)
     _crank_numbers(ax, a, cranks, texts.crank)
     _spacing_dimension(ax, a, throw, bottom - 0.25 * a, texts.spacing)
     if texts.offset:
-        _offset_dimension(ax, data, sides, row, bore, texts.offset)
+        _offset_dimension(ax, data, rows, bore, texts.offset)
     _ends(ax, start, end, a, texts)
     _rotation(ax, start - 0.75 * a, 0.0, 0.22 * a, texts.rotation)
     ax.set_xlim(*xlim)
@@ -162,12 +171,12 @@ def _supports(ax, a, cranks) -> None:
     ax.add_collection(LineCollection(strokes, colors=[INK], linewidths=0.6))
 
 
-def _cylinders(ax, data, sides, row, bore) -> None:
+def _cylinders(ax, data, rows, bore) -> None:
     """Each cylinder's bore as a circle in its bank's row, its label in it (gid: the label)."""
     from matplotlib.patches import Circle  # lazy: heavy optional import
 
     for c in data["cylinders"]:
-        x, y = c["position_m"] * 1e3, sides[c["bank"]] * row
+        x, y = c["position_m"] * 1e3, rows[c["bank"]]
         ax.add_patch(Circle((x, y), 0.5 * bore, fill=False, ec=INK, lw=1.4, zorder=5))
         ax.plot([x, x], [y - 0.6 * bore, y + 0.6 * bore], color=INK, lw=0.4, ls=(0, (8, 2, 1, 2)))
         text = ax.text(
@@ -183,18 +192,20 @@ def _cylinders(ax, data, sides, row, bore) -> None:
         text.set_gid("plan-cylinder")
 
 
-def _row_names(ax, names, sides, row, bore, start) -> None:
-    """A bank's name ("Л – левый ряд") left of its row."""
+def _row_names(ax, data, names, rows, bore) -> None:
+    """A bank's name ("Л – левый ряд") left of its row's first cylinder."""
     for bank, name in enumerate(names):
-        if name and bank in sides:
+        if name and bank in rows:
+            first = min(c["position_m"] for c in data["cylinders"] if c["bank"] == bank) * 1e3
             ax.text(
-                start,
-                sides[bank] * row + 0.5 * bore * (1 if sides[bank] >= 0 else -1),
+                first - 0.65 * bore,
+                rows[bank],
                 name,
-                ha="left",
-                va="bottom" if sides[bank] >= 0 else "top",
+                ha="right",
+                va="center",
                 fontsize=8,
                 color="0.15",
+                gid="plan-bank",
             )
 
 
@@ -243,14 +254,14 @@ def _spacing_dimension(ax, a, throw, y, text) -> None:
     )
 
 
-def _offset_dimension(ax, data, sides, row, bore, text) -> None:
+def _offset_dimension(ax, data, rows, bore, text) -> None:
     """The side-by-side rods' offset: the axes of crank 1's cylinders of the first two banks
     (gid ``plan-offset``), dimensioned above the upper row."""
     first = [c for c in data["cylinders"] if c["crank"] == 0]
     if len(first) < 2:
         return
     xs = sorted(c["position_m"] * 1e3 for c in first)[:2]
-    top = max(sides.values()) * row + 0.5 * bore + 0.12 * bore
+    top = max(rows.values()) + 0.5 * bore + 0.12 * bore
     y = top + 0.12 * bore
     for x in xs:
         ax.plot([x, x], [top - 0.1 * bore, y + 0.05 * bore], color=DIMENSION, lw=0.5)
