@@ -855,7 +855,7 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     # the walls beside it
     size = label.get_window_extent(renderer)
     label.set_rotation(rotation)
-    clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
+    clear = _rod_dimension_clearance(geometry, rod, d, extent)
     # of two banks, on the outer side of the rod, where no other bank's liner is
     axes = _one_per_axis(geometry.guides)
     signs: tuple[float, ...] = (-1.0, 1.0)
@@ -881,6 +881,19 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
             break
     label.set_gid("dimension-L-text")
     _dimension(ax, p, q, "", offset, extent, "L")
+
+
+def _rod_dimension_clearance(geometry, rod, direction, extent: float) -> float:
+    """How far from the rod its L's dimension line runs (mm): past the liner's wall and its
+    hatching at the piston pin, which lies on the cylinder's axis while the rod leans off it."""
+    bore = geometry.dimensions.get("D", 0.0) * MM
+    guide = next((g for g in geometry.guides if g.joint == rod[2] and g.bore_m > 0), None)
+    lean = 1.0
+    if guide is not None:
+        axis = np.asarray(guide.direction, float)
+        lean = abs(float(np.dot(direction, axis))) / max(float(np.linalg.norm(axis)), 1e-12)
+    wall = bore / 2 + HATCH * HATCH_SLANT * extent + extent * 0.03
+    return wall / max(lean, 0.5)
 
 
 def _slanted_text_crosses(anchor, rotation_deg, width, height, pad, segments) -> bool:
