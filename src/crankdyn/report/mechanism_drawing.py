@@ -217,14 +217,17 @@ def piston_skirt_mm(guide, geometry=None) -> float:
     return float(np.clip(room, SHORT_SKIRT * guide.bore_m * MM, full))
 
 
-def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
+def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0, zorder=None):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist);
-    the strokes begin ``skip`` (mm) along the wall from ``start``."""
+    the strokes begin ``skip`` (mm) along the wall from ``start``; ``zorder``: over what."""
     from matplotlib.collections import (
         LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
-    ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
+    layer = {} if zorder is None else {"zorder": zorder}
+    ax.plot(
+        *np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt", **layer
+    )
     length = float(np.linalg.norm(end - start))
     d = (end - start) / length
     skip = float(min(max(skip, 0.0), 0.5 * length))
@@ -232,7 +235,9 @@ def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
     p = start + np.outer(np.linspace(skip, length, count + 1), d)
     q = p + (normal - d) * size * HATCH_SLANT
     ax.add_collection(
-        LineCollection(list(np.stack([p, q], axis=1)), colors=[color], linewidths=0.6, alpha=alpha)
+        LineCollection(
+            list(np.stack([p, q], axis=1)), colors=[color], linewidths=0.6, alpha=alpha, **layer
+        )
     )
 
 
@@ -296,7 +301,11 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
     """A fixed revolute joint: a small triangle on a hatched base below ``centre``."""
     c = np.asarray(centre)
     tri = np.array([c, c + [-size, -1.6 * size], c + [size, -1.6 * size], c])
-    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha)
+    # the support stands in front of a counterweight turned towards it: white behind its
+    # triangle and hatching, which stay whole (ГОСТ 2.770)
+    below = c + np.array([[-1.9, -1.6], [1.9, -1.6], [1.9, -2.4], [-1.9, -2.4]]) * size
+    ax.fill(*np.vstack([tri[:3], below[[1, 2, 3, 0]]]).T, color="white", lw=0, zorder=3.55)
+    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha, zorder=3.6)
     _hatch(
         ax,
         c + [-1.6 * size, -1.6 * size],
@@ -305,6 +314,7 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
         size * 0.8,
         color,
         alpha,
+        zorder=3.6,
     )
 
 
@@ -1117,6 +1127,32 @@ def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
     )
 
 
+def _arc_radius_clear_of_dimensions(ax, centre, start, end, radius: float, extent: float):
+    """An angle arc's radius (mm) about ``centre`` from direction ``start`` to ``end``: ``radius``,
+    or less (down to 0.6 of it) where a dimension's extension or dimension line drawn before
+    passes through the arc's sector (a V's L, from the crank pin out past the first bank's
+    axis): the arc then stays inside that line, clear of it by 1.2 % of the extent."""
+    a, b = _direction_deg(start), _direction_deg(end)
+    if (b - a) % 360.0 > 180.0:
+        a, b = b, a
+    span = (b - a) % 360.0
+    nearest = np.inf
+    for line in ax.lines:
+        if not str(line.get_gid() or "").startswith("dimension-"):
+            continue
+        points = np.asarray(line.get_xydata(), float)
+        for p, q in zip(points[:-1], points[1:], strict=True):
+            samples = p + np.outer(np.linspace(0.0, 1.0, 60), q - p) - np.asarray(centre, float)
+            angles = (np.degrees(np.arctan2(samples[:, 1], samples[:, 0])) - a) % 360.0
+            inside = angles <= span
+            if inside.any():
+                nearest = min(nearest, float(np.hypot(*samples[inside].T).min()))
+    margin = extent * 0.012
+    if nearest - margin >= radius or nearest < radius * 0.6 + margin:
+        return radius
+    return nearest - margin
+
+
 def _bank_marks(
     ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int, rod_angles: bool = True
 ) -> None:
@@ -1146,9 +1182,10 @@ def _bank_marks(
     # among three or more rods round the crank pin α's letter goes where it is clearest (below);
     # two banks' (a V's, a boxer's) stands outside the arc's middle
     placed_alpha = alpha_arc and len(pairs) > 2
+    alpha_radius = _arc_radius_clear_of_dimensions(ax, centre, zero, along, radius * 0.55, extent)
     if alpha_arc:
         _angle_arc(
-            ax, centre, zero, along, radius * 0.55, "" if placed_alpha else marks["alpha"], extent
+            ax, centre, zero, along, alpha_radius, "" if placed_alpha else marks["alpha"], extent
         )
     clearance = _Clearance(ax, geometry, i, extent)
     # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
@@ -1171,7 +1208,7 @@ def _bank_marks(
     clearance.add_last_text()
     if placed_alpha:
         clearance.place(
-            _beside_arc(centre, zero, along, radius * 0.55, extent),
+            _beside_arc(centre, zero, along, alpha_radius, extent),
             marks["alpha"],
             fontstyle="italic",
         )
