@@ -865,15 +865,15 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     # the walls beside it
     size = label.get_window_extent(renderer)
     label.set_rotation(rotation)
-    clear = _rod_dimension_clearance(geometry, rod, d, extent)
     # of two banks, on the outer side of the rod, where no other bank's liner is
     axes = _one_per_axis(geometry.guides)
     signs: tuple[float, ...] = (-1.0, 1.0)
     if len(axes) == 2:
         others = sum(np.asarray(g.direction, float) for g in axes if g.joint != rod[2])
         signs = (-1.0,) if float(np.dot(n, others)) > 0 else (1.0,)
+    clear = {sign: _rod_dimension_clearance(geometry, i, rod, sign, extent) for sign in signs}
     candidates = [
-        (sign * (clear + k * extent * 0.04), share)
+        (sign * (clear[sign] + k * extent * 0.04), share)
         for k in range(4)
         for sign in signs
         for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9, 0.2)
@@ -881,8 +881,9 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     hatching = float(
         np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
     )
-    # clear of the hatching where there is room, else of the walls only, else the first place
-    tries = [(c, hatching) for c in candidates] + [(c, 0.0) for c in candidates]
+    # clear of the hatching's strokes, with a gap, where there is room, else of the walls only,
+    # else the first place
+    tries = [(c, 1.6 * hatching) for c in candidates] + [(c, 0.0) for c in candidates]
     for (offset, share), pad in tries + [(candidates[0], 0.0)]:
         anchor = p + (q - p) * share + n * offset + up * extent * 0.006
         label.set_position(anchor)
@@ -893,17 +894,32 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     _dimension(ax, p, q, "", offset, extent, "L")
 
 
-def _rod_dimension_clearance(geometry, rod, direction, extent: float) -> float:
-    """How far from the rod its L's dimension line runs (mm): past the liner's wall and its
-    hatching at the piston pin, which lies on the cylinder's axis while the rod leans off it."""
-    bore = geometry.dimensions.get("D", 0.0) * MM
+def _rod_dimension_clearance(geometry, i: int, rod, side: float, extent: float) -> float:
+    """How far from the rod, on its ``side`` (+1: along the rod's left normal), its L's dimension
+    line runs (mm): past the walls of its cylinder and their hatching wherever they lie beside
+    the rod, which leans off the cylinder's axis, so a line close to the wall at the piston pin
+    would cross it near the crank pin."""
+    j = geometry.joints
+    p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
+    length = max(float(np.linalg.norm(q - p)), 1e-12)
+    d = (q - p) / length
+    n = np.array([-d[1], d[0]]) * side
+    gap = HATCH * HATCH_SLANT * extent + extent * 0.03
+    least = geometry.dimensions.get("D", 0.0) * MM / 2 + gap
     guide = next((g for g in geometry.guides if g.joint == rod[2] and g.bore_m > 0), None)
-    lean = 1.0
-    if guide is not None:
-        axis = np.asarray(guide.direction, float)
-        lean = abs(float(np.dot(direction, axis))) / max(float(np.linalg.norm(axis)), 1e-12)
-    wall = bore / 2 + HATCH * HATCH_SLANT * extent + extent * 0.03
-    return wall / max(lean, 0.5)
+    if guide is None:
+        return least
+    o, gd, gn = _guide_frame(geometry, guide, i)
+    bottom, top = liner_ends_mm(guide, geometry)
+    half = guide.bore_m * MM / 2
+    reach = []
+    for wall_side in (-1.0, 1.0):
+        wall = o + np.outer(np.linspace(bottom, top, 80), gd) + gn * wall_side * half
+        along = (wall - p) @ d
+        beside = (along > -gap) & (along < length + gap)
+        if beside.any():
+            reach.append(float(((wall[beside] - p) @ n).max()) + gap)
+    return max([least] + reach)
 
 
 def _slanted_text_crosses(anchor, rotation_deg, width, height, pad, segments) -> bool:
@@ -937,20 +953,23 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: st
     )
 
     a, b = _direction_deg(start), _direction_deg(end)
+    # no angle (β at a dead centre): no arc, which would be drawn as a whole circle
+    flat = abs((b - a + 180.0) % 360.0 - 180.0) < 0.05
     if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
         a, b = b, a
-    ax.add_patch(
-        Arc(
-            centre,
-            2 * radius,
-            2 * radius,
-            theta1=a,
-            theta2=b if b > a else b + 360.0,
-            color="0.2",
-            lw=0.6,
-            zorder=6,
+    if not flat:
+        ax.add_patch(
+            Arc(
+                centre,
+                2 * radius,
+                2 * radius,
+                theta1=a,
+                theta2=b if b > a else b + 360.0,
+                color="0.2",
+                lw=0.6,
+                zorder=6,
+            )
         )
-    )
     middle = np.radians(a + ((b - a) % 360.0) / 2)
     at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
     if text:
