@@ -296,10 +296,9 @@ def _ends(ax, start, end, a, texts) -> None:
             (end - 0.12 * a, -rim),
             0.12 * a,
             2 * rim,
-            fill=False,
+            fc="0.86",  # shaded as a moving part: hatching marks a fixed one (ГОСТ 2.770)
             ec=INK,
             lw=1.4,
-            hatch="////",
             zorder=4,
         )
     )

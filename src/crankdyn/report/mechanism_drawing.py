@@ -1542,6 +1542,7 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
             score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
             if best_score is None or score > best_score:
                 best, best_score = place, score
+    assert best is not None  # the grid above always gives a place
     label = ax.text(
         *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
     )
