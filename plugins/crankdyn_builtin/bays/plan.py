@@ -219,6 +219,8 @@ def _crank_numbers(ax, a, cranks, word) -> None:
             ha="center",
             va="top",
             fontsize=8,
+            bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none"},
+            zorder=6,
             gid="plan-crank",
         )
 
