@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from crankdyn.physics import articulated as art
+from crankdyn.physics import bearings as brg
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.physics import layout as lay
@@ -29,6 +30,9 @@ from crankdyn.plugin.scene_inputs import (
 )
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
+from crankdyn_builtin.balancing.options import BalancingOptions
+
+from .plan import plan_data
 
 #: The scene table of the articulated rods (:class:`crankdyn.plugin.contracts.ArticulatedOptions`).
 ARTICULATED = "articulated"
@@ -179,6 +183,10 @@ def run(scene, inputs) -> StageOutput:
     e = scene.engine
     layout = engine_layout(scene)
     results = _layout_results(e, layout)
+    if layout.cranks > 1:  # a one-crank engine's front-view scheme shows all it has
+        results["plan"] = plan_data(
+            layout, e.bore, e.cylinder_spacing, _rod_offset_m(scene, layout)
+        )
     notes = _firing_notes(scene, layout)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True
@@ -216,6 +224,23 @@ def run(scene, inputs) -> StageOutput:
         cylinder_tangential_Pa=parts,
     )
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
+
+
+#: one big-end bearing's typical width per bore, the side-by-side rods' offset the balancing takes
+_TYPICAL_ROD_OFFSET_PER_BORE = (
+    brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * brg.TYPICAL_PIN_DIAMETER_PER_BORE
+)
+
+
+def _rod_offset_m(scene, layout) -> float:
+    """How far apart along the shaft the cylinders of one crank lie, m: one big-end bearing's
+    width where central rods lie side by side on the pin (``[balancing] rod_offset``, else the
+    typical width the balancing and bearing sections take), 0 where the rods share a plane."""
+    e = scene.engine
+    if e.rod_type != "central" or layout.cylinders_per_bay < 2:
+        return 0.0
+    given = options(scene, "balancing", BalancingOptions).rod_offset
+    return float(given) if given is not None else _TYPICAL_ROD_OFFSET_PER_BORE * e.bore
 
 
 def _layout_results(e, layout) -> dict:

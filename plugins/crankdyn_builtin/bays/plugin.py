@@ -51,8 +51,8 @@ BAYS_STAGE = Stage(
         title_key="bays.title",
         render=render,
         input_rows=input_rows,
-        figures=("bay",),
-        references=("poda2007",),
+        figures=("plan", "bay"),
+        references=("poda2007", "kolchin2002"),
         symbols=SYMBOLS,
     ),
 )

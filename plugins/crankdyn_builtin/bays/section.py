@@ -16,6 +16,7 @@ from crankdyn.scene import options
 
 from .compute import ARTICULATED
 from .figures import bay_figure
+from .plan import PlanTexts, plan_figure
 
 
 def one_crank_key(key: str, r: dict, t) -> str:
@@ -238,6 +239,7 @@ def render(output: StageOutput, ctx) -> str | None:
     phase_table = _phase_table(r, ctx)
     phase_table_number = ctx.last_table_number
     stroke_table = _stroke_table(r, ctx)
+    plan = _plan_parts(r, ctx)
     parts = _bay_parts(output, ctx)
     own_pins = (
         r["cranks"] == r["cylinders"]
@@ -262,7 +264,71 @@ def render(output: StageOutput, ctx) -> str | None:
         scheme_figure=ctx.figure_number("scheme"),
         one_crank=partial(one_crank_key, r=r, t=t),
         second_order=_second_order_text(r, t),
+        plan=plan,
     )
+
+
+def _propeller(ctx) -> bool:
+    """True where the power take-off end is an aircraft's propeller (else a flywheel)."""
+    return ctx.scene is not None and ctx.scene.engine.application == "aircraft"
+
+
+def plan_texts(plan: dict, t, propeller: bool = False) -> PlanTexts:
+    """The plan's words in the report's language: the cylinders' labels as printed, the ends,
+    the banks' rows, a's and the rods' offset's dimension texts."""
+    mm = t("unit.mm")
+    spacing = plan["spacing_m"]
+    letters = [
+        next(str(c["label"]).lstrip("0123456789") for c in plan["cylinders"] if c["bank"] == b)
+        for b in sorted({c["bank"] for c in plan["cylinders"]})
+    ]
+    named = all(x and t.has("bays.bank_" + x) for x in letters) and plan["layout"] != "boxer"
+    return PlanTexts(
+        crank=t("bays.plan_crank"),
+        free_end=t("bays.plan_free_end"),
+        take_off_end=t("bays.plan_propeller" if propeller else "bays.plan_flywheel"),
+        rotation=t("bays.plan_rotation"),
+        banks=tuple(t("bays.bank_" + x) for x in letters) if named else (),
+        spacing=f"a = {t.number_g(spacing * 1e3, 4)} {mm}" if spacing else "a",
+        offset=(
+            f"{t.number_g(plan['rod_offset_m'] * 1e3, 3)} {mm}" if plan["rod_offset_m"] else ""
+        ),
+    )
+
+
+def _plan_parts(r: dict, ctx) -> dict | None:
+    """The engine's plan figure (several cranks only), and the sentences on the rods' offset
+    along the shaft and on a crank spacing the scene does not give."""
+    plan = r.get("plan")
+    if not plan:
+        return None
+    t, propeller = ctx.t, _propeller(ctx)
+    printed = dict(
+        plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]]
+    )
+    figure = ctx.figure(
+        partial(plan_figure, printed, plan_texts(plan, t, propeller)),
+        t("bays.plan_caption"),
+        "plan",
+        see="bays.see_plan",
+    )
+    offset = ""
+    if plan["rod_offset_m"]:
+        given = _rod_offset_given(ctx.scene)
+        offset = t(
+            "bays.plan_offset_propeller" if propeller else "bays.plan_offset",
+            offset=t.number_g(plan["rod_offset_m"] * 1e3, 3),
+            taken="" if given else t("bays.plan_offset_taken"),
+        )
+    spacing = "" if plan["spacing_m"] else t("bays.plan_spacing_assumed")
+    return {"figure": figure, "offset": offset, "spacing": spacing}
+
+
+def _rod_offset_given(scene) -> bool:
+    """True when the scene gives the side-by-side rods' offset ([balancing] rod_offset)."""
+    tables = scene.plugin_tables() if scene is not None else {}
+    balancing = tables.get("balancing", {})
+    return isinstance(balancing, dict) and "rod_offset" in balancing
 
 
 def _second_order_text(r: dict, t) -> str:

@@ -144,7 +144,7 @@ def render(output: StageOutput, ctx) -> str:
         positions,
         len(output.results["crank_angles_deg"]),
         _labels(positions, ctx),
-        t("drawing.crank_star"),
+        t("drawing.crank_star", cylinder=_first_cylinder(positions)),
         t("drawing.firing_order", order=order) if order else "",
         marks,
     )
@@ -152,7 +152,13 @@ def render(output: StageOutput, ctx) -> str:
     scheme_angle = ctx.angle_text(output.results["scheme_angle_deg"])
     figure_scheme = ctx.figure(
         scheme,
-        t("drawing.scheme_caption", scale=scale, angle=scheme_angle),
+        t(
+            "drawing.scheme_caption_free_end"
+            if _has_cylinders(positions)
+            else "drawing.scheme_caption",
+            scale=scale,
+            angle=scheme_angle,
+        ),
         "scheme",
         see="drawing.see_scheme",
     )
@@ -202,6 +208,20 @@ def render(output: StageOutput, ctx) -> str:
         angles=angles,
         positions=POSITIONS,
     )
+
+
+def _first_cylinder(positions) -> str:
+    """Crank 1's first cylinder as printed (1, or 1Л of a V): the star shows the cranks at its
+    TDC."""
+    for _, _, cylinders in positions.cranks[:1]:
+        if cylinders:
+            return cylinders[0]
+    return "1"
+
+
+def _has_cylinders(positions) -> bool:
+    """True for a piston engine (its scheme is seen from the crankshaft's free end)."""
+    return any(g.bore_m > 0 for g in positions.guides)
 
 
 def _scheme_drawing(*args):

@@ -217,14 +217,17 @@ def piston_skirt_mm(guide, geometry=None) -> float:
     return float(np.clip(room, SHORT_SKIRT * guide.bore_m * MM, full))
 
 
-def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
+def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0, zorder=None):
     """Ground hatching: short strokes at 45 degrees on the ``normal`` side of start-end (one artist);
-    the strokes begin ``skip`` (mm) along the wall from ``start``."""
+    the strokes begin ``skip`` (mm) along the wall from ``start``; ``zorder``: over what."""
     from matplotlib.collections import (
         LineCollection,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
     )
 
-    ax.plot(*np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt")
+    layer = {} if zorder is None else {"zorder": zorder}
+    ax.plot(
+        *np.c_[start, end], color=color, lw=1.0, ls="-", alpha=alpha, solid_capstyle="butt", **layer
+    )
     length = float(np.linalg.norm(end - start))
     d = (end - start) / length
     skip = float(min(max(skip, 0.0), 0.5 * length))
@@ -232,7 +235,9 @@ def _hatch(ax, start, end, normal, size, color, alpha, skip: float = 0.0):
     p = start + np.outer(np.linspace(skip, length, count + 1), d)
     q = p + (normal - d) * size * HATCH_SLANT
     ax.add_collection(
-        LineCollection(list(np.stack([p, q], axis=1)), colors=[color], linewidths=0.6, alpha=alpha)
+        LineCollection(
+            list(np.stack([p, q], axis=1)), colors=[color], linewidths=0.6, alpha=alpha, **layer
+        )
     )
 
 
@@ -296,7 +301,11 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
     """A fixed revolute joint: a small triangle on a hatched base below ``centre``."""
     c = np.asarray(centre)
     tri = np.array([c, c + [-size, -1.6 * size], c + [size, -1.6 * size], c])
-    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha)
+    # the support stands in front of a counterweight turned towards it: white behind its
+    # triangle and hatching, which stay whole (ГОСТ 2.770)
+    below = c + np.array([[-1.9, -1.6], [1.9, -1.6], [1.9, -2.4], [-1.9, -2.4]]) * size
+    ax.fill(*np.vstack([tri[:3], below[[1, 2, 3, 0]]]).T, color="white", lw=0, zorder=3.55)
+    ax.plot(tri[:, 0], tri[:, 1], color=color, lw=1.0, ls="-", alpha=alpha, zorder=3.6)
     _hatch(
         ax,
         c + [-1.6 * size, -1.6 * size],
@@ -305,6 +314,7 @@ def draw_ground(ax, centre, size, color=INK, alpha=1.0):
         size * 0.8,
         color,
         alpha,
+        zorder=3.6,
     )
 
 
@@ -334,12 +344,12 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                 o + d * corners[0] + n * half * 0.97,
             ]
         )
-        ax.fill(
+        ax.fill(  # a link: the thick solid line of ГОСТ 2.770, the walls being thin
             rect[:, 0],
             rect[:, 1],
             facecolor="white",
             edgecolor=color,
-            lw=1.2,
+            lw=2.0,
             ls="-",
             alpha=alpha,
             zorder=3,
@@ -855,15 +865,15 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     # the walls beside it
     size = label.get_window_extent(renderer)
     label.set_rotation(rotation)
-    clear = geometry.dimensions.get("D", 0.0) * MM / 2 + extent * 0.03
     # of two banks, on the outer side of the rod, where no other bank's liner is
     axes = _one_per_axis(geometry.guides)
     signs: tuple[float, ...] = (-1.0, 1.0)
     if len(axes) == 2:
         others = sum(np.asarray(g.direction, float) for g in axes if g.joint != rod[2])
         signs = (-1.0,) if float(np.dot(n, others)) > 0 else (1.0,)
+    clear = {sign: _rod_dimension_clearance(geometry, i, rod, sign, extent) for sign in signs}
     candidates = [
-        (sign * (clear + k * extent * 0.04), share)
+        (sign * (clear[sign] + k * extent * 0.04), share)
         for k in range(4)
         for sign in signs
         for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.9, 0.2)
@@ -871,8 +881,9 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
     hatching = float(
         np.ptp(ax.transData.transform([[0.0, 0.0], [HATCH * HATCH_SLANT * extent, 0.0]])[:, 0])
     )
-    # clear of the hatching where there is room, else of the walls only, else the first place
-    tries = [(c, hatching) for c in candidates] + [(c, 0.0) for c in candidates]
+    # clear of the hatching's strokes, with a gap, where there is room, else of the walls only,
+    # else the first place
+    tries = [(c, 1.6 * hatching) for c in candidates] + [(c, 0.0) for c in candidates]
     for (offset, share), pad in tries + [(candidates[0], 0.0)]:
         anchor = p + (q - p) * share + n * offset + up * extent * 0.006
         label.set_position(anchor)
@@ -881,6 +892,34 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
             break
     label.set_gid("dimension-L-text")
     _dimension(ax, p, q, "", offset, extent, "L")
+
+
+def _rod_dimension_clearance(geometry, i: int, rod, side: float, extent: float) -> float:
+    """How far from the rod, on its ``side`` (+1: along the rod's left normal), its L's dimension
+    line runs (mm): past the walls of its cylinder and their hatching wherever they lie beside
+    the rod, which leans off the cylinder's axis, so a line close to the wall at the piston pin
+    would cross it near the crank pin."""
+    j = geometry.joints
+    p, q = j[rod[1]][i] * MM, j[rod[2]][i] * MM
+    length = max(float(np.linalg.norm(q - p)), 1e-12)
+    d = (q - p) / length
+    n = np.array([-d[1], d[0]]) * side
+    gap = HATCH * HATCH_SLANT * extent + extent * 0.03
+    least = geometry.dimensions.get("D", 0.0) * MM / 2 + gap
+    guide = next((g for g in geometry.guides if g.joint == rod[2] and g.bore_m > 0), None)
+    if guide is None:
+        return least
+    o, gd, gn = _guide_frame(geometry, guide, i)
+    bottom, top = liner_ends_mm(guide, geometry)
+    half = guide.bore_m * MM / 2
+    reach = []
+    for wall_side in (-1.0, 1.0):
+        wall = o + np.outer(np.linspace(bottom, top, 80), gd) + gn * wall_side * half
+        along = (wall - p) @ d
+        beside = (along > -gap) & (along < length + gap)
+        if beside.any():
+            reach.append(float(((wall[beside] - p) @ n).max()) + gap)
+    return max([least] + reach)
 
 
 def _slanted_text_crosses(anchor, rotation_deg, width, height, pad, segments) -> bool:
@@ -914,20 +953,23 @@ def _angle_arc(ax, centre, start, end, radius, text: str, extent: float, sub: st
     )
 
     a, b = _direction_deg(start), _direction_deg(end)
+    # no angle (β at a dead centre): no arc, which would be drawn as a whole circle
+    flat = abs((b - a + 180.0) % 360.0 - 180.0) < 0.05
     if (b - a) % 360.0 > 180.0:  # the shorter way round: from end to start counter-clockwise
         a, b = b, a
-    ax.add_patch(
-        Arc(
-            centre,
-            2 * radius,
-            2 * radius,
-            theta1=a,
-            theta2=b if b > a else b + 360.0,
-            color="0.2",
-            lw=0.6,
-            zorder=6,
+    if not flat:
+        ax.add_patch(
+            Arc(
+                centre,
+                2 * radius,
+                2 * radius,
+                theta1=a,
+                theta2=b if b > a else b + 360.0,
+                color="0.2",
+                lw=0.6,
+                zorder=6,
+            )
         )
-    )
     middle = np.radians(a + ((b - a) % 360.0) / 2)
     at = np.asarray(centre) + (radius + extent * 0.025) * np.array([np.cos(middle), np.sin(middle)])
     if text:
@@ -1109,6 +1151,32 @@ def _zero_line(ax, geometry, guide, i, centre, zero, radius, extent) -> None:
     )
 
 
+def _arc_radius_clear_of_dimensions(ax, centre, start, end, radius: float, extent: float):
+    """An angle arc's radius (mm) about ``centre`` from direction ``start`` to ``end``: ``radius``,
+    or less (down to 0.6 of it) where a dimension's extension or dimension line drawn before
+    passes through the arc's sector (a V's L, from the crank pin out past the first bank's
+    axis): the arc then stays inside that line, clear of it by 1.2 % of the extent."""
+    a, b = _direction_deg(start), _direction_deg(end)
+    if (b - a) % 360.0 > 180.0:
+        a, b = b, a
+    span = (b - a) % 360.0
+    nearest = np.inf
+    for line in ax.lines:
+        if not str(line.get_gid() or "").startswith("dimension-"):
+            continue
+        points = np.asarray(line.get_xydata(), float)
+        for p, q in zip(points[:-1], points[1:], strict=True):
+            samples = p + np.outer(np.linspace(0.0, 1.0, 60), q - p) - np.asarray(centre, float)
+            angles = (np.degrees(np.arctan2(samples[:, 1], samples[:, 0])) - a) % 360.0
+            inside = angles <= span
+            if inside.any():
+                nearest = min(nearest, float(np.hypot(*samples[inside].T).min()))
+    margin = extent * 0.012
+    if nearest - margin >= radius or nearest < radius * 0.6 + margin:
+        return radius
+    return nearest - margin
+
+
 def _bank_marks(
     ax, geometry, i: int, marks: dict[str, str], banks, tdc_frame: int, rod_angles: bool = True
 ) -> None:
@@ -1138,9 +1206,10 @@ def _bank_marks(
     # among three or more rods round the crank pin α's letter goes where it is clearest (below);
     # two banks' (a V's, a boxer's) stands outside the arc's middle
     placed_alpha = alpha_arc and len(pairs) > 2
+    alpha_radius = _arc_radius_clear_of_dimensions(ax, centre, zero, along, radius * 0.55, extent)
     if alpha_arc:
         _angle_arc(
-            ax, centre, zero, along, radius * 0.55, "" if placed_alpha else marks["alpha"], extent
+            ax, centre, zero, along, alpha_radius, "" if placed_alpha else marks["alpha"], extent
         )
     clearance = _Clearance(ax, geometry, i, extent)
     # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
@@ -1163,7 +1232,7 @@ def _bank_marks(
     clearance.add_last_text()
     if placed_alpha:
         clearance.place(
-            _beside_arc(centre, zero, along, radius * 0.55, extent),
+            _beside_arc(centre, zero, along, alpha_radius, extent),
             marks["alpha"],
             fontstyle="italic",
         )
@@ -1439,47 +1508,22 @@ def _stroke(ax, o, d, n, guide, marks, text: str, extent: float) -> None:
 
 def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -> None:
     """R of an engine with several cylinders: the rods of every bank meet at the crank pin, so the
-    text goes below the whole mechanism, joined to the crank's dimension line by a leader."""
+    text goes where nothing drawn is, joined to the crank's dimension line by a leader."""
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-    _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
     if master_rod_joints(geometry):  # a radial: the text near its line, by a short leader
+        _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
         _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
         return
-    lowest = min(float(points[i][1]) * MM for points in j.values())
-    for (
-        guide
-    ) in geometry.guides:  # and below the liners (a radial engine's liners surround the crank)
-        if guide.bore_m > 0 and guide.moving is None:
-            go, gd, gn = _guide_frame(geometry, guide, i)
-            ends = liner_ends_mm(guide, geometry)
-            lowest = min(
-                [lowest]
-                + [
-                    float((go + gd * e + gn * s * guide.bore_m * MM / 2)[1])
-                    for e in ends
-                    for s in (-1, 1)
-                ]
-            )
-            if guide.label:  # a label beyond a liner's end that points down (a boxer's)
-                beyond = go + gd * (ends[1] + (LABEL_OFFSET + 0.05) * extent)
-                lowest = min(lowest, float(beyond[1]))
+    # a bank's rods meet at the pin: the line clear of the crank by the room of its arrows, the
+    # text where nothing drawn is, by a leader to the line's middle (ГОСТ 2.307)
+    offset = -extent * 0.065
+    _dimension(ax, p, q, "", offset, extent, "R")
     d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
-    mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
-    at = np.array([float(p[0]), lowest - extent * 0.08])
-    ax.plot([mid[0], at[0]], [mid[1], at[1] + extent * 0.01], color="0.35", lw=0.5, ls="-")
-    ax.text(
-        *at,
-        text,
-        ha="center",
-        va="top",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
-        gid="dimension-R-text",
-    )
+    mid = (p + q) / 2 + np.array([d[1], -d[0]]) * -offset
+    _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
 
 
 def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -> None:
@@ -1504,7 +1548,7 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
             score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
             if best_score is None or score > best_score:
                 best, best_score = place, score
-    assert best is not None  # the loops above try at least one place
+    assert best is not None  # the grid above always gives a place
     label = ax.text(
         *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
     )

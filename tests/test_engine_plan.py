@@ -1,0 +1,116 @@
+"""The engine's plan in the engine layout section (ГОСТ 2.770): every cylinder drawn once with its
+printed label, crank spacing a dimensioned, a V's banks on either side with the rods' offset; a
+one-crank engine has none; the kinematic scheme's crank star names the cylinder whose TDC it
+shows (1Л of a V in a Russian note).
+
+Independent values: the example scenes' cylinder counts, bore and cylinder_spacing, the typical
+proportions of a big-end bearing (0.45 of the pin's diameter, the pin 0.63 of the bore)."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+
+import pytest
+from conftest import shared_html, shared_run
+
+from crankdyn.cli import examples_dir
+from crankdyn.plugin.registry import default_registry
+from crankdyn.report.i18n import translator
+from crankdyn_builtin.bays.plan import plan_figure, row_centres, row_sides
+from crankdyn_builtin.bays.section import plan_texts
+from crankdyn_builtin.drawing.section import _first_cylinder, _labelled
+
+
+def _scene(example: str) -> dict:
+    return tomllib.loads((examples_dir() / f"{example}.toml").read_text(encoding="utf-8"))
+
+
+def _mm(text: str) -> float:
+    return float(re.match(r"\s*([0-9.]+)\s*mm", text).group(1))
+
+
+def _t(language: str):
+    return translator(language, default_registry().catalogs)
+
+
+def _drawn(example: str, language: str):
+    plan = shared_run(example).outputs["bays"].results["plan"]
+    t = _t(language)
+    printed = dict(
+        plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]]
+    )
+    fig = plan_figure(printed, plan_texts(plan, t))
+    fig.canvas.draw()
+    return plan, fig.axes[0]
+
+
+@pytest.mark.parametrize(
+    ("example", "language", "labels"),
+    [
+        ("v8-petrol", "ru", [f"{k}{b}" for k in range(1, 5) for b in "ЛП"]),
+        ("inline4-petrol", "en", ["1", "2", "3", "4"]),
+    ],
+)
+def test_every_cylinder_is_drawn_once_and_the_crank_spacing_is_dimensioned(
+    example, language, labels
+):
+    scene = _scene(example)
+    assert len(labels) == scene["engine"]["cylinders"]
+    _, ax = _drawn(example, language)
+    drawn = [x.get_text() for x in ax.texts if x.get_gid() == "plan-cylinder"]
+    assert sorted(drawn) == sorted(labels)
+    (arrow,) = [x for x in ax.texts if x.get_gid() == "plan-spacing"]
+    spacing = _mm(scene["engine"]["cylinder_spacing"])
+    assert abs(arrow.xy[0] - arrow.xyann[0]) == pytest.approx(spacing)
+    (text,) = [x for x in ax.texts if x.get_gid() == "plan-spacing-text"]
+    assert text.get_text().startswith("a = ") and f"{spacing:g}" in text.get_text()
+    cranks = [x.get_text() for x in ax.texts if x.get_gid() == "plan-crank"]
+    assert len(cranks) == scene["engine"]["cylinders"] // (2 if "Л" in labels[0] else 1)
+
+
+def test_a_vs_banks_lie_either_side_and_one_rod_width_apart_along_the_shaft():
+    scene = _scene("v8-petrol")
+    plan, _ = _drawn("v8-petrol", "ru")
+    assert row_sides(plan["bank_axes_deg"]) == {0: 1.0, 1: -1.0}
+    bore = _mm(scene["engine"]["bore"]) / 1e3
+    assert plan["rod_offset_m"] == pytest.approx(0.45 * 0.63 * bore)
+    places = {c["label"]: c["position_m"] for c in plan["cylinders"]}
+    assert places["1R"] - places["1L"] == pytest.approx(
+        plan["rod_offset_m"]
+    )  # L nearer the free end
+    assert places["2L"] - places["1L"] == pytest.approx(
+        _mm(scene["engine"]["cylinder_spacing"]) / 1e3
+    )
+
+
+def test_a_boxers_banks_are_opposite_and_an_inline_row_above_the_shaft():
+    assert row_sides({"0": 0.0, "1": 180.0}) == pytest.approx({0: 1.0, 1: -1.0})
+    assert row_sides({"0": 0.0}) == {0: 1.0}
+
+
+def test_a_ws_middle_bank_is_stacked_above_the_shaft_under_its_left_bank():
+    centres = row_centres({"0": 0.0, "1": 60.0, "2": 120.0}, 100.0, 50.0)
+    assert centres == pytest.approx({1: 100.0, 0: 150.0, 2: -100.0})
+
+
+def test_a_one_crank_engine_has_no_plan():
+    assert "plan" not in shared_run("radial9-aircraft").outputs["bays"].results
+
+
+def test_the_plan_is_announced_before_it_appears():
+    html = re.sub(r"<[^>]+>", "", shared_html("v8-petrol").linked_html)
+    caption = html.index("Plan of the engine")
+    number = re.search(r"Figure\s(\d+\.\d+) \W Plan of the engine", html[caption - 30 :])
+    assert number is not None
+    announced = html.index(f"crankshaft are shown in figure\xa0{number.group(1)}")
+    assert announced < caption
+
+
+def test_a_v_engines_crank_star_names_cylinder_1L_in_russian():
+    t = _t("ru")
+    positions = _labelled(shared_run("v8-petrol").outputs["drawing"].artifacts["positions"], t)
+    assert _first_cylinder(positions) == "1Л"
+    assert t("drawing.crank_star", cylinder="1Л").endswith("цилиндра 1Л)")
+    inline = _labelled(shared_run("inline4-petrol").outputs["drawing"].artifacts["positions"], t)
+    assert _first_cylinder(inline) == "1"
