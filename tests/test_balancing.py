@@ -756,8 +756,8 @@ def test_the_abstract_says_what_the_counterweights_alone_would_leave():
     assert loads[2] + loads[-2] == pytest.approx(second, rel=1e-9)
     text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "ru").linked_html))
     expected = (
-        "без уравновешивающих валов (только с противовесами) неуравновешенными остались бы также "
+        "(без уравновешивающих валов, только с противовесами, неуравновешенными остались бы также "
         "величины: "
-        f"вращающаяся навстречу валу составляющая ΣMI = {loads[-1]:.1f}\u202fН·м и ΣMII = {second:.0f}\u202fН·м"
+        f"вращающаяся навстречу валу составляющая ΣMI ({loads[-1]:.1f}\u202fН·м) и ΣMII = {second:.0f}\u202fН·м"
     ).replace(".", ",")
     assert expected in text

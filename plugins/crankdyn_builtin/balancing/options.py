@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict
+from pydantic import AfterValidator, ConfigDict
 
+from crankdyn.plugin.contracts import RodOffsetOptions
 from crankdyn.scene import quantity as _quantity
 
 ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
@@ -36,17 +37,15 @@ def _top(value: int) -> int:
     return value
 
 
-class BalancingOptions(BaseModel):
-    """The [balancing] table."""
+class BalancingOptions(RodOffsetOptions):
+    """The [balancing] table (``rod_offset`` from the shared model: the distance along the crank
+    pin between the planes of rods side by side on it; None, ROD_OFFSET_PER_BORE of the bore)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
     counterweight_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
     balance_shaft_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
     balance_shaft_spacing: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
-    # the distance along the crank pin between the planes of rods side by side on it (one crank):
-    # None, one big-end bearing's width of typical proportions (ROD_OFFSET_PER_BORE)
-    rod_offset: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
     include_orders: Annotated[list[int], AfterValidator(_include)] = [1, 2, 4, 6]
     # None: the first order for one cylinder (a counterweight and one shaft, as single-cylinder
     # engines are built; the second order's two Lanchester shafts are rarely worth it there), the

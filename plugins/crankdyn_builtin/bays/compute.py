@@ -20,6 +20,7 @@ from crankdyn.plugin.contracts import (
     KINEMATICS,
     ArticulatedOptions,
     BayLoads,
+    RodOffsetOptions,
 )
 from crankdyn.plugin.scene_inputs import (
     articulated_rod_masses_kg,
@@ -30,7 +31,6 @@ from crankdyn.plugin.scene_inputs import (
 )
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
-from crankdyn_builtin.balancing.options import BalancingOptions
 
 from .plan import plan_data
 
@@ -239,7 +239,7 @@ def _rod_offset_m(scene, layout) -> float:
     e = scene.engine
     if e.rod_type != "central" or layout.cylinders_per_bay < 2:
         return 0.0
-    given = options(scene, "balancing", BalancingOptions).rod_offset
+    given = options(scene, "balancing", RodOffsetOptions).rod_offset
     return float(given) if given is not None else _TYPICAL_ROD_OFFSET_PER_BORE * e.bore
 
 

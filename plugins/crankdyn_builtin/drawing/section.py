@@ -173,22 +173,7 @@ def render(output: StageOutput, ctx) -> str:
     curves = output.artifacts["curves"]
     plot = md.cursor_plot_svg(curves["v"], curves["j"], t("drawing.curve_v"), t("drawing.curve_j"))
     # no conclusion of its own: the kinematics section's states the same angles, computed
-    # the text names each mark
-    front = md.front_view(positions)
-    marked = md.angle_mark_parts(front) is not None
-    banks = None if marked else md.bank_mark_parts(front)
-    own_pins = banks is not None and md.own_crank_pins(banks[1])
-    bank_marks = (
-        t(
-            "drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks",
-            banks=", ".join(md.bank_letter(guide.label) for guide, _ in banks[1]),
-            first=front.guides[0].label,
-        )
-        if banks
-        else ""
-    )
-    if not marked and not banks and md.radial_mark_parts(front) is not None:
-        bank_marks = t("drawing.marks_radial", first=front.guides[0].label)
+    marked, bank_marks = _mark_texts(t, positions)
     return ctx.render_template(
         "sections/drawing.html.j2",
         figure_scheme=figure_scheme,
@@ -208,6 +193,27 @@ def render(output: StageOutput, ctx) -> str:
         angles=angles,
         positions=POSITIONS,
     )
+
+
+def _mark_texts(t, positions) -> tuple[bool, str]:
+    """(whether the scheme marks α and β of one cylinder, the sentence naming each bank's or a
+    radial's marks, "" otherwise): the text names each mark the scheme draws."""
+    front = md.front_view(positions)
+    marked = md.angle_mark_parts(front) is not None
+    banks = None if marked else md.bank_mark_parts(front)
+    own_pins = banks is not None and md.own_crank_pins(banks[1])
+    bank_marks = (
+        t(
+            "drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks",
+            banks=", ".join(md.bank_letter(guide.label) for guide, _ in banks[1]),
+            first=front.guides[0].label,
+        )
+        if banks
+        else ""
+    )
+    if not marked and not banks and md.radial_mark_parts(front) is not None:
+        bank_marks = t("drawing.marks_radial", first=front.guides[0].label)
+    return marked, bank_marks
 
 
 def _first_cylinder(positions) -> str:

@@ -279,6 +279,7 @@ def run(scene, inputs) -> StageOutput:
         required_irregularity=opts.required_irregularity,
         required_flywheel_inertia_kg_m2=required_flywheel,
         energy_flywheel_exact_irregularity=exact_energy if raised is not None else None,
+        counterweight_inertia_kg_m2=counterweights,
     )
     return StageOutput(
         data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes

@@ -199,6 +199,9 @@ class FlywheelDesign:
     required_irregularity: float | None
     required_flywheel_inertia_kg_m2: float | None
     energy_flywheel_exact_irregularity: float | None = None
+    #: the counterweights' Σ m ρ², part of ``engine_inertia_kg_m2`` (the constant the crank
+    #: train's inertia gets), kg m^2
+    counterweight_inertia_kg_m2: float = 0.0
 
     @property
     def raised_by_exact_solution(self) -> bool:
@@ -208,6 +211,17 @@ class FlywheelDesign:
 
 # Scene tables read by more than one plugin: the table's name is the owning stage's
 # ``options_table``; the model is shared so that every reader validates it alike.
+
+
+class RodOffsetOptions(BaseModel):
+    """The balancing table's distance along the crank pin between the planes of rods side by
+    side on it (owned by the balancing stage, whose model extends this one; the bay stage reads
+    it for the engine's plan, ignoring the table's other fields)."""
+
+    model_config = ConfigDict(extra="ignore", frozen=True, validate_default=True)
+
+    # None: one big-end bearing's width of typical proportions
+    rod_offset: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
 
 
 class ArticulatedOptions(BaseModel):
