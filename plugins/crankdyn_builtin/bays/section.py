@@ -268,12 +268,18 @@ def render(output: StageOutput, ctx) -> str | None:
     )
 
 
-def _propeller(ctx) -> bool:
-    """True where the power take-off end is an aircraft's propeller (else a flywheel)."""
-    return ctx.scene is not None and ctx.scene.engine.application == "aircraft"
+#: What the plan names at the power take-off end, by the engine's application: an aircraft's
+#: propeller; a boat's drive (an outboard motor's flywheel sits at the other end); else a flywheel.
+TAKE_OFF_ENDS = {"aircraft": "bays.plan_propeller", "marine": "bays.plan_power_take_off"}
 
 
-def plan_texts(plan: dict, t, propeller: bool = False) -> PlanTexts:
+def _take_off_end(ctx) -> str:
+    """The catalog key of the plan's power take-off end (:data:`TAKE_OFF_ENDS`)."""
+    application = ctx.scene.engine.application if ctx.scene is not None else None
+    return TAKE_OFF_ENDS.get(application, "bays.plan_flywheel")
+
+
+def plan_texts(plan: dict, t, take_off_end: str = "bays.plan_flywheel") -> PlanTexts:
     """The plan's words in the report's language: the cylinders' labels as printed, the ends,
     the banks' rows, a's and the rods' offset's dimension texts."""
     mm = t("unit.mm")
@@ -286,7 +292,7 @@ def plan_texts(plan: dict, t, propeller: bool = False) -> PlanTexts:
     return PlanTexts(
         crank=t("bays.plan_crank"),
         free_end=t("bays.plan_free_end"),
-        take_off_end=t("bays.plan_propeller" if propeller else "bays.plan_flywheel"),
+        take_off_end=t(take_off_end),
         rotation=t("bays.plan_rotation"),
         banks=tuple(t("bays.bank_" + x) for x in letters) if named else (),
         spacing=f"a = {t.number_g(spacing * 1e3, 4)} {mm}" if spacing else "a",
@@ -302,12 +308,12 @@ def _plan_parts(r: dict, ctx) -> dict | None:
     plan = r.get("plan")
     if not plan:
         return None
-    t, propeller = ctx.t, _propeller(ctx)
+    t = ctx.t
     printed = dict(
         plan, cylinders=[dict(c, label=t.cylinder(c["label"])) for c in plan["cylinders"]]
     )
     figure = ctx.figure(
-        partial(plan_figure, printed, plan_texts(plan, t, propeller)),
+        partial(plan_figure, printed, plan_texts(plan, t, _take_off_end(ctx))),
         t("bays.plan_caption"),
         "plan",
         see="bays.see_plan",
@@ -316,7 +322,9 @@ def _plan_parts(r: dict, ctx) -> dict | None:
     if plan["rod_offset_m"]:
         given = _rod_offset_given(ctx.scene)
         offset = t(
-            "bays.plan_offset_propeller" if propeller else "bays.plan_offset",
+            "bays.plan_offset_propeller"
+            if _take_off_end(ctx) == "bays.plan_propeller"
+            else "bays.plan_offset",
             offset=t.number_g(plan["rod_offset_m"] * 1e3, 3),
             taken="" if given else t("bays.plan_offset_taken"),
         )

@@ -68,6 +68,7 @@ def render(output: StageOutput, ctx) -> str | None:
         journal_names=journal_names,
         pins_equal=pins_equal,
         application=ctx.scene.engine.application if ctx.scene is not None else None,
+        rolling=_rolling_supports(ctx.scene),
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
         main_pressure=_main_pressure(ctx, r),
@@ -352,6 +353,19 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     pressures = _pressure_conclusion(ctx, r)
     if pressures:
         ctx.conclude(pressures)
+    rolling = _rolling_supports(ctx.scene)
+    if rolling:  # the plain-bearing figures above are a guide only for such supports
+        ctx.conclude(t("bearings.conclusion_" + rolling))
+
+
+def _rolling_supports(scene) -> str | None:
+    """Why the engine's supports are usually rolling bearings, as a catalog key's ending: a small
+    spark-ignition two-stroke (crankcase scavenging) or an aircraft engine; None otherwise."""
+    if scene is None:
+        return None
+    if scene.engine.strokes == 2 and scene.cycle is not None and scene.cycle.ignition == "spark":
+        return "two_stroke_rolling"
+    return "aircraft_supports" if scene.engine.application == "aircraft" else None
 
 
 def _rod_conclusion(ctx, r) -> str:

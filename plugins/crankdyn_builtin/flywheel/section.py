@@ -269,6 +269,8 @@ def _conclude_not_needed(ctx, r) -> None:
             mechanism=ctx.num(r["mechanism_inertia_mean_kg_m2"]),
             shaft=ctx.num(r["engine_inertia_kg_m2"]),
         )
+        + " "
+        + t("flywheel.rated_regime_only", rpm=t.number_g(ctx.scene.engine.rpm, 5))
     )
 
 

@@ -75,7 +75,8 @@ def _pv_figure(volume_l, pressure, theory, points, t, two_stroke=False, ports=No
     if ports is not None:
         ax.axvline(ports["volume_l"], color="0.6", lw=0.7, ls=":")
         ax.annotate(
-            r"$V_{\mathrm{a}\prime}$",
+            # the prime as a text character: mathtext's \prime is a symbol font's "0" to a reader
+            r"$V_{\mathrm{a}}$′",
             (ports["volume_l"], 1.0),
             xycoords=("data", "axes fraction"),
             xytext=(-3, -10),

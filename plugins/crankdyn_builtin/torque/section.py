@@ -18,10 +18,14 @@ from .figures import _journals_figure, _output_figure
 TORQUE_DECIMALS = 1
 
 
+#: The catalog suffix of the power take-off end by ``engine.application``: an aircraft engine's
+#: propeller, a boat's drive (an outboard's flywheel sits at the other end); else the flywheel.
+OUTPUT_ENDS = {"aircraft": "_propeller", "marine": "_power"}
+
+
 def output_end(scene) -> str:
-    """The catalog suffix of the power take-off end: an aircraft engine's propeller, else the
-    flywheel (``engine.application``)."""
-    return "_propeller" if scene is not None and scene.engine.application == "aircraft" else ""
+    """The catalog suffix of the power take-off end (:data:`OUTPUT_ENDS`)."""
+    return OUTPUT_ENDS.get(scene.engine.application, "") if scene is not None else ""
 
 
 def _journals_table(ctx, journals) -> str:
