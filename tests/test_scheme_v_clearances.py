@@ -130,18 +130,15 @@ def test_the_support_is_drawn_over_the_counterweight(scheme):
     assert min(c.get_zorder() for c in hatching) > max(p.get_zorder() for p in counterweight)
 
 
-def test_the_pistons_are_drawn_thicker_than_the_walls(scheme):
+def test_the_pistons_are_drawn_thicker_than_the_walls_and_shaded(scheme):
     ax, geometry, *_ = scheme
+    from matplotlib.colors import to_rgba
     from matplotlib.patches import Polygon
 
-    pistons = [
-        p
-        for p in ax.patches
-        if isinstance(p, Polygon)
-        and np.allclose(p.get_facecolor()[:3], 1.0)
-        and p.get_zorder() == 3
-    ]
+    pistons = [p for p in ax.patches if isinstance(p, Polygon) and p.get_gid() == "piston"]
     assert len(pistons) == len(md._one_per_axis(geometry.guides))
+    # solid bodies: shaded, not white like the paper
+    assert all(to_rgba(p.get_facecolor())[:3] != (1.0, 1.0, 1.0) for p in pistons)
     walls = [line.get_linewidth() for line in ax.lines if line.get_solid_capstyle() == "butt"]
     assert walls
     assert min(p.get_linewidth() for p in pistons) > 1.5 * max(walls)

@@ -141,6 +141,7 @@ def _guide_frame(geometry, guide, i):
 
 
 SKIRT = 0.35  # the piston below its pin, fraction of the bore
+PISTON_FILL = "0.85"  # a piston's shade: a solid body, lighter than a shaded counterweight
 CROWN = 0.45  # the piston above its pin, fraction of the bore
 SHORT_SKIRT = 0.12  # the least skirt drawn, where the neighbouring cylinders leave no room
 HATCH = 0.02  # the spacing of a wall's hatching strokes, fraction of the extent
@@ -344,10 +345,11 @@ def draw_guide(ax, geometry, guide, i, extent, color=INK, alpha=1.0):
                 o + d * corners[0] + n * half * 0.97,
             ]
         )
-        ax.fill(  # a link: the thick solid line of ГОСТ 2.770, the walls being thin
-            rect[:, 0],
+        ax.fill(  # a link: the thick solid line of ГОСТ 2.770, the walls being thin; shaded
+            rect[:, 0],  # as a solid body moving in its liner
             rect[:, 1],
-            facecolor="white",
+            facecolor=PISTON_FILL,
+            gid="piston",
             edgecolor=color,
             lw=2.0,
             ls="-",
@@ -1327,6 +1329,7 @@ class _Clearance:
             if isinstance(patch, Polygon)
             and patch.get_fill()
             and to_rgba(patch.get_facecolor())[:3] != (1.0, 1.0, 1.0)
+            and patch.get_gid() != "piston"  # its pin's letter A belongs to it
         ]
         self._tree: Any = (
             None  # the points' k-d tree, built once for all queries until points change
