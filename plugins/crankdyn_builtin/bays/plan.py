@@ -53,6 +53,8 @@ def plan_data(layout, bore_m: float, spacing_m: float | None, rod_offset_m: floa
     return {
         "layout": layout.layout,
         "cranks": layout.cranks,
+        # each crank's lag behind crank 1 in the direction of rotation, deg
+        "crank_lags_deg": [float(lag) for lag in layout.crank_lag_deg],
         "spacing_m": spacing_m,
         "bore_m": bore_m,
         "rod_offset_m": rod_offset_m if len(banks) > 1 and layout.layout != "boxer" else 0.0,
@@ -123,7 +125,7 @@ def plan_figure(data: dict, texts: PlanTexts):
     _supports(ax, a, cranks)
     _cylinders(ax, data, rows, bore)
     _row_names(ax, data, texts.banks, rows, bore)
-    _crank_numbers(ax, a, cranks, texts.crank)
+    _crank_numbers(ax, a, cranks, texts.crank, data.get("crank_lags_deg"))
     _spacing_dimension(ax, a, throw, bottom - 0.25 * a, texts.spacing)
     if texts.offset:
         _offset_dimension(ax, data, rows, bore, texts.offset)
@@ -209,13 +211,15 @@ def _row_names(ax, data, names, rows, bore) -> None:
             )
 
 
-def _crank_numbers(ax, a, cranks, word) -> None:
-    """The cranks' numbers from the free end, under the axis between the supports."""
+def _crank_numbers(ax, a, cranks, word, lags_deg=None) -> None:
+    """The cranks' numbers from the free end, each with its lag behind crank 1, under the axis
+    between the supports."""
     for k in range(cranks):
+        lag = f" ({lags_deg[k]:.4g}°)" if lags_deg else ""
         ax.text(
             k * a,
             -0.2 * a,
-            f"{word} {k + 1}".strip(),
+            f"{word} {k + 1}{lag}".strip(),
             ha="center",
             va="top",
             fontsize=8,
