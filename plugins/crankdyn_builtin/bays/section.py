@@ -276,7 +276,7 @@ TAKE_OFF_ENDS = {"aircraft": "bays.plan_propeller", "marine": "bays.plan_power_t
 def _take_off_end(ctx) -> str:
     """The catalog key of the plan's power take-off end (:data:`TAKE_OFF_ENDS`)."""
     application = ctx.scene.engine.application if ctx.scene is not None else None
-    return TAKE_OFF_ENDS.get(application, "bays.plan_flywheel")
+    return TAKE_OFF_ENDS.get(application or "", "bays.plan_flywheel")
 
 
 def plan_texts(plan: dict, t, take_off_end: str = "bays.plan_flywheel") -> PlanTexts:

@@ -24,7 +24,13 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 #: The counterweights' letters (meaning: symbol.flywheel.<key>), where the balancing fits them.
 SYMBOLS = {
-    "counterweight_inertia": Symbol("J", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg_m2"),
+    # the speed-fluctuation section's J(α) names it too
+    "counterweight_inertia": Symbol(
+        "J",
+        {"en": "cw", "uk": "пр", "ru": "пр"},
+        "unit.kg_m2",
+        sections=("flywheel", "speed_fluctuation"),
+    ),
     "counterweight_mass": Symbol("m", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg"),
     "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.m"),
 }
