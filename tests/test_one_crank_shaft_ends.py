@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import re
+from html import unescape
 
 import pytest
 from test_one_crank_texts import RADIAL, V_TWIN
@@ -116,3 +117,20 @@ def test_one_cranks_journal_loads_are_written_for_that_crank(language, of_crank_
     assert "Fi+1" not in text
     if language == "en":
         assert "Fi+1" in _text("inline4-petrol", "en")
+
+
+@pytest.mark.parametrize(
+    ("name", "language", "seen_from"),
+    [
+        ("radial", "uk", "вигляд із заднього кінця вала, протилежного повітряному гвинту"),
+        ("vtwin", "en", "seen from the shaft's end opposite the power take-off"),
+    ],
+)
+def test_a_one_crank_schemes_caption_names_the_end_it_is_seen_from(name, language, seen_from):
+    data = {"radial": RADIAL, "vtwin": V_TWIN}[name]
+    data = {**data, "report": {**data["report"], "language": language}}
+    run = run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY, ["drawing"])
+    html = render_html(run, REGISTRY, language).html
+    text = " ".join(unescape(re.sub(r"<[^>]+>", "", html)).split())
+    assert seen_from in text
+    assert FREE_END[language] not in text.lower()

@@ -153,9 +153,7 @@ def render(output: StageOutput, ctx) -> str:
     figure_scheme = ctx.figure(
         scheme,
         t(
-            "drawing.scheme_caption_free_end"
-            if _has_cylinders(positions)
-            else "drawing.scheme_caption",
+            _scheme_caption(ctx, positions),
             scale=scale,
             angle=scheme_angle,
         ),
@@ -223,6 +221,18 @@ def _first_cylinder(positions) -> str:
         if cylinders:
             return cylinders[0]
     return "1"
+
+
+def _scheme_caption(ctx, positions) -> str:
+    """The scheme's caption key: a piston engine's says the end it is seen from, the free end of
+    a multi-crank shaft; a one-crank shaft has none (a radial is seen from its rear, opposite the
+    propeller, or from the end opposite the power take-off)."""
+    if not _has_cylinders(positions):
+        return "drawing.scheme_caption"
+    if len(positions.cranks) > 1:
+        return "drawing.scheme_caption_free_end"
+    aircraft = ctx.scene is not None and ctx.scene.engine.application == "aircraft"
+    return "drawing.scheme_caption_rear_" + ("propeller" if aircraft else "power")
 
 
 def _has_cylinders(positions) -> bool:

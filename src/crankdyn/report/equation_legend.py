@@ -70,8 +70,11 @@ def _patterns(
 
 @functools.lru_cache(maxsize=4096)
 def _pattern(key: str, language: str, symbols: SymbolTable) -> re.Pattern:
+    # an upright letter (the imaginary unit j) is not the italic one (the acceleration j_p)
+    upright = "<i>" not in symbol_html(key, language, symbols)
+    not_after = ("<b>", "<i>") if upright else ("<b>",)
     return re.compile(
-        symbol_pattern(key, language, not_after=("<b>",), tail="(?![′″])", symbols=symbols)
+        symbol_pattern(key, language, not_after=not_after, tail="(?![′″])", symbols=symbols)
     )
 
 
