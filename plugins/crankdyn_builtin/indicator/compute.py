@@ -135,7 +135,8 @@ def run(
         results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i_gross - target) / target
     elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
         results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
-        results["diagram_fullness_usual"] = list(USUAL_FULLNESS[scene.cycle.ignition])
+        if engine.strokes == 4:  # the usual ranges are four-stroke engines'
+            results["diagram_fullness_usual"] = list(USUAL_FULLNESS[scene.cycle.ignition])
 
     gas = GasPressure(
         crank_angle_deg=angle,
@@ -418,8 +419,8 @@ def _trace_pressure(scene, motion, area, swept):
     return pressure, volume
 
 
-#: The usual diagram fullness φ_п = p_i/p_i′ of spark-ignition engines and diesels (Kolchin and
-#: Demidov): the actual cycle loses this much of the theoretical one's area.
+#: The usual diagram fullness φ_п = p_i/p_i′ of four-stroke spark-ignition engines and diesels
+#: (Kolchin and Demidov): the actual cycle loses this much of the theoretical one's area.
 USUAL_FULLNESS = {"spark": (0.94, 0.97), "diesel": (0.92, 0.95)}
 
 
