@@ -1540,7 +1540,7 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
     label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
     box = clearance._text_points(label) - at
     label.remove()
-    best, best_score = None, None
+    best, best_score, enough = None, None, extent * 0.012
     for reach in np.arange(0.07, 0.62, 0.03):
         for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
             place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
@@ -1548,9 +1548,12 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
             end = _leader_end(box + place, at)
             # a step farther weighs as much as a step of the leader on a line
             crossings = _leader_crossings(clearance, at, end)
-            score = (min(clear, extent * 0.012), -(crossings + reach / 0.03))
+            score = (min(clear, enough), -(crossings + reach / 0.03))
             if best_score is None or score > best_score:
-                best, best_score = place, score
+                best, best_score, best_crossings = place, score, crossings
+        # clear enough with a leader crossing nothing: no place farther out scores higher
+        if best_score is not None and best_score[0] >= enough and best_crossings == 0:
+            break
     assert best is not None  # the grid above always gives a place
     label = ax.text(
         *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
