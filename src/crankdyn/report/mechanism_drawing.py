@@ -1402,11 +1402,15 @@ class _Clearance:
         clearest of everything drawn (``off_bodies``: and off the shaded links); then itself an
         obstacle to the next."""
         best, best_clear = candidates[0], -np.inf
+        # the letter's boxes once, at the first place: at every other they are the same moved
+        first = np.asarray(candidates[0], float)
+        artists = _lettered(self.ax, first, letter, sub, ha="center", va="center", **style)
+        outlines = [self._text_points(a) - first for a in artists]
+        for artist in artists:
+            artist.remove()
         for at in candidates:
-            artists = _lettered(self.ax, at, letter, sub, ha="center", va="center", **style)
-            clear = min(self.of_box(a, off_bodies) for a in artists)
-            for artist in artists:
-                artist.remove()
+            at_mm = np.asarray(at, float)
+            clear = min(self.of_outline(outline + at_mm, off_bodies) for outline in outlines)
             if clear > best_clear + 1e-9:
                 best, best_clear = at, clear
         for artist in _lettered(self.ax, best, letter, sub, ha="center", va="center", **style):
