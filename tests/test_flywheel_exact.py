@@ -116,10 +116,9 @@ def test_an_engine_the_energy_method_finds_needs_no_flywheel_gets_the_exact_solu
     assert fly["required_flywheel_inertia_kg_m2"] == 0.0  # the energy method: none
     assert fly["flywheel_raised"] and not fly["own_inertia_sufficient"]
     assert fly["flywheel_raise_percent"] is None  # no growth from nothing
-    # without a flywheel the time-stepping solution exceeds [δ] by more than the printed digits
-    without = _time_stepping_delta(result, 0.0)
-    assert without > 0.0957
-    assert fly["energy_flywheel_exact_irregularity"] == pytest.approx(without, rel=1e-6)
+    # without a flywheel the exact solution exceeds [δ] by more than the printed digits (the exact
+    # solution is checked against time stepping in the test above)
+    assert fly["energy_flywheel_exact_irregularity"] > 0.0957
     design = fly["flywheel_inertia_kg_m2"]
     assert design > 0.0
     assert _time_stepping_delta(result, design) == pytest.approx(0.09546, rel=2e-7)

@@ -339,8 +339,7 @@ def test_torque_period_and_symmetric_v8():
     )
 
 
-@pytest.mark.parametrize("name", ["v8-petrol", "radial9-aircraft"])
-@pytest.mark.parametrize("language", ["en", "uk"])
+@pytest.mark.parametrize(("name", "language"), [("v8-petrol", "en"), ("radial9-aircraft", "uk")])
 def test_multibank_reports_render(name, language):
     rendered = shared_html(name, language=language)  # the text only: its figures are not drawn here
     assert not rendered.missing_translations

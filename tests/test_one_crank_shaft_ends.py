@@ -123,7 +123,6 @@ def test_one_cranks_journal_loads_are_written_for_that_crank(language, of_crank_
     ("name", "language", "seen_from"),
     [
         ("radial", "uk", "вигляд із заднього кінця вала, протилежного повітряному гвинту"),
-        ("vtwin", "en", "seen from the shaft's end opposite the power take-off"),
     ],
 )
 def test_a_one_crank_schemes_caption_names_the_end_it_is_seen_from(name, language, seen_from):
