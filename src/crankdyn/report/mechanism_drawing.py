@@ -1363,12 +1363,16 @@ class _Clearance:
         )
         return self._along(corners)
 
-    def of_points(self, points) -> float:
-        """The least distance (mm) from ``points`` to anything drawn."""
+    def _tree_built(self) -> None:
+        """The drawn points' k-d tree, built once until points are added."""
         if self._tree is None:
             from scipy.spatial import cKDTree  # lazy: heavy optional import
 
             self._tree = cKDTree(self.points)
+
+    def of_points(self, points) -> float:
+        """The least distance (mm) from ``points`` to anything drawn."""
+        self._tree_built()
         distances, _ = self._tree.query(np.asarray(points, float))
         return float(np.min(distances))
 
@@ -1392,8 +1396,12 @@ class _Clearance:
         covered = sum(int(body.contains_points(outline).sum()) for body in bodies)
         if covered:
             return -float(len(self.points) + covered)
-        inside = np.all((self.points > low) & (self.points < high), axis=1)
-        return -float(np.count_nonzero(inside)) if inside.any() else self.of_points(outline)
+        # the points inside the box, among those within its half-diagonal of its centre
+        self._tree_built()
+        near = self._tree.query_ball_point((low + high) / 2, float(np.linalg.norm(high - low)) / 2)
+        points = self.points[near]
+        inside = np.count_nonzero(np.all((points > low) & (points < high), axis=1))
+        return -float(inside) if inside else self.of_points(outline)
 
     def place(
         self, candidates, letter: str, sub: str = "", off_bodies: bool = False, **style
@@ -1548,11 +1556,13 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
     for reach in np.arange(0.07, 0.62, 0.03):
         for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
             place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
-            clear = clearance.of_outline(box + place, off_bodies=True)
+            clear = min(clearance.of_outline(box + place, off_bodies=True), enough)
+            if best_score is not None and clear < best_score[0]:
+                continue  # less clear than the best: its leader cannot make up for it
             end = _leader_end(box + place, at)
             # a step farther weighs as much as a step of the leader on a line
             crossings = _leader_crossings(clearance, at, end)
-            score = (min(clear, enough), -(crossings + reach / 0.03))
+            score = (clear, -(crossings + reach / 0.03))
             if best_score is None or score > best_score:
                 best, best_score, best_crossings = place, score, crossings
         # clear enough with a leader crossing nothing: no place farther out scores higher
