@@ -4,6 +4,8 @@ back at the end (a batch worker or the preview server must not keep a report's o
 from __future__ import annotations
 
 import gc
+import subprocess
+import sys
 
 from crankdyn.engine.frozen_heap import freeze_more, frozen_heap
 
@@ -34,18 +36,25 @@ def test_freeze_more_outside_a_report_does_nothing():
 
 
 def test_a_cycle_made_inside_is_collected_after():
-    import weakref
+    # in a fresh interpreter: two full collections of a test worker's heap take seconds
+    code = """
+import gc, weakref
+from crankdyn.engine.frozen_heap import freeze_more, frozen_heap
 
-    class Node:
-        pass
+class Node:
+    pass
 
-    with frozen_heap():
-        a, b = Node(), Node()
-        a.other, b.other = b, a
-        alive = weakref.ref(a)
-        freeze_more()  # the cycle is now in the permanent generation
-        del a, b
-        gc.collect()
-        assert alive() is not None  # frozen: not collected while the report is built
+with frozen_heap():
+    a, b = Node(), Node()
+    a.other, b.other = b, a
+    alive = weakref.ref(a)
+    freeze_more()  # the cycle is now in the permanent generation
+    del a, b
     gc.collect()
-    assert alive() is None  # given back: collected once the report is done
+    assert alive() is not None  # frozen: not collected while the report is built
+gc.collect()
+assert alive() is None  # given back: collected once the report is done
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr
