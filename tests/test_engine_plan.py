@@ -114,3 +114,14 @@ def test_a_v_engines_crank_star_names_cylinder_1L_in_russian():
     assert t("drawing.crank_star", cylinder="1Л").endswith("цилиндра 1Л)")
     inline = _labelled(shared_run("inline4-petrol").outputs["drawing"].artifacts["positions"], t)
     assert _first_cylinder(inline) == "1"
+
+
+def test_a_boat_engines_take_off_end_is_its_drive_not_a_flywheel():
+    """An outboard motor's flywheel sits at the other end from its drive: a marine engine's
+    journals name the power take-off end; a car's keep the flywheel's."""
+    from conftest import shared_html
+
+    marine = shared_html("inline3-petrol", {"engine": {"application": "marine"}}, "en")
+    assert "power take-off end" in marine.linked_html
+    car = shared_html("inline3-petrol", None, "en").linked_html
+    assert "its flywheel end" in car or "towards the flywheel" in car

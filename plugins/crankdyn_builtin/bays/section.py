@@ -10,6 +10,7 @@ from markupsafe import Markup, escape
 
 from crankdyn.physics.extrema import first_argmax, first_extremum_index
 from crankdyn.plugin.contracts import ArticulatedOptions
+from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.scene import options
@@ -268,15 +269,17 @@ def render(output: StageOutput, ctx) -> str | None:
     )
 
 
-#: What the plan names at the power take-off end, by the engine's application: an aircraft's
-#: propeller; a boat's drive (an outboard motor's flywheel sits at the other end); else a flywheel.
-TAKE_OFF_ENDS = {"aircraft": "bays.plan_propeller", "marine": "bays.plan_power_take_off"}
+#: What the plan names at the power take-off end (:func:`power_take_off`).
+TAKE_OFF_ENDS = {
+    "propeller": "bays.plan_propeller",
+    "drive": "bays.plan_power_take_off",
+    "flywheel": "bays.plan_flywheel",
+}
 
 
 def _take_off_end(ctx) -> str:
-    """The catalog key of the plan's power take-off end (:data:`TAKE_OFF_ENDS`)."""
-    application = ctx.scene.engine.application if ctx.scene is not None else None
-    return TAKE_OFF_ENDS.get(application or "", "bays.plan_flywheel")
+    """The catalog key of the plan's power take-off end."""
+    return TAKE_OFF_ENDS[power_take_off(ctx.scene)]
 
 
 def plan_texts(plan: dict, t, take_off_end: str = "bays.plan_flywheel") -> PlanTexts:

@@ -6,6 +6,7 @@ from functools import partial
 
 from markupsafe import Markup
 
+from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import journal_name
@@ -18,14 +19,14 @@ from .figures import _journals_figure, _output_figure
 TORQUE_DECIMALS = 1
 
 
-#: The catalog suffix of the power take-off end by ``engine.application``: an aircraft engine's
-#: propeller, a boat's drive (an outboard's flywheel sits at the other end); else the flywheel.
-OUTPUT_ENDS = {"aircraft": "_propeller", "marine": "_power"}
+#: The catalog suffix of the power take-off end (:func:`power_take_off`).
+OUTPUT_ENDS = {"propeller": "_propeller", "drive": "_power", "flywheel": ""}
 
 
 def output_end(scene) -> str:
-    """The catalog suffix of the power take-off end (:data:`OUTPUT_ENDS`)."""
-    return OUTPUT_ENDS.get(scene.engine.application, "") if scene is not None else ""
+    """The catalog suffix of the power take-off end: the propeller's, a boat's drive's or the
+    flywheel's."""
+    return OUTPUT_ENDS[power_take_off(scene)]
 
 
 def _journals_table(ctx, journals) -> str:

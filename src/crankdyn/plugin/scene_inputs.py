@@ -23,6 +23,14 @@ from ..physics.speed_fluctuation import CrankTrain
 from .contracts import ArticulatedOptions, BayLoads
 
 
+def power_take_off(scene) -> str:
+    """What the shaft's power take-off end carries, by ``engine.application``: ``"propeller"``
+    (an aircraft engine), ``"drive"`` (a boat's: an outboard motor's flywheel sits at the other
+    end) or ``"flywheel"``."""
+    application = scene.engine.application if scene is not None else None
+    return {"aircraft": "propeller", "marine": "drive"}.get(application or "", "flywheel")
+
+
 def engine_layout(scene) -> lay.EngineLayout:
     """The scene's engine layout; a :class:`SceneError` naming the field it cannot be built from."""
     e = scene.engine
