@@ -1526,10 +1526,14 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     text goes where nothing drawn is, joined to the crank's dimension line by a leader."""
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
-    if master_rod_joints(geometry):  # a radial: the text near its line, by a short leader
-        _dimension(ax, p, q, "", -extent * 0.04, extent, "R")
+    bodies = master_rod_joints(geometry)
+    if bodies:  # a radial: the line beside the master rod's body, the text by a short leader
+        # the body reaches its knuckle pins round the crank pin: the line clear of it
+        hub = max(float(np.linalg.norm(j[k][i] * MM - q)) for body in bodies for k in body)
+        offset = hub + extent * 0.03
+        _dimension(ax, p, q, "", -offset, extent, "R")
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
-        mid = (p + q) / 2 + np.array([d[1], -d[0]]) * extent * 0.04
+        mid = (p + q) / 2 + np.array([d[1], -d[0]]) * offset
         _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
         return
     # a bank's rods meet at the pin: the line clear of the crank by the room of its arrows, the
