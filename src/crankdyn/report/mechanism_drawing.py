@@ -1626,6 +1626,9 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
             continue
         p, q = j[a][i] * MM, j[b][i] * MM
         offset = extent * 0.03
+        if key == "r":  # the knuckle pins lie on the master rod's body: the line beside it
+            c = j[centre][i] * MM
+            offset += max(float(np.linalg.norm(j[k][i] * MM - c)) for body in bodies for k in body)
         _dimension(ax, p, q, "", offset, extent, key)
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
