@@ -164,6 +164,21 @@ def main_pressure_verdict(scene, results) -> dict | None:
     }
 
 
+def _allowable_results(scene, results) -> dict:
+    """The allowable pressures the engine's kind has (MPa, :data:`ALLOWABLE_PIN_PRESSURE_MPA`,
+    :data:`ALLOWABLE_MAIN_PRESSURE_MPA`), what the main bearings exceed and the journal's d·B
+    they need (m²), as the section and the conclusions state them."""
+    kind = _ignition_kind(scene)
+    verdict = main_pressure_verdict(scene, results)
+    return {
+        "kind": kind,
+        "crank_pin_MPa": list(ALLOWABLE_PIN_PRESSURE_MPA[kind]),
+        "main_journal_MPa": list(ALLOWABLE_MAIN_PRESSURE_MPA[kind]),
+        "main_exceeded": verdict["exceeded"] if verdict else "",
+        "main_area_needed_m2": verdict["area_needed_m2"] if verdict else None,
+    }
+
+
 def _first_largest(records: list[dict], key: str) -> dict:
     """The record of the largest ``key`` value, the first of those equal to the printed 0.01."""
     top = max(round(x[key], 2) for x in records)
@@ -403,6 +418,7 @@ def run(scene, inputs) -> StageOutput:
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
         "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
     }
+    results["allowable"] = _allowable_results(scene, results)
     tables = _tables(
         angle,
         (pin_t, pin_z),
