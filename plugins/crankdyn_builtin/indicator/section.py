@@ -50,17 +50,34 @@ _PORT_POINTS = (
 )
 
 
-def _port_points(frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
-    """The characteristic points of a two-stroke diagram with exhaust ports (as
-    :func:`_characteristic_points`)."""
-    angle = frame["crank_angle_deg"]
-    theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
-    where = {
+def _combustion_angles(r, angle, theory) -> dict[str, float]:
+    """The crank angles of cylinder 1 (deg, from the TDC before firing's cycle start) of the
+    rounding's events as run() used them (its results): the ignition (injection), the start of
+    visible combustion, the actual peak and the end of heat addition of the theoretical cycle (at
+    ρV_c in a diesel's: the last point at p_z)."""
+    return {
         "advance": 360.0 - r["ignition_advance_deg"],
         "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
         "peak": r["max_pressure_crank_angle_deg"],
         "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
     }
+
+
+def _curve_pressure(curve: str, i: int, r, theory, actual) -> float:
+    """A characteristic point's pressure (MPa) on its curve at grid index ``i``; c is the end of
+    the compression line, p_c: at TDC itself the theoretical spark-ignition cycle is already at
+    p_z (heat added at constant volume)."""
+    if curve == "compression_end":
+        return r["compression_end_pressure_Pa"] / 1e6
+    return float(theory[i] if curve == "theory" else actual[i])
+
+
+def _port_points(frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
+    """The characteristic points of a two-stroke diagram with exhaust ports (as
+    :func:`_characteristic_points`)."""
+    angle = frame["crank_angle_deg"]
+    theory, actual = frame["pressure_theoretical_Pa"] / 1e6, frame["pressure_Pa"] / 1e6
+    where = _combustion_angles(r, angle, theory)
     points = []
     volume_l = frame["cylinder_volume_m3"] * 1e3
     for label, at, curve, offset in _PORT_POINTS:
@@ -78,14 +95,8 @@ def _port_points(frame, r) -> list[tuple[str, float, float, tuple[int, int]]]:
             points.append((label, r["port_closing_volume_m3"] * 1e3, float(theory.min()), offset))
             continue
         i = int(np.argmin(np.abs((angle - where.get(at, at) + 180.0) % 360.0 - 180.0)))
-        p = (
-            r["compression_end_pressure_Pa"] / 1e6
-            if curve == "compression_end"
-            else theory[i]
-            if curve == "theory"
-            else actual[i]
-        )
-        points.append((label, float(volume_l[i]), float(p), offset))
+        p = _curve_pressure(curve, i, r, theory, actual)
+        points.append((label, float(volume_l[i]), p, offset))
     return points
 
 
@@ -104,12 +115,7 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
     bdc = r.get("bdc_crank_angle_deg", 180.0)  # the mechanism's BDC (points a and b)
     # the rounding's angles as run() used them (its results), the valve timing as the scene gives it
     where = {
-        "advance": 360.0 - r["ignition_advance_deg"],
-        "visible": 360.0 - r["ignition_advance_deg"] + r["combustion_delay_deg"],
-        "peak": r[
-            "max_pressure_crank_angle_deg"
-        ],  # the end of heat addition: at ρV_c in a diesel's theoretical cycle (the last point at p_z)
-        "theory_peak": float(angle[int(np.flatnonzero(theory >= theory.max() * (1 - 1e-12))[-1])]),
+        **_combustion_angles(r, angle, theory),
         "exhaust": 360.0 + bdc - ctx.scene.cycle.rounding.exhaust_opens_before_bdc_deg,
         "bdc": bdc,
         "expansion_bdc": 360.0 + bdc,
@@ -120,16 +126,8 @@ def _characteristic_points(ctx, frame, r) -> list[tuple[str, float, float, tuple
         i = int(round(where.get(at, at) / step)) % len(
             angle
         )  # a named event's angle, or the angle given
-        # c: the end of the compression line, p_c; at TDC itself the theoretical spark-ignition cycle
-        # is already at p_z (heat added at constant volume)
-        p = (
-            r["compression_end_pressure_Pa"] / 1e6
-            if curve == "compression_end"
-            else theory[i]
-            if curve == "theory"
-            else actual[i]
-        )
-        points.append((label, float(frame["cylinder_volume_m3"][i] * 1e3), float(p), offset))
+        p = _curve_pressure(curve, i, r, theory, actual)
+        points.append((label, float(frame["cylinder_volume_m3"][i] * 1e3), p, offset))
     return points
 
 
