@@ -10,6 +10,7 @@ from dataclasses import replace
 from markupsafe import Markup
 
 from crankdyn.plugin.contracts import COUNTERWEIGHTS
+from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report import figure_memo
 from crankdyn.report import mechanism_drawing as md
@@ -231,8 +232,8 @@ def _scheme_caption(ctx, positions) -> str:
         return "drawing.scheme_caption"
     if len(positions.cranks) > 1:
         return "drawing.scheme_caption_free_end"
-    aircraft = ctx.scene is not None and ctx.scene.engine.application == "aircraft"
-    return "drawing.scheme_caption_rear_" + ("propeller" if aircraft else "power")
+    propeller = power_take_off(ctx.scene) == "propeller"
+    return "drawing.scheme_caption_rear_" + ("propeller" if propeller else "power")
 
 
 def _has_cylinders(positions) -> bool:

@@ -65,6 +65,8 @@ def render(output: StageOutput, ctx) -> str:
         density_given="rim_density" in opts.model_fields_set,
         material=rim_material(rim["density_kg_m3"]) if rim else None,
         raised=raised_params(ctx, r) if r.get("flywheel_raised") else None,
+        # the energy method found no flywheel needed (the exact solution may still raise one)
+        energy_needs_none=r["required_irregularity"] is not None and _energy_needs_none(r),
     )
 
 
