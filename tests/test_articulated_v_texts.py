@@ -193,6 +193,8 @@ def test_the_mean_torque_gap_of_the_slave_cylinders_is_explained_with_its_number
     assert found, text
     assert number(found.group(1)) == round(torque["mean_Nm"])
     assert number(found.group(2)) == pytest.approx(master / (4 * math.pi), abs=0.06)
+    # the product printed is the product of the printed factors
+    assert number(found.group(3)) == round(12 * number(found.group(2)))
     assert number(found.group(4)) == round(slave) and number(found.group(5)) == round(master)
     assert number(found.group(6)) == pytest.approx(100 * (slave / master - 1), abs=6e-3)
     # the engine's mean is the masters' and the slaves' together

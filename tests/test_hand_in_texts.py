@@ -1050,7 +1050,7 @@ def test_a_circular_hodograph_has_no_major_axis_in_the_table(reports):
 def test_the_balancing_means_table_speaks_in_words_not_a_programmers_shorthand(reports):
     """Headers like "Швидкість, ×ω" and "m r, кг·мм" read as a program's output."""
     one = reports("petrol-1cyl-uk")
-    table = one[one.index("Противага (центр мас на радіусі") :]
+    table = one[one.index("Противаги (центр мас на радіусі") :]
     head = as_read(re.sub(r"<[^>]+>", "", table[: table.index("</thead>")]))
     assert (
         "Кутова швидкість у частках ω" in head

@@ -86,7 +86,7 @@ def test_an_unbalanced_inline_fours_centre_main_bearing_is_above_the_allowable_m
     assumed = "приняты по типовым соотношениям ( d = 57,4 мм, B = 25,8 мм), поэтому следующий вывод"
     assert assumed in section
     # the big-end bearing is within its allowable pressures, as the conclusions say
-    assert "Давление на шатунные подшипники в пределах допустимого" in note.conclusions
+    assert "Давление на шатунный подшипник в пределах допустимого" in note.conclusions
 
 
 def test_wider_main_journals_bring_the_main_bearings_within_the_allowable_pressures():

@@ -411,7 +411,9 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
                 ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
                 ctx.num(cw["mass_kg"], 4)
                 + f" ({ctx.num(cw['mass_per_web_kg'], 4)}\u00a0×\u00a02)",  # one unit in a narrow cell
-                ctx.t.fixed(cw["angle_from_crank_deg"], 1) + "° " + t("balancing.from_crank"),
+                ctx.t.fixed(cw["angle_from_crank_deg"], 1)
+                + "° "
+                + t("balancing.from_the_crank" if single else "balancing.from_crank"),
                 ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—",
             )
         )
