@@ -17,7 +17,7 @@ from conftest import shared_html, shared_run
 from crankdyn.cli import examples_dir
 from crankdyn.plugin.registry import default_registry
 from crankdyn.report.i18n import translator
-from crankdyn_builtin.bays.plan import plan_figure, row_centres, row_sides
+from crankdyn_builtin.bays.plan import PlanTexts, plan_figure, row_centres, row_sides
 from crankdyn_builtin.bays.section import plan_texts
 from crankdyn_builtin.drawing.section import _first_cylinder, _labelled
 
@@ -125,3 +125,49 @@ def test_a_boat_engines_take_off_end_is_its_drive_not_a_flywheel():
     assert "power take-off end" in marine.linked_html
     car = shared_html("inline3-petrol", None, "en").linked_html
     assert "its flywheel end" in car or "towards the flywheel" in car
+
+
+def test_each_throw_is_drawn_on_its_side_of_the_axis():
+    from crankdyn_builtin.bays.plan import throw_heights
+
+    # cos 0 = 1, cos 180° = -1, cos 120° = -1/2; a crank at 90° or 270° keeps a third of the throw
+    assert throw_heights([0, 180, 120, 90, 270], 3.0) == pytest.approx([3.0, -3.0, -1.5, 1.0, -1.0])
+
+
+def _boxer_four() -> dict:
+    cylinders = [
+        {"label": str(k + 1), "bank": k % 2, "crank": k, "position_m": 0.098 * k} for k in range(4)
+    ]
+    return {
+        "layout": "boxer",
+        "cranks": 4,
+        "crank_lags_deg": [0.0, 180.0, 180.0, 0.0],
+        "spacing_m": 0.098,
+        "bore_m": 0.0795,
+        "rod_offset_m": 0.0,
+        "bank_axes_deg": {"0": 0.0, "1": 180.0},
+        "cylinders": cylinders,
+    }
+
+
+def test_a_boxers_cylinders_are_outlines_either_side_and_the_crank_numbers_clear_of_the_rest():
+    texts = PlanTexts("колено", "свободный конец", "воздушный винт", "", ("", ""), "a", "")
+    fig = plan_figure(_boxer_four(), texts)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    outlines = [p for p in ax.patches if p.get_gid() == "plan-cylinder-outline"]
+    assert not [p for p in ax.patches if p.get_gid() == "plan-bore"]
+    assert len(outlines) == 4 and sorted(p.get_width() for p in outlines) == [79.5] * 4
+    # cylinders 1 and 3 above the shaft, 2 and 4 below, each deeper than wide (horizontal)
+    above = sorted(round(p.get_x() + 0.5 * p.get_width()) for p in outlines if p.get_y() > 0)
+    assert above == [0, 196] and all(p.get_height() > p.get_width() for p in outlines)
+    renderer = fig.canvas.get_renderer()
+    labels = [t.get_window_extent(renderer) for t in ax.texts if t.get_gid() == "plan-crank"]
+    assert len(labels) == 4
+    # the numbers overlap neither each other, nor a cylinder, nor a throw of the shaft
+    for k, box in enumerate(labels):
+        assert not any(box.overlaps(other) for other in labels[k + 1 :])
+        assert not any(box.overlaps(p.get_window_extent(renderer)) for p in outlines)
+    shaft = ax.lines[0].get_xydata()
+    pins = ax.transData.transform(shaft[shaft[:, 1] != 0.0])
+    assert not any(box.contains(x, y) for box in labels for x, y in pins)

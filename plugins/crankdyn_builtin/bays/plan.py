@@ -1,6 +1,7 @@
 """The engine's scheme in plan (ГОСТ 2.770 symbols): the crankshaft along the sheet with its
-cranks numbered from the free end, its main journals as supports, the cylinders of every bank
-as circles (their bores) in rows beside the shaft, the crank spacing a dimensioned, the free end
+cranks numbered from the free end and drawn on their sides of the axis, its main journals as
+supports, the cylinders of every bank in rows beside the shaft (bores as circles; a boxer's
+horizontal cylinders as their outlines), the crank spacing a dimensioned, the free end
 and the power take-off end named, and the direction of rotation seen from the free end.
 
 Everything drawn comes from the run's layout (:func:`plan_data`): the cylinders' banks and
@@ -101,32 +102,60 @@ def row_centres(bank_axes_deg: dict[str, float], row: float, pitch: float) -> di
     return centres
 
 
+def throw_heights(lags_deg, throw: float) -> list[float]:
+    """Each crank's throw as drawn across the sheet: its projection on the plane of crank 1
+    (``throw`` cos lag: crank 1 up, a crank at 180° down), at least a third of ``throw`` long so
+    that a crank at 90° still shows its side (the lags are printed beside the numbers)."""
+    heights = []
+    for lag in lags_deg:
+        c, s = math.cos(math.radians(lag)), math.sin(math.radians(lag))
+        side = math.copysign(1.0, c) if abs(c) > 1e-9 else math.copysign(1.0, s)
+        heights.append(side * throw * max(abs(c), 1.0 / 3.0))
+    return heights
+
+
+#: the crank numbers' two lines (number, lag) at 8 pt, cm on the sheet
+CRANK_LABEL_CM = 0.8
+WIDTH_CM = 16.0
+
+
 def plan_figure(data: dict, texts: PlanTexts):
-    """The plan (ГОСТ 2.770): the shaft as a thick line with its throws, supports hatched under
-    its main journals, the cylinders' bores as circles with their labels, crank spacing a
-    dimensioned between cranks 1 and 2, the ends named and the rotation seen from the free end."""
+    """The plan (ГОСТ 2.770): the shaft as a thick line with its throws (each drawn on its side
+    of the axis, :func:`throw_heights`), supports hatched under its main journals, the cylinders
+    (bores as circles; a boxer's horizontal cylinders as their outlines) with their labels, crank
+    spacing a dimensioned between cranks 1 and 2, the crank numbers with their lags under the
+    shaft, the ends named and the rotation seen from the free end."""
     bore = data["bore_m"] * 1e3
     a = (data["spacing_m"] or SPACING_PER_BORE * data["bore_m"]) * 1e3
     cranks = data["cranks"]
     throw = 0.22 * a  # the throw drawn up from the axis
-    row = throw + 0.25 * a + 0.5 * bore  # a row's centre from the axis
-    rows = row_centres(data["bank_axes_deg"], row, bore + 0.25 * a)
+    lags = data.get("crank_lags_deg") or [0.0] * cranks
+    heights = throw_heights(lags, throw)
     start, end = -0.5 * a - 0.45 * a, (cranks - 0.5) * a + 0.6 * a
-    bottom = min(min(rows.values()) - 0.5 * bore, -0.3 * a)
-    top = max(rows.values()) + 0.5 * bore
     xlim = (start - 1.25 * a, end + 0.35 * a)
+    units_per_cm = (xlim[1] - xlim[0]) / WIDTH_CM
+    # the crank numbers under the lowest throw and the supports, two lines high
+    label_top = -max(0.2 * a, -min(heights) + 0.06 * a)
+    label_bottom = label_top - CRANK_LABEL_CM * units_per_cm
+    boxer = data.get("layout") == "boxer"
+    length = 1.4 * bore if boxer else bore  # a row's depth across the sheet
+    row = throw + 0.25 * a + 0.5 * length  # a row's centre from the axis
+    rows = row_centres(data["bank_axes_deg"], row, length + 0.25 * a)
+    below = max(0.0, 0.5 * length - row - label_bottom + 0.1 * a)  # rows under the labels
+    rows = {b: y - below if y < 0 else y for b, y in rows.items()}
+    bottom = min(min(rows.values()) - 0.5 * length, label_bottom - 0.05 * a)
+    top = max(rows.values()) + 0.5 * length
     ylim = (bottom - 0.55 * a, top + (0.4 * a if texts.offset else 0.2 * a))
-    width_cm = 16.0
     aspect = (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
-    fig, ax = new_figure(width_cm, min(width_cm * aspect + 0.6, 14.0))
+    fig, ax = new_figure(WIDTH_CM, min(WIDTH_CM * aspect + 0.6, 14.0))
     ax.set_aspect("equal")
     ax.axis("off")
-    _shaft(ax, a, cranks, throw, start, end)
+    _shaft(ax, a, heights, start, end)
     _supports(ax, a, cranks)
-    _cylinders(ax, data, rows, bore)
+    _cylinders(ax, data, rows, bore, length if boxer else None)
     _row_names(ax, data, texts.banks, rows, bore)
-    _crank_numbers(ax, a, cranks, texts.crank, data.get("crank_lags_deg"))
-    _spacing_dimension(ax, a, throw, bottom - 0.25 * a, texts.spacing)
+    _crank_numbers(ax, a, cranks, texts.crank, label_top, data.get("crank_lags_deg"))
+    _spacing_dimension(ax, a, heights[:2], bottom - 0.25 * a, texts.spacing)
     if texts.offset:
         _offset_dimension(ax, data, rows, bore, texts.offset)
     _ends(ax, start, end, a, texts)
@@ -136,14 +165,15 @@ def plan_figure(data: dict, texts: PlanTexts):
     return fig
 
 
-def _shaft(ax, a, cranks, throw, start, end) -> None:
-    """The crankshaft's axis line and its throws (webs and pin) as one thick polyline."""
+def _shaft(ax, a, heights, start, end) -> None:
+    """The crankshaft's axis line and its throws (webs and pin, each ``heights`` across the
+    sheet) as one thick polyline."""
     web = 0.18 * a  # half the throw's length along the shaft
     xs, ys = [start], [0.0]
-    for k in range(cranks):
+    for k, height in enumerate(heights):
         x = k * a
         xs += [x - web, x - web, x + web, x + web]
-        ys += [0.0, throw, throw, 0.0]
+        ys += [0.0, height, height, 0.0]
     xs.append(end)
     ys.append(0.0)
     ax.plot(xs, ys, color=INK, lw=2.2, solid_joinstyle="miter", zorder=3)
@@ -173,14 +203,26 @@ def _supports(ax, a, cranks) -> None:
     ax.add_collection(LineCollection(strokes, colors=[INK], linewidths=0.6))
 
 
-def _cylinders(ax, data, rows, bore) -> None:
-    """Each cylinder's bore as a circle in its bank's row, its label in it (gid: the label)."""
-    from matplotlib.patches import Circle  # lazy: heavy optional import
+def _cylinders(ax, data, rows, bore, length=None) -> None:
+    """Each cylinder in its bank's row with its label in it (gid: the label): its bore as a
+    circle, or, with ``length`` (a boxer's cylinders, horizontal: seen from above from the side),
+    its outline ``length`` deep across the sheet."""
+    from matplotlib.patches import Circle, Rectangle  # lazy: heavy optional import
 
     for c in data["cylinders"]:
         x, y = c["position_m"] * 1e3, rows[c["bank"]]
-        ax.add_patch(Circle((x, y), 0.5 * bore, fill=False, ec=INK, lw=1.4, zorder=5))
-        ax.plot([x, x], [y - 0.6 * bore, y + 0.6 * bore], color=INK, lw=0.4, ls=(0, (8, 2, 1, 2)))
+        if length is None:
+            ax.add_patch(
+                Circle((x, y), 0.5 * bore, fill=False, ec=INK, lw=1.4, zorder=5, gid="plan-bore")
+            )
+            reach = 0.6 * bore
+        else:
+            corner = (x - 0.5 * bore, y - 0.5 * length)
+            outline = Rectangle(corner, bore, length, fill=False, ec=INK, lw=1.4, zorder=5)
+            outline.set_gid("plan-cylinder-outline")
+            ax.add_patch(outline)
+            reach = 0.5 * length + 0.1 * bore
+        ax.plot([x, x], [y - reach, y + reach], color=INK, lw=0.4, ls=(0, (8, 2, 1, 2)))
         text = ax.text(
             x,
             y,
@@ -211,29 +253,30 @@ def _row_names(ax, data, names, rows, bore) -> None:
             )
 
 
-def _crank_numbers(ax, a, cranks, word, lags_deg=None) -> None:
-    """The cranks' numbers from the free end, each with its lag behind crank 1, under the axis
-    between the supports."""
+def _crank_numbers(ax, a, cranks, word, top, lags_deg=None) -> None:
+    """The cranks' numbers from the free end, each with its lag behind crank 1 on a second line,
+    under the axis (from ``top`` down) between the supports."""
     for k in range(cranks):
-        lag = f" ({lags_deg[k]:.4g}°)" if lags_deg else ""
+        lag = f"\n({lags_deg[k]:.4g}°)" if lags_deg else ""
         ax.text(
             k * a,
-            -0.2 * a,
+            top,
             f"{word} {k + 1}{lag}".strip(),
             ha="center",
             va="top",
             fontsize=8,
+            linespacing=1.1,
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none"},
             zorder=6,
             gid="plan-crank",
         )
 
 
-def _spacing_dimension(ax, a, throw, y, text) -> None:
+def _spacing_dimension(ax, a, heights, y, text) -> None:
     """a between the planes of cranks 1 and 2: extension lines from their pins down to the
     dimension line, its text above it (gid ``plan-spacing``: the arrow, whose ends are a apart)."""
-    for x in (0.0, a):
-        ax.plot([x, x], [throw, y - 0.05 * a], color=DIMENSION, lw=0.5, ls=(0, (8, 2, 1, 2)))
+    for x, height in zip((0.0, a), heights, strict=False):
+        ax.plot([x, x], [height, y - 0.05 * a], color=DIMENSION, lw=0.5, ls=(0, (8, 2, 1, 2)))
     arrow = ax.annotate(
         "",
         xy=(a, y),
