@@ -691,13 +691,16 @@ def test_rods_side_by_side_say_how_far_their_planes_lie_off_the_pins_middle():
 @pytest.mark.parametrize(
     ("example", "said"),
     [
-        ("radial9-aircraft", "The main supports of aircraft piston engines are usually rolling"),
+        ("radial9-aircraft", "The main supports of radial aircraft engines are usually rolling"),
         ("two-stroke-1cyl", "The supports of small two-stroke petrol engines with crankcase"),
     ],
 )
 def test_supports_usually_on_rolling_bearings_are_said_to_be(example, said):
-    """An aircraft engine's and a small spark-ignition two-stroke's supports are usually rolling
-    bearings: the plain bearings' pressures are said to be a guide only; a car engine's are not."""
+    """A radial aircraft engine's and a small spark-ignition two-stroke's supports are usually
+    rolling bearings: the plain bearings' pressures are said to be a guide only; a car engine's
+    and a flat or in-line aircraft engine's (plain bearings, as a Lycoming's) are not."""
     assert said in shared_html(example, None, "en").linked_html
     car = shared_html("inline4-petrol", None, "en").linked_html
     assert "usually rolling" not in car and "crankcase scavenging" not in car
+    flat = shared_html("inline4-petrol", {"engine": {"application": "aircraft"}}, "en")
+    assert "usually rolling" not in flat.linked_html and "rolling main bearings" not in flat.html

@@ -360,12 +360,13 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
 
 def _rolling_supports(scene) -> str | None:
     """Why the engine's supports are usually rolling bearings, as a catalog key's ending: a small
-    spark-ignition two-stroke (crankcase scavenging) or an aircraft engine; None otherwise."""
+    spark-ignition two-stroke (crankcase scavenging) or a radial aircraft engine; None otherwise."""
     if scene is None:
         return None
     if scene.engine.strokes == 2 and scene.cycle is not None and scene.cycle.ignition == "spark":
         return "two_stroke_rolling"
-    return "aircraft_supports" if scene.engine.application == "aircraft" else None
+    radial = scene.engine.layout == "radial"  # a flat or in-line aircraft engine runs on plain ones
+    return "aircraft_supports" if scene.engine.application == "aircraft" and radial else None
 
 
 def _rod_conclusion(ctx, r) -> str:
