@@ -761,3 +761,40 @@ def test_the_abstract_says_what_the_counterweights_alone_would_leave():
         f"вращающаяся навстречу валу составляющая ΣMI ({loads[-1]:.1f}\u202fН·м) и ΣMII = {second:.0f}\u202fН·м"
     ).replace(".", ",")
     assert expected in text
+
+
+#: The in-line four as a flat four (cranks 0/180/180/0 by the firing order 1-3-2-4): it balances
+#: its forces of every order and its first-order moment, and leaves ΣM_II (and higher even orders).
+FLAT_FOUR = {"engine": {"layout": "boxer", "firing_order": [1, 3, 2, 4]}}
+FLYING_FLAT_FOUR = {"engine": {**FLAT_FOUR["engine"], "application": "aircraft"}}
+
+
+def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_its_moment_goes():
+    from conftest import as_read, shared_html, shared_run
+
+    car = shared_run("inline4-petrol", FLAT_FOUR, ("balancing",)).outputs["balancing"].results
+    assert sorted(s["speed_ratio"] for s in car["balance_shafts"]) == [-2, 2]
+    flying = shared_run("inline4-petrol", FLYING_FLAT_FOUR).outputs["balancing"].results
+    assert not flying["balance_shafts"] and not flying["counterweights"]
+    left = {s["quantity"] for s in flying["summary"] if not s["balanced"]}
+    assert left == {"M_PII", "M_PIV", "M_PVI"}  # forces and first-order moment cancel in pairs
+    text = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLYING_FLAT_FOUR, "ru").html)
+    )
+    assert "неуравновешенными ΣMII, ΣMIV воспринимают опоры подвески двигателя" in text
+    assert "воспринимает амортизированная подмоторная рама" in text
+    # a free moment is left: the note no longer says that the cranks balance every one of them
+    assert "Свободные силы и моменты двигателя взаимно уравновешены" not in text
+    assert "Противовесы коленчатого вала не уравновешивают" not in text  # there are none
+    # a flat engine's main bearings are plain ones, judged as such
+    assert "подшипниками качения" not in text
+
+
+def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract():
+    from conftest import as_read, shared_html
+
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").html))
+    assert (
+        "(без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
+    )
+    assert "только с противовесами" not in text

@@ -59,7 +59,10 @@ class BalancingOptions(RodOffsetOptions):
 
 def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
     """The orders to balance: the scene's ``[balancing] balance_orders``, else [1] for a
-    single-cylinder engine and [1, 2] for more cylinders."""
+    single-cylinder engine and for an aircraft engine other than a radial (second-order shafts
+    add mass a flying engine is not built with: its mount takes what is left), [1, 2] for more
+    cylinders."""
     if opts.balance_orders is not None:
         return list(opts.balance_orders)
-    return [1] if scene.engine.cylinders == 1 else [1, 2]
+    flying = scene.engine.application == "aircraft" and scene.engine.layout != "radial"
+    return [1] if scene.engine.cylinders == 1 or flying else [1, 2]

@@ -104,10 +104,13 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     shaft_items = _left_without_shafts(t, r, "" if single else "Σ")
     if shaft_items:  # what the shafts take, so the counterweights alone are judged too
         finding = t(
-            "balancing.finding_without_shafts",
+            "balancing.finding_without_shafts"
+            if r["counterweights"]
+            else "balancing.finding_without_shafts_alone",
             finding=finding,
             items=t.join_and(shaft_items),
             count=len(r["balance_shafts"]),
+            n=len(shaft_items),
         )
     parts_left = mass_difference_items(t, r, whole_orders=False)
     if parts_left:  # the abstract names the whole orders left among the unbalanced already
@@ -519,6 +522,28 @@ def orders_in_words(t, orders) -> str:
     )
 
 
+def _left_without_means(r) -> str:
+    """ "ΣM_II, ΣM_IV": the resultants a crank arrangement without balancing means leaves, that
+    are not negligible; "" where it leaves none (or means are fitted)."""
+    if r["counterweights"] or r["balance_shafts"]:
+        return ""
+    unbalanced = [s for s in r["summary"] if not s["balanced"]]
+    return ", ".join(plain_symbol(s) for s in unbalanced if not _negligible(r, s))
+
+
+def _no_shafts_in_aircraft(ctx, r) -> bool:
+    """Whether the second order is left by default because the engine flies (its default orders,
+    :func:`crankdyn_builtin.balancing.options.balance_orders_for`) while it leaves some of it."""
+    scene = ctx.scene
+    if scene is None or r["means_given"] or scene.engine.application != "aircraft":
+        return False
+    if scene.engine.layout == "radial" or 2 in (r.get("residual") or {}).get("balanced_orders", ()):
+        return False
+    return any(
+        s["order"] == 2 and not s["balanced"] and not _negligible(r, s) for s in r["summary"]
+    )
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     star = star_figure(ctx, r)
@@ -553,6 +578,8 @@ def render(output: StageOutput, ctx) -> str | None:
             if r.get("rod_type") == "articulated"
             else "balancing.masses_equal"
         ),
+        left_without_means=_left_without_means(r),
+        no_shafts_aircraft=_no_shafts_in_aircraft(ctx, r),
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
         else "",

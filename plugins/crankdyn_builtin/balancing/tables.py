@@ -8,6 +8,7 @@ import math
 from markupsafe import Markup
 
 from crankdyn.physics import balancing as bal
+from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn_builtin.balancing.worked import worked_balancing
 
 from .notation import C_N, circular, master_mass, newton_metres, newtons, summary_symbol
@@ -428,7 +429,7 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
                         "balancing.shaft",
                         order=shaft["order"],
                         sense=sense,
-                        end=t("balancing.end_" + sm["end"]),
+                        end=t("balancing.end_" + _end_name(ctx, sm["end"])),
                     ),
                     f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"),
                     ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
@@ -502,3 +503,10 @@ def _explorer_table(ctx, r):
         )
 
     return explorer_table
+
+
+def _end_name(ctx, end: str) -> str:
+    """A shaft mass's end as the note names it: an aircraft engine's take-off end is its
+    propeller's."""
+    propeller = end == "power" and power_take_off(ctx.scene) == "propeller"
+    return "propeller" if propeller else end
