@@ -31,6 +31,19 @@ ENGINES = {
         },
     ),
     "v8": ("v8-petrol", {}),
+    # a flat four: two letters U with indices beside the shaft's O
+    "boxer": (
+        "inline4-petrol",
+        {
+            "engine": {
+                "layout": "boxer",
+                "firing_order": [1, 3, 2, 4],
+                "bore": "79.5 mm",
+                "stroke": "61 mm",
+                "rod_ratio": 0.299,
+            }
+        },
+    ),
     "inline4": ("inline4-petrol", {}),
     "offset": ("offset-crank-engine", {}),
 }
@@ -278,3 +291,27 @@ def test_the_hatching_of_neighbouring_cylinders_does_not_cross(engine):
         if any(_overlap(a, b) for a in bands[i] for b in bands[k])
     ]
     assert not crossing
+
+
+def _mark_boxes(fig) -> dict:
+    """Each lettered mark's box on the page (the letter with its index), by its SVG id."""
+    renderer = fig.canvas.get_renderer()
+    boxes: dict = {}
+    for text in fig.axes[0].texts:
+        gid = text.get_gid() or ""
+        if gid.startswith("mark-"):
+            box = text.get_window_extent(renderer)
+            name = gid.removesuffix("-index")
+            boxes[name] = box if name not in boxes else type(box).union([boxes[name], box])
+    return boxes
+
+
+@pytest.mark.parametrize("engine", ["boxer", "v8", "inline4", "offset"])
+def test_no_two_letters_of_a_scheme_overlap(engine):
+    fig, _, _ = _scheme(engine)
+    boxes = _mark_boxes(fig)
+    assert {"mark-O", "mark-ω"} <= set(boxes) or "mark-O" in boxes
+    names = sorted(boxes)
+    for k, a in enumerate(names):
+        for b in names[k + 1 :]:
+            assert not boxes[a].padded(-0.5).overlaps(boxes[b].padded(-0.5)), (a, b)

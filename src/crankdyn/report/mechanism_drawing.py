@@ -1249,8 +1249,8 @@ def _bank_marks(
         _, d, n = _guide_frame(geometry, guide, i)
         wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
         sub = bank_letter(guide.label)
-        if own_pins:
-            clearance.place(_ring(big_end, extent * np.array([0.035, 0.05])), PIN_MARK, sub)
+        if own_pins:  # two letters with indices beside the shaft's O: room a little farther out
+            clearance.place(_ring(big_end, extent * np.array([0.035, 0.05, 0.065])), PIN_MARK, sub)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
         if not rod_angles:
             continue
