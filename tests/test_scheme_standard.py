@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import shared_run
+from matplotlib import path as mpl_path
 
 from crankdyn.report import mechanism_drawing as md
 
@@ -315,3 +316,21 @@ def test_no_two_letters_of_a_scheme_overlap(engine):
     for k, a in enumerate(names):
         for b in names[k + 1 :]:
             assert not boxes[a].padded(-0.5).overlaps(boxes[b].padded(-0.5)), (a, b)
+
+
+@pytest.mark.parametrize("engine", ["boxer", "v8"])
+def test_no_letter_stands_on_a_piston(engine):
+    """A short rod's β arc ends over its piston: its letter moves off it (ГОСТ 2.770: a
+    designation is read against the white of the sheet, not on a shaded link); only the piston
+    pin's A, which lies in its piston, stands on one."""
+    fig, geometry, frame = _scheme(engine)
+    ax = fig.axes[0]
+    pistons = [ax.transData.transform(p) for p in _pistons_mm(geometry, frame)]
+    for name, box in _mark_boxes(fig).items():
+        if name.startswith("mark-A"):
+            continue
+        corners = box.padded(-0.5).corners()
+        centre = np.mean(corners, axis=0, keepdims=True)
+        for piston in pistons:
+            assert not _overlap(corners[[0, 1, 3, 2]], piston), name
+            assert not mpl_path.Path(piston).contains_points(centre).any(), name

@@ -66,6 +66,9 @@ def _conclude(ctx, r) -> None:
         )
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
+    elif _left_without_means(r):  # the decision the section states: no means, the mounts
+        aircraft = " " + t("balancing.no_shafts_aircraft") if _no_shafts_in_aircraft(ctx, r) else ""
+        ctx.conclude(t("balancing.no_means_left", left=_left_without_means(r)) + aircraft)
     _conclude_slaves_and_offset(ctx, r)
 
 
@@ -91,9 +94,13 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     )
     small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
     residuals = _left_unbalanced(r, unbalanced)
-    if means and residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
+    valued = residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals)
+    if means and valued:
         # what the means leave, in one sentence: each residual with its value and share of C_I
         finding = _left_after_means(t, r, residuals, "" if single else "Σ")
+    elif valued and not single and any(s["balanced"] for s in r["summary"]):
+        # no means: what the crank arrangement balances by itself, and what it leaves, with values
+        finding = _left_after_means(t, r, residuals, "Σ", scheme=True)
     elif small:  # the abstract names them too, as the table leaves them
         finding = t(
             "balancing.finding_negligible",
@@ -310,9 +317,10 @@ def _left_without_shafts(t, r, sign: str) -> list[str]:
     return items
 
 
-def _left_after_means(t, r, residuals, sign: str) -> str:
+def _left_after_means(t, r, residuals, sign: str, scheme: bool = False) -> str:
     """ "after the means, only ΣP_IV = 81 Н and ΣP_VI = 1,8 Н (1,4 % and 0,03 % of C_I) stay
-    unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence."""
+    unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence;
+    with ``scheme`` (no means) what the crank arrangement balances comes first."""
     items, shares, scales = [], [], []
     for item in residuals:
         value, force = _summary_amplitude(r, item)
@@ -330,13 +338,18 @@ def _left_after_means(t, r, residuals, sign: str) -> str:
             for i, s, c in zip(items, shares, scales, strict=True)
         )
         shares_text = ""
+    listed += f" ({shares_text})" if shares_text else ""
+    if scheme:
+        balanced = [plain_symbol(s, sign) for s in r["summary"] if s["balanced"]]
+        return t(
+            "balancing.finding_left_scheme",
+            count=len(items),
+            items=listed,
+            balanced=t.join_and(balanced),
+        )
     # what the slave cylinders also leave follows: these are not the only residuals then
     key = "balancing.finding_left_means" + ("_parts" if r.get("parts_left") else "")
-    return t(
-        key,
-        count=len(items),
-        items=listed + (f" ({shares_text})" if shares_text else ""),
-    )
+    return t(key, count=len(items), items=listed)
 
 
 def _left_unbalanced(r, unbalanced) -> list:

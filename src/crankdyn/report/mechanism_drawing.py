@@ -1255,9 +1255,15 @@ def _bank_marks(
         if not rod_angles:
             continue
         length = float(np.linalg.norm(big_end - wrist))
-        end = wrist - d * length * 0.3  # the arc's end on the cylinder's axis
-        beside = [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
-        clearance.place(beside, marks["beta"], sub, fontstyle="italic")
+        # beside the arc's end on the cylinder's axis, or a little farther towards the crank where
+        # a short rod's arc ends over its piston: never on the piston (a shaded body)
+        beside = [
+            wrist - d * length * share + n * side * extent * k
+            for share in (0.3, 0.4, 0.5)
+            for side in (-1, 1)
+            for k in (0.025, 0.04, 0.055)
+        ]
+        clearance.place(beside, marks["beta"], sub, off_bodies=True, fontstyle="italic")
 
 
 def _beside_arc(centre, start, end, radius: float, extent: float) -> list:
