@@ -171,3 +171,9 @@ def test_a_boxers_cylinders_are_outlines_either_side_and_the_crank_numbers_clear
     shaft = ax.lines[0].get_xydata()
     pins = ax.transData.transform(shaft[shaft[:, 1] != 0.0])
     assert not any(box.contains(x, y) for box in labels for x, y in pins)
+
+
+def test_the_layout_section_says_how_many_main_supports_the_shaft_has():
+    # a support between neighbouring cranks and at both ends: cranks + 1, as the plan draws them
+    text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, "ru").linked_html)
+    assert "Коленчатый вал имеет 5\u00a0коренных опор" in text or "имеет 5 коренных опор" in text
