@@ -213,12 +213,13 @@ def test_no_dimension_text_crosses_a_link(engine):
 
 
 def test_the_text_check_finds_a_text_on_a_link():
-    fig, geometry, frame = _scheme("radial9")
-    ax = fig.axes[0]
-    a, b = (geometry.joints[j][frame] * 1e3 for j in ("crank_pin_1", "wrist_pin_1"))
-    text = ax.text(*((a + b) / 2), "L = 320 mm", ha="center", va="center", fontsize=8)
-    segment = ax.transData.transform(np.array([a, b])).reshape(1, 2, 2)
-    assert md.text_crosses(text.get_window_extent(fig.canvas.get_renderer()), segment)
+    from matplotlib.transforms import Bbox
+
+    # a rod from (0, 0) to (100, 50) on the page, a label's box over its middle and one beside it
+    rod = np.array([[[0.0, 0.0], [100.0, 50.0]]])
+    assert md.text_crosses(Bbox([[40.0, 15.0], [60.0, 30.0]]), rod)
+    assert not md.text_crosses(Bbox([[40.0, 30.0], [60.0, 45.0]]), rod)
+    assert not md.text_crosses(Bbox([[40.0, 15.0], [60.0, 30.0]]), np.empty((0, 2, 2)))
 
 
 def _panels_mm(fig) -> list[float]:
