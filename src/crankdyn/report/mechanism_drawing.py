@@ -1203,7 +1203,10 @@ def _bank_marks(
         wrist, big_end = j[guide.joint][i] * MM, j[rod[1]][i] * MM
         length = float(np.linalg.norm(big_end - wrist))
         _, d, _ = _guide_frame(geometry, guide, i)
-        _angle_arc(ax, wrist, -d, (big_end - wrist) / length, length * 0.3, "", extent)
+        rod_direction = (big_end - wrist) / length
+        sin_beta = _sine_between(-d, rod_direction)
+        radius = _rod_angle_radius(geometry, guide, length, extent, sin_beta)
+        _angle_arc(ax, wrist, -d, rod_direction, radius, "", extent)
     alpha_arc = float(np.dot(zero, along)) < np.cos(np.radians(1.0))  # none on the zero line
     # among three or more rods round the crank pin α's letter goes where it is clearest (below);
     # two banks' (a V's, a boxer's) stands outside the arc's middle
@@ -1214,24 +1217,7 @@ def _bank_marks(
             ax, centre, zero, along, alpha_radius, "" if placed_alpha else marks["alpha"], extent
         )
     clearance = _Clearance(ax, geometry, i, extent)
-    # the arrow ω as large as a single cylinder's on its page: a V's crank is short beside its banks
-    candidates = [
-        (float(middle), max(radius * 0.4, extent * share))
-        for share in (0.09, 0.07, 0.11)
-        for middle in np.arange(0.0, 360.0, 15.0)
-    ]
-    best, best_clear = candidates[0], -np.inf
-    for middle, arrow_radius in candidates:
-        arrow, text = _rotation_arrow(ax, centre, arrow_radius, marks["omega"], extent, middle)
-        arc = _arc_points(centre, arrow_radius, middle - 30.0, middle + 30.0)
-        clear = min(clearance.of_points(arc), clearance.of_box(text))
-        arrow.remove()
-        text.remove()
-        if clear > best_clear + 1e-9:
-            best, best_clear = (middle, arrow_radius), clear
-    _rotation_arrow(ax, centre, best[1], marks["omega"], extent, best[0])
-    clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
-    clearance.add_last_text()
+    _clearest_rotation_arrow(ax, clearance, centre, radius, marks["omega"], extent)
     if placed_alpha:
         clearance.place(
             _beside_arc(centre, zero, along, alpha_radius, extent),
@@ -1252,18 +1238,62 @@ def _bank_marks(
         if own_pins:  # two letters with indices beside the shaft's O: room a little farther out
             clearance.place(_ring(big_end, extent * np.array([0.035, 0.05, 0.065])), PIN_MARK, sub)
         clearance.place(_ring(wrist, extent * np.array([0.035, 0.05])), "A", sub)
-        if not rod_angles:
-            continue
-        length = float(np.linalg.norm(big_end - wrist))
-        # beside the arc's end on the cylinder's axis, or a little farther towards the crank where
-        # a short rod's arc ends over its piston: never on the piston (a shaded body)
-        beside = [
-            wrist - d * length * share + n * side * extent * k
-            for share in (0.3, 0.4, 0.5)
-            for side in (-1, 1)
-            for k in (0.025, 0.04, 0.055)
-        ]
-        clearance.place(beside, marks["beta"], sub, off_bodies=True, fontstyle="italic")
+        if rod_angles:
+            places = _rod_angle_places(geometry, guide, wrist, big_end, d, n, extent)
+            clearance.place(
+                places, marks["beta"], sub, off_bodies=True, enough=0.0, fontstyle="italic"
+            )
+
+
+def _clearest_rotation_arrow(ax, clearance, centre, radius: float, text: str, extent: float):
+    """The arrow ω round the shaft where it and its letter stand clearest of what is drawn, as
+    large as a single cylinder's on its page (a V's crank is short beside its banks); then
+    itself an obstacle to the letters placed after it."""
+    candidates = [
+        (float(middle), max(radius * 0.4, extent * share))
+        for share in (0.09, 0.07, 0.11)
+        for middle in np.arange(0.0, 360.0, 15.0)
+    ]
+    best, best_clear = candidates[0], -np.inf
+    for middle, arrow_radius in candidates:
+        arrow, label = _rotation_arrow(ax, centre, arrow_radius, text, extent, middle)
+        arc = _arc_points(centre, arrow_radius, middle - 30.0, middle + 30.0)
+        clear = min(clearance.of_points(arc), clearance.of_box(label))
+        arrow.remove()
+        label.remove()
+        if clear > best_clear + 1e-9:
+            best, best_clear = (middle, arrow_radius), clear
+    _rotation_arrow(ax, centre, best[1], text, extent, best[0])
+    clearance.add_points(_arc_points(centre, best[1], best[0] - 30.0, best[0] + 30.0))
+    clearance.add_last_text()
+
+
+def _sine_between(a, b) -> float:
+    """|sin| of the angle between two unit vectors of the sheet."""
+    return abs(float(a[0] * b[1] - a[1] * b[0]))
+
+
+def _rod_angle_radius(geometry, guide, length: float, extent: float, sin_beta: float) -> float:
+    """The radius (mm) of a rod's angle β arc round its piston pin: 0.3 of the rod, beyond the
+    piston's skirt where a short rod's arc would lie under the piston (a shaded body), and far
+    enough out that β's letter fits between the rod and the axis (a letter is about 0.035 of the
+    drawing's extent high); at most 0.7 of the rod."""
+    clear = piston_skirt_mm(guide, geometry) + extent * 0.02
+    fits = extent * 0.035 / max(sin_beta, 1e-3)
+    return float(min(max(0.3 * length, clear, fits), 0.7 * length))
+
+
+def _rod_angle_places(geometry, guide, wrist, big_end, d, n, extent: float) -> list:
+    """Places for β's letter (mm): inside the angle, on its bisector just beyond the arc, then
+    beside the arc's end on the cylinder's axis on either side (never on the piston)."""
+    length = float(np.linalg.norm(big_end - wrist))
+    sin_beta = _sine_between(-d, (big_end - wrist) / length)
+    radius = _rod_angle_radius(geometry, guide, length, extent, sin_beta)
+    bisector = (big_end - wrist) / length - d
+    bisector /= max(float(np.linalg.norm(bisector)), 1e-12)
+    inside = [wrist + bisector * (radius + extent * k) for k in (0.02, 0.035, 0.05)]
+    end = wrist - d * radius
+    return inside + [end + n * side * extent * k for side in (-1, 1) for k in (0.025, 0.04)]
 
 
 def _beside_arc(centre, start, end, radius: float, extent: float) -> list:
@@ -1410,11 +1440,18 @@ class _Clearance:
         return -float(inside) if inside else self.of_points(outline)
 
     def place(
-        self, candidates, letter: str, sub: str = "", off_bodies: bool = False, **style
+        self,
+        candidates,
+        letter: str,
+        sub: str = "",
+        off_bodies: bool = False,
+        enough: float | None = None,
+        **style,
     ) -> None:
         """The letter (with its subscript) centred at the candidate place whose box stands
-        clearest of everything drawn (``off_bodies``: and off the shaded links); then itself an
-        obstacle to the next."""
+        clearest of everything drawn (``off_bodies``: and off the shaded links; ``enough``: at
+        the first place whose box stands that clear, mm, the candidates being in the order of
+        preference); then itself an obstacle to the next."""
         best, best_clear = candidates[0], -np.inf
         # the letter's boxes once, at the first place: at every other they are the same moved
         first = np.asarray(candidates[0], float)
@@ -1427,6 +1464,8 @@ class _Clearance:
             clear = min(self.of_outline(outline + at_mm, off_bodies) for outline in outlines)
             if clear > best_clear + 1e-9:
                 best, best_clear = at, clear
+            if enough is not None and clear >= enough:
+                break
         for artist in _lettered(self.ax, best, letter, sub, ha="center", va="center", **style):
             self.add_points(self._text_points(artist))
 
