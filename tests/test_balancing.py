@@ -802,3 +802,19 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
         "(без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
     )
     assert "только с противовесами" not in text
+
+
+@pytest.mark.parametrize(("example", "changes"), [("inline4-petrol", None), ("v8-petrol", None)])
+def test_the_amplitudes_multiply_out_to_their_last_printed_digit(example, changes):
+    """C = m_R R ω² with the printed factors gives the printed C to its last digit: a mass
+    rounded to four digits (1,129 for 1,1285 kg) would move it by several newtons."""
+    from conftest import as_read, shared_html
+
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html(example, changes, "ru").html))
+    found = re.findall(r"(C|CI) = m[Rs]Rω2 = ([\d,]+)·([\d,]+)·([\d,]+)2 = ([\d\s]+?)\sН", text)
+    assert {name for name, *_ in found} == {"C", "CI"}
+    for _, mass, radius, omega, result in found:
+        m, r, w = (float(x.replace(",", ".")) for x in (mass, radius, omega))
+        assert m * r * w**2 == pytest.approx(
+            float(re.sub(r"\s", "", result)), abs=0.5 + 2e-5 * m * r * w**2
+        )

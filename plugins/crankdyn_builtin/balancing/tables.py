@@ -34,8 +34,8 @@ def _offset_masses_table(ctx, r):
     ]
     names += [Markup(f"|<i>A</i><sub>{bal_order(n)}</sub>|") for n in orders]
     values = [
-        ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
-        ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+        ctx.num(r["reciprocating_mass_kg"], 5) + " " + t("unit.kg"),
+        ctx.num(r["rotating_mass_kg"], 5) + " " + t("unit.kg"),
         ctx.num(r["centrifugal_N"]) + unit_n,
         ctx.num(r["first_order_N"]) + unit_n,
         ctx.num(r["second_order_N"]) + unit_n,
@@ -88,8 +88,8 @@ def _masses_table(ctx, r):
             (
                 t("balancing.value"),
                 [
-                    ctx.num(r["reciprocating_mass_kg"]) + " " + t("unit.kg"),
-                    ctx.num(r["rotating_mass_kg"]) + " " + t("unit.kg"),
+                    ctx.num(r["reciprocating_mass_kg"], 5) + " " + t("unit.kg"),
+                    ctx.num(r["rotating_mass_kg"], 5) + " " + t("unit.kg"),
                     ctx.num(r["centrifugal_N"]) + " " + t("balancing.unit_N"),
                     ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
                     ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),

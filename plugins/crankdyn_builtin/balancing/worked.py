@@ -18,8 +18,10 @@ def worked_balancing(ctx, r) -> Markup:
         engine.angular_velocity_rad_s,
         engine.rod_ratio_value,
     )
-    m_r_txt, m_r = printed(t, r["rotating_mass_kg"])  # as the masses table prints it
-    m_s_txt, m_s = printed(t, r["reciprocating_mass_kg"])
+    # as the masses table prints them, to five digits: a mass rounded to four would move the
+    # product C = m_R R ω² beyond its last printed digit
+    m_r_txt, m_r = printed(t, r["rotating_mass_kg"], 5)
+    m_s_txt, m_s = printed(t, r["reciprocating_mass_kg"], 5)
     # the crank radius and λ = R/L as the data give them (0,09; 0,28125), no padding or rounding:
     # λ rounded to 0,2812 would not give the C_II printed beside it
     r_txt, r_m = printed_g(t, radius)
