@@ -30,6 +30,8 @@ LABEL_BOX = {
     "edgecolor": "none",
     "pad": 0.5,
 }  # a dimension's text over the lines it crosses
+#: a link's parameter written by the link: a narrow white margin, the text kept off every line
+NOTE_BOX = LABEL_BOX
 
 
 def view_rotation_rad(geometry) -> float:
@@ -689,6 +691,9 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     )
     if "a" in labels and "R" not in labels:  # a planetary carrier's radius a, drawn as a crank's
         labels = {**labels, "R": labels["a"]}
+    if is_radial(geometry) and crank and rod:
+        _radial_dimensions(ax, geometry, i, labels, crank, rod, extent)
+        return
     if crank and "R" in labels:
         _crank_radius(ax, geometry, i, crank, labels["R"], extent)
     if crank and master_rod_joints(geometry):
@@ -712,16 +717,39 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         _offset_dimension(ax, geometry, i, guide, rod, labels["e"], extent)
-    if "D" in labels and guide is not None and guide.bore_m > 0:
-        o, d, n = _guide_frame(geometry, guide, i)
-        # above the cylinder's label (its number), which would otherwise sit in the text
-        clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * liner_ends_mm(guide, geometry)[1]
-        half = guide.bore_m * MM / 2
-        # the extension lines from the liner's wall ends, past the label, to the dimension line
-        _dimension(
-            ax, top - n * half, top + n * half, labels["D"], clear, extent, "D", from_feature=True
-        )
+    if "D" in labels:
+        _bore_dimension(ax, geometry, i, labels["D"], extent)
+
+
+def _bore_dimension(ax, geometry, i: int, text: str, extent: float) -> None:
+    """D: across the first cylinder's liner end, above its label."""
+    guide = geometry.guides[0] if geometry.guides else None
+    if guide is None or guide.bore_m <= 0:
+        return
+    o, d, n = _guide_frame(geometry, guide, i)
+    # above the cylinder's label (its number), which would otherwise sit in the text
+    clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
+    top = o + d * liner_ends_mm(guide, geometry)[1]
+    half = guide.bore_m * MM / 2
+    # the extension lines from the liner's wall ends, past the label, to the dimension line
+    _dimension(ax, top - n * half, top + n * half, text, clear, extent, "D", from_feature=True)
+
+
+def _radial_dimensions(ax, geometry, i: int, labels: dict[str, str], crank, rod, extent: float):
+    """A radial's D, L, R, r and slave rod's length (:func:`_radial_dimension`), each kept off
+    the links and the ones before it: D first, over the first cylinder, then the master rod's
+    L, boxed in by the cylinders, then the crank's R under the master rod's body, then the
+    slave rods' r and length, which have the most links to choose among."""
+    j = geometry.joints
+    if "D" in labels:
+        _bore_dimension(ax, geometry, i, labels["D"], extent)
+    if "L" in labels:
+        ends = [(j[rod[1]][i] * MM, j[rod[2]][i] * MM)]
+        _radial_dimension(ax, geometry, i, ends, labels["L"], extent, "L")
+    if "R" in labels:
+        ends = [(j[crank[1]][i] * MM, j[crank[2]][i] * MM)]
+        _radial_dimension(ax, geometry, i, ends, labels["R"], extent, "R")
+    _slave_dimensions(ax, geometry, i, labels, extent)
 
 
 def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -1527,7 +1555,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     bodies = master_rod_joints(geometry)
-    if bodies:  # a radial: the line beside the master rod's body, the text by a short leader
+    if bodies:  # the line beside the master rod's body, the text by a short leader
         # the body reaches its knuckle pins round the crank pin: the line clear of it
         hub = max(float(np.linalg.norm(j[k][i] * MM - q)) for body in bodies for k in body)
         offset = hub + extent * 0.03
@@ -1545,25 +1573,54 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
 
 
-def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -> None:
+def _leader_text(
+    ax, geometry, i: int, at, text: str, extent: float, gid: str, shapes=None, strict=False
+) -> bool:
     """A dimension's ``text`` clear of everything drawn and off the shaded links, near ``at`` (mm,
     the middle of its dimension line), joined to it by a leader to the nearest middle of the
     box's sides (ГОСТ 2.307): of the places clear enough, the one whose leader is the shortest
-    and crosses the fewest lines."""
+    and crosses the fewest lines; given the links' ``shapes`` (:func:`link_shapes_mm`), only
+    where neither the box nor the leader reaches a link, if there is such a place."""
     clearance = _Clearance(ax, geometry, i, extent)
     at = np.asarray(at, float)
     # the box's outline about its centre: the same text at every place tried
     label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
     box = clearance._text_points(label) - at
     label.remove()
+    best = _leader_place(clearance, at, box, extent, shapes) if shapes is not None else None
+    if best is None and strict:
+        return False
+    if best is None:
+        best = _leader_place(clearance, at, box, extent, None)
+    label = ax.text(
+        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
+    )
+    end = _leader_end(clearance._text_points(label), at)
+    ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
+    return True
+
+
+def _leader_place(clearance, at, box, extent: float, shapes):
+    """:func:`_leader_text`'s place of a text's box (its outline about its centre, mm); None
+    where ``shapes`` are given and no place keeps the box and the leader off them."""
+    margin, step = extent * 0.005, extent * 0.003
     best, best_score, enough = None, None, extent * 0.012
-    for reach in np.arange(0.07, 0.62, 0.03):
-        for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
+    # off the links: a finer search, the room between them being narrow
+    reaches = (0.04, 0.015, 5.0) if shapes is not None else (0.07, 0.03, 15.0)
+    marks = _marks_tree(clearance.ax, step) if shapes is not None else None
+    for reach in np.arange(reaches[0], 0.62, reaches[1]):
+        for angle in np.radians(np.arange(0.0, 360.0, reaches[2])):
             place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
+            end = _leader_end(box + place, at)
+            if shapes is not None and not (
+                off_links(_sampled(at, end, step), shapes, margin)
+                and _box_off_links(np.vstack([box, box[:1]]) + place, shapes, margin, step)
+                and _off_marks(marks, box + place, margin, step)
+            ):
+                continue
             clear = min(clearance.of_outline(box + place, off_bodies=True), enough)
             if best_score is not None and clear < best_score[0]:
                 continue  # less clear than the best: its leader cannot make up for it
-            end = _leader_end(box + place, at)
             # a step farther weighs as much as a step of the leader on a line
             crossings = _leader_crossings(clearance, at, end)
             score = (clear, -(crossings + reach / 0.03))
@@ -1572,12 +1629,7 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
         # clear enough with a leader crossing nothing: no place farther out scores higher
         if best_score is not None and best_score[0] >= enough and best_crossings == 0:
             break
-    assert best is not None  # the grid above always gives a place
-    label = ax.text(
-        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
-    )
-    end = _leader_end(clearance._text_points(label), at)
-    ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
+    return best
 
 
 def _leader_end(box, at):
@@ -1624,6 +1676,15 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
     for key, (a, b) in (("r", (centre, pin)), ("l_s", (pin, slave[2]))):
         if key not in labels:
             continue
+        if is_radial(geometry):  # any slave rod: they are equal
+            ends = [
+                (l[1], l[2]) if key == "l_s" else (centre, l[1])
+                for l in geometry.links
+                if l[0].startswith("rod_") and l[1].startswith("slave_pin")
+            ]
+            links = [(j[u][i] * MM, j[v][i] * MM) for u, v in ends]
+            _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
+            continue
         p, q = j[a][i] * MM, j[b][i] * MM
         offset = extent * 0.03
         if key == "r":  # the knuckle pins lie on the master rod's body: the line beside it
@@ -1633,6 +1694,474 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
         _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
+
+
+def is_radial(geometry) -> bool:
+    """A radial engine: master rods with slave rods round one crank pin, cylinders on more than
+    two axes."""
+    return bool(master_rod_joints(geometry)) and len(_one_per_axis(geometry.guides)) > 2
+
+
+def link_shapes_mm(geometry, i: int) -> _Links:
+    """What a dimension line, its arrows, a leader and a dimension's text keep off at frame ``i``
+    (mm): the segments of the links (:func:`member_segments_mm`) with the outer edge of each
+    wall's hatching, and the areas they enclose (a master rod's body, a piston, a wall's band of
+    hatching), on which a line lies without crossing an outline."""
+    extent = _extent_mm(geometry)
+    segments = list(member_segments_mm(geometry, i))
+    areas = list(master_rod_bodies(geometry, i))
+    depth = HATCH * HATCH_SLANT * extent
+    j = geometry.joints
+    for guide in _one_per_axis(geometry.guides):
+        if guide.bore_m <= 0 or guide.moving is not None:
+            continue
+        o, d, n = _guide_frame(geometry, guide, i)
+        half = guide.bore_m * MM / 2
+        bottom, top = liner_ends_mm(guide, geometry)
+        for side in (-1.0, 1.0):
+            a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
+            out = n * side * depth
+            segments.append((a + out, b + out))
+            areas.append(np.array([a, b, b + out, a + out]))
+        pos = float(np.dot(j[guide.joint][i] * MM - o, d))
+        low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
+        areas.append(
+            np.array([o + d * low - n * half, o + d * high - n * half,
+                      o + d * high + n * half, o + d * low + n * half])
+        )
+    # the joints' circles and the supports under the fixed ones
+    r_joint = extent * JOINT_R
+    ring = np.column_stack([np.cos(np.linspace(0, 2 * np.pi, 25)), np.sin(np.linspace(0, 2 * np.pi, 25))])
+    for name, points in j.items():
+        if name == "vane_tip":
+            continue
+        outline = points[i] * MM + ring * r_joint
+        if name in geometry.fixed:
+            size = r_joint * 1.6
+            outline = points[i] * MM + np.array(
+                [[0.0, 0.0], [-1.9, -1.6], [-1.9, -2.4], [1.9, -2.4], [1.9, -1.6], [0.0, 0.0]]
+            ) * size
+        segments += list(zip(outline[:-1], outline[1:], strict=True))
+        areas.append(outline)
+    return _Links(np.array(segments, dtype=float).reshape(-1, 2, 2), areas, extent * 0.003)
+
+
+def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key: str) -> None:
+    """A radial's R, L, r or slave rod's length, of one of the equal ``links`` (p, q pairs, mm),
+    its links radiating round the crank pin, the nearest that stands off every link: a dimension
+    line near its link (within a fifth of the drawing), else the value written along the link,
+    else a dimension line farther out, its extension lines crossing the links, else the value on
+    a leader's shelf pointing at the link (ГОСТ 2.703)."""
+
+    def placed(least: float, most: float, strict: bool) -> bool:
+        found = sorted(
+            (abs(offset), k, offset)
+            for k, (p, q) in enumerate(links)
+            if (offset := next(_clear_offsets(ax, geometry, i, p, q, extent, least, most), None))
+            is not None
+        )
+        return any(
+            _dimension_off_links(ax, geometry, i, *links[k], text, extent, key, offset, strict)
+            for _, k, offset in found
+        )
+
+    if placed(extent * 0.03, extent * 0.2, True):
+        return
+    shapes = link_shapes_mm(geometry, i)
+    clearance = _Clearance(ax, geometry, i, extent)
+    if _note_along(ax, geometry, i, links, text, extent, key, shapes, clearance, False):
+        return
+    if placed(extent * 0.2, extent * 0.6, True) or placed(extent * 0.03, extent * 0.6, False):
+        return
+    _shelf_note(ax, geometry, i, links, text, extent, key)
+
+
+def _sampled(a, b, step: float) -> np.ndarray:
+    """Points every ``step`` (mm) from ``a`` to ``b``, both ends included."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    count = max(int(np.linalg.norm(b - a) / step), 1)
+    return a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None]
+
+
+def off_links(points, shapes, margin: float) -> bool:
+    """Whether every point (mm) stands at least ``margin`` off the links' segments and outside
+    the areas they enclose (:func:`link_shapes_mm`)."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    if len(points) == 0:
+        return True
+    return shapes.off(points, margin)
+
+
+class _Links:
+    """The links' segments and areas (mm) with a k-d tree of points along the segments, dense
+    enough (``step``) that a point's distance to them is known within a quarter step."""
+
+    def __init__(self, segments, areas, step: float):
+        from matplotlib.path import Path  # lazy: heavy optional import
+        from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+        self.segments = segments
+        self.areas = [Path(area) for area in areas]
+        self.bounds = [(area.min(axis=0), area.max(axis=0)) for area in areas]
+        self.step = step
+        along = [_sampled(a, b, step / 2) for a, b in segments]
+        self.tree = cKDTree(np.concatenate(along))
+
+    def off(self, points, margin: float) -> bool:
+        distances, _ = self.tree.query(points, distance_upper_bound=margin + self.step)
+        if float(distances.min()) < margin:
+            return False
+        low, high = points.min(axis=0), points.max(axis=0)
+        return not any(
+            area.contains_points(points).any()
+            for area, (a, b) in zip(self.areas, self.bounds, strict=True)
+            if np.all(high >= a) and np.all(low <= b)
+        )
+
+    def through(self, outline) -> bool:
+        """Whether a link's segment passes inside the closed ``outline`` (mm)."""
+        from matplotlib.path import Path  # lazy: heavy optional import
+
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        near = self.tree.query_ball_point((low + high) / 2, float(np.linalg.norm(high - low)) / 2)
+        return bool(len(near)) and bool(Path(outline).contains_points(self.tree.data[near]).any())
+
+
+def _box_off_links(outline, shapes, margin: float, step: float) -> bool:
+    """Whether a text's box (its closed outline, mm) stands ``margin`` off the links and no
+    link passes through it."""
+    return off_links(_ring_outline(outline, step), shapes, margin) and not shapes.through(outline)
+
+
+def _text_outline_mm(ax, label) -> np.ndarray:
+    """The closed outline (mm) of a text's box with its padding, turned as the text is."""
+    renderer = ax.figure.canvas.get_renderer()
+    rotation = label.get_rotation()
+    label.set_rotation(0.0)
+    box = label.get_window_extent(renderer)
+    label.set_rotation(rotation)
+    patch = label.get_bbox_patch()
+    pad = (patch.get_boxstyle().pad if patch else 0.0) * label.get_fontsize() * ax.figure.dpi / 72
+    anchor = ax.transData.transform(label.get_position())
+    corners = np.array(
+        [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+    ) + np.array([[-pad, -pad], [pad, -pad], [pad, pad], [-pad, pad], [-pad, -pad]])
+    c, s = np.cos(np.radians(rotation)), np.sin(np.radians(rotation))
+    turned = (corners - anchor) @ np.array([[c, s], [-s, c]]) + anchor
+    return ax.transData.inverted().transform(turned)
+
+
+def _clear_offsets(ax, geometry, i: int, p, q, extent: float, least: float, most: float):
+    """The offsets (mm, signed along p-q's left normal) from ``least`` to ``most``, nearest
+    first, at which a dimension line of p-q (mm) and its arrows stand off every link and
+    everything drawn (the extension lines may cross links: ГОСТ 2.307)."""
+    shapes = link_shapes_mm(geometry, i)
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    n = np.array([-d[1], d[0]])
+    margin, step = extent * 0.005, extent * 0.003
+    drawn = _marks_tree(ax, step)
+    for offset in np.arange(least, most, extent * 0.01):
+        for side in (1.0, -1.0):
+            line = _sampled(p + n * side * offset, q + n * side * offset, step)
+            if off_links(line, shapes, margin) and (
+                drawn is None or float(drawn.query(line)[0].min()) >= margin
+            ):
+                yield side * offset
+
+
+def _text_beyond(ax, a, b, text: str, extent: float, gid: str, shapes) -> bool:
+    """A short dimension's text on its dimension line a-b (mm) continued past one arrow
+    (ГОСТ 2.307: no room between the arrows), where the text and the continued line stand off
+    the links and the marks drawn; whether it is drawn."""
+    margin, step = extent * 0.005, extent * 0.003
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = (b - a) / max(float(np.linalg.norm(b - a)), 1e-12)
+    marks = _marks_tree(ax, step)
+    label = _dimension_text(ax, a, b, text, extent, gid)
+    corners = _text_outline_mm(ax, label)
+    width = float(np.linalg.norm(corners[1] - corners[0]))
+    lifted = label.get_position()
+    for start, direction in ((b, d), (a, -d)):
+        end = start + direction * (width + extent * 0.02)
+        middle = (start + end) / 2 + direction * extent * 0.005
+        label.set_position(middle + (np.asarray(lifted, float) - (a + b) / 2))
+        outline = _text_outline_mm(ax, label)
+        line = _sampled(start + direction * extent * 0.01, end, step)
+        if (
+            off_links(line, shapes, margin)
+            and _box_off_links(outline, shapes, margin, step)
+            and _off_marks(marks, outline[:-1], margin, step)
+        ):
+            ax.plot(*np.c_[start, end], color="0.35", lw=0.5, ls="-", gid=gid + "-shelf")
+            return True
+    label.remove()
+    return False
+
+
+def _off_marks(tree, outline, margin: float, step: float) -> bool:
+    """Whether a text's box (its outline, mm) stands ``margin`` off the dimensions and texts
+    drawn (:func:`_marks_tree`) with none of them inside it."""
+    if tree is None:
+        return True
+    if float(tree.query(_ring_outline(np.vstack([outline, outline[:1]]), step))[0].min()) < margin:
+        return False
+    low, high = outline.min(axis=0), outline.max(axis=0)
+    near = tree.data[tree.query_ball_point((low + high) / 2, float(np.linalg.norm(high - low)))]
+    return not np.any(np.all((near > low) & (near < high), axis=1))
+
+
+def _marks_tree(ax, step: float):
+    """A k-d tree of points (mm) along the dimensions drawn so far and round every text's box,
+    which a new dimension line keeps off (the axes' centre lines it may cross); None if none."""
+    from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+    to_data = ax.transData.inverted()
+    renderer = ax.figure.canvas.get_renderer()
+    points = []
+    for line in ax.lines:
+        if (line.get_gid() or "").startswith("dimension-"):
+            xy = np.column_stack(line.get_data()).astype(float)
+            points += [_sampled(a, b, step) for a, b in zip(xy[:-1], xy[1:], strict=True)]
+    for text in ax.texts:
+        if not text.get_text() and hasattr(text, "xyann"):
+            points.append(_sampled(np.asarray(text.xyann, float), np.asarray(text.xy, float), step))
+        elif text.get_text():
+            box = text.get_window_extent(renderer)
+            corners = to_data.transform(
+                [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1],
+                 [box.x0, box.y0]]
+            )
+            points.append(_ring_outline(corners, step))
+    return cKDTree(np.concatenate(points)) if points else None
+
+
+def _dimension_off_links(
+    ax, geometry, i: int, p, q, text: str, extent: float, key: str, offset, strict: bool
+) -> bool:
+    """A dimension of p-q (mm) at ``offset`` (:func:`_clear_offset`): its text over the line
+    where that box is clear of the links and of everything drawn, else by a leader
+    (:func:`_leader_text`) off the links; ``strict``: nothing drawn where there is no such
+    leader. Whether it is drawn."""
+    shapes = link_shapes_mm(geometry, i)
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    n = np.array([-d[1], d[0]])
+    margin, step = extent * 0.005, extent * 0.003
+    a, b = p + n * offset, q + n * offset
+    before = (list(ax.lines), list(ax.texts))
+    _dimension(ax, p, q, "", offset, extent, key)
+    gid = f"dimension-{key}-text"
+    label = _dimension_text(ax, a, b, text, extent, gid)
+    outline = _text_outline_mm(ax, label)
+    label.remove()
+    clearance = _Clearance(ax, geometry, i, extent)
+    if _box_off_links(outline, shapes, margin, step) and clearance.of_outline(
+        _ring_outline(outline, step)
+    ) > 0:
+        _dimension_text(ax, a, b, text, extent, gid)
+        return True
+    if _text_beyond(ax, a, b, text, extent, gid, shapes):
+        return True
+    if _leader_text(ax, geometry, i, (a + b) / 2, text, extent, gid, shapes, strict):
+        return True
+    for artist in [a for a in ax.lines if a not in before[0]]:
+        artist.remove()
+    for artist in [a for a in ax.texts if a not in before[1]]:
+        artist.remove()
+    return False
+
+
+def _ring_outline(outline, step: float) -> np.ndarray:
+    """Points at most ``step`` apart along a polyline (mm), its corners included."""
+    outline = np.asarray(outline, float)
+    edges = np.diff(outline, axis=0)
+    lengths = np.linalg.norm(edges, axis=1)
+    if not len(lengths) or lengths.max() <= step:
+        return outline
+    counts = np.maximum(np.ceil(lengths / step).astype(int), 1)
+    edge = np.repeat(np.arange(len(edges)), counts)
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    share = (np.arange(int(counts.sum())) - first) / np.repeat(counts, counts)
+    return np.vstack([outline[edge] + edges[edge] * share[:, None], outline[-1:]])
+
+
+def _shelf_note(ax, geometry, i: int, links, text: str, extent: float, key: str) -> None:
+    """A link's parameter on the shelf of a leader whose arrow points at one of the equal
+    ``links`` (p, q pairs, mm) (ГОСТ 2.703, 2.316): the shortest leader, leader, shelf and text
+    crossing no link and clear of everything drawn; where none is, the text along the first."""
+    shapes = link_shapes_mm(geometry, i)
+    clearance = _Clearance(ax, geometry, i, extent)
+    # on one line; where that finds no room, the value under its symbol, as narrow again
+    best = None
+    for lines in dict.fromkeys((text, text.replace(" = ", " =\n", 1))):
+        # the text along the link, beside it, where it has room; else on a leader's shelf
+        if _note_along(ax, geometry, i, links, lines, extent, key, shapes, clearance, False):
+            return
+        best = _shelf_best(ax, links, lines, extent, shapes, clearance)
+        if best is not None:
+            text = lines
+            break
+    if best is None:
+        _note_along(ax, geometry, i, links, text, extent, key, shapes, clearance, True)
+        return
+    target, elbow, end, shift = best
+    arrow = ax.annotate(
+        "",
+        xy=target,
+        xytext=elbow,
+        arrowprops={
+            "arrowstyle": "-|>",
+            "color": "0.35",
+            "lw": 0.5,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "mutation_scale": 7,
+        },
+    )
+    arrow.set_gid(f"dimension-{key}-leader")
+    ax.plot(*np.c_[elbow, end], color="0.35", lw=0.5, ls="-", gid=f"dimension-{key}-shelf")
+    ax.text(
+        *shift,
+        text,
+        ha="left",
+        va="bottom",
+        fontsize=8,
+        color="0.15",
+        bbox=NOTE_BOX,
+        gid=f"dimension-{key}-text",
+    )
+
+
+def _shelf_best(ax, links, text: str, extent: float, shapes, clearance):
+    """:func:`_shelf_place` of the text over the best of the ``links``; None where none has."""
+    label = ax.text(0.0, 0.0, text, ha="left", va="bottom", fontsize=8, bbox=NOTE_BOX)
+    box = _text_outline_mm(ax, label)
+    label.remove()
+    best, best_score = None, None
+    for p, q in links:
+        found = _shelf_place(
+            np.asarray(p, float), np.asarray(q, float), box, extent, shapes, clearance, best_score
+        )
+        if found is not None and (best_score is None or found[0] < best_score):
+            best_score, best = found
+    return best
+
+
+def _shelf_place(p, q, box, extent: float, shapes, clearance, bound=None):
+    """(score, (target, elbow, shelf's end, text's foot)) of the best leader to the link p-q
+    (mm) for a text of ``box`` (its outline standing on the origin, mm): a straight leader from
+    a point of the link, off the other links' areas, to the shelf's near end, leader, shelf and
+    text off every link and clear of everything drawn; the score (lines the leader crosses, its
+    length) lowest; None where none is (or none scores below ``bound``)."""
+    from matplotlib.path import Path  # lazy: heavy optional import
+
+    margin, step = extent * 0.005, extent * 0.003
+    width = float(np.ptp(box[:, 0]))
+    # the box's padding round the text: the text stands on the shelf, its box just over it
+    pad_x, lift = -float(box[:, 0].min()), -float(box[:, 1].min()) + margin * 0.3
+    length = float(np.linalg.norm(q - p))
+    d = (q - p) / max(length, 1e-12)
+    # the link's points off the other links' areas (a crank under a master rod's body: its end)
+    targets = [
+        t
+        for t in _sampled(p, q, max(step * 2, length / 12))[1:-1]
+        if min(np.linalg.norm(t - p), np.linalg.norm(t - q)) > extent * JOINT_R + margin
+        and not any(area.contains_point(t) for area in shapes.areas)
+    ]
+    best, best_score = None, bound
+    for target in targets:
+        for angle in np.radians(np.arange(1.0, 360.0, 3.0)):
+            ray = np.array([np.cos(angle), np.sin(angle)])
+            if abs(float(np.dot(ray, d))) > 0.9:
+                continue  # along the link: its arrow would lie on it
+            free = _free_reach(target, ray, shapes, margin, step, extent * 0.8)
+            for reach in np.arange(extent * 0.03, free, extent * 0.015):
+                if best_score is not None and (0, reach) >= best_score:
+                    break
+                elbow = target + ray * reach
+                # the shelf away from the leader, or back under it where the leader comes down
+                # steeply enough to stay off the text
+                for sign in (1.0, -1.0) if ray[0] >= 0.0 else (-1.0, 1.0):
+                    end = elbow + np.array([sign * width, 0.0])
+                    shift = np.array([min(elbow[0], end[0]) + pad_x, elbow[1] + lift])
+                    outline = box + shift
+                    if sign * ray[0] < 0.0 and (
+                        ray[1] >= 0.0 or Path(outline).contains_points(
+                            _sampled(target, elbow, step)
+                        ).any()
+                    ):
+                        continue
+                    if not off_links(_sampled(elbow, end, step), shapes, margin):
+                        continue
+                    if not _box_off_links(outline, shapes, margin, step):
+                        continue
+                    if clearance.of_outline(_ring_outline(outline, step)) <= 0:
+                        continue
+                    score = (_leader_crossings(clearance, target, elbow), reach)
+                    if best_score is None or score < best_score:
+                        best, best_score = (target, elbow, end, shift), score
+                    break
+    return None if best is None else (best_score, best)
+
+
+def _free_reach(start, ray, shapes, margin: float, step: float, most: float) -> float:
+    """How far (mm) a leader from ``start`` on a link runs along ``ray`` before it comes within
+    ``margin`` of a link or enters a link's area (its first ``1.5 margin`` left out: it starts on
+    its own link)."""
+    points = start + np.outer(np.arange(margin * 1.5, most, step), ray)
+    if not len(points):
+        return 0.0
+    distances, _ = shapes.tree.query(points, distance_upper_bound=margin + shapes.step)
+    bad = distances < margin
+    low, high = points.min(axis=0), points.max(axis=0)
+    for area, (a, b) in zip(shapes.areas, shapes.bounds, strict=True):
+        if np.all(high >= a) and np.all(low <= b):
+            bad |= area.contains_points(points)
+    hit = np.flatnonzero(bad)
+    return float(np.linalg.norm(points[hit[0]] - start)) - step if len(hit) else most
+
+
+def _note_along(
+    ax, geometry, i: int, links, text, extent: float, key: str, shapes, clearance, anyway: bool
+) -> bool:
+    """A link's parameter written along one of the equal ``links`` (p, q pairs, mm), beside it,
+    where its box is clear of every link and of everything drawn (the nearest place to a link's
+    middle); where there is none, nothing (``anyway``: by the first link's middle). Whether it
+    found a place."""
+    margin, step = extent * 0.005, extent * 0.003
+    label = ax.text(
+        0.0, 0.0, text, ha="center", va="center", rotation_mode="anchor",
+        fontsize=8, color="0.15", bbox=NOTE_BOX, zorder=7, gid=f"dimension-{key}-text",
+    )
+    p, q = (np.asarray(v, float) for v in links[0])
+    chosen, rotation, best = (p + q) / 2, _readable_rotation_deg(q - p), None
+    for p, q in links:
+        p, q = np.asarray(p, float), np.asarray(q, float)
+        d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+        n = np.array([-d[1], d[0]])
+        label.set_rotation(_readable_rotation_deg(d))
+        label.set_position((0.0, 0.0))
+        outline = _text_outline_mm(ax, label)
+        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.2):
+            for offset in np.arange(0.02, 0.2, 0.005) * extent:
+                score = offset + abs(share - 0.5) * extent * 0.1
+                if best is not None and score >= best:
+                    break
+                for side in (1.0, -1.0):
+                    at = p + (q - p) * share + n * side * offset
+                    if not _box_off_links(outline + at, shapes, margin, step):
+                        continue
+                    if clearance.of_outline(_ring_outline(outline + at, step)) <= 0:
+                        continue
+                    chosen, rotation, best = at, _readable_rotation_deg(d), score
+                    break
+    if best is None and not anyway:
+        label.remove()
+        return False
+    label.set_rotation(rotation)
+    label.set_position(chosen)
+    return best is not None
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
