@@ -167,7 +167,9 @@ def test_a_radials_dimensions_stand_off_its_links(tmp_path, cylinders):
     assert {gid.split("-")[1] for gid, _ in texts} == {k for k in KEYS if k in labels}
     crossed = []
     for gid, xy in lines:
-        points = np.concatenate([_along(a, b, per_mm * 0.1) for a, b in zip(xy[:-1], xy[1:])])
+        points = np.concatenate(
+            [_along(a, b, per_mm * 0.1) for a, b in zip(xy[:-1], xy[1:], strict=True)]
+        )
         if gid.endswith("-leader") and not gid.endswith("-text-leader"):
             # a leader to a link ends on it with its arrow: its first millimetre is left out
             points = points[np.linalg.norm(points - xy[-1], axis=1) > per_mm]

@@ -65,7 +65,9 @@ def test_o_and_the_dimension_texts_stand_off_the_links():
         assert not _on_shaded(ax, text, renderer), key
         assert not _crossed_lines(ax, text, renderer), key
         # over its dimension line, past its arrow or by a leader shorter than half the width
-        for leader in (line for line in ax.lines if line.get_gid() == f"dimension-{key}-text-leader"):
+        for leader in (
+            line for line in ax.lines if line.get_gid() == f"dimension-{key}-text-leader"
+        ):
             xy = np.column_stack(leader.get_data())
             x0, x1 = ax.get_xlim()
             assert np.linalg.norm(xy[1] - xy[0]) < (x1 - x0) / 2, key

@@ -1726,21 +1726,33 @@ def link_shapes_mm(geometry, i: int) -> _Links:
         pos = float(np.dot(j[guide.joint][i] * MM - o, d))
         low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
         areas.append(
-            np.array([o + d * low - n * half, o + d * high - n * half,
-                      o + d * high + n * half, o + d * low + n * half])
+            np.array(
+                [
+                    o + d * low - n * half,
+                    o + d * high - n * half,
+                    o + d * high + n * half,
+                    o + d * low + n * half,
+                ]
+            )
         )
     # the joints' circles and the supports under the fixed ones
     r_joint = extent * JOINT_R
-    ring = np.column_stack([np.cos(np.linspace(0, 2 * np.pi, 25)), np.sin(np.linspace(0, 2 * np.pi, 25))])
+    ring = np.column_stack(
+        [np.cos(np.linspace(0, 2 * np.pi, 25)), np.sin(np.linspace(0, 2 * np.pi, 25))]
+    )
     for name, points in j.items():
         if name == "vane_tip":
             continue
         outline = points[i] * MM + ring * r_joint
         if name in geometry.fixed:
             size = r_joint * 1.6
-            outline = points[i] * MM + np.array(
-                [[0.0, 0.0], [-1.9, -1.6], [-1.9, -2.4], [1.9, -2.4], [1.9, -1.6], [0.0, 0.0]]
-            ) * size
+            outline = (
+                points[i] * MM
+                + np.array(
+                    [[0.0, 0.0], [-1.9, -1.6], [-1.9, -2.4], [1.9, -2.4], [1.9, -1.6], [0.0, 0.0]]
+                )
+                * size
+            )
         segments += list(zip(outline[:-1], outline[1:], strict=True))
         areas.append(outline)
     return _Links(np.array(segments, dtype=float).reshape(-1, 2, 2), areas, extent * 0.003)
@@ -1929,8 +1941,13 @@ def _marks_tree(ax, step: float):
         elif text.get_text():
             box = text.get_window_extent(renderer)
             corners = to_data.transform(
-                [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1],
-                 [box.x0, box.y0]]
+                [
+                    [box.x0, box.y0],
+                    [box.x1, box.y0],
+                    [box.x1, box.y1],
+                    [box.x0, box.y1],
+                    [box.x0, box.y0],
+                ]
             )
             points.append(_ring_outline(corners, step))
     return cKDTree(np.concatenate(points)) if points else None
@@ -1956,9 +1973,10 @@ def _dimension_off_links(
     outline = _text_outline_mm(ax, label)
     label.remove()
     clearance = _Clearance(ax, geometry, i, extent)
-    if _box_off_links(outline, shapes, margin, step) and clearance.of_outline(
-        _ring_outline(outline, step)
-    ) > 0:
+    if (
+        _box_off_links(outline, shapes, margin, step)
+        and clearance.of_outline(_ring_outline(outline, step)) > 0
+    ):
         _dimension_text(ax, a, b, text, extent, gid)
         return True
     if _text_beyond(ax, a, b, text, extent, gid, shapes):
@@ -2087,9 +2105,8 @@ def _shelf_place(p, q, box, extent: float, shapes, clearance, bound=None):
                     shift = np.array([min(elbow[0], end[0]) + pad_x, elbow[1] + lift])
                     outline = box + shift
                     if sign * ray[0] < 0.0 and (
-                        ray[1] >= 0.0 or Path(outline).contains_points(
-                            _sampled(target, elbow, step)
-                        ).any()
+                        ray[1] >= 0.0
+                        or Path(outline).contains_points(_sampled(target, elbow, step)).any()
                     ):
                         continue
                     if not off_links(_sampled(elbow, end, step), shapes, margin):
@@ -2131,8 +2148,17 @@ def _note_along(
     found a place."""
     margin, step = extent * 0.005, extent * 0.003
     label = ax.text(
-        0.0, 0.0, text, ha="center", va="center", rotation_mode="anchor",
-        fontsize=8, color="0.15", bbox=NOTE_BOX, zorder=7, gid=f"dimension-{key}-text",
+        0.0,
+        0.0,
+        text,
+        ha="center",
+        va="center",
+        rotation_mode="anchor",
+        fontsize=8,
+        color="0.15",
+        bbox=NOTE_BOX,
+        zorder=7,
+        gid=f"dimension-{key}-text",
     )
     p, q = (np.asarray(v, float) for v in links[0])
     chosen, rotation, best = (p + q) / 2, _readable_rotation_deg(q - p), None
