@@ -1783,6 +1783,13 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
     clearance = _Clearance(ax, geometry, i, extent)
     if _note_along(ax, geometry, i, links, text, extent, key, shapes, clearance, False):
         return
+    if key == "r":  # the knuckle pins' radius, by the master rod's body: never far from it
+        if not placed(extent * 0.2, extent * 0.35, True):
+            # no room off the links: beside the body, the text by the leader crossing fewest
+            p, q = (np.asarray(v, float) for v in links[0])
+            offset = float(np.linalg.norm(q - p)) + extent * 0.03
+            _dimension_off_links(ax, geometry, i, p, q, text, extent, key, offset, False)
+        return
     if placed(extent * 0.2, extent * 0.6, True) or placed(extent * 0.03, extent * 0.6, False):
         return
     _shelf_note(ax, geometry, i, links, text, extent, key)
@@ -2170,7 +2177,7 @@ def _note_along(
         label.set_position((0.0, 0.0))
         outline = _text_outline_mm(ax, label)
         for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.2):
-            for offset in np.arange(0.02, 0.2, 0.005) * extent:
+            for offset in np.arange(0.02, 0.08, 0.005) * extent:
                 score = offset + abs(share - 0.5) * extent * 0.1
                 if best is not None and score >= best:
                     break
