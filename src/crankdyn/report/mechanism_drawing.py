@@ -1606,7 +1606,7 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     margin, step = extent * 0.005, extent * 0.003
     best, best_score, enough = None, None, extent * 0.012
     # off the links: a finer search, the room between them being narrow
-    reaches = (0.04, 0.015, 5.0) if shapes is not None else (0.07, 0.03, 15.0)
+    reaches = (0.04, 0.02, 7.5) if shapes is not None else (0.07, 0.03, 15.0)
     marks = _marks_tree(clearance.ax, step) if shapes is not None else None
     for reach in np.arange(reaches[0], 0.62, reaches[1]):
         for angle in np.radians(np.arange(0.0, 360.0, reaches[2])):
@@ -1766,11 +1766,13 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
     a leader's shelf pointing at the link (ГОСТ 2.703)."""
 
     def placed(least: float, most: float, strict: bool) -> bool:
+        # the nearest on either side of each link: the text may have room on one side only
         found = sorted(
             (abs(offset), k, offset)
             for k, (p, q) in enumerate(links)
-            if (offset := next(_clear_offsets(ax, geometry, i, p, q, extent, least, most), None))
-            is not None
+            for offset in _nearest_each_side(
+                _clear_offsets(ax, geometry, i, p, q, extent, least, most)
+            )
         )
         return any(
             _dimension_off_links(ax, geometry, i, *links[k], text, extent, key, offset, strict)
@@ -1793,6 +1795,16 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
     if placed(extent * 0.2, extent * 0.6, True) or placed(extent * 0.03, extent * 0.6, False):
         return
     _shelf_note(ax, geometry, i, links, text, extent, key)
+
+
+def _nearest_each_side(offsets) -> list:
+    """The first offset of each sign from ``offsets`` (nearest first)."""
+    chosen: dict[bool, float] = {}
+    for offset in offsets:
+        chosen.setdefault(offset > 0.0, offset)
+        if len(chosen) == 2:
+            break
+    return list(chosen.values())
 
 
 def _sampled(a, b, step: float) -> np.ndarray:
@@ -1822,6 +1834,8 @@ class _Links:
         self.segments = segments
         self.areas = [Path(area) for area in areas]
         self.bounds = [(area.min(axis=0), area.max(axis=0)) for area in areas]
+        self.lows = np.array([low for low, _ in self.bounds]).reshape(-1, 2)
+        self.highs = np.array([high for _, high in self.bounds]).reshape(-1, 2)
         self.step = step
         along = [_sampled(a, b, step / 2) for a, b in segments]
         self.tree = cKDTree(np.concatenate(along))
@@ -1831,11 +1845,8 @@ class _Links:
         if float(distances.min()) < margin:
             return False
         low, high = points.min(axis=0), points.max(axis=0)
-        return not any(
-            area.contains_points(points).any()
-            for area, (a, b) in zip(self.areas, self.bounds, strict=True)
-            if np.all(high >= a) and np.all(low <= b)
-        )
+        near = np.flatnonzero(((high >= self.lows) & (low <= self.highs)).all(axis=1))
+        return not any(self.areas[k].contains_points(points).any() for k in near)
 
     def through(self, outline) -> bool:
         """Whether a link's segment passes inside the closed ``outline`` (mm)."""
@@ -2139,9 +2150,8 @@ def _free_reach(start, ray, shapes, margin: float, step: float, most: float) -> 
     distances, _ = shapes.tree.query(points, distance_upper_bound=margin + shapes.step)
     bad = distances < margin
     low, high = points.min(axis=0), points.max(axis=0)
-    for area, (a, b) in zip(shapes.areas, shapes.bounds, strict=True):
-        if np.all(high >= a) and np.all(low <= b):
-            bad |= area.contains_points(points)
+    for k in np.flatnonzero(((high >= shapes.lows) & (low <= shapes.highs)).all(axis=1)):
+        bad |= shapes.areas[k].contains_points(points)
     hit = np.flatnonzero(bad)
     return float(np.linalg.norm(points[hit[0]] - start)) - step if len(hit) else most
 
