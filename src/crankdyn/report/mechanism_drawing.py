@@ -30,8 +30,6 @@ LABEL_BOX = {
     "edgecolor": "none",
     "pad": 0.5,
 }  # a dimension's text over the lines it crosses
-#: a link's parameter written by the link: a narrow white margin, the text kept off every line
-NOTE_BOX = LABEL_BOX
 
 
 def view_rotation_rad(geometry) -> float:
@@ -1660,9 +1658,10 @@ def _leader_crossings(clearance, start, end) -> int:
 
 
 def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: float) -> None:
-    """A radial's knuckle-pin radius r (crank pin to the first slave's pin) and the slave rod's
-    length (its pin to its piston pin), each a dimension line beside the link with its text by a
-    short leader (:func:`_leader_text`)."""
+    """The knuckle-pin radius r (crank pin to a slave's pin) and the slave rod's length (its pin
+    to its piston pin): a radial's by :func:`_radial_dimension` on any of its equal slave rods;
+    another engine's on the first slave, each a dimension line beside the link with its text by
+    a short leader (:func:`_leader_text`)."""
     j = geometry.joints
     bodies = master_rod_joints(geometry)
     slave = next(
@@ -1763,7 +1762,9 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
     its links radiating round the crank pin, the nearest that stands off every link: a dimension
     line near its link (within a fifth of the drawing), else the value written along the link,
     else a dimension line farther out, its extension lines crossing the links, else the value on
-    a leader's shelf pointing at the link (ГОСТ 2.703)."""
+    a leader's shelf pointing at the link (ГОСТ 2.703). The knuckle pins' radius r stays by the
+    master rod's body: where nothing there is clear, its line beside the body, its text by the
+    leader crossing the fewest lines."""
 
     def placed(least: float, most: float, strict: bool) -> bool:
         # the nearest on either side of each link: the text may have room on one side only
@@ -2064,14 +2065,14 @@ def _shelf_note(ax, geometry, i: int, links, text: str, extent: float, key: str)
         va="bottom",
         fontsize=8,
         color="0.15",
-        bbox=NOTE_BOX,
+        bbox=LABEL_BOX,
         gid=f"dimension-{key}-text",
     )
 
 
 def _shelf_best(ax, links, text: str, extent: float, shapes, clearance):
     """:func:`_shelf_place` of the text over the best of the ``links``; None where none has."""
-    label = ax.text(0.0, 0.0, text, ha="left", va="bottom", fontsize=8, bbox=NOTE_BOX)
+    label = ax.text(0.0, 0.0, text, ha="left", va="bottom", fontsize=8, bbox=LABEL_BOX)
     box = _text_outline_mm(ax, label)
     label.remove()
     best, best_score = None, None
@@ -2173,7 +2174,7 @@ def _note_along(
         rotation_mode="anchor",
         fontsize=8,
         color="0.15",
-        bbox=NOTE_BOX,
+        bbox=LABEL_BOX,
         zorder=7,
         gid=f"dimension-{key}-text",
     )
