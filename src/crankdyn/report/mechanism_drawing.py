@@ -1326,19 +1326,21 @@ class _Clearance:
         self.ax, self.extent = ax, extent
         self.renderer = ax.figure.canvas.get_renderer()
         self.step = extent * 0.004
-        points = [self._along(np.column_stack(line.get_data()).astype(float)) for line in ax.lines]
+        polylines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
         for collection in ax.collections:
             for segment in getattr(collection, "get_segments", lambda: [])():
-                points.append(self._along(np.asarray(segment, float)))
+                polylines.append(np.asarray(segment, float))
         from matplotlib.patches import Arc  # lazy: heavy optional import
 
         to_data = ax.transData.inverted()
         for patch in ax.patches:
             if isinstance(patch, Arc):  # the arc drawn, not its whole ellipse
-                arc = _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
-                points.append(self._along(arc))
+                polylines.append(
+                    _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
+                )
             else:
-                points.append(self._along(to_data.transform(patch.get_verts())))
+                polylines.append(to_data.transform(patch.get_verts()))
+        points = [self._along_all(polylines)]
         for text in ax.texts:
             points.append(self._text_points(text))
         points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
@@ -1365,11 +1367,17 @@ class _Clearance:
         """Points every ``step`` along a polyline (mm)."""
         if len(polyline) < 2:
             return polyline.reshape(-1, 2)
-        out = []
-        for a, b in zip(polyline[:-1], polyline[1:], strict=True):
-            count = max(int(np.linalg.norm(b - a) / self.step), 1)
-            out.append(a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None])
-        return np.concatenate(out)
+        return _sampled_many(polyline[:-1], polyline[1:], self.step)[0]
+
+    def _along_all(self, polylines) -> np.ndarray:
+        """:meth:`_along` of every polyline, at once."""
+        polylines = [p.reshape(-1, 2) for p in polylines]
+        single = [p for p in polylines if len(p) == 1]
+        starts = [p[:-1] for p in polylines if len(p) >= 2]
+        ends = [p[1:] for p in polylines if len(p) >= 2]
+        if starts:
+            single.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), self.step)[0])
+        return np.concatenate(single) if single else np.empty((0, 2))
 
     def _text_points(self, text) -> np.ndarray:
         """The outline of a text's box (a dimension's arrow: its line), mm."""
@@ -1605,17 +1613,20 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     best, best_score, enough = None, None, extent * 0.012
     # off the links: a finer search, the room between them being narrow
     reaches = (0.04, 0.02, 7.5) if shapes is not None else (0.07, 0.03, 15.0)
-    marks = _marks_tree(clearance.ax, step) if shapes is not None else None
-    for reach in np.arange(reaches[0], 0.62, reaches[1]):
-        for angle in np.radians(np.arange(0.0, 360.0, reaches[2])):
-            place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
-            end = _leader_end(box + place, at)
-            if shapes is not None and not (
-                off_links(_sampled(at, end, step), shapes, margin)
-                and _box_off_links(np.vstack([box, box[:1]]) + place, shapes, margin, step)
-                and _off_marks(marks, box + place, margin, step)
-            ):
-                continue
+    angles = np.radians(np.arange(0.0, 360.0, reaches[2]))
+    rays = np.column_stack([np.cos(angles), np.sin(angles)])
+    rings = np.arange(reaches[0], 0.62, reaches[1])
+    # every place tried, ring by ring, with its leader's end, tested against the links at once
+    places = at + extent * rings[:, None, None] * rays[None, :, :]
+    ends = _leader_ends(box, places.reshape(-1, 2), at).reshape(places.shape)
+    usable = np.ones(places.shape[:2], bool)
+    if shapes is not None:
+        usable = _leader_places_off_links(
+            clearance.ax, at, box, places.reshape(-1, 2), ends.reshape(-1, 2), shapes, extent
+        ).reshape(usable.shape)
+    for k, reach in enumerate(rings):
+        for m in np.flatnonzero(usable[k]):
+            place, end = places[k, m], ends[k, m]
             clear = min(clearance.of_outline(box + place, off_bodies=True), enough)
             if best_score is not None and clear < best_score[0]:
                 continue  # less clear than the best: its leader cannot make up for it
@@ -1630,17 +1641,73 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     return best
 
 
+def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -> np.ndarray:
+    """Which ``places`` (mm) of a text's box (its closed outline about its centre, mm) keep the
+    box, its outline and the leader from ``at`` to its ``ends`` off the links and the box off
+    the marks drawn (:func:`_off_marks`): the cheap tests first, each on all the places left."""
+    margin, step = extent * 0.005, extent * 0.003
+    ring = _ring_outline(np.vstack([box, box[:1]]), step)
+    usable = np.ones(len(places), bool)
+
+    def keep(test) -> None:
+        kept = np.flatnonzero(usable)
+        if len(kept):
+            usable[kept] = test(kept)
+
+    def outline_off_links(kept):
+        outlines = (ring[None, :, :] + places[kept][:, None, :]).reshape(-1, 2)
+        owner = np.repeat(np.arange(len(kept)), len(ring))
+        return ~shapes.touched(outlines, owner, len(kept), margin)
+
+    def leader_off_links(kept):
+        leaders, owner = _sampled_many(np.broadcast_to(at, (len(kept), 2)), ends[kept], step)
+        return ~shapes.touched(leaders, owner, len(kept), margin)
+
+    marks = _marks_tree(ax, step)
+
+    def outline_off_marks(kept):
+        outlines = (ring[None, :, :] + places[kept][:, None, :]).reshape(-1, 2)
+        distances, _ = marks.query(outlines, distance_upper_bound=margin)
+        return distances.reshape(len(kept), -1).min(axis=1) >= margin
+
+    keep(outline_off_links)
+    if marks is not None:
+        keep(outline_off_marks)
+    keep(leader_off_links)
+    keep(
+        lambda kept: np.array(
+            [
+                not shapes.through(np.vstack([box, box[:1]]) + places[k])
+                and _off_marks(marks, box + places[k], margin, step)
+                for k in kept
+            ],
+            bool,
+        )
+    )
+    return usable
+
+
+def _leader_ends(box, places, at) -> np.ndarray:
+    """:func:`_leader_end` of a text's box (its outline about its centre, mm) at each of
+    ``places``."""
+    low, high = box.min(axis=0) + places, box.max(axis=0) + places
+    middle = (low + high) / 2
+    sides = np.stack(
+        [
+            np.column_stack([low[:, 0], middle[:, 1]]),
+            np.column_stack([high[:, 0], middle[:, 1]]),
+            np.column_stack([middle[:, 0], low[:, 1]]),
+            np.column_stack([middle[:, 0], high[:, 1]]),
+        ],
+        axis=1,
+    )
+    nearest = np.argmin(np.linalg.norm(sides - at, axis=2), axis=1)
+    return sides[np.arange(len(places)), nearest]
+
+
 def _leader_end(box, at):
     """The middle of the side of a text's box (its outline, mm) nearest ``at``."""
-    low, high = box.min(axis=0), box.max(axis=0)
-    middle = (low + high) / 2
-    sides = [
-        np.array([low[0], middle[1]]),
-        np.array([high[0], middle[1]]),
-        np.array([middle[0], low[1]]),
-        np.array([middle[0], high[1]]),
-    ]
-    return min(sides, key=lambda side: float(np.linalg.norm(side - at)))
+    return _leader_ends(box, np.zeros((1, 2)), np.asarray(at, float))[0]
 
 
 def _leader_crossings(clearance, start, end) -> int:
@@ -1701,7 +1768,22 @@ def is_radial(geometry) -> bool:
     return bool(master_rod_joints(geometry)) and len(_one_per_axis(geometry.guides)) > 2
 
 
+_LINK_SHAPES: dict = {}
+
+
 def link_shapes_mm(geometry, i: int) -> _Links:
+    """:func:`_link_shapes_built`, built once for a geometry's frame: a scheme's placement
+    search asks for them at every dimension and place it tries."""
+    key = (id(geometry), i)
+    cached = _LINK_SHAPES.get(key)
+    if cached is None or cached[0] is not geometry:
+        if len(_LINK_SHAPES) >= 8:  # a few geometries at a time: the memory stays bounded
+            _LINK_SHAPES.clear()
+        cached = _LINK_SHAPES[key] = (geometry, _link_shapes_built(geometry, i))
+    return cached[1]
+
+
+def _link_shapes_built(geometry, i: int) -> _Links:
     """What a dimension line, its arrows, a leader and a dimension's text keep off at frame ``i``
     (mm): the segments of the links (:func:`member_segments_mm`) with the outer edge of each
     wall's hatching, and the areas they enclose (a master rod's body, a piston, a wall's band of
@@ -1815,6 +1897,18 @@ def _sampled(a, b, step: float) -> np.ndarray:
     return a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None]
 
 
+def _sampled_many(starts, ends, step: float):
+    """:func:`_sampled` of every segment ``starts[k]``-``ends[k]`` (mm) at once: the points and,
+    for each, the index of its segment."""
+    starts = np.asarray(starts, float).reshape(-1, 2)
+    spans = np.asarray(ends, float).reshape(-1, 2) - starts
+    counts = np.maximum((np.linalg.norm(spans, axis=1) / step).astype(int), 1)
+    owner = np.repeat(np.arange(len(starts)), counts + 1)
+    first = np.repeat(np.cumsum(counts + 1) - (counts + 1), counts + 1)
+    share = (np.arange(len(owner)) - first) / np.repeat(counts, counts + 1)
+    return starts[owner] + spans[owner] * share[:, None], owner
+
+
 def off_links(points, shapes, margin: float) -> bool:
     """Whether every point (mm) stands at least ``margin`` off the links' segments and outside
     the areas they enclose (:func:`link_shapes_mm`)."""
@@ -1838,8 +1932,42 @@ class _Links:
         self.lows = np.array([low for low, _ in self.bounds]).reshape(-1, 2)
         self.highs = np.array([high for _, high in self.bounds]).reshape(-1, 2)
         self.step = step
-        along = [_sampled(a, b, step / 2) for a, b in segments]
-        self.tree = cKDTree(np.concatenate(along))
+        segments = np.asarray(segments, float).reshape(-1, 2, 2)
+        self.tree = cKDTree(_sampled_many(segments[:, 0], segments[:, 1], step / 2)[0])
+
+    def touched(self, points, owner, count: int, margin: float) -> np.ndarray:
+        """Which of ``count`` groups of ``points`` (mm; ``owner``: each point's group, the
+        groups in order) has a point within ``margin`` of a link's segment or inside an area:
+        :meth:`off` of many places tried at once. Every eighth point of a group first: most
+        places tried touch a link, and so are known at an eighth of the cost."""
+        points = np.asarray(points, float).reshape(-1, 2)
+        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+        rank = np.arange(len(owner)) - np.repeat(starts, np.diff(np.r_[starts, len(owner)]))
+        hit = self._touched(points[rank % 8 == 0], owner[rank % 8 == 0], count, margin)
+        rest = ~hit[owner]
+        hit |= self._touched(points[rest], owner[rest], count, margin)
+        return hit
+
+    def _touched(self, points, owner, count: int, margin: float) -> np.ndarray:
+        hit = np.zeros(count, bool)
+        if not len(points):
+            return hit
+        distances, _ = self.tree.query(points, distance_upper_bound=margin + self.step)
+        hit[owner[distances < margin]] = True
+        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+        groups = owner[starts]
+        lows = np.minimum.reduceat(points, starts, axis=0)
+        highs = np.maximum.reduceat(points, starts, axis=0)
+        for k, area in enumerate(self.areas):
+            near = np.zeros(count, bool)
+            near[groups] = ((highs >= self.lows[k]) & (lows <= self.highs[k])).all(axis=1)
+            near &= ~hit
+            if not near.any():
+                continue
+            tried = np.flatnonzero(near[owner])
+            inside = area.contains_points(points[tried])
+            hit[owner[tried[inside]]] = True
+        return hit
 
     def off(self, points, margin: float) -> bool:
         distances, _ = self.tree.query(points, distance_upper_bound=margin + self.step)
