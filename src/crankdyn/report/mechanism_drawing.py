@@ -1580,14 +1580,24 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
 
 
 def _leader_text(
-    ax, geometry, i: int, at, text: str, extent: float, gid: str, shapes=None, strict=False
+    ax,
+    geometry,
+    i: int,
+    at,
+    text: str,
+    extent: float,
+    gid: str,
+    shapes=None,
+    strict=False,
+    clearance=None,
 ) -> bool:
     """A dimension's ``text`` clear of everything drawn and off the shaded links, near ``at`` (mm,
     the middle of its dimension line), joined to it by a leader to the nearest middle of the
     box's sides (ГОСТ 2.307): of the places clear enough, the one whose leader is the shortest
     and crosses the fewest lines; given the links' ``shapes`` (:func:`link_shapes_mm`), only
-    where neither the box nor the leader reaches a link, if there is such a place."""
-    clearance = _Clearance(ax, geometry, i, extent)
+    where neither the box nor the leader reaches a link, if there is such a place
+    (``clearance``: a :class:`_Clearance` of what is drawn now, if already built)."""
+    clearance = clearance or _Clearance(ax, geometry, i, extent)
     at = np.asarray(at, float)
     # the box's outline about its centre: the same text at every place tried
     label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
@@ -1674,17 +1684,33 @@ def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -
     if marks is not None:
         keep(outline_off_marks)
     keep(leader_off_links)
-    keep(
-        lambda kept: np.array(
-            [
-                not shapes.through(np.vstack([box, box[:1]]) + places[k])
-                and _off_marks(marks, box + places[k], margin, step)
-                for k in kept
-            ],
-            bool,
-        )
-    )
+    keep(lambda kept: ~shapes.through_many(np.vstack([box, box[:1]]), places[kept]))
+    if marks is not None:
+        keep(lambda kept: ~_marks_inside(marks, box, places[kept]))
     return usable
+
+
+def _near_pairs(tree, centres, radius: float):
+    """(place, point) index pairs of the k-d tree's points within ``radius`` (mm) of each of
+    ``centres``."""
+    near = tree.query_ball_point(centres, radius)
+    counts = np.array([len(n) for n in near], int)
+    if not counts.sum():
+        return np.zeros(0, int), np.zeros(0, int)
+    owner = np.repeat(np.arange(len(centres)), counts)
+    return owner, np.concatenate([np.asarray(n, int) for n in near if len(n)])
+
+
+def _marks_inside(tree, box, places) -> np.ndarray:
+    """Which ``places`` (mm) of a text's box (its outline about its centre, mm) hold a point of
+    the marks drawn (:func:`_marks_tree`): :func:`_off_marks`'s second test at many places."""
+    low, high = box.min(axis=0), box.max(axis=0)
+    owner, index = _near_pairs(
+        tree, (low + high) / 2 + places, float(np.linalg.norm(high - low))
+    )
+    points = tree.data[index]
+    inside = np.all((points > low + places[owner]) & (points < high + places[owner]), axis=1)
+    return np.bincount(owner[inside], minlength=len(places)) > 0
 
 
 def _leader_ends(box, places, at) -> np.ndarray:
@@ -1850,11 +1876,12 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
 
     def placed(least: float, most: float, strict: bool) -> bool:
         # the nearest on either side of each link: the text may have room on one side only
+        drawn = _marks_tree(ax, extent * 0.003)
         found = sorted(
             (abs(offset), k, offset)
             for k, (p, q) in enumerate(links)
             for offset in _nearest_each_side(
-                _clear_offsets(ax, geometry, i, p, q, extent, least, most)
+                _clear_offsets(ax, geometry, i, p, q, extent, least, most, drawn)
             )
         )
         return any(
@@ -1977,6 +2004,20 @@ class _Links:
         near = np.flatnonzero(((high >= self.lows) & (low <= self.highs)).all(axis=1))
         return not any(self.areas[k].contains_points(points).any() for k in near)
 
+    def through_many(self, outline, places) -> np.ndarray:
+        """:meth:`through` of the closed ``outline`` (mm) moved to each of ``places``."""
+        from matplotlib.path import Path  # lazy: heavy optional import
+
+        places = np.asarray(places, float).reshape(-1, 2)
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        owner, index = _near_pairs(
+            self.tree, (low + high) / 2 + places, float(np.linalg.norm(high - low)) / 2
+        )
+        if not len(owner):
+            return np.zeros(len(places), bool)
+        inside = Path(outline).contains_points(self.tree.data[index] - places[owner])
+        return np.bincount(owner[inside], minlength=len(places)) > 0
+
     def through(self, outline) -> bool:
         """Whether a link's segment passes inside the closed ``outline`` (mm)."""
         from matplotlib.path import Path  # lazy: heavy optional import
@@ -2010,23 +2051,32 @@ def _text_outline_mm(ax, label) -> np.ndarray:
     return ax.transData.inverted().transform(turned)
 
 
-def _clear_offsets(ax, geometry, i: int, p, q, extent: float, least: float, most: float):
+def _clear_offsets(
+    ax, geometry, i: int, p, q, extent: float, least: float, most: float, drawn=False
+) -> list:
     """The offsets (mm, signed along p-q's left normal) from ``least`` to ``most``, nearest
     first, at which a dimension line of p-q (mm) and its arrows stand off every link and
-    everything drawn (the extension lines may cross links: ГОСТ 2.307)."""
+    everything drawn (``drawn``: :func:`_marks_tree`, if already built; the extension lines may
+    cross links: ГОСТ 2.307)."""
     shapes = link_shapes_mm(geometry, i)
     p, q = np.asarray(p, float), np.asarray(q, float)
     d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
     n = np.array([-d[1], d[0]])
     margin, step = extent * 0.005, extent * 0.003
-    drawn = _marks_tree(ax, step)
-    for offset in np.arange(least, most, extent * 0.01):
-        for side in (1.0, -1.0):
-            line = _sampled(p + n * side * offset, q + n * side * offset, step)
-            if off_links(line, shapes, margin) and (
-                drawn is None or float(drawn.query(line)[0].min()) >= margin
-            ):
-                yield side * offset
+    if drawn is False:
+        drawn = _marks_tree(ax, step)
+    # each offset on the left, then on the right, all the lines tested at once
+    offsets = np.ravel(
+        np.arange(least, most, extent * 0.01)[:, None] * np.array([1.0, -1.0])[None, :]
+    )
+    if not len(offsets):
+        return []
+    lines, owner = _sampled_many(p + np.outer(offsets, n), q + np.outer(offsets, n), step)
+    clear = ~shapes.touched(lines, owner, len(offsets), margin)
+    if drawn is not None:
+        distances, _ = drawn.query(lines, distance_upper_bound=margin)
+        clear &= np.bincount(owner[distances < margin], minlength=len(offsets)) == 0
+    return [float(offset) for offset in offsets[clear]]
 
 
 def _text_beyond(ax, a, b, text: str, extent: float, gid: str, shapes) -> bool:
@@ -2128,7 +2178,8 @@ def _dimension_off_links(
         return True
     if _text_beyond(ax, a, b, text, extent, gid, shapes):
         return True
-    if _leader_text(ax, geometry, i, (a + b) / 2, text, extent, gid, shapes, strict):
+    # nothing drawn since the clearance was measured: the texts tried beyond are gone
+    if _leader_text(ax, geometry, i, (a + b) / 2, text, extent, gid, shapes, strict, clearance):
         return True
     for artist in [a for a in ax.lines if a not in before[0]]:
         artist.remove()
@@ -2315,16 +2366,31 @@ def _note_along(
         label.set_rotation(_readable_rotation_deg(d))
         label.set_position((0.0, 0.0))
         outline = _text_outline_mm(ax, label)
-        for share in (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.2):
-            for offset in np.arange(0.02, 0.08, 0.005) * extent:
+        ring = _ring_outline(outline, step)
+        shares = (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.2)
+        offsets = np.arange(0.02, 0.08, 0.005) * extent
+        # every place at once: (share, offset, side)
+        along = np.asarray(shares)[:, None, None, None] * (q - p)
+        aside = (offsets[:, None] * np.array([1.0, -1.0]))[None, :, :, None] * n
+        places = p + along + aside
+        flat = places.reshape(-1, 2)
+        owner = np.repeat(np.arange(len(flat)), len(ring))
+        usable = ~shapes.touched(
+            (ring[None, :, :] + flat[:, None, :]).reshape(-1, 2), owner, len(flat), margin
+        )
+        kept = np.flatnonzero(usable)
+        usable[kept] = ~shapes.through_many(outline, flat[kept])
+        usable = usable.reshape(places.shape[:3])
+        for s_index, share in enumerate(shares):
+            for o_index, offset in enumerate(offsets):
                 score = offset + abs(share - 0.5) * extent * 0.1
                 if best is not None and score >= best:
                     break
-                for side in (1.0, -1.0):
-                    at = p + (q - p) * share + n * side * offset
-                    if not _box_off_links(outline + at, shapes, margin, step):
+                for k_side in range(2):
+                    at = places[s_index, o_index, k_side]
+                    if not usable[s_index, o_index, k_side]:
                         continue
-                    if clearance.of_outline(_ring_outline(outline + at, step)) <= 0:
+                    if clearance.of_outline(ring + at) <= 0:
                         continue
                     chosen, rotation, best = at, _readable_rotation_deg(d), score
                     break
