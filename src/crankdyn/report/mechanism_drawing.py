@@ -1664,14 +1664,21 @@ def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -
         if len(kept):
             usable[kept] = test(kept)
 
-    def outline_off_links(kept):
-        outlines = (ring[None, :, :] + places[kept][:, None, :]).reshape(-1, 2)
-        owner = np.repeat(np.arange(len(kept)), len(ring))
-        return ~shapes.touched(outlines, owner, len(kept), margin)
+    def outline_off_links(every: int):
+        def test(kept):
+            outlines = (ring[None, ::every, :] + places[kept][:, None, :]).reshape(-1, 2)
+            owner = np.repeat(np.arange(len(kept)), len(ring[::every]))
+            return ~shapes.touched(outlines, owner, len(kept), margin, 1)
 
-    def leader_off_links(kept):
-        leaders, owner = _sampled_many(np.broadcast_to(at, (len(kept), 2)), ends[kept], step)
-        return ~shapes.touched(leaders, owner, len(kept), margin)
+        return test
+
+    def leader_off_links(every: int):
+        def test(kept):
+            leaders, owner = _sampled_many(np.broadcast_to(at, (len(kept), 2)), ends[kept], step)
+            few = _every(owner, every)
+            return ~shapes.touched(leaders[few], owner[few], len(kept), margin, 1)
+
+        return test
 
     marks = _marks_tree(ax, step)
 
@@ -1680,13 +1687,16 @@ def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -
         distances, _ = marks.query(outlines, distance_upper_bound=margin)
         return distances.reshape(len(kept), -1).min(axis=1) >= margin
 
-    keep(outline_off_links)
-    if marks is not None:
-        keep(outline_off_marks)
-    keep(leader_off_links)
+    # a few points of each outline and leader first: most places are known by them
+    keep(outline_off_links(32))
+    keep(outline_off_links(8))
     keep(lambda kept: ~shapes.through_many(np.vstack([box, box[:1]]), places[kept]))
     if marks is not None:
         keep(lambda kept: ~_marks_inside(marks, box, places[kept]))
+        keep(outline_off_marks)
+    keep(leader_off_links(8))
+    keep(outline_off_links(1))
+    keep(leader_off_links(1))
     return usable
 
 
@@ -1936,6 +1946,16 @@ def _sampled_many(starts, ends, step: float):
     return starts[owner] + spans[owner] * share[:, None], owner
 
 
+def _every(owner, every: int) -> np.ndarray:
+    """Which points are each group's first and every ``every``-th after (``owner``: each
+    point's group, the groups in order)."""
+    if every <= 1:
+        return np.ones(len(owner), bool)
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    rank = np.arange(len(owner)) - np.repeat(starts, np.diff(np.r_[starts, len(owner)]))
+    return rank % every == 0
+
+
 def off_links(points, shapes, margin: float) -> bool:
     """Whether every point (mm) stands at least ``margin`` off the links' segments and outside
     the areas they enclose (:func:`link_shapes_mm`)."""
@@ -1962,16 +1982,17 @@ class _Links:
         segments = np.asarray(segments, float).reshape(-1, 2, 2)
         self.tree = cKDTree(_sampled_many(segments[:, 0], segments[:, 1], step / 2)[0])
 
-    def touched(self, points, owner, count: int, margin: float) -> np.ndarray:
+    def touched(self, points, owner, count: int, margin: float, first: int = 8) -> np.ndarray:
         """Which of ``count`` groups of ``points`` (mm; ``owner``: each point's group, the
         groups in order) has a point within ``margin`` of a link's segment or inside an area:
-        :meth:`off` of many places tried at once. Every eighth point of a group first: most
-        places tried touch a link, and so are known at an eighth of the cost."""
+        :meth:`off` of many places tried at once. Every ``first`` point of a group first: most
+        places tried touch a link, and so are known at a fraction of the cost."""
         points = np.asarray(points, float).reshape(-1, 2)
-        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
-        rank = np.arange(len(owner)) - np.repeat(starts, np.diff(np.r_[starts, len(owner)]))
-        hit = self._touched(points[rank % 8 == 0], owner[rank % 8 == 0], count, margin)
-        rest = ~hit[owner]
+        if first <= 1:
+            return self._touched(points, owner, count, margin)
+        few = _every(owner, first)
+        hit = self._touched(points[few], owner[few], count, margin)
+        rest = ~hit[owner] & ~few
         hit |= self._touched(points[rest], owner[rest], count, margin)
         return hit
 
@@ -2127,14 +2148,16 @@ def _marks_tree(ax, step: float):
 
     to_data = ax.transData.inverted()
     renderer = ax.figure.canvas.get_renderer()
-    points = []
+    points, starts, ends = [], [], []
     for line in ax.lines:
         if (line.get_gid() or "").startswith("dimension-"):
             xy = np.column_stack(line.get_data()).astype(float)
-            points += [_sampled(a, b, step) for a, b in zip(xy[:-1], xy[1:], strict=True)]
+            starts.append(xy[:-1])
+            ends.append(xy[1:])
     for text in ax.texts:
         if not text.get_text() and hasattr(text, "xyann"):
-            points.append(_sampled(np.asarray(text.xyann, float), np.asarray(text.xy, float), step))
+            starts.append(np.asarray(text.xyann, float).reshape(1, 2))
+            ends.append(np.asarray(text.xy, float).reshape(1, 2))
         elif text.get_text():
             box = text.get_window_extent(renderer)
             corners = to_data.transform(
@@ -2147,6 +2170,8 @@ def _marks_tree(ax, step: float):
                 ]
             )
             points.append(_ring_outline(corners, step))
+    if starts:
+        points.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), step)[0])
     return cKDTree(np.concatenate(points)) if points else None
 
 
