@@ -2141,9 +2141,35 @@ def _off_marks(tree, outline, margin: float, step: float) -> bool:
     return not np.any(np.all((near > low) & (near < high), axis=1))
 
 
+def _marks_state(ax, step: float) -> list:
+    """What :func:`_marks_tree` depends on: the dimensions' lines, every text with its place,
+    the axes' scale."""
+    state: list = [step, tuple(ax.transData.get_affine().get_matrix().ravel())]
+    state += [line for line in ax.lines if (line.get_gid() or "").startswith("dimension-")]
+    for text in ax.texts:
+        xyann = tuple(np.ravel(text.xyann)) if hasattr(text, "xyann") else None
+        state.append(
+            (text, text.get_text(), tuple(text.get_position()), text.get_rotation(), xyann)
+        )
+    return state
+
+
 def _marks_tree(ax, step: float):
     """A k-d tree of points (mm) along the dimensions drawn so far and round every text's box,
-    which a new dimension line keeps off (the axes' centre lines it may cross); None if none."""
+    which a new dimension line keeps off (the axes' centre lines it may cross); None if none.
+    Built again only when they change: the placement search asks for it at every place."""
+    state = _marks_state(ax, step)
+    cached = getattr(ax, "_crankdyn_marks", None)
+    # artists compare as themselves: the same state is the same artists with the same places
+    if cached is not None and cached[0] == state:
+        return cached[1]
+    tree = _marks_tree_built(ax, step)
+    ax._crankdyn_marks = (state, tree)
+    return tree
+
+
+def _marks_tree_built(ax, step: float):
+    """:func:`_marks_tree`, built."""
     from scipy.spatial import cKDTree  # lazy: heavy optional import
 
     to_data = ax.transData.inverted()
