@@ -1682,19 +1682,23 @@ def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -
 
     marks = _marks_tree(ax, step)
 
-    def outline_off_marks(kept):
-        outlines = (ring[None, :, :] + places[kept][:, None, :]).reshape(-1, 2)
-        distances, _ = marks.query(outlines, distance_upper_bound=margin)
-        return distances.reshape(len(kept), -1).min(axis=1) >= margin
+    def outline_off_marks(every: int):
+        def test(kept):
+            outlines = (ring[None, ::every, :] + places[kept][:, None, :]).reshape(-1, 2)
+            distances, _ = marks.query(outlines, distance_upper_bound=margin)
+            return distances.reshape(len(kept), -1).min(axis=1) >= margin
+
+        return test
 
     # a few points of each outline and leader first: most places are known by them
     keep(outline_off_links(32))
     keep(outline_off_links(8))
+    keep(leader_off_links(8))
     keep(lambda kept: ~shapes.through_many(np.vstack([box, box[:1]]), places[kept]))
     if marks is not None:
         keep(lambda kept: ~_marks_inside(marks, box, places[kept]))
-        keep(outline_off_marks)
-    keep(leader_off_links(8))
+        keep(outline_off_marks(8))
+        keep(outline_off_marks(1))
     keep(outline_off_links(1))
     keep(leader_off_links(1))
     return usable
@@ -2006,14 +2010,19 @@ class _Links:
         groups = owner[starts]
         lows = np.minimum.reduceat(points, starts, axis=0)
         highs = np.maximum.reduceat(points, starts, axis=0)
-        for k, area in enumerate(self.areas):
+        # each group against each area's bounds at once; an area's outline only where they meet
+        meets = (
+            (highs[:, None, :] >= self.lows[None, :, :])
+            & (lows[:, None, :] <= self.highs[None, :, :])
+        ).all(axis=2)
+        for k in np.flatnonzero(meets.any(axis=0)):
             near = np.zeros(count, bool)
-            near[groups] = ((highs >= self.lows[k]) & (lows <= self.highs[k])).all(axis=1)
+            near[groups[meets[:, k]]] = True
             near &= ~hit
             if not near.any():
                 continue
             tried = np.flatnonzero(near[owner])
-            inside = area.contains_points(points[tried])
+            inside = self.areas[k].contains_points(points[tried])
             hit[owner[tried[inside]]] = True
         return hit
 
