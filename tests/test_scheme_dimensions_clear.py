@@ -148,7 +148,7 @@ CROWDED = pytest.mark.xfail(strict=True, reason="r's leader crosses a wall by th
     "cylinders",
     [
         5,
-        pytest.param(7, marks=pytest.mark.slow),
+        7,
         pytest.param(9, marks=[pytest.mark.slow, CROWDED]),
     ],
 )
