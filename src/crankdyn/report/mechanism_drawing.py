@@ -1318,6 +1318,34 @@ def _ring(centre, distances) -> list:
     ]
 
 
+def _text_corners_mm(ax, text, renderer) -> np.ndarray:
+    """The corners of a text's box (mm, closed), measured again only when the text, its place,
+    its font or the axes' scale change: the placement search asks for every text's box at every
+    dimension it tries."""
+    key = (
+        text,
+        text.get_text(),
+        tuple(text.get_position()),
+        text.get_rotation(),
+        text.get_rotation_mode(),
+        text.get_ha(),
+        text.get_va(),
+        text.get_fontsize(),
+        ax.figure.dpi,
+        tuple(ax.transData.get_affine().get_matrix().ravel()),
+    )
+    boxes = ax.__dict__.setdefault("_crankdyn_text_boxes", {})
+    corners = boxes.get(id(text))
+    if corners is not None and corners[0] == key:
+        return corners[1]
+    box = text.get_window_extent(renderer)
+    outline = ax.transData.inverted().transform(
+        [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+    )
+    boxes[id(text)] = (key, outline)
+    return outline
+
+
 class _Clearance:
     """How far a new mark would stand from everything drawn on the scheme's axes (mm): points
     along its lines, bars, hatching, outlines, arcs, dimension arrows and texts' boxes."""
@@ -1385,17 +1413,7 @@ class _Clearance:
             if hasattr(text, "xyann"):
                 return self._along(np.array([text.xyann, text.xy], dtype=float))
             return np.empty((0, 2))
-        box = text.get_window_extent(self.renderer)
-        corners = self.ax.transData.inverted().transform(
-            [
-                [box.x0, box.y0],
-                [box.x1, box.y0],
-                [box.x1, box.y1],
-                [box.x0, box.y1],
-                [box.x0, box.y0],
-            ]
-        )
-        return self._along(corners)
+        return self._along(_text_corners_mm(self.ax, text, self.renderer))
 
     def _tree_built(self) -> None:
         """The drawn points' k-d tree, built once until points are added."""
@@ -1626,15 +1644,24 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     angles = np.radians(np.arange(0.0, 360.0, reaches[2]))
     rays = np.column_stack([np.cos(angles), np.sin(angles)])
     rings = np.arange(reaches[0], 0.62, reaches[1])
-    # every place tried, ring by ring, with its leader's end, tested against the links at once
+    # every place tried, ring by ring, with its leader's end, tested against the links a few
+    # rings at once: the search mostly ends near the dimension line
     places = at + extent * rings[:, None, None] * rays[None, :, :]
     ends = _leader_ends(box, places.reshape(-1, 2), at).reshape(places.shape)
     usable = np.ones(places.shape[:2], bool)
-    if shapes is not None:
-        usable = _leader_places_off_links(
-            clearance.ax, at, box, places.reshape(-1, 2), ends.reshape(-1, 2), shapes, extent
-        ).reshape(usable.shape)
+    tested = 0 if shapes is not None else len(rings)
     for k, reach in enumerate(rings):
+        if k >= tested:
+            tested = min(max(2 * tested, 4), len(rings))
+            usable[k:tested] = _leader_places_off_links(
+                clearance.ax,
+                at,
+                box,
+                places[k:tested].reshape(-1, 2),
+                ends[k:tested].reshape(-1, 2),
+                shapes,
+                extent,
+            ).reshape(tested - k, -1)
         for m in np.flatnonzero(usable[k]):
             place, end = places[k, m], ends[k, m]
             clear = min(clearance.of_outline(box + place, off_bodies=True), enough)
@@ -2181,7 +2208,6 @@ def _marks_tree_built(ax, step: float):
     """:func:`_marks_tree`, built."""
     from scipy.spatial import cKDTree  # lazy: heavy optional import
 
-    to_data = ax.transData.inverted()
     renderer = ax.figure.canvas.get_renderer()
     points, starts, ends = [], [], []
     for line in ax.lines:
@@ -2194,17 +2220,7 @@ def _marks_tree_built(ax, step: float):
             starts.append(np.asarray(text.xyann, float).reshape(1, 2))
             ends.append(np.asarray(text.xy, float).reshape(1, 2))
         elif text.get_text():
-            box = text.get_window_extent(renderer)
-            corners = to_data.transform(
-                [
-                    [box.x0, box.y0],
-                    [box.x1, box.y0],
-                    [box.x1, box.y1],
-                    [box.x0, box.y1],
-                    [box.x0, box.y0],
-                ]
-            )
-            points.append(_ring_outline(corners, step))
+            points.append(_ring_outline(_text_corners_mm(ax, text, renderer), step))
     if starts:
         points.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), step)[0])
     return cKDTree(np.concatenate(points)) if points else None
