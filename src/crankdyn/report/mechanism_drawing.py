@@ -1355,9 +1355,19 @@ class _Clearance:
         self.renderer = ax.figure.canvas.get_renderer()
         self.step = extent * 0.004
         polylines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+        # a collection's segments (the walls' hatching) once: they stay as drawn
+        known = ax.__dict__.setdefault("_crankdyn_segments", {})
         for collection in ax.collections:
-            for segment in getattr(collection, "get_segments", lambda: [])():
-                polylines.append(np.asarray(segment, float))
+            segments = known.get(id(collection))
+            if segments is None or segments[0] is not collection:
+                segments = known[id(collection)] = (
+                    collection,
+                    [
+                        np.asarray(segment, float)
+                        for segment in getattr(collection, "get_segments", lambda: [])()
+                    ],
+                )
+            polylines += segments[1]
         from matplotlib.patches import Arc  # lazy: heavy optional import
 
         to_data = ax.transData.inverted()
