@@ -2037,12 +2037,27 @@ class _Links:
         hit |= self._touched(points[rest], owner[rest], count, margin)
         return hit
 
+    def _near_points(self, points, owner, margin: float, run: int = 8) -> np.ndarray:
+        """Which ``points`` may stand within ``margin`` of a link's segment: those of each run
+        of ``run`` points of a group whose bounding circle comes within ``margin`` of one (a
+        point no farther than r from a centre at a distance d stands at least d - r off)."""
+        first = _every(owner, run) | np.r_[True, owner[1:] != owner[:-1]]
+        starts = np.flatnonzero(first)
+        low = np.minimum.reduceat(points, starts, axis=0)
+        high = np.maximum.reduceat(points, starts, axis=0)
+        radius = np.linalg.norm(high - low, axis=1) / 2
+        bound = float(radius.max()) + margin + self.step if len(radius) else 0.0
+        distances, _ = self.tree.query((low + high) / 2, distance_upper_bound=bound)
+        close = distances < radius + margin
+        return close[np.cumsum(first) - 1]
+
     def _touched(self, points, owner, count: int, margin: float) -> np.ndarray:
         hit = np.zeros(count, bool)
         if not len(points):
             return hit
-        distances, _ = self.tree.query(points, distance_upper_bound=margin + self.step)
-        hit[owner[distances < margin]] = True
+        near = self._near_points(points, owner, margin)
+        distances, _ = self.tree.query(points[near], distance_upper_bound=margin + self.step)
+        hit[owner[near][distances < margin]] = True
         starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
         groups = owner[starts]
         lows = np.minimum.reduceat(points, starts, axis=0)
