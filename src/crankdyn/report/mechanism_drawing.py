@@ -2055,7 +2055,8 @@ class _Links:
         hit = np.zeros(count, bool)
         if not len(points):
             return hit
-        near = self._near_points(points, owner, margin)
+        # runs of a few points only where the groups are long: a short one is its own run
+        near = self._near_points(points, owner, margin) if len(points) > 16 * count else ...
         distances, _ = self.tree.query(points[near], distance_upper_bound=margin + self.step)
         hit[owner[near][distances < margin]] = True
         starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
