@@ -1647,7 +1647,6 @@ def _leader_text(
 def _leader_place(clearance, at, box, extent: float, shapes):
     """:func:`_leader_text`'s place of a text's box (its outline about its centre, mm); None
     where ``shapes`` are given and no place keeps the box and the leader off them."""
-    margin, step = extent * 0.005, extent * 0.003
     best, best_score, enough = None, None, extent * 0.012
     # off the links: a finer search, the room between them being narrow
     reaches = (0.04, 0.02, 7.5) if shapes is not None else (0.07, 0.03, 15.0)
@@ -1756,9 +1755,7 @@ def _marks_inside(tree, box, places) -> np.ndarray:
     """Which ``places`` (mm) of a text's box (its outline about its centre, mm) hold a point of
     the marks drawn (:func:`_marks_tree`): :func:`_off_marks`'s second test at many places."""
     low, high = box.min(axis=0), box.max(axis=0)
-    owner, index = _near_pairs(
-        tree, (low + high) / 2 + places, float(np.linalg.norm(high - low))
-    )
+    owner, index = _near_pairs(tree, (low + high) / 2 + places, float(np.linalg.norm(high - low)))
     points = tree.data[index]
     inside = np.all((points > low + places[owner]) & (points < high + places[owner]), axis=1)
     return np.bincount(owner[inside], minlength=len(places)) > 0
