@@ -1661,7 +1661,7 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     tested = 0 if shapes is not None else len(rings)
     for k, reach in enumerate(rings):
         if k >= tested:
-            tested = min(max(2 * tested, 4), len(rings))
+            tested = len(rings) if tested else min(4, len(rings))
             usable[k:tested] = _leader_places_off_links(
                 clearance.ax,
                 at,
@@ -2052,11 +2052,20 @@ class _Links:
         hit = np.zeros(count, bool)
         if not len(points):
             return hit
-        # runs of a few points only where the groups are long: a short one is its own run
-        near = self._near_points(points, owner, margin) if len(points) > 16 * count else ...
+        # runs of points only where the groups are long (a short one is its own run): long
+        # runs first, the points of those near a link in short runs
+        near = np.ones(len(points), bool)
+        for run in (32, 8) if len(points) > 16 * count else ():
+            kept = np.flatnonzero(near)
+            near[kept] = self._near_points(points[kept], owner[kept], margin, run)
         distances, _ = self.tree.query(points[near], distance_upper_bound=margin + self.step)
         hit[owner[near][distances < margin]] = True
-        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+        # the areas only for the groups still clear of the segments
+        live = ~hit[owner]
+        points, owner = points[live], owner[live]
+        if not len(owner):
+            return hit
+        starts = np.flatnonzero(np.concatenate([[True], owner[1:] != owner[:-1]]))
         groups = owner[starts]
         lows = np.minimum.reduceat(points, starts, axis=0)
         highs = np.maximum.reduceat(points, starts, axis=0)
