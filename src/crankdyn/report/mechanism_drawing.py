@@ -1644,9 +1644,35 @@ def _leader_text(
     return True
 
 
+_LEADER_PLACES: dict = {}
+
+
 def _leader_place(clearance, at, box, extent: float, shapes):
     """:func:`_leader_text`'s place of a text's box (its outline about its centre, mm); None
-    where ``shapes`` are given and no place keeps the box and the leader off them."""
+    where ``shapes`` are given and no place keeps the box and the leader off them. Found once
+    for the same drawing: a scheme is drawn twice at a scale, to fit it and then with its
+    marks, its dimensions both times on the same lines and texts."""
+    import hashlib  # lazy: only for the search's key
+
+    digest = hashlib.blake2b(digest_size=16)
+    for part in (np.asarray(at, float), box, clearance.points):
+        digest.update(np.ascontiguousarray(part).tobytes())
+    for body in clearance.bodies:
+        digest.update(np.ascontiguousarray(body.vertices).tobytes())
+    marks = _marks_tree(clearance.ax, extent * 0.003) if shapes is not None else None
+    if marks is not None:
+        digest.update(np.ascontiguousarray(marks.data).tobytes())
+    key = (digest.digest(), extent, shapes)
+    if key not in _LEADER_PLACES:
+        if len(_LEADER_PLACES) >= 256:  # a few schemes' searches: the memory stays bounded
+            _LEADER_PLACES.clear()
+        _LEADER_PLACES[key] = _leader_place_searched(clearance, at, box, extent, shapes)
+    place = _LEADER_PLACES[key]
+    return None if place is None else place.copy()
+
+
+def _leader_place_searched(clearance, at, box, extent: float, shapes):
+    """:func:`_leader_place`, searched."""
     best, best_score, enough = None, None, extent * 0.012
     # off the links: a finer search, the room between them being narrow
     reaches = (0.04, 0.02, 7.5) if shapes is not None else (0.07, 0.03, 15.0)
