@@ -192,3 +192,22 @@ def test_a_radials_dimensions_stand_off_its_links(tmp_path, cylinders):
         if inside.any():
             crossed.append(gid)
     assert not crossed, crossed
+
+
+def test_the_links_test_of_many_places_agrees_with_each_place(tmp_path):
+    """The placement search tests many places at once (``_Links.touched``): each place's answer
+    is the one the test of that place alone gives (``_Links.off``), for places on and off the
+    links."""
+    geometry = md.upright(md.front_view(_positions(tmp_path, 5)))
+    shapes = md.link_shapes_mm(geometry, 0)
+    extent = md._extent_mm(geometry)
+    margin, step = extent * 0.005, extent * 0.003
+    rng = np.random.default_rng(7)
+    centre = shapes.tree.data.mean(axis=0)
+    starts = centre + rng.uniform(-0.6, 0.6, (300, 2)) * extent
+    ends = starts + rng.uniform(-0.15, 0.15, (300, 2)) * extent
+    points, owner = md._sampled_many(starts, ends, step)
+    touched = shapes.touched(points, owner, len(starts), margin)
+    each = np.array([not shapes.off(points[owner == k], margin) for k in range(len(starts))])
+    assert 30 < int(each.sum()) < 270  # both kinds of place are tried
+    assert np.array_equal(touched, each)
