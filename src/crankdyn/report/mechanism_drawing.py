@@ -2166,6 +2166,9 @@ def _text_outline_mm(ax, label) -> np.ndarray:
     return ax.transData.inverted().transform(turned)
 
 
+_OFF_LINKS: dict = {}
+
+
 def _clear_offsets(
     ax, geometry, i: int, p, q, extent: float, least: float, most: float, drawn=False
 ) -> list:
@@ -2187,7 +2190,13 @@ def _clear_offsets(
     if not len(offsets):
         return []
     lines, owner = _sampled_many(p + np.outer(offsets, n), q + np.outer(offsets, n), step)
-    clear = ~shapes.touched(lines, owner, len(offsets), margin)
+    # off the links: the same for the same link and shapes, whatever else is drawn
+    key = (p.tobytes(), q.tobytes(), extent, least, most, shapes)
+    if key not in _OFF_LINKS:
+        if len(_OFF_LINKS) >= 256:  # a few schemes' links: the memory stays bounded
+            _OFF_LINKS.clear()
+        _OFF_LINKS[key] = ~shapes.touched(lines, owner, len(offsets), margin)
+    clear = _OFF_LINKS[key].copy()
     if drawn is not None:
         distances, _ = drawn.query(lines, distance_upper_bound=margin)
         clear &= np.bincount(owner[distances < margin], minlength=len(offsets)) == 0
