@@ -1752,6 +1752,10 @@ def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -
 
         return test
 
+    # a link through the circle inside the box (about its centre) passes through the box
+    inner = min(float(-box.min(axis=0).max()), float(box.max(axis=0).min()))
+    if inner > 0:
+        keep(lambda kept: shapes.tree.query(places[kept], distance_upper_bound=inner)[0] >= inner)
     # a few points of each outline and leader first: most places are known by them
     keep(outline_off_links(32))
     keep(outline_off_links(8))
