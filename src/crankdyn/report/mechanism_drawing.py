@@ -1644,14 +1644,13 @@ def _leader_text(
     return True
 
 
-_LEADER_PLACES: dict = {}
-
-
 def _leader_place(clearance, at, box, extent: float, shapes):
     """:func:`_leader_text`'s place of a text's box (its outline about its centre, mm); None
     where ``shapes`` are given and no place keeps the box and the leader off them. Found once
-    for the same drawing: a scheme is drawn twice at a scale, to fit it and then with its
-    marks, its dimensions both times on the same lines and texts."""
+    for the same drawing (:meth:`_Links.remembered`): its dimensions are placed on the same
+    lines and texts both times a scheme is drawn at a scale."""
+    if shapes is None:
+        return _leader_place_searched(clearance, at, box, extent, shapes)
     import hashlib  # lazy: only for the search's key
 
     digest = hashlib.blake2b(digest_size=16)
@@ -1659,15 +1658,13 @@ def _leader_place(clearance, at, box, extent: float, shapes):
         digest.update(np.ascontiguousarray(part).tobytes())
     for body in clearance.bodies:
         digest.update(np.ascontiguousarray(body.vertices).tobytes())
-    marks = _marks_tree(clearance.ax, extent * 0.003) if shapes is not None else None
+    marks = _marks_tree(clearance.ax, extent * 0.003)
     if marks is not None:
         digest.update(np.ascontiguousarray(marks.data).tobytes())
-    key = (digest.digest(), extent, shapes)
-    if key not in _LEADER_PLACES:
-        if len(_LEADER_PLACES) >= 256:  # a few schemes' searches: the memory stays bounded
-            _LEADER_PLACES.clear()
-        _LEADER_PLACES[key] = _leader_place_searched(clearance, at, box, extent, shapes)
-    place = _LEADER_PLACES[key]
+    place = shapes.remembered(
+        ("leader", digest.digest(), extent),
+        lambda: _leader_place_searched(clearance, at, box, extent, shapes),
+    )
     return None if place is None else place.copy()
 
 
@@ -2047,8 +2044,18 @@ class _Links:
         self.lows = np.array([low for low, _ in self.bounds]).reshape(-1, 2)
         self.highs = np.array([high for _, high in self.bounds]).reshape(-1, 2)
         self.step = step
+        self.memo: dict = {}
         segments = np.asarray(segments, float).reshape(-1, 2, 2)
         self.tree = cKDTree(_sampled_many(segments[:, 0], segments[:, 1], step / 2)[0])
+
+    def remembered(self, key, found):
+        """``found()``, once for each ``key``: a search off these links, asked again for the
+        same drawing (a scheme is drawn twice at a scale, to fit it and then with its marks)."""
+        if key not in self.memo:
+            if len(self.memo) >= 256:  # a few schemes' searches: the memory stays bounded
+                self.memo.clear()
+            self.memo[key] = found()
+        return self.memo[key]
 
     def touched(self, points, owner, count: int, margin: float, first: int = 8) -> np.ndarray:
         """Which of ``count`` groups of ``points`` (mm; ``owner``: each point's group, the
@@ -2170,9 +2177,6 @@ def _text_outline_mm(ax, label) -> np.ndarray:
     return ax.transData.inverted().transform(turned)
 
 
-_OFF_LINKS: dict = {}
-
-
 def _clear_offsets(
     ax, geometry, i: int, p, q, extent: float, least: float, most: float, drawn=False
 ) -> list:
@@ -2195,12 +2199,10 @@ def _clear_offsets(
         return []
     lines, owner = _sampled_many(p + np.outer(offsets, n), q + np.outer(offsets, n), step)
     # off the links: the same for the same link and shapes, whatever else is drawn
-    key = (p.tobytes(), q.tobytes(), extent, least, most, shapes)
-    if key not in _OFF_LINKS:
-        if len(_OFF_LINKS) >= 256:  # a few schemes' links: the memory stays bounded
-            _OFF_LINKS.clear()
-        _OFF_LINKS[key] = ~shapes.touched(lines, owner, len(offsets), margin)
-    clear = _OFF_LINKS[key].copy()
+    clear = shapes.remembered(
+        ("offsets", p.tobytes(), q.tobytes(), extent, least, most),
+        lambda: ~shapes.touched(lines, owner, len(offsets), margin),
+    ).copy()
     if drawn is not None:
         distances, _ = drawn.query(lines, distance_upper_bound=margin)
         clear &= np.bincount(owner[distances < margin], minlength=len(offsets)) == 0
