@@ -689,6 +689,9 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     )
     if "a" in labels and "R" not in labels:  # a planetary carrier's radius a, drawn as a crank's
         labels = {**labels, "R": labels["a"]}
+    if is_radial(geometry) and crank and rod:
+        _radial_dimensions(ax, geometry, i, labels, crank, rod, extent)
+        return
     if crank and "R" in labels:
         _crank_radius(ax, geometry, i, crank, labels["R"], extent)
     if crank and master_rod_joints(geometry):
@@ -712,16 +715,39 @@ def draw_dimensions(ax, geometry, i: int, labels: dict[str, str]) -> None:
     guide = geometry.guides[0] if geometry.guides else None
     if "e" in labels and guide is not None:
         _offset_dimension(ax, geometry, i, guide, rod, labels["e"], extent)
-    if "D" in labels and guide is not None and guide.bore_m > 0:
-        o, d, n = _guide_frame(geometry, guide, i)
-        # above the cylinder's label (its number), which would otherwise sit in the text
-        clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
-        top = o + d * liner_ends_mm(guide, geometry)[1]
-        half = guide.bore_m * MM / 2
-        # the extension lines from the liner's wall ends, past the label, to the dimension line
-        _dimension(
-            ax, top - n * half, top + n * half, labels["D"], clear, extent, "D", from_feature=True
-        )
+    if "D" in labels:
+        _bore_dimension(ax, geometry, i, labels["D"], extent)
+
+
+def _bore_dimension(ax, geometry, i: int, text: str, extent: float) -> None:
+    """D: across the first cylinder's liner end, above its label."""
+    guide = geometry.guides[0] if geometry.guides else None
+    if guide is None or guide.bore_m <= 0:
+        return
+    o, d, n = _guide_frame(geometry, guide, i)
+    # above the cylinder's label (its number), which would otherwise sit in the text
+    clear = extent * (0.05 + (LABEL_GAP * 0.6 + 0.04 if guide.label else 0.0))
+    top = o + d * liner_ends_mm(guide, geometry)[1]
+    half = guide.bore_m * MM / 2
+    # the extension lines from the liner's wall ends, past the label, to the dimension line
+    _dimension(ax, top - n * half, top + n * half, text, clear, extent, "D", from_feature=True)
+
+
+def _radial_dimensions(ax, geometry, i: int, labels: dict[str, str], crank, rod, extent: float):
+    """A radial's D, L, R, r and slave rod's length (:func:`_radial_dimension`), each kept off
+    the links and the ones before it: D first, over the first cylinder, then the master rod's
+    L, boxed in by the cylinders, then the crank's R under the master rod's body, then the
+    slave rods' r and length, which have the most links to choose among."""
+    j = geometry.joints
+    if "D" in labels:
+        _bore_dimension(ax, geometry, i, labels["D"], extent)
+    if "L" in labels:
+        ends = [(j[rod[1]][i] * MM, j[rod[2]][i] * MM)]
+        _radial_dimension(ax, geometry, i, ends, labels["L"], extent, "L")
+    if "R" in labels:
+        ends = [(j[crank[1]][i] * MM, j[crank[2]][i] * MM)]
+        _radial_dimension(ax, geometry, i, ends, labels["R"], extent, "R")
+    _slave_dimensions(ax, geometry, i, labels, extent)
 
 
 def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -1328,6 +1354,34 @@ def _ring(centre, distances) -> list:
     ]
 
 
+def _text_corners_mm(ax, text, renderer) -> np.ndarray:
+    """The corners of a text's box (mm, closed), measured again only when the text, its place,
+    its font or the axes' scale change: the placement search asks for every text's box at every
+    dimension it tries."""
+    key = (
+        text,
+        text.get_text(),
+        tuple(text.get_position()),
+        text.get_rotation(),
+        text.get_rotation_mode(),
+        text.get_ha(),
+        text.get_va(),
+        text.get_fontsize(),
+        ax.figure.dpi,
+        tuple(ax.transData.get_affine().get_matrix().ravel()),
+    )
+    boxes = ax.__dict__.setdefault("_crankdyn_text_boxes", {})
+    corners = boxes.get(id(text))
+    if corners is not None and corners[0] == key:
+        return corners[1]
+    box = text.get_window_extent(renderer)
+    outline = ax.transData.inverted().transform(
+        [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+    )
+    boxes[id(text)] = (key, outline)
+    return outline
+
+
 class _Clearance:
     """How far a new mark would stand from everything drawn on the scheme's axes (mm): points
     along its lines, bars, hatching, outlines, arcs, dimension arrows and texts' boxes."""
@@ -1336,19 +1390,31 @@ class _Clearance:
         self.ax, self.extent = ax, extent
         self.renderer = ax.figure.canvas.get_renderer()
         self.step = extent * 0.004
-        points = [self._along(np.column_stack(line.get_data()).astype(float)) for line in ax.lines]
+        polylines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+        # a collection's segments (the walls' hatching) once: they stay as drawn
+        known = ax.__dict__.setdefault("_crankdyn_segments", {})
         for collection in ax.collections:
-            for segment in getattr(collection, "get_segments", lambda: [])():
-                points.append(self._along(np.asarray(segment, float)))
+            segments = known.get(id(collection))
+            if segments is None or segments[0] is not collection:
+                segments = known[id(collection)] = (
+                    collection,
+                    [
+                        np.asarray(segment, float)
+                        for segment in getattr(collection, "get_segments", lambda: [])()
+                    ],
+                )
+            polylines += segments[1]
         from matplotlib.patches import Arc  # lazy: heavy optional import
 
         to_data = ax.transData.inverted()
         for patch in ax.patches:
             if isinstance(patch, Arc):  # the arc drawn, not its whole ellipse
-                arc = _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
-                points.append(self._along(arc))
+                polylines.append(
+                    _arc_points(patch.center, patch.width / 2, patch.theta1, patch.theta2)
+                )
             else:
-                points.append(self._along(to_data.transform(patch.get_verts())))
+                polylines.append(to_data.transform(patch.get_verts()))
+        points = [self._along_all(polylines)]
         for text in ax.texts:
             points.append(self._text_points(text))
         points += [np.array([p[i] * MM]) for p in geometry.joints.values()]
@@ -1375,11 +1441,17 @@ class _Clearance:
         """Points every ``step`` along a polyline (mm)."""
         if len(polyline) < 2:
             return polyline.reshape(-1, 2)
-        out = []
-        for a, b in zip(polyline[:-1], polyline[1:], strict=True):
-            count = max(int(np.linalg.norm(b - a) / self.step), 1)
-            out.append(a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None])
-        return np.concatenate(out)
+        return _sampled_many(polyline[:-1], polyline[1:], self.step)[0]
+
+    def _along_all(self, polylines) -> np.ndarray:
+        """:meth:`_along` of every polyline, at once."""
+        polylines = [p.reshape(-1, 2) for p in polylines]
+        single = [p for p in polylines if len(p) == 1]
+        starts = [p[:-1] for p in polylines if len(p) >= 2]
+        ends = [p[1:] for p in polylines if len(p) >= 2]
+        if starts:
+            single.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), self.step)[0])
+        return np.concatenate(single) if single else np.empty((0, 2))
 
     def _text_points(self, text) -> np.ndarray:
         """The outline of a text's box (a dimension's arrow: its line), mm."""
@@ -1387,17 +1459,7 @@ class _Clearance:
             if hasattr(text, "xyann"):
                 return self._along(np.array([text.xyann, text.xy], dtype=float))
             return np.empty((0, 2))
-        box = text.get_window_extent(self.renderer)
-        corners = self.ax.transData.inverted().transform(
-            [
-                [box.x0, box.y0],
-                [box.x1, box.y0],
-                [box.x1, box.y1],
-                [box.x0, box.y1],
-                [box.x0, box.y0],
-            ]
-        )
-        return self._along(corners)
+        return self._along(_text_corners_mm(self.ax, text, self.renderer))
 
     def _tree_built(self) -> None:
         """The drawn points' k-d tree, built once until points are added."""
@@ -1572,7 +1634,7 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     j = geometry.joints
     p, q = j[crank[1]][i] * MM, j[crank[2]][i] * MM
     bodies = master_rod_joints(geometry)
-    if bodies:  # a radial: the line beside the master rod's body, the text by a short leader
+    if bodies:  # the line beside the master rod's body, the text by a short leader
         # the body reaches its knuckle pins round the crank pin: the line clear of it
         hub = max(float(np.linalg.norm(j[k][i] * MM - q)) for body in bodies for k in body)
         offset = hub + extent * 0.03
@@ -1590,25 +1652,98 @@ def _crank_radius_below(ax, geometry, i: int, crank, text: str, extent: float) -
     _leader_text(ax, geometry, i, mid, text, extent, "dimension-R-text")
 
 
-def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -> None:
+def _leader_text(
+    ax,
+    geometry,
+    i: int,
+    at,
+    text: str,
+    extent: float,
+    gid: str,
+    shapes=None,
+    strict=False,
+    clearance=None,
+) -> bool:
     """A dimension's ``text`` clear of everything drawn and off the shaded links, near ``at`` (mm,
     the middle of its dimension line), joined to it by a leader to the nearest middle of the
     box's sides (ГОСТ 2.307): of the places clear enough, the one whose leader is the shortest
-    and crosses the fewest lines."""
-    clearance = _Clearance(ax, geometry, i, extent)
+    and crosses the fewest lines; given the links' ``shapes`` (:func:`link_shapes_mm`), only
+    where neither the box nor the leader reaches a link, if there is such a place
+    (``clearance``: a :class:`_Clearance` of what is drawn now, if already built)."""
+    clearance = clearance or _Clearance(ax, geometry, i, extent)
     at = np.asarray(at, float)
     # the box's outline about its centre: the same text at every place tried
     label = ax.text(*at, text, ha="center", va="center", fontsize=8, bbox=LABEL_BOX)
     box = clearance._text_points(label) - at
     label.remove()
+    best = _leader_place(clearance, at, box, extent, shapes) if shapes is not None else None
+    if best is None and strict:
+        return False
+    if best is None:
+        best = _leader_place(clearance, at, box, extent, None)
+    label = ax.text(
+        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
+    )
+    end = _leader_end(clearance._text_points(label), at)
+    ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
+    return True
+
+
+def _leader_place(clearance, at, box, extent: float, shapes):
+    """:func:`_leader_text`'s place of a text's box (its outline about its centre, mm); None
+    where ``shapes`` are given and no place keeps the box and the leader off them. Found once
+    for the same drawing (:meth:`_Links.remembered`): its dimensions are placed on the same
+    lines and texts both times a scheme is drawn at a scale."""
+    if shapes is None:
+        return _leader_place_searched(clearance, at, box, extent, shapes)
+    import hashlib  # lazy: only for the search's key
+
+    digest = hashlib.blake2b(digest_size=16)
+    for part in (np.asarray(at, float), box, clearance.points):
+        digest.update(np.ascontiguousarray(part).tobytes())
+    for body in clearance.bodies:
+        digest.update(np.ascontiguousarray(body.vertices).tobytes())
+    marks = _marks_tree(clearance.ax, extent * 0.003)
+    if marks is not None:
+        digest.update(np.ascontiguousarray(marks.data).tobytes())
+    place = shapes.remembered(
+        ("leader", digest.digest(), extent),
+        lambda: _leader_place_searched(clearance, at, box, extent, shapes),
+    )
+    return None if place is None else place.copy()
+
+
+def _leader_place_searched(clearance, at, box, extent: float, shapes):
+    """:func:`_leader_place`, searched."""
     best, best_score, enough = None, None, extent * 0.012
-    for reach in np.arange(0.07, 0.62, 0.03):
-        for angle in np.radians(np.arange(0.0, 360.0, 15.0)):
-            place = at + extent * reach * np.array([np.cos(angle), np.sin(angle)])
+    # off the links: a finer search, the room between them being narrow
+    reaches = (0.04, 0.02, 7.5) if shapes is not None else (0.07, 0.03, 15.0)
+    angles = np.radians(np.arange(0.0, 360.0, reaches[2]))
+    rays = np.column_stack([np.cos(angles), np.sin(angles)])
+    rings = np.arange(reaches[0], 0.62, reaches[1])
+    # every place tried, ring by ring, with its leader's end, tested against the links a few
+    # rings at once: the search mostly ends near the dimension line
+    places = at + extent * rings[:, None, None] * rays[None, :, :]
+    ends = _leader_ends(box, places.reshape(-1, 2), at).reshape(places.shape)
+    usable = np.ones(places.shape[:2], bool)
+    tested = 0 if shapes is not None else len(rings)
+    for k, reach in enumerate(rings):
+        if k >= tested:
+            tested = len(rings) if tested else min(4, len(rings))
+            usable[k:tested] = _leader_places_off_links(
+                clearance.ax,
+                at,
+                box,
+                places[k:tested].reshape(-1, 2),
+                ends[k:tested].reshape(-1, 2),
+                shapes,
+                extent,
+            ).reshape(tested - k, -1)
+        for m in np.flatnonzero(usable[k]):
+            place, end = places[k, m], ends[k, m]
             clear = min(clearance.of_outline(box + place, off_bodies=True), enough)
             if best_score is not None and clear < best_score[0]:
                 continue  # less clear than the best: its leader cannot make up for it
-            end = _leader_end(box + place, at)
             # a step farther weighs as much as a step of the leader on a line
             crossings = _leader_crossings(clearance, at, end)
             score = (clear, -(crossings + reach / 0.03))
@@ -1617,25 +1752,108 @@ def _leader_text(ax, geometry, i: int, at, text: str, extent: float, gid: str) -
         # clear enough with a leader crossing nothing: no place farther out scores higher
         if best_score is not None and best_score[0] >= enough and best_crossings == 0:
             break
-    assert best is not None  # the grid above always gives a place
-    label = ax.text(
-        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
+    return best
+
+
+def _leader_places_off_links(ax, at, box, places, ends, shapes, extent: float) -> np.ndarray:
+    """Which ``places`` (mm) of a text's box (its closed outline about its centre, mm) keep the
+    box, its outline and the leader from ``at`` to its ``ends`` off the links and the box off
+    the marks drawn (:func:`_off_marks`): the cheap tests first, each on all the places left."""
+    margin, step = extent * 0.005, extent * 0.003
+    ring = _ring_outline(np.vstack([box, box[:1]]), step)
+    usable = np.ones(len(places), bool)
+
+    def keep(test) -> None:
+        kept = np.flatnonzero(usable)
+        if len(kept):
+            usable[kept] = test(kept)
+
+    def outline_off_links(every: int):
+        def test(kept):
+            outlines = (ring[None, ::every, :] + places[kept][:, None, :]).reshape(-1, 2)
+            owner = np.repeat(np.arange(len(kept)), len(ring[::every]))
+            return ~shapes.touched(outlines, owner, len(kept), margin, 1)
+
+        return test
+
+    def leader_off_links(every: int):
+        def test(kept):
+            leaders, owner = _sampled_many(np.broadcast_to(at, (len(kept), 2)), ends[kept], step)
+            few = _every(owner, every)
+            return ~shapes.touched(leaders[few], owner[few], len(kept), margin, 1)
+
+        return test
+
+    marks = _marks_tree(ax, step)
+
+    def outline_off_marks(every: int):
+        def test(kept):
+            outlines = (ring[None, ::every, :] + places[kept][:, None, :]).reshape(-1, 2)
+            distances, _ = marks.query(outlines, distance_upper_bound=margin)
+            return distances.reshape(len(kept), -1).min(axis=1) >= margin
+
+        return test
+
+    # a link through the circle inside the box (about its centre) passes through the box
+    inner = min(float(-box.min(axis=0).max()), float(box.max(axis=0).min()))
+    if inner > 0:
+        keep(lambda kept: shapes.tree.query(places[kept], distance_upper_bound=inner)[0] >= inner)
+    # a few points of each outline and leader first: most places are known by them
+    keep(outline_off_links(32))
+    keep(outline_off_links(8))
+    keep(leader_off_links(8))
+    keep(lambda kept: ~shapes.through_many(np.vstack([box, box[:1]]), places[kept]))
+    if marks is not None:
+        keep(lambda kept: ~_marks_inside(marks, box, places[kept]))
+        keep(outline_off_marks(8))
+        keep(outline_off_marks(1))
+    keep(outline_off_links(1))
+    keep(leader_off_links(1))
+    return usable
+
+
+def _near_pairs(tree, centres, radius: float):
+    """(place, point) index pairs of the k-d tree's points within ``radius`` (mm) of each of
+    ``centres``."""
+    near = tree.query_ball_point(centres, radius)
+    counts = np.array([len(n) for n in near], int)
+    if not counts.sum():
+        return np.zeros(0, int), np.zeros(0, int)
+    owner = np.repeat(np.arange(len(centres)), counts)
+    return owner, np.concatenate([np.asarray(n, int) for n in near if len(n)])
+
+
+def _marks_inside(tree, box, places) -> np.ndarray:
+    """Which ``places`` (mm) of a text's box (its outline about its centre, mm) hold a point of
+    the marks drawn (:func:`_marks_tree`): :func:`_off_marks`'s second test at many places."""
+    low, high = box.min(axis=0), box.max(axis=0)
+    owner, index = _near_pairs(tree, (low + high) / 2 + places, float(np.linalg.norm(high - low)))
+    points = tree.data[index]
+    inside = np.all((points > low + places[owner]) & (points < high + places[owner]), axis=1)
+    return np.bincount(owner[inside], minlength=len(places)) > 0
+
+
+def _leader_ends(box, places, at) -> np.ndarray:
+    """:func:`_leader_end` of a text's box (its outline about its centre, mm) at each of
+    ``places``."""
+    low, high = box.min(axis=0) + places, box.max(axis=0) + places
+    middle = (low + high) / 2
+    sides = np.stack(
+        [
+            np.column_stack([low[:, 0], middle[:, 1]]),
+            np.column_stack([high[:, 0], middle[:, 1]]),
+            np.column_stack([middle[:, 0], low[:, 1]]),
+            np.column_stack([middle[:, 0], high[:, 1]]),
+        ],
+        axis=1,
     )
-    end = _leader_end(clearance._text_points(label), at)
-    ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
+    nearest = np.argmin(np.linalg.norm(sides - at, axis=2), axis=1)
+    return sides[np.arange(len(places)), nearest]
 
 
 def _leader_end(box, at):
     """The middle of the side of a text's box (its outline, mm) nearest ``at``."""
-    low, high = box.min(axis=0), box.max(axis=0)
-    middle = (low + high) / 2
-    sides = [
-        np.array([low[0], middle[1]]),
-        np.array([high[0], middle[1]]),
-        np.array([middle[0], low[1]]),
-        np.array([middle[0], high[1]]),
-    ]
-    return min(sides, key=lambda side: float(np.linalg.norm(side - at)))
+    return _leader_ends(box, np.zeros((1, 2)), np.asarray(at, float))[0]
 
 
 def _leader_crossings(clearance, start, end) -> int:
@@ -1653,9 +1871,10 @@ def _leader_crossings(clearance, start, end) -> int:
 
 
 def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: float) -> None:
-    """A radial's knuckle-pin radius r (crank pin to the first slave's pin) and the slave rod's
-    length (its pin to its piston pin), each a dimension line beside the link with its text by a
-    short leader (:func:`_leader_text`)."""
+    """The knuckle-pin radius r (crank pin to a slave's pin) and the slave rod's length (its pin
+    to its piston pin): a radial's by :func:`_radial_dimension` on any of its equal slave rods;
+    another engine's on the first slave, each a dimension line beside the link with its text by
+    a short leader (:func:`_leader_text`)."""
     j = geometry.joints
     bodies = master_rod_joints(geometry)
     slave = next(
@@ -1669,6 +1888,15 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
     for key, (a, b) in (("r", (centre, pin)), ("l_s", (pin, slave[2]))):
         if key not in labels:
             continue
+        if is_radial(geometry):  # any slave rod: they are equal
+            ends = [
+                (l[1], l[2]) if key == "l_s" else (centre, l[1])
+                for l in geometry.links
+                if l[0].startswith("rod_") and l[1].startswith("slave_pin")
+            ]
+            links = [(j[u][i] * MM, j[v][i] * MM) for u, v in ends]
+            _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
+            continue
         p, q = j[a][i] * MM, j[b][i] * MM
         offset = extent * 0.03
         if key == "r":  # the knuckle pins lie on the master rod's body: the line beside it
@@ -1678,6 +1906,694 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
         _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
+
+
+def is_radial(geometry) -> bool:
+    """A radial engine: master rods with slave rods round one crank pin, cylinders on more than
+    two axes."""
+    return bool(master_rod_joints(geometry)) and len(_one_per_axis(geometry.guides)) > 2
+
+
+_LINK_SHAPES: dict = {}
+
+
+def link_shapes_mm(geometry, i: int) -> _Links:
+    """:func:`_link_shapes_built`, built once for a geometry's frame: a scheme's placement
+    search asks for them at every dimension and place it tries."""
+    key = (id(geometry), i)
+    cached = _LINK_SHAPES.get(key)
+    if cached is None or cached[0] is not geometry:
+        if len(_LINK_SHAPES) >= 8:  # a few geometries at a time: the memory stays bounded
+            _LINK_SHAPES.clear()
+        cached = _LINK_SHAPES[key] = (geometry, _link_shapes_built(geometry, i))
+    return cached[1]
+
+
+def _link_shapes_built(geometry, i: int) -> _Links:
+    """What a dimension line, its arrows, a leader and a dimension's text keep off at frame ``i``
+    (mm): the segments of the links (:func:`member_segments_mm`) with the outer edge of each
+    wall's hatching, and the areas they enclose (a master rod's body, a piston, a wall's band of
+    hatching), on which a line lies without crossing an outline."""
+    extent = _extent_mm(geometry)
+    segments = list(member_segments_mm(geometry, i))
+    areas = list(master_rod_bodies(geometry, i))
+    depth = HATCH * HATCH_SLANT * extent
+    j = geometry.joints
+    for guide in _one_per_axis(geometry.guides):
+        if guide.bore_m <= 0 or guide.moving is not None:
+            continue
+        o, d, n = _guide_frame(geometry, guide, i)
+        half = guide.bore_m * MM / 2
+        bottom, top = liner_ends_mm(guide, geometry)
+        for side in (-1.0, 1.0):
+            a, b = o + d * bottom + n * side * half, o + d * top + n * side * half
+            out = n * side * depth
+            segments.append((a + out, b + out))
+            areas.append(np.array([a, b, b + out, a + out]))
+        pos = float(np.dot(j[guide.joint][i] * MM - o, d))
+        low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
+        areas.append(
+            np.array(
+                [
+                    o + d * low - n * half,
+                    o + d * high - n * half,
+                    o + d * high + n * half,
+                    o + d * low + n * half,
+                ]
+            )
+        )
+    # the joints' circles and the supports under the fixed ones
+    r_joint = extent * JOINT_R
+    ring = np.column_stack(
+        [np.cos(np.linspace(0, 2 * np.pi, 25)), np.sin(np.linspace(0, 2 * np.pi, 25))]
+    )
+    for name, points in j.items():
+        if name == "vane_tip":
+            continue
+        outline = points[i] * MM + ring * r_joint
+        if name in geometry.fixed:
+            size = r_joint * 1.6
+            outline = (
+                points[i] * MM
+                + np.array(
+                    [[0.0, 0.0], [-1.9, -1.6], [-1.9, -2.4], [1.9, -2.4], [1.9, -1.6], [0.0, 0.0]]
+                )
+                * size
+            )
+        segments += list(zip(outline[:-1], outline[1:], strict=True))
+        areas.append(outline)
+    return _Links(np.array(segments, dtype=float).reshape(-1, 2, 2), areas, extent * 0.003)
+
+
+def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key: str) -> None:
+    """A radial's R, L, r or slave rod's length, of one of the equal ``links`` (p, q pairs, mm),
+    its links radiating round the crank pin, the nearest that stands off every link: a dimension
+    line near its link (within a fifth of the drawing), else the value written along the link,
+    else a dimension line farther out, its extension lines crossing the links, else the value on
+    a leader's shelf pointing at the link (ГОСТ 2.703). The knuckle pins' radius r stays by the
+    master rod's body: where nothing there is clear, its line beside the body, its text by the
+    leader crossing the fewest lines."""
+
+    def placed(least: float, most: float, strict: bool) -> bool:
+        # the nearest on either side of each link: the text may have room on one side only
+        drawn = _marks_tree(ax, extent * 0.003)
+        found = sorted(
+            (abs(offset), k, offset)
+            for k, (p, q) in enumerate(links)
+            for offset in _nearest_each_side(
+                _clear_offsets(ax, geometry, i, p, q, extent, least, most, drawn)
+            )
+        )
+        return any(
+            _dimension_off_links(ax, geometry, i, *links[k], text, extent, key, offset, strict)
+            for _, k, offset in found
+        )
+
+    if placed(extent * 0.03, extent * 0.2, True):
+        return
+    shapes = link_shapes_mm(geometry, i)
+    clearance = _Clearance(ax, geometry, i, extent)
+    if _note_along(ax, geometry, i, links, text, extent, key, shapes, clearance, False):
+        return
+    if key == "r":  # the knuckle pins' radius, by the master rod's body: never far from it
+        if not placed(extent * 0.2, extent * 0.35, True):
+            # no room off the links: beside the body, the text by the leader crossing fewest
+            p, q = (np.asarray(v, float) for v in links[0])
+            offset = float(np.linalg.norm(q - p)) + extent * 0.03
+            _dimension_off_links(ax, geometry, i, p, q, text, extent, key, offset, False)
+        return
+    if placed(extent * 0.2, extent * 0.6, True) or placed(extent * 0.03, extent * 0.6, False):
+        return
+    _shelf_note(ax, geometry, i, links, text, extent, key)
+
+
+def _nearest_each_side(offsets) -> list:
+    """The first offset of each sign from ``offsets`` (nearest first)."""
+    chosen: dict[bool, float] = {}
+    for offset in offsets:
+        chosen.setdefault(offset > 0.0, offset)
+        if len(chosen) == 2:
+            break
+    return list(chosen.values())
+
+
+def _sampled(a, b, step: float) -> np.ndarray:
+    """Points every ``step`` (mm) from ``a`` to ``b``, both ends included."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    count = max(int(np.linalg.norm(b - a) / step), 1)
+    return a + (b - a) * np.linspace(0.0, 1.0, count + 1)[:, None]
+
+
+def _sampled_many(starts, ends, step: float):
+    """:func:`_sampled` of every segment ``starts[k]``-``ends[k]`` (mm) at once: the points and,
+    for each, the index of its segment."""
+    starts = np.asarray(starts, float).reshape(-1, 2)
+    spans = np.asarray(ends, float).reshape(-1, 2) - starts
+    counts = np.maximum((np.linalg.norm(spans, axis=1) / step).astype(int), 1)
+    owner = np.repeat(np.arange(len(starts)), counts + 1)
+    first = np.repeat(np.cumsum(counts + 1) - (counts + 1), counts + 1)
+    share = (np.arange(len(owner)) - first) / np.repeat(counts, counts + 1)
+    return starts[owner] + spans[owner] * share[:, None], owner
+
+
+def _every(owner, every: int) -> np.ndarray:
+    """Which points are each group's first and every ``every``-th after (``owner``: each
+    point's group, the groups in order)."""
+    if every <= 1:
+        return np.ones(len(owner), bool)
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    rank = np.arange(len(owner)) - np.repeat(starts, np.diff(np.r_[starts, len(owner)]))
+    return rank % every == 0
+
+
+def off_links(points, shapes, margin: float) -> bool:
+    """Whether every point (mm) stands at least ``margin`` off the links' segments and outside
+    the areas they enclose (:func:`link_shapes_mm`)."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    if len(points) == 0:
+        return True
+    return shapes.off(points, margin)
+
+
+class _Links:
+    """The links' segments and areas (mm) with a k-d tree of points along the segments, dense
+    enough (``step``) that a point's distance to them is known within a quarter step."""
+
+    def __init__(self, segments, areas, step: float):
+        from matplotlib.path import Path  # lazy: heavy optional import
+        from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+        self.segments = segments
+        self.areas = [Path(area) for area in areas]
+        self.bounds = [(area.min(axis=0), area.max(axis=0)) for area in areas]
+        self.lows = np.array([low for low, _ in self.bounds]).reshape(-1, 2)
+        self.highs = np.array([high for _, high in self.bounds]).reshape(-1, 2)
+        self.step = step
+        self.memo: dict = {}
+        segments = np.asarray(segments, float).reshape(-1, 2, 2)
+        self.tree = cKDTree(_sampled_many(segments[:, 0], segments[:, 1], step / 2)[0])
+
+    def remembered(self, key, found):
+        """``found()``, once for each ``key``: a search off these links, asked again for the
+        same drawing (a scheme is drawn twice at a scale, to fit it and then with its marks)."""
+        if key not in self.memo:
+            if len(self.memo) >= 256:  # a few schemes' searches: the memory stays bounded
+                self.memo.clear()
+            self.memo[key] = found()
+        return self.memo[key]
+
+    def touched(self, points, owner, count: int, margin: float, first: int = 8) -> np.ndarray:
+        """Which of ``count`` groups of ``points`` (mm; ``owner``: each point's group, the
+        groups in order) has a point within ``margin`` of a link's segment or inside an area:
+        :meth:`off` of many places tried at once. Every ``first`` point of a group first: most
+        places tried touch a link, and so are known at a fraction of the cost."""
+        points = np.asarray(points, float).reshape(-1, 2)
+        if first <= 1:
+            return self._touched(points, owner, count, margin)
+        few = _every(owner, first)
+        hit = self._touched(points[few], owner[few], count, margin)
+        rest = ~hit[owner] & ~few
+        hit |= self._touched(points[rest], owner[rest], count, margin)
+        return hit
+
+    def _near_points(self, points, owner, margin: float, run: int = 8) -> np.ndarray:
+        """Which ``points`` may stand within ``margin`` of a link's segment: those of each run
+        of ``run`` points of a group whose bounding circle comes within ``margin`` of one (a
+        point no farther than r from a centre at a distance d stands at least d - r off)."""
+        first = _every(owner, run) | np.r_[True, owner[1:] != owner[:-1]]
+        starts = np.flatnonzero(first)
+        low = np.minimum.reduceat(points, starts, axis=0)
+        high = np.maximum.reduceat(points, starts, axis=0)
+        radius = np.linalg.norm(high - low, axis=1) / 2
+        bound = float(radius.max()) + margin + self.step if len(radius) else 0.0
+        distances, _ = self.tree.query((low + high) / 2, distance_upper_bound=bound)
+        close = distances < radius + margin
+        return close[np.cumsum(first) - 1]
+
+    def _touched(self, points, owner, count: int, margin: float) -> np.ndarray:
+        hit = np.zeros(count, bool)
+        if not len(points):
+            return hit
+        # runs of points only where the groups are long (a short one is its own run): long
+        # runs first, the points of those near a link in short runs
+        near = np.ones(len(points), bool)
+        for run in (32, 8) if len(points) > 16 * count else ():
+            kept = np.flatnonzero(near)
+            near[kept] = self._near_points(points[kept], owner[kept], margin, run)
+        distances, _ = self.tree.query(points[near], distance_upper_bound=margin + self.step)
+        hit[owner[near][distances < margin]] = True
+        # the areas only for the groups still clear of the segments
+        live = ~hit[owner]
+        points, owner = points[live], owner[live]
+        if not len(owner):
+            return hit
+        starts = np.flatnonzero(np.concatenate([[True], owner[1:] != owner[:-1]]))
+        groups = owner[starts]
+        lows = np.minimum.reduceat(points, starts, axis=0)
+        highs = np.maximum.reduceat(points, starts, axis=0)
+        # each group against each area's bounds at once; an area's outline only where they meet
+        meets = (
+            (highs[:, None, :] >= self.lows[None, :, :])
+            & (lows[:, None, :] <= self.highs[None, :, :])
+        ).all(axis=2)
+        for k in np.flatnonzero(meets.any(axis=0)):
+            near = np.zeros(count, bool)
+            near[groups[meets[:, k]]] = True
+            near &= ~hit
+            if not near.any():
+                continue
+            tried = np.flatnonzero(near[owner])
+            inside = self.areas[k].contains_points(points[tried])
+            hit[owner[tried[inside]]] = True
+        return hit
+
+    def off(self, points, margin: float) -> bool:
+        distances, _ = self.tree.query(points, distance_upper_bound=margin + self.step)
+        if float(distances.min()) < margin:
+            return False
+        low, high = points.min(axis=0), points.max(axis=0)
+        near = np.flatnonzero(((high >= self.lows) & (low <= self.highs)).all(axis=1))
+        return not any(self.areas[k].contains_points(points).any() for k in near)
+
+    def through_many(self, outline, places) -> np.ndarray:
+        """:meth:`through` of the closed ``outline`` (mm) moved to each of ``places``."""
+        from matplotlib.path import Path  # lazy: heavy optional import
+
+        places = np.asarray(places, float).reshape(-1, 2)
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        owner, index = _near_pairs(
+            self.tree, (low + high) / 2 + places, float(np.linalg.norm(high - low)) / 2
+        )
+        if not len(owner):
+            return np.zeros(len(places), bool)
+        inside = Path(outline).contains_points(self.tree.data[index] - places[owner])
+        return np.bincount(owner[inside], minlength=len(places)) > 0
+
+    def through(self, outline) -> bool:
+        """Whether a link's segment passes inside the closed ``outline`` (mm)."""
+        from matplotlib.path import Path  # lazy: heavy optional import
+
+        low, high = outline.min(axis=0), outline.max(axis=0)
+        near = self.tree.query_ball_point((low + high) / 2, float(np.linalg.norm(high - low)) / 2)
+        return bool(len(near)) and bool(Path(outline).contains_points(self.tree.data[near]).any())
+
+
+def _box_off_links(outline, shapes, margin: float, step: float) -> bool:
+    """Whether a text's box (its closed outline, mm) stands ``margin`` off the links and no
+    link passes through it."""
+    return off_links(_ring_outline(outline, step), shapes, margin) and not shapes.through(outline)
+
+
+def _text_outline_mm(ax, label) -> np.ndarray:
+    """The closed outline (mm) of a text's box with its padding, turned as the text is."""
+    renderer = ax.figure.canvas.get_renderer()
+    rotation = label.get_rotation()
+    label.set_rotation(0.0)
+    box = label.get_window_extent(renderer)
+    label.set_rotation(rotation)
+    patch = label.get_bbox_patch()
+    pad = (patch.get_boxstyle().pad if patch else 0.0) * label.get_fontsize() * ax.figure.dpi / 72
+    anchor = ax.transData.transform(label.get_position())
+    corners = np.array(
+        [[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1], [box.x0, box.y0]]
+    ) + np.array([[-pad, -pad], [pad, -pad], [pad, pad], [-pad, pad], [-pad, -pad]])
+    c, s = np.cos(np.radians(rotation)), np.sin(np.radians(rotation))
+    turned = (corners - anchor) @ np.array([[c, s], [-s, c]]) + anchor
+    return ax.transData.inverted().transform(turned)
+
+
+def _clear_offsets(
+    ax, geometry, i: int, p, q, extent: float, least: float, most: float, drawn=False
+) -> list:
+    """The offsets (mm, signed along p-q's left normal) from ``least`` to ``most``, nearest
+    first, at which a dimension line of p-q (mm) and its arrows stand off every link and
+    everything drawn (``drawn``: :func:`_marks_tree`, if already built; the extension lines may
+    cross links: ГОСТ 2.307)."""
+    shapes = link_shapes_mm(geometry, i)
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    n = np.array([-d[1], d[0]])
+    margin, step = extent * 0.005, extent * 0.003
+    if drawn is False:
+        drawn = _marks_tree(ax, step)
+    # each offset on the left, then on the right, all the lines tested at once
+    offsets = np.ravel(
+        np.arange(least, most, extent * 0.01)[:, None] * np.array([1.0, -1.0])[None, :]
+    )
+    if not len(offsets):
+        return []
+    lines, owner = _sampled_many(p + np.outer(offsets, n), q + np.outer(offsets, n), step)
+    # off the links: the same for the same link and shapes, whatever else is drawn
+    clear = shapes.remembered(
+        ("offsets", p.tobytes(), q.tobytes(), extent, least, most),
+        lambda: ~shapes.touched(lines, owner, len(offsets), margin),
+    ).copy()
+    if drawn is not None:
+        distances, _ = drawn.query(lines, distance_upper_bound=margin)
+        clear &= np.bincount(owner[distances < margin], minlength=len(offsets)) == 0
+    return [float(offset) for offset in offsets[clear]]
+
+
+def _text_beyond(ax, a, b, text: str, extent: float, gid: str, shapes) -> bool:
+    """A short dimension's text on its dimension line a-b (mm) continued past one arrow
+    (ГОСТ 2.307: no room between the arrows), where the text and the continued line stand off
+    the links and the marks drawn; whether it is drawn."""
+    margin, step = extent * 0.005, extent * 0.003
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = (b - a) / max(float(np.linalg.norm(b - a)), 1e-12)
+    marks = _marks_tree(ax, step)
+    label = _dimension_text(ax, a, b, text, extent, gid)
+    corners = _text_outline_mm(ax, label)
+    width = float(np.linalg.norm(corners[1] - corners[0]))
+    lifted = label.get_position()
+    for start, direction in ((b, d), (a, -d)):
+        end = start + direction * (width + extent * 0.02)
+        middle = (start + end) / 2 + direction * extent * 0.005
+        label.set_position(middle + (np.asarray(lifted, float) - (a + b) / 2))
+        outline = _text_outline_mm(ax, label)
+        line = _sampled(start + direction * extent * 0.01, end, step)
+        if (
+            off_links(line, shapes, margin)
+            and _box_off_links(outline, shapes, margin, step)
+            and _off_marks(marks, outline[:-1], margin, step)
+        ):
+            ax.plot(*np.c_[start, end], color="0.35", lw=0.5, ls="-", gid=gid + "-shelf")
+            return True
+    label.remove()
+    return False
+
+
+def _off_marks(tree, outline, margin: float, step: float) -> bool:
+    """Whether a text's box (its outline, mm) stands ``margin`` off the dimensions and texts
+    drawn (:func:`_marks_tree`) with none of them inside it."""
+    if tree is None:
+        return True
+    if float(tree.query(_ring_outline(np.vstack([outline, outline[:1]]), step))[0].min()) < margin:
+        return False
+    low, high = outline.min(axis=0), outline.max(axis=0)
+    near = tree.data[tree.query_ball_point((low + high) / 2, float(np.linalg.norm(high - low)))]
+    return not np.any(np.all((near > low) & (near < high), axis=1))
+
+
+def _marks_state(ax, step: float) -> list:
+    """What :func:`_marks_tree` depends on: the dimensions' lines, every text with its place,
+    the axes' scale."""
+    state: list = [step, tuple(ax.transData.get_affine().get_matrix().ravel())]
+    state += [line for line in ax.lines if (line.get_gid() or "").startswith("dimension-")]
+    for text in ax.texts:
+        xyann = tuple(np.ravel(text.xyann)) if hasattr(text, "xyann") else None
+        state.append(
+            (text, text.get_text(), tuple(text.get_position()), text.get_rotation(), xyann)
+        )
+    return state
+
+
+def _marks_tree(ax, step: float):
+    """A k-d tree of points (mm) along the dimensions drawn so far and round every text's box,
+    which a new dimension line keeps off (the axes' centre lines it may cross); None if none.
+    Built again only when they change: the placement search asks for it at every place."""
+    state = _marks_state(ax, step)
+    cached = getattr(ax, "_crankdyn_marks", None)
+    # artists compare as themselves: the same state is the same artists with the same places
+    if cached is not None and cached[0] == state:
+        return cached[1]
+    tree = _marks_tree_built(ax, step)
+    ax._crankdyn_marks = (state, tree)
+    return tree
+
+
+def _marks_tree_built(ax, step: float):
+    """:func:`_marks_tree`, built."""
+    from scipy.spatial import cKDTree  # lazy: heavy optional import
+
+    renderer = ax.figure.canvas.get_renderer()
+    points, starts, ends = [], [], []
+    for line in ax.lines:
+        if (line.get_gid() or "").startswith("dimension-"):
+            xy = np.column_stack(line.get_data()).astype(float)
+            starts.append(xy[:-1])
+            ends.append(xy[1:])
+    for text in ax.texts:
+        if not text.get_text() and hasattr(text, "xyann"):
+            starts.append(np.asarray(text.xyann, float).reshape(1, 2))
+            ends.append(np.asarray(text.xy, float).reshape(1, 2))
+        elif text.get_text():
+            points.append(_ring_outline(_text_corners_mm(ax, text, renderer), step))
+    if starts:
+        points.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), step)[0])
+    return cKDTree(np.concatenate(points)) if points else None
+
+
+def _dimension_off_links(
+    ax, geometry, i: int, p, q, text: str, extent: float, key: str, offset, strict: bool
+) -> bool:
+    """A dimension of p-q (mm) at ``offset`` (:func:`_clear_offset`): its text over the line
+    where that box is clear of the links and of everything drawn, else by a leader
+    (:func:`_leader_text`) off the links; ``strict``: nothing drawn where there is no such
+    leader. Whether it is drawn."""
+    shapes = link_shapes_mm(geometry, i)
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+    n = np.array([-d[1], d[0]])
+    margin, step = extent * 0.005, extent * 0.003
+    a, b = p + n * offset, q + n * offset
+    before = (list(ax.lines), list(ax.texts))
+    _dimension(ax, p, q, "", offset, extent, key)
+    gid = f"dimension-{key}-text"
+    label = _dimension_text(ax, a, b, text, extent, gid)
+    outline = _text_outline_mm(ax, label)
+    label.remove()
+    clearance = _Clearance(ax, geometry, i, extent)
+    if (
+        _box_off_links(outline, shapes, margin, step)
+        and clearance.of_outline(_ring_outline(outline, step)) > 0
+    ):
+        _dimension_text(ax, a, b, text, extent, gid)
+        return True
+    if _text_beyond(ax, a, b, text, extent, gid, shapes):
+        return True
+    # nothing drawn since the clearance was measured: the texts tried beyond are gone
+    if _leader_text(ax, geometry, i, (a + b) / 2, text, extent, gid, shapes, strict, clearance):
+        return True
+    for artist in [a for a in ax.lines if a not in before[0]]:
+        artist.remove()
+    for artist in [a for a in ax.texts if a not in before[1]]:
+        artist.remove()
+    return False
+
+
+def _ring_outline(outline, step: float) -> np.ndarray:
+    """Points at most ``step`` apart along a polyline (mm), its corners included."""
+    outline = np.asarray(outline, float)
+    edges = np.diff(outline, axis=0)
+    lengths = np.linalg.norm(edges, axis=1)
+    if not len(lengths) or lengths.max() <= step:
+        return outline
+    counts = np.maximum(np.ceil(lengths / step).astype(int), 1)
+    edge = np.repeat(np.arange(len(edges)), counts)
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    share = (np.arange(int(counts.sum())) - first) / np.repeat(counts, counts)
+    return np.vstack([outline[edge] + edges[edge] * share[:, None], outline[-1:]])
+
+
+def _shelf_note(ax, geometry, i: int, links, text: str, extent: float, key: str) -> None:
+    """A link's parameter on the shelf of a leader whose arrow points at one of the equal
+    ``links`` (p, q pairs, mm) (ГОСТ 2.703, 2.316): the shortest leader, leader, shelf and text
+    crossing no link and clear of everything drawn; where none is, the text along the first."""
+    shapes = link_shapes_mm(geometry, i)
+    clearance = _Clearance(ax, geometry, i, extent)
+    # on one line; where that finds no room, the value under its symbol, as narrow again
+    best = None
+    for lines in dict.fromkeys((text, text.replace(" = ", " =\n", 1))):
+        # the text along the link, beside it, where it has room; else on a leader's shelf
+        if _note_along(ax, geometry, i, links, lines, extent, key, shapes, clearance, False):
+            return
+        best = _shelf_best(ax, links, lines, extent, shapes, clearance)
+        if best is not None:
+            text = lines
+            break
+    if best is None:
+        _note_along(ax, geometry, i, links, text, extent, key, shapes, clearance, True)
+        return
+    target, elbow, end, shift = best
+    arrow = ax.annotate(
+        "",
+        xy=target,
+        xytext=elbow,
+        arrowprops={
+            "arrowstyle": "-|>",
+            "color": "0.35",
+            "lw": 0.5,
+            "shrinkA": 0,
+            "shrinkB": 0,
+            "mutation_scale": 7,
+        },
+    )
+    arrow.set_gid(f"dimension-{key}-leader")
+    ax.plot(*np.c_[elbow, end], color="0.35", lw=0.5, ls="-", gid=f"dimension-{key}-shelf")
+    ax.text(
+        *shift,
+        text,
+        ha="left",
+        va="bottom",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        gid=f"dimension-{key}-text",
+    )
+
+
+def _shelf_best(ax, links, text: str, extent: float, shapes, clearance):
+    """:func:`_shelf_place` of the text over the best of the ``links``; None where none has."""
+    label = ax.text(0.0, 0.0, text, ha="left", va="bottom", fontsize=8, bbox=LABEL_BOX)
+    box = _text_outline_mm(ax, label)
+    label.remove()
+    best, best_score = None, None
+    for p, q in links:
+        found = _shelf_place(
+            np.asarray(p, float), np.asarray(q, float), box, extent, shapes, clearance, best_score
+        )
+        if found is not None and (best_score is None or found[0] < best_score):
+            best_score, best = found
+    return best
+
+
+def _shelf_place(p, q, box, extent: float, shapes, clearance, bound=None):
+    """(score, (target, elbow, shelf's end, text's foot)) of the best leader to the link p-q
+    (mm) for a text of ``box`` (its outline standing on the origin, mm): a straight leader from
+    a point of the link, off the other links' areas, to the shelf's near end, leader, shelf and
+    text off every link and clear of everything drawn; the score (lines the leader crosses, its
+    length) lowest; None where none is (or none scores below ``bound``)."""
+    from matplotlib.path import Path  # lazy: heavy optional import
+
+    margin, step = extent * 0.005, extent * 0.003
+    width = float(np.ptp(box[:, 0]))
+    # the box's padding round the text: the text stands on the shelf, its box just over it
+    pad_x, lift = -float(box[:, 0].min()), -float(box[:, 1].min()) + margin * 0.3
+    length = float(np.linalg.norm(q - p))
+    d = (q - p) / max(length, 1e-12)
+    # the link's points off the other links' areas (a crank under a master rod's body: its end)
+    targets = [
+        t
+        for t in _sampled(p, q, max(step * 2, length / 12))[1:-1]
+        if min(np.linalg.norm(t - p), np.linalg.norm(t - q)) > extent * JOINT_R + margin
+        and not any(area.contains_point(t) for area in shapes.areas)
+    ]
+    best, best_score = None, bound
+    for target in targets:
+        for angle in np.radians(np.arange(1.0, 360.0, 3.0)):
+            ray = np.array([np.cos(angle), np.sin(angle)])
+            if abs(float(np.dot(ray, d))) > 0.9:
+                continue  # along the link: its arrow would lie on it
+            free = _free_reach(target, ray, shapes, margin, step, extent * 0.8)
+            for reach in np.arange(extent * 0.03, free, extent * 0.015):
+                if best_score is not None and (0, reach) >= best_score:
+                    break
+                elbow = target + ray * reach
+                # the shelf away from the leader, or back under it where the leader comes down
+                # steeply enough to stay off the text
+                for sign in (1.0, -1.0) if ray[0] >= 0.0 else (-1.0, 1.0):
+                    end = elbow + np.array([sign * width, 0.0])
+                    shift = np.array([min(elbow[0], end[0]) + pad_x, elbow[1] + lift])
+                    outline = box + shift
+                    if sign * ray[0] < 0.0 and (
+                        ray[1] >= 0.0
+                        or Path(outline).contains_points(_sampled(target, elbow, step)).any()
+                    ):
+                        continue
+                    if not off_links(_sampled(elbow, end, step), shapes, margin):
+                        continue
+                    if not _box_off_links(outline, shapes, margin, step):
+                        continue
+                    if clearance.of_outline(_ring_outline(outline, step)) <= 0:
+                        continue
+                    score = (_leader_crossings(clearance, target, elbow), reach)
+                    if best_score is None or score < best_score:
+                        best, best_score = (target, elbow, end, shift), score
+                    break
+    return None if best is None else (best_score, best)
+
+
+def _free_reach(start, ray, shapes, margin: float, step: float, most: float) -> float:
+    """How far (mm) a leader from ``start`` on a link runs along ``ray`` before it comes within
+    ``margin`` of a link or enters a link's area (its first ``1.5 margin`` left out: it starts on
+    its own link)."""
+    points = start + np.outer(np.arange(margin * 1.5, most, step), ray)
+    if not len(points):
+        return 0.0
+    distances, _ = shapes.tree.query(points, distance_upper_bound=margin + shapes.step)
+    bad = distances < margin
+    low, high = points.min(axis=0), points.max(axis=0)
+    for k in np.flatnonzero(((high >= shapes.lows) & (low <= shapes.highs)).all(axis=1)):
+        bad |= shapes.areas[k].contains_points(points)
+    hit = np.flatnonzero(bad)
+    return float(np.linalg.norm(points[hit[0]] - start)) - step if len(hit) else most
+
+
+def _note_along(
+    ax, geometry, i: int, links, text, extent: float, key: str, shapes, clearance, anyway: bool
+) -> bool:
+    """A link's parameter written along one of the equal ``links`` (p, q pairs, mm), beside it,
+    where its box is clear of every link and of everything drawn (the nearest place to a link's
+    middle); where there is none, nothing (``anyway``: by the first link's middle). Whether it
+    found a place."""
+    margin, step = extent * 0.005, extent * 0.003
+    label = ax.text(
+        0.0,
+        0.0,
+        text,
+        ha="center",
+        va="center",
+        rotation_mode="anchor",
+        fontsize=8,
+        color="0.15",
+        bbox=LABEL_BOX,
+        zorder=7,
+        gid=f"dimension-{key}-text",
+    )
+    p, q = (np.asarray(v, float) for v in links[0])
+    chosen, rotation, best = (p + q) / 2, _readable_rotation_deg(q - p), None
+    for p, q in links:
+        p, q = np.asarray(p, float), np.asarray(q, float)
+        d = (q - p) / max(float(np.linalg.norm(q - p)), 1e-12)
+        n = np.array([-d[1], d[0]])
+        label.set_rotation(_readable_rotation_deg(d))
+        label.set_position((0.0, 0.0))
+        outline = _text_outline_mm(ax, label)
+        ring = _ring_outline(outline, step)
+        shares = (0.5, 0.6, 0.4, 0.7, 0.3, 0.8, 0.2)
+        offsets = np.arange(0.02, 0.08, 0.005) * extent
+        # every place at once: (share, offset, side)
+        along = np.asarray(shares)[:, None, None, None] * (q - p)
+        aside = (offsets[:, None] * np.array([1.0, -1.0]))[None, :, :, None] * n
+        places = p + along + aside
+        flat = places.reshape(-1, 2)
+        owner = np.repeat(np.arange(len(flat)), len(ring))
+        usable = ~shapes.touched(
+            (ring[None, :, :] + flat[:, None, :]).reshape(-1, 2), owner, len(flat), margin
+        )
+        kept = np.flatnonzero(usable)
+        usable[kept] = ~shapes.through_many(outline, flat[kept])
+        usable = usable.reshape(places.shape[:3])
+        for s_index, share in enumerate(shares):
+            for o_index, offset in enumerate(offsets):
+                score = offset + abs(share - 0.5) * extent * 0.1
+                if best is not None and score >= best:
+                    break
+                for k_side in range(2):
+                    at = places[s_index, o_index, k_side]
+                    if not usable[s_index, o_index, k_side]:
+                        continue
+                    if clearance.of_outline(ring + at) <= 0:
+                        continue
+                    chosen, rotation, best = at, _readable_rotation_deg(d), score
+                    break
+    if best is None and not anyway:
+        label.remove()
+        return False
+    label.set_rotation(rotation)
+    label.set_position(chosen)
+    return best is not None
 
 
 def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -> None:
