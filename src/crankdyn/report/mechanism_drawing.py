@@ -10,6 +10,7 @@ the placement of symbols. Lengths are drawn in millimetres.
 from __future__ import annotations
 
 import base64
+import hashlib
 import io
 import json
 from dataclasses import replace
@@ -1696,8 +1697,6 @@ def _leader_place(clearance, at, box, extent: float, shapes):
     lines and texts both times a scheme is drawn at a scale."""
     if shapes is None:
         return _leader_place_searched(clearance, at, box, extent, shapes)
-    import hashlib  # lazy: only for the search's key
-
     digest = hashlib.blake2b(digest_size=16)
     for part in (np.asarray(at, float), box, clearance.points):
         digest.update(np.ascontiguousarray(part).tobytes())
@@ -2005,7 +2004,9 @@ def _radial_dimension(ax, geometry, i: int, links, text: str, extent: float, key
             )
         )
         return any(
-            _dimension_off_links(ax, geometry, i, *links[k], text, extent, key, offset, strict)
+            _dimension_off_links(
+                ax, geometry, i, links[k][0], links[k][1], text, extent, key, offset, strict
+            )
             for _, k, offset in found
         )
 
@@ -2147,15 +2148,17 @@ class _Links:
         points, owner = points[live], owner[live]
         if not len(owner):
             return hit
-        starts = np.flatnonzero(np.concatenate([[True], owner[1:] != owner[:-1]]))
+        changes = np.asarray(owner[1:] != owner[:-1], bool)
+        starts = np.flatnonzero(np.concatenate([[True], changes]))
         groups = owner[starts]
         lows = np.minimum.reduceat(points, starts, axis=0)
         highs = np.maximum.reduceat(points, starts, axis=0)
         # each group against each area's bounds at once; an area's outline only where they meet
-        meets = (
+        meets: np.ndarray = np.all(
             (highs[:, None, :] >= self.lows[None, :, :])
-            & (lows[:, None, :] <= self.highs[None, :, :])
-        ).all(axis=2)
+            & (lows[:, None, :] <= self.highs[None, :, :]),
+            axis=2,
+        )
         for k in np.flatnonzero(meets.any(axis=0)):
             near = np.zeros(count, bool)
             near[groups[meets[:, k]]] = True
