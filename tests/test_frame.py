@@ -224,7 +224,7 @@ def _sheet_numbers(pdf: Path, landscape: list[bool]) -> list[str]:
     ]
 
 
-@pytest.mark.long
+@pytest.mark.slow  # a 34-page PDF: with the framed Ukrainian note, in the slow tier CI runs
 @needs_poppler
 def test_the_framed_pdf_numbers_its_sheets_in_the_blocks(tmp_path):
     """The ESKD frame: the in-line four in Ukrainian, up to its torque section (34 pages, one of

@@ -28,6 +28,7 @@ def _positions(example: str):
     return run_scene(scene, registry, wanted).outputs["drawing"].artifacts["positions"]
 
 
+@cache  # read only: each example's scheme drawn once per test process
 def _scheme(example: str):
     positions = _positions(example)
     labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
