@@ -211,3 +211,27 @@ def test_the_links_test_of_many_places_agrees_with_each_place(tmp_path):
     each = np.array([not shapes.off(points[owner == k], margin) for k in range(len(starts))])
     assert 30 < int(each.sum()) < 270  # both kinds of place are tried
     assert np.array_equal(touched, each)
+
+
+def test_a_radials_slave_rod_dimension_gives_the_length_of_the_rod_it_is_on(tmp_path):
+    """The slave rods differ in length (each slave cylinder's compression ratio is the master's):
+    the scheme's l_sr gives the length of the very rod its dimension line spans."""
+    positions = _positions(tmp_path, 7)
+    geometry = md.upright(md.front_view(positions))
+    rods = [
+        float(np.linalg.norm(geometry.joints[b][0] - geometry.joints[a][0])) * 1e3
+        for name, a, b in geometry.links
+        if name.startswith("rod_") and a.startswith("slave_pin")
+    ]
+    assert max(rods) - min(rods) > 0.5  # mm: not all equal
+    # as the report writes them, with its marks
+    labels = {k: f"{k} = {v * 1e3:.1f} mm" for k, v in positions.dimensions.items()}
+    marks = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": "TDC", "bdc": "BDC"}
+    fig, _ = md.scheme_figure(positions, 0, labels, "Crank star", "Firing order: 1", marks)
+    ax = fig.axes[0]
+    (arrow,) = [t for t in ax.texts if t.get_gid() == "dimension-l_s-line"]
+    spanned = float(np.linalg.norm(np.subtract(arrow.xy, arrow.xyann)))
+    (text,) = [t for t in ax.texts if t.get_gid() == "dimension-l_s-text"]
+    printed = float(text.get_text().split("=")[1].split()[0])
+    assert min(abs(spanned - rod) for rod in rods) < 1e-6  # the line spans one rod
+    assert printed == pytest.approx(spanned, abs=0.05 + 1e-9)

@@ -13,6 +13,7 @@ import base64
 import hashlib
 import io
 import json
+import re
 from dataclasses import replace
 from typing import Any
 
@@ -1894,7 +1895,10 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
                 if l[0].startswith("rod_") and l[1].startswith("slave_pin")
             ]
             links = [(j[u][i] * MM, j[v][i] * MM) for u, v in ends]
-            _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
+            if key == "l_s":
+                _slave_rod_length(ax, geometry, i, links, labels[key], extent)
+            else:
+                _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
             continue
         p, q = j[a][i] * MM, j[b][i] * MM
         offset = extent * 0.03
@@ -1905,6 +1909,51 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
         _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
+
+
+def _slave_rod_length(ax, geometry, i: int, links, text: str, extent: float) -> None:
+    """A radial's slave rod length on the rod (``links``: p, q pairs, mm) whose dimension line
+    stands nearest it clear of the links, those of the length ``text`` gives first, its text
+    giving that rod's own length: the slave rods differ in length (each slave cylinder's
+    compression ratio is the master's). Where no rod has such a line, as any radial dimension
+    (:func:`_radial_dimension`) on the rods of the length given."""
+    given = getattr(geometry, "dimensions", {}).get("l_s")
+    drawn = _marks_tree(ax, extent * 0.003)
+    ranked: list = []
+    for least, most in ((0.03, 0.2), (0.2, 0.6)):  # near the rods first, then farther out
+        for p, q in links if not ranked else []:
+            length = float(np.linalg.norm(np.asarray(q) - np.asarray(p)))
+            offsets = _clear_offsets(
+                ax, geometry, i, p, q, extent, extent * least, extent * most, drawn
+            )
+            other = given is None or abs(length - given * MM) > 1e-3 * given * MM
+            if offsets:
+                ranked.append((other, min(abs(o) for o in offsets), length, (p, q)))
+    if not ranked:
+        equal = [
+            (p, q)
+            for p, q in links
+            if given is None
+            or abs(float(np.linalg.norm(np.asarray(q) - np.asarray(p))) - given * MM)
+            <= 1e-3 * given * MM
+        ]
+        _radial_dimension(ax, geometry, i, equal or links, text, extent, "l_s")
+        return
+    _, _, length, link = min(ranked, key=lambda r: (r[0], r[1]))
+    _radial_dimension(ax, geometry, i, [link], _with_length(text, length), extent, "l_s")
+
+
+def _with_length(text: str, length_mm: float) -> str:
+    """``text`` ("l = 216,7 мм") with its number replaced by ``length_mm`` printed the same way
+    (its decimal sign and number of decimals)."""
+    found = re.search(r"= (\d+(?:[\u202f\u00a0 ]\d{3})*)(?:([.,])(\d+))?", text)
+    if found is None:
+        return text
+    decimals = len(found.group(3) or "")
+    number = f"{length_mm:.{decimals}f}"
+    if found.group(2):
+        number = number.replace(".", found.group(2))
+    return text[: found.start(1)] + number + text[found.end() :]
 
 
 def is_radial(geometry) -> bool:
