@@ -743,13 +743,16 @@ def _radial_dimensions(ax, geometry, i: int, labels: dict[str, str], crank, rod,
     j = geometry.joints
     if "D" in labels:
         _bore_dimension(ax, geometry, i, labels["D"], extent)
-    if "L" in labels:
-        ends = [(j[rod[1]][i] * MM, j[rod[2]][i] * MM)]
-        _radial_dimension(ax, geometry, i, ends, labels["L"], extent, "L")
     if "R" in labels:
         ends = [(j[crank[1]][i] * MM, j[crank[2]][i] * MM)]
         _radial_dimension(ax, geometry, i, ends, labels["R"], extent, "R")
-    _slave_dimensions(ax, geometry, i, labels, extent)
+    # r before L: r's extension lines start under the master rod's body and may reach far, and
+    # L's text, placed after them, keeps off them
+    _slave_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if k == "r"}, extent)
+    if "L" in labels:
+        ends = [(j[rod[1]][i] * MM, j[rod[2]][i] * MM)]
+        _radial_dimension(ax, geometry, i, ends, labels["L"], extent, "L")
+    _slave_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if k == "l_s"}, extent)
 
 
 def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
