@@ -182,7 +182,9 @@ def render(output: StageOutput, ctx) -> str:
         bank_marks=bank_marks,
         stroke="S" in positions.dimensions,
         front_view=_front_view_kind(positions),
-        master_rod=bool(md.master_rod_bodies(positions, 0)),
+        master_rod=(
+            "radial" if md.is_radial(positions) else bool(md.master_rod_bodies(positions, 0))
+        ),
         counterweight=_counterweight_sentence(t, positions, turned),
         figure_positions=figure_positions,
         svg=Markup(svg),

@@ -13,7 +13,6 @@ import base64
 import hashlib
 import io
 import json
-import re
 from dataclasses import replace
 from typing import Any
 
@@ -643,6 +642,8 @@ def _dimension(ax, p, q, text, offset, extent, key: str = "", from_feature: bool
             ls="-",
         )
         line.set_gid(f"dimension-{key}-extension-{k}")
+        if key == "r":  # from the crank pin's axis U, under the master rod's shaded body
+            line.set_zorder(3.6)
     _dimension_arrow(ax, a, b, f"dimension-{key}-line")
     if text:
         _dimension_text(ax, a, b, text, extent, f"dimension-{key}-text")
@@ -736,10 +737,10 @@ def _bore_dimension(ax, geometry, i: int, text: str, extent: float) -> None:
 
 
 def _radial_dimensions(ax, geometry, i: int, labels: dict[str, str], crank, rod, extent: float):
-    """A radial's D, L, R, r and slave rod's length (:func:`_radial_dimension`), each kept off
-    the links and the ones before it: D first, over the first cylinder, then the master rod's
-    L, boxed in by the cylinders, then the crank's R under the master rod's body, then the
-    slave rods' r and length, which have the most links to choose among."""
+    """A radial's D, R, r and L (:func:`_radial_dimension`), each kept off the links and the
+    ones before it: D first, over the first cylinder, then the crank's R under the master rod's
+    body, the knuckle pins' r and the master rod's L. No slave rod length: the slave rods differ
+    slightly in length, and among the other rods no dimension line stands near one of them."""
     j = geometry.joints
     if "D" in labels:
         _bore_dimension(ax, geometry, i, labels["D"], extent)
@@ -752,7 +753,8 @@ def _radial_dimensions(ax, geometry, i: int, labels: dict[str, str], crank, rod,
     if "L" in labels:
         ends = [(j[rod[1]][i] * MM, j[rod[2]][i] * MM)]
         _radial_dimension(ax, geometry, i, ends, labels["L"], extent, "L")
-    _slave_dimensions(ax, geometry, i, {k: v for k, v in labels.items() if k == "l_s"}, extent)
+    # the slave rods' lengths differ slightly and no full-length dimension line stands near a
+    # slave rod among the others: the note gives them in its table of the slave rods instead
 
 
 def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None:
@@ -1875,7 +1877,8 @@ def _leader_crossings(clearance, start, end) -> int:
 
 def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: float) -> None:
     """The knuckle-pin radius r (crank pin to a slave's pin) and the slave rod's length (its pin
-    to its piston pin): a radial's by :func:`_radial_dimension` on any of its equal slave rods;
+    to its piston pin), those of ``labels``: a radial's r by :func:`_radial_dimension` on any of
+    its slave pins (a radial's scheme gives no slave rod length, :func:`_radial_dimensions`);
     another engine's on the first slave, each a dimension line beside the link with its text by
     a short leader (:func:`_leader_text`)."""
     j = geometry.joints
@@ -1898,10 +1901,7 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
                 if l[0].startswith("rod_") and l[1].startswith("slave_pin")
             ]
             links = [(j[u][i] * MM, j[v][i] * MM) for u, v in ends]
-            if key == "l_s":
-                _slave_rod_length(ax, geometry, i, links, labels[key], extent)
-            else:
-                _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
+            _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
             continue
         p, q = j[a][i] * MM, j[b][i] * MM
         offset = extent * 0.03
@@ -1912,51 +1912,6 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
         d = (q - p) / max(np.linalg.norm(q - p), 1e-12)
         mid = (p + q) / 2 + np.array([-d[1], d[0]]) * offset
         _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
-
-
-def _slave_rod_length(ax, geometry, i: int, links, text: str, extent: float) -> None:
-    """A radial's slave rod length on the rod (``links``: p, q pairs, mm) whose dimension line
-    stands nearest it clear of the links, those of the length ``text`` gives first, its text
-    giving that rod's own length: the slave rods differ in length (each slave cylinder's
-    compression ratio is the master's). Where no rod has such a line, as any radial dimension
-    (:func:`_radial_dimension`) on the rods of the length given."""
-    given = getattr(geometry, "dimensions", {}).get("l_s")
-    drawn = _marks_tree(ax, extent * 0.003)
-    ranked: list = []
-    for least, most in ((0.03, 0.2), (0.2, 0.6)):  # near the rods first, then farther out
-        for p, q in links if not ranked else []:
-            length = float(np.linalg.norm(np.asarray(q) - np.asarray(p)))
-            offsets = _clear_offsets(
-                ax, geometry, i, p, q, extent, extent * least, extent * most, drawn
-            )
-            other = given is None or abs(length - given * MM) > 1e-3 * given * MM
-            if offsets:
-                ranked.append((other, min(abs(o) for o in offsets), length, (p, q)))
-    if not ranked:
-        equal = [
-            (p, q)
-            for p, q in links
-            if given is None
-            or abs(float(np.linalg.norm(np.asarray(q) - np.asarray(p))) - given * MM)
-            <= 1e-3 * given * MM
-        ]
-        _radial_dimension(ax, geometry, i, equal or links, text, extent, "l_s")
-        return
-    _, _, length, link = min(ranked, key=lambda r: (r[0], r[1]))
-    _radial_dimension(ax, geometry, i, [link], _with_length(text, length), extent, "l_s")
-
-
-def _with_length(text: str, length_mm: float) -> str:
-    """``text`` ("l = 216,7 мм") with its number replaced by ``length_mm`` printed the same way
-    (its decimal sign and number of decimals)."""
-    found = re.search(r"= (\d+(?:[\u202f\u00a0 ]\d{3})*)(?:([.,])(\d+))?", text)
-    if found is None:
-        return text
-    decimals = len(found.group(3) or "")
-    number = f"{length_mm:.{decimals}f}"
-    if found.group(2):
-        number = number.replace(".", found.group(2))
-    return text[: found.start(1)] + number + text[found.end() :]
 
 
 def is_radial(geometry) -> bool:
