@@ -65,7 +65,7 @@ def _csv(path, rpms, blank_after: int | None = None):
     return path
 
 
-@pytest.mark.long
+@pytest.mark.slow  # waits out a 3 s time limit: in the slow tier, which CI runs
 def test_a_hung_variant_is_stopped_and_listed_while_the_others_finish(tmp_path, slow_registry):
     variants = _csv(tmp_path / "v.csv", [3000, SLOW_RPM, 3500, 4000])
     out = tmp_path / "out"

@@ -81,6 +81,7 @@ def _time_stepping_delta(result, flywheel: float) -> float:
     return (omega.max() - omega.min()) / (0.5 * (omega.max() + omega.min()))
 
 
+@pytest.mark.slow  # a time-stepping solution to 1e-7: in the slow tier, which CI runs
 def test_the_raised_flywheel_gives_the_required_irregularity_in_a_time_stepping_solution():
     result = raised()
     fly = result.outputs["flywheel"].results
@@ -110,6 +111,7 @@ def test_the_raised_flywheel_gives_the_required_irregularity_in_a_time_stepping_
 FROM_NONE = {"engine": {"rpm": 7000}, "flywheel": {"required_irregularity": 0.09546}}
 
 
+@pytest.mark.slow  # a time-stepping solution to 1e-7: in the slow tier, which CI runs
 def test_an_engine_the_energy_method_finds_needs_no_flywheel_gets_the_exact_solutions():
     result = shared_run("inline4-petrol", FROM_NONE, STAGES)
     fly = result.outputs["flywheel"].results

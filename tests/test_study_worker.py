@@ -25,7 +25,11 @@ from crankdyn.preview import server as serve
 from crankdyn.preview.server import Preview
 from crankdyn.scene.model import scene_from_dict
 
-pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the study worker is forked")
+pytestmark = [
+    pytest.mark.skipif(not hasattr(os, "fork"), reason="the study worker is forked"),
+    # each case a pytest process of its own: in the slow tier, which CI runs
+    pytest.mark.slow,
+]
 
 STUDY = "numerics_kinematics"
 

@@ -296,6 +296,7 @@ def _hang_at(scene, inputs):
     return StageOutput(results={"x": 1.0})
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 def test_a_chunk_out_of_time_runs_again_point_by_point_and_only_the_hung_point_fails(monkeypatch):
     hanging = Stage(
         name="hang_for_test",
