@@ -818,6 +818,23 @@ def _x_at(a, b, y: float) -> float | None:
     return float(a[0] + (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]))
 
 
+def piston_outline_mm(geometry, guide, i: int) -> np.ndarray:
+    """A piston's four corners (mm) at frame ``i``: from its skirt's end (:func:`piston_skirt_mm`
+    below its pin) to its crown, the bore wide, as the scheme draws it."""
+    o, d, n = _guide_frame(geometry, guide, i)
+    half = guide.bore_m * MM / 2
+    pos = float(np.dot(geometry.joints[guide.joint][i] * MM - o, d))
+    low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
+    return np.array(
+        [
+            o + d * low - n * half,
+            o + d * high - n * half,
+            o + d * high + n * half,
+            o + d * low + n * half,
+        ]
+    )
+
+
 def member_segments_mm(geometry, i: int) -> np.ndarray:
     """(n, 2, 2) segments (mm) of what the scheme draws at frame ``i`` with a thick line: the
     bars, the master rods' outlines, the liners' walls and the pistons; what a text must not cross."""
@@ -834,14 +851,7 @@ def member_segments_mm(geometry, i: int) -> np.ndarray:
         segments += [
             (o + d * bottom + n * side * half, o + d * top + n * side * half) for side in (-1, 1)
         ]
-        pos = float(np.dot(j[guide.joint][i] * MM - o, d))
-        low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
-        corners = [
-            o + d * low - n * half,
-            o + d * high - n * half,
-            o + d * high + n * half,
-            o + d * low + n * half,
-        ]
+        corners = list(piston_outline_mm(geometry, guide, i))
         segments += list(zip(corners, corners[1:] + corners[:1], strict=False))
     return np.array(segments, dtype=float).reshape(-1, 2, 2)
 
@@ -1894,13 +1904,9 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
     for key, (a, b) in (("r", (centre, pin)), ("l_s", (pin, slave[2]))):
         if key not in labels:
             continue
-        if is_radial(geometry):  # any slave rod: they are equal
-            ends = [
-                (l[1], l[2]) if key == "l_s" else (centre, l[1])
-                for l in geometry.links
-                if l[0].startswith("rod_") and l[1].startswith("slave_pin")
-            ]
-            links = [(j[u][i] * MM, j[v][i] * MM) for u, v in ends]
+        if is_radial(geometry) and key == "r":  # any knuckle pin: all stand r from U
+            pins = [l[1] for l in geometry.links if l[0].startswith("rod_") and "slave" in l[1]]
+            links = [(j[centre][i] * MM, j[pin][i] * MM) for pin in pins]
             _radial_dimension(ax, geometry, i, links, labels[key], extent, key)
             continue
         p, q = j[a][i] * MM, j[b][i] * MM
@@ -1956,18 +1962,7 @@ def _link_shapes_built(geometry, i: int) -> _Links:
             out = n * side * depth
             segments.append((a + out, b + out))
             areas.append(np.array([a, b, b + out, a + out]))
-        pos = float(np.dot(j[guide.joint][i] * MM - o, d))
-        low, high = pos - piston_skirt_mm(guide, geometry), pos + CROWN * guide.bore_m * MM
-        areas.append(
-            np.array(
-                [
-                    o + d * low - n * half,
-                    o + d * high - n * half,
-                    o + d * high + n * half,
-                    o + d * low + n * half,
-                ]
-            )
-        )
+        areas.append(piston_outline_mm(geometry, guide, i))
     # the joints' circles and the supports under the fixed ones
     r_joint = extent * JOINT_R
     ring = np.column_stack(
