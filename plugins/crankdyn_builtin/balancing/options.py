@@ -64,5 +64,9 @@ def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
     cylinders."""
     if opts.balance_orders is not None:
         return list(opts.balance_orders)
-    flying = scene.engine.application == "aircraft" and scene.engine.layout != "radial"
-    return [1] if scene.engine.cylinders == 1 or flying else [1, 2]
+    return [1] if scene.engine.cylinders == 1 or flies_without_shafts(scene) else [1, 2]
+
+
+def flies_without_shafts(scene) -> bool:
+    """An aircraft engine other than a radial: built without second-order balance shafts."""
+    return scene.engine.application == "aircraft" and scene.engine.layout != "radial"

@@ -8,6 +8,7 @@ from crankdyn.plugin.types import StageOutput
 
 from .figures import _models_figure, models_left_out, star_figure
 from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
+from .options import flies_without_shafts
 from .tables import (
     _bay_table,
     _explorer_table,
@@ -548,9 +549,9 @@ def _no_shafts_in_aircraft(ctx, r) -> bool:
     """Whether the second order is left by default because the engine flies (its default orders,
     :func:`crankdyn_builtin.balancing.options.balance_orders_for`) while it leaves some of it."""
     scene = ctx.scene
-    if scene is None or r["means_given"] or scene.engine.application != "aircraft":
+    if scene is None or r["means_given"] or not flies_without_shafts(scene):
         return False
-    if scene.engine.layout == "radial" or 2 in (r.get("residual") or {}).get("balanced_orders", ()):
+    if 2 in (r.get("residual") or {}).get("balanced_orders", ()):
         return False
     return any(
         s["order"] == 2 and not s["balanced"] and not _negligible(r, s) for s in r["summary"]
