@@ -20,8 +20,9 @@ from .tables import (
 )
 
 
-def _conclude(ctx, r) -> None:
-    """The section's conclusions: what stays unbalanced, which means are fitted."""
+def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None:
+    """The section's conclusions: what stays unbalanced, which means are fitted (or, with none,
+    what the crank arrangement leaves: ``left_without_means``, :func:`_left_without_means`)."""
     t = ctx.t
     unbalanced = [s for s in r["summary"] if not s["balanced"]]
     single = len(r["cylinder_labels"]) == 1
@@ -67,9 +68,9 @@ def _conclude(ctx, r) -> None:
         )
     if r["counterweights"] or r["balance_shafts"]:
         ctx.conclude(_means_sentence(t, r))
-    elif _left_without_means(r):  # the decision the section states: no means, the mounts
-        aircraft = " " + t("balancing.no_shafts_aircraft") if _no_shafts_in_aircraft(ctx, r) else ""
-        ctx.conclude(t("balancing.no_means_left", left=_left_without_means(r)) + aircraft)
+    elif left_without_means:  # the decision the section states: no means, the mounts
+        aircraft = " " + t("balancing.no_shafts_aircraft") if no_shafts_aircraft else ""
+        ctx.conclude(t("balancing.no_means_left", left=left_without_means) + aircraft)
     _conclude_slaves_and_offset(ctx, r)
 
 
@@ -569,7 +570,9 @@ def render(output: StageOutput, ctx) -> str | None:
     means_table = _means_table(ctx, r)
     explorer_table = _explorer_table(ctx, r)
     items = mass_difference_items(ctx.t, r)
-    _conclude(ctx, r)
+    left_without_means = _left_without_means(r)
+    no_shafts_aircraft = _no_shafts_in_aircraft(ctx, r)
+    _conclude(ctx, r, left_without_means, no_shafts_aircraft)
     return ctx.render_template(
         "sections/balancing.html.j2",
         r=r,
@@ -592,8 +595,8 @@ def render(output: StageOutput, ctx) -> str | None:
             if r.get("rod_type") == "articulated"
             else "balancing.masses_equal"
         ),
-        left_without_means=_left_without_means(r),
-        no_shafts_aircraft=_no_shafts_in_aircraft(ctx, r),
+        left_without_means=left_without_means,
+        no_shafts_aircraft=no_shafts_aircraft,
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
         else "",
