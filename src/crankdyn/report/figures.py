@@ -646,6 +646,33 @@ def _remember_tick_updates() -> None:
     Axis._update_ticks = _update_ticks  # type: ignore[attr-defined]  # updates remembered
 
 
+#: A text drawn upright: matplotlib still writes its rotation by zero (``rotate(-0 x y)``).
+_UPRIGHT = re.compile(r' transform="rotate\(-0 [^")]*\)"')
+
+
+@functools.cache
+def _lean_svg_renderer() -> type:
+    """``RendererSVG`` that writes no group for an artist without a ``gid`` of its own.
+
+    matplotlib wraps every artist, tick and label in a ``<g id="xtick_1">`` (about four elements
+    in ten of a figure's SVG) that nothing refers to; a renderer walks each of them (WeasyPrint
+    cascades its style and transform) and draws the same. An artist given a ``gid`` keeps its
+    group (the drawings name their parts so)."""
+    from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
+
+    class LeanRendererSVG(RendererSVG):
+        def open_group(self, s, gid=None):
+            self.__dict__.setdefault("_kept_groups", []).append(bool(gid))
+            if gid:
+                super().open_group(s, gid)
+
+        def close_group(self, s):
+            if self.__dict__["_kept_groups"].pop():
+                super().close_group(s)
+
+    return LeanRendererSVG
+
+
 def to_svg(fig) -> bytes:
     """The figure as SVG bytes, laid out (tight layout) and drawn by one SVG renderer.
 
@@ -659,7 +686,6 @@ def to_svg(fig) -> bytes:
         get_tight_layout_figure,
     )
     from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
-    from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
 
     _keep_more_mathtext()
     _copy_new_ticks()
@@ -681,7 +707,9 @@ def to_svg(fig) -> bytes:
                 width,
                 height,
                 72,
-                RendererSVG(width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}),
+                _lean_svg_renderer()(
+                    width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}
+                ),
             )
             if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
                 with renderer._draw_disabled():
@@ -698,7 +726,7 @@ def to_svg(fig) -> bytes:
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
-    return presentation_attributes(buffer.getvalue()).encode("utf-8")
+    return presentation_attributes(_UPRIGHT.sub("", buffer.getvalue())).encode("utf-8")
 
 
 #: The one stylesheet matplotlib writes into an SVG (every element's line joins and caps).
