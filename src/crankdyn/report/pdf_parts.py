@@ -39,6 +39,8 @@ _TARGET_PAGE = "target-counter(attr(href), page)"
 _CHAPTER = re.compile(r'<section class="chapter[ "]')
 _BODY = re.compile(r"<body\b[^>]*>")
 _INTERNAL_LINK = re.compile(r'<a\b[^>]*?\bhref="#([^"]+)"')
+#: What a part would count in itself alone: the total of pages, other references' numbers.
+_ACROSS_PARTS = ("counter(pages)", "target-counter", "target-text")
 #: A figure is worth about this many characters of text to lay out and draw.
 _FIGURE_WEIGHT = 12_000
 #: A throw-away first page: a chapters part's first chapter page is no ``@page :first``.
@@ -80,9 +82,9 @@ def split(html: str) -> Split | None:
     if body is None or end < 0 or len(starts) < 2 or 'class="eskd' in html:
         return None
     head, front = html[: body.end()], html[body.end() : starts[0]]
-    if (
-        "target-counter(" in head.replace(_TARGET_PAGE, "")
-        or "target-counter" in html[body.end() :]
+    if any(
+        numbers in head.replace(_TARGET_PAGE, "") or numbers in html[body.end() :]
+        for numbers in _ACROSS_PARTS
     ):
         return None
     chapters = [html[a:b] for a, b in zip(starts, [*starts[1:], end], strict=True)]
@@ -171,7 +173,7 @@ def _receive(sock: socket.socket):
 
 def _second_part(sock: socket.socket, render: Callable[[str], object], html: str) -> None:
     """The child's work: lay out the second part, wait for its first page number, send its
-    anchors, draw it, send the PDF."""
+    anchors and bookmarks, draw it, send the PDF."""
     number: list[int] = []
 
     def first_number() -> int:
@@ -180,8 +182,18 @@ def _second_part(sock: socket.socket, render: Callable[[str], object], html: str
 
     with _numbered_from(first_number):
         document = render(html)
-    _send(sock, ("anchors", _anchors(document, number[0])))
+    marks = [_Bookmarks(page.bookmarks, page.height) for page in document.pages[1:]]
+    _send(sock, ("anchors", _anchors(document, number[0]), marks))
     _send(sock, ("pdf", document.write_pdf()))
+
+
+@dataclass(frozen=True)
+class _Bookmarks:
+    """A page's bookmarks as WeasyPrint's outline is made from them (level, label, point,
+    state), and the page's height (CSS px)."""
+
+    bookmarks: list
+    height: float
 
 
 def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
@@ -209,7 +221,7 @@ def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
         second_number = front_pages + len(first.pages)  # less its throw-away page, plus one
         _send(ours, second_number)
         first_pdf = first.write_pdf()
-        kind, second_anchors = _receive(ours)
+        kind, second_anchors, second_marks = _receive(ours)
         anchors = {**_anchors(first, front_pages + 1), **second_anchors}
         front = render(parts.front_html({name: at[0] for name, at in anchors.items()}))
         if len(front.pages) != front_pages:
@@ -221,7 +233,16 @@ def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
     finally:
         ours.close()
         stop_child(pid)
-    return join(front, front_pdf, [first_pdf, second_pdf], anchors)
+    marks = [*front.pages, *first.pages[1:], *second_marks]
+    return join(front, front_pdf, [first_pdf, second_pdf], anchors, _outline(marks))
+
+
+def _outline(pages) -> list:
+    """WeasyPrint's outline of the joined document, from each page's bookmarks."""
+    from weasyprint.document import Document  # lazy: heavy optional import
+
+    whole = type("Pages", (), {"pages": pages})()
+    return Document.make_bookmark_tree(whole, scale=0.75, transform_pages=True)
 
 
 def _quietly(write: Callable[[], bytes]) -> bytes:
@@ -247,10 +268,11 @@ def _front_links(front) -> list[tuple[int, str, tuple[float, float, float, float
     ]
 
 
-def join(front, front_pdf: bytes, part_pdfs: list[bytes], anchors) -> bytes:
+def join(front, front_pdf: bytes, part_pdfs: list[bytes], anchors, outline_tree) -> bytes:
     """One PDF: the front matter's pages, then each chapters part's less its throw-away first
-    page, with the parts' outlines and named destinations and the front matter's links to
-    ``anchors`` (name -> (page number, x, y))."""
+    page, with the parts' named destinations, the front matter's links to ``anchors``
+    (name -> (page number, x, y)) and the outline ``outline_tree`` (WeasyPrint's bookmark tree:
+    (label, (page index, x, y), children, state))."""
     import pikepdf  # lazy: heavy optional import
 
     out = pikepdf.open(io.BytesIO(front_pdf))
@@ -270,15 +292,15 @@ def join(front, front_pdf: bytes, part_pdfs: list[bytes], anchors) -> bytes:
         names = pikepdf.NameTree(root_names.Dests)
     else:
         out.Root.Names = pikepdf.Dictionary(Dests=names.obj)
+    for source, mapping in zip(sources, page_maps, strict=True):
+        if "/Names" in source.Root and "/Dests" in source.Root.Names:
+            for name, destination in pikepdf.NameTree(source.Root.Names.Dests).items():
+                moved = _moved_destination(destination, mapping)
+                if moved is not None:
+                    names[name] = moved
     with out.open_outline() as outline:
-        for source, mapping in zip(sources, page_maps, strict=True):
-            if "/Names" in source.Root and "/Dests" in source.Root.Names:
-                for name, destination in pikepdf.NameTree(source.Root.Names.Dests).items():
-                    moved = _moved_destination(destination, mapping)
-                    if moved is not None:
-                        names[name] = moved
-            with source.open_outline() as theirs:
-                outline.root.extend(_copied_items(theirs.root, mapping))
+        outline.root.clear()
+        outline.root.extend(_outline_items(out, outline_tree))
     for index, target, (x1, y1, x2, y2), height in _front_links(front):
         if target not in anchors:
             continue
@@ -314,13 +336,14 @@ def _moved_destination(destination, mapping):
     return pikepdf.Array([page, *list(destination)[1:]])
 
 
-def _copied_items(items, mapping) -> list:
+def _outline_items(out, tree) -> list:
     import pikepdf  # lazy: heavy optional import
 
-    copied = []
-    for item in items:
-        destination = _moved_destination(item.destination, mapping)
-        new = pikepdf.OutlineItem(item.title, destination)
-        new.children.extend(_copied_items(item.children, mapping))
-        copied.append(new)
-    return copied
+    items = []
+    for label, (page, x, y), children, state in tree:
+        destination = pikepdf.Array([out.pages[page].obj, pikepdf.Name.XYZ, x, y, 0])
+        item = pikepdf.OutlineItem(label, destination)
+        item.children.extend(_outline_items(out, children))
+        item.is_closed = state == "closed"
+        items.append(item)
+    return items
