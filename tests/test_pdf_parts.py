@@ -159,3 +159,44 @@ def test_documents_whose_pages_depend_on_each_other_are_not_split():
     assert pdf_parts.split(total) is None
     dangling = html.replace('href="#sec-2"', 'href="#nowhere"')
     assert pdf_parts.split(dangling) is None
+
+
+@in_fresh_process
+def test_the_printer_lays_out_in_parts_and_serves_both_their_figures(tmp_path, monkeypatch):
+    from crankdyn.report import printer
+    from crankdyn.report.context import FigureFile
+
+    svg = (
+        b'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50" viewBox="0 0 100 50">'
+        b'<text x="5" y="30" font-size="12">%s</text></svg>'
+    )
+    html = _report()
+    for chapter in (1, 5):  # one figure in each part
+        html = html.replace(
+            f"{chapter}.0 text", f'<img src="figures/fig_{chapter}.svg"> {chapter}.0 text'
+        )
+    parts = pdf_parts.split(html)
+    assert "fig_1.svg" in parts.first and "fig_5.svg" in parts.second
+    asked = []
+
+    class Figure(FigureFile):
+        @property
+        def svg(self):
+            asked.append(self.name)
+            return svg % self.name.encode()
+
+    figures = [Figure("fig_1.svg"), Figure("fig_5.svg")]
+    join, joined = pdf_parts.join, tmp_path / "joined"
+
+    def joining(*args):  # in the printer process: a mark that the parts were joined
+        joined.touch()
+        return join(*args)
+
+    monkeypatch.setattr(pdf_parts, "join", joining)
+    assert printer.prestart()
+    pdf = printer.print_pdf(html, figures)
+    assert pdf is not None and not children() and joined.exists()
+    assert sorted(asked) == ["fig_1.svg", "fig_5.svg"]
+    pages = _pages(pdf, tmp_path, "printed.pdf")
+    assert pages == _pages(html_to_pdf(html, figures), tmp_path, "here.pdf")
+    assert "fig_1.svg" in pages[3] and "fig_5.svg" in pages[-2]  # each figure drawn on its page

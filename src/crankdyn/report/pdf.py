@@ -119,6 +119,8 @@ def html_to_pdf(html: str, figures=(), *, parallel: bool = False) -> bytes:
         if parts is not None and pdf_parts.can_split_processes():
             try:
                 return pdf_parts.parallel_pdf(parts, render)
+            except pdf_parts.PartAbandoned:
+                raise  # the figures' channel may be out of step: the report makes the PDF
             except Exception:  # noqa: BLE001 - the same pages from one layout instead
                 logging.getLogger(__name__).debug("laying out in parts failed", exc_info=True)
     return render(html).write_pdf()

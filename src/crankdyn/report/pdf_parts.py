@@ -196,11 +196,19 @@ class _Bookmarks:
     height: float
 
 
+class PartAbandoned(RuntimeError):
+    """The child laying out a part did not end when asked and was killed: a question it had put
+    to the report (a figure) may be left unanswered, so this process must not ask again."""
+
+
+#: How long a child that is no longer needed may take to end (it does at its next exchange).
+CHILD_GRACE_S = 120.0
+
+
 def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
     """The PDF of the split report; ``render(html)`` lays out one HTML document (a WeasyPrint
-    Document). Raises on any failure (the caller then makes the PDF in one layout)."""
-    from ..parallel.fork import stop_child  # lazy: only a split PDF forks
-
+    Document). Raises on any failure: the caller then makes the PDF in one layout, unless it is
+    :class:`PartAbandoned`."""
     ours, theirs = socket.socketpair()
     pid = os.fork()
     if pid == 0:  # the child: the second part
@@ -231,10 +239,31 @@ def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
         if kind != "pdf":
             raise RuntimeError("the second part sent no PDF")
     finally:
-        ours.close()
-        stop_child(pid)
+        _end_child(pid, ours)
     marks = [*front.pages, *first.pages[1:], *second_marks]
     return join(front, front_pdf, [first_pdf, second_pdf], anchors, _outline(marks))
+
+
+def _end_child(pid: int, sock: socket.socket) -> None:
+    """Wait for the child to end: done, or at its next exchange with this process, which says
+    nothing more (a figure it is asking for meanwhile still gets its answer, so that the channel
+    to the report stays in step). Killed after :data:`CHILD_GRACE_S`: :class:`PartAbandoned`."""
+    from ..parallel.fork import stop_child  # lazy: only a split PDF forks
+
+    ended = False
+    try:
+        sock.shutdown(socket.SHUT_WR)
+        sock.settimeout(CHILD_GRACE_S)
+        while sock.recv(1 << 16):  # what it still sends, until its end of the socket closes
+            pass
+        ended = True
+    except OSError:  # the timeout too
+        pass
+    finally:
+        sock.close()
+    stop_child(pid)  # reaped; killed first if it did not end
+    if not ended:
+        raise PartAbandoned("the process laying out the report's second part did not end")
 
 
 def _outline(pages) -> list:
