@@ -41,8 +41,7 @@ _BODY = re.compile(r"<body\b[^>]*>")
 _INTERNAL_LINK = re.compile(r'<a\b[^>]*?\bhref="#([^"]+)"')
 #: What a part would count in itself alone: the total of pages, other references' numbers.
 _ACROSS_PARTS = ("counter(pages)", "target-counter", "target-text")
-#: A figure is worth about this many characters of text to lay out and draw.
-_FIGURE_WEIGHT = 12_000
+_MARKUP = re.compile(r"<script\b.*?</script>|<svg\b.*?</svg>|<[^>]+>", re.S)
 #: A throw-away first page: a chapters part's first chapter page is no ``@page :first``.
 _LEAD_PAGE = '<div class="crankdyn-part-lead"></div>'
 
@@ -93,16 +92,26 @@ def split(html: str) -> Split | None:
         return None  # a link from a chapter: the parts would have to resolve each other's
     if not set(_INTERNAL_LINK.findall(front)) <= anchors:
         return None
-    weights = [len(c) + _FIGURE_WEIGHT * (c.count("<img") + c.count("<svg")) for c in chapters]
-    # the first part is laid out with the front matter (twice): it takes a little less
-    total, running, cut = sum(weights), 0, 1
-    for i, weight in enumerate(weights[:-1], start=1):
-        running += weight
-        if running > 0.45 * total:
-            break
-        cut = i + 1
-    cut = min(cut, len(chapters) - 1)
+    weights = [_work(chapter) for chapter in chapters]
+    front_work = 2 * _work(front)  # laid out twice, with the first part
+    cut = min(
+        range(1, len(chapters)),
+        key=lambda k: max(front_work + sum(weights[:k]), sum(weights[k:])),
+    )
     return Split(head, front, "".join(chapters[:cut]), "".join(chapters[cut:]), html[end:])
+
+
+def _work(html: str) -> float:
+    """About how long WeasyPrint takes over ``html``, in characters of plain text: a table cell,
+    a figure, an equation or a where-list and a part of its own each cost as much as that many
+    characters (fitted to the layout times of a report's chapters, alone)."""
+    return (
+        len(_MARKUP.sub("", html))
+        + 24 * len(re.findall(r"<t[dh]\b", html))
+        + 1500 * html.count("<img")
+        + 90 * (html.count('class="equation') + html.count('class="where'))
+        + 600
+    )
 
 
 def can_split_processes() -> bool:
