@@ -97,8 +97,13 @@ def _links_and_outline(pdf: bytes):
     return bookmarks, names, links
 
 
+def _a_quiet_machine(monkeypatch):
+    monkeypatch.setattr(os, "getloadavg", lambda: (0.2, 0.2, 0.2))
+
+
 @in_fresh_process
 def test_two_parts_give_the_pages_of_one_layout(tmp_path, monkeypatch):
+    _a_quiet_machine(monkeypatch)
     laid_out_apart = []
     parallel_pdf = pdf_parts.parallel_pdf
     monkeypatch.setattr(
@@ -138,10 +143,25 @@ def test_a_part_that_fails_leaves_the_pdf_to_one_layout(tmp_path, monkeypatch):
         raise RuntimeError("the child's layout failed")
 
     monkeypatch.setattr(pdf_parts, "_second_part", failing)
+    _a_quiet_machine(monkeypatch)
     html = _report()
     apart = html_to_pdf(html, parallel=True)
     assert not children()
     assert _pages(apart, tmp_path, "apart.pdf") == _pages(html_to_pdf(html), tmp_path, "w.pdf")
+
+
+@in_fresh_process
+def test_a_busy_machine_lays_out_in_one_process(tmp_path, monkeypatch):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
+    monkeypatch.setattr(os, "getloadavg", lambda: (3.0, 1.0, 1.0))  # two cores, three busy
+    assert pdf_parts.machine_busy(2) and not pdf_parts.can_split_processes()
+    laid_out_apart = []
+    monkeypatch.setattr(pdf_parts, "parallel_pdf", lambda *args: laid_out_apart.append(args))
+    html = _report()
+    pages = _pages(html_to_pdf(html, parallel=True), tmp_path, "busy.pdf")
+    assert not laid_out_apart and len(pages) == 3 + sum(CHAPTER_PAGES)
+    monkeypatch.setattr(os, "getloadavg", lambda: (2.9, 5.0, 5.0))  # the last minute counts
+    assert not pdf_parts.machine_busy(2) and pdf_parts.can_split_processes()
 
 
 def test_documents_whose_pages_depend_on_each_other_are_not_split():
@@ -193,6 +213,7 @@ def test_the_printer_lays_out_in_parts_and_serves_both_their_figures(tmp_path, m
         return join(*args)
 
     monkeypatch.setattr(pdf_parts, "join", joining)
+    _a_quiet_machine(monkeypatch)
     assert printer.prestart()
     pdf = printer.print_pdf(html, figures)
     assert pdf is not None and not children() and joined.exists()

@@ -115,18 +115,33 @@ def _work(html: str) -> float:
 
 
 def can_split_processes() -> bool:
-    """Two cores, fork, no other thread in this process, pikepdf to join the parts."""
+    """Two cores, one of them to spare (:func:`machine_busy`), fork, no other thread in this
+    process, pikepdf to join the parts."""
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
         cores = os.cpu_count() or 1
     if cores < 2 or not hasattr(os, "fork") or threading.active_count() != 1:
         return False
+    if machine_busy(cores):
+        return False
     try:
         importlib.import_module("pikepdf")
     except ImportError:
         return False
     return True
+
+
+def machine_busy(cores: int) -> bool:
+    """Whether the machine's load average over the last minute reaches ``cores`` + 1. A report
+    with a PDF keeps about two processes busy itself (the layout, the figures); beyond that the
+    other core is taken by other work, and two parts would only share the one core with more
+    work in all than one layout (the front matter twice, a second document)."""
+    try:
+        load = os.getloadavg()[0]
+    except OSError:  # not to be had: taken as free
+        return False
+    return load >= cores + 1
 
 
 @contextlib.contextmanager
