@@ -16,6 +16,7 @@ from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from . import pdf_parts
 from .context import FIGURE_DIR
 from .weasy import load_weasyprint
 
@@ -137,8 +138,6 @@ def _html_to_pdf(html: str, figures, parallel: bool) -> bytes:
         return HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
 
     if parallel:
-        from . import pdf_parts  # lazy: only the printer lays out in parts
-
         parts = pdf_parts.split(html)
         if parts is not None and pdf_parts.can_split_processes():
             try:

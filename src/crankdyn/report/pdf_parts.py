@@ -33,6 +33,8 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..parallel.fork import stop_child
+
 #: The attribute that carries a resolved page number into the front matter's HTML.
 PAGE_ATTRIBUTE = "data-crankdyn-page"
 _TARGET_PAGE = "target-counter(attr(href), page)"
@@ -272,8 +274,6 @@ def _end_child(pid: int, sock: socket.socket) -> None:
     """Wait for the child to end: done, or at its next exchange with this process, which says
     nothing more (a figure it is asking for meanwhile still gets its answer, so that the channel
     to the report stays in step). Killed after :data:`CHILD_GRACE_S`: :class:`PartAbandoned`."""
-    from ..parallel.fork import stop_child  # lazy: only a split PDF forks
-
     ended = False
     try:
         sock.shutdown(socket.SHUT_WR)
@@ -292,7 +292,7 @@ def _end_child(pid: int, sock: socket.socket) -> None:
 
 def _outline(pages) -> list:
     """WeasyPrint's outline of the joined document, from each page's bookmarks."""
-    from weasyprint.document import Document  # lazy: heavy optional import
+    from weasyprint.document import Document  # lazy: heavy optional import (weasyprint)
 
     whole = type("Pages", (), {"pages": pages})()
     return Document.make_bookmark_tree(whole, scale=0.75, transform_pages=True)
@@ -326,7 +326,7 @@ def join(front, front_pdf: bytes, part_pdfs: list[bytes], anchors, outline_tree)
     page, with the parts' named destinations, the front matter's links to ``anchors``
     (name -> (page number, x, y)) and the outline ``outline_tree`` (WeasyPrint's bookmark tree:
     (label, (page index, x, y), children, state))."""
-    import pikepdf  # lazy: heavy optional import
+    import pikepdf  # lazy: heavy optional import (pikepdf: only a PDF laid out in parts)
 
     out = pikepdf.open(io.BytesIO(front_pdf))
     sources = [pikepdf.open(io.BytesIO(pdf)) for pdf in part_pdfs]
@@ -377,7 +377,7 @@ def join(front, front_pdf: bytes, part_pdfs: list[bytes], anchors, outline_tree)
 
 
 def _moved_destination(destination, mapping):
-    import pikepdf  # lazy: heavy optional import
+    import pikepdf  # lazy: heavy optional import (pikepdf: only a PDF laid out in parts)
 
     if isinstance(destination, pikepdf.Dictionary) and "/D" in destination:
         destination = destination.D
@@ -390,7 +390,7 @@ def _moved_destination(destination, mapping):
 
 
 def _outline_items(out, tree) -> list:
-    import pikepdf  # lazy: heavy optional import
+    import pikepdf  # lazy: heavy optional import (pikepdf: only a PDF laid out in parts)
 
     items = []
     for label, (page, x, y), children, state in tree:
