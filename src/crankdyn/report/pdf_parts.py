@@ -236,7 +236,12 @@ def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
     Document). Raises on any failure: the caller then makes the PDF in one layout, unless it is
     :class:`PartAbandoned`."""
     ours, theirs = socket.socketpair()
-    pid = os.fork()
+    try:
+        pid = os.fork()
+    except OSError:  # no process to be had (EAGAIN, ENOMEM): one layout instead
+        ours.close()
+        theirs.close()
+        raise
     if pid == 0:  # the child: the second part
         ours.close()
         code = 1
