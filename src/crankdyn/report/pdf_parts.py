@@ -15,8 +15,9 @@ depends on another part but numbers:
 
 The parts' PDFs are joined with pikepdf: pages, the outline (bookmarks), the named destinations
 and the contents' links. A document this cannot split (a framed note, whose blocks count all
-sheets; links between chapters; fewer than two chapters), no pikepdf, one core, or anything that
-goes wrong on the way: the PDF is made in one layout instead, the same pages.
+sheets; links between chapters; fewer than two chapters), no pikepdf, one core or none to spare
+(:func:`machine_busy`), or anything that goes wrong on the way: the PDF is made in one layout
+instead, the same pages.
 """
 
 from __future__ import annotations
