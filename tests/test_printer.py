@@ -74,10 +74,10 @@ def test_an_error_in_the_printer_gives_the_pdf_back_to_the_report(monkeypatch):
 
     html_to_pdf, parent = pdf_module.html_to_pdf, os.getpid()
 
-    def failing_in_the_printer(html, figures=()):
+    def failing_in_the_printer(html, figures=(), **options):
         if os.getpid() != parent and html != "<p>crankdyn</p>":  # the page, not the warm-up
             raise RuntimeError("WeasyPrint failed")
-        return html_to_pdf(html, figures)
+        return html_to_pdf(html, figures, **options)
 
     monkeypatch.setattr(pdf_module, "html_to_pdf", failing_in_the_printer)
     assert printer.prestart()

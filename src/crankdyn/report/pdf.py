@@ -16,6 +16,7 @@ from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from . import pdf_parts
 from .context import FIGURE_DIR
 from .weasy import load_weasyprint
 
@@ -114,13 +115,17 @@ def fewer_collections():
         gc.set_threshold(*before)
 
 
-def html_to_pdf(html: str, figures=()) -> bytes:
-    """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to."""
+def html_to_pdf(html: str, figures=(), *, parallel: bool = False) -> bytes:
+    """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to.
+
+    ``parallel``: the chapters may be laid out in a forked child at the same time
+    (:mod:`crankdyn.report.pdf_parts`); only for a caller whose figures a child may ask for too
+    (the printer's, served by the report's process one request at a time)."""
     with fewer_collections():
-        return _html_to_pdf(html, figures)
+        return _html_to_pdf(html, figures, parallel)
 
 
-def _html_to_pdf(html: str, figures) -> bytes:
+def _html_to_pdf(html: str, figures, parallel: bool) -> bytes:
     HTML = load_weasyprint().HTML
     html = spaces_into_inline(html)
 
@@ -128,6 +133,18 @@ def _html_to_pdf(html: str, figures) -> bytes:
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    return HTML(
-        string=html, base_url=base, url_fetcher=_fetcher(figure_urls(figures, base))
-    ).write_pdf()
+    fetcher = _fetcher(figure_urls(figures, base))
+
+    def render(page_html: str):
+        return HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
+
+    if parallel:
+        parts = pdf_parts.split(html)
+        if parts is not None and pdf_parts.can_split_processes():
+            try:
+                return pdf_parts.parallel_pdf(parts, render)
+            except pdf_parts.PartAbandoned:
+                raise  # the figures' channel may be out of step: the report makes the PDF
+            except Exception:  # noqa: BLE001 - the same pages from one layout instead
+                logging.getLogger(__name__).debug("laying out in parts failed", exc_info=True)
+    return render(html).write_pdf()

@@ -16,6 +16,7 @@ loaded already.
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import pickle
 import socket
@@ -56,17 +57,22 @@ def prestart() -> bool:
 
 
 class _RemoteFigure:
-    """A figure of the report as the printer sees it: its SVG asked for when the layout needs it."""
+    """A figure of the report as the printer sees it: its SVG asked for when the layout needs it.
 
-    def __init__(self, name: str, channel):
+    ``lock`` (shared with a forked child laying out chapters too) keeps each question and its
+    answer together on the one channel."""
+
+    def __init__(self, name: str, channel, lock):
         self.name = name
         self._channel = channel
+        self._lock = lock
 
     @property
     def svg(self) -> bytes:
         reader, writer = self._channel
-        _send(writer, ("figure", self.name))
-        kind, svg = pickle.load(reader)
+        with self._lock:
+            _send(writer, ("figure", self.name))
+            kind, svg = pickle.load(reader)
         if kind != "svg":
             raise RuntimeError(f"the report did not send figure {self.name!r}")
         return svg
@@ -91,7 +97,9 @@ def _serve(sock: socket.socket) -> int:
     except BaseException:  # noqa: BLE001 - no page will come (EOF) or WeasyPrint cannot load: the report prints
         return 0
     try:
-        pdf = html_to_pdf(html, [_RemoteFigure(name, (reader, writer)) for name in names])
+        lock = multiprocessing.Lock()
+        remote = [_RemoteFigure(name, (reader, writer), lock) for name in names]
+        pdf = html_to_pdf(html, remote, parallel=True)
     except BaseException as exc:  # noqa: BLE001 - said to the report, which prints the PDF itself
         _send(writer, ("failed", f"{exc.__class__.__name__}: {exc}"))
         return 0
