@@ -641,6 +641,10 @@ def _write_report(args) -> int:
     start = time.perf_counter()
     registry = default_registry()
     scene, languages = _load(args.scene, args.lang, args.data_dir, registry)
+    if "pdf" in formats:
+        from .report import printer  # lazy: heavy optional import (only a PDF has a printer)
+
+        printer.warm_up(scene.report.language, scene.report.frame)
     _print_broken(registry)
     run = write_report(
         scene,

@@ -33,10 +33,15 @@ class ReportRun:
 
 
 def _run_aside(
-    scene: Scene, registry: Registry, stages: Iterable[str] | None, languages: Iterable[str]
+    scene: Scene,
+    registry: Registry,
+    stages: Iterable[str] | None,
+    languages: Iterable[str],
+    printed: bool = False,
 ) -> RunResult | None:
     """The scene computed by a forked child (studies included, as they come) while this process
-    imports and prepares what rendering needs; None if no child could (then run it here).
+    imports and prepares what rendering needs (``printed``: the figures' PDF pages too); None if
+    no child could (then run it here).
     A bad scene is refused here, before anything is forked."""
     scene = scene.with_plugin_defaults(registry)
     check_scene(scene, registry, languages)
@@ -48,7 +53,7 @@ def _run_aside(
             prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
         )
 
-        prepare()
+        prepare(printed=printed)
     except BaseException:
         forked.close()
         raise
@@ -91,33 +96,15 @@ def _render_files(
         from ..report.context import (
             draw_figures,  # lazy: heavy optional import (jinja2, babel, matplotlib)
         )
-        from ..report.document import (
-            render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
-        )
-        from ..report.figures import (  # lazy: heavy optional import
-            IncrementalDrawing,
-            can_fork,
-            default_workers,
-        )
 
-        workers = default_workers() if figure_workers is None else figure_workers
-        drawing = IncrementalDrawing(workers) if workers > 1 and can_fork() else None
-        try:
-            # the figures are drawn by forked children while the next sections are rendered
-            rendered = render_html(result, registry, figure_sink=drawing.add if drawing else None)
-            if "pdf" in formats:
-                if drawing:
-                    # and, for the PDF, while WeasyPrint lays out the text: each figure is waited
-                    # for (or, without children, drawn) when the layout reaches it
-                    drawing.hand_out()
-                files["report.pdf"] = _pdf(rendered)
-            if drawing:
-                drawing.finish()
-        except BaseException:
-            if drawing:
-                drawing.abandon()
-            raise
-        draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
+        # A printed report places each figure's PDF page (report.figure_forms); the page's files
+        # and the Word file's pictures come from the figures' SVG.
+        svg_needed = "html" in formats or "docx" in formats
+        rendered = _rendered_and_printed(
+            result, registry, formats, svg_needed, figure_workers, files
+        )
+        if svg_needed:
+            draw_figures(rendered.figures, 1)  # none left, unless a section drew its figure again
         if missing is not None:
             missing.update(rendered.missing_translations)
         mathtext_store.save()  # the labels typeset here, for the next run
@@ -141,6 +128,53 @@ def _render_files(
     if "xlsx" in formats:
         files.update(outputs.xlsx_tables(result))
     return files
+
+
+def _rendered_and_printed(
+    result: RunResult,
+    registry: Registry,
+    formats: list[str],
+    svg_needed: bool,
+    figure_workers: int | None,
+    files: dict[str, bytes],
+):
+    """The rendered report, its figures drawn (as SVG where ``svg_needed``, as PDF pages for the
+    printed report) by forked children meanwhile; ``report.pdf`` added to ``files`` if asked."""
+    from ..report import figure_forms  # lazy: heavy optional import (with the figures)
+    from ..report.document import (
+        render_html,  # lazy: heavy optional import (jinja2, babel, matplotlib)
+    )
+    from ..report.figures import (  # lazy: heavy optional import
+        IncrementalDrawing,
+        can_fork,
+        default_workers,
+    )
+
+    workers = default_workers() if figure_workers is None else figure_workers
+    forking = workers > 1 and can_fork()
+    forms = "pdf" in formats and figure_forms.available()
+    drawings = []
+    if forking:
+        drawings.append(IncrementalDrawing(workers, "svg" if svg_needed or not forms else "pdf"))
+    try:
+        # the figures are drawn by forked children while the next sections are rendered
+        rendered = render_html(result, registry, figure_sink=drawings[0].add if drawings else None)
+        if "pdf" in formats:
+            if forking and forms and svg_needed:  # their PDF pages too
+                drawings.append(IncrementalDrawing(workers, "pdf"))
+                drawings[-1].add(rendered.figures)
+            for drawing in drawings:
+                # and, for the PDF, while WeasyPrint lays out the text: each figure is waited
+                # for (or, without children, drawn) when the layout reaches it
+                drawing.hand_out()
+            files["report.pdf"] = _pdf(rendered)
+        for drawing in drawings:
+            drawing.finish()
+    except BaseException:
+        for drawing in drawings:
+            drawing.abandon()
+        raise
+    return rendered
 
 
 def _pdf(rendered) -> bytes:
@@ -210,7 +244,8 @@ def run_and_render(
     # Nothing to render (JSON, CSV, XLSX): the second core is spare while the stages run, and a
     # study computes its independent parts there (crankdyn.parallel.fork).
     with frozen_heap(), spare_core(alone and not renders):
-        result = _run_aside(scene, registry, stages, languages) if aside else None
+        printed = "pdf" in formats
+        result = _run_aside(scene, registry, stages, languages, printed) if aside else None
         if result is None:
             result = run_scene(scene, registry, stages, languages, cache=cache, defer_studies=aside)
             if aside:

@@ -55,6 +55,7 @@ class FigureFile:
         self._figure = figure if figure is not None else getattr(build, "built", None)
         self._build = build
         self._svg = svg
+        self._pdf: bytes | None = None  # the figure as a one-page PDF, for the printed report
         self._t = t  # the report's translator: the figure's text is typeset on drawing
         self._symbols = symbols  # the report's symbol table (its subscripts per language)
         self._typeset_in = (
@@ -99,14 +100,34 @@ class FigureFile:
             figure_memo.keep(self._inputs, self._t, self._symbols, drawn)
         return drawn
 
-    @property
-    def svg(self) -> bytes:
-        if self._svg is None and self.awaiting is not None:
+    def draw_pdf(self) -> bytes:
+        """The figure as a one-page PDF, drawn now (labels typeset, laid out as for its SVG)."""
+        from .figures import to_pdf  # lazy: heavy optional import (matplotlib)
+
+        return to_pdf(self.typeset())
+
+    def _await_child(self) -> None:
+        if self.awaiting is not None:
             awaiting, self.awaiting = self.awaiting, None
             awaiting(self)
+
+    @property
+    def svg(self) -> bytes:
+        if self._svg is None:
+            self._await_child()
         if self._svg is None:
             self._svg = self.draw()
         return self._svg
+
+    @property
+    def pdf(self) -> bytes | None:
+        """The figure as a one-page PDF (the printed report places it as it is), or None for a
+        figure given only as its SVG."""
+        if self._pdf is None:
+            self._await_child()
+        if self._pdf is None and (self._figure is not None or self._build is not None):
+            self._pdf = self.draw_pdf()
+        return self._pdf
 
     def __repr__(self) -> str:
         return f"FigureFile({self.name!r}, drawn={self.drawn})"

@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 STYLE: dict[RcKeyType, Any] = {
     "svg.fonttype": "none",  # text stays text: searchable in the PDF (fonts: the report's, below)
+    "pdf.fonttype": 3,  # a figure PDF's text in fonts matplotlib subsets itself (no fontTools: fast)
     "font.family": "DejaVu Sans",
     "font.size": 9,
     "axes.grid": True,
@@ -303,9 +304,12 @@ def _import_figure_and_backends() -> None:
     import matplotlib.figure  # noqa: F401  # lazy: heavy optional import
 
 
-def prepare() -> None:
+def prepare(printed: bool = False) -> None:
     """Import what drawing needs and read the stored labels (:mod:`crankdyn.report.mathtext_store`)
-    ahead of the first figure: a report does this while its stages are computed elsewhere."""
+    ahead of the first figure: a report does this while its stages are computed elsewhere.
+    ``printed``: figures will be drawn as PDF pages too (:func:`to_pdf`); a small one is drawn
+    now, so that the drawers forked later inherit matplotlib's PDF set-up (its fonts' Type 3
+    outlines start there) instead of each making it again."""
     import_matplotlib()
 
     from matplotlib.font_manager import FontProperties  # lazy: heavy optional import
@@ -318,6 +322,12 @@ def prepare() -> None:
     # for the drawers forked later to inherit, instead of in each of them (~40 ms a drawer)
     with house_style():
         MathTextParser("path").parse(WARM_UP_LABEL, 72, FontProperties(size=STYLE["font.size"]))
+    if printed:
+        fig, axes = new_figure(4, 3)
+        axes.plot([0.0, 1.0], [0.0, 1.0])
+        axes.set_xlabel(WARM_UP_LABEL)
+        axes.set_ylabel("Кут α")
+        to_pdf(fig)
 
 
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
@@ -681,6 +691,46 @@ def to_svg(fig) -> bytes:
     draws, each text is measured once (matplotlib caches text metrics per renderer). What
     follows is ``FigureCanvasSVG.print_svg`` with the ``TightLayoutEngine`` step before the draw.
     """
+    buffer = io.StringIO()
+
+    def renderer(width: float, height: float):
+        return _lean_svg_renderer()(
+            width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}
+        )
+
+    _draw_laid_out(fig, renderer)
+    return presentation_attributes(_UPRIGHT.sub("", buffer.getvalue())).encode("utf-8")
+
+
+#: A figure PDF's document information: none (the same figure gives the same bytes).
+_NO_PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None}
+
+
+def to_pdf(fig) -> bytes:
+    """The figure as a one-page PDF (its page the figure's size in points), laid out and drawn
+    as :func:`to_svg` does, for the printed report to place as it is
+    (:mod:`crankdyn.report.figure_forms`). Text stays text, in Type 3 fonts matplotlib subsets
+    itself, with their Unicode names (searchable, copied as written)."""
+    from matplotlib.backends.backend_pdf import PdfFile, RendererPdf  # lazy: heavy optional import
+
+    buffer = io.BytesIO()
+    file = PdfFile(buffer, metadata=_NO_PDF_METADATA)
+
+    def renderer(width: float, height: float):
+        file.newPage(width, height)
+        return RendererPdf(file, 72, height, width)
+
+    try:
+        _draw_laid_out(fig, renderer)
+        file.finalize()
+    finally:
+        file.close()
+    return buffer.getvalue()
+
+
+def _draw_laid_out(fig, renderer_for: Callable[[float, float], Any]) -> None:
+    """Lay ``fig`` out (tight layout, unless it is a drawing to scale) and draw it with the
+    renderer ``renderer_for(width_in, height_in)`` makes, at 72 dots an inch."""
     from matplotlib._tight_layout import (  # lazy: heavy optional import
         get_subplotspec_list,
         get_tight_layout_figure,
@@ -693,24 +743,15 @@ def to_svg(fig) -> bytes:
     _measure_math_as_drawn()
     _remember_text_layouts()
     _remember_tick_updates()
-    buffer = io.StringIO()
     dpi = fig.dpi
     outer_updates = getattr(_tick_updates, "updates", None)
     _tick_updates.updates = {}
     try:
         with house_style():
             fig.set_layout_engine(None)  # laid out here, once
-            fig.dpi = 72  # the SVG's own unit, as print_svg sets it (and gives back after)
+            fig.dpi = 72  # the vector formats' own unit, as savefig sets it (and gives back after)
             width, height = fig.get_size_inches()
-            renderer = MixedModeRenderer(
-                fig,
-                width,
-                height,
-                72,
-                _lean_svg_renderer()(
-                    width * 72, height * 72, buffer, image_dpi=72, metadata={"Date": None}
-                ),
-            )
+            renderer = MixedModeRenderer(fig, width, height, 72, renderer_for(width, height))
             if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
                 with renderer._draw_disabled():
                     adjust = get_tight_layout_figure(
@@ -726,7 +767,6 @@ def to_svg(fig) -> bytes:
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
-    return presentation_attributes(_UPRIGHT.sub("", buffer.getvalue())).encode("utf-8")
 
 
 #: The one stylesheet matplotlib writes into an SVG (every element's line joins and caps).
@@ -1007,27 +1047,39 @@ class IncrementalDrawing:
     Instead of :meth:`finish`, :meth:`hand_out` gives every figure still waiting to children and
     returns at once: this process may go on (laying out the PDF) and a figure's ``svg`` then
     waits for the child drawing it; :meth:`finish` afterwards reaps what is left.
+
+    ``kind``: what is drawn, the figures' ``"svg"`` (the page's files) or ``"pdf"`` (the pages
+    a printed report places, :mod:`crankdyn.report.figure_forms`).
     """
 
-    def __init__(self, workers: int):
+    def __init__(self, workers: int, kind: str = "svg"):
+        if kind not in ("svg", "pdf"):
+            raise ValueError(f"kind {kind!r}; allowed: 'svg', 'pdf'")
         self.workers = max(workers, 1)
         self.children = max(workers - 1, 1)
+        self.kind = kind
         self._running: list[tuple[ForkedDrawing, list]] = []
         self._waiting: list = []
+
+    def _job(self, figure) -> Callable[[], bytes]:
+        return figure.draw if self.kind == "svg" else figure.draw_pdf
+
+    def _drawn(self, figure) -> bool:
+        return getattr(figure, f"_{self.kind}") is not None
 
     #: Figures a child takes at a time: small batches leave work for the end, where this process
     #: and the children share it (a child that took everything would leave this one idle).
     BATCH = 3
 
     def add(self, figures) -> None:
-        self._waiting += [f for f in figures if not f.drawn]
+        self._waiting += [f for f in figures if not self._drawn(f)]
         self._store(finished_only=True)
         if self._waiting and len(self._running) < self.children:
             batch, self._waiting = self._waiting[: self.BATCH], self._waiting[self.BATCH :]
             self._fork(batch)
 
     def _fork(self, batch: list) -> None:
-        drawing = ForkedDrawing([f.draw for f in batch], [list(range(len(batch)))])
+        drawing = ForkedDrawing([self._job(f) for f in batch], [list(range(len(batch)))])
         self._running.append((drawing, batch))
         for figure in batch:
             figure.awaiting = self._await
@@ -1040,10 +1092,9 @@ class IncrementalDrawing:
                 self._keep(*entry)
                 return
 
-    @staticmethod
-    def _keep(drawing: ForkedDrawing, batch: list) -> None:
-        for figure, svg in zip(batch, drawing.finish(), strict=True):
-            figure._svg = svg
+    def _keep(self, drawing: ForkedDrawing, batch: list) -> None:
+        for figure, drawn in zip(batch, drawing.finish(), strict=True):
+            setattr(figure, f"_{self.kind}", drawn)
             figure.awaiting = None
 
     def _store(self, finished_only: bool) -> None:
@@ -1074,18 +1125,18 @@ class IncrementalDrawing:
         if 2 <= len(waiting) <= SHARED_JOBS_MAX:
             # the rest taken figure by figure by this process and a new child (a busy one has at
             # most BATCH left)
-            shared = SharedDrawing([f.draw for f in waiting], children=1)
+            shared = SharedDrawing([self._job(f) for f in waiting], children=1)
             try:
                 shared.draw_here()
             finally:
                 shared.collect()
                 self._store(finished_only=False)
-            for figure, svg in zip(waiting, shared.finish(), strict=True):
-                figure._svg = svg
+            for figure, drawn in zip(waiting, shared.finish(), strict=True):
+                setattr(figure, f"_{self.kind}", drawn)
             return
         try:
             for figure in waiting:
-                figure.svg  # noqa: B018 - drawn here for its side effect
+                getattr(figure, self.kind)  # drawn here for its side effect
         finally:
             self._store(finished_only=False)
 

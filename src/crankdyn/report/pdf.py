@@ -16,7 +16,7 @@ from importlib import resources
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-from . import pdf_parts
+from . import figure_forms, pdf_parts
 from .context import FIGURE_DIR
 from .weasy import load_weasyprint
 
@@ -50,19 +50,30 @@ def figure_urls(figures, base: str) -> dict:
     return {f"{base}{FIGURE_DIR}/{f.name}": f for f in figures}
 
 
-def _fetcher(in_memory: dict | None = None):
+def _fetcher(in_memory: dict | None = None, forms: dict | None = None):
     """The safe fetcher; ``in_memory`` maps the exact URLs of the rendered figures to their
-    FigureFile (its SVG served from memory, never from a file; any other URL follows
-    :func:`is_allowed`)."""
+    FigureFile (served from memory, never from a file; any other URL follows :func:`is_allowed`).
+    With ``forms`` (URL -> figure PDF, filled here), a figure that has a PDF page is served as an
+    empty SVG of its size and its page kept there, to be stamped after the layout
+    (:mod:`crankdyn.report.figure_forms`); any other figure is served as its SVG."""
     weasyprint = load_weasyprint()
     in_memory = dict(in_memory or {})
+
+    def image(url: str) -> bytes:
+        figure = in_memory[url]
+        pdf = getattr(figure, "pdf", None) if forms is not None else None
+        if pdf is None:
+            return figure.svg
+        forms[url] = pdf  # type: ignore[index]  # forms is not None here
+        return figure_forms.placeholder_svg(pdf)
+
     if hasattr(weasyprint, "URLFetcher"):  # WeasyPrint >= 66: fetchers are objects
 
         class SafeURLFetcher(weasyprint.URLFetcher):  # type: ignore[name-defined]  # loaded at run time
             def fetch(self, url, headers=None):
                 if unquote(url) in in_memory:
                     return weasyprint.urls.URLFetcherResponse(
-                        url, in_memory[unquote(url)].svg, headers={"Content-Type": "image/svg+xml"}
+                        url, image(unquote(url)), headers={"Content-Type": "image/svg+xml"}
                     )
                 if not is_allowed(url):
                     raise BlockedResource(f"crankdyn does not load {url!r} into a report")
@@ -73,7 +84,7 @@ def _fetcher(in_memory: dict | None = None):
     def safe_url_fetcher(url, *args, **kwargs):  # older WeasyPrint: a plain function
         if unquote(url) in in_memory:
             return {
-                "string": in_memory[unquote(url)].svg,
+                "string": image(unquote(url)),
                 "mime_type": "image/svg+xml",
                 "redirected_url": url,
             }
@@ -133,10 +144,13 @@ def _html_to_pdf(html: str, figures, parallel: bool) -> bytes:
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    fetcher = _fetcher(figure_urls(figures, base))
+    # figures drawn as PDF pages are stamped into the laid-out pages (crankdyn.report.figure_forms)
+    forms: dict[str, bytes] | None = {} if figure_forms.available() else None
+    fetcher = _fetcher(figure_urls(figures, base), forms)
 
     def render(page_html: str):
-        return HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
+        document = HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
+        return document if forms is None else figure_forms.StampedDocument(document, forms, base)
 
     if parallel:
         parts = pdf_parts.split(html)

@@ -33,6 +33,7 @@ import socket
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from ..parallel.fork import stop_child
 
@@ -106,14 +107,15 @@ def split(html: str) -> Split | None:
 
 def _work(html: str) -> float:
     """About how long WeasyPrint takes over ``html``, in characters of plain text: a table cell,
-    a figure, an equation or a where-list and a part of its own each cost as much as that many
-    characters (fitted to the layout times of a report's chapters, alone)."""
+    an equation or a where-list and a part of its own each cost as much as that many characters
+    (fitted to the layout and printing times of the bundled examples' chapters, alone). A figure
+    costs next to nothing: its PDF page is stamped after the layout (:mod:`.figure_forms`), as
+    whenever the parts can be joined (pikepdf)."""
     return (
         len(_MARKUP.sub("", html))
-        + 24 * len(re.findall(r"<t[dh]\b", html))
-        + 1500 * html.count("<img")
-        + 90 * (html.count('class="equation') + html.count('class="where'))
-        + 600
+        + 22 * len(re.findall(r"<t[dh]\b", html))
+        + 45 * (html.count('class="equation') + html.count('class="where'))
+        + 900
     )
 
 
@@ -152,7 +154,7 @@ def _numbered_from(first_number: Callable[[], int]):
     """While a chapters part is laid out: its margin boxes count pages from ``first_number()``
     (asked for once, when the part's pages are laid out and their margin boxes are to be made)
     for its first chapter page, the page after the throw-away first one."""
-    layout = importlib.import_module("weasyprint.layout")
+    layout: Any = importlib.import_module("weasyprint.layout")  # private, patched while laid out
     original = layout.make_margin_boxes
     start: list[int] = []
 
@@ -198,7 +200,7 @@ def _receive(sock: socket.socket):
     return pickle.loads(exactly(int.from_bytes(exactly(8), "big")))
 
 
-def _second_part(sock: socket.socket, render: Callable[[str], object], html: str) -> None:
+def _second_part(sock: socket.socket, render: Callable[[str], Any], html: str) -> None:
     """The child's work: lay out the second part, wait for its first page number, send its
     anchors and bookmarks, draw it, send the PDF."""
     number: list[int] = []
@@ -232,7 +234,7 @@ class PartAbandoned(RuntimeError):
 CHILD_GRACE_S = 120.0
 
 
-def parallel_pdf(parts: Split, render: Callable[[str], object]) -> bytes:
+def parallel_pdf(parts: Split, render: Callable[[str], Any]) -> bytes:
     """The PDF of the split report; ``render(html)`` lays out one HTML document (a WeasyPrint
     Document). Raises on any failure: the caller then makes the PDF in one layout, unless it is
     :class:`PartAbandoned`."""

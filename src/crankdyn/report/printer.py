@@ -4,8 +4,10 @@
 computing the stages, on one core. WeasyPrint's own import (0.4 s) needs none of that: a process
 forked at the very start (:func:`prestart`) imports it on the other core, then waits for the
 page. When the report's HTML is ready, :func:`print_pdf` hands it over and serves the figures the
-layout asks for (``figures/NAME.svg``, drawn by this process or its drawing children); the
-printer sends the PDF back and exits.
+layout asks for (``figures/NAME.svg``, drawn by this process or its drawing children, or the
+figure's PDF page to stamp, :mod:`crankdyn.report.figure_forms`); the printer sends the PDF back
+and exits. Once the scene is read, :func:`warm_up` tells the printer the report's language, and
+it lays out a page of the report's markup in it while it waits.
 
 Whatever goes wrong on the printer's side (it died, WeasyPrint raised, the pipe broke) the PDF is
 made in this process instead, as without a printer: the same bytes, or the same exception. A
@@ -16,6 +18,7 @@ loaded already.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import pickle
@@ -67,15 +70,23 @@ class _RemoteFigure:
         self._channel = channel
         self._lock = lock
 
-    @property
-    def svg(self) -> bytes:
+    def _ask(self, question: str, answer: str):
         reader, writer = self._channel
         with self._lock:
-            _send(writer, ("figure", self.name))
-            kind, svg = pickle.load(reader)
-        if kind != "svg":
+            _send(writer, (question, self.name))
+            kind, value = pickle.load(reader)
+        if kind != answer:
             raise RuntimeError(f"the report did not send figure {self.name!r}")
-        return svg
+        return value
+
+    @property
+    def svg(self) -> bytes:
+        return self._ask("figure", "svg")
+
+    @property
+    def pdf(self) -> bytes | None:
+        """The figure's PDF page, or None when the report has only its SVG."""
+        return self._ask("form", "pdf")
 
 
 def _send(writer, message) -> None:
@@ -93,7 +104,11 @@ def _serve(sock: socket.socket) -> int:
         html_to_pdf(
             "<p>crankdyn</p>"
         )  # fontconfig and the first page's set-up, as a batch warms up
-        html, names = pickle.load(reader)
+        message = pickle.load(reader)
+        if message[0] == "language":  # the report's language and frame, known before its page
+            _warm_up(*message[1:])
+            message = pickle.load(reader)
+        html, names = message
     except BaseException:  # noqa: BLE001 - no page will come (EOF) or WeasyPrint cannot load: the report prints
         return 0
     try:
@@ -105,6 +120,48 @@ def _serve(sock: socket.socket) -> int:
         return 0
     _send(writer, ("pdf", pdf))
     return 0
+
+
+#: What a report's first page sets up in WeasyPrint once (its fonts' faces, the language's
+#: hyphenation patterns, the title page's, contents' and chapters' styles), in the report's markup.
+_WARM_UP_BODY = (
+    '<section class="title-page"><div class="university">Aa</div><div class="doc-kind">Bb</div>'
+    '<div class="doc-title">Cc</div><table class="signatures"><tr><td class="name">Dd</td></tr>'
+    '<tr><td class="line"><span class="blank wide"></span> <span class="hint">(e)</span></td>'
+    '</tr></table><div class="city-year">2026</div></section>'
+    '<section class="abstract"><h2 class="unnumbered">Ff</h2><p class="counts">'
+    '<a class="pagecount" href="#end"></a></p></section>'
+    '<nav class="contents"><ul><li><a href="#s1">1 Gg</a></li></ul></nav>'
+    '<section class="chapter" id="s1"><h1>1 Aa</h1><h2>1.1 Bb</h2>'
+    '<p style="hyphens: auto; width: 3em">характеристика acceleration</p>'
+    "<p><i>x</i><sub>p</sub> <b>Bb</b> <b><i>c</i></b><sup>2</sup> − 0,5 °</p>"
+    '<div class="equation"><span class="formula"><i>R</i> = 1</span><span class="eqno">(1.1)</span></div>'
+    '<table class="data"><tr><th>a</th><td>1</td></tr></table></section><p id="end"></p>'
+)
+
+
+def _warm_up(language: str, frame: str) -> None:
+    """Lay out and print a page of the report's markup in ``language`` and ``frame`` while the
+    report is still computed: the first layout of the report's front matter took three times as
+    long as the second, most of it loading the language's hyphenation patterns."""
+    from .document import report_css  # lazy: heavy optional import (the report's templates)
+    from .pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
+
+    html_to_pdf(
+        f'<html lang="{language}"><head><style>{report_css(language, frame)}</style></head>'
+        f"<body>{_WARM_UP_BODY}</body></html>"
+    )
+
+
+def warm_up(language: str, frame: str) -> None:
+    """Tell this process's printer (if it started one) the report's language and frame, so that
+    it sets them up before the page comes (:func:`_warm_up`). Nothing happens without a printer."""
+    if _printer is None or _printer[2] != os.getpid():
+        return
+    with contextlib.suppress(OSError):  # a dead printer: print_pdf finds out and prints here
+        writer = _printer[1].makefile("wb")
+        _send(writer, ("language", language, frame))
+        writer.close()
 
 
 def _take() -> tuple[int, socket.socket] | None:
@@ -137,6 +194,8 @@ def print_pdf(html: str, figures: Sequence) -> bytes | None:
             if kind == "figure":
                 # the figure's own exceptions are the report's: raised here, as without a printer
                 _send(writer, ("svg", by_name[value].svg))
+            elif kind == "form":
+                _send(writer, ("pdf", getattr(by_name[value], "pdf", None)))
             elif kind == "pdf":
                 return value
             else:  # "failed": made here again, which raises the same error where it is one
