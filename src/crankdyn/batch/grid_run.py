@@ -42,6 +42,7 @@ from ..engine.orchestrator import (
     stage_inputs,
 )
 from ..errors import PluginError
+from ..parallel.allocator import chunk_arrays_reused
 from ..parallel.pool import DEFAULT_TIMEOUT_S, OutOfTime, run_all, run_all_dask, stop_signals
 from ..plugin.registry import Registry
 from ..plugin.types import Stage, StageOutput
@@ -391,10 +392,12 @@ class KeyRun(VariantRun):
         data_dirs: tuple[str, ...] = (),
         limit_s: float | None = None,
     ) -> list[Outcome]:
-        """:func:`run_chunk` with the run's registry."""
-        return run_chunk(
-            base, base_dir, variants, language, stages, data_dirs, limit_s, self.registry
-        )
+        """:func:`run_chunk` with the run's registry (in a Dask worker, with its arrays' memory
+        reused: :mod:`crankdyn.parallel.allocator`)."""
+        with chunk_arrays_reused():
+            return run_chunk(
+                base, base_dir, variants, language, stages, data_dirs, limit_s, self.registry
+            )
 
     def prepare_dask_worker(self) -> None:
         """:func:`_prepare_dask_worker` for this run."""
