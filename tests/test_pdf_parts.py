@@ -137,6 +137,7 @@ def test_two_parts_give_the_pages_of_one_layout(tmp_path, monkeypatch):
     assert _links_and_outline(apart) == _links_and_outline(whole)
 
 
+@pytest.mark.slow  # a third layout in a fresh process: in the slow tier, which CI runs
 @in_fresh_process
 def test_a_part_that_fails_leaves_the_pdf_to_one_layout(tmp_path, monkeypatch):
     def failing(sock, render, html):
@@ -150,6 +151,7 @@ def test_a_part_that_fails_leaves_the_pdf_to_one_layout(tmp_path, monkeypatch):
     assert _pages(apart, tmp_path, "apart.pdf") == _pages(html_to_pdf(html), tmp_path, "w.pdf")
 
 
+@pytest.mark.slow  # a third layout in a fresh process: in the slow tier, which CI runs
 @in_fresh_process
 def test_a_busy_machine_lays_out_in_one_process(tmp_path, monkeypatch):
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1})
@@ -221,24 +223,3 @@ def test_the_printer_lays_out_in_parts_and_serves_both_their_figures(tmp_path, m
     pages = _pages(pdf, tmp_path, "printed.pdf")
     assert pages == _pages(html_to_pdf(html, figures), tmp_path, "here.pdf")
     assert "fig_1.svg" in pages[3] and "fig_5.svg" in pages[-2]  # each figure drawn on its page
-
-
-def test_the_layout_runs_with_fewer_collections_and_restores_the_thresholds():
-    import gc
-
-    from crankdyn.report import pdf as pdf_module
-    from crankdyn.report.context import FigureFile
-
-    seen = []
-
-    class Figure(FigureFile):
-        @property
-        def svg(self):  # asked for in the middle of the layout
-            seen.append(gc.get_threshold())
-            return b'<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-
-    before = gc.get_threshold()
-    assert before != pdf_module.LAYOUT_GC_THRESHOLDS
-    html_to_pdf('<p>a</p><img src="figures/fig.svg">', [Figure("fig.svg")])
-    assert seen == [pdf_module.LAYOUT_GC_THRESHOLDS]
-    assert gc.get_threshold() == before
