@@ -55,19 +55,23 @@ def _dark_box(pdf: bytes, tmp_path, name: str) -> tuple[int, int, int, int]:
     return columns.min(), rows.min(), columns.max(), rows.max()
 
 
+def _matplotlib_fonts(pdf: bytes) -> int:
+    """How many Type 3 fonts the PDF has: matplotlib's figure pages bring them, WeasyPrint's
+    text has none."""
+    with pikepdf.open(io.BytesIO(pdf)) as document:
+        return sum(
+            isinstance(item, pikepdf.Dictionary) and item.get("/Subtype") == "/Type3"
+            for item in document.objects
+        )
+
+
 def test_a_stamped_figure_takes_the_place_and_size_weasyprint_draws_its_svg_in(
     tmp_path, monkeypatch
 ):
     stamped = html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)])
     monkeypatch.setattr(figure_forms, "available", lambda: False)  # WeasyPrint draws the SVG
     drawn = html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)])
-    with pikepdf.open(io.BytesIO(stamped)) as document:
-        forms = [
-            name
-            for name, item in document.pages[0].resources.get("/XObject", {}).items()
-            if item.get("/Subtype") == "/Form"
-        ]
-    assert forms  # the figure is a form on the page, not drawn by WeasyPrint
+    assert _matplotlib_fonts(stamped) and not _matplotlib_fonts(drawn)  # matplotlib's page
     box, expected = _dark_box(stamped, tmp_path, "stamped"), _dark_box(drawn, tmp_path, "drawn")
     assert np.allclose(box, expected, atol=1)  # the same place and size, to a pixel at 100 dpi
 
@@ -105,3 +109,26 @@ def test_a_figure_given_only_as_svg_is_drawn_by_weasyprint(monkeypatch):
     )
     pdf = pdf_module.html_to_pdf(PAGE, [figure])
     assert stamped == [[]] and pdf.startswith(b"%PDF")
+
+
+def test_a_figure_whose_place_is_not_found_is_drawn_by_weasyprint_instead(tmp_path, monkeypatch):
+    expected = _dark_box(
+        html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)]), tmp_path, "placed"
+    )
+    monkeypatch.setattr(figure_forms, "placements", lambda document, forms, base: [])
+    pdf = html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)])
+    assert not _matplotlib_fonts(pdf)  # WeasyPrint drew the SVG
+    assert np.allclose(_dark_box(pdf, tmp_path, "drawn"), expected, atol=1)  # the figure is there
+
+
+def test_a_figure_that_cannot_be_drawn_as_a_pdf_page_is_printed_from_its_svg(tmp_path):
+    class NoPage(FigureFile):
+        def draw_pdf(self) -> bytes:
+            raise RuntimeError("this artist has no PDF drawing")
+
+    pdf = html_to_pdf(PAGE, [NoPage("fig_1.svg", build=_block_figure)])
+    assert np.allclose(
+        _dark_box(pdf, tmp_path, "svg"),
+        _dark_box(html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)]), tmp_path, "p"),
+        atol=1,
+    )

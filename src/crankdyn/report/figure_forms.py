@@ -121,18 +121,34 @@ def stamp(pdf: bytes, where: list[Placement], forms: Mapping[str, bytes]) -> byt
     return out.getvalue()
 
 
-class StampedDocument:
-    """A WeasyPrint document whose :meth:`write_pdf` stamps the figures' forms into its PDF;
-    everything else (its pages, bookmarks, links) is the document's own."""
+class NotPlaced(RuntimeError):
+    """A figure of the page has no box to be stamped into: the PDF is made again with WeasyPrint
+    drawing the figures, rather than without the figure."""
 
-    def __init__(self, document, forms: Mapping[str, bytes], base: str):
+
+#: An image's source in a page's HTML.
+_IMAGE_SOURCE = re.compile(r'<img\b[^>]*?\bsrc="([^"]+)"')
+
+
+class StampedDocument:
+    """A WeasyPrint document (laid out from ``html``) whose :meth:`write_pdf` stamps the
+    figures' forms into its PDF; everything else (its pages, bookmarks, links) is the document's
+    own. Raises :class:`NotPlaced` when a figure of ``html`` served as a placeholder was not
+    found on a page."""
+
+    def __init__(self, document, forms: Mapping[str, bytes], base: str, html: str):
         self._document = document
         self._forms = forms
         self._base = base
+        self._html = html
 
     def __getattr__(self, name: str):
         return getattr(self._document, name)
 
     def write_pdf(self, *args, **kwargs) -> bytes:
-        pdf = self._document.write_pdf(*args, **kwargs)
-        return stamp(pdf, placements(self._document, self._forms, self._base), self._forms)
+        where = placements(self._document, self._forms, self._base)
+        shown = {unquote(urljoin(self._base, src)) for src in _IMAGE_SOURCE.findall(self._html)}
+        lost = (shown & set(self._forms)) - {placement.url for placement in where}
+        if lost:
+            raise NotPlaced(f"no place found for {', '.join(sorted(lost))}")
+        return stamp(self._document.write_pdf(*args, **kwargs), where, self._forms)

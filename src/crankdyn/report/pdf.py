@@ -61,7 +61,12 @@ def _fetcher(in_memory: dict | None = None, forms: dict | None = None):
 
     def image(url: str) -> bytes:
         figure = in_memory[url]
-        pdf = getattr(figure, "pdf", None) if forms is not None else None
+        pdf = None
+        if forms is not None:
+            try:
+                pdf = getattr(figure, "pdf", None)
+            except Exception:  # noqa: BLE001 - its SVG then, which raises the figure's own error
+                pdf = None
         if pdf is None:
             return figure.svg
         forms[url] = pdf  # type: ignore[index]  # forms is not None here
@@ -137,6 +142,16 @@ def html_to_pdf(html: str, figures=(), *, parallel: bool = False) -> bytes:
 
 
 def _html_to_pdf(html: str, figures, parallel: bool) -> bytes:
+    # figures drawn as PDF pages are stamped into the laid-out pages (crankdyn.report.figure_forms)
+    if figure_forms.available():
+        try:
+            return _laid_out(html, figures, parallel, forms={})
+        except figure_forms.NotPlaced:
+            logging.getLogger(__name__).debug("a figure's place was not found", exc_info=True)
+    return _laid_out(html, figures, parallel, forms=None)
+
+
+def _laid_out(html: str, figures, parallel: bool, forms: dict[str, bytes] | None) -> bytes:
     HTML = load_weasyprint().HTML
     html = spaces_into_inline(html)
 
@@ -144,20 +159,20 @@ def _html_to_pdf(html: str, figures, parallel: bool) -> bytes:
     # console quiet (the tests check the blocking itself).
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     base = _asset_root().as_uri() + "/"
-    # figures drawn as PDF pages are stamped into the laid-out pages (crankdyn.report.figure_forms)
-    forms: dict[str, bytes] | None = {} if figure_forms.available() else None
     fetcher = _fetcher(figure_urls(figures, base), forms)
 
     def render(page_html: str):
         document = HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
-        return document if forms is None else figure_forms.StampedDocument(document, forms, base)
+        if forms is None:
+            return document
+        return figure_forms.StampedDocument(document, forms, base, page_html)
 
     if parallel:
         parts = pdf_parts.split(html)
         if parts is not None and pdf_parts.can_split_processes():
             try:
                 return pdf_parts.parallel_pdf(parts, render)
-            except pdf_parts.PartAbandoned:
+            except (pdf_parts.PartAbandoned, figure_forms.NotPlaced):
                 raise  # the figures' channel may be out of step: the report makes the PDF
             except Exception:  # noqa: BLE001 - the same pages from one layout instead
                 logging.getLogger(__name__).debug("laying out in parts failed", exc_info=True)
