@@ -1,16 +1,17 @@
 """The shortcuts crankdyn.report.figures takes through matplotlib's drawing (further ticks copied
 from the first, text layouts and tick updates remembered, the house style set key by key) give
-the SVG bytes matplotlib's own way gives."""
+the SVG and PDF bytes matplotlib's own way gives."""
 
 import matplotlib
 import numpy as np
+import pytest
 from matplotlib.axis import Axis
 from matplotlib.text import Text
 
 from crankdyn.report import figures
 
 
-def _drawn() -> bytes:
+def _drawn(to=figures.to_svg) -> bytes:
     """A figure that exercises ticks: shared and twin axes, a log axis with minor ticks, tick
     parameters changed after the first tick was made, rotated labels, mathtext, a legend."""
     fig, (top, bottom) = figures.new_figure(12, 10, nrows=2, sharex=True)
@@ -33,17 +34,19 @@ def _drawn() -> bytes:
     ax.set_ylabel("a long label\nof two lines")
     ax.text(0.2, 5e4, "alike", rotation=45)  # laid out apart from the same text upright
     ax.text(0.6, 5e4, "alike")
-    return figures.to_svg(fig) + figures.to_svg(narrow)
+    return to(fig) + to(narrow)
 
 
-def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch):
+@pytest.mark.parametrize("to", [figures.to_svg, figures.to_pdf], ids=["svg", "pdf"])
+def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch, to):
     figures._copy_new_ticks()
     figures._remember_text_layouts()
     figures._remember_tick_updates()
     figures._text_layouts.clear()
-    shortcut = _drawn()
+    _drawn(figures.to_svg)  # an SVG's layouts remembered first: a PDF measures its own
+    shortcut = _drawn(to)
     assert figures._text_layouts, "layouts were remembered"
-    assert _drawn() == shortcut  # and drawn again from what was remembered
+    assert _drawn(to) == shortcut  # and drawn again from what was remembered
     for owner, name in (
         (Axis, "get_major_ticks"),
         (Axis, "get_minor_ticks"),
@@ -55,7 +58,7 @@ def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch):
         monkeypatch.setattr(figures, installer, lambda: None)  # to_svg would put them back
     monkeypatch.setattr(figures, "house_style", lambda: matplotlib.rc_context(figures.STYLE))
     assert not hasattr(Axis.get_major_ticks, "__wrapped__")
-    assert _drawn() == shortcut
+    assert _drawn(to) == shortcut
 
 
 def test_a_copied_tick_shares_no_state_matplotlib_changes_in_place():

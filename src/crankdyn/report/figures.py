@@ -545,25 +545,33 @@ TEXT_LAYOUTS = 4096
 _text_layouts: dict = {}
 
 
-def _is_svg_renderer(renderer) -> bool:
+def _vector_renderer(renderer) -> type | None:
+    """The class of an SVG or PDF renderer (inside a mixed-mode one), else None: those draw at
+    72 dpi here (:func:`_draw_laid_out`) and measure texts by the font files alone."""
     from matplotlib.backends.backend_mixed import MixedModeRenderer  # lazy: heavy optional import
     from matplotlib.backends.backend_svg import RendererSVG  # lazy: heavy optional import
 
     if isinstance(renderer, MixedModeRenderer):
         renderer = renderer._renderer
-    return isinstance(renderer, RendererSVG)
+    if isinstance(renderer, RendererSVG):
+        return RendererSVG
+    backend_pdf = sys.modules.get("matplotlib.backends.backend_pdf")
+    if backend_pdf is not None and isinstance(renderer, backend_pdf.RendererPdf):
+        return backend_pdf.RendererPdf
+    return None
 
 
 def _remember_text_layouts() -> None:
-    """Let a text laid out for an SVG keep its layout for every text that is laid out alike.
+    """Let a text laid out for an SVG or a PDF keep its layout for every text laid out alike.
 
     ``Text._get_layout`` (the box and the lines' places of a text, relative to its anchor) runs
     for every text several times a figure (the tight layout, the axis labels' placing, the
     drawing) and for the same tick labels in figure after figure: a seventh of drawing a
-    report's figures. For an SVG (always drawn at 72 dpi, its texts measured by the font files
-    alone: :func:`to_svg`) the layout depends only on what the key holds: the text, its font,
-    dpi, rotation, alignments, line spacing and whether it is parsed as mathtext. A text that
-    wraps (its lines depend on where it stands) or is set by TeX is laid out every time."""
+    report's figures. For an SVG or a PDF (always drawn at 72 dpi, their texts measured by the
+    font files alone: :func:`to_svg`, :func:`to_pdf`) the layout depends only on what the key
+    holds: the renderer's kind (the two measure a little differently), the text, its font, dpi,
+    rotation, alignments, line spacing and whether it is parsed as mathtext. A text that wraps
+    (its lines depend on where it stands) or is set by TeX is laid out every time."""
     from matplotlib.text import Text  # lazy: heavy optional import
 
     layout = Text._get_layout  # type: ignore[attr-defined]  # matplotlib's private layout
@@ -571,9 +579,11 @@ def _remember_text_layouts() -> None:
         return
 
     def _get_layout(self, renderer):
-        if self._wrap or self.get_usetex() or not _is_svg_renderer(renderer):
+        kind = _vector_renderer(renderer)
+        if self._wrap or self.get_usetex() or kind is None:
             return layout(self, renderer)
         key = (
+            kind,
             self._text,
             self._fontproperties,
             self.get_figure(root=True).dpi,
@@ -591,7 +601,7 @@ def _remember_text_layouts() -> None:
             if len(_text_layouts) >= TEXT_LAYOUTS:
                 _text_layouts.clear()
             # the key keeps a copy of the font, which matplotlib changes in place
-            _text_layouts[(key[0], key[1].copy(), *key[2:])] = known
+            _text_layouts[(*key[:2], key[2].copy(), *key[3:])] = known
         box, lines, corner = known
         return box.frozen(), list(lines), corner  # a box of its own: a caller may move it
 
