@@ -5,6 +5,7 @@ scheduler is a clear error."""
 from __future__ import annotations
 
 import csv
+import gc
 import io
 import json
 import subprocess
@@ -231,3 +232,14 @@ def test_a_sweep_on_the_cluster_gives_the_local_answer_key(tmp_path, cluster):
         assert len(report.outcomes) == 6 and not report.failures
         keys.append((tmp_path / name / "answer_key.csv").read_bytes())
     assert keys[0] == keys[1]
+    # the cluster's worker is this process (threads): its collector is left as it was
+    assert gc.get_freeze_count() == 0
+
+
+def test_a_child_forked_for_a_limited_call_skips_the_inherited_heap_and_the_worker_not():
+    from crankdyn.parallel.pool import run_limited
+
+    assert gc.get_freeze_count() == 0
+    kind, frozen_in_child, _ = run_limited(gc.get_freeze_count, (), 30.0)
+    assert kind == "ok" and frozen_in_child > 0  # the child's collector skips what it inherited
+    assert gc.get_freeze_count() == 0  # and this process's collector sees all of its own again

@@ -531,19 +531,8 @@ def _run_dask(
 
 def _prepare_dask_worker(run: VariantRun) -> None:
     """Build the run's registry and load the libraries once per Dask worker
-    (:meth:`crankdyn.batch.variants.VariantRun.warm`) and move what is
-    loaded out of the garbage collector's sight (``gc.freeze``): a chunk run again point by point
-    runs each point in a child forked from the worker, whose collections would otherwise walk
-    every inherited object, and so copy the worker's memory page by page. Frozen once per
-    process: what the worker makes later is collected as usual."""
-    global _frozen
+    (:meth:`crankdyn.batch.variants.VariantRun.warm`)."""
     run.warm((), ())
-    if not _frozen:
-        _frozen = True
-        gc.freeze()
-
-
-_frozen = False
 
 
 def _with_unfinished(

@@ -11,6 +11,7 @@ failure list of what finished.
 
 from __future__ import annotations
 
+import gc
 import os
 import pickle
 import select
@@ -298,7 +299,7 @@ def run_limited(
         if not hasattr(os, "fork"):
             return "ok", function(*args), time.monotonic() - start
         read_end, write_end = os.pipe()
-        pid = os.fork()
+        pid = _fork_frozen()
     if (
         pid == 0
     ):  # the child: compute, send the pickled answer, leave without running the worker's exit hooks
@@ -335,6 +336,20 @@ def run_limited(
     if not chunks:
         return "died", os.waitstatus_to_exitcode(status), seconds
     return "ok", pickle.loads(b"".join(chunks)), seconds
+
+
+def _fork_frozen() -> int:
+    """``os.fork()`` with everything this process holds out of the child's collector's sight
+    (``gc.freeze``): its collections would otherwise walk every inherited object, and so copy the
+    worker's memory page by page. The worker's own collector is given back its objects at once
+    (unless something had frozen them before)."""
+    thawed = gc.get_freeze_count() == 0
+    if thawed:
+        gc.freeze()
+    pid = os.fork()
+    if pid != 0 and thawed:
+        gc.unfreeze()
+    return pid
 
 
 def _dask_task(prepare: Callable | None, function: Callable, args: tuple, timeout_s: float):
