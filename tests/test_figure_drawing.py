@@ -242,13 +242,42 @@ def test_figures_handed_out_are_waited_for_one_by_one_and_are_the_serial_bytes(e
     drawing = IncrementalDrawing(workers=2)
     rendered = render_html(result, registry, figure_sink=drawing.add)
     drawing.hand_out()
-    assert rendered.figures and all(f.drawn or f.awaiting is not None for f in rendered.figures)
+    assert rendered.figures and all(f.drawn or "svg" in f.awaiting for f in rendered.figures)
     drawn_here = []
     for figure in rendered.figures:  # a figure drawn here would mean a second drawing
         figure.draw = lambda figure=figure: drawn_here.append(figure.name) or b""
     assert [(f.name, f.svg) for f in rendered.figures] == [(f.name, f.svg) for f in serial]
-    assert drawn_here == [] and all(f.awaiting is None for f in rendered.figures)
+    assert drawn_here == [] and not any(f.awaiting for f in rendered.figures)
     drawing.finish()
+    assert _no_children_left()
+
+
+def test_svg_and_pdf_pages_handed_out_together_are_each_waited_for_from_its_own_child(examples):
+    """A report to HTML and PDF: the SVGs and the PDF pages drawn by children of two drawings at
+    once; reading a figure's SVG waits for its SVG child and its PDF page for its PDF child, and
+    neither is drawn here."""
+    from crankdyn.report.figures import IncrementalDrawing
+
+    registry = default_registry()
+    result = run_scene(load_scene(examples / "kinematics-only.toml"), registry, None, ())
+    serial = render_html(result, registry).figures
+    draw_figures(serial, workers=1)
+    pages = [figure.pdf for figure in serial]
+    svgs = IncrementalDrawing(workers=2)
+    rendered = render_html(result, registry, figure_sink=svgs.add)
+    printed = IncrementalDrawing(workers=2, kind="pdf")
+    printed.add(rendered.figures)
+    svgs.hand_out()
+    printed.hand_out()
+    drawn_here = []
+    for figure in rendered.figures:
+        figure.draw = lambda figure=figure: drawn_here.append(("svg", figure.name)) or b""
+        figure.draw_pdf = lambda figure=figure: drawn_here.append(("pdf", figure.name)) or b""
+    assert [f.pdf for f in rendered.figures] == pages
+    assert [f.svg for f in rendered.figures] == [f.svg for f in serial]
+    assert drawn_here == [] and not any(f.awaiting for f in rendered.figures)
+    svgs.finish()
+    printed.finish()
     assert _no_children_left()
 
 

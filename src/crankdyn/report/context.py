@@ -61,9 +61,9 @@ class FigureFile:
         self._typeset_in = (
             None  # the process that typeset the figure (a forked drawer's is not this one)
         )
-        # Set while a forked child draws this figure: called (once) to wait for that child's SVG
-        # instead of drawing the figure a second time here.
-        self.awaiting: Callable[[FigureFile], None] | None = None
+        # Set while a forked child draws this figure, per what it draws ("svg", "pdf"): called
+        # (once) to wait for that child's drawing instead of drawing the figure a second time here.
+        self.awaiting: dict[str, Callable[[FigureFile], None]] = {}
 
     @property
     def drawn(self) -> bool:
@@ -106,15 +106,15 @@ class FigureFile:
 
         return to_pdf(self.typeset())
 
-    def _await_child(self) -> None:
-        if self.awaiting is not None:
-            awaiting, self.awaiting = self.awaiting, None
+    def _await_child(self, kind: str) -> None:
+        awaiting = self.awaiting.pop(kind, None)
+        if awaiting is not None:
             awaiting(self)
 
     @property
     def svg(self) -> bytes:
         if self._svg is None:
-            self._await_child()
+            self._await_child("svg")
         if self._svg is None:
             self._svg = self.draw()
         return self._svg
@@ -124,7 +124,7 @@ class FigureFile:
         """The figure as a one-page PDF (the printed report places it as it is), or None for a
         figure given only as its SVG."""
         if self._pdf is None:
-            self._await_child()
+            self._await_child("pdf")
         if self._pdf is None and (self._figure is not None or self._build is not None):
             self._pdf = self.draw_pdf()
         return self._pdf

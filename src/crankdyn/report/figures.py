@@ -1092,7 +1092,7 @@ class IncrementalDrawing:
         drawing = ForkedDrawing([self._job(f) for f in batch], [list(range(len(batch)))])
         self._running.append((drawing, batch))
         for figure in batch:
-            figure.awaiting = self._await
+            figure.awaiting[self.kind] = self._await
 
     def _await(self, figure) -> None:
         """``figure.svg`` asked for while a child draws it: wait for that child (only)."""
@@ -1105,7 +1105,7 @@ class IncrementalDrawing:
     def _keep(self, drawing: ForkedDrawing, batch: list) -> None:
         for figure, drawn in zip(batch, drawing.finish(), strict=True):
             setattr(figure, f"_{self.kind}", drawn)
-            figure.awaiting = None
+            figure.awaiting.pop(self.kind, None)
 
     def _store(self, finished_only: bool) -> None:
         keep = []
@@ -1156,5 +1156,5 @@ class IncrementalDrawing:
         for drawing, batch in self._running:
             drawing.collect()
             for figure in batch:
-                figure.awaiting = None
+                figure.awaiting.pop(self.kind, None)
         self._running = []
