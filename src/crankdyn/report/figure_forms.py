@@ -49,8 +49,8 @@ def placeholder_svg(pdf: bytes) -> bytes:
     """An SVG that draws nothing, of the figure PDF's size: the layout gives it the figure's box."""
     width, height = page_size_pt(pdf)
     return (
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:g}pt" height="{height:g}pt" '
-        f'viewBox="0 0 {width:g} {height:g}"></svg>'
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}pt" height="{height}pt" '
+        f'viewBox="0 0 {width} {height}"></svg>'
     ).encode()
 
 
