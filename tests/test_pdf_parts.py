@@ -101,6 +101,7 @@ def _a_quiet_machine(monkeypatch):
     monkeypatch.setattr(os, "getloadavg", lambda: (0.2, 0.2, 0.2))
 
 
+@pytest.mark.slow  # three layouts in a fresh process: in the slow tier, which CI runs
 @in_fresh_process
 def test_two_parts_give_the_pages_of_one_layout(tmp_path, monkeypatch):
     _a_quiet_machine(monkeypatch)
@@ -183,6 +184,7 @@ def test_documents_whose_pages_depend_on_each_other_are_not_split():
     assert pdf_parts.split(dangling) is None
 
 
+@pytest.mark.slow  # three layouts in a fresh process: in the slow tier, which CI runs
 @in_fresh_process
 def test_the_printer_lays_out_in_parts_and_serves_both_their_figures(tmp_path, monkeypatch):
     from crankdyn.report import printer
