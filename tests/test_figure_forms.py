@@ -132,3 +132,18 @@ def test_a_figure_that_cannot_be_drawn_as_a_pdf_page_is_printed_from_its_svg(tmp
         _dark_box(html_to_pdf(PAGE, [FigureFile("fig_1.svg", build=_block_figure)]), tmp_path, "p"),
         atol=1,
     )
+
+
+def test_a_figures_svg_is_the_same_whether_its_pdf_page_was_drawn_first():
+    from crankdyn.report.figures import to_svg
+
+    def figure():
+        fig, axes = new_figure(8, 5, nrows=2, sharex=True)
+        for ax, scale in zip(axes, (1.0, 12345.6), strict=True):
+            ax.plot([0.0, 360.0], [0.0, scale])
+            ax.set_ylabel(r"$p_{\mathrm{г}}$, МПа")
+        return fig
+
+    printed_first = figure()
+    to_pdf(printed_first)
+    assert to_svg(printed_first) == to_svg(figure())

@@ -763,6 +763,7 @@ def _draw_laid_out(fig, renderer_for: Callable[[float, float], Any]) -> None:
             width, height = fig.get_size_inches()
             renderer = MixedModeRenderer(fig, width, height, 72, renderer_for(width, height))
             if fig.axes and not getattr(fig, FIXED_LAYOUT, False):
+                _from_first_layout(fig)
                 with renderer._draw_disabled():
                     adjust = get_tight_layout_figure(
                         fig, fig.axes, get_subplotspec_list(fig.axes), renderer, pad=1.08
@@ -777,6 +778,22 @@ def _draw_laid_out(fig, renderer_for: Callable[[float, float], Any]) -> None:
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
+
+
+#: Where a figure keeps the subplot parameters it had before it was first laid out.
+_FIRST_LAYOUT = "_crankdyn_first_layout"
+_SUBPLOT_PARAMETERS = ("left", "bottom", "right", "top", "wspace", "hspace")
+
+
+def _from_first_layout(fig) -> None:
+    """Put the figure's subplots back where they were before its first tight layout, so that
+    each drawing (its SVG, its PDF page) is laid out from the same start and does not depend on
+    which was drawn first (a PDF measures its texts a little differently)."""
+    first = getattr(fig, _FIRST_LAYOUT, None)
+    if first is None:
+        setattr(fig, _FIRST_LAYOUT, {k: getattr(fig.subplotpars, k) for k in _SUBPLOT_PARAMETERS})
+    else:
+        fig.subplots_adjust(**first)
 
 
 #: The one stylesheet matplotlib writes into an SVG (every element's line joins and caps).
