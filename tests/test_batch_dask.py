@@ -99,6 +99,7 @@ def test_a_dask_cluster_gives_the_same_answer_key_failures_and_files(tmp_path, c
     )
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 def test_the_time_limit_holds_on_a_dask_worker(tmp_path, cluster, monkeypatch):
     registry = default_registry()
     slow = replace(registry, stages={**registry.stages, SLOW_STAGE.name: SLOW_STAGE})

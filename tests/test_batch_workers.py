@@ -65,6 +65,7 @@ def test_a_worker_runs_items_in_turn_and_is_replaced_after_its_share():
     assert not _children()
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 def test_a_dead_or_hung_worker_fails_its_item_only():
     outcomes = _run(["a", "die", "b", "hang", "c"], jobs=1, timeout_s=2.0)
     assert [o[1] for o in outcomes] == ["a", "die", "b", "hang", "c"]

@@ -469,6 +469,7 @@ def _environment(site: Path) -> dict:
     return env
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 @pytest.mark.parametrize(
     ("stage", "step", "formats"),
     [
@@ -518,6 +519,7 @@ def test_a_stage_that_never_ends_stops_report_at_the_limit_naming_it(
     assert not out.exists()
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_path):
     site = tmp_path / "site"
     site.mkdir()
@@ -546,6 +548,7 @@ def test_a_plugin_whose_import_never_ends_is_stopped_and_listed_as_broken(tmp_pa
     )
 
 
+@pytest.mark.slow  # waits out a time limit: in the slow tier, which CI runs
 def test_check_applies_the_same_limit(tmp_path):
     site = tmp_path / "site"
     site.mkdir()
