@@ -344,6 +344,7 @@ def _png_pixels(png: bytes) -> np.ndarray:
     return np.asarray(Image.open(io.BytesIO(png)).convert("L"), dtype=float)
 
 
+@pytest.mark.slow  # drives Chromium: in the slow tier, which CI runs
 def test_animation_moves_in_chromium(tmp_path):
     """Headless Chromium: moving the slider redraws the mechanism (screenshots differ) and moves
     the cursor; playing advances frames (the rate is reported, not asserted)."""

@@ -48,6 +48,7 @@ def _clean_venv_seeing_this_one(venv: Path, env: dict) -> Path:
     return python
 
 
+@pytest.mark.slow  # a fresh virtual environment: in the slow tier, which CI runs
 @pytest.mark.long
 def test_plugin_installs_into_a_clean_venv_and_reports_through_the_cli(tmp_path):
     source = tmp_path / "plugin-example"

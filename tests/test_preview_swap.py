@@ -182,6 +182,7 @@ _SECTIONS = """(function(fresh){
 })(%s)"""
 
 
+@pytest.mark.slow  # drives Chromium: in the slow tier, which CI runs
 @pytest.mark.skipif(
     CHROMIUM is None or BASH is None,
     reason="Debian's chromium package is not installed (.ci/setup.sh installs it)",

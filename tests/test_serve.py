@@ -415,6 +415,7 @@ def _start_serve(scene: Path, *extra: str) -> tuple[subprocess.Popen, str]:
     return proc, match[0]
 
 
+@pytest.mark.slow  # drives Chromium: in the slow tier, which CI runs
 @pytest.mark.skipif(
     CHROMIUM is None or BASH is None,
     reason="Debian's chromium package is not installed (.ci/setup.sh installs it)",

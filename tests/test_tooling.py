@@ -63,6 +63,7 @@ def test_ruff_with_the_repositorys_rules_refuses_a_bad_file(tmp_path):
     assert {"I001", "F401", "B905", "UP006"} <= codes, done.stdout
 
 
+@pytest.mark.slow  # the whole tree, 10 s without its cache: in the slow tier, which CI runs
 @pytest.mark.long
 def test_mypy_finds_nothing():
     """The files, the per-module exceptions and the cache folder (.mypy_cache, kept between runs:
