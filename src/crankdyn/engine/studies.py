@@ -22,6 +22,7 @@ import pickle
 
 from ..errors import StageTimeLimit
 from ..parallel.fork import can_fork, fork_with_pipe, stop_child
+from ..parallel.messages import receive_message, send_message
 from ..plugin.types import StageOutput
 from .orchestrator import Plan, RunResult, resume_plan, run_plan, run_stage
 
@@ -240,7 +241,7 @@ class StudyWorker:
         except Exception:  # noqa: BLE001 - this scene cannot be sent: computed in the server, this time
             return None
         try:
-            _send(self._sock, message)
+            send_message(self._sock, message)
         except OSError:  # the worker is gone
             self._fail()
             return None
@@ -252,7 +253,7 @@ class StudyWorker:
         """The worker's next message for ``job`` ((None,) at its end: no stage is named None), skipping older jobs'."""
         while self.alive and self._unread is not None:
             try:
-                number, message = pickle.loads(_receive(self._sock))
+                number, message = pickle.loads(receive_message(self._sock))
             except Exception:  # noqa: BLE001 - EOF or a broken message: the worker died
                 self._fail()
                 return None
@@ -280,27 +281,6 @@ class StudyWorker:
         self.alive = False
         stop_child(self.pid)
         self._sock.close()
-
-
-def _send(sock, message: bytes) -> None:
-    sock.sendall(len(message).to_bytes(8, "little") + message)
-
-
-def _receive(sock) -> bytes:
-    """One message of :func:`_send`: exactly its bytes (EOFError when the other side is gone)."""
-    size = int.from_bytes(_exactly(sock, 8), "little")
-    return _exactly(sock, size)
-
-
-def _exactly(sock, size: int) -> bytes:
-    chunks, left = [], size
-    while left:
-        chunk = sock.recv(min(left, 1 << 20))
-        if not chunk:
-            raise EOFError("the other side closed the socket")
-        chunks.append(chunk)
-        left -= len(chunk)
-    return b"".join(chunks)
 
 
 class WorkerJob:
@@ -354,7 +334,7 @@ def _serve_jobs(sock, registry=None) -> None:
     cache = StageCache()
     while True:
         try:
-            number, scene, stages, studies = pickle.loads(_receive(sock))
+            number, scene, stages, studies = pickle.loads(receive_message(sock))
         except EOFError:
             return
         registry = registry or default_registry()
@@ -374,5 +354,5 @@ def _serve_jobs(sock, registry=None) -> None:
                 message = pickle.dumps(
                     (number, (name, None, 0.0)), protocol=pickle.HIGHEST_PROTOCOL
                 )
-            _send(sock, message)
-        _send(sock, pickle.dumps((number, (None,)), protocol=pickle.HIGHEST_PROTOCOL))
+            send_message(sock, message)
+        send_message(sock, pickle.dumps((number, (None,)), protocol=pickle.HIGHEST_PROTOCOL))

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..parallel.fork import stop_child
+from ..parallel.messages import receive_message, send_message
 
 #: The attribute that carries a resolved page number into the front matter's HTML.
 PAGE_ATTRIBUTE = "data-crankdyn-page"
@@ -182,22 +183,11 @@ def _anchors(document, first_number: int) -> dict[str, tuple[int, float, float]]
 
 
 def _send(sock: socket.socket, message) -> None:
-    payload = pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL)
-    sock.sendall(len(payload).to_bytes(8, "big") + payload)
+    send_message(sock, pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL))
 
 
 def _receive(sock: socket.socket):
-    def exactly(n: int) -> bytes:
-        chunks, left = [], n
-        while left:
-            chunk = sock.recv(min(left, 1 << 20))
-            if not chunk:
-                raise EOFError("the other part's process ended")
-            chunks.append(chunk)
-            left -= len(chunk)
-        return b"".join(chunks)
-
-    return pickle.loads(exactly(int.from_bytes(exactly(8), "big")))
+    return pickle.loads(receive_message(sock))
 
 
 def _second_part(sock: socket.socket, render: Callable[[str], Any], html: str) -> None:
