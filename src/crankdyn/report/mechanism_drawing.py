@@ -14,6 +14,7 @@ import hashlib
 import io
 import json
 from dataclasses import replace
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -31,6 +32,9 @@ LABEL_BOX = {
     "edgecolor": "none",
     "pad": 0.5,
 }  # a dimension's text over the lines it crosses
+#: A dimension's or a parameter's text on a drawing: small, dark grey, on a white box that keeps
+#: the lines under it from crossing its letters.
+DIMENSION_TEXT = MappingProxyType({"fontsize": 8, "color": "0.15", "bbox": LABEL_BOX})
 
 
 def view_rotation_rad(geometry) -> float:
@@ -672,9 +676,7 @@ def _dimension_text(ax, a, b, text: str, extent: float, gid: str):
         rotation_mode="anchor",
         ha="center",
         va="bottom",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         zorder=7,
     )
     label.set_gid(gid)
@@ -775,9 +777,7 @@ def _crank_radius(ax, geometry, i: int, crank, text: str, extent: float) -> None
     ax.text(
         *((p + q) / 2 + side * extent * 0.075),
         text,
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         gid="dimension-R-text",
         ha="left" if side[0] > 0.5 else "right" if side[0] < -0.5 else "center",
         va="bottom" if side[1] > 0.5 else "top" if side[1] < -0.5 else "center",
@@ -805,9 +805,7 @@ def _offset_dimension(ax, geometry, i: int, guide, rod, text: str, extent: float
         gid="dimension-e-text",
         ha="right" if left else "left",
         va="center",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
     )
 
 
@@ -898,12 +896,10 @@ def _rod_length_clear(ax, geometry, i: int, rod, text: str, extent: float) -> No
         0.0,
         0.0,
         text,
-        fontsize=8,
-        color="0.15",
         rotation_mode="anchor",
         ha="center",
         va="bottom",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         zorder=7,
     )
     # the text's own box, level (display units): a slanted text's upright box would take in
@@ -1619,11 +1615,9 @@ def _rod_length_aside(ax, pin, wrist, o, d, n, guide, text: str, extent: float) 
     ax.text(
         *(at + n * side * extent * 0.01),
         text,
-        fontsize=8,
-        color="0.15",
         va="center",
         ha="left" if float((n * side)[0]) > 0 else "right",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
     )
 
 
@@ -1698,9 +1692,7 @@ def _leader_text(
         return False
     if best is None:
         best = _leader_place(clearance, at, box, extent, None)
-    label = ax.text(
-        *best, text, ha="center", va="center", fontsize=8, color="0.15", bbox=LABEL_BOX, gid=gid
-    )
+    label = ax.text(*best, text, ha="center", va="center", gid=gid, **DIMENSION_TEXT)
     end = _leader_end(clearance._text_points(label), at)
     ax.plot(*np.c_[at, end], color="0.35", lw=0.5, ls="-", gid=gid + "-leader")
     return True
@@ -2441,9 +2433,7 @@ def _shelf_note(ax, geometry, i: int, links, text: str, extent: float, key: str)
         text,
         ha="left",
         va="bottom",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         gid=f"dimension-{key}-text",
     )
 
@@ -2550,9 +2540,7 @@ def _note_along(
         ha="center",
         va="center",
         rotation_mode="anchor",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         zorder=7,
         gid=f"dimension-{key}-text",
     )
@@ -2619,9 +2607,7 @@ def _crank_radius_aside(ax, geometry, i: int, crank, text: str, extent: float) -
         text,
         ha="left" if right else "right",
         va="center",
-        fontsize=8,
-        color="0.15",
-        bbox=LABEL_BOX,
+        **DIMENSION_TEXT,
         gid="dimension-R-text",
     )
 
