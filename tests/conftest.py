@@ -195,6 +195,21 @@ def shared_html(name: str, changes: dict | None = None, language: str | None = N
     )
 
 
+def drawing_positions(scene):
+    """The drawing stage's mechanism positions of ``scene``, computing only the stages they need
+    (the drawing and what provides the kinematics)."""
+    from crankdyn.engine.orchestrator import plan, run_scene  # lazy: only the drawing tests
+    from crankdyn.plugin.registry import default_registry
+
+    registry = default_registry()
+    wanted = [
+        s.name
+        for s in plan(scene, registry).order
+        if s.name == "drawing" or "kinematics" in s.provides
+    ]
+    return run_scene(scene, registry, wanted).outputs["drawing"].artifacts["positions"]
+
+
 _REPORTS: dict = {}
 
 

@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import drawing_positions
 from matplotlib.collections import LineCollection, PatchCollection
 from matplotlib.patches import Polygon
 
-from crankdyn.engine.orchestrator import plan, run_scene
-from crankdyn.plugin.registry import default_registry
 from crankdyn.report import mechanism_drawing as md
 from crankdyn.scene.model import load_scene
 
@@ -69,14 +68,7 @@ exhaust_pressure = "0.112 MPa"
 def _positions(tmp_path, cylinders: int):
     path = tmp_path / f"radial{cylinders}.toml"
     path.write_text(SCENE.format(cylinders=cylinders), encoding="utf-8")
-    scene = load_scene(path)
-    registry = default_registry()
-    wanted = [
-        s.name
-        for s in plan(scene, registry).order
-        if s.name == "drawing" or "kinematics" in s.provides
-    ]
-    return run_scene(scene, registry, wanted).outputs["drawing"].artifacts["positions"]
+    return drawing_positions(load_scene(path))
 
 
 def _links(ax):

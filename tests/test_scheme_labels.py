@@ -8,24 +8,16 @@ from functools import cache
 
 import numpy as np
 import pytest
+from conftest import drawing_positions
 
 from crankdyn.cli import examples_dir
-from crankdyn.engine.orchestrator import plan, run_scene
-from crankdyn.plugin.registry import default_registry
 from crankdyn.report import mechanism_drawing as md
 from crankdyn.scene.model import load_scene
 
 
 @cache
 def _positions(example: str):
-    scene = load_scene(examples_dir() / f"{example}.toml")
-    registry = default_registry()
-    wanted = [
-        s.name
-        for s in plan(scene, registry).order
-        if s.name == "drawing" or "kinematics" in s.provides
-    ]
-    return run_scene(scene, registry, wanted).outputs["drawing"].artifacts["positions"]
+    return drawing_positions(load_scene(examples_dir() / f"{example}.toml"))
 
 
 @cache  # read only: each example's scheme drawn once per test process
