@@ -69,6 +69,18 @@ class FigureFile:
     def drawn(self) -> bool:
         return self._svg is not None
 
+    def has(self, kind: str) -> bool:
+        """Whether the figure's ``"svg"`` or ``"pdf"`` drawing is there."""
+        return (self._svg if kind == "svg" else self._pdf) is not None
+
+    def keep(self, kind: str, drawing: bytes) -> None:
+        """Keep the ``"svg"`` or ``"pdf"`` drawing a forked child made; nothing waits for it now."""
+        if kind == "svg":
+            self._svg = drawing
+        else:
+            self._pdf = drawing
+        self.awaiting.pop(kind, None)
+
     @property
     def figure(self):
         """The matplotlib figure (built now if it was given as a function; the Word export draws

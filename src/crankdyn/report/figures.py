@@ -1091,15 +1091,12 @@ class IncrementalDrawing:
     def _job(self, figure) -> Callable[[], bytes]:
         return figure.draw if self.kind == "svg" else figure.draw_pdf
 
-    def _drawn(self, figure) -> bool:
-        return getattr(figure, f"_{self.kind}") is not None
-
     #: Figures a child takes at a time: small batches leave work for the end, where this process
     #: and the children share it (a child that took everything would leave this one idle).
     BATCH = 3
 
     def add(self, figures) -> None:
-        self._waiting += [f for f in figures if not self._drawn(f)]
+        self._waiting += [f for f in figures if not f.has(self.kind)]
         self._store(finished_only=True)
         if self._waiting and len(self._running) < self.children:
             batch, self._waiting = self._waiting[: self.BATCH], self._waiting[self.BATCH :]
@@ -1121,8 +1118,7 @@ class IncrementalDrawing:
 
     def _keep(self, drawing: ForkedDrawing, batch: list) -> None:
         for figure, drawn in zip(batch, drawing.finish(), strict=True):
-            setattr(figure, f"_{self.kind}", drawn)
-            figure.awaiting.pop(self.kind, None)
+            figure.keep(self.kind, drawn)
 
     def _store(self, finished_only: bool) -> None:
         keep = []
@@ -1159,7 +1155,7 @@ class IncrementalDrawing:
                 shared.collect()
                 self._store(finished_only=False)
             for figure, drawn in zip(waiting, shared.finish(), strict=True):
-                setattr(figure, f"_{self.kind}", drawn)
+                figure.keep(self.kind, drawn)
             return
         try:
             for figure in waiting:
