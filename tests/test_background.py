@@ -7,6 +7,7 @@ a process with no other thread (a pytest-xdist worker has some)."""
 
 import errno
 import os
+import select
 import signal
 import sys
 
@@ -192,6 +193,33 @@ def test_the_stages_computed_in_a_child_give_the_serial_result_and_the_studies_f
     assert result.study_output("study").results == {"twice_x": 42.0, "pid": child}
     result.complete()
     assert result.background is None and not children()
+
+
+@in_fresh_process
+def test_the_child_starts_the_studies_before_this_process_reads_the_outputs():
+    """Outputs larger than any pipe's buffer (2.4 MB) do not hold the child back: it begins the
+    study while this process is still busy elsewhere (here: waiting for the study's signal)."""
+    import numpy as np
+
+    started, signal_end = os.pipe()
+    fds_before = len(os.listdir("/proc/self/fd"))
+
+    def large(scene, inputs):
+        return StageOutput(data={"x": 21.0}, results={"samples": np.arange(300_000.0)})
+
+    def signalling(scene, inputs):
+        os.write(signal_end, b"s")
+        return study(scene, inputs)
+
+    reg = registry(stage("study", signalling, requires=["x"], last=True), base_run=large)
+    forked = ForkedRun.start(_scene(), plan(_scene(), reg))
+    ready, _, _ = select.select([started], [], [], 60.0)  # a guard against a hang, not a timing
+    assert ready, "the study did not start before the outputs were read"
+    result = forked.result()
+    assert np.array_equal(result.outputs["base"].results["samples"], np.arange(300_000.0))
+    assert result.study_output("study").results["twice_x"] == 42.0
+    result.complete()
+    assert not children() and len(os.listdir("/proc/self/fd")) == fds_before
 
 
 @in_fresh_process

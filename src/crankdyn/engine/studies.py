@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import tempfile
 
 from ..errors import StageTimeLimit
 from ..parallel.fork import can_fork, fork_with_pipe, stop_child
@@ -108,20 +109,27 @@ class ForkedRun:
     ready (imports matplotlib, Jinja and the catalogs, which take as long as scipy's import and
     the stages together): the two halves of a report's start-up on two cores.
 
-    The child runs the plan with the studies deferred, sends the pickled outputs and timings, and
-    goes on with the studies as :class:`ForkedStudies` does (the same pipe, read by one). Outputs
-    that cannot be pickled, a stage that raises, or a child that dies give None: the report's
-    process then runs the plan itself, so the result, and any error, is the one the serial run gives.
+    The child runs the plan with the studies deferred, leaves the pickled outputs and timings in
+    a file in memory (:func:`_spool`) and goes on with the studies as :class:`ForkedStudies` does
+    (the same pipe, read by one). The outputs (0.1 to 1 MB) do not go through the pipe: its
+    buffer holds 64 kB, so the child would wait there, idle, until the report's process is
+    ready to read them, and only then start the studies. Outputs that cannot be pickled, a
+    stage that raises, or a child that dies give None: the report's process then runs the plan
+    itself, so the result, and any error, is the one the serial run gives.
     """
 
-    def __init__(self, pid: int, reader, scene, the_plan: Plan) -> None:
-        self.pid, self._reader = pid, reader
+    def __init__(self, pid: int, reader, spool: int, scene, the_plan: Plan) -> None:
+        self.pid, self._reader, self._spool = pid, reader, spool
         self._scene, self._plan = scene, the_plan
 
     @classmethod
     def start(cls, scene, the_plan: Plan) -> ForkedRun | None:
-        child = _fork_sending(lambda out: _run_and_send(scene, the_plan, out))
-        return None if child is None else cls(*child, scene, the_plan)
+        spool = _spool()
+        child = _fork_sending(lambda out: _run_and_send(scene, the_plan, out, spool))
+        if child is None:
+            os.close(spool)
+            return None
+        return cls(*child, spool, scene, the_plan)
 
     def result(self) -> RunResult | None:
         """The computed result, its studies still coming from the child; None if the child failed."""
@@ -132,7 +140,8 @@ class ForkedRun:
             if got is None:  # the child could not compute or send the plan
                 self.close()
                 return None
-            outputs, timing = got
+            outputs, timing = pickle.loads(_read_spool(self._spool, got))
+            self._close_spool()
             result = resume_plan(self._scene, self._plan, outputs, timing)
         except BaseException as exc:  # also an interrupt: no child is left computing
             self.close()
@@ -145,22 +154,62 @@ class ForkedRun:
             self.close()
         return result
 
+    def _close_spool(self) -> None:
+        if self._spool >= 0:
+            os.close(self._spool)
+            self._spool = -1
+
     def close(self) -> None:
         self._reader.close()
+        self._close_spool()
         stop_child(self.pid)
 
 
-def _run_and_send(scene, the_plan: Plan, out) -> None:
+def _spool() -> int:
+    """The descriptor of an unnamed file in memory (memfd; elsewhere an unlinked temporary file)
+    that a forked child writes and its parent reads, each at its own offsets (``pwrite``,
+    ``pread``)."""
+    memfd = getattr(os, "memfd_create", None)
+    if memfd is not None:
+        try:
+            return int(memfd("crankdyn-run", getattr(os, "MFD_CLOEXEC", 0)))
+        except OSError:  # no memfd in this kernel or sandbox
+            pass
+    fd, path = tempfile.mkstemp(prefix="crankdyn-run-")
+    os.unlink(path)
+    return fd
+
+
+def _write_spool(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.pwrite(fd, view, len(data) - len(view)) :]
+
+
+def _read_spool(fd: int, size: int) -> bytes:
+    """The ``size`` bytes at the start of the spool; EOFError if it holds fewer."""
+    parts, offset = [], 0
+    while offset < size:
+        part = os.pread(fd, size - offset, offset)
+        if not part:
+            raise EOFError(f"the computed outputs end at {offset} of {size} bytes")
+        parts.append(part)
+        offset += len(part)
+    return b"".join(parts)
+
+
+def _run_and_send(scene, the_plan: Plan, out, spool: int) -> None:
     try:
         result = run_plan(scene, the_plan, defer_studies=True)
         message = pickle.dumps((result.outputs, result.timing_s), protocol=pickle.HIGHEST_PROTOCOL)
+        _write_spool(spool, message)
     except StageTimeLimit as exc:  # raised by the report's process as it is
         out.write(pickle.dumps(exc))
         return
     except Exception:  # run again in the report's process, which then raises it
         out.write(pickle.dumps(None))
         return
-    out.write(message)
+    out.write(pickle.dumps(len(message)))  # the outputs' size in the spool
     out.flush()
     _compute(
         scene,
