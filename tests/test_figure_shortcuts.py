@@ -1,6 +1,6 @@
 """The shortcuts crankdyn.report.figures takes through matplotlib's drawing (further ticks copied
-from the first, text layouts and tick updates remembered, the house style set key by key) give
-the SVG and PDF bytes matplotlib's own way gives."""
+from the first, text layouts and tick updates remembered, the house style set key by key, new
+axes loaded from a template) give the SVG and PDF bytes matplotlib's own way gives."""
 
 import matplotlib
 import numpy as np
@@ -34,7 +34,15 @@ def _drawn(to=figures.to_svg) -> bytes:
     ax.set_ylabel("a long label\nof two lines")
     ax.text(0.2, 5e4, "alike", rotation=45)  # laid out apart from the same text upright
     ax.text(0.6, 5e4, "alike")
-    return to(fig) + to(narrow)
+    # axes of other kinds: polar, rows of unequal heights
+    polar, round_ax = figures.new_figure(9, 9, subplot_kw={"projection": "polar"})
+    round_ax.plot(np.radians(angle), 1.0 + np.sin(np.radians(angle)))
+    ratios, (high, low) = figures.new_figure(
+        16, 13, nrows=2, sharex=True, gridspec_kw={"height_ratios": [2, 1]}
+    )
+    high.plot(angle, angle)
+    low.plot(angle, -angle)
+    return to(fig) + to(narrow) + to(polar) + to(ratios)
 
 
 @pytest.mark.parametrize("to", [figures.to_svg, figures.to_pdf], ids=["svg", "pdf"])
@@ -57,8 +65,25 @@ def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch, to):
     for installer in ("_copy_new_ticks", "_remember_text_layouts", "_remember_tick_updates"):
         monkeypatch.setattr(figures, installer, lambda: None)  # to_svg would put them back
     monkeypatch.setattr(figures, "house_style", lambda: matplotlib.rc_context(figures.STYLE))
+    monkeypatch.setattr(figures, "_axes_template", lambda key: None)  # axes made afresh
     assert not hasattr(Axis.get_major_ticks, "__wrapped__")
     assert _drawn(to) == shortcut
+
+
+def test_new_axes_come_from_a_template_made_with_the_same_rc_params():
+    figures._axes_template.cache_clear()
+    figures.new_figure(16, 9, nrows=3, sharex=True)
+    _, axes = figures.new_figure(10, 20, nrows=3, sharex=True)  # another size, the same kind
+    assert figures._axes_template.cache_info().hits == 1
+    assert axes[0].get_shared_x_axes().joined(axes[0], axes[2])
+    assert axes[0].figure is axes[2].figure and axes[0].figure.get_size_inches()[1] == 20 / 2.54
+    with matplotlib.rc_context({"axes.edgecolor": "red", "xtick.major.size": 9.0}):
+        _, red = figures.new_figure(10, 20, nrows=3, sharex=True)
+    assert figures._axes_template.cache_info().misses == 2  # another template for other rcParams
+    assert red[0].spines["left"].get_edgecolor() == (1.0, 0.0, 0.0, 1.0)
+    assert red[0].xaxis.get_major_ticks()[0].tick1line.get_markersize() == 9.0
+    _, black = figures.new_figure(10, 20, nrows=3, sharex=True)
+    assert black[0].spines["left"].get_edgecolor() != (1.0, 0.0, 0.0, 1.0)
 
 
 def test_a_copied_tick_shares_no_state_matplotlib_changes_in_place():
