@@ -1,5 +1,6 @@
-"""Figures of their inputs alone drawn once per process (a batch worker's next variant), the
-error study's kinematics forms measured once per mechanism, the answer key's workbook cells."""
+"""Figures of their inputs alone (and the animation's fixed parts) drawn once per process (a
+batch worker's next variant), the error study's kinematics forms measured once per mechanism,
+the answer key's workbook cells."""
 
 from __future__ import annotations
 
@@ -73,6 +74,31 @@ def test_another_bore_or_language_is_drawn_again(monkeypatch, empty_memo):
     assert {"scheme", "positions"} <= set(drawn) and wider["scheme"] != first["scheme"]
     ukrainian, drawn = _figures(monkeypatch, language="uk")
     assert {"scheme", "positions"} <= set(drawn) and ukrainian["scheme"] != first["scheme"]
+
+
+def test_the_animations_fixed_parts_are_drawn_once_per_geometry(monkeypatch, empty_memo):
+    from crankdyn.report import mechanism_drawing as md
+
+    drawn = []
+    static_svg = md._static_svg
+
+    def counted(*args):
+        drawn.append(args)
+        return static_svg(*args)
+
+    monkeypatch.setattr(md, "_static_svg", counted)
+
+    def animation(**overrides):
+        scene = load_scene(examples_dir() / "petrol-1cyl.toml", overrides or None)
+        output = run_scene(scene, REGISTRY, ["drawing"]).outputs["drawing"]
+        return md.animation_svg(output.artifacts["animation"])
+
+    first = animation()
+    assert animation(engine={"rpm": 3000}) == first and len(drawn) == 1  # the same mechanism
+    wider = animation(engine={"bore": "90 mm"})
+    assert len(drawn) == 2 and wider[0] != first[0]
+    figure_memo._values.clear()  # drawn afresh: the same bytes
+    assert animation() == first and len(drawn) == 3
 
 
 def test_a_figure_of_unpicklable_inputs_is_not_kept():

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from markupsafe import escape
 
+from . import figure_memo
 from .figures import STYLE, hide_axes
 
 MM = 1e3
@@ -3030,7 +3031,7 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
         "r": extent * JOINT_R,
         "fixed": list(geometry.fixed),
     }
-    static = _static_svg(geometry, (x0, x1), (y0, y1))
+    static = _static_svg_once(geometry, (x0, x1), (y0, y1))
     w, h = x1 - x0, y1 - y0
     svg = (
         f'<svg class="mech-anim" viewBox="{x0:.2f} {-y1:.2f} {w:.2f} {h:.2f}" '
@@ -3040,6 +3041,17 @@ def animation_svg(geometry, view_box_frame: int = 0) -> tuple[str, str]:
         f'<g class="moving" stroke="#1a1a1a" stroke-linecap="round"></g></svg>'
     )
     return svg, json.dumps(payload, separators=(",", ":"))
+
+
+def _static_svg_once(geometry, xlim, ylim) -> str:
+    """:func:`_static_svg`, or the one this process drew of equal inputs
+    (:mod:`crankdyn.report.figure_memo`: a batch's variants of the same dimensions)."""
+    digest = figure_memo.inputs_digest(_static_svg, geometry, xlim, ylim)
+    kept = figure_memo.value(digest)
+    if kept is None:
+        kept = _static_svg(geometry, xlim, ylim)
+        figure_memo.keep_value(digest, kept)
+    return kept
 
 
 def _static_svg(geometry, xlim, ylim) -> str:
