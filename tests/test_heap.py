@@ -1,5 +1,6 @@
 """crankdyn.engine.frozen_heap: the collector skips what is alive at the start of a report, and gets it all
-back at the end (a batch worker or the preview server must not keep a report's objects)."""
+back at the end (a batch worker or the preview server must not keep a report's objects); it is
+off while the report command imports its modules."""
 
 from __future__ import annotations
 
@@ -7,7 +8,9 @@ import gc
 import subprocess
 import sys
 
-from crankdyn.engine.frozen_heap import freeze_more, frozen_heap
+from child_processes import in_fresh_process
+
+from crankdyn.engine.frozen_heap import collector_paused, freeze_more, frozen_heap
 
 
 def test_the_heap_is_frozen_inside_and_given_back_after():
@@ -58,3 +61,58 @@ print("ok")
 """
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr
+
+
+def test_the_collector_is_paused_within_and_as_it_was_after():
+    assert gc.isenabled()
+    with collector_paused():
+        assert not gc.isenabled()
+    assert gc.isenabled()
+    gc.disable()  # a program that turned it off keeps it off
+    try:
+        with collector_paused():
+            assert not gc.isenabled()
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
+
+
+def _recorded(seen, name, function):
+    def wrapper(*args, **kwargs):
+        seen[name] = gc.isenabled()
+        return function(*args, **kwargs)
+
+    return wrapper
+
+
+def test_the_report_command_loads_its_plugins_with_the_collector_off(monkeypatch, tmp_path):
+    """Its imports and the scene's reading run without the collector, the rendering with it."""
+    from crankdyn import cli
+    from crankdyn.output import pipeline
+    from crankdyn.plugin import registry as registries
+
+    seen: dict[str, bool] = {}
+    loaded = registries.default_registry
+    monkeypatch.setattr(registries, "default_registry", _recorded(seen, "plugins", loaded))
+    monkeypatch.setattr(pipeline, "render_files", _recorded(seen, "render", pipeline.render_files))
+    scene = cli.examples_dir() / "kinematics-only.toml"
+    assert cli.main(["report", str(scene), "-o", str(tmp_path), "--format", "html", "-q"]) == 0
+    assert seen == {"plugins": False, "render": True} and gc.isenabled()
+
+
+@in_fresh_process
+def test_matplotlib_is_imported_with_the_collector_off_while_the_stages_run_aside(monkeypatch):
+    from conftest import example_data
+
+    from crankdyn.output import pipeline
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.report import figures
+    from crankdyn.scene.model import scene_from_dict
+
+    seen: dict[str, bool] = {}
+    monkeypatch.setattr(figures, "prepare", _recorded(seen, "matplotlib", figures.prepare))
+    scene = scene_from_dict(example_data("kinematics-only"))
+    result = pipeline._run_aside(scene, default_registry(), None, ())
+    assert result is not None and "kinematics" in result.outputs  # computed by the child
+    assert seen == {"matplotlib": False} and gc.isenabled()
+    result.close_background()

@@ -629,18 +629,22 @@ def _report(args) -> int:
 
 
 def _write_report(args) -> int:
-    from .output.pipeline import (
-        write_report,  # lazy: heavy optional import (numpy, scipy: per command)
-    )
-    from .plugin.registry import (
-        default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
-    )
+    from .engine.frozen_heap import collector_paused
+
+    with collector_paused():  # imports: nothing to collect (crankdyn.engine.frozen_heap)
+        from .output.pipeline import (
+            write_report,  # lazy: heavy optional import (numpy, scipy: per command)
+        )
+        from .plugin.registry import (
+            default_registry,  # lazy: heavy optional import (numpy, scipy: per command)
+        )
 
     formats = _formats(args.format)
     stages = [s.strip() for s in args.stages.split(",")] if args.stages else None
     start = time.perf_counter()
-    registry = default_registry()
-    scene, languages = _load(args.scene, args.lang, args.data_dir, registry)
+    with collector_paused():  # the plugins' imports and the scene's reading
+        registry = default_registry()
+        scene, languages = _load(args.scene, args.lang, args.data_dir, registry)
     if "pdf" in formats:
         from .report import printer  # lazy: heavy optional import (only a PDF has a printer)
 

@@ -13,6 +13,10 @@ objects of one report are collected as usual once it is done (a batch worker or 
 server builds many). :func:`freeze_more` does the same, inside that scope, for what was
 allocated since (lazy imports, the figures before a fork): a forked child then never touches
 those pages for its collector either (no copy-on-write of the whole heap).
+
+:func:`collector_paused` keeps the collector off while modules are imported (the command's
+start-up, matplotlib before the first figure): an import makes objects that stay alive, and the
+full passes it would trigger only walk them (0.02 s of the HTML report's 0.8 s).
 """
 
 from __future__ import annotations
@@ -40,6 +44,18 @@ def frozen_heap() -> Iterator[None]:
             _depth -= 1
             if _depth == 0:
                 gc.unfreeze()
+
+
+@contextmanager
+def collector_paused() -> Iterator[None]:
+    """Within the block the cyclic collector is off; after it, as it was (see module docs)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def freeze_more() -> None:

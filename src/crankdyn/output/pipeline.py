@@ -12,7 +12,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..engine.frozen_heap import frozen_heap
+from ..engine.frozen_heap import collector_paused, frozen_heap
 from ..engine.orchestrator import RunResult, check_scene, plan, run_scene
 from ..engine.studies import ForkedRun, start_studies
 from ..parallel.fork import spare_core
@@ -49,11 +49,12 @@ def _run_aside(
     if forked is None:
         return None
     try:
-        from ..report.figures import (
-            prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
-        )
+        with collector_paused():  # imports: nothing to collect
+            from ..report.figures import (
+                prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
+            )
 
-        prepare(printed=printed)
+            prepare(printed=printed)
     except BaseException:
         forked.close()
         raise
