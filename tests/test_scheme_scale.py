@@ -103,3 +103,44 @@ def test_front_view_shows_the_first_cylinder_of_each_row(example, cylinders, lin
 def test_front_view_keeps_a_radial_engine_whole():
     geometry = _positions("radial9-aircraft")
     assert md.front_view(geometry) is geometry
+
+
+MARKS = {"alpha": "α", "beta": "β", "omega": "ω", "tdc": "TDC", "bdc": "BDC"}
+
+
+@pytest.mark.parametrize(
+    ("example", "drawings"),
+    [("petrol-1cyl", 1), ("kinematics-only", 3), ("v8-petrol", 3)],
+)
+def test_the_scheme_with_its_marks_takes_the_scale_the_search_without_them_finds(
+    monkeypatch, example, drawings
+):
+    """A mechanism that fits at the first scale tried is drawn once, with its marks; one that
+    does not gets the scale the search without the marks finds, as before it was tried."""
+    positions = _positions(example)
+    labels = {k: f"{k} = {value * 1e3:g} mm" for k, value in positions.dimensions.items()}
+    args = (positions, 0, labels, "Crank star", "Firing order: 1", MARKS)
+    made = []
+    scheme_at = md._scheme_at
+
+    def counted(*a, **k):
+        made.append(bool(a[6]))
+        return scheme_at(*a, **k)
+
+    monkeypatch.setattr(md, "_scheme_at", counted)
+    fig, scale = md.scheme_figure(*args)
+    assert len(made) == drawings and made[0] and made[-1]  # the first and the kept one marked
+
+    # the full search: at each scale the drawing without marks first, as the report made it
+    geometry = md.upright(md.front_view(positions))
+    (x0, x1), (y0, y1) = md._limits(geometry)
+    room = md.SCHEME_ROOM_WITH_STAR_MM if len(geometry.cranks) > 1 else md.SCHEME_ROOM_MM
+    searched = md.drawing_scale(
+        (x1 - x0, y1 - y0), (room[0] * md._LIMITS_SLACK, room[1] * md._LIMITS_SLACK)
+    )
+    while not (
+        md._fits(scheme_at(geometry, 0, *args[2:5], searched, {}), room[1], searched)
+        and md._fits(scheme_at(geometry, 0, *args[2:5], searched, MARKS), room[1], searched)
+    ):
+        searched = md._smaller_scale(searched)
+    assert scale == searched

@@ -2738,13 +2738,19 @@ def scheme_figure(
 
     def fitting(start: float, below: bool, least: float = 0.0):
         """(figure, scale) at the largest scale from ``start`` down that fits; None below
-        ``least``. The scale is found without the angle marks (placing them tries many spots),
-        and the drawing with them is kept where it fits too."""
+        ``least``. The drawing at ``start`` is made with the angle marks at once: most
+        mechanisms fit there, and a drawing without them would only be made again. Below it,
+        the scale is found without the marks (placing them tries many spots), and the drawing
+        with them is kept where it fits too."""
         height = SCHEME_ROOM_MM[1] if below else room[1]
         scale = start
         while scale >= least:
             texts = (labels, star_title, firing_label, scale)
-            if not marks or _fits(_scheme_at(geometry, i, *texts, {}, below), height, scale):
+            if (
+                not marks
+                or scale == start
+                or _fits(_scheme_at(geometry, i, *texts, {}, below), height, scale)
+            ):
                 fig = _scheme_at(geometry, i, *texts, marks or {}, below)
                 if _fits(fig, height, scale):
                     return fig, scale
