@@ -1,6 +1,6 @@
 """Figures of their inputs alone (and the animation's fixed parts) drawn once per process (a
-batch worker's next variant), the error study's kinematics forms measured once per mechanism,
-the answer key's workbook cells."""
+batch worker's next variant), the error study's kinematics forms and step timings measured once
+per mechanism, the answer key's workbook cells."""
 
 from __future__ import annotations
 
@@ -122,6 +122,37 @@ def test_the_kinematics_forms_are_measured_once_per_mechanism():
     assert other[-1]["displacement_error_max_m"] != second[-1]["displacement_error_max_m"] or (
         other[0]["displacement_error_max_m"] != second[0]["displacement_error_max_m"]
     )
+
+
+def test_the_steps_are_timed_once_per_mechanism(monkeypatch):
+    """Another speed or piston mass takes the timings of the first run of that mechanism (its
+    errors and per-call overhead are its own); another bore is timed again."""
+    from crankdyn_builtin.numerics import compute
+
+    compute._kept_timings.cache_clear()
+    timed = []
+    time_steps = compute.time_steps
+
+    def counted(scene, *args, **kwargs):
+        timed.append(scene.engine.rpm)
+        return time_steps(scene, *args, **kwargs)
+
+    monkeypatch.setattr(compute, "time_steps", counted)
+
+    def numerics(**overrides):
+        scene = load_scene(examples_dir() / "petrol-1cyl.toml", overrides or None)
+        return run_scene(scene, REGISTRY, ["numerics"]).outputs["numerics"].results
+
+    first = numerics()
+    slower = numerics(engine={"rpm": 3000}, masses={"piston_group": "0.61 kg"})
+    assert timed == [5600.0]
+    assert [s["time_s"] for s in slower["steps"]] == [s["time_s"] for s in first["steps"]]
+    assert [s["mean_torque_Nm"] for s in slower["steps"]] != [
+        s["mean_torque_Nm"] for s in first["steps"]
+    ]
+    assert slower["per_call_overhead_s"] is not None
+    numerics(engine={"bore": "90 mm"})
+    assert len(timed) == 2
 
 
 def test_the_answer_key_sheet_holds_each_column_as_one_kind_of_number():
