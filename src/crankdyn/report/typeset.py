@@ -958,8 +958,28 @@ def typeset_text_html(
     """One HTML text node (already escaped) with sub/superscripts, exponents and unit spacing;
     ``prose`` (a node outside any italic, bold, sub- or superscript), in Cyrillic prose a lone Latin
     letter (a symbol) in italics."""
-    subs = _subscript_map(language, symbols)
-    indices = _index_subscripts(symbols)
+    return _typeset_text(
+        text,
+        language,
+        units,
+        decimal,
+        prose,
+        _subscript_map(language, symbols),
+        _index_subscripts(symbols),
+    )
+
+
+def _typeset_text(
+    text: str,
+    language: str,
+    units: list[str],
+    decimal: str,
+    prose: bool,
+    subs: dict[tuple[str, str], str],
+    indices: dict[tuple[str, str], str],
+) -> str:
+    """:func:`typeset_text_html` with the symbol table's subscript maps looked up once by the
+    caller (a document has thousands of text nodes)."""
 
     def sub(m: re.Match) -> str:
         base, prime, s, prime2 = m.group(1), m.group(2), _braces(m.group(3)), m.group(4)
@@ -1048,7 +1068,8 @@ def unbreakable_html(html: str) -> str:
     skip = 0
     for i, part in enumerate(parts):
         if i % 2 == 1:
-            skip = _skip_depth(part, skip)
+            if part[1:2] in _SKIP_FIRST:  # most tags cannot open or close a skipped element
+                skip = _skip_depth(part, skip)
         elif not skip and ("=" in part or "/" in part or ". " in part or "|" in part):
             parts[i] = _unbreakable(part)
     return "".join(parts)
@@ -1082,11 +1103,13 @@ def typeset_html(
     attribute values, ``<style>``, ``<script>`` or ``<title>``) and give the table headers'
     and equations' ``<i>X</i><sub>Y</sub>`` the language's subscript."""
     subs = _subscript_map(language, symbols)
+    indices = _index_subscripts(symbols)
     parts = _TAG.split(html)
     skip = inline = 0  # inside style/script/title; inside an italic, bold, sub- or superscript
     for i, part in enumerate(parts):
         if i % 2 == 1:  # a tag
-            skip = _skip_depth(part, skip)
+            if part[1:2] in _SKIP_FIRST:  # most tags cannot open or close a skipped element
+                skip = _skip_depth(part, skip)
             if part[1:2] in _INLINE_FIRST and (m := _INLINE_TAG.match(part)):
                 inline = max(inline + (-1 if m.group(1) else 1), 0)
             continue
@@ -1100,9 +1123,7 @@ def typeset_html(
         ):
             parts[i] = f"<i>{part}</i>"  # a table cell that is a symbol (the criteria z, t, q)
             continue
-        parts[i] = typeset_text_html(
-            part, language, units, decimal, prose=not inline, symbols=symbols
-        )
+        parts[i] = _typeset_text(part, language, units, decimal, not inline, subs, indices)
     out = "".join(parts)
     return _SUB_HTML.sub(
         lambda m: (
