@@ -18,6 +18,7 @@ import warnings
 from importlib import resources
 from pathlib import Path
 
+from .engine.frozen_heap import collector_paused
 from .errors import CrankdynError, Problem, SceneError, UsageError
 from .version import __version__
 
@@ -629,8 +630,6 @@ def _report(args) -> int:
 
 
 def _write_report(args) -> int:
-    from .engine.frozen_heap import collector_paused
-
     with collector_paused():  # imports: nothing to collect (crankdyn.engine.frozen_heap)
         from .output.pipeline import (
             write_report,  # lazy: heavy optional import (numpy, scipy: per command)
