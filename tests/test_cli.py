@@ -131,6 +131,15 @@ def test_the_command_keeps_blas_to_one_thread_unless_the_user_chose(monkeypatch)
     assert _the_command_sets(cli.BLAS_THREADS_ENV, "4") == "4"
 
 
+def test_the_command_leaves_pydantics_plugins_out_unless_the_user_chose():
+    """``crankdyn`` runs without pydantic's plugins (no scan of the installed packages' entry
+    points); a user's own value, an empty one included, stays."""
+    from crankdyn import cli
+
+    assert _the_command_sets(cli.PYDANTIC_PLUGINS_ENV, None) == "__all__"
+    assert _the_command_sets(cli.PYDANTIC_PLUGINS_ENV, "") == ""
+
+
 def _the_command_sets(name: str, users_value: str | None) -> str:
     """The value of environment variable ``name`` the ``crankdyn`` command runs with (``cli.run``,
     before numpy is imported), when the user set it to ``users_value`` (None: not set)."""
