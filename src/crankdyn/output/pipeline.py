@@ -50,6 +50,9 @@ def _run_aside(
         return None
     try:
         with collector_paused():  # imports: nothing to collect
+            from ..report import (
+                document,  # noqa: F401  # lazy: heavy optional import (jinja2, babel, as for the figures)
+            )
             from ..report.figures import (
                 prepare,  # lazy: heavy optional import (matplotlib, while the child computes)
             )
