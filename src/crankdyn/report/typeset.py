@@ -1155,10 +1155,6 @@ def typeset_figure(fig, t, symbols: SymbolTable = SYMBOLS) -> None:
     """Make every text of a matplotlib figure typeset for the report's language: mathtext
     sub/superscripts in labels, titles, legends and annotations, and locale tick labels
     (decimal comma in uk/ru, "−", ×10ⁿ offsets instead of ``1e-03``)."""
-    from matplotlib.text import (
-        Text,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
-    )
-
     language = t.language
     for ax in fig.get_axes():
         _legend_outside(ax)  # first: the new legend takes its labels from the artists, untypeset
@@ -1167,10 +1163,33 @@ def typeset_figure(fig, t, symbols: SymbolTable = SYMBOLS) -> None:
         for axes in (ax, *ax.child_axes):  # an inset's ticks too (the p–V diagram's pumping loop)
             for axis in (axes.xaxis, axes.yaxis):
                 _locale_ticks(axis, t)
-    for text in fig.findobj(Text):
+    for text in _texts_but_tick_labels(fig):
         value = text.get_text()
         if value and ("_" in value or "^" in value) and "$" not in value:
             text.set_text(mathtext(value, language, symbols))
+
+
+def _texts_but_tick_labels(fig) -> list:
+    """Every Text of ``fig`` (as ``fig.findobj(Text)``) but its ticks' labels: those are numbers,
+    written by the axis's formatter each time the figure is drawn (the locale's, above), and
+    asking an axis for its ticks would make them now, before the layout sets the limits."""
+    from matplotlib.axis import (
+        Axis,
+    )  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    from matplotlib.text import (
+        Text,
+    )  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+
+    found, waiting = [], [fig]
+    while waiting:
+        artist = waiting.pop()
+        if isinstance(artist, Text):
+            found.append(artist)
+        if isinstance(artist, Axis):
+            waiting += (artist.label, artist.offsetText)
+        else:
+            waiting += artist.get_children()
+    return found
 
 
 def _legend_outside(ax) -> None:
