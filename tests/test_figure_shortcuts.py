@@ -65,25 +65,32 @@ def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch, to):
     for installer in ("_copy_new_ticks", "_remember_text_layouts", "_remember_tick_updates"):
         monkeypatch.setattr(figures, installer, lambda: None)  # to_svg would put them back
     monkeypatch.setattr(figures, "house_style", lambda: matplotlib.rc_context(figures.STYLE))
-    monkeypatch.setattr(figures, "_axes_template", lambda key: None)  # axes made afresh
+    monkeypatch.setattr(figures, "AXES_TEMPLATES", figures.AxesTemplates(kept=0))  # made afresh
     assert not hasattr(Axis.get_major_ticks, "__wrapped__")
     assert _drawn(to) == shortcut
 
 
-def test_new_axes_come_from_a_template_made_with_the_same_rc_params():
-    figures._axes_template.cache_clear()
+def test_new_axes_come_from_a_template_made_with_the_same_rc_params(monkeypatch):
+    templates = figures.AxesTemplates(kept=16)
+    monkeypatch.setattr(figures, "AXES_TEMPLATES", templates)
     figures.new_figure(16, 9, nrows=3, sharex=True)
+    figures.new_figure(12, 9, nrows=3, sharex=True)  # made twice: kept as a template
+    assert templates.loaded == 0
     _, axes = figures.new_figure(10, 20, nrows=3, sharex=True)  # another size, the same kind
-    assert figures._axes_template.cache_info().hits == 1
+    assert templates.loaded == 1
     assert axes[0].get_shared_x_axes().joined(axes[0], axes[2])
     assert axes[0].figure is axes[2].figure and axes[0].figure.get_size_inches()[1] == 20 / 2.54
     with matplotlib.rc_context({"axes.edgecolor": "red", "xtick.major.size": 9.0}):
-        _, red = figures.new_figure(10, 20, nrows=3, sharex=True)
-    assert figures._axes_template.cache_info().misses == 2  # another template for other rcParams
+        for _ in range(3):
+            _, red = figures.new_figure(10, 20, nrows=3, sharex=True)
+    assert templates.loaded == 2  # another template for other rcParams
     assert red[0].spines["left"].get_edgecolor() == (1.0, 0.0, 0.0, 1.0)
     assert red[0].xaxis.get_major_ticks()[0].tick1line.get_markersize() == 9.0
     _, black = figures.new_figure(10, 20, nrows=3, sharex=True)
+    assert templates.loaded == 3
     assert black[0].spines["left"].get_edgecolor() != (1.0, 0.0, 0.0, 1.0)
+    figures.new_figure(10, 20, ncols=2)  # a kind made once is no template
+    assert templates.loaded == 3
 
 
 def test_a_copied_tick_shares_no_state_matplotlib_changes_in_place():

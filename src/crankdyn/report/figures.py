@@ -333,9 +333,6 @@ def prepare(printed: bool = False) -> None:
 def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
     """(figure, axes) as ``pyplot.subplots`` returns them, on an Agg canvas, without pyplot."""
     import_matplotlib()
-    from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
-    from matplotlib.figure import Figure  # lazy: heavy optional import
-
     _keep_more_mathtext()
     _copy_new_ticks()
     with house_style():
@@ -343,17 +340,9 @@ def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
         try:
             key = (_frozen(subplots), _rc_digest())
             hash(key)
-        except TypeError:  # an argument that is no plain value: built afresh
+        except TypeError:  # an argument that is no plain value: made afresh
             key = None
-        made = _axes_template(key) if key is not None else None
-        if made is None:
-            fig = Figure(figsize=size)
-            FigureCanvasAgg(fig)
-            return fig, fig.subplots(**subplots)
-        fig, axes = pickle.loads(made)
-        FigureCanvasAgg(fig)
-        fig.set_size_inches(size, forward=False)
-        return fig, axes
+        return AXES_TEMPLATES.subplots(key, size, subplots)
 
 
 def _rc_digest() -> int:
@@ -364,8 +353,8 @@ def _rc_digest() -> int:
 
 
 def _frozen(value):
-    """``value`` (keyword arguments: dicts, lists, tuples, strings, numbers) as a hashable key
-    :func:`_thawed` turns back; TypeError for anything else."""
+    """``value`` (keyword arguments: dicts, lists, tuples, strings, numbers) as a hashable key;
+    TypeError for anything else."""
     if isinstance(value, dict):
         return ("dict", tuple(sorted((k, _frozen(v)) for k, v in value.items())))
     if isinstance(value, (list, tuple)):
@@ -375,37 +364,57 @@ def _frozen(value):
     raise TypeError(f"no template for a {type(value).__name__} argument")
 
 
-def _thawed(key):
-    kind, content = key
-    if kind == "dict":
-        return {k: _thawed(v) for k, v in content}
-    if kind in ("list", "tuple"):
-        return {"list": list, "tuple": tuple}[kind](_thawed(v) for v in content)
-    return content
-
-
-#: Kinds of subplots kept as templates (a report's figures use about six).
-AXES_TEMPLATES_KEPT = 16
-
-
-@functools.lru_cache(maxsize=AXES_TEMPLATES_KEPT)
-def _axes_template(key: tuple) -> bytes | None:
-    """The pickled ``(figure, axes)`` of ``fig.subplots(**subplots)`` made with the rcParams
-    of ``key = (frozen subplots, rcParams' digest)``, or None where they cannot be pickled.
+class AxesTemplates:
+    """New axes of the kinds of subplots a process makes again and again (a batch worker's next
+    variant), loaded from a pickle of the same subplots made with the same rcParams.
 
     New axes cost 3 ms each (every axis, spine and tick built from the rcParams); loading them
-    from a pickle a third of that. The figure's size is set afterwards: the axes' places are
-    fractions of it, and the layout is made when the figure is drawn."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
-    from matplotlib.figure import Figure  # lazy: heavy optional import
+    from a pickle a third of that. A kind is kept the second time it is made (the pickle of
+    that pristine figure), so a kind made once in a process (most figures of one report, drawn
+    by several processes) costs nothing more. The figure's size is set after loading: the axes'
+    places are fractions of it, and the layout is made when the figure is drawn. Up to ``kept``
+    kinds are kept (none with 0)."""
 
-    fig = Figure(figsize=(16 / 2.54, 8.5 / 2.54))
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(**_thawed(key[0]))
-    try:
-        return pickle.dumps((fig, axes), protocol=pickle.HIGHEST_PROTOCOL)
-    except Exception:  # noqa: BLE001 - a projection that cannot be pickled: built afresh each time
-        return None
+    _CANNOT = b""  # a kind whose figure cannot be pickled (a projection of a plugin's)
+
+    def __init__(self, kept: int):
+        self.kept = kept
+        self.loaded = 0  # figures loaded from a template (for the tests)
+        self._seen: set = set()
+        self._pickles: dict[Any, bytes] = {}
+
+    def subplots(self, key, size: tuple[float, float], subplots: dict):
+        """``(figure, axes)`` of ``fig.subplots(**subplots)`` on a figure of ``size`` inches, on an
+        Agg canvas; ``key``: the subplots' kind and the rcParams' digest (None: made afresh)."""
+        from matplotlib.backends.backend_agg import FigureCanvasAgg  # lazy: heavy optional import
+        from matplotlib.figure import Figure  # lazy: heavy optional import
+
+        kept = self._pickles.get(key) if key is not None else None
+        if kept:
+            fig, axes = pickle.loads(kept)
+            FigureCanvasAgg(fig)
+            fig.set_size_inches(size, forward=False)
+            self.loaded += 1
+            return fig, axes
+        fig = Figure(figsize=size)
+        FigureCanvasAgg(fig)
+        axes = fig.subplots(**subplots)
+        if key is None or kept is not None or self.kept <= 0:
+            return fig, axes
+        if key in self._seen:  # made before: this pristine one is kept as the kind's template
+            if len(self._pickles) >= self.kept:
+                self._pickles.clear()
+            try:
+                self._pickles[key] = pickle.dumps((fig, axes), protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception:  # noqa: BLE001 - cannot be pickled: made afresh each time
+                self._pickles[key] = self._CANNOT
+        elif len(self._seen) < 4 * self.kept:
+            self._seen.add(key)
+        return fig, axes
+
+
+#: This process's templates of new axes (:class:`AxesTemplates`; a report uses about six kinds).
+AXES_TEMPLATES = AxesTemplates(kept=16)
 
 
 #: Marks a figure laid out by its author (a drawing to scale): :func:`to_svg` leaves its axes where they are.
