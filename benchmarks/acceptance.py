@@ -38,6 +38,8 @@ def _env(cache: Path) -> dict:
     # the typeset labels a run keeps for the next (crankdyn.report.mathtext_store): a store of
     # this benchmark's own, filled by each figure's warm-up run, as a user's is after the first report
     env["CRANKDYN_MATHTEXT_CACHE"] = str(cache.parent / "mathtext.json")
+    # the parsed catalogs (crankdyn.report.catalog_cache), likewise this benchmark's own
+    env["CRANKDYN_CACHE_DIR"] = str(cache.parent / "crankdyn-cache")
     return env
 
 

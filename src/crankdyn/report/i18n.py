@@ -19,6 +19,7 @@ from pathlib import Path
 
 from ..errors import PluginError
 from ..plugin.types import Catalog
+from . import catalog_cache
 
 FALLBACK = "en"
 
@@ -69,9 +70,14 @@ def load_catalog_file(path: Path) -> dict[str, str]:
 @functools.lru_cache(maxsize=512)
 def _parsed_catalog(path: str, mtime_ns: int, size: int) -> dict[str, str]:
     """A catalog file's texts, parsed once per version of the file (a batch or the preview
-    builds a translator per report)."""
+    builds a translator per report), and kept between runs (:mod:`.catalog_cache`)."""
+    kept = catalog_cache.load(path, mtime_ns, size)
+    if kept is not None:
+        return kept
     with open(path, "rb") as fh:
-        return _flatten(tomllib.load(fh))
+        texts = _flatten(tomllib.load(fh))
+    catalog_cache.keep(path, mtime_ns, size, texts)
+    return texts
 
 
 @functools.lru_cache(maxsize=64)
