@@ -55,7 +55,18 @@ def _stored(tmp_path, label: str):
     key = _key(store, label)
     store.put(key, _typeset(label))
     store.save()
-    return path, key, json.loads(path.read_text(encoding="utf-8"))
+    return path, key, {"records": _records(path)}
+
+
+def _records(path) -> dict:
+    """The records of the store's file, as the store reads them (key -> the record's JSON text)."""
+    return mathtext_store._load(path)
+
+
+def _write(path, records: dict) -> None:
+    """A store's file holding ``records`` (JSON texts), as the store writes them."""
+    with open(path, "wb") as out:
+        mathtext_store._write(out, records)
 
 
 def test_a_label_read_back_is_the_label_typeset(tmp_path):
@@ -90,7 +101,7 @@ def test_a_damaged_store_is_ignored_and_replaced(tmp_path):
     assert store.get(_key(store, LABELS[0])) is None
     store.put(_key(store, LABELS[0]), _typeset(LABELS[0]))
     store.save()
-    assert len(json.loads(path.read_text(encoding="utf-8"))["records"]) == 1
+    assert len(_records(path)) == 1
 
 
 def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
@@ -99,7 +110,7 @@ def test_a_record_naming_a_file_that_is_not_a_known_font_is_not_used(tmp_path):
     record[3][0][0] = str(path)  # any file that is not one of matplotlib's fonts, stamped as it is
     record[5][str(path)] = mathtext_store._stamp(str(path))
     data["records"][key] = json.dumps(record)
-    path.write_text(json.dumps(data), encoding="utf-8")
+    _write(path, data["records"])
     assert mathtext_store._valid(record)  # well formed: refused for its font only
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(key) is None
@@ -119,9 +130,9 @@ def test_a_damaged_record_is_dropped_and_the_others_read(tmp_path, damage):
     record costs its own label's typesetting, the rest of the store still serves."""
     path = tmp_path / "store.json"
     store = _saved(path, LABELS[:2])
-    data = json.loads(path.read_text(encoding="utf-8"))
+    data = {"records": _records(path)}
     data["records"][_key(store, LABELS[0])] = damage
-    path.write_text(json.dumps(data), encoding="utf-8")
+    _write(path, data["records"])
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(_key(reader, LABELS[0])) is None
     assert reader.get(_key(reader, LABELS[1])) is not None
@@ -147,7 +158,7 @@ def test_the_store_keeps_the_newest_records_only(tmp_path, monkeypatch):
     monkeypatch.setattr(mathtext_store, "MAX_RECORDS", 2)
     path = tmp_path / "store.json"
     store = _saved(path, LABELS[:3])
-    kept = json.loads(path.read_text(encoding="utf-8"))["records"]
+    kept = _records(path)
     assert list(kept) == [_key(store, label) for label in LABELS[1:3]]
 
 
@@ -227,13 +238,13 @@ def test_a_damaged_record_is_never_drawn_and_is_dropped_from_the_file(tmp_path, 
     else:
         record[0] = float("nan")
     data["records"][key] = json.dumps(record)
-    path.write_text(json.dumps(data), encoding="utf-8")
+    _write(path, data["records"])
     reader = mathtext_store.MathtextStore(path)
     assert reader.get(key) is None
     # typeset afresh, the label's good record replaces the damaged one
     reader.put(key, _typeset(LABELS[3]))
     reader.save()
-    assert json.loads(path.read_text(encoding="utf-8"))["records"][key] != data["records"][key]
+    assert _records(path)[key].decode() != data["records"][key]
     assert mathtext_store.MathtextStore(path).get(key) is not None
 
 
@@ -243,7 +254,7 @@ def test_a_font_file_changed_in_place_is_a_miss(tmp_path):
     font = next(iter(record[5]))
     record[5][font] = [record[5][font][0], 1]  # another modification time
     data["records"][key] = json.dumps(record)
-    path.write_text(json.dumps(data), encoding="utf-8")
+    _write(path, data["records"])
     assert mathtext_store.MathtextStore(path).get(key) is None
 
 
@@ -285,5 +296,28 @@ def test_labels_read_back_are_kept_as_the_newest(tmp_path, monkeypatch):
     assert second.get(_key(second, LABELS[0])) is not None  # read back in this run
     second.put(_key(second, LABELS[2]), _typeset(LABELS[2]))
     second.save()
-    kept = json.loads(path.read_text(encoding="utf-8"))["records"]
+    kept = _records(path)
     assert set(kept) == {_key(second, LABELS[0]), _key(second, LABELS[2])}
+
+
+def test_the_file_is_a_line_per_record_and_an_older_file_is_replaced(tmp_path):
+    """A header line, then "key<TAB>record" per line; a line cut short is skipped, the others
+    read; a store in the earlier layout (one JSON document) is read and written anew."""
+    path = tmp_path / "store.json"
+    store = _saved(path, LABELS[:2])
+    lines = path.read_text(encoding="utf-8").split("\n")
+    assert json.loads(lines[0]) == {"format": mathtext_store._FORMAT}
+    assert len(lines) == 4 and lines[-1] == "" and all(line.count("\t") == 1 for line in lines[1:3])
+    path.write_text("\n".join([lines[0], lines[1][:20], lines[2]]) + "\n", encoding="utf-8")
+    reader = mathtext_store.MathtextStore(path)
+    assert reader.get(_key(store, LABELS[0])) is None
+    assert reader.get(_key(store, LABELS[1])) is not None
+    older = {"format": 3, "records": dict(line.split("\t") for line in lines[1:3])}
+    earlier = {key: record.encode() for key, record in older["records"].items()}
+    path.write_text(json.dumps(older), encoding="utf-8")
+    assert _records(path) == earlier
+    _saved(path, LABELS[2:3])
+    assert list(_records(path)) == [*older["records"], _key(store, LABELS[2])]
+    assert path.read_text(encoding="utf-8").startswith(lines[0] + "\n")
+    path.write_text(json.dumps({"format": 2, "records": older["records"]}), encoding="utf-8")
+    assert _records(path) == {}  # older still: typeset again
