@@ -22,7 +22,8 @@ from page_layout import crop_texts, first_sheets, landscape_pages, layout_proble
 
 from crankdyn.cli import examples_dir, main
 from crankdyn.plugin.registry import default_registry
-from crankdyn.report.document import render_html, report_css
+from crankdyn.report.assets import report_css
+from crankdyn.report.document import render_html
 from crankdyn.report.docx import pandoc_html
 from crankdyn.report.frame import fitting_size, text_width_em
 from crankdyn.scene.model import scene_from_dict

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import subprocess
 
+from crankdyn.report.assets import report_css
 from crankdyn.report.context import FigureFile
-from crankdyn.report.document import report_css
 from crankdyn.report.pdf import html_to_pdf
 
 #: The text height of an A4 page in templates/report.css (297 mm less margins of 20 and 20 mm).

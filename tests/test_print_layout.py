@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from crankdyn.report.document import report_css
+from crankdyn.report.assets import report_css
 
 pytest.importorskip("weasyprint")
 

@@ -161,7 +161,7 @@ def test_captions_side_by_side_keep_a_gutter():
     навантаження на шатунний підшипник…"): each caption of a row is padded from its neighbour."""
     import re
 
-    from crankdyn.report.document import report_css
+    from crankdyn.report.assets import report_css
 
     rule = re.search(r"\.figure-row > \.figure-block figcaption \{([^}]*)\}", report_css("uk"))
     assert rule and re.search(r"padding: 0 (0\.[5-9]|1(\.\d)?)em", rule.group(1))
@@ -176,7 +176,7 @@ def test_a_line_breaks_before_an_italic_symbol_where_it_should():
     space inside the element (report.pdf.spaces_into_inline), and the first line is full."""
     import subprocess
 
-    from crankdyn.report.document import report_css
+    from crankdyn.report.assets import report_css
     from crankdyn.report.pdf import html_to_pdf, spaces_into_inline
 
     assert (

@@ -8,7 +8,6 @@ import os
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +18,7 @@ from ..errors import PluginError
 from ..physics.extrema import first_extremum_index
 from ..plugin.types import declared
 from . import figure_memo
+from .assets import FIGURE_DIR, templates_dir
 from .formula_lines import unbroken_parts
 from .i18n import Translator
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
@@ -183,10 +183,6 @@ def draw_figures(
     )
     for figure, svg in zip(pending, drawn, strict=True):
         figure._svg = svg
-
-
-#: Folder of the figure files next to report.html, as the page refers to them.
-FIGURE_DIR = "figures"
 
 
 def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
@@ -675,5 +671,4 @@ def sample_rows(
 
 
 def template_search_path(extra: Sequence[Path]) -> list[str]:
-    core = Path(str(resources.files("crankdyn.templates")))
-    return [str(core)] + [str(p) for p in extra if p is not None]
+    return [str(templates_dir())] + [str(p) for p in extra if p is not None]

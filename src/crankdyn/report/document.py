@@ -10,7 +10,6 @@ import html as html_lib
 import pickle
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import jinja2
 from markupsafe import Markup, escape
@@ -23,6 +22,7 @@ from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
 from ..plugin.registry import Registry
 from ..plugin.scene_inputs import rounding_parameters
 from ..version import __version__
+from .assets import report_css
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .equation_legend import add_equation_legends, line_unit, symbol_meaning
 from .frame import frame_html
@@ -688,22 +688,6 @@ def render_html(
         language=language,
         missing_translations=set(t.missing),
         worked=list(ctx.worked),
-    )
-
-
-def report_css(language: str, frame: str = "none") -> str:
-    """The page frame (report.css), a language's own print rules where its standard differs
-    (report.ru.css) and, with ``[report] frame = "eskd"``, the sheet frame (frame-eskd.css)."""
-    names = (
-        "report.css",
-        f"report.{language}.css",
-        *(("frame-eskd.css",) if frame == "eskd" else ()),
-    )
-    return "\n".join(
-        (Path(p) / name).read_text(encoding="utf-8")
-        for p in template_search_path([])[:1]
-        for name in names
-        if (Path(p) / name).is_file()
     )
 
 

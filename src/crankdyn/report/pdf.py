@@ -17,7 +17,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 from . import figure_forms, pdf_parts
-from .context import FIGURE_DIR
+from .assets import FIGURE_DIR
 from .weasy import load_weasyprint
 
 

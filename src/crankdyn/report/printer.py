@@ -28,6 +28,7 @@ import threading
 from collections.abc import Sequence
 
 from ..parallel.fork import stop_child
+from .assets import report_css
 from .weasy import load_weasyprint
 
 #: The printer of this process: (its pid, its socket, the pid that started it) or None.
@@ -144,7 +145,6 @@ def _warm_up(language: str, frame: str) -> None:
     """Lay out and print a page of the report's markup in ``language`` and ``frame`` while the
     report is still computed: the first layout of the report's front matter took three times as
     long as the second, most of it loading the language's hyphenation patterns."""
-    from .document import report_css  # lazy: heavy optional import (the report's templates)
     from .pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
     html_to_pdf(
