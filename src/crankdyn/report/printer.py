@@ -100,7 +100,7 @@ def _serve(sock: socket.socket) -> int:
     reader, writer = sock.makefile("rb"), sock.makefile("wb")
     try:
         load_weasyprint()  # the point of this process
-        from .pdf import html_to_pdf  # lazy: heavy optional import (the report's context: numpy)
+        from .pdf import html_to_pdf  # lazy: heavy optional import (weasyprint, pikepdf)
 
         html_to_pdf(
             "<p>crankdyn</p>"
