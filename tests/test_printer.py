@@ -131,3 +131,24 @@ def test_a_pdf_is_laid_out_with_fewer_collections_and_the_settings_come_back():
     except RuntimeError:
         pass
     assert gc.get_threshold() == before
+
+
+def test_the_printer_loads_none_of_the_reports_own_code():
+    """The printer runs while the report's process and its stage child use both cores: what it
+    imports to lay out a page (the stylesheets, the PDF module) takes no numpy, Jinja or plugin
+    types, which the report's process has and the printer does not need."""
+    import subprocess
+
+    probe = (
+        "import sys\n"
+        "from crankdyn.report import pdf, printer\n"
+        "from crankdyn.report.assets import report_css\n"
+        "assert '@page' in report_css('uk')\n"
+        "heavy = [m for m in ('numpy', 'jinja2', 'pydantic', 'crankdyn.report.context')"
+        " if m in sys.modules]\n"
+        "print(heavy)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, check=True, timeout=60
+    )
+    assert done.stdout.strip() == "[]"
