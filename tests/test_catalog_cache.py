@@ -73,3 +73,8 @@ def test_the_cache_folder_follows_the_users_cache_home(monkeypatch, tmp_path):
     monkeypatch.delenv(catalog_cache.CACHE_ENV, raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     assert catalog_cache.cache_dir() == tmp_path / "crankdyn"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/cache")  # ignored, as XDG says
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert catalog_cache.cache_dir() == tmp_path / "home" / ".cache" / "crankdyn"
+    monkeypatch.setenv("HOME", "not-absolute")
+    assert catalog_cache.cache_dir() is None  # never a folder made where the command runs

@@ -28,13 +28,18 @@ _FORMAT = 1
 
 
 def cache_dir() -> Path | None:
-    """The folder the parsed catalogs are kept in, or None (:data:`CACHE_ENV` is ``off``)."""
+    """The folder the parsed catalogs are kept in, or None (:data:`CACHE_ENV` is ``off``, or no
+    absolute folder is known: a relative one would be made in the working folder)."""
     named = os.environ.get(CACHE_ENV)
     if named == "off":
         return None
     if named:
         return Path(named)
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "crankdyn"
+    base = os.environ.get("XDG_CACHE_HOME", "")
+    if os.path.isabs(base):  # the XDG rule: a relative value is ignored
+        return Path(base) / "crankdyn"
+    home = Path(os.path.expanduser("~"))
+    return home / ".cache" / "crankdyn" if home.is_absolute() else None
 
 
 def _file(source: str) -> Path | None:
