@@ -33,6 +33,15 @@ def available() -> bool:
     return importlib.util.find_spec("pikepdf") is not None
 
 
+def figure_page(figure) -> bytes | None:
+    """The figure's PDF page to stamp, or None: a figure given only as its SVG, or one whose page
+    could not be drawn (it is then printed from its SVG, which raises the figure's own error)."""
+    try:
+        return getattr(figure, "pdf", None)
+    except Exception:  # noqa: BLE001 - see above
+        return None
+
+
 def page_size_pt(pdf: bytes) -> tuple[float, float]:
     """(width, height) in points of the first page of a figure PDF."""
     found = _MEDIA_BOX.search(pdf)

@@ -61,12 +61,7 @@ def _fetcher(in_memory: dict | None = None, forms: dict | None = None):
 
     def image(url: str) -> bytes:
         figure = in_memory[url]
-        pdf = None
-        if forms is not None:
-            try:
-                pdf = getattr(figure, "pdf", None)
-            except Exception:  # noqa: BLE001 - its SVG then, which raises the figure's own error
-                pdf = None
+        pdf = figure_forms.figure_page(figure) if forms is not None else None
         if pdf is None:
             return figure.svg
         forms[url] = pdf  # type: ignore[index]  # forms is not None here

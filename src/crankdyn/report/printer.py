@@ -28,6 +28,7 @@ import threading
 from collections.abc import Sequence
 
 from ..parallel.fork import stop_child
+from . import figure_forms
 from .assets import report_css
 from .weasy import load_weasyprint
 
@@ -195,7 +196,7 @@ def print_pdf(html: str, figures: Sequence) -> bytes | None:
                 # the figure's own exceptions are the report's: raised here, as without a printer
                 _send(writer, ("svg", by_name[value].svg))
             elif kind == "form":
-                _send(writer, ("pdf", _figure_pdf(by_name[value])))
+                _send(writer, ("pdf", figure_forms.figure_page(by_name[value])))
             elif kind == "pdf":
                 return value
             else:  # "failed": made here again, which raises the same error where it is one
@@ -204,15 +205,6 @@ def print_pdf(html: str, figures: Sequence) -> bytes | None:
         return None  # the printer died or the pipe broke
     finally:
         _stop(pid, sock)
-
-
-def _figure_pdf(figure) -> bytes | None:
-    """The figure's PDF page, or None (no page, or drawing it failed: the printer then asks for
-    the SVG, whose own error is the report's)."""
-    try:
-        return getattr(figure, "pdf", None)
-    except Exception:  # noqa: BLE001 - see above
-        return None
 
 
 def discard() -> None:
