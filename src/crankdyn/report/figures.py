@@ -339,7 +339,6 @@ def new_figure(width_cm: float = 16.0, height_cm: float = 8.5, **subplots):
         size = (width_cm / 2.54, height_cm / 2.54)
         try:
             key = (_frozen(subplots), _rc_digest())
-            hash(key)
         except TypeError:  # an argument that is no plain value: made afresh
             key = None
         return AXES_TEMPLATES.subplots(key, size, subplots)

@@ -1174,11 +1174,11 @@ def _texts_but_tick_labels(fig) -> list:
     written by the axis's formatter each time the figure is drawn (the locale's, above), and
     asking an axis for its ticks would make them now, before the layout sets the limits."""
     from matplotlib.axis import (
-        Axis,
-    )  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+        Axis,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
     from matplotlib.text import (
-        Text,
-    )  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+        Text,  # lazy: heavy optional import (matplotlib: only when a figure is drawn)
+    )
 
     found, waiting = [], [fig]
     while waiting:
