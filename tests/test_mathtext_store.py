@@ -64,9 +64,10 @@ def _records(path) -> dict:
 
 
 def _write(path, records: dict) -> None:
-    """A store's file holding ``records`` (JSON texts), as the store writes them."""
+    """A store's file holding ``records`` (JSON texts, as text or UTF-8), as the store writes them."""
+    encoded = {k: v if isinstance(v, bytes) else v.encode() for k, v in records.items()}
     with open(path, "wb") as out:
-        mathtext_store._write(out, records)
+        mathtext_store._write(out, encoded)
 
 
 def test_a_label_read_back_is_the_label_typeset(tmp_path):

@@ -308,11 +308,7 @@ def _write(out, records: dict[str, bytes]) -> None:
     """``records`` as the store's file, to binary ``out``: the header, then a line per record. A
     key and a record are JSON texts, which hold no tab and no line break of their own."""
     out.write(_HEADER.encode("ascii") + b"\n")
-    out.writelines(
-        b"%s\t%s\n"
-        % (key.encode("utf-8"), record if isinstance(record, bytes) else record.encode())
-        for key, record in records.items()
-    )
+    out.writelines(b"%s\t%s\n" % (key.encode("utf-8"), record) for key, record in records.items())
 
 
 def store_path() -> Path | None:
