@@ -5,10 +5,13 @@ axes loaded from a template) give the SVG and PDF bytes matplotlib's own way giv
 import matplotlib
 import numpy as np
 import pytest
+from matplotlib import _text_helpers
 from matplotlib.axis import Axis
+from matplotlib.backends import backend_pdf
 from matplotlib.text import Text
+from matplotlib.transforms import BboxBase
 
-from crankdyn.report import figures
+from crankdyn.report import figure_shortcuts, figures
 
 
 def _drawn(to=figures.to_svg) -> bytes:
@@ -62,12 +65,77 @@ def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch, to):
         (Text, "_get_layout"),
     ):
         monkeypatch.setattr(owner, name, getattr(owner, name).__wrapped__)
+    _unwrap_figure_shortcuts(monkeypatch)
     for installer in ("_copy_new_ticks", "_remember_text_layouts", "_remember_tick_updates"):
         monkeypatch.setattr(figures, installer, lambda: None)  # to_svg would put them back
     monkeypatch.setattr(figures, "house_style", lambda: matplotlib.rc_context(figures.STYLE))
     monkeypatch.setattr(figures, "AXES_TEMPLATES", figures.AxesTemplates(kept=0))  # made afresh
     assert not hasattr(Axis.get_major_ticks, "__wrapped__")
     assert _drawn(to) == shortcut
+
+
+def _unwrap_figure_shortcuts(monkeypatch) -> None:
+    """matplotlib's own functions back in the places figure_shortcuts took."""
+    figure_shortcuts.install()
+    assert BboxBase.union.crankdyn_shortcut
+    monkeypatch.setattr(BboxBase, "union", staticmethod(BboxBase.union.__wrapped__))
+    monkeypatch.setattr(Axis, "_get_ticklabel_bboxes", Axis._get_ticklabel_bboxes.__wrapped__)
+    monkeypatch.setattr(backend_pdf, "_text_helpers", _text_helpers)
+    monkeypatch.setattr(
+        backend_pdf.RendererPdf, "_get_font_ttf", backend_pdf.RendererPdf._get_font_ttf.__wrapped__
+    )
+    monkeypatch.setattr(
+        backend_pdf, "_get_pdf_charprocs", backend_pdf._get_pdf_charprocs.__wrapped__
+    )
+    monkeypatch.setattr(figure_shortcuts, "install", lambda: None)  # to_svg would put them back
+
+
+def test_tick_labels_are_measured_once_while_their_axis_stays(monkeypatch):
+    figure_shortcuts.install()
+    fig = _one_axes()
+    renderer = fig.canvas.get_renderer()
+    axis = fig.axes[0].xaxis
+    measured = []
+    measure = Text.get_window_extent
+
+    def counted(self, *args, **kwargs):
+        measured.append(self)
+        return measure(self, *args, **kwargs)
+
+    monkeypatch.setattr(Text, "get_window_extent", counted)
+    monkeypatch.setattr(figure_shortcuts.tick_label_boxes, "boxes", {}, raising=False)
+    first = axis._get_ticklabel_bboxes(axis._update_ticks(), renderer)
+    count = len(measured)
+    assert count > 0
+    again = axis._get_ticklabel_bboxes(axis._update_ticks(), renderer)
+    assert len(measured) == count  # not measured again
+    assert [box.bounds for box in again[0]] == [box.bounds for box in first[0]]
+    assert again[0][0] is not first[0][0]  # boxes of its own, as matplotlib gives
+    fig.axes[0].set_position([0.3, 0.3, 0.4, 0.4])  # the axes moved: measured anew
+    moved = axis._get_ticklabel_bboxes(axis._update_ticks(), renderer)
+    assert len(measured) > count
+    assert moved[0][0].bounds != first[0][0].bounds
+    figure_shortcuts.tick_label_boxes.boxes = None  # outside a drawing: measured every time
+    axis._get_ticklabel_bboxes(axis._update_ticks(), renderer)
+    assert len(measured) > count + len(moved[0])
+
+
+def test_a_pdf_shapes_each_text_once_per_font_and_size():
+    figure_shortcuts.install()
+    figure_shortcuts._text_runs.clear()
+    first = figures.to_pdf(_one_axes())
+    runs = dict(figure_shortcuts._text_runs)
+    assert runs, "the PDF's texts were shaped through the memo"
+    assert figures.to_pdf(_one_axes()) == first
+    assert figure_shortcuts._text_runs.keys() == runs.keys()  # nothing shaped anew
+
+
+def _one_axes():
+    fig, ax = figures.new_figure(8, 6)
+    ax.plot([0.0, 360.0], [-1.5e5, 2.5e5])
+    ax.set_xlabel("φ, °")
+    ax.set_ylabel("F, Н")
+    return fig
 
 
 def test_new_axes_come_from_a_template_made_with_the_same_rc_params(monkeypatch):

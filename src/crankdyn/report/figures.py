@@ -26,7 +26,7 @@ import numpy as np
 from ..engine.frozen_heap import freeze_more
 from ..parallel.fork import can_fork as _no_other_thread
 from ..parallel.fork import fork_with_pipe
-from . import mathtext_store
+from . import figure_shortcuts, mathtext_store
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.typing import RcKeyType
@@ -825,9 +825,12 @@ def _draw_laid_out(fig, renderer_for: Callable[[float, float], Any]) -> None:
     _measure_math_as_drawn()
     _remember_text_layouts()
     _remember_tick_updates()
+    figure_shortcuts.install()
     dpi = fig.dpi
     outer_updates = getattr(_tick_updates, "updates", None)
+    outer_boxes = getattr(figure_shortcuts.tick_label_boxes, "boxes", None)
     _tick_updates.updates = {}
+    figure_shortcuts.tick_label_boxes.boxes = {}
     try:
         with house_style():
             fig.set_layout_engine(None)  # laid out here, once
@@ -847,6 +850,7 @@ def _draw_laid_out(fig, renderer_for: Callable[[float, float], Any]) -> None:
     finally:
         fig.dpi = dpi
         _tick_updates.updates = outer_updates
+        figure_shortcuts.tick_label_boxes.boxes = outer_boxes
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
         pyplot.close(fig)  # a plugin drew it with pyplot: release pyplot's reference
