@@ -2,6 +2,9 @@
 from the first, text layouts and tick updates remembered, the house style set key by key, new
 axes loaded from a template) give the SVG and PDF bytes matplotlib's own way gives."""
 
+import subprocess
+import sys
+
 import matplotlib
 import numpy as np
 import pytest
@@ -77,6 +80,7 @@ def test_the_shortcuts_draw_the_bytes_matplotlib_draws(monkeypatch, to):
 def _unwrap_figure_shortcuts(monkeypatch) -> None:
     """matplotlib's own functions back in the places figure_shortcuts took."""
     figure_shortcuts.install()
+    figure_shortcuts.install_pdf()
     assert BboxBase.union.crankdyn_shortcut
     monkeypatch.setattr(BboxBase, "union", staticmethod(BboxBase.union.__wrapped__))
     monkeypatch.setattr(Axis, "_get_ticklabel_bboxes", Axis._get_ticklabel_bboxes.__wrapped__)
@@ -87,7 +91,8 @@ def _unwrap_figure_shortcuts(monkeypatch) -> None:
     monkeypatch.setattr(
         backend_pdf, "_get_pdf_charprocs", backend_pdf._get_pdf_charprocs.__wrapped__
     )
-    monkeypatch.setattr(figure_shortcuts, "install", lambda: None)  # to_svg would put them back
+    for installer in ("install", "install_pdf"):  # to_svg and to_pdf would put them back
+        monkeypatch.setattr(figure_shortcuts, installer, lambda: None)
 
 
 def test_tick_labels_are_measured_once_while_their_axis_stays(monkeypatch):
@@ -121,7 +126,6 @@ def test_tick_labels_are_measured_once_while_their_axis_stays(monkeypatch):
 
 
 def test_a_pdf_shapes_each_text_once_per_font_and_size():
-    figure_shortcuts.install()
     figure_shortcuts._text_runs.clear()
     first = figures.to_pdf(_one_axes())
     runs = dict(figure_shortcuts._text_runs)
@@ -182,3 +186,15 @@ def test_the_house_style_sets_what_rc_context_sets_and_gives_back_what_was_there
         assert {key: params[key] for key in figures.STYLE} == expected
         assert params["font.size"] == figures.STYLE["font.size"]
     assert dict(params) == before
+
+
+def test_an_svg_drawing_leaves_the_pdf_backend_unimported():
+    code = (
+        "import sys\n"
+        "from crankdyn.report import figures\n"
+        "fig, ax = figures.new_figure(8, 6)\n"
+        "ax.plot([0, 1], [0, 1])\n"
+        "figures.to_svg(fig)\n"
+        "assert 'matplotlib.backends.backend_pdf' not in sys.modules\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -37,9 +37,14 @@ tick_label_boxes = threading.local()
 
 
 def install() -> None:
-    """Put every shortcut of this module in place (once per process)."""
+    """Put the shortcuts of every drawing in place (once per process)."""
     _union_at_once()
     _remember_tick_label_boxes()
+
+
+def install_pdf() -> None:
+    """Put the shortcuts of a PDF drawing in place (once per process): only a process that draws
+    a PDF imports matplotlib's PDF backend."""
     _remember_pdf_text_runs()
     _remember_pdf_glyph_procs()
 

@@ -795,6 +795,7 @@ def to_pdf(fig) -> bytes:
     itself, with their Unicode names (searchable, copied as written)."""
     from matplotlib.backends.backend_pdf import PdfFile, RendererPdf  # lazy: heavy optional import
 
+    figure_shortcuts.install_pdf()
     buffer = io.BytesIO()
     file = PdfFile(buffer, metadata=_NO_PDF_METADATA)
 
