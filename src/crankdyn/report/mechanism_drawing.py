@@ -13,6 +13,7 @@ import base64
 import hashlib
 import io
 import json
+from contextlib import contextmanager
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
@@ -425,6 +426,29 @@ def draw_mechanism(
     ax, geometry, i: int, color=INK, alpha: float = 1.0, static: bool = True
 ) -> None:
     """The mechanism at frame ``i``; ``static=False`` leaves out ground, guides and traces."""
+    with _autoscaled_once(ax):
+        _draw_mechanism(ax, geometry, i, color, alpha, static)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    hide_axes(ax)
+
+
+@contextmanager
+def _autoscaled_once(ax):
+    """Inside, the axes' limits are not autoscaled: matplotlib otherwise autoscales them anew,
+    over every artist added so far, each time a collection is added (a drawing adds dozens).
+    The data limits still grow with each artist, so the autoscale after it (as it was) sees them
+    all."""
+    on = ax.get_autoscalex_on(), ax.get_autoscaley_on()
+    ax.set_autoscale_on(False)
+    try:
+        yield
+    finally:
+        ax.set_autoscalex_on(on[0])
+        ax.set_autoscaley_on(on[1])
+
+
+def _draw_mechanism(ax, geometry, i: int, color, alpha: float, static: bool) -> None:
     extent = _extent_mm(geometry)
     r_joint = extent * JOINT_R
     if static:
@@ -494,9 +518,6 @@ def draw_mechanism(
             circles, facecolor="white", edgecolor=color, linewidths=1.1, alpha=alpha, zorder=5
         )
     )
-    ax.autoscale_view()
-    ax.set_aspect("equal")
-    hide_axes(ax)
 
 
 def drawn_links(geometry):
