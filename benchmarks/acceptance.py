@@ -7,8 +7,8 @@ Run from the repository root (takes a few minutes; writes only below a temporary
     python3 benchmarks/acceptance.py --repeat 3    # fewer whole-process repeats
     python3 benchmarks/acceptance.py --only startup,timing   # some figures only
 
-Whole processes are timed (``crankdyn`` started afresh each time, median of ``--repeat`` runs)
-with byte-code caching on (in a temporary ``PYTHONPYCACHEPREFIX``), as an installed package
+Whole processes are timed (``crankdyn`` started afresh each time, median of ``--repeat`` runs,
+each figure in turns with its yardstick: benchmarks.acceptance.walls) with byte-code caching on (in a temporary ``PYTHONPYCACHEPREFIX``), as an installed package
 runs, and with the typeset mathtext labels kept between runs in a store of the benchmark's own
 (filled by the warm-up run, as a user's is by the first report; the HTML figure is also given with
 no store at all). A ratio <= 1 meets the goal. Not part of the test suite.
@@ -43,15 +43,23 @@ def _env(cache: Path) -> dict:
     return env
 
 
-def wall(cmd: list[str], env: dict, repeat: int) -> float:
-    """Median wall time of ``cmd`` as a whole process (one warm-up run first)."""
-    subprocess.run(cmd, env=env, capture_output=True, check=True)
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        subprocess.run(cmd, env=env, capture_output=True, check=True)
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+def walls(runs: list[tuple[list[str], dict]], repeat: int, codes: tuple[int, ...] = (0,)) -> list:
+    """Median wall time of each ``(command, environment)`` as a whole process, the commands run
+    in turns (each once first, as a warm-up): a figure and its yardstick are measured over the
+    same stretch of time, so that a drift of the machine's speed meanwhile moves both alike.
+    A command that exits with a code outside ``codes`` stops the benchmark."""
+    times: list[list[float]] = [[] for _ in runs]
+    for round_ in range(repeat + 1):
+        for k, (cmd, env) in enumerate(runs):
+            start = time.perf_counter()
+            done = subprocess.run(cmd, env=env, capture_output=True, text=True)
+            if done.returncode not in codes:
+                raise SystemExit(
+                    f"{' '.join(cmd[2:4])} exited with {done.returncode}: {done.stderr[-500:]}"
+                )
+            if round_:
+                times[k].append(time.perf_counter() - start)
+    return [statistics.median(t) for t in times]
 
 
 def _cpu_s(cmd: list[str], env: dict) -> tuple[subprocess.CompletedProcess, float]:
@@ -100,46 +108,41 @@ def main() -> None:
         env = _env(tmp / "pycache")
         one = str(EXAMPLES / "petrol-1cyl.toml")
 
-        imports = None
-        if only & {"startup", "html"}:  # the yardstick of the start-up and HTML figures
-            imports = wall(
-                [sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"],
-                env,
-                args.repeat,
-            )
-        if "startup" in only:
-            json_s = wall(
-                crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"),
-                env,
-                args.repeat,
-            )
-            rows.append(
-                ("report --format json (1 cyl) / 1.5 x import numpy+scipy", json_s, 1.5 * imports)
-            )
-        if "html" in only:
-            html_s = wall(
-                crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"),
-                env,
-                args.repeat,
-            )
-            rows.append(
-                ("report --format html (1 cyl) / 2 x import numpy+scipy", html_s, 2.0 * imports)
-            )
-            # the first report on a machine (or after matplotlib's settings changed): every label typeset
-            cold = wall(
-                crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q"),
-                {**env, "CRANKDYN_MATHTEXT_CACHE": "off"},
-                args.repeat,
-            )
-            rows.append(
-                ("  the same, no stored labels (first run) / 2 x import", cold, 2.0 * imports)
-            )
+        if only & {"startup", "html"}:  # measured in turns with their yardstick
+            yardstick = [sys.executable, "-c", "import numpy, scipy.integrate, scipy.optimize"]
+            runs = [(yardstick, env)]
+            if "startup" in only:
+                runs.append(
+                    (crankdyn("report", one, "-o", str(tmp / "j"), "--format", "json", "-q"), env)
+                )
+            if "html" in only:
+                html = crankdyn("report", one, "-o", str(tmp / "h"), "--format", "html", "-q")
+                # and the first report on a machine (or after matplotlib's settings changed):
+                # every label typeset
+                runs += [(html, env), (html, {**env, "CRANKDYN_MATHTEXT_CACHE": "off"})]
+            imports, *measured = walls(runs, args.repeat)
+            if "startup" in only:
+                json_s, *measured = measured
+                rows.append(
+                    (
+                        "report --format json (1 cyl) / 1.5 x import numpy+scipy",
+                        json_s,
+                        1.5 * imports,
+                    )
+                )
+            if "html" in only:
+                html_s, cold = measured
+                rows.append(
+                    (
+                        "report --format html (1 cyl) / 2 x import numpy+scipy",
+                        html_s,
+                        2.0 * imports,
+                    )
+                )
+                rows.append(
+                    ("  the same, no stored labels (first run) / 2 x import", cold, 2.0 * imports)
+                )
         if "pdf" in only:
-            pdf_s = wall(
-                crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"),
-                env,
-                args.repeat,
-            )
             subprocess.run(
                 crankdyn(
                     "report",
@@ -155,16 +158,18 @@ def main() -> None:
                 check=True,
                 capture_output=True,
             )
-            weasy = wall(
+            weasyprint_alone = [
+                sys.executable,
+                "-c",
+                "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1]).write_pdf(sys.argv[2])",
+                str(tmp / "sc" / "report.html"),
+                str(tmp / "w.pdf"),
+            ]
+            pdf_s, weasy = walls(
                 [
-                    sys.executable,
-                    "-c",
-                    "import sys, weasyprint; weasyprint.HTML(filename=sys.argv[1])"
-                    ".write_pdf(sys.argv[2])",
-                    str(tmp / "sc" / "report.html"),
-                    str(tmp / "w.pdf"),
+                    (crankdyn("report", one, "-o", str(tmp / "p"), "--format", "pdf", "-q"), env),
+                    (weasyprint_alone, env),
                 ],
-                env,
                 args.repeat,
             )
             rows.append(
@@ -216,7 +221,6 @@ def main() -> None:
 
             variants = write_variants(tmp / "variants.csv", 30)
             report = crankdyn("report", one, "-o", str(tmp / "r"), "--format", "html,json", "-q")
-            single = wall(report, env, args.repeat)
             cmd = crankdyn(
                 "batch",
                 str(variants),
@@ -231,7 +235,6 @@ def main() -> None:
                 "-q",
             )
             single_cpu = _cpu_s(report, env)[1]
-            start = time.perf_counter()
             done, batch_cpu = _cpu_s(cmd, env)
             if (
                 done.returncode != 2 or not (tmp / "b" / "answer_key.csv").is_file()
@@ -239,10 +242,12 @@ def main() -> None:
                 raise SystemExit(
                     f"the benchmark batch did not run as expected: {done.stderr[-500:]}"
                 )
+            # in turns: the batch and the one report it is measured against
+            batch_s, single = walls([(cmd, env), (report, env)], args.repeat, codes=(0, 2))
             rows.append(
                 (
                     "batch: 30 variants html+json, 2 jobs / 8 x one report html+json",
-                    time.perf_counter() - start,
+                    batch_s,
                     8.0 * single,
                 )
             )

@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
@@ -33,3 +35,21 @@ def test_writing_the_figures_replaces_the_table_and_keeps_the_page(tmp_path):
     assert "| html / 2 x import | 3.000 | 2.000 | 1.50 | NOT MET |" in text
     assert "| table monotone, runs of 10 / 10 | 10.000 | 10.000 | 1.00 | ok |" in text
     assert text.startswith("# Performance\n\nintro\n\n") and text.endswith("\nafter\n")
+
+
+def test_the_figures_are_timed_in_turns_with_their_yardstick(tmp_path):
+    log = tmp_path / "order"
+    runs = [
+        ([sys.executable, "-c", f"open({str(log)!r}, 'a').write('{name}')"], {}) for name in "ab"
+    ]
+    medians = acceptance.walls(runs, repeat=3)
+    # a warm-up round, then three rounds, each command once a round
+    assert log.read_text() == "ab" * 4
+    assert len(medians) == 2 and all(m > 0 for m in medians)
+
+
+def test_a_command_that_fails_stops_the_benchmark():
+    failing = ([sys.executable, "-c", "raise SystemExit(3)"], {})
+    with pytest.raises(SystemExit, match="exited with 3"):
+        acceptance.walls([failing], repeat=1)
+    assert acceptance.walls([failing], repeat=1, codes=(3,))[0] > 0
