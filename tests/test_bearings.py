@@ -704,3 +704,34 @@ def test_supports_usually_on_rolling_bearings_are_said_to_be(example, said):
     assert "usually rolling" not in car and "crankcase scavenging" not in car
     flat = shared_html("inline4-petrol", {"engine": {"application": "aircraft"}}, "en")
     assert "usually rolling" not in flat.linked_html and "rolling main bearings" not in flat.html
+
+
+@pytest.mark.parametrize("pole_z", [0.0, 4.0, -6.0])
+def test_load_diagram_labels_stand_at_points_inside_the_axes(pole_z):
+    """A label is drawn without asking whether its point lies inside the axes: every point is one
+    of the curve's, inside the limits autoscaled to the curve and the journal's circle, so what is
+    drawn is what matplotlib's clipping of labels to the axes would draw."""
+    from matplotlib.text import Annotation
+
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.bearings.figures import _polar_drawing
+
+    angle = np.arange(0.0, 720.0, 1.0)
+    a = np.radians(angle)
+    t_Pa = 1e6 * (3.0 * np.sin(a) + 1.5 * np.sin(2.0 * a))
+    z_Pa = 1e6 * (2.0 + 5.0 * np.cos(a) - 2.0 * np.cos(3.0 * a))
+    fig = _polar_drawing(
+        translator("en"), t_Pa, z_Pa, angle, pole_z, "Pin", 45.0, 1.0, 30.0, ("T", "Z")
+    )
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    labels = [
+        artist
+        for artist in fig.axes[0].get_children()
+        if isinstance(artist, Annotation) and artist.get_text() != "O"
+    ]
+    assert len(labels) >= 6
+    for label in labels:
+        assert label.get_annotation_clip() is False
+        label.set_annotation_clip(None)  # matplotlib's default: drawn only inside the axes
+        assert label._check_xy(renderer), label.get_text()

@@ -162,6 +162,9 @@ def _angle_labels(ax, translator, curve_tz, angle, every, span, per_pt, journal)
                 textcoords="offset points",
                 ha=ha,
                 va=va,
+                # a point of the curve, inside the axes' limits (autoscaled to the curve): not
+                # asked whether it is inside each time the label is measured or drawn
+                annotation_clip=False,
             )
 
 
