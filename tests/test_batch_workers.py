@@ -132,3 +132,37 @@ def test_workers_leave_when_the_batch_process_dies():
         time.sleep(0.1)
     else:
         assert not os.path.exists(f"/proc/{pid}"), "the orphaned worker is still running"
+
+
+def _slow_value(value):
+    time.sleep(0.2)
+    return os.getpid(), value
+
+
+def test_meanwhile_runs_once_while_the_first_items_are_computed():
+    events = []
+    outcomes = []
+    run_all(
+        [1, 2, 3, 4],
+        _slow_value,
+        lambda item: (item,),
+        2,
+        30.0,
+        lambda outcome: (outcomes.append(outcome), events.append("finished")),
+        lambda item, reason, seconds: ("failed", item, reason),
+        meanwhile=lambda: events.append("meanwhile"),
+    )
+    # called once, before any item came back (both workers were busy with the first two)
+    assert events[0] == "meanwhile" and events.count("meanwhile") == 1
+    assert sorted(value for _, value in outcomes) == [1, 2, 3, 4]
+
+
+def test_the_answer_keys_workbook_writer_can_be_loaded_ahead():
+    code = (
+        "import sys\n"
+        "from crankdyn.batch import variants\n"
+        "assert 'openpyxl' not in sys.modules\n"
+        "variants.load_key_writers()\n"
+        "assert 'openpyxl.workbook' in sys.modules\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -10,6 +10,7 @@ and the others go on. At the end the batch writes an answer key of the main resu
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import hashlib
 import io
@@ -804,6 +805,7 @@ def execute(
                     timeout,
                     finished,
                     failed,
+                    meanwhile=load_key_writers,
                 )
             else:
                 tail = (str(out_dir), formats, options.language, options.stages, data_dirs, True)
@@ -897,6 +899,13 @@ def _write_rendered(out_dir: Path, outcome: Outcome, force: bool = False) -> Out
         except (OSError, CrankdynError) as exc:
             outcome.ok, outcome.error = False, f"cannot write its files: {exc}"
     return outcome
+
+
+def load_key_writers() -> None:
+    """Import the answer key's workbook writer (openpyxl, a tenth of a second), which the batch's
+    own process otherwise imports after the last variant, while its workers compute."""
+    with contextlib.suppress(ImportError):  # no openpyxl: the key says so when it is written
+        outputs.xlsx_libraries()
 
 
 def key_files(

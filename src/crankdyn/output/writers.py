@@ -84,6 +84,16 @@ def xlsx_tables(result: RunResult) -> dict[str, bytes]:
     return {XLSX_NAME: xlsx_bytes(tables)}
 
 
+def xlsx_libraries():
+    """The openpyxl names :func:`xlsx_bytes` writes with (imported on first use)."""
+    from openpyxl import Workbook  # lazy: heavy optional import
+    from openpyxl.cell import WriteOnlyCell  # lazy: heavy optional import
+    from openpyxl.styles import Font  # lazy: heavy optional import
+    from openpyxl.utils import get_column_letter  # lazy: heavy optional import
+
+    return Workbook, WriteOnlyCell, Font, get_column_letter
+
+
 def xlsx_bytes(sheets) -> bytes:
     """An .xlsx workbook from ``[(sheet name, DataFrame), ...]``.
 
@@ -93,11 +103,7 @@ def xlsx_bytes(sheets) -> bytes:
     column) above the column names; both rows are frozen. Sheet names are cut to Excel's
     31 characters and made unique.
     """
-    from openpyxl import Workbook  # lazy: heavy optional import
-    from openpyxl.cell import WriteOnlyCell  # lazy: heavy optional import
-    from openpyxl.styles import Font  # lazy: heavy optional import
-    from openpyxl.utils import get_column_letter  # lazy: heavy optional import
-
+    Workbook, WriteOnlyCell, Font, get_column_letter = xlsx_libraries()
     workbook = Workbook(write_only=True)  # streaming writer: several times faster for grid tables
     bold = Font(bold=True)
     used: set[str] = set()

@@ -195,14 +195,17 @@ def run_all(
     timeout_s: float,
     finished: Callable,
     failed: Callable[[object, str, float], object],
+    meanwhile: Callable[[], object] | None = None,
 ) -> list:
     """Run ``function(*args_of(item))`` for every item in worker processes, ``jobs`` at a time.
 
     Each worker runs up to :data:`VARIANTS_PER_WORKER` items one after the other; one that
     exceeds ``timeout_s`` is killed (its item fails) and a fresh worker takes the next item.
     ``finished(outcome)`` is called with each result as it arrives; ``failed(item, reason,
-    seconds)`` makes the outcome of an item that timed out or whose worker died. Returns
-    the items not finished when Ctrl-C stopped the run (empty when everything ran).
+    seconds)`` makes the outcome of an item that timed out or whose worker died. ``meanwhile()``
+    is called once, after the first items went to the workers, while they compute them (this
+    process would otherwise only wait). Returns the items not finished when Ctrl-C stopped the
+    run (empty when everything ran).
     """
     if not hasattr(os, "fork"):  # Windows: one after the other in this process, without a limit
         return _run_here(items, function, args_of, finished)
@@ -215,6 +218,9 @@ def run_all(
                 item = queue.popleft()
                 worker = _start(function, idle, args_of(item))
                 running[worker.connection] = (worker, item, time.monotonic())
+            if meanwhile is not None:
+                meanwhile, later = None, meanwhile
+                later()
             now = time.monotonic()
             left = min(start + timeout_s - now for _, _, start in running.values())
             for connection in wait(list(running), timeout=max(0.0, left)):
