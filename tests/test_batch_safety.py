@@ -202,7 +202,9 @@ def test_sigterm_writes_the_answer_key_and_failures_and_exits_143(tmp_path, comm
 
 
 def test_an_interruption_outside_the_run_loop_still_lists_every_row(tmp_path, monkeypatch):
-    def first_then_interrupted(items, function, args_of, jobs, timeout, finished, failed):
+    def first_then_interrupted(
+        items, function, args_of, jobs, timeout, finished, failed, meanwhile=None
+    ):
         finished(function(*args_of(items[0])))
         raise KeyboardInterrupt  # e.g. while the loop closes its idle workers
 

@@ -99,7 +99,9 @@ def _remember_tick_label_boxes() -> None:
     measure = Axis._get_ticklabel_bboxes  # type: ignore[attr-defined]  # matplotlib's private measure
     if getattr(measure, "crankdyn_shortcut", False):
         return
-    from .figures import _tick_update_key  # lazy: the figures module installs these shortcuts
+    from .figures import (  # lazy: heavy optional import (matplotlib; figures installs these)
+        _tick_update_key,
+    )
 
     def _get_ticklabel_bboxes(self, ticks, renderer=None):
         boxes = getattr(tick_label_boxes, "boxes", None)
