@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import V_TWIN_ENGINE, shared_run
+from conftest import V_TWIN_ENGINE, shared_html, shared_run
 
 V_TWIN = {"engine": V_TWIN_ENGINE}
 
@@ -61,3 +61,28 @@ def test_a_given_rod_offset_is_taken_and_engines_of_several_cranks_have_none():
     assert couples["offset_given"] and couples["offset_m"] == pytest.approx(0.030)
     v8 = shared_run("v8-petrol", stages=["balancing"])
     assert v8.outputs["balancing"].results["rod_offset_couples"] is None
+
+
+@pytest.mark.parametrize(
+    ("language", "only", "left"),
+    [
+        ("ru", "остаются лишь", "неуравновешенными остаются"),
+        ("uk", "залишаються лише", "незрівноваженими залишаються"),
+        ("en", "only", "remain unbalanced"),
+    ],
+    ids=["ru", "uk", "en"],
+)
+def test_the_abstract_does_not_call_the_residuals_the_only_ones_before_the_rods_couples(
+    language, only, left
+):
+    """The abstract says what the fitted means leave of the forces and then the couples the rods'
+    offset leaves as well: the first list is not "the only" residuals then."""
+    import re
+
+    html = shared_html("v8-petrol", V_TWIN, language=language).linked_html
+    text = re.sub(r"\\s+", " ", re.sub(r"<[^>]+>", "", html))
+    couples = {"ru": "продольные моменты", "uk": "поздовжні моменти", "en": "longitudinal couples"}
+    # the abstract's sentence up to the couples (their first mention)
+    before = text[: text.index(couples[language])]
+    sentence = before[before.rindex(". ") :]
+    assert left in sentence and only not in sentence, sentence

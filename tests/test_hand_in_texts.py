@@ -661,7 +661,9 @@ def test_the_balancing_conclusion_multiplies_out(reports):
     product of the printed numbers gives the printed force to their precision."""
     html = reports("inline4-petrol")
     text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
-    conclusion = re.search(r"Зрівноваженість: незрівноважені (.*?) \(у дужках", text).group(1)
+    conclusion = re.search(
+        r"Зрівноваженість: без засобів зрівноваження незрівноважені (.*?) \(у дужках", text
+    ).group(1)
     items = re.findall(r"ΣP([IVX]+) = (\d[\d ]*(?:,\d+)?) Н \(([\d,]+)·\|A(\d+)\|CI\)", conclusion)
     assert [i[0] for i in items] == ["II", "IV"], conclusion
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
@@ -1172,3 +1174,13 @@ def test_a_quantity_is_printed_with_one_rounding_wherever_the_note_states_it():
     )
     for number in (*speeds, *inertia.groups()):
         assert len(number.replace(",", "").lstrip("0")) == 4, number
+
+
+def test_what_stays_unbalanced_is_said_to_be_without_the_fitted_means(reports):
+    """Counterweights or balance shafts fitted: the conclusion that lists the unbalanced forces and
+    moments says it is without them, the next says what they balance (the two do not contradict
+    each other); with none fitted, it lists what stays unbalanced."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    unbalanced = text.index("Зрівноваженість: без засобів зрівноваження незрівноважені ΣP")
+    assert text.index("Засоби зрівноваження: два зрівноважувальні вали", unbalanced) > unbalanced
+    assert "Зрівноваженість: незрівноважені" not in text

@@ -46,10 +46,12 @@ def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None
     elif significant:
         # the amplitude, and the textbook's coefficient times the scale it divides by (C_n = |A_n|·C_I,
         # table 8.2): "ΣP_II = 9426 Н (4,000·|A_2|C_I)" multiplies out, where "ΣP_II/C_II = 4,000" beside
-        # the textbook's C_II = λC_I did not
+        # the textbook's C_II = λC_I did not; with counterweights or shafts fitted (the next
+        # conclusion) these are what the crank arrangement alone leaves
+        fitted = bool(r["counterweights"] or r["balance_shafts"])
         ctx.conclude(
             t(
-                "balancing.conclusion_unbalanced",
+                "balancing.conclusion_unbalanced" + ("_without_means" if fitted else ""),
                 items=", ".join(_unbalanced_item(ctx, r, s) for s in significant),
             )
         )
@@ -349,8 +351,10 @@ def _left_after_means(t, r, residuals, sign: str, scheme: bool = False) -> str:
             items=listed,
             balanced=t.join_and(balanced),
         )
-    # what the slave cylinders also leave follows: these are not the only residuals then
-    key = "balancing.finding_left_means" + ("_parts" if r.get("parts_left") else "")
+    # what the slave cylinders or the rods' offset along the pin also leave follows: these are
+    # not the only residuals then
+    more = bool(r.get("parts_left") or rod_offset_items(t, r))
+    key = "balancing.finding_left_means" + ("_parts" if more else "")
     return t(key, count=len(items), items=listed)
 
 
