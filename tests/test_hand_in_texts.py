@@ -1184,3 +1184,15 @@ def test_what_stays_unbalanced_is_said_to_be_without_the_fitted_means(reports):
     unbalanced = text.index("Зрівноваженість: без засобів зрівноваження незрівноважені ΣP")
     assert text.index("Засоби зрівноваження: два зрівноважувальні вали", unbalanced) > unbalanced
     assert "Зрівноваженість: незрівноважені" not in text
+
+
+def test_a_v_engines_bank_angle_is_in_the_symbol_list_and_its_spacing_is_one_banks(reports):
+    """Table 1.1 of a V engine gives the bank angle γ, which the list of symbols then explains,
+    and the distance a between neighbouring cylinders of one bank (a V's neighbours along the
+    shaft are not its neighbouring cylinders: the two of one crank stand a rod's width apart)."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("v8-petrol")))
+    assert "γ – кут розвалу циліндрів, між осями їхніх рядів, °" in text
+    assert "Відстань між осями сусідніх циліндрів одного ряду" in text
+    inline = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
+    assert "Відстань між осями сусідніх циліндрів" in inline
+    assert "одного ряду" not in inline and "кут розвалу" not in inline

@@ -39,6 +39,7 @@ SECTION_BOUND = ("<declaring stages>",)
 _CORE_SYMBOLS: dict[str, Symbol] = {
     "crank_angle": Symbol("α", {}, "°", "symbol.crank_angle"),
     "rod_angle": Symbol("β", {}, "°", "symbol.rod_angle"),
+    "bank_angle": Symbol("γ", {}, "°", "symbol.bank_angle"),
     "cylinder_bore": Symbol("D", {}, "unit.mm", "symbol.cylinder_bore"),
     "stroke": Symbol("S", {}, "unit.mm", "symbol.stroke"),
     "crank_radius": Symbol("R", {}, "unit.mm", "symbol.crank_radius"),
