@@ -196,6 +196,11 @@ def test_the_block_names_surname_and_initials_in_one_size():
         person_in_block("Іваненко О. П.") == "Іваненко О. П."
         and person_in_block("Prof. A. Supervisor") == "Prof. A. Supervisor"
     )
+    # a name given in full: the surname and the initials, as the block's narrow cell takes them
+    assert person_in_block("Коваленко Марія Андріївна") == "Коваленко М. А."
+    assert person_in_block("Смирнова Анна-Марія") == "Смирнова А.-М."
+    assert person_in_block("проф. Дем'яненко Дем'ян Ілліч") == "Дем'яненко Д. І."
+    assert person_in_block("Коваленко") == "Коваленко"
     meta = scene_from_dict(
         modified(
             "petrol-1cyl-uk",

@@ -112,11 +112,26 @@ class Cell:
 def person_in_block(name: str) -> str:
     """A name as the title block writes it, surname and initials: the academic title a title page
     gives before it ("доц.", "проф.", "ст. викл.": words in small letters ending in a full stop)
-    left out ("доц. Петренко В. М." → "Петренко В. М.")."""
+    left out ("доц. Петренко В. М." → "Петренко В. М."), and a name given in full, surname first,
+    cut to its initials ("Коваленко Марія Андріївна" → "Коваленко М. А.": the block's column is
+    the surname's, ГОСТ 2.104). A name with an initial or a full stop is written as given."""
     words = name.split()
     while len(words) > 1 and words[0][:1].islower() and words[0].endswith((".", ",")):
         words.pop(0)
+    if len(words) in (2, 3) and all(_full_name_word(word) for word in words):
+        words = [words[0], *(_initials(word) for word in words[1:])]
     return " ".join(words)
+
+
+def _full_name_word(word: str) -> bool:
+    """A capitalised word of letters (an apostrophe or a hyphen inside: Дем'ян, Анна-Марія)."""
+    letters = word.replace("-", "").replace("'", "").replace("\u2019", "").replace("\u02bc", "")
+    return len(letters) > 1 and word[:1].isupper() and letters.isalpha()
+
+
+def _initials(word: str) -> str:
+    """ "Марія" → "М.", "Анна-Марія" → "А.-М."."""
+    return "-".join(part[:1] + "." for part in word.split("-") if part)
 
 
 def title_block(t, meta, title: str) -> dict:
