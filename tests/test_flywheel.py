@@ -299,3 +299,20 @@ def test_a_rim_faster_than_allowed_fails_in_the_abstract_and_the_conclusions():
     abstract = abstract[: abstract.index("</section>")]
     assert "above the allowed 20" in abstract
     assert "does not pass the speed check" in page[page.index('class="conclusions"') :]
+
+
+def test_a_raised_flywheel_and_the_energy_methods_have_symbols_of_their_own():
+    """Where the exact solution raises the energy method's flywheel, the table and the worked
+    substitution name the energy method's J′_f and the adopted J_f, each explained in the list of
+    symbols (one letter for two values in one table would be read as one quantity)."""
+    from conftest import shared_html
+
+    raised = {"flywheel": {"required_irregularity": 0.05, "rim_mean_diameter": "500 mm"}}
+    html = shared_html("diesel-1cyl", raised, language="en").linked_html
+    text = re.sub(r"\s+", " ", html_lib.unescape(re.sub(r"<[^>]+>", " ", html)))
+    assert re.search(r"flywheel by the energy method J ′ f [\d.]+ kg", text), "its row"
+    assert re.search(r"flywheel \(exact solution\) J f [\d.]+ kg", text), "the adopted one's row"
+    assert re.search(r"J ′ f = J 0 − J m − J e = ", text)
+    assert "J′f – flywheel moment of inertia by the energy method" in html_lib.unescape(
+        re.sub(r"<[^>]+>", "", html)
+    )

@@ -182,7 +182,7 @@ def test_the_note_adopts_the_raised_flywheel_in_the_abstract_table_and_conclusio
     assert f"З прийнятим маховиком {design} кг·м² точний періодичний розв’язок" in conclusions
     body = text[: text.rindex("Висновки")]
     assert f"Прийнятий момент інерції маховика (за точним розв’язком) J мах {design}" in body
-    assert f"Момент інерції маховика за енергетичним методом J мах {energy}" in body
+    assert f"Момент інерції маховика за енергетичним методом J ′ мах {energy}" in body
     rim = fly["rim"]
     assert f"Маса обода m {_printed(rim['mass_kg'])} кг" in body
     printed_h = re.search(r"h = ([\d,]+) мм", body)

@@ -7,6 +7,7 @@ from functools import partial
 from markupsafe import Markup
 
 from crankdyn.plugin.types import StageOutput
+from crankdyn.report.typeset import symbol_html
 from crankdyn.scene import options
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
@@ -26,7 +27,7 @@ def render(output: StageOutput, ctx) -> str:
         see="flywheel.see_work",
     )
     rim = r["rim"]
-    rows = _energy_rows(r, t) + _rim_rows(rim, t)
+    rows = _energy_rows(r, t, ctx.symbols) + _rim_rows(rim, t)
     table = ctx.table(
         [
             (t("input.quantity"), [x[0] for x in rows], None),
@@ -70,8 +71,9 @@ def render(output: StageOutput, ctx) -> str:
     )
 
 
-def _energy_rows(r: dict, t) -> list[tuple]:
-    """The table's rows of the energy method: ΔL, the inertias, [δ], J_0, the flywheel, δ."""
+def _energy_rows(r: dict, t, symbols) -> list[tuple]:
+    """The table's rows of the energy method: ΔL, the inertias, [δ], J_0, the flywheel, δ
+    (``symbols``: the report's symbol table)."""
     rows = [
         (t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
         (
@@ -108,7 +110,10 @@ def _energy_rows(r: dict, t) -> list[tuple]:
                     if r.get("flywheel_raised")
                     else "flywheel.row_required_flywheel"
                 ),
-                "<i>J</i><sub>f</sub>",
+                # raised by the exact solution: J_f is the adopted flywheel's, the next row
+                symbol_html("flywheel.energy_flywheel_inertia", t.language, symbols)
+                if r.get("flywheel_raised")
+                else "<i>J</i><sub>f</sub>",
                 t("flywheel.not_needed")
                 if _energy_needs_none(r)
                 else r["required_flywheel_inertia_kg_m2"],

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from markupsafe import Markup
 
+from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, printed_g, worked_markup
 
 
@@ -64,7 +65,10 @@ def worked_flywheel(ctx, r) -> Markup:
         steps.append(
             WorkedStep(
                 "required_flywheel_inertia",
-                "<i>J</i><sub>f</sub>",
+                # the adopted flywheel (J_f) is the exact solution's where it raises this one
+                symbol_html("flywheel.energy_flywheel_inertia", t.language, ctx.symbols)
+                if r.get("flywheel_raised")
+                else "<i>J</i><sub>f</sub>",
                 "<i>J</i><sub>0</sub> − <i>J</i><sub>m</sub> − <i>J</i><sub>e</sub>",
                 f"{j0_txt} − {jm_txt} − {je_txt}",
                 r["required_flywheel_inertia_kg_m2"],
