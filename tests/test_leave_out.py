@@ -263,6 +263,10 @@ def test_a_course_note_says_in_one_sentence_what_the_assignment_gives_no_data_fo
     }
     assert {"flywheel", "speed_fluctuation"} <= set(left_out), left_out
     sentence = re.search(r'<p class="skipped">(.*?)</p>', html).group(1)
+    # with the tasks the introduction lists, where a reader looks for what the note does
+    introduction = html[html.index('id="sec-introduction"') :]
+    introduction = introduction[: introduction.index("</section>")]
+    assert '<p class="skipped">' in introduction
     first = t(REGISTRY.stages[next(iter(left_out))].presentation.title_key)
     assert sentence.startswith(first) and " are not calculated in this note: " in sentence
     for stage, reason in left_out.items():
