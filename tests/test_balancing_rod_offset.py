@@ -86,3 +86,12 @@ def test_the_abstract_does_not_call_the_residuals_the_only_ones_before_the_rods_
     before = text[: text.index(couples[language])]
     sentence = before[before.rindex(". ") :]
     assert left in sentence and only not in sentence, sentence
+
+
+def test_a_one_crank_engines_table_gives_no_crank_angles():
+    """A V-twin's one crank lags none: table 1.1 gives no row of the cranks' angles (a V8's,
+    whose scene gives four, does)."""
+    t = shared_html("v8-petrol", V_TWIN, language="en").linked_html
+    assert "Angles of the cranks (lag behind crank 1)" not in t
+    eight = shared_html("v8-petrol", {"engine": {"crank_angles_deg": [0, 90, 270, 180]}})
+    assert "Angles of the cranks (lag behind crank 1)" in eight.linked_html

@@ -440,9 +440,13 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
 
 def _crank_angle_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     """The angles of the cranks of the cylinders, when the scene gives them (the engine's layout
-    otherwise chooses them)."""
+    otherwise chooses them) and the shaft has more than one crank (one crank lags none)."""
     engine = scene.engine
-    if engine.cylinders < 2 or "crank_angles_deg" not in engine.model_fields_set:
+    if (
+        engine.cylinders < 2
+        or "crank_angles_deg" not in engine.model_fields_set
+        or len(engine.crank_angles_deg) < 2
+    ):
         return []
     angles = "; ".join(ctx.t.number_g(float(a), 4) for a in engine.crank_angles_deg)
     return [(ctx.t("bays.input_crank_angles"), "", angles, "°")]
