@@ -116,7 +116,7 @@ def test_a_diesels_crank_pin_is_judged_by_the_diesels_allowable_pressures():
     conclusion = narrow.t("bearings.plausibility_pin_pressure_diesel_assumed_conclusion")
     assert conclusion.split("d·B", 1)[0] in narrow.conclusions
     # what the sizes must give, said as a condition on the pressure
-    assert "щоб тиск не перевищував допустимого, потрібно d·B ≥" in narrow.conclusions
+    assert "щоб тиск не перевищував допустимого, потрібно d · B ≥" in narrow.conclusions
     usual = Note("diesel-1cyl", {}, ("bearings",), "uk")
     assert "для дизелів допустимі" not in usual.section("bearings")
 
