@@ -222,7 +222,7 @@ def test_conclusions_come_from_the_numbers(ring_run):
     assert f"на {excess * 100:.1f} % більше".replace(".", ",") in conclusions
     assert "66,5 %" in conclusions  # 4004,7 against 2405,5 m/s²
     assert "4,98 м/с" in conclusions and "5,17 м/с" in conclusions
-    assert "змінює знак 4 рази" in conclusions
+    assert "змінює знак чотири рази" in conclusions
     assert "але ефективне плече" not in conclusions
     assert "13,79°" in conclusions
 

@@ -386,14 +386,6 @@ def _unbalanced_item(ctx, r, item) -> str:
     return f"{plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 
 
-def _in_words(t, n: int) -> dict[str, str]:
-    """``words_m``/``words_f``: a count of one to nine in words, as a text writes a number without a
-    unit (ДСТУ 3008), in the masculine and the feminine; a larger count in digits."""
-    if 1 <= n <= 9:
-        return {f"words_{g}": t(f"balancing.numerals_{g}").split("|")[n - 1] for g in ("m", "f")}
-    return {"words_m": str(n), "words_f": str(n)}
-
-
 def counterweight_bodies(counterweights: list[dict]) -> int:
     """How many counterweights there are: the means table gives each crank's as its mass, that
     of one web's times the webs carrying one (m (m_web × 2)), so that many each."""
@@ -410,7 +402,7 @@ def _means_sentence(t, r) -> str:
     means = []
     if r["counterweights"]:
         bodies = counterweight_bodies(r["counterweights"])
-        means.append(t("balancing.means_counterweights", n=bodies, **_in_words(t, bodies)))
+        means.append(t("balancing.means_counterweights", n=bodies))
     if r["balance_shafts"]:
         means.append(
             t(
@@ -418,7 +410,6 @@ def _means_sentence(t, r) -> str:
                 n=len(r["balance_shafts"]),
                 k=len(shaft_orders),
                 orders=", ".join(map(str, shaft_orders)),
-                **_in_words(t, len(r["balance_shafts"])),
             )
         )
     balanced = r["residual"]["balanced_orders"]

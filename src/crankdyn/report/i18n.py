@@ -32,6 +32,11 @@ MINUS = "\u2212"
 #: rules of the report's language, forms in CLDR order of the categories the language has
 #: (uk/ru: one, few, many, other; en: one, other).
 _PLURAL = re.compile(r"\{(\w+)@([^{}]*)\}")
+#: ``{n#form}`` in a catalog text: the count ``n`` in words where it is one to nine (a count
+#: without a unit, as ДСТУ 3008 and ГОСТ 2.105 write it), in the grammatical ``form`` of the
+#: language's ``numerals.<form>`` ("m_nom": "шість циліндрів", "n_loc": "на трьох колінах");
+#: any other number in digits, as ``{n}``.
+_NUMERAL = re.compile(r"\{(\w+)#(\w+)\}")
 _CATEGORIES = ("zero", "one", "two", "few", "many", "other")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
@@ -120,7 +125,21 @@ class Translator:
                 self.missing.add(key)
         if params and "@" in text:
             text = _PLURAL.sub(lambda m: self.plural_word(params.get(m.group(1)), m.group(2)), text)
+        if params and "#" in text:
+            text = _NUMERAL.sub(lambda m: self.count_words(params[m.group(1)], m.group(2)), text)
         return text.format(**params) if params else text
+
+    def count_words(self, value, form: str = "m_nom") -> str:
+        """``value`` in words where it is a whole number from one to nine, in the grammatical
+        ``form`` of this language's ``numerals.<form>`` (nine words, "|"-separated); any other
+        value as ``str(value)`` writes it (digits: "12", "2.5")."""
+        number = _as_number(value)
+        words = self.texts.get(f"numerals.{form}") or self.fallback.get(f"numerals.{form}")
+        if words is None or number is None or not math.isfinite(number):
+            return str(value)
+        if number != int(number) or not 1 <= number <= 9:
+            return str(value)
+        return words.split("|")[int(number) - 1]
 
     def cylinder(self, label) -> str:
         """A cylinder's label as printed: its bank letter in this language's letters (``bank.L``:

@@ -1,0 +1,46 @@
+"""A count without a unit from one to nine is written in words (ДСТУ 3008, ГОСТ 2.105): a catalog
+text's ``{n#form}`` gives the word in the grammatical form its noun asks for, a larger count or
+a fraction in digits, and the noun still agrees by the CLDR plural rules."""
+
+from __future__ import annotations
+
+import pytest
+
+from crankdyn.report.i18n import Translator, translator
+
+
+def test_counts_of_one_to_nine_are_words_in_the_form_asked_for():
+    uk, ru, en = translator("uk"), translator("ru"), translator("en")
+    assert [uk.count_words(n, "m_nom") for n in (1, 2, 5, 9)] == ["один", "два", "п’ять", "дев’ять"]
+    assert [uk.count_words(n, "f_nom") for n in (1, 2)] == ["одна", "дві"]
+    assert [uk.count_words(n, "f_acc") for n in (1, 4)] == ["одну", "чотири"]
+    assert [uk.count_words(n, "n_loc") for n in (1, 3, 8)] == ["одному", "трьох", "восьми"]
+    assert [ru.count_words(n, "n_loc") for n in (1, 3)] == ["одном", "трёх"]
+    assert en.count_words(6, "m_nom") == "six"
+    assert uk.count_words(4.0, "m_nom") == "чотири"  # a whole number given as a float
+
+
+@pytest.mark.parametrize("value", [0, 10, 12, 2.5, -3, "—", float("nan")])
+def test_other_values_stay_as_written(value):
+    assert translator("uk").count_words(value, "m_nom") == str(value)
+
+
+def test_a_catalog_text_puts_the_word_and_the_agreeing_noun():
+    t = Translator(
+        "uk",
+        {
+            "numerals.m_nom": "один|два|три|чотири|п’ять|шість|сім|вісім|дев’ять",
+            "intro": "{n#m_nom} {n@циліндр|циліндри|циліндрів|циліндра}, разом {n}",
+        },
+        {},
+    )
+    assert t("intro", n=4) == "чотири циліндри, разом 4"
+    assert t("intro", n=12) == "12 циліндрів, разом 12"
+
+
+def test_a_v_engines_layout_is_said_in_words():
+    from conftest import shared_html
+
+    text = shared_html("v8-petrol", None, "uk").linked_html
+    assert "вісім циліндрів на чотирьох колінах" in text
+    assert "Колінчастий вал має п’ять корінних опор" in text
