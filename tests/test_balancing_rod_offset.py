@@ -95,3 +95,28 @@ def test_a_one_crank_engines_table_gives_no_crank_angles():
     assert "Angles of the cranks (lag behind crank 1)" not in t
     eight = shared_html("v8-petrol", {"engine": {"crank_angles_deg": [0, 90, 270, 180]}})
     assert "Angles of the cranks (lag behind crank 1)" in eight.linked_html
+
+
+def test_a_v_twins_note_says_both_and_two_not_all_and_several():
+    """A V-twin's two cylinders are "both" or "two", not "all" nor "several", and its one
+    cylinder in each bank is no bank's "first"."""
+    import re
+
+    text = re.sub(r"<[^>]+>", "", shared_html("v8-petrol", V_TWIN, language="ru").linked_html)
+    for said in (
+        "Оба цилиндра действуют на общую шатунную шейку",
+        "Колено нагружают два цилиндра",
+        "На одну шатунную шейку действуют два шатуна",
+        "Шатунные подшипники обоих цилиндров",
+        "Оба цилиндра работают на одно колено",
+        "ось поршневого пальца цилиндра каждого ряда",
+        "два цилиндра на одном колене",
+    ):
+        assert said in text, said
+    for unsaid in (
+        "Все цилиндры",
+        "несколько цилиндров",
+        "несколько шатунов",
+        "первого цилиндра каждого ряда",
+    ):
+        assert unsaid not in text, unsaid

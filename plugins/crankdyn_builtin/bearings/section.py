@@ -64,6 +64,8 @@ def render(output: StageOutput, ctx) -> str | None:
         table_journals=table_journals,
         dims=r["dimensions"],
         shared_pins=_shared_pins(ctx, r),
+        # the rods on one crank pin (the engine's cylinders shared equally by its pins)
+        rods_per_pin=ctx.scene.engine.cylinders // len(r["crank_pins"]) if ctx.scene else 1,
         single=single,
         journal_names=journal_names,
         pins_equal=pins_equal,
@@ -374,8 +376,9 @@ def _rod_conclusion(ctx, r) -> str:
     load and its mean pressure, with the digits its table prints."""
     tied = most_loaded(r["rod_bearings"])
     rod = tied[0]
+    two = ctx.scene is not None and ctx.scene.engine.cylinders == 2  # "both", not "all"
     return ctx.t(
-        "bearings.conclusion_rod_equal"
+        ("bearings.conclusion_rod_equal" + ("_two" if two else ""))
         if loads_equal(r["rod_bearings"])
         else "bearings.conclusion_rod",
         cylinder=ctx.t.cylinder(rod["cylinder"]),

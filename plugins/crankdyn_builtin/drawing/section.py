@@ -203,9 +203,12 @@ def _mark_texts(t, positions) -> tuple[bool, str]:
     marked = md.angle_mark_parts(front) is not None
     banks = None if marked else md.bank_mark_parts(front)
     own_pins = banks is not None and md.own_crank_pins(banks[1])
+    # a bank of one cylinder (a V-twin) has no "first" cylinder to name
+    single = banks is not None and len(positions.guides) == len(banks[1])
     bank_marks = (
         t(
-            "drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks",
+            ("drawing.marks_banks_own_pins" if own_pins else "drawing.marks_banks")
+            + ("_single" if single else ""),
             banks=", ".join(md.bank_letter(guide.label) for guide, _ in banks[1]),
             first=front.guides[0].label,
         )

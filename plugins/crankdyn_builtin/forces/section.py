@@ -8,6 +8,7 @@ import numpy as np
 
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.layout import cylinder_labels
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.report.typeset import symbol_html
@@ -77,7 +78,8 @@ def render(output: StageOutput, ctx) -> str:
         figure_forces=figure_forces,
         figure_torque=figure_torque,
         worked=worked,
-        several_per_crank=whose == "_cylinder",
+        # the cylinders on one crank, where there are several (0: one)
+        several_per_crank=_per_crank(ctx.scene) if whose == "_cylinder" else 0,
     )
 
 
@@ -231,3 +233,8 @@ def _worked(ctx, rows, labels, r):
         ),
     ]
     return worked_markup(ctx, WorkedBlock("forces", ctx.last_table_number, alpha, steps))
+
+
+def _per_crank(scene) -> int:
+    """The cylinders on one crank of the engine (all its cranks carry as many)."""
+    return engine_layout(scene).cylinders_per_bay
