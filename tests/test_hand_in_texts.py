@@ -1196,3 +1196,20 @@ def test_a_v_engines_bank_angle_is_in_the_symbol_list_and_its_spacing_is_one_ban
     inline = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     assert "Відстань між осями сусідніх циліндрів" in inline
     assert "одного ряду" not in inline and "кут розвалу" not in inline
+
+
+def test_a_boxers_spacing_is_between_neighbouring_cylinders_of_opposite_banks():
+    """A boxer's cylinders have crank pins of their own: the neighbours along the shaft are of
+    opposite banks, a apart, as the balancing's moments take it (not one bank's, 2a apart)."""
+    from conftest import shared_html
+
+    boxer = {
+        "engine": {
+            "layout": "boxer",
+            "crank_angles_deg": [0, 180, 180, 0],
+            "firing_order": [1, 3, 2, 4],
+        }
+    }
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", boxer, "uk").linked_html))
+    assert "Відстань між осями сусідніх циліндрів" in text
+    assert "сусідніх циліндрів одного ряду" not in text

@@ -20,7 +20,7 @@ from ..physics.extrema import EXTREMUM_RTOL
 from ..physics.indicator import RoundingParameters
 from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
 from ..plugin.registry import Registry
-from ..plugin.scene_inputs import rounding_parameters
+from ..plugin.scene_inputs import engine_layout, rounding_parameters
 from ..version import __version__
 from .assets import report_css
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
@@ -444,10 +444,23 @@ def _input_view(result, registry, ctx) -> SectionView:
                 stage_rows=_stage_input_rows(result, ctx),
                 stage_taken_rows=_stage_input_rows(result, ctx, "taken_rows"),
                 rounding_used=_rounding_used(scene),
+                shared_pins=_cylinders_share_pins(scene),
                 **_inputs_used(result),
             )
         ),
     )
+
+
+def _cylinders_share_pins(scene) -> bool:
+    """Whether cylinders share crank pins (a V's or W's banks): the spacing a along the shaft is
+    then that of one bank's cylinders, not of neighbouring cylinders (a boxer's alternate banks
+    on pins of their own)."""
+    if scene.engine.cylinders < 2:
+        return False
+    try:
+        return engine_layout(scene).cylinders_per_bay > 1
+    except SceneError:  # a layout the stages refuse too: said there
+        return False
 
 
 def _cited_sources(t, stage, course: bool, references: list[str]) -> str:
