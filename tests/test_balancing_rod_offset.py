@@ -120,3 +120,12 @@ def test_a_v_twins_note_says_both_and_two_not_all_and_several():
         "первого цилиндра каждого ряда",
     ):
         assert unsaid not in text, unsaid
+
+
+def test_an_in_line_sixs_balance_names_the_negligible_forces_it_leaves():
+    """The crank arrangement of an in-line six balances the free forces and moments but the
+    sixth order's negligible force, which table 8.3 marks unbalanced: the sentence names it."""
+    import re
+
+    text = re.sub(r"<[^>]+>", "", shared_html("inline6-diesel-trace", None, "ru").linked_html)
+    assert "уравновешены схемой колен, кроме пренебрежимо малых ΣPVI" in text

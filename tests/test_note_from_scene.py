@@ -216,7 +216,7 @@ def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_n
         f"соседних колен: их равнодействующая {kn} кН"
     ) in text
     assert "Противовесы на щеках колен, прилегающих к этой шейке, сняли бы" in text
-    assert "Коренную шейку 2–3 нагружают главным образом неуравновешенные" in text
+    assert "Коренную шейку 2–3 нагружают главным образом центробежные силы соседних колен" in text
     assert f"для одного колена C = {kn} кН" in text
 
 

@@ -104,7 +104,7 @@ def test_a_crank_pin_pressure_above_the_allowable_one_is_compared_with_the_textb
     # a usual engine's pressures are said to be within the allowable ones, not above them
     pin_sentence = re.search(r"шатунный подшипник достигает [^.]*\.", usual.section("bearings"))
     assert "тогда как для бензиновых двигателей" not in pin_sentence.group(0)
-    assert "в пределах допустимых для бензиновых двигателей" in usual.section("bearings")
+    assert "в пределах значений, допустимых для бензиновых двигателей:" in usual.section("bearings")
     assert narrow.t(key).split("d·B", 1)[0] not in usual.conclusions
 
 

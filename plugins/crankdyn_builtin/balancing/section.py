@@ -591,6 +591,11 @@ def render(output: StageOutput, ctx) -> str | None:
             else "balancing.masses_equal"
         ),
         left_without_means=left_without_means,
+        # the negligible residuals the crank arrangement leaves ("ΣP_VI"), named where it is said
+        # to balance the free forces and moments
+        small_left=", ".join(
+            plain_symbol(s, "Σ") for s in r["summary"] if not s["balanced"] and _negligible(r, s)
+        ),
         no_shafts_aircraft=no_shafts_aircraft,
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
