@@ -4,6 +4,8 @@ a fraction in digits, and the noun still agrees by the CLDR plural rules."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from crankdyn.report.i18n import Translator, translator
@@ -44,3 +46,21 @@ def test_a_v_engines_layout_is_said_in_words():
     text = shared_html("v8-petrol", None, "uk").linked_html
     assert "вісім циліндрів на чотирьох колінах" in text
     assert "Колінчастий вал має п’ять корінних опор" in text
+
+
+def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leading_digit():
+    from conftest import shared_html
+
+    boxer = {
+        "engine": {
+            "layout": "boxer",
+            "crank_angles_deg": [0, 180, 180, 0],
+            "firing_order": [1, 3, 2, 4],
+        },
+        "balancing": {"explore": True, "explore_top": 6},
+    }
+    text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", boxer, "uk").linked_html)
+    assert "три схеми колін, шість порядків роботи" in text
+    # every order listed: the caption says what the table ranks, not "6 найкращих із 6"
+    assert "Порядки роботи і схеми колін, упорядковані за зрівноваженістю" in text
+    assert "найкращих із" not in text

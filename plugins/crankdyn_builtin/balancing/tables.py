@@ -497,7 +497,11 @@ def _explorer_table(ctx, r):
                 (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
                 (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
             ],
-            caption=t("balancing.explorer_caption", n=len(rows), total=x["firing_orders"]),
+            caption=t(
+                "balancing.explorer_caption" + ("_all" if len(rows) == x["firing_orders"] else ""),
+                n=len(rows),
+                total=x["firing_orders"],
+            ),
             css_class="data wide",
             see="balancing.see_explorer",
         )
