@@ -20,9 +20,12 @@ def _text(html: str) -> str:
 
 
 def _tables_1(text: str, language: str) -> tuple[str, str]:
-    """The text of table 1.1 (the task's data) and of table 1.2 (the values taken)."""
+    """The text of table 1.1 (the task's data) and of table 1.2 (the values taken; "" where the
+    task gives every value and the note has no such table)."""
     word = {"ru": "Таблица", "uk": "Таблиця", "en": "Table"}[language]
     given = text.index(f"{word} 1.1")
+    if f"{word} 1.2" not in text:
+        return text[given : text.index(f"{word} 2.1")], ""
     taken = text.index(f"{word} 1.2")
     end = text.index(f"{word} 2.1") if f"{word} 2.1" in text else taken + 3000
     return text[given:taken], text[taken:end]
@@ -403,3 +406,12 @@ def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only()
         "сили першого і",
     ):
         assert words not in text, words
+
+
+def test_an_angle_step_the_task_gives_is_its_data_not_a_value_taken():
+    """The scene's [analysis] angle_step_deg is the assignment's: table 1.1 gives it; without it
+    the calculation's step stands among the values taken (table 1.2)."""
+    given, taken = _tables_1(_flywheel_note({"analysis": {"angle_step_deg": 1}}), "ru")
+    assert "Шаг по углу" in given and "Шаг по углу" not in taken
+    given, taken = _tables_1(_flywheel_note({"analysis": {"angle_step_deg": None}}), "ru")
+    assert "Шаг по углу" not in given and "Шаг по углу" in taken
