@@ -171,3 +171,32 @@ def test_a_fuller_diagram_than_the_usual_is_said_with_its_excess():
     excess = f"{100 * (phi / 0.95 - 1):.2g}".replace(".", ",")
     assert "Обычные значения для дизелей – 0,92…0,95" in note.section("indicator")
     assert f"получены до {excess} % больше, чем при φ" in note.section("indicator")
+
+
+def test_a_given_mean_indicated_pressure_off_the_diagrams_is_warned_of_on_the_console():
+    """The thermal calculation's p_i further than 3 % from the diagram's: the console warns (the
+    student can still correct the data), and the note says it once, in its own check, with no
+    plausibility sentence of its own."""
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    # the example's diagram gives p_i = 1,230 MPa without the pumping strokes: 1,0 MPa is 19 %
+    # off, 1,22 MPa within 1 %
+    off = Note(
+        "diesel-1cyl", {"cycle": {"mean_indicated_pressure": "1.0 MPa"}}, ("indicator",), "ru"
+    )
+    deviation = off.result.outputs["indicator"].results["mean_indicated_pressure_deviation_percent"]
+    assert abs(deviation) > 3.0
+    found = warnings(off.result.scene, REGISTRY, off.result)
+    lines = console_lines(found, REGISTRY)
+    assert any("cycle.mean_indicated_pressure" in line and "%" in line for line in lines), lines
+    assert 'class="plausibility"' not in off.html
+    check = off.t("indicator.check_bad", deviation="").split("{")[0][:40]
+    assert off.conclusions.count(check) == 1
+    within = Note(
+        "diesel-1cyl", {"cycle": {"mean_indicated_pressure": "1.22 MPa"}}, ("indicator",), "ru"
+    )
+    assert within.result.outputs["indicator"].results["mean_indicated_pressure_deviation_percent"]
+    assert not any(
+        key == "indicator.plausibility_mean_pressure"
+        for key, _ in warnings(within.result.scene, REGISTRY, within.result)
+    )

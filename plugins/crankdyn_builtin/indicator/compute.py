@@ -430,6 +430,31 @@ USUAL_FULLNESS = {"spark": (0.94, 0.97), "diesel": (0.92, 0.95)}
 DIESEL_PEAK_RANGE_MPA = (5.0, 20.0)
 
 
+#: How far, percent, the diagram's mean indicated pressure may lie from the thermal calculation's
+#: the scene gives (the textbook allows 2–3 %); beyond it the note says the check fails.
+MEAN_PRESSURE_CHECK_PERCENT = 3.0
+
+
+def _mean_pressure_check(scene, results=None) -> list[tuple[str, dict]]:
+    """The given mean indicated pressure further than :data:`MEAN_PRESSURE_CHECK_PERCENT` from the
+    rounded diagram's (without the pumping strokes): said on the console, where the student can
+    still correct the data; the note's own check says it in the section and the conclusions."""
+    deviation = (results or {}).get("mean_indicated_pressure_deviation_percent")
+    if not isinstance(deviation, (int, float)) or abs(deviation) <= MEAN_PRESSURE_CHECK_PERCENT:
+        return []
+    return [
+        (
+            "indicator.plausibility_mean_pressure",
+            {
+                "given": results["thermal_mean_indicated_pressure_Pa"] / 1e6,
+                "diagram": results["gross_mean_indicated_pressure_Pa"] / 1e6,
+                "deviation": abs(deviation),
+                "limit": MEAN_PRESSURE_CHECK_PERCENT,
+            },
+        )
+    ]
+
+
 def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
     """A diesel's p_z' (the rounded diagram's peak) outside :data:`DIESEL_PEAK_RANGE_MPA`."""
     if scene.cycle is None or scene.cycle.ignition != "diesel":

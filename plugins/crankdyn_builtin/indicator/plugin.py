@@ -21,14 +21,18 @@ from crankdyn.plugin.types import (
 )
 from crankdyn.report.plausibility import peak_pressure
 
-from .compute import _diesel_peak, applies, run, run_many
+from .compute import _diesel_peak, _mean_pressure_check, applies, run, run_many
 from .section import SYMBOLS, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 INDICATOR_STAGE = Stage(
-    plausibility=(peak_pressure("max_pressure_Pa"), PlausibilityRule("diesel_peak", _diesel_peak)),
+    plausibility=(
+        peak_pressure("max_pressure_Pa"),
+        PlausibilityRule("diesel_peak", _diesel_peak),
+        PlausibilityRule("mean_pressure_check", _mean_pressure_check),
+    ),
     name="indicator",
     requires=(KINEMATICS,),
     provides=(GAS_PRESSURE,),

@@ -10,6 +10,7 @@ from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn_builtin.indicator.worked import worked_indicator
 
+from .compute import MEAN_PRESSURE_CHECK_PERCENT
 from .figures import _palpha_figure, _pv_figure
 
 #: The textbook's characteristic points of a four-stroke diagram: (label, crank angle of cylinder 1 in
@@ -184,7 +185,11 @@ def _conclude(ctx, r: dict, two_stroke: bool = False):
         )
     )
     if deviation is not None:
-        key = "indicator.check_ok" if abs(deviation) <= 3.0 else "indicator.check_bad"
+        key = (
+            "indicator.check_ok"
+            if abs(deviation) <= MEAN_PRESSURE_CHECK_PERCENT
+            else "indicator.check_bad"
+        )
         ctx.conclude(t(key + ("_two" if two_stroke else ""), deviation=ctx.num(deviation, 2)))
     return deviation
 

@@ -331,9 +331,13 @@ def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, 
             if params["source"] not in references:
                 references.append(params["source"])
             shown["source"] = cite([references.index(params["source"]) + 1])
+        # an empty text: a warning the section's own check words (said on the console only)
         sentence = t(report_key(t, key, "section"), **shown)
-        paragraphs.append(f'<p class="plausibility">{escape(sentence)}</p>')
-        conclusions.append(t(report_key(t, key, "conclusion"), **shown))
+        if sentence:
+            paragraphs.append(f'<p class="plausibility">{escape(sentence)}</p>')
+        conclusion = t(report_key(t, key, "conclusion"), **shown)
+        if conclusion:
+            conclusions.append(conclusion)
     return "".join(paragraphs), conclusions
 
 
