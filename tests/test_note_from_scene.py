@@ -415,3 +415,16 @@ def test_an_angle_step_the_task_gives_is_its_data_not_a_value_taken():
     assert "Шаг по углу" in given and "Шаг по углу" not in taken
     given, taken = _tables_1(_flywheel_note({"analysis": {"angle_step_deg": None}}), "ru")
     assert "Шаг по углу" not in given and "Шаг по углу" in taken
+
+
+def test_the_journal_sizes_stand_in_the_task_data_or_among_the_values_taken():
+    """A journal size the scene gives is the task's (table 1.1); one the calculation takes from
+    the typical proportions stands with the values taken (table 1.2), with the size it takes."""
+    changes = {"bearings": {"crank_pin_diameter": "48 mm", "crank_pin_width": None}}
+    run = shared_run("inline4-petrol", changes)
+    sizes = run.outputs["bearings"].results["dimensions"]
+    text = _text(shared_html("inline4-petrol", changes, "ru").linked_html)
+    given, taken = _tables_1(text, "ru")
+    assert "Диаметр шатунной шейки 48 мм" in given and "Диаметр шатунной шейки" not in taken
+    width = f"{sizes['crank_pin_width_m'] * 1e3:.4g}".replace(".", ",")
+    assert f"Длина шатунной шейки {width} мм" in taken and "Длина шатунной шейки" not in given

@@ -17,7 +17,7 @@ from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresent
 
 from .compute import _pin_pressure, applies, run
 from .options import BearingOptions
-from .section import SYMBOLS, render
+from .section import SYMBOLS, input_rows, render, taken_rows
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -52,6 +52,8 @@ BEARINGS_STAGE = Stage(
         ),
         title_key="bearings.title",
         render=render,
+        input_rows=input_rows,
+        taken_rows=taken_rows,
         figures=("pin*", "rod_bearing*", "journal*", "main_bearing*", "wear_pin*", "unrolled"),
         references=("poda2007", "orlin1984", "kolchin2002"),
         symbols=SYMBOLS,

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from crankdyn.physics import bearings as brg
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
+from crankdyn.scene import options
 from crankdyn_builtin.bearings.worked import (
     journal_name,
     loads_equal,
@@ -12,8 +15,9 @@ from crankdyn_builtin.bearings.worked import (
     worked_bearing,
 )
 
-from .compute import main_pressure_verdict, pin_pressure_within_limits
+from .compute import _dimensions, main_pressure_verdict, pin_pressure_within_limits
 from .figures import _polar_diagrams, _shared_pins, _side_by_side, _unrolled_figure, _wear_figure
+from .options import BearingOptions
 
 
 def oil_hole_printed(diagram: dict) -> float:
@@ -430,3 +434,31 @@ SYMBOLS = {
         "R", {"en": "1–2"}, "unit.MPa", html="<b><i>R</i></b><sub>1–2</sub>"
     ),
 }
+
+
+#: The journal sizes a scene may give ([bearings]), in the order table 1.1 lists them.
+_SIZES = ("crank_pin_diameter", "crank_pin_width", "main_journal_diameter", "main_journal_width")
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The journal sizes the scene gives, for the report's table of the task's data."""
+    return _size_rows(scene, ctx, given=True)
+
+
+def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The journal sizes the calculation takes from the typical proportions (the scene gives
+    none of them), for the table of the values taken."""
+    return _size_rows(scene, ctx, given=False)
+
+
+def _size_rows(scene, ctx, given: bool) -> list[tuple[str, str, str, str]]:
+    opts = options(scene, "bearings", BearingOptions)
+    layout = engine_layout(scene)
+    rods_per_pin = brg.big_end_bearings_on_pin(scene.engine.rod_type, layout.cylinders_per_bay)
+    sizes = dict(zip(_SIZES, _dimensions(scene, opts, rods_per_pin)[:4], strict=True))
+    t = ctx.t
+    return [
+        (t(f"bearings.input_{name}"), "", t.number_g(sizes[name] * 1e3, 4), t("unit.mm"))
+        for name in _SIZES
+        if (getattr(opts, name) is not None) == given
+    ]
