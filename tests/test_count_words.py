@@ -64,3 +64,22 @@ def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leadin
     # every order listed: the caption says what the table ranks, not "6 найкращих із 6"
     assert "Порядки роботи і схеми колін, упорядковані за зрівноваженістю" in text
     assert "найкращих із" not in text
+
+
+def test_an_own_pin_engines_explorer_leaves_out_the_shared_pin_rule():
+    """A boxer's cylinders have crank pins of their own: the explorer ranks no order by two
+    cylinders firing in turn on one pin (a column of zeros, a rule that cannot apply)."""
+    from conftest import shared_html
+
+    boxer = {
+        "engine": {
+            "layout": "boxer",
+            "crank_angles_deg": [0, 180, 180, 0],
+            "firing_order": [1, 3, 2, 4],
+        },
+        "balancing": {"explore": True, "explore_top": 6},
+    }
+    html = shared_html("inline4-petrol", boxer, "uk").linked_html
+    assert "Одна шийка" not in html and "на одній шатунній шийці" not in html
+    v8 = shared_html("v8-petrol", {"balancing": {"explore": True}}, "uk").linked_html
+    assert "Одна шийка" in v8 and "двох циліндрів на одній шатунній шийці" in v8

@@ -494,7 +494,12 @@ def _explorer_table(ctx, r):
                 ("Σ<i>P</i><sub>II</sub>", [c["coefficients"]["sum_PII"] for c in rows], 3),
                 ("Σ<i>M</i><sub>II</sub>", [c["coefficients"]["M_PII"] for c in rows], 3),
                 (t("balancing.rule_neighbours"), [str(c["neighbours"]) for c in rows], None),
-                (t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None),
+                # cylinders on pins of their own (an in-line engine, a boxer): no pin is shared
+                *(
+                    [(t("balancing.rule_same_pin"), [str(c["same_pin"]) for c in rows], None)]
+                    if r["cylinder_bays"] and len(set(r["cylinder_bays"])) < len(r["cylinder_bays"])
+                    else []
+                ),
                 (t("balancing.rule_same_half"), [str(c["same_half"]) for c in rows], None),
             ],
             caption=t(
