@@ -111,6 +111,7 @@ def test_a_v_twins_note_says_both_and_two_not_all_and_several():
         "Оба цилиндра работают на одно колено",
         "ось поршневого пальца цилиндра каждого ряда",
         "два цилиндра на одном колене",
+        "(1Л, 1П; оба нагружены одинаково)",
     ):
         assert said in text, said
     for unsaid in (
@@ -118,6 +119,7 @@ def test_a_v_twins_note_says_both_and_two_not_all_and_several():
         "несколько цилиндров",
         "несколько шатунов",
         "первого цилиндра каждого ряда",
+        "1Л…1П",
     ):
         assert unsaid not in text, unsaid
 

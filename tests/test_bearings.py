@@ -442,6 +442,8 @@ def test_pins_that_print_alike_take_one_row():
     other = same[:3] + [dict(pin, crank=4, max_N=17000.0)]
     assert _pin_rows(other) == (other, ["1", "2", "3", "4"])
     assert _pin_rows(same[:1]) == (same[:1], ["1"])
+    # two alike: both named, a range of two would read as if there were more between them
+    assert _pin_rows(same[:2]) == (same[:1], ["1, 2"])
 
 
 def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_number_bound():

@@ -69,8 +69,14 @@ def pin_rows(pins: list[dict]) -> tuple[list[dict], list[str]]:
         for p in pins
     }
     if len(pins) > 1 and len(printed) == 1:
-        return pins[:1], [f"{pins[0]['crank']}…{pins[-1]['crank']}"]
+        return pins[:1], [_span(str(pins[0]["crank"]), str(pins[-1]["crank"]), len(pins))]
     return pins, [str(p["crank"]) for p in pins]
+
+
+def _span(first: str, last: str, count: int) -> str:
+    """The first and the last of ``count`` labels a row stands for: "1…4"; two are both named,
+    "1Л, 1П" (a range of two reads as if there were more between them)."""
+    return f"{first}, {last}" if count == 2 else f"{first}…{last}"
 
 
 def rod_rows(rods: list[dict], cylinder=str) -> tuple[list[dict], list[str]]:
@@ -87,7 +93,8 @@ def rod_rows(rods: list[dict], cylinder=str) -> tuple[list[dict], list[str]]:
         for x in rods
     }
     if len(rods) > 1 and len(printed) == 1:
-        return rods[:1], [f"{cylinder(rods[0]['cylinder'])}…{cylinder(rods[-1]['cylinder'])}"]
+        first, last = cylinder(rods[0]["cylinder"]), cylinder(rods[-1]["cylinder"])
+        return rods[:1], [_span(first, last, len(rods))]
     return rods, [cylinder(x["cylinder"]) for x in rods]
 
 
@@ -125,6 +132,8 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
         if len(tied) > 1
         else ""
     )
+    if variant == "_equal" and len(records) == 2:  # "both", not "all"
+        variant = "_equal_two"
     names = {"pin": lambda x: str(x["crank"]), "rod": lambda x: ctx.t.cylinder(x["cylinder"])}
     others = ", ".join(names.get(kind, journal_name)(x) for x in tied[1:])
     note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
