@@ -2,7 +2,8 @@
 
 A report draws about twenty figures, a batch a few hundred, one process each drawing them one
 after another. Each shortcut below replaces one matplotlib function, once per process
-(:func:`install`), with one that computes the same result with less work; the replacement keeps
+(:func:`install`; :func:`install_pdf` where a PDF is drawn), with one that computes the same
+result with less work; the replacement keeps
 matplotlib's function as ``__wrapped__`` and carries ``crankdyn_shortcut``.
 ``tests/test_figure_shortcuts.py`` draws figures both ways and compares the bytes.
 
