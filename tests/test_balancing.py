@@ -779,7 +779,7 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     left = {s["quantity"] for s in flying["summary"] if not s["balanced"]}
     assert left == {"M_PII", "M_PIV", "M_PVI"}  # forces and first-order moment cancel in pairs
     text = as_read(
-        re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLYING_FLAT_FOUR, "ru").html)
+        re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLYING_FLAT_FOUR, "ru").linked_html)
     )
     section = "неуравновешенными ΣMII, ΣMIV вызывают колебания двигателя на упругих опорах"
     assert text.count(section) == 2  # in the section and in the conclusions
@@ -797,7 +797,9 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
 def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract():
     from conftest import as_read, shared_html
 
-    text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").html))
+    text = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").linked_html)
+    )
     assert (
         "(без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
     )
@@ -810,7 +812,7 @@ def test_the_amplitudes_multiply_out_to_their_last_printed_digit(example, change
     rounded to four digits (1,129 for 1,1285 kg) would move it by several newtons."""
     from conftest import as_read, shared_html
 
-    text = as_read(re.sub(r"<[^>]+>", "", shared_html(example, changes, "ru").html))
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html(example, changes, "ru").linked_html))
     found = re.findall(r"(C|CI) = m[Rs]Rω2 = ([\d,]+)·([\d,]+)·([\d,]+)2 = ([\d\s]+?)\sН", text)
     assert {name for name, *_ in found} == {"C", "CI"}
     for _, mass, radius, omega, result in found:

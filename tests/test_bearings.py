@@ -602,7 +602,7 @@ def test_a_v_engines_note_gives_each_rod_bearings_pressure_and_what_c_holds():
     holds one cylinder's rod, the crank section that its q holds all."""
     import html as markup
 
-    html = markup.unescape(shared_html("v8-petrol").html)
+    html = markup.unescape(shared_html("v8-petrol").linked_html)
     section = html[html.index('data-stage="bearings"') :]
     section = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
     rod = run("v8-petrol").outputs["bearings"].results["rod_bearings"][0]
@@ -665,7 +665,7 @@ def test_a_journal_of_the_largest_mean_load_is_named_when_the_peak_picks_others(
     peak = max(j["max_N"] for j in journals)
     by_mean = max(journals, key=lambda j: j["mean_N"])
     assert by_mean["max_N"] < peak  # the mean picks a journal the peak does not
-    html = shared_html("inline4-petrol", _TRACTOR, "uk", ("bearings",)).html
+    html = shared_html("inline4-petrol", _TRACTOR, "uk", ("bearings",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     label = by_mean["journal"].replace("-", "–")
     assert f"Найбільший середній тиск на корінний підшипник має шийка {label}" in text

@@ -43,7 +43,7 @@ def test_a_catalog_text_puts_the_word_and_the_agreeing_noun():
 def test_a_v_engines_layout_is_said_in_words():
     from conftest import shared_html
 
-    text = shared_html("v8-petrol", None, "uk").linked_html
+    text = shared_html("v8-petrol", None, "uk", ("bays",)).linked_html
     assert "вісім циліндрів на чотирьох колінах" in text
     assert "Колінчастий вал має п’ять корінних опор" in text
 
@@ -59,7 +59,8 @@ def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leadin
         },
         "balancing": {"explore": True, "explore_top": 6},
     }
-    text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", boxer, "uk").linked_html)
+    html = shared_html("inline4-petrol", boxer, "uk", ("balancing",)).linked_html
+    text = re.sub(r"<[^>]+>", "", html)
     assert "три схеми колін, шість порядків роботи" in text
     # every order listed: the caption says what the table ranks, not "6 найкращих із 6"
     assert "Порядки роботи і схеми колін, упорядковані за зрівноваженістю" in text
@@ -79,7 +80,9 @@ def test_an_own_pin_engines_explorer_leaves_out_the_shared_pin_rule():
         },
         "balancing": {"explore": True, "explore_top": 6},
     }
-    html = shared_html("inline4-petrol", boxer, "uk").linked_html
+    html = shared_html("inline4-petrol", boxer, "uk", ("balancing",)).linked_html
     assert "Одна шийка" not in html and "на одній шатунній шийці" not in html
-    v8 = shared_html("v8-petrol", {"balancing": {"explore": True}}, "uk").linked_html
+    v8 = shared_html(
+        "v8-petrol", {"balancing": {"explore": True}}, "uk", ("balancing",)
+    ).linked_html
     assert "Одна шийка" in v8 and "двох циліндрів на одній шатунній шийці" in v8

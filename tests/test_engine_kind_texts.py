@@ -186,7 +186,7 @@ def test_a_diesels_ignition_delay_time_is_among_the_given_data():
 
     from conftest import shared_html
 
-    page = shared_html("diesel-1cyl", language="uk").html
+    page = shared_html("diesel-1cyl", language="uk").linked_html
     row = next(
         r for r in re.findall(r"<tr[^>]*>.*?</tr>", page, flags=re.S) if "затримки займання" in r
     )

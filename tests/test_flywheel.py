@@ -294,7 +294,7 @@ def test_a_rim_faster_than_allowed_fails_in_the_abstract_and_the_conclusions():
     changes = {"flywheel": {"max_rim_speed": "20 m/s"}}
     rim = shared_run("inline4-petrol", changes).outputs["flywheel"].results["rim"]
     assert rim["speed_ok"] is False and rim["speed_m_s"] > 20
-    page = shared_html("inline4-petrol", changes).html
+    page = shared_html("inline4-petrol", changes).linked_html
     abstract = page[page.index('class="abstract"') :]
     abstract = abstract[: abstract.index("</section>")]
     assert "above the allowed 20" in abstract

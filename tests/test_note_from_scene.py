@@ -408,23 +408,20 @@ def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only()
         assert words not in text, words
 
 
-def test_an_angle_step_the_task_gives_is_its_data_not_a_value_taken():
-    """The scene's [analysis] angle_step_deg is the assignment's: table 1.1 gives it; without it
-    the calculation's step stands among the values taken (table 1.2)."""
-    given, taken = _tables_1(_flywheel_note({"analysis": {"angle_step_deg": 1}}), "ru")
+def test_given_values_stand_in_the_task_data_and_values_taken_among_those_taken():
+    """An angle step and a journal size the scene gives are the task's data (table 1.1); a step
+    and a size the calculation takes (the typical proportions') stand with the values taken
+    (table 1.2), with the value taken."""
+    given, taken = _tables_1(_flywheel_note({}), "ru")  # the example gives Δα = 1°
     assert "Шаг по углу" in given and "Шаг по углу" not in taken
-    given, taken = _tables_1(_flywheel_note({"analysis": {"angle_step_deg": None}}), "ru")
-    assert "Шаг по углу" not in given and "Шаг по углу" in taken
-
-
-def test_the_journal_sizes_stand_in_the_task_data_or_among_the_values_taken():
-    """A journal size the scene gives is the task's (table 1.1); one the calculation takes from
-    the typical proportions stands with the values taken (table 1.2), with the size it takes."""
-    changes = {"bearings": {"crank_pin_diameter": "48 mm", "crank_pin_width": None}}
+    changes = {
+        "analysis": {"angle_step_deg": None},
+        "bearings": {"crank_pin_diameter": "48 mm", "crank_pin_width": None},
+    }
     run = shared_run("inline4-petrol", changes)
     sizes = run.outputs["bearings"].results["dimensions"]
-    text = _text(shared_html("inline4-petrol", changes, "ru").linked_html)
-    given, taken = _tables_1(text, "ru")
+    given, taken = _tables_1(_text(shared_html("inline4-petrol", changes, "ru").linked_html), "ru")
+    assert "Шаг по углу" not in given and "Шаг по углу" in taken
     assert "Диаметр шатунной шейки 48 мм" in given and "Диаметр шатунной шейки" not in taken
     width = f"{sizes['crank_pin_width_m'] * 1e3:.4g}".replace(".", ",")
     assert f"Длина шатунной шейки {width} мм" in taken and "Длина шатунной шейки" not in given
