@@ -198,9 +198,9 @@ def main() -> None:
             sys.path.insert(0, str(Path(__file__).resolve().parent))
             import scaling
 
-            # each stage's least time of three processes per step (scaling.best_point)
-            coarse = scaling.best_point("inline4-petrol", 0.02, 3)
-            fine = scaling.best_point("inline4-petrol", 0.01, 3)
+            # each stage's least time of five processes per step, the steps in turns
+            # (scaling.best_points)
+            coarse, fine = scaling.best_points("inline4-petrol", [0.02, 0.01], 5)
             rows.append(("in-line 4 at 0.01 deg: peak RSS (MB) / 600 MB", fine["maxrss_MB"], 600.0))
             worst = max(
                 (fine["stages"][n]["s"] / max(coarse["stages"][n]["s"], 1e-9), n)

@@ -90,7 +90,20 @@ def best_point(example: str, step: float, repeat: int) -> dict:
     """``repeat`` points in fresh processes, each stage's least time of them (a stage of a tenth of
     a second timed once varies by 5-10 % on a busy machine; the halving ratio compares two such)
     and the largest peak memory."""
-    points = [run_point(example, step, None, False) for _ in range(repeat)]
+    return _best([run_point(example, step, None, False) for _ in range(repeat)])
+
+
+def best_points(example: str, steps: list[float], repeat: int) -> list[dict]:
+    """:func:`best_point` of each of ``steps``, their processes run in turns (one of each step,
+    ``repeat`` times): a ratio of two steps' times then compares the same stretch of time."""
+    runs: list[list[dict]] = [[] for _ in steps]
+    for _ in range(repeat):
+        for k, step in enumerate(steps):
+            runs[k].append(run_point(example, step, None, False))
+    return [_best(points) for points in runs]
+
+
+def _best(points: list[dict]) -> dict:
     points = [p for p in points if "error" not in p] or points[:1]
     if "error" in points[0]:
         return points[0]
