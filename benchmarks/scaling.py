@@ -86,16 +86,12 @@ def run_point(example: str, step: float, cylinders: int | None, memory: bool) ->
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def best_point(example: str, step: float, repeat: int) -> dict:
-    """``repeat`` points in fresh processes, each stage's least time of them (a stage of a tenth of
-    a second timed once varies by 5-10 % on a busy machine; the halving ratio compares two such)
-    and the largest peak memory."""
-    return _best([run_point(example, step, None, False) for _ in range(repeat)])
-
-
 def best_points(example: str, steps: list[float], repeat: int) -> list[dict]:
-    """:func:`best_point` of each of ``steps``, their processes run in turns (one of each step,
-    ``repeat`` times): a ratio of two steps' times then compares the same stretch of time."""
+    """For each of ``steps``, ``repeat`` points in fresh processes, each stage's least time of them
+    (a stage of a tenth of a second timed once varies by 5-10 % on a busy machine; the halving
+    ratio compares two such) and the largest peak memory; the processes run in turns (one of each
+    step, ``repeat`` times), so that a ratio of two steps' times compares the same stretch of
+    time."""
     runs: list[list[dict]] = [[] for _ in steps]
     for _ in range(repeat):
         for k, step in enumerate(steps):
