@@ -115,6 +115,17 @@ def write_scene(path: Path, data: dict) -> Path:
 
 #: The V8 example made a flat four (a boxer: a crank pin per cylinder, cranks chosen by the
 #: calculation, 100 mm between neighbouring cylinders), laid over it with :func:`modified`.
+#: The in-line four as a boxer (flat four, a crank pin per cylinder) with the firing-order explorer
+#: on: the explorer's and table 1.1's texts of an engine whose cylinders share no pin.
+EXPLORED_BOXER = {
+    "engine": {
+        "layout": "boxer",
+        "crank_angles_deg": [0, 180, 180, 0],
+        "firing_order": [1, 3, 2, 4],
+    },
+    "balancing": {"explore": True, "explore_top": 6},
+}
+
 FLAT_FOUR_ENGINE = {
     "layout": "boxer",
     "bank_angle_deg": None,

@@ -49,17 +49,9 @@ def test_a_v_engines_layout_is_said_in_words():
 
 
 def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leading_digit():
-    from conftest import shared_html
+    from conftest import EXPLORED_BOXER, shared_html
 
-    boxer = {
-        "engine": {
-            "layout": "boxer",
-            "crank_angles_deg": [0, 180, 180, 0],
-            "firing_order": [1, 3, 2, 4],
-        },
-        "balancing": {"explore": True, "explore_top": 6},
-    }
-    html = shared_html("inline4-petrol", boxer, "uk", ("balancing",)).linked_html
+    html = shared_html("inline4-petrol", EXPLORED_BOXER, "uk", ("balancing",)).linked_html
     text = re.sub(r"<[^>]+>", "", html)
     assert "три схеми колін, шість порядків роботи" in text
     # every order listed: the caption says what the table ranks, not "6 найкращих із 6"
@@ -70,17 +62,9 @@ def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leadin
 def test_an_own_pin_engines_explorer_leaves_out_the_shared_pin_rule():
     """A boxer's cylinders have crank pins of their own: the explorer ranks no order by two
     cylinders firing in turn on one pin (a column of zeros, a rule that cannot apply)."""
-    from conftest import shared_html
+    from conftest import EXPLORED_BOXER, shared_html
 
-    boxer = {
-        "engine": {
-            "layout": "boxer",
-            "crank_angles_deg": [0, 180, 180, 0],
-            "firing_order": [1, 3, 2, 4],
-        },
-        "balancing": {"explore": True, "explore_top": 6},
-    }
-    html = shared_html("inline4-petrol", boxer, "uk", ("balancing",)).linked_html
+    html = shared_html("inline4-petrol", EXPLORED_BOXER, "uk", ("balancing",)).linked_html
     assert "Одна шийка" not in html and "на одній шатунній шийці" not in html
     v8 = shared_html(
         "v8-petrol", {"balancing": {"explore": True}}, "uk", ("balancing",)

@@ -1201,17 +1201,9 @@ def test_a_v_engines_bank_angle_is_in_the_symbol_list_and_its_spacing_is_one_ban
 def test_a_boxers_spacing_is_between_neighbouring_cylinders_of_opposite_banks():
     """A boxer's cylinders have crank pins of their own: the neighbours along the shaft are of
     opposite banks, a apart, as the balancing's moments take it (not one bank's, 2a apart)."""
-    from conftest import shared_html
+    from conftest import EXPLORED_BOXER, shared_html
 
-    boxer = {  # test_count_words's boxer: one rendering where both run in one process
-        "engine": {
-            "layout": "boxer",
-            "crank_angles_deg": [0, 180, 180, 0],
-            "firing_order": [1, 3, 2, 4],
-        },
-        "balancing": {"explore": True, "explore_top": 6},
-    }
-    html = shared_html("inline4-petrol", boxer, "uk", ("balancing",)).linked_html
+    html = shared_html("inline4-petrol", EXPLORED_BOXER, "uk", ("balancing",)).linked_html
     text = as_read(re.sub(r"<[^>]+>", "", html))
     assert "Відстань між осями сусідніх циліндрів" in text
     assert "Відстань між осями сусідніх циліндрів одного ряду" not in text
