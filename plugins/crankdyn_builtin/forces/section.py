@@ -78,8 +78,8 @@ def render(output: StageOutput, ctx) -> str:
         figure_forces=figure_forces,
         figure_torque=figure_torque,
         worked=worked,
-        # the cylinders on one crank, where there are several (0: one)
-        several_per_crank=_per_crank(ctx.scene) if whose == "_cylinder" else 0,
+        # the cylinders on one crank where there are several, else 0
+        cylinders_per_crank=_per_crank(ctx.scene) if whose == "_cylinder" else 0,
     )
 
 
