@@ -1087,6 +1087,7 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: fl
         c + radius * np.array([np.cos(np.radians(t)), np.sin(np.radians(t))])
         for t in (middle_deg + 30.0, middle_deg - 30.0)
     )
+    at, alignment = _rotation_label_place(c, radius, extent, middle_deg)
     arrow = ax.add_patch(
         FancyArrowPatch(
             start,
@@ -1099,15 +1100,15 @@ def _rotation_arrow(ax, centre, radius, text: str, extent: float, middle_deg: fl
             zorder=6,
         )
     )
-    middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
-    (label,) = _lettered(
-        ax,
-        c + (radius + extent * 0.03) * middle,
-        text,
-        fontstyle="italic",
-        **outward_alignment(middle),
-    )
+    (label,) = _lettered(ax, at, text, fontstyle="italic", **alignment)
     return arrow, label
+
+
+def _rotation_label_place(centre, radius: float, extent: float, middle_deg: float):
+    """(place in mm, alignment) of the letter ω of :func:`_rotation_arrow`: just outside the
+    arrow's middle, growing away from the shaft."""
+    middle = np.array([np.cos(np.radians(middle_deg + 5.0)), np.sin(np.radians(middle_deg + 5.0))])
+    return np.asarray(centre, float) + (radius + extent * 0.03) * middle, outward_alignment(middle)
 
 
 def angle_mark_parts(geometry):
@@ -1316,12 +1317,18 @@ def _clearest_rotation_arrow(ax, clearance, centre, radius: float, text: str, ex
         for middle in np.arange(0.0, 360.0, 15.0)
     ]
     best, best_clear = candidates[0], -np.inf
+    # the letter's box measured once for each alignment it takes, at its first place: at every
+    # other place it is the same box moved; the arrow itself is judged by its arc's points
+    outlines: dict[tuple[str, str], np.ndarray] = {}
     for middle, arrow_radius in candidates:
-        arrow, label = _rotation_arrow(ax, centre, arrow_radius, text, extent, middle)
+        at, alignment = _rotation_label_place(centre, arrow_radius, extent, middle)
+        key = (alignment["ha"], alignment["va"])
+        if key not in outlines:
+            (label,) = _lettered(ax, at, text, fontstyle="italic", **alignment)
+            outlines[key] = clearance.text_outline(label) - at
+            label.remove()
         arc = _arc_points(centre, arrow_radius, middle - 30.0, middle + 30.0)
-        clear = min(clearance.of_points(arc), clearance.of_box(label))
-        arrow.remove()
-        label.remove()
+        clear = min(clearance.of_points(arc), clearance.of_outline(outlines[key] + at))
         if clear > best_clear + 1e-9:
             best, best_clear = (middle, arrow_radius), clear
     _rotation_arrow(ax, centre, best[1], text, extent, best[0])
@@ -1487,6 +1494,10 @@ class _Clearance:
         if starts:
             single.append(_sampled_many(np.concatenate(starts), np.concatenate(ends), self.step)[0])
         return np.concatenate(single) if single else np.empty((0, 2))
+
+    def text_outline(self, text) -> np.ndarray:
+        """Points along the outline of a text's box (mm), as the clearances measure it."""
+        return self._text_points(text)
 
     def _text_points(self, text) -> np.ndarray:
         """The outline of a text's box (a dimension's arrow: its line), mm."""
