@@ -47,6 +47,13 @@ def pytest_configure(config):
         compileall.compile_dir(str(folder), quiet=1, workers=0)
 
 
+def pytest_sessionfinish(session):
+    """What the tests keep to the end (the shared runs and notes with their drawn figures) is
+    frozen out of the garbage collector: pytest collects garbage after the session to report
+    exceptions raised in finalizers, and walking those objects took seconds in every process."""
+    gc.freeze()
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     """Under CI (``CRANKDYN_CI=1``, set by .ci/run) a test skipped because a system tool "is not

@@ -73,7 +73,7 @@ def v12_run(language: str = "ru"):
 
 @functools.cache
 def v12_html(language: str = "ru") -> str:
-    return render_html(v12_run(language), default_registry(), language).html
+    return render_html(v12_run(language), default_registry(), language).linked_html
 
 
 def v12_text(language: str = "ru") -> str:
@@ -147,7 +147,7 @@ def test_the_slave_pin_taken_as_zero_is_said_and_listed_with_the_given_data():
     assert "Масса пальца прицепного шатуна в задании не указана и принята равной нулю" in text
     given = {**V12, "articulated": {**V12["articulated"], "slave_pin": "0.7 kg"}}
     run = run_scene(scene_from_dict(given, base_dir=examples_dir()), default_registry(), ["bays"])
-    html = render_html(run, default_registry(), "ru").html
+    html = render_html(run, default_registry(), "ru").linked_html
     assert "не указана и принята равной нулю" not in html
     assert "Масса пальца прицепного шатуна</td>" in html and "(не задана, принята" not in html
     terms = run.outputs["bays"].results["rotating_mass_terms"]
@@ -159,7 +159,7 @@ def test_bank_letters_are_the_reports_in_the_slave_table_caption():
     assert "бокового цилиндра 1П)" in text and "бокового цилиндра 1R" not in text
     data = {**V12, "report": {"language": "uk"}}
     run = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry(), ["bays"])
-    assert "бокового циліндра 1П)" in render_html(run, default_registry(), "uk").html
+    assert "бокового циліндра 1П)" in render_html(run, default_registry(), "uk").linked_html
 
 
 def test_the_slave_rod_table_prints_no_padding_zeros():
@@ -205,7 +205,7 @@ def test_central_rods_have_no_slave_work_sentence():
     from conftest import shared_html, shared_run
 
     assert "slave_work" not in shared_run("v8-petrol").outputs["torque"].results
-    html = shared_html("v8-petrol", language="ru").html
+    html = shared_html("v8-petrol", language="ru").linked_html
     assert "прицепн" not in html
 
 

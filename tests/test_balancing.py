@@ -552,13 +552,13 @@ def test_balancing_section_renders(name, language):
     result = run(name)
     rendered = render_html(result, REGISTRY, language)
     assert not rendered.missing_translations, rendered.missing_translations
-    assert 'data-stage="balancing"' in rendered.html
+    assert 'data-stage="balancing"' in rendered.linked_html
     figures = [f.name for f in rendered.figures]
     assert any("crank_diagrams" in f for f in figures) and any(
         "vector_models" in f for f in figures
     )
     if name == "inline3-petrol":  # explore = true in the example
-        assert "1–3–2" in rendered.html
+        assert "1–3–2" in rendered.linked_html
 
 
 def test_results_json_ready_and_csv_table():
@@ -708,7 +708,7 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
 def test_the_note_says_when_it_chose_the_balancing_means(name, changes, language, expected):
     result = run(name, changes)
     r = result.outputs["balancing"].results
-    html = render_html(result, REGISTRY, language).html
+    html = render_html(result, REGISTRY, language).linked_html
     chosen = (
         "Средства уравновешивания заданием не определены",
         "Засобів зрівноваження завдання не задає",
@@ -735,10 +735,10 @@ def test_an_engine_that_needs_no_means_names_the_internal_moments_on_its_bearing
     }
     result = run("inline4-petrol", changes)
     r = result.outputs["balancing"].results
-    html = render_html(result, REGISTRY, "ru").html
+    html = render_html(result, REGISTRY, "ru").linked_html
     assert not r["counterweights"] and not r["balance_shafts"]
     assert "Внутренние моменты центробежных сил при этом нагружают коренные опоры" in html
-    single = render_html(run("petrol-1cyl"), REGISTRY, "ru").html
+    single = render_html(run("petrol-1cyl"), REGISTRY, "ru").linked_html
     assert "Внутренние моменты центробежных сил" not in single
 
 

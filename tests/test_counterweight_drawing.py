@@ -55,13 +55,13 @@ def test_the_counterweight_is_drawn_at_the_balancings_angle():
 
 def test_the_scheme_says_where_a_turned_counterweight_sits():
     html = shared_html("inline3-petrol", None, "ru", ["balancing", "drawing"])
-    html = html.html if hasattr(html, "html") else html
+    html = html.linked_html if hasattr(html, "linked_html") else html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     assert "под углом 150,0° от шатунной шейки в направлении вращения" in text
     assert "напротив шатунной шейки – противовес" not in text
     # an engine whose counterweights are opposite their pins keeps the short sentence
     single = shared_html("petrol-1cyl", None, "ru")
-    single = single.html if hasattr(single, "html") else single
+    single = single.linked_html if hasattr(single, "linked_html") else single
     assert "Затушёванный сектор напротив шатунной шейки – противовес кривошипа." in re.sub(
         r"\s+", " ", re.sub(r"<[^>]+>", " ", single)
     )

@@ -295,7 +295,7 @@ def test_offset_report_renders(offset_run):
     # one language is enough here: tests/test_report.py checks that every catalog has every key
     rendered = render_html(offset_run, REGISTRY, "ru")
     assert not rendered.missing_translations, rendered.missing_translations
-    html = rendered.html
+    html = rendered.linked_html
     for stage in ("offset_crank", "indicator", "forces", "rod_dynamics"):
         assert f'data-stage="{stage}"' in html
     assert "φ" in html and "(2.1)" in html

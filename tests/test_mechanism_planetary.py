@@ -128,7 +128,8 @@ def test_source_family_is_drawn_in_the_report():
     rendered = render_html(result, REGISTRY, "uk")
     assert not rendered.missing_translations, rendered.missing_translations
     assert (
-        'data-stage="planetary"' in rendered.html and 'data-stage="rod_dynamics"' in rendered.html
+        'data-stage="planetary"' in rendered.linked_html
+        and 'data-stage="rod_dynamics"' in rendered.linked_html
     )
     names = [f.name for f in rendered.figures]
     for figure in (
@@ -139,7 +140,7 @@ def test_source_family_is_drawn_in_the_report():
         "rod_torque",
     ):
         assert any(n.endswith(f"_{figure}.svg") for n in names), figure
-    assert "Епіциклоїди для передатних відношень d_f/d_p = 3, 2 і 1,5" in rendered.html
+    assert "Епіциклоїди для передатних відношень d_f/d_p = 3, 2 і 1,5" in rendered.linked_html
 
 
 # ----------------------------------------------------------------------------- derivatives and statics
@@ -397,7 +398,7 @@ def test_piston_inertia_force_from_the_given_masses(planetary_run):
 
 
 def test_kinematics_only_note_lists_what_it_uses_and_repeats_every_turn(planetary_run):
-    html = render_html(planetary_run, REGISTRY, "uk").html
+    html = render_html(planetary_run, REGISTRY, "uk").linked_html
     given = html.split("Таблиця 1.1", 1)[1].split("</table>", 1)[0]
     assert "<i>R</i> = <i>S</i>/2" not in given and "<i>λ</i> = <i>R</i>/<i>L</i>" not in given
     for absent in ("Маса шатунної шийки", "Тиск у картері"):

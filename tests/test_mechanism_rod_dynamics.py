@@ -222,7 +222,7 @@ def test_without_the_moment_of_inertia_the_two_mass_model_is_reported_alone():
 
     rendered = render_html(result, REGISTRY, "uk")
     assert not rendered.missing_translations, rendered.missing_translations
-    assert 'data-stage="rod_dynamics"' in rendered.html
+    assert 'data-stage="rod_dynamics"' in rendered.linked_html
     with pytest.raises(SceneError, match="rod_dynamics.model"):
         _run(
             "offset-crank-engine", {"masses": {"rod_moment_of_inertia": None}}

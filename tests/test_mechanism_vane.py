@@ -264,7 +264,7 @@ def test_vane_report_has_the_source_plots(vane_run):
         "vane_lambda",
     ):
         assert any(n.endswith(f"_{plot}.svg") for n in names), plot
-    assert "52" in rendered.html
+    assert "52" in rendered.linked_html
 
 
 def test_vane_example_through_the_cli(tmp_path):

@@ -562,7 +562,7 @@ def test_a_cylinders_bank_letter_is_printed_in_the_reports_letters():
 
 def test_a_bay_of_central_rods_is_not_also_said_to_have_fork_rods():
     page = shared_html("v8-petrol")
-    html = page.html if hasattr(page, "html") else page
+    html = page.linked_html if hasattr(page, "linked_html") else page
     assert "common crank pin through central rods;" in html
     assert "fork-and-blade" not in html
 
@@ -577,7 +577,7 @@ def test_the_rods_on_one_crank_pin_are_the_centrifugal_terms_mass():
     c_r = -rods_kg * engine.crank_radius_m * engine.angular_velocity_rad_s**2 / area
     assert result.outputs["bearings"].results["centrifugal_rod_Pa"] == pytest.approx(c_r, rel=1e-9)
     page = shared_html("radial9-aircraft")
-    html = page.html if hasattr(page, "html") else page
+    html = page.linked_html if hasattr(page, "linked_html") else page
     # the master rod's rotating part with the slaves' shares has its own letter (m_rR is one rod's)
     assert "Only the master rod bears on the crank pin: the rotating part of the master rod" in html
     assert (
@@ -589,10 +589,10 @@ def test_the_rods_on_one_crank_pin_are_the_centrifugal_terms_mass():
 def test_a_vs_crank_columns_are_said_to_be_its_cylinders_sums():
     """The symbols call t_i a cylinder's force; a V's torque table gives each crank's sum."""
     page = shared_html("v8-petrol")
-    html = page.html if hasattr(page, "html") else page
+    html = page.linked_html if hasattr(page, "linked_html") else page
     assert html.count("A crank here carries two cylinders") == 1
     page = shared_html("inline4-petrol")
-    html = page.html if hasattr(page, "html") else page
+    html = page.linked_html if hasattr(page, "linked_html") else page
     assert "A crank here carries" not in html
 
 
@@ -632,7 +632,7 @@ def test_a_boxer_gives_every_cylinder_its_own_crank_and_balances_as_a_flat_four(
     for key in ("sum_C_N", "sum_PI_N", "sum_PII_N", "M_C_Nm", "M_PI_Nm"):
         assert abs(absolute[key]) < 1e-9 * c_one
     assert absolute["M_PII_Nm"] == pytest.approx(2 * harmonic_2 * c_one * 0.1, rel=1e-9)
-    text = _re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
+    text = _re.sub(r"<[^>]+>", "", _render(result, registry, "uk").linked_html)
     assert "Кожен циліндр має власну шатунну шийку" in text
     assert "спільній шатунній шийці" not in text
     # the crank diagrams' vertical is across the flat banks, not a bay's axis of symmetry
@@ -672,7 +672,7 @@ def test_a_boxer_scheme_lies_flat_and_marks_each_cylinders_crank_pin():
     page = _render(replace(result, plan=drawing_only), registry, "uk")
     svg = next(f for f in page.figures if f.key == "scheme").svg.decode("utf-8")
     assert svg.count(">U<") == 2 and svg.count(">A<") == 2 and svg.count(">O<") == 1
-    text = re.sub(r"<[^>]+>", "", page.html)
+    text = re.sub(r"<[^>]+>", "", page.linked_html)
     assert "U – вісь шатунної шийки і A – вісь поршневого пальця" in text
     assert "з номером циліндра в індексі (1, 2)" in text
     # its cranks balance one another: no counterweight is fitted, and none is drawn
@@ -694,7 +694,7 @@ def test_a_flat_six_leaves_only_negligible_moments_and_says_moments():
     c_one = result.outputs["balancing"].results["first_order_N"]
     for key in ("sum_C_N", "M_C_Nm", "sum_PI_N", "M_PI_Nm", "sum_PII_N", "M_PII_Nm"):
         assert abs(absolute[key]) < 1e-9 * c_one, key
-    text = re.sub(r"<[^>]+>", "", _render(result, registry, "uk").html)
+    text = re.sub(r"<[^>]+>", "", _render(result, registry, "uk").linked_html)
     assert "незрівноважені лише моменти (ΣM" in text
 
 
@@ -706,7 +706,7 @@ def test_the_engine_section_is_titled_for_what_it_holds():
 
     for name, forces in (("v8-petrol", False), ("radial9-aircraft", True)):
         html = shared_html(name)
-        html = html.html if hasattr(html, "html") else html
+        html = html.linked_html if hasattr(html, "linked_html") else html
         titles = re.findall(r"<h2[^>]*>\s*6\s+([^<]*)</h2>", html)
         assert titles, name
         assert ("crank pin" in titles[0]) is forces, (name, titles[0])
@@ -729,7 +729,7 @@ def test_a_radials_star_not_a_crank_arrangement_balances_and_no_moments_are_name
     import re
 
     html = shared_html("radial9-aircraft", None, "uk")
-    html = html.html if hasattr(html, "html") else html
+    html = html.linked_html if hasattr(html, "linked_html") else html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     found = re.search(r"розташування циліндрів зрівноважило б ([^;]*);", text)
     assert found and "ΣM" not in found.group(1).replace(" ", ""), found
@@ -746,7 +746,7 @@ def test_a_v_twins_note_speaks_of_one_crank_and_its_side_by_side_rods():
 
     changes = {"engine": V_TWIN_ENGINE, "report": {"language": "uk"}}
     html = shared_html("v8-petrol", changes, "uk")
-    html = html.html if hasattr(html, "html") else html
+    html = html.linked_html if hasattr(html, "linked_html") else html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     assert "Порядок роботи циліндрів 1Л–1П; інтервали між спалахами: 405; 315°." in text
     assert "схема колін (відставання" not in text

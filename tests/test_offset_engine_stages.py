@@ -245,7 +245,7 @@ def test_the_abstract_names_every_force_the_balancing_table_leaves_unbalanced():
     balanced = set(r["residual"]["balanced_orders"]) | ({0} if r["counterweights"] else set())
     left = [s["order"] for s in r["summary"] if not s["balanced"] and s["order"] not in balanced]
     assert left, "the example leaves some orders unbalanced"
-    page = shared_html("offset-crank-engine").html
+    page = shared_html("offset-crank-engine").linked_html
     abstract = page[page.index('class="abstract"') :]
     abstract = abstract[: abstract.index("</section>")]
     text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", abstract)).split())
@@ -261,7 +261,7 @@ def test_the_indicator_refers_to_the_section_that_computed_the_offset_pistons_mo
 
     from conftest import shared_html
 
-    page = shared_html("offset-crank-engine").html
+    page = shared_html("offset-crank-engine").linked_html
     found = re.search(r"piston displacement computed in section (\S+?)\.", page)
     assert found is not None and found.group(1).isdigit(), found
     assert "Kinematics of the crank-slider" not in found.group(0)
@@ -277,7 +277,7 @@ def test_the_offset_kinematics_gives_the_mean_piston_speed_of_its_true_stroke():
     assert r["mean_piston_speed_m_s"] == pytest.approx(r["stroke_m"] * rpm / 30, rel=1e-12)
     assert r["stroke_m"] > 2 * r["crank_radius_m"]
     shown = f"{r['mean_piston_speed_m_s']:.2f}"
-    page = shared_html("offset-crank-engine").html
+    page = shared_html("offset-crank-engine").linked_html
     plain = page.replace("/\u2060", "/").replace("\u00a0", " ")
     assert f"<i>v</i><sub>mean</sub> = <i>Sn</i>/30 = {shown}" in plain
 
@@ -391,7 +391,7 @@ def test_the_given_data_name_the_throw_the_offset_and_the_crank_angles():
     closed form) and the cranks' angles the scene gives."""
     from conftest import shared_html
 
-    page = shared_html("offset-crank-engine", TWIN, stages=TWIN_STAGES).html
+    page = shared_html("offset-crank-engine", TWIN, stages=TWIN_STAGES).linked_html
     start = page.index('class="assignment"')
     assignment = _plain(page[start : page.index("</section>", start)])
     assert "2R = 78 mm" in assignment and "e = 8 mm" in assignment
@@ -409,14 +409,14 @@ def test_a_small_offset_is_not_called_a_quick_return_mechanism():
     e = 95 mm (K = 1.46) is one."""
     from conftest import shared_html
 
-    small = _plain(shared_html("offset-crank-engine", COARSE, stages=["offset_crank"]).html)
+    small = _plain(shared_html("offset-crank-engine", COARSE, stages=["offset_crank"]).linked_html)
     k = (180 + np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))) / (
         180 - np.degrees(np.arcsin(E / (L - R)) - np.arcsin(E / (L + R)))
     )
     assert f"differ by only {100 * (k - 1):.1f} %" in small
     assert "practically no quick return" in small and "(a quick-return mechanism)" not in small
     wide = {**COARSE, "mechanism": {"offset": "95 mm"}}
-    large = _plain(shared_html("offset-crank-engine", wide, stages=["offset_crank"]).html)
+    large = _plain(shared_html("offset-crank-engine", wide, stages=["offset_crank"]).linked_html)
     assert "(a quick-return mechanism)" in large
 
 
@@ -444,7 +444,7 @@ def test_the_crank_pins_warning_stands_with_their_table_not_after_the_journals()
     from conftest import shared_html
 
     narrow = {**TWIN, "bearings": {"crank_pin_width": "10 mm"}}
-    page = _plain(shared_html("offset-crank-engine", narrow, stages=["bearings"]).html)
+    page = _plain(shared_html("offset-crank-engine", narrow, stages=["bearings"]).linked_html)
     start = page.index("Loads on the crank pins: largest and mean force")
     warning = page.index("The crank pin's sizes are not given in the assignment", start)
     journals = page.index("Loads on the main journals: largest and mean force", start)

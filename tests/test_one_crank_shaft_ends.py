@@ -39,7 +39,7 @@ def _text(name: str, language: str) -> str:
     else:
         scene = load_scene(examples_dir() / f"{name}.toml")
         run = run_scene(scene, REGISTRY, STAGES)
-    html = render_html(run, REGISTRY, language).html
+    html = render_html(run, REGISTRY, language).linked_html
     text = re.sub(r"<[^>]+>", "", html)
     return " ".join(text.replace("\xa0", " ").replace("\u2060", "").split())
 
@@ -129,7 +129,7 @@ def test_a_one_crank_schemes_caption_names_the_end_it_is_seen_from(name, languag
     data = {"radial": RADIAL, "vtwin": V_TWIN}[name]
     data = {**data, "report": {**data["report"], "language": language}}
     run = run_scene(scene_from_dict(data, base_dir=examples_dir()), REGISTRY, ["drawing"])
-    html = render_html(run, REGISTRY, language).html
+    html = render_html(run, REGISTRY, language).linked_html
     text = " ".join(unescape(re.sub(r"<[^>]+>", "", html)).split())
     assert seen_from in text
     assert FREE_END[language] not in text.lower()

@@ -112,7 +112,7 @@ def _run(name: str):
 @functools.cache
 def _html(name: str) -> str:
     run = _run(name)
-    return render_html(run, default_registry(), run.scene.report.language).html
+    return render_html(run, default_registry(), run.scene.report.language).linked_html
 
 
 def _plain(html: str) -> str:

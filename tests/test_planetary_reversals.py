@@ -189,7 +189,7 @@ def _section(html: str) -> str:
 
 
 def test_note_describes_both_bdcs_the_secondary_stroke_and_the_curve(ring_run):
-    html = render_html(ring_run, REGISTRY, "uk").html
+    html = render_html(ring_run, REGISTRY, "uk").linked_html
     section = _section(html)
     text = _plain(section)
     assert "136,4 і 223,6°" in text and "вторинна ВМТ за α = 180° (sп = 60 мм)" in text
@@ -213,7 +213,7 @@ def test_note_describes_both_bdcs_the_secondary_stroke_and_the_curve(ring_run):
 
 
 def test_conclusions_come_from_the_numbers(ring_run):
-    html = render_html(ring_run, REGISTRY, "uk").html
+    html = render_html(ring_run, REGISTRY, "uk").linked_html
     conclusions = _plain(html.split('id="sec-conclusions"', 1)[1].split("</section>", 1)[0])
     r = ring_run.outputs["planetary"].results
     fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
@@ -228,7 +228,7 @@ def test_conclusions_come_from_the_numbers(ring_run):
 
 
 def test_sources_are_textbooks_with_their_numbers(ring_run):
-    html = render_html(ring_run, REGISTRY, "uk").html
+    html = render_html(ring_run, REGISTRY, "uk").linked_html
     listed = re.findall(r"<li[^>]*>(.*?)</li>", html.split('class="references"')[-1], re.S)
     text = " ".join(listed)
     assert "Артоболевский" in text and "Планетарные передачи" in text
@@ -335,7 +335,7 @@ def test_shallow_secondary_strokes_are_described_but_not_drawn():
 
 def test_the_task_gives_no_rod_ratio_for_a_carrier(ring_run):
     """The assignment's data list λ = R/L only for a mechanism with a crank radius."""
-    html = render_html(ring_run, REGISTRY, "uk").html
+    html = render_html(ring_run, REGISTRY, "uk").linked_html
     assignment = _plain(html.split('class="assignment"', 1)[1].split("</section>", 1)[0])
     assert "D = 76 мм, S = 62,303 мм, " in assignment and "λ" not in assignment
     # the mechanism's own data follow, angles with the degree sign at the number

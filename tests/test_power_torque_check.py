@@ -56,7 +56,7 @@ def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example
     assert r["mean_effective_torque_Nm"] == pytest.approx(
         r["mechanical_efficiency"] * work_all / (2 * math.pi * e.strokes / 2), rel=1e-12
     )
-    html = shared_html(example, language="uk").html
+    html = shared_html(example, language="uk").linked_html
     assert "механічний ККД <i>η</i><sub>м</sub>" in html
     assert "<i>N</i><sub>e</sub></td>" in html  # the given data's row
 
@@ -80,7 +80,7 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
     assert scene.engine.effective_power == pytest.approx(80e3)
     result = run_scene(scene, registry, ["torque"])
     assert result.outputs["torque"].results["mechanical_efficiency"] > 1
-    html = render_html(result, registry).html
+    html = render_html(result, registry).linked_html
     # said once, in the section's plausibility sentence and its conclusion (not also in the
     # stage's own paragraph)
     assert html.count("is above 0.95, whereas a real engine") == 1, html
@@ -111,7 +111,7 @@ def test_each_main_journals_torque_range_and_amplitude():
     last = out.results["journals"][-1]
     assert last["max_Nm"] == pytest.approx(out.results["max_Nm"], rel=1e-12)
     assert last["min_Nm"] == pytest.approx(out.results["min_Nm"], rel=1e-12)
-    html = shared_html("inline4-petrol", language="uk").html
+    html = shared_html("inline4-petrol", language="uk").linked_html
     assert (
         "Набіжні крутні моменти на корінних шийках: найбільший і найменший за цикл та амплітуда"
         in html

@@ -30,7 +30,7 @@ def _render(name="petrol-1cyl", language="en", changes=None):
 )
 def test_html_structure_and_language(language, table, figure, sep):
     result, rendered = _render(language=language)
-    html = rendered.html
+    html = rendered.html  # self-contained: the figures inlined
     assert not rendered.missing_translations, rendered.missing_translations
     assert table in html and figure in html
     for stage in ("kinematics", "indicator", "forces"):
@@ -201,16 +201,16 @@ def test_a_line_breaks_before_an_italic_symbol_where_it_should():
 def test_a_two_stroke_assignment_lists_no_valve_timing_of_a_four_stroke():
     """The exhaust closing, intake opening and intake closing near the dead centres belong to a
     four-stroke cycle; a two-stroke's assignment lists only the exhaust ports' opening."""
-    two = shared_html("two-stroke-1cyl", language="en", stages=("indicator",)).html
-    four = shared_html("petrol-1cyl", language="en", stages=("indicator",)).html
+    two = shared_html("two-stroke-1cyl", language="en", stages=("indicator",)).linked_html
+    four = shared_html("petrol-1cyl", language="en", stages=("indicator",)).linked_html
     for row in ("Exhaust valve closes", "Intake valve opens", "Intake valve closes"):
         assert row not in two and row in four
 
 
 def test_the_running_torque_is_said_to_grow_towards_the_output_end_only_where_it_does():
     # in-line four: 226, 355, 487, 603 N·m along the journals; in-line three: 248, 454, 363 N·m
-    four = shared_html("inline4-petrol", language="en", stages=("torque",)).html
-    three = shared_html("inline3-petrol", language="en", stages=("torque",)).html
+    four = shared_html("inline4-petrol", language="en", stages=("torque",)).linked_html
+    three = shared_html("inline3-petrol", language="en", stages=("torque",)).linked_html
     assert "grows towards the flywheel end" in four and "not on the last journal" not in four
     assert "grows towards the flywheel end" not in three
     assert "not on the last journal here but on the journal after crank 2" in three
@@ -222,7 +222,7 @@ def test_a_radials_conclusions_give_the_crank_pins_load_of_all_its_cylinders():
     import re
 
     run = shared_run("radial9-aircraft", stages=("bays",))
-    html = shared_html("radial9-aircraft", language="en", stages=("bays",)).html
+    html = shared_html("radial9-aircraft", language="en", stages=("bays",)).linked_html
     bay = run.outputs["bays"].tables.arrays("bay")["pin_load_Pa"]
     single = run.outputs["forces"].results["resultant_max_Pa"]
     conclusions = html[html.index('<ol class="conclusions">') :]

@@ -38,7 +38,7 @@ def test_russian_is_a_report_language():
 
 
 def test_russian_html_captions_numbers_and_decimal_comma(russian):
-    html = russian.html
+    html = russian.linked_html
     assert not russian.missing_translations, russian.missing_translations
     assert '<html lang="ru">' in html
     for text in (
@@ -65,7 +65,7 @@ def _chapters(html: str) -> dict[int, str]:
 def test_tables_figures_equations_numbered_within_their_section(russian):
     # The numbering is language-independent (RenderContext); checked on the Russian report.
     language, table_word, figure_word = "ru", "Таблица", "Рисунок"
-    html = russian.html
+    html = russian.linked_html
     chapters = _chapters(html)
     assert len(chapters) >= 4
     counted = {"table": 0, "figure": 0, "equation": 0}
@@ -138,8 +138,8 @@ def test_a_russian_note_numbers_its_pages_at_the_bottom_centre():
     from crankdyn.scene.model import load_scene
 
     result = run_scene(load_scene(examples_dir() / "petrol-1cyl-ru.toml"), registry, ["kinematics"])
-    html = render_html(result, registry).html
+    html = render_html(result, registry).linked_html
     assert "@bottom-center { content: counter(page)" in html
     uk = run_scene(load_scene(examples_dir() / "petrol-1cyl-uk.toml"), registry, ["kinematics"])
     # (the Ukrainian example is printed in the ESKD frame, whose block carries the sheet number)
-    assert "@bottom-center { content: counter(page)" not in render_html(uk, registry).html
+    assert "@bottom-center { content: counter(page)" not in render_html(uk, registry).linked_html

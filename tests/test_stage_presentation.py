@@ -53,8 +53,10 @@ def test_a_stage_without_presentation_gives_its_results_and_no_section():
         2.0 * scene.engine.crank_radius_m
     )
     report = render_html(result, quiet)
-    assert "quiet section" not in report.html
-    assert _titles(report.html) == _titles(render_html(run_scene(scene, plain), plain).html)
+    assert "quiet section" not in report.linked_html
+    assert _titles(report.linked_html) == _titles(
+        render_html(run_scene(scene, plain), plain).linked_html
+    )
 
 
 def test_the_flat_form_is_folded_into_a_presentation_with_a_warning():

@@ -264,7 +264,7 @@ def test_a_four_stroke_cycle_keeps_the_whole_stroke():
 def test_a_two_strokes_note_speaks_of_ports_and_the_actual_compression_ratio(
     language, ports, valve
 ):
-    html = shared_html("two-stroke-1cyl", language=language, stages=("indicator",)).html
+    html = shared_html("two-stroke-1cyl", language=language, stages=("indicator",)).linked_html
     assert valve not in html.lower()
     assert html.count(ports) >= 5
     sub = "t" if language == "en" else "д"
