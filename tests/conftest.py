@@ -69,8 +69,9 @@ def pytest_runtest_makereport(item, call):
 @pytest.hookimpl(trylast=True)
 def pytest_collection_modifyitems(config, items):
     """Tests marked ``long`` (a PDF, a browser, a fresh virtual environment: 3-10 s each) go first,
-    after pytest-randomly's shuffle: started last, one of them kept a core busy for 10 s while
-    the other had nothing left to take (longest first: xdist's workers end within a short test)."""
+    after pytest-randomly's shuffle, and with them their files (xdist hands out whole files in the
+    order of their first test): started last, one of them kept a core busy for 10 s while the
+    other had nothing left to take."""
     items.sort(
         key=lambda item: item.get_closest_marker("long") is None
     )  # stable: the shuffle stays
