@@ -363,3 +363,19 @@ def test_the_verb_of_the_left_out_calculations_agrees_with_their_number():
     uk = _text(shared_html("inline4-petrol", {**_SIX, "flywheel": None}, language="uk").linked_html)
     assert re.search(r"У записці не розраховано маховик, динаміку шатуна, [^:]*:", uk)
     assert "динаміка шатуна" not in uk.lower()
+
+
+def test_an_english_reference_names_its_sources_language_one_way():
+    """A source in another language than the note's is marked the same way in every entry of the
+    English list: "(in Russian)." after the entry's last full stop, as ГОСТ 7.1 and the English
+    translations of the Russian and Ukrainian lists have it."""
+    marked = {}
+    for path in CATALOGS:
+        if not path.name.endswith("en.toml"):
+            continue
+        for key, entry in tomllib.loads(path.read_text(encoding="utf-8")).get("ref", {}).items():
+            if re.search(r"\(in [A-Z][a-z]+\)", entry):
+                marked[f"{path.name}:{key}"] = entry
+    assert len(marked) >= 15, sorted(marked)
+    odd = {k: e[-40:] for k, e in marked.items() if not re.search(r"\. \(in [A-Z][a-z]+\)\.$", e)}
+    assert not odd, odd
