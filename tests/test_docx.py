@@ -316,6 +316,40 @@ def sample_docx(tmp_path_factory) -> Path:
     return path
 
 
+@pytest.mark.parametrize("language", ["ru", "uk", "en"])
+def test_the_page_number_stands_where_the_pdf_puts_it(language, tmp_path):
+    """GOST 7.32-2017 puts a Russian note's page number at the bottom centre, DSTU 3008:2015 a
+    Ukrainian (and the English) one top right: the Word file follows the PDF's stylesheet, and
+    the title page has none."""
+    from docx import Document
+
+    from crankdyn.report.assets import report_css
+
+    css = re.sub(r"/\*.*?\*/", "", report_css(language), flags=re.S)
+    # the last rule of the page that shows the number wins, as in CSS
+    shown = [
+        m.group(1)
+        for m in re.finditer(r"@(top-right|bottom-center)\s*\{\s*content:\s*counter", css)
+    ]
+    hidden = [
+        m.group(1) for m in re.finditer(r"@(top-right|bottom-center)\s*\{\s*content:\s*none", css)
+    ]
+    pdf_place = shown[-1]
+    assert pdf_place == ("bottom-center" if language == "ru" else "top-right")
+    assert pdf_place in hidden  # not on the title page
+
+    path = tmp_path / "report.docx"
+    path.write_bytes(word.report_docx(_sample_html("<i>x</i> = 1"), [], language, layout=False))
+    section = Document(str(path)).sections[0]
+    assert section.different_first_page_header_footer
+    header = "".join(p._p.xml for p in section.header.paragraphs)
+    footer = "".join(p._p.xml for p in section.footer.paragraphs)
+    if pdf_place == "bottom-center":
+        assert " PAGE " in footer and 'w:val="center"' in footer and " PAGE " not in header
+    else:
+        assert " PAGE " in header and 'w:val="right"' in header and " PAGE " not in footer
+
+
 def test_no_break_spaces_survive_in_list_items(tmp_path):
     """A conclusion's "(табл.\u00a06.3)" and "8,675\u202fМПа" keep their no-break spaces as the
     characters themselves in the list item's text, so Word and LibreOffice never end a line

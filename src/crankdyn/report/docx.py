@@ -5,7 +5,8 @@ Why pandoc: it is the well-kept converter that turns HTML headings, paragraphs, 
 The blocks it cannot set from HTML as the PDF sets them are written as WordprocessingML here
 (:mod:`.docx_blocks`, :mod:`.docx_math`) and stand in pandoc's input as placeholder paragraphs
 replaced in its output; the page set-up (A4, DSTU 3008 margins as the PDF has them, page numbers
-top right, none on the title page, landscape sections), the contents as a TOC field and the
+where the language's standard puts them as the PDF does, none on the title page, landscape
+sections), the contents as a TOC field and the
 abstract's page count as a NUMPAGES field are small XML edits of its output. Where LibreOffice is
 installed, :mod:`.docx_pages` lays the document out once to add the "Table N.M continued" labels
 and fill in the fields' results.
@@ -694,24 +695,57 @@ def reference_docx() -> bytes:
 
 # --------------------------------------------------------------------------- after pandoc
 
-_HEADER = (
-    '<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
-    '<w:hdr xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
-    '<w:p><w:pPr><w:jc w:val="right"/><w:ind w:firstLine="0"/></w:pPr>'
-    '<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> PAGE </w:instrText></w:r>'
-    '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>1</w:t></w:r>'
-    '<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></w:hdr>'
-)
-# DSTU 3008:2015: the page number in the top right corner (a header, as the PDF has it)
-_HEADER_ID = "rIdCrankdynHeader"
+
+@dataclass(frozen=True)
+class PageNumber:
+    """Where a language's standard puts the page number, as the PDF's stylesheet does: DSTU
+    3008:2015 in the top right corner (report.css), GOST 7.32-2017 at the bottom centre
+    (report.ru.css). ``part``: the Word part that holds it, a header or a footer."""
+
+    part: str  # "header" or "footer"
+    alignment: str  # w:jc: "right" or "center"
+
+    @property
+    def element(self) -> str:
+        return "w:hdr" if self.part == "header" else "w:ftr"
+
+    @property
+    def relationship_id(self) -> str:
+        return f"rIdCrankdyn{self.part.capitalize()}"
+
+    @property
+    def file_name(self) -> str:
+        return f"{self.part}_crankdyn.xml"
+
+    def xml(self) -> str:
+        return (
+            '<?xml version="1.0" encoding="UTF-8" standalone="yes"?>'
+            f'<{self.element} xmlns:w="http://schemas.openxmlformats.org/wordprocessingml/2006/main">'
+            f'<w:p><w:pPr><w:jc w:val="{self.alignment}"/><w:ind w:firstLine="0"/></w:pPr>'
+            '<w:r><w:fldChar w:fldCharType="begin"/></w:r><w:r><w:instrText xml:space="preserve"> PAGE </w:instrText></w:r>'
+            '<w:r><w:fldChar w:fldCharType="separate"/></w:r><w:r><w:t>1</w:t></w:r>'
+            f'<w:r><w:fldChar w:fldCharType="end"/></w:r></w:p></{self.element}>'
+        )
 
 
-def _section(page: dict, first: bool) -> str:
-    """A section's properties: its page, the header with the page number (none on the document's
-    first page: the title page)."""
+TOP_RIGHT = PageNumber("header", "right")
+BOTTOM_CENTRE = PageNumber("footer", "center")
+#: The page number's place by the note's language (report.ru.css moves it for GOST 7.32); the
+#: others follow DSTU 3008.
+PAGE_NUMBERS = {"ru": BOTTOM_CENTRE}
+
+
+def page_number(language: str) -> PageNumber:
+    """Where the page number of a note in ``language`` stands."""
+    return PAGE_NUMBERS.get(language, TOP_RIGHT)
+
+
+def _section(page: dict, first: bool, number: PageNumber = TOP_RIGHT) -> str:
+    """A section's properties: its page, the header or footer with the page number (none on the
+    document's first page: the title page)."""
     orient = ' w:orient="landscape"' if page["w"] > page["h"] else ""
     return (
-        f'<w:sectPr><w:headerReference w:type="default" r:id="{_HEADER_ID}"/>'
+        f'<w:sectPr><w:{number.part}Reference w:type="default" r:id="{number.relationship_id}"/>'
         f'<w:pgSz w:w="{page["w"]}" w:h="{page["h"]}"{orient}/>'
         f'<w:pgMar w:top="{page["top"]}" w:right="{page["right"]}" w:bottom="{page["bottom"]}" '
         f'w:left="{page["left"]}" w:header="709" w:footer="567" w:gutter="0"/>'
@@ -773,7 +807,7 @@ _MARK_PROPERTIES = {
 }
 
 
-def _document(xml: str, raw: list[str] | None = None) -> str:
+def _document(xml: str, raw: list[str] | None = None, number: PageNumber = TOP_RIGHT) -> str:
     raw = raw or []
     paragraphs = list(_PARAGRAPH.finditer(xml))
     toc = [m for m in paragraphs if _styled(m.group(0), "TOC1") or _styled(m.group(0), "TOC2")]
@@ -828,7 +862,7 @@ def _document(xml: str, raw: list[str] | None = None) -> str:
     xml = re.sub(
         f"{_SECTION_PORTRAIT}|{_SECTION_LANDSCAPE}",
         lambda m: _section(
-            PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE, next(sections) == 0
+            PAGE if m.group(0) == _SECTION_PORTRAIT else LANDSCAPE, next(sections) == 0, number
         ),
         xml,
     )
@@ -842,8 +876,9 @@ def _document(xml: str, raw: list[str] | None = None) -> str:
     return xml
 
 
-def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
-    """pandoc's output with the page set-up, the header with page numbers, the TOC field and equation tabs."""
+def _finish(docx: bytes, raw: list[str] | None = None, number: PageNumber = TOP_RIGHT) -> bytes:
+    """pandoc's output with the page set-up, the header or footer with page numbers, the TOC field
+    and equation tabs."""
     out = io.BytesIO()
     with (
         zipfile.ZipFile(io.BytesIO(docx)) as source,
@@ -853,27 +888,29 @@ def _finish(docx: bytes, raw: list[str] | None = None) -> bytes:
             data = source.read(item.filename)
             name = item.filename
             if name == "word/document.xml":
-                data = _document(data.decode("utf-8"), raw).encode("utf-8")
+                data = _document(data.decode("utf-8"), raw, number).encode("utf-8")
             elif name == "word/_rels/document.xml.rels":
                 data = data.replace(
                     b"</Relationships>",
                     (
-                        f'<Relationship Id="{_HEADER_ID}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
-                        f'relationships/header" Target="header_crankdyn.xml"/></Relationships>'
+                        f'<Relationship Id="{number.relationship_id}" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
+                        f'relationships/{number.part}" Target="{number.file_name}"/></Relationships>'
                     ).encode(),
                 )
             elif name == "[Content_Types].xml":
                 data = data.replace(
                     b"</Types>",
-                    b'<Override PartName="/word/header_crankdyn.xml" ContentType='
-                    b'"application/vnd.openxmlformats-officedocument.wordprocessingml.header+xml"/></Types>',
+                    (
+                        f'<Override PartName="/word/{number.file_name}" ContentType='
+                        f'"application/vnd.openxmlformats-officedocument.wordprocessingml.{number.part}+xml"/></Types>'
+                    ).encode(),
                 )
             elif name == "word/settings.xml" and b"updateFields" not in data:
                 data = re.sub(
                     rb"(<w:settings[^>]*>)", rb'\1<w:updateFields w:val="true"/>', data, count=1
                 )
             target.writestr(item, data)
-        target.writestr("word/header_crankdyn.xml", _HEADER)
+        target.writestr(f"word/{number.file_name}", number.xml())
     return out.getvalue()
 
 
@@ -930,5 +967,5 @@ def report_docx(html: str, figures: list, language: str, layout: bool = True) ->
                 str(folder / "report.html"),
             ]
         )
-        document = _finish((folder / "report.docx").read_bytes(), blocks.raw)
+        document = _finish((folder / "report.docx").read_bytes(), blocks.raw, page_number(language))
     return docx_pages.lay_out(document) if layout else document
