@@ -756,7 +756,7 @@ def test_the_abstract_says_what_the_counterweights_alone_would_leave():
     assert loads[2] + loads[-2] == pytest.approx(second, rel=1e-9)
     text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "ru").linked_html))
     expected = (
-        "(без уравновешивающих валов, только с противовесами, неуравновешенными остались бы также "
+        ", а без уравновешивающих валов, только с противовесами, неуравновешенными остались бы также "
         "величины: "
         f"вращающаяся навстречу валу составляющая ΣMI ({loads[-1]:.1f}\u202fН·м) и ΣMII = {second:.0f}\u202fН·м"
     ).replace(".", ",")
@@ -801,7 +801,7 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").linked_html)
     )
     assert (
-        "(без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
+        ", а без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
     )
     assert "только с противовесами" not in text
 
