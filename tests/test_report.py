@@ -232,3 +232,22 @@ def test_a_radials_conclusions_give_the_crank_pins_load_of_all_its_cylinders():
     assert bay.max() > 1.2 * single  # the summed load is not one cylinder's
     # one cylinder's load on a crank that carries nine is no result of the engine
     assert "From one cylinder" not in plain and "this cylinder's rod only" not in plain
+
+
+@pytest.mark.parametrize(
+    "language, start", [("uk", "Пояснювальна записка: "), ("en", "Explanatory note: ")]
+)
+def test_the_abstracts_page_count_is_left_out_of_the_page_on_screen(language, start):
+    """Only print has pages: on screen the page count and its unit are hidden together (no
+    "записка:  с., 19 рис."), in print the count fills in before its unit."""
+    from crankdyn.report.assets import report_css
+
+    html = shared_html("petrol-1cyl", language=language, stages=("kinematics",)).linked_html
+    counts = re.search(r'<p class="counts">(.*?)</p>', html, flags=re.S).group(1)
+    hidden = re.search(r'<span class="abstract-pages">(.*?)</span>', counts, flags=re.S)
+    assert hidden and 'class="pagecount"' in hidden.group(1)
+    unit = re.sub(r"<[^>]+>", "", hidden.group(1)).strip()
+    assert unit in ("с.,", "pages,")
+    on_screen = re.sub(r"<[^>]+>", "", counts.replace(hidden.group(0), ""))
+    assert re.match(re.escape(start) + r"\d+ ", on_screen), on_screen
+    assert "@media screen { .abstract-pages { display: none; } }" in report_css(language)

@@ -960,7 +960,9 @@ def _fill_counts(html: str, t, sources: int) -> str:
     appendices = len(re.findall(r'<section class="chapter appendix"', html))
     counts = t(
         "doc.abstract_counts",
-        pages='<a class="pagecount" href="#document-end"></a>',
+        pages='<span class="abstract-pages">'
+        + t("doc.abstract_pages", pages='<a class="pagecount" href="#document-end"></a>')
+        + "</span>",
         figures=figures,
         tables=tables,
         sources=sources,
