@@ -801,7 +801,8 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").linked_html)
     )
     assert (
-        ", а без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = " in text
+        ", а без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = "
+        in text
     )
     assert "только с противовесами" not in text
 
