@@ -740,3 +740,47 @@ def test_load_diagram_labels_stand_at_points_inside_the_axes(pole_z):
         assert label.get_annotation_clip() is False
         label.set_annotation_clip(None)  # matplotlib's default: drawn only inside the axes
         assert label._check_xy(renderer), label.get_text()
+
+
+#: An in-line five (the in-line four with a fifth cylinder, firing 1-2-4-5-3): its journals 2–3
+#: and 3–4 carry the same loads, the largest peak and the largest mean.
+INLINE_FIVE = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+
+
+@pytest.mark.parametrize(
+    "language, texts",
+    [
+        (
+            "uk",
+            (
+                "корінна шийка 2–3 (так само навантажена шийка 3–4); вона сприймає",
+                "корінної шийки 2–3 (так само навантажена шийка 3–4) –",
+                "(обидва – у шийок 2–3 і 3–4)",
+                "Найбільше навантажені корінні шийки 2–3 і 3–4:",
+                "Корінну шийку 2–3 (так само навантажена шийка 3–4) навантажують",
+            ),
+        ),
+        (
+            "en",
+            (
+                "2–3 (journal 3–4 carries the same load), carries chiefly",
+                "main journal 2–3 (journal 3–4 carries the same load) is its largest load",
+                "(both at journals 2–3 and 3–4)",
+                "The most loaded main journals are 2–3 and 3–4:",
+            ),
+        ),
+    ],
+)
+def test_journals_the_table_prints_alike_are_named_together(language, texts):
+    """Where two main journals print the same loads, every sentence on "the most loaded" or "the
+    largest mean" journal names both (one of them alone would contradict the table), and a single
+    other journal is "шийка", "journal … carries", in the singular."""
+    run = shared_run("inline4-petrol", INLINE_FIVE, ("bearings",))
+    journals = {j["journal"]: j for j in run.outputs["bearings"].results["main_journals"]}
+    for key in ("max_N", "mean_N"):
+        assert journals["2-3"][key] == pytest.approx(journals["3-4"][key], rel=1e-9)
+        assert journals["2-3"][key] == max(j[key] for j in journals.values())
+    html = shared_html("inline4-petrol", INLINE_FIVE, language, ("bearings",)).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\xa0", " ").split())
+    for expected in texts:
+        assert expected in text, expected

@@ -107,13 +107,13 @@ def _pressure_within(ctx, r) -> str:
     )
 
 
-def _main_pressure_params(ctx, verdict: dict) -> dict:
+def _main_pressure_params(ctx, verdict: dict, journals: list[dict]) -> dict:
     """The main bearings' pressures and allowable ones as the journals' table prints them."""
     t = ctx.t
     return {
         "p_mean": t.fixed(verdict["p_mean"], 2),
         "p_max": t.fixed(verdict["p_max"], 2),
-        **_journals_at(ctx, verdict),
+        **_journals_at(ctx, verdict, journals),
         "mean_limit": t.number_g(verdict["mean_limit"], 3),
         "max_limit": t.number_g(verdict["max_limit"], 3),
         "engines": t(f"bearings.engines_{verdict['kind']}"),
@@ -122,17 +122,28 @@ def _main_pressure_params(ctx, verdict: dict) -> dict:
     }
 
 
-def _journals_at(ctx, verdict: dict) -> dict:
+def _journals_at(ctx, verdict: dict, journals: list[dict]) -> dict:
     """The journals of the largest mean and of the largest pressure, each after its pressure
-    (``mean_at``, ``max_at``, with a leading space), once after the second where they are one."""
-    mean_label = journal_name(verdict["mean_journal"])
-    max_label = journal_name(verdict["max_journal"])
-    if mean_label == max_label:
-        return {"mean_at": "", "max_at": " " + ctx.t("bearings.journal_at_both", label=max_label)}
-    return {
-        "mean_at": " " + ctx.t("bearings.journal_at", label=mean_label),
-        "max_at": " " + ctx.t("bearings.journal_at", label=max_label),
-    }
+    (``mean_at``, ``max_at``, with a leading space), once after the second where they are one;
+    every journal whose pressure the table prints alike is named (an in-line five's 2–3 and
+    3–4), not the first of them alone."""
+    t = ctx.t
+
+    def alike(key: str, value: float) -> list[str]:
+        return [journal_name(j) for j in journals if t.fixed(j[key], 2) == t.fixed(value, 2)]
+
+    mean_labels = alike("mean_MPa", verdict["p_mean"]) or [journal_name(verdict["mean_journal"])]
+    max_labels = alike("max_MPa", verdict["p_max"]) or [journal_name(verdict["max_journal"])]
+
+    def at(labels: list[str], both: bool = False) -> str:
+        key = "bearings.journal_at" + ("_both" if both else "")
+        if len(labels) == 1:
+            return " " + t(key, label=labels[0])
+        return " " + t(key + "_many", labels=t.join_and(labels))
+
+    if mean_labels == max_labels:
+        return {"mean_at": "", "max_at": at(max_labels, both=True)}
+    return {"mean_at": at(mean_labels), "max_at": at(max_labels)}
 
 
 def _main_pressure(ctx, r) -> str:
@@ -141,7 +152,7 @@ def _main_pressure(ctx, r) -> str:
     verdict = None if ctx.scene is None else main_pressure_verdict(ctx.scene, r)
     if verdict is None:
         return ""
-    params = _main_pressure_params(ctx, verdict)
+    params = _main_pressure_params(ctx, verdict, r["main_journals"])
     if not verdict["exceeded"]:
         return ctx.t("bearings.main_pressure_within", **params)
     sizes = r["dimensions"]
@@ -190,7 +201,10 @@ def _pressure_conclusion(ctx, r) -> str:
     if verdict is not None:
         key = "above" if verdict["exceeded"] else "within"
         sentences.append(
-            t(f"bearings.conclusion_main_pressure_{key}", **_main_pressure_params(ctx, verdict))
+            t(
+                f"bearings.conclusion_main_pressure_{key}",
+                **_main_pressure_params(ctx, verdict, r["main_journals"]),
+            )
         )
     return " ".join(sentences)
 
@@ -284,13 +298,23 @@ def centrifugal_journal(r: dict) -> dict | None:
 
 def mean_loaded(journals: list[dict]) -> dict:
     """The main journal of the largest mean load (the first of equal ones, to the printed kN)."""
+    return mean_loaded_all(journals)[0]
+
+
+def mean_loaded_all(journals: list[dict]) -> list[dict]:
+    """The main journals of the largest mean load, to the printed kN, in the table's order."""
     top = max(round(j["mean_N"] / 1e3, 2) for j in journals)
-    return next(j for j in journals if round(j["mean_N"] / 1e3, 2) == top)
+    return [j for j in journals if round(j["mean_N"] / 1e3, 2) == top]
 
 
 def _centrifugal_params(ctx, r: dict, journal: dict) -> dict:
+    others = [journal_name(j) for j in mean_loaded_all(r["main_journals"]) if j is not journal]
     return {
         "label": journal_name(journal),
+        # journals the table prints alike are named with it (an in-line five's 2–3 and 3–4)
+        "alike": ctx.t("bearings.journal_alike", n=len(others), others=ctx.t.join_and(others))
+        if others
+        else "",
         "centrifugal": ctx.num(journal["centrifugal_N"] / 1e3),
         "mean": ctx.t.fixed(journal["mean_N"] / 1e3, 2),  # as the journals' table prints it
         "share": ctx.num(100 * journal["centrifugal_N"] / journal["mean_N"], 2),
@@ -335,22 +359,31 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
         + t(
             journal_key,
             label=journal_name(journal),
-            labels=", ".join(journal_name(j) for j in tied),
+            labels=t.join_and([journal_name(j) for j in tied]),
             r_max=ctx.t.fixed(journal["max_N"] / 1e3, 2),
             p_mean=ctx.t.fixed(journal["mean_MPa"], 2),
             oil=ctx.t.fixed(oil_hole_printed(journal), 0),
             table=journals_table_number,
         )
     )
-    by_mean = mean_loaded(r["main_journals"])
-    if all(by_mean is not j for j in tied) and not loads_equal(r["main_journals"]):
-        # the peak and the mean pick different journals (a steady centrifugal load): both said
+    by_mean = mean_loaded_all(r["main_journals"])
+    if all(m is not j for m in by_mean for j in tied) and not loads_equal(r["main_journals"]):
+        # the peak and the mean pick different journals (a steady centrifugal load): both said;
+        # journals that print alike (an in-line five's 2–3 and 3–4) are named together
+        printed = {
+            (ctx.t.fixed(j["max_N"] / 1e3, 2), ctx.t.fixed(j["mean_MPa"], 2)) for j in by_mean
+        }
+        alike = len(by_mean) > 1 and len(printed) == 1
+        first = max(by_mean, key=lambda j: j["max_N"])
         ctx.conclude(
             t(
-                "bearings.conclusion_journal_mean",
-                label=journal_name(by_mean),
-                r_max=ctx.t.fixed(by_mean["max_N"] / 1e3, 2),
-                p_mean=ctx.t.fixed(by_mean["mean_MPa"], 2),
+                "bearings.conclusion_journal_mean_tied"
+                if alike
+                else "bearings.conclusion_journal_mean",
+                label=journal_name(first),
+                labels=t.join_and([journal_name(j) for j in by_mean]),
+                r_max=ctx.t.fixed(first["max_N"] / 1e3, 2),
+                p_mean=ctx.t.fixed(first["mean_MPa"], 2),
             )
         )
     loaded = centrifugal_journal(r)

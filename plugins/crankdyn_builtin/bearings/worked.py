@@ -135,8 +135,8 @@ def worked_bearing(ctx, r, kind: str) -> Markup:
     if variant == "_equal" and len(records) == 2 and ctx.t.has(f"bearings.worked_{kind}_equal_two"):
         variant = "_equal_two"  # "both", not "all"
     names = {"pin": lambda x: str(x["crank"]), "rod": lambda x: ctx.t.cylinder(x["cylinder"])}
-    others = ", ".join(names.get(kind, journal_name)(x) for x in tied[1:])
-    note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others)
+    others = ctx.t.join_and([names.get(kind, journal_name)(x) for x in tied[1:]])
+    note = ctx.t(f"bearings.worked_{kind}{variant}", label=key, others=others, n=len(tied) - 1)
     return worked_markup(
         ctx, WorkedBlock("bearings", ctx.last_table_number, None, [step], note=note)
     )
