@@ -103,3 +103,27 @@ def test_outward_alignment_follows_the_direction():
     assert md.outward_alignment((0.0, 1.0)) == {"ha": "center", "va": "bottom"}
     assert md.outward_alignment((-0.7, 0.7)) == {"ha": "right", "va": "bottom"}
     assert md.outward_alignment((0.7, -0.7)) == {"ha": "left", "va": "top"}
+
+
+@pytest.mark.parametrize(
+    "label, lines",
+    [
+        ("Порядок роботи: 1 – 3 – 4 – 2", ["Порядок роботи: 1 – 3 – 4 – 2"]),
+        # an in-line five's order would leave its last cylinder alone on a second line
+        ("Порядок роботи: 1 – 2 – 4 – 5 – 3", ["Порядок роботи:", "1 – 2 – 4 – 5 – 3"]),
+        (
+            "Порядок роботи: 1Л – 1П – 4Л – 2Л – 2П – 3Л – 3П – 4П",
+            ["Порядок роботи:", "1Л – 1П – 4Л – 2Л –", "2П – 3Л – 3П – 4П"],
+        ),
+        (
+            "Firing order: 1 – 3 – 5 – 7 – 9 – 2 – 4 – 6 – 8",
+            ["Firing order:", "1 – 3 – 5 – 7 – 9 –", "2 – 4 – 6 – 8"],
+        ),
+    ],
+)
+def test_a_firing_order_breaks_after_its_title_and_into_even_lines(label, lines):
+    """The crank star's firing order: on one line where it fits the star's width; else the title
+    on its own line and the order in as few lines as it needs, of even length, each broken after
+    a dash."""
+    assert md._wrapped_order(label).split("\n") == lines
+    assert all(len(line) <= 30 for line in lines[1:])

@@ -2675,17 +2675,23 @@ def draw_crank_star(ax, geometry, title: str, firing_label: str) -> None:
 
 
 def _wrapped_order(label: str, width: int = 30) -> str:
-    """A firing order in lines of at most ``width`` characters, broken after a dash, so that a
-    V8's order stays as narrow as the crank star above it."""
-    lines = [""]
-    for k, part in enumerate(label.split(" – ")):
-        piece = part if k == 0 else " – " + part
-        if lines[-1] and len(lines[-1]) + len(piece) > width:
-            lines[-1] += " –"
-            lines.append(part)
-        else:
-            lines[-1] += piece
-    return "\n".join(lines)
+    """A firing order ("Порядок роботи: 1 – 2 – 4 – 5 – 3") in lines of at most ``width``
+    characters where it can be, so that a V8's order stays as narrow as the crank star above it:
+    on one line if it fits; else its title on a line of its own and the order below it; an order
+    longer than a line broken after a dash into as few lines as it needs, of even length (no
+    cylinder left alone on the last line)."""
+    if len(label) <= width:
+        return label
+    title, colon, order = label.rpartition(": ")
+    head = [title + colon.rstrip()] if colon else []
+    order = order if colon else label
+    parts = order.split(" – ")
+    for count in range(1, len(parts) + 1):
+        size = -(-len(parts) // count)  # parts per line, the lines as even as they can be
+        lines = [" – ".join(parts[k : k + size]) for k in range(0, len(parts), size)]
+        if all(len(line) + 2 <= width for line in lines) or size == 1:
+            return "\n".join(head + [line + " –" for line in lines[:-1]] + lines[-1:])
+    return "\n".join(head + [order])  # not reached: one part a line always ends the loop
 
 
 #: Scales of a drawing, paper length : real length (ДСТУ ISO 5455, ГОСТ 2.302): enlargements,
