@@ -191,5 +191,5 @@ def test_a_diesels_ignition_delay_time_is_among_the_given_data():
         r for r in re.findall(r"<tr[^>]*>.*?</tr>", page, flags=re.S) if "затримки займання" in r
     )
     cells = [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
-    assert cells[0] == "Тривалість затримки займання" and cells[1] == "τз", cells
+    assert cells[0] == "Період затримки займання" and cells[1] == "τз", cells
     assert cells[2] == "1,2" and cells[3] == "мс", cells
