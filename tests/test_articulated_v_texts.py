@@ -156,10 +156,10 @@ def test_the_slave_pin_taken_as_zero_is_said_and_listed_with_the_given_data():
 
 def test_bank_letters_are_the_reports_in_the_slave_table_caption():
     text = v12_text()
-    assert "бокового цилиндра 1П)" in text and "бокового цилиндра 1R" not in text
+    assert "прицепного цилиндра 1П)" in text and "прицепного цилиндра 1R" not in text
     data = {**V12, "report": {"language": "uk"}}
     run = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry(), ["bays"])
-    assert "бокового циліндра 1П)" in render_html(run, default_registry(), "uk").linked_html
+    assert "причіпного циліндра 1П)" in render_html(run, default_registry(), "uk").linked_html
 
 
 def test_the_slave_rod_table_prints_no_padding_zeros():
