@@ -755,3 +755,25 @@ def test_a_v_twins_note_speaks_of_one_crank_and_its_side_by_side_rods():
     assert "поздовжніх моментів цих сил немає" not in text
     assert "зрівноважено схемою колін" not in text
     assert "Циліндри пронумеровано по колу зірки" not in text
+
+
+@pytest.mark.parametrize(
+    "language, sentence",
+    [
+        ("ru", "Главный шатун работает в цилиндре 1, прицепные – в остальных цилиндрах."),
+        ("uk", "Головний шатун працює в циліндрі 1, причіпні – в решті циліндрів."),
+        ("en", "The master rod works in cylinder 1, the slave rods in the other cylinders."),
+    ],
+)
+def test_a_radials_note_names_the_master_rods_cylinder(language, sentence):
+    """The tables of a radial give the slave cylinders by number; the note says which cylinder
+    the master rod works in (the one no slave rod is in), once; a V's note has no such sentence."""
+    import re
+
+    slaves = shared_run("radial9-aircraft", None, ("bays",)).outputs["bays"].results["slaves"]
+    assert "1" not in {s["cylinder"] for s in slaves} and len(slaves) == 8
+    html = shared_html("radial9-aircraft", None, language, ("bays",)).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert text.count(sentence) == 1
+    v8 = shared_html("v8-petrol", None, language, ("bays",)).linked_html
+    assert sentence.split(" 1")[0] not in " ".join(re.sub(r"<[^>]+>", "", v8).split())

@@ -153,6 +153,19 @@ def _bank_letters_text(r: dict, t) -> str:
     return t("bays.bank_letters", letters=", ".join(t("bays.bank_" + x) for x in ordered))
 
 
+def _master_cylinder_text(r: dict, t) -> str:
+    """Which cylinder of a radial has the master rod ("Главный шатун работает в цилиндре 1"):
+    the tables name the slave cylinders by number, and the master's is the one left; "" for
+    other engines."""
+    if r["layout"] != "radial" or r["rod_type"] != "articulated":
+        return ""
+    slaves = {str(s["cylinder"]) for s in r.get("slaves", ())}
+    masters = [label for label in r["firing_order"] if str(label) not in slaves]
+    if len(masters) != 1:
+        return ""
+    return t("bays.master_cylinder", master=t.cylinder(str(masters[0])))
+
+
 def _bay_parts(output: StageOutput, ctx) -> dict:
     """The bay table of an engine with several cylinders per crank (textbook B.2), the slaves'
     table, the bay's figure, the pin's masses and the conclusion on the crank pin's largest load;
@@ -260,6 +273,7 @@ def render(output: StageOutput, ctx) -> str | None:
         uneven=_uneven_text(r, ctx),
         slave_length_given=_slave_length_given(ctx.scene),
         bank_letters=_bank_letters_text(r, t),
+        master_cylinder=_master_cylinder_text(r, t),
         stroke_table=stroke_table,
         own_pins=own_pins,
         scheme_figure=ctx.figure_number("scheme"),

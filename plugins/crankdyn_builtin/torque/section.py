@@ -79,8 +79,7 @@ def render(output: StageOutput, ctx) -> str | None:
     delays = output.results["cylinder_cycle_delays_deg"]
     if cranks > 1 and len(delays) > cranks:  # a V's, W's or star's crank carries several cylinders
         tables[0] = (
-            Markup("<p>{}</p>").format(t("torque.crank_sums", n=len(delays) // cranks))
-            + tables[0]
+            Markup("<p>{}</p>").format(t("torque.crank_sums", n=len(delays) // cranks)) + tables[0]
         )
     tables[-1] += worked_torque(ctx, f, rows, labels, cranks, delays)
 
