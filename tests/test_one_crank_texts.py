@@ -202,13 +202,20 @@ def test_the_slave_rod_length_has_its_own_letter():
 
 
 def test_the_running_torque_of_a_crank_is_in_the_list_of_an_engine_of_several_cranks():
-    """Table B.4's |t_k| has its entry; one crank's journal carries t_Σ, so its note names t_Σ."""
+    """Table B.4's |t_k| has its entry; one crank's journal carries t_Σ = t, the crank's own, so
+    its table B.4 has neither a row of the largest |t_Σ| nor a column t_Σ (they repeat t's)."""
     from conftest import shared_html
 
     v8 = shared_html("v8-petrol", None, "ru").linked_html
     listed = _plain(v8[v8.index('<div class="symbol-list">') :])
     assert "tk – удельный набегающий момент на коренной шейке за коленом" in listed
-    assert "|tk|" in _plain(v8) and "|tΣ|" in _plain(_html("radial"))
+    assert "|tk|" in _plain(v8)
+    radial = _html("radial")
+    start = radial.index("Наиболее опасные сочетания сил, действующих на колено вала [")
+    table = radial[start : radial.index("</table>", start)]
+    assert "<th>Величина, достигающая наибольшего значения</th>" in table
+    assert "t</i><sub>Σ</sub>" not in table and "|t_Σ|" not in table
+    assert len(re.findall(r"<tr[ >]", table)) == 4  # the header, z, t and q
 
 
 def test_the_conclusions_give_the_crank_load_of_all_its_cylinders():

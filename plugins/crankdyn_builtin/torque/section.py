@@ -184,11 +184,11 @@ def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
 def _danger_table(ctx, r, cranks: int) -> str:
     """Table B.4: each crank's dangerous combinations of loads."""
     t = ctx.t
-    # one crank: its journal's running torque is the sum t_Σ, there are no cranks to name
+    # one crank: its journal's running torque t_Σ is the crank's own t, so neither the row of
+    # its largest |t_Σ| nor its column would add a number; there are no cranks to name
     single = "_single" if cranks == 1 else ""
-    danger_rows = [
-        (d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in ("Z", "T", "Q", "M")
-    ]
+    kinds = ("Z", "T", "Q") if cranks == 1 else ("Z", "T", "Q", "M")
+    danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in kinds]
     return ctx.table(
         [
             # one crank: no column naming it
@@ -209,11 +209,16 @@ def _danger_table(ctx, r, cranks: int) -> str:
             ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),
-            (
-                ("<i>t</i><sub>Σ</sub>, " if cranks == 1 else "<i>t</i><sub>k<i>i</i></sub>, ")
-                + t("unit.MPa"),
-                [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows],
-                3,
+            *(
+                []
+                if cranks == 1
+                else [
+                    (
+                        "<i>t</i><sub>k<i>i</i></sub>, " + t("unit.MPa"),
+                        [v["journal_t_Pa"] / 1e6 for _, _, v in danger_rows],
+                        3,
+                    )
+                ]
             ),
         ],
         caption=t("torque.table_b4_caption" + single),
