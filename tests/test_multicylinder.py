@@ -777,3 +777,24 @@ def test_a_radials_note_names_the_master_rods_cylinder(language, sentence):
     assert text.count(sentence) == 1
     v8 = shared_html("v8-petrol", None, language, ("bays",)).linked_html
     assert sentence.split(" 1")[0] not in " ".join(re.sub(r"<[^>]+>", "", v8).split())
+
+
+@pytest.mark.parametrize("example", ["radial9-aircraft", "v8-petrol", "inline3-petrol"])
+def test_the_torque_table_has_a_row_at_each_extreme_the_conclusions_quote(example):
+    """The conclusions give the engine torque's largest and least values to 0.1 N·m with their
+    angles; table B.3 has a row at each (one the 30° step misses is added), so that no
+    conclusion quotes a value the table does not show."""
+    import re
+
+    r = shared_run(example, None, ("torque",)).outputs["torque"].results
+    html = shared_html(example, None, "en", ("torque",)).linked_html
+    section = html[html.index('data-stage="torque"') :]
+    table = section[: section.index("</table>")]
+    rows = {}
+    for row in re.findall(r"<tr[^>]*>(.*?)</tr>", table, flags=re.S)[1:]:
+        cells = [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+        rows[cells[0]] = cells[-1]
+    for kind in ("max", "min"):
+        angle = f"{r[f'{kind}_crank_angle_deg']:.0f}"
+        assert angle in rows, (kind, angle, sorted(rows))
+        assert rows[angle] == f"{r[f'{kind}_Nm']:.1f}".replace("-", "\u2212"), (kind, rows[angle])

@@ -73,6 +73,9 @@ def render(output: StageOutput, ctx) -> str | None:
             (f["output_torque_Nm"], "max", t("torque.extreme_max")),
             (f["output_torque_Nm"], "min", t("torque.extreme_min")),
         ],
+        # the conclusions give the torque's range to its printed 0.1 N·m with the angles of its
+        # extremes: a row of the table shows each, not only one a hundredth of the range off
+        resolution=TORQUE_ROW_RESOLUTION,
     )
     columns = _b3_columns(ctx, f, rows, labels, cranks)
     tables = _b3_tables(ctx, columns, cranks, extremes)
@@ -140,6 +143,11 @@ def _b3_columns(ctx, f, rows, labels, cranks: int) -> list:
         ("<i>M</i><sub>d</sub>, " + ctx.t("unit.Nm"), f["output_torque_Nm"][rows], TORQUE_DECIMALS)
     )
     return columns
+
+
+#: The share of the torque's range by which the table's rows may miss its largest and least
+#: values before a row is added at them (the conclusions quote both to 0.1 N·m).
+TORQUE_ROW_RESOLUTION = 1e-4
 
 
 def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
