@@ -316,3 +316,23 @@ def test_a_raised_flywheel_and_the_energy_methods_have_symbols_of_their_own():
     assert "J′f – flywheel moment of inertia by the energy method" in html_lib.unescape(
         re.sub(r"<[^>]+>", "", html)
     )
+
+
+@pytest.mark.parametrize(
+    "detail, curves",
+    [
+        ("course", ["exact periodic solution", "energy method (constant J)"]),
+        ("full", ["exact periodic solution", "solver RK45", "energy method (constant J)"]),
+    ],
+)
+def test_the_speed_figure_shows_the_curves_its_section_describes(detail, curves):
+    """A course note's section describes the exact solution and the energy method, so its figure
+    draws those two (the solver's curve, a check, is the appendix's); a full note names its solver
+    and draws its curve too."""
+    from conftest import shared_html
+
+    rendered = shared_html(
+        "inline4-petrol", {"report": {"detail": detail}}, "en", ("speed_fluctuation",)
+    )
+    (speed,) = [f for f in rendered.figures if f.name.endswith("_speed.svg")]
+    assert [line.get_label() for line in speed.figure.axes[0].get_lines()] == curves
