@@ -821,3 +821,35 @@ def test_the_amplitudes_multiply_out_to_their_last_printed_digit(example, change
         assert m * r * w**2 == pytest.approx(
             float(re.sub(r"\s", "", result)), abs=0.5 + 2e-5 * m * r * w**2
         )
+
+
+def test_a_radials_second_order_part_of_its_slaves_is_said_to_be_theirs_where_it_is_balanced():
+    """In a nine-cylinder star of alike cylinders the second-order forces cancel, both parts
+    (Σ e^{∓jφ_i} and Σ e^{3jφ_i} vanish for the axes φ_i = 40°·i): what ΣP_II a radial has comes
+    from its slave cylinders. The co-rotating part is too large to leave, the means balance it,
+    and the section says whose it is; with the counter-rotating part left, the two make the
+    table's largest ΣP_II."""
+    from conftest import as_read, shared_html, shared_run
+
+    slaves = shared_run("radial9-aircraft", None, ("bays",)).outputs["bays"].results["slaves"]
+    phi = np.radians([0.0] + [s["bank_angle_deg"] for s in slaves])
+    for k in (-1, 1, 3):
+        assert abs(np.exp(1j * k * phi).sum()) < 1e-12
+    b = shared_run("radial9-aircraft", None, ("balancing",)).outputs["balancing"].results
+    (forward,) = b["slave_parts_balanced"]
+    assert (forward["order"], forward["sense"]) == (2, "forward")
+    assert forward["share_of_first_order"] > 0.1  # more than the share a shaft is spared for
+    (backward,) = [p for p in b["parts_left"] if p["order"] == 2]
+    (order,) = [o for o in b["orders"] if o["order"] == 2]
+    assert forward["force_N"] + backward["force_N"] == pytest.approx(order["force_max_N"], rel=1e-9)
+    text = as_read(
+        re.sub(
+            r"<[^>]+>", "", shared_html("radial9-aircraft", None, "en", ("balancing",)).linked_html
+        )
+    )
+    force = f"{forward['force_N']:,.0f}".replace(",", "\u202f")
+    assert (
+        "the cylinders' arrangement would also balance the part of the second-order forces "
+        f"turning with the shaft, {force}\u202fN"
+    ) in text.replace("&#39;", "'")
+    assert "only the slave cylinders give it too, but that is more than a few per cent" in text

@@ -36,7 +36,7 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .means import add_shaft_loads, means_records, remedy_summary, residual_after_means
-from .options import BalancingOptions, balance_orders_for
+from .options import LEAVE_SHARE, BalancingOptions, balance_orders_for
 from .vectors import CHECK_SAMPLES, _fitted, bay_model_of, order_vectors, time_domain_check
 
 #: The scene table of the articulated rods, read for the mass rotating with a crank pin.
@@ -169,14 +169,17 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
     return {"offset_m": float(offset), "offset_given": given, "moments": moments}
 
 
-def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m) -> dict:
+def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts) -> dict:
     """Articulated rods: a slave cylinder's reciprocating mass, the largest |A_2| of a cylinder's
-    piston, and what only the slave cylinders leave unbalanced (parts and whole orders)."""
+    piston, what only the slave cylinders leave unbalanced (parts and whole orders) and the
+    parts only they give which the means balance."""
+    balanced = _slave_parts_balanced(g, opts, harmonics, left)
     return {
         "slave_reciprocating_mass_kg": slave_kg,
         "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
         "parts_left": _parts_left_results(g, masses, harmonics, left, spacing_m),
         "orders_left_for_masses": dropped,
+        "slave_parts_balanced": _parts_left_results(g, masses, harmonics, balanced, spacing_m),
     }
 
 
@@ -195,12 +198,6 @@ def _slave_acceleration_m_s2(geometry, angular_velocity_rad_s: float, alpha_rad)
         np.asarray(alpha_rad) + geometry.bank_angle_rad, geometry, angular_velocity_rad_s
     )
     return -motion.piston_acceleration_m_s2
-
-
-#: A rotating part only the slave cylinders give (their masses and motion; the cylinders'
-#: arrangement cancels it in alike cylinders) is left unbalanced under this share of C_I: a
-#: balance shaft for a few per cent of one cylinder's force is not worth fitting.
-LEAVE_SHARE = 0.1
 
 
 def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
@@ -223,6 +220,27 @@ def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
             ):
                 left.append(speed)
     return tuple(left)
+
+
+def _slave_parts_balanced(g, opts, harmonics, left) -> tuple[int, ...]:
+    """The rotating parts of the balanced orders (signed speeds, as :func:`_parts_left`) that only
+    the slave cylinders give, as the parts left are, but which the means balance: too large to
+    leave (:data:`LEAVE_SHARE`), or balanced as the scene chose."""
+    if g.cylinder_weight is None:
+        return ()
+    scale = 1e-9 * g.cylinders
+    alike = replace(g, cylinder_weight=None, cylinder_harmonic_ratio=None)
+    parts = []
+    for n in opts.balance_orders:
+        equal, real = bal.reciprocating_model(alike, n), bal.reciprocating_model(g, n)
+        for speed, part in ((n, "forward"), (-n, "backward")):
+            if (
+                speed not in left
+                and _part_negligible(equal, part, scale)
+                and not _part_negligible(real, part, scale)
+            ):
+                parts.append(speed)
+    return tuple(parts)
 
 
 def _orders_left(g, opts, means_given: bool, harmonics):
@@ -375,7 +393,7 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
-        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a),
+        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts),
     }
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)

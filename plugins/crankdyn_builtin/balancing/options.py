@@ -11,6 +11,11 @@ from crankdyn.scene import quantity as _quantity
 
 ALLOWED_ORDERS = (1, 2, 4, 6, 8, 10, 12)
 
+#: A rotating part only the slave cylinders give (their masses and motion; the cylinders'
+#: arrangement cancels it in alike cylinders) is left unbalanced under this share of C_I: a
+#: balance shaft for a few per cent of one cylinder's force is not worth fitting.
+LEAVE_SHARE = 0.1
+
 
 def _orders(values: list[int]) -> list[int]:
     bad = [v for v in values if v not in ALLOWED_ORDERS]

@@ -8,7 +8,7 @@ from crankdyn.plugin.types import StageOutput
 
 from .figures import _models_figure, models_left_out, star_figure
 from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
-from .options import flies_without_shafts
+from .options import LEAVE_SHARE, flies_without_shafts
 from .tables import (
     _bay_table,
     _explorer_table,
@@ -214,6 +214,34 @@ def _rod_offset_sentence(t, r) -> str:
         offset=t.number_g(couples["offset_m"] * 1e3, 4),
         taken="" if couples["offset_given"] else t("balancing.rod_offset_taken"),
         items=", ".join(items),
+    )
+
+
+def slaves_balanced_sentence(t, r) -> str:
+    """The parts of the balanced orders that only the slave cylinders give but the means balance
+    (a radial's co-rotating second-order part): said, so that a reader does not take them for
+    the star's own; "" where there are none."""
+    parts = r.get("slave_parts_balanced") or []
+    if not parts:
+        return ""
+    items = [
+        t(
+            "balancing.part_left",
+            order_words=orders_in_words(t, [part["order"]]),
+            sense=t("balancing.sense_" + part["sense"]),
+            force=newtons(t, part["force_N"]),
+            share=t.number_g(100 * part["share_of_first_order"], 2),
+        )
+        for part in parts
+    ]
+    large = all(part["share_of_first_order"] >= LEAVE_SHARE for part in parts)
+    return t(
+        "balancing.slaves_balanced" if large else "balancing.slaves_balanced_given",
+        items=t("balancing.ordinals_and").join([", ".join(items[:-1]), items[-1]])
+        if len(items) > 1
+        else items[0],
+        them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
+        them_nom=t("balancing.them_nom_many" if len(items) > 1 else "balancing.them_nom_one"),
     )
 
 
@@ -583,6 +611,7 @@ def render(output: StageOutput, ctx) -> str | None:
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
+        slaves_balanced=slaves_balanced_sentence(ctx.t, r),
         rod_offset=_rod_offset_sentence(ctx.t, r),
         master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(
