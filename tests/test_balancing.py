@@ -853,3 +853,21 @@ def test_a_radials_second_order_part_of_its_slaves_is_said_to_be_theirs_where_it
         f"turning with the shaft, {force}\u202fN"
     ) in text.replace("&#39;", "'")
     assert "only the slave cylinders give it too, but that is more than a few per cent" in text
+
+
+@pytest.mark.parametrize(
+    "example, moments",
+    [("petrol-1cyl", False), ("radial9-aircraft", False), ("inline4-petrol", True)],
+)
+def test_moments_are_named_only_where_the_cylinders_give_them(example, moments):
+    """A single cylinder's or a star's forces act in one plane across the shaft: what the means
+    leave and what leaving them out would leave are forces, not "forces and moments"; an in-line
+    engine's cylinders lie in several planes and keep the moments."""
+    from conftest import shared_html
+
+    text = " ".join(
+        re.sub(r"<[^>]+>", "", shared_html(example, None, "ru", ("balancing",)).linked_html).split()
+    )
+    assert "если вибрации двигателя с неуравновешенными силами" in text
+    assert ("с неуравновешенными силами и моментами" in text) is moments
+    assert "из сил инерции и их моментов" not in text or moments

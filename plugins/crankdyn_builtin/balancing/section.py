@@ -382,8 +382,16 @@ def _left_after_means(t, r, residuals, sign: str, scheme: bool = False) -> str:
     # what the slave cylinders or the rods' offset along the pin also leave follows: these are
     # not the only residuals then
     more = bool(r.get("parts_left") or rod_offset_items(t, r))
-    key = "balancing.finding_left_means" + ("_parts" if more else "")
+    key = "balancing.finding_left_means" + (
+        "_parts" if more else "_plane" if forces_only(t, r) else ""
+    )
     return t(key, count=len(items), items=listed)
+
+
+def forces_only(t, r) -> bool:
+    """Whether the inertia forces have no moments to speak of: all cylinders work in one plane
+    across the shaft (one cylinder, a star) and no rods lie side by side along the pin."""
+    return one_plane(r) and not rod_offset_items(t, r)
 
 
 def _left_unbalanced(r, unbalanced) -> list:
@@ -612,6 +620,11 @@ def render(output: StageOutput, ctx) -> str | None:
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
         slaves_balanced=slaves_balanced_sentence(ctx.t, r),
+        unbalanced=ctx.t(
+            "balancing.unbalanced_forces"
+            if forces_only(ctx.t, r)
+            else "balancing.unbalanced_forces_moments"
+        ),
         rod_offset=_rod_offset_sentence(ctx.t, r),
         master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(
