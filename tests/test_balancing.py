@@ -871,3 +871,40 @@ def test_moments_are_named_only_where_the_cylinders_give_them(example, moments):
     assert "если вибрации двигателя с неуравновешенными силами" in text
     assert ("с неуравновешенными силами и моментами" in text) is moments
     assert "из сил инерции и их моментов" not in text or moments
+
+
+@pytest.mark.parametrize(
+    "example, language",
+    [
+        ("petrol-1cyl", "uk"),
+        ("petrol-1cyl", "en"),
+        ("radial9-aircraft", "ru"),
+        ("inline4-petrol", "en"),
+        ("v8-petrol", "uk"),
+        ("offset-crank-engine", "uk"),
+    ],
+)
+def test_no_order_to_balance_leaves_the_counterweights_for_the_centrifugal_forces(
+    example, language
+):
+    """``balance_orders = []`` (documented: the counterweights are sized for the centrifugal forces
+    only) renders a note that says so: no order is named as balanced, none as "the orders ",
+    and the check sentence speaks of the rotating forces alone."""
+    from conftest import shared_html, shared_run
+
+    changes = {"balancing": {"balance_orders": []}}
+    run = shared_run(example, changes, ("balancing",))
+    assert run.outputs["balancing"].results["residual"]["balanced_orders"] == []
+    text = " ".join(
+        re.sub(r"<[^>]+>", "", shared_html(example, changes, language, ("balancing",)).linked_html)
+        .replace("&#39;", "'")
+        .split()
+    )
+    assert "balancing." not in text  # no catalog key left unrendered
+    assert not re.search(r"(order|orders|порядка|порядків|порядков|порядку) (,|\.|vanish)", text)
+    if example == "petrol-1cyl" and language == "en":
+        assert (
+            "The balancing means: two counterweights. With them the centrifugal force is "
+            "balanced (checked by adding them to the cylinder's real forces); the inertia forces "
+            "are left unbalanced."
+        ) in text

@@ -450,12 +450,15 @@ def _means_sentence(t, r) -> str:
         )
     balanced = r["residual"]["balanced_orders"]
     single = len(r["cylinder_labels"]) == 1
+    key = "balancing.conclusion_means_single" if single else "balancing.conclusion_means"
+    if single and not balanced:  # counterweights for the centrifugal force alone
+        key = "balancing.conclusion_means_single_centrifugal"
     sentence = t(
-        "balancing.conclusion_means_single" if single else "balancing.conclusion_means",
+        key,
         means=t("balancing.means_and").join(means),
         what=balanced_by_means(t, r),
         orders=", ".join(map(str, balanced)),
-        orders_words=orders_in_words(t, balanced),
+        orders_words=orders_in_words(t, balanced) if balanced else "",
         count=len(balanced),
         checked=t("balancing.checked_real"),
     )
@@ -561,6 +564,8 @@ def orders_in_words(t, orders) -> str:
     "сили порядку 1"), the last joined by "and"; an order above ten in digits."""
     words = t("balancing.ordinals").split("|")
     named = [words[n - 1] if 1 <= n <= len(words) else str(n) for n in orders]
+    if not named:  # no order (counterweights for the centrifugal forces alone)
+        return ""
     return (
         named[0]
         if len(named) == 1
