@@ -336,3 +336,35 @@ def test_the_speed_figure_shows_the_curves_its_section_describes(detail, curves)
     )
     (speed,) = [f for f in rendered.figures if f.name.endswith("_speed.svg")]
     assert [line.get_label() for line in speed.figure.axes[0].get_lines()] == curves
+
+
+@pytest.mark.parametrize(
+    "example, mean, variable",
+    [
+        # one cylinder on one crank: no sums over cylinders, no crank count
+        ("petrol-1cyl", "= ms ⟨s′2⟩ + mRR2 =", "+ mRR2 + ms s′(α)2,"),
+        # a star's cylinders on one crank: the sum over cylinders, no crank count
+        ("radial9-aircraft", "= ms Σi ⟨s′2⟩ + mRR2 =", "+ mRR2 + Σi ms s′(αi)2,"),
+        ("inline4-petrol", "= ms Σi ⟨s′2⟩ + iк mRR2 =", "+ iкmRR2 + Σi ms s′(αi)2,"),
+    ],
+)
+def test_the_reduced_inertia_is_written_for_the_engines_cylinders_and_cranks(
+    example, mean, variable
+):
+    """J_m and J(α) sum over the cylinders and count the cranks only where the engine has
+    several: a single cylinder's note writes m_s⟨s′²⟩ + m_R R², with no Σ_i, α_i or i_k (whose
+    definitions would then stand in its list of symbols)."""
+    import re
+
+    from conftest import example_data, shared_html
+
+    flywheel = (
+        None
+        if example == "inline4-petrol"
+        else {"flywheel": example_data("inline4-petrol")["flywheel"]}
+    )
+    html = shared_html(example, flywheel, "ru", ("flywheel", "speed_fluctuation")).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\u2060", "").split())
+    assert mean in text and variable in text
+    symbols = re.sub(r"<[^>]+>", "", html[html.index('<div class="symbol-list">') :])
+    assert ("число колен" in symbols) is (example == "inline4-petrol")

@@ -6,6 +6,7 @@ from functools import partial
 
 from markupsafe import Markup
 
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.typeset import symbol_html
 from crankdyn.scene import options
@@ -59,6 +60,8 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/flywheel.html.j2",
         r=r,
+        cylinders=ctx.scene.engine.cylinders,
+        cranks=engine_layout(ctx.scene).cranks,
         rim=rim,
         figure_work=figure_work,
         table=table,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
@@ -125,6 +126,7 @@ def render(output: StageOutput, ctx) -> str:
         torsion=torsion,
         delta_digits=digits,
         cylinders=ctx.scene.engine.cylinders,
+        cranks=engine_layout(ctx.scene).cranks,
         course=course,
         adopted_digits=ADOPTED_DELTA_DIGITS,
         alike=alike,
