@@ -368,3 +368,25 @@ def test_the_reduced_inertia_is_written_for_the_engines_cylinders_and_cranks(
     assert mean in text and variable in text
     symbols = re.sub(r"<[^>]+>", "", html[html.index('<div class="symbol-list">') :])
     assert ("число колен" in symbols) is (example == "inline4-petrol")
+
+
+@pytest.mark.parametrize(
+    "language, engines, crank",
+    [
+        ("ru", "крутящий момент двигателя", ("одного колена составляет", "Суммарный индикаторный")),
+        ("uk", "крутний момент двигуна", ("одного коліна становить", "Сумарний індикаторний")),
+        ("en", "torque of the engine", ("torque of one crank", "The output torque varies")),
+    ],
+)
+def test_a_single_cylinders_torque_is_the_engines(language, engines, crank):
+    """One cylinder on one crank: the forces section's torque, its table, figure and conclusion,
+    and the flywheel's are the engine's torque, not "one crank's" nor a "total" of several."""
+    import re
+
+    from conftest import example_data, shared_html
+
+    flywheel = {"flywheel": example_data("inline4-petrol")["flywheel"]}
+    html = shared_html("petrol-1cyl", flywheel, language, ("forces", "flywheel")).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert text.count(engines) >= 3
+    assert not any(words in text for words in crank), [w for w in crank if w in text]

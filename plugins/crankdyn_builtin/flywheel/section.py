@@ -23,7 +23,7 @@ def render(output: StageOutput, ctx) -> str:
     f = output.tables.arrays("flywheel")
     figure_work = ctx.figure(
         partial(work_figure, f, r["mean_torque_Nm"], ctx.cycle_deg, t),
-        t("flywheel.work_caption"),
+        t("flywheel.work_caption" + ("_single" if ctx.scene.engine.cylinders == 1 else "")),
         "excess_work",
         see="flywheel.see_work",
     )

@@ -28,9 +28,11 @@ from .figures import _forces_figure, _torque_figure
 def _whose_torque(scene) -> str:
     """The catalog keys' suffix for whose torque the section gives: one crank's where each crank
     carries one cylinder (an in-line engine, a boxer), one cylinder's where a crank carries
-    several (V, W, X, a radial's one crank)."""
-    if scene is None or scene.engine.cylinders <= 1:
+    several (V, W, X, a radial's one crank), the engine's where it has one cylinder."""
+    if scene is None:
         return ""
+    if scene.engine.cylinders <= 1:
+        return "_engine"
     try:
         places = cylinder_labels(scene.engine.layout, scene.engine.cylinders)
     except ValueError:  # a layout the physics does not know: say the cylinder's, never wrong
