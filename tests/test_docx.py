@@ -878,3 +878,30 @@ def test_contents_get_the_pages_their_headings_start_and_the_page_count_its_valu
     filled = docx_pages.fill_contents(xml, pages)
     assert re.findall(r"<w:tab/></w:r><w:r><w:t>(\d+)</w:t>", filled) == ["3", "4"]
     assert "<w:r><w:t>5</w:t></w:r></w:p>" in filled  # five pages
+
+
+def test_the_layout_pass_leaves_out_the_running_page_number_at_the_top_or_the_bottom(monkeypatch):
+    """LibreOffice's pages as pdftotext reads them: a Ukrainian note's number ends the first line
+    (top right), a Russian note's is the last line (bottom centre); either is left out, so the
+    first and last lines a table's continuation is found by are the text's own."""
+    import subprocess
+
+    from crankdyn.report import docx_pages
+
+    pages = [
+        "Title page\n",
+        "                                     2\nТаблица 1.1 – Исходные данные\n1 2 3\n",
+        "Продолжение таблицы 1.1\n4 5 6\n\n                    3\n",
+        "7 8 9\n    14\n",  # a last line that is a number but not this page's stays
+    ]
+
+    def fake_run(*args, **kwargs):
+        return subprocess.CompletedProcess(args, 0, stdout="\f".join(pages) + "\f", stderr="")
+
+    monkeypatch.setattr(docx_pages.subprocess, "run", fake_run)
+    assert docx_pages.page_texts(Path("report.pdf")) == [
+        ["Title page"],
+        ["Таблица 1.1 – Исходные данные", "1 2 3"],
+        ["Продолжение таблицы 1.1", "4 5 6"],
+        ["7 8 9", "14"],
+    ]

@@ -91,7 +91,9 @@ def to_pdf(docx: Path, out_dir: Path, program: str, profile_dir: Path) -> Path |
 
 
 def page_texts(pdf: Path) -> list[list[str]]:
-    """Each page's non-empty lines, whitespace normalised, the running page number left out."""
+    """Each page's non-empty lines, whitespace normalised, the running page number left out: at
+    the end of the first line (top right, DSTU 3008) or as the last line (bottom centre, GOST
+    7.32), where it is the page's own number (pages are counted from the title page)."""
     text = subprocess.run(
         ["pdftotext", "-layout", str(pdf), "-"],
         capture_output=True,
@@ -103,10 +105,12 @@ def page_texts(pdf: Path) -> list[list[str]]:
     if pages and not pages[-1].strip():
         pages.pop()
     out = []
-    for page in pages:
+    for number, page in enumerate(pages, start=1):
         lines = [" ".join(line.split()) for line in page.splitlines() if line.strip()]
-        if lines:
-            lines[0] = re.sub(r"(^|\s)\d+$", "", lines[0]).strip()
+        if lines and lines[-1] == str(number):
+            lines.pop()
+        elif lines:
+            lines[0] = re.sub(rf"(^|\s){number}$", "", lines[0]).strip()
             if not lines[0]:
                 lines.pop(0)
         out.append(lines)
