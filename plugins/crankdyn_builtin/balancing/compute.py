@@ -200,47 +200,40 @@ def _slave_acceleration_m_s2(geometry, angular_velocity_rad_s: float, alpha_rad)
     return -motion.piston_acceleration_m_s2
 
 
-def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
-    """The rotating parts of the balanced orders that are left unbalanced (signed speeds: +n the
-    co-rotating part of order n, -n the counter-rotating one): those only the slave cylinders
-    give, under :data:`LEAVE_SHARE` of C_I, unless the scene chose the balancing means."""
-    if g.cylinder_weight is None or means_given:
-        return ()
-    scale = 1e-9 * g.cylinders
-    alike = replace(g, cylinder_weight=None, cylinder_harmonic_ratio=None)
-    left = []
-    for n in opts.balance_orders:
-        equal, real = bal.reciprocating_model(alike, n), bal.reciprocating_model(g, n)
-        for speed, part in ((n, "forward"), (-n, "backward")):
-            size = abs(complex(getattr(real, f"force_{part}"))) * abs(harmonics[n])
-            if (
-                _part_negligible(equal, part, scale)
-                and not _part_negligible(real, part, scale)
-                and size < LEAVE_SHARE
-            ):
-                left.append(speed)
-    return tuple(left)
-
-
-def _slave_parts_balanced(g, opts, harmonics, left) -> tuple[int, ...]:
-    """The rotating parts of the balanced orders (signed speeds, as :func:`_parts_left`) that only
-    the slave cylinders give, as the parts left are, but which the means balance: too large to
-    leave (:data:`LEAVE_SHARE`), or balanced as the scene chose."""
+def _slave_only_parts(g, orders, harmonics) -> list[tuple[int, float]]:
+    """(signed speed, size in C_I) of each rotating part of ``orders`` that only the slave
+    cylinders give (+n the co-rotating part of order n, -n the counter-rotating one): nil where
+    the cylinders are alike, not nil as they are; none without articulated rods."""
     if g.cylinder_weight is None:
-        return ()
+        return []
     scale = 1e-9 * g.cylinders
     alike = replace(g, cylinder_weight=None, cylinder_harmonic_ratio=None)
     parts = []
-    for n in opts.balance_orders:
+    for n in orders:
         equal, real = bal.reciprocating_model(alike, n), bal.reciprocating_model(g, n)
         for speed, part in ((n, "forward"), (-n, "backward")):
-            if (
-                speed not in left
-                and _part_negligible(equal, part, scale)
-                and not _part_negligible(real, part, scale)
-            ):
-                parts.append(speed)
-    return tuple(parts)
+            if _part_negligible(equal, part, scale) and not _part_negligible(real, part, scale):
+                size = abs(complex(getattr(real, f"force_{part}"))) * abs(harmonics[n])
+                parts.append((speed, size))
+    return parts
+
+
+def _parts_left(g, opts, means_given: bool, harmonics) -> tuple[int, ...]:
+    """The rotating parts of the balanced orders that are left unbalanced (signed speeds, as
+    :func:`_slave_only_parts`): those only the slave cylinders give, under :data:`LEAVE_SHARE`
+    of C_I, unless the scene chose the balancing means."""
+    if means_given:
+        return ()
+    parts = _slave_only_parts(g, opts.balance_orders, harmonics)
+    return tuple(speed for speed, size in parts if size < LEAVE_SHARE)
+
+
+def _slave_parts_balanced(g, opts, harmonics, left) -> tuple[int, ...]:
+    """The rotating parts of the balanced orders that only the slave cylinders give, as the
+    parts left are, but which the means balance: too large to leave (:data:`LEAVE_SHARE`), or
+    balanced as the scene chose."""
+    parts = _slave_only_parts(g, opts.balance_orders, harmonics)
+    return tuple(speed for speed, _ in parts if speed not in left)
 
 
 def _orders_left(g, opts, means_given: bool, harmonics):

@@ -190,17 +190,22 @@ def mass_difference_items(t, r, whole_orders: bool = True) -> list[str]:
                 share=t.number_g(100 * force / r["first_order_N"], 2),
             )
         )
-    for part in r.get("parts_left") or ():
-        items.append(
-            t(
-                "balancing.part_left",
-                order_words=orders_in_words(t, [part["order"]]),
-                sense=t("balancing.sense_" + part["sense"]),
-                force=newtons(t, part["force_N"]),
-                share=t.number_g(100 * part["share_of_first_order"], 2),
-            )
+    return items + part_items(t, r.get("parts_left") or ())
+
+
+def part_items(t, parts) -> list[str]:
+    """Rotating parts of orders (records of ``parts_left``) as a text names them: "the part of the
+    first-order forces turning against the shaft, 391 N (6,9 % of C_I)"."""
+    return [
+        t(
+            "balancing.part_left",
+            order_words=orders_in_words(t, [part["order"]]),
+            sense=t("balancing.sense_" + part["sense"]),
+            force=newtons(t, part["force_N"]),
+            share=t.number_g(100 * part["share_of_first_order"], 2),
         )
-    return items
+        for part in parts
+    ]
 
 
 def _rod_offset_sentence(t, r) -> str:
@@ -224,31 +229,24 @@ def slaves_balanced_sentence(t, r) -> str:
     parts = r.get("slave_parts_balanced") or []
     if not parts:
         return ""
-    items = [
-        t(
-            "balancing.part_left",
-            order_words=orders_in_words(t, [part["order"]]),
-            sense=t("balancing.sense_" + part["sense"]),
-            force=newtons(t, part["force_N"]),
-            share=t.number_g(100 * part["share_of_first_order"], 2),
-        )
-        for part in parts
-    ]
     large = all(part["share_of_first_order"] >= LEAVE_SHARE for part in parts)
-    return t(
+    return _items_sentence(
+        t,
         "balancing.slaves_balanced" if large else "balancing.slaves_balanced_given",
-        items=t("balancing.ordinals_and").join([", ".join(items[:-1]), items[-1]])
-        if len(items) > 1
-        else items[0],
-        them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
-        them_nom=t("balancing.them_nom_many" if len(items) > 1 else "balancing.them_nom_one"),
+        part_items(t, parts),
     )
 
 
 def mass_difference_sentence(t, items: list[str]) -> str:
     """Why what the masses' difference leaves gets no balancing means."""
+    return _items_sentence(t, "balancing.mass_difference", items)
+
+
+def _items_sentence(t, key: str, items: list[str]) -> str:
+    """The sentence ``key`` on ``items``, listed with "and" before the last, and the pronouns
+    that refer back to one item or to several."""
     return t(
-        "balancing.mass_difference",
+        key,
         items=t("balancing.ordinals_and").join([", ".join(items[:-1]), items[-1]])
         if len(items) > 1
         else items[0],
