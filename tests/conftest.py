@@ -47,10 +47,13 @@ def pytest_configure(config):
         compileall.compile_dir(str(folder), quiet=1, workers=0)
 
 
-def pytest_sessionfinish(session):
+@pytest.fixture(scope="session", autouse=True)
+def _shared_objects_frozen_at_the_end():
     """What the tests keep to the end (the shared runs and notes with their drawn figures) is
-    frozen out of the garbage collector: pytest collects garbage after the session to report
-    exceptions raised in finalizers, and walking those objects took seconds in every process."""
+    frozen out of the garbage collector after the last test: pytest then collects garbage once
+    more to report exceptions raised in finalizers, and walking those objects took seconds in
+    every worker."""
+    yield
     gc.freeze()
 
 
