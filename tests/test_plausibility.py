@@ -111,6 +111,41 @@ def test_defaults_applied_lists_what_the_scene_left_out():
     )
 
 
+@pytest.mark.parametrize(
+    ("example", "unused", "used"),
+    [
+        (
+            "two-stroke-1cyl",
+            [
+                "cycle.rounding.exhaust_closes_after_tdc_deg",
+                "cycle.rounding.intake_opens_before_tdc_deg",
+                "cycle.rounding.intake_closes_after_bdc_deg",
+                "cycle.trace_firing_tdc_deg",
+                "cycle.pre_expansion_ratio",
+            ],
+            ["cycle.rounding.combustion_delay_time"],
+        ),
+        (
+            "diesel-rk-trace",
+            ["cycle.rounding.exhaust_opens_before_bdc_deg", "cycle.pre_expansion_ratio"],
+            ["engine.crankcase_pressure"],
+        ),
+        (
+            "diesel-1cyl",
+            ["cycle.trace_firing_tdc_deg"],
+            [
+                "cycle.rounding.exhaust_closes_after_tdc_deg",
+                "cycle.rounding.intake_closes_after_bdc_deg",
+            ],
+        ),
+    ],
+)
+def test_defaults_applied_leave_out_what_the_engine_and_cycle_do_not_use(example, unused, used):
+    applied = dict(defaults_applied(load_scene(examples_dir() / f"{example}.toml")))
+    assert [name for name in unused if name in applied] == []
+    assert [name for name in used if name not in applied] == []
+
+
 def test_check_and_report_print_the_warning_and_the_report_lists_it(tmp_path, capsys):
     scene = write_scene(
         tmp_path / "s.toml",

@@ -268,11 +268,14 @@ def language_warnings(scene) -> list[tuple[str, dict[str, Any]]]:
 def defaults_applied(scene) -> list[tuple[str, Any]]:
     """``(dotted field, default as declared)`` of every core scene value the scene did not give.
 
-    Optional values without a default (None) and empty texts are not listed: nothing was assumed.
+    Optional values without a default (None) and empty texts are not listed: nothing was assumed;
+    nor are the values the scene's engine and cycle do not use (``Scene.fields_not_used``: a
+    two-stroke's valve timing).
     A value whose default the plugins declare (:data:`crankdyn.scene.model.REGISTRY_DEFAULTS`,
     the default mechanism) is listed as the scene holds it once read with a registry.
     """
     out: list[tuple[str, Any]] = []
+    unused = scene.fields_not_used()
 
     def walk(model: BaseModel, prefix: str) -> None:
         for name, info in type(model).model_fields.items():
@@ -281,7 +284,11 @@ def defaults_applied(scene) -> list[tuple[str, Any]]:
             value = getattr(model, name)
             if isinstance(value, BaseModel):
                 walk(value, f"{prefix}{name}.")
-            elif name not in model.model_fields_set and not info.is_required():
+            elif (
+                name not in model.model_fields_set
+                and not info.is_required()
+                and prefix + name not in unused
+            ):
                 default = value if prefix + name in REGISTRY_DEFAULTS else info.default
                 if default not in (None, ""):
                     out.append((prefix + name, default))

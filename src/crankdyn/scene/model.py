@@ -337,6 +337,18 @@ class Rounding(_Strict):
     intake_closes_after_bdc_deg: _number(ge=0, le=90) = 50.0
 
 
+#: The cycle's values of a four-stroke engine alone: the valve timing near TDC and the exhaust
+#: stroke's pressure (a two-stroke's ports are given by exhaust_opens_before_bdc_deg).
+FOUR_STROKE_ONLY_FIELDS = frozenset(
+    {
+        "cycle.rounding.exhaust_closes_after_tdc_deg",
+        "cycle.rounding.intake_opens_before_tdc_deg",
+        "cycle.rounding.intake_closes_after_bdc_deg",
+        "cycle.exhaust_pressure",
+    }
+)
+
+
 class Cycle(_Strict):
     """The working cycle: theoretical indicator-diagram data or a pressure trace."""
 
@@ -476,20 +488,12 @@ class Scene(_Strict):
                 f"({step:.6g} deg); it is {self.analysis.table_step_deg:g} deg; the nearest that work: {near}",
             )
         if self.cycle is not None and self.engine.strokes == 2:
-            four_stroke_only = {
-                "exhaust_closes_after_tdc_deg",
-                "intake_opens_before_tdc_deg",
-                "intake_closes_after_bdc_deg",
-                "exhaust_pressure",
+            given = {f"cycle.{name}" for name in self.cycle.model_fields_set} | {
+                f"cycle.rounding.{name}" for name in self.cycle.rounding.model_fields_set
             }
-            given = (
-                self.cycle.rounding.model_fields_set | self.cycle.model_fields_set
-            ) & four_stroke_only
-            if given:
-                name = sorted(given)[0]
-                where = "cycle." if name == "exhaust_pressure" else "cycle.rounding."
+            if given & FOUR_STROKE_ONLY_FIELDS:
                 raise _FieldError(
-                    where + name,
+                    sorted(given & FOUR_STROKE_ONLY_FIELDS)[0],
                     "applies to four-stroke engines only (valve timing near TDC and "
                     "the exhaust stroke); remove it for a two-stroke engine",
                 )
@@ -623,6 +627,23 @@ class Scene(_Strict):
         except (lay.LayoutError, ValueError):
             return e.cycle_deg
         return lay.layout_grid_deg(layout)
+
+    def fields_not_used(self) -> frozenset[str]:
+        """The dotted names of the core values this scene's engine and cycle do not use, given
+        or not: a two-stroke's valve timing, a measured trace's rounding and pre-expansion, a
+        theoretical cycle's trace settings, a spark-ignition engine's pre-expansion (ρ = 1)."""
+        c = self.cycle
+        if c is None:
+            return frozenset()
+        unused = set(FOUR_STROKE_ONLY_FIELDS) if self.engine.strokes == 2 else set()
+        if c.source == "trace":
+            unused |= {"cycle.pre_expansion_ratio"}
+            unused |= {f"cycle.rounding.{name}" for name in Rounding.model_fields}
+        else:
+            unused.add("cycle.trace_firing_tdc_deg")
+            if c.ignition == "spark":
+                unused.add("cycle.pre_expansion_ratio")
+        return frozenset(unused)
 
     @property
     def angle_step_defaulted(self) -> bool:
