@@ -435,7 +435,7 @@ def test_the_twins_scheme_has_its_crank_star_and_the_balancing_figure_its_odd_or
     third = next(o for o in r["orders"] if o["order"] == 3)
     assert third["moment_coefficient"] > 1e-6  # unbalanced: the offset's odd order
     assert 3 in [o["order"] for o in _models_shown(r)[0]]
-    assert "PIII" not in models_left_out(r)
+    assert 3 not in models_left_out(r)
 
 
 def test_the_crank_pins_warning_stands_with_their_table_not_after_the_journals():
@@ -449,3 +449,23 @@ def test_the_crank_pins_warning_stands_with_their_table_not_after_the_journals()
     warning = page.index("The crank pin's sizes are not given in the assignment", start)
     journals = page.index("Loads on the main journals: largest and mean force", start)
     assert start < warning < journals
+
+
+def test_the_orders_the_vector_figure_leaves_out_are_named_in_number_and_agreement():
+    """An offset single leaves P_V and P_VI unbalanced beside four other orders: the figure has
+    room for five, so one order is left out, and the note names it in the singular (it said
+    "Неуравновешенные порядки VI ... не показаны")."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html, shared_run
+
+    from crankdyn_builtin.balancing.figures import models_left_out
+
+    r = shared_run("offset-crank-engine").outputs["balancing"].results
+    assert {5, 6} <= {o["order"] for o in r["orders"]}
+    (left_out,) = models_left_out(r)
+    page = shared_html("offset-crank-engine", language="ru").linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
+    assert f"Неуравновешенный порядок {left_out} на рисунке не показан, чтобы" in text
+    assert "его коэффициенты приведены" in text

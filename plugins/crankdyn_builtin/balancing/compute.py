@@ -44,7 +44,7 @@ ARTICULATED = "articulated"
 
 
 #: The orders an offset crank-slider's tables show unless the scene names them.
-OFFSET_ORDERS = [1, 2, 3, 4, 6]
+OFFSET_ORDERS = [1, 2, 3, 4, 5, 6]
 
 
 #: The distance between the planes of two rods side by side on one crank pin over the bore, taken

@@ -117,10 +117,10 @@ def _higher_unbalanced(r) -> list:
     ]
 
 
-def models_left_out(r) -> list[str]:
-    """The names of the unbalanced orders the vector models' figure has no room for."""
+def models_left_out(r) -> list[int]:
+    """The unbalanced orders the vector models' figure has no room for."""
     shown = {o["order"] for o in _models_shown(r)[0]}
-    return [o["name"] for o in _higher_unbalanced(r) if o["order"] not in shown]
+    return [o["order"] for o in _higher_unbalanced(r) if o["order"] not in shown]
 
 
 def _models_shown(r) -> tuple[list, bool]:
