@@ -469,3 +469,25 @@ def test_the_orders_the_vector_figure_leaves_out_are_named_in_number_and_agreeme
     text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
     assert f"Неуравновешенный порядок {left_out} на рисунке не показан, чтобы" in text
     assert "его коэффициенты приведены" in text
+
+
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+def test_the_offsets_stroke_and_tdc_angle_read_the_same_wherever_printed(language):
+    """The note gave φ_TDC as 2,6°, 2,562° and 2,5620° and S as 78,14, 78,138 and 78,1385 mm in
+    different sentences; each is now one number throughout (S to the micrometre: 2R + 0,138 mm)."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("offset-crank-engine").outputs["offset_crank"].results
+    page = shared_html("offset-crank-engine", language=language).linked_html
+    page = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", page, flags=re.S)
+    text = html_lib.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "")
+    comma = "." if language == "en" else ","
+    tdc = f"{r['tdc_crank_angle_from_axis_deg']:.3f}".replace(".", comma)  # 2.562 deg
+    stroke = f"{r['stroke_m'] * 1e3:.3f}".replace(".", comma)  # 78.138 mm
+    tdc_prints = re.findall(rf"(?<![\d{comma}])(2{comma}[56]\d*)°", text)  # 2.5… or 2.6 deg
+    assert tdc_prints and set(tdc_prints) == {tdc}, tdc_prints
+    stroke_prints = re.findall(rf"(?<![\d{comma}])(78{comma}\d+)\s*(?:mm|мм)", text)
+    assert len(stroke_prints) >= 3 and set(stroke_prints) == {stroke}, stroke_prints

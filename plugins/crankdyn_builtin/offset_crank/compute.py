@@ -20,10 +20,11 @@ from crankdyn.physics import offset_crank as oc
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.scalar_search import minimize_bounded
 from crankdyn.plugin.contracts import KINEMATICS, PistonMotion
-from crankdyn.plugin.types import StageOutput
+from crankdyn.plugin.types import Digits, StageOutput
 from crankdyn.scene import options
 
 from .options import OffsetParams
+from .precision import STROKE_DIGITS
 
 MECHANISM = "offset_crank_slider"
 
@@ -116,7 +117,7 @@ def _notes(scene, results: dict, stroke_m: float, crank_radius_m: float) -> list
             (
                 "offset_crank.note_indicator" if four else "offset_crank.note_indicator_two",
                 {
-                    "stroke_mm": stroke_m * 1e3,
+                    "stroke_mm": Digits(stroke_m * 1e3, STROKE_DIGITS),
                     "throw_mm": 2e3 * crank_radius_m,
                     "bdc": results["bdc_crank_angle_deg"],
                     "bdc_expansion": 360.0 + results["bdc_crank_angle_deg"],

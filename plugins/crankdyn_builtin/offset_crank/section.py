@@ -12,6 +12,7 @@ from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
 from .figures import _piston_figure, _rod_figure
 from .options import OffsetParams
+from .precision import ANGLE_DIGITS, STROKE_DIGITS
 
 #: The time ratio K of the two strokes above which the mechanism is a quick-return one: below
 #: it the strokes last within 5 % of each other, as in any engine's offset of a few millimetres.
@@ -34,7 +35,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     stroke = oc.dead_centres(engine.crank_radius_m, engine.rod_length_m, offset).stroke_m
     return [
         (t("offset_crank.input_offset"), "<i>e</i>", num(offset * 1e3, 4), t("unit.mm")),
-        (t("offset_crank.input_stroke"), "<i>S</i>", num(stroke * 1e3, 5), t("unit.mm")),
+        (t("offset_crank.input_stroke"), "<i>S</i>", num(stroke * 1e3, STROKE_DIGITS), t("unit.mm")),
     ]
 
 
@@ -76,9 +77,9 @@ def render(output: StageOutput, ctx) -> str:
         t(
             "offset_crank.conclusion",
             e=ctx.t.number_g(r["offset_m"] * 1e3, 4),
-            tdc=ctx.angle_text(r["tdc_crank_angle_from_axis_deg"]),
-            bdc=ctx.angle_text(r["bdc_crank_angle_deg"]),
-            stroke=ctx.num(r["stroke_m"] * 1e3, 6),
+            tdc=t.number_g(r["tdc_crank_angle_from_axis_deg"], ANGLE_DIGITS),
+            bdc=t.number_g(r["bdc_crank_angle_deg"], ANGLE_DIGITS),
+            stroke=t.number_g(r["stroke_m"] * 1e3, STROKE_DIGITS),
             excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
             ratio=ctx.num(r["stroke_time_ratio"], 5),
         )
@@ -94,6 +95,8 @@ def render(output: StageOutput, ctx) -> str:
         table=table,
         figure_main=figure_main,
         figure_rod=figure_rod,
+        stroke_digits=STROKE_DIGITS,
+        angle_digits=ANGLE_DIGITS,
     )
 
 

@@ -231,6 +231,15 @@ class Tables(dict):
         return [(name, self[name]) for name in self]
 
 
+@dataclass(frozen=True)
+class Digits:
+    """A note's number printed to ``significant`` digits instead of the notes' usual four (a
+    length the section prints to the micrometre elsewhere: the same value reads the same)."""
+
+    value: float
+    significant: int
+
+
 @dataclass(init=False)
 class StageOutput:
     """What a stage's ``run`` returns.
@@ -240,7 +249,8 @@ class StageOutput:
     tables:     named tables (:class:`Tables`; given as any mapping of name -> table, e.g. a plain
                 dict), written as tables/<stage>_<name>.csv; column names carry their unit, e.g.
                 ``crank_angle_deg``.
-    notes:      method notes as (catalog key, parameters) pairs, rendered by the report.
+    notes:      method notes as (catalog key, parameters) pairs, rendered by the report (a float
+                to four significant digits, a :class:`Digits` to its own).
     artifacts:  objects only this stage's ``render`` uses (e.g. a computed geometry); not
                 passed to other stages and not written to any output.
     """

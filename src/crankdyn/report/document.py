@@ -20,6 +20,7 @@ from ..physics.extrema import EXTREMUM_RTOL
 from ..physics.indicator import RoundingParameters
 from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
 from ..plugin.registry import Registry
+from ..plugin.types import Digits
 from ..plugin.scene_inputs import engine_layout, rounding_parameters
 from ..version import __version__
 from .assets import report_css
@@ -580,11 +581,14 @@ def _with_warnings(body: str, found: str) -> str:
 
 
 def _note_value(t, value):
-    """A note's parameter as printed: a number to four digits in the report's locale; a tuple of
+    """A note's parameter as printed: a number to four digits in the report's locale (a
+    :class:`crankdyn.plugin.types.Digits` to its own); a tuple of
     numbers as a list ("0; 120; 240", the decimal comma taken); a tuple of cylinder labels as a
     firing order in the report's letters ("1Л–6П"); a text with its scene keys named."""
     if isinstance(value, float):
         return t.number_g(value, 4)
+    if isinstance(value, Digits):
+        return t.number_g(value.value, value.significant)
     if isinstance(value, (list, tuple)):
         if all(isinstance(v, float) for v in value):
             return "; ".join(t.number_g(v, 4) for v in value)
