@@ -175,3 +175,25 @@ def test_a_trace_without_points_has_no_labels_to_separate():
     from crankdyn_builtin.indicator.figures import separated_labels
 
     assert separated_labels([], [0.1, 5.0], 200.0) == []
+
+
+@pytest.mark.parametrize(
+    ("example", "with_rho"),
+    [("petrol-1cyl", False), ("two-stroke-1cyl", False), ("diesel-1cyl", True)],
+)
+def test_the_closed_form_shows_pre_expansion_only_for_a_diesel(example, with_rho):
+    """A spark-ignition engine burns at constant volume (ρ = 1): its p_b and p_i′ are written
+    without ρ (Otto's forms), a diesel's with it; both are the value computed."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html
+
+    page = shared_html(example).linked_html
+    page = re.sub(r"<(script|style|svg)\b.*?</\1>", " ", page, flags=re.S)
+    text = html_lib.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "")
+    text = text.replace("\xa0", " ")
+    (p_b,) = re.findall(r"pb = (pz\S+) = ", text)
+    closed = re.findall(r"pi′ = (\S.*?\]) = ", text)
+    assert closed
+    assert ("ρ" in p_b) is with_rho and all(("ρ" in c) is with_rho for c in closed), (p_b, closed)
