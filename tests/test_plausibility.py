@@ -122,8 +122,9 @@ def test_defaults_applied_lists_what_the_scene_left_out():
                 "cycle.rounding.intake_closes_after_bdc_deg",
                 "cycle.trace_firing_tdc_deg",
                 "cycle.pre_expansion_ratio",
+                "cycle.rounding.combustion_delay_time",
             ],
-            ["cycle.rounding.combustion_delay_time"],
+            ["cycle.rounding.pressure_rise_to_tdc"],
         ),
         (
             "diesel-rk-trace",

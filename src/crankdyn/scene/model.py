@@ -631,7 +631,8 @@ class Scene(_Strict):
     def fields_not_used(self) -> frozenset[str]:
         """The dotted names of the core values this scene's engine and cycle do not use, given
         or not: a two-stroke's valve timing, a measured trace's rounding and pre-expansion, a
-        theoretical cycle's trace settings, a spark-ignition engine's pre-expansion (ρ = 1)."""
+        theoretical cycle's trace settings, a spark-ignition engine's pre-expansion (ρ = 1) and
+        ignition delay in time (its delay angle is a share of the advance)."""
         c = self.cycle
         if c is None:
             return frozenset()
@@ -643,6 +644,10 @@ class Scene(_Strict):
             unused.add("cycle.trace_firing_tdc_deg")
             if c.ignition == "spark":
                 unused.add("cycle.pre_expansion_ratio")
+            # the delay in time gives a diesel's delay angle, when the angle is not given; a
+            # spark's is a share of its advance
+            if c.ignition == "spark" or c.rounding.combustion_delay_deg is not None:
+                unused.add("cycle.rounding.combustion_delay_time")
         return frozenset(unused)
 
     @property
