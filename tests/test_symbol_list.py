@@ -159,7 +159,12 @@ def test_a_lone_latin_letter_of_cyrillic_prose_is_set_in_italics_as_in_the_equat
         typeset("маса, зведена до радіуса R, а в частках Rω², M = 9555 N/n тут")
         == "маса, зведена до радіуса <i>R</i>, а в частках <i>R</i>ω², <i>M</i> = 9555 <i>N</i>/<i>n</i> тут"
     )
-    assert "<i>j</i>" not in typeset("де j (прямим шрифтом) – уявна одиниця, cos α + j sin α")
+    assert "<i>j</i>" not in typeset("де j – уявна одиниця, cos α + j sin α")
+    assert "<i>j</i>" not in typeset("где j – мнимая единица; j is the imaginary unit")
+    # a letter naming a shape is part of a word ("V-подібного двигуна", "V-образного")
+    assert typeset("розрахунок V-подібного та W-образного, n-го порядку") == (
+        "розрахунок V-подібного та W-образного, <i>n</i>-го порядку"
+    )
     assert "<i>e</i>" not in typeset("вектор e^{jα} тут")
     assert (
         typeset("тема: «Dynamic calculation of a four-cylinder engine»")

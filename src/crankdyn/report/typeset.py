@@ -878,12 +878,17 @@ def _braces(text: str) -> str:
 #: one text node (a letter beside a tag belongs to a formula's markup: the differential d of
 #: "d<i>V</i>"); not an initial ("Khurmi R. S.": a capital before a full stop after a name), the
 #: Roman numeral I (V and X are the volume and a studied value), the upright imaginary unit j
-#: ("j sin α", "j (прямим шрифтом)") or Euler's e ("e^{jα}").
+#: ("j – уявна одиниця", "j sin α") or Euler's e ("e^{jα}").
 _LETTER_BEFORE = r"(?<=[\s(\[«„“–—·=+−,|/ΣΔ\u00a0\u202f\u2060])([A-HJ-Za-z])"
 _LETTER_AFTER = r"[\s,.;:!?)\]»”–—·=+−/|\u00a0\u202f\u2060′″α-ωΑ-Ω]|-[а-яіїєґ]"
-_PROSE_LETTER = re.compile(rf"{_LETTER_BEFORE}(?={_LETTER_AFTER})")
+#: What follows the imaginary unit j in prose, where it is set upright: its definition ("j –
+#: уявна одиниця"), a product ("j sin α") or a remark in brackets.
+_IMAGINARY_UNIT_NEXT = (" (", " sin", " – уявна", " – мнимая", " is the imag")
+#: A letter naming a shape ("V-подібного", "V-образного", "W-подібний") is a word, not a symbol.
+_SHAPE_WORD = r"(?!-(?:подібн|образн|под))"
+_PROSE_LETTER = re.compile(rf"{_LETTER_BEFORE}{_SHAPE_WORD}(?={_LETTER_AFTER})")
 #: The same, where the text ends with the letter too (a meaning put in before its unit: "… до радіуса R").
-_PROSE_LETTER_AT_END = re.compile(rf"{_LETTER_BEFORE}(?={_LETTER_AFTER}|$)")
+_PROSE_LETTER_AT_END = re.compile(rf"{_LETTER_BEFORE}{_SHAPE_WORD}(?={_LETTER_AFTER}|$)")
 #: What follows a letter that _SUB sets with its subscript or exponent.
 _SCRIPT_NEXT = re.compile(r"[′″]?[_^]")
 _ONE_LETTER = re.compile(r"[A-Za-z]")
@@ -921,7 +926,7 @@ def _prose_letter(m: re.Match) -> str:
         return letter  # a symbol with a subscript, which _SUB sets whole
     if letter.isupper() and following.startswith(".") and _AFTER_NAME.search(preceding):
         return letter  # an initial: after a capitalised name or another initial ("Khurmi R. S.")
-    if letter == "j" and (following.startswith(" (") or following.startswith(" sin")):
+    if letter == "j" and following.startswith(_IMAGINARY_UNIT_NEXT):
         return letter  # the imaginary unit, upright
     before = _LAST_WORD.search(preceding)
     after = _FIRST_WORD.match(following + text[end + 12 : end + 40])
