@@ -183,3 +183,38 @@ def test_cli_explore(capsys):
     assert "--bank-angle" in capsys.readouterr().err
     assert main(["explore", "--cylinders", "7", "--layout", "V", "--bank-angle", "90"]) == 2
     assert "multiple of 2" in capsys.readouterr().err
+
+
+def test_an_uneven_crank_is_not_located_among_the_even_firing_arrangements():
+    """A 270° twin's crank lies off the 360° grid of even firing: rounding it onto the grid
+    called it the 360° twin and the note said "the given firing order ranks 1 of 1"."""
+    for lags, found in [
+        ((0.0, 0.0), 1),
+        ((0.0, 360.0), 1),
+        ((0.0, 270.0), None),
+        ((0.0, 180.0), None),
+    ]:
+        assert (
+            fe.explore(2, "inline", 4, None, top=5, locate=(lags, ("1", "2"))).located_rank == found
+        )
+
+
+def test_the_note_of_an_uneven_twin_says_its_cranks_are_not_in_the_search():
+    import html as html_lib
+    import re
+
+    from conftest import shared_html
+
+    twin = {
+        "engine": {
+            "cylinders": 2,
+            "firing_order": [1, 2],
+            "crank_angles_deg": [0, 270],
+            "uneven_firing": True,
+        },
+        "report": {"language": "ru"},
+    }
+    page = shared_html("inline3-petrol", twin).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
+    assert "Порядок работы из задания" not in text
+    assert "Схема колен из задания даёт неравномерное чередование вспышек" in text

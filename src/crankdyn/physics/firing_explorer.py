@@ -526,7 +526,10 @@ def _locate(locate, lags, unit: float, count: int, labels, tier, groups, evaluat
     """(evaluated rows of its tier, its index there, its tier) of the firing order ``locate`` =
     (crank lags in deg, firing order labels), or None when it is not an even-firing arrangement
     of this engine."""
-    want = np.array([round((a % 360.0) / unit) % count for a in locate[0]])
+    steps = np.array([(a % 360.0) / unit for a in locate[0]])
+    if np.any(np.abs(steps - np.round(steps)) > 1e-9):  # a crank off the even-firing grid (270°)
+        return None
+    want = np.round(steps).astype(int) % count
     match = (
         np.nonzero(np.all(lags == want[None, :], axis=1))[0]
         if len(want) == lags.shape[1]
