@@ -35,7 +35,12 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     stroke = oc.dead_centres(engine.crank_radius_m, engine.rod_length_m, offset).stroke_m
     return [
         (t("offset_crank.input_offset"), "<i>e</i>", num(offset * 1e3, 4), t("unit.mm")),
-        (t("offset_crank.input_stroke"), "<i>S</i>", num(stroke * 1e3, STROKE_DIGITS), t("unit.mm")),
+        (
+            t("offset_crank.input_stroke"),
+            "<i>S</i>",
+            num(stroke * 1e3, STROKE_DIGITS),
+            t("unit.mm"),
+        ),
     ]
 
 

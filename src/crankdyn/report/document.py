@@ -20,8 +20,8 @@ from ..physics.extrema import EXTREMUM_RTOL
 from ..physics.indicator import RoundingParameters
 from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
 from ..plugin.registry import Registry
-from ..plugin.types import Digits
 from ..plugin.scene_inputs import engine_layout, rounding_parameters
+from ..plugin.types import Digits
 from ..version import __version__
 from .assets import report_css
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
