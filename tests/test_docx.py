@@ -301,6 +301,7 @@ class="eq-carry">= </span>0,046·[(1
 <table class="data wide" data-number="2.1"><caption>Таблиця 2.1 – Сили</caption>
 <thead><tr>{"".join(f"<th><i>z</i><sub>{k}</sub></th>" for k in range(16))}</tr></thead>
 <tbody><tr>{row}</tr><tr>{row}</tr></tbody></table></div><p>Після таблиці.</p></section>
+<p class="colophon" id="document-end">Створено програмою crankdyn 0.1.0, 2026-11-30.</p>
 </body></html>"""
 
 
@@ -543,6 +544,8 @@ def test_title_page_and_parts_start_new_pages(sample_docx):
     # the abstract's page count is a NUMPAGES field
     counts = next(p for p in paragraphs if p.text.startswith("Пояснювальна записка:"))
     assert " NUMPAGES " in counts._p.xml and "CRANKDYN" not in counts._p.xml
+    # the program's stamp is on the screen's page only, as in the PDF
+    assert not [p.text for p in paragraphs if "crankdyn" in p.text]
 
 
 # ------------------------------------------------------------ LibreOffice's pages (-m slow)

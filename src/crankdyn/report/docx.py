@@ -315,6 +315,8 @@ def _transform(node: Node, images: dict[str, str], blocks: _Blocks, top: bool = 
         classes = child.classes()
         if "mech-animation" in classes:  # interactive, screen only (hidden in print as well)
             continue
+        if "colophon" in classes:  # the program's stamp: on screen only, as in the PDF
+            continue
         if (
             "eskd-block" in classes
         ):  # the sheet frame's title blocks: the PDF's page furniture, not text
