@@ -816,3 +816,23 @@ def test_the_torque_table_has_a_row_at_each_extreme_the_conclusions_quote(exampl
         angle = f"{r[f'{kind}_crank_angle_deg']:.0f}"
         assert angle in rows, (kind, angle, sorted(rows))
         assert rows[angle] == f"{r[f'{kind}_Nm']:.1f}".replace("-", "\u2212"), (kind, rows[angle])
+
+
+def test_the_given_datas_firing_order_parts_once_after_its_middle_dash():
+    """A narrow cell broke a V6's order as "1Л–1П–3Л–3П–2Л–" over a lone "2П": the order keeps
+    its halves whole and may part only after its middle dash; a short order stays whole."""
+    from crankdyn.report.i18n import translator
+
+    t = translator("uk")
+    six = t.firing_order_cell(["1L", "1R", "3L", "3R", "2L", "2R"])
+    assert six == "1Л–\u20601П–\u20603Л–\u200b3П–\u20602Л–\u20602П"
+    assert t.firing_order_cell(["1", "3", "4", "2"]) == "1–\u20603–\u20604–\u20602"
+    assert t.firing_order_cell(["1", "2", "4", "5", "3"]).split("\u200b") == [
+        "1–\u20602–\u20604–",
+        "5–\u20603",
+    ]
+    from conftest import shared_html
+
+    page = shared_html("v8-petrol", language="uk").linked_html
+    cell = page.split(t("input.firing_order"), 1)[1].split("</tr>", 1)[0]
+    assert cell.count("\u200b") == 1 and cell.count("–") == 7

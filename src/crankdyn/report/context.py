@@ -250,6 +250,7 @@ class RenderContext:
         # whoever built the environment (the report, the API's single sections, the tests).
         self.env.filters["numg"] = lambda value, significant=4: self.t.number_g(value, significant)
         self.env.filters["cyl"] = self.t.cylinder  # "1L" as this language prints it
+        self.env.filters["firing_order_cell"] = self.t.firing_order_cell
         self.env.filters["angle"] = self.angle_text  # a crank angle: "372°", "75,4°"
 
     @property

@@ -155,6 +155,17 @@ class Translator:
         """Cylinder labels as printed (:meth:`cylinder`), joined: a firing order "1Л–1П–4Л"."""
         return separator.join(self.cylinder(label) for label in labels)
 
+    def firing_order_cell(self, labels) -> str:
+        """A firing order for a table's cell: on one line where it fits, else parted once, after
+        its middle dash (not "1Л–1П–3Л–3П–2Л–" over a lone "2П"): a word joiner after every
+        other dash keeps the halves whole."""
+        printed = [self.cylinder(label) for label in labels]
+        middle = (len(printed) + 1) // 2
+        glued = "–\u2060"
+        if len(printed) <= 4:
+            return glued.join(printed)
+        return glued.join(printed[:middle]) + "–\u200b" + glued.join(printed[middle:])
+
     def has(self, key: str) -> bool:
         """True if ``key`` has a text in this language or in English."""
         return key in self.texts or key in self.fallback
