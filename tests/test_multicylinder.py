@@ -836,3 +836,11 @@ def test_the_given_datas_firing_order_parts_once_after_its_middle_dash():
     page = shared_html("v8-petrol", language="uk").linked_html
     cell = page.split(t("input.firing_order"), 1)[1].split("</tr>", 1)[0]
     assert cell.count("\u200b") == 1 and cell.count("–") == 7
+
+
+def test_the_phase_tables_axis_angles_count_from_the_first_cylinder_by_its_label():
+    """A V engine has no cylinder "1": the column counts from "1Л" (it said "від осі циліндра 1")."""
+    from conftest import shared_html
+
+    page = shared_html("v8-petrol", language="uk").linked_html
+    assert "Кут осі циліндра від осі циліндра 1Л, °" in page

@@ -41,7 +41,10 @@ def _phase_table(r: dict, ctx):
             (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
         ]
     if any(p["axis_deg"] for p in phases):
-        columns.append((escape(t("bays.axis_angle")), [p["axis_deg"] for p in phases], 0))
+        first = t.cylinder(phases[0]["cylinder"])  # the cylinder the delays count from
+        columns.append(
+            (escape(t("bays.axis_angle", first=first)), [p["axis_deg"] for p in phases], 0)
+        )
     columns.append(
         (
             escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
