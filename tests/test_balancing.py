@@ -757,8 +757,8 @@ def test_the_abstract_says_what_the_counterweights_alone_would_leave():
     text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "ru").linked_html))
     expected = (
         ", а без уравновешивающих валов, только с противовесами, неуравновешенными остались бы также "
-        "величины: "
-        f"вращающаяся навстречу валу составляющая ΣMI ({loads[-1]:.1f}\u202fН·м) и ΣMII = {second:.0f}\u202fН·м"
+        f"вращающаяся навстречу валу составляющая ΣMI ({loads[-1]:.1f}\u202fН·м) "
+        f"и момент ΣMII = {second:.0f}\u202fН·м"
     ).replace(".", ",")
     assert expected in text
 
@@ -801,10 +801,33 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").linked_html)
     )
     assert (
-        ", а без уравновешивающих валов неуравновешенной осталась бы также величина: ΣMII = "
-        in text
+        ", а без уравновешивающих валов неуравновешенным остался бы также момент ΣMII = " in text
     )
     assert "только с противовесами" not in text
+
+
+def test_a_270_degree_twins_first_order_shaft_is_said_to_take_its_force_and_its_moment():
+    """A 270° twin's first-order shaft takes the counter-rotating parts of ΣP_I and of ΣM_I: the
+    abstract named the force alone (the moment was left out whenever the shaft carried a force)."""
+    from conftest import as_read, shared_html, shared_run
+
+    twin = {
+        "engine": {
+            "cylinders": 2,
+            "firing_order": [1, 2],
+            "crank_angles_deg": [0, 270],
+            "uneven_firing": True,
+        },
+        "balancing": {"balance_orders": [1]},
+    }
+    b = shared_run("inline3-petrol", twin, ("balancing",)).outputs["balancing"].results
+    (shaft,) = [s for s in b["balance_shafts"] if s["order"] == 1]
+    assert shaft["force_N"] > 0 and shaft["moment_Nm"] > 0
+    text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", twin, "ru").linked_html))
+    force = f"составляющая ΣPI ({shaft['force_N']:.0f}\u202fН)"
+    moment = f"составляющая ΣMI ({shaft['moment_Nm']:.1f}\u202fН·м)".replace(".", ",")
+    assert "неуравновешенными остались бы также вращающаяся навстречу валу " + force in text
+    assert moment in text
 
 
 @pytest.mark.parametrize(("example", "changes"), [("inline4-petrol", None), ("v8-petrol", None)])

@@ -114,12 +114,14 @@ def _finding(t, r, unbalanced, single: bool) -> str:
         )
     shaft_items = _left_without_shafts(t, r, "" if single else "Σ")
     if shaft_items:  # what the shafts take, so the counterweights alone are judged too
+        gender = shaft_items[0][1] if len(shaft_items) == 1 else "many"
         finding = t(
             "balancing.finding_without_shafts"
             if r["counterweights"]
             else "balancing.finding_without_shafts_alone",
             finding=finding,
-            items=t.join_and(shaft_items),
+            left=t("balancing.left_" + gender),
+            items=t.join_and([text for text, _ in shaft_items]),
             count=len(r["balance_shafts"]),
             n=len(shaft_items),
         )
@@ -315,35 +317,38 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     )
 
 
-def _left_without_shafts(t, r, sign: str) -> list[str]:
-    """What each order's balance shafts cancel, which counterweights alone would leave: the
-    order's resultant (``ΣM_II = 188,7 Н·м``) where shafts turn both ways, else the part turning
-    against (or with) the shaft, each with its amplitude."""
+def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
+    """What each order's balance shafts cancel, which counterweights alone would leave, each
+    with the grammatical gender of its noun (``"masculine"``: a moment, ``"feminine"``: a force
+    or a part): the order's resultant (``момент ΣM_II = 188,7 Н·м``) where shafts turn both ways,
+    else the part turning against (or with) the shaft, each with its amplitude. A shaft set
+    may take an order's force and its moment both (a 270° twin's first order)."""
     items = []
     for order in sorted({shaft["order"] for shaft in r["balance_shafts"]}):
         shafts = [shaft for shaft in r["balance_shafts"] if shaft["order"] == order]
-        # shafts against a couple carry opposite masses: their force is a rounding error
-        moment = all(
-            shaft["moment_Nm"] is not None and shaft["force_N"] <= 1e-9 * r["first_order_N"]
-            for shaft in shafts
-        )
-        value = sum(shaft["moment_Nm"] if moment else shaft["force_N"] for shaft in shafts)
-        scale = r["first_order_N"] * ((r["cylinder_spacing_m"] or 1.0) if moment else 1.0)
-        if value <= 1e-9 * scale:  # shafts sized for a rounding error leave nothing to say
-            continue
-        prefix = "M_" if moment else "sum_"
-        item = next(
-            s for s in r["summary"] if s["order"] == order and s["quantity"].startswith(prefix)
-        )
-        symbol = plain_symbol(item, sign)
-        amplitude = t.number_g(value, 4) if moment else newtons(t, value)
-        unit = t("unit.Nm") if moment else t("balancing.unit_N")
         directions = {shaft["speed_ratio"] > 0 for shaft in shafts}
-        if len(directions) == 2:
-            items.append(f"{symbol} = {amplitude} {unit}")
-        else:
-            key = "balancing.part_forward" if directions == {True} else "balancing.part_backward"
-            items.append(t(key, symbol=symbol, value=amplitude, unit=unit))
+        for moment in (False, True):
+            if moment and any(shaft["moment_Nm"] is None for shaft in shafts):
+                continue
+            value = sum(shaft["moment_Nm"] if moment else shaft["force_N"] for shaft in shafts)
+            scale = r["first_order_N"] * ((r["cylinder_spacing_m"] or 1.0) if moment else 1.0)
+            if value <= 1e-9 * scale:  # nothing taken (shafts against a couple: no force)
+                continue
+            prefix = "M_" if moment else "sum_"
+            item = next(
+                s for s in r["summary"] if s["order"] == order and s["quantity"].startswith(prefix)
+            )
+            values = {
+                "symbol": plain_symbol(item, sign),
+                "value": t.number_g(value, 4) if moment else newtons(t, value),
+                "unit": t("unit.Nm") if moment else t("balancing.unit_N"),
+            }
+            if len(directions) == 2:
+                key = "balancing.resultant_moment" if moment else "balancing.resultant_force"
+                items.append((t(key, **values), "masculine" if moment else "feminine"))
+            else:
+                key = "balancing.part_forward" if directions == {True} else "balancing.part_backward"
+                items.append((t(key, **values), "feminine"))
     return items
 
 
