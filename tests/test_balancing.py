@@ -931,3 +931,22 @@ def test_no_order_to_balance_leaves_the_counterweights_for_the_centrifugal_force
             "balanced (checked by adding them to the cylinder's real forces); the inertia forces "
             "are left unbalanced."
         ) in text
+
+
+def test_the_conclusions_say_what_the_balancing_means_leave_with_values():
+    """The conclusions said what the means balance and not what stays: an in-line three keeps
+    ΣM_IV and ΣP_VI after its counterweights and shafts; the sentence gives each with its value,
+    as the table of resultants does."""
+    from conftest import as_read, shared_html, shared_run
+
+    b = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
+    left = {s["quantity"] for s in b["summary"] if not s["balanced"]} - {"M_C", "M_PI", "M_PII"}
+    assert left == {"M_PIV", "sum_PVI"}
+    page = shared_html("inline3-petrol", None, "ru").linked_html
+    conclusions = page[page.index('class="conclusions"') :]
+    text = as_read(re.sub(r"<[^>]+>", "", conclusions))
+    assert re.search(
+        r"Средства уравновешивания: [^\n]*\. После установки средств уравновешивания из сил "
+        r"инерции и их моментов неуравновешенными остаются лишь ΣMIV = \d+,\d Н·м \(",
+        text.replace("\u202f", " "),
+    ), text[:3000]

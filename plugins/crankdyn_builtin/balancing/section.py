@@ -69,7 +69,13 @@ def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None
             slave=ctx.num(r["slave_reciprocating_mass_kg"] or r["reciprocating_mass_kg"]),
         )
     if r["counterweights"] or r["balance_shafts"]:
-        ctx.conclude(_means_sentence(t, r))
+        sentence = _means_sentence(t, r)
+        residuals = _left_unbalanced(r, unbalanced)
+        if residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
+            # what the means leave, with values: the conclusions said only what they balance
+            left = _left_after_means(t, r, residuals, "" if single else "Σ")
+            sentence += f" {left[:1].upper()}{left[1:]}."
+        ctx.conclude(sentence)
     elif left_without_means:  # the decision the section states: no means, the mounts
         aircraft = " " + t("balancing.no_shafts_aircraft") if no_shafts_aircraft else ""
         ctx.conclude(t("balancing.no_means_left", left=left_without_means) + aircraft)
