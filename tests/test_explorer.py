@@ -218,3 +218,33 @@ def test_the_note_of_an_uneven_twin_says_its_cranks_are_not_in_the_search():
     text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
     assert "Порядок работы из задания" not in text
     assert "Схема колен из задания даёт неравномерное чередование вспышек" in text
+
+
+def test_an_uneven_twins_torque_conclusion_says_why_its_period_is_the_whole_cycle():
+    """A 270° twin's torque repeats every 720°: the conclusion says it is the uneven firing,
+    not the 360° an even twin's torque repeats in; an even engine says nothing of it."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html, shared_run
+
+    twin = {
+        "engine": {
+            "cylinders": 2,
+            "firing_order": [1, 2],
+            "crank_angles_deg": [0, 270],
+            "uneven_firing": True,
+        },
+        "report": {"language": "ru"},
+    }
+    assert shared_run("inline3-petrol", twin).outputs["torque"].results["period_deg"] == 720.0
+    page = html_lib.unescape(
+        re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", twin).linked_html)
+    )
+    text = " ".join(page.replace("\u2060", "").replace("\u202f", " ").split())
+    assert (
+        "Чередование вспышек неравномерное, поэтому крутящий момент повторяется через 720°, "
+        "а не через 360° (720°/2), как при равномерном чередовании." in text
+    )
+    even = shared_html("inline3-petrol", {"report": {"language": "ru"}}).linked_html
+    assert "повторяется через" not in even

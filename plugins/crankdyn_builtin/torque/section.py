@@ -261,6 +261,17 @@ def _conclude(ctx, r) -> None:
             mu=ctx.num(r["non_uniformity"], 3),
         )
     )
+    engine = ctx.scene.engine
+    even = engine.cycle_deg / engine.cylinders
+    if engine.uneven_firing and r["period_deg"] > even * (1.0 + 1e-9):
+        # what the uneven firing the scene gives does to the torque: a longer period
+        ctx.conclusions[-1] += " " + t(
+            "torque.conclusion_uneven_period",
+            period=ctx.angle_text(r["period_deg"]),
+            even=ctx.angle_text(even),
+            cycle=ctx.angle_text(engine.cycle_deg),
+            cylinders=engine.cylinders,
+        )
     journal = largest_running_torque(r.get("journals") or [])
     if journal is not None:
         ctx.conclude(
