@@ -121,30 +121,16 @@ _SI_UNITS = {
 }
 
 
-def printed_table_units(formula_html: str, t) -> frozenset[str]:
-    """The tables' units (``unit.mm``…) in which ``formula_html`` prints a value itself
-    ("R = S/2 = 90 мм"): its where-lines give those quantities in the unit the line shows."""
-    text = re.sub(r"<[^>]+>", "", formula_html).replace("\u00a0", " ").replace("\u202f", " ")
-    return frozenset(
-        key
-        for key in _SI_UNITS
-        if re.search(rf"\d\s*{re.escape(unit_text(key, t))}(?![\w²³])", text)
-    )
-
-
-def line_unit(
-    key: str, t, symbols: SymbolTable = SYMBOLS, printed: frozenset[str] = frozenset()
-) -> str:
+def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
     """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio):
     the SI unit the formulas are evaluated in and the worked substitutions put the numbers in
     (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
-    the figures and the equations' own results show convenient units (мм, МПа, см², л), as the
-    list of symbols says before it lists them in those units. Where-lines in the tables' units
-    would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in
-    мм, F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² a hundred times)."""
+    the figures and the equations' own results show convenient units (мм, МПа, см², л), each
+    printed with its unit, as the list of symbols says before it lists them in those units.
+    Every where-line in SI, also beside a result printed in мм ("R = S/2 = 39 мм"): lines in the
+    tables' units would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм,
+    F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² ten thousand times)."""
     unit = symbols[key].unit
-    if unit in printed:  # the equation shows this quantity's value in the table's unit
-        return unit_text(unit, t)
     return unit_text(_SI_UNITS.get(unit, unit), t)
 
 
@@ -164,14 +150,12 @@ def legend_html(
     language: str,
     single: bool = False,
     symbols: SymbolTable = SYMBOLS,
-    printed: frozenset[str] = frozenset(),
 ) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit as :func:`line_unit` says (``printed``: the tables' units the
-    equation shows values in)."""
+    stop after the last; the unit as :func:`line_unit` says."""
     lines = []
     for k, key in enumerate(keys):
-        unit = line_unit(key, t, symbols, printed)
+        unit = line_unit(key, t, symbols)
         meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
@@ -219,10 +203,9 @@ def add_equation_legends(
         if not new:
             continue
         explained.update(new)
-        printed = printed_table_units(match.group("formula"), t)
         parts += [
             html[position : match.end()],
-            legend_html(new, t, language, single, symbols, printed),
+            legend_html(new, t, language, single, symbols),
         ]
         position = match.end()
     parts.append(html[position:])
