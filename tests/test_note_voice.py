@@ -299,7 +299,7 @@ def test_a_step_that_misses_the_required_accuracy_says_so_and_names_the_step_tha
         expected = f"тобто більше за потрібну точність 0,001 %; цю точність дає крок Δα = {finer}°"
     else:
         expected = "тобто більше за потрібну точність 0,001 %; жоден із перевірених кроків"
-    assert "З кроком Δα = 1° піки дотичної та сумарної сил відрізняються" in text
+    assert "З кроком Δα = 1° піки тангенціальної та сумарної сил відрізняються" in text
     assert expected in text, re.search(r"З кроком Δα = 1° піки[^.]*\.", text).group(0)
     assert not re.search(r"Δα = \d+\.\d", text)
 
