@@ -109,6 +109,12 @@ def under_the_block(png: Path, first_sheet: bool = False) -> bool:
     return bool(band.any())
 
 
+def _landscape(png: Path) -> bool:
+    """Whether the page image is wider than it is tall."""
+    with Image.open(png) as image:
+        return image.width > image.height
+
+
 def page_fill(png: Path, framed: bool = False) -> float:
     """How far down the text area the lowest ink reaches: 0 empty … 1 full. The running page
     number sits in the bottom margin and is not counted."""
@@ -288,17 +294,21 @@ def layout_problems(
             h.startswith(lines[i][0].upper()) or lines[i][0].upper().startswith(h) for h in starts
         )
 
-    # 1. No page less than a third full but the title page and a chapter's last page; in a framed
-    #    note nothing on its way into the title block.
+    # 1. No page less than a third full but the title page, a chapter's last page and a wide
+    #    table's last landscape page (a portrait page follows it: the landscape pages hold the
+    #    table alone); in a framed note nothing on its way into the title block.
     in_frame = framed(html)
     first = first_sheets(pdf) if in_frame else []
     framed_from = (
         first.index(True) if True in first else len(pages)
     )  # the title page and the assignment: no frame
-    for i, png in enumerate(page_images(pdf, folder)):
+    images = page_images(pdf, folder)
+    turned = [_landscape(png) for png in images]
+    for i, png in enumerate(images):
         last_of_chapter = i + 1 == len(pages) or starts_chapter(i + 1)
+        last_turned = turned[i] and i + 1 < len(pages) and not turned[i + 1]
         fill = page_fill(png, in_frame)
-        if i > 0 and not last_of_chapter and fill < MIN_FILL:
+        if i > 0 and not last_of_chapter and not last_turned and fill < MIN_FILL:
             problems.append(f"page {i + 1} is {fill:.0%} full: {(lines[i] or [''])[0][:60]!r}")
         if overflows_right(png, framed=in_frame, first_sheet=in_frame and first[i]):
             problems.append(f"page {i + 1}: something reaches into the right margin")
