@@ -1,7 +1,7 @@
 """The units of the "де …" lines are the SI units the formulas hold in and the worked substitutions
-put the numbers in, also beside an equation that prints its result in a handier unit ("R = S/2 =
-39 мм", each value with its unit); the tables, figures and results show handier units (мм, МПа,
-см², л), as the list of symbols says first. "s_п, м" beside a table in мм is no contradiction: lines in the
+put the numbers in; beside an equation that prints a value in a handier unit ("R = S/2 = 39 мм")
+the line names both, as the list of symbols does ("мм (у формулах – м)"); the tables, figures
+and results show handier units (мм, МПа, см², л), as the list of symbols says first. "s_п, м" beside a table in мм is no contradiction: lines in the
 tables' units would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм and F_п
 in см² is ten times too small)."""
 
@@ -49,15 +49,31 @@ def test_a_where_line_gives_the_si_unit(example, language):
     lines = [line for _, where in pairs for line in where]
     assert len(lines) > 40
     units = [re.search(r", ([^,]+)[;.]$", line) for line in lines]
-    # no where-line in a table's unit, beside a value printed in it either ("R = S/2 = 39 мм"):
-    # the units of one list did not agree ("R, мм", then "s_п, м"; "p_j, Па" with "F_п, см²")
-    wrong = [
+    # a table's unit only beside the SI one the formula holds in, where the equation itself prints
+    # a value in it ("R = S/2 = 39 мм": "R – …, мм (у формулах – м)"); one list mixed "R, мм" with
+    # "s_п, м" and "p_j, Па" with "F_п, см²" before
+    alone = [
         line
         for line in lines
-        if (unit := re.search(r", ([^,]+)[;.]$", line)) and unit.group(1) in _TABLE_ONLY
+        if (unit := re.search(r", ([^,()]+)[;.]$", line)) and unit.group(1) in _TABLE_ONLY
     ]
-    assert not wrong, wrong[:5]
-    assert any(re.search(r"\d\s*мм", formula) for formula, _ in pairs) or language == "en"
+    assert not alone, alone[:5]
+    both = [
+        (formula, line)
+        for formula, where in pairs
+        for line in where
+        if (
+            unit := re.search(
+                r", (\S+) \((?:у формулах|в формулах|in the equations),? –? ?(\S+)\)[;.]$", line
+            )
+        )
+    ]
+    assert both, "R = S/2 = … мм: its where-line names мм beside м"
+    for formula, line in both:
+        unit = re.search(r", (\S+) \(", line).group(1)
+        assert unit in _TABLE_ONLY and re.search(rf"\d\s*{re.escape(unit)}(?![\w²³])", formula), (
+            line
+        )
     assert (
         sum(1 for unit in units if unit and unit.group(1) in {"м", "Па", "м²", "m", "Pa", "m²"})
         >= 10

@@ -121,17 +121,34 @@ _SI_UNITS = {
 }
 
 
-def line_unit(key: str, t, symbols: SymbolTable = SYMBOLS) -> str:
+def printed_table_units(formula_html: str, t) -> frozenset[str]:
+    """The tables' units (``unit.mm``…) in which ``formula_html`` prints a value itself
+    ("R = S/2 = 90 мм"): its where-lines name those units beside the SI ones."""
+    text = re.sub(r"<[^>]+>", "", formula_html).replace("\u00a0", " ").replace("\u202f", " ")
+    return frozenset(
+        key
+        for key in _SI_UNITS
+        if re.search(rf"\d\s*{re.escape(unit_text(key, t))}(?![\w²³])", text)
+    )
+
+
+def line_unit(
+    key: str, t, symbols: SymbolTable = SYMBOLS, printed: frozenset[str] = frozenset()
+) -> str:
     """The unit a "where" line gives symbol ``key`` in, in the report's language ("" for a ratio):
     the SI unit the formulas are evaluated in and the worked substitutions put the numbers in
     (R = 0,03900 м, F_п = 0,005281 м², p in Pa, with ·10⁻⁶ to the table's МПа), where the tables,
-    the figures and the equations' own results show convenient units (мм, МПа, см², л), each
-    printed with its unit, as the list of symbols says before it lists them in those units.
-    Every where-line in SI, also beside a result printed in мм ("R = S/2 = 39 мм"): lines in the
-    tables' units would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм,
-    F_п in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² ten thousand times)."""
+    the figures and the equations' own results show convenient units (мм, МПа, см², л). Where
+    the equation prints the quantity's value in such a unit (``printed``: "R = S/2 = 39 мм"), the
+    line names both, as the list of symbols does: "мм (у формулах – м)". Lines in the tables'
+    units alone would make the formulas wrong as read (M_к = t R F_п with t in МПа, R in мм, F_п
+    in см² is ten times too small; p_j = −m_s j_п/F_п with F_п in см² ten thousand times), lines
+    in SI alone beside "R = 39 мм" read as a second unit of the same value."""
     unit = symbols[key].unit
-    return unit_text(_SI_UNITS.get(unit, unit), t)
+    si = _SI_UNITS.get(unit, unit)
+    if unit in printed and si != unit:
+        return t("doc.symbols_unit_in_formulas", unit=unit_text(unit, t), si=unit_text(si, t))
+    return unit_text(si, t)
 
 
 def symbol_meaning(t, key: str, single: bool = False) -> str:
@@ -150,12 +167,14 @@ def legend_html(
     language: str,
     single: bool = False,
     symbols: SymbolTable = SYMBOLS,
+    printed: frozenset[str] = frozenset(),
 ) -> str:
     """The "where" paragraph for ``keys``: "де α – meaning, unit;" one symbol per line, a full
-    stop after the last; the unit as :func:`line_unit` says."""
+    stop after the last; the unit as :func:`line_unit` says (``printed``: the tables' units the
+    equation shows values in)."""
     lines = []
     for k, key in enumerate(keys):
-        unit = line_unit(key, t, symbols)
+        unit = line_unit(key, t, symbols, printed)
         meaning = symbol_meaning(t, key, single)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
@@ -203,9 +222,10 @@ def add_equation_legends(
         if not new:
             continue
         explained.update(new)
+        printed = printed_table_units(match.group("formula"), t)
         parts += [
             html[position : match.end()],
-            legend_html(new, t, language, single, symbols),
+            legend_html(new, t, language, single, symbols, printed),
         ]
         position = match.end()
     parts.append(html[position:])
