@@ -340,3 +340,45 @@ def test_the_task_gives_no_rod_ratio_for_a_carrier(ring_run):
     assert "D = 76 мм, S = 62,303 мм, " in assignment and "λ" not in assignment
     # the mechanism's own data follow, angles with the degree sign at the number
     assert "zf = 72, zp = 24, m = 1,25 мм, e = 8 мм, ψ0 = 0°, αw = 20°, n = 2400" in assignment
+
+
+def test_a_two_turn_period_is_compared_with_a_conventional_mechanism_over_two_turns():
+    """A 75/30 ring (i = 2,5) repeats its motion every two carrier turns: a conventional
+    crank-slider reverses four times and travels 4S over that angle. The note compared the
+    planetary's four reversals and its path with one turn's two and 2S ("not twice, as in a
+    conventional mechanism, but four times"), which was false."""
+    scene = scene_from_dict(
+        {
+            "report": {"title": "Planetary", "language": "uk", "year": 2026},
+            "engine": {
+                "name": "ring 75 / planet 30",
+                "mechanism": "planetary",
+                "strokes": 4,
+                "rpm": RPM,
+                "bore": "70 mm",
+                "stroke": "82.2682 mm",
+                "rod_length": "130 mm",
+            },
+            "mechanism": {
+                "gear": "internal",
+                "fixed_gear_teeth": 75,
+                "planet_teeth": 30,
+                "module": "1.25 mm",
+                "pin_radius": "15 mm",
+                "pin_phase_deg": 20,
+                "pressure_angle_deg": 20,
+            },
+            "masses": {"piston_group": "0.38 kg", "rod": "0.52 kg", "rod_cm_fraction": 0.3},
+        }
+    )
+    result = run_scene(scene, REGISTRY)
+    r = result.outputs["planetary"].results
+    assert r["period_revolutions"] == 2 and r["conventional_reversals"] == 4
+    assert r["conventional_path_m"] == pytest.approx(4 * r["stroke_m"], rel=1e-12)
+    assert r["reversal_count"] == 4 and r["piston_path_m"] < r["conventional_path_m"]
+    html = render_html(result, REGISTRY).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\u202f", " ").split())
+    assert "не двічі" not in text and "за оберт водила" not in text
+    assert "у звичайного кривошипно-шатунного механізму за той самий кут – чотири рази" in text
+    four_s = f"4S = {4 * r['stroke_m'] * 1e3:.2f} мм".replace(".", ",")
+    assert four_s in text

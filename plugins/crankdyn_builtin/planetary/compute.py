@@ -331,7 +331,9 @@ def _reversal_results(geometry, dc, revolutions: int) -> dict:
             i["crank_angle_deg"] for i in items if i["kind"] == "bdc" and i["main"]
         ],
         "piston_path_m": float(sum(travels)),
-        "conventional_path_m": 2.0 * dc.stroke_m,
+        # a conventional crank-slider over the same carrier angle: two strokes a revolution
+        "conventional_path_m": 2.0 * dc.stroke_m * revolutions,
+        "conventional_reversals": 2 * revolutions,
         "secondary_stroke_max_m": max((s["depth_m"] for s in strokes), default=0.0),
     }
 

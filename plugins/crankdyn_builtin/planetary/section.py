@@ -97,6 +97,14 @@ def _curve_sentence(r, ctx) -> str:
     )
 
 
+def _conventional(r) -> dict:
+    """What a conventional crank-slider does over the planetary's period of ``turns`` carrier
+    revolutions: ``ordinary`` reversals (two a revolution) and a path of ``strokes`` × S, with
+    which the planetary's reversals and path are compared (not with one revolution's)."""
+    turns = int(r["period_revolutions"])
+    return {"turns": turns, "ordinary": r["conventional_reversals"], "strokes_n": 2 * turns}
+
+
 def _dead_centre_paragraphs(r, ctx) -> list[str]:
     """The dead centres and the stroke; with more than two reversals of the piston per period, every
     reversal, the secondary strokes and what they mean for the working cycle."""
@@ -129,7 +137,12 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
         )
     paragraphs = [
         first,
-        t("planetary.reversals", count=r["reversal_count"], items="; ".join(items)),
+        t(
+            "planetary.reversals",
+            count=r["reversal_count"],
+            items="; ".join(items),
+            **_conventional(r),
+        ),
     ]
     strokes = r["secondary_strokes"]
     paragraphs.append(
@@ -147,6 +160,7 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
             ),
             path=t.fixed(r["piston_path_m"] * 1e3, 2),
             two_s=t.fixed(r["conventional_path_m"] * 1e3, 2),
+            **_conventional(r),
         )
     )
     meaning = t("planetary.meaning", strokes=ctx.scene.engine.strokes)
@@ -246,6 +260,7 @@ def _conclusion_stroke(r, ctx) -> str:
         secondary=_mm(ctx, r["secondary_stroke_max_m"]),
         path=t.fixed(r["piston_path_m"] * mm, 2),
         two_s=t.fixed(r["conventional_path_m"] * mm, 2),
+        **_conventional(r),
         **common,
     )
 
@@ -329,6 +344,7 @@ def _findings(r, ctx) -> None:
                 "planetary.finding_reversals",
                 count=r["reversal_count"],
                 secondary=_mm(ctx, r["secondary_stroke_max_m"]),
+                **_conventional(r),
             )
         )
     fastest = max(abs(r["v_max_m_s"]), abs(r["v_min_m_s"]))
