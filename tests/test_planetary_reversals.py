@@ -347,7 +347,23 @@ def test_a_two_turn_period_is_compared_with_a_conventional_mechanism_over_two_tu
     crank-slider reverses four times and travels 4S over that angle. The note compared the
     planetary's four reversals and its path with one turn's two and 2S ("not twice, as in a
     conventional mechanism, but four times"), which was false."""
-    scene = scene_from_dict(
+    scene = _two_turn_scene()
+    result = run_scene(scene, REGISTRY)
+    r = result.outputs["planetary"].results
+    assert r["period_revolutions"] == 2 and r["conventional_reversals"] == 4
+    assert r["conventional_path_m"] == pytest.approx(4 * r["stroke_m"], rel=1e-12)
+    assert r["reversal_count"] == 4 and r["piston_path_m"] < r["conventional_path_m"]
+    html = render_html(result, REGISTRY).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\u202f", " ").split())
+    assert "не двічі" not in text and "за оберт водила" not in text
+    assert "у звичайного кривошипно-шатунного механізму за той самий кут – чотири рази" in text
+    four_s = f"4S = {4 * r['stroke_m'] * 1e3:.2f} мм".replace(".", ",")
+    assert four_s in text
+
+
+def _two_turn_scene():
+    """A 75/30 ring (i = 2,5): the motion repeats every two carrier turns."""
+    return scene_from_dict(
         {
             "report": {"title": "Planetary", "language": "uk", "year": 2026},
             "engine": {
@@ -371,14 +387,16 @@ def test_a_two_turn_period_is_compared_with_a_conventional_mechanism_over_two_tu
             "masses": {"piston_group": "0.38 kg", "rod": "0.52 kg", "rod_cm_fraction": 0.3},
         }
     )
-    result = run_scene(scene, REGISTRY)
-    r = result.outputs["planetary"].results
-    assert r["period_revolutions"] == 2 and r["conventional_reversals"] == 4
-    assert r["conventional_path_m"] == pytest.approx(4 * r["stroke_m"], rel=1e-12)
-    assert r["reversal_count"] == 4 and r["piston_path_m"] < r["conventional_path_m"]
-    html = render_html(result, REGISTRY).linked_html
-    text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\u202f", " ").split())
-    assert "не двічі" not in text and "за оберт водила" not in text
-    assert "у звичайного кривошипно-шатунного механізму за той самий кут – чотири рази" in text
-    four_s = f"4S = {4 * r['stroke_m'] * 1e3:.2f} мм".replace(".", ",")
-    assert four_s in text
+
+
+def test_the_positions_of_a_two_turn_period_keep_their_angles_beyond_360_degrees():
+    """The fastest travel towards TDC of the 75/30 ring is at 647,5° (the kinematics' v_min): the
+    positions figure labelled and drew it at 287,5°, the angle wrapped at one turn."""
+    result = run_scene(_two_turn_scene(), REGISTRY)
+    kinematics = result.outputs["planetary"].results
+    drawing = result.outputs["drawing"].results
+    assert drawing["motion_period_deg"] == 720.0
+    angles = drawing["crank_angles_deg"]
+    assert all(0.0 <= a < 720.0 for a in angles.values())
+    assert angles["v_min"] == pytest.approx(kinematics["v_min_crank_angle_deg"], abs=0.05)
+    assert angles["v_min"] > 360.0

@@ -95,8 +95,12 @@ def _refined(travel_at, angle_deg, values, order: int, kind: str) -> float:
     return float(res.x) if -res.fun >= sign * f(angle_deg[i]) else float(angle_deg[i])
 
 
-def characteristic_angles(angle_deg, s, v, j, travel_at=None) -> dict[str, float]:
-    """Crank angles (deg, in [0, 360)) of TDC, BDC and the velocity and acceleration extremes."""
+def characteristic_angles(
+    angle_deg, s, v, j, travel_at=None, period_deg: float = 360.0
+) -> dict[str, float]:
+    """Crank angles (deg, in [0, ``period_deg``): a planetary mechanism's motion repeats over
+    several turns, and its fastest travel at 647,5° is not where the crank stands at 287,5°) of
+    TDC, BDC and the velocity and acceleration extremes."""
     found = {
         "tdc": _refined(travel_at, angle_deg, s, 0, "min"),
         "bdc": _refined(travel_at, angle_deg, s, 0, "max"),
@@ -105,8 +109,8 @@ def characteristic_angles(angle_deg, s, v, j, travel_at=None) -> dict[str, float
         "j_max": _refined(travel_at, angle_deg, j, 2, "max"),
         "j_min": _refined(travel_at, angle_deg, j, 2, "min"),
     }
-    wrapped = {k: float(a % 360.0) for k, a in found.items()}
-    return {k: 0.0 if min(a, 360.0 - a) < 1e-6 else a for k, a in wrapped.items()}
+    wrapped = {k: float(a % period_deg) for k, a in found.items()}
+    return {k: 0.0 if min(a, period_deg - a) < 1e-6 else a for k, a in wrapped.items()}
 
 
 def _period_deg(angle_deg, s) -> float:
@@ -158,12 +162,12 @@ def run(scene, inputs) -> StageOutput:
     """Geometry at the characteristic angles and at the animation's frames (physics only)."""
     geometry_of = mechanism_geometry(scene, inputs)
     angle, s, v, j, travel_at = _motion(scene, inputs)
-    angles = characteristic_angles(angle, s, v, j, travel_at)
+    period = _period_deg(angle, s)
+    angles = characteristic_angles(angle, s, v, j, travel_at, period)
     # dead centres a mechanism reaches more than twice a turn (a planetary one), after the six
     motion = inputs.get(KINEMATICS)
     extra = motion.extra.get("dead_centres_extra_deg", {}) if motion is not None else {}
     angles.update({k: float(a) for k, a in extra.items()})
-    period = _period_deg(angle, s)
     step = angle[1] - angle[0]
     every = (
         max(1, int(round(period / FRAMES_PER_REVOLUTION / step)))

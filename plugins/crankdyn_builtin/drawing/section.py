@@ -48,24 +48,31 @@ def _labels(geometry, ctx) -> dict[str, str]:
     }
 
 
-def position_frames(angles: dict[str, float], caption) -> list[tuple[int, str]]:
+def position_frames(
+    angles: dict[str, float], caption, period_deg: float = 360.0
+) -> list[tuple[int, str]]:
     """The positions figure's panels (index into ``angles``' keys, :data:`POSITIONS` and any
     further dead centres after them, caption) in the order the crank reaches them (a supervisor:
     j_min at 158,2° came after v_min at 284,6°), those at one angle merged
     (:func:`_merged_frames`); ``caption(key)`` writes a panel's caption."""
     keys = list(angles)
-    order = sorted(range(len(keys)), key=lambda i: angles[keys[i]] % 360.0)
-    return _merged_frames([(i, caption(keys[i]), angles[keys[i]]) for i in order])
+    order = sorted(range(len(keys)), key=lambda i: angles[keys[i]] % period_deg)
+    return _merged_frames([(i, caption(keys[i]), angles[keys[i]]) for i in order], period_deg)
 
 
-def _merged_frames(frames: list[tuple[int, str, float]]) -> list[tuple[int, str]]:
+def _merged_frames(
+    frames: list[tuple[int, str, float]], period_deg: float = 360.0
+) -> list[tuple[int, str]]:
     """One panel per distinct position: of a central crank-slider, TDC is also where the piston's
     acceleration is largest, and two identical panels ("ВМТ" and "j_max", both at 0°) would be
     drawn. Captions are "what\nα = …"; positions within 0.05° share a panel, their names joined."""
     merged: list[tuple[int, list[str], str, float]] = []
     for i, caption, angle in frames:
         name, _, at = caption.partition("\n")
-        same = next((m for m in merged if abs((m[3] - angle + 180.0) % 360.0 - 180.0) < 0.05), None)
+        half = period_deg / 2.0
+        same = next(
+            (m for m in merged if abs((m[3] - angle + half) % period_deg - half) < 0.05), None
+        )
         if same is None:
             merged.append((i, [name], at, angle))
         else:
@@ -166,6 +173,7 @@ def render(output: StageOutput, ctx) -> str:
         angles,
         # a repeated or secondary dead centre (bdc_2, secondary_tdc_1) is named as its kind
         lambda k: t("drawing.position_" + re.sub(r"_\d+$", "", k), angle=ctx.angle_text(angles[k])),
+        output.results.get("motion_period_deg", 360.0),
     )
     figure_positions = _positions_figures(ctx, positions, frames)
     svg, payload = md.animation_svg(animation)
