@@ -800,9 +800,7 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
     text = as_read(
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLAT_FOUR, "ru").linked_html)
     )
-    assert (
-        ", а без уравновешивающих валов неуравновешенным остался бы также момент ΣMII = " in text
-    )
+    assert ", а без уравновешивающих валов неуравновешенным остался бы также момент ΣMII = " in text
     assert "только с противовесами" not in text
 
 

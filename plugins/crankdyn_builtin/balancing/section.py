@@ -353,7 +353,9 @@ def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
                 key = "balancing.resultant_moment" if moment else "balancing.resultant_force"
                 items.append((t(key, **values), "masculine" if moment else "feminine"))
             else:
-                key = "balancing.part_forward" if directions == {True} else "balancing.part_backward"
+                key = (
+                    "balancing.part_forward" if directions == {True} else "balancing.part_backward"
+                )
                 items.append((t(key, **values), "feminine"))
     return items
 
