@@ -20,7 +20,7 @@ from ..plugin.types import declared
 from . import figure_memo
 from .assets import FIGURE_DIR, templates_dir
 from .formula_lines import unbroken_parts
-from .i18n import Translator, five_digits
+from .i18n import Translator
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
 
 
@@ -332,17 +332,12 @@ class RenderContext:
             and not all(_NUMBER_TEXT.fullmatch(str(v)) or str(v) == "" for v in values)
             for _, values, decimals in columns
         ]
-        # a column with five-digit numbers groups its four-digit ones too ("−8 838" over "−19 790")
-        grouped = [
-            decimals is not None and five_digits(values, decimals)
-            for _, values, decimals in columns
-        ]
         rows = []
         for i in range(n_rows):
             cells = []
-            for (_, values, decimals), words, group in zip(columns, wordy, grouped, strict=True):
+            for (_, values, decimals), words in zip(columns, wordy, strict=True):
                 v = values[i]
-                text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals, group))
+                text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
                 text = text or "—"  # an empty cell gets a dash, as the standard asks
                 css = ' class="text"' if words else ""
                 # bold in the cells, not by a class: the Word export keeps it

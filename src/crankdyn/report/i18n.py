@@ -242,34 +242,19 @@ class Translator:
 
         return get_decimal_symbol(self.locale)
 
-    def fixed(self, value: float, decimals: int, grouped: bool = False) -> str:
+    def fixed(self, value: float, decimals: int) -> str:
         """``value`` with ``decimals`` decimals in the report's locale (Babel): decimal comma in
-        uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break
-        space (of four-digit ones too where ``grouped``: a table's column that holds longer ones,
-        so that its digits stand under each other)."""
+        uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break space."""
         if value is None or (isinstance(value, float) and math.isnan(value)):
             return "—"
         rounded = float(f"{float(value):.{decimals}f}")  # the digits printf would show
         if rounded == 0:
             rounded = 0.0  # no "−0,000"
-        return _format_fixed(rounded, decimals, self.locale, grouped)
-
-
-def five_digits(values, decimals: int) -> bool:
-    """Whether any of the numbers ``values`` has five or more digits before the decimal
-    separator once rounded to ``decimals`` (its column then groups the four-digit ones too)."""
-    for value in values:
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            continue
-        if math.isfinite(number) and abs(float(f"{number:.{decimals}f}")) >= 10000:
-            return True
-    return False
+        return _format_fixed(rounded, decimals, self.locale)
 
 
 @functools.lru_cache(maxsize=16384)
-def _format_fixed(rounded: float, decimals: int, locale, grouped: bool = False) -> str:
+def _format_fixed(rounded: float, decimals: int, locale) -> str:
     """Babel's text of an already rounded number in ``locale`` (a babel Locale; kept: tick
     labels and table cells repeat, and Babel takes some 0.1 ms a number)."""
     from babel.numbers import (  # lazy: heavy optional import (babel: only when a number is formatted for a report)
@@ -277,7 +262,7 @@ def _format_fixed(rounded: float, decimals: int, locale, grouped: bool = False) 
         get_group_symbol,
     )
 
-    pattern = ("#,##0" if grouped or abs(rounded) >= 10000 else "0") + (
+    pattern = ("#,##0" if abs(rounded) >= 10000 else "0") + (
         "." + "0" * decimals if decimals > 0 else ""
     )
     text = format_decimal(rounded, format=pattern, locale=locale)
