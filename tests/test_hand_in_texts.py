@@ -1202,10 +1202,21 @@ def test_a_v_engines_bank_angle_is_in_the_symbol_list_and_its_spacing_is_one_ban
 
 def test_a_boxers_spacing_is_between_neighbouring_cylinders_of_opposite_banks():
     """A boxer's cylinders have crank pins of their own: the neighbours along the shaft are of
-    opposite banks, a apart, as the balancing's moments take it (not one bank's, 2a apart)."""
+    opposite banks, a apart, as the balancing's moments take it (not one bank's, 2a apart); the
+    given data call it the offset of their axes along the shaft."""
     from conftest import EXPLORED_BOXER, shared_html
 
     html = shared_html("inline4-petrol", EXPLORED_BOXER, "uk", ("balancing",)).linked_html
     text = as_read(re.sub(r"<[^>]+>", "", html))
-    assert "Відстань між осями сусідніх циліндрів" in text
-    assert "Відстань між осями сусідніх циліндрів одного ряду" not in text
+    # opposed cylinders are not "neighbouring" across the engine: their axes are offset along the shaft
+    assert "Зміщення осей сусідніх циліндрів уздовж колінчастого вала" in text
+    assert "Відстань між осями сусідніх циліндрів" not in text
+
+
+def test_the_counterweight_radius_is_listed_in_millimetres_as_its_table_gives_it():
+    """The list of symbols gave ρ_пр in metres alone beside lengths in "мм (у формулах – м)",
+    while the balancing table prints the radius in millimetres."""
+    from conftest import shared_html
+
+    page = shared_html("inline3-petrol", {"flywheel": {"required_irregularity": 0.02}}, "uk")
+    assert "радіус центра мас противаги, мм (у формулах – м)" in page.linked_html

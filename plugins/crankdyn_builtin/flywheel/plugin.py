@@ -32,7 +32,7 @@ SYMBOLS = {
         sections=("flywheel", "speed_fluctuation"),
     ),
     "counterweight_mass": Symbol("m", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg"),
-    "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.m"),
+    "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.mm"),
     # the energy method's flywheel where the exact solution raises it: J_f is the adopted one
     "energy_flywheel_inertia": Symbol(
         "J", {"en": "f", "uk": "мах", "ru": "мах"}, "unit.kg_m2", html="<i>J</i>′<sub>{sub}</sub>"
