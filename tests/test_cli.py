@@ -218,3 +218,19 @@ def test_output_piped_into_a_reader_that_stops_early_is_not_an_error():
         os.close(write_end)
     assert done.returncode == 0, done.stderr
     assert "internal error" not in done.stderr and "Exception ignored" not in done.stderr
+
+
+def test_check_names_the_tables_of_stages_left_out(tmp_path, capsys):
+    """A planetary mechanism's [balancing] and [bearings] tables are read by nothing (their
+    stages concern crank-slider engines): check says so instead of passing them over."""
+    from conftest import example_data, write_scene
+
+    data = example_data("planetary-kinematics")
+    data["balancing"] = {}
+    data["bearings"] = {}
+    scene = write_scene(tmp_path / "planetary.toml", data)
+    assert main(["check", str(scene)]) == 0
+    out = capsys.readouterr().out
+    assert "table [balancing] is not used: stage balancing is left out" in out
+    assert "table [bearings] is not used: stage bearings is left out" in out
+    assert "table [rod_dynamics] is not used" not in out

@@ -689,6 +689,16 @@ def _print_left_out(plan) -> None:
         print(f"  stage {name} left out: {reason}")
 
 
+def _print_unused_tables(plan, registry, scene) -> None:
+    """The scene's tables whose stage is left out: they are read by nothing (a planetary
+    mechanism's [balancing] table, which the report would otherwise pass over in silence)."""
+    tables = scene.plugin_tables()
+    for name in plan.skipped:
+        table = getattr(registry.stages.get(name), "options_table", None)
+        if table and table in tables:
+            print(f"  table [{table}] is not used: stage {name} is left out")
+
+
 def missing_translations_line(language: str, keys: set[str], shown: int = 10) -> str:
     """One warning line for the catalog keys a report has no text for in ``language`` (the first
     ``shown`` by name, then how many more): the report is written anyway, with the keys in it."""
@@ -956,6 +966,7 @@ def _check_scene(args) -> int:
     the_plan = result.plan
     print(f"crankdyn: {args.scene} is valid; stages: {', '.join(s.name for s in the_plan.order)}")
     _print_left_out(the_plan)
+    _print_unused_tables(the_plan, registry, scene)
     _print_warnings(result, registry)
     from .report.plausibility import (
         defaults_applied,  # lazy: heavy optional import (numpy, scipy: per command)
