@@ -402,7 +402,7 @@ def test_the_sums_the_axes_and_the_allowed_irregularity_are_in_the_list():
         "zш – ось диаграммы шатунного подшипника вдоль оси шатуна",
         "tш – ось диаграммы шатунного подшипника, перпендикулярная к оси шатуна",
         "x – ось диаграммы коренного подшипника",
-        "y – ось диаграммы коренного подшипника вдоль оси цилиндра",
+        "y – ось диаграммы коренного подшипника вдоль оси первого цилиндра",
         "[δ] – допускаемый коэффициент неравномерности вращения",
     ):
         assert row in listed, row
@@ -410,3 +410,11 @@ def test_the_sums_the_axes_and_the_allowed_irregularity_are_in_the_list():
     assert typeset.order_indices("Σ<i>P</i><sub>VI</sub> <i>C</i><sub>II</sub>") == (
         "Σ<i>P</i><sub><i>ν</i></sub> <i>C</i><sub>II</sub>"
     )
+
+
+def test_a_single_cylinders_bearing_axis_is_its_cylinders_axis():
+    """Several cylinders: the main bearing diagram's y lies along the first one's axis (a
+    boxer's two cylinders point opposite ways); one cylinder: along its axis."""
+    single = _plain(shared_html("petrol-1cyl", language="ru").linked_html)
+    assert "y – ось диаграммы коренного подшипника вдоль оси цилиндра" in single
+    assert "вдоль оси первого цилиндра" not in single
