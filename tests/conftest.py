@@ -124,8 +124,6 @@ def write_scene(path: Path, data: dict) -> Path:
     return path
 
 
-#: The V8 example made a flat four (a boxer: a crank pin per cylinder, cranks chosen by the
-#: calculation, 100 mm between neighbouring cylinders), laid over it with :func:`modified`.
 #: The in-line four as a boxer (flat four, a crank pin per cylinder) with the firing-order explorer
 #: on: the explorer's and table 1.1's texts of an engine whose cylinders share no pin.
 EXPLORED_BOXER = {
@@ -137,6 +135,8 @@ EXPLORED_BOXER = {
     "balancing": {"explore": True, "explore_top": 6},
 }
 
+#: The V8 example made a flat four (a boxer: a crank pin per cylinder, cranks chosen by the
+#: calculation, 100 mm between neighbouring cylinders), laid over it with :func:`modified`.
 FLAT_FOUR_ENGINE = {
     "layout": "boxer",
     "bank_angle_deg": None,
@@ -156,6 +156,15 @@ V_TWIN_ENGINE = {
     "firing_order": ["1L", "1R"],
     "uneven_firing": True,
     "cylinder_spacing": None,
+}
+
+#: The in-line three example made a twin with a 270° crank: firing 270°/450° apart, off the
+#: even-firing grid of a twin (360°), laid over its [engine] with :func:`modified`.
+TWIN_270_ENGINE = {
+    "cylinders": 2,
+    "firing_order": [1, 2],
+    "crank_angles_deg": [0, 270],
+    "uneven_firing": True,
 }
 
 

@@ -807,15 +807,10 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
 def test_a_270_degree_twins_first_order_shaft_is_said_to_take_its_force_and_its_moment():
     """A 270° twin's first-order shaft takes the counter-rotating parts of ΣP_I and of ΣM_I: the
     abstract named the force alone (the moment was left out whenever the shaft carried a force)."""
-    from conftest import as_read, shared_html, shared_run
+    from conftest import TWIN_270_ENGINE, as_read, shared_html, shared_run
 
     twin = {
-        "engine": {
-            "cylinders": 2,
-            "firing_order": [1, 2],
-            "crank_angles_deg": [0, 270],
-            "uneven_firing": True,
-        },
+        "engine": TWIN_270_ENGINE,
         "balancing": {"balance_orders": [1]},
     }
     b = shared_run("inline3-petrol", twin, ("balancing",)).outputs["balancing"].results

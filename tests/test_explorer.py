@@ -203,15 +203,10 @@ def test_the_note_of_an_uneven_twin_says_its_cranks_are_not_in_the_search():
     import html as html_lib
     import re
 
-    from conftest import shared_html
+    from conftest import TWIN_270_ENGINE, shared_html
 
     twin = {
-        "engine": {
-            "cylinders": 2,
-            "firing_order": [1, 2],
-            "crank_angles_deg": [0, 270],
-            "uneven_firing": True,
-        },
+        "engine": TWIN_270_ENGINE,
         "report": {"language": "ru"},
     }
     page = shared_html("inline3-petrol", twin).linked_html
@@ -226,15 +221,10 @@ def test_an_uneven_twins_torque_conclusion_says_why_its_period_is_the_whole_cycl
     import html as html_lib
     import re
 
-    from conftest import shared_html, shared_run
+    from conftest import TWIN_270_ENGINE, shared_html, shared_run
 
     twin = {
-        "engine": {
-            "cylinders": 2,
-            "firing_order": [1, 2],
-            "crank_angles_deg": [0, 270],
-            "uneven_firing": True,
-        },
+        "engine": TWIN_270_ENGINE,
         "report": {"language": "ru"},
     }
     assert shared_run("inline3-petrol", twin).outputs["torque"].results["period_deg"] == 720.0
