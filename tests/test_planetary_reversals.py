@@ -400,3 +400,22 @@ def test_the_positions_of_a_two_turn_period_keep_their_angles_beyond_360_degrees
     assert all(0.0 <= a < 720.0 for a in angles.values())
     assert angles["v_min"] == pytest.approx(kinematics["v_min_crank_angle_deg"], abs=0.05)
     assert angles["v_min"] > 360.0
+
+
+def test_family_panel_titles_print_numbers_in_the_report_locale(ring_run):
+    """A 75-tooth ring of module 1.25 (93.75 mm) has its planets' diameters 31.25, 46.875 and
+    62.5 mm: "31,25" in a Ukrainian note, parted from the next diameter by a semicolon (a
+    comma would read as part of the number)."""
+    from functools import partial
+
+    from crankdyn.report.context import FigureFile
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.planetary.figures import _family_plot
+
+    t = translator("uk")
+    family = ring_run.outputs["planetary"].tables["family"]
+    svg = FigureFile("f.svg", build=partial(_family_plot, family, 0.09375, t), t=t).draw()
+    text = re.sub(r"<style.*?</style>", "", svg.decode("utf-8"), flags=re.S)
+    text = re.sub(r"\s+", "", re.sub(r"<[^>]+>", "", text))
+    assert "=31,25;" in text and "=62,5;" in text and "=93,75мм" in text
+    assert "31.25" not in text

@@ -137,8 +137,11 @@ def _family_plot(family, fixed_pitch_diameter_m, t):
             family[f"ratio_{ratio:g}_x_m"] * mm, family[f"ratio_{ratio:g}_z_m"] * mm, color="C0"
         )
         ax.set_aspect("equal")
+        # numbers in the report's locale; a semicolon parts the two (a decimal comma would not)
         ax.set_title(
-            f"d_p = {d_fixed / ratio:.4g}, d_f = {d_fixed:.4g} " + t("unit.mm"), fontsize=8
+            f"d_p = {t.number_g(d_fixed / ratio, 4)}; d_f = {t.number_g(d_fixed, 4)} "
+            + t("unit.mm"),
+            fontsize=8,
         )
         ax.tick_params(labelsize=7)
     return fig
