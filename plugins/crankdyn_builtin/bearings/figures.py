@@ -120,12 +120,28 @@ def _polar_drawing(
     per_pt = 1.1 * max(shown_t / box_pt[0], shown_z / box_pt[1], 1e-12)
     _angle_labels(ax, translator, (t, z), angle, every, span, per_pt, (pole_z, radius, oil_deg))
     _pole_and_journal(ax, pole_z, radius, oil_deg)
+    _fitting_ticks(ax.xaxis, 1.1 * shown_t / per_pt)
     ax.set_aspect("equal")
     ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
     ax.set_xlabel(f"{axes[0]}, " + translator("unit.MPa"))
     ax.set_ylabel(f"{axes[1]}, " + translator("unit.MPa"))
     ax.set_title(title, fontsize=9)
     return fig
+
+
+#: The room a tick label of a polar diagram takes along the horizontal axis, gap included (pt):
+#: "−0,25" at 9 pt is about 25 pt wide.
+TICK_ROOM_PT = 36.0
+
+
+def _fitting_ticks(axis, length_pt: float) -> None:
+    """As many ticks on ``axis`` as their labels fit side by side in its ``length_pt``: a tall,
+    narrow diagram (a main bearing loaded mostly along one axis) gets two or three on its short
+    axis instead of labels printed over each other."""
+    from matplotlib.ticker import MaxNLocator  # lazy: heavy optional import (matplotlib)
+
+    bins = max(1, int(length_pt // TICK_ROOM_PT))
+    axis.set_major_locator(MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10], min_n_ticks=1))
 
 
 def _angle_labels(ax, translator, curve_tz, angle, every, span, per_pt, journal) -> None:
