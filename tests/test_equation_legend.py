@@ -23,7 +23,8 @@ def symbols_in(formula: str, language: str, stage: str, symbols=SYMBOLS) -> list
 def add_equation_legends(
     html: str, t, language: str, skip_stages=frozenset(), single=False, symbols=SYMBOLS
 ) -> str:
-    return equation_legend.add_equation_legends(html, t, language, skip_stages, single, symbols)
+    forms = ("single",) if single else ()
+    return equation_legend.add_equation_legends(html, t, language, skip_stages, forms, symbols)
 
 
 def _equation(formula: str, number: str = "1.1") -> str:

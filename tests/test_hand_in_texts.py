@@ -1195,6 +1195,7 @@ def test_a_v_engines_bank_angle_is_in_the_symbol_list_and_its_spacing_is_one_ban
     text = as_read(re.sub(r"<[^>]+>", "", reports("v8-petrol")))
     assert "γ – кут розвалу циліндрів, між осями їхніх рядів, °" in text
     assert "Відстань між осями сусідніх циліндрів одного ряду" in text
+    assert "a – відстань між осями сусідніх циліндрів одного ряду, мм" in text
     inline = as_read(re.sub(r"<[^>]+>", "", reports("inline4-petrol")))
     assert "Відстань між осями сусідніх циліндрів" in inline
     assert "одного ряду" not in inline and "кут розвалу" not in inline
@@ -1211,6 +1212,9 @@ def test_a_boxers_spacing_is_between_neighbouring_cylinders_of_opposite_banks():
     # opposed cylinders are not "neighbouring" across the engine: their axes are offset along the shaft
     assert "Зміщення осей сусідніх циліндрів уздовж колінчастого вала" in text
     assert "Відстань між осями сусідніх циліндрів" not in text
+    # and the list of symbols says the same of a
+    assert "a – зміщення осей сусідніх циліндрів уздовж колінчастого вала, мм" in text
+    assert "відстань між осями сусідніх циліндрів" not in text
 
 
 def test_the_counterweight_radius_is_listed_in_millimetres_as_its_table_gives_it():

@@ -18,7 +18,8 @@ SYMBOLS = symbol_table(default_registry().stages.values())
 
 
 def symbol_list_html(keys, t, language, abbreviations=True, places=None, single=False):
-    return document.symbol_list_html(keys, t, language, abbreviations, places, single, SYMBOLS)
+    forms = ("single",) if single else ()
+    return document.symbol_list_html(keys, t, language, abbreviations, places, forms, SYMBOLS)
 
 
 def _rows(html: str) -> list[str]:

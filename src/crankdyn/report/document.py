@@ -456,6 +456,17 @@ def _input_view(result, registry, ctx) -> SectionView:
     )
 
 
+def _meaning_forms(scene) -> tuple[str, ...]:
+    """The forms of the symbols' meanings that fit ``scene``'s engine, first to try first
+    (:func:`crankdyn.report.equation_legend.symbol_meaning`): a one-cylinder engine's, a boxer's
+    (a the offset of opposed cylinders along the shaft), cylinders sharing pins (a one bank's)."""
+    if scene.engine.cylinders == 1:
+        return ("single",)
+    if _cylinders_share_pins(scene):
+        return ("bank",)
+    return ("boxer",) if scene.engine.layout == "boxer" else ()
+
+
 def _cylinders_share_pins(scene) -> bool:
     """Whether cylinders share crank pins (a V's or W's banks): the spacing a along the shaft is
     then that of one bank's cylinders, not of neighbouring cylinders (a boxer's alternate banks
@@ -699,7 +710,7 @@ def render_html(
         frozenset(
             s.name for s in result.plan.order if s.presentation is None or not s.presentation.legend
         ),
-        single=scene.engine.cylinders == 1,
+        forms=_meaning_forms(scene),
         symbols=ctx.symbols,
         strokes=scene.engine.strokes,
     )
@@ -809,20 +820,21 @@ def _finish(
     language: str,
     sources: int,
     without_legend: frozenset[str],
-    single: bool = False,
+    forms: tuple[str, ...] = (),
     symbols: SymbolTable = SYMBOLS,
     strokes: int = 4,
 ) -> str:
     """What needs the whole document: the abstract's counts, the typesetting, the equations'
-    "where" lines and the list of the symbols shown (``single``: a one-cylinder engine's meanings;
+    "where" lines and the list of the symbols shown (``forms``: the engine's forms of the
+    meanings, :func:`_meaning_forms`;
     ``strokes``: a two-stroke engine's meanings of the cycle, :func:`_cycle_meanings`)."""
     t = _cycle_meanings(t, strokes)
     html = _fill_counts(html, t, sources)
     html = by_sections(
         _typeset_part, html, language, tuple(report_units(t)), t.decimal_separator, symbols
     )
-    html = add_equation_legends(html, t, language, without_legend, single, symbols)
-    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, single, symbols))
+    html = add_equation_legends(html, t, language, without_legend, forms, symbols)
+    return by_sections(_unbreakable_part, _fill_symbol_list(html, t, language, forms, symbols))
 
 
 #: Where the document's sections start (each at the start of a line, in report.html.j2).
@@ -1005,7 +1017,7 @@ def symbol_list_html(
     language: str,
     abbreviations: bool = True,
     places: dict | None = None,
-    single: bool = False,
+    forms: tuple[str, ...] = (),
     symbols: SymbolTable = SYMBOLS,
 ) -> str:
     """The list of symbols: one line per symbol, "symbol – meaning, unit", then the abbreviations
@@ -1021,7 +1033,7 @@ def symbol_list_html(
         if markup in magnitudes.values():
             continue  # said in its vector's row
         unit = list_unit(key, t, symbols)
-        meaning = symbol_meaning(t, key, single)
+        meaning = symbol_meaning(t, key, forms)
         where = (
             _where(_symbol_stages(key, symbols), places or {}, t, markup)
             if markups.count(markup) > 1
@@ -1190,7 +1202,7 @@ _ASSIGNMENT = re.compile(r'<section class="assignment">.*?</section>', re.S)
 
 
 def _fill_symbol_list(
-    html: str, t, language: str, single: bool = False, symbols: SymbolTable = SYMBOLS
+    html: str, t, language: str, forms: tuple[str, ...] = (), symbols: SymbolTable = SYMBOLS
 ) -> str:
     """The list of symbols with those the (typeset) report shows, from the one symbol table."""
     head, _, rest = html.partition("@@SYMBOL_LIST@@")
@@ -1206,7 +1218,7 @@ def _fill_symbol_list(
             language,
             abbreviation in body,
             _places(rest),
-            single,
+            forms,
             symbols,
         )
         + rest

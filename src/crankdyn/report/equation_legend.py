@@ -151,21 +151,22 @@ def line_unit(
     return unit_text(si, t)
 
 
-def symbol_meaning(t, key: str, single: bool = False) -> str:
-    """A symbol's meaning from the catalogs; for a one-cylinder engine its ``_single`` form where
-    the catalog gives one (θ "від ВМТ циліндра", not "першого циліндра"; M not "сумарний")."""
-    return (
-        t(f"symbol.{key}_single")
-        if single and t.has(f"symbol.{key}_single")
-        else t(f"symbol.{key}")
-    )
+def symbol_meaning(t, key: str, forms: tuple[str, ...] = ()) -> str:
+    """A symbol's meaning from the catalogs: the first of the engine's ``forms`` the catalog gives
+    (``symbol.KEY_FORM``: a one-cylinder engine's "single", θ "від ВМТ циліндра", not "першого
+    циліндра"; a boxer's "boxer", a the offset of opposed cylinders along the shaft), else its
+    general meaning."""
+    for form in forms:
+        if t.has(f"symbol.{key}_{form}"):
+            return t(f"symbol.{key}_{form}")
+    return t(f"symbol.{key}")
 
 
 def legend_html(
     keys: list[str],
     t,
     language: str,
-    single: bool = False,
+    forms: tuple[str, ...] = (),
     symbols: SymbolTable = SYMBOLS,
     printed: frozenset[str] = frozenset(),
 ) -> str:
@@ -175,7 +176,7 @@ def legend_html(
     lines = []
     for k, key in enumerate(keys):
         unit = line_unit(key, t, symbols, printed)
-        meaning = symbol_meaning(t, key, single)
+        meaning = symbol_meaning(t, key, forms)
         # "(in the flywheel sections)" of a core symbol is said by where the line stands; a stage's
         # own symbol (StagePresentation.symbols, "stage.key") carries no such note, its parentheses stay
         if symbols[key].sections and "." not in key:
@@ -199,11 +200,12 @@ def add_equation_legends(
     t,
     language: str,
     skip_stages: frozenset[str] = frozenset(),
-    single: bool = False,
+    forms: tuple[str, ...] = (),
     symbols: SymbolTable = SYMBOLS,
 ) -> str:
     """``html`` with a "where" paragraph after each equation that shows symbols not explained before;
-    none in the sections of ``skip_stages`` (``StagePresentation.legend`` False)."""
+    none in the sections of ``skip_stages`` (``StagePresentation.legend`` False); ``forms``: the
+    engine's forms of the meanings (:func:`symbol_meaning`)."""
     explained: set[str] = set()
     stage = ""
     parts = []
@@ -225,7 +227,7 @@ def add_equation_legends(
         printed = printed_table_units(match.group("formula"), t)
         parts += [
             html[position : match.end()],
-            legend_html(new, t, language, single, symbols, printed),
+            legend_html(new, t, language, forms, symbols, printed),
         ]
         position = match.end()
     parts.append(html[position:])
