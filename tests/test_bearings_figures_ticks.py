@@ -31,7 +31,7 @@ def test_a_narrow_diagram_prints_its_horizontal_tick_labels_apart():
     axes = fig.axes[0]
     boxes = sorted(_label_boxes(fig, axes.xaxis), key=lambda box: box.x0)
     assert boxes, "the horizontal axis keeps at least one tick label"
-    for left, right in zip(boxes, boxes[1:]):
+    for left, right in zip(boxes, boxes[1:], strict=False):
         assert left.x1 < right.x0, (left, right)
     # the tall axis keeps its labels as before: one per MPa
     assert len(_label_boxes(fig, axes.yaxis)) >= 5

@@ -1224,3 +1224,12 @@ def test_the_counterweight_radius_is_listed_in_millimetres_as_its_table_gives_it
 
     page = shared_html("inline3-petrol", {"flywheel": {"required_irregularity": 0.02}}, "uk")
     assert "радіус центра мас противаги, мм (у формулах – м)" in page.linked_html
+
+
+def test_a_radials_balancing_gives_the_reason_it_has_no_longitudinal_moments(reports):
+    """A radial (or a V-twin on fork-and-blade rods) is not a "single-row engine": its cylinders
+    share one crank in one plane across the shaft, which is why no longitudinal moment arises."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
+    assert "однорядн" not in text
+    assert "лежать в одній площині, перпендикулярній до осі вала" in text
+    assert "тож поздовжніх моментів немає" in text
