@@ -134,7 +134,8 @@ def torque_period_deg(torque) -> float:
 
 def _excess_results(excess, torque) -> dict:
     """The mean torque, the excess work ΔL, where the work is largest and least (the first
-    such angles in the cycle: W repeats with the torque), and ΔL per cycle's work."""
+    such angles in the cycle: W repeats with the torque), and ΔL per cycle's work (done or, by a
+    driven machine, taken in; None when the mean torque is zero)."""
     period = torque_period_deg(torque)
     return {
         "mean_torque_Nm": excess.mean_torque_Nm,
@@ -142,9 +143,10 @@ def _excess_results(excess, torque) -> dict:
         "torque_period_deg": period,
         "excess_work_max_crank_angle_deg": float(torque.crank_angle_deg[excess.max_index]) % period,
         "excess_work_min_crank_angle_deg": float(torque.crank_angle_deg[excess.min_index]) % period,
+        # against the work per cycle done (an engine) or taken in (a driven compressor, M_m < 0)
         "excess_work_relative": excess.excess_work_J
-        / (excess.mean_torque_Nm * 2 * math.pi * torque.strokes / 2)
-        if excess.mean_torque_Nm > 0
+        / (abs(excess.mean_torque_Nm) * 2 * math.pi * torque.strokes / 2)
+        if excess.mean_torque_Nm != 0
         else None,
     }
 
