@@ -120,7 +120,9 @@ def _polar_drawing(
     per_pt = 1.1 * max(shown_t / box_pt[0], shown_z / box_pt[1], 1e-12)
     _angle_labels(ax, translator, (t, z), angle, every, span, per_pt, (pole_z, radius, oil_deg))
     _pole_and_journal(ax, pole_z, radius, oil_deg)
-    _fitting_ticks(ax.xaxis, 1.1 * shown_t / per_pt)
+    margin = 0.05 * shown_t  # matplotlib's autoscale margins
+    left, right = min(np.min(t), -radius) - margin, max(np.max(t), radius) + margin
+    _fitting_ticks(ax.xaxis, (left, right), per_pt)
     ax.set_aspect("equal")
     ax.invert_yaxis()  # +z points from the pin towards the shaft axis: drawn downwards as in fig. 17
     ax.set_xlabel(f"{axes[0]}, " + translator("unit.MPa"))
@@ -130,18 +132,28 @@ def _polar_drawing(
 
 
 #: The room a tick label of a polar diagram takes along the horizontal axis, gap included (pt):
-#: "−0,25" at 9 pt is about 25 pt wide.
-TICK_ROOM_PT = 36.0
+#: "−0,25" at 9 pt is about 27 pt wide.
+TICK_ROOM_PT = 34.0
 
 
-def _fitting_ticks(axis, length_pt: float) -> None:
-    """As many ticks on ``axis`` as their labels fit side by side in its ``length_pt``: a tall,
-    narrow diagram (a main bearing loaded mostly along one axis) gets two or three on its short
-    axis instead of labels printed over each other."""
+def _fitting_ticks(axis, limits: tuple[float, float], per_pt: float) -> None:
+    """Ticks on a narrow horizontal ``axis`` spanning ``limits`` (MPa, drawn at ``per_pt`` MPa a
+    point): as many as their labels fit side by side, at least two; where even two do not fit
+    upright (a tall, narrow diagram: a main bearing loaded mostly along one axis) the labels
+    are turned a quarter, instead of being printed over one another or left with one."""
     from matplotlib.ticker import MaxNLocator  # lazy: heavy optional import (matplotlib)
 
-    bins = max(1, int(length_pt // TICK_ROOM_PT))
-    axis.set_major_locator(MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10], min_n_ticks=1))
+    low, high = limits
+    length_pt = (high - low) / per_pt
+    if length_pt >= 4 * TICK_ROOM_PT:  # room for matplotlib's own choice
+        return
+    locator = MaxNLocator(
+        nbins=max(2, int(length_pt // TICK_ROOM_PT)), steps=[1, 2, 2.5, 5, 10], min_n_ticks=2
+    )
+    axis.set_major_locator(locator)
+    ticks = [v for v in locator.tick_values(low, high) if low <= v <= high]
+    if len(ticks) >= 2 and (ticks[1] - ticks[0]) / per_pt < TICK_ROOM_PT:
+        axis.set_tick_params(labelrotation=90)
 
 
 def _angle_labels(ax, translator, curve_tz, angle, every, span, per_pt, journal) -> None:
