@@ -784,3 +784,15 @@ def test_journals_the_table_prints_alike_are_named_together(language, texts):
     text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\xa0", " ").split())
     for expected in texts:
         assert expected in text, expected
+
+
+def test_the_within_limits_sentence_quotes_the_pressures_as_the_table_prints_them():
+    """Table 7.1 gives p_max = 10,21 and p_mean = 6,17 MPa; the sentence below it said "6,2" and
+    "10,2" (read as other values)."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("petrol-1cyl-uk").linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html).replace("\u202f", " "))
+    assert "шатунний підшипник сягає 6,17 МПа, а найбільший – 10,21 МПа" in text

@@ -100,8 +100,8 @@ def _pressure_within(ctx, r) -> str:
         return ""
     return ctx.t(
         f"bearings.pin_pressure_within_{within['kind']}",
-        p_mean=ctx.t.fixed(within["p_mean"], 1),
-        p_max=ctx.t.fixed(within["p_max"], 1),
+        p_mean=ctx.t.fixed(within["p_mean"], 2),
+        p_max=ctx.t.fixed(within["p_max"], 2),
         mean_limit=ctx.t.number_g(within["mean_limit"], 3),
         max_limit=ctx.t.number_g(within["max_limit"], 3),
     )
