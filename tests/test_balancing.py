@@ -943,3 +943,17 @@ def test_the_conclusions_say_what_the_balancing_means_leave_with_values():
         r"инерции и их моментов неуравновешенными остаются лишь ΣMIV = \d+,\d Н·м \(",
         text.replace("\u202f", " "),
     ), text[:3000]
+
+
+def test_an_axis_a_hair_short_of_180_degrees_is_printed_as_the_vertical():
+    """A 45° V-twin's first-order hodograph lies along the V's bisector: its axis came out at
+    179.99...°, printed "180,0" beside the other orders' "0,0" for the same direction."""
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.balancing.tables import axis_text
+
+    t = translator("uk")
+    assert axis_text(t, 179.99999999) == "0,0"
+    assert axis_text(t, 180.0) == "0,0"
+    assert axis_text(t, 0.04) == "0,0"
+    assert axis_text(t, 90.04) == "90,0"
+    assert axis_text(t, 135.26) == "135,3"

@@ -194,7 +194,7 @@ def _force_columns(ctx, r, single: bool) -> list[tuple]:
             [
                 "—"
                 if _zero(r, o, "force") or circular(o["force_hodograph"])
-                else ctx.t.fixed(o["force_hodograph"]["major_axis_deg"], 1)
+                else axis_text(ctx.t, o["force_hodograph"]["major_axis_deg"])
                 for o in orders
             ],
             None,
@@ -211,6 +211,12 @@ def _force_columns(ctx, r, single: bool) -> list[tuple]:
         ),
     ]
     return columns
+
+
+def axis_text(t, axis_deg: float) -> str:
+    """An axis's direction from the vertical as the table prints it, to 0.1°: an axis has no
+    sense, so 179.99° is the vertical, "0,0" (not "180,0" beside another order's "0,0")."""
+    return t.fixed(round(axis_deg % 180.0, 1) % 180.0, 1)
 
 
 def _moment_columns(ctx, r) -> list[tuple]:
@@ -236,7 +242,7 @@ def _moment_columns(ctx, r) -> list[tuple]:
                 # a moment turning with or against the shaft at constant size has no plane
                 "—"
                 if _zero(r, o, "moment") or circular(o["moment_hodograph"])
-                else ctx.t.fixed(o["moment_hodograph"]["major_axis_deg"], 1)
+                else axis_text(ctx.t, o["moment_hodograph"]["major_axis_deg"])
                 for o in orders
             ],
             None,
