@@ -1233,3 +1233,22 @@ def test_a_radials_balancing_gives_the_reason_it_has_no_longitudinal_moments(rep
     assert "однорядн" not in text
     assert "лежать в одній площині, перпендикулярній до осі вала" in text
     assert "тож поздовжніх моментів немає" in text
+
+
+def test_the_assignment_gives_the_crank_angles_of_several_cranks_only():
+    """A 270° twin's cranks define the engine: the assignment gives them ("кути колін … 0; 270°")
+    and its firing order. A V-twin's one crank has no angle to give ("кути колін … 0°" said
+    nothing)."""
+    from conftest import TWIN_270_ENGINE, V_TWIN_ENGINE, shared_html
+
+    def assignment(name, engine):
+        html = shared_html(name, {"engine": engine}, "uk", ("kinematics",)).linked_html
+        part = html.split('class="assignment"', 1)[1].split("</section>", 1)[0]
+        return as_read(re.sub(r"<[^>]+>", "", part))
+
+    twin = assignment("inline3-petrol", TWIN_270_ENGINE)
+    assert "кути колін (відставання від першого) 0; 270°" in twin
+    assert "порядок роботи циліндрів 1–2" in twin
+    v_twin = assignment("v8-petrol", V_TWIN_ENGINE)
+    assert "кути колін" not in v_twin
+    assert "порядок роботи циліндрів 1Л–1П" in v_twin
