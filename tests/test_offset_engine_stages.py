@@ -491,3 +491,8 @@ def test_the_offsets_stroke_and_tdc_angle_read_the_same_wherever_printed(languag
     assert tdc_prints and set(tdc_prints) == {tdc}, tdc_prints
     stroke_prints = re.findall(rf"(?<![\d{comma}])(78{comma}\d+)\s*(?:mm|мм)", text)
     assert len(stroke_prints) >= 3 and set(stroke_prints) == {stroke}, stroke_prints
+    # the BDC's angles too, to the thousandth (a compressor's "174°" beside "174,011°")
+    for key, whole in (("bdc_crank_angle_from_axis_deg", "184"), ("bdc_crank_angle_deg", "181")):
+        bdc = f"{r[key]:.3f}".replace(".", comma)
+        bdc_prints = re.findall(rf"(?<![\d{comma}])({whole}(?:{comma}\d+)?)°", text)
+        assert bdc_prints and set(bdc_prints) == {bdc}, (key, bdc_prints)

@@ -12,7 +12,7 @@ from crankdyn_builtin.offset_crank.worked import worked_offset_crank
 
 from .figures import _piston_figure, _rod_figure
 from .options import OffsetParams
-from .precision import ANGLE_DIGITS, STROKE_DIGITS
+from .precision import STROKE_DIGITS, angle_text
 
 #: The time ratio K of the two strokes above which the mechanism is a quick-return one: below
 #: it the strokes last within 5 % of each other, as in any engine's offset of a few millimetres.
@@ -82,8 +82,8 @@ def render(output: StageOutput, ctx) -> str:
         t(
             "offset_crank.conclusion",
             e=ctx.t.number_g(r["offset_m"] * 1e3, 4),
-            tdc=t.number_g(r["tdc_crank_angle_from_axis_deg"], ANGLE_DIGITS),
-            bdc=t.number_g(r["bdc_crank_angle_deg"], ANGLE_DIGITS),
+            tdc=angle_text(t, r["tdc_crank_angle_from_axis_deg"]),
+            bdc=angle_text(t, r["bdc_crank_angle_deg"]),
             stroke=t.number_g(r["stroke_m"] * 1e3, STROKE_DIGITS),
             excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
             ratio=ctx.num(r["stroke_time_ratio"], 5),
@@ -101,7 +101,8 @@ def render(output: StageOutput, ctx) -> str:
         figure_main=figure_main,
         figure_rod=figure_rod,
         stroke_digits=STROKE_DIGITS,
-        angle_digits=ANGLE_DIGITS,
+        tdc_from_axis=angle_text(t, r["tdc_crank_angle_from_axis_deg"]),
+        bdc_from_axis=angle_text(t, r["bdc_crank_angle_from_axis_deg"]),
     )
 
 
