@@ -1252,3 +1252,15 @@ def test_the_assignment_gives_the_crank_angles_of_several_cranks_only():
     v_twin = assignment("v8-petrol", V_TWIN_ENGINE)
     assert "кути колін" not in v_twin
     assert "порядок роботи циліндрів 1Л–1П" in v_twin
+
+
+def test_what_the_means_leave_points_to_the_slave_cylinders_parts(reports):
+    """A radial's means leave ΣP_IV and ΣP_VI, and also the parts only its slave cylinders make
+    (the next conclusion): "unbalanced remain ΣP_IV and ΣP_VI" alone read as the whole list,
+    against the section's remainder that is mostly those parts."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
+    listed = text.split("Після встановлення засобів зрівноваження незрівноваженими залишаються", 1)
+    assert len(listed) == 2
+    sentence, after = listed[1].split(".", 1)[0], listed[1]
+    assert "ΣPIV" in sentence and sentence.endswith("а також складові, названі далі")
+    assert "розташування циліндрів зрівноважило б складову сил першого порядку" in after[:600]
