@@ -957,3 +957,33 @@ def test_an_axis_a_hair_short_of_180_degrees_is_printed_as_the_vertical():
     assert axis_text(t, 0.04) == "0,0"
     assert axis_text(t, 90.04) == "90,0"
     assert axis_text(t, 135.26) == "135,3"
+
+
+def test_a_vector_models_arrows_end_on_their_vectors_tips():
+    """Fig. "vector models" gives the dotted circle as C_ν: an arrow f = 1,000·C_I must reach it.
+    matplotlib stops an annotation's arrow 2 pt short of each end (besides the stroke's own
+    allowance at the head), which on a panel 3 cm wide read as f ≈ 0,8·C_I."""
+    import numpy as np
+    from matplotlib.path import Path
+
+    from crankdyn.report.figures import prepare
+    from crankdyn_builtin.balancing.figures import _models_drawing
+
+    prepare()
+    f, b = 1j * np.exp(0.4j), 0.7071 * np.exp(-0.3j)
+    fig = _models_drawing([(1, "PI", 1, [("force", f, b, 1.7)])], False, 2, "")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    gaps = []
+    for annotation in ax.texts:
+        patch = getattr(annotation, "arrow_patch", None)
+        if patch is None:
+            continue
+        path = patch.get_path()  # in points (the figure's 72 dpi), as drawn
+        points = path.vertices[path.codes != Path.CLOSEPOLY]
+        end = ax.transData.transform([annotation.xy])[0]
+        gaps.append(float(np.min(np.hypot(*(points - end).T))))
+    # drawn as (imaginary, real): f from the origin, b from f's tip; the head's tip stops short
+    # only by the stroke's allowance (about the line's width, 1.2 pt)
+    assert len(gaps) == 2
+    assert max(gaps) < 1.6, gaps

@@ -13,11 +13,13 @@ from .vectors import NEGLIGIBLE
 
 
 def _arrow(ax, x0, y0, x1, y1, **kw):
+    """A vector from (x0, y0) to (x1, y1), its head's tip on the end point: drawn to the scale
+    the caption gives (matplotlib would stop it 2 pt short at each end)."""
     ax.annotate(
         "",
         xy=(x1, y1),
         xytext=(x0, y0),
-        arrowprops=dict(arrowstyle="-|>", lw=kw.pop("lw", 1.2), **kw),
+        arrowprops=dict(arrowstyle="-|>", lw=kw.pop("lw", 1.2), shrinkA=0, shrinkB=0, **kw),
     )
 
 
