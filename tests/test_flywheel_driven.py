@@ -28,3 +28,60 @@ def test_excess_work_share_is_of_the_work_done_or_taken_in(mean_Nm):
     r = _excess_results(excess, torque)
     assert r["excess_work_J"] == pytest.approx(80.0, rel=1e-4)
     assert r["excess_work_relative"] == pytest.approx(80.0 / (11.31 * 4 * math.pi), rel=1e-4)
+
+
+def test_a_driven_machines_flywheel_section_says_the_shaft_takes_work_in(tmp_path):
+    """A compressor's mean torque is negative: the section said "the resisting torque is taken
+    constant and equal to M_m" (−11,31 N·m: a resisting torque that drives), and "ΔL is 0 % of
+    the work per cycle"; it says the shaft is driven and gives ΔL's share of the work taken in."""
+    import re
+
+    from crankdyn.engine.orchestrator import run_scene
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.report.document import render_html
+    from crankdyn.scene.model import scene_from_dict
+
+    # a compressor's pressure over its one-turn cycle: compressed while the piston rises to its
+    # top dead centre (180..360°), delivered, re-expanded just after it, drawn in at 1 bar
+    angle = np.arange(0.0, 360.0, 0.5)
+    rising = np.clip((angle - 180.0) / 180.0, 0.0, None) ** 3
+    expanding = np.clip(1.0 - angle / 30.0, 0.0, None)
+    bar = 1.0 + 7.2 * np.maximum(rising, expanding)
+    trace = tmp_path / "compressor.csv"
+    trace.write_text(
+        "crank_angle_deg,pressure_bar\n"
+        + "".join(f"{a:.1f},{p:.4f}\n" for a, p in zip(angle, bar, strict=True))
+    )
+    scene = scene_from_dict(
+        {
+            "report": {"title": "Компресор", "language": "uk", "year": 2026},
+            "engine": {
+                "name": "Компресор",
+                "application": "stationary",
+                "strokes": 2,
+                "cylinders": 1,
+                "rpm": 1450,
+                "bore": "80 mm",
+                "stroke": "70 mm",
+                "rod_length": "150 mm",
+            },
+            "masses": {"piston_group": "0.55 kg", "rod": "0.48 kg", "rod_cm_fraction": 0.3},
+            "cycle": {
+                "source": "trace",
+                "trace_file": str(trace),
+                "trace_format": "csv",
+                "trace_firing_tdc_deg": 0,
+                "compression_ratio": 21.0,
+            },
+            "flywheel": {"required_irregularity": 0.02},
+        },
+        base_dir=tmp_path,
+    )
+    registry = default_registry()
+    result = run_scene(scene, registry, ["indicator", "forces", "torque", "flywheel"])
+    assert result.outputs["flywheel"].results["mean_torque_Nm"] < 0
+    html = render_html(result, registry, "uk").linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ")
+    assert "вал не віддає роботу, а споживає її" in text
+    assert "момент опору прийнято сталим" not in text
+    assert re.search(r"ΔL становить [1-9]\d*(,\d+)? % роботи за цикл", text)
