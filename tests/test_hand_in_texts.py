@@ -1264,3 +1264,14 @@ def test_what_the_means_leave_points_to_the_slave_cylinders_parts(reports):
     sentence, after = listed[1].split(".", 1)[0], listed[1]
     assert "ΣPIV" in sentence and sentence.endswith("а також складові, названі далі")
     assert "розташування циліндрів зрівноважило б складову сил першого порядку" in after[:600]
+
+
+def test_a_radials_one_cylinder_tables_name_the_master_cylinder(reports):
+    """A radial's kinematics and dynamics tables are its master cylinder's (the slaves' pistons
+    move otherwise): "of one cylinder" read as any of them."""
+    radial = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
+    assert "Кінематика поршня і шатуна головного циліндра" in radial
+    assert "Динамічний розрахунок головного циліндра [1, табл. Б.1]" in radial
+    single = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl")))
+    assert "головного циліндра" not in single
+    assert "Динамічний розрахунок одного циліндра [1, табл. Б.1]" in single

@@ -120,7 +120,14 @@ def _table_b1(ctx, f, mpa: dict, r, grid, t_extremes) -> tuple[str, str]:
             ("<i>z</i>", mpa["radial_Pa"][rows], 3),
             ("<i>t</i>", mpa["tangential_Pa"][rows], 3),
         ],
-        caption=t("forces.table_b1_caption"),
+        caption=t(
+            "forces.table_b1_caption"
+            + (
+                "_master"
+                if ctx.scene is not None and ctx.scene.engine.rod_type == "articulated"
+                else ""
+            )
+        ),
         css_class="data wide",
         extremes=extremes,
         see="forces.see_table_b1",

@@ -31,7 +31,7 @@ def render(output: StageOutput, ctx) -> str:
             ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
             ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
         ],
-        caption=t("kinematics.table_caption"),
+        caption=t("kinematics.table_caption" + _master_suffix(ctx)),
         see="kinematics.see_table",
     )
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
@@ -130,3 +130,10 @@ def _worked(ctx, rows, labels, r):
         ),
     ]
     return worked_markup(ctx, WorkedBlock("kinematics", ctx.last_table_number, alpha, steps))
+
+
+def _master_suffix(ctx) -> str:
+    """ "_master" where the slave rods ride on a master rod (a radial): the section's table and
+    figures are the master cylinder's, whose piston and rod the slaves' differ from."""
+    scene = ctx.scene
+    return "_master" if scene is not None and scene.engine.rod_type == "articulated" else ""
