@@ -481,11 +481,12 @@ def test_a_course_note_states_the_step_and_its_errors_without_run_time():
     assert not t.missing and not ctx.figures and "<table" not in html
     coarse = max(r["steps"], key=lambda s: s["angle_step_deg"])
     assert "At the step of this report, Δα = 1°" in html
-    worst = max(coarse[f"{q}_error_relative"] for q in compute.QUANTITIES)
-    # one plain clause: what the coarsest step would cost
+    worst = max(compute.QUANTITIES, key=lambda q: coarse[f"{q}_error_relative"])
+    # one plain clause: what the coarsest step would cost, and to which result
     assert (
-        f"A coarser step of {coarse['angle_step_deg']:g}° would raise the errors to "
-        f"{ctx.num(100 * worst, 2)} %." in html
+        f"With the coarsest step studied, Δα = {coarse['angle_step_deg']:g}°, the relative "
+        f"error of {t(f'numerics.q_{worst}')} would grow to "
+        f"{ctx.num(100 * coarse[f'{worst}_error_relative'], 2)} %." in html
     )
     for word in (" ms", "second", "shorten", "calculation time", "At this step the calculation"):
         assert word not in html
@@ -498,14 +499,23 @@ def test_a_course_note_states_the_step_and_its_errors_without_run_time():
 @pytest.mark.parametrize(
     ("language", "expected"),
     [
-        ("en", "A coarser step of 30° would raise the errors to 1.2 %."),
-        ("ru", "Более крупный шаг 30° увеличил бы погрешности до 1,2 %."),
-        ("uk", "Більший крок 30° збільшив би похибки до 1,2 %."),
+        (
+            "en",
+            "With the coarsest step studied, Δα = 30°, the relative error of M_m would grow to 1.2 %.",
+        ),
+        (
+            "ru",
+            "С наибольшим из исследованных шагов, Δα = 30°, относительная погрешность M_ср возросла бы до 1,2 %.",
+        ),
+        (
+            "uk",
+            "З найбільшим із досліджених кроків, Δα = 30°, відносна похибка M_сер зросла б до 1,2 %.",
+        ),
     ],
 )
 def test_a_course_note_states_what_a_coarser_step_costs_in_errors_only(language, expected):
-    """A coarse step with errors of 1,234 % and 0,5 % and a run time of seconds: the note states
-    the larger error to two digits and no time."""
+    """A coarse step with errors of 1,234 % (of the mean torque) and 0,5 % and a run time of
+    seconds: the note states the larger error to two digits, the result it is of, and no time."""
     result = run("inline4-petrol", UNLIMITED)
     _, ctx, _ = render_section(result, detail="course", language=language)
     errors = {f"{q}_error_relative": 0.0 for q in compute.QUANTITIES}

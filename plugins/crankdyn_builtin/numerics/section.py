@@ -220,12 +220,15 @@ def _error_words(ctx, error: float) -> str:
 
 
 def _course_coarse(coarse, ctx) -> str:
-    """What the coarsest step studied would cost in the main results' errors (a course note
-    states the step and its errors; a computer's run time says nothing of the method)."""
+    """What the coarsest step studied would cost: the largest relative error of the main results
+    and whose it is (a course note states the step and its errors; a computer's run time says
+    nothing of the method)."""
+    worst = max(QUANTITIES, key=lambda q: coarse[f"{q}_error_relative"])
     return ctx.t(
         "numerics.course_coarse",
         coarse=plain(ctx, coarse["angle_step_deg"]),
-        coarse_error=ctx.num(100 * max(coarse[f"{q}_error_relative"] for q in QUANTITIES), 2),
+        quantity=ctx.t(f"numerics.q_{worst}"),
+        coarse_error=ctx.num(100 * coarse[f"{worst}_error_relative"], 2),
     )
 
 
