@@ -1275,3 +1275,16 @@ def test_a_radials_one_cylinder_tables_name_the_master_cylinder(reports):
     single = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl")))
     assert "головного циліндра" not in single
     assert "Динамічний розрахунок одного циліндра [1, табл. Б.1]" in single
+
+
+def test_a_radials_largest_tdc_shift_reads_the_same_in_text_note_and_table(reports):
+    """The slaves' largest TDC shift was "до 4°" in the section, "до 3,952°" in the method note
+    and 3,95 in the slaves' table: one value, to the hundredth, as the table gives it."""
+    from conftest import shared_run
+
+    slaves = shared_run("radial9-aircraft").outputs["bays"].results["slaves"]
+    largest = max(abs(s["tdc_shift_deg"]) for s in slaves)
+    printed = f"{largest:.2f}".replace(".", ",").rstrip("0").rstrip(",")
+    text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
+    shifts = re.findall(r"\(до ([\d,]+)°\)", text)
+    assert len(shifts) >= 2 and set(shifts) == {printed}, shifts

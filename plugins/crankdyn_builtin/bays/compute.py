@@ -364,7 +364,8 @@ def _true_intervals_note(scene, layout, tangential, slave_info) -> tuple[str, di
     period = lay.sampled_period_deg(
         tangential.sum(axis=0), scene.analysis.angle_step_deg, layout.cycle_deg
     )
-    shift = max(abs(x["tdc_shift_deg"]) for x in slave_info)
+    # to the hundredth, as the section's table and text give it
+    shift = round(max(abs(x["tdc_shift_deg"]) for x in slave_info), 2)
     if period >= layout.cycle_deg:
         return ("bays.note_true_intervals", {"shift": shift})
     return ("bays.note_true_intervals_period", {"shift": shift, "period": float(period)})

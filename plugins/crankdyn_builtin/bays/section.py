@@ -138,7 +138,8 @@ def _true_firing_text(r: dict, ctx) -> dict | None:
     steps = sorted({round(x, 6) for x in nominal})
     return {
         "nominal": "; ".join(ctx.t.number_g(x, 4) for x in steps),
-        "shift": ctx.t.number_g(max(abs(s["tdc_shift_deg"]) for s in r["slaves"]), 2),
+        # to the hundredth, as the slaves' table gives it (and the method note: bays.compute)
+        "shift": ctx.t.number_g(round(max(abs(s["tdc_shift_deg"]) for s in r["slaves"]), 2), 4),
     }
 
 
