@@ -865,7 +865,7 @@ def test_a_radials_second_order_part_of_its_slaves_is_said_to_be_theirs_where_it
     )
     force = f"{forward['force_N']:,.0f}".replace(",", "\u202f")
     assert (
-        "the cylinders' arrangement would also balance the part of the second-order forces "
+        "their arrangement would also balance the part of the second-order forces "
         f"turning with the shaft, {force}\u202fN"
     ) in text.replace("&#39;", "'")
     assert "only the slave cylinders give it too, but that is more than a few per cent" in text

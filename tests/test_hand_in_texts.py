@@ -1263,7 +1263,7 @@ def test_what_the_means_leave_points_to_the_slave_cylinders_parts(reports):
     assert len(listed) == 2
     sentence, after = listed[1].split(".", 1)[0], listed[1]
     assert "ΣPIV" in sentence and sentence.endswith("а також складові, названі далі")
-    assert "розташування циліндрів зрівноважило б складову сил першого порядку" in after[:600]
+    assert "їхнє розташування зрівноважило б складову сил першого порядку" in after[:600]
 
 
 def test_a_radials_one_cylinder_tables_name_the_master_cylinder(reports):
