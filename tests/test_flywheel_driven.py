@@ -85,3 +85,26 @@ def test_a_driven_machines_flywheel_section_says_the_shaft_takes_work_in(tmp_pat
     assert "вал не віддає роботу, а споживає її" in text
     assert "момент опору прийнято сталим" not in text
     assert re.search(r"ΔL становить [1-9]\d*(,\d+)? % роботи за цикл", text)
+
+
+def test_a_given_flywheel_with_no_shaft_inertia_is_not_said_to_be_sized():
+    """With the flywheel given (its inertia, no required δ), nothing is sized: J_e taken as zero
+    makes the coefficient of speed fluctuation an estimate on the safe side, not "the flywheel
+    is sized with a margin"."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {
+        "flywheel": {
+            "inertia": "0.2 kg*m^2",
+            "required_irregularity": None,
+            "engine_inertia": None,
+            "rim_mean_diameter": None,
+            "rim_density": None,
+        }
+    }
+    page = shared_html("inline4-petrol", changes, "uk", ("forces", "torque", "flywheel"))
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
+    assert "коефіцієнт нерівномірності обертання з заданим маховиком оцінено із запасом" in text
+    assert "маховик розраховано із запасом" not in text
