@@ -1288,3 +1288,13 @@ def test_a_radials_largest_tdc_shift_reads_the_same_in_text_note_and_table(repor
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
     shifts = re.findall(r"\(до ([\d,]+)°\)", text)
     assert len(shifts) >= 2 and set(shifts) == {printed}, shifts
+
+
+def test_a_multicylinder_positions_figure_says_whose_piston_its_positions_are(reports):
+    """The positions figure of a V8 marks the dead centres and extremes of cylinder 1Л's piston
+    (the other pistons stand elsewhere at those crank angles): the sentence before it says so;
+    a single cylinder's needs no name."""
+    v8 = as_read(re.sub(r"<[^>]+>", "", reports("v8-petrol")))
+    assert "Механізм у характерних положеннях поршня циліндра 1Л (у його мертвих точках" in v8
+    single = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl")))
+    assert "Механізм у характерних положеннях (у мертвих точках" in single

@@ -279,12 +279,16 @@ def _positions_figures(ctx, positions, frames) -> Markup:
     sheets = md.positions_sheets(positions, frames)
     scale = scale_text(md.positions_scale(positions), t)
     last = len(sheets)
+    # several cylinders: the positions are those of the first one's piston (the others' pistons
+    # stand elsewhere at the same crank angle)
+    several = sum(1 for g in positions.guides if g.bore_m > 0) > 1
     parts = [
         ctx.figure(
             figure_memo.MemoFigure(md.positions_figure, positions, sheets[0]),
             t("drawing.positions_caption", scale=scale),
             "positions",
-            see="drawing.see_positions",
+            see="drawing.see_positions_first" if several else "drawing.see_positions",
+            see_params={"first": _first_cylinder(positions)} if several else None,
         )
     ]
     for k, sheet in enumerate(sheets[1:], start=2):
