@@ -496,3 +496,17 @@ def test_the_offsets_stroke_and_tdc_angle_read_the_same_wherever_printed(languag
         bdc = f"{r[key]:.3f}".replace(".", comma)
         bdc_prints = re.findall(rf"(?<![\d{comma}])({whole}(?:{comma}\d+)?)°", text)
         assert bdc_prints and set(bdc_prints) == {bdc}, (key, bdc_prints)
+
+
+def test_a_negative_offsets_tdc_is_said_to_lie_before_the_axis():
+    """An offset to the other side (e < 0, as a compressor's) puts TDC before the cylinder axis:
+    the conclusion said "ВМТ розташована на −2,562° за віссю циліндра" (a double negative)."""
+    import re
+
+    from conftest import shared_html
+
+    page = shared_html("offset-crank-engine", {"mechanism": {"offset": "-8 mm"}}, "uk")
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
+    assert "ВМТ розташована на 2,562° перед віссю циліндра (проти напрямку обертання)" in text
+    assert "−2,562° за віссю" not in text
+    assert "відхиленої від осі циліндра на φВМТ = −2,562° у напрямку обертання" in text

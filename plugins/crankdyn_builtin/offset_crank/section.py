@@ -78,11 +78,13 @@ def render(output: StageOutput, ctx) -> str:
         see="offset_crank.see_rod_figure",
     )
 
+    # TDC past the axis in the sense of rotation, or (a negative offset) before it
+    before = r["tdc_crank_angle_from_axis_deg"] < 0
     ctx.conclude(
         t(
-            "offset_crank.conclusion",
+            "offset_crank.conclusion" + ("_before" if before else ""),
             e=ctx.t.number_g(r["offset_m"] * 1e3, 4),
-            tdc=angle_text(t, r["tdc_crank_angle_from_axis_deg"]),
+            tdc=angle_text(t, abs(r["tdc_crank_angle_from_axis_deg"])),
             bdc=angle_text(t, r["bdc_crank_angle_deg"]),
             stroke=t.number_g(r["stroke_m"] * 1e3, STROKE_DIGITS),
             excess=ctx.num(r["stroke_excess_m"] * 1e3, 3),
