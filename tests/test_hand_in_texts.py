@@ -1298,3 +1298,14 @@ def test_a_multicylinder_positions_figure_says_whose_piston_its_positions_are(re
     assert "Механізм у характерних положеннях поршня циліндра 1Л (у його мертвих точках" in v8
     single = as_read(re.sub(r"<[^>]+>", "", reports("petrol-1cyl")))
     assert "Механізм у характерних положеннях (у мертвих точках" in single
+
+
+def test_a_given_indicator_diagram_is_named_by_what_it_is_not_by_its_file():
+    """A course note names no file: the given data said "Файл індикаторної діаграми |
+    diesel6-1600rpm.ind" and the method note "з файлу diesel6-1600rpm.ind"."""
+    from conftest import shared_html
+
+    html = shared_html("inline6-diesel-trace", language="uk").linked_html
+    text = as_read(re.sub(r"<[^>]+>", " ", html))
+    assert re.search(r"Індикаторна діаграма\s+задана розрахунком у програмі Diesel-RK", text)
+    assert "diesel6-1600rpm" not in text and "Файл" not in text

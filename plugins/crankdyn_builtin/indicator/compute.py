@@ -102,7 +102,7 @@ def run(
     if scene.cycle.source == "trace":
         pressure, volume = _trace_pressure(scene, motion, area, swept)
         table.update({"cylinder_volume_m3": volume, "pressure_Pa": pressure})
-        notes.append(("indicator.note_trace", {"file": scene.cycle.trace_file}))
+        notes.append(("indicator.note_trace", {}))
         # a measured trace has no end of compression to read off (combustion starts before TDC):
         # the result is stated as not given, so the answer key leaves its cell empty knowingly
         results["compression_end_pressure_Pa"] = None
