@@ -8,7 +8,14 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.report import figure_memo
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
-from crankdyn.report.worked import WorkedBlock, WorkedStep, printed, worked_markup, worked_row
+from crankdyn.report.worked import (
+    WorkedBlock,
+    WorkedStep,
+    printed,
+    snapped,
+    worked_markup,
+    worked_row,
+)
 
 from .compute import TWO_TERM_DIGITS
 from .figures import _piston_figure, _rod_cm_figure, _rod_figure
@@ -95,7 +102,7 @@ def _worked(ctx, rows, labels, r):
     r_txt, r_m = printed(t, r["crank_radius_m"])
     l_txt, lam = printed(t, r["rod_ratio"])
     w_txt, omega = printed(t, r["angular_velocity_rad_s"], 5)
-    b_txt, beta = printed(t, float(row["rod_angle_deg"]))
+    b_txt, beta = printed(t, snapped(float(row["rod_angle_deg"]), 90.0))
     inputs = {"R_m": r_m, "lambda": lam, "omega": omega, "alpha_deg": alpha, "beta_deg": beta}
     steps = [
         WorkedStep(

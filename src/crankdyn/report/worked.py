@@ -62,8 +62,22 @@ class WorkedBlock:
 
 
 def worked_row(labels: Sequence[float], wanted_deg: float) -> int:
-    """Index of the printed table row nearest ``wanted_deg`` (the first of equals)."""
-    return int(np.argmin(np.abs(np.asarray(labels, dtype=float) - wanted_deg)))
+    """Index of the printed table row nearest ``wanted_deg`` (the first of equals). An angle
+    beyond the table's span is taken at the same point of its period, whole turns (360° for a
+    table of one turn, 720° for a four-stroke cycle's): 390° in a table of 0…360° is its 30°,
+    not its nearest row, 360°."""
+    angles = np.asarray(labels, dtype=float)
+    low, high = float(angles.min()), float(angles.max())
+    if not low <= wanted_deg <= high:
+        period = 360.0 * max(1.0, np.ceil((high - low) / 360.0 - 1e-9))
+        wanted_deg = low + (wanted_deg - low) % period
+    return int(np.argmin(np.abs(angles - wanted_deg)))
+
+
+def snapped(value: float, scale: float) -> float:
+    """``value``, or 0 where it is rounding noise next to ``scale`` (below 10⁻⁹ of it): a rod
+    angle of 10⁻¹⁵° at a dead centre is substituted as the 0° it is, not as "−3,852·10⁻¹⁵"."""
+    return 0.0 if abs(value) < 1e-9 * abs(scale) else value
 
 
 def printed(t, value: float, significant: int = 4) -> tuple[str, float]:
