@@ -140,11 +140,13 @@ def _modes_plot(node_count, modes, labels, t):
 def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     """The periodic state: the flywheel's and the first crank's speed against the rigid shaft's, and the
     torque in every span, over the shaft angle."""
+    # a run that did not settle shows its last cycle: said so, not called the steady state
+    last = "" if torsion["steady_state"]["converged"] else "_last"
     parts["figure_torsion"] = ctx.figure(
         partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
-        ctx.t("speed_fluctuation.torsion_caption"),
+        ctx.t("speed_fluctuation.torsion_caption" + last),
         "torsion",
-        see="speed_fluctuation.see_torsion",
+        see="speed_fluctuation.see_torsion" + last,
     )
 
 

@@ -140,6 +140,8 @@ def _torsion_parts(ctx, output: StageOutput, torsion, course: bool = False) -> d
             "speed_fluctuation.see_torsion_figure",
         )
     conclusion = "speed_fluctuation.conclusion_torsion" + ("_course" if course else "")
+    if not torsion["steady_state"]["converged"]:  # the last cycle's values: estimates only
+        conclusion = "speed_fluctuation.conclusion_torsion_last"
     ctx.conclude(
         t(
             conclusion,
