@@ -13,7 +13,7 @@ from conftest import as_read, shared_html
 #: A two-stroke's gas exchange, per language.
 SCAVENGING = {"en": "scavenging", "uk": "продування", "ru": "продувк"}
 PUMPING_ALREADY = {
-    "en": "already takes off the pumping strokes",
+    "en": "already includes the pumping strokes",
     "uk": "насосні ходи в ній уже враховано",
     "ru": "насосные ходы в ней уже учтены",
 }

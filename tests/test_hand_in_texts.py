@@ -1309,3 +1309,30 @@ def test_a_given_indicator_diagram_is_named_by_what_it_is_not_by_its_file():
     text = as_read(re.sub(r"<[^>]+>", " ", html))
     assert re.search(r"Індикаторна діаграма\s+задана розрахунком у програмі Diesel-RK", text)
     assert "diesel6-1600rpm" not in text and "Файл" not in text
+
+
+def test_a_boosted_engines_pumping_work_is_called_a_gain():
+    """With the intake (0,2 MPa) above the exhaust pressure (0,16 MPa) the pumping strokes' work
+    is positive: the note called it the pumping losses counted among the mechanical ones."""
+    from conftest import shared_html, shared_run
+
+    boost = {
+        "cycle": {
+            "intake_pressure": "0.2 MPa",
+            "exhaust_pressure": "0.16 MPa",
+            "max_pressure": "14 MPa",
+        }
+    }
+    stages = ("kinematics", "indicator")
+    assert (
+        shared_run("diesel-1cyl", boost, stages).outputs["indicator"].results["pumping_work_J"] > 0
+    )
+    text = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("diesel-1cyl", boost, "uk", stages).linked_html)
+    )
+    assert "тож ця робота додатна – виграш, а не втрата" in text
+    assert "насосні втрати в ньому віднесено до механічних" not in text
+    usual = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("diesel-1cyl", None, "uk", stages).linked_html)
+    )
+    assert "насосні втрати в ньому віднесено до механічних" in usual

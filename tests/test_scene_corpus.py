@@ -152,7 +152,7 @@ BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравно�
 #: them), its constant-pressure exhaust and intake lines, its valve timing.
 FOUR_STROKE_ONLY = {
     "en": (
-        r"already takes off the pumping strokes",
+        r"already includes the pumping strokes",
         r"without the pumping strokes",
         r"exhaust and intake lines at constant",
         r"intake valve timing",
