@@ -375,7 +375,7 @@ def test_the_reduced_inertia_is_written_for_the_engines_cylinders_and_cranks(
     [
         ("ru", "крутящий момент двигателя", ("одного колена составляет", "Суммарный индикаторный")),
         ("uk", "крутний момент двигуна", ("одного коліна становить", "Сумарний індикаторний")),
-        ("en", "torque of the engine", ("torque of one crank", "The output torque varies")),
+        ("en", "torque of the engine", ("torque of one crank", "The indicated torque varies")),
     ],
 )
 def test_a_single_cylinders_torque_is_the_engines(language, engines, crank):

@@ -237,7 +237,7 @@ def test_balancing_needs_no_cycle():
         [c["mass_kg"] for c in full["counterweights"]], rel=1e-12
     )
     assert ("balancing.note_no_torque", {}) in result.outputs["balancing"].notes
-    assert "no output torque" in html
+    assert "no indicated torque" in html
 
 
 def course_html(name: str) -> str:

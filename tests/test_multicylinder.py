@@ -284,7 +284,7 @@ def test_diesel_rk_six_cylinder_acceptance():
     assert abs(torque["mean_Nm"] / (work_one * 6 / (4 * math.pi)) - 1) < 0.002
     assert torque["period_deg"] == 120.0
     html = shared_html("inline6-diesel-trace", language="en").linked_html
-    assert "Mean output torque" in html and 'data-stage="torque"' in html
+    assert "Mean indicated torque" in html and 'data-stage="torque"' in html
 
 
 @pytest.mark.parametrize("name", MULTI)
