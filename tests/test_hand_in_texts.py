@@ -1336,3 +1336,16 @@ def test_a_boosted_engines_pumping_work_is_called_a_gain():
         re.sub(r"<[^>]+>", "", shared_html("diesel-1cyl", None, "uk", stages).linked_html)
     )
     assert "насосні втрати в ньому віднесено до механічних" in usual
+
+
+def test_an_aircraft_engines_left_out_torsion_has_a_reason_that_covers_it(reports):
+    """"Не розраховано маховик, нерівномірність обертання і крутильні коливання: авіаційний
+    двигун не має маховика" gave no reason for the torsion and the speed's fluctuation, which a
+    propeller's inertia would allow: the reason says that the assignment gives none."""
+    text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
+    assert re.search(
+        r"У записці не розраховано маховик, [^:]*крутильні коливання: авіаційний двигун не має "
+        r"маховика \(його роль виконує повітряний гвинт\), а момент інерції гвинта в завданні "
+        r"не вказано\.",
+        text,
+    )
