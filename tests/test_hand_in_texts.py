@@ -1339,7 +1339,7 @@ def test_a_boosted_engines_pumping_work_is_called_a_gain():
 
 
 def test_an_aircraft_engines_left_out_torsion_has_a_reason_that_covers_it(reports):
-    """"Не розраховано маховик, нерівномірність обертання і крутильні коливання: авіаційний
+    """ "Не розраховано маховик, нерівномірність обертання і крутильні коливання: авіаційний
     двигун не має маховика" gave no reason for the torsion and the speed's fluctuation, which a
     propeller's inertia would allow: the reason says that the assignment gives none."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
@@ -1349,3 +1349,21 @@ def test_an_aircraft_engines_left_out_torsion_has_a_reason_that_covers_it(report
         r"не вказано\.",
         text,
     )
+
+
+def test_the_fullness_remark_names_the_excess_work_only_with_a_flywheel_section():
+    """A V8 note without a flywheel section said that "the excess work" comes out larger, a
+    quantity it never computes; with a flywheel it is said."""
+    from conftest import shared_html
+
+    stages = ("kinematics", "indicator", "forces", "bays", "torque", "flywheel")
+    plain = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "en", stages).linked_html)
+    )
+    assert "so the mean indicated pressure and the mean torque come out up to" in plain
+    assert "excess work come out" not in plain
+    flywheel = {"flywheel": {"required_irregularity": 0.01}}
+    sized = as_read(
+        re.sub(r"<[^>]+>", "", shared_html("v8-petrol", flywheel, "en", stages).linked_html)
+    )
+    assert "the mean torque and the excess work come out up to" in sized

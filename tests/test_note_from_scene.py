@@ -179,11 +179,14 @@ def test_a_figure_over_several_pages_is_continued_in_the_middle_and_concluded_at
             return key
 
         @staticmethod
-        def figure(draw, caption, name, see):
+        def figure(draw, caption, name, see, see_params=None):
             shown.append((caption, see))
             return name
 
-    section._positions_figures(Context(), None, None)
+    from types import SimpleNamespace
+
+    one_cylinder = SimpleNamespace(guides=[SimpleNamespace(bore_m=0.08)])
+    section._positions_figures(Context(), one_cylinder, None)
     assert shown == [
         ("drawing.positions_caption", "drawing.see_positions"),
         ("drawing.positions_caption_middle", "drawing.see_positions_middle"),

@@ -6,6 +6,7 @@ from functools import partial
 
 import numpy as np
 
+from crankdyn.plugin.contracts import FLYWHEEL
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn_builtin.indicator.worked import worked_indicator
@@ -231,6 +232,8 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/indicator.html.j2",
         r=r,
+        # the excess work is the flywheel section's: named only where there is one
+        excess_work=ctx.data(FLYWHEEL) is not None,
         figure_pv=figure_pv,
         figure_pa=figure_pa,
         diesel=diesel,
