@@ -83,7 +83,8 @@ def _harmonics_table(ctx, torsion, parts) -> None:
     shown = torsion["modes"][:2]
     parts["table_harmonics"] = ctx.table(
         [
-            (Markup("<i>ν</i>"), [ctx.num(h["order"], 3) for h in harmonics], None),
+            # orders are halves and wholes: "0,5", "1", "4,5", "10" (not "0,500", "10,0")
+            (Markup("<i>ν</i>"), [ctx.t.number_g(h["order"], 4) for h in harmonics], None),
             (
                 Markup("|<i>M</i><sub><i>ν</i></sub>|, ") + t("unit.Nm"),
                 [h["amplitude_Nm"] for h in harmonics],
@@ -171,7 +172,7 @@ def _campbell(ctx, torsion, parts) -> None:
             t(
                 "speed_fluctuation.critical_item",
                 mode=c["mode"],
-                order=ctx.num(c["order"], 3),
+                order=ctx.t.number_g(c["order"], 4),
                 rpm=ctx.num(c["critical_rpm"], 4),
                 deviation=ctx.num(c["deviation_percent"], 2),
                 vector=ctx.num(c["vector_sum"], 2),

@@ -1,4 +1,4 @@
-"""A driven machine's (a compressor's) excess work is a share of the work it takes in per cycle."""
+"""A driven machine's (a compressor's) and a given flywheel's flywheel section."""
 
 from __future__ import annotations
 
@@ -108,26 +108,3 @@ def test_a_given_flywheel_with_no_shaft_inertia_is_not_said_to_be_sized():
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
     assert "коефіцієнт нерівномірності обертання з заданим маховиком оцінено із запасом" in text
     assert "маховик розраховано із запасом" not in text
-
-
-def test_a_torsional_run_that_did_not_settle_is_not_called_the_steady_state():
-    """A torsional model that did not settle within its cycles shows its last cycle: its figure
-    was captioned "в установившемся режиме" and the conclusions quoted its twist and torque as
-    results; they are said to be the last cycle's estimates."""
-    import re
-
-    from conftest import shared_html, shared_run
-
-    changes = {"torsion": {"max_cycles": 1}}
-    torsion = shared_run("inline4-torsion", changes).outputs["speed_fluctuation"].results
-    assert not torsion["torsion"]["steady_state"]["converged"]
-    page = shared_html("inline4-torsion", changes, "ru")
-    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
-    assert "Крутильная модель в установившемся режиме" not in text
-    assert (
-        "Крутильная модель за последний рассчитанный цикл (установившийся режим не достигнут)"
-        in text
-    )
-    assert (
-        "Интегрирование не вышло на установившийся режим, поэтому наибольшее закручивание" in text
-    )

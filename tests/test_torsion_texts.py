@@ -1,0 +1,42 @@
+"""The torsional vibration section's words: what a run that did not settle shows, how orders
+print."""
+
+from __future__ import annotations
+
+
+def test_a_torsional_run_that_did_not_settle_is_not_called_the_steady_state():
+    """A torsional model that did not settle within its cycles shows its last cycle: its figure
+    was captioned "в установившемся режиме" and the conclusions quoted its twist and torque as
+    results; they are said to be the last cycle's estimates."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    changes = {"torsion": {"max_cycles": 1}}
+    torsion = shared_run("inline4-torsion", changes).outputs["speed_fluctuation"].results
+    assert not torsion["torsion"]["steady_state"]["converged"]
+    page = shared_html("inline4-torsion", changes, "ru")
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
+    assert "Крутильная модель в установившемся режиме" not in text
+    assert (
+        "Крутильная модель за последний рассчитанный цикл (установившийся режим не достигнут)"
+        in text
+    )
+    assert (
+        "Интегрирование не вышло на установившийся режим, поэтому наибольшее закручивание" in text
+    )
+
+
+def test_harmonic_orders_are_printed_as_the_halves_and_wholes_they_are():
+    """A four-stroke crank's torque has orders 0,5, 1, 1,5 …: the table printed "0,500", "1,00",
+    "10,0" and the text "above order 15,5" as "15,5" only by chance of its digits."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("inline4-torsion", None, "ru").linked_html
+    head = html.index("Порядки гармоник момента колена, критические частоты")
+    table = html[head : html.index("</table>", head)]
+    orders = re.findall(r"<tr[^>]*><td[^>]*>([^<]+)</td>", table)
+    assert orders[:4] == ["0,5", "1", "1,5", "2"], orders[:6]
+    assert "1,00" not in orders and "0,500" not in orders
