@@ -311,7 +311,13 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     )
     forces = any(item["quantity"].startswith("sum_") for item in negligible)
     kind = "_forces_moments" if forces and moments else ("_moments" if moments else "_forces")
-    what = t("balancing.negligible" + kind)
+    # named by their orders ("сили шостого порядку"), unless the centrifugal forces are among them
+    orders = sorted({item["order"] for item in negligible})
+    what = (
+        t(f"balancing.negligible{kind}_of", orders=orders_in_words(t, orders), count=len(orders))
+        if orders and min(orders) >= 1
+        else t("balancing.negligible" + kind)
+    )
     ctx.conclude(
         t(
             "balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
