@@ -428,3 +428,21 @@ def test_given_values_stand_in_the_task_data_and_values_taken_among_those_taken(
     assert "Диаметр шатунной шейки 48 мм" in given and "Диаметр шатунной шейки" not in taken
     width = f"{sizes['crank_pin_width_m'] * 1e3:.4g}".replace(".", ",")
     assert f"Длина шатунной шейки {width} мм" in taken and "Длина шатунной шейки" not in given
+
+
+def test_a_centrifugally_loaded_journal_over_its_pressure_gets_counterweights_first():
+    """The in-line four's journal 2–3, loaded chiefly by its cranks' centrifugal forces, exceeds
+    the allowable mean pressure: the conclusion asked only for a larger journal (a V12's needed a
+    width that left no room for its webs); counterweights come first, the d·B without them."""
+    text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
+    assert (
+        "нагрузка главным образом центробежная, поэтому прежде всего следует установить "
+        "противовесы на щеки у этой шейки; без них ей нужна площадь проекции d · B ≥"
+    ) in text
+    assert (
+        "коренную шейку нагружают главным образом центробежные силы соседних колен, которые "
+        "сняли бы противовесы на прилегающих щеках; без противовесов площадь проекции коренной "
+        "шейки следовало бы увеличить"
+    ) in text
+    counterweights = shared_html("inline3-petrol", None, "ru").linked_html
+    assert "прежде всего следует установить противовесы" not in _text(counterweights)

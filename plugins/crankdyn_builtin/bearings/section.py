@@ -170,11 +170,20 @@ def _main_pressure(ctx, r) -> str:
         else ""
     )
     return prefix + ctx.t(
-        "bearings.main_pressure_above",
+        "bearings.main_pressure_above" + _centrifugal_suffix(r, verdict),
         **params,
         diameter=ctx.t.number_g(diameter_m * 1e3, 4),
         width_needed=ctx.num(verdict["area_needed_m2"] / diameter_m * 1e3),
     )
+
+
+def _centrifugal_suffix(r, verdict: dict) -> str:
+    """"_centrifugal" where the journal of the largest mean pressure is loaded chiefly by the
+    neighbouring cranks' centrifugal forces (:func:`centrifugal_journal`): counterweights, which
+    would take that load off, are the remedy before a larger journal (a V12's journal needed a
+    width that left no room for its webs)."""
+    loaded = centrifugal_journal(r)
+    return "_centrifugal" if loaded is not None and loaded is verdict["mean_journal"] else ""
 
 
 def _pressure_conclusion(ctx, r) -> str:
@@ -199,7 +208,7 @@ def _pressure_conclusion(ctx, r) -> str:
         )
     verdict = main_pressure_verdict(ctx.scene, r)
     if verdict is not None:
-        key = "above" if verdict["exceeded"] else "within"
+        key = "above" + _centrifugal_suffix(r, verdict) if verdict["exceeded"] else "within"
         sentences.append(
             t(
                 f"bearings.conclusion_main_pressure_{key}",
