@@ -197,7 +197,7 @@ def test_report_has_scheme_positions_and_animation(example):
         0 if example == "radial9-aircraft" else 45
     )  # a master rod's knuckle pins clear of the shaft at TDC
     assert re.search(
-        rf"Kinematic scheme of the mechanism at α = {angle}° \(scale (1:[0-9.]+|[0-9.]+:1)\)", html
+        rf"Kinematic diagram of the mechanism at α = {angle}° \(scale (1:[0-9.]+|[0-9.]+:1)\)", html
     )
     assert "The mechanism at its characteristic positions" in html
     assert html.count('<img alt="') >= 2  # the scheme and the positions figure (static: they print)
@@ -219,7 +219,7 @@ def test_drawing_texts_are_translated(language, title):
     html = _html("v8-petrol", language)
     assert title in html
     for english in (
-        "Kinematic scheme",
+        "Kinematic diagram",
         "characteristic positions",
         "Firing order",
         "Crank star",
