@@ -30,3 +30,15 @@ def test_performed_by_follows_the_students_gender(tmp_path, language, gender, ex
     api.run(data).write(tmp_path, formats=["html"])
     html = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert all(words in html for words in expected) and absent not in html
+
+
+def test_the_english_title_page_says_prepared_by_a_student_of_the_group():
+    """"Performed by: student of group" is a calque of «Виконав: студент групи»."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("petrol-1cyl", {"report": {"group": "ME-31"}}, "en", ("kinematics",))
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html.linked_html))
+    assert "Prepared by: student, group ME-31" in text
+    assert "Performed by" not in text
