@@ -20,6 +20,16 @@ def templates_dir() -> Path:
     return Path(str(resources.files("crankdyn.templates")))
 
 
+#: The page's ``lang`` by report language, where it is not the code itself: an English note is
+#: hyphenated with the US patterns (the British ones part "journ-als", "pos-it-ive").
+HTML_LANGUAGES = {"en": "en-US"}
+
+
+def html_language(language: str) -> str:
+    """The report's ``<html lang>``: the language whose hyphenation the printed page uses."""
+    return HTML_LANGUAGES.get(language, language)
+
+
 def report_css(language: str, frame: str = "none") -> str:
     """The page frame (report.css), a language's own print rules where its standard differs
     (report.ru.css) and, with ``[report] frame = "eskd"``, the sheet frame (frame-eskd.css)."""

@@ -23,7 +23,7 @@ from ..plugin.registry import Registry
 from ..plugin.scene_inputs import engine_layout, rounding_parameters
 from ..plugin.types import Digits
 from ..version import __version__
-from .assets import report_css
+from .assets import html_language, report_css
 from .context import FigureFile, RenderContext, inline_figures, template_search_path
 from .equation_legend import add_equation_legends, line_unit, symbol_meaning
 from .frame import frame_html
@@ -656,6 +656,7 @@ def _page_html(result, registry, ctx, parts: _NoteParts, language: str) -> str:
         numerics_number=(appendix_letter(t, 0) if course else "") or len(sections) + 1,
         references=references,
         css=Markup(report_css(language, scene.report.frame)),
+        html_lang=html_language(language),
         standard_refs=[cite([references.index(key) + 1]) for key in t("doc.standards").split()],
         extremum_rtol=ctx.num(EXTREMUM_RTOL, 1),
         appendix_letter=lambda i: appendix_letter(t, i),

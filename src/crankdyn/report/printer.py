@@ -29,7 +29,7 @@ from collections.abc import Sequence
 
 from ..parallel.fork import stop_child
 from . import figure_forms
-from .assets import report_css
+from .assets import html_language, report_css
 from .weasy import load_weasyprint
 
 #: The printer of this process: (its pid, its socket, the pid that started it) or None.
@@ -149,7 +149,7 @@ def _warm_up(language: str, frame: str) -> None:
     from .pdf import html_to_pdf  # lazy: heavy optional import (weasyprint)
 
     html_to_pdf(
-        f'<html lang="{language}"><head><style>{report_css(language, frame)}</style></head>'
+        f'<html lang="{html_language(language)}"><head><style>{report_css(language, frame)}</style></head>'
         f"<body>{_WARM_UP_BODY}</body></html>"
     )
 
