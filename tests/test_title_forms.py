@@ -33,7 +33,7 @@ def test_performed_by_follows_the_students_gender(tmp_path, language, gender, ex
 
 
 def test_the_english_title_page_says_prepared_by_a_student_of_the_group():
-    """"Performed by: student of group" is a calque of «Виконав: студент групи»."""
+    """ "Performed by: student of group" is a calque of «Виконав: студент групи»."""
     import re
 
     from conftest import shared_html

@@ -178,7 +178,7 @@ def _main_pressure(ctx, r) -> str:
 
 
 def _centrifugal_suffix(r, verdict: dict) -> str:
-    """"_centrifugal" where the journal of the largest mean pressure is loaded chiefly by the
+    """ "_centrifugal" where the journal of the largest mean pressure is loaded chiefly by the
     neighbouring cranks' centrifugal forces (:func:`centrifugal_journal`): counterweights, which
     would take that load off, are the remedy before a larger journal (a V12's journal needed a
     width that left no room for its webs)."""
