@@ -108,3 +108,18 @@ def test_a_given_flywheel_with_no_shaft_inertia_is_not_said_to_be_sized():
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
     assert "коефіцієнт нерівномірності обертання з заданим маховиком оцінено із запасом" in text
     assert "маховик розраховано із запасом" not in text
+
+
+def test_a_one_crank_shafts_own_inertia_is_without_its_cranks_mass():
+    """A radial's shaft has one crank: its flywheel section, table and list of symbols said
+    "без масс колен" and "на щеках колен"; an in-line four keeps the plural."""
+    import re
+
+    from conftest import shared_html
+
+    radial = shared_html("radial9-aircraft", {"flywheel": {"inertia": "3.2 kg*m^2"}}, "ru")
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", radial.linked_html))
+    assert "без массы колена" in text and "без масс колен" not in text
+    assert "на щеках колена" in text and "на щеках колен " not in text
+    four = shared_html("inline4-petrol", None, "ru")
+    assert "без масс колен" in re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", four.linked_html))

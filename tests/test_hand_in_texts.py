@@ -611,7 +611,7 @@ def test_a_single_cylinder_has_no_most_loaded_pin_and_its_equal_journals_are_sai
     text = as_read(re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ").replace("\u00a0", " ")
     assert "найбільш навантаженої шатунної шийки" not in text
     assert "Найбільший тиск на підшипник шатунної шийки – найбільша сила" in text
-    assert "(0–1; усі корінні шийки навантажені однаково)" in text
+    assert "(0–1; обидві корінні шийки навантажені однаково)" in text  # two: "both", not "all"
     assert "Найбільш навантажена корінна шийка" not in text
     journals = re.search(
         r"<caption>Таблиця (\d+\.\d+) – Навантаження на корінні.*?<tbody>(.*?)</tbody>",

@@ -6,6 +6,7 @@ from functools import partial
 
 from markupsafe import Markup
 
+from crankdyn.errors import SceneError
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.typeset import symbol_html
@@ -28,7 +29,8 @@ def render(output: StageOutput, ctx) -> str:
         see="flywheel.see_work",
     )
     rim = r["rim"]
-    rows = _energy_rows(r, t, ctx.symbols) + _rim_rows(rim, t)
+    cranks = _cranks(ctx.scene)
+    rows = _energy_rows(r, t, ctx.symbols, cranks) + _rim_rows(rim, t)
     table = ctx.table(
         [
             (t("input.quantity"), [x[0] for x in rows], None),
@@ -62,6 +64,8 @@ def render(output: StageOutput, ctx) -> str:
         r=r,
         cylinders=ctx.scene.engine.cylinders,
         cranks=engine_layout(ctx.scene).cranks,
+        # a shaft of one crank: "its crank's mass", "the crank's webs" (catalog keys "…_one_crank")
+        crank_key=lambda key: crank_key(t, key, cranks),
         rim=rim,
         figure_work=figure_work,
         table=table,
@@ -74,9 +78,9 @@ def render(output: StageOutput, ctx) -> str:
     )
 
 
-def _energy_rows(r: dict, t, symbols) -> list[tuple]:
+def _energy_rows(r: dict, t, symbols, cranks: int | None) -> list[tuple]:
     """The table's rows of the energy method: ΔL, the inertias, [δ], J_0, the flywheel, δ
-    (``symbols``: the report's symbol table)."""
+    (``symbols``: the report's symbol table; ``cranks``: the shaft's, for its own inertia's words)."""
     rows = [
         (t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
         (
@@ -86,7 +90,7 @@ def _energy_rows(r: dict, t, symbols) -> list[tuple]:
             t("flywheel.unit_kg_m2"),
         ),
         (
-            t("flywheel.row_engine"),
+            t(crank_key(t, "flywheel.row_engine", cranks)),
             "<i>J</i><sub>e</sub>",
             r["engine_inertia_kg_m2"],
             t("flywheel.unit_kg_m2"),
@@ -299,7 +303,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             (t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia)
         )
     if "engine_inertia" in opts.model_fields_set:
-        rows.append(_engine_inertia_row(opts, t))
+        rows.append(_engine_inertia_row(opts, t, _cranks(scene)))
     if opts.rim_mean_diameter is not None:
         rows.append(
             (
@@ -333,15 +337,21 @@ def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     opts = options(scene, "flywheel", FlywheelOptions)
     rows = []
     if "engine_inertia" not in opts.model_fields_set:
-        rows.append(_engine_inertia_row(opts, ctx.t))
+        rows.append(_engine_inertia_row(opts, ctx.t, _cranks(scene)))
     if "rim_density" not in opts.model_fields_set and opts.rim_mean_diameter is not None:
         rows.append(_rim_density_row(opts, ctx.t))
     return rows
 
 
-def _engine_inertia_row(opts: FlywheelOptions, t) -> tuple[str, str, str, str]:
+def crank_key(t, key: str, cranks: int | None) -> str:
+    """``key``, or its ``_one_crank`` form where the shaft has one crank and the catalog gives it."""
+    one = f"{key}_one_crank"
+    return one if cranks == 1 and t.has(one) else key
+
+
+def _engine_inertia_row(opts: FlywheelOptions, t, cranks: int | None) -> tuple[str, str, str, str]:
     return (
-        t("flywheel.input_engine_inertia"),
+        t(crank_key(t, "flywheel.input_engine_inertia", cranks)),
         "<i>J</i><sub>e</sub>",
         t.number_g(opts.engine_inertia, 4),
         t("unit.kg_m2"),
@@ -364,3 +374,11 @@ def rim_material(density_kg_m3: float) -> str | None:
         if low <= density_kg_m3 <= high:
             return name
     return None
+
+
+def _cranks(scene) -> int | None:
+    """The engine's cranks (None for a layout the stages refuse: said there)."""
+    try:
+        return engine_layout(scene).cranks
+    except SceneError:
+        return None

@@ -458,13 +458,29 @@ def _input_view(result, registry, ctx) -> SectionView:
 
 def _meaning_forms(scene) -> tuple[str, ...]:
     """The forms of the symbols' meanings that fit ``scene``'s engine, first to try first
-    (:func:`crankdyn.report.equation_legend.symbol_meaning`): a one-cylinder engine's, a boxer's
-    (a the offset of opposed cylinders along the shaft), cylinders sharing pins (a one bank's)."""
+    (:func:`crankdyn.report.equation_legend.symbol_meaning`): a one-cylinder engine's, cylinders
+    sharing pins (a one bank's), a boxer's (a the offset of opposed cylinders along the shaft),
+    a shaft of one crank ("without its crank's mass", not "its cranks' masses")."""
+    forms = []
     if scene.engine.cylinders == 1:
-        return ("single",)
-    if _cylinders_share_pins(scene):
-        return ("bank",)
-    return ("boxer",) if scene.engine.layout == "boxer" else ()
+        forms.append("single")
+    elif _cylinders_share_pins(scene):
+        forms.append("bank")
+    elif scene.engine.layout == "boxer":
+        forms.append("boxer")
+    if _cranks(scene) == 1:
+        forms.append("one_crank")
+    return tuple(forms)
+
+
+def _cranks(scene) -> int | None:
+    """The number of the engine's cranks, or None for a layout the stages refuse too."""
+    if scene.engine.cylinders == 1:
+        return 1
+    try:
+        return engine_layout(scene).cranks
+    except SceneError:  # said where the stages refuse it
+        return None
 
 
 def _cylinders_share_pins(scene) -> bool:
