@@ -40,3 +40,32 @@ def test_harmonic_orders_are_printed_as_the_halves_and_wholes_they_are():
     orders = re.findall(r"<tr[^>]*><td[^>]*>([^<]+)</td>", table)
     assert orders[:4] == ["0,5", "1", "1,5", "2"], orders[:6]
     assert "1,00" not in orders and "0,500" not in orders
+
+
+def test_the_torsional_models_given_data_are_in_the_table_of_the_tasks_data():
+    """The spans' stiffnesses, the end discs and the damping of [torsion] first appeared in the
+    last chapter; the table of the task's data gives them with the rest."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("inline4-torsion", None, "uk").linked_html
+    head = html.index("Таблиця 1.1")
+    table = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html[head : html.index("</table>", head)]))
+    assert re.search(
+        r"Крутильна жорсткість ділянок вала між колінами c i [\d ,·⁰-⁹;]+ Н·м/⁠рад", table
+    )
+    assert "Відносне демпфування ζ 0,05" in table
+    assert "3,000·10⁶" not in table
+
+
+def test_a_given_rod_inertia_is_in_the_table_of_the_tasks_data():
+    import re
+
+    from conftest import shared_html
+
+    changes = {"masses": {"rod_moment_of_inertia": "0.0011 kg m^2"}}
+    html = shared_html("petrol-1cyl", changes, "uk").linked_html
+    head = html.index("Таблиця 1.1")
+    table = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html[head : html.index("</table>", head)]))
+    assert "Момент інерції шатуна відносно його центра мас I G 0,0011 кг·м²" in table

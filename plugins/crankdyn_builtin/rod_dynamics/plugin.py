@@ -15,7 +15,7 @@ from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
-from .section import SYMBOLS, render
+from .section import SYMBOLS, input_rows, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -36,6 +36,7 @@ ROD_DYNAMICS_STAGE = Stage(
         figures=("rod_motion", "rod_torque"),
         references=("poda2007",),
         symbols=SYMBOLS,
+        input_rows=input_rows,
     ),
 )
 

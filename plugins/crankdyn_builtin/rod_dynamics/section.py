@@ -6,6 +6,7 @@ from functools import partial
 
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
+from crankdyn.report.typeset import symbol_html
 from crankdyn_builtin.rod_dynamics.worked import worked_rod_dynamics
 
 from .figures import _motion_figure, _torque_figure
@@ -116,3 +117,20 @@ SYMBOLS = {
     "rod_inertia_torque_exact": Symbol("M", {"en": "exact", "uk": "точн", "ru": "точн"}, "unit.Nm"),
     "rod_inertia_torque_two_mass": Symbol("M", {"en": "2"}, "unit.Nm"),
 }
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The rod's moment of inertia about its centre of mass, where the assignment gives it: a
+    row of the table of the task's data (the section's dynamics start from it)."""
+    inertia = getattr(getattr(scene, "masses", None), "rod_moment_of_inertia", None)
+    if inertia is None:
+        return []
+    t = ctx.t
+    return [
+        (
+            t("rod_dynamics.input_moment_of_inertia"),
+            symbol_html("rod_dynamics.moment_of_inertia_G", t.language, ctx.symbols),
+            t.number_g(inertia, 4),
+            t("unit.kg_m2"),
+        )
+    ]

@@ -19,7 +19,7 @@ from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import applies, run
 from .options import TorsionOptions
-from .section import SYMBOLS, render
+from .section import SYMBOLS, input_rows, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -43,6 +43,7 @@ SPEED_FLUCTUATION_STAGE = Stage(
         references=("denhartog1956",),
         references_full=("hairer1996", "scipy2020"),
         symbols=SYMBOLS,
+        input_rows=input_rows,
     ),
 )
 

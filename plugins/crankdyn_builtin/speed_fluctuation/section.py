@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
+from crankdyn.report.typeset import symbol_html
+from crankdyn.scene import options
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
 from .figures import _error_figure, _speed_figure
+from .options import TorsionOptions
 from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
@@ -184,3 +187,56 @@ def _printed_difference_percent(r) -> float | None:
     if ode is None or not energy:
         return None
     return 100 * (float(f"{ode:.4g}") / float(f"{energy:.4g}") - 1)
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [torsion] table's given data for the table of the task's data: the spans' stiffnesses,
+    the discs and couplings at the shaft's ends and the damping, where the assignment gives them
+    (a stage's data the note uses first in its last section are given with the rest)."""
+    if "torsion" not in scene.plugin_tables():
+        return []
+    opts = options(scene, "torsion", TorsionOptions)
+    t = ctx.t
+    stiffness, inertia = t("speed_fluctuation.unit_N_m_rad"), t("unit.kg_m2")
+    spans = opts.span_stiffness if isinstance(opts.span_stiffness, list) else [opts.span_stiffness]
+    rows = [
+        (
+            t("speed_fluctuation.input_span_stiffness"),
+            symbol_html("speed_fluctuation.span_stiffness", t.language, ctx.symbols),
+            "; ".join(_given(t, c) for c in spans),
+            stiffness,
+        )
+    ]
+    for key, unit in (
+        ("flywheel_stiffness", stiffness),
+        ("free_end_inertia", inertia),
+        ("free_end_stiffness", stiffness),
+        ("load_inertia", inertia),
+        ("coupling_stiffness", stiffness),
+    ):
+        value = getattr(opts, key)
+        if value is not None:
+            rows.append((t(f"speed_fluctuation.input_{key}"), "", _given(t, value), unit))
+    if "damping_ratio" in opts.model_fields_set:
+        rows.append(
+            (
+                t("speed_fluctuation.input_damping_ratio"),
+                symbol_html("speed_fluctuation.damping_ratio", t.language, ctx.symbols),
+                t.number_g(opts.damping_ratio, 4),
+                "",
+            )
+        )
+    return rows
+
+
+def _given(t, value: float) -> str:
+    """A given stiffness or inertia as the assignment states it: four digits at most, no padding
+    zeros, a power of ten for a large one ("4·10⁵" beside "1,6·10⁶", not "3,000·10⁶")."""
+    text = t.number_g(value, 4)
+    if "·10" not in text:
+        return text
+    mantissa, power = text.split("·10", 1)
+    separator = t.decimal_separator
+    if separator in mantissa:
+        mantissa = mantissa.rstrip("0").rstrip(separator)
+    return f"{mantissa}·10{power}"
