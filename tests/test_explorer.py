@@ -238,3 +238,19 @@ def test_an_uneven_twins_torque_conclusion_says_why_its_period_is_the_whole_cycl
     )
     even = shared_html("inline3-petrol", {"report": {"language": "ru"}}).linked_html
     assert "повторяется через" not in even
+
+
+def test_a_given_order_tied_with_the_first_is_said_to_balance_as_well():
+    """The in-line three's given 1-3-2 ranks second of two behind its mirror 1-2-3, with every
+    coefficient the same: "2-й із 2" alone read as the worse order."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    explorer = shared_run("inline3-petrol").outputs["balancing"].results["explorer"]
+    assert explorer["scene_rank"] == 2
+    assert explorer["scene"]["coefficients"] == pytest.approx(explorer["rows"][0]["coefficients"])
+    text = re.sub(
+        r"\s+", " ", re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "uk").linked_html)
+    )
+    assert "Порядок роботи із завдання – 2-й із 2, проте зрівноважений так само, як перший" in text

@@ -639,6 +639,7 @@ def render(output: StageOutput, ctx) -> str | None:
         summary_table=summary_table,
         means_table=means_table,
         explorer_table=explorer_table,
+        rank_tied=_rank_tied_with_first(r.get("explorer")),
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",
@@ -665,4 +666,17 @@ def render(output: StageOutput, ctx) -> str | None:
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
         else "",
+    )
+
+
+def _rank_tied_with_first(explorer) -> bool:
+    """Whether the assignment's firing order, ranked below the first, balances exactly as well
+    (the first's mirror order, 1-4-2-6-3-5 beside 1-5-3-6-2-4): "2nd of 120" alone reads worse."""
+    if not explorer or not explorer.get("scene") or not explorer.get("rows"):
+        return False
+    if explorer.get("scene_rank") in (None, 1):
+        return False
+    own, first = explorer["scene"]["coefficients"], explorer["rows"][0]["coefficients"]
+    return own.keys() == first.keys() and all(
+        abs(own[k] - first[k]) <= 1e-9 * max(1.0, abs(first[k])) for k in own
     )
