@@ -16,7 +16,8 @@ def test_an_angle_past_a_tables_span_is_taken_at_its_point_of_the_period():
     assert turn[worked_row(turn, 390.0)] == 30.0
     assert cycle[worked_row(cycle, 390.0)] == 390.0
     assert turn[worked_row(turn, -30.0)] == 330.0
-    assert turn[worked_row([float(a) for a in range(0, 331, 30)], 365.0)] == 0.0
+    open_turn = [float(a) for a in range(0, 331, 30)]  # a table of one turn without its 360° row
+    assert open_turn[worked_row(open_turn, 365.0)] == 0.0
     assert turn[worked_row(turn, 44.0)] == 30.0  # inside the span: the nearest row, as before
 
 

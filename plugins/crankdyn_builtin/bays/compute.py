@@ -364,8 +364,7 @@ def _true_intervals_note(scene, layout, tangential, slave_info) -> tuple[str, di
     period = lay.sampled_period_deg(
         tangential.sum(axis=0), scene.analysis.angle_step_deg, layout.cycle_deg
     )
-    # to the hundredth, as the section's table and text give it
-    shift = round(max(abs(x["tdc_shift_deg"]) for x in slave_info), 2)
+    shift = largest_tdc_shift(slave_info)
     if period >= layout.cycle_deg:
         return ("bays.note_true_intervals", {"shift": shift})
     return ("bays.note_true_intervals_period", {"shift": shift, "period": float(period)})
@@ -394,3 +393,9 @@ def _stroke_sequence(strokes: int, phases: list[dict]) -> dict | None:
         return None
     step, rows = sequence
     return {"step_deg": step, "rows": [[list(run) for run in runs] for runs in rows]}
+
+
+def largest_tdc_shift(slaves) -> float:
+    """The slaves' largest TDC shift from their bank angles (deg), to the hundredth, as the
+    slaves' table, the section's text and the method note give it."""
+    return round(max(abs(x["tdc_shift_deg"]) for x in slaves), 2)

@@ -15,7 +15,7 @@ from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, sample_rows
 from crankdyn.scene import options
 
-from .compute import ARTICULATED
+from .compute import ARTICULATED, largest_tdc_shift
 from .figures import bay_figure
 from .plan import PlanTexts, plan_figure
 
@@ -138,8 +138,7 @@ def _true_firing_text(r: dict, ctx) -> dict | None:
     steps = sorted({round(x, 6) for x in nominal})
     return {
         "nominal": "; ".join(ctx.t.number_g(x, 4) for x in steps),
-        # to the hundredth, as the slaves' table gives it (and the method note: bays.compute)
-        "shift": ctx.t.number_g(round(max(abs(s["tdc_shift_deg"]) for s in r["slaves"]), 2), 4),
+        "shift": ctx.t.number_g(largest_tdc_shift(r["slaves"]), 4),
     }
 
 

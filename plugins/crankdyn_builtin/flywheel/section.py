@@ -63,7 +63,7 @@ def render(output: StageOutput, ctx) -> str:
         "sections/flywheel.html.j2",
         r=r,
         cylinders=ctx.scene.engine.cylinders,
-        cranks=engine_layout(ctx.scene).cranks,
+        cranks=cranks,
         # a shaft of one crank: "its crank's mass", "the crank's webs" (catalog keys "…_one_crank")
         crank_key=lambda key: crank_key(t, key, cranks),
         rim=rim,
