@@ -76,3 +76,17 @@ def test_a_number_rounded_into_the_next_decade_keeps_its_significant_digits(valu
     assert t.number(value, 4) == shown
     digits = re.sub(r"\D", "", shown).lstrip("0")
     assert len(digits) == 4
+
+
+@pytest.mark.parametrize(
+    "value, significant, shown",
+    [
+        (3e6, 4, "3·10⁶"),  # a power of ten keeps no padding zeros either
+        (1.6e6, 4, "1,6·10⁶"),
+        (-2.5e-7, 6, "−2,5·10⁻⁷"),
+        (7.5, 6, "7,5"),
+        (180.0, 6, "180"),
+    ],
+)
+def test_a_number_like_percent_g_drops_its_padding_zeros(value, significant, shown):
+    assert translator("uk").number_g(value, significant) == shown

@@ -133,4 +133,4 @@ def test_an_in_line_sixs_balance_names_the_negligible_forces_it_leaves():
 
     html = shared_html("inline6-diesel-trace", None, "ru", ("balancing",)).linked_html
     text = re.sub(r"<[^>]+>", "", html)
-    assert "уравновешены схемой колен, кроме пренебрежимо малых ΣPVI" in text
+    assert "уравновешивает схема колен, кроме пренебрежимо малых ΣPVI" in text

@@ -318,7 +318,7 @@ def _catalog_texts(language: str) -> str:
 
 
 def test_a_note_says_what_an_engineer_writes():
-    """ "Средства уравновешивания не требуются", not "Уравновешивать ничего не нужно"; results
+    """ "средств уравновешивания не требуют", not "Уравновешивать ничего не нужно"; results
     "сопоставлены", not "сравнены"; a check whose forces and moments agree to rounding says it once;
     the rounding of the indicator diagram in an engineer's words, with its source; the time of the
     calculation in one clause against a coarser step."""
@@ -333,8 +333,8 @@ def test_a_note_says_what_an_engineer_writes():
     ru_html = shared_html("inline4-petrol", _SIX, language="ru").linked_html
     ru = _text(ru_html)
     uk = _text(shared_html("inline4-petrol", _SIX, language="uk").linked_html)
-    assert "Средства уравновешивания не требуются." in ru
-    assert "Засоби зрівноваження не потрібні." in uk
+    assert "Свободные силы и моменты двигателя средств уравновешивания не требуют:" in ru
+    assert "Вільні сили й моменти двигуна засобів зрівноваження не потребують:" in uk
     assert "силы и моменты совпадают с точностью до погрешности округления." in ru
     assert "практически нулевая для сил" not in ru and "практично нульова для сил" not in uk
     rounding = re.search(

@@ -203,7 +203,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
         (
             t("speed_fluctuation.input_span_stiffness"),
             symbol_html("speed_fluctuation.span_stiffness", t.language, ctx.symbols),
-            "; ".join(_given(t, c) for c in spans),
+            "; ".join(t.number_g(c, 4) for c in spans),
             stiffness,
         )
     ]
@@ -216,7 +216,7 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     ):
         value = getattr(opts, key)
         if value is not None:
-            rows.append((t(f"speed_fluctuation.input_{key}"), "", _given(t, value), unit))
+            rows.append((t(f"speed_fluctuation.input_{key}"), "", t.number_g(value, 4), unit))
     if "damping_ratio" in opts.model_fields_set:
         rows.append(
             (
@@ -227,16 +227,3 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             )
         )
     return rows
-
-
-def _given(t, value: float) -> str:
-    """A given stiffness or inertia as the assignment states it: four digits at most, no padding
-    zeros, a power of ten for a large one ("4·10⁵" beside "1,6·10⁶", not "3,000·10⁶")."""
-    text = t.number_g(value, 4)
-    if "·10" not in text:
-        return text
-    mantissa, power = text.split("·10", 1)
-    separator = t.decimal_separator
-    if separator in mantissa:
-        mantissa = mantissa.rstrip("0").rstrip(separator)
-    return f"{mantissa}·10{power}"

@@ -218,11 +218,13 @@ class Translator:
         return f"{self.fixed(float(mantissa), significant - 1)}·10{superscript(int(exponent))}"
 
     def number_g(self, value: float, significant: int = 6) -> str:
-        """Like ``%g``: no trailing zeros ("180", "7,5"), in the report's locale."""
+        """Like ``%g``: no trailing zeros ("180", "7,5", "3·10⁶"), in the report's locale."""
         text = self.number(value, significant)
-        if "·" not in text and self.decimal_separator_babel in text:
-            text = text.rstrip("0").rstrip(self.decimal_separator_babel)
-        return text
+        mantissa, times, power = text.partition("·")
+        separator = self.decimal_separator_babel
+        if separator in mantissa:
+            mantissa = mantissa.rstrip("0").rstrip(separator)
+        return mantissa + times + power
 
     def angle(self, angle_deg: float, step_deg: float | None = None) -> str:
         """A crank angle as printed: whole degrees as they are; an angle between whole degrees with
