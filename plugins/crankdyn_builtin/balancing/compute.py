@@ -89,10 +89,9 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> tuple[bal.Masses
     piston group and the slave rod's share) and rotating mass m_R per crank, kg (crank pin, webs
     and the rods' big-end shares: ``rotating_mass_per_crank_kg``); ``offset_ratio`` k = e/L of an
     offset crank-slider."""
-    e, m = scene.engine, scene.masses
+    e = scene.engine
     R, lam, w = e.crank_radius_m, e.rod_ratio_value, e.angular_velocity_rad_s
-    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
-    m_s, slave_kg = m.piston_group + rod_rec, None
+    m_s, slave_kg = _plain_reciprocating_kg(scene), None
     articulated = (
         options(scene, ARTICULATED, ArticulatedOptions)
         if scene.engine.rod_type == "articulated"
@@ -102,6 +101,14 @@ def inertia_masses(scene, layout, offset_ratio: float = 0.0) -> tuple[bal.Masses
         m_s, slave_kg = articulated_reciprocating_masses_kg(scene, layout, articulated, ARTICULATED)
     m_R = rotating_mass_per_crank_kg(scene, layout, articulated, ARTICULATED)
     return bal.Masses(m_s, m_R, R, lam, w, offset_ratio), slave_kg
+
+
+def _plain_reciprocating_kg(scene) -> float:
+    """The piston group with the rod's share at its pin, kg (the forces section's m_s; an
+    articulated master rod's without the slave rods' shares)."""
+    e, m = scene.engine, scene.masses
+    rod_rec, _ = phys.rod_mass_split_kg(m.rod, e.rod_length_m, scene.rod_cm_from_big_end_m)
+    return m.piston_group + float(rod_rec)
 
 
 def _articulated_cylinders(scene, layout, g, masses, slave_kg: float, n_max: int):
@@ -169,13 +176,17 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
     return {"offset_m": float(offset), "offset_given": given, "moments": moments}
 
 
-def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts) -> dict:
-    """Articulated rods: a slave cylinder's reciprocating mass, the largest |A_2| of a cylinder's
-    piston, what only the slave cylinders leave unbalanced (parts and whole orders) and the
-    parts only they give which the means balance."""
+def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts, scene) -> dict:
+    """Articulated rods: a slave cylinder's reciprocating mass, what the slave rods' shares add to
+    the master's, the largest |A_2| of a cylinder's piston, what only the slave cylinders leave
+    unbalanced (parts and whole orders) and the parts only they give which the means balance."""
     balanced = _slave_parts_balanced(g, opts, harmonics, left)
+    plain_kg = _plain_reciprocating_kg(scene)
     return {
         "slave_reciprocating_mass_kg": slave_kg,
+        "slave_pins_master_share_kg": (
+            None if slave_kg is None else masses.reciprocating_kg - plain_kg
+        ),
         "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
         "parts_left": _parts_left_results(g, masses, harmonics, left, spacing_m),
         "orders_left_for_masses": dropped,
@@ -386,8 +397,9 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
-        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts),
+        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
     }
+
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
     check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
