@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -142,16 +143,46 @@ def test_locating_the_scene_order():
 
 
 def test_no_even_firing_and_single_crank_engines():
-    assert (
-        "multiples of 120" in fe.explore(6, "V", 4, 60.0).reason
-    )  # a 60-degree V6 needs split pins
+    v6 = fe.explore(6, "V", 4, 60.0).reason  # a 60-degree V6 needs split pins
+    assert v6.code == "bank_grid" and v6.values == {"unit_deg": 120.0, "interval_deg": 120.0}
+    assert "multiples of 120" in str(v6)
     radial = fe.explore(9, "radial", 4, top=5)
     assert radial.arrangements == 1 and radial.firing_orders == 1
     assert radial.rows[0].firing_order == ("1", "3", "5", "7", "9", "2", "4", "6", "8")
     assert radial.rows[0].coefficients["sum_PI"] == pytest.approx(4.5)
     assert fe.explore(1, "inline", 4).firing_orders == 1
     too_many = fe.enumerate_arrangements(14, "inline", 4, limit=100_000)
-    assert "beyond an exhaustive search" in too_many[-1]
+    assert too_many[-1].code == "too_many" and "beyond an exhaustive search" in str(too_many[-1])
+
+
+@pytest.mark.parametrize(
+    "language, said",
+    [
+        ("ru", "вспышки через каждые 180° возможны лишь при угле развала, кратном 180°"),
+        ("uk", "спалахи через кожні 180° можливі лише за кута розвалу, кратного 180°"),
+        ("en", "firings every 180° need a bank angle that is a multiple of 180°"),
+    ],
+)
+def test_a_note_says_in_its_language_why_no_arrangement_fires_evenly(language, said):
+    """A 90° V4 on shared pins: no even-firing arrangement exists; the note gives the reason in
+    its own words and does not announce an enumeration of none."""
+    from conftest import shared_html
+
+    v4 = {
+        "engine": {
+            "cylinders": 4,
+            "layout": "V",
+            "bank_angle_deg": 90,
+            "crank_angles_deg": [0, 180],
+            "uneven_firing": True,
+            "firing_order": ["1L", "2L", "1R", "2R"],
+        },
+        "balancing": {"explore": True},
+    }
+    html = shared_html("v8-petrol", v4, language, ("balancing",)).linked_html
+    text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
+    assert said in text
+    assert "must be multiples" not in text and "Порядки работы и схемы колен" not in text
 
 
 def test_cli_explore(capsys):

@@ -65,6 +65,33 @@ class TooManyFiringOrders(ValueError):
 
 
 @dataclass(frozen=True)
+class NoEvenFiring:
+    """Why no crank arrangement fires evenly (or why none was searched): ``code`` one of
+    ``bank_grid`` (a shared pin's bank angle off the firing grid: ``unit_deg``, ``interval_deg``),
+    ``same_phase`` (cylinders on one pin would fire together), ``too_many`` (more than ``limit``
+    arrangements), ``none``; ``str()`` is the English sentence."""
+
+    code: str
+    values: dict[str, float] = field(default_factory=dict)
+
+    def __str__(self) -> str:
+        v = self.values
+        if self.code == "bank_grid":
+            return (
+                f"the bank angles must be multiples of {v['unit_deg']:g} deg for cylinders on one "
+                f"crank pin to fire every {v['interval_deg']:g} deg"
+            )
+        if self.code == "same_phase":
+            return "cylinders on one crank pin would fire at the same phase"
+        if self.code == "too_many":
+            return (
+                f"more than {int(v['limit']):,} crank arrangements: beyond an exhaustive search "
+                "(see the README)"
+            )
+        return "no crank arrangement fires evenly"
+
+
+@dataclass(frozen=True)
 class Candidate:
     """One ranked firing order."""
 
@@ -90,7 +117,7 @@ class Exploration:
     firing_orders: int = 0  # even-firing firing orders in all
     scored_firing_orders: int = 0  # firing orders whose rule scores were computed
     rows: list[Candidate] = field(default_factory=list)
-    reason: str | None = None  # why nothing fires evenly
+    reason: NoEvenFiring | None = None  # why nothing fires evenly
     located_rank: int | None = None  # rank of the firing order passed as ``locate``
     located: Candidate | None = None
 
@@ -125,8 +152,8 @@ def enumerate_arrangements(
     Returns ``(lags, unit_deg, multiplicity, bank_offsets, reason)``: ``lags`` has shape
     (arrangements, cranks), crank lag = ``lags * unit_deg`` (crank 1 first, always 0);
     ``multiplicity`` is how many cylinders share each firing phase mod 360 (2 for a four-stroke
-    engine with an even cylinder count, else 1). ``reason`` says why there is none (or that
-    there are more than ``limit``).
+    engine with an even cylinder count, else 1). ``reason`` (:class:`NoEvenFiring`) says why there is
+    none (or that there are more than ``limit``).
     """
     labels, banks, bays, psi = _setup(cylinders, layout, strokes, bank_angle_deg)
     count, unit = _phase_unit(cylinders, strokes)
@@ -140,8 +167,13 @@ def enumerate_arrangements(
             float(unit),
             multiplicity,
             None,
-            f"the bank angles must be multiples of {float(unit):g} deg for cylinders on one crank "
-            f"pin to fire every {float(Fraction(180 * strokes, cylinders)):g} deg",
+            NoEvenFiring(
+                "bank_grid",
+                {
+                    "unit_deg": float(unit),
+                    "interval_deg": float(Fraction(180 * strokes, cylinders)),
+                },
+            ),
         )
     # A cylinder with a crank pin of its own (a boxer's) may sit at a bank angle off the firing
     # grid: its crank then turns by a fraction of the grid, so the lags are counted in the finer
@@ -158,7 +190,7 @@ def enumerate_arrangements(
             float(unit),
             multiplicity,
             bank_offset,
-            "cylinders on one crank pin would fire at the same phase",
+            NoEvenFiring("same_phase"),
         )
     lags = np.zeros((1, 1), dtype=np.int16)
     counts = increments[0, 0][None, :].copy()
@@ -167,7 +199,7 @@ def enumerate_arrangements(
         float(unit),
         multiplicity,
         bank_offset,
-        f"more than {limit:,} crank arrangements: beyond an exhaustive search (see the README)",
+        NoEvenFiring("too_many", {"limit": float(limit)}),
     )
     for bay in range(1, n_bays):
         # Every prefix completes to at least one arrangement, so counting the next level's prefixes
@@ -187,7 +219,7 @@ def enumerate_arrangements(
             lags = np.zeros((0, lags.shape[1] + 1), dtype=np.int16)
             break
         lags, counts = np.vstack(new_lags), np.vstack(new_counts)
-    reason = None if len(lags) else "no crank arrangement fires evenly"
+    reason = None if len(lags) else NoEvenFiring("none")
     return lags, float(unit), multiplicity, bank_offset, reason
 
 
