@@ -987,3 +987,18 @@ def test_a_vector_models_arrows_end_on_their_vectors_tips():
     # only by the stroke's allowance (about the line's width, 1.2 pt)
     assert len(gaps) == 2
     assert max(gaps) < 1.6, gaps
+
+
+@pytest.mark.parametrize("name, shafts_fitted", [("v8-petrol", False), ("inline3-petrol", True)])
+def test_the_means_describe_balance_shafts_only_where_shafts_are_fitted(name, shafts_fitted):
+    """A cross-plane V8 balances with counterweights alone: its means paragraph gives the general
+    rule for orders that need shafts but describes no shaft's masses; an in-line three fits both."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    results = shared_run(name).outputs["balancing"].results
+    assert bool(results["balance_shafts"]) is shafts_fitted and results["counterweights"]
+    text = re.sub(r"<[^>]+>", "", shared_html(name, None, "en").linked_html)
+    assert "needs a balance shaft turning at ν·ω" in text
+    assert ("Each shaft carries one mass at each end" in text) is shafts_fitted
