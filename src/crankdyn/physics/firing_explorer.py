@@ -162,18 +162,13 @@ def enumerate_arrangements(
     refine = math.lcm(*(r.denominator for r in ratios))
     shared_pins = bool(np.any(np.bincount(bays) > 1))
     if refine != 1 and shared_pins:
+        interval = float(Fraction(180 * strokes, cylinders))
         return (
             np.zeros((0, int(bays.max()) + 1), dtype=np.int16),
             float(unit),
             multiplicity,
             None,
-            NoEvenFiring(
-                "bank_grid",
-                {
-                    "unit_deg": float(unit),
-                    "interval_deg": float(Fraction(180 * strokes, cylinders)),
-                },
-            ),
+            NoEvenFiring("bank_grid", {"unit_deg": float(unit), "interval_deg": interval}),
         )
     # A cylinder with a crank pin of its own (a boxer's) may sit at a bank angle off the firing
     # grid: its crank then turns by a fraction of the grid, so the lags are counted in the finer
