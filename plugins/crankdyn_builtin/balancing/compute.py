@@ -147,13 +147,14 @@ def _articulated_cylinders(scene, layout, g, masses, slave_kg: float, n_max: int
 
 
 def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | None:
-    """One crank with rods side by side on its pin (a V-twin's central rods): the cylinders' axes
-    lie one rod's width apart along the shaft, so their inertia forces give longitudinal couples
-    though all act on one crank. The couple of each order the tables show, N·m (amplitude, and its
-    parts turning with and against the shaft), with bank 0 nearest the free end; None for any
-    other engine (its rods in one plane, or its couples those of its cranks' spacing)."""
+    """Rods side by side on a crank pin (a V engine's central rods): the banks' cylinder axes lie
+    one rod's width apart along the shaft, so their inertia forces give longitudinal couples
+    though a crank's cylinders act on one pin; the tables take them in the crank's plane (as the
+    textbook does). The couple this offset adds, of each order the tables show, summed over the
+    cranks, N·m (amplitude, and its parts turning with and against the shaft), with bank 0
+    nearest the free end; ``cranks`` the crank count. None for other rods (in one plane)."""
     e = scene.engine
-    if layout.cranks != 1 or e.rod_type != "central" or layout.cylinders_per_bay < 2:
+    if e.rod_type != "central" or layout.cylinders_per_bay < 2:
         return None
     given = opts.rod_offset is not None
     offset = opts.rod_offset if given else ROD_OFFSET_PER_BORE * e.bore
@@ -173,7 +174,12 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
                 "backward_Nm": backward,
             }
         )
-    return {"offset_m": float(offset), "offset_given": given, "moments": moments}
+    return {
+        "offset_m": float(offset),
+        "offset_given": given,
+        "moments": moments,
+        "cranks": layout.cranks,
+    }
 
 
 def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts, scene) -> dict:

@@ -223,7 +223,7 @@ def _rod_offset_sentence(t, r) -> str:
         return ""
     couples = r["rod_offset_couples"]
     return t(
-        "balancing.rod_offset",
+        "balancing.rod_offset" + ("_cranks" if couples.get("cranks", 1) > 1 else ""),
         offset=t.number_g(couples["offset_m"] * 1e3, 4),
         taken="" if couples["offset_given"] else t("balancing.rod_offset_taken"),
         items=", ".join(items),
