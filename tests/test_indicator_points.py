@@ -197,3 +197,35 @@ def test_the_closed_form_shows_pre_expansion_only_for_a_diesel(example, with_rho
     closed = re.findall(r"pi′ = (\S.*?\]) = ", text)
     assert closed
     assert ("ρ" in p_b) is with_rho and all(("ρ" in c) is with_rho for c in closed), (p_b, closed)
+
+
+@pytest.mark.parametrize(
+    "fraction, said",
+    [(None, "Звичайний тиск pz′ = 0,85·pz"), (0.85, "Заданий тиск pz′ = 0,85·pz")],
+)
+def test_a_peak_lowered_inside_the_theoretical_diagram_is_said_so(fraction, said):
+    """A petrol engine at ε = 12: p_z′ = 0.85·p_z 12° after TDC, the usual or the given, would
+    stand above the theoretical diagram; the note says what it took instead and why, and a given
+    fraction is also named on the console."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    high = {"cycle": {"compression_ratio": 12.0, "rounding": {"peak_pressure_fraction": fraction}}}
+    run = shared_run("petrol-1cyl-uk", high, stages=["indicator"])
+    r = run.outputs["indicator"].results
+    lowered = {"requested_fraction": 0.85, "given": fraction is not None}
+    assert r["peak_lowered"] == {**lowered, "share_of_theoretical": 0.97}
+    assert r["peak_pressure_fraction"] < 0.85
+    html = shared_html("petrol-1cyl-uk", high, "uk", ("indicator",)).linked_html
+    text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
+    taken = f"{r['peak_pressure_fraction']:.3f}".replace(".", ",")
+    assert f"{said} у точці z′ (12° після ВМТ) лежав би вище за теоретичну діаграму" in text
+    assert f"тож узято pz′ = {taken}·pz, 97 % тиску теоретичної діаграми" in text
+    lines = console_lines(warnings(run.scene, REGISTRY, run), REGISTRY)
+    named = [line for line in lines if "cycle.rounding.peak_pressure_fraction" in line]
+    assert len(named) == (fraction is not None), lines
+    usual = shared_run("petrol-1cyl-uk", stages=["indicator"]).outputs["indicator"].results
+    assert usual["peak_lowered"] is None and usual["peak_pressure_fraction"] == 0.85

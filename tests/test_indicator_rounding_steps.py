@@ -1,6 +1,8 @@
 """The three steps of the rounded indicator diagram, each a function of its own:
 their values at the construction's nodes against the values the construction prescribes."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from test_physics_indicator import (
@@ -62,3 +64,38 @@ def test_combustion_rounding_peaks_at_the_prescribed_fraction_of_p_z():
         p.max() == pytest.approx(peak, rel=1e-12)
         and rounding.peak_angle_after_tdc_deg < psi_j < 180.0
     )
+
+
+def _high_compression():
+    """The spark engine at ε = 12: its expansion line 12° after TDC lies below 0.85·p_z."""
+    params = dataclasses.replace(spark(4), compression_ratio=12.0)
+    rounding = rounding_for(params)
+    clearance = PISTON_AREA_M2 * 2 * CRANK_RADIUS_M / (params.compression_ratio - 1)
+
+    def volume(a_deg):
+        return clearance + PISTON_AREA_M2 * exact_displacement_m(np.asarray(a_deg))
+
+    # the theoretical pressure at Z′ from the polytrope p_z (V_c/V)^n₂, V by the exact kinematics
+    at_peak = params.max_pressure_Pa * (clearance / volume(12.0)) ** params.expansion_index
+    return params, rounding, clearance, volume, float(at_peak)
+
+
+def test_a_peak_above_the_theoretical_diagram_is_lowered_inside_it():
+    """p_z′ = 0.97 of the theoretical pressure at Z′; from TDC to the exhaust opening the rounded
+    diagram nowhere exceeds the theoretical one, and it is smooth at the junction J."""
+    params, rounding, clearance, volume, at_peak = _high_compression()
+    assert rounding.peak_pressure_fraction * params.max_pressure_Pa > at_peak  # the case tested
+    alpha = np.arange(0.0, 720.0, 0.05)
+    v = volume(alpha)
+    peak = ind.peak_pressure_Pa(alpha, v, clearance, params, rounding, volume_function=volume)
+    assert peak == pytest.approx(0.97 * at_peak, rel=1e-9)
+    p = ind.rounded_pressure_Pa(alpha, v, clearance, params, rounding, volume_function=volume)
+    theoretical = ind.theoretical_pressure_Pa(alpha, v, clearance, params)
+    tdc = ind._firing_tdc_deg(params)
+    after = (alpha >= tdc) & (alpha <= tdc + 130.0)
+    assert np.all(p[after] <= theoretical[after] * (1 + 1e-12))
+    assert p[after].max() == pytest.approx(peak, rel=1e-6)
+    slope = np.diff(p[after]) / 0.05
+    # no corner: the slope changes by under 5 % of its largest value from one 0.05° step to the
+    # next (a peak on the expansion line would drop from zero slope to the line's at once)
+    assert np.max(np.abs(np.diff(slope))) < 0.05 * np.max(np.abs(slope))

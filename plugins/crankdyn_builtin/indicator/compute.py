@@ -117,11 +117,15 @@ def run(
                 "pressure_Pa": pressure,
             }
         )
+        rounding, lowered = _rounding_as_drawn(
+            scene, angle, volume, clearance, params, rounding, volume_function
+        )
         results.update(
             _theoretical_results(
                 params, rounding, clearance, theoretical, volume, swept, volume_function
             )
         )
+        results["peak_lowered"] = lowered
         notes.append(_rounding_note(scene, rounding))
         if "lost_stroke_fraction" in results:  # the piston's travel s_b = (1 − ψ)S to the ports
             stroke = piston_stroke_m(scene, motion)
@@ -176,6 +180,24 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
     return params, rounding, clearance, volume, theoretical, pressure, volume_function
+
+
+def _rounding_as_drawn(scene, angle, volume, clearance, params, rounding, volume_function):
+    """(the rounding with its peak fraction as drawn, what was lowered or None): a p_z′ that would
+    stand above the theoretical diagram at z′ is taken inside it (:func:`ind.peak_pressure_Pa`)."""
+    peak = ind.peak_pressure_Pa(
+        angle, volume, clearance, params, rounding, volume_function=volume_function
+    )
+    asked = rounding.peak_pressure_fraction
+    if peak >= asked * params.max_pressure_Pa:
+        return rounding, None
+    lowered = {
+        "requested_fraction": asked,
+        "given": scene.cycle.rounding.peak_pressure_fraction is not None,
+        "share_of_theoretical": ind.PEAK_BELOW_EXPANSION,
+    }
+    drawn = dataclasses.replace(rounding, peak_pressure_fraction=peak / params.max_pressure_Pa)
+    return drawn, lowered
 
 
 def _theoretical_results(
@@ -450,6 +472,23 @@ def _mean_pressure_check(scene, results=None) -> list[tuple[str, dict]]:
                 "diagram": results["gross_mean_indicated_pressure_Pa"] / 1e6,
                 "deviation": abs(deviation),
                 "limit": MEAN_PRESSURE_CHECK_PERCENT,
+            },
+        )
+    ]
+
+
+def _peak_lowered(scene, results=None) -> list[tuple[str, dict]]:
+    """A given p_z′/p_z that would put z′ above the theoretical diagram (and was lowered)."""
+    lowered = (results or {}).get("peak_lowered")
+    if not lowered or not lowered["given"]:
+        return []
+    return [
+        (
+            "indicator.plausibility_peak_lowered",
+            {
+                "given": lowered["requested_fraction"],
+                "angle": scene.cycle.rounding.peak_angle_after_tdc_deg,
+                "taken": round(results["peak_pressure_fraction"], 3),
             },
         )
     ]

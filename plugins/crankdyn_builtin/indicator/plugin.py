@@ -21,7 +21,7 @@ from crankdyn.plugin.types import (
 )
 from crankdyn.report.plausibility import peak_pressure
 
-from .compute import _diesel_peak, _mean_pressure_check, applies, run, run_many
+from .compute import _diesel_peak, _mean_pressure_check, _peak_lowered, applies, run, run_many
 from .section import SYMBOLS, render
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
@@ -32,6 +32,7 @@ INDICATOR_STAGE = Stage(
         peak_pressure("max_pressure_Pa"),
         PlausibilityRule("diesel_peak", _diesel_peak),
         PlausibilityRule("mean_pressure_check", _mean_pressure_check),
+        PlausibilityRule("peak_lowered", _peak_lowered),
     ),
     name="indicator",
     requires=(KINEMATICS,),

@@ -671,7 +671,8 @@ class RoundingParameters:
         actual pressure at firing TDC is p_c + this, Pa, >= 0 (textbook
         0.4-0.6 MPa).
     peak_pressure_fraction : float
-        p_z' / p_z, in (0, 1] (textbook 0.8-0.9).
+        p_z' / p_z, in (0, 1] (textbook 0.8-0.9); where it would put Z' above
+        the theoretical diagram, p_z' is lowered (:func:`peak_pressure_Pa`).
     peak_angle_after_tdc_deg : float
         Angle of the actual maximum Z' after firing TDC, deg, in (0, 90)
         (textbook 10-15).
@@ -955,10 +956,11 @@ def combustion_junctions_deg(params, rounding, clearance_volume_m3, volume_funct
         ],
         dtype=float,
     )
+    at_peak = lines.expansion_at(psi_peak[:, None], np.arange(count))[0][:, 0]
     peak = np.array(
         [
-            r.peak_pressure_fraction * p.max_pressure_Pa
-            for r, p in zip(rounding, params, strict=False)
+            _peak_Pa(r, p, float(theoretical))
+            for r, p, theoretical in zip(rounding, params, at_peak, strict=False)
         ],
         dtype=float,
     )
@@ -1299,6 +1301,46 @@ def _drop_end_psi_deg(rounding, bdc_deg: float = 180.0) -> float:
     return bdc_deg + 0.5 * rounding.exhaust_opens_before_bdc_deg
 
 
+#: A peak p_z' that would lie above the theoretical diagram at Z' is taken at this fraction of
+#: the theoretical pressure there: the rounded diagram stays inside the theoretical one, and the
+#: rounding from Z' still meets the expansion line smoothly further on.
+PEAK_BELOW_EXPANSION = 0.97
+
+
+def _peak_Pa(rounding, params, theoretical_at_peak_Pa: float) -> float:
+    """p_z', Pa: fraction * p_z, or :data:`PEAK_BELOW_EXPANSION` of the theoretical diagram's
+    pressure at Z' (its expansion line, or p_z on a diesel's isobar) where fraction * p_z would
+    exceed it."""
+    wanted = rounding.peak_pressure_fraction * params.max_pressure_Pa
+    if wanted <= theoretical_at_peak_Pa:
+        return wanted
+    return PEAK_BELOW_EXPANSION * theoretical_at_peak_Pa
+
+
+def peak_pressure_Pa(
+    crank_angle_deg, volume_m3, clearance_volume_m3, params, rounding, *, volume_function=None
+) -> float:
+    """The rounded diagram's peak pressure p_z' at Z', Pa, as :func:`rounded_pressure_Pa` takes
+    it: ``peak_pressure_fraction`` * p_z, or lower (:data:`PEAK_BELOW_EXPANSION` of the
+    theoretical pressure there) where that would lie above the theoretical diagram at Z'; the
+    arguments as :func:`rounded_pressure_Pa`'s.
+
+    Poda (2007) section 3.1: Z' lies 10-15 deg after TDC at p_z' = (0.8-0.9) p_z; the actual
+    diagram lies inside the theoretical one.
+    """
+    alpha = np.asarray(crank_angle_deg, dtype=float)
+    lines = _one_diagram_lines(
+        alpha, np.asarray(volume_m3, dtype=float), clearance_volume_m3, params, volume_function
+    )
+    return _peak_at(lines, rounding)
+
+
+def _peak_at(lines: _Lines, rounding) -> float:
+    """p_z' of one diagram's lines (:func:`_peak_Pa` at Z')."""
+    at_peak = float(lines.expansion_at(np.asarray([rounding.peak_angle_after_tdc_deg]))[0][0])
+    return _peak_Pa(rounding, lines.params, at_peak)
+
+
 def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, junction_deg=None):
     """Combustion rounding C' -> C'' -> Z' -> J laid over ``pressure`` (Pa); returns (pressure, psi_J).
 
@@ -1316,7 +1358,7 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     it: NaN for none).
     """
     params = lines.params
-    peak = rounding.peak_pressure_fraction * params.max_pressure_Pa
+    peak = _peak_at(lines, rounding)
     psi_c1 = -(rounding.ignition_advance_deg - rounding.combustion_delay_deg)
     psi_peak = rounding.peak_angle_after_tdc_deg
     psi_b1 = params.bdc_deg - rounding.exhaust_opens_before_bdc_deg
