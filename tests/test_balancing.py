@@ -1002,3 +1002,40 @@ def test_the_means_describe_balance_shafts_only_where_shafts_are_fitted(name, sh
     text = re.sub(r"<[^>]+>", "", shared_html(name, None, "en").linked_html)
     assert "needs a balance shaft turning at ν·ω" in text
     assert ("Each shaft carries one mass at each end" in text) is shafts_fitted
+
+
+def _table_cells(html: str, caption: str) -> list[list[str]]:
+    import html as html_lib
+    import re
+
+    for table in re.findall(r"<table.*?</table>", html, flags=re.S):
+        if caption in re.sub(r"<[^>]+>", "", table):
+            return [
+                [
+                    html_lib.unescape(re.sub(r"<[^>]+>", "", cell)).strip()
+                    for cell in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", row, flags=re.S)
+                ]
+                for row in re.findall(r"<tr.*?</tr>", table, flags=re.S)
+            ]
+    raise AssertionError(f"no table {caption!r}")
+
+
+def test_a_balancing_tables_columns_keep_one_count_of_decimals():
+    """The acceleration series to six decimals in both columns, the bay model's coefficients to
+    four, a mass's position along the shaft in whole millimetres and its angle without ",0"."""
+    import re
+
+    from conftest import shared_html
+
+    three = shared_html("inline3-petrol", None, "en").linked_html
+    masses = _table_cells(three, "Masses, amplitudes of the forces and coefficients")
+    series = [row[1:] for row in masses if row[0] in ("A2", "A4", "A6")]
+    assert len(series) == 3
+    assert all(re.fullmatch(r"−?0\.\d{6}", cell) for row in series for cell in row), series
+    means = _table_cells(three, "Counterweights")
+    assert [row[-1] for row in means[1:]] and all(
+        re.fullmatch(r"\d+", row[-1]) for row in means[1:]
+    ), means
+    assert all(",0°" not in row[4] and ".0°" not in row[4] for row in means[1:]), means
+    bay = _table_cells(shared_html("v8-petrol", None, "en").linked_html, "model of one bay")
+    assert all(re.fullmatch(r"−?\d\.\d{4}", cell) for cell in bay[1]), bay

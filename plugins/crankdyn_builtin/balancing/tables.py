@@ -88,14 +88,15 @@ def _masses_table(ctx, r):
             (
                 t("balancing.value"),
                 [
-                    ctx.num(r["reciprocating_mass_kg"], 5) + " " + t("unit.kg"),
-                    ctx.num(r["rotating_mass_kg"], 5) + " " + t("unit.kg"),
+                    t.number_g(r["reciprocating_mass_kg"], 5) + " " + t("unit.kg"),
+                    t.number_g(r["rotating_mass_kg"], 5) + " " + t("unit.kg"),
                     ctx.num(r["centrifugal_N"]) + " " + t("balancing.unit_N"),
                     ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
                     ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),
-                    ctx.num(r["acceleration_harmonics"]["II"], 6),
-                    ctx.num(r["acceleration_harmonics"]["IV"], 4),
-                    ctx.num(r["acceleration_harmonics"]["VI"], 4),
+                    # one column's decimals: six, as A_2 needs for its four digits beyond λ
+                    t.fixed(r["acceleration_harmonics"]["II"], 6),
+                    t.fixed(r["acceleration_harmonics"]["IV"], 6),
+                    t.fixed(r["acceleration_harmonics"]["VI"], 6),
                 ],
                 None,
             ),
@@ -107,9 +108,9 @@ def _masses_table(ctx, r):
                     "",
                     "",
                     "",
-                    ctx.num(r["acceleration_series"]["II"], 6),
-                    ctx.num(r["acceleration_series"]["IV"], 4),
-                    ctx.num(r["acceleration_series"]["VI"], 4),
+                    t.fixed(r["acceleration_series"]["II"], 6),
+                    t.fixed(r["acceleration_series"]["IV"], 6),
+                    t.fixed(r["acceleration_series"]["VI"], 6),
                 ],
                 None,
             ),
@@ -258,11 +259,11 @@ def _bay_table(ctx, r):
     if r["bay_model"] is not None:
         bm = r["bay_model"]
 
-        def show(v):
+        def show(v):  # one row of coefficients in units of C_I: four decimals each
             return (
-                ctx.num(v, 4)
+                ctx.t.fixed(v, 4)
                 if not isinstance(v, dict)
-                else f"{ctx.num(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
+                else f"{ctx.t.fixed(v['magnitude'], 4)} ∠{ctx.t.fixed(v['angle_deg'], 1)}°"
             )
 
         heads = (
@@ -405,6 +406,9 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
     position along the shaft."""
     t = ctx.t
     means_rows = []
+    positions = [cw["position_m"] for cw in r["counterweights"]] + [
+        sm["position_m"] for shaft in r["balance_shafts"] for sm in shaft["masses"]
+    ]
     for cw in r["counterweights"]:
         label = (
             t("balancing.counterweight_single")
@@ -418,10 +422,10 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
                 ctx.num(cw["mass_radius_kg_m"] * 1e3, 4),
                 ctx.num(cw["mass_kg"], 4)
                 + f" ({ctx.num(cw['mass_per_web_kg'], 4)}\u00a0×\u00a02)",  # one unit in a narrow cell
-                ctx.t.fixed(cw["angle_from_crank_deg"], 1)
+                _angle(t, cw["angle_from_crank_deg"])
                 + "° "
                 + t("balancing.from_the_crank" if single else "balancing.from_crank"),
-                ctx.num(cw["position_m"] * 1e3, 4) if cw["position_m"] is not None else "—",
+                _position(t, cw["position_m"], positions),
             )
         )
     for shaft in r["balance_shafts"]:
@@ -440,11 +444,26 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
                     f"{shaft['speed_ratio']:+d}".replace("-", "\u2212"),
                     ctx.num(sm["mass_radius_kg_m"] * 1e3, 4),
                     ctx.num(sm["mass_kg"], 4),
-                    ctx.t.fixed(sm["phase_deg"], 1) + "° " + t("balancing.from_vertical"),
-                    ctx.num(sm["position_m"] * 1e3, 4) if sm["position_m"] is not None else "—",
+                    _angle(t, sm["phase_deg"]) + "° " + t("balancing.from_vertical"),
+                    _position(t, sm["position_m"], positions),
                 )
             )
     return means_rows
+
+
+def _angle(t, angle_deg: float) -> str:
+    """A mass's angular position to 0.1°, a whole angle without its ",0" (210°, 37,5°)."""
+    return t.number_g(round(angle_deg % 360.0, 1) % 360.0, 4)
+
+
+def _position(t, position_m: float | None, column: list) -> str:
+    """A mass's distance from crank 1, mm, with its column's decimals: whole millimetres where
+    every position of the column is whole (0, 86, 172), else tenths; "—" where it has none."""
+    if position_m is None:
+        return "—"
+    given = [1e3 * x for x in column if x is not None]
+    whole = all(abs(x - round(x)) < 1e-6 for x in given)
+    return t.fixed(1e3 * position_m, 0 if whole else 1)
 
 
 def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
