@@ -221,7 +221,7 @@ def _report_parser(sub) -> None:
         "-v",
         "--verbose",
         action="store_true",
-        help="also list the stages left out and why (as 'check' does)",
+        help="also list the stages left out and why ('check' always lists them)",
     )
     _stage_timeout_option(report)
     _data_dir_option(report)
