@@ -928,8 +928,9 @@ def test_no_order_to_balance_leaves_the_counterweights_for_the_centrifugal_force
 
 def test_the_conclusions_say_what_the_balancing_means_leave_with_values():
     """The conclusions said what the means balance and not what stays: an in-line three keeps
-    ΣM_IV and ΣP_VI after its counterweights and shafts; the sentence gives each with its value,
-    as the table of resultants does."""
+    ΣM_IV and ΣP_VI after its counterweights and shafts; the sentence gives ΣM_IV with its value,
+    as the table of resultants does, and the negligible ΣP_VI, said the sentence before, not again
+    as if it were not negligible."""
     from conftest import as_read, shared_html, shared_run
 
     b = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
@@ -939,8 +940,9 @@ def test_the_conclusions_say_what_the_balancing_means_leave_with_values():
     conclusions = page[page.index('class="conclusions"') :]
     text = as_read(re.sub(r"<[^>]+>", "", conclusions))
     assert re.search(
-        r"Средства уравновешивания: [^\n]*\. После установки средств уравновешивания из сил "
-        r"инерции и их моментов неуравновешенными остаются лишь ΣMIV = \d+,\d Н·м \(",
+        r"Средства уравновешивания: [^\n]*\. После установки средств уравновешивания, кроме "
+        r"пренебрежимо малых, названных выше, неуравновешенной остаётся "
+        r"ΣMIV = \d+,\d Н·м \(",
         text.replace("\u202f", " "),
     ), text[:3000]
 

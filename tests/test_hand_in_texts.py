@@ -1256,15 +1256,15 @@ def test_the_assignment_gives_the_crank_angles_of_several_cranks_only():
 
 
 def test_what_the_means_leave_points_to_the_slave_cylinders_parts(reports):
-    """A radial's means leave ΣP_IV and ΣP_VI, and also the parts only its slave cylinders make
-    (the next conclusion): "unbalanced remain ΣP_IV and ΣP_VI" alone read as the whole list,
-    against the section's remainder that is mostly those parts."""
+    """A radial's means leave only the negligible ΣP_IV and ΣP_VI, said so just before, and the
+    parts only its slave cylinders make, said next: the means' conclusion does not list the
+    negligible ones again as what remains, and the slaves' parts follow it."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
-    listed = text.split("Після встановлення засобів зрівноваження незрівноваженими залишаються", 1)
-    assert len(listed) == 2
-    sentence, after = listed[1].split(".", 1)[0], listed[1]
-    assert "ΣPIV" in sentence and sentence.endswith("а також складові, названі далі")
-    assert "їхнє розташування зрівноважило б складову сил першого порядку" in after[:600]
+    conclusions = text[text.index("Інші незрівноважені сили четвертого і шостого порядків") :]
+    means = conclusions[conclusions.index("Засоби зрівноваження:") :]
+    sentence = means.split(".", 1)[0]
+    assert "ΣPIV" not in sentence and "залишаються" not in sentence
+    assert "їхнє розташування зрівноважило б складову сил першого порядку" in means[:600]
 
 
 def test_a_radials_one_cylinder_tables_name_the_master_cylinder(reports):

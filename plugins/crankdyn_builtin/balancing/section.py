@@ -70,10 +70,12 @@ def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None
         )
     if r["counterweights"] or r["balance_shafts"]:
         sentence = _means_sentence(t, r)
-        residuals = _left_unbalanced(r, unbalanced)
+        # the negligible ones were said just before: not listed again among what stays
+        residuals = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
         if residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
             # what the means leave, with values: the conclusions said only what they balance
-            left = _left_after_means(t, r, residuals, "" if single else "Σ")
+            said = any(_negligible(r, s) for s in _left_unbalanced(r, unbalanced))
+            left = _left_after_means(t, r, residuals, "" if single else "Σ", negligible_said=said)
             sentence += f" {left[:1].upper()}{left[1:]}."
         ctx.conclude(sentence)
     elif left_without_means:  # the decision the section states: no means, the mounts
@@ -366,10 +368,13 @@ def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
     return items
 
 
-def _left_after_means(t, r, residuals, sign: str, scheme: bool = False) -> str:
+def _left_after_means(
+    t, r, residuals, sign: str, scheme: bool = False, negligible_said: bool = False
+) -> str:
     """ "after the means, only ΣP_IV = 81 Н and ΣP_VI = 1,8 Н (1,4 % and 0,03 % of C_I) stay
     unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence;
-    with ``scheme`` (no means) what the crank arrangement balances comes first."""
+    with ``scheme`` (no means) what the crank arrangement balances comes first;
+    ``negligible_said``: the negligible residuals, named before, are left out (not "only")."""
     items, shares, scales = [], [], []
     for item in residuals:
         value, force = _summary_amplitude(r, item)
@@ -400,7 +405,13 @@ def _left_after_means(t, r, residuals, sign: str, scheme: bool = False) -> str:
     # not the only residuals then
     more = bool(r.get("parts_left") or rod_offset_items(t, r))
     key = "balancing.finding_left_means" + (
-        "_parts" if more else "_plane" if forces_only(t, r) else ""
+        "_parts"
+        if more
+        else "_negligible"
+        if negligible_said
+        else "_plane"
+        if forces_only(t, r)
+        else ""
     )
     return t(key, count=len(items), items=listed)
 
