@@ -229,3 +229,21 @@ def test_a_peak_lowered_inside_the_theoretical_diagram_is_said_so(fraction, said
     assert len(named) == (fraction is not None), lines
     usual = shared_run("petrol-1cyl-uk", stages=["indicator"]).outputs["indicator"].results
     assert usual["peak_lowered"] is None and usual["peak_pressure_fraction"] == 0.85
+
+
+def test_the_pressure_at_tdc_is_stated_and_its_rise_listed_among_the_values_taken():
+    """Point c″ of the rounding: p_c″ = p_c + 0.5 MPa (the rise the textbook's construction takes
+    by default) in the indicator section, the rise in the table of values taken."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("petrol-1cyl-uk", stages=["indicator"]).outputs["indicator"].results
+    assert r["pressure_rise_to_tdc_Pa"] == 0.5e6
+    assert r["tdc_pressure_rounded_Pa"] == pytest.approx(r["compression_end_pressure_Pa"] + 0.5e6)
+    html = shared_html("petrol-1cyl-uk", None, "uk").linked_html
+    text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
+    p_tdc = f"{r['tdc_pressure_rounded_Pa'] / 1e6:.3f}".replace(".", ",")
+    assert f"тиск у ВМТ pc″ = {p_tdc} МПа, на 0,5 МПа вищий, ніж у кінці стиснення" in text
+    taken = text[text.index("Таблиця 1.2 – Прийняті величини") :][:600]
+    assert "Підвищення тиску у ВМТ над кінцем стиснення" in taken

@@ -223,6 +223,10 @@ def _theoretical_results(
         "ignition_advance_deg": rounding.ignition_advance_deg,
         "combustion_delay_deg": rounding.combustion_delay_deg,
         "peak_pressure_rounded_Pa": rounding.peak_pressure_fraction * params.max_pressure_Pa,
+        # point c″: the compression line's end raised by the rounding's rise (Poda 2007 §3.1)
+        "pressure_rise_to_tdc_Pa": rounding.pressure_rise_to_tdc_Pa,
+        "tdc_pressure_rounded_Pa": ind.compression_end_pressure_Pa(params)
+        + rounding.pressure_rise_to_tdc_Pa,
         "peak_pressure_fraction": rounding.peak_pressure_fraction,
     }
 

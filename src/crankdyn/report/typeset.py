@@ -573,6 +573,7 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "allowed_irregularity": Symbol("δ", {}, "", "symbol.allowed_irregularity", html="[<i>δ</i>]"),
     "residual_gas_pressure": Symbol("p", {"en": "r"}, "unit.MPa", "symbol.residual_gas_pressure"),
     "rounded_max_pressure": Symbol("p", {"en": "z′"}, "unit.MPa", "symbol.rounded_max_pressure"),
+    "rounded_tdc_pressure": Symbol("p", {"en": "c″"}, "unit.MPa", "symbol.rounded_tdc_pressure"),
     "theoretical_pressure": Symbol("p", {"en": "theor"}, "unit.MPa", "symbol.theoretical_pressure"),
 }
 
