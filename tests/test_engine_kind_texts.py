@@ -196,3 +196,16 @@ def test_a_diesels_ignition_delay_time_is_among_the_given_data():
     cells = [re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
     assert cells[0] == "Період затримки займання" and cells[1] == "τз", cells
     assert cells[2] == "1,2" and cells[3] == "мс", cells
+
+
+def test_a_two_strokes_scavenging_names_its_transfer_ports_and_the_crankcase_assumption():
+    """The exhaust ports' interval is not itself the scavenging: the transfer ports open and close
+    within it; and a constant crankcase pressure is an assumption a crankcase-scavenged engine
+    departs from, which the note says (a four-stroke's note keeps its one sentence)."""
+    two = _text(shared_html("two-stroke-1cyl", None, "uk").linked_html)
+    four = _text(shared_html("petrol-1cyl-uk", None, "uk").linked_html)
+    assert "відкриваються й закриваються продувні вікна" in two
+    assert "поки вони відкриті, циліндр продувається" not in two
+    assert "Тиск у картері прийнято сталим" in two and "кривошипно-камерним продуванням" in two
+    assert "кривошипно-камерним продуванням" not in four
+    assert "сталий тиск p 0 роботи за цикл не виконує" in four

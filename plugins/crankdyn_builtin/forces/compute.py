@@ -385,7 +385,10 @@ def _forces_output(results: dict, engine, motion, curves: dict, loads, exact, ar
         rod_Pa=rod.rod_Pa,
     )
     notes = [
-        ("forces.note_gauge", {"p0": engine.crankcase_pressure / 1e6}),
+        (
+            "forces.note_gauge" + ("_two_stroke" if engine.strokes == 2 else ""),
+            {"p0": engine.crankcase_pressure / 1e6},
+        ),
         _inertia_work_note(results["inertia_work_relative"]),
     ] + notes
     return StageOutput(data={FORCES: data}, results=results, tables={"forces": frame}, notes=notes)
