@@ -126,6 +126,7 @@ def run(
             )
         )
         results["peak_lowered"] = lowered
+        results["closed_form_check"] = _closed_form_check(scene, params, results)
         notes.append(_rounding_note(scene, rounding))
         if "lost_stroke_fraction" in results:  # the piston's travel s_b = (1 − ψ)S to the ports
             stroke = piston_stroke_m(scene, motion)
@@ -198,6 +199,24 @@ def _rounding_as_drawn(scene, angle, volume, clearance, params, rounding, volume
     }
     drawn = dataclasses.replace(rounding, peak_pressure_fraction=peak / params.max_pressure_Pa)
     return drawn, lowered
+
+
+def _closed_form_check(scene, params, results) -> dict | None:
+    """The sharp-cornered diagram's mean pressure integrated on the grid against its closed form
+    p_i′ with the pumping strokes' p_a − p_r (a four-stroke's), Pa and relative; None where the
+    closed form does not hold exactly (a linkage other than the central crank-slider, exhaust
+    ports whose lost stroke it takes as the factor 1 − ψ)."""
+    if scene.engine.mechanism != "crank_slider" or params.lost_stroke_fraction > 0.0:
+        return None
+    pumping = params.intake_pressure_Pa - params.exhaust_pressure_Pa if params.strokes == 4 else 0.0
+    closed = results["theoretical_mean_indicated_pressure_Pa"] + pumping
+    numeric = results["theoretical_diagram_mean_pressure_Pa"]
+    return {
+        "closed_Pa": closed,
+        "pumping_Pa": pumping,
+        "numeric_Pa": numeric,
+        "deviation_relative": numeric / closed - 1.0,
+    }
 
 
 def _theoretical_results(
