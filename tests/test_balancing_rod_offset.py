@@ -8,6 +8,7 @@ resolved by an FFT into the parts of each order turning with the shaft and again
 
 from __future__ import annotations
 
+import html as html_lib
 import math
 import re
 
@@ -31,9 +32,12 @@ def test_the_rods_offset_couples_against_a_direct_sum():
     R, L, w = e.crank_radius_m, e.rod_length_m, e.angular_velocity_rad_s
     b = run.outputs["balancing"].results
     couples = b["rod_offset_couples"]
-    offset = 0.45 * 0.63 * e.bore  # one big-end bearing of typical proportions
+    # one big-end bearing of typical proportions: a pin 0.63 of the bore and 2 × 0.45 of its
+    # diameter long, each to 0.1 mm as the bearing section takes them, shared by the two rods
+    diameter = round(0.63 * e.bore * 1e4) / 1e4
+    offset = round(2 * 0.45 * diameter * 1e4) / 1e4 / 2
     assert couples["offset_m"] == pytest.approx(offset, rel=1e-12)
-    assert not couples["offset_given"]
+    assert not couples["offset_given"] and couples["offset_source"] == "typical"
     m_s = b["reciprocating_mass_kg"]
     gamma = math.radians(45.0)
     theta = 2 * np.pi * np.arange(720) / 720
@@ -199,3 +203,44 @@ def test_an_in_line_sixs_balance_names_the_negligible_forces_it_leaves():
     html = shared_html("inline6-diesel-trace", None, "ru", ("balancing",)).linked_html
     text = re.sub(r"<[^>]+>", "", html)
     assert "уравновешивает схема колен, кроме пренебрежимо малых ΣPVI" in text
+
+
+def test_the_rods_offset_follows_a_given_crank_pin_width_in_both_sections():
+    """A V-twin whose crank pin is given as 40 mm long and no rod offset: each rod's bearing is
+    20 mm wide, so the rods' planes lie 20 mm apart for the balancing's couples and each 10 mm
+    off the pin's middle for the bearings; the balancing says where the 20 mm come from."""
+    pin = {**V_TWIN, "bearings": {"crank_pin_width": "40 mm"}}
+    run = shared_run("v8-petrol", pin, stages=["balancing", "bearings"])
+    couples = run.outputs["balancing"].results["rod_offset_couples"]
+    assert couples["offset_m"] == pytest.approx(0.020) and couples["offset_source"] == "pin_width"
+    bearings = run.outputs["bearings"].results
+    assert bearings["rod_bearings"][0]["width_m"] == pytest.approx(0.020)
+    html = shared_html("v8-petrol", pin, "en", ("balancing", "bearings")).linked_html
+    text = html_lib.unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)))
+    assert (
+        "lie 20 mm apart along the shaft (one big-end bearing's width: the given crank-pin width"
+        in text
+    )
+
+
+def test_a_given_rod_offset_a_given_pin_width_contradicts_is_warned_of():
+    """18 mm between the rods' planes on a 17 mm pin of two rods (each 8.5 mm wide): a warning
+    naming both fields; the same offset on a 36 mm pin is what the pin gives, and is not."""
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    registry = default_registry()
+
+    def named(pin: str) -> list[str]:
+        changes = {
+            **V_TWIN,
+            "balancing": {"rod_offset": "18 mm"},
+            "bearings": {"crank_pin_width": pin},
+        }
+        run = shared_run("v8-petrol", changes, stages=["balancing"])
+        lines = console_lines(warnings(run.scene, registry, run), registry)
+        return [line for line in lines if "balancing.rod_offset" in line]
+
+    short = named("17 mm")
+    assert len(short) == 1 and "8.5 mm" in short[0] and "bearings.crank_pin_width" in short[0]
+    assert named("36 mm") == []

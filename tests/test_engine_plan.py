@@ -74,7 +74,10 @@ def test_a_vs_banks_lie_either_side_and_one_rod_width_apart_along_the_shaft():
     plan, _ = _drawn("v8-petrol", "ru")
     assert row_sides(plan["bank_axes_deg"]) == {0: 1.0, 1: -1.0}
     bore = _mm(scene["engine"]["bore"]) / 1e3
-    assert plan["rod_offset_m"] == pytest.approx(0.45 * 0.63 * bore)
+    # one big-end bearing's width: half a pin 2 × 0.45 of a diameter 0.63 of the bore, each to
+    # 0.1 mm as the bearings section takes them
+    diameter = round(0.63 * bore * 1e4) / 1e4
+    assert plan["rod_offset_m"] == pytest.approx(round(2 * 0.45 * diameter * 1e4) / 1e4 / 2)
     places = {c["label"]: c["position_m"] for c in plan["cylinders"]}
     assert places["1R"] - places["1L"] == pytest.approx(
         plan["rod_offset_m"]

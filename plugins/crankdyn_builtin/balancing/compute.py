@@ -25,10 +25,12 @@ from crankdyn.plugin.contracts import (
     ENGINE_TORQUE,
     KINEMATICS,
     ArticulatedOptions,
+    PinSizeOptions,
 )
 from crankdyn.plugin.scene_inputs import (
     articulated_reciprocating_masses_kg,
     engine_layout,
+    rod_offset_m,
     rotating_mass_per_crank_kg,
     slave_geometries,
 )
@@ -50,7 +52,6 @@ OFFSET_ORDERS = [1, 2, 3, 4, 5, 6]
 #: The distance between the planes of two rods side by side on one crank pin over the bore, taken
 #: when the scene gives none: one big-end bearing's width of the typical proportions (the
 #: bearings section's sizes when the scene gives none).
-ROD_OFFSET_PER_BORE = brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * brg.TYPICAL_PIN_DIAMETER_PER_BORE
 
 
 #: The mechanisms whose piston motion is a crank-slider's (``extra``: ``rod_ratio``, with an
@@ -153,11 +154,11 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
     textbook does). The couple this offset adds, of each order the tables show, summed over the
     cranks, N·m (amplitude, and its parts turning with and against the shaft), with bank 0
     nearest the free end; ``cranks`` the crank count. None for other rods (in one plane)."""
-    e = scene.engine
-    if e.rod_type != "central" or layout.cylinders_per_bay < 2:
+    offset, source = rod_offset_m(
+        scene, layout, opts.rod_offset, options(scene, "bearings", PinSizeOptions)
+    )
+    if source == "none":
         return None
-    given = opts.rod_offset is not None
-    offset = opts.rod_offset if given else ROD_OFFSET_PER_BORE * e.bore
     banks = np.array([c.bank for c in layout.cylinders], dtype=float)
     planes = replace(g, cylinder_position=banks - 0.5 * (banks.max() + banks.min()))
     moments = []
@@ -176,10 +177,42 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
         )
     return {
         "offset_m": float(offset),
-        "offset_given": given,
+        "offset_given": source == "given",
+        "offset_source": source,
         "moments": moments,
         "cranks": layout.cranks,
     }
+
+
+def rod_offset_against_pin(scene, results=None) -> list[tuple[str, dict]]:
+    """A given rod offset that a given crank-pin width contradicts: rods side by side on the pin
+    each take its width over their number, so their planes lie that far apart (a tenth either
+    way is let pass, for the bearings' chamfers and thrust faces)."""
+    if scene.engine.rod_type != "central" or scene.engine.cylinders < 2:
+        return []
+    layout = engine_layout(scene)
+    given = options(scene, "balancing", BalancingOptions).rod_offset
+    sizes = options(scene, "bearings", PinSizeOptions)
+    offset, source = rod_offset_m(scene, layout, given, sizes)
+    pin = sizes.crank_pin_width
+    if source != "given" or pin is None:
+        return []
+    width = brg.big_end_bearing_width_m(
+        float(pin), brg.big_end_bearings_on_pin("central", layout.cylinders_per_bay)
+    )
+    if abs(offset - width) <= 0.1 * width:
+        return []
+    return [
+        (
+            "balancing.plausibility_rod_offset_pin",
+            {
+                "offset": offset * 1e3,
+                "pin": float(pin) * 1e3,
+                "rods": layout.cylinders_per_bay,
+                "width": width * 1e3,
+            },
+        )
+    ]
 
 
 def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts, scene) -> dict:

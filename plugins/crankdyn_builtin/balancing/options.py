@@ -44,7 +44,8 @@ def _top(value: int) -> int:
 
 class BalancingOptions(RodOffsetOptions):
     """The [balancing] table (``rod_offset`` from the shared model: the distance along the crank
-    pin between the planes of rods side by side on it; None, ROD_OFFSET_PER_BORE of the bore)."""
+    pin between the planes of rods side by side on it; None, one big-end bearing's width:
+    ``crankdyn.plugin.scene_inputs.rod_offset_m``)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 

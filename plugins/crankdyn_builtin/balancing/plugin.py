@@ -17,9 +17,9 @@ from crankdyn.plugin.contracts import (
     KINEMATICS,
 )
 from crankdyn.plugin.hooks import hookimpl
-from crankdyn.plugin.types import Catalog, Stage, StagePresentation
+from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
-from .compute import applies, run
+from .compute import applies, rod_offset_against_pin, run
 from .notation import SYMBOLS
 from .options import BalancingOptions
 from .section import render
@@ -38,6 +38,7 @@ BALANCING_STAGE = Stage(
     tables=("balancing",),
     options_table="balancing",
     options_model=BalancingOptions,
+    plausibility=(PlausibilityRule("rod_offset_pin", rod_offset_against_pin),),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only

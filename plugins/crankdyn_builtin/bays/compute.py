@@ -8,7 +8,6 @@ import math
 import numpy as np
 
 from crankdyn.physics import articulated as art
-from crankdyn.physics import bearings as brg
 from crankdyn.physics import firing_explorer as fe
 from crankdyn.physics import forces as phys
 from crankdyn.physics import layout as lay
@@ -20,11 +19,13 @@ from crankdyn.plugin.contracts import (
     KINEMATICS,
     ArticulatedOptions,
     BayLoads,
+    PinSizeOptions,
     RodOffsetOptions,
 )
 from crankdyn.plugin.scene_inputs import (
     articulated_rod_masses_kg,
     engine_layout,
+    rod_offset_m,
     slave_cylinder_pressure,
     slave_geometries,
     slave_rod_kg,
@@ -226,23 +227,6 @@ def run(scene, inputs) -> StageOutput:
     return StageOutput(data={BAY_LOADS: loads}, results=results, tables=tables, notes=notes)
 
 
-#: one big-end bearing's typical width per bore, the side-by-side rods' offset the balancing takes
-_TYPICAL_ROD_OFFSET_PER_BORE = (
-    brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * brg.TYPICAL_PIN_DIAMETER_PER_BORE
-)
-
-
-def _rod_offset_m(scene, layout) -> float:
-    """How far apart along the shaft the cylinders of one crank lie, m: one big-end bearing's
-    width where central rods lie side by side on the pin (``[balancing] rod_offset``, else the
-    typical width the balancing and bearing sections take), 0 where the rods share a plane."""
-    e = scene.engine
-    if e.rod_type != "central" or layout.cylinders_per_bay < 2:
-        return 0.0
-    given = options(scene, "balancing", RodOffsetOptions).rod_offset
-    return float(given) if given is not None else _TYPICAL_ROD_OFFSET_PER_BORE * e.bore
-
-
 def _layout_results(e, layout) -> dict:
     """The engine's layout, firing order, crank arrangement, cylinder phases and strokes."""
     results = {
@@ -399,3 +383,10 @@ def largest_tdc_shift(slaves) -> float:
     """The slaves' largest TDC shift from their bank angles (deg), to the hundredth, as the
     slaves' table, the section's text and the method note give it."""
     return round(max(abs(x["tdc_shift_deg"]) for x in slaves), 2)
+
+
+def _rod_offset_m(scene, layout) -> float:
+    """How far apart along the shaft the cylinders of one crank lie, m: the balancing table's
+    ``rod_offset`` or one big-end bearing's width (:func:`rod_offset_m`), 0 in one plane."""
+    given = options(scene, "balancing", RodOffsetOptions).rod_offset
+    return rod_offset_m(scene, layout, given, options(scene, "bearings", PinSizeOptions))[0]

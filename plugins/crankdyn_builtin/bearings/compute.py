@@ -14,7 +14,15 @@ from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
 from crankdyn.physics.extrema import first_argmax
-from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, FORCES, KINEMATICS
+from crankdyn.plugin.contracts import (
+    BAY_LOADS,
+    COUNTERWEIGHTS,
+    CRANK_LOADS,
+    FORCES,
+    KINEMATICS,
+    RodOffsetOptions,
+)
+from crankdyn.plugin.scene_inputs import rod_offset_m
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -191,25 +199,19 @@ def applies(scene) -> str | None:
     return None
 
 
-def _assumed_size_m(value_m: float) -> float:
-    """A size taken from a typical ratio, as a drawing would give it: to 0.1 mm, a size under
-    10 mm (a model engine's) to three significant digits."""
-    return round(value_m * 1e4) / 1e4 if value_m >= 0.01 else float(f"{value_m:.3g}")
-
-
 def _dimensions(scene, opts, rods_per_pin: int = 1):
     """(d_pin, w_pin, d_main, w_main, the names of those assumed): the scene's sizes, or the
     typical proportions; a pin of ``rods_per_pin`` rods side by side gives each its own width."""
     bore = scene.engine.bore
-    d_pin = opts.crank_pin_diameter or _assumed_size_m(DEFAULT_PIN_DIAMETER_PER_BORE * bore)
+    d_pin = opts.crank_pin_diameter or brg.drawn_size_m(DEFAULT_PIN_DIAMETER_PER_BORE * bore)
     per_diameter = (
         DEFAULT_PIN_WIDTH_PER_DIAMETER
         if rods_per_pin == 1
         else rods_per_pin * DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER
     )
-    w_pin = opts.crank_pin_width or _assumed_size_m(per_diameter * d_pin)
-    d_main = opts.main_journal_diameter or _assumed_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
-    w_main = opts.main_journal_width or _assumed_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
+    w_pin = opts.crank_pin_width or brg.drawn_size_m(per_diameter * d_pin)
+    d_main = opts.main_journal_diameter or brg.drawn_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
+    w_main = opts.main_journal_width or brg.drawn_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
     defaulted = [
         name
         for name in (
@@ -413,7 +415,12 @@ def run(scene, inputs) -> StageOutput:
         "rod_bearings": rod_results,
         # big-end bearings side by side on one crank pin, each carrying its own rod only
         **({"rod_bearings_per_pin": per_pin} if per_pin > 1 else {}),
-        **_rod_plane_shift(rod_results, per_pin, scene.engine.cylinder_spacing, opts.span_ratio),
+        **_rod_plane_shift(
+            _planes_apart_m(scene, bays.layout, opts),
+            per_pin,
+            scene.engine.cylinder_spacing,
+            opts.span_ratio,
+        ),
         **_drawn_diagrams(opts, pins, journals),
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
         "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
@@ -490,13 +497,21 @@ def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:
             raise SceneError(Problem(key, values, f"numbers from 1 to {limit}"))
 
 
-def _rod_plane_shift(rod_results, per_pin: int, spacing_m, span_ratio: float) -> dict:
+def _planes_apart_m(scene, layout, opts) -> float:
+    """How far apart the planes of rods side by side on a pin lie, m, as the balancing takes it:
+    its table's ``rod_offset``, else one big-end bearing's width (:func:`rod_offset_m`)."""
+    given = options(scene, "balancing", RodOffsetOptions).rod_offset
+    return rod_offset_m(scene, layout, given, opts)[0]
+
+
+def _rod_plane_shift(planes_apart_m: float, per_pin: int, spacing_m, span_ratio: float) -> dict:
     """Rods side by side on a pin are loaded in its middle plane; the outermost rod's plane lies
-    (n − 1)/2 bearing widths off it, which shifts the share of its force each neighbouring main
-    journal takes by that offset over the span (the crank spacing a): offset in m and share."""
-    if per_pin == 1 or not spacing_m or span_ratio != 0.5:
+    (n − 1)/2 of the rods' planes' distance ``planes_apart_m`` (the balancing's rod offset) off
+    it, which shifts the share of its force each neighbouring main journal takes by that offset
+    over the span (the crank spacing a): offset in m and share."""
+    if per_pin == 1 or not spacing_m or span_ratio != 0.5 or not planes_apart_m:
         return {}
-    offset = 0.5 * (per_pin - 1) * rod_results[0]["width_m"]
+    offset = 0.5 * (per_pin - 1) * planes_apart_m
     return {"rod_plane_offset_m": offset, "rod_plane_share_shift": offset / spacing_m}
 
 

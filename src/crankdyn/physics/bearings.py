@@ -97,6 +97,12 @@ def big_end_bearings_on_pin(rod_type: str, cylinders_per_pin: int) -> int:
     return cylinders_per_pin if rod_type == "central" else 1
 
 
+def drawn_size_m(value_m: float) -> float:
+    """A size taken from a typical ratio as a drawing gives it, m: to 0.1 mm; a size under 10 mm
+    (a model engine's) to three significant digits."""
+    return round(value_m * 1e4) / 1e4 if value_m >= 0.01 else float(f"{value_m:.3g}")
+
+
 def big_end_bearing_width_m(pin_width_m: float, bearings_on_pin: int) -> float:
     """Width B_r of one big-end bearing, m: the crank pin's width shared equally by the big-end
     bearings side by side on it, ``B_r = B / n`` (n from :func:`big_end_bearings_on_pin`)."""

@@ -224,6 +224,16 @@ class RodOffsetOptions(BaseModel):
     rod_offset: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
 
 
+class PinSizeOptions(BaseModel):
+    """The bearings table's crank-pin size (owned by the bearing stage, whose model extends this
+    one): the stages that place rods side by side on a pin read the pin's width from it."""
+
+    model_config = ConfigDict(extra="ignore", frozen=True, validate_default=True)
+
+    crank_pin_diameter: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+    crank_pin_width: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
+
+
 class ArticulatedOptions(BaseModel):
     """The articulated rods' table: slave-rod geometry and masses (owned by the bay stage; the
     crank-slider's drawing and the balancing stage read it too)."""

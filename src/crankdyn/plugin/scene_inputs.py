@@ -16,11 +16,12 @@ import numpy as np
 
 from ..errors import Problem, SceneError
 from ..physics import articulated as art
+from ..physics import bearings as brg
 from ..physics import forces as phys
 from ..physics import indicator as ind
 from ..physics import layout as lay
 from ..physics.speed_fluctuation import CrankTrain
-from .contracts import ArticulatedOptions, BayLoads
+from .contracts import ArticulatedOptions, BayLoads, PinSizeOptions
 
 
 def power_take_off(scene) -> str:
@@ -104,6 +105,31 @@ def slave_geometries(
             ) from None
         out.append((slave, geometry))
     return out
+
+
+def rod_offset_m(scene, layout, given_m, pin: PinSizeOptions) -> tuple[float, str]:
+    """(distance along the shaft between the planes of central rods side by side on a crank pin,
+    m; where it comes from): ``given_m`` (the balancing table's ``rod_offset``: "given"), else one
+    big-end bearing's width, ``pin``'s given crank-pin width (the bearings table's) shared by the
+    rods on the pin ("pin_width") or of the typical proportions the bearing stage takes, 0.45 of
+    a pin 0.63 of the bore or of the given diameter, each to 0.1 mm ("typical"); 0 and "none"
+    where the rods share a plane (one rod a pin, fork or articulated rods)."""
+    e = scene.engine
+    if e.rod_type != "central" or layout.cylinders_per_bay < 2:
+        return 0.0, "none"
+    if given_m is not None:
+        return float(given_m), "given"
+    if pin.crank_pin_width is not None:
+        per_pin = brg.big_end_bearings_on_pin(e.rod_type, layout.cylinders_per_bay)
+        return brg.big_end_bearing_width_m(float(pin.crank_pin_width), per_pin), "pin_width"
+    # the sizes the bearing stage takes: each typical one as a drawing gives it
+    diameter = pin.crank_pin_diameter or brg.drawn_size_m(
+        brg.TYPICAL_PIN_DIAMETER_PER_BORE * e.bore
+    )
+    pin_width = brg.drawn_size_m(
+        layout.cylinders_per_bay * brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * float(diameter)
+    )
+    return pin_width / layout.cylinders_per_bay, "typical"
 
 
 def slave_rod_kg(scene, opts: ArticulatedOptions, slaves) -> float:
