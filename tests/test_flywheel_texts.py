@@ -123,3 +123,40 @@ def test_a_one_crank_shafts_own_inertia_is_without_its_cranks_mass():
     assert "на щеках колена" in text and "на щеках колен " not in text
     four = shared_html("inline4-petrol", None, "ru")
     assert "без масс колен" in re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", four.linked_html))
+
+
+@pytest.mark.parametrize(
+    "language, title, row, defined",
+    [
+        (
+            "en",
+            "Speed fluctuation with the propeller",
+            "Moment of inertia of the propeller (taking the flywheel's part)",
+            "so in this note the flywheel is the propeller",
+        ),
+        (
+            "uk",
+            "Нерівномірність обертання з повітряним гвинтом",
+            "Момент інерції повітряного гвинта (виконує роль маховика)",
+            "тож у цій записці маховик – це гвинт",
+        ),
+    ],
+)
+def test_an_aircraft_engines_flywheel_is_its_propeller(language, title, row, defined):
+    """A radial aircraft engine given its propeller's inertia: the section is the speed
+    fluctuation with the propeller, the given data and the list of symbols name the propeller,
+    and the section says once that its "flywheel" is the propeller; a car engine's keeps its
+    flywheel."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html
+
+    given = {"flywheel": {"inertia": "2.5 kg m^2"}}
+    html = shared_html("radial9-aircraft", given, language).linked_html
+    text = html_lib.unescape(re.sub(r"<[^>]+>", "", html))
+    assert title in text and row in text and defined in text
+    listed = text[text.index("J" + ("f" if language == "en" else "мах") + " –") :][:120]
+    assert ("propeller" if language == "en" else "гвинта") in listed, listed
+    car = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, language).linked_html)
+    assert title not in car and defined not in car

@@ -59,8 +59,12 @@ def render(output: StageOutput, ctx) -> str:
         _conclude(ctx, r)
         _conclude_rim_too_fast(ctx, r)
     opts = options(ctx.scene, "flywheel", FlywheelOptions)
+    propeller = _propeller(ctx.scene)
+    if propeller:  # an aircraft engine's propeller takes the flywheel's part
+        ctx.title = t("flywheel.title_propeller")
     return ctx.render_template(
         "sections/flywheel.html.j2",
+        propeller=propeller,
         r=r,
         cylinders=ctx.scene.engine.cylinders,
         cranks=cranks,
@@ -239,7 +243,7 @@ def _conclude(ctx, r: dict) -> None:
         return
     ctx.find(
         t(
-            "flywheel.finding",
+            "flywheel.finding" + ("_propeller" if _propeller(ctx.scene) else ""),
             flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
             delta=ctx.num(r["irregularity"], 3),
         )
@@ -288,6 +292,11 @@ def _conclude_not_needed(ctx, r) -> None:
     )
 
 
+def _propeller(scene) -> bool:
+    """An aircraft engine: its propeller, on the crankshaft, is the flywheel of this section."""
+    return getattr(scene.engine, "application", None) == "aircraft"
+
+
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     """The [flywheel] table's given data for the report's table of the task's data."""
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -299,9 +308,8 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             (t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 6), "")
         )
     if opts.inertia is not None:
-        rows.append(
-            (t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia)
-        )
+        key = "flywheel.input_inertia" + ("_propeller" if _propeller(scene) else "")
+        rows.append((t(key), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia))
     if "engine_inertia" in opts.model_fields_set:
         rows.append(_engine_inertia_row(opts, t, _cranks(scene)))
     if opts.rim_mean_diameter is not None:

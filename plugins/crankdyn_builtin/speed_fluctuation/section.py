@@ -216,7 +216,11 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     ):
         value = getattr(opts, key)
         if value is not None:
-            rows.append((t(f"speed_fluctuation.input_{key}"), "", t.number_g(value, 4), unit))
+            # an aircraft engine's span ends at its propeller (the flywheel of the note)
+            name = f"speed_fluctuation.input_{key}"
+            if scene.engine.application == "aircraft" and t.has(name + "_propeller"):
+                name += "_propeller"
+            rows.append((t(name), "", t.number_g(value, 4), unit))
     if "damping_ratio" in opts.model_fields_set:
         rows.append(
             (
