@@ -1041,3 +1041,24 @@ def test_a_balancing_tables_columns_keep_one_count_of_decimals():
     assert all(",0°" not in row[4] and ".0°" not in row[4] for row in means[1:]), means
     bay = _table_cells(shared_html("v8-petrol", None, "en").linked_html, "model of one bay")
     assert all(re.fullmatch(r"−?\d\.\d{4}", cell) for cell in bay[1]), bay
+
+
+def test_counterweights_where_the_cranks_balance_everything_they_could_are_said_to_relieve_bearings():
+    """A boxer four balances its centrifugal and first-order forces and moments by its cranks:
+    counterweights fitted on every crank change none of the free forces, and the conclusion says
+    what they are for; the in-line three's counterweights, which balance ΣM_C and ΣM_I, get no
+    such sentence."""
+    import re
+
+    from conftest import FLAT_FOUR_ENGINE, shared_html, shared_run
+
+    boxer = {"engine": FLAT_FOUR_ENGINE, "balancing": {"counterweights": "every_crank"}}
+    results = shared_run("v8-petrol", boxer, ("balancing",)).outputs["balancing"].results
+    assert results["counterweights"]
+    targets = {"sum_C", "M_C", "sum_PI", "M_PI"}
+    assert all(s["balanced"] for s in results["summary"] if s["quantity"] in targets)
+    said = "The counterweights change none of the engine's free forces and moments"
+    text = re.sub(r"<[^>]+>", "", shared_html("v8-petrol", boxer, "en", ("balancing",)).linked_html)
+    assert said in text.replace("&#39;", "'")
+    three = re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "en").linked_html)
+    assert said not in three.replace("&#39;", "'")

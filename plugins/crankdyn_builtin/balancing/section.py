@@ -497,7 +497,21 @@ def _means_sentence(t, r) -> str:
     if by_scheme and not single:
         key = "balancing.scheme_balances" + ("_plane" if one_plane(r) else "")
         sentence += " " + t(key, what=by_scheme)
+    if r["counterweights"] and _counterweights_internal_only(r):
+        sentence += " " + t("balancing.counterweights_internal")
     return sentence
+
+
+#: What counterweights can balance: the centrifugal forces and the co-rotating first order, and
+#: their moments.
+_COUNTERWEIGHT_TARGETS = frozenset({"sum_C", "M_C", "sum_PI", "M_PI"})
+
+
+def _counterweights_internal_only(r) -> bool:
+    """Whether the crank arrangement balances all that counterweights could (a boxer's, an
+    in-line six's): fitted counterweights then only relieve the main bearings."""
+    rows = [s for s in r["summary"] if s["quantity"] in _COUNTERWEIGHT_TARGETS]
+    return bool(rows) and all(s["balanced"] for s in rows)
 
 
 def _fitted(r, item) -> bool:
