@@ -285,3 +285,12 @@ def test_a_given_order_tied_with_the_first_is_said_to_balance_as_well():
         r"\s+", " ", re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "uk").linked_html)
     )
     assert "Порядок роботи із завдання – 2-й із 2, проте зрівноважений так само, як перший" in text
+
+
+def test_a_boxers_neighbours_in_one_bank_are_a_crank_apart():
+    """A flat four's banks hold cylinders 1, 3 and 2, 4 (a crank pin each, the banks on
+    alternate cranks): 1→3 and 2→4 fire neighbours of one bank in turn in 1–3–2–4, though
+    their cranks are two apart; 1–2–3–4 fires no two of one bank in turn."""
+    ranked = {r.firing_order: r for r in fe.explore(4, "boxer", 4, None, top=None).rows}
+    assert ranked[("1", "3", "2", "4")].neighbours == 2
+    assert ranked[("1", "2", "3", "4")].neighbours == 0

@@ -358,11 +358,20 @@ def _firing_sequences(
 
 
 def _rules(seq: np.ndarray, banks: np.ndarray, bays: np.ndarray) -> dict[str, np.ndarray]:
+    """Consecutive firings (cylinder indices ``seq``, cyclic) that textbook §4.2 avoids: of
+    neighbouring cylinders of one bank (next to each other in the bank along the shaft: a
+    boxer's bank has a cylinder on every other crank), of two cylinders on one crank pin, and of
+    cylinders on the same side of the shaft's middle."""
     nxt = np.roll(seq, -1, axis=-1)
     bank_a, bank_b = banks[seq], banks[nxt]
     bay_a, bay_b = bays[seq], bays[nxt]
     middle = 0.5 * (bays.max())
-    neighbours = ((bank_a == bank_b) & (np.abs(bay_a - bay_b) == 1)).sum(axis=-1)
+    # each cylinder's place in its bank along the shaft
+    place = np.empty(len(banks), dtype=np.int64)
+    for bank in np.unique(banks):
+        members = np.flatnonzero(banks == bank)
+        place[members[np.argsort(bays[members], kind="stable")]] = np.arange(members.size)
+    neighbours = ((bank_a == bank_b) & (np.abs(place[seq] - place[nxt]) == 1)).sum(axis=-1)
     same_pin = (
         ((bay_a == bay_b) & (seq != nxt)).sum(axis=-1)
         if bays.max() < len(bays) - 1
