@@ -33,3 +33,19 @@ def test_an_inner_journal_of_the_largest_running_torque_is_concluded_in_the_note
 def test_no_running_torque_conclusion_for_one_crank():
     note = Note("petrol-1cyl", {}, ("torque",), "ru")
     assert "набегающий момент передаёт" not in note.conclusions
+
+
+def test_the_journals_names_are_explained_before_the_figure_that_first_uses_them():
+    """The journals' running-torque figure labels its curves "0–1" … "4–5": how a journal is
+    named stands in the sentence that announces that figure, not only later at the table."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("inline4-petrol", None, "en").linked_html
+    text = re.sub(r"<[^>]+>", "", html).replace("&#39;", "'")
+    named = text.index("a journal is named by the cranks it lies between")
+    figure = text.index("— Running torques on the main journals")
+    table = text.index("The largest and smallest running torques on the main journals")
+    assert named < figure < table
+    assert text.count("a journal is named by the cranks it lies between") == 1

@@ -52,7 +52,7 @@ def _journals_table(ctx, journals) -> str:
             ),  # words: M_max is the engine's
         ],
         caption=t("torque.journals_table_caption"),
-        see="torque.see_journals_table" + output_end(ctx.scene),
+        see="torque.see_journals_table",
     )
 
 
@@ -100,7 +100,7 @@ def render(output: StageOutput, ctx) -> str | None:
             partial(_journals_figure, f, cranks, ctx.cycle_deg, t),
             t("torque.journals_caption"),
             "journal_torques",
-            see="torque.see_journals",
+            see="torque.see_journals" + output_end(ctx.scene),
         )
     )
     journals_table = None if cranks == 1 else _journals_table(ctx, r["journals"])
