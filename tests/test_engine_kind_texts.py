@@ -209,3 +209,12 @@ def test_a_two_strokes_scavenging_names_its_transfer_ports_and_the_crankcase_ass
     assert "Тиск у картері прийнято сталим" in two and "кривошипно-камерним продуванням" in two
     assert "кривошипно-камерним продуванням" not in four
     assert "сталий тиск p 0 роботи за цикл не виконує" in four
+
+
+@pytest.mark.parametrize("language, tangent", [("en", "tan"), ("uk", "tg"), ("ru", "tg")])
+def test_the_tangent_is_written_as_the_language_writes_it(language, tangent):
+    """The side force N = p₁ tan β in English, N = p₁ tg β in Ukrainian and Russian."""
+    text = _text(shared_html("petrol-1cyl", None, language).linked_html)
+    assert f"N = p 1 {tangent} β" in text
+    other = "tg" if tangent == "tan" else "tan"
+    assert f"N = p 1 {other} β" not in text
