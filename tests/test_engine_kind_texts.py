@@ -218,3 +218,13 @@ def test_the_tangent_is_written_as_the_language_writes_it(language, tangent):
     assert f"N = p 1 {tangent} β" in text
     other = "tg" if tangent == "tan" else "tan"
     assert f"N = p 1 {other} β" not in text
+
+
+def test_an_english_note_writes_angles_with_the_degree_sign():
+    """ "intervals between firings: 405; 315°", not "… 315 deg": the English note's angles carry the
+    sign the Ukrainian and Russian ones do."""
+    from conftest import V_TWIN_ENGINE
+
+    text = _text(shared_html("v8-petrol", {"engine": V_TWIN_ENGINE}, "en").linked_html)
+    assert not re.search(r"\d deg\b", text)
+    assert "405; 315°" in text
