@@ -251,8 +251,10 @@ def _models_drawing(panels, moments: bool, cylinders: int, balanced_label: str):
             )
             # one cylinder's own force, without the sum sign, as its tables and text write it
             sigma = "" if cylinders == 1 else "\\Sigma "
+            # a product divides in brackets: ΣP_II/(|A_2|C_I), as the tables' headers write it
+            scale = f"({amp})" if order > 1 else amp
             title = (
-                (f"${sigma}P_{{{sub}}}/{amp}$" if order else f"${sigma}C/C$")
+                (f"${sigma}P_{{{sub}}}/{scale}$" if order else f"${sigma}C/C$")
                 if kind == "force"
                 else f"${sigma}M_{{{sub}}}/({amp}a)$"
             )
