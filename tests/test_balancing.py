@@ -680,7 +680,7 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
         p.read_text(encoding="utf-8") for p in (out / "figures").glob("*vector_models*.svg")
     )
     # divided by the dotted circle's radius |A_2| C_I, not by the textbook's C_II = λC_I
-    assert r"$P_{\mathrm{II}}/|A_{2}|C_{\mathrm{I}}$" in svg and "P_{II}" not in svg
+    assert r"$P_{\mathrm{II}}/(|A_{2}|C_{\mathrm{I}})$" in svg and "P_{II}" not in svg
     # one cylinder's own forces, no sums (no "ΣC/C" over a single crank), here as in its tables
     section = re.search(
         r'data-stage="balancing">.*?</section>',
