@@ -296,6 +296,6 @@ def test_the_vector_models_are_divided_by_their_circles_radius():
     titles = [ax.get_title() for ax in fig.axes]
     assert titles[:2] == [
         r"$\Sigma P_{\mathrm{I}}/C_{\mathrm{I}}$",
-        r"$\Sigma P_{\mathrm{II}}/|A_{2}|C_{\mathrm{I}}$",
+        r"$\Sigma P_{\mathrm{II}}/(|A_{2}|C_{\mathrm{I}})$",
     ]
     assert not any("C_{\\mathrm{II}}" in title for title in titles)
