@@ -1062,3 +1062,27 @@ def test_counterweights_where_the_cranks_balance_everything_they_could_are_said_
     assert said in text.replace("&#39;", "'")
     three = re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", None, "en").linked_html)
     assert said not in three.replace("&#39;", "'")
+
+
+def test_a_first_order_on_a_shaft_of_its_own_is_not_said_to_be_on_the_counterweights():
+    """With the co-rotating first order put on a balance shaft, the counterweight is sized for
+    the centrifugal force alone (m_R·R) and the means paragraph says so, where it said
+    "Q = F + C"; with it on the crankshaft, the counterweight carries both."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    shaft = {"balancing": {"first_order_forward": "shaft"}}
+    r = shared_run("petrol-1cyl", shaft, ("balancing",)).outputs["balancing"].results
+    forward = [s for s in r["balance_shafts"] if s["order"] == 1 and s["speed_ratio"] > 0]
+    assert forward and r["counterweights"]
+    text = re.sub(
+        r"<[^>]+>", "", shared_html("petrol-1cyl", shaft, "en", ("balancing",)).linked_html
+    )
+    text = text.replace("&#39;", "'")
+    assert "the counterweight's force Q = C, the centrifugal force" in text
+    assert "Q = F + C" not in text
+    plain = re.sub(
+        r"<[^>]+>", "", shared_html("petrol-1cyl", None, "en", ("balancing",)).linked_html
+    )
+    assert "Q = F + C" in plain
