@@ -190,7 +190,10 @@ def rod_offset_against_pin(scene, results=None) -> list[tuple[str, dict]]:
     way is let pass, for the bearings' chamfers and thrust faces)."""
     if scene.engine.rod_type != "central" or scene.engine.cylinders < 2:
         return []
-    layout = engine_layout(scene)
+    try:
+        layout = engine_layout(scene)
+    except SceneError:  # a layout the stages refuse, with their own message
+        return []
     given = options(scene, "balancing", BalancingOptions).rod_offset
     sizes = options(scene, "bearings", PinSizeOptions)
     offset, source = rod_offset_m(scene, layout, given, sizes)

@@ -225,11 +225,10 @@ def _rod_offset_sentence(t, r) -> str:
         return ""
     couples = r["rod_offset_couples"]
     return t(
-        "balancing.rod_offset" + ("_cranks" if couples.get("cranks", 1) > 1 else ""),
+        "balancing.rod_offset" + ("_cranks" if couples["cranks"] > 1 else ""),
         offset=t.number_g(couples["offset_m"] * 1e3, 4),
         taken={"given": "", "pin_width": t("balancing.rod_offset_pin_width")}.get(
-            couples.get("offset_source", "given" if couples["offset_given"] else "typical"),
-            t("balancing.rod_offset_taken"),
+            couples["offset_source"], t("balancing.rod_offset_taken")
         ),
         items=", ".join(items),
     )
