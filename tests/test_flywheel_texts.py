@@ -158,5 +158,7 @@ def test_an_aircraft_engines_flywheel_is_its_propeller(language, title, row, def
     assert title in text and row in text and defined in text
     listed = text[text.index("J" + ("f" if language == "en" else "мах") + " –") :][:120]
     assert ("propeller" if language == "en" else "гвинта") in listed, listed
+    keyword = {"en": "PROPELLER", "uk": "ПОВІТРЯНИЙ ГВИНТ"}[language]
+    assert keyword in text and ("FLYWHEEL" if language == "en" else "МАХОВИК") not in text
     car = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, language).linked_html)
-    assert title not in car and defined not in car
+    assert title not in car and defined not in car and keyword not in car

@@ -763,7 +763,9 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     catalogs = [_catalog_section(registry, v.key) for v in sections]
     motion = "" if getattr(scene, "cycle", None) is not None else "_kinematics"
     return {
-        "keywords": keywords(t, mechanism_key(scene.engine, t), catalogs, motion),
+        "keywords": keywords(
+            t, mechanism_key(scene.engine, t), catalogs, motion, _meaning_forms(scene)
+        ),
         "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
         "introduction_aim": introduction_aim(t, catalogs, motion),
     }
@@ -804,19 +806,27 @@ def mechanism_key(engine, t) -> str:
     return engine.mechanism
 
 
-def keywords(t, mechanism: str, stages: list[str], motion: str = "") -> str:
+def keywords(
+    t, mechanism: str, stages: list[str], motion: str = "", forms: tuple[str, ...] = ()
+) -> str:
     """The abstract's key words, upper case, for what this report holds: the calculation and the
     engine (``doc.keyword_general``, comma-separated), the mechanism (its description in the
     catalog, up to the colon) and each section's own words (``<section>.keywords`` in its
     plugin's catalog, comma-separated; a stage without them adds none). A report of the
     kinematics alone has five; a mechanism without a working cycle is named by its kinematic
-    analysis (``motion`` "_kinematics"), not by an engine's dynamic calculation."""
+    analysis (``motion`` "_kinematics"), not by an engine's dynamic calculation. A section's
+    words for the engine's ``forms`` come first (``<section>.keywords_<form>``: an aircraft
+    engine's propeller where another has a flywheel)."""
     words = [w.strip() for w in t(f"doc.keyword_general{motion}").split(",")]
     if t.has(f"mechanism.{mechanism}"):
         words.append(t(f"mechanism.{mechanism}").split(":", 1)[0])
     for stage in stages:
-        if t.has(f"{stage}.keywords"):
-            words += [w.strip() for w in t(f"{stage}.keywords").split(",") if w.strip()]
+        key = next(
+            (f"{stage}.keywords_{form}" for form in forms if t.has(f"{stage}.keywords_{form}")),
+            f"{stage}.keywords",
+        )
+        if t.has(key):
+            words += [w.strip() for w in t(key).split(",") if w.strip()]
     unique = list(dict.fromkeys(w.upper() for w in words))
     return ", ".join(unique[:KEYWORDS_MAX])
 
