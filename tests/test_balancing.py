@@ -1086,3 +1086,31 @@ def test_a_first_order_on_a_shaft_of_its_own_is_not_said_to_be_on_the_counterwei
         r"<[^>]+>", "", shared_html("petrol-1cyl", None, "en", ("balancing",)).linked_html
     )
     assert "Q = F + C" in plain
+
+
+def test_the_given_means_radii_and_rod_offset_are_among_the_task_data():
+    """Radii of the counterweights' and shafts' masses and the rods' offset the scene gives stand
+    in table 1.1 with the engine's data (they were in a later caption only); defaults do not."""
+    import re
+
+    from conftest import V_TWIN_ENGINE, shared_html
+
+    given = {
+        "engine": V_TWIN_ENGINE,
+        "balancing": {
+            "counterweight_radius": "42 mm",
+            "balance_shaft_radius": "25 mm",
+            "rod_offset": "18 mm",
+        },
+    }
+    html = shared_html("v8-petrol", given, "en", ("balancing",)).linked_html
+    text = re.sub(r"<[^>]+>", "|", html).replace("&#39;", "'")
+    table = text[text.index("Table 1.1") : text.index("Table 1.2") if "Table 1.2" in text else None]
+    for name, value in (
+        ("Radius of the counterweights' centre of mass", "42"),
+        ("Radius of the balance-shaft masses' centre of mass", "25"),
+        ("Distance between the planes of the rods side by side on a crank pin", "18"),
+    ):
+        assert re.search(re.escape(name) + r"\|+" + value + r"\|+mm", table), name
+    plain = shared_html("v8-petrol", None, "en", ("balancing",)).linked_html
+    assert "Radius of the counterweights' centre of mass" not in plain.replace("&#39;", "'")

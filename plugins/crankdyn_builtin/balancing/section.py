@@ -5,10 +5,11 @@ from __future__ import annotations
 from functools import partial
 
 from crankdyn.plugin.types import StageOutput
+from crankdyn.scene import options
 
 from .figures import _models_figure, models_left_out, star_figure
 from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
-from .options import LEAVE_SHARE, flies_without_shafts
+from .options import LEAVE_SHARE, BalancingOptions, flies_without_shafts
 from .tables import (
     _bay_table,
     _explorer_table,
@@ -707,3 +708,17 @@ def _rank_tied_with_first(explorer) -> bool:
     return own.keys() == first.keys() and all(
         abs(own[k] - first[k]) <= 1e-9 * max(1.0, abs(first[k])) for k in own
     )
+
+
+def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The [balancing] table's given sizes for the report's table of the task's data: the radii
+    of the counterweights' and balance-shaft masses' centres and the rods' offset along the pin,
+    where the scene gives them (a default it leaves is no datum of the task)."""
+    opts = options(scene, "balancing", BalancingOptions)
+    t, mm = ctx.t, ctx.t("unit.mm")
+    rows = []
+    for key in ("counterweight_radius", "balance_shaft_radius", "rod_offset"):
+        value = getattr(opts, key)
+        if value is not None:
+            rows.append((t(f"balancing.input_{key}"), "", t.number_g(value * 1e3, 4), mm))
+    return rows
