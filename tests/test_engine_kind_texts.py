@@ -228,3 +228,11 @@ def test_an_english_note_writes_angles_with_the_degree_sign():
     text = _text(shared_html("v8-petrol", {"engine": V_TWIN_ENGINE}, "en").linked_html)
     assert not re.search(r"\d deg\b", text)
     assert "405; 315°" in text
+
+
+def test_the_english_negligible_orders_read_as_a_sentence():
+    """ "The other unbalanced forces of the sixth order (…)", not "The other unbalanced the forces
+    of the sixth order"."""
+    text = _text(shared_html("inline4-petrol", None, "en").linked_html)
+    assert "The other unbalanced forces of the sixth order" in text
+    assert "unbalanced the " not in text
