@@ -294,3 +294,14 @@ def test_a_boxers_neighbours_in_one_bank_are_a_crank_apart():
     ranked = {r.firing_order: r for r in fe.explore(4, "boxer", 4, None, top=None).rows}
     assert ranked[("1", "3", "2", "4")].neighbours == 2
     assert ranked[("1", "2", "3", "4")].neighbours == 0
+
+
+def test_the_explorers_rule_columns_are_explained_before_its_table():
+    """ "Neighbours", "Same pin", "Same half": the sentence announcing the ranked table says what
+    the numbers in them count."""
+    from conftest import EXPLORED_BOXER, shared_html
+
+    html = shared_html("inline4-petrol", EXPLORED_BOXER, "en", ("balancing",)).linked_html
+    text = re.sub(r"<[^>]+>", "", html)
+    said = text.index("how many consecutive firings each rule names")
+    assert said < text.index("Firing orders and crank arrangements ranked")
