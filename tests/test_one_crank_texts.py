@@ -276,10 +276,16 @@ def test_the_v_twins_side_force_step_and_shafts_are_worded_as_an_engineer_writes
 
 
 def test_an_equal_pair_of_shafts_is_still_lanchesters():
+    """An in-line four's second-order pair is Lanchester's balancer; a single cylinder's
+    first-order pair (a shaft each way at the crank's speed) is not."""
     from conftest import shared_html
 
     text = _plain(shared_html("inline4-petrol", None, "uk").linked_html)
     assert "(механізм Ланчестера)" in text
+    first = {"balancing": {"first_order_forward": "shaft"}}
+    single = _plain(shared_html("petrol-1cyl-uk", first, "uk", ("balancing",)).linked_html)
+    assert "два зрівноважувальні вали, що обертаються в протилежних напрямках" in single
+    assert "Ланчестера" not in single
 
 
 def test_a_radials_conclusions_give_the_master_cylinders_side_force_with_the_slave_rods():

@@ -320,6 +320,7 @@ def _summary_table(ctx, r):
                         one_plane(r),
                         _equal_pair(r, s["order"]),
                         couple=s["quantity"].startswith("M_"),
+                        order=s["order"],
                     )
                     for s in rows
                 ],
@@ -347,18 +348,23 @@ def _equal_pair(r, order: int) -> bool:
 
 
 def _remedy_text(
-    t, remedy: str, one_crank: bool = False, equal_pair: bool = True, couple: bool = False
+    t,
+    remedy: str,
+    one_crank: bool = False,
+    equal_pair: bool = True,
+    couple: bool = False,
+    order: int = 2,
 ) -> str:
-    """The means of one order in words: a Lanchester pair (equal shafts against a force; against
-    a couple the shafts carry a mass at each end, which is no Lanchester's balancer) named as such,
-    several
-    means joined by "і"; what balances itself is balanced by the crank arrangement, or (all
-    cylinders on one crank) by the cylinders' arrangement round it."""
+    """The means of one order in words: a Lanchester pair (equal shafts at twice the crank's
+    speed against a second-order force; against a couple the shafts carry a mass at each end, and
+    a first-order pair is no Lanchester's balancer either) named as such, several means joined by
+    "і"; what balances itself is balanced by the crank arrangement, or (all cylinders on one
+    crank) by the cylinders' arrangement round it."""
     parts = remedy.split("+")
     left = [t("balancing.remedy_" + part) for part in parts if part.startswith("left_")]
     means = "+".join(part for part in parts if not part.startswith("left_"))
     if means == "shaft_forward+shaft_backward":
-        pair = "_couple" if couple else ""
+        pair = "_couple" if couple else "" if order == 2 else "_plain"
         text = t("balancing.remedy_shaft_pair" + (pair if equal_pair else "_unequal"))
     else:
         text = t("balancing.means_and").join(
