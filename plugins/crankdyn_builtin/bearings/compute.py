@@ -29,15 +29,8 @@ from crankdyn.scene import options
 from .options import BearingOptions
 
 # Typical proportions (fractions of the bore / of the journal diameter) for car and tractor
-# engines (Kolchin and Demidov), used when the scene gives no journal dimensions.
-DEFAULT_PIN_DIAMETER_PER_BORE = brg.TYPICAL_PIN_DIAMETER_PER_BORE
-
-DEFAULT_PIN_WIDTH_PER_DIAMETER = 0.60
-
-#: A crank pin with rods side by side (a V's central rods): each big-end bearing this share of the
-#: pin's diameter, so a V's pin is 0.9·d long (one rod's 0.6·d would leave each bearing 0.3·d).
-DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER = brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER
-
+# engines (Kolchin and Demidov), used when the scene gives no journal dimensions; the crank pin's
+# are the shared library's (physics.bearings.crank_pin_size_m).
 DEFAULT_MAIN_DIAMETER_PER_BORE = 0.70
 
 DEFAULT_MAIN_WIDTH_PER_DIAMETER = 0.45
@@ -203,13 +196,9 @@ def _dimensions(scene, opts, rods_per_pin: int = 1):
     """(d_pin, w_pin, d_main, w_main, the names of those assumed): the scene's sizes, or the
     typical proportions; a pin of ``rods_per_pin`` rods side by side gives each its own width."""
     bore = scene.engine.bore
-    d_pin = opts.crank_pin_diameter or brg.drawn_size_m(DEFAULT_PIN_DIAMETER_PER_BORE * bore)
-    per_diameter = (
-        DEFAULT_PIN_WIDTH_PER_DIAMETER
-        if rods_per_pin == 1
-        else rods_per_pin * DEFAULT_ROD_BEARING_WIDTH_PER_DIAMETER
+    d_pin, w_pin = brg.crank_pin_size_m(
+        bore, rods_per_pin, opts.crank_pin_diameter, opts.crank_pin_width
     )
-    w_pin = opts.crank_pin_width or brg.drawn_size_m(per_diameter * d_pin)
     d_main = opts.main_journal_diameter or brg.drawn_size_m(DEFAULT_MAIN_DIAMETER_PER_BORE * bore)
     w_main = opts.main_journal_width or brg.drawn_size_m(DEFAULT_MAIN_WIDTH_PER_DIAMETER * d_main)
     defaulted = [

@@ -23,6 +23,8 @@ import numpy as np
 #: over the pin's diameter where rods sit side by side on it (a V's pin is then 0.9·d long).
 TYPICAL_PIN_DIAMETER_PER_BORE = 0.63
 TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER = 0.45
+#: A crank pin's typical length per diameter with one rod on it.
+TYPICAL_PIN_WIDTH_PER_DIAMETER = 0.60
 
 from .extrema import first_argmax, first_argmin
 
@@ -101,6 +103,22 @@ def drawn_size_m(value_m: float) -> float:
     """A size taken from a typical ratio as a drawing gives it, m: to 0.1 mm; a size under 10 mm
     (a model engine's) to three significant digits."""
     return round(value_m * 1e4) / 1e4 if value_m >= 0.01 else float(f"{value_m:.3g}")
+
+
+def crank_pin_size_m(
+    bore_m: float, rods_per_pin: int, diameter_m: float | None = None, width_m: float | None = None
+) -> tuple[float, float]:
+    """(diameter, length) of a crank pin, m: the given ones, or the typical proportions a drawing
+    gives (:func:`drawn_size_m`): d = 0.63 D, B = 0.6 d with one rod, 0.45 d for each of the
+    rods side by side on it (Kolchin and Demidov's ratios: one rod's 0.6 d would leave each of
+    two rods 0.3 d)."""
+    d = diameter_m or drawn_size_m(TYPICAL_PIN_DIAMETER_PER_BORE * bore_m)
+    per_diameter = (
+        TYPICAL_PIN_WIDTH_PER_DIAMETER
+        if rods_per_pin == 1
+        else rods_per_pin * TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER
+    )
+    return float(d), float(width_m or drawn_size_m(per_diameter * d))
 
 
 def big_end_bearing_width_m(pin_width_m: float, bearings_on_pin: int) -> float:

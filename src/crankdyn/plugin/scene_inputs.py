@@ -119,17 +119,11 @@ def rod_offset_m(scene, layout, given_m, pin: PinSizeOptions) -> tuple[float, st
         return 0.0, "none"
     if given_m is not None:
         return float(given_m), "given"
-    if pin.crank_pin_width is not None:
-        per_pin = brg.big_end_bearings_on_pin(e.rod_type, layout.cylinders_per_bay)
-        return brg.big_end_bearing_width_m(float(pin.crank_pin_width), per_pin), "pin_width"
-    # the sizes the bearing stage takes: each typical one as a drawing gives it
-    diameter = pin.crank_pin_diameter or brg.drawn_size_m(
-        brg.TYPICAL_PIN_DIAMETER_PER_BORE * e.bore
-    )
-    pin_width = brg.drawn_size_m(
-        layout.cylinders_per_bay * brg.TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER * float(diameter)
-    )
-    return pin_width / layout.cylinders_per_bay, "typical"
+    # the pin the bearing stage takes: the given length, or the typical one
+    per_pin = brg.big_end_bearings_on_pin(e.rod_type, layout.cylinders_per_bay)
+    _, width = brg.crank_pin_size_m(e.bore, per_pin, pin.crank_pin_diameter, pin.crank_pin_width)
+    source = "pin_width" if pin.crank_pin_width is not None else "typical"
+    return brg.big_end_bearing_width_m(width, per_pin), source
 
 
 def slave_rod_kg(scene, opts: ArticulatedOptions, slaves) -> float:
