@@ -208,8 +208,8 @@ def _closed_form_check(scene, params, results) -> dict | None:
     ports whose lost stroke it takes as the factor 1 − ψ)."""
     if scene.engine.mechanism != "crank_slider" or params.lost_stroke_fraction > 0.0:
         return None
-    pumping = params.intake_pressure_Pa - params.exhaust_pressure_Pa if params.strokes == 4 else 0.0
-    closed = results["theoretical_mean_indicated_pressure_Pa"] + pumping
+    closed = ind.theoretical_diagram_mean_pressure_Pa(params)
+    pumping = closed - results["theoretical_mean_indicated_pressure_Pa"]
     numeric = results["theoretical_diagram_mean_pressure_Pa"]
     return {
         "closed_Pa": closed,

@@ -355,11 +355,7 @@ def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
     # The closed form assumes dead centres at 0/180 deg and a swept volume F*S: true of the central
     # crank-slider, not of an offset or planetary linkage (their strokes and phases differ).
     if scene.cycle.source == "theoretical" and analytic:
-        params = model._params
-        pumping = (
-            (params.intake_pressure_Pa - params.exhaust_pressure_Pa) if e.strokes == 4 else 0.0
-        )
-        theoretical = (ind.theoretical_mean_indicated_pressure_Pa(params) + pumping) * model.swept
+        theoretical = ind.theoretical_diagram_mean_pressure_Pa(model._params) * model.swept
     return Reference(method, values, uncertainty, time.perf_counter() - start, theoretical)
 
 

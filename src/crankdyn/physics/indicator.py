@@ -651,6 +651,16 @@ def theoretical_mean_indicated_pressure_Pa(params):
     return mean
 
 
+def theoretical_diagram_mean_pressure_Pa(params):
+    """Mean pressure of the whole sharp-cornered theoretical diagram, Pa: the closed form
+    :func:`theoretical_mean_indicated_pressure_Pa` plus a four-stroke's pumping strokes, the
+    intake at p_a and the exhaust at p_r (their loop's mean pressure p_a − p_r; none in a
+    two-stroke cycle). The grid integral of :func:`theoretical_pressure_Pa` over the cycle tends
+    to it as the step shrinks (a central crank-slider, no exhaust ports)."""
+    pumping = params.intake_pressure_Pa - params.exhaust_pressure_Pa if params.strokes == 4 else 0.0
+    return theoretical_mean_indicated_pressure_Pa(params) + pumping
+
+
 # ---------------------------------------------------------------------------
 # Rounding
 # ---------------------------------------------------------------------------
