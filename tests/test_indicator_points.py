@@ -224,6 +224,11 @@ def test_a_peak_lowered_inside_the_theoretical_diagram_is_said_so(fraction, said
     taken = f"{r['peak_pressure_fraction']:.3f}".replace(".", ",")
     assert f"{said} у точці z′ (12° після ВМТ) лежав би вище за теоретичну діаграму" in text
     assert f"тож узято pz′ = {taken}·pz, 97 % тиску теоретичної діаграми" in text
+    # the values taken list the fraction the diagram takes, as the section says; the given
+    # data list the task's own
+    row, cells = "Відношеннядійсногонайбільшоготискудотеоретичногоpz′/pz", re.sub(r"\s", "", text)
+    listed = "0,85" if fraction else f"{r['peak_pressure_fraction']:.4f}".replace(".", ",")
+    assert f"{row}{listed}" in cells and len(re.findall(row, cells)) == 1
     lines = console_lines(warnings(run.scene, REGISTRY, run), REGISTRY)
     named = [line for line in lines if "cycle.rounding.peak_pressure_fraction" in line]
     assert len(named) == (fraction is not None), lines

@@ -150,6 +150,7 @@ def run(
         source=scene.cycle.source,
         indicated_work_J=results["indicated_work_J"],
         swept_volume_m3=swept,
+        peak_pressure_fraction=results.get("peak_pressure_fraction"),
     )
     return StageOutput(
         data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table}, notes=notes

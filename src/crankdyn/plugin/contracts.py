@@ -60,7 +60,10 @@ class PistonMotion:
 
 @dataclass(frozen=True)
 class GasPressure:
-    """In-cylinder absolute pressure over the cycle, on the kinematics grid."""
+    """In-cylinder absolute pressure over the cycle, on the kinematics grid.
+
+    ``peak_pressure_fraction`` is the p_z′/p_z the rounded diagram takes (it may be below the
+    asked one, where that peak would stand above the theoretical diagram); None for a trace."""
 
     crank_angle_deg: np.ndarray
     pressure_Pa: np.ndarray
@@ -68,6 +71,7 @@ class GasPressure:
     source: str  # "theoretical" (rounded) or "trace"
     indicated_work_J: float
     swept_volume_m3: float
+    peak_pressure_fraction: float | None = None
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from ..engine.orchestrator import RunResult
 from ..errors import SceneError
 from ..physics.extrema import EXTREMUM_RTOL
 from ..physics.indicator import RoundingParameters
-from ..plugin.contracts import COUNTERWEIGHTS, FORCES, KINEMATICS
+from ..plugin.contracts import COUNTERWEIGHTS, FORCES, GAS_PRESSURE, KINEMATICS
 from ..plugin.registry import Registry
 from ..plugin.scene_inputs import engine_layout, rounding_parameters
 from ..plugin.types import Digits
@@ -362,16 +362,29 @@ def _inputs_used(result) -> dict[str, bool]:
     }
 
 
-def _rounding_used(scene) -> RoundingParameters | None:
+def _rounding_used(result) -> RoundingParameters | None:
     """The indicator diagram's rounding as the run takes it (the defaults filled in, a diesel's
-    advance past its delay), for the given-data table; None without a rounded cycle."""
-    cycle = getattr(scene, "cycle", None)
+    advance past its delay, the peak p_z′ as the gas-pressure stage drew it), for the given-data
+    table; None without a rounded cycle."""
+    cycle = getattr(result.scene, "cycle", None)
     if cycle is None or cycle.rounding is None or cycle.ignition is None:
         return None  # a measured trace is not rounded
     try:
-        return rounding_parameters(scene)
+        rounding = rounding_parameters(result.scene)
     except SceneError:
         return None
+    drawn = [
+        gas.peak_pressure_fraction
+        for stage in result.plan.order
+        if GAS_PRESSURE in stage.provides and stage.name in result.outputs
+        for gas in (result.outputs[stage.name].data.get(GAS_PRESSURE),)
+        if getattr(gas, "peak_pressure_fraction", None) is not None
+    ]
+    # a usual peak that would stand above the theoretical diagram is lowered by the stage; a given
+    # one stays the task's datum (the section says what was taken instead)
+    if drawn and cycle.rounding.peak_pressure_fraction is None:
+        rounding = dataclasses.replace(rounding, peak_pressure_fraction=drawn[0])
+    return rounding
 
 
 def _stage_input_rows(result, ctx, hook: str = "input_rows") -> list[tuple[str, str, str, str]]:
@@ -448,7 +461,7 @@ def _input_view(result, registry, ctx) -> SectionView:
                 mechanism_key=mechanism_key,
                 stage_rows=_stage_input_rows(result, ctx),
                 stage_taken_rows=_stage_input_rows(result, ctx, "taken_rows"),
-                rounding_used=_rounding_used(scene),
+                rounding_used=_rounding_used(result),
                 shared_pins=_cylinders_share_pins(scene),
                 **_inputs_used(result),
             )
