@@ -107,13 +107,19 @@ def test_inline4_flywheel_by_the_energy_method():
         - r["engine_inertia_kg_m2"]
     )
     assert r["irregularity"] == pytest.approx(0.01)
-    # the mean reduced inertia: 4 cylinders' m_s <s'^2> plus 4 cranks' m_R R^2
+    # the mean reduced inertia: 4 cylinders' m_s <s'^2> plus 4 cranks' m_R R^2, plus the
+    # second-order balance shafts' masses at 2ω (Σ m ρ² ν², ν = 2)
     forces = result.outputs["forces"].results
+    balancing = result.outputs["balancing"].results
     scene = result.scene
     R, lam = scene.engine.crank_radius_m, scene.engine.rod_ratio_value
+    rho = balancing["balance_shaft_radius_m"]
+    shafts = balancing["balance_shafts"]
+    assert [shaft["order"] for shaft in shafts] == [2, 2] and not balancing["counterweights"]
     expected = (
         4 * forces["reciprocating_mass_kg"] * sf.mean_arm_squared_m2(R, lam)
         + 4 * forces["rotating_mass_kg"] * R**2
+        + sum(m["mass_kg"] * rho**2 * 2**2 for shaft in shafts for m in shaft["masses"])
     )
     assert r["mechanism_inertia_mean_kg_m2"] == pytest.approx(expected, rel=1e-9)
     rim = r["rim"]

@@ -271,4 +271,26 @@ def test_the_counterweights_turn_with_the_shaft_in_the_flywheels_inertia():
     assert fly["counterweight_inertia_kg_m2"] == pytest.approx(expected, rel=1e-12)
     bays = result.outputs["bays"].data["bay_loads"]
     train_mean = crank_train(result.scene, bays).series().mean_kg_m2
-    assert fly["mechanism_inertia_mean_kg_m2"] == pytest.approx(train_mean + expected, rel=1e-12)
+    shafts = fly["balance_shaft_inertia_kg_m2"]  # the first-order moment's shaft, ν = 1
+    assert fly["mechanism_inertia_mean_kg_m2"] == pytest.approx(
+        train_mean + expected + shafts, rel=1e-12
+    )
+
+
+def test_the_balance_shafts_turn_geared_to_the_shaft_in_the_flywheels_inertia():
+    """A second-order pair of balance shafts turns at 2ω: their masses add Σ m ρ² ν² (ν = 2, the
+    same kinetic energy at the crankshaft's ω) to J_m, from the balancing's own masses and radius."""
+    changes = {"flywheel": {"required_irregularity": 0.01}, "balancing": {"balance_orders": [2]}}
+    result = shared_run("inline4-petrol", changes, (*STAGES, "balancing"))
+    fly = result.outputs["flywheel"].results
+    balancing = result.outputs["balancing"].results
+    radius = balancing["balance_shaft_radius_m"]
+    shafts = balancing["balance_shafts"]
+    assert sorted(shaft["speed_ratio"] for shaft in shafts) == [-2, 2]
+    expected = sum(m["mass_kg"] * radius**2 * 4 for shaft in shafts for m in shaft["masses"])
+    assert expected > 0.0
+    assert fly["balance_shaft_inertia_kg_m2"] == pytest.approx(expected, rel=1e-12)
+    bays = result.outputs["bays"].data["bay_loads"]
+    train_mean = crank_train(result.scene, bays).series().mean_kg_m2
+    own = train_mean + fly["counterweight_inertia_kg_m2"] + expected
+    assert fly["mechanism_inertia_mean_kg_m2"] == pytest.approx(own, rel=1e-12)

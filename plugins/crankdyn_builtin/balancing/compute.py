@@ -447,11 +447,9 @@ def run(scene, inputs) -> StageOutput:
     check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
     notes.append((check_note, {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
+    fitted = _fitted(counterweights, e.angular_velocity_rad_s, r_cw, shafts, r_sh)
     return StageOutput(
-        data={COUNTERWEIGHTS: _fitted(counterweights, e.angular_velocity_rad_s, r_cw)},
-        results=results,
-        tables={"balancing": table},
-        notes=notes,
+        data={COUNTERWEIGHTS: fitted}, results=results, tables={"balancing": table}, notes=notes
     )
 
 

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -176,15 +177,29 @@ def time_domain_check(g, masses, harmonics, all_orders, theta, spacing, a):
     return f_td, m_td, scale_F, scale_M, check
 
 
-def _fitted(counterweights: list[dict], omega_rad_s: float, radius_m: float) -> Counterweights:
+def _fitted(
+    counterweights: list[dict],
+    omega_rad_s: float,
+    radius_m: float,
+    shafts: Sequence[dict] = (),
+    shaft_radius_m: float = 0.0,
+) -> Counterweights:
     """The counterweights of results.json as the bearings and flywheel stages take them (forces
-    at the speed; the moment of inertia of masses m at the radius r, Σ m r·r)."""
+    at the speed; the moment of inertia of masses m at the radius r, Σ m r·r), with the balance
+    shafts' masses reduced to the crankshaft's speed (Σ m r·r·n², n the shaft's speed ratio)."""
     return Counterweights(
         crank=np.array([cw["crank"] - 1 for cw in counterweights], dtype=int),
         centrifugal_N=np.array([cw["mass_radius_kg_m"] * omega_rad_s**2 for cw in counterweights]),
         angle_from_crank_rad=np.radians([cw["angle_from_crank_deg"] for cw in counterweights]),
         moment_of_inertia_kg_m2=float(sum(cw["mass_radius_kg_m"] for cw in counterweights))
         * radius_m,
+        balance_shaft_inertia_kg_m2=float(
+            sum(
+                mass["mass_radius_kg_m"] * shaft_radius_m * shaft["speed_ratio"] ** 2
+                for shaft in shafts
+                for mass in shaft["masses"]
+            )
+        ),
     )
 
 

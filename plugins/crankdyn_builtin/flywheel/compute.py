@@ -192,11 +192,13 @@ def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
     }
 
 
-def _counterweight_inertia(inputs) -> float:
-    """Σ m ρ² of the counterweights the balancing fits, which turn with the shaft (0 without
-    them), kg m²."""
+def _balancing_inertia(inputs) -> tuple[float, float]:
+    """(Σ m ρ² of the counterweights the balancing fits, which turn with the shaft; Σ m ρ² n² of
+    its balance shafts' masses, reduced to the crankshaft), kg m² (0 without them)."""
     fitted = inputs.get(COUNTERWEIGHTS)
-    return fitted.moment_of_inertia_kg_m2 if fitted is not None else 0.0
+    if fitted is None:
+        return 0.0, 0.0
+    return fitted.moment_of_inertia_kg_m2, fitted.balance_shaft_inertia_kg_m2
 
 
 def _required(opts, excess_work_J: float, omega: float, own: float):
@@ -215,10 +217,10 @@ def run(scene, inputs) -> StageOutput:
     excess = fw.excess_work(alpha, torque.torque_Nm)
     train = crank_train(scene, bays)
     train_mean = train.series().mean_kg_m2
-    counterweights = _counterweight_inertia(inputs)
-    # the counterweights sit on the cranks' webs: part of the mechanisms' constant inertia J_m
-    mechanism = train_mean + counterweights
-    shaft = opts.engine_inertia + counterweights  # the constant added to the crank train's J(α)
+    counterweights, balance_shafts = _balancing_inertia(inputs)
+    fitted = counterweights + balance_shafts  # on the webs, geared to the shaft: constant, in J_m
+    mechanism = train_mean + fitted
+    shaft = opts.engine_inertia + fitted  # the constant added to the crank train's J(α)
     own = mechanism + opts.engine_inertia
     required_total, required_flywheel = _required(opts, excess.excess_work_J, omega, own)
     flywheel = opts.inertia if opts.inertia is not None else required_flywheel
@@ -240,6 +242,7 @@ def run(scene, inputs) -> StageOutput:
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "counterweight_inertia_kg_m2": counterweights,
+        "balance_shaft_inertia_kg_m2": balance_shafts,
         "own_inertia_kg_m2": own,
         "required_irregularity": opts.required_irregularity,
         "required_total_inertia_kg_m2": required_total,
@@ -257,24 +260,21 @@ def run(scene, inputs) -> StageOutput:
         "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None and not raised,
         "rim": None,
     }
-    notes = []
-    if results["own_inertia_sufficient"]:
-        notes.append(("flywheel.note_no_flywheel", {"own": own}))
+    notes = (
+        [("flywheel.note_no_flywheel", {"own": own})] if results["own_inertia_sufficient"] else []
+    )
     if train.articulated:
         notes.append(("flywheel.note_articulated", {}))
 
     if opts.rim_mean_diameter is not None and flywheel > 0:
         results["rim"] = _rim(opts, flywheel, omega)
 
-    frame = {
-        "crank_angle_deg": torque.crank_angle_deg,
-        "torque_Nm": torque.torque_Nm,
-        "excess_work_J": excess.cumulative_J,
-    }
+    frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm}
+    frame["excess_work_J"] = excess.cumulative_J
     design = FlywheelDesign(
         flywheel_inertia_kg_m2=flywheel,
         engine_inertia_kg_m2=shaft,
-        # the crank train's own mean: the counterweights are in the constant part with the shaft
+        # the crank train's own mean: the counterweights and balance shafts are in the constant part
         mechanism_inertia_mean_kg_m2=train_mean,
         excess_work_J=excess.excess_work_J,
         irregularity=irregularity,
@@ -282,6 +282,7 @@ def run(scene, inputs) -> StageOutput:
         required_flywheel_inertia_kg_m2=required_flywheel,
         energy_flywheel_exact_irregularity=exact_energy if raised is not None else None,
         counterweight_inertia_kg_m2=counterweights,
+        balance_shaft_inertia_kg_m2=balance_shafts,
     )
     return StageOutput(
         data={FLYWHEEL: design}, results=results, tables={"flywheel": frame}, notes=notes

@@ -31,6 +31,14 @@ SYMBOLS = {
         "unit.kg_m2",
         sections=("flywheel", "speed_fluctuation"),
     ),
+    "balance_shaft_inertia": Symbol(
+        "J",
+        {"en": "bs", "uk": "зв", "ru": "ув"},
+        "unit.kg_m2",
+        sections=("flywheel", "speed_fluctuation"),
+    ),
+    "balance_shaft_mass": Symbol("m", {"en": "bs", "uk": "зв", "ru": "ув"}, "unit.kg"),
+    "balance_shaft_radius": Symbol("ρ", {"en": "bs", "uk": "зв", "ru": "ув"}, "unit.mm"),
     "counterweight_mass": Symbol("m", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg"),
     "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.mm"),
     # the energy method's flywheel where the exact solution raises it: J_f is the adopted one

@@ -160,6 +160,7 @@ def _speed_results(inertia, exact, design, summary: dict, records: list, period:
         "reference": "quadrature",
         "inertia_mean_kg_m2": inertia.mean_kg_m2,
         "counterweight_inertia_kg_m2": design.counterweight_inertia_kg_m2,
+        "balance_shaft_inertia_kg_m2": design.balance_shaft_inertia_kg_m2,
         "inertia_min_kg_m2": float(np.min(exact.inertia_kg_m2)),
         "inertia_max_kg_m2": float(np.max(exact.inertia_kg_m2)),
         "load_torque_Nm": exact.load_torque_Nm,

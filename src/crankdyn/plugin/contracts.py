@@ -168,13 +168,17 @@ class Counterweights:
     speed [N]; ``angle_from_crank_rad``: its direction from its crank's, in the direction of
     rotation (pi: opposite the crank pin); ``moment_of_inertia_kg_m2``: all of them together about
     the shaft's axis, as point masses at their centres' radius [kg m^2] (a lower bound: a real
-    counterweight's radius of gyration exceeds its centre's radius).
+    counterweight's radius of gyration exceeds its centre's radius); ``balance_shaft_inertia_kg_m2``:
+    the masses of the balance shafts fitted with them, likewise as point masses, reduced to the
+    crankshaft: Σ m ρ² n², n the shaft's speed over the crankshaft's [kg m^2] (kinetic energy
+    (1/2) m ρ² (n ω)² at the crankshaft's ω).
     """
 
     crank: np.ndarray
     centrifugal_N: np.ndarray
     angle_from_crank_rad: np.ndarray
     moment_of_inertia_kg_m2: float = 0.0
+    balance_shaft_inertia_kg_m2: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -206,6 +210,9 @@ class FlywheelDesign:
     #: the counterweights' Σ m ρ², part of ``engine_inertia_kg_m2`` (the constant the crank
     #: train's inertia gets), kg m^2
     counterweight_inertia_kg_m2: float = 0.0
+    #: the balance shafts' masses reduced to the crankshaft, Σ m ρ² n², also part of
+    #: ``engine_inertia_kg_m2``, kg m^2
+    balance_shaft_inertia_kg_m2: float = 0.0
 
     @property
     def raised_by_exact_solution(self) -> bool:
