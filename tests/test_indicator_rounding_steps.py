@@ -8,6 +8,7 @@ import pytest
 from test_physics_indicator import (
     CRANK_RADIUS_M,
     PISTON_AREA_M2,
+    diesel,
     exact_displacement_m,
     rounding_for,
     spark,
@@ -99,3 +100,44 @@ def test_a_peak_above_the_theoretical_diagram_is_lowered_inside_it():
     # no corner: the slope changes by under 5 % of its largest value from one 0.05° step to the
     # next (a peak on the expansion line would drop from zero slope to the line's at once)
     assert np.max(np.abs(np.diff(slope))) < 0.05 * np.max(np.abs(slope))
+
+
+@pytest.mark.parametrize("rho", [1.1, 1.4, 1.8])
+def test_a_diesels_peak_two_thirds_along_its_isobar_keeps_the_diagram_inside(rho):
+    """Poda 2007 §3.1: a diesel's Z′ about 2/3 along the isobar z′z, at V_c(1 + ⅔(ρ − 1)); the
+    angle there, independently, by bisecting the exact crank-slider travel. At p_z′ = p_z the
+    rounded diagram peaks there and nowhere exceeds the theoretical one from TDC to the exhaust's
+    opening, with no corner."""
+    from scipy.optimize import brentq
+
+    params = dataclasses.replace(diesel(4), pre_expansion_ratio=rho)
+    clearance = PISTON_AREA_M2 * 2 * CRANK_RADIUS_M / (params.compression_ratio - 1)
+
+    def volume(a_deg):
+        return clearance + PISTON_AREA_M2 * exact_displacement_m(np.asarray(a_deg))
+
+    target = clearance * (1.0 + 2.0 / 3.0 * (rho - 1.0))
+    expected = brentq(lambda psi: float(volume(360.0 + psi)) - target, 1e-9, 90.0, xtol=1e-12)
+    alpha = np.arange(0.0, 720.0, 0.05)
+    v = volume(alpha)
+    angle = ind.isobar_peak_angle_deg(alpha, v, clearance, params, volume_function=volume)
+    assert angle == pytest.approx(expected, abs=1e-8)
+    rounding = dataclasses.replace(
+        rounding_for(params), peak_pressure_fraction=1.0, peak_angle_after_tdc_deg=angle
+    )
+    peak = ind.peak_pressure_Pa(alpha, v, clearance, params, rounding, volume_function=volume)
+    assert peak == params.max_pressure_Pa  # on the isobar: p_z itself, nothing lowered
+    p = ind.rounded_pressure_Pa(alpha, v, clearance, params, rounding, volume_function=volume)
+    theoretical = ind.theoretical_pressure_Pa(alpha, v, clearance, params)
+    after = (alpha >= 360.0) & (alpha <= 490.0)
+    assert np.all(p[after] <= theoretical[after] * (1 + 1e-12))
+    assert p[after].max() == pytest.approx(params.max_pressure_Pa, rel=1e-6)
+    slope = np.diff(p[after]) / 0.05
+    assert np.max(np.abs(np.diff(slope))) < 0.05 * np.max(np.abs(slope))
+    # without an isobar there is no such point
+    assert (
+        ind.isobar_peak_angle_deg(
+            alpha, v, clearance, dataclasses.replace(params, pre_expansion_ratio=1.0)
+        )
+        is None
+    )

@@ -471,3 +471,16 @@ def test_an_item_stuck_in_a_dask_workers_own_process_is_given_up_at_its_limit():
             _dask_task_here(None, lambda: 1 / 0, (), 10.0)
     finally:
         release.set()
+
+
+def test_run_many_puts_a_diesels_peak_on_its_isobar_as_run_does(tmp_path):
+    """The diesel example without its peak angle (z′ then 2/3 along the isobar, found from each
+    point's own kinematics): run_many's rounding and diagram equal run's point by point."""
+    text = (examples_dir() / "diesel-1cyl.toml").read_text(encoding="utf-8")
+    free = "\n".join(
+        line for line in text.splitlines() if not line.startswith("peak_angle_after_tdc_deg")
+    )
+    assert free != text
+    (tmp_path / "diesel.toml").write_text(free, encoding="utf-8")
+    sets = ["engine.rpm=1800,2600", "cycle.pre_expansion_ratio=1.3,1.6"]
+    assert "indicator" in _check_run_many(sets, tmp_path / "diesel.toml")

@@ -98,6 +98,7 @@ def run(
     }
     table: dict = {"crank_angle_deg": angle}
     notes: list = []
+    drawn = None  # a trace is not rounded
 
     if scene.cycle.source == "trace":
         pressure, volume = _trace_pressure(scene, motion, area, swept)
@@ -125,7 +126,8 @@ def run(
                 params, rounding, clearance, theoretical, volume, swept, volume_function
             )
         )
-        results["peak_lowered"] = lowered
+        results.update(peak_lowered=lowered, peak_on_isobar=_isobar_point(scene, params, clearance))
+        drawn = rounding
         results["closed_form_check"] = _closed_form_check(scene, params, results)
         notes.append(_rounding_note(scene, rounding))
         if "lost_stroke_fraction" in results:  # the piston's travel s_b = (1 − ψ)S to the ports
@@ -150,7 +152,7 @@ def run(
         source=scene.cycle.source,
         indicated_work_J=results["indicated_work_J"],
         swept_volume_m3=swept,
-        peak_pressure_fraction=results.get("peak_pressure_fraction"),
+        rounding=drawn,
     )
     return StageOutput(
         data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table}, notes=notes
@@ -163,11 +165,11 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
     SceneError."""
     angle = motion.crank_angle_deg
     params = diagram_parameters(scene, motion)
-    rounding = rounding_parameters(scene)
     clearance = ind.clearance_volume_m3(swept, params.compression_ratio)
     volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
     theoretical = ind.theoretical_pressure_Pa(angle, volume, clearance, params)
     volume_function = _volume_function(motion, area, clearance, volumes)
+    rounding = _rounding_taken(scene, motion, params, area, clearance)
     try:
         pressure = ind.rounded_pressure_Pa(
             angle,
@@ -182,6 +184,50 @@ def _rounded_diagram(scene, motion, area: float, swept: float, junction_deg, vol
     except ValueError as exc:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
     return params, rounding, clearance, volume, theoretical, pressure, volume_function
+
+
+def _peak_on_isobar(scene, params) -> bool:
+    """Whether a diesel's peak Z' is put on its isobar of heat addition: the scene gives no angle
+    for it and the cycle has an isobar (ρ > 1)."""
+    given = scene.cycle.rounding.model_fields_set
+    return (
+        scene.cycle.ignition == "diesel"
+        and "peak_angle_after_tdc_deg" not in given
+        and params.pre_expansion_ratio > 1.0
+    )
+
+
+def _isobar_point(scene, params, clearance: float) -> dict | None:
+    """Where :func:`_peak_on_isobar`: the share of the isobar z′ lies at and its volume
+    V_c(1 + share·(ρ − 1)), m³; else None."""
+    if not _peak_on_isobar(scene, params):
+        return None
+    share = ind.DIESEL_PEAK_ISOBAR_SHARE
+    return {
+        "share": share,
+        "volume_m3": clearance * (1.0 + share * (params.pre_expansion_ratio - 1)),
+    }
+
+
+def _rounding_taken(scene, motion, params, area: float, clearance: float):
+    """The scene's rounding (:func:`rounding_parameters`), a diesel's peak Z' on its isobar where
+    :func:`_peak_on_isobar` (:func:`ind.isobar_peak_angle_deg`: there the theoretical pressure is
+    p_z, so p_z′ = p_z keeps the actual diagram inside the theoretical one). The one-diagram and
+    the many-diagram runs take it alike, from the mechanism's own volume function."""
+    rounding = rounding_parameters(scene)
+    if not _peak_on_isobar(scene, params):
+        return rounding
+    volume = ind.cylinder_volume_m3(motion.piston_displacement_m, area, clearance)
+    on_isobar = ind.isobar_peak_angle_deg(
+        motion.crank_angle_deg,
+        volume,
+        clearance,
+        params,
+        volume_function=_volume_function(motion, area, clearance, None),
+    )
+    if on_isobar is None:  # no isobar after all (ρ = 1): the scene's angle
+        return rounding
+    return dataclasses.replace(rounding, peak_angle_after_tdc_deg=on_isobar)
 
 
 def _rounding_as_drawn(scene, angle, volume, clearance, params, rounding, volume_function):
@@ -248,6 +294,7 @@ def _theoretical_results(
         "tdc_pressure_rounded_Pa": ind.compression_end_pressure_Pa(params)
         + rounding.pressure_rise_to_tdc_Pa,
         "peak_pressure_fraction": rounding.peak_pressure_fraction,
+        "peak_angle_after_tdc_deg": rounding.peak_angle_after_tdc_deg,
     }
 
 
@@ -289,7 +336,7 @@ def _rounding_note(scene, rounding) -> tuple[str, dict]:
             "advance": rounding.ignition_advance_deg,
             "delay": rounding.combustion_delay_deg,
             "fraction": rounding.peak_pressure_fraction,
-            "angle": rounding.peak_angle_after_tdc_deg,
+            "angle": round(rounding.peak_angle_after_tdc_deg, 1),  # a diesel's on its isobar
         },
     )
 
@@ -431,7 +478,10 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     def volume_at(angle_deg, rows):
         return clearance_column[rows] + area_column[rows] * displacement(angle_deg, rows)
 
-    rounding = [rounding_parameters(s) for s in scenes]
+    rounding = [
+        _rounding_taken(s, m, p, area, clearance)
+        for s, m, p, area, clearance in zip(scenes, motions, params, areas, clearances, strict=True)
+    ]
     junctions = ind.combustion_junctions_deg(params, rounding, clearances, volume_at)
     volumes = _rounding_volumes(scenes, params, rounding, junctions, clearances, volume_at)
     return [
@@ -511,7 +561,7 @@ def _peak_lowered(scene, results=None) -> list[tuple[str, dict]]:
             "indicator.plausibility_peak_lowered",
             {
                 "given": lowered["requested_fraction"],
-                "angle": scene.cycle.rounding.peak_angle_after_tdc_deg,
+                "angle": round(results["peak_angle_after_tdc_deg"], 1),
                 "taken": round(results["peak_pressure_fraction"], 3),
             },
         )

@@ -36,6 +36,7 @@ from .hermite import hermite_cubic
 __all__ = [
     "clearance_volume_m3",
     "cylinder_volume_m3",
+    "isobar_peak_angle_deg",
     "lost_stroke_fraction",
     "CycleParameters",
     "actual_compression_ratio",
@@ -1343,6 +1344,47 @@ def peak_pressure_Pa(
         alpha, np.asarray(volume_m3, dtype=float), clearance_volume_m3, params, volume_function
     )
     return _peak_at(lines, rounding)
+
+
+#: Where a diesel's rounded diagram peaks when its scene gives no angle: Z' on the isobar z'z of
+#: heat added at constant pressure, this share of its length from TDC (Poda 2007 section 3.1:
+#: "approximately 2/3 of the segment's length"), where the theoretical pressure is p_z itself.
+DIESEL_PEAK_ISOBAR_SHARE = 2.0 / 3.0
+
+
+def isobar_peak_angle_deg(
+    crank_angle_deg,
+    volume_m3,
+    clearance_volume_m3,
+    params,
+    *,
+    share: float = DIESEL_PEAK_ISOBAR_SHARE,
+    volume_function=None,
+) -> float | None:
+    """Crank angle after firing TDC, deg, at which the cylinder volume reaches
+    V_c (1 + share (rho - 1)): the point ``share`` along the isobar z'z of a cycle with heat
+    added at constant pressure (Poda 2007 section 3.1 puts a diesel's actual peak Z' at about
+    2/3 of it); None without an isobar (rho = 1).
+
+    The arguments as :func:`rounded_pressure_Pa`'s; the volume rises monotonically from TDC to
+    the isobar's end, so the angle is found by bisection (to 1e-10 deg) between TDC and 90 deg.
+    """
+    if params.pre_expansion_ratio <= 1.0:
+        return None
+    lines = _one_diagram_lines(
+        np.asarray(crank_angle_deg, dtype=float),
+        np.asarray(volume_m3, dtype=float),
+        clearance_volume_m3,
+        params,
+        volume_function,
+    )
+    target = clearance_volume_m3 * (1.0 + share * (params.pre_expansion_ratio - 1.0))
+    low, high = 0.0, 90.0
+    while high - low > 1e-10:
+        middle = 0.5 * (low + high)
+        volume = float(np.ravel(lines.volume_at(np.asarray([lines.tdc_deg + middle]))[0])[0])
+        low, high = (middle, high) if volume < target else (low, middle)
+    return 0.5 * (low + high)
 
 
 def _peak_at(lines: _Lines, rounding) -> float:

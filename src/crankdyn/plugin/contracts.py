@@ -8,13 +8,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
 
 from ..scene.model import number as _number
 from ..scene.model import quantity as _quantity
+
+if TYPE_CHECKING:
+    from ..physics.indicator import RoundingParameters
 
 KINEMATICS = "kinematics"
 GAS_PRESSURE = "gas_pressure"
@@ -62,8 +65,9 @@ class PistonMotion:
 class GasPressure:
     """In-cylinder absolute pressure over the cycle, on the kinematics grid.
 
-    ``peak_pressure_fraction`` is the p_z′/p_z the rounded diagram takes (it may be below the
-    asked one, where that peak would stand above the theoretical diagram); None for a trace."""
+    ``rounding`` is the rounding the diagram is drawn with (its peak p_z′ may be lower than asked,
+    where that would stand above the theoretical diagram; a diesel's peak angle may be put on
+    its isobar): :class:`crankdyn.physics.indicator.RoundingParameters`, None for a trace."""
 
     crank_angle_deg: np.ndarray
     pressure_Pa: np.ndarray
@@ -71,7 +75,7 @@ class GasPressure:
     source: str  # "theoretical" (rounded) or "trace"
     indicated_work_J: float
     swept_volume_m3: float
-    peak_pressure_fraction: float | None = None
+    rounding: RoundingParameters | None = None
 
 
 @dataclass(frozen=True)

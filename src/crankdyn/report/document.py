@@ -364,8 +364,8 @@ def _inputs_used(result) -> dict[str, bool]:
 
 def _rounding_used(result) -> RoundingParameters | None:
     """The indicator diagram's rounding as the run takes it (the defaults filled in, a diesel's
-    advance past its delay, the peak p_z′ as the gas-pressure stage drew it), for the given-data
-    table; None without a rounded cycle."""
+    advance past its delay; the peak's angle and a usual p_z′ as the gas-pressure stage drew
+    them), for the given-data table; None without a rounded cycle."""
     cycle = getattr(result.scene, "cycle", None)
     if cycle is None or cycle.rounding is None or cycle.ignition is None:
         return None  # a measured trace is not rounded
@@ -374,17 +374,27 @@ def _rounding_used(result) -> RoundingParameters | None:
     except SceneError:
         return None
     drawn = [
-        gas.peak_pressure_fraction
+        gas.rounding
         for stage in result.plan.order
         if GAS_PRESSURE in stage.provides and stage.name in result.outputs
         for gas in (result.outputs[stage.name].data.get(GAS_PRESSURE),)
-        if getattr(gas, "peak_pressure_fraction", None) is not None
+        if getattr(gas, "rounding", None) is not None
     ]
-    # a usual peak that would stand above the theoretical diagram is lowered by the stage; a given
-    # one stays the task's datum (the section says what was taken instead)
-    if drawn and cycle.rounding.peak_pressure_fraction is None:
-        rounding = dataclasses.replace(rounding, peak_pressure_fraction=drawn[0])
-    return rounding
+    if not drawn:
+        return rounding
+    # a usual peak that would stand above the theoretical diagram is lowered by the stage, a
+    # diesel's put on its isobar; a given fraction stays the task's datum (the section says
+    # what was taken instead)
+    fraction = (
+        rounding.peak_pressure_fraction
+        if cycle.rounding.peak_pressure_fraction is not None
+        else drawn[0].peak_pressure_fraction
+    )
+    return dataclasses.replace(
+        rounding,
+        peak_pressure_fraction=fraction,
+        peak_angle_after_tdc_deg=drawn[0].peak_angle_after_tdc_deg,
+    )
 
 
 def _stage_input_rows(result, ctx, hook: str = "input_rows") -> list[tuple[str, str, str, str]]:
