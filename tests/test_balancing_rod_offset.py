@@ -119,6 +119,27 @@ def test_the_rods_offset_couples_of_several_cranks_against_a_direct_sum():
         "This offset adds longitudinal couples of the inertia forces to those of the tables" in text
     )
     assert text.count(said) >= 2, said
+    # the balance table does not call ΣM_II balanced without saying in what model
+    cells = re.sub(r"\s", "", text).replace("&#39;", "'")
+    qualified = "bythecrankarrangement(eachcrank'scylindersinitsplane;therods'offsetleavesacouple"
+    assert "ΣMII0.0000balanced" + qualified in cells
+
+
+def test_a_flat_plane_v8s_conclusion_leaves_the_rods_couples_out_of_what_balances_itself():
+    """Cranks 0-180-180-0: the tables' one-plane moments all vanish, but the rods' offset leaves
+    ΣM_II; the conclusion lists the moments the cranks balance without it."""
+    flat = {
+        "engine": {
+            "crank_angles_deg": [0, 180, 180, 0],
+            "firing_order": ["1L", "1R", "3L", "3R", "4L", "4R", "2L", "2R"],
+        }
+    }
+    couples = shared_run("v8-petrol", flat, stages=["balancing"]).outputs["balancing"].results
+    assert couples["rod_offset_couples"]["moments"][1]["moment_Nm"] > 100
+    html = shared_html("v8-petrol", flat, "en").linked_html
+    text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
+    (itself,) = re.findall(r"The crank arrangement itself balances [^.]*\.", text)
+    assert "ΣMI)" in itself and "ΣMII" not in itself and "ΣMIV" not in itself, itself
 
 
 def test_a_cross_plane_v8s_offset_couples_cancel_but_for_the_fourth_order():

@@ -11,12 +11,14 @@ from .figures import _models_figure, models_left_out, star_figure
 from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
 from .options import LEAVE_SHARE, BalancingOptions, flies_without_shafts
 from .tables import (
+    NEGLIGIBLE_SHARE,
     _bay_table,
     _explorer_table,
     _masses_table,
     _means_table,
     _summary_table,
     coefficients_table,
+    offset_couples,
     one_plane,
 )
 
@@ -163,15 +165,9 @@ def _conclude_slaves_and_offset(ctx, r) -> None:
 
 def rod_offset_items(t, r) -> list[str]:
     """ "ΣM_I = 101 Н·м (turning against the shaft)": the couples of rods side by side on one
-    crank pin that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I·b), by order."""
-    couples = r.get("rod_offset_couples")
-    if not couples:
-        return []
-    limit = NEGLIGIBLE_SHARE * r["first_order_N"] * couples["offset_m"]
+    crank pin that are not negligible (:func:`offset_couples`), by order."""
     items = []
-    for x in couples["moments"]:
-        if x["moment_Nm"] < limit:
-            continue
+    for x in offset_couples(r):
         against = x["forward_Nm"] <= 1e-9 * x["moment_Nm"]
         items.append(
             f"ΣM_{x['name']} = {t.fixed(x['moment_Nm'], 0)} {t('unit.Nm')}"
@@ -266,12 +262,6 @@ def _items_sentence(t, key: str, items: list[str]) -> str:
         them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
         them_nom=t("balancing.them_nom_many" if len(items) > 1 else "balancing.them_nom_one"),
     )
-
-
-#: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
-#: (a moment: of C_I·a, a the cylinder spacing) is said to be negligible, not listed among the
-#: unbalanced ones ("ΣP_VI = 4,4 Н" beside ΣP_II = 9426 Н is no finding).
-NEGLIGIBLE_SHARE = 0.01
 
 
 def _summary_amplitude(r, item) -> tuple[float | None, bool]:
@@ -549,6 +539,7 @@ def balanced_by_scheme(t, r) -> str:
     the means are fitted for, in words with the symbols; "" where it balances none of them."""
     orders = {0, *r["residual"]["balanced_orders"]}
     plane = one_plane(r)  # cylinders in one plane across the shaft: no moments to speak of
+    offset = {x["order"] for x in offset_couples(r)}  # moments the rods' offset leaves
     return _items_in_words(
         t,
         r,
@@ -557,7 +548,7 @@ def balanced_by_scheme(t, r) -> str:
             for s in r["summary"]
             if s["balanced"]
             and s["order"] in orders
-            and not (plane and s["quantity"].startswith("M_"))
+            and not ((plane or s["order"] in offset) and s["quantity"].startswith("M_"))
         ],
     )
 

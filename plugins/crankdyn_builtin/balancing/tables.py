@@ -295,6 +295,12 @@ def _summary_table(ctx, r):
     single = len(r["cylinder_labels"]) == 1
     if one_plane(r):  # forces in the plane of one crank: no moments (nor in the caption)
         rows = [s for s in rows if not s["quantity"].startswith("M_")]
+    # a moment the crank arrangement balances with each crank's cylinders in its plane, which
+    # the rods' offset along the pin leaves (the paragraph after the table gives it)
+    offset = {x["order"] for x in offset_couples(r)}
+    offset_rows = [
+        s for s in rows if s["quantity"].startswith("M_") and s["order"] in offset and s["balanced"]
+    ]
     summary_table = ctx.table(
         [
             (
@@ -322,6 +328,7 @@ def _summary_table(ctx, r):
                         couple=s["quantity"].startswith("M_"),
                         order=s["order"],
                     )
+                    + (t("balancing.remedy_in_crank_planes") if s in offset_rows else "")
                     for s in rows
                 ],
                 None,
@@ -334,6 +341,23 @@ def _summary_table(ctx, r):
     )
 
     return summary_table
+
+
+#: An unbalanced resultant under this share of one cylinder's first-order inertia force C_I
+#: (a moment: of C_I·a, a the cylinder spacing; a rod offset's couple: of C_I·b, b the offset)
+#: is said to be negligible, not listed among the unbalanced ones ("ΣP_VI = 4,4 Н" beside
+#: ΣP_II = 9426 Н is no finding).
+NEGLIGIBLE_SHARE = 0.01
+
+
+def offset_couples(r) -> list[dict]:
+    """The couples of rods side by side on one crank pin (records of ``rod_offset_couples``)
+    that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I·b), by order; [] without them."""
+    couples = r.get("rod_offset_couples")
+    if not couples:
+        return []
+    limit = NEGLIGIBLE_SHARE * r["first_order_N"] * couples["offset_m"]
+    return [x for x in couples["moments"] if x["moment_Nm"] >= limit]
 
 
 def _equal_pair(r, order: int) -> bool:
