@@ -234,3 +234,17 @@ def test_check_names_the_tables_of_stages_left_out(tmp_path, capsys):
     assert "table [balancing] is not used: stage balancing is left out" in out
     assert "table [bearings] is not used: stage bearings is left out" in out
     assert "table [rod_dynamics] is not used" not in out
+
+
+def test_an_internal_error_says_where_debug_goes(monkeypatch, capsys):
+    """--debug belongs before the command: the hint names the command run, after it."""
+    import crankdyn.cli as cli
+
+    def broken(args):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(cli, "_example", broken)
+    assert main(["example", "--list"]) == cli.EXIT_INTERNAL
+    err = capsys.readouterr().err
+    assert "internal error: RuntimeError: boom" in err
+    assert "run again as 'crankdyn --debug example …' for the traceback" in err

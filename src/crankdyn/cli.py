@@ -565,7 +565,8 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print(
             f"crankdyn: internal error: {exc.__class__.__name__}: {exc}\n"
-            "(run again with --debug for the traceback, and please report it)",
+            f"(run again as 'crankdyn --debug {args.command} …' for the traceback, and please "
+            "report it)",
             file=sys.stderr,
         )
         return EXIT_INTERNAL
