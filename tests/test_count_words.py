@@ -70,3 +70,17 @@ def test_an_own_pin_engines_explorer_leaves_out_the_shared_pin_rule():
         "v8-petrol", {"balancing": {"explore": True}}, "uk", ("balancing",)
     ).linked_html
     assert "Одна шийка" in v8 and "двох циліндрів на одній шатунній шийці" in v8
+
+
+def test_a_variant_key_is_said_for_an_engine_of_that_variant():
+    """An aircraft engine's texts: ``<key>_propeller`` where a catalog gives one, in the report's
+    language or in English; the plain key elsewhere and for other engines."""
+    texts = {"fw.aim": "select the flywheel", "fw.aim_propeller": "account for the propeller"}
+    english = {"fw.row": "flywheel", "fw.row_propeller": "propeller"}
+    plain = Translator("uk", texts, english)
+    aircraft = Translator("uk", texts, english, variant="propeller")
+    assert plain("fw.aim") == "select the flywheel" and plain("fw.row") == "flywheel"
+    assert aircraft("fw.aim") == "account for the propeller"
+    assert aircraft("fw.row") == "propeller"  # only the English catalog has it
+    assert aircraft("fw.aim_propeller") == "account for the propeller"  # chosen by hand: kept
+    assert aircraft("fw.other") == "fw.other" and "fw.other" in aircraft.missing

@@ -106,15 +106,25 @@ _BANKED_LABEL = re.compile(r"(\d+)([A-Z])")
 
 @dataclass
 class Translator:
-    """Looks texts up in one language, falling back to English; records misses."""
+    """Looks texts up in one language, falling back to English; records misses.
+
+    ``variant``: the engine's variant of the texts (``"propeller"`` for an aircraft engine,
+    whose propeller takes the flywheel's part): a key ``<key>_<variant>`` a catalog gives is
+    said instead of ``<key>``, so that a plugin words its texts for such an engine by adding
+    keys, without choosing them in code."""
 
     language: str
     # left out of the repr: an error message naming the translator stays one line
     texts: dict[str, str] = field(repr=False)
     fallback: dict[str, str] = field(repr=False)
     missing: set[str] = field(default_factory=set)
+    variant: str | None = None
 
     def __call__(self, key: str, **params) -> str:
+        if self.variant is not None:
+            own = f"{key}_{self.variant}"
+            if own in self.texts or own in self.fallback:
+                key = own
         text = self.texts.get(key)
         if text is None:
             text = self.fallback.get(key)
@@ -285,8 +295,11 @@ def _as_number(value) -> float | None:
     return None
 
 
-def translator(language: str, plugin_catalogs: Iterable[Catalog] = ()) -> Translator:
-    """Build the translator for ``language`` from core and plugin catalogs."""
+def translator(
+    language: str, plugin_catalogs: Iterable[Catalog] = (), variant: str | None = None
+) -> Translator:
+    """Build the translator for ``language`` from core and plugin catalogs (``variant``: see
+    :class:`Translator`)."""
     core_dir = core_catalog_dir()
     per_language: dict[str, dict[str, str]] = {}
     origin: dict[tuple[str, str], str] = {}
@@ -303,4 +316,6 @@ def translator(language: str, plugin_catalogs: Iterable[Catalog] = ()) -> Transl
                 )
             texts[key] = text
             origin[(lang, key)] = str(path)
-    return Translator(language, per_language.get(language, {}), per_language.get(FALLBACK, {}))
+    return Translator(
+        language, per_language.get(language, {}), per_language.get(FALLBACK, {}), variant=variant
+    )
